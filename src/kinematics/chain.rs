@@ -1,0 +1,171 @@
+//! The two-rotary kinematic chain: forward transform, closed-form orientation inverse, linear axes.
+
+use super::{subproblem1, wrap_pi, Carrier, Joints, KinematicsError, RotaryJoint};
+use nalgebra::Vector3;
+
+/// Tool pose in the workpiece frame: tool tip (m) and unit tool axis (pointing from tip to spindle).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    pub tip: Vector3<f64>,
+    pub axis: Vector3<f64>,
+}
+
+/// The chain of a machine with two rotary axes, in the file's slot order (slot 0 = axis index 3).
+#[derive(Debug, Clone)]
+pub struct TwoRotaryChain {
+    joints: [RotaryJoint; 2],
+    tool_axis: Vector3<f64>,
+    tool_tip: Vector3<f64>,
+    /// Slot of r2 (fixed in the workpiece frame) and of r1.
+    r2: usize,
+    r1: usize,
+    /// Slots of the table joints, base outwards, and of the head joints, ram outwards.
+    table: Vec<usize>,
+    head: Vec<usize>,
+}
+
+/// Both orientation solutions of seed 001 Table 1, as rotary angles `[slot0, slot1]` in (-pi, pi].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrientationSolutions {
+    pub solutions: [[f64; 2]; 2],
+    /// True when the tool axis is parallel to r2: r2's angle is undefined (set to 0 here).
+    pub singular: bool,
+}
+
+fn sign(c: Carrier) -> f64 {
+    match c {
+        Carrier::Table => -1.0,
+        Carrier::Head => 1.0,
+    }
+}
+
+impl TwoRotaryChain {
+    /// Build a chain; joints in file order (on each side, from the machine base outwards).
+    pub fn new(joints: [RotaryJoint; 2], tool_axis: Vector3<f64>, tool_tip: Vector3<f64>) -> Result<Self, KinematicsError> {
+        if joints[0].axis.cross(&joints[1].axis).norm() < 1e-9 {
+            return Err(KinematicsError::ParallelAxes);
+        }
+        let table: Vec<usize> = (0..2).filter(|&i| joints[i].carrier == Carrier::Table).collect();
+        let head: Vec<usize> = (0..2).filter(|&i| joints[i].carrier == Carrier::Head).collect();
+        // r2 is the axis fixed relative to the workpiece: the innermost table axis, else the outer head axis.
+        let r2 = match table.last() {
+            Some(&i) => i,
+            None => head[0],
+        };
+        Ok(TwoRotaryChain { joints, tool_axis, tool_tip, r2, r1: 1 - r2, table, head })
+    }
+
+    /// The joints in slot order.
+    pub fn joints(&self) -> &[RotaryJoint; 2] {
+        &self.joints
+    }
+
+    /// Slot (0 or 1) of the secondary axis r2, whose direction is the singular direction.
+    pub fn secondary_slot(&self) -> usize {
+        self.r2
+    }
+
+    /// Singular tool direction in the workpiece frame (seed 001 §2.4: O_W parallel to r2).
+    pub fn singular_direction(&self) -> Vector3<f64> {
+        self.joints[self.r2].axis
+    }
+
+    /// Workpiece point -> machine frame for table angles `rot` (outer table axis applied last).
+    fn table_to_machine(&self, rot: &[f64; 2], p: &Vector3<f64>) -> Vector3<f64> {
+        let mut v = *p;
+        for &i in self.table.iter().rev() {
+            v = self.joints[i].turn_point(rot[i], &v);
+        }
+        v
+    }
+
+    /// Machine point -> workpiece frame (inverse of `table_to_machine`).
+    fn machine_to_table(&self, rot: &[f64; 2], p: &Vector3<f64>) -> Vector3<f64> {
+        let mut v = *p;
+        for &i in self.table.iter() {
+            v = self.joints[i].turn_point(-rot[i], &v);
+        }
+        v
+    }
+
+    /// Spindle-frame point -> machine frame at zero linear axes (outer head axis applied last).
+    fn head_to_machine(&self, rot: &[f64; 2], p: &Vector3<f64>) -> Vector3<f64> {
+        let mut v = *p;
+        for &i in self.head.iter().rev() {
+            v = self.joints[i].turn_point(rot[i], &v);
+        }
+        v
+    }
+
+    /// Tool axis in the workpiece frame for rotary angles `rot` (seed 001 eq. 2 on the Hermle).
+    pub fn orientation(&self, rot: &[f64; 2]) -> Vector3<f64> {
+        let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
+        let phi1 = sign(j1.carrier) * rot[self.r1];
+        let phi2 = sign(j2.carrier) * rot[self.r2];
+        j2.rotation(phi2) * (j1.rotation(phi1) * self.tool_axis)
+    }
+
+    /// Time derivative of the tool axis for rotary angles `rot` moving at `rate` (rad/s).
+    pub fn orientation_rate(&self, rot: &[f64; 2], rate: &[f64; 2]) -> Vector3<f64> {
+        let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
+        let (s1, s2) = (sign(j1.carrier), sign(j2.carrier));
+        let inner = j1.rotation(s1 * rot[self.r1]) * self.tool_axis;
+        let r2 = j2.rotation(s2 * rot[self.r2]);
+        let o = r2 * inner;
+        let d_phi2 = j2.axis.cross(&o);
+        let d_phi1 = r2 * j1.axis.cross(&inner);
+        d_phi1 * (s1 * rate[self.r1]) + d_phi2 * (s2 * rate[self.r2])
+    }
+
+    /// Forward kinematics: axis values -> tool tip and tool axis in the workpiece frame.
+    pub fn forward(&self, q: &Joints) -> Pose {
+        let rot = [q[3], q[4]];
+        let linear = Vector3::new(q[0], q[1], q[2]);
+        let tip_m = linear + self.head_to_machine(&rot, &self.tool_tip);
+        Pose { tip: self.machine_to_table(&rot, &tip_m), axis: self.orientation(&rot) }
+    }
+
+    /// Linear axis values that put the tool tip at workpiece point `tip` with rotary angles `rot`.
+    pub fn linear_for(&self, tip: &Vector3<f64>, rot: &[f64; 2]) -> Vector3<f64> {
+        self.table_to_machine(rot, tip) - self.head_to_machine(rot, &self.tool_tip)
+    }
+
+    /// Both rotary solutions for a tool axis (need not be unit; must be finite and non-zero).
+    /// When the axis is parallel to r2 (the singularity), r2's angle is undefined: it is returned as 0
+    /// and `singular` is set, so the caller can keep the previous value.
+    pub fn orientation_solutions(&self, axis: &Vector3<f64>) -> Result<OrientationSolutions, KinematicsError> {
+        if !axis.iter().all(|v| v.is_finite()) {
+            return Err(KinematicsError::NotFinite);
+        }
+        let n = axis.norm();
+        if n < 1e-12 {
+            return Err(KinematicsError::ZeroToolAxis);
+        }
+        let q = axis / n;
+        let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
+        let (a1, a2, o) = (j1.axis, j2.axis, self.tool_axis);
+        // Subproblem 2: c with a1.c = a1.o, a2.c = a2.q, |c| = 1; then R(a1,phi1) o = c, R(a2,phi2) c = q.
+        let d = a1.dot(&a2);
+        let w = a1.cross(&a2);
+        let w2 = w.norm_squared();
+        let (al1, al2) = (a1.dot(&o), a2.dot(&q));
+        let alpha = (al1 - d * al2) / w2;
+        let beta = (al2 - d * al1) / w2;
+        let mut g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * d) / w2;
+        if g2 < -1e-9 {
+            return Err(KinematicsError::Unreachable);
+        }
+        g2 = g2.max(0.0);
+        let gamma = g2.sqrt();
+        let singular = a2.cross(&q).norm() < 1e-12;
+        let mut out = [[0.0; 2]; 2];
+        for (k, gs) in [gamma, -gamma].into_iter().enumerate() {
+            let c = a1 * alpha + a2 * beta + w * gs;
+            let phi1 = subproblem1(&a1, &o, &c).unwrap_or(0.0);
+            let phi2 = if singular { 0.0 } else { subproblem1(&a2, &c, &q).unwrap_or(0.0) };
+            out[k][self.r1] = wrap_pi(sign(j1.carrier) * phi1);
+            out[k][self.r2] = wrap_pi(sign(j2.carrier) * phi2);
+        }
+        Ok(OrientationSolutions { solutions: out, singular })
+    }
+}

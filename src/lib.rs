@@ -1,0 +1,12 @@
+//! fiveaxis: watch a five-axis machine tool for kinematic singularities.
+//!
+//! The math of Cripps et al. 2017 (seed 001) and of the C-axis smoothing paper (seed 002), as plain
+//! functions: machine models and kinematics, NC program readers, tool-path sampling and the
+//! singularity analysis. No I/O in the math; the nodes move its values across a bus.
+//!
+//! Units: SI inside (m, rad, s; REP 103). Readers convert from mm/inch/degrees; reports convert back.
+
+pub mod kinematics;
+pub mod machine;
+pub mod program;
+pub mod units;

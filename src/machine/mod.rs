@@ -1,0 +1,257 @@
+//! Machine model: three linear and two rotary axes with their limits, and the kinematic chain that
+//! links the machine axes to the tool pose in the workpiece frame.
+//!
+//! Machines are described in TOML (the built-in ones live in `machines/*.toml` and are compiled in).
+//! File fields carry people's units in their names (mm, deg, mm/min); the model itself is SI
+//! (m, rad, s), as REP 103 asks of everything that crosses the bus.
+
+mod file;
+
+pub use file::{LinearAxisFile, MachineFile, RotaryAxisFile};
+
+use crate::kinematics::{unwrap_near, Carrier, Joints, KinematicsError, Pose, RotaryJoint, TwoRotaryChain};
+use nalgebra::Vector3;
+use std::path::Path;
+
+/// Number of machine axes: X, Y, Z and two rotary axes.
+pub const AXES: usize = 5;
+
+/// Whether an axis translates (m) or rotates (rad).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AxisKind {
+    Linear,
+    Rotary,
+}
+
+/// Position range and dynamic limits of one axis, SI (m or rad, per s, s^2, s^3).
+/// An unlimited (multi-turn) rotary axis has an infinite range.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct AxisLimits {
+    pub min: f64,
+    pub max: f64,
+    pub velocity: f64,
+    pub acceleration: f64,
+    pub jerk: f64,
+}
+
+impl AxisLimits {
+    /// True if `q` lies in the position range (with a small tolerance for rounding in programs).
+    pub fn contains(&self, q: f64) -> bool {
+        const TOL: f64 = 1e-9;
+        q >= self.min - TOL && q <= self.max + TOL
+    }
+    /// True for a rotary axis without end stops.
+    pub fn is_unlimited(&self) -> bool {
+        self.min == f64::NEG_INFINITY && self.max == f64::INFINITY
+    }
+}
+
+/// One machine axis.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Axis {
+    pub name: String,
+    pub kind: AxisKind,
+    pub limits: AxisLimits,
+}
+
+/// A five-axis machine: axes `[X, Y, Z, R1st, R2nd]` (rotaries in the file's order) and its chain.
+#[derive(Debug, Clone)]
+pub struct Machine {
+    pub name: String,
+    pub description: String,
+    pub axes: [Axis; AXES],
+    pub chain: TwoRotaryChain,
+}
+
+/// Errors building a machine from a description.
+#[derive(Debug, thiserror::Error)]
+pub enum MachineError {
+    #[error("unknown machine '{0}' (built in: {list})", list = BUILTIN_NAMES.join(", "))]
+    Unknown(String),
+    #[error("cannot read machine file {path}: {source}")]
+    Io { path: String, source: std::io::Error },
+    #[error("machine file {path}: {message}")]
+    Parse { path: String, message: String },
+    #[error("machine '{name}': {message}")]
+    Invalid { name: String, message: String },
+}
+
+/// Names of the built-in machines.
+pub const BUILTIN_NAMES: [&str; 3] = ["hermle-c600u", "mikron-ucp710", "seed003-ttttr"];
+
+const BUILTIN_FILES: [(&str, &str); 3] = [
+    ("hermle-c600u", include_str!("../../machines/hermle-c600u.toml")),
+    ("mikron-ucp710", include_str!("../../machines/mikron-ucp710.toml")),
+    ("seed003-ttttr", include_str!("../../machines/seed003-ttttr.toml")),
+];
+
+impl Machine {
+    /// A built-in machine by name.
+    pub fn builtin(name: &str) -> Result<Machine, MachineError> {
+        let (_, text) = BUILTIN_FILES
+            .iter()
+            .find(|(n, _)| *n == name)
+            .ok_or_else(|| MachineError::Unknown(name.to_string()))?;
+        Machine::from_toml_str(text, &format!("builtin:{name}"))
+    }
+
+    /// The Hermle C600U of seed 001 (the default machine).
+    pub fn hermle_c600u() -> Machine {
+        Machine::builtin("hermle-c600u").expect("built-in machine file is valid")
+    }
+
+    /// A built-in name, or else a path to a TOML machine file.
+    pub fn from_name_or_file(spec: &str) -> Result<Machine, MachineError> {
+        if BUILTIN_NAMES.contains(&spec) {
+            return Machine::builtin(spec);
+        }
+        let path = Path::new(spec);
+        if path.extension().is_some_and(|e| e == "toml") || path.exists() {
+            let text = std::fs::read_to_string(path)
+                .map_err(|source| MachineError::Io { path: spec.to_string(), source })?;
+            return Machine::from_toml_str(&text, spec);
+        }
+        Err(MachineError::Unknown(spec.to_string()))
+    }
+
+    /// Parse a TOML machine description; `origin` names it in errors.
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Machine, MachineError> {
+        let file: MachineFile = toml::from_str(text)
+            .map_err(|e| MachineError::Parse { path: origin.to_string(), message: e.to_string() })?;
+        file.build()
+    }
+
+    /// Index of the axis called `name` (case-insensitive).
+    pub fn axis_index(&self, name: &str) -> Option<usize> {
+        self.axes.iter().position(|a| a.name.eq_ignore_ascii_case(name))
+    }
+
+    /// Axis index of the secondary rotary axis: the one whose direction is fixed in the workpiece frame
+    /// and whose speed diverges at the singularity (seed 001 §2.4; C on the Hermle).
+    pub fn secondary_axis(&self) -> usize {
+        3 + self.chain.secondary_slot()
+    }
+
+    /// Axis index of the primary rotary axis (A on the Hermle).
+    pub fn primary_axis(&self) -> usize {
+        3 + (1 - self.chain.secondary_slot())
+    }
+
+    /// Limits of all five axes, in axis order.
+    pub fn limits(&self) -> [AxisLimits; AXES] {
+        std::array::from_fn(|i| self.axes[i].limits)
+    }
+
+    /// The singular tool direction in the workpiece frame (unit vector; its opposite is singular too).
+    pub fn singular_direction(&self) -> Vector3<f64> {
+        self.chain.singular_direction()
+    }
+
+    /// Names of the axes, in order.
+    pub fn axis_names(&self) -> [String; AXES] {
+        std::array::from_fn(|i| self.axes[i].name.clone())
+    }
+}
+
+pub(crate) fn joint(name: &str, carrier: Carrier, axis: Vector3<f64>, center: Vector3<f64>) -> RotaryJoint {
+    RotaryJoint { name: name.to_string(), carrier, axis: axis.normalize(), center }
+}
+
+impl Machine {
+    /// Forward kinematics: axis values -> tool pose in the workpiece frame.
+    pub fn forward(&self, q: &Joints) -> Pose {
+        self.chain.forward(q)
+    }
+
+    /// Both raw inverse solutions (rotary angles wrapped to (-pi, pi], no limits applied), seed 001
+    /// Table 1. At the singularity the secondary angle is undefined and set to 0.
+    pub fn inverse_all(&self, pose: &Pose) -> Result<[Joints; 2], KinematicsError> {
+        check_pose(pose)?;
+        let sol = self.chain.orientation_solutions(&pose.axis)?;
+        Ok(sol.solutions.map(|rot| {
+            let l = self.chain.linear_for(&pose.tip, &rot);
+            [l.x, l.y, l.z, rot[0], rot[1]]
+        }))
+    }
+
+    /// Inverse kinematics for continuous motion: of the two solutions, the one whose rotary angles are
+    /// closest to `previous` once unwrapped (multi-turn axes take the turn nearest `previous`, so C can
+    /// read 386.198 deg), within every axis range. At the singularity the secondary axis keeps its
+    /// previous value (seed 001 Table 1: C undefined).
+    pub fn inverse(&self, pose: &Pose, previous: &Joints) -> Result<Joints, KinematicsError> {
+        check_pose(pose)?;
+        if !previous.iter().all(|v| v.is_finite()) {
+            return Err(KinematicsError::NotFinite);
+        }
+        let sol = self.chain.orientation_solutions(&pose.axis)?;
+        let sec = self.chain.secondary_slot();
+        let mut best: Option<(f64, [f64; 2])> = None;
+        let mut first_violation: Option<KinematicsError> = None;
+        'solutions: for raw in sol.solutions {
+            let mut rot = [0.0; 2];
+            for slot in 0..2 {
+                let limits = &self.axes[3 + slot].limits;
+                let prev = previous[3 + slot];
+                let target = if sol.singular && slot == sec { prev } else { raw[slot] };
+                match nearest_turn_within(target, prev, limits) {
+                    Some(v) => rot[slot] = v,
+                    None => {
+                        first_violation.get_or_insert(KinematicsError::OutOfRange {
+                            axis: self.axes[3 + slot].name.clone(),
+                            value: unwrap_near(target, prev).to_degrees(),
+                            min: limits.min.to_degrees(),
+                            max: limits.max.to_degrees(),
+                            unit: "deg",
+                        });
+                        continue 'solutions;
+                    }
+                }
+            }
+            let cost = (rot[0] - previous[3]).abs() + (rot[1] - previous[4]).abs();
+            if best.is_none_or(|(c, _)| cost < c - 1e-12) {
+                best = Some((cost, rot));
+            }
+        }
+        let Some((_, rot)) = best else {
+            return Err(first_violation.unwrap_or(KinematicsError::Unreachable));
+        };
+        let l = self.chain.linear_for(&pose.tip, &rot);
+        let q = [l.x, l.y, l.z, rot[0], rot[1]];
+        for i in 0..3 {
+            let lim = &self.axes[i].limits;
+            if !lim.contains(q[i]) {
+                return Err(KinematicsError::OutOfRange {
+                    axis: self.axes[i].name.clone(),
+                    value: q[i] / crate::units::MM,
+                    min: lim.min / crate::units::MM,
+                    max: lim.max / crate::units::MM,
+                    unit: "mm",
+                });
+            }
+        }
+        Ok(q)
+    }
+}
+
+fn check_pose(pose: &Pose) -> Result<(), KinematicsError> {
+    if pose.tip.iter().chain(pose.axis.iter()).all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(KinematicsError::NotFinite)
+    }
+}
+
+/// The representative `target + 2 pi k` nearest `prev` inside `limits`, if any.
+fn nearest_turn_within(target: f64, prev: f64, limits: &AxisLimits) -> Option<f64> {
+    let near = unwrap_near(target, prev);
+    if limits.contains(near) {
+        return Some(near);
+    }
+    // A limited range wider than one turn may hold another representative; try the neighbours.
+    let tau = std::f64::consts::TAU;
+    [near - tau, near + tau]
+        .into_iter()
+        .filter(|v| limits.contains(*v))
+        .min_by(|a, b| (a - prev).abs().total_cmp(&(b - prev).abs()))
+}

@@ -1,0 +1,95 @@
+//! Cutter-location data: one pose `x y z i j k [feed]` per line (mm, unit tool axis, mm/min),
+//! separated by commas, spaces or tabs; an optional header line; `#` or `;` comment lines.
+//! Poses are tool tips in the workpiece frame, so tool-centre-point control is on throughout.
+
+use super::lex::{excerpt, parse_number, Diags};
+use super::{Block, Dialect, Feed, FeedMode, Motion, Program, Targets};
+use crate::units::MM;
+
+/// Read CL data; `feed_mm_per_min` applies where a line has no feed column.
+pub fn read_cl(text: &str, feed_mm_per_min: f64) -> Program {
+    let mut diags = Diags::default();
+    let mut blocks = Vec::new();
+    let mut seen_data = false;
+    for (idx, raw) in text.lines().enumerate() {
+        let line = idx + 1;
+        let l = raw.trim_end_matches('\r');
+        let t = l.trim();
+        if t.is_empty() || t.starts_with('#') || t.starts_with(';') {
+            continue;
+        }
+        // Fields with their columns.
+        let mut fields: Vec<(usize, &str)> = Vec::new();
+        let mut start = None;
+        for (k, c) in l.char_indices().chain(std::iter::once((l.len(), ' '))) {
+            let sep = c == ',' || c.is_whitespace();
+            match (sep, start) {
+                (false, None) => start = Some(k),
+                (true, Some(s)) => {
+                    fields.push((l[..s].chars().count() + 1, &l[s..k]));
+                    start = None;
+                }
+                _ => {}
+            }
+        }
+        let numbers: Vec<Option<f64>> = fields.iter().map(|(_, f)| parse_number(f)).collect();
+        if !seen_data && numbers.iter().all(Option::is_none) {
+            continue; // header line such as `x,y,z,i,j,k`
+        }
+        seen_data = true;
+        if fields.len() < 6 || fields.len() > 7 {
+            diags.error(
+                line,
+                1,
+                format!("expected 6 or 7 fields (x y z i j k [feed]), found {}", fields.len()),
+            );
+            continue;
+        }
+        let mut bad = false;
+        for ((col, f), v) in fields.iter().zip(&numbers) {
+            if v.is_none() {
+                diags.error(line, *col, format!("expected a number, found '{}'", excerpt(f)));
+                bad = true;
+            }
+        }
+        if bad {
+            continue;
+        }
+        let v: Vec<f64> = numbers.into_iter().flatten().collect();
+        let norm = (v[3] * v[3] + v[4] * v[4] + v[5] * v[5]).sqrt();
+        if !(norm > 1e-9) {
+            diags.error(line, fields[3].0, "tool axis (i j k) has zero length: expected a direction");
+            continue;
+        }
+        if (norm - 1.0).abs() > 1e-2 {
+            diags.warning(line, fields[3].0, format!("tool axis length {norm:.4} is not 1: normalised"));
+        }
+        let feed = if v.len() == 7 {
+            if !(v[6] > 0.0) {
+                diags.error(line, fields[6].0, "expected a positive feed (mm/min)");
+                continue;
+            }
+            v[6]
+        } else {
+            feed_mm_per_min
+        };
+        blocks.push(Block {
+            line,
+            column: fields[0].0,
+            number: None,
+            motion: Motion::Linear,
+            targets: Targets {
+                x: Some(v[0] * MM),
+                y: Some(v[1] * MM),
+                z: Some(v[2] * MM),
+                tool_axis: Some([v[3] / norm, v[4] / norm, v[5] / norm]),
+                ..Targets::default()
+            },
+            feed: Some(Feed { value_per_min: feed, mode: FeedMode::PerMinute }),
+            tcp: true,
+            datum: [0.0; 3],
+            events: Vec::new(),
+        });
+    }
+    Program { source: String::new(), dialect: Dialect::Cl, name: None, blocks, diagnostics: diags.0 }
+}

@@ -1,0 +1,357 @@
+//! Heidenhain DIN/ISO programs as in the paper's appendices (`SING.I`, `NON_SING.I`):
+//! `%NAME G71 *` header, `N..` block numbers, blocks ending in ` *`, `%`-comment lines, `;` comments,
+//! `G54 X.. Y.. Z..` datum shift, `M128`/`M129` tool-centre-point management, `N999999 %NAME G71 *` end.
+//!
+//! Damage is reported where it stands: two blocks run together on one line, a number split by a space,
+//! a garbled word, repeated or out-of-order block numbers, a header with a space in the name.
+
+use super::interp::{Interpreter, Word};
+use super::lex::{excerpt, number_prefix_len, parse_number, Diags};
+use super::{Block, Dialect, Program};
+
+/// A lexical token of one line.
+#[derive(Debug, Clone, PartialEq)]
+enum Tok {
+    /// Letter + text after it up to the next separator; `value` is None when the text is not a number.
+    Word { letter: char, text: String, value: Option<f64>, incremental: bool, col: usize },
+    /// A number with no address letter in front.
+    Bare { text: String, col: usize },
+    /// Anything else that cannot start a word.
+    Junk { text: String, col: usize },
+    /// ` *`
+    End { col: usize },
+    /// `%` in a block line: a program begin/end marker with the rest of the line.
+    Percent { rest: String, col: usize },
+}
+
+fn is_sep(c: char) -> bool {
+    c.is_whitespace() || c == '*' || c == ';' || c == '%'
+}
+
+fn tokenize(line: &str) -> Vec<Tok> {
+    let chars: Vec<(usize, char)> = line.char_indices().collect();
+    let col_of = |i: usize| line[..chars.get(i).map_or(line.len(), |p| p.0)].chars().count() + 1;
+    let mut toks = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i].1;
+        if c.is_whitespace() {
+            i += 1;
+        } else if c == ';' {
+            break;
+        } else if c == '*' {
+            toks.push(Tok::End { col: col_of(i) });
+            i += 1;
+        } else if c == '%' {
+            let rest: String = chars[i + 1..].iter().map(|p| p.1).collect();
+            toks.push(Tok::Percent { rest, col: col_of(i) });
+            break;
+        } else {
+            let start = i;
+            let mut j = i;
+            while j < chars.len() && !is_sep(chars[j].1) {
+                j += 1;
+            }
+            let run: String = chars[start..j].iter().map(|p| p.1).collect();
+            let col = col_of(start);
+            if c.is_ascii_alphabetic() {
+                let letter = c.to_ascii_uppercase();
+                let mut body = &run[c.len_utf8()..];
+                let mut incremental = false;
+                if letter == 'I' && body.starts_with(|ch: char| "XYZABCxyzabc".contains(ch)) {
+                    incremental = true;
+                }
+                let (letter, skip) = if incremental {
+                    let l = body.chars().next().unwrap_or('X').to_ascii_uppercase();
+                    (l, 1)
+                } else {
+                    (letter, 0)
+                };
+                body = &body[skip..];
+                // Words written without spaces (`X+0Y+0`) split where a valid number meets a letter.
+                let n = number_prefix_len(body);
+                if n > 0 && n < body.len() && body[n..].starts_with(|ch: char| ch.is_ascii_alphabetic()) {
+                    if let Some(v) = parse_number(&body[..n]) {
+                        toks.push(Tok::Word { letter, text: body[..n].to_string(), value: Some(v), incremental, col });
+                        let consumed = c.len_utf8() + skip + n;
+                        i = start + run[..consumed].chars().count();
+                        continue;
+                    }
+                }
+                toks.push(Tok::Word { letter, text: body.to_string(), value: parse_number(body), incremental, col });
+            } else if c.is_ascii_digit() || c == '+' || c == '-' || c == '.' {
+                toks.push(Tok::Bare { text: run, col });
+            } else {
+                toks.push(Tok::Junk { text: run, col });
+            }
+            i = j;
+        }
+    }
+    toks
+}
+
+/// Parse `NAME G71 *` after a `%`; returns the name. `col` is the column of the `%`.
+fn header(rest: &str, line: usize, col: usize, diags: &mut Diags) -> String {
+    let body = rest.split('*').next().unwrap_or("");
+    let mut parts: Vec<(usize, &str)> = Vec::new();
+    let mut offset = 0;
+    for piece in body.split(' ') {
+        if !piece.is_empty() {
+            parts.push((col + 1 + offset, piece));
+        }
+        offset += piece.chars().count() + 1;
+    }
+    let unit_at = parts.iter().position(|(_, p)| p.eq_ignore_ascii_case("G71") || p.eq_ignore_ascii_case("G70"));
+    let name_parts = &parts[..unit_at.unwrap_or(parts.len().min(1))];
+    let name = name_parts.iter().map(|(_, p)| *p).collect::<Vec<_>>().join(" ");
+    if name.is_empty() {
+        diags.error(line, col + 1, "expected a program name after '%'");
+    } else if name_parts.len() > 1 {
+        diags.error(
+            line,
+            name_parts[1].0 - 1,
+            format!("program name '{name}' contains a space: expected %NAME G71 * with no space in the name"),
+        );
+    }
+    match unit_at {
+        None => diags.error(line, col, "expected G70 (inch) or G71 (mm) after the program name"),
+        Some(k) if k + 1 < parts.len() => diags.error(
+            line,
+            parts[k + 1].0,
+            format!("unexpected '{}' after the unit: expected ' *'", excerpt(parts[k + 1].1)),
+        ),
+        _ => {}
+    }
+    if !rest.contains('*') {
+        diags.error(line, col + rest.chars().count() + 1, "missing block end: expected ' *'");
+    }
+    name
+}
+
+/// Read a Heidenhain DIN/ISO program.
+pub fn read_heidenhain(text: &str) -> Program {
+    let mut diags = Diags::default();
+    let mut interp = Interpreter::new(Dialect::Heidenhain);
+    let mut name: Option<String> = None;
+    let mut blocks: Vec<Block> = Vec::new();
+    let mut seen: std::collections::HashMap<u64, usize> = std::collections::HashMap::new();
+    let mut last_number: Option<(u64, usize)> = None;
+    let mut out_of_order = false;
+    let mut ended = false;
+
+    for (idx, raw) in text.lines().enumerate() {
+        let line = idx + 1;
+        let trimmed = raw.trim_end_matches('\r');
+        let lead = trimmed.len() - trimmed.trim_start().len();
+        let body = trimmed.trim_start();
+        if body.is_empty() || body.starts_with(';') {
+            continue;
+        }
+        if let Some(rest) = body.strip_prefix('%') {
+            if rest.starts_with(|c: char| c.is_whitespace()) || rest.is_empty() {
+                continue; // `% DATUM INPUT`: a comment line
+            }
+            let col = trimmed[..lead].chars().count() + 1;
+            let n = header(rest, line, col, &mut diags);
+            if name.is_some() {
+                diags.warning(line, col, format!("second program header '%{n}' ignored"));
+            } else {
+                if n.contains(' ') || n.is_empty() {
+                    // already reported; keep the name as read
+                }
+                name = Some(n);
+                if rest.contains("G70") {
+                    interp.set_inch(true);
+                }
+            }
+            continue;
+        }
+        if ended {
+            diags.warning(line, lead + 1, "text after the program end ignored");
+            continue;
+        }
+
+        // Split the line's tokens into blocks: each starts at an N word or after ' *'.
+        let toks = tokenize(trimmed);
+        let mut groups: Vec<(Vec<Tok>, bool)> = Vec::new(); // (tokens, terminated by ' *')
+        let mut cur: Vec<Tok> = Vec::new();
+        for t in toks {
+            match &t {
+                Tok::End { .. } => {
+                    groups.push((std::mem::take(&mut cur), true));
+                }
+                Tok::Word { letter: 'N', col, .. } if !cur.is_empty() => {
+                    let prev = block_label(&cur);
+                    diags.error(
+                        line,
+                        *col,
+                        format!("block {} begins before block {prev} ended: expected ' *' before it (two blocks run together)", word_text(&t)),
+                    );
+                    groups.push((std::mem::take(&mut cur), false));
+                    cur.push(t);
+                }
+                _ => cur.push(t),
+            }
+        }
+        let ends_with_marker = matches!(cur.last(), Some(Tok::Percent { .. }));
+        if ends_with_marker {
+            groups.push((std::mem::take(&mut cur), true));
+        }
+        if !cur.is_empty() {
+            let col = trimmed.chars().count() + 1;
+            diags.error(line, col, format!("block {} has no block end: expected ' *' at the end of the line", block_label(&cur)));
+            groups.push((cur, false));
+        }
+        let complete_groups = groups.iter().filter(|(g, _)| !g.is_empty()).count();
+        if complete_groups > 1 && groups.iter().all(|(_, term)| *term) {
+            diags.warning(line, lead + 1, "more than one block on this line");
+        }
+
+        for (g, _) in groups.into_iter().filter(|(g, _)| !g.is_empty()) {
+            let first_col = tok_col(&g[0]);
+            let errors_before = error_count(&diags);
+            let mut number = None;
+            let mut words: Vec<Word> = Vec::new();
+            let mut program_end = false;
+            for (k, t) in g.iter().enumerate() {
+                match t {
+                    Tok::Word { letter, text, value, incremental, col } => match value {
+                        None => diags.error(
+                            line,
+                            *col,
+                            format!("expected a number after '{letter}', found '{}'", excerpt(text)),
+                        ),
+                        Some(v) if *letter == 'N' => {
+                            if k != 0 {
+                                diags.error(line, *col, "block number N must come first in the block");
+                            } else if v.fract() != 0.0 || *v < 0.0 {
+                                diags.error(line, *col, format!("expected a whole block number after 'N', found '{text}'"));
+                            } else {
+                                number = Some(*v as u64);
+                            }
+                        }
+                        Some(v) => words.push(Word {
+                            letter: *letter,
+                            value: *v,
+                            raw: text.clone(),
+                            column: *col,
+                            incremental: *incremental,
+                        }),
+                    },
+                    Tok::Bare { text, col } => {
+                        let after = match g[..k].last() {
+                            Some(Tok::Word { letter, text: prev, .. }) => format!(" after {letter}{prev}"),
+                            _ => String::new(),
+                        };
+                        diags.error(
+                            line,
+                            *col,
+                            format!(
+                                "number '{}' without an address letter{after} (a number split by a space?): expected a word such as X+1.5",
+                                excerpt(text)
+                            ),
+                        );
+                    }
+                    Tok::Junk { text, col } => {
+                        diags.error(line, *col, format!("unexpected '{}': expected an address word", excerpt(text)))
+                    }
+                    Tok::Percent { rest, col } => {
+                        let n = header(rest, line, *col, &mut diags);
+                        if let Some(start) = &name {
+                            if *start != n {
+                                diags.error(line, *col + 1, format!("program end names '{n}' but the program began as '{start}'"));
+                            }
+                        }
+                        program_end = true;
+                    }
+                    Tok::End { .. } => {}
+                }
+            }
+            if program_end {
+                ended = true;
+                continue;
+            }
+            let damaged = error_count(&diags) > errors_before;
+            if let Some(n) = number {
+                if let Some(&first_line) = seen.get(&n) {
+                    diags.error(line, first_col, format!("block number N{n} repeats the block on line {first_line}"));
+                }
+                if let Some((prev, prev_line)) = last_number {
+                    if n < prev {
+                        out_of_order = true;
+                        diags.error(
+                            line,
+                            first_col,
+                            format!("block number N{n} is out of order: it follows N{prev} (line {prev_line})"),
+                        );
+                    }
+                }
+                seen.entry(n).or_insert(line);
+                last_number = Some((n, line));
+            }
+            if damaged {
+                diags.warning(line, first_col, format!("block {} not used: it is damaged", label(number, line)));
+                continue;
+            }
+            if let Some(b) = interp.block(&words, line, first_col, number, &mut diags) {
+                blocks.push(b);
+            } else {
+                diags.warning(line, first_col, format!("block {} not used", label(number, line)));
+            }
+        }
+    }
+    if name.is_none() {
+        diags.error(1, 1, "missing program header: expected %NAME G71 * on the first line");
+    }
+    if out_of_order {
+        recover_order(&mut blocks, &mut diags);
+    }
+    diags.0.sort_by_key(|d| (d.line, d.column));
+    Program { source: String::new(), dialect: Dialect::Heidenhain, name, blocks, diagnostics: diags.0 }
+}
+
+/// Out-of-order numbering in a damaged copy: if the kept blocks all carry distinct numbers, run them
+/// in number order (the order the program was written in) and say so.
+fn recover_order(blocks: &mut [Block], diags: &mut Diags) {
+    let mut numbers: Vec<u64> = blocks.iter().filter_map(|b| b.number).collect();
+    let all = numbers.len() == blocks.len();
+    numbers.sort_unstable();
+    numbers.dedup();
+    if all && numbers.len() == blocks.len() {
+        blocks.sort_by_key(|b| b.number);
+        diags.warning(1, 1, "blocks put back in block-number order to recover from the out-of-order numbering");
+    } else {
+        diags.warning(1, 1, "blocks kept in file order: the block numbers cannot restore the order");
+    }
+}
+
+fn error_count(d: &Diags) -> usize {
+    d.0.iter().filter(|d| d.severity == super::Severity::Error).count()
+}
+
+fn tok_col(t: &Tok) -> usize {
+    match t {
+        Tok::Word { col, .. } | Tok::Bare { col, .. } | Tok::Junk { col, .. } | Tok::End { col } | Tok::Percent { col, .. } => *col,
+    }
+}
+
+fn word_text(t: &Tok) -> String {
+    match t {
+        Tok::Word { letter, text, .. } => format!("{letter}{text}"),
+        _ => String::new(),
+    }
+}
+
+fn block_label(toks: &[Tok]) -> String {
+    match toks.first() {
+        Some(t @ Tok::Word { letter: 'N', .. }) => word_text(t),
+        _ => "without a number".to_string(),
+    }
+}
+
+fn label(number: Option<u64>, line: usize) -> String {
+    match number {
+        Some(n) => format!("N{n} (line {line})"),
+        None => format!("on line {line}"),
+    }
+}

@@ -1,0 +1,235 @@
+//! NC programs: one block model for every dialect, and readers that report every defect.
+//!
+//! A reader never fails and never panics: it returns the blocks it could read and a diagnostic for
+//! each defect (line, column, what it expected). A block with a defect is not used (a damaged value is
+//! never read as a number); every good block is kept.
+
+mod cl;
+mod heidenhain;
+mod interp;
+mod lex;
+mod rs274;
+
+pub use cl::read_cl;
+pub use heidenhain::read_heidenhain;
+pub use rs274::read_rs274;
+
+use std::fmt;
+use std::path::Path;
+
+/// The dialects the readers understand.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Dialect {
+    /// Heidenhain DIN/ISO (`%NAME G71 *`, `N10 G01 X+0 *`).
+    Heidenhain,
+    /// RS274NGC (LinuxCNC, Fanuc style).
+    Rs274,
+    /// Cutter-location data: one `x y z i j k` pose per line.
+    Cl,
+}
+
+impl Dialect {
+    /// Guess the dialect from the file name, then from the text.
+    pub fn detect(path: Option<&Path>, text: &str) -> Dialect {
+        let ext = path
+            .and_then(|p| p.extension())
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        match ext.as_str() {
+            "i" | "h" | "iso" => return Dialect::Heidenhain,
+            "ngc" | "nc" | "gcode" | "tap" | "cnc" => return Dialect::Rs274,
+            "cl" | "csv" | "cls" => return Dialect::Cl,
+            _ => {}
+        }
+        let first = text.lines().map(str::trim).find(|l| !l.is_empty()).unwrap_or("");
+        if first.starts_with('%') && first.ends_with('*') || text.contains(" *\n") {
+            Dialect::Heidenhain
+        } else if first
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|t| !t.is_empty())
+            .count()
+            >= 6
+            && !first.chars().next().is_some_and(|c| c.is_ascii_alphabetic() && "GMNXYZgmnxyz".contains(c))
+        {
+            Dialect::Cl
+        } else {
+            Dialect::Rs274
+        }
+    }
+}
+
+/// Modal motion mode of a block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Motion {
+    /// G00: positioning at the machine's rapid rate.
+    Rapid,
+    /// G01: straight line at the programmed feed.
+    Linear,
+}
+
+/// How the feed word is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FeedMode {
+    /// F is a path speed: mm/min of the tool tip (deg/min for a move of rotary axes only).
+    PerMinute,
+    /// G93: F is the inverse of the block's duration in minutes.
+    InverseTime,
+}
+
+/// Programmed feed in effect for a block.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Feed {
+    /// F as programmed, converted to mm/min (or deg/min, or 1/min in inverse-time mode).
+    pub value_per_min: f64,
+    pub mode: FeedMode,
+}
+
+/// Target words of a block, absolute, SI (m, rad), in program (workpiece, datum-shifted) coordinates.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct Targets {
+    pub x: Option<f64>,
+    pub y: Option<f64>,
+    pub z: Option<f64>,
+    pub a: Option<f64>,
+    pub b: Option<f64>,
+    pub c: Option<f64>,
+    /// Tool axis (unit) in the workpiece frame, for cutter-location data.
+    pub tool_axis: Option<[f64; 3]>,
+}
+
+impl Targets {
+    /// True if the block names no axis.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_none()
+            && self.y.is_none()
+            && self.z.is_none()
+            && self.a.is_none()
+            && self.b.is_none()
+            && self.c.is_none()
+            && self.tool_axis.is_none()
+    }
+    /// The rotary word for letter `A`, `B` or `C`.
+    pub fn rotary(&self, letter: char) -> Option<f64> {
+        match letter.to_ascii_uppercase() {
+            'A' => self.a,
+            'B' => self.b,
+            'C' => self.c,
+            _ => None,
+        }
+    }
+}
+
+/// One block, with the modal state in effect for it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Block {
+    /// 1-based line and column of the block's first word.
+    pub line: usize,
+    pub column: usize,
+    /// Block number (`N`), if written.
+    pub number: Option<u64>,
+    pub motion: Motion,
+    pub targets: Targets,
+    pub feed: Option<Feed>,
+    /// Tool-centre-point management (M128 / G43.4; always on for CL data): X Y Z are the tool tip
+    /// in workpiece coordinates and the control keeps it on the programmed line.
+    pub tcp: bool,
+    /// Datum shift in effect (m): program coordinates + datum = coordinates about the rotary axes.
+    pub datum: [f64; 3],
+    /// Non-motion words kept as events, as written (`M13`, `T5`, `S12000`, `M100`).
+    pub events: Vec<String>,
+}
+
+/// How bad a diagnostic is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// Something unsupported or suspicious that was skipped or tolerated.
+    Warning,
+    /// A defect: the input is damaged; the block holding it is not used.
+    Error,
+}
+
+/// A defect or a warning, with where it is.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Diagnostic {
+    pub line: usize,
+    pub column: usize,
+    pub severity: Severity,
+    pub message: String,
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let sev = match self.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        write!(f, "{}:{}: {}: {}", self.line, self.column, sev, self.message)
+    }
+}
+
+/// A read program: its blocks and what the reader had to say.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Program {
+    /// Where it came from (a path, or `builtin:NAME`).
+    pub source: String,
+    pub dialect: Dialect,
+    /// Program name from the header, if any.
+    pub name: Option<String>,
+    pub blocks: Vec<Block>,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl Program {
+    /// True if any diagnostic is a defect.
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(|d| d.severity == Severity::Error)
+    }
+    /// Diagnostics formatted with the source, `file:line:column: severity: message`.
+    pub fn report(&self) -> Vec<String> {
+        self.diagnostics.iter().map(|d| format!("{}:{}", self.source, d)).collect()
+    }
+}
+
+/// Options of the readers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReadOptions {
+    /// Feed for CL data without a feed column, mm/min.
+    pub cl_feed_mm_per_min: f64,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        ReadOptions { cl_feed_mm_per_min: 1000.0 }
+    }
+}
+
+/// Read `text` in `dialect`; `source` names it in reports.
+pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> Program {
+    let mut p = match dialect {
+        Dialect::Heidenhain => read_heidenhain(text),
+        Dialect::Rs274 => read_rs274(text),
+        Dialect::Cl => read_cl(text, options.cl_feed_mm_per_min),
+    };
+    p.source = source.to_string();
+    p
+}
+
+/// Errors loading a program file (its content never errors: see [`Program::diagnostics`]).
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    #[error("cannot read {path}: {source}")]
+    Io { path: String, source: std::io::Error },
+}
+
+/// Read a program file, detecting its dialect unless given. Bytes that are not UTF-8 are replaced
+/// (and reported where they stand).
+pub fn load(path: &Path, dialect: Option<Dialect>, options: &ReadOptions) -> Result<Program, LoadError> {
+    let bytes = std::fs::read(path).map_err(|source| LoadError::Io { path: path.display().to_string(), source })?;
+    let text = String::from_utf8_lossy(&bytes);
+    let dialect = dialect.unwrap_or_else(|| Dialect::detect(Some(path), &text));
+    Ok(read(&text, dialect, &path.display().to_string(), options))
+}

@@ -1,0 +1,102 @@
+//! RS274NGC programs (LinuxCNC, Fanuc style): `G0/G1`, `G90/G91`, `G93/G94`, `G20/G21`, `F`,
+//! `(...)` and `;` comments, spaces between letter and value (`X  16.339`), optional `N` numbers,
+//! `G43.4`/`G49` tool-centre-point control on/off. Unknown M codes are kept as events.
+
+use super::interp::{Interpreter, Word};
+use super::lex::{excerpt, parse_number, Diags};
+use super::{Dialect, Program};
+
+/// Read an RS274NGC program.
+pub fn read_rs274(text: &str) -> Program {
+    let mut diags = Diags::default();
+    let mut interp = Interpreter::new(Dialect::Rs274);
+    let mut blocks = Vec::new();
+    for (idx, raw) in text.lines().enumerate() {
+        let line = idx + 1;
+        let chars: Vec<char> = raw.trim_end_matches('\r').chars().collect();
+        let first = chars.iter().position(|c| !c.is_whitespace());
+        let Some(first) = first else { continue };
+        if chars[first] == '%' {
+            continue;
+        }
+        let errors_before = diags.0.iter().filter(|d| d.severity == super::Severity::Error).count();
+        let mut words: Vec<Word> = Vec::new();
+        let mut number = None;
+        let mut i = first;
+        if chars[i] == '/' {
+            diags.warning(line, i + 1, "block delete '/' is not modelled: the block is run");
+            i += 1;
+        }
+        while i < chars.len() {
+            let c = chars[i];
+            if c.is_whitespace() {
+                i += 1;
+            } else if c == ';' {
+                break;
+            } else if c == '(' {
+                match chars[i..].iter().position(|&ch| ch == ')') {
+                    Some(close) => i += close + 1,
+                    None => {
+                        diags.error(line, i + 1, "comment '(' is not closed: expected ')' on the same line");
+                        break;
+                    }
+                }
+            } else if c.is_ascii_alphabetic() {
+                let letter = c.to_ascii_uppercase();
+                let col = i + 1;
+                i += 1;
+                while i < chars.len() && (chars[i] == ' ' || chars[i] == '\t') {
+                    i += 1;
+                }
+                let start = i;
+                while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.' || ((chars[i] == '+' || chars[i] == '-') && i == start)) {
+                    i += 1;
+                }
+                let text: String = chars[start..i].iter().collect();
+                match parse_number(&text) {
+                    Some(v) if letter == 'N' => {
+                        if v.fract() == 0.0 && v >= 0.0 {
+                            number = Some(v as u64);
+                        } else {
+                            diags.error(line, col, format!("expected a whole line number after 'N', found '{text}'"));
+                        }
+                    }
+                    Some(v) => words.push(Word { letter, value: v, raw: text, column: col, incremental: false }),
+                    None => {
+                        let mut end = i;
+                        while end < chars.len() && !chars[end].is_whitespace() {
+                            end += 1;
+                        }
+                        let found: String = chars[start..end].iter().collect();
+                        diags.error(line, col, format!("expected a number after '{letter}', found '{}'", excerpt(&found)));
+                        i = end.max(i + usize::from(i == start));
+                    }
+                }
+            } else {
+                let mut end = i;
+                while end < chars.len() && !chars[end].is_whitespace() {
+                    end += 1;
+                }
+                let found: String = chars[i..end].iter().collect();
+                diags.error(line, i + 1, format!("unexpected '{}': expected a word such as G1 or X10.5", excerpt(&found)));
+                i = end;
+            }
+        }
+        let damaged = diags.0.iter().filter(|d| d.severity == super::Severity::Error).count() > errors_before;
+        if damaged {
+            diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+            continue;
+        }
+        if words.is_empty() {
+            continue;
+        }
+        let col = words.first().map_or(first + 1, |w| w.column.min(first + 1));
+        if let Some(b) = interp.block(&words, line, col, number, &mut diags) {
+            blocks.push(b);
+        } else {
+            diags.warning(line, first + 1, format!("line {line} not used"));
+        }
+    }
+    diags.0.sort_by_key(|d| (d.line, d.column));
+    Program { source: String::new(), dialect: Dialect::Rs274, name: None, blocks, diagnostics: diags.0 }
+}

@@ -1,0 +1,15 @@
+//! Unit factors: the library is SI (m, rad, s, REP 103); people read mm, degrees, rpm and mm/min.
+//! Multiply a value in the named unit by the factor to get SI; divide to get back.
+
+/// One millimetre in metres.
+pub const MM: f64 = 1e-3;
+/// One inch in metres.
+pub const INCH: f64 = 25.4e-3;
+/// One degree in radians.
+pub const DEG: f64 = std::f64::consts::PI / 180.0;
+/// One mm/min in m/s.
+pub const MM_PER_MIN: f64 = 1e-3 / 60.0;
+/// One degree per minute in rad/s.
+pub const DEG_PER_MIN: f64 = DEG / 60.0;
+/// One revolution per minute in rad/s.
+pub const RPM: f64 = 2.0 * std::f64::consts::PI / 60.0;
