@@ -6,7 +6,11 @@
 //!
 //! Units: SI inside (m, rad, s; REP 103). Readers convert from mm/inch/degrees; reports convert back.
 
+pub mod job;
 pub mod kinematics;
 pub mod machine;
+pub mod path;
 pub mod program;
+pub mod report;
+pub mod singularity;
 pub mod units;

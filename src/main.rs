@@ -1,1 +1,196 @@
-fn main(){}
+//! `fiveaxis`: the command-line front of the library.
+
+use anyhow::Context;
+use clap::{Args, Parser, Subcommand};
+use fiveaxis::job::{self, JobOptions};
+use fiveaxis::machine::{Machine, BUILTIN_NAMES};
+use fiveaxis::path::PathOptions;
+use fiveaxis::program::{Dialect, ReadOptions};
+use fiveaxis::singularity::AnalysisOptions;
+use fiveaxis::units::{DEG, RPM};
+use std::process::ExitCode;
+
+/// Watch a five-axis machine tool for kinematic singularities (Cripps et al. 2017).
+#[derive(Parser)]
+#[command(name = "fiveaxis", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// NC programs: analyze one.
+    #[command(subcommand)]
+    Program(ProgramCmd),
+    /// Machines: list or show the built-in ones.
+    #[command(subcommand)]
+    Machine(MachineCmd),
+    /// The embedded default: analyze the paper's two programs and two continuous paths on the Hermle.
+    Demo {
+        /// Print one JSON object per program (one per line).
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Subcommand)]
+enum ProgramCmd {
+    /// Predict the singular behaviour of a program: C speed (eq. 5), closest approach, feed limits, regions.
+    Analyze(AnalyzeArgs),
+}
+
+#[derive(Args)]
+struct AnalyzeArgs {
+    /// A program file (.I/.H Heidenhain, .ngc RS274, .cl/.csv CL data), builtin:paper-sing,
+    /// builtin:paper-nonsing, bundled:SING.I or bundled:NON_SING.I.
+    program: String,
+    /// Built-in machine name or a TOML machine file.
+    #[arg(long, default_value = "hermle-c600u")]
+    machine: String,
+    /// Tool-tip feed for every feed move (and CL data without a feed column), mm/min.
+    #[arg(long = "feed", value_name = "MM_PER_MIN")]
+    feed_mm_per_min: Option<f64>,
+    /// Dialect, instead of guessing from the file name.
+    #[arg(long, value_parser = parse_dialect)]
+    dialect: Option<Dialect>,
+    /// Also report regions where the tool axis comes closer than this to the singularity, degrees.
+    #[arg(long = "min-distance-deg", value_name = "DEG")]
+    min_distance_deg: Option<f64>,
+    /// Region threshold for the singular axis speed, rpm (default: the machine's limit).
+    #[arg(long = "max-c-speed-rpm", value_name = "RPM")]
+    max_c_speed_rpm: Option<f64>,
+    /// Sample period, ms.
+    #[arg(long = "period-ms", default_value_t = 1.0)]
+    period_ms: f64,
+    /// Print one JSON object instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Subcommand)]
+enum MachineCmd {
+    /// List the built-in machines.
+    List,
+    /// Print a built-in machine's TOML description (a template for your own).
+    Show { name: String },
+}
+
+fn parse_dialect(s: &str) -> Result<Dialect, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "heidenhain" | "din" | "iso" => Ok(Dialect::Heidenhain),
+        "rs274" | "ngc" | "gcode" | "linuxcnc" => Ok(Dialect::Rs274),
+        "cl" => Ok(Dialect::Cl),
+        _ => Err(format!("unknown dialect '{s}': expected heidenhain, rs274 or cl")),
+    }
+}
+
+/// Exit codes: 0 success, 1 failure of the tool, 2 bad input (unreadable, or a program with defects).
+const EXIT_INPUT: u8 = 2;
+
+fn positive(name: &str, v: Option<f64>) -> anyhow::Result<()> {
+    match v {
+        Some(x) if !(x.is_finite() && x > 0.0) => anyhow::bail!("{name} must be a positive number, got {x}"),
+        _ => Ok(()),
+    }
+}
+
+fn analyze(a: &AnalyzeArgs) -> anyhow::Result<ExitCode> {
+    positive("--feed", a.feed_mm_per_min)?;
+    positive("--min-distance-deg", a.min_distance_deg)?;
+    positive("--max-c-speed-rpm", a.max_c_speed_rpm)?;
+    positive("--period-ms", Some(a.period_ms))?;
+    let machine = Machine::from_name_or_file(&a.machine).context("loading the machine")?;
+    let options = JobOptions {
+        dialect: a.dialect,
+        path: PathOptions { period: a.period_ms * 1e-3, feed_override_mm_per_min: a.feed_mm_per_min },
+        analysis: AnalysisOptions {
+            min_distance: a.min_distance_deg.map(|d| d * DEG),
+            rate_limit: a.max_c_speed_rpm.map(|r| r * RPM),
+        },
+        read: ReadOptions { cl_feed_mm_per_min: a.feed_mm_per_min.unwrap_or(ReadOptions::default().cl_feed_mm_per_min) },
+    };
+    let job = match job::run(&a.program, &machine, &options) {
+        Ok(j) => j,
+        Err(e @ job::JobError::Load(_)) => {
+            eprintln!("fiveaxis: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+        Err(e) => return Err(e.into()),
+    };
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&job.report)?);
+    } else {
+        print!("{}", job.report.to_table());
+    }
+    if job.has_errors() {
+        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.program, job.report.errors);
+        return Ok(ExitCode::from(EXIT_INPUT));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn demo(json: bool) -> anyhow::Result<ExitCode> {
+    let machine = Machine::hermle_c600u();
+    let specs = ["builtin:paper-sing", "bundled:SING.I", "builtin:paper-nonsing", "bundled:NON_SING.I"];
+    if !json {
+        println!("fiveaxis demo: the paper's paths on the {} (C limit 25 rpm), F2000 mm/min\n", machine.name);
+        println!("{:<24} {:>12} {:>10} {:>14} {:>16}", "program", "peak C rpm", "at x mm", "closest deg", "C > 25 rpm, x mm");
+    }
+    for spec in specs {
+        let job = job::run(spec, &machine, &JobOptions::default())?;
+        let r = &job.report;
+        if json {
+            println!("{}", serde_json::to_string(r)?);
+            continue;
+        }
+        let regions = if r.regions.is_empty() {
+            "none".to_string()
+        } else {
+            r.regions.iter().map(|g| format!("{:.2}-{:.2}", g.x_start_mm, g.x_end_mm)).collect::<Vec<_>>().join(", ")
+        };
+        println!(
+            "{:<24} {:>12.1} {:>10.2} {:>14.3} {:>16}",
+            spec,
+            r.peak_c_speed_rpm,
+            r.peak_c_speed_x_mm,
+            r.min_singularity_distance_deg.unwrap_or(f64::NAN),
+            regions
+        );
+    }
+    if !json {
+        println!("\nDetails: fiveaxis program analyze bundled:SING.I   (or any file; --json for CI)");
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Program(ProgramCmd::Analyze(a)) => analyze(a),
+        Command::Machine(MachineCmd::List) => {
+            for n in BUILTIN_NAMES {
+                match Machine::builtin(n) {
+                    Ok(m) => println!("{n:<16} {}", m.description),
+                    Err(e) => println!("{n:<16} ({e})"),
+                }
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Machine(MachineCmd::Show { name }) => match fiveaxis::machine::builtin_file(name) {
+            Some(text) => {
+                print!("{text}");
+                Ok(ExitCode::SUCCESS)
+            }
+            None => Err(anyhow::anyhow!("unknown machine '{name}' (built in: {})", BUILTIN_NAMES.join(", "))),
+        },
+        Command::Demo { json } => demo(*json),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("fiveaxis: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

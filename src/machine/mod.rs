@@ -255,3 +255,8 @@ fn nearest_turn_within(target: f64, prev: f64, limits: &AxisLimits) -> Option<f6
         .filter(|v| limits.contains(*v))
         .min_by(|a, b| (a - prev).abs().total_cmp(&(b - prev).abs()))
 }
+
+/// The TOML text of a built-in machine.
+pub fn builtin_file(name: &str) -> Option<&'static str> {
+    BUILTIN_FILES.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
+}

@@ -1,0 +1,86 @@
+//! One analysis job: resolve a program spec (a file, `builtin:NAME` for the paper's continuous paths,
+//! or `bundled:NAME` for the paper's NC programs compiled into the binary), read it, sample it on a
+//! machine and analyze it. The CLI, the tests and (later) the nodes share this path.
+
+use crate::machine::Machine;
+use crate::path::{BuiltinPath, PathOptions, Trajectory};
+use crate::program::{self, Dialect, Diagnostic, LoadError, Program, ReadOptions, Severity};
+use crate::report::AnalysisReport;
+use crate::singularity::{analyze, Analysis, AnalysisOptions};
+use std::path::Path;
+
+/// The paper's NC programs, compiled in (`bundled:SING.I`, `bundled:NON_SING.I`).
+pub const BUNDLED: [(&str, &str); 2] = [
+    ("SING.I", include_str!("../recordings/programs/SING.I")),
+    ("NON_SING.I", include_str!("../recordings/programs/NON_SING.I")),
+];
+
+/// Everything one job produced.
+#[derive(Debug, Clone)]
+pub struct Job {
+    pub program: Program,
+    pub trajectory: Trajectory,
+    pub analysis: Analysis,
+    pub report: AnalysisReport,
+}
+
+/// Errors that stop a job before any analysis (the program's own defects are diagnostics instead).
+#[derive(Debug, thiserror::Error)]
+pub enum JobError {
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    #[error("unknown built-in path '{0}' (built in: {list})", list = crate::path::builtin_names().join(", "))]
+    UnknownBuiltin(String),
+    #[error("unknown bundled program '{0}' (bundled: SING.I, NON_SING.I)")]
+    UnknownBundled(String),
+    #[error("built-in path {name} cannot be run on machine {machine}: {source}")]
+    Kinematics { name: String, machine: String, source: crate::kinematics::KinematicsError },
+}
+
+/// Options of a job.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct JobOptions {
+    pub dialect: Option<Dialect>,
+    pub path: PathOptions,
+    pub analysis: AnalysisOptions,
+    pub read: ReadOptions,
+}
+
+/// Read the program named by `spec`.
+pub fn read_spec(spec: &str, options: &JobOptions) -> Result<Program, JobError> {
+    if let Some(name) = spec.strip_prefix("bundled:") {
+        let (_, text) = BUNDLED.iter().find(|(n, _)| *n == name).ok_or_else(|| JobError::UnknownBundled(name.into()))?;
+        let dialect = options.dialect.unwrap_or(Dialect::Heidenhain);
+        return Ok(program::read(text, dialect, spec, &options.read));
+    }
+    Ok(program::load(Path::new(spec), options.dialect, &options.read)?)
+}
+
+/// Run a job on `spec`.
+pub fn run(spec: &str, machine: &Machine, options: &JobOptions) -> Result<Job, JobError> {
+    let (program, trajectory) = if let Some(name) = spec.strip_prefix("builtin:") {
+        let path = BuiltinPath::by_name(name).ok_or_else(|| JobError::UnknownBuiltin(name.into()))?;
+        let traj = path.trajectory(machine, &options.path).map_err(|source| JobError::Kinematics {
+            name: spec.into(),
+            machine: machine.name.clone(),
+            source,
+        })?;
+        let program = Program { source: spec.into(), dialect: Dialect::Cl, name: Some(name.into()), blocks: vec![], diagnostics: vec![] };
+        (program, traj)
+    } else {
+        let program = read_spec(spec, options)?;
+        let traj = Trajectory::from_program(&program, machine, &options.path);
+        (program, traj)
+    };
+    let analysis = analyze(&trajectory, machine, &options.analysis);
+    let extra: Vec<Diagnostic> = trajectory.diagnostics.clone();
+    let report = AnalysisReport::new(&program, machine, &analysis, &trajectory, &extra, options.path.feed_override_mm_per_min);
+    Ok(Job { program, trajectory, analysis, report })
+}
+
+impl Job {
+    /// True if the program or its planning had defects.
+    pub fn has_errors(&self) -> bool {
+        self.report.diagnostics.iter().any(|d| d.severity == Severity::Error)
+    }
+}

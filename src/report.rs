@@ -1,0 +1,233 @@
+//! Reports for people and for CI: the analysis in mm, degrees, rpm and mm/min, as JSON or a table.
+
+use crate::machine::Machine;
+use crate::program::{Diagnostic, Program, Severity};
+use crate::singularity::{Analysis, FeedLimit, LimitKind, RegionCause};
+use crate::units::{MM, MM_PER_MIN, RPM};
+use serde::Serialize;
+use std::fmt::Write as _;
+
+/// One diagnostic, as reported.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct DiagnosticReport {
+    pub file: String,
+    pub line: usize,
+    pub column: usize,
+    pub severity: Severity,
+    pub message: String,
+}
+
+/// One region, as reported.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct RegionReport {
+    pub id: usize,
+    pub cause: RegionCause,
+    pub x_start_mm: f64,
+    pub x_end_mm: f64,
+    pub y_start_mm: f64,
+    pub y_end_mm: f64,
+    pub z_start_mm: f64,
+    pub z_end_mm: f64,
+    pub t_start_s: f64,
+    pub t_end_s: f64,
+    pub line_start: usize,
+    pub line_end: usize,
+    pub block_start: Option<u64>,
+    pub block_end: Option<u64>,
+    pub peak_c_speed_rpm: f64,
+    pub peak_x_mm: f64,
+    pub min_singularity_distance_deg: f64,
+    pub min_feed_limit_mm_per_min: Option<f64>,
+    pub limiting_axis: Option<String>,
+    pub limit_kind: Option<LimitKind>,
+}
+
+/// The analysis of one program, in people's units. "C" is the machine's secondary rotary axis.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct AnalysisReport {
+    pub program: String,
+    pub machine: String,
+    pub secondary_axis: String,
+    pub blocks: usize,
+    pub samples: usize,
+    pub sample_period_s: f64,
+    pub cycle_time_s: f64,
+    pub feed_override_mm_per_min: Option<f64>,
+    pub peak_c_speed_rpm: f64,
+    pub peak_c_speed_x_mm: f64,
+    pub peak_c_speed_y_mm: f64,
+    pub peak_c_speed_z_mm: f64,
+    pub peak_c_speed_line: usize,
+    pub peak_c_speed_block: Option<u64>,
+    pub peak_c_speed_fd_rpm: f64,
+    pub singular_samples: usize,
+    pub min_singularity_distance_deg: Option<f64>,
+    pub min_singularity_distance_x_mm: Option<f64>,
+    pub min_singularity_distance_all_deg: f64,
+    pub c_max_rpm: f64,
+    pub min_feed_limit_mm_per_min: Option<f64>,
+    pub min_feed_limit_x_mm: Option<f64>,
+    pub feed_limiting_axis: Option<String>,
+    pub feed_limit_kind: Option<LimitKind>,
+    pub regions: Vec<RegionReport>,
+    pub errors: usize,
+    pub warnings: usize,
+    pub diagnostics: Vec<DiagnosticReport>,
+}
+
+fn axis_name(machine: &Machine, fl: &Option<FeedLimit>) -> Option<String> {
+    fl.and_then(|f| f.axis).map(|i| machine.axes[i].name.clone())
+}
+
+impl AnalysisReport {
+    /// Build the report. `extra` are diagnostics from planning (unreachable poses and the like).
+    pub fn new(
+        program: &Program,
+        machine: &Machine,
+        analysis: &Analysis,
+        traj: &crate::path::Trajectory,
+        extra: &[Diagnostic],
+        feed_override_mm_per_min: Option<f64>,
+    ) -> AnalysisReport {
+        let s = &analysis.summary;
+        let rpm = |v: f64| v / RPM;
+        let mm = |v: f64| v / MM;
+        let mut diagnostics: Vec<DiagnosticReport> = program
+            .diagnostics
+            .iter()
+            .chain(extra)
+            .map(|d| DiagnosticReport {
+                file: program.source.clone(),
+                line: d.line,
+                column: d.column,
+                severity: d.severity,
+                message: d.message.clone(),
+            })
+            .collect();
+        diagnostics.sort_by_key(|d| (d.line, d.column));
+        let regions = analysis
+            .regions
+            .iter()
+            .map(|r| RegionReport {
+                id: r.id,
+                cause: r.cause,
+                x_start_mm: mm(r.tip_start.x),
+                x_end_mm: mm(r.tip_end.x),
+                y_start_mm: mm(r.tip_start.y),
+                y_end_mm: mm(r.tip_end.y),
+                z_start_mm: mm(r.tip_start.z),
+                z_end_mm: mm(r.tip_end.z),
+                t_start_s: r.t_start,
+                t_end_s: r.t_end,
+                line_start: r.line_start,
+                line_end: r.line_end,
+                block_start: r.block_start,
+                block_end: r.block_end,
+                peak_c_speed_rpm: rpm(r.peak_rate),
+                peak_x_mm: mm(r.peak_tip.x),
+                min_singularity_distance_deg: r.min_distance.to_degrees(),
+                min_feed_limit_mm_per_min: r.min_feed_limit.map(|f| f.feed / MM_PER_MIN),
+                limiting_axis: axis_name(machine, &r.min_feed_limit),
+                limit_kind: r.min_feed_limit.map(|f| f.kind),
+            })
+            .collect();
+        let errors = diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
+        AnalysisReport {
+            program: program.source.clone(),
+            machine: machine.name.clone(),
+            secondary_axis: machine.axes[machine.secondary_axis()].name.clone(),
+            blocks: program.blocks.len(),
+            samples: traj.samples.len(),
+            sample_period_s: traj.period,
+            cycle_time_s: s.cycle_time,
+            feed_override_mm_per_min,
+            peak_c_speed_rpm: rpm(s.peak_rate),
+            peak_c_speed_x_mm: mm(s.peak_tip.x),
+            peak_c_speed_y_mm: mm(s.peak_tip.y),
+            peak_c_speed_z_mm: mm(s.peak_tip.z),
+            peak_c_speed_line: s.peak_line,
+            peak_c_speed_block: s.peak_block,
+            peak_c_speed_fd_rpm: rpm(s.peak_fd_rate),
+            singular_samples: s.singular_samples,
+            min_singularity_distance_deg: s.min_distance.map(f64::to_degrees),
+            min_singularity_distance_x_mm: s.min_distance_tip.map(|t| mm(t.x)),
+            min_singularity_distance_all_deg: if s.min_distance_all.is_finite() { s.min_distance_all.to_degrees() } else { 0.0 },
+            c_max_rpm: rpm(s.rate_limit),
+            min_feed_limit_mm_per_min: s.min_feed_limit.map(|f| f.feed / MM_PER_MIN),
+            min_feed_limit_x_mm: s.min_feed_limit_tip.map(|t| mm(t.x)),
+            feed_limiting_axis: axis_name(machine, &s.min_feed_limit),
+            feed_limit_kind: s.min_feed_limit.map(|f| f.kind),
+            regions,
+            errors,
+            warnings: diagnostics.len() - errors,
+            diagnostics,
+        }
+    }
+
+    /// A short table for people.
+    pub fn to_table(&self) -> String {
+        let c = &self.secondary_axis;
+        let mut o = String::new();
+        let _ = writeln!(o, "program    {} ({} blocks, {} samples at {} ms)", self.program, self.blocks, self.samples, self.sample_period_s * 1e3);
+        let _ = writeln!(o, "machine    {} (singular axis {c}, limit {:.1} rpm)", self.machine, self.c_max_rpm);
+        let _ = writeln!(o, "cycle time {:.2} s at the programmed feed", self.cycle_time_s);
+        let block = |b: Option<u64>| b.map_or(String::new(), |n| format!("N{n}, "));
+        let _ = writeln!(
+            o,
+            "peak {c} speed (eq. 5)    {:8.1} rpm at x {:.3} y {:.3} z {:.3} mm ({}line {})",
+            self.peak_c_speed_rpm, self.peak_c_speed_x_mm, self.peak_c_speed_y_mm, self.peak_c_speed_z_mm,
+            block(self.peak_c_speed_block), self.peak_c_speed_line
+        );
+        let _ = writeln!(o, "peak {c} speed (fin. diff) {:8.1} rpm", self.peak_c_speed_fd_rpm);
+        match (self.min_singularity_distance_deg, self.min_singularity_distance_x_mm) {
+            (Some(d), Some(x)) => {
+                let _ = writeln!(o, "closest approach          {d:8.3} deg on five-axis moves, at x {x:.3} mm ({:.3} deg overall)", self.min_singularity_distance_all_deg);
+            }
+            _ => {
+                let _ = writeln!(o, "closest approach          no five-axis moves ({:.3} deg overall)", self.min_singularity_distance_all_deg);
+            }
+        }
+        if let (Some(f), Some(x)) = (self.min_feed_limit_mm_per_min, self.min_feed_limit_x_mm) {
+            let by = match (&self.feed_limiting_axis, self.feed_limit_kind) {
+                (Some(a), Some(k)) => format!("{a} {k:?}").to_lowercase(),
+                _ => "programmed".into(),
+            };
+            let _ = writeln!(o, "lowest feed limit         {f:8.0} mm/min ({by}) at x {x:.3} mm (seed 002 eq. 5)");
+        }
+        if self.singular_samples > 0 {
+            let _ = writeln!(o, "through the singularity   {} samples with infinite predicted speed", self.singular_samples);
+        }
+        if self.regions.is_empty() {
+            let _ = writeln!(o, "regions    none: {c} stays within {:.1} rpm", self.c_max_rpm);
+        } else {
+            let _ = writeln!(o, "regions where {c} speed > {:.1} rpm:", self.c_max_rpm);
+            let _ = writeln!(o, "   #   x from     x to   blocks          peak rpm  min dist deg  min feed mm/min");
+            for r in &self.regions {
+                let blocks = match (r.block_start, r.block_end) {
+                    (Some(a), Some(b)) => format!("N{a}-N{b}"),
+                    _ => format!("l{}-l{}", r.line_start, r.line_end),
+                };
+                let feed = match (r.min_feed_limit_mm_per_min, &r.limiting_axis) {
+                    (Some(f), Some(a)) => format!("{f:.0} ({a})"),
+                    (Some(f), None) => format!("{f:.0}"),
+                    _ => "-".into(),
+                };
+                let _ = writeln!(
+                    o,
+                    "{:>4} {:8.3} {:8.3}   {:<14} {:9.1} {:13.3}  {}",
+                    r.id, r.x_start_mm, r.x_end_mm, blocks, r.peak_c_speed_rpm, r.min_singularity_distance_deg, feed
+                );
+            }
+        }
+        if self.diagnostics.is_empty() {
+            let _ = writeln!(o, "diagnostics none");
+        } else {
+            let _ = writeln!(o, "diagnostics {} errors, {} warnings:", self.errors, self.warnings);
+            for d in &self.diagnostics {
+                let sev = if d.severity == Severity::Error { "error" } else { "warning" };
+                let _ = writeln!(o, "  {}:{}:{}: {sev}: {}", d.file, d.line, d.column, d.message);
+            }
+        }
+        o
+    }
+}

@@ -1,0 +1,42 @@
+//! Singularity analysis, per sample (seed 001 §2, seed 002 eq. 5):
+//! - distance to the singularity: the angle between the tool axis and the singular direction
+//!   (|A| on the Hermle, seed 001 §2.4);
+//! - predicted secondary-axis speed, seed 001 eq. (5): `dC/dt = (dTheta_h/dt) / sin(A)`;
+//! - feed limit and the limiting axis from per-axis velocity/acceleration/jerk limits, seed 002 eq. (5);
+//! - regions: contiguous stretches where the predicted speed exceeds the axis limit (or the distance
+//!   falls below a threshold).
+
+mod analysis;
+mod feed;
+mod geometry;
+
+pub use analysis::{analyze, Analysis, AnalysisOptions, Region, RegionCause, Status, Summary};
+pub use feed::{feed_limit, FeedLimit, LimitKind};
+pub use geometry::{CubicSpline, PathGeometry};
+
+use nalgebra::Vector3;
+
+/// Angle (rad) between the tool axis and the singular direction, folded so that both `s` and `-s`
+/// count as singular: in [0, pi/2].
+#[inline]
+pub fn distance(axis: &Vector3<f64>, singular: &Vector3<f64>) -> f64 {
+    axis.cross(singular).norm().atan2(axis.dot(singular).abs())
+}
+
+/// Seed 001 eq. (5): the rotation rate about the singular direction `s` (rad/s) that a tool axis `o`
+/// moving at `o_dot` demands: `dTheta_h/dt / sin(A)`, with `dTheta_h/dt = o_dot . t_h`,
+/// `t_h = (s x o)/|s x o|` and `sin(A) = |s x o|`. Infinite (with the sign of the motion) exactly at the
+/// singularity if the tool axis moves sideways there; 0 if it does not move sideways.
+#[inline]
+pub fn predicted_rate(axis: &Vector3<f64>, axis_rate: &Vector3<f64>, singular: &Vector3<f64>) -> f64 {
+    let n = singular.cross(axis);
+    let n2 = n.norm_squared();
+    let num = axis_rate.dot(&n);
+    if n2 > 1e-30 {
+        num / n2
+    } else if num == 0.0 {
+        0.0
+    } else {
+        f64::INFINITY.copysign(num)
+    }
+}
