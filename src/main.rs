@@ -85,7 +85,8 @@ fn parse_dialect(s: &str) -> Result<Dialect, String> {
     }
 }
 
-/// Exit codes: 0 success, 1 failure of the tool, 2 bad input (unreadable, or a program with defects).
+/// Exit codes: 0 success, 1 failure of the tool itself, 2 bad input (usage, an unreadable file or
+/// machine, or a program with defects).
 const EXIT_INPUT: u8 = 2;
 
 fn positive(name: &str, v: Option<f64>) -> anyhow::Result<()> {
@@ -96,11 +97,18 @@ fn positive(name: &str, v: Option<f64>) -> anyhow::Result<()> {
 }
 
 fn analyze(a: &AnalyzeArgs) -> anyhow::Result<ExitCode> {
-    positive("--feed", a.feed_mm_per_min)?;
-    positive("--min-distance-deg", a.min_distance_deg)?;
-    positive("--max-c-speed-rpm", a.max_c_speed_rpm)?;
-    positive("--period-ms", Some(a.period_ms))?;
-    let machine = Machine::from_name_or_file(&a.machine).context("loading the machine")?;
+    let checked = positive("--feed", a.feed_mm_per_min)
+        .and(positive("--min-distance-deg", a.min_distance_deg))
+        .and(positive("--max-c-speed-rpm", a.max_c_speed_rpm))
+        .and(positive("--period-ms", Some(a.period_ms)))
+        .and_then(|_| Machine::from_name_or_file(&a.machine).context("loading the machine"));
+    let machine = match checked {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("fiveaxis: {e:#}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
     let options = JobOptions {
         dialect: a.dialect,
         path: PathOptions { period: a.period_ms * 1e-3, feed_override_mm_per_min: a.feed_mm_per_min },

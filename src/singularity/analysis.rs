@@ -137,7 +137,19 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
         let (a, b) = (&traj.segments[samples[r.first].segment], &traj.segments[samples[r.last].segment]);
         (r.line_start, r.block_start, r.line_end, r.block_end) = (a.line, a.number, b.line, b.number);
     }
-    let summary = summarize(traj, &statuses, rate_limit);
+    let mut summary = summarize(traj, &statuses, rate_limit);
+    // The programmed extremes lie at block ends, which the sample grid may miss by a fraction of a
+    // period: take the closest approach over the five-axis moves' end points too.
+    for seg in traj.segments.iter().filter(|s| s.is_five_axis()) {
+        for (q, tip) in [(&seg.q0, seg.tip0), (&seg.q1, seg.tip1)] {
+            let d = distance(&machine.chain.orientation(&[q[3], q[4]]), &sd);
+            if summary.min_distance.is_none_or(|m| d < m) {
+                summary.min_distance = Some(d);
+                summary.min_distance_tip = Some(tip);
+            }
+            summary.min_distance_all = summary.min_distance_all.min(d);
+        }
+    }
     Analysis { statuses, regions, summary }
 }
 

@@ -1,0 +1,76 @@
+//! The `fiveaxis` binary as users and CI call it: exit codes, JSON keys, damaged input.
+
+use std::process::Command;
+
+fn fiveaxis(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+}
+
+fn json(args: &[&str]) -> (i32, serde_json::Value) {
+    let (code, out, err) = fiveaxis(args);
+    let v = serde_json::from_str(&out).unwrap_or_else(|e| panic!("not JSON ({e}): {out}\n{err}"));
+    (code, v)
+}
+
+#[test]
+fn analyze_json_has_the_documented_keys() {
+    let (code, v) = json(&["program", "analyze", "recordings/programs/SING.I", "--json"]);
+    assert_eq!(code, 0);
+    for key in ["peak_c_speed_rpm", "peak_c_speed_x_mm", "min_singularity_distance_deg", "c_max_rpm", "regions", "diagnostics"] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert!((v["peak_c_speed_rpm"].as_f64().unwrap() - 175.0).abs() < 0.05);
+    assert!((v["c_max_rpm"].as_f64().unwrap() - 25.0).abs() < 1e-9);
+    let r = &v["regions"][0];
+    for key in ["x_start_mm", "x_end_mm", "peak_c_speed_rpm"] {
+        assert!(r.get(key).is_some(), "region misses {key}");
+    }
+    assert!((r["x_start_mm"].as_f64().unwrap() - 22.0).abs() < 1e-6);
+}
+
+#[test]
+fn damaged_program_exits_2_naming_every_defect_and_still_analyzes() {
+    let (code, v) = json(&["program", "analyze", "recordings/programs/damaged/SING_ocr.I", "--json"]);
+    assert_eq!(code, 2);
+    let d = v["diagnostics"].as_array().unwrap();
+    let errors: Vec<_> = d.iter().filter(|d| d["severity"] == "error").collect();
+    assert_eq!(errors.len(), 4, "{errors:#?}");
+    assert!(errors.iter().any(|e| e["line"] == 52 && e["column"] == 27));
+    // What the good blocks allow: the same figures as the clean program.
+    assert!((v["peak_c_speed_rpm"].as_f64().unwrap() - 175.0).abs() < 0.05);
+    let (code, out, err) = fiveaxis(&["program", "analyze", "recordings/programs/damaged/NON_SING_ocr.I"]);
+    assert_eq!(code, 2);
+    assert!(out.contains("NON_SING_ocr.I:65:24: error"), "{out}");
+    assert!(err.contains("defect"), "{err}");
+}
+
+#[test]
+fn builtin_paths_and_feed_override() {
+    let (code, v) = json(&["program", "analyze", "builtin:paper-sing", "--json"]);
+    assert_eq!(code, 0);
+    assert!((v["peak_c_speed_rpm"].as_f64().unwrap() - 199.0).abs() < 0.05);
+    // eq. 5 is linear in the feed: half the feed, half the C speed.
+    let (_, half) = json(&["program", "analyze", "builtin:paper-sing", "--feed", "1000", "--json"]);
+    assert!((half["peak_c_speed_rpm"].as_f64().unwrap() - 99.5).abs() < 0.05);
+}
+
+#[test]
+fn unreadable_input_and_bad_flags_exit_2() {
+    let (code, _, err) = fiveaxis(&["program", "analyze", "no/such/file.I"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no/such/file.I"), "{err}");
+    let (code, _, err) = fiveaxis(&["program", "analyze", "builtin:paper-sing", "--feed=-5"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--feed"), "{err}");
+    let (code, _, err) = fiveaxis(&["program", "analyze", "builtin:paper-sing", "--machine", "nope"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("unknown machine"), "{err}");
+}
+
+#[test]
+fn demo_runs_the_bundled_programs() {
+    let (code, out, _) = fiveaxis(&["demo"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("bundled:SING.I") && out.contains("175.0") && out.contains("199.0"), "{out}");
+}
