@@ -1,6 +1,6 @@
 //! The whole-trajectory analysis: per-sample status, regions and a summary.
 
-use super::{distance, feed_limit, predicted_rate, FeedLimit, PathGeometry};
+use super::{distance, predicted_rate, FeedLimit, FeedLimiter, PathGeometry};
 use crate::machine::Machine;
 use crate::path::{Sample, Segment, Trajectory};
 use nalgebra::Vector3;
@@ -109,6 +109,7 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
         crate::kinematics::Carrier::Head => 1.0,
     };
     let limits = machine.limits();
+    let limiter = FeedLimiter::new(&limits);
     let geometry = PathGeometry::new(traj, machine);
     let n = traj.samples.len();
     let samples = &traj.samples;
@@ -121,7 +122,7 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
             let fd_rate = if dt > 0.0 { (samples[b].q[sec] - samples[a].q[sec]) / dt } else { 0.0 };
             let feed_limit = geometry
                 .derivatives(sm.segment, sm.s)
-                .map(|(d1, d2, d3)| feed_limit(sm.feed, &d1, &d2, &d3, &limits));
+                .map(|(d1, d2, d3)| limiter.limit(sm.feed, &d1, &d2, &d3));
             Status {
                 distance: distance(&sm.axis, &sd),
                 predicted_rate: sign * predicted_rate(&sm.axis, &sm.axis_rate, &sd),

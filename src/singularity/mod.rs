@@ -11,7 +11,7 @@ mod feed;
 mod geometry;
 
 pub use analysis::{analyze, Analysis, AnalysisOptions, Region, RegionCause, Status, Summary};
-pub use feed::{feed_limit, FeedLimit, LimitKind};
+pub use feed::{feed_limit, FeedLimit, FeedLimiter, LimitKind};
 pub use geometry::{CubicSpline, PathGeometry};
 
 use nalgebra::Vector3;
