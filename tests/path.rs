@@ -1,0 +1,108 @@
+//! Tool-path sampling: feed semantics per block, and distance-threshold regions.
+
+use fiveaxis::job::{self, JobOptions};
+use fiveaxis::machine::Machine;
+use fiveaxis::path::{PathOptions, SegmentKind, Trajectory};
+use fiveaxis::program::{read_cl, read_heidenhain, read_rs274};
+use fiveaxis::singularity::{AnalysisOptions, RegionCause};
+use fiveaxis::units::{DEG, MM};
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}
+
+#[test]
+fn tcp_blocks_run_at_the_tool_tip_feed_with_rotaries_linear() {
+    let m = Machine::hermle_c600u();
+    let p = read_heidenhain(include_str!("../recordings/programs/SING.I"));
+    let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+    let seg = t.segments.iter().find(|s| s.number == Some(360)).unwrap();
+    assert_eq!(seg.kind, SegmentKind::Tcp);
+    // 1 mm at 2000 mm/min.
+    assert!(close(seg.duration, 0.03, 1e-12), "{}", seg.duration);
+    assert!(close(seg.length, 1.0 * MM, 1e-12));
+    // Mid-block: tool tip half way on the line, A and C half way (linear per block).
+    let mid = seg.joints_at(0.5, &m);
+    assert!(close(mid[3], (1.196 + 1.0) / 2.0 * DEG, 1e-12));
+    assert!(close(mid[4], (148.494 + 180.0) / 2.0 * DEG, 1e-12));
+    let tip = m.forward(&mid).tip - seg.datum;
+    assert!(close(tip.x, 24.5 * MM, 1e-12) && close(tip.y, 0.0, 1e-12) && close(tip.z, -8.0 * MM, 1e-12));
+    // Samples are on the 1 ms grid and stay on the commanded line.
+    let inside: Vec<_> = t.samples.iter().filter(|s| s.segment == t.segments.iter().position(|x| x.number == Some(360)).unwrap()).collect();
+    assert!(inside.len() >= 29 && inside.len() <= 31);
+    for w in inside.windows(2) {
+        assert!(close(w[1].t - w[0].t, 1e-3, 1e-12));
+        assert!(close(w[1].s - w[0].s, 2000.0 * MM / 60.0 * 1e-3, 1e-12));
+    }
+}
+
+#[test]
+fn rotary_only_moves_read_f_in_degrees_per_minute() {
+    let m = Machine::hermle_c600u();
+    let p = read_heidenhain(include_str!("../recordings/programs/SING.I"));
+    let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+    let n80 = t.segments.iter().find(|s| s.number == Some(80)).unwrap();
+    let angle = (14.825f64.powi(2) + 137.259f64.powi(2)).sqrt();
+    assert!(close(n80.duration, angle / 2000.0 * 60.0, 1e-9), "{}", n80.duration);
+}
+
+#[test]
+fn inverse_time_feed_sets_the_block_duration() {
+    let m = Machine::hermle_c600u();
+    let p = read_rs274("G21 G90 G94\nG1 X10 F600\nG93 G1 X20 A5 F30\n");
+    let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+    assert_eq!(t.segments.len(), 2);
+    assert!(close(t.segments[0].duration, 1.0, 1e-12), "10 mm at 600 mm/min");
+    assert!(close(t.segments[1].duration, 2.0, 1e-12), "G93 F30: 1/30 min");
+    assert_eq!(t.segments[1].kind, SegmentKind::Axes, "no G43.4: machine axes interpolate");
+}
+
+#[test]
+fn cl_poses_go_through_the_inverse_kinematics() {
+    let m = Machine::hermle_c600u();
+    let (a, c) = (20f64.to_radians(), 30f64.to_radians());
+    let text = format!(
+        "0 0 -5 0 0 1\n10 0 -5 {} {} {}\n",
+        c.sin() * a.sin(),
+        c.cos() * a.sin(),
+        a.cos()
+    );
+    let p = read_cl(&text, 1200.0);
+    let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+    let last = t.segments.last().unwrap();
+    assert!(close(last.q1[3], a, 1e-12) && close(last.q1[4], c, 1e-12), "{:?}", last.q1);
+    assert!(close(last.duration, 10.0 / 1200.0 * 60.0, 1e-12));
+}
+
+#[test]
+fn unknown_axes_and_unreachable_poses_are_reported_with_their_line() {
+    let m = Machine::hermle_c600u();
+    let p = read_rs274("G1 X1 B10 F100\nG1 X2 A120 F100\nG1 X3 F100\n");
+    let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+    assert!(t.diagnostics.iter().any(|d| d.line == 1 && d.message.contains("axis B does not exist")));
+    assert!(t.diagnostics.iter().any(|d| d.line == 2 && d.message.contains("outside its range")));
+    assert_eq!(t.segments.len(), 1);
+}
+
+#[test]
+fn distance_threshold_opens_regions_on_five_axis_moves() {
+    let m = Machine::hermle_c600u();
+    let opts = |deg: f64| JobOptions { analysis: AnalysisOptions { min_distance: Some(deg * DEG), rate_limit: None }, ..Default::default() };
+    // NON_SING (cut from x 50 to 0): C stays under 25 rpm, but A < 12 deg between the crossings in
+    // block x 31 -> 30 (A 12.243 -> 11.88: x = 31 - 0.243/0.363 = 30.331) and block x 20 -> 19
+    // (A 11.88 -> 12.243: x = 20 - 0.12/0.363 = 19.669), A linear per block.
+    let j = job::run("bundled:NON_SING.I", &m, &opts(12.0)).unwrap();
+    assert_eq!(j.analysis.regions.len(), 1, "{:?}", j.report.regions);
+    let r = &j.report.regions[0];
+    assert_eq!(r.cause, RegionCause::Distance);
+    let x_in = 31.0 - (12.243 - 12.0) / (12.243 - 11.88);
+    let x_out = 20.0 - (12.0 - 11.88) / (12.243 - 11.88);
+    // Boundaries lie between two 1 ms samples (0.033 mm apart).
+    assert!(close(r.x_start_mm, x_in, 0.034), "start {} vs {x_in}", r.x_start_mm);
+    assert!(close(r.x_end_mm, x_out, 0.034), "end {} vs {x_out}", r.x_end_mm);
+    assert!(close(r.min_singularity_distance_deg, 11.0, 1e-3));
+    // SING: the speed region and the distance region overlap into one.
+    let j = job::run("bundled:SING.I", &m, &opts(2.0)).unwrap();
+    assert_eq!(j.analysis.regions.len(), 1);
+    assert_eq!(j.report.regions[0].cause, RegionCause::SpeedAndDistance);
+}
