@@ -6,6 +6,9 @@
 //!
 //! Units: SI inside (m, rad, s; REP 103). Readers convert from mm/inch/degrees; reports convert back.
 
+// `!(x > 0.0)` is deliberate throughout: it rejects NaN, which `x <= 0.0` would let through.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod job;
 pub mod kinematics;
 pub mod machine;

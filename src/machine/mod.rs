@@ -218,12 +218,12 @@ impl Machine {
         };
         let l = self.chain.linear_for(&pose.tip, &rot);
         let q = [l.x, l.y, l.z, rot[0], rot[1]];
-        for i in 0..3 {
-            let lim = &self.axes[i].limits;
-            if !lim.contains(q[i]) {
+        for (axis, &v) in self.axes.iter().zip(&q).take(3) {
+            let lim = &axis.limits;
+            if !lim.contains(v) {
                 return Err(KinematicsError::OutOfRange {
-                    axis: self.axes[i].name.clone(),
-                    value: q[i] / crate::units::MM,
+                    axis: axis.name.clone(),
+                    value: v / crate::units::MM,
                     min: lim.min / crate::units::MM,
                     max: lim.max / crate::units::MM,
                     unit: "mm",

@@ -93,8 +93,8 @@ pub fn sample_segments(segments: &[Segment], machine: &Machine, period: f64) -> 
             k += 1;
         }
     }
-    if let Some((i, seg)) = segments.iter().enumerate().last() {
-        out.push(seg.sample(i, 1.0, seg.t0 + seg.duration, machine));
+    if let Some(seg) = segments.last() {
+        out.push(seg.sample(segments.len() - 1, 1.0, seg.t0 + seg.duration, machine));
     }
     out
 }

@@ -133,8 +133,8 @@ impl PathGeometry {
     pub fn derivatives(&self, segment: usize, s: f64) -> Option<([f64; AXES], [f64; AXES], [f64; AXES])> {
         let run = &self.runs[(*self.run_of_segment.get(segment)?)?];
         let mut out = ([0.0; AXES], [0.0; AXES], [0.0; AXES]);
-        for i in 0..AXES {
-            let (d1, d2, d3) = run[i].derivatives(s);
+        for (i, spline) in run.iter().enumerate() {
+            let (d1, d2, d3) = spline.derivatives(s);
             out.0[i] = d1;
             out.1[i] = d2;
             out.2[i] = d3;
