@@ -13,6 +13,7 @@ pub mod job;
 pub mod kinematics;
 pub mod machine;
 pub mod path;
+pub mod planner;
 pub mod program;
 pub mod report;
 pub mod singularity;

@@ -56,6 +56,22 @@ impl CubicSpline {
         CubicSpline { x, y, m }
     }
 
+    /// Value at `t` (the end values outside the knot range).
+    pub fn value(&self, t: f64) -> f64 {
+        let n = self.x.len();
+        match n {
+            0 => return 0.0,
+            1 => return self.y[0],
+            _ => {}
+        }
+        let i = self.x.partition_point(|&v| v <= t).saturating_sub(1).min(n - 2);
+        let h = self.x[i + 1] - self.x[i];
+        let t = t.clamp(self.x[i], self.x[i + 1]);
+        let a = (self.x[i + 1] - t) / h;
+        let b = (t - self.x[i]) / h;
+        a * self.y[i] + b * self.y[i + 1] + ((a * a * a - a) * self.m[i] + (b * b * b - b) * self.m[i + 1]) * h * h / 6.0
+    }
+
     /// First, second and third derivative at `t` (clamped to the knot range).
     pub fn derivatives(&self, t: f64) -> (f64, f64, f64) {
         let n = self.x.len();
