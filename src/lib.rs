@@ -11,6 +11,7 @@
 
 pub mod job;
 pub mod kinematics;
+pub mod live;
 pub mod machine;
 pub mod path;
 pub mod planner;

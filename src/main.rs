@@ -26,6 +26,8 @@ enum Command {
     /// Machines: list or show the built-in ones.
     #[command(subcommand)]
     Machine(MachineCmd),
+    /// Run commander, simulator and monitor in one process (no DDS), faster than real time.
+    Run(RunArgs),
     /// The embedded default: analyze the paper's two programs and two continuous paths on the Hermle.
     Demo {
         /// Print one JSON object per program (one per line).
@@ -64,6 +66,24 @@ struct AnalyzeArgs {
     #[arg(long = "period-ms", default_value_t = 1.0)]
     period_ms: f64,
     /// Print one JSON object instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+struct RunArgs {
+    /// A program, as for `program analyze`.
+    program: String,
+    /// Built-in machine name or a TOML machine file.
+    #[arg(long, default_value = "hermle-c600u")]
+    machine: String,
+    /// Tool-tip feed for every feed move, mm/min.
+    #[arg(long = "feed", value_name = "MM_PER_MIN")]
+    feed_mm_per_min: Option<f64>,
+    /// Dialect, instead of guessing from the file name.
+    #[arg(long, value_parser = parse_dialect)]
+    dialect: Option<Dialect>,
+    /// Print one JSON object (the keys of `program analyze --json` plus `simulated`).
     #[arg(long)]
     json: bool,
 }
@@ -138,6 +158,44 @@ fn analyze(a: &AnalyzeArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
+    let machine = match positive("--feed", a.feed_mm_per_min).and_then(|_| Machine::from_name_or_file(&a.machine).context("loading the machine")) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("fiveaxis: {e:#}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    let options = fiveaxis::live::inprocess::RunOptions {
+        job: JobOptions {
+            dialect: a.dialect,
+            path: PathOptions { feed_override_mm_per_min: a.feed_mm_per_min, ..Default::default() },
+            read: ReadOptions { cl_feed_mm_per_min: a.feed_mm_per_min.unwrap_or(ReadOptions::default().cl_feed_mm_per_min) },
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let out = match fiveaxis::live::inprocess::run(&a.program, &machine, &options) {
+        Ok(o) => o,
+        Err(e @ job::JobError::Load(_)) => {
+            eprintln!("fiveaxis: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+        Err(e) => return Err(e.into()),
+    };
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&out.report)?);
+    } else {
+        print!("{}", out.report.analysis.to_table());
+        print!("{}", out.report.simulated.to_table(&out.report.analysis.secondary_axis));
+    }
+    if out.job.has_errors() {
+        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.program, out.report.analysis.errors);
+        return Ok(ExitCode::from(EXIT_INPUT));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 fn demo(json: bool) -> anyhow::Result<ExitCode> {
     let machine = Machine::hermle_c600u();
     let specs = ["builtin:paper-sing", "bundled:SING.I", "builtin:paper-nonsing", "bundled:NON_SING.I"];
@@ -192,6 +250,7 @@ fn main() -> ExitCode {
             }
             None => Err(anyhow::anyhow!("unknown machine '{name}' (built in: {})", BUILTIN_NAMES.join(", "))),
         },
+        Command::Run(a) => run(a),
         Command::Demo { json } => demo(*json),
     };
     match result {

@@ -195,7 +195,7 @@ impl AnalysisReport {
             let _ = writeln!(o, "lowest feed limit         {f:8.0} mm/min ({by}) at x {x:.3} mm (seed 002 eq. 5)");
         }
         if self.singular_samples > 0 {
-            let _ = writeln!(o, "through the singularity   {} samples with infinite predicted speed", self.singular_samples);
+            let _ = writeln!(o, "on the singularity        {} samples exactly on the singular direction while moving (eq. 5 undefined there)", self.singular_samples);
         }
         if self.regions.is_empty() {
             let _ = writeln!(o, "regions    none: {c} stays within {:.1} rpm", self.c_max_rpm);

@@ -75,7 +75,6 @@ struct Grid {
     q: Vec<Joints>,
     qs: Vec<Joints>,
     qss: Vec<Joints>,
-    feed: Vec<f64>,
     limit: Vec<f64>,
 }
 
@@ -101,7 +100,7 @@ fn build_grid(run: &Run, machine: &Machine, limiter: &FeedLimiter, step: f64) ->
     let mut limit: Vec<f64> = (0..n).map(|k| limiter.limit(feed[k], &qs[k], &qss[k], &qsss[k]).feed).collect();
     limit[0] = 0.0;
     limit[n - 1] = 0.0;
-    Grid { h, q, qs, qss, feed, limit }
+    Grid { h, q, qs, qss, limit }
 }
 
 /// Tangential acceleration bounds (min, max) at a grid point moving at path speed `v`.

@@ -1,6 +1,6 @@
 //! The whole-trajectory analysis: per-sample status, regions and a summary.
 
-use super::{distance, predicted_rate, FeedLimit, FeedLimiter, PathGeometry};
+use super::{distance, on_pole, predicted_rate, FeedLimit, FeedLimiter, PathGeometry};
 use crate::machine::Machine;
 use crate::path::{Sample, Segment, Trajectory};
 use nalgebra::Vector3;
@@ -28,6 +28,8 @@ pub struct Status {
     pub feed_limit: Option<FeedLimit>,
     /// True on a simultaneous five-axis move (tool tip and tool axis both moving).
     pub five_axis: bool,
+    /// True exactly on the singular direction while the tool axis moves (eq. 5 undefined, 0 reported).
+    pub on_pole: bool,
 }
 
 /// Why a region was opened.
@@ -76,7 +78,7 @@ pub struct Summary {
     pub peak_block: Option<u64>,
     /// Largest |finite-difference rate|, rad/s.
     pub peak_fd_rate: f64,
-    /// Samples exactly at the singularity with the tool axis moving sideways (infinite rate).
+    /// Samples exactly on the singular direction with the tool axis moving (eq. 5 undefined there).
     pub singular_samples: usize,
     /// Closest approach on simultaneous five-axis moves (rad; None if there are none) and overall.
     pub min_distance: Option<f64>,
@@ -129,6 +131,7 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
                 fd_rate,
                 feed_limit,
                 five_axis: seg.is_five_axis(),
+                on_pole: on_pole(&sm.axis, &sm.axis_rate, &sd),
             }
         })
         .collect();
@@ -260,11 +263,10 @@ fn summarize(traj: &Trajectory, statuses: &[Status], rate_limit: f64) -> Summary
     let mut min_all = f64::INFINITY;
     let mut min_fl: Option<(FeedLimit, usize)> = None;
     for (k, s) in statuses.iter().enumerate() {
-        if s.predicted_rate.is_finite() {
-            if peak.is_none_or(|p| s.predicted_rate.abs() > statuses[p].predicted_rate.abs()) {
-                peak = Some(k);
-            }
-        } else {
+        if peak.is_none_or(|p| s.predicted_rate.abs() > statuses[p].predicted_rate.abs()) {
+            peak = Some(k);
+        }
+        if s.on_pole {
             singular_samples += 1;
         }
         peak_fd = peak_fd.max(s.fd_rate.abs());

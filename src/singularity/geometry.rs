@@ -2,8 +2,8 @@
 //!
 //! Axes are linear per block, so their second derivative is zero inside a block and infinite at its
 //! ends; a control smooths that within its path tolerance. As seed 002 does, we fit a cubic spline
-//! (natural, per axis, in tool-tip path length) through the block end and mid points of each run of
-//! feed moves, and differentiate it. A run ends at a rapid, a rotary-only move, a change of TCPM, or a
+//! (natural, per axis, in tool-tip path length) through the block end points of each run of feed
+//! moves, and differentiate it: the same curve the simulator's planner follows. A run ends at a rapid, a rotary-only move, a change of TCPM, or a
 //! corner sharper than [`CORNER_DEG`]: there a control stops anyway.
 
 use crate::machine::AXES;
@@ -105,7 +105,7 @@ pub struct PathGeometry {
 
 impl PathGeometry {
     /// Build the runs of `traj`.
-    pub fn new(traj: &Trajectory, machine: &Machine) -> PathGeometry {
+    pub fn new(traj: &Trajectory, _machine: &Machine) -> PathGeometry {
         let mut run_of_segment = vec![None; traj.segments.len()];
         let mut runs = Vec::new();
         let mut knots_s: Vec<f64> = Vec::new();
@@ -134,8 +134,6 @@ impl PathGeometry {
                 knots_s.push(seg.s0);
                 knots_q.push(seg.q0);
             }
-            knots_s.push(seg.s0 + 0.5 * seg.length);
-            knots_q.push(seg.joints_at(0.5, machine));
             knots_s.push(seg.s0 + seg.length);
             knots_q.push(seg.q1);
             run_of_segment[k] = Some(runs.len());

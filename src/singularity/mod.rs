@@ -25,18 +25,25 @@ pub fn distance(axis: &Vector3<f64>, singular: &Vector3<f64>) -> f64 {
 
 /// Seed 001 eq. (5): the rotation rate about the singular direction `s` (rad/s) that a tool axis `o`
 /// moving at `o_dot` demands: `dTheta_h/dt / sin(A)`, with `dTheta_h/dt = o_dot . t_h`,
-/// `t_h = (s x o)/|s x o|` and `sin(A) = |s x o|`. Infinite (with the sign of the motion) exactly at the
-/// singularity if the tool axis moves sideways there; 0 if it does not move sideways.
+/// `t_h = (s x o)/|s x o|` and `sin(A) = |s x o|`. On the singular direction itself (|s x o| below
+/// [`POLE`]) `t_h` is undefined and so is the rate (0/0): 0 is returned, see [`on_pole`]; a path that
+/// passes the pole shows the divergence in the samples on either side.
 #[inline]
 pub fn predicted_rate(axis: &Vector3<f64>, axis_rate: &Vector3<f64>, singular: &Vector3<f64>) -> f64 {
     let n = singular.cross(axis);
     let n2 = n.norm_squared();
-    let num = axis_rate.dot(&n);
-    if n2 > 1e-30 {
-        num / n2
-    } else if num == 0.0 {
-        0.0
+    if n2 > POLE * POLE {
+        axis_rate.dot(&n) / n2
     } else {
-        f64::INFINITY.copysign(num)
+        0.0
     }
+}
+
+/// sin of the angle from the singular direction below which eq. (5) is undefined (1e-12 rad).
+pub const POLE: f64 = 1e-12;
+
+/// True when the tool axis lies on the singular direction while moving: eq. (5) is undefined there.
+#[inline]
+pub fn on_pole(axis: &Vector3<f64>, axis_rate: &Vector3<f64>, singular: &Vector3<f64>) -> bool {
+    singular.cross(axis).norm() <= POLE && axis_rate.norm() > 0.0
 }

@@ -1,0 +1,258 @@
+//! The embedded default: commander, simulator and monitor in one process, each on its own thread,
+//! connected by bounded in-process channels instead of DDS, faster than real time. The node logic is
+//! the same as the executables'.
+
+use super::commander::commanded_states;
+use super::monitor::{LiveRegion, Monitor, MonitorConfig};
+use super::simulator::{simulate, SimConfig, Simulation};
+use crate::job::{self, Job, JobError, JobOptions};
+use crate::machine::Machine;
+use crate::path::{SegmentKind, Trajectory};
+use crate::planner::limit_ratios;
+use crate::report::AnalysisReport;
+use fiveaxis_msgs::{AxisState, SingularityStatus};
+use serde::Serialize;
+use std::sync::mpsc;
+
+/// Topic names, relative to the namespace (default `/fiveaxis`).
+pub const COMMANDED_STATE: &str = "commanded/axis_state";
+pub const SIMULATED_STATE: &str = "simulated/axis_state";
+
+/// Options of a run.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RunOptions {
+    pub job: JobOptions,
+    pub sim: SimConfig,
+    pub monitor: MonitorConfig,
+}
+
+/// A stretch where the simulated feed is below half the programmed feed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SlowRegion {
+    pub x_start_mm: f64,
+    pub x_end_mm: f64,
+    pub t_start_s: f64,
+    pub t_end_s: f64,
+    pub block_start: i64,
+    pub block_end: i64,
+    pub min_feed_mm_per_min: f64,
+    /// True where the slow-down is the planned stop at a corner or at the program's ends, not an
+    /// axis limit along the path.
+    pub at_stop: bool,
+}
+
+/// What the simulated machine did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SimulatedReport {
+    pub cycle_time_s: f64,
+    pub commanded_cycle_time_s: f64,
+    /// Lowest tool-tip feed on feed moves, outside the planned stops.
+    pub min_feed_mm_per_min: f64,
+    pub min_feed_x_mm: f64,
+    pub slow_regions: Vec<SlowRegion>,
+    pub max_axis_velocity_ratio: f64,
+    pub max_axis_acceleration_ratio: f64,
+    pub max_axis_jerk_ratio: f64,
+    pub max_following_error_mm: f64,
+    pub max_following_error_deg: f64,
+    pub samples: usize,
+    pub lost_samples: u64,
+    /// Regions the live monitor saw on the simulated stream.
+    pub monitor_regions: Vec<LiveRegion>,
+    pub monitor_statuses: u64,
+}
+
+/// `fiveaxis run --json`: the analysis keys plus `simulated`.
+#[derive(Debug, Clone, Serialize)]
+pub struct RunReport {
+    #[serde(flatten)]
+    pub analysis: AnalysisReport,
+    pub simulated: SimulatedReport,
+}
+
+/// Everything a run produced.
+pub struct RunOutput {
+    pub job: Job,
+    pub simulation: Simulation,
+    pub simulated_states: usize,
+    pub report: RunReport,
+    /// The monitor's statuses on the simulated and on the commanded stream, in order.
+    pub statuses: Vec<SingularityStatus>,
+    pub commanded_statuses: Vec<SingularityStatus>,
+    /// Regions the monitor saw on the commanded stream.
+    pub commanded_regions: Vec<LiveRegion>,
+}
+
+enum Input {
+    Commanded(AxisState),
+    Simulated(AxisState),
+}
+
+/// Run the node set in one process on `spec`.
+pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOutput, JobError> {
+    let job = job::run(spec, machine, &options.job)?;
+    let traj = &job.trajectory;
+    let (tx, rx) = mpsc::sync_channel::<Input>(4096);
+    let (simulation, sent, statuses, monitor) = std::thread::scope(|scope| {
+        let tx_cmd = tx.clone();
+        let commander = scope.spawn(move || {
+            let mut sent = 0u64;
+            for st in commanded_states(traj, machine) {
+                if tx_cmd.send(Input::Commanded(st)).is_err() {
+                    break;
+                }
+                sent += 1;
+            }
+            sent
+        });
+        let tx_sim = tx;
+        let simulator = scope.spawn(move || {
+            let sim = simulate(traj, machine, &options.sim);
+            let mut sent = 0u64;
+            for st in sim.states(traj, machine) {
+                if tx_sim.send(Input::Simulated(st)).is_err() {
+                    break;
+                }
+                sent += 1;
+            }
+            (sim, sent)
+        });
+        let monitor = scope.spawn(move || {
+            let mut m = Monitor::new(machine, options.monitor);
+            let mut statuses = Vec::new();
+            let mut commanded = Vec::new();
+            let mut received = 0u64;
+            for input in rx {
+                received += 1;
+                let (topic, st) = match &input {
+                    Input::Commanded(st) => {
+                        m.on_commanded_ahead(st);
+                        (COMMANDED_STATE, st)
+                    }
+                    Input::Simulated(st) => (SIMULATED_STATE, st),
+                };
+                let wall = st.header.stamp.as_secs();
+                if let Ok(s) = m.on_state(topic, st, wall) {
+                    if topic == SIMULATED_STATE {
+                        statuses.push(s);
+                    } else {
+                        commanded.push(s);
+                    }
+                }
+            }
+            m.finish();
+            (m, (statuses, commanded), received)
+        });
+        let sent_cmd = commander.join().expect("commander thread");
+        let (sim, sent_sim) = simulator.join().expect("simulator thread");
+        let (m, statuses, received) = monitor.join().expect("monitor thread");
+        (sim, sent_cmd + sent_sim - received.min(sent_cmd + sent_sim), statuses, m)
+    });
+    let simulated = simulated_report(traj, machine, &simulation, sent, &monitor);
+    let report = RunReport { analysis: job.report.clone(), simulated };
+    let (statuses, commanded_statuses) = statuses;
+    Ok(RunOutput {
+        simulated_states: simulation.q.len(),
+        simulation,
+        job,
+        report,
+        statuses,
+        commanded_statuses,
+        commanded_regions: monitor.regions(COMMANDED_STATE),
+    })
+}
+
+fn simulated_report(traj: &Trajectory, machine: &Machine, sim: &Simulation, lost: u64, monitor: &Monitor) -> SimulatedReport {
+    let states = sim.states(traj, machine);
+    let ratios = limit_ratios(&sim.q, sim.period, &machine.limits());
+    let worst = ratios.iter().fold([0.0f64; 3], |m, r| [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]);
+    let path_move = |k: usize| traj.segments.get(sim.segment[k]).is_some_and(|s| s.is_path_move() && s.kind != SegmentKind::Rapid);
+    // Slow regions: feed moves below half their programmed feed.
+    let mut slow: Vec<SlowRegion> = Vec::new();
+    let mut k = 0;
+    let n = states.len();
+    while k < n {
+        let is_slow = |k: usize| path_move(k) && states[k].programmed_feed > 0.0 && states[k].path_feed < 0.5 * states[k].programmed_feed;
+        if !is_slow(k) {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k + 1 < n && is_slow(k + 1) {
+            k += 1;
+        }
+        let end = k;
+        // A planned stop: the stretch reaches the program's ends or a run boundary (a corner), within a
+        // few samples (a datum change between runs makes the tip jump in program coordinates there).
+        let at_stop = start == 0 || end + 4 >= n || (start.saturating_sub(4)..=end + 3).any(|j| sim.run[j] != sim.run[j + 1]);
+        let min = states[start..=end].iter().map(|s| s.path_feed).fold(f64::INFINITY, f64::min);
+        slow.push(SlowRegion {
+            x_start_mm: states[start].tool_tip.x * 1e3,
+            x_end_mm: states[end].tool_tip.x * 1e3,
+            t_start_s: start as f64 * sim.period,
+            t_end_s: end as f64 * sim.period,
+            block_start: states[start].block_number,
+            block_end: states[end].block_number,
+            min_feed_mm_per_min: min * 60e3,
+            at_stop,
+        });
+        k += 1;
+    }
+    let in_stop = |k: usize| {
+        slow.iter().any(|r| r.at_stop && (k as f64 * sim.period) >= r.t_start_s - 1e-9 && (k as f64 * sim.period) <= r.t_end_s + 1e-9)
+    };
+    let (min_feed, min_x) = (0..n)
+        .filter(|&k| path_move(k) && states[k].programmed_feed > 0.0 && !in_stop(k))
+        .map(|k| (states[k].path_feed, states[k].tool_tip.x))
+        .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a });
+    let (samples, ..) = monitor.counters(SIMULATED_STATE);
+    SimulatedReport {
+        cycle_time_s: sim.duration(),
+        commanded_cycle_time_s: traj.duration(),
+        min_feed_mm_per_min: if min_feed.is_finite() { min_feed * 60e3 } else { 0.0 },
+        min_feed_x_mm: min_x * 1e3,
+        slow_regions: slow,
+        max_axis_velocity_ratio: worst[0],
+        max_axis_acceleration_ratio: worst[1],
+        max_axis_jerk_ratio: worst[2],
+        max_following_error_mm: sim.following_error_linear * 1e3,
+        max_following_error_deg: sim.following_error_rotary.to_degrees(),
+        samples: n,
+        lost_samples: lost,
+        monitor_regions: monitor.regions(SIMULATED_STATE),
+        monitor_statuses: samples,
+    }
+}
+
+impl SimulatedReport {
+    /// A short table for people.
+    pub fn to_table(&self, c: &str) -> String {
+        use std::fmt::Write as _;
+        let mut o = String::new();
+        let _ = writeln!(o, "simulated  {:.2} s (commanded {:.2} s), {} samples, {} lost", self.cycle_time_s, self.commanded_cycle_time_s, self.samples, self.lost_samples);
+        let _ = writeln!(o, "lowest feed on the path      {:8.0} mm/min at x {:.3} mm (planned stops excluded)", self.min_feed_mm_per_min, self.min_feed_x_mm);
+        let _ = writeln!(
+            o,
+            "largest |v|/v_max {:.3}, |a|/a_max {:.3}, |j|/j_max {:.3} over all axes; following error {:.3} mm, {:.4} deg",
+            self.max_axis_velocity_ratio, self.max_axis_acceleration_ratio, self.max_axis_jerk_ratio, self.max_following_error_mm, self.max_following_error_deg
+        );
+        let limit: Vec<_> = self.slow_regions.iter().filter(|r| !r.at_stop).collect();
+        if limit.is_empty() {
+            let _ = writeln!(o, "slow regions none below 50 % of the programmed feed (besides {} planned stops)", self.slow_regions.len());
+        } else {
+            let _ = writeln!(o, "slow regions below 50 % of the programmed feed (besides {} planned stops):", self.slow_regions.len() - limit.len());
+            let _ = writeln!(o, "     x from     x to   blocks          lowest mm/min");
+            for r in limit {
+                let _ = writeln!(o, "   {:8.3} {:8.3}   N{}-N{:<9} {:10.0}", r.x_start_mm, r.x_end_mm, r.block_start, r.block_end, r.min_feed_mm_per_min);
+            }
+        }
+        for r in &self.monitor_regions {
+            let _ = writeln!(
+                o,
+                "monitor    region {} on the simulated stream: x {:.3} to {:.3} mm, {:.2} s, peak {c} {:.1} rpm, feed down to {:.0} mm/min",
+                r.id, r.x_start_mm, r.x_end_mm, r.t_end_s - r.t_start_s, r.peak_c_speed_rpm, r.min_path_feed_mm_per_min
+            );
+        }
+        o
+    }
+}

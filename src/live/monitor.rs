@@ -1,0 +1,480 @@
+//! Monitor: per axis-state sample, the distance to the singularity, the predicted secondary-axis speed
+//! (seed 001 eq. 5), the feed limit and limiting axis (seed 002 eq. 5), region entry and exit, a
+//! look-ahead from the commanded stream, and input health (NaN/Inf, out of range, out of order, stale).
+//! The same math as the offline analysis ([`crate::singularity`]), fed one sample at a time.
+
+use crate::kinematics::Joints;
+use crate::machine::{Machine, AXES};
+use crate::singularity::{distance, predicted_rate, FeedLimiter, LimitKind};
+use fiveaxis_msgs::{AxisState, DiagnosticArray, DiagnosticStatus, Header, JointState, KeyValue, Point, SingularityStatus, Time};
+use nalgebra::Vector3;
+use std::collections::{BTreeMap, VecDeque};
+
+/// Monitor settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MonitorConfig {
+    /// A stream with no sample for this long (s, wall clock) is stale.
+    pub stale_timeout: f64,
+    /// WARN when the tool axis comes closer than this to the singularity (rad).
+    pub warn_distance: f64,
+    /// WARN when a region lies less than this ahead (s).
+    pub warn_ahead: f64,
+    /// Also a region when closer than this (rad), on moving samples.
+    pub min_distance: Option<f64>,
+    /// Secondary-axis speed limit for regions (rad/s); default the machine's.
+    pub rate_limit: Option<f64>,
+}
+
+impl Default for MonitorConfig {
+    fn default() -> Self {
+        MonitorConfig { stale_timeout: 0.1, warn_distance: 5f64.to_radians(), warn_ahead: 2.0, min_distance: None, rate_limit: None }
+    }
+}
+
+/// Why a sample was not used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Rejection {
+    #[error("invalid sample: {0}")]
+    Invalid(String),
+    #[error("out of order: stamp {stamp:.6} s is not after {last:.6} s")]
+    OutOfOrder { stamp: f64, last: f64 },
+}
+
+/// A region as one stream went through it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LiveRegion {
+    pub id: u32,
+    pub t_start_s: f64,
+    pub t_end_s: f64,
+    pub x_start_mm: f64,
+    pub x_end_mm: f64,
+    pub block_start: i64,
+    pub block_end: i64,
+    pub peak_c_speed_rpm: f64,
+    pub min_path_feed_mm_per_min: f64,
+    pub min_singularity_distance_deg: f64,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Past {
+    t: f64,
+    s: f64,
+    q: Joints,
+    axis: Vector3<f64>,
+    tip: Vector3<f64>,
+}
+
+/// What the monitor keeps per input stream.
+#[derive(Debug, Clone, Default)]
+struct Input {
+    source: u8,
+    history: VecDeque<Past>,
+    s: f64,
+    region_id: u32,
+    open: Option<LiveRegion>,
+    regions: Vec<LiveRegion>,
+    invalid: u64,
+    out_of_order: u64,
+    stale: u64,
+    stale_now: bool,
+    last_arrival: Option<f64>,
+    last: Option<SingularityStatus>,
+    cursor: usize,
+    samples: u64,
+}
+
+/// One commanded sample remembered for the look-ahead.
+#[derive(Debug, Clone, Copy)]
+struct Ahead {
+    t: f64,
+    line: u32,
+    tip: Vector3<f64>,
+    in_region: bool,
+}
+
+/// The monitor's state.
+#[derive(Debug, Clone)]
+pub struct Monitor {
+    machine: Machine,
+    config: MonitorConfig,
+    singular: Vector3<f64>,
+    sign: f64,
+    secondary: usize,
+    limit: f64,
+    limiter: FeedLimiter,
+    inputs: BTreeMap<String, Input>,
+    ahead: Vec<Ahead>,
+    prev_commanded_axis: Option<Vector3<f64>>,
+}
+
+fn vec3(p: &Point) -> Vector3<f64> {
+    Vector3::new(p.x, p.y, p.z)
+}
+
+impl Monitor {
+    pub fn new(machine: &Machine, config: MonitorConfig) -> Monitor {
+        let secondary = machine.secondary_axis();
+        let sign = match machine.chain.joints()[machine.chain.secondary_slot()].carrier {
+            crate::kinematics::Carrier::Table => -1.0,
+            crate::kinematics::Carrier::Head => 1.0,
+        };
+        let limits = machine.limits();
+        Monitor {
+            machine: machine.clone(),
+            config,
+            singular: machine.singular_direction(),
+            sign,
+            secondary,
+            limit: config.rate_limit.unwrap_or(limits[secondary].velocity),
+            limiter: FeedLimiter::new(&limits),
+            inputs: BTreeMap::new(),
+            ahead: Vec::new(),
+            prev_commanded_axis: None,
+        }
+    }
+
+    /// Convert a machine bridge's JointState (names mapped to this machine's axes, case-insensitive,
+    /// through `rename`: machine axis -> name in the message) into an AxisState of source MACHINE.
+    pub fn joint_state_to_axis_state(&self, js: &JointState, rename: &BTreeMap<String, String>) -> Result<AxisState, Rejection> {
+        let mut position = Vec::with_capacity(AXES);
+        let mut velocity = Vec::with_capacity(AXES);
+        for axis in &self.machine.axes {
+            let want = rename.get(&axis.name).unwrap_or(&axis.name);
+            let k = js
+                .name
+                .iter()
+                .position(|n| n.eq_ignore_ascii_case(want))
+                .ok_or_else(|| Rejection::Invalid(format!("joint '{want}' missing from the JointState")))?;
+            position.push(*js.position.get(k).ok_or_else(|| Rejection::Invalid(format!("no position for joint '{want}'")))?);
+            if let Some(v) = js.velocity.get(k) {
+                velocity.push(*v);
+            }
+        }
+        if velocity.len() != AXES {
+            velocity.clear();
+        }
+        Ok(AxisState {
+            header: js.header.clone(),
+            source: AxisState::SOURCE_MACHINE,
+            name: self.machine.axis_names().to_vec(),
+            position,
+            velocity,
+            ..Default::default()
+        })
+    }
+
+    fn validate(&self, st: &AxisState) -> Result<Joints, Rejection> {
+        if st.position.len() != AXES {
+            return Err(Rejection::Invalid(format!("expected {AXES} positions, got {}", st.position.len())));
+        }
+        let q: Joints = std::array::from_fn(|i| st.position[i]);
+        for (i, v) in q.iter().enumerate() {
+            let a = &self.machine.axes[i];
+            if !v.is_finite() {
+                return Err(Rejection::Invalid(format!("{} position is {v}", a.name)));
+            }
+            // A little slack for servo overshoot and rounding at the end stops.
+            let slack = if i < 3 { 1e-3 } else { 1e-3f64.to_radians() };
+            if *v < a.limits.min - slack || *v > a.limits.max + slack {
+                return Err(Rejection::Invalid(format!("{} position {v:.6} outside its range", a.name)));
+            }
+        }
+        let stamp = st.header.stamp;
+        if stamp.nanosec >= 1_000_000_000 {
+            return Err(Rejection::Invalid("header stamp nanosec out of range".into()));
+        }
+        for (what, v) in [("programmed_feed", st.programmed_feed), ("path_feed", st.path_feed)] {
+            if !v.is_finite() || v < 0.0 {
+                return Err(Rejection::Invalid(format!("{what} is {v}")));
+            }
+        }
+        Ok(q)
+    }
+
+    /// Remember a commanded sample for the look-ahead (call for each commanded state, in order).
+    pub fn on_commanded_ahead(&mut self, st: &AxisState) {
+        let Ok(q) = self.validate(st) else { return };
+        let pose = self.machine.forward(&q);
+        let tip = if st.tool_tip == Point::default() && st.program_line == 0 { pose.tip } else { vec3(&st.tool_tip) };
+        let t = st.header.stamp.as_secs();
+        if self.ahead.last().is_some_and(|a| t <= a.t) {
+            return;
+        }
+        // In a region if the step from the previous commanded sample demands more than the limit.
+        let in_region = match self.ahead.last() {
+            Some(prev) => {
+                let prev_q = self.prev_commanded_axis.unwrap_or(pose.axis);
+                let dt = t - prev.t;
+                let rate = if dt > 0.0 { self.sign * predicted_rate(&pose.axis, &((pose.axis - prev_q) / dt), &self.singular) } else { 0.0 };
+                rate.abs() > self.limit
+            }
+            None => false,
+        };
+        self.prev_commanded_axis = Some(pose.axis);
+        self.ahead.push(Ahead { t, line: st.program_line, tip, in_region });
+    }
+
+    /// Evaluate one sample of stream `topic`; `wall` is the arrival time (s, any monotonic clock).
+    pub fn on_state(&mut self, topic: &str, st: &AxisState, wall: f64) -> Result<SingularityStatus, Rejection> {
+        let q = match self.validate(st) {
+            Ok(q) => q,
+            Err(e) => {
+                self.inputs.entry(topic.to_string()).or_default().invalid += 1;
+                return Err(e);
+            }
+        };
+        let t = st.header.stamp.as_secs();
+        let input = self.inputs.entry(topic.to_string()).or_default();
+        input.last_arrival = Some(wall);
+        if input.stale_now {
+            // The stream had gone stale: a restarted publisher may restart its clock. New session.
+            input.history.clear();
+            if let Some(r) = input.open.take() {
+                input.regions.push(r);
+            }
+            input.last = None;
+        }
+        input.stale_now = false;
+        if let Some(last) = input.history.back() {
+            if t <= last.t {
+                input.out_of_order += 1;
+                return Err(Rejection::OutOfOrder { stamp: t, last: last.t });
+            }
+        }
+        input.source = st.source;
+        input.samples += 1;
+        let pose = self.machine.forward(&q);
+        let given_axis = Vector3::new(st.tool_axis.x, st.tool_axis.y, st.tool_axis.z);
+        let axis = if (given_axis.norm() - 1.0).abs() < 1e-6 { given_axis } else { pose.axis };
+        let tip = if st.program_line > 0 || st.tool_tip != Point::default() { vec3(&st.tool_tip) } else { pose.tip };
+        let prev = input.history.back().copied();
+        let ds = prev.map_or(0.0, |p| (tip - p.tip).norm());
+        input.s += ds;
+        let now = Past { t, s: input.s, q, axis, tip };
+        input.history.push_back(now);
+        while input.history.len() > 4 {
+            input.history.pop_front();
+        }
+
+        // Seed 001 eq. (5) at the programmed feed: dO/ds times F (dO/dt where the tip does not move).
+        // A step that crosses into another block mixes two moves (a rotary-only block's turn over the
+        // next block's first micrometres): there the previous sample's prediction holds.
+        let held = input.last.as_ref().filter(|l| l.program_line != st.program_line).map(|l| l.predicted_c_speed);
+        let (predicted, c_speed) = match prev {
+            Some(p) => {
+                let dt = t - p.t;
+                let f = if st.programmed_feed > 0.0 { st.programmed_feed } else { ds / dt };
+                let rate = if ds > 1e-12 { (axis - p.axis) / ds * f } else { (axis - p.axis) / dt };
+                // The chord is a mid-step quantity: evaluate eq. (5) at the mid-step orientation.
+                let mid = (axis + p.axis).try_normalize(1e-12).unwrap_or(axis);
+                let predicted = held.unwrap_or_else(|| self.sign * predicted_rate(&mid, &rate, &self.singular));
+                (predicted, (q[self.secondary] - p.q[self.secondary]) / dt)
+            }
+            None => (0.0, 0.0),
+        };
+        // Seed 002 eq. (5) from divided differences over the last samples along the path.
+        let fl = feed_limit_from_history(&input.history, &self.limiter, st.programmed_feed);
+        let dist = distance(&axis, &self.singular);
+        let moving = ds > 1e-12;
+        let in_region = predicted.abs() > self.limit || self.config.min_distance.is_some_and(|d| moving && dist < d);
+
+        let rpm = |r: f64| r * 60.0 / std::f64::consts::TAU;
+        if in_region {
+            if input.open.is_none() {
+                input.region_id += 1;
+                input.open = Some(LiveRegion {
+                    id: input.region_id,
+                    t_start_s: t,
+                    t_end_s: t,
+                    x_start_mm: tip.x * 1e3,
+                    x_end_mm: tip.x * 1e3,
+                    block_start: st.block_number,
+                    block_end: st.block_number,
+                    peak_c_speed_rpm: 0.0,
+                    min_path_feed_mm_per_min: f64::INFINITY,
+                    min_singularity_distance_deg: f64::INFINITY,
+                });
+            }
+            let r = input.open.as_mut().expect("open region");
+            r.t_end_s = t;
+            r.x_end_mm = tip.x * 1e3;
+            r.block_end = st.block_number;
+            r.peak_c_speed_rpm = r.peak_c_speed_rpm.max(rpm(predicted.abs()));
+            r.min_path_feed_mm_per_min = r.min_path_feed_mm_per_min.min(st.path_feed * 60e3);
+            r.min_singularity_distance_deg = r.min_singularity_distance_deg.min(dist.to_degrees());
+        } else if let Some(r) = input.open.take() {
+            input.regions.push(r);
+        }
+
+        // Look-ahead on the commanded timeline: where is this sample on it, and what comes next?
+        let time_to_next = if in_region {
+            0.0
+        } else {
+            let (cursor, ahead) = lookahead(&self.ahead, input.cursor, st.program_line, &tip);
+            input.cursor = cursor;
+            ahead
+        };
+        let status = SingularityStatus {
+            header: Header { stamp: st.header.stamp, frame_id: st.header.frame_id.clone() },
+            source: st.source,
+            input_topic: topic.to_string(),
+            singularity_distance: dist,
+            secondary_axis: self.machine.axes[self.secondary].name.clone(),
+            predicted_c_speed: predicted,
+            c_speed,
+            c_speed_limit: self.limit,
+            feed_limit: fl.0,
+            limiting_axis: fl.1.map_or(String::new(), |i| self.machine.axes[i].name.clone()),
+            limit_kind: match fl.2 {
+                LimitKind::Programmed => SingularityStatus::LIMIT_PROGRAMMED,
+                LimitKind::Velocity => SingularityStatus::LIMIT_VELOCITY,
+                LimitKind::Acceleration => SingularityStatus::LIMIT_ACCELERATION,
+                LimitKind::Jerk => SingularityStatus::LIMIT_JERK,
+            },
+            in_region,
+            region_id: if in_region { input.region_id } else { 0 },
+            workpiece_position: Point { x: tip.x, y: tip.y, z: tip.z },
+            time_to_next_region: time_to_next,
+            program_line: st.program_line,
+            block_number: st.block_number,
+            invalid_count: input.invalid,
+            out_of_order_count: input.out_of_order,
+            stale_count: input.stale,
+        };
+        input.last = Some(status.clone());
+        Ok(status)
+    }
+
+    /// Check every input for staleness at wall time `wall`; returns the topics that just went stale.
+    pub fn tick(&mut self, wall: f64) -> Vec<String> {
+        let mut gone = Vec::new();
+        for (topic, input) in self.inputs.iter_mut() {
+            if let Some(last) = input.last_arrival {
+                if !input.stale_now && wall - last > self.config.stale_timeout {
+                    input.stale_now = true;
+                    input.stale += 1;
+                    gone.push(topic.clone());
+                }
+            }
+        }
+        gone
+    }
+
+    /// Close any open region (end of a stream).
+    pub fn finish(&mut self) {
+        for input in self.inputs.values_mut() {
+            if let Some(r) = input.open.take() {
+                input.regions.push(r);
+            }
+        }
+    }
+
+    /// Regions a stream went through, in order.
+    pub fn regions(&self, topic: &str) -> Vec<LiveRegion> {
+        self.inputs.get(topic).map_or_else(Vec::new, |i| i.regions.iter().chain(i.open.iter()).cloned().collect())
+    }
+
+    /// (samples, invalid, out of order, stale) of a stream.
+    pub fn counters(&self, topic: &str) -> (u64, u64, u64, u64) {
+        self.inputs.get(topic).map_or((0, 0, 0, 0), |i| (i.samples, i.invalid, i.out_of_order, i.stale))
+    }
+
+    /// The diagnostics: one status per input (OK, WARN near the singularity or a region ahead,
+    /// ERROR inside a region, STALE without samples).
+    pub fn diagnostics(&self, stamp: Time) -> DiagnosticArray {
+        let status = self
+            .inputs
+            .iter()
+            .map(|(topic, input)| {
+                let (level, message) = match &input.last {
+                    _ if input.stale_now => (DiagnosticStatus::STALE, format!("no sample for {:.0} ms", self.config.stale_timeout * 1e3)),
+                    None => (DiagnosticStatus::STALE, "no valid sample yet".to_string()),
+                    Some(s) if s.in_region => (
+                        DiagnosticStatus::ERROR,
+                        format!("{} speed {:.1} rpm above its {:.1} rpm limit (region {})", s.secondary_axis, s.predicted_c_speed.abs() * 9.549296585513721, s.c_speed_limit * 9.549296585513721, s.region_id),
+                    ),
+                    Some(s) if s.singularity_distance < self.config.warn_distance => {
+                        (DiagnosticStatus::WARN, format!("{:.2} deg from the singularity", s.singularity_distance.to_degrees()))
+                    }
+                    Some(s) if s.time_to_next_region > 0.0 && s.time_to_next_region < self.config.warn_ahead => {
+                        (DiagnosticStatus::WARN, format!("region ahead in {:.2} s", s.time_to_next_region))
+                    }
+                    Some(_) => (DiagnosticStatus::OK, "clear of the singularity".to_string()),
+                };
+                let mut values = vec![
+                    KeyValue { key: "invalid_samples".into(), value: input.invalid.to_string() },
+                    KeyValue { key: "out_of_order_samples".into(), value: input.out_of_order.to_string() },
+                    KeyValue { key: "stale_count".into(), value: input.stale.to_string() },
+                ];
+                if let Some(s) = &input.last {
+                    values.extend([
+                        KeyValue { key: "singularity_distance_deg".into(), value: format!("{:.4}", s.singularity_distance.to_degrees()) },
+                        KeyValue { key: "predicted_c_speed_rpm".into(), value: format!("{:.2}", s.predicted_c_speed * 9.549296585513721) },
+                        KeyValue { key: "feed_limit_mm_per_min".into(), value: format!("{:.1}", s.feed_limit * 60e3) },
+                        KeyValue { key: "limiting_axis".into(), value: s.limiting_axis.clone() },
+                        KeyValue { key: "region_id".into(), value: s.region_id.to_string() },
+                    ]);
+                }
+                DiagnosticStatus { level, name: format!("fiveaxis monitor: {topic}"), message, hardware_id: self.machine.name.clone(), values }
+            })
+            .collect();
+        DiagnosticArray { header: Header { stamp, frame_id: String::new() }, status }
+    }
+}
+
+/// Seed 002 eq. (5) on divided differences of the last samples with respect to path length.
+fn feed_limit_from_history(h: &VecDeque<Past>, limiter: &FeedLimiter, f_prog: f64) -> (f64, Option<usize>, LimitKind) {
+    let n = h.len();
+    if n < 2 || f_prog <= 0.0 {
+        return (f_prog, None, LimitKind::Programmed);
+    }
+    let p: Vec<&Past> = h.iter().collect();
+    let d1 = |a: &Past, b: &Past, i: usize| (b.q[i] - a.q[i]) / (b.s - a.s);
+    let ok = |a: &Past, b: &Past| b.s - a.s > 1e-9;
+    let mut qs = [0.0; AXES];
+    let mut qss = [0.0; AXES];
+    let mut qsss = [0.0; AXES];
+    if !ok(p[n - 2], p[n - 1]) {
+        return (f_prog, None, LimitKind::Programmed);
+    }
+    for i in 0..AXES {
+        qs[i] = d1(p[n - 2], p[n - 1], i);
+        if n >= 3 && ok(p[n - 3], p[n - 2]) {
+            let s2 = 2.0 * (d1(p[n - 2], p[n - 1], i) - d1(p[n - 3], p[n - 2], i)) / (p[n - 1].s - p[n - 3].s);
+            qss[i] = s2;
+            if n >= 4 && ok(p[n - 4], p[n - 3]) {
+                let s2b = 2.0 * (d1(p[n - 3], p[n - 2], i) - d1(p[n - 4], p[n - 3], i)) / (p[n - 2].s - p[n - 4].s);
+                qsss[i] = 3.0 * (s2 - s2b) / (p[n - 1].s - p[n - 4].s);
+            }
+        }
+    }
+    let f = limiter.limit(f_prog, &qs, &qss, &qsss);
+    (f.feed, f.axis, f.kind)
+}
+
+/// Find a sample's place on the commanded timeline (from `cursor` on, same program line, nearest tip)
+/// and the time from there to the next region: (new cursor, seconds; -1 if none ahead).
+fn lookahead(ahead: &[Ahead], cursor: usize, line: u32, tip: &Vector3<f64>) -> (usize, f64) {
+    if ahead.is_empty() {
+        return (cursor, -1.0);
+    }
+    let start = cursor.min(ahead.len() - 1);
+    let end = (start + 5000).min(ahead.len());
+    let mut best = start;
+    let mut best_d = f64::INFINITY;
+    for (k, a) in ahead.iter().enumerate().take(end).skip(start) {
+        if line != 0 && a.line != line {
+            continue;
+        }
+        let d = (a.tip - tip).norm();
+        if d < best_d {
+            best_d = d;
+            best = k;
+        }
+    }
+    if !best_d.is_finite() {
+        best = start;
+    }
+    let next = ahead[best..].iter().find(|a| a.in_region).map_or(-1.0, |a| a.t - ahead[best].t);
+    (best, next)
+}

@@ -1,0 +1,113 @@
+//! The live monitor on bad input: it rejects and counts, keeps running, and resumes.
+
+use fiveaxis::live::monitor::{Monitor, MonitorConfig, Rejection};
+use fiveaxis::machine::Machine;
+use fiveaxis::units::{DEG, MM};
+use fiveaxis_msgs::{AxisState, DiagnosticStatus, Header, JointState, Time};
+use std::collections::BTreeMap;
+
+const TOPIC: &str = "/machine/joint_states";
+
+fn state(t: f64, x_mm: f64, a_deg: f64, c_deg: f64) -> AxisState {
+    AxisState {
+        header: Header { stamp: Time::from_secs(t), frame_id: String::new() },
+        source: AxisState::SOURCE_MACHINE,
+        name: ["X", "Y", "Z", "A", "C"].map(String::from).to_vec(),
+        position: vec![x_mm * MM, 0.0, 0.0, a_deg * DEG, c_deg * DEG],
+        ..Default::default()
+    }
+}
+
+fn monitor() -> Monitor {
+    Monitor::new(&Machine::hermle_c600u(), MonitorConfig::default())
+}
+
+#[test]
+fn nan_and_out_of_range_samples_are_counted_and_skipped() {
+    let mut m = monitor();
+    assert!(m.on_state(TOPIC, &state(0.000, 0.0, 10.0, 0.0), 0.0).is_ok());
+    let mut nan = state(0.001, 0.1, 10.0, 0.0);
+    nan.position[3] = f64::NAN;
+    assert!(matches!(m.on_state(TOPIC, &nan, 0.001), Err(Rejection::Invalid(r)) if r.contains("A position is NaN")));
+    let mut inf = state(0.002, 0.2, 10.0, 0.0);
+    inf.position[0] = f64::INFINITY;
+    assert!(m.on_state(TOPIC, &inf, 0.002).is_err());
+    // A at 130 deg: outside the Hermle's +-110 deg.
+    assert!(matches!(m.on_state(TOPIC, &state(0.003, 0.3, 130.0, 0.0), 0.003), Err(Rejection::Invalid(r)) if r.contains("outside its range")));
+    let mut short = state(0.004, 0.4, 10.0, 0.0);
+    short.position.pop();
+    assert!(m.on_state(TOPIC, &short, 0.004).is_err());
+    // The monitor keeps going, and the counters travel in the next status.
+    let s = m.on_state(TOPIC, &state(0.005, 0.5, 10.0, 0.0), 0.005).unwrap();
+    assert_eq!(s.invalid_count, 4);
+    assert!((s.singularity_distance - 10.0 * DEG).abs() < 1e-12);
+}
+
+#[test]
+fn time_going_backwards_is_rejected_and_counted() {
+    let mut m = monitor();
+    m.on_state(TOPIC, &state(1.000, 0.0, 10.0, 0.0), 0.0).unwrap();
+    m.on_state(TOPIC, &state(1.001, 0.1, 10.0, 0.0), 0.001).unwrap();
+    assert!(matches!(m.on_state(TOPIC, &state(0.999, 0.2, 10.0, 0.0), 0.002), Err(Rejection::OutOfOrder { .. })));
+    assert!(m.on_state(TOPIC, &state(1.001, 0.2, 10.0, 0.0), 0.003).is_err(), "a repeated stamp is out of order too");
+    let s = m.on_state(TOPIC, &state(1.002, 0.2, 10.0, 0.0), 0.004).unwrap();
+    assert_eq!(s.out_of_order_count, 2);
+}
+
+/// A publisher killed and restarted: the stream goes stale (once), the diagnostics say STALE, and
+/// the monitor resumes with the restarted publisher's samples.
+#[test]
+fn a_restarted_publisher_goes_stale_then_resumes() {
+    let mut m = monitor();
+    for k in 0..10 {
+        m.on_state(TOPIC, &state(k as f64 * 1e-3, k as f64 * 0.01, 10.0, 0.0), k as f64 * 1e-3).unwrap();
+    }
+    assert!(m.tick(0.05).is_empty(), "not stale within the 100 ms timeout");
+    assert_eq!(m.tick(0.5), vec![TOPIC.to_string()]);
+    assert!(m.tick(0.6).is_empty(), "one stale episode counts once");
+    let d = m.diagnostics(Time::from_secs(0.6));
+    assert_eq!(d.status[0].level, DiagnosticStatus::STALE);
+    // The restarted publisher's clock starts again at zero: after a stale episode that is a new
+    // session, accepted.
+    let s = m.on_state(TOPIC, &state(0.0, 0.2, 10.0, 0.0), 2.0).unwrap();
+    assert_eq!(s.stale_count, 1);
+    assert_eq!(s.out_of_order_count, 0);
+    m.on_state(TOPIC, &state(0.001, 0.21, 10.0, 0.0), 2.001).unwrap();
+    let d = m.diagnostics(Time::from_secs(2.0));
+    assert_eq!(d.status[0].level, DiagnosticStatus::OK);
+}
+
+#[test]
+fn diagnostics_warn_near_the_singularity_and_error_above_the_c_limit() {
+    let mut m = monitor();
+    // 3 deg from the pole, not moving fast: WARN (within 5 deg).
+    m.on_state(TOPIC, &state(0.0, 0.0, 3.0, 0.0), 0.0).unwrap();
+    m.on_state(TOPIC, &state(0.001, 0.01, 3.0, 0.0), 0.001).unwrap();
+    assert_eq!(m.diagnostics(Time::default()).status[0].level, DiagnosticStatus::WARN);
+    // The tool axis sweeping sideways 1 deg from the pole at 0.5 deg/ms of C: 83 rpm > 25 rpm: ERROR.
+    let s = m.on_state(TOPIC, &state(0.002, 0.02, 1.0, 0.5), 0.002);
+    let s = s.unwrap();
+    let s2 = m.on_state(TOPIC, &state(0.003, 0.03, 1.0, 1.0), 0.003).unwrap();
+    assert!(s2.in_region && s2.region_id == 1, "{s:?}\n{s2:?}");
+    assert!((s2.c_speed.abs() - 0.5 * DEG / 1e-3).abs() < 1e-9);
+    assert_eq!(m.diagnostics(Time::default()).status[0].level, DiagnosticStatus::ERROR);
+}
+
+/// A machine bridge's JointState with its own joint names, mapped onto the machine's axes.
+#[test]
+fn joint_states_from_a_bridge_with_other_names() {
+    let m = monitor();
+    let js = JointState {
+        header: Header { stamp: Time::from_secs(3.0), frame_id: String::new() },
+        name: ["joint_c", "joint_a", "x", "y", "z"].map(String::from).to_vec(),
+        position: vec![0.5, 0.2, 0.01, 0.02, 0.03],
+        velocity: vec![],
+        effort: vec![],
+    };
+    let rename: BTreeMap<String, String> = [("A", "joint_a"), ("C", "joint_c")].into_iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
+    let st = m.joint_state_to_axis_state(&js, &rename).unwrap();
+    assert_eq!(st.position, vec![0.01, 0.02, 0.03, 0.2, 0.5]);
+    assert_eq!(st.source, AxisState::SOURCE_MACHINE);
+    let missing = JointState { name: vec!["x".into()], position: vec![0.0], ..js };
+    assert!(m.joint_state_to_axis_state(&missing, &rename).is_err());
+}

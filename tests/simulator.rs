@@ -1,0 +1,113 @@
+//! The node set in one process (`fiveaxis run`): the simulated machine stutters on SING.I, holds the
+//! feed on NON_SING.I, never exceeds an axis limit; the monitor reproduces the core's figures.
+
+use fiveaxis::live::inprocess::{run, RunOptions, RunOutput};
+use fiveaxis::machine::Machine;
+use fiveaxis_msgs::AxisState;
+
+fn go(spec: &str) -> RunOutput {
+    run(spec, &Machine::hermle_c600u(), &RunOptions::default()).expect("run")
+}
+
+/// Simulated samples of the cutting pass (tool tip within 0.05 mm of the cut's y and z: the servo's
+/// contour error; x inside the part).
+fn cut(out: &RunOutput, y_mm: f64) -> Vec<AxisState> {
+    out.simulation
+        .states(&out.job.trajectory, &Machine::hermle_c600u())
+        .into_iter()
+        .filter(|s| (s.tool_tip.z * 1e3 + 8.0).abs() < 0.05 && (s.tool_tip.y * 1e3 - y_mm).abs() < 0.05)
+        .filter(|s| (0.0..=50.0).contains(&(s.tool_tip.x * 1e3)))
+        .collect()
+}
+
+#[test]
+fn sing_stutters_around_x25_and_recovers() {
+    let out = go("bundled:SING.I");
+    let cut = cut(&out, 0.0);
+    assert!(cut.len() > 1000);
+    let f = 2000.0 / 60e3;
+    // Below half the programmed feed throughout x 23-27 mm.
+    let mid: Vec<_> = cut.iter().filter(|s| (23.0..=27.0).contains(&(s.tool_tip.x * 1e3))).collect();
+    assert!(!mid.is_empty());
+    for s in &mid {
+        assert!(s.path_feed < 0.5 * f, "x {:.3}: {:.0} mm/min", s.tool_tip.x * 1e3, s.path_feed * 60e3);
+    }
+    // Back at the programmed feed where no axis limit binds (the offline feed limit is F there).
+    let limits = &out.job.analysis;
+    let free: Vec<_> = out
+        .job
+        .trajectory
+        .samples
+        .iter()
+        .zip(&limits.statuses)
+        .filter(|(s, st)| (5.0..=10.0).contains(&(s.tip.x * 1e3)) && s.tip.z < -7e-3 && st.feed_limit.is_some_and(|l| l.axis.is_none()))
+        .collect();
+    assert!(!free.is_empty(), "x 5-10 mm is programmed-feed limited");
+    let at_f = cut.iter().filter(|s| (5.0..=10.0).contains(&(s.tool_tip.x * 1e3)) && s.path_feed > 0.995 * f).count();
+    assert!(at_f > 50, "{at_f} samples at F in x 5-10 mm");
+    // One slow region (besides planned stops), around the singularity.
+    let slow: Vec<_> = out.report.simulated.slow_regions.iter().filter(|r| !r.at_stop).collect();
+    assert_eq!(slow.len(), 1, "{slow:?}");
+    assert!(slow[0].x_start_mm < 23.0 && slow[0].x_end_mm > 27.0);
+    assert!(out.report.simulated.cycle_time_s > out.report.simulated.commanded_cycle_time_s);
+}
+
+#[test]
+fn nonsing_holds_the_programmed_feed() {
+    let out = go("bundled:NON_SING.I");
+    let f = 2000.0 / 60e3;
+    let cut = cut(&out, 50.0);
+    let mid: Vec<_> = cut.iter().filter(|s| (10.0..=40.0).contains(&(s.tool_tip.x * 1e3))).collect();
+    assert!(mid.len() > 500);
+    for s in &mid {
+        assert!((s.path_feed - f).abs() < 0.005 * f, "x {:.3}: {:.1} mm/min", s.tool_tip.x * 1e3, s.path_feed * 60e3);
+    }
+    assert!(out.report.simulated.slow_regions.iter().all(|r| r.at_stop), "{:?}", out.report.simulated.slow_regions);
+    assert!(out.report.simulated.monitor_regions.is_empty());
+    assert!(out.commanded_regions.is_empty());
+}
+
+/// The simulated motion, measured independently here by finite differences at the sample period,
+/// never exceeds an axis velocity, acceleration or jerk limit.
+#[test]
+fn simulated_motion_respects_every_axis_limit() {
+    for spec in ["bundled:SING.I", "bundled:NON_SING.I", "builtin:paper-sing"] {
+        let out = go(spec);
+        let m = Machine::hermle_c600u();
+        let q = &out.simulation.q;
+        let t = out.simulation.period;
+        for k in 2..q.len() - 2 {
+            for (i, axis) in m.axes.iter().enumerate() {
+                let l = axis.limits;
+                let v = (q[k + 1][i] - q[k - 1][i]) / (2.0 * t);
+                let a = (q[k + 1][i] - 2.0 * q[k][i] + q[k - 1][i]) / (t * t);
+                let j = (q[k + 2][i] - 2.0 * q[k + 1][i] + 2.0 * q[k - 1][i] - q[k - 2][i]) / (2.0 * t * t * t);
+                assert!(v.abs() <= l.velocity * (1.0 + 1e-9), "{spec} {} v {v} at {k}", axis.name);
+                assert!(a.abs() <= l.acceleration * (1.0 + 1e-9), "{spec} {} a {a} at {k}", axis.name);
+                assert!(j.abs() <= l.jerk * (1.0 + 1e-9), "{spec} {} j {j} at {k}", axis.name);
+            }
+        }
+        let r = &out.report.simulated;
+        assert!(r.max_axis_velocity_ratio <= 1.0 && r.max_axis_acceleration_ratio <= 1.0 && r.max_axis_jerk_ratio <= 1.0);
+        assert_eq!(r.lost_samples, 0);
+    }
+}
+
+/// On the commanded stream the live monitor gives the core's reference figures for SING.I.
+#[test]
+fn monitor_on_the_commanded_stream_matches_the_reference_figures() {
+    let out = go("bundled:SING.I");
+    let peak = out.commanded_statuses.iter().map(|s| s.predicted_c_speed.abs()).fold(0.0, f64::max) * 60.0 / std::f64::consts::TAU;
+    assert!((peak - 175.0).abs() < 0.5, "peak {peak}");
+    assert_eq!(out.commanded_regions.len(), 1, "{:?}", out.commanded_regions);
+    let r = &out.commanded_regions[0];
+    // Samples are 0.033 mm apart; the region opens on the first sample past x = 22.
+    assert!((r.x_start_mm - 22.0).abs() < 0.05 && (r.x_end_mm - 28.0).abs() < 0.05, "{r:?}");
+    // On the simulated (blended) stream, the region matches the continuous path's 21.58-28.42 mm.
+    let sim = &out.report.simulated.monitor_regions;
+    assert_eq!(sim.len(), 1, "{sim:?}");
+    assert!((sim[0].x_start_mm - 21.58).abs() < 0.1 && (sim[0].x_end_mm - 28.42).abs() < 0.1, "{:?}", sim[0]);
+    // The look-ahead warned before the region: some simulated statuses before it count down to it.
+    let warned = out.statuses.iter().filter(|s| !s.in_region && s.time_to_next_region > 0.0 && s.time_to_next_region < 1.0).count();
+    assert!(warned > 10, "{warned} look-ahead warnings");
+}
