@@ -55,6 +55,19 @@ pub struct LiveRegion {
     pub min_singularity_distance_deg: f64,
 }
 
+/// What happened on one input stream.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct InputSummary {
+    pub topic: String,
+    pub source: u8,
+    pub samples: u64,
+    pub invalid: u64,
+    pub out_of_order: u64,
+    pub stale: u64,
+    pub lost: u64,
+    pub regions: Vec<LiveRegion>,
+}
+
 #[derive(Debug, Clone, Copy)]
 struct Past {
     t: f64,
@@ -81,6 +94,9 @@ struct Input {
     last: Option<SingularityStatus>,
     cursor: usize,
     samples: u64,
+    /// Smallest stamp step seen (the stream's period) and samples missing from gaps in the stamps.
+    period: Option<f64>,
+    lost: u64,
 }
 
 /// One commanded sample remembered for the look-ahead.
@@ -243,6 +259,14 @@ impl Monitor {
         }
         input.source = st.source;
         input.samples += 1;
+        if let Some(last) = input.history.back() {
+            let dt = t - last.t;
+            let period = input.period.map_or(dt, |p| p.min(dt));
+            input.period = Some(period);
+            if dt > 1.5 * period {
+                input.lost += ((dt / period).round() as u64).saturating_sub(1);
+            }
+        }
         let pose = self.machine.forward(&q);
         let given_axis = Vector3::new(st.tool_axis.x, st.tool_axis.y, st.tool_axis.z);
         let axis = if (given_axis.norm() - 1.0).abs() < 1e-6 { given_axis } else { pose.axis };
@@ -379,6 +403,33 @@ impl Monitor {
         self.inputs.get(topic).map_or((0, 0, 0, 0), |i| (i.samples, i.invalid, i.out_of_order, i.stale))
     }
 
+    /// Samples missing from a stream, judged by gaps in its stamps against its period.
+    pub fn lost(&self, topic: &str) -> u64 {
+        self.inputs.get(topic).map_or(0, |i| i.lost)
+    }
+
+    /// The topics seen so far.
+    pub fn topics(&self) -> Vec<String> {
+        self.inputs.keys().cloned().collect()
+    }
+
+    /// A summary of every stream, for people and CI.
+    pub fn summary(&self) -> Vec<InputSummary> {
+        self.inputs
+            .iter()
+            .map(|(topic, i)| InputSummary {
+                topic: topic.clone(),
+                source: i.source,
+                samples: i.samples,
+                invalid: i.invalid,
+                out_of_order: i.out_of_order,
+                stale: i.stale,
+                lost: i.lost,
+                regions: i.regions.iter().chain(i.open.iter()).cloned().collect(),
+            })
+            .collect()
+    }
+
     /// The diagnostics: one status per input (OK, WARN near the singularity or a region ahead,
     /// ERROR inside a region, STALE without samples).
     pub fn diagnostics(&self, stamp: Time) -> DiagnosticArray {
@@ -405,6 +456,7 @@ impl Monitor {
                     KeyValue { key: "invalid_samples".into(), value: input.invalid.to_string() },
                     KeyValue { key: "out_of_order_samples".into(), value: input.out_of_order.to_string() },
                     KeyValue { key: "stale_count".into(), value: input.stale.to_string() },
+                    KeyValue { key: "lost_samples".into(), value: input.lost.to_string() },
                 ];
                 if let Some(s) = &input.last {
                     values.extend([

@@ -1,0 +1,269 @@
+//! The one transport seam of the fiveaxis nodes: ROS 2 over DDS with `ros2-client`.
+//!
+//! - The participant honours `ROS_DOMAIN_ID`, `ROS_AUTOMATIC_DISCOVERY_RANGE` (`LOCALHOST`, `SUBNET`,
+//!   `OFF`) and the older `ROS_LOCALHOST_ONLY=1`, which ros2-client itself does not read.
+//! - QoS: state streams are reliable, keep-last [`STATE_DEPTH`] (1 s at 1 kHz), volatile, on both
+//!   sides (ros2-client's subscription default is best effort, depth 1, which would drop samples).
+//! - Topic names are relative to `--namespace` (default `/fiveaxis`) unless absolute, then remapped
+//!   with `--remap FROM:=TO`.
+//! - SIGINT/SIGTERM set a flag the node loops poll, so they finish cleanly.
+
+use anyhow::{bail, Context as _};
+use fiveaxis_msgs::RosMessage;
+use ros2_client::{
+    dds::rustdds,
+    qos::{Durability, History, WhenFull},
+    Context, MessageTypeName, Name, Node, NodeName, NodeOptions, Publisher, QosProfile, Subscription,
+};
+use serde::{de::DeserializeOwned, Serialize};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Keep-last depth of the axis-state and status streams.
+pub const STATE_DEPTH: usize = 1000;
+
+/// QoS of the axis-state and status streams: reliable, keep-last 1000, volatile.
+pub fn state_qos() -> QosProfile {
+    QosProfile::publisher_default()
+        .reliability_reliable(WhenFull::Wait(Duration::from_millis(100)))
+        .durability(Durability::Volatile)
+        .history(History::KeepLast { depth: STATE_DEPTH })
+}
+
+/// QoS of /diagnostics (as diagnostic_updater: reliable, keep-last 10).
+pub fn diagnostics_qos() -> QosProfile {
+    state_qos().history(History::KeepLast { depth: 10 })
+}
+
+/// QoS of /clock (as ROS 2's clock publisher: best effort, keep-last 1).
+pub fn clock_qos() -> QosProfile {
+    QosProfile::publisher_default().reliability_best_effort().history(History::KeepLast { depth: 1 })
+}
+
+/// Options every node takes.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CommonArgs {
+    /// Namespace of the node and of relative topic names.
+    #[arg(long, default_value = "/fiveaxis")]
+    pub namespace: String,
+    /// Built-in machine name or a TOML machine file.
+    #[arg(long, default_value = "hermle-c600u")]
+    pub machine: String,
+    /// Rename a topic: `--remap commanded/axis_state:=/cnc/axis_state` (repeatable).
+    #[arg(long = "remap", value_name = "FROM:=TO", value_parser = parse_remap)]
+    pub remaps: Vec<(String, String)>,
+    /// Node name (default: the executable's).
+    #[arg(long)]
+    pub node_name: Option<String>,
+}
+
+fn parse_remap(s: &str) -> Result<(String, String), String> {
+    match s.split_once(":=") {
+        Some((a, b)) if !a.is_empty() && !b.is_empty() => Ok((a.to_string(), b.to_string())),
+        _ => Err(format!("expected FROM:=TO, got '{s}'")),
+    }
+}
+
+/// Log with tracing to stderr (`RUST_LOG` filters; default info, DDS internals at warn).
+pub fn init_tracing() {
+    let filter = tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "info,rustdds=warn,ros2_client=warn".into());
+    let _ = tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).try_init();
+}
+
+/// Which peers discovery may reach, from the ROS 2 environment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DiscoveryRange {
+    /// Only this host (loopback).
+    Localhost,
+    /// The local networks (the DDS default).
+    Subnet,
+    /// No discovery beyond this process.
+    Off,
+}
+
+/// The participant settings the ROS 2 environment asks for: `(domain id, range)`.
+pub fn ros_environment(get: impl Fn(&str) -> Option<String>) -> anyhow::Result<(u16, DiscoveryRange)> {
+    let domain = match get("ROS_DOMAIN_ID").map(|s| s.trim().to_string()).filter(|s| !s.is_empty()) {
+        None => 0,
+        Some(s) => match s.parse::<u16>() {
+            Ok(d) if d <= 232 => d,
+            _ => bail!("ROS_DOMAIN_ID must be a number from 0 to 232, got '{s}'"),
+        },
+    };
+    let range = match get("ROS_AUTOMATIC_DISCOVERY_RANGE").map(|s| s.trim().to_ascii_uppercase()).filter(|s| !s.is_empty()) {
+        Some(r) => match r.as_str() {
+            "LOCALHOST" => DiscoveryRange::Localhost,
+            "SUBNET" | "SYSTEM_DEFAULT" => DiscoveryRange::Subnet,
+            "OFF" => DiscoveryRange::Off,
+            _ => bail!("ROS_AUTOMATIC_DISCOVERY_RANGE must be OFF, LOCALHOST, SUBNET or SYSTEM_DEFAULT, got '{r}'"),
+        },
+        None if get("ROS_LOCALHOST_ONLY").is_some_and(|v| v.trim() == "1") => DiscoveryRange::Localhost,
+        None => DiscoveryRange::Subnet,
+    };
+    Ok((domain, range))
+}
+
+/// A ROS 2 context configured from the environment.
+pub fn context_from_env() -> anyhow::Result<Context> {
+    let (domain, range) = ros_environment(|k| std::env::var(k).ok())?;
+    let builder = rustdds::DomainParticipantBuilder::new(domain);
+    let builder = match range {
+        DiscoveryRange::Localhost => builder.with_only_networks([std::net::IpAddr::from([127, 0, 0, 1])]),
+        // OFF: no interface is advertised or joined; only same-host loopback peers remain reachable.
+        DiscoveryRange::Off => builder.with_only_networks(Vec::<std::net::IpAddr>::new()),
+        DiscoveryRange::Subnet => builder,
+    };
+    let participant = builder.build().context("creating the DDS participant")?;
+    tracing::info!(domain, ?range, "DDS participant");
+    Context::from_domain_participant(participant).context("creating the ROS 2 context")
+}
+
+/// Set when SIGINT or SIGTERM arrives.
+#[derive(Debug, Clone)]
+pub struct Shutdown(Arc<AtomicBool>);
+
+impl Shutdown {
+    pub fn install() -> anyhow::Result<Shutdown> {
+        let flag = Arc::new(AtomicBool::new(false));
+        for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+            signal_hook::flag::register(sig, flag.clone()).context("installing the signal handler")?;
+        }
+        Ok(Shutdown(flag))
+    }
+    pub fn requested(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// A node on the bus, its spinner running on a background thread.
+pub struct Bus {
+    pub node: Node,
+    namespace: String,
+    remaps: Vec<(String, String)>,
+    _context: Context,
+}
+
+impl Bus {
+    /// Create the context and the node `name` (or `--node-name`) in `--namespace`.
+    pub fn new(default_name: &str, args: &CommonArgs) -> anyhow::Result<Bus> {
+        let context = context_from_env()?;
+        let name = args.node_name.clone().unwrap_or_else(|| default_name.to_string());
+        let mut node = context
+            .new_node(NodeName::new(&args.namespace, &name).map_err(|e| anyhow::anyhow!("node name: {e:?}"))?, NodeOptions::new().enable_rosout(true))
+            .map_err(|e| anyhow::anyhow!("creating node {name}: {e:?}"))?;
+        let spinner = node.spinner().map_err(|e| anyhow::anyhow!("spinner: {e:?}"))?;
+        std::thread::Builder::new()
+            .name("ros2-spinner".into())
+            .spawn(move || {
+                if let Err(e) = smol::block_on(spinner.spin()) {
+                    tracing::warn!("spinner stopped: {e:?}");
+                }
+            })
+            .context("starting the spinner")?;
+        Ok(Bus { node, namespace: args.namespace.clone(), remaps: args.remaps.clone(), _context: context })
+    }
+
+    /// The full topic name for `topic` (relative to the namespace unless absolute), after remapping.
+    pub fn resolve(&self, topic: &str) -> String {
+        resolve(&self.namespace, &self.remaps, topic)
+    }
+
+    fn topic<M: RosMessage>(&mut self, topic: &str, qos: &QosProfile) -> anyhow::Result<rustdds::Topic> {
+        let full = self.resolve(topic);
+        let name = Name::parse(&full).map_err(|e| anyhow::anyhow!("topic name {full}: {e:?}"))?;
+        self.node
+            .create_topic(&name, MessageTypeName::new(M::PACKAGE, M::NAME), qos)
+            .map_err(|e| anyhow::anyhow!("topic {full}: {e:?}"))
+    }
+
+    pub fn publisher<M: RosMessage + Serialize>(&mut self, topic: &str, qos: QosProfile) -> anyhow::Result<Publisher<M>> {
+        let t = self.topic::<M>(topic, &qos)?;
+        self.node.create_publisher(&t, Some(qos)).map_err(|e| anyhow::anyhow!("publisher {topic}: {e:?}"))
+    }
+
+    pub fn subscription<M: RosMessage + DeserializeOwned + 'static>(&mut self, topic: &str, qos: QosProfile) -> anyhow::Result<Subscription<M>> {
+        let t = self.topic::<M>(topic, &qos)?;
+        self.node.create_subscription(&t, Some(qos)).map_err(|e| anyhow::anyhow!("subscription {topic}: {e:?}"))
+    }
+
+    /// Wait up to `timeout` until `publisher` has a matched subscription; false on timeout or shutdown.
+    pub fn wait_for_subscriber<M: Serialize>(&self, publisher: &Publisher<M>, timeout: Duration, shutdown: &Shutdown) -> bool {
+        let end = Instant::now() + timeout;
+        while Instant::now() < end && !shutdown.requested() {
+            if publisher.get_subscription_count(&self.node) > 0 {
+                return true;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        false
+    }
+}
+
+/// Resolve a topic name against a namespace and remaps (exact match on the name as given or resolved).
+pub fn resolve(namespace: &str, remaps: &[(String, String)], topic: &str) -> String {
+    let ns = namespace.trim_end_matches('/');
+    let full = if topic.starts_with('/') { topic.to_string() } else { format!("{ns}/{topic}") };
+    for (from, to) in remaps {
+        let from_full = if from.starts_with('/') { from.clone() } else { format!("{ns}/{from}") };
+        if *from == topic || from_full == full {
+            return if to.starts_with('/') { to.clone() } else { format!("{ns}/{to}") };
+        }
+    }
+    full
+}
+
+/// Paces a loop against the wall clock: sample time `t` (s) is due at `start + t / speed`.
+#[derive(Debug, Clone, Copy)]
+pub struct Pacer {
+    start: Instant,
+    speed: Option<f64>,
+}
+
+impl Pacer {
+    /// `speed` None: as fast as possible.
+    pub fn new(speed: Option<f64>) -> Pacer {
+        Pacer { start: Instant::now(), speed }
+    }
+    pub fn wait_until(&self, t: f64) {
+        if let Some(speed) = self.speed {
+            let due = self.start + Duration::from_secs_f64((t / speed).max(0.0));
+            let now = Instant::now();
+            if due > now {
+                std::thread::sleep(due - now);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn environment() {
+        let env = |pairs: &'static [(&'static str, &'static str)]| move |k: &str| pairs.iter().find(|(a, _)| *a == k).map(|(_, v)| v.to_string());
+        assert_eq!(ros_environment(env(&[])).unwrap(), (0, DiscoveryRange::Subnet));
+        assert_eq!(ros_environment(env(&[("ROS_DOMAIN_ID", "42")])).unwrap().0, 42);
+        assert!(ros_environment(env(&[("ROS_DOMAIN_ID", "300")])).is_err());
+        assert!(ros_environment(env(&[("ROS_DOMAIN_ID", "x")])).is_err());
+        assert_eq!(ros_environment(env(&[("ROS_LOCALHOST_ONLY", "1")])).unwrap().1, DiscoveryRange::Localhost);
+        // The newer variable wins over the older one.
+        assert_eq!(
+            ros_environment(env(&[("ROS_LOCALHOST_ONLY", "1"), ("ROS_AUTOMATIC_DISCOVERY_RANGE", "SUBNET")])).unwrap().1,
+            DiscoveryRange::Subnet
+        );
+        assert_eq!(ros_environment(env(&[("ROS_AUTOMATIC_DISCOVERY_RANGE", "localhost")])).unwrap().1, DiscoveryRange::Localhost);
+        assert!(ros_environment(env(&[("ROS_AUTOMATIC_DISCOVERY_RANGE", "MOON")])).is_err());
+    }
+
+    #[test]
+    fn topic_names() {
+        let r = vec![("commanded/axis_state".to_string(), "/cnc/state".to_string())];
+        assert_eq!(resolve("/fiveaxis", &[], "monitor/status"), "/fiveaxis/monitor/status");
+        assert_eq!(resolve("/fiveaxis/", &[], "/diagnostics"), "/diagnostics");
+        assert_eq!(resolve("/fiveaxis", &r, "commanded/axis_state"), "/cnc/state");
+        assert_eq!(resolve("/fiveaxis", &r, "/fiveaxis/commanded/axis_state"), "/cnc/state");
+        assert!(parse_remap("a:=b").is_ok() && parse_remap("a=b").is_err());
+    }
+}

@@ -1,0 +1,230 @@
+//! `fiveaxis-monitor`: subscribes to axis-state streams (our AxisState, or any JointState from a
+//! machine's bridge) and publishes, per sample, the singularity status (`monitor/status`) and, at
+//! 2 Hz, `/diagnostics`: OK, WARN near the singularity or with a region ahead, ERROR above the C
+//! limit, STALE without samples.
+
+use anyhow::Context as _;
+use clap::Parser;
+use fiveaxis::live::monitor::{Monitor, MonitorConfig};
+use fiveaxis::machine::Machine;
+use fiveaxis_bus::{diagnostics_qos, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
+use fiveaxis_msgs::{AxisState, DiagnosticArray, JointState, SingularityStatus, Time};
+use std::collections::BTreeMap;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// Watch axis-state streams for the singularity.
+#[derive(Parser)]
+#[command(name = "fiveaxis-monitor", version)]
+struct Args {
+    #[command(flatten)]
+    common: CommonArgs,
+    /// AxisState topics to watch (repeatable; default commanded/axis_state and simulated/axis_state).
+    #[arg(long = "input", value_name = "TOPIC")]
+    inputs: Vec<String>,
+    /// sensor_msgs/JointState topics to watch, e.g. a machine bridge's /joint_states (repeatable).
+    #[arg(long = "joint-state-input", value_name = "TOPIC")]
+    joint_inputs: Vec<String>,
+    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable).
+    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = parse_map)]
+    axis_map: Vec<(String, String)>,
+    /// The commanded stream used for the look-ahead ("" for none).
+    #[arg(long, default_value = "commanded/axis_state")]
+    lookahead: String,
+    /// An input with no sample for this long is stale, ms.
+    #[arg(long = "stale-ms", default_value_t = 100.0)]
+    stale_ms: f64,
+    /// Also a region when the tool axis comes closer than this to the singularity, degrees.
+    #[arg(long = "min-distance-deg")]
+    min_distance_deg: Option<f64>,
+    /// Region threshold of the singular axis speed, rpm (default: the machine's limit).
+    #[arg(long = "max-c-speed-rpm")]
+    max_c_speed_rpm: Option<f64>,
+    /// Write a JSON summary (per input: counters, regions) here on exit.
+    #[arg(long = "summary-json")]
+    summary_json: Option<PathBuf>,
+    /// Write every evaluated sample as a CSV row here (topic, time, tool tip, feeds, C speeds,
+    /// distance, feed limit, region), in mm, mm/min, rpm and degrees.
+    #[arg(long = "samples-csv")]
+    samples_csv: Option<PathBuf>,
+    /// Exit once every input has been stale this long after having delivered samples, s.
+    #[arg(long = "exit-when-idle-s")]
+    exit_when_idle_s: Option<f64>,
+}
+
+fn parse_map(s: &str) -> Result<(String, String), String> {
+    match s.split_once('=') {
+        Some((a, j)) if !a.is_empty() && !j.is_empty() => Ok((a.to_string(), j.to_string())),
+        _ => Err(format!("expected AXIS=JOINT, got '{s}'")),
+    }
+}
+
+enum Input {
+    State(String, AxisState),
+    Joints(String, JointState),
+}
+
+fn main() -> anyhow::Result<()> {
+    init_tracing();
+    let mut args = Args::parse();
+    let shutdown = Shutdown::install()?;
+    let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
+    if args.inputs.is_empty() && args.joint_inputs.is_empty() {
+        args.inputs = vec!["commanded/axis_state".into(), "simulated/axis_state".into()];
+    }
+    let config = MonitorConfig {
+        stale_timeout: args.stale_ms * 1e-3,
+        min_distance: args.min_distance_deg.map(f64::to_radians),
+        rate_limit: args.max_c_speed_rpm.map(|r| r * std::f64::consts::TAU / 60.0),
+        ..Default::default()
+    };
+    let mut monitor = Monitor::new(&machine, config);
+    let rename: BTreeMap<String, String> = args.axis_map.iter().cloned().collect();
+
+    let mut bus = Bus::new("fiveaxis_monitor", &args.common)?;
+    let status_pub = bus.publisher::<SingularityStatus>("monitor/status", state_qos())?;
+    let diag_pub = bus.publisher::<DiagnosticArray>("/diagnostics", diagnostics_qos())?;
+    let lookahead = (!args.lookahead.is_empty()).then(|| bus.resolve(&args.lookahead));
+    let (tx, rx) = mpsc::sync_channel::<Input>(8192);
+    for topic in &args.inputs {
+        let sub = bus.subscription::<AxisState>(topic, state_qos())?;
+        let (tx, name) = (tx.clone(), bus.resolve(topic));
+        tracing::info!(topic = %name, "watching AxisState");
+        std::thread::spawn(move || loop {
+            match smol::block_on(sub.async_take()) {
+                Ok((msg, _)) => {
+                    if tx.send(Input::State(name.clone(), msg)).is_err() {
+                        break;
+                    }
+                }
+                Err(e) => tracing::warn!(topic = %name, "read error: {e:?}"),
+            }
+        });
+    }
+    for topic in &args.joint_inputs {
+        let sub = bus.subscription::<JointState>(topic, state_qos())?;
+        let (tx, name) = (tx.clone(), bus.resolve(topic));
+        tracing::info!(topic = %name, "watching JointState");
+        std::thread::spawn(move || loop {
+            match smol::block_on(sub.async_take()) {
+                Ok((msg, _)) => {
+                    if tx.send(Input::Joints(name.clone(), msg)).is_err() {
+                        break;
+                    }
+                }
+                Err(e) => tracing::warn!(topic = %name, "read error: {e:?}"),
+            }
+        });
+    }
+    drop(tx);
+
+    let mut csv = match &args.samples_csv {
+        Some(p) => {
+            let mut f = std::io::BufWriter::new(std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?);
+            writeln!(f, "topic,t_s,x_mm,y_mm,z_mm,path_feed_mm_per_min,programmed_feed_mm_per_min,predicted_c_speed_rpm,c_speed_rpm,singularity_distance_deg,feed_limit_mm_per_min,limiting_axis,in_region,region_id,block")?;
+            Some(f)
+        }
+        None => None,
+    };
+    let start = Instant::now();
+    let wall = || start.elapsed().as_secs_f64();
+    let mut last_diag = 0.0;
+    let mut last_sample: Option<f64> = None;
+    let mut in_region: BTreeMap<String, u32> = BTreeMap::new();
+    while !shutdown.requested() {
+        match rx.recv_timeout(Duration::from_millis(10)) {
+            Ok(input) => {
+                let now = wall();
+                last_sample = Some(now);
+                let (topic, state) = match input {
+                    Input::State(t, s) => (t, Ok(s)),
+                    Input::Joints(t, js) => {
+                        let st = monitor.joint_state_to_axis_state(&js, &rename);
+                        (t, st)
+                    }
+                };
+                let state = match state {
+                    Ok(s) => s,
+                    Err(e) => {
+                        tracing::warn!(%topic, "{e}");
+                        continue;
+                    }
+                };
+                if lookahead.as_deref() == Some(topic.as_str()) {
+                    monitor.on_commanded_ahead(&state);
+                }
+                match monitor.on_state(&topic, &state, now) {
+                    Ok(status) => {
+                        let was = in_region.get(&topic).copied().unwrap_or(0);
+                        if status.in_region && was != status.region_id {
+                            tracing::warn!(%topic, region = status.region_id, x_mm = status.workpiece_position.x * 1e3, "entering a region: C speed above its limit");
+                            ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Warn, "{topic}: region {} at x {:.3} mm", status.region_id, status.workpiece_position.x * 1e3);
+                        } else if !status.in_region && was != 0 {
+                            tracing::info!(%topic, region = was, x_mm = status.workpiece_position.x * 1e3, "leaving the region");
+                        }
+                        in_region.insert(topic.clone(), if status.in_region { status.region_id } else { 0 });
+                        if let Some(f) = csv.as_mut() {
+                            let rpm = 60.0 / std::f64::consts::TAU;
+                            let p = &status.workpiece_position;
+                            writeln!(
+                                f,
+                                "{topic},{:.6},{:.5},{:.5},{:.5},{:.3},{:.3},{:.3},{:.3},{:.5},{:.3},{},{},{},{}",
+                                status.header.stamp.as_secs(),
+                                p.x * 1e3,
+                                p.y * 1e3,
+                                p.z * 1e3,
+                                state.path_feed * 60e3,
+                                state.programmed_feed * 60e3,
+                                status.predicted_c_speed * rpm,
+                                status.c_speed * rpm,
+                                status.singularity_distance.to_degrees(),
+                                status.feed_limit * 60e3,
+                                status.limiting_axis,
+                                u8::from(status.in_region),
+                                status.region_id,
+                                status.block_number
+                            )?;
+                        }
+                        if let Err(e) = status_pub.publish(status) {
+                            tracing::warn!("publishing the status: {e:?}");
+                        }
+                    }
+                    Err(e) => tracing::debug!(%topic, "{e}"),
+                }
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => break,
+        }
+        let now = wall();
+        for topic in monitor.tick(now) {
+            tracing::warn!(%topic, "stale: no sample for {} ms", args.stale_ms);
+        }
+        if now - last_diag >= 0.5 {
+            last_diag = now;
+            let stamp = Time::from_secs(std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64()));
+            if let Err(e) = diag_pub.publish(monitor.diagnostics(stamp)) {
+                tracing::warn!("publishing diagnostics: {e:?}");
+            }
+        }
+        if let (Some(idle), Some(last)) = (args.exit_when_idle_s, last_sample) {
+            if now - last > idle {
+                tracing::info!("inputs idle for {idle} s: exiting");
+                break;
+            }
+        }
+    }
+    monitor.finish();
+    if let Some(mut f) = csv.take() {
+        f.flush()?;
+    }
+    let summary = monitor.summary();
+    for s in &summary {
+        tracing::info!(topic = %s.topic, samples = s.samples, invalid = s.invalid, out_of_order = s.out_of_order, stale = s.stale, lost = s.lost, regions = s.regions.len(), "input summary");
+    }
+    if let Some(path) = &args.summary_json {
+        std::fs::write(path, serde_json::to_string_pretty(&summary)?).with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
