@@ -67,7 +67,7 @@ fn parse_remap(s: &str) -> Result<(String, String), String> {
 
 /// Log with tracing to stderr (`RUST_LOG` filters; default info, DDS internals at warn).
 pub fn init_tracing() {
-    let filter = tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "info,rustdds=warn,ros2_client=warn".into());
+    let filter = tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "info,rustdds=warn,ros2_client=warn,ros2_client::distributions=error".into());
     let _ = tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).try_init();
 }
 
@@ -190,11 +190,22 @@ impl Bus {
     /// Wait up to `timeout` until `publisher` has a matched subscription; false on timeout or shutdown.
     pub fn wait_for_subscriber<M: Serialize>(&self, publisher: &Publisher<M>, timeout: Duration, shutdown: &Shutdown) -> bool {
         let end = Instant::now() + timeout;
+        let mut matched = Box::pin(publisher.wait_for_subscription(&self.node));
         while Instant::now() < end && !shutdown.requested() {
-            if publisher.get_subscription_count(&self.node) > 0 {
+            let slice = Duration::from_millis(100).min(end.saturating_duration_since(Instant::now()));
+            let done = smol::block_on(smol::future::or(
+                async {
+                    (&mut matched).await;
+                    true
+                },
+                async {
+                    smol::Timer::after(slice).await;
+                    false
+                },
+            ));
+            if done {
                 return true;
             }
-            std::thread::sleep(Duration::from_millis(20));
         }
         false
     }

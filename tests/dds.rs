@@ -1,0 +1,119 @@
+//! End to end over real DDS: the node executables as separate processes, started by the launch-free
+//! scripts inside private network namespaces (loopback only, or two namespaces joined by a veth pair).
+//! Needs the node executables, which `cargo test --workspace` builds beside this test's binary.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bins() -> PathBuf {
+    let dir = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
+    for b in ["fiveaxis-commander", "fiveaxis-simulator", "fiveaxis-monitor"] {
+        assert!(dir.join(b).exists(), "{b} is not built in {}: run `cargo test --workspace` (launch-free-scripts/test)", dir.display());
+    }
+    dir
+}
+
+struct Row {
+    topic: String,
+    x: f64,
+    y: f64,
+    z: f64,
+    path_feed: f64,
+    predicted: f64,
+    in_region: bool,
+}
+
+fn rows(csv: &Path) -> Vec<Row> {
+    let text = std::fs::read_to_string(csv).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            let n = |i: usize| f[i].parse::<f64>().unwrap();
+            Row { topic: f[0].to_string(), x: n(2), y: n(3), z: n(4), path_feed: n(5), predicted: n(7), in_region: f[12] == "1" }
+        })
+        .collect()
+}
+
+/// Run a launch-free script on a program; returns the monitor's summary and samples.
+fn launch(script: &str, program: &str, tag: &str) -> (serde_json::Value, Vec<Row>) {
+    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (summary, csv) = (dir.join("summary.json"), dir.join("samples.csv"));
+    let status = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts").join(script))
+        .args([program, "--speed", "4", "--summary-json"])
+        .arg(&summary)
+        .arg("--samples-csv")
+        .arg(&csv)
+        .env("FIVEAXIS_BIN", bins())
+        .env_remove("FIVEAXIS_IN_NETNS")
+        .env("RUST_LOG", "warn")
+        .status()
+        .expect("launch script runs");
+    assert!(status.success(), "{script} {program} failed: {status}");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    let r = rows(&csv);
+    let _ = std::fs::remove_dir_all(&dir);
+    (v, r)
+}
+
+fn input<'a>(summary: &'a serde_json::Value, topic: &str) -> &'a serde_json::Value {
+    summary.as_array().unwrap().iter().find(|i| i["topic"] == topic).unwrap_or_else(|| panic!("no input {topic} in {summary}"))
+}
+
+const CMD: &str = "/fiveaxis/commanded/axis_state";
+const SIM: &str = "/fiveaxis/simulated/axis_state";
+
+fn check_sing(summary: &serde_json::Value, rows: &[Row]) {
+    for topic in [CMD, SIM] {
+        let i = input(summary, topic);
+        for k in ["lost", "invalid", "out_of_order"] {
+            assert_eq!(i[k], 0, "{topic}: {k} in {i}");
+        }
+    }
+    // Every commanded sample arrived: SING.I at 1 kHz is 28243 samples (the core's trajectory).
+    let job = fiveaxis::job::run("bundled:SING.I", &fiveaxis::machine::Machine::hermle_c600u(), &Default::default()).unwrap();
+    assert_eq!(input(summary, CMD)["samples"], job.trajectory.samples.len() as u64);
+    // The monitor's statuses on the commanded stream: the core's reference figures.
+    let peak = rows.iter().filter(|r| r.topic == CMD).map(|r| r.predicted.abs()).fold(0.0, f64::max);
+    assert!((peak - 175.0).abs() < 0.5, "peak {peak}");
+    let regions = input(summary, CMD)["regions"].as_array().unwrap();
+    assert_eq!(regions.len(), 1, "{regions:?}");
+    let (a, b) = (regions[0]["x_start_mm"].as_f64().unwrap(), regions[0]["x_end_mm"].as_f64().unwrap());
+    assert!((a - 22.0).abs() < 0.05 && (b - 28.0).abs() < 0.05, "region {a}-{b}");
+    let inside: Vec<_> = rows.iter().filter(|r| r.topic == CMD && r.in_region).collect();
+    assert!(inside.iter().all(|r| (21.99..=28.01).contains(&r.x)));
+    // The simulated feed on the cut: below half of F throughout x 23-27, back at F at x 5-10.
+    let cut = |r: &&Row| r.topic == SIM && (r.z + 8.0).abs() < 0.05 && r.y.abs() < 0.05;
+    let mid: Vec<_> = rows.iter().filter(cut).filter(|r| (23.0..=27.0).contains(&r.x)).collect();
+    assert!(mid.len() > 100);
+    assert!(mid.iter().all(|r| r.path_feed < 1000.0), "max {}", mid.iter().map(|r| r.path_feed).fold(0.0, f64::max));
+    let at_f = rows.iter().filter(cut).filter(|r| (5.0..=10.0).contains(&r.x) && r.path_feed > 1990.0).count();
+    assert!(at_f > 50, "{at_f} samples at F2000 in x 5-10");
+}
+
+#[test]
+fn paper_demo_over_dds_stutters_on_sing() {
+    let (summary, rows) = launch("paper-demo", "bundled:SING.I", "sing");
+    check_sing(&summary, &rows);
+}
+
+#[test]
+fn nonsing_over_dds_shows_no_region_and_no_feed_drop() {
+    let (summary, rows) = launch("paper-demo", "bundled:NON_SING.I", "nonsing");
+    for topic in [CMD, SIM] {
+        let i = input(&summary, topic);
+        assert_eq!(i["lost"], 0);
+        assert!(i["regions"].as_array().unwrap().is_empty(), "{i}");
+    }
+    let mid: Vec<_> = rows.iter().filter(|r| r.topic == SIM && (r.z + 8.0).abs() < 0.05 && (r.y - 50.0).abs() < 0.05 && (10.0..=40.0).contains(&r.x)).collect();
+    assert!(mid.len() > 300);
+    assert!(mid.iter().all(|r| (r.path_feed - 2000.0).abs() < 10.0), "min {}", mid.iter().map(|r| r.path_feed).fold(f64::MAX, f64::min));
+}
+
+/// Commander and simulator on one host, the monitor on another, joined by a veth pair.
+#[test]
+fn two_hosts_joined_by_a_veth_pair() {
+    let (summary, rows) = launch("two-hosts", "bundled:SING.I", "twohosts");
+    check_sing(&summary, &rows);
+}
