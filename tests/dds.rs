@@ -117,3 +117,48 @@ fn two_hosts_joined_by_a_veth_pair() {
     let (summary, rows) = launch("two-hosts", "bundled:SING.I", "twohosts");
     check_sing(&summary, &rows);
 }
+
+/// A publisher killed (SIGKILL) mid-run and restarted: the monitor counts the stale episode, keeps
+/// running, and takes the restarted stream (its clock starting again at zero) as a new session.
+#[test]
+fn monitor_survives_a_killed_and_restarted_publisher() {
+    let b = bins();
+    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-restart-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let summary = dir.join("summary.json");
+    let script = format!(
+        r#"set -e
+B="{b}"
+"$B/fiveaxis-monitor" --input commanded/axis_state --stale-ms 100 --exit-when-idle-s 2 --summary-json "{s}" &
+M=$!
+"$B/fiveaxis-commander" builtin:paper-sing --speed 1 &
+C=$!
+sleep 1.0
+kill -KILL $C
+wait $C || true
+sleep 0.5
+"$B/fiveaxis-commander" builtin:paper-sing --speed 4
+wait $M
+"#,
+        b = b.display(),
+        s = summary.display()
+    );
+    let status = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts/netns-run"))
+        .args(["bash", "-c", &script])
+        .env("RUST_LOG", "warn")
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    let i = input(&v, CMD);
+    // The first run delivered part of the path, the second all 1501 samples.
+    let samples = i["samples"].as_u64().unwrap();
+    assert!(samples > 1501 && samples < 2 * 1501, "{samples}");
+    assert!(i["stale"].as_u64().unwrap() >= 1, "{i}");
+    assert_eq!(i["out_of_order"], 0, "the restart is a new session: {i}");
+    assert_eq!(i["invalid"], 0);
+    // The region of the full second run was seen (21.58-28.42 on the continuous path).
+    let regions = i["regions"].as_array().unwrap();
+    assert!(regions.iter().any(|r| (r["x_start_mm"].as_f64().unwrap() - 21.58).abs() < 0.05 && (r["x_end_mm"].as_f64().unwrap() - 28.42).abs() < 0.05), "{regions:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
