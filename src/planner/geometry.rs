@@ -41,6 +41,11 @@ impl Run {
         *self.sigma.last().unwrap_or(&0.0)
     }
 
+    /// True if every axis is linear in the parameter (a rapid or rotary-only move).
+    pub fn is_linear(&self) -> bool {
+        self.kind == RunKind::Linear
+    }
+
     /// Index into `segments` of the segment holding parameter `s`.
     pub fn segment_at(&self, s: f64) -> usize {
         let k = self.sigma.partition_point(|&v| v <= s);

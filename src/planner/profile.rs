@@ -22,7 +22,7 @@ pub struct PlanConfig {
 
 impl Default for PlanConfig {
     fn default() -> Self {
-        PlanConfig { period: 1e-3, grid_m: 1e-5, grid_rad: 1e-4, jerk_window: None, max_iterations: 30 }
+        PlanConfig { period: 1e-3, grid_m: 2e-5, grid_rad: 1e-4, jerk_window: None, max_iterations: 30 }
     }
 }
 
@@ -80,7 +80,9 @@ struct Grid {
 
 fn build_grid(run: &Run, machine: &Machine, limiter: &FeedLimiter, step: f64) -> Grid {
     let len = run.length();
-    let n = ((len / step).ceil() as usize).clamp(4, 4_000_000) + 1;
+    // A run linear in its parameter (rapid, rotary-only) has q_ss = q_sss = 0: a coarse grid is exact.
+    let cap = if run.is_linear() { 2000 } else { 4_000_000 };
+    let n = ((len / step).ceil() as usize).clamp(4, cap) + 1;
     let h = len / (n - 1) as f64;
     let q: Vec<Joints> = (0..n).map(|k| run.joints(k as f64 * h, machine)).collect();
     let at = |k: isize| q[k.clamp(0, n as isize - 1) as usize];
