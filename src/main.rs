@@ -28,7 +28,8 @@ enum Command {
     Machine(MachineCmd),
     /// Run commander, simulator and monitor in one process (no DDS), faster than real time.
     Run(RunArgs),
-    /// The embedded default: analyze the paper's two programs and two continuous paths on the Hermle.
+    /// The embedded default: the node set in one process on the paper's two programs and two continuous
+    /// paths, on the Hermle.
     Demo {
         /// Print one JSON object per program (one per line).
         #[arg(long)]
@@ -198,18 +199,21 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
 
 fn demo(json: bool) -> anyhow::Result<ExitCode> {
     let machine = Machine::hermle_c600u();
-    let specs = ["builtin:paper-sing", "bundled:SING.I", "builtin:paper-nonsing", "bundled:NON_SING.I"];
     if !json {
-        println!("fiveaxis demo: the paper's paths on the {} (C limit 25 rpm), F2000 mm/min\n", machine.name);
+        println!("fiveaxis demo: the paper's paths on the {} (C limit 25 rpm), F2000 mm/min", machine.name);
+        println!("commander + simulator + monitor in one process, no DDS\n");
+        println!("predicted (seed 001 eq. 5, axes linear per block as programmed):");
         println!("{:<24} {:>12} {:>10} {:>14} {:>16}", "program", "peak C rpm", "at x mm", "closest deg", "C > 25 rpm, x mm");
     }
+    let specs = ["builtin:paper-sing", "bundled:SING.I", "builtin:paper-nonsing", "bundled:NON_SING.I"];
+    let mut runs = Vec::new();
     for spec in specs {
-        let job = job::run(spec, &machine, &JobOptions::default())?;
-        let r = &job.report;
+        let out = fiveaxis::live::inprocess::run(spec, &machine, &Default::default())?;
         if json {
-            println!("{}", serde_json::to_string(r)?);
+            println!("{}", serde_json::to_string(&out.report)?);
             continue;
         }
+        let r = &out.report.analysis;
         let regions = if r.regions.is_empty() {
             "none".to_string()
         } else {
@@ -223,9 +227,24 @@ fn demo(json: bool) -> anyhow::Result<ExitCode> {
             r.min_singularity_distance_deg.unwrap_or(f64::NAN),
             regions
         );
+        runs.push((spec, out));
     }
     if !json {
-        println!("\nDetails: fiveaxis program analyze bundled:SING.I   (or any file; --json for CI)");
+        println!("\nsimulated machine (A/C 150 deg/s, 600 deg/s^2; look-ahead planner, servo):");
+        println!("{:<24} {:>10} {:>16} {:>22} {:>12}", "program", "cycle s", "lowest mm/min", "feed < 50 %, x mm", "max a/a_max");
+        for (spec, out) in &runs {
+            let s = &out.report.simulated;
+            let slow: Vec<String> = s.slow_regions.iter().filter(|r| !r.at_stop).map(|r| format!("{:.1}-{:.1}", r.x_start_mm, r.x_end_mm)).collect();
+            println!(
+                "{:<24} {:>10.2} {:>16.0} {:>22} {:>12.3}",
+                spec,
+                s.cycle_time_s,
+                s.min_feed_mm_per_min,
+                if slow.is_empty() { "none".to_string() } else { slow.join(", ") },
+                s.max_axis_acceleration_ratio
+            );
+        }
+        println!("\nDetails: fiveaxis run bundled:SING.I   fiveaxis program analyze FILE   (--json for CI)");
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -71,11 +71,15 @@ impl Simulation {
             .zip(&self.segment)
             .map(|(q, &s)| machine.forward(q).tip - traj.segments.get(s).map_or(nalgebra::Vector3::zeros(), |g| g.datum))
             .collect();
+        // Tool-tip speed by central differences, never across a datum change (the tip jumps there in
+        // program coordinates while the machine does not move).
+        let datum = |k: usize| traj.segments.get(self.segment[k]).map(|g| g.datum);
+        let last = tips.len() - 1;
         (0..self.q.len())
             .map(|k| {
-                let (p, n) = (tips[k.saturating_sub(1)], tips[(k + 1).min(tips.len() - 1)]);
-                let span = ((k + 1).min(tips.len() - 1) - k.saturating_sub(1)).max(1) as f64 * self.period;
-                let feed = (n - p).norm() / span;
+                let lo = if k > 0 && datum(k - 1) == datum(k) { k - 1 } else { k };
+                let hi = if k < last && datum(k + 1) == datum(k) { k + 1 } else { k };
+                let feed = if hi > lo { (tips[hi] - tips[lo]).norm() / ((hi - lo) as f64 * self.period) } else { 0.0 };
                 b.state(machine, k as f64 * self.period, &self.q[k], &v[k], &a[k], traj.segments.get(self.segment[k]), feed)
             })
             .collect()
