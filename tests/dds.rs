@@ -162,3 +162,42 @@ wait $M
     assert!(regions.iter().any(|r| (r["x_start_mm"].as_f64().unwrap() - 21.58).abs() < 0.05 && (r["x_end_mm"].as_f64().unwrap() - 28.42).abs() < 0.05), "{regions:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// SIGTERM (as Ctrl-C's SIGINT) stops a node cleanly: the monitor finishes, writes its summary and
+/// exits 0; the commander stops publishing and exits 0.
+#[test]
+fn nodes_stop_cleanly_on_sigterm() {
+    let b = bins();
+    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-term-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let summary = dir.join("summary.json");
+    let script = format!(
+        r#"B="{b}"
+"$B/fiveaxis-monitor" --input commanded/axis_state --summary-json "{s}" &
+M=$!
+"$B/fiveaxis-commander" bundled:SING.I --speed 1 &
+C=$!
+sleep 2
+kill -TERM $C
+wait $C; rc_c=$?
+kill -INT $M
+wait $M; rc_m=$?
+echo "commander=$rc_c monitor=$rc_m"
+[ "$rc_c" = 0 ] && [ "$rc_m" = 0 ]
+"#,
+        b = b.display(),
+        s = summary.display()
+    );
+    let out = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts/netns-run"))
+        .args(["bash", "-c", &script])
+        .env("RUST_LOG", "warn")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    let samples = input(&v, CMD)["samples"].as_u64().unwrap();
+    // About 1.5 s of a 28 s program at 1 kHz arrived before the commander stopped.
+    assert!(samples > 200 && samples < 28243, "{samples}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
