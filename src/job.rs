@@ -33,6 +33,8 @@ pub enum JobError {
     UnknownBuiltin(String),
     #[error("unknown bundled program '{0}' (bundled: SING.I, NON_SING.I)")]
     UnknownBundled(String),
+    #[error("recording: {0}")]
+    Record(#[from] crate::record::RecordError),
     #[error("built-in path {name} cannot be run on machine {machine}: {source}")]
     Kinematics { name: String, machine: String, source: crate::kinematics::KinematicsError },
 }

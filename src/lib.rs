@@ -9,6 +9,7 @@
 // `!(x > 0.0)` is deliberate throughout: it rejects NaN, which `x <= 0.0` would let through.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod analysis;
 pub mod job;
 pub mod kinematics;
 pub mod live;
@@ -16,6 +17,7 @@ pub mod machine;
 pub mod path;
 pub mod planner;
 pub mod program;
+pub mod record;
 pub mod report;
 pub mod singularity;
 pub mod units;

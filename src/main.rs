@@ -28,6 +28,11 @@ enum Command {
     Machine(MachineCmd),
     /// Run commander, simulator and monitor in one process (no DDS), faster than real time.
     Run(RunArgs),
+    /// Analyse a recording (MCAP) offline: the monitor recomputed, regions, threshold checks for CI.
+    Analyze(OfflineArgs),
+    /// MCAP recordings: recover a damaged one.
+    #[command(subcommand)]
+    Mcap(McapCmd),
     /// The embedded default: the node set in one process on the paper's two programs and two continuous
     /// paths, on the Hermle.
     Demo {
@@ -87,6 +92,42 @@ struct RunArgs {
     /// Print one JSON object (the keys of `program analyze --json` plus `simulated`).
     #[arg(long)]
     json: bool,
+    /// Record every topic of the node set to this MCAP file (rosbag2 layout).
+    #[arg(long)]
+    mcap: Option<std::path::PathBuf>,
+}
+
+#[derive(Args)]
+struct OfflineArgs {
+    /// The recording.
+    recording: std::path::PathBuf,
+    /// Built-in machine name or a TOML machine file.
+    #[arg(long, default_value = "hermle-c600u")]
+    machine: String,
+    /// Fail (exit 1) when the predicted C speed exceeds this, rpm.
+    #[arg(long = "max-c-speed-rpm")]
+    max_c_speed_rpm: Option<f64>,
+    /// Fail (exit 1) when a moving tool axis comes closer than this to the singularity, degrees.
+    #[arg(long = "min-distance-deg")]
+    min_distance_deg: Option<f64>,
+    /// sensor_msgs/JointState topics to analyse (default: all, if the recording has no AxisState).
+    #[arg(long = "joint-state-topic")]
+    joint_state_topics: Vec<String>,
+    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable).
+    #[arg(long = "axis-map", value_name = "AXIS=JOINT")]
+    axis_map: Vec<String>,
+    /// Write the report as JSON here.
+    #[arg(long)]
+    json: Option<std::path::PathBuf>,
+    /// Write a JUnit XML report here.
+    #[arg(long)]
+    junit: Option<std::path::PathBuf>,
+}
+
+#[derive(Subcommand)]
+enum McapCmd {
+    /// Rebuild a valid MCAP from a damaged or truncated one, keeping every complete chunk.
+    Recover { input: std::path::PathBuf, output: std::path::PathBuf },
 }
 
 #[derive(Subcommand)]
@@ -168,6 +209,7 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let options = fiveaxis::live::inprocess::RunOptions {
+        mcap: a.mcap.clone(),
         job: JobOptions {
             dialect: a.dialect,
             path: PathOptions { feed_override_mm_per_min: a.feed_mm_per_min, ..Default::default() },
@@ -178,12 +220,15 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
     };
     let out = match fiveaxis::live::inprocess::run(&a.program, &machine, &options) {
         Ok(o) => o,
-        Err(e @ job::JobError::Load(_)) => {
+        Err(e @ (job::JobError::Load(_) | job::JobError::Record(_))) => {
             eprintln!("fiveaxis: {e}");
             return Ok(ExitCode::from(EXIT_INPUT));
         }
         Err(e) => return Err(e.into()),
     };
+    if let (Some(path), Some(n)) = (&a.mcap, out.recorded_messages) {
+        eprintln!("fiveaxis: recorded {n} messages to {}", path.display());
+    }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&out.report)?);
     } else {
@@ -195,6 +240,73 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::from(EXIT_INPUT));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
+    let mut axis_map = std::collections::BTreeMap::new();
+    for m in &a.axis_map {
+        match m.split_once('=') {
+            Some((k, v)) if !k.is_empty() && !v.is_empty() => {
+                axis_map.insert(k.to_string(), v.to_string());
+            }
+            _ => {
+                eprintln!("fiveaxis: --axis-map expects AXIS=JOINT, got '{m}'");
+                return Ok(ExitCode::from(EXIT_INPUT));
+            }
+        }
+    }
+    let machine = match Machine::from_name_or_file(&a.machine) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("fiveaxis: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    let options = fiveaxis::analysis::OfflineOptions {
+        max_c_speed_rpm: a.max_c_speed_rpm,
+        min_distance_deg: a.min_distance_deg,
+        joint_state_topics: a.joint_state_topics.clone(),
+        axis_map,
+        ..Default::default()
+    };
+    let report = match fiveaxis::analysis::analyze_mcap(&a.recording, &machine, &options) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("fiveaxis: cannot analyse {}: {e}", a.recording.display());
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    print!("{}", report.to_table());
+    if let Some(p) = &a.json {
+        std::fs::write(p, serde_json::to_string_pretty(&report)?).with_context(|| format!("writing {}", p.display()))?;
+    }
+    if let Some(p) = &a.junit {
+        std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
+    }
+    Ok(if report.violations.is_empty() { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+}
+
+fn recover(input: &std::path::Path, output: &std::path::Path) -> anyhow::Result<ExitCode> {
+    match fiveaxis::record::recover(input, output) {
+        Ok(r) => {
+            println!(
+                "recovered {} messages on {} channels from {} ({} bytes) into {}",
+                r.messages,
+                r.channels,
+                input.display(),
+                r.bytes_total,
+                output.display()
+            );
+            if let Some(why) = &r.stopped {
+                println!("stopped at the damage: {why}");
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(e) => {
+            eprintln!("fiveaxis: {e}");
+            Ok(ExitCode::from(EXIT_INPUT))
+        }
+    }
 }
 
 fn demo(json: bool) -> anyhow::Result<ExitCode> {
@@ -270,6 +382,8 @@ fn main() -> ExitCode {
             None => Err(anyhow::anyhow!("unknown machine '{name}' (built in: {})", BUILTIN_NAMES.join(", "))),
         },
         Command::Run(a) => run(a),
+        Command::Analyze(a) => offline(a),
+        Command::Mcap(McapCmd::Recover { input, output }) => recover(input, output),
         Command::Demo { json } => demo(*json),
     };
     match result {

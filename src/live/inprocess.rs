@@ -19,11 +19,70 @@ pub const COMMANDED_STATE: &str = "commanded/axis_state";
 pub const SIMULATED_STATE: &str = "simulated/axis_state";
 
 /// Options of a run.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct RunOptions {
     pub job: JobOptions,
     pub sim: SimConfig,
     pub monitor: MonitorConfig,
+    /// Record every topic of the node set into this MCAP file (rosbag2 layout).
+    pub mcap: Option<std::path::PathBuf>,
+}
+
+/// Topic names of the node set, absolute, with the default namespace.
+pub mod topics {
+    pub const COMMANDED_STATE: &str = "/fiveaxis/commanded/axis_state";
+    pub const COMMANDED_JOINTS: &str = "/fiveaxis/commanded/joint_states";
+    pub const SIMULATED_STATE: &str = "/fiveaxis/simulated/axis_state";
+    pub const SIMULATED_JOINTS: &str = "/fiveaxis/simulated/joint_states";
+    pub const STATUS: &str = "/fiveaxis/monitor/status";
+    pub const DIAGNOSTICS: &str = "/diagnostics";
+    pub const CLOCK: &str = "/clock";
+}
+
+/// Records the node set's topics in program time (the in-process clock, as with use_sim_time).
+struct Tape {
+    rec: crate::record::Recorder<std::io::BufWriter<std::fs::File>>,
+    ids: [u16; 7],
+    next_diag: f64,
+}
+
+impl Tape {
+    fn create(path: &std::path::Path) -> Result<Tape, crate::record::RecordError> {
+        use crate::record::{OfferedQos, Recorder};
+        use fiveaxis_msgs::{Clock, DiagnosticArray, JointState};
+        let mut rec = Recorder::create(path, Default::default())?;
+        let ids = [
+            rec.add_topic::<AxisState>(topics::COMMANDED_STATE, OfferedQos::STATE)?,
+            rec.add_topic::<JointState>(topics::COMMANDED_JOINTS, OfferedQos::STATE)?,
+            rec.add_topic::<AxisState>(topics::SIMULATED_STATE, OfferedQos::STATE)?,
+            rec.add_topic::<JointState>(topics::SIMULATED_JOINTS, OfferedQos::STATE)?,
+            rec.add_topic::<SingularityStatus>(topics::STATUS, OfferedQos::STATE)?,
+            rec.add_topic::<DiagnosticArray>(topics::DIAGNOSTICS, OfferedQos::DIAGNOSTICS)?,
+            rec.add_topic::<Clock>(topics::CLOCK, OfferedQos::CLOCK)?,
+        ];
+        Ok(Tape { rec, ids, next_diag: 0.0 })
+    }
+
+    fn state(&mut self, st: &AxisState, commanded: bool, monitor: &Monitor) -> Result<(), crate::record::RecordError> {
+        let t = st.header.stamp.as_nanos();
+        let (s, j) = if commanded { (self.ids[0], self.ids[1]) } else { (self.ids[2], self.ids[3]) };
+        self.rec.write(s, st, t, t)?;
+        self.rec.write(j, &st.to_joint_state(), t, t)?;
+        if commanded {
+            self.rec.write(self.ids[6], &fiveaxis_msgs::Clock { clock: st.header.stamp }, t, t)?;
+        }
+        let secs = st.header.stamp.as_secs();
+        if secs >= self.next_diag {
+            self.next_diag = secs + 0.5;
+            self.rec.write(self.ids[5], &monitor.diagnostics(st.header.stamp), t, t)?;
+        }
+        Ok(())
+    }
+
+    fn status(&mut self, s: &SingularityStatus) -> Result<(), crate::record::RecordError> {
+        let t = s.header.stamp.as_nanos();
+        self.rec.write(self.ids[4], s, t, t)
+    }
 }
 
 /// A stretch where the simulated feed is below half the programmed feed.
@@ -81,6 +140,8 @@ pub struct RunOutput {
     pub commanded_statuses: Vec<SingularityStatus>,
     /// Regions the monitor saw on the commanded stream.
     pub commanded_regions: Vec<LiveRegion>,
+    /// Messages written to the MCAP recording, if one was asked for.
+    pub recorded_messages: Option<u64>,
 }
 
 enum Input {
@@ -90,10 +151,16 @@ enum Input {
 
 /// Run the node set in one process on `spec`.
 pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOutput, JobError> {
+    let options = options.clone();
+    let options = &options;
     let job = job::run(spec, machine, &options.job)?;
     let traj = &job.trajectory;
     let (tx, rx) = mpsc::sync_channel::<Input>(4096);
-    let (simulation, sent, statuses, monitor) = std::thread::scope(|scope| {
+    let tape = match &options.mcap {
+        Some(path) => Some(Tape::create(path)?),
+        None => None,
+    };
+    let (simulation, sent, statuses, monitor, tape_result) = std::thread::scope(|scope| {
         let tx_cmd = tx.clone();
         let commander = scope.spawn(move || {
             let mut sent = 0u64;
@@ -117,11 +184,13 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             }
             (sim, sent)
         });
+        let mut tape = tape;
         let monitor = scope.spawn(move || {
             let mut m = Monitor::new(machine, options.monitor);
             let mut statuses = Vec::new();
             let mut commanded = Vec::new();
             let mut received = 0u64;
+            let mut tape_error = None;
             for input in rx {
                 received += 1;
                 let (topic, st) = match &input {
@@ -132,7 +201,17 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                     Input::Simulated(st) => (SIMULATED_STATE, st),
                 };
                 let wall = st.header.stamp.as_secs();
-                if let Ok(s) = m.on_state(topic, st, wall) {
+                let status = m.on_state(topic, st, wall);
+                if let (Some(t), None) = (tape.as_mut(), &tape_error) {
+                    let r = t.state(st, topic == COMMANDED_STATE, &m).and_then(|_| match &status {
+                        Ok(s) => t.status(s),
+                        Err(_) => Ok(()),
+                    });
+                    if let Err(e) = r {
+                        tape_error = Some(e);
+                    }
+                }
+                if let Ok(s) = status {
                     if topic == SIMULATED_STATE {
                         statuses.push(s);
                     } else {
@@ -141,17 +220,24 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                 }
             }
             m.finish();
-            (m, (statuses, commanded), received)
+            let tape_result = match (tape, tape_error) {
+                (_, Some(e)) => Err(e),
+                (Some(t), None) => t.rec.finish().map(Some),
+                (None, None) => Ok(None),
+            };
+            (m, (statuses, commanded), received, tape_result)
         });
         let sent_cmd = commander.join().expect("commander thread");
         let (sim, sent_sim) = simulator.join().expect("simulator thread");
-        let (m, statuses, received) = monitor.join().expect("monitor thread");
-        (sim, sent_cmd + sent_sim - received.min(sent_cmd + sent_sim), statuses, m)
+        let (m, statuses, received, tape_result) = monitor.join().expect("monitor thread");
+        (sim, sent_cmd + sent_sim - received.min(sent_cmd + sent_sim), statuses, m, tape_result)
     });
+    let recorded_messages = tape_result?;
     let simulated = simulated_report(traj, machine, &simulation, sent, &monitor);
     let report = RunReport { analysis: job.report.clone(), simulated };
     let (statuses, commanded_statuses) = statuses;
     Ok(RunOutput {
+        recorded_messages,
         simulated_states: simulation.q.len(),
         simulation,
         job,

@@ -53,6 +53,8 @@ pub struct LiveRegion {
     pub peak_c_speed_rpm: f64,
     pub min_path_feed_mm_per_min: f64,
     pub min_singularity_distance_deg: f64,
+    /// Time spent in the region beyond what the programmed feed would have taken, s.
+    pub time_lost_s: f64,
 }
 
 /// What happened on one input stream.
@@ -317,6 +319,7 @@ impl Monitor {
                     peak_c_speed_rpm: 0.0,
                     min_path_feed_mm_per_min: f64::INFINITY,
                     min_singularity_distance_deg: f64::INFINITY,
+                    time_lost_s: 0.0,
                 });
             }
             let r = input.open.as_mut().expect("open region");
@@ -326,6 +329,11 @@ impl Monitor {
             r.peak_c_speed_rpm = r.peak_c_speed_rpm.max(rpm(predicted.abs()));
             r.min_path_feed_mm_per_min = r.min_path_feed_mm_per_min.min(st.path_feed * 60e3);
             r.min_singularity_distance_deg = r.min_singularity_distance_deg.min(dist.to_degrees());
+            if let Some(p) = prev {
+                if st.programmed_feed > 0.0 {
+                    r.time_lost_s += (t - p.t) - ds / st.programmed_feed;
+                }
+            }
         } else if let Some(r) = input.open.take() {
             input.regions.push(r);
         }

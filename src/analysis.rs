@@ -1,0 +1,222 @@
+//! Offline analysis of a recording, for CI: the monitor recomputed over every axis-state message of
+//! an MCAP file (ours, or any rosbag2 MCAP with a machine bridge's JointState plus a machine model),
+//! regions with their x range, peak predicted C speed, lowest feed and time lost, and threshold checks.
+
+use crate::live::monitor::{LiveRegion, Monitor, MonitorConfig};
+use crate::machine::Machine;
+use crate::record::{from_cdr, RecordError};
+use fiveaxis_msgs::{AxisState, JointState, RosMessage};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// Options of the offline analysis.
+#[derive(Debug, Clone, Default)]
+pub struct OfflineOptions {
+    pub monitor: MonitorConfig,
+    /// Fail when the predicted C speed exceeds this (rpm).
+    pub max_c_speed_rpm: Option<f64>,
+    /// Fail when a moving tool axis comes closer than this to the singularity (degrees).
+    pub min_distance_deg: Option<f64>,
+    /// JointState topics to analyze (default: all, when the recording has no AxisState).
+    pub joint_state_topics: Vec<String>,
+    /// Machine axis -> joint name in those JointStates.
+    pub axis_map: BTreeMap<String, String>,
+}
+
+/// One analysed stream.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct StreamReport {
+    pub topic: String,
+    pub source: u8,
+    pub samples: u64,
+    pub invalid: u64,
+    pub out_of_order: u64,
+    pub lost: u64,
+    pub peak_c_speed_rpm: f64,
+    pub min_singularity_distance_deg: f64,
+    pub regions: Vec<LiveRegion>,
+}
+
+/// The report of `fiveaxis analyze`.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct OfflineReport {
+    pub file: String,
+    pub machine: String,
+    pub messages_read: u64,
+    /// Messages of analysed topics that did not decode.
+    pub messages_undecodable: u64,
+    pub streams: Vec<StreamReport>,
+    /// The regions of the first stream that has any (simulated, machine or commanded, in that order).
+    pub regions: Vec<LiveRegion>,
+    pub violations: Vec<String>,
+}
+
+const RPM: f64 = 60.0 / std::f64::consts::TAU;
+
+/// Analyse the recording at `path` on `machine`.
+pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) -> Result<OfflineReport, RecordError> {
+    let data = std::fs::read(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?;
+    let bad = |e: mcap::McapError| RecordError::Mcap { path: path.to_path_buf(), message: e.to_string() };
+    let has_axis_state = {
+        let summary = mcap::Summary::read(&data).map_err(bad)?;
+        match summary {
+            Some(s) => s.channels.values().any(|c| c.schema.as_ref().is_some_and(|sc| sc.name == AxisState::type_name())),
+            None => true, // no summary (a damaged file): look at the messages themselves
+        }
+    };
+    let mut monitor = Monitor::new(machine, options.monitor);
+    let mut peaks: BTreeMap<String, (f64, f64)> = BTreeMap::new();
+    let mut last: BTreeMap<String, (fiveaxis_msgs::Point, fiveaxis_msgs::Vector3)> = BTreeMap::new();
+    let mut report = OfflineReport {
+        file: path.display().to_string(),
+        machine: machine.name.clone(),
+        messages_read: 0,
+        messages_undecodable: 0,
+        streams: Vec::new(),
+        regions: Vec::new(),
+        violations: Vec::new(),
+    };
+    for msg in mcap::MessageStream::new(&data).map_err(bad)? {
+        let msg = msg.map_err(bad)?;
+        report.messages_read += 1;
+        let Some(schema) = msg.channel.schema.as_ref() else { continue };
+        let topic = msg.channel.topic.clone();
+        let log_s = msg.log_time as f64 * 1e-9;
+        let state = if schema.name == AxisState::type_name() {
+            match from_cdr::<AxisState>(&msg.data) {
+                Ok(s) => s,
+                Err(_) => {
+                    report.messages_undecodable += 1;
+                    continue;
+                }
+            }
+        } else if schema.name == JointState::type_name()
+            && (options.joint_state_topics.contains(&topic) || (options.joint_state_topics.is_empty() && !has_axis_state))
+        {
+            let js = match from_cdr::<JointState>(&msg.data) {
+                Ok(s) => s,
+                Err(_) => {
+                    report.messages_undecodable += 1;
+                    continue;
+                }
+            };
+            match monitor.joint_state_to_axis_state(&js, &options.axis_map) {
+                Ok(s) => s,
+                Err(_) => {
+                    report.messages_undecodable += 1;
+                    continue;
+                }
+            }
+        } else {
+            continue;
+        };
+        if state.source == AxisState::SOURCE_COMMANDED {
+            monitor.on_commanded_ahead(&state);
+        }
+        if let Ok(status) = monitor.on_state(&topic, &state, log_s) {
+            // The closest approach counts on simultaneous five-axis motion (tool tip and tool axis both
+            // moving), as in the program analysis: parking at A = 0 is harmless.
+            let (tip, axis) = (status.workpiece_position, state.tool_axis);
+            let five_axis = last.get(&topic).is_some_and(|(pt, pa): &(fiveaxis_msgs::Point, fiveaxis_msgs::Vector3)| {
+                let moved = ((tip.x - pt.x).powi(2) + (tip.y - pt.y).powi(2) + (tip.z - pt.z).powi(2)).sqrt() > 1e-9;
+                let turned = ((axis.x - pa.x).powi(2) + (axis.y - pa.y).powi(2) + (axis.z - pa.z).powi(2)).sqrt() > 1e-12;
+                moved && turned
+            });
+            last.insert(topic.clone(), (tip, axis));
+            let p = peaks.entry(topic).or_insert((0.0, f64::INFINITY));
+            p.0 = p.0.max(status.predicted_c_speed.abs() * RPM);
+            if five_axis {
+                p.1 = p.1.min(status.singularity_distance.to_degrees());
+            }
+        }
+    }
+    monitor.finish();
+    for s in monitor.summary() {
+        let (peak, min_d) = peaks.get(&s.topic).copied().unwrap_or((0.0, f64::INFINITY));
+        report.streams.push(StreamReport {
+            topic: s.topic.clone(),
+            source: s.source,
+            samples: s.samples,
+            invalid: s.invalid,
+            out_of_order: s.out_of_order,
+            lost: s.lost,
+            peak_c_speed_rpm: peak,
+            min_singularity_distance_deg: if min_d.is_finite() { min_d } else { 180.0 },
+            regions: s.regions,
+        });
+    }
+    for source in [AxisState::SOURCE_SIMULATED, AxisState::SOURCE_MACHINE, AxisState::SOURCE_COMMANDED] {
+        if let Some(s) = report.streams.iter().find(|s| s.source == source && !s.regions.is_empty()) {
+            report.regions = s.regions.clone();
+            break;
+        }
+    }
+    for s in &report.streams {
+        if let Some(limit) = options.max_c_speed_rpm {
+            if s.peak_c_speed_rpm > limit {
+                report.violations.push(format!("{}: predicted C speed {:.1} rpm exceeds {limit} rpm", s.topic, s.peak_c_speed_rpm));
+            }
+        }
+        if let Some(d) = options.min_distance_deg {
+            if s.min_singularity_distance_deg < d {
+                report.violations.push(format!("{}: tool axis {:.3} deg from the singularity, below {d} deg", s.topic, s.min_singularity_distance_deg));
+            }
+        }
+    }
+    Ok(report)
+}
+
+impl OfflineReport {
+    /// JUnit XML: one test case per stream and check.
+    pub fn to_junit(&self) -> String {
+        let esc = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;");
+        let mut cases = String::new();
+        let mut failures = 0;
+        for s in &self.streams {
+            for (check, needle) in [("c_speed", "predicted C speed"), ("singularity_distance", "from the singularity")] {
+                let fail: Vec<&String> = self.violations.iter().filter(|v| v.starts_with(&format!("{}:", s.topic)) && v.contains(needle)).collect();
+                cases.push_str(&format!("  <testcase classname=\"fiveaxis.analyze\" name=\"{}:{check}\">\n", esc(&s.topic)));
+                if let Some(f) = fail.first() {
+                    failures += 1;
+                    cases.push_str(&format!("    <failure message=\"{}\"/>\n", esc(f)));
+                }
+                cases.push_str("  </testcase>\n");
+            }
+        }
+        format!(
+            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuite name=\"fiveaxis analyze {}\" tests=\"{}\" failures=\"{failures}\">\n{cases}</testsuite>\n",
+            esc(&self.file),
+            self.streams.len() * 2
+        )
+    }
+
+    /// A short table for people.
+    pub fn to_table(&self) -> String {
+        use std::fmt::Write as _;
+        let mut o = String::new();
+        let _ = writeln!(o, "recording  {} ({} messages, machine {})", self.file, self.messages_read, self.machine);
+        for s in &self.streams {
+            let _ = writeln!(
+                o,
+                "{}: {} samples ({} invalid, {} out of order, {} lost), peak C {:.1} rpm, closest {:.3} deg",
+                s.topic, s.samples, s.invalid, s.out_of_order, s.lost, s.peak_c_speed_rpm, s.min_singularity_distance_deg
+            );
+            for r in &s.regions {
+                let _ = writeln!(
+                    o,
+                    "  region {}: x {:.3} to {:.3} mm, N{}-N{}, peak C {:.1} rpm, feed down to {:.0} mm/min, {:.2} s lost",
+                    r.id, r.x_start_mm, r.x_end_mm, r.block_start, r.block_end, r.peak_c_speed_rpm, r.min_path_feed_mm_per_min, r.time_lost_s
+                );
+            }
+        }
+        if self.violations.is_empty() {
+            let _ = writeln!(o, "violations none");
+        } else {
+            for v in &self.violations {
+                let _ = writeln!(o, "violation  {v}");
+            }
+        }
+        o
+    }
+}

@@ -1,0 +1,218 @@
+//! Recordings: MCAP in the rosbag2 layout, so that `ros2 bag info/play`, Foxglove and the Python
+//! readers (`rosbags`, `mcap-ros2-support`) open them.
+//!
+//! - profile `ros2`; one schema per type named `pkg/msg/Type`, encoding `ros2msg`, its text with the
+//!   dependencies appended after lines of 80 `=` and `MSG: pkg/Type` ([`fiveaxis_msgs::schema`]);
+//! - channels with message encoding `cdr` (4-byte CDR_LE encapsulation header + XCDR1 body) and
+//!   `offered_qos_profiles` metadata (rosbag2's YAML);
+//! - log time = receive time, publish time = the message's source stamp;
+//! - zstd chunks, closed at least every [`RecordOptions::chunk_interval_ns`] (1 s) of log time, so a
+//!   recorder killed mid-run loses at most the last chunk ([`recover`] rebuilds the rest), with
+//!   message indexes, chunk indexes and statistics in the summary.
+
+mod recover;
+
+pub use recover::{recover, RecoverReport};
+
+use fiveaxis_msgs::{schema, RosMessage};
+use serde::{de::DeserializeOwned, Serialize};
+use std::collections::{BTreeMap, HashMap};
+use std::fs::File;
+use std::io::{BufWriter, Seek, Write};
+use std::path::{Path, PathBuf};
+
+/// CDR_LE encapsulation header (XCDR1, little endian).
+pub const CDR_LE: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
+
+/// Errors of the recorder and readers, naming the file.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    #[error("{path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("{path}: MCAP: {message}")]
+    Mcap { path: PathBuf, message: String },
+    #[error("no ros2msg schema known for {0}")]
+    UnknownType(String),
+    #[error("CDR: {0}")]
+    Cdr(String),
+}
+
+/// Encode a message as rosbag2 stores it: CDR_LE header + XCDR1 body.
+pub fn to_cdr<M: Serialize>(msg: &M) -> Result<Vec<u8>, RecordError> {
+    let body = cdr_encoding::to_vec::<M, byteorder::LittleEndian>(msg).map_err(|e| RecordError::Cdr(e.to_string()))?;
+    let mut out = Vec::with_capacity(4 + body.len());
+    out.extend_from_slice(&CDR_LE);
+    out.extend_from_slice(&body);
+    Ok(out)
+}
+
+/// Decode a CDR message (with its encapsulation header; big-endian bodies are accepted too).
+pub fn from_cdr<M: DeserializeOwned>(data: &[u8]) -> Result<M, RecordError> {
+    if data.len() < 4 {
+        return Err(RecordError::Cdr(format!("{} bytes: shorter than the encapsulation header", data.len())));
+    }
+    let body = &data[4..];
+    let r = match data[1] {
+        0x01 | 0x03 => cdr_encoding::from_bytes::<M, byteorder::LittleEndian>(body),
+        0x00 | 0x02 => cdr_encoding::from_bytes::<M, byteorder::BigEndian>(body),
+        k => return Err(RecordError::Cdr(format!("unsupported encapsulation kind 0x{k:02x}"))),
+    };
+    r.map(|(m, _)| m).map_err(|e| RecordError::Cdr(e.to_string()))
+}
+
+/// The QoS a topic was offered with, as rosbag2 writes it (`offered_qos_profiles`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OfferedQos {
+    pub reliable: bool,
+    pub transient_local: bool,
+    /// Keep-last depth (None: keep all).
+    pub depth: Option<u32>,
+}
+
+impl OfferedQos {
+    /// The node set's state streams: reliable, volatile, keep-last 1000.
+    pub const STATE: OfferedQos = OfferedQos { reliable: true, transient_local: false, depth: Some(1000) };
+    /// /diagnostics: reliable keep-last 10.
+    pub const DIAGNOSTICS: OfferedQos = OfferedQos { reliable: true, transient_local: false, depth: Some(10) };
+    /// /clock: best effort keep-last 1.
+    pub const CLOCK: OfferedQos = OfferedQos { reliable: false, transient_local: false, depth: Some(1) };
+
+    /// rosbag2's YAML (the numeric form every rosbag2 version reads): a list of one profile.
+    pub fn to_yaml(&self) -> String {
+        let never = "    sec: 2147483647\n    nsec: 4294967295\n";
+        format!(
+            "- history: {}\n  depth: {}\n  reliability: {}\n  durability: {}\n  deadline:\n{never}  lifespan:\n{never}  liveliness: 1\n  liveliness_lease_duration:\n{never}  avoid_ros_namespace_conventions: false\n",
+            if self.depth.is_some() { 1 } else { 2 },
+            self.depth.unwrap_or(0),
+            if self.reliable { 1 } else { 2 },
+            if self.transient_local { 1 } else { 2 },
+        )
+    }
+}
+
+/// Recorder settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RecordOptions {
+    /// Close the current chunk once it spans this much log time, ns (default 1 s).
+    pub chunk_interval_ns: u64,
+    /// ... or holds this many uncompressed bytes.
+    pub chunk_bytes: u64,
+}
+
+impl Default for RecordOptions {
+    fn default() -> Self {
+        RecordOptions { chunk_interval_ns: 1_000_000_000, chunk_bytes: 4 << 20 }
+    }
+}
+
+/// Writes one MCAP recording.
+pub struct Recorder<W: Write + Seek> {
+    path: PathBuf,
+    writer: mcap::Writer<W>,
+    channels: HashMap<String, (u16, String)>,
+    sequence: HashMap<u16, u32>,
+    chunk_start: Option<u64>,
+    options: RecordOptions,
+    messages: u64,
+}
+
+impl Recorder<BufWriter<File>> {
+    /// Create `path` (an unwritable path or a full disk is reported with the path).
+    pub fn create(path: &Path, options: RecordOptions) -> Result<Self, RecordError> {
+        let file = File::create(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?;
+        Recorder::new(BufWriter::with_capacity(1 << 20, file), path, options)
+    }
+}
+
+impl<W: Write + Seek> Recorder<W> {
+    /// Record into `sink`; `path` names it in errors.
+    pub fn new(sink: W, path: &Path, options: RecordOptions) -> Result<Self, RecordError> {
+        let opts = mcap::WriteOptions::new()
+            .profile("ros2")
+            .library(concat!("fiveaxis ", env!("CARGO_PKG_VERSION")))
+            .compression(Some(mcap::Compression::Zstd))
+            .chunk_size(Some(options.chunk_bytes));
+        let mut writer = mcap::Writer::with_options(sink, opts).map_err(|e| mcap_err(path, e))?;
+        let mut meta = BTreeMap::new();
+        meta.insert("ROS_DISTRO".to_string(), "jazzy".to_string());
+        writer.write_metadata(&mcap::records::Metadata { name: "rosbag2".into(), metadata: meta }).map_err(|e| mcap_err(path, e))?;
+        Ok(Recorder {
+            path: path.to_path_buf(),
+            writer,
+            channels: HashMap::new(),
+            sequence: HashMap::new(),
+            chunk_start: None,
+            options,
+            messages: 0,
+        })
+    }
+
+    /// Declare `topic` with type `M`; returns its channel id (the same topic twice gives the same id).
+    pub fn add_topic<M: RosMessage>(&mut self, topic: &str, qos: OfferedQos) -> Result<u16, RecordError> {
+        self.add_topic_type(topic, &M::type_name(), qos)
+    }
+
+    /// Declare `topic` with the type named `pkg/msg/Type`.
+    pub fn add_topic_type(&mut self, topic: &str, type_name: &str, qos: OfferedQos) -> Result<u16, RecordError> {
+        if let Some((id, ty)) = self.channels.get(topic) {
+            if ty == type_name {
+                return Ok(*id);
+            }
+        }
+        let text = schema::ros2msg(type_name).ok_or_else(|| RecordError::UnknownType(type_name.to_string()))?;
+        let schema_id = self.writer.add_schema(type_name, "ros2msg", text.as_bytes()).map_err(|e| mcap_err(&self.path, e))?;
+        let mut meta = BTreeMap::new();
+        meta.insert("offered_qos_profiles".to_string(), qos.to_yaml());
+        let id = self.writer.add_channel(schema_id, topic, "cdr", &meta).map_err(|e| mcap_err(&self.path, e))?;
+        self.channels.insert(topic.to_string(), (id, type_name.to_string()));
+        Ok(id)
+    }
+
+    /// Write one message: `log_time_ns` = when it was received, `publish_time_ns` = its stamp.
+    pub fn write<M: Serialize>(&mut self, channel: u16, msg: &M, log_time_ns: u64, publish_time_ns: u64) -> Result<(), RecordError> {
+        let data = to_cdr(msg)?;
+        self.write_raw(channel, &data, log_time_ns, publish_time_ns)
+    }
+
+    /// Write an already encoded message (CDR with its header).
+    pub fn write_raw(&mut self, channel: u16, data: &[u8], log_time_ns: u64, publish_time_ns: u64) -> Result<(), RecordError> {
+        // Close the chunk every interval of log time, so that a kill loses at most that much.
+        match self.chunk_start {
+            Some(start) if log_time_ns.saturating_sub(start) >= self.options.chunk_interval_ns => {
+                self.writer.flush().map_err(|e| mcap_err(&self.path, e))?;
+                self.chunk_start = Some(log_time_ns);
+            }
+            None => self.chunk_start = Some(log_time_ns),
+            _ => {}
+        }
+        let seq = self.sequence.entry(channel).or_insert(0);
+        *seq = seq.wrapping_add(1);
+        let header = mcap::records::MessageHeader { channel_id: channel, sequence: *seq, log_time: log_time_ns, publish_time: publish_time_ns };
+        self.writer.write_to_known_channel(&header, data).map_err(|e| mcap_err(&self.path, e))?;
+        self.messages += 1;
+        Ok(())
+    }
+
+    /// Messages written so far.
+    pub fn messages(&self) -> u64 {
+        self.messages
+    }
+
+    /// Close the current chunk and flush it to the file (what a reader can recover up to).
+    pub fn flush(&mut self) -> Result<(), RecordError> {
+        self.writer.flush().map_err(|e| mcap_err(&self.path, e))
+    }
+
+    /// Write the summary (indexes, statistics) and the footer.
+    pub fn finish(mut self) -> Result<u64, RecordError> {
+        self.writer.finish().map_err(|e| mcap_err(&self.path, e))?;
+        Ok(self.messages)
+    }
+}
+
+fn mcap_err(path: &Path, e: mcap::McapError) -> RecordError {
+    match e {
+        mcap::McapError::Io(source) => RecordError::Io { path: path.to_path_buf(), source },
+        other => RecordError::Mcap { path: path.to_path_buf(), message: other.to_string() },
+    }
+}
