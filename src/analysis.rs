@@ -67,7 +67,8 @@ pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) ->
     };
     let mut monitor = Monitor::new(machine, options.monitor);
     let mut peaks: BTreeMap<String, (f64, f64)> = BTreeMap::new();
-    let mut last: BTreeMap<String, (fiveaxis_msgs::Point, fiveaxis_msgs::Vector3)> = BTreeMap::new();
+    let mut last: BTreeMap<String, (fiveaxis_msgs::Point, fiveaxis_msgs::Vector3, [f64; 3], f64)> = BTreeMap::new();
+    let mut last_line: BTreeMap<String, u32> = BTreeMap::new();
     let mut report = OfflineReport {
         file: path.display().to_string(),
         machine: machine.name.clone(),
@@ -117,13 +118,34 @@ pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) ->
         if let Ok(status) = monitor.on_state(&topic, &state, log_s) {
             // The closest approach counts on simultaneous five-axis motion (tool tip and tool axis both
             // moving), as in the program analysis: parking at A = 0 is harmless.
+            // A rotary-only positioning move turns the table under a parked tool: the linear machine
+            // axes stay still there, so they must move too.
             let (tip, axis) = (status.workpiece_position, state.tool_axis);
-            let five_axis = last.get(&topic).is_some_and(|(pt, pa): &(fiveaxis_msgs::Point, fiveaxis_msgs::Vector3)| {
-                let moved = ((tip.x - pt.x).powi(2) + (tip.y - pt.y).powi(2) + (tip.z - pt.z).powi(2)).sqrt() > 1e-9;
-                let turned = ((axis.x - pa.x).powi(2) + (axis.y - pa.y).powi(2) + (axis.z - pa.z).powi(2)).sqrt() > 1e-12;
-                moved && turned
+            let lin = [state.position[0], state.position[1], state.position[2]];
+            // A step across a block boundary mixes two moves: only steps within one block count.
+            let same_block = last_line.get(&topic).is_none_or(|l| *l == state.program_line);
+            last_line.insert(topic.clone(), state.program_line);
+            // Meaningful motion, not a servo settling: the tip at >= 1 % of the programmed feed, the
+            // tool axis turning at >= 0.01 deg/s.
+            let t = state.header.stamp.as_secs();
+            let five_axis = same_block && last.get(&topic).is_some_and(|(pt, pa, pl, pt_s)| {
+                let dt = t - pt_s;
+                if dt <= 0.0 {
+                    return false;
+                }
+                let speed = ((tip.x - pt.x).powi(2) + (tip.y - pt.y).powi(2) + (tip.z - pt.z).powi(2)).sqrt() / dt;
+                let turn = ((axis.x - pa.x).powi(2) + (axis.y - pa.y).powi(2) + (axis.z - pa.z).powi(2)).sqrt() / dt;
+                // With program information the programmed motion decides (a rotary-only move has no
+                // programmed tip feed, whatever the servo's contour error does); without it, 1 mm/min.
+                let min_speed = match (state.program_line > 0, state.programmed_feed > 0.0) {
+                    (true, true) => 0.01 * state.programmed_feed,
+                    (true, false) => f64::INFINITY,
+                    (false, _) => 1.0 / 60e3,
+                };
+                let linear = (0..3).any(|i| (lin[i] - pl[i]).abs() > 1e-9);
+                speed >= min_speed && turn >= 0.01f64.to_radians() && linear
             });
-            last.insert(topic.clone(), (tip, axis));
+            last.insert(topic.clone(), (tip, axis, lin, t));
             let p = peaks.entry(topic).or_insert((0.0, f64::INFINITY));
             p.0 = p.0.max(status.predicted_c_speed.abs() * RPM);
             if five_axis {
