@@ -1,0 +1,178 @@
+//! Recordings: the MCAP layout rosbag2 readers expect, read back by the mcap crate and by an
+//! independent Python reader; recovery after a kill; the offline analysis and its exit codes.
+
+use fiveaxis::live::inprocess::{run, topics, RunOptions};
+use fiveaxis::machine::Machine;
+use fiveaxis::record::{from_cdr, recover, OfferedQos, RecordOptions, Recorder, CDR_LE};
+use fiveaxis_msgs::{schema, AxisState, JointState, RosMessage, SingularityStatus, Time};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("fiveaxis-record-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn record(spec: &str, path: &Path) -> fiveaxis::live::inprocess::RunOutput {
+    let options = RunOptions { mcap: Some(path.to_path_buf()), ..Default::default() };
+    run(spec, &Machine::hermle_c600u(), &options).unwrap()
+}
+
+#[test]
+fn rosbag2_layout_and_every_message_read_back() {
+    let path = tmp("sing.mcap");
+    let out = record("bundled:SING.I", &path);
+    let data = std::fs::read(&path).unwrap();
+    let summary = mcap::Summary::read(&data).unwrap().expect("a summary");
+    let stats = summary.stats.as_ref().expect("statistics");
+    assert_eq!(Some(stats.message_count), out.recorded_messages);
+    assert!(!summary.chunk_indexes.is_empty());
+    assert!(summary.chunk_indexes.iter().all(|c| c.compression == "zstd"));
+    for ch in summary.channels.values() {
+        let s = ch.schema.as_ref().unwrap();
+        assert_eq!(s.encoding, "ros2msg");
+        assert_eq!(ch.message_encoding, "cdr");
+        assert!(s.name.contains("/msg/"), "{}", s.name);
+        assert_eq!(std::str::from_utf8(&s.data).unwrap(), schema::ros2msg(&s.name).unwrap());
+        assert!(ch.metadata["offered_qos_profiles"].contains("reliability:"), "{:?}", ch.metadata);
+    }
+    // Every commanded state decodes to the value the commander produced; publish time = its stamp.
+    let commanded = fiveaxis::live::commander::commanded_states(&out.job.trajectory, &Machine::hermle_c600u());
+    let mut k = 0;
+    for msg in mcap::MessageStream::new(&data).unwrap() {
+        let msg = msg.unwrap();
+        assert_eq!(msg.data[..4], CDR_LE);
+        if msg.channel.topic == topics::COMMANDED_STATE {
+            let st: AxisState = from_cdr(&msg.data).unwrap();
+            assert_eq!(st, commanded[k]);
+            assert_eq!(msg.publish_time, st.header.stamp.as_nanos());
+            k += 1;
+        }
+        if msg.channel.topic == topics::STATUS {
+            let _: SingularityStatus = from_cdr(&msg.data).unwrap();
+        }
+    }
+    assert_eq!(k, commanded.len());
+}
+
+/// An independent reader (Foxglove's mcap-ros2-support, decoding from the stored ros2msg schemas)
+/// decodes every message, and sampled values equal ours. Installed by launch-free-scripts/test.
+#[test]
+fn independent_python_reader_decodes_every_message() {
+    let path = tmp("nonsing.mcap");
+    let out = record("bundled:NON_SING.I", &path);
+    let m = Machine::hermle_c600u();
+    let commanded = fiveaxis::live::commander::commanded_states(&out.job.trajectory, &m);
+    let mut expected = serde_json::Map::new();
+    let mut samples = serde_json::Map::new();
+    for k in (0..commanded.len()).step_by(997) {
+        let s = &commanded[k];
+        samples.insert(
+            k.to_string(),
+            serde_json::json!({
+                "position": s.position, "velocity": s.velocity, "name": s.name,
+                "programmed_feed": s.programmed_feed, "block_number": s.block_number, "program_line": s.program_line,
+                "tool_tip": {"x": s.tool_tip.x, "y": s.tool_tip.y, "z": s.tool_tip.z},
+            }),
+        );
+    }
+    expected.insert(topics::COMMANDED_STATE.into(), serde_json::json!({"count": commanded.len(), "samples": samples}));
+    let js: Vec<JointState> = commanded.iter().map(AxisState::to_joint_state).collect();
+    expected.insert(
+        topics::COMMANDED_JOINTS.into(),
+        serde_json::json!({"count": js.len(), "samples": {"1234": {"name": js[1234].name, "position": js[1234].position}}}),
+    );
+    let exp = tmp("expected.json");
+    std::fs::write(&exp, serde_json::Value::Object(expected).to_string()).unwrap();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/check_mcap.py");
+    let out = Command::new("python3").arg(&script).arg(&path).arg(&exp).output().expect("python3 runs");
+    assert!(
+        out.status.success(),
+        "independent reader: {}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// A recorder killed mid-run (the file cut short anywhere) is recovered with every complete chunk:
+/// chunks close every second of log time, so at most the last second is lost.
+#[test]
+fn recovery_keeps_every_complete_chunk() {
+    let path = tmp("cut.mcap");
+    let mut rec = Recorder::create(&path, RecordOptions::default()).unwrap();
+    let ch = rec.add_topic::<AxisState>("/fiveaxis/simulated/axis_state", OfferedQos::STATE).unwrap();
+    let n = 5000u64;
+    for k in 0..n {
+        let st = AxisState {
+            header: fiveaxis_msgs::Header { stamp: Time::from_secs(k as f64 * 1e-3), frame_id: String::new() },
+            position: vec![k as f64 * 1e-6; 5],
+            ..Default::default()
+        };
+        rec.write(ch, &st, k * 1_000_000, k * 1_000_000).unwrap();
+    }
+    rec.finish().unwrap();
+    let data = std::fs::read(&path).unwrap();
+    let summary = mcap::Summary::read(&data).unwrap().unwrap();
+    let chunks = &summary.chunk_indexes;
+    assert!(chunks.len() >= 5, "a chunk per second: {}", chunks.len());
+    for (i, c) in chunks.iter().enumerate().take(chunks.len() - 1) {
+        // Cut inside chunk i+1: everything up to the end of chunk i survives.
+        let cut = (chunks[i + 1].chunk_start_offset + chunks[i + 1].chunk_length / 2) as usize;
+        let damaged = tmp(&format!("cut-{i}.mcap"));
+        std::fs::write(&damaged, &data[..cut]).unwrap();
+        let fixed = tmp(&format!("fixed-{i}.mcap"));
+        let report = recover(&damaged, &fixed).unwrap();
+        let kept = (c.message_end_time / 1_000_000) + 1;
+        assert_eq!(report.messages, kept, "cut in chunk {}: {report:?}", i + 1);
+        assert!(report.stopped.is_some());
+        // The recovered file is complete and reads back in full, values intact.
+        let back = std::fs::read(&fixed).unwrap();
+        let msgs: Vec<_> = mcap::MessageStream::new(&back).unwrap().map(|m| m.unwrap()).collect();
+        assert_eq!(msgs.len() as u64, kept);
+        let last: AxisState = from_cdr(&msgs.last().unwrap().data).unwrap();
+        assert_eq!(last.position[0], (kept - 1) as f64 * 1e-6);
+        assert!(mcap::Summary::read(&back).unwrap().is_some());
+    }
+    // An unwritable path is a clear error naming it.
+    let err = Recorder::create(Path::new("/proc/no/such/dir/x.mcap"), RecordOptions::default()).err().unwrap();
+    assert!(err.to_string().contains("/proc/no/such/dir/x.mcap"), "{err}");
+}
+
+fn fiveaxis(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(args).output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into())
+}
+
+#[test]
+fn offline_analysis_exit_codes_and_json() {
+    let sing = tmp("a-sing.mcap");
+    record("bundled:SING.I", &sing);
+    let json = tmp("a-sing.json");
+    let (code, _) = fiveaxis(&["analyze", sing.to_str().unwrap(), "--max-c-speed-rpm", "25", "--json", json.to_str().unwrap()]);
+    assert_eq!(code, 1, "SING violates 25 rpm");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(v["messages_read"].as_u64().unwrap() > 100_000);
+    assert!(!v["violations"].as_array().unwrap().is_empty());
+    let r = &v["regions"][0];
+    // The simulated stream's region: the blended path's 21.6-28.4 mm around the reference 22-28.
+    assert!((r["x_start_mm"].as_f64().unwrap() - 21.6).abs() < 0.1 && (r["x_end_mm"].as_f64().unwrap() - 28.4).abs() < 0.1, "{r}");
+    assert!(r["peak_c_speed_rpm"].as_f64().unwrap() > 150.0);
+    assert!(r["time_lost_s"].as_f64().unwrap() > 0.5);
+    let nonsing = tmp("a-nonsing.mcap");
+    record("bundled:NON_SING.I", &nonsing);
+    let junit = tmp("a-nonsing.xml");
+    let (code, _) = fiveaxis(&["analyze", nonsing.to_str().unwrap(), "--max-c-speed-rpm", "25", "--min-distance-deg", "5", "--junit", junit.to_str().unwrap()]);
+    assert_eq!(code, 0);
+    assert!(std::fs::read_to_string(&junit).unwrap().contains("failures=\"0\""));
+    let bad = tmp("bad.mcap");
+    std::fs::write(&bad, b"not an mcap file").unwrap();
+    assert_eq!(fiveaxis(&["analyze", bad.to_str().unwrap()]).0, 2);
+    assert_eq!(fiveaxis(&["analyze", "/no/such/file.mcap"]).0, 2);
+}
+
+#[test]
+fn type_names_follow_rosbag2() {
+    assert_eq!(AxisState::type_name(), "fiveaxis_msgs/msg/AxisState");
+    assert_eq!(JointState::type_name(), "sensor_msgs/msg/JointState");
+}
