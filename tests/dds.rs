@@ -7,7 +7,7 @@ use std::process::Command;
 
 fn bins() -> PathBuf {
     let dir = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
-    for b in ["fiveaxis-commander", "fiveaxis-simulator", "fiveaxis-monitor"] {
+    for b in ["fiveaxis-commander", "fiveaxis-simulator", "fiveaxis-monitor", "fiveaxis-recorder"] {
         assert!(dir.join(b).exists(), "{b} is not built in {}: run `cargo test --workspace` (launch-free-scripts/test)", dir.display());
     }
     dir
@@ -199,5 +199,57 @@ echo "commander=$rc_c monitor=$rc_m"
     let samples = input(&v, CMD)["samples"].as_u64().unwrap();
     // About 1.5 s of a 28 s program at 1 kHz arrived before the commander stopped.
     assert!(samples > 200 && samples < 28243, "{samples}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The recorder over DDS: SIGINT finishes a complete file holding every commanded sample; after
+/// SIGKILL, `fiveaxis mcap recover` keeps everything up to at most about a second before the kill.
+#[test]
+fn recorder_finishes_on_sigint_and_is_recovered_after_sigkill() {
+    let b = bins();
+    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-rec-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (full, killed, kill_ns) = (dir.join("full.mcap"), dir.join("killed.mcap"), dir.join("kill_ns"));
+    let script = format!(
+        r#"set -e
+B="{b}"
+"$B/fiveaxis-recorder" --output "{full}" --topic commanded/axis_state:AxisState &
+R1=$!
+"$B/fiveaxis-recorder" --output "{killed}" --topic commanded/axis_state:AxisState &
+R2=$!
+sleep 0.5
+"$B/fiveaxis-commander" builtin:paper-sing --speed 0.5 --min-subscribers 2 &
+C=$!
+sleep 2.5
+date +%s%N > "{kill_ns}"
+kill -KILL $R2
+wait $C
+sleep 0.5
+kill -INT $R1
+wait $R1
+"#,
+        b = b.display(),
+        full = full.display(),
+        killed = killed.display(),
+        kill_ns = kill_ns.display()
+    );
+    let status = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts/netns-run"))
+        .args(["bash", "-c", &script])
+        .env("RUST_LOG", "warn")
+        .status()
+        .unwrap();
+    assert!(status.success());
+    // SIGINT: a complete file with all 1501 samples of the path.
+    let data = std::fs::read(&full).unwrap();
+    let summary = mcap::Summary::read(&data).unwrap().expect("finished file has a summary");
+    assert_eq!(summary.stats.unwrap().message_count, 1501);
+    // SIGKILL: recovered up to about a second before the kill.
+    let fixed = dir.join("fixed.mcap");
+    let report = fiveaxis::record::recover(&killed, &fixed).unwrap();
+    let back = std::fs::read(&fixed).unwrap();
+    let last_log = mcap::MessageStream::new(&back).unwrap().map(|m| m.unwrap().log_time).max().unwrap();
+    let killed_at: u64 = std::fs::read_to_string(&kill_ns).unwrap().trim().parse().unwrap();
+    assert!(report.messages > 0);
+    assert!(killed_at - last_log < 1_600_000_000, "lost {:.2} s before the kill", (killed_at - last_log) as f64 * 1e-9);
     let _ = std::fs::remove_dir_all(&dir);
 }

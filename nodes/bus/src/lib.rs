@@ -187,6 +187,22 @@ impl Bus {
         self.node.create_subscription(&t, Some(qos)).map_err(|e| anyhow::anyhow!("subscription {topic}: {e:?}"))
     }
 
+    /// Wait up to `timeout` until `publisher` has at least `n` matched subscriptions; false on timeout
+    /// or shutdown.
+    pub fn wait_for_subscribers<M: Serialize>(&self, publisher: &Publisher<M>, n: usize, timeout: Duration, shutdown: &Shutdown) -> bool {
+        let end = Instant::now() + timeout;
+        if !self.wait_for_subscriber(publisher, timeout, shutdown) {
+            return false;
+        }
+        while Instant::now() < end && !shutdown.requested() {
+            if publisher.get_subscription_count(&self.node) >= n {
+                return true;
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        false
+    }
+
     /// Wait up to `timeout` until `publisher` has a matched subscription; false on timeout or shutdown.
     pub fn wait_for_subscriber<M: Serialize>(&self, publisher: &Publisher<M>, timeout: Duration, shutdown: &Shutdown) -> bool {
         let end = Instant::now() + timeout;

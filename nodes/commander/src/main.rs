@@ -34,9 +34,12 @@ struct Args {
     /// Tool-tip feed for every feed move, mm/min.
     #[arg(long = "feed", value_name = "MM_PER_MIN")]
     feed_mm_per_min: Option<f64>,
-    /// Wait this long for a subscriber before publishing (0: do not wait), s.
+    /// Wait this long for subscribers before publishing (0: do not wait), s.
     #[arg(long = "wait-for-subscriber-s", default_value_t = 10.0)]
     wait_s: f64,
+    /// How many subscribers of the state stream to wait for (e.g. monitor and recorder: 2).
+    #[arg(long = "min-subscribers", default_value_t = 1)]
+    min_subscribers: usize,
 }
 
 fn main() -> anyhow::Result<()> {
@@ -61,24 +64,38 @@ fn main() -> anyhow::Result<()> {
     let state_pub = bus.publisher::<AxisState>("commanded/axis_state", state_qos())?;
     let joint_pub = bus.publisher::<JointState>("commanded/joint_states", state_qos())?;
     let clock_pub = bus.publisher::<Clock>("/clock", clock_qos())?;
-    if args.wait_s > 0.0 && !bus.wait_for_subscriber(&state_pub, Duration::from_secs_f64(args.wait_s), &shutdown) {
+    if args.wait_s > 0.0 && !bus.wait_for_subscribers(&state_pub, args.min_subscribers.max(1), Duration::from_secs_f64(args.wait_s), &shutdown) {
         tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve("commanded/axis_state"), args.wait_s);
     }
     ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "commanding {} ({} samples)", args.program, states.len());
     let pacer = Pacer::new(if args.fast { None } else { Some(args.speed) });
     let mut sent = 0usize;
+    let mut dropped = 0usize;
+    let mut last_warn = std::time::Instant::now() - Duration::from_secs(2);
     for st in &states {
         if shutdown.requested() {
             tracing::info!("stopping on signal after {sent} samples");
             break;
         }
         pacer.wait_until(st.header.stamp.as_secs());
-        state_pub.publish(st.clone()).map_err(|e| anyhow::anyhow!("publishing: {e:?}"))?;
-        joint_pub.publish(st.to_joint_state()).map_err(|e| anyhow::anyhow!("publishing: {e:?}"))?;
+        // A subscriber that cannot keep up fills the reliable history: count the sample as dropped
+        // (the monitor sees the gap) rather than stopping the stream.
+        let ok = state_pub.publish(st.clone()).is_ok() & joint_pub.publish(st.to_joint_state()).is_ok();
+        if !ok {
+            dropped += 1;
+            if last_warn.elapsed() >= Duration::from_secs(1) {
+                tracing::warn!(dropped, "a subscriber is not keeping up: samples dropped");
+                last_warn = std::time::Instant::now();
+            }
+        }
         let _ = clock_pub.publish(Clock { clock: st.header.stamp });
         sent += 1;
     }
-    tracing::info!(sent, "done");
+    if dropped > 0 {
+        tracing::warn!(sent, dropped, "done, with samples dropped by slow subscribers");
+    } else {
+        tracing::info!(sent, "done");
+    }
     // Let reliable delivery finish before the participant goes away.
     std::thread::sleep(Duration::from_millis(500));
     Ok(())
