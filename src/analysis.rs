@@ -22,6 +22,41 @@ pub struct OfflineOptions {
     pub joint_state_topics: Vec<String>,
     /// Machine axis -> joint name in those JointStates.
     pub axis_map: BTreeMap<String, String>,
+    /// A measured roughness profile (aligned to the workpiece x) and its filter cut-off (m).
+    pub roughness: Option<(crate::roughness::Profile, f64)>,
+}
+
+/// A region of the program, with what the actual (simulated or machine) stream did there.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct RegionReport {
+    pub x_start_mm: f64,
+    pub x_end_mm: f64,
+    pub block_start: i64,
+    pub block_end: i64,
+    pub peak_c_speed_rpm: f64,
+    /// The stream the region comes from, and the actual stream the feed figures come from.
+    pub topic: String,
+    pub actual_topic: Option<String>,
+    pub lowest_feed_mm_per_min: Option<f64>,
+    pub time_lost_s: Option<f64>,
+}
+
+/// Roughness along the part against the regions.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct RoughnessReport {
+    pub source: String,
+    pub cutoff_mm: f64,
+    pub windows: usize,
+    pub roughness_ra_inside_um: Option<f64>,
+    pub roughness_ra_outside_um: Option<f64>,
+    pub roughness_rz_inside_um: Option<f64>,
+    pub roughness_rz_outside_um: Option<f64>,
+    /// Where Ra exceeds twice its median: the rough stretch, and how much of it lies in a region.
+    pub rough_x_start_mm: Option<f64>,
+    pub rough_x_end_mm: Option<f64>,
+    pub rough_overlap_with_regions: Option<f64>,
+    /// Pearson correlation along x between Ra and the actual stream's feed deficit (1 - f/F).
+    pub correlation_ra_feed_deficit: Option<f64>,
 }
 
 /// One analysed stream.
@@ -47,10 +82,18 @@ pub struct OfflineReport {
     /// Messages of analysed topics that did not decode.
     pub messages_undecodable: u64,
     pub streams: Vec<StreamReport>,
-    /// The regions of the first stream that has any (simulated, machine or commanded, in that order).
-    pub regions: Vec<LiveRegion>,
+    /// The program's regions (from the commanded stream; else the machine's or the simulated one's),
+    /// with the actual stream's lowest feed and time lost over each.
+    pub regions: Vec<RegionReport>,
     pub violations: Vec<String>,
+    pub roughness: Option<RoughnessReport>,
+    /// Flattened for CI: Ra inside and outside the regions, um.
+    pub roughness_ra_inside_um: Option<f64>,
+    pub roughness_ra_outside_um: Option<f64>,
 }
+
+/// A sample of simultaneous five-axis motion: (t s, x m, tip step m, path feed, programmed feed m/s).
+type Cut = (f64, f64, f64, f64, f64);
 
 const RPM: f64 = 60.0 / std::f64::consts::TAU;
 
@@ -77,7 +120,11 @@ pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) ->
         streams: Vec::new(),
         regions: Vec::new(),
         violations: Vec::new(),
+        roughness: None,
+        roughness_ra_inside_um: None,
+        roughness_ra_outside_um: None,
     };
+    let mut cuts: BTreeMap<String, Vec<Cut>> = BTreeMap::new();
     for msg in mcap::MessageStream::new(&data).map_err(bad)? {
         let msg = msg.map_err(bad)?;
         report.messages_read += 1;
@@ -145,6 +192,11 @@ pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) ->
                 let linear = (0..3).any(|i| (lin[i] - pl[i]).abs() > 1e-9);
                 speed >= min_speed && turn >= 0.01f64.to_radians() && linear
             });
+            if five_axis {
+                let (pt, ..) = last[&topic];
+                let ds = ((tip.x - pt.x).powi(2) + (tip.y - pt.y).powi(2) + (tip.z - pt.z).powi(2)).sqrt();
+                cuts.entry(topic.clone()).or_default().push((t, tip.x, ds, state.path_feed, state.programmed_feed));
+            }
             last.insert(topic.clone(), (tip, axis, lin, t));
             let p = peaks.entry(topic).or_insert((0.0, f64::INFINITY));
             p.0 = p.0.max(status.predicted_c_speed.abs() * RPM);
@@ -168,11 +220,46 @@ pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) ->
             regions: s.regions,
         });
     }
-    for source in [AxisState::SOURCE_SIMULATED, AxisState::SOURCE_MACHINE, AxisState::SOURCE_COMMANDED] {
+    let actual = [AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED]
+        .iter()
+        .find_map(|src| report.streams.iter().find(|s| s.source == *src))
+        .map(|s| s.topic.clone());
+    for source in [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED] {
         if let Some(s) = report.streams.iter().find(|s| s.source == source && !s.regions.is_empty()) {
-            report.regions = s.regions.clone();
+            report.regions = s
+                .regions
+                .iter()
+                .map(|r| {
+                    let (lo, hi) = (r.x_start_mm.min(r.x_end_mm) * 1e-3, r.x_start_mm.max(r.x_end_mm) * 1e-3);
+                    let inside: Vec<&Cut> = actual
+                        .as_ref()
+                        .and_then(|a| cuts.get(a))
+                        .map(|c| c.iter().filter(|c| c.1 >= lo && c.1 <= hi).collect())
+                        .unwrap_or_default();
+                    let lowest = inside.iter().map(|c| c.3).fold(f64::INFINITY, f64::min);
+                    let lost: f64 = inside.windows(2).map(|w| (w[1].0 - w[0].0) - if w[1].4 > 0.0 { w[1].2 / w[1].4 } else { 0.0 }).sum();
+                    RegionReport {
+                        x_start_mm: r.x_start_mm,
+                        x_end_mm: r.x_end_mm,
+                        block_start: r.block_start,
+                        block_end: r.block_end,
+                        peak_c_speed_rpm: r.peak_c_speed_rpm,
+                        topic: s.topic.clone(),
+                        actual_topic: (!inside.is_empty()).then(|| actual.clone()).flatten(),
+                        lowest_feed_mm_per_min: lowest.is_finite().then_some(lowest * 60e3),
+                        time_lost_s: (!inside.is_empty()).then_some(lost),
+                    }
+                })
+                .collect();
             break;
         }
+    }
+    if let Some((profile, cutoff)) = &options.roughness {
+        let feed = actual.as_ref().and_then(|a| cuts.get(a)).cloned().unwrap_or_default();
+        let r = roughness_report(profile, *cutoff, &report.regions, &feed);
+        report.roughness_ra_inside_um = r.roughness_ra_inside_um;
+        report.roughness_ra_outside_um = r.roughness_ra_outside_um;
+        report.roughness = Some(r);
     }
     for s in &report.streams {
         if let Some(limit) = options.max_c_speed_rpm {
@@ -187,6 +274,47 @@ pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) ->
         }
     }
     Ok(report)
+}
+
+fn roughness_report(profile: &crate::roughness::Profile, cutoff: f64, regions: &[RegionReport], feed: &[Cut]) -> RoughnessReport {
+    let windows = profile.windows(cutoff, 0.1e-3);
+    let in_region = |x: f64| regions.iter().any(|r| x * 1e3 >= r.x_start_mm.min(r.x_end_mm) && x * 1e3 <= r.x_start_mm.max(r.x_end_mm));
+    let mean = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64 * 1e6);
+    let (inside, outside): (Vec<&crate::roughness::Window>, Vec<&crate::roughness::Window>) = windows.iter().partition(|w| in_region(w.x));
+    let mut ras: Vec<f64> = windows.iter().map(|w| w.ra).collect();
+    ras.sort_by(f64::total_cmp);
+    let median = ras.get(ras.len() / 2).copied().unwrap_or(0.0);
+    let rough: Vec<&crate::roughness::Window> = windows.iter().filter(|w| w.ra > 2.0 * median).collect();
+    let (rs, re) = (rough.first().map(|w| w.x), rough.last().map(|w| w.x));
+    let overlap = (!rough.is_empty()).then(|| rough.iter().filter(|w| in_region(w.x)).count() as f64 / rough.len() as f64);
+    // Feed deficit at each window's x (nearest five-axis sample of the actual stream).
+    let mut by_x: Vec<(f64, f64)> = feed.iter().filter(|c| c.4 > 0.0).map(|c| (c.1, (1.0 - c.3 / c.4).clamp(0.0, 1.0))).collect();
+    by_x.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let corr = (!by_x.is_empty()).then(|| {
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for w in &windows {
+            if w.x < by_x[0].0 || w.x > by_x[by_x.len() - 1].0 {
+                continue;
+            }
+            let k = by_x.partition_point(|p| p.0 < w.x).min(by_x.len() - 1);
+            a.push(w.ra);
+            b.push(by_x[k].1);
+        }
+        crate::roughness::correlation(&a, &b)
+    });
+    RoughnessReport {
+        source: profile.source.clone(),
+        cutoff_mm: cutoff * 1e3,
+        windows: windows.len(),
+        roughness_ra_inside_um: mean(inside.iter().map(|w| w.ra).collect()),
+        roughness_ra_outside_um: mean(outside.iter().map(|w| w.ra).collect()),
+        roughness_rz_inside_um: mean(inside.iter().map(|w| w.rz).collect()),
+        roughness_rz_outside_um: mean(outside.iter().map(|w| w.rz).collect()),
+        rough_x_start_mm: rs.map(|x| x * 1e3),
+        rough_x_end_mm: re.map(|x| x * 1e3),
+        rough_overlap_with_regions: overlap,
+        correlation_ra_feed_deficit: corr.filter(|c| c.is_finite()),
+    }
 }
 
 impl OfflineReport {
@@ -230,6 +358,24 @@ impl OfflineReport {
                     "  region {}: x {:.3} to {:.3} mm, N{}-N{}, peak C {:.1} rpm, feed down to {:.0} mm/min, {:.2} s lost",
                     r.id, r.x_start_mm, r.x_end_mm, r.block_start, r.block_end, r.peak_c_speed_rpm, r.min_path_feed_mm_per_min, r.time_lost_s
                 );
+            }
+        }
+        for r in &self.regions {
+            let feed = match (r.lowest_feed_mm_per_min, r.time_lost_s, &r.actual_topic) {
+                (Some(f), Some(t), Some(a)) => format!(", {a}: feed down to {f:.0} mm/min, {t:.2} s lost"),
+                _ => String::new(),
+            };
+            let _ = writeln!(o, "region     x {:.3} to {:.3} mm (N{}-N{}), peak C {:.1} rpm{feed}", r.x_start_mm, r.x_end_mm, r.block_start, r.block_end, r.peak_c_speed_rpm);
+        }
+        if let Some(r) = &self.roughness {
+            let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
+            let _ = writeln!(o, "roughness  {} (lambda_c {} mm, {} windows of 5 lambda_c)", r.source, r.cutoff_mm, r.windows);
+            let _ = writeln!(o, "           Ra inside the regions {} um, outside {} um; Rz inside {} um, outside {} um", f(r.roughness_ra_inside_um), f(r.roughness_ra_outside_um), f(r.roughness_rz_inside_um), f(r.roughness_rz_outside_um));
+            if let (Some(a), Some(b)) = (r.rough_x_start_mm, r.rough_x_end_mm) {
+                let _ = writeln!(o, "           rough stretch (Ra > 2x median) x {a:.2} to {b:.2} mm, {:.0} % of it inside the regions", r.rough_overlap_with_regions.unwrap_or(0.0) * 100.0);
+            }
+            if let Some(c) = r.correlation_ra_feed_deficit {
+                let _ = writeln!(o, "           correlation of Ra with the feed deficit along x: {c:.2}");
             }
         }
         if self.violations.is_empty() {

@@ -19,5 +19,6 @@ pub mod planner;
 pub mod program;
 pub mod record;
 pub mod report;
+pub mod roughness;
 pub mod singularity;
 pub mod units;

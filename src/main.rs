@@ -33,6 +33,9 @@ enum Command {
     /// MCAP recordings: recover a damaged one.
     #[command(subcommand)]
     Mcap(McapCmd),
+    /// Roughness profiles: make the synthetic example.
+    #[command(subcommand)]
+    Roughness(RoughnessCmd),
     /// The embedded default: the node set in one process on the paper's two programs and two continuous
     /// paths, on the Hermle.
     Demo {
@@ -122,6 +125,41 @@ struct OfflineArgs {
     /// Write a JUnit XML report here.
     #[arg(long)]
     junit: Option<std::path::PathBuf>,
+    /// A measured roughness profile (X3P or CSV) across the part.
+    #[arg(long)]
+    roughness: Option<std::path::PathBuf>,
+    /// Workpiece x of the profile's x = 0, mm.
+    #[arg(long = "roughness-offset-mm", default_value_t = 0.0)]
+    roughness_offset_mm: f64,
+    /// The profile runs against the workpiece x.
+    #[arg(long = "roughness-reversed")]
+    roughness_reversed: bool,
+    /// ISO 16610-21 cut-off lambda_c, mm.
+    #[arg(long = "cutoff-mm", default_value_t = 0.8)]
+    cutoff_mm: f64,
+    /// CSV x unit when its header does not say: m, mm, um or nm.
+    #[arg(long = "x-unit")]
+    x_unit: Option<String>,
+    /// CSV height unit when its header does not say: m, mm, um or nm.
+    #[arg(long = "z-unit")]
+    z_unit: Option<String>,
+}
+
+#[derive(Subcommand)]
+enum RoughnessCmd {
+    /// Write the SYNTHETIC example profile for a program: its simulated feed along the cut drives a
+    /// documented, seeded model (see src/roughness/synthetic.rs). Not a measurement.
+    Synthesize {
+        /// The program whose simulated cut drives the model.
+        #[arg(long, default_value = "bundled:SING.I")]
+        program: String,
+        /// Output file: .csv (x_mm,height_um) or .x3p.
+        #[arg(long)]
+        out: std::path::PathBuf,
+        /// Seed of the model's noise.
+        #[arg(long, default_value_t = 2017)]
+        seed: u64,
+    },
 }
 
 #[derive(Subcommand)]
@@ -262,7 +300,37 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
+    let unit = |u: &Option<String>| -> Result<Option<f64>, String> {
+        match u.as_deref() {
+            None => Ok(None),
+            Some("m") => Ok(Some(1.0)),
+            Some("mm") => Ok(Some(1e-3)),
+            Some("um") | Some("µm") => Ok(Some(1e-6)),
+            Some("nm") => Ok(Some(1e-9)),
+            Some(o) => Err(format!("unknown unit '{o}': m, mm, um or nm")),
+        }
+    };
+    let roughness = match &a.roughness {
+        None => None,
+        Some(path) => {
+            let units = match (unit(&a.x_unit), unit(&a.z_unit)) {
+                (Ok(x), Ok(z)) => fiveaxis::roughness::CsvUnits { x, z },
+                (Err(e), _) | (_, Err(e)) => {
+                    eprintln!("fiveaxis: {e}");
+                    return Ok(ExitCode::from(EXIT_INPUT));
+                }
+            };
+            match fiveaxis::roughness::read_profile(path, units) {
+                Ok(p) => Some((p.aligned(a.roughness_offset_mm * 1e-3, a.roughness_reversed), a.cutoff_mm * 1e-3)),
+                Err(e) => {
+                    eprintln!("fiveaxis: {e}");
+                    return Ok(ExitCode::from(EXIT_INPUT));
+                }
+            }
+        }
+    };
     let options = fiveaxis::analysis::OfflineOptions {
+        roughness,
         max_c_speed_rpm: a.max_c_speed_rpm,
         min_distance_deg: a.min_distance_deg,
         joint_state_topics: a.joint_state_topics.clone(),
@@ -284,6 +352,40 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
         std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
     }
     Ok(if report.violations.is_empty() { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+}
+
+fn synthesize(program: &str, out: &std::path::Path, seed: u64) -> anyhow::Result<ExitCode> {
+    let machine = Machine::hermle_c600u();
+    let run = fiveaxis::live::inprocess::run(program, &machine, &Default::default())?;
+    let states = run.simulation.states(&run.job.trajectory, &machine);
+    // The simulated feed along the simultaneous five-axis cut.
+    let mut cut: Vec<(f64, f64, f64)> = states
+        .iter()
+        .zip(&run.simulation.segment)
+        .filter(|(_, &seg)| run.job.trajectory.segments[seg].is_five_axis())
+        .map(|(s, _)| (s.tool_tip.x, s.path_feed, s.programmed_feed))
+        .collect();
+    anyhow::ensure!(cut.len() > 10, "{program} has no simultaneous five-axis cut to model");
+    cut.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let feed = |x: f64| {
+        let k = cut.partition_point(|c| c.0 < x).min(cut.len() - 1);
+        (cut[k].1, cut[k].2)
+    };
+    let model = fiveaxis::roughness::synthetic::SyntheticModel { seed, ..Default::default() };
+    let profile = fiveaxis::roughness::synthetic::profile(cut[0].0, cut[cut.len() - 1].0, &feed, &model);
+    let note = format!(
+        "SYNTHETIC roughness profile, not a measurement: fiveaxis model (src/roughness/synthetic.rs), seed {seed},\n\
+         driven by the simulated feed of {program} on the {}; x is the workpiece x.",
+        machine.name
+    );
+    let r = if out.extension().is_some_and(|e| e.eq_ignore_ascii_case("x3p")) {
+        fiveaxis::roughness::write_x3p(&profile, out, &note)
+    } else {
+        fiveaxis::roughness::write_csv(&profile, out, &note)
+    };
+    r.map_err(anyhow::Error::from)?;
+    println!("wrote {} ({} points, SYNTHETIC)", out.display(), profile.z.len());
+    Ok(ExitCode::SUCCESS)
 }
 
 fn recover(input: &std::path::Path, output: &std::path::Path) -> anyhow::Result<ExitCode> {
@@ -384,6 +486,7 @@ fn main() -> ExitCode {
         Command::Run(a) => run(a),
         Command::Analyze(a) => offline(a),
         Command::Mcap(McapCmd::Recover { input, output }) => recover(input, output),
+        Command::Roughness(RoughnessCmd::Synthesize { program, out, seed }) => synthesize(program, out, *seed),
         Command::Demo { json } => demo(*json),
     };
     match result {
