@@ -52,7 +52,12 @@ pub fn read_csv(path: &Path, units: CsvUnits) -> Result<Profile, RoughnessError>
         if t.is_empty() || t.starts_with('#') {
             continue;
         }
-        let fields: Vec<&str> = t.split([',', ';', '\t', ' ']).map(str::trim).filter(|s| !s.is_empty()).collect();
+        // One delimiter per line: comma, semicolon or tab if present, else white space (so that a
+        // header may say `x [mm]`).
+        let fields: Vec<&str> = match [',', ';', '\t'].into_iter().find(|d| t.contains(*d)) {
+            Some(d) => t.split(d).map(str::trim).collect(),
+            None => t.split_whitespace().collect(),
+        };
         let numbers: Vec<Option<f64>> = fields.iter().map(|f| f.parse::<f64>().ok().filter(|v| v.is_finite())).collect();
         if header.is_none() && x.is_empty() && numbers.iter().any(Option::is_none) {
             let names: Vec<String> = fields.iter().map(|s| s.to_string()).collect();
