@@ -107,7 +107,6 @@ struct Ahead {
     t: f64,
     line: u32,
     tip: Vector3<f64>,
-    in_region: bool,
 }
 
 /// The monitor's state.
@@ -122,6 +121,8 @@ pub struct Monitor {
     limiter: FeedLimiter,
     inputs: BTreeMap<String, Input>,
     ahead: Vec<Ahead>,
+    /// Indices of the in-region entries of `ahead`, increasing.
+    ahead_regions: Vec<usize>,
     prev_commanded_axis: Option<Vector3<f64>>,
 }
 
@@ -147,6 +148,7 @@ impl Monitor {
             limiter: FeedLimiter::new(&limits),
             inputs: BTreeMap::new(),
             ahead: Vec::new(),
+            ahead_regions: Vec::new(),
             prev_commanded_axis: None,
         }
     }
@@ -229,7 +231,10 @@ impl Monitor {
             None => false,
         };
         self.prev_commanded_axis = Some(pose.axis);
-        self.ahead.push(Ahead { t, line: st.program_line, tip, in_region });
+        if in_region {
+            self.ahead_regions.push(self.ahead.len());
+        }
+        self.ahead.push(Ahead { t, line: st.program_line, tip });
     }
 
     /// Evaluate one sample of stream `topic`; `wall` is the arrival time (s, any monotonic clock).
@@ -342,7 +347,7 @@ impl Monitor {
         let time_to_next = if in_region {
             0.0
         } else {
-            let (cursor, ahead) = lookahead(&self.ahead, input.cursor, st.program_line, &tip);
+            let (cursor, ahead) = lookahead(&self.ahead, &self.ahead_regions, input.cursor, st.program_line, &tip);
             input.cursor = cursor;
             ahead
         };
@@ -512,29 +517,27 @@ fn feed_limit_from_history(h: &VecDeque<Past>, limiter: &FeedLimiter, f_prog: f6
     (f.feed, f.axis, f.kind)
 }
 
-/// Find a sample's place on the commanded timeline (from `cursor` on, same program line, nearest tip)
-/// and the time from there to the next region: (new cursor, seconds; -1 if none ahead).
-fn lookahead(ahead: &[Ahead], cursor: usize, line: u32, tip: &Vector3<f64>) -> (usize, f64) {
+/// Find a sample's place on the commanded timeline and the time from there to the next region:
+/// (new cursor, seconds; -1 if none ahead). The place moves forward from `cursor` to the sample's
+/// program line, then on while the next entry is as close to the sample's tool tip; the next region is
+/// found by binary search in the sorted indices of in-region entries.
+fn lookahead(ahead: &[Ahead], regions: &[usize], cursor: usize, line: u32, tip: &Vector3<f64>) -> (usize, f64) {
     if ahead.is_empty() {
         return (cursor, -1.0);
     }
-    let start = cursor.min(ahead.len() - 1);
-    let end = (start + 5000).min(ahead.len());
-    let mut best = start;
-    let mut best_d = f64::INFINITY;
-    for (k, a) in ahead.iter().enumerate().take(end).skip(start) {
-        if line != 0 && a.line != line {
-            continue;
-        }
-        let d = (a.tip - tip).norm();
-        if d < best_d {
-            best_d = d;
-            best = k;
+    let mut best = cursor.min(ahead.len() - 1);
+    // A new block: jump to its first entry ahead (the scan happens once per block).
+    if line != 0 && ahead[best].line != line {
+        if let Some(k) = ahead[best..].iter().take(1_000_000).position(|a| a.line == line) {
+            best += k;
         }
     }
-    if !best_d.is_finite() {
-        best = start;
+    // Then forward while the next entry (of the same block) is at least as close.
+    let d = |a: &Ahead| (a.tip - tip).norm();
+    while best + 1 < ahead.len() && (line == 0 || ahead[best + 1].line == line) && d(&ahead[best + 1]) <= d(&ahead[best]) {
+        best += 1;
     }
-    let next = ahead[best..].iter().find(|a| a.in_region).map_or(-1.0, |a| a.t - ahead[best].t);
+    let k = regions.partition_point(|&i| i < best);
+    let next = regions.get(k).map_or(-1.0, |&i| ahead[i].t - ahead[best].t);
     (best, next)
 }
