@@ -61,6 +61,15 @@ fn input<'a>(summary: &'a serde_json::Value, topic: &str) -> &'a serde_json::Val
     summary.as_array().unwrap().iter().find(|i| i["topic"] == topic).unwrap_or_else(|| panic!("no input {topic} in {summary}"))
 }
 
+/// Run a bash script inside a private loopback-only network namespace.
+fn netns_bash(script: &str) -> std::process::Output {
+    Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts/netns-run"))
+        .args(["bash", "-c", script])
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("netns-run runs")
+}
+
 const CMD: &str = "/fiveaxis/commanded/axis_state";
 const SIM: &str = "/fiveaxis/simulated/axis_state";
 
@@ -143,12 +152,8 @@ wait $M
         b = b.display(),
         s = summary.display()
     );
-    let status = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts/netns-run"))
-        .args(["bash", "-c", &script])
-        .env("RUST_LOG", "warn")
-        .status()
-        .unwrap();
-    assert!(status.success());
+    let out = netns_bash(&script);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
     let i = input(&v, CMD);
     // The first run delivered part of the path, the second all 1501 samples.
@@ -188,11 +193,7 @@ echo "commander=$rc_c monitor=$rc_m"
         b = b.display(),
         s = summary.display()
     );
-    let out = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts/netns-run"))
-        .args(["bash", "-c", &script])
-        .env("RUST_LOG", "warn")
-        .output()
-        .unwrap();
+    let out = netns_bash(&script);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
@@ -233,12 +234,8 @@ wait $R1
         killed = killed.display(),
         kill_ns = kill_ns.display()
     );
-    let status = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts/netns-run"))
-        .args(["bash", "-c", &script])
-        .env("RUST_LOG", "warn")
-        .status()
-        .unwrap();
-    assert!(status.success());
+    let out = netns_bash(&script);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     // SIGINT: a complete file with all 1501 samples of the path.
     let data = std::fs::read(&full).unwrap();
     let summary = mcap::Summary::read(&data).unwrap().expect("finished file has a summary");

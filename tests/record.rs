@@ -155,10 +155,17 @@ fn offline_analysis_exit_codes_and_json() {
     assert!(v["messages_read"].as_u64().unwrap() > 100_000);
     assert!(!v["violations"].as_array().unwrap().is_empty());
     let r = &v["regions"][0];
-    // The simulated stream's region: the blended path's 21.6-28.4 mm around the reference 22-28.
-    assert!((r["x_start_mm"].as_f64().unwrap() - 21.6).abs() < 0.1 && (r["x_end_mm"].as_f64().unwrap() - 28.4).abs() < 0.1, "{r}");
-    assert!(r["peak_c_speed_rpm"].as_f64().unwrap() > 150.0);
-    assert!(r["time_lost_s"].as_f64().unwrap() > 0.5);
+    // The program's region (commanded stream, the reference 22-28 mm: the first sample past x = 22
+    // opens it), with what the simulated machine did there: the stutter and the time it cost.
+    assert!((r["x_start_mm"].as_f64().unwrap() - 22.0).abs() < 0.05 && (r["x_end_mm"].as_f64().unwrap() - 28.0).abs() < 0.05, "{r}");
+    assert!((r["peak_c_speed_rpm"].as_f64().unwrap() - 175.0).abs() < 0.5, "{r}");
+    assert_eq!(r["actual_topic"], topics::SIMULATED_STATE);
+    assert!(r["lowest_feed_mm_per_min"].as_f64().unwrap() < 0.5 * 2000.0, "{r}");
+    assert!(r["time_lost_s"].as_f64().unwrap() > 0.5, "{r}");
+    // The simulated stream's own region: the blended path's 21.6-28.4 mm.
+    let sim = v["streams"].as_array().unwrap().iter().find(|s| s["topic"] == topics::SIMULATED_STATE).unwrap();
+    let sr = &sim["regions"][0];
+    assert!((sr["x_start_mm"].as_f64().unwrap() - 21.6).abs() < 0.1 && (sr["x_end_mm"].as_f64().unwrap() - 28.4).abs() < 0.1, "{sr}");
     let nonsing = tmp("a-nonsing.mcap");
     record("bundled:NON_SING.I", &nonsing);
     let junit = tmp("a-nonsing.xml");

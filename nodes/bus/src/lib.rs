@@ -240,6 +240,50 @@ pub fn resolve(namespace: &str, remaps: &[(String, String)], topic: &str) -> Str
     full
 }
 
+/// Publish axis states in time (each also as JointState; and as /clock when given), paced by `pacer`,
+/// until done or shutdown. A publish that times out on a subscriber that cannot keep up drops that
+/// sample (counted, warned at most once a second; the monitor sees the gap): the stream never stops for
+/// one slow reader. Returns (sent, dropped).
+pub fn publish_states(
+    states: &[fiveaxis_msgs::AxisState],
+    state_pub: &Publisher<fiveaxis_msgs::AxisState>,
+    joint_pub: &Publisher<fiveaxis_msgs::JointState>,
+    clock_pub: Option<&Publisher<fiveaxis_msgs::Clock>>,
+    pacer: &Pacer,
+    shutdown: &Shutdown,
+) -> (usize, usize) {
+    let (mut sent, mut dropped) = (0usize, 0usize);
+    let mut last_warn: Option<Instant> = None;
+    for st in states {
+        if shutdown.requested() {
+            tracing::info!("stopping on signal after {sent} samples");
+            break;
+        }
+        pacer.wait_until(st.header.stamp.as_secs());
+        let ok = state_pub.publish(st.clone()).is_ok() & joint_pub.publish(st.to_joint_state()).is_ok();
+        if let Some(c) = clock_pub {
+            let _ = c.publish(fiveaxis_msgs::Clock { clock: st.header.stamp });
+        }
+        if ok {
+            sent += 1;
+        } else {
+            dropped += 1;
+            if last_warn.is_none_or(|t| t.elapsed() >= Duration::from_secs(1)) {
+                tracing::warn!(dropped, "a subscriber is not keeping up: samples dropped");
+                last_warn = Some(Instant::now());
+            }
+        }
+    }
+    if dropped > 0 {
+        tracing::warn!(sent, dropped, "done, with samples dropped by slow subscribers");
+    } else {
+        tracing::info!(sent, "done");
+    }
+    // Let reliable delivery finish before the participant goes away.
+    std::thread::sleep(Duration::from_millis(500));
+    (sent, dropped)
+}
+
 /// Paces a loop against the wall clock: sample time `t` (s) is due at `start + t / speed`.
 #[derive(Debug, Clone, Copy)]
 pub struct Pacer {

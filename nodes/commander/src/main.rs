@@ -7,7 +7,7 @@ use fiveaxis::job::{self, JobOptions};
 use fiveaxis::live::commander::commanded_states;
 use fiveaxis::machine::Machine;
 use fiveaxis::path::PathOptions;
-use fiveaxis_bus::{clock_qos, init_tracing, state_qos, Bus, CommonArgs, Pacer, Shutdown};
+use fiveaxis_bus::{clock_qos, init_tracing, publish_states, state_qos, Bus, CommonArgs, Pacer, Shutdown};
 use fiveaxis_msgs::{AxisState, Clock, JointState};
 use std::time::Duration;
 
@@ -69,34 +69,6 @@ fn main() -> anyhow::Result<()> {
     }
     ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "commanding {} ({} samples)", args.program, states.len());
     let pacer = Pacer::new(if args.fast { None } else { Some(args.speed) });
-    let mut sent = 0usize;
-    let mut dropped = 0usize;
-    let mut last_warn = std::time::Instant::now() - Duration::from_secs(2);
-    for st in &states {
-        if shutdown.requested() {
-            tracing::info!("stopping on signal after {sent} samples");
-            break;
-        }
-        pacer.wait_until(st.header.stamp.as_secs());
-        // A subscriber that cannot keep up fills the reliable history: count the sample as dropped
-        // (the monitor sees the gap) rather than stopping the stream.
-        let ok = state_pub.publish(st.clone()).is_ok() & joint_pub.publish(st.to_joint_state()).is_ok();
-        if !ok {
-            dropped += 1;
-            if last_warn.elapsed() >= Duration::from_secs(1) {
-                tracing::warn!(dropped, "a subscriber is not keeping up: samples dropped");
-                last_warn = std::time::Instant::now();
-            }
-        }
-        let _ = clock_pub.publish(Clock { clock: st.header.stamp });
-        sent += 1;
-    }
-    if dropped > 0 {
-        tracing::warn!(sent, dropped, "done, with samples dropped by slow subscribers");
-    } else {
-        tracing::info!(sent, "done");
-    }
-    // Let reliable delivery finish before the participant goes away.
-    std::thread::sleep(Duration::from_millis(500));
+    publish_states(&states, &state_pub, &joint_pub, Some(&clock_pub), &pacer, &shutdown);
     Ok(())
 }

@@ -66,6 +66,25 @@ enum Input {
     Joints(String, JointState),
 }
 
+/// Read `sub` on its own thread, handing each message to the main loop as `wrap(topic, message)`.
+fn spawn_reader<M: serde::de::DeserializeOwned + Send + 'static>(
+    sub: ros2_client::Subscription<M>,
+    topic: String,
+    tx: mpsc::SyncSender<Input>,
+    wrap: fn(String, M) -> Input,
+) {
+    std::thread::spawn(move || loop {
+        match smol::block_on(sub.async_take()) {
+            Ok((msg, _)) => {
+                if tx.send(wrap(topic.clone(), msg)).is_err() {
+                    break;
+                }
+            }
+            Err(e) => tracing::warn!(%topic, "read error: {e:?}"),
+        }
+    });
+}
+
 fn main() -> anyhow::Result<()> {
     init_tracing();
     let mut args = Args::parse();
@@ -90,33 +109,13 @@ fn main() -> anyhow::Result<()> {
     let (tx, rx) = mpsc::sync_channel::<Input>(8192);
     for topic in &args.inputs {
         let sub = bus.subscription::<AxisState>(topic, state_qos())?;
-        let (tx, name) = (tx.clone(), bus.resolve(topic));
-        tracing::info!(topic = %name, "watching AxisState");
-        std::thread::spawn(move || loop {
-            match smol::block_on(sub.async_take()) {
-                Ok((msg, _)) => {
-                    if tx.send(Input::State(name.clone(), msg)).is_err() {
-                        break;
-                    }
-                }
-                Err(e) => tracing::warn!(topic = %name, "read error: {e:?}"),
-            }
-        });
+        tracing::info!(topic = %bus.resolve(topic), "watching AxisState");
+        spawn_reader(sub, bus.resolve(topic), tx.clone(), Input::State);
     }
     for topic in &args.joint_inputs {
         let sub = bus.subscription::<JointState>(topic, state_qos())?;
-        let (tx, name) = (tx.clone(), bus.resolve(topic));
-        tracing::info!(topic = %name, "watching JointState");
-        std::thread::spawn(move || loop {
-            match smol::block_on(sub.async_take()) {
-                Ok((msg, _)) => {
-                    if tx.send(Input::Joints(name.clone(), msg)).is_err() {
-                        break;
-                    }
-                }
-                Err(e) => tracing::warn!(topic = %name, "read error: {e:?}"),
-            }
-        });
+        tracing::info!(topic = %bus.resolve(topic), "watching JointState");
+        spawn_reader(sub, bus.resolve(topic), tx.clone(), Input::Joints);
     }
     drop(tx);
 
