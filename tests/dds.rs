@@ -250,3 +250,38 @@ wait $R1
     assert!(killed_at - last_log < 1_600_000_000, "lost {:.2} s before the kill", (killed_at - last_log) as f64 * 1e-9);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The recorder splits by duration into NAME_0.mcap, NAME_1.mcap, ...: every file complete, every
+/// sample in exactly one of them.
+#[test]
+fn recorder_splits_by_duration() {
+    let b = bins();
+    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-split-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let script = format!(
+        r#"set -e
+B="{b}"
+"$B/fiveaxis-recorder" --output "{out}" --topic commanded/axis_state:AxisState --split-duration-s 1 &
+R=$!
+"$B/fiveaxis-commander" builtin:paper-sing --speed 0.5
+sleep 0.5
+kill -INT $R
+wait $R
+"#,
+        b = b.display(),
+        out = dir.join("run.mcap").display()
+    );
+    let out = netns_bash(&script);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut total = 0;
+    let mut files = 0;
+    for k in 0.. {
+        let Ok(data) = std::fs::read(dir.join(format!("run_{k}.mcap"))) else { break };
+        let summary = mcap::Summary::read(&data).unwrap().expect("each split is a complete file");
+        total += summary.stats.unwrap().message_count;
+        files += 1;
+    }
+    assert!(files >= 3, "{files} files for about 4 s of recording");
+    assert_eq!(total, 1501);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -30,6 +30,32 @@ struct Args {
     /// Stop after this long, s.
     #[arg(long = "duration-s")]
     duration_s: Option<f64>,
+    /// Start a new file (NAME_0.mcap, NAME_1.mcap, ... as rosbag2 names them) once one reaches this
+    /// size, MB.
+    #[arg(long = "split-size-mb")]
+    split_size_mb: Option<f64>,
+    /// ... or spans this long, s.
+    #[arg(long = "split-duration-s")]
+    split_duration_s: Option<f64>,
+}
+
+/// The file of split `k` (the output itself when not splitting).
+fn split_path(output: &std::path::Path, split: bool, k: usize) -> PathBuf {
+    if !split {
+        return output.to_path_buf();
+    }
+    let stem = output.file_stem().map_or("recording".into(), |s| s.to_string_lossy().into_owned());
+    output.with_file_name(format!("{stem}_{k}.mcap"))
+}
+
+/// Open a recording with every topic declared; returns it and the channel id of each topic.
+fn open(path: &std::path::Path, topics: &[(String, String, OfferedQos)]) -> anyhow::Result<(Recorder<std::io::BufWriter<std::fs::File>>, std::collections::HashMap<String, u16>)> {
+    let mut rec = Recorder::create(path, RecordOptions::default())?;
+    let mut ids = std::collections::HashMap::new();
+    for (name, ty, qos) in topics {
+        ids.insert(name.clone(), rec.add_topic_type(name, ty, *qos)?);
+    }
+    Ok((rec, ids))
 }
 
 /// A received message, encoded, with its times.
@@ -123,10 +149,9 @@ fn main() -> anyhow::Result<()> {
             .map(|t| t.rsplit_once(':').map(|(a, b)| (a.to_string(), b.to_string())).ok_or_else(|| anyhow::anyhow!("expected TOPIC:TYPE, got '{t}'")))
             .collect::<anyhow::Result<_>>()?
     };
-    let mut recorder = Recorder::create(&args.output, RecordOptions::default())?;
     let mut bus = Bus::new("fiveaxis_recorder", &args.common)?;
     let (tx, rx) = mpsc::sync_channel::<Item>(65536);
-    let mut channels = std::collections::HashMap::new();
+    let mut declared: Vec<(String, String, OfferedQos)> = Vec::new();
     for (topic, ty) in &topics {
         let (name, qos, type_name) = match ty.as_str() {
             "AxisState" => (subscribe::<AxisState>(&mut bus, topic, state_qos(), tx.clone())?, OfferedQos::STATE, AxisState::type_name()),
@@ -136,13 +161,18 @@ fn main() -> anyhow::Result<()> {
             "Clock" => (subscribe::<Clock>(&mut bus, topic, clock_qos(), tx.clone())?, OfferedQos::CLOCK, Clock::type_name()),
             other => anyhow::bail!("unknown type {other} for {topic}: AxisState, JointState, SingularityStatus, DiagnosticArray or Clock"),
         };
-        let id = recorder.add_topic_type(&name, &type_name, qos)?;
         tracing::info!(topic = %name, %type_name, "recording");
-        channels.insert(name, id);
+        declared.push((name, type_name, qos));
     }
     drop(tx);
+    let split = args.split_size_mb.is_some() || args.split_duration_s.is_some();
+    let mut k = 0;
+    let mut path = split_path(&args.output, split, k);
+    let (mut recorder, mut channels) = open(&path, &declared)?;
     let start = std::time::Instant::now();
+    let mut file_start = start;
     let mut last_flush = start;
+    let mut total = 0u64;
     while !shutdown.requested() {
         if args.duration_s.is_some_and(|d| start.elapsed().as_secs_f64() > d) {
             break;
@@ -150,7 +180,7 @@ fn main() -> anyhow::Result<()> {
         match rx.recv_timeout(Duration::from_millis(50)) {
             Ok(item) => {
                 let id = channels[&item.topic];
-                recorder.write_raw(id, &item.data, item.log_ns, item.publish_ns).with_context(|| format!("writing {}", args.output.display()))?;
+                recorder.write_raw(id, &item.data, item.log_ns, item.publish_ns).with_context(|| format!("writing {}", path.display()))?;
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {}
             Err(mpsc::RecvTimeoutError::Disconnected) => break,
@@ -159,6 +189,18 @@ fn main() -> anyhow::Result<()> {
         if last_flush.elapsed() >= Duration::from_secs(1) {
             recorder.flush()?;
             last_flush = std::time::Instant::now();
+            let size_mb = std::fs::metadata(&path).map_or(0.0, |m| m.len() as f64 / 1e6);
+            let too_big = args.split_size_mb.is_some_and(|l| size_mb >= l);
+            let too_long = args.split_duration_s.is_some_and(|l| file_start.elapsed().as_secs_f64() >= l);
+            if too_big || too_long {
+                let (next, ids) = open(&split_path(&args.output, split, k + 1), &declared)?;
+                total += std::mem::replace(&mut recorder, next).finish()?;
+                tracing::info!(file = %path.display(), "split finished");
+                k += 1;
+                path = split_path(&args.output, split, k);
+                channels = ids;
+                file_start = std::time::Instant::now();
+            }
         }
     }
     // Drain what already arrived, then finish the file.
@@ -166,7 +208,7 @@ fn main() -> anyhow::Result<()> {
         let id = channels[&item.topic];
         recorder.write_raw(id, &item.data, item.log_ns, item.publish_ns)?;
     }
-    let n = recorder.finish()?;
-    tracing::info!(messages = n, file = %args.output.display(), "recording finished");
+    let n = total + recorder.finish()?;
+    tracing::info!(messages = n, files = k + 1, file = %path.display(), "recording finished");
     Ok(())
 }
