@@ -48,8 +48,11 @@ fn split_path(output: &std::path::Path, split: bool, k: usize) -> PathBuf {
     output.with_file_name(format!("{stem}_{k}.mcap"))
 }
 
-/// Open a recording with every topic declared; returns it and the channel id of each topic.
-fn open(path: &std::path::Path, topics: &[(String, String, OfferedQos)]) -> anyhow::Result<(Recorder<std::io::BufWriter<std::fs::File>>, std::collections::HashMap<String, u16>)> {
+/// A recording file being written, and the channel id of each topic in it.
+type Open = (Recorder<std::io::BufWriter<std::fs::File>>, std::collections::HashMap<String, u16>);
+
+/// Open a recording with every topic declared.
+fn open(path: &std::path::Path, topics: &[(String, String, OfferedQos)]) -> anyhow::Result<Open> {
     let mut rec = Recorder::create(path, RecordOptions::default())?;
     let mut ids = std::collections::HashMap::new();
     for (name, ty, qos) in topics {
