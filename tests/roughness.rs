@@ -115,5 +115,9 @@ fn analyze_sing_with_roughness() {
     let nonsing = rec("bundled:NON_SING.I", "nonsing.mcap");
     let code = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["analyze", nonsing.to_str().unwrap(), "--max-c-speed-rpm", "25"]).output().unwrap().status.code();
     assert_eq!(code, Some(0));
-    let _: Profile = read_profile(&rough, CsvUnits::default()).unwrap();
+    // The committed X3P reads back with every point of its CSV twin.
+    let x3p: Profile = read_profile(&rough, CsvUnits::default()).unwrap();
+    let csv = read_profile(&rough.with_extension("csv"), CsvUnits::default()).unwrap();
+    assert_eq!(x3p.z.len(), csv.z.len());
+    assert!(x3p.z.iter().zip(&csv.z).all(|(a, b)| (a - b).abs() < 1e-11), "CSV holds heights to 0.01 nm");
 }
