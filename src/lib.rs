@@ -10,6 +10,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod analysis;
+pub mod avoid;
 pub mod job;
 pub mod kinematics;
 pub mod live;

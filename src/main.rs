@@ -36,6 +36,9 @@ enum Command {
     /// Roughness profiles: make the synthetic example.
     #[command(subcommand)]
     Roughness(RoughnessCmd),
+    /// Remedies for a singular program.
+    #[command(subcommand)]
+    Avoid(AvoidCmd),
     /// The embedded default: the node set in one process on the paper's two programs and two continuous
     /// paths, on the Hermle.
     Demo {
@@ -143,6 +146,28 @@ struct OfflineArgs {
     /// CSV height unit when its header does not say: m, mm, um or nm.
     #[arg(long = "z-unit")]
     z_unit: Option<String>,
+}
+
+#[derive(Subcommand)]
+enum AvoidCmd {
+    /// Reorient the workpiece on a jig (seed 001 §3, eq. 7): search the jig angles that minimise the peak
+    /// predicted C speed within the tilt bound; the tool path relative to the workpiece is unchanged.
+    Reorient {
+        /// A program, or builtin:NAME (taken as CL data every 0.1 mm).
+        program: String,
+        /// Built-in machine name or a TOML machine file.
+        #[arg(long, default_value = "hermle-c600u")]
+        machine: String,
+        /// Largest jig tilt allowed, degrees.
+        #[arg(long = "max-tilt-deg", default_value_t = 10.0)]
+        max_tilt_deg: f64,
+        /// Write the reoriented program here (same dialect as the input; Heidenhain for builtins).
+        #[arg(long)]
+        out: Option<std::path::PathBuf>,
+        /// Print one JSON object with `before`, `after`, `theta_x_deg`, `theta_z_deg`.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 #[derive(Subcommand)]
@@ -388,6 +413,70 @@ fn synthesize(program: &str, out: &std::path::Path, seed: u64) -> anyhow::Result
     Ok(ExitCode::SUCCESS)
 }
 
+fn reorient(program: &str, machine: &str, max_tilt_deg: f64, out: Option<&std::path::Path>, json: bool) -> anyhow::Result<ExitCode> {
+    if !(max_tilt_deg.is_finite() && max_tilt_deg > 0.0 && max_tilt_deg <= 90.0) {
+        eprintln!("fiveaxis: --max-tilt-deg must be in (0, 90], got {max_tilt_deg}");
+        return Ok(ExitCode::from(EXIT_INPUT));
+    }
+    let machine = match Machine::from_name_or_file(machine) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("fiveaxis: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    let options = JobOptions::default();
+    let prog = if let Some(name) = program.strip_prefix("builtin:") {
+        match fiveaxis::path::BuiltinPath::by_name(name) {
+            Some(p) => p.cl_program(0.1),
+            None => {
+                eprintln!("fiveaxis: unknown built-in path '{name}'");
+                return Ok(ExitCode::from(EXIT_INPUT));
+            }
+        }
+    } else {
+        match job::read_spec(program, &options) {
+            Ok(p) => p,
+            Err(e) => {
+                eprintln!("fiveaxis: {e}");
+                return Ok(ExitCode::from(EXIT_INPUT));
+            }
+        }
+    };
+    if prog.has_errors() {
+        for d in prog.report() {
+            eprintln!("{d}");
+        }
+        eprintln!("fiveaxis: {program} has defects: refusing to reorient it");
+        return Ok(ExitCode::from(EXIT_INPUT));
+    }
+    let (r, new) = match fiveaxis::avoid::search(&prog, &machine, max_tilt_deg * DEG, &options) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("fiveaxis: cannot reorient {program}: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    if let Some(path) = out {
+        let dialect = if prog.dialect == Dialect::Rs274 { Dialect::Rs274 } else { Dialect::Heidenhain };
+        std::fs::write(path, fiveaxis::avoid::write_program(&new, &machine, dialect, &options)).with_context(|| format!("writing {}", path.display()))?;
+    }
+    if json {
+        println!("{}", serde_json::to_string_pretty(&r)?);
+    } else {
+        println!("reorientation of {program} on {} (jig tilt within {max_tilt_deg} deg)", machine.name);
+        println!("jig angles     theta_x {:.2} deg, theta_z {:.2} deg (seed 001 eq. 7)", r.theta_x_deg, r.theta_z_deg);
+        println!("{:<30} {:>12} {:>12}", "", "before", "after");
+        println!("{:<30} {:>12.1} {:>12.1}", "peak C speed, rpm", r.before.peak_c_speed_rpm, r.after.peak_c_speed_rpm);
+        println!("{:<30} {:>12.3} {:>12.3}", "closest approach, deg", r.before.min_singularity_distance_deg, r.after.min_singularity_distance_deg);
+        println!("{:<30} {:>12.2} {:>12.2}", "cycle time at F, s", r.before.cycle_time_s, r.after.cycle_time_s);
+        if let Some(path) = out {
+            println!("wrote {}", path.display());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 fn recover(input: &std::path::Path, output: &std::path::Path) -> anyhow::Result<ExitCode> {
     match fiveaxis::record::recover(input, output) {
         Ok(r) => {
@@ -487,6 +576,7 @@ fn main() -> ExitCode {
         Command::Analyze(a) => offline(a),
         Command::Mcap(McapCmd::Recover { input, output }) => recover(input, output),
         Command::Roughness(RoughnessCmd::Synthesize { program, out, seed }) => synthesize(program, out, *seed),
+        Command::Avoid(AvoidCmd::Reorient { program, machine, max_tilt_deg, out, json }) => reorient(program, machine, *max_tilt_deg, out.as_deref(), *json),
         Command::Demo { json } => demo(*json),
     };
     match result {

@@ -53,6 +53,42 @@ impl BuiltinPath {
         PATHS.iter().copied().find(|p| p.name == n)
     }
 
+    /// The path as cutter-location data: a rapid to the first pose, then a pose every `spacing_mm`
+    /// (what a CAM system would output).
+    pub fn cl_program(&self, spacing_mm: f64) -> crate::program::Program {
+        let n = (self.length_mm / spacing_mm).round().max(1.0) as usize;
+        let blocks = (0..=n)
+            .map(|k| {
+                let p = self.pose(self.length_mm * k as f64 / n as f64);
+                crate::program::Block {
+                    line: k + 1,
+                    column: 1,
+                    number: None,
+                    // Position at the start first (rapid), then cut.
+                    motion: if k == 0 { crate::program::Motion::Rapid } else { crate::program::Motion::Linear },
+                    targets: crate::program::Targets {
+                        x: Some(p.tip.x),
+                        y: Some(p.tip.y),
+                        z: Some(p.tip.z),
+                        tool_axis: Some([p.axis.x, p.axis.y, p.axis.z]),
+                        ..Default::default()
+                    },
+                    feed: Some(crate::program::Feed { value_per_min: self.feed_mm_per_min, mode: crate::program::FeedMode::PerMinute }),
+                    tcp: true,
+                    datum: [0.0; 3],
+                    events: Vec::new(),
+                }
+            })
+            .collect();
+        crate::program::Program {
+            source: format!("builtin:{} (CL every {spacing_mm} mm)", self.name),
+            dialect: crate::program::Dialect::Cl,
+            name: Some(self.name.to_string()),
+            blocks,
+            diagnostics: Vec::new(),
+        }
+    }
+
     fn pose(&self, x_mm: f64) -> Pose {
         Pose { tip: Vector3::new(x_mm, self.y_mm, self.z_mm) * MM, axis: paper_orientation(self.tilt_deg, x_mm) }
     }

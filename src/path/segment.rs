@@ -99,6 +99,9 @@ impl Segment {
     }
 }
 
+/// Tool-tip moves shorter than this (m) are program rounding when the rotaries turn.
+const MIN_PATH: f64 = 1e-6;
+
 fn diag(b: &Block, message: String) -> Diagnostic {
     Diagnostic { line: b.line, column: b.column, severity: Severity::Error, message }
 }
@@ -217,7 +220,10 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
                     FeedMode::InverseTime => 60.0 / feed.value_per_min,
                     FeedMode::PerMinute => {
                         let path_len = if kind == SegmentKind::Tcp { seg.length } else { lin_len };
-                        if path_len > 1e-9 {
+                        // A tip move under 1 um that turns the rotaries is rounding in the program's
+                        // coordinates, not a path: it is a rotary move (F in deg/min).
+                        let rounding = path_len < MIN_PATH && rot_len > 1e-9;
+                        if path_len > 1e-9 && !rounding {
                             let f = options.feed_override_mm_per_min.unwrap_or(feed.value_per_min) * MM_PER_MIN;
                             seg.feed = seg.length / (path_len / f);
                             path_len / f

@@ -30,6 +30,8 @@ pub struct Status {
     pub five_axis: bool,
     /// True exactly on the singular direction while the tool axis moves (eq. 5 undefined, 0 reported).
     pub on_pole: bool,
+    /// True on a rapid (G00) move: the axes run at their limits by definition, not along a path.
+    pub rapid: bool,
 }
 
 /// Why a region was opened.
@@ -70,7 +72,7 @@ pub struct Region {
 /// The headline figures.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Summary {
-    /// Largest finite |predicted rate| (rad/s) and the tip where it occurs (centre of the stretch
+    /// Largest |predicted rate| on feed moves (rad/s) and the tip where it occurs (centre of the stretch
     /// within 0.1 % of the peak around its first sample).
     pub peak_rate: f64,
     pub peak_tip: Vector3<f64>,
@@ -132,6 +134,7 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
                 feed_limit,
                 five_axis: seg.is_five_axis(),
                 on_pole: on_pole(&sm.axis, &sm.axis_rate, &sd),
+                rapid: seg.kind == crate::path::SegmentKind::Rapid,
             }
         })
         .collect();
@@ -158,6 +161,10 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
 }
 
 fn in_region(s: &Status, rate_limit: f64, min_distance: Option<f64>) -> Option<RegionCause> {
+    // A rapid runs its axes at their limits by definition: it is not a tool path that demands more.
+    if s.rapid {
+        return None;
+    }
     let speed = s.predicted_rate.abs() > rate_limit;
     let dist = s.five_axis && min_distance.is_some_and(|d| s.distance < d);
     match (speed, dist) {
@@ -263,7 +270,8 @@ fn summarize(traj: &Trajectory, statuses: &[Status], rate_limit: f64) -> Summary
     let mut min_all = f64::INFINITY;
     let mut min_fl: Option<(FeedLimit, usize)> = None;
     for (k, s) in statuses.iter().enumerate() {
-        if peak.is_none_or(|p| s.predicted_rate.abs() > statuses[p].predicted_rate.abs()) {
+        // The peak is the path's: rapids move the axes at their limits by definition.
+        if !s.rapid && peak.is_none_or(|p| s.predicted_rate.abs() > statuses[p].predicted_rate.abs()) {
             peak = Some(k);
         }
         if s.on_pole {

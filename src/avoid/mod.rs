@@ -1,0 +1,202 @@
+//! Remedies for a singular tool path. Reorientation of the workpiece on a jig (seed 001 §3, eq. 7):
+//! the tool path relative to the workpiece stays the same, the jig turns it (and so the tool axes)
+//! by `R = R_x(theta_x) R_z(theta_z)`, which moves the singularity elsewhere on the orientation
+//! sphere; the best angles keep the peak predicted C speed lowest within the machine's A range and the
+//! tilt the user allows.
+
+use crate::job::JobOptions;
+use crate::machine::Machine;
+use crate::path::Trajectory;
+use crate::program::{Block, Program, Targets};
+use crate::singularity::analyze;
+use crate::units::DEG;
+use nalgebra::{Rotation3, Vector3};
+
+/// The figures a remedy is judged by.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Figures {
+    pub peak_c_speed_rpm: f64,
+    pub min_singularity_distance_deg: f64,
+    pub cycle_time_s: f64,
+}
+
+/// Why a program cannot be reoriented.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum AvoidError {
+    #[error("{0}")]
+    Refused(String),
+}
+
+/// The jig rotation of eq. (7).
+pub fn jig(theta_x: f64, theta_z: f64) -> Rotation3<f64> {
+    Rotation3::from_axis_angle(&Vector3::x_axis(), theta_x) * Rotation3::from_axis_angle(&Vector3::z_axis(), theta_z)
+}
+
+/// The program turned by the jig rotation `r` (about the workpiece origin): TCPM blocks get the rotated
+/// tool tip and tool axis as CL targets (A/C follow from the inverse kinematics); blocks without TCPM
+/// (positioning in machine coordinates, away from the part) are unchanged.
+pub fn reoriented(program: &Program, machine: &Machine, r: &Rotation3<f64>, options: &JobOptions) -> Program {
+    let traj = Trajectory::from_program(program, machine, &options.path);
+    let mut out = program.clone();
+    let mut prev_tcp = false;
+    for s in &traj.segments {
+        let tcp = program.blocks[s.block].tcp;
+        if tcp {
+            let (t, a) = (r * s.tip1, r * machine.forward(&s.q1).axis);
+            let b: &mut Block = &mut out.blocks[s.block];
+            b.targets = Targets { x: Some(t.x), y: Some(t.y), z: Some(t.z), tool_axis: Some([a.x, a.y, a.z]), ..Targets::default() };
+            // The lead-in to a TCPM stretch now also turns the tool: make it a positioning move (as a
+            // post-processor would), not a cut that starts wherever the axes were parked.
+            if !prev_tcp {
+                b.motion = crate::program::Motion::Rapid;
+            }
+        }
+        prev_tcp = tcp;
+    }
+    out.source = format!("{} (reoriented)", program.source);
+    out
+}
+
+/// Figures of a program on a machine.
+pub fn figures(program: &Program, machine: &Machine, options: &JobOptions) -> Result<Figures, AvoidError> {
+    let traj = Trajectory::from_program(program, machine, &options.path);
+    if let Some(d) = traj.diagnostics.iter().find(|d| d.severity == crate::program::Severity::Error) {
+        return Err(AvoidError::Refused(format!("line {}: {}", d.line, d.message)));
+    }
+    let a = analyze(&traj, machine, &options.analysis);
+    let rpm = 60.0 / std::f64::consts::TAU;
+    Ok(Figures {
+        peak_c_speed_rpm: a.summary.peak_rate * rpm,
+        min_singularity_distance_deg: a.summary.min_distance.unwrap_or(std::f64::consts::FRAC_PI_2).to_degrees(),
+        cycle_time_s: a.summary.cycle_time,
+    })
+}
+
+/// The result of a reorientation search.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Reorientation {
+    pub theta_x_deg: f64,
+    pub theta_z_deg: f64,
+    pub before: Figures,
+    pub after: Figures,
+}
+
+/// Search the jig angles: theta_x within +-`max_tilt` (rad), theta_z over the full turn, on a grid then
+/// refined; poses the machine cannot reach (A range) are excluded. Lowest peak C speed wins (ties: the
+/// larger closest approach, then the smaller tilt).
+pub fn search(program: &Program, machine: &Machine, max_tilt: f64, options: &JobOptions) -> Result<(Reorientation, Program), AvoidError> {
+    let before = figures(program, machine, options)?;
+    let score = |tx: f64, tz: f64| -> Option<(Figures, Program)> {
+        let p = reoriented(program, machine, &jig(tx, tz), options);
+        figures(&p, machine, options).ok().map(|f| (f, p))
+    };
+    let better = |a: &(f64, f64, Figures), b: &(f64, f64, Figures)| {
+        let key = |x: &(f64, f64, Figures)| (x.2.peak_c_speed_rpm * 1e3).round();
+        key(a) < key(b) || (key(a) == key(b) && (a.2.min_singularity_distance_deg > b.2.min_singularity_distance_deg + 1e-6 || a.0.abs() < b.0.abs()))
+    };
+    let mut best: Option<(f64, f64, Figures)> = None;
+    let steps_x = 10;
+    for i in 0..=2 * steps_x {
+        let tx = -max_tilt + max_tilt * i as f64 / steps_x as f64;
+        for j in 0..12 {
+            let tz = j as f64 * 30.0 * DEG;
+            if let Some((f, _)) = score(tx, tz) {
+                let cand = (tx, tz, f);
+                if best.as_ref().is_none_or(|b| better(&cand, b)) {
+                    best = Some(cand);
+                }
+            }
+        }
+    }
+    let (mut tx, mut tz, mut f) = best.ok_or_else(|| AvoidError::Refused("no jig angle keeps the tool path within the machine's ranges".into()))?;
+    // Refine around the best grid point.
+    let (mut dx, mut dz) = (max_tilt / steps_x as f64, 30.0 * DEG);
+    for _ in 0..4 {
+        dx /= 2.0;
+        dz /= 2.0;
+        for (ix, iz) in [(-1.0, 0.0), (1.0, 0.0), (0.0, -1.0), (0.0, 1.0)] {
+            let (cx, cz) = ((tx + ix * dx).clamp(-max_tilt, max_tilt), tz + iz * dz);
+            if let Some((cf, _)) = score(cx, cz) {
+                let cand = (cx, cz, cf);
+                if better(&cand, &(tx, tz, f)) {
+                    (tx, tz, f) = cand;
+                }
+            }
+        }
+    }
+    let program = reoriented(program, machine, &jig(tx, tz), options);
+    Ok((Reorientation { theta_x_deg: tx.to_degrees(), theta_z_deg: tz.to_degrees().rem_euclid(360.0), before, after: f }, program))
+}
+
+/// Write a program's planned moves as an NC program in `dialect` (Heidenhain DIN/ISO with M128, or
+/// RS274NGC with G43.4), axes in mm and degrees, feeds in mm/min: what a reoriented program is run as.
+pub fn write_program(program: &Program, machine: &Machine, dialect: crate::program::Dialect, options: &JobOptions) -> String {
+    use crate::path::SegmentKind;
+    use std::fmt::Write as _;
+    let traj = Trajectory::from_program(program, machine, &options.path);
+    let names = machine.axis_names();
+    let heid = dialect == crate::program::Dialect::Heidenhain;
+    let name = program.name.clone().unwrap_or_else(|| "FIVEAXIS".into()).replace(' ', "_");
+    let mut out = String::new();
+    let mut n = 0;
+    let mut line = |out: &mut String, text: &str| {
+        n += 10;
+        if heid {
+            let _ = writeln!(out, "N{n} {text} *");
+        } else {
+            let _ = writeln!(out, "N{n} {text}");
+        }
+    };
+    if heid {
+        let _ = writeln!(out, "%{name} G71 *");
+    } else {
+        // RS274 comments do not nest: no parentheses inside.
+        let source = program.source.replace('(', "[").replace(')', "]");
+        let _ = writeln!(out, "%\n({name}: written by fiveaxis from {source})");
+    }
+    line(&mut out, if heid { "G90" } else { "G21 G90 G94" });
+    let mut tcp = false;
+    let mut datum = Vector3::zeros();
+    for s in &traj.segments {
+        let want_tcp = program.blocks[s.block].tcp;
+        if s.datum != datum && heid {
+            datum = s.datum;
+            line(&mut out, &format!("G54 X{:+.3} Y{:+.3} Z{:+.3}", datum.x * 1e3, datum.y * 1e3, datum.z * 1e3));
+        }
+        if want_tcp != tcp {
+            tcp = want_tcp;
+            line(&mut out, match (heid, tcp) {
+                (true, true) => "M128",
+                (true, false) => "M129",
+                (false, true) => "G43.4",
+                (false, false) => "G49",
+            });
+        }
+        let (x, y, z) = if tcp { (s.tip1.x, s.tip1.y, s.tip1.z) } else { (s.q1[0] - s.datum.x, s.q1[1] - s.datum.y, s.q1[2] - s.datum.z) };
+        let words = format!(
+            "X{:+.4} Y{:+.4} Z{:+.4} {}{:+.4} {}{:+.4}",
+            x * 1e3,
+            y * 1e3,
+            z * 1e3,
+            names[3],
+            s.q1[3].to_degrees(),
+            names[4],
+            s.q1[4].to_degrees()
+        );
+        let feed = program.blocks[s.block].feed.map(|f| f.value_per_min).unwrap_or(0.0);
+        match s.kind {
+            SegmentKind::Rapid => line(&mut out, &format!("G00 {words}")),
+            _ => line(&mut out, &format!("G01 {words} F{feed:.0}")),
+        }
+    }
+    if tcp {
+        line(&mut out, if heid { "M129" } else { "G49" });
+    }
+    line(&mut out, if heid { "M30" } else { "M2" });
+    if heid {
+        let _ = writeln!(out, "N999999 %{name} G71 *");
+    } else {
+        out.push_str("%\n");
+    }
+    out
+}
