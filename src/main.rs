@@ -54,8 +54,9 @@ enum ProgramCmd {
     Analyze(AnalyzeArgs),
 }
 
+/// The program and how to read it (shared by `program analyze` and `run`).
 #[derive(Args)]
-struct AnalyzeArgs {
+struct ProgramArgs {
     /// A program file (.I/.H Heidenhain, .ngc RS274, .cl/.csv CL data), builtin:paper-sing,
     /// builtin:paper-nonsing, bundled:SING.I or bundled:NON_SING.I.
     program: String,
@@ -68,6 +69,24 @@ struct AnalyzeArgs {
     /// Dialect, instead of guessing from the file name.
     #[arg(long, value_parser = parse_dialect)]
     dialect: Option<Dialect>,
+}
+
+impl ProgramArgs {
+    /// Check the feed and load the machine; an error is bad input (exit 2).
+    fn machine(&self) -> anyhow::Result<Machine> {
+        positive("--feed", self.feed_mm_per_min)?;
+        Machine::from_name_or_file(&self.machine).context("loading the machine")
+    }
+
+    fn read_options(&self) -> ReadOptions {
+        ReadOptions { cl_feed_mm_per_min: self.feed_mm_per_min.unwrap_or(ReadOptions::default().cl_feed_mm_per_min) }
+    }
+}
+
+#[derive(Args)]
+struct AnalyzeArgs {
+    #[command(flatten)]
+    src: ProgramArgs,
     /// Also report regions where the tool axis comes closer than this to the singularity, degrees.
     #[arg(long = "min-distance-deg", value_name = "DEG")]
     min_distance_deg: Option<f64>,
@@ -84,17 +103,8 @@ struct AnalyzeArgs {
 
 #[derive(Args)]
 struct RunArgs {
-    /// A program, as for `program analyze`.
-    program: String,
-    /// Built-in machine name or a TOML machine file.
-    #[arg(long, default_value = "hermle-c600u")]
-    machine: String,
-    /// Tool-tip feed for every feed move, mm/min.
-    #[arg(long = "feed", value_name = "MM_PER_MIN")]
-    feed_mm_per_min: Option<f64>,
-    /// Dialect, instead of guessing from the file name.
-    #[arg(long, value_parser = parse_dialect)]
-    dialect: Option<Dialect>,
+    #[command(flatten)]
+    src: ProgramArgs,
     /// Print one JSON object (the keys of `program analyze --json` plus `simulated`).
     #[arg(long)]
     json: bool,
@@ -222,11 +232,10 @@ fn positive(name: &str, v: Option<f64>) -> anyhow::Result<()> {
 }
 
 fn analyze(a: &AnalyzeArgs) -> anyhow::Result<ExitCode> {
-    let checked = positive("--feed", a.feed_mm_per_min)
-        .and(positive("--min-distance-deg", a.min_distance_deg))
+    let checked = positive("--min-distance-deg", a.min_distance_deg)
         .and(positive("--max-c-speed-rpm", a.max_c_speed_rpm))
         .and(positive("--period-ms", Some(a.period_ms)))
-        .and_then(|_| Machine::from_name_or_file(&a.machine).context("loading the machine"));
+        .and_then(|_| a.src.machine());
     let machine = match checked {
         Ok(m) => m,
         Err(e) => {
@@ -235,15 +244,15 @@ fn analyze(a: &AnalyzeArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let options = JobOptions {
-        dialect: a.dialect,
-        path: PathOptions { period: a.period_ms * 1e-3, feed_override_mm_per_min: a.feed_mm_per_min },
+        dialect: a.src.dialect,
+        path: PathOptions { period: a.period_ms * 1e-3, feed_override_mm_per_min: a.src.feed_mm_per_min },
         analysis: AnalysisOptions {
             min_distance: a.min_distance_deg.map(|d| d * DEG),
             rate_limit: a.max_c_speed_rpm.map(|r| r * RPM),
         },
-        read: ReadOptions { cl_feed_mm_per_min: a.feed_mm_per_min.unwrap_or(ReadOptions::default().cl_feed_mm_per_min) },
+        read: a.src.read_options(),
     };
-    let job = match job::run(&a.program, &machine, &options) {
+    let job = match job::run(&a.src.program, &machine, &options) {
         Ok(j) => j,
         Err(e @ job::JobError::Load(_)) => {
             eprintln!("fiveaxis: {e}");
@@ -257,14 +266,14 @@ fn analyze(a: &AnalyzeArgs) -> anyhow::Result<ExitCode> {
         print!("{}", job.report.to_table());
     }
     if job.has_errors() {
-        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.program, job.report.errors);
+        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.src.program, job.report.errors);
         return Ok(ExitCode::from(EXIT_INPUT));
     }
     Ok(ExitCode::SUCCESS)
 }
 
 fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
-    let machine = match positive("--feed", a.feed_mm_per_min).and_then(|_| Machine::from_name_or_file(&a.machine).context("loading the machine")) {
+    let machine = match a.src.machine() {
         Ok(m) => m,
         Err(e) => {
             eprintln!("fiveaxis: {e:#}");
@@ -274,14 +283,14 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
     let options = fiveaxis::live::inprocess::RunOptions {
         mcap: a.mcap.clone(),
         job: JobOptions {
-            dialect: a.dialect,
-            path: PathOptions { feed_override_mm_per_min: a.feed_mm_per_min, ..Default::default() },
-            read: ReadOptions { cl_feed_mm_per_min: a.feed_mm_per_min.unwrap_or(ReadOptions::default().cl_feed_mm_per_min) },
+            dialect: a.src.dialect,
+            path: PathOptions { feed_override_mm_per_min: a.src.feed_mm_per_min, ..Default::default() },
+            read: a.src.read_options(),
             ..Default::default()
         },
         ..Default::default()
     };
-    let out = match fiveaxis::live::inprocess::run(&a.program, &machine, &options) {
+    let out = match fiveaxis::live::inprocess::run(&a.src.program, &machine, &options) {
         Ok(o) => o,
         Err(e @ (job::JobError::Load(_) | job::JobError::Record(_))) => {
             eprintln!("fiveaxis: {e}");
@@ -299,7 +308,7 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
         print!("{}", out.report.simulated.to_table(&out.report.analysis.secondary_axis));
     }
     if out.job.has_errors() {
-        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.program, out.report.analysis.errors);
+        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.src.program, out.report.analysis.errors);
         return Ok(ExitCode::from(EXIT_INPUT));
     }
     Ok(ExitCode::SUCCESS)

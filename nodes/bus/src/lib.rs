@@ -58,6 +58,48 @@ pub struct CommonArgs {
     pub node_name: Option<String>,
 }
 
+/// Options of the nodes that publish a program's axis states (commander, simulator).
+#[derive(Debug, Clone, clap::Args)]
+pub struct StreamArgs {
+    /// Program file, builtin:NAME or bundled:NAME (as for `fiveaxis program analyze`).
+    pub program: String,
+    /// Samples per second.
+    #[arg(long, default_value_t = 1000.0)]
+    pub rate: f64,
+    /// Publish in real time (the default).
+    #[arg(long, conflicts_with = "fast")]
+    pub realtime: bool,
+    /// Publish as fast as possible (follow /clock for time).
+    #[arg(long)]
+    pub fast: bool,
+    /// Real-time factor: 2 runs twice as fast as the machine would.
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    /// Tool-tip feed for every feed move, mm/min.
+    #[arg(long = "feed", value_name = "MM_PER_MIN")]
+    pub feed_mm_per_min: Option<f64>,
+    /// Wait this long for subscribers before publishing (0: do not wait), s.
+    #[arg(long = "wait-for-subscriber-s", default_value_t = 10.0)]
+    pub wait_s: f64,
+    /// How many subscribers of the state stream to wait for (e.g. monitor and recorder: 2).
+    #[arg(long = "min-subscribers", default_value_t = 1)]
+    pub min_subscribers: usize,
+}
+
+impl StreamArgs {
+    /// Check the numbers.
+    pub fn validate(&self) -> anyhow::Result<()> {
+        anyhow::ensure!(self.rate > 0.0 && self.rate.is_finite(), "--rate must be positive");
+        anyhow::ensure!(self.speed > 0.0 && self.speed.is_finite(), "--speed must be positive");
+        Ok(())
+    }
+
+    /// The pacing these options ask for.
+    pub fn pacer(&self) -> Pacer {
+        Pacer::new(if self.fast { None } else { Some(self.speed) })
+    }
+}
+
 fn parse_remap(s: &str) -> Result<(String, String), String> {
     match s.split_once(":=") {
         Some((a, b)) if !a.is_empty() && !b.is_empty() => Ok((a.to_string(), b.to_string())),

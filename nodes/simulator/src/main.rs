@@ -9,7 +9,7 @@ use fiveaxis::job::{self, JobOptions};
 use fiveaxis::live::simulator::{simulate, SimConfig};
 use fiveaxis::machine::Machine;
 use fiveaxis::path::PathOptions;
-use fiveaxis_bus::{init_tracing, publish_states, state_qos, Bus, CommonArgs, Pacer, Shutdown};
+use fiveaxis_bus::{init_tracing, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
 use fiveaxis_msgs::{AxisState, JointState};
 use std::time::Duration;
 
@@ -17,63 +17,41 @@ use std::time::Duration;
 #[derive(Parser)]
 #[command(name = "fiveaxis-simulator", version)]
 struct Args {
-    /// Program file, builtin:NAME or bundled:NAME.
-    program: String,
+    #[command(flatten)]
+    stream: StreamArgs,
     #[command(flatten)]
     common: CommonArgs,
-    /// Samples per second.
-    #[arg(long, default_value_t = 1000.0)]
-    rate: f64,
-    /// Publish in real time (the default).
-    #[arg(long, conflicts_with = "fast")]
-    realtime: bool,
-    /// Publish as fast as possible.
-    #[arg(long)]
-    fast: bool,
-    /// Real-time factor.
-    #[arg(long, default_value_t = 1.0)]
-    speed: f64,
-    /// Tool-tip feed for every feed move, mm/min.
-    #[arg(long = "feed", value_name = "MM_PER_MIN")]
-    feed_mm_per_min: Option<f64>,
     /// Servo time constant (each of two lags), ms.
     #[arg(long = "servo-ms", default_value_t = 2.0)]
     servo_ms: f64,
-    /// Wait this long for subscribers before publishing (0: do not wait), s.
-    #[arg(long = "wait-for-subscriber-s", default_value_t = 10.0)]
-    wait_s: f64,
-    /// How many subscribers of the state stream to wait for (e.g. monitor and recorder: 2).
-    #[arg(long = "min-subscribers", default_value_t = 1)]
-    min_subscribers: usize,
 }
 
 fn main() -> anyhow::Result<()> {
     init_tracing();
     let args = Args::parse();
-    anyhow::ensure!(args.rate > 0.0 && args.rate.is_finite(), "--rate must be positive");
-    anyhow::ensure!(args.speed > 0.0 && args.speed.is_finite(), "--speed must be positive");
+    args.stream.validate()?;
     anyhow::ensure!(args.servo_ms > 0.0 && args.servo_ms.is_finite(), "--servo-ms must be positive");
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
     let options = JobOptions {
-        path: PathOptions { period: 1.0 / args.rate, feed_override_mm_per_min: args.feed_mm_per_min },
+        path: PathOptions { period: 1.0 / args.stream.rate, feed_override_mm_per_min: args.stream.feed_mm_per_min },
         ..Default::default()
     };
-    let job = job::run(&args.program, &machine, &options).with_context(|| format!("reading {}", args.program))?;
+    let job = job::run(&args.stream.program, &machine, &options).with_context(|| format!("reading {}", args.stream.program))?;
     let mut config = SimConfig::default();
     config.servo.tau = args.servo_ms * 1e-3;
     let sim = simulate(&job.trajectory, &machine, &config);
     let states = sim.states(&job.trajectory, &machine);
-    tracing::info!(program = %args.program, samples = states.len(), duration_s = sim.duration(), ratios = ?sim.planned_ratio, "simulated");
+    tracing::info!(program = %args.stream.program, samples = states.len(), duration_s = sim.duration(), ratios = ?sim.planned_ratio, "simulated");
 
     let mut bus = Bus::new("fiveaxis_simulator", &args.common)?;
     let state_pub = bus.publisher::<AxisState>("simulated/axis_state", state_qos())?;
     let joint_pub = bus.publisher::<JointState>("simulated/joint_states", state_qos())?;
-    if args.wait_s > 0.0 && !bus.wait_for_subscribers(&state_pub, args.min_subscribers.max(1), Duration::from_secs_f64(args.wait_s), &shutdown) {
-        tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve("simulated/axis_state"), args.wait_s);
+    if args.stream.wait_s > 0.0 && !bus.wait_for_subscribers(&state_pub, args.stream.min_subscribers.max(1), Duration::from_secs_f64(args.stream.wait_s), &shutdown) {
+        tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve("simulated/axis_state"), args.stream.wait_s);
     }
-    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "simulating {} ({} samples)", args.program, states.len());
-    let pacer = Pacer::new(if args.fast { None } else { Some(args.speed) });
+    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "simulating {} ({} samples)", args.stream.program, states.len());
+    let pacer = args.stream.pacer();
     publish_states(&states, &state_pub, &joint_pub, None, &pacer, &shutdown);
     Ok(())
 }
