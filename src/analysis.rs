@@ -95,7 +95,6 @@ pub struct OfflineReport {
 /// A sample of simultaneous five-axis motion: (t s, x m, tip step m, path feed, programmed feed m/s).
 type Cut = (f64, f64, f64, f64, f64);
 
-const RPM: f64 = 60.0 / std::f64::consts::TAU;
 
 /// Analyse the recording at `path` on `machine`.
 pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) -> Result<OfflineReport, RecordError> {
@@ -199,7 +198,7 @@ pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) ->
             }
             last.insert(topic.clone(), (tip, axis, lin, t));
             let p = peaks.entry(topic).or_insert((0.0, f64::INFINITY));
-            p.0 = p.0.max(status.predicted_c_speed.abs() * RPM);
+            p.0 = p.0.max(status.predicted_c_speed.abs() / crate::units::RPM);
             if five_axis {
                 p.1 = p.1.min(status.singularity_distance.to_degrees());
             }

@@ -64,9 +64,8 @@ pub fn figures(program: &Program, machine: &Machine, options: &JobOptions) -> Re
         return Err(AvoidError::Refused(format!("line {}: {}", d.line, d.message)));
     }
     let a = analyze(&traj, machine, &options.analysis);
-    let rpm = 60.0 / std::f64::consts::TAU;
     Ok(Figures {
-        peak_c_speed_rpm: a.summary.peak_rate * rpm,
+        peak_c_speed_rpm: a.summary.peak_rate / crate::units::RPM,
         min_singularity_distance_deg: a.summary.min_distance.unwrap_or(std::f64::consts::FRAC_PI_2).to_degrees(),
         cycle_time_s: a.summary.cycle_time,
     })

@@ -309,7 +309,7 @@ impl Monitor {
         let moving = ds > 1e-12;
         let in_region = predicted.abs() > self.limit || self.config.min_distance.is_some_and(|d| moving && dist < d);
 
-        let rpm = |r: f64| r * 60.0 / std::f64::consts::TAU;
+        let rpm = |r: f64| r / crate::units::RPM;
         if in_region {
             if input.open.is_none() {
                 input.region_id += 1;
@@ -455,7 +455,7 @@ impl Monitor {
                     None => (DiagnosticStatus::STALE, "no valid sample yet".to_string()),
                     Some(s) if s.in_region => (
                         DiagnosticStatus::ERROR,
-                        format!("{} speed {:.1} rpm above its {:.1} rpm limit (region {})", s.secondary_axis, s.predicted_c_speed.abs() * 9.549296585513721, s.c_speed_limit * 9.549296585513721, s.region_id),
+                        format!("{} speed {:.1} rpm above its {:.1} rpm limit (region {})", s.secondary_axis, s.predicted_c_speed.abs() / crate::units::RPM, s.c_speed_limit / crate::units::RPM, s.region_id),
                     ),
                     Some(s) if s.singularity_distance < self.config.warn_distance => {
                         (DiagnosticStatus::WARN, format!("{:.2} deg from the singularity", s.singularity_distance.to_degrees()))
@@ -474,7 +474,7 @@ impl Monitor {
                 if let Some(s) = &input.last {
                     values.extend([
                         KeyValue { key: "singularity_distance_deg".into(), value: format!("{:.4}", s.singularity_distance.to_degrees()) },
-                        KeyValue { key: "predicted_c_speed_rpm".into(), value: format!("{:.2}", s.predicted_c_speed * 9.549296585513721) },
+                        KeyValue { key: "predicted_c_speed_rpm".into(), value: format!("{:.2}", s.predicted_c_speed / crate::units::RPM) },
                         KeyValue { key: "feed_limit_mm_per_min".into(), value: format!("{:.1}", s.feed_limit * 60e3) },
                         KeyValue { key: "limiting_axis".into(), value: s.limiting_axis.clone() },
                         KeyValue { key: "region_id".into(), value: s.region_id.to_string() },

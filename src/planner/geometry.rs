@@ -6,8 +6,7 @@ use crate::path::{Segment, SegmentKind};
 use crate::singularity::CubicSpline;
 use nalgebra::Vector3;
 
-/// Tool-direction change (degrees) above which a block junction is a corner where the machine stops.
-pub const CORNER_DEG: f64 = 30.0;
+pub use crate::singularity::CORNER_DEG;
 
 /// How a run is parametrized and interpolated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -107,22 +106,27 @@ fn direction(seg: &Segment) -> Vector3<f64> {
     }
 }
 
+/// How a segment is interpolated in a run: TCPM with a moving tip, linear machine axes that move,
+/// else a run of its own, linear in its parameter (rapid or rotary-only).
+fn run_kind(s: &Segment) -> RunKind {
+    match s.kind {
+        SegmentKind::Tcp if s.length > 1e-12 => RunKind::Tcp,
+        SegmentKind::Axes if (0..3).any(|i| (s.q1[i] - s.q0[i]).abs() > 1e-12) => RunKind::Axes,
+        _ => RunKind::Linear,
+    }
+}
+
 impl PathModel {
     /// Split the segments into runs and fit their curves.
     pub fn new(segments: &[Segment]) -> PathModel {
         let mut runs: Vec<Run> = Vec::new();
         let mut current: Vec<usize> = Vec::new();
-        let kind_of = |s: &Segment| match s.kind {
-            SegmentKind::Tcp if s.length > 1e-12 => RunKind::Tcp,
-            SegmentKind::Axes if path_length(s) > 1e-12 && (0..3).any(|i| (s.q1[i] - s.q0[i]).abs() > 1e-12) => RunKind::Axes,
-            _ => RunKind::Linear,
-        };
         for (k, seg) in segments.iter().enumerate() {
-            let kind = kind_of(seg);
+            let kind = run_kind(seg);
             let joins = current.last().is_some_and(|&p| {
                 let prev = &segments[p];
                 kind != RunKind::Linear
-                    && kind_of(prev) == kind
+                    && run_kind(prev) == kind
                     && prev.datum == seg.datum
                     && direction(prev).angle(&direction(seg)) <= CORNER_DEG.to_radians()
             });
@@ -140,11 +144,7 @@ impl PathModel {
     fn fit(segments: &[Segment], idx: Vec<usize>) -> Run {
         let first = &segments[idx[0]];
         let last = &segments[*idx.last().unwrap()];
-        let kind = match first.kind {
-            SegmentKind::Tcp if first.length > 1e-12 => RunKind::Tcp,
-            SegmentKind::Axes if idx.len() > 1 || (0..3).any(|i| (first.q1[i] - first.q0[i]).abs() > 1e-12) => RunKind::Axes,
-            _ => RunKind::Linear,
-        };
+        let kind = run_kind(first);
         let mut sigma = vec![0.0];
         for &k in &idx {
             sigma.push(sigma.last().unwrap() + path_length(&segments[k]));

@@ -38,7 +38,6 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
     let mut report = RecoverReport { messages: 0, channels: 0, bytes_total: data.len() as u64, stopped: None };
     let reader = mcap::read::LinearReader::new_with_options(&data, enumset::enum_set!(mcap::read::Options::IgnoreEndMagic))
         .map_err(|e| RecordError::Mcap { path: input.to_path_buf(), message: e.to_string() })?;
-    let mut pending: Vec<mcap::records::Record<'static>> = Vec::new();
     let mut ended = false;
     for rec in reader {
         let rec = match rec {
@@ -65,8 +64,7 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
             }
             other => vec![other],
         };
-        pending.extend(records);
-        for r in pending.drain(..) {
+        for r in records {
             match r {
                 mcap::records::Record::Schema { header, data } => {
                     schemas.insert(header.id, (header.name.clone(), header.encoding.clone(), data.into_owned()));

@@ -10,7 +10,8 @@ use crate::machine::AXES;
 use crate::path::Trajectory;
 use crate::machine::Machine;
 
-/// Tool-direction change (degrees) above which a junction is a corner that ends a run.
+/// Tool-direction change (degrees) above which a junction is a corner that ends a run (here and in the
+/// simulator's planner, which follows the same curve).
 pub const CORNER_DEG: f64 = 30.0;
 
 /// A natural cubic spline `y(x)` through knots with increasing `x`.

@@ -12,7 +12,7 @@ mod geometry;
 
 pub use analysis::{analyze, Analysis, AnalysisOptions, Region, RegionCause, Status, Summary};
 pub use feed::{feed_limit, FeedLimit, FeedLimiter, LimitKind};
-pub use geometry::{CubicSpline, PathGeometry};
+pub use geometry::{CubicSpline, PathGeometry, CORNER_DEG};
 
 use nalgebra::Vector3;
 

@@ -7,6 +7,7 @@ use anyhow::Context as _;
 use clap::Parser;
 use fiveaxis::live::monitor::{Monitor, MonitorConfig};
 use fiveaxis::machine::Machine;
+use fiveaxis::units::RPM;
 use fiveaxis_bus::{diagnostics_qos, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
 use fiveaxis_msgs::{AxisState, DiagnosticArray, JointState, SingularityStatus, Time};
 use std::collections::BTreeMap;
@@ -96,7 +97,7 @@ fn main() -> anyhow::Result<()> {
     let config = MonitorConfig {
         stale_timeout: args.stale_ms * 1e-3,
         min_distance: args.min_distance_deg.map(f64::to_radians),
-        rate_limit: args.max_c_speed_rpm.map(|r| r * std::f64::consts::TAU / 60.0),
+        rate_limit: args.max_c_speed_rpm.map(|r| r * RPM),
         ..Default::default()
     };
     let mut monitor = Monitor::new(&machine, config);
@@ -165,7 +166,6 @@ fn main() -> anyhow::Result<()> {
                         }
                         in_region.insert(topic.clone(), if status.in_region { status.region_id } else { 0 });
                         if let Some(f) = csv.as_mut() {
-                            let rpm = 60.0 / std::f64::consts::TAU;
                             let p = &status.workpiece_position;
                             writeln!(
                                 f,
@@ -176,8 +176,8 @@ fn main() -> anyhow::Result<()> {
                                 p.z * 1e3,
                                 state.path_feed * 60e3,
                                 state.programmed_feed * 60e3,
-                                status.predicted_c_speed * rpm,
-                                status.c_speed * rpm,
+                                status.predicted_c_speed / RPM,
+                                status.c_speed / RPM,
                                 status.singularity_distance.to_degrees(),
                                 status.feed_limit * 60e3,
                                 status.limiting_axis,
