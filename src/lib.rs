@@ -21,5 +21,6 @@ pub mod program;
 pub mod record;
 pub mod report;
 pub mod roughness;
+pub mod scene;
 pub mod singularity;
 pub mod units;

@@ -138,24 +138,8 @@ struct OfflineArgs {
     /// Write a JUnit XML report here.
     #[arg(long)]
     junit: Option<std::path::PathBuf>,
-    /// A measured roughness profile (X3P or CSV) across the part.
-    #[arg(long)]
-    roughness: Option<std::path::PathBuf>,
-    /// Workpiece x of the profile's x = 0, mm.
-    #[arg(long = "roughness-offset-mm", default_value_t = 0.0)]
-    roughness_offset_mm: f64,
-    /// The profile runs against the workpiece x.
-    #[arg(long = "roughness-reversed")]
-    roughness_reversed: bool,
-    /// ISO 16610-21 cut-off lambda_c, mm.
-    #[arg(long = "cutoff-mm", default_value_t = 0.8)]
-    cutoff_mm: f64,
-    /// CSV x unit when its header does not say: m, mm, um or nm.
-    #[arg(long = "x-unit")]
-    x_unit: Option<String>,
-    /// CSV height unit when its header does not say: m, mm, um or nm.
-    #[arg(long = "z-unit")]
-    z_unit: Option<String>,
+    #[command(flatten)]
+    roughness: fiveaxis::roughness::RoughnessArgs,
 }
 
 #[derive(Subcommand)]
@@ -334,33 +318,11 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
-    let unit = |u: &Option<String>| -> Result<Option<f64>, String> {
-        match u.as_deref() {
-            None => Ok(None),
-            Some("m") => Ok(Some(1.0)),
-            Some("mm") => Ok(Some(1e-3)),
-            Some("um") | Some("µm") => Ok(Some(1e-6)),
-            Some("nm") => Ok(Some(1e-9)),
-            Some(o) => Err(format!("unknown unit '{o}': m, mm, um or nm")),
-        }
-    };
-    let roughness = match &a.roughness {
-        None => None,
-        Some(path) => {
-            let units = match (unit(&a.x_unit), unit(&a.z_unit)) {
-                (Ok(x), Ok(z)) => fiveaxis::roughness::CsvUnits { x, z },
-                (Err(e), _) | (_, Err(e)) => {
-                    eprintln!("fiveaxis: {e}");
-                    return Ok(ExitCode::from(EXIT_INPUT));
-                }
-            };
-            match fiveaxis::roughness::read_profile(path, units) {
-                Ok(p) => Some((p.aligned(a.roughness_offset_mm * 1e-3, a.roughness_reversed), a.cutoff_mm * 1e-3)),
-                Err(e) => {
-                    eprintln!("fiveaxis: {e}");
-                    return Ok(ExitCode::from(EXIT_INPUT));
-                }
-            }
+    let roughness = match a.roughness.load() {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("fiveaxis: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
     let options = fiveaxis::analysis::OfflineOptions {

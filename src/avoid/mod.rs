@@ -12,12 +12,27 @@ use crate::singularity::analyze;
 use crate::units::DEG;
 use nalgebra::{Rotation3, Vector3};
 
-/// The figures a remedy is judged by.
+pub mod refine;
+pub mod smooth;
+
+/// The figures a remedy is judged by: the program's (seed 001 eq. 5 at the programmed feed) and what
+/// the simulator (planner with the machine's v/a/j limits) makes of it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Figures {
     pub peak_c_speed_rpm: f64,
     pub min_singularity_distance_deg: f64,
+    /// Simulated cycle time, s.
     pub cycle_time_s: f64,
+    /// Cycle time at the programmed feeds, s.
+    pub programmed_time_s: f64,
+    /// Simulated minus programmed, s.
+    pub time_lost_s: f64,
+    /// Lowest simulated tool-tip feed inside the five-axis cuts (away from their start and end), mm/min.
+    pub min_cut_feed_mm_min: f64,
+    /// Largest simulated |v|/v_max, |a|/a_max, |j|/j_max over the axes (planner set-points).
+    pub max_limit_ratio: [f64; 3],
+    /// Largest change of the tool axis against the original program, degrees (0 for the original).
+    pub max_orientation_deviation_deg: f64,
 }
 
 /// Why a program cannot be reoriented.
@@ -57,18 +72,51 @@ pub fn reoriented(program: &Program, machine: &Machine, r: &Rotation3<f64>, opti
     out
 }
 
-/// Figures of a program on a machine.
-pub fn figures(program: &Program, machine: &Machine, options: &JobOptions) -> Result<Figures, AvoidError> {
+/// The analysis figures of a program (peak predicted C speed, closest approach, programmed time).
+fn analysed(program: &Program, machine: &Machine, options: &JobOptions) -> Result<(Trajectory, Figures), AvoidError> {
     let traj = Trajectory::from_program(program, machine, &options.path);
     if let Some(d) = traj.diagnostics.iter().find(|d| d.severity == crate::program::Severity::Error) {
         return Err(AvoidError::Refused(format!("line {}: {}", d.line, d.message)));
     }
     let a = analyze(&traj, machine, &options.analysis);
-    Ok(Figures {
+    let f = Figures {
         peak_c_speed_rpm: a.summary.peak_rate / crate::units::RPM,
         min_singularity_distance_deg: a.summary.min_distance.unwrap_or(std::f64::consts::FRAC_PI_2).to_degrees(),
         cycle_time_s: a.summary.cycle_time,
-    })
+        programmed_time_s: a.summary.cycle_time,
+        time_lost_s: 0.0,
+        min_cut_feed_mm_min: f64::NAN,
+        max_limit_ratio: [0.0; 3],
+        max_orientation_deviation_deg: 0.0,
+    };
+    Ok((traj, f))
+}
+
+/// Figures of a program on a machine: the analysis, then the simulator re-run on it.
+pub fn figures(program: &Program, machine: &Machine, options: &JobOptions) -> Result<Figures, AvoidError> {
+    let (traj, mut f) = analysed(program, machine, options)?;
+    let sim = crate::live::simulator::simulate(&traj, machine, &Default::default());
+    f.cycle_time_s = sim.duration();
+    f.time_lost_s = f.cycle_time_s - f.programmed_time_s;
+    f.max_limit_ratio = sim.planned_ratio;
+    // Lowest feed inside the cuts: five-axis samples, not on the first or last segment of a run (where
+    // the machine speeds up from, or slows down to, a stop).
+    let states = sim.states(&traj, machine);
+    let mut lowest = f64::INFINITY;
+    for (k, st) in states.iter().enumerate() {
+        let seg = sim.segment[k];
+        let Some(g) = traj.segments.get(seg) else { continue };
+        if !g.is_five_axis() {
+            continue;
+        }
+        let prev_same = seg > 0 && traj.segments[seg - 1].is_five_axis();
+        let next_same = traj.segments.get(seg + 1).is_some_and(|n| n.is_five_axis());
+        if prev_same && next_same {
+            lowest = lowest.min(st.path_feed * 60e3);
+        }
+    }
+    f.min_cut_feed_mm_min = if lowest.is_finite() { lowest } else { f64::NAN };
+    Ok(f)
 }
 
 /// The result of a reorientation search.
@@ -87,7 +135,7 @@ pub fn search(program: &Program, machine: &Machine, max_tilt: f64, options: &Job
     let before = figures(program, machine, options)?;
     let score = |tx: f64, tz: f64| -> Option<(Figures, Program)> {
         let p = reoriented(program, machine, &jig(tx, tz), options);
-        figures(&p, machine, options).ok().map(|f| (f, p))
+        analysed(&p, machine, options).ok().map(|(_, f)| (f, p))
     };
     let better = |a: &(f64, f64, Figures), b: &(f64, f64, Figures)| {
         let key = |x: &(f64, f64, Figures)| (x.2.peak_c_speed_rpm * 1e3).round();
@@ -124,7 +172,10 @@ pub fn search(program: &Program, machine: &Machine, max_tilt: f64, options: &Job
         }
     }
     let program = reoriented(program, machine, &jig(tx, tz), options);
-    Ok((Reorientation { theta_x_deg: tx.to_degrees(), theta_z_deg: tz.to_degrees().rem_euclid(360.0), before, after: f }, program))
+    // The tool axes turn with the jig: their change is the jig's rotation angle.
+    let mut after = figures(&program, machine, options)?;
+    after.max_orientation_deviation_deg = jig(tx, tz).angle().to_degrees();
+    Ok((Reorientation { theta_x_deg: tx.to_degrees(), theta_z_deg: tz.to_degrees().rem_euclid(360.0), before, after }, program))
 }
 
 /// Write a program's planned moves as an NC program in `dialect` (Heidenhain DIN/ISO with M128, or

@@ -380,3 +380,23 @@ mod tests {
         assert!(parse_remap("a:=b").is_ok() && parse_remap("a=b").is_err());
     }
 }
+
+/// Read `sub` on its own thread and hand each message to a node's main loop as `wrap(topic, msg)`;
+/// the thread ends when the receiver is gone. Read errors are logged and skipped.
+pub fn forward<M: DeserializeOwned + Send + 'static, T: Send + 'static>(
+    sub: Subscription<M>,
+    topic: String,
+    tx: std::sync::mpsc::SyncSender<T>,
+    wrap: fn(String, M) -> T,
+) {
+    std::thread::spawn(move || loop {
+        match smol::block_on(sub.async_take()) {
+            Ok((msg, _)) => {
+                if tx.send(wrap(topic.clone(), msg)).is_err() {
+                    break;
+                }
+            }
+            Err(e) => tracing::warn!(%topic, "read error: {e:?}"),
+        }
+    });
+}

@@ -8,7 +8,7 @@ use clap::Parser;
 use fiveaxis::live::monitor::{Monitor, MonitorConfig};
 use fiveaxis::machine::Machine;
 use fiveaxis::units::RPM;
-use fiveaxis_bus::{diagnostics_qos, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
+use fiveaxis_bus::{diagnostics_qos, forward, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
 use fiveaxis_msgs::{AxisState, DiagnosticArray, JointState, SingularityStatus, Time};
 use std::collections::BTreeMap;
 use std::io::Write as _;
@@ -67,25 +67,6 @@ enum Input {
     Joints(String, JointState),
 }
 
-/// Read `sub` on its own thread, handing each message to the main loop as `wrap(topic, message)`.
-fn spawn_reader<M: serde::de::DeserializeOwned + Send + 'static>(
-    sub: ros2_client::Subscription<M>,
-    topic: String,
-    tx: mpsc::SyncSender<Input>,
-    wrap: fn(String, M) -> Input,
-) {
-    std::thread::spawn(move || loop {
-        match smol::block_on(sub.async_take()) {
-            Ok((msg, _)) => {
-                if tx.send(wrap(topic.clone(), msg)).is_err() {
-                    break;
-                }
-            }
-            Err(e) => tracing::warn!(%topic, "read error: {e:?}"),
-        }
-    });
-}
-
 fn main() -> anyhow::Result<()> {
     init_tracing();
     let mut args = Args::parse();
@@ -111,12 +92,12 @@ fn main() -> anyhow::Result<()> {
     for topic in &args.inputs {
         let sub = bus.subscription::<AxisState>(topic, state_qos())?;
         tracing::info!(topic = %bus.resolve(topic), "watching AxisState");
-        spawn_reader(sub, bus.resolve(topic), tx.clone(), Input::State);
+        forward(sub, bus.resolve(topic), tx.clone(), Input::State);
     }
     for topic in &args.joint_inputs {
         let sub = bus.subscription::<JointState>(topic, state_qos())?;
         tracing::info!(topic = %bus.resolve(topic), "watching JointState");
-        spawn_reader(sub, bus.resolve(topic), tx.clone(), Input::Joints);
+        forward(sub, bus.resolve(topic), tx.clone(), Input::Joints);
     }
     drop(tx);
 

@@ -1,0 +1,291 @@
+//! `fiveaxis-rerun`: the Rerun bridge. `live` subscribes to the node set's axis-state streams over
+//! DDS (or a machine bridge's JointState) and streams them to a Rerun viewer; `replay` does the same
+//! from an MCAP recording. Both recompute the monitor per sample (the same [`fiveaxis::scene`]), lay
+//! an optional roughness profile along the workpiece x, and send the default layout.
+
+use anyhow::Context as _;
+use clap::{Args, Parser, Subcommand};
+use fiveaxis::live::monitor::MonitorConfig;
+use fiveaxis::machine::Machine;
+use fiveaxis::roughness::RoughnessArgs;
+use fiveaxis::scene::{replay_mcap, Scene};
+use fiveaxis::units::RPM;
+use fiveaxis_bus::{forward, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
+use fiveaxis_msgs::{AxisState, JointState};
+use fiveaxis_rerun::{blueprint, Bridge, APP_ID};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// Stream the fiveaxis node set (live over DDS, or from an MCAP recording) to Rerun.
+#[derive(Parser)]
+#[command(name = "fiveaxis-rerun", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Replay a recording (MCAP, rosbag2 layout) into a viewer or an .rrd file.
+    Replay(ReplayArgs),
+    /// Subscribe to the axis-state streams over DDS and stream them live.
+    Live(LiveArgs),
+}
+
+/// Where the data goes: a running viewer, an .rrd file, or a viewer spawned here.
+#[derive(Args, Clone)]
+struct SinkArgs {
+    /// Stream to a running viewer at this gRPC URL (default when nothing else is given:
+    /// rerun+http://127.0.0.1:9876/proxy, what `rerun` listens on).
+    #[arg(long, num_args = 0..=1, default_missing_value = rerun::DEFAULT_CONNECT_URL, value_name = "URL")]
+    connect: Option<String>,
+    /// Save to this .rrd file instead (open it with `rerun FILE`).
+    #[arg(long, value_name = "FILE.rrd")]
+    save: Option<PathBuf>,
+    /// Spawn a viewer (`rerun` on the PATH, e.g. `pip install rerun-sdk==0.36.3`) and stream to it;
+    /// it listens on 127.0.0.1 only.
+    #[arg(long, conflicts_with_all = ["connect", "save"])]
+    spawn: bool,
+    /// Recording name shown in the viewer (default: the file or "live").
+    #[arg(long = "recording-name")]
+    recording_name: Option<String>,
+}
+
+#[derive(Args)]
+struct ReplayArgs {
+    /// The recording.
+    recording: PathBuf,
+    /// Built-in machine name or a TOML machine file.
+    #[arg(long, default_value = "hermle-c600u")]
+    machine: String,
+    /// Joint name for a machine axis in a JointState recording: `--axis-map A=joint_a` (repeatable).
+    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = parse_map)]
+    axis_map: Vec<(String, String)>,
+    /// Region threshold of the singular axis speed, rpm (default: the machine's limit).
+    #[arg(long = "max-c-speed-rpm")]
+    max_c_speed_rpm: Option<f64>,
+    #[command(flatten)]
+    roughness: RoughnessArgs,
+    #[command(flatten)]
+    sink: SinkArgs,
+}
+
+#[derive(Args)]
+struct LiveArgs {
+    #[command(flatten)]
+    common: CommonArgs,
+    /// AxisState topics (repeatable; default commanded/axis_state and simulated/axis_state).
+    #[arg(long = "input", value_name = "TOPIC")]
+    inputs: Vec<String>,
+    /// sensor_msgs/JointState topics, e.g. a machine bridge's /joint_states (repeatable).
+    #[arg(long = "joint-state-input", value_name = "TOPIC")]
+    joint_inputs: Vec<String>,
+    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable).
+    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = parse_map)]
+    axis_map: Vec<(String, String)>,
+    /// Region threshold of the singular axis speed, rpm (default: the machine's limit).
+    #[arg(long = "max-c-speed-rpm")]
+    max_c_speed_rpm: Option<f64>,
+    /// Send buffered samples to the viewer at least this often, ms.
+    #[arg(long = "flush-ms", default_value_t = 200)]
+    flush_ms: u64,
+    /// Exit once no sample has arrived for this long after the first, s.
+    #[arg(long = "exit-when-idle-s")]
+    exit_when_idle_s: Option<f64>,
+    #[command(flatten)]
+    roughness: RoughnessArgs,
+    #[command(flatten)]
+    sink: SinkArgs,
+}
+
+fn parse_map(s: &str) -> Result<(String, String), String> {
+    match s.split_once('=') {
+        Some((a, j)) if !a.is_empty() && !j.is_empty() => Ok((a.to_string(), j.to_string())),
+        _ => Err(format!("expected AXIS=JOINT, got '{s}'")),
+    }
+}
+
+/// Exit codes: 0 done, 1 the viewer or the file failed, 2 bad input (unreadable recording, bad flags).
+const EXIT_FAIL: u8 = 1;
+const EXIT_INPUT: u8 = 2;
+
+fn open_stream(sink: &SinkArgs, default_name: &str) -> anyhow::Result<rerun::RecordingStream> {
+    let builder = rerun::RecordingStreamBuilder::new(APP_ID)
+        .recording_name(sink.recording_name.clone().unwrap_or_else(|| default_name.to_string()))
+        .with_default_blueprint(blueprint());
+    let rec = if let Some(path) = &sink.save {
+        builder.save(path).with_context(|| format!("creating {}", path.display()))?
+    } else if sink.spawn {
+        let opts = rerun::SpawnOptions { extra_args: vec!["--bind".into(), "127.0.0.1".into()], ..Default::default() };
+        builder.spawn_opts(&opts).context("spawning a Rerun viewer (is `rerun` on the PATH? pip install rerun-sdk==0.36.3)")?
+    } else {
+        let url = sink.connect.clone().unwrap_or_else(|| rerun::DEFAULT_CONNECT_URL.to_string());
+        builder.connect_grpc_opts(url.clone()).with_context(|| format!("connecting to a Rerun viewer at {url}"))?
+    };
+    Ok(rec)
+}
+
+fn config(max_c_speed_rpm: Option<f64>) -> MonitorConfig {
+    MonitorConfig { rate_limit: max_c_speed_rpm.map(|r| r * RPM), ..Default::default() }
+}
+
+fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
+    let machine = match Machine::from_name_or_file(&a.machine) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("fiveaxis-rerun: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    let roughness = match a.roughness.load() {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("fiveaxis-rerun: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    let name = a.recording.file_name().map_or("recording".into(), |n| n.to_string_lossy().into_owned());
+    let rec = open_stream(&a.sink, &name)?;
+    let mut bridge = Bridge::new(rec, machine.singular_direction().into())?;
+    if let Some((profile, cutoff)) = &roughness {
+        bridge.roughness(profile, *cutoff)?;
+    }
+    let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm));
+    let map: BTreeMap<String, String> = a.axis_map.iter().cloned().collect();
+    let mut failure: Option<anyhow::Error> = None;
+    let stats = replay_mcap(&a.recording, &mut scene, &map, |row, events| {
+        if failure.is_some() {
+            return;
+        }
+        let r = row.map_or(Ok(()), |r| bridge.row(r)).and_then(|_| bridge.events(events));
+        if let Err(e) = r {
+            failure = Some(e);
+        }
+    });
+    let stats = match stats {
+        Ok(s) => s,
+        Err(e) => {
+            // What was read before the damage is already logged: finish the file with it.
+            bridge.flush()?;
+            bridge.stream().flush_blocking().ok();
+            eprintln!("fiveaxis-rerun: {e} (the samples before it were sent)");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    bridge.flush()?;
+    bridge.stream().flush_blocking().context("flushing to the viewer or file")?;
+    let rejected: u64 = scene.rejected.values().sum();
+    eprintln!(
+        "fiveaxis-rerun: {} messages read, {} samples drawn{}{}{}",
+        stats.messages_read,
+        stats.rows,
+        if stats.undecodable > 0 { format!(", {} undecodable", stats.undecodable) } else { String::new() },
+        if rejected > 0 { format!(", {rejected} refused by the monitor (NaN, out of range, out of order)") } else { String::new() },
+        a.sink.save.as_ref().map_or(String::new(), |p| format!(" -> {}", p.display()))
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+enum Input {
+    State(String, AxisState),
+    Joints(String, JointState),
+}
+
+fn live(mut a: LiveArgs) -> anyhow::Result<ExitCode> {
+    let shutdown = Shutdown::install()?;
+    let machine = Machine::from_name_or_file(&a.common.machine).context("loading the machine")?;
+    let roughness = a.roughness.load().map_err(anyhow::Error::msg)?;
+    if a.inputs.is_empty() && a.joint_inputs.is_empty() {
+        a.inputs = vec!["commanded/axis_state".into(), "simulated/axis_state".into()];
+    }
+    let rec = open_stream(&a.sink, "live")?;
+    let mut bridge = Bridge::new(rec, machine.singular_direction().into())?;
+    if let Some((profile, cutoff)) = &roughness {
+        bridge.roughness(profile, *cutoff)?;
+    }
+    let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm));
+    let map: BTreeMap<String, String> = a.axis_map.iter().cloned().collect();
+
+    let mut bus = Bus::new("fiveaxis_rerun", &a.common)?;
+    let (tx, rx) = mpsc::sync_channel::<Input>(8192);
+    for topic in &a.inputs {
+        let sub = bus.subscription::<AxisState>(topic, state_qos())?;
+        tracing::info!(topic = %bus.resolve(topic), "drawing AxisState");
+        forward(sub, bus.resolve(topic), tx.clone(), Input::State);
+    }
+    for topic in &a.joint_inputs {
+        let sub = bus.subscription::<JointState>(topic, state_qos())?;
+        tracing::info!(topic = %bus.resolve(topic), "drawing JointState");
+        forward(sub, bus.resolve(topic), tx.clone(), Input::Joints);
+    }
+    drop(tx);
+    let flush_every = Duration::from_millis(a.flush_ms.max(10));
+    let mut last_flush = Instant::now();
+    let mut last_sample: Option<Instant> = None;
+    let mut samples = 0u64;
+    while !shutdown.requested() {
+        match rx.recv_timeout(Duration::from_millis(20)) {
+            Ok(input) => {
+                last_sample = Some(Instant::now());
+                let (topic, state) = match input {
+                    Input::State(t, s) => (t, Ok(s)),
+                    Input::Joints(t, js) => {
+                        let st = scene.monitor().joint_state_to_axis_state(&js, &map);
+                        (t, st)
+                    }
+                };
+                match state {
+                    Ok(s) => {
+                        let (row, events) = scene.push(&topic, &s);
+                        if let Some(r) = row {
+                            bridge.row(&r)?;
+                            samples += 1;
+                        }
+                        bridge.events(&events)?;
+                    }
+                    Err(e) => tracing::warn!(%topic, "{e}"),
+                }
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => break,
+        }
+        if last_flush.elapsed() >= flush_every {
+            bridge.flush()?;
+            last_flush = Instant::now();
+        }
+        if let (Some(idle), Some(last)) = (a.exit_when_idle_s, last_sample) {
+            if last.elapsed().as_secs_f64() > idle {
+                tracing::info!("inputs idle for {idle} s: exiting");
+                break;
+            }
+        }
+    }
+    let events = scene.finish();
+    bridge.events(&events)?;
+    bridge.flush()?;
+    bridge.stream().flush_blocking().context("flushing to the viewer or file")?;
+    tracing::info!(samples, "done");
+    Ok(ExitCode::SUCCESS)
+}
+
+fn main() -> ExitCode {
+    init_tracing();
+    let cli = Cli::parse();
+    let r = match cli.command {
+        Command::Replay(a) => replay(&a),
+        Command::Live(a) => live(a),
+    };
+    match r {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("fiveaxis-rerun: {e:#}");
+            ExitCode::from(EXIT_FAIL)
+        }
+    }
+}
