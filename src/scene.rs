@@ -35,7 +35,7 @@ pub struct Row {
     pub stream: &'static str,
     /// Stamp since the first sample of the scene, s.
     pub t_s: f64,
-    /// Workpiece x of the tool tip, um, on feed moves (None on rapids and rotary-only moves).
+    /// Workpiece x of the tool tip, um, on feed moves mainly along x (None elsewhere).
     pub x_um: Option<i64>,
     pub a_deg: f64,
     pub c_deg: f64,
@@ -74,13 +74,14 @@ pub struct Scene {
     machine: Machine,
     t0: Option<f64>,
     open: BTreeMap<String, (u32, f64, Option<i64>)>,
+    last_tip: BTreeMap<String, fiveaxis_msgs::Point>,
     /// Samples the monitor refused (NaN, out of range, out of order), per topic.
     pub rejected: BTreeMap<String, u64>,
 }
 
 impl Scene {
     pub fn new(machine: &Machine, config: MonitorConfig) -> Scene {
-        Scene { monitor: Monitor::new(machine, config), machine: machine.clone(), t0: None, open: BTreeMap::new(), rejected: BTreeMap::new() }
+        Scene { monitor: Monitor::new(machine, config), machine: machine.clone(), t0: None, open: BTreeMap::new(), last_tip: BTreeMap::new(), rejected: BTreeMap::new() }
     }
 
     /// The machine's speed limit of the secondary (singular) axis, rpm.
@@ -110,8 +111,15 @@ impl Scene {
         let stream = stream_label(st.source);
         let (pi, si) = (self.machine.primary_axis(), self.machine.secondary_axis());
         let tip = status.workpiece_position;
-        let x_um = (st.programmed_feed > 0.0 && st.program_line > 0 || st.program_line == 0 && st.path_feed > 0.0)
-            .then(|| (tip.x * 1e6).round() as i64);
+        // On the x timeline: feed moves that go mainly along x (across the part, as a profilometer
+        // trace does); approach, retract and parking moves would fold back over the plots.
+        let across = self.last_tip.insert(topic.to_string(), tip).is_some_and(|p| {
+            let (dx, dy, dz) = (tip.x - p.x, tip.y - p.y, tip.z - p.z);
+            let d = (dx * dx + dy * dy + dz * dz).sqrt();
+            d > 0.0 && dx.abs() >= 0.5 * d
+        });
+        let feed_move = st.programmed_feed > 0.0 || st.program_line == 0;
+        let x_um = (across && feed_move).then(|| (tip.x * 1e6).round() as i64);
         let row = Row {
             topic: topic.to_string(),
             stream,

@@ -15,7 +15,7 @@
 
 use fiveaxis::roughness::Profile;
 use fiveaxis::scene::{self, Event, Row, TIMELINE_TIME, TIMELINE_X_UM};
-use rerun::blueprint::{Blueprint, Horizontal, Spatial3DView, Tabs, TextLogView, TimePanel, TimeSeriesView, Vertical};
+use rerun::blueprint::{Blueprint, ContainerLike, Horizontal, Spatial3DView, Tabs, TextLogView, TimePanel, TimeSeriesView, Vertical};
 use rerun::{RecordingStream, TimeColumn};
 use std::collections::BTreeMap;
 
@@ -266,26 +266,65 @@ impl Bridge {
 }
 
 /// The default layout: C speed and feed against x with the roughness below (left), the tool axis on
-/// the unit sphere, the axes, the distance and the region log (right); the x timeline selected.
-pub fn blueprint() -> Blueprint {
-    let left = Vertical::new([
-        TimeSeriesView::new("C speed across the part (rpm)").with_contents(["c_speed/**"]).into(),
-        TimeSeriesView::new("feed across the part (mm/min)").with_contents(["feed/**"]).into(),
-        TimeSeriesView::new("roughness across the part (um)").with_contents(["roughness/**"]).into(),
-    ])
-    .with_row_shares([2.0, 2.0, 1.5]);
+/// the unit sphere, the axes, the distance and the region log (right); the x timeline selected. Also
+/// returns the blueprint paths of the plots, whose time axes [`send_layout`] sets to the whole range.
+pub fn blueprint() -> (Blueprint, Vec<String>) {
+    let plots = [
+        TimeSeriesView::new("C speed across the part (rpm)").with_contents(["c_speed/**"]),
+        TimeSeriesView::new("feed across the part (mm/min)").with_contents(["feed/**"]),
+        TimeSeriesView::new("roughness across the part (um)").with_contents(["roughness/**"]),
+        TimeSeriesView::new("distance to the singularity (deg)").with_contents(["distance/**"]),
+        TimeSeriesView::new("rotary axes (deg)").with_contents(["axes/**"]),
+    ];
+    let plots: Vec<ContainerLike> = plots.into_iter().map(Into::into).collect();
+    let paths: Vec<String> = plots
+        .iter()
+        .filter_map(|v| match v {
+            ContainerLike::View(v) => Some(v.blueprint_path().to_string()),
+            _ => None,
+        })
+        .collect();
+    let Ok([c, feed, rough, dist, axes]) = <[ContainerLike; 5]>::try_from(plots) else { unreachable!("five plots") };
+    let left = Vertical::new([c, feed, rough]).with_row_shares([2.0, 2.0, 1.5]);
     let views_3d = Tabs::new([
         Spatial3DView::new("tool axis on the unit sphere").with_contents(["orientation/**"]).into(),
         Spatial3DView::new("tool path (mm, workpiece frame)").with_contents(["toolpath/**"]).into(),
     ]);
-    let right = Vertical::new([
-        views_3d.into(),
-        TimeSeriesView::new("distance to the singularity (deg)").with_contents(["distance/**"]).into(),
-        TimeSeriesView::new("rotary axes (deg)").with_contents(["axes/**"]).into(),
-        TextLogView::new("regions").with_contents(["events/**"]).into(),
-    ])
-    .with_row_shares([3.0, 1.2, 1.2, 1.6]);
-    Blueprint::new(Horizontal::new([left.into(), right.into()]).with_column_shares([3.0, 2.0]))
-        .with_time_panel(TimePanel::new().with_timeline(TIMELINE_X_UM))
-        .with_auto_views(false)
+    let right = Vertical::new([views_3d.into(), dist, axes, TextLogView::new("regions and feed limits").with_contents(["events/**"]).into()])
+        .with_row_shares([3.0, 1.2, 1.2, 1.6]);
+    let bp = Blueprint::new(Horizontal::new([left.into(), right.into()]).with_column_shares([3.0, 2.0]))
+        .with_time_panel(TimePanel::new().with_timeline(TIMELINE_X_UM).with_play_state(rerun::blueprint::components::PlayState::Paused))
+        .with_auto_views(false);
+    (bp, paths)
+}
+
+/// Send the default layout to `rec` as its default blueprint, with every plot's time axis showing the
+/// whole recording (the Rust blueprint builder cannot set view properties, so they are
+/// logged into the same blueprint store here).
+pub fn send_layout(rec: &RecordingStream) -> anyhow::Result<()> {
+    use rerun::external::re_sdk_types::blueprint::{archetypes::TimeAxis, components as bc};
+    use rerun::external::re_sdk_types::datatypes::{TimeRange, TimeRangeBoundary};
+    use rerun::log::LogMsg;
+    let (bp, plots) = blueprint();
+    let (collector, storage) = rerun::RecordingStreamBuilder::new(APP_ID).blueprint().memory()?;
+    bp.send(&collector, rerun::blueprint::BlueprintActivation { make_active: false, make_default: true })?;
+    collector.flush_blocking()?;
+    let msgs = storage.take();
+    let Some(cmd) = msgs.iter().find_map(|m| match m {
+        LogMsg::BlueprintActivationCommand(c) => Some(c.clone()),
+        _ => None,
+    }) else {
+        anyhow::bail!("the blueprint produced no activation command");
+    };
+    let mut out: Vec<LogMsg> = msgs.into_iter().filter(|m| !matches!(m, LogMsg::BlueprintActivationCommand(_)) && *m.store_id() == cmd.blueprint_id).collect();
+    let (props, pstore) = rerun::RecordingStreamBuilder::new(APP_ID).recording_id(cmd.blueprint_id.recording_id().clone()).blueprint().memory()?;
+    props.set_time_sequence("blueprint", 0);
+    let whole = bc::TimeRange(TimeRange { start: TimeRangeBoundary::Infinite, end: TimeRangeBoundary::Infinite });
+    for path in &plots {
+        props.log(format!("{path}/TimeAxis"), &TimeAxis::new().with_view_range(whole.clone()))?;
+    }
+    props.flush_blocking()?;
+    out.extend(pstore.take().into_iter().filter(|m| matches!(m, LogMsg::ArrowMsg(..)) && *m.store_id() == cmd.blueprint_id));
+    rec.send_blueprint(out, cmd);
+    Ok(())
 }

@@ -12,7 +12,7 @@ use fiveaxis::scene::{replay_mcap, Scene};
 use fiveaxis::units::RPM;
 use fiveaxis_bus::{forward, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
 use fiveaxis_msgs::{AxisState, JointState};
-use fiveaxis_rerun::{blueprint, Bridge, APP_ID};
+use fiveaxis_rerun::{send_layout, Bridge, APP_ID};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -114,8 +114,7 @@ const EXIT_INPUT: u8 = 2;
 
 fn open_stream(sink: &SinkArgs, default_name: &str) -> anyhow::Result<rerun::RecordingStream> {
     let builder = rerun::RecordingStreamBuilder::new(APP_ID)
-        .recording_name(sink.recording_name.clone().unwrap_or_else(|| default_name.to_string()))
-        .with_default_blueprint(blueprint());
+        .recording_name(sink.recording_name.clone().unwrap_or_else(|| default_name.to_string()));
     let rec = if let Some(path) = &sink.save {
         builder.save(path).with_context(|| format!("creating {}", path.display()))?
     } else if sink.spawn {
@@ -125,6 +124,7 @@ fn open_stream(sink: &SinkArgs, default_name: &str) -> anyhow::Result<rerun::Rec
         let url = sink.connect.clone().unwrap_or_else(|| rerun::DEFAULT_CONNECT_URL.to_string());
         builder.connect_grpc_opts(url.clone()).with_context(|| format!("connecting to a Rerun viewer at {url}"))?
     };
+    send_layout(&rec)?;
     Ok(rec)
 }
 
@@ -275,6 +275,11 @@ fn live(mut a: LiveArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn main() -> ExitCode {
+    if std::env::var_os("RUST_LOG").is_none() {
+        // Rerun warns about out-of-order x values (the x timeline is not monotonic over a program by
+        // nature) and logs its sinks at info: keep those quiet unless asked for.
+        std::env::set_var("RUST_LOG", "info,re_chunk=error,re_sdk=warn,re_log_encoding=warn,rustdds=warn,ros2_client=warn,ros2_client::distributions=error");
+    }
     init_tracing();
     let cli = Cli::parse();
     let r = match cli.command {
