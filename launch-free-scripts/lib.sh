@@ -2,12 +2,15 @@
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/.." && pwd)
 
-# FIVEAXIS_BIN: a folder holding fiveaxis-commander/-simulator/-monitor; default: build them (release).
+# FIVEAXIS_BIN: a folder holding fiveaxis-commander/-simulator/-monitor; default: build them (release),
+# and the extra packages named as arguments (e.g. fiveaxis-rerun, the slowest to build).
 fiveaxis_bins() {
     if [ -n "${FIVEAXIS_BIN:-}" ]; then
         echo "$FIVEAXIS_BIN"
         return
     fi
-    (cd "$root" && cargo build --release --locked -q -p fiveaxis-commander -p fiveaxis-simulator -p fiveaxis-monitor >&2)
+    local pkgs=(-p fiveaxis-commander -p fiveaxis-simulator -p fiveaxis-monitor -p fiveaxis-recorder)
+    for p in "$@"; do pkgs+=(-p "$p"); done
+    (cd "$root" && cargo build --release --locked -q "${pkgs[@]}" >&2)
     echo "$root/target/release"
 }

@@ -39,6 +39,12 @@ enum Command {
     /// Remedies for a singular program.
     #[command(subcommand)]
     Avoid(AvoidCmd),
+    /// Replay a recording (MCAP) into a Rerun viewer or an .rrd file: runs `fiveaxis-rerun replay`
+    /// with these arguments (see `fiveaxis-rerun replay --help`).
+    Replay {
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true, value_name = "ARGS")]
+        args: Vec<String>,
+    },
     /// The embedded default: the node set in one process on the paper's two programs and two continuous
     /// paths, on the Hermle.
     Demo {
@@ -111,6 +117,10 @@ struct RunArgs {
     /// Record every topic of the node set to this MCAP file (rosbag2 layout).
     #[arg(long)]
     mcap: Option<std::path::PathBuf>,
+    /// Also write the run as a Rerun recording (.rrd, the default layout): the MCAP replayed by
+    /// `fiveaxis-rerun`, which must sit beside this executable (`cargo build -p fiveaxis-rerun`).
+    #[arg(long)]
+    rrd: Option<std::path::PathBuf>,
 }
 
 #[derive(Args)]
@@ -207,6 +217,8 @@ fn parse_dialect(s: &str) -> Result<Dialect, String> {
 /// Exit codes: 0 success, 1 failure of the tool itself, 2 bad input (usage, an unreadable file or
 /// machine, or a program with defects).
 const EXIT_INPUT: u8 = 2;
+/// Exit code when a tool the command needs failed.
+const EXIT_FAILURE: u8 = 1;
 
 fn positive(name: &str, v: Option<f64>) -> anyhow::Result<()> {
     match v {
@@ -264,8 +276,11 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
+    // An .rrd is made from the recording: record to a temporary MCAP when none was asked for.
+    let tmp_mcap = (a.rrd.is_some() && a.mcap.is_none()).then(|| std::env::temp_dir().join(format!("fiveaxis-run-{}.mcap", std::process::id())));
+    let mcap = a.mcap.clone().or_else(|| tmp_mcap.clone());
     let options = fiveaxis::live::inprocess::RunOptions {
-        mcap: a.mcap.clone(),
+        mcap: mcap.clone(),
         job: JobOptions {
             dialect: a.src.dialect,
             path: PathOptions { feed_override_mm_per_min: a.src.feed_mm_per_min, ..Default::default() },
@@ -284,6 +299,22 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
     };
     if let (Some(path), Some(n)) = (&a.mcap, out.recorded_messages) {
         eprintln!("fiveaxis: recorded {n} messages to {}", path.display());
+    }
+    if let (Some(rrd), Some(m)) = (&a.rrd, &mcap) {
+        let mut args: Vec<std::ffi::OsString> = vec!["replay".into(), m.into(), "--save".into(), rrd.into(), "--machine".into(), a.src.machine.clone().into()];
+        args.extend(["--recording-name".into(), a.src.program.clone().into()]);
+        let status = rerun_bridge(&args);
+        if let Some(t) = &tmp_mcap {
+            let _ = std::fs::remove_file(t);
+        }
+        match status {
+            Ok(code) if code == 0 => {}
+            Ok(code) => return Ok(ExitCode::from(code)),
+            Err(e) => {
+                eprintln!("fiveaxis: {e:#}");
+                return Ok(ExitCode::from(EXIT_FAILURE));
+            }
+        }
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&out.report)?);
@@ -448,6 +479,18 @@ fn reorient(program: &str, machine: &str, max_tilt_deg: f64, out: Option<&std::p
     Ok(ExitCode::SUCCESS)
 }
 
+/// Run the `fiveaxis-rerun` executable (beside this one, else on the PATH) with `args`; its exit code.
+/// The Rerun SDK is the slowest dependency to build, so the main CLI leaves drawing to that crate.
+fn rerun_bridge(args: &[std::ffi::OsString]) -> anyhow::Result<u8> {
+    let beside = std::env::current_exe().ok().and_then(|p| p.parent().map(|d| d.join("fiveaxis-rerun"))).filter(|p| p.exists());
+    let exe = beside.unwrap_or_else(|| "fiveaxis-rerun".into());
+    let status = std::process::Command::new(&exe)
+        .args(args)
+        .status()
+        .with_context(|| format!("running {} (build it with `cargo build -p fiveaxis-rerun`)", exe.display()))?;
+    Ok(status.code().map_or(EXIT_FAILURE, |c| c.clamp(0, 255) as u8))
+}
+
 fn recover(input: &std::path::Path, output: &std::path::Path) -> anyhow::Result<ExitCode> {
     match fiveaxis::record::recover(input, output) {
         Ok(r) => {
@@ -548,6 +591,17 @@ fn main() -> ExitCode {
         Command::Mcap(McapCmd::Recover { input, output }) => recover(input, output),
         Command::Roughness(RoughnessCmd::Synthesize { program, out, seed }) => synthesize(program, out, *seed),
         Command::Avoid(AvoidCmd::Reorient { program, machine, max_tilt_deg, out, json }) => reorient(program, machine, *max_tilt_deg, out.as_deref(), *json),
+        Command::Replay { args } => {
+            let mut a: Vec<std::ffi::OsString> = vec!["replay".into()];
+            a.extend(args.iter().map(Into::into));
+            match rerun_bridge(&a) {
+                Ok(code) => Ok(ExitCode::from(code)),
+                Err(e) => {
+                    eprintln!("fiveaxis: {e:#}");
+                    Ok(ExitCode::from(EXIT_FAILURE))
+                }
+            }
+        }
         Command::Demo { json } => demo(*json),
     };
     match result {
