@@ -172,6 +172,50 @@ enum AvoidCmd {
         #[arg(long)]
         json: bool,
     },
+    /// Smooth the C axis through the singularity (seed 002): the tool axis passes the singular point,
+    /// C and A follow C3 connecting curves within the machine's v/a/j limits at the programmed feed.
+    /// Ball-end tools only (the ball centre stays on the path).
+    Smooth {
+        /// A program, or builtin:NAME (taken as CL data every 0.1 mm).
+        program: String,
+        /// Built-in machine name or a TOML machine file.
+        #[arg(long, default_value = "hermle-c600u")]
+        machine: String,
+        /// The cutter: ball:R_MM (required: flat:R_MM and bull:R_MM:r_MM are refused).
+        #[arg(long)]
+        tool: fiveaxis::avoid::smooth::Tool,
+        /// Write the smoothed program here (same dialect as the input; Heidenhain for builtins).
+        #[arg(long)]
+        out: Option<std::path::PathBuf>,
+        /// Print one JSON object with `before`, `after` and `passages`.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Refine CL data near the singularity (seed 003 §5): densify where the tool-axis angle, the step
+    /// or a rotary-axis change between neighbours exceeds a threshold, on the IK branch that avoids
+    /// 180 deg C flips; reports the overcut the original discretisation causes.
+    Refine {
+        /// CL data (or a TCPM program read as CL), builtin:NAME or builtin:semi-cylinder.
+        program: String,
+        /// Built-in machine name or a TOML machine file.
+        #[arg(long, default_value = "hermle-c600u")]
+        machine: String,
+        /// Largest tool-axis angle between neighbours, degrees.
+        #[arg(long = "max-angle-deg", default_value_t = 1.0)]
+        max_angle_deg: f64,
+        /// Largest tool-tip step, mm.
+        #[arg(long = "max-step-mm", default_value_t = 1.0)]
+        max_step_mm: f64,
+        /// Largest rotary-axis change between neighbours, degrees.
+        #[arg(long = "max-axis-step-deg", default_value_t = 2.0)]
+        max_axis_step_deg: f64,
+        /// Write the refined program here (same dialect as the input; Heidenhain for CL data).
+        #[arg(long)]
+        out: Option<std::path::PathBuf>,
+        /// Print one JSON object with `before`, `after` and the chord errors.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 #[derive(Subcommand)]
@@ -415,43 +459,155 @@ fn synthesize(program: &str, out: &std::path::Path, seed: u64) -> anyhow::Result
     Ok(ExitCode::SUCCESS)
 }
 
-fn reorient(program: &str, machine: &str, max_tilt_deg: f64, out: Option<&std::path::Path>, json: bool) -> anyhow::Result<ExitCode> {
-    if !(max_tilt_deg.is_finite() && max_tilt_deg > 0.0 && max_tilt_deg <= 90.0) {
-        eprintln!("fiveaxis: --max-tilt-deg must be in (0, 90], got {max_tilt_deg}");
-        return Ok(ExitCode::from(EXIT_INPUT));
-    }
-    let machine = match Machine::from_name_or_file(machine) {
-        Ok(m) => m,
-        Err(e) => {
-            eprintln!("fiveaxis: {e}");
-            return Ok(ExitCode::from(EXIT_INPUT));
-        }
-    };
-    let options = JobOptions::default();
-    let prog = if let Some(name) = program.strip_prefix("builtin:") {
+/// The machine and program of an `avoid` command (files, bundled:, builtin: paths as CL every 0.1 mm,
+/// builtin:semi-cylinder); refuses programs with defects. Errors are printed; the exit code returned.
+fn avoid_input(program: &str, machine: &str, what: &str, options: &JobOptions) -> Result<(Machine, fiveaxis::program::Program), ExitCode> {
+    let machine = Machine::from_name_or_file(machine).map_err(|e| {
+        eprintln!("fiveaxis: {e}");
+        ExitCode::from(EXIT_INPUT)
+    })?;
+    let prog = if program == "builtin:semi-cylinder" {
+        fiveaxis::avoid::refine::semi_cylinder()
+    } else if let Some(name) = program.strip_prefix("builtin:") {
         match fiveaxis::path::BuiltinPath::by_name(name) {
             Some(p) => p.cl_program(0.1),
             None => {
-                eprintln!("fiveaxis: unknown built-in path '{name}'");
-                return Ok(ExitCode::from(EXIT_INPUT));
+                eprintln!("fiveaxis: unknown built-in path '{name}' (also builtin:semi-cylinder)");
+                return Err(ExitCode::from(EXIT_INPUT));
             }
         }
     } else {
-        match job::read_spec(program, &options) {
-            Ok(p) => p,
-            Err(e) => {
-                eprintln!("fiveaxis: {e}");
-                return Ok(ExitCode::from(EXIT_INPUT));
-            }
-        }
+        job::read_spec(program, options).map_err(|e| {
+            eprintln!("fiveaxis: {e}");
+            ExitCode::from(EXIT_INPUT)
+        })?
     };
     if prog.has_errors() {
         for d in prog.report() {
             eprintln!("{d}");
         }
-        eprintln!("fiveaxis: {program} has defects: refusing to reorient it");
+        eprintln!("fiveaxis: {program} has defects: refusing to {what} it");
+        return Err(ExitCode::from(EXIT_INPUT));
+    }
+    Ok((machine, prog))
+}
+
+/// The before/after table every remedy prints.
+fn remedy_table(before: &fiveaxis::avoid::Figures, after: &fiveaxis::avoid::Figures) {
+    println!("{:<34} {:>12} {:>12}", "", "before", "after");
+    println!("{:<34} {:>12.1} {:>12.1}", "peak C speed (eq. 5), rpm", before.peak_c_speed_rpm, after.peak_c_speed_rpm);
+    println!("{:<34} {:>12.3} {:>12.3}", "closest approach, deg", before.min_singularity_distance_deg, after.min_singularity_distance_deg);
+    println!("{:<34} {:>12.2} {:>12.2}", "simulated cycle time, s", before.cycle_time_s, after.cycle_time_s);
+    println!("{:<34} {:>12.2} {:>12.2}", "time lost against F, s", before.time_lost_s, after.time_lost_s);
+    println!("{:<34} {:>12.0} {:>12.0}", "lowest feed in the cuts, mm/min", before.min_cut_feed_mm_min, after.min_cut_feed_mm_min);
+    println!("{:<34} {:>12.3} {:>12.3}", "max orientation change, deg", before.max_orientation_deviation_deg, after.max_orientation_deviation_deg);
+}
+
+fn write_out(prog: &fiveaxis::program::Program, new: &fiveaxis::program::Program, machine: &Machine, out: Option<&std::path::Path>, options: &JobOptions) -> anyhow::Result<()> {
+    if let Some(path) = out {
+        let dialect = if prog.dialect == Dialect::Rs274 { Dialect::Rs274 } else { Dialect::Heidenhain };
+        std::fs::write(path, fiveaxis::avoid::write_program(new, machine, dialect, options)).with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
+
+fn smooth(program: &str, machine: &str, tool: fiveaxis::avoid::smooth::Tool, out: Option<&std::path::Path>, json: bool) -> anyhow::Result<ExitCode> {
+    let options = JobOptions::default();
+    let (machine, prog) = match avoid_input(program, machine, "smooth", &options) {
+        Ok(x) => x,
+        Err(code) => return Ok(code),
+    };
+    let (new, s) = match fiveaxis::avoid::smooth::smooth(&prog, &machine, tool, &options) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("fiveaxis: cannot smooth {program}: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    let (before, mut after) = match (fiveaxis::avoid::figures(&prog, &machine, &options), fiveaxis::avoid::figures(&new, &machine, &options)) {
+        (Ok(b), Ok(a)) => (b, a),
+        (Err(e), _) | (_, Err(e)) => {
+            eprintln!("fiveaxis: cannot smooth {program}: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    after.max_orientation_deviation_deg = s.max_orientation_deviation_deg;
+    write_out(&prog, &new, &machine, out, &options)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "before": before, "after": after, "passages": s.passages, "max_ball_centre_error_mm": s.max_ball_centre_error_m * 1e3, "valid_for": "ball-end tools only" }))?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!("C-axis smoothing of {program} on {} (seed 002)", machine.name);
+    println!("valid for ball-end tools only: the ball centre stays on the path, the tool axis changes");
+    if s.passages.is_empty() {
+        println!("no singular passage: nothing changed");
+    }
+    for p in &s.passages {
+        println!(
+            "passage        x {:.3} mm (closest {:.3} deg): window x {:.3} to {:.3} mm ({:.1} mm of path), {} points changed; C at {:.2}/{:.2}/{:.2} of its v/a/j limits; tool axis changed by up to {:.3} deg",
+            p.x_singular_mm, p.original_distance_deg, p.x_start_mm, p.x_end_mm, p.window_length_mm, p.points_changed, p.c_limit_ratio[0], p.c_limit_ratio[1], p.c_limit_ratio[2], p.max_orientation_deviation_deg
+        );
+    }
+    println!("ball centre    within {:.4} um of the original", s.max_ball_centre_error_m * 1e6);
+    remedy_table(&before, &after);
+    if let Some(path) = out {
+        println!("wrote {}", path.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn refine(program: &str, machine: &str, opts: &fiveaxis::avoid::refine::RefineOptions, out: Option<&std::path::Path>, json: bool) -> anyhow::Result<ExitCode> {
+    let options = JobOptions::default();
+    let (machine, prog) = match avoid_input(program, machine, "refine", &options) {
+        Ok(x) => x,
+        Err(code) => return Ok(code),
+    };
+    let refined = fiveaxis::avoid::refine::refine(&prog, &machine, opts, &options)
+        .and_then(|(new, r)| fiveaxis::avoid::refine::conventional(&prog, &machine, &options).map(|c| (new, r, c)));
+    let (new, r, conventional) = match refined {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("fiveaxis: cannot refine {program}: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    let (before, after) = match (fiveaxis::avoid::figures(&conventional, &machine, &options), fiveaxis::avoid::figures(&new, &machine, &options)) {
+        (Ok(b), Ok(a)) => (b, a),
+        (Err(e), _) | (_, Err(e)) => {
+            eprintln!("fiveaxis: cannot refine {program}: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    write_out(&prog, &new, &machine, out, &options)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "before": before, "after": after, "refinement": r }))?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!("CL refinement of {program} on {} (seed 003 §5); before = the conventional post (A >= 0 branch)", machine.name);
+    println!("points         {} -> {} (tool tips within {:.4} um of the original CL polyline)", r.points_before, r.points_after, r.max_tip_error_m * 1e6);
+    println!("{:<34} {:>12} {:>12}", "", "before", "after");
+    println!("{:<34} {:>12.1} {:>12.1}", "largest C step, deg", r.before.max_c_step_deg, r.after.max_c_step_deg);
+    println!("{:<34} {:>12} {:>12}", "180 deg C flips", r.before.c_flips, r.after.c_flips);
+    println!("{:<34} {:>12.4} {:>12.4}", "overcut without TCPM, mm", r.before.overcut_mm, r.after.overcut_mm);
+    println!("{:<34} {:>12.4} {:>12.4}", "undercut without TCPM, mm", r.before.undercut_mm, r.after.undercut_mm);
+    println!("{:<34} {:>12.4} {:>12.4}", "tip off the chord without TCPM, mm", r.before.max_deviation_mm, r.after.max_deviation_mm);
+    remedy_table(&before, &after);
+    if let Some(path) = out {
+        println!("wrote {}", path.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn reorient(program: &str, machine: &str, max_tilt_deg: f64, out: Option<&std::path::Path>, json: bool) -> anyhow::Result<ExitCode> {
+    if !(max_tilt_deg.is_finite() && max_tilt_deg > 0.0 && max_tilt_deg <= 90.0) {
+        eprintln!("fiveaxis: --max-tilt-deg must be in (0, 90], got {max_tilt_deg}");
         return Ok(ExitCode::from(EXIT_INPUT));
     }
+    let options = JobOptions::default();
+    let (machine, prog) = match avoid_input(program, machine, "reorient", &options) {
+        Ok(x) => x,
+        Err(code) => return Ok(code),
+    };
     let (r, new) = match fiveaxis::avoid::search(&prog, &machine, max_tilt_deg * DEG, &options) {
         Ok(x) => x,
         Err(e) => {
@@ -459,19 +615,13 @@ fn reorient(program: &str, machine: &str, max_tilt_deg: f64, out: Option<&std::p
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
-    if let Some(path) = out {
-        let dialect = if prog.dialect == Dialect::Rs274 { Dialect::Rs274 } else { Dialect::Heidenhain };
-        std::fs::write(path, fiveaxis::avoid::write_program(&new, &machine, dialect, &options)).with_context(|| format!("writing {}", path.display()))?;
-    }
+    write_out(&prog, &new, &machine, out, &options)?;
     if json {
         println!("{}", serde_json::to_string_pretty(&r)?);
     } else {
         println!("reorientation of {program} on {} (jig tilt within {max_tilt_deg} deg)", machine.name);
         println!("jig angles     theta_x {:.2} deg, theta_z {:.2} deg (seed 001 eq. 7)", r.theta_x_deg, r.theta_z_deg);
-        println!("{:<30} {:>12} {:>12}", "", "before", "after");
-        println!("{:<30} {:>12.1} {:>12.1}", "peak C speed, rpm", r.before.peak_c_speed_rpm, r.after.peak_c_speed_rpm);
-        println!("{:<30} {:>12.3} {:>12.3}", "closest approach, deg", r.before.min_singularity_distance_deg, r.after.min_singularity_distance_deg);
-        println!("{:<30} {:>12.2} {:>12.2}", "cycle time at F, s", r.before.cycle_time_s, r.after.cycle_time_s);
+        remedy_table(&r.before, &r.after);
         if let Some(path) = out {
             println!("wrote {}", path.display());
         }
@@ -591,6 +741,11 @@ fn main() -> ExitCode {
         Command::Mcap(McapCmd::Recover { input, output }) => recover(input, output),
         Command::Roughness(RoughnessCmd::Synthesize { program, out, seed }) => synthesize(program, out, *seed),
         Command::Avoid(AvoidCmd::Reorient { program, machine, max_tilt_deg, out, json }) => reorient(program, machine, *max_tilt_deg, out.as_deref(), *json),
+        Command::Avoid(AvoidCmd::Smooth { program, machine, tool, out, json }) => smooth(program, machine, *tool, out.as_deref(), *json),
+        Command::Avoid(AvoidCmd::Refine { program, machine, max_angle_deg, max_step_mm, max_axis_step_deg, out, json }) => {
+            let opts = fiveaxis::avoid::refine::RefineOptions { max_step: max_step_mm * 1e-3, max_angle: max_angle_deg * DEG, max_axis_step: max_axis_step_deg * DEG };
+            refine(program, machine, &opts, out.as_deref(), *json)
+        }
         Command::Replay { args } => {
             let mut a: Vec<std::ffi::OsString> = vec!["replay".into()];
             a.extend(args.iter().map(Into::into));

@@ -70,3 +70,137 @@ fn reoriented_program_written_and_read_back() {
         assert!(a.regions.is_empty(), "{dialect:?}: the reoriented program has none");
     }
 }
+
+// ---- C-axis smoothing (seed 002) and CL refinement (seed 003 §5) ----
+
+use fiveaxis::avoid::refine::{chord_error, conventional, refine, semi_cylinder, RefineOptions};
+use fiveaxis::avoid::smooth::{smooth, Tool};
+use fiveaxis::avoid::write_program;
+use fiveaxis::job::read_spec;
+use fiveaxis::program::{read, Dialect, Program, ReadOptions};
+
+/// Write `p` as Heidenhain and read it back through our reader: what a user would run.
+fn round_trip(p: &Program, m: &Machine) -> Program {
+    let text = write_program(p, m, Dialect::Heidenhain, &JobOptions::default());
+    let back = read(&text, Dialect::Heidenhain, "written", &ReadOptions::default());
+    assert!(!back.has_errors(), "the written program reads back cleanly: {:?}", back.report());
+    back
+}
+
+/// Ball centres (tip + R * tool axis) of the five-axis feed moves, in path order.
+fn ball_centres(p: &Program, m: &Machine, r: f64) -> Vec<nalgebra::Vector3<f64>> {
+    let t = Trajectory::from_program(p, m, &JobOptions::default().path);
+    t.segments.iter().filter(|s| s.is_path_move() && s.feed > 0.0).map(|s| s.tip1 + r * m.forward(&s.q1).axis).collect()
+}
+
+/// Re-run the whole in-process pipeline (commander, simulator, monitor) on a written program.
+fn pipeline(text: &str, tag: &str) -> fiveaxis::live::inprocess::RunOutput {
+    let path = std::env::temp_dir().join(format!("fiveaxis-avoid-{tag}-{}.I", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    let out = fiveaxis::live::inprocess::run(path.to_str().unwrap(), &Machine::hermle_c600u(), &Default::default()).unwrap();
+    let _ = std::fs::remove_file(&path);
+    out
+}
+
+/// SING.I with a 3 mm ball: the passage at x 25 mm is smoothed; by the re-run pipeline the commanded
+/// stream has no region, C (and every axis) stays within its v/a/j limits, the programmed F2000 is
+/// held (the original drops to ~250 mm/min); the ball centres follow the original within 1 um; the tool
+/// axis changes by no more than the original closest approach (1 deg) plus rounding.
+#[test]
+fn smoothing_sing_holds_the_feed_within_the_limits_and_keeps_the_ball_centre() {
+    let m = Machine::hermle_c600u();
+    let o = JobOptions::default();
+    let sing = read_spec("bundled:SING.I", &o).unwrap();
+    let (new, s) = smooth(&sing, &m, Tool::Ball(3e-3), &o).unwrap();
+    assert_eq!(s.passages.len(), 1, "{s:?}");
+    let p = &s.passages[0];
+    assert!((p.x_singular_mm - 25.0).abs() < 1e-6 && (p.original_distance_deg - 1.0).abs() < 1e-3, "{p:?}");
+    assert!(p.c_limit_ratio.iter().all(|&r| r <= 1.0), "{p:?}");
+    assert!(s.max_orientation_deviation_deg <= 1.0 + 1e-3, "{s:?}");
+
+    let back = round_trip(&new, &m);
+    let (c0, c1) = (ball_centres(&sing, &m, 3e-3), ball_centres(&back, &m, 3e-3));
+    assert_eq!(c0.len(), c1.len());
+    let worst = c0.iter().zip(&c1).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max);
+    assert!(worst < 1e-6, "ball centres moved by up to {:.3} um", worst * 1e6);
+
+    let run = pipeline(&write_program(&new, &m, Dialect::Heidenhain, &o), "smooth");
+    assert!(run.commanded_regions.is_empty(), "commanded regions after smoothing: {:?}", run.commanded_regions);
+    let sim = &run.report.simulated;
+    assert!(sim.min_feed_mm_per_min >= 0.95 * 2000.0, "feed not held: {} mm/min", sim.min_feed_mm_per_min);
+    assert!(sim.max_axis_velocity_ratio <= 1.0 + 1e-9 && sim.max_axis_acceleration_ratio <= 1.0 + 1e-9 && sim.max_axis_jerk_ratio <= 1.0 + 1e-9, "{sim:?}");
+    let before = pipeline(&std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/programs/SING.I")).unwrap(), "sing");
+    assert!(before.report.simulated.min_feed_mm_per_min < 500.0, "the original stutters");
+    assert!(sim.cycle_time_s < before.report.simulated.cycle_time_s);
+}
+
+#[test]
+fn smoothing_refuses_flat_and_bull_nose_tools() {
+    let m = Machine::hermle_c600u();
+    let o = JobOptions::default();
+    let sing = read_spec("bundled:SING.I", &o).unwrap();
+    for tool in [Tool::Flat(3e-3), Tool::Bull(5e-3, 1e-3)] {
+        let e = smooth(&sing, &m, tool, &o).unwrap_err().to_string();
+        assert!(e.contains("ball-end"), "{e}");
+    }
+}
+
+/// Seed 003's test piece: 141 CL poses over a semi-cylinder, the tool axis crossing the singular
+/// direction. The conventional post flips C by 180 deg at the top (seed 003 Fig. 15); refinement
+/// removes the flip, keeps every tool tip on the original CL polyline (1 um), and the re-run pipeline
+/// shows no region and no stutter.
+#[test]
+fn refinement_removes_the_180_degree_flip_on_the_semi_cylinder() {
+    let m = Machine::hermle_c600u();
+    let o = JobOptions::default();
+    let piece = semi_cylinder();
+    assert_eq!(piece.blocks.len(), 141);
+    let conv = conventional(&piece, &m, &o).unwrap();
+    let e0 = chord_error(&conv, &m, &o);
+    assert_eq!(e0.c_flips, 1, "{e0:?}");
+    assert!((e0.max_c_step_deg - 180.0).abs() < 1e-6);
+
+    let (new, r) = refine(&piece, &m, &RefineOptions { max_angle: 0.5 * DEG, ..Default::default() }, &o).unwrap();
+    assert_eq!(r.after.c_flips, 0, "{r:?}");
+    assert!(r.after.max_c_step_deg < 2.0 + 1e-9);
+    assert!(r.points_after > r.points_before, "0.5 deg between neighbours needs more points: {r:?}");
+    // Tool tips of the written program lie on the original CL polyline.
+    let back = round_trip(&new, &m);
+    let orig: Vec<nalgebra::Vector3<f64>> = piece.blocks.iter().map(|b| nalgebra::Vector3::new(b.targets.x.unwrap(), b.targets.y.unwrap(), b.targets.z.unwrap())).collect();
+    let t = Trajectory::from_program(&back, &m, &o.path);
+    for s in t.segments.iter().filter(|s| s.is_path_move()) {
+        let d = orig
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (w[0], w[1]);
+                let u = ((s.tip1 - a).dot(&(b - a)) / (b - a).norm_squared()).clamp(0.0, 1.0);
+                (a + (b - a) * u - s.tip1).norm()
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(d < 1e-6, "tip {:?} is {:.3} um off the CL path", s.tip1, d * 1e6);
+    }
+    let before = figures(&conv, &m, &o).unwrap();
+    let after = figures(&back, &m, &o).unwrap();
+    assert!(before.peak_c_speed_rpm > 100.0 && after.peak_c_speed_rpm < 25.0, "{before:?} {after:?}");
+    let text = write_program(&new, &m, Dialect::Heidenhain, &o);
+    let run = pipeline(&text, "refine");
+    // The lead-in positioning (G00 to the first pose) is not a cut: regions may only lie there.
+    let rapids: Vec<i64> = text.lines().filter(|l| l.contains(" G00 ")).filter_map(|l| l[1..].split_whitespace().next()?.parse().ok()).collect();
+    assert!(run.commanded_regions.iter().all(|r| rapids.contains(&r.block_start) && r.block_start == r.block_end), "regions on feed moves: {:?}", run.commanded_regions);
+    assert!(run.report.simulated.min_feed_mm_per_min >= 0.95 * 1000.0, "{:?}", run.report.simulated.min_feed_mm_per_min);
+}
+
+/// Smoothing also treats the flip itself (seed 002's case: A changes branch, C jumps 180 deg): on the
+/// conventional post of the semi-cylinder it brings C back within its limits at F1000.
+#[test]
+fn smoothing_treats_the_conventional_flip_on_the_semi_cylinder() {
+    let m = Machine::hermle_c600u();
+    let o = JobOptions::default();
+    let conv = conventional(&semi_cylinder(), &m, &o).unwrap();
+    let (new, s) = smooth(&conv, &m, Tool::Ball(5e-3), &o).unwrap();
+    assert_eq!(s.passages.len(), 1, "{s:?}");
+    assert!(s.max_ball_centre_error_m < 1e-6);
+    let e = chord_error(&new, &m, &o);
+    assert_eq!(e.c_flips, 0, "{e:?}");
+    assert!(figures(&new, &m, &o).unwrap().peak_c_speed_rpm < 25.0);
+}

@@ -74,3 +74,29 @@ fn demo_runs_the_bundled_programs() {
     assert_eq!(code, 0);
     assert!(out.contains("bundled:SING.I") && out.contains("175.0") && out.contains("199.0"), "{out}");
 }
+
+/// The three remedies share their JSON shape: `before` and `after` with the figures a user compares.
+#[test]
+fn remedies_print_before_and_after_as_json_and_refuse_what_they_cannot_treat() {
+    let runs: [&[&str]; 3] = [
+        &["avoid", "reorient", "bundled:SING.I", "--json"],
+        &["avoid", "smooth", "bundled:SING.I", "--tool", "ball:3", "--json"],
+        &["avoid", "refine", "builtin:semi-cylinder", "--json"],
+    ];
+    for args in runs {
+        let (code, v) = json(args);
+        assert_eq!(code, 0, "{args:?}");
+        for side in ["before", "after"] {
+            for key in ["peak_c_speed_rpm", "min_singularity_distance_deg", "cycle_time_s", "time_lost_s", "max_orientation_deviation_deg"] {
+                assert!(v[side][key].is_number(), "{args:?}: {side}.{key} missing in {v}");
+            }
+        }
+        assert!(v["after"]["peak_c_speed_rpm"].as_f64().unwrap() < 25.0, "{args:?}: {v}");
+        assert!(v["after"]["time_lost_s"].as_f64().unwrap() < v["before"]["time_lost_s"].as_f64().unwrap(), "{args:?}: {v}");
+    }
+    let (code, _, err) = fiveaxis(&["avoid", "smooth", "bundled:SING.I", "--tool", "flat:3"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("ball-end"), "{err}");
+    let (code, _, err) = fiveaxis(&["avoid", "smooth", "bundled:SING.I", "--tool", "ball"]);
+    assert_eq!(code, 2, "{err}");
+}

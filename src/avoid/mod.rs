@@ -27,7 +27,7 @@ pub struct Figures {
     pub programmed_time_s: f64,
     /// Simulated minus programmed, s.
     pub time_lost_s: f64,
-    /// Lowest simulated tool-tip feed inside the five-axis cuts (away from their start and end), mm/min.
+    /// Lowest simulated tool-tip feed on the feed moves, planned stops (corners, ends) excluded, mm/min.
     pub min_cut_feed_mm_min: f64,
     /// Largest simulated |v|/v_max, |a|/a_max, |j|/j_max over the axes (planner set-points).
     pub max_limit_ratio: [f64; 3],
@@ -99,22 +99,11 @@ pub fn figures(program: &Program, machine: &Machine, options: &JobOptions) -> Re
     f.cycle_time_s = sim.duration();
     f.time_lost_s = f.cycle_time_s - f.programmed_time_s;
     f.max_limit_ratio = sim.planned_ratio;
-    // Lowest feed inside the cuts: five-axis samples, not on the first or last segment of a run (where
-    // the machine speeds up from, or slows down to, a stop).
+    // Lowest feed on the feed moves, the planned stops (corners, the program's ends) excluded: the
+    // same measure as `fiveaxis run` reports.
     let states = sim.states(&traj, machine);
-    let mut lowest = f64::INFINITY;
-    for (k, st) in states.iter().enumerate() {
-        let seg = sim.segment[k];
-        let Some(g) = traj.segments.get(seg) else { continue };
-        if !g.is_five_axis() {
-            continue;
-        }
-        let prev_same = seg > 0 && traj.segments[seg - 1].is_five_axis();
-        let next_same = traj.segments.get(seg + 1).is_some_and(|n| n.is_five_axis());
-        if prev_same && next_same {
-            lowest = lowest.min(st.path_feed * 60e3);
-        }
-    }
+    let (lowest, _) = sim.lowest_path_feed(&traj, &states);
+    let lowest = lowest * 60e3;
     f.min_cut_feed_mm_min = if lowest.is_finite() { lowest } else { f64::NAN };
     Ok(f)
 }
@@ -172,9 +161,8 @@ pub fn search(program: &Program, machine: &Machine, max_tilt: f64, options: &Job
         }
     }
     let program = reoriented(program, machine, &jig(tx, tz), options);
-    // The tool axes turn with the jig: their change is the jig's rotation angle.
-    let mut after = figures(&program, machine, options)?;
-    after.max_orientation_deviation_deg = jig(tx, tz).angle().to_degrees();
+    // Relative to the workpiece the tool axes do not change (the jig turns both): deviation 0.
+    let after = figures(&program, machine, options)?;
     Ok((Reorientation { theta_x_deg: tx.to_degrees(), theta_z_deg: tz.to_degrees().rem_euclid(360.0), before, after }, program))
 }
 

@@ -61,6 +61,49 @@ impl Simulation {
         self.q.len().saturating_sub(1) as f64 * self.period
     }
 
+    /// The lowest tool-tip feed on the feed moves (m/s) and its x (m), planned stops excluded: the
+    /// ramps out of and into each run boundary (a corner or the program's ends) do not count.
+    pub fn lowest_path_feed(&self, traj: &Trajectory, states: &[AxisState]) -> (f64, f64) {
+        let sim = self;
+        let n = states.len();
+        let path_move = |k: usize| traj.segments.get(sim.segment[k]).is_some_and(|s| s.is_path_move() && s.kind != crate::path::SegmentKind::Rapid);
+        // The ramps out of and into each planned stop: from a run boundary for as long as the feed is
+        // below the programmed feed and has not fallen by more than 2 % of it from its highest value since
+        // the stop (the servo rounds the corner, so the feed may still dip just after the boundary).
+        let mut ramp = vec![false; n];
+        let boundary = |k: usize| k == 0 || sim.run[k - 1] != sim.run[k];
+        let mark = |k: usize, forward: bool, ramp: &mut Vec<bool>| {
+            let f = states[k].programmed_feed.max(1e-12);
+            let (mut j, mut top) = (k, 0.0f64);
+            ramp[j] = true;
+            loop {
+                let next = if forward { j + 1 } else { j.wrapping_sub(1) };
+                if next >= n || (forward && boundary(next)) || (!forward && boundary(j)) {
+                    break;
+                }
+                let v = states[next].path_feed;
+                if v >= 0.99 * f || v < top - 0.02 * f {
+                    break;
+                }
+                top = top.max(v);
+                j = next;
+                ramp[j] = true;
+            }
+        };
+        for k in 0..n {
+            if boundary(k) {
+                mark(k, true, &mut ramp);
+            }
+            if k + 1 == n || boundary(k + 1) {
+                mark(k, false, &mut ramp);
+            }
+        }
+        (0..n)
+            .filter(|&k| path_move(k) && states[k].programmed_feed > 0.0 && !ramp[k])
+            .map(|k| (states[k].path_feed, states[k].tool_tip.x))
+            .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a })
+    }
+
     /// The simulated states, in time order.
     pub fn states(&self, traj: &Trajectory, machine: &Machine) -> Vec<AxisState> {
         let (v, a) = differentiate(&self.q, self.period);
