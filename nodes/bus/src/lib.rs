@@ -400,3 +400,26 @@ pub fn forward<M: DeserializeOwned + Send + 'static, T: Send + 'static>(
         }
     });
 }
+
+/// One axis-state sample from a watched topic: our AxisState, or a machine bridge's JointState.
+pub enum StateInput {
+    State(String, fiveaxis_msgs::AxisState),
+    Joints(String, fiveaxis_msgs::JointState),
+}
+
+/// Subscribe to AxisState `inputs` and JointState `joint_inputs` (state QoS), all onto one channel
+/// in arrival order; the channel closes when every reader has ended.
+pub fn subscribe_states(bus: &mut Bus, inputs: &[String], joint_inputs: &[String]) -> anyhow::Result<std::sync::mpsc::Receiver<StateInput>> {
+    let (tx, rx) = std::sync::mpsc::sync_channel::<StateInput>(8192);
+    for topic in inputs {
+        let sub = bus.subscription::<fiveaxis_msgs::AxisState>(topic, state_qos())?;
+        tracing::info!(topic = %bus.resolve(topic), "watching AxisState");
+        forward(sub, bus.resolve(topic), tx.clone(), StateInput::State);
+    }
+    for topic in joint_inputs {
+        let sub = bus.subscription::<fiveaxis_msgs::JointState>(topic, state_qos())?;
+        tracing::info!(topic = %bus.resolve(topic), "watching JointState");
+        forward(sub, bus.resolve(topic), tx.clone(), StateInput::Joints);
+    }
+    Ok(rx)
+}

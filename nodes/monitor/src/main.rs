@@ -8,8 +8,8 @@ use clap::Parser;
 use fiveaxis::live::monitor::{Monitor, MonitorConfig};
 use fiveaxis::machine::Machine;
 use fiveaxis::units::RPM;
-use fiveaxis_bus::{diagnostics_qos, forward, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
-use fiveaxis_msgs::{AxisState, DiagnosticArray, JointState, SingularityStatus, Time};
+use fiveaxis_bus::{diagnostics_qos, subscribe_states, StateInput, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
+use fiveaxis_msgs::{DiagnosticArray, SingularityStatus, Time};
 use std::collections::BTreeMap;
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -62,10 +62,6 @@ fn parse_map(s: &str) -> Result<(String, String), String> {
     }
 }
 
-enum Input {
-    State(String, AxisState),
-    Joints(String, JointState),
-}
 
 fn main() -> anyhow::Result<()> {
     init_tracing();
@@ -88,18 +84,7 @@ fn main() -> anyhow::Result<()> {
     let status_pub = bus.publisher::<SingularityStatus>("monitor/status", state_qos())?;
     let diag_pub = bus.publisher::<DiagnosticArray>("/diagnostics", diagnostics_qos())?;
     let lookahead = (!args.lookahead.is_empty()).then(|| bus.resolve(&args.lookahead));
-    let (tx, rx) = mpsc::sync_channel::<Input>(8192);
-    for topic in &args.inputs {
-        let sub = bus.subscription::<AxisState>(topic, state_qos())?;
-        tracing::info!(topic = %bus.resolve(topic), "watching AxisState");
-        forward(sub, bus.resolve(topic), tx.clone(), Input::State);
-    }
-    for topic in &args.joint_inputs {
-        let sub = bus.subscription::<JointState>(topic, state_qos())?;
-        tracing::info!(topic = %bus.resolve(topic), "watching JointState");
-        forward(sub, bus.resolve(topic), tx.clone(), Input::Joints);
-    }
-    drop(tx);
+    let rx = subscribe_states(&mut bus, &args.inputs, &args.joint_inputs)?;
 
     let mut csv = match &args.samples_csv {
         Some(p) => {
@@ -120,8 +105,8 @@ fn main() -> anyhow::Result<()> {
                 let now = wall();
                 last_sample = Some(now);
                 let (topic, state) = match input {
-                    Input::State(t, s) => (t, Ok(s)),
-                    Input::Joints(t, js) => {
+                    StateInput::State(t, s) => (t, Ok(s)),
+                    StateInput::Joints(t, js) => {
                         let st = monitor.joint_state_to_axis_state(&js, &rename);
                         (t, st)
                     }

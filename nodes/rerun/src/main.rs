@@ -10,8 +10,7 @@ use fiveaxis::machine::Machine;
 use fiveaxis::roughness::RoughnessArgs;
 use fiveaxis::scene::{replay_mcap, Scene};
 use fiveaxis::units::RPM;
-use fiveaxis_bus::{forward, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
-use fiveaxis_msgs::{AxisState, JointState};
+use fiveaxis_bus::{init_tracing, subscribe_states, Bus, CommonArgs, Shutdown, StateInput};
 use fiveaxis_rerun::{send_layout, Bridge, APP_ID};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -192,10 +191,6 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-enum Input {
-    State(String, AxisState),
-    Joints(String, JointState),
-}
 
 fn live(mut a: LiveArgs) -> anyhow::Result<ExitCode> {
     let shutdown = Shutdown::install()?;
@@ -213,18 +208,7 @@ fn live(mut a: LiveArgs) -> anyhow::Result<ExitCode> {
     let map: BTreeMap<String, String> = a.axis_map.iter().cloned().collect();
 
     let mut bus = Bus::new("fiveaxis_rerun", &a.common)?;
-    let (tx, rx) = mpsc::sync_channel::<Input>(8192);
-    for topic in &a.inputs {
-        let sub = bus.subscription::<AxisState>(topic, state_qos())?;
-        tracing::info!(topic = %bus.resolve(topic), "drawing AxisState");
-        forward(sub, bus.resolve(topic), tx.clone(), Input::State);
-    }
-    for topic in &a.joint_inputs {
-        let sub = bus.subscription::<JointState>(topic, state_qos())?;
-        tracing::info!(topic = %bus.resolve(topic), "drawing JointState");
-        forward(sub, bus.resolve(topic), tx.clone(), Input::Joints);
-    }
-    drop(tx);
+    let rx = subscribe_states(&mut bus, &a.inputs, &a.joint_inputs)?;
     let flush_every = Duration::from_millis(a.flush_ms.max(10));
     let mut last_flush = Instant::now();
     let mut last_sample: Option<Instant> = None;
@@ -234,8 +218,8 @@ fn live(mut a: LiveArgs) -> anyhow::Result<ExitCode> {
             Ok(input) => {
                 last_sample = Some(Instant::now());
                 let (topic, state) = match input {
-                    Input::State(t, s) => (t, Ok(s)),
-                    Input::Joints(t, js) => {
+                    StateInput::State(t, s) => (t, Ok(s)),
+                    StateInput::Joints(t, js) => {
                         let st = scene.monitor().joint_state_to_axis_state(&js, &map);
                         (t, st)
                     }
