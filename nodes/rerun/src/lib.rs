@@ -321,7 +321,7 @@ pub fn send_layout(rec: &RecordingStream) -> anyhow::Result<()> {
     props.set_time_sequence("blueprint", 0);
     let whole = bc::TimeRange(TimeRange { start: TimeRangeBoundary::Infinite, end: TimeRangeBoundary::Infinite });
     for path in &plots {
-        props.log(format!("{path}/TimeAxis"), &TimeAxis::new().with_view_range(whole.clone()))?;
+        props.log(format!("{path}/TimeAxis"), &TimeAxis::new().with_view_range(whole))?;
     }
     props.flush_blocking()?;
     out.extend(pstore.take().into_iter().filter(|m| matches!(m, LogMsg::ArrowMsg(..)) && *m.store_id() == cmd.blueprint_id));
