@@ -140,8 +140,8 @@ struct OfflineArgs {
     #[arg(long = "joint-state-topic")]
     joint_state_topics: Vec<String>,
     /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable).
-    #[arg(long = "axis-map", value_name = "AXIS=JOINT")]
-    axis_map: Vec<String>,
+    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = fiveaxis::machine::parse_axis_map)]
+    axis_map: Vec<(String, String)>,
     /// Write the report as JSON here.
     #[arg(long)]
     json: Option<std::path::PathBuf>,
@@ -352,7 +352,7 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
             let _ = std::fs::remove_file(t);
         }
         match status {
-            Ok(code) if code == 0 => {}
+            Ok(0) => {}
             Ok(code) => return Ok(ExitCode::from(code)),
             Err(e) => {
                 eprintln!("fiveaxis: {e:#}");
@@ -374,18 +374,7 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
-    let mut axis_map = std::collections::BTreeMap::new();
-    for m in &a.axis_map {
-        match m.split_once('=') {
-            Some((k, v)) if !k.is_empty() && !v.is_empty() => {
-                axis_map.insert(k.to_string(), v.to_string());
-            }
-            _ => {
-                eprintln!("fiveaxis: --axis-map expects AXIS=JOINT, got '{m}'");
-                return Ok(ExitCode::from(EXIT_INPUT));
-            }
-        }
-    }
+    let axis_map: std::collections::BTreeMap<String, String> = a.axis_map.iter().cloned().collect();
     let machine = match Machine::from_name_or_file(&a.machine) {
         Ok(m) => m,
         Err(e) => {

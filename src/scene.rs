@@ -283,13 +283,6 @@ pub fn singular_cone(s: [f64; 3], half_angle: f64) -> Vec<Vec<[f32; 3]>> {
     lines
 }
 
-/// The half-angle of the singular cone for a path: where eq. (5) at the programmed feed reaches the
-/// axis limit. From the rows: the largest distance to the singularity at which a sample was in a region;
-/// `fallback` when there was no region.
-pub fn cone_half_angle_deg(rows: &[Row], fallback: f64) -> f64 {
-    rows.iter().filter(|r| r.in_region).map(|r| r.distance_deg).fold(None, |m: Option<f64>, d| Some(m.map_or(d, |m| m.max(d)))).unwrap_or(fallback)
-}
-
 /// An orthonormal basis (u, v, w) with w along `dir`.
 fn basis(dir: [f64; 3]) -> ([f64; 3], [f64; 3], [f64; 3]) {
     let w = nalgebra::Vector3::from(dir).normalize();

@@ -119,11 +119,7 @@ fn with_joints(block: &Block, machine: &Machine, pose: &Pose, q: &Joints) -> Blo
     let names = machine.axis_names();
     let mut t = Targets { x: Some(pose.tip.x), y: Some(pose.tip.y), z: Some(pose.tip.z), ..Targets::default() };
     for i in [machine.primary_axis(), machine.secondary_axis()] {
-        match names[i].chars().next() {
-            Some('A') => t.a = Some(q[i]),
-            Some('B') => t.b = Some(q[i]),
-            _ => t.c = Some(q[i]),
-        }
+        t.set_rotary(names[i].chars().next().unwrap_or('C'), q[i]);
     }
     b.targets = t;
     b

@@ -143,6 +143,7 @@ pub fn smooth(program: &Program, machine: &Machine, tool: Tool, options: &crate:
     let mut result = Smoothing { passages: Vec::new(), max_orientation_deviation_deg: 0.0, max_ball_centre_error_m: 0.0 };
     let names = machine.axis_names();
     let (aname, cname) = (names[pi].clone(), names[si].clone());
+    let (aletter, cletter) = (aname.chars().next().unwrap_or('A'), cname.chars().next().unwrap_or('C'));
     for cut in &cuts {
         let mut pts = cut.clone();
         let mut k0 = 1; // passages are searched after the previous one's window
@@ -195,8 +196,8 @@ pub fn smooth(program: &Program, machine: &Machine, tool: Tool, options: &crate:
             let tip = centre - radius * n;
             let b = &mut out.blocks[p.block];
             let mut t = Targets { x: Some(tip.x), y: Some(tip.y), z: Some(tip.z), ..Targets::default() };
-            set_rotary(&mut t, &aname, p.a);
-            set_rotary(&mut t, &cname, p.c);
+            t.set_rotary(aletter, p.a);
+            t.set_rotary(cletter, p.c);
             b.targets = t;
         }
         // Blocks after the cut that name rotary positions in the same TCPM stretch keep the branch the
@@ -210,10 +211,9 @@ pub fn smooth(program: &Program, machine: &Machine, tool: Tool, options: &crate:
                 if !b.tcp {
                     break;
                 }
-                let (a, c) = (b.targets.rotary(aname.chars().next().unwrap_or('A')), b.targets.rotary(cname.chars().next().unwrap_or('C')));
-                if let (Some(a), Some(c)) = (a, c) {
-                    set_rotary(&mut b.targets, &aname, -a);
-                    set_rotary(&mut b.targets, &cname, c + PI + turns);
+                if let (Some(a), Some(c)) = (b.targets.rotary(aletter), b.targets.rotary(cletter)) {
+                    b.targets.set_rotary(aletter, -a);
+                    b.targets.set_rotary(cletter, c + PI + turns);
                 }
             }
         }
@@ -234,14 +234,6 @@ pub fn smooth(program: &Program, machine: &Machine, tool: Tool, options: &crate:
     Ok((out, result))
 }
 
-fn set_rotary(t: &mut Targets, name: &str, v: f64) {
-    match name.chars().next() {
-        Some('A') => t.a = Some(v),
-        Some('B') => t.b = Some(v),
-        _ => t.c = Some(v),
-    }
-}
-
 fn axis(machine: &Machine, a: f64, c: f64) -> Vector3<f64> {
     let mut q = [0.0; 5];
     q[machine.primary_axis()] = a;
@@ -254,10 +246,8 @@ fn axis(machine: &Machine, a: f64, c: f64) -> Vector3<f64> {
 /// where A changes sign near zero; with that |A|.
 fn next_passage(p: &[Point], from: usize, c_vmax: f64) -> Option<(usize, f64)> {
     let fast = |k: usize| -> bool {
-        let ds = p[k].s - p[k - 1].s;
-        let dc = (p[k].c - p[k - 1].c).abs();
         let flips = p[k].a * p[k - 1].a < 0.0 && p[k].a.abs().min(p[k - 1].a.abs()) < 5f64.to_radians();
-        flips || (ds > 0.0 && dc / ds * p[k].feed > c_vmax * (1.0 + 1e-9))
+        flips || step_fast(p, k, c_vmax * (1.0 + 1e-9))
     };
     let start = (from.max(1)..p.len()).find(|&k| fast(k))?;
     let end = (start..p.len()).take_while(|&k| fast(k)).last().unwrap_or(start);
@@ -291,7 +281,6 @@ fn connect(p: &[Point], ks: usize, alim: &crate::machine::AxisLimits, clim: &cra
     for item in q.iter_mut().skip(ks + 1) {
         item.1 += turns;
     }
-    // Also unwrap within each side (the original C may already be unwrapped, keep it so).
     let feed = p[ks].feed;
     let f = [feed, feed * feed, feed * feed * feed];
     let s: Vec<f64> = p.iter().map(|x| x.s).collect();
@@ -341,6 +330,7 @@ fn connect(p: &[Point], ks: usize, alim: &crate::machine::AxisLimits, clim: &cra
     }
 }
 
+/// True when the step into point `k` needs the secondary axis faster than `c_vmax` at the feed.
 fn step_fast(p: &[Point], k: usize, c_vmax: f64) -> bool {
     let ds = p[k].s - p[k - 1].s;
     ds > 0.0 && (p[k].c - p[k - 1].c).abs() / ds * p[k].feed > c_vmax

@@ -256,6 +256,15 @@ fn nearest_turn_within(target: f64, prev: f64, limits: &AxisLimits) -> Option<f6
         .min_by(|a, b| (a - prev).abs().total_cmp(&(b - prev).abs()))
 }
 
+/// One `AXIS=JOINT` pair of an `--axis-map` flag: which joint of a machine bridge's JointState is which
+/// machine axis.
+pub fn parse_axis_map(s: &str) -> Result<(String, String), String> {
+    match s.split_once('=') {
+        Some((a, j)) if !a.is_empty() && !j.is_empty() => Ok((a.to_string(), j.to_string())),
+        _ => Err(format!("expected AXIS=JOINT, got '{s}'")),
+    }
+}
+
 /// The TOML text of a built-in machine.
 pub fn builtin_file(name: &str) -> Option<&'static str> {
     BUILTIN_FILES.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)

@@ -120,6 +120,15 @@ impl Targets {
             _ => None,
         }
     }
+    /// Set the rotary word for letter `A`, `B` or `C` (other letters are ignored).
+    pub fn set_rotary(&mut self, letter: char, value: f64) {
+        match letter.to_ascii_uppercase() {
+            'A' => self.a = Some(value),
+            'B' => self.b = Some(value),
+            'C' => self.c = Some(value),
+            _ => {}
+        }
+    }
 }
 
 /// One block, with the modal state in effect for it.

@@ -407,11 +407,36 @@ pub enum StateInput {
     Joints(String, fiveaxis_msgs::JointState),
 }
 
-/// Subscribe to AxisState `inputs` and JointState `joint_inputs` (state QoS), all onto one channel
-/// in arrival order; the channel closes when every reader has ended.
-pub fn subscribe_states(bus: &mut Bus, inputs: &[String], joint_inputs: &[String]) -> anyhow::Result<std::sync::mpsc::Receiver<StateInput>> {
+/// The axis-state streams a node watches (the monitor, the Rerun bridge).
+#[derive(Debug, Clone, clap::Args)]
+pub struct InputArgs {
+    /// AxisState topics to watch (repeatable; default commanded/axis_state and simulated/axis_state).
+    #[arg(long = "input", value_name = "TOPIC")]
+    pub inputs: Vec<String>,
+    /// sensor_msgs/JointState topics to watch, e.g. a machine bridge's /joint_states (repeatable).
+    #[arg(long = "joint-state-input", value_name = "TOPIC")]
+    pub joint_inputs: Vec<String>,
+    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable).
+    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = fiveaxis::machine::parse_axis_map)]
+    pub axis_map: Vec<(String, String)>,
+}
+
+impl InputArgs {
+    /// Machine axis -> joint name.
+    pub fn axis_map(&self) -> std::collections::BTreeMap<String, String> {
+        self.axis_map.iter().cloned().collect()
+    }
+}
+
+/// Subscribe to the AxisState and JointState topics of `inputs` (state QoS; with none given, the node
+/// set's commanded and simulated streams), all onto one channel in arrival order; the channel closes
+/// when every reader has ended.
+pub fn subscribe_states(bus: &mut Bus, inputs: &InputArgs) -> anyhow::Result<std::sync::mpsc::Receiver<StateInput>> {
+    let default = ["commanded/axis_state".to_string(), "simulated/axis_state".to_string()];
+    let states: &[String] = if inputs.inputs.is_empty() && inputs.joint_inputs.is_empty() { &default } else { &inputs.inputs };
+    let joint_inputs = &inputs.joint_inputs;
     let (tx, rx) = std::sync::mpsc::sync_channel::<StateInput>(8192);
-    for topic in inputs {
+    for topic in states {
         let sub = bus.subscription::<fiveaxis_msgs::AxisState>(topic, state_qos())?;
         tracing::info!(topic = %bus.resolve(topic), "watching AxisState");
         forward(sub, bus.resolve(topic), tx.clone(), StateInput::State);

@@ -8,7 +8,7 @@ use clap::Parser;
 use fiveaxis::live::monitor::{Monitor, MonitorConfig};
 use fiveaxis::machine::Machine;
 use fiveaxis::units::RPM;
-use fiveaxis_bus::{diagnostics_qos, subscribe_states, StateInput, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
+use fiveaxis_bus::{diagnostics_qos, subscribe_states, InputArgs, StateInput, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
 use fiveaxis_msgs::{DiagnosticArray, SingularityStatus, Time};
 use std::collections::BTreeMap;
 use std::io::Write as _;
@@ -22,15 +22,8 @@ use std::time::{Duration, Instant};
 struct Args {
     #[command(flatten)]
     common: CommonArgs,
-    /// AxisState topics to watch (repeatable; default commanded/axis_state and simulated/axis_state).
-    #[arg(long = "input", value_name = "TOPIC")]
-    inputs: Vec<String>,
-    /// sensor_msgs/JointState topics to watch, e.g. a machine bridge's /joint_states (repeatable).
-    #[arg(long = "joint-state-input", value_name = "TOPIC")]
-    joint_inputs: Vec<String>,
-    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable).
-    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = parse_map)]
-    axis_map: Vec<(String, String)>,
+    #[command(flatten)]
+    inputs: InputArgs,
     /// The commanded stream used for the look-ahead ("" for none).
     #[arg(long, default_value = "commanded/axis_state")]
     lookahead: String,
@@ -55,22 +48,12 @@ struct Args {
     exit_when_idle_s: Option<f64>,
 }
 
-fn parse_map(s: &str) -> Result<(String, String), String> {
-    match s.split_once('=') {
-        Some((a, j)) if !a.is_empty() && !j.is_empty() => Ok((a.to_string(), j.to_string())),
-        _ => Err(format!("expected AXIS=JOINT, got '{s}'")),
-    }
-}
-
 
 fn main() -> anyhow::Result<()> {
     init_tracing();
-    let mut args = Args::parse();
+    let args = Args::parse();
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
-    if args.inputs.is_empty() && args.joint_inputs.is_empty() {
-        args.inputs = vec!["commanded/axis_state".into(), "simulated/axis_state".into()];
-    }
     let config = MonitorConfig {
         stale_timeout: args.stale_ms * 1e-3,
         min_distance: args.min_distance_deg.map(f64::to_radians),
@@ -78,13 +61,13 @@ fn main() -> anyhow::Result<()> {
         ..Default::default()
     };
     let mut monitor = Monitor::new(&machine, config);
-    let rename: BTreeMap<String, String> = args.axis_map.iter().cloned().collect();
+    let rename = args.inputs.axis_map();
 
     let mut bus = Bus::new("fiveaxis_monitor", &args.common)?;
     let status_pub = bus.publisher::<SingularityStatus>("monitor/status", state_qos())?;
     let diag_pub = bus.publisher::<DiagnosticArray>("/diagnostics", diagnostics_qos())?;
     let lookahead = (!args.lookahead.is_empty()).then(|| bus.resolve(&args.lookahead));
-    let rx = subscribe_states(&mut bus, &args.inputs, &args.joint_inputs)?;
+    let rx = subscribe_states(&mut bus, &args.inputs)?;
 
     let mut csv = match &args.samples_csv {
         Some(p) => {

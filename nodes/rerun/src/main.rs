@@ -10,7 +10,7 @@ use fiveaxis::machine::Machine;
 use fiveaxis::roughness::RoughnessArgs;
 use fiveaxis::scene::{replay_mcap, Scene};
 use fiveaxis::units::RPM;
-use fiveaxis_bus::{init_tracing, subscribe_states, Bus, CommonArgs, Shutdown, StateInput};
+use fiveaxis_bus::{init_tracing, subscribe_states, Bus, CommonArgs, InputArgs, Shutdown, StateInput};
 use fiveaxis_rerun::{send_layout, Bridge, APP_ID};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -61,7 +61,7 @@ struct ReplayArgs {
     #[arg(long, default_value = "hermle-c600u")]
     machine: String,
     /// Joint name for a machine axis in a JointState recording: `--axis-map A=joint_a` (repeatable).
-    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = parse_map)]
+    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = fiveaxis::machine::parse_axis_map)]
     axis_map: Vec<(String, String)>,
     /// Region threshold of the singular axis speed, rpm (default: the machine's limit).
     #[arg(long = "max-c-speed-rpm")]
@@ -76,15 +76,8 @@ struct ReplayArgs {
 struct LiveArgs {
     #[command(flatten)]
     common: CommonArgs,
-    /// AxisState topics (repeatable; default commanded/axis_state and simulated/axis_state).
-    #[arg(long = "input", value_name = "TOPIC")]
-    inputs: Vec<String>,
-    /// sensor_msgs/JointState topics, e.g. a machine bridge's /joint_states (repeatable).
-    #[arg(long = "joint-state-input", value_name = "TOPIC")]
-    joint_inputs: Vec<String>,
-    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable).
-    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = parse_map)]
-    axis_map: Vec<(String, String)>,
+    #[command(flatten)]
+    inputs: InputArgs,
     /// Region threshold of the singular axis speed, rpm (default: the machine's limit).
     #[arg(long = "max-c-speed-rpm")]
     max_c_speed_rpm: Option<f64>,
@@ -98,13 +91,6 @@ struct LiveArgs {
     roughness: RoughnessArgs,
     #[command(flatten)]
     sink: SinkArgs,
-}
-
-fn parse_map(s: &str) -> Result<(String, String), String> {
-    match s.split_once('=') {
-        Some((a, j)) if !a.is_empty() && !j.is_empty() => Ok((a.to_string(), j.to_string())),
-        _ => Err(format!("expected AXIS=JOINT, got '{s}'")),
-    }
 }
 
 /// Exit codes: 0 done, 1 the viewer or the file failed, 2 bad input (unreadable recording, bad flags).
@@ -192,23 +178,20 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
 }
 
 
-fn live(mut a: LiveArgs) -> anyhow::Result<ExitCode> {
+fn live(a: LiveArgs) -> anyhow::Result<ExitCode> {
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&a.common.machine).context("loading the machine")?;
     let roughness = a.roughness.load().map_err(anyhow::Error::msg)?;
-    if a.inputs.is_empty() && a.joint_inputs.is_empty() {
-        a.inputs = vec!["commanded/axis_state".into(), "simulated/axis_state".into()];
-    }
     let rec = open_stream(&a.sink, "live")?;
     let mut bridge = Bridge::new(rec, machine.singular_direction().into())?;
     if let Some((profile, cutoff)) = &roughness {
         bridge.roughness(profile, *cutoff)?;
     }
     let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm));
-    let map: BTreeMap<String, String> = a.axis_map.iter().cloned().collect();
+    let map = a.inputs.axis_map();
 
     let mut bus = Bus::new("fiveaxis_rerun", &a.common)?;
-    let rx = subscribe_states(&mut bus, &a.inputs, &a.joint_inputs)?;
+    let rx = subscribe_states(&mut bus, &a.inputs)?;
     let flush_every = Duration::from_millis(a.flush_ms.max(10));
     let mut last_flush = Instant::now();
     let mut last_sample: Option<Instant> = None;
