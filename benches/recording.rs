@@ -4,6 +4,7 @@
 //!   `FIVEAXIS_BENCH_MESSAGES`; target >= 3 M msgs/s), beside a Python script doing the same decode
 //!   and distance/C-speed computation with mcap-ros2-support in the same run (target >= 50x). Python
 //!   decodes the first `FIVEAXIS_BENCH_PY_MESSAGES` (default 200 k): the figures are rates.
+//!   `FIVEAXIS_BENCH_KEEP=1` keeps the generated recording (for profiling `fiveaxis analyze` on it).
 
 use fiveaxis::analysis::{analyze_mcap, OfflineOptions};
 use fiveaxis::live::commander::commanded_states;
@@ -51,11 +52,14 @@ fn main() {
     println!("recorder: {n} AxisState messages in {write_s:.2} s = {:.0} k msgs/s (target >= 500 k/s); file {:.0} MB", n as f64 / write_s / 1e3, size as f64 / 1e6);
     println!("  resident memory: {} MiB before, {} MiB half way, {} MiB at the end (flat: chunks go to disk)", rss0 / 1024, rss_mid / 1024, rss1 / 1024);
 
+    let rss2 = rss_kib();
     let t1 = Instant::now();
     let report = analyze_mcap(&path, &m, &OfflineOptions::default()).unwrap();
     let rust_s = t1.elapsed().as_secs_f64();
+    let rss3 = rss_kib();
     let rust_rate = report.messages_read as f64 / rust_s;
     println!("analysis (Rust, one core): {} messages in {rust_s:.2} s = {:.2} M msgs/s (target >= 3 M/s)", report.messages_read, rust_rate / 1e6);
+    println!("  resident memory: {} MiB before, {} MiB after (the file is streamed, not loaded)", rss2 / 1024, rss3 / 1024);
 
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peer_analyze.py");
     let out = std::process::Command::new("python3").arg(script).arg(&path).arg(py_n.to_string()).output();
@@ -74,5 +78,9 @@ fn main() {
         Ok(o) => println!("Python peer failed: {}", String::from_utf8_lossy(&o.stderr)),
         Err(e) => println!("Python peer not run: {e}"),
     }
-    let _ = std::fs::remove_dir_all(&dir);
+    if std::env::var_os("FIVEAXIS_BENCH_KEEP").is_some() {
+        println!("kept {}", path.display());
+    } else {
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -2,9 +2,10 @@
 //! an MCAP file (ours, or any rosbag2 MCAP with a machine bridge's JointState plus a machine model),
 //! regions with their x range, peak predicted C speed, lowest feed and time lost, and threshold checks.
 
-use crate::live::monitor::{LiveRegion, Monitor, MonitorConfig};
+use crate::live::monitor::{InputId, LiveRegion, Monitor, MonitorConfig};
 use crate::machine::Machine;
-use crate::record::{from_cdr, RecordError};
+use crate::record::{read, RecordError};
+use nalgebra::Vector3;
 use fiveaxis_msgs::{AxisState, JointState, RosMessage};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -79,6 +80,9 @@ pub struct OfflineReport {
     pub file: String,
     pub machine: String,
     pub messages_read: u64,
+    /// Why reading stopped before the end (a damaged or cut recording): the report covers the
+    /// messages before it. None for a sound file.
+    pub damage: Option<String>,
     /// Messages of analysed topics that did not decode.
     pub messages_undecodable: u64,
     pub streams: Vec<StreamReport>,
@@ -96,25 +100,51 @@ pub struct OfflineReport {
 type Cut = (f64, f64, f64, f64, f64);
 
 
+/// What the analysis keeps per stream (topic) while reading.
+struct Stream {
+    input: InputId,
+    /// The previous valid sample: tool tip (workpiece, m), tool axis, linear axes (m), stamp (s).
+    last: Option<(Vector3<f64>, fiveaxis_msgs::Vector3, [f64; 3], f64)>,
+    last_line: Option<u32>,
+    cuts: Vec<Cut>,
+    peak_c_speed_rpm: f64,
+    min_distance_deg: f64,
+}
+
+/// How the messages of a channel are read.
+#[derive(Clone, Copy)]
+enum Decode {
+    AxisState(usize),
+    JointState(usize),
+    Skip,
+}
+
 /// Analyse the recording at `path` on `machine`.
 pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) -> Result<OfflineReport, RecordError> {
-    let data = std::fs::read(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?;
-    let bad = |e: mcap::McapError| RecordError::Mcap { path: path.to_path_buf(), message: e.to_string() };
-    let has_axis_state = {
-        let summary = mcap::Summary::read(&data).map_err(bad)?;
-        match summary {
-            Some(s) => s.channels.values().any(|c| c.schema.as_ref().is_some_and(|sc| sc.name == AxisState::type_name())),
-            None => true, // no summary (a damaged file): look at the messages themselves
-        }
+    analyze_mcap_with_progress(path, machine, options, |_, _| {})
+}
+
+/// [`analyze_mcap`], calling `progress(bytes read, file size)` now and then (for a progress bar).
+/// The file is streamed (memory stays flat whatever its size) and each message decoded in place.
+pub fn analyze_mcap_with_progress(
+    path: &Path,
+    machine: &Machine,
+    options: &OfflineOptions,
+    mut progress: impl FnMut(u64, u64),
+) -> Result<OfflineReport, RecordError> {
+    let file_len = std::fs::metadata(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?.len();
+    let axis_state_type = AxisState::type_name();
+    let joint_state_type = JointState::type_name();
+    let has_axis_state = match read::summary_channels(path)? {
+        Some(channels) => channels.iter().any(|c| c.schema_name == axis_state_type),
+        None => true, // no summary (a damaged file): look at the messages themselves
     };
     let mut monitor = Monitor::new(machine, options.monitor);
-    let mut peaks: BTreeMap<String, (f64, f64)> = BTreeMap::new();
-    let mut last: BTreeMap<String, (fiveaxis_msgs::Point, fiveaxis_msgs::Vector3, [f64; 3], f64)> = BTreeMap::new();
-    let mut last_line: BTreeMap<String, u32> = BTreeMap::new();
     let mut report = OfflineReport {
         file: path.display().to_string(),
         machine: machine.name.clone(),
         messages_read: 0,
+        damage: None,
         messages_undecodable: 0,
         streams: Vec::new(),
         regions: Vec::new(),
@@ -123,87 +153,113 @@ pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) ->
         roughness_ra_inside_um: None,
         roughness_ra_outside_um: None,
     };
-    let mut cuts: BTreeMap<String, Vec<Cut>> = BTreeMap::new();
-    for msg in mcap::MessageStream::new(&data).map_err(bad)? {
-        let msg = msg.map_err(bad)?;
+    let mut streams: Vec<Stream> = Vec::new();
+    let mut by_topic: BTreeMap<String, usize> = BTreeMap::new();
+    // By channel id.
+    let mut decode: Vec<Option<Decode>> = Vec::new();
+    let mut state = AxisState::default();
+    let mut joints = JointState::default();
+    let read = read::for_each_message(path, |msg| {
         report.messages_read += 1;
-        let Some(schema) = msg.channel.schema.as_ref() else { continue };
-        let topic = msg.channel.topic.clone();
-        let log_s = msg.log_time as f64 * 1e-9;
-        let state = if schema.name == AxisState::type_name() {
-            match from_cdr::<AxisState>(&msg.data) {
-                Ok(s) => s,
-                Err(_) => {
-                    report.messages_undecodable += 1;
-                    continue;
-                }
-            }
-        } else if schema.name == JointState::type_name()
-            && (options.joint_state_topics.contains(&topic) || (options.joint_state_topics.is_empty() && !has_axis_state))
-        {
-            let js = match from_cdr::<JointState>(&msg.data) {
-                Ok(s) => s,
-                Err(_) => {
-                    report.messages_undecodable += 1;
-                    continue;
-                }
-            };
-            match monitor.joint_state_to_axis_state(&js, &options.axis_map) {
-                Ok(s) => s,
-                Err(_) => {
-                    report.messages_undecodable += 1;
-                    continue;
-                }
-            }
-        } else {
-            continue;
-        };
-        if state.source == AxisState::SOURCE_COMMANDED {
-            monitor.on_commanded_ahead(&state);
+        if report.messages_read % 65_536 == 0 {
+            progress(msg.file_position, file_len);
         }
-        if let Ok(status) = monitor.on_state(&topic, &state, log_s) {
-            // The closest approach counts on simultaneous five-axis motion (tool tip and tool axis both
-            // moving), as in the program analysis: parking at A = 0 is harmless.
-            // A rotary-only positioning move turns the table under a parked tool: the linear machine
-            // axes stay still there, so they must move too.
-            let (tip, axis) = (status.workpiece_position, state.tool_axis);
-            let lin = [state.position[0], state.position[1], state.position[2]];
-            // A step across a block boundary mixes two moves: only steps within one block count.
-            let same_block = last_line.get(&topic).is_none_or(|l| *l == state.program_line);
-            last_line.insert(topic.clone(), state.program_line);
-            // Meaningful motion, not a servo settling: the tip at >= 1 % of the programmed feed, the
-            // tool axis turning at >= 0.01 deg/s.
-            let t = state.header.stamp.as_secs();
-            let five_axis = same_block && last.get(&topic).is_some_and(|(pt, pa, pl, pt_s)| {
-                let dt = t - pt_s;
-                if dt <= 0.0 {
-                    return false;
-                }
-                let speed = ((tip.x - pt.x).powi(2) + (tip.y - pt.y).powi(2) + (tip.z - pt.z).powi(2)).sqrt() / dt;
-                let turn = ((axis.x - pa.x).powi(2) + (axis.y - pa.y).powi(2) + (axis.z - pa.z).powi(2)).sqrt() / dt;
-                // With program information the programmed motion decides (a rotary-only move has no
-                // programmed tip feed, whatever the servo's contour error does); without it, 1 mm/min.
-                let min_speed = match (state.program_line > 0, state.programmed_feed > 0.0) {
-                    (true, true) => 0.01 * state.programmed_feed,
-                    (true, false) => f64::INFINITY,
-                    (false, _) => 1.0 / 60e3,
-                };
-                let linear = (0..3).any(|i| (lin[i] - pl[i]).abs() > 1e-9);
-                speed >= min_speed && turn >= 0.01f64.to_radians() && linear
+        let slot = usize::from(msg.channel.id);
+        if decode.len() <= slot {
+            decode.resize(slot + 1, None);
+        }
+        let how = *decode[slot].get_or_insert_with(|| {
+            let c = msg.channel;
+            let joint = c.schema_name == joint_state_type
+                && (options.joint_state_topics.contains(&c.topic) || (options.joint_state_topics.is_empty() && !has_axis_state));
+            if c.schema_name != axis_state_type && !joint {
+                return Decode::Skip;
+            }
+            let k = *by_topic.entry(c.topic.clone()).or_insert_with(|| {
+                streams.push(Stream {
+                    input: monitor.input(&c.topic),
+                    last: None,
+                    last_line: None,
+                    cuts: Vec::new(),
+                    peak_c_speed_rpm: 0.0,
+                    min_distance_deg: f64::INFINITY,
+                });
+                streams.len() - 1
             });
-            if five_axis {
-                let (pt, ..) = last[&topic];
-                let ds = ((tip.x - pt.x).powi(2) + (tip.y - pt.y).powi(2) + (tip.z - pt.z).powi(2)).sqrt();
-                cuts.entry(topic.clone()).or_default().push((t, tip.x, ds, state.path_feed, state.programmed_feed));
+            if joint { Decode::JointState(k) } else { Decode::AxisState(k) }
+        });
+        let k = match how {
+            Decode::Skip => return,
+            Decode::AxisState(k) => {
+                if state.read_cdr(msg.data).is_err() {
+                    report.messages_undecodable += 1;
+                    return;
+                }
+                k
             }
-            last.insert(topic.clone(), (tip, axis, lin, t));
-            let p = peaks.entry(topic).or_insert((0.0, f64::INFINITY));
-            p.0 = p.0.max(status.predicted_c_speed.abs() / crate::units::RPM);
-            if five_axis {
-                p.1 = p.1.min(status.singularity_distance.to_degrees());
+            Decode::JointState(k) => {
+                match joints.read_cdr(msg.data).ok().and_then(|()| monitor.joint_state_to_axis_state(&joints, &options.axis_map).ok()) {
+                    Some(s) => state = s,
+                    None => {
+                        report.messages_undecodable += 1;
+                        return;
+                    }
+                }
+                k
             }
+        };
+        let log_s = msg.log_time as f64 * 1e-9;
+        // No look-ahead (`on_commanded_ahead`): it only serves the live warning "region ahead in
+        // N s", which a report of the whole recording does not need, and it would keep every
+        // commanded sample in memory.
+        let stream = &mut streams[k];
+        let Ok(status) = monitor.evaluate(stream.input, &state, log_s) else { return };
+        // The closest approach counts on simultaneous five-axis motion (tool tip and tool axis both
+        // moving), as in the program analysis: parking at A = 0 is harmless.
+        // A rotary-only positioning move turns the table under a parked tool: the linear machine
+        // axes stay still there, so they must move too.
+        let (tip, axis) = (status.workpiece_position, state.tool_axis);
+        let lin = [state.position[0], state.position[1], state.position[2]];
+        // A step across a block boundary mixes two moves: only steps within one block count.
+        let same_block = stream.last_line.is_none_or(|l| l == state.program_line);
+        stream.last_line = Some(state.program_line);
+        // Meaningful motion, not a servo settling: the tip at >= 1 % of the programmed feed, the
+        // tool axis turning at >= 0.01 deg/s.
+        let t = state.header.stamp.as_secs();
+        let step = stream.last.filter(|_| same_block).and_then(|(pt, pa, pl, pt_s)| {
+            let dt = t - pt_s;
+            if dt <= 0.0 {
+                return None;
+            }
+            let ds = (tip - pt).norm();
+            let turn = ((axis.x - pa.x).powi(2) + (axis.y - pa.y).powi(2) + (axis.z - pa.z).powi(2)).sqrt() / dt;
+            // With program information the programmed motion decides (a rotary-only move has no
+            // programmed tip feed, whatever the servo's contour error does); without it, 1 mm/min.
+            let min_speed = match (state.program_line > 0, state.programmed_feed > 0.0) {
+                (true, true) => 0.01 * state.programmed_feed,
+                (true, false) => f64::INFINITY,
+                (false, _) => 1.0 / 60e3,
+            };
+            let linear = (0..3).any(|i| (lin[i] - pl[i]).abs() > 1e-9);
+            (ds / dt >= min_speed && turn >= 0.01f64.to_radians() && linear).then_some(ds)
+        });
+        if let Some(ds) = step {
+            stream.cuts.push((t, tip.x, ds, state.path_feed, state.programmed_feed));
+            stream.min_distance_deg = stream.min_distance_deg.min(status.singularity_distance.to_degrees());
         }
+        stream.last = Some((tip, axis, lin, t));
+        stream.peak_c_speed_rpm = stream.peak_c_speed_rpm.max(status.predicted_c_speed.abs() / crate::units::RPM);
+    });
+    match read {
+        // Nothing readable at all: no report to keep.
+        Err(e) if report.messages_read == 0 => return Err(e),
+        // Damage after good messages: keep everything read before it, and say so.
+        Err(e) => report.damage = Some(e.to_string()),
+        Ok(_) => {}
     }
+    progress(file_len, file_len);
+    let cuts: BTreeMap<String, Vec<Cut>> = by_topic.iter().map(|(t, &k)| (t.clone(), std::mem::take(&mut streams[k].cuts))).collect();
+    let peaks: BTreeMap<String, (f64, f64)> = by_topic.iter().map(|(t, &k)| (t.clone(), (streams[k].peak_c_speed_rpm, streams[k].min_distance_deg))).collect();
     monitor.finish();
     for s in monitor.summary() {
         let (peak, min_d) = peaks.get(&s.topic).copied().unwrap_or((0.0, f64::INFINITY));
@@ -345,6 +401,9 @@ impl OfflineReport {
         use std::fmt::Write as _;
         let mut o = String::new();
         let _ = writeln!(o, "recording  {} ({} messages, machine {})", self.file, self.messages_read, self.machine);
+        if let Some(d) = &self.damage {
+            let _ = writeln!(o, "DAMAGED    reading stopped after {} messages: {d}", self.messages_read);
+        }
         for s in &self.streams {
             let _ = writeln!(
                 o,

@@ -397,7 +397,23 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
         axis_map,
         ..Default::default()
     };
-    let report = match fiveaxis::analysis::analyze_mcap(&a.recording, &machine, &options) {
+    // A progress bar on long files, on stderr; indicatif hides it when stderr is not a terminal.
+    let bar = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {bytes}/{total_bytes} ({eta})")
+            .expect("a valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message("analysing");
+    let progress = |done: u64, total: u64| {
+        if total >= 32 << 20 {
+            bar.set_length(total);
+            bar.set_position(done);
+        }
+    };
+    let result = fiveaxis::analysis::analyze_mcap_with_progress(&a.recording, &machine, &options, progress);
+    bar.finish_and_clear();
+    let report = match result {
         Ok(r) => r,
         Err(e) => {
             eprintln!("fiveaxis: cannot analyse {}: {e}", a.recording.display());
@@ -410,6 +426,15 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
     }
     if let Some(p) = &a.junit {
         std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
+    }
+    if let Some(d) = &report.damage {
+        // The report above covers what was readable; the input itself is damaged: exit 2.
+        eprintln!(
+            "fiveaxis: {} is damaged ({d}); the report covers the {} messages before it (`fiveaxis mcap recover` rebuilds a sound file)",
+            a.recording.display(),
+            report.messages_read
+        );
+        return Ok(ExitCode::from(EXIT_INPUT));
     }
     Ok(if report.violations.is_empty() { ExitCode::SUCCESS } else { ExitCode::FAILURE })
 }

@@ -6,7 +6,7 @@
 
 use crate::live::monitor::{Monitor, MonitorConfig};
 use crate::machine::Machine;
-use crate::record::{from_cdr, RecordError};
+use crate::record::RecordError;
 use crate::roughness::Profile;
 use crate::units::RPM;
 use fiveaxis_msgs::{AxisState, JointState, RosMessage};
@@ -207,32 +207,38 @@ pub fn replay_mcap(
     axis_map: &BTreeMap<String, String>,
     mut sink: impl FnMut(Option<&Row>, &[Event]),
 ) -> Result<ReplayStats, RecordError> {
-    let data = std::fs::read(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?;
-    let bad = |e: mcap::McapError| RecordError::Mcap { path: path.to_path_buf(), message: e.to_string() };
-    let has_axis_state = match mcap::Summary::read(&data).map_err(bad)? {
-        Some(s) => s.channels.values().any(|c| c.schema.as_ref().is_some_and(|sc| sc.name == AxisState::type_name())),
+    let axis_state_type = AxisState::type_name();
+    let has_axis_state = match crate::record::read::summary_channels(path)? {
+        Some(channels) => channels.iter().any(|c| c.schema_name == axis_state_type),
         None => true,
     };
+    let joint_state_type = JointState::type_name();
     let mut stats = ReplayStats::default();
-    for msg in mcap::MessageStream::new(&data).map_err(bad)? {
-        let msg = msg.map_err(bad)?;
+    let mut state = AxisState::default();
+    let mut joints = JointState::default();
+    crate::record::read::for_each_message(path, |msg| {
         stats.messages_read += 1;
-        let Some(schema) = msg.channel.schema.as_ref() else { continue };
-        let state = if schema.name == AxisState::type_name() {
-            from_cdr::<AxisState>(&msg.data).ok()
-        } else if schema.name == JointState::type_name() && !has_axis_state {
-            from_cdr::<JointState>(&msg.data).ok().and_then(|js| scene.monitor().joint_state_to_axis_state(&js, axis_map).ok())
+        let decoded = if msg.channel.schema_name == axis_state_type {
+            state.read_cdr(msg.data).is_ok()
+        } else if msg.channel.schema_name == joint_state_type && !has_axis_state {
+            match joints.read_cdr(msg.data).ok().and_then(|()| scene.monitor().joint_state_to_axis_state(&joints, axis_map).ok()) {
+                Some(s) => {
+                    state = s;
+                    true
+                }
+                None => false,
+            }
         } else {
-            continue;
+            return;
         };
-        let Some(state) = state else {
+        if !decoded {
             stats.undecodable += 1;
-            continue;
-        };
+            return;
+        }
         let (row, events) = scene.push(&msg.channel.topic, &state);
         stats.rows += row.is_some() as u64;
         sink(row.as_ref(), &events);
-    }
+    })?;
     let events = scene.finish();
     sink(None, &events);
     Ok(stats)

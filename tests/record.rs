@@ -183,3 +183,80 @@ fn type_names_follow_rosbag2() {
     assert_eq!(AxisState::type_name(), "fiveaxis_msgs/msg/AxisState");
     assert_eq!(JointState::type_name(), "sensor_msgs/msg/JointState");
 }
+
+/// The analysis' streaming reader (whole-chunk zstd, borrowed messages) against the mcap crate's
+/// own MessageStream: the same messages in the same order, byte for byte. On damage it stops with an
+/// error naming the chunk after visiting every message before it, and the analysis keeps those.
+#[test]
+fn streaming_reader_agrees_with_the_mcap_crate_and_stops_at_damage() {
+    use fiveaxis::record::read::{for_each_message, summary_channels};
+    let path = tmp("stream.mcap");
+    record("bundled:SING.I", &path);
+    let data = std::fs::read(&path).unwrap();
+    let theirs: Vec<_> = mcap::MessageStream::new(&data).unwrap().map(|m| m.unwrap()).collect();
+    let mut k = 0usize;
+    let n = for_each_message(&path, |m| {
+        let t = &theirs[k];
+        assert_eq!(m.channel.topic, t.channel.topic);
+        assert_eq!(m.channel.schema_name, t.channel.schema.as_ref().unwrap().name);
+        assert_eq!(m.channel.message_encoding, t.channel.message_encoding);
+        assert_eq!((m.sequence, m.log_time, m.publish_time), (t.sequence, t.log_time, t.publish_time));
+        assert_eq!(m.data, &t.data[..]);
+        k += 1;
+    })
+    .unwrap();
+    assert_eq!((n as usize, k), (theirs.len(), theirs.len()));
+    let channels = summary_channels(&path).unwrap().expect("a summary");
+    let summary = mcap::Summary::read(&data).unwrap().unwrap();
+    assert_eq!(channels.len(), summary.channels.len());
+    for c in &channels {
+        assert_eq!(c.topic, summary.channels[&c.id].topic);
+    }
+
+    // Cut inside a chunk in the middle: every message of the chunks before it, then the error.
+    let chunks = &summary.chunk_indexes;
+    assert!(chunks.len() >= 4, "{} chunks", chunks.len());
+    let i = chunks.len() / 2;
+    let before: u64 = {
+        let end = chunks[i].chunk_start_offset;
+        // Messages of complete chunks = those the mcap crate reads from a copy cut at chunk i.
+        mcap::read::LinearReader::new_with_options(&data[..end as usize], enumset::enum_set!(mcap::read::Options::IgnoreEndMagic))
+            .unwrap()
+            .filter_map(|r| match r.ok()? {
+                mcap::records::Record::Chunk { header, data } => {
+                    Some(mcap::read::ChunkReader::new(header, &data).unwrap().filter(|r| matches!(r, Ok(mcap::records::Record::Message { .. }))).count() as u64)
+                }
+                _ => None,
+            })
+            .sum()
+    };
+    assert!(before > 1000);
+    let cut = tmp("stream-cut.mcap");
+    std::fs::write(&cut, &data[..(chunks[i].chunk_start_offset + chunks[i].chunk_length / 2) as usize]).unwrap();
+    let mut seen = 0u64;
+    let err = for_each_message(&cut, |_| seen += 1).unwrap_err();
+    assert_eq!(seen, before, "{err}");
+    assert!(err.to_string().contains("stream-cut.mcap"), "{err}");
+    assert_eq!(summary_channels(&cut).unwrap(), None, "a cut file has no summary");
+
+    // A damaged byte inside a chunk's compressed records: that chunk is refused as a whole.
+    let mut flipped = data.clone();
+    let mid = (chunks[i].chunk_start_offset + chunks[i].chunk_length / 2) as usize;
+    flipped[mid] ^= 0x5a;
+    let bad = tmp("stream-flipped.mcap");
+    std::fs::write(&bad, &flipped).unwrap();
+    let mut seen = 0u64;
+    let err = for_each_message(&bad, |_| seen += 1).unwrap_err();
+    assert_eq!(seen, before, "{err}");
+    assert!(err.to_string().contains("chunk starting at log time"), "{err}");
+
+    // The analysis keeps what came before the damage, says where it stopped, and exits 2.
+    let json = tmp("stream-cut.json");
+    let (code, table) = fiveaxis(&["analyze", cut.to_str().unwrap(), "--json", json.to_str().unwrap()]);
+    assert_eq!(code, 2, "{table}");
+    assert!(table.contains("DAMAGED"), "{table}");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["messages_read"].as_u64(), Some(before));
+    assert!(v["damage"].as_str().is_some_and(|d| d.contains("chunk") || d.contains("MCAP")), "{}", v["damage"]);
+    assert!(v["streams"].as_array().is_some_and(|s| !s.is_empty()));
+}

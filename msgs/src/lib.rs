@@ -5,6 +5,7 @@
 //! [`schema`] gives the ros2msg definition text of each type with its dependencies appended, in the
 //! layout rosbag2 writes into MCAP (`=` x 80, `MSG: pkg/Type`).
 
+pub mod cdr;
 pub mod schema;
 
 use serde::{Deserialize, Serialize};

@@ -70,6 +70,35 @@ pub struct InputSummary {
     pub regions: Vec<LiveRegion>,
 }
 
+/// The monitor's figures for one sample, without the strings of [`SingularityStatus`]: what the
+/// offline analysis needs per message (millions of them), and what a status is built from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Evaluation {
+    pub stamp: Time,
+    pub source: u8,
+    /// Angle between the tool axis and the singular direction, rad.
+    pub singularity_distance: f64,
+    /// Seed 001 eq. (5) at the programmed feed, rad/s.
+    pub predicted_c_speed: f64,
+    /// The secondary axis' speed between the last two samples, rad/s.
+    pub c_speed: f64,
+    /// Seed 002 eq. (5), m/s, with the limiting axis (index) and what limits it.
+    pub feed_limit: f64,
+    pub limiting_axis: Option<usize>,
+    pub limit_kind: LimitKind,
+    pub in_region: bool,
+    pub region_id: u32,
+    /// The tool tip in workpiece coordinates, m.
+    pub workpiece_position: Vector3<f64>,
+    pub time_to_next_region: f64,
+    pub program_line: u32,
+    pub block_number: i64,
+}
+
+/// A stream of the monitor, by index (see [`Monitor::input`]): no topic lookup per sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct InputId(usize);
+
 #[derive(Debug, Clone, Copy)]
 struct Past {
     t: f64,
@@ -93,8 +122,8 @@ struct Input {
     stale: u64,
     stale_now: bool,
     last_arrival: Option<f64>,
-    last: Option<SingularityStatus>,
-    cursor: usize,
+    last: Option<Evaluation>,
+    cursor: (usize, usize),
     samples: u64,
     /// Smallest stamp step seen (the stream's period) and samples missing from gaps in the stamps.
     period: Option<f64>,
@@ -119,7 +148,9 @@ pub struct Monitor {
     secondary: usize,
     limit: f64,
     limiter: FeedLimiter,
-    inputs: BTreeMap<String, Input>,
+    /// The streams, and their indices by topic (sorted: summaries list them in topic order).
+    inputs: Vec<Input>,
+    index: BTreeMap<String, usize>,
     ahead: Vec<Ahead>,
     /// Indices of the in-region entries of `ahead`, increasing.
     ahead_regions: Vec<usize>,
@@ -146,7 +177,8 @@ impl Monitor {
             secondary,
             limit: config.rate_limit.unwrap_or(limits[secondary].velocity),
             limiter: FeedLimiter::new(&limits),
-            inputs: BTreeMap::new(),
+            inputs: Vec::new(),
+            index: BTreeMap::new(),
             ahead: Vec::new(),
             ahead_regions: Vec::new(),
             prev_commanded_axis: None,
@@ -183,6 +215,24 @@ impl Monitor {
         })
     }
 
+    /// The sample's tool axis and tool tip (workpiece coordinates): as the message gives them (the
+    /// commander and the simulator fill them in), else by forward kinematics of its axis positions
+    /// (a machine bridge's JointState carries positions only).
+    fn axis_and_tip(&self, st: &AxisState, q: &Joints) -> (Vector3<f64>, Vector3<f64>) {
+        Self::axis_and_tip_of(&self.machine, st, q)
+    }
+
+    fn axis_and_tip_of(machine: &Machine, st: &AxisState, q: &Joints) -> (Vector3<f64>, Vector3<f64>) {
+        let given_axis = Vector3::new(st.tool_axis.x, st.tool_axis.y, st.tool_axis.z);
+        let axis_given = (given_axis.norm() - 1.0).abs() < 1e-6;
+        let tip_given = st.program_line > 0 || st.tool_tip != Point::default();
+        if axis_given && tip_given {
+            return (given_axis, vec3(&st.tool_tip));
+        }
+        let pose = machine.forward(q);
+        (if axis_given { given_axis } else { pose.axis }, if tip_given { vec3(&st.tool_tip) } else { pose.tip })
+    }
+
     fn validate(&self, st: &AxisState) -> Result<Joints, Rejection> {
         if st.position.len() != AXES {
             return Err(Rejection::Invalid(format!("expected {AXES} positions, got {}", st.position.len())));
@@ -214,8 +264,7 @@ impl Monitor {
     /// Remember a commanded sample for the look-ahead (call for each commanded state, in order).
     pub fn on_commanded_ahead(&mut self, st: &AxisState) {
         let Ok(q) = self.validate(st) else { return };
-        let pose = self.machine.forward(&q);
-        let tip = if st.tool_tip == Point::default() && st.program_line == 0 { pose.tip } else { vec3(&st.tool_tip) };
+        let (axis, tip) = self.axis_and_tip(st, &q);
         let t = st.header.stamp.as_secs();
         if self.ahead.last().is_some_and(|a| t <= a.t) {
             return;
@@ -223,31 +272,79 @@ impl Monitor {
         // In a region if the step from the previous commanded sample demands more than the limit.
         let in_region = match self.ahead.last() {
             Some(prev) => {
-                let prev_q = self.prev_commanded_axis.unwrap_or(pose.axis);
+                let prev_q = self.prev_commanded_axis.unwrap_or(axis);
                 let dt = t - prev.t;
-                let rate = if dt > 0.0 { self.sign * predicted_rate(&pose.axis, &((pose.axis - prev_q) / dt), &self.singular) } else { 0.0 };
+                let rate = if dt > 0.0 { self.sign * predicted_rate(&axis, &((axis - prev_q) / dt), &self.singular) } else { 0.0 };
                 rate.abs() > self.limit
             }
             None => false,
         };
-        self.prev_commanded_axis = Some(pose.axis);
+        self.prev_commanded_axis = Some(axis);
         if in_region {
             self.ahead_regions.push(self.ahead.len());
         }
         self.ahead.push(Ahead { t, line: st.program_line, tip });
     }
 
+    /// The stream of `topic`, created on first use.
+    pub fn input(&mut self, topic: &str) -> InputId {
+        if let Some(&k) = self.index.get(topic) {
+            return InputId(k);
+        }
+        self.inputs.push(Input::default());
+        self.index.insert(topic.to_string(), self.inputs.len() - 1);
+        InputId(self.inputs.len() - 1)
+    }
+
+    fn get(&self, topic: &str) -> Option<&Input> {
+        self.index.get(topic).map(|&k| &self.inputs[k])
+    }
+
+    /// The streams in topic order.
+    fn each(&self) -> impl Iterator<Item = (&String, &Input)> {
+        self.index.iter().map(|(t, &k)| (t, &self.inputs[k]))
+    }
+
     /// Evaluate one sample of stream `topic`; `wall` is the arrival time (s, any monotonic clock).
     pub fn on_state(&mut self, topic: &str, st: &AxisState, wall: f64) -> Result<SingularityStatus, Rejection> {
+        let id = self.input(topic);
+        let e = self.evaluate(id, st, wall)?;
+        let input = &self.inputs[id.0];
+        Ok(SingularityStatus {
+            header: Header { stamp: e.stamp, frame_id: st.header.frame_id.clone() },
+            source: e.source,
+            input_topic: topic.to_string(),
+            singularity_distance: e.singularity_distance,
+            secondary_axis: self.machine.axes[self.secondary].name.clone(),
+            predicted_c_speed: e.predicted_c_speed,
+            c_speed: e.c_speed,
+            c_speed_limit: self.limit,
+            feed_limit: e.feed_limit,
+            limiting_axis: e.limiting_axis.map_or(String::new(), |i| self.machine.axes[i].name.clone()),
+            limit_kind: limit_kind_code(e.limit_kind),
+            in_region: e.in_region,
+            region_id: e.region_id,
+            workpiece_position: Point { x: e.workpiece_position.x, y: e.workpiece_position.y, z: e.workpiece_position.z },
+            time_to_next_region: e.time_to_next_region,
+            program_line: e.program_line,
+            block_number: e.block_number,
+            invalid_count: input.invalid,
+            out_of_order_count: input.out_of_order,
+            stale_count: input.stale,
+        })
+    }
+
+    /// [`Monitor::on_state`] without building the status message: the figures only.
+    pub fn evaluate(&mut self, id: InputId, st: &AxisState, wall: f64) -> Result<Evaluation, Rejection> {
         let q = match self.validate(st) {
             Ok(q) => q,
             Err(e) => {
-                self.inputs.entry(topic.to_string()).or_default().invalid += 1;
+                self.inputs[id.0].invalid += 1;
                 return Err(e);
             }
         };
         let t = st.header.stamp.as_secs();
-        let input = self.inputs.entry(topic.to_string()).or_default();
+        let input = &mut self.inputs[id.0];
         input.last_arrival = Some(wall);
         if input.stale_now {
             // The stream had gone stale: a restarted publisher may restart its clock. New session.
@@ -274,10 +371,7 @@ impl Monitor {
                 input.lost += ((dt / period).round() as u64).saturating_sub(1);
             }
         }
-        let pose = self.machine.forward(&q);
-        let given_axis = Vector3::new(st.tool_axis.x, st.tool_axis.y, st.tool_axis.z);
-        let axis = if (given_axis.norm() - 1.0).abs() < 1e-6 { given_axis } else { pose.axis };
-        let tip = if st.program_line > 0 || st.tool_tip != Point::default() { vec3(&st.tool_tip) } else { pose.tip };
+        let (axis, tip) = Self::axis_and_tip_of(&self.machine, st, &q);
         let prev = input.history.back().copied();
         let ds = prev.map_or(0.0, |p| (tip - p.tip).norm());
         input.s += ds;
@@ -351,41 +445,31 @@ impl Monitor {
             input.cursor = cursor;
             ahead
         };
-        let status = SingularityStatus {
-            header: Header { stamp: st.header.stamp, frame_id: st.header.frame_id.clone() },
+        let evaluation = Evaluation {
+            stamp: st.header.stamp,
             source: st.source,
-            input_topic: topic.to_string(),
             singularity_distance: dist,
-            secondary_axis: self.machine.axes[self.secondary].name.clone(),
             predicted_c_speed: predicted,
             c_speed,
-            c_speed_limit: self.limit,
             feed_limit: fl.0,
-            limiting_axis: fl.1.map_or(String::new(), |i| self.machine.axes[i].name.clone()),
-            limit_kind: match fl.2 {
-                LimitKind::Programmed => SingularityStatus::LIMIT_PROGRAMMED,
-                LimitKind::Velocity => SingularityStatus::LIMIT_VELOCITY,
-                LimitKind::Acceleration => SingularityStatus::LIMIT_ACCELERATION,
-                LimitKind::Jerk => SingularityStatus::LIMIT_JERK,
-            },
+            limiting_axis: fl.1,
+            limit_kind: fl.2,
             in_region,
             region_id: if in_region { input.region_id } else { 0 },
-            workpiece_position: Point { x: tip.x, y: tip.y, z: tip.z },
+            workpiece_position: tip,
             time_to_next_region: time_to_next,
             program_line: st.program_line,
             block_number: st.block_number,
-            invalid_count: input.invalid,
-            out_of_order_count: input.out_of_order,
-            stale_count: input.stale,
         };
-        input.last = Some(status.clone());
-        Ok(status)
+        input.last = Some(evaluation);
+        Ok(evaluation)
     }
 
     /// Check every input for staleness at wall time `wall`; returns the topics that just went stale.
     pub fn tick(&mut self, wall: f64) -> Vec<String> {
         let mut gone = Vec::new();
-        for (topic, input) in self.inputs.iter_mut() {
+        for (topic, &k) in &self.index {
+            let input = &mut self.inputs[k];
             if let Some(last) = input.last_arrival {
                 if !input.stale_now && wall - last > self.config.stale_timeout {
                     input.stale_now = true;
@@ -399,7 +483,7 @@ impl Monitor {
 
     /// Close any open region (end of a stream).
     pub fn finish(&mut self) {
-        for input in self.inputs.values_mut() {
+        for input in self.inputs.iter_mut() {
             if let Some(r) = input.open.take() {
                 input.regions.push(r);
             }
@@ -408,28 +492,27 @@ impl Monitor {
 
     /// Regions a stream went through, in order.
     pub fn regions(&self, topic: &str) -> Vec<LiveRegion> {
-        self.inputs.get(topic).map_or_else(Vec::new, |i| i.regions.iter().chain(i.open.iter()).cloned().collect())
+        self.get(topic).map_or_else(Vec::new, |i| i.regions.iter().chain(i.open.iter()).cloned().collect())
     }
 
     /// (samples, invalid, out of order, stale) of a stream.
     pub fn counters(&self, topic: &str) -> (u64, u64, u64, u64) {
-        self.inputs.get(topic).map_or((0, 0, 0, 0), |i| (i.samples, i.invalid, i.out_of_order, i.stale))
+        self.get(topic).map_or((0, 0, 0, 0), |i| (i.samples, i.invalid, i.out_of_order, i.stale))
     }
 
     /// Samples missing from a stream, judged by gaps in its stamps against its period.
     pub fn lost(&self, topic: &str) -> u64 {
-        self.inputs.get(topic).map_or(0, |i| i.lost)
+        self.get(topic).map_or(0, |i| i.lost)
     }
 
     /// The topics seen so far.
     pub fn topics(&self) -> Vec<String> {
-        self.inputs.keys().cloned().collect()
+        self.index.keys().cloned().collect()
     }
 
     /// A summary of every stream, for people and CI.
     pub fn summary(&self) -> Vec<InputSummary> {
-        self.inputs
-            .iter()
+        self.each()
             .map(|(topic, i)| InputSummary {
                 topic: topic.clone(),
                 source: i.source,
@@ -447,15 +530,20 @@ impl Monitor {
     /// ERROR inside a region, STALE without samples).
     pub fn diagnostics(&self, stamp: Time) -> DiagnosticArray {
         let status = self
-            .inputs
-            .iter()
+            .each()
             .map(|(topic, input)| {
                 let (level, message) = match &input.last {
                     _ if input.stale_now => (DiagnosticStatus::STALE, format!("no sample for {:.0} ms", self.config.stale_timeout * 1e3)),
                     None => (DiagnosticStatus::STALE, "no valid sample yet".to_string()),
                     Some(s) if s.in_region => (
                         DiagnosticStatus::ERROR,
-                        format!("{} speed {:.1} rpm above its {:.1} rpm limit (region {})", s.secondary_axis, s.predicted_c_speed.abs() / crate::units::RPM, s.c_speed_limit / crate::units::RPM, s.region_id),
+                        format!(
+                            "{} speed {:.1} rpm above its {:.1} rpm limit (region {})",
+                            self.machine.axes[self.secondary].name,
+                            s.predicted_c_speed.abs() / crate::units::RPM,
+                            self.limit / crate::units::RPM,
+                            s.region_id
+                        ),
                     ),
                     Some(s) if s.singularity_distance < self.config.warn_distance => {
                         (DiagnosticStatus::WARN, format!("{:.2} deg from the singularity", s.singularity_distance.to_degrees()))
@@ -476,7 +564,7 @@ impl Monitor {
                         KeyValue { key: "singularity_distance_deg".into(), value: format!("{:.4}", s.singularity_distance.to_degrees()) },
                         KeyValue { key: "predicted_c_speed_rpm".into(), value: format!("{:.2}", s.predicted_c_speed / crate::units::RPM) },
                         KeyValue { key: "feed_limit_mm_per_min".into(), value: format!("{:.1}", s.feed_limit * 60e3) },
-                        KeyValue { key: "limiting_axis".into(), value: s.limiting_axis.clone() },
+                        KeyValue { key: "limiting_axis".into(), value: s.limiting_axis.map_or(String::new(), |i| self.machine.axes[i].name.clone()) },
                         KeyValue { key: "region_id".into(), value: s.region_id.to_string() },
                     ]);
                 }
@@ -487,29 +575,48 @@ impl Monitor {
     }
 }
 
+fn limit_kind_code(kind: LimitKind) -> u8 {
+    match kind {
+        LimitKind::Programmed => SingularityStatus::LIMIT_PROGRAMMED,
+        LimitKind::Velocity => SingularityStatus::LIMIT_VELOCITY,
+        LimitKind::Acceleration => SingularityStatus::LIMIT_ACCELERATION,
+        LimitKind::Jerk => SingularityStatus::LIMIT_JERK,
+    }
+}
+
 /// Seed 002 eq. (5) on divided differences of the last samples with respect to path length.
 fn feed_limit_from_history(h: &VecDeque<Past>, limiter: &FeedLimiter, f_prog: f64) -> (f64, Option<usize>, LimitKind) {
     let n = h.len();
     if n < 2 || f_prog <= 0.0 {
         return (f_prog, None, LimitKind::Programmed);
     }
-    let p: Vec<&Past> = h.iter().collect();
-    let d1 = |a: &Past, b: &Past, i: usize| (b.q[i] - a.q[i]) / (b.s - a.s);
+    let p = |k: usize| &h[k];
     let ok = |a: &Past, b: &Past| b.s - a.s > 1e-9;
     let mut qs = [0.0; AXES];
     let mut qss = [0.0; AXES];
     let mut qsss = [0.0; AXES];
-    if !ok(p[n - 2], p[n - 1]) {
+    if !ok(p(n - 2), p(n - 1)) {
         return (f_prog, None, LimitKind::Programmed);
     }
+    // Divided differences (the reciprocals of the path steps once, not per axis).
+    let (p1, p2) = (p(n - 1), p(n - 2));
+    let inv = |a: &Past, b: &Past| 1.0 / (b.s - a.s);
+    let inv21 = inv(p2, p1);
+    let third = (n >= 3 && ok(p(n - 3), p2)).then(|| (p(n - 3), inv(p(n - 3), p2), 2.0 / (p1.s - p(n - 3).s)));
+    let fourth = third.filter(|_| n >= 4 && ok(p(n - 4), p(n - 3))).map(|(p3, ..)| {
+        let p4 = p(n - 4);
+        (p4, inv(p4, p3), 2.0 / (p2.s - p4.s), 3.0 / (p1.s - p4.s))
+    });
     for i in 0..AXES {
-        qs[i] = d1(p[n - 2], p[n - 1], i);
-        if n >= 3 && ok(p[n - 3], p[n - 2]) {
-            let s2 = 2.0 * (d1(p[n - 2], p[n - 1], i) - d1(p[n - 3], p[n - 2], i)) / (p[n - 1].s - p[n - 3].s);
+        let d21 = (p1.q[i] - p2.q[i]) * inv21;
+        qs[i] = d21;
+        if let Some((p3, inv32, k2)) = third {
+            let d32 = (p2.q[i] - p3.q[i]) * inv32;
+            let s2 = (d21 - d32) * k2;
             qss[i] = s2;
-            if n >= 4 && ok(p[n - 4], p[n - 3]) {
-                let s2b = 2.0 * (d1(p[n - 3], p[n - 2], i) - d1(p[n - 4], p[n - 3], i)) / (p[n - 2].s - p[n - 4].s);
-                qsss[i] = 3.0 * (s2 - s2b) / (p[n - 1].s - p[n - 4].s);
+            if let Some((p4, inv43, k2b, k3)) = fourth {
+                let s2b = (d32 - (p3.q[i] - p4.q[i]) * inv43) * k2b;
+                qsss[i] = (s2 - s2b) * k3;
             }
         }
     }
@@ -518,14 +625,15 @@ fn feed_limit_from_history(h: &VecDeque<Past>, limiter: &FeedLimiter, f_prog: f6
 }
 
 /// Find a sample's place on the commanded timeline and the time from there to the next region:
-/// (new cursor, seconds; -1 if none ahead). The place moves forward from `cursor` to the sample's
-/// program line, then on while the next entry is as close to the sample's tool tip; the next region is
-/// found by binary search in the sorted indices of in-region entries.
-fn lookahead(ahead: &[Ahead], regions: &[usize], cursor: usize, line: u32, tip: &Vector3<f64>) -> (usize, f64) {
+/// (new cursor, seconds; -1 if none ahead). The cursor is (place on `ahead`, first entry of `regions`
+/// not behind it); both only move forward. The place moves from the cursor to the sample's program
+/// line, then on while the next entry is as close to the sample's tool tip; the next region is the
+/// first in-region entry (sorted indices in `regions`) at or after it.
+fn lookahead(ahead: &[Ahead], regions: &[usize], cursor: (usize, usize), line: u32, tip: &Vector3<f64>) -> ((usize, usize), f64) {
     if ahead.is_empty() {
         return (cursor, -1.0);
     }
-    let mut best = cursor.min(ahead.len() - 1);
+    let mut best = cursor.0.min(ahead.len() - 1);
     // A new block: jump to its first entry ahead (the scan happens once per block).
     if line != 0 && ahead[best].line != line {
         if let Some(k) = ahead[best..].iter().take(1_000_000).position(|a| a.line == line) {
@@ -537,7 +645,10 @@ fn lookahead(ahead: &[Ahead], regions: &[usize], cursor: usize, line: u32, tip: 
     while best + 1 < ahead.len() && (line == 0 || ahead[best + 1].line == line) && d(&ahead[best + 1]) <= d(&ahead[best]) {
         best += 1;
     }
-    let k = regions.partition_point(|&i| i < best);
+    let mut k = cursor.1;
+    while regions.get(k).is_some_and(|&i| i < best) {
+        k += 1;
+    }
     let next = regions.get(k).map_or(-1.0, |&i| ahead[i].t - ahead[best].t);
-    (best, next)
+    ((best, k), next)
 }

@@ -10,6 +10,7 @@
 //!   recorder killed mid-run loses at most the last chunk ([`recover`] rebuilds the rest), with
 //!   message indexes, chunk indexes and statistics in the summary.
 
+pub mod read;
 mod recover;
 
 pub use recover::{recover, RecoverReport};

@@ -1,0 +1,200 @@
+//! Allocation-free CDR decoding of the hot messages ([`AxisState`], [`JointState`]) into a reused
+//! value, for the offline analysis of recordings with millions of them. The wire format is the one
+//! serde + `cdr_encoding` writes and ROS 2 uses (plain CDR / XCDR1: a 4-byte encapsulation header,
+//! then primitives aligned to their size relative to the body start, strings and sequences as a u32
+//! count then the elements). The values are the same as serde's decoding gives (tested against it);
+//! strings and vectors of the target keep their capacity, so a warm decode allocates nothing.
+
+use crate::{AxisState, Header, JointState, Point, Time, Vector3};
+
+/// Why a CDR message did not decode: the field and the byte offset (from the encapsulation header).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CdrError {
+    pub offset: usize,
+    pub field: &'static str,
+    pub reason: &'static str,
+}
+
+impl std::fmt::Display for CdrError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} at byte {}: {}", self.field, self.offset, self.reason)
+    }
+}
+
+impl std::error::Error for CdrError {}
+
+/// Byte equality without a library call for the short strings of these messages.
+#[inline]
+fn same_bytes(a: &[u8], b: &[u8]) -> bool {
+    a.len() == b.len() && if a.len() <= 16 { a.iter().zip(b).all(|(x, y)| x == y) } else { a == b }
+}
+
+#[cold]
+fn cut_short(body_offset: usize, field: &'static str) -> CdrError {
+    CdrError { offset: 4 + body_offset, field, reason: "message ends inside the field" }
+}
+
+/// A cursor over a CDR body (after the 4-byte encapsulation header).
+pub struct CdrReader<'a> {
+    body: &'a [u8],
+    pos: usize,
+    big_endian: bool,
+}
+
+impl<'a> CdrReader<'a> {
+    /// Start on a whole message: checks the encapsulation header (CDR_LE/CDR_BE, PL_CDR_LE/BE).
+    pub fn new(data: &'a [u8]) -> Result<Self, CdrError> {
+        if data.len() < 4 {
+            return Err(CdrError { offset: 0, field: "encapsulation header", reason: "shorter than 4 bytes" });
+        }
+        let big_endian = match data[1] {
+            0x01 | 0x03 => false,
+            0x00 | 0x02 => true,
+            _ => return Err(CdrError { offset: 1, field: "encapsulation header", reason: "unsupported encapsulation kind" }),
+        };
+        Ok(CdrReader { body: &data[4..], pos: 0, big_endian })
+    }
+
+    #[inline]
+    fn take<const N: usize>(&mut self, field: &'static str) -> Result<[u8; N], CdrError> {
+        // Primitives are aligned to their size, relative to the body start.
+        let start = self.pos.next_multiple_of(N);
+        match self.body.get(start..start + N) {
+            Some(bytes) => {
+                self.pos = start + N;
+                Ok(bytes.try_into().expect("N bytes"))
+            }
+            None => Err(cut_short(start, field)),
+        }
+    }
+
+    pub fn u8(&mut self, field: &'static str) -> Result<u8, CdrError> {
+        Ok(self.take::<1>(field)?[0])
+    }
+
+    pub fn u32(&mut self, field: &'static str) -> Result<u32, CdrError> {
+        let b = self.take::<4>(field)?;
+        Ok(if self.big_endian { u32::from_be_bytes(b) } else { u32::from_le_bytes(b) })
+    }
+
+    pub fn i32(&mut self, field: &'static str) -> Result<i32, CdrError> {
+        Ok(self.u32(field)? as i32)
+    }
+
+    pub fn i64(&mut self, field: &'static str) -> Result<i64, CdrError> {
+        let b = self.take::<8>(field)?;
+        Ok(if self.big_endian { i64::from_be_bytes(b) } else { i64::from_le_bytes(b) })
+    }
+
+    pub fn f64(&mut self, field: &'static str) -> Result<f64, CdrError> {
+        let b = self.take::<8>(field)?;
+        Ok(if self.big_endian { f64::from_be_bytes(b) } else { f64::from_le_bytes(b) })
+    }
+
+    /// A sequence count, checked against the bytes left (at `min_size` bytes per element).
+    fn count(&mut self, field: &'static str, min_size: usize) -> Result<usize, CdrError> {
+        let n = self.u32(field)? as usize;
+        if n.saturating_mul(min_size) > self.body.len() - self.pos {
+            return Err(CdrError { offset: self.pos, field, reason: "count larger than the message" });
+        }
+        Ok(n)
+    }
+
+    /// A string into `out` (its buffer reused). The count includes the NUL terminator, which is
+    /// dropped; a zero count is an empty string (as `cdr_encoding` accepts).
+    pub fn string_into(&mut self, field: &'static str, out: &mut String) -> Result<(), CdrError> {
+        let n = self.count(field, 1)?;
+        let bytes = &self.body[self.pos..self.pos + n];
+        let bytes = bytes.split_last().map_or(bytes, |(_, s)| s);
+        // A stream repeats its strings (frame, axis names): when unchanged, nothing to check or copy.
+        if !same_bytes(out.as_bytes(), bytes) {
+            let text = std::str::from_utf8(bytes).map_err(|_| CdrError { offset: 4 + self.pos, field, reason: "not UTF-8" })?;
+            out.clear();
+            out.push_str(text);
+        }
+        self.pos += n;
+        Ok(())
+    }
+
+    /// A sequence of strings into `out`, reusing its strings.
+    pub fn strings_into(&mut self, field: &'static str, out: &mut Vec<String>) -> Result<(), CdrError> {
+        let n = self.count(field, 4)?;
+        out.truncate(n);
+        for k in 0..n {
+            if k == out.len() {
+                out.push(String::new());
+            }
+            self.string_into(field, &mut out[k])?;
+        }
+        Ok(())
+    }
+
+    /// A sequence of float64 into `out`, reusing its buffer.
+    pub fn f64s_into(&mut self, field: &'static str, out: &mut Vec<f64>) -> Result<(), CdrError> {
+        let n = self.count(field, 8)?;
+        out.clear();
+        if n == 0 {
+            return Ok(());
+        }
+        let start = self.pos.next_multiple_of(8);
+        let bytes = self
+            .body
+            .get(start..start + 8 * n)
+            .ok_or(CdrError { offset: 4 + start, field, reason: "message ends inside the sequence" })?;
+        let be = self.big_endian;
+        out.extend(bytes.chunks_exact(8).map(|b| {
+            let b: [u8; 8] = b.try_into().expect("8 bytes");
+            if be { f64::from_be_bytes(b) } else { f64::from_le_bytes(b) }
+        }));
+        self.pos = start + 8 * n;
+        Ok(())
+    }
+
+    fn time(&mut self) -> Result<Time, CdrError> {
+        Ok(Time { sec: self.i32("header.stamp.sec")?, nanosec: self.u32("header.stamp.nanosec")? })
+    }
+
+    fn header_into(&mut self, out: &mut Header) -> Result<(), CdrError> {
+        out.stamp = self.time()?;
+        self.string_into("header.frame_id", &mut out.frame_id)
+    }
+
+    fn xyz(&mut self, field: &'static str) -> Result<[f64; 3], CdrError> {
+        Ok([self.f64(field)?, self.f64(field)?, self.f64(field)?])
+    }
+}
+
+impl AxisState {
+    /// Decode a CDR message (with its encapsulation header) into `self`, reusing its buffers. On
+    /// error `self` holds a partial value.
+    pub fn read_cdr(&mut self, data: &[u8]) -> Result<(), CdrError> {
+        let mut r = CdrReader::new(data)?;
+        r.header_into(&mut self.header)?;
+        self.source = r.u8("source")?;
+        r.strings_into("name", &mut self.name)?;
+        r.f64s_into("position", &mut self.position)?;
+        r.f64s_into("velocity", &mut self.velocity)?;
+        r.f64s_into("acceleration", &mut self.acceleration)?;
+        let [x, y, z] = r.xyz("tool_tip")?;
+        self.tool_tip = Point { x, y, z };
+        let [x, y, z] = r.xyz("tool_axis")?;
+        self.tool_axis = Vector3 { x, y, z };
+        self.programmed_feed = r.f64("programmed_feed")?;
+        self.path_feed = r.f64("path_feed")?;
+        self.program_line = r.u32("program_line")?;
+        self.block_number = r.i64("block_number")?;
+        Ok(())
+    }
+}
+
+impl JointState {
+    /// Decode a CDR message (with its encapsulation header) into `self`, reusing its buffers.
+    pub fn read_cdr(&mut self, data: &[u8]) -> Result<(), CdrError> {
+        let mut r = CdrReader::new(data)?;
+        r.header_into(&mut self.header)?;
+        r.strings_into("name", &mut self.name)?;
+        r.f64s_into("position", &mut self.position)?;
+        r.f64s_into("velocity", &mut self.velocity)?;
+        r.f64s_into("effort", &mut self.effort)
+    }
+}

@@ -1,0 +1,216 @@
+//! Streaming reads of a recording: every message in file order, borrowed from the reader's buffers,
+//! with the file read piecewise (memory stays flat on recordings of any size) and chunk CRCs checked.
+//! Built on the `mcap` crate's sans-I/O readers; the offline analysis and the Rerun replay use it.
+
+use super::RecordError;
+use mcap::records::Record;
+use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions, SummaryReadEvent, SummaryReader};
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::{Read, Seek};
+use std::path::Path;
+
+/// A channel of a recording: topic, schema name (`pkg/msg/Type`, empty without a schema) and
+/// message encoding.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ChannelInfo {
+    pub id: u16,
+    pub topic: String,
+    pub schema_name: String,
+    pub message_encoding: String,
+}
+
+/// One message, borrowed from the reader until the visitor returns.
+#[derive(Debug, Clone, Copy)]
+pub struct MessageView<'a> {
+    pub channel: &'a ChannelInfo,
+    pub sequence: u32,
+    /// Receive time, ns.
+    pub log_time: u64,
+    /// Source stamp, ns.
+    pub publish_time: u64,
+    pub data: &'a [u8],
+    /// Bytes of the file read so far (for progress).
+    pub file_position: u64,
+}
+
+fn mcap_error(path: &Path, e: impl std::fmt::Display) -> RecordError {
+    RecordError::Mcap { path: path.to_path_buf(), message: e.to_string() }
+}
+
+fn io_error(path: &Path) -> impl Fn(std::io::Error) -> RecordError + '_ {
+    move |source| RecordError::Io { path: path.to_path_buf(), source }
+}
+
+/// The channels listed in the summary section of the recording at `path`, read from its end;
+/// `None` when it has no readable summary (a recording cut short, no end magic: read the messages
+/// themselves). Only I/O errors are errors.
+pub fn summary_channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, RecordError> {
+    let mut file = File::open(path).map_err(io_error(path))?;
+    let mut reader = SummaryReader::new();
+    while let Some(event) = reader.next_event() {
+        let Ok(event) = event else { return Ok(None) };
+        match event {
+            SummaryReadEvent::ReadRequest(need) => {
+                let n = file.read(reader.insert(need)).map_err(io_error(path))?;
+                reader.notify_read(n);
+            }
+            SummaryReadEvent::SeekRequest(to) => reader.notify_seeked(file.seek(to).map_err(io_error(path))?),
+        }
+    }
+    Ok(reader.finish().map(|summary| {
+        let mut channels: Vec<ChannelInfo> = summary
+            .channels
+            .values()
+            .map(|c| ChannelInfo {
+                id: c.id,
+                topic: c.topic.clone(),
+                schema_name: c.schema.as_ref().map_or_else(String::new, |s| s.name.clone()),
+                message_encoding: c.message_encoding.clone(),
+            })
+            .collect();
+        channels.sort_by_key(|c| c.id);
+        channels
+    }))
+}
+
+/// Call `visit` for every message of the recording at `path`, in file order, and return how many
+/// there were. Schema and Channel records are collected on the way (a message on a channel not yet
+/// declared is an error). Errors name the file and what broke; the messages before it were visited.
+///
+/// Chunks are decompressed whole into one reused buffer (zstd's one-shot decoder, then the CRC of
+/// the uncompressed records): faster than streaming them through the record reader.
+pub fn for_each_message(path: &Path, mut visit: impl FnMut(MessageView<'_>)) -> Result<u64, RecordError> {
+    let mut file = File::open(path).map_err(io_error(path))?;
+    let len = file.metadata().map_err(io_error(path))?.len();
+    let mut reader = LinearReader::new_with_options(
+        LinearReaderOptions::default().with_emit_chunks(true).with_record_length_limit(usize::try_from(len).unwrap_or(usize::MAX)),
+    );
+    let mut records = Records { schemas: HashMap::new(), channels: Vec::new(), count: 0 };
+    let mut position = 0u64;
+    let mut chunk = Vec::new();
+    let mut zstd = zstd::bulk::Decompressor::new().map_err(io_error(path))?;
+    while let Some(event) = reader.next_event() {
+        match event.map_err(|e| mcap_error(path, e))? {
+            LinearReadEvent::ReadRequest(need) => {
+                // Read in large pieces: fewer system calls.
+                let n = file.read(reader.insert(need.max(1 << 20))).map_err(io_error(path))?;
+                reader.notify_read(n);
+                position += n as u64;
+            }
+            LinearReadEvent::Record { data, opcode: mcap::records::op::CHUNK } => {
+                let Record::Chunk { header, data: compressed } = mcap::parse_record(mcap::records::op::CHUNK, data).map_err(|e| mcap_error(path, e))? else {
+                    unreachable!("a chunk opcode parses as a chunk")
+                };
+                let start = header.message_start_time;
+                let damaged = |what: String| mcap_error(path, format!("chunk starting at log time {start} ns: {what}"));
+                let size = usize::try_from(header.uncompressed_size).ok().filter(|n| *n <= MAX_CHUNK).ok_or_else(|| damaged(format!("claims {} bytes uncompressed", header.uncompressed_size)))?;
+                let body: &[u8] = match header.compression.as_str() {
+                    "" => &compressed,
+                    "zstd" => {
+                        chunk.clear();
+                        chunk.reserve(size);
+                        let n = zstd.decompress_to_buffer(&compressed, &mut chunk).map_err(|e| damaged(format!("zstd: {e}")))?;
+                        if n != size {
+                            return Err(damaged(format!("{n} bytes uncompressed, header says {size}")));
+                        }
+                        &chunk
+                    }
+                    other => return Err(damaged(format!("unsupported compression '{other}'"))),
+                };
+                if header.uncompressed_crc != 0 && crc32fast::hash(body) != header.uncompressed_crc {
+                    return Err(damaged("CRC mismatch".into()));
+                }
+                let mut rest = body;
+                while !rest.is_empty() {
+                    let (opcode, record, tail) = split_record(rest).ok_or_else(|| damaged(format!("record cut short {} bytes from its end", rest.len())))?;
+                    records.record(path, opcode, record, position, &mut visit)?;
+                    rest = tail;
+                }
+            }
+            LinearReadEvent::Record { data, opcode } => records.record(path, opcode, data, position, &mut visit)?,
+        }
+    }
+    Ok(records.count)
+}
+
+/// Largest uncompressed chunk accepted (a damaged header must not make us allocate without bound).
+const MAX_CHUNK: usize = 1 << 32;
+
+/// One record of a chunk's records: (opcode, body, what follows).
+fn split_record(data: &[u8]) -> Option<(u8, &[u8], &[u8])> {
+    let (&opcode, rest) = data.split_first()?;
+    let (len, rest) = rest.split_at_checked(8)?;
+    let len = usize::try_from(u64::from_le_bytes(len.try_into().ok()?)).ok()?;
+    let (body, tail) = rest.split_at_checked(len)?;
+    Some((opcode, body, tail))
+}
+
+/// The schemas and channels seen so far, and the messages visited.
+struct Records {
+    schemas: HashMap<u16, String>,
+    /// By channel id.
+    channels: Vec<Option<ChannelInfo>>,
+    count: u64,
+}
+
+impl Records {
+    fn record(&mut self, path: &Path, opcode: u8, data: &[u8], position: u64, visit: &mut impl FnMut(MessageView<'_>)) -> Result<(), RecordError> {
+        match opcode {
+            mcap::records::op::MESSAGE => {
+                let (header, body) = message_header(data).ok_or_else(|| mcap_error(path, format!("message record of {} bytes is too short", data.len())))?;
+                let channel = self
+                    .channels
+                    .get(usize::from(header.channel_id))
+                    .and_then(Option::as_ref)
+                    .ok_or_else(|| mcap_error(path, format!("message on channel {} before its Channel record", header.channel_id)))?;
+                self.count += 1;
+                visit(MessageView {
+                    channel,
+                    sequence: header.sequence,
+                    log_time: header.log_time,
+                    publish_time: header.publish_time,
+                    data: body,
+                    file_position: position,
+                });
+            }
+            mcap::records::op::SCHEMA | mcap::records::op::CHANNEL => match mcap::parse_record(opcode, data).map_err(|e| mcap_error(path, e))? {
+                Record::Schema { header, .. } => {
+                    self.schemas.insert(header.id, header.name);
+                }
+                Record::Channel(c) => {
+                    let schema_name = if c.schema_id == 0 {
+                        String::new()
+                    } else {
+                        self.schemas
+                            .get(&c.schema_id)
+                            .cloned()
+                            .ok_or_else(|| mcap_error(path, format!("channel {} '{}' names unknown schema {}", c.id, c.topic, c.schema_id)))?
+                    };
+                    let slot = usize::from(c.id);
+                    if self.channels.len() <= slot {
+                        self.channels.resize(slot + 1, None);
+                    }
+                    self.channels[slot] = Some(ChannelInfo { id: c.id, topic: c.topic, schema_name, message_encoding: c.message_encoding });
+                }
+                _ => {}
+            },
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+/// The fixed part of a Message record (channel id u16, sequence u32, log time u64, publish time
+/// u64, little endian) and the message data after it.
+fn message_header(data: &[u8]) -> Option<(mcap::records::MessageHeader, &[u8])> {
+    let (head, body) = data.split_at_checked(22)?;
+    let u64_at = |k: usize| u64::from_le_bytes(head[k..k + 8].try_into().expect("8 bytes"));
+    let header = mcap::records::MessageHeader {
+        channel_id: u16::from_le_bytes([head[0], head[1]]),
+        sequence: u32::from_le_bytes(head[2..6].try_into().expect("4 bytes")),
+        log_time: u64_at(6),
+        publish_time: u64_at(14),
+    };
+    Some((header, body))
+}
