@@ -121,7 +121,7 @@ enum Decode {
 
 /// Analyse the recording at `path` on `machine`.
 pub fn analyze_mcap(path: &Path, machine: &Machine, options: &OfflineOptions) -> Result<OfflineReport, RecordError> {
-    analyze_mcap_with_progress(path, machine, options, |_, _| {})
+    analyze_mcap_with_progress(path, machine, options, &mut |_, _| {})
 }
 
 /// [`analyze_mcap`], calling `progress(bytes read, file size)` now and then (for a progress bar).
@@ -130,7 +130,8 @@ pub fn analyze_mcap_with_progress(
     path: &Path,
     machine: &Machine,
     options: &OfflineOptions,
-    mut progress: impl FnMut(u64, u64),
+    // Dynamic, so that a progress bar's code stays out of the per-message loop (called rarely).
+    progress: &mut dyn FnMut(u64, u64),
 ) -> Result<OfflineReport, RecordError> {
     let file_len = std::fs::metadata(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?.len();
     let axis_state_type = AxisState::type_name();

@@ -405,13 +405,13 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
             .progress_chars("=> "),
     );
     bar.set_message("analysing");
-    let progress = |done: u64, total: u64| {
+    let mut progress = |done: u64, total: u64| {
         if total >= 32 << 20 {
             bar.set_length(total);
             bar.set_position(done);
         }
     };
-    let result = fiveaxis::analysis::analyze_mcap_with_progress(&a.recording, &machine, &options, progress);
+    let result = fiveaxis::analysis::analyze_mcap_with_progress(&a.recording, &machine, &options, &mut progress);
     bar.finish_and_clear();
     let report = match result {
         Ok(r) => r,
