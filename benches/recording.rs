@@ -52,13 +52,25 @@ fn main() {
     println!("recorder: {n} AxisState messages in {write_s:.2} s = {:.0} k msgs/s (target >= 500 k/s); file {:.0} MB", n as f64 / write_s / 1e3, size as f64 / 1e6);
     println!("  resident memory: {} MiB before, {} MiB half way, {} MiB at the end (flat: chunks go to disk)", rss0 / 1024, rss_mid / 1024, rss1 / 1024);
 
+    // Three runs: shared machines (this one is a VM) stall now and then; best and median are printed.
     let rss2 = rss_kib();
-    let t1 = Instant::now();
-    let report = analyze_mcap(&path, &m, &OfflineOptions::default()).unwrap();
-    let rust_s = t1.elapsed().as_secs_f64();
+    let mut runs = Vec::new();
+    let mut messages = 0;
+    for _ in 0..3 {
+        let t1 = Instant::now();
+        let report = analyze_mcap(&path, &m, &OfflineOptions::default()).unwrap();
+        runs.push(t1.elapsed().as_secs_f64());
+        messages = report.messages_read;
+    }
     let rss3 = rss_kib();
-    let rust_rate = report.messages_read as f64 / rust_s;
-    println!("analysis (Rust, one core): {} messages in {rust_s:.2} s = {:.2} M msgs/s (target >= 3 M/s)", report.messages_read, rust_rate / 1e6);
+    runs.sort_by(f64::total_cmp);
+    let (rust_s, median_s) = (runs[0], runs[1]);
+    let rust_rate = messages as f64 / rust_s;
+    println!(
+        "analysis (Rust, one core): {messages} messages in {rust_s:.2} s = {:.2} M msgs/s, best of 3 (median {:.2} M msgs/s; target >= 3 M/s)",
+        rust_rate / 1e6,
+        messages as f64 / median_s / 1e6
+    );
     println!("  resident memory: {} MiB before, {} MiB after (the file is streamed, not loaded)", rss2 / 1024, rss3 / 1024);
 
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peer_analyze.py");

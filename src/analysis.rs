@@ -245,7 +245,11 @@ pub fn analyze_mcap_with_progress(
             (ds / dt >= min_speed && turn >= 0.01f64.to_radians() && linear).then_some(ds)
         });
         if let Some(ds) = step {
-            stream.cuts.push((t, tip.x, ds, state.path_feed, state.programmed_feed));
+            // The feed figures come from the actual stream (machine or simulated): only those keep
+            // their cut samples (memory grows with them, not with the commanded stream).
+            if state.source != AxisState::SOURCE_COMMANDED {
+                stream.cuts.push((t, tip.x, ds, state.path_feed, state.programmed_feed));
+            }
             stream.min_distance_deg = stream.min_distance_deg.min(status.singularity_distance.to_degrees());
         }
         stream.last = Some((tip, axis, lin, t));
