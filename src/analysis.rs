@@ -136,10 +136,7 @@ pub fn analyze_mcap_with_progress(
     let file_len = std::fs::metadata(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?.len();
     let axis_state_type = AxisState::type_name();
     let joint_state_type = JointState::type_name();
-    let has_axis_state = match read::summary_channels(path)? {
-        Some(channels) => channels.iter().any(|c| c.schema_name == axis_state_type),
-        None => true, // no summary (a damaged file): look at the messages themselves
-    };
+    let has_axis_state = read::may_carry_type(path, &axis_state_type)?;
     let mut monitor = Monitor::new(machine, options.monitor);
     let mut report = OfflineReport {
         file: path.display().to_string(),

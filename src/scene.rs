@@ -208,10 +208,7 @@ pub fn replay_mcap(
     mut sink: impl FnMut(Option<&Row>, &[Event]),
 ) -> Result<ReplayStats, RecordError> {
     let axis_state_type = AxisState::type_name();
-    let has_axis_state = match crate::record::read::summary_channels(path)? {
-        Some(channels) => channels.iter().any(|c| c.schema_name == axis_state_type),
-        None => true,
-    };
+    let has_axis_state = crate::record::read::may_carry_type(path, &axis_state_type)?;
     let joint_state_type = JointState::type_name();
     let mut stats = ReplayStats::default();
     let mut state = AxisState::default();

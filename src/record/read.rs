@@ -74,6 +74,13 @@ pub fn summary_channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, RecordE
     }))
 }
 
+/// Whether the recording at `path` carries messages of `type_name` (`pkg/msg/Type`), by its summary;
+/// a recording without a readable summary is assumed to (readers then go by the messages themselves).
+/// The readers use it to decide whether a machine bridge's JointState stands in for AxisState.
+pub fn may_carry_type(path: &Path, type_name: &str) -> Result<bool, RecordError> {
+    Ok(summary_channels(path)?.is_none_or(|channels| channels.iter().any(|c| c.schema_name == type_name)))
+}
+
 /// Call `visit` for every message of the recording at `path`, in file order, and return how many
 /// there were. Schema and Channel records are collected on the way (a message on a channel not yet
 /// declared is an error). Errors name the file and what broke; the messages before it were visited.
