@@ -260,11 +260,11 @@ pub fn analyze_mcap_with_progress(
         Ok(_) => {}
     }
     progress(file_len, file_len);
-    let cuts: BTreeMap<String, Vec<Cut>> = by_topic.iter().map(|(t, &k)| (t.clone(), std::mem::take(&mut streams[k].cuts))).collect();
-    let peaks: BTreeMap<String, (f64, f64)> = by_topic.iter().map(|(t, &k)| (t.clone(), (streams[k].peak_c_speed_rpm, streams[k].min_distance_deg))).collect();
+    let stream_of = |topic: &str| by_topic.get(topic).map(|&k| &streams[k]);
+    let cuts_of = |topic: &str| stream_of(topic).map(|s| s.cuts.as_slice());
     monitor.finish();
     for s in monitor.summary() {
-        let (peak, min_d) = peaks.get(&s.topic).copied().unwrap_or((0.0, f64::INFINITY));
+        let (peak, min_d) = stream_of(&s.topic).map_or((0.0, f64::INFINITY), |st| (st.peak_c_speed_rpm, st.min_distance_deg));
         report.streams.push(StreamReport {
             topic: s.topic.clone(),
             source: s.source,
@@ -290,7 +290,7 @@ pub fn analyze_mcap_with_progress(
                     let (lo, hi) = (r.x_start_mm.min(r.x_end_mm) * 1e-3, r.x_start_mm.max(r.x_end_mm) * 1e-3);
                     let inside: Vec<&Cut> = actual
                         .as_ref()
-                        .and_then(|a| cuts.get(a))
+                        .and_then(|a| cuts_of(a))
                         .map(|c| c.iter().filter(|c| c.1 >= lo && c.1 <= hi).collect())
                         .unwrap_or_default();
                     let lowest = inside.iter().map(|c| c.3).fold(f64::INFINITY, f64::min);
@@ -312,8 +312,8 @@ pub fn analyze_mcap_with_progress(
         }
     }
     if let Some((profile, cutoff)) = &options.roughness {
-        let feed = actual.as_ref().and_then(|a| cuts.get(a)).cloned().unwrap_or_default();
-        let r = roughness_report(profile, *cutoff, &report.regions, &feed);
+        let feed = actual.as_ref().and_then(|a| cuts_of(a)).unwrap_or_default();
+        let r = roughness_report(profile, *cutoff, &report.regions, feed);
         report.roughness_ra_inside_um = r.roughness_ra_inside_um;
         report.roughness_ra_outside_um = r.roughness_ra_outside_um;
         report.roughness = Some(r);

@@ -218,11 +218,7 @@ impl Monitor {
     /// The sample's tool axis and tool tip (workpiece coordinates): as the message gives them (the
     /// commander and the simulator fill them in), else by forward kinematics of its axis positions
     /// (a machine bridge's JointState carries positions only).
-    fn axis_and_tip(&self, st: &AxisState, q: &Joints) -> (Vector3<f64>, Vector3<f64>) {
-        Self::axis_and_tip_of(&self.machine, st, q)
-    }
-
-    fn axis_and_tip_of(machine: &Machine, st: &AxisState, q: &Joints) -> (Vector3<f64>, Vector3<f64>) {
+    fn axis_and_tip(machine: &Machine, st: &AxisState, q: &Joints) -> (Vector3<f64>, Vector3<f64>) {
         let given_axis = Vector3::new(st.tool_axis.x, st.tool_axis.y, st.tool_axis.z);
         let axis_given = (given_axis.norm() - 1.0).abs() < 1e-6;
         let tip_given = st.program_line > 0 || st.tool_tip != Point::default();
@@ -264,7 +260,7 @@ impl Monitor {
     /// Remember a commanded sample for the look-ahead (call for each commanded state, in order).
     pub fn on_commanded_ahead(&mut self, st: &AxisState) {
         let Ok(q) = self.validate(st) else { return };
-        let (axis, tip) = self.axis_and_tip(st, &q);
+        let (axis, tip) = Self::axis_and_tip(&self.machine, st, &q);
         let t = st.header.stamp.as_secs();
         if self.ahead.last().is_some_and(|a| t <= a.t) {
             return;
@@ -371,7 +367,7 @@ impl Monitor {
                 input.lost += ((dt / period).round() as u64).saturating_sub(1);
             }
         }
-        let (axis, tip) = Self::axis_and_tip_of(&self.machine, st, &q);
+        let (axis, tip) = Self::axis_and_tip(&self.machine, st, &q);
         let prev = input.history.back().copied();
         let ds = prev.map_or(0.0, |p| (tip - p.tip).norm());
         input.s += ds;
