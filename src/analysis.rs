@@ -2,7 +2,8 @@
 //! an MCAP file (ours, or any rosbag2 MCAP with a machine bridge's JointState plus a machine model),
 //! regions with their x range, peak predicted C speed, lowest feed and time lost, and threshold checks.
 
-use crate::live::monitor::{InputId, LiveRegion, Monitor, MonitorConfig};
+use crate::live::monitor::{FeedSource, InputId, LiveRegion, Monitor, MonitorConfig, Rejected, Rejection};
+use crate::singularity::measured::Motion;
 use crate::machine::Machine;
 use crate::record::{read, RecordError};
 use nalgebra::Vector3;
@@ -25,6 +26,19 @@ pub struct OfflineOptions {
     pub axis_map: BTreeMap<String, String>,
     /// A measured roughness profile (aligned to the workpiece x) and its filter cut-off (m).
     pub roughness: Option<(crate::roughness::Profile, f64)>,
+    /// Where a machine stream's programmed feed comes from (`--program`, `--feed`, else assumed).
+    pub feed_source: FeedSource,
+    /// A stream with more than this share of its samples rejected fails the analysis (exit 2).
+    pub max_rejected_share: f64,
+}
+
+/// The share of rejected samples above which an input is refused, unless told otherwise: 1 %.
+pub const MAX_REJECTED_SHARE: f64 = 0.01;
+
+impl Default for FeedSource {
+    fn default() -> Self {
+        FeedSource::Assumed
+    }
 }
 
 /// A region of the program, with what the actual (simulated or machine) stream did there.
@@ -40,6 +54,8 @@ pub struct RegionReport {
     pub actual_topic: Option<String>,
     pub lowest_feed_mm_per_min: Option<f64>,
     pub time_lost_s: Option<f64>,
+    /// Why the region was opened: `singularity` or `rotary_feed`.
+    pub cause: Option<crate::singularity::tracker::Cause>,
 }
 
 /// Roughness along the part against the regions.
@@ -69,8 +85,20 @@ pub struct StreamReport {
     pub invalid: u64,
     pub out_of_order: u64,
     pub lost: u64,
+    /// Rejected samples by reason (missing joint, NaN/Inf, out of range, out of order, malformed),
+    /// plus messages that did not decode at all.
+    pub rejected: Rejected,
+    pub undecodable: u64,
+    /// The stream's sample period (median stamp interval), s.
+    pub period_s: Option<f64>,
     pub peak_c_speed_rpm: f64,
     pub min_singularity_distance_deg: f64,
+    /// Machine streams: samples on rapids and on feed moves, the highest actual feed, and the
+    /// programmed feed the prediction assumed.
+    pub rapid_samples: u64,
+    pub feed_samples: u64,
+    pub max_path_feed_mm_per_min: f64,
+    pub feed_source: Option<String>,
     pub regions: Vec<LiveRegion>,
 }
 
@@ -90,6 +118,9 @@ pub struct OfflineReport {
     /// with the actual stream's lowest feed and time lost over each.
     pub regions: Vec<RegionReport>,
     pub violations: Vec<String>,
+    /// Why the input cannot be trusted (exit 2): a topic asked for is absent, a stream has no valid
+    /// sample, too many samples were rejected, joints could not be mapped, units look wrong.
+    pub input_errors: Vec<String>,
     pub roughness: Option<RoughnessReport>,
     /// Flattened for CI: Ra inside and outside the regions, um.
     pub roughness_ra_inside_um: Option<f64>,
@@ -103,6 +134,11 @@ type Cut = (f64, f64, f64, f64, f64);
 /// What the analysis keeps per stream (topic) while reading.
 struct Stream {
     input: InputId,
+    /// JointState streams: the joint names of the first message, and messages that did not decode.
+    joint_names: Option<Vec<String>>,
+    undecodable: u64,
+    /// Rejected samples whose positions would fit the axis ranges in mm and degrees.
+    fits_mm_deg: u64,
     /// The previous valid sample: tool tip (workpiece, m), tool axis, linear axes (m), stamp (s).
     last: Option<(Vector3<f64>, fiveaxis_msgs::Vector3, [f64; 3], f64)>,
     last_line: Option<u32>,
@@ -133,11 +169,12 @@ pub fn analyze_mcap_with_progress(
     // Dynamic, so that a progress bar's code stays out of the per-message loop (called rarely).
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<OfflineReport, RecordError> {
-    let file_len = std::fs::metadata(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?.len();
+    let file_len = read::recording_len(path)?;
     let axis_state_type = AxisState::type_name();
     let joint_state_type = JointState::type_name();
     let has_axis_state = read::may_carry_type(path, &axis_state_type)?;
     let mut monitor = Monitor::new(machine, options.monitor);
+    monitor.set_feed_source(options.feed_source.clone());
     let mut report = OfflineReport {
         file: path.display().to_string(),
         machine: machine.name.clone(),
@@ -147,6 +184,7 @@ pub fn analyze_mcap_with_progress(
         streams: Vec::new(),
         regions: Vec::new(),
         violations: Vec::new(),
+        input_errors: Vec::new(),
         roughness: None,
         roughness_ra_inside_um: None,
         roughness_ra_outside_um: None,
@@ -155,6 +193,9 @@ pub fn analyze_mcap_with_progress(
     let mut by_topic: BTreeMap<String, usize> = BTreeMap::new();
     // By channel id.
     let mut decode: Vec<Option<Decode>> = Vec::new();
+    let mut file = 0;
+    // Every JointState topic of the recording (for the error when one asked for is absent).
+    let mut joint_topics: std::collections::BTreeSet<String> = Default::default();
     let mut state = AxisState::default();
     let mut joints = JointState::default();
     let read = read::for_each_message(path, |msg| {
@@ -162,12 +203,20 @@ pub fn analyze_mcap_with_progress(
         if report.messages_read % 65_536 == 0 {
             progress(msg.file_position, file_len);
         }
+        if msg.file != file {
+            // The next file of a rosbag2 directory: channel ids start again.
+            file = msg.file;
+            decode.clear();
+        }
         let slot = usize::from(msg.channel.id);
         if decode.len() <= slot {
             decode.resize(slot + 1, None);
         }
         let how = *decode[slot].get_or_insert_with(|| {
             let c = msg.channel;
+            if c.schema_name == joint_state_type {
+                joint_topics.insert(c.topic.clone());
+            }
             let joint = c.schema_name == joint_state_type
                 && (options.joint_state_topics.contains(&c.topic) || (options.joint_state_topics.is_empty() && !has_axis_state));
             if c.schema_name != axis_state_type && !joint {
@@ -176,6 +225,9 @@ pub fn analyze_mcap_with_progress(
             let k = *by_topic.entry(c.topic.clone()).or_insert_with(|| {
                 streams.push(Stream {
                     input: monitor.input(&c.topic),
+                    joint_names: None,
+                    undecodable: 0,
+                    fits_mm_deg: 0,
                     last: None,
                     last_line: None,
                     cuts: Vec::new(),
@@ -191,15 +243,24 @@ pub fn analyze_mcap_with_progress(
             Decode::AxisState(k) => {
                 if state.read_cdr(msg.data).is_err() {
                     report.messages_undecodable += 1;
+                    streams[k].undecodable += 1;
                     return;
                 }
                 k
             }
             Decode::JointState(k) => {
-                match joints.read_cdr(msg.data).ok().and_then(|()| monitor.joint_state_to_axis_state(&joints, &options.axis_map).ok()) {
-                    Some(s) => state = s,
-                    None => {
-                        report.messages_undecodable += 1;
+                if joints.read_cdr(msg.data).is_err() {
+                    report.messages_undecodable += 1;
+                    streams[k].undecodable += 1;
+                    return;
+                }
+                if streams[k].joint_names.is_none() {
+                    streams[k].joint_names = Some(joints.name.clone());
+                }
+                match monitor.joint_state_to_axis_state(&joints, &options.axis_map) {
+                    Ok(s) => state = s,
+                    Err(e) => {
+                        monitor.reject(streams[k].input, &e);
                         return;
                     }
                 }
@@ -211,7 +272,33 @@ pub fn analyze_mcap_with_progress(
         // N s", which a report of the whole recording does not need, and it would keep every
         // commanded sample in memory.
         let stream = &mut streams[k];
-        let Ok(status) = monitor.evaluate(stream.input, &state, log_s) else { return };
+        let status = match monitor.evaluate(stream.input, &state, log_s) {
+            Ok(s) => s,
+            Err(Rejection::Invalid(why)) if why.contains("outside its range") => {
+                if fits_in_mm_deg(machine, &state.position) {
+                    stream.fits_mm_deg += 1;
+                }
+                return;
+            }
+            Err(_) => return,
+        };
+        if state.source == AxisState::SOURCE_MACHINE {
+            // A machine stream: the monitor measured its path (forward kinematics, the programmed or
+            // assumed feed, the motion kind); the closest approach and the feed figures are taken
+            // on its feed moves.
+            let t = status.stamp.as_secs();
+            let tip = status.workpiece_position;
+            let ds = stream.last.map_or(0.0, |(pt, ..)| (tip - pt).norm());
+            // Simultaneous five-axis motion (a feed move with the tool axis turning): the closest
+            // approach counts there (parking at A = 0 is harmless), and the feed figures come from it.
+            if status.motion == Motion::Feed && status.turning {
+                stream.cuts.push((t, tip.x, ds, status.path_feed, status.programmed_feed));
+                stream.min_distance_deg = stream.min_distance_deg.min(status.singularity_distance.to_degrees());
+            }
+            stream.last = Some((tip, Default::default(), [0.0; 3], t));
+            stream.peak_c_speed_rpm = stream.peak_c_speed_rpm.max(status.predicted_c_speed.abs() / crate::units::RPM);
+            return;
+        }
         // The closest approach counts on simultaneous five-axis motion (tool tip and tool axis both
         // moving), as in the program analysis: parking at A = 0 is harmless.
         // A rotary-only positioning move turns the table under a parked tool: the linear machine
@@ -272,11 +359,19 @@ pub fn analyze_mcap_with_progress(
             invalid: s.invalid,
             out_of_order: s.out_of_order,
             lost: s.lost,
+            rejected: s.rejected,
+            undecodable: stream_of(&s.topic).map_or(0, |st| st.undecodable),
+            period_s: s.period_s,
             peak_c_speed_rpm: peak,
             min_singularity_distance_deg: if min_d.is_finite() { min_d } else { 180.0 },
+            rapid_samples: s.rapid_samples,
+            feed_samples: s.feed_samples,
+            max_path_feed_mm_per_min: s.max_path_feed_mm_per_min,
+            feed_source: s.feed_source,
             regions: s.regions,
         });
     }
+    report.input_errors = input_errors(machine, options, &report.streams, &joint_topics, |topic| stream_of(topic).map(|s| (s.joint_names.clone(), s.fits_mm_deg)));
     let actual = [AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED]
         .iter()
         .find_map(|src| report.streams.iter().find(|s| s.source == *src))
@@ -287,6 +382,21 @@ pub fn analyze_mcap_with_progress(
                 .regions
                 .iter()
                 .map(|r| {
+                    if s.source == AxisState::SOURCE_MACHINE {
+                        // A machine stream's region carries its own pass: its lowest feed and time lost.
+                        return RegionReport {
+                            x_start_mm: r.x_start_mm,
+                            x_end_mm: r.x_end_mm,
+                            block_start: r.block_start,
+                            block_end: r.block_end,
+                            peak_c_speed_rpm: r.peak_c_speed_rpm,
+                            topic: s.topic.clone(),
+                            actual_topic: Some(s.topic.clone()),
+                            lowest_feed_mm_per_min: r.min_path_feed_mm_per_min.is_finite().then_some(r.min_path_feed_mm_per_min),
+                            time_lost_s: Some(r.time_lost_s),
+                            cause: Some(r.cause),
+                        };
+                    }
                     let (lo, hi) = (r.x_start_mm.min(r.x_end_mm) * 1e-3, r.x_start_mm.max(r.x_end_mm) * 1e-3);
                     let inside: Vec<&Cut> = actual
                         .as_ref()
@@ -305,6 +415,7 @@ pub fn analyze_mcap_with_progress(
                         actual_topic: (!inside.is_empty()).then(|| actual.clone()).flatten(),
                         lowest_feed_mm_per_min: lowest.is_finite().then_some(lowest * 60e3),
                         time_lost_s: (!inside.is_empty()).then_some(lost),
+                        cause: Some(r.cause),
                     }
                 })
                 .collect();
@@ -331,6 +442,108 @@ pub fn analyze_mcap_with_progress(
         }
     }
     Ok(report)
+}
+
+/// True if positions rejected as out of range would fit every axis range read as mm and degrees: the
+/// publisher did not convert to REP 103's m and rad.
+fn fits_in_mm_deg(machine: &Machine, position: &[f64]) -> bool {
+    position.len() == crate::machine::AXES
+        && machine.axes.iter().zip(position).all(|(a, v)| {
+            let si = if a.kind == crate::machine::AxisKind::Rotary { v.to_radians() } else { v * 1e-3 };
+            v.is_finite() && a.limits.contains(si)
+        })
+}
+
+/// The reasons the analysis cannot be trusted: each becomes exit 2 with its message.
+fn input_errors(
+    machine: &Machine,
+    options: &OfflineOptions,
+    streams: &[StreamReport],
+    joint_topics: &std::collections::BTreeSet<String>,
+    extra: impl Fn(&str) -> Option<(Option<Vec<String>>, u64)>,
+) -> Vec<String> {
+    let mut errors = Vec::new();
+    let list = |s: &std::collections::BTreeSet<String>| if s.is_empty() { "none".to_string() } else { s.iter().cloned().collect::<Vec<_>>().join(", ") };
+    for topic in &options.joint_state_topics {
+        if !joint_topics.contains(topic) {
+            errors.push(format!("JointState topic '{topic}' is not in the recording (JointState topics there: {})", list(joint_topics)));
+        }
+    }
+    if streams.is_empty() && errors.is_empty() {
+        errors.push(format!("no AxisState or JointState stream in the recording (JointState topics: {})", list(joint_topics)));
+    }
+    for s in streams {
+        let (names, fits) = extra(&s.topic).unwrap_or((None, 0));
+        let rejected = s.rejected.total() + s.undecodable;
+        let total = s.samples + rejected;
+        if s.rejected.missing_joint > 0 {
+            let found = names.clone().unwrap_or_default();
+            errors.push(format!(
+                "{}: {} samples without a joint for every machine axis; joints found: [{}]; map them with {}",
+                s.topic,
+                s.rejected.missing_joint,
+                found.join(", "),
+                suggest_axis_map(machine, &found, &options.axis_map)
+            ));
+        }
+        if s.rejected.out_of_range > 0 && fits * 2 >= s.rejected.out_of_range {
+            errors.push(format!(
+                "{}: {} samples outside the axis ranges would fit them read as mm and degrees: JointState positions must be in m and rad (REP 103)",
+                s.topic, s.rejected.out_of_range
+            ));
+        }
+        if s.samples == 0 {
+            errors.push(format!("{}: no valid sample ({rejected} rejected: {})", s.topic, reasons(&s.rejected, s.undecodable)));
+        } else if total > 0 && rejected as f64 > options.max_rejected_share * total as f64 {
+            errors.push(format!(
+                "{}: {rejected} of {total} samples rejected ({:.1} %, above the {:.1} % allowed): {}",
+                s.topic,
+                100.0 * rejected as f64 / total as f64,
+                100.0 * options.max_rejected_share,
+                reasons(&s.rejected, s.undecodable)
+            ));
+        }
+    }
+    errors
+}
+
+fn reasons(r: &Rejected, undecodable: u64) -> String {
+    let parts: Vec<String> = [
+        (r.missing_joint, "missing joint"),
+        (r.non_finite, "NaN/Inf"),
+        (r.out_of_range, "out of range"),
+        (r.out_of_order, "out of order"),
+        (r.malformed, "malformed"),
+        (undecodable, "undecodable"),
+    ]
+    .iter()
+    .filter(|(n, _)| *n > 0)
+    .map(|(n, w)| format!("{n} {w}"))
+    .collect();
+    if parts.is_empty() { "none".into() } else { parts.join(", ") }
+}
+
+/// The `--axis-map` flags a user needs: each machine axis to the joint whose name is the axis letter
+/// alone or with a separator (`x`, `x_joint`, `joint_x`, `axis-x`), else a placeholder.
+pub fn suggest_axis_map(machine: &Machine, joints: &[String], given: &BTreeMap<String, String>) -> String {
+    machine
+        .axes
+        .iter()
+        .map(|a| {
+            let letter = a.name.to_ascii_lowercase();
+            let found = given.get(&a.name).cloned().or_else(|| {
+                joints
+                    .iter()
+                    .find(|j| {
+                        let j = j.to_ascii_lowercase();
+                        j == letter || j.split(|c: char| !c.is_ascii_alphanumeric()).any(|part| part == letter)
+                    })
+                    .cloned()
+            });
+            format!("--axis-map {}={}", a.name, found.unwrap_or_else(|| "<joint>".into()))
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 fn roughness_report(profile: &crate::roughness::Profile, cutoff: f64, regions: &[RegionReport], feed: &[Cut]) -> RoughnessReport {
@@ -374,6 +587,22 @@ fn roughness_report(profile: &crate::roughness::Profile, cutoff: f64, regions: &
     }
 }
 
+fn cause_name(c: Option<crate::singularity::tracker::Cause>) -> &'static str {
+    match c {
+        Some(crate::singularity::tracker::Cause::Singularity) => "singularity",
+        Some(crate::singularity::tracker::Cause::RotaryFeed) => "rotary_feed",
+        None => "cause unknown",
+    }
+}
+
+/// Block numbers for people: `N340-N390`, or `no block numbers` where the stream has none.
+fn blocks(a: i64, b: i64) -> String {
+    match (a, b) {
+        (a, b) if a >= 0 && b >= 0 => format!("N{a}-N{b}"),
+        _ => "no block numbers".into(),
+    }
+}
+
 impl OfflineReport {
     /// JUnit XML: one test case per stream and check.
     pub fn to_junit(&self) -> String {
@@ -412,11 +641,24 @@ impl OfflineReport {
                 "{}: {} samples ({} invalid, {} out of order, {} lost), peak C {:.1} rpm, closest {:.3} deg",
                 s.topic, s.samples, s.invalid, s.out_of_order, s.lost, s.peak_c_speed_rpm, s.min_singularity_distance_deg
             );
+            if let Some(f) = &s.feed_source {
+                let _ = writeln!(o, "  machine stream: feed {f}; {} samples on feed moves (highest feed {:.0} mm/min), {} on rapids", s.feed_samples, s.max_path_feed_mm_per_min, s.rapid_samples);
+            }
+            if s.rejected.total() + s.undecodable > 0 {
+                let _ = writeln!(o, "  rejected: {}", reasons(&s.rejected, s.undecodable));
+            }
             for r in &s.regions {
                 let _ = writeln!(
                     o,
-                    "  region {}: x {:.3} to {:.3} mm, N{}-N{}, peak C {:.1} rpm, feed down to {:.0} mm/min, {:.2} s lost",
-                    r.id, r.x_start_mm, r.x_end_mm, r.block_start, r.block_end, r.peak_c_speed_rpm, r.min_path_feed_mm_per_min, r.time_lost_s
+                    "  region {} ({}): x {:.3} to {:.3} mm, {}, peak C {:.1} rpm, feed down to {:.0} mm/min, {:.2} s lost",
+                    r.id,
+                    cause_name(Some(r.cause)),
+                    r.x_start_mm,
+                    r.x_end_mm,
+                    blocks(r.block_start, r.block_end),
+                    r.peak_c_speed_rpm,
+                    r.min_path_feed_mm_per_min,
+                    r.time_lost_s
                 );
             }
         }
@@ -425,7 +667,7 @@ impl OfflineReport {
                 (Some(f), Some(t), Some(a)) => format!(", {a}: feed down to {f:.0} mm/min, {t:.2} s lost"),
                 _ => String::new(),
             };
-            let _ = writeln!(o, "region     x {:.3} to {:.3} mm (N{}-N{}), peak C {:.1} rpm{feed}", r.x_start_mm, r.x_end_mm, r.block_start, r.block_end, r.peak_c_speed_rpm);
+            let _ = writeln!(o, "region     x {:.3} to {:.3} mm ({}, {}), peak C {:.1} rpm{feed}", r.x_start_mm, r.x_end_mm, blocks(r.block_start, r.block_end), cause_name(r.cause), r.peak_c_speed_rpm);
         }
         if let Some(r) = &self.roughness {
             let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
@@ -437,6 +679,9 @@ impl OfflineReport {
             if let Some(c) = r.correlation_ra_feed_deficit {
                 let _ = writeln!(o, "           correlation of Ra with the feed deficit along x: {c:.2}");
             }
+        }
+        for e in &self.input_errors {
+            let _ = writeln!(o, "INPUT      {e}");
         }
         if self.violations.is_empty() {
             let _ = writeln!(o, "violations none");

@@ -80,6 +80,21 @@ pub fn run(spec: &str, machine: &Machine, options: &JobOptions) -> Result<Job, J
     Ok(Job { program, trajectory, analysis, report })
 }
 
+/// The moves of the program named by `spec` on `machine`, for aligning a machine stream with it (the
+/// monitor's and the offline analysis' `--program`); a program with defects is refused, naming them.
+pub fn program_segments(spec: &str, machine: &Machine) -> Result<Vec<crate::path::Segment>, String> {
+    let program = read_spec(spec, &JobOptions::default()).map_err(|e| e.to_string())?;
+    let (segments, planned) = crate::path::plan(&program, machine, &PathOptions::default());
+    let errors: Vec<String> = program.diagnostics.iter().chain(&planned).filter(|d| d.severity == Severity::Error).map(|d| d.to_string()).collect();
+    if !errors.is_empty() {
+        return Err(format!("the program has defects:\n{}", errors.join("\n")));
+    }
+    if segments.is_empty() {
+        return Err("the program has no moves".into());
+    }
+    Ok(segments)
+}
+
 impl Job {
     /// True if the program or its planning had defects.
     pub fn has_errors(&self) -> bool {

@@ -139,9 +139,20 @@ struct OfflineArgs {
     /// sensor_msgs/JointState topics to analyse (default: all, if the recording has no AxisState).
     #[arg(long = "joint-state-topic")]
     joint_state_topics: Vec<String>,
-    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable).
+    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable; axis
+    /// names case-insensitive; an axis the machine lacks is refused).
     #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = fiveaxis::machine::parse_axis_map)]
     axis_map: Vec<(String, String)>,
+    /// The program the machine ran (a file, bundled:NAME): machine streams are aligned with its moves
+    /// for the programmed feed, block numbers and rapids.
+    #[arg(long, conflicts_with = "feed_mm_per_min")]
+    program: Option<String>,
+    /// The programmed feed of every feed move of a machine stream, mm/min (without --program).
+    #[arg(long = "feed", value_name = "MM_PER_MIN")]
+    feed_mm_per_min: Option<f64>,
+    /// Refuse a stream (exit 2) with more than this share of its samples rejected, percent.
+    #[arg(long = "max-rejected-percent", default_value_t = 100.0 * fiveaxis::analysis::MAX_REJECTED_SHARE)]
+    max_rejected_percent: f64,
     /// Write the report as JSON here.
     #[arg(long)]
     json: Option<std::path::PathBuf>,
@@ -374,7 +385,6 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
-    let axis_map: std::collections::BTreeMap<String, String> = a.axis_map.iter().cloned().collect();
     let machine = match Machine::from_name_or_file(&a.machine) {
         Ok(m) => m,
         Err(e) => {
@@ -382,6 +392,32 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
+    let axis_map = match machine.resolve_axis_map(&a.axis_map) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("fiveaxis: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    let feed_source = match (&a.program, a.feed_mm_per_min) {
+        (Some(spec), _) => match job::program_segments(spec, &machine) {
+            Ok(s) => fiveaxis::live::monitor::FeedSource::Program(std::sync::Arc::new(s)),
+            Err(e) => {
+                eprintln!("fiveaxis: --program {spec}: {e}");
+                return Ok(ExitCode::from(EXIT_INPUT));
+            }
+        },
+        (None, Some(f)) if f.is_finite() && f > 0.0 => fiveaxis::live::monitor::FeedSource::Fixed(f * fiveaxis::units::MM_PER_MIN),
+        (None, Some(f)) => {
+            eprintln!("fiveaxis: --feed {f}: a feed must be a positive number of mm/min");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+        (None, None) => fiveaxis::live::monitor::FeedSource::Assumed,
+    };
+    if !(a.max_rejected_percent >= 0.0 && a.max_rejected_percent <= 100.0) {
+        eprintln!("fiveaxis: --max-rejected-percent {} is not a percentage", a.max_rejected_percent);
+        return Ok(ExitCode::from(EXIT_INPUT));
+    }
     let roughness = match a.roughness.load() {
         Ok(r) => r,
         Err(e) => {
@@ -395,6 +431,8 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
         min_distance_deg: a.min_distance_deg,
         joint_state_topics: a.joint_state_topics.clone(),
         axis_map,
+        feed_source,
+        max_rejected_share: a.max_rejected_percent / 100.0,
         ..Default::default()
     };
     // A progress bar on long files, on stderr; indicatif hides it when stderr is not a terminal.
@@ -426,6 +464,12 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
     }
     if let Some(p) = &a.junit {
         std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
+    }
+    if !report.input_errors.is_empty() {
+        for e in &report.input_errors {
+            eprintln!("fiveaxis: {}: {e}", a.recording.display());
+        }
+        return Ok(ExitCode::from(EXIT_INPUT));
     }
     if let Some(d) = &report.damage {
         // The report above covers what was readable; the input itself is damaged: exit 2.

@@ -131,23 +131,32 @@ pub struct SingularityStatus {
     pub header: Header,
     pub source: u8,
     pub input_topic: String,
+    pub motion: u8,
     pub singularity_distance: f64,
     pub secondary_axis: String,
     pub predicted_c_speed: f64,
     pub c_speed: f64,
     pub c_speed_limit: f64,
+    pub programmed_feed: f64,
+    pub path_feed: f64,
     pub feed_limit: f64,
     pub limiting_axis: String,
     pub limit_kind: u8,
     pub in_region: bool,
     pub region_id: u32,
+    pub region_cause: u8,
     pub workpiece_position: Point,
     pub time_to_next_region: f64,
     pub program_line: u32,
     pub block_number: i64,
+    pub stale: bool,
     pub invalid_count: u64,
+    pub missing_joint_count: u64,
+    pub non_finite_count: u64,
+    pub out_of_range_count: u64,
     pub out_of_order_count: u64,
     pub stale_count: u64,
+    pub lost_count: u64,
 }
 ros_message!(SingularityStatus, "fiveaxis_msgs", "SingularityStatus");
 
@@ -156,6 +165,14 @@ impl SingularityStatus {
     pub const LIMIT_VELOCITY: u8 = 1;
     pub const LIMIT_ACCELERATION: u8 = 2;
     pub const LIMIT_JERK: u8 = 3;
+    pub const MOTION_UNKNOWN: u8 = 0;
+    pub const MOTION_RAPID: u8 = 1;
+    pub const MOTION_FEED: u8 = 2;
+    pub const MOTION_ROTARY: u8 = 3;
+    pub const MOTION_DWELL: u8 = 4;
+    pub const CAUSE_NONE: u8 = 0;
+    pub const CAUSE_SINGULARITY: u8 = 1;
+    pub const CAUSE_ROTARY_FEED: u8 = 2;
 }
 
 /// sensor_msgs/JointState.

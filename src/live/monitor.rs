@@ -5,7 +5,12 @@
 
 use crate::kinematics::Joints;
 use crate::machine::{Machine, AXES};
+use crate::path::align::Aligner;
+use crate::path::Segment;
+use crate::singularity::measured::{MeasuredConfig, MeasuredPath, Motion};
+use crate::singularity::tracker::{Cause, RegionRule, RegionTracker, RuleSample, TrackedRegion};
 use crate::singularity::{distance, predicted_rate, FeedLimiter, LimitKind};
+use std::sync::Arc;
 use fiveaxis_msgs::{AxisState, DiagnosticArray, DiagnosticStatus, Header, JointState, KeyValue, Point, SingularityStatus, Time};
 use nalgebra::Vector3;
 use std::collections::{BTreeMap, VecDeque};
@@ -38,6 +43,61 @@ pub enum Rejection {
     Invalid(String),
     #[error("out of order: stamp {stamp:.6} s is not after {last:.6} s")]
     OutOfOrder { stamp: f64, last: f64 },
+    /// A machine axis has no joint in a JointState (the joint name looked for).
+    #[error("joint '{0}' missing from the JointState")]
+    MissingJoint(String),
+}
+
+/// Rejections counted by reason (each stream's summary, the status, `/diagnostics`, the JSON).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Rejected {
+    /// A machine axis had no joint of its mapped name in the message.
+    pub missing_joint: u64,
+    /// A position or feed was NaN or infinite.
+    pub non_finite: u64,
+    /// A position outside the axis' range.
+    pub out_of_range: u64,
+    /// Stamped no later than the previous sample.
+    pub out_of_order: u64,
+    /// Anything else malformed (array lengths, stamp fields).
+    pub malformed: u64,
+}
+
+impl Rejected {
+    /// Every rejection.
+    pub fn total(&self) -> u64 {
+        self.missing_joint + self.non_finite + self.out_of_range + self.out_of_order + self.malformed
+    }
+}
+
+/// Which counter a rejection goes to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Reason {
+    NonFinite,
+    OutOfRange,
+    Malformed,
+}
+
+/// Where the programmed feed of a machine stream's prediction comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FeedSource {
+    /// Each sample aligned with the program's moves (their feed, block numbers and kinds).
+    Program(Arc<Vec<Segment>>),
+    /// One feed for every feed move, m/s.
+    Fixed(f64),
+    /// Neither given: the highest tool-tip feed the stream has held on feed moves so far.
+    Assumed,
+}
+
+impl FeedSource {
+    /// Say which feed is assumed and why, for people.
+    pub fn describe(&self) -> String {
+        match self {
+            FeedSource::Program(_) => "the program's feed of each move (stream aligned with the program)".into(),
+            FeedSource::Fixed(f) => format!("{:.0} mm/min for every feed move (--feed)", f / crate::units::MM_PER_MIN),
+            FeedSource::Assumed => "ASSUMED: the highest tool-tip feed the stream held on feed moves so far (no --program or --feed given; predictions before it is reached are low)".into(),
+        }
+    }
 }
 
 /// A region as one stream went through it.
@@ -55,6 +115,28 @@ pub struct LiveRegion {
     pub min_singularity_distance_deg: f64,
     /// Time spent in the region beyond what the programmed feed would have taken, s.
     pub time_lost_s: f64,
+    /// Why the region was opened.
+    pub cause: Cause,
+}
+
+impl LiveRegion {
+    fn from_tracked(r: &TrackedRegion) -> LiveRegion {
+        let rpm = crate::units::RPM;
+        LiveRegion {
+            id: r.id,
+            t_start_s: r.t_start,
+            t_end_s: r.t_end,
+            x_start_mm: r.tip_start.x * 1e3,
+            x_end_mm: r.tip_end.x * 1e3,
+            block_start: r.block_start,
+            block_end: r.block_end,
+            peak_c_speed_rpm: r.peak / rpm,
+            min_path_feed_mm_per_min: r.min_path_feed / crate::units::MM_PER_MIN,
+            min_singularity_distance_deg: r.min_distance.to_degrees(),
+            time_lost_s: r.time_lost,
+            cause: r.cause,
+        }
+    }
 }
 
 /// What happened on one input stream.
@@ -67,6 +149,17 @@ pub struct InputSummary {
     pub out_of_order: u64,
     pub stale: u64,
     pub lost: u64,
+    /// Rejections by reason.
+    pub rejected: Rejected,
+    /// The stream's sample period (median of the recent stamp intervals), s.
+    pub period_s: Option<f64>,
+    /// Samples by motion kind (machine streams: rapid, feed, rotary-only, dwell).
+    pub rapid_samples: u64,
+    pub feed_samples: u64,
+    /// Largest actual tool-tip feed on feed moves, mm/min (machine streams).
+    pub max_path_feed_mm_per_min: f64,
+    /// The programmed feed the machine stream's prediction assumed, for people.
+    pub feed_source: Option<String>,
     pub regions: Vec<LiveRegion>,
 }
 
@@ -93,6 +186,14 @@ pub struct Evaluation {
     pub time_to_next_region: f64,
     pub program_line: u32,
     pub block_number: i64,
+    /// What the sample is doing, and the region's cause while one is open.
+    pub motion: Motion,
+    pub cause: Option<Cause>,
+    /// The actual tool-tip feed and the programmed feed the prediction assumes, m/s.
+    pub path_feed: f64,
+    pub programmed_feed: f64,
+    /// The tool axis turns (machine streams; true elsewhere): with a feed move, five-axis motion.
+    pub turning: bool,
 }
 
 /// A stream of the monitor, by index (see [`Monitor::input`]): no topic lookup per sample.
@@ -125,9 +226,24 @@ struct Input {
     last: Option<Evaluation>,
     cursor: (usize, usize),
     samples: u64,
-    /// Smallest stamp step seen (the stream's period) and samples missing from gaps in the stamps.
-    period: Option<f64>,
+    /// Recent stamp intervals, the period (their median) and their spread (median absolute
+    /// deviation), and samples missing from gaps in the stamps.
+    intervals: VecDeque<f64>,
+    period: Option<(f64, f64)>,
     lost: u64,
+    rejected: Rejected,
+    /// Machine streams: the measured path, the region rule's state, the program alignment and the
+    /// lagged sample the rule saw last (t, s).
+    measured: Option<MeasuredPath>,
+    tracker: RegionTracker,
+    aligner: Option<Aligner>,
+    lagged: Option<(f64, f64)>,
+    max_feed: f64,
+    rapid_samples: u64,
+    feed_samples: u64,
+    /// The worst evaluation since `/diagnostics` last reported (its level and the peak predicted
+    /// speed over it), so that a short event between two reports is never missed.
+    worst: Option<(u8, Evaluation)>,
 }
 
 /// One commanded sample remembered for the look-ahead.
@@ -155,6 +271,9 @@ pub struct Monitor {
     /// Indices of the in-region entries of `ahead`, increasing.
     ahead_regions: Vec<usize>,
     prev_commanded_axis: Option<Vector3<f64>>,
+    /// Machine streams: where the programmed feed comes from, and the region rule.
+    feed_source: FeedSource,
+    rule: RegionRule,
 }
 
 fn vec3(p: &Point) -> Vector3<f64> {
@@ -182,6 +301,34 @@ impl Monitor {
             ahead: Vec::new(),
             ahead_regions: Vec::new(),
             prev_commanded_axis: None,
+            feed_source: FeedSource::Assumed,
+            rule: RegionRule::new(config.rate_limit.unwrap_or(limits[secondary].velocity), config.min_distance),
+        }
+    }
+
+    /// Where machine streams' programmed feed comes from (default [`FeedSource::Assumed`]).
+    pub fn set_feed_source(&mut self, source: FeedSource) {
+        self.feed_source = source;
+    }
+
+    /// The feed source, for reports.
+    pub fn feed_source(&self) -> &FeedSource {
+        &self.feed_source
+    }
+
+    /// Count a sample of stream `id` that could not even be turned into axis positions (a JointState
+    /// without a mapped joint): every rejection is counted by reason.
+    pub fn reject(&mut self, id: InputId, rejection: &Rejection) {
+        let r = &mut self.inputs[id.0].rejected;
+        match rejection {
+            Rejection::MissingJoint(_) => r.missing_joint += 1,
+            Rejection::OutOfOrder { .. } => r.out_of_order += 1,
+            Rejection::Invalid(_) => r.malformed += 1,
+        }
+        if !matches!(rejection, Rejection::OutOfOrder { .. }) {
+            self.inputs[id.0].invalid += 1;
+        } else {
+            self.inputs[id.0].out_of_order += 1;
         }
     }
 
@@ -196,7 +343,7 @@ impl Monitor {
                 .name
                 .iter()
                 .position(|n| n.eq_ignore_ascii_case(want))
-                .ok_or_else(|| Rejection::Invalid(format!("joint '{want}' missing from the JointState")))?;
+                .ok_or_else(|| Rejection::MissingJoint(want.clone()))?;
             position.push(*js.position.get(k).ok_or_else(|| Rejection::Invalid(format!("no position for joint '{want}'")))?);
             if let Some(v) = js.velocity.get(k) {
                 velocity.push(*v);
@@ -229,29 +376,32 @@ impl Monitor {
         (if axis_given { given_axis } else { pose.axis }, if tip_given { vec3(&st.tool_tip) } else { pose.tip })
     }
 
-    fn validate(&self, st: &AxisState) -> Result<Joints, Rejection> {
+    fn validate(&self, st: &AxisState) -> Result<Joints, (Reason, Rejection)> {
         if st.position.len() != AXES {
-            return Err(Rejection::Invalid(format!("expected {AXES} positions, got {}", st.position.len())));
+            return Err((Reason::Malformed, Rejection::Invalid(format!("expected {AXES} positions, got {}", st.position.len()))));
         }
         let q: Joints = std::array::from_fn(|i| st.position[i]);
         for (i, v) in q.iter().enumerate() {
             let a = &self.machine.axes[i];
             if !v.is_finite() {
-                return Err(Rejection::Invalid(format!("{} position is {v}", a.name)));
+                return Err((Reason::NonFinite, Rejection::Invalid(format!("{} position is {v}", a.name))));
             }
             // A little slack for servo overshoot and rounding at the end stops.
             let slack = if i < 3 { 1e-3 } else { 1e-3f64.to_radians() };
             if *v < a.limits.min - slack || *v > a.limits.max + slack {
-                return Err(Rejection::Invalid(format!("{} position {v:.6} outside its range", a.name)));
+                return Err((Reason::OutOfRange, Rejection::Invalid(format!("{} position {v:.6} outside its range", a.name))));
             }
         }
         let stamp = st.header.stamp;
         if stamp.nanosec >= 1_000_000_000 {
-            return Err(Rejection::Invalid("header stamp nanosec out of range".into()));
+            return Err((Reason::Malformed, Rejection::Invalid("header stamp nanosec out of range".into())));
         }
         for (what, v) in [("programmed_feed", st.programmed_feed), ("path_feed", st.path_feed)] {
-            if !v.is_finite() || v < 0.0 {
-                return Err(Rejection::Invalid(format!("{what} is {v}")));
+            if !v.is_finite() {
+                return Err((Reason::NonFinite, Rejection::Invalid(format!("{what} is {v}"))));
+            }
+            if v < 0.0 {
+                return Err((Reason::Malformed, Rejection::Invalid(format!("{what} is {v}"))));
             }
         }
         Ok(q)
@@ -305,37 +455,78 @@ impl Monitor {
     pub fn on_state(&mut self, topic: &str, st: &AxisState, wall: f64) -> Result<SingularityStatus, Rejection> {
         let id = self.input(topic);
         let e = self.evaluate(id, st, wall)?;
+        Ok(self.status_of(id, topic, &e, &st.header.frame_id, false))
+    }
+
+    /// The status message of an evaluation of stream `id` (`stale`: published while the input is
+    /// silent, repeating the last evaluation).
+    fn status_of(&self, id: InputId, topic: &str, e: &Evaluation, frame_id: &str, stale: bool) -> SingularityStatus {
         let input = &self.inputs[id.0];
-        Ok(SingularityStatus {
-            header: Header { stamp: e.stamp, frame_id: st.header.frame_id.clone() },
+        SingularityStatus {
+            header: Header { stamp: e.stamp, frame_id: frame_id.to_string() },
             source: e.source,
             input_topic: topic.to_string(),
+            motion: e.motion.code(),
             singularity_distance: e.singularity_distance,
             secondary_axis: self.machine.axes[self.secondary].name.clone(),
             predicted_c_speed: e.predicted_c_speed,
             c_speed: e.c_speed,
             c_speed_limit: self.limit,
+            programmed_feed: e.programmed_feed,
+            path_feed: e.path_feed,
             feed_limit: e.feed_limit,
             limiting_axis: e.limiting_axis.map_or(String::new(), |i| self.machine.axes[i].name.clone()),
             limit_kind: limit_kind_code(e.limit_kind),
             in_region: e.in_region,
             region_id: e.region_id,
+            region_cause: e.cause.filter(|_| e.in_region).map_or(SingularityStatus::CAUSE_NONE, Cause::code),
             workpiece_position: Point { x: e.workpiece_position.x, y: e.workpiece_position.y, z: e.workpiece_position.z },
             time_to_next_region: e.time_to_next_region,
             program_line: e.program_line,
             block_number: e.block_number,
+            stale,
             invalid_count: input.invalid,
+            missing_joint_count: input.rejected.missing_joint,
+            non_finite_count: input.rejected.non_finite,
+            out_of_range_count: input.rejected.out_of_range,
             out_of_order_count: input.out_of_order,
             stale_count: input.stale,
-        })
+            lost_count: input.lost,
+        }
+    }
+
+    /// A status for every input that is stale now (the last sample's figures, `stale` set), so that
+    /// the status topic says so while the input is silent.
+    pub fn stale_statuses(&self) -> Vec<SingularityStatus> {
+        self.each()
+            .filter(|(_, i)| i.stale_now)
+            .filter_map(|(topic, i)| {
+                let id = InputId(self.index[topic]);
+                let mut e = i.last?;
+                e.in_region = false;
+                e.region_id = 0;
+                Some(self.status_of(id, topic, &e, "", true))
+            })
+            .collect()
+    }
+
+    /// The stream of `topic`, if seen.
+    pub fn input_id(&self, topic: &str) -> Option<InputId> {
+        self.index.get(topic).map(|&k| InputId(k))
     }
 
     /// [`Monitor::on_state`] without building the status message: the figures only.
     pub fn evaluate(&mut self, id: InputId, st: &AxisState, wall: f64) -> Result<Evaluation, Rejection> {
         let q = match self.validate(st) {
             Ok(q) => q,
-            Err(e) => {
-                self.inputs[id.0].invalid += 1;
+            Err((reason, e)) => {
+                let input = &mut self.inputs[id.0];
+                input.invalid += 1;
+                match reason {
+                    Reason::NonFinite => input.rejected.non_finite += 1,
+                    Reason::OutOfRange => input.rejected.out_of_range += 1,
+                    Reason::Malformed => input.rejected.malformed += 1,
+                }
                 return Err(e);
             }
         };
@@ -348,24 +539,30 @@ impl Monitor {
             if let Some(r) = input.open.take() {
                 input.regions.push(r);
             }
+            if let Some(r) = input.tracker.finish() {
+                input.regions.push(LiveRegion::from_tracked(&r));
+            }
+            if let Some(m) = input.measured.as_mut() {
+                m.reset();
+            }
+            input.lagged = None;
             input.last = None;
         }
         input.stale_now = false;
         if let Some(last) = input.history.back() {
             if t <= last.t {
                 input.out_of_order += 1;
+                input.rejected.out_of_order += 1;
                 return Err(Rejection::OutOfOrder { stamp: t, last: last.t });
             }
         }
         input.source = st.source;
         input.samples += 1;
         if let Some(last) = input.history.back() {
-            let dt = t - last.t;
-            let period = input.period.map_or(dt, |p| p.min(dt));
-            input.period = Some(period);
-            if dt > 1.5 * period {
-                input.lost += ((dt / period).round() as u64).saturating_sub(1);
-            }
+            count_lost(input, t - last.t);
+        }
+        if st.source == AxisState::SOURCE_MACHINE {
+            return Ok(self.evaluate_measured(id, st, q, t));
         }
         let (axis, tip) = Self::axis_and_tip(&self.machine, st, &q);
         let prev = input.history.back().copied();
@@ -415,6 +612,7 @@ impl Monitor {
                     min_path_feed_mm_per_min: f64::INFINITY,
                     min_singularity_distance_deg: f64::INFINITY,
                     time_lost_s: 0.0,
+                    cause: Cause::RotaryFeed,
                 });
             }
             let r = input.open.as_mut().expect("open region");
@@ -424,6 +622,7 @@ impl Monitor {
             r.peak_c_speed_rpm = r.peak_c_speed_rpm.max(rpm(predicted.abs()));
             r.min_path_feed_mm_per_min = r.min_path_feed_mm_per_min.min(st.path_feed * 60e3);
             r.min_singularity_distance_deg = r.min_singularity_distance_deg.min(dist.to_degrees());
+            r.cause = if r.min_singularity_distance_deg.to_radians() <= self.rule.singular_within { Cause::Singularity } else { Cause::RotaryFeed };
             if let Some(p) = prev {
                 if st.programmed_feed > 0.0 {
                     r.time_lost_s += (t - p.t) - ds / st.programmed_feed;
@@ -456,9 +655,123 @@ impl Monitor {
             time_to_next_region: time_to_next,
             program_line: st.program_line,
             block_number: st.block_number,
+            motion: Motion::Unknown,
+            cause: input.open.as_ref().map(|r| r.cause),
+            path_feed: st.path_feed,
+            programmed_feed: st.programmed_feed,
+            turning: true,
         };
+        input.latch(&evaluation, self.config.warn_distance, self.config.warn_ahead);
         input.last = Some(evaluation);
         Ok(evaluation)
+    }
+
+    /// A machine stream's sample (a bridge's JointState): the measured path (unwrapped axes, forward
+    /// kinematics, actual feed), the path's demand on the secondary axis at the programmed feed (seed
+    /// 001 eq. 5 as dC/ds * F over a stretch of path), the feed limit on the same stretch (seed 002
+    /// eq. 5, velocity and acceleration terms) and the region rule ([`RegionTracker`]).
+    fn evaluate_measured(&mut self, id: InputId, st: &AxisState, q: Joints, t: f64) -> Evaluation {
+        let input = &mut self.inputs[id.0];
+        let measured = input.measured.get_or_insert_with(|| MeasuredPath::new(&self.machine, MeasuredConfig::default()));
+        if input.aligner.is_none() {
+            if let FeedSource::Program(segs) = &self.feed_source {
+                input.aligner = Some(Aligner::new(segs.clone()));
+            }
+        }
+        // Where in the program (needs the tip: forward kinematics of the unwrapped axes first).
+        let m = measured.push(&self.machine, t, &q, None);
+        let place = input.aligner.as_mut().and_then(|a| a.place(&m.tip, &m.q));
+        let motion = match place {
+            Some(p) if p.rapid => Motion::Rapid,
+            // The program says a path move; the stream may still be stopped or turning at its ends.
+            Some(p) if p.path_move && m.motion == Motion::Rapid => Motion::Feed,
+            Some(p) if !p.path_move && m.motion == Motion::Feed => Motion::Rotary,
+            _ => m.motion,
+        };
+        match motion {
+            Motion::Rapid => input.rapid_samples += 1,
+            Motion::Feed => input.feed_samples += 1,
+            _ => {}
+        }
+        if motion == Motion::Feed {
+            input.max_feed = input.max_feed.max(m.path_feed);
+        }
+        let f_prog = match (&self.feed_source, place) {
+            (FeedSource::Program(_), Some(p)) => p.feed,
+            (FeedSource::Program(_), None) => 0.0,
+            (FeedSource::Fixed(f), _) => *f,
+            (FeedSource::Assumed, _) => input.max_feed,
+        };
+        let f_prog = if motion == Motion::Feed { f_prog } else { 0.0 };
+        // Program coordinates: the stream's tip less the datum shift in effect (none without a program).
+        let offset = place.map_or_else(Vector3::zeros, |p| p.offset);
+        let dist = distance(&m.axis, &self.singular);
+        let predicted = m.demand.map(|d| d.per_metre * f_prog);
+        let fl = match m.demand {
+            Some(d) if f_prog > 0.0 => {
+                let f = self.limiter.limit(f_prog, &d.q_s, &d.q_ss, &[0.0; AXES]);
+                (f.feed, f.axis, f.kind)
+            }
+            _ => (f_prog, None, LimitKind::Programmed),
+        };
+        // The rule runs on the window's middle sample, where the estimate belongs.
+        let rule_sample = match m.demand {
+            Some(d) => {
+                let (dt, ds) = input.lagged.map_or((0.0, 0.0), |(lt, ls)| (d.t - lt, d.s - ls));
+                input.lagged = Some((d.t, d.s));
+                // The middle sample's motion, except where the program says rapid now.
+                let lag_motion = if motion == Motion::Rapid { Motion::Rapid } else { d.motion };
+                RuleSample {
+                    t: d.t,
+                    s: d.s,
+                    tip: d.tip - offset,
+                    motion: lag_motion,
+                    predicted,
+                    distance: distance(&d.axis, &self.singular),
+                    path_feed: d.path_feed,
+                    programmed_feed: f_prog,
+                    dt,
+                    ds,
+                    block: place.map_or(-1, |p| p.block),
+                }
+            }
+            None => {
+                input.lagged = None;
+                RuleSample { t, s: m.s, tip: m.tip - offset, motion, predicted: None, distance: dist, path_feed: m.path_feed, programmed_feed: f_prog, dt: 0.0, ds: 0.0, block: place.map_or(-1, |p| p.block) }
+            }
+        };
+        let (verdict, closed) = input.tracker.push(&self.rule, &rule_sample);
+        if let Some(r) = closed {
+            input.regions.push(LiveRegion::from_tracked(&r));
+        }
+        let evaluation = Evaluation {
+            stamp: st.header.stamp,
+            source: st.source,
+            singularity_distance: dist,
+            predicted_c_speed: predicted.unwrap_or(0.0),
+            c_speed: m.c_speed,
+            feed_limit: fl.0,
+            limiting_axis: fl.1,
+            limit_kind: fl.2,
+            in_region: verdict.region_id != 0,
+            region_id: verdict.region_id,
+            workpiece_position: m.tip - offset,
+            time_to_next_region: -1.0,
+            program_line: place.map_or(st.program_line, |p| p.line),
+            block_number: place.map_or(st.block_number, |p| p.block),
+            motion,
+            cause: verdict.cause,
+            path_feed: m.path_feed,
+            programmed_feed: f_prog,
+            turning: m.turning,
+        };
+        input.history.push_back(Past { t, s: m.s, q: m.q, axis: m.axis, tip: m.tip });
+        while input.history.len() > 1 {
+            input.history.pop_front();
+        }
+        input.latch(&evaluation, self.config.warn_distance, self.config.warn_ahead);
+        input.last = Some(evaluation);
+        evaluation
     }
 
     /// Check every input for staleness at wall time `wall`; returns the topics that just went stale.
@@ -483,12 +796,15 @@ impl Monitor {
             if let Some(r) = input.open.take() {
                 input.regions.push(r);
             }
+            if let Some(r) = input.tracker.finish() {
+                input.regions.push(LiveRegion::from_tracked(&r));
+            }
         }
     }
 
     /// Regions a stream went through, in order.
     pub fn regions(&self, topic: &str) -> Vec<LiveRegion> {
-        self.get(topic).map_or_else(Vec::new, |i| i.regions.iter().chain(i.open.iter()).cloned().collect())
+        self.get(topic).map_or_else(Vec::new, |i| i.all_regions())
     }
 
     /// (samples, invalid, out of order, stale) of a stream.
@@ -517,57 +833,178 @@ impl Monitor {
                 out_of_order: i.out_of_order,
                 stale: i.stale,
                 lost: i.lost,
-                regions: i.regions.iter().chain(i.open.iter()).cloned().collect(),
+                rejected: i.rejected,
+                period_s: i.period.map(|p| p.0),
+                rapid_samples: i.rapid_samples,
+                feed_samples: i.feed_samples,
+                max_path_feed_mm_per_min: i.max_feed / crate::units::MM_PER_MIN,
+                feed_source: (i.source == AxisState::SOURCE_MACHINE && i.samples > 0).then(|| self.feed_source.describe()),
+                regions: i.all_regions(),
             })
             .collect()
     }
 
-    /// The diagnostics: one status per input (OK, WARN near the singularity or a region ahead,
-    /// ERROR inside a region, STALE without samples).
+    /// The diagnostics: one status per input, at the worst level since the last report (ERROR inside
+    /// a region, WARN near the singularity or a region ahead, STALE without samples, OK), naming the
+    /// region that caused it. Call [`Monitor::reported`] after publishing them.
     pub fn diagnostics(&self, stamp: Time) -> DiagnosticArray {
+        let rpm = crate::units::RPM;
+        let secondary = &self.machine.axes[self.secondary].name;
         let status = self
             .each()
             .map(|(topic, input)| {
-                let (level, message) = match &input.last {
+                let event = |level: u8, s: &Evaluation| -> (u8, String) {
+                    let when = if input.last.as_ref().is_some_and(|l| l.stamp == s.stamp) { String::new() } else { " since the last report".to_string() };
+                    let message = match level {
+                        DiagnosticStatus::ERROR => format!(
+                            "{secondary} speed {:.1} rpm above its {:.1} rpm limit (region {}, {}){when}",
+                            s.predicted_c_speed.abs() / rpm,
+                            self.limit / rpm,
+                            s.region_id,
+                            match s.cause {
+                                Some(Cause::Singularity) => "singularity",
+                                Some(Cause::RotaryFeed) => "rotary feed",
+                                None => "limit",
+                            }
+                        ),
+                        DiagnosticStatus::WARN if s.singularity_distance < self.config.warn_distance => {
+                            format!("{:.2} deg from the singularity{when}", s.singularity_distance.to_degrees())
+                        }
+                        DiagnosticStatus::WARN => format!("region ahead in {:.2} s{when}", s.time_to_next_region),
+                        _ => "clear of the singularity".to_string(),
+                    };
+                    (level, message)
+                };
+                let current = input.last.as_ref().map(|s| (level_of(s, self.config.warn_distance, self.config.warn_ahead), s));
+                let worst = match (current, &input.worst) {
+                    (Some(c), Some((l, w))) if *l > c.0 => Some((*l, w)),
+                    (c, _) => c,
+                };
+                let (level, message) = match worst {
+                    Some((l, w)) if l == DiagnosticStatus::ERROR => event(l, w),
                     _ if input.stale_now => (DiagnosticStatus::STALE, format!("no sample for {:.0} ms", self.config.stale_timeout * 1e3)),
                     None => (DiagnosticStatus::STALE, "no valid sample yet".to_string()),
-                    Some(s) if s.in_region => (
-                        DiagnosticStatus::ERROR,
-                        format!(
-                            "{} speed {:.1} rpm above its {:.1} rpm limit (region {})",
-                            self.machine.axes[self.secondary].name,
-                            s.predicted_c_speed.abs() / crate::units::RPM,
-                            self.limit / crate::units::RPM,
-                            s.region_id
-                        ),
-                    ),
-                    Some(s) if s.singularity_distance < self.config.warn_distance => {
-                        (DiagnosticStatus::WARN, format!("{:.2} deg from the singularity", s.singularity_distance.to_degrees()))
-                    }
-                    Some(s) if s.time_to_next_region > 0.0 && s.time_to_next_region < self.config.warn_ahead => {
-                        (DiagnosticStatus::WARN, format!("region ahead in {:.2} s", s.time_to_next_region))
-                    }
-                    Some(_) => (DiagnosticStatus::OK, "clear of the singularity".to_string()),
+                    Some((l, w)) => event(l, w),
                 };
                 let mut values = vec![
                     KeyValue { key: "invalid_samples".into(), value: input.invalid.to_string() },
+                    KeyValue { key: "missing_joint_samples".into(), value: input.rejected.missing_joint.to_string() },
+                    KeyValue { key: "non_finite_samples".into(), value: input.rejected.non_finite.to_string() },
+                    KeyValue { key: "out_of_range_samples".into(), value: input.rejected.out_of_range.to_string() },
                     KeyValue { key: "out_of_order_samples".into(), value: input.out_of_order.to_string() },
                     KeyValue { key: "stale_count".into(), value: input.stale.to_string() },
                     KeyValue { key: "lost_samples".into(), value: input.lost.to_string() },
                 ];
                 if let Some(s) = &input.last {
+                    let machine_stream = s.source == AxisState::SOURCE_MACHINE;
                     values.extend([
                         KeyValue { key: "singularity_distance_deg".into(), value: format!("{:.4}", s.singularity_distance.to_degrees()) },
-                        KeyValue { key: "predicted_c_speed_rpm".into(), value: format!("{:.2}", s.predicted_c_speed / crate::units::RPM) },
-                        KeyValue { key: "feed_limit_mm_per_min".into(), value: format!("{:.1}", s.feed_limit * 60e3) },
-                        KeyValue { key: "limiting_axis".into(), value: s.limiting_axis.map_or(String::new(), |i| self.machine.axes[i].name.clone()) },
+                        KeyValue { key: "predicted_c_speed_rpm".into(), value: format!("{:.2}", s.predicted_c_speed / rpm) },
+                        KeyValue { key: "measured_c_speed_rpm".into(), value: format!("{:.2}", s.c_speed / rpm) },
+                        KeyValue { key: "path_feed_mm_per_min".into(), value: format!("{:.1}", s.path_feed / crate::units::MM_PER_MIN) },
+                        KeyValue { key: "programmed_feed_mm_per_min".into(), value: format!("{:.1}", s.programmed_feed / crate::units::MM_PER_MIN) },
                         KeyValue { key: "region_id".into(), value: s.region_id.to_string() },
                     ]);
+                    // A feed limit only where the sample is on a feed move with a known programmed feed.
+                    if s.programmed_feed > 0.0 {
+                        values.extend([
+                            KeyValue { key: "feed_limit_mm_per_min".into(), value: format!("{:.1}", s.feed_limit / crate::units::MM_PER_MIN) },
+                            KeyValue { key: "limiting_axis".into(), value: s.limiting_axis.map_or(String::new(), |i| self.machine.axes[i].name.clone()) },
+                        ]);
+                    }
+                    if machine_stream {
+                        values.push(KeyValue { key: "feed_source".into(), value: self.feed_source.describe() });
+                    }
                 }
                 DiagnosticStatus { level, name: format!("fiveaxis monitor: {topic}"), message, hardware_id: self.machine.name.clone(), values }
             })
             .collect();
         DiagnosticArray { header: Header { stamp, frame_id: String::new() }, status }
+    }
+
+    /// The diagnostics were published: the worst-since-last-report starts again.
+    pub fn reported(&mut self) {
+        for input in self.inputs.iter_mut() {
+            input.worst = None;
+        }
+    }
+}
+
+/// The `/diagnostics` level of one evaluation: ERROR inside a region, WARN near the singularity or a
+/// region ahead, OK otherwise.
+fn level_of(e: &Evaluation, warn_distance: f64, warn_ahead: f64) -> u8 {
+    if e.in_region {
+        DiagnosticStatus::ERROR
+    } else if e.singularity_distance < warn_distance || (e.time_to_next_region > 0.0 && e.time_to_next_region < warn_ahead) {
+        DiagnosticStatus::WARN
+    } else {
+        DiagnosticStatus::OK
+    }
+}
+
+impl Input {
+    /// Remember the evaluation if it is the worst since the last report (the peak speed of a region
+    /// kept with it).
+    fn latch(&mut self, e: &Evaluation, warn_distance: f64, warn_ahead: f64) {
+        let level = level_of(e, warn_distance, warn_ahead);
+        match &mut self.worst {
+            Some((l, w)) if *l == level && level == DiagnosticStatus::ERROR && w.region_id == e.region_id => {
+                if e.predicted_c_speed.abs() > w.predicted_c_speed.abs() {
+                    w.predicted_c_speed = e.predicted_c_speed;
+                }
+            }
+            Some((l, _)) if *l >= level => {}
+            _ => self.worst = Some((level, *e)),
+        }
+    }
+
+    /// Closed regions, then the open one.
+    fn all_regions(&self) -> Vec<LiveRegion> {
+        let tracked = self.tracker.open().map(LiveRegion::from_tracked);
+        self.regions.iter().chain(self.open.iter()).cloned().chain(tracked).collect()
+    }
+}
+
+/// Intervals kept for the period estimate.
+const INTERVALS: usize = 64;
+
+/// Count samples missing from a gap `dt` in a stream's stamps. The period is the median of the recent
+/// intervals (robust to catch-up bursts and jitter, unlike the smallest interval); a gap is a loss only
+/// beyond the stated tolerance: the period plus the larger of half a period and four median absolute
+/// deviations of the intervals (send-time stamping with jitter spreads them). Lost = gap / period - 1,
+/// rounded, at least one.
+fn count_lost(input: &mut Input, dt: f64) {
+    if let Some((period, spread)) = input.period {
+        let tolerance = (0.5 * period).max(4.0 * spread);
+        if dt > period + tolerance {
+            input.lost += ((dt / period).round() as u64).saturating_sub(1).max(1);
+            // A gap says nothing about the period: leave it out of the estimate.
+            return;
+        }
+    }
+    if input.intervals.len() == INTERVALS {
+        input.intervals.pop_front();
+    }
+    input.intervals.push_back(dt);
+    let n = input.intervals.len();
+    // Re-estimate now and then (and at the start): a sort of at most 64 numbers, no allocation.
+    if n >= 8 && (input.period.is_none() || input.samples % 16 == 0) {
+        let mut v = [0.0; INTERVALS];
+        for (slot, x) in v.iter_mut().zip(&input.intervals) {
+            *slot = *x;
+        }
+        let v = &mut v[..n];
+        v.sort_by(f64::total_cmp);
+        let median = v[n / 2];
+        let mut dev = [0.0; INTERVALS];
+        for (slot, x) in dev.iter_mut().zip(v.iter()) {
+            *slot = (x - median).abs();
+        }
+        let dev = &mut dev[..n];
+        dev.sort_by(f64::total_cmp);
+        if median > 0.0 {
+            input.period = Some((median, dev[n / 2]));
+        }
     }
 }
 

@@ -265,6 +265,23 @@ pub fn parse_axis_map(s: &str) -> Result<(String, String), String> {
     }
 }
 
+impl Machine {
+    /// An `--axis-map` for this machine: axis names case-insensitive (`a=a_joint` is A), each axis
+    /// once, and an axis the machine lacks refused with the machine's axes named.
+    pub fn resolve_axis_map(&self, pairs: &[(String, String)]) -> Result<std::collections::BTreeMap<String, String>, String> {
+        let mut map = std::collections::BTreeMap::new();
+        for (axis, joint) in pairs {
+            let a = self.axes.iter().find(|a| a.name.eq_ignore_ascii_case(axis)).ok_or_else(|| {
+                format!("--axis-map {axis}={joint}: machine {} has no axis '{axis}' (its axes: {})", self.name, self.axis_names().join(" "))
+            })?;
+            if map.insert(a.name.clone(), joint.clone()).is_some() {
+                return Err(format!("--axis-map names axis {} twice", a.name));
+            }
+        }
+        Ok(map)
+    }
+}
+
 /// The TOML text of a built-in machine.
 pub fn builtin_file(name: &str) -> Option<&'static str> {
     BUILTIN_FILES.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)

@@ -6,6 +6,7 @@
 //!
 //! Built-in continuous paths `paper-sing` / `paper-nonsing` are seed 001 eq. (8)-(11).
 
+pub mod align;
 mod builtin;
 mod segment;
 

@@ -30,8 +30,77 @@ pub struct MessageView<'a> {
     /// Source stamp, ns.
     pub publish_time: u64,
     pub data: &'a [u8],
-    /// Bytes of the file read so far (for progress).
+    /// Bytes of the recording read so far (for progress; over all files of a rosbag2 directory).
     pub file_position: u64,
+    /// Which file of the recording (0 for a single MCAP file; the split files of a rosbag2 directory
+    /// in order): channel ids are per file.
+    pub file: usize,
+}
+
+/// The MCAP files of a recording, in order: the file itself, or for a rosbag2 directory (what `ros2
+/// bag record` writes) the files its `metadata.yaml` lists under `relative_file_paths`.
+pub fn recording_files(path: &Path) -> Result<Vec<std::path::PathBuf>, RecordError> {
+    if !path.is_dir() {
+        return Ok(vec![path.to_path_buf()]);
+    }
+    let meta = path.join("metadata.yaml");
+    let text = std::fs::read_to_string(&meta).map_err(|source| RecordError::Io { path: meta.clone(), source })?;
+    let bad = |line: usize, why: String| mcap_error(&meta, format!("line {line}: {why}"));
+    let mut files = Vec::new();
+    let mut storage = None;
+    let mut list_indent: Option<usize> = None;
+    for (k, line) in text.lines().enumerate() {
+        let indent = line.len() - line.trim_start().len();
+        let body = line.trim();
+        if body.is_empty() || body.starts_with('#') {
+            continue;
+        }
+        if let Some(ind) = list_indent {
+            if let Some(item) = body.strip_prefix("- ").or_else(|| body.strip_prefix('-')) {
+                if indent >= ind {
+                    files.push(unquote(item.trim()));
+                    continue;
+                }
+            }
+            if indent <= ind {
+                list_indent = None;
+            }
+        }
+        if let Some(v) = body.strip_prefix("storage_identifier:") {
+            storage = Some(unquote(v.trim()));
+        } else if let Some(v) = body.strip_prefix("relative_file_paths:") {
+            let v = v.trim();
+            if let Some(flow) = v.strip_prefix('[') {
+                let flow = flow.strip_suffix(']').ok_or_else(|| bad(k + 1, "unterminated [ list".into()))?;
+                files.extend(flow.split(',').map(|s| unquote(s.trim())).filter(|s| !s.is_empty()));
+            } else if v.is_empty() {
+                list_indent = Some(indent);
+            } else {
+                return Err(bad(k + 1, format!("relative_file_paths is '{v}', not a list")));
+            }
+        }
+    }
+    if let Some(s) = storage.filter(|s| s != "mcap") {
+        return Err(mcap_error(&meta, format!("storage_identifier is '{s}': only MCAP bags are read (convert with `ros2 bag convert`)")));
+    }
+    if files.is_empty() {
+        return Err(mcap_error(&meta, "lists no files under relative_file_paths".to_string()));
+    }
+    Ok(files.into_iter().map(|f| path.join(f)).collect())
+}
+
+fn unquote(s: &str) -> String {
+    let s = s.trim();
+    s.strip_prefix('"').and_then(|x| x.strip_suffix('"')).or_else(|| s.strip_prefix('\'').and_then(|x| x.strip_suffix('\''))).unwrap_or(s).to_string()
+}
+
+/// Total size of a recording's files, bytes.
+pub fn recording_len(path: &Path) -> Result<u64, RecordError> {
+    let mut n = 0;
+    for f in recording_files(path)? {
+        n += std::fs::metadata(&f).map_err(io_error(&f))?.len();
+    }
+    Ok(n)
 }
 
 fn mcap_error(path: &Path, e: impl std::fmt::Display) -> RecordError {
@@ -78,7 +147,12 @@ pub fn summary_channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, RecordE
 /// a recording without a readable summary is assumed to (readers then go by the messages themselves).
 /// The readers use it to decide whether a machine bridge's JointState stands in for AxisState.
 pub fn may_carry_type(path: &Path, type_name: &str) -> Result<bool, RecordError> {
-    Ok(summary_channels(path)?.is_none_or(|channels| channels.iter().any(|c| c.schema_name == type_name)))
+    for f in recording_files(path)? {
+        if summary_channels(&f)?.is_none_or(|channels| channels.iter().any(|c| c.schema_name == type_name)) {
+            return Ok(true);
+        }
+    }
+    Ok(false)
 }
 
 /// Call `visit` for every message of the recording at `path`, in file order, and return how many
@@ -88,13 +162,23 @@ pub fn may_carry_type(path: &Path, type_name: &str) -> Result<bool, RecordError>
 /// Chunks are decompressed whole into one reused buffer (zstd's one-shot decoder, then the CRC of
 /// the uncompressed records): faster than streaming them through the record reader.
 pub fn for_each_message(path: &Path, mut visit: impl FnMut(MessageView<'_>)) -> Result<u64, RecordError> {
+    let mut count = 0;
+    let mut offset = 0;
+    for (k, f) in recording_files(path)?.iter().enumerate() {
+        count += for_each_message_in_file(f, k, offset, &mut visit)?;
+        offset += std::fs::metadata(f).map_err(io_error(f))?.len();
+    }
+    Ok(count)
+}
+
+fn for_each_message_in_file(path: &Path, file_index: usize, offset: u64, visit: &mut impl FnMut(MessageView<'_>)) -> Result<u64, RecordError> {
     let mut file = File::open(path).map_err(io_error(path))?;
     let len = file.metadata().map_err(io_error(path))?.len();
     let mut reader = LinearReader::new_with_options(
         LinearReaderOptions::default().with_emit_chunks(true).with_record_length_limit(usize::try_from(len).unwrap_or(usize::MAX)),
     );
-    let mut records = Records { schemas: HashMap::new(), channels: Vec::new(), count: 0 };
-    let mut position = 0u64;
+    let mut records = Records { schemas: HashMap::new(), channels: Vec::new(), count: 0, file: file_index };
+    let mut position = offset;
     let mut chunk = Vec::new();
     let mut zstd = zstd::bulk::Decompressor::new().map_err(io_error(path))?;
     while let Some(event) = reader.next_event() {
@@ -131,11 +215,11 @@ pub fn for_each_message(path: &Path, mut visit: impl FnMut(MessageView<'_>)) -> 
                 let mut rest = body;
                 while !rest.is_empty() {
                     let (opcode, record, tail) = split_record(rest).ok_or_else(|| damaged(format!("record cut short {} bytes from its end", rest.len())))?;
-                    records.record(path, opcode, record, position, &mut visit)?;
+                    records.record(path, opcode, record, position, visit)?;
                     rest = tail;
                 }
             }
-            LinearReadEvent::Record { data, opcode } => records.record(path, opcode, data, position, &mut visit)?,
+            LinearReadEvent::Record { data, opcode } => records.record(path, opcode, data, position, visit)?,
         }
     }
     Ok(records.count)
@@ -159,6 +243,7 @@ struct Records {
     /// By channel id.
     channels: Vec<Option<ChannelInfo>>,
     count: u64,
+    file: usize,
 }
 
 impl Records {
@@ -179,6 +264,7 @@ impl Records {
                     publish_time: header.publish_time,
                     data: body,
                     file_position: position,
+                    file: self.file,
                 });
             }
             mcap::records::op::SCHEMA | mcap::records::op::CHANNEL => match mcap::parse_record(opcode, data).map_err(|e| mcap_error(path, e))? {

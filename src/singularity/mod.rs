@@ -9,6 +9,8 @@
 mod analysis;
 mod feed;
 mod geometry;
+pub mod measured;
+pub mod tracker;
 
 pub use analysis::{analyze, Analysis, AnalysisOptions, Region, RegionCause, Status, Summary};
 pub use feed::{feed_limit, FeedLimit, FeedLimiter, LimitKind};

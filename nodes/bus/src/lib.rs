@@ -31,6 +31,33 @@ pub fn state_qos() -> QosProfile {
         .history(History::KeepLast { depth: STATE_DEPTH })
 }
 
+/// The reliability a node asks of its input publishers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum InputQos {
+    /// Reliable: hears only reliable publishers (a best-effort one, e.g. ROS SensorData QoS, is
+    /// incompatible and never heard).
+    Reliable,
+    /// Best effort: hears best-effort and reliable publishers alike (DDS matches a best-effort reader
+    /// with both), without retransmission.
+    BestEffort,
+    /// Hear whatever the publisher offers: JointState inputs (machine bridges, often ROS 2's
+    /// SensorData QoS) with a best-effort request, which DDS matches with reliable and best-effort
+    /// publishers alike; AxisState inputs (the node set's own reliable streams) reliable, so that a
+    /// commander publishing as fast as it can loses nothing.
+    Auto,
+}
+
+impl InputQos {
+    /// The reader QoS of a state input (keep-last 1000 either way); `joint_state` for a bridge's
+    /// JointState topic.
+    pub fn profile(self, joint_state: bool) -> QosProfile {
+        match (self, joint_state) {
+            (InputQos::Reliable, _) | (InputQos::Auto, false) => state_qos(),
+            (InputQos::BestEffort, _) | (InputQos::Auto, true) => state_qos().reliability_best_effort(),
+        }
+    }
+}
+
 /// QoS of /diagnostics (as diagnostic_updater: reliable, keep-last 10).
 pub fn diagnostics_qos() -> QosProfile {
     state_qos().history(History::KeepLast { depth: 10 })
@@ -419,6 +446,9 @@ pub struct InputArgs {
     /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable).
     #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = fiveaxis::machine::parse_axis_map)]
     pub axis_map: Vec<(String, String)>,
+    /// Reliability asked of the input publishers: reliable, best-effort, or auto (hear both).
+    #[arg(long = "input-qos", value_enum, default_value = "auto")]
+    pub input_qos: InputQos,
 }
 
 impl InputArgs {
@@ -437,12 +467,12 @@ pub fn subscribe_states(bus: &mut Bus, inputs: &InputArgs) -> anyhow::Result<std
     let joint_inputs = &inputs.joint_inputs;
     let (tx, rx) = std::sync::mpsc::sync_channel::<StateInput>(8192);
     for topic in states {
-        let sub = bus.subscription::<fiveaxis_msgs::AxisState>(topic, state_qos())?;
+        let sub = bus.subscription::<fiveaxis_msgs::AxisState>(topic, inputs.input_qos.profile(false))?;
         tracing::info!(topic = %bus.resolve(topic), "watching AxisState");
         forward(sub, bus.resolve(topic), tx.clone(), StateInput::State);
     }
     for topic in joint_inputs {
-        let sub = bus.subscription::<fiveaxis_msgs::JointState>(topic, state_qos())?;
+        let sub = bus.subscription::<fiveaxis_msgs::JointState>(topic, inputs.input_qos.profile(true))?;
         tracing::info!(topic = %bus.resolve(topic), "watching JointState");
         forward(sub, bus.resolve(topic), tx.clone(), StateInput::Joints);
     }

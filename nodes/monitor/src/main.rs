@@ -5,7 +5,7 @@
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::live::monitor::{Monitor, MonitorConfig};
+use fiveaxis::live::monitor::{FeedSource, Monitor, MonitorConfig, Rejection};
 use fiveaxis::machine::Machine;
 use fiveaxis::units::RPM;
 use fiveaxis_bus::{diagnostics_qos, subscribe_states, InputArgs, StateInput, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
@@ -43,6 +43,13 @@ struct Args {
     /// distance, feed limit, region), in mm, mm/min, rpm and degrees.
     #[arg(long = "samples-csv")]
     samples_csv: Option<PathBuf>,
+    /// The program the machine runs (a file, bundled:NAME): machine streams (JointState inputs) are
+    /// aligned with its moves for the programmed feed, block numbers and rapids.
+    #[arg(long, conflicts_with = "feed_mm_per_min")]
+    program: Option<String>,
+    /// The programmed feed of every feed move of a machine stream, mm/min (without --program).
+    #[arg(long = "feed", value_name = "MM_PER_MIN")]
+    feed_mm_per_min: Option<f64>,
     /// Exit once every input has been stale this long after having delivered samples, s.
     #[arg(long = "exit-when-idle-s")]
     exit_when_idle_s: Option<f64>,
@@ -61,7 +68,34 @@ fn main() -> anyhow::Result<()> {
         ..Default::default()
     };
     let mut monitor = Monitor::new(&machine, config);
-    let rename = args.inputs.axis_map();
+    let rename = match machine.resolve_axis_map(&args.inputs.axis_map) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("fiveaxis-monitor: {e}");
+            std::process::exit(2);
+        }
+    };
+    let feed_source = match (&args.program, args.feed_mm_per_min) {
+        (Some(spec), _) => match fiveaxis::job::program_segments(spec, &machine) {
+            Ok(s) => FeedSource::Program(std::sync::Arc::new(s)),
+            Err(e) => {
+                eprintln!("fiveaxis-monitor: --program {spec}: {e}");
+                std::process::exit(2);
+            }
+        },
+        (None, Some(f)) if f.is_finite() && f > 0.0 => FeedSource::Fixed(f * fiveaxis::units::MM_PER_MIN),
+        (None, Some(f)) => {
+            eprintln!("fiveaxis-monitor: --feed {f}: a feed must be a positive number of mm/min");
+            std::process::exit(2);
+        }
+        (None, None) => FeedSource::Assumed,
+    };
+    if !args.inputs.joint_inputs.is_empty() {
+        tracing::info!("machine streams: programmed feed {}", feed_source.describe());
+    }
+    monitor.set_feed_source(feed_source);
+    // Each kind of rejection is said once per topic (the counters go on in the status and /diagnostics).
+    let mut said: std::collections::BTreeSet<(String, &'static str)> = Default::default();
 
     let mut bus = Bus::new("fiveaxis_monitor", &args.common)?;
     let status_pub = bus.publisher::<SingularityStatus>("monitor/status", state_qos())?;
@@ -80,6 +114,7 @@ fn main() -> anyhow::Result<()> {
     let start = Instant::now();
     let wall = || start.elapsed().as_secs_f64();
     let mut last_diag = 0.0;
+    let mut last_stale_status = 0.0;
     let mut last_sample: Option<f64> = None;
     let mut in_region: BTreeMap<String, u32> = BTreeMap::new();
     while !shutdown.requested() {
@@ -90,14 +125,23 @@ fn main() -> anyhow::Result<()> {
                 let (topic, state) = match input {
                     StateInput::State(t, s) => (t, Ok(s)),
                     StateInput::Joints(t, js) => {
-                        let st = monitor.joint_state_to_axis_state(&js, &rename);
+                        let st = monitor.joint_state_to_axis_state(&js, &rename).map_err(|e| (e, js.name));
                         (t, st)
                     }
                 };
                 let state = match state {
                     Ok(s) => s,
-                    Err(e) => {
-                        tracing::warn!(%topic, "{e}");
+                    Err((e, names)) => {
+                        let id = monitor.input(&topic);
+                        monitor.reject(id, &e);
+                        if said.insert((topic.clone(), "missing joint")) {
+                            tracing::error!(
+                                %topic,
+                                "{e}: joints found [{}]; map them with {} (said once; counted in the status and /diagnostics)",
+                                names.join(", "),
+                                fiveaxis::analysis::suggest_axis_map(&machine, &names, &rename)
+                            );
+                        }
                         continue;
                     }
                 };
@@ -123,8 +167,8 @@ fn main() -> anyhow::Result<()> {
                                 p.x * 1e3,
                                 p.y * 1e3,
                                 p.z * 1e3,
-                                state.path_feed * 60e3,
-                                state.programmed_feed * 60e3,
+                                status.path_feed * 60e3,
+                                status.programmed_feed * 60e3,
                                 status.predicted_c_speed / RPM,
                                 status.c_speed / RPM,
                                 status.singularity_distance.to_degrees(),
@@ -139,15 +183,38 @@ fn main() -> anyhow::Result<()> {
                             tracing::warn!("publishing the status: {e:?}");
                         }
                     }
-                    Err(e) => tracing::debug!(%topic, "{e}"),
+                    Err(e) => {
+                        let kind = match &e {
+                            Rejection::OutOfOrder { .. } => "out of order",
+                            Rejection::Invalid(w) if w.contains("outside its range") => "out of range",
+                            _ => "invalid",
+                        };
+                        if said.insert((topic.clone(), kind)) {
+                            let hint = if kind == "out of range" { " (positions must be in m and rad, REP 103)" } else { "" };
+                            tracing::warn!(%topic, "{e}{hint} (said once; counted in the status and /diagnostics)");
+                        }
+                    }
                 }
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {}
             Err(mpsc::RecvTimeoutError::Disconnected) => break,
         }
         let now = wall();
-        for topic in monitor.tick(now) {
+        let gone = monitor.tick(now);
+        for topic in &gone {
             tracing::warn!(%topic, "stale: no sample for {} ms", args.stale_ms);
+        }
+        // While an input is stale the status topic says so (at once, then every 50 ms).
+        if !gone.is_empty() || now - last_stale_status >= 0.05 {
+            let stale = monitor.stale_statuses();
+            if !stale.is_empty() {
+                last_stale_status = now;
+                for s in stale {
+                    if let Err(e) = status_pub.publish(s) {
+                        tracing::warn!("publishing the status: {e:?}");
+                    }
+                }
+            }
         }
         if now - last_diag >= 0.5 {
             last_diag = now;
@@ -155,6 +222,7 @@ fn main() -> anyhow::Result<()> {
             if let Err(e) = diag_pub.publish(monitor.diagnostics(stamp)) {
                 tracing::warn!("publishing diagnostics: {e:?}");
             }
+            monitor.reported();
         }
         if let (Some(idle), Some(last)) = (args.exit_when_idle_s, last_sample) {
             if now - last > idle {
