@@ -89,7 +89,7 @@ pub struct StreamReport {
     /// plus messages that did not decode at all.
     pub rejected: Rejected,
     pub undecodable: u64,
-    /// The stream's sample period (median stamp interval), s.
+    /// The stream's sample period (mean of the recent stamp intervals that were not gaps), s.
     pub period_s: Option<f64>,
     pub peak_c_speed_rpm: f64,
     pub min_singularity_distance_deg: f64,
@@ -293,7 +293,9 @@ pub fn analyze_mcap_with_progress(
             // approach counts there (parking at A = 0 is harmless), and the feed figures come from it.
             if status.motion == Motion::Feed && status.turning {
                 stream.cuts.push((t, tip.x, ds, status.path_feed, status.programmed_feed));
-                stream.min_distance_deg = stream.min_distance_deg.min(status.singularity_distance.to_degrees());
+            }
+            if let Some(d) = status.five_axis_distance {
+                stream.min_distance_deg = stream.min_distance_deg.min(d.to_degrees());
             }
             stream.last = Some((tip, Default::default(), [0.0; 3], t));
             stream.peak_c_speed_rpm = stream.peak_c_speed_rpm.max(status.predicted_c_speed.abs() / crate::units::RPM);

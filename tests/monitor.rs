@@ -84,13 +84,35 @@ fn diagnostics_warn_near_the_singularity_and_error_above_the_c_limit() {
     m.on_state(TOPIC, &state(0.0, 0.0, 3.0, 0.0), 0.0).unwrap();
     m.on_state(TOPIC, &state(0.001, 0.01, 3.0, 0.0), 0.001).unwrap();
     assert_eq!(m.diagnostics(Time::default()).status[0].level, DiagnosticStatus::WARN);
-    // The tool axis sweeping sideways 1 deg from the pole at 0.5 deg/ms of C: 83 rpm > 25 rpm: ERROR.
-    let s = m.on_state(TOPIC, &state(0.002, 0.02, 1.0, 0.5), 0.002);
-    let s = s.unwrap();
-    let s2 = m.on_state(TOPIC, &state(0.003, 0.03, 1.0, 1.0), 0.003).unwrap();
-    assert!(s2.in_region && s2.region_id == 1, "{s:?}\n{s2:?}");
-    assert!((s2.c_speed.abs() - 0.5 * DEG / 1e-3).abs() < 1e-9);
+    // The tool axis sweeping sideways 1 deg from the pole, C turning 0.5 deg per 0.01 mm of path (50
+    // deg/mm): at the 600 mm/min the stream holds (the assumed feed: no program, no --feed) the path
+    // asks 500 deg/s = 83 rpm of C > 25 rpm. The demand is measured over 0.5 mm of path, so the region
+    // opens once that much path is behind: ERROR.
+    let mut last = None;
+    for k in 2..150 {
+        let t = k as f64 * 1e-3;
+        last = Some(m.on_state(TOPIC, &state(t, k as f64 * 0.01, 1.0, (k - 2) as f64 * 0.5), t).unwrap());
+    }
+    let s2 = last.unwrap();
+    assert!(s2.in_region && s2.region_id == 1, "{s2:?}");
+    assert_eq!(s2.region_cause, fiveaxis_msgs::SingularityStatus::CAUSE_SINGULARITY);
+    // (The tool tip turns with the table, so the path is not exactly 0.01 mm per sample: well above
+    // the limit, not exactly 83 rpm.)
+    assert!(s2.predicted_c_speed.abs() > 2.0 * s2.c_speed_limit, "{s2:?}");
+    assert!((s2.c_speed.abs() - 0.5 * DEG / 1e-3).abs() < 1e-6, "measured over 10 ms: {s2:?}");
     assert_eq!(m.diagnostics(Time::default()).status[0].level, DiagnosticStatus::ERROR);
+    // A short region between two reports is still reported: back outside, the worst since the last
+    // report is the ERROR; once reported, the level follows the stream again.
+    for k in 150..300 {
+        let t = k as f64 * 1e-3;
+        m.on_state(TOPIC, &state(t, k as f64 * 0.01, 1.0, 74.0), t).unwrap();
+    }
+    assert!(!m.on_state(TOPIC, &state(0.3, 3.0, 1.0, 74.0), 0.3).unwrap().in_region);
+    let d = m.diagnostics(Time::default());
+    assert_eq!(d.status[0].level, DiagnosticStatus::ERROR, "{:?}", d.status[0]);
+    assert!(d.status[0].message.contains("region 1") && d.status[0].message.contains("since the last report"), "{}", d.status[0].message);
+    m.reported();
+    assert_eq!(m.diagnostics(Time::default()).status[0].level, DiagnosticStatus::WARN, "1 deg from the pole, no region");
 }
 
 /// A machine bridge's JointState with its own joint names, mapped onto the machine's axes.

@@ -151,7 +151,7 @@ pub struct InputSummary {
     pub lost: u64,
     /// Rejections by reason.
     pub rejected: Rejected,
-    /// The stream's sample period (median of the recent stamp intervals), s.
+    /// The stream's sample period (mean of the recent stamp intervals that were not gaps), s.
     pub period_s: Option<f64>,
     /// Samples by motion kind (machine streams: rapid, feed, rotary-only, dwell).
     pub rapid_samples: u64,
@@ -194,6 +194,10 @@ pub struct Evaluation {
     pub programmed_feed: f64,
     /// The tool axis turns (machine streams; true elsewhere): with a feed move, five-axis motion.
     pub turning: bool,
+    /// Machine streams: the distance to the singularity of the demand window's middle sample where
+    /// that sample lies on simultaneous five-axis motion within a whole window of path (a closest
+    /// approach candidate: a blend into a rotary-only move does not count).
+    pub five_axis_distance: Option<f64>,
 }
 
 /// A stream of the monitor, by index (see [`Monitor::input`]): no topic lookup per sample.
@@ -226,8 +230,8 @@ struct Input {
     last: Option<Evaluation>,
     cursor: (usize, usize),
     samples: u64,
-    /// Recent stamp intervals, the period (their median) and their spread (median absolute
-    /// deviation), and samples missing from gaps in the stamps.
+    /// Recent stamp intervals, the period (their mean) and their spread (10th to 90th percentile), and
+    /// samples missing from gaps in the stamps.
     intervals: VecDeque<f64>,
     period: Option<(f64, f64)>,
     lost: u64,
@@ -660,6 +664,7 @@ impl Monitor {
             path_feed: st.path_feed,
             programmed_feed: st.programmed_feed,
             turning: true,
+            five_axis_distance: None,
         };
         input.latch(&evaluation, self.config.warn_distance, self.config.warn_ahead);
         input.last = Some(evaluation);
@@ -763,7 +768,12 @@ impl Monitor {
             cause: verdict.cause,
             path_feed: m.path_feed,
             programmed_feed: f_prog,
-            turning: m.turning,
+            // Five-axis motion: the tool axis turns, on a move the program makes five-axis (if known).
+            turning: m.turning && place.is_none_or(|p| p.five_axis),
+            five_axis_distance: m
+                .demand
+                .filter(|d| d.motion == Motion::Feed && d.turning && place.is_none_or(|p| p.five_axis))
+                .map(|d| distance(&d.axis, &self.singular)),
         };
         input.history.push_back(Past { t, s: m.s, q: m.q, axis: m.axis, tip: m.tip });
         while input.history.len() > 1 {
@@ -968,14 +978,15 @@ impl Input {
 /// Intervals kept for the period estimate.
 const INTERVALS: usize = 64;
 
-/// Count samples missing from a gap `dt` in a stream's stamps. The period is the median of the recent
-/// intervals (robust to catch-up bursts and jitter, unlike the smallest interval); a gap is a loss only
-/// beyond the stated tolerance: the period plus the larger of half a period and four median absolute
-/// deviations of the intervals (send-time stamping with jitter spreads them). Lost = gap / period - 1,
-/// rounded, at least one.
+/// Count samples missing from a gap `dt` in a stream's stamps. The period is the mean of the recent
+/// intervals that were not gaps (robust to catch-up bursts and to send-time stamping with jitter, whose
+/// intervals bunch but add up; unlike the smallest interval, which one catch-up makes tiny); a gap is a
+/// loss only beyond the stated tolerance: the period plus the larger of half a period and twice the
+/// spread of the recent intervals (10th to 90th percentile), so that jittered stamps count nothing.
+/// Lost = gap / period - 1, rounded, at least one.
 fn count_lost(input: &mut Input, dt: f64) {
     if let Some((period, spread)) = input.period {
-        let tolerance = (0.5 * period).max(4.0 * spread);
+        let tolerance = (0.5 * period).max(2.0 * spread);
         if dt > period + tolerance {
             input.lost += ((dt / period).round() as u64).saturating_sub(1).max(1);
             // A gap says nothing about the period: leave it out of the estimate.
@@ -994,16 +1005,11 @@ fn count_lost(input: &mut Input, dt: f64) {
             *slot = *x;
         }
         let v = &mut v[..n];
+        let mean = v.iter().sum::<f64>() / n as f64;
         v.sort_by(f64::total_cmp);
-        let median = v[n / 2];
-        let mut dev = [0.0; INTERVALS];
-        for (slot, x) in dev.iter_mut().zip(v.iter()) {
-            *slot = (x - median).abs();
-        }
-        let dev = &mut dev[..n];
-        dev.sort_by(f64::total_cmp);
-        if median > 0.0 {
-            input.period = Some((median, dev[n / 2]));
+        let spread = v[n * 9 / 10] - v[n / 10];
+        if mean > 0.0 {
+            input.period = Some((mean, spread));
         }
     }
 }

@@ -32,8 +32,10 @@ pub struct Place {
     /// Programmed tool-tip feed, m/s (0 for rapids and rotary-only moves).
     pub feed: f64,
     pub rapid: bool,
-    /// True on a move along a path (not a rapid, not rotary-only).
+    /// True on a move along a path (not a rapid, not rotary-only), and on a simultaneous five-axis
+    /// move (the path and the rotary axes both move).
     pub path_move: bool,
+    pub five_axis: bool,
     /// Distance of the sample from the move in the match's metric, m.
     pub distance: f64,
     /// The datum shift in effect in the frame that matches (zero where the stream's coordinates are
@@ -114,6 +116,7 @@ impl Aligner {
             feed: seg.feed,
             rapid: seg.kind == SegmentKind::Rapid,
             path_move: seg.is_path_move(),
+            five_axis: seg.is_five_axis(),
             distance: best.0.sqrt(),
             offset: if frame == 0 { seg.datum } else { Vector3::zeros() },
         })

@@ -124,6 +124,7 @@ pub struct Demand {
     pub axis: Vector3<f64>,
     pub path_feed: f64,
     pub motion: Motion,
+    pub turning: bool,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -135,6 +136,7 @@ struct Kept {
     axis: Vector3<f64>,
     path_feed: f64,
     motion: Motion,
+    turning: bool,
 }
 
 /// The estimator's state for one stream.
@@ -203,7 +205,7 @@ impl MeasuredPath {
         if let Some(last) = self.kept.back() {
             self.s += (tip - last.tip).norm();
         }
-        let now = Kept { t, s: self.s, q, tip, axis, path_feed: 0.0, motion: Motion::Unknown };
+        let now = Kept { t, s: self.s, q, tip, axis, path_feed: 0.0, motion: Motion::Unknown, turning: false };
         self.kept.push_back(now);
         let c = &self.config;
         // Drop what neither window needs any more (the front is the newest sample outside both).
@@ -234,7 +236,7 @@ impl MeasuredPath {
             Some(_) => Motion::Feed,
         };
         if let Some(k) = self.kept.back_mut() {
-            (k.path_feed, k.motion) = (path_feed, motion);
+            (k.path_feed, k.motion, k.turning) = (path_feed, motion, turn > c.turning);
         }
         // A rotary-only move changes C without path: a stretch that contains one measures no path's
         // demand. Start the demand window again after it.
@@ -279,6 +281,7 @@ impl MeasuredPath {
             axis: mid.axis,
             path_feed: mid.path_feed,
             motion: mid.motion,
+            turning: mid.turning,
         })
     }
 }

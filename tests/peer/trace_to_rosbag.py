@@ -95,6 +95,7 @@ def main():
                     pos[4] = pos[4] % 360.0
             if a.nan_every and k % a.nan_every == 0:
                 pos[3] = float("nan")
+            c_rad = pos[4] if a.units == "si" else math.radians(pos[4])
             n = list(names)
             if a.drop_joint:
                 i = n.index(a.drop_joint)
@@ -106,7 +107,7 @@ def main():
             if k % 10 == 0:
                 write(other, ns, JointState(header=Header(stamp=stamp(ns), frame_id=""), name=["finger"], position=np.array([0.01]), velocity=np.zeros(0), effort=np.zeros(0)))
             if k % 100 == 0:
-                q = Quaternion(x=0.0, y=0.0, z=math.sin(pos[4] / 2) if a.units == "si" else 0.0, w=math.cos(pos[4] / 2) if a.units == "si" else 1.0)
+                q = Quaternion(x=0.0, y=0.0, z=math.sin(c_rad / 2), w=math.cos(c_rad / 2))
                 t = TransformStamped(header=Header(stamp=stamp(ns), frame_id="a_table"), child_frame_id="c_table",
                                      transform=Transform(translation=Vector3(x=0.0, y=0.0, z=0.0), rotation=q))
                 write(tf, ns, TFMessage(transforms=[t]))
