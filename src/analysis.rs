@@ -339,7 +339,10 @@ pub fn analyze_mcap_with_progress(
             stream.min_distance_deg = stream.min_distance_deg.min(status.singularity_distance.to_degrees());
         }
         stream.last = Some((tip, axis, lin, t));
-        stream.peak_c_speed_rpm = stream.peak_c_speed_rpm.max(status.predicted_c_speed.abs() / crate::units::RPM);
+        // The peak is the path's: a rapid runs its axes at their limits by definition.
+        if state.motion != AxisState::MOTION_RAPID {
+            stream.peak_c_speed_rpm = stream.peak_c_speed_rpm.max(status.predicted_c_speed.abs() / crate::units::RPM);
+        }
     });
     match read {
         // Nothing readable at all: no report to keep.
@@ -384,29 +387,21 @@ pub fn analyze_mcap_with_progress(
                 .regions
                 .iter()
                 .map(|r| {
-                    if s.source == AxisState::SOURCE_MACHINE {
-                        // A machine stream's region carries its own pass: its lowest feed and time lost.
-                        return RegionReport {
-                            x_start_mm: r.x_start_mm,
-                            x_end_mm: r.x_end_mm,
-                            block_start: r.block_start,
-                            block_end: r.block_end,
-                            peak_c_speed_rpm: r.peak_c_speed_rpm,
-                            topic: s.topic.clone(),
-                            actual_topic: Some(s.topic.clone()),
-                            lowest_feed_mm_per_min: r.min_path_feed_mm_per_min.is_finite().then_some(r.min_path_feed_mm_per_min),
-                            time_lost_s: Some(r.time_lost_s),
-                            cause: Some(r.cause),
-                        };
-                    }
-                    let (lo, hi) = (r.x_start_mm.min(r.x_end_mm) * 1e-3, r.x_start_mm.max(r.x_end_mm) * 1e-3);
-                    let inside: Vec<&Cut> = actual
-                        .as_ref()
-                        .and_then(|a| cuts_of(a))
-                        .map(|c| c.iter().filter(|c| c.1 >= lo && c.1 <= hi).collect())
-                        .unwrap_or_default();
-                    let lowest = inside.iter().map(|c| c.3).fold(f64::INFINITY, f64::min);
-                    let lost: f64 = inside.windows(2).map(|w| (w[1].0 - w[0].0) - if w[1].4 > 0.0 { w[1].2 / w[1].4 } else { 0.0 }).sum();
+                    // The lowest feed and time lost over the region: a machine stream's region carries
+                    // its own pass; otherwise the actual stream's five-axis samples within its x range.
+                    let (actual_topic, lowest, lost) = if s.source == AxisState::SOURCE_MACHINE {
+                        (Some(s.topic.clone()), r.min_path_feed_mm_per_min / 60e3, Some(r.time_lost_s))
+                    } else {
+                        let (lo, hi) = (r.x_start_mm.min(r.x_end_mm) * 1e-3, r.x_start_mm.max(r.x_end_mm) * 1e-3);
+                        let inside: Vec<&Cut> = actual
+                            .as_ref()
+                            .and_then(|a| cuts_of(a))
+                            .map(|c| c.iter().filter(|c| c.1 >= lo && c.1 <= hi).collect())
+                            .unwrap_or_default();
+                        let lowest = inside.iter().map(|c| c.3).fold(f64::INFINITY, f64::min);
+                        let lost: f64 = inside.windows(2).map(|w| (w[1].0 - w[0].0) - if w[1].4 > 0.0 { w[1].2 / w[1].4 } else { 0.0 }).sum();
+                        ((!inside.is_empty()).then(|| actual.clone()).flatten(), lowest, (!inside.is_empty()).then_some(lost))
+                    };
                     RegionReport {
                         x_start_mm: r.x_start_mm,
                         x_end_mm: r.x_end_mm,
@@ -414,9 +409,9 @@ pub fn analyze_mcap_with_progress(
                         block_end: r.block_end,
                         peak_c_speed_rpm: r.peak_c_speed_rpm,
                         topic: s.topic.clone(),
-                        actual_topic: (!inside.is_empty()).then(|| actual.clone()).flatten(),
+                        actual_topic,
                         lowest_feed_mm_per_min: lowest.is_finite().then_some(lowest * 60e3),
-                        time_lost_s: (!inside.is_empty()).then_some(lost),
+                        time_lost_s: lost,
                         cause: Some(r.cause),
                     }
                 })

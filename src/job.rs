@@ -80,19 +80,26 @@ pub fn run(spec: &str, machine: &Machine, options: &JobOptions) -> Result<Job, J
     Ok(Job { program, trajectory, analysis, report })
 }
 
-/// The moves of the program named by `spec` on `machine`, for aligning a machine stream with it (the
-/// monitor's and the offline analysis' `--program`); a program with defects is refused, naming them.
-pub fn program_segments(spec: &str, machine: &Machine) -> Result<Vec<crate::path::Segment>, String> {
-    let program = read_spec(spec, &JobOptions::default()).map_err(|e| e.to_string())?;
-    let (segments, planned) = crate::path::plan(&program, machine, &PathOptions::default());
-    let errors: Vec<String> = program.diagnostics.iter().chain(&planned).filter(|d| d.severity == Severity::Error).map(|d| d.to_string()).collect();
+/// The moves and regions of the program named by `spec` on `machine`, for aligning a machine stream
+/// with it (the monitor's and the offline analysis' `--program`); a program with defects is refused,
+/// naming them.
+pub fn program_plan(spec: &str, machine: &Machine) -> Result<crate::live::monitor::ProgramPlan, String> {
+    let job = run(spec, machine, &JobOptions::default()).map_err(|e| e.to_string())?;
+    let errors: Vec<String> = job
+        .report
+        .diagnostics
+        .iter()
+        .filter(|d| d.severity == Severity::Error)
+        .map(|d| format!("{}:{}:{}: {}", d.file, d.line, d.column, d.message))
+        .collect();
     if !errors.is_empty() {
         return Err(format!("the program has defects:\n{}", errors.join("\n")));
     }
-    if segments.is_empty() {
+    if job.trajectory.segments.is_empty() {
         return Err("the program has no moves".into());
     }
-    Ok(segments)
+    let regions = job.analysis.regions.iter().map(|r| (r.t_start, r.t_end)).collect();
+    Ok(crate::live::monitor::ProgramPlan { segments: std::sync::Arc::new(job.trajectory.segments), regions })
 }
 
 impl Job {

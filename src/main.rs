@@ -400,7 +400,7 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let feed_source = match (&a.program, a.feed_mm_per_min) {
-        (Some(spec), _) => match job::program_segments(spec, &machine) {
+        (Some(spec), _) => match job::program_plan(spec, &machine) {
             Ok(s) => fiveaxis::live::monitor::FeedSource::Program(std::sync::Arc::new(s)),
             Err(e) => {
                 eprintln!("fiveaxis: --program {spec}: {e}");

@@ -15,9 +15,9 @@ fn axis_state() -> impl Strategy<Value = AxisState> {
         proptest::collection::vec(any::<f64>(), 0..7),
         proptest::collection::vec(any::<f64>(), 0..7),
         proptest::array::uniform6(any::<f64>()),
-        (any::<f64>(), any::<f64>(), any::<u32>(), any::<i64>()),
+        (any::<f64>(), any::<f64>(), any::<u32>(), any::<i64>(), any::<u8>()),
     )
-        .prop_map(|((sec, nanosec, frame_id, source), name, position, velocity, acceleration, v, (pf, f, line, block))| AxisState {
+        .prop_map(|((sec, nanosec, frame_id, source), name, position, velocity, acceleration, v, (pf, f, line, block, motion))| AxisState {
             header: Header { stamp: Time { sec, nanosec }, frame_id },
             source,
             name,
@@ -30,6 +30,7 @@ fn axis_state() -> impl Strategy<Value = AxisState> {
             path_feed: f,
             program_line: line,
             block_number: block,
+            motion,
         })
 }
 
@@ -80,6 +81,7 @@ fn to_cdr_be(m: &AxisState) -> Vec<u8> {
     u32_(&mut out, m.program_line);
     pad(&mut out, 8);
     out.extend(m.block_number.to_be_bytes());
+    out.push(m.motion);
     out
 }
 

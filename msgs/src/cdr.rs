@@ -183,6 +183,7 @@ impl AxisState {
         self.path_feed = r.f64("path_feed")?;
         self.program_line = r.u32("program_line")?;
         self.block_number = r.i64("block_number")?;
+        self.motion = r.u8("motion")?;
         Ok(())
     }
 }

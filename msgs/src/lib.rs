@@ -105,6 +105,7 @@ pub struct AxisState {
     pub path_feed: f64,
     pub program_line: u32,
     pub block_number: i64,
+    pub motion: u8,
 }
 ros_message!(AxisState, "fiveaxis_msgs", "AxisState");
 
@@ -112,6 +113,11 @@ impl AxisState {
     pub const SOURCE_COMMANDED: u8 = 0;
     pub const SOURCE_SIMULATED: u8 = 1;
     pub const SOURCE_MACHINE: u8 = 2;
+    pub const MOTION_UNKNOWN: u8 = 0;
+    pub const MOTION_RAPID: u8 = 1;
+    pub const MOTION_FEED: u8 = 2;
+    pub const MOTION_ROTARY: u8 = 3;
+    pub const MOTION_DWELL: u8 = 4;
 
     /// The same state as a sensor_msgs/JointState (names, positions and velocities; no effort).
     pub fn to_joint_state(&self) -> JointState {

@@ -44,7 +44,22 @@ impl StateBuilder {
             path_feed,
             program_line: seg.map_or(0, |s| s.line as u32),
             block_number: seg.and_then(|s| s.number).map_or(-1, |n| n as i64),
+            motion: seg.map_or(AxisState::MOTION_UNKNOWN, motion_of),
         }
+    }
+}
+
+/// The `motion` code of a program move: rapid, feed along a path, rotary-only, or a dwell (nothing
+/// moves).
+pub fn motion_of(seg: &Segment) -> u8 {
+    if seg.kind == crate::path::SegmentKind::Rapid {
+        AxisState::MOTION_RAPID
+    } else if seg.is_path_move() {
+        AxisState::MOTION_FEED
+    } else if (0..crate::machine::AXES).any(|i| (seg.q1[i] - seg.q0[i]).abs() > 1e-12) {
+        AxisState::MOTION_ROTARY
+    } else {
+        AxisState::MOTION_DWELL
     }
 }
 

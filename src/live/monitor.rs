@@ -81,12 +81,21 @@ enum Reason {
 /// Where the programmed feed of a machine stream's prediction comes from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum FeedSource {
-    /// Each sample aligned with the program's moves (their feed, block numbers and kinds).
-    Program(Arc<Vec<Segment>>),
+    /// Each sample aligned with the program's moves (their feed, block numbers and kinds), and the
+    /// program's own regions (for the look-ahead warning).
+    Program(Arc<ProgramPlan>),
     /// One feed for every feed move, m/s.
     Fixed(f64),
     /// Neither given: the highest tool-tip feed the stream has held on feed moves so far.
     Assumed,
+}
+
+/// A program as a machine stream is aligned with it: its moves, and its regions (start and end in
+/// program time at the programmed feed, s) from the program analysis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProgramPlan {
+    pub segments: Arc<Vec<Segment>>,
+    pub regions: Vec<(f64, f64)>,
 }
 
 impl FeedSource {
@@ -219,8 +228,6 @@ struct Input {
     source: u8,
     history: VecDeque<Past>,
     s: f64,
-    region_id: u32,
-    open: Option<LiveRegion>,
     regions: Vec<LiveRegion>,
     invalid: u64,
     out_of_order: u64,
@@ -540,9 +547,6 @@ impl Monitor {
         if input.stale_now {
             // The stream had gone stale: a restarted publisher may restart its clock. New session.
             input.history.clear();
-            if let Some(r) = input.open.take() {
-                input.regions.push(r);
-            }
             if let Some(r) = input.tracker.finish() {
                 input.regions.push(LiveRegion::from_tracked(&r));
             }
@@ -598,43 +602,33 @@ impl Monitor {
         let fl = feed_limit_from_history(&input.history, &self.limiter, st.programmed_feed);
         let dist = distance(&axis, &self.singular);
         let moving = ds > 1e-12;
-        let in_region = predicted.abs() > self.limit || self.config.min_distance.is_some_and(|d| moving && dist < d);
-
-        let rpm = |r: f64| r / crate::units::RPM;
-        if in_region {
-            if input.open.is_none() {
-                input.region_id += 1;
-                input.open = Some(LiveRegion {
-                    id: input.region_id,
-                    t_start_s: t,
-                    t_end_s: t,
-                    x_start_mm: tip.x * 1e3,
-                    x_end_mm: tip.x * 1e3,
-                    block_start: st.block_number,
-                    block_end: st.block_number,
-                    peak_c_speed_rpm: 0.0,
-                    min_path_feed_mm_per_min: f64::INFINITY,
-                    min_singularity_distance_deg: f64::INFINITY,
-                    time_lost_s: 0.0,
-                    cause: Cause::RotaryFeed,
-                });
-            }
-            let r = input.open.as_mut().expect("open region");
-            r.t_end_s = t;
-            r.x_end_mm = tip.x * 1e3;
-            r.block_end = st.block_number;
-            r.peak_c_speed_rpm = r.peak_c_speed_rpm.max(rpm(predicted.abs()));
-            r.min_path_feed_mm_per_min = r.min_path_feed_mm_per_min.min(st.path_feed * 60e3);
-            r.min_singularity_distance_deg = r.min_singularity_distance_deg.min(dist.to_degrees());
-            r.cause = if r.min_singularity_distance_deg.to_radians() <= self.rule.singular_within { Cause::Singularity } else { Cause::RotaryFeed };
-            if let Some(p) = prev {
-                if st.programmed_feed > 0.0 {
-                    r.time_lost_s += (t - p.t) - ds / st.programmed_feed;
-                }
-            }
-        } else if let Some(r) = input.open.take() {
-            input.regions.push(r);
+        // The region rule ([`RegionTracker`], the same as for machine streams): the motion kind from the
+        // program where the stream carries it, else from the stream (tip moving: feed; axis turning
+        // under a still tip: rotary-only). A rapid never opens a region.
+        let motion = match Motion::from_code(st.motion) {
+            Motion::Unknown if moving => Motion::Feed,
+            Motion::Unknown if prev.is_some_and(|p| (axis - p.axis).norm() > 0.0) => Motion::Rotary,
+            Motion::Unknown => Motion::Dwell,
+            m => m,
+        };
+        let rule_sample = RuleSample {
+            t,
+            s: input.s,
+            tip,
+            motion,
+            predicted: Some(predicted),
+            distance: dist,
+            path_feed: st.path_feed,
+            programmed_feed: st.programmed_feed,
+            dt: prev.map_or(0.0, |p| t - p.t),
+            ds,
+            block: st.block_number,
+        };
+        let (verdict, closed) = input.tracker.push(&self.rule, &rule_sample);
+        if let Some(r) = closed {
+            input.regions.push(LiveRegion::from_tracked(&r));
         }
+        let in_region = verdict.beyond;
 
         // Look-ahead on the commanded timeline: where is this sample on it, and what comes next?
         let time_to_next = if in_region {
@@ -654,13 +648,13 @@ impl Monitor {
             limiting_axis: fl.1,
             limit_kind: fl.2,
             in_region,
-            region_id: if in_region { input.region_id } else { 0 },
+            region_id: if in_region { verdict.region_id } else { 0 },
             workpiece_position: tip,
             time_to_next_region: time_to_next,
             program_line: st.program_line,
             block_number: st.block_number,
-            motion: Motion::Unknown,
-            cause: input.open.as_ref().map(|r| r.cause),
+            motion,
+            cause: verdict.cause,
             path_feed: st.path_feed,
             programmed_feed: st.programmed_feed,
             turning: true,
@@ -679,12 +673,15 @@ impl Monitor {
         let input = &mut self.inputs[id.0];
         let measured = input.measured.get_or_insert_with(|| MeasuredPath::new(&self.machine, MeasuredConfig::default()));
         if input.aligner.is_none() {
-            if let FeedSource::Program(segs) = &self.feed_source {
-                input.aligner = Some(Aligner::new(segs.clone()));
+            if let FeedSource::Program(plan) = &self.feed_source {
+                input.aligner = Some(Aligner::new(plan.segments.clone()));
             }
         }
         // Where in the program (needs the tip: forward kinematics of the unwrapped axes first).
-        let m = measured.push(&self.machine, t, &q, None);
+        // A source that knows the motion kind (an AxisState of source MACHINE from a bridge that has the
+        // program) says whether this is a rapid; a JointState does not.
+        let hint = (st.motion != AxisState::MOTION_UNKNOWN).then_some(st.motion == AxisState::MOTION_RAPID);
+        let m = measured.push(&self.machine, t, &q, hint);
         let place = input.aligner.as_mut().and_then(|a| a.place(&m.tip, &m.q));
         let motion = match place {
             Some(p) if p.rapid => Motion::Rapid,
@@ -746,6 +743,13 @@ impl Monitor {
             }
         };
         let (verdict, closed) = input.tracker.push(&self.rule, &rule_sample);
+        // Look-ahead with the program: the next of the program's regions after this sample's place in
+        // it, in program time at the programmed feed.
+        let time_to_next = match (&self.feed_source, place) {
+            _ if verdict.region_id != 0 => 0.0,
+            (FeedSource::Program(plan), Some(p)) => plan.regions.iter().find(|r| r.0 > p.program_time).map_or(-1.0, |r| r.0 - p.program_time),
+            _ => -1.0,
+        };
         if let Some(r) = closed {
             input.regions.push(LiveRegion::from_tracked(&r));
         }
@@ -758,10 +762,10 @@ impl Monitor {
             feed_limit: fl.0,
             limiting_axis: fl.1,
             limit_kind: fl.2,
-            in_region: verdict.region_id != 0,
-            region_id: verdict.region_id,
+            in_region: verdict.beyond,
+            region_id: if verdict.beyond { verdict.region_id } else { 0 },
             workpiece_position: m.tip - offset,
-            time_to_next_region: -1.0,
+            time_to_next_region: time_to_next,
             program_line: place.map_or(st.program_line, |p| p.line),
             block_number: place.map_or(st.block_number, |p| p.block),
             motion,
@@ -803,9 +807,6 @@ impl Monitor {
     /// Close any open region (end of a stream).
     pub fn finish(&mut self) {
         for input in self.inputs.iter_mut() {
-            if let Some(r) = input.open.take() {
-                input.regions.push(r);
-            }
             if let Some(r) = input.tracker.finish() {
                 input.regions.push(LiveRegion::from_tracked(&r));
             }
@@ -971,7 +972,7 @@ impl Input {
     /// Closed regions, then the open one.
     fn all_regions(&self) -> Vec<LiveRegion> {
         let tracked = self.tracker.open().map(LiveRegion::from_tracked);
-        self.regions.iter().chain(self.open.iter()).cloned().chain(tracked).collect()
+        self.regions.iter().cloned().chain(tracked).collect()
     }
 }
 

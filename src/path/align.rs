@@ -38,6 +38,10 @@ pub struct Place {
     pub five_axis: bool,
     /// Distance of the sample from the move in the match's metric, m.
     pub distance: f64,
+    /// Where on the move (0 at its start, 1 at its end) and the program time there at the programmed
+    /// feed, s.
+    pub fraction: f64,
+    pub program_time: f64,
     /// The datum shift in effect in the frame that matches (zero where the stream's coordinates are
     /// the program's): subtract it from the stream's tool tip to get program coordinates, m.
     pub offset: Vector3<f64>,
@@ -52,7 +56,8 @@ pub struct Aligner {
     error: [f64; 2],
 }
 
-fn dist2(seg: &Segment, tip: &Vector3<f64>, q: &Joints, with_datum: bool) -> f64 {
+/// Squared distance of a sample from a move, and the fraction along the move of the nearest point.
+fn dist2(seg: &Segment, tip: &Vector3<f64>, q: &Joints, with_datum: bool) -> (f64, f64) {
     let d = if with_datum { seg.datum } else { Vector3::zeros() };
     let (t0, t1) = (seg.tip0 + d, seg.tip1 + d);
     let a = [t0.x, t0.y, t0.z, seg.q0[3] * ROTARY_WEIGHT, seg.q0[4] * ROTARY_WEIGHT];
@@ -64,7 +69,7 @@ fn dist2(seg: &Segment, tip: &Vector3<f64>, q: &Joints, with_datum: bool) -> f64
         apab += (p[i] - a[i]) * (b[i] - a[i]);
     }
     let u = if ab2 > 0.0 { (apab / ab2).clamp(0.0, 1.0) } else { 0.0 };
-    (0..5).map(|i| (p[i] - (a[i] + (b[i] - a[i]) * u)).powi(2)).sum()
+    ((0..5).map(|i| (p[i] - (a[i] + (b[i] - a[i]) * u)).powi(2)).sum(), u)
 }
 
 impl Aligner {
@@ -91,19 +96,19 @@ impl Aligner {
         if segs.is_empty() {
             return None;
         }
-        let mut found = [(0.0, 0); 2];
+        let mut found = [((0.0, 0.0), 0); 2];
         for (frame, with_datum) in [(0, true), (1, false)] {
             let cur = self.current[frame];
             let end = (cur + AHEAD).min(segs.len());
             let mut best = (dist2(&segs[cur], tip, q, with_datum), cur);
             for k in cur + 1..end {
                 let d = dist2(&segs[k], tip, q, with_datum);
-                if d < best.0 {
+                if d.0 < best.0 .0 {
                     best = (d, k);
                 }
             }
             self.current[frame] = best.1;
-            self.error[frame] += best.0;
+            self.error[frame] += best.0 .0;
             found[frame] = best;
         }
         let frame = if self.datum_applied() { 0 } else { 1 };
@@ -117,7 +122,9 @@ impl Aligner {
             rapid: seg.kind == SegmentKind::Rapid,
             path_move: seg.is_path_move(),
             five_axis: seg.is_five_axis(),
-            distance: best.0.sqrt(),
+            distance: best.0 .0.sqrt(),
+            fraction: best.0 .1,
+            program_time: seg.t0 + best.0 .1 * seg.duration,
             offset: if frame == 0 { seg.datum } else { Vector3::zeros() },
         })
     }

@@ -1,10 +1,11 @@
 //! The region rule for a stream, one sample at a time: a region opens where the path's demand on
-//! the secondary axis exceeds its limit (seed 001 eq. 5), or the tool axis comes closer to the
-//! singular direction than a threshold, on feed moves only; one pass through it is one region.
+//! the secondary axis exceeds its limit (seed 001 eq. 5) on a feed or rotary-only move, or the tool
+//! axis comes closer to the singular direction than a threshold on a feed move; never on a rapid (its
+//! axes run at their limits by definition) or a dwell. One pass through it is one region.
 //!
 //! Hysteresis: a region stays open until the demand has stayed within the limit (and the distance
-//! above its threshold) for [`RegionRule::min_gap`] of tool-tip path, or the motion leaves the cut (a
-//! rapid, a rotary-only move); it then ends at its last sample inside. Each region says its cause:
+//! above its threshold) for [`RegionRule::min_gap`] of tool-tip path, or the motion changes kind (a
+//! rapid, a feed move after a rotary-only one or the reverse); it then ends at its last sample inside. Each region says its cause:
 //! `singularity` when its closest approach lies within [`RegionRule::singular_within`] of the singular
 //! direction (where the `1/sin` of eq. 5 dominates), `rotary_feed` otherwise (a programmed rotary
 //! motion faster than the axis far from the pole, e.g. indexing moves).
@@ -94,6 +95,8 @@ pub struct TrackedRegion {
     gap: f64,
     gap_min_feed: f64,
     gap_lost: f64,
+    /// The motion kind it opened on (feed or rotary-only).
+    kind: Motion,
 }
 
 /// What the rule says about one sample.
@@ -101,7 +104,7 @@ pub struct TrackedRegion {
 pub struct Verdict {
     /// The sample itself is beyond a limit.
     pub beyond: bool,
-    /// A region is open (the sample is inside it, or in its hysteresis gap): its id, else 0.
+    /// A region is open (the sample is inside it, or in its hysteresis gap after it): its id, else 0.
     pub region_id: u32,
     pub cause: Option<Cause>,
 }
@@ -116,12 +119,12 @@ pub struct RegionTracker {
 impl RegionTracker {
     /// Take one sample; returns the verdict and a region that just closed.
     pub fn push(&mut self, rule: &RegionRule, x: &RuleSample) -> (Verdict, Option<TrackedRegion>) {
-        let cutting = x.motion == Motion::Feed;
-        let speed = x.predicted.is_some_and(|p| p.abs() > rule.rate_limit);
-        let close = rule.min_distance.is_some_and(|d| x.distance < d);
-        let beyond = cutting && (speed || close);
+        let moving = matches!(x.motion, Motion::Feed | Motion::Rotary);
+        let speed = moving && x.predicted.is_some_and(|p| p.abs() > rule.rate_limit);
+        let close = x.motion == Motion::Feed && rule.min_distance.is_some_and(|d| x.distance < d);
+        let beyond = speed || close;
         let mut closed = None;
-        if !cutting && self.open.is_some() && matches!(x.motion, Motion::Rapid | Motion::Rotary) {
+        if self.open.as_ref().is_some_and(|r| x.motion == Motion::Rapid || (moving && x.motion != r.kind)) {
             closed = self.open.take();
         }
         if beyond {
@@ -143,6 +146,7 @@ impl RegionTracker {
                     gap: 0.0,
                     gap_min_feed: f64::INFINITY,
                     gap_lost: 0.0,
+                    kind: x.motion,
                 });
             }
             let r = self.open.as_mut().expect("a region is open");

@@ -76,7 +76,7 @@ fn main() -> anyhow::Result<()> {
         }
     };
     let feed_source = match (&args.program, args.feed_mm_per_min) {
-        (Some(spec), _) => match fiveaxis::job::program_segments(spec, &machine) {
+        (Some(spec), _) => match fiveaxis::job::program_plan(spec, &machine) {
             Ok(s) => FeedSource::Program(std::sync::Arc::new(s)),
             Err(e) => {
                 eprintln!("fiveaxis-monitor: --program {spec}: {e}");

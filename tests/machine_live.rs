@@ -1,0 +1,98 @@
+//! A real control's data, live: LinuxCNC's 1 kHz joint trace of the SING cut published over DDS by an
+//! independent stack (Cyclone DDS from PyPI, tests/peer/cyclone_bridge.py: `sensor_msgs/JointState` on
+//! `rt/cnc/joint_states` as rmw_cyclonedds puts it on the wire), the way real bridges do it: reliable
+//! or best effort, stamps on the sample grid or at send time with jitter, C modulo 360 deg. The
+//! monitor runs beside it as a process; the peer listens to the monitor's status and `/diagnostics`.
+//! Everything runs in a private loopback-only network namespace.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn monitor_bin() -> PathBuf {
+    let b = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().join("fiveaxis-monitor");
+    assert!(b.exists(), "fiveaxis-monitor is not built: run `cargo test --workspace` (launch-free-scripts/test)");
+    b
+}
+
+/// The monitor's summary (per input) and the peer's publish and listen summaries.
+struct Live {
+    summary: serde_json::Value,
+    published: serde_json::Value,
+    heard: serde_json::Value,
+    log: String,
+}
+
+/// Publish trace time 11.0-17.0 s (the cut, x 0 to 50 mm) of the SING trace with `peer` options, the
+/// monitor at --feed 2000 beside it; the publisher then falls silent (the input goes stale).
+fn live(tag: &str, peer: &str) -> Live {
+    // One live run at a time: two 1 kHz publishers on two cores would starve each other.
+    static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _one = ONE.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = std::env::temp_dir().join(format!("fiveaxis-live-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let d = dir.display();
+    let script = format!(
+        "set -e
+        '{monitor}' --joint-state-input /cnc/joint_states --machine hermle-c600u --feed 2000 --lookahead '' \
+            --axis-map X=x_joint --axis-map Y=y_joint --axis-map Z=z_joint --axis-map A=a_joint --axis-map C=c_joint \
+            --summary-json {d}/summary.json --exit-when-idle-s 3 > {d}/monitor.log 2>&1 &
+        python3 '{peer_py}' run '{trace}' --start 11.0 --end 17.0 --wait-subscribers 1 --wait-s 30 \
+            --out {d}/heard.jsonl --linger 1.5 {peer} > {d}/peer.json
+        wait",
+        monitor = monitor_bin().display(),
+        peer_py = root().join("tests/peer/cyclone_bridge.py").display(),
+        trace = root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display(),
+    );
+    let out = Command::new(root().join("launch-free-scripts/netns-run")).args(["bash", "-c", &script]).env("RUST_LOG", "warn").output().expect("netns-run runs");
+    let log = std::fs::read_to_string(dir.join("monitor.log")).unwrap_or_default();
+    assert!(out.status.success(), "live run failed: {}\n{}\nmonitor: {log}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let peer = std::fs::read_to_string(dir.join("peer.json")).unwrap();
+    let mut lines = peer.lines().filter(|l| l.starts_with('{')).map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap());
+    let published = lines.next().expect("the publisher's summary");
+    let heard = lines.next().expect("the listener's summary");
+    let summary = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    Live { summary, published, heard, log }
+}
+
+fn check(l: &Live) {
+    let input = l.summary.as_array().unwrap().iter().find(|i| i["topic"] == "/cnc/joint_states").unwrap_or_else(|| panic!("{:#}", l.summary));
+    let sent = l.published["samples_sent"].as_u64().unwrap_or_else(|| panic!("{:#}", l.published));
+    assert_eq!(input["samples"].as_u64().unwrap(), sent, "every sample heard: {input:#}\n{}", l.log);
+    assert_eq!(input["lost"], 0, "none lost, none reported lost: {input:#}");
+    assert_eq!(input["rejected"]["out_of_order"], 0, "{input:#}");
+    let regions = input["regions"].as_array().unwrap();
+    assert_eq!(regions.len(), 1, "one region for the pass, no false one: {regions:#?}");
+    let r = &regions[0];
+    assert_eq!(r["cause"], "singularity");
+    let (x0, x1) = (r["x_start_mm"].as_f64().unwrap(), r["x_end_mm"].as_f64().unwrap());
+    assert!((x0 - 22.0).abs() <= 0.5 && (x1 - 28.0).abs() <= 0.5, "region x {x0:.3}-{x1:.3}");
+    // The status topic says the input is stale within 150 ms of the last sample.
+    let latency = l.heard["stale_latency_s"].as_f64().unwrap_or_else(|| panic!("no stale status heard: {:#}", l.heard));
+    assert!(latency < 0.150, "stale reported {latency:.3} s after the last sample");
+    eprintln!(
+        "live: {} samples, lost {}, region x {x0:.3}-{x1:.3} mm, peak {:.1} rpm, lowest feed {:.0} mm/min, {:.2} s lost, stale after {:.0} ms, publish rate {} Hz",
+        input["samples"], input["lost"], r["peak_c_speed_rpm"].as_f64().unwrap_or(0.0), r["min_path_feed_mm_per_min"].as_f64().unwrap_or(0.0), r["time_lost_s"].as_f64().unwrap_or(0.0), latency * 1e3, l.published["rate_hz_achieved"]
+    );
+    // The region's ERROR reached /diagnostics.
+    let levels = &l.heard["diagnostics_levels"]["fiveaxis monitor: /cnc/joint_states"];
+    assert!(levels["ERROR"].as_u64().is_some_and(|n| n >= 1), "ERROR on /diagnostics: {levels:#}");
+    // And the status carried the region with its cause.
+    assert!(l.heard["regions"].as_object().is_some_and(|m| m.len() == 1 && m.values().all(|v| v["cause"] == 1)), "{:#}", l.heard["regions"]);
+}
+
+#[test]
+fn reliable_bridge_with_grid_stamps_and_modulo_c() {
+    let l = live("reliable", "--reliability reliable --stamp grid --modulo-c");
+    check(&l);
+}
+
+#[test]
+fn best_effort_bridge_stamping_at_send_time_with_jitter() {
+    let l = live("best-effort", "--reliability best-effort --stamp send --jitter-ms 1 --seed 7");
+    check(&l);
+}
