@@ -248,7 +248,8 @@ enum RoughnessCmd {
 
 #[derive(Subcommand)]
 enum McapCmd {
-    /// Rebuild a valid MCAP from a damaged or truncated one, keeping every complete chunk.
+    /// Rebuild a valid MCAP from a damaged or truncated one, keeping every complete chunk; a rosbag2
+    /// directory (with or without its metadata.yaml) is recovered file by file into the directory OUTPUT.
     Recover { input: std::path::PathBuf, output: std::path::PathBuf },
 }
 
@@ -700,18 +701,13 @@ fn rerun_bridge(args: &[std::ffi::OsString]) -> anyhow::Result<u8> {
 }
 
 fn recover(input: &std::path::Path, output: &std::path::Path) -> anyhow::Result<ExitCode> {
-    match fiveaxis::record::recover(input, output) {
-        Ok(r) => {
-            println!(
-                "recovered {} messages on {} channels from {} ({} bytes) into {}",
-                r.messages,
-                r.channels,
-                input.display(),
-                r.bytes_total,
-                output.display()
-            );
-            if let Some(why) = &r.stopped {
-                println!("stopped at the damage: {why}");
+    match fiveaxis::record::recover_recording(input, output) {
+        Ok(files) => {
+            for (out, r) in &files {
+                println!("recovered {} messages on {} channels ({} bytes read) into {}", r.messages, r.channels, r.bytes_total, out.display());
+                if let Some(why) = &r.stopped {
+                    println!("stopped at the damage: {why}");
+                }
             }
             Ok(ExitCode::SUCCESS)
         }

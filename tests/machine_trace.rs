@@ -174,3 +174,28 @@ fn bad_machine_input_fails_closed() {
     let (code, out, err) = fiveaxis(&["analyze", file.to_str().unwrap(), "--joint-state-topic", "/cnc/joint_states", "--feed", "2000", "--axis-map", "X=x_joint", "--axis-map", "Y=y_joint", "--axis-map", "Z=z_joint", "--axis-map", "A=a_joint", "--axis-map", "C=c_joint"]);
     assert_eq!(code, 0, "{out}\n{err}");
 }
+
+/// A bag whose recorder was killed: no metadata.yaml, its MCAP file cut part way. `analyze` reports
+/// what comes before the damage and exits 2; `mcap recover` mends the directory, which then analyses.
+#[test]
+fn a_killed_recorders_bag_is_reported_and_recovered() {
+    let good = bag("sing_trace.csv.gz", "killed", &["--limit", "20000"]);
+    let file = std::fs::read_dir(&good).unwrap().map(|e| e.unwrap().path()).find(|p| p.extension().is_some_and(|e| e == "mcap")).unwrap();
+    let data = std::fs::read(&file).unwrap();
+    let crashed = good.with_extension("crashed");
+    let _ = std::fs::remove_dir_all(&crashed);
+    std::fs::create_dir_all(&crashed).unwrap();
+    std::fs::write(crashed.join(file.file_name().unwrap()), &data[..data.len() * 6 / 10]).unwrap();
+    let (code, v, out, err) = analyze(&crashed, &["--feed", "2000"]);
+    assert_eq!(code, 2, "{out}\n{err}");
+    assert!(out.contains("DAMAGED") && err.contains("is damaged"), "{out}\n{err}");
+    let before = v["streams"][0]["samples"].as_u64().unwrap_or(0);
+    assert!(before > 5000 && before < 20000, "the samples before the damage are reported: {before}");
+    let fixed = good.with_extension("fixed");
+    let _ = std::fs::remove_dir_all(&fixed);
+    let (code, out, err) = fiveaxis(&["mcap", "recover", crashed.to_str().unwrap(), fixed.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    let (code, v, out, err) = analyze(&fixed, &["--feed", "2000"]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    assert_eq!(v["streams"][0]["samples"].as_u64().unwrap(), before, "every sample of the complete chunks: {out}");
+}

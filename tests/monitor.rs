@@ -133,3 +133,33 @@ fn joint_states_from_a_bridge_with_other_names() {
     let missing = JointState { name: vec!["x".into()], position: vec![0.0], ..js };
     assert!(m.joint_state_to_axis_state(&missing, &rename).is_err());
 }
+
+/// Item 5 of the machine-data issue: a rotary speed above the limit far from the pole is a region of
+/// cause `rotary_feed` (e.g. indexing moves), not `singularity`; the same motion as a rapid opens none.
+#[test]
+fn fast_rotary_motion_far_from_the_pole_is_rotary_feed_and_rapids_open_nothing() {
+    let run = |motion: u8| {
+        let mut m = monitor();
+        let mut last = None;
+        for k in 0..200 {
+            let t = k as f64 * 1e-3;
+            // X moves 0.0333 mm per ms (F2000), A stays at 45 deg, C turns 1 deg per ms (167 rpm).
+            let mut s = state(t, k as f64 * 2000.0 / 60e3, 45.0, k as f64);
+            s.source = AxisState::SOURCE_COMMANDED;
+            s.motion = motion;
+            s.programmed_feed = 2000.0 * fiveaxis::units::MM_PER_MIN;
+            last = Some(m.on_state(TOPIC, &s, t).unwrap());
+        }
+        m.finish();
+        (last.unwrap(), m.summary())
+    };
+    let (last, summary) = run(AxisState::MOTION_FEED);
+    assert!(last.in_region && last.region_cause == fiveaxis_msgs::SingularityStatus::CAUSE_ROTARY_FEED, "{last:?}");
+    let regions = &summary[0].regions;
+    assert_eq!(regions.len(), 1, "{regions:#?}");
+    assert_eq!(regions[0].cause, fiveaxis::singularity::tracker::Cause::RotaryFeed);
+    assert!((regions[0].min_singularity_distance_deg - 45.0).abs() < 0.01, "{regions:#?}");
+    let (last, summary) = run(AxisState::MOTION_RAPID);
+    assert!(!last.in_region, "{last:?}");
+    assert!(summary[0].regions.is_empty(), "a rapid opens no region: {:#?}", summary[0].regions);
+}

@@ -13,7 +13,7 @@
 pub mod read;
 mod recover;
 
-pub use recover::{recover, RecoverReport};
+pub use recover::{recover, recover_recording, RecoverReport};
 
 use fiveaxis_msgs::{schema, RosMessage};
 use serde::{de::DeserializeOwned, Serialize};

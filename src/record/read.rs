@@ -38,12 +38,27 @@ pub struct MessageView<'a> {
 }
 
 /// The MCAP files of a recording, in order: the file itself, or for a rosbag2 directory (what `ros2
-/// bag record` writes) the files its `metadata.yaml` lists under `relative_file_paths`.
+/// bag record` writes) the files its `metadata.yaml` lists under `relative_file_paths` (without one,
+/// as a killed recorder leaves it, its `.mcap` files in their split order).
 pub fn recording_files(path: &Path) -> Result<Vec<std::path::PathBuf>, RecordError> {
     if !path.is_dir() {
         return Ok(vec![path.to_path_buf()]);
     }
     let meta = path.join("metadata.yaml");
+    if !meta.exists() {
+        // A bag whose recorder died before closing it has no metadata.yaml (rosbag2 writes it last):
+        // its MCAP files in their numbered order.
+        let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(path)
+            .map_err(io_error(path))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
+            .collect();
+        files.sort_by_key(|p| split_number(p));
+        if files.is_empty() {
+            return Err(mcap_error(path, "a directory with neither metadata.yaml nor .mcap files: not a rosbag2 bag".to_string()));
+        }
+        return Ok(files);
+    }
     let text = std::fs::read_to_string(&meta).map_err(|source| RecordError::Io { path: meta.clone(), source })?;
     let bad = |line: usize, why: String| mcap_error(&meta, format!("line {line}: {why}"));
     let mut files = Vec::new();
@@ -87,6 +102,15 @@ pub fn recording_files(path: &Path) -> Result<Vec<std::path::PathBuf>, RecordErr
         return Err(mcap_error(&meta, "lists no files under relative_file_paths".to_string()));
     }
     Ok(files.into_iter().map(|f| path.join(f)).collect())
+}
+
+/// A split file's order: `NAME_12.mcap` sorts by (NAME, 12), so that `_10` follows `_9`.
+fn split_number(p: &Path) -> (String, u64) {
+    let stem = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    match stem.rsplit_once('_') {
+        Some((name, n)) if n.chars().all(|c| c.is_ascii_digit()) && !n.is_empty() => (name.to_string(), n.parse().unwrap_or(u64::MAX)),
+        _ => (stem, 0),
+    }
 }
 
 fn unquote(s: &str) -> String {

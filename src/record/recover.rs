@@ -18,6 +18,26 @@ pub struct RecoverReport {
     pub stopped: Option<String>,
 }
 
+/// [`recover`] for a recording: one MCAP file into `output`, or a rosbag2 directory (with or without
+/// its metadata.yaml) file by file into the directory `output`, under the same file names. The
+/// recovered directory has no metadata.yaml (fiveaxis reads it as it is; `ros2 bag reindex` writes one
+/// for the ROS tools).
+pub fn recover_recording(input: &Path, output: &Path) -> Result<Vec<(PathBuf, RecoverReport)>, RecordError> {
+    if !input.is_dir() {
+        return Ok(vec![(output.to_path_buf(), recover(input, output)?)]);
+    }
+    let files = super::read::recording_files(input)?;
+    std::fs::create_dir_all(output).map_err(|source| RecordError::Io { path: output.to_path_buf(), source })?;
+    let mut done = Vec::new();
+    for f in files {
+        let name = f.file_name().map(std::ffi::OsStr::to_os_string).unwrap_or_default();
+        let out = output.join(name);
+        let report = recover(&f, &out)?;
+        done.push((out, report));
+    }
+    Ok(done)
+}
+
 /// Read `input` as far as it is sound and write the result to `output`.
 pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError> {
     let data = std::fs::read(input).map_err(|source| RecordError::Io { path: input.to_path_buf(), source })?;
