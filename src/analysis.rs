@@ -639,7 +639,7 @@ impl OfflineReport {
                 s.topic, s.samples, s.invalid, s.out_of_order, s.lost, s.peak_c_speed_rpm, s.min_singularity_distance_deg
             );
             if let Some(f) = &s.feed_source {
-                let _ = writeln!(o, "  machine stream: feed {f}; {} samples on feed moves (highest feed {:.0} mm/min), {} on rapids", s.feed_samples, s.max_path_feed_mm_per_min, s.rapid_samples);
+                let _ = writeln!(o, "  machine stream: feed {f}; {} samples on feed moves (highest feed held 0.1 s {:.0} mm/min), {} on rapids", s.feed_samples, s.max_path_feed_mm_per_min, s.rapid_samples);
             }
             if s.rejected.total() + s.undecodable > 0 {
                 let _ = writeln!(o, "  rejected: {}", reasons(&s.rejected, s.undecodable));

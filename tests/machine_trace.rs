@@ -69,7 +69,7 @@ fn f(v: &serde_json::Value, key: &str) -> f64 {
 
 /// One region at x 22-28 (+-0.5) with cause singularity, its lowest feed and time lost as the
 /// independent computation finds them over the same stretch, exit 1 at 25 rpm, nothing from rapids.
-fn check_sing(code: i32, v: &serde_json::Value, out: &str, err: &str) {
+fn check_sing(trace_file: &str, code: i32, v: &serde_json::Value, out: &str, err: &str) {
     assert_eq!(code, 1, "a C speed above 25 rpm fails the gate\n{out}\n{err}");
     let regions = v["regions"].as_array().unwrap_or_else(|| panic!("no regions: {out}\n{err}"));
     assert_eq!(regions.len(), 1, "one region, none from the rapids: {regions:#?}\n{out}");
@@ -79,7 +79,7 @@ fn check_sing(code: i32, v: &serde_json::Value, out: &str, err: &str) {
     assert!((x0 - 22.0).abs() <= 0.5 && (x1 - 28.0).abs() <= 0.5, "region x {x0:.3}-{x1:.3} mm, expected 22-28: {out}");
     let peak = f(r, "peak_c_speed_rpm");
     assert!(peak > 150.0 && peak < 200.0, "the path asks about 175 rpm of C at F2000, got {peak}");
-    let reference = figures("sing_trace.csv.gz", x0, x1);
+    let reference = figures(trace_file, x0, x1);
     let (lowest, lost) = (f(r, "lowest_feed_mm_per_min"), f(r, "time_lost_s"));
     let (lowest_ref, lost_ref) = (f(&reference, "lowest_feed_mm_per_min"), f(&reference, "time_lost_s"));
     assert!((lowest - lowest_ref).abs() <= 0.05 * lowest_ref + 10.0, "lowest feed {lowest:.1} mm/min, numpy {lowest_ref:.1}");
@@ -94,7 +94,7 @@ fn check_sing(code: i32, v: &serde_json::Value, out: &str, err: &str) {
 fn sing_trace_with_the_program() {
     let b = bag("sing_trace.csv.gz", "sing-program", &[]);
     let (code, v, out, err) = analyze(&b, &["--program", "bundled:SING.I", "--max-c-speed-rpm", "25"]);
-    check_sing(code, &v, &out, &err);
+    check_sing("sing_trace.csv.gz", code, &v, &out, &err);
     // The closest approach on five-axis moves is computed (forward kinematics; with the program, the
     // positioning moves that end at A = 0 do not count), not the 180 deg of no tool axis.
     let machine = v["streams"].as_array().unwrap().iter().find(|s| s["topic"] == "/cnc/joint_states").expect("the machine stream");
@@ -111,7 +111,7 @@ fn sing_trace_with_a_feed_and_modulo_c() {
     // A control that reports C modulo 360 deg: unwrapped, the same answer.
     let b = bag("sing_trace.csv.gz", "sing-feed", &["--modulo-c"]);
     let (code, v, out, err) = analyze(&b, &["--feed", "2000", "--max-c-speed-rpm", "25"]);
-    check_sing(code, &v, &out, &err);
+    check_sing("sing_trace.csv.gz", code, &v, &out, &err);
     assert!(out.contains("2000 mm/min for every feed move"), "the report says which feed: {out}");
     // Measured C speed never shows the wrap as a spike: the peak is the path's, not 6000 rad/s.
     let machine = v["streams"].as_array().unwrap().iter().find(|s| s["topic"] == "/cnc/joint_states").unwrap();
@@ -198,4 +198,22 @@ fn a_killed_recorders_bag_is_reported_and_recovered() {
     let (code, v, out, err) = analyze(&fixed, &["--feed", "2000"]);
     assert_eq!(code, 0, "{out}\n{err}");
     assert_eq!(v["streams"][0]["samples"].as_u64().unwrap(), before, "every sample of the complete chunks: {out}");
+}
+
+/// The same cut with its positioning moves as rapids (G00, LinuxCNC's traverse: the approach turns A
+/// and C at their rapid limit under a still tip, then moves Y and Z at rapid speed): the rapids open no
+/// region and raise no violation, with the program (which says which moves are rapids) or with a feed.
+#[test]
+fn rapids_open_no_region() {
+    let b = bag("sing_rapid_trace.csv.gz", "rapid", &[]);
+    let (code, v, out, err) = analyze(&b, &["--program", "recordings/machine/linuxcnc/SING_RAPID.I", "--max-c-speed-rpm", "25"]);
+    check_sing("sing_rapid_trace.csv.gz", code, &v, &out, &err);
+    // The samples aligned with the program's rapids are LinuxCNC's own traverse samples (its
+    // motion.motion-type pin, recorded beside the joints), within the blends between moves.
+    let machine = v["streams"].as_array().unwrap().iter().find(|s| s["topic"] == "/cnc/joint_states").unwrap();
+    let ours = machine["rapid_samples"].as_f64().unwrap();
+    let linuxcnc = f(&figures("sing_rapid_trace.csv.gz", 22.0, 28.0), "rapid_samples");
+    assert!(linuxcnc > 3000.0 && (ours - linuxcnc).abs() <= 0.05 * linuxcnc, "rapid samples: ours {ours}, LinuxCNC's traverse {linuxcnc}");
+    let (code, v, out, err) = analyze(&b, &["--feed", "2000", "--max-c-speed-rpm", "25"]);
+    check_sing("sing_rapid_trace.csv.gz", code, &v, &out, &err);
 }

@@ -86,7 +86,8 @@ pub enum FeedSource {
     Program(Arc<ProgramPlan>),
     /// One feed for every feed move, m/s.
     Fixed(f64),
-    /// Neither given: the highest tool-tip feed the stream has held on feed moves so far.
+    /// Neither given: the tool-tip feed the stream has held longest on feed moves so far (in bins of
+    /// 2 %; a programmed feed is what a cutting program spends its time at, rapids are short).
     Assumed,
 }
 
@@ -104,7 +105,7 @@ impl FeedSource {
         match self {
             FeedSource::Program(_) => "the program's feed of each move (stream aligned with the program)".into(),
             FeedSource::Fixed(f) => format!("{:.0} mm/min for every feed move (--feed)", f / crate::units::MM_PER_MIN),
-            FeedSource::Assumed => "ASSUMED: the highest tool-tip feed the stream held on feed moves so far (no --program or --feed given; predictions before it is reached are low)".into(),
+            FeedSource::Assumed => "ASSUMED: the tool-tip feed the stream held longest (2 % bins, over 0.1 s) on feed moves so far (no --program or --feed given: give one for a sound figure)".into(),
         }
     }
 }
@@ -165,7 +166,7 @@ pub struct InputSummary {
     /// Samples by motion kind (machine streams: rapid, feed, rotary-only, dwell).
     pub rapid_samples: u64,
     pub feed_samples: u64,
-    /// Largest actual tool-tip feed on feed moves, mm/min (machine streams).
+    /// Largest actual tool-tip feed held for 0.1 s on feed moves, mm/min (machine streams).
     pub max_path_feed_mm_per_min: f64,
     /// The programmed feed the machine stream's prediction assumed, for people.
     pub feed_source: Option<String>,
@@ -250,6 +251,12 @@ struct Input {
     aligner: Option<Aligner>,
     lagged: Option<(f64, f64)>,
     max_feed: f64,
+    /// (t, s) of the recent samples of the current run of feed motion (the assumed feed is the
+    /// highest feed held over [`HELD`] within one run).
+    feed_run: VecDeque<(f64, f64)>,
+    /// Time spent at each held feed (bins of 2 % from 1 mm/min) and the bin held longest.
+    feed_time: Vec<f64>,
+    feed_mode: Option<usize>,
     rapid_samples: u64,
     feed_samples: u64,
     /// The worst evaluation since `/diagnostics` last reported (its level and the peak predicted
@@ -695,14 +702,38 @@ impl Monitor {
             Motion::Feed => input.feed_samples += 1,
             _ => {}
         }
+        // The feed held over 0.1 s of uninterrupted feed motion (a blend's overshoot or a rapid
+        // misjudged for one sample does not count).
         if motion == Motion::Feed {
-            input.max_feed = input.max_feed.max(m.path_feed);
+            input.feed_run.push_back((t, m.s));
+            while input.feed_run.len() > 2 && t - input.feed_run[1].0 >= HELD {
+                input.feed_run.pop_front();
+            }
+            while input.feed_run.len() > 4096 {
+                input.feed_run.pop_front();
+            }
+            if let Some(&(t0, s0)) = input.feed_run.front().filter(|f| t - f.0 >= HELD) {
+                let held = (m.s - s0) / (t - t0);
+                input.max_feed = input.max_feed.max(held);
+                let dt = input.feed_run.get(input.feed_run.len().wrapping_sub(2)).map_or(0.0, |p| t - p.0);
+                if let Some(k) = feed_bin(held) {
+                    if input.feed_time.is_empty() {
+                        input.feed_time = vec![0.0; FEED_BINS];
+                    }
+                    input.feed_time[k] += dt;
+                    if input.feed_mode.is_none_or(|b| input.feed_time[k] > input.feed_time[b]) {
+                        input.feed_mode = Some(k);
+                    }
+                }
+            }
+        } else {
+            input.feed_run.clear();
         }
         let f_prog = match (&self.feed_source, place) {
             (FeedSource::Program(_), Some(p)) => p.feed,
             (FeedSource::Program(_), None) => 0.0,
             (FeedSource::Fixed(f), _) => *f,
-            (FeedSource::Assumed, _) => input.max_feed,
+            (FeedSource::Assumed, _) => input.feed_mode.map_or(0.0, feed_of_bin),
         };
         let f_prog = if motion == Motion::Feed { f_prog } else { 0.0 };
         // Program coordinates: the stream's tip less the datum shift in effect (none without a program).
@@ -975,6 +1006,22 @@ impl Input {
         self.regions.iter().cloned().chain(tracked).collect()
     }
 }
+
+/// Bins of the held-feed histogram: 2 % wide from 1 mm/min (to about 1.5e4 m/min).
+const FEED_BINS: usize = 600;
+const FEED_BIN_RATIO: f64 = 1.02;
+
+fn feed_bin(feed: f64) -> Option<usize> {
+    let mm_min = feed / crate::units::MM_PER_MIN;
+    (mm_min >= 1.0 && mm_min.is_finite()).then(|| ((mm_min.ln() / FEED_BIN_RATIO.ln()) as usize).min(FEED_BINS - 1))
+}
+
+fn feed_of_bin(k: usize) -> f64 {
+    FEED_BIN_RATIO.powf(k as f64 + 0.5) * crate::units::MM_PER_MIN
+}
+
+/// How long a feed must be held to count as the stream's programmed feed when none is given, s.
+const HELD: f64 = 0.1;
 
 /// Intervals kept for the period estimate.
 const INTERVALS: usize = 64;

@@ -68,9 +68,10 @@ pub struct MeasuredConfig {
     pub still_feed: f64,
     /// Above this tool-axis turning rate the rotary axes are moving, rad/s (0.1 deg/s).
     pub turning: f64,
-    /// Without a program: a linear axis above this share of its velocity limit is a rapid (cutting
-    /// feeds lie far below rapid traverse; the rotary axes are not judged, since the path itself drives
-    /// them to their limit near the singularity).
+    /// Without a program: a linear axis above this share of its velocity limit, or the tool tip above
+    /// this share of the linear axes' rapid traverse (the smallest linear velocity limit), is a rapid
+    /// (cutting feeds lie far below rapid traverse; the rotary axes are not judged, since the path
+    /// itself drives them to their limit near the singularity).
     pub rapid_share: f64,
     /// Most samples kept (bounds memory at very low feeds).
     pub max_samples: usize,
@@ -217,8 +218,10 @@ impl MeasuredPath {
         let (path_feed, c_speed, turn, linear_share) = match back {
             Some(b) => {
                 let dt = t - b.t;
-                let share = (0..3).map(|i| (q[i] - b.q[i]).abs() / dt / self.velocity[i]).fold(0.0, f64::max);
-                ((self.s - b.s) / dt, (q[self.secondary] - b.q[self.secondary]) / dt, (axis - b.axis).norm() / dt, share)
+                let feed = (self.s - b.s) / dt;
+                let rapid_traverse = self.velocity[..3].iter().copied().fold(f64::INFINITY, f64::min);
+                let share = (0..3).map(|i| (q[i] - b.q[i]).abs() / dt / self.velocity[i]).fold(feed / rapid_traverse, f64::max);
+                (feed, (q[self.secondary] - b.q[self.secondary]) / dt, (axis - b.axis).norm() / dt, share)
             }
             None => (0.0, 0.0, 0.0, 0.0),
         };
