@@ -89,7 +89,7 @@ pub struct StreamReport {
     /// plus messages that did not decode at all.
     pub rejected: Rejected,
     pub undecodable: u64,
-    /// The stream's sample period (mean of the recent stamp intervals that were not gaps), s.
+    /// The stream's sample period (mean interval over about the last 1024 stamps, judged losses put back), s.
     pub period_s: Option<f64>,
     pub peak_c_speed_rpm: f64,
     pub min_singularity_distance_deg: f64,

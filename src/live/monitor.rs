@@ -161,7 +161,7 @@ pub struct InputSummary {
     pub lost: u64,
     /// Rejections by reason.
     pub rejected: Rejected,
-    /// The stream's sample period (mean of the recent stamp intervals that were not gaps), s.
+    /// The stream's sample period (mean interval over about the last 1024 stamps, judged losses put back), s.
     pub period_s: Option<f64>,
     /// Samples by motion kind (machine streams: rapid, feed, rotary-only, dwell).
     pub rapid_samples: u64,
@@ -238,11 +238,13 @@ struct Input {
     last: Option<Evaluation>,
     cursor: (usize, usize),
     samples: u64,
-    /// Recent stamp intervals, the period (their mean) and their spread (10th to 90th percentile), and
-    /// samples missing from gaps in the stamps.
-    intervals: VecDeque<f64>,
+    /// Recent stamps, the period and the spread of the intervals (10th to 90th percentile), samples
+    /// missing from gaps in the stamps, a stretch of gaps being judged and the losses judged recently.
+    stamps: VecDeque<f64>,
     period: Option<(f64, f64)>,
     lost: u64,
+    episode: Option<LossEpisode>,
+    loss_events: VecDeque<(f64, u64)>,
     rejected: Rejected,
     /// Machine streams: the measured path, the region rule's state, the program alignment and the
     /// lagged sample the rule saw last (t, s).
@@ -551,8 +553,13 @@ impl Monitor {
         let t = st.header.stamp.as_secs();
         let input = &mut self.inputs[id.0];
         input.last_arrival = Some(wall);
-        if input.stale_now {
-            // The stream had gone stale: a restarted publisher may restart its clock. New session.
+        // The stream had gone stale and comes back with its clock restarted (stamped no later than
+        // before): a restarted publisher, a new session (a gap still being judged is judged on what
+        // came before). A stream that comes back where it left off (a publisher that stalled) goes on.
+        if input.stale_now && input.history.back().is_some_and(|h| t <= h.t) {
+            if let Some(last) = input.history.back().map(|h| h.t) {
+                close_loss_episode(input, last);
+            }
             input.history.clear();
             if let Some(r) = input.tracker.finish() {
                 input.regions.push(LiveRegion::from_tracked(&r));
@@ -574,7 +581,7 @@ impl Monitor {
         input.source = st.source;
         input.samples += 1;
         if let Some(last) = input.history.back() {
-            count_lost(input, t - last.t);
+            count_lost(input, t - last.t, t);
         }
         if st.source == AxisState::SOURCE_MACHINE {
             return Ok(self.evaluate_measured(id, st, q, t));
@@ -838,6 +845,9 @@ impl Monitor {
     /// Close any open region (end of a stream).
     pub fn finish(&mut self) {
         for input in self.inputs.iter_mut() {
+            if let Some(last) = input.history.back().map(|h| h.t) {
+                close_loss_episode(input, last);
+            }
             if let Some(r) = input.tracker.finish() {
                 input.regions.push(LiveRegion::from_tracked(&r));
             }
@@ -1023,42 +1033,95 @@ fn feed_of_bin(k: usize) -> f64 {
 /// How long a feed must be held to count as the stream's programmed feed when none is given, s.
 const HELD: f64 = 0.1;
 
-/// Intervals kept for the period estimate.
+/// Intervals whose spread sets the gap tolerance.
 const INTERVALS: usize = 64;
 
-/// Count samples missing from a gap `dt` in a stream's stamps. The period is the mean of the recent
-/// intervals that were not gaps (robust to catch-up bursts and to send-time stamping with jitter, whose
-/// intervals bunch but add up; unlike the smallest interval, which one catch-up makes tiny); a gap is a
-/// loss only beyond the stated tolerance: the period plus the larger of half a period and twice the
-/// spread of the recent intervals (10th to 90th percentile), so that jittered stamps count nothing.
-/// Lost = gap / period - 1, rounded, at least one.
-fn count_lost(input: &mut Input, dt: f64) {
-    if let Some((period, spread)) = input.period {
-        let tolerance = (0.5 * period).max(2.0 * spread);
-        if dt > period + tolerance {
-            input.lost += ((dt / period).round() as u64).saturating_sub(1).max(1);
-            // A gap says nothing about the period: leave it out of the estimate.
-            return;
+/// A stretch of a stream's stamps with gaps in it, not yet judged: a publisher that stalls and then
+/// sends what it owes in a burst, stamping at send time, makes the same gaps as lost samples; the count
+/// over the whole stretch decides.
+#[derive(Debug, Clone, Copy)]
+struct LossEpisode {
+    /// Stamp before the first gap, samples received since, stamp at the end of the latest gap, how
+    /// long to wait after it before judging, and the period in force when it began.
+    t0: f64,
+    received: u64,
+    last_gap: f64,
+    window: f64,
+    period: f64,
+}
+
+/// Stamps kept for the period estimate (about 1 s at 1 kHz), and how many before gaps are judged.
+const STAMPS: usize = 1025;
+const STAMPS_BEFORE_JUDGING: usize = 256;
+
+/// Count samples missing from a stream, one interval `dt` (ending at stamp `t`) at a time.
+///
+/// The period is the mean interval over the last 1024 stamps with the samples already judged lost
+/// put back (exact under jitter, whose intervals add up; not the smallest interval, which one catch-up
+/// makes tiny). An interval longer than the period plus the larger of half a period and twice the
+/// spread of the recent intervals (10th to 90th percentile) is a gap; a gap opens an episode that lasts
+/// until `max(0.2 s, 2 gaps)` pass without another. Then the samples the episode's time should hold at
+/// the period, less those received and less the jitter's spread in periods, are lost: a stalled
+/// publisher that catches up loses nothing, a real outage loses exactly its samples on a regular grid.
+/// Stated tolerance: with jittered stamps, a loss shorter than the jitter's spread is not seen; the
+/// first 256 samples of a stream are not judged.
+fn count_lost(input: &mut Input, dt: f64, t: f64) {
+    if let Some(e) = input.episode.as_mut() {
+        e.received += 1;
+    }
+    let gap = match input.period {
+        Some((p, spread)) if input.stamps.len() >= STAMPS_BEFORE_JUDGING => dt > p + (0.5 * p).max(2.0 * spread),
+        _ => false,
+    };
+    if gap {
+        match input.episode.as_mut() {
+            None => {
+                let period = input.period.map_or(dt, |p| p.0);
+                input.episode = Some(LossEpisode { t0: t - dt, received: 1, last_gap: t, window: (2.0 * dt).max(0.2), period });
+            }
+            Some(e) => {
+                e.last_gap = t;
+                e.window = e.window.max(2.0 * dt);
+            }
         }
+    } else if input.episode.is_some_and(|e| t - e.last_gap >= e.window) {
+        close_loss_episode(input, t);
     }
-    if input.intervals.len() == INTERVALS {
-        input.intervals.pop_front();
+    if input.stamps.len() == STAMPS {
+        input.stamps.pop_front();
     }
-    input.intervals.push_back(dt);
-    let n = input.intervals.len();
-    // Re-estimate now and then (and at the start): a sort of at most 64 numbers, no allocation.
-    if n >= 8 && (input.period.is_none() || input.samples % 16 == 0) {
+    input.stamps.push_back(t);
+    while input.loss_events.front().is_some_and(|e| input.stamps.front().is_some_and(|s| e.0 <= *s)) {
+        input.loss_events.pop_front();
+    }
+    // Re-estimate now and then, outside episodes (a gap being judged must not move the period).
+    let n = input.stamps.len();
+    if input.episode.is_none() && n >= 25 && (input.period.is_none() || input.samples % 16 == 0) {
+        let lost_within: u64 = input.loss_events.iter().map(|e| e.1).sum();
+        let (first, last) = (input.stamps[0], input.stamps[n - 1]);
+        let mean = (last - first) / ((n - 1) as f64 + lost_within as f64);
+        let m = INTERVALS.min(n - 1);
         let mut v = [0.0; INTERVALS];
-        for (slot, x) in v.iter_mut().zip(&input.intervals) {
-            *slot = *x;
+        for (k, slot) in v.iter_mut().take(m).enumerate() {
+            *slot = input.stamps[n - m + k] - input.stamps[n - m + k - 1];
         }
-        let v = &mut v[..n];
-        let mean = v.iter().sum::<f64>() / n as f64;
+        let v = &mut v[..m];
         v.sort_by(f64::total_cmp);
-        let spread = v[n * 9 / 10] - v[n / 10];
+        let spread = v[m * 9 / 10] - v[m / 10];
         if mean > 0.0 {
             input.period = Some((mean, spread));
         }
+    }
+}
+
+/// Judge an open loss episode at stamp `t` (see [`count_lost`]).
+fn close_loss_episode(input: &mut Input, t: f64) {
+    let Some(e) = input.episode.take() else { return };
+    let margin = input.period.map_or(0.0, |p| p.1 / e.period);
+    let lost = ((t - e.t0) / e.period - e.received as f64 - margin).round().max(0.0) as u64;
+    if lost > 0 {
+        input.lost += lost;
+        input.loss_events.push_back((t, lost));
     }
 }
 
