@@ -1094,9 +1094,10 @@ fn count_lost(input: &mut Input, dt: f64, t: f64) {
     while input.loss_events.front().is_some_and(|e| input.stamps.front().is_some_and(|s| e.0 <= *s)) {
         input.loss_events.pop_front();
     }
-    // Re-estimate now and then, outside episodes (a gap being judged must not move the period).
+    // Re-estimate every 64 samples (and at the start), outside episodes (a gap being judged must not
+    // move the period): a mean and two O(n) selections, no allocation.
     let n = input.stamps.len();
-    if input.episode.is_none() && n >= 25 && (input.period.is_none() || input.samples % 16 == 0) {
+    if input.episode.is_none() && n >= 25 && (input.period.is_none() || input.samples % 64 == 0) {
         let lost_within: u64 = input.loss_events.iter().map(|e| e.1).sum();
         let (first, last) = (input.stamps[0], input.stamps[n - 1]);
         let mean = (last - first) / ((n - 1) as f64 + lost_within as f64);
@@ -1106,10 +1107,10 @@ fn count_lost(input: &mut Input, dt: f64, t: f64) {
             *slot = input.stamps[n - m + k] - input.stamps[n - m + k - 1];
         }
         let v = &mut v[..m];
-        v.sort_by(f64::total_cmp);
-        let spread = v[m * 9 / 10] - v[m / 10];
+        let hi = *v.select_nth_unstable_by(m * 9 / 10, f64::total_cmp).1;
+        let lo = *v.select_nth_unstable_by(m / 10, f64::total_cmp).1;
         if mean > 0.0 {
-            input.period = Some((mean, spread));
+            input.period = Some((mean, hi - lo));
         }
     }
 }
