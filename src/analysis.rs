@@ -2,7 +2,7 @@
 //! an MCAP file (ours, or any rosbag2 MCAP with a machine bridge's JointState plus a machine model),
 //! regions with their x range, peak predicted C speed, lowest feed and time lost, and threshold checks.
 
-use crate::live::monitor::{FeedSource, InputId, LiveRegion, Monitor, MonitorConfig, Rejected, Rejection};
+use crate::live::monitor::{FeedSource, InputId, LiveRegion, Monitor, MonitorConfig, Rejected};
 use crate::singularity::measured::Motion;
 use crate::machine::Machine;
 use crate::record::{read, RecordError};
@@ -35,11 +35,6 @@ pub struct OfflineOptions {
 /// The share of rejected samples above which an input is refused, unless told otherwise: 1 %.
 pub const MAX_REJECTED_SHARE: f64 = 0.01;
 
-impl Default for FeedSource {
-    fn default() -> Self {
-        FeedSource::Assumed
-    }
-}
 
 /// A region of the program, with what the actual (simulated or machine) stream did there.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -274,7 +269,7 @@ pub fn analyze_mcap_with_progress(
         let stream = &mut streams[k];
         let status = match monitor.evaluate(stream.input, &state, log_s) {
             Ok(s) => s,
-            Err(Rejection::Invalid(why)) if why.contains("outside its range") => {
+            Err(e) if e.is_out_of_range() => {
                 if fits_in_mm_deg(machine, &state.position) {
                     stream.fits_mm_deg += 1;
                 }
@@ -390,7 +385,7 @@ pub fn analyze_mcap_with_progress(
                     // The lowest feed and time lost over the region: a machine stream's region carries
                     // its own pass; otherwise the actual stream's five-axis samples within its x range.
                     let (actual_topic, lowest, lost) = if s.source == AxisState::SOURCE_MACHINE {
-                        (Some(s.topic.clone()), r.min_path_feed_mm_per_min / 60e3, Some(r.time_lost_s))
+                        (Some(s.topic.clone()), r.min_path_feed_mm_per_min * crate::units::MM_PER_MIN, Some(r.time_lost_s))
                     } else {
                         let (lo, hi) = (r.x_start_mm.min(r.x_end_mm) * 1e-3, r.x_start_mm.max(r.x_end_mm) * 1e-3);
                         let inside: Vec<&Cut> = actual
@@ -410,7 +405,7 @@ pub fn analyze_mcap_with_progress(
                         peak_c_speed_rpm: r.peak_c_speed_rpm,
                         topic: s.topic.clone(),
                         actual_topic,
-                        lowest_feed_mm_per_min: lowest.is_finite().then_some(lowest * 60e3),
+                        lowest_feed_mm_per_min: lowest.is_finite().then_some(lowest / crate::units::MM_PER_MIN),
                         time_lost_s: lost,
                         cause: Some(r.cause),
                     }
@@ -480,7 +475,7 @@ fn input_errors(
                 s.topic,
                 s.rejected.missing_joint,
                 found.join(", "),
-                suggest_axis_map(machine, &found, &options.axis_map)
+                machine.suggest_axis_map(&found, &options.axis_map)
             ));
         }
         if s.rejected.out_of_range > 0 && fits * 2 >= s.rejected.out_of_range {
@@ -518,29 +513,6 @@ fn reasons(r: &Rejected, undecodable: u64) -> String {
     .map(|(n, w)| format!("{n} {w}"))
     .collect();
     if parts.is_empty() { "none".into() } else { parts.join(", ") }
-}
-
-/// The `--axis-map` flags a user needs: each machine axis to the joint whose name is the axis letter
-/// alone or with a separator (`x`, `x_joint`, `joint_x`, `axis-x`), else a placeholder.
-pub fn suggest_axis_map(machine: &Machine, joints: &[String], given: &BTreeMap<String, String>) -> String {
-    machine
-        .axes
-        .iter()
-        .map(|a| {
-            let letter = a.name.to_ascii_lowercase();
-            let found = given.get(&a.name).cloned().or_else(|| {
-                joints
-                    .iter()
-                    .find(|j| {
-                        let j = j.to_ascii_lowercase();
-                        j == letter || j.split(|c: char| !c.is_ascii_alphanumeric()).any(|part| part == letter)
-                    })
-                    .cloned()
-            });
-            format!("--axis-map {}={}", a.name, found.unwrap_or_else(|| "<joint>".into()))
-        })
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 fn roughness_report(profile: &crate::roughness::Profile, cutoff: f64, regions: &[RegionReport], feed: &[Cut]) -> RoughnessReport {

@@ -102,6 +102,18 @@ pub fn program_plan(spec: &str, machine: &Machine) -> Result<crate::live::monito
     Ok(crate::live::monitor::ProgramPlan { segments: std::sync::Arc::new(job.trajectory.segments), regions })
 }
 
+/// Where a machine stream's programmed feed comes from, from the `--program` and `--feed` flags of the
+/// monitor and the offline analysis: the program's plan, a fixed feed (mm/min, positive), or assumed.
+pub fn feed_source(program: Option<&str>, feed_mm_per_min: Option<f64>, machine: &Machine) -> Result<crate::live::monitor::FeedSource, String> {
+    use crate::live::monitor::FeedSource;
+    match (program, feed_mm_per_min) {
+        (Some(spec), _) => program_plan(spec, machine).map(|p| FeedSource::Program(std::sync::Arc::new(p))).map_err(|e| format!("--program {spec}: {e}")),
+        (None, Some(f)) if f.is_finite() && f > 0.0 => Ok(FeedSource::Fixed(f * crate::units::MM_PER_MIN)),
+        (None, Some(f)) => Err(format!("--feed {f}: a feed must be a positive number of mm/min")),
+        (None, None) => Ok(FeedSource::Assumed),
+    }
+}
+
 impl Job {
     /// True if the program or its planning had defects.
     pub fn has_errors(&self) -> bool {

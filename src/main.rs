@@ -400,20 +400,12 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
-    let feed_source = match (&a.program, a.feed_mm_per_min) {
-        (Some(spec), _) => match job::program_plan(spec, &machine) {
-            Ok(s) => fiveaxis::live::monitor::FeedSource::Program(std::sync::Arc::new(s)),
-            Err(e) => {
-                eprintln!("fiveaxis: --program {spec}: {e}");
-                return Ok(ExitCode::from(EXIT_INPUT));
-            }
-        },
-        (None, Some(f)) if f.is_finite() && f > 0.0 => fiveaxis::live::monitor::FeedSource::Fixed(f * fiveaxis::units::MM_PER_MIN),
-        (None, Some(f)) => {
-            eprintln!("fiveaxis: --feed {f}: a feed must be a positive number of mm/min");
+    let feed_source = match job::feed_source(a.program.as_deref(), a.feed_mm_per_min, &machine) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("fiveaxis: {e}");
             return Ok(ExitCode::from(EXIT_INPUT));
         }
-        (None, None) => fiveaxis::live::monitor::FeedSource::Assumed,
     };
     if !(a.max_rejected_percent >= 0.0 && a.max_rejected_percent <= 100.0) {
         eprintln!("fiveaxis: --max-rejected-percent {} is not a percentage", a.max_rejected_percent);

@@ -68,18 +68,45 @@ impl Rejected {
     pub fn total(&self) -> u64 {
         self.missing_joint + self.non_finite + self.out_of_range + self.out_of_order + self.malformed
     }
+
+    /// Rejections other than out of order (the status' `invalid_count`).
+    pub fn invalid(&self) -> u64 {
+        self.total() - self.out_of_order
+    }
+
+    fn count(&mut self, reason: Reason) {
+        *match reason {
+            Reason::MissingJoint => &mut self.missing_joint,
+            Reason::NonFinite => &mut self.non_finite,
+            Reason::OutOfRange => &mut self.out_of_range,
+            Reason::OutOfOrder => &mut self.out_of_order,
+            Reason::Malformed => &mut self.malformed,
+        } += 1;
+    }
 }
 
 /// Which counter a rejection goes to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Reason {
+    MissingJoint,
     NonFinite,
     OutOfRange,
+    OutOfOrder,
     Malformed,
 }
 
+/// The message of a position outside its axis' range (see [`Rejection::is_out_of_range`]).
+const OUT_OF_RANGE: &str = "outside its range";
+
+impl Rejection {
+    /// True for a position outside its axis' range (a publisher in mm and degrees shows as these).
+    pub fn is_out_of_range(&self) -> bool {
+        matches!(self, Rejection::Invalid(why) if why.ends_with(OUT_OF_RANGE))
+    }
+}
+
 /// Where the programmed feed of a machine stream's prediction comes from.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub enum FeedSource {
     /// Each sample aligned with the program's moves (their feed, block numbers and kinds), and the
     /// program's own regions (for the look-ahead warning).
@@ -88,6 +115,7 @@ pub enum FeedSource {
     Fixed(f64),
     /// Neither given: the tool-tip feed the stream has held longest on feed moves so far (in bins of
     /// 2 %; a programmed feed is what a cutting program spends its time at, rapids are short).
+    #[default]
     Assumed,
 }
 
@@ -230,8 +258,6 @@ struct Input {
     history: VecDeque<Past>,
     s: f64,
     regions: Vec<LiveRegion>,
-    invalid: u64,
-    out_of_order: u64,
     stale: u64,
     stale_now: bool,
     last_arrival: Option<f64>,
@@ -331,25 +357,14 @@ impl Monitor {
         self.feed_source = source;
     }
 
-    /// The feed source, for reports.
-    pub fn feed_source(&self) -> &FeedSource {
-        &self.feed_source
-    }
-
     /// Count a sample of stream `id` that could not even be turned into axis positions (a JointState
     /// without a mapped joint): every rejection is counted by reason.
     pub fn reject(&mut self, id: InputId, rejection: &Rejection) {
-        let r = &mut self.inputs[id.0].rejected;
-        match rejection {
-            Rejection::MissingJoint(_) => r.missing_joint += 1,
-            Rejection::OutOfOrder { .. } => r.out_of_order += 1,
-            Rejection::Invalid(_) => r.malformed += 1,
-        }
-        if !matches!(rejection, Rejection::OutOfOrder { .. }) {
-            self.inputs[id.0].invalid += 1;
-        } else {
-            self.inputs[id.0].out_of_order += 1;
-        }
+        self.inputs[id.0].rejected.count(match rejection {
+            Rejection::MissingJoint(_) => Reason::MissingJoint,
+            Rejection::OutOfOrder { .. } => Reason::OutOfOrder,
+            Rejection::Invalid(_) => Reason::Malformed,
+        });
     }
 
     /// Convert a machine bridge's JointState (names mapped to this machine's axes, case-insensitive,
@@ -409,7 +424,7 @@ impl Monitor {
             // A little slack for servo overshoot and rounding at the end stops.
             let slack = if i < 3 { 1e-3 } else { 1e-3f64.to_radians() };
             if *v < a.limits.min - slack || *v > a.limits.max + slack {
-                return Err((Reason::OutOfRange, Rejection::Invalid(format!("{} position {v:.6} outside its range", a.name))));
+                return Err((Reason::OutOfRange, Rejection::Invalid(format!("{} position {v:.6} {OUT_OF_RANGE}", a.name))));
             }
         }
         let stamp = st.header.stamp;
@@ -505,11 +520,11 @@ impl Monitor {
             program_line: e.program_line,
             block_number: e.block_number,
             stale,
-            invalid_count: input.invalid,
+            invalid_count: input.rejected.invalid(),
             missing_joint_count: input.rejected.missing_joint,
             non_finite_count: input.rejected.non_finite,
             out_of_range_count: input.rejected.out_of_range,
-            out_of_order_count: input.out_of_order,
+            out_of_order_count: input.rejected.out_of_order,
             stale_count: input.stale,
             lost_count: input.lost,
         }
@@ -540,13 +555,7 @@ impl Monitor {
         let q = match self.validate(st) {
             Ok(q) => q,
             Err((reason, e)) => {
-                let input = &mut self.inputs[id.0];
-                input.invalid += 1;
-                match reason {
-                    Reason::NonFinite => input.rejected.non_finite += 1,
-                    Reason::OutOfRange => input.rejected.out_of_range += 1,
-                    Reason::Malformed => input.rejected.malformed += 1,
-                }
+                self.inputs[id.0].rejected.count(reason);
                 return Err(e);
             }
         };
@@ -567,14 +576,16 @@ impl Monitor {
             if let Some(m) = input.measured.as_mut() {
                 m.reset();
             }
+            if let Some(a) = input.aligner.as_mut() {
+                a.reset();
+            }
             input.lagged = None;
             input.last = None;
         }
         input.stale_now = false;
         if let Some(last) = input.history.back() {
             if t <= last.t {
-                input.out_of_order += 1;
-                input.rejected.out_of_order += 1;
+                input.rejected.count(Reason::OutOfOrder);
                 return Err(Rejection::OutOfOrder { stamp: t, last: last.t });
             }
         }
@@ -861,7 +872,7 @@ impl Monitor {
 
     /// (samples, invalid, out of order, stale) of a stream.
     pub fn counters(&self, topic: &str) -> (u64, u64, u64, u64) {
-        self.get(topic).map_or((0, 0, 0, 0), |i| (i.samples, i.invalid, i.out_of_order, i.stale))
+        self.get(topic).map_or((0, 0, 0, 0), |i| (i.samples, i.rejected.invalid(), i.rejected.out_of_order, i.stale))
     }
 
     /// Samples missing from a stream, judged by gaps in its stamps against its period.
@@ -881,8 +892,8 @@ impl Monitor {
                 topic: topic.clone(),
                 source: i.source,
                 samples: i.samples,
-                invalid: i.invalid,
-                out_of_order: i.out_of_order,
+                invalid: i.rejected.invalid(),
+                out_of_order: i.rejected.out_of_order,
                 stale: i.stale,
                 lost: i.lost,
                 rejected: i.rejected,
@@ -939,11 +950,11 @@ impl Monitor {
                     Some((l, w)) => event(l, w),
                 };
                 let mut values = vec![
-                    KeyValue { key: "invalid_samples".into(), value: input.invalid.to_string() },
+                    KeyValue { key: "invalid_samples".into(), value: input.rejected.invalid().to_string() },
                     KeyValue { key: "missing_joint_samples".into(), value: input.rejected.missing_joint.to_string() },
                     KeyValue { key: "non_finite_samples".into(), value: input.rejected.non_finite.to_string() },
                     KeyValue { key: "out_of_range_samples".into(), value: input.rejected.out_of_range.to_string() },
-                    KeyValue { key: "out_of_order_samples".into(), value: input.out_of_order.to_string() },
+                    KeyValue { key: "out_of_order_samples".into(), value: input.rejected.out_of_order.to_string() },
                     KeyValue { key: "stale_count".into(), value: input.stale.to_string() },
                     KeyValue { key: "lost_samples".into(), value: input.lost.to_string() },
                 ];

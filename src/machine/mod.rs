@@ -280,6 +280,29 @@ impl Machine {
         }
         Ok(map)
     }
+
+    /// The `--axis-map` flags a user needs for a JointState with `joints`: each axis to the joint
+    /// `given` names, else the joint named by the axis letter alone or with a separator (`x`,
+    /// `x_joint`, `joint_x`, `axis-x`), else a placeholder.
+    pub fn suggest_axis_map(&self, joints: &[String], given: &std::collections::BTreeMap<String, String>) -> String {
+        self.axes
+            .iter()
+            .map(|a| {
+                let letter = a.name.to_ascii_lowercase();
+                let found = given.get(&a.name).cloned().or_else(|| {
+                    joints
+                        .iter()
+                        .find(|j| {
+                            let j = j.to_ascii_lowercase();
+                            j == letter || j.split(|c: char| !c.is_ascii_alphanumeric()).any(|part| part == letter)
+                        })
+                        .cloned()
+                });
+                format!("--axis-map {}={}", a.name, found.unwrap_or_else(|| "<joint>".into()))
+            })
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
 }
 
 /// The TOML text of a built-in machine.

@@ -36,11 +36,7 @@ pub struct Place {
     /// move (the path and the rotary axes both move).
     pub path_move: bool,
     pub five_axis: bool,
-    /// Distance of the sample from the move in the match's metric, m.
-    pub distance: f64,
-    /// Where on the move (0 at its start, 1 at its end) and the program time there at the programmed
-    /// feed, s.
-    pub fraction: f64,
+    /// The program time at the sample's place on the move, at the programmed feed, s.
     pub program_time: f64,
     /// The datum shift in effect in the frame that matches (zero where the stream's coordinates are
     /// the program's): subtract it from the stream's tool tip to get program coordinates, m.
@@ -122,8 +118,6 @@ impl Aligner {
             rapid: seg.kind == SegmentKind::Rapid,
             path_move: seg.is_path_move(),
             five_axis: seg.is_five_axis(),
-            distance: best.0 .0.sqrt(),
-            fraction: best.0 .1,
             program_time: seg.t0 + best.0 .1 * seg.duration,
             offset: if frame == 0 { seg.datum } else { Vector3::zeros() },
         })

@@ -147,6 +147,8 @@ pub struct MeasuredPath {
     secondary: usize,
     unlimited: [bool; AXES],
     velocity: [f64; AXES],
+    /// The linear axes' rapid traverse (their smallest velocity limit), m/s.
+    rapid_traverse: f64,
     /// Raw previous positions and the unwrap offsets (multiples of 2 pi) of each axis.
     raw: Option<Joints>,
     offset: Joints,
@@ -162,6 +164,7 @@ impl MeasuredPath {
             secondary: machine.secondary_axis(),
             unlimited: std::array::from_fn(|i| machine.axes[i].kind == AxisKind::Rotary && machine.axes[i].limits.is_unlimited()),
             velocity: std::array::from_fn(|i| machine.axes[i].limits.velocity),
+            rapid_traverse: (0..3).map(|i| machine.axes[i].limits.velocity).fold(f64::INFINITY, f64::min),
             raw: None,
             offset: [0.0; AXES],
             s: 0.0,
@@ -219,8 +222,7 @@ impl MeasuredPath {
             Some(b) => {
                 let dt = t - b.t;
                 let feed = (self.s - b.s) / dt;
-                let rapid_traverse = self.velocity[..3].iter().copied().fold(f64::INFINITY, f64::min);
-                let share = (0..3).map(|i| (q[i] - b.q[i]).abs() / dt / self.velocity[i]).fold(feed / rapid_traverse, f64::max);
+                let share = (0..3).map(|i| (q[i] - b.q[i]).abs() / dt / self.velocity[i]).fold(feed / self.rapid_traverse, f64::max);
                 (feed, (q[self.secondary] - b.q[self.secondary]) / dt, (axis - b.axis).norm() / dt, share)
             }
             None => (0.0, 0.0, 0.0, 0.0),

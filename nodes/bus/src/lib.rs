@@ -452,9 +452,10 @@ pub struct InputArgs {
 }
 
 impl InputArgs {
-    /// Machine axis -> joint name.
-    pub fn axis_map(&self) -> std::collections::BTreeMap<String, String> {
-        self.axis_map.iter().cloned().collect()
+    /// Machine axis -> joint name, resolved against `machine` (axis names case-insensitive; an axis
+    /// the machine lacks is an error naming its axes).
+    pub fn axis_map(&self, machine: &fiveaxis::machine::Machine) -> Result<std::collections::BTreeMap<String, String>, String> {
+        machine.resolve_axis_map(&self.axis_map)
     }
 }
 

@@ -5,7 +5,7 @@
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::live::monitor::{FeedSource, Monitor, MonitorConfig, Rejection};
+use fiveaxis::live::monitor::{Monitor, MonitorConfig, Rejection};
 use fiveaxis::machine::Machine;
 use fiveaxis::units::RPM;
 use fiveaxis_bus::{diagnostics_qos, subscribe_states, InputArgs, StateInput, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
@@ -68,27 +68,16 @@ fn main() -> anyhow::Result<()> {
         ..Default::default()
     };
     let mut monitor = Monitor::new(&machine, config);
-    let rename = match machine.resolve_axis_map(&args.inputs.axis_map) {
-        Ok(m) => m,
+    let (rename, feed_source) = match args
+        .inputs
+        .axis_map(&machine)
+        .and_then(|m| fiveaxis::job::feed_source(args.program.as_deref(), args.feed_mm_per_min, &machine).map(|f| (m, f)))
+    {
+        Ok(r) => r,
         Err(e) => {
             eprintln!("fiveaxis-monitor: {e}");
             std::process::exit(2);
         }
-    };
-    let feed_source = match (&args.program, args.feed_mm_per_min) {
-        (Some(spec), _) => match fiveaxis::job::program_plan(spec, &machine) {
-            Ok(s) => FeedSource::Program(std::sync::Arc::new(s)),
-            Err(e) => {
-                eprintln!("fiveaxis-monitor: --program {spec}: {e}");
-                std::process::exit(2);
-            }
-        },
-        (None, Some(f)) if f.is_finite() && f > 0.0 => FeedSource::Fixed(f * fiveaxis::units::MM_PER_MIN),
-        (None, Some(f)) => {
-            eprintln!("fiveaxis-monitor: --feed {f}: a feed must be a positive number of mm/min");
-            std::process::exit(2);
-        }
-        (None, None) => FeedSource::Assumed,
     };
     if !args.inputs.joint_inputs.is_empty() {
         tracing::info!("machine streams: programmed feed {}", feed_source.describe());
@@ -139,7 +128,7 @@ fn main() -> anyhow::Result<()> {
                                 %topic,
                                 "{e}: joints found [{}]; map them with {} (said once; counted in the status and /diagnostics)",
                                 names.join(", "),
-                                fiveaxis::analysis::suggest_axis_map(&machine, &names, &rename)
+                                machine.suggest_axis_map(&names, &rename)
                             );
                         }
                         continue;
@@ -186,7 +175,7 @@ fn main() -> anyhow::Result<()> {
                     Err(e) => {
                         let kind = match &e {
                             Rejection::OutOfOrder { .. } => "out of order",
-                            Rejection::Invalid(w) if w.contains("outside its range") => "out of range",
+                            e if e.is_out_of_range() => "out of range",
                             _ => "invalid",
                         };
                         if said.insert((topic.clone(), kind)) {

@@ -139,7 +139,13 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
         bridge.roughness(profile, *cutoff)?;
     }
     let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm));
-    let map: BTreeMap<String, String> = a.axis_map.iter().cloned().collect();
+    let map: BTreeMap<String, String> = match machine.resolve_axis_map(&a.axis_map) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("fiveaxis-rerun: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
     let mut failure: Option<anyhow::Error> = None;
     let stats = replay_mcap(&a.recording, &mut scene, &map, |row, events| {
         if failure.is_some() {
@@ -188,7 +194,13 @@ fn live(a: LiveArgs) -> anyhow::Result<ExitCode> {
         bridge.roughness(profile, *cutoff)?;
     }
     let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm));
-    let map = a.inputs.axis_map();
+    let map = match a.inputs.axis_map(&machine) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("fiveaxis-rerun: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
 
     let mut bus = Bus::new("fiveaxis_rerun", &a.common)?;
     let rx = subscribe_states(&mut bus, &a.inputs)?;
