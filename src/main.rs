@@ -75,13 +75,23 @@ struct ProgramArgs {
     /// Dialect, instead of guessing from the file name.
     #[arg(long, value_parser = parse_dialect)]
     dialect: Option<Dialect>,
+    /// Longest program accepted, hours: a block that would make it run longer (a feed typo such as
+    /// F0.01) is an error (exit 2) naming its line and column.
+    #[arg(long = "max-program-hours", value_name = "HOURS", default_value_t = fiveaxis::path::MAX_PROGRAM_DURATION_S / 3600.0)]
+    max_program_hours: f64,
 }
 
 impl ProgramArgs {
     /// Check the feed and load the machine; an error is bad input (exit 2).
     fn machine(&self) -> anyhow::Result<Machine> {
         positive("--feed", self.feed_mm_per_min)?;
+        positive("--max-program-hours", Some(self.max_program_hours))?;
         Machine::from_name_or_file(&self.machine).context("loading the machine")
+    }
+
+    /// Sampling options at `period` (s).
+    fn path_options(&self, period: f64) -> PathOptions {
+        PathOptions { period, feed_override_mm_per_min: self.feed_mm_per_min, max_duration_s: self.max_program_hours * 3600.0 }
     }
 
     fn read_options(&self) -> ReadOptions {
@@ -297,7 +307,7 @@ fn analyze(a: &AnalyzeArgs) -> anyhow::Result<ExitCode> {
     };
     let options = JobOptions {
         dialect: a.src.dialect,
-        path: PathOptions { period: a.period_ms * 1e-3, feed_override_mm_per_min: a.src.feed_mm_per_min },
+        path: a.src.path_options(a.period_ms * 1e-3),
         analysis: AnalysisOptions {
             min_distance: a.min_distance_deg.map(|d| d * DEG),
             rate_limit: a.max_c_speed_rpm.map(|r| r * RPM),
@@ -339,7 +349,7 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
         mcap: mcap.clone(),
         job: JobOptions {
             dialect: a.src.dialect,
-            path: PathOptions { feed_override_mm_per_min: a.src.feed_mm_per_min, ..Default::default() },
+            path: a.src.path_options(PathOptions::default().period),
             read: a.src.read_options(),
             ..Default::default()
         },

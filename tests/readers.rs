@@ -149,7 +149,7 @@ proptest! {
         let m = fiveaxis::machine::Machine::hermle_c600u();
         for d in [Dialect::Heidenhain, Dialect::Rs274, Dialect::Cl] {
             let p = read(&text, d, "fuzz", &ReadOptions::default());
-            let opts = fiveaxis::path::PathOptions { period: 0.05, feed_override_mm_per_min: None };
+            let opts = fiveaxis::path::PathOptions { period: 0.05, ..Default::default() };
             let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
             let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
         }
@@ -175,7 +175,7 @@ proptest! {
         // A mutated feed (F2 for F2000) stretches the program: keep the sample count bounded.
         let (segments, _) = fiveaxis::path::plan(&p, &m, &Default::default());
         let duration = segments.last().map_or(0.0, |s| s.t0 + s.duration);
-        let opts = fiveaxis::path::PathOptions { period: (duration / 3000.0).max(1e-3), feed_override_mm_per_min: None };
+        let opts = fiveaxis::path::PathOptions { period: (duration / 3000.0).max(1e-3), ..Default::default() };
         let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
         prop_assert!(t.samples.len() <= 3100);
         let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());

@@ -251,12 +251,17 @@ struct Past {
     tip: Vector3<f64>,
 }
 
+/// Tip travel into a block below which the monitor holds the previous prediction (m).
+const MIN_DEMAND_PATH: f64 = 1e-6;
+
 /// What the monitor keeps per input stream.
 #[derive(Debug, Clone, Default)]
 struct Input {
     source: u8,
     history: VecDeque<Past>,
     s: f64,
+    /// The program line of the current block and the path length where the stream entered it.
+    block_start: (u32, f64),
     regions: Vec<LiveRegion>,
     stale: u64,
     stale_now: bool,
@@ -610,7 +615,13 @@ impl Monitor {
         // Seed 001 eq. (5) at the programmed feed: dO/ds times F (dO/dt where the tip does not move).
         // A step that crosses into another block mixes two moves (a rotary-only block's turn over the
         // next block's first micrometres): there the previous sample's prediction holds.
-        let held = input.last.as_ref().filter(|l| l.program_line != st.program_line).map(|l| l.predicted_c_speed);
+        // So does the block's first micrometre of tip travel: a servo still settling the rotary axes
+        // of a reorientation while the tip starts from rest turns the tool over almost no path.
+        if input.block_start.0 != st.program_line || prev.is_none() {
+            input.block_start = (st.program_line, input.s - ds);
+        }
+        let settling = input.s - input.block_start.1 < MIN_DEMAND_PATH && ds > 0.0;
+        let held = input.last.as_ref().filter(|l| l.program_line != st.program_line || settling).map(|l| l.predicted_c_speed);
         let (predicted, c_speed) = match prev {
             Some(p) => {
                 let dt = t - p.t;

@@ -31,25 +31,49 @@ pub struct Simulation {
     pub planned_ratio: [f64; 3],
 }
 
-/// Plan and servo a trajectory.
+/// Plan and servo a trajectory. At each planned stop between runs (a corner, a rapid, a rotary-only
+/// move) the next run starts once the servo is in position.
 pub fn simulate(traj: &Trajectory, machine: &Machine, config: &SimConfig) -> Simulation {
     let plan_cfg = PlanConfig { period: traj.period, ..config.plan };
-    let planned = planner::plan(&traj.segments, machine, &plan_cfg);
-    let set: Vec<Joints> = planned.samples.iter().map(|s| s.q).collect();
-    let q = servo::follow(&set, traj.period, &config.servo);
-    let mut segment: Vec<usize> = planned.samples.iter().map(|s| s.segment).collect();
-    let mut run: Vec<usize> = planned.samples.iter().map(|s| s.run).collect();
-    segment.resize(q.len(), segment.last().copied().unwrap_or(0));
-    run.resize(q.len(), run.last().copied().unwrap_or(0));
+    let cfg = &config.servo;
+    let mut servo: Option<servo::Servo> = None;
+    let (mut q, mut segment, mut run) = (Vec::new(), Vec::new(), Vec::new());
     let (mut fl, mut fr) = (0.0f64, 0.0f64);
-    for (k, s) in set.iter().enumerate() {
+    let mut last: Option<(Joints, usize, usize)> = None;
+    let mut push = |s: &mut servo::Servo, u: &Joints, seg: usize, r: usize| {
+        let y = s.step(u);
         for i in 0..5 {
-            let e = (s[i] - q[k][i]).abs();
+            let e = (u[i] - y[i]).abs();
             if i < 3 {
                 fl = fl.max(e);
             } else {
                 fr = fr.max(e);
             }
+        }
+        q.push(y);
+        segment.push(seg);
+        run.push(r);
+    };
+    let planned = planner::plan_each(&traj.segments, machine, &plan_cfg, |p| {
+        let s = servo.get_or_insert_with(|| servo::Servo::new(p.q, traj.period, cfg));
+        if let Some((u, seg, r)) = last.filter(|l| l.2 != p.run) {
+            // Exact stop: hold the last set-point until in position (bounded: 10 s).
+            for _ in 0..(10.0 / traj.period) as usize {
+                if s.in_position(&u, cfg.in_position_m, cfg.in_position_rad) {
+                    break;
+                }
+                push(s, &u, seg, r);
+            }
+        }
+        push(s, &p.q, p.segment, p.run);
+        last = Some((p.q, p.segment, p.run));
+    });
+    if let (Some(s), Some((u, seg, r))) = (servo.as_mut(), last) {
+        for _ in 0..100_000 {
+            if s.in_position(&u, 1e-9, 1e-9) {
+                break;
+            }
+            push(s, &u, seg, r);
         }
     }
     Simulation { period: traj.period, q, segment, run, following_error_linear: fl, following_error_rotary: fr, planned_ratio: planned.max_ratio }

@@ -25,11 +25,18 @@ pub struct PathOptions {
     pub period: f64,
     /// Replace the programmed tool-tip feed of every feed move, mm/min.
     pub feed_override_mm_per_min: Option<f64>,
+    /// Longest program accepted, s (default [`MAX_PROGRAM_DURATION_S`]): a block that would make the
+    /// program longer (a typo such as `F0.01`) is an error naming its line and column, and planning
+    /// stops there instead of sampling hours of motion that were never meant.
+    pub max_duration_s: f64,
 }
+
+/// The default bound on a program's commanded duration: 24 hours, a day of unattended machining.
+pub const MAX_PROGRAM_DURATION_S: f64 = 24.0 * 3600.0;
 
 impl Default for PathOptions {
     fn default() -> Self {
-        PathOptions { period: 1e-3, feed_override_mm_per_min: None }
+        PathOptions { period: 1e-3, feed_override_mm_per_min: None, max_duration_s: MAX_PROGRAM_DURATION_S }
     }
 }
 

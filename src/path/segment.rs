@@ -238,6 +238,25 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
         if !(duration > 1e-12) {
             continue; // nothing moves
         }
+        if t + duration > options.max_duration_s {
+            let what = match (kind, b.feed) {
+                (SegmentKind::Rapid, _) => "this rapid move".to_string(),
+                (_, Some(f)) if f.mode == FeedMode::InverseTime => format!("this move (inverse-time F{})", f.value_per_min),
+                (_, Some(f)) => format!("this move (F{} over {:.3} mm)", options.feed_override_mm_per_min.unwrap_or(f.value_per_min), seg.length * 1e3),
+                (_, None) => "this move".to_string(),
+            };
+            diags.push(diag(
+                b,
+                format!(
+                    "{what} takes {:.1} h and would make the program run {:.1} h, beyond the bound of {:.1} h: \
+                     a feed typo? planning stops here (raise the bound with --max-program-hours if the program is meant to run this long)",
+                    duration / 3600.0,
+                    (t + duration) / 3600.0,
+                    options.max_duration_s / 3600.0
+                ),
+            ));
+            break;
+        }
         if seg.feed == 0.0 {
             // Rapid, inverse-time and rotary-only moves: the tool-tip speed they result in.
             seg.feed = seg.length / duration;

@@ -19,4 +19,4 @@ mod profile;
 pub mod servo;
 
 pub use geometry::{PathModel, Run, CORNER_DEG};
-pub use profile::{limit_ratios, plan, PlanConfig, Planned, PlannedSample};
+pub use profile::{limit_ratios, plan, plan_each, PlanConfig, Planned, PlannedSample, LOOKAHEAD_BLOCKS};

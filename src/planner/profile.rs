@@ -1,6 +1,7 @@
 //! Path-speed profile of each run and the sampled set-points.
 
-use super::geometry::{PathModel, Run};
+use super::geometry::{Curve, PathModel, Run};
+use std::collections::VecDeque;
 use crate::kinematics::Joints;
 use crate::machine::{AxisLimits, Machine, AXES};
 use crate::path::Segment;
@@ -16,13 +17,26 @@ pub struct PlanConfig {
     pub grid_rad: f64,
     /// Jerk filter window, s (default: the largest `2 a_max / j_max` of the axes).
     pub jerk_window: Option<f64>,
-    /// How often the profile may be replanned where a limit was exceeded.
+    /// How often the profile of a look-ahead window may be replanned where a limit was exceeded.
     pub max_iterations: usize,
+    /// Look-ahead, blocks: how far ahead the planner reads; it plans to be able to stop at the end
+    /// of what it has read and commits the first three quarters. Default [`LOOKAHEAD_BLOCKS`].
+    pub lookahead_blocks: usize,
 }
+
+/// The default look-ahead, 1000 blocks: between LinuxCNC's trajectory planner (50 segments,
+/// `ARC_BLEND_OPTIMIZATION_DEPTH`, docs/src/config/ini-config.adoc) or Fanuc's AI contour control
+/// ("reads maximum 40 blocks ahead", A-63512EN §2.3) and Heidenhain's ("up to 5000 blocks in
+/// advance", MANUALplus 620 Technical Manual §6.16.4). It only changes the result where the
+/// distance to stop from the feed is longer than the look-ahead.
+pub const LOOKAHEAD_BLOCKS: usize = 1000;
+
+/// Largest look-ahead window in path grid points (a single long block is read in pieces).
+const MAX_WINDOW_POINTS: usize = 200_000;
 
 impl Default for PlanConfig {
     fn default() -> Self {
-        PlanConfig { period: 1e-3, grid_m: 2e-5, grid_rad: 1e-4, jerk_window: None, max_iterations: 30 }
+        PlanConfig { period: 1e-3, grid_m: 2e-5, grid_rad: 1e-4, jerk_window: None, max_iterations: 30, lookahead_blocks: LOOKAHEAD_BLOCKS }
     }
 }
 
@@ -70,41 +84,6 @@ pub fn limit_ratios(q: &[Joints], t: f64, limits: &[AxisLimits; AXES]) -> Vec<[f
         .collect()
 }
 
-struct Grid {
-    h: f64,
-    q: Vec<Joints>,
-    qs: Vec<Joints>,
-    qss: Vec<Joints>,
-    limit: Vec<f64>,
-}
-
-fn build_grid(run: &Run, machine: &Machine, limiter: &FeedLimiter, step: f64) -> Grid {
-    let len = run.length();
-    // A run linear in its parameter (rapid, rotary-only) has q_ss = q_sss = 0: a coarse grid is exact.
-    let cap = if run.is_linear() { 2000 } else { 4_000_000 };
-    let n = ((len / step).ceil() as usize).clamp(4, cap) + 1;
-    let h = len / (n - 1) as f64;
-    let q: Vec<Joints> = (0..n).map(|k| run.joints(k as f64 * h, machine)).collect();
-    let at = |k: isize| q[k.clamp(0, n as isize - 1) as usize];
-    let mut qs = vec![[0.0; AXES]; n];
-    let mut qss = vec![[0.0; AXES]; n];
-    let mut qsss = vec![[0.0; AXES]; n];
-    for k in 0..n as isize {
-        let (m2, m1, p0, p1, p2) = (at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2));
-        let span = if k == 0 || k == n as isize - 1 { h } else { 2.0 * h };
-        for i in 0..AXES {
-            qs[k as usize][i] = (p1[i] - m1[i]) / span;
-            qss[k as usize][i] = if k == 0 || k == n as isize - 1 { 0.0 } else { (p1[i] - 2.0 * p0[i] + m1[i]) / (h * h) };
-            qsss[k as usize][i] = if k < 2 || k > n as isize - 3 { 0.0 } else { (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) / (2.0 * h * h * h) };
-        }
-    }
-    let feed: Vec<f64> = (0..n).map(|k| run.feed[run.segment_at(k as f64 * h)]).collect();
-    let mut limit: Vec<f64> = (0..n).map(|k| limiter.limit(feed[k], &qs[k], &qss[k], &qsss[k]).feed).collect();
-    limit[0] = 0.0;
-    limit[n - 1] = 0.0;
-    Grid { h, q, qs, qss, limit }
-}
-
 /// Tangential acceleration bounds (min, max) at a grid point moving at path speed `v`.
 fn accel_bounds(qs: &Joints, qss: &Joints, v: f64, limits: &[AxisLimits; AXES]) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
@@ -121,72 +100,219 @@ fn accel_bounds(qs: &Joints, qss: &Joints, v: f64, limits: &[AxisLimits; AXES]) 
     (lo, hi)
 }
 
-/// Path speed over the grid: forward and backward acceleration passes under `cap`.
-fn speed_profile(g: &Grid, cap: &[f64], limits: &[AxisLimits; AXES]) -> Vec<f64> {
-    let n = g.q.len();
-    let mut v = vec![0.0; n];
-    for k in 0..n - 1 {
-        let (_, hi) = accel_bounds(&g.qs[k], &g.qss[k], v[k], limits);
-        let hi = if hi.is_finite() { hi } else { 1e12 };
-        let v2 = v[k] * v[k] + 2.0 * hi * g.h;
-        v[k + 1] = v2.max(0.0).sqrt().min(cap[k + 1]);
-    }
-    v[n - 1] = 0.0;
-    for k in (0..n - 1).rev() {
-        let (lo, _) = accel_bounds(&g.qs[k + 1], &g.qss[k + 1], v[k + 1], limits);
-        let lo = if lo.is_finite() { lo } else { -1e12 };
-        let v2 = v[k + 1] * v[k + 1] - 2.0 * lo * g.h;
-        v[k] = v[k].min(v2.max(0.0).sqrt());
-    }
-    v
+/// The path grid of one look-ahead window: points `ka..=kb` of the run's uniform grid of step `h`.
+struct Window {
+    ka: usize,
+    h: f64,
+    qs: Vec<Joints>,
+    qss: Vec<Joints>,
+    limit: Vec<f64>,
 }
 
-/// Sample a run: path parameter in time at `period`, then the jerk filter (moving average of `w`
-/// samples, at rest before and after). Returns the filtered parameter per sample.
-fn sample_parameter(g: &Grid, v: &[f64], period: f64, w: usize) -> Vec<f64> {
-    let n = v.len();
-    let mut t = vec![0.0; n];
-    let v_floor = 1e-9;
-    for k in 0..n - 1 {
-        t[k + 1] = t[k] + 2.0 * g.h / (v[k] + v[k + 1]).max(v_floor);
-    }
-    let total = t[n - 1];
-    let m = (total / period).ceil() as usize + 1;
-    let mut s = Vec::with_capacity(m);
-    let mut k = 0;
-    for j in 0..m {
-        let tj = (j as f64 * period).min(total);
-        while k + 1 < n - 1 && t[k + 1] < tj {
-            k += 1;
+impl Window {
+    /// Geometric derivatives by finite differences on the run's grid (one-sided at the run's ends)
+    /// and the seed 002 eq. (5) velocity-limit curve, zero at the run's ends and at the window's end.
+    #[allow(clippy::too_many_arguments)]
+    fn new(run: &Run, curve: &Curve, machine: &Machine, limiter: &FeedLimiter, h: f64, k_max: usize, ka: usize, kb: usize) -> Window {
+        let at = |k: isize| curve.joints(k.clamp(0, k_max as isize) as f64 * h, machine);
+        let lo = ka as isize - 2;
+        let q: Vec<Joints> = (lo..=kb as isize + 2).map(at).collect();
+        let n = kb - ka + 1;
+        let (mut qs, mut qss) = (vec![[0.0; AXES]; n], vec![[0.0; AXES]; n]);
+        let mut limit = vec![0.0; n];
+        for r in 0..n {
+            let k = ka + r;
+            let (m2, m1, p0, p1, p2) = (q[r], q[r + 1], q[r + 2], q[r + 3], q[r + 4]);
+            let end = k == 0 || k == k_max;
+            let span = if end { h } else { 2.0 * h };
+            let mut qsss = [0.0; AXES];
+            for i in 0..AXES {
+                qs[r][i] = (p1[i] - m1[i]) / span;
+                qss[r][i] = if end { 0.0 } else { (p1[i] - 2.0 * p0[i] + m1[i]) / (h * h) };
+                qsss[i] = if k < 2 || k + 2 > k_max { 0.0 } else { (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) / (2.0 * h * h * h) };
+            }
+            let feed = run.feed[run.segment_at(k as f64 * h)];
+            limit[r] = if end || k == kb { 0.0 } else { limiter.limit(feed, &qs[r], &qss[r], &qsss).feed };
         }
-        // Exact within the step under the profile's model: constant path acceleration.
-        let tau = (tj - t[k]).clamp(0.0, t[k + 1] - t[k]);
-        let acc = (v[k + 1] * v[k + 1] - v[k] * v[k]) / (2.0 * g.h);
-        let ds = (v[k] * tau + 0.5 * acc * tau * tau).clamp(0.0, g.h);
-        s.push(k as f64 * g.h + ds);
+        Window { ka, h, qs, qss, limit }
     }
-    let end = (n - 1) as f64 * g.h;
-    if w <= 1 {
-        return s;
+
+    /// Path speed over the window from `v0` at its start: forward and backward acceleration passes
+    /// under `cap`, at rest at its end (the control must be able to stop where its look-ahead ends).
+    fn speed_profile(&self, cap: &[f64], v0: f64, limits: &[AxisLimits; AXES]) -> Vec<f64> {
+        let n = cap.len();
+        let mut v = vec![0.0; n];
+        v[0] = v0;
+        for k in 0..n - 1 {
+            let (_, hi) = accel_bounds(&self.qs[k], &self.qss[k], v[k], limits);
+            let hi = if hi.is_finite() { hi } else { 1e12 };
+            v[k + 1] = (v[k] * v[k] + 2.0 * hi * self.h).max(0.0).sqrt().min(cap[k + 1]);
+        }
+        v[n - 1] = 0.0;
+        for k in (1..n - 1).rev() {
+            let (lo, _) = accel_bounds(&self.qs[k + 1], &self.qss[k + 1], v[k + 1], limits);
+            let lo = if lo.is_finite() { lo } else { -1e12 };
+            v[k] = v[k].min((v[k + 1] * v[k + 1] - 2.0 * lo * self.h).max(0.0).sqrt());
+        }
+        v
     }
-    // Causal moving average over `w` samples, the run at rest (0) before and (end) after.
-    let len = s.len() + w - 1;
-    let get = |i: isize| if i < 0 { 0.0 } else if (i as usize) < s.len() { s[i as usize] } else { end };
-    let mut out = Vec::with_capacity(len);
-    let mut acc: f64 = (0..w as isize).map(|i| get(i - w as isize + 1)).sum();
-    for j in 0..len as isize {
-        out.push(acc / w as f64);
-        acc += get(j + 1) - get(j + 1 - w as isize);
+
+    /// The path parameter at the sample times `j * period` (j from `j0`) that fall in the window,
+    /// the window starting at time `tau0`: exact within each step under the profile's model
+    /// (constant path acceleration). Returns the parameters, each grid point's time, and how many
+    /// samples fall before grid point `kc` (the committed part).
+    fn sample(&self, v: &[f64], tau0: f64, j0: u64, period: f64, kc: usize, last: bool) -> (Vec<f64>, Vec<f64>, usize) {
+        let n = v.len();
+        let mut t = vec![tau0; n];
+        for k in 0..n - 1 {
+            t[k + 1] = t[k] + 2.0 * self.h / (v[k] + v[k + 1]).max(1e-9);
+        }
+        let sigma = |k: usize| (self.ka + k) as f64 * self.h;
+        let mut s = Vec::new();
+        let mut committed = None;
+        let mut k = 0;
+        let mut j = j0;
+        loop {
+            let tj = j as f64 * period;
+            if tj >= t[n - 1] {
+                break;
+            }
+            while k + 1 < n - 1 && t[k + 1] <= tj {
+                k += 1;
+            }
+            if committed.is_none() && self.ka + k >= kc {
+                committed = Some(s.len());
+            }
+            let tau = (tj - t[k]).clamp(0.0, t[k + 1] - t[k]);
+            let acc = (v[k + 1] * v[k + 1] - v[k] * v[k]) / (2.0 * self.h);
+            let ds = (v[k] * tau + 0.5 * acc * tau * tau).clamp(0.0, self.h);
+            s.push(sigma(k) + ds);
+            j += 1;
+        }
+        if last {
+            s.push(sigma(n - 1));
+        }
+        let c = if last { s.len() } else { committed.unwrap_or(s.len()) };
+        (s, t, c)
     }
-    // Remove accumulated rounding at the very end: the run ends exactly at its end point.
-    if let Some(last) = out.last_mut() {
-        *last = end;
-    }
-    out
 }
 
-/// Plan the whole trajectory on `machine`.
-pub fn plan(segments: &[Segment], machine: &Machine, config: &PlanConfig) -> Planned {
+/// What planning a run measured.
+#[derive(Debug, Clone, Copy, Default)]
+struct RunStats {
+    worst: [f64; 3],
+    iterations: usize,
+    samples: u64,
+}
+
+/// Plan one run look-ahead window by window, calling `emit(parameter, set-point)` for each sample in
+/// order. Each window is planned to stop at its end, checked, and its first three quarters committed.
+fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLimiter, config: &PlanConfig, w: usize, emit: &mut dyn FnMut(f64, Joints)) -> RunStats {
+    let limits = machine.limits();
+    let len = run.length();
+    let step = if run.is_angular(segments) { config.grid_rad } else { config.grid_m };
+    // A run linear in its parameter (rapid) has q_ss = q_sss = 0: a coarse grid is exact.
+    let cap_points = if run.is_linear() { 2000.0 } else { 1e15 };
+    let k_max = (len / step).ceil().clamp(4.0, cap_points) as usize;
+    let h = len / k_max as f64;
+    let nb = run.segments.len();
+    let lookahead = config.lookahead_blocks.max(2);
+    let mut stats = RunStats::default();
+    // Committed state: grid point, its speed and time; next sample index; the filter's last w - 1
+    // inputs (at rest at 0 before the run) and the last two set-points (for the check's stencil).
+    let (mut ka, mut v0, mut tau0, mut j0) = (0usize, 0.0f64, 0.0f64, 0u64);
+    let mut raw_hist: VecDeque<f64> = std::iter::repeat_n(0.0, w - 1).collect();
+    let mut q_hist: Vec<Joints> = Vec::new();
+    loop {
+        let b_first = run.segment_at(ka as f64 * h);
+        let b_last = (b_first + lookahead - 1).min(nb - 1);
+        let kb_blocks = if b_last == nb - 1 { k_max } else { ((run.sigma[b_last + 1] / h).floor() as usize).min(k_max) };
+        let kb = kb_blocks.min(ka + MAX_WINDOW_POINTS).max(ka + 1);
+        let last = kb == k_max;
+        let kc = if last { k_max } else { ka + ((kb - ka) * 3 / 4).max(1) };
+        // The jerk filter's outputs lag its inputs: the curve must reach back to the oldest input
+        // the filter still holds, where this window's first set-points lie.
+        let oldest = raw_hist.front().map_or(ka as f64 * h, |&x| x.min(ka as f64 * h));
+        let curve = run.curve(segments, run.segment_at(oldest), run.segment_at(kb as f64 * h));
+        let win = Window::new(run, &curve, machine, limiter, h, k_max, ka, kb);
+        let end = kb as f64 * h;
+        let mut cap = win.limit.clone();
+        let mut it = 0;
+        let (raw, filtered, q, t, v, c, worst) = loop {
+            let v = win.speed_profile(&cap, v0, &limits);
+            let (raw, t, c) = win.sample(&v, tau0, j0, config.period, kc, last);
+            // Jerk filter: causal moving average over w samples, at rest at the window's end after it.
+            let full: Vec<f64> = raw_hist.iter().copied().chain(raw.iter().copied()).chain(std::iter::repeat_n(end, w - 1)).collect();
+            let mut prefix = Vec::with_capacity(full.len() + 1);
+            prefix.push(0.0);
+            for x in &full {
+                prefix.push(prefix[prefix.len() - 1] + x);
+            }
+            let outputs = raw.len() + w - 1;
+            let mut filtered: Vec<f64> = (0..outputs).map(|i| (prefix[i + w] - prefix[i]) / w as f64).collect();
+            if last {
+                if let Some(x) = filtered.last_mut() {
+                    *x = end; // the run ends exactly at its end point
+                }
+            }
+            let q: Vec<Joints> = q_hist.iter().copied().chain(filtered.iter().map(|&x| curve.joints(x, machine))).collect();
+            let all = limit_ratios(&q, config.period, &limits);
+            let ratios = &all[q_hist.len()..];
+            let keep = if last { outputs } else { c };
+            let worst = ratios[..keep].iter().fold([0.0f64; 3], |m, r| [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]);
+            // Rounding on a ratio exactly at its limit (the filter's own jerk bound) is not a violation.
+            let ok = ratios.iter().all(|r| r.iter().all(|&x| x <= 1.0 + 1e-9));
+            if ok || it == config.max_iterations || raw.is_empty() {
+                break (raw, filtered, q, t, v, c, worst);
+            }
+            // Lower the limit curve around every violation, over the stretch the filter mixes (the
+            // committed part before the window cannot change).
+            let ka_f = ka as f64 * h;
+            for (i, r) in ratios.iter().enumerate() {
+                let factor = [1.0 / r[0], 1.0 / r[1].sqrt(), 1.0 / r[2].cbrt()].into_iter().fold(1.0f64, f64::min);
+                if factor >= 1.0 {
+                    continue;
+                }
+                // Output i averages inputs i + 1 - w ..= i: lower them, with half a window each side.
+                let lo = raw[i.saturating_sub(w + w / 2).min(raw.len() - 1)];
+                let hi = raw[(i + w / 2).min(raw.len() - 1)];
+                let a = (((lo - ka_f) / h).floor().max(1.0) as usize).min(cap.len() - 1);
+                let b = (((hi - ka_f) / h).ceil().max(1.0) as usize).min(cap.len() - 1);
+                for k in a..=b {
+                    cap[k] = cap[k].max(0.0).min(v[k].max(1e-12) * factor * 0.97);
+                }
+            }
+            it += 1;
+        };
+        stats.iterations = stats.iterations.max(it);
+        for k in 0..3 {
+            stats.worst[k] = stats.worst[k].max(worst[k]);
+        }
+        let new_q = &q[q_hist.len()..];
+        let keep = if last { new_q.len() } else { c };
+        for i in 0..keep {
+            emit(filtered[i], new_q[i]);
+        }
+        stats.samples += keep as u64;
+        if last {
+            break;
+        }
+        for &x in &raw[..c] {
+            raw_hist.push_back(x);
+            raw_hist.pop_front();
+        }
+        let tail: Vec<Joints> = q_hist.iter().chain(&new_q[..keep]).copied().collect();
+        q_hist = tail[tail.len().saturating_sub(2)..].to_vec();
+        let r = kc - ka;
+        (v0, tau0, j0) = (v[r], t[r], j0 + c as u64);
+        ka = kc;
+    }
+    stats
+}
+
+/// Plan the whole trajectory on `machine`, calling `emit` for each set-point in time order; returns
+/// what the check measured (without the set-points). Memory is bounded by the look-ahead window.
+pub fn plan_each(segments: &[Segment], machine: &Machine, config: &PlanConfig, mut emit: impl FnMut(PlannedSample)) -> Planned {
     let model = PathModel::new(segments);
     let limits = machine.limits();
     let limiter = FeedLimiter::new(&limits);
@@ -196,7 +322,6 @@ pub fn plan(segments: &[Segment], machine: &Machine, config: &PlanConfig) -> Pla
         .jerk_window
         .unwrap_or_else(|| limits.iter().map(|l| 2.0 * l.acceleration / l.jerk).fold(0.0, f64::max));
     let w = ((window / config.period).round() as usize).max(1);
-    let mut samples = Vec::new();
     let mut max_ratio = [0.0f64; 3];
     let mut iterations = 0;
     let mut t0 = 0.0;
@@ -204,59 +329,24 @@ pub fn plan(segments: &[Segment], machine: &Machine, config: &PlanConfig) -> Pla
         if run.length() <= 0.0 {
             continue;
         }
-        let rotary_only = run.feed.iter().all(|f| f.is_finite()) && is_rotary_param(run, segments);
-        let step = if rotary_only { config.grid_rad } else { config.grid_m };
-        let g = build_grid(run, machine, &limiter, step);
-        let mut cap = g.limit.clone();
-        let mut best: Option<(Vec<f64>, Vec<Joints>, [f64; 3])> = None;
-        for it in 0..=config.max_iterations {
-            let v = speed_profile(&g, &cap, &limits);
-            let s = sample_parameter(&g, &v, config.period, w);
-            let q: Vec<Joints> = s.iter().map(|&x| run.joints(x, machine)).collect();
-            let ratios = limit_ratios(&q, config.period, &limits);
-            let worst = ratios.iter().fold([0.0f64; 3], |m, r| [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]);
-            let ok = worst.iter().all(|&r| r <= 1.0);
-            best = Some((s.clone(), q, worst));
-            iterations = iterations.max(it);
-            if ok || it == config.max_iterations {
-                break;
-            }
-            // Lower the limit curve around every violation, over the stretch the filter mixes.
-            for (j, r) in ratios.iter().enumerate() {
-                let factor = [1.0 / r[0], 1.0 / r[1].sqrt(), 1.0 / r[2].cbrt()].into_iter().fold(1.0f64, f64::min);
-                if factor >= 1.0 {
-                    continue;
-                }
-                let lo = s[j.saturating_sub(w)];
-                let hi = s[(j + w).min(s.len() - 1)];
-                let (ka, kb) = ((lo / g.h).floor() as usize, ((hi / g.h).ceil() as usize).min(cap.len() - 1));
-                for k in ka..=kb {
-                    let cur = if cap[k] > 0.0 { cap[k] } else { 0.0 };
-                    let current_speed = v[k].max(1e-12);
-                    cap[k] = cur.min(current_speed * factor * 0.97);
-                }
-            }
-        }
-        let (s, q, worst) = best.expect("at least one iteration");
+        let mut j = 0u64;
+        let stats = plan_run(run, segments, machine, &limiter, config, w, &mut |x, q| {
+            emit(PlannedSample { t: t0 + j as f64 * config.period, segment: run.segments[run.segment_at(x)], run: ri, q });
+            j += 1;
+        });
         for k in 0..3 {
-            max_ratio[k] = max_ratio[k].max(worst[k]);
+            max_ratio[k] = max_ratio[k].max(stats.worst[k]);
         }
-        for (j, (&x, qj)) in s.iter().zip(q).enumerate() {
-            samples.push(PlannedSample {
-                t: t0 + j as f64 * config.period,
-                segment: run.segments[run.segment_at(x)],
-                run: ri,
-                q: qj,
-            });
-        }
-        t0 += s.len() as f64 * config.period;
+        iterations = iterations.max(stats.iterations);
+        t0 += stats.samples as f64 * config.period;
     }
-    Planned { samples, max_ratio, iterations }
+    Planned { samples: Vec::new(), max_ratio, iterations }
 }
 
-fn is_rotary_param(run: &Run, segments: &[Segment]) -> bool {
-    run.segments.iter().all(|&k| {
-        let s = &segments[k];
-        (0..3).all(|i| (s.q1[i] - s.q0[i]).abs() <= 1e-12) && s.length <= 1e-12
-    })
+/// Plan the whole trajectory on `machine` (all set-points in memory; see [`plan_each`]).
+pub fn plan(segments: &[Segment], machine: &Machine, config: &PlanConfig) -> Planned {
+    let mut samples = Vec::new();
+    let mut planned = plan_each(segments, machine, config, |s| samples.push(s));
+    planned.samples = samples;
+    planned
 }

@@ -105,6 +105,10 @@ pub struct StreamArgs {
     /// Tool-tip feed for every feed move, mm/min.
     #[arg(long = "feed", value_name = "MM_PER_MIN")]
     pub feed_mm_per_min: Option<f64>,
+    /// Longest program accepted, hours: a block that would make it run longer (a feed typo such as
+    /// F0.01) is an error naming its line and column.
+    #[arg(long = "max-program-hours", value_name = "HOURS", default_value_t = fiveaxis::path::MAX_PROGRAM_DURATION_S / 3600.0)]
+    pub max_program_hours: f64,
     /// Wait this long for subscribers before publishing (0: do not wait), s.
     #[arg(long = "wait-for-subscriber-s", default_value_t = 10.0)]
     pub wait_s: f64,
@@ -118,7 +122,16 @@ impl StreamArgs {
     pub fn validate(&self) -> anyhow::Result<()> {
         anyhow::ensure!(self.rate > 0.0 && self.rate.is_finite(), "--rate must be positive");
         anyhow::ensure!(self.speed > 0.0 && self.speed.is_finite(), "--speed must be positive");
+        anyhow::ensure!(self.max_program_hours > 0.0 && self.max_program_hours.is_finite(), "--max-program-hours must be positive");
+        if let Some(f) = self.feed_mm_per_min {
+            anyhow::ensure!(f > 0.0 && f.is_finite(), "--feed must be a positive number of mm/min");
+        }
         Ok(())
+    }
+
+    /// How the program is sampled: at the rate, with the feed override and the duration bound.
+    pub fn path_options(&self) -> fiveaxis::path::PathOptions {
+        fiveaxis::path::PathOptions { period: 1.0 / self.rate, feed_override_mm_per_min: self.feed_mm_per_min, max_duration_s: self.max_program_hours * 3600.0 }
     }
 
     /// The pacing these options ask for.
@@ -135,6 +148,35 @@ fn parse_remap(s: &str) -> Result<(String, String), String> {
 }
 
 /// Log with tracing to stderr (`RUST_LOG` filters; default info, DDS internals at warn).
+/// Exit code of bad input (a program with defects, a file that cannot be read), as `fiveaxis`'s.
+pub const EXIT_INPUT: i32 = 2;
+
+/// Read, plan and analyse the program a publishing node was given. Fails closed: a program that
+/// cannot be read or has defects (a damaged word, an unreachable pose, a feed that makes it run past
+/// `--max-program-hours`) ends the node with exit code 2 and each defect named by line and column.
+pub fn load_job(args: &StreamArgs, machine: &fiveaxis::machine::Machine) -> fiveaxis::job::Job {
+    let options = fiveaxis::job::JobOptions { path: args.path_options(), ..Default::default() };
+    match fiveaxis::job::run(&args.program, machine, &options) {
+        Err(e) => {
+            eprintln!("error: reading {}: {e}", args.program);
+            std::process::exit(EXIT_INPUT);
+        }
+        Ok(job) if job.has_errors() => {
+            for d in &job.report.diagnostics {
+                eprintln!("{}:{}:{}: {}: {}", d.file, d.line, d.column, if d.severity == fiveaxis::program::Severity::Error { "error" } else { "warning" }, d.message);
+            }
+            eprintln!("error: {} has defects: refused (nothing published)", args.program);
+            std::process::exit(EXIT_INPUT);
+        }
+        Ok(job) => {
+            for d in &job.report.diagnostics {
+                tracing::warn!("{}:{}:{}: {}", d.file, d.line, d.column, d.message);
+            }
+            job
+        }
+    }
+}
+
 pub fn init_tracing() {
     let filter = tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "info,rustdds=warn,ros2_client=warn,ros2_client::distributions=error".into());
     let _ = tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).try_init();

@@ -3,11 +3,9 @@
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::job::{self, JobOptions};
 use fiveaxis::live::commander::commanded_states;
 use fiveaxis::machine::Machine;
-use fiveaxis::path::PathOptions;
-use fiveaxis_bus::{clock_qos, init_tracing, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
+use fiveaxis_bus::{clock_qos, init_tracing, load_job, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
 use fiveaxis_msgs::{AxisState, Clock, JointState};
 use std::time::Duration;
 
@@ -27,14 +25,7 @@ fn main() -> anyhow::Result<()> {
     args.stream.validate()?;
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
-    let options = JobOptions {
-        path: PathOptions { period: 1.0 / args.stream.rate, feed_override_mm_per_min: args.stream.feed_mm_per_min },
-        ..Default::default()
-    };
-    let job = job::run(&args.stream.program, &machine, &options).with_context(|| format!("reading {}", args.stream.program))?;
-    for d in job.program.report() {
-        tracing::warn!("{d}");
-    }
+    let job = load_job(&args.stream, &machine);
     let states = commanded_states(&job.trajectory, &machine);
     tracing::info!(program = %args.stream.program, samples = states.len(), duration_s = job.trajectory.duration(), "commanded trajectory");
 

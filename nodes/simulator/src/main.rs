@@ -5,11 +5,9 @@
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::job::{self, JobOptions};
 use fiveaxis::live::simulator::{simulate, SimConfig};
 use fiveaxis::machine::Machine;
-use fiveaxis::path::PathOptions;
-use fiveaxis_bus::{init_tracing, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
+use fiveaxis_bus::{init_tracing, load_job, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
 use fiveaxis_msgs::{AxisState, JointState};
 use std::time::Duration;
 
@@ -33,11 +31,7 @@ fn main() -> anyhow::Result<()> {
     anyhow::ensure!(args.servo_ms > 0.0 && args.servo_ms.is_finite(), "--servo-ms must be positive");
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
-    let options = JobOptions {
-        path: PathOptions { period: 1.0 / args.stream.rate, feed_override_mm_per_min: args.stream.feed_mm_per_min },
-        ..Default::default()
-    };
-    let job = job::run(&args.stream.program, &machine, &options).with_context(|| format!("reading {}", args.stream.program))?;
+    let job = load_job(&args.stream, &machine);
     let mut config = SimConfig::default();
     config.servo.tau = args.servo_ms * 1e-3;
     let sim = simulate(&job.trajectory, &machine, &config);
