@@ -140,6 +140,11 @@ impl Window {
     /// Path speed over the window from `v0` at its start: forward and backward acceleration passes
     /// under `cap`, at rest at its end (the control must be able to stop where its look-ahead ends).
     fn speed_profile(&self, cap: &[f64], v0: f64, limits: &[AxisLimits; AXES]) -> Vec<f64> {
+        self.speed_profile_to(cap, v0, limits, true)
+    }
+
+    /// As [`Window::speed_profile`], at rest at the end only if `stop`.
+    fn speed_profile_to(&self, cap: &[f64], v0: f64, limits: &[AxisLimits; AXES], stop: bool) -> Vec<f64> {
         let n = cap.len();
         let mut v = vec![0.0; n];
         v[0] = v0;
@@ -148,11 +153,27 @@ impl Window {
             let hi = if hi.is_finite() { hi } else { 1e12 };
             v[k + 1] = (v[k] * v[k] + 2.0 * hi * self.h).max(0.0).sqrt().min(cap[k + 1]);
         }
-        v[n - 1] = 0.0;
+        if stop {
+            v[n - 1] = 0.0;
+        }
         for k in (1..n - 1).rev() {
             let (lo, _) = accel_bounds(&self.qs[k + 1], &self.qss[k + 1], v[k + 1], limits);
             let lo = if lo.is_finite() { lo } else { -1e12 };
             v[k] = v[k].min((v[k + 1] * v[k + 1] - 2.0 * lo * self.h).max(0.0).sqrt());
+        }
+        v
+    }
+
+    /// The hardest braking from `v0` at the window's start: the speeds below which no lowering of the
+    /// limit curve may go (the committed speed cannot drop faster than the axes can brake).
+    fn braking(&self, v0: f64, limits: &[AxisLimits; AXES]) -> Vec<f64> {
+        let n = self.qs.len();
+        let mut v = vec![0.0; n];
+        v[0] = v0;
+        for k in 0..n - 1 {
+            let (lo, _) = accel_bounds(&self.qs[k], &self.qss[k], v[k], limits);
+            let lo = if lo.is_finite() { lo.min(0.0) } else { -1e12 };
+            v[k + 1] = (v[k] * v[k] + 2.0 * lo * self.h).max(0.0).sqrt();
         }
         v
     }
@@ -197,6 +218,15 @@ impl Window {
     }
 }
 
+/// One planning iteration of a window: raw and filtered parameters, set-points (with the two of
+/// history first), grid times and speeds, committed sample count, committed worst ratios, caps.
+type Plan = (Vec<f64>, Vec<f64>, Vec<Joints>, Vec<f64>, Vec<f64>, usize, [f64; 3], Vec<f64>);
+
+/// The largest of all ratios.
+fn worst_all(ratios: &[[f64; 3]]) -> f64 {
+    ratios.iter().flat_map(|r| r.iter().copied()).fold(0.0, f64::max)
+}
+
 /// What planning a run measured.
 #[derive(Debug, Clone, Copy, Default)]
 struct RunStats {
@@ -223,6 +253,7 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
     let (mut ka, mut v0, mut tau0, mut j0) = (0usize, 0.0f64, 0.0f64, 0u64);
     let mut raw_hist: VecDeque<f64> = std::iter::repeat_n(0.0, w - 1).collect();
     let mut q_hist: Vec<Joints> = Vec::new();
+    let mut carry: Vec<f64> = Vec::new();
     loop {
         let b_first = run.segment_at(ka as f64 * h);
         let b_last = (b_first + lookahead - 1).min(nb - 1);
@@ -236,9 +267,17 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
         let curve = run.curve(segments, run.segment_at(oldest), run.segment_at(kb as f64 * h));
         let win = Window::new(run, &curve, machine, limiter, h, k_max, ka, kb);
         let end = kb as f64 * h;
+        // The limit curve, lowered where the previous window's check found a violation (the part of
+        // it this window plans again), never below the hardest braking from the committed speed.
         let mut cap = win.limit.clone();
+        for (r, &x) in carry.iter().enumerate().take(cap.len().saturating_sub(1)) {
+            cap[r] = cap[r].min(x);
+        }
+        let floor = win.braking(v0, &limits);
         let mut it = 0;
-        let (raw, filtered, q, t, v, c, worst) = loop {
+        let mut best: Option<(f64, Plan)> = None;
+        let mut first_len: Option<usize> = None;
+        let (raw, filtered, q, t, v, c, worst, cap) = loop {
             let v = win.speed_profile(&cap, v0, &limits);
             let (raw, t, c) = win.sample(&v, tau0, j0, config.period, kc, last);
             // Jerk filter: causal moving average over w samples, at rest at the window's end after it.
@@ -262,9 +301,20 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
             let worst = ratios[..keep].iter().fold([0.0f64; 3], |m, r| [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]);
             // Rounding on a ratio exactly at its limit (the filter's own jerk bound) is not a violation.
             let ok = ratios.iter().all(|r| r.iter().all(|&x| x <= 1.0 + 1e-9));
-            if ok || it == config.max_iterations || raw.is_empty() {
-                break (raw, filtered, q, t, v, c, worst);
+            // Keep the best plan so far. A violation the committed past causes cannot be lowered
+            // away: once lowering has more than quadrupled the window's time, stop with the best.
+            let score = worst_all(ratios);
+            let first_len = *first_len.get_or_insert(raw.len());
+            let collapsing = raw.len() > 4 * first_len + 16;
+            let raw_now = raw.clone();
+            if best.as_ref().is_none_or(|b| score < b.0) {
+                best = Some((score, (raw, filtered, q, t, v.clone(), c, worst, cap.clone())));
             }
+            if ok || collapsing || it == config.max_iterations || raw_now.is_empty() {
+                let (_, plan) = best.take().expect("a plan: the first iteration always sets one");
+                break plan;
+            }
+            let raw = &raw_now;
             // Lower the limit curve around every violation, over the stretch the filter mixes (the
             // committed part before the window cannot change).
             let ka_f = ka as f64 * h;
@@ -279,7 +329,7 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
                 let a = (((lo - ka_f) / h).floor().max(1.0) as usize).min(cap.len() - 1);
                 let b = (((hi - ka_f) / h).ceil().max(1.0) as usize).min(cap.len() - 1);
                 for k in a..=b {
-                    cap[k] = cap[k].max(0.0).min(v[k].max(1e-12) * factor * 0.97);
+                    cap[k] = cap[k].max(0.0).min(v[k].max(1e-12) * factor * 0.97).max(floor[k]);
                 }
             }
             it += 1;
@@ -288,6 +338,22 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
         for k in 0..3 {
             stats.worst[k] = stats.worst[k].max(worst[k]);
         }
+        // Commit only what the stop at the window's end has not yet shaped: the next window, reading
+        // further, plans the same speeds up to there, so nothing changes where the two meet (at least an
+        // eighth of the window, so that a look-ahead shorter than the braking distance still advances).
+        let (kc, c) = if last {
+            (kc, c)
+        } else {
+            let mut free_cap = cap.clone();
+            let n = free_cap.len();
+            free_cap[n - 1] = free_cap[n - 2];
+            let free = win.speed_profile_to(&free_cap, v0, &limits, false);
+            let top = free.iter().fold(0.0f64, |m, &x| m.max(x));
+            let bound = (1..n).find(|&r| v[r] < free[r] - 1e-9 * top).unwrap_or(n - 1);
+            let kc = ka + (kc - ka).min(bound.saturating_sub(1).max((kb - ka) / 8).max(1));
+            let t_end = t[kc - ka];
+            (kc, raw.iter().enumerate().take_while(|(i, _)| (j0 + *i as u64) as f64 * config.period < t_end).count())
+        };
         let new_q = &q[q_hist.len()..];
         let keep = if last { new_q.len() } else { c };
         for i in 0..keep {
@@ -305,6 +371,7 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
         q_hist = tail[tail.len().saturating_sub(2)..].to_vec();
         let r = kc - ka;
         (v0, tau0, j0) = (v[r], t[r], j0 + c as u64);
+        carry = cap[r..].to_vec();
         ka = kc;
     }
     stats
