@@ -141,7 +141,7 @@ impl Simulation {
         // Tool-tip speed by central differences, never across a datum change (the tip jumps there in
         // program coordinates while the machine does not move).
         let datum = |k: usize| traj.segments.get(self.segment[k]).map(|g| g.datum);
-        let last = tips.len() - 1;
+        let last = tips.len().saturating_sub(1);
         (0..self.q.len())
             .map(|k| {
                 let lo = if k > 0 && datum(k - 1) == datum(k) { k - 1 } else { k };

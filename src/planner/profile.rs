@@ -24,12 +24,14 @@ pub struct PlanConfig {
     pub lookahead_blocks: usize,
 }
 
-/// The default look-ahead, 1000 blocks: between LinuxCNC's trajectory planner (50 segments,
-/// `ARC_BLEND_OPTIMIZATION_DEPTH`, docs/src/config/ini-config.adoc) or Fanuc's AI contour control
-/// ("reads maximum 40 blocks ahead", A-63512EN §2.3) and Heidenhain's ("up to 5000 blocks in
-/// advance", MANUALplus 620 Technical Manual §6.16.4). It only changes the result where the
-/// distance to stop from the feed is longer than the look-ahead.
-pub const LOOKAHEAD_BLOCKS: usize = 1000;
+/// The default look-ahead, 5000 blocks: Heidenhain's figure ("look-ahead cyclically calculates the
+/// maximum possible contouring speed up to 5000 blocks in advance", MANUALplus 620 Technical Manual
+/// §6.16.4; the paper's Hermle runs a Heidenhain TNC). Others read less: LinuxCNC's trajectory planner
+/// 50 segments (`ARC_BLEND_OPTIMIZATION_DEPTH`, docs/src/config/ini-config.adoc), Fanuc's AI contour
+/// control "maximum 40 blocks ahead" (A-63512EN §2.3). The window must cover the braking distance
+/// and the jerk filter's lag (its width times the feed) for the limits to hold where the path
+/// demands braking; a shorter one makes the planner report ratios above 1 there.
+pub const LOOKAHEAD_BLOCKS: usize = 5000;
 
 /// Largest look-ahead window in path grid points (a single long block is read in pieces).
 const MAX_WINDOW_POINTS: usize = 200_000;
@@ -300,10 +302,17 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
             let keep = if last { outputs } else { c };
             let worst = ratios[..keep].iter().fold([0.0f64; 3], |m, r| [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]);
             // Rounding on a ratio exactly at its limit (the filter's own jerk bound) is not a violation.
-            let ok = ratios.iter().all(|r| r.iter().all(|&x| x <= 1.0 + 1e-9));
+            // The first w outputs of a window that continues committed motion average committed inputs:
+            // lowering this window's limit curve cannot change them (and braking there would put a
+            // step into the path acceleration where the windows meet).
+            let protected = if ka > 0 { w.min(raw.len()) } else { 0 };
+            // Outputs after the commit point (and past the filter's reach into the committed inputs)
+            // are the next window's to plan, with more look-ahead: only what this window commits is checked.
+            let checked = if last { ratios.len() } else { (c + w).min(ratios.len()) };
+            let ok = ratios[..checked].iter().skip(protected).all(|r| r.iter().all(|&x| x <= 1.0 + 1e-9));
             // Keep the best plan so far. A violation the committed past causes cannot be lowered
             // away: once lowering has more than quadrupled the window's time, stop with the best.
-            let score = worst_all(ratios);
+            let score = worst_all(&ratios[protected.min(checked)..checked]);
             let first_len = *first_len.get_or_insert(raw.len());
             let collapsing = raw.len() > 4 * first_len + 16;
             let raw_now = raw.clone();
@@ -318,13 +327,13 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
             // Lower the limit curve around every violation, over the stretch the filter mixes (the
             // committed part before the window cannot change).
             let ka_f = ka as f64 * h;
-            for (i, r) in ratios.iter().enumerate() {
+            for (i, r) in ratios[..checked].iter().enumerate().skip(protected) {
                 let factor = [1.0 / r[0], 1.0 / r[1].sqrt(), 1.0 / r[2].cbrt()].into_iter().fold(1.0f64, f64::min);
                 if factor >= 1.0 {
                     continue;
                 }
                 // Output i averages inputs i + 1 - w ..= i: lower them, with half a window each side.
-                let lo = raw[i.saturating_sub(w + w / 2).min(raw.len() - 1)];
+                let lo = raw[i.saturating_sub(w + w / 2).max(protected).min(raw.len() - 1)];
                 let hi = raw[(i + w / 2).min(raw.len() - 1)];
                 let a = (((lo - ka_f) / h).floor().max(1.0) as usize).min(cap.len() - 1);
                 let b = (((hi - ka_f) / h).ceil().max(1.0) as usize).min(cap.len() - 1);
@@ -341,8 +350,8 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
         // Commit only what the stop at the window's end has not yet shaped: the next window, reading
         // further, plans the same speeds up to there, so nothing changes where the two meet (at least an
         // eighth of the window, so that a look-ahead shorter than the braking distance still advances).
-        let (kc, c) = if last {
-            (kc, c)
+        let (kc, c, shaped) = if last {
+            (kc, c, cap.len())
         } else {
             let mut free_cap = cap.clone();
             let n = free_cap.len();
@@ -352,7 +361,7 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
             let bound = (1..n).find(|&r| v[r] < free[r] - 1e-9 * top).unwrap_or(n - 1);
             let kc = ka + (kc - ka).min(bound.saturating_sub(1).max((kb - ka) / 8).max(1));
             let t_end = t[kc - ka];
-            (kc, raw.iter().enumerate().take_while(|(i, _)| (j0 + *i as u64) as f64 * config.period < t_end).count())
+            (kc, raw.iter().enumerate().take_while(|(i, _)| (j0 + *i as u64) as f64 * config.period < t_end).count(), bound)
         };
         let new_q = &q[q_hist.len()..];
         let keep = if last { new_q.len() } else { c };
@@ -371,7 +380,9 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
         q_hist = tail[tail.len().saturating_sub(2)..].to_vec();
         let r = kc - ka;
         (v0, tau0, j0) = (v[r], t[r], j0 + c as u64);
-        carry = cap[r..].to_vec();
+        // Carry the lowered limit curve up to where the stop at this window's end began to shape the
+        // speed (lowering after that answered the stop's own ramp, which the next window does not have).
+        carry = cap[r..shaped.max(r)].to_vec();
         ka = kc;
     }
     stats
