@@ -6,7 +6,7 @@ use fiveaxis::machine::Machine;
 use fiveaxis_msgs::AxisState;
 
 fn go(spec: &str) -> RunOutput {
-    run(spec, &Machine::hermle_c600u(), &RunOptions::default()).expect("run")
+    run(spec, &Machine::hermle_c600u(), &RunOptions { keep_statuses: true, ..Default::default() }).expect("run")
 }
 
 /// Simulated samples of the cutting pass (tool tip within 0.05 mm of the cut's y and z: the servo's

@@ -2,7 +2,7 @@
 //! connected by bounded in-process channels instead of DDS, faster than real time. The node logic is
 //! the same as the executables'.
 
-use super::commander::commanded_states;
+use super::commander::commanded_iter;
 use super::monitor::{LiveRegion, Monitor, MonitorConfig};
 use super::simulator::{simulate, SimConfig, Simulation};
 use crate::job::{self, Job, JobError, JobOptions};
@@ -26,6 +26,8 @@ pub struct RunOptions {
     pub monitor: MonitorConfig,
     /// Record every topic of the node set into this MCAP file (rosbag2 layout).
     pub mcap: Option<std::path::PathBuf>,
+    /// Keep every status the monitor published in [`RunOutput`] (memory grows with the program).
+    pub keep_statuses: bool,
 }
 
 /// Topic names of the node set, absolute, with the default namespace.
@@ -135,7 +137,8 @@ pub struct RunOutput {
     pub simulation: Simulation,
     pub simulated_states: usize,
     pub report: RunReport,
-    /// The monitor's statuses on the simulated and on the commanded stream, in order.
+    /// The monitor's statuses on the simulated and on the commanded stream, in order (empty unless
+    /// [`RunOptions::keep_statuses`]).
     pub statuses: Vec<SingularityStatus>,
     pub commanded_statuses: Vec<SingularityStatus>,
     /// Regions the monitor saw on the commanded stream.
@@ -164,7 +167,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         let tx_cmd = tx.clone();
         let commander = scope.spawn(move || {
             let mut sent = 0u64;
-            for st in commanded_states(traj, machine) {
+            for st in commanded_iter(traj, machine) {
                 if tx_cmd.send(Input::Commanded(st)).is_err() {
                     break;
                 }
@@ -176,7 +179,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         let simulator = scope.spawn(move || {
             let sim = simulate(traj, machine, &options.sim);
             let mut sent = 0u64;
-            for st in sim.states(traj, machine) {
+            for st in sim.states_iter(traj, machine) {
                 if tx_sim.send(Input::Simulated(st)).is_err() {
                     break;
                 }
@@ -211,7 +214,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                         tape_error = Some(e);
                     }
                 }
-                if let Ok(s) = status {
+                if let Some(s) = status.ok().filter(|_| options.keep_statuses) {
                     if topic == SIMULATED_STATE {
                         statuses.push(s);
                     } else {
@@ -249,7 +252,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
 }
 
 fn simulated_report(traj: &Trajectory, machine: &Machine, sim: &Simulation, lost: u64, monitor: &Monitor) -> SimulatedReport {
-    let states = sim.states(traj, machine);
+    let states: Vec<super::simulator::FeedSample> = sim.states_iter(traj, machine).map(|s| (&s).into()).collect();
     let ratios = limit_ratios(&sim.q, sim.period, &machine.limits());
     let worst = ratios.iter().fold([0.0f64; 3], |m, r| [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]);
     let path_move = |k: usize| traj.segments.get(sim.segment[k]).is_some_and(|s| s.is_path_move() && s.kind != SegmentKind::Rapid);
@@ -273,12 +276,12 @@ fn simulated_report(traj: &Trajectory, machine: &Machine, sim: &Simulation, lost
         let at_stop = start == 0 || end + 4 >= n || (start.saturating_sub(4)..=end + 3).any(|j| sim.run[j] != sim.run[j + 1]);
         let min = states[start..=end].iter().map(|s| s.path_feed).fold(f64::INFINITY, f64::min);
         slow.push(SlowRegion {
-            x_start_mm: states[start].tool_tip.x * 1e3,
-            x_end_mm: states[end].tool_tip.x * 1e3,
+            x_start_mm: states[start].x * 1e3,
+            x_end_mm: states[end].x * 1e3,
             t_start_s: start as f64 * sim.period,
             t_end_s: end as f64 * sim.period,
-            block_start: states[start].block_number,
-            block_end: states[end].block_number,
+            block_start: states[start].block,
+            block_end: states[end].block,
             min_feed_mm_per_min: min * 60e3,
             at_stop,
         });

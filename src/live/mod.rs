@@ -63,18 +63,21 @@ pub fn motion_of(seg: &Segment) -> u8 {
     }
 }
 
+/// Velocity and acceleration of sample `k` of `n` positions `q(j)` sampled at period `t`: central
+/// finite differences, one-sided (velocity) and zero (acceleration) at the ends. The one formula of
+/// the commanded and simulated streams, computed per sample so that no stream is held whole.
+pub fn derivatives_at(n: usize, k: usize, t: f64, q: impl Fn(usize) -> Joints) -> (Joints, Joints) {
+    let end = k == 0 || k + 1 >= n;
+    let (m, p0, p) = (q(k.saturating_sub(1)), q(k), q((k + 1).min(n.saturating_sub(1))));
+    let span = if end { t } else { 2.0 * t };
+    (
+        std::array::from_fn(|i| (p[i] - m[i]) / span),
+        std::array::from_fn(|i| if end { 0.0 } else { (p[i] - 2.0 * p0[i] + m[i]) / (t * t) }),
+    )
+}
+
 /// Central finite differences (one-sided at the ends) of positions sampled at period `t`:
-/// velocities and accelerations.
+/// velocities and accelerations ([`derivatives_at`] for every sample).
 pub fn differentiate(q: &[Joints], t: f64) -> (Vec<Joints>, Vec<Joints>) {
-    let n = q.len();
-    let at = |k: isize| q[k.clamp(0, n as isize - 1) as usize];
-    let mut v = Vec::with_capacity(n);
-    let mut a = Vec::with_capacity(n);
-    for k in 0..n as isize {
-        let (m, p0, p) = (at(k - 1), at(k), at(k + 1));
-        let span = if k == 0 || k == n as isize - 1 { t } else { 2.0 * t };
-        v.push(std::array::from_fn(|i| (p[i] - m[i]) / span));
-        a.push(std::array::from_fn(|i| if k == 0 || k == n as isize - 1 { 0.0 } else { (p[i] - 2.0 * p0[i] + m[i]) / (t * t) }));
-    }
-    (v, a)
+    (0..q.len()).map(|k| derivatives_at(q.len(), k, t, |j| q[j])).unzip()
 }

@@ -1,7 +1,7 @@
 //! Simulator: what a machine with axis velocity, acceleration and jerk limits does with the program
 //! (the planner, then the servo), as simulated axis states.
 
-use super::{differentiate, StateBuilder};
+use super::{derivatives_at, StateBuilder};
 use crate::kinematics::Joints;
 use crate::machine::Machine;
 use crate::path::Trajectory;
@@ -87,7 +87,7 @@ impl Simulation {
 
     /// The lowest tool-tip feed on the feed moves (m/s) and its x (m), planned stops excluded: the
     /// ramps out of and into each run boundary (a corner or the program's ends) do not count.
-    pub fn lowest_path_feed(&self, traj: &Trajectory, states: &[AxisState]) -> (f64, f64) {
+    pub fn lowest_path_feed(&self, traj: &Trajectory, states: &[FeedSample]) -> (f64, f64) {
         let sim = self;
         let n = states.len();
         let path_move = |k: usize| traj.segments.get(sim.segment[k]).is_some_and(|s| s.is_path_move() && s.kind != crate::path::SegmentKind::Rapid);
@@ -124,31 +124,52 @@ impl Simulation {
         }
         (0..n)
             .filter(|&k| path_move(k) && states[k].programmed_feed > 0.0 && !ramp[k])
-            .map(|k| (states[k].path_feed, states[k].tool_tip.x))
+            .map(|k| (states[k].path_feed, states[k].x))
             .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a })
     }
 
-    /// The simulated states, in time order.
-    pub fn states(&self, traj: &Trajectory, machine: &Machine) -> Vec<AxisState> {
-        let (v, a) = differentiate(&self.q, self.period);
+    /// The simulated states, in time order, one at a time (nothing is held but the simulation).
+    pub fn states_iter<'a>(&'a self, traj: &'a Trajectory, machine: &'a Machine) -> impl Iterator<Item = AxisState> + 'a {
         let b = StateBuilder::new(machine, AxisState::SOURCE_SIMULATED);
-        let tips: Vec<_> = self
-            .q
-            .iter()
-            .zip(&self.segment)
-            .map(|(q, &s)| machine.forward(q).tip - traj.segments.get(s).map_or(nalgebra::Vector3::zeros(), |g| g.datum))
-            .collect();
-        // Tool-tip speed by central differences, never across a datum change (the tip jumps there in
-        // program coordinates while the machine does not move).
-        let datum = |k: usize| traj.segments.get(self.segment[k]).map(|g| g.datum);
-        let last = tips.len().saturating_sub(1);
-        (0..self.q.len())
-            .map(|k| {
-                let lo = if k > 0 && datum(k - 1) == datum(k) { k - 1 } else { k };
-                let hi = if k < last && datum(k + 1) == datum(k) { k + 1 } else { k };
-                let feed = if hi > lo { (tips[hi] - tips[lo]).norm() / ((hi - lo) as f64 * self.period) } else { 0.0 };
-                b.state(machine, k as f64 * self.period, &self.q[k], &v[k], &a[k], traj.segments.get(self.segment[k]), feed)
-            })
-            .collect()
+        let n = self.q.len();
+        let datum = move |k: usize| traj.segments.get(self.segment[k]).map_or(nalgebra::Vector3::zeros(), |g| g.datum);
+        let tip = move |k: usize| machine.forward(&self.q[k]).tip - datum(k);
+        // Tool tips of the samples before, at and after k (rolling, one forward kinematics per sample).
+        let mut tips: Option<[nalgebra::Vector3<f64>; 3]> = None;
+        (0..n).map(move |k| {
+            let t3 = match tips {
+                None => [tip(0), tip(0), tip(1.min(n - 1))],
+                Some([_, cur, next]) => [cur, next, tip((k + 1).min(n - 1))],
+            };
+            tips = Some(t3);
+            // Tool-tip speed by central differences, never across a datum change (the tip jumps there
+            // in program coordinates while the machine does not move).
+            let lo = if k > 0 && datum(k - 1) == datum(k) { 0 } else { 1 };
+            let hi = if k + 1 < n && datum(k + 1) == datum(k) { 2 } else { 1 };
+            let feed = if hi > lo { (t3[hi] - t3[lo]).norm() / ((hi - lo) as f64 * self.period) } else { 0.0 };
+            let (v, a) = derivatives_at(n, k, self.period, |j| self.q[j]);
+            b.state(machine, k as f64 * self.period, &self.q[k], &v, &a, traj.segments.get(self.segment[k]), feed)
+        })
+    }
+
+    /// The simulated states, in time order, all in memory.
+    pub fn states(&self, traj: &Trajectory, machine: &Machine) -> Vec<AxisState> {
+        self.states_iter(traj, machine).collect()
+    }
+}
+
+/// What the feed figures need of a simulated state (32 bytes instead of a message).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FeedSample {
+    /// Actual and programmed tool-tip feed, m/s; workpiece x, m; block number (-1 without).
+    pub path_feed: f64,
+    pub programmed_feed: f64,
+    pub x: f64,
+    pub block: i64,
+}
+
+impl From<&AxisState> for FeedSample {
+    fn from(s: &AxisState) -> FeedSample {
+        FeedSample { path_feed: s.path_feed, programmed_feed: s.programmed_feed, x: s.tool_tip.x, block: s.block_number }
     }
 }

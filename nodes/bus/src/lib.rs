@@ -356,7 +356,7 @@ pub fn resolve(namespace: &str, remaps: &[(String, String)], topic: &str) -> Str
 /// sample (counted, warned at most once a second; the monitor sees the gap): the stream never stops for
 /// one slow reader. Returns (sent, dropped).
 pub fn publish_states(
-    states: &[fiveaxis_msgs::AxisState],
+    states: impl IntoIterator<Item = fiveaxis_msgs::AxisState>,
     state_pub: &Publisher<fiveaxis_msgs::AxisState>,
     joint_pub: &Publisher<fiveaxis_msgs::JointState>,
     clock_pub: Option<&Publisher<fiveaxis_msgs::Clock>>,
@@ -371,9 +371,11 @@ pub fn publish_states(
             break;
         }
         pacer.wait_until(st.header.stamp.as_secs());
-        let ok = state_pub.publish(st.clone()).is_ok() & joint_pub.publish(st.to_joint_state()).is_ok();
+        let joints = st.to_joint_state();
+        let stamp = st.header.stamp;
+        let ok = state_pub.publish(st).is_ok() & joint_pub.publish(joints).is_ok();
         if let Some(c) = clock_pub {
-            let _ = c.publish(fiveaxis_msgs::Clock { clock: st.header.stamp });
+            let _ = c.publish(fiveaxis_msgs::Clock { clock: stamp });
         }
         if ok {
             sent += 1;

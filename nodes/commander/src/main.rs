@@ -3,7 +3,7 @@
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::live::commander::commanded_states;
+use fiveaxis::live::commander::commanded_iter;
 use fiveaxis::machine::Machine;
 use fiveaxis_bus::{clock_qos, init_tracing, load_job, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
 use fiveaxis_msgs::{AxisState, Clock, JointState};
@@ -26,8 +26,8 @@ fn main() -> anyhow::Result<()> {
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
     let job = load_job(&args.stream, &machine);
-    let states = commanded_states(&job.trajectory, &machine);
-    tracing::info!(program = %args.stream.program, samples = states.len(), duration_s = job.trajectory.duration(), "commanded trajectory");
+    let samples = job.trajectory.samples.len();
+    tracing::info!(program = %args.stream.program, samples, duration_s = job.trajectory.duration(), "commanded trajectory");
 
     let mut bus = Bus::new("fiveaxis_commander", &args.common)?;
     let state_pub = bus.publisher::<AxisState>("commanded/axis_state", state_qos())?;
@@ -36,8 +36,8 @@ fn main() -> anyhow::Result<()> {
     if args.stream.wait_s > 0.0 && !bus.wait_for_subscribers(&state_pub, args.stream.min_subscribers.max(1), Duration::from_secs_f64(args.stream.wait_s), &shutdown) {
         tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve("commanded/axis_state"), args.stream.wait_s);
     }
-    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "commanding {} ({} samples)", args.stream.program, states.len());
+    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "commanding {} ({} samples)", args.stream.program, samples);
     let pacer = args.stream.pacer();
-    publish_states(&states, &state_pub, &joint_pub, Some(&clock_pub), &pacer, &shutdown);
+    publish_states(commanded_iter(&job.trajectory, &machine), &state_pub, &joint_pub, Some(&clock_pub), &pacer, &shutdown);
     Ok(())
 }

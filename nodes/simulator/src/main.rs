@@ -35,8 +35,8 @@ fn main() -> anyhow::Result<()> {
     let mut config = SimConfig::default();
     config.servo.tau = args.servo_ms * 1e-3;
     let sim = simulate(&job.trajectory, &machine, &config);
-    let states = sim.states(&job.trajectory, &machine);
-    tracing::info!(program = %args.stream.program, samples = states.len(), duration_s = sim.duration(), ratios = ?sim.planned_ratio, "simulated");
+    let samples = sim.q.len();
+    tracing::info!(program = %args.stream.program, samples, duration_s = sim.duration(), ratios = ?sim.planned_ratio, "simulated");
 
     let mut bus = Bus::new("fiveaxis_simulator", &args.common)?;
     let state_pub = bus.publisher::<AxisState>("simulated/axis_state", state_qos())?;
@@ -44,8 +44,8 @@ fn main() -> anyhow::Result<()> {
     if args.stream.wait_s > 0.0 && !bus.wait_for_subscribers(&state_pub, args.stream.min_subscribers.max(1), Duration::from_secs_f64(args.stream.wait_s), &shutdown) {
         tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve("simulated/axis_state"), args.stream.wait_s);
     }
-    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "simulating {} ({} samples)", args.stream.program, states.len());
+    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "simulating {} ({} samples)", args.stream.program, samples);
     let pacer = args.stream.pacer();
-    publish_states(&states, &state_pub, &joint_pub, None, &pacer, &shutdown);
+    publish_states(sim.states_iter(&job.trajectory, &machine), &state_pub, &joint_pub, None, &pacer, &shutdown);
     Ok(())
 }
