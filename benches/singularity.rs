@@ -20,8 +20,7 @@ fn per_sample(c: &mut Criterion) {
     // Precompute the geometric derivatives: the bench measures the per-sample math, as the live
     // monitor runs it with derivatives from its look-ahead.
     let rows: Vec<_> = traj
-        .samples
-        .iter()
+        .samples(&m)
         .map(|s| (s.axis, s.axis_rate, s.feed, geo.derivatives(s.segment, s.s).unwrap()))
         .collect();
     let sd = m.singular_direction();
@@ -47,7 +46,7 @@ fn whole_program(c: &mut Criterion) {
     let m = Machine::hermle_c600u();
     let job = job::run("bundled:SING.I", &m, &JobOptions::default()).unwrap();
     let mut g = c.benchmark_group("singularity");
-    g.throughput(Throughput::Elements(job.trajectory.samples.len() as u64));
+    g.throughput(Throughput::Elements(job.trajectory.sample_count() as u64));
     g.sample_size(20);
     g.bench_function("whole_program_sing", |b| b.iter(|| black_box(analyze(&job.trajectory, &m, &Default::default()))));
     g.finish();

@@ -137,7 +137,7 @@ impl AnalysisReport {
             machine: machine.name.clone(),
             secondary_axis: machine.axes[machine.secondary_axis()].name.clone(),
             blocks: program.blocks.len(),
-            samples: traj.samples.len(),
+            samples: traj.sample_count(),
             sample_period_s: traj.period,
             cycle_time_s: s.cycle_time,
             feed_override_mm_per_min,

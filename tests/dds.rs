@@ -82,7 +82,7 @@ fn check_sing(summary: &serde_json::Value, rows: &[Row]) {
     }
     // Every commanded sample arrived: SING.I at 1 kHz is 28243 samples (the core's trajectory).
     let job = fiveaxis::job::run("bundled:SING.I", &fiveaxis::machine::Machine::hermle_c600u(), &Default::default()).unwrap();
-    assert_eq!(input(summary, CMD)["samples"], job.trajectory.samples.len() as u64);
+    assert_eq!(input(summary, CMD)["samples"], job.trajectory.sample_count() as u64);
     // The monitor's statuses on the commanded stream: the core's reference figures.
     let peak = rows.iter().filter(|r| r.topic == CMD).map(|r| r.predicted.abs()).fold(0.0, f64::max);
     assert!((peak - 175.0).abs() < 0.5, "peak {peak}");

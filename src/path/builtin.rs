@@ -159,6 +159,6 @@ impl BuiltinPath {
                 feed,
             });
         }
-        Ok(Trajectory { period: options.period, segments, samples, diagnostics: Vec::new() })
+        Ok(Trajectory { period: options.period, segments, stored: samples, diagnostics: Vec::new() })
     }
 }

@@ -61,48 +61,93 @@ pub struct Sample {
     pub feed: f64,
 }
 
-/// A sampled trajectory with the segments it came from.
+/// A trajectory: the segments of a program, sampled on demand at the period ([`Trajectory::samples`]).
 #[derive(Debug, Clone, Default)]
 pub struct Trajectory {
     pub period: f64,
     pub segments: Vec<Segment>,
-    pub samples: Vec<Sample>,
+    /// Samples held in memory: only a built-in continuous path has them (sampled from the path
+    /// itself); a program's are made from its segments as they are read, so that no consumer holds
+    /// one sample per period of an hours-long program.
+    pub stored: Vec<Sample>,
     /// Problems met while planning (unreachable poses, axes the machine lacks), with program lines.
     pub diagnostics: Vec<Diagnostic>,
 }
 
 impl Trajectory {
-    /// Plan and sample a program on a machine.
+    /// Plan a program on a machine (sampled on demand).
     pub fn from_program(program: &Program, machine: &Machine, options: &PathOptions) -> Trajectory {
         let (segments, diagnostics) = plan(program, machine, options);
-        let samples = sample_segments(&segments, machine, options.period);
-        Trajectory { period: options.period, segments, samples, diagnostics }
+        Trajectory { period: options.period, segments, stored: Vec::new(), diagnostics }
     }
 
     /// Total commanded duration, s.
     pub fn duration(&self) -> f64 {
         self.segments.last().map_or(0.0, |s| s.t0 + s.duration)
     }
+
+    /// The samples in time order, one at a time: on the global grid `t = k * period`, plus the end point.
+    pub fn samples<'a>(&'a self, machine: &'a Machine) -> Box<dyn Iterator<Item = Sample> + 'a> {
+        if !self.stored.is_empty() {
+            return Box::new(self.stored.iter().copied());
+        }
+        Box::new(SegmentSamples { segments: &self.segments, machine, period: self.period, i: 0, k: 0, ended: false })
+    }
+
+    /// How many samples [`Trajectory::samples`] yields, without making them.
+    pub fn sample_count(&self) -> usize {
+        if !self.stored.is_empty() {
+            return self.stored.len();
+        }
+        let t_end = self.duration();
+        if self.segments.is_empty() || !(self.period > 0.0) {
+            return 0;
+        }
+        // Grid points k * period < t_end, plus the end point.
+        let mut m = (t_end / self.period).ceil().max(0.0) as u64;
+        while m > 0 && (m - 1) as f64 * self.period >= t_end {
+            m -= 1;
+        }
+        while (m as f64) * self.period < t_end {
+            m += 1;
+        }
+        m as usize + 1
+    }
 }
 
-/// Sample segments on the global grid `t = k * period`, plus the final end point.
-pub fn sample_segments(segments: &[Segment], machine: &Machine, period: f64) -> Vec<Sample> {
-    let mut out = Vec::new();
-    let mut k: u64 = 0;
-    for (i, seg) in segments.iter().enumerate() {
-        let t_end = seg.t0 + seg.duration;
-        loop {
-            let t = k as f64 * period;
-            if t >= t_end {
-                break;
+/// Samples of segments on the global grid `t = k * period`, plus the final end point.
+struct SegmentSamples<'a> {
+    segments: &'a [Segment],
+    machine: &'a Machine,
+    period: f64,
+    i: usize,
+    k: u64,
+    ended: bool,
+}
+
+impl Iterator for SegmentSamples<'_> {
+    type Item = Sample;
+    fn next(&mut self) -> Option<Sample> {
+        while let Some(seg) = self.segments.get(self.i) {
+            let t = self.k as f64 * self.period;
+            if t >= seg.t0 + seg.duration {
+                self.i += 1;
+                continue;
             }
             let u = ((t - seg.t0) / seg.duration).clamp(0.0, 1.0);
-            out.push(seg.sample(i, u, t, machine));
-            k += 1;
+            self.k += 1;
+            return Some(seg.sample(self.i, u, t, self.machine));
         }
+        if self.ended {
+            return None;
+        }
+        self.ended = true;
+        let n = self.segments.len();
+        self.segments.last().map(|seg| seg.sample(n - 1, 1.0, seg.t0 + seg.duration, self.machine))
     }
-    if let Some(seg) = segments.last() {
-        out.push(seg.sample(segments.len() - 1, 1.0, seg.t0 + seg.duration, machine));
-    }
-    out
+}
+
+/// Sample segments on the global grid `t = k * period`, plus the final end point (all in memory).
+pub fn sample_segments(segments: &[Segment], machine: &Machine, period: f64) -> Vec<Sample> {
+    SegmentSamples { segments, machine, period, i: 0, k: 0, ended: false }.collect()
 }

@@ -1,4 +1,5 @@
-//! The whole-trajectory analysis: per-sample status, regions and a summary.
+//! The whole-trajectory analysis: per-sample status (seed 001 eq. 5, seed 002 eq. 5), regions and a
+//! summary, in one streaming pass over the samples.
 
 use super::{distance, on_pole, predicted_rate, FeedLimit, FeedLimiter, PathGeometry};
 use crate::machine::Machine;
@@ -67,6 +68,9 @@ pub struct Region {
     pub min_distance: f64,
     /// Lowest feed limit inside.
     pub min_feed_limit: Option<FeedLimit>,
+    /// Segments of the first and last sample inside.
+    pub first_segment: usize,
+    pub last_segment: usize,
 }
 
 /// The headline figures.
@@ -98,35 +102,34 @@ pub struct Summary {
 /// Everything the analysis found.
 #[derive(Debug, Clone)]
 pub struct Analysis {
-    pub statuses: Vec<Status>,
     pub regions: Vec<Region>,
     pub summary: Summary,
 }
 
-/// Analyze a sampled trajectory on a machine.
-pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) -> Analysis {
+/// Each sample of a trajectory with what it says about the singularity, in time order, one at a
+/// time (the samples are made from the segments as they are read).
+pub fn statuses<'a>(traj: &'a Trajectory, machine: &'a Machine) -> impl Iterator<Item = (Sample, Status)> + 'a {
     let sd = machine.singular_direction();
     let sec = machine.secondary_axis();
-    let sign = machine.chain.joints()[machine.chain.secondary_slot()].carrier;
-    let sign = match sign {
+    let sign = match machine.chain.joints()[machine.chain.secondary_slot()].carrier {
         crate::kinematics::Carrier::Table => -1.0,
         crate::kinematics::Carrier::Head => 1.0,
     };
-    let limits = machine.limits();
-    let limiter = FeedLimiter::new(&limits);
+    let limiter = FeedLimiter::new(&machine.limits());
     let geometry = PathGeometry::new(traj, machine);
-    let n = traj.samples.len();
-    let samples = &traj.samples;
-    let statuses: Vec<Status> = (0..n)
-        .map(|k| {
-            let sm = &samples[k];
-            let seg = &traj.segments[sm.segment];
-            let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
-            let dt = samples[b].t - samples[a].t;
-            let fd_rate = if dt > 0.0 { (samples[b].q[sec] - samples[a].q[sec]) / dt } else { 0.0 };
-            let feed_limit = geometry
-                .derivatives(sm.segment, sm.s)
-                .map(|(d1, d2, d3)| limiter.limit(sm.feed, &d1, &d2, &d3));
+    let mut samples = traj.samples(machine).peekable();
+    let mut prev: Option<Sample> = None;
+    std::iter::from_fn(move || {
+        let sm = samples.next()?;
+        let seg = &traj.segments[sm.segment];
+        // Central difference of the commanded secondary axis (one-sided at the ends).
+        let (a, b) = (prev.unwrap_or(sm), samples.peek().copied().unwrap_or(sm));
+        let dt = b.t - a.t;
+        let fd_rate = if dt > 0.0 { (b.q[sec] - a.q[sec]) / dt } else { 0.0 };
+        let feed_limit = geometry.derivatives(sm.segment, sm.s).map(|(d1, d2, d3)| limiter.limit(sm.feed, &d1, &d2, &d3));
+        prev = Some(sm);
+        Some((
+            sm,
             Status {
                 distance: distance(&sm.axis, &sd),
                 predicted_rate: sign * predicted_rate(&sm.axis, &sm.axis_rate, &sd),
@@ -135,16 +138,101 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
                 five_axis: seg.is_five_axis(),
                 on_pole: on_pole(&sm.axis, &sm.axis_rate, &sd),
                 rapid: seg.kind == crate::path::SegmentKind::Rapid,
+            },
+        ))
+    })
+}
+
+/// Analyze a trajectory on a machine in one pass over its samples: memory holds the segments and the
+/// regions, never the samples.
+pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) -> Analysis {
+    let sd = machine.singular_direction();
+    let limits = machine.limits();
+    let rate_limit = options.rate_limit.unwrap_or(limits[machine.secondary_axis()].velocity);
+    let mut regions: Vec<Region> = Vec::new();
+    let mut open: Option<Region> = None;
+    let mut peak = PeakTracker::default();
+    let mut singular_samples = 0;
+    let mut peak_fd: f64 = 0.0;
+    let mut min_d: Option<(f64, Vector3<f64>)> = None;
+    let mut min_all = f64::INFINITY;
+    let mut min_fl: Option<(FeedLimit, Vector3<f64>)> = None;
+    let mut last: Option<(Sample, Status)> = None;
+    let mut n = 0usize;
+    for (k, (sm, st)) in statuses(traj, machine).enumerate() {
+        n += 1;
+        // Regions: contiguous samples beyond the limits, entered and left at the interpolated crossing.
+        match (in_region(&st, rate_limit, options.min_distance), open.as_mut()) {
+            (Some(cause), Some(r)) => {
+                if cause != r.cause {
+                    r.cause = RegionCause::SpeedAndDistance;
+                }
+                r.grow(k, &sm, &st);
             }
-        })
-        .collect();
-    let rate_limit = options.rate_limit.unwrap_or(limits[sec].velocity);
-    let mut regions = find_regions(&traj.segments, samples, &statuses, rate_limit, options.min_distance);
+            (Some(cause), None) => {
+                let (t_start, tip_start) = match &last {
+                    Some((ps, pst)) => boundary(&traj.segments, ps, &sm, crossing(pst, &st, rate_limit)),
+                    None => (sm.t, sm.tip),
+                };
+                let mut r = Region::start(regions.len() + 1, cause, k, t_start, tip_start, &sm);
+                r.grow(k, &sm, &st);
+                open = Some(r);
+            }
+            (None, Some(_)) => {
+                let (ls, lst) = last.as_ref().expect("a region holds a sample");
+                let mut r = open.take().expect("open");
+                (r.t_end, r.tip_end) = boundary(&traj.segments, ls, &sm, 1.0 - crossing(&st, lst, rate_limit));
+                regions.push(r);
+            }
+            (None, None) => {}
+        }
+        // Summary.
+        peak.push(k, &sm, &st);
+        if st.on_pole {
+            singular_samples += 1;
+        }
+        peak_fd = peak_fd.max(st.fd_rate.abs());
+        min_all = min_all.min(st.distance);
+        if st.five_axis && min_d.is_none_or(|(d, _)| st.distance < d) {
+            min_d = Some((st.distance, sm.tip));
+        }
+        if let Some(fl) = st.feed_limit {
+            if min_fl.is_none_or(|(m, _)| fl.feed < m.feed) {
+                min_fl = Some((fl, sm.tip));
+            }
+        }
+        last = Some((sm, st));
+    }
+    if let (Some(mut r), Some((ls, _))) = (open.take(), &last) {
+        (r.t_end, r.tip_end) = (ls.t, ls.tip);
+        regions.push(r);
+    }
     for r in &mut regions {
-        let (a, b) = (&traj.segments[samples[r.first].segment], &traj.segments[samples[r.last].segment]);
+        let (a, b) = (&traj.segments[r.first_segment], &traj.segments[r.last_segment]);
         (r.line_start, r.block_start, r.line_end, r.block_end) = (a.line, a.number, b.line, b.number);
     }
-    let mut summary = summarize(traj, &statuses, rate_limit);
+    let (peak_rate, peak_tip, peak_line, peak_block) = match peak.best {
+        Some((v, _, segment)) => {
+            let seg = &traj.segments[segment];
+            (v, (peak.a_tip + peak.b_tip) / 2.0, seg.line, seg.number)
+        }
+        None => (0.0, Vector3::zeros(), 0, None),
+    };
+    let mut summary = Summary {
+        peak_rate,
+        peak_tip,
+        peak_line,
+        peak_block,
+        peak_fd_rate: peak_fd,
+        singular_samples,
+        min_distance: min_d.map(|(d, _)| d),
+        min_distance_tip: min_d.map(|(_, t)| t),
+        min_distance_all: if n == 0 { f64::NAN } else { min_all },
+        min_feed_limit: min_fl.map(|(f, _)| f),
+        min_feed_limit_tip: min_fl.map(|(_, t)| t),
+        rate_limit,
+        cycle_time: traj.duration(),
+    };
     // The programmed extremes lie at block ends, which the sample grid may miss by a fraction of a
     // period: take the closest approach over the five-axis moves' end points too.
     for seg in traj.segments.iter().filter(|s| s.is_five_axis()) {
@@ -157,7 +245,102 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
             summary.min_distance_all = summary.min_distance_all.min(d);
         }
     }
-    Analysis { statuses, regions, summary }
+    Analysis { regions, summary }
+}
+
+impl Region {
+    fn start(id: usize, cause: RegionCause, k: usize, t_start: f64, tip_start: Vector3<f64>, sm: &Sample) -> Region {
+        Region {
+            id,
+            cause,
+            first: k,
+            last: k,
+            t_start,
+            t_end: sm.t,
+            tip_start,
+            tip_end: sm.tip,
+            line_start: 0,
+            line_end: 0,
+            block_start: None,
+            block_end: None,
+            peak_rate: 0.0,
+            peak_tip: sm.tip,
+            min_distance: f64::INFINITY,
+            min_feed_limit: None,
+            first_segment: sm.segment,
+            last_segment: sm.segment,
+        }
+    }
+
+    /// Take sample `k` into the region: its peak (the last of equal peaks), closest approach and lowest
+    /// feed limit (the first of equal ones).
+    fn grow(&mut self, k: usize, sm: &Sample, st: &Status) {
+        self.last = k;
+        self.last_segment = sm.segment;
+        if st.predicted_rate.is_finite() && st.predicted_rate.abs() >= self.peak_rate {
+            self.peak_rate = st.predicted_rate.abs();
+            self.peak_tip = sm.tip;
+        }
+        self.min_distance = self.min_distance.min(st.distance);
+        if let Some(fl) = st.feed_limit {
+            if self.min_feed_limit.is_none_or(|m| fl.feed < m.feed) {
+                self.min_feed_limit = Some(fl);
+            }
+        }
+    }
+}
+
+/// The peak predicted rate over the path (rapids excluded) and the stretch around it within 0.1 % of
+/// it (its centre is where the peak is reported): streaming, keeping only the samples of the current
+/// run near the running maximum.
+#[derive(Debug, Default)]
+struct PeakTracker {
+    /// (|rate|, sample index, segment) of the first largest.
+    best: Option<(f64, usize, usize)>,
+    a_tip: Vector3<f64>,
+    b_tip: Vector3<f64>,
+    /// Still extending the stretch forward from the peak.
+    b_open: bool,
+    /// The trailing run of samples (|rate|, tip) that could belong to a later peak's stretch: within
+    /// 0.1 % below the running maximum or above it.
+    chain: std::collections::VecDeque<(f64, Vector3<f64>)>,
+}
+
+impl PeakTracker {
+    const NEAR: f64 = 1e-3;
+    const MAX_CHAIN: usize = 1 << 20;
+
+    fn push(&mut self, k: usize, sm: &Sample, st: &Status) {
+        let r = st.predicted_rate.abs();
+        let v = self.best.map_or(0.0, |b| b.0);
+        let near = |x: f64, v: f64| (x - v).abs() <= Self::NEAR * v;
+        if !st.rapid && (self.best.is_none() || r > v) {
+            // A new peak: its stretch reaches back over the trailing samples near it.
+            let mut a_tip = sm.tip;
+            for &(x, tip) in self.chain.iter().rev() {
+                if !near(x, r) {
+                    break;
+                }
+                a_tip = tip;
+            }
+            self.best = Some((r, k, sm.segment));
+            (self.a_tip, self.b_tip, self.b_open) = (a_tip, sm.tip, true);
+        } else if self.b_open && near(r, v) {
+            self.b_tip = sm.tip;
+        } else {
+            self.b_open = false;
+        }
+        // Keep the trailing run that a later, higher peak could extend back over.
+        let v = self.best.map_or(0.0, |b| b.0);
+        if r >= (1.0 - Self::NEAR) * v {
+            if self.chain.len() == Self::MAX_CHAIN {
+                self.chain.pop_front();
+            }
+            self.chain.push_back((r, sm.tip));
+        } else {
+            self.chain.clear();
+        }
+    }
 }
 
 fn in_region(s: &Status, rate_limit: f64, min_distance: Option<f64>) -> Option<RegionCause> {
@@ -195,129 +378,4 @@ fn boundary(segments: &[Segment], a: &Sample, b: &Sample, f: f64) -> (f64, Vecto
         }
     }
     (a.t + (b.t - a.t) * f, a.tip + (b.tip - a.tip) * f)
-}
-
-fn find_regions(segments: &[Segment], samples: &[Sample], statuses: &[Status], rate_limit: f64, min_distance: Option<f64>) -> Vec<Region> {
-    let mut regions = Vec::new();
-    let mut k = 0;
-    let n = statuses.len();
-    while k < n {
-        let Some(mut cause) = in_region(&statuses[k], rate_limit, min_distance) else {
-            k += 1;
-            continue;
-        };
-        let first = k;
-        while k + 1 < n {
-            match in_region(&statuses[k + 1], rate_limit, min_distance) {
-                Some(c) => {
-                    if c != cause {
-                        cause = RegionCause::SpeedAndDistance;
-                    }
-                    k += 1;
-                }
-                None => break,
-            }
-        }
-        let last = k;
-        let (t_start, tip_start) = if first > 0 {
-            boundary(segments, &samples[first - 1], &samples[first], crossing(&statuses[first - 1], &statuses[first], rate_limit))
-        } else {
-            (samples[first].t, samples[first].tip)
-        };
-        let (t_end, tip_end) = if last + 1 < n {
-            boundary(segments, &samples[last], &samples[last + 1], 1.0 - crossing(&statuses[last + 1], &statuses[last], rate_limit))
-        } else {
-            (samples[last].t, samples[last].tip)
-        };
-        let inside = first..=last;
-        let peak = inside
-            .clone()
-            .filter(|&i| statuses[i].predicted_rate.is_finite())
-            .max_by(|&a, &b| statuses[a].predicted_rate.abs().total_cmp(&statuses[b].predicted_rate.abs()));
-        let min_feed_limit = inside
-            .clone()
-            .filter_map(|i| statuses[i].feed_limit)
-            .min_by(|a, b| a.feed.total_cmp(&b.feed));
-        regions.push(Region {
-            id: regions.len() + 1,
-            cause,
-            first,
-            last,
-            t_start,
-            t_end,
-            tip_start,
-            tip_end,
-            line_start: 0,
-            line_end: 0,
-            block_start: None,
-            block_end: None,
-            peak_rate: peak.map_or(0.0, |p| statuses[p].predicted_rate.abs()),
-            peak_tip: peak.map_or(samples[first].tip, |p| samples[p].tip),
-            min_distance: inside.map(|i| statuses[i].distance).fold(f64::INFINITY, f64::min),
-            min_feed_limit,
-        });
-        k += 1;
-    }
-    regions
-}
-
-fn summarize(traj: &Trajectory, statuses: &[Status], rate_limit: f64) -> Summary {
-    let samples = &traj.samples;
-    let mut peak: Option<usize> = None;
-    let mut singular_samples = 0;
-    let mut peak_fd: f64 = 0.0;
-    let mut min_d: Option<(f64, usize)> = None;
-    let mut min_all = f64::INFINITY;
-    let mut min_fl: Option<(FeedLimit, usize)> = None;
-    for (k, s) in statuses.iter().enumerate() {
-        // The peak is the path's: rapids move the axes at their limits by definition.
-        if !s.rapid && peak.is_none_or(|p| s.predicted_rate.abs() > statuses[p].predicted_rate.abs()) {
-            peak = Some(k);
-        }
-        if s.on_pole {
-            singular_samples += 1;
-        }
-        peak_fd = peak_fd.max(s.fd_rate.abs());
-        min_all = min_all.min(s.distance);
-        if s.five_axis && min_d.is_none_or(|(d, _)| s.distance < d) {
-            min_d = Some((s.distance, k));
-        }
-        if let Some(fl) = s.feed_limit {
-            if min_fl.is_none_or(|(m, _)| fl.feed < m.feed) {
-                min_fl = Some((fl, k));
-            }
-        }
-    }
-    let (peak_rate, peak_tip, peak_line, peak_block) = match peak {
-        Some(p) => {
-            let v = statuses[p].predicted_rate.abs();
-            let near = |i: usize| (statuses[i].predicted_rate.abs() - v).abs() <= 1e-3 * v;
-            let (mut a, mut b) = (p, p);
-            while a > 0 && near(a - 1) {
-                a -= 1;
-            }
-            while b + 1 < statuses.len() && near(b + 1) {
-                b += 1;
-            }
-            let mid = (samples[a].tip + samples[b].tip) / 2.0;
-            let seg = &traj.segments[samples[p].segment];
-            (v, mid, seg.line, seg.number)
-        }
-        None => (0.0, Vector3::zeros(), 0, None),
-    };
-    Summary {
-        peak_rate,
-        peak_tip,
-        peak_line,
-        peak_block,
-        peak_fd_rate: peak_fd,
-        singular_samples,
-        min_distance: min_d.map(|(d, _)| d),
-        min_distance_tip: min_d.map(|(_, k)| samples[k].tip),
-        min_distance_all: if statuses.is_empty() { f64::NAN } else { min_all },
-        min_feed_limit: min_fl.map(|(f, _)| f),
-        min_feed_limit_tip: min_fl.map(|(_, k)| samples[k].tip),
-        rate_limit,
-        cycle_time: traj.duration(),
-    }
 }

@@ -12,7 +12,7 @@ mod geometry;
 pub mod measured;
 pub mod tracker;
 
-pub use analysis::{analyze, Analysis, AnalysisOptions, Region, RegionCause, Status, Summary};
+pub use analysis::{analyze, statuses, Analysis, AnalysisOptions, Region, RegionCause, Status, Summary};
 pub use feed::{feed_limit, FeedLimit, FeedLimiter, LimitKind};
 pub use geometry::{CubicSpline, PathGeometry, CORNER_DEG};
 

@@ -26,7 +26,7 @@ fn main() -> anyhow::Result<()> {
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
     let job = load_job(&args.stream, &machine);
-    let samples = job.trajectory.samples.len();
+    let samples = job.trajectory.sample_count();
     tracing::info!(program = %args.stream.program, samples, duration_s = job.trajectory.duration(), "commanded trajectory");
 
     let mut bus = Bus::new("fiveaxis_commander", &args.common)?;
