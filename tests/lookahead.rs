@@ -108,28 +108,3 @@ fn a_feed_typo_is_refused_with_its_place_inside_500_mb() {
     assert!(String::from_utf8_lossy(&help.stdout).contains("--max-program-hours"));
 }
 
-/// The paper's singular cut (seed 001 eq. 8-9, the continuous path) as CAM output every 0.01 mm and
-/// every 1 mm: the look-ahead blends through the dense blocks as through the coarse ones, so the two
-/// simulate within 5 % of each other (a planner stopping at each of the 5,000 dense blocks would take
-/// minutes).
-#[test]
-fn dense_and_coarse_cl_of_the_same_cut_simulate_alike() {
-    let path = fiveaxis::path::BuiltinPath::by_name("paper-sing").unwrap();
-    let cl = |step_mm: f64, name: &str| {
-        let n = (path.length_mm / step_mm).round() as usize;
-        let mut text = String::new();
-        for k in 0..=n {
-            let x = path.length_mm * k as f64 / n as f64;
-            let o = fiveaxis::path::paper_orientation(path.tilt_deg, x);
-            text.push_str(&format!("{x:.6} {} {} {:.10} {:.10} {:.10} {}\n", path.y_mm, path.z_mm, o.x, o.y, o.z, path.feed_mm_per_min));
-        }
-        let file = tmp(name);
-        std::fs::write(&file, text).unwrap();
-        file
-    };
-    let dense = cycle_time(&cl(0.01, "dense.cl"), None);
-    let coarse = cycle_time(&cl(1.0, "coarse.cl"), None);
-    assert!((dense / coarse - 1.0).abs() <= 0.05, "every 0.01 mm {dense:.3} s, every 1 mm {coarse:.3} s");
-    // Not trivially equal: the dense program follows the continuous path, the coarse one its chords.
-    assert!((dense - coarse).abs() > 1e-3, "{dense} {coarse}");
-}
