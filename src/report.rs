@@ -17,6 +17,13 @@ pub struct DiagnosticReport {
     pub message: String,
 }
 
+impl std::fmt::Display for DiagnosticReport {
+    /// `file:line:column: severity: message`, as compilers print them.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}:{}: {}: {}", self.file, self.line, self.column, self.severity, self.message)
+    }
+}
+
 /// One region, as reported.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct RegionReport {
@@ -224,8 +231,7 @@ impl AnalysisReport {
         } else {
             let _ = writeln!(o, "diagnostics {} errors, {} warnings:", self.errors, self.warnings);
             for d in &self.diagnostics {
-                let sev = if d.severity == Severity::Error { "error" } else { "warning" };
-                let _ = writeln!(o, "  {}:{}:{}: {sev}: {}", d.file, d.line, d.column, d.message);
+                let _ = writeln!(o, "  {d}");
             }
         }
         o

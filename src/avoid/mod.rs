@@ -101,7 +101,7 @@ pub fn figures(program: &Program, machine: &Machine, options: &JobOptions) -> Re
     f.max_limit_ratio = sim.planned_ratio;
     // Lowest feed on the feed moves, the planned stops (corners, the program's ends) excluded: the
     // same measure as `fiveaxis run` reports.
-    let states: Vec<crate::live::simulator::FeedSample> = sim.states_iter(&traj, machine).map(|s| (&s).into()).collect();
+    let states = sim.feed_samples(&traj, machine);
     let (lowest, _) = sim.lowest_path_feed(&traj, &states);
     let lowest = lowest * 60e3;
     f.min_cut_feed_mm_min = if lowest.is_finite() { lowest } else { f64::NAN };

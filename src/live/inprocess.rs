@@ -252,7 +252,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
 }
 
 fn simulated_report(traj: &Trajectory, machine: &Machine, sim: &Simulation, lost: u64, monitor: &Monitor) -> SimulatedReport {
-    let states: Vec<super::simulator::FeedSample> = sim.states_iter(traj, machine).map(|s| (&s).into()).collect();
+    let states = sim.feed_samples(traj, machine);
     let ratios = limit_ratios(&sim.q, sim.period, &machine.limits());
     let worst = ratios.iter().fold([0.0f64; 3], |m, r| [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]);
     let path_move = |k: usize| traj.segments.get(sim.segment[k]).is_some_and(|s| s.is_path_move() && s.kind != SegmentKind::Rapid);

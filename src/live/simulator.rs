@@ -152,6 +152,11 @@ impl Simulation {
         })
     }
 
+    /// What the feed figures need of every simulated state ([`Simulation::lowest_path_feed`], slow regions).
+    pub fn feed_samples(&self, traj: &Trajectory, machine: &Machine) -> Vec<FeedSample> {
+        self.states_iter(traj, machine).map(|s| (&s).into()).collect()
+    }
+
     /// The simulated states, in time order, all in memory.
     pub fn states(&self, traj: &Trajectory, machine: &Machine) -> Vec<AxisState> {
         self.states_iter(traj, machine).collect()

@@ -146,8 +146,3 @@ impl Iterator for SegmentSamples<'_> {
         self.segments.last().map(|seg| seg.sample(n - 1, 1.0, seg.t0 + seg.duration, self.machine))
     }
 }
-
-/// Sample segments on the global grid `t = k * period`, plus the final end point (all in memory).
-pub fn sample_segments(segments: &[Segment], machine: &Machine, period: f64) -> Vec<Sample> {
-    SegmentSamples { segments, machine, period, i: 0, k: 0, ended: false }.collect()
-}

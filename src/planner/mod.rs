@@ -25,4 +25,4 @@ mod profile;
 pub mod servo;
 
 pub use geometry::{PathModel, Run, CORNER_DEG};
-pub use profile::{limit_ratios, plan, plan_each, PlanConfig, Planned, PlannedSample, LOOKAHEAD_BLOCKS};
+pub use profile::{limit_ratios, plan_each, PlanConfig, Planned, PlannedSample, LOOKAHEAD_BLOCKS};

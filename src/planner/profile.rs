@@ -53,10 +53,9 @@ pub struct PlannedSample {
     pub q: Joints,
 }
 
-/// The planned set-points with what the check measured.
+/// What the check measured on the planned set-points.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Planned {
-    pub samples: Vec<PlannedSample>,
     /// Largest |v|/v_max, |a|/a_max and |j|/j_max over all axes and samples (finite differences at
     /// the sample period), after the last iteration.
     pub max_ratio: [f64; 3],
@@ -276,6 +275,25 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
             cap[r] = cap[r].min(x);
         }
         let floor = win.braking(v0, &limits);
+        // Lower the limit curve around every violation, over the stretch the filter mixes (the
+        // committed part before the window cannot change), never below the braking floor.
+        let ka_f = ka as f64 * h;
+        let lower = |cap: &mut Vec<f64>, raw: &[f64], v: &[f64], ratios: &[[f64; 3]], protected: usize| {
+            for (i, r) in ratios.iter().enumerate().skip(protected) {
+                let factor = [1.0 / r[0], 1.0 / r[1].sqrt(), 1.0 / r[2].cbrt()].into_iter().fold(1.0f64, f64::min);
+                if factor >= 1.0 {
+                    continue;
+                }
+                // Output i averages inputs i + 1 - w ..= i: lower them, with half a window each side.
+                let lo = raw[i.saturating_sub(w + w / 2).max(protected).min(raw.len() - 1)];
+                let hi = raw[(i + w / 2).min(raw.len() - 1)];
+                let a = (((lo - ka_f) / h).floor().max(1.0) as usize).min(cap.len() - 1);
+                let b = (((hi - ka_f) / h).ceil().max(1.0) as usize).min(cap.len() - 1);
+                for k in a..=b {
+                    cap[k] = cap[k].max(0.0).min(v[k].max(1e-12) * factor * 0.97).max(floor[k]);
+                }
+            }
+        };
         let mut it = 0;
         let mut best: Option<(f64, Plan)> = None;
         let mut first_len: Option<usize> = None;
@@ -315,31 +333,18 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
             let score = worst_all(&ratios[protected.min(checked)..checked]);
             let first_len = *first_len.get_or_insert(raw.len());
             let collapsing = raw.len() > 4 * first_len + 16;
-            let raw_now = raw.clone();
-            if best.as_ref().is_none_or(|b| score < b.0) {
-                best = Some((score, (raw, filtered, q, t, v.clone(), c, worst, cap.clone())));
+            let done = ok || collapsing || it == config.max_iterations || raw.is_empty();
+            // The limit curve this plan was made under, before it is lowered for the next.
+            let used = best.as_ref().is_none_or(|b| score < b.0).then(|| cap.clone());
+            if !done {
+                lower(&mut cap, &raw, &v, &ratios[..checked], protected);
             }
-            if ok || collapsing || it == config.max_iterations || raw_now.is_empty() {
+            if let Some(used) = used {
+                best = Some((score, (raw, filtered, q, t, v, c, worst, used)));
+            }
+            if done {
                 let (_, plan) = best.take().expect("a plan: the first iteration always sets one");
                 break plan;
-            }
-            let raw = &raw_now;
-            // Lower the limit curve around every violation, over the stretch the filter mixes (the
-            // committed part before the window cannot change).
-            let ka_f = ka as f64 * h;
-            for (i, r) in ratios[..checked].iter().enumerate().skip(protected) {
-                let factor = [1.0 / r[0], 1.0 / r[1].sqrt(), 1.0 / r[2].cbrt()].into_iter().fold(1.0f64, f64::min);
-                if factor >= 1.0 {
-                    continue;
-                }
-                // Output i averages inputs i + 1 - w ..= i: lower them, with half a window each side.
-                let lo = raw[i.saturating_sub(w + w / 2).max(protected).min(raw.len() - 1)];
-                let hi = raw[(i + w / 2).min(raw.len() - 1)];
-                let a = (((lo - ka_f) / h).floor().max(1.0) as usize).min(cap.len() - 1);
-                let b = (((hi - ka_f) / h).ceil().max(1.0) as usize).min(cap.len() - 1);
-                for k in a..=b {
-                    cap[k] = cap[k].max(0.0).min(v[k].max(1e-12) * factor * 0.97).max(floor[k]);
-                }
             }
             it += 1;
         };
@@ -389,7 +394,7 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
 }
 
 /// Plan the whole trajectory on `machine`, calling `emit` for each set-point in time order; returns
-/// what the check measured (without the set-points). Memory is bounded by the look-ahead window.
+/// what the check measured. Memory is bounded by the look-ahead window.
 pub fn plan_each(segments: &[Segment], machine: &Machine, config: &PlanConfig, mut emit: impl FnMut(PlannedSample)) -> Planned {
     let model = PathModel::new(segments);
     let limits = machine.limits();
@@ -418,13 +423,5 @@ pub fn plan_each(segments: &[Segment], machine: &Machine, config: &PlanConfig, m
         iterations = iterations.max(stats.iterations);
         t0 += stats.samples as f64 * config.period;
     }
-    Planned { samples: Vec::new(), max_ratio, iterations }
-}
-
-/// Plan the whole trajectory on `machine` (all set-points in memory; see [`plan_each`]).
-pub fn plan(segments: &[Segment], machine: &Machine, config: &PlanConfig) -> Planned {
-    let mut samples = Vec::new();
-    let mut planned = plan_each(segments, machine, config, |s| samples.push(s));
-    planned.samples = samples;
-    planned
+    Planned { max_ratio, iterations }
 }

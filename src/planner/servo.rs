@@ -50,20 +50,3 @@ impl Servo {
         (0..5).all(|i| (u[i] - self.y2[i]).abs() < if i < 3 { m } else { rad } && (u[i] - self.y1[i]).abs() < if i < 3 { m } else { rad })
     }
 }
-
-/// Run the set-points `q` (period `t`, at rest before the first) through the servo; continues after
-/// the last set-point until every axis is within 1 nm / 1 nrad of it.
-pub fn follow(q: &[Joints], t: f64, config: &ServoConfig) -> Vec<Joints> {
-    let Some(first) = q.first() else { return Vec::new() };
-    let mut servo = Servo::new(*first, t, config);
-    let mut out: Vec<Joints> = q.iter().map(|u| servo.step(u)).collect();
-    if let Some(last) = q.last() {
-        for _ in 0..100_000 {
-            if servo.in_position(last, 1e-9, 1e-9) {
-                break;
-            }
-            out.push(servo.step(last));
-        }
-    }
-    out
-}

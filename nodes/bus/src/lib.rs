@@ -163,14 +163,14 @@ pub fn load_job(args: &StreamArgs, machine: &fiveaxis::machine::Machine) -> five
         }
         Ok(job) if job.has_errors() => {
             for d in &job.report.diagnostics {
-                eprintln!("{}:{}:{}: {}: {}", d.file, d.line, d.column, if d.severity == fiveaxis::program::Severity::Error { "error" } else { "warning" }, d.message);
+                eprintln!("{d}");
             }
             eprintln!("error: {} has defects: refused (nothing published)", args.program);
             std::process::exit(EXIT_INPUT);
         }
         Ok(job) => {
             for d in &job.report.diagnostics {
-                tracing::warn!("{}:{}:{}: {}", d.file, d.line, d.column, d.message);
+                tracing::warn!("{d}");
             }
             job
         }
