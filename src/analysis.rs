@@ -43,6 +43,9 @@ pub struct RegionReport {
     pub x_end_mm: f64,
     pub block_start: i64,
     pub block_end: i64,
+    /// Program lines (0: unknown), for programs without block numbers.
+    pub line_start: u32,
+    pub line_end: u32,
     pub peak_c_speed_rpm: f64,
     /// The stream the region comes from, and the actual stream the feed figures come from.
     pub topic: String,
@@ -402,6 +405,8 @@ pub fn analyze_mcap_with_progress(
                         x_end_mm: r.x_end_mm,
                         block_start: r.block_start,
                         block_end: r.block_end,
+                        line_start: r.line_start,
+                        line_end: r.line_end,
                         peak_c_speed_rpm: r.peak_c_speed_rpm,
                         topic: s.topic.clone(),
                         actual_topic,
@@ -564,13 +569,6 @@ fn cause_name(c: Option<crate::singularity::tracker::Cause>) -> &'static str {
     }
 }
 
-/// Block numbers for people: `N340-N390`, or `no block numbers` where the stream has none.
-fn blocks(a: i64, b: i64) -> String {
-    match (a, b) {
-        (a, b) if a >= 0 && b >= 0 => format!("N{a}-N{b}"),
-        _ => "no block numbers".into(),
-    }
-}
 
 impl OfflineReport {
     /// JUnit XML: one test case per stream and check.
@@ -624,7 +622,7 @@ impl OfflineReport {
                     cause_name(Some(r.cause)),
                     r.x_start_mm,
                     r.x_end_mm,
-                    blocks(r.block_start, r.block_end),
+                    crate::report::block_span(r.block_start, r.block_end, r.line_start, r.line_end),
                     r.peak_c_speed_rpm,
                     r.min_path_feed_mm_per_min,
                     r.time_lost_s
@@ -636,7 +634,7 @@ impl OfflineReport {
                 (Some(f), Some(t), Some(a)) => format!(", {a}: feed down to {f:.0} mm/min, {t:.2} s lost"),
                 _ => String::new(),
             };
-            let _ = writeln!(o, "region     x {:.3} to {:.3} mm ({}, {}), peak C {:.1} rpm{feed}", r.x_start_mm, r.x_end_mm, blocks(r.block_start, r.block_end), cause_name(r.cause), r.peak_c_speed_rpm);
+            let _ = writeln!(o, "region     x {:.3} to {:.3} mm ({}, {}), peak C {:.1} rpm{feed}", r.x_start_mm, r.x_end_mm, crate::report::block_span(r.block_start, r.block_end, r.line_start, r.line_end), cause_name(r.cause), r.peak_c_speed_rpm);
         }
         if let Some(r) = &self.roughness {
             let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));

@@ -79,6 +79,8 @@ struct ProgramArgs {
     /// F0.01) is an error (exit 2) naming its line and column.
     #[arg(long = "max-program-hours", value_name = "HOURS", default_value_t = fiveaxis::path::MAX_PROGRAM_DURATION_S / 3600.0)]
     max_program_hours: f64,
+    #[command(flatten)]
+    m_codes: fiveaxis::program::MCodeArgs,
 }
 
 impl ProgramArgs {
@@ -95,7 +97,10 @@ impl ProgramArgs {
     }
 
     fn read_options(&self) -> ReadOptions {
-        ReadOptions { cl_feed_mm_per_min: self.feed_mm_per_min.unwrap_or(ReadOptions::default().cl_feed_mm_per_min) }
+        ReadOptions {
+            cl_feed_mm_per_min: self.feed_mm_per_min.unwrap_or(ReadOptions::default().cl_feed_mm_per_min),
+            m_codes: self.m_codes.m_codes.clone(),
+        }
     }
 }
 
@@ -160,6 +165,8 @@ struct OfflineArgs {
     /// The programmed feed of every feed move of a machine stream, mm/min (without --program).
     #[arg(long = "feed", value_name = "MM_PER_MIN")]
     feed_mm_per_min: Option<f64>,
+    #[command(flatten)]
+    m_codes: fiveaxis::program::MCodeArgs,
     /// Refuse a stream (exit 2) with more than this share of its samples rejected, percent.
     #[arg(long = "max-rejected-percent", default_value_t = 100.0 * fiveaxis::analysis::MAX_REJECTED_SHARE)]
     max_rejected_percent: f64,
@@ -410,7 +417,7 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
-    let feed_source = match job::feed_source(a.program.as_deref(), a.feed_mm_per_min, &machine) {
+    let feed_source = match job::feed_source(a.program.as_deref(), a.feed_mm_per_min, &machine, &a.m_codes.m_codes) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("fiveaxis: {e}");

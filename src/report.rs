@@ -210,10 +210,9 @@ impl AnalysisReport {
             let _ = writeln!(o, "regions where {c} speed > {:.1} rpm:", self.c_max_rpm);
             let _ = writeln!(o, "   #   x from     x to   blocks          peak rpm  min dist deg  min feed mm/min");
             for r in &self.regions {
-                let blocks = match (r.block_start, r.block_end) {
-                    (Some(a), Some(b)) => format!("N{a}-N{b}"),
-                    _ => format!("l{}-l{}", r.line_start, r.line_end),
-                };
+                let number = |b: Option<u64>| b.map_or(-1, |n| i64::try_from(n).unwrap_or(i64::MAX));
+                let line = |l: usize| u32::try_from(l).unwrap_or(u32::MAX);
+                let blocks = block_span(number(r.block_start), number(r.block_end), line(r.line_start), line(r.line_end));
                 let feed = match (r.min_feed_limit_mm_per_min, &r.limiting_axis) {
                     (Some(f), Some(a)) => format!("{f:.0} ({a})"),
                     (Some(f), None) => format!("{f:.0}"),
@@ -235,5 +234,16 @@ impl AnalysisReport {
             }
         }
         o
+    }
+}
+
+/// Blocks for people: `N340-N390` where the program numbers its blocks (`-1`: no number), else its
+/// lines `line 12-40` (`0`: unknown), else `no block numbers`. The one place every report names a
+/// stretch of a program.
+pub fn block_span(block_start: i64, block_end: i64, line_start: u32, line_end: u32) -> String {
+    match (block_start, block_end, line_start, line_end) {
+        (a, b, _, _) if a >= 0 && b >= 0 => format!("N{a}-N{b}"),
+        (_, _, a, b) if a > 0 && b > 0 => format!("line {a}-{b}"),
+        _ => "no block numbers".into(),
     }
 }

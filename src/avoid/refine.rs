@@ -78,6 +78,7 @@ pub fn semi_cylinder() -> Program {
                 number: None,
                 motion: if k == 0 { Motion::Rapid } else { Motion::Linear },
                 targets: Targets { x: Some(tip.x), y: Some(tip.y), z: Some(tip.z), tool_axis: Some([normal.x, normal.y, normal.z]), ..Default::default() },
+                arc: None,
                 feed: Some(crate::program::Feed { value_per_min: 1000.0, mode: crate::program::FeedMode::PerMinute }),
                 tcp: true,
                 datum: [0.0; 3],

@@ -96,6 +96,9 @@ pub struct SlowRegion {
     pub t_end_s: f64,
     pub block_start: i64,
     pub block_end: i64,
+    /// Program lines (0: unknown), for programs without block numbers.
+    pub line_start: u32,
+    pub line_end: u32,
     pub min_feed_mm_per_min: f64,
     /// True where the slow-down is the planned stop at a corner or at the program's ends, not an
     /// axis limit along the path.
@@ -280,8 +283,10 @@ fn simulated_report(traj: &Trajectory, machine: &Machine, sim: &Simulation, lost
             x_end_mm: states[end].x * 1e3,
             t_start_s: start as f64 * sim.period,
             t_end_s: end as f64 * sim.period,
-            block_start: states[start].block,
-            block_end: states[end].block,
+            block_start: states[start].block.into(),
+            block_end: states[end].block.into(),
+            line_start: states[start].line,
+            line_end: states[end].line,
             min_feed_mm_per_min: min * 60e3,
             at_stop,
         });
@@ -326,7 +331,7 @@ impl SimulatedReport {
             let _ = writeln!(o, "slow regions below 50 % of the programmed feed (besides {} planned stops):", self.slow_regions.len() - limit.len());
             let _ = writeln!(o, "     x from     x to   blocks          lowest mm/min");
             for r in limit {
-                let _ = writeln!(o, "   {:8.3} {:8.3}   N{}-N{:<9} {:10.0}", r.x_start_mm, r.x_end_mm, r.block_start, r.block_end, r.min_feed_mm_per_min);
+                let _ = writeln!(o, "   {:8.3} {:8.3}   {:<14} {:10.0}", r.x_start_mm, r.x_end_mm, crate::report::block_span(r.block_start, r.block_end, r.line_start, r.line_end), r.min_feed_mm_per_min);
             }
         }
         for r in &self.monitor_regions {

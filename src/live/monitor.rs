@@ -148,6 +148,9 @@ pub struct LiveRegion {
     pub x_end_mm: f64,
     pub block_start: i64,
     pub block_end: i64,
+    /// Program lines (0: unknown), for programs without block numbers.
+    pub line_start: u32,
+    pub line_end: u32,
     pub peak_c_speed_rpm: f64,
     pub min_path_feed_mm_per_min: f64,
     pub min_singularity_distance_deg: f64,
@@ -168,6 +171,8 @@ impl LiveRegion {
             x_end_mm: r.tip_end.x * 1e3,
             block_start: r.block_start,
             block_end: r.block_end,
+            line_start: r.line_start,
+            line_end: r.line_end,
             peak_c_speed_rpm: r.peak / rpm,
             min_path_feed_mm_per_min: r.min_path_feed / crate::units::MM_PER_MIN,
             min_singularity_distance_deg: r.min_distance.to_degrees(),
@@ -659,6 +664,7 @@ impl Monitor {
             dt: prev.map_or(0.0, |p| t - p.t),
             ds,
             block: st.block_number,
+            line: st.program_line,
         };
         let (verdict, closed) = input.tracker.push(&self.rule, &rule_sample);
         if let Some(r) = closed {
@@ -795,11 +801,12 @@ impl Monitor {
                     dt,
                     ds,
                     block: place.map_or(-1, |p| p.block),
+                    line: place.map_or(st.program_line, |p| p.line),
                 }
             }
             None => {
                 input.lagged = None;
-                RuleSample { t, s: m.s, tip: m.tip - offset, motion, predicted: None, distance: dist, path_feed: m.path_feed, programmed_feed: f_prog, dt: 0.0, ds: 0.0, block: place.map_or(-1, |p| p.block) }
+                RuleSample { t, s: m.s, tip: m.tip - offset, motion, predicted: None, distance: dist, path_feed: m.path_feed, programmed_feed: f_prog, dt: 0.0, ds: 0.0, block: place.map_or(-1, |p| p.block), line: place.map_or(st.program_line, |p| p.line) }
             }
         };
         let (verdict, closed) = input.tracker.push(&self.rule, &rule_sample);

@@ -170,11 +170,13 @@ pub struct FeedSample {
     pub path_feed: f64,
     pub programmed_feed: f64,
     pub x: f64,
-    pub block: i64,
+    /// Block number (-1 without; numbers beyond i32 are clamped) and program line (0: unknown).
+    pub block: i32,
+    pub line: u32,
 }
 
 impl From<&AxisState> for FeedSample {
     fn from(s: &AxisState) -> FeedSample {
-        FeedSample { path_feed: s.path_feed, programmed_feed: s.programmed_feed, x: s.tool_tip.x, block: s.block_number }
+        FeedSample { path_feed: s.path_feed, programmed_feed: s.programmed_feed, x: s.tool_tip.x, block: s.block_number.clamp(-1, i64::from(i32::MAX)) as i32, line: s.program_line }
     }
 }

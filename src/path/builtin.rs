@@ -73,6 +73,7 @@ impl BuiltinPath {
                         tool_axis: Some([p.axis.x, p.axis.y, p.axis.z]),
                         ..Default::default()
                     },
+                    arc: None,
                     feed: Some(crate::program::Feed { value_per_min: self.feed_mm_per_min, mode: crate::program::FeedMode::PerMinute }),
                     tcp: true,
                     datum: [0.0; 3],
@@ -131,6 +132,7 @@ impl BuiltinPath {
                 tip1: self.pose(x1).tip,
                 datum: Vector3::zeros(),
                 feed,
+                arc: None,
             });
             q0 = q1;
         }

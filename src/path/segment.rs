@@ -3,7 +3,7 @@
 use super::{PathOptions, Sample};
 use crate::kinematics::{Joints, Pose};
 use crate::machine::Machine;
-use crate::program::{Block, Diagnostic, FeedMode, Motion, Program, Severity};
+use crate::program::{ArcSpec, Block, Diagnostic, FeedMode, Motion, Program, Severity};
 use crate::units::{DEG_PER_MIN, MM_PER_MIN};
 use nalgebra::Vector3;
 
@@ -42,9 +42,125 @@ pub struct Segment {
     pub datum: Vector3<f64>,
     /// Programmed tool-tip feed, m/s (0 for rapid and rotary-only moves).
     pub feed: f64,
+    /// For a piece of a G02/G03 arc, its circle (program coordinates): the tool tip (TCPM) or the
+    /// linear machine axes (no TCPM) follow it instead of the line `tip0..tip1`.
+    pub arc: Option<Box<ArcPath>>,
+}
+
+/// A circular or helical arc: `p(u) = c + r(u) (cos th(u) e1 + sin th(u) e2) + h(u) n` for
+/// `u` in 0..1, with the angle `th`, the radius `r` and the height `h` along the normal linear in
+/// `u` (a spiral when the program's start and end radii differ within the reader's tolerance, as
+/// LinuxCNC runs it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArcPath {
+    /// Centre, with no component along `n`; `e1`, `e2`, `n` the plane's axes (`e1 x e2 = n`).
+    pub centre: Vector3<f64>,
+    pub e1: Vector3<f64>,
+    pub e2: Vector3<f64>,
+    pub n: Vector3<f64>,
+    /// Start angle from `e1` towards `e2` and signed sweep (positive: counter-clockwise, G03), rad.
+    pub theta0: f64,
+    pub sweep: f64,
+    pub r0: f64,
+    pub r1: f64,
+    pub h0: f64,
+    pub h1: f64,
+}
+
+/// Largest angle of one piece of an arc. The planners fit splines through piece ends: a natural
+/// cubic through points 5 deg apart on a circle of radius R departs from it by about R 1e-7.
+pub const ARC_PIECE_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
+
+impl ArcPath {
+    /// The arc of `spec` from `start` to `end` (program coordinates, m), counter-clockwise if `ccw`.
+    pub fn new(spec: &ArcSpec, ccw: bool, start: Vector3<f64>, end: Vector3<f64>) -> ArcPath {
+        let (a0, a1, an) = spec.plane.axes();
+        let unit = |k: usize| Vector3::from_fn(|i, _| if i == k { 1.0 } else { 0.0 });
+        let (e1, e2, n) = (unit(a0), unit(a1), unit(an));
+        let c = Vector3::from(spec.centre);
+        let centre = c - n * c.dot(&n);
+        let (ds, de) = (start - centre, end - centre);
+        let theta0 = ds.dot(&e2).atan2(ds.dot(&e1));
+        let theta1 = de.dot(&e2).atan2(de.dot(&e1));
+        let tau = std::f64::consts::TAU;
+        // Sweep in (0, 2 pi] counter-clockwise or [-2 pi, 0) clockwise: an end within 1e-9 rad of
+        // the start is a full circle.
+        let d = (theta1 - theta0).rem_euclid(tau);
+        let mut sweep = match ccw {
+            true if d < 1e-9 => tau,
+            true => d,
+            false if d > tau - 1e-9 => -tau,
+            false => d - tau,
+        };
+        sweep += if ccw { 1.0 } else { -1.0 } * tau * f64::from(spec.extra_turns);
+        let radial = |d: Vector3<f64>| d.dot(&e1).hypot(d.dot(&e2));
+        ArcPath { centre, e1, e2, n, theta0, sweep, r0: radial(ds), r1: radial(de), h0: start.dot(&n), h1: end.dot(&n) }
+    }
+
+    /// The point at fraction `u`.
+    pub fn point(&self, u: f64) -> Vector3<f64> {
+        let th = self.theta0 + self.sweep * u;
+        let r = self.r0 + (self.r1 - self.r0) * u;
+        self.centre + (self.e1 * th.cos() + self.e2 * th.sin()) * r + self.n * (self.h0 + (self.h1 - self.h0) * u)
+    }
+
+    /// Arc length (exact for a circle or helix; a spiral's by Simpson's rule).
+    pub fn length(&self) -> f64 {
+        let dh = self.h1 - self.h0;
+        if self.r0 == self.r1 {
+            return (self.r0 * self.sweep).hypot(dh);
+        }
+        let speed = |u: f64| {
+            let r = self.r0 + (self.r1 - self.r0) * u;
+            ((r * self.sweep).powi(2) + (self.r1 - self.r0).powi(2) + dh * dh).sqrt()
+        };
+        const N: usize = 64;
+        let h = 1.0 / N as f64;
+        (0..=N).map(|k| speed(k as f64 * h) * if k == 0 || k == N { 1.0 } else if k % 2 == 1 { 4.0 } else { 2.0 }).sum::<f64>() * h / 3.0
+    }
+
+    /// The part of the arc between fractions `ua` and `ub`.
+    pub fn piece(&self, ua: f64, ub: f64) -> ArcPath {
+        let lerp = |a: f64, b: f64, u: f64| a + (b - a) * u;
+        ArcPath {
+            theta0: self.theta0 + self.sweep * ua,
+            sweep: self.sweep * (ub - ua),
+            r0: lerp(self.r0, self.r1, ua),
+            r1: lerp(self.r0, self.r1, ub),
+            h0: lerp(self.h0, self.h1, ua),
+            h1: lerp(self.h0, self.h1, ub),
+            ..*self
+        }
+    }
+
+    /// How many pieces of at most [`ARC_PIECE_RAD`] the arc is cut into.
+    pub fn pieces(&self) -> usize {
+        ((self.sweep.abs() / ARC_PIECE_RAD).ceil() as usize).max(1)
+    }
 }
 
 impl Segment {
+    /// The programmed linear path at fraction `u`, program coordinates: the tool tip under TCPM,
+    /// the linear machine axes minus the datum without it (the arc for arc pieces, else the line).
+    fn linear_at(&self, u: f64) -> Vector3<f64> {
+        match &self.arc {
+            Some(arc) => arc.point(u),
+            None if self.kind == SegmentKind::Tcp => self.tip0 + (self.tip1 - self.tip0) * u,
+            None => {
+                let (a, b) = (Vector3::new(self.q0[0], self.q0[1], self.q0[2]), Vector3::new(self.q1[0], self.q1[1], self.q1[2]));
+                a + (b - a) * u - self.datum
+            }
+        }
+    }
+
+    /// Length of the linear machine axes' path (the arc's for an arc piece without TCPM), m.
+    pub fn linear_axes_length(&self) -> f64 {
+        match (&self.arc, self.kind) {
+            (Some(arc), SegmentKind::Axes) => arc.length(),
+            _ => ((self.q1[0] - self.q0[0]).powi(2) + (self.q1[1] - self.q0[1]).powi(2) + (self.q1[2] - self.q0[2]).powi(2)).sqrt(),
+        }
+    }
+
     /// True for a simultaneous five-axis feed move: the programmed linear motion (the tool tip under
     /// TCPM, the linear machine axes without it) and the rotary axes both move. A rotary-only move
     /// without TCPM (the table turning under a retracted tool) is positioning, not five-axis.
@@ -69,8 +185,12 @@ impl Segment {
         let rot = [lerp(self.q0[3], self.q1[3]), lerp(self.q0[4], self.q1[4])];
         match self.kind {
             SegmentKind::Tcp => {
-                let tip = self.tip0 + (self.tip1 - self.tip0) * u + self.datum;
+                let tip = self.linear_at(u) + self.datum;
                 let l = machine.chain.linear_for(&tip, &rot);
+                [l.x, l.y, l.z, rot[0], rot[1]]
+            }
+            SegmentKind::Axes if self.arc.is_some() => {
+                let l = self.linear_at(u) + self.datum;
                 [l.x, l.y, l.z, rot[0], rot[1]]
             }
             _ => std::array::from_fn(|i| lerp(self.q0[i], self.q1[i])),
@@ -83,7 +203,7 @@ impl Segment {
         let rot = [q[3], q[4]];
         let rate = [(self.q1[3] - self.q0[3]) / self.duration, (self.q1[4] - self.q0[4]) / self.duration];
         let tip = match self.kind {
-            SegmentKind::Tcp => self.tip0 + (self.tip1 - self.tip0) * u,
+            SegmentKind::Tcp => self.linear_at(u),
             _ => machine.forward(&q).tip - self.datum,
         };
         Sample {
@@ -106,8 +226,10 @@ fn diag(b: &Block, message: String) -> Diagnostic {
     Diagnostic { line: b.line, column: b.column, severity: Severity::Error, message }
 }
 
-/// Plan every motion block of `program` on `machine`, starting from all axes at zero.
-/// Blocks that cannot be run (an axis the machine lacks, an unreachable pose) are reported and skipped.
+/// Plan every motion block of `program` on `machine`, starting from all axes at zero (NC programs)
+/// or at the first pose (CL data, [`crate::program::Dialect::starts_at_first_pose`]). An arc block
+/// becomes pieces of at most [`ARC_PIECE_RAD`], each exact on the arc. Blocks that cannot be run (an
+/// axis the machine lacks, an unreachable pose) are reported and skipped.
 pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec<Segment>, Vec<Diagnostic>) {
     let mut segments = Vec::new();
     let mut diags = Vec::new();
@@ -116,8 +238,9 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
     let mut s = 0.0;
     let letters: [char; 2] = [3, 4].map(|i| machine.axes[i].name.chars().next().unwrap_or('?').to_ascii_uppercase());
     let mut first_orientation = true;
+    let mut at_start = program.dialect.starts_at_first_pose();
 
-    for (bi, b) in program.blocks.iter().enumerate() {
+    'blocks: for (bi, b) in program.blocks.iter().enumerate() {
         if b.targets.is_empty() {
             continue;
         }
@@ -167,121 +290,171 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
             q1 = [lin(0, b.targets.x), lin(1, b.targets.y), lin(2, b.targets.z), rot1[0], rot1[1]];
             tip1 = machine.forward(&q1).tip - datum;
         }
-        if let Some((i, _)) = q1.iter().enumerate().find(|(i, v)| !machine.axes[*i].limits.contains(**v)) {
-            let a = &machine.axes[i];
-            let (v, unit, f) = if i < 3 { (q1[i], "mm", 1e3) } else { (q1[i], "deg", 1f64.to_degrees()) };
-            diags.push(diag(
-                b,
-                format!(
-                    "axis {} would move to {:.3} {unit}, outside its range {:.3}..{:.3} {unit}: block skipped",
-                    a.name,
-                    v * f,
-                    a.limits.min * f,
-                    a.limits.max * f
-                ),
-            ));
+        if let Some(d) = out_of_range(b, machine, &q1) {
+            diags.push(d);
             continue;
         }
-        // Tool-tip length in the workpiece: a TCP move is a line; otherwise integrate along the move.
+        if at_start {
+            // CL data: the first pose is where the tool is; nothing moves to it.
+            at_start = false;
+            q = q1;
+            continue;
+        }
         let kind = match (b.motion, tcp) {
             (Motion::Rapid, _) => SegmentKind::Rapid,
-            (Motion::Linear, true) => SegmentKind::Tcp,
-            (Motion::Linear, false) => SegmentKind::Axes,
+            (_, true) => SegmentKind::Tcp,
+            (_, false) => SegmentKind::Axes,
         };
-        let mut seg = Segment {
-            kind,
-            block: bi,
-            line: b.line,
-            number: b.number,
-            t0: t,
-            duration: 0.0,
-            s0: s,
-            length: 0.0,
-            q0: q,
-            q1,
-            tip0,
-            tip1,
-            datum,
-            feed: 0.0,
-        };
-        seg.length = tip_length(&seg, machine);
-        let lin_len = ((q1[0] - q[0]).powi(2) + (q1[1] - q[1]).powi(2) + (q1[2] - q[2]).powi(2)).sqrt();
-        let rot_len = ((q1[3] - q[3]).powi(2) + (q1[4] - q[4]).powi(2)).sqrt();
-        let duration = match kind {
-            SegmentKind::Rapid => (0..5)
-                .map(|i| (q1[i] - q[i]).abs() / machine.axes[i].limits.velocity)
-                .fold(0.0, f64::max),
-            _ => {
-                let Some(feed) = b.feed else {
-                    diags.push(diag(b, "feed move without a feed: block skipped".into()));
-                    continue;
+        // The move's pieces: one for a line, arcs cut at most ARC_PIECE_RAD apart.
+        let arc = match (kind, &b.arc) {
+            (SegmentKind::Rapid, _) | (_, None) => None,
+            (_, Some(spec)) => {
+                let (start, end) = if tcp {
+                    (tip0, tip1)
+                } else {
+                    (Vector3::new(q[0], q[1], q[2]) - datum, Vector3::new(q1[0], q1[1], q1[2]) - datum)
                 };
-                match feed.mode {
-                    FeedMode::InverseTime => 60.0 / feed.value_per_min,
-                    FeedMode::PerMinute => {
-                        let path_len = if kind == SegmentKind::Tcp { seg.length } else { lin_len };
-                        // A tip move under 1 um that turns the rotaries is rounding in the program's
-                        // coordinates, not a path: it is a rotary move (F in deg/min).
-                        let rounding = path_len < MIN_PATH && rot_len > 1e-9;
-                        if path_len > 1e-9 && !rounding {
-                            let f = options.feed_override_mm_per_min.unwrap_or(feed.value_per_min) * MM_PER_MIN;
-                            seg.feed = seg.length / (path_len / f);
-                            path_len / f
-                        } else {
-                            // Rotary axes only: F is read in degrees per minute.
-                            rot_len / (feed.value_per_min * DEG_PER_MIN)
+                Some(ArcPath::new(spec, b.motion == Motion::ArcCcw, start, end))
+            }
+        };
+        let n_pieces = arc.as_ref().map_or(1, ArcPath::pieces);
+        let mut pieces = Vec::with_capacity(n_pieces);
+        for k in 0..n_pieces {
+            let (ua, ub) = (k as f64 / n_pieces as f64, (k + 1) as f64 / n_pieces as f64);
+            let Some(arc) = &arc else {
+                pieces.push((q, q1, tip0, tip1, None));
+                break;
+            };
+            let piece = arc.piece(ua, ub);
+            let at = |u: f64, p: Vector3<f64>| -> Joints {
+                let rot = [q[3] + (q1[3] - q[3]) * u, q[4] + (q1[4] - q[4]) * u];
+                let l = if tcp { machine.chain.linear_for(&(p + datum), &rot) } else { p + datum };
+                [l.x, l.y, l.z, rot[0], rot[1]]
+            };
+            let (pa, pb) = (arc.point(ua), arc.point(ub));
+            let (qa, qb) = (if k == 0 { q } else { at(ua, pa) }, if k + 1 == n_pieces { q1 } else { at(ub, pb) });
+            if let Some(d) = out_of_range(b, machine, &qb) {
+                diags.push(d);
+                continue 'blocks;
+            }
+            let tip_of = |qq: &Joints, p: Vector3<f64>| if tcp { p } else { machine.forward(qq).tip - datum };
+            pieces.push((qa, qb, tip_of(&qa, pa), tip_of(&qb, pb), Some(Box::new(piece))));
+        }
+        let n = pieces.len() as f64;
+        for (pq0, pq1, ptip0, ptip1, parc) in pieces {
+            let mut seg = Segment {
+                kind,
+                block: bi,
+                line: b.line,
+                number: b.number,
+                t0: t,
+                duration: 0.0,
+                s0: s,
+                length: 0.0,
+                q0: pq0,
+                q1: pq1,
+                tip0: ptip0,
+                tip1: ptip1,
+                datum,
+                feed: 0.0,
+                arc: parc,
+            };
+            seg.length = tip_length(&seg, machine);
+            let lin_len = seg.linear_axes_length();
+            let rot_len = ((pq1[3] - pq0[3]).powi(2) + (pq1[4] - pq0[4]).powi(2)).sqrt();
+            let duration = match kind {
+                SegmentKind::Rapid => (0..5)
+                    .map(|i| (pq1[i] - pq0[i]).abs() / machine.axes[i].limits.velocity)
+                    .fold(0.0, f64::max),
+                _ => {
+                    let Some(feed) = b.feed else {
+                        diags.push(diag(b, "feed move without a feed: block skipped".into()));
+                        continue 'blocks;
+                    };
+                    match feed.mode {
+                        // The block's time, shared evenly by its pieces (equal arc lengths).
+                        FeedMode::InverseTime => 60.0 / feed.value_per_min / n,
+                        FeedMode::PerMinute => {
+                            let path_len = if kind == SegmentKind::Tcp { seg.length } else { lin_len };
+                            // A tip move under 1 um that turns the rotaries is rounding in the program's
+                            // coordinates, not a path: it is a rotary move (F in deg/min).
+                            let rounding = path_len < MIN_PATH && rot_len > 1e-9;
+                            if path_len > 1e-9 && !rounding {
+                                let f = options.feed_override_mm_per_min.unwrap_or(feed.value_per_min) * MM_PER_MIN;
+                                seg.feed = seg.length / (path_len / f);
+                                path_len / f
+                            } else {
+                                // Rotary axes only: F is read in degrees per minute.
+                                rot_len / (feed.value_per_min * DEG_PER_MIN)
+                            }
                         }
                     }
                 }
-            }
-        };
-        if !(duration > 1e-12) {
-            continue; // nothing moves
-        }
-        if t + duration > options.max_duration_s {
-            let what = match (kind, b.feed) {
-                (SegmentKind::Rapid, _) => "this rapid move".to_string(),
-                (_, Some(f)) if f.mode == FeedMode::InverseTime => format!("this move (inverse-time F{})", f.value_per_min),
-                (_, Some(f)) => format!("this move (F{} over {:.3} mm)", options.feed_override_mm_per_min.unwrap_or(f.value_per_min), seg.length * 1e3),
-                (_, None) => "this move".to_string(),
             };
-            diags.push(diag(
-                b,
-                format!(
-                    "{what} takes {:.1} h and would make the program run {:.1} h, beyond the bound of {:.1} h: \
-                     a feed typo? planning stops here (raise the bound with --max-program-hours if the program is meant to run this long)",
-                    duration / 3600.0,
-                    (t + duration) / 3600.0,
-                    options.max_duration_s / 3600.0
-                ),
-            ));
-            break;
+            if !(duration > 1e-12) {
+                continue; // nothing moves
+            }
+            if t + duration > options.max_duration_s {
+                let what = match (kind, b.feed) {
+                    (SegmentKind::Rapid, _) => "this rapid move".to_string(),
+                    (_, Some(f)) if f.mode == FeedMode::InverseTime => format!("this move (inverse-time F{})", f.value_per_min),
+                    (_, Some(f)) => format!("this move (F{} over {:.3} mm)", options.feed_override_mm_per_min.unwrap_or(f.value_per_min), seg.length * n * 1e3),
+                    (_, None) => "this move".to_string(),
+                };
+                diags.push(diag(
+                    b,
+                    format!(
+                        "{what} takes {:.1} h and would make the program run {:.1} h, beyond the bound of {:.1} h: \
+                         a feed typo? planning stops here (raise the bound with --max-program-hours if the program is meant to run this long)",
+                        duration * n / 3600.0,
+                        (t + duration * n) / 3600.0,
+                        options.max_duration_s / 3600.0
+                    ),
+                ));
+                break 'blocks;
+            }
+            if seg.feed == 0.0 {
+                // Rapid, inverse-time and rotary-only moves: the tool-tip speed they result in.
+                seg.feed = seg.length / duration;
+            }
+            seg.duration = duration;
+            t += duration;
+            s += seg.length;
+            q = pq1;
+            segments.push(seg);
         }
-        if seg.feed == 0.0 {
-            // Rapid, inverse-time and rotary-only moves: the tool-tip speed they result in.
-            seg.feed = seg.length / duration;
-        }
-        seg.duration = duration;
-        t += duration;
-        s += seg.length;
-        q = q1;
-        segments.push(seg);
     }
     (segments, diags)
+}
+
+/// The error for a block whose end (or arc point) `q` lies outside an axis range, if it does.
+fn out_of_range(b: &Block, machine: &Machine, q: &Joints) -> Option<Diagnostic> {
+    let (i, _) = q.iter().enumerate().find(|(i, v)| !machine.axes[*i].limits.contains(**v))?;
+    let a = &machine.axes[i];
+    let (unit, f) = if i < 3 { ("mm", 1e3) } else { ("deg", 1f64.to_degrees()) };
+    Some(diag(
+        b,
+        format!(
+            "axis {} would move to {:.3} {unit}, outside its range {:.3}..{:.3} {unit}: block skipped",
+            a.name,
+            q[i] * f,
+            a.limits.min * f,
+            a.limits.max * f
+        ),
+    ))
 }
 
 /// Tool-tip path length of a segment in the workpiece frame (exact for TCP moves, else integrated).
 fn tip_length(seg: &Segment, machine: &Machine) -> f64 {
     if seg.kind == SegmentKind::Tcp {
-        return (seg.tip1 - seg.tip0).norm();
+        return seg.arc.as_ref().map_or_else(|| (seg.tip1 - seg.tip0).norm(), |a| a.length());
     }
     const N: usize = 64;
     let mut len = 0.0;
     let mut prev = machine.forward(&seg.q0).tip;
     for k in 1..=N {
         let u = k as f64 / N as f64;
-        let q: Joints = std::array::from_fn(|i| seg.q0[i] + (seg.q1[i] - seg.q0[i]) * u);
-        let p = machine.forward(&q).tip;
+        let p = machine.forward(&seg.joints_at(u, machine)).tip;
         len += (p - prev).norm();
         prev = p;
     }

@@ -85,6 +85,7 @@ pub fn read_cl(text: &str, feed_mm_per_min: f64) -> Program {
                 tool_axis: Some([v[3] / norm, v[4] / norm, v[5] / norm]),
                 ..Targets::default()
             },
+            arc: None,
             feed: Some(Feed { value_per_min: feed, mode: FeedMode::PerMinute }),
             tcp: true,
             datum: [0.0; 3],

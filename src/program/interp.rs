@@ -2,7 +2,7 @@
 //! [`Block`] out. A block with a semantic defect changes no modal state and yields no block.
 
 use super::lex::Diags;
-use super::{Block, Dialect, Feed, FeedMode, Motion, Targets};
+use super::{ArcSpec, Block, Dialect, Feed, FeedMode, MCodeAction, MCodeRule, Motion, Plane, Targets};
 use crate::units::{DEG, INCH, MM};
 
 /// One address word with a valid number.
@@ -28,6 +28,11 @@ pub struct Interpreter {
     feed_mode: FeedMode,
     tcp: bool,
     datum: [f64; 3],
+    /// Arc plane (G17/G18/G19) and whether I J K are absolute (G90.1) or from the start (G91.1).
+    plane: Plane,
+    arc_absolute: bool,
+    /// Machine-specific M codes and what they do (`--m-code`).
+    m_codes: Vec<MCodeRule>,
     /// Last programmed absolute value of X Y Z A B C (SI).
     last: [f64; 6],
 }
@@ -45,8 +50,17 @@ impl Interpreter {
             feed_mode: FeedMode::PerMinute,
             tcp: false,
             datum: [0.0; 3],
+            plane: Plane::Xy,
+            arc_absolute: false,
+            m_codes: Vec::new(),
             last: [0.0; 6],
         }
+    }
+
+    /// Read these machine-specific M codes as told (LinuxCNC remaps such as M428).
+    pub fn with_m_codes(mut self, rules: &[MCodeRule]) -> Self {
+        self.m_codes = rules.to_vec();
+        self
     }
 
     /// Set the program's length unit (Heidenhain header G70/G71).
@@ -71,23 +85,37 @@ impl Interpreter {
         let heid = self.dialect == Dialect::Heidenhain;
 
         // Modal G codes and M codes first: they govern how the axis words of this block are read.
+        // A code that changes the motion and is not modelled is an error (fail closed), never skipped.
+        let mut uses: Vec<char> = Vec::new(); // letters besides axes that a code of this block takes
+        let mut g10 = false;
         for w in words {
             match w.letter {
                 'G' => {
                     let code = w.raw.trim_start_matches('+');
                     let code = code.trim_start_matches('0');
                     let code = if code.is_empty() || code.starts_with('.') { format!("0{code}") } else { code.to_string() };
+                    let unsupported = |diags: &mut Diags, what: &str| {
+                        diags.error(line, w.column, format!("G{} ({what}) is not supported: it changes the motion", w.raw))
+                    };
                     match (code.as_str(), heid) {
                         ("0", _) => next.motion = Some(Motion::Rapid),
                         ("1", _) => next.motion = Some(Motion::Linear),
-                        ("2" | "3" | "5" | "6", _) => diags.error(
+                        ("2", false) => next.motion = Some(Motion::ArcCw),
+                        ("3", false) => next.motion = Some(Motion::ArcCcw),
+                        ("2" | "3" | "5" | "6", true) => diags.error(
                             line,
                             w.column,
-                            format!("G{} (circular or spline motion) is not supported: expected G00 or G01", w.raw),
+                            format!("G{} (circular motion) is not supported in Heidenhain DIN/ISO yet: expected G00 or G01", w.raw),
                         ),
-                        ("17" | "18" | "19" | "40" | "80", _) => {}
+                        ("17", _) => next.plane = Plane::Xy,
+                        ("18", _) => next.plane = Plane::Zx,
+                        ("19", _) => next.plane = Plane::Yz,
+                        // Cutter compensation off, canned cycle cancel: no motion of their own.
+                        ("40" | "80", _) => {}
                         ("90", _) => next.absolute = true,
                         ("91", _) => next.absolute = false,
+                        ("90.1", false) => next.arc_absolute = true,
+                        ("91.1", false) => next.arc_absolute = false,
                         ("70", true) | ("20", false) => next.unit = INCH,
                         ("71", true) | ("21", false) => next.unit = MM,
                         ("54", true) => datum_block = true,
@@ -97,17 +125,51 @@ impl Interpreter {
                             w.column,
                             format!("G{}: work offsets are not modelled; coordinates are read as written", w.raw),
                         ),
+                        ("53", false) => diags.warning(
+                            line,
+                            w.column,
+                            "G53: work offsets are not modelled (G54 is taken as zero), so machine coordinates are read as program coordinates",
+                        ),
+                        ("10", false) => g10 = true,
+                        ("92.1" | "92.2", false) => {} // cancel G92 offsets: none are modelled
                         ("93", false) => next.feed_mode = FeedMode::InverseTime,
                         ("94", false) => next.feed_mode = FeedMode::PerMinute,
                         ("95", false) => diags.error(line, w.column, "G95 (feed per revolution) is not supported: expected G93 or G94"),
-                        ("43.4", false) => next.tcp = true,
+                        ("43.4", false) => {
+                            next.tcp = true;
+                            uses.push('H');
+                        }
                         ("49", false) => next.tcp = false,
-                        ("43" | "61" | "61.1" | "64", false) => diags.warning(
+                        ("43", false) => {
+                            uses.push('H');
+                            diags.warning(
+                                line,
+                                w.column,
+                                "G43 tool length offset: the tool length is the machine file's (tool_tip_mm), not the tool table's; \
+                                 on a table-table machine it only shifts Z by a constant",
+                            )
+                        }
+                        ("64", false) => uses.extend(['P', 'Q']), // blending within a tolerance: what the planner does
+                        ("4", false) => {
+                            uses.push('P');
+                            diags.warning(line, w.column, "G4 dwell: the pause is not timed (no motion)");
+                        }
+                        ("61" | "61.1", false) => unsupported(diags, "exact stop mode: the planner blends blocks as G64 does"),
+                        ("41" | "42" | "41.1" | "42.1", false) => unsupported(diags, "cutter radius compensation"),
+                        ("43.1" | "43.2", false) => unsupported(diags, "dynamic tool length offset"),
+                        ("43.5", false) => unsupported(diags, "tool-centre point with a tool vector I J K"),
+                        ("68" | "68.2" | "68.3" | "68.4" | "69" | "53.1" | "53.6", false) => unsupported(diags, "coordinate rotation or tilted working plane"),
+                        ("5" | "5.1" | "5.2" | "5.3" | "6.2", false) => unsupported(diags, "spline or NURBS motion"),
+                        ("28" | "28.1" | "30" | "30.1", false) => unsupported(diags, "move to a stored position"),
+                        ("33" | "33.1" | "76" | "38.2" | "38.3" | "38.4" | "38.5", false) => unsupported(diags, "threading or probing"),
+                        ("73" | "74" | "81" | "82" | "83" | "84" | "85" | "86" | "87" | "88" | "89", false) => unsupported(diags, "canned cycle"),
+                        ("92" | "92.3", false) => unsupported(diags, "coordinate system offset"),
+                        ("7" | "8" | "50" | "51" | "52", false) => unsupported(diags, "diameter mode, scaling or local offset"),
+                        _ => diags.error(
                             line,
                             w.column,
-                            format!("G{} is not modelled and was ignored", w.raw),
+                            format!("unknown G code G{}: not read (it may change the motion)", w.raw),
                         ),
-                        _ => diags.warning(line, w.column, format!("unsupported G code G{} ignored", w.raw)),
                     }
                 }
                 'M' => {
@@ -116,12 +178,27 @@ impl Interpreter {
                         diags.error(line, w.column, format!("M{}: expected a whole M code number", w.raw));
                         continue;
                     }
-                    match (code, heid) {
-                        (128, true) => next.tcp = true,
-                        (129, true) => next.tcp = false,
-                        (0..=9 | 13 | 14 | 30, _) | (126 | 127, true) | (60, false) => {}
-                        (_, true) => diags.warning(line, w.column, format!("unknown M code M{} kept as an event", w.raw)),
-                        (_, false) => {}
+                    let rule = self.m_codes.iter().find(|r| i64::from(r.code) == code).map(|r| r.action);
+                    match (rule, code, heid) {
+                        (Some(MCodeAction::TcpOn), _, _) => next.tcp = true,
+                        (Some(MCodeAction::TcpOff), _, _) => next.tcp = false,
+                        (Some(MCodeAction::Event), _, _) => {}
+                        (None, 128, true) => next.tcp = true,
+                        (None, 129, true) => next.tcp = false,
+                        (None, 0..=9 | 13 | 14 | 30, _) | (None, 126 | 127, true) => {}
+                        (None, _, true) => diags.warning(line, w.column, format!("unknown M code M{} kept as an event", w.raw)),
+                        // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O.
+                        (None, 19 | 48..=53 | 60..=68, false) => {}
+                        (None, _, false) => diags.error(
+                            line,
+                            w.column,
+                            format!(
+                                "M{} is not an RS274NGC M code: a machine-specific one (LinuxCNC user M100-M199 or a remap) \
+                                 whose effect is unknown; say what it does with --m-code {}=tcp-on|tcp-off|event \
+                                 (LinuxCNC's vismach five-axis demos: 428=tcp-on, 429=tcp-off)",
+                                w.raw, code
+                            ),
+                        ),
                     }
                     events.push(format!("M{}", w.raw));
                 }
@@ -129,11 +206,44 @@ impl Interpreter {
                 'F' => feed_word = Some(w),
                 'N' => {}
                 c if AXIS_LETTERS.contains(&c) => {}
-                _ => diags.warning(
+                'I' | 'J' | 'K' | 'R' | 'P' | 'Q' | 'H' | 'L' if !heid => {} // checked below, with the codes that take them
+                _ => diags.error(
                     line,
                     w.column,
-                    format!("unsupported word {}{} ignored", w.letter, w.raw),
+                    format!("unsupported word {}{}: not read (it may change the motion)", w.letter, w.raw),
                 ),
+            }
+        }
+        if g10 {
+            // G10 L2 P1 with every value zero sets the G54 offsets to zero, as this reader assumes
+            // them; any other offset table write would move the program.
+            let zero = words.iter().filter(|w| AXIS_LETTERS.contains(&w.letter)).all(|w| w.value == 0.0);
+            let l2 = words.iter().any(|w| w.letter == 'L' && w.value == 2.0);
+            let p1 = words.iter().any(|w| w.letter == 'P' && w.value == 1.0);
+            if !(zero && l2 && p1) {
+                diags.error(line, column, "G10 offset table write is not supported (only G10 L2 P1 with all values zero, the offsets this reader assumes)");
+            }
+            let errors_after = diags.0.iter().filter(|d| d.severity == super::Severity::Error).count();
+            if errors_after > errors_before {
+                return None;
+            }
+            *self = next;
+            return Some(Block { line, column, number, motion: self.motion.unwrap_or(Motion::Linear), targets: Targets::default(), arc: None, feed: None, tcp: self.tcp, datum: self.datum, events: vec!["G10 L2 P1 (zero)".into()] });
+        }
+        let arc_motion = next.motion.is_some_and(Motion::is_arc);
+        if !heid {
+            for w in words {
+                let ok = match w.letter {
+                    'I' | 'J' | 'K' | 'R' => arc_motion,
+                    'P' => arc_motion || uses.contains(&'P'),
+                    'Q' | 'H' => uses.contains(&w.letter),
+                    'L' => false,
+                    _ => true,
+                };
+                if !ok {
+                    let hint = if "IJK".contains(w.letter) { " (a tool vector? G43.5 is not supported)" } else { "" };
+                    diags.error(line, w.column, format!("word {}{} without a G code that takes it: not read{hint}", w.letter, w.raw));
+                }
             }
         }
 
@@ -179,7 +289,17 @@ impl Interpreter {
         if moves && next.motion.is_none() {
             diags.error(line, column, "axis words without a motion mode: expected G00 or G01 first");
         }
-        if moves && next.motion == Some(Motion::Linear) {
+        let mut arc = None;
+        if arc_motion && !heid {
+            if moves {
+                let start = [self.last[0], self.last[1], self.last[2]];
+                let end = [next.last[0], next.last[1], next.last[2]];
+                arc = resolve_arc(words, &next, start, end, line, column, diags);
+            } else if words.iter().any(|w| "IJKRP".contains(w.letter)) {
+                diags.error(line, column, "arc words without an end point: expected X, Y or Z with them");
+            }
+        }
+        if moves && next.motion.is_some_and(|m| m == Motion::Linear || m.is_arc()) {
             match next.feed_mode {
                 FeedMode::PerMinute if next.feed.is_none() => {
                     diags.error(line, column, "G01 move without a feed: expected an F word before or in this block")
@@ -201,10 +321,98 @@ impl Interpreter {
             number,
             motion: self.motion.unwrap_or(Motion::Linear),
             targets,
+            arc,
             feed: self.feed.map(|value_per_min| Feed { value_per_min, mode: self.feed_mode }),
             tcp: self.tcp,
             datum: self.datum,
             events,
         })
     }
+}
+
+/// How far the radius to an arc's end may differ from the radius to its start: LinuxCNC's default
+/// `[RS274NGC]CENTER_ARC_RADIUS_TOLERANCE_INCH` 0.00005 in (0.00127 mm); within it the control runs a
+/// spiral (the radius changes evenly along the arc), beyond it the block is refused.
+pub const ARC_RADIUS_TOLERANCE: f64 = 0.00005 * INCH;
+
+/// The circle of a G02/G03 block from its I J K (centre) or R (radius) words (RS274/NGC 3 §3.5.3),
+/// `start`/`end` the block's start and end point (program coordinates, m). Defects go to `diags`.
+fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3], line: usize, column: usize, diags: &mut Diags) -> Option<ArcSpec> {
+    let (a0, a1, an) = st.plane.axes();
+    let g = if st.motion == Some(Motion::ArcCw) { "G02" } else { "G03" };
+    let offset_letter = ['I', 'J', 'K'];
+    let word = |l: char| words.iter().find(|w| w.letter == l);
+    if let Some(w) = word(offset_letter[an]) {
+        diags.error(line, w.column, format!("{}{}: not an arc-centre word in the {:?} plane (G17/G18/G19)", w.letter, w.raw, st.plane));
+        return None;
+    }
+    let extra_turns = match word('P') {
+        None => 0,
+        Some(w) if w.value.fract() == 0.0 && (1.0..=1000.0).contains(&w.value) => w.value as u32 - 1,
+        Some(w) => {
+            diags.error(line, w.column, format!("P{}: expected a whole number of turns, 1 to 1000", w.raw));
+            return None;
+        }
+    };
+    let (u0, v0, u1, v1) = (start[a0], start[a1], end[a0], end[a1]);
+    let mut centre = start;
+    match (word('R'), word(offset_letter[a0]).or(word(offset_letter[a1]))) {
+        (Some(r), Some(_)) => {
+            diags.error(line, r.column, format!("{g} with both R and a centre (I J K): expected one of them"));
+            return None;
+        }
+        (None, None) => {
+            diags.error(line, column, format!("{g} without a centre (I J K) or a radius (R)"));
+            return None;
+        }
+        (None, Some(_)) => {
+            for k in [a0, a1] {
+                if let Some(w) = word(offset_letter[k]) {
+                    let v = w.value * st.unit;
+                    centre[k] = if st.arc_absolute { v } else { start[k] + v };
+                }
+            }
+            let r0 = (u0 - centre[a0]).hypot(v0 - centre[a1]);
+            let r1 = (u1 - centre[a0]).hypot(v1 - centre[a1]);
+            if r0 < 0.1 * ARC_RADIUS_TOLERANCE || r1 < 0.1 * ARC_RADIUS_TOLERANCE {
+                diags.error(line, column, format!("{g}: zero-radius arc (the centre is on its start or end point)"));
+                return None;
+            }
+            if (r0 - r1).abs() > ARC_RADIUS_TOLERANCE {
+                diags.error(
+                    line,
+                    column,
+                    format!(
+                        "{g}: the radius to the end ({:.4} mm) differs from the radius to the start ({:.4} mm) by more than {:.5} mm",
+                        r1 / MM,
+                        r0 / MM,
+                        ARC_RADIUS_TOLERANCE / MM
+                    ),
+                );
+                return None;
+            }
+        }
+        (Some(r), None) => {
+            let radius = r.value * st.unit;
+            let half = 0.5 * (u1 - u0).hypot(v1 - v0);
+            if half == 0.0 {
+                diags.error(line, r.column, format!("{g} R{}: the end point is the start point, so R gives no centre (a full circle needs I J K)", r.raw));
+                return None;
+            }
+            if !(radius.abs() > 0.0) || half - radius.abs() > ARC_RADIUS_TOLERANCE {
+                diags.error(line, r.column, format!("{g} R{}: the radius is too small to reach the end point ({:.4} mm away)", r.raw, 2.0 * half / MM));
+                return None;
+            }
+            let h = (radius * radius - half * half).max(0.0).sqrt();
+            // Centre on the left of the chord (turning from the plane's first axis towards its
+            // second) for a short counter-clockwise arc; the other side for clockwise, and again for
+            // R < 0 (longer than a semicircle).
+            let (du, dv) = ((u1 - u0) / (2.0 * half), (v1 - v0) / (2.0 * half));
+            let ccw = st.motion == Some(Motion::ArcCcw);
+            let side = if ccw == (radius > 0.0) { 1.0 } else { -1.0 };
+            centre[a0] = 0.5 * (u0 + u1) - side * h * dv;
+            centre[a1] = 0.5 * (v0 + v1) + side * h * du;
+        }
+    }
+    Some(ArcSpec { plane: st.plane, centre, extra_turns })
 }

@@ -30,6 +30,12 @@ pub enum Dialect {
 }
 
 impl Dialect {
+    /// True if a program in this dialect starts at its first pose (CL data: the first line is where
+    /// the tool is), false if its first move starts from the machine's home (NC programs).
+    pub fn starts_at_first_pose(self) -> bool {
+        self == Dialect::Cl
+    }
+
     /// Guess the dialect from the file name, then from the text.
     pub fn detect(path: Option<&Path>, text: &str) -> Dialect {
         let ext = path
@@ -67,6 +73,55 @@ pub enum Motion {
     Rapid,
     /// G01: straight line at the programmed feed.
     Linear,
+    /// G02: circular (helical) arc, clockwise seen from the positive end of the plane's normal axis.
+    #[serde(rename = "arc_cw")]
+    ArcCw,
+    /// G03: counter-clockwise arc.
+    #[serde(rename = "arc_ccw")]
+    ArcCcw,
+}
+
+impl Motion {
+    /// True for G02/G03.
+    pub fn is_arc(self) -> bool {
+        matches!(self, Motion::ArcCw | Motion::ArcCcw)
+    }
+}
+
+/// The plane of circular interpolation (G17/G18/G19), named by its two axes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Plane {
+    /// G17: X Y, normal Z.
+    #[default]
+    Xy,
+    /// G18: Z X, normal Y.
+    Zx,
+    /// G19: Y Z, normal X.
+    Yz,
+}
+
+impl Plane {
+    /// Indices (0 = X, 1 = Y, 2 = Z) of the plane's first and second axis and of its normal:
+    /// `first x second = normal`, so a positive turn (counter-clockwise seen from the normal's
+    /// positive end, G03) goes from the first axis towards the second (RS274/NGC 3 §3.5.3).
+    pub fn axes(self) -> (usize, usize, usize) {
+        match self {
+            Plane::Xy => (0, 1, 2),
+            Plane::Zx => (2, 0, 1),
+            Plane::Yz => (1, 2, 0),
+        }
+    }
+}
+
+/// The circle of a G02/G03 block, as the reader resolved it (centre or radius format).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ArcSpec {
+    pub plane: Plane,
+    /// Centre, absolute program coordinates (m); its coordinate along the plane's normal is unused.
+    pub centre: [f64; 3],
+    /// Full turns beyond the first (LinuxCNC's `P` word minus one; 0 for most arcs).
+    pub extra_turns: u32,
 }
 
 /// How the feed word is read.
@@ -141,6 +196,8 @@ pub struct Block {
     pub number: Option<u64>,
     pub motion: Motion,
     pub targets: Targets,
+    /// The circle of a G02/G03 block (`None` for every other motion).
+    pub arc: Option<ArcSpec>,
     pub feed: Option<Feed>,
     /// Tool-centre-point management (M128 / G43.4; always on for CL data): X Y Z are the tool tip
     /// in workpiece coordinates and the control keeps it on the programmed line.
@@ -208,16 +265,65 @@ impl Program {
     }
 }
 
+/// What a machine-specific M code does: LinuxCNC's user M codes and remaps (its vismach five-axis
+/// demos switch kinematics with `M428` (tool-centre point) and `M429` (identity)), a maker's own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MCodeAction {
+    /// Tool-centre-point management on (X Y Z are the tool tip in the workpiece).
+    TcpOn,
+    /// Tool-centre-point management off (X Y Z are machine axes).
+    TcpOff,
+    /// No motion: kept as an event.
+    Event,
+}
+
+/// One `--m-code CODE=ACTION` rule.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MCodeRule {
+    pub code: u32,
+    pub action: MCodeAction,
+}
+
+impl std::str::FromStr for MCodeRule {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (code, action) = s.split_once('=').ok_or_else(|| format!("expected CODE=ACTION (e.g. 428=tcp-on), got '{s}'"))?;
+        let code = code.trim().trim_start_matches(['M', 'm']);
+        let code: u32 = code.parse().map_err(|_| format!("'{code}' is not an M code number"))?;
+        let action = match action.trim() {
+            "tcp-on" => MCodeAction::TcpOn,
+            "tcp-off" => MCodeAction::TcpOff,
+            "event" => MCodeAction::Event,
+            other => return Err(format!("unknown M code action '{other}': expected tcp-on, tcp-off or event")),
+        };
+        Ok(MCodeRule { code, action })
+    }
+}
+
+/// The `--m-code` flag of every command and node that reads a program.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct MCodeArgs {
+    /// What a machine-specific M code does, `CODE=ACTION` with ACTION tcp-on, tcp-off or event
+    /// (repeatable; LinuxCNC's vismach five-axis demos: `--m-code 428=tcp-on --m-code 429=tcp-off`).
+    /// An RS274NGC program with any other non-standard M code is refused.
+    #[arg(long = "m-code", value_name = "CODE=ACTION")]
+    pub m_codes: Vec<MCodeRule>,
+}
+
 /// Options of the readers.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ReadOptions {
     /// Feed for CL data without a feed column, mm/min.
     pub cl_feed_mm_per_min: f64,
+    /// Machine-specific M codes and what they do (RS274NGC); any other code outside the standard
+    /// set is an error.
+    pub m_codes: Vec<MCodeRule>,
 }
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { cl_feed_mm_per_min: 1000.0 }
+        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new() }
     }
 }
 
@@ -225,7 +331,7 @@ impl Default for ReadOptions {
 pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> Program {
     let mut p = match dialect {
         Dialect::Heidenhain => read_heidenhain(text),
-        Dialect::Rs274 => read_rs274(text),
+        Dialect::Rs274 => rs274::read_rs274_with(text, &options.m_codes),
         Dialect::Cl => read_cl(text, options.cl_feed_mm_per_min),
     };
     p.source = source.to_string();

@@ -1,15 +1,22 @@
-//! RS274NGC programs (LinuxCNC, Fanuc style): `G0/G1`, `G90/G91`, `G93/G94`, `G20/G21`, `F`,
-//! `(...)` and `;` comments, spaces between letter and value (`X  16.339`), optional `N` numbers,
-//! `G43.4`/`G49` tool-centre-point control on/off. Unknown M codes are kept as events.
+//! RS274NGC programs (LinuxCNC, Fanuc style): `G0/G1`, arcs `G2/G3` (`G17/G18/G19`, centre `I J K`
+//! or radius `R`, `P` turns, helical), `G90/G91`, `G90.1/G91.1`, `G93/G94`, `G20/G21`, `F`, `(...)`
+//! and `;` comments, spaces between letter and value (`X  16.339`), optional `N` numbers,
+//! `G43.4`/`G49` tool-centre-point control on/off. Codes and words that would change the motion and
+//! are not modelled are errors; machine-specific M codes are read only as `--m-code` says.
 
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
-use super::{Dialect, Program};
+use super::{Dialect, MCodeRule, Program};
 
-/// Read an RS274NGC program.
+/// Read an RS274NGC program (no machine-specific M codes).
 pub fn read_rs274(text: &str) -> Program {
+    read_rs274_with(text, &[])
+}
+
+/// Read an RS274NGC program with these machine-specific M codes.
+pub fn read_rs274_with(text: &str, m_codes: &[MCodeRule]) -> Program {
     let mut diags = Diags::default();
-    let mut interp = Interpreter::new(Dialect::Rs274);
+    let mut interp = Interpreter::new(Dialect::Rs274).with_m_codes(m_codes);
     let mut blocks = Vec::new();
     for (idx, raw) in text.lines().enumerate() {
         let line = idx + 1;

@@ -70,7 +70,9 @@ pub struct RuleSample {
     /// Time since the previous sample and path since it, s and m.
     pub dt: f64,
     pub ds: f64,
+    /// Block number (-1 without) and program line (0 unknown).
     pub block: i64,
+    pub line: u32,
 }
 
 /// A region as the rule found it.
@@ -84,6 +86,8 @@ pub struct TrackedRegion {
     pub tip_end: Vector3<f64>,
     pub block_start: i64,
     pub block_end: i64,
+    pub line_start: u32,
+    pub line_end: u32,
     /// Largest |predicted| inside, rad/s; closest approach, rad; lowest actual feed, m/s.
     pub peak: f64,
     pub min_distance: f64,
@@ -139,6 +143,8 @@ impl RegionTracker {
                     tip_end: x.tip,
                     block_start: x.block,
                     block_end: x.block,
+                    line_start: x.line,
+                    line_end: x.line,
                     peak: 0.0,
                     min_distance: f64::INFINITY,
                     min_path_feed: f64::INFINITY,
@@ -153,6 +159,7 @@ impl RegionTracker {
             r.t_end = x.t;
             r.tip_end = x.tip;
             r.block_end = x.block;
+            r.line_end = x.line;
             // Back inside after a gap shorter than the hysteresis: the gap belongs to the region.
             r.time_lost += r.gap_lost;
             r.min_path_feed = r.min_path_feed.min(r.gap_min_feed);
