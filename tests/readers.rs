@@ -83,16 +83,21 @@ fn damaged_nonsing_reports_each_defect_and_keeps_the_good_blocks() {
 
 #[test]
 fn heidenhain_unsupported_words_and_arcs_are_reported() {
-    let p = read_heidenhain("%T G71 *\nN10 G01 X+1 F100 Q5 *\nN20 G02 X+2 Y+3 *\nN30 X+3 *\n");
-    assert!(p.diagnostics.iter().any(|d| d.severity == Severity::Warning && d.line == 2 && d.column == 18 && d.message.contains("Q5")));
-    has(&p, 3, 5, "G02");
+    // A word the reader does not model may change the motion (a Q parameter): an error, its block unused.
+    let p = read_heidenhain("%T G71 *\nN10 G01 X+1 F100 *\nN15 X+2 Q5 *\nN20 G02 X+2 Y+3 *\nN30 X+3 *\n");
+    has(&p, 3, 9, "Q5");
+    has(&p, 4, 5, "G02");
     assert_eq!(p.blocks.iter().map(|b| b.number).collect::<Vec<_>>(), vec![Some(10), Some(30)]);
 }
 
 #[test]
 fn rs274_reads_linuxcnc_style_programs() {
-    let text = "%\n(five-axis test) ; header\nN10 G21 G90 G94\nG1 X  16.339 Y-2 Z.5 A10 C20 F1500 (cut)\nG91 X1\nG90 G20 X1 ; inches\nG93 G1 X2 F30\nM100 P1\nG0 Z10\nM30\n%\n";
-    let p = read_rs274(text);
+    let text = "%\n(five-axis test) ; header\nN10 G21 G90 G94\nG1 X  16.339 Y-2 Z.5 A10 C20 F1500 (cut)\nG91 X1\nG90 G20 X1 ; inches\nG93 G1 X2 F30\nM100\nG0 Z10\nM30\n%\n";
+    // M100 is a LinuxCNC user M code: read only when told what it does.
+    let refused = read_rs274(text);
+    has(&refused, 8, 1, "M100 is not an RS274NGC M code");
+    let told = ReadOptions { m_codes: vec!["100=event".parse().unwrap()], ..Default::default() };
+    let p = read(text, Dialect::Rs274, "t.ngc", &told);
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     let b: Vec<_> = p.blocks.iter().filter(|b| !b.targets.is_empty()).collect();
     assert_eq!(b[0].targets.x, Some(16.339 * MM));
@@ -106,8 +111,9 @@ fn rs274_reads_linuxcnc_style_programs() {
     assert_eq!(b[4].motion, Motion::Rapid);
     let m100 = p.blocks.iter().find(|b| b.events.contains(&"M100".to_string())).expect("unknown M code kept as an event");
     assert_eq!(m100.line, 8);
-    // P without a cycle is reported, not silently dropped.
-    assert!(p.diagnostics.iter().any(|d| d.line == 8 && d.message.contains("P1")));
+    // P without a code that takes it is an error, not silently dropped.
+    let p = read(&text.replace("M100", "M100 P1"), Dialect::Rs274, "t.ngc", &told);
+    has(&p, 8, 6, "word P1 without a G code that takes it");
 }
 
 #[test]
