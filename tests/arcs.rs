@@ -229,14 +229,14 @@ fn linuxcnc_five_axis_demos_read_and_run() {
 
 #[test]
 fn words_that_change_the_motion_are_refused() {
-    // SING.I's first five-axis blocks as a Fanuc tool-vector program (G43.5, I J K the tool axis).
-    let fanuc = "G21 G90 G94\nG43.5 H1\nG1 X22 Y0 Z-8 I0.1736 J0 K0.9848 F2000\nG1 X25 I0.0175 K0.9998\nM30\n";
+    // Tool vectors (I J K) without G43.5 (a Fanuc program whose mode line was lost): refused, not ignored.
+    let fanuc = "G21 G90 G94\nG1 X22 Y0 Z-8 I0.1736 J0 K0.9848 F2000\nG43.5 H1\nG1 X25 I0.0175 J0 K0.9998 A1\nM30\n";
     let file = std::env::temp_dir().join(format!("fiveaxis-arcs-{}-g435.ngc", std::process::id()));
     std::fs::write(&file, fanuc).unwrap();
     let out = Command::new(bin()).args(["program", "analyze", &file.display().to_string()]).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(2), "{stdout}");
-    for at in ["g435.ngc:2:1: error: G43.5", "g435.ngc:3:15: error: word I0.1736", "g435.ngc:4:8: error: word I0.0175"] {
+    for at in ["g435.ngc:2:15: error: word I0.1736", "g435.ngc:4:1: error: G43.5 block with both a tool vector"] {
         assert!(stdout.contains(at), "no {at:?} in\n{stdout}");
     }
     let _ = std::fs::remove_file(&file);

@@ -33,6 +33,12 @@ pub struct Interpreter {
     arc_absolute: bool,
     /// Machine-specific M codes and what they do (`--m-code`).
     m_codes: Vec<MCodeRule>,
+    /// RS274: the work offsets the program set (`G10 L2 P1..P9`, m; a system it never set is taken as
+    /// zero) and the active one (`G54`..`G59.3` = 0..8).
+    offsets: [[f64; 3]; 9],
+    system: usize,
+    /// Fanuc `G43.5`: tool-centre point with the tool axis written as a vector `I J K`.
+    tool_vector: bool,
     /// Last programmed absolute value of X Y Z A B C (SI).
     last: [f64; 6],
 }
@@ -53,6 +59,9 @@ impl Interpreter {
             plane: Plane::Xy,
             arc_absolute: false,
             m_codes: Vec::new(),
+            offsets: [[0.0; 3]; 9],
+            system: 0,
+            tool_vector: false,
             last: [0.0; 6],
         }
     }
@@ -61,6 +70,45 @@ impl Interpreter {
     pub fn with_m_codes(mut self, rules: &[MCodeRule]) -> Self {
         self.m_codes = rules.to_vec();
         self
+    }
+
+    /// True if the program set work offset `k` (0 = G54) to anything but zero.
+    fn offsets_set(&self, k: usize) -> bool {
+        self.offsets[k] != [0.0; 3]
+    }
+
+    /// `G10 L2 Pn X Y Z`: set work offset n (absolute values; rotary offsets only at zero).
+    fn set_offsets(&self, words: &[Word], next: &mut Interpreter, line: usize, column: usize, diags: &mut Diags) {
+        let word = |l: char| words.iter().find(|w| w.letter == l);
+        match word('L') {
+            Some(w) if w.value == 2.0 => {}
+            Some(w) => return diags.error(line, w.column, format!("G10 L{}: only L2 (set a work offset) is supported", w.raw)),
+            None => return diags.error(line, column, "G10 without L: expected G10 L2 Pn (set a work offset)"),
+        }
+        let p = match word('P') {
+            Some(w) if w.value.fract() == 0.0 && (1.0..=9.0).contains(&w.value) => w.value as usize,
+            Some(w) => return diags.error(line, w.column, format!("G10 L2 P{}: expected a coordinate system 1 to 9", w.raw)),
+            None => return diags.error(line, column, "G10 L2 without P: expected the coordinate system (P1 = G54)"),
+        };
+        if !next.absolute {
+            return diags.error(line, column, "G10 L2 under G91 (offsets relative to the current ones) is not supported: write it under G90");
+        }
+        let mut offsets = next.offsets[p - 1];
+        for w in words {
+            let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
+            if k < 3 {
+                offsets[k] = w.value * next.unit;
+            } else if w.value != 0.0 {
+                diags.error(line, w.column, format!("G10 L2 {}{}: rotary-axis work offsets are not modelled", w.letter, w.raw));
+            }
+        }
+        if p - 1 == next.system {
+            for k in 0..3 {
+                next.last[k] += next.offsets[p - 1][k] - offsets[k];
+            }
+            next.datum = offsets;
+        }
+        next.offsets[p - 1] = offsets;
     }
 
     /// Set the program's length unit (Heidenhain header G70/G71).
@@ -119,27 +167,39 @@ impl Interpreter {
                         ("70", true) | ("20", false) => next.unit = INCH,
                         ("71", true) | ("21", false) => next.unit = MM,
                         ("54", true) => datum_block = true,
-                        ("54", false) => {}
-                        ("55" | "56" | "57" | "58" | "59", false) => diags.warning(
-                            line,
-                            w.column,
-                            format!("G{}: work offsets are not modelled; coordinates are read as written", w.raw),
-                        ),
+                        ("54" | "55" | "56" | "57" | "58" | "59" | "59.1" | "59.2" | "59.3", false) => {
+                            let k = ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"].iter().position(|c| *c == code).unwrap_or(0);
+                            next.system = k;
+                            if k > 0 && !self.offsets_set(k) {
+                                diags.warning(
+                                    line,
+                                    w.column,
+                                    format!("G{}: this program never sets its offsets (G10 L2 P{}): taken as zero", w.raw, k + 1),
+                                );
+                            }
+                        }
                         ("53", false) => diags.warning(
                             line,
                             w.column,
                             "G53: work offsets are not modelled (G54 is taken as zero), so machine coordinates are read as program coordinates",
                         ),
-                        ("10", false) => g10 = true,
+                        ("10", false) => {
+                            g10 = true;
+                            uses.extend(['L', 'P']);
+                        }
                         ("92.1" | "92.2", false) => {} // cancel G92 offsets: none are modelled
                         ("93", false) => next.feed_mode = FeedMode::InverseTime,
                         ("94", false) => next.feed_mode = FeedMode::PerMinute,
                         ("95", false) => diags.error(line, w.column, "G95 (feed per revolution) is not supported: expected G93 or G94"),
                         ("43.4", false) => {
-                            next.tcp = true;
+                            (next.tcp, next.tool_vector) = (true, false);
                             uses.push('H');
                         }
-                        ("49", false) => next.tcp = false,
+                        ("43.5", false) => {
+                            (next.tcp, next.tool_vector) = (true, true);
+                            uses.push('H');
+                        }
+                        ("49", false) => (next.tcp, next.tool_vector) = (false, false),
                         ("43", false) => {
                             uses.push('H');
                             diags.warning(
@@ -157,7 +217,6 @@ impl Interpreter {
                         ("61" | "61.1", false) => unsupported(diags, "exact stop mode: the planner blends blocks as G64 does"),
                         ("41" | "42" | "41.1" | "42.1", false) => unsupported(diags, "cutter radius compensation"),
                         ("43.1" | "43.2", false) => unsupported(diags, "dynamic tool length offset"),
-                        ("43.5", false) => unsupported(diags, "tool-centre point with a tool vector I J K"),
                         ("68" | "68.2" | "68.3" | "68.4" | "69" | "53.1" | "53.6", false) => unsupported(diags, "coordinate rotation or tilted working plane"),
                         ("5" | "5.1" | "5.2" | "5.3" | "6.2", false) => unsupported(diags, "spline or NURBS motion"),
                         ("28" | "28.1" | "30" | "30.1", false) => unsupported(diags, "move to a stored position"),
@@ -214,37 +273,51 @@ impl Interpreter {
                 ),
             }
         }
-        if g10 {
-            // G10 L2 P1 with every value zero sets the G54 offsets to zero, as this reader assumes
-            // them; any other offset table write would move the program.
-            let zero = words.iter().filter(|w| AXIS_LETTERS.contains(&w.letter)).all(|w| w.value == 0.0);
-            let l2 = words.iter().any(|w| w.letter == 'L' && w.value == 2.0);
-            let p1 = words.iter().any(|w| w.letter == 'P' && w.value == 1.0);
-            if !(zero && l2 && p1) {
-                diags.error(line, column, "G10 offset table write is not supported (only G10 L2 P1 with all values zero, the offsets this reader assumes)");
+        let arc_motion = next.motion.is_some_and(Motion::is_arc);
+        let vector_words = next.tool_vector && !arc_motion && !g10;
+        if !heid {
+            for w in words {
+                let ok = match w.letter {
+                    'I' | 'J' | 'K' => arc_motion || vector_words,
+                    'R' => arc_motion,
+                    'P' => arc_motion || uses.contains(&'P'),
+                    'Q' | 'H' | 'L' => uses.contains(&w.letter),
+                    _ => true,
+                };
+                if !ok {
+                    diags.error(line, w.column, format!("word {}{} without a G code that takes it: not read", w.letter, w.raw));
+                }
             }
+            if next.tool_vector && arc_motion {
+                diags.error(line, column, "G02/G03 under G43.5 (tool vector mode) is not supported");
+            }
+        }
+        if g10 {
+            self.set_offsets(words, &mut next, line, column, diags);
             let errors_after = diags.0.iter().filter(|d| d.severity == super::Severity::Error).count();
             if errors_after > errors_before {
                 return None;
             }
             *self = next;
-            return Some(Block { line, column, number, motion: self.motion.unwrap_or(Motion::Linear), targets: Targets::default(), arc: None, feed: None, tcp: self.tcp, datum: self.datum, events: vec!["G10 L2 P1 (zero)".into()] });
+            return Some(Block {
+                line,
+                column,
+                number,
+                motion: self.motion.unwrap_or(Motion::Linear),
+                targets: Targets::default(),
+                arc: None,
+                feed: None,
+                tcp: self.tcp,
+                datum: self.datum,
+                events: Vec::new(),
+            });
         }
-        let arc_motion = next.motion.is_some_and(Motion::is_arc);
-        if !heid {
-            for w in words {
-                let ok = match w.letter {
-                    'I' | 'J' | 'K' | 'R' => arc_motion,
-                    'P' => arc_motion || uses.contains(&'P'),
-                    'Q' | 'H' => uses.contains(&w.letter),
-                    'L' => false,
-                    _ => true,
-                };
-                if !ok {
-                    let hint = if "IJK".contains(w.letter) { " (a tool vector? G43.5 is not supported)" } else { "" };
-                    diags.error(line, w.column, format!("word {}{} without a G code that takes it: not read{hint}", w.letter, w.raw));
-                }
+        if !heid && next.system != self.system {
+            // A new coordinate system: the same machine position has new program coordinates.
+            for k in 0..3 {
+                next.last[k] += self.offsets[self.system][k] - self.offsets[next.system][k];
             }
+            next.datum = self.offsets[next.system];
         }
 
         if let Some(w) = feed_word {
@@ -284,6 +357,9 @@ impl Interpreter {
             }
         }
         next.datum = datum;
+        if vector_words && words.iter().any(|w| "IJK".contains(w.letter)) {
+            targets.tool_axis = tool_vector(words, &targets, line, column, diags);
+        }
 
         let moves = !targets.is_empty();
         if moves && next.motion.is_none() {
@@ -415,4 +491,24 @@ fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3],
         }
     }
     Some(ArcSpec { plane: st.plane, centre, extra_turns })
+}
+
+/// The tool axis of a `G43.5` block from its `I J K` (all three, any length but zero; normalised as
+/// the control does). Rotary-axis words beside a vector would contradict it: an error.
+fn tool_vector(words: &[Word], targets: &Targets, line: usize, column: usize, diags: &mut Diags) -> Option<[f64; 3]> {
+    let get = |l: char| words.iter().find(|w| w.letter == l).map(|w| w.value);
+    let (Some(i), Some(j), Some(k)) = (get('I'), get('J'), get('K')) else {
+        diags.error(line, column, "G43.5 tool vector: expected I, J and K together");
+        return None;
+    };
+    if targets.a.is_some() || targets.b.is_some() || targets.c.is_some() {
+        diags.error(line, column, "G43.5 block with both a tool vector (I J K) and rotary-axis words: expected one of them");
+        return None;
+    }
+    let n = (i * i + j * j + k * k).sqrt();
+    if !(n > 1e-9) {
+        diags.error(line, column, "G43.5 tool vector I J K has zero length: expected a direction");
+        return None;
+    }
+    Some([i / n, j / n, k / n])
 }

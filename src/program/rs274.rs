@@ -1,8 +1,10 @@
 //! RS274NGC programs (LinuxCNC, Fanuc style): `G0/G1`, arcs `G2/G3` (`G17/G18/G19`, centre `I J K`
 //! or radius `R`, `P` turns, helical), `G90/G91`, `G90.1/G91.1`, `G93/G94`, `G20/G21`, `F`, `(...)`
 //! and `;` comments, spaces between letter and value (`X  16.339`), optional `N` numbers,
-//! `G43.4`/`G49` tool-centre-point control on/off. Codes and words that would change the motion and
-//! are not modelled are errors; machine-specific M codes are read only as `--m-code` says.
+//! `G43.4`/`G49` tool-centre-point control on/off, Fanuc's `G43.5` with the tool axis as a vector
+//! `I J K`, work offsets the program sets (`G10 L2 Pn`, `G54`-`G59.3`). Codes and words that would
+//! change the motion and are not modelled are errors; machine-specific M codes are read only as
+//! `--m-code` says.
 
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
