@@ -161,25 +161,24 @@ fn linuxcnc_boat_arcs_lie_on_their_circles() {
     let arcs = demo_arcs(&text);
     assert_eq!(arcs.len(), 4, "boat-xyzac.ngc has four G02 blocks");
     // The start and end radii the program writes differ by up to 1 um: LinuxCNC runs those as spirals,
-    // so the check is against the mean radius with that slack.
+    // so the check is against the start radius with that slack.
+    let machine = Machine::hermle_c600u();
+    let traj = Trajectory::from_program(&p, &machine, &PathOptions::default());
     for e in &arcs {
-        let traj = Trajectory::from_program(&p, &Machine::hermle_c600u(), &PathOptions::default());
         let seg = traj.segments.iter().find(|s| s.line == e.line).expect("the arc is planned");
         let arc = seg.arc.as_ref().expect("an arc segment");
         assert!((arc.r0 * 1e3 - e.radius).abs() < 1e-9, "line {}: start radius {} mm, want {}", e.line, arc.r0 * 1e3, e.radius);
     }
-    check_arcs_loose(&p, &arcs, 1.3e-3);
+    check_arcs_loose(&traj, &machine, &arcs, 1.3e-3);
 }
 
 /// As [`check_arcs`] but with a radius slack (mm) for programs whose arcs are spirals within LinuxCNC's
 /// tolerance; the exact check holds for a circle.
-fn check_arcs_loose(program: &Program, expect: &[Expect], slack_mm: f64) {
-    let machine = Machine::hermle_c600u();
-    let traj = Trajectory::from_program(program, &machine, &PathOptions::default());
+fn check_arcs_loose(traj: &Trajectory, machine: &Machine, expect: &[Expect], slack_mm: f64) {
     for e in expect {
         let (a0, a1, _) = e.axes;
         let mut n = 0;
-        for s in traj.samples(&machine).filter(|s| traj.segments[s.segment].line == e.line) {
+        for s in traj.samples(machine).filter(|s| traj.segments[s.segment].line == e.line) {
             let p = s.tip * 1e3;
             let r = (p[a0] - e.centre.0).hypot(p[a1] - e.centre.1);
             assert!((r - e.radius).abs() <= slack_mm, "line {}: radius {r} mm, want {} mm", e.line, e.radius);
@@ -284,4 +283,25 @@ fn cl_data_starts_at_its_first_pose() {
     assert!((overall - want).abs() < 0.01, "closest approach overall {overall} deg, want {want:.3}");
     let cycle = v["cycle_time_s"].as_f64().unwrap();
     assert!((cycle - 50.0 / (2000.0 / 60.0)).abs() < 1e-6, "cycle {cycle} s: the 50 mm cut at F2000, with no move to the first pose");
+}
+
+#[test]
+fn work_offsets_set_by_the_program_move_the_origin() {
+    // G10 L2 P2 under a modal G03 (its P is the offset's, not turns), then G55: the machine stays at
+    // X-10, so the current point is X-15 in G55 and G91 X1 ends at program X-14 (machine X-9).
+    let text = "G21 G90 G94 G17\nG0 X10 Y0 Z0\nG3 X-10 Y0 I-10 J0 F1000\nG10 L2 P2 X5\nG55\nG1 G91 X1\nG90 G54 X0\n";
+    let p = read(text, Dialect::Rs274, "offsets.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let moves: Vec<_> = p.blocks.iter().filter(|b| !b.targets.is_empty()).collect();
+    assert_eq!(moves.len(), 4, "G10's X5 is an offset, not a move");
+    let g91 = moves[2];
+    assert!((g91.targets.x.unwrap() - (-0.014)).abs() < 1e-15, "{:?}", g91.targets.x);
+    assert_eq!(g91.datum, [0.005, 0.0, 0.0]);
+    assert_eq!(moves[3].datum, [0.0; 3], "back in G54");
+    // On a machine: the G91 move goes from machine.
+    let machine = Machine::hermle_c600u();
+    let traj = Trajectory::from_program(&p, &machine, &PathOptions::default());
+    let seg = traj.segments.iter().find(|s| s.line == 6).unwrap();
+    assert!((seg.q0[0] + 0.010).abs() < 1e-12 && (seg.q1[0] + 0.009).abs() < 1e-12, "{:?} -> {:?}", seg.q0, seg.q1);
 }

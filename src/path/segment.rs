@@ -75,8 +75,7 @@ impl ArcPath {
     /// The arc of `spec` from `start` to `end` (program coordinates, m), counter-clockwise if `ccw`.
     pub fn new(spec: &ArcSpec, ccw: bool, start: Vector3<f64>, end: Vector3<f64>) -> ArcPath {
         let (a0, a1, an) = spec.plane.axes();
-        let unit = |k: usize| Vector3::from_fn(|i, _| if i == k { 1.0 } else { 0.0 });
-        let (e1, e2, n) = (unit(a0), unit(a1), unit(an));
+        let (e1, e2, n) = (Vector3::ith(a0, 1.0), Vector3::ith(a1, 1.0), Vector3::ith(an, 1.0));
         let c = Vector3::from(spec.centre);
         let centre = c - n * c.dot(&n);
         let (ds, de) = (start - centre, end - centre);
@@ -317,29 +316,34 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
                 Some(ArcPath::new(spec, b.motion == Motion::ArcCcw, start, end))
             }
         };
-        let n_pieces = arc.as_ref().map_or(1, ArcPath::pieces);
-        let mut pieces = Vec::with_capacity(n_pieces);
-        for k in 0..n_pieces {
-            let (ua, ub) = (k as f64 / n_pieces as f64, (k + 1) as f64 / n_pieces as f64);
-            let Some(arc) = &arc else {
-                pieces.push((q, q1, tip0, tip1, None));
-                break;
-            };
-            let piece = arc.piece(ua, ub);
-            let at = |u: f64, p: Vector3<f64>| -> Joints {
-                let rot = [q[3] + (q1[3] - q[3]) * u, q[4] + (q1[4] - q[4]) * u];
-                let l = if tcp { machine.chain.linear_for(&(p + datum), &rot) } else { p + datum };
-                [l.x, l.y, l.z, rot[0], rot[1]]
-            };
-            let (pa, pb) = (arc.point(ua), arc.point(ub));
-            let (qa, qb) = (if k == 0 { q } else { at(ua, pa) }, if k + 1 == n_pieces { q1 } else { at(ub, pb) });
-            if let Some(d) = out_of_range(b, machine, &qb) {
-                diags.push(d);
-                continue 'blocks;
+        let pieces = match arc {
+            None => vec![(q, q1, tip0, tip1, None)],
+            Some(arc) => {
+                // The whole move as one segment gives each piece end its axes (the arc's point, the
+                // rotaries linear in the fraction), the same as sampling it would.
+                let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)) };
+                let n = arc.pieces();
+                let end = |k: usize| -> (Joints, Vector3<f64>) {
+                    let u = k as f64 / n as f64;
+                    let qk = match k {
+                        0 => q,
+                        k if k == n => q1,
+                        _ => whole.joints_at(u, machine),
+                    };
+                    (qk, if tcp { arc.point(u) } else { machine.forward(&qk).tip - datum })
+                };
+                let mut pieces = Vec::with_capacity(n);
+                for k in 0..n {
+                    let ((qa, ta), (qb, tb)) = (end(k), end(k + 1));
+                    if let Some(d) = out_of_range(b, machine, &qb) {
+                        diags.push(d);
+                        continue 'blocks;
+                    }
+                    pieces.push((qa, qb, ta, tb, Some(Box::new(arc.piece(k as f64 / n as f64, (k + 1) as f64 / n as f64)))));
+                }
+                pieces
             }
-            let tip_of = |qq: &Joints, p: Vector3<f64>| if tcp { p } else { machine.forward(qq).tip - datum };
-            pieces.push((qa, qb, tip_of(&qa, pa), tip_of(&qb, pb), Some(Box::new(piece))));
-        }
+        };
         let n = pieces.len() as f64;
         for (pq0, pq1, ptip0, ptip1, parc) in pieces {
             let mut seg = Segment {

@@ -159,13 +159,14 @@ fn feed_of(seg: &Segment) -> f64 {
     }
 }
 
-/// The length a segment's feed applies to: tool tip (TCPM), linear axes (no TCPM), else rotaries.
+/// The length a segment's feed applies to: tool tip (TCPM), linear axes (no TCPM; along the arc for
+/// an arc piece), else rotaries.
 fn path_length(seg: &Segment) -> f64 {
-    let d = |a: usize, b: usize| (a..b).map(|i| (seg.q1[i] - seg.q0[i]).powi(2)).sum::<f64>().sqrt();
+    let linear = seg.linear_axes_length();
     match seg.kind {
         SegmentKind::Tcp if seg.length > 1e-12 => seg.length,
-        SegmentKind::Axes | SegmentKind::Rapid if d(0, 3) > 1e-12 => d(0, 3),
-        _ => d(3, 5),
+        SegmentKind::Axes | SegmentKind::Rapid if linear > 1e-12 => linear,
+        _ => ((seg.q1[3] - seg.q0[3]).powi(2) + (seg.q1[4] - seg.q0[4]).powi(2)).sqrt(),
     }
 }
 

@@ -103,12 +103,18 @@ impl Interpreter {
             }
         }
         if p - 1 == next.system {
-            for k in 0..3 {
-                next.last[k] += next.offsets[p - 1][k] - offsets[k];
-            }
-            next.datum = offsets;
+            next.move_origin(offsets);
         }
         next.offsets[p - 1] = offsets;
+    }
+
+    /// Put the program origin at `offset` (RS274: the active work offset, m): the machine stays, so
+    /// the current point's program coordinates change by the difference.
+    fn move_origin(&mut self, offset: [f64; 3]) {
+        for k in 0..3 {
+            self.last[k] += self.datum[k] - offset[k];
+        }
+        self.datum = offset;
     }
 
     /// Set the program's length unit (Heidenhain header G70/G71).
@@ -293,31 +299,11 @@ impl Interpreter {
             }
         }
         if g10 {
+            // The axis words of a G10 block set an offset; they are not a move (skipped below).
             self.set_offsets(words, &mut next, line, column, diags);
-            let errors_after = diags.0.iter().filter(|d| d.severity == super::Severity::Error).count();
-            if errors_after > errors_before {
-                return None;
-            }
-            *self = next;
-            return Some(Block {
-                line,
-                column,
-                number,
-                motion: self.motion.unwrap_or(Motion::Linear),
-                targets: Targets::default(),
-                arc: None,
-                feed: None,
-                tcp: self.tcp,
-                datum: self.datum,
-                events: Vec::new(),
-            });
         }
         if !heid && next.system != self.system {
-            // A new coordinate system: the same machine position has new program coordinates.
-            for k in 0..3 {
-                next.last[k] += self.offsets[self.system][k] - self.offsets[next.system][k];
-            }
-            next.datum = self.offsets[next.system];
+            next.move_origin(next.offsets[next.system]);
         }
 
         if let Some(w) = feed_word {
@@ -335,6 +321,9 @@ impl Interpreter {
         let mut datum = next.datum;
         for w in words {
             let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
+            if g10 {
+                continue;
+            }
             let scale = if k < 3 { next.unit } else { DEG };
             let v = w.value * scale;
             if datum_block {
@@ -366,7 +355,7 @@ impl Interpreter {
             diags.error(line, column, "axis words without a motion mode: expected G00 or G01 first");
         }
         let mut arc = None;
-        if arc_motion && !heid {
+        if arc_motion && !heid && !g10 {
             if moves {
                 let start = [self.last[0], self.last[1], self.last[2]];
                 let end = [next.last[0], next.last[1], next.last[2]];
