@@ -495,12 +495,14 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
 
 fn synthesize(program: &str, out: &std::path::Path, seed: u64) -> anyhow::Result<ExitCode> {
     let machine = Machine::hermle_c600u();
-    let run = fiveaxis::live::inprocess::run(program, &machine, &Default::default())?;
-    let states = run.simulation.states(&run.job.trajectory, &machine);
+    let options = fiveaxis::live::inprocess::RunOptions { keep_simulation: true, ..Default::default() };
+    let run = fiveaxis::live::inprocess::run(program, &machine, &options)?;
+    let simulation = run.simulation.as_ref().context("the run kept its simulation")?;
+    let states = simulation.states(&run.job.trajectory, &machine);
     // The simulated feed along the simultaneous five-axis cut.
     let mut cut: Vec<(f64, f64, f64)> = states
         .iter()
-        .zip(&run.simulation.segment)
+        .zip(&simulation.segment)
         .filter(|(_, &seg)| run.job.trajectory.segments[seg].is_five_axis())
         .map(|(s, _)| (s.tool_tip.x, s.path_feed, s.programmed_feed))
         .collect();

@@ -13,3 +13,8 @@ pub const MM_PER_MIN: f64 = 1e-3 / 60.0;
 pub const DEG_PER_MIN: f64 = DEG / 60.0;
 /// One revolution per minute in rad/s.
 pub const RPM: f64 = 2.0 * std::f64::consts::PI / 60.0;
+
+/// A speed in m/s as mm/min (for reports: `v * 60e3`, the factor written once).
+pub fn mm_per_min(v_m_per_s: f64) -> f64 {
+    v_m_per_s * 60e3
+}

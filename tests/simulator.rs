@@ -6,13 +6,17 @@ use fiveaxis::machine::Machine;
 use fiveaxis_msgs::AxisState;
 
 fn go(spec: &str) -> RunOutput {
-    run(spec, &Machine::hermle_c600u(), &RunOptions { keep_statuses: true, ..Default::default() }).expect("run")
+    run(spec, &Machine::hermle_c600u(), &RunOptions { keep_statuses: true, keep_simulation: true, ..Default::default() }).expect("run")
+}
+
+fn sim(out: &RunOutput) -> &fiveaxis::live::simulator::Simulation {
+    out.simulation.as_ref().expect("kept: keep_simulation")
 }
 
 /// Simulated samples of the cutting pass (tool tip within 0.05 mm of the cut's y and z: the servo's
 /// contour error; x inside the part).
 fn cut(out: &RunOutput, y_mm: f64) -> Vec<AxisState> {
-    out.simulation
+    sim(out)
         .states(&out.job.trajectory, &Machine::hermle_c600u())
         .into_iter()
         .filter(|s| (s.tool_tip.z * 1e3 + 8.0).abs() < 0.05 && (s.tool_tip.y * 1e3 - y_mm).abs() < 0.05)
@@ -69,8 +73,8 @@ fn simulated_motion_respects_every_axis_limit() {
     for spec in ["bundled:SING.I", "bundled:NON_SING.I", "builtin:paper-sing"] {
         let out = go(spec);
         let m = Machine::hermle_c600u();
-        let q = &out.simulation.q;
-        let t = out.simulation.period;
+        let q = &sim(&out).q;
+        let t = sim(&out).period;
         for k in 2..q.len() - 2 {
             for (i, axis) in m.axes.iter().enumerate() {
                 let l = axis.limits;
@@ -113,7 +117,7 @@ fn monitor_look_ahead_counts_down_to_the_region() {
     let m = Machine::hermle_c600u();
     let out = go("bundled:SING.I");
     let commanded = fiveaxis::live::commander::commanded_states(&out.job.trajectory, &m);
-    let simulated = out.simulation.states(&out.job.trajectory, &m);
+    let simulated = sim(&out).states(&out.job.trajectory, &m);
     let mut mon = Monitor::new(&m, MonitorConfig::default());
     for st in &commanded {
         mon.on_commanded_ahead(st);

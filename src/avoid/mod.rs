@@ -95,15 +95,13 @@ fn analysed(program: &Program, machine: &Machine, options: &JobOptions) -> Resul
 /// Figures of a program on a machine: the analysis, then the simulator re-run on it.
 pub fn figures(program: &Program, machine: &Machine, options: &JobOptions) -> Result<Figures, AvoidError> {
     let (traj, mut f) = analysed(program, machine, options)?;
-    let sim = crate::live::simulator::simulate(&traj, machine, &Default::default());
-    f.cycle_time_s = sim.duration();
+    let (sim, figures) = crate::live::sim_report::simulate_measured(&traj, machine, &Default::default(), |_, _| true);
+    f.cycle_time_s = figures.samples.saturating_sub(1) as f64 * traj.period;
     f.time_lost_s = f.cycle_time_s - f.programmed_time_s;
     f.max_limit_ratio = sim.planned_ratio;
     // Lowest feed on the feed moves, the planned stops (corners, the program's ends) excluded: the
     // same measure as `fiveaxis run` reports.
-    let states = sim.feed_samples(&traj, machine);
-    let (lowest, _) = sim.lowest_path_feed(&traj, &states);
-    let lowest = lowest * 60e3;
+    let lowest = crate::units::mm_per_min(figures.lowest_feed);
     f.min_cut_feed_mm_min = if lowest.is_finite() { lowest } else { f64::NAN };
     Ok(f)
 }

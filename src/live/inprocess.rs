@@ -4,14 +4,16 @@
 
 use super::commander::commanded_iter;
 use super::monitor::{LiveRegion, Monitor, MonitorConfig};
-use super::simulator::{simulate, SimConfig, Simulation};
+pub use super::sim_report::{SimulatedReport, SlowRegion};
+use super::sim_report::{simulate_measured, FeedFiguresReport};
+use super::simulator::{SimConfig, SimSummary, Simulation};
 use crate::job::{self, Job, JobError, JobOptions};
 use crate::machine::Machine;
-use crate::path::{SegmentKind, Trajectory};
-use crate::planner::limit_ratios;
+use crate::path::Trajectory;
 use crate::report::AnalysisReport;
 use fiveaxis_msgs::{AxisState, SingularityStatus};
 use serde::Serialize;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc;
 
 /// Topic names, relative to the namespace (default `/fiveaxis`).
@@ -28,6 +30,36 @@ pub struct RunOptions {
     pub mcap: Option<std::path::PathBuf>,
     /// Keep every status the monitor published in [`RunOutput`] (memory grows with the program).
     pub keep_statuses: bool,
+    /// Keep every simulated sample in [`RunOutput::simulation`] (memory grows with the program).
+    pub keep_simulation: bool,
+}
+
+/// How far (s of commanded time) the in-process commander runs ahead of the simulated machine's place
+/// in the program: at least [`COMMANDER_LEAD_MIN_S`] (the simulator waits for it), at most
+/// [`COMMANDER_LEAD_MAX_S`] (the commander waits). The monitor's look-ahead sees the regions within
+/// that lead, and what it holds stays bounded whatever the program's length.
+pub const COMMANDER_LEAD_MIN_S: f64 = 10.0;
+pub const COMMANDER_LEAD_MAX_S: f64 = 60.0;
+
+/// Where the commander and the simulator are, in commanded time (f64 bits; infinite once done).
+struct Pace {
+    commanded: AtomicU64,
+    simulated: AtomicU64,
+}
+
+impl Pace {
+    fn get(a: &AtomicU64) -> f64 {
+        f64::from_bits(a.load(Ordering::Acquire))
+    }
+    fn set(a: &AtomicU64, t: f64) {
+        a.store(t.to_bits(), Ordering::Release);
+    }
+    /// Wait while `ahead` says to (the two never wait on each other at once: see the leads).
+    fn wait(ahead: impl Fn() -> bool) {
+        while ahead() {
+            std::thread::sleep(std::time::Duration::from_micros(200));
+        }
+    }
 }
 
 /// Topic names of the node set, absolute, with the default namespace.
@@ -87,45 +119,6 @@ impl Tape {
     }
 }
 
-/// A stretch where the simulated feed is below half the programmed feed.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SlowRegion {
-    pub x_start_mm: f64,
-    pub x_end_mm: f64,
-    pub t_start_s: f64,
-    pub t_end_s: f64,
-    pub block_start: i64,
-    pub block_end: i64,
-    /// Program lines (0: unknown), for programs without block numbers.
-    pub line_start: u32,
-    pub line_end: u32,
-    pub min_feed_mm_per_min: f64,
-    /// True where the slow-down is the planned stop at a corner or at the program's ends, not an
-    /// axis limit along the path.
-    pub at_stop: bool,
-}
-
-/// What the simulated machine did.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SimulatedReport {
-    pub cycle_time_s: f64,
-    pub commanded_cycle_time_s: f64,
-    /// Lowest tool-tip feed on feed moves, outside the ramps into and out of planned stops.
-    pub min_feed_mm_per_min: f64,
-    pub min_feed_x_mm: f64,
-    pub slow_regions: Vec<SlowRegion>,
-    pub max_axis_velocity_ratio: f64,
-    pub max_axis_acceleration_ratio: f64,
-    pub max_axis_jerk_ratio: f64,
-    pub max_following_error_mm: f64,
-    pub max_following_error_deg: f64,
-    pub samples: usize,
-    pub lost_samples: u64,
-    /// Regions the live monitor saw on the simulated stream.
-    pub monitor_regions: Vec<LiveRegion>,
-    pub monitor_statuses: u64,
-}
-
 /// `fiveaxis run --json`: the analysis keys plus `simulated`.
 #[derive(Debug, Clone, Serialize)]
 pub struct RunReport {
@@ -137,7 +130,8 @@ pub struct RunReport {
 /// Everything a run produced.
 pub struct RunOutput {
     pub job: Job,
-    pub simulation: Simulation,
+    /// Every simulated sample, if [`RunOptions::keep_simulation`].
+    pub simulation: Option<Simulation>,
     pub simulated_states: usize,
     pub report: RunReport,
     /// The monitor's statuses on the simulated and on the commanded stream, in order (empty unless
@@ -155,7 +149,9 @@ enum Input {
     Simulated(AxisState),
 }
 
-/// Run the node set in one process on `spec`.
+/// Run the node set in one process on `spec`: the commander's and the simulator's states stream
+/// through bounded channels into the monitor (and the recording) as they are made; nothing is held
+/// per sample unless asked ([`RunOptions::keep_simulation`], [`RunOptions::keep_statuses`]).
 pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOutput, JobError> {
     let options = options.clone();
     let options = &options;
@@ -166,29 +162,64 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         Some(path) => Some(Tape::create(path)?),
         None => None,
     };
-    let (simulation, sent, statuses, monitor, tape_result) = std::thread::scope(|scope| {
+    let pace = Pace {
+        commanded: AtomicU64::new(0f64.to_bits()),
+        simulated: AtomicU64::new(0f64.to_bits()),
+    };
+    let (sim_out, sent, statuses, monitor, tape_result) = std::thread::scope(|scope| {
         let tx_cmd = tx.clone();
+        let pace = &pace;
         let commander = scope.spawn(move || {
             let mut sent = 0u64;
             for st in commanded_iter(traj, machine) {
+                let t = st.header.stamp.as_secs();
+                Pace::wait(|| t > Pace::get(&pace.simulated) + COMMANDER_LEAD_MAX_S);
                 if tx_cmd.send(Input::Commanded(st)).is_err() {
                     break;
                 }
+                Pace::set(&pace.commanded, t);
                 sent += 1;
             }
+            Pace::set(&pace.commanded, f64::INFINITY);
             sent
         });
         let tx_sim = tx;
         let simulator = scope.spawn(move || {
-            let sim = simulate(traj, machine, &options.sim);
+            let mut kept: Option<Simulation> = options.keep_simulation.then(|| Simulation {
+                period: traj.period,
+                q: Vec::new(),
+                segment: Vec::new(),
+                run: Vec::new(),
+                following_error_linear: 0.0,
+                following_error_rotary: 0.0,
+                planned_ratio: [0.0; 3],
+            });
             let mut sent = 0u64;
-            for st in sim.states_iter(traj, machine) {
-                if tx_sim.send(Input::Simulated(st)).is_err() {
-                    break;
+            let mut last_segment = usize::MAX;
+            let (summary, figures) = simulate_measured(traj, machine, &options.sim, |s, st| {
+                if s.segment != last_segment {
+                    last_segment = s.segment;
+                    let t0 = traj.segments.get(s.segment).map_or(f64::INFINITY, |g| g.t0);
+                    Pace::set(&pace.simulated, t0);
+                    Pace::wait(|| t0 + COMMANDER_LEAD_MIN_S > Pace::get(&pace.commanded));
                 }
-                sent += 1;
+                if let Some(k) = kept.as_mut() {
+                    k.q.push(s.q);
+                    k.segment.push(s.segment);
+                    k.run.push(s.run);
+                }
+                let ok = tx_sim.send(Input::Simulated(st)).is_ok();
+                sent += u64::from(ok);
+                ok
+            });
+            // The commander may run to the end.
+            Pace::set(&pace.simulated, f64::INFINITY);
+            if let Some(k) = kept.as_mut() {
+                k.following_error_linear = summary.following_error_linear;
+                k.following_error_rotary = summary.following_error_rotary;
+                k.planned_ratio = summary.planned_ratio;
             }
-            (sim, sent)
+            (summary, figures, kept, sent)
         });
         let mut tape = tape;
         let monitor = scope.spawn(move || {
@@ -209,10 +240,12 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                 let wall = st.header.stamp.as_secs();
                 let status = m.on_state(topic, st, wall);
                 if let (Some(t), None) = (tape.as_mut(), &tape_error) {
-                    let r = t.state(st, topic == COMMANDED_STATE, &m).and_then(|_| match &status {
-                        Ok(s) => t.status(s),
-                        Err(_) => Ok(()),
-                    });
+                    let r = t
+                        .state(st, topic == COMMANDED_STATE, &m)
+                        .and_then(|_| match &status {
+                            Ok(s) => t.status(s),
+                            Err(_) => Ok(()),
+                        });
                     if let Err(e) = r {
                         tape_error = Some(e);
                     }
@@ -234,17 +267,27 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             (m, (statuses, commanded), received, tape_result)
         });
         let sent_cmd = commander.join().expect("commander thread");
-        let (sim, sent_sim) = simulator.join().expect("simulator thread");
+        let (summary, figures, kept, sent_sim) = simulator.join().expect("simulator thread");
         let (m, statuses, received, tape_result) = monitor.join().expect("monitor thread");
-        (sim, sent_cmd + sent_sim - received.min(sent_cmd + sent_sim), statuses, m, tape_result)
+        (
+            (summary, figures, kept),
+            sent_cmd + sent_sim - received.min(sent_cmd + sent_sim),
+            statuses,
+            m,
+            tape_result,
+        )
     });
     let recorded_messages = tape_result?;
-    let simulated = simulated_report(traj, machine, &simulation, sent, &monitor);
-    let report = RunReport { analysis: job.report.clone(), simulated };
+    let (summary, figures, simulation) = sim_out;
+    let simulated = simulated_report(traj, &summary, figures, sent, &monitor);
+    let report = RunReport {
+        analysis: job.report.clone(),
+        simulated,
+    };
     let (statuses, commanded_statuses) = statuses;
     Ok(RunOutput {
         recorded_messages,
-        simulated_states: simulation.q.len(),
+        simulated_states: summary.samples as usize,
         simulation,
         job,
         report,
@@ -254,93 +297,32 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
     })
 }
 
-fn simulated_report(traj: &Trajectory, machine: &Machine, sim: &Simulation, lost: u64, monitor: &Monitor) -> SimulatedReport {
-    let states = sim.feed_samples(traj, machine);
-    let ratios = limit_ratios(&sim.q, sim.period, &machine.limits());
-    let worst = ratios.iter().fold([0.0f64; 3], |m, r| [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]);
-    let path_move = |k: usize| traj.segments.get(sim.segment[k]).is_some_and(|s| s.is_path_move() && s.kind != SegmentKind::Rapid);
-    // Slow regions: feed moves below half their programmed feed.
-    let mut slow: Vec<SlowRegion> = Vec::new();
-    let mut k = 0;
-    let n = states.len();
-    while k < n {
-        let is_slow = |k: usize| path_move(k) && states[k].programmed_feed > 0.0 && states[k].path_feed < 0.5 * states[k].programmed_feed;
-        if !is_slow(k) {
-            k += 1;
-            continue;
-        }
-        let start = k;
-        while k + 1 < n && is_slow(k + 1) {
-            k += 1;
-        }
-        let end = k;
-        // A planned stop: the stretch reaches the program's ends or a run boundary (a corner), within a
-        // few samples (a datum change between runs makes the tip jump in program coordinates there).
-        let at_stop = start == 0 || end + 4 >= n || (start.saturating_sub(4)..=end + 3).any(|j| sim.run[j] != sim.run[j + 1]);
-        let min = states[start..=end].iter().map(|s| s.path_feed).fold(f64::INFINITY, f64::min);
-        slow.push(SlowRegion {
-            x_start_mm: states[start].x * 1e3,
-            x_end_mm: states[end].x * 1e3,
-            t_start_s: start as f64 * sim.period,
-            t_end_s: end as f64 * sim.period,
-            block_start: states[start].block.into(),
-            block_end: states[end].block.into(),
-            line_start: states[start].line,
-            line_end: states[end].line,
-            min_feed_mm_per_min: min * 60e3,
-            at_stop,
-        });
-        k += 1;
-    }
-    let (min_feed, min_x) = sim.lowest_path_feed(traj, &states);
+fn simulated_report(
+    traj: &Trajectory,
+    summary: &SimSummary,
+    f: FeedFiguresReport,
+    lost: u64,
+    monitor: &Monitor,
+) -> SimulatedReport {
     let (samples, ..) = monitor.counters(SIMULATED_STATE);
     SimulatedReport {
-        cycle_time_s: sim.duration(),
+        cycle_time_s: f.samples.saturating_sub(1) as f64 * traj.period,
         commanded_cycle_time_s: traj.duration(),
-        min_feed_mm_per_min: if min_feed.is_finite() { min_feed * 60e3 } else { 0.0 },
-        min_feed_x_mm: min_x * 1e3,
-        slow_regions: slow,
-        max_axis_velocity_ratio: worst[0],
-        max_axis_acceleration_ratio: worst[1],
-        max_axis_jerk_ratio: worst[2],
-        max_following_error_mm: sim.following_error_linear * 1e3,
-        max_following_error_deg: sim.following_error_rotary.to_degrees(),
-        samples: n,
+        min_feed_mm_per_min: if f.lowest_feed.is_finite() {
+            crate::units::mm_per_min(f.lowest_feed)
+        } else {
+            0.0
+        },
+        min_feed_x_mm: f.lowest_feed_x * 1e3,
+        slow_regions: f.slow_regions,
+        max_axis_velocity_ratio: f.worst_ratio[0],
+        max_axis_acceleration_ratio: f.worst_ratio[1],
+        max_axis_jerk_ratio: f.worst_ratio[2],
+        max_following_error_mm: summary.following_error_linear * 1e3,
+        max_following_error_deg: summary.following_error_rotary.to_degrees(),
+        samples: f.samples as usize,
         lost_samples: lost,
         monitor_regions: monitor.regions(SIMULATED_STATE),
         monitor_statuses: samples,
-    }
-}
-
-impl SimulatedReport {
-    /// A short table for people.
-    pub fn to_table(&self, c: &str) -> String {
-        use std::fmt::Write as _;
-        let mut o = String::new();
-        let _ = writeln!(o, "simulated  {:.2} s (commanded {:.2} s), {} samples, {} lost", self.cycle_time_s, self.commanded_cycle_time_s, self.samples, self.lost_samples);
-        let _ = writeln!(o, "lowest feed on the path      {:8.0} mm/min at x {:.3} mm (planned stops excluded)", self.min_feed_mm_per_min, self.min_feed_x_mm);
-        let _ = writeln!(
-            o,
-            "largest |v|/v_max {:.3}, |a|/a_max {:.3}, |j|/j_max {:.3} over all axes; following error {:.3} mm, {:.4} deg",
-            self.max_axis_velocity_ratio, self.max_axis_acceleration_ratio, self.max_axis_jerk_ratio, self.max_following_error_mm, self.max_following_error_deg
-        );
-        let limit: Vec<_> = self.slow_regions.iter().filter(|r| !r.at_stop).collect();
-        if limit.is_empty() {
-            let _ = writeln!(o, "slow regions none below 50 % of the programmed feed (besides {} planned stops)", self.slow_regions.len());
-        } else {
-            let _ = writeln!(o, "slow regions below 50 % of the programmed feed (besides {} planned stops):", self.slow_regions.len() - limit.len());
-            let _ = writeln!(o, "     x from     x to   blocks          lowest mm/min");
-            for r in limit {
-                let _ = writeln!(o, "   {:8.3} {:8.3}   {:<14} {:10.0}", r.x_start_mm, r.x_end_mm, crate::report::block_span(r.block_start, r.block_end, r.line_start, r.line_end), r.min_feed_mm_per_min);
-            }
-        }
-        for r in &self.monitor_regions {
-            let _ = writeln!(
-                o,
-                "monitor    region {} on the simulated stream: x {:.3} to {:.3} mm, {:.2} s, peak {c} {:.1} rpm, feed down to {:.0} mm/min",
-                r.id, r.x_start_mm, r.x_end_mm, r.t_end_s - r.t_start_s, r.peak_c_speed_rpm, r.min_path_feed_mm_per_min
-            );
-        }
-        o
     }
 }

@@ -5,6 +5,7 @@
 pub mod commander;
 pub mod inprocess;
 pub mod monitor;
+pub mod sim_report;
 pub mod simulator;
 
 use crate::kinematics::Joints;

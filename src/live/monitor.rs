@@ -310,6 +310,59 @@ struct Ahead {
     tip: Vector3<f64>,
 }
 
+/// How much of the commanded timeline the look-ahead keeps (s of commanded time before the newest
+/// commanded sample): a stream further behind the commander than this finds no region ahead. It
+/// bounds the monitor's memory whatever the program's length.
+pub const AHEAD_RETENTION_S: f64 = 120.0;
+
+/// The commanded timeline the look-ahead reads: the last [`AHEAD_RETENTION_S`] of commanded samples
+/// and which of them lie in a region. Indices are absolute (from the stream's first sample), so the
+/// streams' cursors survive the dropping of old entries.
+#[derive(Debug, Clone, Default)]
+struct Timeline {
+    /// Absolute index of `entries[0]`, and of `regions[0]` in the list of every in-region entry.
+    base: usize,
+    entries: VecDeque<Ahead>,
+    regions_base: usize,
+    regions: VecDeque<usize>,
+}
+
+impl Timeline {
+    fn end(&self) -> usize {
+        self.base + self.entries.len()
+    }
+    fn get(&self, i: usize) -> &Ahead {
+        &self.entries[i - self.base]
+    }
+    fn last(&self) -> Option<&Ahead> {
+        self.entries.back()
+    }
+    /// Entry index of the `k`-th in-region entry, if still held.
+    fn region(&self, k: usize) -> Option<usize> {
+        k.checked_sub(self.regions_base)
+            .and_then(|r| self.regions.get(r))
+            .copied()
+    }
+    fn push(&mut self, a: Ahead, in_region: bool) {
+        if in_region {
+            self.regions.push_back(self.end());
+        }
+        self.entries.push_back(a);
+        while self
+            .entries
+            .front()
+            .is_some_and(|f| f.t < a.t - AHEAD_RETENTION_S)
+        {
+            self.entries.pop_front();
+            self.base += 1;
+        }
+        while self.regions.front().is_some_and(|&i| i < self.base) {
+            self.regions.pop_front();
+            self.regions_base += 1;
+        }
+    }
+}
+
 /// The monitor's state.
 #[derive(Debug, Clone)]
 pub struct Monitor {
@@ -323,9 +376,7 @@ pub struct Monitor {
     /// The streams, and their indices by topic (sorted: summaries list them in topic order).
     inputs: Vec<Input>,
     index: BTreeMap<String, usize>,
-    ahead: Vec<Ahead>,
-    /// Indices of the in-region entries of `ahead`, increasing.
-    ahead_regions: Vec<usize>,
+    ahead: Timeline,
     prev_commanded_axis: Option<Vector3<f64>>,
     /// Machine streams: where the programmed feed comes from, and the region rule.
     feed_source: FeedSource,
@@ -354,8 +405,7 @@ impl Monitor {
             limiter: FeedLimiter::new(&limits),
             inputs: Vec::new(),
             index: BTreeMap::new(),
-            ahead: Vec::new(),
-            ahead_regions: Vec::new(),
+            ahead: Timeline::default(),
             prev_commanded_axis: None,
             feed_source: FeedSource::Assumed,
             rule: RegionRule::new(config.rate_limit.unwrap_or(limits[secondary].velocity), config.min_distance),
@@ -471,10 +521,7 @@ impl Monitor {
             None => false,
         };
         self.prev_commanded_axis = Some(axis);
-        if in_region {
-            self.ahead_regions.push(self.ahead.len());
-        }
-        self.ahead.push(Ahead { t, line: st.program_line, tip });
+        self.ahead.push(Ahead { t, line: st.program_line, tip }, in_region);
     }
 
     /// The stream of `topic`, created on first use.
@@ -676,7 +723,7 @@ impl Monitor {
         let time_to_next = if in_region {
             0.0
         } else {
-            let (cursor, ahead) = lookahead(&self.ahead, &self.ahead_regions, input.cursor, st.program_line, &tip);
+            let (cursor, ahead) = lookahead(&self.ahead, input.cursor, st.program_line, &tip);
             input.cursor = cursor;
             ahead
         };
@@ -1205,30 +1252,42 @@ fn feed_limit_from_history(h: &VecDeque<Past>, limiter: &FeedLimiter, f_prog: f6
 }
 
 /// Find a sample's place on the commanded timeline and the time from there to the next region:
-/// (new cursor, seconds; -1 if none ahead). The cursor is (place on `ahead`, first entry of `regions`
-/// not behind it); both only move forward. The place moves from the cursor to the sample's program
-/// line, then on while the next entry is as close to the sample's tool tip; the next region is the
-/// first in-region entry (sorted indices in `regions`) at or after it.
-fn lookahead(ahead: &[Ahead], regions: &[usize], cursor: (usize, usize), line: u32, tip: &Vector3<f64>) -> ((usize, usize), f64) {
-    if ahead.is_empty() {
+/// (new cursor, seconds; -1 if none ahead). The cursor is (place on the timeline, first in-region
+/// entry not behind it), both absolute and only moving forward. The place moves from the cursor to
+/// the sample's program line, then on while the next entry is as close to the sample's tool tip; the
+/// next region is the first in-region entry at or after it.
+fn lookahead(
+    tl: &Timeline,
+    cursor: (usize, usize),
+    line: u32,
+    tip: &Vector3<f64>,
+) -> ((usize, usize), f64) {
+    if tl.entries.is_empty() {
         return (cursor, -1.0);
     }
-    let mut best = cursor.0.min(ahead.len() - 1);
+    let end = tl.end();
+    let mut best = cursor.0.clamp(tl.base, end - 1);
     // A new block: jump to its first entry ahead (the scan happens once per block).
-    if line != 0 && ahead[best].line != line {
-        if let Some(k) = ahead[best..].iter().take(1_000_000).position(|a| a.line == line) {
+    if line != 0 && tl.get(best).line != line {
+        if let Some(k) = (best..end)
+            .take(1_000_000)
+            .position(|i| tl.get(i).line == line)
+        {
             best += k;
         }
     }
     // Then forward while the next entry (of the same block) is at least as close.
     let d = |a: &Ahead| (a.tip - tip).norm();
-    while best + 1 < ahead.len() && (line == 0 || ahead[best + 1].line == line) && d(&ahead[best + 1]) <= d(&ahead[best]) {
+    while best + 1 < end
+        && (line == 0 || tl.get(best + 1).line == line)
+        && d(tl.get(best + 1)) <= d(tl.get(best))
+    {
         best += 1;
     }
-    let mut k = cursor.1;
-    while regions.get(k).is_some_and(|&i| i < best) {
+    let mut k = cursor.1.max(tl.regions_base);
+    while tl.region(k).is_some_and(|i| i < best) {
         k += 1;
     }
-    let next = regions.get(k).map_or(-1.0, |&i| ahead[i].t - ahead[best].t);
+    let next = tl.region(k).map_or(-1.0, |i| tl.get(i).t - tl.get(best).t);
     ((best, k), next)
 }

@@ -15,7 +15,27 @@ pub struct SimConfig {
     pub servo: servo::ServoConfig,
 }
 
-/// A simulated run.
+/// One simulated sample: the actual axis positions (after the servo), the segment and the run
+/// (stretch between planned stops) it belongs to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimSample {
+    pub q: Joints,
+    pub segment: usize,
+    pub run: usize,
+}
+
+/// What a simulation measured besides its samples.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SimSummary {
+    pub samples: u64,
+    /// Largest following error of the linear (m) and rotary (rad) axes.
+    pub following_error_linear: f64,
+    pub following_error_rotary: f64,
+    /// Limit ratios the planner measured on its set-points.
+    pub planned_ratio: [f64; 3],
+}
+
+/// A simulated run, every sample in memory ([`simulate_each`] streams them instead).
 #[derive(Debug, Clone)]
 pub struct Simulation {
     pub period: f64,
@@ -31,28 +51,38 @@ pub struct Simulation {
     pub planned_ratio: [f64; 3],
 }
 
-/// Plan and servo a trajectory. At each planned stop between runs (a corner, a rapid, a rotary-only
-/// move) the next run starts once the servo is in position.
-pub fn simulate(traj: &Trajectory, machine: &Machine, config: &SimConfig) -> Simulation {
-    let plan_cfg = PlanConfig { period: traj.period, ..config.plan };
+/// Plan and servo a trajectory, calling `emit` for each actual sample in time order (false from
+/// `emit` stops the simulation). At each planned stop between runs (a corner, a rapid, a rotary-only
+/// move) the next run starts once the servo is in position. Memory is the planner's look-ahead window.
+pub fn simulate_each(
+    traj: &Trajectory,
+    machine: &Machine,
+    config: &SimConfig,
+    mut emit: impl FnMut(SimSample) -> bool,
+) -> SimSummary {
+    let plan_cfg = PlanConfig {
+        period: traj.period,
+        ..config.plan
+    };
     let cfg = &config.servo;
     let mut servo: Option<servo::Servo> = None;
-    let (mut q, mut segment, mut run) = (Vec::new(), Vec::new(), Vec::new());
     let (mut fl, mut fr) = (0.0f64, 0.0f64);
+    let mut samples = 0u64;
+    let mut open = true;
     let mut last: Option<(Joints, usize, usize)> = None;
-    let mut push = |s: &mut servo::Servo, u: &Joints, seg: usize, r: usize| {
-        let y = s.step(u);
+    let mut push = |s: &mut servo::Servo, u: &Joints, segment: usize, run: usize| -> bool {
+        let q = s.step(u);
         for i in 0..5 {
-            let e = (u[i] - y[i]).abs();
+            let e = (u[i] - q[i]).abs();
             if i < 3 {
                 fl = fl.max(e);
             } else {
                 fr = fr.max(e);
             }
         }
-        q.push(y);
-        segment.push(seg);
-        run.push(r);
+        samples += 1;
+        open = open && emit(SimSample { q, segment, run });
+        open
     };
     let planned = planner::plan_each(&traj.segments, machine, &plan_cfg, |p| {
         let s = servo.get_or_insert_with(|| servo::Servo::new(p.q, traj.period, cfg));
@@ -62,21 +92,146 @@ pub fn simulate(traj: &Trajectory, machine: &Machine, config: &SimConfig) -> Sim
                 if s.in_position(&u, cfg.in_position_m, cfg.in_position_rad) {
                     break;
                 }
-                push(s, &u, seg, r);
+                if !push(s, &u, seg, r) {
+                    return false;
+                }
             }
         }
-        push(s, &p.q, p.segment, p.run);
         last = Some((p.q, p.segment, p.run));
+        push(s, &p.q, p.segment, p.run)
     });
     if let (Some(s), Some((u, seg, r))) = (servo.as_mut(), last) {
         for _ in 0..100_000 {
-            if s.in_position(&u, 1e-9, 1e-9) {
+            if s.in_position(&u, 1e-9, 1e-9) || !push(s, &u, seg, r) {
                 break;
             }
-            push(s, &u, seg, r);
         }
     }
-    Simulation { period: traj.period, q, segment, run, following_error_linear: fl, following_error_rotary: fr, planned_ratio: planned.max_ratio }
+    SimSummary {
+        samples,
+        following_error_linear: fl,
+        following_error_rotary: fr,
+        planned_ratio: planned.max_ratio,
+    }
+}
+
+/// Plan and servo a trajectory, keeping every sample ([`simulate_each`]).
+pub fn simulate(traj: &Trajectory, machine: &Machine, config: &SimConfig) -> Simulation {
+    let (mut q, mut segment, mut run) = (Vec::new(), Vec::new(), Vec::new());
+    let summary = simulate_each(traj, machine, config, |s| {
+        q.push(s.q);
+        segment.push(s.segment);
+        run.push(s.run);
+        true
+    });
+    Simulation {
+        period: traj.period,
+        q,
+        segment,
+        run,
+        following_error_linear: summary.following_error_linear,
+        following_error_rotary: summary.following_error_rotary,
+        planned_ratio: summary.planned_ratio,
+    }
+}
+
+/// Simulated samples to [`AxisState`] messages as they come, one sample behind (the central
+/// differences and the tool-tip speed need the next sample): the one formula of every simulated stream.
+pub struct SimStates<'a> {
+    traj: &'a Trajectory,
+    machine: &'a Machine,
+    builder: StateBuilder,
+    /// The samples before and at the one to be emitted next, with their tool tips (program
+    /// coordinates) and datums; `k` is the index of `cur`.
+    prev: Option<Held>,
+    cur: Option<Held>,
+    k: u64,
+}
+
+#[derive(Clone, Copy)]
+struct Held {
+    s: SimSample,
+    tip: nalgebra::Vector3<f64>,
+    datum: nalgebra::Vector3<f64>,
+}
+
+impl<'a> SimStates<'a> {
+    pub fn new(traj: &'a Trajectory, machine: &'a Machine) -> SimStates<'a> {
+        SimStates {
+            traj,
+            machine,
+            builder: StateBuilder::new(machine, AxisState::SOURCE_SIMULATED),
+            prev: None,
+            cur: None,
+            k: 0,
+        }
+    }
+
+    fn held(&self, s: SimSample) -> Held {
+        let datum = self
+            .traj
+            .segments
+            .get(s.segment)
+            .map_or(nalgebra::Vector3::zeros(), |g| g.datum);
+        Held {
+            s,
+            tip: self.machine.forward(&s.q).tip - datum,
+            datum,
+        }
+    }
+
+    /// The state of `cur` with its neighbours (none at the stream's ends).
+    fn state(&self, prev: Option<&Held>, cur: &Held, next: Option<&Held>) -> AxisState {
+        let period = self.traj.period;
+        // Tool-tip speed by central differences, never across a datum change (the tip jumps there
+        // in program coordinates while the machine does not move).
+        let lo = prev.filter(|p| p.datum == cur.datum);
+        let hi = next.filter(|n| n.datum == cur.datum);
+        let feed = match (lo, hi) {
+            (Some(a), Some(b)) => (b.tip - a.tip).norm() / (2.0 * period),
+            (Some(a), None) => (cur.tip - a.tip).norm() / period,
+            (None, Some(b)) => (b.tip - cur.tip).norm() / period,
+            (None, None) => 0.0,
+        };
+        let mut window = [cur.s.q; 3];
+        let mut n = 0;
+        for h in [prev, Some(cur), next].into_iter().flatten() {
+            window[n] = h.s.q;
+            n += 1;
+        }
+        let (v, a) = derivatives_at(n, usize::from(prev.is_some()), period, |j| window[j]);
+        self.builder.state(
+            self.machine,
+            self.k as f64 * period,
+            &cur.s.q,
+            &v,
+            &a,
+            self.traj.segments.get(cur.s.segment),
+            feed,
+        )
+    }
+
+    /// The next sample; the state of the one before it, if any.
+    pub fn push(&mut self, s: SimSample) -> Option<(SimSample, AxisState)> {
+        let next = self.held(s);
+        let out = self.cur.map(|cur| {
+            let st = self.state(self.prev.as_ref(), &cur, Some(&next));
+            self.k += 1;
+            (cur.s, st)
+        });
+        self.prev = self.cur.take();
+        self.cur = Some(next);
+        out
+    }
+
+    /// The state of the last sample (the stream's end).
+    pub fn finish(&mut self) -> Option<(SimSample, AxisState)> {
+        let cur = self.cur.take()?;
+        let st = self.state(self.prev.as_ref(), &cur, None);
+        self.prev = None;
+        self.k += 1;
+        Some((cur.s, st))
+    }
 }
 
 impl Simulation {
@@ -85,76 +240,33 @@ impl Simulation {
         self.q.len().saturating_sub(1) as f64 * self.period
     }
 
-    /// The lowest tool-tip feed on the feed moves (m/s) and its x (m), planned stops excluded: the
-    /// ramps out of and into each run boundary (a corner or the program's ends) do not count.
-    pub fn lowest_path_feed(&self, traj: &Trajectory, states: &[FeedSample]) -> (f64, f64) {
-        let sim = self;
-        let n = states.len();
-        let path_move = |k: usize| traj.segments.get(sim.segment[k]).is_some_and(|s| s.is_path_move() && s.kind != crate::path::SegmentKind::Rapid);
-        // The ramps out of and into each planned stop: from a run boundary for as long as the feed is
-        // below the programmed feed and has not fallen by more than 2 % of it from its highest value since
-        // the stop (the servo rounds the corner, so the feed may still dip just after the boundary).
-        let mut ramp = vec![false; n];
-        let boundary = |k: usize| k == 0 || sim.run[k - 1] != sim.run[k];
-        let mark = |k: usize, forward: bool, ramp: &mut Vec<bool>| {
-            let f = states[k].programmed_feed.max(1e-12);
-            let (mut j, mut top) = (k, 0.0f64);
-            ramp[j] = true;
-            loop {
-                let next = if forward { j + 1 } else { j.wrapping_sub(1) };
-                if next >= n || (forward && boundary(next)) || (!forward && boundary(j)) {
-                    break;
-                }
-                let v = states[next].path_feed;
-                if v >= 0.99 * f || v < top - 0.02 * f {
-                    break;
-                }
-                top = top.max(v);
-                j = next;
-                ramp[j] = true;
-            }
-        };
-        for k in 0..n {
-            if boundary(k) {
-                mark(k, true, &mut ramp);
-            }
-            if k + 1 == n || boundary(k + 1) {
-                mark(k, false, &mut ramp);
-            }
-        }
-        (0..n)
-            .filter(|&k| path_move(k) && states[k].programmed_feed > 0.0 && !ramp[k])
-            .map(|k| (states[k].path_feed, states[k].x))
-            .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a })
-    }
-
-    /// The simulated states, in time order, one at a time (nothing is held but the simulation).
-    pub fn states_iter<'a>(&'a self, traj: &'a Trajectory, machine: &'a Machine) -> impl Iterator<Item = AxisState> + 'a {
-        let b = StateBuilder::new(machine, AxisState::SOURCE_SIMULATED);
-        let n = self.q.len();
-        let datum = move |k: usize| traj.segments.get(self.segment[k]).map_or(nalgebra::Vector3::zeros(), |g| g.datum);
-        let tip = move |k: usize| machine.forward(&self.q[k]).tip - datum(k);
-        // Tool tips of the samples before, at and after k (rolling, one forward kinematics per sample).
-        let mut tips: Option<[nalgebra::Vector3<f64>; 3]> = None;
-        (0..n).map(move |k| {
-            let t3 = match tips {
-                None => [tip(0), tip(0), tip(1.min(n - 1))],
-                Some([_, cur, next]) => [cur, next, tip((k + 1).min(n - 1))],
-            };
-            tips = Some(t3);
-            // Tool-tip speed by central differences, never across a datum change (the tip jumps there
-            // in program coordinates while the machine does not move).
-            let lo = if k > 0 && datum(k - 1) == datum(k) { 0 } else { 1 };
-            let hi = if k + 1 < n && datum(k + 1) == datum(k) { 2 } else { 1 };
-            let feed = if hi > lo { (t3[hi] - t3[lo]).norm() / ((hi - lo) as f64 * self.period) } else { 0.0 };
-            let (v, a) = derivatives_at(n, k, self.period, |j| self.q[j]);
-            b.state(machine, k as f64 * self.period, &self.q[k], &v, &a, traj.segments.get(self.segment[k]), feed)
+    /// The samples, in time order.
+    pub fn samples(&self) -> impl Iterator<Item = SimSample> + '_ {
+        (0..self.q.len()).map(|k| SimSample {
+            q: self.q[k],
+            segment: self.segment[k],
+            run: self.run[k],
         })
     }
 
-    /// What the feed figures need of every simulated state ([`Simulation::lowest_path_feed`], slow regions).
-    pub fn feed_samples(&self, traj: &Trajectory, machine: &Machine) -> Vec<FeedSample> {
-        self.states_iter(traj, machine).map(|s| (&s).into()).collect()
+    /// The simulated states, in time order, one at a time (nothing is held but the simulation).
+    pub fn states_iter<'a>(
+        &'a self,
+        traj: &'a Trajectory,
+        machine: &'a Machine,
+    ) -> impl Iterator<Item = AxisState> + 'a {
+        let mut states = SimStates::new(traj, machine);
+        let mut samples = self.samples();
+        std::iter::from_fn(move || loop {
+            match samples.next() {
+                Some(s) => {
+                    if let Some((_, st)) = states.push(s) {
+                        return Some(st);
+                    }
+                }
+                None => return states.finish().map(|(_, st)| st),
+            }
+        })
     }
 
     /// The simulated states, in time order, all in memory.

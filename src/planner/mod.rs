@@ -20,9 +20,11 @@
 //! 7. Servo ([`servo`]): each axis follows its set-point through a critically damped position loop;
 //!    at a stop between runs the next starts once every axis is in position.
 
+mod check;
 mod geometry;
 mod profile;
 pub mod servo;
 
 pub use geometry::{PathModel, Run, CORNER_DEG};
-pub use profile::{limit_ratios, plan_each, PlanConfig, Planned, PlannedSample, LOOKAHEAD_BLOCKS};
+pub use check::{limit_ratios, LimitCheck};
+pub use profile::{plan_each, PlanConfig, Planned, PlannedSample, LOOKAHEAD_BLOCKS};

@@ -3,6 +3,7 @@
 use super::geometry::{Curve, PathModel, Run};
 use std::collections::VecDeque;
 use crate::kinematics::Joints;
+use super::check::limit_ratios;
 use crate::machine::{AxisLimits, Machine, AXES};
 use crate::path::Segment;
 use crate::singularity::FeedLimiter;
@@ -61,28 +62,6 @@ pub struct Planned {
     pub max_ratio: [f64; 3],
     /// Replanning rounds the worst run needed.
     pub iterations: usize,
-}
-
-/// Largest ratios of finite-difference velocity, acceleration and jerk to the limits, per sample,
-/// for a position sequence `q` at period `t` that is at rest before and after.
-pub fn limit_ratios(q: &[Joints], t: f64, limits: &[AxisLimits; AXES]) -> Vec<[f64; 3]> {
-    let n = q.len();
-    let at = |k: isize| q[k.clamp(0, n as isize - 1) as usize];
-    (0..n as isize)
-        .map(|k| {
-            let (m2, m1, p0, p1, p2) = (at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2));
-            let mut r = [0.0f64; 3];
-            for i in 0..AXES {
-                let v = (p1[i] - m1[i]) / (2.0 * t);
-                let a = (p1[i] - 2.0 * p0[i] + m1[i]) / (t * t);
-                let j = (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) / (2.0 * t * t * t);
-                r[0] = r[0].max(v.abs() / limits[i].velocity);
-                r[1] = r[1].max(a.abs() / limits[i].acceleration);
-                r[2] = r[2].max(j.abs() / limits[i].jerk);
-            }
-            r
-        })
-        .collect()
 }
 
 /// Tangential acceleration bounds (min, max) at a grid point moving at path speed `v`.
@@ -234,11 +213,14 @@ struct RunStats {
     worst: [f64; 3],
     iterations: usize,
     samples: u64,
+    /// The consumer asked to stop.
+    stopped: bool,
 }
 
 /// Plan one run look-ahead window by window, calling `emit(parameter, set-point)` for each sample in
-/// order. Each window is planned to stop at its end, checked, and its first three quarters committed.
-fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLimiter, config: &PlanConfig, w: usize, emit: &mut dyn FnMut(f64, Joints)) -> RunStats {
+/// order (false from `emit` stops planning). Each window is planned to stop at its end, checked, and
+/// its first three quarters committed.
+fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLimiter, config: &PlanConfig, w: usize, emit: &mut dyn FnMut(f64, Joints) -> bool) -> RunStats {
     let limits = machine.limits();
     let len = run.length();
     let step = if run.is_angular(segments) { config.grid_rad } else { config.grid_m };
@@ -371,9 +353,12 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
         let new_q = &q[q_hist.len()..];
         let keep = if last { new_q.len() } else { c };
         for i in 0..keep {
-            emit(filtered[i], new_q[i]);
+            if !emit(filtered[i], new_q[i]) {
+                stats.stopped = true;
+                return stats;
+            }
+            stats.samples += 1;
         }
-        stats.samples += keep as u64;
         if last {
             break;
         }
@@ -393,9 +378,10 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
     stats
 }
 
-/// Plan the whole trajectory on `machine`, calling `emit` for each set-point in time order; returns
-/// what the check measured. Memory is bounded by the look-ahead window.
-pub fn plan_each(segments: &[Segment], machine: &Machine, config: &PlanConfig, mut emit: impl FnMut(PlannedSample)) -> Planned {
+/// Plan the whole trajectory on `machine`, calling `emit` for each set-point in time order (planning
+/// stops early if it returns false); returns what the check measured. Memory is bounded by the
+/// look-ahead window.
+pub fn plan_each(segments: &[Segment], machine: &Machine, config: &PlanConfig, mut emit: impl FnMut(PlannedSample) -> bool) -> Planned {
     let model = PathModel::new(segments);
     let limits = machine.limits();
     let limiter = FeedLimiter::new(&limits);
@@ -414,14 +400,17 @@ pub fn plan_each(segments: &[Segment], machine: &Machine, config: &PlanConfig, m
         }
         let mut j = 0u64;
         let stats = plan_run(run, segments, machine, &limiter, config, w, &mut |x, q| {
-            emit(PlannedSample { t: t0 + j as f64 * config.period, segment: run.segments[run.segment_at(x)], run: ri, q });
             j += 1;
+            emit(PlannedSample { t: t0 + (j - 1) as f64 * config.period, segment: run.segments[run.segment_at(x)], run: ri, q })
         });
         for k in 0..3 {
             max_ratio[k] = max_ratio[k].max(stats.worst[k]);
         }
         iterations = iterations.max(stats.iterations);
         t0 += stats.samples as f64 * config.period;
+        if stats.stopped {
+            break;
+        }
     }
     Planned { max_ratio, iterations }
 }

@@ -5,7 +5,8 @@
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::live::simulator::{simulate, SimConfig};
+use fiveaxis::live::sim_report::simulate_measured;
+use fiveaxis::live::simulator::SimConfig;
 use fiveaxis::machine::Machine;
 use fiveaxis_bus::{init_tracing, load_job, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
 use fiveaxis_msgs::{AxisState, JointState};
@@ -34,18 +35,51 @@ fn main() -> anyhow::Result<()> {
     let job = load_job(&args.stream, &machine);
     let mut config = SimConfig::default();
     config.servo.tau = args.servo_ms * 1e-3;
-    let sim = simulate(&job.trajectory, &machine, &config);
-    let samples = sim.q.len();
-    tracing::info!(program = %args.stream.program, samples, duration_s = sim.duration(), ratios = ?sim.planned_ratio, "simulated");
+    let traj = &job.trajectory;
+    let commanded_s = traj.duration();
+    tracing::info!(program = %args.stream.program, commanded_s, "simulating as the states are published");
 
     let mut bus = Bus::new("fiveaxis_simulator", &args.common)?;
     let state_pub = bus.publisher::<AxisState>("simulated/axis_state", state_qos())?;
     let joint_pub = bus.publisher::<JointState>("simulated/joint_states", state_qos())?;
-    if args.stream.wait_s > 0.0 && !bus.wait_for_subscribers(&state_pub, args.stream.min_subscribers.max(1), Duration::from_secs_f64(args.stream.wait_s), &shutdown) {
-        tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve("simulated/axis_state"), args.stream.wait_s);
+    if args.stream.wait_s > 0.0
+        && !bus.wait_for_subscribers(
+            &state_pub,
+            args.stream.min_subscribers.max(1),
+            Duration::from_secs_f64(args.stream.wait_s),
+            &shutdown,
+        )
+    {
+        tracing::warn!(
+            "no subscriber on {} after {} s: publishing anyway",
+            bus.resolve("simulated/axis_state"),
+            args.stream.wait_s
+        );
     }
-    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "simulating {} ({} samples)", args.stream.program, samples);
+    ros2_client::rosout!(
+        bus.node,
+        ros2_client::ros2::LogLevel::Info,
+        "simulating {} ({:.3} s commanded)",
+        args.stream.program,
+        commanded_s
+    );
     let pacer = args.stream.pacer();
-    publish_states(sim.states_iter(&job.trajectory, &machine), &state_pub, &joint_pub, None, &pacer, &shutdown);
+    // The planner and servo run on their own thread, a bounded channel ahead of the publisher: the
+    // first state goes out once the first look-ahead window is planned, and memory stays the window's.
+    let (tx, rx) = std::sync::mpsc::sync_channel::<AxisState>(4096);
+    let machine = &machine;
+    let (summary, figures) = std::thread::scope(|scope| {
+        let simulator = scope
+            .spawn(move || simulate_measured(traj, machine, &config, |_, st| tx.send(st).is_ok()));
+        publish_states(rx, &state_pub, &joint_pub, None, &pacer, &shutdown);
+        simulator.join().expect("simulator thread")
+    });
+    tracing::info!(
+        samples = figures.samples,
+        duration_s = figures.samples.saturating_sub(1) as f64 * traj.period,
+        planned_ratios = ?summary.planned_ratio,
+        checked_ratios = ?figures.worst_ratio,
+        "simulated"
+    );
     Ok(())
 }

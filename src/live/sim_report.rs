@@ -1,0 +1,369 @@
+//! What the simulated machine did, measured on its stream of states in constant memory: the lowest
+//! tool-tip feed outside the planned stops, the stretches below half the programmed feed, and the
+//! axis limit check ([`crate::planner::LimitCheck`]).
+
+use super::monitor::LiveRegion;
+use super::simulator::{simulate_each, FeedSample, SimConfig, SimSample, SimStates, SimSummary};
+use crate::kinematics::Joints;
+use crate::machine::Machine;
+use crate::path::{SegmentKind, Trajectory};
+use crate::planner::LimitCheck;
+use crate::units::mm_per_min;
+use fiveaxis_msgs::AxisState;
+use serde::Serialize;
+use std::collections::VecDeque;
+
+/// How far back (s) the ramp into a planned stop is looked for: a run's samples older than this
+/// before its end are taken as outside the ramp. Braking from any programmed feed to a stop takes
+/// well under a second on the machines here; the horizon bounds the memory of the figures.
+pub const RAMP_HORIZON_S: f64 = 30.0;
+
+/// A stretch where the simulated feed is below half the programmed feed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SlowRegion {
+    pub x_start_mm: f64,
+    pub x_end_mm: f64,
+    pub t_start_s: f64,
+    pub t_end_s: f64,
+    pub block_start: i64,
+    pub block_end: i64,
+    /// Program lines (0: unknown), for programs without block numbers.
+    pub line_start: u32,
+    pub line_end: u32,
+    pub min_feed_mm_per_min: f64,
+    /// True where the slow-down is the planned stop at a corner or at the program's ends, not an
+    /// axis limit along the path.
+    pub at_stop: bool,
+}
+
+/// What the simulated machine did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SimulatedReport {
+    pub cycle_time_s: f64,
+    pub commanded_cycle_time_s: f64,
+    /// Lowest tool-tip feed on feed moves, outside the ramps into and out of planned stops.
+    pub min_feed_mm_per_min: f64,
+    pub min_feed_x_mm: f64,
+    pub slow_regions: Vec<SlowRegion>,
+    pub max_axis_velocity_ratio: f64,
+    pub max_axis_acceleration_ratio: f64,
+    pub max_axis_jerk_ratio: f64,
+    pub max_following_error_mm: f64,
+    pub max_following_error_deg: f64,
+    pub samples: usize,
+    pub lost_samples: u64,
+    /// Regions the live monitor saw on the simulated stream.
+    pub monitor_regions: Vec<LiveRegion>,
+    pub monitor_statuses: u64,
+}
+
+impl SimulatedReport {
+    /// A short table for people.
+    pub fn to_table(&self, c: &str) -> String {
+        use std::fmt::Write as _;
+        let mut o = String::new();
+        let _ = writeln!(
+            o,
+            "simulated  {:.2} s (commanded {:.2} s), {} samples, {} lost",
+            self.cycle_time_s, self.commanded_cycle_time_s, self.samples, self.lost_samples
+        );
+        let _ = writeln!(
+            o,
+            "lowest feed on the path      {:8.0} mm/min at x {:.3} mm (planned stops excluded)",
+            self.min_feed_mm_per_min, self.min_feed_x_mm
+        );
+        let _ = writeln!(
+            o,
+            "largest |v|/v_max {:.3}, |a|/a_max {:.3}, |j|/j_max {:.3} over all axes; following error {:.3} mm, {:.4} deg",
+            self.max_axis_velocity_ratio, self.max_axis_acceleration_ratio, self.max_axis_jerk_ratio, self.max_following_error_mm, self.max_following_error_deg
+        );
+        let limit: Vec<_> = self.slow_regions.iter().filter(|r| !r.at_stop).collect();
+        if limit.is_empty() {
+            let _ = writeln!(
+                o,
+                "slow regions none below 50 % of the programmed feed (besides {} planned stops)",
+                self.slow_regions.len()
+            );
+        } else {
+            let _ = writeln!(
+                o,
+                "slow regions below 50 % of the programmed feed (besides {} planned stops):",
+                self.slow_regions.len() - limit.len()
+            );
+            let _ = writeln!(o, "     x from     x to   blocks          lowest mm/min");
+            for r in limit {
+                let _ = writeln!(
+                    o,
+                    "   {:8.3} {:8.3}   {:<14} {:10.0}",
+                    r.x_start_mm,
+                    r.x_end_mm,
+                    crate::report::block_span(r.block_start, r.block_end, r.line_start, r.line_end),
+                    r.min_feed_mm_per_min
+                );
+            }
+        }
+        for r in &self.monitor_regions {
+            let _ = writeln!(
+                o,
+                "monitor    region {} on the simulated stream: x {:.3} to {:.3} mm, {:.2} s, peak {c} {:.1} rpm, feed down to {:.0} mm/min",
+                r.id, r.x_start_mm, r.x_end_mm, r.t_end_s - r.t_start_s, r.peak_c_speed_rpm, r.min_path_feed_mm_per_min
+            );
+        }
+        o
+    }
+}
+
+/// A slow stretch being measured: samples `start..=end`.
+#[derive(Debug, Clone)]
+struct Stretch {
+    start: u64,
+    end: u64,
+    first: FeedSample,
+    last: FeedSample,
+    min: f64,
+    at_stop: bool,
+}
+
+impl Stretch {
+    fn region(&self, period: f64) -> SlowRegion {
+        SlowRegion {
+            x_start_mm: self.first.x * 1e3,
+            x_end_mm: self.last.x * 1e3,
+            t_start_s: self.start as f64 * period,
+            t_end_s: self.end as f64 * period,
+            block_start: self.first.block.into(),
+            block_end: self.last.block.into(),
+            line_start: self.first.line,
+            line_end: self.last.line,
+            min_feed_mm_per_min: mm_per_min(self.min),
+            at_stop: self.at_stop,
+        }
+    }
+}
+
+/// One sample of the current run, for the ramp into its end.
+#[derive(Debug, Clone, Copy)]
+struct Held {
+    v: f64,
+    x: f64,
+    programmed: f64,
+    /// A feed move with a programmed feed, outside the ramp out of the run's start.
+    candidate: bool,
+}
+
+/// The ramp out of a planned stop, being followed: the programmed feed at the stop and the highest
+/// feed since.
+#[derive(Debug, Clone, Copy)]
+struct Ramp {
+    feed: f64,
+    top: f64,
+}
+
+/// The feed figures of a simulated stream, pushed one state at a time.
+///
+/// - Lowest feed: the lowest tool-tip feed on feed moves outside the ramps out of and into each
+///   planned stop. A ramp runs from a run boundary (a corner, a rapid, the program's ends) for as long
+///   as the feed is below the programmed feed and has not fallen by more than 2 % of it from its
+///   highest value since the stop (the servo rounds the corner, so the feed may still dip just after
+///   the boundary).
+/// - Slow regions: feed moves below half their programmed feed; a stretch within four samples of a
+///   run boundary or of the program's ends is a planned stop (a datum change between runs makes the
+///   tip jump in program coordinates there).
+#[derive(Debug, Clone)]
+pub struct FeedFigures {
+    period: f64,
+    n: u64,
+    check: LimitCheck,
+    prev_run: Option<usize>,
+    /// The latest sample that starts a run (after the first).
+    last_change: Option<u64>,
+    open: Option<Stretch>,
+    /// Stretches that ended less than four samples ago (a run boundary may still follow).
+    pending: VecDeque<Stretch>,
+    slow: Vec<SlowRegion>,
+    ramp: Option<Ramp>,
+    run: VecDeque<Held>,
+    horizon: usize,
+    lowest: (f64, f64),
+}
+
+/// The figures once the stream has ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FeedFiguresReport {
+    /// Lowest feed (m/s; infinite if none) and its workpiece x (m).
+    pub lowest_feed: f64,
+    pub lowest_feed_x: f64,
+    pub slow_regions: Vec<SlowRegion>,
+    /// Largest |v|/v_max, |a|/a_max, |j|/j_max over all axes.
+    pub worst_ratio: [f64; 3],
+    pub samples: u64,
+}
+
+impl FeedFigures {
+    pub fn new(machine: &Machine, period: f64) -> FeedFigures {
+        FeedFigures {
+            period,
+            n: 0,
+            check: LimitCheck::new(period, &machine.limits()),
+            prev_run: None,
+            last_change: None,
+            open: None,
+            pending: VecDeque::new(),
+            slow: Vec::new(),
+            ramp: None,
+            run: VecDeque::new(),
+            horizon: (RAMP_HORIZON_S / period).ceil().max(1.0) as usize,
+            lowest: (f64::INFINITY, 0.0),
+        }
+    }
+
+    fn consider(&mut self, h: &Held) {
+        if h.candidate && h.v < self.lowest.0 {
+            self.lowest = (h.v, h.x);
+        }
+    }
+
+    /// The current run has ended: the ramp into its end, followed back from its last sample, is
+    /// left out; every other candidate counts.
+    fn close_run(&mut self) {
+        let Some(end) = self.run.back() else { return };
+        let f = end.programmed.max(1e-12);
+        let (mut j, mut top) = (self.run.len() - 1, 0.0f64);
+        while j > 0 {
+            let v = self.run[j - 1].v;
+            if v >= 0.99 * f || v < top - 0.02 * f {
+                break;
+            }
+            top = top.max(v);
+            j -= 1;
+        }
+        for i in 0..j {
+            let h = self.run[i];
+            self.consider(&h);
+        }
+        self.run.clear();
+    }
+
+    /// The next simulated state (`s`), at positions `q`, of run `run`; `path_move` if it belongs to a
+    /// feed move along the path (not a rapid).
+    pub fn push(&mut self, s: &FeedSample, q: &Joints, run: usize, path_move: bool) {
+        let k = self.n;
+        self.n += 1;
+        self.check.push(q);
+        let boundary = self.prev_run != Some(run);
+        self.prev_run = Some(run);
+        if boundary && k > 0 {
+            self.last_change = Some(k);
+            self.close_run();
+            if let Some(o) = self.open.as_mut() {
+                o.at_stop = true;
+            }
+            for p in self.pending.iter_mut().filter(|p| k <= p.end + 4) {
+                p.at_stop = true;
+            }
+        }
+        // Slow stretches.
+        if path_move && s.programmed_feed > 0.0 && s.path_feed < 0.5 * s.programmed_feed {
+            match self.open.as_mut() {
+                Some(o) => {
+                    o.end = k;
+                    o.last = *s;
+                    o.min = o.min.min(s.path_feed);
+                }
+                None => {
+                    let at_stop =
+                        k == 0 || self.last_change.is_some_and(|c| c > k.saturating_sub(4));
+                    self.open = Some(Stretch {
+                        start: k,
+                        end: k,
+                        first: *s,
+                        last: *s,
+                        min: s.path_feed,
+                        at_stop,
+                    });
+                }
+            }
+        } else if let Some(o) = self.open.take() {
+            self.pending.push_back(o);
+        }
+        while self.pending.front().is_some_and(|p| p.end + 4 <= k) {
+            let p = self.pending.pop_front().expect("front checked");
+            self.slow.push(p.region(self.period));
+        }
+        // The ramp out of the run's start.
+        let in_ramp = if boundary {
+            self.ramp = Some(Ramp {
+                feed: s.programmed_feed.max(1e-12),
+                top: 0.0,
+            });
+            true
+        } else if let Some(r) = self.ramp.as_mut() {
+            let v = s.path_feed;
+            if v >= 0.99 * r.feed || v < r.top - 0.02 * r.feed {
+                self.ramp = None;
+                false
+            } else {
+                r.top = r.top.max(v);
+                true
+            }
+        } else {
+            false
+        };
+        self.run.push_back(Held {
+            v: s.path_feed,
+            x: s.x,
+            programmed: s.programmed_feed,
+            candidate: path_move && s.programmed_feed > 0.0 && !in_ramp,
+        });
+        if self.run.len() > self.horizon {
+            let h = self.run.pop_front().expect("longer than the horizon");
+            self.consider(&h);
+        }
+    }
+
+    /// The figures over everything pushed.
+    pub fn finish(mut self) -> FeedFiguresReport {
+        self.close_run();
+        let n = self.n;
+        let open = self.open.take();
+        for mut p in self.pending.drain(..).chain(open) {
+            p.at_stop |= p.end + 4 >= n;
+            self.slow.push(p.region(self.period));
+        }
+        FeedFiguresReport {
+            lowest_feed: self.lowest.0,
+            lowest_feed_x: self.lowest.1,
+            slow_regions: self.slow,
+            worst_ratio: self.check.finish(),
+            samples: n,
+        }
+    }
+}
+
+/// Simulate `traj` on `machine` ([`simulate_each`], [`SimStates`]) and measure the feed figures as
+/// the states come, handing each state to `each` (false from it stops the simulation).
+pub fn simulate_measured(
+    traj: &Trajectory,
+    machine: &Machine,
+    config: &SimConfig,
+    mut each: impl FnMut(&SimSample, AxisState) -> bool,
+) -> (SimSummary, FeedFiguresReport) {
+    let mut states = SimStates::new(traj, machine);
+    let mut figures = FeedFigures::new(machine, traj.period);
+    let mut open = true;
+    let mut take = |out: Option<(SimSample, AxisState)>, figures: &mut FeedFigures| -> bool {
+        let Some((s, st)) = out else { return open };
+        let path_move = traj
+            .segments
+            .get(s.segment)
+            .is_some_and(|g| g.is_path_move() && g.kind != SegmentKind::Rapid);
+        figures.push(&(&st).into(), &s.q, s.run, path_move);
+        open = open && each(&s, st);
+        open
+    };
+    let summary = simulate_each(traj, machine, config, |s| {
+        take(states.push(s), &mut figures)
+    });
+    take(states.finish(), &mut figures);
+    (summary, figures.finish())
+}

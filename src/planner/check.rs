@@ -1,0 +1,139 @@
+//! The limit check: velocity, acceleration and jerk of sampled axis positions by finite differences
+//! (5-point stencil at the sample period), as ratios to the machine's limits. One stencil, over a
+//! slice ([`limit_ratios`]) or over a stream in constant memory ([`LimitCheck`]).
+
+use crate::kinematics::Joints;
+use crate::machine::{AxisLimits, AXES};
+
+/// Ratios |v|/v_max, |a|/a_max, |j|/j_max (largest over the axes) at the middle of five positions
+/// `q[k-2..=k+2]` sampled at period `t`.
+fn ratio_at(
+    m2: &Joints,
+    m1: &Joints,
+    p0: &Joints,
+    p1: &Joints,
+    p2: &Joints,
+    t: f64,
+    limits: &[AxisLimits; AXES],
+) -> [f64; 3] {
+    let mut r = [0.0f64; 3];
+    for i in 0..AXES {
+        let v = (p1[i] - m1[i]) / (2.0 * t);
+        let a = (p1[i] - 2.0 * p0[i] + m1[i]) / (t * t);
+        let j = (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) / (2.0 * t * t * t);
+        r[0] = r[0].max(v.abs() / limits[i].velocity);
+        r[1] = r[1].max(a.abs() / limits[i].acceleration);
+        r[2] = r[2].max(j.abs() / limits[i].jerk);
+    }
+    r
+}
+
+/// Largest ratios of finite-difference velocity, acceleration and jerk to the limits, per sample,
+/// for a position sequence `q` at period `t` that is at rest before and after.
+pub fn limit_ratios(q: &[Joints], t: f64, limits: &[AxisLimits; AXES]) -> Vec<[f64; 3]> {
+    let n = q.len();
+    let at = |k: isize| &q[k.clamp(0, n as isize - 1) as usize];
+    (0..n as isize)
+        .map(|k| ratio_at(at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2), t, limits))
+        .collect()
+}
+
+/// [`limit_ratios`] over a stream: positions pushed one at a time, the worst ratios kept; five
+/// positions held. The same figures as [`limit_ratios`] on the whole sequence.
+#[derive(Debug, Clone)]
+pub struct LimitCheck {
+    t: f64,
+    limits: [AxisLimits; AXES],
+    /// The last five positions pushed (oldest first once full) and how many were pushed.
+    last: [Joints; 5],
+    n: u64,
+    worst: [f64; 3],
+}
+
+impl LimitCheck {
+    pub fn new(t: f64, limits: &[AxisLimits; AXES]) -> LimitCheck {
+        LimitCheck {
+            t,
+            limits: *limits,
+            last: [[0.0; AXES]; 5],
+            n: 0,
+            worst: [0.0; 3],
+        }
+    }
+
+    /// Position `n` (0-based) of the stream, read back from the last five pushed, clamped to the
+    /// stream's first and last pushed.
+    fn at(&self, k: i64) -> &Joints {
+        let k = k.clamp(0, self.n as i64 - 1);
+        let back = self.n as i64 - 1 - k; // 0 = the newest
+        &self.last[(4 - back.min(4)) as usize]
+    }
+
+    fn measure(&mut self, k: i64) {
+        let r = ratio_at(
+            self.at(k - 2),
+            self.at(k - 1),
+            self.at(k),
+            self.at(k + 1),
+            self.at(k + 2),
+            self.t,
+            &self.limits,
+        );
+        for i in 0..3 {
+            self.worst[i] = self.worst[i].max(r[i]);
+        }
+    }
+
+    /// The next position.
+    pub fn push(&mut self, q: &Joints) {
+        self.last.rotate_left(1);
+        self.last[4] = *q;
+        self.n += 1;
+        // The stencil of sample n - 3 is complete (it reaches two ahead).
+        if self.n >= 3 {
+            self.measure(self.n as i64 - 3);
+        }
+    }
+
+    /// The worst ratios over every position pushed (the last two measured with the stream at rest after).
+    pub fn finish(mut self) -> [f64; 3] {
+        let n = self.n as i64;
+        for k in (n - 2).max(0)..n {
+            self.measure(k);
+        }
+        self.worst
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_stream_measures_what_the_slice_does() {
+        let limits = crate::machine::Machine::hermle_c600u().limits();
+        for n in [0usize, 1, 2, 3, 4, 5, 9, 200] {
+            // A wobbly motion with a jump in it: every stencil sees something different.
+            let q: Vec<Joints> = (0..n)
+                .map(|k| {
+                    let x = k as f64 * 1e-3;
+                    [
+                        1e-3 * (7.0 * x).sin(),
+                        x * x,
+                        if k > n / 2 { 1e-4 } else { 0.0 },
+                        (3.0 * x).cos(),
+                        0.2 * x,
+                    ]
+                })
+                .collect();
+            let whole = limit_ratios(&q, 1e-3, &limits)
+                .iter()
+                .fold([0.0f64; 3], |m, r| {
+                    [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]
+                });
+            let mut c = LimitCheck::new(1e-3, &limits);
+            q.iter().for_each(|x| c.push(x));
+            assert_eq!(c.finish(), whole, "n = {n}");
+        }
+    }
+}
