@@ -125,8 +125,34 @@ pub struct OfflineReport {
     pub roughness_ra_outside_um: Option<f64>,
 }
 
-/// A sample of simultaneous five-axis motion: (t s, x m, tip step m, path feed, programmed feed m/s).
-type Cut = (f64, f64, f64, f64, f64);
+/// A sample of simultaneous five-axis motion of an actual stream.
+#[derive(Debug, Clone, Copy)]
+struct Cut {
+    /// Stamp (s), workpiece x (m), tool-tip step from the previous sample (m), path and programmed
+    /// feed (m/s), program line (0: unknown).
+    t: f64,
+    x: f64,
+    ds: f64,
+    feed: f64,
+    programmed: f64,
+    line: u32,
+}
+
+/// The actual stream's cut samples that belong to a region: with program lines on both sides, the
+/// samples of the region's lines (one pass: a raster crossing the same x again is another pass) within
+/// its x range, found by binary search (`by_line`: the stream's lines are known and only grow);
+/// without, every sample within its x range.
+fn cuts_inside<'a>(cuts: &'a [Cut], by_line: bool, lines: (u32, u32), x: (f64, f64)) -> Vec<&'a Cut> {
+    let (lo, hi) = x;
+    let in_x = |c: &&Cut| c.x >= lo && c.x <= hi;
+    if by_line && lines.0 > 0 && lines.1 >= lines.0 {
+        let a = cuts.partition_point(|c| c.line < lines.0);
+        let b = cuts.partition_point(|c| c.line <= lines.1);
+        cuts[a..b].iter().filter(in_x).collect()
+    } else {
+        cuts.iter().filter(in_x).collect()
+    }
+}
 
 
 /// What the analysis keeps per stream (topic) while reading.
@@ -290,7 +316,7 @@ pub fn analyze_mcap_with_progress(
             // Simultaneous five-axis motion (a feed move with the tool axis turning): the closest
             // approach counts there (parking at A = 0 is harmless), and the feed figures come from it.
             if status.motion == Motion::Feed && status.turning {
-                stream.cuts.push((t, tip.x, ds, status.path_feed, status.programmed_feed));
+                stream.cuts.push(Cut { t, x: tip.x, ds, feed: status.path_feed, programmed: status.programmed_feed, line: state.program_line });
             }
             if let Some(d) = status.five_axis_distance {
                 stream.min_distance_deg = stream.min_distance_deg.min(d.to_degrees());
@@ -332,7 +358,7 @@ pub fn analyze_mcap_with_progress(
             // The feed figures come from the actual stream (machine or simulated): only those keep
             // their cut samples (memory grows with them, not with the commanded stream).
             if state.source != AxisState::SOURCE_COMMANDED {
-                stream.cuts.push((t, tip.x, ds, state.path_feed, state.programmed_feed));
+                stream.cuts.push(Cut { t, x: tip.x, ds, feed: state.path_feed, programmed: state.programmed_feed, line: state.program_line });
             }
             stream.min_distance_deg = stream.min_distance_deg.min(status.singularity_distance.to_degrees());
         }
@@ -352,6 +378,8 @@ pub fn analyze_mcap_with_progress(
     progress(file_len, file_len);
     let stream_of = |topic: &str| by_topic.get(topic).map(|&k| &streams[k]);
     let cuts_of = |topic: &str| stream_of(topic).map(|s| s.cuts.as_slice());
+    // Whether a stream's cut samples can be looked up by program line (known on every one, never decreasing).
+    let by_line = |cuts: &[Cut]| cuts.first().is_some_and(|c| c.line > 0) && cuts.windows(2).all(|w| w[0].line <= w[1].line && w[1].line > 0);
     monitor.finish();
     for s in monitor.summary() {
         let (peak, min_d) = stream_of(&s.topic).map_or((0.0, f64::INFINITY), |st| (st.peak_c_speed_rpm, st.min_distance_deg));
@@ -379,6 +407,8 @@ pub fn analyze_mcap_with_progress(
         .iter()
         .find_map(|src| report.streams.iter().find(|s| s.source == *src))
         .map(|s| s.topic.clone());
+    let actual_cuts = actual.as_ref().and_then(|a| cuts_of(a));
+    let actual_by_line = actual_cuts.is_some_and(by_line);
     for source in [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED] {
         if let Some(s) = report.streams.iter().find(|s| s.source == source && !s.regions.is_empty()) {
             report.regions = s
@@ -391,13 +421,9 @@ pub fn analyze_mcap_with_progress(
                         (Some(s.topic.clone()), r.min_path_feed_mm_per_min * crate::units::MM_PER_MIN, Some(r.time_lost_s))
                     } else {
                         let (lo, hi) = (r.x_start_mm.min(r.x_end_mm) * 1e-3, r.x_start_mm.max(r.x_end_mm) * 1e-3);
-                        let inside: Vec<&Cut> = actual
-                            .as_ref()
-                            .and_then(|a| cuts_of(a))
-                            .map(|c| c.iter().filter(|c| c.1 >= lo && c.1 <= hi).collect())
-                            .unwrap_or_default();
-                        let lowest = inside.iter().map(|c| c.3).fold(f64::INFINITY, f64::min);
-                        let lost: f64 = inside.windows(2).map(|w| (w[1].0 - w[0].0) - if w[1].4 > 0.0 { w[1].2 / w[1].4 } else { 0.0 }).sum();
+                        let inside = actual_cuts.map_or_else(Vec::new, |c| cuts_inside(c, actual_by_line, (r.line_start, r.line_end), (lo, hi)));
+                        let lowest = inside.iter().map(|c| c.feed).fold(f64::INFINITY, f64::min);
+                        let lost: f64 = inside.windows(2).map(|w| (w[1].t - w[0].t) - if w[1].programmed > 0.0 { w[1].ds / w[1].programmed } else { 0.0 }).sum();
                         ((!inside.is_empty()).then(|| actual.clone()).flatten(), lowest, (!inside.is_empty()).then_some(lost))
                     };
                     RegionReport {
@@ -532,7 +558,7 @@ fn roughness_report(profile: &crate::roughness::Profile, cutoff: f64, regions: &
     let (rs, re) = (rough.first().map(|w| w.x), rough.last().map(|w| w.x));
     let overlap = (!rough.is_empty()).then(|| rough.iter().filter(|w| in_region(w.x)).count() as f64 / rough.len() as f64);
     // Feed deficit at each window's x (nearest five-axis sample of the actual stream).
-    let mut by_x: Vec<(f64, f64)> = feed.iter().filter(|c| c.4 > 0.0).map(|c| (c.1, (1.0 - c.3 / c.4).clamp(0.0, 1.0))).collect();
+    let mut by_x: Vec<(f64, f64)> = feed.iter().filter(|c| c.programmed > 0.0).map(|c| (c.x, (1.0 - c.feed / c.programmed).clamp(0.0, 1.0))).collect();
     by_x.sort_by(|a, b| a.0.total_cmp(&b.0));
     let corr = (!by_x.is_empty()).then(|| {
         let (mut a, mut b) = (Vec::new(), Vec::new());

@@ -28,7 +28,9 @@ enum Command {
     Machine(MachineCmd),
     /// Run commander, simulator and monitor in one process (no DDS), faster than real time.
     Run(RunArgs),
-    /// Analyse a recording (MCAP) offline: the monitor recomputed, regions, threshold checks for CI.
+    /// Analyse recordings (MCAP files, rosbag2 bags) offline: the monitor recomputed, regions, threshold
+    /// checks for CI. Several recordings are analysed in parallel, one report each and a summary; the
+    /// exit code is the worst of theirs.
     Analyze(OfflineArgs),
     /// MCAP recordings: recover a damaged one.
     #[command(subcommand)]
@@ -140,8 +142,16 @@ struct RunArgs {
 
 #[derive(Args)]
 struct OfflineArgs {
-    /// The recording.
-    recording: std::path::PathBuf,
+    /// The recordings: MCAP files or rosbag2 bag directories (a directory of split files is one bag).
+    #[arg(required_unless_present = "all_in")]
+    recordings: Vec<std::path::PathBuf>,
+    /// Also every recording directly in this directory, each on its own: its `.mcap` files and its
+    /// bag directories, in name order.
+    #[arg(long = "all-in", value_name = "DIR")]
+    all_in: Option<std::path::PathBuf>,
+    /// Recordings analysed at once (default: one per core).
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
     /// Built-in machine name or a TOML machine file.
     #[arg(long, default_value = "hermle-c600u")]
     machine: String,
@@ -445,6 +455,52 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
         max_rejected_share: a.max_rejected_percent / 100.0,
         ..Default::default()
     };
+    let recordings = match recordings_of(a) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("fiveaxis: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    if let [one] = recordings.as_slice() {
+        return offline_one(a, one, &machine, &options);
+    }
+    offline_many(a, &recordings, &machine, &options)
+}
+
+/// The recordings an `analyze` names: those given, then those in `--all-in` (MCAP files and bag
+/// directories, by name); none is an error.
+fn recordings_of(a: &OfflineArgs) -> Result<Vec<std::path::PathBuf>, String> {
+    let mut all = a.recordings.clone();
+    if let Some(dir) = &a.all_in {
+        let entries = std::fs::read_dir(dir).map_err(|e| format!("--all-in {}: {e}", dir.display()))?;
+        let mut found: Vec<std::path::PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| if p.is_dir() { fiveaxis::record::read::recording_files(p).is_ok() } else { p.extension().is_some_and(|e| e.eq_ignore_ascii_case("mcap")) })
+            .collect();
+        if found.is_empty() {
+            return Err(format!("--all-in {}: no .mcap file or bag directory in it", dir.display()));
+        }
+        found.sort();
+        all.extend(found);
+    }
+    Ok(all)
+}
+
+/// Exit code of one recording's report: 2 if its input cannot be trusted or is damaged, 1 if a
+/// threshold is violated, else 0.
+fn offline_code(report: &fiveaxis::analysis::OfflineReport) -> u8 {
+    if !report.input_errors.is_empty() || report.damage.is_some() {
+        EXIT_INPUT
+    } else if !report.violations.is_empty() {
+        1
+    } else {
+        0
+    }
+}
+
+/// `fiveaxis analyze` on one recording: a progress bar on long files, the table, JSON and JUnit.
+fn offline_one(a: &OfflineArgs, recording: &std::path::Path, machine: &Machine, options: &fiveaxis::analysis::OfflineOptions) -> anyhow::Result<ExitCode> {
     // A progress bar on long files, on stderr; indicatif hides it when stderr is not a terminal.
     let bar = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
     bar.set_style(
@@ -459,12 +515,12 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
             bar.set_position(done);
         }
     };
-    let result = fiveaxis::analysis::analyze_mcap_with_progress(&a.recording, &machine, &options, &mut progress);
+    let result = fiveaxis::analysis::analyze_mcap_with_progress(recording, machine, options, &mut progress);
     bar.finish_and_clear();
     let report = match result {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("fiveaxis: cannot analyse {}: {e}", a.recording.display());
+            eprintln!("fiveaxis: cannot analyse {}: {e}", recording.display());
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
@@ -475,22 +531,105 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
     if let Some(p) = &a.junit {
         std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
     }
-    if !report.input_errors.is_empty() {
-        for e in &report.input_errors {
-            eprintln!("fiveaxis: {}: {e}", a.recording.display());
-        }
-        return Ok(ExitCode::from(EXIT_INPUT));
+    report_problems(recording, &report);
+    Ok(ExitCode::from(offline_code(&report)))
+}
+
+/// Say on stderr why a recording's report is not clean (input errors, damage).
+fn report_problems(recording: &std::path::Path, report: &fiveaxis::analysis::OfflineReport) {
+    for e in &report.input_errors {
+        eprintln!("fiveaxis: {}: {e}", recording.display());
     }
     if let Some(d) = &report.damage {
-        // The report above covers what was readable; the input itself is damaged: exit 2.
+        // The report covers what was readable; the input itself is damaged: exit 2.
         eprintln!(
             "fiveaxis: {} is damaged ({d}); the report covers the {} messages before it (`fiveaxis mcap recover` rebuilds a sound file)",
-            a.recording.display(),
+            recording.display(),
             report.messages_read
         );
-        return Ok(ExitCode::from(EXIT_INPUT));
     }
-    Ok(if report.violations.is_empty() { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+}
+
+/// One recording's line in the summary of a multi-recording `analyze`.
+#[derive(serde::Serialize)]
+struct RecordingSummary {
+    file: String,
+    exit_code: u8,
+    messages_read: u64,
+    regions: usize,
+    violations: usize,
+    /// Why it could not be analysed at all, if so.
+    error: Option<String>,
+}
+
+/// `fiveaxis analyze` on several recordings, `--jobs` at a time (each on its own core): the reports in
+/// the order given, a summary, JSON `{"recordings": [...], "summary": [...]}`, JUnit `<testsuites>`.
+fn offline_many(a: &OfflineArgs, recordings: &[std::path::PathBuf], machine: &Machine, options: &fiveaxis::analysis::OfflineOptions) -> anyhow::Result<ExitCode> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let jobs = a.jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).clamp(1, recordings.len());
+    let next = AtomicUsize::new(0);
+    let results: Vec<std::sync::Mutex<Option<Result<fiveaxis::analysis::OfflineReport, String>>>> = recordings.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| loop {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                let Some(path) = recordings.get(k) else { break };
+                let r = fiveaxis::analysis::analyze_mcap(path, machine, options).map_err(|e| e.to_string());
+                *results[k].lock().unwrap_or_else(|p| p.into_inner()) = Some(r);
+            });
+        }
+    });
+    let mut summary = Vec::new();
+    let mut reports = Vec::new();
+    let mut worst = 0u8;
+    for (path, slot) in recordings.iter().zip(results) {
+        let r = slot.into_inner().unwrap_or_else(|p| p.into_inner()).unwrap_or_else(|| Err("not analysed".into()));
+        let file = path.display().to_string();
+        let line = match r {
+            Ok(report) => {
+                print!("{}", report.to_table());
+                println!();
+                report_problems(path, &report);
+                let code = offline_code(&report);
+                let line = RecordingSummary { file, exit_code: code, messages_read: report.messages_read, regions: report.regions.len(), violations: report.violations.len(), error: None };
+                reports.push(report);
+                line
+            }
+            Err(e) => {
+                eprintln!("fiveaxis: cannot analyse {file}: {e}");
+                RecordingSummary { file, exit_code: EXIT_INPUT, messages_read: 0, regions: 0, violations: 0, error: Some(e) }
+            }
+        };
+        worst = worst.max(line.exit_code);
+        summary.push(line);
+    }
+    println!("summary of {} recordings ({jobs} at a time)", summary.len());
+    println!("  exit  messages  regions  violations  recording");
+    for s in &summary {
+        println!("  {:>4}  {:>8}  {:>7}  {:>10}  {}{}", s.exit_code, s.messages_read, s.regions, s.violations, s.file, s.error.as_ref().map_or(String::new(), |e| format!(" (cannot analyse: {e})")));
+    }
+    if let Some(p) = &a.json {
+        let all = serde_json::json!({ "recordings": reports, "summary": summary });
+        std::fs::write(p, serde_json::to_string_pretty(&all)?).with_context(|| format!("writing {}", p.display()))?;
+    }
+    if let Some(p) = &a.junit {
+        let mut xml = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n");
+        for r in &reports {
+            let one = r.to_junit();
+            xml.push_str(one.split_once("?>\n").map_or(one.as_str(), |(_, body)| body));
+        }
+        for s in summary.iter().filter(|s| s.error.is_some()) {
+            let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;");
+            xml.push_str(&format!(
+                "<testsuite name=\"fiveaxis analyze {}\" tests=\"1\" errors=\"1\">\n  <testcase classname=\"fiveaxis.analyze\" name=\"read\">\n    <error message=\"{}\"/>\n  </testcase>\n</testsuite>\n",
+                esc(&s.file),
+                esc(s.error.as_deref().unwrap_or_default())
+            ));
+        }
+        xml.push_str("</testsuites>\n");
+        std::fs::write(p, xml).with_context(|| format!("writing {}", p.display()))?;
+    }
+    Ok(ExitCode::from(worst))
 }
 
 fn synthesize(program: &str, out: &std::path::Path, seed: u64) -> anyhow::Result<ExitCode> {

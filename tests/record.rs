@@ -176,6 +176,35 @@ fn offline_analysis_exit_codes_and_json() {
     std::fs::write(&bad, b"not an mcap file").unwrap();
     assert_eq!(fiveaxis(&["analyze", bad.to_str().unwrap()]).0, 2);
     assert_eq!(fiveaxis(&["analyze", "/no/such/file.mcap"]).0, 2);
+
+    // Several recordings at once, in parallel: each report is the one it gets alone, the exit code is
+    // the worst, the summary names each.
+    let many = tmp("many.json");
+    let (s, n) = (sing.to_str().unwrap(), nonsing.to_str().unwrap());
+    let (code, table) = fiveaxis(&["analyze", n, s, "--max-c-speed-rpm", "25", "--jobs", "2", "--json", many.to_str().unwrap()]);
+    assert_eq!(code, 1, "{table}");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&many).unwrap()).unwrap();
+    assert_eq!(m["recordings"][1], v, "SING's report among several is its report alone");
+    assert_eq!(m["recordings"][0]["file"], n);
+    let codes: Vec<u64> = m["summary"].as_array().unwrap().iter().map(|x| x["exit_code"].as_u64().unwrap()).collect();
+    assert_eq!(codes, [0, 1]);
+    assert!(table.contains("summary of 2 recordings"), "{table}");
+    let (code, _) = fiveaxis(&["analyze", n, bad.to_str().unwrap(), s, "--json", many.to_str().unwrap()]);
+    assert_eq!(code, 2, "an unreadable recording among several");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&many).unwrap()).unwrap();
+    assert_eq!(m["recordings"].as_array().unwrap().len(), 2, "the readable two are still reported");
+    assert!(m["summary"][1]["error"].is_string());
+    // A directory of recordings: each .mcap file in it on its own.
+    let dir = tmp("all-in");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(&sing, dir.join("1.mcap")).unwrap();
+    std::fs::copy(&nonsing, dir.join("2.mcap")).unwrap();
+    let (code, table) = fiveaxis(&["analyze", "--all-in", dir.to_str().unwrap(), "--max-c-speed-rpm", "25"]);
+    assert_eq!(code, 1, "{table}");
+    assert!(table.contains("summary of 2 recordings"), "{table}");
+    let empty = tmp("all-in-empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    assert_eq!(fiveaxis(&["analyze", "--all-in", empty.to_str().unwrap()]).0, 2, "a directory with no recording");
 }
 
 #[test]
