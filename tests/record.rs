@@ -289,3 +289,38 @@ fn streaming_reader_agrees_with_the_mcap_crate_and_stops_at_damage() {
     assert!(v["damage"].as_str().is_some_and(|d| d.contains("chunk") || d.contains("MCAP")), "{}", v["damage"]);
     assert!(v["streams"].as_array().is_some_and(|s| !s.is_empty()));
 }
+
+/// Each of the program's regions is measured on its own pass: a raster that crosses the singular
+/// stretch twice (there at y 0, back at y 1 mm) has two regions at the same x, each losing what one
+/// pass alone loses (the second pass is not counted in the first region, nor the time between).
+#[test]
+fn each_region_is_measured_on_its_own_pass() {
+    let pass = |y: f64, forward: bool| -> String {
+        (0..=500)
+            .map(|k| {
+                let x = if forward { k } else { 500 - k } as f64 * 0.1;
+                let a = fiveaxis::path::paper_orientation(12.0, x);
+                format!("{x:.4},{y},-8,{:.9},{:.9},{:.9}\n", a.x, a.y, a.z)
+            })
+            .collect()
+    };
+    let lost = |text: String, name: &str| -> Vec<f64> {
+        let cl = tmp(&format!("{name}.cl"));
+        std::fs::write(&cl, format!("x,y,z,i,j,k\n{text}")).unwrap();
+        let mcap = tmp(&format!("{name}.mcap"));
+        record(cl.to_str().unwrap(), &mcap);
+        let json = tmp(&format!("{name}.json"));
+        let (code, table) = fiveaxis(&["analyze", mcap.to_str().unwrap(), "--json", json.to_str().unwrap()]);
+        assert_eq!(code, 0, "{table}");
+        let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        v["regions"].as_array().unwrap().iter().map(|r| r["time_lost_s"].as_f64().unwrap()).collect()
+    };
+    let one = lost(pass(0.0, true), "one-pass");
+    assert_eq!(one.len(), 1, "{one:?}");
+    assert!(one[0] > 0.1, "the pass loses time in the region: {one:?}");
+    let two = lost(pass(0.0, true) + &pass(1.0, false), "two-passes");
+    assert_eq!(two.len(), 2, "{two:?}");
+    for l in &two {
+        assert!((l - one[0]).abs() < 0.3 * one[0], "a region's time lost {l} s, one pass alone {} s", one[0]);
+    }
+}
