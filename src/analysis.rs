@@ -596,10 +596,40 @@ fn cause_name(c: Option<crate::singularity::tracker::Cause>) -> &'static str {
 }
 
 
+/// Text as an XML attribute value.
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+const XML_HEADER: &str = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+
+/// JUnit XML for several recordings: one `<testsuite>` per report, and one with an error for each
+/// recording that could not be read at all (`(file, why)`).
+pub fn junit_testsuites(reports: &[OfflineReport], unreadable: &[(&str, &str)]) -> String {
+    let mut xml = format!("{XML_HEADER}<testsuites>\n");
+    for r in reports {
+        xml.push_str(&r.junit_testsuite());
+    }
+    for (file, why) in unreadable {
+        xml.push_str(&format!(
+            "<testsuite name=\"fiveaxis analyze {}\" tests=\"1\" errors=\"1\">\n  <testcase classname=\"fiveaxis.analyze\" name=\"read\">\n    <error message=\"{}\"/>\n  </testcase>\n</testsuite>\n",
+            xml_escape(file),
+            xml_escape(why)
+        ));
+    }
+    xml.push_str("</testsuites>\n");
+    xml
+}
+
 impl OfflineReport {
     /// JUnit XML: one test case per stream and check.
     pub fn to_junit(&self) -> String {
-        let esc = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;");
+        format!("{XML_HEADER}{}", self.junit_testsuite())
+    }
+
+    /// The `<testsuite>` element of [`OfflineReport::to_junit`].
+    fn junit_testsuite(&self) -> String {
+        let esc = xml_escape;
         let mut cases = String::new();
         let mut failures = 0;
         for s in &self.streams {
@@ -614,7 +644,7 @@ impl OfflineReport {
             }
         }
         format!(
-            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuite name=\"fiveaxis analyze {}\" tests=\"{}\" failures=\"{failures}\">\n{cases}</testsuite>\n",
+            "<testsuite name=\"fiveaxis analyze {}\" tests=\"{}\" failures=\"{failures}\">\n{cases}</testsuite>\n",
             esc(&self.file),
             self.streams.len() * 2
         )

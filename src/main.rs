@@ -613,21 +613,8 @@ fn offline_many(a: &OfflineArgs, recordings: &[std::path::PathBuf], machine: &Ma
         std::fs::write(p, serde_json::to_string_pretty(&all)?).with_context(|| format!("writing {}", p.display()))?;
     }
     if let Some(p) = &a.junit {
-        let mut xml = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n");
-        for r in &reports {
-            let one = r.to_junit();
-            xml.push_str(one.split_once("?>\n").map_or(one.as_str(), |(_, body)| body));
-        }
-        for s in summary.iter().filter(|s| s.error.is_some()) {
-            let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;");
-            xml.push_str(&format!(
-                "<testsuite name=\"fiveaxis analyze {}\" tests=\"1\" errors=\"1\">\n  <testcase classname=\"fiveaxis.analyze\" name=\"read\">\n    <error message=\"{}\"/>\n  </testcase>\n</testsuite>\n",
-                esc(&s.file),
-                esc(s.error.as_deref().unwrap_or_default())
-            ));
-        }
-        xml.push_str("</testsuites>\n");
-        std::fs::write(p, xml).with_context(|| format!("writing {}", p.display()))?;
+        let unreadable: Vec<(&str, &str)> = summary.iter().filter_map(|s| s.error.as_deref().map(|e| (s.file.as_str(), e))).collect();
+        std::fs::write(p, fiveaxis::analysis::junit_testsuites(&reports, &unreadable)).with_context(|| format!("writing {}", p.display()))?;
     }
     Ok(ExitCode::from(worst))
 }

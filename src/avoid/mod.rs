@@ -96,7 +96,7 @@ fn analysed(program: &Program, machine: &Machine, options: &JobOptions) -> Resul
 pub fn figures(program: &Program, machine: &Machine, options: &JobOptions) -> Result<Figures, AvoidError> {
     let (traj, mut f) = analysed(program, machine, options)?;
     let (sim, figures) = crate::live::sim_report::simulate_measured(&traj, machine, &Default::default(), |_, _| true);
-    f.cycle_time_s = figures.samples.saturating_sub(1) as f64 * traj.period;
+    f.cycle_time_s = figures.duration_s;
     f.time_lost_s = f.cycle_time_s - f.programmed_time_s;
     f.max_limit_ratio = sim.planned_ratio;
     // Lowest feed on the feed moves, the planned stops (corners, the program's ends) excluded: the

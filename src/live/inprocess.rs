@@ -185,15 +185,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         });
         let tx_sim = tx;
         let simulator = scope.spawn(move || {
-            let mut kept: Option<Simulation> = options.keep_simulation.then(|| Simulation {
-                period: traj.period,
-                q: Vec::new(),
-                segment: Vec::new(),
-                run: Vec::new(),
-                following_error_linear: 0.0,
-                following_error_rotary: 0.0,
-                planned_ratio: [0.0; 3],
-            });
+            let mut kept = options.keep_simulation.then(|| Simulation::empty(traj.period));
             let mut sent = 0u64;
             let mut last_segment = usize::MAX;
             let (summary, figures) = simulate_measured(traj, machine, &options.sim, |s, st| {
@@ -204,9 +196,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                     Pace::wait(|| t0 + COMMANDER_LEAD_MIN_S > Pace::get(&pace.commanded));
                 }
                 if let Some(k) = kept.as_mut() {
-                    k.q.push(s.q);
-                    k.segment.push(s.segment);
-                    k.run.push(s.run);
+                    k.push(s);
                 }
                 let ok = tx_sim.send(Input::Simulated(st)).is_ok();
                 sent += u64::from(ok);
@@ -215,9 +205,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             // The commander may run to the end.
             Pace::set(&pace.simulated, f64::INFINITY);
             if let Some(k) = kept.as_mut() {
-                k.following_error_linear = summary.following_error_linear;
-                k.following_error_rotary = summary.following_error_rotary;
-                k.planned_ratio = summary.planned_ratio;
+                k.measured(&summary);
             }
             (summary, figures, kept, sent)
         });
@@ -306,7 +294,7 @@ fn simulated_report(
 ) -> SimulatedReport {
     let (samples, ..) = monitor.counters(SIMULATED_STATE);
     SimulatedReport {
-        cycle_time_s: f.samples.saturating_sub(1) as f64 * traj.period,
+        cycle_time_s: f.duration_s,
         commanded_cycle_time_s: traj.duration(),
         min_feed_mm_per_min: if f.lowest_feed.is_finite() {
             crate::units::mm_per_min(f.lowest_feed)

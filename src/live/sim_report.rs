@@ -197,6 +197,8 @@ pub struct FeedFiguresReport {
     /// Largest |v|/v_max, |a|/a_max, |j|/j_max over all axes.
     pub worst_ratio: [f64; 3],
     pub samples: u64,
+    /// Simulated duration, s (from the first sample to the last).
+    pub duration_s: f64,
 }
 
 impl FeedFigures {
@@ -336,6 +338,7 @@ impl FeedFigures {
             slow_regions: self.slow,
             worst_ratio: self.check.finish(),
             samples: n,
+            duration_s: n.saturating_sub(1) as f64 * self.period,
         }
     }
 }

@@ -117,22 +117,13 @@ pub fn simulate_each(
 
 /// Plan and servo a trajectory, keeping every sample ([`simulate_each`]).
 pub fn simulate(traj: &Trajectory, machine: &Machine, config: &SimConfig) -> Simulation {
-    let (mut q, mut segment, mut run) = (Vec::new(), Vec::new(), Vec::new());
+    let mut sim = Simulation::empty(traj.period);
     let summary = simulate_each(traj, machine, config, |s| {
-        q.push(s.q);
-        segment.push(s.segment);
-        run.push(s.run);
+        sim.push(&s);
         true
     });
-    Simulation {
-        period: traj.period,
-        q,
-        segment,
-        run,
-        following_error_linear: summary.following_error_linear,
-        following_error_rotary: summary.following_error_rotary,
-        planned_ratio: summary.planned_ratio,
-    }
+    sim.measured(&summary);
+    sim
 }
 
 /// Simulated samples to [`AxisState`] messages as they come, one sample behind (the central
@@ -235,6 +226,33 @@ impl<'a> SimStates<'a> {
 }
 
 impl Simulation {
+    /// No sample yet, at period `period` (s).
+    pub fn empty(period: f64) -> Simulation {
+        Simulation {
+            period,
+            q: Vec::new(),
+            segment: Vec::new(),
+            run: Vec::new(),
+            following_error_linear: 0.0,
+            following_error_rotary: 0.0,
+            planned_ratio: [0.0; 3],
+        }
+    }
+
+    /// Keep the next sample.
+    pub fn push(&mut self, s: &SimSample) {
+        self.q.push(s.q);
+        self.segment.push(s.segment);
+        self.run.push(s.run);
+    }
+
+    /// Take what the simulation measured besides its samples.
+    pub fn measured(&mut self, summary: &SimSummary) {
+        self.following_error_linear = summary.following_error_linear;
+        self.following_error_rotary = summary.following_error_rotary;
+        self.planned_ratio = summary.planned_ratio;
+    }
+
     /// Duration, s.
     pub fn duration(&self) -> f64 {
         self.q.len().saturating_sub(1) as f64 * self.period

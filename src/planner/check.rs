@@ -61,7 +61,7 @@ impl LimitCheck {
         }
     }
 
-    /// Position `n` (0-based) of the stream, read back from the last five pushed, clamped to the
+    /// Position `k` (0-based) of the stream, read back from the last five pushed, clamped to the
     /// stream's first and last pushed.
     fn at(&self, k: i64) -> &Joints {
         let k = k.clamp(0, self.n as i64 - 1);

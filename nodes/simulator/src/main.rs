@@ -76,7 +76,7 @@ fn main() -> anyhow::Result<()> {
     });
     tracing::info!(
         samples = figures.samples,
-        duration_s = figures.samples.saturating_sub(1) as f64 * traj.period,
+        duration_s = figures.duration_s,
         planned_ratios = ?summary.planned_ratio,
         checked_ratios = ?figures.worst_ratio,
         "simulated"
