@@ -83,8 +83,8 @@ pub fn run(spec: &str, machine: &Machine, options: &JobOptions) -> Result<Job, J
 /// The moves and regions of the program named by `spec` on `machine`, for aligning a machine stream
 /// with it (the monitor's and the offline analysis' `--program`); a program with defects is refused,
 /// naming them.
-pub fn program_plan(spec: &str, machine: &Machine, m_codes: &[program::MCodeRule]) -> Result<crate::live::monitor::ProgramPlan, String> {
-    let options = JobOptions { read: ReadOptions { m_codes: m_codes.to_vec(), ..Default::default() }, ..Default::default() };
+pub fn program_plan(spec: &str, machine: &Machine, read: &ReadOptions) -> Result<crate::live::monitor::ProgramPlan, String> {
+    let options = JobOptions { read: read.clone(), ..Default::default() };
     let job = run(spec, machine, &options).map_err(|e| e.to_string())?;
     let errors: Vec<String> = job
         .report
@@ -105,10 +105,10 @@ pub fn program_plan(spec: &str, machine: &Machine, m_codes: &[program::MCodeRule
 
 /// Where a machine stream's programmed feed comes from, from the `--program` and `--feed` flags of the
 /// monitor and the offline analysis: the program's plan, a fixed feed (mm/min, positive), or assumed.
-pub fn feed_source(program: Option<&str>, feed_mm_per_min: Option<f64>, machine: &Machine, m_codes: &[program::MCodeRule]) -> Result<crate::live::monitor::FeedSource, String> {
+pub fn feed_source(program: Option<&str>, feed_mm_per_min: Option<f64>, machine: &Machine, read: &ReadOptions) -> Result<crate::live::monitor::FeedSource, String> {
     use crate::live::monitor::FeedSource;
     match (program, feed_mm_per_min) {
-        (Some(spec), _) => program_plan(spec, machine, m_codes).map(|p| FeedSource::Program(std::sync::Arc::new(p))).map_err(|e| format!("--program {spec}: {e}")),
+        (Some(spec), _) => program_plan(spec, machine, read).map(|p| FeedSource::Program(std::sync::Arc::new(p))).map_err(|e| format!("--program {spec}: {e}")),
         (None, Some(f)) if f.is_finite() && f > 0.0 => Ok(FeedSource::Fixed(f * crate::units::MM_PER_MIN)),
         (None, Some(f)) => Err(format!("--feed {f}: a feed must be a positive number of mm/min")),
         (None, None) => Ok(FeedSource::Assumed),

@@ -101,7 +101,7 @@ impl ProgramArgs {
     fn read_options(&self) -> ReadOptions {
         ReadOptions {
             cl_feed_mm_per_min: self.feed_mm_per_min.unwrap_or(ReadOptions::default().cl_feed_mm_per_min),
-            m_codes: self.m_codes.m_codes.clone(),
+            ..self.m_codes.read_options()
         }
     }
 }
@@ -427,7 +427,7 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
-    let feed_source = match job::feed_source(a.program.as_deref(), a.feed_mm_per_min, &machine, &a.m_codes.m_codes) {
+    let feed_source = match job::feed_source(a.program.as_deref(), a.feed_mm_per_min, &machine, &a.m_codes.read_options()) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("fiveaxis: {e}");

@@ -82,6 +82,7 @@ pub fn semi_cylinder() -> Program {
                 feed: Some(crate::program::Feed { value_per_min: 1000.0, mode: crate::program::FeedMode::PerMinute }),
                 tcp: true,
                 datum: [0.0; 3],
+                orientation: crate::program::Orientation::AxisLinear,
                 events: Vec::new(),
             }
         })

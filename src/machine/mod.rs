@@ -175,6 +175,20 @@ impl Machine {
         }))
     }
 
+    /// The rotary angles that point the tool along `axis`, the solution nearest `seed` once unwrapped
+    /// (axis ranges not checked; at the singularity the secondary keeps the seed's value).
+    pub fn rotaries_near(&self, axis: &Vector3<f64>, seed: &[f64; 2]) -> Option<[f64; 2]> {
+        let sol = self.chain.orientation_solutions(axis).ok()?;
+        let sec = self.chain.secondary_slot();
+        sol.solutions
+            .into_iter()
+            .map(|raw| std::array::from_fn(|slot| if sol.singular && slot == sec { seed[slot] } else { unwrap_near(raw[slot], seed[slot]) }))
+            .min_by(|a: &[f64; 2], b: &[f64; 2]| {
+                let cost = |r: &[f64; 2]| (r[0] - seed[0]).abs() + (r[1] - seed[1]).abs();
+                cost(a).total_cmp(&cost(b))
+            })
+    }
+
     /// Inverse kinematics for continuous motion: of the two solutions, the one whose rotary angles are
     /// closest to `previous` once unwrapped (multi-turn axes take the turn nearest `previous`, so C can
     /// read 386.198 deg), within every axis range. At the singularity the secondary axis keeps its

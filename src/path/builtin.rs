@@ -77,6 +77,7 @@ impl BuiltinPath {
                     feed: Some(crate::program::Feed { value_per_min: self.feed_mm_per_min, mode: crate::program::FeedMode::PerMinute }),
                     tcp: true,
                     datum: [0.0; 3],
+                    orientation: crate::program::Orientation::AxisLinear,
                     events: Vec::new(),
                 }
             })
@@ -131,6 +132,7 @@ impl BuiltinPath {
                 tip0: self.pose(x0).tip,
                 tip1: self.pose(x1).tip,
                 datum: Vector3::zeros(),
+                orient: None,
                 feed,
                 arc: None,
             });

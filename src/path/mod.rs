@@ -11,7 +11,7 @@ mod builtin;
 mod segment;
 
 pub use builtin::{builtin_names, paper_orientation, BuiltinPath};
-pub use segment::{plan, Segment, SegmentKind};
+pub use segment::{plan, GreatCircle, Segment, SegmentKind, ORIENT_PIECE_RAD};
 
 use crate::kinematics::Joints;
 use crate::machine::Machine;

@@ -3,7 +3,7 @@
 use super::{PathOptions, Sample};
 use crate::kinematics::{Joints, Pose};
 use crate::machine::Machine;
-use crate::program::{ArcSpec, Block, Diagnostic, FeedMode, Motion, Program, Severity};
+use crate::program::{ArcSpec, Block, Diagnostic, FeedMode, Motion, Orientation, Program, Severity};
 use crate::units::{DEG_PER_MIN, MM_PER_MIN};
 use nalgebra::Vector3;
 
@@ -45,6 +45,70 @@ pub struct Segment {
     /// For a piece of a G02/G03 arc, its circle (program coordinates): the tool tip (TCPM) or the
     /// linear machine axes (no TCPM) follow it instead of the line `tip0..tip1`.
     pub arc: Option<Box<ArcPath>>,
+    /// For a piece of a TCPM move whose tool axis turns on a great circle
+    /// ([`Orientation::GreatCircle`]): the tool axis follows it and the rotaries follow the axis.
+    pub orient: Option<Box<GreatCircle>>,
+}
+
+/// The tool axis turning on the great circle from `o0` to `o1` at a constant angular rate (slerp),
+/// as a control with vector orientation interpolation moves it: `o(w) = (sin((1-w) g) o0 + sin(w g) o1)
+/// / sin g` with `g` the angle between them, `w` the fraction of the whole move. A piece of the move
+/// covers `w` in `u0..u1`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GreatCircle {
+    pub o0: Vector3<f64>,
+    pub o1: Vector3<f64>,
+    /// Angle between `o0` and `o1`, rad, in (0, pi).
+    pub angle: f64,
+    pub u0: f64,
+    pub u1: f64,
+}
+
+/// Largest turn of a rotary axis over one piece of a great-circle move: the planners fit splines
+/// through piece ends, and the rotaries are not linear along a great circle (near the pole C turns
+/// much faster in the middle of a move than at its ends).
+pub const ORIENT_PIECE_RAD: f64 = 0.25 * std::f64::consts::PI / 180.0;
+
+/// Largest turn of the tool axis over one piece of a great-circle move.
+const ORIENT_STEP_RAD: f64 = 1.0 * std::f64::consts::PI / 180.0;
+
+/// A tool axis closer than this to the singular direction (rad) is on the pole: the secondary
+/// rotary axis' angle is undefined there.
+const POLE_EPS: f64 = 1e-9;
+
+/// Most pieces one great-circle move is cut into: a circle through the pole itself would need C to
+/// jump; refining stops here and the move is refused.
+const MAX_ORIENT_PIECES: usize = 1 << 16;
+
+impl GreatCircle {
+    /// The great circle from `o0` to `o1` (unit), or `None` if they are parallel (no turn) or
+    /// opposite (no single great circle).
+    pub fn new(o0: Vector3<f64>, o1: Vector3<f64>) -> Option<GreatCircle> {
+        let angle = o0.cross(&o1).norm().atan2(o0.dot(&o1));
+        (angle > 1e-12 && angle < std::f64::consts::PI - 1e-9).then_some(GreatCircle { o0, o1, angle, u0: 0.0, u1: 1.0 })
+    }
+
+    fn whole(&self, w: f64) -> Vector3<f64> {
+        let g = self.angle;
+        (self.o0 * ((1.0 - w) * g).sin() + self.o1 * (w * g).sin()) / g.sin()
+    }
+
+    /// Tool axis at fraction `u` of this piece.
+    pub fn axis(&self, u: f64) -> Vector3<f64> {
+        self.whole(self.u0 + (self.u1 - self.u0) * u)
+    }
+
+    /// Derivative of the tool axis with respect to `u`, the fraction of this piece.
+    pub fn axis_rate(&self, u: f64) -> Vector3<f64> {
+        let (g, w) = (self.angle, self.u0 + (self.u1 - self.u0) * u);
+        (self.o1 * (w * g).cos() - self.o0 * ((1.0 - w) * g).cos()) * (g / g.sin() * (self.u1 - self.u0))
+    }
+
+    /// The part between fractions `ua` and `ub` of this piece.
+    pub fn piece(&self, ua: f64, ub: f64) -> GreatCircle {
+        let at = |u: f64| self.u0 + (self.u1 - self.u0) * u;
+        GreatCircle { u0: at(ua), u1: at(ub), ..*self }
+    }
 }
 
 /// A circular or helical arc: `p(u) = c + r(u) (cos th(u) e1 + sin th(u) e2) + h(u) n` for
@@ -181,7 +245,12 @@ impl Segment {
     /// Axis values at fraction `u` of the move.
     pub fn joints_at(&self, u: f64, machine: &Machine) -> Joints {
         let lerp = |a: f64, b: f64| a + (b - a) * u;
-        let rot = [lerp(self.q0[3], self.q1[3]), lerp(self.q0[4], self.q1[4])];
+        let mut rot = [lerp(self.q0[3], self.q1[3]), lerp(self.q0[4], self.q1[4])];
+        if let (Some(gc), SegmentKind::Tcp) = (&self.orient, self.kind) {
+            // The rotaries that put the tool axis on the great circle, the solution nearest the
+            // piece's own linear blend (a piece turns each rotary by at most ORIENT_PIECE_RAD).
+            rot = machine.rotaries_near(&gc.axis(u), &rot).unwrap_or(rot);
+        }
         match self.kind {
             SegmentKind::Tcp => {
                 let tip = self.linear_at(u) + self.datum;
@@ -205,16 +274,11 @@ impl Segment {
             SegmentKind::Tcp => self.linear_at(u),
             _ => machine.forward(&q).tip - self.datum,
         };
-        Sample {
-            t,
-            s: self.s0 + self.length * u,
-            segment: index,
-            q,
-            tip,
-            axis: machine.chain.orientation(&rot),
-            axis_rate: machine.chain.orientation_rate(&rot, &rate),
-            feed: self.feed,
-        }
+        let (axis, axis_rate) = match (&self.orient, self.kind) {
+            (Some(gc), SegmentKind::Tcp) => (gc.axis(u), gc.axis_rate(u) / self.duration),
+            _ => (machine.chain.orientation(&rot), machine.chain.orientation_rate(&rot, &rate)),
+        };
+        Sample { t, s: self.s0 + self.length * u, segment: index, q, tip, axis, axis_rate, feed: self.feed }
     }
 }
 
@@ -316,12 +380,40 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
                 Some(ArcPath::new(spec, b.motion == Motion::ArcCcw, start, end))
             }
         };
-        let pieces = match arc {
-            None => vec![(q, q1, tip0, tip1, None)],
-            Some(arc) => {
+        // A TCPM feed move whose tool axis turns, under vector interpolation: pieces along the great circle.
+        let great_circle = match (kind, b.orientation) {
+            (SegmentKind::Tcp, Orientation::GreatCircle) => {
+                let (o0, o1) = (machine.chain.orientation(&[q[3], q[4]]), machine.chain.orientation(&[q1[3], q1[4]]));
+                let sd = machine.singular_direction();
+                let on_pole = |o: &Vector3<f64>| o.cross(&sd).norm() < POLE_EPS;
+                match GreatCircle::new(o0, o1) {
+                    // A move from or to the pole: the secondary axis is undefined there, so the great
+                    // circle (a meridian) would ask it to stand at the other end's angle from the
+                    // start; C turns from where it stands instead, the rotaries linear.
+                    Some(_) if on_pole(&o0) || on_pole(&o1) => None,
+                    Some(gc) => Some(gc),
+                    None if o0.dot(&o1) < 0.0 => {
+                        diags.push(diag(b, "the tool axis turns by 180 deg: no single great circle joins its start and end directions; block skipped".into()));
+                        continue;
+                    }
+                    None => None,
+                }
+            }
+            _ => None,
+        };
+        let pieces = match (arc, great_circle) {
+            (arc, Some(gc)) => match great_circle_pieces(&gc, arc.as_ref(), q, tip0, tip1, datum, machine) {
+                Ok(p) => p,
+                Err(e) => {
+                    diags.push(diag(b, e));
+                    continue;
+                }
+            },
+            (None, None) => vec![(q, q1, tip0, tip1, None, None)],
+            (Some(arc), None) => {
                 // The whole move as one segment gives each piece end its axes (the arc's point, the
                 // rotaries linear in the fraction), the same as sampling it would.
-                let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)) };
+                let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)), orient: None };
                 let n = arc.pieces();
                 let end = |k: usize| -> (Joints, Vector3<f64>) {
                     let u = k as f64 / n as f64;
@@ -339,13 +431,13 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
                         diags.push(d);
                         continue 'blocks;
                     }
-                    pieces.push((qa, qb, ta, tb, Some(Box::new(arc.piece(k as f64 / n as f64, (k + 1) as f64 / n as f64)))));
+                    pieces.push((qa, qb, ta, tb, Some(Box::new(arc.piece(k as f64 / n as f64, (k + 1) as f64 / n as f64))), None));
                 }
                 pieces
             }
         };
         let n = pieces.len() as f64;
-        for (pq0, pq1, ptip0, ptip1, parc) in pieces {
+        for (pq0, pq1, ptip0, ptip1, parc, porient) in pieces {
             let mut seg = Segment {
                 kind,
                 block: bi,
@@ -362,6 +454,7 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
                 datum,
                 feed: 0.0,
                 arc: parc,
+                orient: porient,
             };
             seg.length = tip_length(&seg, machine);
             let lin_len = seg.linear_axes_length();
@@ -376,8 +469,12 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
                         continue 'blocks;
                     };
                     match feed.mode {
-                        // The block's time, shared evenly by its pieces (equal arc lengths).
-                        FeedMode::InverseTime => 60.0 / feed.value_per_min / n,
+                        // The block's time, shared by its pieces: evenly (equal arc lengths) or by
+                        // their share of the great circle (tip and axis both move evenly in it).
+                        FeedMode::InverseTime => match &seg.orient {
+                            Some(gc) => 60.0 / feed.value_per_min * (gc.u1 - gc.u0),
+                            None => 60.0 / feed.value_per_min / n,
+                        },
                         FeedMode::PerMinute => {
                             let path_len = if kind == SegmentKind::Tcp { seg.length } else { lin_len };
                             // A tip move under 1 um that turns the rotaries is rounding in the program's
@@ -429,6 +526,51 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
         }
     }
     (segments, diags)
+}
+
+/// One piece of a move: start and end axes, start and end tool tips, its part of an arc and of a
+/// great circle.
+type Piece = (Joints, Joints, Vector3<f64>, Vector3<f64>, Option<Box<ArcPath>>, Option<Box<GreatCircle>>);
+
+/// The pieces of a TCPM move from axes `q` whose tool axis turns on `gc` while the tip runs from
+/// `tip0` to `tip1` on a line or on `arc`: cut at most [`ORIENT_STEP_RAD`] of the tool axis and
+/// [`ARC_PIECE_RAD`] of the arc apart, and halved until no rotary turns more than
+/// [`ORIENT_PIECE_RAD`] over a piece. Each end's rotaries are the inverse solution nearest the
+/// previous end's, so the axes follow the circle continuously; a circle too close to the pole for
+/// that (C would have to jump), or an end outside an axis range, is an error.
+fn great_circle_pieces(gc: &GreatCircle, arc: Option<&ArcPath>, q: Joints, tip0: Vector3<f64>, tip1: Vector3<f64>, datum: Vector3<f64>, machine: &Machine) -> Result<Vec<Piece>, String> {
+    let tip_at = |u: f64| arc.map_or_else(|| tip0 + (tip1 - tip0) * u, |a| a.point(u));
+    let steps = ((gc.angle / ORIENT_STEP_RAD).ceil() as usize).max(arc.map_or(1, ArcPath::pieces)).max(1);
+    // Fractions still to reach, the next on top.
+    let mut todo: Vec<f64> = (1..=steps).rev().map(|k| k as f64 / steps as f64).collect();
+    let mut ends: Vec<(f64, Joints)> = vec![(0.0, q)];
+    while let Some(ub) = todo.pop() {
+        let &(ua, qa) = ends.last().expect("starts with the move's start");
+        let pose = Pose { tip: tip_at(ub) + datum, axis: gc.axis(ub) };
+        let qb = machine.inverse(&pose, &qa).map_err(|e| format!("the tool axis cannot follow its great circle {:.1} % into the move: {e}; block skipped", ub * 100.0))?;
+        let turn = (qb[3] - qa[3]).abs().max((qb[4] - qa[4]).abs());
+        if turn > ORIENT_PIECE_RAD {
+            if ends.len() + todo.len() >= MAX_ORIENT_PIECES || ub - ua < 1e-9 {
+                return Err(format!(
+                    "the tool axis' great circle passes through the singular direction {:.1} % into the move: \
+                     the rotary axes cannot follow it (C would jump by {:.1} deg); block skipped",
+                    ua * 100.0,
+                    turn.to_degrees()
+                ));
+            }
+            todo.push(ub);
+            todo.push(0.5 * (ua + ub));
+            continue;
+        }
+        ends.push((ub, qb));
+    }
+    Ok(ends
+        .windows(2)
+        .map(|w| {
+            let ((ua, qa), (ub, qb)) = (w[0], w[1]);
+            (qa, qb, tip_at(ua), tip_at(ub), arc.map(|a| Box::new(a.piece(ua, ub))), Some(Box::new(gc.piece(ua, ub))))
+        })
+        .collect())
 }
 
 /// The error for a block whose end (or arc point) `q` lies outside an axis range, if it does.

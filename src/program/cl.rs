@@ -3,11 +3,16 @@
 //! Poses are tool tips in the workpiece frame, so tool-centre-point control is on throughout.
 
 use super::lex::{excerpt, parse_number, Diags};
-use super::{Block, Dialect, Feed, FeedMode, Motion, Program, Targets};
+use super::{Block, Dialect, Feed, FeedMode, Motion, Orientation, Program, Targets};
 use crate::units::MM;
 
 /// Read CL data; `feed_mm_per_min` applies where a line has no feed column.
 pub fn read_cl(text: &str, feed_mm_per_min: f64) -> Program {
+    read_cl_with(text, feed_mm_per_min, Dialect::Cl.default_orientation())
+}
+
+/// Read CL data for a control that interpolates the tool orientation as `orientation` says.
+pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) -> Program {
     let mut diags = Diags::default();
     let mut blocks = Vec::new();
     let mut seen_data = false;
@@ -89,6 +94,7 @@ pub fn read_cl(text: &str, feed_mm_per_min: f64) -> Program {
             feed: Some(Feed { value_per_min: feed, mode: FeedMode::PerMinute }),
             tcp: true,
             datum: [0.0; 3],
+            orientation,
             events: Vec::new(),
         });
     }

@@ -2,7 +2,7 @@
 //! [`Block`] out. A block with a semantic defect changes no modal state and yields no block.
 
 use super::lex::Diags;
-use super::{ArcSpec, Block, Dialect, Feed, FeedMode, MCodeAction, MCodeRule, Motion, Plane, Targets};
+use super::{ArcSpec, Block, Dialect, Feed, FeedMode, MCodeAction, MCodeRule, Motion, Orientation, Plane, Targets};
 use crate::units::{DEG, INCH, MM};
 
 /// One address word with a valid number.
@@ -39,6 +39,8 @@ pub struct Interpreter {
     system: usize,
     /// Fanuc `G43.5`: tool-centre point with the tool axis written as a vector `I J K`.
     tool_vector: bool,
+    /// How the tool orientation is interpolated under TCPM.
+    orientation: Orientation,
     /// Last programmed absolute value of X Y Z A B C (SI).
     last: [f64; 6],
 }
@@ -62,8 +64,15 @@ impl Interpreter {
             offsets: [[0.0; 3]; 9],
             system: 0,
             tool_vector: false,
+            orientation: dialect.default_orientation(),
             last: [0.0; 6],
         }
+    }
+
+    /// Start with this orientation interpolation (the machine's setting) instead of the dialect's default.
+    pub fn with_orientation(mut self, orientation: Orientation) -> Self {
+        self.orientation = orientation;
+        self
     }
 
     /// Read these machine-specific M codes as told (LinuxCNC remaps such as M428).
@@ -390,6 +399,7 @@ impl Interpreter {
             feed: self.feed.map(|value_per_min| Feed { value_per_min, mode: self.feed_mode }),
             tcp: self.tcp,
             datum: self.datum,
+            orientation: self.orientation,
             events,
         })
     }

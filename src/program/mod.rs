@@ -10,9 +10,9 @@ mod interp;
 mod lex;
 mod rs274;
 
-pub use cl::read_cl;
-pub use heidenhain::read_heidenhain;
-pub use rs274::read_rs274;
+pub use cl::{read_cl, read_cl_with};
+pub use heidenhain::{read_heidenhain, read_heidenhain_with};
+pub use rs274::{read_rs274, read_rs274_setup, read_rs274_with};
 
 use std::fmt;
 use std::path::Path;
@@ -34,6 +34,17 @@ impl Dialect {
     /// the tool is), false if its first move starts from the machine's home (NC programs).
     pub fn starts_at_first_pose(self) -> bool {
         self == Dialect::Cl
+    }
+
+    /// How a control of this dialect interpolates the tool orientation under tool-centre-point
+    /// management unless told otherwise. Heidenhain: `M128` moves the rotary axes linearly (TNC 640
+    /// user's manual: FUNCTION TCPM's default `PATHCTRL AXIS` is M128's behaviour). RS274NGC:
+    /// LinuxCNC interpolates joints linearly (its TCP kinematics only map the axes). CL data: the
+    /// control that runs it decides; axis-linear, as the post-processed program would run on a TNC.
+    pub fn default_orientation(self) -> Orientation {
+        match self {
+            Dialect::Heidenhain | Dialect::Rs274 | Dialect::Cl => Orientation::AxisLinear,
+        }
     }
 
     /// Guess the dialect from the file name, then from the text.
@@ -124,6 +135,21 @@ pub struct ArcSpec {
     pub extra_turns: u32,
 }
 
+/// How the control interpolates the tool orientation between a block's start and end under
+/// tool-centre-point management.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Orientation {
+    /// The rotary axes move linearly in the block (Heidenhain `M128` / `PATHCTRL AXIS`, Sinumerik
+    /// `ORIAXES` / `ORIMKS`, LinuxCNC): the tool axis sweeps whatever cone the axes make.
+    #[default]
+    AxisLinear,
+    /// The tool axis turns on the great circle through its start and end directions in the workpiece
+    /// at a constant angular rate (Heidenhain `PATHCTRL VECTOR`, Sinumerik `ORIVECT` / `ORIWKS`); the
+    /// rotary axes follow by inverse kinematics, so near the pole C turns faster than between its ends.
+    GreatCircle,
+}
+
 /// How the feed word is read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -204,6 +230,8 @@ pub struct Block {
     pub tcp: bool,
     /// Datum shift in effect (m): program coordinates + datum = coordinates about the rotary axes.
     pub datum: [f64; 3],
+    /// How the tool orientation is interpolated (under TCPM; without it the axes move linearly).
+    pub orientation: Orientation,
     /// Non-motion words kept as events, as written (`M13`, `T5`, `S12000`, `M100`).
     pub events: Vec<String>,
 }
@@ -301,7 +329,8 @@ impl std::str::FromStr for MCodeRule {
     }
 }
 
-/// The `--m-code` flag of every command and node that reads a program.
+/// How the control is set up, for every command and node that reads a program: `--m-code`,
+/// `--orientation`.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct MCodeArgs {
     /// What a machine-specific M code does, `CODE=ACTION` with ACTION tcp-on, tcp-off or event
@@ -309,6 +338,18 @@ pub struct MCodeArgs {
     /// An RS274NGC program with any other non-standard M code is refused.
     #[arg(long = "m-code", value_name = "CODE=ACTION")]
     pub m_codes: Vec<MCodeRule>,
+    /// How the control interpolates the tool orientation under tool-centre-point management at
+    /// program start (the machine's setting; the program's own words such as ORIVECT or PATHCTRL
+    /// still switch it). Default: the dialect's, from its maker's documentation.
+    #[arg(long = "orientation", value_enum, value_name = "MODE")]
+    pub orientation: Option<Orientation>,
+}
+
+impl MCodeArgs {
+    /// The readers' options these flags ask for (other options at their defaults).
+    pub fn read_options(&self) -> ReadOptions {
+        ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, ..Default::default() }
+    }
 }
 
 /// Options of the readers.
@@ -319,20 +360,24 @@ pub struct ReadOptions {
     /// Machine-specific M codes and what they do (RS274NGC); any other code outside the standard
     /// set is an error.
     pub m_codes: Vec<MCodeRule>,
+    /// Orientation interpolation at program start (`None`: the dialect's default,
+    /// [`Dialect::default_orientation`]).
+    pub orientation: Option<Orientation>,
 }
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new() }
+        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None }
     }
 }
 
 /// Read `text` in `dialect`; `source` names it in reports.
 pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> Program {
+    let orientation = options.orientation.unwrap_or(dialect.default_orientation());
     let mut p = match dialect {
-        Dialect::Heidenhain => read_heidenhain(text),
-        Dialect::Rs274 => rs274::read_rs274_with(text, &options.m_codes),
-        Dialect::Cl => read_cl(text, options.cl_feed_mm_per_min),
+        Dialect::Heidenhain => read_heidenhain_with(text, orientation),
+        Dialect::Rs274 => read_rs274_setup(text, &options.m_codes, orientation),
+        Dialect::Cl => read_cl_with(text, options.cl_feed_mm_per_min, orientation),
     };
     p.source = source.to_string();
     p

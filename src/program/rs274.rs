@@ -17,8 +17,14 @@ pub fn read_rs274(text: &str) -> Program {
 
 /// Read an RS274NGC program with these machine-specific M codes.
 pub fn read_rs274_with(text: &str, m_codes: &[MCodeRule]) -> Program {
+    read_rs274_setup(text, m_codes, Dialect::Rs274.default_orientation())
+}
+
+/// Read an RS274NGC program with these machine-specific M codes, on a control whose orientation
+/// interpolation starts as `orientation`.
+pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::Orientation) -> Program {
     let mut diags = Diags::default();
-    let mut interp = Interpreter::new(Dialect::Rs274).with_m_codes(m_codes);
+    let mut interp = Interpreter::new(Dialect::Rs274).with_m_codes(m_codes).with_orientation(orientation);
     let mut blocks = Vec::new();
     for (idx, raw) in text.lines().enumerate() {
         let line = idx + 1;

@@ -157,7 +157,7 @@ pub const EXIT_INPUT: i32 = 2;
 /// cannot be read or has defects (a damaged word, an unreachable pose, a feed that makes it run past
 /// `--max-program-hours`) ends the node with exit code 2 and each defect named by line and column.
 pub fn load_job(args: &StreamArgs, machine: &fiveaxis::machine::Machine) -> fiveaxis::job::Job {
-    let read = fiveaxis::program::ReadOptions { m_codes: args.m_codes.m_codes.clone(), ..Default::default() };
+    let read = args.m_codes.read_options();
     let options = fiveaxis::job::JobOptions { path: args.path_options(), read, ..Default::default() };
     match fiveaxis::job::run(&args.program, machine, &options) {
         Err(e) => {

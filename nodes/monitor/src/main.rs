@@ -73,7 +73,7 @@ fn main() -> anyhow::Result<()> {
     let (rename, feed_source) = match args
         .inputs
         .axis_map(&machine)
-        .and_then(|m| fiveaxis::job::feed_source(args.program.as_deref(), args.feed_mm_per_min, &machine, &args.m_codes.m_codes).map(|f| (m, f)))
+        .and_then(|m| fiveaxis::job::feed_source(args.program.as_deref(), args.feed_mm_per_min, &machine, &args.m_codes.read_options()).map(|f| (m, f)))
     {
         Ok(r) => r,
         Err(e) => {
