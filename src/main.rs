@@ -293,7 +293,9 @@ fn parse_dialect(s: &str) -> Result<Dialect, String> {
         "heidenhain" | "din" | "iso" => Ok(Dialect::Heidenhain),
         "rs274" | "ngc" | "gcode" | "linuxcnc" => Ok(Dialect::Rs274),
         "cl" => Ok(Dialect::Cl),
-        _ => Err(format!("unknown dialect '{s}': expected heidenhain, rs274 or cl")),
+        "sinumerik" | "840d" | "siemens" => Ok(Dialect::Sinumerik),
+        "klartext" | "conversational" => Ok(Dialect::Klartext),
+        _ => Err(format!("unknown dialect '{s}': expected heidenhain, rs274, cl, sinumerik or klartext")),
     }
 }
 

@@ -1,10 +1,13 @@
 //! Twins: the same tool path written in two dialects gives the same sampled trajectory and the same
 //! analysis. SING.I (Heidenhain DIN/ISO, A/C words under M128) against its Fanuc-style twin
-//! (recordings/programs/twins/SING_fanuc.nc: G10 L2 work offset, G43.5 with tool vectors I J K), both
-//! interpolating the rotary axes linearly between blocks (axis-linear, as M128 does).
+//! (recordings/programs/twins/SING_fanuc.nc: G10 L2 work offset, G43.5 with tool vectors I J K) and
+//! its Sinumerik twin (SING_840d.mpf: TRANS frame, TRAORI with vectors A3 B3 C3), with the rotary axes
+//! linear between blocks (axis-linear: M128, Fanuc's default) and with the tool axis on great circles
+//! (Sinumerik's ORIWKS/ORIVECT reset state), the latter against an independent numpy slerp.
 
-use fiveaxis::job::{self, JobOptions};
+use fiveaxis::job::{self, Job, JobOptions};
 use fiveaxis::machine::Machine;
+use fiveaxis::program::{Orientation, ReadOptions};
 use std::path::PathBuf;
 
 fn root() -> PathBuf {
@@ -45,8 +48,89 @@ fn sing_and_its_fanuc_tool_vector_twin_agree() {
     assert!((heid.report.cycle_time_s - fanuc.report.cycle_time_s).abs() < 1e-9);
 }
 
+fn twin(name: &str) -> String {
+    root().join("recordings/programs/twins").join(name).display().to_string()
+}
+
+fn run_with(spec: &str, orientation: Option<Orientation>) -> Job {
+    let options = JobOptions { read: ReadOptions { orientation, ..Default::default() }, ..Default::default() };
+    let job = job::run(spec, &Machine::hermle_c600u(), &options).unwrap();
+    assert!(job.report.diagnostics.is_empty(), "{spec}: {:#?}", job.report.diagnostics);
+    job
+}
+
+/// Largest tool-tip (mm) and tool-axis difference between two jobs' samples, which must be as many.
+fn largest_difference(a: &Job, b: &Job) -> (f64, f64) {
+    let machine = Machine::hermle_c600u();
+    let (sa, sb): (Vec<_>, Vec<_>) = (a.trajectory.samples(&machine).collect(), b.trajectory.samples(&machine).collect());
+    assert_eq!(sa.len(), sb.len(), "sample counts");
+    sa.iter().zip(&sb).fold((0.0f64, 0.0f64), |(t, o), (x, y)| (t.max((x.tip - y.tip).norm() * 1e3), o.max((x.axis - y.axis).norm())))
+}
+
 #[test]
-fn the_fanuc_twin_is_what_its_script_writes() {
+fn the_sinumerik_twin_with_axis_linear_interpolation_is_sing() {
+    let heid = run_with("bundled:SING.I", None);
+    let sin = run_with(&twin("SING_840d.mpf"), Some(Orientation::AxisLinear));
+    let (tip, axis) = largest_difference(&heid, &sin);
+    assert!(tip <= 1e-6 && axis <= 1e-6, "largest difference: tip {tip:e} mm, axis {axis:e}");
+    let r = &sin.report;
+    assert!((r.peak_c_speed_rpm - 175.0).abs() < 0.05, "{}", r.peak_c_speed_rpm);
+    assert_eq!(r.regions.len(), 1);
+    let g = &r.regions[0];
+    assert!((g.x_start_mm - 22.0).abs() < 0.01 && (g.x_end_mm - 28.0).abs() < 0.01, "{} .. {}", g.x_start_mm, g.x_end_mm);
+    assert_eq!((g.block_start, g.block_end), (Some(340), Some(390)));
+    assert!((heid.report.cycle_time_s - r.cycle_time_s).abs() < 1e-9);
+}
+
+#[test]
+fn great_circle_interpolation_matches_an_independent_slerp() {
+    // Sinumerik's reset state is the great circle; Fanuc's and Heidenhain's M128 are told so.
+    let sin = run_with(&twin("SING_840d.mpf"), None);
+    let fanuc = run_with(&twin("SING_fanuc.nc"), Some(Orientation::GreatCircle));
+    let heid = run_with("bundled:SING.I", Some(Orientation::GreatCircle));
+    for other in [&fanuc, &heid] {
+        let (tip, axis) = largest_difference(&sin, other);
+        assert!(tip <= 1e-6 && axis <= 1e-6, "largest difference: tip {tip:e} mm, axis {axis:e}");
+    }
+
+    // Every sample's tool axis lies on the great circle of its block: in the plane of the block's
+    // end vectors (as the twin writes them), between them.
+    let machine = Machine::hermle_c600u();
+    let mut off_plane = 0.0f64;
+    for sm in sin.trajectory.samples(&machine) {
+        let seg = &sin.trajectory.segments[sm.segment];
+        let Some(gc) = &seg.orient else { continue };
+        let n = gc.o0.cross(&gc.o1).normalize();
+        off_plane = off_plane.max(sm.axis.dot(&n).abs());
+        let g = gc.angle;
+        assert!(sm.axis.angle(&gc.o0) <= g + 1e-9 && sm.axis.angle(&gc.o1) <= g + 1e-9);
+    }
+    assert!(off_plane < 1e-9, "tool axis off its great circle by {off_plane:e}");
+
+    // The figures against numpy (tests/peer/slerp_reference.py: slerp between the twin's vectors, C by
+    // atan2, its analytic rate at F2000): peak within 0.1 %, the region's ends within 0.01 mm.
+    let out = std::process::Command::new("python3")
+        .arg(root().join("tests/peer/slerp_reference.py"))
+        .arg(twin("SING_840d.mpf"))
+        .output()
+        .expect("python3 with numpy (launch-free-scripts/test installs it)");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let reference: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let f = |k: &str| reference[k].as_f64().unwrap();
+    for job in [&sin, &fanuc, &heid] {
+        let r = &job.report;
+        assert!((r.peak_c_speed_rpm / f("peak_c_speed_rpm") - 1.0).abs() < 1e-3, "{} against {}", r.peak_c_speed_rpm, f("peak_c_speed_rpm"));
+        assert!(r.peak_c_speed_rpm > 195.0, "the great circle asks more than the axes' 175 rpm");
+        assert_eq!(r.regions.len(), 1);
+        let g = &r.regions[0];
+        assert!((g.x_start_mm - f("region_x_start_mm")).abs() < 0.01, "{} against {}", g.x_start_mm, f("region_x_start_mm"));
+        assert!((g.x_end_mm - f("region_x_end_mm")).abs() < 0.01, "{} against {}", g.x_end_mm, f("region_x_end_mm"));
+        assert!((r.min_singularity_distance_deg.unwrap() - 1.0).abs() < 1e-3);
+    }
+}
+
+#[test]
+fn the_twins_are_what_their_script_writes() {
     // The committed twin is reproducible: the script run again writes the same bytes.
     let dir = std::env::temp_dir().join(format!("fiveaxis-twins-{}", std::process::id()));
     std::fs::create_dir_all(dir.join("twins")).unwrap();
@@ -54,8 +138,10 @@ fn the_fanuc_twin_is_what_its_script_writes() {
     std::fs::copy(root().join("recordings/programs/twins/make-twins"), dir.join("twins/make-twins")).unwrap();
     let st = std::process::Command::new("python3").arg(dir.join("twins/make-twins")).status().unwrap();
     assert!(st.success());
-    let again = std::fs::read(dir.join("twins/SING_fanuc.nc")).unwrap();
-    let committed = std::fs::read(root().join("recordings/programs/twins/SING_fanuc.nc")).unwrap();
-    assert!(again == committed, "recordings/programs/twins/SING_fanuc.nc differs from what make-twins writes");
+    for name in ["SING_fanuc.nc", "SING_840d.mpf"] {
+        let again = std::fs::read(dir.join("twins").join(name)).unwrap();
+        let committed = std::fs::read(root().join("recordings/programs/twins").join(name)).unwrap();
+        assert!(again == committed, "recordings/programs/twins/{name} differs from what make-twins writes");
+    }
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -41,6 +41,8 @@ pub struct Interpreter {
     tool_vector: bool,
     /// How the tool orientation is interpolated under TCPM.
     orientation: Orientation,
+    /// A tool vector the dialect's reader found in the next block (Sinumerik `A3= B3= C3=`), unit.
+    pending_vector: Option<[f64; 3]>,
     /// Last programmed absolute value of X Y Z A B C (SI).
     last: [f64; 6],
 }
@@ -65,6 +67,7 @@ impl Interpreter {
             system: 0,
             tool_vector: false,
             orientation: dialect.default_orientation(),
+            pending_vector: None,
             last: [0.0; 6],
         }
     }
@@ -124,6 +127,37 @@ impl Interpreter {
             self.last[k] += self.datum[k] - offset[k];
         }
         self.datum = offset;
+    }
+
+    /// Switch tool-centre-point management (Sinumerik `TRAORI` / `TRAFOOF`).
+    pub fn set_tcp(&mut self, on: bool) {
+        self.tcp = on;
+    }
+
+    /// Switch the orientation interpolation (Sinumerik `ORIVECT`/`ORIAXES`, `ORIWKS`/`ORIMKS`).
+    pub fn set_orientation(&mut self, orientation: Orientation) {
+        self.orientation = orientation;
+    }
+
+    /// The datum shift in effect, m.
+    pub fn datum(&self) -> [f64; 3] {
+        self.datum
+    }
+
+    /// Shift the program origin (Sinumerik `TRANS`/`ATRANS` frames), m: program coordinates + datum =
+    /// coordinates about the rotary axes. The machine stays; axes a later block does not name stay.
+    pub fn set_datum(&mut self, datum: [f64; 3]) {
+        self.datum = datum;
+    }
+
+    /// The length unit in effect (m per program unit).
+    pub fn unit(&self) -> f64 {
+        self.unit
+    }
+
+    /// The next block's tool vector (Sinumerik `A3= B3= C3=`, unit, workpiece frame).
+    pub fn set_pending_vector(&mut self, v: [f64; 3]) {
+        self.pending_vector = Some(v);
     }
 
     /// Set the program's length unit (Heidenhain header G70/G71).
@@ -357,6 +391,15 @@ impl Interpreter {
         next.datum = datum;
         if vector_words && words.iter().any(|w| "IJK".contains(w.letter)) {
             targets.tool_axis = tool_vector(words, &targets, line, column, diags);
+        }
+        if let Some(v) = next.pending_vector.take() {
+            if !next.tcp {
+                diags.error(line, column, "tool vector (A3 B3 C3) without TRAORI: the orientation transformation is off");
+            } else if targets.a.is_some() || targets.b.is_some() || targets.c.is_some() {
+                diags.error(line, column, "block with both a tool vector (A3 B3 C3) and rotary-axis words: expected one of them");
+            } else {
+                targets.tool_axis = Some(v);
+            }
         }
 
         let moves = !targets.is_empty();

@@ -9,10 +9,12 @@ mod heidenhain;
 mod interp;
 mod lex;
 mod rs274;
+mod sinumerik;
 
 pub use cl::{read_cl, read_cl_with};
 pub use heidenhain::{read_heidenhain, read_heidenhain_with};
 pub use rs274::{read_rs274, read_rs274_setup, read_rs274_with};
+pub use sinumerik::read_sinumerik_with;
 
 use std::fmt;
 use std::path::Path;
@@ -27,6 +29,10 @@ pub enum Dialect {
     Rs274,
     /// Cutter-location data: one `x y z i j k` pose per line.
     Cl,
+    /// Siemens Sinumerik 840D (`.MPF`, `TRAORI`, tool vectors `A3= B3= C3=`).
+    Sinumerik,
+    /// Heidenhain conversational (Klartext, `.H`: `BEGIN PGM ... MM`): recognised, not read yet.
+    Klartext,
 }
 
 impl Dialect {
@@ -37,13 +43,19 @@ impl Dialect {
     }
 
     /// How a control of this dialect interpolates the tool orientation under tool-centre-point
-    /// management unless told otherwise. Heidenhain: `M128` moves the rotary axes linearly (TNC 640
-    /// user's manual: FUNCTION TCPM's default `PATHCTRL AXIS` is M128's behaviour). RS274NGC:
-    /// LinuxCNC interpolates joints linearly (its TCP kinematics only map the axes). CL data: the
-    /// control that runs it decides; axis-linear, as the post-processed program would run on a TNC.
+    /// management unless told otherwise. Heidenhain: `M128` moves the rotary axes linearly (as
+    /// FUNCTION TCPM's `PATHCTRL AXIS`, with which "the tool circumference does not describe a defined
+    /// path"). RS274NGC: LinuxCNC interpolates the joints linearly (src/emc/tp/tc.c; its TCP
+    /// kinematics map the axes only), and Fanuc's G43.4/G43.5 by default move "the two rotary axes
+    /// independently" (30i Tool Posture Control, A-79294E: the great circle is an option). CL data:
+    /// the control that runs it decides; axis-linear, as the post-processed program runs on a TNC.
     pub fn default_orientation(self) -> Orientation {
         match self {
-            Dialect::Heidenhain | Dialect::Rs274 | Dialect::Cl => Orientation::AxisLinear,
+            Dialect::Heidenhain | Dialect::Rs274 | Dialect::Cl | Dialect::Klartext => Orientation::AxisLinear,
+            // ORIWKS and ORIVECT are the reset state (840D sl Programming Manual Job Planning
+            // 03/2006 §7.1.2: "The default setting is ORIWKS"; G group 51 default ORIVECT, large-circle
+            // interpolation, Fundamentals 10/2004 §12.3).
+            Dialect::Sinumerik => Orientation::GreatCircle,
         }
     }
 
@@ -53,13 +65,33 @@ impl Dialect {
             .and_then(|p| p.extension())
             .map(|e| e.to_string_lossy().to_ascii_lowercase())
             .unwrap_or_default();
+        let first = text.lines().map(str::trim).find(|l| !l.is_empty()).unwrap_or("");
+        // Content that only one dialect writes decides before the extension (`.h` is both
+        // Heidenhain's DIN/ISO and conversational; `.nc` is used by every control).
+        let upper = |l: &str| l.to_ascii_uppercase();
+        let klartext = text.lines().take(50).any(|l| {
+            let u = upper(l);
+            let body = u.trim_start().trim_start_matches(|c: char| c.is_ascii_digit()).trim_start();
+            body.starts_with("BEGIN PGM")
+        });
+        if klartext {
+            return Dialect::Klartext;
+        }
+        let sinumerik_words = ["TRAORI", "TRAFOOF", "ORIWKS", "ORIMKS", "ORIVECT", "ORIAXES", "CYCLE800", "A3=", "B3=", "C3=", "G642", "G500"];
+        let sinumerik = text.lines().take(2000).any(|l| {
+            let u = upper(l);
+            let code = u.split(';').next().unwrap_or("");
+            sinumerik_words.iter().any(|w| code.contains(w))
+        });
         match ext.as_str() {
-            "i" | "h" | "iso" => return Dialect::Heidenhain,
+            "i" | "iso" => return Dialect::Heidenhain,
+            "mpf" | "spf" => return Dialect::Sinumerik,
+            _ if sinumerik => return Dialect::Sinumerik,
+            "h" => return Dialect::Heidenhain,
             "ngc" | "nc" | "gcode" | "tap" | "cnc" => return Dialect::Rs274,
             "cl" | "csv" | "cls" => return Dialect::Cl,
             _ => {}
         }
-        let first = text.lines().map(str::trim).find(|l| !l.is_empty()).unwrap_or("");
         if first.starts_with('%') && first.ends_with('*') || text.contains(" *\n") {
             Dialect::Heidenhain
         } else if first
@@ -378,6 +410,21 @@ pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -
         Dialect::Heidenhain => read_heidenhain_with(text, orientation),
         Dialect::Rs274 => read_rs274_setup(text, &options.m_codes, orientation),
         Dialect::Cl => read_cl_with(text, options.cl_feed_mm_per_min, orientation),
+        Dialect::Sinumerik => read_sinumerik_with(text, &options.m_codes, orientation),
+        Dialect::Klartext => Program {
+            source: String::new(),
+            dialect,
+            name: None,
+            blocks: Vec::new(),
+            diagnostics: vec![Diagnostic {
+                line: 1,
+                column: 1,
+                severity: Severity::Error,
+                message: "Heidenhain conversational (Klartext, BEGIN PGM) is not read yet: write the program in \
+                          Heidenhain DIN/ISO, RS274NGC, Sinumerik or CL data"
+                    .into(),
+            }],
+        },
     };
     p.source = source.to_string();
     p

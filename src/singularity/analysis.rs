@@ -369,9 +369,11 @@ fn crossing(o: &Status, i: &Status, rate_limit: f64) -> f64 {
 }
 
 /// Where a region boundary between samples `a` and `b` lies: at the block junction if they belong to
-/// different segments (the axes are linear per block, so the speed steps there), else at fraction `f`.
+/// different blocks (the speed steps there: the axes, or the tool axis' great circle, change rate from
+/// block to block), else at fraction `f` (within a block the speed is continuous, across the pieces of
+/// an arc or of a great circle too).
 fn boundary(segments: &[Segment], a: &Sample, b: &Sample, f: f64) -> (f64, Vector3<f64>) {
-    if a.segment != b.segment {
+    if segments[a.segment].block != segments[b.segment].block {
         let seg = &segments[b.segment];
         if seg.t0 >= a.t && seg.t0 <= b.t {
             return (seg.t0, seg.tip0);

@@ -1,0 +1,339 @@
+//! Siemens Sinumerik 840D programs (`.MPF`/`.SPF`), as written from the 840D sl Programming Manual
+//! Job Planning (6FC5398-2BP20, 5-axis transformation TRAORI) and Fundamentals: `N` numbers, `;`
+//! comments, `G0/G1/G2/G3` (arcs: `I J K` from the start, or `CR=` radius, `TURN=` full turns),
+//! `G17-G19`, `G90/G91`, `G93/G94`, `G70/G700/G71/G710`, `G54-G57`/`G500`, blending `G64`/`G641`-`G645`,
+//! `TRAORI`/`TRAFOOF` (tool-centre point), the tool vector `A3= B3= C3=` (a missing component is 0;
+//! it points from the tip to the tool holder), rotary axes `A= B= C=`, `ORIWKS`/`ORIVECT`/`ORIPLANE`
+//! (the tool axis on a great circle in the workpiece, the reset state) and `ORIMKS`/`ORIAXES` (the
+//! rotary axes linear), `TRANS`/`ATRANS` frames (a datum shift), `T`, `D`, `S`, `M`, `F`, `M30`.
+//!
+//! What changes the motion and is not modelled is an error at its line and column, never skipped:
+//! `ROT`/`AROT`/`SCALE`/`MIRROR` frames, `CYCLE800` (a swivel: a tilted working plane), other cycles
+//! and subprogram calls, R parameters and expressions (`X=R1+5`, `AC(..)`), exact stop (`G60`, `G9`),
+//! cutter compensation, orientation by angles (`A2=`) or cone/polynomial orientation.
+//!
+//! Orientation interpolation: which of ORIWKS/ORIMKS and ORIVECT/ORIAXES governs depends on machine
+//! datum MD21104 `ORI_IPO_WITH_G_CODE`; here the one programmed last governs (at reset ORIWKS and
+//! ORIVECT agree: the great circle).
+
+use super::interp::{Interpreter, Word};
+use super::lex::{excerpt, parse_number, Diags};
+use super::{Dialect, MCodeRule, Orientation, Program, Severity};
+
+/// Read a Sinumerik program on a control whose orientation interpolation starts as `orientation`
+/// (the reset state is [`Orientation::GreatCircle`], ORIWKS/ORIVECT).
+pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
+    let mut diags = Diags::default();
+    let mut interp = Interpreter::new(Dialect::Sinumerik).with_m_codes(m_codes).with_orientation(orientation);
+    let mut blocks = Vec::new();
+    for (idx, raw) in text.lines().enumerate() {
+        let line = idx + 1;
+        let chars: Vec<char> = raw.trim_end_matches('\r').chars().collect();
+        let Some(first) = chars.iter().position(|c| !c.is_whitespace()) else { continue };
+        if chars[first] == '%' {
+            continue; // `%_N_NAME_MPF` transfer header
+        }
+        let errors_before = count_errors(&diags);
+        let lexed = lex_line(&chars, first, line, &mut diags);
+        if count_errors(&diags) > errors_before {
+            diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+            continue;
+        }
+        let Lexed { mut words, number, keywords, vector, frame } = lexed;
+        let saved = interp.clone();
+        for (k, col) in &keywords {
+            match k.as_str() {
+                "TRAORI" => interp.set_tcp(true),
+                "TRAFOOF" => interp.set_tcp(false),
+                "ORIWKS" | "ORIVECT" | "ORIPLANE" => interp.set_orientation(Orientation::GreatCircle),
+                "ORIMKS" | "ORIAXES" => interp.set_orientation(Orientation::AxisLinear),
+                // Angle conventions for A2 B2 C2, which are not read: no effect on these programs.
+                "ORIEULER" | "ORIRPY" => {}
+                // Acceleration modes: the planner always limits jerk.
+                "SOFT" | "BRISK" => {}
+                "TRANS" | "ATRANS" => {}
+                other => diags.error(line, *col, format!("{other}: {}", unsupported_keyword(other))),
+            }
+        }
+        if let Some(kind) = frame {
+            // TRANS X Y Z: the frame's offset, not a move (and alone in its block, as the manual asks).
+            let unit = interp.unit();
+            let mut datum = if kind == "ATRANS" { interp.datum() } else { [0.0; 3] };
+            for w in words.drain(..) {
+                match "XYZ".find(w.letter) {
+                    Some(k) => datum[k] += w.value * unit,
+                    None => diags.error(line, w.column, format!("{}{} in a {kind} block: a frame block holds only the offset X Y Z", w.letter, w.raw)),
+                }
+            }
+            if count_errors(&diags) > errors_before {
+                interp = saved;
+                continue;
+            }
+            interp.set_datum(datum);
+            continue;
+        }
+        if count_errors(&diags) > errors_before {
+            interp = saved;
+            diags.warning(line, first + 1, format!("line {line} not used"));
+            continue;
+        }
+        if let Some(v) = vector {
+            interp.set_pending_vector(v);
+        } else if words.is_empty() {
+            continue;
+        }
+        // A block of only a vector still moves: the interpreter needs a word to read, none changes anything.
+        if words.is_empty() {
+            words.push(Word { letter: 'N', value: 0.0, raw: String::new(), column: first + 1, incremental: false });
+        }
+        let col = words.iter().map(|w| w.column).min().unwrap_or(first + 1).min(first + 1);
+        match interp.block(&words, line, col, number, &mut diags) {
+            Some(b) => blocks.push(b),
+            None => {
+                interp = saved;
+                diags.warning(line, first + 1, format!("line {line} not used"));
+            }
+        }
+    }
+    diags.0.sort_by_key(|d| (d.line, d.column));
+    Program { source: String::new(), dialect: Dialect::Sinumerik, name: None, blocks, diagnostics: diags.0 }
+}
+
+fn count_errors(d: &Diags) -> usize {
+    d.0.iter().filter(|d| d.severity == Severity::Error).count()
+}
+
+/// Why a keyword is refused.
+fn unsupported_keyword(k: &str) -> &'static str {
+    match k {
+        "ROT" | "AROT" | "SCALE" | "ASCALE" | "MIRROR" | "AMIRROR" | "ROTS" | "AROTS" | "CROTS" => {
+            "frame rotation, scaling or mirroring is not modelled (it changes the motion)"
+        }
+        "CYCLE800" => "swivel (CYCLE800): a tilted working plane, not modelled (it changes the motion)",
+        "TRAFOOF_" | "TRANSMIT" | "TRACYL" | "TRAANG" => "this transformation is not modelled",
+        "ORICONCW" | "ORICONCCW" | "ORICONTO" | "ORICONIO" | "ORICURVE" | "ORIPATH" | "ORIPATHS" | "ORIROTA" | "ORIROTR" | "ORIROTT" | "ORIROTC" => {
+            "this orientation interpolation (cone, curve or path-relative) is not modelled"
+        }
+        "G60" | "G9" => "exact stop is not modelled: the planner blends blocks as G64 does",
+        "OFFN" | "CUT2D" | "CUT3DC" | "CUT3DF" => "cutter compensation is not modelled",
+        "FGROUP" | "FGREF" => "feed reference axes are not modelled (they change how F is read)",
+        "GOTOF" | "GOTOB" | "GOTO" | "CALL" | "REPEAT" | "IF" | "ELSE" | "ENDIF" | "WHILE" | "ENDWHILE" | "FOR" | "ENDFOR" | "LOOP" | "ENDLOOP" | "DEF" | "PROC" | "RET" => {
+            "program control (jumps, loops, calls, definitions) is not modelled"
+        }
+        _ => "unknown instruction: not read (it may change the motion)",
+    }
+}
+
+struct Lexed {
+    words: Vec<Word>,
+    number: Option<u64>,
+    /// Keywords and their columns.
+    keywords: Vec<(String, usize)>,
+    /// A3 B3 C3, unit.
+    vector: Option<[f64; 3]>,
+    /// TRANS or ATRANS.
+    frame: Option<&'static str>,
+}
+
+/// Split one line into words; defects go to `diags`.
+fn lex_line(chars: &[char], first: usize, line: usize, diags: &mut Diags) -> Lexed {
+    let mut out = Lexed { words: Vec::new(), number: None, keywords: Vec::new(), vector: None, frame: None };
+    let mut vec3: [Option<f64>; 3] = [None; 3];
+    let mut vec_col = 0;
+    let mut i = first;
+    if chars[i] == '/' {
+        diags.warning(line, i + 1, "block skip '/' is not modelled: the block is run");
+        i += 1;
+    }
+    while i < chars.len() {
+        let c = chars[i];
+        if c.is_whitespace() {
+            i += 1;
+            continue;
+        }
+        if c == ';' {
+            break;
+        }
+        let col = i + 1;
+        if !c.is_ascii_alphabetic() && c != '_' {
+            let end = token_end(chars, i);
+            let found: String = chars[i..end].iter().collect();
+            diags.error(line, col, format!("unexpected '{}': expected a word such as G1 or X=10.5", excerpt(&found)));
+            i = end;
+            continue;
+        }
+        // Address: letters, then digits that belong to it only when '=' follows (A3=, CR=, TURN=).
+        let mut j = i;
+        while j < chars.len() && (chars[j].is_ascii_alphabetic() || chars[j] == '_') {
+            j += 1;
+        }
+        let letters: String = chars[i..j].iter().collect::<String>().to_ascii_uppercase();
+        let mut k = j;
+        while k < chars.len() && chars[k].is_ascii_digit() {
+            k += 1;
+        }
+        let mut e = k;
+        while e < chars.len() && (chars[e] == ' ' || chars[e] == '\t') {
+            e += 1;
+        }
+        let with_eq = e < chars.len() && chars[e] == '=';
+        let (address, value_start) = if with_eq {
+            (format!("{letters}{}", chars[j..k].iter().collect::<String>()), e + 1)
+        } else {
+            (letters.clone(), j)
+        };
+        // Keywords: more than one letter and no '=' (TRAORI, ORIWKS, MSG(...), CYCLE800(...)).
+        if !with_eq && letters.len() > 1 {
+            let mut end = k;
+            if end < chars.len() && chars[end] == '(' {
+                // Arguments: up to the matching ')'.
+                let mut depth = 0;
+                while end < chars.len() {
+                    match chars[end] {
+                        '(' => depth += 1,
+                        ')' => {
+                            depth -= 1;
+                            if depth == 0 {
+                                end += 1;
+                                break;
+                            }
+                        }
+                        _ => {}
+                    }
+                    end += 1;
+                }
+            }
+            let name = format!("{letters}{}", chars[j..k].iter().collect::<String>());
+            match name.as_str() {
+                "MSG" => {}
+                "TRANS" => out.frame = Some("TRANS"),
+                "ATRANS" => out.frame = Some("ATRANS"),
+                _ => out.keywords.push((name, col)),
+            }
+            // TRAORI(1): the first transformation, as plain TRAORI.
+            i = end.max(k);
+            continue;
+        }
+        let mut v = value_start;
+        while v < chars.len() && (chars[v] == ' ' || chars[v] == '\t') && with_eq {
+            v += 1;
+        }
+        if address == "T" && chars.get(v) == Some(&'"') {
+            // T="NAME": a tool called by name (an event, as T5 is).
+            let close = chars[v + 1..].iter().position(|&c| c == '"').map(|p| v + 1 + p + 1);
+            match close {
+                Some(e) => {
+                    let name: String = chars[v..e].iter().collect();
+                    out.words.push(Word { letter: 'T', value: 0.0, raw: name, column: col, incremental: false });
+                    i = e;
+                }
+                None => {
+                    diags.error(line, col, "T=\"...: the tool name's quote is not closed on this line");
+                    i = chars.len();
+                }
+            }
+            continue;
+        }
+        let start = v;
+        let mut end = v;
+        while end < chars.len() && (chars[end].is_ascii_digit() || chars[end] == '.' || ((chars[end] == '+' || chars[end] == '-') && end == start)) {
+            end += 1;
+        }
+        let text: String = chars[start..end].iter().collect();
+        let stop = token_end(chars, end);
+        if stop > end || parse_number(&text).is_none() {
+            let found: String = chars[start..token_end(chars, start)].iter().collect();
+            let what = if found.contains('(') || found.contains('R') || found.chars().any(|c| "+-*/".contains(c)) && !found.is_empty() {
+                "an expression or R parameter, which is not read"
+            } else {
+                "not a number"
+            };
+            diags.error(line, col, format!("{address}: expected a number, found '{}' ({what})", excerpt(&found)));
+            i = token_end(chars, start).max(i + 1);
+            continue;
+        }
+        let value = parse_number(&text).unwrap_or(0.0);
+        i = end;
+        let word = |letter: char, value: f64, raw: String| Word { letter, value, raw, column: col, incremental: false };
+        match address.as_str() {
+            "N" if value.fract() == 0.0 && value >= 0.0 => out.number = Some(value as u64),
+            "N" => diags.error(line, col, format!("expected a whole block number after 'N', found '{text}'")),
+            "A3" | "B3" | "C3" => {
+                vec3["ABC".find(&address[..1]).unwrap_or(0)] = Some(value);
+                vec_col = if vec_col == 0 { col } else { vec_col };
+            }
+            "CR" => out.words.push(word('R', value, text)),
+            "TURN" if value.fract() == 0.0 && (0.0..1000.0).contains(&value) => out.words.push(word('P', value + 1.0, format!("{}", value + 1.0))),
+            "TURN" => diags.error(line, col, format!("TURN={text}: expected a whole number of turns, 0 to 999")),
+            "G" => match sinumerik_g(&text) {
+                Ok(Some(g)) => out.words.push(word('G', parse_number(g).unwrap_or(0.0), g.to_string())),
+                Ok(None) => {}
+                Err(why) => diags.error(line, col, format!("G{text}: {why}")),
+            },
+            "X" | "Y" | "Z" | "A" | "B" | "C" | "I" | "J" | "K" | "F" | "M" | "S" | "T" => {
+                out.words.push(word(address.chars().next().unwrap_or('X'), value, text))
+            }
+            "D" => {} // tool offset number: the tool length is the machine file's
+            "H" => diags.error(line, col, format!("H{text}: auxiliary function not read")),
+            _ => diags.error(line, col, format!("unsupported word {address}={text}: not read (it may change the motion)")),
+        }
+    }
+    if vec3.iter().any(Option::is_some) {
+        let v = vec3.map(|c| c.unwrap_or(0.0)); // a component not written is 0 (840D: not modal)
+        let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if n > 1e-9 {
+            out.vector = Some(v.map(|c| c / n));
+        } else {
+            diags.error(line, vec_col, "tool vector A3 B3 C3 has zero length: expected a direction");
+        }
+    }
+    out
+}
+
+/// End of a token: the next whitespace or ';'.
+fn token_end(chars: &[char], from: usize) -> usize {
+    let mut e = from;
+    while e < chars.len() && !chars[e].is_whitespace() && chars[e] != ';' {
+        e += 1;
+    }
+    e
+}
+
+/// A Sinumerik G code as the shared interpreter reads it (`Ok(None)`: no effect on the path), or why
+/// it is refused.
+fn sinumerik_g(code: &str) -> Result<Option<&'static str>, &'static str> {
+    let n = code.trim_start_matches('0');
+    Ok(Some(match n {
+        "" => "0",
+        "1" => "1",
+        "2" => "2",
+        "3" => "3",
+        "17" => "17",
+        "18" => "18",
+        "19" => "19",
+        "40" => "40",
+        "90" => "90",
+        "91" => "91",
+        "93" => "93",
+        "94" => "94",
+        "54" => "54",
+        "55" => "55",
+        "56" => "56",
+        "57" => "57",
+        // Settable frames off: the offsets taken as zero, as G54 without offsets is.
+        "500" => "54",
+        "70" | "700" => "20",
+        "71" | "710" => "21",
+        // Continuous-path modes and smoothing: what the planner does.
+        "64" | "641" | "642" | "643" | "644" | "645" => return Ok(None),
+        "60" | "9" => return Err("exact stop is not modelled: the planner blends blocks as G64 does"),
+        "4" => return Err("dwell: not modelled (its F is a time, not a feed)"),
+        "41" | "42" => return Err("cutter radius compensation is not supported"),
+        "53" | "153" => return Err("suppressing the frames is not modelled (machine coordinates)"),
+        "95" | "96" | "97" => return Err("feed per revolution or constant cutting speed is not supported"),
+        "110" | "111" | "112" => return Err("polar coordinates are not supported"),
+        "25" | "26" | "74" | "75" => return Err("working-area limits and reference-point moves are not supported"),
+        "33" | "331" | "332" | "63" => return Err("threading and tapping are not supported"),
+        _ => return Err("unknown G code: not read (it may change the motion)"),
+    }))
+}
