@@ -107,3 +107,43 @@ fn distance_threshold_opens_regions_on_five_axis_moves() {
     assert_eq!(j.analysis.regions.len(), 1);
     assert_eq!(j.report.regions[0].cause, RegionCause::SpeedAndDistance);
 }
+
+/// Great-circle orientation across the pole. A circle through the singular direction itself is a
+/// meridian: the table tilts through A = 0 to the other side with C standing (A linear in the
+/// circle's angle), no jump. One passing 0.01 deg beside it is cut into pieces that each turn C at
+/// most ORIENT_PIECE_RAD, and C turns by the 180 deg the geometry asks.
+#[test]
+fn great_circles_at_the_pole() {
+    use fiveaxis::program::{read, Dialect, ReadOptions};
+    let m = Machine::hermle_c600u();
+    let prog = |y: f64| {
+        let (s, c) = (10.0f64.to_radians().sin(), 10.0f64.to_radians().cos());
+        format!("N10 TRAORI\nN20 G1 X0 Y0 Z0 A3={s:.12} B3={y:.12} C3={c:.12} F1000\nN30 X10 A3={:.12} B3={y:.12} C3={c:.12}\nN40 M30\n", -s)
+    };
+    let through = read(&prog(0.0), Dialect::Sinumerik, "pole.mpf", &ReadOptions::default());
+    assert!(through.diagnostics.is_empty(), "{:#?}", through.diagnostics);
+    let t = Trajectory::from_program(&through, &m, &PathOptions::default());
+    assert!(t.diagnostics.is_empty(), "{:#?}", t.diagnostics);
+    let (a, c) = (m.primary_axis(), m.secondary_axis());
+    let c0 = t.segments.iter().find(|s| s.line == 3).unwrap().q0[c];
+    let mut n = 0;
+    for sm in t.samples(&m).filter(|sm| t.segments[sm.segment].line == 3) {
+        let seg = &t.segments[sm.segment];
+        let u = ((sm.tip.x - 0.0) / (10.0 * MM)).clamp(0.0, 1.0);
+        assert!(close(sm.q[a].abs().to_degrees(), (10.0 - 20.0 * u).abs(), 1e-6), "A {} at u {u}", sm.q[a].to_degrees());
+        assert!(close(sm.q[c], c0, 1e-9), "C moves: {} deg", (sm.q[c] - c0).to_degrees());
+        assert!(seg.orient.is_some());
+        n += 1;
+    }
+    assert!(n > 100);
+
+    let beside = read(&prog(0.01f64.to_radians().sin()), Dialect::Sinumerik, "near.mpf", &ReadOptions::default());
+    let t = Trajectory::from_program(&beside, &m, &PathOptions::default());
+    assert!(t.diagnostics.is_empty(), "{:#?}", t.diagnostics);
+    let pieces: Vec<_> = t.segments.iter().filter(|s| s.line == 3).collect();
+    let turn = |s: &&fiveaxis::path::Segment| (s.q1[4] - s.q0[4]).abs().max((s.q1[3] - s.q0[3]).abs());
+    assert!(pieces.iter().all(|s| turn(s) <= fiveaxis::path::ORIENT_PIECE_RAD + 1e-12));
+    let c_turn = (pieces.last().unwrap().q1[c] - pieces[0].q0[c]).abs().to_degrees();
+    assert!((c_turn - 180.0).abs() < 0.2, "C turns {c_turn} deg");
+    assert!(pieces.len() < 5000, "{} pieces", pieces.len());
+}

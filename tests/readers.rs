@@ -1,6 +1,6 @@
 //! NC program readers: the paper's programs, their OCR-damaged copies, RS274NGC and CL data.
 
-use fiveaxis::program::{read, read_cl, read_heidenhain, read_rs274, Dialect, FeedMode, Motion, Program, ReadOptions, Severity};
+use fiveaxis::program::{read, read_cl, read_heidenhain, read_rs274, Dialect, FeedMode, Motion, Orientation, Program, ReadOptions, Severity};
 use fiveaxis::units::{DEG, MM};
 use proptest::prelude::*;
 
@@ -140,10 +140,76 @@ fn cl_data_with_header_commas_and_feed() {
 
 #[test]
 fn dialect_detection() {
+    let path = |p: &'static str| Some(std::path::Path::new(p));
     assert_eq!(Dialect::detect(None, SING), Dialect::Heidenhain);
     assert_eq!(Dialect::detect(None, "G1 X1 Y2\n"), Dialect::Rs274);
     assert_eq!(Dialect::detect(None, "1 2 3 0 0 1\n"), Dialect::Cl);
-    assert_eq!(Dialect::detect(Some(std::path::Path::new("a.ngc")), ""), Dialect::Rs274);
+    assert_eq!(Dialect::detect(path("a.ngc"), ""), Dialect::Rs274);
+    // Sinumerik by extension and by its own words, whatever the extension (.nc is everyone's).
+    assert_eq!(Dialect::detect(path("a.MPF"), ""), Dialect::Sinumerik);
+    assert_eq!(Dialect::detect(path("a.nc"), "N10 G1 X1 F100\nN20 TRAORI ; on\n"), Dialect::Sinumerik);
+    assert_eq!(Dialect::detect(None, "G1 X1 A3=0 B3=0 C3=1 F100\n"), Dialect::Sinumerik);
+    assert_eq!(Dialect::detect(path("a.nc"), "G1 X1 F100 ; TRAORI in a comment\n"), Dialect::Rs274);
+    // Heidenhain conversational: recognised (also as .h, which DIN/ISO shares) and refused, not misread.
+    let klartext = "0 BEGIN PGM TEST MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-40\n2 L X+10 Y+5 R0 FMAX\n3 END PGM TEST MM\n";
+    assert_eq!(Dialect::detect(path("test.h"), klartext), Dialect::Klartext);
+    let p = read(klartext, Dialect::Klartext, "test.h", &ReadOptions::default());
+    has(&p, 1, 1, "Klartext");
+    assert!(p.blocks.is_empty());
+}
+
+#[test]
+fn sinumerik_reads_traori_vectors_frames_and_arcs() {
+    let text = "; a Sinumerik 840D test program\nN10 G71 G90 G94 G17\nN20 T=\"MILL_10\" D1 S12000 M3\nN30 TRANS X10 Y-5 Z2\n\
+                N40 TRAORI\nN50 G1 X=1 Y2 Z=-3 A3=0 B3=1 C3=1 F2000 ; 45 deg in Y Z\nN60 C3=1\nN70 ORIAXES\nN80 X5 A=10 C=20\n\
+                N90 TRAFOOF\nN100 ATRANS X1\nN105 G1 X0 Y0\nN110 G2 X10 Y0 I5 J0\nN120 G3 X0 Y0 CR=5 TURN=1\nN130 M30\n";
+    let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let by = |n: u64| p.blocks.iter().find(|b| b.number == Some(n)).unwrap_or_else(|| panic!("block N{n}"));
+    assert!(by(20).events.iter().any(|e| e.contains("MILL_10")));
+    let b = by(50);
+    assert!(b.tcp && b.orientation == Orientation::GreatCircle, "TRAORI on, ORIWKS/ORIVECT at reset");
+    assert_eq!((b.targets.x, b.targets.z), (Some(1.0 * MM), Some(-3.0 * MM)));
+    let h = 0.5f64.sqrt();
+    let v = b.targets.tool_axis.unwrap();
+    assert!((v[0]).abs() < 1e-15 && (v[1] - h).abs() < 1e-15 && (v[2] - h).abs() < 1e-15, "{v:?}");
+    for (got, want) in b.datum.iter().zip([10.0, -5.0, 2.0]) {
+        assert!((got - want * MM).abs() < 1e-15, "TRANS: {:?}", b.datum);
+    }
+    // A vector component not written is 0, not the previous one (840D: not modal).
+    assert_eq!(by(60).targets.tool_axis, Some([0.0, 0.0, 1.0]));
+    let b = by(80);
+    assert_eq!(b.orientation, Orientation::AxisLinear, "ORIAXES switches");
+    assert_eq!(b.targets.a, Some(10.0 * DEG));
+    assert!(!by(105).tcp, "TRAFOOF");
+    assert!((by(105).datum[0] - 11.0 * MM).abs() < 1e-15, "ATRANS adds to the frame: {:?}", by(105).datum);
+    let arc = by(110).arc.expect("G2 with I J from the start");
+    assert_eq!(by(110).motion, Motion::ArcCw);
+    assert!((arc.centre[0] - 5.0 * MM).abs() < 1e-15 && arc.centre[1].abs() < 1e-15, "{:?}", arc.centre);
+    let arc = by(120).arc.expect("G3 with CR=");
+    assert_eq!(arc.extra_turns, 1, "TURN=1: one full turn more");
+    // --orientation sets the control's start state.
+    let told = ReadOptions { orientation: Some(Orientation::AxisLinear), ..Default::default() };
+    assert_eq!(read(text, Dialect::Sinumerik, "t.mpf", &told).blocks.iter().find(|b| b.number == Some(50)).unwrap().orientation, Orientation::AxisLinear);
+}
+
+#[test]
+fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
+    let text = "N10 G1 X1 F100\nN20 ROT Z45\nN30 CYCLE800(1,\"TC1\",0,57,0,0,0,0,0,0,0,0,0,1)\nN40 X=R1+5\nN50 G60 X2\n\
+                N60 A3=0 B3=0 C3=1\nN70 GOTOF END\nN80 X=AC(5)\nN90 TRAORI\nN100 A3=0 B3=0 C3=0\nN110 X3 A3=0 B3=0 C3=1 C=5\nN120 ORICONCW\n";
+    let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    has(&p, 2, 5, "ROT");
+    has(&p, 3, 5, "CYCLE800");
+    has(&p, 4, 5, "expression or R parameter");
+    has(&p, 5, 5, "exact stop");
+    has(&p, 6, 1, "without TRAORI");
+    has(&p, 7, 5, "program control");
+    has(&p, 8, 5, "expression or R parameter");
+    has(&p, 10, 6, "zero length");
+    has(&p, 11, 1, "both a tool vector");
+    has(&p, 12, 6, "cone");
+    let used: Vec<_> = p.blocks.iter().filter(|b| !b.targets.is_empty()).map(|b| b.number).collect();
+    assert_eq!(used, vec![Some(10)], "no refused block is used");
 }
 
 proptest! {
@@ -153,8 +219,9 @@ proptest! {
     fn readers_never_panic_on_arbitrary_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
         let text = String::from_utf8_lossy(&bytes);
         let m = fiveaxis::machine::Machine::hermle_c600u();
-        for d in [Dialect::Heidenhain, Dialect::Rs274, Dialect::Cl] {
-            let p = read(&text, d, "fuzz", &ReadOptions::default());
+        for d in [Dialect::Heidenhain, Dialect::Rs274, Dialect::Cl, Dialect::Sinumerik] {
+            let great = ReadOptions { orientation: Some(Orientation::GreatCircle), ..Default::default() };
+            let p = read(&text, d, "fuzz", &great);
             let opts = fiveaxis::path::PathOptions { period: 0.05, ..Default::default() };
             let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
             let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
@@ -184,6 +251,27 @@ proptest! {
         let opts = fiveaxis::path::PathOptions { period: (duration / 3000.0).max(1e-3), ..Default::default() };
         let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
         prop_assert!(t.sample_count() <= 3100);
+        let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
+    }
+
+    /// The same for the Sinumerik twin, whose tool vectors run on great circles (pieces refined near
+    /// the pole): a mutated vector or axis word never panics and never makes unbounded pieces.
+    #[test]
+    fn mutated_sinumerik_programs_never_panic(cuts in proptest::collection::vec((0usize..5000, any::<char>()), 0..12)) {
+        let mut s: Vec<char> = include_str!("../recordings/programs/twins/SING_840d.mpf").chars().collect();
+        for (at, c) in cuts {
+            let at = at % s.len();
+            s[at] = c;
+        }
+        let text: String = s.into_iter().collect();
+        let p = read(&text, Dialect::Sinumerik, "fuzz.mpf", &ReadOptions::default());
+        prop_assert!(p.blocks.len() <= 72);
+        let m = fiveaxis::machine::Machine::hermle_c600u();
+        let (segments, _) = fiveaxis::path::plan(&p, &m, &Default::default());
+        prop_assert!(segments.len() <= 72 * (1 << 16));
+        let duration = segments.last().map_or(0.0, |s| s.t0 + s.duration);
+        let opts = fiveaxis::path::PathOptions { period: (duration / 3000.0).max(1e-3), ..Default::default() };
+        let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
         let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
     }
 }
