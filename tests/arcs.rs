@@ -117,6 +117,36 @@ G91.1 G3 X10 Y0 R-10 Z-5
     );
 }
 
+/// Heidenhain DIN/ISO arcs (iTNC 530 ISO programming): the centre I J is absolute and modal, set in
+/// its own block or with the arc, and the tool does not move to it; G02/G03 with R (R+: up to half a
+/// turn); G05 runs in the direction of the last G02/G03; G91 makes I J relative to the last position.
+#[test]
+fn heidenhain_arcs_lie_on_their_circles() {
+    let text = "%ARCS G71 *\nN10 G01 X+0 Y+0 Z+0 F1000 *\nN20 I+10 J+0 *\nN30 G02 X+20 Y+0 *\nN40 G03 X+0 Y+0 R+10 *\n\
+                N50 G05 X+20 Y+0 *\nN60 G91 I-5 J+0 *\nN70 G90 G02 X+10 Y+0 *\nN80 G01 X+30 *\nN90 G06 X+40 *\nN100 R+5 *\nN999999 %ARCS G71 *\n";
+    let p = read(text, Dialect::Heidenhain, "arcs.I", &ReadOptions::default());
+    let e = errors(&p);
+    assert!(e.len() == 2 && e[0].starts_with("10:") && e[0].contains("G06") && e[1].starts_with("11:") && e[1].contains("radius without"), "{e:#?}");
+    let good: String = text.lines().filter(|l| !l.contains("G06") && !l.starts_with("N100")).map(|l| format!("{l}\n")).collect();
+    let p = read(&good, Dialect::Heidenhain, "arcs.I", &ReadOptions::default());
+    let xy = (0, 1, 2);
+    check_arcs(
+        &p,
+        &Machine::hermle_c600u(),
+        &[
+            // (0,0) -> (20,0) clockwise about I+10 J+0: over the top (y > 0), half a turn.
+            Expect { line: 4, axes: xy, centre: (10.0, 0.0), radius: 10.0, sweep: -PI, h: (0.0, 0.0), feed_mm_per_min: 1000.0 },
+            // Back counter-clockwise with R+10: a half turn about (10, 0), which R leaves on either side
+            // (the R+ short arc for exactly half a turn); checked by the sweep.
+            Expect { line: 5, axes: xy, centre: (10.0, 0.0), radius: 10.0, sweep: PI, h: (0.0, 0.0), feed_mm_per_min: 1000.0 },
+            // G05: counter-clockwise again (the last direction), about the modal centre.
+            Expect { line: 6, axes: xy, centre: (10.0, 0.0), radius: 10.0, sweep: PI, h: (0.0, 0.0), feed_mm_per_min: 1000.0 },
+            // G91 I-5: centre 5 mm before the last position (20, 0), i.e. (15, 0); (20,0) -> (10,0) clockwise.
+            Expect { line: 8, axes: xy, centre: (15.0, 0.0), radius: 5.0, sweep: -PI, h: (0.0, 0.0), feed_mm_per_min: 1000.0 },
+        ],
+    );
+}
+
 /// The G02 blocks of a LinuxCNC demo with their circles, found here from the text alone (modal X Y
 /// tracked line by line, I J incremental from the start as LinuxCNC's default G91.1 reads them).
 fn demo_arcs(text: &str) -> Vec<Expect> {

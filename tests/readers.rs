@@ -86,7 +86,8 @@ fn heidenhain_unsupported_words_and_arcs_are_reported() {
     // A word the reader does not model may change the motion (a Q parameter): an error, its block unused.
     let p = read_heidenhain("%T G71 *\nN10 G01 X+1 F100 *\nN15 X+2 Q5 *\nN20 G02 X+2 Y+3 *\nN30 X+3 *\n");
     has(&p, 3, 9, "Q5");
-    has(&p, 4, 5, "G02");
+    // An arc with no centre before it (I J) and no R: refused where it stands.
+    has(&p, 4, 1, "arc without a circle centre");
     assert_eq!(p.blocks.iter().map(|b| b.number).collect::<Vec<_>>(), vec![Some(10), Some(30)]);
 }
 

@@ -1,6 +1,9 @@
 //! Heidenhain DIN/ISO programs as in the paper's appendices (`SING.I`, `NON_SING.I`):
 //! `%NAME G71 *` header, `N..` block numbers, blocks ending in ` *`, `%`-comment lines, `;` comments,
-//! `G54 X.. Y.. Z..` datum shift, `M128`/`M129` tool-centre-point management, `N999999 %NAME G71 *` end.
+//! `G54 X.. Y.. Z..` datum shift, `M128`/`M129` tool-centre-point management, `N999999 %NAME G71 *` end;
+//! arcs `G02`/`G03` about the modal circle centre `I J K` (absolute; from the last position under G91)
+//! or with `R`, `G05` in the last arc's direction (iTNC 530 User's Manual ISO programming, "Circle
+//! center I, J" and "Circular path G02/G03/G05 around circle center I, J").
 //!
 //! Damage is reported where it stands: two blocks run together on one line, a number split by a space,
 //! a garbled word, repeated or out-of-order block numbers, a header with a space in the name.

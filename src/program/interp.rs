@@ -41,6 +41,10 @@ pub struct Interpreter {
     tool_vector: bool,
     /// How the tool orientation is interpolated under TCPM.
     orientation: Orientation,
+    /// Heidenhain DIN/ISO: the circle centre `I J K` (absolute program coordinates, m; modal, set
+    /// with or before the arc) and the direction of the last G02/G03 (for G05).
+    centre: [Option<f64>; 3],
+    last_arc: Option<Motion>,
     /// A tool vector the dialect's reader found in the next block (Sinumerik `A3= B3= C3=`), unit.
     pending_vector: Option<[f64; 3]>,
     /// Last programmed absolute value of X Y Z A B C (SI).
@@ -67,6 +71,8 @@ impl Interpreter {
             system: 0,
             tool_vector: false,
             orientation: dialect.default_orientation(),
+            centre: [None; 3],
+            last_arc: None,
             pending_vector: None,
             last: [0.0; 6],
         }
@@ -199,10 +205,17 @@ impl Interpreter {
                         ("1", _) => next.motion = Some(Motion::Linear),
                         ("2", false) => next.motion = Some(Motion::ArcCw),
                         ("3", false) => next.motion = Some(Motion::ArcCcw),
-                        ("2" | "3" | "5" | "6", true) => diags.error(
+                        ("2", true) => next.motion = Some(Motion::ArcCw),
+                        ("3", true) => next.motion = Some(Motion::ArcCcw),
+                        // G05: a circle in the direction of the last G02/G03.
+                        ("5", true) => match self.last_arc {
+                            Some(m) => next.motion = Some(m),
+                            None => diags.error(line, w.column, format!("G{}: a circle without its own direction needs a G02 or G03 before it", w.raw)),
+                        },
+                        ("6" | "12" | "13" | "15" | "16" | "25" | "26" | "27", true) => diags.error(
                             line,
                             w.column,
-                            format!("G{} (circular motion) is not supported in Heidenhain DIN/ISO yet: expected G00 or G01", w.raw),
+                            format!("G{} (tangential, polar or rounding arcs) is not supported in Heidenhain DIN/ISO yet: expected G00-G03 or G05", w.raw),
                         ),
                         ("17", _) => next.plane = Plane::Xy,
                         ("18", _) => next.plane = Plane::Zx,
@@ -315,6 +328,7 @@ impl Interpreter {
                 'N' => {}
                 c if AXIS_LETTERS.contains(&c) => {}
                 'I' | 'J' | 'K' | 'R' | 'P' | 'Q' | 'H' | 'L' if !heid => {} // checked below, with the codes that take them
+                'I' | 'J' | 'K' | 'R' if heid => {} // circle centre and radius, read below
                 _ => diags.error(
                     line,
                     w.column,
@@ -407,6 +421,40 @@ impl Interpreter {
             diags.error(line, column, "axis words without a motion mode: expected G00 or G01 first");
         }
         let mut arc = None;
+        if heid {
+            // I J K: the circle centre (the pole), absolute or, under G91, from the last position;
+            // modal, and the tool does not move to it (iTNC 530 ISO programming, "Circle center I, J").
+            for w in words.iter().filter(|w| "IJK".contains(w.letter)) {
+                let k = "IJK".find(w.letter).unwrap_or(0);
+                let v = w.value * next.unit;
+                next.centre[k] = Some(if next.absolute { v } else { self.last[k] + v });
+            }
+            if let Some(w) = words.iter().find(|w| w.letter == 'R').filter(|_| !arc_motion) {
+                diags.error(line, w.column, format!("R{}: a radius without G02/G03", w.raw));
+            }
+            if arc_motion && moves {
+                let start = [self.last[0], self.last[1], self.last[2]];
+                let end = [next.last[0], next.last[1], next.last[2]];
+                let (a0, a1, _) = next.plane.axes();
+                // The arc as an RS274 arc with an absolute centre: the modal I J K, or the block's R.
+                let mut as_rs274: Vec<Word> = words.iter().filter(|w| w.letter == 'R').cloned().collect();
+                if as_rs274.is_empty() {
+                    for k in [a0, a1] {
+                        match next.centre[k] {
+                            Some(c) => as_rs274.push(Word { letter: ['I', 'J', 'K'][k], value: c / next.unit, raw: format!("{}", c / next.unit), column, incremental: false }),
+                            None => diags.error(line, column, format!("arc without a circle centre: expected {} (and {}) before or in this block, or R", ['I', 'J', 'K'][k], ['I', 'J', 'K'][a0 + a1 - k])),
+                        }
+                    }
+                }
+                let st = Interpreter { arc_absolute: true, ..next.clone() };
+                if as_rs274.len() == 2 || as_rs274.iter().any(|w| w.letter == 'R') {
+                    arc = resolve_arc(&as_rs274, &st, start, end, line, column, diags);
+                }
+            }
+            if arc_motion {
+                next.last_arc = next.motion;
+            }
+        }
         if arc_motion && !heid && !g10 {
             if moves {
                 let start = [self.last[0], self.last[1], self.last[2]];
