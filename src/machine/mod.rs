@@ -178,15 +178,41 @@ impl Machine {
     /// The rotary angles that point the tool along `axis`, the solution nearest `seed` once unwrapped
     /// (axis ranges not checked; at the singularity the secondary keeps the seed's value).
     pub fn rotaries_near(&self, axis: &Vector3<f64>, seed: &[f64; 2]) -> Option<[f64; 2]> {
-        let sol = self.chain.orientation_solutions(axis).ok()?;
+        self.nearest_rotaries(axis, seed, |_, target, prev| Ok(unwrap_near(target, prev))).ok()
+    }
+
+    /// Of the two rotary solutions for `axis`, the one closest to `previous` with each angle placed
+    /// by `place(slot, angle, previous angle)` (a placement error rules the solution out; the first
+    /// such error is returned if both are). At the singularity the secondary axis keeps its previous
+    /// value (seed 001 Table 1: C undefined).
+    fn nearest_rotaries(
+        &self,
+        axis: &Vector3<f64>,
+        previous: &[f64; 2],
+        place: impl Fn(usize, f64, f64) -> Result<f64, KinematicsError>,
+    ) -> Result<[f64; 2], KinematicsError> {
+        let sol = self.chain.orientation_solutions(axis)?;
         let sec = self.chain.secondary_slot();
-        sol.solutions
-            .into_iter()
-            .map(|raw| std::array::from_fn(|slot| if sol.singular && slot == sec { seed[slot] } else { unwrap_near(raw[slot], seed[slot]) }))
-            .min_by(|a: &[f64; 2], b: &[f64; 2]| {
-                let cost = |r: &[f64; 2]| (r[0] - seed[0]).abs() + (r[1] - seed[1]).abs();
-                cost(a).total_cmp(&cost(b))
-            })
+        let mut best: Option<(f64, [f64; 2])> = None;
+        let mut first_violation: Option<KinematicsError> = None;
+        'solutions: for raw in sol.solutions {
+            let mut rot = [0.0; 2];
+            for slot in 0..2 {
+                let target = if sol.singular && slot == sec { previous[slot] } else { raw[slot] };
+                match place(slot, target, previous[slot]) {
+                    Ok(v) => rot[slot] = v,
+                    Err(e) => {
+                        first_violation.get_or_insert(e);
+                        continue 'solutions;
+                    }
+                }
+            }
+            let cost = (rot[0] - previous[0]).abs() + (rot[1] - previous[1]).abs();
+            if best.is_none_or(|(c, _)| cost < c - 1e-12) {
+                best = Some((cost, rot));
+            }
+        }
+        best.map(|(_, rot)| rot).ok_or_else(|| first_violation.unwrap_or(KinematicsError::Unreachable))
     }
 
     /// Inverse kinematics for continuous motion: of the two solutions, the one whose rotary angles are
@@ -198,38 +224,16 @@ impl Machine {
         if !previous.iter().all(|v| v.is_finite()) {
             return Err(KinematicsError::NotFinite);
         }
-        let sol = self.chain.orientation_solutions(&pose.axis)?;
-        let sec = self.chain.secondary_slot();
-        let mut best: Option<(f64, [f64; 2])> = None;
-        let mut first_violation: Option<KinematicsError> = None;
-        'solutions: for raw in sol.solutions {
-            let mut rot = [0.0; 2];
-            for slot in 0..2 {
-                let limits = &self.axes[3 + slot].limits;
-                let prev = previous[3 + slot];
-                let target = if sol.singular && slot == sec { prev } else { raw[slot] };
-                match nearest_turn_within(target, prev, limits) {
-                    Some(v) => rot[slot] = v,
-                    None => {
-                        first_violation.get_or_insert(KinematicsError::OutOfRange {
-                            axis: self.axes[3 + slot].name.clone(),
-                            value: unwrap_near(target, prev).to_degrees(),
-                            min: limits.min.to_degrees(),
-                            max: limits.max.to_degrees(),
-                            unit: "deg",
-                        });
-                        continue 'solutions;
-                    }
-                }
-            }
-            let cost = (rot[0] - previous[3]).abs() + (rot[1] - previous[4]).abs();
-            if best.is_none_or(|(c, _)| cost < c - 1e-12) {
-                best = Some((cost, rot));
-            }
-        }
-        let Some((_, rot)) = best else {
-            return Err(first_violation.unwrap_or(KinematicsError::Unreachable));
-        };
+        let rot = self.nearest_rotaries(&pose.axis, &[previous[3], previous[4]], |slot, target, prev| {
+            let limits = &self.axes[3 + slot].limits;
+            nearest_turn_within(target, prev, limits).ok_or_else(|| KinematicsError::OutOfRange {
+                axis: self.axes[3 + slot].name.clone(),
+                value: unwrap_near(target, prev).to_degrees(),
+                min: limits.min.to_degrees(),
+                max: limits.max.to_degrees(),
+                unit: "deg",
+            })
+        })?;
         let l = self.chain.linear_for(&pose.tip, &rot);
         let q = [l.x, l.y, l.z, rot[0], rot[1]];
         for (axis, &v) in self.axes.iter().zip(&q).take(3) {

@@ -77,14 +77,11 @@ pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orien
             diags.warning(line, first + 1, format!("line {line} not used"));
             continue;
         }
-        if let Some(v) = vector {
-            interp.set_pending_vector(v);
-        } else if words.is_empty() {
-            continue;
-        }
-        // A block of only a vector still moves: the interpreter needs a word to read, none changes anything.
-        if words.is_empty() {
-            words.push(Word { letter: 'N', value: 0.0, raw: String::new(), column: first + 1, incremental: false });
+        // A block of only a tool vector still moves.
+        match vector {
+            Some(v) => interp.set_pending_vector(v),
+            None if words.is_empty() => continue,
+            None => {}
         }
         let col = words.iter().map(|w| w.column).min().unwrap_or(first + 1).min(first + 1);
         match interp.block(&words, line, col, number, &mut diags) {
