@@ -82,7 +82,7 @@ struct ProgramArgs {
     #[arg(long = "max-program-hours", value_name = "HOURS", default_value_t = fiveaxis::path::MAX_PROGRAM_DURATION_S / 3600.0)]
     max_program_hours: f64,
     #[command(flatten)]
-    m_codes: fiveaxis::program::MCodeArgs,
+    control: fiveaxis::program::ControlArgs,
 }
 
 impl ProgramArgs {
@@ -101,7 +101,7 @@ impl ProgramArgs {
     fn read_options(&self) -> ReadOptions {
         ReadOptions {
             cl_feed_mm_per_min: self.feed_mm_per_min.unwrap_or(ReadOptions::default().cl_feed_mm_per_min),
-            ..self.m_codes.read_options()
+            ..self.control.read_options()
         }
     }
 }
@@ -176,7 +176,7 @@ struct OfflineArgs {
     #[arg(long = "feed", value_name = "MM_PER_MIN")]
     feed_mm_per_min: Option<f64>,
     #[command(flatten)]
-    m_codes: fiveaxis::program::MCodeArgs,
+    control: fiveaxis::program::ControlArgs,
     /// Refuse a stream (exit 2) with more than this share of its samples rejected, percent.
     #[arg(long = "max-rejected-percent", default_value_t = 100.0 * fiveaxis::analysis::MAX_REJECTED_SHARE)]
     max_rejected_percent: f64,
@@ -429,7 +429,7 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
-    let feed_source = match job::feed_source(a.program.as_deref(), a.feed_mm_per_min, &machine, &a.m_codes.read_options()) {
+    let feed_source = match job::feed_source(a.program.as_deref(), a.feed_mm_per_min, &machine, &a.control.read_options()) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("fiveaxis: {e}");

@@ -364,7 +364,7 @@ impl std::str::FromStr for MCodeRule {
 /// How the control is set up, for every command and node that reads a program: `--m-code`,
 /// `--orientation`.
 #[derive(Debug, Clone, Default, clap::Args)]
-pub struct MCodeArgs {
+pub struct ControlArgs {
     /// What a machine-specific M code does, `CODE=ACTION` with ACTION tcp-on, tcp-off or event
     /// (repeatable; LinuxCNC's vismach five-axis demos: `--m-code 428=tcp-on --m-code 429=tcp-off`).
     /// An RS274NGC program with any other non-standard M code is refused.
@@ -377,7 +377,7 @@ pub struct MCodeArgs {
     pub orientation: Option<Orientation>,
 }
 
-impl MCodeArgs {
+impl ControlArgs {
     /// The readers' options these flags ask for (other options at their defaults).
     pub fn read_options(&self) -> ReadOptions {
         ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, ..Default::default() }

@@ -110,7 +110,7 @@ pub struct StreamArgs {
     #[arg(long = "max-program-hours", value_name = "HOURS", default_value_t = fiveaxis::path::MAX_PROGRAM_DURATION_S / 3600.0)]
     pub max_program_hours: f64,
     #[command(flatten)]
-    pub m_codes: fiveaxis::program::MCodeArgs,
+    pub control: fiveaxis::program::ControlArgs,
     /// Wait this long for subscribers before publishing (0: do not wait), s.
     #[arg(long = "wait-for-subscriber-s", default_value_t = 10.0)]
     pub wait_s: f64,
@@ -157,7 +157,7 @@ pub const EXIT_INPUT: i32 = 2;
 /// cannot be read or has defects (a damaged word, an unreachable pose, a feed that makes it run past
 /// `--max-program-hours`) ends the node with exit code 2 and each defect named by line and column.
 pub fn load_job(args: &StreamArgs, machine: &fiveaxis::machine::Machine) -> fiveaxis::job::Job {
-    let read = args.m_codes.read_options();
+    let read = args.control.read_options();
     let options = fiveaxis::job::JobOptions { path: args.path_options(), read, ..Default::default() };
     match fiveaxis::job::run(&args.program, machine, &options) {
         Err(e) => {

@@ -51,7 +51,7 @@ struct Args {
     #[arg(long = "feed", value_name = "MM_PER_MIN")]
     feed_mm_per_min: Option<f64>,
     #[command(flatten)]
-    m_codes: fiveaxis::program::MCodeArgs,
+    control: fiveaxis::program::ControlArgs,
     /// Exit once every input has been stale this long after having delivered samples, s.
     #[arg(long = "exit-when-idle-s")]
     exit_when_idle_s: Option<f64>,
@@ -73,7 +73,7 @@ fn main() -> anyhow::Result<()> {
     let (rename, feed_source) = match args
         .inputs
         .axis_map(&machine)
-        .and_then(|m| fiveaxis::job::feed_source(args.program.as_deref(), args.feed_mm_per_min, &machine, &args.m_codes.read_options()).map(|f| (m, f)))
+        .and_then(|m| fiveaxis::job::feed_source(args.program.as_deref(), args.feed_mm_per_min, &machine, &args.control.read_options()).map(|f| (m, f)))
     {
         Ok(r) => r,
         Err(e) => {
