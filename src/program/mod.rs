@@ -371,8 +371,8 @@ pub struct ControlArgs {
     #[arg(long = "m-code", value_name = "CODE=ACTION")]
     pub m_codes: Vec<MCodeRule>,
     /// How the control interpolates the tool orientation under tool-centre-point management at
-    /// program start (the machine's setting; the program's own words such as ORIVECT or PATHCTRL
-    /// still switch it). Default: the dialect's, from its maker's documentation.
+    /// program start (the machine's setting; the program's own words, such as Sinumerik's ORIVECT or
+    /// ORIAXES, still switch it). Default: the dialect's, from its maker's documentation.
     #[arg(long = "orientation", value_enum, value_name = "MODE")]
     pub orientation: Option<Orientation>,
 }
