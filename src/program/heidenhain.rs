@@ -133,13 +133,14 @@ fn header(rest: &str, line: usize, col: usize, diags: &mut Diags) -> String {
 
 /// Read a Heidenhain DIN/ISO program.
 pub fn read_heidenhain(text: &str) -> Program {
-    read_heidenhain_with(text, Dialect::Heidenhain.default_orientation())
+    read_heidenhain_with(text, &[], Dialect::Heidenhain.default_orientation())
 }
 
-/// Read a Heidenhain DIN/ISO program on a control whose orientation interpolation starts as `orientation`.
-pub fn read_heidenhain_with(text: &str, orientation: super::Orientation) -> Program {
+/// Read a Heidenhain DIN/ISO program on a control whose machine-specific M functions do what
+/// `m_codes` says and whose orientation interpolation starts as `orientation`.
+pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientation: super::Orientation) -> Program {
     let mut diags = Diags::default();
-    let mut interp = Interpreter::new(Dialect::Heidenhain).with_orientation(orientation);
+    let mut interp = Interpreter::new(Dialect::Heidenhain).with_m_codes(m_codes).with_orientation(orientation);
     let mut name: Option<String> = None;
     let mut blocks: Vec<Block> = Vec::new();
     let mut seen: std::collections::HashMap<u64, usize> = std::collections::HashMap::new();

@@ -135,6 +135,21 @@ impl Interpreter {
         self.datum = offset;
     }
 
+    /// The last programmed position, absolute program coordinates (m, rad): X Y Z A B C.
+    pub fn position(&self) -> [f64; 6] {
+        self.last
+    }
+
+    /// True while tool-centre-point management is on.
+    pub fn tcp(&self) -> bool {
+        self.tcp
+    }
+
+    /// The arc plane in effect (G17/G18/G19).
+    pub fn plane(&self) -> Plane {
+        self.plane
+    }
+
     /// Switch tool-centre-point management (Sinumerik `TRAORI` / `TRAFOOF`).
     pub fn set_tcp(&mut self, on: bool) {
         self.tcp = on;
@@ -185,7 +200,9 @@ impl Interpreter {
         let mut datum_block = false;
         let mut events = Vec::new();
         let mut feed_word: Option<&Word> = None;
-        let heid = self.dialect == Dialect::Heidenhain;
+        // Heidenhain DIN/ISO and conversational share the TNC's words: modal circle centre I J K,
+        // M128/M129, and the TNC's M functions.
+        let heid = matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext);
 
         // Modal G codes and M codes first: they govern how the axis words of this block are read.
         // A code that changes the motion and is not modelled is an error (fail closed), never skipped.
@@ -306,8 +323,12 @@ impl Interpreter {
                         (Some(MCodeAction::Event), _, _) => {}
                         (None, 128, true) => next.tcp = true,
                         (None, 129, true) => next.tcp = false,
-                        (None, 0..=9 | 13 | 14 | 30, _) | (None, 126 | 127, true) => {}
-                        (None, _, true) => diags.warning(line, w.column, format!("unknown M code M{} kept as an event", w.raw)),
+                        (None, 0..=9 | 13 | 14 | 30, _) => {}
+                        (None, _, true) => {
+                            if let Err(why) = tnc_m_code(code) {
+                                diags.error(line, w.column, format!("M{}: {why}", w.raw));
+                            }
+                        }
                         // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O.
                         (None, 19 | 48..=53 | 60..=68, false) => {}
                         (None, _, false) => diags.error(
@@ -407,10 +428,14 @@ impl Interpreter {
             targets.tool_axis = tool_vector(words, &targets, line, column, diags);
         }
         if let Some(v) = next.pending_vector.take() {
+            let (words, mode) = match self.dialect {
+                Dialect::Klartext => ("TX TY TZ", "M128 or FUNCTION TCPM"),
+                _ => ("A3 B3 C3", "TRAORI"),
+            };
             if !next.tcp {
-                diags.error(line, column, "tool vector (A3 B3 C3) without TRAORI: the orientation transformation is off");
+                diags.error(line, column, format!("tool vector ({words}) without {mode}: the orientation transformation is off"));
             } else if targets.a.is_some() || targets.b.is_some() || targets.c.is_some() {
-                diags.error(line, column, "block with both a tool vector (A3 B3 C3) and rotary-axis words: expected one of them");
+                diags.error(line, column, format!("block with both a tool vector ({words}) and rotary-axis words: expected one of them"));
             } else {
                 targets.tool_axis = Some(v);
             }
@@ -601,4 +626,24 @@ fn tool_vector(words: &[Word], targets: &Targets, line: usize, column: usize, di
         return None;
     }
     Some([i / n, j / n, k / n])
+}
+
+/// Whether a Heidenhain TNC M function (besides M0-M9, M13, M14, M30, M128, M129) leaves the
+/// programmed motion as this model runs it (iTNC 530 / TNC 640 User's Manual, "Miscellaneous
+/// functions"); `Err` says why not. A machine's own M functions are refused until `--m-code` says.
+fn tnc_m_code(code: i64) -> Result<(), &'static str> {
+    match code {
+        // Tool life, handwheel superposition (no motion of its own), look-ahead for radius
+        // compensation (none is read), rotary shortest path off (the reset state), touch probe
+        // monitoring, lift-off at NC stop.
+        101 | 102 | 118 | 120 | 127 | 141 | 148 | 149 => Ok(()),
+        91 | 92 | 130 => Err("positions in the machine coordinate system are not modelled (it changes the motion)"),
+        89 | 99 => Err("cycle call: machining cycles are not read (they cut)"),
+        103 | 109 | 110 | 116 | 136 => Err("changes how the feed is read: not modelled"),
+        126 => Err("rotary axes on the shortest path (modulo 360 deg) are not modelled: the axes move as written"),
+        94 => Err("reducing the rotary axis display below 360 deg is not modelled (it changes later absolute positions)"),
+        114 | 134 | 138 | 140 | 143 | 144 => Err("not modelled (it changes the motion)"),
+        _ => Err("not a TNC M function that leaves the motion alone: a machine maker's own, whose effect is unknown; \
+                  say what it does with --m-code CODE=tcp-on|tcp-off|event"),
+    }
 }

@@ -7,12 +7,14 @@
 mod cl;
 mod heidenhain;
 mod interp;
+mod klartext;
 mod lex;
 mod rs274;
 mod sinumerik;
 
 pub use cl::{read_cl, read_cl_with};
 pub use heidenhain::{read_heidenhain, read_heidenhain_with};
+pub use klartext::{read_klartext_with, MAX_REPEATED_BLOCKS};
 pub use rs274::{read_rs274, read_rs274_setup, read_rs274_with};
 pub use sinumerik::read_sinumerik_with;
 
@@ -31,7 +33,7 @@ pub enum Dialect {
     Cl,
     /// Siemens Sinumerik 840D (`.MPF`, `TRAORI`, tool vectors `A3= B3= C3=`).
     Sinumerik,
-    /// Heidenhain conversational (Klartext, `.H`: `BEGIN PGM ... MM`): recognised, not read yet.
+    /// Heidenhain conversational (Klartext, `.H`: `BEGIN PGM NAME MM`, `L X+0 Y+0 R0 F1000`).
     Klartext,
 }
 
@@ -407,24 +409,11 @@ impl Default for ReadOptions {
 pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> Program {
     let orientation = options.orientation.unwrap_or(dialect.default_orientation());
     let mut p = match dialect {
-        Dialect::Heidenhain => read_heidenhain_with(text, orientation),
+        Dialect::Heidenhain => read_heidenhain_with(text, &options.m_codes, orientation),
         Dialect::Rs274 => read_rs274_setup(text, &options.m_codes, orientation),
         Dialect::Cl => read_cl_with(text, options.cl_feed_mm_per_min, orientation),
         Dialect::Sinumerik => read_sinumerik_with(text, &options.m_codes, orientation),
-        Dialect::Klartext => Program {
-            source: String::new(),
-            dialect,
-            name: None,
-            blocks: Vec::new(),
-            diagnostics: vec![Diagnostic {
-                line: 1,
-                column: 1,
-                severity: Severity::Error,
-                message: "Heidenhain conversational (Klartext, BEGIN PGM) is not read yet: write the program in \
-                          Heidenhain DIN/ISO, RS274NGC, Sinumerik or CL data"
-                    .into(),
-            }],
-        },
+        Dialect::Klartext => read_klartext_with(text, &options.m_codes, orientation),
     };
     p.source = source.to_string();
     p

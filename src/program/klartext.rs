@@ -1,0 +1,967 @@
+//! Heidenhain conversational programs (Klartext, `.H`), as a TNC runs them: `BEGIN PGM NAME MM` ...
+//! `END PGM NAME MM`, numbered blocks, `;` comments and `*` structure lines; `L` lines (`R0`, `F`,
+//! `FMAX` for its block only, `FAUTO` the `TOOL CALL`'s feed), `LN` lines with the surface normal
+//! `NX NY NZ` and the tool vector `TX TY TZ`; circles `CC` (pole), `C` about it, `CR` by radius, `CT`
+//! tangent to the contour before it (`DR+` counter-clockwise); `M128` and `FUNCTION TCPM` (`F TCP`,
+//! `AXIS POS`, `PATHCTRL AXIS`/`VECTOR`); `CYCL DEF 7` datum shift; `LBL` with `CALL LBL ... REP`
+//! (section repeats and subprograms); `Q` parameters set to plain numbers.
+//!
+//! Written from the iTNC 530 User's Manual, Conversational Programming (Heidenhain 670388): "Path
+//! contours - Cartesian coordinates" (CC, C, CR: R > 0 the arc under 180 deg, CT; "DR+" the
+//! mathematically positive, counter-clockwise turn), "Subprograms and program section repeats" (a
+//! section repeat runs REP more times; a subprogram ends at LBL 0 and is written after M2/M30), "Three-
+//! dimensional tool compensation" (LN "must always indicate all of the coordinates and all of the
+//! surface-normal vectors"; under M128 or FUNCTION TCPM a block without T keeps the tool
+//! perpendicular to the contour, without them "the control ignores the direction vector T"),
+//! "TCPM FUNCTION" and cycle 7 DATUM SHIFT (absolute from the workpiece datum, incremental from the
+//! last shift).
+//!
+//! Refused at line:col, never guessed: radius compensation `RL`/`RR`, polar and free contours
+//! (`LP`, `CP`, `FK`), rounding and chamfers, approach/departure, tilted working planes (`PLANE`,
+//! `CYCL DEF 19`), machining cycles and touch probes, `Q` arithmetic, tool deltas `DL`/`DR`, and
+//! `FUNCTION TCPM` options that read the program differently (`F CONT`, `AXIS SPAT`, a reference
+//! point other than the tool tip). The surface normal of an `LN` line moves the tool only by the
+//! tool deltas, which are refused, so it is read only as the tool axis when `T` is missing.
+
+use std::collections::HashMap;
+
+use super::interp::{Interpreter, Word};
+use super::lex::{excerpt, parse_number, Diags};
+use super::{Block, Dialect, MCodeRule, Orientation, Program, Severity};
+
+/// How many blocks section repeats and subprogram calls may add beyond the program's own: a bound
+/// on memory for a program such as `LBL 1` / `CALL LBL 1 REP65534` nested.
+pub const MAX_REPEATED_BLOCKS: usize = 4_000_000;
+/// Subprogram nesting depth of the TNC (iTNC 530: "up to 19 levels").
+const MAX_NESTING: usize = 19;
+
+/// A number as written or a `Q` parameter (`X+Q1`, `FQ5`).
+#[derive(Debug, Clone, PartialEq)]
+enum Val {
+    Num(f64),
+    Q { name: String, negative: bool },
+}
+
+/// One address word of a block: address (`X`, `IX`, `NX`, `M`), its value and where it stands.
+#[derive(Debug, Clone)]
+struct KWord {
+    addr: String,
+    val: Val,
+    raw: String,
+    col: usize,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Shape {
+    /// `L`
+    Line,
+    /// `LN`
+    LineNormal,
+    /// `C`
+    Circle,
+    /// `CR`
+    CircleRadius,
+    /// `CT`
+    CircleTangent,
+}
+
+#[derive(Debug, Clone)]
+enum FeedWord {
+    None,
+    Value(KWord),
+    Max,
+    Auto(usize),
+}
+
+#[derive(Debug, Clone)]
+enum Kind {
+    Move {
+        shape: Shape,
+        axes: Vec<KWord>,
+        /// `NX NY NZ`, `TX TY TZ`.
+        normal: [Option<KWord>; 3],
+        tool: [Option<KWord>; 3],
+        /// `DR+` (true) / `DR-`.
+        ccw: Option<bool>,
+        radius: Option<KWord>,
+        feed: FeedWord,
+        m: Vec<KWord>,
+    },
+    /// `CC`: the pole.
+    Centre(Vec<KWord>),
+    /// A block of `M` functions only.
+    Misc(Vec<KWord>),
+    Tool { events: Vec<String>, feed: Option<KWord> },
+    Tcp { on: bool, orientation: Option<Orientation> },
+    /// `CYCL DEF 7.x X..`: axis, value, incremental.
+    Datum(usize, KWord, bool),
+    Label(String),
+    Call { label: String, rep: Option<KWord> },
+    Assign { name: String, value: f64 },
+    /// `STOP`: a programmed stop, as M0.
+    Stop,
+    End,
+}
+
+#[derive(Debug, Clone)]
+struct Stmt {
+    line: usize,
+    col: usize,
+    number: Option<u64>,
+    kind: Kind,
+}
+
+/// Read a Heidenhain conversational program on a control whose machine-specific M functions do what
+/// `m_codes` says and whose orientation interpolation starts as `orientation`.
+pub fn read_klartext_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
+    let mut diags = Diags::default();
+    let mut interp = Interpreter::new(Dialect::Klartext).with_m_codes(m_codes).with_orientation(orientation);
+    let (name, inch, stmts) = parse(text, &mut diags);
+    interp.set_inch(inch);
+    let blocks = execute(&stmts, interp, &mut diags);
+    diags.0.sort_by(|a, b| (a.line, a.column).cmp(&(b.line, b.column)));
+    diags.0.dedup();
+    Program { source: String::new(), dialect: Dialect::Klartext, name, blocks, diagnostics: diags.0 }
+}
+
+fn errors(d: &Diags) -> usize {
+    d.0.iter().filter(|d| d.severity == Severity::Error).count()
+}
+
+/// Whitespace-separated tokens of a block body with their 1-based columns.
+fn tokens(chars: &[char], from: usize) -> Vec<(String, usize)> {
+    let mut out = Vec::new();
+    let mut i = from;
+    while i < chars.len() {
+        if chars[i].is_whitespace() {
+            i += 1;
+            continue;
+        }
+        if chars[i] == ';' {
+            break;
+        }
+        let start = i;
+        if chars[i] == '"' {
+            // A quoted name ("MILL_D10"), spaces and all.
+            i += 1;
+            while i < chars.len() && chars[i] != '"' {
+                i += 1;
+            }
+            i = (i + 1).min(chars.len());
+        } else {
+            while i < chars.len() && !chars[i].is_whitespace() && chars[i] != ';' {
+                i += 1;
+            }
+        }
+        out.push((chars[start..i].iter().collect(), start + 1));
+    }
+    out
+}
+
+/// A value as written after an address: a number or a `Q` parameter with an optional sign.
+fn parse_val(rest: &str) -> Option<Val> {
+    let (negative, body) = match rest.strip_prefix('-') {
+        Some(b) => (true, b),
+        None => (false, rest.strip_prefix('+').unwrap_or(rest)),
+    };
+    for prefix in ["QL", "QR", "Q"] {
+        if let Some(digits) = body.strip_prefix(prefix) {
+            if !digits.is_empty() && digits.chars().all(|c| c.is_ascii_digit()) {
+                return Some(Val::Q { name: format!("{prefix}{digits}"), negative });
+            }
+            return None;
+        }
+    }
+    parse_number(rest).map(Val::Num)
+}
+
+/// Split a word into its address and value text: `IX+5` -> (`IX`, `+5`), `FQ5` -> (`F`, `Q5`),
+/// `X+Q1` -> (`X`, `+Q1`), `FMAX` -> (`FMAX`, ``).
+fn split_word(tok: &str) -> (String, String) {
+    let n = tok.find(|c: char| !c.is_ascii_alphabetic()).unwrap_or(tok.len());
+    let (letters, rest) = tok.split_at(n);
+    let upper = letters.to_ascii_uppercase();
+    if upper.len() > 1 && upper.ends_with('Q') && rest.starts_with(|c: char| c.is_ascii_digit()) {
+        return (upper[..upper.len() - 1].to_string(), format!("Q{rest}"));
+    }
+    (upper, rest.to_string())
+}
+
+/// Parse every line into statements; defects go to `diags` and their statements are dropped.
+fn parse(text: &str, diags: &mut Diags) -> (Option<String>, bool, Vec<Stmt>) {
+    let mut name = None;
+    let mut inch = false;
+    let mut stmts = Vec::new();
+    let mut began = false;
+    let mut ended = false;
+    let mut datum_defined = false;
+    for (idx, raw) in text.lines().enumerate() {
+        let line = idx + 1;
+        let chars: Vec<char> = raw.trim_end_matches('\r').chars().collect();
+        let toks = tokens(&chars, 0);
+        let Some((first, first_col)) = toks.first().cloned() else { continue };
+        // The block number, then the block.
+        let (number, mut toks) = if first.chars().all(|c| c.is_ascii_digit()) {
+            (first.parse::<u64>().ok(), toks[1..].to_vec())
+        } else {
+            (None, toks)
+        };
+        if toks.is_empty() {
+            continue;
+        }
+        if toks[0].0.starts_with('*') {
+            continue; // `* - SECTION`: a structure line
+        }
+        if toks[0].0 == "/" || toks[0].0.starts_with('/') {
+            diags.warning(line, toks[0].1, "block skip '/' is not modelled: the block is run");
+            if toks[0].0 == "/" {
+                toks.remove(0);
+            } else {
+                toks[0].0.remove(0);
+                toks[0].1 += 1;
+            }
+            if toks.is_empty() {
+                continue;
+            }
+        }
+        if ended {
+            diags.warning(line, first_col, "text after END PGM ignored");
+            continue;
+        }
+        let upper: Vec<String> = toks.iter().map(|(t, _)| t.to_ascii_uppercase()).collect();
+        let col = toks[0].1;
+        let before = errors(diags);
+        let key = |k: usize| upper.get(k).map(String::as_str).unwrap_or("");
+        let kind: Option<Kind> = match key(0) {
+            "BEGIN" if key(1) == "PGM" => {
+                if began {
+                    diags.error(line, col, "a second BEGIN PGM: one program per file");
+                } else if toks.len() != 4 || !matches!(key(3), "MM" | "INCH") {
+                    diags.error(line, col, "expected BEGIN PGM NAME MM (or INCH)");
+                } else {
+                    name = Some(toks[2].0.clone());
+                    inch = key(3) == "INCH";
+                }
+                began = true;
+                None
+            }
+            "END" if key(1) == "PGM" => {
+                match (toks.get(2), &name) {
+                    (Some((n, c)), Some(start)) if n != start => {
+                        diags.error(line, *c, format!("END PGM names '{n}' but the program began as '{start}'"))
+                    }
+                    _ => {}
+                }
+                ended = true;
+                Some(Kind::End)
+            }
+            _ if !began => {
+                diags.error(line, col, "expected BEGIN PGM NAME MM before the first block");
+                began = true; // said once
+                None
+            }
+            "BLK" if key(1) == "FORM" => None, // the workpiece blank: drawing only
+            "TOOL" if key(1) == "DEF" => None, // tool preselection: no motion
+            "TOOL" if key(1) == "CALL" => tool_call(&toks, &upper, line, diags),
+            "L" | "LN" | "C" | "CR" | "CT" => motion(&toks, &upper, line, diags),
+            "CC" => centre(&toks, line, diags),
+            "STOP" => Some(Kind::Stop),
+            "LBL" => match toks.get(1) {
+                Some((l, _)) if toks.len() == 2 => Some(Kind::Label(l.trim_matches('"').to_string())),
+                _ => {
+                    diags.error(line, col, "expected LBL n or LBL \"NAME\"");
+                    None
+                }
+            },
+            "CALL" if key(1) == "LBL" => call(&toks, &upper, line, diags),
+            "CALL" | "SEL" => {
+                diags.error(line, col, format!("{} {}: calling another program is not read", key(0), key(1)));
+                None
+            }
+            "FUNCTION" => function(&upper, line, col, diags),
+            "CYCL" if key(1) == "DEF" => cycle(&toks, &upper, line, &mut datum_defined, diags),
+            "CYCL" => {
+                diags.error(line, col, "CYCL CALL: machining cycles are not read (they cut)");
+                None
+            }
+            "PLANE" if key(1) == "RESET" && key(2) == "STAY" && toks.len() == 3 => None, // no tilted plane is ever set
+            "PLANE" => {
+                diags.error(line, col, "PLANE: a tilted working plane is not modelled (it changes the motion)");
+                None
+            }
+            "FN" => assign(&toks[1..], line, col, true, diags),
+            k if k.starts_with('Q') => assign(&toks, line, col, false, diags),
+            k if k.starts_with('M') && split_word(k).0 == "M" => misc(&toks, line, diags),
+            "APPR" | "DEP" | "RND" | "CHF" | "LP" | "CP" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH" => {
+                diags.error(line, col, format!("{}: {} is not read (it changes the motion)", toks[0].0, unsupported(key(0))));
+                None
+            }
+            _ => {
+                diags.error(line, col, format!("unknown block '{}': not read (it may change the motion)", excerpt(&toks[0].0)));
+                None
+            }
+        };
+        if errors(diags) > before {
+            diags.warning(line, col, format!("block {} not used", label(number, line)));
+            continue;
+        }
+        if let Some(kind) = kind {
+            stmts.push(Stmt { line, col: first_col, number, kind });
+        }
+    }
+    if !began {
+        diags.error(1, 1, "missing program start: expected BEGIN PGM NAME MM");
+    }
+    (name, inch, stmts)
+}
+
+fn unsupported(k: &str) -> &'static str {
+    match k {
+        "APPR" | "DEP" => "approach or departure on a contour",
+        "RND" | "CHF" => "rounding or chamfer between contour elements",
+        "LP" | "CP" | "CTP" => "a contour in polar coordinates",
+        "TCH" => "a touch probe cycle",
+        _ => "a free contour (FK)",
+    }
+}
+
+fn label(number: Option<u64>, line: usize) -> String {
+    match number {
+        Some(n) => format!("{n} (line {line})"),
+        None => format!("on line {line}"),
+    }
+}
+
+/// One value word; defects go to `diags`.
+fn value_word(addr: String, rest: &str, tok: &str, col: usize, line: usize, diags: &mut Diags) -> Option<KWord> {
+    match parse_val(rest) {
+        Some(val) => Some(KWord { addr, val, raw: rest.to_string(), col }),
+        None => {
+            let why = if rest.contains(['(', '*', '/']) || rest.chars().skip(1).any(|c| c == '+' || c == '-') {
+                " (an expression, which is not read)"
+            } else {
+                ""
+            };
+            diags.error(line, col, format!("{addr}: expected a number or a Q parameter, found '{}'{why}", excerpt(tok)));
+            None
+        }
+    }
+}
+
+/// `L`, `LN`, `C`, `CR`, `CT` blocks.
+fn motion(toks: &[(String, usize)], upper: &[String], line: usize, diags: &mut Diags) -> Option<Kind> {
+    let shape = match upper[0].as_str() {
+        "L" => Shape::Line,
+        "LN" => Shape::LineNormal,
+        "C" => Shape::Circle,
+        "CR" => Shape::CircleRadius,
+        _ => Shape::CircleTangent,
+    };
+    let arc = matches!(shape, Shape::Circle | Shape::CircleRadius | Shape::CircleTangent);
+    let mut axes: Vec<KWord> = Vec::new();
+    let mut normal: [Option<KWord>; 3] = Default::default();
+    let mut tool: [Option<KWord>; 3] = Default::default();
+    let (mut ccw, mut radius, mut feed, mut m) = (None, None, FeedWord::None, Vec::new());
+    for (tok, col) in &toks[1..] {
+        let col = *col;
+        let (addr, rest) = split_word(tok);
+        match addr.as_str() {
+            "X" | "Y" | "Z" | "A" | "B" | "C" | "IX" | "IY" | "IZ" | "IA" | "IB" | "IC" => {
+                let axis = addr.chars().last().unwrap_or('X');
+                if axes.iter().any(|w| w.addr.ends_with(axis)) {
+                    diags.error(line, col, format!("axis {axis} written twice in one block"));
+                }
+                if let Some(w) = value_word(addr, &rest, tok, col, line, diags) {
+                    axes.push(w);
+                }
+            }
+            "NX" | "NY" | "NZ" | "TX" | "TY" | "TZ" if shape == Shape::LineNormal => {
+                let k = "XYZ".find(addr.chars().nth(1).unwrap_or('X')).unwrap_or(0);
+                let slot = if addr.starts_with('N') { &mut normal[k] } else { &mut tool[k] };
+                *slot = value_word(addr, &rest, tok, col, line, diags);
+            }
+            "F" => feed = value_word(addr, &rest, tok, col, line, diags).map_or(FeedWord::None, FeedWord::Value),
+            "FMAX" if rest.is_empty() && !arc => feed = FeedWord::Max,
+            "FMAX" if rest.is_empty() => diags.error(line, col, "FMAX on a circle: expected a feed F"),
+            "FAUTO" if rest.is_empty() => feed = FeedWord::Auto(col),
+            "FU" | "FZ" => diags.error(line, col, format!("{tok}: feed per revolution or per tooth is not supported")),
+            "M" => {
+                if let Some(w) = value_word(addr, &rest, tok, col, line, diags) {
+                    m.push(w);
+                }
+            }
+            "R" if rest == "0" => {} // radius compensation off
+            "R" if shape == Shape::CircleRadius && rest.starts_with(['+', '-']) => radius = value_word(addr, &rest, tok, col, line, diags),
+            "RL" | "RR" if rest.is_empty() => diags.error(line, col, format!("{tok}: tool radius compensation is not supported (expected R0)")),
+            "DR" if arc && (rest == "+" || rest == "-") && shape != Shape::CircleTangent => ccw = Some(rest == "+"),
+            _ => diags.error(line, col, format!("unexpected word '{}' in an {} block", excerpt(tok), upper[0])),
+        }
+    }
+    let at = toks[0].1;
+    match shape {
+        Shape::Circle | Shape::CircleRadius if ccw.is_none() => diags.error(line, at, format!("{}: expected the direction DR+ or DR-", upper[0])),
+        Shape::CircleRadius if radius.is_none() => diags.error(line, at, "CR: expected the radius R+.. (R- for an arc over 180 deg)"),
+        Shape::LineNormal => {
+            let xyz = ["X", "Y", "Z"].map(|a| axes.iter().any(|w| w.addr == a || w.addr == format!("I{a}")));
+            if xyz.contains(&false) || normal.iter().any(Option::is_none) {
+                diags.error(line, at, "LN: expected X Y Z and NX NY NZ, all of them (as the TNC writes LN blocks)");
+            }
+            if tool.iter().any(Option::is_some) && tool.iter().any(Option::is_none) {
+                diags.error(line, at, "LN: expected TX TY TZ together");
+            }
+            if axes.iter().any(|w| !w.addr.ends_with(['X', 'Y', 'Z'])) {
+                diags.error(line, at, "LN with rotary-axis words: the tool axis is the vector TX TY TZ");
+            }
+        }
+        _ => {}
+    }
+    Some(Kind::Move { shape, axes, normal, tool, ccw, radius, feed, m })
+}
+
+/// `CC X.. Y..`: the pole (circle centre) in the working plane.
+fn centre(toks: &[(String, usize)], line: usize, diags: &mut Diags) -> Option<Kind> {
+    let mut axes = Vec::new();
+    for (tok, col) in &toks[1..] {
+        let (addr, rest) = split_word(tok);
+        match addr.as_str() {
+            "X" | "Y" | "Z" | "IX" | "IY" | "IZ" => {
+                if let Some(w) = value_word(addr, &rest, tok, *col, line, diags) {
+                    axes.push(w);
+                }
+            }
+            _ => diags.error(line, *col, format!("unexpected word '{}' in a CC block: expected the pole's coordinates", excerpt(tok))),
+        }
+    }
+    Some(Kind::Centre(axes))
+}
+
+/// A block of M functions only (`M128`, `M3 M8`).
+fn misc(toks: &[(String, usize)], line: usize, diags: &mut Diags) -> Option<Kind> {
+    let mut m = Vec::new();
+    for (tok, col) in toks {
+        let (addr, rest) = split_word(tok);
+        if addr == "M" {
+            if let Some(w) = value_word(addr, &rest, tok, *col, line, diags) {
+                m.push(w);
+            }
+        } else {
+            diags.error(line, *col, format!("unexpected word '{}' after an M function", excerpt(tok)));
+        }
+    }
+    Some(Kind::Misc(m))
+}
+
+/// `TOOL CALL 5 Z S12000 F500`: events, and the feed FAUTO takes.
+fn tool_call(toks: &[(String, usize)], upper: &[String], line: usize, diags: &mut Diags) -> Option<Kind> {
+    let mut events = Vec::new();
+    let mut feed = None;
+    let mut rest_from = 2;
+    if let Some((t, _)) = toks.get(2) {
+        let is_axis = matches!(upper[2].as_str(), "X" | "Y" | "Z");
+        if !is_axis && !upper[2].starts_with(['S', 'F', 'D']) || t.starts_with('"') {
+            events.push(format!("T{t}"));
+            rest_from = 3;
+        }
+    }
+    for (k, (tok, col)) in toks.iter().enumerate().skip(rest_from) {
+        let (addr, rest) = split_word(tok);
+        match addr.as_str() {
+            "Z" if rest.is_empty() => {}
+            "X" | "Y" if rest.is_empty() => {
+                diags.error(line, *col, format!("TOOL CALL with tool axis {addr}: only tool axis Z is modelled (the machine file's)"))
+            }
+            "S" => match parse_val(&rest) {
+                Some(_) => events.push(format!("S{rest}")),
+                None => diags.error(line, *col, format!("S: expected a spindle speed, found '{}'", excerpt(tok))),
+            },
+            "F" => feed = value_word(addr, &rest, tok, *col, line, diags),
+            "DL" | "DR" | "DR2" => match parse_val(&rest) {
+                Some(Val::Num(v)) if v == 0.0 => {}
+                _ => diags.error(
+                    line,
+                    *col,
+                    format!("{tok}: a tool length or radius delta is not modelled (it moves the tool tip; the tool is the machine file's)"),
+                ),
+            },
+            _ => diags.error(line, *col, format!("unexpected word '{}' in TOOL CALL (word {})", excerpt(tok), k + 1)),
+        }
+    }
+    Some(Kind::Tool { events, feed })
+}
+
+/// `CALL LBL n [REP m]`.
+fn call(toks: &[(String, usize)], upper: &[String], line: usize, diags: &mut Diags) -> Option<Kind> {
+    let Some((label, _)) = toks.get(2) else {
+        diags.error(line, toks[0].1, "CALL LBL: expected the label");
+        return None;
+    };
+    let mut rep = None;
+    let mut k = 3;
+    while k < toks.len() {
+        let (tok, col) = (&upper[k], toks[k].1);
+        if let Some(r) = tok.strip_prefix("REP") {
+            // `REP 3`, `REP3`, `REPQ9`, and the `REP3/3` the TNC displays (count left / count).
+            let r = if r.is_empty() && k + 1 < toks.len() {
+                k += 1;
+                upper[k].clone()
+            } else {
+                r.to_string()
+            };
+            let count = r.split('/').next().unwrap_or("");
+            rep = value_word("REP".into(), count, tok, col, line, diags);
+        } else {
+            diags.error(line, col, format!("unexpected '{}' in CALL LBL: expected REP n", excerpt(tok)));
+        }
+        k += 1;
+    }
+    Some(Kind::Call { label: label.trim_matches('"').to_string(), rep })
+}
+
+/// `FUNCTION TCPM ...` and `FUNCTION RESET TCPM`.
+fn function(upper: &[String], line: usize, col: usize, diags: &mut Diags) -> Option<Kind> {
+    let words: Vec<&str> = upper.iter().map(String::as_str).collect();
+    match words.get(1..) {
+        Some(["RESET", "TCPM"]) => return Some(Kind::Tcp { on: false, orientation: None }),
+        Some(["TCPM", ..]) => {}
+        _ => {
+            diags.error(line, col, format!("FUNCTION {}: not read (it may change the motion)", words.get(1).unwrap_or(&"")));
+            return None;
+        }
+    }
+    let mut orientation = None;
+    let mut k = 2;
+    while k < words.len() {
+        let pair = (words[k], words.get(k + 1).copied().unwrap_or(""));
+        match pair {
+            ("F", "TCP") | ("AXIS", "POS") | ("REFPNT", "TIP-TIP") => k += 2,
+            ("PATHCTRL", "AXIS") => {
+                orientation = Some(Orientation::AxisLinear);
+                k += 2
+            }
+            ("PATHCTRL", "VECTOR") => {
+                orientation = Some(Orientation::GreatCircle);
+                k += 2
+            }
+            ("F", "CONT") => {
+                diags.error(line, col, "FUNCTION TCPM F CONT: the feed as a contouring feed over all axes is not modelled (expected F TCP)");
+                k += 2
+            }
+            ("AXIS", "SPAT") => {
+                diags.error(line, col, "FUNCTION TCPM AXIS SPAT: rotary words as spatial angles are not modelled (expected AXIS POS)");
+                k += 2
+            }
+            ("REFPNT", other) => {
+                diags.error(line, col, format!("FUNCTION TCPM REFPNT {other}: a reference point other than the tool tip is not modelled"));
+                k += 2
+            }
+            // The feed limit of the compensating moves: the axes' limits are the machine file's.
+            (f, _) if f.starts_with('F') && parse_number(&f[1..]).is_some() => k += 1,
+            (other, _) => {
+                diags.error(line, col, format!("FUNCTION TCPM: unexpected '{}'", excerpt(other)));
+                k += 1
+            }
+        }
+    }
+    Some(Kind::Tcp { on: true, orientation })
+}
+
+/// `CYCL DEF 7.0 DATUM SHIFT` / `7.1 X+..` / `7.2 Y+..` / `7.3 Z+..`; every other cycle is refused.
+fn cycle(toks: &[(String, usize)], upper: &[String], line: usize, defined: &mut bool, diags: &mut Diags) -> Option<Kind> {
+    let col = toks[0].1;
+    let number = upper.get(2).map(String::as_str).unwrap_or("");
+    let (cycle, part) = number.split_once('.').unwrap_or((number, ""));
+    if cycle != "7" {
+        let what = match cycle {
+            "19" => "a tilted working plane is not modelled",
+            "8" | "10" | "11" | "26" => "mirroring, rotation or scaling is not modelled",
+            "247" => "datum setting from the preset table is not modelled",
+            _ => "machining cycles are not read (they cut)",
+        };
+        diags.error(line, col, format!("CYCL DEF {number}: {what}"));
+        return None;
+    }
+    if part == "0" {
+        *defined = true;
+        return None;
+    }
+    if !*defined {
+        diags.error(line, col, format!("CYCL DEF {number} without CYCL DEF 7.0 before it"));
+        return None;
+    }
+    let Some((tok, wcol)) = toks.get(3) else {
+        diags.error(line, col, format!("CYCL DEF {number}: expected an axis value such as X+10"));
+        return None;
+    };
+    if tok.starts_with('#') {
+        diags.error(line, *wcol, "CYCL DEF 7 with a datum table (#): not modelled");
+        return None;
+    }
+    let (addr, rest) = split_word(tok);
+    let (incremental, axis) = match addr.as_str() {
+        "X" | "Y" | "Z" => (false, addr.as_str()),
+        "IX" | "IY" | "IZ" => (true, &addr[1..]),
+        _ => {
+            diags.error(line, *wcol, format!("CYCL DEF {number}: expected X, Y or Z, found '{}' (a rotary datum shift is not modelled)", excerpt(tok)));
+            return None;
+        }
+    };
+    if toks.len() > 4 {
+        diags.error(line, toks[4].1, format!("CYCL DEF {number}: one axis per block"));
+    }
+    let k = "XYZ".find(axis).unwrap_or(0);
+    value_word(addr.clone(), &rest, tok, *wcol, line, diags).map(|w| Kind::Datum(k, w, incremental))
+}
+
+/// `Q1 = +5`, `FN 0: Q1 = +5`: plain assignments of a number.
+fn assign(toks: &[(String, usize)], line: usize, col: usize, fn_form: bool, diags: &mut Diags) -> Option<Kind> {
+    let mut text: String = toks.iter().map(|(t, _)| t.as_str()).collect::<Vec<_>>().join("");
+    if fn_form {
+        match text.strip_prefix("0:") {
+            Some(rest) => text = rest.to_string(),
+            None => {
+                diags.error(line, col, format!("FN {}: Q parameter arithmetic and functions are not read (only FN 0, a plain assignment)", excerpt(&text)));
+                return None;
+            }
+        }
+    }
+    let Some((lhs, rhs)) = text.split_once('=') else {
+        diags.error(line, col, format!("'{}': expected Qn = number", excerpt(&text)));
+        return None;
+    };
+    let lhs = lhs.to_ascii_uppercase();
+    let name_ok = ["QL", "QR", "Q"].iter().any(|p| lhs.strip_prefix(p).is_some_and(|d| !d.is_empty() && d.chars().all(|c| c.is_ascii_digit())));
+    match (name_ok, parse_number(rhs)) {
+        (true, Some(value)) => Some(Kind::Assign { name: lhs, value }),
+        (false, _) => {
+            diags.error(line, col, format!("'{}': expected a Q parameter name such as Q1", excerpt(&lhs)));
+            None
+        }
+        (true, None) => {
+            diags.error(line, col, format!("{lhs} = {}: Q parameter arithmetic is not read (only a plain number)", excerpt(rhs)));
+            None
+        }
+    }
+}
+
+/// Run the statements as the TNC does (labels, repeats, subprograms) and interpret each block.
+fn execute(stmts: &[Stmt], mut interp: Interpreter, diags: &mut Diags) -> Vec<Block> {
+    let mut labels: HashMap<&str, usize> = HashMap::new();
+    for (k, s) in stmts.iter().enumerate() {
+        if let Kind::Label(l) = &s.kind {
+            if l != "0" && labels.insert(l.as_str(), k).is_some() {
+                diags.error(s.line, s.col, format!("LBL {l} defined twice"));
+            }
+        }
+    }
+    let mut ex = Exec { q: HashMap::new(), tool_feed: None, tangent: None, blocks: Vec::new() };
+    let mut stack: Vec<usize> = Vec::new();
+    let mut repeats: HashMap<usize, u64> = HashMap::new();
+    let budget = stmts.len() + MAX_REPEATED_BLOCKS;
+    let mut executed = 0usize;
+    let mut pc = 0;
+    while pc < stmts.len() {
+        let s = &stmts[pc];
+        executed += 1;
+        if executed > budget {
+            diags.error(s.line, s.col, format!("the repeats and calls run more than {MAX_REPEATED_BLOCKS} blocks beyond the program's own: not read further"));
+            break;
+        }
+        pc += 1;
+        match &s.kind {
+            Kind::End => break,
+            Kind::Label(l) if l == "0" => {
+                if let Some(back) = stack.pop() {
+                    pc = back;
+                }
+            }
+            Kind::Label(_) => {}
+            Kind::Call { label, rep } => {
+                let Some(&target) = labels.get(label.as_str()) else {
+                    diags.error(s.line, s.col, format!("CALL LBL {label}: no LBL {label} in the program"));
+                    continue;
+                };
+                let count = match rep {
+                    None => 0,
+                    Some(w) => match ex.value(w, s.line, diags) {
+                        Some(v) if v.fract() == 0.0 && (0.0..=65534.0).contains(&v) => v as u64,
+                        Some(v) => {
+                            diags.error(s.line, w.col, format!("REP {v}: expected a whole number of repeats, 0 to 65534"));
+                            continue;
+                        }
+                        None => continue,
+                    },
+                };
+                if rep.is_some() {
+                    // A program section repeat: back to the label `count` more times.
+                    if target >= pc {
+                        diags.error(s.line, s.col, format!("CALL LBL {label} REP: the label must come before the call"));
+                        continue;
+                    }
+                    let left = repeats.entry(pc - 1).or_insert(count);
+                    if *left > 0 {
+                        *left -= 1;
+                        pc = target + 1;
+                    } else {
+                        repeats.remove(&(pc - 1));
+                    }
+                } else {
+                    if stack.len() >= MAX_NESTING {
+                        diags.error(s.line, s.col, format!("CALL LBL {label}: subprograms nested deeper than {MAX_NESTING} levels"));
+                        break;
+                    }
+                    stack.push(pc);
+                    pc = target + 1;
+                }
+            }
+            _ => {
+                if ex.run(s, &mut interp, diags) && stack.is_empty() {
+                    break; // M2 / M30: the program ends (subprograms follow it)
+                }
+            }
+        }
+    }
+    if let Some(&back) = stack.last() {
+        if let Some(s) = stmts.get(back - 1) {
+            diags.error(s.line, s.col, "the subprogram called here has no LBL 0 before the program ends");
+        }
+    }
+    ex.blocks
+}
+
+/// Run-time state besides the interpreter's.
+struct Exec {
+    q: HashMap<String, f64>,
+    /// The feed of the last TOOL CALL (program units per minute), for FAUTO.
+    tool_feed: Option<(f64, String)>,
+    /// Direction of the contour at its end in the working plane, for CT.
+    tangent: Option<[f64; 2]>,
+    blocks: Vec<Block>,
+}
+
+impl Exec {
+    fn value(&self, w: &KWord, line: usize, diags: &mut Diags) -> Option<f64> {
+        match &w.val {
+            Val::Num(v) => Some(*v),
+            Val::Q { name, negative } => match self.q.get(name) {
+                Some(v) => Some(if *negative { -v } else { *v }),
+                None => {
+                    diags.error(line, w.col, format!("{}: {name} is used before it is set (only plain assignments Qn = number are read)", w.addr));
+                    None
+                }
+            },
+        }
+    }
+
+    /// Run one statement; true if it ends the program (M2, M30).
+    fn run(&mut self, s: &Stmt, interp: &mut Interpreter, diags: &mut Diags) -> bool {
+        let before = errors(diags);
+        let mut words: Vec<Word> = Vec::new();
+        let word = |letter: char, value: f64, raw: String, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
+        let mut ends = false;
+        let mut vector = None;
+        let unit = interp.unit();
+        match &s.kind {
+            Kind::Assign { name, value } => {
+                self.q.insert(name.clone(), *value);
+                return false;
+            }
+            Kind::Tcp { on, orientation } => {
+                interp.set_tcp(*on);
+                if let Some(o) = orientation {
+                    interp.set_orientation(*o);
+                }
+                return false;
+            }
+            Kind::Datum(k, w, incremental) => {
+                let Some(v) = self.value(w, s.line, diags) else { return false };
+                let mut datum = interp.datum();
+                datum[*k] = if *incremental { datum[*k] + v * unit } else { v * unit };
+                interp.set_datum(datum);
+                return false;
+            }
+            Kind::Stop => words.push(word('M', 0.0, "0".into(), s.col, false)),
+            Kind::Tool { events, feed } => {
+                for e in events {
+                    let (l, rest) = e.split_at(1);
+                    words.push(word(l.chars().next().unwrap_or('T'), 0.0, rest.to_string(), s.col, false));
+                }
+                if let Some(f) = feed {
+                    self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw.clone()));
+                }
+            }
+            Kind::Misc(m) => {
+                for w in m {
+                    let v = self.value(w, s.line, diags).unwrap_or(0.0);
+                    ends |= v == 2.0 || v == 30.0;
+                    words.push(word('M', v, w.raw.clone(), w.col, false));
+                }
+            }
+            Kind::Centre(axes) => {
+                let pos = interp.position();
+                let (a0, a1, _) = interp.plane().axes();
+                let mut c = [pos[a0], pos[a1]];
+                for w in axes {
+                    let k = "XYZ".find(w.addr.chars().last().unwrap_or('X')).unwrap_or(0);
+                    let Some(v) = self.value(w, s.line, diags) else { continue };
+                    let incremental = w.addr.starts_with('I');
+                    let slot = if k == a0 {
+                        0
+                    } else if k == a1 {
+                        1
+                    } else {
+                        diags.error(s.line, w.col, format!("CC {}: not an axis of the working plane", w.addr));
+                        continue;
+                    };
+                    c[slot] = if incremental { pos[k] + v * unit } else { v * unit };
+                }
+                for (slot, k) in [a0, a1].into_iter().enumerate() {
+                    words.push(word(['I', 'J', 'K'][k], c[slot] / unit, format!("{}", c[slot] / unit), s.col, false));
+                }
+            }
+            Kind::Move { shape, axes, normal, tool, ccw, radius, feed, m } => {
+                for w in axes {
+                    let Some(v) = self.value(w, s.line, diags) else { continue };
+                    let letter = w.addr.chars().last().unwrap_or('X');
+                    words.push(word(letter, v, w.raw.clone(), w.col, w.addr.len() == 2));
+                }
+                for w in m {
+                    let v = self.value(w, s.line, diags).unwrap_or(0.0);
+                    ends |= v == 2.0 || v == 30.0;
+                    words.push(word('M', v, w.raw.clone(), w.col, false));
+                }
+                let g = match (shape, feed) {
+                    (Shape::Line | Shape::LineNormal, FeedWord::Max) => "0",
+                    (Shape::Line | Shape::LineNormal, _) => "1",
+                    (Shape::Circle | Shape::CircleRadius, _) if *ccw == Some(true) => "3",
+                    (Shape::Circle | Shape::CircleRadius, _) => "2",
+                    (Shape::CircleTangent, _) => match self.tangent_arc(&words, interp, s, diags) {
+                        Some((g, r)) => {
+                            words.push(word('R', r, format!("{r}"), s.col, false));
+                            g
+                        }
+                        None => "1",
+                    },
+                };
+                words.push(word('G', g.parse().unwrap_or(1.0), g.to_string(), s.col, false));
+                if let Some(r) = radius {
+                    if let Some(v) = self.value(r, s.line, diags) {
+                        words.push(word('R', v, r.raw.clone(), r.col, false));
+                    }
+                }
+                match feed {
+                    FeedWord::Value(f) => {
+                        if let Some(v) = self.value(f, s.line, diags) {
+                            words.push(word('F', v, f.raw.clone(), f.col, false));
+                        }
+                    }
+                    FeedWord::Auto(col) => match &self.tool_feed {
+                        Some((v, raw)) => words.push(word('F', *v, raw.clone(), *col, false)),
+                        None => diags.error(s.line, *col, "FAUTO without a feed in the TOOL CALL before it"),
+                    },
+                    FeedWord::Max | FeedWord::None => {}
+                }
+                if *shape == Shape::LineNormal {
+                    let read = |v: &[Option<KWord>; 3], this: &Exec, diags: &mut Diags| -> Option<[f64; 3]> {
+                        let mut out = [0.0; 3];
+                        for (k, w) in v.iter().enumerate() {
+                            out[k] = this.value(w.as_ref()?, s.line, diags)?;
+                        }
+                        Some(out)
+                    };
+                    let m128 = m.iter().any(|w| w.val == Val::Num(128.0));
+                    let t = read(tool, self, diags);
+                    if interp.tcp() || m128 {
+                        // Under TCPM the tool keeps the orientation T, or without T stands on the normal.
+                        let given = if t.is_some() { "TX TY TZ" } else { "NX NY NZ" };
+                        match t.or_else(|| read(normal, self, diags)) {
+                            Some(v) => {
+                                let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                                if n > 1e-9 && n.is_finite() {
+                                    vector = Some(v.map(|c| c / n));
+                                } else {
+                                    diags.error(s.line, s.col, format!("LN: the vector {given} has zero length: expected a direction"));
+                                }
+                            }
+                            None => {}
+                        }
+                    } else if t.is_some() {
+                        diags.warning(
+                            s.line,
+                            s.col,
+                            "LN with TX TY TZ but neither M128 nor FUNCTION TCPM: the TNC ignores the tool vector, and so does this reader",
+                        );
+                    }
+                }
+            }
+            Kind::End | Kind::Label(_) | Kind::Call { .. } => return false,
+        }
+        if errors(diags) > before {
+            diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+            return false;
+        }
+        if let Some(v) = vector {
+            interp.set_pending_vector(v);
+        }
+        let start = interp.position();
+        let saved = interp.clone();
+        match interp.block(&words, s.line, s.col, s.number, diags) {
+            Some(b) => {
+                self.follow(&b, start, interp.position(), interp);
+                self.blocks.push(b);
+                ends
+            }
+            None => {
+                *interp = saved;
+                diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+                false
+            }
+        }
+    }
+
+    /// `CT`: the arc from the current point, tangent to the contour before it, to the block's end in
+    /// the working plane: its direction (G02/G03) and signed radius (negative over 180 deg).
+    fn tangent_arc(&self, words: &[Word], interp: &Interpreter, s: &Stmt, diags: &mut Diags) -> Option<(&'static str, f64)> {
+        let Some(t) = self.tangent else {
+            diags.error(s.line, s.col, "CT: no contour element before it to be tangent to");
+            return None;
+        };
+        let unit = interp.unit();
+        let pos = interp.position();
+        let (a0, a1, _) = interp.plane().axes();
+        let mut end = [pos[a0], pos[a1]];
+        for w in words {
+            let Some(k) = "XYZ".find(w.letter) else { continue };
+            let slot = if k == a0 { 0 } else if k == a1 { 1 } else { continue };
+            end[slot] = if w.incremental { pos[k] + w.value * unit } else { w.value * unit };
+        }
+        let d = [end[0] - pos[a0], end[1] - pos[a1]];
+        let n = [-t[1], t[0]]; // left of the tangent
+        let dn = d[0] * n[0] + d[1] * n[1];
+        let dd = d[0] * d[0] + d[1] * d[1];
+        if dd == 0.0 || dn.abs() <= 1e-9 * dd.sqrt() {
+            diags.error(s.line, s.col, "CT: the end point lies on the tangent (a straight line, not an arc)");
+            return None;
+        }
+        let signed = dd / (2.0 * dn); // centre = start + signed * n
+        let over_half = d[0] * t[0] + d[1] * t[1] < 0.0;
+        let r = signed.abs() / unit * if over_half { -1.0 } else { 1.0 };
+        Some((if signed > 0.0 { "3" } else { "2" }, r))
+    }
+
+    /// Keep the contour's end direction for a later CT.
+    fn follow(&mut self, b: &Block, start: [f64; 6], end: [f64; 6], interp: &Interpreter) {
+        let (a0, a1, _) = interp.plane().axes();
+        if let Some(arc) = &b.arc {
+            let r = [end[a0] - arc.centre[a0], end[a1] - arc.centre[a1]];
+            let n = r[0].hypot(r[1]);
+            if n > 0.0 {
+                let ccw = b.motion == super::Motion::ArcCcw;
+                self.tangent = Some(if ccw { [-r[1] / n, r[0] / n] } else { [r[1] / n, -r[0] / n] });
+            }
+        } else if !b.targets.is_empty() {
+            let d = [end[a0] - start[a0], end[a1] - start[a1]];
+            let n = d[0].hypot(d[1]);
+            self.tangent = if n > 0.0 { Some([d[0] / n, d[1] / n]) } else { None };
+        }
+    }
+}
