@@ -168,3 +168,56 @@ fn the_twins_are_what_their_script_writes() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn the_klartext_contour_and_its_linuxcnc_twin_agree_and_lie_on_their_circles() {
+    // CONTOUR_tnc.h: L, CR, CT, a full circle C about CC, a section repeated (LBL 1 ... CALL LBL 1
+    // REP 2, stepping IZ-Q1), a subprogram called twice; CONTOUR_linuxcnc.ngc: the same, written out.
+    let tnc = run_with(&twin("CONTOUR_tnc.h"), None);
+    let ngc = run_with(&twin("CONTOUR_linuxcnc.ngc"), None);
+    let (tip, axis) = largest_difference(&tnc, &ngc);
+    assert!(tip <= 1e-6 && axis <= 1e-6, "largest difference: tip {tip:e} mm, axis {axis:e}");
+    assert!((tnc.report.cycle_time_s - ngc.report.cycle_time_s).abs() < 1e-9);
+
+    // The circles, from the manual's definitions, computed here (mm): the sampled tool tips of each
+    // arc block (by its block number in CONTOUR_tnc.h) lie on them to 1e-6 mm.
+    // CR X+70 Y+95 R+30 DR- from (30, 85): clockwise under 180 deg, so the centre is right of the chord.
+    let (s, e, r): ([f64; 2], [f64; 2], f64) = ([30.0, 85.0], [70.0, 95.0], 30.0);
+    let (m, c) = ([(s[0] + e[0]) / 2.0, (s[1] + e[1]) / 2.0], ((e[0] - s[0]).hypot(e[1] - s[1])) / 2.0);
+    let u = [(e[0] - s[0]) / (2.0 * c), (e[1] - s[1]) / (2.0 * c)];
+    let h = (r * r - c * c).sqrt();
+    let cr = [m[0] + h * u[1], m[1] - h * u[0]];
+    // CT X+40 Y+5 from (95, 40) after the line down X95: the centre on the line's normal through the
+    // start, as far from both points.
+    let ct_r = ((40.0f64 - 95.0).powi(2) + (5.0f64 - 40.0).powi(2)) / (2.0 * (95.0 - 40.0));
+    let ct = [95.0 - ct_r, 40.0];
+    let machine = Machine::hermle_c600u();
+    let segments = &tnc.trajectory.segments;
+    let mut seen: std::collections::BTreeMap<u64, f64> = std::collections::BTreeMap::new();
+    let mut z_levels = std::collections::BTreeSet::new();
+    for sm in tnc.trajectory.samples(&machine) {
+        let p = sm.tip * 1e3;
+        let Some(line) = segments[sm.segment].number else { continue };
+        let on = |centre: [f64; 2], radius: f64| ((p.x - centre[0]).hypot(p.y - centre[1]) - radius).abs();
+        let off = match line {
+            18 => on(cr, r),
+            21 => on(ct, ct_r),
+            33 | 34 => on([50.0, 50.0], 25.0),
+            _ => continue,
+        };
+        let worst = seen.entry(line).or_insert(0.0);
+        *worst = worst.max(off);
+        if line == 18 {
+            z_levels.insert((p.z * 1e3).round() as i64);
+        }
+    }
+    assert_eq!(seen.keys().copied().collect::<Vec<_>>(), vec![18, 21, 33, 34], "every arc sampled");
+    for (line, worst) in &seen {
+        assert!(*worst < 1e-6, "line {line}: a tool tip {worst:e} mm off its circle");
+    }
+    // Three passes (the section and its two repeats), at Z -2.5, -5, -7.5 mm.
+    assert_eq!(z_levels.into_iter().collect::<Vec<_>>(), vec![-7500, -5000, -2500]);
+    // The full circle (block 33) takes 2 pi 25 mm at 300 mm/min.
+    let full: f64 = segments.iter().filter(|g| g.number == Some(33)).map(|g| g.duration).sum();
+    assert!((full - 2.0 * std::f64::consts::PI * 25.0 / 300.0 * 60.0).abs() < 1e-6, "{full} s");
+}

@@ -1,4 +1,5 @@
-//! NC program readers: the paper's programs, their OCR-damaged copies, RS274NGC and CL data.
+//! NC program readers: the paper's programs, their OCR-damaged copies, RS274NGC, Sinumerik,
+//! Heidenhain conversational and CL data.
 
 use fiveaxis::program::{read, read_cl, read_heidenhain, read_rs274, Dialect, FeedMode, Motion, Orientation, Program, ReadOptions, Severity};
 use fiveaxis::units::{DEG, MM};
@@ -151,12 +152,97 @@ fn dialect_detection() {
     assert_eq!(Dialect::detect(path("a.nc"), "N10 G1 X1 F100\nN20 TRAORI ; on\n"), Dialect::Sinumerik);
     assert_eq!(Dialect::detect(None, "G1 X1 A3=0 B3=0 C3=1 F100\n"), Dialect::Sinumerik);
     assert_eq!(Dialect::detect(path("a.nc"), "G1 X1 F100 ; TRAORI in a comment\n"), Dialect::Rs274);
-    // Heidenhain conversational: recognised (also as .h, which DIN/ISO shares) and refused, not misread.
+    // Heidenhain conversational: recognised (also as .h, which DIN/ISO shares) and read as such.
     let klartext = "0 BEGIN PGM TEST MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-40\n2 L X+10 Y+5 R0 FMAX\n3 END PGM TEST MM\n";
     assert_eq!(Dialect::detect(path("test.h"), klartext), Dialect::Klartext);
     let p = read(klartext, Dialect::Klartext, "test.h", &ReadOptions::default());
-    has(&p, 1, 1, "Klartext");
-    assert!(p.blocks.is_empty());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    assert_eq!(p.blocks.len(), 1);
+    assert_eq!((p.blocks[0].motion, p.blocks[0].targets.x, p.blocks[0].number), (Motion::Rapid, Some(10.0 * MM), Some(2)));
+}
+
+#[test]
+fn klartext_reads_feeds_datums_labels_and_tcpm() {
+    let text = "0 BEGIN PGM T MM\n1 TOOL CALL 5 Z S12000 F750\n2 Q7 = +1.5\n3 FN 0: Q8 = -2\n4 L X+1 Y+Q7 Z-Q8 R0 F1000 M3\n\
+                5 L IX+2 FMAX\n6 L X+0 FAUTO\n7 CYCL DEF 7.0 DATUM SHIFT\n8 CYCL DEF 7.1 X+10\n9 CYCL DEF 7.2 IY+5\n\
+                10 FUNCTION TCPM F TCP AXIS POS PATHCTRL VECTOR\n11 L A+10 C+20\n12 FUNCTION RESET TCPM\n13 L Z+50 FMAX M30\n\
+                14 L X+99 F100\n15 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let by = |n: u64| p.blocks.iter().find(|b| b.number == Some(n)).unwrap_or_else(|| panic!("block {n}"));
+    assert_eq!(by(1).events, vec!["T5".to_string(), "S12000".to_string()]);
+    // Q parameters set to numbers, with the word's sign: Y = Q7, Z = -Q8.
+    assert_eq!((by(4).targets.y, by(4).targets.z), (Some(1.5 * MM), Some(2.0 * MM)));
+    assert_eq!(by(4).feed.unwrap().value_per_min, 1000.0);
+    // FMAX: a rapid for its block only; the feed of the blocks after it stays; FAUTO is TOOL CALL's F.
+    assert_eq!((by(5).motion, by(5).targets.x), (Motion::Rapid, Some(3.0 * MM)));
+    assert_eq!((by(6).motion, by(6).feed.unwrap().value_per_min), (Motion::Linear, 750.0));
+    // Cycle 7: absolute X, incremental Y from the last shift.
+    assert_eq!(by(11).datum, [10.0 * MM, 5.0 * MM, 0.0]);
+    assert!(by(11).tcp && by(11).orientation == Orientation::GreatCircle);
+    assert!(!by(13).tcp);
+    // M30 ends the program: block 14 is not run.
+    assert!(p.blocks.iter().all(|b| b.number != Some(14)));
+}
+
+#[test]
+fn klartext_runs_section_repeats_and_subprograms_as_the_tnc_does() {
+    // LBL 1 ... CALL LBL 1 REP 2 runs the section three times; CALL LBL 2 runs the subprogram after
+    // M2 up to LBL 0 and comes back, nested once more inside it.
+    let text = "0 BEGIN PGM R MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 LBL 1\n3 L IX+1\n4 CALL LBL 1 REP2\n5 CALL LBL 2\n\
+                6 L X+50\n7 L Z+10 M2\n8 LBL 2\n9 L Y+7\n10 CALL LBL \"DEEP\"\n11 LBL 0\n12 LBL \"DEEP\"\n13 L Z-1\n14 LBL 0\n\
+                15 END PGM R MM\n";
+    let p = read(text, Dialect::Klartext, "r.h", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let run: Vec<(u64, Option<f64>)> = p.blocks.iter().map(|b| (b.number.unwrap(), b.targets.x.or(b.targets.y).or(b.targets.z))).collect();
+    let mm = |v: f64| Some(v * MM);
+    assert_eq!(run, vec![(1, mm(0.0)), (3, mm(1.0)), (3, mm(2.0)), (3, mm(3.0)), (9, mm(7.0)), (13, mm(-1.0)), (6, mm(50.0)), (7, mm(10.0))]);
+
+    // A call that never returns, a label that is not there, a repeat beyond the TNC's count.
+    let p = read("0 BEGIN PGM R MM\n1 LBL 1\n2 CALL LBL 1\n3 CALL LBL 9\n4 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default());
+    has(&p, 3, 3, "subprograms nested deeper than 19 levels");
+    let p = read("0 BEGIN PGM R MM\n1 CALL LBL 9\n2 LBL 1\n3 CALL LBL 1 REP 70000\n4 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default());
+    has(&p, 2, 3, "no LBL 9");
+    has(&p, 4, 14, "REP 70000");
+    // Repeats nested to billions of blocks stop at a stated bound, not at the memory's end.
+    let mut t = String::from("0 BEGIN PGM R MM\n1 L X+0 F100\n");
+    for k in 0..4 {
+        t.push_str(&format!("{} LBL {}\n", 2 + 3 * k, k + 1));
+    }
+    t.push_str("20 L IX+1\n");
+    for k in (0..4).rev() {
+        t.push_str(&format!("{} CALL LBL {} REP 1000\n", 30 - k, k + 1));
+    }
+    t.push_str("40 END PGM R MM\n");
+    let p = read(&t, Dialect::Klartext, "r.h", &ReadOptions::default());
+    assert!(errors(&p).iter().any(|(_, _, m)| m.contains("blocks beyond the program's own")), "{:#?}", errors(&p));
+    assert!(p.blocks.len() <= fiveaxis::program::MAX_REPEATED_BLOCKS + 20);
+}
+
+#[test]
+fn klartext_refuses_what_changes_the_motion_at_line_and_column() {
+    let text = "0 BEGIN PGM BAD MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 L X+5 RL\n3 APPR LT X+1 Y+1 LEN5 RL\n4 CYCL DEF 19.0 WORKING PLANE\n\
+                5 PLANE SPATIAL SPA+0 SPB+45 SPC+0 TURN FMAX\n6 Q1 = Q2 + 3\n7 TOOL CALL 2 Z DL+0.5\n\
+                8 FUNCTION TCPM F TCP AXIS SPAT PATHCTRL AXIS\n9 L X+1 M91\n10 L X+Q5\n11 CT X+9 Y+9\n12 LN X+1 Y+1 NX+0 NY+0 NZ+1\n\
+                13 L X+7\n14 END PGM BAD MM\n";
+    let p = read(text, Dialect::Klartext, "bad.h", &ReadOptions::default());
+    has(&p, 3, 9, "RL: tool radius compensation");
+    has(&p, 4, 3, "APPR");
+    has(&p, 5, 3, "CYCL DEF 19.0: a tilted working plane");
+    has(&p, 6, 3, "PLANE");
+    has(&p, 7, 3, "Q parameter arithmetic");
+    has(&p, 8, 17, "DL+0.5");
+    has(&p, 9, 3, "AXIS SPAT");
+    has(&p, 10, 9, "M91");
+    has(&p, 11, 6, "Q5 is used before it is set");
+    has(&p, 12, 4, "CT: no contour element before it");
+    has(&p, 13, 4, "LN: expected X Y Z and NX NY NZ");
+    // Every good block is kept; none of the refused ones is.
+    let numbers: Vec<u64> = p.blocks.iter().filter_map(|b| b.number).collect();
+    assert_eq!(numbers, vec![1, 13]);
+    // A file without BEGIN PGM says so.
+    let p = read("1 L X+0 F100\n", Dialect::Klartext, "x.h", &ReadOptions::default());
+    has(&p, 1, 3, "expected BEGIN PGM");
 }
 
 #[test]
@@ -220,7 +306,7 @@ proptest! {
     fn readers_never_panic_on_arbitrary_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
         let text = String::from_utf8_lossy(&bytes);
         let m = fiveaxis::machine::Machine::hermle_c600u();
-        for d in [Dialect::Heidenhain, Dialect::Rs274, Dialect::Cl, Dialect::Sinumerik] {
+        for d in [Dialect::Heidenhain, Dialect::Rs274, Dialect::Cl, Dialect::Sinumerik, Dialect::Klartext] {
             let great = ReadOptions { orientation: Some(Orientation::GreatCircle), ..Default::default() };
             let p = read(&text, d, "fuzz", &great);
             let opts = fiveaxis::path::PathOptions { period: 0.05, ..Default::default() };
@@ -270,6 +356,33 @@ proptest! {
         let m = fiveaxis::machine::Machine::hermle_c600u();
         let (segments, _) = fiveaxis::path::plan(&p, &m, &Default::default());
         prop_assert!(segments.len() <= 72 * (1 << 16));
+        let duration = segments.last().map_or(0.0, |s| s.t0 + s.duration);
+        let opts = fiveaxis::path::PathOptions { period: (duration / 3000.0).max(1e-3), ..Default::default() };
+        let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
+        let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
+    }
+
+    /// The same for the Klartext programs: the LN twin on great circles, and the contour with its
+    /// arcs, repeats and subprogram (a mutated REP count or label never runs away).
+    #[test]
+    fn mutated_klartext_programs_never_panic(cuts in proptest::collection::vec((0usize..5000, any::<char>()), 0..12), contour in any::<bool>()) {
+        let original = if contour {
+            include_str!("../recordings/programs/twins/CONTOUR_tnc.h")
+        } else {
+            include_str!("../recordings/programs/twins/SING_tnc_ln.h")
+        };
+        let mut s: Vec<char> = original.chars().collect();
+        for (at, c) in cuts {
+            let at = at % s.len();
+            s[at] = c;
+        }
+        let text: String = s.into_iter().collect();
+        let great = ReadOptions { orientation: Some(Orientation::GreatCircle), ..Default::default() };
+        let p = read(&text, Dialect::Klartext, "fuzz.h", &great);
+        // Repeats at most REP 9 (one mutated digit) of the 8-block section, and at most 2 levels.
+        prop_assert!(p.blocks.len() <= 75 + 8 * 9 * 10, "{} blocks", p.blocks.len());
+        let m = fiveaxis::machine::Machine::hermle_c600u();
+        let (segments, _) = fiveaxis::path::plan(&p, &m, &Default::default());
         let duration = segments.last().map_or(0.0, |s| s.t0 + s.duration);
         let opts = fiveaxis::path::PathOptions { period: (duration / 3000.0).max(1e-3), ..Default::default() };
         let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);

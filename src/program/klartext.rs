@@ -306,7 +306,7 @@ fn parse(text: &str, diags: &mut Diags) -> (Option<String>, bool, Vec<Stmt>) {
             continue;
         }
         if let Some(kind) = kind {
-            stmts.push(Stmt { line, col: first_col, number, kind });
+            stmts.push(Stmt { line, col, number, kind });
         }
     }
     if !began {
