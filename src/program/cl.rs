@@ -14,7 +14,7 @@ pub fn read_cl(text: &str, feed_mm_per_min: f64) -> Program {
 /// Read CL data for a control that interpolates the tool orientation as `orientation` says.
 pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) -> Program {
     let mut diags = Diags::default();
-    let mut blocks = Vec::new();
+    let mut blocks = Vec::with_capacity(super::lex::line_count(text));
     let mut seen_data = false;
     for (idx, raw) in text.lines().enumerate() {
         let line = idx + 1;

@@ -12,82 +12,84 @@ use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, number_prefix_len, parse_number, Diags};
 use super::{Block, Dialect, Program};
 
-/// A lexical token of one line.
+/// A lexical token of one line, borrowing its text from the line.
 #[derive(Debug, Clone, PartialEq)]
-enum Tok {
+enum Tok<'a> {
     /// Letter + text after it up to the next separator; `value` is None when the text is not a number.
-    Word { letter: char, text: String, value: Option<f64>, incremental: bool, col: usize },
+    Word { letter: char, text: &'a str, value: Option<f64>, incremental: bool, col: usize },
     /// A number with no address letter in front.
-    Bare { text: String, col: usize },
+    Bare { text: &'a str, col: usize },
     /// Anything else that cannot start a word.
-    Junk { text: String, col: usize },
+    Junk { text: &'a str, col: usize },
     /// ` *`
     End { col: usize },
     /// `%` in a block line: a program begin/end marker with the rest of the line.
-    Percent { rest: String, col: usize },
+    Percent { rest: &'a str, col: usize },
 }
 
 fn is_sep(c: char) -> bool {
     c.is_whitespace() || c == '*' || c == ';' || c == '%'
 }
 
-fn tokenize(line: &str) -> Vec<Tok> {
-    let chars: Vec<(usize, char)> = line.char_indices().collect();
-    let col_of = |i: usize| line[..chars.get(i).map_or(line.len(), |p| p.0)].chars().count() + 1;
-    let mut toks = Vec::new();
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i].1;
+fn tokenize(line: &str) -> Vec<Tok<'_>> {
+    let mut toks = Vec::with_capacity(8);
+    // Byte offset `i` and 1-based column `col` (characters) as the scan goes.
+    let (mut i, mut col) = (0, 1);
+    let char_at = |i: usize| line[i..].chars().next().unwrap_or(' ');
+    while i < line.len() {
+        let c = char_at(i);
         if c.is_whitespace() {
-            i += 1;
+            i += c.len_utf8();
+            col += 1;
         } else if c == ';' {
             break;
         } else if c == '*' {
-            toks.push(Tok::End { col: col_of(i) });
+            toks.push(Tok::End { col });
             i += 1;
+            col += 1;
         } else if c == '%' {
-            let rest: String = chars[i + 1..].iter().map(|p| p.1).collect();
-            toks.push(Tok::Percent { rest, col: col_of(i) });
+            toks.push(Tok::Percent { rest: &line[i + 1..], col });
             break;
         } else {
-            let start = i;
-            let mut j = i;
-            while j < chars.len() && !is_sep(chars[j].1) {
-                j += 1;
+            let (start, start_col) = (i, col);
+            while i < line.len() {
+                let cc = char_at(i);
+                if is_sep(cc) {
+                    break;
+                }
+                i += cc.len_utf8();
+                col += 1;
             }
-            let run: String = chars[start..j].iter().map(|p| p.1).collect();
-            let col = col_of(start);
+            let run = &line[start..i];
             if c.is_ascii_alphabetic() {
                 let letter = c.to_ascii_uppercase();
-                let mut body = &run[c.len_utf8()..];
-                let mut incremental = false;
-                if letter == 'I' && body.starts_with(|ch: char| "XYZABCxyzabc".contains(ch)) {
-                    incremental = true;
-                }
-                let (letter, skip) = if incremental {
-                    let l = body.chars().next().unwrap_or('X').to_ascii_uppercase();
-                    (l, 1)
+                let mut body = &run[1..];
+                let incremental = letter == 'I' && body.starts_with(|ch: char| "XYZABCxyzabc".contains(ch));
+                let letter = if incremental {
+                    let l = body.as_bytes()[0].to_ascii_uppercase() as char;
+                    body = &body[1..];
+                    l
                 } else {
-                    (letter, 0)
+                    letter
                 };
-                body = &body[skip..];
                 // Words written without spaces (`X+0Y+0`) split where a valid number meets a letter.
                 let n = number_prefix_len(body);
                 if n > 0 && n < body.len() && body[n..].starts_with(|ch: char| ch.is_ascii_alphabetic()) {
                     if let Some(v) = parse_number(&body[..n]) {
-                        toks.push(Tok::Word { letter, text: body[..n].to_string(), value: Some(v), incremental, col });
-                        let consumed = c.len_utf8() + skip + n;
-                        i = start + run[..consumed].chars().count();
+                        toks.push(Tok::Word { letter, text: &body[..n], value: Some(v), incremental, col: start_col });
+                        // Go on at the letter after the number (all ASCII up to it: a column a byte).
+                        let consumed = 1 + usize::from(incremental) + n;
+                        i = start + consumed;
+                        col = start_col + consumed;
                         continue;
                     }
                 }
-                toks.push(Tok::Word { letter, text: body.to_string(), value: parse_number(body), incremental, col });
+                toks.push(Tok::Word { letter, text: body, value: parse_number(body), incremental, col: start_col });
             } else if c.is_ascii_digit() || c == '+' || c == '-' || c == '.' {
-                toks.push(Tok::Bare { text: run, col });
+                toks.push(Tok::Bare { text: run, col: start_col });
             } else {
-                toks.push(Tok::Junk { text: run, col });
+                toks.push(Tok::Junk { text: run, col: start_col });
             }
-            i = j;
         }
     }
     toks
@@ -142,8 +144,8 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
     let mut diags = Diags::default();
     let mut interp = Interpreter::new(Dialect::Heidenhain).with_m_codes(m_codes).with_orientation(orientation);
     let mut name: Option<String> = None;
-    let mut blocks: Vec<Block> = Vec::new();
-    let mut seen: std::collections::HashMap<u64, usize> = std::collections::HashMap::new();
+    let mut blocks: Vec<Block> = Vec::with_capacity(super::lex::line_count(text));
+    let mut seen = SeenNumbers::default();
     let mut last_number: Option<(u64, usize)> = None;
     let mut out_of_order = false;
     let mut ended = false;
@@ -182,41 +184,44 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
 
         // Split the line's tokens into blocks: each starts at an N word or after ' *'.
         let toks = tokenize(trimmed);
-        let mut groups: Vec<(Vec<Tok>, bool)> = Vec::new(); // (tokens, terminated by ' *')
-        let mut cur: Vec<Tok> = Vec::new();
-        for t in toks {
-            match &t {
+        // Blocks as ranges of the line's tokens, and whether ' *' ended each.
+        let mut groups: Vec<(std::ops::Range<usize>, bool)> = Vec::with_capacity(1);
+        let mut from = 0;
+        for (k, t) in toks.iter().enumerate() {
+            match t {
                 Tok::End { .. } => {
-                    groups.push((std::mem::take(&mut cur), true));
+                    groups.push((from..k, true));
+                    from = k + 1;
                 }
-                Tok::Word { letter: 'N', col, .. } if !cur.is_empty() => {
-                    let prev = block_label(&cur);
+                Tok::Word { letter: 'N', col, .. } if k > from => {
+                    let prev = block_label(&toks[from..k]);
                     diags.error(
                         line,
                         *col,
-                        format!("block {} begins before block {prev} ended: expected ' *' before it (two blocks run together)", word_text(&t)),
+                        format!("block {} begins before block {prev} ended: expected ' *' before it (two blocks run together)", word_text(t)),
                     );
-                    groups.push((std::mem::take(&mut cur), false));
-                    cur.push(t);
+                    groups.push((from..k, false));
+                    from = k;
                 }
-                _ => cur.push(t),
+                _ => {}
             }
         }
-        let ends_with_marker = matches!(cur.last(), Some(Tok::Percent { .. }));
-        if ends_with_marker {
-            groups.push((std::mem::take(&mut cur), true));
+        if matches!(toks.last(), Some(Tok::Percent { .. })) && from < toks.len() {
+            groups.push((from..toks.len(), true));
+            from = toks.len();
         }
-        if !cur.is_empty() {
+        if from < toks.len() {
             let col = trimmed.chars().count() + 1;
-            diags.error(line, col, format!("block {} has no block end: expected ' *' at the end of the line", block_label(&cur)));
-            groups.push((cur, false));
+            diags.error(line, col, format!("block {} has no block end: expected ' *' at the end of the line", block_label(&toks[from..])));
+            groups.push((from..toks.len(), false));
         }
         let complete_groups = groups.iter().filter(|(g, _)| !g.is_empty()).count();
         if complete_groups > 1 && groups.iter().all(|(_, term)| *term) {
             diags.warning(line, lead + 1, "more than one block on this line");
         }
 
-        for (g, _) in groups.into_iter().filter(|(g, _)| !g.is_empty()) {
+        for (range, _) in groups.into_iter().filter(|(g, _)| !g.is_empty()) {
+            let g = &toks[range];
             let first_col = tok_col(&g[0]);
             let errors_before = error_count(&diags);
             let mut number = None;
@@ -242,7 +247,7 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
                         Some(v) => words.push(Word {
                             letter: *letter,
                             value: *v,
-                            raw: text.clone(),
+                            raw: (*text).into(),
                             column: *col,
                             incremental: *incremental,
                         }),
@@ -282,7 +287,7 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
             }
             let damaged = error_count(&diags) > errors_before;
             if let Some(n) = number {
-                if let Some(&first_line) = seen.get(&n) {
+                if let Some(first_line) = seen.get(n) {
                     diags.error(line, first_col, format!("block number N{n} repeats the block on line {first_line}"));
                 }
                 if let Some((prev, prev_line)) = last_number {
@@ -295,7 +300,7 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
                         );
                     }
                 }
-                seen.entry(n).or_insert(line);
+                seen.insert(n, line);
                 last_number = Some((n, line));
             }
             if damaged {
@@ -317,6 +322,35 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
     }
     diags.0.sort_by_key(|d| (d.line, d.column));
     Program { source: String::new(), dialect: Dialect::Heidenhain, name, blocks, diagnostics: diags.0 }
+}
+
+/// The block numbers seen so far and their lines: an ascending run kept in a vector (the common case,
+/// no hashing per block), any other number in a B-tree.
+#[derive(Default)]
+struct SeenNumbers {
+    ascending: Vec<(u64, usize)>,
+    others: std::collections::BTreeMap<u64, usize>,
+}
+
+impl SeenNumbers {
+    fn get(&self, n: u64) -> Option<usize> {
+        match self.ascending.binary_search_by_key(&n, |p| p.0) {
+            Ok(k) => Some(self.ascending[k].1),
+            Err(_) => self.others.get(&n).copied(),
+        }
+    }
+    /// Record `n` at `line` unless it was seen before.
+    fn insert(&mut self, n: u64, line: usize) {
+        if self.get(n).is_some() {
+            return;
+        }
+        match self.ascending.last() {
+            Some(&(last, _)) if n <= last => {
+                self.others.insert(n, line);
+            }
+            _ => self.ascending.push((n, line)),
+        }
+    }
 }
 
 /// Out-of-order numbering in a damaged copy: if the kept blocks all carry distinct numbers, run them

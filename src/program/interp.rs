@@ -1,17 +1,20 @@
 //! The modal state machine shared by the G-code readers: validated words of one block in, a
 //! [`Block`] out. A block with a semantic defect changes no modal state and yields no block.
 
+use std::borrow::Cow;
+
 use super::lex::Diags;
 use super::{ArcSpec, Block, Dialect, Feed, FeedMode, MCodeAction, MCodeRule, Motion, Orientation, Plane, Targets};
 use crate::units::{DEG, INCH, MM};
 
 /// One address word with a valid number.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Word {
+pub struct Word<'a> {
     pub letter: char,
     pub value: f64,
-    /// The value as written (`43.4`, `+14.825`), for messages and G-code sub-numbers.
-    pub raw: String,
+    /// The value as written (`43.4`, `+14.825`), for messages and G-code sub-numbers: borrowed from
+    /// the program's text where it stands there (no allocation per word).
+    pub raw: Cow<'a, str>,
     pub column: usize,
     /// Heidenhain `IX+5`: incremental for this word only.
     pub incremental: bool,
@@ -466,7 +469,7 @@ impl Interpreter {
                 if as_rs274.is_empty() {
                     for k in [a0, a1] {
                         match next.centre[k] {
-                            Some(c) => as_rs274.push(Word { letter: ['I', 'J', 'K'][k], value: c / next.unit, raw: format!("{}", c / next.unit), column, incremental: false }),
+                            Some(c) => as_rs274.push(Word { letter: ['I', 'J', 'K'][k], value: c / next.unit, raw: format!("{}", c / next.unit).into(), column, incremental: false }),
                             None => diags.error(line, column, format!("arc without a circle centre: expected {} (and {}) before or in this block, or R", ['I', 'J', 'K'][k], ['I', 'J', 'K'][a0 + a1 - k])),
                         }
                     }

@@ -756,7 +756,7 @@ impl Exec {
     fn run(&mut self, s: &Stmt, interp: &mut Interpreter, diags: &mut Diags) -> bool {
         let before = errors(diags);
         let mut words: Vec<Word> = Vec::new();
-        let word = |letter: char, value: f64, raw: String, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
+        let word = |letter: char, value: f64, raw: String, column: usize, incremental: bool| Word { letter, value, raw: raw.into(), column, incremental };
         let mut ends = false;
         let mut vector = None;
         let unit = interp.unit();

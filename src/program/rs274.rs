@@ -25,7 +25,7 @@ pub fn read_rs274_with(text: &str, m_codes: &[MCodeRule]) -> Program {
 pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::Orientation) -> Program {
     let mut diags = Diags::default();
     let mut interp = Interpreter::new(Dialect::Rs274).with_m_codes(m_codes).with_orientation(orientation);
-    let mut blocks = Vec::new();
+    let mut blocks = Vec::with_capacity(super::lex::line_count(text));
     for (idx, raw) in text.lines().enumerate() {
         let line = idx + 1;
         let chars: Vec<char> = raw.trim_end_matches('\r').chars().collect();
@@ -76,7 +76,7 @@ pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::O
                             diags.error(line, col, format!("expected a whole line number after 'N', found '{text}'"));
                         }
                     }
-                    Some(v) => words.push(Word { letter, value: v, raw: text, column: col, incremental: false }),
+                    Some(v) => words.push(Word { letter, value: v, raw: text.into(), column: col, incremental: false }),
                     None => {
                         let mut end = i;
                         while end < chars.len() && !chars[end].is_whitespace() {

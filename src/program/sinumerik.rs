@@ -25,16 +25,18 @@ use super::{Dialect, MCodeRule, Orientation, Program, Severity};
 pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
     let mut diags = Diags::default();
     let mut interp = Interpreter::new(Dialect::Sinumerik).with_m_codes(m_codes).with_orientation(orientation);
-    let mut blocks = Vec::new();
+    let mut blocks = Vec::with_capacity(super::lex::line_count(text));
     for (idx, raw) in text.lines().enumerate() {
         let line = idx + 1;
-        let chars: Vec<char> = raw.trim_end_matches('\r').chars().collect();
-        let Some(first) = chars.iter().position(|c| !c.is_whitespace()) else { continue };
-        if chars[first] == '%' {
+        let text_line = raw.trim_end_matches('\r');
+        let Some(first) = text_line.find(|c: char| !c.is_whitespace()) else { continue };
+        if text_line[first..].starts_with('%') {
             continue; // `%_N_NAME_MPF` transfer header
         }
         let errors_before = count_errors(&diags);
-        let lexed = lex_line(&chars, first, line, &mut diags);
+        let cols = Columns::new(text_line);
+        let first = cols.col(first) - 1;
+        let lexed = lex_line(text_line, &cols, line, &mut diags);
         if count_errors(&diags) > errors_before {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             continue;
@@ -121,8 +123,8 @@ fn unsupported_keyword(k: &str) -> &'static str {
     }
 }
 
-struct Lexed {
-    words: Vec<Word>,
+struct Lexed<'a> {
+    words: Vec<Word<'a>>,
     number: Option<u64>,
     /// Keywords and their columns.
     keywords: Vec<(String, usize)>,
@@ -132,63 +134,99 @@ struct Lexed {
     frame: Option<&'static str>,
 }
 
-/// Split one line into words; defects go to `diags`.
-fn lex_line(chars: &[char], first: usize, line: usize, diags: &mut Diags) -> Lexed {
-    let mut out = Lexed { words: Vec::new(), number: None, keywords: Vec::new(), vector: None, frame: None };
+/// 1-based columns (characters) of byte offsets in one line: a byte a column when the line is ASCII.
+struct Columns<'a> {
+    line: &'a str,
+    ascii: bool,
+}
+
+impl<'a> Columns<'a> {
+    fn new(line: &'a str) -> Self {
+        Columns { line, ascii: line.is_ascii() }
+    }
+    fn col(&self, byte: usize) -> usize {
+        if self.ascii {
+            byte + 1
+        } else {
+            self.line[..byte.min(self.line.len())].chars().count() + 1
+        }
+    }
+}
+
+/// Split one line into words; defects go to `diags`. Works on bytes: every character that can
+/// form a word is ASCII, and any other one is reported where it stands.
+fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line_no: usize, diags: &mut Diags) -> Lexed<'a> {
+    let b = src.as_bytes();
+    let n = b.len();
+    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, frame: None };
     let mut vec3: [Option<f64>; 3] = [None; 3];
     let mut vec_col = 0;
-    let mut i = first;
-    if chars[i] == '/' {
-        diags.warning(line, i + 1, "block skip '/' is not modelled: the block is run");
+    let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
+    let line = line_no;
+    if i < n && b[i] == b'/' {
+        diags.warning(line, cols.col(i), "block skip '/' is not modelled: the block is run");
         i += 1;
     }
-    while i < chars.len() {
-        let c = chars[i];
-        if c.is_whitespace() {
+    // The end of a token from byte `from`: the next whitespace or ';'.
+    let token_end = |from: usize| {
+        let mut e = from;
+        while e < n && !b[e].is_ascii_whitespace() && b[e] != b';' {
+            e += 1;
+        }
+        // Stay on a character boundary (a non-ASCII byte belongs to the token).
+        while e < n && !src.is_char_boundary(e) {
+            e += 1;
+        }
+        e
+    };
+    while i < n {
+        let c = b[i];
+        if c.is_ascii_whitespace() {
             i += 1;
             continue;
         }
-        if c == ';' {
+        if !src.is_char_boundary(i) {
+            i += 1;
+            continue;
+        }
+        if c == b';' {
             break;
         }
-        let col = i + 1;
-        if !c.is_ascii_alphabetic() && c != '_' {
-            let end = token_end(chars, i);
-            let found: String = chars[i..end].iter().collect();
-            diags.error(line, col, format!("unexpected '{}': expected a word such as G1 or X=10.5", excerpt(&found)));
+        let col = cols.col(i);
+        if !c.is_ascii_alphabetic() && c != b'_' {
+            let end = token_end(i).max(i + 1);
+            let end = (end..=n).find(|&e| src.is_char_boundary(e)).unwrap_or(n);
+            diags.error(line, col, format!("unexpected '{}': expected a word such as G1 or X=10.5", excerpt(&src[i..end])));
             i = end;
             continue;
         }
         // Address: letters, then digits that belong to it only when '=' follows (A3=, CR=, TURN=).
         let mut j = i;
-        while j < chars.len() && (chars[j].is_ascii_alphabetic() || chars[j] == '_') {
+        while j < n && (b[j].is_ascii_alphabetic() || b[j] == b'_') {
             j += 1;
         }
-        let letters: String = chars[i..j].iter().collect::<String>().to_ascii_uppercase();
         let mut k = j;
-        while k < chars.len() && chars[k].is_ascii_digit() {
+        while k < n && b[k].is_ascii_digit() {
             k += 1;
         }
         let mut e = k;
-        while e < chars.len() && (chars[e] == ' ' || chars[e] == '\t') {
+        while e < n && (b[e] == b' ' || b[e] == b'\t') {
             e += 1;
         }
-        let with_eq = e < chars.len() && chars[e] == '=';
-        let (address, value_start) = if with_eq {
-            (format!("{letters}{}", chars[j..k].iter().collect::<String>()), e + 1)
-        } else {
-            (letters.clone(), j)
-        };
+        let with_eq = e < n && b[e] == b'=';
+        let letters = &src[i..j];
+        let (address, value_start) = if with_eq { (&src[i..k], e + 1) } else { (letters, j) };
+        let is = |a: &str, w: &str| a.eq_ignore_ascii_case(w);
         // Keywords: more than one letter and no '=' (TRAORI, ORIWKS, MSG(...), CYCLE800(...)).
         if !with_eq && letters.len() > 1 {
             let mut end = k;
-            if end < chars.len() && chars[end] == '(' {
+            if end < n && b[end] == b'(' {
                 // Arguments: up to the matching ')'.
                 let mut depth = 0;
-                while end < chars.len() {
-                    match chars[end] {
-                        '(' => depth += 1,
-                        ')' => {
+                while end < n {
+                    match b[end] {
+                        b'(' => depth += 1,
+                        b')' => {
                             depth -= 1;
                             if depth == 0 {
                                 end += 1;
@@ -200,7 +238,7 @@ fn lex_line(chars: &[char], first: usize, line: usize, diags: &mut Diags) -> Lex
                     end += 1;
                 }
             }
-            let name = format!("{letters}{}", chars[j..k].iter().collect::<String>());
+            let name = src[i..k].to_ascii_uppercase();
             match name.as_str() {
                 "MSG" => {}
                 "TRANS" => out.frame = Some("TRANS"),
@@ -209,70 +247,80 @@ fn lex_line(chars: &[char], first: usize, line: usize, diags: &mut Diags) -> Lex
             }
             // TRAORI(1): the first transformation, as plain TRAORI.
             i = end.max(k);
+            while i < n && !src.is_char_boundary(i) {
+                i += 1;
+            }
             continue;
         }
         let mut v = value_start;
-        while v < chars.len() && (chars[v] == ' ' || chars[v] == '\t') && with_eq {
+        while with_eq && v < n && (b[v] == b' ' || b[v] == b'\t') {
             v += 1;
         }
-        if address == "T" && chars.get(v) == Some(&'"') {
+        if is(address, "T") && v < n && b[v] == b'"' {
             // T="NAME": a tool called by name (an event, as T5 is).
-            let close = chars[v + 1..].iter().position(|&c| c == '"').map(|p| v + 1 + p + 1);
-            match close {
-                Some(e) => {
-                    let name: String = chars[v..e].iter().collect();
-                    out.words.push(Word { letter: 'T', value: 0.0, raw: name, column: col, incremental: false });
+            match src[v + 1..].find('"') {
+                Some(p) => {
+                    let e = v + 1 + p + 1;
+                    out.words.push(Word { letter: 'T', value: 0.0, raw: src[v..e].into(), column: col, incremental: false });
                     i = e;
                 }
                 None => {
                     diags.error(line, col, "T=\"...: the tool name's quote is not closed on this line");
-                    i = chars.len();
+                    i = n;
                 }
             }
             continue;
         }
         let start = v;
         let mut end = v;
-        while end < chars.len() && (chars[end].is_ascii_digit() || chars[end] == '.' || ((chars[end] == '+' || chars[end] == '-') && end == start)) {
+        while end < n && (b[end].is_ascii_digit() || b[end] == b'.' || ((b[end] == b'+' || b[end] == b'-') && end == start)) {
             end += 1;
         }
-        let text: String = chars[start..end].iter().collect();
-        let stop = token_end(chars, end);
-        if stop > end || parse_number(&text).is_none() {
-            let found: String = chars[start..token_end(chars, start)].iter().collect();
+        let text = &src[start..end];
+        let stop = token_end(end);
+        let parsed = parse_number(text);
+        if stop > end || parsed.is_none() {
+            let found = &src[start..token_end(start)];
             let what = if found.contains('(') || found.contains('R') || found.chars().any(|c| "+-*/".contains(c)) && !found.is_empty() {
                 "an expression or R parameter, which is not read"
             } else {
                 "not a number"
             };
-            diags.error(line, col, format!("{address}: expected a number, found '{}' ({what})", excerpt(&found)));
-            i = token_end(chars, start).max(i + 1);
+            diags.error(line, col, format!("{address}: expected a number, found '{}' ({what})", excerpt(found)));
+            i = token_end(start).max(i + 1);
+            while i < n && !src.is_char_boundary(i) {
+                i += 1;
+            }
             continue;
         }
-        let value = parse_number(&text).unwrap_or(0.0);
+        let value = parsed.unwrap_or(0.0);
         i = end;
-        let word = |letter: char, value: f64, raw: String| Word { letter, value, raw, column: col, incremental: false };
-        match address.as_str() {
-            "N" if value.fract() == 0.0 && value >= 0.0 => out.number = Some(value as u64),
-            "N" => diags.error(line, col, format!("expected a whole block number after 'N', found '{text}'")),
-            "A3" | "B3" | "C3" => {
-                vec3["ABC".find(&address[..1]).unwrap_or(0)] = Some(value);
+        let word = |letter: char, value: f64, raw: std::borrow::Cow<'a, str>| Word { letter, value, raw, column: col, incremental: false };
+        let upper_letter = |a: &str| a.as_bytes()[0].to_ascii_uppercase() as char;
+        match address.len() {
+            1 => match upper_letter(address) {
+                'N' if value.fract() == 0.0 && value >= 0.0 => out.number = Some(value as u64),
+                'N' => diags.error(line, col, format!("expected a whole block number after 'N', found '{text}'")),
+                'G' => match sinumerik_g(text) {
+                    Ok(Some(g)) => out.words.push(word('G', parse_number(g).unwrap_or(0.0), g.into())),
+                    Ok(None) => {}
+                    Err(why) => diags.error(line, col, format!("G{text}: {why}")),
+                },
+                l @ ('X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'I' | 'J' | 'K' | 'F' | 'M' | 'S' | 'T') => out.words.push(word(l, value, text.into())),
+                'D' => {} // tool offset number: the tool length is the machine file's
+                'H' => diags.error(line, col, format!("H{text}: auxiliary function not read")),
+                _ => diags.error(line, col, format!("unsupported word {address}={text}: not read (it may change the motion)")),
+            },
+            _ if is(address, "A3") || is(address, "B3") || is(address, "C3") => {
+                vec3[usize::from(upper_letter(address) as u8 - b'A')] = Some(value);
                 vec_col = if vec_col == 0 { col } else { vec_col };
             }
-            "CR" => out.words.push(word('R', value, text)),
-            "TURN" if value.fract() == 0.0 && (0.0..1000.0).contains(&value) => out.words.push(word('P', value + 1.0, format!("{}", value + 1.0))),
-            "TURN" => diags.error(line, col, format!("TURN={text}: expected a whole number of turns, 0 to 999")),
-            "G" => match sinumerik_g(&text) {
-                Ok(Some(g)) => out.words.push(word('G', parse_number(g).unwrap_or(0.0), g.to_string())),
-                Ok(None) => {}
-                Err(why) => diags.error(line, col, format!("G{text}: {why}")),
-            },
-            "X" | "Y" | "Z" | "A" | "B" | "C" | "I" | "J" | "K" | "F" | "M" | "S" | "T" => {
-                out.words.push(word(address.chars().next().unwrap_or('X'), value, text))
+            _ if is(address, "CR") => out.words.push(word('R', value, text.into())),
+            _ if is(address, "TURN") && value.fract() == 0.0 && (0.0..1000.0).contains(&value) => {
+                out.words.push(word('P', value + 1.0, format!("{}", value + 1.0).into()))
             }
-            "D" => {} // tool offset number: the tool length is the machine file's
-            "H" => diags.error(line, col, format!("H{text}: auxiliary function not read")),
-            _ => diags.error(line, col, format!("unsupported word {address}={text}: not read (it may change the motion)")),
+            _ if is(address, "TURN") => diags.error(line, col, format!("TURN={text}: expected a whole number of turns, 0 to 999")),
+            _ => diags.error(line, col, format!("unsupported word {}={text}: not read (it may change the motion)", address.to_ascii_uppercase())),
         }
     }
     if vec3.iter().any(Option::is_some) {
@@ -285,15 +333,6 @@ fn lex_line(chars: &[char], first: usize, line: usize, diags: &mut Diags) -> Lex
         }
     }
     out
-}
-
-/// End of a token: the next whitespace or ';'.
-fn token_end(chars: &[char], from: usize) -> usize {
-    let mut e = from;
-    while e < chars.len() && !chars[e].is_whitespace() && chars[e] != ';' {
-        e += 1;
-    }
-    e
 }
 
 /// A Sinumerik G code as the shared interpreter reads it (`Ok(None)`: no effect on the path), or why

@@ -1,0 +1,91 @@
+//! NC reader throughput on one core (issue 11 target: >= 1 M blocks/s): a one-million-block
+//! five-axis program in each dialect, written here (the long-program bench's wavy surface, a pose
+//! every 0.1 mm, tool axis on the surface normal), read by `program::read` as `fiveaxis program
+//! analyze` reads it. Prints blocks/s and MB/s per dialect, best of three reads.
+//!
+//! usage: cargo bench --bench readers [-- BLOCKS] [DIALECT]     (default 1000000, every dialect)
+
+use fiveaxis::program::{read, Dialect, ReadOptions};
+use std::fmt::Write;
+use std::time::Instant;
+
+/// Pose k of the raster: tip (mm), unit tool axis, and its A/C angles (deg) on the Hermle (seed 001
+/// eq. 2: O_W = (sin C sin A, cos C sin A, cos A)).
+fn pose(k: usize) -> ([f64; 3], [f64; 3], [f64; 2]) {
+    let (per_line, step) = (1000usize, 0.1);
+    let (row, i) = (k / (per_line + 1), k % (per_line + 1));
+    let u = if row % 2 == 0 { i as f64 * step } else { 100.0 - i as f64 * step };
+    let (x, y) = (u - 50.0, (row % 200) as f64 * 0.5 - 50.0);
+    let (a, l1, l2) = (8.0, 12.0, 17.0);
+    let z = a * (x / l1).sin() * (y / l2).cos() - 10.0;
+    let n = [-(a / l1) * (x / l1).cos() * (y / l2).cos(), (a / l2) * (x / l1).sin() * (y / l2).sin(), 1.0];
+    let norm = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    let o = n.map(|c| c / norm);
+    let (aa, cc) = (o[2].acos().to_degrees(), o[0].atan2(o[1]).to_degrees());
+    ([x, y, z], o, [aa, cc])
+}
+
+fn program(dialect: Dialect, blocks: usize) -> String {
+    let mut s = String::with_capacity(blocks * 80);
+    let body = |s: &mut String, k: usize| {
+        let (p, o, r) = pose(k);
+        let n = 10 * (k + 1);
+        let _ = match dialect {
+            Dialect::Rs274 => writeln!(s, "N{n} G1 X{:.4} Y{:.4} Z{:.4} A{:.4} C{:.4}", p[0], p[1], p[2], r[0], r[1]),
+            Dialect::Heidenhain => writeln!(s, "N{n} G01 X{:+.4} Y{:+.4} Z{:+.4} A{:+.4} C{:+.4} *", p[0], p[1], p[2], r[0], r[1]),
+            Dialect::Sinumerik => writeln!(s, "N{n} G1 X{:.4} Y{:.4} Z{:.4} A3={:.7} B3={:.7} C3={:.7}", p[0], p[1], p[2], o[0], o[1], o[2]),
+            Dialect::Klartext => writeln!(
+                s,
+                "{} LN X{:+.4} Y{:+.4} Z{:+.4} NX{:+.7} NY{:+.7} NZ{:+.7} TX{:+.7} TY{:+.7} TZ{:+.7}",
+                k + 3,
+                p[0], p[1], p[2], o[0], o[1], o[2], o[0], o[1], o[2]
+            ),
+            Dialect::Cl => writeln!(s, "{:.4} {:.4} {:.4} {:.7} {:.7} {:.7} 2000", p[0], p[1], p[2], o[0], o[1], o[2]),
+        };
+    };
+    match dialect {
+        Dialect::Rs274 => s.push_str("G21 G90 G94\nG1 F2000\n"),
+        Dialect::Heidenhain => s.push_str("%LONG G71 *\nN1 M128 *\nN2 G01 F2000 *\n"),
+        Dialect::Sinumerik => s.push_str("G71 G90 G94\nTRAORI\nG1 F2000\n"),
+        Dialect::Klartext => s.push_str("0 BEGIN PGM LONG MM\n1 L M128\n2 L F2000\n"),
+        Dialect::Cl => {}
+    }
+    for k in 0..blocks {
+        body(&mut s, k);
+    }
+    match dialect {
+        Dialect::Heidenhain => s.push_str("N999999999 %LONG G71 *\n"),
+        Dialect::Klartext => {
+            let _ = writeln!(s, "{} END PGM LONG MM", blocks + 3);
+        }
+        _ => {}
+    }
+    s
+}
+
+fn main() {
+    let blocks: usize = std::env::args().skip(1).find_map(|a| a.parse().ok()).unwrap_or(1_000_000);
+    println!("reading a {blocks}-block five-axis program, one core, best of 3 (target >= 1 M blocks/s)");
+    println!("{:<12} {:>10} {:>14} {:>10} {:>8}", "dialect", "MB", "M blocks/s", "MB/s", "target");
+    let only = std::env::args().skip(1).find(|a| a.parse::<usize>().is_err() && !a.starts_with('-'));
+    for dialect in [Dialect::Rs274, Dialect::Heidenhain, Dialect::Sinumerik, Dialect::Klartext, Dialect::Cl] {
+        if only.as_ref().is_some_and(|o| !format!("{dialect:?}").eq_ignore_ascii_case(o)) {
+            continue;
+        }
+        let text = program(dialect, blocks);
+        let mut best = f64::INFINITY;
+        let mut read_blocks = 0;
+        for _ in 0..3 {
+            let t = Instant::now();
+            let p = read(&text, dialect, "bench", &ReadOptions::default());
+            best = best.min(t.elapsed().as_secs_f64());
+            assert!(!p.has_errors(), "{dialect:?}: {:?}", &p.diagnostics[..p.diagnostics.len().min(3)]);
+            read_blocks = p.blocks.len();
+            drop(p);
+        }
+        assert!(read_blocks >= blocks, "{dialect:?}: {read_blocks} blocks read of {blocks}");
+        let rate = blocks as f64 / best / 1e6;
+        let mb = text.len() as f64 / 1e6;
+        println!("{:<12} {:>10.1} {:>14.2} {:>10.0} {:>8}", format!("{dialect:?}"), mb, rate, mb / best, if rate >= 1.0 { "met" } else { "MISSED" });
+    }
+}
