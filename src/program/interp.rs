@@ -189,7 +189,8 @@ impl Interpreter {
         self.unit = if inch { INCH } else { MM };
     }
 
-    /// Interpret one block's words. Defects go to `diags` and yield `None` with the state unchanged.
+    /// Interpret one block's words. Defects go to `diags` and yield `None` with the state unchanged
+    /// (but for a pending tool vector, which was this block's and is dropped).
     pub fn block(
         &mut self,
         words: &[Word],
@@ -505,6 +506,8 @@ impl Interpreter {
         }
         let errors_after = diags.0.iter().filter(|d| d.severity == super::Severity::Error).count();
         if errors_after > errors_before {
+            // The tool vector belonged to this block: it does not carry over to the next one.
+            self.pending_vector = None;
             return None;
         }
         *self = next;

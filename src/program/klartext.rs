@@ -23,6 +23,7 @@
 //! point other than the tool tip). The surface normal of an `LN` line moves the tool only by the
 //! tool deltas, which are refused, so it is read only as the tool axis when `T` is missing.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 
 use super::interp::{Interpreter, Word};
@@ -37,17 +38,18 @@ const MAX_NESTING: usize = 19;
 
 /// A number as written or a `Q` parameter (`X+Q1`, `FQ5`).
 #[derive(Debug, Clone, PartialEq)]
-enum Val {
+enum Val<'a> {
     Num(f64),
-    Q { name: String, negative: bool },
+    Q { name: &'a str, negative: bool },
 }
 
-/// One address word of a block: address (`X`, `IX`, `NX`, `M`), its value and where it stands.
+/// One address word of a block: address (`X`, `IX`, `NX`, `M`), its value and where it stands,
+/// borrowing the program's text.
 #[derive(Debug, Clone)]
-struct KWord {
-    addr: String,
-    val: Val,
-    raw: String,
+struct KWord<'a> {
+    addr: &'static str,
+    val: Val<'a>,
+    raw: &'a str,
     col: usize,
 }
 
@@ -66,37 +68,35 @@ enum Shape {
 }
 
 #[derive(Debug, Clone)]
-enum FeedWord {
+enum FeedWord<'a> {
     None,
-    Value(KWord),
+    Value(KWord<'a>),
     Max,
     Auto(usize),
 }
 
 #[derive(Debug, Clone)]
-enum Kind {
+enum Kind<'a> {
     Move {
         shape: Shape,
-        axes: Vec<KWord>,
-        /// `NX NY NZ`, `TX TY TZ`.
-        normal: [Option<KWord>; 3],
-        tool: [Option<KWord>; 3],
+        /// Axis words, then `NX NY NZ` and `TX TY TZ` (an LN block), in one list.
+        axes: Vec<KWord<'a>>,
         /// `DR+` (true) / `DR-`.
         ccw: Option<bool>,
-        radius: Option<KWord>,
-        feed: FeedWord,
-        m: Vec<KWord>,
+        radius: Option<KWord<'a>>,
+        feed: FeedWord<'a>,
+        m: Vec<KWord<'a>>,
     },
     /// `CC`: the pole.
-    Centre(Vec<KWord>),
+    Centre(Vec<KWord<'a>>),
     /// A block of `M` functions only.
-    Misc(Vec<KWord>),
-    Tool { events: Vec<String>, feed: Option<KWord> },
+    Misc(Vec<KWord<'a>>),
+    Tool { events: Vec<String>, feed: Option<KWord<'a>> },
     Tcp { on: bool, orientation: Option<Orientation> },
     /// `CYCL DEF 7.x X..`: axis, value, incremental.
-    Datum(usize, KWord, bool),
-    Label(String),
-    Call { label: String, rep: Option<KWord> },
+    Datum(usize, KWord<'a>, bool),
+    Label(&'a str),
+    Call { label: &'a str, rep: Option<KWord<'a>> },
     Assign { name: String, value: f64 },
     /// `STOP`: a programmed stop, as M0.
     Stop,
@@ -104,21 +104,19 @@ enum Kind {
 }
 
 #[derive(Debug, Clone)]
-struct Stmt {
+struct Stmt<'a> {
     line: usize,
     col: usize,
     number: Option<u64>,
-    kind: Kind,
+    kind: Kind<'a>,
 }
 
 /// Read a Heidenhain conversational program on a control whose machine-specific M functions do what
 /// `m_codes` says and whose orientation interpolation starts as `orientation`.
 pub fn read_klartext_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
     let mut diags = Diags::default();
-    let mut interp = Interpreter::new(Dialect::Klartext).with_m_codes(m_codes).with_orientation(orientation);
-    let (name, inch, stmts) = parse(text, &mut diags);
-    interp.set_inch(inch);
-    let blocks = execute(&stmts, interp, &mut diags);
+    let interp = Interpreter::new(Dialect::Klartext).with_m_codes(m_codes).with_orientation(orientation);
+    let (name, blocks) = execute(text, interp, &mut diags);
     diags.0.sort_by(|a, b| (a.line, a.column).cmp(&(b.line, b.column)));
     diags.0.dedup();
     Program { source: String::new(), dialect: Dialect::Klartext, name, blocks, diagnostics: diags.0 }
@@ -128,158 +126,206 @@ fn errors(d: &Diags) -> usize {
     d.0.iter().filter(|d| d.severity == Severity::Error).count()
 }
 
-/// Whitespace-separated tokens of a block body with their 1-based columns.
-fn tokens(chars: &[char], from: usize) -> Vec<(String, usize)> {
-    let mut out = Vec::new();
-    let mut i = from;
-    while i < chars.len() {
-        if chars[i].is_whitespace() {
+/// Whitespace-separated tokens of a line, borrowed, with their 1-based columns (characters).
+fn tokens(line: &str) -> Vec<(&str, usize)> {
+    let b = line.as_bytes();
+    let ascii = line.is_ascii();
+    let col = |i: usize| if ascii { i + 1 } else { line[..i].chars().count() + 1 };
+    let mut out = Vec::with_capacity(12);
+    let mut i = 0;
+    while i < b.len() {
+        if b[i].is_ascii_whitespace() {
             i += 1;
             continue;
         }
-        if chars[i] == ';' {
+        if b[i] == b';' {
             break;
         }
         let start = i;
-        if chars[i] == '"' {
+        if b[i] == b'"' {
             // A quoted name ("MILL_D10"), spaces and all.
             i += 1;
-            while i < chars.len() && chars[i] != '"' {
+            while i < b.len() && b[i] != b'"' {
                 i += 1;
             }
-            i = (i + 1).min(chars.len());
+            i = (i + 1).min(b.len());
         } else {
-            while i < chars.len() && !chars[i].is_whitespace() && chars[i] != ';' {
+            while i < b.len() && !b[i].is_ascii_whitespace() && b[i] != b';' {
                 i += 1;
             }
         }
-        out.push((chars[start..i].iter().collect(), start + 1));
+        while i < b.len() && !line.is_char_boundary(i) {
+            i += 1;
+        }
+        out.push((&line[start..i], col(start)));
     }
     out
 }
 
+/// `s` in capitals, borrowed when it already is.
+fn upper(s: &str) -> Cow<'_, str> {
+    if s.bytes().any(|c| c.is_ascii_lowercase()) {
+        Cow::Owned(s.to_ascii_uppercase())
+    } else {
+        Cow::Borrowed(s)
+    }
+}
+
 /// A value as written after an address: a number or a `Q` parameter with an optional sign.
-fn parse_val(rest: &str) -> Option<Val> {
+fn parse_val(rest: &str) -> Option<Val<'_>> {
     let (negative, body) = match rest.strip_prefix('-') {
         Some(b) => (true, b),
         None => (false, rest.strip_prefix('+').unwrap_or(rest)),
     };
-    for prefix in ["QL", "QR", "Q"] {
-        if let Some(digits) = body.strip_prefix(prefix) {
-            if !digits.is_empty() && digits.chars().all(|c| c.is_ascii_digit()) {
-                return Some(Val::Q { name: format!("{prefix}{digits}"), negative });
+    if body.starts_with('Q') {
+        for prefix in ["QL", "QR", "Q"] {
+            if let Some(digits) = body.strip_prefix(prefix) {
+                if !digits.is_empty() && digits.bytes().all(|c| c.is_ascii_digit()) {
+                    return Some(Val::Q { name: body, negative });
+                }
+                return None;
             }
-            return None;
         }
     }
     parse_number(rest).map(Val::Num)
 }
 
-/// Split a word into its address and value text: `IX+5` -> (`IX`, `+5`), `FQ5` -> (`F`, `Q5`),
-/// `X+Q1` -> (`X`, `+Q1`), `FMAX` -> (`FMAX`, ``).
-fn split_word(tok: &str) -> (String, String) {
+/// Split a word into its address (in capitals) and value text: `IX+5` -> (`IX`, `+5`), `FQ5` ->
+/// (`F`, `Q5`), `X+Q1` -> (`X`, `+Q1`), `FMAX` -> (`FMAX`, ``).
+fn split_word(tok: &str) -> (Cow<'_, str>, &str) {
     let n = tok.find(|c: char| !c.is_ascii_alphabetic()).unwrap_or(tok.len());
     let (letters, rest) = tok.split_at(n);
-    let upper = letters.to_ascii_uppercase();
-    if upper.len() > 1 && upper.ends_with('Q') && rest.starts_with(|c: char| c.is_ascii_digit()) {
-        return (upper[..upper.len() - 1].to_string(), format!("Q{rest}"));
+    if n > 1 && letters.ends_with(['Q', 'q']) && rest.starts_with(|c: char| c.is_ascii_digit()) {
+        return (upper(&letters[..n - 1]), &tok[n - 1..]);
     }
-    (upper, rest.to_string())
+    (upper(letters), rest)
 }
 
-/// Parse every line into statements; defects go to `diags` and their statements are dropped.
-fn parse(text: &str, diags: &mut Diags) -> (Option<String>, bool, Vec<Stmt>) {
-    let mut name = None;
-    let mut inch = false;
-    let mut stmts = Vec::new();
-    let mut began = false;
-    let mut ended = false;
-    let mut datum_defined = false;
-    for (idx, raw) in text.lines().enumerate() {
-        let line = idx + 1;
-        let chars: Vec<char> = raw.trim_end_matches('\r').chars().collect();
-        let toks = tokens(&chars, 0);
-        let Some((first, first_col)) = toks.first().cloned() else { continue };
+/// The address of a motion word as a static name and its bit in a block's set, if it is one.
+fn motion_address(a: &str) -> Option<(&'static str, u32)> {
+    Some(match a {
+        "X" => ("X", 0),
+        "Y" => ("Y", 1),
+        "Z" => ("Z", 2),
+        "A" => ("A", 3),
+        "B" => ("B", 4),
+        "C" => ("C", 5),
+        "IX" => ("IX", 0),
+        "IY" => ("IY", 1),
+        "IZ" => ("IZ", 2),
+        "IA" => ("IA", 3),
+        "IB" => ("IB", 4),
+        "IC" => ("IC", 5),
+        "NX" => ("NX", 6),
+        "NY" => ("NY", 7),
+        "NZ" => ("NZ", 8),
+        "TX" => ("TX", 9),
+        "TY" => ("TY", 10),
+        "TZ" => ("TZ", 11),
+        _ => return None,
+    })
+}
+
+/// What reading has learnt so far, in the order the program runs.
+#[derive(Debug, Clone, Default)]
+struct ParseState {
+    name: Option<String>,
+    inch: bool,
+    began: bool,
+    ended: bool,
+    datum_defined: bool,
+}
+
+/// Parse one line (1-based `line`) into its statement; defects go to `diags` and drop it. Lines are
+/// parsed as they run, so a repeated section is parsed again rather than held: memory stays that of
+/// the blocks.
+fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Diags) -> Option<Stmt<'a>> {
+    let ParseState { name, inch, began, ended, datum_defined } = st;
+    {
+        let all = tokens(raw.trim_end_matches('\r'));
+        let Some(&(first, first_col)) = all.first() else { return None };
         // The block number, then the block.
-        let (number, mut toks) = if first.chars().all(|c| c.is_ascii_digit()) {
-            (first.parse::<u64>().ok(), toks[1..].to_vec())
-        } else {
-            (None, toks)
-        };
-        if toks.is_empty() {
-            continue;
+        let (number, toks) = if first.bytes().all(|c| c.is_ascii_digit()) { (first.parse::<u64>().ok(), &all[1..]) } else { (None, &all[..]) };
+        let Some(&(head, head_col)) = toks.first() else { return None };
+        if head.starts_with('*') {
+            return None; // `* - SECTION`: a structure line
         }
-        if toks[0].0.starts_with('*') {
-            continue; // `* - SECTION`: a structure line
-        }
-        if toks[0].0 == "/" || toks[0].0.starts_with('/') {
-            diags.warning(line, toks[0].1, "block skip '/' is not modelled: the block is run");
-            if toks[0].0 == "/" {
-                toks.remove(0);
+        let mut skip_col = None;
+        let mut owned: Vec<(&'a str, usize)>;
+        let toks: &[(&'a str, usize)] = if let Some(rest) = head.strip_prefix('/') {
+            skip_col = Some(head_col);
+            owned = toks.to_vec();
+            if rest.is_empty() {
+                owned.remove(0);
             } else {
-                toks[0].0.remove(0);
-                toks[0].1 += 1;
+                owned[0] = (rest, head_col + 1);
             }
-            if toks.is_empty() {
-                continue;
-            }
+            &owned
+        } else {
+            toks
+        };
+        if let Some(c) = skip_col {
+            diags.warning(line, c, "block skip '/' is not modelled: the block is run");
         }
-        if ended {
+        if toks.is_empty() {
+            return None;
+        }
+        if *ended {
             diags.warning(line, first_col, "text after END PGM ignored");
-            continue;
+            return None;
         }
-        let upper: Vec<String> = toks.iter().map(|(t, _)| t.to_ascii_uppercase()).collect();
         let col = toks[0].1;
         let before = errors(diags);
-        let key = |k: usize| upper.get(k).map(String::as_str).unwrap_or("");
-        let kind: Option<Kind> = match key(0) {
+        let key = |k: usize| upper(toks.get(k).map_or("", |t| t.0));
+        let k0 = key(0);
+        let kind: Option<Kind<'a>> = match k0.as_ref() {
             "BEGIN" if key(1) == "PGM" => {
-                if began {
+                if *began {
                     diags.error(line, col, "a second BEGIN PGM: one program per file");
-                } else if toks.len() != 4 || !matches!(key(3), "MM" | "INCH") {
+                } else if toks.len() != 4 || !matches!(key(3).as_ref(), "MM" | "INCH") {
                     diags.error(line, col, "expected BEGIN PGM NAME MM (or INCH)");
                 } else {
-                    name = Some(toks[2].0.clone());
-                    inch = key(3) == "INCH";
+                    *name = Some(toks[2].0.to_string());
+                    *inch = key(3) == "INCH";
                 }
-                began = true;
+                *began = true;
                 None
             }
             "END" if key(1) == "PGM" => {
-                match (toks.get(2), &name) {
+                match (toks.get(2), &*name) {
                     (Some((n, c)), Some(start)) if n != start => {
                         diags.error(line, *c, format!("END PGM names '{n}' but the program began as '{start}'"))
                     }
                     _ => {}
                 }
-                ended = true;
+                *ended = true;
                 Some(Kind::End)
             }
-            _ if !began => {
+            _ if !*began => {
                 diags.error(line, col, "expected BEGIN PGM NAME MM before the first block");
-                began = true; // said once
+                *began = true; // said once
                 None
             }
             "BLK" if key(1) == "FORM" => None, // the workpiece blank: drawing only
             "TOOL" if key(1) == "DEF" => None, // tool preselection: no motion
-            "TOOL" if key(1) == "CALL" => tool_call(&toks, &upper, line, diags),
-            "L" | "LN" | "C" | "CR" | "CT" => motion(&toks, &upper, line, diags),
-            "CC" => centre(&toks, line, diags),
+            "TOOL" if key(1) == "CALL" => tool_call(toks, line, diags),
+            "L" | "LN" | "C" | "CR" | "CT" => motion(toks, &k0, line, diags),
+            "CC" => centre(toks, line, diags),
             "STOP" => Some(Kind::Stop),
             "LBL" => match toks.get(1) {
-                Some((l, _)) if toks.len() == 2 => Some(Kind::Label(l.trim_matches('"').to_string())),
+                Some((l, _)) if toks.len() == 2 => Some(Kind::Label(l.trim_matches('"'))),
                 _ => {
                     diags.error(line, col, "expected LBL n or LBL \"NAME\"");
                     None
                 }
             },
-            "CALL" if key(1) == "LBL" => call(&toks, &upper, line, diags),
+            "CALL" if key(1) == "LBL" => call(toks, line, diags),
             "CALL" | "SEL" => {
-                diags.error(line, col, format!("{} {}: calling another program is not read", key(0), key(1)));
+                diags.error(line, col, format!("{} {}: calling another program is not read", k0, key(1)));
                 None
             }
-            "FUNCTION" => function(&upper, line, col, diags),
-            "CYCL" if key(1) == "DEF" => cycle(&toks, &upper, line, &mut datum_defined, diags),
+            "FUNCTION" => function(toks, line, col, diags),
+            "CYCL" if key(1) == "DEF" => cycle(toks, line, datum_defined, diags),
             "CYCL" => {
                 diags.error(line, col, "CYCL CALL: machining cycles are not read (they cut)");
                 None
@@ -290,29 +336,23 @@ fn parse(text: &str, diags: &mut Diags) -> (Option<String>, bool, Vec<Stmt>) {
                 None
             }
             "FN" => assign(&toks[1..], line, col, true, diags),
-            k if k.starts_with('Q') => assign(&toks, line, col, false, diags),
-            k if k.starts_with('M') && split_word(k).0 == "M" => misc(&toks, line, diags),
-            "APPR" | "DEP" | "RND" | "CHF" | "LP" | "CP" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH" => {
-                diags.error(line, col, format!("{}: {} is not read (it changes the motion)", toks[0].0, unsupported(key(0))));
+            k if k.starts_with('Q') => assign(toks, line, col, false, diags),
+            k if k.starts_with('M') && split_word(k).0 == "M" => misc(toks, line, diags),
+            k @ ("APPR" | "DEP" | "RND" | "CHF" | "LP" | "CP" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH") => {
+                diags.error(line, col, format!("{}: {} is not read (it changes the motion)", toks[0].0, unsupported(k)));
                 None
             }
             _ => {
-                diags.error(line, col, format!("unknown block '{}': not read (it may change the motion)", excerpt(&toks[0].0)));
+                diags.error(line, col, format!("unknown block '{}': not read (it may change the motion)", excerpt(toks[0].0)));
                 None
             }
         };
         if errors(diags) > before {
             diags.warning(line, col, format!("block {} not used", label(number, line)));
-            continue;
+            return None;
         }
-        if let Some(kind) = kind {
-            stmts.push(Stmt { line, col, number, kind });
-        }
+        kind.map(|kind| Stmt { line, col, number, kind })
     }
-    if !began {
-        diags.error(1, 1, "missing program start: expected BEGIN PGM NAME MM");
-    }
-    (name, inch, stmts)
 }
 
 fn unsupported(k: &str) -> &'static str {
@@ -333,9 +373,9 @@ fn label(number: Option<u64>, line: usize) -> String {
 }
 
 /// One value word; defects go to `diags`.
-fn value_word(addr: String, rest: &str, tok: &str, col: usize, line: usize, diags: &mut Diags) -> Option<KWord> {
+fn value_word<'a>(addr: &'static str, rest: &'a str, tok: &str, col: usize, line: usize, diags: &mut Diags) -> Option<KWord<'a>> {
     match parse_val(rest) {
-        Some(val) => Some(KWord { addr, val, raw: rest.to_string(), col }),
+        Some(val) => Some(KWord { addr, val, raw: rest, col }),
         None => {
             let why = if rest.contains(['(', '*', '/']) || rest.chars().skip(1).any(|c| c == '+' || c == '-') {
                 " (an expression, which is not read)"
@@ -349,8 +389,8 @@ fn value_word(addr: String, rest: &str, tok: &str, col: usize, line: usize, diag
 }
 
 /// `L`, `LN`, `C`, `CR`, `CT` blocks.
-fn motion(toks: &[(String, usize)], upper: &[String], line: usize, diags: &mut Diags) -> Option<Kind> {
-    let shape = match upper[0].as_str() {
+fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let shape = match key {
         "L" => Shape::Line,
         "LN" => Shape::LineNormal,
         "C" => Shape::Circle,
@@ -358,168 +398,168 @@ fn motion(toks: &[(String, usize)], upper: &[String], line: usize, diags: &mut D
         _ => Shape::CircleTangent,
     };
     let arc = matches!(shape, Shape::Circle | Shape::CircleRadius | Shape::CircleTangent);
-    let mut axes: Vec<KWord> = Vec::new();
-    let mut normal: [Option<KWord>; 3] = Default::default();
-    let mut tool: [Option<KWord>; 3] = Default::default();
+    let mut axes: Vec<KWord<'a>> = Vec::with_capacity(if shape == Shape::LineNormal { 9 } else { 5 });
     let (mut ccw, mut radius, mut feed, mut m) = (None, None, FeedWord::None, Vec::new());
-    for (tok, col) in &toks[1..] {
-        let col = *col;
+    let mut seen = 0u32;
+    for &(tok, col) in &toks[1..] {
         let (addr, rest) = split_word(tok);
-        match addr.as_str() {
-            "X" | "Y" | "Z" | "A" | "B" | "C" | "IX" | "IY" | "IZ" | "IA" | "IB" | "IC" => {
-                let axis = addr.chars().last().unwrap_or('X');
-                if axes.iter().any(|w| w.addr.ends_with(axis)) {
-                    diags.error(line, col, format!("axis {axis} written twice in one block"));
+        let addr = addr.as_ref();
+        match (motion_address(addr), addr) {
+            (Some((_, bit)), _) if bit >= 6 && shape != Shape::LineNormal => {
+                diags.error(line, col, format!("unexpected word '{}' in an {key} block (NX NY NZ, TX TY TZ belong to LN)", excerpt(tok)))
+            }
+            (Some((a, bit)), _) => {
+                if seen & (1 << bit) != 0 {
+                    diags.error(line, col, format!("{a} written twice in one block"));
                 }
-                if let Some(w) = value_word(addr, &rest, tok, col, line, diags) {
+                seen |= 1 << bit;
+                if let Some(w) = value_word(a, rest, tok, col, line, diags) {
                     axes.push(w);
                 }
             }
-            "NX" | "NY" | "NZ" | "TX" | "TY" | "TZ" if shape == Shape::LineNormal => {
-                let k = "XYZ".find(addr.chars().nth(1).unwrap_or('X')).unwrap_or(0);
-                let slot = if addr.starts_with('N') { &mut normal[k] } else { &mut tool[k] };
-                *slot = value_word(addr, &rest, tok, col, line, diags);
-            }
-            "F" => feed = value_word(addr, &rest, tok, col, line, diags).map_or(FeedWord::None, FeedWord::Value),
-            "FMAX" if rest.is_empty() && !arc => feed = FeedWord::Max,
-            "FMAX" if rest.is_empty() => diags.error(line, col, "FMAX on a circle: expected a feed F"),
-            "FAUTO" if rest.is_empty() => feed = FeedWord::Auto(col),
-            "FU" | "FZ" => diags.error(line, col, format!("{tok}: feed per revolution or per tooth is not supported")),
-            "M" => {
-                if let Some(w) = value_word(addr, &rest, tok, col, line, diags) {
+            (None, "F") => feed = value_word("F", rest, tok, col, line, diags).map_or(FeedWord::None, FeedWord::Value),
+            (None, "FMAX") if rest.is_empty() && !arc => feed = FeedWord::Max,
+            (None, "FMAX") if rest.is_empty() => diags.error(line, col, "FMAX on a circle: expected a feed F"),
+            (None, "FAUTO") if rest.is_empty() => feed = FeedWord::Auto(col),
+            (None, "FU" | "FZ") => diags.error(line, col, format!("{tok}: feed per revolution or per tooth is not supported")),
+            (None, "M") => {
+                if let Some(w) = value_word("M", rest, tok, col, line, diags) {
                     m.push(w);
                 }
             }
-            "R" if rest == "0" => {} // radius compensation off
-            "R" if shape == Shape::CircleRadius && rest.starts_with(['+', '-']) => radius = value_word(addr, &rest, tok, col, line, diags),
-            "RL" | "RR" if rest.is_empty() => diags.error(line, col, format!("{tok}: tool radius compensation is not supported (expected R0)")),
-            "DR" if arc && (rest == "+" || rest == "-") && shape != Shape::CircleTangent => ccw = Some(rest == "+"),
-            _ => diags.error(line, col, format!("unexpected word '{}' in an {} block", excerpt(tok), upper[0])),
+            (None, "R") if rest == "0" => {} // radius compensation off
+            (None, "R") if shape == Shape::CircleRadius && rest.starts_with(['+', '-']) => radius = value_word("R", rest, tok, col, line, diags),
+            (None, "RL" | "RR") if rest.is_empty() => diags.error(line, col, format!("{tok}: tool radius compensation is not supported (expected R0)")),
+            (None, "DR") if arc && (rest == "+" || rest == "-") && shape != Shape::CircleTangent => ccw = Some(rest == "+"),
+            _ => diags.error(line, col, format!("unexpected word '{}' in an {key} block", excerpt(tok))),
         }
     }
     let at = toks[0].1;
     match shape {
-        Shape::Circle | Shape::CircleRadius if ccw.is_none() => diags.error(line, at, format!("{}: expected the direction DR+ or DR-", upper[0])),
+        Shape::Circle | Shape::CircleRadius if ccw.is_none() => diags.error(line, at, format!("{key}: expected the direction DR+ or DR-")),
         Shape::CircleRadius if radius.is_none() => diags.error(line, at, "CR: expected the radius R+.. (R- for an arc over 180 deg)"),
         Shape::LineNormal => {
-            let xyz = ["X", "Y", "Z"].map(|a| axes.iter().any(|w| w.addr == a || w.addr == format!("I{a}")));
-            if xyz.contains(&false) || normal.iter().any(Option::is_none) {
+            // Bits: X Y Z 0-2, A B C 3-5, NX NY NZ 6-8, TX TY TZ 9-11.
+            if seen & 0o707 != 0o707 {
                 diags.error(line, at, "LN: expected X Y Z and NX NY NZ, all of them (as the TNC writes LN blocks)");
             }
-            if tool.iter().any(Option::is_some) && tool.iter().any(Option::is_none) {
+            if seen & 0o7000 != 0 && seen & 0o7000 != 0o7000 {
                 diags.error(line, at, "LN: expected TX TY TZ together");
             }
-            if axes.iter().any(|w| !w.addr.ends_with(['X', 'Y', 'Z'])) {
+            if seen & 0o70 != 0 {
                 diags.error(line, at, "LN with rotary-axis words: the tool axis is the vector TX TY TZ");
             }
         }
         _ => {}
     }
-    Some(Kind::Move { shape, axes, normal, tool, ccw, radius, feed, m })
+    Some(Kind::Move { shape, axes, ccw, radius, feed, m })
 }
 
 /// `CC X.. Y..`: the pole (circle centre) in the working plane.
-fn centre(toks: &[(String, usize)], line: usize, diags: &mut Diags) -> Option<Kind> {
+fn centre<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
     let mut axes = Vec::new();
-    for (tok, col) in &toks[1..] {
+    for &(tok, col) in &toks[1..] {
         let (addr, rest) = split_word(tok);
-        match addr.as_str() {
-            "X" | "Y" | "Z" | "IX" | "IY" | "IZ" => {
-                if let Some(w) = value_word(addr, &rest, tok, *col, line, diags) {
+        match motion_address(&addr) {
+            Some((a, 0..=2)) => {
+                if let Some(w) = value_word(a, rest, tok, col, line, diags) {
                     axes.push(w);
                 }
             }
-            _ => diags.error(line, *col, format!("unexpected word '{}' in a CC block: expected the pole's coordinates", excerpt(tok))),
+            _ => diags.error(line, col, format!("unexpected word '{}' in a CC block: expected the pole's coordinates", excerpt(tok))),
         }
     }
     Some(Kind::Centre(axes))
 }
 
 /// A block of M functions only (`M128`, `M3 M8`).
-fn misc(toks: &[(String, usize)], line: usize, diags: &mut Diags) -> Option<Kind> {
+fn misc<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
     let mut m = Vec::new();
-    for (tok, col) in toks {
+    for &(tok, col) in toks {
         let (addr, rest) = split_word(tok);
         if addr == "M" {
-            if let Some(w) = value_word(addr, &rest, tok, *col, line, diags) {
+            if let Some(w) = value_word("M", rest, tok, col, line, diags) {
                 m.push(w);
             }
         } else {
-            diags.error(line, *col, format!("unexpected word '{}' after an M function", excerpt(tok)));
+            diags.error(line, col, format!("unexpected word '{}' after an M function", excerpt(tok)));
         }
     }
     Some(Kind::Misc(m))
 }
 
 /// `TOOL CALL 5 Z S12000 F500`: events, and the feed FAUTO takes.
-fn tool_call(toks: &[(String, usize)], upper: &[String], line: usize, diags: &mut Diags) -> Option<Kind> {
+fn tool_call<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
     let mut events = Vec::new();
     let mut feed = None;
     let mut rest_from = 2;
-    if let Some((t, _)) = toks.get(2) {
-        let is_axis = matches!(upper[2].as_str(), "X" | "Y" | "Z");
-        if !is_axis && !upper[2].starts_with(['S', 'F', 'D']) || t.starts_with('"') {
+    if let Some(&(t, _)) = toks.get(2) {
+        let u = upper(t);
+        let is_axis = matches!(u.as_ref(), "X" | "Y" | "Z");
+        if !is_axis && !u.starts_with(['S', 'F', 'D']) || t.starts_with('"') {
             events.push(format!("T{t}"));
             rest_from = 3;
         }
     }
-    for (k, (tok, col)) in toks.iter().enumerate().skip(rest_from) {
+    for (k, &(tok, col)) in toks.iter().enumerate().skip(rest_from) {
         let (addr, rest) = split_word(tok);
-        match addr.as_str() {
+        match addr.as_ref() {
             "Z" if rest.is_empty() => {}
-            "X" | "Y" if rest.is_empty() => {
-                diags.error(line, *col, format!("TOOL CALL with tool axis {addr}: only tool axis Z is modelled (the machine file's)"))
+            a @ ("X" | "Y") if rest.is_empty() => {
+                diags.error(line, col, format!("TOOL CALL with tool axis {a}: only tool axis Z is modelled (the machine file's)"))
             }
-            "S" => match parse_val(&rest) {
+            "S" => match parse_val(rest) {
                 Some(_) => events.push(format!("S{rest}")),
-                None => diags.error(line, *col, format!("S: expected a spindle speed, found '{}'", excerpt(tok))),
+                None => diags.error(line, col, format!("S: expected a spindle speed, found '{}'", excerpt(tok))),
             },
-            "F" => feed = value_word(addr, &rest, tok, *col, line, diags),
-            "DL" | "DR" | "DR2" => match parse_val(&rest) {
+            "F" => feed = value_word("F", rest, tok, col, line, diags),
+            "DL" | "DR" => match parse_val(rest) {
                 Some(Val::Num(v)) if v == 0.0 => {}
                 _ => diags.error(
                     line,
-                    *col,
+                    col,
                     format!("{tok}: a tool length or radius delta is not modelled (it moves the tool tip; the tool is the machine file's)"),
                 ),
             },
-            _ => diags.error(line, *col, format!("unexpected word '{}' in TOOL CALL (word {})", excerpt(tok), k + 1)),
+            _ => diags.error(line, col, format!("unexpected word '{}' in TOOL CALL (word {})", excerpt(tok), k + 1)),
         }
     }
     Some(Kind::Tool { events, feed })
 }
 
 /// `CALL LBL n [REP m]`.
-fn call(toks: &[(String, usize)], upper: &[String], line: usize, diags: &mut Diags) -> Option<Kind> {
-    let Some((label, _)) = toks.get(2) else {
+fn call<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let Some(&(label, _)) = toks.get(2) else {
         diags.error(line, toks[0].1, "CALL LBL: expected the label");
         return None;
     };
     let mut rep = None;
     let mut k = 3;
     while k < toks.len() {
-        let (tok, col) = (&upper[k], toks[k].1);
-        if let Some(r) = tok.strip_prefix("REP") {
+        let (tok, col) = toks[k];
+        let after = tok.get(3..).filter(|_| tok.get(..3).is_some_and(|p| p.eq_ignore_ascii_case("REP")));
+        if let Some(r) = after {
             // `REP 3`, `REP3`, `REPQ9`, and the `REP3/3` the TNC displays (count left / count).
             let r = if r.is_empty() && k + 1 < toks.len() {
                 k += 1;
-                upper[k].clone()
+                toks[k].0
             } else {
-                r.to_string()
+                r
             };
             let count = r.split('/').next().unwrap_or("");
-            rep = value_word("REP".into(), count, tok, col, line, diags);
+            rep = value_word("REP", count, tok, col, line, diags);
         } else {
             diags.error(line, col, format!("unexpected '{}' in CALL LBL: expected REP n", excerpt(tok)));
         }
         k += 1;
     }
-    Some(Kind::Call { label: label.trim_matches('"').to_string(), rep })
+    Some(Kind::Call { label: label.trim_matches('"'), rep })
 }
 
 /// `FUNCTION TCPM ...` and `FUNCTION RESET TCPM`.
-fn function(upper: &[String], line: usize, col: usize, diags: &mut Diags) -> Option<Kind> {
-    let words: Vec<&str> = upper.iter().map(String::as_str).collect();
+fn function<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let words: Vec<Cow<'_, str>> = toks.iter().map(|t| upper(t.0)).collect();
+    let words: Vec<&str> = words.iter().map(|w| w.as_ref()).collect();
     match words.get(1..) {
         Some(["RESET", "TCPM"]) => return Some(Kind::Tcp { on: false, orientation: None }),
         Some(["TCPM", ..]) => {}
@@ -566,9 +606,9 @@ fn function(upper: &[String], line: usize, col: usize, diags: &mut Diags) -> Opt
 }
 
 /// `CYCL DEF 7.0 DATUM SHIFT` / `7.1 X+..` / `7.2 Y+..` / `7.3 Z+..`; every other cycle is refused.
-fn cycle(toks: &[(String, usize)], upper: &[String], line: usize, defined: &mut bool, diags: &mut Diags) -> Option<Kind> {
+fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bool, diags: &mut Diags) -> Option<Kind<'a>> {
     let col = toks[0].1;
-    let number = upper.get(2).map(String::as_str).unwrap_or("");
+    let number = toks.get(2).map_or("", |t| t.0);
     let (cycle, part) = number.split_once('.').unwrap_or((number, ""));
     if cycle != "7" {
         let what = match cycle {
@@ -588,33 +628,32 @@ fn cycle(toks: &[(String, usize)], upper: &[String], line: usize, defined: &mut 
         diags.error(line, col, format!("CYCL DEF {number} without CYCL DEF 7.0 before it"));
         return None;
     }
-    let Some((tok, wcol)) = toks.get(3) else {
+    let Some(&(tok, wcol)) = toks.get(3) else {
         diags.error(line, col, format!("CYCL DEF {number}: expected an axis value such as X+10"));
         return None;
     };
     if tok.starts_with('#') {
-        diags.error(line, *wcol, "CYCL DEF 7 with a datum table (#): not modelled");
+        diags.error(line, wcol, "CYCL DEF 7 with a datum table (#): not modelled");
         return None;
     }
     let (addr, rest) = split_word(tok);
-    let (incremental, axis) = match addr.as_str() {
-        "X" | "Y" | "Z" => (false, addr.as_str()),
-        "IX" | "IY" | "IZ" => (true, &addr[1..]),
+    let (a, incremental) = match motion_address(&addr) {
+        Some((a, 0..=2)) => (a, a.starts_with('I')),
         _ => {
-            diags.error(line, *wcol, format!("CYCL DEF {number}: expected X, Y or Z, found '{}' (a rotary datum shift is not modelled)", excerpt(tok)));
+            diags.error(line, wcol, format!("CYCL DEF {number}: expected X, Y or Z, found '{}' (a rotary datum shift is not modelled)", excerpt(tok)));
             return None;
         }
     };
     if toks.len() > 4 {
         diags.error(line, toks[4].1, format!("CYCL DEF {number}: one axis per block"));
     }
-    let k = "XYZ".find(axis).unwrap_or(0);
-    value_word(addr.clone(), &rest, tok, *wcol, line, diags).map(|w| Kind::Datum(k, w, incremental))
+    let k = usize::from(a.as_bytes()[a.len() - 1] - b'X');
+    value_word(a, rest, tok, wcol, line, diags).map(|w| Kind::Datum(k, w, incremental))
 }
 
 /// `Q1 = +5`, `FN 0: Q1 = +5`: plain assignments of a number.
-fn assign(toks: &[(String, usize)], line: usize, col: usize, fn_form: bool, diags: &mut Diags) -> Option<Kind> {
-    let mut text: String = toks.iter().map(|(t, _)| t.as_str()).collect::<Vec<_>>().join("");
+fn assign<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, fn_form: bool, diags: &mut Diags) -> Option<Kind<'a>> {
+    let mut text: String = toks.iter().map(|t| t.0).collect::<Vec<_>>().join("");
     if fn_form {
         match text.strip_prefix("0:") {
             Some(rest) => text = rest.to_string(),
@@ -643,40 +682,58 @@ fn assign(toks: &[(String, usize)], line: usize, col: usize, fn_form: bool, diag
     }
 }
 
-/// Run the statements as the TNC does (labels, repeats, subprograms) and interpret each block.
-fn execute(stmts: &[Stmt], mut interp: Interpreter, diags: &mut Diags) -> Vec<Block> {
+/// Run the program as the TNC does (labels, repeats, subprograms), parsing each line as it runs,
+/// and interpret each block; then check the lines that did not run (uncalled subprograms).
+fn execute<'a>(text: &'a str, mut interp: Interpreter, diags: &mut Diags) -> (Option<String>, Vec<Block>) {
+    let lines: Vec<&'a str> = text.lines().map(|l| l.trim_end_matches('\r')).collect();
+    // Labels first: a call may jump forward to a subprogram written after M2/M30.
     let mut labels: HashMap<&str, usize> = HashMap::new();
-    for (k, s) in stmts.iter().enumerate() {
-        if let Kind::Label(l) = &s.kind {
-            if l != "0" && labels.insert(l.as_str(), k).is_some() {
-                diags.error(s.line, s.col, format!("LBL {l} defined twice"));
+    for (k, l) in lines.iter().enumerate() {
+        if !l.contains("LBL") && !l.contains("lbl") {
+            continue;
+        }
+        let t = tokens(l);
+        let body = if t.first().is_some_and(|f| f.0.bytes().all(|c| c.is_ascii_digit())) { &t[1..] } else { &t[..] };
+        if let [(kw, col), (label, _)] = body {
+            let label = label.trim_matches('"');
+            if kw.eq_ignore_ascii_case("LBL") && label != "0" && labels.insert(label, k).is_some() {
+                diags.error(k + 1, *col, format!("LBL {label} defined twice"));
             }
         }
     }
-    let mut ex = Exec { q: HashMap::new(), tool_feed: None, tangent: None, blocks: Vec::new() };
-    let mut stack: Vec<usize> = Vec::new();
+    let mut ex = Exec { q: HashMap::new(), tool_feed: None, tangent: None, blocks: Vec::with_capacity(lines.len()), words: Vec::with_capacity(12) };
+    let mut st = ParseState::default();
+    // Subprogram calls: where to come back to, and the call's line and column.
+    let mut stack: Vec<(usize, usize, usize)> = Vec::new();
     let mut repeats: HashMap<usize, u64> = HashMap::new();
-    let budget = stmts.len() + MAX_REPEATED_BLOCKS;
+    let budget = lines.len() + MAX_REPEATED_BLOCKS;
     let mut executed = 0usize;
     let mut pc = 0;
-    while pc < stmts.len() {
-        let s = &stmts[pc];
+    while pc < lines.len() {
+        let k = pc;
+        pc += 1;
+        let was_inch = st.inch;
+        let Some(s) = parse_line(k + 1, lines[k], &mut st, diags) else {
+            if st.inch != was_inch {
+                interp.set_inch(st.inch);
+            }
+            continue;
+        };
         executed += 1;
         if executed > budget {
             diags.error(s.line, s.col, format!("the repeats and calls run more than {MAX_REPEATED_BLOCKS} blocks beyond the program's own: not read further"));
             break;
         }
-        pc += 1;
         match &s.kind {
             Kind::End => break,
-            Kind::Label(l) if l == "0" => {
-                if let Some(back) = stack.pop() {
+            Kind::Label("0") => {
+                if let Some((back, _, _)) = stack.pop() {
                     pc = back;
                 }
             }
             Kind::Label(_) => {}
             Kind::Call { label, rep } => {
-                let Some(&target) = labels.get(label.as_str()) else {
+                let Some(&target) = labels.get(label) else {
                     diags.error(s.line, s.col, format!("CALL LBL {label}: no LBL {label} in the program"));
                     continue;
                 };
@@ -693,56 +750,63 @@ fn execute(stmts: &[Stmt], mut interp: Interpreter, diags: &mut Diags) -> Vec<Bl
                 };
                 if rep.is_some() {
                     // A program section repeat: back to the label `count` more times.
-                    if target >= pc {
+                    if target >= k {
                         diags.error(s.line, s.col, format!("CALL LBL {label} REP: the label must come before the call"));
                         continue;
                     }
-                    let left = repeats.entry(pc - 1).or_insert(count);
+                    let left = repeats.entry(k).or_insert(count);
                     if *left > 0 {
                         *left -= 1;
                         pc = target + 1;
                     } else {
-                        repeats.remove(&(pc - 1));
+                        repeats.remove(&k);
                     }
                 } else {
                     if stack.len() >= MAX_NESTING {
                         diags.error(s.line, s.col, format!("CALL LBL {label}: subprograms nested deeper than {MAX_NESTING} levels"));
                         break;
                     }
-                    stack.push(pc);
+                    stack.push((pc, s.line, s.col));
                     pc = target + 1;
                 }
             }
             _ => {
-                if ex.run(s, &mut interp, diags) && stack.is_empty() {
+                if ex.run(&s, &mut interp, diags) && stack.is_empty() {
                     break; // M2 / M30: the program ends (subprograms follow it)
                 }
             }
         }
     }
-    if let Some(&back) = stack.last() {
-        if let Some(s) = stmts.get(back - 1) {
-            diags.error(s.line, s.col, "the subprogram called here has no LBL 0 before the program ends");
-        }
+    if let Some(&(_, line, col)) = stack.last() {
+        diags.error(line, col, "the subprogram called here has no LBL 0 before the program ends");
     }
-    ex.blocks
+    // The lines after the end that did not run (subprograms never called) are checked all the same.
+    for k in pc..lines.len() {
+        let _ = parse_line(k + 1, lines[k], &mut st, diags);
+    }
+    if !st.began {
+        diags.error(1, 1, "missing program start: expected BEGIN PGM NAME MM");
+    }
+    (st.name, ex.blocks)
 }
 
 /// Run-time state besides the interpreter's.
-struct Exec {
+struct Exec<'a> {
     q: HashMap<String, f64>,
     /// The feed of the last TOOL CALL (program units per minute), for FAUTO.
-    tool_feed: Option<(f64, String)>,
+    tool_feed: Option<(f64, &'a str)>,
     /// Direction of the contour at its end in the working plane, for CT.
     tangent: Option<[f64; 2]>,
     blocks: Vec<Block>,
+    /// The words of the block being run (a buffer kept between blocks).
+    words: Vec<Word<'a>>,
 }
 
-impl Exec {
-    fn value(&self, w: &KWord, line: usize, diags: &mut Diags) -> Option<f64> {
+impl<'a> Exec<'a> {
+    fn value(&self, w: &KWord<'a>, line: usize, diags: &mut Diags) -> Option<f64> {
         match &w.val {
             Val::Num(v) => Some(*v),
-            Val::Q { name, negative } => match self.q.get(name) {
+            Val::Q { name, negative } => match self.q.get(*name) {
                 Some(v) => Some(if *negative { -v } else { *v }),
                 None => {
                     diags.error(line, w.col, format!("{}: {name} is used before it is set (only plain assignments Qn = number are read)", w.addr));
@@ -753,47 +817,46 @@ impl Exec {
     }
 
     /// Run one statement; true if it ends the program (M2, M30).
-    fn run(&mut self, s: &Stmt, interp: &mut Interpreter, diags: &mut Diags) -> bool {
+    fn run(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, diags: &mut Diags) -> bool {
         let before = errors(diags);
-        let mut words: Vec<Word> = Vec::new();
-        let word = |letter: char, value: f64, raw: String, column: usize, incremental: bool| Word { letter, value, raw: raw.into(), column, incremental };
+        let mut words = std::mem::take(&mut self.words);
+        words.clear();
+        let word = |letter: char, value: f64, raw: Cow<'a, str>, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
         let mut ends = false;
         let mut vector = None;
         let unit = interp.unit();
         match &s.kind {
             Kind::Assign { name, value } => {
                 self.q.insert(name.clone(), *value);
-                return false;
             }
             Kind::Tcp { on, orientation } => {
                 interp.set_tcp(*on);
                 if let Some(o) = orientation {
                     interp.set_orientation(*o);
                 }
-                return false;
             }
             Kind::Datum(k, w, incremental) => {
-                let Some(v) = self.value(w, s.line, diags) else { return false };
-                let mut datum = interp.datum();
-                datum[*k] = if *incremental { datum[*k] + v * unit } else { v * unit };
-                interp.set_datum(datum);
-                return false;
+                if let Some(v) = self.value(w, s.line, diags) {
+                    let mut datum = interp.datum();
+                    datum[*k] = if *incremental { datum[*k] + v * unit } else { v * unit };
+                    interp.set_datum(datum);
+                }
             }
             Kind::Stop => words.push(word('M', 0.0, "0".into(), s.col, false)),
             Kind::Tool { events, feed } => {
                 for e in events {
                     let (l, rest) = e.split_at(1);
-                    words.push(word(l.chars().next().unwrap_or('T'), 0.0, rest.to_string(), s.col, false));
+                    words.push(word(l.chars().next().unwrap_or('T'), 0.0, rest.to_string().into(), s.col, false));
                 }
                 if let Some(f) = feed {
-                    self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw.clone()));
+                    self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw));
                 }
             }
             Kind::Misc(m) => {
                 for w in m {
                     let v = self.value(w, s.line, diags).unwrap_or(0.0);
                     ends |= v == 2.0 || v == 30.0;
-                    words.push(word('M', v, w.raw.clone(), w.col, false));
+                    words.push(word('M', v, w.raw.into(), w.col, false));
                 }
             }
             Kind::Centre(axes) => {
@@ -801,7 +864,7 @@ impl Exec {
                 let (a0, a1, _) = interp.plane().axes();
                 let mut c = [pos[a0], pos[a1]];
                 for w in axes {
-                    let k = "XYZ".find(w.addr.chars().last().unwrap_or('X')).unwrap_or(0);
+                    let k = usize::from(w.addr.as_bytes()[w.addr.len() - 1] - b'X');
                     let Some(v) = self.value(w, s.line, diags) else { continue };
                     let incremental = w.addr.starts_with('I');
                     let slot = if k == a0 {
@@ -815,19 +878,25 @@ impl Exec {
                     c[slot] = if incremental { pos[k] + v * unit } else { v * unit };
                 }
                 for (slot, k) in [a0, a1].into_iter().enumerate() {
-                    words.push(word(['I', 'J', 'K'][k], c[slot] / unit, format!("{}", c[slot] / unit), s.col, false));
+                    words.push(word(['I', 'J', 'K'][k], c[slot] / unit, format!("{}", c[slot] / unit).into(), s.col, false));
                 }
             }
-            Kind::Move { shape, axes, normal, tool, ccw, radius, feed, m } => {
+            Kind::Move { shape, axes, ccw, radius, feed, m } => {
+                let mut tool = [None; 3];
+                let mut normal = [None; 3];
                 for w in axes {
                     let Some(v) = self.value(w, s.line, diags) else { continue };
-                    let letter = w.addr.chars().last().unwrap_or('X');
-                    words.push(word(letter, v, w.raw.clone(), w.col, w.addr.len() == 2));
+                    let last = w.addr.as_bytes()[w.addr.len() - 1];
+                    match w.addr.as_bytes()[0] {
+                        b'N' => normal[usize::from(last - b'X')] = Some(v),
+                        b'T' => tool[usize::from(last - b'X')] = Some(v),
+                        _ => words.push(word(last as char, v, w.raw.into(), w.col, w.addr.len() == 2)),
+                    }
                 }
                 for w in m {
                     let v = self.value(w, s.line, diags).unwrap_or(0.0);
                     ends |= v == 2.0 || v == 30.0;
-                    words.push(word('M', v, w.raw.clone(), w.col, false));
+                    words.push(word('M', v, w.raw.into(), w.col, false));
                 }
                 let g = match (shape, feed) {
                     (Shape::Line | Shape::LineNormal, FeedWord::Max) => "0",
@@ -836,53 +905,44 @@ impl Exec {
                     (Shape::Circle | Shape::CircleRadius, _) => "2",
                     (Shape::CircleTangent, _) => match self.tangent_arc(&words, interp, s, diags) {
                         Some((g, r)) => {
-                            words.push(word('R', r, format!("{r}"), s.col, false));
+                            words.push(word('R', r, format!("{r}").into(), s.col, false));
                             g
                         }
                         None => "1",
                     },
                 };
-                words.push(word('G', g.parse().unwrap_or(1.0), g.to_string(), s.col, false));
+                words.push(word('G', if g == "0" { 0.0 } else { g.parse().unwrap_or(1.0) }, g.into(), s.col, false));
                 if let Some(r) = radius {
                     if let Some(v) = self.value(r, s.line, diags) {
-                        words.push(word('R', v, r.raw.clone(), r.col, false));
+                        words.push(word('R', v, r.raw.into(), r.col, false));
                     }
                 }
                 match feed {
                     FeedWord::Value(f) => {
                         if let Some(v) = self.value(f, s.line, diags) {
-                            words.push(word('F', v, f.raw.clone(), f.col, false));
+                            words.push(word('F', v, f.raw.into(), f.col, false));
                         }
                     }
-                    FeedWord::Auto(col) => match &self.tool_feed {
-                        Some((v, raw)) => words.push(word('F', *v, raw.clone(), *col, false)),
+                    FeedWord::Auto(col) => match self.tool_feed {
+                        Some((v, raw)) => words.push(word('F', v, raw.into(), *col, false)),
                         None => diags.error(s.line, *col, "FAUTO without a feed in the TOOL CALL before it"),
                     },
                     FeedWord::Max | FeedWord::None => {}
                 }
                 if *shape == Shape::LineNormal {
-                    let read = |v: &[Option<KWord>; 3], this: &Exec, diags: &mut Diags| -> Option<[f64; 3]> {
-                        let mut out = [0.0; 3];
-                        for (k, w) in v.iter().enumerate() {
-                            out[k] = this.value(w.as_ref()?, s.line, diags)?;
-                        }
-                        Some(out)
-                    };
+                    let full = |v: [Option<f64>; 3]| -> Option<[f64; 3]> { Some([v[0]?, v[1]?, v[2]?]) };
                     let m128 = m.iter().any(|w| w.val == Val::Num(128.0));
-                    let t = read(tool, self, diags);
+                    let t = full(tool);
                     if interp.tcp() || m128 {
                         // Under TCPM the tool keeps the orientation T, or without T stands on the normal.
                         let given = if t.is_some() { "TX TY TZ" } else { "NX NY NZ" };
-                        match t.or_else(|| read(normal, self, diags)) {
-                            Some(v) => {
-                                let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-                                if n > 1e-9 && n.is_finite() {
-                                    vector = Some(v.map(|c| c / n));
-                                } else {
-                                    diags.error(s.line, s.col, format!("LN: the vector {given} has zero length: expected a direction"));
-                                }
+                        if let Some(v) = t.or_else(|| full(normal)) {
+                            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                            if n > 1e-9 && n.is_finite() {
+                                vector = Some(v.map(|c| c / n));
+                            } else {
+                                diags.error(s.line, s.col, format!("LN: the vector {given} has zero length: expected a direction"));
                             }
-                            None => {}
                         }
                     } else if t.is_some() {
                         diags.warning(
@@ -893,25 +953,31 @@ impl Exec {
                     }
                 }
             }
-            Kind::End | Kind::Label(_) | Kind::Call { .. } => return false,
+            Kind::End | Kind::Label(_) | Kind::Call { .. } => {}
+        }
+        let runs_block = !matches!(&s.kind, Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. });
+        if !runs_block {
+            self.words = words;
+            return false;
         }
         if errors(diags) > before {
             diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+            self.words = words;
             return false;
         }
         if let Some(v) = vector {
             interp.set_pending_vector(v);
         }
         let start = interp.position();
-        let saved = interp.clone();
-        match interp.block(&words, s.line, s.col, s.number, diags) {
+        let result = interp.block(&words, s.line, s.col, s.number, diags);
+        self.words = words;
+        match result {
             Some(b) => {
                 self.follow(&b, start, interp.position(), interp);
                 self.blocks.push(b);
                 ends
             }
             None => {
-                *interp = saved;
                 diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
                 false
             }
@@ -920,7 +986,7 @@ impl Exec {
 
     /// `CT`: the arc from the current point, tangent to the contour before it, to the block's end in
     /// the working plane: its direction (G02/G03) and signed radius (negative over 180 deg).
-    fn tangent_arc(&self, words: &[Word], interp: &Interpreter, s: &Stmt, diags: &mut Diags) -> Option<(&'static str, f64)> {
+    fn tangent_arc(&self, words: &[Word<'a>], interp: &Interpreter, s: &Stmt, diags: &mut Diags) -> Option<(&'static str, f64)> {
         let Some(t) = self.tangent else {
             diags.error(s.line, s.col, "CT: no contour element before it to be tangent to");
             return None;
