@@ -75,7 +75,17 @@ pub fn run(spec: &str, machine: &Machine, options: &JobOptions) -> Result<Job, J
         (program, traj)
     };
     let analysis = analyze(&trajectory, machine, &options.analysis);
-    let extra: Vec<Diagnostic> = trajectory.diagnostics.clone();
+    let mut extra: Vec<Diagnostic> = trajectory.diagnostics.clone();
+    if trajectory.segments.is_empty() && trajectory.stored.is_empty() {
+        // A gate that read nothing never passes: a program without a single move (empty, only
+        // comments, or every block refused) is bad input, not a clean result.
+        extra.push(Diagnostic {
+            line: 1,
+            column: 1,
+            severity: crate::program::Severity::Error,
+            message: format!("no moves: {} blocks read and none moves an axis, so there is nothing to analyse", program.blocks.len()),
+        });
+    }
     let report = AnalysisReport::new(&program, machine, &analysis, &trajectory, &extra, options.path.feed_override_mm_per_min);
     Ok(Job { program, trajectory, analysis, report })
 }

@@ -69,6 +69,28 @@ fn unreadable_input_and_bad_flags_exit_2() {
 }
 
 #[test]
+fn a_program_without_moves_exits_2_not_0() {
+    // A gate that read nothing never passes: an empty Sinumerik file, a comment-only RS274 file, a
+    // Klartext program whose only move is refused.
+    let dir = std::env::temp_dir().join(format!("fiveaxis-nomoves-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let files = [("empty.mpf", ""), ("comments.ngc", "(only a comment)\n; and another\n"), ("refused.h", "0 BEGIN PGM R MM\n1 L X+5 RL F100\n2 END PGM R MM\n")];
+    for (name, text) in files {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        for cmd in [&["program", "analyze"][..], &["run"][..]] {
+            let mut args = cmd.to_vec();
+            let p = path.display().to_string();
+            args.push(&p);
+            let (code, out, err) = fiveaxis(&args);
+            assert_eq!(code, 2, "{name} {cmd:?}: {out}{err}");
+            assert!(out.contains("no moves") || err.contains("no moves"), "{name} {cmd:?}: {out}{err}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn demo_runs_the_bundled_programs() {
     let (code, out, _) = fiveaxis(&["demo"]);
     assert_eq!(code, 0);
