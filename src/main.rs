@@ -203,7 +203,7 @@ enum AvoidCmd {
         /// Largest jig tilt allowed, degrees.
         #[arg(long = "max-tilt-deg", default_value_t = 10.0)]
         max_tilt_deg: f64,
-        /// Write the reoriented program here (same dialect as the input; Heidenhain for builtins).
+        /// Write the reoriented program here (RS274NGC stays RS274NGC; every other input, builtins too, is written as Heidenhain DIN/ISO).
         #[arg(long)]
         out: Option<std::path::PathBuf>,
         /// Print one JSON object with `before`, `after`, `theta_x_deg`, `theta_z_deg`.
@@ -222,7 +222,7 @@ enum AvoidCmd {
         /// The cutter: ball:R_MM (required: flat:R_MM and bull:R_MM:r_MM are refused).
         #[arg(long)]
         tool: fiveaxis::avoid::smooth::Tool,
-        /// Write the smoothed program here (same dialect as the input; Heidenhain for builtins).
+        /// Write the smoothed program here (RS274NGC stays RS274NGC; every other input, builtins too, is written as Heidenhain DIN/ISO).
         #[arg(long)]
         out: Option<std::path::PathBuf>,
         /// Print one JSON object with `before`, `after` and `passages`.
@@ -247,7 +247,7 @@ enum AvoidCmd {
         /// Largest rotary-axis change between neighbours, degrees.
         #[arg(long = "max-axis-step-deg", default_value_t = 2.0)]
         max_axis_step_deg: f64,
-        /// Write the refined program here (same dialect as the input; Heidenhain for CL data).
+        /// Write the refined program here (RS274NGC stays RS274NGC; every other input is written as Heidenhain DIN/ISO).
         #[arg(long)]
         out: Option<std::path::PathBuf>,
         /// Print one JSON object with `before`, `after` and the chord errors.
