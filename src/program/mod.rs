@@ -374,7 +374,7 @@ pub struct ControlArgs {
     pub m_codes: Vec<MCodeRule>,
     /// How the control interpolates the tool orientation under tool-centre-point management at
     /// program start (the machine's setting; the program's own words, such as Sinumerik's ORIVECT or
-    /// ORIAXES, still switch it). Default: the dialect's, from its maker's documentation.
+    /// ORIAXES and Heidenhain's FUNCTION TCPM ... PATHCTRL VECTOR or AXIS, still switch it). Default: the dialect's, from its maker's documentation.
     #[arg(long = "orientation", value_enum, value_name = "MODE")]
     pub orientation: Option<Orientation>,
 }
