@@ -317,49 +317,50 @@ proptest! {
 
 }
 
+/// `original` with the characters at `cuts` (positions taken modulo its length) replaced.
+fn mutate(original: &str, cuts: Vec<(usize, char)>) -> String {
+    let mut s: Vec<char> = original.chars().collect();
+    for (at, c) in cuts {
+        let at = at % s.len();
+        s[at] = c;
+    }
+    s.into_iter().collect()
+}
+
+/// Plan a program on the Hermle, sample it (about 3000 samples, at least 1 ms apart) and analyze
+/// it: its segment and sample counts.
+fn plan_sample_analyze(p: &Program) -> (usize, usize) {
+    let m = fiveaxis::machine::Machine::hermle_c600u();
+    let (segments, _) = fiveaxis::path::plan(p, &m, &Default::default());
+    let duration = segments.last().map_or(0.0, |s| s.t0 + s.duration);
+    let opts = fiveaxis::path::PathOptions { period: (duration / 3000.0).max(1e-3), ..Default::default() };
+    let t = fiveaxis::path::Trajectory::from_program(p, &m, &opts);
+    let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
+    (segments.len(), t.sample_count())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
     /// Program-shaped noise: mutations of the real program never panic and never invent blocks.
     /// (64 cases: each one plans and analyzes a whole program in a debug build.)
     #[test]
     fn mutated_programs_never_panic(cuts in proptest::collection::vec((0usize..2500, any::<char>()), 0..12)) {
-        let mut s: Vec<char> = SING.chars().collect();
-        for (at, c) in cuts {
-            let at = at % s.len();
-            s[at] = c;
-        }
-        let text: String = s.into_iter().collect();
-        let p = read_heidenhain(&text);
+        let p = read_heidenhain(&mutate(SING, cuts));
         prop_assert!(p.blocks.len() <= 75);
-        let m = fiveaxis::machine::Machine::hermle_c600u();
         // A mutated feed (F2 for F2000) stretches the program: keep the sample count bounded.
-        let (segments, _) = fiveaxis::path::plan(&p, &m, &Default::default());
-        let duration = segments.last().map_or(0.0, |s| s.t0 + s.duration);
-        let opts = fiveaxis::path::PathOptions { period: (duration / 3000.0).max(1e-3), ..Default::default() };
-        let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
-        prop_assert!(t.sample_count() <= 3100);
-        let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
+        let (_, samples) = plan_sample_analyze(&p);
+        prop_assert!(samples <= 3100);
     }
 
     /// The same for the Sinumerik twin, whose tool vectors run on great circles (pieces refined near
     /// the pole): a mutated vector or axis word never panics and never makes unbounded pieces.
     #[test]
     fn mutated_sinumerik_programs_never_panic(cuts in proptest::collection::vec((0usize..5000, any::<char>()), 0..12)) {
-        let mut s: Vec<char> = include_str!("../recordings/programs/twins/SING_840d.mpf").chars().collect();
-        for (at, c) in cuts {
-            let at = at % s.len();
-            s[at] = c;
-        }
-        let text: String = s.into_iter().collect();
+        let text = mutate(include_str!("../recordings/programs/twins/SING_840d.mpf"), cuts);
         let p = read(&text, Dialect::Sinumerik, "fuzz.mpf", &ReadOptions::default());
         prop_assert!(p.blocks.len() <= 72);
-        let m = fiveaxis::machine::Machine::hermle_c600u();
-        let (segments, _) = fiveaxis::path::plan(&p, &m, &Default::default());
-        prop_assert!(segments.len() <= 72 * (1 << 16));
-        let duration = segments.last().map_or(0.0, |s| s.t0 + s.duration);
-        let opts = fiveaxis::path::PathOptions { period: (duration / 3000.0).max(1e-3), ..Default::default() };
-        let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
-        let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
+        let (segments, _) = plan_sample_analyze(&p);
+        prop_assert!(segments <= 72 * (1 << 16));
     }
 
     /// The same for the Klartext programs: the LN twin on great circles, and the contour with its
@@ -371,21 +372,11 @@ proptest! {
         } else {
             include_str!("../recordings/programs/twins/SING_tnc_ln.h")
         };
-        let mut s: Vec<char> = original.chars().collect();
-        for (at, c) in cuts {
-            let at = at % s.len();
-            s[at] = c;
-        }
-        let text: String = s.into_iter().collect();
+        let text = mutate(original, cuts);
         let great = ReadOptions { orientation: Some(Orientation::GreatCircle), ..Default::default() };
         let p = read(&text, Dialect::Klartext, "fuzz.h", &great);
         // Repeats at most REP 9 (one mutated digit) of the 8-block section, and at most 2 levels.
         prop_assert!(p.blocks.len() <= 75 + 8 * 9 * 10, "{} blocks", p.blocks.len());
-        let m = fiveaxis::machine::Machine::hermle_c600u();
-        let (segments, _) = fiveaxis::path::plan(&p, &m, &Default::default());
-        let duration = segments.last().map_or(0.0, |s| s.t0 + s.duration);
-        let opts = fiveaxis::path::PathOptions { period: (duration / 3000.0).max(1e-3), ..Default::default() };
-        let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
-        let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
+        let _ = plan_sample_analyze(&p);
     }
 }

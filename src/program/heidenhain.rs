@@ -223,7 +223,7 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
         for (range, _) in groups.into_iter().filter(|(g, _)| !g.is_empty()) {
             let g = &toks[range];
             let first_col = tok_col(&g[0]);
-            let errors_before = error_count(&diags);
+            let errors_before = diags.errors();
             let mut number = None;
             let mut words: Vec<Word> = Vec::new();
             let mut program_end = false;
@@ -285,7 +285,7 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
                 ended = true;
                 continue;
             }
-            let damaged = error_count(&diags) > errors_before;
+            let damaged = diags.errors() > errors_before;
             if let Some(n) = number {
                 if let Some(first_line) = seen.get(n) {
                     diags.error(line, first_col, format!("block number N{n} repeats the block on line {first_line}"));
@@ -366,10 +366,6 @@ fn recover_order(blocks: &mut [Block], diags: &mut Diags) {
     } else {
         diags.warning(1, 1, "blocks kept in file order: the block numbers cannot restore the order");
     }
-}
-
-fn error_count(d: &Diags) -> usize {
-    d.0.iter().filter(|d| d.severity == super::Severity::Error).count()
 }
 
 fn tok_col(t: &Tok) -> usize {

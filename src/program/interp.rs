@@ -200,7 +200,7 @@ impl Interpreter {
         diags: &mut Diags,
     ) -> Option<Block> {
         let mut next = self.clone();
-        let errors_before = diags.0.iter().filter(|d| d.severity == super::Severity::Error).count();
+        let errors_before = diags.errors();
         let mut datum_block = false;
         let mut events = Vec::new();
         let mut feed_word: Option<&Word> = None;
@@ -504,7 +504,7 @@ impl Interpreter {
                 _ => {}
             }
         }
-        let errors_after = diags.0.iter().filter(|d| d.severity == super::Severity::Error).count();
+        let errors_after = diags.errors();
         if errors_after > errors_before {
             // The tool vector belonged to this block: it does not carry over to the next one.
             self.pending_vector = None;

@@ -27,8 +27,8 @@ use std::borrow::Cow;
 use std::collections::HashMap;
 
 use super::interp::{Interpreter, Word};
-use super::lex::{excerpt, parse_number, Diags};
-use super::{Block, Dialect, MCodeRule, Orientation, Program, Severity};
+use super::lex::{excerpt, parse_number, Columns, Diags};
+use super::{Block, Dialect, MCodeRule, Orientation, Program};
 
 /// How many blocks section repeats and subprogram calls may add beyond the program's own: a bound
 /// on memory for a program such as `LBL 1` / `CALL LBL 1 REP65534` nested.
@@ -122,15 +122,10 @@ pub fn read_klartext_with(text: &str, m_codes: &[MCodeRule], orientation: Orient
     Program { source: String::new(), dialect: Dialect::Klartext, name, blocks, diagnostics: diags.0 }
 }
 
-fn errors(d: &Diags) -> usize {
-    d.0.iter().filter(|d| d.severity == Severity::Error).count()
-}
-
 /// Whitespace-separated tokens of a line, borrowed, with their 1-based columns (characters).
 fn tokens(line: &str) -> Vec<(&str, usize)> {
     let b = line.as_bytes();
-    let ascii = line.is_ascii();
-    let col = |i: usize| if ascii { i + 1 } else { line[..i].chars().count() + 1 };
+    let cols = Columns::new(line);
     let mut out = Vec::with_capacity(12);
     let mut i = 0;
     while i < b.len() {
@@ -157,7 +152,7 @@ fn tokens(line: &str) -> Vec<(&str, usize)> {
         while i < b.len() && !line.is_char_boundary(i) {
             i += 1;
         }
-        out.push((&line[start..i], col(start)));
+        out.push((&line[start..i], cols.col(start)));
     }
     out
 }
@@ -226,6 +221,11 @@ fn motion_address(a: &str) -> Option<(&'static str, u32)> {
     })
 }
 
+/// X, Y or Z (0, 1, 2) from a linear address' last letter (`X`, `IY`, `NZ`, `TX`).
+fn axis_index(addr: &str) -> usize {
+    usize::from(addr.as_bytes()[addr.len() - 1] - b'X')
+}
+
 /// What reading has learnt so far, in the order the program runs.
 #[derive(Debug, Clone, Default)]
 struct ParseState {
@@ -241,118 +241,109 @@ struct ParseState {
 /// the blocks.
 fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Diags) -> Option<Stmt<'a>> {
     let ParseState { name, inch, began, ended, datum_defined } = st;
-    {
-        let all = tokens(raw.trim_end_matches('\r'));
-        let Some(&(first, first_col)) = all.first() else { return None };
-        // The block number, then the block.
-        let (number, toks) = if first.bytes().all(|c| c.is_ascii_digit()) { (first.parse::<u64>().ok(), &all[1..]) } else { (None, &all[..]) };
-        let Some(&(head, head_col)) = toks.first() else { return None };
-        if head.starts_with('*') {
-            return None; // `* - SECTION`: a structure line
-        }
-        let mut skip_col = None;
-        let mut owned: Vec<(&'a str, usize)>;
-        let toks: &[(&'a str, usize)] = if let Some(rest) = head.strip_prefix('/') {
-            skip_col = Some(head_col);
-            owned = toks.to_vec();
-            if rest.is_empty() {
-                owned.remove(0);
-            } else {
-                owned[0] = (rest, head_col + 1);
-            }
-            &owned
-        } else {
-            toks
-        };
-        if let Some(c) = skip_col {
-            diags.warning(line, c, "block skip '/' is not modelled: the block is run");
-        }
-        if toks.is_empty() {
-            return None;
-        }
-        if *ended {
-            diags.warning(line, first_col, "text after END PGM ignored");
-            return None;
-        }
-        let col = toks[0].1;
-        let before = errors(diags);
-        let key = |k: usize| upper(toks.get(k).map_or("", |t| t.0));
-        let k0 = key(0);
-        let kind: Option<Kind<'a>> = match k0.as_ref() {
-            "BEGIN" if key(1) == "PGM" => {
-                if *began {
-                    diags.error(line, col, "a second BEGIN PGM: one program per file");
-                } else if toks.len() != 4 || !matches!(key(3).as_ref(), "MM" | "INCH") {
-                    diags.error(line, col, "expected BEGIN PGM NAME MM (or INCH)");
-                } else {
-                    *name = Some(toks[2].0.to_string());
-                    *inch = key(3) == "INCH";
-                }
-                *began = true;
-                None
-            }
-            "END" if key(1) == "PGM" => {
-                match (toks.get(2), &*name) {
-                    (Some((n, c)), Some(start)) if n != start => {
-                        diags.error(line, *c, format!("END PGM names '{n}' but the program began as '{start}'"))
-                    }
-                    _ => {}
-                }
-                *ended = true;
-                Some(Kind::End)
-            }
-            _ if !*began => {
-                diags.error(line, col, "expected BEGIN PGM NAME MM before the first block");
-                *began = true; // said once
-                None
-            }
-            "BLK" if key(1) == "FORM" => None, // the workpiece blank: drawing only
-            "TOOL" if key(1) == "DEF" => None, // tool preselection: no motion
-            "TOOL" if key(1) == "CALL" => tool_call(toks, line, diags),
-            "L" | "LN" | "C" | "CR" | "CT" => motion(toks, &k0, line, diags),
-            "CC" => centre(toks, line, diags),
-            "STOP" => Some(Kind::Stop),
-            "LBL" => match toks.get(1) {
-                Some((l, _)) if toks.len() == 2 => Some(Kind::Label(l.trim_matches('"'))),
-                _ => {
-                    diags.error(line, col, "expected LBL n or LBL \"NAME\"");
-                    None
-                }
-            },
-            "CALL" if key(1) == "LBL" => call(toks, line, diags),
-            "CALL" | "SEL" => {
-                diags.error(line, col, format!("{} {}: calling another program is not read", k0, key(1)));
-                None
-            }
-            "FUNCTION" => function(toks, line, col, diags),
-            "CYCL" if key(1) == "DEF" => cycle(toks, line, datum_defined, diags),
-            "CYCL" => {
-                diags.error(line, col, "CYCL CALL: machining cycles are not read (they cut)");
-                None
-            }
-            "PLANE" if key(1) == "RESET" && key(2) == "STAY" && toks.len() == 3 => None, // no tilted plane is ever set
-            "PLANE" => {
-                diags.error(line, col, "PLANE: a tilted working plane is not modelled (it changes the motion)");
-                None
-            }
-            "FN" => assign(&toks[1..], line, col, true, diags),
-            k if k.starts_with('Q') => assign(toks, line, col, false, diags),
-            k if k.starts_with('M') && split_word(k).0 == "M" => misc(toks, line, diags),
-            k @ ("APPR" | "DEP" | "RND" | "CHF" | "LP" | "CP" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH") => {
-                diags.error(line, col, format!("{}: {} is not read (it changes the motion)", toks[0].0, unsupported(k)));
-                None
-            }
-            _ => {
-                diags.error(line, col, format!("unknown block '{}': not read (it may change the motion)", excerpt(toks[0].0)));
-                None
-            }
-        };
-        if errors(diags) > before {
-            diags.warning(line, col, format!("block {} not used", label(number, line)));
-            return None;
-        }
-        kind.map(|kind| Stmt { line, col, number, kind })
+    let all = tokens(raw.trim_end_matches('\r'));
+    let Some(&(first, first_col)) = all.first() else { return None };
+    // The block number, then the block.
+    let (number, toks) = if first.bytes().all(|c| c.is_ascii_digit()) { (first.parse::<u64>().ok(), &all[1..]) } else { (None, &all[..]) };
+    let Some(&(head, head_col)) = toks.first() else { return None };
+    if head.starts_with('*') {
+        return None; // `* - SECTION`: a structure line
     }
+    let owned: Vec<(&'a str, usize)>;
+    let toks: &[(&'a str, usize)] = match head.strip_prefix('/') {
+        Some(rest) => {
+            diags.warning(line, head_col, "block skip '/' is not modelled: the block is run");
+            let rest = (!rest.is_empty()).then_some((rest, head_col + 1));
+            owned = rest.into_iter().chain(toks[1..].iter().copied()).collect();
+            &owned
+        }
+        None => toks,
+    };
+    if toks.is_empty() {
+        return None;
+    }
+    if *ended {
+        diags.warning(line, first_col, "text after END PGM ignored");
+        return None;
+    }
+    let col = toks[0].1;
+    let before = diags.errors();
+    let key = |k: usize| upper(toks.get(k).map_or("", |t| t.0));
+    let k0 = key(0);
+    let kind: Option<Kind<'a>> = match k0.as_ref() {
+        "BEGIN" if key(1) == "PGM" => {
+            if *began {
+                diags.error(line, col, "a second BEGIN PGM: one program per file");
+            } else if toks.len() != 4 || !matches!(key(3).as_ref(), "MM" | "INCH") {
+                diags.error(line, col, "expected BEGIN PGM NAME MM (or INCH)");
+            } else {
+                *name = Some(toks[2].0.to_string());
+                *inch = key(3) == "INCH";
+            }
+            *began = true;
+            None
+        }
+        "END" if key(1) == "PGM" => {
+            match (toks.get(2), &*name) {
+                (Some((n, c)), Some(start)) if n != start => {
+                    diags.error(line, *c, format!("END PGM names '{n}' but the program began as '{start}'"))
+                }
+                _ => {}
+            }
+            *ended = true;
+            Some(Kind::End)
+        }
+        _ if !*began => {
+            diags.error(line, col, "expected BEGIN PGM NAME MM before the first block");
+            *began = true; // said once
+            None
+        }
+        "BLK" if key(1) == "FORM" => None, // the workpiece blank: drawing only
+        "TOOL" if key(1) == "DEF" => None, // tool preselection: no motion
+        "TOOL" if key(1) == "CALL" => tool_call(toks, line, diags),
+        "L" | "LN" | "C" | "CR" | "CT" => motion(toks, &k0, line, diags),
+        "CC" => centre(toks, line, diags),
+        "STOP" => Some(Kind::Stop),
+        "LBL" => match toks.get(1) {
+            Some((l, _)) if toks.len() == 2 => Some(Kind::Label(l.trim_matches('"'))),
+            _ => {
+                diags.error(line, col, "expected LBL n or LBL \"NAME\"");
+                None
+            }
+        },
+        "CALL" if key(1) == "LBL" => call(toks, line, diags),
+        "CALL" | "SEL" => {
+            diags.error(line, col, format!("{} {}: calling another program is not read", k0, key(1)));
+            None
+        }
+        "FUNCTION" => function(toks, line, col, diags),
+        "CYCL" if key(1) == "DEF" => cycle(toks, line, datum_defined, diags),
+        "CYCL" => {
+            diags.error(line, col, "CYCL CALL: machining cycles are not read (they cut)");
+            None
+        }
+        "PLANE" if key(1) == "RESET" && key(2) == "STAY" && toks.len() == 3 => None, // no tilted plane is ever set
+        "PLANE" => {
+            diags.error(line, col, "PLANE: a tilted working plane is not modelled (it changes the motion)");
+            None
+        }
+        "FN" => assign(&toks[1..], line, col, true, diags),
+        k if k.starts_with('Q') => assign(toks, line, col, false, diags),
+        k if k.starts_with('M') && split_word(k).0 == "M" => misc(toks, line, diags),
+        k @ ("APPR" | "DEP" | "RND" | "CHF" | "LP" | "CP" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH") => {
+            diags.error(line, col, format!("{}: {} is not read (it changes the motion)", toks[0].0, unsupported(k)));
+            None
+        }
+        _ => {
+            diags.error(line, col, format!("unknown block '{}': not read (it may change the motion)", excerpt(toks[0].0)));
+            None
+        }
+    };
+    if diags.errors() > before {
+        diags.warning(line, col, format!("block {} not used", label(number, line)));
+        return None;
+    }
+    kind.map(|kind| Stmt { line, col, number, kind })
 }
 
 fn unsupported(k: &str) -> &'static str {
@@ -647,7 +638,7 @@ fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bool, diags: 
     if toks.len() > 4 {
         diags.error(line, toks[4].1, format!("CYCL DEF {number}: one axis per block"));
     }
-    let k = usize::from(a.as_bytes()[a.len() - 1] - b'X');
+    let k = axis_index(a);
     value_word(a, rest, tok, wcol, line, diags).map(|w| Kind::Datum(k, w, incremental))
 }
 
@@ -818,7 +809,7 @@ impl<'a> Exec<'a> {
 
     /// Run one statement; true if it ends the program (M2, M30).
     fn run(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, diags: &mut Diags) -> bool {
-        let before = errors(diags);
+        let before = diags.errors();
         let mut words = std::mem::take(&mut self.words);
         words.clear();
         let word = |letter: char, value: f64, raw: Cow<'a, str>, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
@@ -864,7 +855,7 @@ impl<'a> Exec<'a> {
                 let (a0, a1, _) = interp.plane().axes();
                 let mut c = [pos[a0], pos[a1]];
                 for w in axes {
-                    let k = usize::from(w.addr.as_bytes()[w.addr.len() - 1] - b'X');
+                    let k = axis_index(w.addr);
                     let Some(v) = self.value(w, s.line, diags) else { continue };
                     let incremental = w.addr.starts_with('I');
                     let slot = if k == a0 {
@@ -886,11 +877,13 @@ impl<'a> Exec<'a> {
                 let mut normal = [None; 3];
                 for w in axes {
                     let Some(v) = self.value(w, s.line, diags) else { continue };
-                    let last = w.addr.as_bytes()[w.addr.len() - 1];
                     match w.addr.as_bytes()[0] {
-                        b'N' => normal[usize::from(last - b'X')] = Some(v),
-                        b'T' => tool[usize::from(last - b'X')] = Some(v),
-                        _ => words.push(word(last as char, v, w.raw.into(), w.col, w.addr.len() == 2)),
+                        b'N' => normal[axis_index(w.addr)] = Some(v),
+                        b'T' => tool[axis_index(w.addr)] = Some(v),
+                        _ => {
+                            let letter = w.addr.as_bytes()[w.addr.len() - 1] as char;
+                            words.push(word(letter, v, w.raw.into(), w.col, w.addr.len() == 2))
+                        }
                     }
                 }
                 for w in m {
@@ -960,7 +953,7 @@ impl<'a> Exec<'a> {
             self.words = words;
             return false;
         }
-        if errors(diags) > before {
+        if diags.errors() > before {
             diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
             self.words = words;
             return false;

@@ -59,11 +59,35 @@ pub fn number_prefix_len(s: &str) -> usize {
 pub struct Diags(pub Vec<Diagnostic>);
 
 impl Diags {
+    /// How many of the diagnostics so far are errors (a reader compares the count before and after a
+    /// block to know whether the block is damaged).
+    pub fn errors(&self) -> usize {
+        self.0.iter().filter(|d| d.severity == Severity::Error).count()
+    }
     pub fn error(&mut self, line: usize, column: usize, message: impl Into<String>) {
         self.0.push(Diagnostic { line, column, severity: Severity::Error, message: message.into() });
     }
     pub fn warning(&mut self, line: usize, column: usize, message: impl Into<String>) {
         self.0.push(Diagnostic { line, column, severity: Severity::Warning, message: message.into() });
+    }
+}
+
+/// 1-based columns (characters) of byte offsets in one line: a byte a column when the line is ASCII.
+pub struct Columns<'a> {
+    line: &'a str,
+    ascii: bool,
+}
+
+impl<'a> Columns<'a> {
+    pub fn new(line: &'a str) -> Self {
+        Columns { line, ascii: line.is_ascii() }
+    }
+    pub fn col(&self, byte: usize) -> usize {
+        if self.ascii {
+            byte + 1
+        } else {
+            self.line[..byte.min(self.line.len())].chars().count() + 1
+        }
     }
 }
 

@@ -34,7 +34,7 @@ pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::O
         if chars[first] == '%' {
             continue;
         }
-        let errors_before = diags.0.iter().filter(|d| d.severity == super::Severity::Error).count();
+        let errors_before = diags.errors();
         let mut words: Vec<Word> = Vec::new();
         let mut number = None;
         let mut i = first;
@@ -97,7 +97,7 @@ pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::O
                 i = end;
             }
         }
-        let damaged = diags.0.iter().filter(|d| d.severity == super::Severity::Error).count() > errors_before;
+        let damaged = diags.errors() > errors_before;
         if damaged {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             continue;

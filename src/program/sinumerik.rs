@@ -17,8 +17,8 @@
 //! ORIVECT agree: the great circle).
 
 use super::interp::{Interpreter, Word};
-use super::lex::{excerpt, parse_number, Diags};
-use super::{Dialect, MCodeRule, Orientation, Program, Severity};
+use super::lex::{excerpt, parse_number, Columns, Diags};
+use super::{Dialect, MCodeRule, Orientation, Program};
 
 /// Read a Sinumerik program on a control whose orientation interpolation starts as `orientation`
 /// (the reset state is [`Orientation::GreatCircle`], ORIWKS/ORIVECT).
@@ -33,11 +33,11 @@ pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orien
         if text_line[first..].starts_with('%') {
             continue; // `%_N_NAME_MPF` transfer header
         }
-        let errors_before = count_errors(&diags);
+        let errors_before = diags.errors();
         let cols = Columns::new(text_line);
         let first = cols.col(first) - 1;
         let lexed = lex_line(text_line, &cols, line, &mut diags);
-        if count_errors(&diags) > errors_before {
+        if diags.errors() > errors_before {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             continue;
         }
@@ -67,14 +67,14 @@ pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orien
                     None => diags.error(line, w.column, format!("{}{} in a {kind} block: a frame block holds only the offset X Y Z", w.letter, w.raw)),
                 }
             }
-            if count_errors(&diags) > errors_before {
+            if diags.errors() > errors_before {
                 interp = saved;
                 continue;
             }
             interp.set_datum(datum);
             continue;
         }
-        if count_errors(&diags) > errors_before {
+        if diags.errors() > errors_before {
             interp = saved;
             diags.warning(line, first + 1, format!("line {line} not used"));
             continue;
@@ -96,10 +96,6 @@ pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orien
     }
     diags.0.sort_by_key(|d| (d.line, d.column));
     Program { source: String::new(), dialect: Dialect::Sinumerik, name: None, blocks, diagnostics: diags.0 }
-}
-
-fn count_errors(d: &Diags) -> usize {
-    d.0.iter().filter(|d| d.severity == Severity::Error).count()
 }
 
 /// Why a keyword is refused.
@@ -132,25 +128,6 @@ struct Lexed<'a> {
     vector: Option<[f64; 3]>,
     /// TRANS or ATRANS.
     frame: Option<&'static str>,
-}
-
-/// 1-based columns (characters) of byte offsets in one line: a byte a column when the line is ASCII.
-struct Columns<'a> {
-    line: &'a str,
-    ascii: bool,
-}
-
-impl<'a> Columns<'a> {
-    fn new(line: &'a str) -> Self {
-        Columns { line, ascii: line.is_ascii() }
-    }
-    fn col(&self, byte: usize) -> usize {
-        if self.ascii {
-            byte + 1
-        } else {
-            self.line[..byte.min(self.line.len())].chars().count() + 1
-        }
-    }
 }
 
 /// Split one line into words; defects go to `diags`. Works on bytes: every character that can
