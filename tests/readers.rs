@@ -197,6 +197,10 @@ fn klartext_runs_section_repeats_and_subprograms_as_the_tnc_does() {
     let run: Vec<(u64, Option<f64>)> = p.blocks.iter().map(|b| (b.number.unwrap(), b.targets.x.or(b.targets.y).or(b.targets.z))).collect();
     let mm = |v: f64| Some(v * MM);
     assert_eq!(run, vec![(1, mm(0.0)), (3, mm(1.0)), (3, mm(2.0)), (3, mm(3.0)), (9, mm(7.0)), (13, mm(-1.0)), (6, mm(50.0)), (7, mm(10.0))]);
+    // Keywords in mixed case read the same (the labels found before the run too).
+    let lower = read(&text.replace("LBL", "Lbl").replace("CALL", "Call"), Dialect::Klartext, "r.h", &ReadOptions::default());
+    assert!(lower.diagnostics.is_empty(), "{:#?}", lower.diagnostics);
+    assert_eq!(lower.blocks.len(), run.len());
 
     // A call that never returns, a label that is not there, a repeat beyond the TNC's count.
     let p = read("0 BEGIN PGM R MM\n1 LBL 1\n2 CALL LBL 1\n3 CALL LBL 9\n4 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default());

@@ -680,7 +680,7 @@ fn execute<'a>(text: &'a str, mut interp: Interpreter, diags: &mut Diags) -> (Op
     // Labels first: a call may jump forward to a subprogram written after M2/M30.
     let mut labels: HashMap<&str, usize> = HashMap::new();
     for (k, l) in lines.iter().enumerate() {
-        if !l.contains("LBL") && !l.contains("lbl") {
+        if !l.as_bytes().windows(3).any(|w| w.eq_ignore_ascii_case(b"LBL")) {
             continue;
         }
         let t = tokens(l);
