@@ -809,22 +809,19 @@ impl<'a> Exec<'a> {
 
     /// Run one statement; true if it ends the program (M2, M30).
     fn run(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, diags: &mut Diags) -> bool {
-        let before = diags.errors();
-        let mut words = std::mem::take(&mut self.words);
-        words.clear();
-        let word = |letter: char, value: f64, raw: Cow<'a, str>, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
-        let mut ends = false;
-        let mut vector = None;
         let unit = interp.unit();
+        // Statements that set state and run no block.
         match &s.kind {
             Kind::Assign { name, value } => {
                 self.q.insert(name.clone(), *value);
+                return false;
             }
             Kind::Tcp { on, orientation } => {
                 interp.set_tcp(*on);
                 if let Some(o) = orientation {
                     interp.set_orientation(*o);
                 }
+                return false;
             }
             Kind::Datum(k, w, incremental) => {
                 if let Some(v) = self.value(w, s.line, diags) {
@@ -832,7 +829,18 @@ impl<'a> Exec<'a> {
                     datum[*k] = if *incremental { datum[*k] + v * unit } else { v * unit };
                     interp.set_datum(datum);
                 }
+                return false;
             }
+            Kind::End | Kind::Label(_) | Kind::Call { .. } => return false,
+            _ => {}
+        }
+        let before = diags.errors();
+        let mut words = std::mem::take(&mut self.words);
+        words.clear();
+        let word = |letter: char, value: f64, raw: Cow<'a, str>, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
+        let mut ends = false;
+        let mut vector = None;
+        match &s.kind {
             Kind::Stop => words.push(word('M', 0.0, "0".into(), s.col, false)),
             Kind::Tool { events, feed } => {
                 for e in events {
@@ -843,13 +851,7 @@ impl<'a> Exec<'a> {
                     self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw));
                 }
             }
-            Kind::Misc(m) => {
-                for w in m {
-                    let v = self.value(w, s.line, diags).unwrap_or(0.0);
-                    ends |= v == 2.0 || v == 30.0;
-                    words.push(word('M', v, w.raw.into(), w.col, false));
-                }
-            }
+            Kind::Misc(m) => ends = self.m_words(m, &mut words, s.line, diags),
             Kind::Centre(axes) => {
                 let pos = interp.position();
                 let (a0, a1, _) = interp.plane().axes();
@@ -886,11 +888,7 @@ impl<'a> Exec<'a> {
                         }
                     }
                 }
-                for w in m {
-                    let v = self.value(w, s.line, diags).unwrap_or(0.0);
-                    ends |= v == 2.0 || v == 30.0;
-                    words.push(word('M', v, w.raw.into(), w.col, false));
-                }
+                ends = self.m_words(m, &mut words, s.line, diags);
                 let g = match (shape, feed) {
                     (Shape::Line | Shape::LineNormal, FeedWord::Max) => "0",
                     (Shape::Line | Shape::LineNormal, _) => "1",
@@ -946,12 +944,7 @@ impl<'a> Exec<'a> {
                     }
                 }
             }
-            Kind::End | Kind::Label(_) | Kind::Call { .. } => {}
-        }
-        let runs_block = !matches!(&s.kind, Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. });
-        if !runs_block {
-            self.words = words;
-            return false;
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } => {}
         }
         if diags.errors() > before {
             diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
@@ -975,6 +968,17 @@ impl<'a> Exec<'a> {
                 false
             }
         }
+    }
+
+    /// The block's M functions as words; true if one ends the program (M2, M30).
+    fn m_words(&self, m: &[KWord<'a>], words: &mut Vec<Word<'a>>, line: usize, diags: &mut Diags) -> bool {
+        let mut ends = false;
+        for w in m {
+            let v = self.value(w, line, diags).unwrap_or(0.0);
+            ends |= v == 2.0 || v == 30.0;
+            words.push(Word { letter: 'M', value: v, raw: w.raw.into(), column: w.col, incremental: false });
+        }
+        ends
     }
 
     /// `CT`: the arc from the current point, tangent to the contour before it, to the block's end in
