@@ -7,7 +7,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use fiveaxis::job::{self, JobOptions};
 use fiveaxis::machine::Machine;
-use fiveaxis::path::PathOptions;
+use fiveaxis::path::{PathOptions, SegmentWindow};
 use fiveaxis::singularity::{analyze, distance, predicted_rate, FeedLimiter, PathGeometry};
 
 fn per_sample(c: &mut Criterion) {
@@ -16,12 +16,13 @@ fn per_sample(c: &mut Criterion) {
         .unwrap()
         .trajectory(&m, &PathOptions { period: 1e-5, ..Default::default() })
         .unwrap();
-    let geo = PathGeometry::new(&traj, &m);
+    let mut geo = PathGeometry::new();
+    let mut window = SegmentWindow::new(traj.segments.iter().cloned());
     // Precompute the geometric derivatives: the bench measures the per-sample math, as the live
     // monitor runs it with derivatives from its look-ahead.
     let rows: Vec<_> = traj
         .samples(&m)
-        .map(|s| (s.axis, s.axis_rate, s.feed, geo.derivatives(s.segment, s.s).unwrap()))
+        .map(|s| (s.axis, s.axis_rate, s.feed, geo.derivatives(s.segment, s.s, &mut window).unwrap()))
         .collect();
     let sd = m.singular_direction();
     let limiter = FeedLimiter::new(&m.limits());

@@ -77,17 +77,50 @@ pub fn run(spec: &str, machine: &Machine, options: &JobOptions) -> Result<Job, J
     let analysis = analyze(&trajectory, machine, &options.analysis);
     let mut extra: Vec<Diagnostic> = trajectory.diagnostics.clone();
     if trajectory.segments.is_empty() && trajectory.stored.is_empty() {
-        // A gate that read nothing never passes: a program without a single move (empty, only
-        // comments, or every block refused) is bad input, not a clean result.
-        extra.push(Diagnostic {
-            line: 1,
-            column: 1,
-            severity: crate::program::Severity::Error,
-            message: format!("no moves: {} blocks read and none moves an axis, so there is nothing to analyse", program.blocks.len()),
-        });
+        extra.push(no_moves(program.blocks.len()));
     }
     let report = AnalysisReport::new(&program, machine, &analysis, &trajectory, &extra, options.path.feed_override_mm_per_min);
     Ok(Job { program, trajectory, analysis, report })
+}
+
+/// Open the program named by `spec` as a stream of blocks (a file, or `bundled:NAME`).
+pub fn open_spec(spec: &str, options: &JobOptions) -> Result<program::BlockStream, JobError> {
+    if let Some(name) = spec.strip_prefix("bundled:") {
+        let (_, text) = BUNDLED.iter().find(|(n, _)| *n == name).ok_or_else(|| JobError::UnknownBundled(name.into()))?;
+        let dialect = options.dialect.unwrap_or(Dialect::Heidenhain);
+        return Ok(program::BlockStream::from_text(text, Some(dialect), spec, &options.read));
+    }
+    Ok(program::BlockStream::open(Path::new(spec), options.dialect, &options.read)?)
+}
+
+/// Analyse the program named by `spec` as it is read (`fiveaxis program analyze`): blocks, segments
+/// and samples are made and dropped as the analysis passes them, so memory does not grow with the
+/// program's length. The report is the one [`run`] makes (a built-in path is run whole).
+pub fn analyze_streaming(spec: &str, machine: &Machine, options: &JobOptions) -> Result<AnalysisReport, JobError> {
+    if spec.starts_with("builtin:") {
+        return Ok(run(spec, machine, options)?.report);
+    }
+    let mut segments = crate::path::SegmentStream::new(open_spec(spec, options)?, machine, &options.path);
+    let (analysis, counts) = crate::singularity::analyze_segments(segments.by_ref(), options.path.period, machine, &options.analysis);
+    segments.read_to_end();
+    let mut diagnostics = segments.blocks().diagnostics().to_vec();
+    diagnostics.extend(segments.diagnostics().to_vec());
+    if counts.segments == 0 {
+        diagnostics.push(no_moves(segments.blocks().blocks_read()));
+    }
+    let read = crate::report::ReadFacts { source: segments.blocks().source(), blocks: segments.blocks().blocks_read(), samples: counts.samples, period: options.path.period };
+    Ok(AnalysisReport::from_parts(&read, diagnostics.iter(), machine, &analysis, options.path.feed_override_mm_per_min))
+}
+
+/// The error of a program without a single move: a gate that read nothing never passes (an empty
+/// program, only comments, or every block refused is bad input, not a clean result).
+fn no_moves(blocks: usize) -> Diagnostic {
+    Diagnostic {
+        line: 1,
+        column: 1,
+        severity: Severity::Error,
+        message: format!("no moves: {blocks} blocks read and none moves an axis, so there is nothing to analyse"),
+    }
 }
 
 /// The moves and regions of the program named by `spec` on `machine`, for aligning a machine stream

@@ -333,8 +333,9 @@ fn analyze(a: &AnalyzeArgs) -> anyhow::Result<ExitCode> {
         },
         read: a.src.read_options(),
     };
-    let job = match job::run(&a.src.program, &machine, &options) {
-        Ok(j) => j,
+    // Read, planned and analysed as a stream: an hours-long program in flat memory.
+    let report = match job::analyze_streaming(&a.src.program, &machine, &options) {
+        Ok(r) => r,
         Err(e @ job::JobError::Load(_)) => {
             eprintln!("fiveaxis: {e}");
             return Ok(ExitCode::from(EXIT_INPUT));
@@ -342,12 +343,12 @@ fn analyze(a: &AnalyzeArgs) -> anyhow::Result<ExitCode> {
         Err(e) => return Err(e.into()),
     };
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&job.report)?);
+        println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        print!("{}", job.report.to_table());
+        print!("{}", report.to_table());
     }
-    if job.has_errors() {
-        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.src.program, job.report.errors);
+    if report.errors > 0 {
+        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.src.program, report.errors);
         return Ok(ExitCode::from(EXIT_INPUT));
     }
     Ok(ExitCode::SUCCESS)

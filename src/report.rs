@@ -86,6 +86,17 @@ fn axis_name(machine: &Machine, fl: &Option<FeedLimit>) -> Option<String> {
     fl.and_then(|f| f.axis).map(|i| machine.axes[i].name.clone())
 }
 
+/// What reading and sampling a program counted, for its report.
+#[derive(Debug, Clone, Copy)]
+pub struct ReadFacts<'a> {
+    /// Where the program came from.
+    pub source: &'a str,
+    pub blocks: usize,
+    pub samples: usize,
+    /// Sample period, s.
+    pub period: f64,
+}
+
 impl AnalysisReport {
     /// Build the report. `extra` are diagnostics from planning (unreachable poses and the like).
     pub fn new(
@@ -96,15 +107,25 @@ impl AnalysisReport {
         extra: &[Diagnostic],
         feed_override_mm_per_min: Option<f64>,
     ) -> AnalysisReport {
+        let read = ReadFacts { source: &program.source, blocks: program.blocks.len(), samples: traj.sample_count(), period: traj.period };
+        Self::from_parts(&read, program.diagnostics.iter().chain(extra), machine, analysis, feed_override_mm_per_min)
+    }
+
+    /// Build the report from what reading and sampling counted (a program analysed as a stream has
+    /// no block list or trajectory to hand over).
+    pub fn from_parts<'d>(
+        read: &ReadFacts<'_>,
+        all_diagnostics: impl Iterator<Item = &'d Diagnostic>,
+        machine: &Machine,
+        analysis: &Analysis,
+        feed_override_mm_per_min: Option<f64>,
+    ) -> AnalysisReport {
         let s = &analysis.summary;
         let rpm = |v: f64| v / RPM;
         let mm = |v: f64| v / MM;
-        let mut diagnostics: Vec<DiagnosticReport> = program
-            .diagnostics
-            .iter()
-            .chain(extra)
+        let mut diagnostics: Vec<DiagnosticReport> = all_diagnostics
             .map(|d| DiagnosticReport {
-                file: program.source.clone(),
+                file: read.source.to_string(),
                 line: d.line,
                 column: d.column,
                 severity: d.severity,
@@ -140,12 +161,12 @@ impl AnalysisReport {
             .collect();
         let errors = diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
         AnalysisReport {
-            program: program.source.clone(),
+            program: read.source.to_string(),
             machine: machine.name.clone(),
             secondary_axis: machine.axes[machine.secondary_axis()].name.clone(),
-            blocks: program.blocks.len(),
-            samples: traj.sample_count(),
-            sample_period_s: traj.period,
+            blocks: read.blocks,
+            samples: read.samples,
+            sample_period_s: read.period,
             cycle_time_s: s.cycle_time,
             feed_override_mm_per_min,
             peak_c_speed_rpm: rpm(s.peak_rate),

@@ -9,9 +9,11 @@
 pub mod align;
 mod builtin;
 mod segment;
+mod window;
 
 pub use builtin::{builtin_names, paper_orientation, BuiltinPath};
-pub use segment::{plan, GreatCircle, Segment, SegmentKind, ORIENT_PIECE_RAD};
+pub use segment::{plan, GreatCircle, Segment, SegmentKind, SegmentPlanner, ORIENT_PIECE_RAD};
+pub use window::{GridSampler, SegmentStream, SegmentWindow};
 
 use crate::kinematics::Joints;
 use crate::machine::Machine;
@@ -91,7 +93,16 @@ impl Trajectory {
         if !self.stored.is_empty() {
             return Box::new(self.stored.iter().copied());
         }
-        Box::new(SegmentSamples { segments: &self.segments, machine, period: self.period, i: 0, k: 0, ended: false })
+        let mut window = SegmentWindow::new(self.segments.iter().cloned());
+        let mut sampler = GridSampler::new(self.period);
+        Box::new(std::iter::from_fn(move || {
+            let sample = sampler.next(&mut window, machine);
+            // Keep the segment just behind: the end point is sampled from the last one.
+            if let Some(s) = &sample {
+                window.release_before(s.segment);
+            }
+            sample
+        }))
     }
 
     /// How many samples [`Trajectory::samples`] yields, without making them.
@@ -112,37 +123,5 @@ impl Trajectory {
             m += 1;
         }
         m as usize + 1
-    }
-}
-
-/// Samples of segments on the global grid `t = k * period`, plus the final end point.
-struct SegmentSamples<'a> {
-    segments: &'a [Segment],
-    machine: &'a Machine,
-    period: f64,
-    i: usize,
-    k: u64,
-    ended: bool,
-}
-
-impl Iterator for SegmentSamples<'_> {
-    type Item = Sample;
-    fn next(&mut self) -> Option<Sample> {
-        while let Some(seg) = self.segments.get(self.i) {
-            let t = self.k as f64 * self.period;
-            if t >= seg.t0 + seg.duration {
-                self.i += 1;
-                continue;
-            }
-            let u = ((t - seg.t0) / seg.duration).clamp(0.0, 1.0);
-            self.k += 1;
-            return Some(seg.sample(self.i, u, t, self.machine));
-        }
-        if self.ended {
-            return None;
-        }
-        self.ended = true;
-        let n = self.segments.len();
-        self.segments.last().map(|seg| seg.sample(n - 1, 1.0, seg.t0 + seg.duration, self.machine))
     }
 }

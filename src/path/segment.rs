@@ -294,238 +294,278 @@ fn diag(b: &Block, message: String) -> Diagnostic {
 /// becomes pieces of at most [`ARC_PIECE_RAD`], each exact on the arc. Blocks that cannot be run (an
 /// axis the machine lacks, an unreachable pose) are reported and skipped.
 pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec<Segment>, Vec<Diagnostic>) {
-    let mut segments = Vec::new();
-    let mut diags = Vec::new();
-    let mut q: Joints = [0.0; 5];
-    let mut t = 0.0;
-    let mut s = 0.0;
-    let letters: [char; 2] = [3, 4].map(|i| machine.axes[i].name.chars().next().unwrap_or('?').to_ascii_uppercase());
-    let mut first_orientation = true;
-    let mut at_start = program.dialect.starts_at_first_pose();
-
-    'blocks: for (bi, b) in program.blocks.iter().enumerate() {
-        if b.targets.is_empty() {
-            continue;
-        }
-        if let Some(l) = ['A', 'B', 'C'].into_iter().find(|l| b.targets.rotary(*l).is_some() && !letters.contains(l)) {
-            diags.push(diag(b, format!("axis {l} does not exist on machine {}: block skipped", machine.name)));
-            continue;
-        }
-        let datum = Vector3::from(b.datum);
-        let tcp = b.tcp;
-        let tip0 = machine.forward(&q).tip - datum;
-        let mut rot1 = [q[3], q[4]];
-        for slot in 0..2 {
-            if let Some(v) = b.targets.rotary(letters[slot]) {
-                rot1[slot] = v;
-            }
-        }
-        let q1: Joints;
-        let tip1: Vector3<f64>;
-        if tcp {
-            let tip = Vector3::new(b.targets.x.unwrap_or(tip0.x), b.targets.y.unwrap_or(tip0.y), b.targets.z.unwrap_or(tip0.z));
-            if let Some(axis) = b.targets.tool_axis {
-                let pose = Pose { tip: tip + datum, axis: Vector3::from(axis) };
-                let mut previous = q;
-                if first_orientation {
-                    // First pose: the + sign of seed 001 Table 1 (non-negative primary angle).
-                    if let Ok(all) = machine.inverse_all(&pose) {
-                        let p = machine.primary_axis();
-                        let pick = if all[0][p] >= 0.0 { all[0] } else { all[1] };
-                        previous[3] = pick[3];
-                        previous[4] = pick[4];
-                    }
-                }
-                match machine.inverse(&pose, &previous) {
-                    Ok(sol) => rot1 = [sol[3], sol[4]],
-                    Err(e) => {
-                        diags.push(diag(b, format!("tool pose cannot be reached: {e}; block skipped")));
-                        continue;
-                    }
-                }
-                first_orientation = false;
-            }
-            let l = machine.chain.linear_for(&(tip + datum), &rot1);
-            q1 = [l.x, l.y, l.z, rot1[0], rot1[1]];
-            tip1 = tip;
-        } else {
-            let lin = |k: usize, w: Option<f64>| w.map_or(q[k], |v| v + datum[k]);
-            q1 = [lin(0, b.targets.x), lin(1, b.targets.y), lin(2, b.targets.z), rot1[0], rot1[1]];
-            tip1 = machine.forward(&q1).tip - datum;
-        }
-        if let Some(d) = out_of_range(b, machine, &q1) {
-            diags.push(d);
-            continue;
-        }
-        if at_start {
-            // CL data: the first pose is where the tool is; nothing moves to it.
-            at_start = false;
-            q = q1;
-            continue;
-        }
-        let kind = match (b.motion, tcp) {
-            (Motion::Rapid, _) => SegmentKind::Rapid,
-            (_, true) => SegmentKind::Tcp,
-            (_, false) => SegmentKind::Axes,
-        };
-        // The move's pieces: one for a line, arcs cut at most ARC_PIECE_RAD apart.
-        let arc = match (kind, &b.arc) {
-            (SegmentKind::Rapid, _) | (_, None) => None,
-            (_, Some(spec)) => {
-                let (start, end) = if tcp {
-                    (tip0, tip1)
-                } else {
-                    (Vector3::new(q[0], q[1], q[2]) - datum, Vector3::new(q1[0], q1[1], q1[2]) - datum)
-                };
-                Some(ArcPath::new(spec, b.motion == Motion::ArcCcw, start, end))
-            }
-        };
-        // A TCPM feed move whose tool axis turns, under vector interpolation: pieces along the great circle.
-        let great_circle = match (kind, b.orientation) {
-            (SegmentKind::Tcp, Orientation::GreatCircle) => {
-                let (o0, o1) = (machine.chain.orientation(&[q[3], q[4]]), machine.chain.orientation(&[q1[3], q1[4]]));
-                let sd = machine.singular_direction();
-                let on_pole = |o: &Vector3<f64>| o.cross(&sd).norm() < POLE_EPS;
-                match GreatCircle::new(o0, o1) {
-                    // A move from or to the pole: the secondary axis is undefined there, so the great
-                    // circle (a meridian) would ask it to stand at the other end's angle from the
-                    // start; C turns from where it stands instead, the rotaries linear.
-                    Some(_) if on_pole(&o0) || on_pole(&o1) => None,
-                    Some(gc) => Some(gc),
-                    None if o0.dot(&o1) < 0.0 => {
-                        diags.push(diag(b, "the tool axis turns by 180 deg: no single great circle joins its start and end directions; block skipped".into()));
-                        continue;
-                    }
-                    None => None,
-                }
-            }
-            _ => None,
-        };
-        let pieces = match (arc, great_circle) {
-            (arc, Some(gc)) => match great_circle_pieces(&gc, arc.as_ref(), q, tip0, tip1, datum, machine) {
-                Ok(p) => p,
-                Err(e) => {
-                    diags.push(diag(b, e));
-                    continue;
-                }
-            },
-            (None, None) => vec![(q, q1, tip0, tip1, None, None)],
-            (Some(arc), None) => {
-                // The whole move as one segment gives each piece end its axes (the arc's point, the
-                // rotaries linear in the fraction), the same as sampling it would.
-                let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)), orient: None };
-                let n = arc.pieces();
-                let end = |k: usize| -> (Joints, Vector3<f64>) {
-                    let u = k as f64 / n as f64;
-                    let qk = match k {
-                        0 => q,
-                        k if k == n => q1,
-                        _ => whole.joints_at(u, machine),
-                    };
-                    (qk, if tcp { arc.point(u) } else { machine.forward(&qk).tip - datum })
-                };
-                let mut pieces = Vec::with_capacity(n);
-                for k in 0..n {
-                    let ((qa, ta), (qb, tb)) = (end(k), end(k + 1));
-                    if let Some(d) = out_of_range(b, machine, &qb) {
-                        diags.push(d);
-                        continue 'blocks;
-                    }
-                    pieces.push((qa, qb, ta, tb, Some(Box::new(arc.piece(k as f64 / n as f64, (k + 1) as f64 / n as f64))), None));
-                }
-                pieces
-            }
-        };
-        let n = pieces.len() as f64;
-        for (pq0, pq1, ptip0, ptip1, parc, porient) in pieces {
-            let mut seg = Segment {
-                kind,
-                block: bi,
-                line: b.line,
-                number: b.number,
-                t0: t,
-                duration: 0.0,
-                s0: s,
-                length: 0.0,
-                q0: pq0,
-                q1: pq1,
-                tip0: ptip0,
-                tip1: ptip1,
-                datum,
-                feed: 0.0,
-                arc: parc,
-                orient: porient,
-            };
-            seg.length = tip_length(&seg, machine);
-            let lin_len = seg.linear_axes_length();
-            let rot_len = ((pq1[3] - pq0[3]).powi(2) + (pq1[4] - pq0[4]).powi(2)).sqrt();
-            let duration = match kind {
-                SegmentKind::Rapid => (0..5)
-                    .map(|i| (pq1[i] - pq0[i]).abs() / machine.axes[i].limits.velocity)
-                    .fold(0.0, f64::max),
-                _ => {
-                    let Some(feed) = b.feed else {
-                        diags.push(diag(b, "feed move without a feed: block skipped".into()));
-                        continue 'blocks;
-                    };
-                    match feed.mode {
-                        // The block's time, shared by its pieces: evenly (equal arc lengths) or by
-                        // their share of the great circle (tip and axis both move evenly in it).
-                        FeedMode::InverseTime => match &seg.orient {
-                            Some(gc) => 60.0 / feed.value_per_min * (gc.u1 - gc.u0),
-                            None => 60.0 / feed.value_per_min / n,
-                        },
-                        FeedMode::PerMinute => {
-                            let path_len = if kind == SegmentKind::Tcp { seg.length } else { lin_len };
-                            // A tip move under 1 um that turns the rotaries is rounding in the program's
-                            // coordinates, not a path: it is a rotary move (F in deg/min).
-                            let rounding = path_len < MIN_PATH && rot_len > 1e-9;
-                            if path_len > 1e-9 && !rounding {
-                                let f = options.feed_override_mm_per_min.unwrap_or(feed.value_per_min) * MM_PER_MIN;
-                                seg.feed = seg.length / (path_len / f);
-                                path_len / f
-                            } else {
-                                // Rotary axes only: F is read in degrees per minute.
-                                rot_len / (feed.value_per_min * DEG_PER_MIN)
-                            }
-                        }
-                    }
-                }
-            };
-            if !(duration > 1e-12) {
-                continue; // nothing moves
-            }
-            if t + duration > options.max_duration_s {
-                let what = match (kind, b.feed) {
-                    (SegmentKind::Rapid, _) => "this rapid move".to_string(),
-                    (_, Some(f)) if f.mode == FeedMode::InverseTime => format!("this move (inverse-time F{})", f.value_per_min),
-                    (_, Some(f)) => format!("this move (F{} over {:.3} mm)", options.feed_override_mm_per_min.unwrap_or(f.value_per_min), seg.length * n * 1e3),
-                    (_, None) => "this move".to_string(),
-                };
-                diags.push(diag(
-                    b,
-                    format!(
-                        "{what} takes {:.1} h and would make the program run {:.1} h, beyond the bound of {:.1} h: \
-                         a feed typo? planning stops here (raise the bound with --max-program-hours if the program is meant to run this long)",
-                        duration * n / 3600.0,
-                        (t + duration * n) / 3600.0,
-                        options.max_duration_s / 3600.0
-                    ),
-                ));
-                break 'blocks;
-            }
-            if seg.feed == 0.0 {
-                // Rapid, inverse-time and rotary-only moves: the tool-tip speed they result in.
-                seg.feed = seg.length / duration;
-            }
-            seg.duration = duration;
-            t += duration;
-            s += seg.length;
-            q = pq1;
-            segments.push(seg);
+    let mut planner = SegmentPlanner::new(machine, program.dialect, options);
+    let (mut segments, mut diags) = (Vec::new(), Vec::new());
+    for (bi, b) in program.blocks.iter().enumerate() {
+        if !planner.push(bi, b, &mut segments, &mut diags) {
+            break;
         }
     }
     (segments, diags)
+}
+
+/// Blocks to segments one block at a time (the state a control carries from block to block: where
+/// the axes are, the time and the path length so far), so that a program is planned as it is read.
+#[derive(Debug, Clone)]
+pub struct SegmentPlanner<'m> {
+    machine: &'m Machine,
+    options: PathOptions,
+    q: Joints,
+    t: f64,
+    s: f64,
+    letters: [char; 2],
+    first_orientation: bool,
+    at_start: bool,
+    stopped: bool,
+}
+
+impl<'m> SegmentPlanner<'m> {
+    /// A planner at the program start of a program in `dialect`.
+    pub fn new(machine: &'m Machine, dialect: crate::program::Dialect, options: &PathOptions) -> Self {
+        let letters: [char; 2] = [3, 4].map(|i| machine.axes[i].name.chars().next().unwrap_or('?').to_ascii_uppercase());
+        SegmentPlanner { machine, options: *options, q: [0.0; 5], t: 0.0, s: 0.0, letters, first_orientation: true, at_start: dialect.starts_at_first_pose(), stopped: false }
+    }
+
+    /// Commanded time so far, s.
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// Plan block `bi`: its segments go to `segments`, what stops it to `diags`. False once planning
+    /// has stopped (the program would run beyond the bound on its duration): no later block is planned.
+    pub fn push(&mut self, bi: usize, b: &Block, segments: &mut Vec<Segment>, diags: &mut Vec<Diagnostic>) -> bool {
+        if self.stopped {
+            return false;
+        }
+        let (machine, options, letters) = (self.machine, &self.options, self.letters);
+        let (mut q, mut t, mut s) = (self.q, self.t, self.s);
+        let (mut first_orientation, mut at_start) = (self.first_orientation, self.at_start);
+        let stopped = 'blocks: {
+            if b.targets.is_empty() {
+                break 'blocks false;
+            }
+            if let Some(l) = ['A', 'B', 'C'].into_iter().find(|l| b.targets.rotary(*l).is_some() && !letters.contains(l)) {
+                diags.push(diag(b, format!("axis {l} does not exist on machine {}: block skipped", machine.name)));
+                break 'blocks false;
+            }
+            let datum = Vector3::from(b.datum);
+            let tcp = b.tcp;
+            let tip0 = machine.forward(&q).tip - datum;
+            let mut rot1 = [q[3], q[4]];
+            for slot in 0..2 {
+                if let Some(v) = b.targets.rotary(letters[slot]) {
+                    rot1[slot] = v;
+                }
+            }
+            let q1: Joints;
+            let tip1: Vector3<f64>;
+            if tcp {
+                let tip = Vector3::new(b.targets.x.unwrap_or(tip0.x), b.targets.y.unwrap_or(tip0.y), b.targets.z.unwrap_or(tip0.z));
+                if let Some(axis) = b.targets.tool_axis {
+                    let pose = Pose { tip: tip + datum, axis: Vector3::from(axis) };
+                    let mut previous = q;
+                    if first_orientation {
+                        // First pose: the + sign of seed 001 Table 1 (non-negative primary angle).
+                        if let Ok(all) = machine.inverse_all(&pose) {
+                            let p = machine.primary_axis();
+                            let pick = if all[0][p] >= 0.0 { all[0] } else { all[1] };
+                            previous[3] = pick[3];
+                            previous[4] = pick[4];
+                        }
+                    }
+                    match machine.inverse(&pose, &previous) {
+                        Ok(sol) => rot1 = [sol[3], sol[4]],
+                        Err(e) => {
+                            diags.push(diag(b, format!("tool pose cannot be reached: {e}; block skipped")));
+                            break 'blocks false;
+                        }
+                    }
+                    first_orientation = false;
+                }
+                let l = machine.chain.linear_for(&(tip + datum), &rot1);
+                q1 = [l.x, l.y, l.z, rot1[0], rot1[1]];
+                tip1 = tip;
+            } else {
+                let lin = |k: usize, w: Option<f64>| w.map_or(q[k], |v| v + datum[k]);
+                q1 = [lin(0, b.targets.x), lin(1, b.targets.y), lin(2, b.targets.z), rot1[0], rot1[1]];
+                tip1 = machine.forward(&q1).tip - datum;
+            }
+            if let Some(d) = out_of_range(b, machine, &q1) {
+                diags.push(d);
+                break 'blocks false;
+            }
+            if at_start {
+                // CL data: the first pose is where the tool is; nothing moves to it.
+                at_start = false;
+                q = q1;
+                break 'blocks false;
+            }
+            let kind = match (b.motion, tcp) {
+                (Motion::Rapid, _) => SegmentKind::Rapid,
+                (_, true) => SegmentKind::Tcp,
+                (_, false) => SegmentKind::Axes,
+            };
+            // The move's pieces: one for a line, arcs cut at most ARC_PIECE_RAD apart.
+            let arc = match (kind, &b.arc) {
+                (SegmentKind::Rapid, _) | (_, None) => None,
+                (_, Some(spec)) => {
+                    let (start, end) = if tcp {
+                        (tip0, tip1)
+                    } else {
+                        (Vector3::new(q[0], q[1], q[2]) - datum, Vector3::new(q1[0], q1[1], q1[2]) - datum)
+                    };
+                    Some(ArcPath::new(spec, b.motion == Motion::ArcCcw, start, end))
+                }
+            };
+            // A TCPM feed move whose tool axis turns, under vector interpolation: pieces along the great circle.
+            let great_circle = match (kind, b.orientation) {
+                (SegmentKind::Tcp, Orientation::GreatCircle) => {
+                    let (o0, o1) = (machine.chain.orientation(&[q[3], q[4]]), machine.chain.orientation(&[q1[3], q1[4]]));
+                    let sd = machine.singular_direction();
+                    let on_pole = |o: &Vector3<f64>| o.cross(&sd).norm() < POLE_EPS;
+                    match GreatCircle::new(o0, o1) {
+                        // A move from or to the pole: the secondary axis is undefined there, so the great
+                        // circle (a meridian) would ask it to stand at the other end's angle from the
+                        // start; C turns from where it stands instead, the rotaries linear.
+                        Some(_) if on_pole(&o0) || on_pole(&o1) => None,
+                        Some(gc) => Some(gc),
+                        None if o0.dot(&o1) < 0.0 => {
+                            diags.push(diag(b, "the tool axis turns by 180 deg: no single great circle joins its start and end directions; block skipped".into()));
+                            break 'blocks false;
+                        }
+                        None => None,
+                    }
+                }
+                _ => None,
+            };
+            let pieces = match (arc, great_circle) {
+                (arc, Some(gc)) => match great_circle_pieces(&gc, arc.as_ref(), q, tip0, tip1, datum, machine) {
+                    Ok(p) => p,
+                    Err(e) => {
+                        diags.push(diag(b, e));
+                        break 'blocks false;
+                    }
+                },
+                (None, None) => vec![(q, q1, tip0, tip1, None, None)],
+                (Some(arc), None) => {
+                    // The whole move as one segment gives each piece end its axes (the arc's point, the
+                    // rotaries linear in the fraction), the same as sampling it would.
+                    let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)), orient: None };
+                    let n = arc.pieces();
+                    let end = |k: usize| -> (Joints, Vector3<f64>) {
+                        let u = k as f64 / n as f64;
+                        let qk = match k {
+                            0 => q,
+                            k if k == n => q1,
+                            _ => whole.joints_at(u, machine),
+                        };
+                        (qk, if tcp { arc.point(u) } else { machine.forward(&qk).tip - datum })
+                    };
+                    let mut pieces = Vec::with_capacity(n);
+                    for k in 0..n {
+                        let ((qa, ta), (qb, tb)) = (end(k), end(k + 1));
+                        if let Some(d) = out_of_range(b, machine, &qb) {
+                            diags.push(d);
+                            break 'blocks false;
+                        }
+                        pieces.push((qa, qb, ta, tb, Some(Box::new(arc.piece(k as f64 / n as f64, (k + 1) as f64 / n as f64))), None));
+                    }
+                    pieces
+                }
+            };
+            let n = pieces.len() as f64;
+            for (pq0, pq1, ptip0, ptip1, parc, porient) in pieces {
+                let mut seg = Segment {
+                    kind,
+                    block: bi,
+                    line: b.line,
+                    number: b.number,
+                    t0: t,
+                    duration: 0.0,
+                    s0: s,
+                    length: 0.0,
+                    q0: pq0,
+                    q1: pq1,
+                    tip0: ptip0,
+                    tip1: ptip1,
+                    datum,
+                    feed: 0.0,
+                    arc: parc,
+                    orient: porient,
+                };
+                seg.length = tip_length(&seg, machine);
+                let lin_len = seg.linear_axes_length();
+                let rot_len = ((pq1[3] - pq0[3]).powi(2) + (pq1[4] - pq0[4]).powi(2)).sqrt();
+                let duration = match kind {
+                    SegmentKind::Rapid => (0..5)
+                        .map(|i| (pq1[i] - pq0[i]).abs() / machine.axes[i].limits.velocity)
+                        .fold(0.0, f64::max),
+                    _ => {
+                        let Some(feed) = b.feed else {
+                            diags.push(diag(b, "feed move without a feed: block skipped".into()));
+                            break 'blocks false;
+                        };
+                        match feed.mode {
+                            // The block's time, shared by its pieces: evenly (equal arc lengths) or by
+                            // their share of the great circle (tip and axis both move evenly in it).
+                            FeedMode::InverseTime => match &seg.orient {
+                                Some(gc) => 60.0 / feed.value_per_min * (gc.u1 - gc.u0),
+                                None => 60.0 / feed.value_per_min / n,
+                            },
+                            FeedMode::PerMinute => {
+                                let path_len = if kind == SegmentKind::Tcp { seg.length } else { lin_len };
+                                // A tip move under 1 um that turns the rotaries is rounding in the program's
+                                // coordinates, not a path: it is a rotary move (F in deg/min).
+                                let rounding = path_len < MIN_PATH && rot_len > 1e-9;
+                                if path_len > 1e-9 && !rounding {
+                                    let f = options.feed_override_mm_per_min.unwrap_or(feed.value_per_min) * MM_PER_MIN;
+                                    seg.feed = seg.length / (path_len / f);
+                                    path_len / f
+                                } else {
+                                    // Rotary axes only: F is read in degrees per minute.
+                                    rot_len / (feed.value_per_min * DEG_PER_MIN)
+                                }
+                            }
+                        }
+                    }
+                };
+                if !(duration > 1e-12) {
+                    continue; // nothing moves
+                }
+                if t + duration > options.max_duration_s {
+                    let what = match (kind, b.feed) {
+                        (SegmentKind::Rapid, _) => "this rapid move".to_string(),
+                        (_, Some(f)) if f.mode == FeedMode::InverseTime => format!("this move (inverse-time F{})", f.value_per_min),
+                        (_, Some(f)) => format!("this move (F{} over {:.3} mm)", options.feed_override_mm_per_min.unwrap_or(f.value_per_min), seg.length * n * 1e3),
+                        (_, None) => "this move".to_string(),
+                    };
+                    diags.push(diag(
+                        b,
+                        format!(
+                            "{what} takes {:.1} h and would make the program run {:.1} h, beyond the bound of {:.1} h: \
+                             a feed typo? planning stops here (raise the bound with --max-program-hours if the program is meant to run this long)",
+                            duration * n / 3600.0,
+                            (t + duration * n) / 3600.0,
+                            options.max_duration_s / 3600.0
+                        ),
+                    ));
+                    break 'blocks true;
+                }
+                if seg.feed == 0.0 {
+                    // Rapid, inverse-time and rotary-only moves: the tool-tip speed they result in.
+                    seg.feed = seg.length / duration;
+                }
+                seg.duration = duration;
+                t += duration;
+                s += seg.length;
+                q = pq1;
+                segments.push(seg);
+            }
+            false
+        };
+        (self.q, self.t, self.s, self.first_orientation, self.at_start, self.stopped) = (q, t, s, first_orientation, at_start, stopped);
+        !stopped
+    }
 }
 
 /// One piece of a move: start and end axes, start and end tool tips, its part of an arc and of a

@@ -9,10 +9,8 @@ use nalgebra::Vector3;
 
 pub use crate::singularity::CORNER_DEG;
 
-/// Blocks before a window's first committed point that its splines are also fitted through. A
-/// natural spline's response to a knot decays by about 2 - sqrt(3) = 0.27 per knot, so over 32
-/// blocks two windows' curves agree to ~1e-18 of the path's curvature where they meet.
-pub const SPLINE_OVERLAP_BLOCKS: usize = 32;
+/// Blocks before a window's first committed point that its splines are also fitted through.
+pub use crate::singularity::SPLINE_OVERLAP_BLOCKS;
 
 /// How a run is parametrized and interpolated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

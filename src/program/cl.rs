@@ -13,15 +13,32 @@ pub fn read_cl(text: &str, feed_mm_per_min: f64) -> Program {
 
 /// Read CL data for a control that interpolates the tool orientation as `orientation` says.
 pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) -> Program {
-    let mut diags = Diags::default();
-    let mut blocks = Vec::with_capacity(super::lex::line_count(text));
-    let mut seen_data = false;
-    for (idx, raw) in text.lines().enumerate() {
-        let line = idx + 1;
-        let l = raw.trim_end_matches('\r');
+    let mut reader = ClReader::new(feed_mm_per_min, orientation);
+    let (blocks, diags) = super::stream::read_lines(&mut reader, text);
+    Program { source: String::new(), dialect: Dialect::Cl, name: None, blocks, diagnostics: diags.0 }
+}
+
+/// The CL reader, fed one line at a time.
+#[derive(Debug, Clone)]
+pub(crate) struct ClReader {
+    feed_mm_per_min: f64,
+    orientation: Orientation,
+    seen_data: bool,
+}
+
+impl ClReader {
+    pub(crate) fn new(feed_mm_per_min: f64, orientation: Orientation) -> Self {
+        ClReader { feed_mm_per_min, orientation, seen_data: false }
+    }
+}
+
+impl super::stream::LineReader for ClReader {
+    fn line(&mut self, line: usize, l: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        let (feed_mm_per_min, orientation) = (self.feed_mm_per_min, self.orientation);
+        let l = l.trim_end_matches('\r');
         let t = l.trim();
         if t.is_empty() || t.starts_with('#') || t.starts_with(';') {
-            continue;
+            return;
         }
         // Fields with their columns.
         let mut fields: Vec<(usize, &str)> = Vec::new();
@@ -38,17 +55,17 @@ pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) 
             }
         }
         let numbers: Vec<Option<f64>> = fields.iter().map(|(_, f)| parse_number(f)).collect();
-        if !seen_data && numbers.iter().all(Option::is_none) {
-            continue; // header line such as `x,y,z,i,j,k`
+        if !self.seen_data && numbers.iter().all(Option::is_none) {
+            return; // header line such as `x,y,z,i,j,k`
         }
-        seen_data = true;
+        self.seen_data = true;
         if fields.len() < 6 || fields.len() > 7 {
             diags.error(
                 line,
                 1,
                 format!("expected 6 or 7 fields (x y z i j k [feed]), found {}", fields.len()),
             );
-            continue;
+            return;
         }
         let mut bad = false;
         for ((col, f), v) in fields.iter().zip(&numbers) {
@@ -58,13 +75,13 @@ pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) 
             }
         }
         if bad {
-            continue;
+            return;
         }
         let v: Vec<f64> = numbers.into_iter().flatten().collect();
         let norm = (v[3] * v[3] + v[4] * v[4] + v[5] * v[5]).sqrt();
         if !(norm > 1e-9) {
             diags.error(line, fields[3].0, "tool axis (i j k) has zero length: expected a direction");
-            continue;
+            return;
         }
         if (norm - 1.0).abs() > 1e-2 {
             diags.warning(line, fields[3].0, format!("tool axis length {norm:.4} is not 1: normalised"));
@@ -72,13 +89,13 @@ pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) 
         let feed = if v.len() == 7 {
             if !(v[6] > 0.0) {
                 diags.error(line, fields[6].0, "expected a positive feed (mm/min)");
-                continue;
+                return;
             }
             v[6]
         } else {
             feed_mm_per_min
         };
-        blocks.push(Block {
+        out.push(Block {
             line,
             column: fields[0].0,
             number: None,
@@ -98,5 +115,4 @@ pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) 
             events: Vec::new(),
         });
     }
-    Program { source: String::new(), dialect: Dialect::Cl, name: None, blocks, diagnostics: diags.0 }
 }

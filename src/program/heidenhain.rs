@@ -141,45 +141,70 @@ pub fn read_heidenhain(text: &str) -> Program {
 /// Read a Heidenhain DIN/ISO program on a control whose machine-specific M functions do what
 /// `m_codes` says and whose orientation interpolation starts as `orientation`.
 pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientation: super::Orientation) -> Program {
-    let mut diags = Diags::default();
-    let mut interp = Interpreter::new(Dialect::Heidenhain).with_m_codes(m_codes).with_orientation(orientation);
-    let mut name: Option<String> = None;
-    let mut blocks: Vec<Block> = Vec::with_capacity(super::lex::line_count(text));
-    let mut seen = SeenNumbers::default();
-    let mut last_number: Option<(u64, usize)> = None;
-    let mut out_of_order = false;
-    let mut ended = false;
+    let mut reader = DinReader::new(m_codes, orientation);
+    let (mut blocks, mut diags) = super::stream::read_lines(&mut reader, text);
+    if reader.out_of_order {
+        recover_order(&mut blocks, &mut diags);
+    }
+    diags.0.sort_by_key(|d| (d.line, d.column));
+    Program { source: String::new(), dialect: Dialect::Heidenhain, name: reader.name, blocks, diagnostics: diags.0 }
+}
 
-    for (idx, raw) in text.lines().enumerate() {
-        let line = idx + 1;
-        let trimmed = raw.trim_end_matches('\r');
+/// The DIN/ISO reader, fed one line at a time.
+#[derive(Debug, Clone)]
+pub(crate) struct DinReader {
+    interp: Interpreter,
+    name: Option<String>,
+    seen: SeenNumbers,
+    last_number: Option<(u64, usize)>,
+    /// Block numbers went backwards somewhere: a damaged copy whose order may be recovered.
+    pub(crate) out_of_order: bool,
+    ended: bool,
+}
+
+impl DinReader {
+    pub(crate) fn new(m_codes: &[super::MCodeRule], orientation: super::Orientation) -> Self {
+        DinReader {
+            interp: Interpreter::new(Dialect::Heidenhain).with_m_codes(m_codes).with_orientation(orientation),
+            name: None,
+            seen: SeenNumbers::default(),
+            last_number: None,
+            out_of_order: false,
+            ended: false,
+        }
+    }
+}
+
+impl super::stream::LineReader for DinReader {
+    fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        let trimmed = text.trim_end_matches('\r');
         let lead = trimmed.len() - trimmed.trim_start().len();
         let body = trimmed.trim_start();
         if body.is_empty() || body.starts_with(';') {
-            continue;
+            return;
         }
         if let Some(rest) = body.strip_prefix('%') {
             if rest.starts_with(|c: char| c.is_whitespace()) || rest.is_empty() {
-                continue; // `% DATUM INPUT`: a comment line
+                return; // `% DATUM INPUT`: a comment line
             }
             let col = trimmed[..lead].chars().count() + 1;
-            let n = header(rest, line, col, &mut diags);
-            if name.is_some() {
+            let n = header(rest, line, col, diags);
+            if self.name.is_some() {
                 diags.warning(line, col, format!("second program header '%{n}' ignored"));
             } else {
                 if n.contains(' ') || n.is_empty() {
                     // already reported; keep the name as read
                 }
-                name = Some(n);
+                self.name = Some(n);
                 if rest.contains("G70") {
-                    interp.set_inch(true);
+                    self.interp.set_inch(true);
                 }
             }
-            continue;
+            return;
         }
-        if ended {
+        if self.ended {
             diags.warning(line, lead + 1, "text after the program end ignored");
-            continue;
+            return;
         }
 
         // Split the line's tokens into blocks: each starts at an N word or after ' *'.
@@ -270,8 +295,8 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
                         diags.error(line, *col, format!("unexpected '{}': expected an address word", excerpt(text)))
                     }
                     Tok::Percent { rest, col } => {
-                        let n = header(rest, line, *col, &mut diags);
-                        if let Some(start) = &name {
+                        let n = header(rest, line, *col, diags);
+                        if let Some(start) = &self.name {
                             if *start != n {
                                 diags.error(line, *col + 1, format!("program end names '{n}' but the program began as '{start}'"));
                             }
@@ -282,17 +307,17 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
                 }
             }
             if program_end {
-                ended = true;
+                self.ended = true;
                 continue;
             }
             let damaged = diags.errors() > errors_before;
             if let Some(n) = number {
-                if let Some(first_line) = seen.get(n) {
+                if let Some(first_line) = self.seen.get(n) {
                     diags.error(line, first_col, format!("block number N{n} repeats the block on line {first_line}"));
                 }
-                if let Some((prev, prev_line)) = last_number {
+                if let Some((prev, prev_line)) = self.last_number {
                     if n < prev {
-                        out_of_order = true;
+                        self.out_of_order = true;
                         diags.error(
                             line,
                             first_col,
@@ -300,33 +325,35 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
                         );
                     }
                 }
-                seen.insert(n, line);
-                last_number = Some((n, line));
+                self.seen.insert(n, line);
+                self.last_number = Some((n, line));
             }
             if damaged {
                 diags.warning(line, first_col, format!("block {} not used: it is damaged", label(number, line)));
                 continue;
             }
-            if let Some(b) = interp.block(&words, line, first_col, number, &mut diags) {
-                blocks.push(b);
+            if let Some(b) = self.interp.block(&words, line, first_col, number, diags) {
+                out.push(b);
             } else {
                 diags.warning(line, first_col, format!("block {} not used", label(number, line)));
             }
         }
     }
-    if name.is_none() {
-        diags.error(1, 1, "missing program header: expected %NAME G71 * on the first line");
+
+    fn finish(&mut self, diags: &mut Diags) {
+        if self.name.is_none() {
+            diags.error(1, 1, "missing program header: expected %NAME G71 * on the first line");
+        }
     }
-    if out_of_order {
-        recover_order(&mut blocks, &mut diags);
+
+    fn name(&self) -> Option<String> {
+        self.name.clone()
     }
-    diags.0.sort_by_key(|d| (d.line, d.column));
-    Program { source: String::new(), dialect: Dialect::Heidenhain, name, blocks, diagnostics: diags.0 }
 }
 
 /// The block numbers seen so far and their lines: an ascending run kept in a vector (the common case,
 /// no hashing per block), any other number in a B-tree.
-#[derive(Default)]
+#[derive(Debug, Clone, Default)]
 struct SeenNumbers {
     ascending: Vec<(u64, usize)>,
     others: std::collections::BTreeMap<u64, usize>,

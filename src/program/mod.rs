@@ -11,12 +11,14 @@ mod klartext;
 mod lex;
 mod rs274;
 mod sinumerik;
+mod stream;
 
 pub use cl::{read_cl, read_cl_with};
 pub use heidenhain::{read_heidenhain, read_heidenhain_with};
 pub use klartext::{read_klartext_with, MAX_REPEATED_BLOCKS};
 pub use rs274::{read_rs274, read_rs274_setup, read_rs274_with};
 pub use sinumerik::read_sinumerik_with;
+pub use stream::{BlockStream, DiagnosticLog, MAX_DIAGNOSTICS, MAX_LINE_BYTES};
 
 use std::fmt;
 use std::path::Path;

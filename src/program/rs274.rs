@@ -8,7 +8,7 @@
 
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
-use super::{Dialect, MCodeRule, Program};
+use super::{Block, Dialect, MCodeRule, Program};
 
 /// Read an RS274NGC program (no machine-specific M codes).
 pub fn read_rs274(text: &str) -> Program {
@@ -23,16 +23,31 @@ pub fn read_rs274_with(text: &str, m_codes: &[MCodeRule]) -> Program {
 /// Read an RS274NGC program with these machine-specific M codes, on a control whose orientation
 /// interpolation starts as `orientation`.
 pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::Orientation) -> Program {
-    let mut diags = Diags::default();
-    let mut interp = Interpreter::new(Dialect::Rs274).with_m_codes(m_codes).with_orientation(orientation);
-    let mut blocks = Vec::with_capacity(super::lex::line_count(text));
-    for (idx, raw) in text.lines().enumerate() {
-        let line = idx + 1;
-        let chars: Vec<char> = raw.trim_end_matches('\r').chars().collect();
+    let mut reader = Rs274Reader::new(m_codes, orientation);
+    let (blocks, mut diags) = super::stream::read_lines(&mut reader, text);
+    diags.0.sort_by_key(|d| (d.line, d.column));
+    Program { source: String::new(), dialect: Dialect::Rs274, name: None, blocks, diagnostics: diags.0 }
+}
+
+/// The RS274NGC reader, fed one line at a time.
+#[derive(Debug, Clone)]
+pub(crate) struct Rs274Reader {
+    interp: Interpreter,
+}
+
+impl Rs274Reader {
+    pub(crate) fn new(m_codes: &[MCodeRule], orientation: super::Orientation) -> Self {
+        Rs274Reader { interp: Interpreter::new(Dialect::Rs274).with_m_codes(m_codes).with_orientation(orientation) }
+    }
+}
+
+impl super::stream::LineReader for Rs274Reader {
+    fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
         let first = chars.iter().position(|c| !c.is_whitespace());
-        let Some(first) = first else { continue };
+        let Some(first) = first else { return };
         if chars[first] == '%' {
-            continue;
+            return;
         }
         let errors_before = diags.errors();
         let mut words: Vec<Word> = Vec::new();
@@ -100,18 +115,16 @@ pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::O
         let damaged = diags.errors() > errors_before;
         if damaged {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
-            continue;
+            return;
         }
         if words.is_empty() {
-            continue;
+            return;
         }
         let col = words.first().map_or(first + 1, |w| w.column.min(first + 1));
-        if let Some(b) = interp.block(&words, line, col, number, &mut diags) {
-            blocks.push(b);
+        if let Some(b) = self.interp.block(&words, line, col, number, diags) {
+            out.push(b);
         } else {
             diags.warning(line, first + 1, format!("line {line} not used"));
         }
     }
-    diags.0.sort_by_key(|d| (d.line, d.column));
-    Program { source: String::new(), dialect: Dialect::Rs274, name: None, blocks, diagnostics: diags.0 }
 }

@@ -23,32 +23,47 @@ use super::{Dialect, MCodeRule, Orientation, Program};
 /// Read a Sinumerik program on a control whose orientation interpolation starts as `orientation`
 /// (the reset state is [`Orientation::GreatCircle`], ORIWKS/ORIVECT).
 pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
-    let mut diags = Diags::default();
-    let mut interp = Interpreter::new(Dialect::Sinumerik).with_m_codes(m_codes).with_orientation(orientation);
-    let mut blocks = Vec::with_capacity(super::lex::line_count(text));
-    for (idx, raw) in text.lines().enumerate() {
-        let line = idx + 1;
-        let text_line = raw.trim_end_matches('\r');
-        let Some(first) = text_line.find(|c: char| !c.is_whitespace()) else { continue };
+    let mut reader = SinumerikReader::new(m_codes, orientation);
+    let (blocks, mut diags) = super::stream::read_lines(&mut reader, text);
+    diags.0.sort_by_key(|d| (d.line, d.column));
+    Program { source: String::new(), dialect: Dialect::Sinumerik, name: None, blocks, diagnostics: diags.0 }
+}
+
+/// The Sinumerik reader, fed one line at a time.
+#[derive(Debug, Clone)]
+pub(crate) struct SinumerikReader {
+    interp: Interpreter,
+}
+
+impl SinumerikReader {
+    pub(crate) fn new(m_codes: &[MCodeRule], orientation: Orientation) -> Self {
+        SinumerikReader { interp: Interpreter::new(Dialect::Sinumerik).with_m_codes(m_codes).with_orientation(orientation) }
+    }
+}
+
+impl super::stream::LineReader for SinumerikReader {
+    fn line(&mut self, line: usize, text: &str, out: &mut Vec<super::Block>, diags: &mut Diags) {
+        let text_line = text.trim_end_matches('\r');
+        let Some(first) = text_line.find(|c: char| !c.is_whitespace()) else { return };
         if text_line[first..].starts_with('%') {
-            continue; // `%_N_NAME_MPF` transfer header
+            return; // `%_N_NAME_MPF` transfer header
         }
         let errors_before = diags.errors();
         let cols = Columns::new(text_line);
         let first = cols.col(first) - 1;
-        let lexed = lex_line(text_line, &cols, line, &mut diags);
+        let lexed = lex_line(text_line, &cols, line, diags);
         if diags.errors() > errors_before {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
-            continue;
+            return;
         }
         let Lexed { mut words, number, keywords, vector, frame } = lexed;
-        let saved = interp.clone();
+        let saved = self.interp.clone();
         for (k, col) in &keywords {
             match k.as_str() {
-                "TRAORI" => interp.set_tcp(true),
-                "TRAFOOF" => interp.set_tcp(false),
-                "ORIWKS" | "ORIVECT" | "ORIPLANE" => interp.set_orientation(Orientation::GreatCircle),
-                "ORIMKS" | "ORIAXES" => interp.set_orientation(Orientation::AxisLinear),
+                "TRAORI" => self.interp.set_tcp(true),
+                "TRAFOOF" => self.interp.set_tcp(false),
+                "ORIWKS" | "ORIVECT" | "ORIPLANE" => self.interp.set_orientation(Orientation::GreatCircle),
+                "ORIMKS" | "ORIAXES" => self.interp.set_orientation(Orientation::AxisLinear),
                 // Angle conventions for A2 B2 C2, which are not read: no effect on these programs.
                 "ORIEULER" | "ORIRPY" => {}
                 // Acceleration modes: the planner always limits jerk.
@@ -59,8 +74,8 @@ pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orien
         }
         if let Some(kind) = frame {
             // TRANS X Y Z: the frame's offset, not a move (and alone in its block, as the manual asks).
-            let unit = interp.unit();
-            let mut datum = if kind == "ATRANS" { interp.datum() } else { [0.0; 3] };
+            let unit = self.interp.unit();
+            let mut datum = if kind == "ATRANS" { self.interp.datum() } else { [0.0; 3] };
             for w in words.drain(..) {
                 match "XYZ".find(w.letter) {
                     Some(k) => datum[k] += w.value * unit,
@@ -68,34 +83,32 @@ pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orien
                 }
             }
             if diags.errors() > errors_before {
-                interp = saved;
-                continue;
+                self.interp = saved;
+                return;
             }
-            interp.set_datum(datum);
-            continue;
+            self.interp.set_datum(datum);
+            return;
         }
         if diags.errors() > errors_before {
-            interp = saved;
+            self.interp = saved;
             diags.warning(line, first + 1, format!("line {line} not used"));
-            continue;
+            return;
         }
         // A block of only a tool vector still moves.
         match vector {
-            Some(v) => interp.set_pending_vector(v),
-            None if words.is_empty() => continue,
+            Some(v) => self.interp.set_pending_vector(v),
+            None if words.is_empty() => return,
             None => {}
         }
         let col = words.iter().map(|w| w.column).min().unwrap_or(first + 1).min(first + 1);
-        match interp.block(&words, line, col, number, &mut diags) {
-            Some(b) => blocks.push(b),
+        match self.interp.block(&words, line, col, number, diags) {
+            Some(b) => out.push(b),
             None => {
-                interp = saved;
+                self.interp = saved;
                 diags.warning(line, first + 1, format!("line {line} not used"));
             }
         }
     }
-    diags.0.sort_by_key(|d| (d.line, d.column));
-    Program { source: String::new(), dialect: Dialect::Sinumerik, name: None, blocks, diagnostics: diags.0 }
 }
 
 /// Why a keyword is refused.

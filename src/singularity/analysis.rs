@@ -1,9 +1,10 @@
 //! The whole-trajectory analysis: per-sample status (seed 001 eq. 5, seed 002 eq. 5), regions and a
 //! summary, in one streaming pass over the samples.
 
+use super::geometry::SPLINE_OVERLAP_BLOCKS;
 use super::{distance, on_pole, predicted_rate, FeedLimit, FeedLimiter, PathGeometry};
 use crate::machine::Machine;
-use crate::path::{Sample, Segment, Trajectory};
+use crate::path::{GridSampler, Sample, Segment, SegmentWindow, Trajectory};
 use nalgebra::Vector3;
 
 /// Options of the analysis.
@@ -106,46 +107,163 @@ pub struct Analysis {
     pub summary: Summary,
 }
 
+/// What a sample's status needs of its segment (the segment itself may be gone by the time a
+/// region closes: only a window of the segments is held).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SegmentInfo {
+    /// Block index, program line and block number.
+    pub block: usize,
+    pub line: usize,
+    pub number: Option<u64>,
+    /// Start time (s) and tool tip (program coordinates, m).
+    pub t0: f64,
+    pub tip0: Vector3<f64>,
+}
+
+/// Where the samples come from: the period's grid over the segments, or samples held already (a
+/// built-in continuous path, sampled from the path itself).
+enum SampleSource<'a> {
+    Grid(GridSampler),
+    Stored(std::slice::Iter<'a, Sample>),
+}
+
+/// Each sample of a segment stream with what it says about the singularity, in time order, one at
+/// a time: memory holds the window of segments the spline geometry needs, not the trajectory.
+pub struct Statuses<'a, I: Iterator<Item = Segment>> {
+    machine: &'a Machine,
+    window: SegmentWindow<I>,
+    source: SampleSource<'a>,
+    geometry: PathGeometry,
+    limiter: FeedLimiter,
+    sd: Vector3<f64>,
+    sec: usize,
+    sign: f64,
+    prev: Option<Sample>,
+    next: Option<Sample>,
+    started: bool,
+}
+
+impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
+    /// The statuses of `segments` sampled every `period` s (or of `stored` samples of them).
+    pub fn new(segments: I, stored: Option<&'a [Sample]>, period: f64, machine: &'a Machine) -> Self {
+        let sign = match machine.chain.joints()[machine.chain.secondary_slot()].carrier {
+            crate::kinematics::Carrier::Table => -1.0,
+            crate::kinematics::Carrier::Head => 1.0,
+        };
+        Statuses {
+            machine,
+            window: SegmentWindow::new(segments),
+            source: match stored {
+                Some(s) if !s.is_empty() => SampleSource::Stored(s.iter()),
+                _ => SampleSource::Grid(GridSampler::new(period)),
+            },
+            geometry: PathGeometry::new(),
+            limiter: FeedLimiter::new(&machine.limits()),
+            sd: machine.singular_direction(),
+            sec: machine.secondary_axis(),
+            sign,
+            prev: None,
+            next: None,
+            started: false,
+        }
+    }
+
+    fn pull(&mut self) -> Option<Sample> {
+        match &mut self.source {
+            SampleSource::Grid(g) => g.next(&mut self.window, self.machine),
+            SampleSource::Stored(it) => it.next().copied(),
+        }
+    }
+}
+
+impl<I: Iterator<Item = Segment>> Iterator for Statuses<'_, I> {
+    type Item = (Sample, Status, SegmentInfo);
+    fn next(&mut self) -> Option<Self::Item> {
+        if !self.started {
+            self.started = true;
+            self.next = self.pull();
+        }
+        let sm = self.next.take()?;
+        self.next = self.pull();
+        let seg = self.window.get(sm.segment).expect("a sample's segment is in the window");
+        let info = SegmentInfo { block: seg.block, line: seg.line, number: seg.number, t0: seg.t0, tip0: seg.tip0 };
+        let (five_axis, rapid) = (seg.is_five_axis(), seg.kind == crate::path::SegmentKind::Rapid);
+        // Central difference of the commanded secondary axis (one-sided at the ends).
+        let (a, b) = (self.prev.unwrap_or(sm), self.next.unwrap_or(sm));
+        let dt = b.t - a.t;
+        let fd_rate = if dt > 0.0 { (b.q[self.sec] - a.q[self.sec]) / dt } else { 0.0 };
+        let feed_limit = self.geometry.derivatives(sm.segment, sm.s, &mut self.window).map(|(d1, d2, d3)| self.limiter.limit(sm.feed, &d1, &d2, &d3));
+        // Keep what the geometry's overlap reaches back to.
+        self.window.release_before(sm.segment.saturating_sub(SPLINE_OVERLAP_BLOCKS + 1));
+        self.prev = Some(sm);
+        let status = Status {
+            distance: distance(&sm.axis, &self.sd),
+            predicted_rate: self.sign * predicted_rate(&sm.axis, &sm.axis_rate, &self.sd),
+            fd_rate,
+            feed_limit,
+            five_axis,
+            on_pole: on_pole(&sm.axis, &sm.axis_rate, &self.sd),
+            rapid,
+        };
+        Some((sm, status, info))
+    }
+}
+
 /// Each sample of a trajectory with what it says about the singularity, in time order, one at a
 /// time (the samples are made from the segments as they are read).
 pub fn statuses<'a>(traj: &'a Trajectory, machine: &'a Machine) -> impl Iterator<Item = (Sample, Status)> + 'a {
-    let sd = machine.singular_direction();
-    let sec = machine.secondary_axis();
-    let sign = match machine.chain.joints()[machine.chain.secondary_slot()].carrier {
-        crate::kinematics::Carrier::Table => -1.0,
-        crate::kinematics::Carrier::Head => 1.0,
-    };
-    let limiter = FeedLimiter::new(&machine.limits());
-    let geometry = PathGeometry::new(traj, machine);
-    let mut samples = traj.samples(machine).peekable();
-    let mut prev: Option<Sample> = None;
-    std::iter::from_fn(move || {
-        let sm = samples.next()?;
-        let seg = &traj.segments[sm.segment];
-        // Central difference of the commanded secondary axis (one-sided at the ends).
-        let (a, b) = (prev.unwrap_or(sm), samples.peek().copied().unwrap_or(sm));
-        let dt = b.t - a.t;
-        let fd_rate = if dt > 0.0 { (b.q[sec] - a.q[sec]) / dt } else { 0.0 };
-        let feed_limit = geometry.derivatives(sm.segment, sm.s).map(|(d1, d2, d3)| limiter.limit(sm.feed, &d1, &d2, &d3));
-        prev = Some(sm);
-        Some((
-            sm,
-            Status {
-                distance: distance(&sm.axis, &sd),
-                predicted_rate: sign * predicted_rate(&sm.axis, &sm.axis_rate, &sd),
-                fd_rate,
-                feed_limit,
-                five_axis: seg.is_five_axis(),
-                on_pole: on_pole(&sm.axis, &sm.axis_rate, &sd),
-                rapid: seg.kind == crate::path::SegmentKind::Rapid,
-            },
-        ))
-    })
+    Statuses::new(traj.segments.iter().cloned(), Some(&traj.stored), traj.period, machine).map(|(sm, st, _)| (sm, st))
 }
 
-/// Analyze a trajectory on a machine in one pass over its samples: memory holds the segments and the
-/// regions, never the samples.
+/// Analyze a trajectory on a machine in one pass over its samples (see [`analyze_segments`]).
 pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) -> Analysis {
+    analyze_stream(traj.segments.iter().cloned(), Some(&traj.stored), traj.period, machine, options).0
+}
+
+/// What a streamed analysis counted besides its findings.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StreamCounts {
+    pub samples: usize,
+    pub segments: usize,
+}
+
+/// Analyze a stream of segments sampled every `period` s, in one pass: memory holds a window of the
+/// segments and the regions, never the samples or the program.
+pub fn analyze_segments(segments: impl Iterator<Item = Segment>, period: f64, machine: &Machine, options: &AnalysisOptions) -> (Analysis, StreamCounts) {
+    analyze_stream(segments, None, period, machine, options)
+}
+
+/// The programmed extremes lie at block ends, which the sample grid may miss by a fraction of a
+/// period: the closest approach over the five-axis moves' end points (the first of equal ones), and
+/// the end of the last segment.
+#[derive(Debug, Clone, Copy)]
+struct SegmentEnds {
+    sd: Vector3<f64>,
+    /// Over five-axis moves (distance, tool tip), and over all their end points.
+    five_axis: Option<(f64, Vector3<f64>)>,
+    all: f64,
+    end_time: f64,
+    count: usize,
+}
+
+impl SegmentEnds {
+    fn push(&mut self, seg: &Segment, machine: &Machine) {
+        self.count += 1;
+        self.end_time = seg.t0 + seg.duration;
+        if !seg.is_five_axis() {
+            return;
+        }
+        for (q, tip) in [(&seg.q0, seg.tip0), (&seg.q1, seg.tip1)] {
+            let d = distance(&machine.chain.orientation(&[q[3], q[4]]), &self.sd);
+            if self.five_axis.is_none_or(|(m, _)| d < m) {
+                self.five_axis = Some((d, tip));
+            }
+            self.all = self.all.min(d);
+        }
+    }
+}
+
+fn analyze_stream(segments: impl Iterator<Item = Segment>, stored: Option<&[Sample]>, period: f64, machine: &Machine, options: &AnalysisOptions) -> (Analysis, StreamCounts) {
     let sd = machine.singular_direction();
     let limits = machine.limits();
     let rate_limit = options.rate_limit.unwrap_or(limits[machine.secondary_axis()].velocity);
@@ -157,9 +275,11 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
     let mut min_d: Option<(f64, Vector3<f64>)> = None;
     let mut min_all = f64::INFINITY;
     let mut min_fl: Option<(FeedLimit, Vector3<f64>)> = None;
-    let mut last: Option<(Sample, Status)> = None;
+    let mut last: Option<(Sample, Status, SegmentInfo)> = None;
     let mut n = 0usize;
-    for (k, (sm, st)) in statuses(traj, machine).enumerate() {
+    let mut ends = SegmentEnds { sd, five_axis: None, all: f64::INFINITY, end_time: 0.0, count: 0 };
+    let segments = segments.inspect(|seg| ends.push(seg, machine));
+    for (k, (sm, st, info)) in Statuses::new(segments, stored, period, machine).enumerate() {
         n += 1;
         // Regions: contiguous samples beyond the limits, entered and left at the interpolated crossing.
         match (in_region(&st, rate_limit, options.min_distance), open.as_mut()) {
@@ -167,27 +287,27 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
                 if cause != r.cause {
                     r.cause = RegionCause::SpeedAndDistance;
                 }
-                r.grow(k, &sm, &st);
+                r.grow(k, &sm, &st, &info);
             }
             (Some(cause), None) => {
                 let (t_start, tip_start) = match &last {
-                    Some((ps, pst)) => boundary(&traj.segments, ps, &sm, crossing(pst, &st, rate_limit)),
+                    Some((ps, pst, pinfo)) => boundary((ps, pinfo), (&sm, &info), crossing(pst, &st, rate_limit)),
                     None => (sm.t, sm.tip),
                 };
-                let mut r = Region::start(regions.len() + 1, cause, k, t_start, tip_start, &sm);
-                r.grow(k, &sm, &st);
+                let mut r = Region::start(regions.len() + 1, cause, k, t_start, tip_start, &sm, &info);
+                r.grow(k, &sm, &st, &info);
                 open = Some(r);
             }
             (None, Some(_)) => {
-                let (ls, lst) = last.as_ref().expect("a region holds a sample");
+                let (ls, lst, linfo) = last.as_ref().expect("a region holds a sample");
                 let mut r = open.take().expect("open");
-                (r.t_end, r.tip_end) = boundary(&traj.segments, ls, &sm, 1.0 - crossing(&st, lst, rate_limit));
+                (r.t_end, r.tip_end) = boundary((ls, linfo), (&sm, &info), 1.0 - crossing(&st, lst, rate_limit));
                 regions.push(r);
             }
             (None, None) => {}
         }
         // Summary.
-        peak.push(k, &sm, &st);
+        peak.push(k, &sm, &st, &info);
         if st.on_pole {
             singular_samples += 1;
         }
@@ -201,21 +321,14 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
                 min_fl = Some((fl, sm.tip));
             }
         }
-        last = Some((sm, st));
+        last = Some((sm, st, info));
     }
-    if let (Some(mut r), Some((ls, _))) = (open.take(), &last) {
+    if let (Some(mut r), Some((ls, _, _))) = (open.take(), &last) {
         (r.t_end, r.tip_end) = (ls.t, ls.tip);
         regions.push(r);
     }
-    for r in &mut regions {
-        let (a, b) = (&traj.segments[r.first_segment], &traj.segments[r.last_segment]);
-        (r.line_start, r.block_start, r.line_end, r.block_end) = (a.line, a.number, b.line, b.number);
-    }
     let (peak_rate, peak_tip, peak_line, peak_block) = match peak.best {
-        Some((v, _, segment)) => {
-            let seg = &traj.segments[segment];
-            (v, (peak.a_tip + peak.b_tip) / 2.0, seg.line, seg.number)
-        }
+        Some((v, _, _, line, number)) => (v, (peak.a_tip + peak.b_tip) / 2.0, line, number),
         None => (0.0, Vector3::zeros(), 0, None),
     };
     let mut summary = Summary {
@@ -231,25 +344,21 @@ pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) 
         min_feed_limit: min_fl.map(|(f, _)| f),
         min_feed_limit_tip: min_fl.map(|(_, t)| t),
         rate_limit,
-        cycle_time: traj.duration(),
+        cycle_time: ends.end_time,
     };
-    // The programmed extremes lie at block ends, which the sample grid may miss by a fraction of a
-    // period: take the closest approach over the five-axis moves' end points too.
-    for seg in traj.segments.iter().filter(|s| s.is_five_axis()) {
-        for (q, tip) in [(&seg.q0, seg.tip0), (&seg.q1, seg.tip1)] {
-            let d = distance(&machine.chain.orientation(&[q[3], q[4]]), &sd);
-            if summary.min_distance.is_none_or(|m| d < m) {
-                summary.min_distance = Some(d);
-                summary.min_distance_tip = Some(tip);
-            }
-            summary.min_distance_all = summary.min_distance_all.min(d);
+    // The block ends' closest approach, where it is closer than the samples'.
+    if let Some((d, tip)) = ends.five_axis {
+        if summary.min_distance.is_none_or(|m| d < m) {
+            summary.min_distance = Some(d);
+            summary.min_distance_tip = Some(tip);
         }
     }
-    Analysis { regions, summary }
+    summary.min_distance_all = summary.min_distance_all.min(ends.all);
+    (Analysis { regions, summary }, StreamCounts { samples: n, segments: ends.count })
 }
 
 impl Region {
-    fn start(id: usize, cause: RegionCause, k: usize, t_start: f64, tip_start: Vector3<f64>, sm: &Sample) -> Region {
+    fn start(id: usize, cause: RegionCause, k: usize, t_start: f64, tip_start: Vector3<f64>, sm: &Sample, info: &SegmentInfo) -> Region {
         Region {
             id,
             cause,
@@ -259,10 +368,10 @@ impl Region {
             t_end: sm.t,
             tip_start,
             tip_end: sm.tip,
-            line_start: 0,
-            line_end: 0,
-            block_start: None,
-            block_end: None,
+            line_start: info.line,
+            line_end: info.line,
+            block_start: info.number,
+            block_end: info.number,
             peak_rate: 0.0,
             peak_tip: sm.tip,
             min_distance: f64::INFINITY,
@@ -274,9 +383,10 @@ impl Region {
 
     /// Take sample `k` into the region: its peak (the last of equal peaks), closest approach and lowest
     /// feed limit (the first of equal ones).
-    fn grow(&mut self, k: usize, sm: &Sample, st: &Status) {
+    fn grow(&mut self, k: usize, sm: &Sample, st: &Status, info: &SegmentInfo) {
         self.last = k;
         self.last_segment = sm.segment;
+        (self.line_end, self.block_end) = (info.line, info.number);
         if st.predicted_rate.is_finite() && st.predicted_rate.abs() >= self.peak_rate {
             self.peak_rate = st.predicted_rate.abs();
             self.peak_tip = sm.tip;
@@ -295,8 +405,8 @@ impl Region {
 /// run near the running maximum.
 #[derive(Debug, Default)]
 struct PeakTracker {
-    /// (|rate|, sample index, segment) of the first largest.
-    best: Option<(f64, usize, usize)>,
+    /// (|rate|, sample index, segment, its line and block number) of the first largest.
+    best: Option<(f64, usize, usize, usize, Option<u64>)>,
     a_tip: Vector3<f64>,
     b_tip: Vector3<f64>,
     /// Still extending the stretch forward from the peak.
@@ -310,7 +420,7 @@ impl PeakTracker {
     const NEAR: f64 = 1e-3;
     const MAX_CHAIN: usize = 1 << 20;
 
-    fn push(&mut self, k: usize, sm: &Sample, st: &Status) {
+    fn push(&mut self, k: usize, sm: &Sample, st: &Status, info: &SegmentInfo) {
         let r = st.predicted_rate.abs();
         let v = self.best.map_or(0.0, |b| b.0);
         let near = |x: f64, v: f64| (x - v).abs() <= Self::NEAR * v;
@@ -323,7 +433,7 @@ impl PeakTracker {
                 }
                 a_tip = tip;
             }
-            self.best = Some((r, k, sm.segment));
+            self.best = Some((r, k, sm.segment, info.line, info.number));
             (self.a_tip, self.b_tip, self.b_open) = (a_tip, sm.tip, true);
         } else if self.b_open && near(r, v) {
             self.b_tip = sm.tip;
@@ -372,12 +482,10 @@ fn crossing(o: &Status, i: &Status, rate_limit: f64) -> f64 {
 /// different blocks (the speed steps there: the axes, or the tool axis' great circle, change rate from
 /// block to block), else at fraction `f` (within a block the speed is continuous, across the pieces of
 /// an arc or of a great circle too).
-fn boundary(segments: &[Segment], a: &Sample, b: &Sample, f: f64) -> (f64, Vector3<f64>) {
-    if segments[a.segment].block != segments[b.segment].block {
-        let seg = &segments[b.segment];
-        if seg.t0 >= a.t && seg.t0 <= b.t {
-            return (seg.t0, seg.tip0);
-        }
+fn boundary(a: (&Sample, &SegmentInfo), b: (&Sample, &SegmentInfo), f: f64) -> (f64, Vector3<f64>) {
+    let ((a, ai), (b, bi)) = (a, b);
+    if ai.block != bi.block && bi.t0 >= a.t && bi.t0 <= b.t {
+        return (bi.t0, bi.tip0);
     }
     (a.t + (b.t - a.t) * f, a.tip + (b.tip - a.tip) * f)
 }

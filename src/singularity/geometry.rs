@@ -7,8 +7,7 @@
 //! corner sharper than [`CORNER_DEG`]: there a control stops anyway.
 
 use crate::machine::AXES;
-use crate::path::Trajectory;
-use crate::machine::Machine;
+use crate::path::{Segment, SegmentWindow};
 
 /// Tool-direction change (degrees) above which a junction is a corner that ends a run (here and in the
 /// simulator's planner, which follows the same curve).
@@ -96,64 +95,87 @@ impl CubicSpline {
     }
 }
 
-/// Per-axis splines of every run of a trajectory.
-#[derive(Debug, Clone)]
+/// Blocks before a window's first evaluated segment that its splines are also fitted through (here
+/// and in the planner's look-ahead windows). A natural spline's response to a knot decays by about
+/// 2 - sqrt(3) = 0.27 per knot, so over 32 blocks two windows' curves agree to ~1e-18 of the path's
+/// curvature where they meet: the windowed fit is the whole run's, and memory holds the window.
+pub const SPLINE_OVERLAP_BLOCKS: usize = 32;
+
+/// Segments a geometry window reaches ahead of the segment it is fitted for.
+const AHEAD_BLOCKS: usize = 256;
+
+/// True if a segment belongs to a run of the spline geometry: a path move that moves.
+fn in_run(seg: &Segment) -> bool {
+    seg.is_path_move() && seg.length > 1e-9
+}
+
+/// True if segment `b` continues the run of segment `a` just before it: the same kind of move, its
+/// direction turned by at most [`CORNER_DEG`].
+fn joined(a: &Segment, b: &Segment) -> bool {
+    in_run(a) && in_run(b) && a.kind == b.kind && (a.tip1 - a.tip0).angle(&(b.tip1 - b.tip0)) <= CORNER_DEG.to_radians()
+}
+
+/// The per-axis spline geometry of the runs of a segment stream, fitted window by window as the
+/// samples reach them: each window is fitted through [`SPLINE_OVERLAP_BLOCKS`] blocks behind and up to
+/// 256 ahead, cut at the run's ends, and used up to the overlap before its far end.
+#[derive(Debug, Clone, Default)]
 pub struct PathGeometry {
-    runs: Vec<[CubicSpline; AXES]>,
-    /// Run of each segment, if it belongs to one.
-    run_of_segment: Vec<Option<usize>>,
+    /// Segments the current fit serves, and its splines.
+    fit: Option<(std::ops::Range<usize>, [CubicSpline; AXES])>,
 }
 
 impl PathGeometry {
-    /// Build the runs of `traj`.
-    pub fn new(traj: &Trajectory, _machine: &Machine) -> PathGeometry {
-        let mut run_of_segment = vec![None; traj.segments.len()];
-        let mut runs = Vec::new();
-        let mut knots_s: Vec<f64> = Vec::new();
-        let mut knots_q: Vec<[f64; AXES]> = Vec::new();
-        let mut prev: Option<usize> = None;
-        let flush = |s: &mut Vec<f64>, q: &mut Vec<[f64; AXES]>, runs: &mut Vec<[CubicSpline; AXES]>| {
-            if !s.is_empty() {
-                runs.push(std::array::from_fn(|i| CubicSpline::natural(s, &q.iter().map(|k| k[i]).collect::<Vec<_>>())));
-                s.clear();
-                q.clear();
-            }
-        };
-        for (k, seg) in traj.segments.iter().enumerate() {
-            if !(seg.is_path_move() && seg.length > 1e-9) {
-                flush(&mut knots_s, &mut knots_q, &mut runs);
-                prev = None;
-                continue;
-            }
-            let joined = prev.is_some_and(|p| {
-                let a = &traj.segments[p];
-                let (d0, d1) = (a.tip1 - a.tip0, seg.tip1 - seg.tip0);
-                a.kind == seg.kind && d0.angle(&d1) <= CORNER_DEG.to_radians()
-            });
-            if !joined {
-                flush(&mut knots_s, &mut knots_q, &mut runs);
-                knots_s.push(seg.s0);
-                knots_q.push(seg.q0);
-            }
-            knots_s.push(seg.s0 + seg.length);
-            knots_q.push(seg.q1);
-            run_of_segment[k] = Some(runs.len());
-            prev = Some(k);
-        }
-        flush(&mut knots_s, &mut knots_q, &mut runs);
-        PathGeometry { runs, run_of_segment }
+    pub fn new() -> PathGeometry {
+        PathGeometry::default()
     }
 
-    /// `(q_s, q_ss, q_sss)` at path length `s` of segment `segment`, if it lies in a run.
-    pub fn derivatives(&self, segment: usize, s: f64) -> Option<([f64; AXES], [f64; AXES], [f64; AXES])> {
-        let run = &self.runs[(*self.run_of_segment.get(segment)?)?];
+    /// `(q_s, q_ss, q_sss)` at path length `s` of segment `segment`, if it lies in a run. The window
+    /// must hold the segments from [`SPLINE_OVERLAP_BLOCKS`] before `segment` on.
+    pub fn derivatives<I: Iterator<Item = Segment>>(&mut self, segment: usize, s: f64, window: &mut SegmentWindow<I>) -> Option<([f64; AXES], [f64; AXES], [f64; AXES])> {
+        if !in_run(window.get(segment)?) {
+            return None;
+        }
+        if !self.fit.as_ref().is_some_and(|(r, _)| r.contains(&segment)) {
+            self.fit = Some(Self::fit(segment, window));
+        }
+        let (_, splines) = self.fit.as_ref()?;
         let mut out = ([0.0; AXES], [0.0; AXES], [0.0; AXES]);
-        for (i, spline) in run.iter().enumerate() {
+        for (i, spline) in splines.iter().enumerate() {
             let (d1, d2, d3) = spline.derivatives(s);
             out.0[i] = d1;
             out.1[i] = d2;
             out.2[i] = d3;
         }
         Some(out)
+    }
+
+    /// Fit the window for segment `k` (which is in a run).
+    fn fit<I: Iterator<Item = Segment>>(k: usize, window: &mut SegmentWindow<I>) -> (std::ops::Range<usize>, [CubicSpline; AXES]) {
+        let mut lo = k;
+        while lo + SPLINE_OVERLAP_BLOCKS > k && lo > 0 && matches!((window.loaded(lo - 1), window.loaded(lo)), (Some(a), Some(b)) if joined(a, b)) {
+            lo -= 1;
+        }
+        let mut hi = k;
+        let mut run_end = true;
+        while window.get(hi + 1).is_some() && matches!((window.loaded(hi), window.loaded(hi + 1)), (Some(a), Some(b)) if joined(a, b)) {
+            if hi >= k + AHEAD_BLOCKS {
+                run_end = false;
+                break;
+            }
+            hi += 1;
+        }
+        let valid_end = if run_end { hi + 1 } else { hi + 1 - SPLINE_OVERLAP_BLOCKS };
+        let first = window.loaded(lo).expect("the window holds the fit's first segment");
+        let mut xs = Vec::with_capacity(hi - lo + 2);
+        let mut qs: Vec<[f64; AXES]> = Vec::with_capacity(hi - lo + 2);
+        xs.push(first.s0);
+        qs.push(first.q0);
+        for j in lo..=hi {
+            let seg = window.loaded(j).expect("the window holds the fit's segments");
+            xs.push(seg.s0 + seg.length);
+            qs.push(seg.q1);
+        }
+        let splines = std::array::from_fn(|i| CubicSpline::natural(&xs, &qs.iter().map(|q| q[i]).collect::<Vec<_>>()));
+        (k..valid_end, splines)
     }
 }

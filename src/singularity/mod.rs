@@ -12,9 +12,9 @@ mod geometry;
 pub mod measured;
 pub mod tracker;
 
-pub use analysis::{analyze, statuses, Analysis, AnalysisOptions, Region, RegionCause, Status, Summary};
+pub use analysis::{analyze, analyze_segments, statuses, Analysis, AnalysisOptions, Region, RegionCause, SegmentInfo, Status, Statuses, StreamCounts, Summary};
 pub use feed::{feed_limit, FeedLimit, FeedLimiter, LimitKind};
-pub use geometry::{CubicSpline, PathGeometry, CORNER_DEG};
+pub use geometry::{CubicSpline, PathGeometry, CORNER_DEG, SPLINE_OVERLAP_BLOCKS};
 
 use nalgebra::Vector3;
 
