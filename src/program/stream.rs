@@ -272,6 +272,9 @@ impl BlockStream {
                     match read_line(input.as_mut(), buf) {
                         Ok(Line::End) => {
                             reader.get().finish(&mut self.diags);
+                            if matches!(reader, Reader::Din(r) if r.out_of_order) {
+                                self.diags.warning(1, 1, "blocks kept in file order: a program read as a stream is not put back in block-number order");
+                            }
                             self.ended = true;
                         }
                         Ok(Line::Text) => {
