@@ -26,22 +26,38 @@ enum RunKind {
     Linear,
 }
 
-/// A stretch of the program the machine runs without stopping: it ends at rapids, corners sharper
-/// than [`CORNER_DEG`], a change of datum and a change between moving the tool tip and only turning
-/// the rotary axes.
-#[derive(Debug, Clone)]
-pub struct Run {
+/// What a run is, measured over all its segments before it is planned (the planner needs its
+/// length for its grid): a stretch of the program the machine runs without stopping. Runs end at
+/// rapids, corners sharper than [`CORNER_DEG`], a change of datum and a change between moving the
+/// tool tip and only turning the rotary axes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunHead {
     kind: RunKind,
-    /// Segment indices and, for each, its start parameter; the last entry of `sigma` is the end.
-    pub segments: Vec<usize>,
-    pub sigma: Vec<f64>,
-    /// Programmed path speed per segment (m/s, or rad/s for rotary-only; infinite for rapids).
-    pub feed: Vec<f64>,
+    /// Segments in the run, and its parameter length (the sum of their path lengths, in order).
+    pub count: usize,
+    pub length: f64,
     q0: Joints,
     q1: Joints,
     datum: Vector3<f64>,
     /// For a rotary run under TCPM, the tool tip it turns about (program coordinates).
     tcp_tip: Option<Vector3<f64>>,
+    /// The parameter is an angle (rad): only the rotary axes move along the run.
+    angular: bool,
+}
+
+/// A run being planned: its head, and the window of its segments the look-ahead has read (each with
+/// its start and end parameter and programmed path speed), read from the segment stream as the
+/// planner reaches them and dropped behind it. Memory is the look-ahead, not the run.
+#[derive(Debug, Clone)]
+pub struct Run {
+    head: RunHead,
+    /// Global index of the run's first segment.
+    pub first: usize,
+    /// Local index of `window[0]`, and how many segments have been read.
+    base: usize,
+    read: usize,
+    window: std::collections::VecDeque<(Segment, f64, f64, f64)>,
+    next_sigma: f64,
 }
 
 /// The curve of one look-ahead window of a run.
@@ -52,54 +68,114 @@ pub struct Curve<'a> {
 }
 
 impl Run {
+    /// The run `head`, whose first segment is `first` in the stream.
+    pub fn new(head: RunHead, first: usize) -> Run {
+        Run { head, first, base: 0, read: 0, window: Default::default(), next_sigma: 0.0 }
+    }
+
     /// Parameter length of the run.
     pub fn length(&self) -> f64 {
-        *self.sigma.last().unwrap_or(&0.0)
+        self.head.length
+    }
+
+    /// Segments in the run.
+    pub fn count(&self) -> usize {
+        self.head.count
     }
 
     /// True if every axis is linear in the parameter (a rapid or a single move with nothing to follow).
     pub fn is_linear(&self) -> bool {
-        self.kind == RunKind::Linear
+        self.head.kind == RunKind::Linear
     }
 
     /// True if the parameter is an angle (rad): only the rotary axes move along the path.
-    pub fn is_angular(&self, segments: &[Segment]) -> bool {
-        match self.kind {
-            RunKind::Rotary => true,
-            RunKind::Linear => self.segments.iter().all(|&k| {
-                let s = &segments[k];
-                (0..3).all(|i| (s.q1[i] - s.q0[i]).abs() <= 1e-12) && s.length <= 1e-12
-            }),
-            _ => false,
+    pub fn is_angular(&self) -> bool {
+        self.head.angular
+    }
+
+    /// Read the run's segments from `source` through local index `b` (at most the run's last).
+    pub fn read_through(&mut self, b: usize, source: &mut dyn Iterator<Item = Segment>) {
+        while self.read <= b.min(self.head.count - 1) {
+            let Some(seg) = source.next() else { break };
+            let (start, feed) = (self.next_sigma, feed_of(&seg));
+            self.next_sigma = start + path_length(&seg);
+            self.window.push_back((seg, start, self.next_sigma, feed));
+            self.read += 1;
         }
     }
 
-    /// Index into `segments` of the segment holding parameter `s`.
-    pub fn segment_at(&self, s: f64) -> usize {
-        let k = self.sigma.partition_point(|&v| v <= s);
-        k.saturating_sub(1).min(self.segments.len() - 1)
+    /// Read past every segment of the run not read yet (a run that is not planned).
+    pub fn skip_rest(&mut self, source: &mut dyn Iterator<Item = Segment>) {
+        while self.read < self.head.count && source.next().is_some() {
+            self.read += 1;
+        }
     }
 
-    /// The curve through blocks `first..=last` of the run (indices into [`Run::segments`]), fitted
-    /// also through [`SPLINE_OVERLAP_BLOCKS`] blocks before `first`.
-    pub fn curve<'a>(&'a self, segments: &[Segment], first: usize, last: usize) -> Curve<'a> {
-        let lo = first.saturating_sub(SPLINE_OVERLAP_BLOCKS);
-        let last = last.min(self.segments.len() - 1);
-        let knots = &self.sigma[lo..=last + 1];
+    /// Drop the segments before local index `b`: the planner will not reach back to them.
+    pub fn release_before(&mut self, b: usize) {
+        while self.base < b && self.window.len() > 1 {
+            self.window.pop_front();
+            self.base += 1;
+        }
+    }
+
+    fn entry(&self, b: usize) -> &(Segment, f64, f64, f64) {
+        &self.window[b - self.base]
+    }
+
+    /// Segment `b` of the run (local index; it must have been read and not dropped).
+    pub fn segment(&self, b: usize) -> &Segment {
+        &self.entry(b).0
+    }
+
+    /// Start parameter of segment `b`; `b = count` is the run's end.
+    pub fn sigma(&self, b: usize) -> f64 {
+        if b == self.head.count {
+            self.head.length
+        } else {
+            self.entry(b).1
+        }
+    }
+
+    /// Programmed path speed of segment `b` (m/s, or rad/s for rotary-only; infinite for rapids).
+    pub fn feed(&self, b: usize) -> f64 {
+        self.entry(b).3
+    }
+
+    /// Local index of the segment holding parameter `s`, among those read.
+    pub fn segment_at(&self, s: f64) -> usize {
+        let k = self.window.partition_point(|e| e.1 <= s);
+        (self.base + k).saturating_sub(1).min(self.head.count - 1)
+    }
+
+    /// Read segments from `source` until the one holding parameter `s` is read; its local index.
+    pub fn segment_at_reading(&mut self, s: f64, source: &mut dyn Iterator<Item = Segment>) -> usize {
+        while self.read < self.head.count && self.window.back().is_none_or(|e| e.2 <= s) {
+            self.read_through(self.read, source);
+        }
+        self.segment_at(s)
+    }
+
+    /// The curve through blocks `first..=last` of the run (local indices), fitted also through
+    /// [`SPLINE_OVERLAP_BLOCKS`] blocks before `first`.
+    pub fn curve(&self, first: usize, last: usize) -> Curve<'_> {
+        let lo = first.saturating_sub(SPLINE_OVERLAP_BLOCKS).max(self.base);
+        let last = last.min(self.head.count - 1);
+        let knots: Vec<f64> = (lo..=last).map(|b| self.entry(b).1).chain(std::iter::once(self.entry(last).2)).collect();
         let point = |b: usize, i: usize| -> f64 {
             // Knot b is the start of block b (b <= last) or the end of block last.
-            let (seg, end) = if b <= last { (&segments[self.segments[b]], false) } else { (&segments[self.segments[last]], true) };
-            match (self.kind, i) {
+            let (seg, end) = if b <= last { (self.segment(b), false) } else { (self.segment(last), true) };
+            match (self.head.kind, i) {
                 (RunKind::Tcp, 0..=2) => (if end { seg.tip1 } else { seg.tip0 })[i],
                 _ => (if end { seg.q1 } else { seg.q0 })[i],
             }
         };
-        let splines = match self.kind {
+        let splines = match self.head.kind {
             RunKind::Linear => Vec::new(),
             _ => (0..AXES)
                 .map(|i| {
                     let ys: Vec<f64> = (lo..=last + 1).map(|b| point(b, i)).collect();
-                    CubicSpline::natural(knots, &ys)
+                    CubicSpline::natural(&knots, &ys)
                 })
                 .collect(),
         };
@@ -110,10 +186,10 @@ impl Run {
 impl Curve<'_> {
     /// Axis values at run parameter `s`.
     pub fn joints(&self, s: f64, machine: &Machine) -> Joints {
-        let run = self.run;
+        let run = &self.run.head;
         match run.kind {
             RunKind::Linear => {
-                let u = if run.length() > 0.0 { (s / run.length()).clamp(0.0, 1.0) } else { 1.0 };
+                let u = if run.length > 0.0 { (s / run.length).clamp(0.0, 1.0) } else { 1.0 };
                 std::array::from_fn(|i| run.q0[i] + (run.q1[i] - run.q0[i]) * u)
             }
             RunKind::Axes => std::array::from_fn(|i| self.splines[i].value(s)),
@@ -135,12 +211,6 @@ impl Curve<'_> {
             }
         }
     }
-}
-
-/// All runs of a commanded trajectory, in order.
-#[derive(Debug, Clone)]
-pub struct PathModel {
-    pub runs: Vec<Run>,
 }
 
 fn feed_of(seg: &Segment) -> f64 {
@@ -189,43 +259,55 @@ fn run_kind(s: &Segment) -> RunKind {
     }
 }
 
-impl PathModel {
-    /// Split the segments into runs.
-    pub fn new(segments: &[Segment]) -> PathModel {
-        let mut runs: Vec<Run> = Vec::new();
-        let mut current: Vec<usize> = Vec::new();
-        for (k, seg) in segments.iter().enumerate() {
-            let kind = run_kind(seg);
-            let joins = current.last().is_some_and(|&p| {
-                let prev = &segments[p];
-                kind != RunKind::Linear
-                    && run_kind(prev) == kind
-                    && prev.kind == seg.kind
-                    && prev.datum == seg.datum
-                    && direction(prev, kind).angle(&direction(seg, kind)) <= CORNER_DEG.to_radians()
-            });
-            if !joins && !current.is_empty() {
-                runs.push(Self::fit(segments, std::mem::take(&mut current)));
-            }
-            current.push(k);
-        }
-        if !current.is_empty() {
-            runs.push(Self::fit(segments, current));
-        }
-        PathModel { runs }
-    }
+/// Splits a segment stream into runs, one [`RunHead`] at a time: it reads one segment past the end of
+/// each run (to see that it ends there) and holds nothing else.
+#[derive(Debug)]
+pub struct RunScout<I> {
+    source: I,
+    pending: Option<Segment>,
+}
 
-    fn fit(segments: &[Segment], idx: Vec<usize>) -> Run {
-        let first = &segments[idx[0]];
-        let last = &segments[*idx.last().unwrap_or(&idx[0])];
-        let kind = run_kind(first);
-        let mut sigma = Vec::with_capacity(idx.len() + 1);
-        sigma.push(0.0);
-        for &k in &idx {
-            sigma.push(sigma[sigma.len() - 1] + path_length(&segments[k]));
+impl<I: Iterator<Item = Segment>> RunScout<I> {
+    pub fn new(source: I) -> Self {
+        RunScout { source, pending: None }
+    }
+}
+
+impl<I: Iterator<Item = Segment>> Iterator for RunScout<I> {
+    type Item = RunHead;
+    fn next(&mut self) -> Option<RunHead> {
+        let first = self.pending.take().or_else(|| self.source.next())?;
+        let kind = run_kind(&first);
+        let mut head = RunHead {
+            kind,
+            count: 1,
+            length: 0.0 + path_length(&first),
+            q0: first.q0,
+            q1: first.q1,
+            datum: first.datum,
+            tcp_tip: (kind == RunKind::Rotary && first.kind == SegmentKind::Tcp).then_some(first.tip0),
+            angular: match kind {
+                RunKind::Rotary => true,
+                RunKind::Linear => (0..3).all(|i| (first.q1[i] - first.q0[i]).abs() <= 1e-12) && first.length <= 1e-12,
+                _ => false,
+            },
+        };
+        let mut prev = first;
+        for seg in self.source.by_ref() {
+            let joins = kind != RunKind::Linear
+                && run_kind(&seg) == kind
+                && prev.kind == seg.kind
+                && prev.datum == seg.datum
+                && direction(&prev, kind).angle(&direction(&seg, kind)) <= CORNER_DEG.to_radians();
+            if !joins {
+                self.pending = Some(seg);
+                break;
+            }
+            head.count += 1;
+            head.length += path_length(&seg);
+            head.q1 = seg.q1;
+            prev = seg;
         }
-        let feed = idx.iter().map(|&k| feed_of(&segments[k])).collect();
-        let tcp_tip = (kind == RunKind::Rotary && first.kind == SegmentKind::Tcp).then_some(first.tip0);
-        Run { kind, segments: idx, sigma, feed, q0: first.q0, q1: last.q1, datum: first.datum, tcp_tip }
+        Some(head)
     }
 }

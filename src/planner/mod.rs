@@ -1,7 +1,7 @@
 //! The feed planner of the machine simulator: what a control with axis velocity, acceleration and
 //! jerk limits actually does along the commanded path (the stutter near the singularity).
 //!
-//! 1. Geometry ([`PathModel`]): the moves split into runs the machine runs without stopping; they end
+//! 1. Geometry ([`RunScout`], [`Run`]): the moves split into runs the machine runs without stopping; they end
 //!    at rapids, corners sharper than [`CORNER_DEG`], a datum change and a change between moving the
 //!    tool tip and only turning the rotary axes. Consecutive rotary-only moves form one run. Each run
 //!    is a C2 path `q(s)`: natural cubic splines through the block points in path length, as seed 002
@@ -25,6 +25,6 @@ mod geometry;
 mod profile;
 pub mod servo;
 
-pub use geometry::{PathModel, Run, CORNER_DEG};
+pub use geometry::{Run, RunHead, RunScout, CORNER_DEG};
 pub use check::{limit_ratios, LimitCheck};
-pub use profile::{plan_each, PlanConfig, Planned, PlannedSample, LOOKAHEAD_BLOCKS};
+pub use profile::{plan_each, plan_stream, PlanConfig, Planned, PlannedSample, LOOKAHEAD_BLOCKS};

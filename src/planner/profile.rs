@@ -1,6 +1,6 @@
 //! Path-speed profile of each run and the sampled set-points.
 
-use super::geometry::{Curve, PathModel, Run};
+use super::geometry::{Curve, Run, RunScout};
 use std::collections::VecDeque;
 use crate::kinematics::Joints;
 use super::check::limit_ratios;
@@ -111,7 +111,7 @@ impl Window {
                 qss[r][i] = if end { 0.0 } else { (p1[i] - 2.0 * p0[i] + m1[i]) / (h * h) };
                 qsss[i] = if k < 2 || k + 2 > k_max { 0.0 } else { (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) / (2.0 * h * h * h) };
             }
-            let feed = run.feed[run.segment_at(k as f64 * h)];
+            let feed = run.feed(run.segment_at(k as f64 * h));
             limit[r] = if end || k == kb { 0.0 } else { limiter.limit(feed, &qs[r], &qss[r], &qsss).feed };
         }
         Window { ka, h, qs, qss, limit }
@@ -217,18 +217,20 @@ struct RunStats {
     stopped: bool,
 }
 
-/// Plan one run look-ahead window by window, calling `emit(parameter, set-point)` for each sample in
-/// order (false from `emit` stops planning). Each window is planned to stop at its end, checked, and
-/// its first three quarters committed.
-fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLimiter, config: &PlanConfig, w: usize, emit: &mut dyn FnMut(f64, Joints) -> bool) -> RunStats {
+/// Plan one run look-ahead window by window, reading its segments from `source` as the look-ahead
+/// reaches them, calling `emit(set-point, segment index, segment)` for each sample in order (false
+/// from `emit` stops planning). Each window is planned to stop at its end, checked, and its first
+/// three quarters committed.
+#[allow(clippy::too_many_arguments)]
+fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &Machine, limiter: &FeedLimiter, config: &PlanConfig, w: usize, emit: &mut dyn FnMut(Joints, usize, &Segment) -> bool) -> RunStats {
     let limits = machine.limits();
     let len = run.length();
-    let step = if run.is_angular(segments) { config.grid_rad } else { config.grid_m };
+    let step = if run.is_angular() { config.grid_rad } else { config.grid_m };
     // A run linear in its parameter (rapid) has q_ss = q_sss = 0: a coarse grid is exact.
     let cap_points = if run.is_linear() { 2000.0 } else { 1e15 };
     let k_max = (len / step).ceil().clamp(4.0, cap_points) as usize;
     let h = len / k_max as f64;
-    let nb = run.segments.len();
+    let nb = run.count();
     let lookahead = config.lookahead_blocks.max(2);
     let mut stats = RunStats::default();
     // Committed state: grid point, its speed and time; next sample index; the filter's last w - 1
@@ -238,16 +240,20 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
     let mut q_hist: Vec<Joints> = Vec::new();
     let mut carry: Vec<f64> = Vec::new();
     loop {
-        let b_first = run.segment_at(ka as f64 * h);
+        // The jerk filter's outputs lag its inputs: the curve must reach back to the oldest input
+        // the filter still holds, where this window's first set-points lie; nothing before it (and
+        // the splines' overlap) is needed again.
+        let oldest = raw_hist.front().map_or(ka as f64 * h, |&x| x.min(ka as f64 * h));
+        let b_oldest = run.segment_at(oldest);
+        run.release_before(b_oldest.saturating_sub(super::geometry::SPLINE_OVERLAP_BLOCKS));
+        let b_first = run.segment_at_reading(ka as f64 * h, source);
         let b_last = (b_first + lookahead - 1).min(nb - 1);
-        let kb_blocks = if b_last == nb - 1 { k_max } else { ((run.sigma[b_last + 1] / h).floor() as usize).min(k_max) };
+        run.read_through(b_last + 1, source);
+        let kb_blocks = if b_last == nb - 1 { k_max } else { ((run.sigma(b_last + 1) / h).floor() as usize).min(k_max) };
         let kb = kb_blocks.min(ka + MAX_WINDOW_POINTS).max(ka + 1);
         let last = kb == k_max;
         let kc = if last { k_max } else { ka + ((kb - ka) * 3 / 4).max(1) };
-        // The jerk filter's outputs lag its inputs: the curve must reach back to the oldest input
-        // the filter still holds, where this window's first set-points lie.
-        let oldest = raw_hist.front().map_or(ka as f64 * h, |&x| x.min(ka as f64 * h));
-        let curve = run.curve(segments, run.segment_at(oldest), run.segment_at(kb as f64 * h));
+        let curve = run.curve(b_oldest, run.segment_at(kb as f64 * h));
         let win = Window::new(run, &curve, machine, limiter, h, k_max, ka, kb);
         let end = kb as f64 * h;
         // The limit curve, lowered where the previous window's check found a violation (the part of
@@ -353,7 +359,8 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
         let new_q = &q[q_hist.len()..];
         let keep = if last { new_q.len() } else { c };
         for i in 0..keep {
-            if !emit(filtered[i], new_q[i]) {
+            let b = run.segment_at(filtered[i]);
+            if !emit(new_q[i], run.first + b, run.segment(b)) {
                 stats.stopped = true;
                 return stats;
             }
@@ -382,7 +389,21 @@ fn plan_run(run: &Run, segments: &[Segment], machine: &Machine, limiter: &FeedLi
 /// stops early if it returns false); returns what the check measured. Memory is bounded by the
 /// look-ahead window.
 pub fn plan_each(segments: &[Segment], machine: &Machine, config: &PlanConfig, mut emit: impl FnMut(PlannedSample) -> bool) -> Planned {
-    let model = PathModel::new(segments);
+    plan_stream(segments.iter().cloned(), segments.iter().cloned(), machine, config, |p, _| emit(p))
+}
+
+/// Plan a stream of segments on `machine`, calling `emit` for each set-point in time order, with
+/// the segment it lies on (planning stops early if it returns false). `scout` is the same segments
+/// once more: it runs ahead to measure each run before it is planned (its length sets the run's
+/// path grid), holding one segment. Memory is the look-ahead window, whatever the program's length.
+pub fn plan_stream(
+    segments: impl Iterator<Item = Segment>,
+    scout: impl Iterator<Item = Segment>,
+    machine: &Machine,
+    config: &PlanConfig,
+    mut emit: impl FnMut(PlannedSample, &Segment) -> bool,
+) -> Planned {
+    let mut source = segments;
     let limits = machine.limits();
     let limiter = FeedLimiter::new(&limits);
     // A moving average of width T turns a path acceleration bounded by +-b into a jerk bounded by
@@ -394,14 +415,18 @@ pub fn plan_each(segments: &[Segment], machine: &Machine, config: &PlanConfig, m
     let mut max_ratio = [0.0f64; 3];
     let mut iterations = 0;
     let mut t0 = 0.0;
-    for (ri, run) in model.runs.iter().enumerate() {
+    let mut first = 0;
+    for (ri, head) in RunScout::new(scout).enumerate() {
+        let mut run = Run::new(head, first);
+        first += run.count();
         if run.length() <= 0.0 {
+            run.skip_rest(&mut source);
             continue;
         }
         let mut j = 0u64;
-        let stats = plan_run(run, segments, machine, &limiter, config, w, &mut |x, q| {
+        let stats = plan_run(&mut run, &mut source, machine, &limiter, config, w, &mut |q, segment, seg| {
             j += 1;
-            emit(PlannedSample { t: t0 + (j - 1) as f64 * config.period, segment: run.segments[run.segment_at(x)], run: ri, q })
+            emit(PlannedSample { t: t0 + (j - 1) as f64 * config.period, segment, run: ri, q }, seg)
         });
         for k in 0..3 {
             max_ratio[k] = max_ratio[k].max(stats.worst[k]);
@@ -411,6 +436,7 @@ pub fn plan_each(segments: &[Segment], machine: &Machine, config: &PlanConfig, m
         if stats.stopped {
             break;
         }
+        run.skip_rest(&mut source);
     }
     Planned { max_ratio, iterations }
 }
