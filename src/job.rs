@@ -48,11 +48,16 @@ pub struct JobOptions {
     pub read: ReadOptions,
 }
 
+/// The text and dialect of a `bundled:NAME` spec (`None` for any other spec).
+fn bundled(spec: &str, options: &JobOptions) -> Result<Option<(&'static str, Dialect)>, JobError> {
+    let Some(name) = spec.strip_prefix("bundled:") else { return Ok(None) };
+    let (_, text) = BUNDLED.iter().find(|(n, _)| *n == name).ok_or_else(|| JobError::UnknownBundled(name.into()))?;
+    Ok(Some((text, options.dialect.unwrap_or(Dialect::Heidenhain))))
+}
+
 /// Read the program named by `spec`.
 pub fn read_spec(spec: &str, options: &JobOptions) -> Result<Program, JobError> {
-    if let Some(name) = spec.strip_prefix("bundled:") {
-        let (_, text) = BUNDLED.iter().find(|(n, _)| *n == name).ok_or_else(|| JobError::UnknownBundled(name.into()))?;
-        let dialect = options.dialect.unwrap_or(Dialect::Heidenhain);
+    if let Some((text, dialect)) = bundled(spec, options)? {
         return Ok(program::read(text, dialect, spec, &options.read));
     }
     Ok(program::load(Path::new(spec), options.dialect, &options.read)?)
@@ -85,9 +90,7 @@ pub fn run(spec: &str, machine: &Machine, options: &JobOptions) -> Result<Job, J
 
 /// Open the program named by `spec` as a stream of blocks (a file, or `bundled:NAME`).
 pub fn open_spec(spec: &str, options: &JobOptions) -> Result<program::BlockStream, JobError> {
-    if let Some(name) = spec.strip_prefix("bundled:") {
-        let (_, text) = BUNDLED.iter().find(|(n, _)| *n == name).ok_or_else(|| JobError::UnknownBundled(name.into()))?;
-        let dialect = options.dialect.unwrap_or(Dialect::Heidenhain);
+    if let Some((text, dialect)) = bundled(spec, options)? {
         return Ok(program::BlockStream::from_text(text, Some(dialect), spec, &options.read));
     }
     Ok(program::BlockStream::open(Path::new(spec), options.dialect, &options.read)?)

@@ -326,11 +326,6 @@ impl<'m> SegmentPlanner<'m> {
         SegmentPlanner { machine, options: *options, q: [0.0; 5], t: 0.0, s: 0.0, letters, first_orientation: true, at_start: dialect.starts_at_first_pose(), stopped: false }
     }
 
-    /// Commanded time so far, s.
-    pub fn time(&self) -> f64 {
-        self.t
-    }
-
     /// Plan block `bi`: its segments go to `segments`, what stops it to `diags`. False once planning
     /// has stopped (the program would run beyond the bound on its duration): no later block is planned.
     pub fn push(&mut self, bi: usize, b: &Block, segments: &mut Vec<Segment>, diags: &mut Vec<Diagnostic>) -> bool {

@@ -45,11 +45,6 @@ impl<I: Iterator<Item = Segment>> SegmentWindow<I> {
             self.base += 1;
         }
     }
-
-    /// Segments loaded and held now.
-    pub fn held(&self) -> usize {
-        self.buf.len()
-    }
 }
 
 /// The samples of a segment stream on the global grid `t = k * period`, plus the final end point

@@ -13,9 +13,7 @@ pub fn read_cl(text: &str, feed_mm_per_min: f64) -> Program {
 
 /// Read CL data for a control that interpolates the tool orientation as `orientation` says.
 pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) -> Program {
-    let mut reader = ClReader::new(feed_mm_per_min, orientation);
-    let (blocks, diags) = super::stream::read_lines(&mut reader, text);
-    Program { source: String::new(), dialect: Dialect::Cl, name: None, blocks, diagnostics: diags.0 }
+    super::stream::read_whole(&mut ClReader::new(feed_mm_per_min, orientation), text, Dialect::Cl)
 }
 
 /// The CL reader, fed one line at a time.

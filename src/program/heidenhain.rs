@@ -141,13 +141,7 @@ pub fn read_heidenhain(text: &str) -> Program {
 /// Read a Heidenhain DIN/ISO program on a control whose machine-specific M functions do what
 /// `m_codes` says and whose orientation interpolation starts as `orientation`.
 pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientation: super::Orientation) -> Program {
-    let mut reader = DinReader::new(m_codes, orientation);
-    let (mut blocks, mut diags) = super::stream::read_lines(&mut reader, text);
-    if reader.out_of_order {
-        recover_order(&mut blocks, &mut diags);
-    }
-    diags.0.sort_by_key(|d| (d.line, d.column));
-    Program { source: String::new(), dialect: Dialect::Heidenhain, name: reader.name, blocks, diagnostics: diags.0 }
+    super::stream::read_whole(&mut DinReader::new(m_codes, orientation), text, Dialect::Heidenhain)
 }
 
 /// The DIN/ISO reader, fed one line at a time.
@@ -158,7 +152,7 @@ pub(crate) struct DinReader {
     seen: SeenNumbers,
     last_number: Option<(u64, usize)>,
     /// Block numbers went backwards somewhere: a damaged copy whose order may be recovered.
-    pub(crate) out_of_order: bool,
+    out_of_order: bool,
     ended: bool,
 }
 
@@ -340,9 +334,15 @@ impl super::stream::LineReader for DinReader {
         }
     }
 
-    fn finish(&mut self, diags: &mut Diags) {
+    fn finish(&mut self, blocks: Option<&mut Vec<Block>>, diags: &mut Diags) {
         if self.name.is_none() {
             diags.error(1, 1, "missing program header: expected %NAME G71 * on the first line");
+        }
+        if self.out_of_order {
+            match blocks {
+                Some(blocks) => recover_order(blocks, diags),
+                None => diags.warning(1, 1, "blocks kept in file order: a program read as a stream is not put back in block-number order"),
+            }
         }
     }
 

@@ -409,13 +409,9 @@ impl Default for ReadOptions {
 
 /// Read `text` in `dialect`; `source` names it in reports.
 pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> Program {
-    let orientation = options.orientation.unwrap_or(dialect.default_orientation());
-    let mut p = match dialect {
-        Dialect::Heidenhain => read_heidenhain_with(text, &options.m_codes, orientation),
-        Dialect::Rs274 => read_rs274_setup(text, &options.m_codes, orientation),
-        Dialect::Cl => read_cl_with(text, options.cl_feed_mm_per_min, orientation),
-        Dialect::Sinumerik => read_sinumerik_with(text, &options.m_codes, orientation),
-        Dialect::Klartext => read_klartext_with(text, &options.m_codes, orientation),
+    let mut p = match stream::Reader::new(dialect, options) {
+        Some(mut reader) => stream::read_whole(reader.get(), text, dialect),
+        None => read_klartext_with(text, &options.m_codes, options.orientation.unwrap_or(dialect.default_orientation())),
     };
     p.source = source.to_string();
     p

@@ -23,10 +23,7 @@ pub fn read_rs274_with(text: &str, m_codes: &[MCodeRule]) -> Program {
 /// Read an RS274NGC program with these machine-specific M codes, on a control whose orientation
 /// interpolation starts as `orientation`.
 pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::Orientation) -> Program {
-    let mut reader = Rs274Reader::new(m_codes, orientation);
-    let (blocks, mut diags) = super::stream::read_lines(&mut reader, text);
-    diags.0.sort_by_key(|d| (d.line, d.column));
-    Program { source: String::new(), dialect: Dialect::Rs274, name: None, blocks, diagnostics: diags.0 }
+    super::stream::read_whole(&mut Rs274Reader::new(m_codes, orientation), text, Dialect::Rs274)
 }
 
 /// The RS274NGC reader, fed one line at a time.

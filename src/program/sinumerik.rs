@@ -23,10 +23,7 @@ use super::{Dialect, MCodeRule, Orientation, Program};
 /// Read a Sinumerik program on a control whose orientation interpolation starts as `orientation`
 /// (the reset state is [`Orientation::GreatCircle`], ORIWKS/ORIVECT).
 pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
-    let mut reader = SinumerikReader::new(m_codes, orientation);
-    let (blocks, mut diags) = super::stream::read_lines(&mut reader, text);
-    diags.0.sort_by_key(|d| (d.line, d.column));
-    Program { source: String::new(), dialect: Dialect::Sinumerik, name: None, blocks, diagnostics: diags.0 }
+    super::stream::read_whole(&mut SinumerikReader::new(m_codes, orientation), text, Dialect::Sinumerik)
 }
 
 /// The Sinumerik reader, fed one line at a time.

@@ -15,7 +15,7 @@ use super::heidenhain::DinReader;
 use super::lex::Diags;
 use super::rs274::Rs274Reader;
 use super::sinumerik::SinumerikReader;
-use super::{Block, Diagnostic, Dialect, LoadError, ReadOptions, Severity};
+use super::{Block, Diagnostic, Dialect, LoadError, Program, ReadOptions, Severity};
 use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Cursor, Read};
 use std::path::Path;
@@ -24,23 +24,25 @@ use std::path::Path;
 pub(crate) trait LineReader {
     /// Read line `line` (1-based; `text` without its newline): blocks go to `out`, defects to `diags`.
     fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags);
-    /// The input has ended: checks that need all of it (a missing header).
-    fn finish(&mut self, _diags: &mut Diags) {}
+    /// The input has ended: checks that need all of it (a missing header). `blocks` holds every
+    /// block when the program was read whole; a stream has handed them out already (`None`).
+    fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, _diags: &mut Diags) {}
     /// The program's name, once its header has been read.
     fn name(&self) -> Option<String> {
         None
     }
 }
 
-/// Feed every line of `text` to `reader`.
-pub(crate) fn read_lines(reader: &mut impl LineReader, text: &str) -> (Vec<Block>, Diags) {
+/// Read the whole of `text` in `dialect` with `reader`: its blocks, and its diagnostics in line order.
+pub(crate) fn read_whole(reader: &mut dyn LineReader, text: &str, dialect: Dialect) -> Program {
     let mut blocks = Vec::with_capacity(super::lex::line_count(text));
     let mut diags = Diags::default();
     for (idx, raw) in text.lines().enumerate() {
         reader.line(idx + 1, raw, &mut blocks, &mut diags);
     }
-    reader.finish(&mut diags);
-    (blocks, diags)
+    reader.finish(Some(&mut blocks), &mut diags);
+    diags.0.sort_by_key(|d| (d.line, d.column));
+    Program { source: String::new(), dialect, name: reader.name(), blocks, diagnostics: diags.0 }
 }
 
 /// Longest line read, bytes: a longer one is an error at its line (NC and CL lines are short; a
@@ -103,7 +105,7 @@ impl DiagnosticLog {
 
 /// The line readers of the dialects that are read line by line.
 #[derive(Debug, Clone)]
-enum Reader {
+pub(crate) enum Reader {
     Cl(ClReader),
     Rs274(Rs274Reader),
     Din(DinReader),
@@ -111,7 +113,19 @@ enum Reader {
 }
 
 impl Reader {
-    fn get(&mut self) -> &mut dyn LineReader {
+    /// The reader of `dialect` (`None` for Klartext, which is read whole).
+    pub(crate) fn new(dialect: Dialect, options: &ReadOptions) -> Option<Reader> {
+        let orientation = options.orientation.unwrap_or(dialect.default_orientation());
+        Some(match dialect {
+            Dialect::Cl => Reader::Cl(ClReader::new(options.cl_feed_mm_per_min, orientation)),
+            Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&options.m_codes, orientation)),
+            Dialect::Heidenhain => Reader::Din(DinReader::new(&options.m_codes, orientation)),
+            Dialect::Sinumerik => Reader::Sinumerik(SinumerikReader::new(&options.m_codes, orientation)),
+            Dialect::Klartext => return None,
+        })
+    }
+
+    pub(crate) fn get(&mut self) -> &mut dyn LineReader {
         match self {
             Reader::Cl(r) => r,
             Reader::Rs274(r) => r,
@@ -172,21 +186,23 @@ impl BlockStream {
         }
         let dialect = dialect.unwrap_or_else(|| Dialect::detect(Some(path), &String::from_utf8_lossy(&head)));
         let source = path.display().to_string();
-        if dialect == Dialect::Klartext {
-            let mut rest = head;
-            file.read_to_end(&mut rest).map_err(io)?;
-            return Ok(Self::whole(&String::from_utf8_lossy(&rest), dialect, &source, options));
+        match Reader::new(dialect, options) {
+            Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(file)), reader, dialect, &source)),
+            None => {
+                let mut rest = head;
+                file.read_to_end(&mut rest).map_err(io)?;
+                Ok(Self::whole(&String::from_utf8_lossy(&rest), dialect, &source, options))
+            }
         }
-        Ok(Self::lines(Box::new(Cursor::new(head).chain(file)), dialect, &source, options))
     }
 
     /// Read `text` as a stream (the dialect detected from it unless given); `source` names it.
     pub fn from_text(text: &str, dialect: Option<Dialect>, source: &str, options: &ReadOptions) -> BlockStream {
         let dialect = dialect.unwrap_or_else(|| Dialect::detect(None, text));
-        if dialect == Dialect::Klartext {
-            return Self::whole(text, dialect, source, options);
+        match Reader::new(dialect, options) {
+            Some(reader) => Self::lines(Box::new(Cursor::new(text.as_bytes().to_vec())), reader, dialect, source),
+            None => Self::whole(text, dialect, source, options),
         }
-        Self::lines(Box::new(Cursor::new(text.as_bytes().to_vec())), dialect, source, options)
     }
 
     fn whole(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> BlockStream {
@@ -207,15 +223,7 @@ impl BlockStream {
         }
     }
 
-    fn lines(input: Box<dyn BufRead + Send>, dialect: Dialect, source: &str, options: &ReadOptions) -> BlockStream {
-        let orientation = options.orientation.unwrap_or(dialect.default_orientation());
-        let reader = match dialect {
-            Dialect::Cl => Reader::Cl(ClReader::new(options.cl_feed_mm_per_min, orientation)),
-            Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&options.m_codes, orientation)),
-            Dialect::Heidenhain => Reader::Din(DinReader::new(&options.m_codes, orientation)),
-            Dialect::Sinumerik => Reader::Sinumerik(SinumerikReader::new(&options.m_codes, orientation)),
-            Dialect::Klartext => unreachable!("Klartext is read whole"),
-        };
+    fn lines(input: Box<dyn BufRead + Send>, reader: Reader, dialect: Dialect, source: &str) -> BlockStream {
         BlockStream {
             source: source.into(),
             dialect,
@@ -249,11 +257,6 @@ impl BlockStream {
         self.blocks
     }
 
-    /// True once the input has ended (every diagnostic is in).
-    pub fn ended(&self) -> bool {
-        self.ended && self.pending.is_empty()
-    }
-
     /// The diagnostics so far.
     pub fn diagnostics(&self) -> &DiagnosticLog {
         &self.log
@@ -271,10 +274,7 @@ impl BlockStream {
                     *line += 1;
                     match read_line(input.as_mut(), buf) {
                         Ok(Line::End) => {
-                            reader.get().finish(&mut self.diags);
-                            if matches!(reader, Reader::Din(r) if r.out_of_order) {
-                                self.diags.warning(1, 1, "blocks kept in file order: a program read as a stream is not put back in block-number order");
-                            }
+                            reader.get().finish(None, &mut self.diags);
                             self.ended = true;
                         }
                         Ok(Line::Text) => {
