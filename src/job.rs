@@ -115,6 +115,59 @@ pub fn analyze_streaming(spec: &str, machine: &Machine, options: &JobOptions) ->
     Ok(AnalysisReport::from_parts(&read, diagnostics.iter(), machine, &analysis, options.path.feed_override_mm_per_min))
 }
 
+/// A job's moves, for consumers that each read them for themselves (the analysis, the commander,
+/// the planner and its scout run side by side): a program (a file or `bundled:NAME`) is read again
+/// as a stream by each, so none holds it whole; a built-in path (short, and sampled from the path
+/// itself) is held.
+#[derive(Debug, Clone)]
+pub enum Moves {
+    Program { spec: String, options: JobOptions },
+    Held(Box<Job>),
+}
+
+impl Moves {
+    /// The moves of `spec`; a program that cannot be opened is an error here, before any consumer starts.
+    pub fn open(spec: &str, machine: &Machine, options: &JobOptions) -> Result<Moves, JobError> {
+        if spec.starts_with("builtin:") {
+            return Ok(Moves::Held(Box::new(run(spec, machine, options)?)));
+        }
+        open_spec(spec, options)?;
+        Ok(Moves::Program { spec: spec.into(), options: options.clone() })
+    }
+
+    /// Sample period, s.
+    pub fn period(&self) -> f64 {
+        match self {
+            Moves::Program { options, .. } => options.path.period,
+            Moves::Held(job) => job.trajectory.period,
+        }
+    }
+
+    /// The segments from the start, one at a time (the program is read again as a stream).
+    pub fn segments<'a>(&'a self, machine: &'a Machine) -> Result<Box<dyn Iterator<Item = crate::path::Segment> + 'a>, JobError> {
+        Ok(match self {
+            Moves::Program { spec, options } => Box::new(crate::path::SegmentStream::new(open_spec(spec, options)?, machine, &options.path)),
+            Moves::Held(job) => Box::new(job.trajectory.segments.iter().cloned()),
+        })
+    }
+
+    /// The held trajectory of a built-in path (`None` for a program, which is streamed).
+    pub fn held(&self) -> Option<&Trajectory> {
+        match self {
+            Moves::Program { .. } => None,
+            Moves::Held(job) => Some(&job.trajectory),
+        }
+    }
+
+    /// The analysis report ([`analyze_streaming`] for a program).
+    pub fn report(&self, machine: &Machine) -> Result<AnalysisReport, JobError> {
+        match self {
+            Moves::Program { spec, options } => analyze_streaming(spec, machine, options),
+            Moves::Held(job) => Ok(job.report.clone()),
+        }
+    }
+}
+
 /// The error of a program without a single move: a gate that read nothing never passes (an empty
 /// program, only comments, or every block refused is bad input, not a clean result).
 fn no_moves(blocks: usize) -> Diagnostic {

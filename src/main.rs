@@ -408,7 +408,7 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
         print!("{}", out.report.analysis.to_table());
         print!("{}", out.report.simulated.to_table(&out.report.analysis.secondary_axis));
     }
-    if out.job.has_errors() {
+    if out.has_errors() {
         eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.src.program, out.report.analysis.errors);
         return Ok(ExitCode::from(EXIT_INPUT));
     }
@@ -627,12 +627,13 @@ fn synthesize(program: &str, out: &std::path::Path, seed: u64) -> anyhow::Result
     let options = fiveaxis::live::inprocess::RunOptions { keep_simulation: true, ..Default::default() };
     let run = fiveaxis::live::inprocess::run(program, &machine, &options)?;
     let simulation = run.simulation.as_ref().context("the run kept its simulation")?;
-    let states = simulation.states(&run.job.trajectory, &machine);
+    let traj = &run.job.as_ref().context("the run kept its job")?.trajectory;
+    let states = simulation.states(traj, &machine);
     // The simulated feed along the simultaneous five-axis cut.
     let mut cut: Vec<(f64, f64, f64)> = states
         .iter()
         .zip(&simulation.segment)
-        .filter(|(_, &seg)| run.job.trajectory.segments[seg].is_five_axis())
+        .filter(|(_, &seg)| traj.segments[seg].is_five_axis())
         .map(|(s, _)| (s.tool_tip.x, s.path_feed, s.programmed_feed))
         .collect();
     anyhow::ensure!(cut.len() > 10, "{program} has no simultaneous five-axis cut to model");

@@ -37,8 +37,10 @@ fn rosbag2_layout_and_every_message_read_back() {
         assert_eq!(std::str::from_utf8(&s.data).unwrap(), schema::ros2msg(&s.name).unwrap());
         assert!(ch.metadata["offered_qos_profiles"].contains("reliability:"), "{:?}", ch.metadata);
     }
-    // Every commanded state decodes to the value the commander produced; publish time = its stamp.
-    let commanded = fiveaxis::live::commander::commanded_states(&out.job.trajectory, &Machine::hermle_c600u());
+    // Every commanded state decodes to the value the commander produces from the program read whole
+    // (the run streamed it); publish time = its stamp.
+    let job = fiveaxis::job::run("bundled:SING.I", &Machine::hermle_c600u(), &Default::default()).unwrap();
+    let commanded = fiveaxis::live::commander::commanded_states(&job.trajectory, &Machine::hermle_c600u());
     let mut k = 0;
     for msg in mcap::MessageStream::new(&data).unwrap() {
         let msg = msg.unwrap();
@@ -61,9 +63,10 @@ fn rosbag2_layout_and_every_message_read_back() {
 #[test]
 fn independent_python_reader_decodes_every_message() {
     let path = tmp("nonsing.mcap");
-    let out = record("bundled:NON_SING.I", &path);
+    let _ = record("bundled:NON_SING.I", &path);
     let m = Machine::hermle_c600u();
-    let commanded = fiveaxis::live::commander::commanded_states(&out.job.trajectory, &m);
+    let job = fiveaxis::job::run("bundled:NON_SING.I", &m, &Default::default()).unwrap();
+    let commanded = fiveaxis::live::commander::commanded_states(&job.trajectory, &m);
     let mut expected = serde_json::Map::new();
     let mut samples = serde_json::Map::new();
     for k in (0..commanded.len()).step_by(997) {

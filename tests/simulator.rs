@@ -17,7 +17,7 @@ fn sim(out: &RunOutput) -> &fiveaxis::live::simulator::Simulation {
 /// contour error; x inside the part).
 fn cut(out: &RunOutput, y_mm: f64) -> Vec<AxisState> {
     sim(out)
-        .states(&out.job.trajectory, &Machine::hermle_c600u())
+        .states(&out.job.as_ref().expect("kept with the simulation").trajectory, &Machine::hermle_c600u())
         .into_iter()
         .filter(|s| (s.tool_tip.z * 1e3 + 8.0).abs() < 0.05 && (s.tool_tip.y * 1e3 - y_mm).abs() < 0.05)
         .filter(|s| (0.0..=50.0).contains(&(s.tool_tip.x * 1e3)))
@@ -38,7 +38,7 @@ fn sing_stutters_around_x25_and_recovers() {
     }
     // Back at the programmed feed where no axis limit binds (the offline feed limit is F there).
     let m = Machine::hermle_c600u();
-    let free: Vec<_> = fiveaxis::singularity::statuses(&out.job.trajectory, &m)
+    let free: Vec<_> = fiveaxis::singularity::statuses(&out.job.as_ref().expect("kept with the simulation").trajectory, &m)
         .filter(|(s, st)| (5.0..=10.0).contains(&(s.tip.x * 1e3)) && s.tip.z < -7e-3 && st.feed_limit.is_some_and(|l| l.axis.is_none()))
         .collect();
     assert!(!free.is_empty(), "x 5-10 mm is programmed-feed limited");
@@ -116,8 +116,8 @@ fn monitor_look_ahead_counts_down_to_the_region() {
     use fiveaxis::live::monitor::{Monitor, MonitorConfig};
     let m = Machine::hermle_c600u();
     let out = go("bundled:SING.I");
-    let commanded = fiveaxis::live::commander::commanded_states(&out.job.trajectory, &m);
-    let simulated = sim(&out).states(&out.job.trajectory, &m);
+    let commanded = fiveaxis::live::commander::commanded_states(&out.job.as_ref().expect("kept with the simulation").trajectory, &m);
+    let simulated = sim(&out).states(&out.job.as_ref().expect("kept with the simulation").trajectory, &m);
     let mut mon = Monitor::new(&m, MonitorConfig::default());
     for st in &commanded {
         mon.on_commanded_ahead(st);

@@ -2,35 +2,72 @@
 //! the programmed feed, axes linear per block under TCPM), one message per sample period.
 
 use super::{derivatives_at, StateBuilder};
-use crate::machine::Machine;
 use crate::kinematics::Joints;
-use crate::path::{Sample, Trajectory};
+use crate::machine::Machine;
+use crate::path::{GridSampler, Sample, Segment, SegmentWindow, Trajectory};
 use fiveaxis_msgs::AxisState;
+
+/// The state of sample `cur` between its neighbours (none at the stream's ends): central differences,
+/// one-sided at the ends, as [`derivatives_at`] over the whole stream.
+fn state_between(b: &StateBuilder, machine: &Machine, period: f64, prev: Option<&Sample>, cur: &Sample, next: Option<&Sample>, seg: Option<&Segment>) -> AxisState {
+    let mut window: [Joints; 3] = [cur.q; 3];
+    let mut n = 0;
+    for s in [prev, Some(cur), next].into_iter().flatten() {
+        window[n] = s.q;
+        n += 1;
+    }
+    let (v, a) = derivatives_at(n, usize::from(prev.is_some()), period, |j| window[j]);
+    b.state(machine, cur.t, &cur.q, &v, &a, seg, cur.feed)
+}
 
 /// The commanded states of a trajectory, in time order, one at a time: the samples are made as they
 /// are published (three at a time, for the central differences), never held whole.
-pub fn commanded_iter<'a>(traj: &'a Trajectory, machine: &'a Machine) -> impl Iterator<Item = AxisState> + 'a {
+pub fn commanded_iter<'a>(traj: &'a Trajectory, machine: &'a Machine) -> Box<dyn Iterator<Item = AxisState> + 'a> {
+    if traj.stored.is_empty() {
+        return Box::new(commanded_stream(traj.segments.iter().cloned(), traj.period, machine));
+    }
+    // A built-in path's own samples, with the segments they name.
     let b = StateBuilder::new(machine, AxisState::SOURCE_COMMANDED);
-    let mut samples = traj.samples(machine).peekable();
+    let mut samples = traj.stored.iter().peekable();
+    let mut prev: Option<Sample> = None;
+    Box::new(std::iter::from_fn(move || {
+        let cur = *samples.next()?;
+        let st = state_between(&b, machine, traj.period, prev.as_ref(), &cur, samples.peek().copied(), traj.segments.get(cur.segment));
+        prev = Some(cur);
+        Some(st)
+    }))
+}
+
+/// The commanded states of a stream of segments sampled every `period` s, in time order: segments are
+/// read as the samples reach them and dropped behind, so memory holds two or three of them whatever
+/// the program's length.
+pub fn commanded_stream<'a, I: Iterator<Item = Segment> + 'a>(segments: I, period: f64, machine: &'a Machine) -> impl Iterator<Item = AxisState> + 'a {
+    let b = StateBuilder::new(machine, AxisState::SOURCE_COMMANDED);
+    let mut window = SegmentWindow::new(segments);
+    let mut sampler = GridSampler::new(period);
+    let mut next = sampler.next(&mut window, machine);
     let mut prev: Option<Sample> = None;
     std::iter::from_fn(move || {
-        let cur = samples.next()?;
-        let next = samples.peek().copied();
-        // Positions around this sample, the ends one-sided, as in `derivatives_at` over the whole stream.
-        let mut window: [Joints; 3] = [cur.q; 3];
-        let mut n = 0;
-        for q in [prev.map(|s| s.q), Some(cur.q), next.map(|s| s.q)].into_iter().flatten() {
-            window[n] = q;
-            n += 1;
-        }
-        let k = usize::from(prev.is_some());
-        let (v, a) = derivatives_at(n, k, traj.period, |j| window[j]);
+        let cur = next.take()?;
+        next = sampler.next(&mut window, machine);
+        let st = state_between(&b, machine, period, prev.as_ref(), &cur, next.as_ref(), window.loaded(cur.segment));
+        // The end point is sampled from the last segment: keep the one the current sample is on.
+        window.release_before(cur.segment);
         prev = Some(cur);
-        Some(b.state(machine, cur.t, &cur.q, &v, &a, traj.segments.get(cur.segment), cur.feed))
+        Some(st)
     })
 }
 
 /// The commanded states of a sampled trajectory, in time order, all in memory.
 pub fn commanded_states(traj: &Trajectory, machine: &Machine) -> Vec<AxisState> {
     commanded_iter(traj, machine).collect()
+}
+
+/// The commanded states of a job's moves: a program's as it is read again, a built-in path's from its
+/// held samples.
+pub fn commanded_moves<'a>(moves: &'a crate::job::Moves, machine: &'a Machine) -> Result<Box<dyn Iterator<Item = AxisState> + 'a>, crate::job::JobError> {
+    Ok(match moves.held() {
+        Some(traj) => commanded_iter(traj, machine),
+        None => Box::new(commanded_stream(moves.segments(machine)?, moves.period(), machine)),
+    })
 }

@@ -2,14 +2,13 @@
 //! connected by bounded in-process channels instead of DDS, faster than real time. The node logic is
 //! the same as the executables'.
 
-use super::commander::commanded_iter;
+use super::commander::commanded_moves;
 use super::monitor::{LiveRegion, Monitor, MonitorConfig};
 pub use super::sim_report::{SimulatedReport, SlowRegion};
-use super::sim_report::{simulate_measured, FeedFiguresReport};
+use super::sim_report::{simulate_measured_stream, FeedFiguresReport};
 use super::simulator::{SimConfig, SimSummary, Simulation};
-use crate::job::{self, Job, JobError, JobOptions};
+use crate::job::{self, Job, JobError, JobOptions, Moves};
 use crate::machine::Machine;
-use crate::path::Trajectory;
 use crate::report::AnalysisReport;
 use fiveaxis_msgs::{AxisState, SingularityStatus};
 use serde::Serialize;
@@ -129,7 +128,9 @@ pub struct RunReport {
 
 /// Everything a run produced.
 pub struct RunOutput {
-    pub job: Job,
+    /// The job read whole (trajectory, analysis), if [`RunOptions::keep_simulation`] (to look the
+    /// simulation's segments up); the run itself streams the program.
+    pub job: Option<Job>,
     /// Every simulated sample, if [`RunOptions::keep_simulation`].
     pub simulation: Option<Simulation>,
     pub simulated_states: usize,
@@ -144,19 +145,30 @@ pub struct RunOutput {
     pub recorded_messages: Option<u64>,
 }
 
+impl RunOutput {
+    /// True if the program or its planning had defects.
+    pub fn has_errors(&self) -> bool {
+        self.report.analysis.errors > 0
+    }
+}
+
 enum Input {
     Commanded(AxisState),
     Simulated(AxisState),
 }
 
-/// Run the node set in one process on `spec`: the commander's and the simulator's states stream
-/// through bounded channels into the monitor (and the recording) as they are made; nothing is held
-/// per sample unless asked ([`RunOptions::keep_simulation`], [`RunOptions::keep_statuses`]).
+/// Run the node set in one process on `spec`. Each node reads the program for itself as a stream
+/// ([`Moves`]): the analysis, the commander, and the simulator's planner with its scout. The
+/// commander's and the simulator's states stream through bounded channels into the monitor (and
+/// the recording) as they are made; nothing is held per sample or per block unless asked
+/// ([`RunOptions::keep_simulation`], [`RunOptions::keep_statuses`]), so memory does not grow with the
+/// program's length.
 pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOutput, JobError> {
     let options = options.clone();
     let options = &options;
-    let job = job::run(spec, machine, &options.job)?;
-    let traj = &job.trajectory;
+    let moves = Moves::open(spec, machine, &options.job)?;
+    let job = if options.keep_simulation { Some(job::run(spec, machine, &options.job)?) } else { None };
+    let period = moves.period();
     let (tx, rx) = mpsc::sync_channel::<Input>(4096);
     let tape = match &options.mcap {
         Some(path) => Some(Tape::create(path)?),
@@ -166,12 +178,15 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         commanded: AtomicU64::new(0f64.to_bits()),
         simulated: AtomicU64::new(0f64.to_bits()),
     };
-    let (sim_out, sent, statuses, monitor, tape_result) = std::thread::scope(|scope| {
+    let moves = &moves;
+    let (analysis, sim_out, sent, statuses, monitor, tape_result) = std::thread::scope(|scope| {
+        let analysis = scope.spawn(move || moves.report(machine));
         let tx_cmd = tx.clone();
         let pace = &pace;
-        let commander = scope.spawn(move || {
+        let commander = scope.spawn(move || -> Result<u64, JobError> {
             let mut sent = 0u64;
-            for st in commanded_iter(traj, machine) {
+            let mut states = commanded_moves(moves, machine);
+            for st in states.iter_mut().flatten() {
                 let t = st.header.stamp.as_secs();
                 Pace::wait(|| t > Pace::get(&pace.simulated) + COMMANDER_LEAD_MAX_S);
                 if tx_cmd.send(Input::Commanded(st)).is_err() {
@@ -181,17 +196,25 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                 sent += 1;
             }
             Pace::set(&pace.commanded, f64::INFINITY);
-            sent
+            states.map(|_| sent)
         });
         let tx_sim = tx;
-        let simulator = scope.spawn(move || {
-            let mut kept = options.keep_simulation.then(|| Simulation::empty(traj.period));
+        let simulator = scope.spawn(move || -> Result<_, JobError> {
+            let opened = moves.segments(machine).and_then(|s| Ok((s, moves.segments(machine)?)));
+            let (segments, scout) = match opened {
+                Ok(o) => o,
+                Err(e) => {
+                    Pace::set(&pace.simulated, f64::INFINITY);
+                    return Err(e);
+                }
+            };
+            let mut kept = options.keep_simulation.then(|| Simulation::empty(period));
             let mut sent = 0u64;
             let mut last_segment = usize::MAX;
-            let (summary, figures) = simulate_measured(traj, machine, &options.sim, |s, st| {
+            let (summary, figures) = simulate_measured_stream(segments, scout, period, machine, &options.sim, |s, seg, st| {
                 if s.segment != last_segment {
                     last_segment = s.segment;
-                    let t0 = traj.segments.get(s.segment).map_or(f64::INFINITY, |g| g.t0);
+                    let t0 = seg.map_or(f64::INFINITY, |g| g.t0);
                     Pace::set(&pace.simulated, t0);
                     Pace::wait(|| t0 + COMMANDER_LEAD_MIN_S > Pace::get(&pace.commanded));
                 }
@@ -207,7 +230,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             if let Some(k) = kept.as_mut() {
                 k.measured(&summary);
             }
-            (summary, figures, kept, sent)
+            Ok((summary, figures, kept, sent))
         });
         let mut tape = tape;
         let monitor = scope.spawn(move || {
@@ -254,24 +277,19 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             };
             (m, (statuses, commanded), received, tape_result)
         });
-        let sent_cmd = commander.join().expect("commander thread");
-        let (summary, figures, kept, sent_sim) = simulator.join().expect("simulator thread");
+        let analysis = analysis.join().expect("analysis thread");
+        let commanded = commander.join().expect("commander thread");
+        let simulated = simulator.join().expect("simulator thread");
         let (m, statuses, received, tape_result) = monitor.join().expect("monitor thread");
-        (
-            (summary, figures, kept),
-            sent_cmd + sent_sim - received.min(sent_cmd + sent_sim),
-            statuses,
-            m,
-            tape_result,
-        )
+        let sim_out = commanded.and_then(|sent_cmd| simulated.map(|s| (s, sent_cmd)));
+        let lost = sim_out.as_ref().map_or(0, |((.., sent_sim), sent_cmd)| (sent_cmd + sent_sim).saturating_sub(received));
+        (analysis, sim_out, lost, statuses, m, tape_result)
     });
+    let analysis = analysis?;
+    let ((summary, figures, simulation, _), _) = sim_out?;
     let recorded_messages = tape_result?;
-    let (summary, figures, simulation) = sim_out;
-    let simulated = simulated_report(traj, &summary, figures, sent, &monitor);
-    let report = RunReport {
-        analysis: job.report.clone(),
-        simulated,
-    };
+    let simulated = simulated_report(analysis.cycle_time_s, &summary, figures, sent, &monitor);
+    let report = RunReport { analysis, simulated };
     let (statuses, commanded_statuses) = statuses;
     Ok(RunOutput {
         recorded_messages,
@@ -285,8 +303,9 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
     })
 }
 
+/// `commanded_s`: the commanded cycle time, s.
 fn simulated_report(
-    traj: &Trajectory,
+    commanded_s: f64,
     summary: &SimSummary,
     f: FeedFiguresReport,
     lost: u64,
@@ -295,7 +314,7 @@ fn simulated_report(
     let (samples, ..) = monitor.counters(SIMULATED_STATE);
     SimulatedReport {
         cycle_time_s: f.duration_s,
-        commanded_cycle_time_s: traj.duration(),
+        commanded_cycle_time_s: commanded_s,
         min_feed_mm_per_min: if f.lowest_feed.is_finite() {
             crate::units::mm_per_min(f.lowest_feed)
         } else {

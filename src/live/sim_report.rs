@@ -3,10 +3,11 @@
 //! axis limit check ([`crate::planner::LimitCheck`]).
 
 use super::monitor::LiveRegion;
-use super::simulator::{simulate_each, FeedSample, SimConfig, SimSample, SimStates, SimSummary};
+use super::simulator::{simulate_stream, FeedSample, SimConfig, SimSample, SimStates, SimSummary};
 use crate::kinematics::Joints;
 use crate::machine::Machine;
-use crate::path::{SegmentKind, Trajectory};
+use crate::path::{Segment, SegmentKind, Trajectory};
+use std::sync::Arc;
 use crate::planner::LimitCheck;
 use crate::units::mm_per_min;
 use fiveaxis_msgs::AxisState;
@@ -343,30 +344,45 @@ impl FeedFigures {
     }
 }
 
-/// Simulate `traj` on `machine` ([`simulate_each`], [`SimStates`]) and measure the feed figures as
-/// the states come, handing each state to `each` (false from it stops the simulation).
+/// Simulate `traj` on `machine` and measure the feed figures as the states come
+/// ([`simulate_measured_stream`] over its segments).
 pub fn simulate_measured(
     traj: &Trajectory,
     machine: &Machine,
     config: &SimConfig,
     mut each: impl FnMut(&SimSample, AxisState) -> bool,
 ) -> (SimSummary, FeedFiguresReport) {
-    let mut states = SimStates::new(traj, machine);
-    let mut figures = FeedFigures::new(machine, traj.period);
+    let segments = || traj.segments.iter().cloned();
+    simulate_measured_stream(segments(), segments(), traj.period, machine, config, |s, _, st| each(s, st))
+}
+
+/// Simulate a stream of segments sampled every `period` s ([`simulate_stream`], [`SimStates`]) and
+/// measure the feed figures as the states come, handing each state and its segment to `each` (false
+/// from it stops the simulation). `scout` is the same segments once more.
+pub fn simulate_measured_stream(
+    segments: impl Iterator<Item = Segment>,
+    scout: impl Iterator<Item = Segment>,
+    period: f64,
+    machine: &Machine,
+    config: &SimConfig,
+    mut each: impl FnMut(&SimSample, Option<&Segment>, AxisState) -> bool,
+) -> (SimSummary, FeedFiguresReport) {
+    let mut states = SimStates::new(period, machine);
+    let mut figures = FeedFigures::new(machine, period);
     let mut open = true;
-    let mut take = |out: Option<(SimSample, AxisState)>, figures: &mut FeedFigures| -> bool {
-        let Some((s, st)) = out else { return open };
-        let path_move = traj
-            .segments
-            .get(s.segment)
-            .is_some_and(|g| g.is_path_move() && g.kind != SegmentKind::Rapid);
+    // The segment of the state SimStates hands out (it is one sample behind).
+    let mut take = |out: Option<(SimSample, AxisState, Option<Arc<Segment>>)>, figures: &mut FeedFigures| -> bool {
+        let Some((s, st, seg)) = out else { return open };
+        let path_move = seg.as_ref().is_some_and(|g| g.is_path_move() && g.kind != SegmentKind::Rapid);
         figures.push(&(&st).into(), &s.q, s.run, path_move);
-        open = open && each(&s, st);
+        open = open && each(&s, seg.as_deref(), st);
         open
     };
-    let summary = simulate_each(traj, machine, config, |s| {
-        take(states.push(s), &mut figures)
+    let summary = simulate_stream(segments, scout, period, machine, config, |s, seg| {
+        let out = states.push(s, Some(seg));
+        take(out, &mut figures)
     });
-    take(states.finish(), &mut figures);
+    let out = states.finish();
+    take(out, &mut figures);
     (summary, figures.finish())
 }

@@ -4,9 +4,10 @@
 use super::{derivatives_at, StateBuilder};
 use crate::kinematics::Joints;
 use crate::machine::Machine;
-use crate::path::Trajectory;
+use crate::path::{Segment, Trajectory};
 use crate::planner::{self, servo, PlanConfig};
 use fiveaxis_msgs::AxisState;
+use std::sync::Arc;
 
 /// Simulator settings.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -52,25 +53,40 @@ pub struct Simulation {
 }
 
 /// Plan and servo a trajectory, calling `emit` for each actual sample in time order (false from
-/// `emit` stops the simulation). At each planned stop between runs (a corner, a rapid, a rotary-only
-/// move) the next run starts once the servo is in position. Memory is the planner's look-ahead window.
+/// `emit` stops the simulation): [`simulate_stream`] over its segments.
 pub fn simulate_each(
     traj: &Trajectory,
     machine: &Machine,
     config: &SimConfig,
     mut emit: impl FnMut(SimSample) -> bool,
 ) -> SimSummary {
-    let plan_cfg = PlanConfig {
-        period: traj.period,
-        ..config.plan
-    };
+    let segments = || traj.segments.iter().cloned();
+    simulate_stream(segments(), segments(), traj.period, machine, config, |s, _| emit(s))
+}
+
+/// Plan and servo a stream of segments sampled every `period` s, calling `emit` for each actual
+/// sample in time order with the segment it belongs to (false from `emit` stops the simulation).
+/// `scout` is the same segments once more ([`planner::plan_stream`]). At each planned stop between
+/// runs (a corner, a rapid, a rotary-only move) the next run starts once the servo is in position.
+/// Memory is the planner's look-ahead window, whatever the program's length.
+pub fn simulate_stream(
+    segments: impl Iterator<Item = Segment>,
+    scout: impl Iterator<Item = Segment>,
+    period: f64,
+    machine: &Machine,
+    config: &SimConfig,
+    mut emit: impl FnMut(SimSample, &Arc<Segment>) -> bool,
+) -> SimSummary {
+    let plan_cfg = PlanConfig { period, ..config.plan };
     let cfg = &config.servo;
     let mut servo: Option<servo::Servo> = None;
     let (mut fl, mut fr) = (0.0f64, 0.0f64);
     let mut samples = 0u64;
     let mut open = true;
+    // The segment of the latest set-point, shared by its samples (one copy per segment).
+    let mut current: Option<(usize, Arc<Segment>)> = None;
     let mut last: Option<(Joints, usize, usize)> = None;
-    let mut push = |s: &mut servo::Servo, u: &Joints, segment: usize, run: usize| -> bool {
+    let mut push = |s: &mut servo::Servo, u: &Joints, segment: usize, run: usize, seg: &Arc<Segment>| -> bool {
         let q = s.step(u);
         for i in 0..5 {
             let e = (u[i] - q[i]).abs();
@@ -81,28 +97,32 @@ pub fn simulate_each(
             }
         }
         samples += 1;
-        open = open && emit(SimSample { q, segment, run });
+        open = open && emit(SimSample { q, segment, run }, seg);
         open
     };
-    let planned = planner::plan_each(&traj.segments, machine, &plan_cfg, |p| {
-        let s = servo.get_or_insert_with(|| servo::Servo::new(p.q, traj.period, cfg));
+    let planned = planner::plan_stream(segments, scout, machine, &plan_cfg, |p, segment| {
+        let s = servo.get_or_insert_with(|| servo::Servo::new(p.q, period, cfg));
         if let Some((u, seg, r)) = last.filter(|l| l.2 != p.run) {
+            let held = &current.as_ref().expect("a set-point came before").1;
             // Exact stop: hold the last set-point until in position (bounded: 10 s).
-            for _ in 0..(10.0 / traj.period) as usize {
+            for _ in 0..(10.0 / period) as usize {
                 if s.in_position(&u, cfg.in_position_m, cfg.in_position_rad) {
                     break;
                 }
-                if !push(s, &u, seg, r) {
+                if !push(s, &u, seg, r, held) {
                     return false;
                 }
             }
         }
+        if current.as_ref().is_none_or(|c| c.0 != p.segment) {
+            current = Some((p.segment, Arc::new(segment.clone())));
+        }
         last = Some((p.q, p.segment, p.run));
-        push(s, &p.q, p.segment, p.run)
+        push(s, &p.q, p.segment, p.run, &current.as_ref().expect("just set").1)
     });
-    if let (Some(s), Some((u, seg, r))) = (servo.as_mut(), last) {
+    if let (Some(s), Some((u, seg, r)), Some((_, held))) = (servo.as_mut(), last, current.as_ref()) {
         for _ in 0..100_000 {
-            if s.in_position(&u, 1e-9, 1e-9) || !push(s, &u, seg, r) {
+            if s.in_position(&u, 1e-9, 1e-9) || !push(s, &u, seg, r, held) {
                 break;
             }
         }
@@ -129,28 +149,35 @@ pub fn simulate(traj: &Trajectory, machine: &Machine, config: &SimConfig) -> Sim
 /// Simulated samples to [`AxisState`] messages as they come, one sample behind (the central
 /// differences and the tool-tip speed need the next sample): the one formula of every simulated stream.
 pub struct SimStates<'a> {
-    traj: &'a Trajectory,
     machine: &'a Machine,
+    period: f64,
     builder: StateBuilder,
     /// The samples before and at the one to be emitted next, with their tool tips (program
-    /// coordinates) and datums; `k` is the index of `cur`.
+    /// coordinates) and segments; `k` is the index of `cur`.
     prev: Option<Held>,
     cur: Option<Held>,
     k: u64,
 }
 
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 struct Held {
     s: SimSample,
     tip: nalgebra::Vector3<f64>,
-    datum: nalgebra::Vector3<f64>,
+    seg: Option<Arc<Segment>>,
+}
+
+impl Held {
+    fn datum(&self) -> nalgebra::Vector3<f64> {
+        self.seg.as_ref().map_or(nalgebra::Vector3::zeros(), |g| g.datum)
+    }
 }
 
 impl<'a> SimStates<'a> {
-    pub fn new(traj: &'a Trajectory, machine: &'a Machine) -> SimStates<'a> {
+    /// States of samples every `period` s on `machine`.
+    pub fn new(period: f64, machine: &'a Machine) -> SimStates<'a> {
         SimStates {
-            traj,
             machine,
+            period,
             builder: StateBuilder::new(machine, AxisState::SOURCE_SIMULATED),
             prev: None,
             cur: None,
@@ -158,26 +185,18 @@ impl<'a> SimStates<'a> {
         }
     }
 
-    fn held(&self, s: SimSample) -> Held {
-        let datum = self
-            .traj
-            .segments
-            .get(s.segment)
-            .map_or(nalgebra::Vector3::zeros(), |g| g.datum);
-        Held {
-            s,
-            tip: self.machine.forward(&s.q).tip - datum,
-            datum,
-        }
+    fn held(&self, s: SimSample, seg: Option<Arc<Segment>>) -> Held {
+        let datum = seg.as_ref().map_or(nalgebra::Vector3::zeros(), |g| g.datum);
+        Held { s, tip: self.machine.forward(&s.q).tip - datum, seg }
     }
 
     /// The state of `cur` with its neighbours (none at the stream's ends).
     fn state(&self, prev: Option<&Held>, cur: &Held, next: Option<&Held>) -> AxisState {
-        let period = self.traj.period;
+        let period = self.period;
         // Tool-tip speed by central differences, never across a datum change (the tip jumps there
         // in program coordinates while the machine does not move).
-        let lo = prev.filter(|p| p.datum == cur.datum);
-        let hi = next.filter(|n| n.datum == cur.datum);
+        let lo = prev.filter(|p| p.datum() == cur.datum());
+        let hi = next.filter(|n| n.datum() == cur.datum());
         let feed = match (lo, hi) {
             (Some(a), Some(b)) => (b.tip - a.tip).norm() / (2.0 * period),
             (Some(a), None) => (cur.tip - a.tip).norm() / period,
@@ -191,37 +210,30 @@ impl<'a> SimStates<'a> {
             n += 1;
         }
         let (v, a) = derivatives_at(n, usize::from(prev.is_some()), period, |j| window[j]);
-        self.builder.state(
-            self.machine,
-            self.k as f64 * period,
-            &cur.s.q,
-            &v,
-            &a,
-            self.traj.segments.get(cur.s.segment),
-            feed,
-        )
+        self.builder.state(self.machine, self.k as f64 * period, &cur.s.q, &v, &a, cur.seg.as_deref(), feed)
     }
 
-    /// The next sample; the state of the one before it, if any.
-    pub fn push(&mut self, s: SimSample) -> Option<(SimSample, AxisState)> {
-        let next = self.held(s);
-        let out = self.cur.map(|cur| {
-            let st = self.state(self.prev.as_ref(), &cur, Some(&next));
-            self.k += 1;
-            (cur.s, st)
+    /// The next sample and its segment; the state of the one before it, if any, with its sample and
+    /// segment.
+    pub fn push(&mut self, s: SimSample, seg: Option<&Arc<Segment>>) -> Option<(SimSample, AxisState, Option<Arc<Segment>>)> {
+        let next = self.held(s, seg.cloned());
+        let out = self.cur.as_ref().map(|cur| {
+            let st = self.state(self.prev.as_ref(), cur, Some(&next));
+            (cur.s, st, cur.seg.clone())
         });
+        self.k += u64::from(out.is_some());
         self.prev = self.cur.take();
         self.cur = Some(next);
         out
     }
 
     /// The state of the last sample (the stream's end).
-    pub fn finish(&mut self) -> Option<(SimSample, AxisState)> {
+    pub fn finish(&mut self) -> Option<(SimSample, AxisState, Option<Arc<Segment>>)> {
         let cur = self.cur.take()?;
         let st = self.state(self.prev.as_ref(), &cur, None);
         self.prev = None;
         self.k += 1;
-        Some((cur.s, st))
+        Some((cur.s, st, cur.seg))
     }
 }
 
@@ -273,16 +285,21 @@ impl Simulation {
         traj: &'a Trajectory,
         machine: &'a Machine,
     ) -> impl Iterator<Item = AxisState> + 'a {
-        let mut states = SimStates::new(traj, machine);
+        let mut states = SimStates::new(traj.period, machine);
         let mut samples = self.samples();
+        // One shared copy of each segment, as the simulation hands them out.
+        let mut current: Option<(usize, Arc<Segment>)> = None;
         std::iter::from_fn(move || loop {
             match samples.next() {
                 Some(s) => {
-                    if let Some((_, st)) = states.push(s) {
+                    if current.as_ref().is_none_or(|c| c.0 != s.segment) {
+                        current = traj.segments.get(s.segment).map(|g| (s.segment, Arc::new(g.clone())));
+                    }
+                    if let Some((_, st, _)) = states.push(s, current.as_ref().map(|c| &c.1)) {
                         return Some(st);
                     }
                 }
-                None => return states.finish().map(|(_, st)| st),
+                None => return states.finish().map(|(_, st, _)| st),
             }
         })
     }
