@@ -115,6 +115,18 @@ pub fn analyze_streaming(spec: &str, machine: &Machine, options: &JobOptions) ->
     Ok(AnalysisReport::from_parts(&read, diagnostics.iter(), machine, &analysis, options.path.feed_override_mm_per_min))
 }
 
+/// What reading and planning a whole program found ([`Moves::check`]).
+#[derive(Debug, Clone)]
+pub struct Checked {
+    /// The diagnostics, in the report's order (the first 10,000 in full, the rest counted in a last one).
+    pub diagnostics: Vec<Diagnostic>,
+    pub errors: usize,
+    pub blocks: usize,
+    pub segments: usize,
+    /// Commanded duration, s.
+    pub duration_s: f64,
+}
+
 /// A job's moves, for consumers that each read them for themselves (the analysis, the commander,
 /// the planner and its scout run side by side): a program (a file or `bundled:NAME`) is read again
 /// as a stream by each, so none holds it whole; a built-in path (short, and sampled from the path
@@ -157,6 +169,39 @@ impl Moves {
             Moves::Program { .. } => None,
             Moves::Held(job) => Some(&job.trajectory),
         }
+    }
+
+    /// Read and plan the whole program as a stream, without sampling or analysing it, for its defects:
+    /// the diagnostics its report would list. `progress(t, defects)` is called after each segment with
+    /// the commanded time (s) planned through and whether a defect was met so far, so that a consumer
+    /// running behind can stop before it reaches one.
+    pub fn check(&self, machine: &Machine, mut progress: impl FnMut(f64, bool)) -> Result<Checked, JobError> {
+        let (spec, options) = match self {
+            Moves::Held(job) => {
+                let diagnostics: Vec<Diagnostic> = job.program.diagnostics.iter().chain(&job.trajectory.diagnostics).cloned().collect();
+                let errors = job.report.errors;
+                progress(job.trajectory.duration(), errors > 0);
+                return Ok(Checked { diagnostics, errors, blocks: job.report.blocks, segments: job.trajectory.segments.len(), duration_s: job.trajectory.duration() });
+            }
+            Moves::Program { spec, options } => (spec, options),
+        };
+        let mut segments = crate::path::SegmentStream::new(open_spec(spec, options)?, machine, &options.path);
+        let (mut count, mut end) = (0usize, 0.0f64);
+        while let Some(seg) = segments.next() {
+            count += 1;
+            end = seg.t0 + seg.duration;
+            let errors = segments.blocks().diagnostics().errors() + segments.diagnostics().errors();
+            progress(end, errors > 0);
+        }
+        segments.read_to_end();
+        let mut diagnostics = segments.blocks().diagnostics().to_vec();
+        diagnostics.extend(segments.diagnostics().to_vec());
+        if count == 0 {
+            diagnostics.push(no_moves(segments.blocks().blocks_read()));
+        }
+        let errors = segments.blocks().diagnostics().errors() + segments.diagnostics().errors() + usize::from(count == 0);
+        progress(end, errors > 0);
+        Ok(Checked { diagnostics, errors, blocks: segments.blocks().blocks_read(), segments: count, duration_s: end })
     }
 
     /// The analysis report ([`analyze_streaming`] for a program).

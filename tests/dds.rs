@@ -285,3 +285,46 @@ wait $R
     assert_eq!(total, 1501);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A defect at the end of a long program (a damaged number on its last line, past what the check reads
+/// before the nodes start publishing): the commander and the simulator stream the program as they
+/// check it, and stop with exit code 2 naming the defect's line and column, never publishing past it.
+#[test]
+fn a_defect_deep_in_a_long_program_stops_the_publishing_nodes() {
+    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-defect-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let program = dir.join("long.cl");
+    // 6 minutes of a dense five-axis raster (120,000 poses), then one damaged line.
+    let made = Command::new("python3")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/long_program.py"))
+        .args(["0.1"])
+        .arg(&program)
+        .status()
+        .expect("python3 runs");
+    assert!(made.success());
+    let poses = std::fs::read_to_string(&program).unwrap().lines().count();
+    let mut text = std::fs::read_to_string(&program).unwrap();
+    text.push_str("1.0 2.0 x3.0 0 0 1 2000\n");
+    std::fs::write(&program, text).unwrap();
+    let place = format!("long.cl:{}:9:", poses + 1);
+    // Publishing at once, while the check runs (what a program too long to check in a second does),
+    // and checking it all first (the default for a program this short).
+    for (node, settle, outcome) in [
+        ("fiveaxis-commander", "0", "stopped before the first"),
+        ("fiveaxis-simulator", "0", "stopped before the first"),
+        ("fiveaxis-commander", "30", "refused (nothing published)"),
+        ("fiveaxis-simulator", "30", "refused (nothing published)"),
+    ] {
+        let out = netns_bash(&format!(
+            "'{}' '{}' --fast --wait-for-subscriber-s 0 --check-before-publish-s {settle}",
+            bins().join(node).display(),
+            program.display()
+        ));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{node}: {err}");
+        assert!(err.contains(&place), "{node} names {place}: {err}");
+        assert!(err.contains(outcome), "{node} --check-before-publish-s {settle}: {outcome}: {err}");
+        assert!(!err.contains("panicked"), "{node}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

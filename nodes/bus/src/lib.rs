@@ -8,6 +8,9 @@
 //!   with `--remap FROM:=TO`.
 //! - SIGINT/SIGTERM set a flag the node loops poll, so they finish cleanly.
 
+pub mod program;
+pub use program::{open_program, Gate};
+
 use anyhow::{bail, Context as _};
 use fiveaxis_msgs::RosMessage;
 use ros2_client::{
@@ -117,6 +120,11 @@ pub struct StreamArgs {
     /// How many subscribers of the state stream to wait for (e.g. monitor and recorder: 2).
     #[arg(long = "min-subscribers", default_value_t = 1)]
     pub min_subscribers: usize,
+    /// Wait this long for the whole program's check before publishing, s: a program checked in that
+    /// time is refused whole if it has defects; a longer one is published while the check goes on
+    /// and stops at its first defect (0: publish at once; a large value: check it all first).
+    #[arg(long = "check-before-publish-s", value_name = "S", default_value_t = program::SETTLE.as_secs_f64())]
+    pub check_before_publish_s: f64,
 }
 
 impl StreamArgs {
@@ -125,10 +133,17 @@ impl StreamArgs {
         anyhow::ensure!(self.rate > 0.0 && self.rate.is_finite(), "--rate must be positive");
         anyhow::ensure!(self.speed > 0.0 && self.speed.is_finite(), "--speed must be positive");
         anyhow::ensure!(self.max_program_hours > 0.0 && self.max_program_hours.is_finite(), "--max-program-hours must be positive");
+        anyhow::ensure!(self.check_before_publish_s >= 0.0 && self.check_before_publish_s <= 1e6, "--check-before-publish-s must be between 0 and 1e6 s");
         if let Some(f) = self.feed_mm_per_min {
             anyhow::ensure!(f > 0.0 && f.is_finite(), "--feed must be a positive number of mm/min");
         }
         Ok(())
+    }
+
+    /// How the program is read and sampled: the control's options, at the rate, with the feed
+    /// override and the duration bound.
+    pub fn job_options(&self) -> fiveaxis::job::JobOptions {
+        fiveaxis::job::JobOptions { path: self.path_options(), read: self.control.read_options(), ..Default::default() }
     }
 
     /// How the program is sampled: at the rate, with the feed override and the duration bound.
@@ -149,37 +164,10 @@ fn parse_remap(s: &str) -> Result<(String, String), String> {
     }
 }
 
-/// Log with tracing to stderr (`RUST_LOG` filters; default info, DDS internals at warn).
 /// Exit code of bad input (a program with defects, a file that cannot be read), as `fiveaxis`'s.
 pub const EXIT_INPUT: i32 = 2;
 
-/// Read, plan and analyse the program a publishing node was given. Fails closed: a program that
-/// cannot be read or has defects (a damaged word, an unreachable pose, a feed that makes it run past
-/// `--max-program-hours`) ends the node with exit code 2 and each defect named by line and column.
-pub fn load_job(args: &StreamArgs, machine: &fiveaxis::machine::Machine) -> fiveaxis::job::Job {
-    let read = args.control.read_options();
-    let options = fiveaxis::job::JobOptions { path: args.path_options(), read, ..Default::default() };
-    match fiveaxis::job::run(&args.program, machine, &options) {
-        Err(e) => {
-            eprintln!("error: reading {}: {e}", args.program);
-            std::process::exit(EXIT_INPUT);
-        }
-        Ok(job) if job.has_errors() => {
-            for d in &job.report.diagnostics {
-                eprintln!("{d}");
-            }
-            eprintln!("error: {} has defects: refused (nothing published)", args.program);
-            std::process::exit(EXIT_INPUT);
-        }
-        Ok(job) => {
-            for d in &job.report.diagnostics {
-                tracing::warn!("{d}");
-            }
-            job
-        }
-    }
-}
-
+/// Log with tracing to stderr (`RUST_LOG` filters; default info, DDS internals at warn).
 pub fn init_tracing() {
     let filter = tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "info,rustdds=warn,ros2_client=warn,ros2_client::distributions=error".into());
     let _ = tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).try_init();

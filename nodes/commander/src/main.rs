@@ -1,11 +1,12 @@
 //! `fiveaxis-commander`: reads an NC program and publishes its commanded axis states
 //! (`commanded/axis_state`, `commanded/joint_states`) and `/clock` (program time, use_sim_time).
+//! The program is read as it is published, in flat memory; a defect stops it ([`fiveaxis_bus::Gate`]).
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::live::commander::commanded_iter;
+use fiveaxis::live::commander::commanded_moves;
 use fiveaxis::machine::Machine;
-use fiveaxis_bus::{clock_qos, init_tracing, load_job, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
+use fiveaxis_bus::{clock_qos, init_tracing, EXIT_INPUT, open_program, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
 use fiveaxis_msgs::{AxisState, Clock, JointState};
 use std::time::Duration;
 
@@ -25,9 +26,7 @@ fn main() -> anyhow::Result<()> {
     args.stream.validate()?;
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
-    let job = load_job(&args.stream, &machine);
-    let samples = job.trajectory.sample_count();
-    tracing::info!(program = %args.stream.program, samples, duration_s = job.trajectory.duration(), "commanded trajectory");
+    let (moves, gate) = open_program(&args.stream.program, &args.stream.job_options(), &machine, Duration::from_secs_f64(args.stream.check_before_publish_s));
 
     let mut bus = Bus::new("fiveaxis_commander", &args.common)?;
     let state_pub = bus.publisher::<AxisState>("commanded/axis_state", state_qos())?;
@@ -36,8 +35,16 @@ fn main() -> anyhow::Result<()> {
     if args.stream.wait_s > 0.0 && !bus.wait_for_subscribers(&state_pub, args.stream.min_subscribers.max(1), Duration::from_secs_f64(args.stream.wait_s), &shutdown) {
         tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve("commanded/axis_state"), args.stream.wait_s);
     }
-    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "commanding {} ({} samples)", args.stream.program, samples);
+    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "commanding {}", args.stream.program);
     let pacer = args.stream.pacer();
-    publish_states(commanded_iter(&job.trajectory, &machine), &state_pub, &joint_pub, Some(&clock_pub), &pacer, &shutdown);
+    let states = match commanded_moves(&moves, &machine) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: reading {} again to publish it: {e}", args.stream.program);
+            std::process::exit(EXIT_INPUT);
+        }
+    };
+    let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, Some(&clock_pub), &pacer, &shutdown);
+    gate.finish(sent > 0, shutdown.requested());
     Ok(())
 }

@@ -5,10 +5,10 @@
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::live::sim_report::simulate_measured;
+use fiveaxis::live::sim_report::simulate_measured_stream;
 use fiveaxis::live::simulator::SimConfig;
 use fiveaxis::machine::Machine;
-use fiveaxis_bus::{init_tracing, load_job, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
+use fiveaxis_bus::{init_tracing, open_program, EXIT_INPUT, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
 use fiveaxis_msgs::{AxisState, JointState};
 use std::time::Duration;
 
@@ -32,12 +32,10 @@ fn main() -> anyhow::Result<()> {
     anyhow::ensure!(args.servo_ms > 0.0 && args.servo_ms.is_finite(), "--servo-ms must be positive");
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
-    let job = load_job(&args.stream, &machine);
+    let (moves, gate) = open_program(&args.stream.program, &args.stream.job_options(), &machine, Duration::from_secs_f64(args.stream.check_before_publish_s));
     let mut config = SimConfig::default();
     config.servo.tau = args.servo_ms * 1e-3;
-    let traj = &job.trajectory;
-    let commanded_s = traj.duration();
-    tracing::info!(program = %args.stream.program, commanded_s, "simulating as the states are published");
+    tracing::info!(program = %args.stream.program, "simulating as the states are published");
 
     let mut bus = Bus::new("fiveaxis_simulator", &args.common)?;
     let state_pub = bus.publisher::<AxisState>("simulated/axis_state", state_qos())?;
@@ -56,24 +54,28 @@ fn main() -> anyhow::Result<()> {
             args.stream.wait_s
         );
     }
-    ros2_client::rosout!(
-        bus.node,
-        ros2_client::ros2::LogLevel::Info,
-        "simulating {} ({:.3} s commanded)",
-        args.stream.program,
-        commanded_s
-    );
+    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "simulating {}", args.stream.program);
     let pacer = args.stream.pacer();
     // The planner and servo run on their own thread, a bounded channel ahead of the publisher: the
     // first state goes out once the first look-ahead window is planned, and memory stays the window's.
     let (tx, rx) = std::sync::mpsc::sync_channel::<AxisState>(4096);
-    let machine = &machine;
-    let (summary, figures) = std::thread::scope(|scope| {
-        let simulator = scope
-            .spawn(move || simulate_measured(traj, machine, &config, |_, st| tx.send(st).is_ok()));
-        publish_states(rx, &state_pub, &joint_pub, None, &pacer, &shutdown);
-        simulator.join().expect("simulator thread")
+    let (machine, moves) = (&machine, &moves);
+    let (simulated, sent) = std::thread::scope(|scope| {
+        let simulator = scope.spawn(move || {
+            // The planner and its scout each read the program again, as a stream.
+            let (segments, scout) = (moves.segments(machine)?, moves.segments(machine)?);
+            Ok::<_, fiveaxis::job::JobError>(simulate_measured_stream(segments, scout, moves.period(), machine, &config, |_, _, st| tx.send(st).is_ok()))
+        });
+        let (sent, _) = publish_states(gate.guard(rx.into_iter(), || shutdown.requested()), &state_pub, &joint_pub, None, &pacer, &shutdown);
+        (simulator.join().expect("simulator thread"), sent)
     });
+    let (summary, figures) = match simulated {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: reading {} again to simulate it: {e}", args.stream.program);
+            std::process::exit(EXIT_INPUT);
+        }
+    };
     tracing::info!(
         samples = figures.samples,
         duration_s = figures.duration_s,
@@ -81,5 +83,6 @@ fn main() -> anyhow::Result<()> {
         checked_ratios = ?figures.worst_ratio,
         "simulated"
     );
+    gate.finish(sent > 0, shutdown.requested());
     Ok(())
 }
