@@ -125,35 +125,9 @@ pub struct OfflineReport {
     pub roughness_ra_outside_um: Option<f64>,
 }
 
-/// A sample of simultaneous five-axis motion of an actual stream.
-#[derive(Debug, Clone, Copy)]
-struct Cut {
-    /// Stamp (s), workpiece x (m), tool-tip step from the previous sample (m), path and programmed
-    /// feed (m/s), program line (0: unknown).
-    t: f64,
-    x: f64,
-    ds: f64,
-    feed: f64,
-    programmed: f64,
-    line: u32,
-}
+mod cuts;
 
-/// The actual stream's cut samples that belong to a region: with program lines on both sides, the
-/// samples of the region's lines (one pass: a raster crossing the same x again is another pass) within
-/// its x range, found by binary search (`by_line`: the stream's lines are known and only grow);
-/// without, every sample within its x range.
-fn cuts_inside<'a>(cuts: &'a [Cut], by_line: bool, lines: (u32, u32), x: (f64, f64)) -> Vec<&'a Cut> {
-    let (lo, hi) = x;
-    let in_x = |c: &&Cut| c.x >= lo && c.x <= hi;
-    if by_line && lines.0 > 0 && lines.1 >= lines.0 {
-        let a = cuts.partition_point(|c| c.line < lines.0);
-        let b = cuts.partition_point(|c| c.line <= lines.1);
-        cuts[a..b].iter().filter(in_x).collect()
-    } else {
-        cuts.iter().filter(in_x).collect()
-    }
-}
-
+use cuts::{Cut, CutLog, RegionSpan};
 
 /// What the analysis keeps per stream (topic) while reading.
 struct Stream {
@@ -166,7 +140,7 @@ struct Stream {
     /// The previous valid sample: tool tip (workpiece, m), tool axis, linear axes (m), stamp (s).
     last: Option<(Vector3<f64>, fiveaxis_msgs::Vector3, [f64; 3], f64)>,
     last_line: Option<u32>,
-    cuts: Vec<Cut>,
+    cuts: CutLog,
     peak_c_speed_rpm: f64,
     min_distance_deg: f64,
 }
@@ -254,7 +228,7 @@ pub fn analyze_mcap_with_progress(
                     fits_mm_deg: 0,
                     last: None,
                     last_line: None,
-                    cuts: Vec::new(),
+                    cuts: CutLog::new(),
                     peak_c_speed_rpm: 0.0,
                     min_distance_deg: f64::INFINITY,
                 });
@@ -376,10 +350,13 @@ pub fn analyze_mcap_with_progress(
         Ok(_) => {}
     }
     progress(file_len, file_len);
+    // The actual stream's cut samples, taken out for the region figures (read back once).
+    let actual_topic = {
+        let summary = monitor.summary();
+        [AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED].iter().find_map(|src| summary.iter().find(|s| s.source == *src)).map(|s| s.topic.clone())
+    };
+    let mut actual_cuts: Option<CutLog> = actual_topic.as_ref().and_then(|a| by_topic.get(a)).map(|&k| std::mem::take(&mut streams[k].cuts));
     let stream_of = |topic: &str| by_topic.get(topic).map(|&k| &streams[k]);
-    let cuts_of = |topic: &str| stream_of(topic).map(|s| s.cuts.as_slice());
-    // Whether a stream's cut samples can be looked up by program line (known on every one, never decreasing).
-    let by_line = |cuts: &[Cut]| cuts.first().is_some_and(|c| c.line > 0) && cuts.windows(2).all(|w| w[0].line <= w[1].line && w[1].line > 0);
     monitor.finish();
     for s in monitor.summary() {
         let (peak, min_d) = stream_of(&s.topic).map_or((0.0, f64::INFINITY), |st| (st.peak_c_speed_rpm, st.min_distance_deg));
@@ -407,24 +384,46 @@ pub fn analyze_mcap_with_progress(
         .iter()
         .find_map(|src| report.streams.iter().find(|s| s.source == *src))
         .map(|s| s.topic.clone());
-    let actual_cuts = actual.as_ref().and_then(|a| cuts_of(a));
-    let actual_by_line = actual_cuts.is_some_and(by_line);
+    debug_assert_eq!(actual, actual_topic);
+    // The feed deficit along x, for the roughness correlation (kept only when a profile is given).
+    let mut deficit: Vec<(f64, f64)> = Vec::new();
+    let keep_deficit = options.roughness.is_some();
+    let mut cuts_read = false;
     for source in [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED] {
         if let Some(s) = report.streams.iter().find(|s| s.source == source && !s.regions.is_empty()) {
+            // The lowest feed and time lost over each region: a machine stream's region carries its
+            // own pass; otherwise the actual stream's five-axis samples within its x range.
+            let figures = match (&mut actual_cuts, s.source == AxisState::SOURCE_MACHINE) {
+                (Some(cuts), false) => {
+                    let spans: Vec<RegionSpan> = s
+                        .regions
+                        .iter()
+                        .map(|r| RegionSpan { lines: (r.line_start, r.line_end), x: (r.x_start_mm.min(r.x_end_mm) * 1e-3, r.x_start_mm.max(r.x_end_mm) * 1e-3) })
+                        .collect();
+                    cuts_read = true;
+                    let figures = cuts::region_figures(cuts, &spans, |c| {
+                        if keep_deficit && c.programmed > 0.0 {
+                            deficit.push((c.x, (1.0 - c.feed / c.programmed).clamp(0.0, 1.0)));
+                        }
+                    });
+                    match figures {
+                        Ok(f) => Some(f),
+                        Err(source) => return Err(RecordError::Io { path: path.to_path_buf(), source }),
+                    }
+                }
+                _ => None,
+            };
             report.regions = s
                 .regions
                 .iter()
-                .map(|r| {
-                    // The lowest feed and time lost over the region: a machine stream's region carries
-                    // its own pass; otherwise the actual stream's five-axis samples within its x range.
+                .enumerate()
+                .map(|(i, r)| {
                     let (actual_topic, lowest, lost) = if s.source == AxisState::SOURCE_MACHINE {
                         (Some(s.topic.clone()), r.min_path_feed_mm_per_min * crate::units::MM_PER_MIN, Some(r.time_lost_s))
                     } else {
-                        let (lo, hi) = (r.x_start_mm.min(r.x_end_mm) * 1e-3, r.x_start_mm.max(r.x_end_mm) * 1e-3);
-                        let inside = actual_cuts.map_or_else(Vec::new, |c| cuts_inside(c, actual_by_line, (r.line_start, r.line_end), (lo, hi)));
-                        let lowest = inside.iter().map(|c| c.feed).fold(f64::INFINITY, f64::min);
-                        let lost: f64 = inside.windows(2).map(|w| (w[1].t - w[0].t) - if w[1].programmed > 0.0 { w[1].ds / w[1].programmed } else { 0.0 }).sum();
-                        ((!inside.is_empty()).then(|| actual.clone()).flatten(), lowest, (!inside.is_empty()).then_some(lost))
+                        let f = figures.as_ref().map(|f| f[i]);
+                        let lost = f.and_then(|f| f.lost);
+                        (lost.is_some().then(|| actual.clone()).flatten(), f.map_or(f64::INFINITY, |f| f.lowest), lost)
                     };
                     RegionReport {
                         x_start_mm: r.x_start_mm,
@@ -446,8 +445,19 @@ pub fn analyze_mcap_with_progress(
         }
     }
     if let Some((profile, cutoff)) = &options.roughness {
-        let feed = actual.as_ref().and_then(|a| cuts_of(a)).unwrap_or_default();
-        let r = roughness_report(profile, *cutoff, &report.regions, feed);
+        if !cuts_read {
+            if let Some(cuts) = actual_cuts.as_mut() {
+                let r = cuts.for_each(|c| {
+                    if c.programmed > 0.0 {
+                        deficit.push((c.x, (1.0 - c.feed / c.programmed).clamp(0.0, 1.0)));
+                    }
+                });
+                if let Err(e) = r {
+                    return Err(RecordError::Io { path: path.to_path_buf(), source: e });
+                }
+            }
+        }
+        let r = roughness_report(profile, *cutoff, &report.regions, deficit);
         report.roughness_ra_inside_um = r.roughness_ra_inside_um;
         report.roughness_ra_outside_um = r.roughness_ra_outside_um;
         report.roughness = Some(r);
@@ -546,7 +556,9 @@ fn reasons(r: &Rejected, undecodable: u64) -> String {
     if parts.is_empty() { "none".into() } else { parts.join(", ") }
 }
 
-fn roughness_report(profile: &crate::roughness::Profile, cutoff: f64, regions: &[RegionReport], feed: &[Cut]) -> RoughnessReport {
+/// `by_x`: the actual stream's feed deficit (1 - feed / programmed, clamped to 0..1) at each
+/// five-axis sample's x (m), in arrival order.
+fn roughness_report(profile: &crate::roughness::Profile, cutoff: f64, regions: &[RegionReport], mut by_x: Vec<(f64, f64)>) -> RoughnessReport {
     let windows = profile.windows(cutoff, 0.1e-3);
     let in_region = |x: f64| regions.iter().any(|r| x * 1e3 >= r.x_start_mm.min(r.x_end_mm) && x * 1e3 <= r.x_start_mm.max(r.x_end_mm));
     let mean = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64 * 1e6);
@@ -558,7 +570,6 @@ fn roughness_report(profile: &crate::roughness::Profile, cutoff: f64, regions: &
     let (rs, re) = (rough.first().map(|w| w.x), rough.last().map(|w| w.x));
     let overlap = (!rough.is_empty()).then(|| rough.iter().filter(|w| in_region(w.x)).count() as f64 / rough.len() as f64);
     // Feed deficit at each window's x (nearest five-axis sample of the actual stream).
-    let mut by_x: Vec<(f64, f64)> = feed.iter().filter(|c| c.programmed > 0.0).map(|c| (c.x, (1.0 - c.feed / c.programmed).clamp(0.0, 1.0))).collect();
     by_x.sort_by(|a, b| a.0.total_cmp(&b.0));
     let corr = (!by_x.is_empty()).then(|| {
         let (mut a, mut b) = (Vec::new(), Vec::new());
