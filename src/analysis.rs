@@ -350,12 +350,6 @@ pub fn analyze_mcap_with_progress(
         Ok(_) => {}
     }
     progress(file_len, file_len);
-    // The actual stream's cut samples, taken out for the region figures (read back once).
-    let actual_topic = {
-        let summary = monitor.summary();
-        [AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED].iter().find_map(|src| summary.iter().find(|s| s.source == *src)).map(|s| s.topic.clone())
-    };
-    let mut actual_cuts: Option<CutLog> = actual_topic.as_ref().and_then(|a| by_topic.get(a)).map(|&k| std::mem::take(&mut streams[k].cuts));
     let stream_of = |topic: &str| by_topic.get(topic).map(|&k| &streams[k]);
     monitor.finish();
     for s in monitor.summary() {
@@ -384,10 +378,18 @@ pub fn analyze_mcap_with_progress(
         .iter()
         .find_map(|src| report.streams.iter().find(|s| s.source == *src))
         .map(|s| s.topic.clone());
-    debug_assert_eq!(actual, actual_topic);
-    // The feed deficit along x, for the roughness correlation (kept only when a profile is given).
+    // The actual stream's cut samples, taken out for the region figures (read back once).
+    let mut actual_cuts: Option<CutLog> = actual.as_ref().and_then(|a| by_topic.get(a)).map(|&k| std::mem::take(&mut streams[k].cuts));
+    let spill_error = |source| RecordError::Io { path: path.to_path_buf(), source };
+    // The feed deficit along x, for the roughness correlation (kept only when a profile is given),
+    // gathered on the one pass over the cut samples.
     let mut deficit: Vec<(f64, f64)> = Vec::new();
     let keep_deficit = options.roughness.is_some();
+    let mut gather = |c: &Cut| {
+        if keep_deficit && c.programmed > 0.0 {
+            deficit.push((c.x, (1.0 - c.feed / c.programmed).clamp(0.0, 1.0)));
+        }
+    };
     let mut cuts_read = false;
     for source in [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED] {
         if let Some(s) = report.streams.iter().find(|s| s.source == source && !s.regions.is_empty()) {
@@ -401,15 +403,7 @@ pub fn analyze_mcap_with_progress(
                         .map(|r| RegionSpan { lines: (r.line_start, r.line_end), x: (r.x_start_mm.min(r.x_end_mm) * 1e-3, r.x_start_mm.max(r.x_end_mm) * 1e-3) })
                         .collect();
                     cuts_read = true;
-                    let figures = cuts::region_figures(cuts, &spans, |c| {
-                        if keep_deficit && c.programmed > 0.0 {
-                            deficit.push((c.x, (1.0 - c.feed / c.programmed).clamp(0.0, 1.0)));
-                        }
-                    });
-                    match figures {
-                        Ok(f) => Some(f),
-                        Err(source) => return Err(RecordError::Io { path: path.to_path_buf(), source }),
-                    }
+                    Some(cuts::region_figures(cuts, &spans, &mut gather).map_err(spill_error)?)
                 }
                 _ => None,
             };
@@ -445,17 +439,8 @@ pub fn analyze_mcap_with_progress(
         }
     }
     if let Some((profile, cutoff)) = &options.roughness {
-        if !cuts_read {
-            if let Some(cuts) = actual_cuts.as_mut() {
-                let r = cuts.for_each(|c| {
-                    if c.programmed > 0.0 {
-                        deficit.push((c.x, (1.0 - c.feed / c.programmed).clamp(0.0, 1.0)));
-                    }
-                });
-                if let Err(e) = r {
-                    return Err(RecordError::Io { path: path.to_path_buf(), source: e });
-                }
-            }
+        if let Some(cuts) = actual_cuts.as_mut().filter(|_| !cuts_read) {
+            cuts.for_each(&mut gather).map_err(spill_error)?;
         }
         let r = roughness_report(profile, *cutoff, &report.regions, deficit);
         report.roughness_ra_inside_um = r.roughness_ra_inside_um;

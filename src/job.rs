@@ -105,12 +105,7 @@ pub fn analyze_streaming(spec: &str, machine: &Machine, options: &JobOptions) ->
     }
     let mut segments = crate::path::SegmentStream::new(open_spec(spec, options)?, machine, &options.path);
     let (analysis, counts) = crate::singularity::analyze_segments(segments.by_ref(), options.path.period, machine, &options.analysis);
-    segments.read_to_end();
-    let mut diagnostics = segments.blocks().diagnostics().to_vec();
-    diagnostics.extend(segments.diagnostics().to_vec());
-    if counts.segments == 0 {
-        diagnostics.push(no_moves(segments.blocks().blocks_read()));
-    }
+    let diagnostics = read_rest(&mut segments, counts.segments);
     let read = crate::report::ReadFacts { source: segments.blocks().source(), blocks: segments.blocks().blocks_read(), samples: counts.samples, period: options.path.period };
     Ok(AnalysisReport::from_parts(&read, diagnostics.iter(), machine, &analysis, options.path.feed_override_mm_per_min))
 }
@@ -190,16 +185,10 @@ impl Moves {
         while let Some(seg) = segments.next() {
             count += 1;
             end = seg.t0 + seg.duration;
-            let errors = segments.blocks().diagnostics().errors() + segments.diagnostics().errors();
-            progress(end, errors > 0);
+            progress(end, segments.errors() > 0);
         }
-        segments.read_to_end();
-        let mut diagnostics = segments.blocks().diagnostics().to_vec();
-        diagnostics.extend(segments.diagnostics().to_vec());
-        if count == 0 {
-            diagnostics.push(no_moves(segments.blocks().blocks_read()));
-        }
-        let errors = segments.blocks().diagnostics().errors() + segments.diagnostics().errors() + usize::from(count == 0);
+        let diagnostics = read_rest(&mut segments, count);
+        let errors = segments.errors() + usize::from(count == 0);
         progress(end, errors > 0);
         Ok(Checked { diagnostics, errors, blocks: segments.blocks().blocks_read(), segments: count, duration_s: end })
     }
@@ -211,6 +200,19 @@ impl Moves {
             Moves::Held(job) => Ok(job.report.clone()),
         }
     }
+}
+
+/// Read the rest of a program whose planning ended (at its end, or at the duration bound), having
+/// planned `segments` moves: the diagnostics of its report, in order (the reader's, the planning's,
+/// and the error of a program without a single move).
+fn read_rest(stream: &mut crate::path::SegmentStream, segments: usize) -> Vec<Diagnostic> {
+    stream.read_to_end();
+    let mut diagnostics = stream.blocks().diagnostics().to_vec();
+    diagnostics.extend(stream.diagnostics().to_vec());
+    if segments == 0 {
+        diagnostics.push(no_moves(stream.blocks().blocks_read()));
+    }
+    diagnostics
 }
 
 /// The error of a program without a single move: a gate that read nothing never passes (an empty

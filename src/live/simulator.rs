@@ -83,9 +83,10 @@ pub fn simulate_stream(
     let (mut fl, mut fr) = (0.0f64, 0.0f64);
     let mut samples = 0u64;
     let mut open = true;
-    // The segment of the latest set-point, shared by its samples (one copy per segment).
+    // The segment of the latest set-point, shared by its samples (one copy per segment), and that
+    // set-point with its run.
     let mut current: Option<(usize, Arc<Segment>)> = None;
-    let mut last: Option<(Joints, usize, usize)> = None;
+    let mut last: Option<(Joints, usize)> = None;
     let mut push = |s: &mut servo::Servo, u: &Joints, segment: usize, run: usize, seg: &Arc<Segment>| -> bool {
         let q = s.step(u);
         for i in 0..5 {
@@ -102,14 +103,13 @@ pub fn simulate_stream(
     };
     let planned = planner::plan_stream(segments, scout, machine, &plan_cfg, |p, segment| {
         let s = servo.get_or_insert_with(|| servo::Servo::new(p.q, period, cfg));
-        if let Some((u, seg, r)) = last.filter(|l| l.2 != p.run) {
-            let held = &current.as_ref().expect("a set-point came before").1;
+        if let (Some((u, r)), Some((seg, held))) = (last.filter(|l| l.1 != p.run), current.as_ref()) {
             // Exact stop: hold the last set-point until in position (bounded: 10 s).
             for _ in 0..(10.0 / period) as usize {
                 if s.in_position(&u, cfg.in_position_m, cfg.in_position_rad) {
                     break;
                 }
-                if !push(s, &u, seg, r, held) {
+                if !push(s, &u, *seg, r, held) {
                     return false;
                 }
             }
@@ -117,12 +117,12 @@ pub fn simulate_stream(
         if current.as_ref().is_none_or(|c| c.0 != p.segment) {
             current = Some((p.segment, Arc::new(segment.clone())));
         }
-        last = Some((p.q, p.segment, p.run));
+        last = Some((p.q, p.run));
         push(s, &p.q, p.segment, p.run, &current.as_ref().expect("just set").1)
     });
-    if let (Some(s), Some((u, seg, r)), Some((_, held))) = (servo.as_mut(), last, current.as_ref()) {
+    if let (Some(s), Some((u, r)), Some((seg, held))) = (servo.as_mut(), last, current.as_ref()) {
         for _ in 0..100_000 {
-            if s.in_position(&u, 1e-9, 1e-9) || !push(s, &u, seg, r, held) {
+            if s.in_position(&u, 1e-9, 1e-9) || !push(s, &u, *seg, r, held) {
                 break;
             }
         }

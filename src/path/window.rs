@@ -118,6 +118,11 @@ impl<'m> SegmentStream<'m> {
     pub fn diagnostics(&self) -> &DiagnosticLog {
         &self.log
     }
+
+    /// Errors so far, the reader's and the planning's.
+    pub fn errors(&self) -> usize {
+        self.blocks.diagnostics().errors() + self.log.errors()
+    }
 }
 
 impl Iterator for SegmentStream<'_> {

@@ -29,6 +29,24 @@ struct Progress {
     ended: AtomicBool,
 }
 
+/// Marks the check ended when the checker thread ends: checked through the end if it ended clean, a
+/// defect otherwise.
+struct Ended {
+    progress: Arc<Progress>,
+    clean: bool,
+}
+
+impl Drop for Ended {
+    fn drop(&mut self) {
+        if self.clean {
+            self.progress.through.store(f64::INFINITY.to_bits(), Ordering::Release);
+        } else {
+            self.progress.defect.store(true, Ordering::Release);
+        }
+        self.progress.ended.store(true, Ordering::Release);
+    }
+}
+
 /// The check of a node's program, running beside the publisher.
 pub struct Gate {
     progress: Arc<Progress>,
@@ -45,6 +63,9 @@ impl Gate {
         let handle = std::thread::Builder::new()
             .name("program-check".into())
             .spawn(move || {
+                // However the check ends (a panic included), the publisher learns it: a defect unless
+                // it ended clean.
+                let mut end = Ended { progress: p.clone(), clean: false };
                 let r = moves.check(&machine, |t, defect| {
                     // The defect first: a reader that sees the time advanced sees the defect too.
                     if defect {
@@ -52,11 +73,7 @@ impl Gate {
                     }
                     p.through.store(t.to_bits(), Ordering::Release);
                 }).map_err(|e| e.to_string());
-                match &r {
-                    Ok(c) if c.errors == 0 => p.through.store(f64::INFINITY.to_bits(), Ordering::Release),
-                    _ => p.defect.store(true, Ordering::Release),
-                }
-                p.ended.store(true, Ordering::Release);
+                end.clean = matches!(&r, Ok(c) if c.errors == 0);
                 r
             })
             .ok();
@@ -66,10 +83,10 @@ impl Gate {
     /// Wait for the check up to `limit`; the whole check's result if it has ended by then.
     pub fn settle(&mut self, limit: Duration) -> Option<&Result<Checked, String>> {
         let start = Instant::now();
-        while self.handle.is_some() && !self.progress.ended.load(Ordering::Acquire) && start.elapsed() < limit {
+        while self.handle.as_ref().is_some_and(|h| !h.is_finished()) && start.elapsed() < limit {
             std::thread::sleep(Duration::from_millis(2));
         }
-        if self.progress.ended.load(Ordering::Acquire) {
+        if self.handle.as_ref().is_some_and(|h| h.is_finished()) {
             self.join();
         }
         self.result.as_ref()
@@ -116,7 +133,6 @@ impl Gate {
             return;
         }
         self.settle(Duration::MAX);
-        self.join();
         report(&self.program, self.result.take(), published);
     }
 }
