@@ -8,7 +8,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughpu
 use fiveaxis::job::{self, JobOptions};
 use fiveaxis::machine::Machine;
 use fiveaxis::path::{PathOptions, SegmentWindow};
-use fiveaxis::singularity::{analyze, distance, predicted_rate, FeedLimiter, PathGeometry};
+use fiveaxis::singularity::{analyze, distance, FeedLimiter, PathGeometry};
 
 fn per_sample(c: &mut Criterion) {
     let m = Machine::hermle_c600u();
@@ -22,7 +22,7 @@ fn per_sample(c: &mut Criterion) {
     // monitor runs it with derivatives from its look-ahead.
     let rows: Vec<_> = traj
         .samples(&m)
-        .map(|s| (s.axis, s.axis_rate, s.feed, geo.derivatives(s.segment, s.s, &mut window).unwrap()))
+        .map(|s| (s.axis, s.axis_rate, [s.q[3], s.q[4]], s.feed, geo.derivatives(s.segment, s.s, &mut window).unwrap()))
         .collect();
     let sd = m.singular_direction();
     let limiter = FeedLimiter::new(&m.limits());
@@ -31,9 +31,9 @@ fn per_sample(c: &mut Criterion) {
     g.bench_function("per_sample", |b| {
         b.iter(|| {
             let mut acc = 0.0;
-            for (axis, rate, feed, (d1, d2, d3)) in &rows {
+            for (axis, rate, rot, feed, (d1, d2, d3)) in &rows {
                 let d = distance(axis, &sd);
-                let r = predicted_rate(axis, rate, &sd);
+                let r = m.chain.secondary_rate(axis, rate, rot);
                 let f = limiter.limit(*feed, d1, d2, d3);
                 acc += d + r + f.feed;
             }

@@ -3,6 +3,9 @@
 use super::{subproblem1, wrap_pi, Carrier, Joints, KinematicsError, RotaryJoint};
 use nalgebra::Vector3;
 
+/// sin of the angle from the singular direction below which the secondary rate is undefined.
+pub const POLE: f64 = 1e-12;
+
 /// Tool pose in the workpiece frame: tool tip (m) and unit tool axis (pointing from tip to spindle).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pose {
@@ -115,6 +118,45 @@ impl TwoRotaryChain {
         let d_phi2 = j2.axis.cross(&o);
         let d_phi1 = r2 * j1.axis.cross(&inner);
         d_phi1 * (s1 * rate[self.r1]) + d_phi2 * (s2 * rate[self.r2])
+    }
+
+    /// Seed 001 eq. (5), exact for any two-rotary chain: the rate of the secondary axis r2 (rad/s,
+    /// machine sign) that the unit tool axis `axis` moving at `axis_rate` asks; `rot` (the rotary
+    /// angles there, approximately) only picks the inverse's branch.
+    ///
+    /// With the tangents of seed 001 §2.4, `o_dot = phi1' (t1 x o) + phi2' (t2 x o)` where t2 = a2 and
+    /// t1 = R2(phi2) a1, so `phi2' = (o_dot . t1) / ((t1 x t2) . o)`. t1 follows from `o` alone up to
+    /// that branch (t1 . a2 = a1 . a2, t1 . o = a1 . o_M): t1 = alpha a2 + beta o + gamma w with
+    /// w = a2 x o, which gives `phi2' = (o_dot . w) / |w|^2 + alpha (o_dot_perp . a2) / (gamma |w|^2)`.
+    /// The first term is eq. (5) as printed (`dTheta_h/dt / sin A`); the second vanishes on machines
+    /// whose primary axis is orthogonal to both a2 and the tool (the Hermle, alpha = 0) and corrects it on
+    /// the others (a 45 deg nutating head). Undefined on the pole (|a2 x o| below [`POLE`]) and at the rim
+    /// of a non-orthogonal machine's reachable cone (gamma = 0, where r1 folds back): 0 is returned there.
+    pub fn secondary_rate(&self, axis: &Vector3<f64>, axis_rate: &Vector3<f64>, rot: &[f64; 2]) -> f64 {
+        let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
+        let (a1, a2, o) = (j1.axis, j2.axis, *axis);
+        let w = a2.cross(&o);
+        let w2 = w.norm_squared();
+        if w2 <= POLE * POLE {
+            return 0.0;
+        }
+        // Eq. (5) as printed: the rate about a2 of the tool axis' component across it.
+        let mut rate = axis_rate.dot(&w) / w2;
+        let delta = a2.dot(&o);
+        let alpha = (a1.dot(&a2) - delta * a1.dot(&self.tool_axis)) / w2;
+        if alpha != 0.0 {
+            let beta = (a1.dot(&self.tool_axis) - delta * a1.dot(&a2)) / w2;
+            let g2w = 1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * delta; // gamma^2 |w|^2
+            if g2w <= POLE * POLE {
+                return 0.0;
+            }
+            // The branch: the sign of t1 . w for the primary axis' direction at these angles.
+            let t1 = j2.rotation(sign(j2.carrier) * rot[self.r2]) * a1;
+            let gamma = g2w.sqrt() / w2.sqrt() * if t1.dot(&w) < 0.0 { -1.0 } else { 1.0 };
+            let rate_perp_a2 = axis_rate.dot(&a2) - axis_rate.dot(&o) * delta;
+            rate += alpha * rate_perp_a2 / (gamma * w2);
+        }
+        sign(j2.carrier) * rate
     }
 
     /// Forward kinematics: axis values -> tool tip and tool axis in the workpiece frame.

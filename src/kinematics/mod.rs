@@ -12,7 +12,7 @@
 
 mod chain;
 
-pub use chain::{OrientationSolutions, Pose, TwoRotaryChain};
+pub use chain::{OrientationSolutions, Pose, TwoRotaryChain, POLE};
 
 use nalgebra::{Rotation3, Unit, Vector3};
 use serde::Deserialize;

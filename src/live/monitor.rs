@@ -9,7 +9,7 @@ use crate::path::align::Aligner;
 use crate::path::Segment;
 use crate::singularity::measured::{MeasuredConfig, MeasuredPath, Motion};
 use crate::singularity::tracker::{Cause, RegionRule, RegionTracker, RuleSample, TrackedRegion};
-use crate::singularity::{distance, predicted_rate, FeedLimiter, LimitKind};
+use crate::singularity::{distance, FeedLimiter, LimitKind};
 use std::sync::Arc;
 use fiveaxis_msgs::{AxisState, DiagnosticArray, DiagnosticStatus, Header, JointState, KeyValue, Point, SingularityStatus, Time};
 use nalgebra::Vector3;
@@ -369,7 +369,6 @@ pub struct Monitor {
     machine: Machine,
     config: MonitorConfig,
     singular: Vector3<f64>,
-    sign: f64,
     secondary: usize,
     limit: f64,
     limiter: FeedLimiter,
@@ -390,16 +389,11 @@ fn vec3(p: &Point) -> Vector3<f64> {
 impl Monitor {
     pub fn new(machine: &Machine, config: MonitorConfig) -> Monitor {
         let secondary = machine.secondary_axis();
-        let sign = match machine.chain.joints()[machine.chain.secondary_slot()].carrier {
-            crate::kinematics::Carrier::Table => -1.0,
-            crate::kinematics::Carrier::Head => 1.0,
-        };
         let limits = machine.limits();
         Monitor {
             machine: machine.clone(),
             config,
             singular: machine.singular_direction(),
-            sign,
             secondary,
             limit: config.rate_limit.unwrap_or(limits[secondary].velocity),
             limiter: FeedLimiter::new(&limits),
@@ -515,7 +509,7 @@ impl Monitor {
             Some(prev) => {
                 let prev_q = self.prev_commanded_axis.unwrap_or(axis);
                 let dt = t - prev.t;
-                let rate = if dt > 0.0 { self.sign * predicted_rate(&axis, &((axis - prev_q) / dt), &self.singular) } else { 0.0 };
+                let rate = if dt > 0.0 { self.machine.chain.secondary_rate(&axis, &((axis - prev_q) / dt), &[q[3], q[4]]) } else { 0.0 };
                 rate.abs() > self.limit
             }
             None => false,
@@ -681,7 +675,7 @@ impl Monitor {
                 let rate = if ds > 1e-12 { (axis - p.axis) / ds * f } else { (axis - p.axis) / dt };
                 // The chord is a mid-step quantity: evaluate eq. (5) at the mid-step orientation.
                 let mid = (axis + p.axis).try_normalize(1e-12).unwrap_or(axis);
-                let predicted = held.unwrap_or_else(|| self.sign * predicted_rate(&mid, &rate, &self.singular));
+                let predicted = held.unwrap_or_else(|| self.machine.chain.secondary_rate(&mid, &rate, &[q[3], q[4]]));
                 (predicted, (q[self.secondary] - p.q[self.secondary]) / dt)
             }
             None => (0.0, 0.0),

@@ -2,7 +2,7 @@
 //! summary, in one streaming pass over the samples.
 
 use super::geometry::SPLINE_OVERLAP_BLOCKS;
-use super::{distance, on_pole, predicted_rate, FeedLimit, FeedLimiter, PathGeometry};
+use super::{distance, on_pole, FeedLimit, FeedLimiter, PathGeometry};
 use crate::machine::Machine;
 use crate::path::{GridSampler, Sample, Segment, SegmentWindow, Trajectory};
 use nalgebra::Vector3;
@@ -137,7 +137,6 @@ pub struct Statuses<'a, I: Iterator<Item = Segment>> {
     limiter: FeedLimiter,
     sd: Vector3<f64>,
     sec: usize,
-    sign: f64,
     prev: Option<Sample>,
     next: Option<Sample>,
     started: bool,
@@ -146,10 +145,6 @@ pub struct Statuses<'a, I: Iterator<Item = Segment>> {
 impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
     /// The statuses of `segments` sampled every `period` s (or of `stored` samples of them).
     pub fn new(segments: I, stored: Option<&'a [Sample]>, period: f64, machine: &'a Machine) -> Self {
-        let sign = match machine.chain.joints()[machine.chain.secondary_slot()].carrier {
-            crate::kinematics::Carrier::Table => -1.0,
-            crate::kinematics::Carrier::Head => 1.0,
-        };
         Statuses {
             machine,
             window: SegmentWindow::new(segments),
@@ -161,7 +156,6 @@ impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
             limiter: FeedLimiter::new(&machine.limits()),
             sd: machine.singular_direction(),
             sec: machine.secondary_axis(),
-            sign,
             prev: None,
             next: None,
             started: false,
@@ -198,7 +192,7 @@ impl<I: Iterator<Item = Segment>> Iterator for Statuses<'_, I> {
         self.prev = Some(sm);
         let status = Status {
             distance: distance(&sm.axis, &self.sd),
-            predicted_rate: self.sign * predicted_rate(&sm.axis, &sm.axis_rate, &self.sd),
+            predicted_rate: self.machine.chain.secondary_rate(&sm.axis, &sm.axis_rate, &[sm.q[3], sm.q[4]]),
             fd_rate,
             feed_limit,
             five_axis,

@@ -1,7 +1,8 @@
 //! Singularity analysis, per sample (seed 001 §2, seed 002 eq. 5):
 //! - distance to the singularity: the angle between the tool axis and the singular direction
 //!   (|A| on the Hermle, seed 001 §2.4);
-//! - predicted secondary-axis speed, seed 001 eq. (5): `dC/dt = (dTheta_h/dt) / sin(A)`;
+//! - predicted secondary-axis speed, seed 001 eq. (5): `dC/dt = (dTheta_h/dt) / sin(A)`, made exact for
+//!   any two-rotary chain in [`TwoRotaryChain::secondary_rate`](crate::kinematics::TwoRotaryChain::secondary_rate);
 //! - feed limit and the limiting axis from per-axis velocity/acceleration/jerk limits, seed 002 eq. (5);
 //! - regions: contiguous stretches where the predicted speed exceeds the axis limit (or the distance
 //!   falls below a threshold).
@@ -25,24 +26,7 @@ pub fn distance(axis: &Vector3<f64>, singular: &Vector3<f64>) -> f64 {
     axis.cross(singular).norm().atan2(axis.dot(singular).abs())
 }
 
-/// Seed 001 eq. (5): the rotation rate about the singular direction `s` (rad/s) that a tool axis `o`
-/// moving at `o_dot` demands: `dTheta_h/dt / sin(A)`, with `dTheta_h/dt = o_dot . t_h`,
-/// `t_h = (s x o)/|s x o|` and `sin(A) = |s x o|`. On the singular direction itself (|s x o| below
-/// [`POLE`]) `t_h` is undefined and so is the rate (0/0): 0 is returned, see [`on_pole`]; a path that
-/// passes the pole shows the divergence in the samples on either side.
-#[inline]
-pub fn predicted_rate(axis: &Vector3<f64>, axis_rate: &Vector3<f64>, singular: &Vector3<f64>) -> f64 {
-    let n = singular.cross(axis);
-    let n2 = n.norm_squared();
-    if n2 > POLE * POLE {
-        axis_rate.dot(&n) / n2
-    } else {
-        0.0
-    }
-}
-
-/// sin of the angle from the singular direction below which eq. (5) is undefined (1e-12 rad).
-pub const POLE: f64 = 1e-12;
+pub use crate::kinematics::POLE;
 
 /// True when the tool axis lies on the singular direction while moving: eq. (5) is undefined there.
 #[inline]
