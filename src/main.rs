@@ -284,7 +284,8 @@ enum McapCmd {
 enum MachineCmd {
     /// List the built-in machines.
     List,
-    /// Print a built-in machine's TOML description (a template for your own).
+    /// Print a built-in machine's TOML description (a template for your own), or check a machine
+    /// file and print it; an unknown name or an invalid file exits 2 naming the field.
     Show { name: String },
 }
 
@@ -911,6 +912,24 @@ fn demo(json: bool) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// `machine show`: a built-in machine's file, or a machine file checked whole.
+fn machine_show(spec: &str) -> anyhow::Result<ExitCode> {
+    if let Some(text) = fiveaxis::machine::builtin_file(spec) {
+        print!("{text}");
+        return Ok(ExitCode::SUCCESS);
+    }
+    match Machine::from_name_or_file(spec).and_then(|_| std::fs::read_to_string(spec).map_err(|source| fiveaxis::machine::MachineError::Io { path: spec.to_string(), source })) {
+        Ok(text) => {
+            print!("{text}");
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(e) => {
+            eprintln!("fiveaxis: {e}");
+            Ok(ExitCode::from(EXIT_INPUT))
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
@@ -924,13 +943,7 @@ fn main() -> ExitCode {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Machine(MachineCmd::Show { name }) => match fiveaxis::machine::builtin_file(name) {
-            Some(text) => {
-                print!("{text}");
-                Ok(ExitCode::SUCCESS)
-            }
-            None => Err(anyhow::anyhow!("unknown machine '{name}' (built in: {})", BUILTIN_NAMES.join(", "))),
-        },
+        Command::Machine(MachineCmd::Show { name }) => machine_show(name),
         Command::Run(a) => run(a),
         Command::Analyze(a) => offline(a),
         Command::Mcap(McapCmd::Recover { input, output }) => recover(input, output),

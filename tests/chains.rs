@@ -118,7 +118,8 @@ fn in_range(m: &Machine) -> impl FnMut(&mut Rng) -> Option<[f64; 2]> + '_ {
 /// Angles whose tool axis lies 0.05-2 deg from the pole, on either branch.
 fn near_pole(chain: &TwoRotaryChain) -> impl FnMut(&mut Rng) -> Option<[f64; 2]> + '_ {
     move |rng: &mut Rng| {
-        let s = chain.singular_direction();
+        // The pole is the singular line: the direction or its opposite, whichever the tool reaches.
+        let s = chain.singular_direction() * if rng.next() < 0.5 { 1.0 } else { -1.0 };
         let o = rotate(&rng.across(&s), rng.range(0.05, 2.0) * DEG, &s);
         let sols = chain.orientation_solutions(&o).ok()?;
         Some(sols.solutions[(rng.next() * 2.0) as usize])
@@ -132,7 +133,7 @@ fn every_built_in_machine_predicts_the_secondary_rate_of_its_own_inverse() {
         let m = Machine::builtin(name).unwrap();
         let anywhere = check_chain(name, &m.chain, &mut rng, 400, &mut in_range(&m));
         let pole = check_chain(name, &m.chain, &mut rng, 400, &mut near_pole(&m.chain));
-        assert!(anywhere > 300 && pole > 300, "{name}: only {anywhere} and {pole} paths checked");
+        assert!(anywhere > 300 && pole > 150, "{name}: only {anywhere} and {pole} paths checked");
     }
 }
 
@@ -206,4 +207,80 @@ fn printed_eq_5_is_not_exact_on_a_nutating_head() {
     });
     assert!(checked > 150);
     assert!(worst_printed > 0.1, "the printed eq. (5) was within {worst_printed:.3e}");
+}
+
+
+/// The LinuxCNC machines against LinuxCNC's own kinematics modules: machines/linuxcnc/kins_fixtures.py
+/// called the installed modules' kinematicsForward on random joints (with a tool length where the module
+/// takes one); our forward kinematics must give the same program point to 1e-9 mm.
+#[test]
+fn linuxcnc_machines_match_the_controls_own_kinematics_modules() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("machines/linuxcnc/kins_fixtures.csv")).unwrap();
+    let mut counts = std::collections::BTreeMap::new();
+    let mut worst: f64 = 0.0;
+    for line in text.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let v: Vec<f64> = f[1..].iter().map(|s| s.parse().unwrap()).collect();
+        let (tool, q, world) = (v[0], &v[1..6], Vector3::new(v[6], v[7], v[8]));
+        let file = fiveaxis::machine::builtin_file(f[0]).unwrap();
+        let with_tool = file.replacen("tool_tip_mm = [0.0, 0.0, 0.0]", &format!("tool_tip_mm = [0.0, 0.0, {}]", -tool), 1);
+        let m = Machine::from_toml_str(&with_tool, f[0]).unwrap();
+        let joints = [q[0] * 1e-3, q[1] * 1e-3, q[2] * 1e-3, q[3] * DEG, q[4] * DEG];
+        let tip_mm = m.forward(&joints).tip * 1e3;
+        let program = world - Vector3::new(0.0, 0.0, tool);
+        let err = (tip_mm - program).norm();
+        assert!(err < 1e-9, "{}: joints {q:?} T {tool}: ours {tip_mm:?}, LinuxCNC's {program:?}", f[0]);
+        worst = worst.max(err);
+        *counts.entry((f[0].to_string(), tool as i64)).or_insert(0) += 1;
+    }
+    // Every LinuxCNC machine, with a tool where its module takes one.
+    for (name, tools) in [("linuxcnc-xyzbc-trt", [0, 10]), ("linuxcnc-xyzab-tdr", [0, 30]), ("linuxcnc-bridgemill", [0, 100]), ("linuxcnc-max5", [0, 0])] {
+        for t in tools {
+            assert!(counts.get(&(name.to_string(), t)).copied().unwrap_or(0) >= 40, "{name} T{t}: {counts:?}");
+        }
+    }
+    eprintln!("worst {worst:.2e} mm over {} rows", counts.values().sum::<usize>());
+}
+
+/// Impossible machine files: each is refused with exit 2 by `machine show` and by a command that loads
+/// the machine, the field named.
+#[test]
+fn impossible_machine_files_are_refused_naming_the_field() {
+    let dir = std::env::temp_dir().join(format!("fiveaxis-chains-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let hermle = fiveaxis::machine::builtin_file("hermle-c600u").unwrap();
+    let a_axis = "axis = [1.0, 0.0, 0.0]";
+    let cases: Vec<(&str, String, &str)> = vec![
+        ("inf-tool", hermle.replace("tool_axis = [0.0, 0.0, 1.0]", "tool_axis = [inf, 0.0, 0.0]"), "`tool_axis`"),
+        ("zero-tool", hermle.replace("tool_axis = [0.0, 0.0, 1.0]", "tool_axis = [0.0, 0.0, 0.0]"), "`tool_axis`"),
+        ("nan-tip", hermle.replace("tool_tip_mm = [0.0, 0.0, 0.0]", "tool_tip_mm = [0.0, nan, 0.0]"), "`tool_tip_mm`"),
+        ("nan-center", hermle.replacen("center_mm = [0.0, 0.0, 0.0]", "center_mm = [nan, 0.0, 0.0]", 1), "`rotary[0].center_mm`"),
+        ("zero-axis", hermle.replace(a_axis, "axis = [0.0, 0.0, 0.0]"), "`rotary[0].axis`"),
+        ("parallel", hermle.replace(a_axis, "axis = [0.0, 0.0, -2.0]"), "`rotary[0].axis` (A) and `rotary[1].axis` (C)"),
+        ("tool-on-primary", hermle.replace("tool_axis = [0.0, 0.0, 1.0]", "tool_axis = [1.0, 0.0, 0.0]"), "`tool_axis` is 0.000 deg from `rotary[0].axis`"),
+        ("missing-axis", hermle.replace(&format!("{a_axis}\n"), ""), "missing field `axis`"),
+        ("negative-speed", hermle.replacen("velocity_deg_per_s = 150.0", "velocity_deg_per_s = -150.0", 1), "`rotary[0].velocity_deg_per_s`"),
+        ("inverted-range", hermle.replace("min_deg = -110.0", "min_deg = 120.0"), "`rotary[0].min_deg`"),
+        ("inf-travel", hermle.replacen("max_mm = 300.0", "max_mm = inf", 1), "`linear[0].min_mm`"),
+    ];
+    for (name, text, field) in &cases {
+        assert_ne!(text.as_str(), hermle, "{name}: the case did not change the file");
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let p = path.to_str().unwrap();
+        for args in [vec!["machine", "show", p], vec!["program", "analyze", "bundled:SING.I", "--machine", p]] {
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(&args).output().unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{name} {args:?}: {err}");
+            assert!(err.contains(field) && err.contains(p), "{name} {args:?}: {err}");
+        }
+    }
+    // A valid file passes `machine show`, and its text comes back.
+    let ok = dir.join("ok.toml");
+    std::fs::write(&ok, hermle).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["machine", "show", ok.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(String::from_utf8_lossy(&out.stdout), hermle);
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -64,24 +64,54 @@ fn vec3(a: [f64; 3]) -> Vector3<f64> {
     Vector3::new(a[0], a[1], a[2])
 }
 
+/// A vector field: finite in every component.
+fn finite(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, String> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(vec3(v))
+    } else {
+        Err(format!("`{field}` = {v:?}: every component must be finite"))
+    }
+}
+
+/// A direction field: finite and of non-zero length (normalised).
+fn direction(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, String> {
+    let d = finite(field, v)?;
+    d.try_normalize(1e-9).ok_or_else(|| format!("`{field}` = {v:?}: a direction must have non-zero length"))
+}
+
+/// Angle between two unit directions, folded to [0, 90] degrees (parallel or antiparallel: 0).
+fn line_angle_deg(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    a.cross(b).norm().atan2(a.dot(b).abs()).to_degrees()
+}
+
+/// Two rotary axes closer to parallel than this, or a tool axis this close to its primary axis, make
+/// no five-axis machine (the orientation map loses a degree of freedom).
+const MIN_CHAIN_ANGLE_DEG: f64 = 1.0;
+
 impl MachineFile {
-    /// Validate and build the machine (SI inside).
+    /// Validate and build the machine (SI inside). Every refusal names the field, as `rotary[1].axis`.
     pub fn build(&self) -> Result<Machine, MachineError> {
-        let invalid = |message: String| MachineError::Invalid { name: self.name.clone(), message };
+        self.build_checked().map_err(|message| MachineError::Invalid { name: self.name.clone(), origin: None, message })
+    }
+
+    fn build_checked(&self) -> Result<Machine, String> {
         if self.linear.len() != 3 {
-            return Err(invalid(format!("needs exactly 3 [[linear]] axes, found {}", self.linear.len())));
+            return Err(format!("needs exactly 3 [[linear]] axes, found {}", self.linear.len()));
         }
         if self.rotary.len() != 2 {
-            return Err(invalid(format!("needs exactly 2 [[rotary]] axes, found {}", self.rotary.len())));
+            return Err(format!("needs exactly 2 [[rotary]] axes, found {}", self.rotary.len()));
         }
         let positive = |v: f64| v.is_finite() && v > 0.0;
         let mut axes: Vec<Axis> = Vec::with_capacity(5);
-        for l in &self.linear {
+        for (i, l) in self.linear.iter().enumerate() {
+            let f = format!("linear[{i}]");
             if !(l.min_mm.is_finite() && l.max_mm.is_finite() && l.min_mm < l.max_mm) {
-                return Err(invalid(format!("axis {}: min_mm must be below max_mm", l.name)));
+                return Err(format!("`{f}.min_mm` = {}, `{f}.max_mm` = {} ({}): need finite min_mm < max_mm", l.min_mm, l.max_mm, l.name));
             }
-            if !(positive(l.velocity_mm_per_min) && positive(l.acceleration_mm_per_s2) && positive(l.jerk_mm_per_s3)) {
-                return Err(invalid(format!("axis {}: velocity, acceleration and jerk must be positive", l.name)));
+            for (field, v) in [("velocity_mm_per_min", l.velocity_mm_per_min), ("acceleration_mm_per_s2", l.acceleration_mm_per_s2), ("jerk_mm_per_s3", l.jerk_mm_per_s3)] {
+                if !positive(v) {
+                    return Err(format!("`{f}.{field}` = {v} ({}): must be positive and finite", l.name));
+                }
             }
             axes.push(Axis {
                 name: l.name.clone(),
@@ -96,19 +126,20 @@ impl MachineFile {
             });
         }
         let mut joints = Vec::with_capacity(2);
-        for r in &self.rotary {
+        for (i, r) in self.rotary.iter().enumerate() {
+            let f = format!("rotary[{i}]");
             let (min, max) = match (r.min_deg, r.max_deg) {
                 (None, None) => (f64::NEG_INFINITY, f64::INFINITY),
                 (Some(a), Some(b)) if a.is_finite() && b.is_finite() && a < b => (a * DEG, b * DEG),
-                _ => return Err(invalid(format!("axis {}: give both min_deg < max_deg, or neither (unlimited)", r.name))),
+                (a, b) => return Err(format!("`{f}.min_deg` = {a:?}, `{f}.max_deg` = {b:?} ({}): give both, finite, min_deg < max_deg, or neither (unlimited)", r.name)),
             };
-            if !(positive(r.velocity_deg_per_s) && positive(r.acceleration_deg_per_s2) && positive(r.jerk_deg_per_s3)) {
-                return Err(invalid(format!("axis {}: velocity, acceleration and jerk must be positive", r.name)));
+            for (field, v) in [("velocity_deg_per_s", r.velocity_deg_per_s), ("acceleration_deg_per_s2", r.acceleration_deg_per_s2), ("jerk_deg_per_s3", r.jerk_deg_per_s3)] {
+                if !positive(v) {
+                    return Err(format!("`{f}.{field}` = {v} ({}): must be positive and finite", r.name));
+                }
             }
-            let axis = vec3(r.axis);
-            if !(axis.iter().all(|v| v.is_finite()) && axis.norm() > 1e-9) {
-                return Err(invalid(format!("axis {}: axis vector must be non-zero", r.name)));
-            }
+            let axis = direction(&format!("{f}.axis"), r.axis)?;
+            let center = finite(&format!("{f}.center_mm"), r.center_mm)?;
             axes.push(Axis {
                 name: r.name.clone(),
                 kind: AxisKind::Rotary,
@@ -120,25 +151,34 @@ impl MachineFile {
                     jerk: r.jerk_deg_per_s3 * DEG,
                 },
             });
-            joints.push(joint(&r.name, r.carrier, axis, vec3(r.center_mm) * MM));
+            joints.push(joint(&r.name, r.carrier, axis, center * MM));
         }
         let mut names: Vec<String> = axes.iter().map(|a| a.name.to_ascii_uppercase()).collect();
         names.sort();
         names.dedup();
         if names.len() != 5 {
-            return Err(invalid("axis names must be distinct".into()));
+            return Err(format!("axis names must be distinct: {:?}", axes.iter().map(|a| a.name.as_str()).collect::<Vec<_>>()));
         }
-        let tool_axis = vec3(self.tool_axis);
-        if !(tool_axis.norm() > 1e-9) {
-            return Err(invalid("tool_axis must be non-zero".into()));
+        let tool_axis = direction("tool_axis", self.tool_axis)?;
+        let tool_tip = finite("tool_tip_mm", self.tool_tip_mm)?;
+        let between = line_angle_deg(&joints[0].axis, &joints[1].axis);
+        if between < MIN_CHAIN_ANGLE_DEG {
+            return Err(format!(
+                "`rotary[0].axis` ({}) and `rotary[1].axis` ({}) are {between:.3} deg from parallel: two parallel rotary axes turn the tool about one line, not a five-axis machine",
+                self.rotary[0].name, self.rotary[1].name
+            ));
         }
-        let chain = TwoRotaryChain::new(
-            [joints[0].clone(), joints[1].clone()],
-            tool_axis.normalize(),
-            vec3(self.tool_tip_mm) * MM,
-        )
-        .map_err(|e| invalid(e.to_string()))?;
-        let axes: [Axis; 5] = axes.try_into().expect("five axes");
+        let chain = TwoRotaryChain::new([joints[0].clone(), joints[1].clone()], tool_axis, tool_tip * MM).map_err(|e| e.to_string())?;
+        let r1 = 1 - chain.secondary_slot();
+        let tilt = line_angle_deg(&tool_axis, &joints[r1].axis);
+        if tilt < MIN_CHAIN_ANGLE_DEG {
+            return Err(format!(
+                "`tool_axis` is {tilt:.3} deg from `rotary[{r1}].axis` ({}), the primary rotary axis: turning it does not tilt the tool, so the tool axis cannot leave a cone about `rotary[{}].axis`",
+                self.rotary[r1].name,
+                1 - r1
+            ));
+        }
+        let axes: [Axis; 5] = axes.try_into().map_err(|_| "five axes".to_string())?;
         Ok(Machine { name: self.name.clone(), description: self.description.clone(), axes, chain })
     }
 }

@@ -73,17 +73,32 @@ pub enum MachineError {
     Io { path: String, source: std::io::Error },
     #[error("machine file {path}: {message}")]
     Parse { path: String, message: String },
-    #[error("machine '{name}': {message}")]
-    Invalid { name: String, message: String },
+    #[error("machine '{name}'{}: {message}", origin.as_deref().map(|o| format!(" ({o})")).unwrap_or_default())]
+    Invalid { name: String, origin: Option<String>, message: String },
 }
 
-/// Names of the built-in machines.
-pub const BUILTIN_NAMES: [&str; 3] = ["hermle-c600u", "mikron-ucp710", "seed003-ttttr"];
+/// Names of the built-in machines: the papers' (seed 001-003), the LinuxCNC sample configs' (one of each
+/// family: table-table, table-head, head-head) and a 45 deg nutating head.
+pub const BUILTIN_NAMES: [&str; 8] = [
+    "hermle-c600u",
+    "mikron-ucp710",
+    "seed003-ttttr",
+    "dmu-style-b45",
+    "linuxcnc-xyzbc-trt",
+    "linuxcnc-xyzab-tdr",
+    "linuxcnc-max5",
+    "linuxcnc-bridgemill",
+];
 
-const BUILTIN_FILES: [(&str, &str); 3] = [
+const BUILTIN_FILES: [(&str, &str); 8] = [
     ("hermle-c600u", include_str!("../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../machines/seed003-ttttr.toml")),
+    ("dmu-style-b45", include_str!("../../machines/dmu-style-b45.toml")),
+    ("linuxcnc-xyzbc-trt", include_str!("../../machines/linuxcnc-xyzbc-trt.toml")),
+    ("linuxcnc-xyzab-tdr", include_str!("../../machines/linuxcnc-xyzab-tdr.toml")),
+    ("linuxcnc-max5", include_str!("../../machines/linuxcnc-max5.toml")),
+    ("linuxcnc-bridgemill", include_str!("../../machines/linuxcnc-bridgemill.toml")),
 ];
 
 impl Machine {
@@ -119,7 +134,10 @@ impl Machine {
     pub fn from_toml_str(text: &str, origin: &str) -> Result<Machine, MachineError> {
         let file: MachineFile = toml::from_str(text)
             .map_err(|e| MachineError::Parse { path: origin.to_string(), message: e.to_string() })?;
-        file.build()
+        file.build().map_err(|e| match e {
+            MachineError::Invalid { name, message, .. } => MachineError::Invalid { name, origin: Some(origin.to_string()), message },
+            e => e,
+        })
     }
 
     /// Index of the axis called `name` (case-insensitive).
