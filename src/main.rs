@@ -172,6 +172,10 @@ struct OfflineArgs {
     /// for the programmed feed, block numbers and rapids.
     #[arg(long, conflicts_with = "feed_mm_per_min")]
     program: Option<String>,
+    /// The control's active work offset (G54-style datum) `X,Y,Z` in mm: a machine stream's tool tip
+    /// less it is the program's point (without --program; with one, its datum is used).
+    #[arg(long = "work-offset-mm", value_name = "X,Y,Z", value_parser = fiveaxis::machine::parse_work_offset, allow_hyphen_values = true, conflicts_with = "program")]
+    work_offset: Option<nalgebra::Vector3<f64>>,
     /// The programmed feed of every feed move of a machine stream, mm/min (without --program).
     #[arg(long = "feed", value_name = "MM_PER_MIN")]
     feed_mm_per_min: Option<f64>,
@@ -457,6 +461,7 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
         axis_map,
         feed_source,
         max_rejected_share: a.max_rejected_percent / 100.0,
+        monitor: fiveaxis::live::monitor::MonitorConfig { work_offset: a.work_offset.unwrap_or_default(), ..Default::default() },
         ..Default::default()
     };
     let recordings = match recordings_of(a) {

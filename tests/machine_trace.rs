@@ -53,10 +53,16 @@ fn analyze(bag: &Path, extra: &[&str]) -> (i32, serde_json::Value, String, Strin
 /// The independent figures over an x range: numpy forward kinematics of the trace, its own feed and
 /// time-lost computation.
 fn figures(trace_file: &str, x0: f64, x1: f64) -> serde_json::Value {
+    figures_with(trace_file, x0, x1, &[])
+}
+
+/// [`figures`] with extra options of machine_figures.py (e.g. `--work-offset X Y Z`).
+fn figures_with(trace_file: &str, x0: f64, x1: f64, extra: &[&str]) -> serde_json::Value {
     let out = Command::new("python3")
         .arg(root().join("tests/peer/machine_figures.py"))
         .arg(trace(trace_file))
         .args(["--feed", "2000", "--x-range", &x0.to_string(), &x1.to_string()])
+        .args(extra)
         .output()
         .expect("python3 runs");
     assert!(out.status.success(), "machine_figures.py: {}", String::from_utf8_lossy(&out.stderr));
@@ -70,6 +76,11 @@ fn f(v: &serde_json::Value, key: &str) -> f64 {
 /// One region at x 22-28 (+-0.5) with cause singularity, its lowest feed and time lost as the
 /// independent computation finds them over the same stretch, exit 1 at 25 rpm, nothing from rapids.
 fn check_sing(trace_file: &str, code: i32, v: &serde_json::Value, out: &str, err: &str) {
+    check_sing_with(trace_file, &[], code, v, out, err)
+}
+
+/// [`check_sing`] with extra options of the independent computation.
+fn check_sing_with(trace_file: &str, extra: &[&str], code: i32, v: &serde_json::Value, out: &str, err: &str) {
     assert_eq!(code, 1, "a C speed above 25 rpm fails the gate\n{out}\n{err}");
     let regions = v["regions"].as_array().unwrap_or_else(|| panic!("no regions: {out}\n{err}"));
     assert_eq!(regions.len(), 1, "one region, none from the rapids: {regions:#?}\n{out}");
@@ -79,7 +90,7 @@ fn check_sing(trace_file: &str, code: i32, v: &serde_json::Value, out: &str, err
     assert!((x0 - 22.0).abs() <= 0.5 && (x1 - 28.0).abs() <= 0.5, "region x {x0:.3}-{x1:.3} mm, expected 22-28: {out}");
     let peak = f(r, "peak_c_speed_rpm");
     assert!(peak > 150.0 && peak < 200.0, "the path asks about 175 rpm of C at F2000, got {peak}");
-    let reference = figures(trace_file, x0, x1);
+    let reference = figures_with(trace_file, x0, x1, extra);
     let (lowest, lost) = (f(r, "lowest_feed_mm_per_min"), f(r, "time_lost_s"));
     let (lowest_ref, lost_ref) = (f(&reference, "lowest_feed_mm_per_min"), f(&reference, "time_lost_s"));
     assert!((lowest - lowest_ref).abs() <= 0.05 * lowest_ref + 10.0, "lowest feed {lowest:.1} mm/min, numpy {lowest_ref:.1}");
@@ -104,6 +115,34 @@ fn sing_trace_with_the_program() {
     // Aligned with the program: the region has block numbers.
     let r = &v["regions"][0];
     assert!(r["block_start"].as_i64().unwrap() >= 320 && r["block_end"].as_i64().unwrap() <= 400, "{r:#}");
+}
+
+/// SING.I run by LinuxCNC with its own G54 datum (G10 L2 P1 Y-7.1 Z+38.054, the program's
+/// DATUM INPUT): the bridge's joints are machine coordinates, the datum inside them. Given the control's
+/// work offset, or the program (whose datum is aligned with the stream), the region is at the program's
+/// x 22-28 mm; given neither, at the workpiece frame's x, shifted by the datum.
+#[test]
+fn sing_trace_with_the_g54_datum_applied_by_the_control() {
+    const G54: [&str; 3] = ["-30.489", "-7.1", "38.054"];
+    let b = bag("sing_g54_trace.csv.gz", "sing-g54", &[]);
+    let offset = G54.join(",");
+    let (code, v, out, err) = analyze(&b, &["--feed", "2000", "--work-offset-mm", &offset, "--max-c-speed-rpm", "25"]);
+    let independent = ["--work-offset", G54[0], G54[1], G54[2]];
+    check_sing_with("sing_g54_trace.csv.gz", &independent, code, &v, &out, &err);
+    let (code, v, out, err) = analyze(&b, &["--program", "bundled:SING.I", "--max-c-speed-rpm", "25"]);
+    check_sing_with("sing_g54_trace.csv.gz", &independent, code, &v, &out, &err);
+    let r = &v["regions"][0];
+    assert!(r["block_start"].as_i64().unwrap() >= 320 && r["block_end"].as_i64().unwrap() <= 400, "{r:#}");
+    // Without the offset the x is the workpiece frame's: the datum's -30.489 mm away.
+    let (_, v, out, _) = analyze(&b, &["--feed", "2000", "--max-c-speed-rpm", "25"]);
+    let r = &v["regions"][0];
+    let x0 = f(r, "x_start_mm");
+    assert!((x0 - (22.0 - 30.489)).abs() <= 0.5, "region at x {x0:.3} mm without the work offset: {out}");
+    // A work offset and a program are one datum too many.
+    let (code, _, _, err) = analyze(&b, &["--program", "bundled:SING.I", "--work-offset-mm", &offset]);
+    assert_eq!(code, 2, "{err}");
+    let (code, _, _, err) = analyze(&b, &["--work-offset-mm", "1,2"]);
+    assert!(code == 2 && err.contains("X,Y,Z"), "{err}");
 }
 
 #[test]

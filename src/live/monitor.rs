@@ -28,11 +28,14 @@ pub struct MonitorConfig {
     pub min_distance: Option<f64>,
     /// Secondary-axis speed limit for regions (rad/s); default the machine's.
     pub rate_limit: Option<f64>,
+    /// The control's work offset (G54-style datum, workpiece frame, m): a stream's tool tip less it is
+    /// the program's point where no program says which datum is in effect.
+    pub work_offset: Vector3<f64>,
 }
 
 impl Default for MonitorConfig {
     fn default() -> Self {
-        MonitorConfig { stale_timeout: 0.1, warn_distance: 5f64.to_radians(), warn_ahead: 2.0, min_distance: None, rate_limit: None }
+        MonitorConfig { stale_timeout: 0.1, warn_distance: 5f64.to_radians(), warn_ahead: 2.0, min_distance: None, rate_limit: None, work_offset: Vector3::zeros() }
     }
 }
 
@@ -812,8 +815,9 @@ impl Monitor {
             (FeedSource::Assumed, _) => input.feed_mode.map_or(0.0, feed_of_bin),
         };
         let f_prog = if motion == Motion::Feed { f_prog } else { 0.0 };
-        // Program coordinates: the stream's tip less the datum shift in effect (none without a program).
-        let offset = place.map_or_else(Vector3::zeros, |p| p.offset);
+        // Program coordinates: the stream's tip less the datum shift in effect: the aligned program's,
+        // else the work offset the control was given.
+        let offset = place.map_or(self.config.work_offset, |p| p.offset);
         let dist = distance(&m.axis, &self.singular);
         let predicted = m.demand.map(|d| d.per_metre * f_prog);
         let fl = match m.demand {

@@ -292,6 +292,17 @@ fn nearest_turn_within(target: f64, prev: f64, limits: &AxisLimits) -> Option<f6
         .min_by(|a, b| (a - prev).abs().total_cmp(&(b - prev).abs()))
 }
 
+/// A `--work-offset-mm X,Y,Z` flag: the control's active work offset (a G54-style datum, as its offset
+/// table holds it, in the machine's workpiece frame), mm in, m out. A machine stream's tool tip less it
+/// is the program's point.
+pub fn parse_work_offset(s: &str) -> Result<nalgebra::Vector3<f64>, String> {
+    let v: Vec<f64> = s.split(',').map(|c| c.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|e| format!("expected X,Y,Z in mm, got '{s}': {e}"))?;
+    match v.as_slice() {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(nalgebra::Vector3::new(*x, *y, *z) * crate::units::MM),
+        _ => Err(format!("expected three finite numbers X,Y,Z in mm, got '{s}'")),
+    }
+}
+
 /// One `AXIS=JOINT` pair of an `--axis-map` flag: which joint of a machine bridge's JointState is which
 /// machine axis.
 pub fn parse_axis_map(s: &str) -> Result<(String, String), String> {

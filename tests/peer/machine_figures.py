@@ -130,12 +130,14 @@ def _num(v, nd=4):
     return round(float(v), nd)
 
 
-def figures(trace, feed=2000.0, x_range=None, rpm_limit=25.0, window=0.5, z_plane=-8.0, z_tol=0.05):
-    """The figures as a dict (see the module docstring). `trace` is a path or load_trace()'s dict."""
+def figures(trace, feed=2000.0, x_range=None, rpm_limit=25.0, window=0.5, z_plane=-8.0, z_tol=0.05, work_offset=(0.0, 0.0, 0.0)):
+    """The figures as a dict (see the module docstring). `trace` is a path or load_trace()'s dict.
+    `work_offset` (mm): the control's G54 datum; positions are reported in program coordinates,
+    the workpiece point less it."""
     tr = trace if isinstance(trace, dict) else load_trace(trace)
     t = tr["t"]
     xw, yw, zw = forward_kinematics(tr["x"], tr["y"], tr["z"], tr["a"], tr["c"])
-    p = np.column_stack([xw, yw, zw])
+    p = np.column_stack([xw, yw, zw]) - np.asarray(work_offset, dtype=float)
     c_unwrapped = np.degrees(np.unwrap(np.radians(tr["c"])))
     dt = float(np.median(np.diff(t)))
     speed = tip_speed(p, t)  # mm/s
@@ -195,8 +197,10 @@ def main(argv=None):
     ap.add_argument("--window", type=float, default=0.5, help="path window for dC/ds, mm")
     ap.add_argument("--z", type=float, default=-8.0, help="cut plane, workpiece z in mm")
     ap.add_argument("--z-tol", type=float, default=0.05)
+    ap.add_argument("--work-offset", type=float, nargs=3, default=(0.0, 0.0, 0.0), metavar=("X", "Y", "Z"),
+                    help="the control's G54 datum, mm: positions in program coordinates")
     a = ap.parse_args(argv)
-    res = figures(a.trace, a.feed, a.x_range, a.rpm_limit, a.window, a.z, a.z_tol)
+    res = figures(a.trace, a.feed, a.x_range, a.rpm_limit, a.window, a.z, a.z_tol, a.work_offset)
     json.dump(res, sys.stdout)
     sys.stdout.write("\n")
     return 0

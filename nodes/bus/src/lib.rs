@@ -484,6 +484,10 @@ pub struct InputArgs {
     /// Reliability asked of the input publishers: reliable, best-effort, or auto (hear both).
     #[arg(long = "input-qos", value_enum, default_value = "auto")]
     pub input_qos: InputQos,
+    /// The control's active work offset (G54-style datum) `X,Y,Z` in mm: a machine stream's tool tip
+    /// less it is the program's point (without --program; with one, its datum is used).
+    #[arg(long = "work-offset-mm", value_name = "X,Y,Z", value_parser = fiveaxis::machine::parse_work_offset, allow_hyphen_values = true)]
+    pub work_offset: Option<nalgebra::Vector3<f64>>,
 }
 
 impl InputArgs {

@@ -67,6 +67,7 @@ fn main() -> anyhow::Result<()> {
         stale_timeout: args.stale_ms * 1e-3,
         min_distance: args.min_distance_deg.map(f64::to_radians),
         rate_limit: args.max_c_speed_rpm.map(|r| r * RPM),
+        work_offset: args.inputs.work_offset.unwrap_or_default(),
         ..Default::default()
     };
     let mut monitor = Monitor::new(&machine, config);
