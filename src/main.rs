@@ -919,11 +919,8 @@ fn demo(json: bool) -> anyhow::Result<ExitCode> {
 
 /// `machine show`: a built-in machine's file, or a machine file checked whole.
 fn machine_show(spec: &str) -> anyhow::Result<ExitCode> {
-    if let Some(text) = fiveaxis::machine::builtin_file(spec) {
-        print!("{text}");
-        return Ok(ExitCode::SUCCESS);
-    }
-    match Machine::from_name_or_file(spec).and_then(|_| std::fs::read_to_string(spec).map_err(|source| fiveaxis::machine::MachineError::Io { path: spec.to_string(), source })) {
+    let checked = fiveaxis::machine::description_text(spec).and_then(|text| Machine::from_toml_str(&text, spec).map(|_| text));
+    match checked {
         Ok(text) => {
             print!("{text}");
             Ok(ExitCode::SUCCESS)
@@ -940,10 +937,11 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Program(ProgramCmd::Analyze(a)) => analyze(a),
         Command::Machine(MachineCmd::List) => {
+            let w = BUILTIN_NAMES.iter().map(|n| n.len()).max().unwrap_or(0);
             for n in BUILTIN_NAMES {
                 match Machine::builtin(n) {
-                    Ok(m) => println!("{n:<16} {}", m.description),
-                    Err(e) => println!("{n:<16} ({e})"),
+                    Ok(m) => println!("{n:<w$}  {}", m.description),
+                    Err(e) => println!("{n:<w$}  ({e})"),
                 }
             }
             Ok(ExitCode::SUCCESS)

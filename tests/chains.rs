@@ -89,7 +89,6 @@ fn check_chain(name: &str, chain: &TwoRotaryChain, rng: &mut Rng, cases: usize, 
         let dist = chain.singular_direction().cross(&o0).norm();
         let h = 1e-4 / (v.norm() / dist).max(predicted.abs()).max(1.0);
         let Some(numeric) = numerical_rate(chain, &path, &rot0, h) else { continue };
-        // The chain's machine sign: a table axis turns the workpiece, so its angle runs against O_W.
         let err = (predicted - numeric).abs() / numeric.abs().max(1e-3);
         if err > worst.0 {
             worst = (err, format!("case {case}: rot {:?} deg, predicted {predicted}, numeric {numeric}", rot0.map(|r| r / DEG)));

@@ -89,9 +89,10 @@ fn line_angle_deg(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
 const MIN_CHAIN_ANGLE_DEG: f64 = 1.0;
 
 impl MachineFile {
-    /// Validate and build the machine (SI inside). Every refusal names the field, as `rotary[1].axis`.
-    pub fn build(&self) -> Result<Machine, MachineError> {
-        self.build_checked().map_err(|message| MachineError::Invalid { name: self.name.clone(), origin: None, message })
+    /// Validate and build the machine (SI inside); `origin` names the file in errors. Every refusal
+    /// names the field, as `rotary[1].axis`.
+    pub fn build(&self, origin: &str) -> Result<Machine, MachineError> {
+        self.build_checked().map_err(|message| MachineError::Invalid { name: self.name.clone(), origin: origin.to_string(), message })
     }
 
     fn build_checked(&self) -> Result<Machine, String> {

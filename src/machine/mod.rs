@@ -73,23 +73,12 @@ pub enum MachineError {
     Io { path: String, source: std::io::Error },
     #[error("machine file {path}: {message}")]
     Parse { path: String, message: String },
-    #[error("machine '{name}'{}: {message}", origin.as_deref().map(|o| format!(" ({o})")).unwrap_or_default())]
-    Invalid { name: String, origin: Option<String>, message: String },
+    #[error("machine '{name}' ({origin}): {message}")]
+    Invalid { name: String, origin: String, message: String },
 }
 
-/// Names of the built-in machines: the papers' (seed 001-003), the LinuxCNC sample configs' (one of each
-/// family: table-table, table-head, head-head) and a 45 deg nutating head.
-pub const BUILTIN_NAMES: [&str; 8] = [
-    "hermle-c600u",
-    "mikron-ucp710",
-    "seed003-ttttr",
-    "dmu-style-b45",
-    "linuxcnc-xyzbc-trt",
-    "linuxcnc-xyzab-tdr",
-    "linuxcnc-max5",
-    "linuxcnc-bridgemill",
-];
-
+/// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
+/// of each family: table-table, table-head, head-head) and a 45 deg nutating head.
 const BUILTIN_FILES: [(&str, &str); 8] = [
     ("hermle-c600u", include_str!("../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../machines/mikron-ucp710.toml")),
@@ -101,13 +90,21 @@ const BUILTIN_FILES: [(&str, &str); 8] = [
     ("linuxcnc-bridgemill", include_str!("../../machines/linuxcnc-bridgemill.toml")),
 ];
 
+/// Names of the built-in machines (those of [`BUILTIN_FILES`], in order).
+pub const BUILTIN_NAMES: [&str; BUILTIN_FILES.len()] = {
+    let mut names = [""; BUILTIN_FILES.len()];
+    let mut i = 0;
+    while i < names.len() {
+        names[i] = BUILTIN_FILES[i].0;
+        i += 1;
+    }
+    names
+};
+
 impl Machine {
     /// A built-in machine by name.
     pub fn builtin(name: &str) -> Result<Machine, MachineError> {
-        let (_, text) = BUILTIN_FILES
-            .iter()
-            .find(|(n, _)| *n == name)
-            .ok_or_else(|| MachineError::Unknown(name.to_string()))?;
+        let text = builtin_file(name).ok_or_else(|| MachineError::Unknown(name.to_string()))?;
         Machine::from_toml_str(text, &format!("builtin:{name}"))
     }
 
@@ -118,26 +115,17 @@ impl Machine {
 
     /// A built-in name, or else a path to a TOML machine file.
     pub fn from_name_or_file(spec: &str) -> Result<Machine, MachineError> {
-        if BUILTIN_NAMES.contains(&spec) {
+        if builtin_file(spec).is_some() {
             return Machine::builtin(spec);
         }
-        let path = Path::new(spec);
-        if path.extension().is_some_and(|e| e == "toml") || path.exists() {
-            let text = std::fs::read_to_string(path)
-                .map_err(|source| MachineError::Io { path: spec.to_string(), source })?;
-            return Machine::from_toml_str(&text, spec);
-        }
-        Err(MachineError::Unknown(spec.to_string()))
+        Machine::from_toml_str(&description_text(spec)?, spec)
     }
 
     /// Parse a TOML machine description; `origin` names it in errors.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<Machine, MachineError> {
         let file: MachineFile = toml::from_str(text)
             .map_err(|e| MachineError::Parse { path: origin.to_string(), message: e.to_string() })?;
-        file.build().map_err(|e| match e {
-            MachineError::Invalid { name, message, .. } => MachineError::Invalid { name, origin: Some(origin.to_string()), message },
-            e => e,
-        })
+        file.build(origin)
     }
 
     /// Index of the axis called `name` (case-insensitive).
@@ -355,4 +343,17 @@ impl Machine {
 /// The TOML text of a built-in machine.
 pub fn builtin_file(name: &str) -> Option<&'static str> {
     BUILTIN_FILES.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
+}
+
+/// The TOML text a `--machine` names: a built-in machine's, or else a machine file's (a `.toml` path
+/// or one that exists); anything else is an unknown machine.
+pub fn description_text(spec: &str) -> Result<std::borrow::Cow<'static, str>, MachineError> {
+    if let Some(text) = builtin_file(spec) {
+        return Ok(text.into());
+    }
+    let path = Path::new(spec);
+    if path.extension().is_some_and(|e| e == "toml") || path.exists() {
+        return std::fs::read_to_string(path).map(Into::into).map_err(|source| MachineError::Io { path: spec.to_string(), source });
+    }
+    Err(MachineError::Unknown(spec.to_string()))
 }
