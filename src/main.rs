@@ -68,7 +68,7 @@ struct ProgramArgs {
     /// A program file (.I/.H Heidenhain, .ngc RS274, .cl/.csv CL data), builtin:paper-sing,
     /// builtin:paper-nonsing, bundled:SING.I or bundled:NON_SING.I.
     program: String,
-    /// Built-in machine name or a TOML machine file.
+    /// Built-in machine name, or a TOML or URDF (.urdf) machine file.
     #[arg(long, default_value = "hermle-c600u")]
     machine: String,
     /// Tool-tip feed for every feed move (and CL data without a feed column), mm/min.
@@ -152,7 +152,7 @@ struct OfflineArgs {
     /// Recordings analysed at once (default: one per core).
     #[arg(long, value_name = "N")]
     jobs: Option<usize>,
-    /// Built-in machine name or a TOML machine file.
+    /// Built-in machine name, or a TOML or URDF (.urdf) machine file.
     #[arg(long, default_value = "hermle-c600u")]
     machine: String,
     /// Fail (exit 1) when the predicted C speed exceeds this, rpm.
@@ -201,7 +201,7 @@ enum AvoidCmd {
     Reorient {
         /// A program, or builtin:NAME (taken as CL data every 0.1 mm).
         program: String,
-        /// Built-in machine name or a TOML machine file.
+        /// Built-in machine name, or a TOML or URDF (.urdf) machine file.
         #[arg(long, default_value = "hermle-c600u")]
         machine: String,
         /// Largest jig tilt allowed, degrees.
@@ -220,7 +220,7 @@ enum AvoidCmd {
     Smooth {
         /// A program, or builtin:NAME (taken as CL data every 0.1 mm).
         program: String,
-        /// Built-in machine name or a TOML machine file.
+        /// Built-in machine name, or a TOML or URDF (.urdf) machine file.
         #[arg(long, default_value = "hermle-c600u")]
         machine: String,
         /// The cutter: ball:R_MM (required: flat:R_MM and bull:R_MM:r_MM are refused).
@@ -239,7 +239,7 @@ enum AvoidCmd {
     Refine {
         /// CL data (or a TCPM program read as CL), builtin:NAME or builtin:semi-cylinder.
         program: String,
-        /// Built-in machine name or a TOML machine file.
+        /// Built-in machine name, or a TOML or URDF (.urdf) machine file.
         #[arg(long, default_value = "hermle-c600u")]
         machine: String,
         /// Largest tool-axis angle between neighbours, degrees.
@@ -289,8 +289,17 @@ enum MachineCmd {
     /// List the built-in machines.
     List,
     /// Print a built-in machine's TOML description (a template for your own), or check a machine
-    /// file and print it; an unknown name or an invalid file exits 2 naming the field.
+    /// file and print it (a URDF as the TOML it amounts to); an unknown name or an invalid file exits 2
+    /// naming the field.
     Show { name: String },
+    /// Write a machine (built-in name, TOML or URDF file) as URDF, for `robot_description`: joints named
+    /// after the axes as our JointStates name them, link `workpiece` (program frame) and `tool`.
+    Urdf {
+        name: String,
+        /// Write here instead of to standard output.
+        #[arg(long, short)]
+        out: Option<std::path::PathBuf>,
+    },
 }
 
 fn parse_dialect(s: &str) -> Result<Dialect, String> {
@@ -918,8 +927,33 @@ fn demo(json: bool) -> anyhow::Result<ExitCode> {
 }
 
 /// `machine show`: a built-in machine's file, or a machine file checked whole.
+fn machine_urdf(spec: &str, out: Option<&std::path::Path>) -> anyhow::Result<ExitCode> {
+    let machine = match Machine::from_name_or_file(spec) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("fiveaxis: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
+    let text = fiveaxis::machine::urdf::write(&machine);
+    match out {
+        Some(path) => std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?,
+        None => print!("{text}"),
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 fn machine_show(spec: &str) -> anyhow::Result<ExitCode> {
-    let checked = fiveaxis::machine::description_text(spec).and_then(|text| Machine::from_toml_str(&text, spec).map(|_| text));
+    let checked = if fiveaxis::machine::urdf::is_urdf_path(spec) {
+        // The TOML the URDF amounts to, once the machine it describes is valid.
+        fiveaxis::machine::read_machine_file(spec).and_then(|text| {
+            let (_, file) = fiveaxis::machine::urdf::read_with_file(&text, spec)?;
+            let toml = toml::to_string(&file).map_err(|e| fiveaxis::machine::MachineError::Parse { path: spec.to_string(), message: e.to_string() })?;
+            Ok(format!("# {spec} as a fiveaxis machine file (mm, deg)\n{toml}").into())
+        })
+    } else {
+        fiveaxis::machine::description_text(spec).and_then(|text| Machine::from_toml_str(&text, spec).map(|_| text))
+    };
     match checked {
         Ok(text) => {
             print!("{text}");
@@ -947,6 +981,7 @@ fn main() -> ExitCode {
             Ok(ExitCode::SUCCESS)
         }
         Command::Machine(MachineCmd::Show { name }) => machine_show(name),
+        Command::Machine(MachineCmd::Urdf { name, out }) => machine_urdf(name, out.as_deref()),
         Command::Run(a) => run(a),
         Command::Analyze(a) => offline(a),
         Command::Mcap(McapCmd::Recover { input, output }) => recover(input, output),

@@ -3,6 +3,9 @@
 
 /// One millimetre in metres.
 pub const MM: f64 = 1e-3;
+/// Millimetres in one metre: multiply m by it for mm (exact, where dividing by [`MM`] turns 0.35 m
+/// into 349.99999999999994 mm).
+pub const MM_IN_M: f64 = 1e3;
 /// One inch in metres.
 pub const INCH: f64 = 25.4e-3;
 /// One degree in radians.

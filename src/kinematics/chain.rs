@@ -63,6 +63,16 @@ impl TwoRotaryChain {
         &self.joints
     }
 
+    /// Tool axis O_M in the spindle frame at home (unit vector, tip to spindle).
+    pub fn tool_axis(&self) -> Vector3<f64> {
+        self.tool_axis
+    }
+
+    /// Tool tip at home relative to the linear-axis origin, m.
+    pub fn tool_tip(&self) -> Vector3<f64> {
+        self.tool_tip
+    }
+
     /// Slot (0 or 1) of the secondary axis r2, whose direction is the singular direction.
     pub fn secondary_slot(&self) -> usize {
         self.r2

@@ -4,14 +4,14 @@ use super::{joint, Axis, AxisKind, AxisLimits, Machine, MachineError};
 use crate::kinematics::{Carrier, TwoRotaryChain};
 use crate::units::{DEG, MM, MM_PER_MIN};
 use nalgebra::Vector3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// A whole machine file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MachineFile {
     pub name: String,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "String::is_empty")]
     pub description: String,
     /// Tool axis O_M in the spindle frame at home (unit vector; default +Z).
     #[serde(default = "default_tool_axis")]
@@ -29,7 +29,7 @@ fn default_tool_axis() -> [f64; 3] {
 }
 
 /// A linear axis of a machine file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct LinearAxisFile {
     pub name: String,
@@ -41,7 +41,7 @@ pub struct LinearAxisFile {
 }
 
 /// A rotary axis of a machine file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RotaryAxisFile {
     pub name: String,
@@ -53,7 +53,9 @@ pub struct RotaryAxisFile {
     #[serde(default)]
     pub center_mm: [f64; 3],
     /// Range in degrees; omit both for an unlimited (multi-turn) axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub min_deg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_deg: Option<f64>,
     pub velocity_deg_per_s: f64,
     pub acceleration_deg_per_s2: f64,

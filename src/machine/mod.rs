@@ -6,6 +6,7 @@
 //! (m, rad, s), as REP 103 asks of everything that crosses the bus.
 
 mod file;
+pub mod urdf;
 
 pub use file::{LinearAxisFile, MachineFile, RotaryAxisFile};
 
@@ -117,6 +118,9 @@ impl Machine {
     pub fn from_name_or_file(spec: &str) -> Result<Machine, MachineError> {
         if builtin_file(spec).is_some() {
             return Machine::builtin(spec);
+        }
+        if urdf::is_urdf_path(spec) {
+            return urdf::read(&read_machine_file(spec)?, spec);
         }
         Machine::from_toml_str(&description_text(spec)?, spec)
     }
@@ -353,7 +357,20 @@ pub fn description_text(spec: &str) -> Result<std::borrow::Cow<'static, str>, Ma
     }
     let path = Path::new(spec);
     if path.extension().is_some_and(|e| e == "toml") || path.exists() {
-        return std::fs::read_to_string(path).map(Into::into).map_err(|source| MachineError::Io { path: spec.to_string(), source });
+        return read_machine_file(spec).map(Into::into);
     }
     Err(MachineError::Unknown(spec.to_string()))
+}
+
+/// Largest machine file read (bytes): a machine is a few kB.
+pub const MAX_MACHINE_FILE_BYTES: u64 = urdf::MAX_BYTES as u64;
+
+/// A machine file's text, refused before reading if larger than [`MAX_MACHINE_FILE_BYTES`].
+pub fn read_machine_file(spec: &str) -> Result<String, MachineError> {
+    let io = |source| MachineError::Io { path: spec.to_string(), source };
+    let len = std::fs::metadata(spec).map_err(io)?.len();
+    if len > MAX_MACHINE_FILE_BYTES {
+        return Err(MachineError::Parse { path: spec.to_string(), message: format!("{len} bytes: a machine file is at most {MAX_MACHINE_FILE_BYTES} bytes") });
+    }
+    std::fs::read_to_string(spec).map_err(io)
 }
