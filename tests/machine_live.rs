@@ -26,9 +26,24 @@ struct Live {
     log: String,
 }
 
-/// Publish trace time 11.0-17.0 s (the cut, x 0 to 50 mm) of the SING trace with `peer` options, the
-/// monitor at --feed 2000 beside it; the publisher then falls silent (the input goes stale).
+/// The SING trace (program coordinates: G54 at the machine's zero) and its cut, trace time 11.0-17.0 s
+/// (x 0 to 50 mm).
+const SING: Trace = Trace { file: "sing_trace.csv.gz", window_s: (11.0, 17.0), monitor_args: "" };
+
+/// A control's trace of one program and the monitor flags it needs.
+struct Trace {
+    file: &'static str,
+    window_s: (f64, f64),
+    monitor_args: &'static str,
+}
+
+/// Publish the trace's cut with `peer` options, the monitor at --feed 2000 beside it; the publisher then
+/// falls silent (the input goes stale).
 fn live(tag: &str, peer: &str) -> Live {
+    live_trace(tag, peer, &SING)
+}
+
+fn live_trace(tag: &str, peer: &str, trace: &Trace) -> Live {
     // One live run at a time: two 1 kHz publishers on two cores would starve each other.
     static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _one = ONE.lock().unwrap_or_else(|e| e.into_inner());
@@ -39,13 +54,16 @@ fn live(tag: &str, peer: &str) -> Live {
         "set -e
         '{monitor}' --joint-state-input /cnc/joint_states --machine hermle-c600u --feed 2000 --lookahead '' \
             --axis-map X=x_joint --axis-map Y=y_joint --axis-map Z=z_joint --axis-map A=a_joint --axis-map C=c_joint \
-            --summary-json {d}/summary.json --exit-when-idle-s 3 > {d}/monitor.log 2>&1 &
-        python3 '{peer_py}' run '{trace}' --start 11.0 --end 17.0 --wait-subscribers 1 --wait-s 30 \
+            --summary-json {d}/summary.json --exit-when-idle-s 3 {extra} > {d}/monitor.log 2>&1 &
+        python3 '{peer_py}' run '{trace}' --start {start} --end {end} --wait-subscribers 1 --wait-s 30 \
             --out {d}/heard.jsonl --linger 1.5 {peer} > {d}/peer.json
         wait",
         monitor = monitor_bin().display(),
         peer_py = root().join("tests/peer/cyclone_bridge.py").display(),
-        trace = root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display(),
+        trace = root().join("recordings/machine/linuxcnc").join(trace.file).display(),
+        extra = trace.monitor_args,
+        start = trace.window_s.0,
+        end = trace.window_s.1,
     );
     let out = Command::new(root().join("launch-free-scripts/netns-run")).args(["bash", "-c", &script]).env("RUST_LOG", "warn").output().expect("netns-run runs");
     let log = std::fs::read_to_string(dir.join("monitor.log")).unwrap_or_default();
@@ -94,5 +112,16 @@ fn reliable_bridge_with_grid_stamps_and_modulo_c() {
 #[test]
 fn best_effort_bridge_stamping_at_send_time_with_jitter() {
     let l = live("best-effort", "--reliability best-effort --stamp send --jitter-ms 1 --seed 7");
+    check(&l);
+}
+
+/// A bridged machine whose control applies SING.I's own G54 datum (G10 L2 P1 X-30.489 Y-7.1 Z+38.054):
+/// the JointState carries machine coordinates, and the monitor told the work offset puts the region at
+/// the program's x 22-28 mm (without it: x -9 to -2). LinuxCNC's trace of SING_G54.ngc, whose cut comes
+/// 1.516 s later than SING's (the datum moves lengthen the approach).
+#[test]
+fn bridge_in_machine_coordinates_with_the_g54_datum_applied_by_the_control() {
+    let g54 = Trace { file: "sing_g54_trace.csv.gz", window_s: (12.52, 18.52), monitor_args: "--work-offset-mm -30.489,-7.1,38.054" };
+    let l = live_trace("g54", "--reliability reliable --stamp grid", &g54);
     check(&l);
 }
