@@ -124,3 +124,44 @@ fn live_bridge_over_dds_draws_the_node_set() {
     assert!(data.contains("commanded: region 1 ends at x 28.000 mm"), "the live bridge saw no region ending at 28 mm");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The x of a region's end in the bridge's text log of a machine stream (`machine: region 1 ends at x ...`).
+fn region_end_x(rrd: &Path) -> f64 {
+    let data = rerun_cli(&["rrd", "print", "-vvv", rrd.to_str().unwrap()]);
+    let at = data.find("machine: region 1 ends at x ").unwrap_or_else(|| panic!("no region end in the text log of {}", rrd.display()));
+    let rest = &data[at + "machine: region 1 ends at x ".len()..];
+    rest.split_whitespace().next().and_then(|v| v.parse().ok()).unwrap_or_else(|| panic!("unreadable region end: {}", &rest[..40.min(rest.len())]))
+}
+
+/// Replay of a machine's recording in machine coordinates (LinuxCNC's trace of SING.I with its G54
+/// datum applied by the control, as a rosbag2 written by `rosbags`): with `--work-offset-mm` the region
+/// ends at the program's x 28 mm (the independent figure of tests/machine_trace.rs: 28 +- 0.5), without
+/// it 30.489 mm lower.
+#[test]
+fn replay_of_a_machine_recording_with_the_controls_work_offset() {
+    let dir = tmp("g54");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let bag = dir.join("bag");
+    let st = Command::new("python3")
+        .arg(root.join("tests/peer/trace_to_rosbag.py"))
+        .arg(root.join("recordings/machine/linuxcnc/sing_g54_trace.csv.gz"))
+        .arg(&bag)
+        .status()
+        .expect("python3 runs (rosbags comes from launch-free-scripts/test)");
+    assert!(st.success(), "trace_to_rosbag.py failed");
+    let mut ends = Vec::new();
+    for offset in [Some("-30.489,-7.1,38.054"), None] {
+        let rrd = dir.join(format!("g54-{}.rrd", offset.is_some()));
+        let mut cmd = Command::new(bin("fiveaxis-rerun"));
+        cmd.arg("replay").arg(&bag).args(["--axis-map", "X=x_joint", "--axis-map", "Y=y_joint", "--axis-map", "Z=z_joint", "--axis-map", "A=a_joint", "--axis-map", "C=c_joint", "--save"]).arg(&rrd);
+        if let Some(o) = offset {
+            cmd.arg(format!("--work-offset-mm={o}"));
+        }
+        let out = cmd.output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        ends.push(region_end_x(&rrd));
+    }
+    assert!((ends[0] - 28.0).abs() <= 0.5, "with the work offset the region ends at x {:.3} mm", ends[0]);
+    assert!((ends[1] - (ends[0] - 30.489)).abs() <= 0.05, "without it, 30.489 mm lower: {:.3} mm", ends[1]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

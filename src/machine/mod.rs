@@ -114,7 +114,7 @@ impl Machine {
         Machine::builtin("hermle-c600u").expect("built-in machine file is valid")
     }
 
-    /// A built-in name, or else a path to a TOML machine file.
+    /// A built-in name, or else a path to a URDF (`.urdf`) or TOML machine file.
     pub fn from_name_or_file(spec: &str) -> Result<Machine, MachineError> {
         if builtin_file(spec).is_some() {
             return Machine::builtin(spec);

@@ -77,7 +77,7 @@ pub struct CommonArgs {
     /// Namespace of the node and of relative topic names.
     #[arg(long, default_value = "/fiveaxis")]
     pub namespace: String,
-    /// Built-in machine name or a TOML machine file.
+    /// Built-in machine name, or a TOML or URDF (.urdf) machine file.
     #[arg(long, default_value = "hermle-c600u")]
     pub machine: String,
     /// Rename a topic: `--remap commanded/axis_state:=/cnc/axis_state` (repeatable).

@@ -57,12 +57,16 @@ struct SinkArgs {
 struct ReplayArgs {
     /// The recording.
     recording: PathBuf,
-    /// Built-in machine name or a TOML machine file.
+    /// Built-in machine name, or a TOML or URDF (.urdf) machine file.
     #[arg(long, default_value = "hermle-c600u")]
     machine: String,
     /// Joint name for a machine axis in a JointState recording: `--axis-map A=joint_a` (repeatable).
     #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = fiveaxis::machine::parse_axis_map)]
     axis_map: Vec<(String, String)>,
+    /// The control's active work offset (G54-style datum) `X,Y,Z` in mm: a recorded machine stream's
+    /// tool tip less it is the program's point.
+    #[arg(long = "work-offset-mm", value_name = "X,Y,Z", value_parser = fiveaxis::machine::parse_work_offset, allow_hyphen_values = true)]
+    work_offset: Option<nalgebra::Vector3<f64>>,
     /// Region threshold of the singular axis speed, rpm (default: the machine's limit).
     #[arg(long = "max-c-speed-rpm")]
     max_c_speed_rpm: Option<f64>,
@@ -113,8 +117,9 @@ fn open_stream(sink: &SinkArgs, default_name: &str) -> anyhow::Result<rerun::Rec
     Ok(rec)
 }
 
-fn config(max_c_speed_rpm: Option<f64>) -> MonitorConfig {
-    MonitorConfig { rate_limit: max_c_speed_rpm.map(|r| r * RPM), ..Default::default() }
+/// The monitor's settings: the region threshold, and the control's work offset for machine streams.
+fn config(max_c_speed_rpm: Option<f64>, work_offset: Option<nalgebra::Vector3<f64>>) -> MonitorConfig {
+    MonitorConfig { rate_limit: max_c_speed_rpm.map(|r| r * RPM), work_offset: work_offset.unwrap_or_default(), ..Default::default() }
 }
 
 fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
@@ -138,7 +143,7 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
     if let Some((profile, cutoff)) = &roughness {
         bridge.roughness(profile, *cutoff)?;
     }
-    let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm));
+    let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm, a.work_offset));
     let map: BTreeMap<String, String> = match machine.resolve_axis_map(&a.axis_map) {
         Ok(m) => m,
         Err(e) => {
@@ -193,7 +198,7 @@ fn live(a: LiveArgs) -> anyhow::Result<ExitCode> {
     if let Some((profile, cutoff)) = &roughness {
         bridge.roughness(profile, *cutoff)?;
     }
-    let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm));
+    let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm, a.inputs.work_offset));
     let map = match a.inputs.axis_map(&machine) {
         Ok(m) => m,
         Err(e) => {
