@@ -31,6 +31,69 @@ fn x3p_round_trip_keeps_every_point() {
     }
 }
 
+/// A copy of the X3P at `from` with main.xml edited by `edit` and data.bin replaced by `data` if given.
+fn edited_x3p(from: &Path, to: &Path, edit: &dyn Fn(String) -> String, data: Option<&[u8]>) {
+    use std::io::{Read, Write};
+    let mut zin = zip::ZipArchive::new(std::fs::File::open(from).unwrap()).unwrap();
+    let mut zout = zip::ZipWriter::new(std::fs::File::create(to).unwrap());
+    for i in 0..zin.len() {
+        let mut e = zin.by_index(i).unwrap();
+        let name = e.name().to_string();
+        let mut bytes = Vec::new();
+        e.read_to_end(&mut bytes).unwrap();
+        if name == "main.xml" {
+            bytes = edit(String::from_utf8(bytes).unwrap()).into_bytes();
+        } else if let (Some(d), true) = (data, name.ends_with(".bin")) {
+            bytes = d.to_vec();
+        }
+        zout.start_file(name, zip::write::SimpleFileOptions::default()).unwrap();
+        zout.write_all(&bytes).unwrap();
+    }
+    zout.finish().unwrap();
+}
+
+/// Hostile X3P headers (issue 15): sizes that overflow `size * SizeX * SizeY` (a panic in debug builds
+/// before), sizes the data cannot hold, and a negative, zero or NaN point spacing, each refused with
+/// the field named; nothing is allocated for points the file does not hold.
+#[test]
+fn x3p_sizes_and_spacing_are_checked_before_allocating() {
+    let p = synthetic::profile(0.0, 2e-3, &flat_feed, &synthetic::SyntheticModel::default());
+    let good = tmp("good.x3p");
+    write_x3p(&p, &good, "").unwrap();
+    let n = p.z.len();
+    let size_x = format!("<SizeX>{n}</SizeX>");
+    let cases: Vec<(&str, Box<dyn Fn(String) -> String>, Option<Vec<u8>>, &str)> = vec![
+        ("overflow", Box::new(move |x: String| x.replace(&format!("<SizeX>{n}</SizeX><SizeY>1</SizeY>"), "<SizeX>4</SizeX><SizeY>2305843009213693952</SizeY>")), None, "points of 8 bytes"),
+        ("product-overflow", Box::new(move |x: String| x.replace(&format!("<SizeX>{n}</SizeX><SizeY>1</SizeY>"), "<SizeX>1000</SizeX><SizeY>18446744073709551615</SizeY>")), None, "more than any file holds"),
+        ("huge-row", Box::new({ let s = size_x.clone(); move |x: String| x.replace(&s, "<SizeX>4611686018427387904</SizeX>") }), None, "MatrixDimension/SizeX = 4611686018427387904"),
+        ("negative-size", Box::new({ let s = size_x.clone(); move |x: String| x.replace(&s, "<SizeX>-5</SizeX>") }), None, "MatrixDimension/SizeX = '-5'"),
+        ("short-data", Box::new(|x: String| x), Some(vec![0u8; 64]), "64 bytes for"),
+        ("negative-spacing", Box::new(|x: String| { let a = x.find("<Increment>").unwrap(); let b = x[a..].find("</Increment>").unwrap() + a; format!("{}<Increment>-1e-6{}", &x[..a], &x[b..]) }), None, "Axes/CX/Increment = -0.000001"),
+        ("zero-spacing", Box::new(|x: String| { let a = x.find("<Increment>").unwrap(); let b = x[a..].find("</Increment>").unwrap() + a; format!("{}<Increment>0{}", &x[..a], &x[b..]) }), None, "Axes/CX/Increment = 0"),
+        ("nan-spacing", Box::new(|x: String| { let a = x.find("<Increment>").unwrap(); let b = x[a..].find("</Increment>").unwrap() + a; format!("{}<Increment>NaN{}", &x[..a], &x[b..]) }), None, "Axes/CX/Increment = 'NaN'"),
+    ];
+    for (name, edit, data, want) in &cases {
+        let path = tmp(&format!("{name}.x3p"));
+        edited_x3p(&good, &path, edit.as_ref(), data.as_deref());
+        match read_x3p(&path) {
+            Ok(_) => panic!("{name}: read"),
+            Err(e) => assert!(e.to_string().contains(want), "{name}: {e}"),
+        }
+    }
+    // An areal surface: only the middle row is read (SUR, 3 rows: row 1 of the data).
+    let sur = tmp("sur.x3p");
+    let mut data = Vec::new();
+    for row in 0..3 {
+        for v in &p.z {
+            data.extend_from_slice(&(v + row as f64).to_le_bytes());
+        }
+    }
+    edited_x3p(&good, &sur, &|x: String| x.replace("<FeatureType>PRF</FeatureType>", "<FeatureType>SUR</FeatureType>").replace("<SizeY>1</SizeY>", "<SizeY>3</SizeY>"), Some(&data));
+    let back = read_x3p(&sur).unwrap();
+    assert_eq!(back.z.len(), n);
+    assert!(back.z.iter().zip(&p.z).all(|(a, b)| *a == b + 1.0), "the middle row");
+}
+
 #[test]
 fn csv_units_from_header_or_flags_and_errors_name_the_line() {
     let path = tmp("a.csv");

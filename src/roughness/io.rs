@@ -150,8 +150,15 @@ fn path_text<'a>(n: roxmltree::Node<'a, 'a>, names: &[&str]) -> Option<&'a str> 
     cur.text().map(str::trim)
 }
 
+/// Most points read from one X3P profile (one row): 10 M points is 5 m at 0.5 um spacing, beyond any
+/// instrument; the reader allocates for one row only, so an areal surface's size does not matter.
+pub const MAX_X3P_POINTS: u64 = 10_000_000;
+/// Largest `main.xml` read (bytes).
+const MAX_MAIN_XML: u64 = 64 << 20;
+
 /// Read an X3P file (ISO 25178-72): a profile (`PRF`), or the middle row of an areal surface (`SUR`).
-/// Invalid points (NaN) are interpolated from their neighbours.
+/// Invalid points (NaN) are interpolated from their neighbours. Sizes are checked against
+/// [`MAX_X3P_POINTS`] and against what the data entry holds before anything is allocated.
 pub fn read_x3p(path: &Path) -> Result<Profile, RoughnessError> {
     let p = path.display().to_string();
     let file = std::fs::File::open(path).map_err(|source| RoughnessError::Io { path: p.clone(), source })?;
@@ -159,53 +166,91 @@ pub fn read_x3p(path: &Path) -> Result<Profile, RoughnessError> {
     let mut xml = String::new();
     zip.by_name("main.xml")
         .map_err(|e| fmt_err(&p, format!("main.xml: {e}")))?
+        .take(MAX_MAIN_XML + 1)
         .read_to_string(&mut xml)
         .map_err(|source| RoughnessError::Io { path: p.clone(), source })?;
+    if xml.len() as u64 > MAX_MAIN_XML {
+        return Err(fmt_err(&p, format!("main.xml: larger than {MAX_MAIN_XML} bytes")));
+    }
     let doc = roxmltree::Document::parse(&xml).map_err(|e| fmt_err(&p, format!("main.xml: {e}")))?;
     let root = doc.root_element();
     let r1 = child(root, "Record1").ok_or_else(|| fmt_err(&p, "main.xml: no Record1".into()))?;
     let kind = path_text(r1, &["FeatureType"]).unwrap_or("");
-    let num = |v: Option<&str>, what: &str| -> Result<f64, RoughnessError> {
-        v.and_then(|s| s.parse::<f64>().ok()).ok_or_else(|| fmt_err(&p, format!("main.xml: {what} missing or not a number")))
+    let finite = |v: Option<&str>, what: &str| -> Result<f64, RoughnessError> {
+        match v.map(|s| s.parse::<f64>()) {
+            Some(Ok(x)) if x.is_finite() => Ok(x),
+            Some(_) => Err(fmt_err(&p, format!("main.xml: {what} = '{}': not a finite number", v.unwrap_or("")))),
+            None => Err(fmt_err(&p, format!("main.xml: {what} missing"))),
+        }
     };
-    let inc = num(path_text(r1, &["Axes", "CX", "Increment"]), "Axes/CX/Increment")?;
-    let off = path_text(r1, &["Axes", "CX", "Offset"]).and_then(|s| s.parse::<f64>().ok()).unwrap_or(0.0);
+    let inc = finite(path_text(r1, &["Axes", "CX", "Increment"]), "Axes/CX/Increment")?;
+    if inc <= 0.0 {
+        return Err(fmt_err(&p, format!("main.xml: Axes/CX/Increment = {inc}: the point spacing must be positive")));
+    }
+    let off = match path_text(r1, &["Axes", "CX", "Offset"]) {
+        Some(t) => finite(Some(t), "Axes/CX/Offset")?,
+        None => 0.0,
+    };
     let ztype = path_text(r1, &["Axes", "CZ", "DataType"]).unwrap_or("D").to_string();
-    let zinc = path_text(r1, &["Axes", "CZ", "Increment"]).and_then(|s| s.parse::<f64>().ok()).unwrap_or(1.0);
+    let zinc = match path_text(r1, &["Axes", "CZ", "Increment"]) {
+        Some(t) => finite(Some(t), "Axes/CZ/Increment")?,
+        None => 1.0,
+    };
+    if zinc == 0.0 {
+        return Err(fmt_err(&p, "main.xml: Axes/CZ/Increment = 0: every height would be 0".into()));
+    }
     let r3 = child(root, "Record3").ok_or_else(|| fmt_err(&p, "main.xml: no Record3".into()))?;
-    let sx = num(path_text(r3, &["MatrixDimension", "SizeX"]), "MatrixDimension/SizeX")? as usize;
-    let sy = num(path_text(r3, &["MatrixDimension", "SizeY"]), "MatrixDimension/SizeY")?.max(1.0) as usize;
+    let count = |what: &str| -> Result<u64, RoughnessError> {
+        let t = path_text(r3, &["MatrixDimension", what]).ok_or_else(|| fmt_err(&p, format!("main.xml: MatrixDimension/{what} missing")))?;
+        t.parse::<u64>().ok().filter(|n| *n >= 1).ok_or_else(|| fmt_err(&p, format!("main.xml: MatrixDimension/{what} = '{t}': expected a whole number of points, at least 1")))
+    };
+    let (sx, sy) = (count("SizeX")?, count("SizeY")?);
+    if sx > MAX_X3P_POINTS {
+        return Err(fmt_err(&p, format!("main.xml: MatrixDimension/SizeX = {sx}: a profile of at most {MAX_X3P_POINTS} points is read")));
+    }
+    let total = sx.checked_mul(sy).ok_or_else(|| fmt_err(&p, format!("main.xml: MatrixDimension {sx} x {sy} points: more than any file holds")))?;
     if !(kind == "PRF" || kind == "SUR") {
         return Err(fmt_err(&p, format!("FeatureType '{kind}': expected PRF (profile) or SUR (surface)")));
     }
-    let values: Vec<f64> = if let Some(link) = path_text(r3, &["DataLink", "PointDataLink"]) {
-        let mut bytes = Vec::new();
-        zip.by_name(link)
-            .map_err(|e| fmt_err(&p, format!("{link}: {e}")))?
-            .read_to_end(&mut bytes)
-            .map_err(|source| RoughnessError::Io { path: p.clone(), source })?;
-        let (size, conv): (usize, fn(&[u8]) -> f64) = match ztype.as_str() {
-            "D" => (8, |b| f64::from_le_bytes(b.try_into().unwrap())),
-            "F" => (4, |b| f32::from_le_bytes(b.try_into().unwrap()) as f64),
-            "L" => (4, |b| i32::from_le_bytes(b.try_into().unwrap()) as f64),
-            "I" => (2, |b| i16::from_le_bytes(b.try_into().unwrap()) as f64),
+    // The middle row: points row*sx .. (row+1)*sx (no overflow: row < sy, so (row+1)*sx <= total).
+    let row = sy / 2;
+    let (first, n) = (row * sx, sx as usize);
+    let mut z: Vec<f64> = if let Some(link) = path_text(r3, &["DataLink", "PointDataLink"]) {
+        let (size, conv): (u64, fn(&[u8]) -> f64) = match ztype.as_str() {
+            "D" => (8, |b| f64::from_le_bytes(b.try_into().unwrap_or([0; 8]))),
+            "F" => (4, |b| f32::from_le_bytes(b.try_into().unwrap_or([0; 4])) as f64),
+            "L" => (4, |b| i32::from_le_bytes(b.try_into().unwrap_or([0; 4])) as f64),
+            "I" => (2, |b| i16::from_le_bytes(b.try_into().unwrap_or([0; 2])) as f64),
             t => return Err(fmt_err(&p, format!("CZ DataType '{t}': expected D, F, L or I"))),
         };
-        if bytes.len() < size * sx * sy {
-            return Err(fmt_err(&p, format!("{link}: {} bytes for {sx} x {sy} points of {size} bytes", bytes.len())));
+        let mut entry = zip.by_name(link).map_err(|e| fmt_err(&p, format!("{link}: {e}")))?;
+        let short = |got: u64| fmt_err(&p, format!("{link}: {got} bytes for {sx} x {sy} points of {size} bytes"));
+        match total.checked_mul(size) {
+            Some(need) if entry.size() >= need => {}
+            _ => return Err(short(entry.size())),
+        }
+        // Skip to the row, then read it alone (the entry's claimed size may lie: both reads are bounded).
+        let skipped = std::io::copy(&mut (&mut entry).take(first * size), &mut std::io::sink()).map_err(|source| RoughnessError::Io { path: p.clone(), source })?;
+        let mut bytes = Vec::with_capacity(n * size as usize);
+        (&mut entry).take(sx * size).read_to_end(&mut bytes).map_err(|source| RoughnessError::Io { path: p.clone(), source })?;
+        if skipped < first * size || (bytes.len() as u64) < sx * size {
+            return Err(short(skipped + bytes.len() as u64));
         }
         let scale = if matches!(ztype.as_str(), "L" | "I") { zinc } else { 1.0 };
-        bytes.chunks_exact(size).take(sx * sy).map(|c| conv(c) * scale).collect()
+        bytes.chunks_exact(size as usize).map(|c| conv(c) * scale).collect()
     } else if let Some(list) = child(r3, "DataList") {
         list.children()
             .filter(|c| c.is_element())
+            .skip(first as usize)
+            .take(n)
             .map(|c| c.text().map(str::trim).and_then(|t| t.split(';').next_back().and_then(|v| v.trim().parse::<f64>().ok())).unwrap_or(f64::NAN))
             .collect()
     } else {
         return Err(fmt_err(&p, "Record3: neither DataLink nor DataList".into()));
     };
-    let row = sy / 2;
-    let mut z: Vec<f64> = values.get(row * sx..(row + 1) * sx).ok_or_else(|| fmt_err(&p, "fewer points than MatrixDimension says".into()))?.to_vec();
+    if z.len() < n {
+        return Err(fmt_err(&p, format!("fewer points than MatrixDimension says ({} of row {row}'s {sx})", z.len())));
+    }
     // Interpolate invalid points.
     let valid: Vec<usize> = (0..z.len()).filter(|&i| z[i].is_finite()).collect();
     if valid.len() < 3 {
@@ -218,7 +263,7 @@ pub fn read_x3p(path: &Path) -> Result<Profile, RoughnessError> {
             z[i] = if a == b { z[a] } else { z[a] + (z[b] - z[a]) * (i - a) as f64 / (b - a) as f64 };
         }
     }
-    let x = (0..sx).map(|i| off + i as f64 * inc).collect();
+    let x = (0..n).map(|i| off + i as f64 * inc).collect();
     Ok(Profile { x, z, source: p })
 }
 
