@@ -327,3 +327,39 @@ fn each_region_is_measured_on_its_own_pass() {
         assert!((l - one[0]).abs() < 0.3 * one[0], "a region's time lost {l} s, one pass alone {} s", one[0]);
     }
 }
+
+/// Offset of the first chunk record's `uncompressed_size` field (MCAP: magic, then opcode u8, length
+/// u64 and body per record; a chunk's body starts with start time u64, end time u64, uncompressed size).
+fn first_chunk_size_field(data: &[u8]) -> usize {
+    let mut at = 8;
+    loop {
+        let len = u64::from_le_bytes(data[at + 1..at + 9].try_into().unwrap()) as usize;
+        if data[at] == 0x06 {
+            return at + 9 + 16;
+        }
+        at += 9 + len;
+    }
+}
+
+/// A damaged chunk header (issue 15): a claim of 4 GiB uncompressed is refused before anything is
+/// allocated (it was reserved before), and a claim of 100 MiB that the data does not hold is found
+/// out by decompressing as a stream, not by reserving the claim; both exit 2 naming the chunk.
+#[test]
+fn chunk_size_claims_are_bounded_before_allocating() {
+    let path = tmp("claims.mcap");
+    record("builtin:paper-sing", &path);
+    let data = std::fs::read(&path).unwrap();
+    let field = first_chunk_size_field(&data);
+    let real = u64::from_le_bytes(data[field..field + 8].try_into().unwrap());
+    assert!(real > 0 && real < 16 << 20, "a normal chunk: {real} bytes");
+    for (claim, want) in [(4u64 << 30, "claims 4294967296 bytes uncompressed".to_string()), (100 << 20, format!("{real} bytes uncompressed, header says 104857600"))] {
+        let mut bad = data.clone();
+        bad[field..field + 8].copy_from_slice(&claim.to_le_bytes());
+        let p = tmp(&format!("claim-{claim}.mcap"));
+        std::fs::write(&p, &bad).unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["analyze", p.to_str().unwrap()]).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).to_string() + &String::from_utf8_lossy(&out.stdout);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(&want) && err.contains("chunk starting at log time"), "no '{want}' in: {err}");
+    }
+}

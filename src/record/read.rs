@@ -222,12 +222,24 @@ fn for_each_message_in_file(path: &Path, file_index: usize, offset: u64, visit: 
                 let size = usize::try_from(header.uncompressed_size).ok().filter(|n| *n <= MAX_CHUNK).ok_or_else(|| damaged(format!("claims {} bytes uncompressed", header.uncompressed_size)))?;
                 let body: &[u8] = match header.compression.as_str() {
                     "" => &compressed,
-                    "zstd" => {
+                    "zstd" if size <= RESERVE_CHUNK => {
+                        // Into a buffer of the claimed size, reused from chunk to chunk (the fast path).
                         chunk.clear();
                         chunk.reserve(size);
                         let n = zstd.decompress_to_buffer(&compressed, &mut chunk).map_err(|e| damaged(format!("zstd: {e}")))?;
                         if n != size {
                             return Err(damaged(format!("{n} bytes uncompressed, header says {size}")));
+                        }
+                        &chunk
+                    }
+                    "zstd" => {
+                        // A large claim is streamed, not reserved: memory follows what the data
+                        // decompresses to (at most the claim, at most MAX_CHUNK), never a damaged header.
+                        chunk.clear();
+                        let decoder = zstd::stream::read::Decoder::with_buffer(&compressed[..]).map_err(|e| damaged(format!("zstd: {e}")))?;
+                        let n = decoder.take(size as u64 + 1).read_to_end(&mut chunk).map_err(|e| damaged(format!("zstd: {e}")))?;
+                        if n != size {
+                            return Err(damaged(format!("{} bytes uncompressed, header says {size}", if n > size { format!("more than {size}") } else { n.to_string() })));
                         }
                         &chunk
                     }
@@ -249,8 +261,12 @@ fn for_each_message_in_file(path: &Path, file_index: usize, offset: u64, visit: 
     Ok(records.count)
 }
 
-/// Largest uncompressed chunk accepted (a damaged header must not make us allocate without bound).
-const MAX_CHUNK: usize = 1 << 32;
+/// Largest uncompressed chunk accepted, bytes (a damaged header or a zstd bomb must not make us allocate
+/// without bound): 256 MiB, far above rosbag2's and the mcap CLI's chunk sizes (about 1-4 MiB).
+pub const MAX_CHUNK: usize = 256 << 20;
+/// Chunks claiming up to this are decompressed into a buffer reserved for the claim (16 MiB at most);
+/// larger claims are streamed.
+const RESERVE_CHUNK: usize = 16 << 20;
 
 /// One record of a chunk's records: (opcode, body, what follows).
 fn split_record(data: &[u8]) -> Option<(u8, &[u8], &[u8])> {
