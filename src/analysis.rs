@@ -592,10 +592,6 @@ fn cause_name(c: Option<crate::singularity::tracker::Cause>) -> &'static str {
 }
 
 
-/// Text as an XML attribute value.
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
-}
 
 const XML_HEADER: &str = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
 
@@ -609,8 +605,8 @@ pub fn junit_testsuites(reports: &[OfflineReport], unreadable: &[(&str, &str)]) 
     for (file, why) in unreadable {
         xml.push_str(&format!(
             "<testsuite name=\"fiveaxis analyze {}\" tests=\"1\" errors=\"1\">\n  <testcase classname=\"fiveaxis.analyze\" name=\"read\">\n    <error message=\"{}\"/>\n  </testcase>\n</testsuite>\n",
-            xml_escape(file),
-            xml_escape(why)
+            crate::xml::escape(file),
+            crate::xml::escape(why)
         ));
     }
     xml.push_str("</testsuites>\n");
@@ -625,7 +621,7 @@ impl OfflineReport {
 
     /// The `<testsuite>` element of [`OfflineReport::to_junit`].
     fn junit_testsuite(&self) -> String {
-        let esc = xml_escape;
+        let esc = crate::xml::escape;
         let mut cases = String::new();
         let mut failures = 0;
         for s in &self.streams {

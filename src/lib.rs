@@ -24,3 +24,4 @@ pub mod roughness;
 pub mod scene;
 pub mod singularity;
 pub mod units;
+mod xml;

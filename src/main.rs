@@ -926,7 +926,7 @@ fn demo(json: bool) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// `machine show`: a built-in machine's file, or a machine file checked whole.
+/// `machine urdf`: the machine written as URDF, to a file or standard output.
 fn machine_urdf(spec: &str, out: Option<&std::path::Path>) -> anyhow::Result<ExitCode> {
     let machine = match Machine::from_name_or_file(spec) {
         Ok(m) => m,
@@ -943,6 +943,7 @@ fn machine_urdf(spec: &str, out: Option<&std::path::Path>) -> anyhow::Result<Exi
     Ok(ExitCode::SUCCESS)
 }
 
+/// `machine show`: a built-in machine's file, or a machine file checked whole.
 fn machine_show(spec: &str) -> anyhow::Result<ExitCode> {
     let checked = if fiveaxis::machine::urdf::is_urdf_path(spec) {
         // The TOML the URDF amounts to, once the machine it describes is valid.

@@ -10,6 +10,9 @@ use nalgebra::Vector3;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+use common::Rng;
+
 /// Tool tip agreement, mm, and tool axis agreement (unit vector components).
 const TIP_TOL_MM: f64 = 1e-9;
 const AXIS_TOL: f64 = 1e-12;
@@ -17,20 +20,6 @@ const AXIS_TOL: f64 = 1e-12;
 /// The hand-written Hermle URDF (machines/urdf/hermle-c600u.urdf).
 const HAND_WRITTEN: &str = include_str!("../machines/urdf/hermle-c600u.urdf");
 const HAND_WRITTEN_PATH: &str = "machines/urdf/hermle-c600u.urdf";
-
-/// xorshift64*, so that a failure names a reproducible case.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545F4914F6CDD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-}
 
 fn temp_dir(what: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("fiveaxis-urdf-{what}-{}", std::process::id()));

@@ -365,12 +365,14 @@ pub fn description_text(spec: &str) -> Result<std::borrow::Cow<'static, str>, Ma
 /// Largest machine file read (bytes): a machine is a few kB.
 pub const MAX_MACHINE_FILE_BYTES: u64 = urdf::MAX_BYTES as u64;
 
-/// A machine file's text, refused before reading if larger than [`MAX_MACHINE_FILE_BYTES`].
+/// A machine file's text, read no further than [`MAX_MACHINE_FILE_BYTES`] (a larger one is refused).
 pub fn read_machine_file(spec: &str) -> Result<String, MachineError> {
+    use std::io::Read as _;
     let io = |source| MachineError::Io { path: spec.to_string(), source };
-    let len = std::fs::metadata(spec).map_err(io)?.len();
-    if len > MAX_MACHINE_FILE_BYTES {
-        return Err(MachineError::Parse { path: spec.to_string(), message: format!("{len} bytes: a machine file is at most {MAX_MACHINE_FILE_BYTES} bytes") });
+    let mut text = String::new();
+    std::fs::File::open(spec).map_err(io)?.take(MAX_MACHINE_FILE_BYTES + 1).read_to_string(&mut text).map_err(io)?;
+    if text.len() as u64 > MAX_MACHINE_FILE_BYTES {
+        return Err(MachineError::Parse { path: spec.to_string(), message: format!("more than {MAX_MACHINE_FILE_BYTES} bytes: a machine file is a few kB") });
     }
-    std::fs::read_to_string(spec).map_err(io)
+    Ok(text)
 }

@@ -18,6 +18,7 @@ use crate::kinematics::Carrier;
 use crate::units::{DEG, MM_IN_M, MM_PER_MIN};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::collections::BTreeMap;
+use crate::xml::escape;
 use std::fmt::Write as _;
 
 /// XML namespace of the `<fiveaxis:limits>` extension element.
@@ -33,6 +34,9 @@ pub const ALIGNMENT_TOLERANCE_RAD: f64 = 1e-5;
 /// Largest URDF text read (bytes): a machine is a few kB; a robot_description with meshes inline is not
 /// one we can use.
 pub const MAX_BYTES: usize = 16 << 20;
+
+/// The linear axes' letters, in axis order.
+const LINEAR: [char; 3] = ['X', 'Y', 'Z'];
 
 /// Read a URDF as a machine; `origin` names it in errors.
 pub fn read(text: &str, origin: &str) -> Result<Machine, MachineError> {
@@ -275,8 +279,9 @@ impl<'a> Urdf<'a> {
         }
         // Home poses of every link along both chains, from the common ancestor's frame.
         let mut path = Vec::new();
-        let mut home = BTreeMap::new();
-        for (table_side, chain) in [(true, &to_wp[shared..]), (false, &to_tool[shared..])] {
+        let mut home = [Isometry3::identity(); 2];
+        for (side, chain) in [&to_wp[shared..], &to_tool[shared..]].into_iter().enumerate() {
+            let table_side = side == 0;
             let mut t = Isometry3::identity();
             for (depth, &ji) in chain.iter().enumerate() {
                 let j = &self.joints[ji];
@@ -299,9 +304,9 @@ impl<'a> Urdf<'a> {
                     path.push(PathJoint { index: ji, table_side, depth, axis: t.rotation * local, point: t.translation.vector });
                 }
             }
-            home.insert(table_side, t);
+            home[side] = t;
         }
-        let (wp, tl) = (home[&true], home[&false]);
+        let [wp, tl] = home;
         let movable: Vec<String> = path.iter().map(|p| format!("'{}' ({})", self.joints[p.index].name, self.joints[p.index].kind)).collect();
         let prismatic: Vec<&PathJoint> = path.iter().filter(|p| self.joints[p.index].kind == "prismatic").collect();
         let rotary: Vec<&PathJoint> = path.iter().filter(|p| self.joints[p.index].kind != "prismatic").collect();
@@ -325,18 +330,14 @@ impl<'a> Urdf<'a> {
         }
         // The machine frame is the workpiece frame at home; linear axes along its x, y, z.
         let to_machine = wp.inverse();
-        let mut linear: [Option<(usize, Vector3<f64>)>; 3] = [None, None, None];
-        for (k, p) in prismatic.iter().enumerate() {
+        let mut linear: [Option<&PathJoint>; 3] = [None, None, None];
+        for p in &prismatic {
             let j = &self.joints[p.index];
-            let letter = axis_letter(j.name);
-            let slot = match letter {
-                Some('X') => 0,
-                Some('Y') => 1,
-                Some('Z') => 2,
-                _ => return Err(format!("{}: prismatic joint '{}': its name must give the axis letter X, Y or Z (X, x_axis, joint_x)", j.at, j.name)),
-            };
+            let slot = axis_letter(j.name)
+                .and_then(|c| LINEAR.iter().position(|&l| l == c))
+                .ok_or_else(|| format!("{}: prismatic joint '{}': its name must give the axis letter X, Y or Z (X, x_axis, joint_x)", j.at, j.name))?;
             if linear[slot].is_some() {
-                return Err(format!("{}: prismatic joint '{}' is a second {} axis", j.at, j.name, ['X', 'Y', 'Z'][slot]));
+                return Err(format!("{}: prismatic joint '{}' is a second {} axis", j.at, j.name, LINEAR[slot]));
             }
             // The tool's motion relative to the workpiece: a table-side slide moves the tool the other way.
             let dir = to_machine.rotation * p.axis * if p.table_side { -1.0 } else { 1.0 };
@@ -344,20 +345,20 @@ impl<'a> Urdf<'a> {
             if off > ALIGNMENT_TOLERANCE_RAD {
                 return Err(format!(
                     "{}: prismatic joint '{}' moves the tool along ({:.6}, {:.6}, {:.6}) in the '{workpiece}' frame at home (its `axis`, and for a joint on the workpiece side the opposite): axis {} must move it along +{} (within {ALIGNMENT_TOLERANCE_RAD} rad)",
-                    j.at, j.name, dir.x, dir.y, dir.z, ['X', 'Y', 'Z'][slot], ['x', 'y', 'z'][slot]
+                    j.at, j.name, dir.x, dir.y, dir.z, LINEAR[slot], LINEAR[slot].to_ascii_lowercase()
                 ));
             }
-            linear[slot] = Some((k, dir));
+            linear[slot] = Some(p);
         }
         let mut linear_files = Vec::with_capacity(3);
         for (slot, l) in linear.iter().enumerate() {
-            let Some((k, _)) = l else { return Err(format!("no prismatic joint for axis {}", ['X', 'Y', 'Z'][slot])) };
-            let j = &self.joints[prismatic[*k].index];
+            let Some(p) = l else { return Err(format!("no prismatic joint for axis {}", LINEAR[slot])) };
+            let j = &self.joints[p.index];
             let (range, velocity) = self.limits(j)?;
             let (lower, upper) = range.unwrap_or((0.0, 0.0));
             let (acceleration, jerk) = self.extension_limits(j)?;
             linear_files.push(LinearAxisFile {
-                name: ['X', 'Y', 'Z'][slot].to_string(),
+                name: LINEAR[slot].to_string(),
                 min_mm: lower * MM_IN_M,
                 max_mm: upper * MM_IN_M,
                 velocity_mm_per_min: velocity / MM_PER_MIN,
@@ -418,10 +419,6 @@ fn f(v: f64) -> String {
 
 fn v3(v: &Vector3<f64>) -> String {
     format!("{} {} {}", f(v.x), f(v.y), f(v.z))
-}
-
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;").replace('\'', "&apos;")
 }
 
 /// Write a machine as URDF: a `base` link (the machine frame), the table joints base outwards down to

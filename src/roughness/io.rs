@@ -272,7 +272,6 @@ pub fn read_x3p(path: &Path) -> Result<Profile, RoughnessError> {
 pub fn write_x3p(profile: &Profile, path: &Path, comment: &str) -> Result<(), RoughnessError> {
     let p = path.display().to_string();
     let io = |source| RoughnessError::Io { path: p.clone(), source };
-    let esc = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
     let data: Vec<u8> = profile.z.iter().flat_map(|v| v.to_le_bytes()).collect();
     let data_md5 = format!("{:x}", md5::compute(&data));
     let xml = format!(
@@ -305,7 +304,7 @@ pub fn write_x3p(profile: &Profile, path: &Path, comment: &str) -> Result<(), Ro
         inc = profile.spacing(),
         off = profile.x.first().copied().unwrap_or(0.0),
         ver = env!("CARGO_PKG_VERSION"),
-        comment = esc(comment),
+        comment = crate::xml::escape(comment),
         n = profile.z.len()
     );
     let file = std::fs::File::create(path).map_err(io)?;
