@@ -97,7 +97,9 @@ pub struct StreamReport {
     pub feed_samples: u64,
     pub max_path_feed_mm_per_min: f64,
     pub feed_source: Option<String>,
+    /// The first regions in full, the rest folded (`--max-listed-regions`).
     pub regions: Vec<LiveRegion>,
+    pub unlisted_regions: crate::listing::Unlisted,
 }
 
 /// The report of `fiveaxis analyze`.
@@ -113,8 +115,10 @@ pub struct OfflineReport {
     pub messages_undecodable: u64,
     pub streams: Vec<StreamReport>,
     /// The program's regions (from the commanded stream; else the machine's or the simulated one's),
-    /// with the actual stream's lowest feed and time lost over each.
+    /// with the actual stream's lowest feed and time lost over each; past the listing cap, that
+    /// stream's regions folded (their time lost is the stream's own: a machine stream's).
     pub regions: Vec<RegionReport>,
+    pub unlisted_regions: crate::listing::Unlisted,
     pub violations: Vec<String>,
     /// Why the input cannot be trusted (exit 2): a topic asked for is absent, a stream has no valid
     /// sample, too many samples were rejected, joints could not be mapped, units look wrong.
@@ -181,6 +185,7 @@ pub fn analyze_mcap_with_progress(
         messages_undecodable: 0,
         streams: Vec::new(),
         regions: Vec::new(),
+        unlisted_regions: Default::default(),
         violations: Vec::new(),
         input_errors: Vec::new(),
         roughness: None,
@@ -371,6 +376,7 @@ pub fn analyze_mcap_with_progress(
             max_path_feed_mm_per_min: s.max_path_feed_mm_per_min,
             feed_source: s.feed_source,
             regions: s.regions,
+            unlisted_regions: s.unlisted_regions,
         });
     }
     report.input_errors = input_errors(machine, options, &report.streams, &joint_topics, |topic| stream_of(topic).map(|s| (s.joint_names.clone(), s.fits_mm_deg)));
@@ -393,6 +399,12 @@ pub fn analyze_mcap_with_progress(
     let mut cuts_read = false;
     for source in [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED] {
         if let Some(s) = report.streams.iter().find(|s| s.source == source && !s.regions.is_empty()) {
+            report.unlisted_regions = s.unlisted_regions;
+            if s.source != AxisState::SOURCE_MACHINE {
+                // Only a machine stream's regions carry their own feed and time lost.
+                report.unlisted_regions.time_lost_s = None;
+                report.unlisted_regions.min_feed_mm_per_min = None;
+            }
             // The lowest feed and time lost over each region: a machine stream's region carries its
             // own pass; otherwise the actual stream's five-axis samples within its x range.
             let figures = match (&mut actual_cuts, s.source == AxisState::SOURCE_MACHINE) {
@@ -676,6 +688,9 @@ impl OfflineReport {
                     r.time_lost_s
                 );
             }
+            if let Some(more) = s.unlisted_regions.describe() {
+                let _ = writeln!(o, "  {more}");
+            }
         }
         for r in &self.regions {
             let feed = match (r.lowest_feed_mm_per_min, r.time_lost_s, &r.actual_topic) {
@@ -683,6 +698,9 @@ impl OfflineReport {
                 _ => String::new(),
             };
             let _ = writeln!(o, "region     x {:.3} to {:.3} mm ({}, {}), peak C {:.1} rpm{feed}", r.x_start_mm, r.x_end_mm, crate::report::block_span(r.block_start, r.block_end, r.line_start, r.line_end), cause_name(r.cause), r.peak_c_speed_rpm);
+        }
+        if let Some(more) = self.unlisted_regions.describe() {
+            let _ = writeln!(o, "region     {more}");
         }
         if let Some(r) = &self.roughness {
             let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));

@@ -230,7 +230,9 @@ fn no_moves(blocks: usize) -> Diagnostic {
 /// with it (the monitor's and the offline analysis' `--program`); a program with defects is refused,
 /// naming them.
 pub fn program_plan(spec: &str, machine: &Machine, read: &ReadOptions) -> Result<crate::live::monitor::ProgramPlan, String> {
-    let options = JobOptions { read: read.clone(), ..Default::default() };
+    // Every region's times: the look-ahead needs each one ahead (the plan holds the program anyway).
+    let analysis = AnalysisOptions { max_listed_regions: Some(usize::MAX), ..Default::default() };
+    let options = JobOptions { read: read.clone(), analysis, ..Default::default() };
     let job = run(spec, machine, &options).map_err(|e| e.to_string())?;
     let errors: Vec<String> = job
         .report

@@ -13,6 +13,7 @@ pub mod analysis;
 pub mod avoid;
 pub mod job;
 pub mod kinematics;
+pub mod listing;
 pub mod live;
 pub mod machine;
 pub mod path;

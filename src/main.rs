@@ -83,6 +83,17 @@ struct ProgramArgs {
     max_program_hours: f64,
     #[command(flatten)]
     control: fiveaxis::program::ControlArgs,
+    #[command(flatten)]
+    listing: ListingArgs,
+}
+
+/// How many regions a report lists (shared by `program analyze`, `run` and `analyze`).
+#[derive(Args, Clone, Copy)]
+struct ListingArgs {
+    /// Regions listed in full per list; the rest are counted and folded into one line (JSON:
+    /// `unlisted_regions`: count, time inside, worst figures), so an hours-long run's report stays small.
+    #[arg(long = "max-listed-regions", value_name = "N", default_value_t = fiveaxis::listing::MAX_LISTED)]
+    max_listed_regions: usize,
 }
 
 impl ProgramArgs {
@@ -192,6 +203,8 @@ struct OfflineArgs {
     junit: Option<std::path::PathBuf>,
     #[command(flatten)]
     roughness: fiveaxis::roughness::RoughnessArgs,
+    #[command(flatten)]
+    listing: ListingArgs,
 }
 
 #[derive(Subcommand)]
@@ -344,6 +357,7 @@ fn analyze(a: &AnalyzeArgs) -> anyhow::Result<ExitCode> {
         analysis: AnalysisOptions {
             min_distance: a.min_distance_deg.map(|d| d * DEG),
             rate_limit: a.max_c_speed_rpm.map(|r| r * RPM),
+            max_listed_regions: Some(a.src.listing.max_listed_regions),
         },
         read: a.src.read_options(),
     };
@@ -379,14 +393,17 @@ fn run(a: &RunArgs) -> anyhow::Result<ExitCode> {
     // An .rrd is made from the recording: record to a temporary MCAP when none was asked for.
     let tmp_mcap = (a.rrd.is_some() && a.mcap.is_none()).then(|| std::env::temp_dir().join(format!("fiveaxis-run-{}.mcap", std::process::id())));
     let mcap = a.mcap.clone().or_else(|| tmp_mcap.clone());
+    let listed = a.src.listing.max_listed_regions;
     let options = fiveaxis::live::inprocess::RunOptions {
         mcap: mcap.clone(),
         job: JobOptions {
             dialect: a.src.dialect,
             path: a.src.path_options(PathOptions::default().period),
             read: a.src.read_options(),
-            ..Default::default()
+            analysis: AnalysisOptions { max_listed_regions: Some(listed), ..Default::default() },
         },
+        sim: fiveaxis::live::simulator::SimConfig { max_listed_regions: Some(listed), ..Default::default() },
+        monitor: fiveaxis::live::monitor::MonitorConfig { max_listed_regions: listed, ..Default::default() },
         ..Default::default()
     };
     let out = match fiveaxis::live::inprocess::run(&a.src.program, &machine, &options) {
@@ -470,7 +487,7 @@ fn offline(a: &OfflineArgs) -> anyhow::Result<ExitCode> {
         axis_map,
         feed_source,
         max_rejected_share: a.max_rejected_percent / 100.0,
-        monitor: fiveaxis::live::monitor::MonitorConfig { work_offset: a.work_offset.unwrap_or_default(), ..Default::default() },
+        monitor: fiveaxis::live::monitor::MonitorConfig { work_offset: a.work_offset.unwrap_or_default(), max_listed_regions: a.listing.max_listed_regions, ..Default::default() },
         ..Default::default()
     };
     let recordings = match recordings_of(a) {
@@ -609,7 +626,7 @@ fn offline_many(a: &OfflineArgs, recordings: &[std::path::PathBuf], machine: &Ma
                 println!();
                 report_problems(path, &report);
                 let code = offline_code(&report);
-                let line = RecordingSummary { file, exit_code: code, messages_read: report.messages_read, regions: report.regions.len(), violations: report.violations.len(), error: None };
+                let line = RecordingSummary { file, exit_code: code, messages_read: report.messages_read, regions: report.regions.len() + report.unlisted_regions.count, violations: report.violations.len(), error: None };
                 reports.push(report);
                 line
             }

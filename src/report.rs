@@ -76,7 +76,9 @@ pub struct AnalysisReport {
     pub min_feed_limit_x_mm: Option<f64>,
     pub feed_limiting_axis: Option<String>,
     pub feed_limit_kind: Option<LimitKind>,
+    /// The first regions in full (`--max-listed-regions`), and the rest folded.
     pub regions: Vec<RegionReport>,
+    pub unlisted_regions: crate::listing::Unlisted,
     pub errors: usize,
     pub warnings: usize,
     pub diagnostics: Vec<DiagnosticReport>,
@@ -186,6 +188,7 @@ impl AnalysisReport {
             feed_limiting_axis: axis_name(machine, &s.min_feed_limit),
             feed_limit_kind: s.min_feed_limit.map(|f| f.kind),
             regions,
+            unlisted_regions: analysis.unlisted,
             errors,
             warnings: diagnostics.len() - errors,
             diagnostics,
@@ -244,6 +247,9 @@ impl AnalysisReport {
                     "{:>4} {:8.3} {:8.3}   {:<14} {:9.1} {:13.3}  {}",
                     r.id, r.x_start_mm, r.x_end_mm, blocks, r.peak_c_speed_rpm, r.min_singularity_distance_deg, feed
                 );
+            }
+            if let Some(more) = self.unlisted_regions.describe() {
+                let _ = writeln!(o, "     {more}");
             }
         }
         if self.diagnostics.is_empty() {

@@ -166,7 +166,7 @@ impl Scene {
     }
 
     fn end_event(&self, topic: &str, stream: &'static str, id: u32, t_s: f64, x_um: Option<i64>) -> Event {
-        let r = self.monitor.regions(topic).into_iter().find(|r| r.id == id);
+        let r = self.monitor.region(topic, id);
         let text = match r {
             Some(r) => format!(
                 "{stream}: region {id} ends at x {:.3} mm ({}): peak predicted C speed {:.1} rpm, feed down to {:.0} mm/min, {:.2} s lost",

@@ -88,7 +88,7 @@ fn unknown_axes_and_unreachable_poses_are_reported_with_their_line() {
 #[test]
 fn distance_threshold_opens_regions_on_five_axis_moves() {
     let m = Machine::hermle_c600u();
-    let opts = |deg: f64| JobOptions { analysis: AnalysisOptions { min_distance: Some(deg * DEG), rate_limit: None }, ..Default::default() };
+    let opts = |deg: f64| JobOptions { analysis: AnalysisOptions { min_distance: Some(deg * DEG), rate_limit: None, ..Default::default() }, ..Default::default() };
     // NON_SING (cut from x 50 to 0): C stays under 25 rpm, but A < 12 deg between the crossings in
     // block x 31 -> 30 (A 12.243 -> 11.88: x = 31 - 0.243/0.363 = 30.331) and block x 20 -> 19
     // (A 11.88 -> 12.243: x = 20 - 0.12/0.363 = 19.669), A linear per block.

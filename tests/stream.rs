@@ -180,3 +180,89 @@ proptest! {
         }
     }
 }
+
+/// Sums, maxima and minima of a JSON region list's fields from `skip` on.
+fn folded(regions: &[serde_json::Value], skip: usize, peak: &str, closest: &str, feed: &str) -> (usize, f64, f64, f64, f64) {
+    let rest = &regions[skip..];
+    let f = |r: &serde_json::Value, k: &str| r[k].as_f64().unwrap();
+    (
+        rest.len(),
+        rest.iter().map(|r| f(r, "t_end_s") - f(r, "t_start_s")).sum(),
+        rest.iter().map(|r| f(r, peak)).fold(f64::NEG_INFINITY, f64::max),
+        rest.iter().map(|r| f(r, closest)).fold(f64::INFINITY, f64::min),
+        rest.iter().map(|r| f(r, feed)).fold(f64::INFINITY, f64::min),
+    )
+}
+
+fn assert_folded(u: &serde_json::Value, want: (usize, f64, f64, f64, f64), first_id: u64, what: &str) {
+    assert_eq!(u["count"].as_u64(), Some(want.0 as u64), "{what}: {u}");
+    assert_eq!(u["first_id"].as_u64(), Some(first_id), "{what}: {u}");
+    let close = |k: &str, v: f64| assert!((u[k].as_f64().unwrap() - v).abs() <= 1e-9 * v.abs().max(1.0), "{what}: {k} {u} against {v}");
+    close("time_inside_s", want.1);
+    close("peak_c_speed_rpm", want.2);
+    close("min_singularity_distance_deg", want.3);
+    close("min_feed_mm_per_min", want.4);
+}
+
+#[test]
+fn region_lists_past_their_cap_are_counted_and_folded() {
+    // Seven rows of the hours-long benchmark's raster (benches/long_program.py, 22 s at F2000): the
+    // surface normal passes near the pole twice a row, so regions come by the dozen, as they come by
+    // the ten thousand in its 10-hour program; the report lists the first ones and folds the rest
+    // into a count, their time and their worst figures.
+    let path = tmp("rows.cl");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/long_program.py");
+    assert!(Command::new("python3").arg(script).arg("0.006").arg(&path).status().unwrap().success());
+    let json = |args: &[&str]| -> serde_json::Value {
+        let out = Command::new(bin()).args(args).arg(&path).arg("--json").output().unwrap();
+        assert!(out.status.code().is_some_and(|c| c < 2), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let whole = json(&["program", "analyze"]);
+    let all = whole["regions"].as_array().unwrap().clone();
+    assert!(all.len() > 4, "{} regions", all.len());
+    assert_eq!(whole["unlisted_regions"]["count"].as_u64(), Some(0));
+    let capped = json(&["program", "analyze", "--max-listed-regions", "2"]);
+    assert_eq!(capped["regions"].as_array().unwrap()[..], all[..2]);
+    assert_folded(&capped["unlisted_regions"], folded(&all, 2, "peak_c_speed_rpm", "min_singularity_distance_deg", "min_feed_limit_mm_per_min"), 3, "program analyze");
+
+    // `run`: the analysis, the monitor's regions on the simulated stream and the slow regions.
+    let whole = json(&["run"]);
+    let capped = json(&["run", "--max-listed-regions", "2"]);
+    assert_eq!(capped["regions"], json(&["program", "analyze", "--max-listed-regions", "2"])["regions"]);
+    let monitor = whole["simulated"]["monitor_regions"].as_array().unwrap().clone();
+    assert!(monitor.len() > 4, "{} monitor regions", monitor.len());
+    assert_eq!(capped["simulated"]["monitor_regions"].as_array().unwrap()[..], monitor[..2]);
+    let first = monitor[2]["id"].as_u64().unwrap();
+    assert_folded(&capped["simulated"]["unlisted_monitor_regions"], folded(&monitor, 2, "peak_c_speed_rpm", "min_singularity_distance_deg", "min_path_feed_mm_per_min"), first, "run's monitor");
+    let lost: f64 = monitor[2..].iter().map(|r| r["time_lost_s"].as_f64().unwrap()).sum();
+    assert!((capped["simulated"]["unlisted_monitor_regions"]["time_lost_s"].as_f64().unwrap() - lost).abs() < 1e-9);
+    let slow = whole["simulated"]["slow_regions"].as_array().unwrap();
+    let listed = capped["simulated"]["slow_regions"].as_array().unwrap();
+    assert_eq!(listed.len(), slow.len().min(2));
+    assert_eq!(capped["simulated"]["unlisted_slow_regions"]["count"].as_u64(), Some(slow.len().saturating_sub(2) as u64));
+    let stops = slow.iter().filter(|r| r["at_stop"] == true).count();
+    assert_eq!(capped["simulated"]["planned_stops"].as_u64(), Some(stops as u64));
+
+    // `analyze` of the run's recording: the regions of the commanded stream, and each stream's.
+    let mcap = tmp("rows.mcap");
+    assert!(Command::new(bin()).arg("run").arg(&path).arg("--mcap").arg(&mcap).output().unwrap().status.code().is_some_and(|c| c < 2));
+    let offline = |cap: &str| -> serde_json::Value {
+        let out = tmp(&format!("rows-{cap}.json"));
+        let st = Command::new(bin()).arg("analyze").arg(&mcap).args(["--max-listed-regions", cap, "--json"]).arg(&out).output().unwrap();
+        assert!(st.status.code().is_some_and(|c| c < 2), "{}", String::from_utf8_lossy(&st.stderr));
+        serde_json::from_slice(&std::fs::read(out).unwrap()).unwrap()
+    };
+    let (whole, capped) = (offline("1000"), offline("2"));
+    let all = whole["regions"].as_array().unwrap();
+    assert!(all.len() > 4, "{whole}");
+    assert_eq!(capped["regions"].as_array().unwrap()[..], all[..2]);
+    assert_eq!(capped["unlisted_regions"]["count"].as_u64(), Some(all.len() as u64 - 2));
+    for (w, c) in whole["streams"].as_array().unwrap().iter().zip(capped["streams"].as_array().unwrap()) {
+        let n = w["regions"].as_array().unwrap().len();
+        assert_eq!(c["regions"].as_array().unwrap().len(), n.min(2), "{}", w["topic"]);
+        assert_eq!(c["unlisted_regions"]["count"].as_u64(), Some(n.saturating_sub(2) as u64), "{}", w["topic"]);
+    }
+    let _ = std::fs::remove_file(&mcap);
+    let _ = std::fs::remove_file(&path);
+}

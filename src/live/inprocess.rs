@@ -322,6 +322,8 @@ fn simulated_report(
         },
         min_feed_x_mm: f.lowest_feed_x * 1e3,
         slow_regions: f.slow_regions,
+        unlisted_slow_regions: f.unlisted_slow_regions,
+        planned_stops: f.planned_stops,
         max_axis_velocity_ratio: f.worst_ratio[0],
         max_axis_acceleration_ratio: f.worst_ratio[1],
         max_axis_jerk_ratio: f.worst_ratio[2],
@@ -330,6 +332,7 @@ fn simulated_report(
         samples: f.samples as usize,
         lost_samples: lost,
         monitor_regions: monitor.regions(SIMULATED_STATE),
+        unlisted_monitor_regions: monitor.unlisted_regions(SIMULATED_STATE),
         monitor_statuses: samples,
     }
 }

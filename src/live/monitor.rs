@@ -31,11 +31,13 @@ pub struct MonitorConfig {
     /// The control's work offset (G54-style datum, workpiece frame, m): a stream's tool tip less it is
     /// the program's point where no program says which datum is in effect.
     pub work_offset: Vector3<f64>,
+    /// Regions listed in full per stream; the rest are folded into its summary's `unlisted_regions`.
+    pub max_listed_regions: usize,
 }
 
 impl Default for MonitorConfig {
     fn default() -> Self {
-        MonitorConfig { stale_timeout: 0.1, warn_distance: 5f64.to_radians(), warn_ahead: 2.0, min_distance: None, rate_limit: None, work_offset: Vector3::zeros() }
+        MonitorConfig { stale_timeout: 0.1, warn_distance: 5f64.to_radians(), warn_ahead: 2.0, min_distance: None, rate_limit: None, work_offset: Vector3::zeros(), max_listed_regions: crate::listing::MAX_LISTED }
     }
 }
 
@@ -163,6 +165,19 @@ pub struct LiveRegion {
     pub cause: Cause,
 }
 
+impl crate::listing::Listed for LiveRegion {
+    fn figures(&self) -> crate::listing::Figures {
+        crate::listing::Figures {
+            id: self.id.into(),
+            time_s: self.t_end_s - self.t_start_s,
+            time_lost_s: Some(self.time_lost_s),
+            peak_c_speed_rpm: Some(self.peak_c_speed_rpm),
+            min_singularity_distance_deg: Some(self.min_singularity_distance_deg),
+            min_feed_mm_per_min: Some(self.min_path_feed_mm_per_min),
+        }
+    }
+}
+
 impl LiveRegion {
     fn from_tracked(r: &TrackedRegion) -> LiveRegion {
         let rpm = crate::units::RPM;
@@ -206,7 +221,9 @@ pub struct InputSummary {
     pub max_path_feed_mm_per_min: f64,
     /// The programmed feed the machine stream's prediction assumed, for people.
     pub feed_source: Option<String>,
+    /// The first regions in full (with the open one), and the rest folded.
     pub regions: Vec<LiveRegion>,
+    pub unlisted_regions: crate::listing::Unlisted,
 }
 
 /// The monitor's figures for one sample, without the strings of [`SingularityStatus`]: what the
@@ -270,7 +287,10 @@ struct Input {
     s: f64,
     /// The program line of the current block and the path length where the stream entered it.
     block_start: (u32, f64),
+    /// The first closed regions, the rest folded, and the last one closed (its end event).
     regions: Vec<LiveRegion>,
+    unlisted: crate::listing::Unlisted,
+    last_closed: Option<LiveRegion>,
     stale: u64,
     stale_now: bool,
     last_arrival: Option<f64>,
@@ -625,7 +645,7 @@ impl Monitor {
             }
             input.history.clear();
             if let Some(r) = input.tracker.finish() {
-                input.regions.push(LiveRegion::from_tracked(&r));
+                input.close(&r, self.config.max_listed_regions);
             }
             if let Some(m) = input.measured.as_mut() {
                 m.reset();
@@ -712,7 +732,7 @@ impl Monitor {
         };
         let (verdict, closed) = input.tracker.push(&self.rule, &rule_sample);
         if let Some(r) = closed {
-            input.regions.push(LiveRegion::from_tracked(&r));
+            input.close(&r, self.config.max_listed_regions);
         }
         let in_region = verdict.beyond;
 
@@ -863,7 +883,7 @@ impl Monitor {
             _ => -1.0,
         };
         if let Some(r) = closed {
-            input.regions.push(LiveRegion::from_tracked(&r));
+            input.close(&r, self.config.max_listed_regions);
         }
         let evaluation = Evaluation {
             stamp: st.header.stamp,
@@ -923,14 +943,31 @@ impl Monitor {
                 close_loss_episode(input, last);
             }
             if let Some(r) = input.tracker.finish() {
-                input.regions.push(LiveRegion::from_tracked(&r));
+                input.close(&r, self.config.max_listed_regions);
             }
         }
     }
 
-    /// Regions a stream went through, in order.
+    /// Regions a stream went through, in order: the first ones listed (see
+    /// [`MonitorConfig::max_listed_regions`]) and the open one.
     pub fn regions(&self, topic: &str) -> Vec<LiveRegion> {
         self.get(topic).map_or_else(Vec::new, |i| i.all_regions())
+    }
+
+    /// The regions of a stream past the listing cap, folded.
+    pub fn unlisted_regions(&self, topic: &str) -> crate::listing::Unlisted {
+        self.get(topic).map_or_else(Default::default, |i| i.unlisted)
+    }
+
+    /// The region `id` of a stream if it is open or the last closed (a region's end event), else a
+    /// listed one.
+    pub fn region(&self, topic: &str, id: u32) -> Option<LiveRegion> {
+        let i = self.get(topic)?;
+        match (i.tracker.open(), &i.last_closed) {
+            (Some(r), _) if r.id == id => Some(LiveRegion::from_tracked(r)),
+            (_, Some(r)) if r.id == id => Some(r.clone()),
+            _ => i.regions.iter().find(|r| r.id == id).cloned(),
+        }
     }
 
     /// (samples, invalid, out of order, stale) of a stream.
@@ -966,6 +1003,7 @@ impl Monitor {
                 max_path_feed_mm_per_min: i.max_feed / crate::units::MM_PER_MIN,
                 feed_source: (i.source == AxisState::SOURCE_MACHINE && i.samples > 0).then(|| self.feed_source.describe()),
                 regions: i.all_regions(),
+                unlisted_regions: i.unlisted,
             })
             .collect()
     }
@@ -1084,9 +1122,17 @@ impl Input {
         }
     }
 
+    /// Keeps a closed region: listed while there is room, else folded.
+    fn close(&mut self, r: &TrackedRegion, cap: usize) {
+        let region = LiveRegion::from_tracked(r);
+        self.last_closed = Some(region.clone());
+        crate::listing::push(&mut self.regions, &mut self.unlisted, cap, region);
+    }
+
     /// Closed regions, then the open one.
     fn all_regions(&self) -> Vec<LiveRegion> {
-        let tracked = self.tracker.open().map(LiveRegion::from_tracked);
+        // The open one after the listed ones when none was folded yet (it closes listed or folded).
+        let tracked = self.tracker.open().filter(|_| self.unlisted.is_empty()).map(LiveRegion::from_tracked);
         self.regions.iter().cloned().chain(tracked).collect()
     }
 }

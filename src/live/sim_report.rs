@@ -45,7 +45,11 @@ pub struct SimulatedReport {
     /// Lowest tool-tip feed on feed moves, outside the ramps into and out of planned stops.
     pub min_feed_mm_per_min: f64,
     pub min_feed_x_mm: f64,
+    /// The first slow regions (planned stops included) in full, the rest folded, and the planned
+    /// stops among all of them.
     pub slow_regions: Vec<SlowRegion>,
+    pub unlisted_slow_regions: crate::listing::Unlisted,
+    pub planned_stops: usize,
     pub max_axis_velocity_ratio: f64,
     pub max_axis_acceleration_ratio: f64,
     pub max_axis_jerk_ratio: f64,
@@ -53,8 +57,9 @@ pub struct SimulatedReport {
     pub max_following_error_deg: f64,
     pub samples: usize,
     pub lost_samples: u64,
-    /// Regions the live monitor saw on the simulated stream.
+    /// Regions the live monitor saw on the simulated stream (the first ones; the rest folded).
     pub monitor_regions: Vec<LiveRegion>,
+    pub unlisted_monitor_regions: crate::listing::Unlisted,
     pub monitor_statuses: u64,
 }
 
@@ -79,18 +84,10 @@ impl SimulatedReport {
             self.max_axis_velocity_ratio, self.max_axis_acceleration_ratio, self.max_axis_jerk_ratio, self.max_following_error_mm, self.max_following_error_deg
         );
         let limit: Vec<_> = self.slow_regions.iter().filter(|r| !r.at_stop).collect();
-        if limit.is_empty() {
-            let _ = writeln!(
-                o,
-                "slow regions none below 50 % of the programmed feed (besides {} planned stops)",
-                self.slow_regions.len()
-            );
+        if limit.is_empty() && self.unlisted_slow_regions.is_empty() {
+            let _ = writeln!(o, "slow regions none below 50 % of the programmed feed (besides {} planned stops)", self.planned_stops);
         } else {
-            let _ = writeln!(
-                o,
-                "slow regions below 50 % of the programmed feed (besides {} planned stops):",
-                self.slow_regions.len() - limit.len()
-            );
+            let _ = writeln!(o, "slow regions below 50 % of the programmed feed (besides {} planned stops):", self.planned_stops);
             let _ = writeln!(o, "     x from     x to   blocks          lowest mm/min");
             for r in limit {
                 let _ = writeln!(
@@ -102,6 +99,9 @@ impl SimulatedReport {
                     r.min_feed_mm_per_min
                 );
             }
+            if let Some(more) = self.unlisted_slow_regions.describe() {
+                let _ = writeln!(o, "   {more} (planned stops included)");
+            }
         }
         for r in &self.monitor_regions {
             let _ = writeln!(
@@ -109,6 +109,9 @@ impl SimulatedReport {
                 "monitor    region {} on the simulated stream: x {:.3} to {:.3} mm, {:.2} s, peak {c} {:.1} rpm, feed down to {:.0} mm/min",
                 r.id, r.x_start_mm, r.x_end_mm, r.t_end_s - r.t_start_s, r.peak_c_speed_rpm, r.min_path_feed_mm_per_min
             );
+        }
+        if let Some(more) = self.unlisted_monitor_regions.describe() {
+            let _ = writeln!(o, "monitor    {more}");
         }
         o
     }
@@ -123,6 +126,17 @@ struct Stretch {
     last: FeedSample,
     min: f64,
     at_stop: bool,
+}
+
+impl crate::listing::Listed for SlowRegion {
+    fn figures(&self) -> crate::listing::Figures {
+        crate::listing::Figures {
+            id: 0,
+            time_s: self.t_end_s - self.t_start_s,
+            min_feed_mm_per_min: Some(self.min_feed_mm_per_min),
+            ..Default::default()
+        }
+    }
 }
 
 impl Stretch {
@@ -182,6 +196,9 @@ pub struct FeedFigures {
     /// Stretches that ended less than four samples ago (a run boundary may still follow).
     pending: VecDeque<Stretch>,
     slow: Vec<SlowRegion>,
+    unlisted: crate::listing::Unlisted,
+    planned_stops: usize,
+    max_listed: usize,
     ramp: Option<Ramp>,
     run: VecDeque<Held>,
     horizon: usize,
@@ -195,6 +212,8 @@ pub struct FeedFiguresReport {
     pub lowest_feed: f64,
     pub lowest_feed_x: f64,
     pub slow_regions: Vec<SlowRegion>,
+    pub unlisted_slow_regions: crate::listing::Unlisted,
+    pub planned_stops: usize,
     /// Largest |v|/v_max, |a|/a_max, |j|/j_max over all axes.
     pub worst_ratio: [f64; 3],
     pub samples: u64,
@@ -203,7 +222,8 @@ pub struct FeedFiguresReport {
 }
 
 impl FeedFigures {
-    pub fn new(machine: &Machine, period: f64) -> FeedFigures {
+    /// `max_listed`: slow regions listed in full; the rest are folded.
+    pub fn new(machine: &Machine, period: f64, max_listed: usize) -> FeedFigures {
         FeedFigures {
             period,
             n: 0,
@@ -213,11 +233,19 @@ impl FeedFigures {
             open: None,
             pending: VecDeque::new(),
             slow: Vec::new(),
+            unlisted: Default::default(),
+            planned_stops: 0,
+            max_listed,
             ramp: None,
             run: VecDeque::new(),
             horizon: (RAMP_HORIZON_S / period).ceil().max(1.0) as usize,
             lowest: (f64::INFINITY, 0.0),
         }
+    }
+
+    fn keep(&mut self, r: SlowRegion) {
+        self.planned_stops += usize::from(r.at_stop);
+        crate::listing::push(&mut self.slow, &mut self.unlisted, self.max_listed, r);
     }
 
     fn consider(&mut self, h: &Held) {
@@ -291,7 +319,7 @@ impl FeedFigures {
         }
         while self.pending.front().is_some_and(|p| p.end + 4 <= k) {
             let p = self.pending.pop_front().expect("front checked");
-            self.slow.push(p.region(self.period));
+            self.keep(p.region(self.period));
         }
         // The ramp out of the run's start.
         let in_ramp = if boundary {
@@ -329,14 +357,17 @@ impl FeedFigures {
         self.close_run();
         let n = self.n;
         let open = self.open.take();
-        for mut p in self.pending.drain(..).chain(open) {
+        let pending: Vec<Stretch> = std::mem::take(&mut self.pending).into_iter().chain(open).collect();
+        for mut p in pending {
             p.at_stop |= p.end + 4 >= n;
-            self.slow.push(p.region(self.period));
+            self.keep(p.region(self.period));
         }
         FeedFiguresReport {
             lowest_feed: self.lowest.0,
             lowest_feed_x: self.lowest.1,
             slow_regions: self.slow,
+            unlisted_slow_regions: self.unlisted,
+            planned_stops: self.planned_stops,
             worst_ratio: self.check.finish(),
             samples: n,
             duration_s: n.saturating_sub(1) as f64 * self.period,
@@ -368,7 +399,7 @@ pub fn simulate_measured_stream(
     mut each: impl FnMut(&SimSample, Option<&Segment>, AxisState) -> bool,
 ) -> (SimSummary, FeedFiguresReport) {
     let mut states = SimStates::new(period, machine);
-    let mut figures = FeedFigures::new(machine, period);
+    let mut figures = FeedFigures::new(machine, period, config.max_listed_regions.unwrap_or(crate::listing::MAX_LISTED));
     let mut open = true;
     // The segment of the state SimStates hands out (it is one sample behind).
     let mut take = |out: Option<(SimSample, AxisState, Option<Arc<Segment>>)>, figures: &mut FeedFigures| -> bool {

@@ -14,6 +14,8 @@ use std::sync::Arc;
 pub struct SimConfig {
     pub plan: PlanConfig,
     pub servo: servo::ServoConfig,
+    /// Slow regions listed in full (default [`crate::listing::MAX_LISTED`]); the rest are folded.
+    pub max_listed_regions: Option<usize>,
 }
 
 /// One simulated sample: the actual axis positions (after the servo), the segment and the run

@@ -15,6 +15,9 @@ pub struct AnalysisOptions {
     pub min_distance: Option<f64>,
     /// Secondary-axis speed limit for regions, rad/s (default: the machine's).
     pub rate_limit: Option<f64>,
+    /// Regions listed in full (default [`crate::listing::MAX_LISTED`]); the rest are folded into
+    /// [`Analysis::unlisted`].
+    pub max_listed_regions: Option<usize>,
 }
 
 /// What one sample says about the singularity.
@@ -103,7 +106,9 @@ pub struct Summary {
 /// Everything the analysis found.
 #[derive(Debug, Clone)]
 pub struct Analysis {
+    /// The first regions, in order; the rest are counted and folded into `unlisted`.
     pub regions: Vec<Region>,
+    pub unlisted: crate::listing::Unlisted,
     pub summary: Summary,
 }
 
@@ -262,6 +267,9 @@ fn analyze_stream(segments: impl Iterator<Item = Segment>, stored: Option<&[Samp
     let limits = machine.limits();
     let rate_limit = options.rate_limit.unwrap_or(limits[machine.secondary_axis()].velocity);
     let mut regions: Vec<Region> = Vec::new();
+    let mut unlisted = crate::listing::Unlisted::default();
+    let cap = options.max_listed_regions.unwrap_or(crate::listing::MAX_LISTED);
+    let mut opened = 0usize;
     let mut open: Option<Region> = None;
     let mut peak = PeakTracker::default();
     let mut singular_samples = 0;
@@ -288,7 +296,8 @@ fn analyze_stream(segments: impl Iterator<Item = Segment>, stored: Option<&[Samp
                     Some((ps, pst, pinfo)) => boundary((ps, pinfo), (&sm, &info), crossing(pst, &st, rate_limit)),
                     None => (sm.t, sm.tip),
                 };
-                let mut r = Region::start(regions.len() + 1, cause, k, t_start, tip_start, &sm, &info);
+                opened += 1;
+                let mut r = Region::start(opened, cause, k, t_start, tip_start, &sm, &info);
                 r.grow(k, &sm, &st, &info);
                 open = Some(r);
             }
@@ -296,7 +305,7 @@ fn analyze_stream(segments: impl Iterator<Item = Segment>, stored: Option<&[Samp
                 let (ls, lst, linfo) = last.as_ref().expect("a region holds a sample");
                 let mut r = open.take().expect("open");
                 (r.t_end, r.tip_end) = boundary((ls, linfo), (&sm, &info), 1.0 - crossing(&st, lst, rate_limit));
-                regions.push(r);
+                crate::listing::push(&mut regions, &mut unlisted, cap, r);
             }
             (None, None) => {}
         }
@@ -319,7 +328,7 @@ fn analyze_stream(segments: impl Iterator<Item = Segment>, stored: Option<&[Samp
     }
     if let (Some(mut r), Some((ls, _, _))) = (open.take(), &last) {
         (r.t_end, r.tip_end) = (ls.t, ls.tip);
-        regions.push(r);
+        crate::listing::push(&mut regions, &mut unlisted, cap, r);
     }
     let (peak_rate, peak_tip, peak_line, peak_block) = match peak.best {
         Some((v, _, _, line, number)) => (v, (peak.a_tip + peak.b_tip) / 2.0, line, number),
@@ -348,7 +357,20 @@ fn analyze_stream(segments: impl Iterator<Item = Segment>, stored: Option<&[Samp
         }
     }
     summary.min_distance_all = summary.min_distance_all.min(ends.all);
-    (Analysis { regions, summary }, StreamCounts { samples: n, segments: ends.count })
+    (Analysis { regions, unlisted, summary }, StreamCounts { samples: n, segments: ends.count })
+}
+
+impl crate::listing::Listed for Region {
+    fn figures(&self) -> crate::listing::Figures {
+        crate::listing::Figures {
+            id: self.id as u64,
+            time_s: self.t_end - self.t_start,
+            time_lost_s: None,
+            peak_c_speed_rpm: Some(self.peak_rate / crate::units::RPM),
+            min_singularity_distance_deg: Some(self.min_distance.to_degrees()),
+            min_feed_mm_per_min: self.min_feed_limit.map(|f| f.feed / crate::units::MM_PER_MIN),
+        }
+    }
 }
 
 impl Region {
