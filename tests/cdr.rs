@@ -154,3 +154,53 @@ fn errors_name_the_field_and_offset() {
     huge[20..24].copy_from_slice(&u32::MAX.to_le_bytes());
     assert!(AxisState::default().read_cdr(&huge).is_err());
 }
+
+/// A JointState with `n` joints named `name`, and a frame id.
+fn joints(n: usize, name: &str, frame_id: &str) -> JointState {
+    JointState {
+        header: Header { stamp: Time { sec: 1, nanosec: 0 }, frame_id: frame_id.into() },
+        name: vec![name.to_string(); n],
+        position: vec![0.5; n.min(300)],
+        velocity: vec![],
+        effort: vec![],
+    }
+}
+
+#[test]
+fn oversized_joint_states_are_refused_at_their_counts() {
+    use fiveaxis_msgs::bounds::{MAX_FRAME_ID_BYTES, MAX_JOINTS, MAX_NAME_BYTES};
+    // At the bounds: accepted by both decoders, with the values written.
+    let edge = joints(MAX_JOINTS, &"j".repeat(MAX_NAME_BYTES), &"f".repeat(MAX_FRAME_ID_BYTES));
+    let bytes = to_cdr(&edge).unwrap();
+    assert_eq!(from_cdr::<JointState>(&bytes).unwrap(), edge);
+    let mut ours = JointState::default();
+    ours.read_cdr(&bytes).unwrap();
+    assert_eq!(ours, edge);
+    // A million joints (6 MB on the wire, as a hostile bridge could publish it), one joint too
+    // many, a name or a frame id one byte too long: both decoders refuse, naming the field (serde's
+    // is the one ros2-client uses on DDS samples).
+    let cases = [
+        (joints(1_000_000, "j", "base"), "name", "joint names"),
+        (joints(MAX_JOINTS + 1, "j", "base"), "name", "joint names"),
+        (joints(3, &"j".repeat(MAX_NAME_BYTES + 1), "base"), "name", "joint name"),
+        (joints(3, "j", &"f".repeat(MAX_FRAME_ID_BYTES + 1)), "header.frame_id", "frame_id"),
+        (JointState { position: vec![0.0; MAX_JOINTS + 1], ..joints(3, "j", "base") }, "position", "joint values"),
+    ];
+    for (m, field, serde_says) in cases {
+        let bytes = to_cdr(&m).unwrap();
+        let e = from_cdr::<JointState>(&bytes).unwrap_err().to_string();
+        assert!(e.contains(serde_says) && e.contains("more than"), "serde: {e}");
+        let e = JointState::default().read_cdr(&bytes).unwrap_err();
+        assert_eq!(e.field, field, "{e}");
+        assert!(e.reason.contains("MAX_"), "{e}");
+    }
+    // The million is judged at its count (header 4, stamp 8, frame id 4 + 5, aligned to 24), before
+    // any name is read.
+    let e = JointState::default().read_cdr(&to_cdr(&joints(1_000_000, "j", "base")).unwrap()).unwrap_err();
+    assert_eq!((e.field, e.offset), ("name", 24), "{e}");
+    // The same bound on our AxisState.
+    let st = AxisState { name: vec!["x".into(); MAX_JOINTS + 1], ..Default::default() };
+    let bytes = to_cdr(&st).unwrap();
+    assert!(from_cdr::<AxisState>(&bytes).is_err());
+    assert_eq!(AxisState::default().read_cdr(&bytes).unwrap_err().field, "name");
+}

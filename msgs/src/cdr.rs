@@ -5,6 +5,7 @@
 //! count then the elements). The values are the same as serde's decoding gives (tested against it);
 //! strings and vectors of the target keep their capacity, so a warm decode allocates nothing.
 
+use crate::bounds::{MAX_FRAME_ID_BYTES, MAX_JOINTS, MAX_NAME_BYTES};
 use crate::{AxisState, Header, JointState, Point, Time, Vector3};
 
 /// Why a CDR message did not decode: the field and the byte offset (from the encapsulation header).
@@ -100,10 +101,22 @@ impl<'a> CdrReader<'a> {
         Ok(n)
     }
 
-    /// A string into `out` (its buffer reused). The count includes the NUL terminator, which is
-    /// dropped; a zero count is an empty string (as `cdr_encoding` accepts).
-    pub fn string_into(&mut self, field: &'static str, out: &mut String) -> Result<(), CdrError> {
-        let n = self.count(field, 1)?;
+    /// A count of at most `max` elements (the bounds of [`crate::bounds`]), checked before anything
+    /// is read or allocated for them.
+    fn bounded_count(&mut self, field: &'static str, min_size: usize, max: usize, reason: &'static str) -> Result<usize, CdrError> {
+        let at = self.pos;
+        let n = self.count(field, min_size)?;
+        if n > max {
+            return Err(CdrError { offset: 4 + at.next_multiple_of(4), field, reason });
+        }
+        Ok(n)
+    }
+
+    /// A string of at most `max` bytes (NUL included) into `out` (its buffer reused). The count
+    /// includes the NUL terminator, which is dropped; a zero count is an empty string (as
+    /// `cdr_encoding` accepts).
+    fn bounded_string_into(&mut self, field: &'static str, out: &mut String, max: usize, reason: &'static str) -> Result<(), CdrError> {
+        let n = self.bounded_count(field, 1, max, reason)?;
         let bytes = &self.body[self.pos..self.pos + n];
         let bytes = bytes.split_last().map_or(bytes, |(_, s)| s);
         // A stream repeats its strings (frame, axis names): when unchanged, nothing to check or copy.
@@ -116,22 +129,23 @@ impl<'a> CdrReader<'a> {
         Ok(())
     }
 
-    /// A sequence of strings into `out`, reusing its strings.
-    pub fn strings_into(&mut self, field: &'static str, out: &mut Vec<String>) -> Result<(), CdrError> {
-        let n = self.count(field, 4)?;
+    /// The joint names of a state message into `out`, reusing its strings: at most [`MAX_JOINTS`]
+    /// names of at most [`MAX_NAME_BYTES`].
+    pub fn names_into(&mut self, field: &'static str, out: &mut Vec<String>) -> Result<(), CdrError> {
+        let n = self.bounded_count(field, 4, MAX_JOINTS, "more than 256 joints (MAX_JOINTS)")?;
         out.truncate(n);
         for k in 0..n {
             if k == out.len() {
                 out.push(String::new());
             }
-            self.string_into(field, &mut out[k])?;
+            self.bounded_string_into(field, &mut out[k], MAX_NAME_BYTES + 1, "a joint name longer than 256 bytes (MAX_NAME_BYTES)")?;
         }
         Ok(())
     }
 
-    /// A sequence of float64 into `out`, reusing its buffer.
+    /// The joint values of a state message into `out`, reusing its buffer: at most [`MAX_JOINTS`].
     pub fn f64s_into(&mut self, field: &'static str, out: &mut Vec<f64>) -> Result<(), CdrError> {
-        let n = self.count(field, 8)?;
+        let n = self.bounded_count(field, 8, MAX_JOINTS, "more than 256 values (MAX_JOINTS)")?;
         out.clear();
         if n == 0 {
             return Ok(());
@@ -156,7 +170,7 @@ impl<'a> CdrReader<'a> {
 
     fn header_into(&mut self, out: &mut Header) -> Result<(), CdrError> {
         out.stamp = self.time()?;
-        self.string_into("header.frame_id", &mut out.frame_id)
+        self.bounded_string_into("header.frame_id", &mut out.frame_id, MAX_FRAME_ID_BYTES + 1, "longer than 1024 bytes (MAX_FRAME_ID_BYTES)")
     }
 
     fn xyz(&mut self, field: &'static str) -> Result<[f64; 3], CdrError> {
@@ -171,7 +185,7 @@ impl AxisState {
         let mut r = CdrReader::new(data)?;
         r.header_into(&mut self.header)?;
         self.source = r.u8("source")?;
-        r.strings_into("name", &mut self.name)?;
+        r.names_into("name", &mut self.name)?;
         r.f64s_into("position", &mut self.position)?;
         r.f64s_into("velocity", &mut self.velocity)?;
         r.f64s_into("acceleration", &mut self.acceleration)?;
@@ -193,7 +207,7 @@ impl JointState {
     pub fn read_cdr(&mut self, data: &[u8]) -> Result<(), CdrError> {
         let mut r = CdrReader::new(data)?;
         r.header_into(&mut self.header)?;
-        r.strings_into("name", &mut self.name)?;
+        r.names_into("name", &mut self.name)?;
         r.f64s_into("position", &mut self.position)?;
         r.f64s_into("velocity", &mut self.velocity)?;
         r.f64s_into("effort", &mut self.effort)

@@ -5,6 +5,7 @@
 //! [`schema`] gives the ros2msg definition text of each type with its dependencies appended, in the
 //! layout rosbag2 writes into MCAP (`=` x 80, `MSG: pkg/Type`).
 
+pub mod bounds;
 pub mod cdr;
 pub mod schema;
 
@@ -68,6 +69,7 @@ impl Time {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Header {
     pub stamp: Time,
+    #[serde(deserialize_with = "bounds::frame_id")]
     pub frame_id: String,
 }
 ros_message!(Header, "std_msgs", "Header");
@@ -95,9 +97,13 @@ ros_message!(Vector3, "geometry_msgs", "Vector3");
 pub struct AxisState {
     pub header: Header,
     pub source: u8,
+    #[serde(deserialize_with = "bounds::names")]
     pub name: Vec<String>,
+    #[serde(deserialize_with = "bounds::values")]
     pub position: Vec<f64>,
+    #[serde(deserialize_with = "bounds::values")]
     pub velocity: Vec<f64>,
+    #[serde(deserialize_with = "bounds::values")]
     pub acceleration: Vec<f64>,
     pub tool_tip: Point,
     pub tool_axis: Vector3,
@@ -185,9 +191,13 @@ impl SingularityStatus {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct JointState {
     pub header: Header,
+    #[serde(deserialize_with = "bounds::names")]
     pub name: Vec<String>,
+    #[serde(deserialize_with = "bounds::values")]
     pub position: Vec<f64>,
+    #[serde(deserialize_with = "bounds::values")]
     pub velocity: Vec<f64>,
+    #[serde(deserialize_with = "bounds::values")]
     pub effort: Vec<f64>,
 }
 ros_message!(JointState, "sensor_msgs", "JointState");

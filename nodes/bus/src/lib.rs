@@ -444,29 +444,49 @@ mod tests {
 }
 
 /// Read `sub` on its own thread and hand each message to a node's main loop as `wrap(topic, msg)`;
-/// the thread ends when the receiver is gone. Read errors are logged and skipped.
+/// the thread ends when the receiver is gone. A message that does not decode (malformed, or beyond
+/// the bounds of `fiveaxis_msgs::bounds`) is handed on as `failed(topic, reason)` where the node
+/// counts such samples, else logged (the first of each topic, then every 1000th) and skipped.
 pub fn forward<M: DeserializeOwned + Send + 'static, T: Send + 'static>(
     sub: Subscription<M>,
     topic: String,
     tx: std::sync::mpsc::SyncSender<T>,
     wrap: fn(String, M) -> T,
+    failed: fn(String, String) -> Option<T>,
 ) {
-    std::thread::spawn(move || loop {
-        match smol::block_on(sub.async_take()) {
-            Ok((msg, _)) => {
-                if tx.send(wrap(topic.clone(), msg)).is_err() {
-                    break;
+    std::thread::spawn(move || {
+        let mut errors = 0u64;
+        loop {
+            let out = match smol::block_on(sub.async_take()) {
+                Ok((msg, _)) => wrap(topic.clone(), msg),
+                Err(e) => {
+                    errors += 1;
+                    if errors % 1000 == 1 {
+                        tracing::warn!(%topic, errors, "a message did not decode: {e:?}");
+                    }
+                    match failed(topic.clone(), format!("{e:?}")) {
+                        Some(t) => t,
+                        None => continue,
+                    }
                 }
+            };
+            if tx.send(out).is_err() {
+                break;
             }
-            Err(e) => tracing::warn!(%topic, "read error: {e:?}"),
         }
     });
 }
 
-/// One axis-state sample from a watched topic: our AxisState, or a machine bridge's JointState.
+/// One axis-state sample from a watched topic: our AxisState, a machine bridge's JointState, or a
+/// message that did not decode (counted as a malformed sample of its stream).
 pub enum StateInput {
     State(String, fiveaxis_msgs::AxisState),
     Joints(String, fiveaxis_msgs::JointState),
+    Undecodable(String, String),
+}
+
+fn undecodable(topic: String, reason: String) -> Option<StateInput> {
+    Some(StateInput::Undecodable(topic, reason))
 }
 
 /// The axis-state streams a node watches (the monitor, the Rerun bridge).
@@ -509,12 +529,12 @@ pub fn subscribe_states(bus: &mut Bus, inputs: &InputArgs) -> anyhow::Result<std
     for topic in states {
         let sub = bus.subscription::<fiveaxis_msgs::AxisState>(topic, inputs.input_qos.profile(false))?;
         tracing::info!(topic = %bus.resolve(topic), "watching AxisState");
-        forward(sub, bus.resolve(topic), tx.clone(), StateInput::State);
+        forward(sub, bus.resolve(topic), tx.clone(), StateInput::State, undecodable);
     }
     for topic in joint_inputs {
         let sub = bus.subscription::<fiveaxis_msgs::JointState>(topic, inputs.input_qos.profile(true))?;
         tracing::info!(topic = %bus.resolve(topic), "watching JointState");
-        forward(sub, bus.resolve(topic), tx.clone(), StateInput::Joints);
+        forward(sub, bus.resolve(topic), tx.clone(), StateInput::Joints, undecodable);
     }
     Ok(rx)
 }

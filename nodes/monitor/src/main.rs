@@ -120,6 +120,12 @@ fn main() -> anyhow::Result<()> {
                         let st = monitor.joint_state_to_axis_state(&js, &rename).map_err(|e| (e, js.name));
                         (t, st)
                     }
+                    StateInput::Undecodable(t, reason) => {
+                        // Logged by the reader; counted here as a malformed sample of the stream.
+                        let id = monitor.input(&t);
+                        monitor.reject(id, &Rejection::Invalid(reason));
+                        continue;
+                    }
                 };
                 let state = match state {
                     Ok(s) => s,

@@ -223,6 +223,8 @@ fn live(a: LiveArgs) -> anyhow::Result<ExitCode> {
                         let st = scene.monitor().joint_state_to_axis_state(&js, &map);
                         (t, st)
                     }
+                    // Logged by the reader.
+                    StateInput::Undecodable(..) => continue,
                 };
                 match state {
                     Ok(s) => {
