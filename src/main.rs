@@ -985,6 +985,13 @@ fn machine_show(spec: &str) -> anyhow::Result<ExitCode> {
 }
 
 fn main() -> ExitCode {
+    // A closed stdout (`fiveaxis ... | head`) ends the process as it ends other Unix tools, by
+    // SIGPIPE, instead of a panic in println! (Rust ignores SIGPIPE by default).
+    #[cfg(unix)]
+    // SAFETY: called first in main, before any thread exists; SIG_DFL is a valid action for SIGPIPE.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Program(ProgramCmd::Analyze(a)) => analyze(a),

@@ -122,3 +122,22 @@ fn remedies_print_before_and_after_as_json_and_refuse_what_they_cannot_treat() {
     let (code, _, err) = fiveaxis(&["avoid", "smooth", "bundled:SING.I", "--tool", "ball"]);
     assert_eq!(code, 2, "{err}");
 }
+
+#[test]
+fn a_closed_stdout_ends_the_cli_quietly() {
+    // `fiveaxis program analyze ... | head -1`: the reader goes away after the first line. The CLI
+    // ends by SIGPIPE as Unix tools do, not by a panic in println! (exit 101, "failed printing to
+    // stdout: Broken pipe", as before).
+    use std::os::unix::process::ExitStatusExt;
+    // The pipe's read end is closed before the CLI starts: its first write meets a closed pipe.
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis"))
+        .args(["program", "analyze", "bundled:SING.I", "--json"])
+        .stdout(writer)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked") && !stderr.contains("Broken pipe"), "{stderr}");
+    assert_eq!(out.status.signal(), Some(13), "{:?}: {stderr}", out.status);
+}
