@@ -10,7 +10,8 @@ pub const MAX_LISTED: usize = 1000;
 /// One region's figures as the fold sees them, in people's units (None: the list has no such figure).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Figures {
-    pub id: u64,
+    /// The region's number (None: the list's regions are not numbered).
+    pub id: Option<u64>,
     /// Time inside the region, s, and the time it cost beyond the programmed feed, s.
     pub time_s: f64,
     pub time_lost_s: Option<f64>,
@@ -48,7 +49,9 @@ impl Unlisted {
     /// Takes one more region's figures.
     pub fn fold(&mut self, f: Figures) {
         self.count += 1;
-        self.first_id.get_or_insert(f.id);
+        if self.count == 1 {
+            self.first_id = f.id;
+        }
         self.time_inside_s += f.time_s;
         self.time_lost_s = fold_opt(self.time_lost_s, f.time_lost_s, |a, b| a + b);
         self.peak_c_speed_rpm = fold_opt(self.peak_c_speed_rpm, f.peak_c_speed_rpm, f64::max);
@@ -66,7 +69,8 @@ impl Unlisted {
         if self.count == 0 {
             return None;
         }
-        let mut s = format!("... and {} more regions (from #{}, not listed: raise --max-listed-regions): {:.2} s inside", self.count, self.first_id.unwrap_or(0), self.time_inside_s);
+        let from = self.first_id.map_or(String::new(), |id| format!("from #{id}, "));
+        let mut s = format!("... and {} more regions ({from}not listed: raise --max-listed-regions): {:.2} s inside", self.count, self.time_inside_s);
         if let Some(l) = self.time_lost_s {
             s += &format!(", {l:.2} s lost");
         }
@@ -99,7 +103,7 @@ mod tests {
     struct R(u64, f64);
     impl Listed for R {
         fn figures(&self) -> Figures {
-            Figures { id: self.0, time_s: 1.0, peak_c_speed_rpm: Some(self.1), ..Figures::default() }
+            Figures { id: Some(self.0), time_s: 1.0, peak_c_speed_rpm: Some(self.1), ..Figures::default() }
         }
     }
 

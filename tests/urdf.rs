@@ -186,20 +186,7 @@ fn impossible_urdf_machines_are_refused_naming_the_joint() {
         ("dtd", format!("<!DOCTYPE robot [<!ENTITY a \"aaaa\">]>\n{}", &h[h.find("<robot").unwrap()..]), vec!["not XML"]),
         ("not-a-robot", "<sdf version=\"1.9\"/>".to_string(), vec!["<sdf>", "<robot>"]),
     ];
-    for (name, text, want) in &cases {
-        assert_ne!(text.as_str(), h, "{name}: the case did not change the file");
-        let path = dir.join(format!("{name}.urdf"));
-        std::fs::write(&path, text).unwrap();
-        let p = path.to_str().unwrap();
-        for args in [vec!["machine", "show", p], vec!["program", "analyze", "bundled:SING.I", "--machine", p]] {
-            let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(&args).output().unwrap();
-            let err = String::from_utf8_lossy(&out.stderr);
-            assert_eq!(out.status.code(), Some(2), "{name} {args:?}: {err}");
-            for w in want {
-                assert!(err.contains(w) && err.contains(p), "{name} {args:?}: no '{w}' in: {err}");
-            }
-        }
-    }
+    common::assert_machine_files_refused(&dir, "urdf", h, &cases);
     std::fs::remove_dir_all(&dir).ok();
 }
 

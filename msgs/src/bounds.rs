@@ -50,22 +50,26 @@ struct BoundedStr {
     what: &'static str,
 }
 
+impl BoundedStr {
+    fn check<E: Error>(&self, len: usize) -> Result<(), E> {
+        if len > self.max {
+            return Err(E::custom(format!("{} of {len} bytes: more than {}", self.what, self.max)));
+        }
+        Ok(())
+    }
+}
+
 impl<'de> Visitor<'de> for BoundedStr {
     type Value = String;
     fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
         write!(f, "a {} of at most {} bytes", self.what, self.max)
     }
+    // Judged before copying: a borrowed string over the bound is never allocated.
     fn visit_str<E: Error>(self, v: &str) -> Result<String, E> {
-        if v.len() > self.max {
-            return Err(E::custom(format!("{} of {} bytes: more than {}", self.what, v.len(), self.max)));
-        }
-        Ok(v.to_owned())
+        self.check(v.len()).map(|()| v.to_owned())
     }
     fn visit_string<E: Error>(self, v: String) -> Result<String, E> {
-        if v.len() > self.max {
-            return Err(E::custom(format!("{} of {} bytes: more than {}", self.what, v.len(), self.max)));
-        }
-        Ok(v)
+        self.check(v.len()).map(|()| v)
     }
 }
 

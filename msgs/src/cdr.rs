@@ -6,6 +6,9 @@
 //! strings and vectors of the target keep their capacity, so a warm decode allocates nothing.
 
 use crate::bounds::{MAX_FRAME_ID_BYTES, MAX_JOINTS, MAX_NAME_BYTES};
+
+// The reasons below spell the bounds out (a `&'static str` cannot format them): kept equal here.
+const _: () = assert!(MAX_JOINTS == 256 && MAX_NAME_BYTES == 256 && MAX_FRAME_ID_BYTES == 1024);
 use crate::{AxisState, Header, JointState, Point, Time, Vector3};
 
 /// Why a CDR message did not decode: the field and the byte offset (from the encapsulation header).

@@ -168,7 +168,7 @@ pub struct LiveRegion {
 impl crate::listing::Listed for LiveRegion {
     fn figures(&self) -> crate::listing::Figures {
         crate::listing::Figures {
-            id: self.id.into(),
+            id: Some(self.id.into()),
             time_s: self.t_end_s - self.t_start_s,
             time_lost_s: Some(self.time_lost_s),
             peak_c_speed_rpm: Some(self.peak_c_speed_rpm),

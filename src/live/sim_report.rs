@@ -131,7 +131,7 @@ struct Stretch {
 impl crate::listing::Listed for SlowRegion {
     fn figures(&self) -> crate::listing::Figures {
         crate::listing::Figures {
-            id: 0,
+            id: None,
             time_s: self.t_end_s - self.t_start_s,
             min_feed_mm_per_min: Some(self.min_feed_mm_per_min),
             ..Default::default()

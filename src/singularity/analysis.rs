@@ -363,7 +363,7 @@ fn analyze_stream(segments: impl Iterator<Item = Segment>, stored: Option<&[Samp
 impl crate::listing::Listed for Region {
     fn figures(&self) -> crate::listing::Figures {
         crate::listing::Figures {
-            id: self.id as u64,
+            id: Some(self.id as u64),
             time_s: self.t_end - self.t_start,
             time_lost_s: None,
             peak_c_speed_rpm: Some(self.peak_rate / crate::units::RPM),

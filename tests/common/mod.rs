@@ -35,3 +35,24 @@ impl Rng {
         }
     }
 }
+
+/// Each case `(name, file text, what the error says)` is written to `dir/name.ext` and refused with
+/// exit 2 by `machine show` and by `program analyze --machine`, the error naming the file and saying
+/// each of its phrases; `base` is the valid file the cases were made from (a case equal to it tests
+/// nothing).
+pub fn assert_machine_files_refused(dir: &std::path::Path, ext: &str, base: &str, cases: &[(&str, String, Vec<&str>)]) {
+    for (name, text, want) in cases {
+        assert_ne!(text.as_str(), base, "{name}: the case did not change the file");
+        let path = dir.join(format!("{name}.{ext}"));
+        std::fs::write(&path, text).unwrap();
+        let p = path.to_str().unwrap();
+        for args in [vec!["machine", "show", p], vec!["program", "analyze", "bundled:SING.I", "--machine", p]] {
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(&args).output().unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{name} {args:?}: {err}");
+            for w in want {
+                assert!(err.contains(w) && err.contains(p), "{name} {args:?}: no '{w}' in: {err}");
+            }
+        }
+    }
+}

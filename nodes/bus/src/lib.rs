@@ -445,14 +445,14 @@ mod tests {
 
 /// Read `sub` on its own thread and hand each message to a node's main loop as `wrap(topic, msg)`;
 /// the thread ends when the receiver is gone. A message that does not decode (malformed, or beyond
-/// the bounds of `fiveaxis_msgs::bounds`) is handed on as `failed(topic, reason)` where the node
-/// counts such samples, else logged (the first of each topic, then every 1000th) and skipped.
+/// the bounds of `fiveaxis_msgs::bounds`) is logged (the first of each topic, then every 1000th)
+/// and handed on as `failed(topic, reason)` for the node to count.
 pub fn forward<M: DeserializeOwned + Send + 'static, T: Send + 'static>(
     sub: Subscription<M>,
     topic: String,
     tx: std::sync::mpsc::SyncSender<T>,
     wrap: fn(String, M) -> T,
-    failed: fn(String, String) -> Option<T>,
+    failed: fn(String, String) -> T,
 ) {
     std::thread::spawn(move || {
         let mut errors = 0u64;
@@ -464,10 +464,7 @@ pub fn forward<M: DeserializeOwned + Send + 'static, T: Send + 'static>(
                     if errors % 1000 == 1 {
                         tracing::warn!(%topic, errors, "a message did not decode: {e:?}");
                     }
-                    match failed(topic.clone(), format!("{e:?}")) {
-                        Some(t) => t,
-                        None => continue,
-                    }
+                    failed(topic.clone(), format!("{e:?}"))
                 }
             };
             if tx.send(out).is_err() {
@@ -483,10 +480,6 @@ pub enum StateInput {
     State(String, fiveaxis_msgs::AxisState),
     Joints(String, fiveaxis_msgs::JointState),
     Undecodable(String, String),
-}
-
-fn undecodable(topic: String, reason: String) -> Option<StateInput> {
-    Some(StateInput::Undecodable(topic, reason))
 }
 
 /// The axis-state streams a node watches (the monitor, the Rerun bridge).
@@ -529,12 +522,12 @@ pub fn subscribe_states(bus: &mut Bus, inputs: &InputArgs) -> anyhow::Result<std
     for topic in states {
         let sub = bus.subscription::<fiveaxis_msgs::AxisState>(topic, inputs.input_qos.profile(false))?;
         tracing::info!(topic = %bus.resolve(topic), "watching AxisState");
-        forward(sub, bus.resolve(topic), tx.clone(), StateInput::State, undecodable);
+        forward(sub, bus.resolve(topic), tx.clone(), StateInput::State, StateInput::Undecodable);
     }
     for topic in joint_inputs {
         let sub = bus.subscription::<fiveaxis_msgs::JointState>(topic, inputs.input_qos.profile(true))?;
         tracing::info!(topic = %bus.resolve(topic), "watching JointState");
-        forward(sub, bus.resolve(topic), tx.clone(), StateInput::Joints, undecodable);
+        forward(sub, bus.resolve(topic), tx.clone(), StateInput::Joints, StateInput::Undecodable);
     }
     Ok(rx)
 }
