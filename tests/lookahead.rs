@@ -8,6 +8,8 @@
 //! - A feed typo (`F0.01` over 50 mm, 83 h) is refused with its line and column by `program analyze`,
 //!   `run` and the commander node inside a 500 MB address-space limit; a CL file with a zero feed too.
 
+mod common;
+
 use fiveaxis::machine::Machine;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -108,3 +110,39 @@ fn a_feed_typo_is_refused_with_its_place_inside_500_mb() {
     assert!(String::from_utf8_lossy(&help.stdout).contains("--max-program-hours"));
 }
 
+
+/// The planner evaluates its splines along increasing path length with the last knot interval as a
+/// hint: whatever the hint, the interval is the one bisection finds (the last knot at or before `t`,
+/// clamped to the first and last interval), and the value is the spline's there. Random knots with
+/// near-duplicates (dropped by the fit), parameters on knots, between them and outside.
+#[test]
+fn a_hinted_knot_search_finds_the_interval_bisection_finds() {
+    use fiveaxis::singularity::CubicSpline;
+    let mut rng = common::Rng(0x5eed_0017);
+    for case in 0..300 {
+        let n = 2 + (rng.next() * 40.0) as usize;
+        let mut xs = Vec::with_capacity(n);
+        let mut x = rng.range(-1.0, 1.0);
+        for _ in 0..n {
+            xs.push(x);
+            x += if rng.next() < 0.1 { 1e-13 } else { rng.range(1e-6, 0.5) };
+        }
+        let ys: Vec<f64> = xs.iter().map(|_| rng.range(-3.0, 3.0)).collect();
+        let spline = CubicSpline::natural(&xs, &ys);
+        let knots = spline.knots().to_vec();
+        let m = knots.len();
+        for _ in 0..50 {
+            let t = match (rng.next() * 3.0) as usize {
+                0 => knots[(rng.next() * m as f64) as usize % m],
+                1 => rng.range(knots[0] - 0.5, knots[m - 1] + 0.5),
+                _ => rng.range(knots[0], knots[m - 1]),
+            };
+            let bisected = knots.iter().rposition(|&k| k <= t).unwrap_or(0).min(m.saturating_sub(2));
+            for hint in [0, (rng.next() * (m + 3) as f64) as usize, bisected.saturating_sub(1), bisected, bisected + 1, usize::MAX] {
+                let i = spline.interval(t, hint);
+                assert_eq!(i, bisected, "case {case}: t {t} hint {hint} knots {knots:?}");
+                assert_eq!(spline.value_on(i, t).to_bits(), spline.value(t).to_bits(), "case {case}: t {t}");
+            }
+        }
+    }
+}

@@ -1,7 +1,7 @@
 //! Commander: the program's commanded axis states, as the NC program asks for them (ideal motion at
 //! the programmed feed, axes linear per block under TCPM), one message per sample period.
 
-use super::{derivatives_at, StateBuilder};
+use super::{derivatives_at, StateBuilder, StateValues};
 use crate::kinematics::Joints;
 use crate::machine::Machine;
 use crate::path::{GridSampler, Sample, Segment, SegmentWindow, Trajectory};
@@ -9,7 +9,7 @@ use fiveaxis_msgs::AxisState;
 
 /// The state of sample `cur` between its neighbours (none at the stream's ends): central differences,
 /// one-sided at the ends, as [`derivatives_at`] over the whole stream.
-fn state_between(b: &StateBuilder, machine: &Machine, period: f64, prev: Option<&Sample>, cur: &Sample, next: Option<&Sample>, seg: Option<&Segment>) -> AxisState {
+fn values_between(b: &StateBuilder, machine: &Machine, period: f64, prev: Option<&Sample>, cur: &Sample, next: Option<&Sample>, seg: Option<&Segment>) -> StateValues {
     let mut window: [Joints; 3] = [cur.q; 3];
     let mut n = 0;
     for s in [prev, Some(cur), next].into_iter().flatten() {
@@ -17,12 +17,18 @@ fn state_between(b: &StateBuilder, machine: &Machine, period: f64, prev: Option<
         n += 1;
     }
     let (v, a) = derivatives_at(n, usize::from(prev.is_some()), period, |j| window[j]);
-    b.state(machine, cur.t, &cur.q, &v, &a, seg, cur.feed)
+    b.values(machine, cur.t, &cur.q, &v, &a, seg, cur.feed)
 }
 
 /// The commanded states of a trajectory, in time order, one at a time: the samples are made as they
 /// are published (three at a time, for the central differences), never held whole.
 pub fn commanded_iter<'a>(traj: &'a Trajectory, machine: &'a Machine) -> Box<dyn Iterator<Item = AxisState> + 'a> {
+    let b = StateBuilder::new(machine, AxisState::SOURCE_COMMANDED);
+    Box::new(commanded_values_iter(traj, machine).map(move |v| b.message(&v)))
+}
+
+/// The numbers of the commanded states of a trajectory ([`commanded_iter`]).
+pub fn commanded_values_iter<'a>(traj: &'a Trajectory, machine: &'a Machine) -> Box<dyn Iterator<Item = StateValues> + 'a> {
     if traj.stored.is_empty() {
         return Box::new(commanded_stream(traj.segments.iter().cloned(), traj.period, machine));
     }
@@ -32,16 +38,16 @@ pub fn commanded_iter<'a>(traj: &'a Trajectory, machine: &'a Machine) -> Box<dyn
     let mut prev: Option<Sample> = None;
     Box::new(std::iter::from_fn(move || {
         let cur = *samples.next()?;
-        let st = state_between(&b, machine, traj.period, prev.as_ref(), &cur, samples.peek().copied(), traj.segments.get(cur.segment));
+        let st = values_between(&b, machine, traj.period, prev.as_ref(), &cur, samples.peek().copied(), traj.segments.get(cur.segment));
         prev = Some(cur);
         Some(st)
     }))
 }
 
-/// The commanded states of a stream of segments sampled every `period` s, in time order: segments are
-/// read as the samples reach them and dropped behind, so memory holds two or three of them whatever
-/// the program's length.
-pub fn commanded_stream<'a, I: Iterator<Item = Segment> + 'a>(segments: I, period: f64, machine: &'a Machine) -> impl Iterator<Item = AxisState> + 'a {
+/// The commanded states (their numbers) of a stream of segments sampled every `period` s, in time
+/// order: segments are read as the samples reach them and dropped behind, so memory holds two or three
+/// of them whatever the program's length.
+pub fn commanded_stream<'a, I: Iterator<Item = Segment> + 'a>(segments: I, period: f64, machine: &'a Machine) -> impl Iterator<Item = StateValues> + 'a {
     let b = StateBuilder::new(machine, AxisState::SOURCE_COMMANDED);
     let mut window = SegmentWindow::new(segments);
     let mut sampler = GridSampler::new(period);
@@ -50,7 +56,7 @@ pub fn commanded_stream<'a, I: Iterator<Item = Segment> + 'a>(segments: I, perio
     std::iter::from_fn(move || {
         let cur = next.take()?;
         next = sampler.next(&mut window, machine);
-        let st = state_between(&b, machine, period, prev.as_ref(), &cur, next.as_ref(), window.loaded(cur.segment));
+        let st = values_between(&b, machine, period, prev.as_ref(), &cur, next.as_ref(), window.loaded(cur.segment));
         // The end point is sampled from the last segment: keep the one the current sample is on.
         window.release_before(cur.segment);
         prev = Some(cur);
@@ -63,11 +69,11 @@ pub fn commanded_states(traj: &Trajectory, machine: &Machine) -> Vec<AxisState> 
     commanded_iter(traj, machine).collect()
 }
 
-/// The commanded states of a job's moves: a program's as it is read again, a built-in path's from its
-/// held samples.
-pub fn commanded_moves<'a>(moves: &'a crate::job::Moves, machine: &'a Machine) -> Result<Box<dyn Iterator<Item = AxisState> + 'a>, crate::job::JobError> {
+/// The commanded states (their numbers: [`StateBuilder::message`] makes the messages) of a job's
+/// moves: a program's as it is read again, a built-in path's from its held samples.
+pub fn commanded_moves<'a>(moves: &'a crate::job::Moves, machine: &'a Machine) -> Result<Box<dyn Iterator<Item = StateValues> + 'a>, crate::job::JobError> {
     Ok(match moves.held() {
-        Some(traj) => commanded_iter(traj, machine),
+        Some(traj) => commanded_values_iter(traj, machine),
         None => Box::new(commanded_stream(moves.segments(machine)?, moves.period(), machine)),
     })
 }

@@ -7,6 +7,7 @@ use super::monitor::{LiveRegion, Monitor, MonitorConfig};
 pub use super::sim_report::{SimulatedReport, SlowRegion};
 use super::sim_report::{simulate_measured_stream, FeedFiguresReport};
 use super::simulator::{SimConfig, SimSummary, Simulation};
+use super::{StateBuilder, StateValues};
 use crate::job::{self, Job, JobError, JobOptions, Moves};
 use crate::machine::Machine;
 use crate::report::AnalysisReport;
@@ -152,9 +153,47 @@ impl RunOutput {
     }
 }
 
+/// States cross to the monitor in batches of this many: one channel operation (and at most one
+/// wake-up) per batch instead of per state. A quarter second of program at 1 kHz, far inside the
+/// commander's lead ([`COMMANDER_LEAD_MIN_S`]).
+const BATCH: usize = 256;
+
+/// A batch of states of one stream, in time order.
 enum Input {
-    Commanded(AxisState),
-    Simulated(AxisState),
+    Commanded(Vec<StateValues>),
+    Simulated(Vec<StateValues>),
+}
+
+/// Collects states into batches ([`BATCH`]) and sends each full one.
+struct Batcher {
+    batch: Vec<StateValues>,
+    wrap: fn(Vec<StateValues>) -> Input,
+}
+
+impl Batcher {
+    fn new(wrap: fn(Vec<StateValues>) -> Input) -> Batcher {
+        Batcher { batch: Vec::with_capacity(BATCH), wrap }
+    }
+
+    /// Add `v`; send the batch once full. The number of states sent (0 until a batch goes), or None
+    /// once the monitor has gone.
+    fn push(&mut self, tx: &mpsc::SyncSender<Input>, v: StateValues) -> Option<u64> {
+        self.batch.push(v);
+        if self.batch.len() < BATCH {
+            return Some(0);
+        }
+        self.flush(tx)
+    }
+
+    /// Send what is collected.
+    fn flush(&mut self, tx: &mpsc::SyncSender<Input>) -> Option<u64> {
+        if self.batch.is_empty() {
+            return Some(0);
+        }
+        let n = self.batch.len() as u64;
+        let batch = std::mem::replace(&mut self.batch, Vec::with_capacity(BATCH));
+        tx.send((self.wrap)(batch)).ok().map(|_| n)
+    }
 }
 
 /// Run the node set in one process on `spec`. Each node reads the program for itself as a stream
@@ -169,7 +208,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
     let moves = Moves::open(spec, machine, &options.job)?;
     let job = if options.keep_simulation { Some(job::run(spec, machine, &options.job)?) } else { None };
     let period = moves.period();
-    let (tx, rx) = mpsc::sync_channel::<Input>(4096);
+    let (tx, rx) = mpsc::sync_channel::<Input>(4096 / BATCH);
     let tape = match &options.mcap {
         Some(path) => Some(Tape::create(path)?),
         None => None,
@@ -186,15 +225,21 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         let commander = scope.spawn(move || -> Result<u64, JobError> {
             let mut sent = 0u64;
             let mut states = commanded_moves(moves, machine);
+            let mut batch = Batcher::new(Input::Commanded);
             for st in states.iter_mut().flatten() {
-                let t = st.header.stamp.as_secs();
+                let t = st.t;
                 Pace::wait(|| t > Pace::get(&pace.simulated) + COMMANDER_LEAD_MAX_S);
-                if tx_cmd.send(Input::Commanded(st)).is_err() {
-                    break;
+                match batch.push(&tx_cmd, st) {
+                    None => break,
+                    Some(0) => {}
+                    // The monitor has every state up to t.
+                    Some(n) => {
+                        Pace::set(&pace.commanded, t);
+                        sent += n;
+                    }
                 }
-                Pace::set(&pace.commanded, t);
-                sent += 1;
             }
+            sent += batch.flush(&tx_cmd).unwrap_or(0);
             Pace::set(&pace.commanded, f64::INFINITY);
             states.map(|_| sent)
         });
@@ -210,6 +255,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             };
             let mut kept = options.keep_simulation.then(|| Simulation::empty(period));
             let mut sent = 0u64;
+            let mut batch = Batcher::new(Input::Simulated);
             let mut last_segment = usize::MAX;
             let (summary, figures) = simulate_measured_stream(segments, scout, period, machine, &options.sim, |s, seg, st| {
                 if s.segment != last_segment {
@@ -221,10 +267,11 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                 if let Some(k) = kept.as_mut() {
                     k.push(s);
                 }
-                let ok = tx_sim.send(Input::Simulated(st)).is_ok();
-                sent += u64::from(ok);
-                ok
+                let n = batch.push(&tx_sim, st);
+                sent += n.unwrap_or(0);
+                n.is_some()
             });
+            sent += batch.flush(&tx_sim).unwrap_or(0);
             // The commander may run to the end.
             Pace::set(&pace.simulated, f64::INFINITY);
             if let Some(k) = kept.as_mut() {
@@ -239,14 +286,27 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             let mut commanded = Vec::new();
             let mut received = 0u64;
             let mut tape_error = None;
-            for input in rx {
+            // One message per stream, refilled for each state (nothing allocated per state).
+            let builders = [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_SIMULATED].map(|s| StateBuilder::new(machine, s));
+            let mut messages: [Option<AxisState>; 2] = [None, None];
+            let inputs = rx.into_iter().map(|input| match input {
+                Input::Commanded(b) => (0, b),
+                Input::Simulated(b) => (1, b),
+            });
+            for (k, v) in inputs.flat_map(|(k, b)| b.into_iter().map(move |v| (k, v))) {
                 received += 1;
-                let (topic, st) = match &input {
-                    Input::Commanded(st) => {
-                        m.on_commanded_ahead(st);
-                        (COMMANDED_STATE, st)
+                let st: &AxisState = match &mut messages[k] {
+                    Some(st) => {
+                        builders[k].fill(&v, st);
+                        st
                     }
-                    Input::Simulated(st) => (SIMULATED_STATE, st),
+                    slot => slot.insert(builders[k].message(&v)),
+                };
+                let topic = if k == 0 {
+                    m.on_commanded_ahead(st);
+                    COMMANDED_STATE
+                } else {
+                    SIMULATED_STATE
                 };
                 let wall = st.header.stamp.as_secs();
                 let status = m.on_state(topic, st, wall);

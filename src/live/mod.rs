@@ -13,6 +13,28 @@ use crate::machine::Machine;
 use crate::path::Segment;
 use fiveaxis_msgs::{AxisState, Header, Point, Time, Vector3};
 
+/// The numbers of one [`AxisState`], without its strings: what the commander and the simulator make
+/// per sample and hand on in one process (a copy, no allocation); [`StateBuilder::message`] or
+/// [`StateBuilder::fill`] turns it into the message where one is sent or recorded.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StateValues {
+    /// Program time, s.
+    pub t: f64,
+    /// Axis values, velocities and accelerations (m, rad; per s, per s^2), in the machine's axis order.
+    pub q: Joints,
+    pub qd: Joints,
+    pub qdd: Joints,
+    /// Tool tip in program coordinates (m) and tool axis (unit vector).
+    pub tool_tip: [f64; 3],
+    pub tool_axis: [f64; 3],
+    /// Programmed and actual tool-tip feed, m/s.
+    pub programmed_feed: f64,
+    pub path_feed: f64,
+    pub program_line: u32,
+    pub block_number: i64,
+    pub motion: u8,
+}
+
 /// Builds [`AxisState`] messages for one machine and source.
 #[derive(Debug, Clone)]
 pub struct StateBuilder {
@@ -26,27 +48,59 @@ impl StateBuilder {
         StateBuilder { names: machine.axis_names().to_vec(), source, frame_id: "workpiece".into() }
     }
 
-    /// One message: axis values `q` at time `t` (s), velocities and accelerations `qd`, `qdd`, in
-    /// segment `seg` (for the program position and datum), with the actual tool-tip speed `path_feed`.
+    /// One sample's numbers: axis values `q` at time `t` (s), velocities and accelerations `qd`,
+    /// `qdd`, in segment `seg` (for the program position and datum), with the actual tool-tip speed
+    /// `path_feed`.
     #[allow(clippy::too_many_arguments)]
-    pub fn state(&self, machine: &Machine, t: f64, q: &Joints, qd: &Joints, qdd: &Joints, seg: Option<&Segment>, path_feed: f64) -> AxisState {
+    pub fn values(&self, machine: &Machine, t: f64, q: &Joints, qd: &Joints, qdd: &Joints, seg: Option<&Segment>, path_feed: f64) -> StateValues {
         let pose = machine.forward(q);
         let tip = pose.tip - seg.map_or(nalgebra::Vector3::zeros(), |s| s.datum);
-        AxisState {
-            header: Header { stamp: Time::from_secs(t), frame_id: self.frame_id.clone() },
-            source: self.source,
-            name: self.names.clone(),
-            position: q.to_vec(),
-            velocity: qd.to_vec(),
-            acceleration: qdd.to_vec(),
-            tool_tip: Point { x: tip.x, y: tip.y, z: tip.z },
-            tool_axis: Vector3 { x: pose.axis.x, y: pose.axis.y, z: pose.axis.z },
+        StateValues {
+            t,
+            q: *q,
+            qd: *qd,
+            qdd: *qdd,
+            tool_tip: [tip.x, tip.y, tip.z],
+            tool_axis: [pose.axis.x, pose.axis.y, pose.axis.z],
             programmed_feed: seg.map_or(0.0, |s| s.feed),
             path_feed,
             program_line: seg.map_or(0, |s| s.line as u32),
             block_number: seg.and_then(|s| s.number).map_or(-1, |n| n as i64),
             motion: seg.map_or(AxisState::MOTION_UNKNOWN, motion_of),
         }
+    }
+
+    /// The message of `v`.
+    pub fn message(&self, v: &StateValues) -> AxisState {
+        let mut st = AxisState { header: Header { stamp: Time::from_secs(0.0), frame_id: self.frame_id.clone() }, name: self.names.clone(), ..Default::default() };
+        self.fill(v, &mut st);
+        st
+    }
+
+    /// Write `v` into `st`, a message of this builder's ([`StateBuilder::message`]): its names and
+    /// frame are kept, its vectors reused, so that nothing is allocated per sample.
+    pub fn fill(&self, v: &StateValues, st: &mut AxisState) {
+        st.header.stamp = Time::from_secs(v.t);
+        st.source = self.source;
+        for (to, from) in [(&mut st.position, &v.q), (&mut st.velocity, &v.qd), (&mut st.acceleration, &v.qdd)] {
+            to.clear();
+            to.extend_from_slice(from);
+        }
+        let [x, y, z] = v.tool_tip;
+        st.tool_tip = Point { x, y, z };
+        let [x, y, z] = v.tool_axis;
+        st.tool_axis = Vector3 { x, y, z };
+        st.programmed_feed = v.programmed_feed;
+        st.path_feed = v.path_feed;
+        st.program_line = v.program_line;
+        st.block_number = v.block_number;
+        st.motion = v.motion;
+    }
+
+    /// One message ([`StateBuilder::values`], [`StateBuilder::message`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn state(&self, machine: &Machine, t: f64, q: &Joints, qd: &Joints, qdd: &Joints, seg: Option<&Segment>, path_feed: f64) -> AxisState {
+        self.message(&self.values(machine, t, q, qd, qdd, seg, path_feed))
     }
 }
 

@@ -4,13 +4,13 @@
 
 use super::monitor::LiveRegion;
 use super::simulator::{simulate_stream, FeedSample, SimConfig, SimSample, SimStates, SimSummary};
+use super::StateValues;
 use crate::kinematics::Joints;
 use crate::machine::Machine;
 use crate::path::{Segment, SegmentKind, Trajectory};
 use std::sync::Arc;
 use crate::planner::LimitCheck;
 use crate::units::mm_per_min;
-use fiveaxis_msgs::AxisState;
 use serde::Serialize;
 use std::collections::VecDeque;
 
@@ -381,7 +381,7 @@ pub fn simulate_measured(
     traj: &Trajectory,
     machine: &Machine,
     config: &SimConfig,
-    mut each: impl FnMut(&SimSample, AxisState) -> bool,
+    mut each: impl FnMut(&SimSample, StateValues) -> bool,
 ) -> (SimSummary, FeedFiguresReport) {
     let segments = || traj.segments.iter().cloned();
     simulate_measured_stream(segments(), segments(), traj.period, machine, config, |s, _, st| each(s, st))
@@ -396,13 +396,13 @@ pub fn simulate_measured_stream(
     period: f64,
     machine: &Machine,
     config: &SimConfig,
-    mut each: impl FnMut(&SimSample, Option<&Segment>, AxisState) -> bool,
+    mut each: impl FnMut(&SimSample, Option<&Segment>, StateValues) -> bool,
 ) -> (SimSummary, FeedFiguresReport) {
     let mut states = SimStates::new(period, machine);
     let mut figures = FeedFigures::new(machine, period, config.max_listed_regions.unwrap_or(crate::listing::MAX_LISTED));
     let mut open = true;
     // The segment of the state SimStates hands out (it is one sample behind).
-    let mut take = |out: Option<(SimSample, AxisState, Option<Arc<Segment>>)>, figures: &mut FeedFigures| -> bool {
+    let mut take = |out: Option<(SimSample, StateValues, Option<Arc<Segment>>)>, figures: &mut FeedFigures| -> bool {
         let Some((s, st, seg)) = out else { return open };
         let path_move = seg.as_ref().is_some_and(|g| g.is_path_move() && g.kind != SegmentKind::Rapid);
         figures.push(&(&st).into(), &s.q, s.run, path_move);

@@ -1,7 +1,7 @@
 //! Simulator: what a machine with axis velocity, acceleration and jerk limits does with the program
 //! (the planner, then the servo), as simulated axis states.
 
-use super::{derivatives_at, StateBuilder};
+use super::{derivatives_at, StateBuilder, StateValues};
 use crate::kinematics::Joints;
 use crate::machine::Machine;
 use crate::path::{Segment, Trajectory};
@@ -193,7 +193,7 @@ impl<'a> SimStates<'a> {
     }
 
     /// The state of `cur` with its neighbours (none at the stream's ends).
-    fn state(&self, prev: Option<&Held>, cur: &Held, next: Option<&Held>) -> AxisState {
+    fn state(&self, prev: Option<&Held>, cur: &Held, next: Option<&Held>) -> StateValues {
         let period = self.period;
         // Tool-tip speed by central differences, never across a datum change (the tip jumps there
         // in program coordinates while the machine does not move).
@@ -212,12 +212,12 @@ impl<'a> SimStates<'a> {
             n += 1;
         }
         let (v, a) = derivatives_at(n, usize::from(prev.is_some()), period, |j| window[j]);
-        self.builder.state(self.machine, self.k as f64 * period, &cur.s.q, &v, &a, cur.seg.as_deref(), feed)
+        self.builder.values(self.machine, self.k as f64 * period, &cur.s.q, &v, &a, cur.seg.as_deref(), feed)
     }
 
-    /// The next sample and its segment; the state of the one before it, if any, with its sample and
-    /// segment.
-    pub fn push(&mut self, s: SimSample, seg: Option<&Arc<Segment>>) -> Option<(SimSample, AxisState, Option<Arc<Segment>>)> {
+    /// The next sample and its segment; the state of the one before it (its numbers:
+    /// [`SimStates::message`] makes the message), if any, with its sample and segment.
+    pub fn push(&mut self, s: SimSample, seg: Option<&Arc<Segment>>) -> Option<(SimSample, StateValues, Option<Arc<Segment>>)> {
         let next = self.held(s, seg.cloned());
         let out = self.cur.as_ref().map(|cur| {
             let st = self.state(self.prev.as_ref(), cur, Some(&next));
@@ -229,8 +229,13 @@ impl<'a> SimStates<'a> {
         out
     }
 
+    /// The message of a state's numbers.
+    pub fn message(&self, v: &StateValues) -> AxisState {
+        self.builder.message(v)
+    }
+
     /// The state of the last sample (the stream's end).
-    pub fn finish(&mut self) -> Option<(SimSample, AxisState, Option<Arc<Segment>>)> {
+    pub fn finish(&mut self) -> Option<(SimSample, StateValues, Option<Arc<Segment>>)> {
         let cur = self.cur.take()?;
         let st = self.state(self.prev.as_ref(), &cur, None);
         self.prev = None;
@@ -298,10 +303,10 @@ impl Simulation {
                         current = traj.segments.get(s.segment).map(|g| (s.segment, Arc::new(g.clone())));
                     }
                     if let Some((_, st, _)) = states.push(s, current.as_ref().map(|c| &c.1)) {
-                        return Some(st);
+                        return Some(states.message(&st));
                     }
                 }
-                None => return states.finish().map(|(_, st, _)| st),
+                None => return states.finish().map(|(_, st, _)| states.message(&st)),
             }
         })
     }
@@ -327,5 +332,11 @@ pub struct FeedSample {
 impl From<&AxisState> for FeedSample {
     fn from(s: &AxisState) -> FeedSample {
         FeedSample { path_feed: s.path_feed, programmed_feed: s.programmed_feed, x: s.tool_tip.x, block: s.block_number.clamp(-1, i64::from(i32::MAX)) as i32, line: s.program_line }
+    }
+}
+
+impl From<&StateValues> for FeedSample {
+    fn from(s: &StateValues) -> FeedSample {
+        FeedSample { path_feed: s.path_feed, programmed_feed: s.programmed_feed, x: s.tool_tip[0], block: s.block_number.clamp(-1, i64::from(i32::MAX)) as i32, line: s.program_line }
     }
 }

@@ -64,7 +64,10 @@ pub struct Run {
 #[derive(Debug, Clone)]
 pub struct Curve<'a> {
     run: &'a Run,
+    /// One spline per axis (or tool tip and rotary axes), all through the same knots.
     splines: Vec<CubicSpline>,
+    /// The knot interval of the last evaluation: the planner evaluates along increasing `s`.
+    hint: std::cell::Cell<usize>,
 }
 
 impl Run {
@@ -179,11 +182,18 @@ impl Run {
                 })
                 .collect(),
         };
-        Curve { run: self, splines }
+        Curve { run: self, splines, hint: std::cell::Cell::new(0) }
     }
 }
 
 impl Curve<'_> {
+    /// The splines' values at `s`: one knot search for all of them (they share their knots).
+    fn values(&self, s: f64) -> Joints {
+        let i = self.splines[0].interval(s, self.hint.get());
+        self.hint.set(i);
+        std::array::from_fn(|a| self.splines[a].value_on(i, s))
+    }
+
     /// Axis values at run parameter `s`.
     pub fn joints(&self, s: f64, machine: &Machine) -> Joints {
         let run = &self.run.head;
@@ -192,15 +202,17 @@ impl Curve<'_> {
                 let u = if run.length > 0.0 { (s / run.length).clamp(0.0, 1.0) } else { 1.0 };
                 std::array::from_fn(|i| run.q0[i] + (run.q1[i] - run.q0[i]) * u)
             }
-            RunKind::Axes => std::array::from_fn(|i| self.splines[i].value(s)),
+            RunKind::Axes => self.values(s),
             RunKind::Tcp => {
-                let tip = Vector3::new(self.splines[0].value(s), self.splines[1].value(s), self.splines[2].value(s));
-                let rot = [self.splines[3].value(s), self.splines[4].value(s)];
+                let v = self.values(s);
+                let tip = Vector3::new(v[0], v[1], v[2]);
+                let rot = [v[3], v[4]];
                 let l = machine.chain.linear_for(&(tip + run.datum), &rot);
                 [l.x, l.y, l.z, rot[0], rot[1]]
             }
             RunKind::Rotary => {
-                let rot = [self.splines[3].value(s), self.splines[4].value(s)];
+                let v = self.values(s);
+                let rot = [v[3], v[4]];
                 match run.tcp_tip {
                     Some(tip) => {
                         let l = machine.chain.linear_for(&(tip + run.datum), &rot);

@@ -58,13 +58,42 @@ impl CubicSpline {
 
     /// Value at `t` (the end values outside the knot range).
     pub fn value(&self, t: f64) -> f64 {
+        self.value_on(self.interval(t, 0), t)
+    }
+
+    /// The knots `x`, increasing.
+    pub fn knots(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// The knot interval [`CubicSpline::value`] evaluates `t` on (0 with fewer than two knots).
+    /// `hint` is a guess (the interval of the previous, nearby `t`): checked first, then the next
+    /// one, then by bisection, so that evaluating along increasing `t` costs O(1) per value.
+    /// Splines fitted through the same knots share their intervals.
+    pub fn interval(&self, t: f64, hint: usize) -> usize {
+        let n = self.x.len();
+        if n < 2 {
+            return 0;
+        }
+        // Interval i holds t when partition_point(x <= t) - 1, clamped to 0..=n-2, is i.
+        let holds = |i: usize| (i == 0 || self.x[i] <= t) && (i == n - 2 || t < self.x[i + 1]);
+        if hint <= n - 2 && holds(hint) {
+            return hint;
+        }
+        if hint < n - 2 && holds(hint + 1) {
+            return hint + 1;
+        }
+        self.x.partition_point(|&v| v <= t).saturating_sub(1).min(n - 2)
+    }
+
+    /// Value at `t` on knot interval `i` ([`CubicSpline::interval`]).
+    pub fn value_on(&self, i: usize, t: f64) -> f64 {
         let n = self.x.len();
         match n {
             0 => return 0.0,
             1 => return self.y[0],
             _ => {}
         }
-        let i = self.x.partition_point(|&v| v <= t).saturating_sub(1).min(n - 2);
         let h = self.x[i + 1] - self.x[i];
         let t = t.clamp(self.x[i], self.x[i + 1]);
         let a = (self.x[i + 1] - t) / h;

@@ -5,6 +5,7 @@
 use anyhow::Context as _;
 use clap::Parser;
 use fiveaxis::live::commander::commanded_moves;
+use fiveaxis::live::StateBuilder;
 use fiveaxis::machine::Machine;
 use fiveaxis_bus::{clock_qos, init_tracing, EXIT_INPUT, open_program, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
 use fiveaxis_msgs::{AxisState, Clock, JointState};
@@ -37,8 +38,9 @@ fn main() -> anyhow::Result<()> {
     }
     ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "commanding {}", args.stream.program);
     let pacer = args.stream.pacer();
+    let builder = StateBuilder::new(&machine, AxisState::SOURCE_COMMANDED);
     let states = match commanded_moves(&moves, &machine) {
-        Ok(s) => s,
+        Ok(s) => s.map(|v| builder.message(&v)),
         Err(e) => {
             eprintln!("error: reading {} again to publish it: {e}", args.stream.program);
             std::process::exit(EXIT_INPUT);

@@ -6,6 +6,7 @@
 use anyhow::Context as _;
 use clap::Parser;
 use fiveaxis::live::sim_report::simulate_measured_stream;
+use fiveaxis::live::{StateBuilder, StateValues};
 use fiveaxis::live::simulator::SimConfig;
 use fiveaxis::machine::Machine;
 use fiveaxis_bus::{init_tracing, open_program, EXIT_INPUT, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
@@ -58,7 +59,8 @@ fn main() -> anyhow::Result<()> {
     let pacer = args.stream.pacer();
     // The planner and servo run on their own thread, a bounded channel ahead of the publisher: the
     // first state goes out once the first look-ahead window is planned, and memory stays the window's.
-    let (tx, rx) = std::sync::mpsc::sync_channel::<AxisState>(4096);
+    let (tx, rx) = std::sync::mpsc::sync_channel::<StateValues>(4096);
+    let builder = StateBuilder::new(&machine, AxisState::SOURCE_SIMULATED);
     let (machine, moves) = (&machine, &moves);
     let (simulated, sent) = std::thread::scope(|scope| {
         let simulator = scope.spawn(move || {
@@ -66,7 +68,8 @@ fn main() -> anyhow::Result<()> {
             let (segments, scout) = (moves.segments(machine)?, moves.segments(machine)?);
             Ok::<_, fiveaxis::job::JobError>(simulate_measured_stream(segments, scout, moves.period(), machine, &config, |_, _, st| tx.send(st).is_ok()))
         });
-        let (sent, _) = publish_states(gate.guard(rx.into_iter(), || shutdown.requested()), &state_pub, &joint_pub, None, &pacer, &shutdown);
+        let states = rx.into_iter().map(|v| builder.message(&v));
+        let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, None, &pacer, &shutdown);
         (simulator.join().expect("simulator thread"), sent)
     });
     let (summary, figures) = match simulated {
