@@ -6,6 +6,8 @@
 //!    tool tip and only turning the rotary axes. Consecutive rotary-only moves form one run. Each run
 //!    is a C2 path `q(s)`: natural cubic splines through the block points in path length, as seed 002
 //!    smooths G1 points (the tool tip under TCPM, the rotary axes, or all machine axes without TCPM).
+//!    Under vector orientation interpolation the tool axis is first smoothed through the programmed
+//!    directions within a tolerance ([`orientation`]), as a control smooths a CAM system's vectors.
 //! 2. Look-ahead: a run is planned window by window, [`PlanConfig::lookahead_blocks`] blocks ahead
 //!    (default [`LOOKAHEAD_BLOCKS`]); each window is planned to stop at its end, as a control must be
 //!    able to, and only what that stop has not shaped is committed (at most three quarters); the
@@ -22,6 +24,7 @@
 
 mod check;
 mod geometry;
+pub mod orientation;
 mod profile;
 pub mod servo;
 

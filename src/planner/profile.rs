@@ -403,7 +403,10 @@ pub fn plan_stream(
     config: &PlanConfig,
     mut emit: impl FnMut(PlannedSample, &Segment) -> bool,
 ) -> Planned {
-    let mut source = segments;
+    // The control smooths the tool axis of great-circle moves within a tolerance: the planner and its
+    // scout see the same smoothed segments.
+    let mut source = super::orientation::OrientationSmoother::new(segments, machine);
+    let scout = super::orientation::OrientationSmoother::new(scout, machine);
     let limits = machine.limits();
     let limiter = FeedLimiter::new(&limits);
     // A moving average of width T turns a path acceleration bounded by +-b into a jerk bounded by
