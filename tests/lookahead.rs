@@ -40,6 +40,20 @@ fn cycle_time(program: &Path, mcap: Option<&Path>) -> f64 {
     v["simulated"]["cycle_time_s"].as_f64().unwrap()
 }
 
+/// The largest velocity, acceleration and jerk ratios of the Hermle's axes on the simulated
+/// JointState stream of `mcap`, by the independent numpy check (tests/peer/limit_check.py).
+fn limit_check(mcap: &Path) -> serde_json::Value {
+    let m = Machine::hermle_c600u();
+    let mut cmd = Command::new("python3");
+    cmd.arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/limit_check.py")).arg(mcap).arg("/fiveaxis/simulated/joint_states");
+    for (axis, l) in m.axes.iter().zip(m.limits().iter()) {
+        cmd.arg(format!("{}={},{},{}", axis.name, l.velocity, l.acceleration, l.jerk));
+    }
+    let out = cmd.output().expect("python3 runs (numpy and mcap-ros2-support come from launch-free-scripts/test)");
+    assert!(out.status.success(), "{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
 #[test]
 fn refined_sing_blends_through_its_short_blocks_within_the_axis_limits() {
     let refined = tmp("refined.I");
@@ -56,16 +70,7 @@ fn refined_sing_blends_through_its_short_blocks_within_the_axis_limits() {
     assert!((t_refined / t_original - 1.0).abs() <= 0.10, "refined {t_refined:.2} s against SING.I {t_original:.2} s");
 
     // Independent limit check on the recorded simulated stream (SI units, REP 103).
-    let m = Machine::hermle_c600u();
-    let limits = m.limits();
-    let mut cmd = Command::new("python3");
-    cmd.arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/limit_check.py")).arg(&mcap).arg("/fiveaxis/simulated/joint_states");
-    for (axis, l) in m.axes.iter().zip(limits.iter()) {
-        cmd.arg(format!("{}={},{},{}", axis.name, l.velocity, l.acceleration, l.jerk));
-    }
-    let out = cmd.output().expect("python3 runs (numpy and mcap-ros2-support come from launch-free-scripts/test)");
-    assert!(out.status.success(), "{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = limit_check(&mcap);
     let duration = v["duration_s"].as_f64().unwrap();
     assert!((duration - t_refined).abs() < 0.01, "the check read {duration} s of the {t_refined} s run");
     assert_eq!(v["joints"].as_object().unwrap().len(), 5, "{v}");
@@ -229,8 +234,6 @@ fn smoothed_great_circles_follow_the_surface_orientation() {
 /// every axis within its limits on both recorded simulated streams.
 #[test]
 fn the_sing_cut_every_hundredth_of_a_mm_simulates_as_every_mm() {
-    let m = Machine::hermle_c600u();
-    let limits = m.limits();
     let mut times = Vec::new();
     for (name, step) in [("dense", 0.01), ("coarse", 1.0)] {
         let cl = tmp(&format!("sing_cut_{name}.cl"));
@@ -243,14 +246,7 @@ fn the_sing_cut_every_hundredth_of_a_mm_simulates_as_every_mm() {
         // The cut is slowed near the pole (C asks ~200 rpm of a 25 rpm table at F2000): far longer than
         // its 1.5 s at the programmed feed.
         assert!(t > 2.0, "{name}: {t} s");
-        let mut cmd = Command::new("python3");
-        cmd.arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/limit_check.py")).arg(&mcap).arg("/fiveaxis/simulated/joint_states");
-        for (axis, l) in m.axes.iter().zip(limits.iter()) {
-            cmd.arg(format!("{}={},{},{}", axis.name, l.velocity, l.acceleration, l.jerk));
-        }
-        let check = cmd.output().expect("python3 runs (numpy and mcap-ros2-support come from launch-free-scripts/test)");
-        assert!(check.status.success(), "{}{}", String::from_utf8_lossy(&check.stdout), String::from_utf8_lossy(&check.stderr));
-        let c: serde_json::Value = serde_json::from_slice(&check.stdout).unwrap();
+        let c = limit_check(&mcap);
         assert!((c["duration_s"].as_f64().unwrap() - t).abs() < 0.01, "{name}: the check read {c}");
         for (k, what) in ["velocity", "acceleration", "jerk"].iter().enumerate() {
             let r = c["worst"][k].as_f64().unwrap();
