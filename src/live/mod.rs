@@ -8,7 +8,7 @@ pub mod monitor;
 pub mod sim_report;
 pub mod simulator;
 
-use crate::kinematics::Joints;
+use crate::kinematics::{Joints, Pose};
 use crate::machine::Machine;
 use crate::path::Segment;
 use fiveaxis_msgs::{AxisState, Header, Point, Time, Vector3};
@@ -53,7 +53,12 @@ impl StateBuilder {
     /// `path_feed`.
     #[allow(clippy::too_many_arguments)]
     pub fn values(&self, machine: &Machine, t: f64, q: &Joints, qd: &Joints, qdd: &Joints, seg: Option<&Segment>, path_feed: f64) -> StateValues {
-        let pose = machine.forward(q);
+        self.values_at(&machine.forward(q), t, q, qd, qdd, seg, path_feed)
+    }
+
+    /// [`StateBuilder::values`] with the forward kinematics of `q` already computed (`pose`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn values_at(&self, pose: &Pose, t: f64, q: &Joints, qd: &Joints, qdd: &Joints, seg: Option<&Segment>, path_feed: f64) -> StateValues {
         let tip = pose.tip - seg.map_or(nalgebra::Vector3::zeros(), |s| s.datum);
         StateValues {
             t,

@@ -164,6 +164,8 @@ pub struct SimStates<'a> {
 #[derive(Clone)]
 struct Held {
     s: SimSample,
+    /// The sample's forward kinematics, and its tool tip in program coordinates.
+    pose: crate::kinematics::Pose,
     tip: nalgebra::Vector3<f64>,
     seg: Option<Arc<Segment>>,
 }
@@ -189,7 +191,8 @@ impl<'a> SimStates<'a> {
 
     fn held(&self, s: SimSample, seg: Option<Arc<Segment>>) -> Held {
         let datum = seg.as_ref().map_or(nalgebra::Vector3::zeros(), |g| g.datum);
-        Held { s, tip: self.machine.forward(&s.q).tip - datum, seg }
+        let pose = self.machine.forward(&s.q);
+        Held { s, tip: pose.tip - datum, pose, seg }
     }
 
     /// The state of `cur` with its neighbours (none at the stream's ends).
@@ -212,7 +215,7 @@ impl<'a> SimStates<'a> {
             n += 1;
         }
         let (v, a) = derivatives_at(n, usize::from(prev.is_some()), period, |j| window[j]);
-        self.builder.values(self.machine, self.k as f64 * period, &cur.s.q, &v, &a, cur.seg.as_deref(), feed)
+        self.builder.values_at(&cur.pose, self.k as f64 * period, &cur.s.q, &v, &a, cur.seg.as_deref(), feed)
     }
 
     /// The next sample and its segment; the state of the one before it (its numbers:

@@ -206,7 +206,7 @@ impl<'m, I: Iterator<Item = Segment>> OrientationSmoother<'m, I> {
             if n > self.next {
                 let (k, last) = (&self.blocks[self.next], &self.blocks[n - 1]);
                 let open = k.chain.is_some() && last.chain == k.chain;
-                if !open || last.cum - k.cum >= SMOOTH_KNOTS + 1 || self.pieces >= MAX_BUFFERED_PIECES {
+                if !open || last.cum - k.cum > SMOOTH_KNOTS || self.pieces >= MAX_BUFFERED_PIECES {
                     return;
                 }
             }
