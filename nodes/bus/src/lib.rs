@@ -9,6 +9,8 @@
 //! - SIGINT/SIGTERM set a flag the node loops poll, so they finish cleanly.
 
 pub mod program;
+pub mod ros_args;
+pub use ros_args::RosOptions;
 pub use program::{open_program, Gate};
 
 use anyhow::{bail, Context as _};
@@ -167,10 +169,19 @@ fn parse_remap(s: &str) -> Result<(String, String), String> {
 /// Exit code of bad input (a program with defects, a file that cannot be read), as `fiveaxis`'s.
 pub const EXIT_INPUT: i32 = 2;
 
-/// Log with tracing to stderr (`RUST_LOG` filters; default info, DDS internals at warn).
-pub fn init_tracing() {
-    let filter = tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "info,rustdds=warn,ros2_client=warn,ros2_client::distributions=error".into());
+/// Log with tracing to stderr: `--ros-args --log-level` first, else `RUST_LOG`, else info with DDS
+/// internals at warn; nothing with `--disable-stdout-logs`. Then log what the ROS arguments skipped.
+pub fn init_tracing(ros: &RosOptions) {
+    let default = "info,rustdds=warn,ros2_client=warn,ros2_client::distributions=error";
+    let filter = match (&ros.log_filter, ros.stdout_logs) {
+        (_, false) => tracing_subscriber::EnvFilter::new("off"),
+        (Some(f), _) => tracing_subscriber::EnvFilter::try_new(f).unwrap_or_else(|_| default.into()),
+        (None, _) => tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| default.into()),
+    };
     let _ = tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).try_init();
+    for w in &ros.warnings {
+        tracing::warn!("{w}");
+    }
 }
 
 /// Which peers discovery may reach, from the ROS 2 environment.
@@ -247,12 +258,24 @@ pub struct Bus {
 }
 
 impl Bus {
-    /// Create the context and the node `name` (or `--node-name`) in `--namespace`.
-    pub fn new(default_name: &str, args: &CommonArgs) -> anyhow::Result<Bus> {
+    /// Create the context and the node `name` (or `--node-name`, `-r __node:=`) in `--namespace`
+    /// (`-r __ns:=`), its settings declared as read-only parameters (served by ros2-client's
+    /// parameter services: `ros2 param list/get`).
+    pub fn new(default_name: &str, args: &CommonArgs, ros: &RosOptions) -> anyhow::Result<Bus> {
         let context = context_from_env()?;
         let name = args.node_name.clone().unwrap_or_else(|| default_name.to_string());
+        let mut options = NodeOptions::new().enable_rosout(ros.rosout);
+        for p in &ros.parameters {
+            options = options.declare_parameter(&p.name, p.value.clone());
+        }
+        // Read-only: only the value the node runs with (which declaring it sets) is accepted.
+        let declared = ros.parameters.clone();
+        let options = options.parameter_validator(Box::new(move |name, value| match declared.iter().find(|p| p.name == name) {
+            Some(p) if p.value == *value => Ok(()),
+            _ => Err(format!("{name} is read-only: the node reads its settings at start; restart it with --ros-args -p {name}:=VALUE")),
+        }));
         let mut node = context
-            .new_node(NodeName::new(&args.namespace, &name).map_err(|e| anyhow::anyhow!("node name: {e:?}"))?, NodeOptions::new().enable_rosout(true))
+            .new_node(NodeName::new(&args.namespace, &name).map_err(|e| anyhow::anyhow!("node name: {e:?}"))?, options)
             .map_err(|e| anyhow::anyhow!("creating node {name}: {e:?}"))?;
         let spinner = node.spinner().map_err(|e| anyhow::anyhow!("spinner: {e:?}"))?;
         std::thread::Builder::new()

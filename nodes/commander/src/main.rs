@@ -22,14 +22,14 @@ struct Args {
 }
 
 fn main() -> anyhow::Result<()> {
-    init_tracing();
-    let args = Args::parse();
+    let (args, ros) = fiveaxis_bus::ros_args::parse::<Args>("fiveaxis_commander");
+    init_tracing(&ros);
     args.stream.validate()?;
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
     let (moves, gate) = open_program(&args.stream.program, &args.stream.job_options(), &machine, Duration::from_secs_f64(args.stream.check_before_publish_s));
 
-    let mut bus = Bus::new("fiveaxis_commander", &args.common)?;
+    let mut bus = Bus::new("fiveaxis_commander", &args.common, &ros)?;
     let state_pub = bus.publisher::<AxisState>("commanded/axis_state", state_qos())?;
     let joint_pub = bus.publisher::<JointState>("commanded/joint_states", state_qos())?;
     let clock_pub = bus.publisher::<Clock>("/clock", clock_qos())?;

@@ -44,9 +44,9 @@ fn main() -> anyhow::Result<()> {
         })
         .collect();
 
-    let mut cmd = Bus::new("bench_commander", &args("bench_commander"))?;
-    let mut mon = Bus::new("bench_monitor", &args("bench_monitor"))?;
-    let mut obs = Bus::new("bench_observer", &args("bench_observer"))?;
+    let mut cmd = Bus::new("bench_commander", &args("bench_commander"), &fiveaxis_bus::RosOptions::default())?;
+    let mut mon = Bus::new("bench_monitor", &args("bench_monitor"), &fiveaxis_bus::RosOptions::default())?;
+    let mut obs = Bus::new("bench_observer", &args("bench_observer"), &fiveaxis_bus::RosOptions::default())?;
     let state_pub = cmd.publisher::<AxisState>("commanded/axis_state", state_qos())?;
     let state_sub = mon.subscription::<AxisState>("commanded/axis_state", state_qos())?;
     let status_pub = mon.publisher::<SingularityStatus>("monitor/status", state_qos())?;

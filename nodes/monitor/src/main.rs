@@ -59,8 +59,8 @@ struct Args {
 
 
 fn main() -> anyhow::Result<()> {
-    init_tracing();
-    let args = Args::parse();
+    let (args, ros) = fiveaxis_bus::ros_args::parse::<Args>("fiveaxis_monitor");
+    init_tracing(&ros);
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
     let config = MonitorConfig {
@@ -89,7 +89,7 @@ fn main() -> anyhow::Result<()> {
     // Each kind of rejection is said once per topic (the counters go on in the status and /diagnostics).
     let mut said: std::collections::BTreeSet<(String, &'static str)> = Default::default();
 
-    let mut bus = Bus::new("fiveaxis_monitor", &args.common)?;
+    let mut bus = Bus::new("fiveaxis_monitor", &args.common, &ros)?;
     let status_pub = bus.publisher::<SingularityStatus>("monitor/status", state_qos())?;
     let diag_pub = bus.publisher::<DiagnosticArray>("/diagnostics", diagnostics_qos())?;
     let lookahead = (!args.lookahead.is_empty()).then(|| bus.resolve(&args.lookahead));

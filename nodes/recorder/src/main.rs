@@ -130,8 +130,8 @@ where
 }
 
 fn main() -> anyhow::Result<()> {
-    init_tracing();
-    let args = Args::parse();
+    let (args, ros) = fiveaxis_bus::ros_args::parse::<Args>("fiveaxis_recorder");
+    init_tracing(&ros);
     let shutdown = Shutdown::install()?;
     let topics: Vec<(String, String)> = if args.topics.is_empty() {
         [
@@ -152,7 +152,7 @@ fn main() -> anyhow::Result<()> {
             .map(|t| t.rsplit_once(':').map(|(a, b)| (a.to_string(), b.to_string())).ok_or_else(|| anyhow::anyhow!("expected TOPIC:TYPE, got '{t}'")))
             .collect::<anyhow::Result<_>>()?
     };
-    let mut bus = Bus::new("fiveaxis_recorder", &args.common)?;
+    let mut bus = Bus::new("fiveaxis_recorder", &args.common, &ros)?;
     let (tx, rx) = mpsc::sync_channel::<Item>(65536);
     let mut declared: Vec<(String, String, OfferedQos)> = Vec::new();
     for (topic, ty) in &topics {

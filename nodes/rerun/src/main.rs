@@ -189,7 +189,7 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
 }
 
 
-fn live(a: LiveArgs) -> anyhow::Result<ExitCode> {
+fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode> {
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&a.common.machine).context("loading the machine")?;
     let roughness = a.roughness.load().map_err(anyhow::Error::msg)?;
@@ -207,7 +207,7 @@ fn live(a: LiveArgs) -> anyhow::Result<ExitCode> {
         }
     };
 
-    let mut bus = Bus::new("fiveaxis_rerun", &a.common)?;
+    let mut bus = Bus::new("fiveaxis_rerun", &a.common, ros)?;
     let rx = subscribe_states(&mut bus, &a.inputs)?;
     let flush_every = Duration::from_millis(a.flush_ms.max(10));
     let mut last_flush = Instant::now();
@@ -266,11 +266,11 @@ fn main() -> ExitCode {
         // nature) and logs its sinks at info: keep those quiet unless asked for.
         std::env::set_var("RUST_LOG", "info,re_chunk=error,re_sdk=warn,re_log_encoding=warn,rustdds=warn,ros2_client=warn,ros2_client::distributions=error");
     }
-    init_tracing();
-    let cli = Cli::parse();
+    let (cli, ros) = fiveaxis_bus::ros_args::parse::<Cli>("fiveaxis_rerun");
+    init_tracing(&ros);
     let r = match cli.command {
         Command::Replay(a) => replay(&a),
-        Command::Live(a) => live(a),
+        Command::Live(a) => live(a, &ros),
     };
     match r {
         Ok(code) => code,

@@ -27,8 +27,8 @@ struct Args {
 }
 
 fn main() -> anyhow::Result<()> {
-    init_tracing();
-    let args = Args::parse();
+    let (args, ros) = fiveaxis_bus::ros_args::parse::<Args>("fiveaxis_simulator");
+    init_tracing(&ros);
     args.stream.validate()?;
     anyhow::ensure!(args.servo_ms > 0.0 && args.servo_ms.is_finite(), "--servo-ms must be positive");
     let shutdown = Shutdown::install()?;
@@ -38,7 +38,7 @@ fn main() -> anyhow::Result<()> {
     config.servo.tau = args.servo_ms * 1e-3;
     tracing::info!(program = %args.stream.program, "simulating as the states are published");
 
-    let mut bus = Bus::new("fiveaxis_simulator", &args.common)?;
+    let mut bus = Bus::new("fiveaxis_simulator", &args.common, &ros)?;
     let state_pub = bus.publisher::<AxisState>("simulated/axis_state", state_qos())?;
     let joint_pub = bus.publisher::<JointState>("simulated/joint_states", state_qos())?;
     if args.stream.wait_s > 0.0
