@@ -605,53 +605,53 @@ fn cause_name(c: Option<crate::singularity::tracker::Cause>) -> &'static str {
 
 
 
-const XML_HEADER: &str = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-
-/// JUnit XML for several recordings: one `<testsuite>` per report, and one with an error for each
-/// recording that could not be read at all (`(file, why)`).
-pub fn junit_testsuites(reports: &[OfflineReport], unreadable: &[(&str, &str)]) -> String {
-    let mut xml = format!("{XML_HEADER}<testsuites>\n");
+/// JUnit XML for several recordings (written with `quick-junit`): one `<testsuite>` per report, and
+/// one with an error for each recording that could not be read at all (`(file, why)`).
+pub fn junit_testsuites(reports: &[OfflineReport], unreadable: &[(&str, &str)]) -> Result<String, quick_junit::SerializeError> {
+    use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
+    let mut report = Report::new("fiveaxis analyze");
     for r in reports {
-        xml.push_str(&r.junit_testsuite());
+        report.add_test_suite(r.junit_suite());
     }
     for (file, why) in unreadable {
-        xml.push_str(&format!(
-            "<testsuite name=\"fiveaxis analyze {}\" tests=\"1\" errors=\"1\">\n  <testcase classname=\"fiveaxis.analyze\" name=\"read\">\n    <error message=\"{}\"/>\n  </testcase>\n</testsuite>\n",
-            crate::xml::escape(file),
-            crate::xml::escape(why)
-        ));
+        let mut status = TestCaseStatus::non_success(NonSuccessKind::Error);
+        status.set_message(*why);
+        let mut case = TestCase::new("read", status);
+        case.set_classname("fiveaxis.analyze");
+        let mut suite = TestSuite::new(format!("fiveaxis analyze {file}"));
+        suite.add_test_case(case);
+        report.add_test_suite(suite);
     }
-    xml.push_str("</testsuites>\n");
-    xml
+    report.to_string()
 }
 
 impl OfflineReport {
-    /// JUnit XML: one test case per stream and check.
-    pub fn to_junit(&self) -> String {
-        format!("{XML_HEADER}{}", self.junit_testsuite())
+    /// JUnit XML: one test case per stream and check (C speed, distance to the singularity).
+    pub fn to_junit(&self) -> Result<String, quick_junit::SerializeError> {
+        junit_testsuites(std::slice::from_ref(self), &[])
     }
 
-    /// The `<testsuite>` element of [`OfflineReport::to_junit`].
-    fn junit_testsuite(&self) -> String {
-        let esc = crate::xml::escape;
-        let mut cases = String::new();
-        let mut failures = 0;
+    /// The `<testsuite>` of this recording: a failure per check a stream violated, with its message.
+    fn junit_suite(&self) -> quick_junit::TestSuite {
+        use quick_junit::{NonSuccessKind, TestCase, TestCaseStatus, TestSuite};
+        let mut suite = TestSuite::new(format!("fiveaxis analyze {}", self.file));
         for s in &self.streams {
             for (check, needle) in [("c_speed", "predicted C speed"), ("singularity_distance", "from the singularity")] {
-                let fail: Vec<&String> = self.violations.iter().filter(|v| v.starts_with(&format!("{}:", s.topic)) && v.contains(needle)).collect();
-                cases.push_str(&format!("  <testcase classname=\"fiveaxis.analyze\" name=\"{}:{check}\">\n", esc(&s.topic)));
-                if let Some(f) = fail.first() {
-                    failures += 1;
-                    cases.push_str(&format!("    <failure message=\"{}\"/>\n", esc(f)));
-                }
-                cases.push_str("  </testcase>\n");
+                let fail = self.violations.iter().find(|v| v.starts_with(&format!("{}:", s.topic)) && v.contains(needle));
+                let status = match fail {
+                    Some(f) => {
+                        let mut st = TestCaseStatus::non_success(NonSuccessKind::Failure);
+                        st.set_message(f.as_str());
+                        st
+                    }
+                    None => TestCaseStatus::success(),
+                };
+                let mut case = TestCase::new(format!("{}:{check}", s.topic), status);
+                case.set_classname("fiveaxis.analyze");
+                suite.add_test_case(case);
             }
         }
-        format!(
-            "<testsuite name=\"fiveaxis analyze {}\" tests=\"{}\" failures=\"{failures}\">\n{cases}</testsuite>\n",
-            esc(&self.file),
-            self.streams.len() * 2
-        )
+        suite
     }
 
     /// A short table for people.

@@ -564,7 +564,7 @@ fn offline_one(a: &OfflineArgs, recording: &std::path::Path, machine: &Machine, 
         std::fs::write(p, serde_json::to_string_pretty(&report)?).with_context(|| format!("writing {}", p.display()))?;
     }
     if let Some(p) = &a.junit {
-        std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
+        std::fs::write(p, report.to_junit().context("writing JUnit XML")?).with_context(|| format!("writing {}", p.display()))?;
     }
     report_problems(recording, &report);
     Ok(ExitCode::from(offline_code(&report)))
@@ -649,7 +649,7 @@ fn offline_many(a: &OfflineArgs, recordings: &[std::path::PathBuf], machine: &Ma
     }
     if let Some(p) = &a.junit {
         let unreadable: Vec<(&str, &str)> = summary.iter().filter_map(|s| s.error.as_deref().map(|e| (s.file.as_str(), e))).collect();
-        std::fs::write(p, fiveaxis::analysis::junit_testsuites(&reports, &unreadable)).with_context(|| format!("writing {}", p.display()))?;
+        std::fs::write(p, fiveaxis::analysis::junit_testsuites(&reports, &unreadable).context("writing JUnit XML")?).with_context(|| format!("writing {}", p.display()))?;
     }
     Ok(ExitCode::from(worst))
 }

@@ -175,6 +175,30 @@ fn offline_analysis_exit_codes_and_json() {
     let (code, _) = fiveaxis(&["analyze", nonsing.to_str().unwrap(), "--max-c-speed-rpm", "25", "--min-distance-deg", "5", "--junit", junit.to_str().unwrap()]);
     assert_eq!(code, 0);
     assert!(std::fs::read_to_string(&junit).unwrap().contains("failures=\"0\""));
+    // SING's JUnit report, read back by Python's XML parser: one suite, two cases per stream of the
+    // JSON report, a failure for each stream's C-speed check with the violation's own text.
+    let junit = tmp("a-sing.xml");
+    let (code, _) = fiveaxis(&["analyze", sing.to_str().unwrap(), "--max-c-speed-rpm", "25", "--junit", junit.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    let read = "import json, sys, xml.etree.ElementTree as ET\nroot = ET.parse(sys.argv[1]).getroot()\nsuites = root.findall('testsuite')\nprint(json.dumps({'root': root.tag, 'suites': [{'name': s.get('name'), 'tests': int(s.get('tests')), 'failures': int(s.get('failures')), 'cases': [[c.get('name'), [f.get('message') for f in c.findall('failure')]] for c in s.findall('testcase')]} for s in suites]}))";
+    let out = Command::new("python3").args(["-c", read, junit.to_str().unwrap()]).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let x: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(x["root"], "testsuites");
+    let suite = &x["suites"][0];
+    let streams = v["streams"].as_array().unwrap();
+    assert_eq!(suite["tests"].as_u64().unwrap() as usize, 2 * streams.len());
+    assert_eq!(suite["cases"].as_array().unwrap().len(), 2 * streams.len());
+    let failing: Vec<&serde_json::Value> = suite["cases"].as_array().unwrap().iter().filter(|c| !c[1].as_array().unwrap().is_empty()).collect();
+    assert_eq!(suite["failures"].as_u64().unwrap() as usize, failing.len());
+    let violations: Vec<&str> = v["violations"].as_array().unwrap().iter().map(|s| s.as_str().unwrap()).collect();
+    for s in streams {
+        let topic = s["topic"].as_str().unwrap();
+        let c_speed = suite["cases"].as_array().unwrap().iter().find(|c| c[0] == format!("{topic}:c_speed").as_str()).unwrap();
+        let expected = violations.iter().find(|m| m.starts_with(&format!("{topic}:")) && m.contains("predicted C speed"));
+        assert_eq!(c_speed[1].as_array().unwrap().first().and_then(|m| m.as_str()), expected.copied(), "{topic}");
+    }
+    assert!(!failing.is_empty(), "SING fails its C-speed check");
     let bad = tmp("bad.mcap");
     std::fs::write(&bad, b"not an mcap file").unwrap();
     assert_eq!(fiveaxis(&["analyze", bad.to_str().unwrap()]).0, 2);

@@ -7,14 +7,19 @@ use anyhow::Context as _;
 use clap::Parser;
 use fiveaxis::live::monitor::{Monitor, MonitorConfig, Rejection};
 use fiveaxis::machine::Machine;
-use fiveaxis::units::RPM;
+use fiveaxis::units::{MM, MM_PER_MIN, RPM};
 use fiveaxis_bus::{diagnostics_qos, subscribe_states, InputArgs, StateInput, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
 use fiveaxis_msgs::{DiagnosticArray, SingularityStatus, Time};
 use std::collections::BTreeMap;
-use std::io::Write as _;
 use std::path::PathBuf;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
+
+/// Columns of `--samples-csv`: mm, mm/min, rpm, degrees.
+const SAMPLES_CSV_HEADER: [&str; 15] = [
+    "topic", "t_s", "x_mm", "y_mm", "z_mm", "path_feed_mm_per_min", "programmed_feed_mm_per_min", "predicted_c_speed_rpm", "c_speed_rpm",
+    "singularity_distance_deg", "feed_limit_mm_per_min", "limiting_axis", "in_region", "region_id", "block",
+];
 
 /// Watch axis-state streams for the singularity.
 #[derive(Parser)]
@@ -97,9 +102,9 @@ fn main() -> anyhow::Result<()> {
 
     let mut csv = match &args.samples_csv {
         Some(p) => {
-            let mut f = std::io::BufWriter::new(std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?);
-            writeln!(f, "topic,t_s,x_mm,y_mm,z_mm,path_feed_mm_per_min,programmed_feed_mm_per_min,predicted_c_speed_rpm,c_speed_rpm,singularity_distance_deg,feed_limit_mm_per_min,limiting_axis,in_region,region_id,block")?;
-            Some(f)
+            let mut w = csv::Writer::from_writer(std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?);
+            w.write_record(SAMPLES_CSV_HEADER)?;
+            Some(w)
         }
         None => None,
     };
@@ -156,26 +161,25 @@ fn main() -> anyhow::Result<()> {
                             tracing::info!(%topic, region = was, x_mm = status.workpiece_position.x * 1e3, "leaving the region");
                         }
                         in_region.insert(topic.clone(), if status.in_region { status.region_id } else { 0 });
-                        if let Some(f) = csv.as_mut() {
+                        if let Some(w) = csv.as_mut() {
                             let p = &status.workpiece_position;
-                            writeln!(
-                                f,
-                                "{topic},{:.6},{:.5},{:.5},{:.5},{:.3},{:.3},{:.3},{:.3},{:.5},{:.3},{},{},{},{}",
-                                status.header.stamp.as_secs(),
-                                p.x * 1e3,
-                                p.y * 1e3,
-                                p.z * 1e3,
-                                status.path_feed * 60e3,
-                                status.programmed_feed * 60e3,
-                                status.predicted_c_speed / RPM,
-                                status.c_speed / RPM,
-                                status.singularity_distance.to_degrees(),
-                                status.feed_limit * 60e3,
-                                status.limiting_axis,
-                                u8::from(status.in_region),
-                                status.region_id,
-                                status.block_number
-                            )?;
+                            w.write_record([
+                                topic.clone(),
+                                format!("{:.6}", status.header.stamp.as_secs()),
+                                format!("{:.5}", p.x / MM),
+                                format!("{:.5}", p.y / MM),
+                                format!("{:.5}", p.z / MM),
+                                format!("{:.3}", status.path_feed / MM_PER_MIN),
+                                format!("{:.3}", status.programmed_feed / MM_PER_MIN),
+                                format!("{:.3}", status.predicted_c_speed / RPM),
+                                format!("{:.3}", status.c_speed / RPM),
+                                format!("{:.5}", status.singularity_distance.to_degrees()),
+                                format!("{:.3}", status.feed_limit / MM_PER_MIN),
+                                status.limiting_axis.clone(),
+                                u8::from(status.in_region).to_string(),
+                                status.region_id.to_string(),
+                                status.block_number.to_string(),
+                            ])?;
                         }
                         if let Err(e) = status_pub.publish(status) {
                             tracing::warn!("publishing the status: {e:?}");
@@ -230,8 +234,8 @@ fn main() -> anyhow::Result<()> {
         }
     }
     monitor.finish();
-    if let Some(mut f) = csv.take() {
-        f.flush()?;
+    if let Some(mut w) = csv.take() {
+        w.flush()?;
     }
     let summary = monitor.summary();
     for s in &summary {
