@@ -107,6 +107,9 @@ struct Setting {
     /// `--long` of a flag; None for a positional.
     long: Option<String>,
     kind: Kind,
+    /// A switch (`--fast`), given without a value: the value it sets (true for SetTrue, false for
+    /// SetFalse).
+    switch: Option<bool>,
     default: Option<String>,
 }
 
@@ -130,7 +133,12 @@ fn settings(cmd: &Command) -> Vec<Setting> {
             _ => Kind::Text,
         };
         let default = a.get_default_values().first().map(|v| v.to_string_lossy().into_owned());
-        out.push(Setting { name, id, long, kind, default });
+        let switch = match a.get_action() {
+            ArgAction::SetTrue => Some(true),
+            ArgAction::SetFalse => Some(false),
+            _ => None,
+        };
+        out.push(Setting { name, id, long, kind, switch, default });
     }
     out
 }
@@ -307,7 +315,7 @@ fn given(m: &ArgMatches, s: &Setting) -> Option<Vec<String>> {
         return None;
     }
     if s.kind == Kind::Bool {
-        return Some(vec![m.get_flag(&s.id).to_string()]);
+        return Some(vec![m.try_get_one::<bool>(&s.id).ok().flatten().copied().unwrap_or(false).to_string()]);
     }
     m.get_raw(&s.id).map(|v| v.map(|x| x.to_string_lossy().into_owned()).collect())
 }
@@ -452,8 +460,8 @@ pub fn parse_from<A: Parser>(default_node: &str, argv: Vec<String>) -> Result<(A
             continue;
         }
         match (&s.long, s.kind) {
-            (Some(l), Kind::Bool) => {
-                if vals[0] == "true" {
+            (Some(l), Kind::Bool) if s.switch.is_some() => {
+                if Some(vals[0] == "true") == s.switch {
                     flags.push(format!("--{l}"));
                 }
             }
