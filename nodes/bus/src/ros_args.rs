@@ -372,10 +372,12 @@ pub fn parse_from<A: Parser>(default_node: &str, argv: Vec<String>) -> Result<(A
         (Some(m), None) => Some(m),
         _ => None,
     };
+    // (clap panics in debug builds when asked for an id the command does not have.)
+    let known = |id: &str| target.as_ref().is_some_and(|c| c.get_arguments().any(|a| a.get_id() == id));
     let flag_of = |id: &str| -> Option<String> {
-        given_m.filter(|m| m.value_source(id) == Some(ValueSource::CommandLine)).and_then(|m| m.get_raw(id)).and_then(|mut v| v.next()).map(|x| x.to_string_lossy().into_owned())
+        given_m.filter(|m| known(id) && m.value_source(id) == Some(ValueSource::CommandLine)).and_then(|m| m.get_raw(id)).and_then(|mut v| v.next()).map(|x| x.to_string_lossy().into_owned())
     };
-    let has_names = target.as_ref().is_some_and(|c| c.get_arguments().any(|a| a.get_id() == "namespace"));
+    let has_names = known("namespace");
 
     let mut flags: Vec<String> = Vec::new();
     let mut positionals: Vec<String> = Vec::new();
@@ -641,6 +643,32 @@ mod tests {
         assert!(parse("p --rate 5 --ros-args -p rate:=5").is_ok());
         let bad = file("/**:\n  ros__parameters: 3\n");
         assert!(matches!(parse(&format!("p --ros-args --params-file {}", bad.path().display())), Err(RosArgsError::Ros(_))));
+    }
+
+    /// A tool with subcommands, one of which opens no node (as `fiveaxis-rerun replay`).
+    #[derive(Parser, Debug)]
+    #[command(name = "s")]
+    enum S {
+        Replay {
+            recording: String,
+            #[arg(long, default_value_t = 1.0)]
+            scale: f64,
+        },
+        Live {
+            #[command(flatten)]
+            common: crate::CommonArgs,
+        },
+    }
+
+    #[test]
+    fn subcommands_take_their_own_parameters_and_names_only_where_they_open_a_node() {
+        let (s, o) = parse_from::<S>("n", argv("replay r.mcap --ros-args -p scale:=2.0")).unwrap();
+        assert!(matches!(s, S::Replay { ref recording, scale } if recording == "r.mcap" && scale == 2.0), "{s:?}");
+        assert_eq!(value(&o, "scale"), ParameterValue::Double(2.0));
+        assert!(parse_from::<S>("n", argv("replay r.mcap")).is_ok());
+        assert!(matches!(parse_from::<S>("n", argv("replay r.mcap --ros-args -r __ns:=/a")), Err(RosArgsError::Ros(e)) if e.contains("opens no ROS node")));
+        let (s, _) = parse_from::<S>("n", argv("live --ros-args -r __ns:=/a -r __node:=m")).unwrap();
+        assert!(matches!(s, S::Live { ref common } if common.namespace == "/a" && common.node_name.as_deref() == Some("m")), "{s:?}");
     }
 
     #[test]
