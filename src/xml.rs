@@ -1,4 +1,5 @@
-//! XML text escaping, one place for the files we write (JUnit reports, X3P's main.xml, URDF).
+//! XML text escaping, one place for the XML we write by hand (X3P's main.xml, URDF; JUnit reports
+//! are written with quick-junit).
 
 /// `s` escaped for XML element text and double-quoted attribute values.
 pub(crate) fn escape(s: &str) -> String {

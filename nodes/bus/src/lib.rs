@@ -169,10 +169,15 @@ fn parse_remap(s: &str) -> Result<(String, String), String> {
 /// Exit code of bad input (a program with defects, a file that cannot be read), as `fiveaxis`'s.
 pub const EXIT_INPUT: i32 = 2;
 
+/// Tracing directives that keep the DDS stack's own logs to warnings (and ros2-client's distribution
+/// notice quiet) whatever level the node logs at.
+pub const DDS_LOG_DIRECTIVES: &str = "rustdds=warn,ros2_client=warn,ros2_client::distributions=error";
+
 /// Log with tracing to stderr: `--ros-args --log-level` first, else `RUST_LOG`, else info with DDS
 /// internals at warn; nothing with `--disable-stdout-logs`. Then log what the ROS arguments skipped.
 pub fn init_tracing(ros: &RosOptions) {
-    let default = "info,rustdds=warn,ros2_client=warn,ros2_client::distributions=error";
+    let default = format!("info,{DDS_LOG_DIRECTIVES}");
+    let default = default.as_str();
     let filter = match (&ros.log_filter, ros.stdout_logs) {
         (_, false) => tracing_subscriber::EnvFilter::new("off"),
         (Some(f), _) => tracing_subscriber::EnvFilter::try_new(f).unwrap_or_else(|_| default.into()),

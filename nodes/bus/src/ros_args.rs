@@ -113,6 +113,13 @@ struct Setting {
     default: Option<String>,
 }
 
+impl Setting {
+    /// How the command line names it: `--long`, or `<ID>` for a positional.
+    fn flag(&self) -> String {
+        self.long.as_ref().map_or_else(|| format!("<{}>", self.id.to_uppercase()), |l| format!("--{l}"))
+    }
+}
+
 /// The settings of `cmd` (its own arguments, not its subcommands').
 fn settings(cmd: &Command) -> Vec<Setting> {
     let mut out = Vec::new();
@@ -147,14 +154,13 @@ fn settings(cmd: &Command) -> Vec<Setting> {
 fn parameter_help(settings: &[Setting]) -> String {
     let mut s = String::from("ROS 2 parameters (--ros-args -p NAME:=VALUE, --params-file FILE; read at start, read-only):\n");
     for p in settings {
-        let flag = p.long.as_ref().map_or_else(|| format!("<{}>", p.id.to_uppercase()), |l| format!("--{l}"));
         let default = match (&p.default, p.kind) {
             (Some(d), _) => format!(", default {d}"),
             (None, Kind::Bool) => ", default false".into(),
             (None, Kind::TextArray) => ", default []".into(),
             (None, _) => ", not set by default".into(),
         };
-        s.push_str(&format!("  {:<28} {}{default} ({flag})\n", p.name, p.kind.name()));
+        s.push_str(&format!("  {:<28} {}{default} ({})\n", p.name, p.kind.name(), p.flag()));
     }
     s.push_str("ROS names: -r __ns:=/NS (--namespace), -r __node:=NAME (--node-name), -r FROM:=TO (--remap).");
     s
@@ -301,7 +307,7 @@ fn log_filter(levels: &[ros2args::LogLevelAssignment], node: &str, fqn: &str) ->
             Some(n) => targets.push(format!("{n}={}", level(a.level))),
         }
     }
-    let mut f = format!("{default},rustdds=warn,ros2_client=warn,ros2_client::distributions=error");
+    let mut f = format!("{default},{}", crate::DDS_LOG_DIRECTIVES);
     for t in targets {
         f.push(',');
         f.push_str(&t);
@@ -456,8 +462,7 @@ pub fn parse_from<A: Parser>(default_node: &str, argv: Vec<String>) -> Result<(A
         let vals = values_of(s, &a.value, &a.source)?;
         if let Some(g) = given_m.and_then(|m| given(m, s)) {
             if g != vals {
-                let flag = s.long.as_ref().map_or_else(|| format!("<{}>", s.id.to_uppercase()), |l| format!("--{l}"));
-                return Err(ros_err(format!("{flag} is {} on the command line but parameter {} is {} ({}): give one", g.join(" "), s.name, vals.join(" "), a.source)));
+                return Err(ros_err(format!("{} is {} on the command line but parameter {} is {} ({}): give one", s.flag(), g.join(" "), s.name, vals.join(" "), a.source)));
             }
             continue;
         }

@@ -264,7 +264,7 @@ fn main() -> ExitCode {
     if std::env::var_os("RUST_LOG").is_none() {
         // Rerun warns about out-of-order x values (the x timeline is not monotonic over a program by
         // nature) and logs its sinks at info: keep those quiet unless asked for.
-        std::env::set_var("RUST_LOG", "info,re_chunk=error,re_sdk=warn,re_log_encoding=warn,rustdds=warn,ros2_client=warn,ros2_client::distributions=error");
+        std::env::set_var("RUST_LOG", format!("info,re_chunk=error,re_sdk=warn,re_log_encoding=warn,{}", fiveaxis_bus::DDS_LOG_DIRECTIVES));
     }
     let (cli, ros) = fiveaxis_bus::ros_args::parse::<Cli>("fiveaxis_rerun");
     init_tracing(&ros);
