@@ -142,8 +142,9 @@ struct RunArgs {
     /// Print one JSON object (the keys of `program analyze --json` plus `simulated`).
     #[arg(long)]
     json: bool,
-    /// Record every topic of the node set to this MCAP file (rosbag2 layout).
-    #[arg(long)]
+    /// Record every topic of the node set to this rosbag2 bag: a directory (metadata.yaml and
+    /// NAME_0.mcap, as `ros2 bag record` writes), or one MCAP file when the name ends in .mcap.
+    #[arg(long, visible_alias = "bag", value_name = "BAG")]
     mcap: Option<std::path::PathBuf>,
     /// Also write the run as a Rerun recording (.rrd, the default layout): the MCAP replayed by
     /// `fiveaxis-rerun`, which must sit beside this executable (`cargo build -p fiveaxis-rerun`).

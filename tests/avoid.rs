@@ -95,7 +95,7 @@ fn ball_centres(p: &Program, m: &Machine, r: f64) -> Vec<nalgebra::Vector3<f64>>
 
 /// Re-run the whole in-process pipeline (commander, simulator, monitor) on a written program.
 fn pipeline(text: &str, tag: &str) -> fiveaxis::live::inprocess::RunOutput {
-    let path = std::env::temp_dir().join(format!("fiveaxis-avoid-{tag}-{}.I", std::process::id()));
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("avoid-{tag}.I"));
     std::fs::write(&path, text).unwrap();
     let out = fiveaxis::live::inprocess::run(path.to_str().unwrap(), &Machine::hermle_c600u(), &Default::default()).unwrap();
     let _ = std::fs::remove_file(&path);

@@ -37,7 +37,8 @@ fn rows(csv: &Path) -> Vec<Row> {
 
 /// Run a launch-free script on a program; returns the monitor's summary and samples.
 fn launch(script: &str, program: &str, tag: &str) -> (serde_json::Value, Vec<Row>) {
-    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-{tag}-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("dds-{tag}"));
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let (summary, csv) = (dir.join("summary.json"), dir.join("samples.csv"));
     let status = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts").join(script))
@@ -132,7 +133,8 @@ fn two_hosts_joined_by_a_veth_pair() {
 #[test]
 fn monitor_survives_a_killed_and_restarted_publisher() {
     let b = bins();
-    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-restart-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-restart");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let summary = dir.join("summary.json");
     let script = format!(
@@ -173,7 +175,8 @@ wait $M
 #[test]
 fn nodes_stop_cleanly_on_sigterm() {
     let b = bins();
-    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-term-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-term");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let summary = dir.join("summary.json");
     let script = format!(
@@ -208,7 +211,8 @@ echo "commander=$rc_c monitor=$rc_m"
 #[test]
 fn recorder_finishes_on_sigint_and_is_recovered_after_sigkill() {
     let b = bins();
-    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-rec-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-rec");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let (full, killed, kill_ns) = (dir.join("full.mcap"), dir.join("killed.mcap"), dir.join("kill_ns"));
     let script = format!(
@@ -256,7 +260,8 @@ wait $R1
 #[test]
 fn recorder_splits_by_duration() {
     let b = bins();
-    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-split-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-split");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let script = format!(
         r#"set -e
@@ -291,7 +296,8 @@ wait $R
 /// check it, and stop with exit code 2 naming the defect's line and column, never publishing past it.
 #[test]
 fn a_defect_deep_in_a_long_program_stops_the_publishing_nodes() {
-    let dir = std::env::temp_dir().join(format!("fiveaxis-dds-defect-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-defect");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let program = dir.join("long.cl");
     // 6 minutes of a dense five-axis raster (120,000 poses), then one damaged line.
@@ -326,5 +332,50 @@ fn a_defect_deep_in_a_long_program_stops_the_publishing_nodes() {
         assert!(err.contains(outcome), "{node} --check-before-publish-s {settle}: {outcome}: {err}");
         assert!(!err.contains("panicked"), "{node}: {err}");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `fiveaxis-recorder --all` beside an independent Cyclone DDS peer publishing as rmw_cyclonedds
+/// does: a rosbag2 directory that rosbags' reader opens, holding the peer's JointState and
+/// std_msgs/String (a type fiveaxis has no definition of: stored with an empty one, as `ros2 bag`
+/// does) byte for byte as sent, each decoding to the values sent, metadata.yaml's counts matching.
+#[test]
+fn recorder_all_writes_a_rosbag2_directory_of_what_it_received() {
+    let b = bins();
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-bag");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let (bag, sent) = (dir.join("cell_bag"), dir.join("sent.json"));
+    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/bag_peer.py");
+    let script = format!(
+        r#"set -e
+"{b}/fiveaxis-recorder" --all --output "{bag}" --duration-s 15 &
+R=$!
+python3 "{peer}" publish --out "{sent}" --count 300
+kill -INT $R
+wait $R
+"#,
+        b = b.display(),
+        bag = bag.display(),
+        sent = sent.display(),
+        peer = peer.display(),
+    );
+    let out = netns_bash(&script);
+    assert!(out.status.success(), "{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(bag.join("metadata.yaml").exists() && bag.join("cell_bag_0.mcap").exists());
+    let check = Command::new("python3").arg(&peer).arg("check").arg(&bag).arg(&sent).output().expect("python3 runs");
+    let report = String::from_utf8_lossy(&check.stdout);
+    assert!(check.status.success(), "rosbags: {report}\n{}", String::from_utf8_lossy(&check.stderr));
+    let v: serde_json::Value = serde_json::from_str(report.trim()).unwrap();
+    assert_eq!(v["version"], 9);
+    assert_eq!(v["topics"]["/cnc/joint_states"]["type"], "sensor_msgs/msg/JointState");
+    assert_eq!(v["topics"]["/cnc/joint_states"]["definition"], true);
+    assert_eq!(v["topics"]["/cnc/joint_states"]["count"], 300);
+    assert_eq!(v["topics"]["/chatter"]["type"], "std_msgs/msg/String");
+    assert_eq!(v["topics"]["/chatter"]["definition"], false);
+    assert_eq!(v["topics"]["/chatter"]["count"], 300);
+    // Our own reader takes the directory too.
+    let files = fiveaxis::record::read::recording_files(&bag).unwrap();
+    assert_eq!(files, vec![bag.join("cell_bag_0.mcap")]);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -22,10 +22,15 @@ fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_fiveaxis")
 }
 
+/// A fresh path for `name` in this test binary's scratch directory (target/tmp, kept between runs:
+/// whatever an earlier run left there is removed).
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fiveaxis-lookahead-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("lookahead");
     std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    let path = dir.join(name);
+    let _ = std::fs::remove_file(&path);
+    let _ = std::fs::remove_dir_all(&path);
+    path
 }
 
 fn cycle_time(program: &Path, mcap: Option<&Path>) -> f64 {

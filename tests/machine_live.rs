@@ -47,7 +47,8 @@ fn live_trace(tag: &str, peer: &str, trace: &Trace) -> Live {
     // One live run at a time: two 1 kHz publishers on two cores would starve each other.
     static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _one = ONE.lock().unwrap_or_else(|e| e.into_inner());
-    let dir = std::env::temp_dir().join(format!("fiveaxis-live-{tag}-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("live-{tag}"));
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let d = dir.display();
     let script = format!(

@@ -20,7 +20,7 @@ fn trace(name: &str) -> PathBuf {
 
 /// A rosbag2 directory of `trace` written by rosbags with `extra` options; one per tag.
 fn bag(trace_file: &str, tag: &str, extra: &[&str]) -> PathBuf {
-    let out = std::env::temp_dir().join(format!("fiveaxis-machine-{}-{tag}", std::process::id()));
+    let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("machine-{tag}"));
     let _ = std::fs::remove_dir_all(&out);
     let st = Command::new("python3")
         .arg(root().join("tests/peer/trace_to_rosbag.py"))

@@ -8,10 +8,15 @@ use fiveaxis_msgs::{schema, AxisState, JointState, RosMessage, SingularityStatus
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// A fresh path for `name` in this test binary's scratch directory (target/tmp, kept between runs:
+/// whatever an earlier run left there is removed).
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fiveaxis-record-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("record");
     std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    let path = dir.join(name);
+    let _ = std::fs::remove_file(&path);
+    let _ = std::fs::remove_dir_all(&path);
+    path
 }
 
 fn record(spec: &str, path: &Path) -> fiveaxis::live::inprocess::RunOutput {
@@ -386,4 +391,41 @@ fn chunk_size_claims_are_bounded_before_allocating() {
         assert_eq!(out.status.code(), Some(2), "{err}");
         assert!(err.contains(&want) && err.contains("chunk starting at log time"), "no '{want}' in: {err}");
     }
+}
+
+/// `run` into a bag directory (no `.mcap` name): rosbag2's layout (metadata.yaml version 9 and
+/// NAME_0.mcap), which rosbags' reader opens and decodes whole, with as many commanded states as
+/// the commander makes of the program read whole; `analyze` takes the directory as it takes the file.
+#[test]
+fn run_writes_a_rosbag2_directory_rosbags_reads() {
+    let bag = tmp("sing_bag");
+    let out = record("bundled:SING.I", &bag);
+    let files: Vec<String> = std::fs::read_dir(&bag).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut files = files;
+    files.sort();
+    assert_eq!(files, ["metadata.yaml", "sing_bag_0.mcap"]);
+    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/bag_peer.py");
+    let check = Command::new("python3").arg(&peer).arg("check").arg(&bag).arg("-").output().expect("python3 runs");
+    let report = String::from_utf8_lossy(&check.stdout);
+    assert!(check.status.success(), "rosbags: {report}\n{}", String::from_utf8_lossy(&check.stderr));
+    let v: serde_json::Value = serde_json::from_str(report.trim()).unwrap();
+    assert_eq!(v["version"], 9);
+    let job = fiveaxis::job::run("bundled:SING.I", &Machine::hermle_c600u(), &Default::default()).unwrap();
+    let commanded = fiveaxis::live::commander::commanded_states(&job.trajectory, &Machine::hermle_c600u());
+    assert_eq!(v["topics"][topics::COMMANDED_STATE]["count"].as_u64(), Some(commanded.len() as u64));
+    assert_eq!(v["topics"][topics::COMMANDED_STATE]["type"], "fiveaxis_msgs/msg/AxisState");
+    assert_eq!(v["topics"][topics::COMMANDED_JOINTS]["count"].as_u64(), Some(commanded.len() as u64));
+    let total: u64 = v["topics"].as_object().unwrap().values().map(|t| t["count"].as_u64().unwrap()).sum();
+    assert_eq!(Some(total), out.recorded_messages);
+    // The same verdict from the directory as from a bare file of the same run.
+    let file = tmp("sing_file.mcap");
+    let _ = record("bundled:SING.I", &file);
+    let (jd, jf) = (tmp("sing_bag.json"), tmp("sing_file.json"));
+    let (code_dir, _) = fiveaxis(&["analyze", bag.to_str().unwrap(), "--max-c-speed-rpm", "25", "--json", jd.to_str().unwrap()]);
+    let (code_file, _) = fiveaxis(&["analyze", file.to_str().unwrap(), "--max-c-speed-rpm", "25", "--json", jf.to_str().unwrap()]);
+    assert_eq!((code_dir, code_file), (1, 1), "SING violates 25 rpm, from either");
+    let read = |p: &Path| -> serde_json::Value { serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap() };
+    let (a, b) = (read(&jd), read(&jf));
+    assert_eq!(a["messages_read"], b["messages_read"]);
+    assert_eq!(a["regions"], b["regions"]);
 }

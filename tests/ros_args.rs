@@ -24,7 +24,8 @@ const PARAMS: &str = "/**:\n  ros__parameters:\n    some_other_nodes_parameter: 
 /// Start `node` with the issue's ROS arguments and `own` (its subcommand and flags) plus the
 /// node-specific parameters `params` (YAML lines under ros__parameters); return what the peer saw.
 fn start(tag: &str, node: &str, own: &str, params: &str, extra_ros: &str) -> (Value, String) {
-    let dir = std::env::temp_dir().join(format!("fiveaxis-rosargs-{tag}-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("rosargs-{tag}"));
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("params.yaml");
     std::fs::write(&file, format!("{PARAMS}{params}")).unwrap();
@@ -89,7 +90,8 @@ fn commander_and_simulator_take_ros_arguments() {
 
 #[test]
 fn monitor_recorder_and_rerun_bridge_take_ros_arguments() {
-    let dir = std::env::temp_dir().join(format!("fiveaxis-rosargs-out-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("rosargs-out");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let (seen, log) = start("monitor", "fiveaxis-monitor", "", "    stale_ms: 50.0\n    input: [commanded/axis_state]\n", "");
     let params = check_common("monitor", &seen, &log);

@@ -22,7 +22,8 @@ const HAND_WRITTEN: &str = include_str!("../machines/urdf/hermle-c600u.urdf");
 const HAND_WRITTEN_PATH: &str = "machines/urdf/hermle-c600u.urdf";
 
 fn temp_dir(what: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fiveaxis-urdf-{what}-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("urdf-{what}"));
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

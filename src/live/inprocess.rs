@@ -73,26 +73,27 @@ pub mod topics {
     pub const CLOCK: &str = "/clock";
 }
 
-/// Records the node set's topics in program time (the in-process clock, as with use_sim_time).
+/// Records the node set's topics in program time (the in-process clock, as with use_sim_time) to a
+/// rosbag2 bag (a directory, or one `.mcap` file when so named).
 struct Tape {
-    rec: crate::record::Recorder<std::io::BufWriter<std::fs::File>>,
-    ids: [u16; 7],
+    rec: crate::record::bag::Bag,
+    ids: [usize; 7],
     next_diag: f64,
 }
 
 impl Tape {
     fn create(path: &std::path::Path) -> Result<Tape, crate::record::RecordError> {
-        use crate::record::{OfferedQos, Recorder};
+        use crate::record::{bag::Bag, OfferedQos};
         use fiveaxis_msgs::{Clock, DiagnosticArray, JointState};
-        let mut rec = Recorder::create(path, Default::default())?;
+        let mut rec = Bag::create(path, false, Default::default())?;
         let ids = [
-            rec.add_topic::<AxisState>(topics::COMMANDED_STATE, OfferedQos::STATE)?,
-            rec.add_topic::<JointState>(topics::COMMANDED_JOINTS, OfferedQos::STATE)?,
-            rec.add_topic::<AxisState>(topics::SIMULATED_STATE, OfferedQos::STATE)?,
-            rec.add_topic::<JointState>(topics::SIMULATED_JOINTS, OfferedQos::STATE)?,
-            rec.add_topic::<SingularityStatus>(topics::STATUS, OfferedQos::STATE)?,
-            rec.add_topic::<DiagnosticArray>(topics::DIAGNOSTICS, OfferedQos::DIAGNOSTICS)?,
-            rec.add_topic::<Clock>(topics::CLOCK, OfferedQos::CLOCK)?,
+            rec.add::<AxisState>(topics::COMMANDED_STATE, OfferedQos::STATE)?,
+            rec.add::<JointState>(topics::COMMANDED_JOINTS, OfferedQos::STATE)?,
+            rec.add::<AxisState>(topics::SIMULATED_STATE, OfferedQos::STATE)?,
+            rec.add::<JointState>(topics::SIMULATED_JOINTS, OfferedQos::STATE)?,
+            rec.add::<SingularityStatus>(topics::STATUS, OfferedQos::STATE)?,
+            rec.add::<DiagnosticArray>(topics::DIAGNOSTICS, OfferedQos::DIAGNOSTICS)?,
+            rec.add::<Clock>(topics::CLOCK, OfferedQos::CLOCK)?,
         ];
         Ok(Tape { rec, ids, next_diag: 0.0 })
     }

@@ -5,11 +5,15 @@
 //!   dependencies appended after lines of 80 `=` and `MSG: pkg/Type` ([`fiveaxis_msgs::schema`]);
 //! - channels with message encoding `cdr` (4-byte CDR_LE encapsulation header + XCDR1 body) and
 //!   `offered_qos_profiles` metadata (rosbag2's YAML);
-//! - log time = receive time, publish time = the message's source stamp;
+//! - log time = receive time; publish time = the send time (the writer's DDS source timestamp) for
+//!   what the recorder node receives, the message's stamp for the in-process run;
+//! - a rosbag2 directory (`metadata.yaml` and `NAME_0.mcap`, ...) unless the output is named
+//!   `*.mcap` ([`bag`]);
 //! - zstd chunks, closed at least every [`RecordOptions::chunk_interval_ns`] (1 s) of log time, so a
 //!   recorder killed mid-run loses at most the last chunk ([`recover`] rebuilds the rest), with
 //!   message indexes, chunk indexes and statistics in the summary.
 
+pub mod bag;
 pub mod read;
 mod recover;
 
@@ -78,15 +82,18 @@ impl OfferedQos {
     /// /clock: best effort keep-last 1.
     pub const CLOCK: OfferedQos = OfferedQos { reliable: false, transient_local: false, depth: Some(1) };
 
-    /// rosbag2's YAML (the numeric form every rosbag2 version reads): a list of one profile.
+    /// rosbag2's YAML, as rosbag2 metadata version 9 writes it (enum names; "infinite" durations
+    /// as rmw's RMW_DURATION_INFINITE): a list of one profile. The same text goes into each MCAP
+    /// channel's `offered_qos_profiles` and into `metadata.yaml` ([`bag`]), as readers that match
+    /// the two (rosbags) require.
     pub fn to_yaml(&self) -> String {
-        let never = "    sec: 2147483647\n    nsec: 4294967295\n";
+        let never = "    sec: 9223372036\n    nsec: 854775807\n";
         format!(
-            "- history: {}\n  depth: {}\n  reliability: {}\n  durability: {}\n  deadline:\n{never}  lifespan:\n{never}  liveliness: 1\n  liveliness_lease_duration:\n{never}  avoid_ros_namespace_conventions: false\n",
-            if self.depth.is_some() { 1 } else { 2 },
+            "- history: {}\n  depth: {}\n  reliability: {}\n  durability: {}\n  deadline:\n{never}  lifespan:\n{never}  liveliness: automatic\n  liveliness_lease_duration:\n{never}  avoid_ros_namespace_conventions: false\n",
+            if self.depth.is_some() { "keep_last" } else { "keep_all" },
             self.depth.unwrap_or(0),
-            if self.reliable { 1 } else { 2 },
-            if self.transient_local { 1 } else { 2 },
+            if self.reliable { "reliable" } else { "best_effort" },
+            if self.transient_local { "transient_local" } else { "volatile" },
         )
     }
 }
@@ -161,6 +168,18 @@ impl<W: Write + Seek> Recorder<W> {
             }
         }
         let text = schema::ros2msg(type_name).ok_or_else(|| RecordError::UnknownType(type_name.to_string()))?;
+        self.add_topic_schema(topic, type_name, &text, qos)
+    }
+
+    /// Declare `topic` with the type named `type_name` and its `ros2msg` text: empty for a type
+    /// whose definition is not known, as `ros2 bag record` stores it (readers then need the type
+    /// from elsewhere to decode it).
+    pub fn add_topic_schema(&mut self, topic: &str, type_name: &str, text: &str, qos: OfferedQos) -> Result<u16, RecordError> {
+        if let Some((id, ty)) = self.channels.get(topic) {
+            if ty == type_name {
+                return Ok(*id);
+            }
+        }
         let schema_id = self.writer.add_schema(type_name, "ros2msg", text.as_bytes()).map_err(|e| mcap_err(&self.path, e))?;
         let mut meta = BTreeMap::new();
         meta.insert("offered_qos_profiles".to_string(), qos.to_yaml());

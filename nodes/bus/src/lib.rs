@@ -9,6 +9,7 @@
 //! - SIGINT/SIGTERM set a flag the node loops poll, so they finish cleanly.
 
 pub mod program;
+pub mod raw;
 pub mod ros_args;
 pub use ros_args::RosOptions;
 pub use program::{open_program, Gate};
@@ -259,7 +260,7 @@ pub struct Bus {
     pub node: Node,
     namespace: String,
     remaps: Vec<(String, String)>,
-    _context: Context,
+    context: Context,
 }
 
 impl Bus {
@@ -291,7 +292,12 @@ impl Bus {
                 }
             })
             .context("starting the spinner")?;
-        Ok(Bus { node, namespace: args.namespace.clone(), remaps: args.remaps.clone(), _context: context })
+        Ok(Bus { node, namespace: args.namespace.clone(), remaps: args.remaps.clone(), context })
+    }
+
+    /// The node's ROS 2 context (its DDS participant, discovery).
+    pub fn context(&self) -> &Context {
+        &self.context
     }
 
     /// The full topic name for `topic` (relative to the namespace unless absolute), after remapping.

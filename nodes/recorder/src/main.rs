@@ -1,32 +1,43 @@
-//! `fiveaxis-recorder`: records the node set's topics (or a chosen list) over DDS into MCAP, in the
-//! rosbag2 layout. Log time = receive time, publish time = the message's source stamp. Chunks close
-//! every second, so a kill loses at most the last second (`fiveaxis mcap recover` rebuilds the rest);
-//! SIGINT/SIGTERM finish the file.
+//! `fiveaxis-recorder`: records topics over DDS into a rosbag2 bag, as `ros2 bag record` does: a
+//! directory with `metadata.yaml` and `NAME_0.mcap`, ... (or one `.mcap` file when the output is
+//! named so). Messages are stored as the bytes received, of any type (`--all`, or `TOPIC:pkg/msg/T`);
+//! log time = receive time, publish time = the writer's send time (DDS source timestamp). Chunks
+//! close every second, so a kill loses at most the last second (`fiveaxis mcap recover` rebuilds the
+//! rest); SIGINT/SIGTERM finish the bag.
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::record::{OfferedQos, RecordOptions, Recorder};
+use fiveaxis::record::bag::{Bag, BagTopic};
+use fiveaxis::record::{OfferedQos, RecordOptions};
+use fiveaxis_bus::raw::{dds_type_name, ros_type_name, RawSubscription};
 use fiveaxis_bus::{clock_qos, diagnostics_qos, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
 use fiveaxis_msgs::{AxisState, Clock, DiagnosticArray, JointState, RosMessage, SingularityStatus};
+use ros2_client::qos::{Durability, History};
 use ros2_client::QosProfile;
-use serde::{de::DeserializeOwned, Serialize};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::mpsc;
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-/// Record topics to MCAP.
+/// Record topics to a rosbag2 bag.
 #[derive(Parser)]
 #[command(name = "fiveaxis-recorder", version)]
 struct Args {
     #[command(flatten)]
     common: CommonArgs,
-    /// The MCAP file to write.
+    /// The bag to write: a rosbag2 directory (created; metadata.yaml and NAME_0.mcap, ...), or one
+    /// MCAP file when the name ends in .mcap.
     #[arg(long, short)]
     output: PathBuf,
-    /// Topics to record as TOPIC:TYPE (TYPE: AxisState, JointState, SingularityStatus, DiagnosticArray,
-    /// Clock); default: every topic of the node set.
-    #[arg(long = "topic", value_name = "TOPIC:TYPE")]
+    /// Topics to record as TOPIC:TYPE, TYPE one of the node set's (AxisState, JointState,
+    /// SingularityStatus, DiagnosticArray, Clock) or any ROS type pkg/msg/Type (recorded as
+    /// received; its definition stored where fiveaxis knows it). Default: every topic of the node set.
+    #[arg(long = "topic", value_name = "TOPIC:TYPE", conflicts_with = "all")]
     topics: Vec<String>,
+    /// Record every topic on the domain, of any type, as its publishers appear (as `ros2 bag record
+    /// --all`): reliable where every announcement is, transient-local where every one is.
+    #[arg(long)]
+    all: bool,
     /// Stop after this long, s.
     #[arg(long = "duration-s")]
     duration_s: Option<f64>,
@@ -39,31 +50,9 @@ struct Args {
     split_duration_s: Option<f64>,
 }
 
-/// The file of split `k` (the output itself when not splitting).
-fn split_path(output: &std::path::Path, split: bool, k: usize) -> PathBuf {
-    if !split {
-        return output.to_path_buf();
-    }
-    let stem = output.file_stem().map_or("recording".into(), |s| s.to_string_lossy().into_owned());
-    output.with_file_name(format!("{stem}_{k}.mcap"))
-}
-
-/// A recording file being written, and the channel id of each topic in it.
-type Open = (Recorder<std::io::BufWriter<std::fs::File>>, std::collections::HashMap<String, u16>);
-
-/// Open a recording with every topic declared.
-fn open(path: &std::path::Path, topics: &[(String, String, OfferedQos)]) -> anyhow::Result<Open> {
-    let mut rec = Recorder::create(path, RecordOptions::default())?;
-    let mut ids = std::collections::HashMap::new();
-    for (name, ty, qos) in topics {
-        ids.insert(name.clone(), rec.add_topic_type(name, ty, *qos)?);
-    }
-    Ok((rec, ids))
-}
-
-/// A received message, encoded, with its times.
+/// A received message with its times; `topic` indexes the bag's topics.
 struct Item {
-    topic: String,
+    topic: usize,
     data: Vec<u8>,
     log_ns: u64,
     publish_ns: u64,
@@ -73,145 +62,159 @@ fn now_ns() -> u64 {
     SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_nanos() as u64)
 }
 
-/// The source stamp of a message, for MCAP's publish time.
-trait Stamp {
-    fn stamp_ns(&self) -> u64;
-}
-impl Stamp for AxisState {
-    fn stamp_ns(&self) -> u64 {
-        self.header.stamp.as_nanos()
-    }
-}
-impl Stamp for JointState {
-    fn stamp_ns(&self) -> u64 {
-        self.header.stamp.as_nanos()
-    }
-}
-impl Stamp for SingularityStatus {
-    fn stamp_ns(&self) -> u64 {
-        self.header.stamp.as_nanos()
-    }
-}
-impl Stamp for DiagnosticArray {
-    fn stamp_ns(&self) -> u64 {
-        self.header.stamp.as_nanos()
-    }
-}
-impl Stamp for Clock {
-    fn stamp_ns(&self) -> u64 {
-        self.clock.as_nanos()
-    }
+/// The node set's topics, with their type names and QoS.
+fn node_set_topics() -> Vec<(String, String, QosProfile, OfferedQos)> {
+    [
+        ("commanded/axis_state", AxisState::type_name(), state_qos(), OfferedQos::STATE),
+        ("commanded/joint_states", JointState::type_name(), state_qos(), OfferedQos::STATE),
+        ("simulated/axis_state", AxisState::type_name(), state_qos(), OfferedQos::STATE),
+        ("simulated/joint_states", JointState::type_name(), state_qos(), OfferedQos::STATE),
+        ("monitor/status", SingularityStatus::type_name(), state_qos(), OfferedQos::STATE),
+        ("/diagnostics", DiagnosticArray::type_name(), diagnostics_qos(), OfferedQos::DIAGNOSTICS),
+        ("/clock", Clock::type_name(), clock_qos(), OfferedQos::CLOCK),
+    ]
+    .into_iter()
+    .map(|(t, ty, q, o)| (t.to_string(), ty, q, o))
+    .collect()
 }
 
-fn subscribe<M>(bus: &mut Bus, topic: &str, qos: QosProfile, tx: mpsc::SyncSender<Item>) -> anyhow::Result<String>
-where
-    M: RosMessage + Serialize + DeserializeOwned + Stamp + Send + 'static,
-{
-    let sub = bus.subscription::<M>(topic, qos)?;
-    let name = bus.resolve(topic);
-    let n = name.clone();
+/// A `--topic TOPIC:TYPE`: our short names map to the node set's types and QoS; a full ROS type
+/// name is recorded reliable (keep-last 1000, volatile).
+fn parse_topic(spec: &str) -> anyhow::Result<(String, String, QosProfile, OfferedQos)> {
+    let (topic, ty) = spec.rsplit_once(':').filter(|(t, y)| !t.is_empty() && !y.is_empty()).ok_or_else(|| anyhow::anyhow!("--topic '{spec}': expected TOPIC:TYPE"))?;
+    let ours = [
+        ("AxisState", AxisState::type_name(), state_qos(), OfferedQos::STATE),
+        ("JointState", JointState::type_name(), state_qos(), OfferedQos::STATE),
+        ("SingularityStatus", SingularityStatus::type_name(), state_qos(), OfferedQos::STATE),
+        ("DiagnosticArray", DiagnosticArray::type_name(), diagnostics_qos(), OfferedQos::DIAGNOSTICS),
+        ("Clock", Clock::type_name(), clock_qos(), OfferedQos::CLOCK),
+    ];
+    if let Some((_, full, q, o)) = ours.into_iter().find(|(short, full, ..)| *short == ty || *full == ty) {
+        return Ok((topic.to_string(), full, q, o));
+    }
+    let parts: Vec<&str> = ty.split('/').collect();
+    if parts.len() != 3 || parts.iter().any(|p| p.is_empty()) || parts[1] != "msg" {
+        anyhow::bail!("--topic '{spec}': unknown type '{ty}': AxisState, JointState, SingularityStatus, DiagnosticArray, Clock or a ROS type pkg/msg/Type");
+    }
+    Ok((topic.to_string(), ty.to_string(), state_qos(), OfferedQos::STATE))
+}
+
+/// Read `sub` on its own thread onto the recorder's channel, as topic `index`.
+fn forward(sub: RawSubscription, index: usize, name: String, tx: mpsc::SyncSender<Item>) {
     std::thread::spawn(move || loop {
-        match smol::block_on(sub.async_take()) {
-            Ok((msg, _)) => {
+        match smol::block_on(sub.take()) {
+            Ok(m) => {
                 let log_ns = now_ns();
-                match fiveaxis::record::to_cdr(&msg) {
-                    Ok(data) => {
-                        if tx.send(Item { topic: n.clone(), data, log_ns, publish_ns: msg.stamp_ns() }).is_err() {
-                            break;
-                        }
-                    }
-                    Err(e) => tracing::warn!(topic = %n, "encoding: {e}"),
+                let item = Item { topic: index, data: m.data, log_ns, publish_ns: m.sent_ns.unwrap_or(log_ns) };
+                if tx.send(item).is_err() {
+                    break;
                 }
             }
-            Err(e) => tracing::warn!(topic = %n, "read error: {e:?}"),
+            Err(e) => {
+                tracing::warn!(topic = %name, "{e:#}");
+                std::thread::sleep(Duration::from_millis(100));
+            }
         }
     });
-    Ok(name)
+}
+
+/// Subscribe to `topic` raw and declare it in the bag.
+fn record(bus: &mut Bus, bag: &mut Bag, tx: &mpsc::SyncSender<Item>, topic: &str, type_name: &str, qos: &QosProfile, offered: OfferedQos) -> anyhow::Result<()> {
+    let name = bus.resolve(topic);
+    let sub = bus.raw_subscription(topic, &dds_type_name(type_name), qos)?;
+    let index = bag.add_topic(BagTopic::named(&name, type_name, offered))?;
+    tracing::info!(topic = %name, %type_name, "recording");
+    forward(sub, index, name, tx.clone());
+    Ok(())
+}
+
+/// The topics discovered on the domain (ROS topics, `rt/...`), with the QoS every announcement
+/// allows: reliable only if all are, transient-local only if all are.
+fn discovered(bus: &Bus) -> BTreeMap<String, (String, bool, bool)> {
+    use ros2_client::dds::rustdds::policy::{Durability as D, Reliability as R};
+    let mut out: BTreeMap<String, (String, bool, bool)> = BTreeMap::new();
+    for t in bus.context().discovered_topics_raw() {
+        let data = &t.topic_data;
+        let Some(name) = data.name.strip_prefix("rt") else { continue };
+        let reliable = !matches!(data.reliability, Some(R::BestEffort));
+        let transient = matches!(data.durability, Some(D::TransientLocal | D::Transient | D::Persistent));
+        let e = out.entry(name.to_string()).or_insert((data.type_name.clone(), true, true));
+        e.1 &= reliable;
+        e.2 &= transient;
+    }
+    out
 }
 
 fn main() -> anyhow::Result<()> {
     let (args, ros) = fiveaxis_bus::ros_args::parse::<Args>("fiveaxis_recorder");
     init_tracing(&ros);
     let shutdown = Shutdown::install()?;
-    let topics: Vec<(String, String)> = if args.topics.is_empty() {
-        [
-            ("commanded/axis_state", "AxisState"),
-            ("commanded/joint_states", "JointState"),
-            ("simulated/axis_state", "AxisState"),
-            ("simulated/joint_states", "JointState"),
-            ("monitor/status", "SingularityStatus"),
-            ("/diagnostics", "DiagnosticArray"),
-            ("/clock", "Clock"),
-        ]
-        .into_iter()
-        .map(|(a, b)| (a.to_string(), b.to_string()))
-        .collect()
+    let topics = if args.all {
+        Vec::new()
+    } else if args.topics.is_empty() {
+        node_set_topics()
     } else {
-        args.topics
-            .iter()
-            .map(|t| t.rsplit_once(':').map(|(a, b)| (a.to_string(), b.to_string())).ok_or_else(|| anyhow::anyhow!("expected TOPIC:TYPE, got '{t}'")))
-            .collect::<anyhow::Result<_>>()?
+        args.topics.iter().map(|t| parse_topic(t)).collect::<anyhow::Result<_>>()?
     };
     let mut bus = Bus::new("fiveaxis_recorder", &args.common, &ros)?;
-    let (tx, rx) = mpsc::sync_channel::<Item>(65536);
-    let mut declared: Vec<(String, String, OfferedQos)> = Vec::new();
-    for (topic, ty) in &topics {
-        let (name, qos, type_name) = match ty.as_str() {
-            "AxisState" => (subscribe::<AxisState>(&mut bus, topic, state_qos(), tx.clone())?, OfferedQos::STATE, AxisState::type_name()),
-            "JointState" => (subscribe::<JointState>(&mut bus, topic, state_qos(), tx.clone())?, OfferedQos::STATE, JointState::type_name()),
-            "SingularityStatus" => (subscribe::<SingularityStatus>(&mut bus, topic, state_qos(), tx.clone())?, OfferedQos::STATE, SingularityStatus::type_name()),
-            "DiagnosticArray" => (subscribe::<DiagnosticArray>(&mut bus, topic, diagnostics_qos(), tx.clone())?, OfferedQos::DIAGNOSTICS, DiagnosticArray::type_name()),
-            "Clock" => (subscribe::<Clock>(&mut bus, topic, clock_qos(), tx.clone())?, OfferedQos::CLOCK, Clock::type_name()),
-            other => anyhow::bail!("unknown type {other} for {topic}: AxisState, JointState, SingularityStatus, DiagnosticArray or Clock"),
-        };
-        tracing::info!(topic = %name, %type_name, "recording");
-        declared.push((name, type_name, qos));
-    }
-    drop(tx);
     let split = args.split_size_mb.is_some() || args.split_duration_s.is_some();
-    let mut k = 0;
-    let mut path = split_path(&args.output, split, k);
-    let (mut recorder, mut channels) = open(&path, &declared)?;
-    let start = std::time::Instant::now();
+    let mut bag = Bag::create(&args.output, split, RecordOptions::default()).with_context(|| format!("creating the bag {}", args.output.display()))?;
+    let (tx, rx) = mpsc::sync_channel::<Item>(65536);
+    for (topic, ty, qos, offered) in &topics {
+        record(&mut bus, &mut bag, &tx, topic, ty, qos, *offered)?;
+    }
+    let mut seen: std::collections::BTreeSet<String> = std::collections::BTreeSet::new();
+    let start = Instant::now();
     let mut file_start = start;
     let mut last_flush = start;
-    let mut total = 0u64;
+    let mut last_discovery: Option<Instant> = None;
     while !shutdown.requested() {
         if args.duration_s.is_some_and(|d| start.elapsed().as_secs_f64() > d) {
             break;
         }
-        match rx.recv_timeout(Duration::from_millis(50)) {
-            Ok(item) => {
-                let id = channels[&item.topic];
-                recorder.write_raw(id, &item.data, item.log_ns, item.publish_ns).with_context(|| format!("writing {}", path.display()))?;
+        // --all: subscribe to each new topic as discovery announces it.
+        if args.all && last_discovery.map_or(true, |t| t.elapsed() >= Duration::from_millis(200)) {
+            last_discovery = Some(Instant::now());
+            for (name, (dds_type, reliable, transient)) in discovered(&bus) {
+                if seen.contains(&name) {
+                    continue;
+                }
+                seen.insert(name.clone());
+                let ros_type = ros_type_name(&dds_type).unwrap_or_else(|| dds_type.clone());
+                let mut qos = if reliable { state_qos() } else { state_qos().reliability_best_effort() };
+                qos = qos.durability(if transient { Durability::TransientLocal } else { Durability::Volatile }).history(History::KeepLast { depth: fiveaxis_bus::STATE_DEPTH });
+                let offered = OfferedQos { reliable, transient_local: transient, depth: Some(fiveaxis_bus::STATE_DEPTH as u32) };
+                if let Err(e) = record(&mut bus, &mut bag, &tx, &name, &ros_type, &qos, offered) {
+                    tracing::warn!(topic = %name, "not recorded: {e:#}");
+                }
             }
-            Err(mpsc::RecvTimeoutError::Timeout) => {}
-            Err(mpsc::RecvTimeoutError::Disconnected) => break,
+        }
+        match rx.recv_timeout(Duration::from_millis(50)) {
+            Ok(item) => bag.write_raw(item.topic, &item.data, item.log_ns, item.publish_ns).with_context(|| format!("writing {}", bag.current_path().display()))?,
+            // The sender kept here for --all keeps the channel open: no disconnection to wait for.
+            Err(_) => {}
         }
         // Idle streams still get their chunk closed within a second.
         if last_flush.elapsed() >= Duration::from_secs(1) {
-            recorder.flush()?;
-            last_flush = std::time::Instant::now();
-            let size_mb = std::fs::metadata(&path).map_or(0.0, |m| m.len() as f64 / 1e6);
+            bag.flush()?;
+            last_flush = Instant::now();
+            let size_mb = std::fs::metadata(bag.current_path()).map_or(0.0, |m| m.len() as f64 / 1e6);
             let too_big = args.split_size_mb.is_some_and(|l| size_mb >= l);
             let too_long = args.split_duration_s.is_some_and(|l| file_start.elapsed().as_secs_f64() >= l);
             if too_big || too_long {
-                let (next, ids) = open(&split_path(&args.output, split, k + 1), &declared)?;
-                total += std::mem::replace(&mut recorder, next).finish()?;
-                tracing::info!(file = %path.display(), "split finished");
-                k += 1;
-                path = split_path(&args.output, split, k);
-                channels = ids;
-                file_start = std::time::Instant::now();
+                let done = bag.current_path().to_path_buf();
+                bag.split()?;
+                tracing::info!(file = %done.display(), "split finished");
+                file_start = Instant::now();
             }
         }
     }
-    // Drain what already arrived, then finish the file.
+    drop(tx);
+    // Drain what already arrived, then finish the bag.
     while let Ok(item) = rx.try_recv() {
-        let id = channels[&item.topic];
-        recorder.write_raw(id, &item.data, item.log_ns, item.publish_ns)?;
+        bag.write_raw(item.topic, &item.data, item.log_ns, item.publish_ns)?;
     }
-    let n = total + recorder.finish()?;
-    tracing::info!(messages = n, files = k + 1, file = %path.display(), "recording finished");
+    let n = bag.finish()?;
+    tracing::info!(messages = n, bag = %args.output.display(), "recording finished");
     Ok(())
 }
