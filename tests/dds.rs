@@ -379,3 +379,28 @@ wait $R
     assert_eq!(files, vec![bag.join("cell_bag_0.mcap")]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The recorder refuses, before joining DDS, what it cannot record: exit 2 naming the reason.
+#[test]
+fn recorder_refuses_a_used_bag_directory_and_a_bad_topic() {
+    let b = bins();
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-bag-refused");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("used")).unwrap();
+    std::fs::write(dir.join("used/metadata.yaml"), "rosbag2_bagfile_information: {}\n").unwrap();
+    let cases: [(&[&str], &str); 3] = [
+        (&["--output", "used"], "not empty"),
+        (&["--output", "new", "--topic", "/a"], "expected TOPIC:TYPE"),
+        (&["--output", "new", "--topic", "/a:NoSuchType"], "unknown type 'NoSuchType'"),
+    ];
+    for (args, why) in cases {
+        let out = Command::new(b.join("fiveaxis-recorder")).args(args).current_dir(&dir).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(why), "{args:?}: no {why:?} in {err}");
+    }
+    // Nothing already there was touched, nothing new was made.
+    assert_eq!(std::fs::read_to_string(dir.join("used/metadata.yaml")).unwrap(), "rosbag2_bagfile_information: {}\n");
+    assert!(!dir.join("new").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

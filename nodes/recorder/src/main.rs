@@ -58,12 +58,21 @@ struct Item {
     publish_ns: u64,
 }
 
+/// Bad input (a `--topic` that does not parse, a bag that cannot be created): the reason, exit 2.
+fn bad_input(e: &anyhow::Error) -> ! {
+    eprintln!("fiveaxis-recorder: {e:#}");
+    std::process::exit(2)
+}
+
 fn now_ns() -> u64 {
     SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_nanos() as u64)
 }
 
+/// A topic to record: its name, type `pkg/msg/Type`, the reader's QoS and the QoS noted in the bag.
+type Plan = (String, String, QosProfile, OfferedQos);
+
 /// The node set's topics, with their type names and QoS.
-fn node_set_topics() -> Vec<(String, String, QosProfile, OfferedQos)> {
+fn node_set_topics() -> Vec<Plan> {
     [
         ("commanded/axis_state", AxisState::type_name(), state_qos(), OfferedQos::STATE),
         ("commanded/joint_states", JointState::type_name(), state_qos(), OfferedQos::STATE),
@@ -80,7 +89,7 @@ fn node_set_topics() -> Vec<(String, String, QosProfile, OfferedQos)> {
 
 /// A `--topic TOPIC:TYPE`: our short names map to the node set's types and QoS; a full ROS type
 /// name is recorded reliable (keep-last 1000, volatile).
-fn parse_topic(spec: &str) -> anyhow::Result<(String, String, QosProfile, OfferedQos)> {
+fn parse_topic(spec: &str) -> anyhow::Result<Plan> {
     let (topic, ty) = spec.rsplit_once(':').filter(|(t, y)| !t.is_empty() && !y.is_empty()).ok_or_else(|| anyhow::anyhow!("--topic '{spec}': expected TOPIC:TYPE"))?;
     let ours = [
         ("AxisState", AxisState::type_name(), state_qos(), OfferedQos::STATE),
@@ -154,11 +163,12 @@ fn main() -> anyhow::Result<()> {
     } else if args.topics.is_empty() {
         node_set_topics()
     } else {
-        args.topics.iter().map(|t| parse_topic(t)).collect::<anyhow::Result<_>>()?
+        args.topics.iter().map(|t| parse_topic(t)).collect::<anyhow::Result<_>>().unwrap_or_else(|e| bad_input(&e))
     };
-    let mut bus = Bus::new("fiveaxis_recorder", &args.common, &ros)?;
     let split = args.split_size_mb.is_some() || args.split_duration_s.is_some();
-    let mut bag = Bag::create(&args.output, split, RecordOptions::default()).with_context(|| format!("creating the bag {}", args.output.display()))?;
+    // Checked before the node joins the graph: a bag that cannot be written is bad input (exit 2).
+    let mut bag = Bag::create(&args.output, split, RecordOptions::default()).unwrap_or_else(|e| bad_input(&anyhow::anyhow!("creating the bag: {e}")));
+    let mut bus = Bus::new("fiveaxis_recorder", &args.common, &ros)?;
     let (tx, rx) = mpsc::sync_channel::<Item>(65536);
     for (topic, ty, qos, offered) in &topics {
         record(&mut bus, &mut bag, &tx, topic, ty, qos, *offered)?;
@@ -167,14 +177,14 @@ fn main() -> anyhow::Result<()> {
     let start = Instant::now();
     let mut file_start = start;
     let mut last_flush = start;
-    let mut last_discovery: Option<Instant> = None;
+    let mut next_discovery = start;
     while !shutdown.requested() {
         if args.duration_s.is_some_and(|d| start.elapsed().as_secs_f64() > d) {
             break;
         }
         // --all: subscribe to each new topic as discovery announces it.
-        if args.all && last_discovery.map_or(true, |t| t.elapsed() >= Duration::from_millis(200)) {
-            last_discovery = Some(Instant::now());
+        if args.all && Instant::now() >= next_discovery {
+            next_discovery = Instant::now() + Duration::from_millis(200);
             for (name, (dds_type, reliable, transient)) in discovered(&bus) {
                 if seen.contains(&name) {
                     continue;
@@ -189,10 +199,9 @@ fn main() -> anyhow::Result<()> {
                 }
             }
         }
-        match rx.recv_timeout(Duration::from_millis(50)) {
-            Ok(item) => bag.write_raw(item.topic, &item.data, item.log_ns, item.publish_ns).with_context(|| format!("writing {}", bag.current_path().display()))?,
-            // The sender kept here for --all keeps the channel open: no disconnection to wait for.
-            Err(_) => {}
+        // (The sender kept here for --all keeps the channel open: no disconnection to wait for.)
+        if let Ok(item) = rx.recv_timeout(Duration::from_millis(50)) {
+            bag.write_raw(item.topic, &item.data, item.log_ns, item.publish_ns).with_context(|| format!("writing {}", bag.current_path().display()))?;
         }
         // Idle streams still get their chunk closed within a second.
         if last_flush.elapsed() >= Duration::from_secs(1) {
