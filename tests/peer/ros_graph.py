@@ -15,7 +15,7 @@
 usage (inside launch-free-scripts/netns-run):
   ros_graph.py --node /cell1/m1 [--domain-id N] [--timeout-s 20]
 Prints one JSON object: {"node": {...} or null, "nodes": [...], "publications": [...],
-"subscriptions": [...], "parameters": {name: value} or null, "parameter_types": {name: type}}.
+"subscriptions": [...], "participant_subscriptions": [...], "parameters": {name: value} or null, "parameter_types": {name: type}}.
 """
 import argparse
 import json
@@ -191,6 +191,10 @@ def main():
         out["node"] = {"namespace": node["namespace"], "name": node["name"]}
         out["publications"] = sorted({(p["topic"], p["type"]) for w in node["writers"] if (p := pubs.get(w))})
         out["subscriptions"] = sorted({(p["topic"], p["type"]) for r in node["readers"] if (p := subs.get(r))})
+        # Every reader of the node's participant (GUID prefix: the first 12 bytes), listed in the
+        # node's entry or not (the recorder's raw readers are not).
+        prefix = node["writers"][0][:24]
+        out["participant_subscriptions"] = sorted({(p["topic"], p["type"]) for k, p in subs.items() if k.startswith(prefix)})
         left = max(1.0, end - time.monotonic())
         listed = call(dp, f"{a.node}/list_parameters", ListParametersRequest, ListParametersResponse,
                       ListParametersRequest(prefixes=[], depth=0), left)

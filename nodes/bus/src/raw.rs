@@ -2,11 +2,10 @@
 //! (rosbag2 stores the bytes received, and `--all` records types we have no definition of).
 //!
 //! ros2-client's subscriptions always deserialize, so these readers are made on its DDS participant
-//! with a RustDDS adapter that keeps the payload. ros2-client has no way to add such a reader to the
-//! node's `ros_discovery_info` entry (what `ros2 node info` lists), so each raw reader comes with a
-//! ros2-client subscription of the same topic and type that is never read: best effort, keep-last 1
-//! (it matches every writer without a QoS-incompatibility warning on their side, and holds at most
-//! one message).
+//! with a RustDDS adapter that keeps the payload. DDS discovery lists them like any reader, but
+//! ros2-client has no way to add them to the node's `ros_discovery_info` entry, so `ros2 node info`
+//! does not show them. (A second, never-read ros2-client subscription per topic would list them, but
+//! publishers would count it as a subscriber: `--min-subscribers` would start too early.)
 
 use anyhow::Context as _;
 use ros2_client::dds::rustdds::{
@@ -70,8 +69,6 @@ impl DefaultDecoder<RawSample> for RawAdapter {
 /// A raw reader of one topic.
 pub struct RawSubscription {
     reader: SimpleDataReader<RawSample, RawAdapter>,
-    /// The never-read subscription that lists the topic in the node's graph entry.
-    _graph: Option<ros2_client::Subscription<RawSample>>,
 }
 
 /// A message taken from a [`RawSubscription`]: its bytes and the writer's send time (DDS source
@@ -128,15 +125,6 @@ impl crate::Bus {
     /// A raw reader of `topic` (resolved like any topic of the node) whose DDS type is `dds_type`.
     pub fn raw_subscription(&mut self, topic: &str, dds_type: &str, qos: &QosProfile) -> anyhow::Result<RawSubscription> {
         let full = self.resolve(topic);
-        let graph = match ros_type_name(dds_type).as_deref().and_then(|t| t.split_once("/msg/")) {
-            Some((pkg, name)) => {
-                let listed = QosProfile::default().reliability_best_effort().history(ros2_client::qos::History::KeepLast { depth: 1 });
-                let n = ros2_client::Name::parse(&full).map_err(|e| anyhow::anyhow!("topic name {full}: {e:?}"))?;
-                let t = self.node.create_topic(&n, MessageTypeName::new(pkg, name), &listed).map_err(|e| anyhow::anyhow!("topic {full}: {e:?}"))?;
-                Some(self.node.create_subscription::<RawSample>(&t, Some(listed)).map_err(|e| anyhow::anyhow!("subscription {full}: {e:?}"))?)
-            }
-            None => None,
-        };
         let dds_qos = rustdds::QosPolicies::from(qos);
         let participant = self.context().domain_participant();
         let dds_topic = participant
@@ -147,7 +135,7 @@ impl crate::Bus {
             .create_simple_datareader_no_key::<RawSample, RawAdapter>(&dds_topic, Some(dds_qos))
             .map_err(|e| anyhow::anyhow!("reader of {full}: {e:?}"))
             .context("raw subscription")?;
-        Ok(RawSubscription { reader, _graph: graph })
+        Ok(RawSubscription { reader })
     }
 }
 
