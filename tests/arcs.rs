@@ -2,6 +2,7 @@
 //! the program's words, durations from the arc length at the feed, LinuxCNC's five-axis demos read
 //! and run, and the fail-closed reader on words it does not model.
 
+mod common;
 use fiveaxis::machine::Machine;
 use fiveaxis::path::{PathOptions, Trajectory};
 use fiveaxis::program::{read, Dialect, MCodeAction, MCodeRule, Program, ReadOptions, Severity};
@@ -223,7 +224,7 @@ fn bin() -> PathBuf {
 }
 
 fn impeller() -> PathBuf {
-    let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("arcs-impeller-7bl-xyzac.ngc");
+    let out = common::scratch_path("arcs", "impeller-7bl-xyzac.ngc");
     let gz = root().join("recordings/programs/linuxcnc/impeller-7bl-xyzac.ngc.gz");
     let unzipped = Command::new("gzip").arg("-dc").arg(&gz).output().expect("gzip runs");
     assert!(unzipped.status.success());
@@ -260,7 +261,7 @@ fn linuxcnc_five_axis_demos_read_and_run() {
 fn words_that_change_the_motion_are_refused() {
     // Tool vectors (I J K) without G43.5 (a Fanuc program whose mode line was lost): refused, not ignored.
     let fanuc = "G21 G90 G94\nG1 X22 Y0 Z-8 I0.1736 J0 K0.9848 F2000\nG43.5 H1\nG1 X25 I0.0175 J0 K0.9998 A1\nM30\n";
-    let file = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("arcs-g435.ngc");
+    let file = common::scratch_path("arcs", "g435.ngc");
     std::fs::write(&file, fanuc).unwrap();
     let out = Command::new(bin()).args(["program", "analyze", &file.display().to_string()]).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -299,7 +300,7 @@ fn cl_data_starts_at_its_first_pose() {
         let a = fiveaxis::path::paper_orientation(12.0, x);
         text.push_str(&format!("{x:.4},0,-8,{:.9},{:.9},{:.9}\n", a.x, a.y, a.z));
     }
-    let file = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("arcs-tilt12.cl");
+    let file = common::scratch_path("arcs", "tilt12.cl");
     std::fs::write(&file, &text).unwrap();
     let out = Command::new(bin()).args(["program", "analyze", &file.display().to_string(), "--feed", "2000", "--json"]).output().unwrap();
     let _ = std::fs::remove_file(&file);

@@ -1,5 +1,6 @@
 //! Remedies: workpiece reorientation (seed 001 §3, eq. 7).
 
+mod common;
 use fiveaxis::avoid::{figures, jig, reoriented, search};
 use fiveaxis::job::JobOptions;
 use fiveaxis::machine::Machine;
@@ -95,7 +96,7 @@ fn ball_centres(p: &Program, m: &Machine, r: f64) -> Vec<nalgebra::Vector3<f64>>
 
 /// Re-run the whole in-process pipeline (commander, simulator, monitor) on a written program.
 fn pipeline(text: &str, tag: &str) -> fiveaxis::live::inprocess::RunOutput {
-    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("avoid-{tag}.I"));
+    let path = common::scratch_path("avoid", &format!("{tag}.I"));
     std::fs::write(&path, text).unwrap();
     let out = fiveaxis::live::inprocess::run(path.to_str().unwrap(), &Machine::hermle_c600u(), &Default::default()).unwrap();
     let _ = std::fs::remove_file(&path);

@@ -216,9 +216,7 @@ fn linuxcnc_machines_match_the_controls_own_kinematics_modules() {
 /// the machine, the field named.
 #[test]
 fn impossible_machine_files_are_refused_naming_the_field() {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("chains");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("chains");
     let hermle = fiveaxis::machine::builtin_file("hermle-c600u").unwrap();
     let a_axis = "axis = [1.0, 0.0, 0.0]";
     let cases: Vec<(&str, String, &str)> = vec![

@@ -1,5 +1,6 @@
 //! The `fiveaxis` binary as users and CI call it: exit codes, JSON keys, damaged input.
 
+mod common;
 use std::process::Command;
 
 fn fiveaxis(args: &[&str]) -> (i32, String, String) {
@@ -72,9 +73,7 @@ fn unreadable_input_and_bad_flags_exit_2() {
 fn a_program_without_moves_exits_2_not_0() {
     // A gate that read nothing never passes: an empty Sinumerik file, a comment-only RS274 file, a
     // Klartext program whose only move is refused.
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("nomoves");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("nomoves");
     let files = [("empty.mpf", ""), ("comments.ngc", "(only a comment)\n; and another\n"), ("refused.h", "0 BEGIN PGM R MM\n1 L X+5 RL F100\n2 END PGM R MM\n")];
     for (name, text) in files {
         let path = dir.join(name);

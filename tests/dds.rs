@@ -2,6 +2,7 @@
 //! scripts inside private network namespaces (loopback only, or two namespaces joined by a veth pair).
 //! Needs the node executables, which `cargo test --workspace` builds beside this test's binary.
 
+mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -37,9 +38,7 @@ fn rows(csv: &Path) -> Vec<Row> {
 
 /// Run a launch-free script on a program; returns the monitor's summary and samples.
 fn launch(script: &str, program: &str, tag: &str) -> (serde_json::Value, Vec<Row>) {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("dds-{tag}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir(&format!("dds-{tag}"));
     let (summary, csv) = (dir.join("summary.json"), dir.join("samples.csv"));
     let status = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts").join(script))
         .args([program, "--speed", "4", "--summary-json"])
@@ -133,9 +132,7 @@ fn two_hosts_joined_by_a_veth_pair() {
 #[test]
 fn monitor_survives_a_killed_and_restarted_publisher() {
     let b = bins();
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-restart");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("dds-restart");
     let summary = dir.join("summary.json");
     let script = format!(
         r#"set -e
@@ -175,9 +172,7 @@ wait $M
 #[test]
 fn nodes_stop_cleanly_on_sigterm() {
     let b = bins();
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-term");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("dds-term");
     let summary = dir.join("summary.json");
     let script = format!(
         r#"B="{b}"
@@ -211,9 +206,7 @@ echo "commander=$rc_c monitor=$rc_m"
 #[test]
 fn recorder_finishes_on_sigint_and_is_recovered_after_sigkill() {
     let b = bins();
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-rec");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("dds-rec");
     let (full, killed, kill_ns) = (dir.join("full.mcap"), dir.join("killed.mcap"), dir.join("kill_ns"));
     let script = format!(
         r#"set -e
@@ -260,9 +253,7 @@ wait $R1
 #[test]
 fn recorder_splits_by_duration() {
     let b = bins();
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-split");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("dds-split");
     let script = format!(
         r#"set -e
 B="{b}"
@@ -296,9 +287,7 @@ wait $R
 /// check it, and stop with exit code 2 naming the defect's line and column, never publishing past it.
 #[test]
 fn a_defect_deep_in_a_long_program_stops_the_publishing_nodes() {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-defect");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("dds-defect");
     let program = dir.join("long.cl");
     // 6 minutes of a dense five-axis raster (120,000 poses), then one damaged line.
     let made = Command::new("python3")
@@ -342,9 +331,7 @@ fn a_defect_deep_in_a_long_program_stops_the_publishing_nodes() {
 #[test]
 fn recorder_all_writes_a_rosbag2_directory_of_what_it_received() {
     let b = bins();
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-bag");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("dds-bag");
     let (bag, sent) = (dir.join("cell_bag"), dir.join("sent.json"));
     let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/bag_peer.py");
     let script = format!(
@@ -384,8 +371,7 @@ wait $R
 #[test]
 fn recorder_refuses_a_used_bag_directory_and_a_bad_topic() {
     let b = bins();
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("dds-bag-refused");
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = common::scratch_dir("dds-bag-refused");
     std::fs::create_dir_all(dir.join("used")).unwrap();
     std::fs::write(dir.join("used/metadata.yaml"), "rosbag2_bagfile_information: {}\n").unwrap();
     let cases: [(&[&str], &str); 3] = [

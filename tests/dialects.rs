@@ -7,6 +7,7 @@
 //! linear between blocks (axis-linear: M128, Fanuc's default) and with the tool axis on great circles
 //! (Sinumerik's ORIWKS/ORIVECT reset state), the latter against an independent numpy slerp.
 
+mod common;
 use fiveaxis::job::{self, Job, JobOptions};
 use fiveaxis::machine::Machine;
 use fiveaxis::program::{Orientation, ReadOptions};
@@ -106,9 +107,7 @@ fn great_circle_interpolation_matches_an_independent_slerp() {
     let ln = std::fs::read_to_string(twin("SING_tnc_ln.h")).unwrap();
     let pathctrl = ln.replace("65 L M128", "65 FUNCTION TCPM F TCP AXIS POS PATHCTRL VECTOR");
     assert_ne!(ln, pathctrl);
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("pathctrl");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("pathctrl");
     std::fs::write(dir.join("SING_pathctrl.h"), pathctrl).unwrap();
     let tnc = run_with(&dir.join("SING_pathctrl.h").display().to_string(), None);
     let _ = std::fs::remove_dir_all(&dir);
@@ -156,7 +155,7 @@ fn great_circle_interpolation_matches_an_independent_slerp() {
 #[test]
 fn the_twins_are_what_their_script_writes() {
     // The committed twin is reproducible: the script run again writes the same bytes.
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("twins");
+    let dir = common::scratch_dir("twins");
     std::fs::create_dir_all(dir.join("twins")).unwrap();
     std::fs::copy(root().join("recordings/programs/SING.I"), dir.join("SING.I")).unwrap();
     std::fs::copy(root().join("recordings/programs/twins/make-twins"), dir.join("twins/make-twins")).unwrap();

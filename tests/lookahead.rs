@@ -22,15 +22,8 @@ fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_fiveaxis")
 }
 
-/// A fresh path for `name` in this test binary's scratch directory (target/tmp, kept between runs:
-/// whatever an earlier run left there is removed).
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("lookahead");
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    let _ = std::fs::remove_file(&path);
-    let _ = std::fs::remove_dir_all(&path);
-    path
+    common::scratch_path("lookahead", name)
 }
 
 fn cycle_time(program: &Path, mcap: Option<&Path>) -> f64 {

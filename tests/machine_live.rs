@@ -5,6 +5,7 @@
 //! monitor runs beside it as a process; the peer listens to the monitor's status and `/diagnostics`.
 //! Everything runs in a private loopback-only network namespace.
 
+mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -47,9 +48,7 @@ fn live_trace(tag: &str, peer: &str, trace: &Trace) -> Live {
     // One live run at a time: two 1 kHz publishers on two cores would starve each other.
     static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _one = ONE.lock().unwrap_or_else(|e| e.into_inner());
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("live-{tag}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir(&format!("live-{tag}"));
     let d = dir.display();
     let script = format!(
         "set -e

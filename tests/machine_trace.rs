@@ -5,6 +5,7 @@
 //! independent numpy computation from the trace (tests/peer/machine_figures.py), never against what
 //! fiveaxis printed.
 
+mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -20,7 +21,7 @@ fn trace(name: &str) -> PathBuf {
 
 /// A rosbag2 directory of `trace` written by rosbags with `extra` options; one per tag.
 fn bag(trace_file: &str, tag: &str, extra: &[&str]) -> PathBuf {
-    let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("machine-{tag}"));
+    let out = common::scratch_root().join(format!("machine-{tag}"));
     let _ = std::fs::remove_dir_all(&out);
     let st = Command::new("python3")
         .arg(root().join("tests/peer/trace_to_rosbag.py"))

@@ -1,6 +1,7 @@
 //! Recordings: the MCAP layout rosbag2 readers expect, read back by the mcap crate and by an
 //! independent Python reader; recovery after a kill; the offline analysis and its exit codes.
 
+mod common;
 use fiveaxis::live::inprocess::{run, topics, RunOptions};
 use fiveaxis::machine::Machine;
 use fiveaxis::record::{from_cdr, recover, OfferedQos, RecordOptions, Recorder, CDR_LE};
@@ -8,15 +9,8 @@ use fiveaxis_msgs::{schema, AxisState, JointState, RosMessage, SingularityStatus
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// A fresh path for `name` in this test binary's scratch directory (target/tmp, kept between runs:
-/// whatever an earlier run left there is removed).
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("record");
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    let _ = std::fs::remove_file(&path);
-    let _ = std::fs::remove_dir_all(&path);
-    path
+    common::scratch_path("record", name)
 }
 
 fn record(spec: &str, path: &Path) -> fiveaxis::live::inprocess::RunOutput {

@@ -2,6 +2,7 @@
 //! the matching rerun-sdk 0.36.3, installed by launch-free-scripts/test): replayed from MCAP and live
 //! over DDS. The CLI decodes the file independently of our code.
 
+mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -24,10 +25,7 @@ fn rerun_cli(args: &[&str]) -> String {
 }
 
 fn tmp(tag: &str) -> PathBuf {
-    let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("rerun-{tag}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch_dir(&format!("rerun-{tag}"))
 }
 
 /// Every entity path (temporal or static) and timeline named in `rerun rrd print -vv`.

@@ -4,6 +4,7 @@
 //! `ros_discovery_info`, its topics from DDS discovery and its parameters through its
 //! `list_parameters` / `get_parameters` services. Each node runs in a private network namespace.
 
+mod common;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -24,9 +25,7 @@ const PARAMS: &str = "/**:\n  ros__parameters:\n    some_other_nodes_parameter: 
 /// Start `node` with the issue's ROS arguments and `own` (its subcommand and flags) plus the
 /// node-specific parameters `params` (YAML lines under ros__parameters); return what the peer saw.
 fn start(tag: &str, node: &str, own: &str, params: &str, extra_ros: &str) -> (Value, String) {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("rosargs-{tag}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir(&format!("rosargs-{tag}"));
     let file = dir.join("params.yaml");
     std::fs::write(&file, format!("{PARAMS}{params}")).unwrap();
     let script = format!(
@@ -90,9 +89,7 @@ fn commander_and_simulator_take_ros_arguments() {
 
 #[test]
 fn monitor_recorder_and_rerun_bridge_take_ros_arguments() {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("rosargs-out");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("rosargs-out");
     let (seen, log) = start("monitor", "fiveaxis-monitor", "", "    stale_ms: 50.0\n    input: [commanded/axis_state]\n", "");
     let params = check_common("monitor", &seen, &log);
     assert_eq!(params["stale_ms"].as_f64(), Some(50.0));

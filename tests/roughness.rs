@@ -1,18 +1,12 @@
 //! Roughness profiles: X3P and CSV import, the synthetic example, and the analysis beside the stutter.
 
+mod common;
 use fiveaxis::roughness::{read_csv, read_profile, read_x3p, synthetic, write_x3p, CsvUnits, Profile};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// A fresh path for `name` in this test binary's scratch directory (target/tmp, kept between runs:
-/// whatever an earlier run left there is removed).
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("rough");
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    let _ = std::fs::remove_file(&path);
-    let _ = std::fs::remove_dir_all(&path);
-    path
+    common::scratch_path("rough", name)
 }
 
 fn flat_feed(_: f64) -> (f64, f64) {

@@ -1,6 +1,7 @@
 //! Programs read and analysed as streams (`fiveaxis program analyze`): the same blocks, diagnostics
 //! and report as the program read whole, in memory that does not grow with the program.
 
+mod common;
 use fiveaxis::job::{self, JobOptions};
 use fiveaxis::machine::Machine;
 use fiveaxis::program::{self, BlockStream, Dialect, MCodeAction, MCodeRule, ReadOptions, MAX_LINE_BYTES};
@@ -12,15 +13,8 @@ fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_fiveaxis")
 }
 
-/// A fresh path for `name` in this test binary's scratch directory (target/tmp, kept between runs:
-/// whatever an earlier run left there is removed).
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("stream");
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    let _ = std::fs::remove_file(&path);
-    let _ = std::fs::remove_dir_all(&path);
-    path
+    common::scratch_path("stream", name)
 }
 
 /// LinuxCNC's vismach demos switch TCP with M428/M429.

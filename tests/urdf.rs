@@ -22,10 +22,7 @@ const HAND_WRITTEN: &str = include_str!("../machines/urdf/hermle-c600u.urdf");
 const HAND_WRITTEN_PATH: &str = "machines/urdf/hermle-c600u.urdf";
 
 fn temp_dir(what: &str) -> PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("urdf-{what}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir(&format!("urdf-{what}"))
 }
 
 /// Random axis values inside every range (multi-turn rotaries within two turns), SI.

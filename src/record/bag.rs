@@ -86,7 +86,6 @@ pub struct Bag {
     counts: Vec<u64>,
     files: Vec<FileStats>,
     current: Recorder<BufWriter<File>>,
-    current_path: PathBuf,
     /// Channel id in the current file of each topic.
     channels: Vec<u16>,
 }
@@ -121,7 +120,6 @@ impl Bag {
             counts: Vec::new(),
             files: vec![FileStats { name: file_name(&path), ..Default::default() }],
             current,
-            current_path: path,
             channels: Vec::new(),
         })
     }
@@ -142,11 +140,6 @@ impl Bag {
     /// Declare a topic of one of our message types.
     pub fn add<M: RosMessage>(&mut self, name: &str, qos: OfferedQos) -> Result<usize, RecordError> {
         self.add_topic(BagTopic::of::<M>(name, qos))
-    }
-
-    /// The topics declared, by index.
-    pub fn topics(&self) -> &[BagTopic] {
-        &self.topics
     }
 
     /// Write one message as received (CDR with its encapsulation header): `log_ns` = receive time,
@@ -174,7 +167,7 @@ impl Bag {
 
     /// The file being written.
     pub fn current_path(&self) -> &Path {
-        &self.current_path
+        self.current.path()
     }
 
     /// Finish the current file and go on in the next (`NAME_k+1.mcap`), every topic declared again;
@@ -189,8 +182,7 @@ impl Bag {
         }
         std::mem::replace(&mut self.current, next).finish()?;
         self.channels = channels;
-        self.current_path = path;
-        self.files.push(FileStats { name: file_name(&self.current_path), ..Default::default() });
+        self.files.push(FileStats { name: file_name(&path), ..Default::default() });
         let closed = self.files.len() - 1;
         write_metadata(&self.output, self.layout, &self.topics, &self.counts, &self.files[..closed])
     }

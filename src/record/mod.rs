@@ -213,6 +213,11 @@ impl<W: Write + Seek> Recorder<W> {
         Ok(())
     }
 
+    /// The file being written.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
     /// Messages written so far.
     pub fn messages(&self) -> u64 {
         self.messages

@@ -2,6 +2,31 @@
 #![allow(dead_code)]
 
 use nalgebra::Vector3;
+use std::path::{Path, PathBuf};
+
+/// This test binary's scratch area: `target/tmp` (Cargo's `CARGO_TARGET_TMPDIR`), which outlives
+/// the run, so every helper below first removes what an earlier run left.
+pub fn scratch_root() -> &'static Path {
+    Path::new(env!("CARGO_TARGET_TMPDIR"))
+}
+
+/// A fresh, empty directory `name` for one test.
+pub fn scratch_dir(name: &str) -> PathBuf {
+    let dir = scratch_root().join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A fresh path `name` (nothing there) in the directory `dir` that several tests of a binary share.
+pub fn scratch_path(dir: &str, name: &str) -> PathBuf {
+    let dir = scratch_root().join(dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    let _ = std::fs::remove_file(&path);
+    let _ = std::fs::remove_dir_all(&path);
+    path
+}
 
 /// A small deterministic generator (xorshift64*), so that a failure names a reproducible case.
 pub struct Rng(pub u64);

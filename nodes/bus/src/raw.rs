@@ -7,7 +7,6 @@
 //! does not show them. (A second, never-read ros2-client subscription per topic would list them, but
 //! publishers would count it as a subscriber: `--min-subscribers` would start too early.)
 
-use anyhow::Context as _;
 use ros2_client::dds::rustdds::{
     self,
     no_key::{Decode, DefaultDecoder, DeserializerAdapter, SimpleDataReader},
@@ -133,8 +132,7 @@ impl crate::Bus {
         let subscriber = participant.create_subscriber(&dds_qos).map_err(|e| anyhow::anyhow!("subscriber for {full}: {e:?}"))?;
         let reader = subscriber
             .create_simple_datareader_no_key::<RawSample, RawAdapter>(&dds_topic, Some(dds_qos))
-            .map_err(|e| anyhow::anyhow!("reader of {full}: {e:?}"))
-            .context("raw subscription")?;
+            .map_err(|e| anyhow::anyhow!("raw reader of {full}: {e:?}"))?;
         Ok(RawSubscription { reader })
     }
 }

@@ -5,7 +5,6 @@
 //! close every second, so a kill loses at most the last second (`fiveaxis mcap recover` rebuilds the
 //! rest); SIGINT/SIGTERM finish the bag.
 
-use anyhow::Context as _;
 use clap::Parser;
 use fiveaxis::record::bag::{Bag, BagTopic};
 use fiveaxis::record::{OfferedQos, RecordOptions};
@@ -71,39 +70,42 @@ fn now_ns() -> u64 {
 /// A topic to record: its name, type `pkg/msg/Type`, the reader's QoS and the QoS noted in the bag.
 type Plan = (String, String, QosProfile, OfferedQos);
 
-/// The node set's topics, with their type names and QoS.
-fn node_set_topics() -> Vec<Plan> {
-    [
-        ("commanded/axis_state", AxisState::type_name(), state_qos(), OfferedQos::STATE),
-        ("commanded/joint_states", JointState::type_name(), state_qos(), OfferedQos::STATE),
-        ("simulated/axis_state", AxisState::type_name(), state_qos(), OfferedQos::STATE),
-        ("simulated/joint_states", JointState::type_name(), state_qos(), OfferedQos::STATE),
-        ("monitor/status", SingularityStatus::type_name(), state_qos(), OfferedQos::STATE),
-        ("/diagnostics", DiagnosticArray::type_name(), diagnostics_qos(), OfferedQos::DIAGNOSTICS),
-        ("/clock", Clock::type_name(), clock_qos(), OfferedQos::CLOCK),
-    ]
-    .into_iter()
-    .map(|(t, ty, q, o)| (t.to_string(), ty, q, o))
-    .collect()
+/// The node set's message types by short name: the full type name, and the QoS their topics use.
+fn our_type(short: &str) -> Option<(String, QosProfile, OfferedQos)> {
+    Some(match short {
+        "AxisState" => (AxisState::type_name(), state_qos(), OfferedQos::STATE),
+        "JointState" => (JointState::type_name(), state_qos(), OfferedQos::STATE),
+        "SingularityStatus" => (SingularityStatus::type_name(), state_qos(), OfferedQos::STATE),
+        "DiagnosticArray" => (DiagnosticArray::type_name(), diagnostics_qos(), OfferedQos::DIAGNOSTICS),
+        "Clock" => (Clock::type_name(), clock_qos(), OfferedQos::CLOCK),
+        _ => return None,
+    })
 }
 
-/// A `--topic TOPIC:TYPE`: our short names map to the node set's types and QoS; a full ROS type
-/// name is recorded reliable (keep-last 1000, volatile).
+/// The short names [`our_type`] knows.
+const OUR_TYPES: [&str; 5] = ["AxisState", "JointState", "SingularityStatus", "DiagnosticArray", "Clock"];
+
+/// The node set's topics and their types.
+const NODE_SET: [(&str, &str); 7] = [
+    ("commanded/axis_state", "AxisState"),
+    ("commanded/joint_states", "JointState"),
+    ("simulated/axis_state", "AxisState"),
+    ("simulated/joint_states", "JointState"),
+    ("monitor/status", "SingularityStatus"),
+    ("/diagnostics", "DiagnosticArray"),
+    ("/clock", "Clock"),
+];
+
+/// A `--topic TOPIC:TYPE`: one of the node set's types (short or full name) with its QoS; any other
+/// ROS type name is recorded reliable (keep-last 1000, volatile).
 fn parse_topic(spec: &str) -> anyhow::Result<Plan> {
     let (topic, ty) = spec.rsplit_once(':').filter(|(t, y)| !t.is_empty() && !y.is_empty()).ok_or_else(|| anyhow::anyhow!("--topic '{spec}': expected TOPIC:TYPE"))?;
-    let ours = [
-        ("AxisState", AxisState::type_name(), state_qos(), OfferedQos::STATE),
-        ("JointState", JointState::type_name(), state_qos(), OfferedQos::STATE),
-        ("SingularityStatus", SingularityStatus::type_name(), state_qos(), OfferedQos::STATE),
-        ("DiagnosticArray", DiagnosticArray::type_name(), diagnostics_qos(), OfferedQos::DIAGNOSTICS),
-        ("Clock", Clock::type_name(), clock_qos(), OfferedQos::CLOCK),
-    ];
-    if let Some((_, full, q, o)) = ours.into_iter().find(|(short, full, ..)| *short == ty || *full == ty) {
+    if let Some((full, q, o)) = OUR_TYPES.iter().filter_map(|short| our_type(short)).find(|(full, ..)| full == ty).or_else(|| our_type(ty)) {
         return Ok((topic.to_string(), full, q, o));
     }
     let parts: Vec<&str> = ty.split('/').collect();
     if parts.len() != 3 || parts.iter().any(|p| p.is_empty()) || parts[1] != "msg" {
-        anyhow::bail!("--topic '{spec}': unknown type '{ty}': AxisState, JointState, SingularityStatus, DiagnosticArray, Clock or a ROS type pkg/msg/Type");
+        anyhow::bail!("--topic '{spec}': unknown type '{ty}': {} or a ROS type pkg/msg/Type", OUR_TYPES.join(", "));
     }
     Ok((topic.to_string(), ty.to_string(), state_qos(), OfferedQos::STATE))
 }
@@ -161,7 +163,7 @@ fn main() -> anyhow::Result<()> {
     let topics = if args.all {
         Vec::new()
     } else if args.topics.is_empty() {
-        node_set_topics()
+        NODE_SET.iter().map(|(topic, short)| parse_topic(&format!("{topic}:{short}"))).collect::<anyhow::Result<_>>()?
     } else {
         args.topics.iter().map(|t| parse_topic(t)).collect::<anyhow::Result<_>>().unwrap_or_else(|e| bad_input(&e))
     };
@@ -201,7 +203,8 @@ fn main() -> anyhow::Result<()> {
         }
         // (The sender kept here for --all keeps the channel open: no disconnection to wait for.)
         if let Ok(item) = rx.recv_timeout(Duration::from_millis(50)) {
-            bag.write_raw(item.topic, &item.data, item.log_ns, item.publish_ns).with_context(|| format!("writing {}", bag.current_path().display()))?;
+            // A write error (a full disk, say) names the file.
+            bag.write_raw(item.topic, &item.data, item.log_ns, item.publish_ns)?;
         }
         // Idle streams still get their chunk closed within a second.
         if last_flush.elapsed() >= Duration::from_secs(1) {
