@@ -139,13 +139,13 @@ fn monitor_survives_a_killed_and_restarted_publisher() {
 B="{b}"
 "$B/fiveaxis-monitor" --input commanded/axis_state --stale-ms 100 --exit-when-idle-s 2 --summary-json "{s}" &
 M=$!
-"$B/fiveaxis-commander" builtin:paper-sing --speed 1 &
+"$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 1 &
 C=$!
 sleep 1.0
 kill -KILL $C
 wait $C || true
 sleep 0.5
-"$B/fiveaxis-commander" builtin:paper-sing --speed 4
+"$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 4
 wait $M
 "#,
         b = b.display(),
@@ -216,7 +216,7 @@ R1=$!
 "$B/fiveaxis-recorder" --output "{killed}" --topic commanded/axis_state:AxisState &
 R2=$!
 sleep 0.5
-"$B/fiveaxis-commander" builtin:paper-sing --speed 0.5 --min-subscribers 2 &
+"$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 0.5 --min-subscribers 2 &
 C=$!
 sleep 2.5
 date +%s%N > "{kill_ns}"
@@ -259,7 +259,7 @@ fn recorder_splits_by_duration() {
 B="{b}"
 "$B/fiveaxis-recorder" --output "{out}" --topic commanded/axis_state:AxisState --split-duration-s 1 &
 R=$!
-"$B/fiveaxis-commander" builtin:paper-sing --speed 0.5
+"$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 0.5
 sleep 0.5
 kill -INT $R
 wait $R
@@ -311,7 +311,7 @@ fn a_defect_deep_in_a_long_program_stops_the_publishing_nodes() {
         ("fiveaxis-simulator", "30", "refused (nothing published)"),
     ] {
         let out = netns_bash(&format!(
-            "'{}' '{}' --fast --wait-for-subscriber-s 0 --check-before-publish-s {settle}",
+            "'{}' '{}' --fast --use-sim-time --wait-for-subscriber-s 0 --check-before-publish-s {settle}",
             bins().join(node).display(),
             program.display()
         ));
@@ -389,4 +389,105 @@ fn recorder_refuses_a_used_bag_directory_and_a_bad_topic() {
     assert_eq!(std::fs::read_to_string(dir.join("used/metadata.yaml")).unwrap(), "rosbag2_bagfile_information: {}\n");
     assert!(!dir.join("new").exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// One clock per run, chosen by `use_sim_time` as ROS 2 nodes do (issue 14 item 3). The node set
+/// (commander, simulator, monitor, recorder --all) runs a program twice at real-time speed:
+/// - with `use_sim_time`, every message in the bag (states, JointStates, status, /diagnostics,
+///   /rosout, /clock) carries program time, the recorder's receive times are /clock's, and every
+///   writer and reader of /clock is `rosgraph_msgs/msg/Clock` as an independent Cyclone DDS
+///   participant sees them;
+/// - without it, every stamp is wall time within the run, and nothing publishes /clock.
+///
+/// Either way no node logs RustDDS's inconsistent-topic error. Stamps are read by rosbags.
+#[test]
+fn stamps_follow_use_sim_time() {
+    let b = bins();
+    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/stamps.py");
+    for sim in [true, false] {
+        let dir = common::scratch_dir(if sim { "dds-time-sim" } else { "dds-time-wall" });
+        let bag = dir.join("run");
+        let flag = if sim { "--use-sim-time" } else { "" };
+        let script = format!(
+            r#"set -e
+B="{b}"; D="{d}"
+date +%s%N > "$D/start_ns"
+"$B/fiveaxis-recorder" --all {flag} --output "{bag}" > "$D/recorder.log" 2>&1 &
+R=$!
+python3 "{peer}" endpoints --topic /clock --duration-s 8 > "$D/clock.json" &
+P=$!
+"$B/fiveaxis-monitor" {flag} --exit-when-idle-s 2 > "$D/monitor.log" 2>&1 &
+M=$!
+"$B/fiveaxis-simulator" {flag} builtin:paper-sing --min-subscribers 2 > "$D/simulator.log" 2>&1 &
+S=$!
+"$B/fiveaxis-commander" {flag} builtin:paper-sing --min-subscribers 2 > "$D/commander.log" 2>&1
+wait $S
+wait $M
+sleep 0.5
+kill -INT $R
+wait $R
+date +%s%N > "$D/end_ns"
+wait $P
+"#,
+            b = b.display(),
+            d = dir.display(),
+            bag = bag.display(),
+            peer = peer.display(),
+        );
+        let out = netns_bash(&script);
+        let logs: String = ["recorder", "monitor", "simulator", "commander"]
+            .iter()
+            .map(|n| format!("--- {n}\n{}", std::fs::read_to_string(dir.join(format!("{n}.log"))).unwrap_or_default()))
+            .collect();
+        assert!(out.status.success(), "sim {sim}: {}\n{logs}", String::from_utf8_lossy(&out.stderr));
+        assert!(!logs.contains("Inconsistent topic"), "sim {sim}: {logs}");
+        let ns = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap().trim().parse::<u64>().unwrap();
+        let (start, end) = (ns("start_ns"), ns("end_ns"));
+        let check = Command::new("python3").arg(&peer).arg("bag").arg(&bag).output().expect("python3 runs");
+        assert!(check.status.success(), "rosbags: {}", String::from_utf8_lossy(&check.stderr));
+        let topics: serde_json::Value = serde_json::from_slice(&check.stdout).unwrap();
+        let clock: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("clock.json")).unwrap()).unwrap();
+        let u = |v: &serde_json::Value| v.as_u64().unwrap();
+        // Every topic of the node set was recorded, every message of a stamped type with its stamp.
+        let mut expected = vec!["/fiveaxis/commanded/axis_state", "/fiveaxis/commanded/joint_states", "/fiveaxis/simulated/axis_state", "/fiveaxis/simulated/joint_states", "/fiveaxis/monitor/status", "/diagnostics", "/rosout"];
+        if sim {
+            expected.push("/clock");
+        }
+        for t in &expected {
+            let v = &topics[*t];
+            assert!(u(&v["count"]) > 0 && v["stamped"] == v["count"], "sim {sim}: {t}: {v}\n{topics}");
+        }
+        // The program is 1.5 s long (1501 samples at 1 kHz); the simulated machine takes longer.
+        let program_ns = 1_500_000_000;
+        for (t, v) in topics.as_object().unwrap() {
+            if u(&v["stamped"]) == 0 {
+                continue;
+            }
+            let (lo, hi) = (u(&v["min_ns"]), u(&v["max_ns"]));
+            if sim {
+                assert!(hi < 60_000_000_000, "sim: {t} stamped up to {hi} ns: not program time: {v}");
+                assert!(u(&v["log_max_ns"]) < 60_000_000_000, "sim: {t}: the recorder's receive times are /clock's: {v}");
+            } else {
+                assert!(lo >= start && hi <= end, "wall: {t} stamped {lo}..{hi} ns, outside the run {start}..{end}: {v}");
+            }
+        }
+        let cmd = &topics["/fiveaxis/commanded/axis_state"];
+        if sim {
+            assert_eq!((u(&cmd["min_ns"]), u(&cmd["max_ns"])), (0, program_ns), "program time runs from 0 to the program's end");
+            assert_eq!(topics["/clock"]["type"], "rosgraph_msgs/msg/Clock");
+            assert_eq!(topics["/clock"]["max_ns"], cmd["max_ns"], "/clock ends where the program does");
+            assert!(!clock["publications"].as_array().unwrap().is_empty(), "the commander publishes /clock: {clock}");
+        } else {
+            let span = u(&cmd["max_ns"]) - u(&cmd["min_ns"]);
+            assert!(span.abs_diff(program_ns) < 1_000_000, "at real time the wall stamps span the program: {span} ns");
+            assert!(topics.get("/clock").is_none() && clock["publications"].as_array().unwrap().is_empty(), "no /clock without use_sim_time: {clock}");
+        }
+        // Every node's spinner reads /clock (ROS 2's use_sim_time), all as the type ROS 2 uses.
+        let subs = clock["subscriptions"].as_array().unwrap();
+        assert!(subs.len() >= 4, "sim {sim}: {clock}");
+        for e in subs.iter().chain(clock["publications"].as_array().unwrap()) {
+            assert_eq!(e[1], "rosgraph_msgs/msg/Clock", "sim {sim}: {clock}");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -73,13 +73,14 @@ fn commander_and_simulator_take_ros_arguments() {
             topic,
             node,
             "",
-            "    program: bundled:SING.I\n    rate: 500.0\n    wait_for_subscriber_s: 60.0\n    fast: true\n",
+            "    program: bundled:SING.I\n    rate: 500.0\n    wait_for_subscriber_s: 60.0\n    fast: true\n    use_sim_time: true\n",
             &format!("-r {topic}/axis_state:=/cnc/state"),
         );
         let params = check_common(node, &seen, &log);
         assert_eq!((params["program"].as_str(), params["rate"].as_f64(), params["fast"].as_bool()), (Some("bundled:SING.I"), Some(500.0), Some(true)), "{node}: {params:?}");
         assert_eq!(seen["parameter_types"]["rate"], "double");
         assert_eq!(seen["parameter_types"]["fast"], "bool");
+        assert_eq!(params["use_sim_time"].as_bool(), Some(true), "{node}: ROS 2's own parameter, from the file");
         assert_eq!(seen["parameter_types"]["min_subscribers"], "integer");
         assert!(has(&seen["publications"], "/cnc/state", "fiveaxis_msgs/msg/AxisState"), "{node}: remapped: {}", seen["publications"]);
         assert!(has(&seen["publications"], &format!("/cell1/{topic}/joint_states"), "sensor_msgs/msg/JointState"), "{node}: in the namespace: {}", seen["publications"]);
@@ -123,6 +124,9 @@ fn bad_ros_arguments_are_refused_with_exit_2() {
         (vec!["--ros-args", "--params-file", "/nonexistent/p.yaml"], "/nonexistent/p.yaml"),
         (vec!["--ros-args", "--enclave", "/e"], "security"),
         (vec!["--rate", "5", "--ros-args", "-p", "rate:=6.0"], "give one"),
+        // Off real time, wall-clock stamps would not be the program's.
+        (vec!["--fast"], "use_sim_time"),
+        (vec!["--ros-args", "-p", "speed:=2.0"], "use_sim_time"),
     ] {
         let out = Command::new(bin("fiveaxis-commander")).arg("bundled:SING.I").args(&args).output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);

@@ -63,6 +63,10 @@ impl Time {
     pub fn as_nanos(&self) -> u64 {
         (self.sec.max(0) as u64) * 1_000_000_000 + self.nanosec as u64
     }
+    /// From nanoseconds since the epoch of the clock, exactly (seconds saturate at `i32::MAX`).
+    pub fn from_nanos(ns: u64) -> Time {
+        Time { sec: (ns / 1_000_000_000).min(i32::MAX as u64) as i32, nanosec: (ns % 1_000_000_000) as u32 }
+    }
 }
 
 /// std_msgs/Header.

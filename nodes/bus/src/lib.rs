@@ -89,6 +89,11 @@ pub struct CommonArgs {
     /// Node name (default: the executable's).
     #[arg(long)]
     pub node_name: Option<String>,
+    /// Stamp in program time, as ROS 2's `use_sim_time`: the commander publishes it on /clock and
+    /// the other nodes take their time from /clock. Without it every message carries wall time (the
+    /// commander and simulator then run in real time: no --fast, --speed 1).
+    #[arg(long = "use-sim-time")]
+    pub use_sim_time: bool,
 }
 
 /// Options of the nodes that publish a program's axis states (commander, simulator).
@@ -131,10 +136,16 @@ pub struct StreamArgs {
 }
 
 impl StreamArgs {
-    /// Check the numbers.
-    pub fn validate(&self) -> anyhow::Result<()> {
+    /// Check the numbers, and that a run off real time (`--fast`, `--speed` other than 1) stamps in
+    /// program time (`use_sim_time`): wall-clock stamps would compress or stretch every velocity.
+    pub fn validate(&self, use_sim_time: bool) -> anyhow::Result<()> {
         anyhow::ensure!(self.rate > 0.0 && self.rate.is_finite(), "--rate must be positive");
         anyhow::ensure!(self.speed > 0.0 && self.speed.is_finite(), "--speed must be positive");
+        anyhow::ensure!(
+            use_sim_time || (!self.fast && self.speed == 1.0),
+            "{} runs off the wall clock, so stamps in wall time would not be the program's: add --ros-args -p use_sim_time:=true (or --use-sim-time) to stamp in program time and publish /clock",
+            if self.fast { "--fast".to_string() } else { format!("--speed {}", self.speed) }
+        );
         anyhow::ensure!(self.max_program_hours > 0.0 && self.max_program_hours.is_finite(), "--max-program-hours must be positive");
         anyhow::ensure!(self.check_before_publish_s >= 0.0 && self.check_before_publish_s <= 1e6, "--check-before-publish-s must be between 0 and 1e6 s");
         if let Some(f) = self.feed_mm_per_min {
@@ -154,9 +165,10 @@ impl StreamArgs {
         fiveaxis::path::PathOptions { period: 1.0 / self.rate, feed_override_mm_per_min: self.feed_mm_per_min, max_duration_s: self.max_program_hours * 3600.0 }
     }
 
-    /// The pacing these options ask for.
-    pub fn pacer(&self) -> Pacer {
-        Pacer::new(if self.fast { None } else { Some(self.speed) })
+    /// The pacing these options ask for, stamping in program time (`use_sim_time`) or wall time.
+    pub fn pacer(&self, use_sim_time: bool) -> Pacer {
+        let pacer = Pacer::new(if self.fast { None } else { Some(self.speed) });
+        if use_sim_time { pacer } else { pacer.stamping_wall_time() }
     }
 }
 
@@ -295,6 +307,21 @@ impl Bus {
         Ok(Bus { node, namespace: args.namespace.clone(), remaps: args.remaps.clone(), context })
     }
 
+    /// The node's clock now, as ROS 2 nodes keep it: the last `/clock` received with `use_sim_time`
+    /// (zero before the first), else the wall clock.
+    pub fn now(&self) -> fiveaxis_msgs::Time {
+        fiveaxis_msgs::Time::from_nanos(self.node.time_now().to_nanos().max(0) as u64)
+    }
+
+    /// Log `msg` on /rosout (and stderr) stamped by the node's clock, as every other message
+    /// ([`Bus::now`]; ros2-client's `rosout!` stamps wall time whatever `use_sim_time` says).
+    #[track_caller]
+    pub fn rosout(&self, level: ros2_client::ros2::LogLevel, msg: &str) {
+        use ros2_client::RosoutRaw;
+        let at = std::panic::Location::caller();
+        self.node.rosout_raw(self.node.time_now().into(), level, self.node.base_name(), msg, at.file(), "<unknown_func>", at.line());
+    }
+
     /// The node's ROS 2 context (its DDS participant, discovery).
     pub fn context(&self) -> &Context {
         &self.context
@@ -376,8 +403,8 @@ pub fn resolve(namespace: &str, remaps: &[(String, String)], topic: &str) -> Str
     full
 }
 
-/// Publish axis states in time (each also as JointState; and as /clock when given), paced by `pacer`,
-/// until done or shutdown. A publish that times out on a subscriber that cannot keep up drops that
+/// Publish axis states in time (each also as JointState; and as /clock when given and the pacer
+/// stamps program time), paced and stamped by `pacer`, until done or shutdown. A publish that times out on a subscriber that cannot keep up drops that
 /// sample (counted, warned at most once a second; the monitor sees the gap): the stream never stops for
 /// one slow reader. Returns (sent, dropped).
 pub fn publish_states(
@@ -390,18 +417,21 @@ pub fn publish_states(
 ) -> (usize, usize) {
     let (mut sent, mut dropped) = (0usize, 0usize);
     let mut last_warn: Option<Instant> = None;
-    for st in states {
+    let clock_pub = clock_pub.filter(|_| pacer.wall.is_none());
+    for mut st in states {
         if shutdown.requested() {
             tracing::info!("stopping on signal after {sent} samples");
             break;
         }
-        pacer.wait_until(st.header.stamp.as_secs());
+        let t = st.header.stamp.as_secs();
+        pacer.wait_until(t);
+        st.header.stamp = pacer.stamp(t);
         let joints = st.to_joint_state();
-        let stamp = st.header.stamp;
-        let ok = state_pub.publish(st).is_ok() & joint_pub.publish(joints).is_ok();
         if let Some(c) = clock_pub {
-            let _ = c.publish(fiveaxis_msgs::Clock { clock: stamp });
+            // The clock first, so that a node stamping by /clock is not behind the sample.
+            let _ = c.publish(fiveaxis_msgs::Clock { clock: st.header.stamp });
         }
+        let ok = state_pub.publish(st).is_ok() & joint_pub.publish(joints).is_ok();
         if ok {
             sent += 1;
         } else {
@@ -422,17 +452,38 @@ pub fn publish_states(
     (sent, dropped)
 }
 
-/// Paces a loop against the wall clock: sample time `t` (s) is due at `start + t / speed`.
+/// Paces a loop against the wall clock: sample time `t` (s) is due at `start + t / speed`; and
+/// stamps it: program time `t` (ROS 2's sim time), or the wall time it is due at.
 #[derive(Debug, Clone, Copy)]
 pub struct Pacer {
     start: Instant,
     speed: Option<f64>,
+    /// The wall clock at `start`, ns since the Unix epoch, when stamping wall time.
+    wall: Option<u128>,
 }
 
 impl Pacer {
-    /// `speed` None: as fast as possible.
+    /// `speed` None: as fast as possible. Stamps program time.
     pub fn new(speed: Option<f64>) -> Pacer {
-        Pacer { start: Instant::now(), speed }
+        Pacer { start: Instant::now(), speed, wall: None }
+    }
+
+    /// Stamp the wall time each sample is due at, from the wall clock now (the pacer's start).
+    pub fn stamping_wall_time(self) -> Pacer {
+        let wall = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+        Pacer { wall: Some(wall.saturating_sub(self.start.elapsed().as_nanos())), ..self }
+    }
+
+    /// The stamp of sample time `t` (s): `t` itself in program time, else the wall time it is due
+    /// at (start + t / speed), to the nanosecond.
+    pub fn stamp(&self, t: f64) -> fiveaxis_msgs::Time {
+        match self.wall {
+            None => fiveaxis_msgs::Time::from_secs(t),
+            Some(w) => {
+                let dt = (t / self.speed.unwrap_or(1.0)).max(0.0);
+                fiveaxis_msgs::Time::from_nanos((w + (dt * 1e9).round() as u128).min(u64::MAX as u128) as u64)
+            }
+        }
     }
     pub fn wait_until(&self, t: f64) {
         if let Some(speed) = self.speed {

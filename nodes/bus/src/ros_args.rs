@@ -453,8 +453,7 @@ pub fn parse_from<A: Parser>(default_node: &str, argv: Vec<String>) -> Result<(A
         let Some(s) = list.iter().find(|s| s.name == a.name) else {
             if a.strict {
                 let known: Vec<&str> = list.iter().map(|s| s.name.as_str()).collect();
-                let why = if a.name == "use_sim_time" { "not supported yet: states are stamped in program time and the commander publishes /clock".to_string() } else { format!("not a parameter of {fqn} (its parameters: {})", known.join(", ")) };
-                return Err(ros_err(format!("parameter {} ({}): {why}", a.name, a.source)));
+                return Err(ros_err(format!("parameter {} ({}): not a parameter of {fqn} (its parameters: {})", a.name, a.source, known.join(", "))));
             }
             warnings.push(format!("parameter {} ({}): not a parameter of {fqn}, skipped", a.name, a.source));
             continue;
@@ -587,6 +586,10 @@ mod tests {
         assert_eq!(value(&o, "feed"), ParameterValue::NotSet, "an unset option is declared not set");
         assert!(o.parameters.iter().all(|p| !["namespace", "node_name", "remap"].contains(&p.name.as_str())), "ROS names are not parameters");
         assert!(o.rosout && o.stdout_logs && o.log_filter.is_none());
+        assert_eq!(value(&o, "use_sim_time"), ParameterValue::Boolean(false), "ROS 2's default: wall time");
+        let (t, o) = parse("p.ngc --ros-args -p use_sim_time:=true").unwrap();
+        assert!(t.common.use_sim_time);
+        assert_eq!(value(&o, "use_sim_time"), ParameterValue::Boolean(true));
     }
 
     #[test]
@@ -634,7 +637,7 @@ mod tests {
             ("p --rate 5 --ros-args -p rate:=6.0", "--rate is 5 on the command line but parameter rate is 6.0"),
             ("p --namespace /a --ros-args -r __ns:=/b", "namespace is '/b' by -r __ns:= and '/a' by --namespace"),
             ("p --ros-args -r __ns:=rel", "must be absolute"),
-            ("p --ros-args -p use_sim_time:=true", "use_sim_time"),
+            ("p --ros-args -p use_sim_time:=1", "parameter use_sim_time (-p use_sim_time:=...): expected true or false"),
             ("p --ros-args --enclave /e", "DDS security is not supported"),
             ("p --ros-args --bogus", "--ros-args"),
             ("p --ros-args --params-file /nonexistent/p.yaml", "/nonexistent/p.yaml"),

@@ -1,5 +1,6 @@
 //! `fiveaxis-commander`: reads an NC program and publishes its commanded axis states
-//! (`commanded/axis_state`, `commanded/joint_states`) and `/clock` (program time, use_sim_time).
+//! (`commanded/axis_state`, `commanded/joint_states`), stamped in wall time, or with `use_sim_time` in
+//! program time, which it then also publishes on `/clock` (the node set's clock source).
 //! The program is read as it is published, in flat memory; a defect stops it ([`fiveaxis_bus::Gate`]).
 
 use anyhow::Context as _;
@@ -24,7 +25,10 @@ struct Args {
 fn main() -> anyhow::Result<()> {
     let (args, ros) = fiveaxis_bus::ros_args::parse::<Args>("fiveaxis_commander");
     init_tracing(&ros);
-    args.stream.validate()?;
+    if let Err(e) = args.stream.validate(args.common.use_sim_time) {
+        eprintln!("error: {e}");
+        std::process::exit(EXIT_INPUT);
+    }
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
     let (moves, gate) = open_program(&args.stream.program, &args.stream.job_options(), &machine, Duration::from_secs_f64(args.stream.check_before_publish_s));
@@ -32,12 +36,13 @@ fn main() -> anyhow::Result<()> {
     let mut bus = Bus::new("fiveaxis_commander", &args.common, &ros)?;
     let state_pub = bus.publisher::<AxisState>("commanded/axis_state", state_qos())?;
     let joint_pub = bus.publisher::<JointState>("commanded/joint_states", state_qos())?;
-    let clock_pub = bus.publisher::<Clock>("/clock", clock_qos())?;
+    // Program time goes on /clock only when it is the stamps' clock.
+    let clock_pub = if args.common.use_sim_time { Some(bus.publisher::<Clock>("/clock", clock_qos())?) } else { None };
     if args.stream.wait_s > 0.0 && !bus.wait_for_subscribers(&state_pub, args.stream.min_subscribers.max(1), Duration::from_secs_f64(args.stream.wait_s), &shutdown) {
         tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve("commanded/axis_state"), args.stream.wait_s);
     }
-    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "commanding {}", args.stream.program);
-    let pacer = args.stream.pacer();
+    bus.rosout(ros2_client::ros2::LogLevel::Info, &format!("commanding {}", args.stream.program));
+    let pacer = args.stream.pacer(args.common.use_sim_time);
     let builder = StateBuilder::new(&machine, AxisState::SOURCE_COMMANDED);
     let states = match commanded_moves(&moves, &machine) {
         Ok(s) => s.map(|v| builder.message(&v)),
@@ -46,7 +51,7 @@ fn main() -> anyhow::Result<()> {
             std::process::exit(EXIT_INPUT);
         }
     };
-    let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, Some(&clock_pub), &pacer, &shutdown);
+    let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, clock_pub.as_ref(), &pacer, &shutdown);
     gate.finish(sent > 0, shutdown.requested());
     Ok(())
 }

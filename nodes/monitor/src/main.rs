@@ -9,7 +9,7 @@ use fiveaxis::live::monitor::{Monitor, MonitorConfig, Rejection};
 use fiveaxis::machine::Machine;
 use fiveaxis::units::{MM, MM_PER_MIN, RPM};
 use fiveaxis_bus::{diagnostics_qos, subscribe_states, InputArgs, StateInput, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
-use fiveaxis_msgs::{DiagnosticArray, SingularityStatus, Time};
+use fiveaxis_msgs::{DiagnosticArray, SingularityStatus};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::mpsc;
@@ -156,7 +156,7 @@ fn main() -> anyhow::Result<()> {
                         let was = in_region.get(&topic).copied().unwrap_or(0);
                         if status.in_region && was != status.region_id {
                             tracing::warn!(%topic, region = status.region_id, x_mm = status.workpiece_position.x * 1e3, "entering a region: C speed above its limit");
-                            ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Warn, "{topic}: region {} at x {:.3} mm", status.region_id, status.workpiece_position.x * 1e3);
+                            bus.rosout(ros2_client::ros2::LogLevel::Warn, &format!("{topic}: region {} at x {:.3} mm", status.region_id, status.workpiece_position.x * 1e3));
                         } else if !status.in_region && was != 0 {
                             tracing::info!(%topic, region = was, x_mm = status.workpiece_position.x * 1e3, "leaving the region");
                         }
@@ -220,8 +220,8 @@ fn main() -> anyhow::Result<()> {
         }
         if now - last_diag >= 0.5 {
             last_diag = now;
-            let stamp = Time::from_secs(std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64()));
-            if let Err(e) = diag_pub.publish(monitor.diagnostics(stamp)) {
+            // The node's clock: /clock's program time with use_sim_time, else wall time.
+            if let Err(e) = diag_pub.publish(monitor.diagnostics(bus.now())) {
                 tracing::warn!("publishing diagnostics: {e:?}");
             }
             monitor.reported();

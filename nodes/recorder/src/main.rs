@@ -1,7 +1,8 @@
 //! `fiveaxis-recorder`: records topics over DDS into a rosbag2 bag, as `ros2 bag record` does: a
 //! directory with `metadata.yaml` and `NAME_0.mcap`, ... (or one `.mcap` file when the output is
 //! named so). Messages are stored as the bytes received, of any type (`--all`, or `TOPIC:pkg/msg/T`);
-//! log time = receive time, publish time = the writer's send time (DDS source timestamp). Chunks
+//! log time = receive time (with `use_sim_time` the node's clock, /clock's time, as `ros2 bag record
+//! --use-sim-time`), publish time = the writer's send time (DDS source timestamp). Chunks
 //! close every second, so a kill loses at most the last second (`fiveaxis mcap recover` rebuilds the
 //! rest); SIGINT/SIGTERM finish the bag.
 
@@ -175,6 +176,9 @@ fn main() -> anyhow::Result<()> {
     for (topic, ty, qos, offered) in &topics {
         record(&mut bus, &mut bag, &tx, topic, ty, qos, *offered)?;
     }
+    // Receive time on the node's clock: wall time as received, or /clock's time (use_sim_time).
+    let sim = args.common.use_sim_time;
+    let log_ns = |bus: &Bus, item: &Item| if sim { bus.now().as_nanos() } else { item.log_ns };
     let mut seen: std::collections::BTreeSet<String> = std::collections::BTreeSet::new();
     let start = Instant::now();
     let mut file_start = start;
@@ -204,7 +208,7 @@ fn main() -> anyhow::Result<()> {
         // (The sender kept here for --all keeps the channel open: no disconnection to wait for.)
         if let Ok(item) = rx.recv_timeout(Duration::from_millis(50)) {
             // A write error (a full disk, say) names the file.
-            bag.write_raw(item.topic, &item.data, item.log_ns, item.publish_ns)?;
+            bag.write_raw(item.topic, &item.data, log_ns(&bus, &item), item.publish_ns)?;
         }
         // Idle streams still get their chunk closed within a second.
         if last_flush.elapsed() >= Duration::from_secs(1) {
@@ -224,7 +228,7 @@ fn main() -> anyhow::Result<()> {
     drop(tx);
     // Drain what already arrived, then finish the bag.
     while let Ok(item) = rx.try_recv() {
-        bag.write_raw(item.topic, &item.data, item.log_ns, item.publish_ns)?;
+        bag.write_raw(item.topic, &item.data, log_ns(&bus, &item), item.publish_ns)?;
     }
     let n = bag.finish()?;
     tracing::info!(messages = n, bag = %args.output.display(), "recording finished");

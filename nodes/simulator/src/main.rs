@@ -29,7 +29,10 @@ struct Args {
 fn main() -> anyhow::Result<()> {
     let (args, ros) = fiveaxis_bus::ros_args::parse::<Args>("fiveaxis_simulator");
     init_tracing(&ros);
-    args.stream.validate()?;
+    if let Err(e) = args.stream.validate(args.common.use_sim_time) {
+        eprintln!("error: {e}");
+        std::process::exit(EXIT_INPUT);
+    }
     anyhow::ensure!(args.servo_ms > 0.0 && args.servo_ms.is_finite(), "--servo-ms must be positive");
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
@@ -55,8 +58,8 @@ fn main() -> anyhow::Result<()> {
             args.stream.wait_s
         );
     }
-    ros2_client::rosout!(bus.node, ros2_client::ros2::LogLevel::Info, "simulating {}", args.stream.program);
-    let pacer = args.stream.pacer();
+    bus.rosout(ros2_client::ros2::LogLevel::Info, &format!("simulating {}", args.stream.program));
+    let pacer = args.stream.pacer(args.common.use_sim_time);
     // The planner and servo run on their own thread, a bounded channel ahead of the publisher: the
     // first state goes out once the first look-ahead window is planned, and memory stays the window's.
     let (tx, rx) = std::sync::mpsc::sync_channel::<StateValues>(4096);
