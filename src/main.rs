@@ -147,7 +147,7 @@ struct RunArgs {
     #[arg(long, visible_alias = "bag", value_name = "BAG")]
     mcap: Option<std::path::PathBuf>,
     /// Also write the run as a Rerun recording (.rrd, the default layout): the MCAP replayed by
-    /// `fiveaxis-rerun`, which must sit beside this executable (`cargo build -p fiveaxis-rerun`).
+    /// `fiveaxis-rerun`, which must sit beside this executable (`cargo build -p fiveaxis_rerun`).
     #[arg(long)]
     rrd: Option<std::path::PathBuf>,
 }
@@ -870,7 +870,7 @@ fn rerun_bridge(args: &[std::ffi::OsString]) -> anyhow::Result<u8> {
     let status = std::process::Command::new(&exe)
         .args(args)
         .status()
-        .with_context(|| format!("running {} (build it with `cargo build -p fiveaxis-rerun`)", exe.display()))?;
+        .with_context(|| format!("running {} (build it with `cargo build -p fiveaxis_rerun`)", exe.display()))?;
     Ok(status.code().map_or(EXIT_FAILURE, |c| c.clamp(0, 255) as u8))
 }
 
