@@ -53,18 +53,10 @@ class LaunchDescription:
 
 
 def value(v, context):
-    """A parameter value as launch_ros passes it: substitutions performed, then read as YAML scalars."""
+    """A parameter value as launch_ros passes it: substitutions performed, then read as YAML."""
     if isinstance(v, LaunchConfiguration):
-        s = v.perform(context)
-        low = s.strip().lower()
-        if low in ("true", "false"):
-            return low == "true"
-        for conv in (int, float):
-            try:
-                return conv(s)
-            except ValueError:
-                pass
-        return s
+        from ruamel.yaml import YAML  # rosbags' YAML library, installed by launch-free-scripts/test
+        return YAML(typ="safe").load(v.perform(context))
     if isinstance(v, list):
         return [value(x, context) for x in v]
     return v
@@ -75,7 +67,7 @@ def walk(entities, context, namespace, out):
         if isinstance(e, GroupAction):
             walk(e.actions, context, namespace, out)
         elif isinstance(e, PushRosNamespace):
-            ns = value(e.namespace, context)
+            ns = e.namespace.perform(context) if isinstance(e.namespace, LaunchConfiguration) else e.namespace
             namespace = ns if ns.startswith("/") else namespace.rstrip("/") + "/" + ns
         elif isinstance(e, OpaqueFunction):
             walk(e.function(context), context, namespace, out)

@@ -59,17 +59,10 @@ def bag(args):
     print(json.dumps(out))
 
 
-def ros_type(dds):
-    # pkg::msg::dds_::T_ -> pkg/msg/T
-    parts = dds.split("::")
-    if len(parts) == 4 and parts[2] == "dds_" and parts[3].endswith("_"):
-        return f"{parts[0]}/{parts[1]}/{parts[3][:-1]}"
-    return dds
-
-
 def endpoints(args):
     from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
     from cyclonedds.domain import DomainParticipant
+    from ros_graph import ros_type  # beside this script: DDS type names in ROS form
 
     dp = DomainParticipant(args.domain_id)
     readers = {"publications": BuiltinDataReader(dp, BuiltinTopicDcpsPublication),

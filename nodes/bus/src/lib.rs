@@ -403,8 +403,8 @@ pub fn resolve(namespace: &str, remaps: &[(String, String)], topic: &str) -> Str
     full
 }
 
-/// Publish axis states in time (each also as JointState; and as /clock when given and the pacer
-/// stamps program time), paced and stamped by `pacer`, until done or shutdown. A publish that times out on a subscriber that cannot keep up drops that
+/// Publish axis states in time (each also as JointState; and as /clock when given: the commander
+/// gives it only with `use_sim_time`), paced and stamped by `pacer`, until done or shutdown. A publish that times out on a subscriber that cannot keep up drops that
 /// sample (counted, warned at most once a second; the monitor sees the gap): the stream never stops for
 /// one slow reader. Returns (sent, dropped).
 pub fn publish_states(
@@ -417,7 +417,6 @@ pub fn publish_states(
 ) -> (usize, usize) {
     let (mut sent, mut dropped) = (0usize, 0usize);
     let mut last_warn: Option<Instant> = None;
-    let clock_pub = clock_pub.filter(|_| pacer.wall.is_none());
     for mut st in states {
         if shutdown.requested() {
             tracing::info!("stopping on signal after {sent} samples");
