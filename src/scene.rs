@@ -15,8 +15,16 @@ use std::path::Path;
 
 /// Timeline of the samples' stamps (machine time), seconds since the first sample.
 pub const TIMELINE_TIME: &str = "time";
-/// Sequence timeline of the workpiece x of the tool tip, in micrometres (Rerun sequences are integers).
-pub const TIMELINE_X_UM: &str = "workpiece_x_um";
+
+/// A cutting pass runs along the workpiece x: each step of the tool tip within this angle of the x axis.
+pub const PASS_MAX_ANGLE_DEG: f64 = 20.0;
+/// Passes shorter than this along x (mm) are not drawn across the part (corners, short links).
+pub const PASS_MIN_LENGTH_MM: f64 = 1.0;
+/// Default height band of the passes in contact, mm: a pass whose lowest tool-tip z is more than this
+/// above the lowest pass is taken for a move at a clearance height (the view has no stock model).
+pub const CONTACT_BAND_MM: f64 = 10.0;
+/// Steps shorter than this (mm) are rests: they neither start nor end a pass.
+const REST_MM: f64 = 1e-6;
 
 /// Which stream a sample comes from, as a short label used in entity paths.
 pub fn stream_label(source: u8) -> &'static str {
@@ -35,10 +43,12 @@ pub struct Row {
     pub stream: &'static str,
     /// Stamp since the first sample of the scene, s.
     pub t_s: f64,
-    /// Workpiece x of the tool tip, um, on feed moves mainly along x (None elsewhere).
-    pub x_um: Option<i64>,
+    /// The pass along x this sample belongs to (None: not on a pass; see [`PassTracker`]).
+    pub pass: Option<PassMark>,
     pub a_deg: f64,
     pub c_deg: f64,
+    /// Every axis value in the machine's axis order (m, rad; NaN where the message has none).
+    pub q: crate::kinematics::Joints,
     /// Names of the two rotary axes (primary, secondary), e.g. A and C.
     pub rotary: [String; 2],
     /// Secondary-axis speed measured on the stream, and predicted by eq. (5) at the programmed feed.
@@ -62,10 +72,121 @@ pub struct Row {
 pub struct Event {
     pub stream: &'static str,
     pub t_s: f64,
-    pub x_um: Option<i64>,
     /// True when the region starts here, false when it ends.
     pub enters: bool,
     pub text: String,
+}
+
+/// A sample's place on a pass along x: the pass number on its stream (1-based, in order; a pass that
+/// ends shorter than [`PASS_MIN_LENGTH_MM`] gives its number to the next), and whether this sample
+/// starts it (a consumer drops what it kept of an earlier pass of that number).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PassMark {
+    pub id: u32,
+    pub starts: bool,
+}
+
+/// Splits one stream into passes across the part, the stretches a profilometer trace lines up with:
+/// feed moves (or moves of unknown kind, from a machine) whose every step of the tool tip (workpiece
+/// frame) runs within [`PASS_MAX_ANGLE_DEG`] of x, one way. Rests stay in the pass; rapids, rotary-only
+/// moves, dwells, a step off x or a reversal end it. Whether a pass is in contact with the part is
+/// [`in_contact`]'s question.
+#[derive(Debug, Clone, Default)]
+pub struct PassTracker {
+    last: Option<[f64; 3]>,
+    /// The open pass: number, direction along x (+1/-1), x where it started, x travelled so far (mm).
+    open: Option<(u32, f64, f64, f64)>,
+    /// Passes that reached the minimum length.
+    done: u32,
+}
+
+impl PassTracker {
+    /// The pass of a sample at tool tip `tip_mm` (workpiece frame) of motion kind `motion` (AxisState::MOTION_*).
+    pub fn step(&mut self, tip_mm: [f64; 3], motion: u8) -> Option<PassMark> {
+        let last = self.last.replace(tip_mm);
+        if !matches!(motion, AxisState::MOTION_FEED | AxisState::MOTION_UNKNOWN) {
+            self.close();
+            return None;
+        }
+        let Some(p) = last else { return None };
+        let d: [f64; 3] = std::array::from_fn(|i| tip_mm[i] - p[i]);
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        if !len.is_finite() {
+            self.close();
+            return None;
+        }
+        if len < REST_MM {
+            return self.open.map(|(id, ..)| PassMark { id, starts: false });
+        }
+        let along_x = d[0].abs() >= PASS_MAX_ANGLE_DEG.to_radians().cos() * len;
+        let dir = d[0].signum();
+        match self.open {
+            Some((id, open_dir, x0, _)) if along_x && open_dir == dir => {
+                self.open = Some((id, dir, x0, (tip_mm[0] - x0).abs()));
+                Some(PassMark { id, starts: false })
+            }
+            _ => {
+                self.close();
+                if !along_x {
+                    return None;
+                }
+                let id = self.done + 1;
+                // The pass starts at the previous sample, where the tip began to move along x.
+                self.open = Some((id, dir, p[0], (tip_mm[0] - p[0]).abs()));
+                Some(PassMark { id, starts: true })
+            }
+        }
+    }
+
+    fn close(&mut self) {
+        if let Some((.., travel)) = self.open.take() {
+            if travel >= PASS_MIN_LENGTH_MM {
+                self.done += 1;
+            }
+        }
+    }
+}
+
+/// True when a pass whose lowest tool-tip z is `pass_z_min_mm` touches the part, given the lowest
+/// pass of the run so far (`floor_mm`) and the contact band (mm, [`CONTACT_BAND_MM`] by default): a
+/// pass well above the others runs at a clearance height (a retract or a repositioning move).
+pub fn in_contact(pass_z_min_mm: f64, floor_mm: f64, band_mm: f64) -> bool {
+    pass_z_min_mm <= floor_mm + band_mm
+}
+
+/// Rigid transform of one moving part of the machine, relative to its parent: `p' = rotation * p +
+/// translation`, rotation as a unit quaternion `[x, y, z, w]`, translation in mm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PartPose {
+    pub rotation_xyzw: [f64; 4],
+    pub translation_mm: [f64; 3],
+}
+
+/// The machine's moving parts at axis values `q` (m, rad), each relative to the one that carries it,
+/// as a 3D view draws them (seed 001 eq. 1): the table joints from the bed outwards (the workpiece
+/// rides on the last), then the head: the linear axes' translation, then the head joints from the ram
+/// outwards (the tool rides on the last). Names are the rotary axes'.
+pub struct MachinePose {
+    pub table: Vec<(String, PartPose)>,
+    pub head_linear_mm: [f64; 3],
+    pub head: Vec<(String, PartPose)>,
+}
+
+/// The pose of the machine's parts at `q` (see [`MachinePose`]); composing them maps the workpiece
+/// frame and the tool frame into the machine frame as [`Machine::forward`] does.
+pub fn machine_pose(machine: &Machine, q: &crate::kinematics::Joints) -> MachinePose {
+    use crate::kinematics::Carrier;
+    let joints = machine.chain.joints();
+    let part = |slot: usize| -> (String, PartPose) {
+        let j = &joints[slot];
+        let r = nalgebra::UnitQuaternion::from_axis_angle(&nalgebra::Unit::new_normalize(j.axis), q[3 + slot]);
+        // A turn about the line through `center`: p' = c + R (p - c).
+        let t = j.center - r * j.center;
+        let c = r.coords;
+        (machine.axes[3 + slot].name.clone(), PartPose { rotation_xyzw: [c.x, c.y, c.z, c.w], translation_mm: [t.x * 1e3, t.y * 1e3, t.z * 1e3] })
+    };
+    let side = |carrier: Carrier| (0..2).filter(|&i| joints[i].carrier == carrier).map(part).collect();
+    MachinePose { table: side(Carrier::Table), head_linear_mm: [q[0] * 1e3, q[1] * 1e3, q[2] * 1e3], head: side(Carrier::Head) }
 }
 
 /// The monitor, recomputed per sample, turned into rows and events.
@@ -73,15 +194,15 @@ pub struct Scene {
     monitor: Monitor,
     machine: Machine,
     t0: Option<f64>,
-    open: BTreeMap<String, (u32, f64, Option<i64>)>,
-    last_tip: BTreeMap<String, fiveaxis_msgs::Point>,
+    open: BTreeMap<String, (u32, f64)>,
+    passes: BTreeMap<String, PassTracker>,
     /// Samples the monitor refused (NaN, out of range, out of order), per topic.
     pub rejected: BTreeMap<String, u64>,
 }
 
 impl Scene {
     pub fn new(machine: &Machine, config: MonitorConfig) -> Scene {
-        Scene { monitor: Monitor::new(machine, config), machine: machine.clone(), t0: None, open: BTreeMap::new(), last_tip: BTreeMap::new(), rejected: BTreeMap::new() }
+        Scene { monitor: Monitor::new(machine, config), machine: machine.clone(), t0: None, open: BTreeMap::new(), passes: BTreeMap::new(), rejected: BTreeMap::new() }
     }
 
     /// The machine's speed limit of the secondary (singular) axis, rpm.
@@ -111,22 +232,16 @@ impl Scene {
         let stream = stream_label(st.source);
         let (pi, si) = (self.machine.primary_axis(), self.machine.secondary_axis());
         let tip = status.workpiece_position;
-        // On the x timeline: feed moves that go mainly along x (across the part, as a profilometer
-        // trace does); approach, retract and parking moves would fold back over the plots.
-        let across = self.last_tip.insert(topic.to_string(), tip).is_some_and(|p| {
-            let (dx, dy, dz) = (tip.x - p.x, tip.y - p.y, tip.z - p.z);
-            let d = (dx * dx + dy * dy + dz * dz).sqrt();
-            d > 0.0 && dx.abs() >= 0.5 * d
-        });
-        let feed_move = st.programmed_feed > 0.0 || st.program_line == 0;
-        let x_um = (across && feed_move).then(|| (tip.x * 1e6).round() as i64);
+        let tip_mm = [tip.x * 1e3, tip.y * 1e3, tip.z * 1e3];
+        let pass = self.passes.entry(topic.to_string()).or_default().step(tip_mm, st.motion);
         let row = Row {
             topic: topic.to_string(),
             stream,
             t_s: t - t0,
-            x_um,
+            pass,
             a_deg: st.position.get(pi).copied().unwrap_or(f64::NAN).to_degrees(),
             c_deg: st.position.get(si).copied().unwrap_or(f64::NAN).to_degrees(),
+            q: std::array::from_fn(|i| st.position.get(i).copied().unwrap_or(f64::NAN)),
             rotary: [self.machine.axes[pi].name.clone(), self.machine.axes[si].name.clone()],
             c_speed_rpm: status.c_speed / RPM,
             predicted_c_speed_rpm: status.predicted_c_speed / RPM,
@@ -136,7 +251,7 @@ impl Scene {
             path_feed_mm_min: st.path_feed * 60e3,
             feed_limit_mm_min: status.feed_limit * 60e3,
             limiting_axis: status.limiting_axis.clone(),
-            tool_tip_mm: [tip.x * 1e3, tip.y * 1e3, tip.z * 1e3],
+            tool_tip_mm: tip_mm,
             tool_axis: [st.tool_axis.x, st.tool_axis.y, st.tool_axis.z],
             in_region: status.in_region,
         };
@@ -144,11 +259,10 @@ impl Scene {
         let open = self.open.get(topic).copied();
         match (status.in_region, open) {
             (true, None) => {
-                self.open.insert(topic.to_string(), (status.region_id, row.t_s, x_um));
+                self.open.insert(topic.to_string(), (status.region_id, row.t_s));
                 events.push(Event {
                     stream,
                     t_s: row.t_s,
-                    x_um,
                     enters: true,
                     text: format!(
                         "{stream}: region {} starts at x {:.3} mm (N{}): predicted {} speed {:.1} rpm > limit {:.1} rpm, {:.3} deg from the singularity",
@@ -158,14 +272,14 @@ impl Scene {
             }
             (false, Some((id, ..))) => {
                 self.open.remove(topic);
-                events.push(self.end_event(topic, stream, id, row.t_s, x_um));
+                events.push(self.end_event(topic, stream, id, row.t_s));
             }
             _ => {}
         }
         (Some(row), events)
     }
 
-    fn end_event(&self, topic: &str, stream: &'static str, id: u32, t_s: f64, x_um: Option<i64>) -> Event {
+    fn end_event(&self, topic: &str, stream: &'static str, id: u32, t_s: f64) -> Event {
         let r = self.monitor.region(topic, id);
         let text = match r {
             Some(r) => format!(
@@ -174,7 +288,7 @@ impl Scene {
             ),
             None => format!("{stream}: region {id} ends"),
         };
-        Event { stream, t_s, x_um, enters: false, text }
+        Event { stream, t_s, enters: false, text }
     }
 
     /// End of the streams: close open regions (their end events).
@@ -182,9 +296,9 @@ impl Scene {
         self.monitor.finish();
         let open = std::mem::take(&mut self.open);
         open.into_iter()
-            .map(|(topic, (id, t, x))| {
+            .map(|(topic, (id, t))| {
                 let stream = self.monitor.summary().into_iter().find(|s| s.topic == topic).map_or("machine", |s| stream_label(s.source));
-                self.end_event(&topic, stream, id, t, x)
+                self.end_event(&topic, stream, id, t)
             })
             .collect()
     }
@@ -241,12 +355,12 @@ pub fn replay_mcap(
     Ok(stats)
 }
 
-/// The roughness profile for plotting: (x um, roughness height um) after the ISO 16610-21 filter, and
-/// the sliding-window Ra (x um, Ra um), both along the workpiece x.
-pub fn roughness_series(profile: &Profile, lambda_c: f64) -> (Vec<(i64, f64)>, Vec<(i64, f64)>) {
+/// The roughness profile for plotting: (x mm, roughness height um) after the ISO 16610-21 filter, and
+/// the sliding-window Ra (x mm, Ra um), both along the workpiece x.
+pub fn roughness_series(profile: &Profile, lambda_c: f64) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
     let r = profile.roughness(lambda_c);
-    let heights = profile.x.iter().zip(&r).map(|(x, z)| ((x * 1e6).round() as i64, z * 1e6)).collect();
-    let ra = profile.windows(lambda_c, 0.1e-3).iter().map(|w| ((w.x * 1e6).round() as i64, w.ra * 1e6)).collect();
+    let heights = profile.x.iter().zip(&r).map(|(x, z)| (x * 1e3, z * 1e6)).collect();
+    let ra = profile.windows(lambda_c, 0.1e-3).iter().map(|w| (w.x * 1e3, w.ra * 1e6)).collect();
     (heights, ra)
 }
 
@@ -298,6 +412,73 @@ fn basis(dir: [f64; 3]) -> ([f64; 3], [f64; 3], [f64; 3]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The parts' transforms, composed as a 3D view composes its entity tree, put the workpiece point
+    /// under the tool tip (from the chain's forward transform) where the head puts the tool tip, and
+    /// turn the tool axis alike: on every built-in machine (table/table, table/head, head/head).
+    #[test]
+    fn machine_pose_composes_to_the_forward_transform() {
+        use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+        let apply = |parts: &[(String, PartPose)], p: Vector3<f64>, is_point: bool| {
+            parts.iter().rev().fold(p, |v, (_, pp)| {
+                let [x, y, z, w] = pp.rotation_xyzw;
+                let r = UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z));
+                r * v + if is_point { Vector3::from(pp.translation_mm) * 1e-3 } else { Vector3::zeros() }
+            })
+        };
+        for name in crate::machine::BUILTIN_NAMES {
+            let m = Machine::builtin(name).unwrap();
+            for k in 0..20 {
+                let f = k as f64;
+                let q = [0.01 * f - 0.1, 0.2 - 0.02 * f, 0.05 * f.sin(), 0.3 * f.cos() - 0.2, 0.7 * f - 3.0];
+                let pose = machine_pose(&m, &q);
+                let fwd = m.forward(&q);
+                let from_table = apply(&pose.table, fwd.tip, true);
+                let from_head = Vector3::from(pose.head_linear_mm) * 1e-3 + apply(&pose.head, m.chain.tool_tip(), true);
+                assert!((from_table - from_head).norm() < 1e-9, "{name} q {q:?}: {from_table} vs {from_head}");
+                let axis_table = apply(&pose.table, fwd.axis, false);
+                let axis_head = apply(&pose.head, m.chain.tool_axis(), false);
+                assert!((axis_table - axis_head).norm() < 1e-9, "{name} q {q:?}: axis {axis_table} vs {axis_head}");
+            }
+        }
+    }
+
+    /// Passes on a path written out by hand: an approach, a cut along +x (with a rest in it), a step
+    /// along y, a 0.5 mm stub along x, a return along -x, a rapid and a diagonal.
+    #[test]
+    fn passes_follow_feed_moves_along_x() {
+        let mut tr = PassTracker::default();
+        let feed = AxisState::MOTION_FEED;
+        let mut marks = Vec::new();
+        let mut go = |tr: &mut PassTracker, from: [f64; 3], to: [f64; 3], n: usize, motion: u8| {
+            for i in 1..=n {
+                let u = i as f64 / n as f64;
+                marks.push((std::array::from_fn::<f64, 3, _>(|k| from[k] + u * (to[k] - from[k])), tr.step(std::array::from_fn(|k| from[k] + u * (to[k] - from[k])), motion)));
+            }
+        };
+        tr.step([0.0, -20.0, 100.0], feed);
+        go(&mut tr, [0.0, -20.0, 100.0], [0.0, -20.0, -8.0], 10, feed); // plunge
+        go(&mut tr, [0.0, -20.0, -8.0], [0.0, 0.0, -8.0], 10, feed); // lead-in along y
+        go(&mut tr, [0.0, 0.0, -8.0], [25.0, 0.0, -8.0], 25, feed); // cut
+        go(&mut tr, [25.0, 0.0, -8.0], [25.0, 0.0, -8.0], 5, feed); // rest
+        go(&mut tr, [25.0, 0.0, -8.0], [50.0, 0.0, -8.0], 25, feed);
+        go(&mut tr, [50.0, 0.0, -8.0], [50.0, 1.0, -8.0], 2, feed); // step over
+        go(&mut tr, [50.0, 1.0, -8.0], [49.5, 1.0, -8.0], 5, feed); // stub, too short
+        go(&mut tr, [49.5, 1.0, -8.0], [49.5, 1.2, -8.0], 2, feed);
+        go(&mut tr, [49.5, 1.2, -8.0], [0.0, 1.2, -8.0], 50, feed); // return pass
+        go(&mut tr, [0.0, 1.2, -8.0], [30.0, 1.2, 100.0], 10, AxisState::MOTION_RAPID);
+        go(&mut tr, [30.0, 1.2, 100.0], [60.0, 20.0, 100.0], 10, feed); // 32 deg off x
+        let ids = |lo: usize, hi: usize| marks[lo..hi].iter().map(|(_, m)| m.map(|m| m.id)).collect::<Vec<_>>();
+        assert!(ids(0, 20).iter().all(Option::is_none), "plunge and lead-in are not passes");
+        assert!(ids(20, 75).iter().all(|m| *m == Some(1)), "the cut, rest included, is pass 1");
+        assert_eq!(marks[20].1, Some(PassMark { id: 1, starts: true }));
+        assert!(ids(75, 77).iter().all(Option::is_none));
+        assert!(ids(77, 82).iter().all(|m| *m == Some(2)), "the stub is tried as pass 2");
+        assert_eq!(marks[84].1, Some(PassMark { id: 2, starts: true }), "the stub was short: the return pass takes its number");
+        assert!(ids(84, 134).iter().all(|m| *m == Some(2)));
+        assert!(ids(134, 154).iter().all(Option::is_none), "rapid and diagonal");
+        assert!(in_contact(-8.0, -8.0, CONTACT_BAND_MM) && !in_contact(112.0, -8.0, CONTACT_BAND_MM));
+    }
 
     #[test]
     fn sphere_and_cone_lie_on_the_unit_sphere_at_the_right_angle() {

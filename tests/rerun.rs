@@ -34,7 +34,7 @@ fn contents(rrd: &Path) -> String {
     rerun_cli(&["rrd", "print", "-vv", rrd.to_str().unwrap()])
 }
 
-const ENTITIES: [&str; 21] = [
+const ENTITIES: [&str; 28] = [
     "/c_speed/commanded",
     "/c_speed/simulated",
     "/c_speed/predicted",
@@ -53,9 +53,16 @@ const ENTITIES: [&str; 21] = [
     "/orientation/singular_cone",
     "/orientation/tool_axis/simulated",
     "/orientation/trace/commanded",
-    "/toolpath/path/commanded",
-    "/toolpath/tip/simulated",
-    "/roughness/ra",
+    "/machine/bed",
+    "/machine/table/A",
+    "/machine/table/A/C/cut/simulated",
+    "/machine/head",
+    "/machine/head/tool",
+    "/across/c_speed/pass_1/commanded",
+    "/across/c_speed/pass_1/simulated",
+    "/across/feed/pass_1/programmed",
+    "/across/ticks/0",
+    "/across/roughness/ra",
 ];
 
 #[test]
@@ -76,13 +83,16 @@ fn replay_of_the_sing_run_has_the_entities_timelines_layout_and_the_papers_regio
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = contents(&rrd);
-    for e in ENTITIES.iter().chain(&["/roughness/profile"]) {
+    for e in ENTITIES.iter().chain(&["/across/roughness/profile"]) {
         assert!(text.contains(e), "{e} missing from the .rrd");
     }
-    for timeline in ["workpiece_x_um", "time"] {
-        assert!(text.contains(timeline), "timeline {timeline} missing");
-    }
-    // The blueprint travels in the same file, with the x timeline selected.
+    assert!(text.contains("time"), "timeline time missing");
+    assert!(!text.contains("workpiece_x_um"), "the unit-less x sequence timeline is gone");
+    // SING.I cuts one pass, N120-N610: X0 to X50 at Y0 Z-8. The plunge (Z), the lead-in and lead-out
+    // (Y), the datum move (diagonal), the rotary-only moves and the return at Z150 after M129 are not
+    // passes across the part.
+    assert!(!text.contains("/across/c_speed/pass_2"), "only one cutting pass in SING.I");
+    // The blueprint travels in the same file, with the time timeline selected.
     assert!(text.contains("Blueprint"), "no blueprint store in the file");
     assert!(text.contains("/time_panel") && text.contains("/viewport"), "layout incomplete");
 
@@ -92,6 +102,10 @@ fn replay_of_the_sing_run_has_the_entities_timelines_layout_and_the_papers_regio
     assert!(data.contains("commanded: region 1 ends at x 28.000 mm"), "no region end at 28 mm in the text log");
     assert!(data.contains("peak predicted C speed 175.0 rpm"), "no 175.0 rpm peak in the text log");
     assert!(data.contains("SYNTHETIC"), "the synthetic roughness must be labelled as such");
+    assert!(data.contains("pass 1: x 0.0 to 50.0 mm at y 0.00 mm, z -8.00 mm, roughness measured here"), "the pass legend does not name SING's cut");
+    for tick in ["0 mm", "25 mm", "50 mm", "rpm", "mm/min"] {
+        assert!(data.contains(tick), "no '{tick}' tick label across the part");
+    }
 
     // The same through the main CLI: `fiveaxis replay` forwards to the bridge, and a damaged
     // recording is refused with exit code 2.
@@ -116,7 +130,7 @@ fn live_bridge_over_dds_draws_the_node_set() {
         .expect("paper-demo runs");
     assert!(status.success(), "paper-demo --rrd failed: {status}");
     let text = contents(&rrd);
-    for e in ENTITIES.iter().filter(|e| !e.starts_with("/roughness")) {
+    for e in ENTITIES.iter().filter(|e| !e.contains("/roughness")) {
         assert!(text.contains(e), "{e} missing from the live .rrd");
     }
     let data = rerun_cli(&["rrd", "print", "-vvv", rrd.to_str().unwrap()]);

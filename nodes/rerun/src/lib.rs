@@ -1,21 +1,28 @@
 //! The Rerun bridge: [`fiveaxis::scene`] rows and events logged to a Rerun recording stream, with
-//! a default layout (blueprint) that opens on the comparison a user came for: C speed and feed
-//! against the workpiece x, the roughness profile below them.
+//! a default layout (blueprint) that opens on the comparison a user came for: across the part (x in
+//! mm, cutting passes only) the C speed, the feed and the roughness profile stacked on one x axis;
+//! over time every sample; the machine moving beside the tool axis on the unit sphere.
 //!
 //! Entities (units in the names where they are not obvious):
-//! - `c_speed/{commanded,simulated,machine}` |C speed| measured on each stream, `c_speed/predicted`
-//!   (seed 001 eq. 5 at the programmed feed), `c_speed/limit`, rpm;
-//! - `feed/programmed`, `feed/{commanded,simulated,machine}`, `feed/axis_limit` (seed 002 eq. 5), mm/min;
-//! - `axes/{A,C}/{stream}` degrees; `distance/{stream}` degrees to the singularity;
-//! - `roughness/profile` and `roughness/ra` in um (on the x timeline only);
-//! - `events/regions` text log; `orientation/*` the unit sphere, singular direction and cone, tool
-//!   axis and its trace; `toolpath/*` the tool tip in the workpiece frame, mm.
+//! - `across/{c_speed,feed}/pass_N/{stream,predicted,programmed}`, `across/c_speed/limit`,
+//!   `across/roughness/{profile,ra}` and the charts' axes, ticks, titles and legend ([`across`]): 2D,
+//!   x in mm;
+//! - over time: `c_speed/{commanded,simulated,machine,predicted,limit}` rpm,
+//!   `feed/{programmed,commanded,simulated,machine,axis_limit}` mm/min, `axes/{A,C}/{stream}` degrees,
+//!   `distance/{stream}` degrees to the singularity;
+//! - `events/regions` and `events/feed_limit` text logs; `orientation/*` the unit sphere, singular
+//!   direction and cone, tool axis and its trace; `machine/*` the machine's bed, rotary parts (their
+//!   transforms follow the axes), the cut path on the table and the tool, mm.
 //!
-//! Timelines: `time` (the samples' stamps, s since the first) and `workpiece_x_um` (integer um).
+//! Timeline: `time` (the samples' stamps, s since the first).
 
+pub mod across;
+
+use across::{color, Across};
+use fiveaxis::machine::Machine;
 use fiveaxis::roughness::Profile;
-use fiveaxis::scene::{self, Event, Row, TIMELINE_TIME, TIMELINE_X_UM};
-use rerun::blueprint::{Blueprint, ContainerLike, Horizontal, Spatial3DView, Tabs, TextLogView, TimePanel, TimeSeriesView, Vertical};
+use fiveaxis::scene::{self, machine_pose, Event, PartPose, Row, TIMELINE_TIME};
+use rerun::blueprint::{Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial2DView, Spatial3DView, TextLogView, TimePanel, TimeSeriesView, Vertical};
 use rerun::{RecordingStream, TimeColumn};
 use std::collections::BTreeMap;
 
@@ -26,70 +33,84 @@ pub const APP_ID: &str = "fiveaxis";
 const BATCH: usize = 2000;
 /// Every how many rows of a stream the 3D views get a sample (1 kHz streams: 50 Hz).
 const DECIMATE_3D: u64 = 20;
+/// Points kept of each 3D trace (the oldest half is thinned past it).
+const TRACE_CAP: usize = 20_000;
+/// Tool length drawn in the machine view, mm.
+const TOOL_MM: f32 = 80.0;
 
-/// A scalar series being buffered: rows with an x, and rows without (rapids).
+/// A scalar series being buffered.
 #[derive(Default)]
 struct Series {
     t: Vec<f64>,
-    x: Vec<i64>,
     v: Vec<f64>,
-    t_only: Vec<f64>,
-    v_only: Vec<f64>,
 }
 
-impl Series {
-    fn push(&mut self, t: f64, x: Option<i64>, v: f64) {
-        if !v.is_finite() {
-            return;
-        }
-        match x {
-            Some(x) => {
-                self.t.push(t);
-                self.x.push(x);
-                self.v.push(v);
-            }
-            None => {
-                self.t_only.push(t);
-                self.v_only.push(v);
-            }
-        }
-    }
-    fn len(&self) -> usize {
-        self.t.len() + self.t_only.len()
+/// Where the bridge's figures go and how the passes are told apart.
+#[derive(Debug, Clone)]
+pub struct BridgeOptions {
+    /// Height band of the passes in contact, mm ([`scene::CONTACT_BAND_MM`]).
+    pub contact_band_mm: f64,
+    /// The workpiece y (mm) of the pass the roughness profile was measured on.
+    pub roughness_y_mm: Option<f64>,
+}
+
+impl Default for BridgeOptions {
+    fn default() -> Self {
+        BridgeOptions { contact_band_mm: scene::CONTACT_BAND_MM, roughness_y_mm: None }
     }
 }
 
 /// Logs scene rows and events to a Rerun stream.
 pub struct Bridge {
     rec: RecordingStream,
+    machine: Machine,
     series: BTreeMap<String, Series>,
     styled: std::collections::BTreeSet<String>,
     rows_per_stream: BTreeMap<&'static str, u64>,
     trace: BTreeMap<&'static str, Vec<[f32; 3]>>,
-    path: BTreeMap<&'static str, Vec<[f32; 3]>>,
+    /// The cut path in the table frame (the workpiece as the table carries it), per stream.
+    cut: BTreeMap<&'static str, Vec<[f32; 3]>>,
+    /// Entity path of the innermost table part, where the workpiece rides.
+    table_path: String,
+    /// The stream that moves the machine view: machine, else simulated, else commanded.
+    mover: Option<&'static str>,
+    across: Across,
     cone_deg: Option<f64>,
     singular: [f64; 3],
     has_commanded: bool,
     last_limiting: Option<String>,
 }
 
-/// Colours: commanded blue, simulated orange, machine green, predicted red, limits grey.
-fn color(name: &str) -> [u8; 3] {
-    match name {
-        "commanded" => [66, 133, 244],
-        "simulated" => [255, 140, 0],
-        "machine" => [52, 168, 83],
-        "predicted" => [219, 68, 55],
-        "programmed" => [120, 120, 120],
-        "limit" | "axis_limit" => [160, 160, 160],
-        _ => [200, 200, 200],
+fn rank(stream: &str) -> u8 {
+    match stream {
+        "machine" => 3,
+        "simulated" => 2,
+        _ => 1,
     }
 }
 
+/// An nalgebra vector as Rerun's `[f32; 3]`.
+fn v3(v: nalgebra::Vector3<f64>) -> [f32; 3] {
+    [v.x as f32, v.y as f32, v.z as f32]
+}
+
+fn quat(r: [f64; 4]) -> rerun::Quaternion {
+    rerun::Quaternion::from_xyzw(r.map(|v| v as f32))
+}
+
+/// Rotation taking +z onto `dir` (for the cylinders, which stand along z).
+fn z_onto(dir: nalgebra::Vector3<f64>) -> rerun::Quaternion {
+    let q = nalgebra::UnitQuaternion::rotation_between(&nalgebra::Vector3::z(), &dir)
+        .unwrap_or_else(|| nalgebra::UnitQuaternion::from_axis_angle(&nalgebra::Vector3::x_axis(), std::f64::consts::PI));
+    let c = q.coords;
+    quat([c.x, c.y, c.z, c.w])
+}
+
 impl Bridge {
-    /// A bridge over `rec`, for a machine whose singular direction (workpiece frame) is `singular`.
-    /// Logs the static parts: the unit sphere, the singular direction, the styles.
-    pub fn new(rec: RecordingStream, singular: [f64; 3]) -> anyhow::Result<Bridge> {
+    /// A bridge over `rec` for `machine`. Logs the static parts: the unit sphere, the singular
+    /// direction, the machine's shapes.
+    pub fn new(rec: RecordingStream, machine: &Machine, options: &BridgeOptions) -> anyhow::Result<Bridge> {
+        let singular: [f64; 3] = machine.singular_direction().into();
         rec.log_static("orientation/unit_sphere", &rerun::LineStrips3D::new(scene::sphere_wireframe(singular)).with_colors([[90, 90, 90]]).with_radii([0.002f32]))?;
         let s = singular.map(|v| v as f32);
         rec.log_static(
@@ -98,13 +119,18 @@ impl Bridge {
                 .with_colors([[219, 68, 55]])
                 .with_labels(["singular direction", ""]),
         )?;
+        let table_path = Self::log_machine_shapes(&rec, machine)?;
         Ok(Bridge {
             rec,
+            machine: machine.clone(),
             series: BTreeMap::new(),
             styled: Default::default(),
             rows_per_stream: BTreeMap::new(),
             trace: BTreeMap::new(),
-            path: BTreeMap::new(),
+            cut: BTreeMap::new(),
+            table_path,
+            mover: None,
+            across: Across::new(options.contact_band_mm, options.roughness_y_mm),
             cone_deg: None,
             singular,
             has_commanded: false,
@@ -112,19 +138,93 @@ impl Bridge {
         })
     }
 
+    /// The machine's parts as simple shapes in their own frames (mm): the bed, each table part (a
+    /// cradle for the outer one, a round table for the inner one), the tool and spindle on the head.
+    /// Returns the innermost table part's entity path.
+    fn log_machine_shapes(rec: &RecordingStream, m: &Machine) -> anyhow::Result<String> {
+        let home = machine_pose(m, &[0.0; 5]);
+        let down = -m.chain.tool_axis();
+        let joints = m.chain.joints();
+        let center = |name: &str| {
+            let slot = (0..2).find(|&i| m.axes[3 + i].name == *name).unwrap_or(0);
+            (joints[slot].center * 1e3, joints[slot].axis)
+        };
+        let grey = [120, 120, 130];
+        rec.log_static(
+            "machine/bed",
+            &rerun::Boxes3D::from_centers_and_half_sizes([v3(down * 330.0)], [[400.0f32, 300.0, 40.0]])
+                .with_quaternions([z_onto(-down)])
+                .with_colors([[70, 70, 75]])
+                .with_fill_mode(rerun::FillMode::Solid),
+        )?;
+        let mut path = "machine/table".to_string();
+        let n = home.table.len();
+        for (k, (name, _)) in home.table.iter().enumerate() {
+            path = format!("{path}/{name}");
+            let (c, a) = center(name);
+            if k + 1 < n {
+                // A cradle: long along its axis, below the axis line.
+                let centre = c + down * 120.0;
+                rec.log_static(
+                    format!("{path}/shape").as_str(),
+                    &rerun::Boxes3D::from_centers_and_half_sizes([v3(centre)], [[260.0f32, 20.0, 150.0]])
+                        .with_quaternions([z_onto(down.cross(&a).try_normalize(1e-9).unwrap_or(nalgebra::Vector3::y()))])
+                        .with_colors([grey])
+                        .with_fill_mode(rerun::FillMode::Solid),
+                )?;
+            } else {
+                // The round table the workpiece is clamped on, its top through the axis' centre.
+                let centre = c - a * 15.0 * a.dot(&-down).signum();
+                rec.log_static(
+                    format!("{path}/shape").as_str(),
+                    &rerun::Cylinders3D::from_lengths_and_radii([30.0f32], [150.0f32])
+                        .with_centers([v3(centre)])
+                        .with_quaternions([z_onto(a)])
+                        .with_colors([[150, 150, 160]])
+                        .with_fill_mode(rerun::FillMode::Solid),
+                )?;
+            }
+        }
+        let mut head = "machine/head".to_string();
+        for (name, _) in &home.head {
+            head = format!("{head}/{name}");
+            let (c, a) = center(name);
+            rec.log_static(
+                format!("{head}/shape").as_str(),
+                &rerun::Cylinders3D::from_lengths_and_radii([120.0f32], [60.0f32]).with_centers([v3(c)]).with_quaternions([z_onto(a)]).with_colors([grey]),
+            )?;
+        }
+        let (tip, axis) = (m.chain.tool_tip() * 1e3, m.chain.tool_axis());
+        let tool_c = tip + axis * (TOOL_MM as f64 / 2.0);
+        let spindle_c = tip + axis * (TOOL_MM as f64 + 100.0);
+        rec.log_static(
+            format!("{head}/tool").as_str(),
+            &rerun::Cylinders3D::from_lengths_and_radii([TOOL_MM, 200.0], [5.0f32, 50.0])
+                .with_centers([v3(tool_c), v3(spindle_c)])
+                .with_quaternions([z_onto(axis), z_onto(axis)])
+                .with_colors([[230, 230, 240], [80, 110, 160]])
+                .with_fill_mode(rerun::FillMode::Solid),
+        )?;
+        Ok(path)
+    }
+
     /// The recording stream (to flush or disconnect).
     pub fn stream(&self) -> &RecordingStream {
         &self.rec
     }
 
-    fn scalar(&mut self, entity: String, label: &str, t: f64, x: Option<i64>, v: f64) -> anyhow::Result<()> {
+    fn scalar(&mut self, entity: String, label: &str, t: f64, v: f64) -> anyhow::Result<()> {
+        if !v.is_finite() {
+            return Ok(());
+        }
         if self.styled.insert(entity.clone()) {
             let style_key = entity.rsplit('/').next().unwrap_or("");
             self.rec.log_static(entity.as_str(), &rerun::SeriesLines::new().with_names([label]).with_colors([color(style_key)]))?;
         }
         let s = self.series.entry(entity.clone()).or_default();
-        s.push(t, x, v);
-        if s.len() >= BATCH {
+        s.t.push(t);
+        s.v.push(v);
+        if s.t.len() >= BATCH {
             let s = std::mem::take(s);
             self.send(&entity, s)?;
         }
@@ -133,40 +233,34 @@ impl Bridge {
 
     fn send(&self, entity: &str, s: Series) -> anyhow::Result<()> {
         if !s.t.is_empty() {
-            self.rec.send_columns(
-                entity,
-                [TimeColumn::new_duration_secs(TIMELINE_TIME, s.t), TimeColumn::new_sequence(TIMELINE_X_UM, s.x)],
-                rerun::Scalars::new(s.v).columns_of_unit_batches()?,
-            )?;
-        }
-        if !s.t_only.is_empty() {
-            self.rec.send_columns(entity, [TimeColumn::new_duration_secs(TIMELINE_TIME, s.t_only)], rerun::Scalars::new(s.v_only).columns_of_unit_batches()?)?;
+            self.rec.send_columns(entity, [TimeColumn::new_duration_secs(TIMELINE_TIME, s.t)], rerun::Scalars::new(s.v).columns_of_unit_batches()?)?;
         }
         Ok(())
     }
 
     /// Log one row (and the events that came with it).
     pub fn row(&mut self, r: &Row) -> anyhow::Result<()> {
-        let (t, x, st) = (r.t_s, r.x_um, r.stream);
+        let (t, st) = (r.t_s, r.stream);
         self.has_commanded |= st == "commanded";
         // The program's figures come from the commanded stream; without one (a machine's bridge), from
         // the stream at hand.
         let lead = st == "commanded" || !self.has_commanded && st != "simulated";
-        self.scalar(format!("c_speed/{st}"), &format!("|{}| speed, {st} (rpm)", r.rotary[1]), t, x, r.c_speed_rpm.abs())?;
-        self.scalar(format!("feed/{st}"), &format!("path feed, {st} (mm/min)"), t, x, r.path_feed_mm_min)?;
-        self.scalar(format!("axes/{}/{st}", r.rotary[0]), &format!("{}, {st} (deg)", r.rotary[0]), t, x, r.a_deg)?;
-        self.scalar(format!("axes/{}/{st}", r.rotary[1]), &format!("{}, {st} (deg)", r.rotary[1]), t, x, r.c_deg)?;
-        self.scalar(format!("distance/{st}"), &format!("distance to the singularity, {st} (deg)"), t, x, r.distance_deg)?;
+        self.across.row(r, lead);
+        self.scalar(format!("c_speed/{st}"), &format!("|{}| speed, {st} (rpm)", r.rotary[1]), t, r.c_speed_rpm.abs())?;
+        self.scalar(format!("feed/{st}"), &format!("path feed, {st} (mm/min)"), t, r.path_feed_mm_min)?;
+        self.scalar(format!("axes/{}/{st}", r.rotary[0]), &format!("{}, {st} (deg)", r.rotary[0]), t, r.a_deg)?;
+        self.scalar(format!("axes/{}/{st}", r.rotary[1]), &format!("{}, {st} (deg)", r.rotary[1]), t, r.c_deg)?;
+        self.scalar(format!("distance/{st}"), &format!("distance to the singularity, {st} (deg)"), t, r.distance_deg)?;
         if lead {
-            self.scalar("c_speed/predicted".into(), &format!("|{}| speed predicted, eq. 5 (rpm)", r.rotary[1]), t, x, r.predicted_c_speed_rpm.abs())?;
-            self.scalar("c_speed/limit".into(), &format!("{} speed limit (rpm)", r.rotary[1]), t, x, r.c_limit_rpm)?;
+            self.scalar("c_speed/predicted".into(), &format!("|{}| speed predicted, eq. 5 (rpm)", r.rotary[1]), t, r.predicted_c_speed_rpm.abs())?;
+            self.scalar("c_speed/limit".into(), &format!("{} speed limit (rpm)", r.rotary[1]), t, r.c_limit_rpm)?;
             if r.programmed_feed_mm_min > 0.0 {
-                self.scalar("feed/programmed".into(), "programmed feed (mm/min)", t, x, r.programmed_feed_mm_min)?;
-                self.scalar("feed/axis_limit".into(), "feed the axis limits allow, seed 002 eq. 5 (mm/min)", t, x, r.feed_limit_mm_min)?;
-                // Which axis limits the feed, when that changes (in the cut).
+                self.scalar("feed/programmed".into(), "programmed feed (mm/min)", t, r.programmed_feed_mm_min)?;
+                self.scalar("feed/axis_limit".into(), "feed the axis limits allow, seed 002 eq. 5 (mm/min)", t, r.feed_limit_mm_min)?;
+                // Which axis limits the feed, when that changes (on a pass).
                 let limiting = if r.limiting_axis.is_empty() { "programmed feed".to_string() } else { format!("axis {}", r.limiting_axis) };
-                if x.is_some() && self.last_limiting.as_ref() != Some(&limiting) {
-                    self.set_time(t, x);
+                if r.pass.is_some() && self.last_limiting.as_ref() != Some(&limiting) {
+                    self.rec.set_duration_secs(TIMELINE_TIME, t);
                     self.rec.log("events/feed_limit", &rerun::TextLog::new(format!("{st}: feed limited by the {limiting} from x {:.3} mm", r.tool_tip_mm[0])).with_level("DEBUG"))?;
                     self.last_limiting = Some(limiting);
                 }
@@ -178,13 +272,18 @@ impl Bridge {
         let n = self.rows_per_stream.entry(st).or_default();
         *n += 1;
         if *n % DECIMATE_3D == 1 {
+            self.rec.set_duration_secs(TIMELINE_TIME, t);
             let axis = r.tool_axis.map(|v| v as f32);
-            let tip = r.tool_tip_mm.map(|v| v as f32);
-            self.trace.entry(st).or_default().push(axis);
-            self.path.entry(st).or_default().push(tip);
-            self.set_time(t, x);
+            push_capped(self.trace.entry(st).or_default(), axis);
             self.rec.log(format!("orientation/tool_axis/{st}"), &rerun::Arrows3D::from_vectors([axis]).with_colors([color(st)]).with_radii([0.008f32]))?;
-            self.rec.log(format!("toolpath/tip/{st}"), &rerun::Points3D::new([tip]).with_colors([color(st)]).with_radii([0.6f32]))?;
+            if r.q.iter().all(|v| v.is_finite()) {
+                let on_table = self.machine.forward(&r.q).tip * 1e3;
+                push_capped(self.cut.entry(st).or_default(), v3(on_table));
+                if self.mover.is_none_or(|m| rank(st) >= rank(m)) {
+                    self.mover = Some(st);
+                    self.move_machine(&r.q)?;
+                }
+            }
             if self.trace[st].len() % 500 == 1 {
                 self.log_traces()?;
             }
@@ -192,29 +291,42 @@ impl Bridge {
         Ok(())
     }
 
-    fn set_time(&self, t: f64, x: Option<i64>) {
-        self.rec.set_duration_secs(TIMELINE_TIME, t);
-        match x {
-            Some(x) => self.rec.set_time_sequence(TIMELINE_X_UM, x),
-            None => self.rec.disable_timeline(TIMELINE_X_UM),
+    /// The machine's parts at axis values `q` (at the current time).
+    fn move_machine(&self, q: &fiveaxis::kinematics::Joints) -> anyhow::Result<()> {
+        let pose = machine_pose(&self.machine, q);
+        let tf = |p: &PartPose| rerun::Transform3D::from_translation_rotation(p.translation_mm.map(|v| v as f32), quat(p.rotation_xyzw));
+        let mut path = "machine/table".to_string();
+        for (name, p) in &pose.table {
+            path = format!("{path}/{name}");
+            self.rec.log(path.as_str(), &tf(p))?;
         }
+        self.rec.log("machine/head", &rerun::Transform3D::from_translation(pose.head_linear_mm.map(|v| v as f32)))?;
+        let mut path = "machine/head".to_string();
+        for (name, p) in &pose.head {
+            path = format!("{path}/{name}");
+            self.rec.log(path.as_str(), &tf(p))?;
+        }
+        Ok(())
     }
 
     fn log_traces(&self) -> anyhow::Result<()> {
         for (st, pts) in &self.trace {
             self.rec.log_static(format!("orientation/trace/{st}"), &rerun::LineStrips3D::new([pts.clone()]).with_colors([color(st)]).with_radii([0.003f32]))?;
         }
-        for (st, pts) in &self.path {
-            self.rec.log_static(format!("toolpath/path/{st}"), &rerun::LineStrips3D::new([pts.clone()]).with_colors([color(st)]).with_radii([0.15f32]))?;
+        for (st, pts) in &self.cut {
+            self.rec.log_static(
+                format!("{}/cut/{st}", self.table_path).as_str(),
+                &rerun::LineStrips3D::new([pts.clone()]).with_colors([color(st)]).with_radii([rerun::components::Radius::new_ui_points(1.5)]),
+            )?;
         }
         Ok(())
     }
 
-    /// Log region events as text entries on both timelines; the cone follows the largest distance
-    /// at which a region was seen.
+    /// Log region events as text entries; the cone follows the largest distance at which a region
+    /// was seen.
     pub fn events(&mut self, events: &[Event]) -> anyhow::Result<()> {
         for e in events {
-            self.set_time(e.t_s, e.x_um);
+            self.rec.set_duration_secs(TIMELINE_TIME, e.t_s);
             let level = if e.enters { "WARN" } else { "INFO" };
             self.rec.log("events/regions", &rerun::TextLog::new(e.text.clone()).with_level(level))?;
         }
@@ -222,7 +334,7 @@ impl Bridge {
     }
 
     /// The singular cone: tool axes closer to the singular direction than the farthest in-region
-    /// sample so far (where C went over its limit), or `default_deg` before any region.
+    /// sample so far (where C went over its limit).
     fn cone(&mut self, d: f64) -> anyhow::Result<()> {
         if self.cone_deg.is_none_or(|c| d > c + 1e-3) {
             self.cone_deg = Some(d);
@@ -236,45 +348,49 @@ impl Bridge {
         Ok(())
     }
 
-    /// Log a roughness profile along the workpiece x (its height after the ISO 16610-21 filter, and
+    /// Lay a roughness profile along the workpiece x (its height after the ISO 16610-21 filter, and
     /// windowed Ra), labelled with the profile's source (e.g. SYNTHETIC).
     pub fn roughness(&mut self, profile: &Profile, lambda_c: f64) -> anyhow::Result<()> {
         let (heights, ra) = scene::roughness_series(profile, lambda_c);
         let label = if profile.source.to_ascii_uppercase().contains("SYNTHETIC") { "SYNTHETIC " } else { "" };
-        for (entity, name, data) in [("roughness/profile", format!("{label}roughness profile, lambda_c {} mm (um)", lambda_c * 1e3), heights), ("roughness/ra", format!("{label}Ra over 5 lambda_c (um)"), ra)] {
-            self.rec.log_static(entity, &rerun::SeriesLines::new().with_names([name]).with_colors([[110, 110, 110]]))?;
-            for chunk in data.chunks(BATCH * 10) {
-                self.rec.send_columns(
-                    entity,
-                    [TimeColumn::new_sequence(TIMELINE_X_UM, chunk.iter().map(|p| p.0))],
-                    rerun::Scalars::new(chunk.iter().map(|p| p.1)).columns_of_unit_batches()?,
-                )?;
-            }
-        }
-        self.rec.log_static("roughness/source", &rerun::TextDocument::new(format!("roughness profile: {}", profile.source)))?;
+        self.across.set_profile(heights, ra, label.to_string(), lambda_c * 1e3);
+        self.rec.log_static("events/roughness_source", &rerun::TextDocument::new(format!("roughness profile: {}", profile.source)))?;
         Ok(())
     }
 
-    /// Send what is buffered (call now and then when live, and at the end).
+    /// Send what is buffered and redraw the charts across the part (call now and then when live, and
+    /// at the end).
     pub fn flush(&mut self) -> anyhow::Result<()> {
         for (entity, s) in std::mem::take(&mut self.series) {
             self.send(&entity, s)?;
         }
         self.log_traces()?;
+        self.across.draw(&self.rec)?;
         Ok(())
     }
 }
 
-/// The default layout: C speed and feed against x with the roughness below (left), the tool axis on
-/// the unit sphere, the axes, the distance and the region log (right); the x timeline selected. Also
-/// returns the blueprint paths of the plots, whose time axes [`send_layout`] sets to the whole range.
+/// Append to a trace, thinning its older half past [`TRACE_CAP`] points.
+fn push_capped(v: &mut Vec<[f32; 3]>, p: [f32; 3]) {
+    v.push(p);
+    if v.len() > TRACE_CAP {
+        let half = v.len() / 2;
+        let thinned: Vec<[f32; 3]> = v[..half].iter().step_by(2).chain(&v[half..]).copied().collect();
+        *v = thinned;
+    }
+}
+
+/// The default layout. Left: across the part (the stacked 2D charts against x in mm) above the |C|
+/// speed and the feed over time. Right: the machine beside the tool axis on the unit sphere, the
+/// distance and the rotary axes over time, the region log. The `time` timeline is selected; side
+/// panels start collapsed so the views get the window. Also returns the blueprint paths of the time
+/// plots, whose time axes [`send_layout`] sets to the whole range.
 pub fn blueprint() -> (Blueprint, Vec<String>) {
     let plots = [
-        TimeSeriesView::new("C speed across the part (rpm)").with_contents(["c_speed/**"]),
-        TimeSeriesView::new("feed across the part (mm/min)").with_contents(["feed/**"]),
-        TimeSeriesView::new("roughness across the part (um)").with_contents(["roughness/**"]),
-        TimeSeriesView::new("distance to the singularity (deg)").with_contents(["distance/**"]),
-        TimeSeriesView::new("rotary axes (deg)").with_contents(["axes/**"]),
+        TimeSeriesView::new("|C| speed over time (rpm)").with_contents(["c_speed/**"]),
+        TimeSeriesView::new("feed over time (mm/min)").with_contents(["feed/**"]),
+        TimeSeriesView::new("distance to the singularity over time (deg)").with_contents(["distance/**"]),
+        TimeSeriesView::new("rotary axes over time (deg)").with_contents(["axes/**"]),
     ];
     let plots: Vec<ContainerLike> = plots.into_iter().map(Into::into).collect();
     let paths: Vec<String> = plots
@@ -284,16 +400,19 @@ pub fn blueprint() -> (Blueprint, Vec<String>) {
             _ => None,
         })
         .collect();
-    let Ok([c, feed, rough, dist, axes]) = <[ContainerLike; 5]>::try_from(plots) else { unreachable!("five plots") };
-    let left = Vertical::new([c, feed, rough]).with_row_shares([2.0, 2.0, 1.5]);
-    let views_3d = Tabs::new([
+    let Ok([c, feed, dist, axes]) = <[ContainerLike; 4]>::try_from(plots) else { unreachable!("four plots") };
+    let across = Spatial2DView::new("across the part: cutting passes against the workpiece x (mm)").with_contents(["across/**"]);
+    let left = Vertical::new([across.into(), Horizontal::new([c, feed]).into()]).with_row_shares([3.2, 1.3]);
+    let views_3d = Horizontal::new([
+        Spatial3DView::new("machine (simulated axes; mm)").with_contents(["machine/**"]).into(),
         Spatial3DView::new("tool axis on the unit sphere").with_contents(["orientation/**"]).into(),
-        Spatial3DView::new("tool path (mm, workpiece frame)").with_contents(["toolpath/**"]).into(),
     ]);
     let right = Vertical::new([views_3d.into(), dist, axes, TextLogView::new("regions and feed limits").with_contents(["events/**"]).into()])
-        .with_row_shares([3.0, 1.2, 1.2, 1.6]);
+        .with_row_shares([2.4, 1.0, 1.0, 1.1]);
     let bp = Blueprint::new(Horizontal::new([left.into(), right.into()]).with_column_shares([3.0, 2.0]))
-        .with_time_panel(TimePanel::new().with_timeline(TIMELINE_X_UM).with_play_state(rerun::blueprint::components::PlayState::Paused))
+        .with_time_panel(TimePanel::new().with_timeline(TIMELINE_TIME).with_play_state(rerun::blueprint::components::PlayState::Paused).with_state(rerun::blueprint::components::PanelState::Collapsed))
+        .with_blueprint_panel(BlueprintPanel::new().with_state(rerun::blueprint::components::PanelState::Collapsed))
+        .with_selection_panel(SelectionPanel::new().with_state(rerun::blueprint::components::PanelState::Collapsed))
         .with_auto_views(false);
     (bp, paths)
 }

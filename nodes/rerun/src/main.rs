@@ -11,7 +11,7 @@ use fiveaxis::roughness::RoughnessArgs;
 use fiveaxis::scene::{replay_mcap, Scene};
 use fiveaxis::units::RPM;
 use fiveaxis_bus::{init_tracing, subscribe_states, Bus, CommonArgs, InputArgs, Shutdown, StateInput};
-use fiveaxis_rerun::{send_layout, Bridge, APP_ID};
+use fiveaxis_rerun::{send_layout, Bridge, BridgeOptions, APP_ID};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -53,6 +53,31 @@ struct SinkArgs {
     recording_name: Option<String>,
 }
 
+/// How the charts across the part pick their passes.
+#[derive(Args, Clone)]
+struct ViewArgs {
+    /// Passes whose lowest tool-tip z is more than this above the lowest pass are taken for moves at
+    /// a clearance height and left out of the charts across the part, mm.
+    #[arg(long = "contact-band-mm", default_value_t = fiveaxis::scene::CONTACT_BAND_MM)]
+    contact_band_mm: f64,
+    /// Workpiece y of the pass the roughness profile was measured on, mm (default: the pass covering
+    /// most of the profile's x range).
+    #[arg(long = "roughness-y-mm", allow_hyphen_values = true)]
+    roughness_y_mm: Option<f64>,
+}
+
+impl ViewArgs {
+    fn options(&self) -> anyhow::Result<BridgeOptions> {
+        if !(self.contact_band_mm.is_finite() && self.contact_band_mm >= 0.0) {
+            anyhow::bail!("--contact-band-mm must be a finite length >= 0, not {}", self.contact_band_mm);
+        }
+        if self.roughness_y_mm.is_some_and(|y| !y.is_finite()) {
+            anyhow::bail!("--roughness-y-mm must be finite");
+        }
+        Ok(BridgeOptions { contact_band_mm: self.contact_band_mm, roughness_y_mm: self.roughness_y_mm })
+    }
+}
+
 #[derive(Args)]
 struct ReplayArgs {
     /// The recording.
@@ -72,6 +97,8 @@ struct ReplayArgs {
     max_c_speed_rpm: Option<f64>,
     #[command(flatten)]
     roughness: RoughnessArgs,
+    #[command(flatten)]
+    view: ViewArgs,
     #[command(flatten)]
     sink: SinkArgs,
 }
@@ -93,6 +120,8 @@ struct LiveArgs {
     exit_when_idle_s: Option<f64>,
     #[command(flatten)]
     roughness: RoughnessArgs,
+    #[command(flatten)]
+    view: ViewArgs,
     #[command(flatten)]
     sink: SinkArgs,
 }
@@ -137,9 +166,16 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(EXIT_INPUT));
         }
     };
+    let options = match a.view.options() {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("fiveaxis-rerun: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
     let name = a.recording.file_name().map_or("recording".into(), |n| n.to_string_lossy().into_owned());
     let rec = open_stream(&a.sink, &name)?;
-    let mut bridge = Bridge::new(rec, machine.singular_direction().into())?;
+    let mut bridge = Bridge::new(rec, &machine, &options)?;
     if let Some((profile, cutoff)) = &roughness {
         bridge.roughness(profile, *cutoff)?;
     }
@@ -193,8 +229,15 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
     let shutdown = Shutdown::install()?;
     let machine = Machine::from_name_or_file(&a.common.machine).context("loading the machine")?;
     let roughness = a.roughness.load().map_err(anyhow::Error::msg)?;
+    let options = match a.view.options() {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("fiveaxis-rerun: {e}");
+            return Ok(ExitCode::from(EXIT_INPUT));
+        }
+    };
     let rec = open_stream(&a.sink, "live")?;
-    let mut bridge = Bridge::new(rec, machine.singular_direction().into())?;
+    let mut bridge = Bridge::new(rec, &machine, &options)?;
     if let Some((profile, cutoff)) = &roughness {
         bridge.roughness(profile, *cutoff)?;
     }
@@ -262,8 +305,7 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
 
 fn main() -> ExitCode {
     if std::env::var_os("RUST_LOG").is_none() {
-        // Rerun warns about out-of-order x values (the x timeline is not monotonic over a program by
-        // nature) and logs its sinks at info: keep those quiet unless asked for.
+        // Rerun logs its sinks at info: keep those quiet unless asked for.
         std::env::set_var("RUST_LOG", format!("info,re_chunk=error,re_sdk=warn,re_log_encoding=warn,{}", fiveaxis_bus::DDS_LOG_DIRECTIVES));
     }
     let (cli, ros) = fiveaxis_bus::ros_args::parse::<Cli>("fiveaxis_rerun");
