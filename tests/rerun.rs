@@ -107,6 +107,15 @@ fn replay_of_the_sing_run_has_the_entities_timelines_layout_and_the_papers_regio
         assert!(data.contains(tick), "no '{tick}' tick label across the part");
     }
 
+    // What Rerun makes of the same MCAP without us (the README's account): JointState decoded into
+    // scalars per joint, AxisState as one reflected struct per message, on the MCAP's timelines.
+    let native = dir.join("native.rrd");
+    rerun_cli(&["mcap", "convert", mcap.to_str().unwrap(), "-o", native.to_str().unwrap()]);
+    let text = rerun_cli(&["rrd", "print", "-vv", native.to_str().unwrap()]);
+    for want in ["/fiveaxis/commanded/joint_states/position", "/fiveaxis/simulated/joint_states/velocity", "fiveaxis_msgs.msg.AxisState:message", "ros2_timestamp", "message_log_time"] {
+        assert!(text.contains(want), "rerun mcap convert: no {want}");
+    }
+
     // The same through the main CLI: `fiveaxis replay` forwards to the bridge, and a damaged
     // recording is refused with exit code 2.
     let bad = dir.join("bad.mcap");
