@@ -387,6 +387,54 @@ fn chunk_size_claims_are_bounded_before_allocating() {
     }
 }
 
+/// LZ4 chunks (issue 15: rosbag2 and the mcap CLI can write them; they were refused): the SING run
+/// rewritten by Foxglove's Python `mcap` writer with LZ4 chunks analyses to the same report as our zstd
+/// original, and a copy cut inside a chunk is recovered to every complete chunk.
+#[test]
+fn lz4_chunks_read_like_zstd_ones() {
+    let zstd = tmp("lz4-src.mcap");
+    record("bundled:SING.I", &zstd);
+    let lz4 = tmp("lz4.mcap");
+    let out = Command::new("python3")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/rechunk_mcap.py"))
+        .args([zstd.to_str().unwrap(), lz4.to_str().unwrap(), "lz4", "262144"])
+        .output()
+        .expect("python3 runs (mcap comes with mcap-ros2-support from launch-free-scripts/test)");
+    let said = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(out.status.success(), "rechunk_mcap.py: {}", String::from_utf8_lossy(&out.stderr));
+    let fields: Vec<&str> = said.split_whitespace().collect();
+    assert_eq!(fields.first(), Some(&"lz4"), "the rewritten file's chunks: {said}");
+    let chunks: usize = fields[1].parse().unwrap();
+    assert!(chunks >= 4, "several chunks: {said}");
+    let report = |p: &Path, tag: &str| -> serde_json::Value {
+        let json = tmp(&format!("lz4-{tag}.json"));
+        let (code, _) = fiveaxis(&["analyze", p.to_str().unwrap(), "--max-c-speed-rpm", "25", "--json", json.to_str().unwrap()]);
+        assert_eq!(code, 1, "{tag}: SING violates 25 rpm");
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap()
+    };
+    let (a, b) = (report(&zstd, "zstd"), report(&lz4, "lz4"));
+    assert_eq!(b["messages_read"], a["messages_read"]);
+    assert_eq!(b["messages_read"].as_u64(), fields[2].parse().ok(), "every message the writer wrote was read");
+    assert_eq!(b["regions"], a["regions"], "the same regions from LZ4 chunks");
+    assert_eq!(b["violations"], a["violations"]);
+    // Cut inside the third chunk: recovery keeps the complete ones, and they analyse.
+    let data = std::fs::read(&lz4).unwrap();
+    let summary = mcap::Summary::read(&data).unwrap().unwrap();
+    let c = &summary.chunk_indexes[2];
+    let cut = tmp("lz4-cut.mcap");
+    std::fs::write(&cut, &data[..(c.chunk_start_offset + c.chunk_length / 2) as usize]).unwrap();
+    let fixed = tmp("lz4-fixed.mcap");
+    let rep = recover(&cut, &fixed).unwrap();
+    assert!(rep.stopped.is_some(), "{rep:?}");
+    // The messages of the first two chunks, as the mcap crate (its own LZ4 decoder) reads the file
+    // cut at the third chunk's start.
+    let whole: u64 = mcap::MessageStream::new(&data[..c.chunk_start_offset as usize]).unwrap().take_while(Result::is_ok).count() as u64;
+    assert!(whole > 0);
+    assert_eq!(rep.messages, whole, "{rep:?}");
+    let back = std::fs::read(&fixed).unwrap();
+    assert_eq!(mcap::MessageStream::new(&back).unwrap().map(|m| m.unwrap()).count() as u64, whole);
+}
+
 /// `run` into a bag directory (no `.mcap` name): rosbag2's layout (metadata.yaml version 9 and
 /// NAME_0.mcap), which rosbags' reader opens and decodes whole, with as many commanded states as
 /// the commander makes of the program read whole; `analyze` takes the directory as it takes the file.

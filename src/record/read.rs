@@ -183,8 +183,9 @@ pub fn may_carry_type(path: &Path, type_name: &str) -> Result<bool, RecordError>
 /// there were. Schema and Channel records are collected on the way (a message on a channel not yet
 /// declared is an error). Errors name the file and what broke; the messages before it were visited.
 ///
-/// Chunks are decompressed whole into one reused buffer (zstd's one-shot decoder, then the CRC of
-/// the uncompressed records): faster than streaming them through the record reader.
+/// Chunks are decompressed whole into one reused buffer (zstd's one-shot decoder, or an LZ4 frame
+/// decoder, then the CRC of the uncompressed records): faster than streaming them through the record
+/// reader.
 pub fn for_each_message(path: &Path, mut visit: impl FnMut(MessageView<'_>)) -> Result<u64, RecordError> {
     let mut count = 0;
     let mut offset = 0;
@@ -243,7 +244,18 @@ fn for_each_message_in_file(path: &Path, file_index: usize, offset: u64, visit: 
                         }
                         &chunk
                     }
-                    other => return Err(damaged(format!("unsupported compression '{other}'"))),
+                    "lz4" => {
+                        // LZ4 frames (rosbag2's and the mcap CLI's other choice), streamed like a
+                        // large zstd claim: memory follows the data, at most the claim.
+                        chunk.clear();
+                        let decoder = lz4_flex::frame::FrameDecoder::new(&compressed[..]);
+                        let n = decoder.take(size as u64 + 1).read_to_end(&mut chunk).map_err(|e| damaged(format!("lz4: {e}")))?;
+                        if n != size {
+                            return Err(damaged(format!("{} bytes uncompressed, header says {size}", if n > size { format!("more than {size}") } else { n.to_string() })));
+                        }
+                        &chunk
+                    }
+                    other => return Err(damaged(format!("unsupported compression '{other}' (zstd, lz4 or none)"))),
                 };
                 if header.uncompressed_crc != 0 && crc32fast::hash(body) != header.uncompressed_crc {
                     return Err(damaged("CRC mismatch".into()));
