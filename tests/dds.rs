@@ -491,3 +491,48 @@ wait $P
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// Domain isolation (issue 15): the commander on ROS_DOMAIN_ID 7 is recorded by a recorder on domain 7
+/// and never heard by one on domain 0; an independent Cyclone DDS participant on domain 0 sees neither
+/// the node nor its topic while one on domain 7 sees both.
+#[test]
+fn another_ros_domain_is_never_heard() {
+    let b = bins();
+    let dir = common::scratch_dir("dds-domain");
+    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/ros_graph.py");
+    let script = format!(
+        r#"set -e
+B="{b}"; D="{d}"
+ROS_DOMAIN_ID=7 "$B/fiveaxis-recorder" --output "$D/seven.mcap" --topic commanded/axis_state:AxisState > "$D/r7.log" 2>&1 &
+R7=$!
+ROS_DOMAIN_ID=0 "$B/fiveaxis-recorder" --output "$D/zero.mcap" --topic commanded/axis_state:AxisState > "$D/r0.log" 2>&1 &
+R0=$!
+ROS_DOMAIN_ID=7 "$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 0.25 --min-subscribers 1 > "$D/c.log" 2>&1 &
+C=$!
+python3 "{peer}" --node /fiveaxis/fiveaxis_commander --domain-id 0 --timeout-s 4 > "$D/g0.json" &
+G0=$!
+python3 "{peer}" --node /fiveaxis/fiveaxis_commander --domain-id 7 --timeout-s 20 > "$D/g7.json"
+wait $G0
+wait $C
+sleep 0.5
+kill -INT $R7 $R0
+wait $R7
+wait $R0
+"#,
+        b = b.display(),
+        d = dir.display(),
+        peer = peer.display(),
+    );
+    let out = netns_bash(&script);
+    let logs: String = ["c.log", "r0.log", "r7.log"].iter().map(|f| format!("{f}: {}\n", std::fs::read_to_string(dir.join(f)).unwrap_or_default())).collect();
+    assert!(out.status.success(), "{}\n{logs}", String::from_utf8_lossy(&out.stderr));
+    let count = |f: &str| mcap::Summary::read(&std::fs::read(dir.join(f)).unwrap()).unwrap().expect("a finished file").stats.unwrap().message_count;
+    assert_eq!(count("seven.mcap"), 1501, "domain 7 records the whole run\n{logs}");
+    assert_eq!(count("zero.mcap"), 0, "domain 0 hears nothing of domain 7\n{logs}");
+    let graph = |f: &str| -> serde_json::Value { serde_json::from_str(&std::fs::read_to_string(dir.join(f)).unwrap()).unwrap() };
+    let (g0, g7) = (graph("g0.json"), graph("g7.json"));
+    let publishes = |g: &serde_json::Value| g["publications"].as_array().unwrap().iter().any(|p| p[0] == CMD);
+    assert!(g7["node"].is_object() && publishes(&g7), "domain 7's peer sees the commander: {g7}");
+    assert!(g0["node"].is_null() && !publishes(&g0), "domain 0's peer sees nothing of it: {g0}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
