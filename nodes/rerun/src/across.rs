@@ -214,6 +214,11 @@ pub struct Across {
     /// The stream whose passes carry the program's figures (predicted C speed, programmed feed).
     lead: Option<&'static str>,
     dirty: bool,
+    /// Passes with samples since the last draw: when the layout and the set of passes drawn are
+    /// unchanged, only these are redrawn (a live run's flushes stay proportional to what arrived).
+    changed: BTreeSet<(&'static str, u32)>,
+    /// What the last full draw was made for: layout, passes drawn, the profile's pass.
+    last: Option<(Layout, Vec<(&'static str, u32)>, Option<u32>)>,
     drawn: BTreeSet<String>,
 }
 
@@ -228,6 +233,8 @@ impl Across {
             rotary: "C".into(),
             lead: None,
             dirty: false,
+            changed: BTreeSet::new(),
+            last: None,
             drawn: BTreeSet::new(),
         }
     }
@@ -236,6 +243,7 @@ impl Across {
     pub fn set_profile(&mut self, heights: Vec<(f64, f64)>, ra: Vec<(f64, f64)>, label: String, lambda_c_mm: f64) {
         self.profile = Some((heights, ra, label, lambda_c_mm));
         self.dirty = true;
+        self.last = None;
     }
 
     /// Take one row; `lead` says whether its stream carries the program's figures.
@@ -257,6 +265,7 @@ impl Across {
         if let Some(p) = self.passes.get_mut(&key) {
             p.push(r);
         }
+        self.changed.insert(key);
         self.dirty = true;
     }
 
@@ -320,6 +329,10 @@ impl Across {
         }
         let r_max = if r_max > 0.0 { r_max } else { 1.0 };
         let layout = Layout::new(x_lo, x_hi, &[(0.0, c_max.max(1.0)), (0.0, f_max.max(1.0)), (-r_max, r_max)]);
+        let changed = std::mem::take(&mut self.changed);
+        let what = (layout.clone(), cutting.clone(), profile_pass);
+        let full = self.last.as_ref() != Some(&what);
+        self.last = Some(what);
         let mut now: BTreeSet<String> = BTreeSet::new();
         let rot = self.rotary.clone();
         let titles = [
@@ -329,7 +342,7 @@ impl Across {
         ];
         let units = ["rpm", "mm/min", "um"];
         let w = layout.x_hi - layout.x_lo;
-        for (i, b) in layout.bands.iter().enumerate() {
+        for (i, b) in layout.bands.iter().enumerate().filter(|_| full) {
             let (frame, grid) = layout.grid(b);
             let path = format!("across/axes/{i}");
             rec.log_static(
@@ -373,7 +386,7 @@ impl Across {
             now.insert(path);
             Ok(())
         };
-        for k in &cutting {
+        for k in cutting.iter().filter(|k| full || changed.contains(*k)) {
             let p = &self.passes[k];
             let (st, id) = *k;
             let main = profile_pass.is_none_or(|pp| pp == id);
@@ -387,11 +400,11 @@ impl Across {
                 log_line(format!("across/feed/pass_{id}/programmed"), strip(&p.x, &p.programmed, &bf), "programmed", width, 1.0)?;
             }
         }
-        if self.c_limit_rpm.is_finite() {
+        if full && self.c_limit_rpm.is_finite() {
             let y = bc.y(self.c_limit_rpm.clamp(bc.lo, bc.hi));
             log_line("across/c_speed/limit".into(), vec![vec![[layout.x_lo as f32, y], [layout.x_hi as f32, y]]], "limit", 0.8, 1.0)?;
         }
-        if let Some((h, ra, ..)) = &self.profile {
+        if let Some((h, ra, ..)) = self.profile.as_ref().filter(|_| full) {
             let (x, v): (Vec<f64>, Vec<f64>) = h.iter().copied().unzip();
             log_line("across/roughness/profile".into(), strip(&x, &v, &br), "roughness", 0.6, 2.0)?;
             let (x, v): (Vec<f64>, Vec<f64>) = ra.iter().copied().unzip();
@@ -424,10 +437,14 @@ impl Across {
             rec.log_static("across/legend", &rerun::Points2D::new(pos).with_labels(text).with_colors(colors).with_radii([0.0f32]).with_show_labels(true))?;
             now.insert("across/legend".into());
         }
-        for gone in self.drawn.difference(&now) {
-            rec.log_static(gone.as_str(), &rerun::Clear::flat())?;
+        if full {
+            for gone in self.drawn.difference(&now) {
+                rec.log_static(gone.as_str(), &rerun::Clear::flat())?;
+            }
+            self.drawn = now;
+        } else {
+            self.drawn.extend(now);
         }
-        self.drawn = now;
         Ok(())
     }
 }
