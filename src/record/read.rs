@@ -236,23 +236,13 @@ fn for_each_message_in_file(path: &Path, file_index: usize, offset: u64, visit: 
                     "zstd" => {
                         // A large claim is streamed, not reserved: memory follows what the data
                         // decompresses to (at most the claim, at most MAX_CHUNK), never a damaged header.
-                        chunk.clear();
                         let decoder = zstd::stream::read::Decoder::with_buffer(&compressed[..]).map_err(|e| damaged(format!("zstd: {e}")))?;
-                        let n = decoder.take(size as u64 + 1).read_to_end(&mut chunk).map_err(|e| damaged(format!("zstd: {e}")))?;
-                        if n != size {
-                            return Err(damaged(format!("{} bytes uncompressed, header says {size}", if n > size { format!("more than {size}") } else { n.to_string() })));
-                        }
+                        decompress_claimed("zstd", decoder, size, &mut chunk).map_err(damaged)?;
                         &chunk
                     }
+                    // LZ4 frames (rosbag2's and the mcap CLI's other choice), streamed the same way.
                     "lz4" => {
-                        // LZ4 frames (rosbag2's and the mcap CLI's other choice), streamed like a
-                        // large zstd claim: memory follows the data, at most the claim.
-                        chunk.clear();
-                        let decoder = lz4_flex::frame::FrameDecoder::new(&compressed[..]);
-                        let n = decoder.take(size as u64 + 1).read_to_end(&mut chunk).map_err(|e| damaged(format!("lz4: {e}")))?;
-                        if n != size {
-                            return Err(damaged(format!("{} bytes uncompressed, header says {size}", if n > size { format!("more than {size}") } else { n.to_string() })));
-                        }
+                        decompress_claimed("lz4", lz4_flex::frame::FrameDecoder::new(&compressed[..]), size, &mut chunk).map_err(damaged)?;
                         &chunk
                     }
                     other => return Err(damaged(format!("unsupported compression '{other}' (zstd, lz4 or none)"))),
@@ -271,6 +261,18 @@ fn for_each_message_in_file(path: &Path, file_index: usize, offset: u64, visit: 
         }
     }
     Ok(records.count)
+}
+
+/// Decompress `decoder` into `out` (cleared first), reading at most one byte past the chunk's claimed
+/// `size`: memory follows what the data holds, never more than the claim; a size other than the claim
+/// is an error. `codec` names the decoder in its errors.
+fn decompress_claimed(codec: &str, decoder: impl Read, size: usize, out: &mut Vec<u8>) -> Result<(), String> {
+    out.clear();
+    let n = decoder.take(size as u64 + 1).read_to_end(out).map_err(|e| format!("{codec}: {e}"))?;
+    if n != size {
+        return Err(format!("{} bytes uncompressed, header says {size}", if n > size { format!("more than {size}") } else { n.to_string() }));
+    }
+    Ok(())
 }
 
 /// Largest uncompressed chunk accepted, bytes (a damaged header or a zstd bomb must not make us allocate
