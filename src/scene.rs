@@ -163,30 +163,31 @@ pub struct PartPose {
 }
 
 /// The machine's moving parts at axis values `q` (m, rad), each relative to the one that carries it,
-/// as a 3D view draws them (seed 001 eq. 1): the table joints from the bed outwards (the workpiece
-/// rides on the last), then the head: the linear axes' translation, then the head joints from the ram
-/// outwards (the tool rides on the last). Names are the rotary axes'.
+/// as a 3D view draws them (seed 001 eq. 1): the table joints in the order of the chain's
+/// [`table_slots`](crate::kinematics::TwoRotaryChain::table_slots) (the workpiece rides on the
+/// last), then the head: the linear axes' translation, then the head joints in the order of its
+/// [`head_slots`](crate::kinematics::TwoRotaryChain::head_slots) (the tool rides on the last).
 pub struct MachinePose {
-    pub table: Vec<(String, PartPose)>,
+    pub table: Vec<PartPose>,
     pub head_linear_mm: [f64; 3],
-    pub head: Vec<(String, PartPose)>,
+    pub head: Vec<PartPose>,
 }
 
 /// The pose of the machine's parts at `q` (see [`MachinePose`]); composing them maps the workpiece
 /// frame and the tool frame into the machine frame as [`Machine::forward`] does.
 pub fn machine_pose(machine: &Machine, q: &crate::kinematics::Joints) -> MachinePose {
-    use crate::kinematics::Carrier;
-    let joints = machine.chain.joints();
-    let part = |slot: usize| -> (String, PartPose) {
-        let j = &joints[slot];
-        let r = nalgebra::UnitQuaternion::from_axis_angle(&nalgebra::Unit::new_normalize(j.axis), q[3 + slot]);
-        // A turn about the line through `center`: p' = c + R (p - c).
-        let t = j.center - r * j.center;
-        let c = r.coords;
-        (machine.axes[3 + slot].name.clone(), PartPose { rotation_xyzw: [c.x, c.y, c.z, c.w], translation_mm: [t.x * 1e3, t.y * 1e3, t.z * 1e3] })
+    let chain = &machine.chain;
+    let parts = |slots: &[usize]| -> Vec<PartPose> {
+        slots
+            .iter()
+            .map(|&slot| {
+                let turn = chain.joints()[slot].turn(q[3 + slot]);
+                let (r, t) = (turn.rotation.coords, turn.translation.vector * 1e3);
+                PartPose { rotation_xyzw: [r.x, r.y, r.z, r.w], translation_mm: [t.x, t.y, t.z] }
+            })
+            .collect()
     };
-    let side = |carrier: Carrier| (0..2).filter(|&i| joints[i].carrier == carrier).map(part).collect();
-    MachinePose { table: side(Carrier::Table), head_linear_mm: [q[0] * 1e3, q[1] * 1e3, q[2] * 1e3], head: side(Carrier::Head) }
+    MachinePose { table: parts(chain.table_slots()), head_linear_mm: [q[0] * 1e3, q[1] * 1e3, q[2] * 1e3], head: parts(chain.head_slots()) }
 }
 
 /// The monitor, recomputed per sample, turned into rows and events.
@@ -234,14 +235,15 @@ impl Scene {
         let tip = status.workpiece_position;
         let tip_mm = [tip.x * 1e3, tip.y * 1e3, tip.z * 1e3];
         let pass = self.passes.entry(topic.to_string()).or_default().step(tip_mm, st.motion);
+        let q: crate::kinematics::Joints = std::array::from_fn(|i| st.position.get(i).copied().unwrap_or(f64::NAN));
         let row = Row {
             topic: topic.to_string(),
             stream,
             t_s: t - t0,
             pass,
-            a_deg: st.position.get(pi).copied().unwrap_or(f64::NAN).to_degrees(),
-            c_deg: st.position.get(si).copied().unwrap_or(f64::NAN).to_degrees(),
-            q: std::array::from_fn(|i| st.position.get(i).copied().unwrap_or(f64::NAN)),
+            a_deg: q[pi].to_degrees(),
+            c_deg: q[si].to_degrees(),
+            q,
             rotary: [self.machine.axes[pi].name.clone(), self.machine.axes[si].name.clone()],
             c_speed_rpm: status.c_speed / RPM,
             predicted_c_speed_rpm: status.predicted_c_speed / RPM,
@@ -419,8 +421,8 @@ mod tests {
     #[test]
     fn machine_pose_composes_to_the_forward_transform() {
         use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-        let apply = |parts: &[(String, PartPose)], p: Vector3<f64>, is_point: bool| {
-            parts.iter().rev().fold(p, |v, (_, pp)| {
+        let apply = |parts: &[PartPose], p: Vector3<f64>, is_point: bool| {
+            parts.iter().rev().fold(p, |v, pp| {
                 let [x, y, z, w] = pp.rotation_xyzw;
                 let r = UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z));
                 r * v + if is_point { Vector3::from(pp.translation_mm) * 1e-3 } else { Vector3::zeros() }

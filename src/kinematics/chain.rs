@@ -63,6 +63,16 @@ impl TwoRotaryChain {
         &self.joints
     }
 
+    /// Slots of the table joints, from the machine base outwards (the workpiece rides on the last).
+    pub fn table_slots(&self) -> &[usize] {
+        &self.table
+    }
+
+    /// Slots of the head joints, from the ram outwards (the tool rides on the last).
+    pub fn head_slots(&self) -> &[usize] {
+        &self.head
+    }
+
     /// Tool axis O_M in the spindle frame at home (unit vector, tip to spindle).
     pub fn tool_axis(&self) -> Vector3<f64> {
         self.tool_axis

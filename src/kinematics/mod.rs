@@ -14,7 +14,7 @@ mod chain;
 
 pub use chain::{OrientationSolutions, Pose, TwoRotaryChain, POLE};
 
-use nalgebra::{Rotation3, Unit, Vector3};
+use nalgebra::{Isometry3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
 use serde::Deserialize;
 
 /// Axis values `[X, Y, Z, R1st, R2nd]` in SI (m, rad), in the machine's axis order.
@@ -42,6 +42,12 @@ pub struct RotaryJoint {
 impl RotaryJoint {
     fn rotation(&self, theta: f64) -> Rotation3<f64> {
         Rotation3::from_axis_angle(&Unit::new_unchecked(self.axis), theta)
+    }
+    /// The rigid motion of a turn by `theta` about this joint's line, `p' = c + R (p - c)`: what
+    /// [`turn_point`](Self::turn_point) does to one point, for a view that moves a whole part.
+    pub fn turn(&self, theta: f64) -> Isometry3<f64> {
+        let r = UnitQuaternion::from_axis_angle(&Unit::new_unchecked(self.axis), theta);
+        Isometry3::from_parts(Translation3::from(self.center - r * self.center), r)
     }
     /// Turn point `p` by `theta` about this joint's line.
     fn turn_point(&self, theta: f64, p: &Vector3<f64>) -> Vector3<f64> {

@@ -70,8 +70,8 @@ pub struct Bridge {
     trace: BTreeMap<&'static str, Vec<[f32; 3]>>,
     /// The cut path in the table frame (the workpiece as the table carries it), per stream.
     cut: BTreeMap<&'static str, Vec<[f32; 3]>>,
-    /// Entity path of the innermost table part, where the workpiece rides.
-    table_path: String,
+    /// Entity paths of the moving parts, nested as they carry each other (see [`part_paths`]).
+    parts: PartPaths,
     /// The stream that moves the machine view: machine, else simulated, else commanded.
     mover: Option<&'static str>,
     across: Across,
@@ -79,6 +79,42 @@ pub struct Bridge {
     singular: [f64; 3],
     has_commanded: bool,
     last_limiting: Option<String>,
+}
+
+/// Root entities of the machine's table side and of its head (the head's transform is the linear axes').
+const TABLE: &str = "machine/table";
+const HEAD: &str = "machine/head";
+
+/// Entity paths of the rotary parts, each under the part that carries it and named by its axis
+/// (`machine/table/A/C`, `machine/head/B`), in the order of the chain's table and head slots (the
+/// order of [`machine_pose`]'s parts).
+struct PartPaths {
+    table: Vec<String>,
+    head: Vec<String>,
+}
+
+impl PartPaths {
+    /// Where the workpiece rides: the innermost table part (the table root on a head/head machine).
+    fn workpiece_carrier(&self) -> &str {
+        self.table.last().map_or(TABLE, String::as_str)
+    }
+    /// Where the tool rides: the innermost head part (the head root on a table/table machine).
+    fn tool_carrier(&self) -> &str {
+        self.head.last().map_or(HEAD, String::as_str)
+    }
+}
+
+fn part_paths(m: &Machine) -> PartPaths {
+    let nest = |root: &str, slots: &[usize]| {
+        slots
+            .iter()
+            .scan(root.to_string(), |path, &slot| {
+                *path = format!("{path}/{}", m.axes[3 + slot].name);
+                Some(path.clone())
+            })
+            .collect()
+    };
+    PartPaths { table: nest(TABLE, m.chain.table_slots()), head: nest(HEAD, m.chain.head_slots()) }
 }
 
 fn rank(stream: &str) -> u8 {
@@ -119,7 +155,8 @@ impl Bridge {
                 .with_colors([[219, 68, 55]])
                 .with_labels(["singular direction", ""]),
         )?;
-        let table_path = Self::log_machine_shapes(&rec, machine)?;
+        let parts = part_paths(machine);
+        Self::log_machine_shapes(&rec, machine, &parts)?;
         Ok(Bridge {
             rec,
             machine: machine.clone(),
@@ -128,7 +165,7 @@ impl Bridge {
             rows_per_stream: BTreeMap::new(),
             trace: BTreeMap::new(),
             cut: BTreeMap::new(),
-            table_path,
+            parts,
             mover: None,
             across: Across::new(options.contact_band_mm, options.roughness_y_mm),
             cone_deg: None,
@@ -140,15 +177,9 @@ impl Bridge {
 
     /// The machine's parts as simple shapes in their own frames (mm): the bed, each table part (a
     /// cradle for the outer one, a round table for the inner one), the tool and spindle on the head.
-    /// Returns the innermost table part's entity path.
-    fn log_machine_shapes(rec: &RecordingStream, m: &Machine) -> anyhow::Result<String> {
-        let home = machine_pose(m, &[0.0; 5]);
+    fn log_machine_shapes(rec: &RecordingStream, m: &Machine, parts: &PartPaths) -> anyhow::Result<()> {
         let down = -m.chain.tool_axis();
-        let joints = m.chain.joints();
-        let center = |name: &str| {
-            let slot = (0..2).find(|&i| m.axes[3 + i].name == *name).unwrap_or(0);
-            (joints[slot].center * 1e3, joints[slot].axis)
-        };
+        let joint = |slot: usize| (m.chain.joints()[slot].center * 1e3, m.chain.joints()[slot].axis);
         let grey = [120, 120, 130];
         rec.log_static(
             "machine/bed",
@@ -157,12 +188,10 @@ impl Bridge {
                 .with_colors([[70, 70, 75]])
                 .with_fill_mode(rerun::FillMode::Solid),
         )?;
-        let mut path = "machine/table".to_string();
-        let n = home.table.len();
-        for (k, (name, _)) in home.table.iter().enumerate() {
-            path = format!("{path}/{name}");
-            let (c, a) = center(name);
-            if k + 1 < n {
+        let table = m.chain.table_slots();
+        for (k, (&slot, path)) in table.iter().zip(&parts.table).enumerate() {
+            let (c, a) = joint(slot);
+            if k + 1 < table.len() {
                 // A cradle: long along its axis, below the axis line.
                 let centre = c + down * 120.0;
                 rec.log_static(
@@ -185,12 +214,10 @@ impl Bridge {
                 )?;
             }
         }
-        let mut head = "machine/head".to_string();
-        for (name, _) in &home.head {
-            head = format!("{head}/{name}");
-            let (c, a) = center(name);
+        for (&slot, path) in m.chain.head_slots().iter().zip(&parts.head) {
+            let (c, a) = joint(slot);
             rec.log_static(
-                format!("{head}/shape").as_str(),
+                format!("{path}/shape").as_str(),
                 &rerun::Cylinders3D::from_lengths_and_radii([120.0f32], [60.0f32]).with_centers([v3(c)]).with_quaternions([z_onto(a)]).with_colors([grey]),
             )?;
         }
@@ -198,14 +225,14 @@ impl Bridge {
         let tool_c = tip + axis * (TOOL_MM as f64 / 2.0);
         let spindle_c = tip + axis * (TOOL_MM as f64 + 100.0);
         rec.log_static(
-            format!("{head}/tool").as_str(),
+            format!("{}/tool", parts.tool_carrier()).as_str(),
             &rerun::Cylinders3D::from_lengths_and_radii([TOOL_MM, 200.0], [5.0f32, 50.0])
                 .with_centers([v3(tool_c), v3(spindle_c)])
                 .with_quaternions([z_onto(axis), z_onto(axis)])
                 .with_colors([[230, 230, 240], [80, 110, 160]])
                 .with_fill_mode(rerun::FillMode::Solid),
         )?;
-        Ok(path)
+        Ok(())
     }
 
     /// The recording stream (to flush or disconnect).
@@ -295,15 +322,11 @@ impl Bridge {
     fn move_machine(&self, q: &fiveaxis::kinematics::Joints) -> anyhow::Result<()> {
         let pose = machine_pose(&self.machine, q);
         let tf = |p: &PartPose| rerun::Transform3D::from_translation_rotation(p.translation_mm.map(|v| v as f32), quat(p.rotation_xyzw));
-        let mut path = "machine/table".to_string();
-        for (name, p) in &pose.table {
-            path = format!("{path}/{name}");
+        for (p, path) in pose.table.iter().zip(&self.parts.table) {
             self.rec.log(path.as_str(), &tf(p))?;
         }
-        self.rec.log("machine/head", &rerun::Transform3D::from_translation(pose.head_linear_mm.map(|v| v as f32)))?;
-        let mut path = "machine/head".to_string();
-        for (name, p) in &pose.head {
-            path = format!("{path}/{name}");
+        self.rec.log(HEAD, &rerun::Transform3D::from_translation(pose.head_linear_mm.map(|v| v as f32)))?;
+        for (p, path) in pose.head.iter().zip(&self.parts.head) {
             self.rec.log(path.as_str(), &tf(p))?;
         }
         Ok(())
@@ -315,7 +338,7 @@ impl Bridge {
         }
         for (st, pts) in &self.cut {
             self.rec.log_static(
-                format!("{}/cut/{st}", self.table_path).as_str(),
+                format!("{}/cut/{st}", self.parts.workpiece_carrier()).as_str(),
                 &rerun::LineStrips3D::new([pts.clone()]).with_colors([color(st)]).with_radii([rerun::components::Radius::new_ui_points(1.5)]),
             )?;
         }
