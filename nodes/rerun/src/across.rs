@@ -57,6 +57,9 @@ fn fixed(v: f64, decimals: usize) -> String {
     format!("{:.decimals$}", (v * scale).round() / scale + 0.0)
 }
 
+/// A line segment in the view, from one point to another.
+pub type Segment = [[f32; 2]; 2];
+
 /// One chart's value range and its band in the view.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Band {
@@ -111,11 +114,11 @@ impl Layout {
     }
 
     /// Frame and grid lines of band `b`.
-    pub fn grid(&self, b: &Band) -> (Vec<[[f32; 2]; 2]>, Vec<[[f32; 2]; 2]>) {
+    pub fn grid(&self, b: &Band) -> (Vec<Segment>, Vec<Segment>) {
         let (x0, x1) = (self.x_lo as f32, self.x_hi as f32);
         let (top, bottom) = (b.top as f32, (b.top + b.height) as f32);
         let frame = vec![[[x0, top], [x1, top]], [[x1, top], [x1, bottom]], [[x1, bottom], [x0, bottom]], [[x0, bottom], [x0, top]]];
-        let mut grid: Vec<[[f32; 2]; 2]> = Self::ticks(self.x_lo, self.x_hi, self.x_step).map(|x| [[x as f32, top], [x as f32, bottom]]).collect();
+        let mut grid: Vec<Segment> = Self::ticks(self.x_lo, self.x_hi, self.x_step).map(|x| [[x as f32, top], [x as f32, bottom]]).collect();
         grid.extend(Self::ticks(b.lo, b.hi, b.step).map(|v| [[x0, b.y(v)], [x1, b.y(v)]]));
         (frame, grid)
     }
@@ -146,6 +149,12 @@ struct PassData {
     x_min: f64,
     x_max: f64,
     z_min: f64,
+    /// Largest kept value of the measured and predicted |C| speed (rpm), the path feed and the
+    /// programmed feed (mm/min), for the charts' ranges without a scan of every pass.
+    c_speed_max: f64,
+    c_predicted_max: f64,
+    feed_max: f64,
+    programmed_max: f64,
     y_sum: f64,
     n: f64,
 }
@@ -162,20 +171,30 @@ impl PassData {
         self.y_sum += y;
         self.n += 1.0;
         self.seen += 1;
-        if (self.seen - 1) % self.stride != 0 {
+        if !(self.seen - 1).is_multiple_of(self.stride) {
             return;
         }
+        let (c, cp, f, fp) = (r.c_speed_rpm.abs(), r.predicted_c_speed_rpm.abs(), r.path_feed_mm_min, r.programmed_feed_mm_min);
+        self.c_speed_max = speed_max(self.c_speed_max, c);
+        self.c_predicted_max = speed_max(self.c_predicted_max, cp);
+        self.feed_max = feed_max(self.feed_max, f);
+        self.programmed_max = feed_max(self.programmed_max, fp);
         self.x.push(x);
-        self.c_speed.push(r.c_speed_rpm.abs());
-        self.c_predicted.push(r.predicted_c_speed_rpm.abs());
-        self.feed.push(r.path_feed_mm_min);
-        self.programmed.push(r.programmed_feed_mm_min);
+        self.c_speed.push(c);
+        self.c_predicted.push(cp);
+        self.feed.push(f);
+        self.programmed.push(fp);
         if self.x.len() >= PASS_CAP {
             for v in [&mut self.x, &mut self.c_speed, &mut self.c_predicted, &mut self.feed, &mut self.programmed] {
                 let kept: Vec<f64> = v.iter().step_by(2).copied().collect();
                 *v = kept;
             }
             self.stride *= 2;
+            // The ranges follow what is kept, as the lines drawn do.
+            self.c_speed_max = self.c_speed.iter().copied().fold(0.0, speed_max);
+            self.c_predicted_max = self.c_predicted.iter().copied().fold(0.0, speed_max);
+            self.feed_max = self.feed.iter().copied().fold(0.0, feed_max);
+            self.programmed_max = self.programmed.iter().copied().fold(0.0, feed_max);
         }
     }
     fn length(&self) -> f64 {
@@ -184,6 +203,16 @@ impl PassData {
     fn y_mean(&self) -> f64 {
         self.y_sum / self.n.max(1.0)
     }
+}
+
+/// The larger of a running maximum and a finite value (a |C| speed, rpm).
+fn speed_max(m: f64, v: f64) -> f64 {
+    if v.is_finite() { m.max(v) } else { m }
+}
+
+/// The same for a feed (mm/min): feeds of 1e7 mm/min and more are not plotted to scale.
+fn feed_max(m: f64, v: f64) -> f64 {
+    if v.is_finite() && v < 1e7 { m.max(v) } else { m }
 }
 
 /// Colours of the series (the same as the time plots').
@@ -201,11 +230,22 @@ pub fn color(name: &str) -> [u8; 3] {
     }
 }
 
+/// The roughness profile along x: (x mm, height um) after the filter, the sliding Ra (x mm, um), the
+/// label's prefix (e.g. "SYNTHETIC ") and the cut-off, mm.
+struct ProfileLines {
+    heights: Vec<(f64, f64)>,
+    ra: Vec<(f64, f64)>,
+    label: String,
+    lambda_c_mm: f64,
+}
+
+/// What a full draw was made for: the layout, the passes drawn (stream, number), the profile's pass.
+type DrawnFor = (Layout, Vec<(&'static str, u32)>, Option<u32>);
+
 /// The passes seen so far, and what to draw of them.
 pub struct Across {
     passes: BTreeMap<(&'static str, u32), PassData>,
-    /// The roughness profile (x mm, height um) and its sliding Ra, with the label's prefix.
-    profile: Option<(Vec<(f64, f64)>, Vec<(f64, f64)>, String, f64)>,
+    profile: Option<ProfileLines>,
     /// The pass the profile was measured on: the one nearest this workpiece y (mm), if given.
     profile_y_mm: Option<f64>,
     contact_band_mm: f64,
@@ -217,8 +257,8 @@ pub struct Across {
     /// Passes with samples since the last draw: when the layout and the set of passes drawn are
     /// unchanged, only these are redrawn (a live run's flushes stay proportional to what arrived).
     changed: BTreeSet<(&'static str, u32)>,
-    /// What the last full draw was made for: layout, passes drawn, the profile's pass.
-    last: Option<(Layout, Vec<(&'static str, u32)>, Option<u32>)>,
+    /// What the last full draw was made for.
+    last: Option<DrawnFor>,
     drawn: BTreeSet<String>,
 }
 
@@ -241,7 +281,7 @@ impl Across {
 
     /// Set the roughness profile (x mm, um) and its Ra, labelled `label` (cut-off `lambda_c_mm`).
     pub fn set_profile(&mut self, heights: Vec<(f64, f64)>, ra: Vec<(f64, f64)>, label: String, lambda_c_mm: f64) {
-        self.profile = Some((heights, ra, label, lambda_c_mm));
+        self.profile = Some(ProfileLines { heights, ra, label, lambda_c_mm });
         self.dirty = true;
         self.last = None;
     }
@@ -279,7 +319,7 @@ impl Across {
     /// The pass number the roughness profile belongs to: nearest `--roughness-y-mm`, else the first
     /// cutting pass of the lead stream that covers most of the profile's x range.
     fn profile_pass(&self, cutting: &[(&'static str, u32)]) -> Option<u32> {
-        let (heights, ..) = self.profile.as_ref()?;
+        let heights = &self.profile.as_ref()?.heights;
         let (p0, p1) = (heights.first()?.0, heights.last()?.0);
         let lead = self.lead?;
         let ours: Vec<(u32, &PassData)> = cutting.iter().filter(|k| k.0 == lead).map(|k| (k.1, &self.passes[k])).collect();
@@ -304,20 +344,15 @@ impl Across {
             let p = &self.passes[k];
             x_lo = x_lo.min(p.x_min);
             x_hi = x_hi.max(p.x_max);
-            let lead = Some(k.0) == self.lead;
-            for (v, show) in [(&p.c_speed, true), (&p.c_predicted, lead)] {
-                if show {
-                    c_max = v.iter().copied().filter(|v| v.is_finite()).fold(c_max, f64::max);
-                }
-            }
-            for (v, show) in [(&p.feed, true), (&p.programmed, lead)] {
-                if show {
-                    f_max = v.iter().copied().filter(|v| v.is_finite() && *v < 1e7).fold(f_max, f64::max);
-                }
+            c_max = c_max.max(p.c_speed_max);
+            f_max = f_max.max(p.feed_max);
+            if Some(k.0) == self.lead {
+                c_max = c_max.max(p.c_predicted_max);
+                f_max = f_max.max(p.programmed_max);
             }
         }
         let mut r_max = 0.0f64;
-        if let Some((h, ..)) = &self.profile {
+        if let Some(h) = self.profile.as_ref().map(|p| &p.heights) {
             if let (Some(a), Some(b)) = (h.first(), h.last()) {
                 x_lo = x_lo.min(a.0);
                 x_hi = x_hi.max(b.0);
@@ -338,7 +373,7 @@ impl Across {
         let titles = [
             format!("|{rot}| speed, rpm: measured on each stream, predicted by eq. 5 (red), limit (grey)"),
             "path feed, mm/min: programmed (grey), commanded and simulated".to_string(),
-            self.profile.as_ref().map_or("roughness: no profile given (--roughness)".to_string(), |(.., label, lc)| format!("{label}roughness profile, um, lambda_c {lc} mm; Ra over 5 lambda_c (yellow)")),
+            self.profile.as_ref().map_or("roughness: no profile given (--roughness)".to_string(), |p| format!("{}roughness profile, um, lambda_c {} mm; Ra over 5 lambda_c (yellow)", p.label, p.lambda_c_mm)),
         ];
         let units = ["rpm", "mm/min", "um"];
         let w = layout.x_hi - layout.x_lo;
@@ -369,7 +404,9 @@ impl Across {
             let mut out = vec![Vec::new()];
             for (x, v) in x.iter().zip(v) {
                 if v.is_finite() {
-                    out.last_mut().map(|s: &mut Vec<[f32; 2]>| s.push([*x as f32, b.y(v.clamp(b.lo, b.hi))]));
+                    if let Some(s) = out.last_mut() {
+                        s.push([*x as f32, b.y(v.clamp(b.lo, b.hi))]);
+                    }
                 } else if out.last().is_some_and(|s| !s.is_empty()) {
                     out.push(Vec::new());
                 }
@@ -404,7 +441,7 @@ impl Across {
             let y = bc.y(self.c_limit_rpm.clamp(bc.lo, bc.hi));
             log_line("across/c_speed/limit".into(), vec![vec![[layout.x_lo as f32, y], [layout.x_hi as f32, y]]], "limit", 0.8, 1.0)?;
         }
-        if let Some((h, ra, ..)) = self.profile.as_ref().filter(|_| full) {
+        if let Some(ProfileLines { heights: h, ra, .. }) = self.profile.as_ref().filter(|_| full) {
             let (x, v): (Vec<f64>, Vec<f64>) = h.iter().copied().unzip();
             log_line("across/roughness/profile".into(), strip(&x, &v, &br), "roughness", 0.6, 2.0)?;
             let (x, v): (Vec<f64>, Vec<f64>) = ra.iter().copied().unzip();
@@ -425,7 +462,7 @@ impl Across {
         let mut colors = Vec::new();
         for (j, s) in names.iter().enumerate() {
             pos.push([(layout.x_lo + j as f64 * 0.14 * w) as f32, bottom as f32]);
-            text.push(format!("{s}"));
+            text.push(s.to_string());
             colors.push(rerun::Color::from_rgb(color(s)[0], color(s)[1], color(s)[2]));
         }
         for (j, l) in legend.iter().take(6).enumerate() {
