@@ -130,6 +130,12 @@ struct LiveArgs {
 const EXIT_FAIL: u8 = 1;
 const EXIT_INPUT: u8 = 2;
 
+/// Report bad input (a flag, a file) and give its exit code.
+fn bad_input(e: impl std::fmt::Display) -> ExitCode {
+    eprintln!("fiveaxis-rerun: {e}");
+    ExitCode::from(EXIT_INPUT)
+}
+
 fn open_stream(sink: &SinkArgs, default_name: &str) -> anyhow::Result<rerun::RecordingStream> {
     let builder = rerun::RecordingStreamBuilder::new(APP_ID)
         .recording_name(sink.recording_name.clone().unwrap_or_else(|| default_name.to_string()));
@@ -154,25 +160,21 @@ fn config(max_c_speed_rpm: Option<f64>, work_offset: Option<nalgebra::Vector3<f6
 fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
     let machine = match Machine::from_name_or_file(&a.machine) {
         Ok(m) => m,
-        Err(e) => {
-            eprintln!("fiveaxis-rerun: {e}");
-            return Ok(ExitCode::from(EXIT_INPUT));
-        }
+        Err(e) => return Ok(bad_input(e)),
     };
     let roughness = match a.roughness.load() {
         Ok(r) => r,
-        Err(e) => {
-            eprintln!("fiveaxis-rerun: {e}");
-            return Ok(ExitCode::from(EXIT_INPUT));
-        }
+        Err(e) => return Ok(bad_input(e)),
     };
     let options = match a.view.options() {
         Ok(o) => o,
-        Err(e) => {
-            eprintln!("fiveaxis-rerun: {e}");
-            return Ok(ExitCode::from(EXIT_INPUT));
-        }
+        Err(e) => return Ok(bad_input(e)),
     };
+    let map: BTreeMap<String, String> = match machine.resolve_axis_map(&a.axis_map) {
+        Ok(m) => m,
+        Err(e) => return Ok(bad_input(e)),
+    };
+    // Every input is checked before the output is opened (a .rrd is not overwritten for nothing).
     let name = a.recording.file_name().map_or("recording".into(), |n| n.to_string_lossy().into_owned());
     let rec = open_stream(&a.sink, &name)?;
     let mut bridge = Bridge::new(rec, &machine, &options)?;
@@ -180,13 +182,6 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
         bridge.roughness(profile, *cutoff)?;
     }
     let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm, a.work_offset));
-    let map: BTreeMap<String, String> = match machine.resolve_axis_map(&a.axis_map) {
-        Ok(m) => m,
-        Err(e) => {
-            eprintln!("fiveaxis-rerun: {e}");
-            return Ok(ExitCode::from(EXIT_INPUT));
-        }
-    };
     let mut failure: Option<anyhow::Error> = None;
     let stats = replay_mcap(&a.recording, &mut scene, &map, |row, events| {
         if failure.is_some() {
@@ -231,10 +226,11 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
     let roughness = a.roughness.load().map_err(anyhow::Error::msg)?;
     let options = match a.view.options() {
         Ok(o) => o,
-        Err(e) => {
-            eprintln!("fiveaxis-rerun: {e}");
-            return Ok(ExitCode::from(EXIT_INPUT));
-        }
+        Err(e) => return Ok(bad_input(e)),
+    };
+    let map = match a.inputs.axis_map(&machine) {
+        Ok(m) => m,
+        Err(e) => return Ok(bad_input(e)),
     };
     let rec = open_stream(&a.sink, "live")?;
     let mut bridge = Bridge::new(rec, &machine, &options)?;
@@ -242,13 +238,6 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
         bridge.roughness(profile, *cutoff)?;
     }
     let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm, a.inputs.work_offset));
-    let map = match a.inputs.axis_map(&machine) {
-        Ok(m) => m,
-        Err(e) => {
-            eprintln!("fiveaxis-rerun: {e}");
-            return Ok(ExitCode::from(EXIT_INPUT));
-        }
-    };
 
     let mut bus = Bus::new("fiveaxis_rerun", &a.common, ros)?;
     let rx = subscribe_states(&mut bus, &a.inputs)?;
