@@ -471,3 +471,74 @@ fn run_writes_a_rosbag2_directory_rosbags_reads() {
     assert_eq!(a["messages_read"], b["messages_read"]);
     assert_eq!(a["regions"], b["regions"]);
 }
+
+/// What Foxglove's Python stream reader (tests/peer/read_linear.py) finds in a file, front to back:
+/// (topic, log time, data MD5) per message; None if it does not read through to a footer.
+fn read_linear(path: &Path) -> Option<Vec<(String, u64, String)>> {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/read_linear.py");
+    let out = Command::new("python3").arg(&script).arg(path).output().expect("python3 runs");
+    if !out.status.success() {
+        return None;
+    }
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    Some(
+        v["messages"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| (m[0].as_str().unwrap().to_string(), m[1].as_u64().unwrap(), m[2].as_str().unwrap().to_string()))
+            .collect(),
+    )
+}
+
+/// The recorder on a full disk (a 1 MiB tmpfs mounted in a private mount namespace): `fiveaxis
+/// run --mcap` ends with an error naming the file and the cause, and leaves the file closed at its
+/// last whole chunk. An independent stream reader reads it through to its footer without error;
+/// its messages are exactly the first ones of the same run recorded on a roomy disk, as many as
+/// the error says; `analyze` takes it. The same for a rosbag2 directory, whose metadata.yaml then
+/// lists the file with what it kept.
+#[test]
+fn full_disk_ends_with_a_clear_error_and_a_readable_file() {
+    let full = tmp("roomy.mcap");
+    let _ = record("bundled:SING.I", &full);
+    let reference = read_linear(&full).expect("the roomy recording reads");
+    for (name, inner) in [("disk_file", "sing.mcap"), ("disk_dir", "bag")] {
+        let mnt = common::scratch_dir(&format!("record/{name}_mnt"));
+        let out = common::scratch_dir(&format!("record/{name}_out"));
+        let script = r#"mount -t tmpfs -o size=1m tmpfs "$1" || exit 99
+"$2" run bundled:SING.I --mcap "$1/$4"; rc=$?
+cp -r "$1/." "$3/"; exit $rc"#;
+        let run = Command::new("unshare")
+            .args(["--mount", "--map-root-user", "sh", "-c", script, "sh"])
+            .args([mnt.to_str().unwrap(), env!("CARGO_BIN_EXE_fiveaxis"), out.to_str().unwrap(), inner])
+            .output()
+            .expect("unshare runs (util-linux)");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        let code = run.status.code();
+        assert_ne!(code, Some(99), "mounting a tmpfs in a user namespace: {stderr}");
+        assert!(code.is_some_and(|c| c != 0 && c != 101), "{name}: exit {code:?}, not a clean error: {stderr}");
+        assert!(stderr.contains("No space left on device") && stderr.contains(inner), "{name}: the error names the file and the cause: {stderr}");
+        let kept: usize = stderr
+            .split(" messages), closed and readable")
+            .next()
+            .and_then(|s| s.rsplit('(').next())
+            .and_then(|n| n.trim().parse().ok())
+            .unwrap_or_else(|| panic!("{name}: the error says how many messages the file kept: {stderr}"));
+        let file = if inner == "bag" { out.join("bag/bag_0.mcap") } else { out.join(inner) };
+        let got = read_linear(&file).unwrap_or_else(|| panic!("{name}: {} does not read through to a footer", file.display()));
+        assert!(got.len() > 1000, "{name}: most of the 1 MiB holds messages: {}", got.len());
+        assert_eq!(got.len(), kept, "{name}: as many messages as the error says");
+        assert!(got.len() < reference.len(), "{name}: the disk filled before the end");
+        assert_eq!(got[..], reference[..got.len()], "{name}: exactly the first messages of the same run");
+        // Our own reader and the offline analysis take it as it is (exit 0 or 1, a verdict, not 2).
+        let recording = if inner == "bag" { out.join("bag") } else { file.clone() };
+        let n = fiveaxis::record::read::for_each_message(&recording, |_| {}).unwrap();
+        assert_eq!(n as usize, kept, "{name}: our reader");
+        let (code, _) = fiveaxis(&["analyze", recording.to_str().unwrap()]);
+        assert!(code == 0 || code == 1, "{name}: analyze exits {code}");
+        if inner == "bag" {
+            let meta = std::fs::read_to_string(out.join("bag/metadata.yaml")).expect("metadata.yaml written");
+            assert!(meta.contains("bag_0.mcap") && meta.contains(&format!("message_count: {kept}")), "{meta}");
+        }
+    }
+}

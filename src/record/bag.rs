@@ -10,8 +10,6 @@
 use super::{OfferedQos, RecordError, RecordOptions, Recorder};
 use fiveaxis_msgs::{schema, RosMessage};
 use serde::Serialize;
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use yaml_rust2::{yaml::Hash, Yaml, YamlEmitter};
 
@@ -85,7 +83,7 @@ pub struct Bag {
     topics: Vec<BagTopic>,
     counts: Vec<u64>,
     files: Vec<FileStats>,
-    current: Recorder<BufWriter<File>>,
+    current: Recorder,
     /// Channel id in the current file of each topic.
     channels: Vec<u16>,
 }
@@ -146,7 +144,9 @@ impl Bag {
     /// `publish_ns` = send time.
     pub fn write_raw(&mut self, topic: usize, data: &[u8], log_ns: u64, publish_ns: u64) -> Result<(), RecordError> {
         let id = *self.channels.get(topic).ok_or_else(|| RecordError::UnknownType(format!("topic index {topic} was never declared")))?;
-        self.current.write_raw(id, data, log_ns, publish_ns)?;
+        if let Err(e) = self.current.write_raw(id, data, log_ns, publish_ns) {
+            return Err(self.failed(e));
+        }
         self.counts[topic] += 1;
         if let Some(f) = self.files.last_mut() {
             f.add(log_ns);
@@ -162,7 +162,29 @@ impl Bag {
 
     /// Close the current chunk and flush it (what a reader can recover after a kill).
     pub fn flush(&mut self) -> Result<(), RecordError> {
-        self.current.flush()
+        self.current.flush().map_err(|e| self.failed(e))
+    }
+
+    /// After a failed write of the current file (closed at its last whole chunk, see
+    /// [`RecordError::WriteFailed`]): a directory's `metadata.yaml` lists it with what it kept, or,
+    /// when even that cannot be written, is removed, so that readers list the bag's `.mcap` files
+    /// instead of trusting a list without the last one.
+    fn failed(&mut self, e: RecordError) -> RecordError {
+        let kept = match &e {
+            RecordError::WriteFailed { kept, .. } | RecordError::WriteFailedUnclosed { kept, .. } => *kept,
+            _ => return e,
+        };
+        if self.layout != Layout::Directory {
+            return e;
+        }
+        if let Some(f) = self.files.last_mut() {
+            f.messages = kept;
+        }
+        if write_metadata(&self.output, self.layout, &self.topics, &self.counts, &self.files).is_err() {
+            let _ = std::fs::remove_file(self.output.join(".metadata.yaml.tmp"));
+            let _ = std::fs::remove_file(self.output.join("metadata.yaml"));
+        }
+        e
     }
 
     /// The file being written.
@@ -180,7 +202,11 @@ impl Bag {
         for t in &self.topics {
             channels.push(next.add_topic_schema(&t.name, &t.type_name, &t.definition, t.qos)?);
         }
-        std::mem::replace(&mut self.current, next).finish()?;
+        if let Err(e) = self.current.finish() {
+            let _ = std::fs::remove_file(&path);
+            return Err(self.failed(e));
+        }
+        self.current = next;
         self.channels = channels;
         self.files.push(FileStats { name: file_name(&path), ..Default::default() });
         let closed = self.files.len() - 1;
@@ -189,11 +215,12 @@ impl Bag {
 
     /// Finish the bag: the last file's summary and, for a directory, `metadata.yaml`. Returns the
     /// number of messages written.
-    pub fn finish(self) -> Result<u64, RecordError> {
-        let Bag { current, output, layout, topics, counts, files, .. } = self;
-        current.finish()?;
-        write_metadata(&output, layout, &topics, &counts, &files)?;
-        Ok(counts.iter().sum())
+    pub fn finish(mut self) -> Result<u64, RecordError> {
+        if let Err(e) = self.current.finish() {
+            return Err(self.failed(e));
+        }
+        write_metadata(&self.output, self.layout, &self.topics, &self.counts, &self.files)?;
+        Ok(self.counts.iter().sum())
     }
 }
 

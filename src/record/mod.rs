@@ -40,6 +40,14 @@ pub enum RecordError {
     UnknownType(String),
     #[error("CDR: {0}")]
     Cdr(String),
+    /// A write failed (a full disk, say): the file was cut back to the last chunk flushed whole and
+    /// closed there, so it holds every message up to that chunk and reads without repair.
+    #[error("{path}: {source}: the recording ends at the last chunk written whole ({kept} messages), closed and readable")]
+    WriteFailed { path: PathBuf, source: std::io::Error, kept: u64 },
+    /// A write failed and the file could not even be closed at its last whole chunk: it holds what
+    /// was written up to then, which `fiveaxis mcap recover` mends.
+    #[error("{path}: {source}; closing it at its last whole chunk ({kept} messages) failed too ({close}): mend it with `fiveaxis mcap recover`")]
+    WriteFailedUnclosed { path: PathBuf, source: std::io::Error, kept: u64, close: std::io::Error },
 }
 
 /// Encode a message as rosbag2 stores it: CDR_LE header + XCDR1 body.
@@ -113,10 +121,61 @@ impl Default for RecordOptions {
     }
 }
 
-/// Writes one MCAP recording.
-pub struct Recorder<W: Write + Seek> {
+/// The file under a recorder: a buffered file that keeps the offset it has been handed up to, so
+/// that the end of the last chunk flushed whole is known when a later write fails.
+struct Tally {
+    file: BufWriter<File>,
+    position: std::sync::Arc<std::sync::atomic::AtomicU64>,
+}
+
+impl Write for Tally {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.file.write(buf)?;
+        self.position.fetch_add(n as u64, std::sync::atomic::Ordering::Relaxed);
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
+
+impl Seek for Tally {
+    fn seek(&mut self, to: std::io::SeekFrom) -> std::io::Result<u64> {
+        let p = self.file.seek(to)?;
+        self.position.store(p, std::sync::atomic::Ordering::Relaxed);
+        Ok(p)
+    }
+}
+
+/// MCAP's closing records for a file without a summary: Data End (data section CRC 0: not
+/// computed), Footer (no summary: offsets and CRC 0) and the magic (MCAP spec, "Footer", "Data End").
+const CLOSE_WITHOUT_SUMMARY: [u8; 50] = {
+    let mut b = [0u8; 50];
+    // Data End: opcode 0x0F, record length 4, data_section_crc 0.
+    b[0] = 0x0F;
+    b[1] = 4;
+    // Footer at 13: opcode 0x02, record length 20, summary_start, summary_offset_start, summary_crc all 0.
+    b[13] = 0x02;
+    b[14] = 20;
+    // Magic at 42.
+    let magic = *b"\x89MCAP0\r\n";
+    let mut i = 0;
+    while i < 8 {
+        b[42 + i] = magic[i];
+        i += 1;
+    }
+    b
+};
+
+/// Writes one MCAP recording. A failed write (a full disk) is never left half-done: the file is cut
+/// back to the last chunk flushed whole and closed there ([`RecordError::WriteFailed`]).
+pub struct Recorder {
     path: PathBuf,
-    writer: mcap::Writer<W>,
+    /// `None` once finished or failed.
+    writer: Option<mcap::Writer<Tally>>,
+    position: std::sync::Arc<std::sync::atomic::AtomicU64>,
+    /// File offset and message count at the end of the last chunk flushed whole.
+    committed: (u64, u64),
     channels: HashMap<String, (u16, String)>,
     sequence: HashMap<u16, u32>,
     chunk_start: Option<u64>,
@@ -124,17 +183,12 @@ pub struct Recorder<W: Write + Seek> {
     messages: u64,
 }
 
-impl Recorder<BufWriter<File>> {
+impl Recorder {
     /// Create `path` (an unwritable path or a full disk is reported with the path).
     pub fn create(path: &Path, options: RecordOptions) -> Result<Self, RecordError> {
         let file = File::create(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?;
-        Recorder::new(BufWriter::with_capacity(1 << 20, file), path, options)
-    }
-}
-
-impl<W: Write + Seek> Recorder<W> {
-    /// Record into `sink`; `path` names it in errors.
-    pub fn new(sink: W, path: &Path, options: RecordOptions) -> Result<Self, RecordError> {
+        let position = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+        let sink = Tally { file: BufWriter::with_capacity(1 << 20, file), position: position.clone() };
         let opts = mcap::WriteOptions::new()
             .profile("ros2")
             .library(concat!("fiveaxis ", env!("CARGO_PKG_VERSION")))
@@ -144,15 +198,48 @@ impl<W: Write + Seek> Recorder<W> {
         let mut meta = BTreeMap::new();
         meta.insert("ROS_DISTRO".to_string(), "jazzy".to_string());
         writer.write_metadata(&mcap::records::Metadata { name: "rosbag2".into(), metadata: meta }).map_err(|e| mcap_err(path, e))?;
-        Ok(Recorder {
+        let mut rec = Recorder {
             path: path.to_path_buf(),
-            writer,
+            writer: Some(writer),
+            position,
+            committed: (0, 0),
             channels: HashMap::new(),
             sequence: HashMap::new(),
             chunk_start: None,
             options,
             messages: 0,
-        })
+        };
+        // The header and metadata on disk: from here on a failed write leaves a closed file.
+        rec.flush()?;
+        Ok(rec)
+    }
+
+    /// The writer, or the error a failed recorder keeps giving.
+    fn writer(&mut self) -> Result<&mut mcap::Writer<Tally>, RecordError> {
+        let path = &self.path;
+        self.writer.as_mut().ok_or_else(|| RecordError::Mcap { path: path.clone(), message: "the recorder already failed or finished".into() })
+    }
+
+    /// Run one write on the MCAP writer; on failure, close the file at its last whole chunk.
+    fn attempt<T>(&mut self, op: impl FnOnce(&mut mcap::Writer<Tally>) -> mcap::McapResult<T>) -> Result<T, RecordError> {
+        let w = self.writer()?;
+        match op(w) {
+            Ok(v) => Ok(v),
+            Err(mcap::McapError::Io(source)) => Err(self.close_at_committed(source)),
+            Err(e) => Err(mcap_err(&self.path, e)),
+        }
+    }
+
+    /// After a failed write: drop what is buffered, cut the file back to the end of the last chunk
+    /// flushed whole (which frees the space the failed chunk took) and close it there without a
+    /// summary.
+    fn close_at_committed(&mut self, source: std::io::Error) -> RecordError {
+        let path = self.path.clone();
+        let Some(writer) = self.writer.take() else {
+            return RecordError::Io { path, source };
+        };
+        // into_inner neither finishes nor flushes.
+        close_at(writer.into_inner(), path, source, self.committed)
     }
 
     /// Declare `topic` with type `M`; returns its channel id (the same topic twice gives the same id).
@@ -180,10 +267,10 @@ impl<W: Write + Seek> Recorder<W> {
                 return Ok(*id);
             }
         }
-        let schema_id = self.writer.add_schema(type_name, "ros2msg", text.as_bytes()).map_err(|e| mcap_err(&self.path, e))?;
+        let schema_id = self.attempt(|w| w.add_schema(type_name, "ros2msg", text.as_bytes()))?;
         let mut meta = BTreeMap::new();
         meta.insert("offered_qos_profiles".to_string(), qos.to_yaml());
-        let id = self.writer.add_channel(schema_id, topic, "cdr", &meta).map_err(|e| mcap_err(&self.path, e))?;
+        let id = self.attempt(|w| w.add_channel(schema_id, topic, "cdr", &meta))?;
         self.channels.insert(topic.to_string(), (id, type_name.to_string()));
         Ok(id)
     }
@@ -199,7 +286,7 @@ impl<W: Write + Seek> Recorder<W> {
         // Close the chunk every interval of log time, so that a kill loses at most that much.
         match self.chunk_start {
             Some(start) if log_time_ns.saturating_sub(start) >= self.options.chunk_interval_ns => {
-                self.writer.flush().map_err(|e| mcap_err(&self.path, e))?;
+                self.flush()?;
                 self.chunk_start = Some(log_time_ns);
             }
             None => self.chunk_start = Some(log_time_ns),
@@ -208,7 +295,7 @@ impl<W: Write + Seek> Recorder<W> {
         let seq = self.sequence.entry(channel).or_insert(0);
         *seq = seq.wrapping_add(1);
         let header = mcap::records::MessageHeader { channel_id: channel, sequence: *seq, log_time: log_time_ns, publish_time: publish_time_ns };
-        self.writer.write_to_known_channel(&header, data).map_err(|e| mcap_err(&self.path, e))?;
+        self.attempt(|w| w.write_to_known_channel(&header, data))?;
         self.messages += 1;
         Ok(())
     }
@@ -223,15 +310,43 @@ impl<W: Write + Seek> Recorder<W> {
         self.messages
     }
 
-    /// Close the current chunk and flush it to the file (what a reader can recover up to).
+    /// Close the current chunk and flush it to the file (what a reader can recover up to, and
+    /// where a later failed write closes the file).
     pub fn flush(&mut self) -> Result<(), RecordError> {
-        self.writer.flush().map_err(|e| mcap_err(&self.path, e))
+        self.attempt(|w| w.flush())?;
+        self.committed = (self.position.load(std::sync::atomic::Ordering::Relaxed), self.messages);
+        Ok(())
     }
 
-    /// Write the summary (indexes, statistics) and the footer.
-    pub fn finish(mut self) -> Result<u64, RecordError> {
-        self.writer.finish().map_err(|e| mcap_err(&self.path, e))?;
+    /// Write the summary (indexes, statistics) and the footer; the recorder takes no more writes.
+    pub fn finish(&mut self) -> Result<u64, RecordError> {
+        self.attempt(|w| w.finish().map(drop))?;
+        let path = self.path.clone();
+        if let Some(writer) = self.writer.take() {
+            // The summary may still be in the buffer: flush it, and on failure close at the last chunk.
+            let mut tally = writer.into_inner();
+            if let Err(source) = tally.flush() {
+                return Err(close_at(tally, path, source, self.committed));
+            }
+        }
         Ok(self.messages)
+    }
+}
+
+/// Close a file whose write failed with `source` at `committed` (offset, messages there): drop what
+/// is buffered, cut the file back (freeing what the failed chunk took) and append
+/// [`CLOSE_WITHOUT_SUMMARY`].
+fn close_at(tally: Tally, path: PathBuf, source: std::io::Error, committed: (u64, u64)) -> RecordError {
+    let (at, kept) = committed;
+    let (mut file, _unwritten) = tally.file.into_parts();
+    let closed = file
+        .set_len(at)
+        .and_then(|()| file.seek(std::io::SeekFrom::Start(at)).map(drop))
+        .and_then(|()| file.write_all(&CLOSE_WITHOUT_SUMMARY))
+        .and_then(|()| file.sync_data());
+    match closed {
+        Ok(()) => RecordError::WriteFailed { path, source, kept },
+        Err(close) => RecordError::WriteFailedUnclosed { path, source, kept, close },
     }
 }
 

@@ -197,70 +197,111 @@ pub fn for_each_message(path: &Path, mut visit: impl FnMut(MessageView<'_>)) -> 
 }
 
 fn for_each_message_in_file(path: &Path, file_index: usize, offset: u64, visit: &mut impl FnMut(MessageView<'_>)) -> Result<u64, RecordError> {
-    let mut file = File::open(path).map_err(io_error(path))?;
-    let len = file.metadata().map_err(io_error(path))?.len();
+    let mut records = Records { schemas: HashMap::new(), channels: Vec::new(), count: 0, file: file_index };
+    scan_records(path, offset, &mut |opcode, data, position| records.record(path, opcode, data, position, visit)).map_err(Stop::into_inner)?;
+    Ok(records.count)
+}
+
+/// Why [`scan_records`] stopped early: the file is damaged there, or the visitor said so.
+pub(crate) enum Stop {
+    Damaged(RecordError),
+    Visitor(RecordError),
+}
+
+impl Stop {
+    pub(crate) fn into_inner(self) -> RecordError {
+        match self {
+            Stop::Damaged(e) | Stop::Visitor(e) => e,
+        }
+    }
+}
+
+/// Stream the records of one MCAP file in order to `visit(opcode, body, position)`: the records
+/// of each chunk after the chunk is decompressed whole and its CRC checked (the Chunk record itself
+/// is not passed on), every other record as it comes; `position` is the bytes read so far plus
+/// `offset`. Memory stays within one chunk (at most [`MAX_CHUNK`]) whatever the file's length.
+///
+/// Chunks are decompressed into one reused buffer (zstd's one-shot decoder, or an LZ4 frame decoder,
+/// then the CRC of the uncompressed records): faster than streaming them through the record reader.
+pub(crate) fn scan_records(path: &Path, offset: u64, visit: &mut impl FnMut(u8, &[u8], u64) -> Result<(), RecordError>) -> Result<(), Stop> {
+    let mut file = File::open(path).map_err(io_error(path)).map_err(Stop::Damaged)?;
+    let len = file.metadata().map_err(io_error(path)).map_err(Stop::Damaged)?.len();
     let mut reader = LinearReader::new_with_options(
         LinearReaderOptions::default().with_emit_chunks(true).with_record_length_limit(usize::try_from(len).unwrap_or(usize::MAX)),
     );
-    let mut records = Records { schemas: HashMap::new(), channels: Vec::new(), count: 0, file: file_index };
     let mut position = offset;
     let mut chunk = Vec::new();
-    let mut zstd = zstd::bulk::Decompressor::new().map_err(io_error(path))?;
+    let mut zstd = zstd::bulk::Decompressor::new().map_err(io_error(path)).map_err(Stop::Damaged)?;
     while let Some(event) = reader.next_event() {
-        match event.map_err(|e| mcap_error(path, e))? {
+        match event.map_err(|e| Stop::Damaged(mcap_error(path, e)))? {
             LinearReadEvent::ReadRequest(need) => {
                 // Read in large pieces: fewer system calls.
-                let n = file.read(reader.insert(need.max(1 << 20))).map_err(io_error(path))?;
+                let n = file.read(reader.insert(need.max(1 << 20))).map_err(io_error(path)).map_err(Stop::Damaged)?;
                 reader.notify_read(n);
                 position += n as u64;
             }
             LinearReadEvent::Record { data, opcode: mcap::records::op::CHUNK } => {
-                let Record::Chunk { header, data: compressed } = mcap::parse_record(mcap::records::op::CHUNK, data).map_err(|e| mcap_error(path, e))? else {
-                    unreachable!("a chunk opcode parses as a chunk")
-                };
-                let start = header.message_start_time;
-                let damaged = |what: String| mcap_error(path, format!("chunk starting at log time {start} ns: {what}"));
-                let size = usize::try_from(header.uncompressed_size).ok().filter(|n| *n <= MAX_CHUNK).ok_or_else(|| damaged(format!("claims {} bytes uncompressed", header.uncompressed_size)))?;
-                let body: &[u8] = match header.compression.as_str() {
-                    "" => &compressed,
-                    "zstd" if size <= RESERVE_CHUNK => {
-                        // Into a buffer of the claimed size, reused from chunk to chunk (the fast path).
-                        chunk.clear();
-                        chunk.reserve(size);
-                        let n = zstd.decompress_to_buffer(&compressed, &mut chunk).map_err(|e| damaged(format!("zstd: {e}")))?;
-                        if n != size {
-                            return Err(damaged(format!("{n} bytes uncompressed, header says {size}")));
-                        }
-                        &chunk
-                    }
-                    "zstd" => {
-                        // A large claim is streamed, not reserved: memory follows what the data
-                        // decompresses to (at most the claim, at most MAX_CHUNK), never a damaged header.
-                        let decoder = zstd::stream::read::Decoder::with_buffer(&compressed[..]).map_err(|e| damaged(format!("zstd: {e}")))?;
-                        decompress_claimed("zstd", decoder, size, &mut chunk).map_err(damaged)?;
-                        &chunk
-                    }
-                    // LZ4 frames (rosbag2's and the mcap CLI's other choice), streamed the same way.
-                    "lz4" => {
-                        decompress_claimed("lz4", lz4_flex::frame::FrameDecoder::new(&compressed[..]), size, &mut chunk).map_err(damaged)?;
-                        &chunk
-                    }
-                    other => return Err(damaged(format!("unsupported compression '{other}' (zstd, lz4 or none)"))),
-                };
-                if header.uncompressed_crc != 0 && crc32fast::hash(body) != header.uncompressed_crc {
-                    return Err(damaged("CRC mismatch".into()));
-                }
+                let body = decompress_chunk(data, position, &mut zstd, &mut chunk).map_err(|e| Stop::Damaged(mcap_error(path, e)))?;
                 let mut rest = body;
                 while !rest.is_empty() {
-                    let (opcode, record, tail) = split_record(rest).ok_or_else(|| damaged(format!("record cut short {} bytes from its end", rest.len())))?;
-                    records.record(path, opcode, record, position, visit)?;
+                    let (opcode, record, tail) = split_record(rest)
+                        .ok_or_else(|| Stop::Damaged(mcap_error(path, format!("chunk record before byte {position}: a record cut short {} bytes from its end", rest.len()))))?;
+                    visit(opcode, record, position).map_err(Stop::Visitor)?;
                     rest = tail;
                 }
             }
-            LinearReadEvent::Record { data, opcode } => records.record(path, opcode, data, position, visit)?,
+            LinearReadEvent::Record { data, opcode } => visit(opcode, data, position).map_err(Stop::Visitor)?,
         }
     }
-    Ok(records.count)
+    Ok(())
+}
+
+/// The records of a Chunk record `data` (read up to byte `position`): decompressed into `chunk`
+/// (or borrowed, uncompressed) and checked against the chunk's CRC.
+fn decompress_chunk<'a>(data: &'a [u8], position: u64, zstd: &mut zstd::bulk::Decompressor<'_>, chunk: &'a mut Vec<u8>) -> Result<&'a [u8], String> {
+    check_prefixes(mcap::records::op::CHUNK, data).map_err(|e| format!("chunk record before byte {position}: {e}"))?;
+    let Record::Chunk { header, data: compressed } = mcap::parse_record(mcap::records::op::CHUNK, data).map_err(|e| format!("chunk record before byte {position}: {e}"))? else {
+        unreachable!("a chunk opcode parses as a chunk")
+    };
+    let start = header.message_start_time;
+    let damaged = |what: String| format!("chunk starting at log time {start} ns: {what}");
+    let size = usize::try_from(header.uncompressed_size).ok().filter(|n| *n <= MAX_CHUNK).ok_or_else(|| damaged(format!("claims {} bytes uncompressed", header.uncompressed_size)))?;
+    let body: &[u8] = match header.compression.as_str() {
+        "" => match compressed {
+            std::borrow::Cow::Borrowed(b) => b,
+            std::borrow::Cow::Owned(b) => {
+                *chunk = b;
+                chunk
+            }
+        },
+        "zstd" if size <= RESERVE_CHUNK => {
+            // Into a buffer of the claimed size, reused from chunk to chunk (the fast path).
+            chunk.clear();
+            chunk.reserve(size);
+            let n = zstd.decompress_to_buffer(&compressed, chunk).map_err(|e| damaged(format!("zstd: {e}")))?;
+            if n != size {
+                return Err(damaged(format!("{n} bytes uncompressed, header says {size}")));
+            }
+            chunk
+        }
+        "zstd" => {
+            // A large claim is streamed, not reserved: memory follows what the data
+            // decompresses to (at most the claim, at most MAX_CHUNK), never a damaged header.
+            let decoder = zstd::stream::read::Decoder::with_buffer(&compressed[..]).map_err(|e| damaged(format!("zstd: {e}")))?;
+            decompress_claimed("zstd", decoder, size, chunk).map_err(damaged)?;
+            chunk
+        }
+        // LZ4 frames (rosbag2's and the mcap CLI's other choice), streamed the same way.
+        "lz4" => {
+            decompress_claimed("lz4", lz4_flex::frame::FrameDecoder::new(&compressed[..]), size, chunk).map_err(damaged)?;
+            chunk
+        }
+        other => return Err(damaged(format!("unsupported compression '{other}' (zstd, lz4 or none)"))),
+    };
+    if header.uncompressed_crc != 0 && crc32fast::hash(body) != header.uncompressed_crc {
+        return Err(damaged("CRC mismatch".into()));
+    }
+    Ok(body)
 }
 
 /// Decompress `decoder` into `out` (cleared first), reading at most one byte past the chunk's claimed
@@ -321,7 +362,10 @@ impl Records {
                     file: self.file,
                 });
             }
-            mcap::records::op::SCHEMA | mcap::records::op::CHANNEL => match mcap::parse_record(opcode, data).map_err(|e| mcap_error(path, e))? {
+            mcap::records::op::SCHEMA | mcap::records::op::CHANNEL => match check_prefixes(opcode, data)
+                .map_err(|e| mcap_error(path, format!("{} record before byte {position}: {e}", if opcode == mcap::records::op::SCHEMA { "schema" } else { "channel" })))
+                .and_then(|()| mcap::parse_record(opcode, data).map_err(|e| mcap_error(path, e)))?
+            {
                 Record::Schema { header, .. } => {
                     self.schemas.insert(header.id, header.name);
                 }
@@ -348,9 +392,81 @@ impl Records {
     }
 }
 
+/// A field of a record, for [`check_prefixes`].
+enum Field {
+    /// Fixed-width fields, bytes.
+    Fixed(usize),
+    /// A string or byte array after its u32 length.
+    Prefixed32(&'static str),
+    /// A byte array after its u64 length.
+    Prefixed64(&'static str),
+    /// A map of strings to strings after its u32 byte length.
+    StringMap(&'static str),
+}
+
+/// Check the length-prefixed fields of a Chunk, Schema, Channel or Metadata record (MCAP spec, "Records")
+/// against the bytes the record holds, before the mcap crate parses it: its parser reserves what a
+/// prefix claims before reading, so a damaged prefix (up to 4 GiB for a string, 2^64 bytes for a
+/// chunk's records) would allocate without bound.
+pub(crate) fn check_prefixes(opcode: u8, data: &[u8]) -> Result<(), String> {
+    use mcap::records::op;
+    use Field::*;
+    let layout: &[Field] = match opcode {
+        // message_start_time, message_end_time, uncompressed_size, uncompressed_crc.
+        op::CHUNK => &[Fixed(8 + 8 + 8 + 4), Prefixed32("compression"), Prefixed64("records")],
+        op::SCHEMA => &[Fixed(2), Prefixed32("name"), Prefixed32("encoding"), Prefixed32("data")],
+        // id, schema_id.
+        op::CHANNEL => &[Fixed(2 + 2), Prefixed32("topic"), Prefixed32("message_encoding"), StringMap("metadata")],
+        op::METADATA => &[Prefixed32("name"), StringMap("metadata")],
+        _ => &[],
+    };
+    let mut at = 0usize;
+    let take = |at: &mut usize, width: usize, field: &str, data: &[u8]| -> Result<u64, String> {
+        let b = data.get(*at..*at + width).ok_or_else(|| format!("{field}: the record ends at byte {} of its {}", *at, data.len()))?;
+        *at += width;
+        Ok(b.iter().rev().fold(0u64, |v, &x| (v << 8) | u64::from(x)))
+    };
+    let skip = |at: &mut usize, len: u64, field: &str, data: &[u8]| -> Result<(), String> {
+        let left = (data.len() - *at) as u64;
+        if len > left {
+            return Err(format!("{field} claims {len} bytes, {left} remain in the record"));
+        }
+        *at += len as usize;
+        Ok(())
+    };
+    for f in layout {
+        match *f {
+            Fixed(n) => skip(&mut at, n as u64, "fixed fields", data)?,
+            Prefixed32(field) => {
+                let n = take(&mut at, 4, field, data)?;
+                skip(&mut at, n, field, data)?;
+            }
+            Prefixed64(field) => {
+                let n = take(&mut at, 8, field, data)?;
+                skip(&mut at, n, field, data)?;
+            }
+            StringMap(field) => {
+                let n = take(&mut at, 4, field, data)?;
+                let end = at;
+                skip(&mut at, n, field, data)?;
+                // Each key and value inside the map, against the map's own bytes.
+                let map = &data[end..at];
+                let mut k = 0usize;
+                while k < map.len() {
+                    for part in ["key", "value"] {
+                        let len = take(&mut k, 4, field, map).map_err(|e| format!("{e} ({part})"))?;
+                        skip(&mut k, len, field, map).map_err(|e| format!("{e} ({part})"))?;
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The fixed part of a Message record (channel id u16, sequence u32, log time u64, publish time
 /// u64, little endian) and the message data after it.
-fn message_header(data: &[u8]) -> Option<(mcap::records::MessageHeader, &[u8])> {
+pub(crate) fn message_header(data: &[u8]) -> Option<(mcap::records::MessageHeader, &[u8])> {
     let (head, body) = data.split_at_checked(22)?;
     let u64_at = |k: usize| u64::from_le_bytes(head[k..k + 8].try_into().expect("8 bytes"));
     let header = mcap::records::MessageHeader {

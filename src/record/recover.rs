@@ -38,13 +38,16 @@ pub fn recover_recording(input: &Path, output: &Path) -> Result<Vec<(PathBuf, Re
     Ok(done)
 }
 
-/// Read `input` as far as it is sound and write the result to `output`.
+/// Read `input` as far as it is sound and write the result to `output`. The input is streamed
+/// (memory stays within one chunk, whatever its length) and read by the same record reader as the
+/// analysis, so a record the analysis refuses ends recovery there.
 pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError> {
-    let data = std::fs::read(input).map_err(|source| RecordError::Io { path: input.to_path_buf(), source })?;
+    use mcap::records::{op, Record};
     let io = |path: &Path| {
         let p: PathBuf = path.to_path_buf();
         move |source| RecordError::Io { path: p.clone(), source }
     };
+    let bytes_total = std::fs::metadata(input).map_err(io(input))?.len();
     let file = std::fs::File::create(output).map_err(io(output))?;
     let opts = mcap::WriteOptions::new()
         .profile("ros2")
@@ -55,69 +58,63 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
     let mut schema_ids: HashMap<u16, u16> = HashMap::new();
     let mut channel_ids: HashMap<u16, u16> = HashMap::new();
     let mut schemas: HashMap<u16, (String, String, Vec<u8>)> = HashMap::new();
-    let mut report = RecoverReport { messages: 0, channels: 0, bytes_total: data.len() as u64, stopped: None };
-    let reader = mcap::read::LinearReader::new_with_options(&data, enumset::enum_set!(mcap::read::Options::IgnoreEndMagic))
-        .map_err(|e| RecordError::Mcap { path: input.to_path_buf(), message: e.to_string() })?;
+    let mut report = RecoverReport { messages: 0, channels: 0, bytes_total, stopped: None };
     let mut ended = false;
-    for rec in reader {
-        let rec = match rec {
-            Ok(r) => r.into_owned(),
-            Err(e) => {
-                report.stopped = Some(e.to_string());
-                break;
-            }
-        };
-        // A chunk is only used whole: decompress it first, so a damaged chunk drops out entirely.
-        let records: Vec<mcap::records::Record<'static>> = match rec {
-            mcap::records::Record::Chunk { header, data: chunk } => {
-                match mcap::read::ChunkReader::new(header, &chunk).and_then(|r| r.map(|x| x.map(|y| y.into_owned())).collect::<Result<Vec<_>, _>>()) {
-                    Ok(v) => v,
-                    Err(e) => {
-                        report.stopped = Some(format!("damaged chunk: {e}"));
-                        break;
-                    }
-                }
-            }
-            mcap::records::Record::DataEnd(_) | mcap::records::Record::Footer(_) => {
+    let out = |e| super::mcap_err(output, e);
+    let damaged = |position: u64, e: String| RecordError::Mcap { path: input.to_path_buf(), message: format!("record before byte {position}: {e}") };
+    let mut copy = |opcode: u8, data: &[u8], position: u64| -> Result<(), RecordError> {
+        match opcode {
+            op::DATA_END | op::FOOTER => {
                 ended = true;
-                break;
+                return Ok(());
             }
-            other => vec![other],
-        };
-        for r in records {
-            match r {
-                mcap::records::Record::Schema { header, data } => {
-                    schemas.insert(header.id, (header.name.clone(), header.encoding.clone(), data.into_owned()));
-                }
-                mcap::records::Record::Channel(c) => {
-                    if channel_ids.contains_key(&c.id) {
-                        continue;
-                    }
-                    let schema = match c.schema_id {
-                        0 => 0,
-                        sid => match schema_ids.get(&sid) {
-                            Some(id) => *id,
-                            None => {
-                                let Some((name, enc, text)) = schemas.get(&sid) else { continue };
-                                let id = writer.add_schema(name, enc, text).map_err(|e| super::mcap_err(output, e))?;
-                                schema_ids.insert(sid, id);
-                                id
-                            }
-                        },
-                    };
-                    let id = writer.add_channel(schema, &c.topic, &c.message_encoding, &c.metadata).map_err(|e| super::mcap_err(output, e))?;
-                    channel_ids.insert(c.id, id);
-                }
-                mcap::records::Record::Message { header, data } => {
-                    let Some(&id) = channel_ids.get(&header.channel_id) else { continue };
-                    let h = mcap::records::MessageHeader { channel_id: id, ..header };
-                    writer.write_to_known_channel(&h, &data).map_err(|e| super::mcap_err(output, e))?;
-                    report.messages += 1;
-                }
-                mcap::records::Record::Metadata(m) => writer.write_metadata(&m).map_err(|e| super::mcap_err(output, e))?,
-                _ => {}
+            op::MESSAGE => {
+                let Some((header, body)) = super::read::message_header(data) else {
+                    return Err(damaged(position, format!("a message record of {} bytes", data.len())));
+                };
+                let Some(&id) = channel_ids.get(&header.channel_id) else { return Ok(()) };
+                let h = mcap::records::MessageHeader { channel_id: id, ..header };
+                writer.write_to_known_channel(&h, body).map_err(out)?;
+                report.messages += 1;
+                return Ok(());
             }
+            op::SCHEMA | op::CHANNEL | op::METADATA => {}
+            _ => return Ok(()),
         }
+        super::read::check_prefixes(opcode, data).map_err(|e| damaged(position, e))?;
+        match mcap::parse_record(opcode, data).map_err(|e| damaged(position, e.to_string()))? {
+            Record::Schema { header, data } => {
+                schemas.insert(header.id, (header.name, header.encoding, data.into_owned()));
+            }
+            Record::Channel(c) => {
+                if channel_ids.contains_key(&c.id) {
+                    return Ok(());
+                }
+                let schema = match c.schema_id {
+                    0 => 0,
+                    sid => match schema_ids.get(&sid) {
+                        Some(id) => *id,
+                        None => {
+                            let Some((name, enc, text)) = schemas.get(&sid) else { return Ok(()) };
+                            let id = writer.add_schema(name, enc, text).map_err(out)?;
+                            schema_ids.insert(sid, id);
+                            id
+                        }
+                    },
+                };
+                let id = writer.add_channel(schema, &c.topic, &c.message_encoding, &c.metadata).map_err(out)?;
+                channel_ids.insert(c.id, id);
+            }
+            Record::Metadata(m) => writer.write_metadata(&m).map_err(out)?,
+            _ => {}
+        }
+        Ok(())
+    };
+    match super::read::scan_records(input, 0, &mut copy) {
+        Ok(()) => {}
+        // A write to the output failing is an error; damage in the input ends recovery there.
+        Err(super::read::Stop::Visitor(e)) if !matches!(&e, RecordError::Mcap { path, .. } if path == input) => return Err(e),
+        Err(stop) => report.stopped = Some(stop.into_inner().to_string()),
     }
     if !ended && report.stopped.is_none() {
         report.stopped = Some("the file ends without its summary and footer (truncated)".into());

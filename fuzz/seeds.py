@@ -1,0 +1,178 @@
+#!/usr/bin/env python3
+"""Seed corpora of the fuzz targets, from the repository's own inputs: the NC programs (paper,
+LinuxCNC, twins in other dialects, the OCR-damaged copies from ../shared/reference when present),
+the small recording fuzz/seeds/small.mcap (rewritten with LZ4, zstd and no compression, and cut
+short), its CDR messages, a rosbag2 metadata.yaml, the machines (TOML and URDF) and the roughness
+profiles (shortened to 2,000 points, so that each execution stays fast).
+
+Usage: seeds.py CORPUS_DIR   (writes CORPUS_DIR/<target>/...; existing files are kept)
+"""
+import io
+import pathlib
+import sys
+import zipfile
+
+from mcap.reader import make_reader
+from mcap.writer import CompressionType, Writer
+
+FUZZ = pathlib.Path(__file__).resolve().parent
+ROOT = FUZZ.parent
+SHARED = ROOT.parent / "shared" / "reference" / "programs"
+PICK = {"heidenhain": 0, "rs274": 1, "cl": 2, "sinumerik": 3, "klartext": 4}
+
+
+def put(corpus: pathlib.Path, target: str, name: str, data: bytes) -> None:
+    d = corpus / target
+    d.mkdir(parents=True, exist_ok=True)
+    (d / name).write_bytes(data)
+
+
+def dialect(path: pathlib.Path, text: bytes) -> str:
+    ext = path.suffix.lower()
+    if b"BEGIN PGM" in text[:2000].upper():
+        return "klartext"
+    if ext in (".mpf", ".spf"):
+        return "sinumerik"
+    if ext in (".i", ".h"):
+        return "heidenhain"
+    return "rs274"
+
+
+def programs(corpus: pathlib.Path) -> int:
+    files = [p for p in (ROOT / "recordings").rglob("*") if p.suffix.lower() in (".i", ".h", ".ngc", ".nc", ".mpf")]
+    if SHARED.is_dir():
+        files += [p for p in SHARED.rglob("*") if p.is_file()]
+    n = 0
+    for p in sorted(files):
+        text = p.read_bytes()
+        if len(text) > 64 << 10:
+            text = text[: 64 << 10]  # the LinuxCNC boat programs: their first 64 KiB
+        put(corpus, "nc_program", p.name, bytes([PICK[dialect(p, text)]]) + text)
+        n += 1
+    # CL data: the SING cut's first moves as x y z i j k [feed] lines, with a header, comma and space separated.
+    cl = b"x,y,z,i,j,k,f\n0,0,-8,0,0,1,2000\n10,0,-8,0,0.0174,0.9998,2000\n25,0,-8,0,0.0003,1,2000\n50 0 -8 0 0 1\n"
+    put(corpus, "nc_program", "sing.cl", bytes([PICK["cl"]]) + cl)
+    return n + 1
+
+
+def rewrite(src: bytes, compression, chunk: int) -> bytes:
+    out = io.BytesIO()
+    w = Writer(out, chunk_size=chunk, compression=compression)
+    w.start(profile="ros2", library="fiveaxis fuzz seeds")
+    schemas, channels = {}, {}
+    for schema, channel, m in make_reader(io.BytesIO(src)).iter_messages(log_time_order=False):
+        if schema.id not in schemas:
+            schemas[schema.id] = w.register_schema(schema.name, schema.encoding, schema.data)
+        if channel.id not in channels:
+            channels[channel.id] = w.register_channel(channel.topic, channel.message_encoding, schemas[schema.id], channel.metadata)
+        w.add_message(channels[channel.id], m.log_time, m.data, m.publish_time, m.sequence)
+    w.finish()
+    return out.getvalue()
+
+
+CDR_PICK = {  # cdr_message's first byte: the serde decoders (the DDS path), see fuzz_targets/cdr_message.rs
+    "fiveaxis_msgs/msg/AxisState": 2,
+    "sensor_msgs/msg/JointState": 3,
+    "fiveaxis_msgs/msg/SingularityStatus": 4,
+    "diagnostic_msgs/msg/DiagnosticArray": 5,
+    "rosgraph_msgs/msg/Clock": 6,
+}
+
+
+def recordings(corpus: pathlib.Path) -> int:
+    small = (FUZZ / "seeds" / "small.mcap").read_bytes()
+    seeds = {
+        "small_zstd.mcap": small,
+        "small_lz4.mcap": rewrite(small, CompressionType.LZ4, 4096),
+        "small_none.mcap": rewrite(small, CompressionType.NONE, 4096),
+    }
+    seeds["small_cut.mcap"] = seeds["small_none.mcap"][: len(seeds["small_none.mcap"]) * 2 // 3]
+    for name, data in seeds.items():
+        put(corpus, "mcap_recording", name, data)
+    n = 0
+    for schema, channel, m in make_reader(io.BytesIO(small)).iter_messages(log_time_order=False):
+        pick = CDR_PICK[schema.name]
+        put(corpus, "cdr_message", f"{channel.topic.strip('/').replace('/', '_')}_{m.sequence}", bytes([pick]) + m.data)
+        if pick in (2, 3):  # the buffer-reusing readers too (picks 0 and 1)
+            put(corpus, "cdr_message", f"{channel.topic.strip('/').replace('/', '_')}_{m.sequence}_reader", bytes([pick - 2]) + m.data)
+        n += 1
+    # rosbag2's metadata.yaml as `ros2 bag record -s mcap` writes it (version 9), listing the one file.
+    meta = """rosbag2_bagfile_information:
+  version: 9
+  storage_identifier: mcap
+  duration:
+    nanoseconds: 2000000
+  starting_time:
+    nanoseconds_since_epoch: 0
+  message_count: 21
+  topics_with_message_count:
+    - topic_metadata:
+        name: /fiveaxis/commanded/axis_state
+        type: fiveaxis_msgs/msg/AxisState
+        serialization_format: cdr
+        offered_qos_profiles: "- history: 3\\n  depth: 0\\n  reliability: 1\\n  durability: 2\\n"
+        type_description_hash: ""
+      message_count: 3
+  compression_format: ""
+  compression_mode: ""
+  relative_file_paths:
+    - bag_0.mcap
+  files:
+    - path: bag_0.mcap
+      starting_time:
+        nanoseconds_since_epoch: 0
+      duration:
+        nanoseconds: 2000000
+      message_count: 21
+  custom_data: ~
+  ros_distro: jazzy
+"""
+    put(corpus, "rosbag2_metadata", "metadata.yaml", meta.encode())
+    put(corpus, "rosbag2_metadata", "flow.yaml", b"rosbag2_bagfile_information:\n  storage_identifier: 'mcap'\n  relative_file_paths: [bag_0.mcap]\n")
+    return len(seeds) + n + 2
+
+
+def profiles(corpus: pathlib.Path) -> int:
+    rough = ROOT / "recordings" / "roughness"
+    csv = (rough / "SYNTHETIC_sing_profile.csv").read_bytes().splitlines(keepends=True)[:2003]
+    put(corpus, "csv_profile", "synthetic.csv", b"\0" + b"".join(csv))
+    put(corpus, "csv_profile", "bare_mm_um.csv", bytes([2 | (3 << 2)]) + b"0 1.5\n0.001 2.5\n0.002 -1\n0.003 0.5\n")
+    with zipfile.ZipFile(rough / "SYNTHETIC_sing_profile.x3p") as z:
+        xml = z.read("main.xml").decode()
+        data = z.read("bindata/data.bin")
+    size = xml.split("<SizeX>")[1].split("</SizeX>")[0]
+    xml = xml.replace(f"<SizeX>{size}</SizeX>", "<SizeX>2000</SizeX>").encode()
+    data = data[: 2000 * 8]
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as z:
+        z.writestr("main.xml", xml)
+        z.writestr("bindata/data.bin", data)
+    put(corpus, "x3p_container", "synthetic.x3p", out.getvalue())
+    put(corpus, "x3p_main_xml", "synthetic", xml + b"\0\0" + data)
+    listed = xml.replace(b"<DataLink>", b"<!--").replace(b"</DataLink>", b"-->").replace(
+        b"</Record3>", b"<DataList>" + b"".join(b"<Datum>%g</Datum>" % (i % 7) for i in range(40)) + b"</DataList></Record3>"
+    ).replace(b"<SizeX>2000</SizeX>", b"<SizeX>40</SizeX>")
+    put(corpus, "x3p_main_xml", "datalist", listed)
+    return 5
+
+
+def machines(corpus: pathlib.Path) -> int:
+    n = 0
+    for p in sorted((ROOT / "machines").glob("*.toml")):
+        put(corpus, "machine_toml", p.name, p.read_bytes())
+        n += 1
+    for p in sorted((ROOT / "machines").rglob("*.urdf")):
+        put(corpus, "machine_urdf", p.name, p.read_bytes())
+        n += 1
+    return n
+
+
+def main() -> int:
+    corpus = pathlib.Path(sys.argv[1])
+    n = programs(corpus) + recordings(corpus) + profiles(corpus) + machines(corpus)
+    print(f"{n} seeds in {corpus}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

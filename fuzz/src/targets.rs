@@ -1,0 +1,188 @@
+//! The fuzz targets' bodies, one function per reader, shared by the libFuzzer binaries
+//! (`fuzz_targets/`) and by the regression test that replays what the fuzzers once found
+//! (`tests/fuzz_regressions.rs`, which includes this file). Each takes any bytes and must return
+//! without a panic, a hang or an allocation over 512 MB.
+//!
+//! The readers under test take paths, so inputs are written to scratch files in this process's
+//! own directory (on /dev/shm when there is one) first.
+#![allow(dead_code)]
+
+use fiveaxis::analysis::{analyze_mcap, OfflineOptions};
+use fiveaxis::machine::urdf;
+use fiveaxis::machine::Machine;
+use fiveaxis::program::{read, Dialect, ReadOptions};
+use fiveaxis::record::from_cdr;
+use fiveaxis::record::read::summary_channels;
+use fiveaxis::record::read::{for_each_message, recording_files, recording_len};
+use fiveaxis::record::recover;
+use fiveaxis::roughness::read_x3p;
+use fiveaxis::roughness::{read_csv, CsvUnits};
+use fiveaxis_msgs::{AxisState, Clock, DiagnosticArray, JointState, SingularityStatus};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// This process's scratch directory (created once).
+pub fn scratch_dir() -> &'static Path {
+    static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        let base = if Path::new("/dev/shm").is_dir() { PathBuf::from("/dev/shm") } else { std::env::temp_dir() };
+        let dir = base.join(format!("fiveaxis-fuzz-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("scratch directory");
+        dir
+    })
+}
+
+/// Write `data` to the scratch file `name` and return its path.
+pub fn scratch_file(name: &str, data: &[u8]) -> PathBuf {
+    let path = scratch_dir().join(name);
+    std::fs::write(&path, data).expect("scratch file");
+    path
+}
+
+/// A tiny valid MCAP recording (two AxisStates of the SING program), for targets that need one
+/// beside what they fuzz.
+pub fn small_recording() -> &'static [u8] {
+    include_bytes!("../seeds/small.mcap")
+}
+
+/// What every command does first with a machine it has read: its forward kinematics at home and
+/// at a tilted pose, the inverse back, and the rotary solutions near a tool axis off the singular one.
+pub fn exercise(machine: &fiveaxis::machine::Machine) {
+    let home = [0.0; 5];
+    let tilted = [10.0, -20.0, 30.0, 0.4, 1.2];
+    for q in [home, tilted] {
+        let pose = machine.forward(&q);
+        let _ = machine.inverse(&pose, &q);
+        let _ = machine.inverse_all(&pose);
+        let _ = machine.rotaries_near(&pose.axis, &[q[3], q[4]]);
+    }
+    let _ = machine.singular_direction();
+    let _ = machine.limits();
+}
+
+/// CDR messages as they arrive from DDS or a recording: the first byte picks the decoder (the
+/// buffer-reusing readers of AxisState and JointState, and the serde path the DDS subscriptions
+/// take for every subscribed type).
+pub fn cdr_message(data: &[u8]) {
+    let Some((&pick, body)) = data.split_first() else { return };
+    match pick % 7 {
+        0 => {
+            let _ = AxisState::default().read_cdr(body);
+        }
+        1 => {
+            let _ = JointState::default().read_cdr(body);
+        }
+        2 => {
+            let _ = from_cdr::<AxisState>(body);
+        }
+        3 => {
+            let _ = from_cdr::<JointState>(body);
+        }
+        4 => {
+            let _ = from_cdr::<SingularityStatus>(body);
+        }
+        5 => {
+            let _ = from_cdr::<DiagnosticArray>(body);
+        }
+        _ => {
+            let _ = from_cdr::<Clock>(body);
+        }
+    }
+}
+
+const UNITS: [Option<f64>; 4] = [None, Some(1.0), Some(1e-3), Some(1e-6)];
+
+/// CSV roughness profiles (header-named units, or the first byte picks the command-line units),
+/// then filtered and windowed as `fiveaxis analyze --roughness` does.
+pub fn csv_profile(data: &[u8]) {
+    let Some((&pick, body)) = data.split_first() else { return };
+    let units = CsvUnits { x: UNITS[(pick & 3) as usize], z: UNITS[((pick >> 2) & 3) as usize] };
+    let path = scratch_file("in.csv", body);
+    if let Ok(profile) = read_csv(&path, units) {
+        let _ = profile.windows(0.8e-3, 0.5e-3);
+    }
+}
+
+/// Machine descriptions in TOML, then the machine's forward and inverse kinematics at its home
+/// and at a tilted tool axis (what every command does first with a machine).
+pub fn machine_toml(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else { return };
+    if let Ok(machine) = Machine::from_toml_str(text, "fuzz") {
+        exercise(&machine);
+    }
+}
+
+/// Machine descriptions in URDF, then the same kinematics as `machine_toml`.
+pub fn machine_urdf(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else { return };
+    if let Ok(machine) = urdf::read(text, "fuzz") {
+        exercise(&machine);
+    }
+}
+
+/// Recordings: a file as `fiveaxis analyze` reads it (MCAP records, chunk compression, CDR
+/// messages, the monitor on what decodes) and as `fiveaxis mcap recover` mends it.
+pub fn mcap_recording(data: &[u8]) {
+    let path = scratch_file("in.mcap", data);
+    let _ = summary_channels(&path);
+    let _ = analyze_mcap(&path, &Machine::hermle_c600u(), &OfflineOptions::default());
+    let _ = recover(&path, &scratch_dir().join("out.mcap"));
+}
+
+const DIALECTS: [Dialect; 5] = [Dialect::Heidenhain, Dialect::Rs274, Dialect::Cl, Dialect::Sinumerik, Dialect::Klartext];
+
+/// NC and CL program readers: the first byte picks the dialect (Heidenhain DIN/ISO, RS274NGC, CL,
+/// Sinumerik, Klartext), the rest is the program text (not UTF-8: replaced, as `program::load` does).
+pub fn nc_program(data: &[u8]) {
+    let Some((&pick, body)) = data.split_first() else { return };
+    let text = String::from_utf8_lossy(body);
+    let _ = Dialect::detect(None, &text);
+    let program = read(&text, DIALECTS[pick as usize % DIALECTS.len()], "fuzz", &ReadOptions::default());
+    let _ = program.report();
+}
+
+/// rosbag2 directories: the input is the bag's `metadata.yaml`, beside one small valid MCAP file
+/// (`bag_0.mcap`); the bag is listed, sized and read as `fiveaxis analyze DIR` does.
+pub fn rosbag2_metadata(data: &[u8]) {
+    let bag = scratch_dir().join("bag");
+    if !bag.is_dir() {
+        std::fs::create_dir_all(&bag).expect("bag directory");
+        std::fs::write(bag.join("bag_0.mcap"), small_recording()).expect("bag file");
+    }
+    std::fs::write(bag.join("metadata.yaml"), data).expect("metadata.yaml");
+    let _ = recording_files(&bag);
+    let _ = recording_len(&bag);
+    let _ = for_each_message(&bag, |_| {});
+}
+
+/// X3P files as they come (a zip container): read as a roughness profile, then filtered and
+/// windowed as `fiveaxis analyze --roughness` does (lambda_c 0.8 mm, a window every 0.5 mm).
+pub fn x3p_container(data: &[u8]) {
+    let path = scratch_file("in.x3p", data);
+    if let Ok(profile) = read_x3p(&path) {
+        let _ = profile.windows(0.8e-3, 0.5e-3);
+    }
+}
+
+/// X3P `main.xml` and its point data: the input, split at the first `\0\0`, is `main.xml` and
+/// `bindata/data.bin`, stored in a valid zip, so that mutations reach the XML and size checks
+/// rather than the container's CRCs. Then filtered and windowed as in `x3p_container`.
+pub fn x3p_main_xml(data: &[u8]) {
+    let split = data.windows(2).position(|w| w == [0, 0]);
+    let (xml, bin) = match split {
+        Some(i) => (&data[..i], &data[i + 2..]),
+        None => (data, &[][..]),
+    };
+    let path = scratch_dir().join("xml.x3p");
+    let file = std::fs::File::create(&path).expect("scratch x3p");
+    let mut zip = zip::ZipWriter::new(file);
+    let stored = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
+    zip.start_file("main.xml", stored).expect("zip entry");
+    zip.write_all(xml).expect("zip write");
+    zip.start_file("bindata/data.bin", stored).expect("zip entry");
+    zip.write_all(bin).expect("zip write");
+    zip.finish().expect("zip finish");
+    if let Ok(profile) = read_x3p(&path) {
+        let _ = profile.windows(0.8e-3, 0.5e-3);
+    }
+}
