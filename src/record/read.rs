@@ -4,7 +4,7 @@
 
 use super::RecordError;
 use mcap::records::Record;
-use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions, SummaryReadEvent, SummaryReader};
+use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use std::collections::HashMap;
 use std::fs::File;
 use std::io::{Read, Seek};
@@ -139,37 +139,81 @@ fn io_error(path: &Path) -> impl Fn(std::io::Error) -> RecordError + '_ {
 /// `None` when it has no readable summary (a recording cut short, no end magic: read the messages
 /// themselves). Only I/O errors are errors.
 pub fn summary_channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, RecordError> {
+    use mcap::records::op;
+    const MAGIC: &[u8; 8] = b"\x89MCAP0\r\n";
+    // Footer record (opcode, length 20, summary_start, summary_offset_start, summary_crc) + magic.
+    const TAIL: u64 = 1 + 8 + 20 + 8;
+    /// Largest Schema or Channel record read from a summary (a schema text is a few kB).
+    const MAX_SUMMARY_RECORD: u64 = 16 << 20;
     let mut file = File::open(path).map_err(io_error(path))?;
-    let mut reader = SummaryReader::new();
-    while let Some(event) = reader.next_event() {
-        let Ok(event) = event else { return Ok(None) };
-        match event {
-            SummaryReadEvent::ReadRequest(need) => {
-                let n = file.read(reader.insert(need)).map_err(io_error(path))?;
-                reader.notify_read(n);
-            }
-            SummaryReadEvent::SeekRequest(to) => reader.notify_seeked(file.seek(to).map_err(io_error(path))?),
-        }
+    let len = file.metadata().map_err(io_error(path))?.len();
+    if len < 8 + TAIL {
+        return Ok(None);
     }
-    Ok(reader.finish().map(|summary| {
-        let mut channels: Vec<ChannelInfo> = summary
-            .channels
-            .values()
-            .map(|c| ChannelInfo {
-                id: c.id,
-                topic: c.topic.clone(),
-                schema_name: c.schema.as_ref().map_or_else(String::new, |s| s.name.clone()),
-                message_encoding: c.message_encoding.clone(),
-            })
-            .collect();
-        channels.sort_by_key(|c| c.id);
-        channels
-    }))
+    let mut tail = [0u8; TAIL as usize];
+    file.seek(std::io::SeekFrom::Start(len - TAIL)).map_err(io_error(path))?;
+    file.read_exact(&mut tail).map_err(io_error(path))?;
+    let u64_at = |b: &[u8], k: usize| u64::from_le_bytes(b[k..k + 8].try_into().expect("8 bytes"));
+    if tail[0] != op::FOOTER || u64_at(&tail, 1) != 20 || &tail[29..] != MAGIC {
+        return Ok(None);
+    }
+    let (start, offsets) = (u64_at(&tail, 9), u64_at(&tail, 17));
+    let end = if offsets != 0 { offsets } else { len - TAIL };
+    if start < 8 || start >= end || end > len - TAIL {
+        return Ok(None);
+    }
+    // The summary section's records in order: Schema and Channel records read and checked, every
+    // other record skipped; anything inconsistent means no usable summary (the caller then reads
+    // the data section, which reports damage where it is).
+    let mut reader = std::io::BufReader::new(file);
+    reader.seek(std::io::SeekFrom::Start(start)).map_err(io_error(path))?;
+    let (mut at, mut schemas, mut channels) = (start, HashMap::new(), Vec::new());
+    let mut body = Vec::new();
+    while at < end {
+        let mut head = [0u8; 9];
+        if end - at < 9 || reader.read_exact(&mut head).is_err() {
+            return Ok(None);
+        }
+        let (opcode, size) = (head[0], u64_at(&head, 1));
+        at += 9;
+        if size > end - at {
+            return Ok(None);
+        }
+        if opcode == op::SCHEMA || opcode == op::CHANNEL {
+            if size > MAX_SUMMARY_RECORD {
+                return Ok(None);
+            }
+            body.clear();
+            if (&mut reader).take(size).read_to_end(&mut body).map_err(io_error(path))? as u64 != size || check_prefixes(opcode, &body).is_err() {
+                return Ok(None);
+            }
+            match mcap::parse_record(opcode, &body) {
+                Ok(Record::Schema { header, .. }) => {
+                    schemas.insert(header.id, header.name);
+                }
+                Ok(Record::Channel(c)) => channels.push(c),
+                _ => return Ok(None),
+            }
+        } else {
+            reader.seek_relative(size as i64).map_err(io_error(path))?;
+        }
+        at += size;
+    }
+    let mut out = Vec::with_capacity(channels.len());
+    for c in channels {
+        let schema_name = match c.schema_id {
+            0 => String::new(),
+            id => match schemas.get(&id) {
+                Some(name) => String::clone(name),
+                None => return Ok(None),
+            },
+        };
+        out.push(ChannelInfo { id: c.id, topic: c.topic, schema_name, message_encoding: c.message_encoding });
+    }
+    out.sort_by_key(|c| c.id);
+    Ok(Some(out))
 }
 
-/// Whether the recording at `path` carries messages of `type_name` (`pkg/msg/Type`), by its summary;
-/// a recording without a readable summary is assumed to (readers then go by the messages themselves).
-/// The readers use it to decide whether a machine bridge's JointState stands in for AxisState.
 pub fn may_carry_type(path: &Path, type_name: &str) -> Result<bool, RecordError> {
     for f in recording_files(path)? {
         if summary_channels(&f)?.is_none_or(|channels| channels.iter().any(|c| c.schema_name == type_name)) {
