@@ -539,6 +539,10 @@ cp -r "$1/." "$3/"; exit $rc"#;
         if inner == "bag" {
             let meta = std::fs::read_to_string(out.join("bag/metadata.yaml")).expect("metadata.yaml written");
             assert!(meta.contains("bag_0.mcap") && meta.contains(&format!("message_count: {kept}")), "{meta}");
+            // rosbags (independent) opens the bag and finds per topic what metadata.yaml says.
+            let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/bag_peer.py");
+            let check = Command::new("python3").arg(&peer).arg("check").arg(out.join("bag")).arg("-").output().expect("python3 runs");
+            assert!(check.status.success(), "rosbags: {}\n{}", String::from_utf8_lossy(&check.stdout), String::from_utf8_lossy(&check.stderr));
         }
     }
 }

@@ -82,6 +82,8 @@ pub struct Bag {
     options: RecordOptions,
     topics: Vec<BagTopic>,
     counts: Vec<u64>,
+    /// Per topic, the messages in the files before the current one.
+    base_counts: Vec<u64>,
     files: Vec<FileStats>,
     current: Recorder,
     /// Channel id in the current file of each topic.
@@ -116,6 +118,7 @@ impl Bag {
             options,
             topics: Vec::new(),
             counts: Vec::new(),
+            base_counts: Vec::new(),
             files: vec![FileStats { name: file_name(&path), ..Default::default() }],
             current,
             channels: Vec::new(),
@@ -132,6 +135,7 @@ impl Bag {
         self.channels.push(id);
         self.topics.push(topic);
         self.counts.push(0);
+        self.base_counts.push(0);
         Ok(self.topics.len() - 1)
     }
 
@@ -180,6 +184,9 @@ impl Bag {
         if let Some(f) = self.files.last_mut() {
             f.messages = kept;
         }
+        for (t, n) in self.counts.iter_mut().enumerate() {
+            *n = self.base_counts[t] + self.channels.get(t).map_or(0, |&c| self.current.committed_on(c));
+        }
         if write_metadata(&self.output, self.layout, &self.topics, &self.counts, &self.files).is_err() {
             let _ = std::fs::remove_file(self.output.join(".metadata.yaml.tmp"));
             let _ = std::fs::remove_file(self.output.join("metadata.yaml"));
@@ -207,6 +214,7 @@ impl Bag {
             return Err(self.failed(e));
         }
         self.current = next;
+        self.base_counts.clone_from(&self.counts);
         self.channels = channels;
         self.files.push(FileStats { name: file_name(&path), ..Default::default() });
         let closed = self.files.len() - 1;

@@ -176,6 +176,9 @@ pub struct Recorder {
     position: std::sync::Arc<std::sync::atomic::AtomicU64>,
     /// File offset and message count at the end of the last chunk flushed whole.
     committed: (u64, u64),
+    /// Messages per channel written, and at the end of the last chunk flushed whole.
+    per_channel: HashMap<u16, u64>,
+    committed_per_channel: HashMap<u16, u64>,
     channels: HashMap<String, (u16, String)>,
     sequence: HashMap<u16, u32>,
     chunk_start: Option<u64>,
@@ -203,6 +206,8 @@ impl Recorder {
             writer: Some(writer),
             position,
             committed: (0, 0),
+            per_channel: HashMap::new(),
+            committed_per_channel: HashMap::new(),
             channels: HashMap::new(),
             sequence: HashMap::new(),
             chunk_start: None,
@@ -297,6 +302,7 @@ impl Recorder {
         let header = mcap::records::MessageHeader { channel_id: channel, sequence: *seq, log_time: log_time_ns, publish_time: publish_time_ns };
         self.attempt(|w| w.write_to_known_channel(&header, data))?;
         self.messages += 1;
+        *self.per_channel.entry(channel).or_insert(0) += 1;
         Ok(())
     }
 
@@ -315,7 +321,14 @@ impl Recorder {
     pub fn flush(&mut self) -> Result<(), RecordError> {
         self.attempt(|w| w.flush())?;
         self.committed = (self.position.load(std::sync::atomic::Ordering::Relaxed), self.messages);
+        self.committed_per_channel.clone_from(&self.per_channel);
         Ok(())
+    }
+
+    /// Messages on `channel` up to the end of the last chunk flushed whole: what the file holds
+    /// after a failed write ([`RecordError::WriteFailed`]).
+    pub fn committed_on(&self, channel: u16) -> u64 {
+        self.committed_per_channel.get(&channel).copied().unwrap_or(0)
     }
 
     /// Write the summary (indexes, statistics) and the footer; the recorder takes no more writes.
