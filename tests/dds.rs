@@ -167,6 +167,127 @@ wait $M
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The monitor's input publisher killed (SIGKILL) at a random moment and restarted, 100 times in a
+/// row: the monitor keeps running and its counters add up against a recorder subscribed to the same
+/// topic the whole time. Every sample the recorder holds is counted by the monitor, up to one per
+/// session in flight at the kill; each session that published is a new session (nothing out of
+/// order, nothing judged lost) that went stale once.
+#[test]
+fn monitor_counters_add_up_over_100_publisher_kills() {
+    let b = bins();
+    let dir = common::scratch_dir("dds-restart-100");
+    let (summary, rec) = (dir.join("summary.json"), dir.join("rec.mcap"));
+    let script = format!(
+        r#"set -e
+B="{b}"
+"$B/fiveaxis-monitor" --input commanded/axis_state --stale-ms 100 --summary-json "{s}" &
+M=$!
+"$B/fiveaxis-recorder" --output "{rec}" --topic commanded/axis_state:AxisState &
+R=$!
+sleep 0.5
+for k in $(seq 100); do
+    "$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 1 --min-subscribers 2 &
+    C=$!
+    sleep 0.$((RANDOM % 6 + 2))
+    kill -KILL $C
+    wait $C || true
+    sleep 0.2
+    kill -0 $M
+done
+kill -INT $R; wait $R
+kill -INT $M; wait $M
+"#,
+        b = b.display(),
+        s = summary.display(),
+        rec = rec.display()
+    );
+    let out = netns_bash(&script);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // What the recorder holds, split into sessions where the program-time stamps start again.
+    let mut sessions: Vec<u64> = Vec::new();
+    let mut last = f64::INFINITY;
+    let recorded = fiveaxis::record::read::for_each_message(&rec, |m| {
+        let st: fiveaxis_msgs::AxisState = fiveaxis::record::from_cdr(m.data).unwrap();
+        let t = st.header.stamp.as_secs();
+        if t <= last {
+            sessions.push(0);
+        }
+        *sessions.last_mut().unwrap() += 1;
+        last = t;
+    })
+    .unwrap();
+    let published = sessions.len() as u64;
+    assert!(published >= 50, "most of the 100 publishers got to publish: {published} ({sessions:?})");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    let i = input(&v, CMD);
+    let counted = i["samples"].as_u64().unwrap() + i["invalid"].as_u64().unwrap() + i["out_of_order"].as_u64().unwrap();
+    assert!(counted.abs_diff(recorded) <= published, "monitor counted {counted}, recorder holds {recorded} over {published} sessions: {i}");
+    assert_eq!(i["out_of_order"], 0, "every restart is a new session: {i}");
+    assert_eq!(i["invalid"], 0, "{i}");
+    assert_eq!(i["lost"], 0, "nothing judged lost inside a session: {i}");
+    let stale = i["stale"].as_u64().unwrap();
+    assert!(stale >= published && stale <= published + 2, "{stale} stale episodes for {published} sessions that published: {i}");
+    eprintln!("100 kills: {published} sessions published, recorder {recorded}, monitor {counted}, stale {stale}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// SIGKILL of any node of the set at a random moment, then of the recorder at another: in 8 rounds
+/// of the full node set (commander, simulator, monitor, recorder), `fiveaxis mcap recover` mends
+/// every recording the recorder left, and the mended file reads through to its footer with our
+/// reader and with Foxglove's independent stream reader, message for message.
+#[test]
+fn sigkill_of_any_node_leaves_a_recording_recover_mends() {
+    let b = bins();
+    let dir = common::scratch_dir("dds-sigkill");
+    let script = format!(
+        r#"set -e
+B="{b}"
+D="{d}"
+for r in $(seq 8); do
+    "$B/fiveaxis-recorder" --use-sim-time --output "$D/round$r.mcap" &
+    R=$!
+    "$B/fiveaxis-monitor" --use-sim-time --input commanded/axis_state --input simulated/axis_state &
+    M=$!
+    "$B/fiveaxis-commander" --use-sim-time builtin:paper-sing --speed 0.5 --min-subscribers 2 &
+    C=$!
+    "$B/fiveaxis-simulator" --use-sim-time builtin:paper-sing --speed 0.5 --min-subscribers 2 &
+    S=$!
+    nodes=($C $S $M)
+    victim=${{nodes[$((RANDOM % 3))]}}
+    sleep 1.$((RANDOM % 10))
+    kill -KILL $victim 2>/dev/null || true
+    echo "round $r: killed $( [ $victim = $C ] && echo commander || ([ $victim = $S ] && echo simulator || echo monitor))"
+    sleep 0.$((RANDOM % 10))
+    kill -KILL $R
+    wait $R || true
+    kill -KILL $C $S $M 2>/dev/null || true
+    wait $C $S $M 2>/dev/null || true
+done
+"#,
+        b = b.display(),
+        d = dir.display()
+    );
+    let out = netns_bash(&script);
+    assert!(out.status.success(), "{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/read_linear.py");
+    let mut mended = 0;
+    for r in 1..=8 {
+        let (killed, fixed) = (dir.join(format!("round{r}.mcap")), dir.join(format!("fixed{r}.mcap")));
+        let status = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["mcap", "recover"]).arg(&killed).arg(&fixed).output().unwrap();
+        assert!(status.status.success(), "round {r}: recover failed: {}", String::from_utf8_lossy(&status.stderr));
+        let ours = fiveaxis::record::read::for_each_message(&fixed, |_| {}).unwrap_or_else(|e| panic!("round {r}: the mended file: {e}"));
+        let theirs = Command::new("python3").arg(&peer).arg(&fixed).output().unwrap();
+        assert!(theirs.status.success(), "round {r}: Foxglove's reader: {}", String::from_utf8_lossy(&theirs.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&theirs.stdout).unwrap();
+        assert_eq!(v["messages"].as_array().unwrap().len() as u64, ours, "round {r}");
+        assert_eq!(v["summary"], true, "round {r}: the mended file has its summary");
+        mended += u64::from(ours > 0);
+    }
+    // The recorder lived 1 to 2.8 s in every round and flushes a chunk every second of wall time.
+    assert!(mended >= 4, "recordings with messages: {mended} of 8\n{}", String::from_utf8_lossy(&out.stdout));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// SIGTERM (as Ctrl-C's SIGINT) stops a node cleanly: the monitor finishes, writes its summary and
 /// exits 0; the commander stops publishing and exits 0.
 #[test]

@@ -644,6 +644,11 @@ impl Monitor {
                 close_loss_episode(input, last);
             }
             input.history.clear();
+            // The new session's stamps start again: the old ones must not enter its period (mixed,
+            // they make the period tiny and every interval a gap, judging the stream mostly lost).
+            input.stamps.clear();
+            input.period = None;
+            input.loss_events.clear();
             if let Some(r) = input.tracker.finish() {
                 input.close(&r, self.config.max_listed_regions);
             }
