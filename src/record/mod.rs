@@ -180,7 +180,6 @@ pub struct Recorder {
     per_channel: HashMap<u16, u64>,
     committed_per_channel: HashMap<u16, u64>,
     channels: HashMap<String, (u16, String)>,
-    sequence: HashMap<u16, u32>,
     chunk_start: Option<u64>,
     options: RecordOptions,
     messages: u64,
@@ -209,7 +208,6 @@ impl Recorder {
             per_channel: HashMap::new(),
             committed_per_channel: HashMap::new(),
             channels: HashMap::new(),
-            sequence: HashMap::new(),
             chunk_start: None,
             options,
             messages: 0,
@@ -297,12 +295,12 @@ impl Recorder {
             None => self.chunk_start = Some(log_time_ns),
             _ => {}
         }
-        let seq = self.sequence.entry(channel).or_insert(0);
-        *seq = seq.wrapping_add(1);
-        let header = mcap::records::MessageHeader { channel_id: channel, sequence: *seq, log_time: log_time_ns, publish_time: publish_time_ns };
+        // The sequence is the channel's message count, wrapping at 2^32 as the field does.
+        let n = self.per_channel.get(&channel).copied().unwrap_or(0) + 1;
+        let header = mcap::records::MessageHeader { channel_id: channel, sequence: n as u32, log_time: log_time_ns, publish_time: publish_time_ns };
         self.attempt(|w| w.write_to_known_channel(&header, data))?;
         self.messages += 1;
-        *self.per_channel.entry(channel).or_insert(0) += 1;
+        self.per_channel.insert(channel, n);
         Ok(())
     }
 

@@ -184,10 +184,10 @@ pub fn summary_channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, RecordE
                 return Ok(None);
             }
             body.clear();
-            if (&mut reader).take(size).read_to_end(&mut body).map_err(io_error(path))? as u64 != size || check_prefixes(opcode, &body).is_err() {
+            if (&mut reader).take(size).read_to_end(&mut body).map_err(io_error(path))? as u64 != size {
                 return Ok(None);
             }
-            match mcap::parse_record(opcode, &body) {
+            match parse_checked(opcode, &body) {
                 Ok(Record::Schema { header, .. }) => {
                     schemas.insert(header.id, header.name);
                 }
@@ -242,11 +242,12 @@ pub fn for_each_message(path: &Path, mut visit: impl FnMut(MessageView<'_>)) -> 
 
 fn for_each_message_in_file(path: &Path, file_index: usize, offset: u64, visit: &mut impl FnMut(MessageView<'_>)) -> Result<u64, RecordError> {
     let mut records = Records { schemas: HashMap::new(), channels: Vec::new(), count: 0, file: file_index };
-    scan_records(path, offset, &mut |opcode, data, position| records.record(path, opcode, data, position, visit)).map_err(Stop::into_inner)?;
+    scan_records(path, offset, &mut |opcode, data, position| records.record(path, opcode, data, position, visit).map_err(Stop::Damaged)).map_err(Stop::into_inner)?;
     Ok(records.count)
 }
 
-/// Why [`scan_records`] stopped early: the file is damaged there, or the visitor said so.
+/// Why [`scan_records`] stopped early: the file is damaged there (found by the scan or by the
+/// visitor), or the visitor failed at its own work (writing its output, say).
 pub(crate) enum Stop {
     Damaged(RecordError),
     Visitor(RecordError),
@@ -267,7 +268,7 @@ impl Stop {
 ///
 /// Chunks are decompressed into one reused buffer (zstd's one-shot decoder, or an LZ4 frame decoder,
 /// then the CRC of the uncompressed records): faster than streaming them through the record reader.
-pub(crate) fn scan_records(path: &Path, offset: u64, visit: &mut impl FnMut(u8, &[u8], u64) -> Result<(), RecordError>) -> Result<(), Stop> {
+pub(crate) fn scan_records(path: &Path, offset: u64, visit: &mut impl FnMut(u8, &[u8], u64) -> Result<(), Stop>) -> Result<(), Stop> {
     let mut file = File::open(path).map_err(io_error(path)).map_err(Stop::Damaged)?;
     let len = file.metadata().map_err(io_error(path)).map_err(Stop::Damaged)?.len();
     let mut reader = LinearReader::new_with_options(
@@ -290,11 +291,11 @@ pub(crate) fn scan_records(path: &Path, offset: u64, visit: &mut impl FnMut(u8, 
                 while !rest.is_empty() {
                     let (opcode, record, tail) = split_record(rest)
                         .ok_or_else(|| Stop::Damaged(mcap_error(path, format!("chunk record before byte {position}: a record cut short {} bytes from its end", rest.len()))))?;
-                    visit(opcode, record, position).map_err(Stop::Visitor)?;
+                    visit(opcode, record, position)?;
                     rest = tail;
                 }
             }
-            LinearReadEvent::Record { data, opcode } => visit(opcode, data, position).map_err(Stop::Visitor)?,
+            LinearReadEvent::Record { data, opcode } => visit(opcode, data, position)?,
         }
     }
     Ok(())
@@ -303,8 +304,7 @@ pub(crate) fn scan_records(path: &Path, offset: u64, visit: &mut impl FnMut(u8, 
 /// The records of a Chunk record `data` (read up to byte `position`): decompressed into `chunk`
 /// (or borrowed, uncompressed) and checked against the chunk's CRC.
 fn decompress_chunk<'a>(data: &'a [u8], position: u64, zstd: &mut zstd::bulk::Decompressor<'_>, chunk: &'a mut Vec<u8>) -> Result<&'a [u8], String> {
-    check_prefixes(mcap::records::op::CHUNK, data).map_err(|e| format!("chunk record before byte {position}: {e}"))?;
-    let Record::Chunk { header, data: compressed } = mcap::parse_record(mcap::records::op::CHUNK, data).map_err(|e| format!("chunk record before byte {position}: {e}"))? else {
+    let Record::Chunk { header, data: compressed } = parse_checked(mcap::records::op::CHUNK, data).map_err(|e| format!("chunk record before byte {position}: {e}"))? else {
         unreachable!("a chunk opcode parses as a chunk")
     };
     let start = header.message_start_time;
@@ -406,9 +406,8 @@ impl Records {
                     file: self.file,
                 });
             }
-            mcap::records::op::SCHEMA | mcap::records::op::CHANNEL => match check_prefixes(opcode, data)
-                .map_err(|e| mcap_error(path, format!("{} record before byte {position}: {e}", if opcode == mcap::records::op::SCHEMA { "schema" } else { "channel" })))
-                .and_then(|()| mcap::parse_record(opcode, data).map_err(|e| mcap_error(path, e)))?
+            mcap::records::op::SCHEMA | mcap::records::op::CHANNEL => match parse_checked(opcode, data)
+                .map_err(|e| mcap_error(path, format!("{} record before byte {position}: {e}", if opcode == mcap::records::op::SCHEMA { "schema" } else { "channel" })))?
             {
                 Record::Schema { header, .. } => {
                     self.schemas.insert(header.id, header.name);
@@ -436,6 +435,13 @@ impl Records {
     }
 }
 
+/// Parse a record with the mcap crate, its length prefixes checked first ([`check_prefixes`]): the
+/// one way records are parsed here, so that no caller can skip the check.
+pub(crate) fn parse_checked(opcode: u8, data: &[u8]) -> Result<Record<'_>, String> {
+    check_prefixes(opcode, data)?;
+    mcap::parse_record(opcode, data).map_err(|e| e.to_string())
+}
+
 /// A field of a record, for [`check_prefixes`].
 enum Field {
     /// Fixed-width fields, bytes.
@@ -452,7 +458,7 @@ enum Field {
 /// against the bytes the record holds, before the mcap crate parses it: its parser reserves what a
 /// prefix claims before reading, so a damaged prefix (up to 4 GiB for a string, 2^64 bytes for a
 /// chunk's records) would allocate without bound.
-pub(crate) fn check_prefixes(opcode: u8, data: &[u8]) -> Result<(), String> {
+fn check_prefixes(opcode: u8, data: &[u8]) -> Result<(), String> {
     use mcap::records::op;
     use Field::*;
     let layout: &[Field] = match opcode {

@@ -2,6 +2,7 @@
 //! copy): every message of every complete chunk before the damage is kept, with its schema and
 //! channel; the rest is reported.
 
+use super::read::{scan_records, Stop};
 use super::RecordError;
 use std::collections::HashMap;
 use std::io::BufWriter;
@@ -60,9 +61,9 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
     let mut schemas: HashMap<u16, (String, String, Vec<u8>)> = HashMap::new();
     let mut report = RecoverReport { messages: 0, channels: 0, bytes_total, stopped: None };
     let mut ended = false;
-    let out = |e| super::mcap_err(output, e);
-    let damaged = |position: u64, e: String| RecordError::Mcap { path: input.to_path_buf(), message: format!("record before byte {position}: {e}") };
-    let mut copy = |opcode: u8, data: &[u8], position: u64| -> Result<(), RecordError> {
+    let out = |e| Stop::Visitor(super::mcap_err(output, e));
+    let damaged = |position: u64, e: String| Stop::Damaged(RecordError::Mcap { path: input.to_path_buf(), message: format!("record before byte {position}: {e}") });
+    let mut copy = |opcode: u8, data: &[u8], position: u64| -> Result<(), Stop> {
         match opcode {
             op::DATA_END | op::FOOTER => {
                 ended = true;
@@ -81,8 +82,7 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
             op::SCHEMA | op::CHANNEL | op::METADATA => {}
             _ => return Ok(()),
         }
-        super::read::check_prefixes(opcode, data).map_err(|e| damaged(position, e))?;
-        match mcap::parse_record(opcode, data).map_err(|e| damaged(position, e.to_string()))? {
+        match super::read::parse_checked(opcode, data).map_err(|e| damaged(position, e))? {
             Record::Schema { header, data } => {
                 schemas.insert(header.id, (header.name, header.encoding, data.into_owned()));
             }
@@ -110,11 +110,11 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
         }
         Ok(())
     };
-    match super::read::scan_records(input, 0, &mut copy) {
+    match scan_records(input, 0, &mut copy) {
         Ok(()) => {}
         // A write to the output failing is an error; damage in the input ends recovery there.
-        Err(super::read::Stop::Visitor(e)) if !matches!(&e, RecordError::Mcap { path, .. } if path == input) => return Err(e),
-        Err(stop) => report.stopped = Some(stop.into_inner().to_string()),
+        Err(Stop::Visitor(e)) => return Err(e),
+        Err(Stop::Damaged(e)) => report.stopped = Some(e.to_string()),
     }
     if !ended && report.stopped.is_none() {
         report.stopped = Some("the file ends without its summary and footer (truncated)".into());
