@@ -158,6 +158,24 @@ impl Moves {
         })
     }
 
+    /// The segments of `passes` runs of the moves one after the other (`None`: endless), as a
+    /// machine making part after part: each pass joined to the last by a rapid back to the first
+    /// pose ([`crate::path::Passes`]). The first pass is opened here; a later one that cannot be read
+    /// again ends the stream with its error in `failed`.
+    pub fn passes<'a>(&'a self, machine: &'a Machine, passes: Option<u64>, failed: &'a std::sync::OnceLock<JobError>) -> Result<Box<dyn Iterator<Item = crate::path::Segment> + 'a>, JobError> {
+        let mut first = Some(self.segments(machine)?);
+        let open = move || {
+            first.take().or_else(|| match self.segments(machine) {
+                Ok(s) => Some(s),
+                Err(e) => {
+                    let _ = failed.set(e);
+                    None
+                }
+            })
+        };
+        Ok(Box::new(crate::path::Passes::new(open, passes, machine)))
+    }
+
     /// The held trajectory of a built-in path (`None` for a program, which is streamed).
     pub fn held(&self) -> Option<&Trajectory> {
         match self {

@@ -77,3 +77,17 @@ pub fn commanded_moves<'a>(moves: &'a crate::job::Moves, machine: &'a Machine) -
         None => Box::new(commanded_stream(moves.segments(machine)?, moves.period(), machine)),
     })
 }
+
+/// The commanded states of `passes` runs of a job's moves (`None`: endless; [`crate::job::Moves::passes`]):
+/// one pass is [`commanded_moves`]; more are streamed from the program's segments, joined by rapids.
+pub fn commanded_passes<'a>(
+    moves: &'a crate::job::Moves,
+    machine: &'a Machine,
+    passes: Option<u64>,
+    failed: &'a std::sync::OnceLock<crate::job::JobError>,
+) -> Result<Box<dyn Iterator<Item = StateValues> + 'a>, crate::job::JobError> {
+    if passes == Some(1) {
+        return commanded_moves(moves, machine);
+    }
+    Ok(Box::new(commanded_stream(moves.passes(machine, passes, failed)?, moves.period(), machine)))
+}

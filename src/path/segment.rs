@@ -626,7 +626,7 @@ fn out_of_range(b: &Block, machine: &Machine, q: &Joints) -> Option<Diagnostic> 
 }
 
 /// Tool-tip path length of a segment in the workpiece frame (exact for TCP moves, else integrated).
-fn tip_length(seg: &Segment, machine: &Machine) -> f64 {
+pub(super) fn tip_length(seg: &Segment, machine: &Machine) -> f64 {
     if seg.kind == SegmentKind::Tcp {
         return seg.arc.as_ref().map_or_else(|| (seg.tip1 - seg.tip0).norm(), |a| a.length());
     }

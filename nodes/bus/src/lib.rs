@@ -133,6 +133,14 @@ pub struct StreamArgs {
     /// and stops at its first defect (0: publish at once; a large value: check it all first).
     #[arg(long = "check-before-publish-s", value_name = "S", default_value_t = program::SETTLE.as_secs_f64())]
     pub check_before_publish_s: f64,
+    /// Run the program this many times, one pass after the other as a machine makes part after
+    /// part: each pass joined to the last by a rapid back to the program's first pose.
+    #[arg(long, value_name = "N", default_value_t = 1, conflicts_with = "endless")]
+    pub passes: u64,
+    /// Run the program again and again until stopped (SIGINT/SIGTERM), as `--passes` (soak tests,
+    /// a demonstration left running).
+    #[arg(long = "loop", id = "endless")]
+    pub endless: bool,
 }
 
 impl StreamArgs {
@@ -151,7 +159,13 @@ impl StreamArgs {
         if let Some(f) = self.feed_mm_per_min {
             anyhow::ensure!(f > 0.0 && f.is_finite(), "--feed must be a positive number of mm/min");
         }
+        anyhow::ensure!(self.passes >= 1, "--passes must be at least 1");
         Ok(())
+    }
+
+    /// How many times the program runs (`None`: until stopped).
+    pub fn pass_count(&self) -> Option<u64> {
+        (!self.endless).then_some(self.passes)
     }
 
     /// How the program is read and sampled: the control's options, at the rate, with the feed

@@ -5,7 +5,7 @@
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::live::commander::commanded_moves;
+use fiveaxis::live::commander::commanded_passes;
 use fiveaxis::live::StateBuilder;
 use fiveaxis::machine::Machine;
 use fiveaxis_bus::{clock_qos, init_tracing, EXIT_INPUT, open_program, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
@@ -44,7 +44,8 @@ fn main() -> anyhow::Result<()> {
     bus.rosout(ros2_client::ros2::LogLevel::Info, &format!("commanding {}", args.stream.program));
     let pacer = args.stream.pacer(args.common.use_sim_time);
     let builder = StateBuilder::new(&machine, AxisState::SOURCE_COMMANDED);
-    let states = match commanded_moves(&moves, &machine) {
+    let reread = std::sync::OnceLock::new();
+    let states = match commanded_passes(&moves, &machine, args.stream.pass_count(), &reread) {
         Ok(s) => s.map(|v| builder.message(&v)),
         Err(e) => {
             eprintln!("error: reading {} again to publish it: {e}", args.stream.program);
@@ -52,6 +53,10 @@ fn main() -> anyhow::Result<()> {
         }
     };
     let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, clock_pub.as_ref(), &pacer, &shutdown);
+    if let Some(e) = reread.get() {
+        eprintln!("error: reading {} again for its next pass: {e} (stopped after {sent} samples)", args.stream.program);
+        std::process::exit(EXIT_INPUT);
+    }
     gate.finish(sent > 0, shutdown.requested());
     Ok(())
 }

@@ -65,10 +65,12 @@ fn main() -> anyhow::Result<()> {
     let (tx, rx) = std::sync::mpsc::sync_channel::<StateValues>(4096);
     let builder = StateBuilder::new(&machine, AxisState::SOURCE_SIMULATED);
     let (machine, moves) = (&machine, &moves);
+    let (reread, passes) = (std::sync::OnceLock::new(), args.stream.pass_count());
+    let reread = &reread;
     let (simulated, sent) = std::thread::scope(|scope| {
         let simulator = scope.spawn(move || {
-            // The planner and its scout each read the program again, as a stream.
-            let (segments, scout) = (moves.segments(machine)?, moves.segments(machine)?);
+            // The planner and its scout each read the program again, as a stream (pass after pass).
+            let (segments, scout) = (moves.passes(machine, passes, reread)?, moves.passes(machine, passes, reread)?);
             Ok::<_, fiveaxis::job::JobError>(simulate_measured_stream(segments, scout, moves.period(), machine, &config, |_, _, st| tx.send(st).is_ok()))
         });
         let states = rx.into_iter().map(|v| builder.message(&v));
@@ -82,6 +84,10 @@ fn main() -> anyhow::Result<()> {
             std::process::exit(EXIT_INPUT);
         }
     };
+    if let Some(e) = reread.get() {
+        eprintln!("error: reading {} again for its next pass: {e} (stopped after {sent} samples)", args.stream.program);
+        std::process::exit(EXIT_INPUT);
+    }
     tracing::info!(
         samples = figures.samples,
         duration_s = figures.duration_s,
