@@ -117,7 +117,9 @@ def main():
     for stale in (rec, out / "recovered.mcap"):
         stale.unlink(missing_ok=True)
     interval = args.sample_s or min(10.0, max(1.0, args.duration_s / 360))
-    env = dict(os.environ, NO_COLOR="1", RUST_LOG=os.environ.get("RUST_LOG", "info"))
+    # The nodes' own default log level (info, the DDS stack at warn): their final counts are read from it.
+    env = dict(os.environ, NO_COLOR="1")
+    env.pop("RUST_LOG", None)
 
     procs, logs = {}, {}
 

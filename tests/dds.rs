@@ -657,3 +657,84 @@ wait $R0
     assert!(g0["node"].is_null() && !publishes(&g0), "domain 0's peer sees nothing of it: {g0}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Messages in a finished MCAP file (0 for a file with none).
+fn message_count(path: &Path) -> u64 {
+    let data = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    mcap::Summary::read(&data).unwrap().and_then(|s| s.stats).map_or(0, |s| s.message_count)
+}
+
+/// DDS Security (issue 15 item 5), with an SROS2 keystore made by `launch-free-scripts/keystore`
+/// (openssl). A keyed commander publishes under `ROS_SECURITY_STRATEGY=Enforce`: a keyed recorder
+/// records every sample; an unkeyed recorder and one keyed by another keystore's CA record none,
+/// and a sniffer on the loopback sees the messages' text nowhere in the clear. Then an unsecured
+/// commander: the unkeyed recorder records it and the sniffer sees the text (the check can fail),
+/// while the keyed recorders, refusing unauthenticated peers, record nothing of it.
+#[test]
+fn dds_security_keyed_nodes_talk_and_unkeyed_ones_hear_nothing() {
+    let b = bins();
+    let dir = common::scratch_dir("dds-security");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let (ks, other) = (dir.join("keystore"), dir.join("other-keystore"));
+    for (store, enclaves) in [(&ks, &["/fiveaxis/commander", "/fiveaxis/recorder"][..]), (&other, &["/fiveaxis/recorder"][..])] {
+        let made = Command::new(root.join("launch-free-scripts/keystore")).arg(store).args(enclaves).output().expect("keystore runs");
+        assert!(made.status.success(), "keystore: {}", String::from_utf8_lossy(&made.stderr));
+    }
+    let sniff = root.join("tests/peer/sniff.py");
+    let script = format!(
+        r#"set -u
+B="{b}"; D="{d}"
+export ROS_SECURITY_STRATEGY=Enforce
+# exec: the recorder itself is the background job (a subshell would ignore the SIGINT that stops it).
+rec() {{ exec "$B/fiveaxis-recorder" --output "$D/$1.mcap" --topic commanded/axis_state:AxisState "${{@:2}}" > "$D/$1.log" 2>&1; }}
+ROS_SECURITY_ENABLE=true ROS_SECURITY_KEYSTORE="{ks}" rec keyed --ros-args --enclave /fiveaxis/recorder &
+R1=$!
+rec unkeyed &
+R2=$!
+ROS_SECURITY_ENABLE=true ROS_SECURITY_KEYSTORE="{other}" rec stranger --ros-args --enclave /fiveaxis/recorder &
+R3=$!
+python3 "{sniff}" --needle workpiece --duration-s 8 --ready "$D/ready1" > "$D/secure.json" &
+S=$!
+while [ ! -e "$D/ready1" ]; do sleep 0.1; done
+ROS_SECURITY_ENABLE=true ROS_SECURITY_KEYSTORE="{ks}" "$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 0.5 --min-subscribers 1 \
+    --ros-args --enclave /fiveaxis/commander > "$D/commander.log" 2>&1
+echo "secure commander: $?"
+wait $S
+python3 "{sniff}" --needle workpiece --duration-s 8 --ready "$D/ready2" > "$D/plain.json" &
+S=$!
+while [ ! -e "$D/ready2" ]; do sleep 0.1; done
+"$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 0.5 --min-subscribers 1 > "$D/plain-commander.log" 2>&1
+echo "plain commander: $?"
+wait $S
+# Enforce with an enclave that is not in the keystore: refused, naming it.
+ROS_SECURITY_ENABLE=true ROS_SECURITY_KEYSTORE="{ks}" "$B/fiveaxis-commander" builtin:paper-sing --ros-args --enclave /fiveaxis/absent > "$D/absent.log" 2>&1
+echo "absent enclave: $?"
+kill -INT $R1 $R2 $R3
+wait $R1 $R2 $R3
+"#,
+        b = b.display(),
+        d = dir.display(),
+        ks = ks.display(),
+        other = other.display(),
+        sniff = sniff.display(),
+    );
+    let out = netns_bash(&script);
+    let said = String::from_utf8_lossy(&out.stdout).to_string();
+    let logs = ["keyed", "unkeyed", "stranger", "commander", "plain-commander", "absent"]
+        .map(|n| format!("--- {n}.log\n{}", std::fs::read_to_string(dir.join(format!("{n}.log"))).unwrap_or_default()))
+        .join("\n");
+    let context = format!("{said}\n{}\n{logs}", String::from_utf8_lossy(&out.stderr));
+    assert!(said.contains("secure commander: 0") && said.contains("plain commander: 0"), "{context}");
+    let absent = std::fs::read_to_string(dir.join("absent.log")).unwrap_or_default();
+    assert!(!said.contains("absent enclave: 0") && absent.contains("/fiveaxis/absent"), "{context}");
+    // builtin:paper-sing is 1501 samples.
+    assert_eq!(message_count(&dir.join("keyed.mcap")), 1501, "keyed recorder: {context}");
+    assert_eq!(message_count(&dir.join("unkeyed.mcap")), 1501, "unkeyed recorder (the plain commander's only): {context}");
+    assert_eq!(message_count(&dir.join("stranger.mcap")), 0, "recorder keyed by another CA: {context}");
+    let sniffed = |f: &str| -> serde_json::Value { serde_json::from_str(&std::fs::read_to_string(dir.join(f)).unwrap_or_default()).unwrap_or_else(|e| panic!("{f}: {e}\n{context}")) };
+    let (secure, plain) = (sniffed("secure.json"), sniffed("plain.json"));
+    assert!(secure["datagrams"].as_u64().unwrap() > 1000, "secure phase: {secure}");
+    assert_eq!(secure["with_needle"].as_u64(), Some(0), "text in the clear under DDS Security: {secure}");
+    assert!(plain["with_needle"].as_u64().unwrap() > 1000, "the sniffer must see the unsecured messages' text: {plain}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -6,11 +6,14 @@
 //!   sides (ros2-client's subscription default is best effort, depth 1, which would drop samples).
 //! - Topic names are relative to `--namespace` (default `/fiveaxis`) unless absolute, then remapped
 //!   with `--remap FROM:=TO`.
+//! - DDS Security (SROS2 keystores) when `ROS_SECURITY_ENABLE=true`, from `ROS_SECURITY_KEYSTORE` and
+//!   the node's `--enclave` ([`security`]).
 //! - SIGINT/SIGTERM set a flag the node loops poll, so they finish cleanly.
 
 pub mod program;
 pub mod raw;
 pub mod ros_args;
+pub mod security;
 pub use ros_args::RosOptions;
 pub use program::{open_program, Gate};
 
@@ -249,10 +252,19 @@ pub fn ros_environment(get: impl Fn(&str) -> Option<String>) -> anyhow::Result<(
     Ok((domain, range))
 }
 
-/// A ROS 2 context configured from the environment.
-pub fn context_from_env() -> anyhow::Result<Context> {
+/// A ROS 2 context configured from the environment, secured with `enclave` (`--enclave`) when
+/// `ROS_SECURITY_ENABLE=true` ([`security`]).
+pub fn context_from_env(enclave: Option<&str>) -> anyhow::Result<Context> {
     let (domain, range) = ros_environment(|k| std::env::var(k).ok())?;
-    let builder = rustdds::DomainParticipantBuilder::new(domain);
+    let mut builder = rustdds::DomainParticipantBuilder::new(domain);
+    match security::from_env(|k| std::env::var(k).ok(), enclave).context("DDS Security")? {
+        security::Security::Off => {}
+        security::Security::Permissive(why) => tracing::warn!("DDS Security asked for but not used (ROS_SECURITY_STRATEGY is not Enforce): {why}"),
+        security::Security::Enclave(dir) => {
+            tracing::info!(enclave = %dir.display(), "DDS Security: authenticating with the enclave");
+            builder = builder.builtin_security(rustdds::DomainParticipantSecurityConfigFiles::with_ros_default_names(&dir, String::new()));
+        }
+    }
     let builder = match range {
         DiscoveryRange::Localhost => builder.with_only_networks([std::net::IpAddr::from([127, 0, 0, 1])]),
         // OFF: no interface is advertised or joined; only same-host loopback peers remain reachable.
@@ -294,7 +306,7 @@ impl Bus {
     /// (`-r __ns:=`), its settings declared as read-only parameters (served by ros2-client's
     /// parameter services: `ros2 param list/get`).
     pub fn new(default_name: &str, args: &CommonArgs, ros: &RosOptions) -> anyhow::Result<Bus> {
-        let context = context_from_env()?;
+        let context = context_from_env(ros.enclave.as_deref())?;
         let name = args.node_name.clone().unwrap_or_else(|| default_name.to_string());
         let mut options = NodeOptions::new().enable_rosout(ros.rosout);
         for p in &ros.parameters {

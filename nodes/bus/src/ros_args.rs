@@ -13,7 +13,8 @@
 //!   and `--remap` are the ROS names `__ns`, `__node` and `-r`, not parameters.
 //! - Fail closed: an unknown parameter addressed to this node (`-p`, or a file key naming it without
 //!   a wildcard) is an error; one under a wildcard key (meant for every node of a launch) is skipped
-//!   with a warning. `--enclave` (DDS security) and `--log-config-file` are refused: not supported.
+//!   with a warning. `--log-config-file` is refused: not supported. `--enclave` names the DDS
+//!   Security enclave ([`crate::security`]).
 
 use clap::{ArgAction, ArgMatches, Command, Parser};
 use clap::parser::ValueSource;
@@ -42,12 +43,14 @@ pub struct RosOptions {
     /// What was skipped (parameters under wildcard keys that are not this node's), for the log once
     /// it is set up.
     pub warnings: Vec<String>,
+    /// The DDS Security enclave (`--enclave /NAME`), used when `ROS_SECURITY_ENABLE=true` ([`crate::security`]).
+    pub enclave: Option<String>,
 }
 
 impl Default for RosOptions {
     /// As without `--ros-args`: no parameters declared, logs on /rosout and stderr.
     fn default() -> Self {
-        RosOptions { parameters: Vec::new(), rosout: true, stdout_logs: true, log_filter: None, warnings: Vec::new() }
+        RosOptions { parameters: Vec::new(), rosout: true, stdout_logs: true, log_filter: None, warnings: Vec::new(), enclave: None }
     }
 }
 
@@ -352,9 +355,6 @@ fn declared(m: &ArgMatches, s: &Setting) -> ParameterValue {
 /// is the node's name unless `-r __node:=` or `--node-name` says otherwise.
 pub fn parse_from<A: Parser>(default_node: &str, argv: Vec<String>) -> Result<(A, RosOptions), RosArgsError> {
     let (ros, user) = ros2args::parse_ros2_args(&argv).map_err(|e| ros_err(format!("--ros-args: {e}")))?;
-    if let Some(e) = &ros.enclave {
-        return Err(ros_err(format!("--ros-args --enclave {e}: DDS security is not supported by these nodes")));
-    }
     if let Some(f) = &ros.log_config_file {
         return Err(ros_err(format!("--ros-args --log-config-file {}: not supported (use --log-level or RUST_LOG)", f.display())));
     }
@@ -514,7 +514,7 @@ pub fn parse_from<A: Parser>(default_node: &str, argv: Vec<String>) -> Result<(A
         None => Vec::new(),
     };
     let log_filter = log_filter(&ros.log_levels, &node, &fqn);
-    Ok((args, RosOptions { parameters, rosout: ros.logging_output.rosout.unwrap_or(true), stdout_logs: ros.logging_output.stdout.unwrap_or(true), log_filter, warnings }))
+    Ok((args, RosOptions { parameters, rosout: ros.logging_output.rosout.unwrap_or(true), stdout_logs: ros.logging_output.stdout.unwrap_or(true), log_filter, warnings, enclave: ros.enclave.clone() }))
 }
 
 /// [`parse_from`] on this process's arguments: prints clap's help or error, or the ROS argument's
@@ -638,7 +638,6 @@ mod tests {
             ("p --namespace /a --ros-args -r __ns:=/b", "namespace is '/b' by -r __ns:= and '/a' by --namespace"),
             ("p --ros-args -r __ns:=rel", "must be absolute"),
             ("p --ros-args -p use_sim_time:=1", "parameter use_sim_time (-p use_sim_time:=...): expected true or false"),
-            ("p --ros-args --enclave /e", "DDS security is not supported"),
             ("p --ros-args --bogus", "--ros-args"),
             ("p --ros-args --params-file /nonexistent/p.yaml", "/nonexistent/p.yaml"),
         ] {
