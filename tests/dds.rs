@@ -726,7 +726,8 @@ wait $R1 $R2 $R3
     let context = format!("{said}\n{}\n{logs}", String::from_utf8_lossy(&out.stderr));
     assert!(said.contains("secure commander: 0") && said.contains("plain commander: 0"), "{context}");
     let absent = std::fs::read_to_string(dir.join("absent.log")).unwrap_or_default();
-    assert!(!said.contains("absent enclave: 0") && absent.contains("/fiveaxis/absent"), "{context}");
+    // Bad input: exit 2, naming the enclave.
+    assert!(said.contains("absent enclave: 2") && absent.contains("/fiveaxis/absent"), "{context}");
     // builtin:paper-sing is 1501 samples.
     assert_eq!(message_count(&dir.join("keyed.mcap")), 1501, "keyed recorder: {context}");
     assert_eq!(message_count(&dir.join("unkeyed.mcap")), 1501, "unkeyed recorder (the plain commander's only): {context}");

@@ -252,17 +252,32 @@ pub fn ros_environment(get: impl Fn(&str) -> Option<String>) -> anyhow::Result<(
     Ok((domain, range))
 }
 
-/// A ROS 2 context configured from the environment, secured with `enclave` (`--enclave`) when
-/// `ROS_SECURITY_ENABLE=true` ([`security`]).
-pub fn context_from_env(enclave: Option<&str>) -> anyhow::Result<Context> {
+/// What the ROS 2 environment asks of the participant: domain, discovery range, DDS Security.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ParticipantSettings {
+    pub domain: u16,
+    pub range: DiscoveryRange,
+    pub security: security::Security,
+}
+
+/// Read the participant's settings from the environment, the DDS Security enclave being `enclave`
+/// (`--enclave`) when `ROS_SECURITY_ENABLE=true` ([`security`]). An error is bad input (exit 2).
+pub fn participant_settings(enclave: Option<&str>) -> anyhow::Result<ParticipantSettings> {
     let (domain, range) = ros_environment(|k| std::env::var(k).ok())?;
-    let mut builder = rustdds::DomainParticipantBuilder::new(domain);
-    match security::from_env(|k| std::env::var(k).ok(), enclave).context("DDS Security")? {
+    let security = security::from_env(|k| std::env::var(k).ok(), enclave).context("DDS Security")?;
+    Ok(ParticipantSettings { domain, range, security })
+}
+
+/// A ROS 2 context with these settings.
+pub fn context_with(settings: &ParticipantSettings) -> anyhow::Result<Context> {
+    let ParticipantSettings { domain, range, security } = settings;
+    let mut builder = rustdds::DomainParticipantBuilder::new(*domain);
+    match security {
         security::Security::Off => {}
         security::Security::Permissive(why) => tracing::warn!("DDS Security asked for but not used (ROS_SECURITY_STRATEGY is not Enforce): {why}"),
         security::Security::Enclave(dir) => {
             tracing::info!(enclave = %dir.display(), "DDS Security: authenticating with the enclave");
-            builder = builder.builtin_security(rustdds::DomainParticipantSecurityConfigFiles::with_ros_default_names(&dir, String::new()));
+            builder = builder.builtin_security(rustdds::DomainParticipantSecurityConfigFiles::with_ros_default_names(dir, String::new()));
         }
     }
     let builder = match range {
@@ -272,7 +287,7 @@ pub fn context_from_env(enclave: Option<&str>) -> anyhow::Result<Context> {
         DiscoveryRange::Subnet => builder,
     };
     let participant = builder.build().context("creating the DDS participant")?;
-    tracing::info!(domain, ?range, "DDS participant");
+    tracing::info!(domain, ?range, secured = matches!(security, security::Security::Enclave(_)), "DDS participant");
     Context::from_domain_participant(participant).context("creating the ROS 2 context")
 }
 
@@ -306,7 +321,11 @@ impl Bus {
     /// (`-r __ns:=`), its settings declared as read-only parameters (served by ros2-client's
     /// parameter services: `ros2 param list/get`).
     pub fn new(default_name: &str, args: &CommonArgs, ros: &RosOptions) -> anyhow::Result<Bus> {
-        let context = context_from_env(ros.enclave.as_deref())?;
+        let settings = participant_settings(ros.enclave.as_deref()).unwrap_or_else(|e| {
+            eprintln!("error: {e:#}");
+            std::process::exit(EXIT_INPUT)
+        });
+        let context = context_with(&settings)?;
         let name = args.node_name.clone().unwrap_or_else(|| default_name.to_string());
         let mut options = NodeOptions::new().enable_rosout(ros.rosout);
         for p in &ros.parameters {
