@@ -41,7 +41,8 @@ fn start(tag: &str, node: &str, own: &str, params: &str, extra_ros: &str) -> (Va
     let out = Command::new(root().join("launch-free-scripts/netns-run")).args(["bash", "-c", &script]).output().expect("netns-run runs");
     let log = std::fs::read_to_string(dir.join("node.log")).unwrap_or_default();
     assert!(out.status.success(), "{tag}: {}\n{}\nnode: {log}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    let seen: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("seen.json")).unwrap()).unwrap_or_else(|e| panic!("{tag}: {e}\nnode: {log}"));
+    let seen: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("seen.json")).unwrap()).unwrap_or_else(|e| panic!("{tag}: {e}\nnode: {log}"));
     let _ = std::fs::remove_dir_all(&dir);
     (seen, log)
 }
@@ -77,13 +78,21 @@ fn commander_and_simulator_take_ros_arguments() {
             &format!("-r {topic}/axis_state:=/cnc/state"),
         );
         let params = check_common(node, &seen, &log);
-        assert_eq!((params["program"].as_str(), params["rate"].as_f64(), params["fast"].as_bool()), (Some("bundled:SING.I"), Some(500.0), Some(true)), "{node}: {params:?}");
+        assert_eq!(
+            (params["program"].as_str(), params["rate"].as_f64(), params["fast"].as_bool()),
+            (Some("bundled:SING.I"), Some(500.0), Some(true)),
+            "{node}: {params:?}"
+        );
         assert_eq!(seen["parameter_types"]["rate"], "double");
         assert_eq!(seen["parameter_types"]["fast"], "bool");
         assert_eq!(params["use_sim_time"].as_bool(), Some(true), "{node}: ROS 2's own parameter, from the file");
         assert_eq!(seen["parameter_types"]["min_subscribers"], "integer");
         assert!(has(&seen["publications"], "/cnc/state", "fiveaxis_msgs/msg/AxisState"), "{node}: remapped: {}", seen["publications"]);
-        assert!(has(&seen["publications"], &format!("/cell1/{topic}/joint_states"), "sensor_msgs/msg/JointState"), "{node}: in the namespace: {}", seen["publications"]);
+        assert!(
+            has(&seen["publications"], &format!("/cell1/{topic}/joint_states"), "sensor_msgs/msg/JointState"),
+            "{node}: in the namespace: {}",
+            seen["publications"]
+        );
         assert!(!has(&seen["publications"], &format!("/fiveaxis/{topic}/axis_state"), "fiveaxis_msgs/msg/AxisState"));
     }
 }
@@ -104,7 +113,11 @@ fn monitor_recorder_and_rerun_bridge_take_ros_arguments() {
     assert_eq!(params["output"].as_str(), Some(mcap.to_str().unwrap()));
     // The recorder's readers are raw RustDDS readers, which ros2-client cannot list in the node's
     // entry: seen through DDS discovery, on the node's participant.
-    assert!(has(&seen["participant_subscriptions"], "/cell1/simulated/axis_state", "fiveaxis_msgs/msg/AxisState"), "{}", seen["participant_subscriptions"]);
+    assert!(
+        has(&seen["participant_subscriptions"], "/cell1/simulated/axis_state", "fiveaxis_msgs/msg/AxisState"),
+        "{}",
+        seen["participant_subscriptions"]
+    );
     assert!(mcap.exists(), "the recorder wrote its file where the parameter said");
 
     let rrd = dir.join("live.rrd");
@@ -122,7 +135,6 @@ fn bad_ros_arguments_are_refused_with_exit_2() {
         (vec!["--ros-args", "-p", "rat:=5.0"], "rat"),
         (vec!["--ros-args", "-p", "rate:=fast"], "expected a number"),
         (vec!["--ros-args", "--params-file", "/nonexistent/p.yaml"], "/nonexistent/p.yaml"),
-        (vec!["--ros-args", "--enclave", "/e"], "security"),
         (vec!["--rate", "5", "--ros-args", "-p", "rate:=6.0"], "give one"),
         // Off real time, wall-clock stamps would not be the program's.
         (vec!["--fast"], "use_sim_time"),
@@ -133,4 +145,15 @@ fn bad_ros_arguments_are_refused_with_exit_2() {
         assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+    // DDS Security asked for and enforced, with no keystore to take the enclave from.
+    let out = Command::new(bin("fiveaxis-commander"))
+        .args(["bundled:SING.I", "--ros-args", "--enclave", "/e"])
+        .env("ROS_SECURITY_ENABLE", "true")
+        .env("ROS_SECURITY_STRATEGY", "Enforce")
+        .env_remove("ROS_SECURITY_KEYSTORE")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "--enclave /e under Enforce without a keystore: {err}");
+    assert!(err.contains("ROS_SECURITY_KEYSTORE"), "{err}");
 }
