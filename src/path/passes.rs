@@ -4,8 +4,9 @@
 //! rapid speed, as G00 moves). The segments come one at a time: memory is one pass's stream's, not
 //! the number of passes'.
 
-use super::segment::tip_length;
+use super::segment::{rapid_duration, tip_length};
 use super::{Segment, SegmentKind};
+use crate::kinematics::Joints;
 use crate::machine::Machine;
 
 /// The segments of `passes` runs of a program (`None`: endless), each pass's stream opened by
@@ -18,8 +19,9 @@ pub struct Passes<'m, F, I> {
     passes: Option<u64>,
     /// The current pass's shift in time (s) and path (m).
     shift: (f64, f64),
-    /// The last segment handed out (where the next pass's joining rapid starts).
-    last: Option<Segment>,
+    /// Where the last segment handed out ends: time (s), path (m) and axes (the next pass's joining
+    /// rapid starts there).
+    end: Option<(f64, f64, Joints)>,
     /// The next pass's first segment, after its joining rapid.
     pending: Option<Segment>,
     machine: &'m Machine,
@@ -28,12 +30,7 @@ pub struct Passes<'m, F, I> {
 impl<'m, F: FnMut() -> Option<I>, I: Iterator<Item = Segment>> Passes<'m, F, I> {
     /// Run the segments `open` gives `passes` times (`None`: until the consumer stops).
     pub fn new(open: F, passes: Option<u64>, machine: &'m Machine) -> Self {
-        Passes { open, current: None, opened: 0, passes, shift: (0.0, 0.0), last: None, pending: None, machine }
-    }
-
-    /// Passes started so far (the one in progress included).
-    pub fn started(&self) -> u64 {
-        self.opened
+        Passes { open, current: None, opened: 0, passes, shift: (0.0, 0.0), end: None, pending: None, machine }
     }
 
     fn shifted(&self, mut seg: Segment) -> Segment {
@@ -43,7 +40,7 @@ impl<'m, F: FnMut() -> Option<I>, I: Iterator<Item = Segment>> Passes<'m, F, I> 
     }
 
     fn hand_out(&mut self, seg: Segment) -> Option<Segment> {
-        self.last = Some(seg.clone());
+        self.end = Some((seg.t0 + seg.duration, seg.s0 + seg.length, seg.q1));
         Some(seg)
     }
 }
@@ -70,12 +67,11 @@ impl<F: FnMut() -> Option<I>, I: Iterator<Item = Segment>> Iterator for Passes<'
             self.opened += 1;
             let first = next.next()?;
             self.current = Some(next);
-            let Some(last) = self.last.take() else {
+            let Some((t_end, s_end, q_end)) = self.end else {
                 // The first pass runs as programmed.
                 return self.hand_out(first);
             };
-            let (t_end, s_end) = (last.t0 + last.duration, last.s0 + last.length);
-            let join = joining_rapid(&last, &first, t_end, s_end, self.machine);
+            let join = joining_rapid(q_end, &first, t_end, s_end, self.machine);
             let (t_start, s_start) = join.as_ref().map_or((t_end, s_end), |j| (j.t0 + j.duration, j.s0 + j.length));
             self.shift = (t_start - first.t0, s_start - first.s0);
             let first = self.shifted(first);
@@ -90,11 +86,11 @@ impl<F: FnMut() -> Option<I>, I: Iterator<Item = Segment>> Iterator for Passes<'
     }
 }
 
-/// The rapid from where `last` ends to where `first` starts, from time `t0` and path `s0`; `None`
-/// where they are the same pose.
-fn joining_rapid(last: &Segment, first: &Segment, t0: f64, s0: f64, machine: &Machine) -> Option<Segment> {
-    let (q0, q1) = (last.q1, first.q0);
-    let duration = (0..5).map(|i| (q1[i] - q0[i]).abs() / machine.axes[i].limits.velocity).fold(0.0, f64::max);
+/// The rapid from axes `q0` to where `first` starts, from time `t0` and path `s0`; `None` where
+/// they are the same pose.
+fn joining_rapid(q0: Joints, first: &Segment, t0: f64, s0: f64, machine: &Machine) -> Option<Segment> {
+    let q1 = first.q0;
+    let duration = rapid_duration(&q0, &q1, machine);
     if !(duration > 1e-12) {
         return None;
     }

@@ -492,9 +492,7 @@ impl<'m> SegmentPlanner<'m> {
                 let lin_len = seg.linear_axes_length();
                 let rot_len = ((pq1[3] - pq0[3]).powi(2) + (pq1[4] - pq0[4]).powi(2)).sqrt();
                 let duration = match kind {
-                    SegmentKind::Rapid => (0..5)
-                        .map(|i| (pq1[i] - pq0[i]).abs() / machine.axes[i].limits.velocity)
-                        .fold(0.0, f64::max),
+                    SegmentKind::Rapid => rapid_duration(&pq0, &pq1, machine),
                     _ => {
                         let Some(feed) = b.feed else {
                             diags.push(diag(b, "feed move without a feed: block skipped".into()));
@@ -626,6 +624,12 @@ fn out_of_range(b: &Block, machine: &Machine, q: &Joints) -> Option<Diagnostic> 
 }
 
 /// Tool-tip path length of a segment in the workpiece frame (exact for TCP moves, else integrated).
+/// How long a rapid (G00) from `q0` to `q1` takes: every axis linear, the slowest at its maximum
+/// velocity.
+pub(super) fn rapid_duration(q0: &Joints, q1: &Joints, machine: &Machine) -> f64 {
+    (0..5).map(|i| (q1[i] - q0[i]).abs() / machine.axes[i].limits.velocity).fold(0.0, f64::max)
+}
+
 pub(super) fn tip_length(seg: &Segment, machine: &Machine) -> f64 {
     if seg.kind == SegmentKind::Tcp {
         return seg.arc.as_ref().map_or_else(|| (seg.tip1 - seg.tip0).norm(), |a| a.length());

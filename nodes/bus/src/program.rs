@@ -198,3 +198,12 @@ pub fn open_program(program: &str, options: &JobOptions, machine: &Machine, sett
     }
     (moves, gate)
 }
+
+/// After publishing `sent` samples of `program` pass after pass ([`Moves::passes`]): a later pass
+/// that could not be read again (`failed`) ends the node with exit code 2, naming why.
+pub fn finish_passes(program: &str, failed: &std::sync::OnceLock<fiveaxis::job::JobError>, sent: usize) {
+    if let Some(e) = failed.get() {
+        eprintln!("error: reading {program} again for its next pass: {e} (stopped after {sent} samples)");
+        std::process::exit(EXIT_INPUT);
+    }
+}

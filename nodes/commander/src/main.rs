@@ -53,10 +53,7 @@ fn main() -> anyhow::Result<()> {
         }
     };
     let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, clock_pub.as_ref(), &pacer, &shutdown);
-    if let Some(e) = reread.get() {
-        eprintln!("error: reading {} again for its next pass: {e} (stopped after {sent} samples)", args.stream.program);
-        std::process::exit(EXIT_INPUT);
-    }
+    fiveaxis_bus::program::finish_passes(&args.stream.program, &reread, sent);
     gate.finish(sent > 0, shutdown.requested());
     Ok(())
 }

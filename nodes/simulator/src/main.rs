@@ -84,10 +84,7 @@ fn main() -> anyhow::Result<()> {
             std::process::exit(EXIT_INPUT);
         }
     };
-    if let Some(e) = reread.get() {
-        eprintln!("error: reading {} again for its next pass: {e} (stopped after {sent} samples)", args.stream.program);
-        std::process::exit(EXIT_INPUT);
-    }
+    fiveaxis_bus::program::finish_passes(&args.stream.program, reread, sent);
     tracing::info!(
         samples = figures.samples,
         duration_s = figures.duration_s,
