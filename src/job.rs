@@ -10,10 +10,7 @@ use crate::singularity::{analyze, Analysis, AnalysisOptions};
 use std::path::Path;
 
 /// The paper's NC programs, compiled in (`bundled:SING.I`, `bundled:NON_SING.I`).
-pub const BUNDLED: [(&str, &str); 2] = [
-    ("SING.I", include_str!("../recordings/programs/SING.I")),
-    ("NON_SING.I", include_str!("../recordings/programs/NON_SING.I")),
-];
+pub use crate::program::BUNDLED;
 
 /// Everything one job produced.
 #[derive(Debug, Clone)]

@@ -1,8 +1,10 @@
 //! fiveaxis: watch a five-axis machine tool for kinematic singularities.
 //!
-//! The math of Cripps et al. 2017 (seed 001) and of the C-axis smoothing paper (seed 002), as plain
-//! functions: machine models and kinematics, NC program readers, tool-path sampling and the
-//! singularity analysis. No I/O in the math; the nodes move its values across a bus.
+//! The math of Cripps et al. 2017 (seed 001) and of the C-axis smoothing paper (seed 002) lives in
+//! the sans-I/O crate [`fiveaxis_core`] (machines, kinematics, program readers, paths, singularity,
+//! planner, roughness math), re-exported here at the same paths. This crate adds what touches files
+//! and formats: recordings (MCAP, rosbag2: [`record`]), the offline [`analysis`] of them, reports,
+//! roughness files, the in-process node set ([`live`]) and the jobs the command line runs ([`job`]).
 //!
 //! Units: SI inside (m, rad, s; REP 103). Readers convert from mm/inch/degrees; reports convert back.
 
@@ -11,18 +13,28 @@
 
 pub mod analysis;
 pub mod avoid;
+mod control_args;
 pub mod job;
-pub mod kinematics;
-pub mod listing;
 pub mod live;
-pub mod machine;
-pub mod path;
-pub mod planner;
-pub mod program;
 pub mod record;
 pub mod report;
-pub mod roughness;
 pub mod scene;
-pub mod singularity;
-pub mod units;
-mod xml;
+
+// The math, from the sans-I/O core crate, at the paths it has always had.
+pub use fiveaxis_core::{kinematics, listing, machine, path, planner, singularity, units};
+use fiveaxis_core::xml;
+
+/// NC program readers ([`fiveaxis_core::program`]) and the control's set-up flags.
+pub mod program {
+    pub use crate::control_args::ControlArgs;
+    pub use fiveaxis_core::program::*;
+}
+
+/// Surface roughness ([`fiveaxis_core::roughness`]) and its files (X3P, CSV) and flags.
+pub mod roughness {
+    mod args;
+    mod io;
+    pub use args::RoughnessArgs;
+    pub use fiveaxis_core::roughness::*;
+    pub use io::{read_csv, read_profile, read_x3p, write_csv, write_x3p, CsvUnits};
+}

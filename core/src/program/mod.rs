@@ -21,6 +21,12 @@ pub use sinumerik::read_sinumerik_with;
 pub use stream::{BlockStream, DiagnosticLog, MAX_DIAGNOSTICS, MAX_LINE_BYTES};
 
 use std::fmt;
+
+/// The paper's NC programs (Heidenhain DIN/ISO), compiled in: `bundled:SING.I`, `bundled:NON_SING.I`.
+pub const BUNDLED: [(&str, &str); 2] = [
+    ("SING.I", include_str!("../../../recordings/programs/SING.I")),
+    ("NON_SING.I", include_str!("../../../recordings/programs/NON_SING.I")),
+];
 use std::path::Path;
 
 /// The dialects the readers understand.
@@ -173,7 +179,7 @@ pub struct ArcSpec {
 
 /// How the control interpolates the tool orientation between a block's start and end under
 /// tool-centre-point management.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Orientation {
     /// The rotary axes move linearly in the block (Heidenhain `M128` / `PATHCTRL AXIS`, Sinumerik
@@ -184,6 +190,22 @@ pub enum Orientation {
     /// at a constant angular rate (Heidenhain `PATHCTRL VECTOR`, Sinumerik `ORIVECT` / `ORIWKS`); the
     /// rotary axes follow by inverse kinematics, so near the pole C turns faster than between its ends.
     GreatCircle,
+}
+
+impl Orientation {
+    /// The names people give the modes on the command line (`--orientation`), in declaration order.
+    pub const NAMES: [&'static str; 2] = ["axis-linear", "great-circle"];
+}
+
+impl std::str::FromStr for Orientation {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "axis-linear" => Ok(Orientation::AxisLinear),
+            "great-circle" => Ok(Orientation::GreatCircle),
+            other => Err(format!("unknown orientation mode '{other}': expected {}", Orientation::NAMES.join(" or "))),
+        }
+    }
 }
 
 /// How the feed word is read.
@@ -362,29 +384,6 @@ impl std::str::FromStr for MCodeRule {
             other => return Err(format!("unknown M code action '{other}': expected tcp-on, tcp-off or event")),
         };
         Ok(MCodeRule { code, action })
-    }
-}
-
-/// How the control is set up, for every command and node that reads a program: `--m-code`,
-/// `--orientation`.
-#[derive(Debug, Clone, Default, clap::Args)]
-pub struct ControlArgs {
-    /// What a machine-specific M code does, `CODE=ACTION` with ACTION tcp-on, tcp-off or event
-    /// (repeatable; LinuxCNC's vismach five-axis demos: `--m-code 428=tcp-on --m-code 429=tcp-off`).
-    /// An RS274NGC program with any other non-standard M code is refused.
-    #[arg(long = "m-code", value_name = "CODE=ACTION")]
-    pub m_codes: Vec<MCodeRule>,
-    /// How the control interpolates the tool orientation under tool-centre-point management at
-    /// program start (the machine's setting; the program's own words, such as Sinumerik's ORIVECT or
-    /// ORIAXES and Heidenhain's FUNCTION TCPM ... PATHCTRL VECTOR or AXIS, still switch it). Default: the dialect's, from its maker's documentation.
-    #[arg(long = "orientation", value_enum, value_name = "MODE")]
-    pub orientation: Option<Orientation>,
-}
-
-impl ControlArgs {
-    /// The readers' options these flags ask for (other options at their defaults).
-    pub fn read_options(&self) -> ReadOptions {
-        ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, ..Default::default() }
     }
 }
 

@@ -81,14 +81,14 @@ pub enum MachineError {
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
 /// of each family: table-table, table-head, head-head) and a 45 deg nutating head.
 const BUILTIN_FILES: [(&str, &str); 8] = [
-    ("hermle-c600u", include_str!("../../machines/hermle-c600u.toml")),
-    ("mikron-ucp710", include_str!("../../machines/mikron-ucp710.toml")),
-    ("seed003-ttttr", include_str!("../../machines/seed003-ttttr.toml")),
-    ("dmu-style-b45", include_str!("../../machines/dmu-style-b45.toml")),
-    ("linuxcnc-xyzbc-trt", include_str!("../../machines/linuxcnc-xyzbc-trt.toml")),
-    ("linuxcnc-xyzab-tdr", include_str!("../../machines/linuxcnc-xyzab-tdr.toml")),
-    ("linuxcnc-max5", include_str!("../../machines/linuxcnc-max5.toml")),
-    ("linuxcnc-bridgemill", include_str!("../../machines/linuxcnc-bridgemill.toml")),
+    ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
+    ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
+    ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
+    ("dmu-style-b45", include_str!("../../../machines/dmu-style-b45.toml")),
+    ("linuxcnc-xyzbc-trt", include_str!("../../../machines/linuxcnc-xyzbc-trt.toml")),
+    ("linuxcnc-xyzab-tdr", include_str!("../../../machines/linuxcnc-xyzab-tdr.toml")),
+    ("linuxcnc-max5", include_str!("../../../machines/linuxcnc-max5.toml")),
+    ("linuxcnc-bridgemill", include_str!("../../../machines/linuxcnc-bridgemill.toml")),
 ];
 
 /// Names of the built-in machines (those of [`BUILTIN_FILES`], in order).

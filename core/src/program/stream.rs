@@ -3,7 +3,7 @@
 //! one block's output ([`BlockStream`]): a ten-hour CAM program is never held whole.
 //!
 //! ```
-//! use fiveaxis::program::{BlockStream, Dialect, ReadOptions};
+//! use fiveaxis_core::program::{BlockStream, Dialect, ReadOptions};
 //! let text = "1 2 3 0 0 1 1000\n2 2 3 0 0.1 0.995 1000\n";
 //! let mut stream = BlockStream::from_text(text, Some(Dialect::Cl), "two poses", &ReadOptions::default());
 //! assert_eq!(stream.by_ref().count(), 2);

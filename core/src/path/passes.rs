@@ -121,12 +121,25 @@ fn joining_rapid(q0: Joints, first: &Segment, t0: f64, s0: f64, machine: &Machin
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::job::{JobOptions, Moves};
+    use crate::path::{PathOptions, Trajectory};
+    use crate::program::{self, Dialect};
+
+    /// SING.I's segments, with the stream's interface (`segments` opens them again each call).
+    struct Moves(Trajectory);
+
+    impl Moves {
+        fn segments<'a>(&'a self, _: &Machine) -> Result<impl Iterator<Item = Segment> + 'a, ()> {
+            Ok(self.0.segments.iter().cloned())
+        }
+    }
 
     fn sing() -> (Machine, Moves) {
         let m = Machine::hermle_c600u();
-        let moves = Moves::open("bundled:SING.I", &m, &JobOptions::default()).expect("SING.I");
-        (m, moves)
+        let text = program::BUNDLED.iter().find(|(n, _)| *n == "SING.I").expect("SING.I").1;
+        let p = program::read(text, Dialect::Heidenhain, "SING.I", &Default::default());
+        let traj = Trajectory::from_program(&p, &m, &PathOptions::default());
+        assert!(traj.diagnostics.is_empty() && !traj.segments.is_empty());
+        (m, Moves(traj))
     }
 
     #[test]

@@ -2,6 +2,6 @@
 //! are written with quick-junit).
 
 /// `s` escaped for XML element text and double-quoted attribute values.
-pub(crate) fn escape(s: &str) -> String {
+pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }

@@ -10,13 +10,7 @@
 //!   Rq (rms), Rz (mean over the five sampling lengths of the highest peak plus the deepest valley).
 //! - A seeded synthetic profile for the paper demo ([`synthetic`]); named synthetic wherever it goes.
 
-mod args;
-mod io;
 pub mod synthetic;
-
-pub use args::RoughnessArgs;
-
-pub use io::{read_csv, read_profile, read_x3p, write_csv, write_x3p, CsvUnits};
 
 /// A measured (or synthetic) height profile along x, SI (m).
 #[derive(Debug, Clone, PartialEq)]
