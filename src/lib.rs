@@ -13,7 +13,7 @@
 
 pub mod analysis;
 pub mod avoid;
-mod control_args;
+pub mod args;
 pub mod job;
 pub mod live;
 pub mod record;
@@ -26,7 +26,7 @@ use fiveaxis_core::xml;
 
 /// NC program readers ([`fiveaxis_core::program`]) and the control's set-up flags.
 pub mod program {
-    pub use crate::control_args::ControlArgs;
+    pub use crate::args::ControlArgs;
     pub use fiveaxis_core::program::*;
 }
 
@@ -34,7 +34,9 @@ pub mod program {
 pub mod roughness {
     mod args;
     mod io;
+    mod synthesize;
     pub use args::RoughnessArgs;
+    pub use synthesize::{synthesize, SynthesizeError};
     pub use fiveaxis_core::roughness::*;
     pub use io::{read_csv, read_profile, read_x3p, write_csv, write_x3p, CsvUnits};
 }

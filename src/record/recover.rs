@@ -121,5 +121,11 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
     }
     report.channels = channel_ids.len();
     writer.finish().map_err(|e| super::mcap_err(output, e))?;
+    // Damaged input that gave back nothing (not an MCAP at all, or cut before its first message)
+    // recovered nothing: an error, with no empty file left to pass for a recording.
+    if let (0, Some(why)) = (report.messages, &report.stopped) {
+        let _ = std::fs::remove_file(output);
+        return Err(RecordError::Mcap { path: input.to_path_buf(), message: format!("nothing recoverable ({why})") });
+    }
     Ok(report)
 }

@@ -91,6 +91,9 @@ const BUILTIN_FILES: [(&str, &str); 8] = [
     ("linuxcnc-bridgemill", include_str!("../../../machines/linuxcnc-bridgemill.toml")),
 ];
 
+/// The machine every command and node takes when none is named: the paper's Hermle C600U (A/C table).
+pub const DEFAULT_MACHINE: &str = "hermle-c600u";
+
 /// Names of the built-in machines (those of [`BUILTIN_FILES`], in order).
 pub const BUILTIN_NAMES: [&str; BUILTIN_FILES.len()] = {
     let mut names = [""; BUILTIN_FILES.len()];
@@ -111,7 +114,7 @@ impl Machine {
 
     /// The Hermle C600U of seed 001 (the default machine).
     pub fn hermle_c600u() -> Machine {
-        Machine::builtin("hermle-c600u").expect("built-in machine file is valid")
+        Machine::builtin(DEFAULT_MACHINE).expect("built-in machine file is valid")
     }
 
     /// A built-in name, or else a path to a URDF (`.urdf`) or TOML machine file.

@@ -52,36 +52,34 @@ impl<F: FnMut() -> Option<I>, I: Iterator<Item = Segment>> Iterator for Passes<'
         if let Some(seg) = self.pending.take() {
             return self.hand_out(seg);
         }
-        loop {
-            if let Some(cur) = self.current.as_mut() {
-                if let Some(seg) = cur.next() {
-                    let seg = self.shifted(seg);
-                    return self.hand_out(seg);
-                }
-                self.current = None;
+        if let Some(cur) = self.current.as_mut() {
+            if let Some(seg) = cur.next() {
+                let seg = self.shifted(seg);
+                return self.hand_out(seg);
             }
-            if self.passes.is_some_and(|n| self.opened >= n) {
-                return None;
+            self.current = None;
+        }
+        if self.passes.is_some_and(|n| self.opened >= n) {
+            return None;
+        }
+        let mut next = (self.open)()?;
+        self.opened += 1;
+        let first = next.next()?;
+        self.current = Some(next);
+        let Some((t_end, s_end, q_end)) = self.end else {
+            // The first pass runs as programmed.
+            return self.hand_out(first);
+        };
+        let join = joining_rapid(q_end, &first, t_end, s_end, self.machine);
+        let (t_start, s_start) = join.as_ref().map_or((t_end, s_end), |j| (j.t0 + j.duration, j.s0 + j.length));
+        self.shift = (t_start - first.t0, s_start - first.s0);
+        let first = self.shifted(first);
+        match join {
+            Some(j) => {
+                self.pending = Some(first);
+                self.hand_out(j)
             }
-            let mut next = (self.open)()?;
-            self.opened += 1;
-            let first = next.next()?;
-            self.current = Some(next);
-            let Some((t_end, s_end, q_end)) = self.end else {
-                // The first pass runs as programmed.
-                return self.hand_out(first);
-            };
-            let join = joining_rapid(q_end, &first, t_end, s_end, self.machine);
-            let (t_start, s_start) = join.as_ref().map_or((t_end, s_end), |j| (j.t0 + j.duration, j.s0 + j.length));
-            self.shift = (t_start - first.t0, s_start - first.s0);
-            let first = self.shifted(first);
-            match join {
-                Some(j) => {
-                    self.pending = Some(first);
-                    return self.hand_out(j);
-                }
-                None => return self.hand_out(first),
-            }
+            None => self.hand_out(first),
         }
     }
 }

@@ -45,6 +45,22 @@ pub enum Dialect {
     Klartext,
 }
 
+/// A dialect by the names people call it (`--dialect`): heidenhain (din, iso), rs274 (ngc, gcode,
+/// linuxcnc), cl, sinumerik (840d, siemens), klartext (conversational); case-insensitive.
+impl std::str::FromStr for Dialect {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "heidenhain" | "din" | "iso" => Ok(Dialect::Heidenhain),
+            "rs274" | "ngc" | "gcode" | "linuxcnc" => Ok(Dialect::Rs274),
+            "cl" => Ok(Dialect::Cl),
+            "sinumerik" | "840d" | "siemens" => Ok(Dialect::Sinumerik),
+            "klartext" | "conversational" => Ok(Dialect::Klartext),
+            _ => Err(format!("unknown dialect '{s}': expected heidenhain, rs274, cl, sinumerik or klartext")),
+        }
+    }
+}
+
 impl Dialect {
     /// True if a program in this dialect starts at its first pose (CL data: the first line is where
     /// the tool is), false if its first move starts from the machine's home (NC programs).

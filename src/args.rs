@@ -1,6 +1,8 @@
-//! The control's set-up flags shared by every command and node that reads a program (`--m-code`,
-//! `--orientation`): clap lives here, above the readers' plain [`ReadOptions`].
+//! Flag groups shared by the `fiveaxis` commands, the nodes and the Rerun bridge, declared once:
+//! `--machine`, the control's set-up (`--m-code`, `--orientation`) and `--max-listed-regions`. Clap
+//! lives here, above the core's plain options.
 
+use crate::machine::{Machine, MachineError, DEFAULT_MACHINE};
 use crate::program::{MCodeRule, Orientation, ReadOptions};
 use clap::builder::TypedValueParser;
 
@@ -30,4 +32,34 @@ impl ControlArgs {
     pub fn read_options(&self) -> ReadOptions {
         ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, ..Default::default() }
     }
+}
+
+/// `--machine`: which machine, for every command and node that needs one.
+#[derive(Debug, Clone, clap::Args)]
+pub struct MachineArgs {
+    /// Built-in machine name (`fiveaxis machine list`), or a TOML or URDF (.urdf) machine file.
+    #[arg(long = "machine", id = "machine", value_name = "MACHINE", default_value = DEFAULT_MACHINE)]
+    pub spec: String,
+}
+
+impl Default for MachineArgs {
+    fn default() -> Self {
+        MachineArgs { spec: DEFAULT_MACHINE.into() }
+    }
+}
+
+impl MachineArgs {
+    /// The machine named (an unknown name or an invalid file is an error naming the field).
+    pub fn load(&self) -> Result<Machine, MachineError> {
+        Machine::from_name_or_file(&self.spec)
+    }
+}
+
+/// How many regions a report lists (`program analyze`, `run`, `analyze`).
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct ListingArgs {
+    /// Regions listed in full per list; the rest are counted and folded into one line (JSON:
+    /// `unlisted_regions`: count, time inside, worst figures), so an hours-long run's report stays small.
+    #[arg(long = "max-listed-regions", value_name = "N", default_value_t = crate::listing::MAX_LISTED)]
+    pub max_listed_regions: usize,
 }

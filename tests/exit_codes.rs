@@ -1,0 +1,174 @@
+//! Every exit code of every `fiveaxis` command (issue 16): 0 done, 1 a threshold violated (or the
+//! command itself failed: `fiveaxis-rerun` missing), 2 bad input (usage, unreadable or invalid input,
+//! a program with defects, an output that cannot be written). Each case also checks that stderr
+//! names the reason, so a code is never right by accident.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Run `exe` with `args` from the repository; exit code and stderr.
+fn run_exe(exe: &Path, args: &[&str]) -> (i32, String) {
+    let out = Command::new(exe).args(args).current_dir(root()).output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into())
+}
+
+/// `fiveaxis ARGS` exits with `code` and says `why` on stderr (empty: no reason to check, code 0).
+fn expect(args: &[&str], code: i32, why: &str) {
+    let (got, err) = run_exe(Path::new(env!("CARGO_BIN_EXE_fiveaxis")), args);
+    assert_eq!(got, code, "fiveaxis {}: {err}", args.join(" "));
+    assert!(err.contains(why), "fiveaxis {}: stderr does not say '{why}': {err}", args.join(" "));
+}
+
+fn tmp(name: &str) -> PathBuf {
+    common::scratch_path("exit-codes", name)
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A recording of `program` run in process (as `fiveaxis run --mcap` writes it).
+fn recording(program: &str, name: &str) -> PathBuf {
+    let path = tmp(name);
+    if !path.exists() {
+        expect(&["run", program, "--mcap", s(&path)], 0, "recorded");
+    }
+    path
+}
+
+/// An output path in a directory that does not exist.
+fn unwritable(name: &str) -> PathBuf {
+    tmp("no-such-dir").join("deeper").join(name)
+}
+
+#[test]
+fn usage_errors_exit_2_for_every_command() {
+    for cmd in [&["program", "analyze"][..], &["run"], &["analyze"], &["mcap", "recover"], &["roughness", "synthesize"], &["avoid", "reorient"], &["avoid", "smooth"], &["avoid", "refine"], &["machine", "show"], &["machine", "urdf"], &["demo", "--no-such-flag"], &["machine", "list", "extra"], &["no-such-command"]] {
+        let (code, err) = run_exe(Path::new(env!("CARGO_BIN_EXE_fiveaxis")), cmd);
+        assert_eq!(code, 2, "fiveaxis {cmd:?}: {err}");
+        assert!(err.contains("Usage") || err.contains("usage"), "fiveaxis {cmd:?}: {err}");
+    }
+    // --help documents the codes.
+    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).arg("--help").output().unwrap();
+    let help = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success() && help.contains("Exit codes: 0") && help.contains("2 bad input"), "{help}");
+}
+
+#[test]
+fn program_analyze_exits_0_or_2() {
+    expect(&["program", "analyze", "bundled:SING.I"], 0, "");
+    expect(&["program", "analyze", "no/such/file.I"], 2, "no/such/file.I");
+    expect(&["program", "analyze", "recordings/programs/damaged/SING_ocr.I"], 2, "defect");
+    expect(&["program", "analyze", "bundled:SING.I", "--machine", "no-such-machine"], 2, "unknown machine");
+    expect(&["program", "analyze", "bundled:SING.I", "--period-ms", "0"], 2, "--period-ms");
+    expect(&["program", "analyze", "bundled:SING.I", "--max-c-speed-rpm=-1"], 2, "--max-c-speed-rpm");
+}
+
+#[test]
+fn run_exits_0_1_or_2() {
+    expect(&["run", "bundled:NON_SING.I"], 0, "");
+    expect(&["run", "no/such/file.I"], 2, "no/such/file.I");
+    expect(&["run", "recordings/programs/damaged/NON_SING_ocr.I"], 2, "defect");
+    expect(&["run", "bundled:NON_SING.I", "--feed", "0"], 2, "--feed");
+    expect(&["run", "bundled:NON_SING.I", "--mcap", s(&unwritable("run.mcap"))], 2, "no-such-dir");
+    // --rrd needs fiveaxis-rerun: a copy of fiveaxis with no bridge beside it and none on the PATH
+    // fails itself (1), naming what it could not run.
+    let lone = common::scratch_dir("exit-codes-lone");
+    let exe = lone.join("fiveaxis");
+    std::fs::copy(env!("CARGO_BIN_EXE_fiveaxis"), &exe).unwrap();
+    let rrd = tmp("run.rrd");
+    let out = Command::new(&exe).args(["run", "bundled:NON_SING.I", "--rrd", s(&rrd)]).env("PATH", s(&lone)).current_dir(root()).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("fiveaxis-rerun"), "{err}");
+}
+
+#[test]
+fn analyze_exits_0_1_or_2() {
+    let sing = recording("bundled:SING.I", "sing.mcap");
+    let nonsing = recording("bundled:NON_SING.I", "nonsing.mcap");
+    // SING asks up to 175 rpm of the 25 rpm table; NON_SING stays far below it.
+    expect(&["analyze", s(&nonsing), "--max-c-speed-rpm", "25"], 0, "");
+    expect(&["analyze", s(&sing), "--max-c-speed-rpm", "25"], 1, "");
+    expect(&["analyze", s(&sing), "--min-distance-deg", "5"], 1, "");
+    expect(&["analyze", "no/such/recording.mcap"], 2, "no/such/recording.mcap");
+    expect(&["analyze", s(&nonsing), "--max-c-speed-rpm", "0"], 2, "--max-c-speed-rpm");
+    expect(&["analyze", s(&nonsing), "--min-distance-deg=-2"], 2, "--min-distance-deg");
+    expect(&["analyze", s(&nonsing), "--machine", "no-such-machine"], 2, "unknown machine");
+    expect(&["analyze", s(&nonsing), "--json", s(&unwritable("report.json"))], 2, "no-such-dir");
+    // A truncated recording is damaged input: 2, with the report of what was readable.
+    let bytes = std::fs::read(&nonsing).unwrap();
+    let cut = tmp("truncated.mcap");
+    std::fs::write(&cut, &bytes[..bytes.len() * 2 / 3]).unwrap();
+    expect(&["analyze", s(&cut)], 2, "damaged");
+    // Several recordings: the worst code of theirs.
+    expect(&["analyze", s(&nonsing), s(&sing), "--max-c-speed-rpm", "25"], 1, "");
+    expect(&["analyze", s(&nonsing), s(&cut), s(&sing), "--max-c-speed-rpm", "25"], 2, "damaged");
+}
+
+#[test]
+fn mcap_recover_exits_0_or_2() {
+    let nonsing = recording("bundled:NON_SING.I", "nonsing-recover.mcap");
+    expect(&["mcap", "recover", s(&nonsing), s(&tmp("recovered.mcap"))], 0, "");
+    let not_mcap = tmp("not.mcap");
+    std::fs::write(&not_mcap, b"this is not an MCAP file").unwrap();
+    expect(&["mcap", "recover", s(&not_mcap), s(&tmp("recovered2.mcap"))], 2, "not.mcap");
+    expect(&["mcap", "recover", "no/such/input.mcap", s(&tmp("recovered3.mcap"))], 2, "no/such/input.mcap");
+}
+
+#[test]
+fn roughness_synthesize_exits_0_or_2() {
+    expect(&["roughness", "synthesize", "--out", s(&tmp("profile.csv"))], 0, "");
+    expect(&["roughness", "synthesize", "--program", "no/such/file.I", "--out", s(&tmp("p2.csv"))], 2, "no/such/file.I");
+    expect(&["roughness", "synthesize", "--out", s(&unwritable("profile.x3p"))], 2, "no-such-dir");
+}
+
+#[test]
+fn avoid_commands_exit_0_or_2() {
+    expect(&["avoid", "reorient", "bundled:SING.I", "--out", s(&tmp("reoriented.I"))], 0, "");
+    expect(&["avoid", "reorient", "bundled:SING.I", "--max-tilt-deg", "0"], 2, "--max-tilt-deg");
+    expect(&["avoid", "smooth", "bundled:SING.I", "--tool", "ball:3"], 0, "");
+    expect(&["avoid", "smooth", "bundled:SING.I", "--tool", "flat:3"], 2, "ball-end");
+    expect(&["avoid", "smooth", "recordings/programs/damaged/SING_ocr.I", "--tool", "ball:3"], 2, "defects");
+    expect(&["avoid", "refine", "builtin:semi-cylinder"], 0, "");
+    expect(&["avoid", "refine", "builtin:semi-cylinder", "--out", s(&unwritable("r.I"))], 2, "no-such-dir");
+    expect(&["avoid", "refine", "builtin:no-such-path"], 2, "no-such-path");
+    expect(&["avoid", "refine", "builtin:semi-cylinder", "--machine", "no-such-machine"], 2, "unknown machine");
+}
+
+#[test]
+fn machine_commands_exit_0_or_2() {
+    expect(&["machine", "list"], 0, "");
+    expect(&["machine", "show", "hermle-c600u"], 0, "");
+    expect(&["machine", "show", "no-such-machine"], 2, "unknown machine");
+    expect(&["machine", "urdf", "hermle-c600u", "--out", s(&tmp("hermle.urdf"))], 0, "");
+    expect(&["machine", "urdf", "no-such-machine"], 2, "unknown machine");
+    expect(&["machine", "urdf", "hermle-c600u", "--out", s(&unwritable("h.urdf"))], 2, "no-such-dir");
+}
+
+#[test]
+fn replay_passes_the_bridge_code_and_fails_without_it() {
+    let bridge = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).with_file_name("fiveaxis-rerun");
+    assert!(bridge.exists(), "{} is built by launch-free-scripts/test (cargo build --workspace --bins)", bridge.display());
+    let nonsing = recording("bundled:NON_SING.I", "nonsing-replay.mcap");
+    expect(&["replay", s(&nonsing), "--save", s(&tmp("replay.rrd"))], 0, "");
+    expect(&["replay", "no/such/recording.mcap", "--save", s(&tmp("replay2.rrd"))], 2, "no/such/recording.mcap");
+    let lone = common::scratch_dir("exit-codes-lone-replay");
+    let exe = lone.join("fiveaxis");
+    std::fs::copy(env!("CARGO_BIN_EXE_fiveaxis"), &exe).unwrap();
+    let out = Command::new(&exe).args(["replay", s(&nonsing)]).env("PATH", s(&lone)).current_dir(root()).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("fiveaxis-rerun"), "{err}");
+}
+
+#[test]
+fn demo_exits_0() {
+    expect(&["demo", "--json"], 0, "");
+}
