@@ -739,3 +739,44 @@ wait $R1 $R2 $R3
     assert!(plain["with_needle"].as_u64().unwrap() > 1000, "the sniffer must see the unsecured messages' text: {plain}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The recorder node on a full disk (a 1 MiB tmpfs in a private mount namespace) ends as `fiveaxis
+/// run --mcap` does: exit 2 naming the file and the cause, the file closed at its last whole chunk
+/// and read through by our reader, as many messages as the error says.
+#[test]
+fn recorder_on_a_full_disk_exits_2_with_a_closed_readable_file() {
+    let b = bins();
+    let mnt = common::scratch_dir("dds-full-disk-mnt");
+    let out = common::scratch_dir("dds-full-disk-out");
+    let script = format!(
+        r#"B="{b}"
+unshare --mount --map-root-user sh -c 'mount -t tmpfs -o size=1m tmpfs "$1" || exit 99
+"$2/fiveaxis-recorder" --output "$1/rec.mcap" --topic commanded/axis_state:AxisState --topic commanded/joint_states:JointState; rc=$?
+cp -r "$1/." "$3/"; exit $rc' sh "{mnt}" "$B" "{out}" &
+R=$!
+sleep 0.5
+"$B/fiveaxis-commander" bundled:SING.I --use-sim-time --speed 8 --passes 4 --min-subscribers 1 > /dev/null 2>&1
+for i in $(seq 100); do kill -0 $R 2> /dev/null || break; sleep 0.1; done
+kill -INT $R 2> /dev/null
+wait $R; echo "recorder exit $?" >&2
+"#,
+        b = b.display(),
+        mnt = mnt.display(),
+        out = out.display()
+    );
+    let run = netns_bash(&script);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!stderr.contains("recorder exit 99"), "mounting a tmpfs in a user namespace: {stderr}");
+    assert!(stderr.contains("recorder exit 2"), "{stderr}");
+    assert!(stderr.contains("No space left on device") && stderr.contains("rec.mcap"), "the error names the file and the cause: {stderr}");
+    let kept: u64 = stderr
+        .split(" messages), closed and readable")
+        .next()
+        .and_then(|s| s.rsplit('(').next())
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or_else(|| panic!("the error says how many messages the file kept: {stderr}"));
+    let n = fiveaxis::record::read::for_each_message(&out.join("rec.mcap"), |_| {}).unwrap();
+    assert!(n > 1000, "most of the 1 MiB holds messages: {n}: {stderr}");
+    assert_eq!(n, kept);
+    let _ = std::fs::remove_dir_all(&out);
+}

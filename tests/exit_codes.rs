@@ -172,3 +172,24 @@ fn replay_passes_the_bridge_code_and_fails_without_it() {
 fn demo_exits_0() {
     expect(&["demo", "--json"], 0, "");
 }
+
+/// The nodes and the Rerun bridge share `--machine` (fiveaxis::args::MachineArgs) and its exit code:
+/// an unknown machine is bad input, exit 2 naming it, before anything joins the DDS graph.
+#[test]
+fn nodes_and_the_bridge_refuse_an_unknown_machine_with_exit_2() {
+    let dir = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap();
+    let cases: [(&str, &[&str]); 5] = [
+        ("fiveaxis-commander", &["bundled:SING.I", "--machine", "no-such-machine"]),
+        ("fiveaxis-simulator", &["bundled:SING.I", "--machine", "no-such-machine"]),
+        ("fiveaxis-monitor", &["--machine", "no-such-machine"]),
+        ("fiveaxis-rerun", &["live", "--machine", "no-such-machine"]),
+        ("fiveaxis-rerun", &["replay", "recordings/no.mcap", "--machine", "no-such-machine"]),
+    ];
+    for (exe, args) in cases {
+        let path = dir.join(exe);
+        assert!(path.exists(), "{} is built by launch-free-scripts/test", path.display());
+        let (code, err) = run_exe(&path, args);
+        assert_eq!(code, 2, "{exe} {args:?}: {err}");
+        assert!(err.contains("unknown machine 'no-such-machine'"), "{exe} {args:?}: {err}");
+    }
+}

@@ -83,9 +83,8 @@ pub struct CommonArgs {
     /// Namespace of the node and of relative topic names.
     #[arg(long, default_value = "/fiveaxis")]
     pub namespace: String,
-    /// Built-in machine name, or a TOML or URDF (.urdf) machine file.
-    #[arg(long, default_value = "hermle-c600u")]
-    pub machine: String,
+    #[command(flatten)]
+    pub machine: fiveaxis::args::MachineArgs,
     /// Rename a topic: `--remap commanded/axis_state:=/cnc/axis_state` (repeatable).
     #[arg(long = "remap", value_name = "FROM:=TO", value_parser = parse_remap)]
     pub remaps: Vec<(String, String)>,
@@ -198,6 +197,17 @@ fn parse_remap(s: &str) -> Result<(String, String), String> {
 
 /// Exit code of bad input (a program with defects, a file that cannot be read), as `fiveaxis`'s.
 pub const EXIT_INPUT: i32 = 2;
+
+impl CommonArgs {
+    /// The machine `--machine` names; an unknown name or an invalid file is bad input: the reason
+    /// (naming the field) on stderr, exit 2, before the node joins the graph.
+    pub fn machine_or_exit(&self) -> fiveaxis::machine::Machine {
+        self.machine.load().unwrap_or_else(|e| {
+            eprintln!("error: loading the machine: {e}");
+            std::process::exit(EXIT_INPUT)
+        })
+    }
+}
 
 /// Tracing directives that keep the DDS stack's own logs to warnings (and ros2-client's distribution
 /// notice quiet) whatever level the node logs at.

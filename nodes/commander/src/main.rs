@@ -3,11 +3,9 @@
 //! program time, which it then also publishes on `/clock` (the node set's clock source).
 //! The program is read as it is published, in flat memory; a defect stops it ([`fiveaxis_bus::Gate`]).
 
-use anyhow::Context as _;
 use clap::Parser;
 use fiveaxis::live::commander::commanded_passes;
 use fiveaxis::live::StateBuilder;
-use fiveaxis::machine::Machine;
 use fiveaxis_bus::{clock_qos, init_tracing, EXIT_INPUT, open_program, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
 use fiveaxis_msgs::{AxisState, Clock, JointState};
 use std::time::Duration;
@@ -30,7 +28,7 @@ fn main() -> anyhow::Result<()> {
         std::process::exit(EXIT_INPUT);
     }
     let shutdown = Shutdown::install()?;
-    let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
+    let machine = args.common.machine_or_exit();
     let (moves, gate) = open_program(&args.stream.program, &args.stream.job_options(), &machine, Duration::from_secs_f64(args.stream.check_before_publish_s));
 
     let mut bus = Bus::new("fiveaxis_commander", &args.common, &ros)?;

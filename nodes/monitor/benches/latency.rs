@@ -16,7 +16,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 fn args(name: &str) -> CommonArgs {
-    CommonArgs { namespace: "/bench".into(), machine: "hermle-c600u".into(), remaps: vec![], node_name: Some(name.into()), use_sim_time: false }
+    CommonArgs { namespace: "/bench".into(), machine: Default::default(), remaps: vec![], node_name: Some(name.into()), use_sim_time: false }
 }
 
 fn main() -> anyhow::Result<()> {

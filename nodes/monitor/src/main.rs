@@ -6,7 +6,6 @@
 use anyhow::Context as _;
 use clap::Parser;
 use fiveaxis::live::monitor::{Monitor, MonitorConfig, Rejection};
-use fiveaxis::machine::Machine;
 use fiveaxis::units::{MM, MM_PER_MIN, RPM};
 use fiveaxis_bus::{diagnostics_qos, subscribe_states, InputArgs, StateInput, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
 use fiveaxis_msgs::{DiagnosticArray, SingularityStatus};
@@ -67,7 +66,7 @@ fn main() -> anyhow::Result<()> {
     let (args, ros) = fiveaxis_bus::ros_args::parse::<Args>("fiveaxis_monitor");
     init_tracing(&ros);
     let shutdown = Shutdown::install()?;
-    let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
+    let machine = args.common.machine_or_exit();
     let config = MonitorConfig {
         stale_timeout: args.stale_ms * 1e-3,
         min_distance: args.min_distance_deg.map(f64::to_radians),

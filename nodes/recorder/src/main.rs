@@ -58,10 +58,16 @@ struct Item {
     publish_ns: u64,
 }
 
-/// Bad input (a `--topic` that does not parse, a bag that cannot be created): the reason, exit 2.
+/// Bad input (a `--topic` that does not parse, a bag that cannot be created or written: a full
+/// disk, say): the reason, exit 2, as `fiveaxis run --mcap` on the same failure.
 fn bad_input(e: &anyhow::Error) -> ! {
     eprintln!("fiveaxis-recorder: {e:#}");
     std::process::exit(2)
+}
+
+/// A bag write that failed: the file was closed at its last whole chunk (the error says so); exit 2.
+fn written<T>(r: Result<T, fiveaxis::record::RecordError>) -> T {
+    r.unwrap_or_else(|e| bad_input(&e.into()))
 }
 
 fn now_ns() -> u64 {
@@ -208,18 +214,18 @@ fn main() -> anyhow::Result<()> {
         // (The sender kept here for --all keeps the channel open: no disconnection to wait for.)
         if let Ok(item) = rx.recv_timeout(Duration::from_millis(50)) {
             // A write error (a full disk, say) names the file.
-            bag.write_raw(item.topic, &item.data, log_ns(&bus, &item), item.publish_ns)?;
+            written(bag.write_raw(item.topic, &item.data, log_ns(&bus, &item), item.publish_ns));
         }
         // Idle streams still get their chunk closed within a second.
         if last_flush.elapsed() >= Duration::from_secs(1) {
-            bag.flush()?;
+            written(bag.flush());
             last_flush = Instant::now();
             let size_mb = std::fs::metadata(bag.current_path()).map_or(0.0, |m| m.len() as f64 / 1e6);
             let too_big = args.split_size_mb.is_some_and(|l| size_mb >= l);
             let too_long = args.split_duration_s.is_some_and(|l| file_start.elapsed().as_secs_f64() >= l);
             if too_big || too_long {
                 let done = bag.current_path().to_path_buf();
-                bag.split()?;
+                written(bag.split());
                 tracing::info!(file = %done.display(), "split finished");
                 file_start = Instant::now();
             }
@@ -228,9 +234,9 @@ fn main() -> anyhow::Result<()> {
     drop(tx);
     // Drain what already arrived, then finish the bag.
     while let Ok(item) = rx.try_recv() {
-        bag.write_raw(item.topic, &item.data, log_ns(&bus, &item), item.publish_ns)?;
+        written(bag.write_raw(item.topic, &item.data, log_ns(&bus, &item), item.publish_ns));
     }
-    let n = bag.finish()?;
+    let n = written(bag.finish());
     tracing::info!(messages = n, bag = %args.output.display(), "recording finished");
     Ok(())
 }

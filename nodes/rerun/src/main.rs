@@ -6,7 +6,6 @@
 use anyhow::Context as _;
 use clap::{Args, Parser, Subcommand};
 use fiveaxis::live::monitor::MonitorConfig;
-use fiveaxis::machine::Machine;
 use fiveaxis::roughness::RoughnessArgs;
 use fiveaxis::scene::{replay_mcap, Scene};
 use fiveaxis::units::RPM;
@@ -82,9 +81,8 @@ impl ViewArgs {
 struct ReplayArgs {
     /// The recording.
     recording: PathBuf,
-    /// Built-in machine name, or a TOML or URDF (.urdf) machine file.
-    #[arg(long, default_value = "hermle-c600u")]
-    machine: String,
+    #[command(flatten)]
+    machine: fiveaxis::args::MachineArgs,
     /// Joint name for a machine axis in a JointState recording: `--axis-map A=joint_a` (repeatable).
     #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = fiveaxis::machine::parse_axis_map)]
     axis_map: Vec<(String, String)>,
@@ -158,7 +156,7 @@ fn config(max_c_speed_rpm: Option<f64>, work_offset: Option<nalgebra::Vector3<f6
 }
 
 fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
-    let machine = match Machine::from_name_or_file(&a.machine) {
+    let machine = match a.machine.load() {
         Ok(m) => m,
         Err(e) => return Ok(bad_input(e)),
     };
@@ -222,8 +220,14 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
 
 fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode> {
     let shutdown = Shutdown::install()?;
-    let machine = Machine::from_name_or_file(&a.common.machine).context("loading the machine")?;
-    let roughness = a.roughness.load().map_err(anyhow::Error::msg)?;
+    let machine = match a.common.machine.load() {
+        Ok(m) => m,
+        Err(e) => return Ok(bad_input(e)),
+    };
+    let roughness = match a.roughness.load() {
+        Ok(r) => r,
+        Err(e) => return Ok(bad_input(e)),
+    };
     let options = match a.view.options() {
         Ok(o) => o,
         Err(e) => return Ok(bad_input(e)),

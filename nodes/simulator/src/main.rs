@@ -3,12 +3,10 @@
 //! `simulated/joint_states`. It reads the program itself, as a control does: its look-ahead needs
 //! the path ahead, which a stream of set-points does not carry.
 
-use anyhow::Context as _;
 use clap::Parser;
 use fiveaxis::live::sim_report::simulate_measured_stream;
 use fiveaxis::live::{StateBuilder, StateValues};
 use fiveaxis::live::simulator::SimConfig;
-use fiveaxis::machine::Machine;
 use fiveaxis_bus::{init_tracing, open_program, EXIT_INPUT, publish_states, state_qos, Bus, CommonArgs, Shutdown, StreamArgs};
 use fiveaxis_msgs::{AxisState, JointState};
 use std::time::Duration;
@@ -35,7 +33,7 @@ fn main() -> anyhow::Result<()> {
     }
     anyhow::ensure!(args.servo_ms > 0.0 && args.servo_ms.is_finite(), "--servo-ms must be positive");
     let shutdown = Shutdown::install()?;
-    let machine = Machine::from_name_or_file(&args.common.machine).context("loading the machine")?;
+    let machine = args.common.machine_or_exit();
     let (moves, gate) = open_program(&args.stream.program, &args.stream.job_options(), &machine, Duration::from_secs_f64(args.stream.check_before_publish_s));
     let mut config = SimConfig::default();
     config.servo.tau = args.servo_ms * 1e-3;
