@@ -328,7 +328,7 @@ pub fn analyze_mcap_with_progress(
             let min_speed = match (state.program_line > 0, state.programmed_feed > 0.0) {
                 (true, true) => 0.01 * state.programmed_feed,
                 (true, false) => f64::INFINITY,
-                (false, _) => 1.0 / 60e3,
+                (false, _) => crate::units::MM_PER_MIN,
             };
             let linear = (0..3).any(|i| (lin[i] - pl[i]).abs() > 1e-9);
             (ds / dt >= min_speed && turn >= 0.01f64.to_radians() && linear).then_some(ds)

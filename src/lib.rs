@@ -19,6 +19,7 @@ pub mod live;
 pub mod record;
 pub mod report;
 pub mod scene;
+pub mod topics;
 
 // The math, from the sans-I/O core crate, at the paths it has always had.
 pub use fiveaxis_core::{kinematics, listing, machine, path, planner, singularity, units};

@@ -8,7 +8,7 @@ use crate::live::monitor::{Monitor, MonitorConfig};
 use crate::machine::Machine;
 use crate::record::RecordError;
 use crate::roughness::Profile;
-use crate::units::RPM;
+use crate::units::{mm_per_min, RPM};
 use fiveaxis_msgs::{AxisState, JointState, RosMessage};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -249,9 +249,9 @@ impl Scene {
             predicted_c_speed_rpm: status.predicted_c_speed / RPM,
             c_limit_rpm: status.c_speed_limit / RPM,
             distance_deg: status.singularity_distance.to_degrees(),
-            programmed_feed_mm_min: st.programmed_feed * 60e3,
-            path_feed_mm_min: st.path_feed * 60e3,
-            feed_limit_mm_min: status.feed_limit * 60e3,
+            programmed_feed_mm_min: mm_per_min(st.programmed_feed),
+            path_feed_mm_min: mm_per_min(st.path_feed),
+            feed_limit_mm_min: mm_per_min(status.feed_limit),
             limiting_axis: status.limiting_axis.clone(),
             tool_tip_mm: tip_mm,
             tool_axis: [st.tool_axis.x, st.tool_axis.y, st.tool_axis.z],

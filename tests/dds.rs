@@ -70,8 +70,8 @@ fn netns_bash(script: &str) -> std::process::Output {
         .expect("netns-run runs")
 }
 
-const CMD: &str = "/fiveaxis/commanded/axis_state";
-const SIM: &str = "/fiveaxis/simulated/axis_state";
+const CMD: &str = fiveaxis::topics::COMMANDED_STATE.absolute;
+const SIM: &str = fiveaxis::topics::SIMULATED_STATE.absolute;
 
 fn check_sing(summary: &serde_json::Value, rows: &[Row]) {
     for topic in [CMD, SIM] {

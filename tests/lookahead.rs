@@ -43,7 +43,7 @@ fn cycle_time(program: &Path, mcap: Option<&Path>) -> f64 {
 fn limit_check(mcap: &Path) -> serde_json::Value {
     let m = Machine::hermle_c600u();
     let mut cmd = Command::new("python3");
-    cmd.arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/limit_check.py")).arg(mcap).arg("/fiveaxis/simulated/joint_states");
+    cmd.arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/limit_check.py")).arg(mcap).arg(fiveaxis::topics::SIMULATED_JOINTS.absolute);
     for (axis, l) in m.axes.iter().zip(m.limits().iter()) {
         cmd.arg(format!("{}={},{},{}", axis.name, l.velocity, l.acceleration, l.jerk));
     }

@@ -103,7 +103,7 @@ fn independent_python_reader_decodes_every_message() {
 fn recovery_keeps_every_complete_chunk() {
     let path = tmp("cut.mcap");
     let mut rec = Recorder::create(&path, RecordOptions::default()).unwrap();
-    let ch = rec.add_topic::<AxisState>("/fiveaxis/simulated/axis_state", OfferedQos::STATE).unwrap();
+    let ch = rec.add_topic::<AxisState>(fiveaxis::topics::SIMULATED_STATE.absolute, OfferedQos::STATE).unwrap();
     let n = 5000u64;
     for k in 0..n {
         let st = AxisState {

@@ -27,7 +27,7 @@ fn soak_for_two_minutes_loses_nothing_in_flat_memory() {
     assert_eq!(report["failures"].as_array().map(Vec::len), Some(0), "{said}");
     // Both streams ran the whole two minutes at 1 kHz (a pass of SING.I is 33 s: three passes and
     // more), and everything sent was received by the monitor and recorded.
-    for topic in ["commanded/axis_state", "simulated/axis_state"] {
+    for topic in fiveaxis::topics::MONITORED.map(|t| t.name) {
         let s = &report["streams"][topic];
         let sent = s["sent"].as_u64().unwrap_or(0);
         assert!(sent > 110_000, "{topic}: only {sent} samples in 120 s:\n{said}");

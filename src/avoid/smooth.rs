@@ -321,7 +321,7 @@ fn connect(p: &[Point], ks: usize, alim: &crate::machine::AxisLimits, clim: &cra
             return Err(AvoidError::Refused(format!(
                 "the singular passage at x {:.3} mm cannot be smoothed within its cut at F{:.0}: even the whole cut ({:.1} mm) is too short for the C axis' v/a/j limits; lower the feed or reorient",
                 p[ks].tip.x * 1e3,
-                feed * 60e3,
+                crate::units::mm_per_min(feed),
                 (s[n - 1] - s[0]) * 1e3
             )));
         }

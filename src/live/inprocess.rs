@@ -16,9 +16,9 @@ use serde::Serialize;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc;
 
-/// Topic names, relative to the namespace (default `/fiveaxis`).
-pub const COMMANDED_STATE: &str = "commanded/axis_state";
-pub const SIMULATED_STATE: &str = "simulated/axis_state";
+/// The monitored streams' names, relative to the namespace (default `/fiveaxis`), as the monitor node keys them.
+pub const COMMANDED_STATE: &str = crate::topics::COMMANDED_STATE.name;
+pub const SIMULATED_STATE: &str = crate::topics::SIMULATED_STATE.name;
 
 /// Options of a run.
 #[derive(Debug, Clone, Default)]
@@ -62,15 +62,16 @@ impl Pace {
     }
 }
 
-/// Topic names of the node set, absolute, with the default namespace.
+/// Topic names of the node set, absolute, with the default namespace (from [`crate::topics`]).
 pub mod topics {
-    pub const COMMANDED_STATE: &str = "/fiveaxis/commanded/axis_state";
-    pub const COMMANDED_JOINTS: &str = "/fiveaxis/commanded/joint_states";
-    pub const SIMULATED_STATE: &str = "/fiveaxis/simulated/axis_state";
-    pub const SIMULATED_JOINTS: &str = "/fiveaxis/simulated/joint_states";
-    pub const STATUS: &str = "/fiveaxis/monitor/status";
-    pub const DIAGNOSTICS: &str = "/diagnostics";
-    pub const CLOCK: &str = "/clock";
+    use crate::topics as t;
+    pub const COMMANDED_STATE: &str = t::COMMANDED_STATE.absolute;
+    pub const COMMANDED_JOINTS: &str = t::COMMANDED_JOINTS.absolute;
+    pub const SIMULATED_STATE: &str = t::SIMULATED_STATE.absolute;
+    pub const SIMULATED_JOINTS: &str = t::SIMULATED_JOINTS.absolute;
+    pub const STATUS: &str = t::STATUS.absolute;
+    pub const DIAGNOSTICS: &str = t::DIAGNOSTICS.absolute;
+    pub const CLOCK: &str = t::CLOCK.absolute;
 }
 
 /// Records the node set's topics in program time (the in-process clock, as with use_sim_time) to a

@@ -79,7 +79,7 @@ pub struct MeasuredConfig {
 
 impl Default for MeasuredConfig {
     fn default() -> Self {
-        MeasuredConfig { demand_window: 0.5e-3, speed_window: 0.010, still_feed: 1e-3 / 60.0, turning: 0.1f64.to_radians(), rapid_share: 0.5, max_samples: 8192 }
+        MeasuredConfig { demand_window: 0.5e-3, speed_window: 0.010, still_feed: crate::units::MM_PER_MIN, turning: 0.1f64.to_radians(), rapid_share: 0.5, max_samples: 8192 }
     }
 }
 

@@ -654,7 +654,7 @@ impl InputArgs {
 /// set's commanded and simulated streams), all onto one channel in arrival order; the channel closes
 /// when every reader has ended.
 pub fn subscribe_states(bus: &mut Bus, inputs: &InputArgs) -> anyhow::Result<std::sync::mpsc::Receiver<StateInput>> {
-    let default = ["commanded/axis_state".to_string(), "simulated/axis_state".to_string()];
+    let default = fiveaxis::topics::MONITORED.map(|t| t.name.to_string());
     let states: &[String] = if inputs.inputs.is_empty() && inputs.joint_inputs.is_empty() { &default } else { &inputs.inputs };
     let joint_inputs = &inputs.joint_inputs;
     let (tx, rx) = std::sync::mpsc::sync_channel::<StateInput>(8192);

@@ -3,6 +3,7 @@
 //! program time, which it then also publishes on `/clock` (the node set's clock source).
 //! The program is read as it is published, in flat memory; a defect stops it ([`fiveaxis_bus::Gate`]).
 
+use fiveaxis::topics;
 use clap::Parser;
 use fiveaxis::live::commander::commanded_passes;
 use fiveaxis::live::StateBuilder;
@@ -32,12 +33,12 @@ fn main() -> anyhow::Result<()> {
     let (moves, gate) = open_program(&args.stream.program, &args.stream.job_options(), &machine, Duration::from_secs_f64(args.stream.check_before_publish_s));
 
     let mut bus = Bus::new("fiveaxis_commander", &args.common, &ros)?;
-    let state_pub = bus.publisher::<AxisState>("commanded/axis_state", state_qos())?;
-    let joint_pub = bus.publisher::<JointState>("commanded/joint_states", state_qos())?;
+    let state_pub = bus.publisher::<AxisState>(topics::COMMANDED_STATE.name, state_qos())?;
+    let joint_pub = bus.publisher::<JointState>(topics::COMMANDED_JOINTS.name, state_qos())?;
     // Program time goes on /clock only when it is the stamps' clock.
-    let clock_pub = if args.common.use_sim_time { Some(bus.publisher::<Clock>("/clock", clock_qos())?) } else { None };
+    let clock_pub = if args.common.use_sim_time { Some(bus.publisher::<Clock>(topics::CLOCK.name, clock_qos())?) } else { None };
     if args.stream.wait_s > 0.0 && !bus.wait_for_subscribers(&state_pub, args.stream.min_subscribers.max(1), Duration::from_secs_f64(args.stream.wait_s), &shutdown) {
-        tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve("commanded/axis_state"), args.stream.wait_s);
+        tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve(topics::COMMANDED_STATE.name), args.stream.wait_s);
     }
     bus.rosout(ros2_client::ros2::LogLevel::Info, &format!("commanding {}", args.stream.program));
     let pacer = args.stream.pacer(args.common.use_sim_time);

@@ -5,6 +5,7 @@
 //! observer receives the statuses. Latency = status received - state published, per sample.
 //! Re-executes itself inside a private loopback-only network namespace (launch-free-scripts/netns-run).
 
+use fiveaxis::topics;
 use fiveaxis::job;
 use fiveaxis::live::commander::commanded_states;
 use fiveaxis::live::monitor::{Monitor, MonitorConfig};
@@ -47,13 +48,13 @@ fn main() -> anyhow::Result<()> {
     let mut cmd = Bus::new("bench_commander", &args("bench_commander"), &fiveaxis_bus::RosOptions::default())?;
     let mut mon = Bus::new("bench_monitor", &args("bench_monitor"), &fiveaxis_bus::RosOptions::default())?;
     let mut obs = Bus::new("bench_observer", &args("bench_observer"), &fiveaxis_bus::RosOptions::default())?;
-    let state_pub = cmd.publisher::<AxisState>("commanded/axis_state", state_qos())?;
-    let state_sub = mon.subscription::<AxisState>("commanded/axis_state", state_qos())?;
-    let status_pub = mon.publisher::<SingularityStatus>("monitor/status", state_qos())?;
-    let status_sub = obs.subscription::<SingularityStatus>("monitor/status", state_qos())?;
+    let state_pub = cmd.publisher::<AxisState>(topics::COMMANDED_STATE.name, state_qos())?;
+    let state_sub = mon.subscription::<AxisState>(topics::COMMANDED_STATE.name, state_qos())?;
+    let status_pub = mon.publisher::<SingularityStatus>(topics::STATUS.name, state_qos())?;
+    let status_sub = obs.subscription::<SingularityStatus>(topics::STATUS.name, state_qos())?;
 
     let sent: Arc<Mutex<HashMap<u64, Instant>>> = Arc::default();
-    let topic = mon.resolve("commanded/axis_state");
+    let topic = mon.resolve(topics::COMMANDED_STATE.name);
     let m = machine.clone();
     std::thread::spawn(move || {
         let mut monitor = Monitor::new(&m, MonitorConfig::default());

@@ -3,6 +3,7 @@
 //! 2 Hz, `/diagnostics`: OK, WARN near the singularity or with a region ahead, ERROR above the C
 //! limit, STALE without samples.
 
+use fiveaxis::topics;
 use anyhow::Context as _;
 use clap::Parser;
 use fiveaxis::live::monitor::{Monitor, MonitorConfig, Rejection};
@@ -94,8 +95,8 @@ fn main() -> anyhow::Result<()> {
     let mut said: std::collections::BTreeSet<(String, &'static str)> = Default::default();
 
     let mut bus = Bus::new("fiveaxis_monitor", &args.common, &ros)?;
-    let status_pub = bus.publisher::<SingularityStatus>("monitor/status", state_qos())?;
-    let diag_pub = bus.publisher::<DiagnosticArray>("/diagnostics", diagnostics_qos())?;
+    let status_pub = bus.publisher::<SingularityStatus>(topics::STATUS.name, state_qos())?;
+    let diag_pub = bus.publisher::<DiagnosticArray>(topics::DIAGNOSTICS.name, diagnostics_qos())?;
     let lookahead = (!args.lookahead.is_empty()).then(|| bus.resolve(&args.lookahead));
     let rx = subscribe_states(&mut bus, &args.inputs)?;
 

@@ -92,17 +92,6 @@ fn our_type(short: &str) -> Option<(String, QosProfile, OfferedQos)> {
 /// The short names [`our_type`] knows.
 const OUR_TYPES: [&str; 5] = ["AxisState", "JointState", "SingularityStatus", "DiagnosticArray", "Clock"];
 
-/// The node set's topics and their types.
-const NODE_SET: [(&str, &str); 7] = [
-    ("commanded/axis_state", "AxisState"),
-    ("commanded/joint_states", "JointState"),
-    ("simulated/axis_state", "AxisState"),
-    ("simulated/joint_states", "JointState"),
-    ("monitor/status", "SingularityStatus"),
-    ("/diagnostics", "DiagnosticArray"),
-    ("/clock", "Clock"),
-];
-
 /// A `--topic TOPIC:TYPE`: one of the node set's types (short or full name) with its QoS; any other
 /// ROS type name is recorded reliable (keep-last 1000, volatile).
 fn parse_topic(spec: &str) -> anyhow::Result<Plan> {
@@ -170,7 +159,7 @@ fn main() -> anyhow::Result<()> {
     let topics = if args.all {
         Vec::new()
     } else if args.topics.is_empty() {
-        NODE_SET.iter().map(|(topic, short)| parse_topic(&format!("{topic}:{short}"))).collect::<anyhow::Result<_>>()?
+        fiveaxis::topics::NODE_SET.iter().map(|t| parse_topic(&format!("{}:{}", t.name, t.ty))).collect::<anyhow::Result<_>>()?
     } else {
         args.topics.iter().map(|t| parse_topic(t)).collect::<anyhow::Result<_>>().unwrap_or_else(|e| bad_input(&e))
     };

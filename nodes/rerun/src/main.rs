@@ -134,6 +134,15 @@ fn bad_input(e: impl std::fmt::Display) -> ExitCode {
     ExitCode::from(EXIT_INPUT)
 }
 
+/// The machine, the roughness profile and the view both commands take; any of them bad is bad
+/// input (exit 2, said).
+fn settings(machine: &fiveaxis::args::MachineArgs, roughness: &RoughnessArgs, view: &ViewArgs) -> Result<(fiveaxis::machine::Machine, Option<(fiveaxis::roughness::Profile, f64)>, BridgeOptions), ExitCode> {
+    let machine = machine.load().map_err(bad_input)?;
+    let roughness = roughness.load().map_err(bad_input)?;
+    let options = view.options().map_err(bad_input)?;
+    Ok((machine, roughness, options))
+}
+
 fn open_stream(sink: &SinkArgs, default_name: &str) -> anyhow::Result<rerun::RecordingStream> {
     let builder = rerun::RecordingStreamBuilder::new(APP_ID)
         .recording_name(sink.recording_name.clone().unwrap_or_else(|| default_name.to_string()));
@@ -156,17 +165,9 @@ fn config(max_c_speed_rpm: Option<f64>, work_offset: Option<nalgebra::Vector3<f6
 }
 
 fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
-    let machine = match a.machine.load() {
-        Ok(m) => m,
-        Err(e) => return Ok(bad_input(e)),
-    };
-    let roughness = match a.roughness.load() {
-        Ok(r) => r,
-        Err(e) => return Ok(bad_input(e)),
-    };
-    let options = match a.view.options() {
-        Ok(o) => o,
-        Err(e) => return Ok(bad_input(e)),
+    let (machine, roughness, options) = match settings(&a.machine, &a.roughness, &a.view) {
+        Ok(s) => s,
+        Err(code) => return Ok(code),
     };
     let map: BTreeMap<String, String> = match machine.resolve_axis_map(&a.axis_map) {
         Ok(m) => m,
@@ -220,17 +221,9 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
 
 fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode> {
     let shutdown = Shutdown::install()?;
-    let machine = match a.common.machine.load() {
-        Ok(m) => m,
-        Err(e) => return Ok(bad_input(e)),
-    };
-    let roughness = match a.roughness.load() {
-        Ok(r) => r,
-        Err(e) => return Ok(bad_input(e)),
-    };
-    let options = match a.view.options() {
-        Ok(o) => o,
-        Err(e) => return Ok(bad_input(e)),
+    let (machine, roughness, options) = match settings(&a.common.machine, &a.roughness, &a.view) {
+        Ok(s) => s,
+        Err(code) => return Ok(code),
     };
     let map = match a.inputs.axis_map(&machine) {
         Ok(m) => m,

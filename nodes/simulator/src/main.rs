@@ -3,6 +3,7 @@
 //! `simulated/joint_states`. It reads the program itself, as a control does: its look-ahead needs
 //! the path ahead, which a stream of set-points does not carry.
 
+use fiveaxis::topics;
 use clap::Parser;
 use fiveaxis::live::sim_report::simulate_measured_stream;
 use fiveaxis::live::{StateBuilder, StateValues};
@@ -40,8 +41,8 @@ fn main() -> anyhow::Result<()> {
     tracing::info!(program = %args.stream.program, "simulating as the states are published");
 
     let mut bus = Bus::new("fiveaxis_simulator", &args.common, &ros)?;
-    let state_pub = bus.publisher::<AxisState>("simulated/axis_state", state_qos())?;
-    let joint_pub = bus.publisher::<JointState>("simulated/joint_states", state_qos())?;
+    let state_pub = bus.publisher::<AxisState>(topics::SIMULATED_STATE.name, state_qos())?;
+    let joint_pub = bus.publisher::<JointState>(topics::SIMULATED_JOINTS.name, state_qos())?;
     if args.stream.wait_s > 0.0
         && !bus.wait_for_subscribers(
             &state_pub,
@@ -52,7 +53,7 @@ fn main() -> anyhow::Result<()> {
     {
         tracing::warn!(
             "no subscriber on {} after {} s: publishing anyway",
-            bus.resolve("simulated/axis_state"),
+            bus.resolve(topics::SIMULATED_STATE.name),
             args.stream.wait_s
         );
     }
