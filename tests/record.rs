@@ -2,7 +2,8 @@
 //! independent Python reader; recovery after a kill; the offline analysis and its exit codes.
 
 mod common;
-use fiveaxis::live::inprocess::{run, topics, RunOptions};
+use fiveaxis::live::inprocess::{run, RunOptions};
+use fiveaxis::topics;
 use fiveaxis::machine::Machine;
 use fiveaxis::record::{from_cdr, recover, OfferedQos, RecordOptions, Recorder, CDR_LE};
 use fiveaxis_msgs::{schema, AxisState, JointState, RosMessage, SingularityStatus, Time};
@@ -44,13 +45,13 @@ fn rosbag2_layout_and_every_message_read_back() {
     for msg in mcap::MessageStream::new(&data).unwrap() {
         let msg = msg.unwrap();
         assert_eq!(msg.data[..4], CDR_LE);
-        if msg.channel.topic == topics::COMMANDED_STATE {
+        if msg.channel.topic == topics::COMMANDED_STATE.absolute {
             let st: AxisState = from_cdr(&msg.data).unwrap();
             assert_eq!(st, commanded[k]);
             assert_eq!(msg.publish_time, st.header.stamp.as_nanos());
             k += 1;
         }
-        if msg.channel.topic == topics::STATUS {
+        if msg.channel.topic == topics::STATUS.absolute {
             let _: SingularityStatus = from_cdr(&msg.data).unwrap();
         }
     }
@@ -79,10 +80,10 @@ fn independent_python_reader_decodes_every_message() {
             }),
         );
     }
-    expected.insert(topics::COMMANDED_STATE.into(), serde_json::json!({"count": commanded.len(), "samples": samples}));
+    expected.insert(topics::COMMANDED_STATE.absolute.into(), serde_json::json!({"count": commanded.len(), "samples": samples}));
     let js: Vec<JointState> = commanded.iter().map(AxisState::to_joint_state).collect();
     expected.insert(
-        topics::COMMANDED_JOINTS.into(),
+        topics::COMMANDED_JOINTS.absolute.into(),
         serde_json::json!({"count": js.len(), "samples": {"1234": {"name": js[1234].name, "position": js[1234].position}}}),
     );
     let exp = tmp("expected.json");
@@ -103,7 +104,7 @@ fn independent_python_reader_decodes_every_message() {
 fn recovery_keeps_every_complete_chunk() {
     let path = tmp("cut.mcap");
     let mut rec = Recorder::create(&path, RecordOptions::default()).unwrap();
-    let ch = rec.add_topic::<AxisState>(fiveaxis::topics::SIMULATED_STATE.absolute, OfferedQos::STATE).unwrap();
+    let ch = rec.add_topic::<AxisState>(topics::SIMULATED_STATE.absolute, OfferedQos::STATE).unwrap();
     let n = 5000u64;
     for k in 0..n {
         let st = AxisState {
@@ -161,11 +162,11 @@ fn offline_analysis_exit_codes_and_json() {
     // opens it), with what the simulated machine did there: the stutter and the time it cost.
     assert!((r["x_start_mm"].as_f64().unwrap() - 22.0).abs() < 0.05 && (r["x_end_mm"].as_f64().unwrap() - 28.0).abs() < 0.05, "{r}");
     assert!((r["peak_c_speed_rpm"].as_f64().unwrap() - 175.0).abs() < 0.5, "{r}");
-    assert_eq!(r["actual_topic"], topics::SIMULATED_STATE);
+    assert_eq!(r["actual_topic"], topics::SIMULATED_STATE.absolute);
     assert!(r["lowest_feed_mm_per_min"].as_f64().unwrap() < 0.5 * 2000.0, "{r}");
     assert!(r["time_lost_s"].as_f64().unwrap() > 0.5, "{r}");
     // The simulated stream's own region: the blended path's 21.6-28.4 mm.
-    let sim = v["streams"].as_array().unwrap().iter().find(|s| s["topic"] == topics::SIMULATED_STATE).unwrap();
+    let sim = v["streams"].as_array().unwrap().iter().find(|s| s["topic"] == topics::SIMULATED_STATE.absolute).unwrap();
     let sr = &sim["regions"][0];
     assert!((sr["x_start_mm"].as_f64().unwrap() - 21.6).abs() < 0.1 && (sr["x_end_mm"].as_f64().unwrap() - 28.4).abs() < 0.1, "{sr}");
     let nonsing = tmp("a-nonsing.mcap");
@@ -454,9 +455,9 @@ fn run_writes_a_rosbag2_directory_rosbags_reads() {
     assert_eq!(v["version"], 9);
     let job = fiveaxis::job::run("bundled:SING.I", &Machine::hermle_c600u(), &Default::default()).unwrap();
     let commanded = fiveaxis::live::commander::commanded_states(&job.trajectory, &Machine::hermle_c600u());
-    assert_eq!(v["topics"][topics::COMMANDED_STATE]["count"].as_u64(), Some(commanded.len() as u64));
-    assert_eq!(v["topics"][topics::COMMANDED_STATE]["type"], "fiveaxis_msgs/msg/AxisState");
-    assert_eq!(v["topics"][topics::COMMANDED_JOINTS]["count"].as_u64(), Some(commanded.len() as u64));
+    assert_eq!(v["topics"][topics::COMMANDED_STATE.absolute]["count"].as_u64(), Some(commanded.len() as u64));
+    assert_eq!(v["topics"][topics::COMMANDED_STATE.absolute]["type"], "fiveaxis_msgs/msg/AxisState");
+    assert_eq!(v["topics"][topics::COMMANDED_JOINTS.absolute]["count"].as_u64(), Some(commanded.len() as u64));
     let total: u64 = v["topics"].as_object().unwrap().values().map(|t| t["count"].as_u64().unwrap()).sum();
     assert_eq!(Some(total), out.recorded_messages);
     // The same verdict from the directory as from a bare file of the same run.

@@ -72,7 +72,7 @@ pub fn main(a: &OfflineArgs) -> Outcome {
     let axis_map = machine.resolve_axis_map(&a.axis_map).map_err(bad_input)?;
     let feed_source = fiveaxis::job::feed_source(a.program.as_deref(), a.feed_mm_per_min, &machine, &a.control.read_options()).map_err(bad_input)?;
     if !(a.max_rejected_percent >= 0.0 && a.max_rejected_percent <= 100.0) {
-        return Err(crate::bad_input!("--max-rejected-percent {} is not a percentage", a.max_rejected_percent));
+        return Err(bad_input(format!("--max-rejected-percent {} is not a percentage", a.max_rejected_percent)));
     }
     let roughness = a.roughness.load().map_err(bad_input)?;
     let options = fiveaxis::analysis::OfflineOptions {
@@ -144,7 +144,7 @@ fn offline_one(a: &OfflineArgs, recording: &std::path::Path, machine: &Machine, 
     bar.finish_and_clear();
     let report = match result {
         Ok(r) => r,
-        Err(e) => return Err(crate::bad_input!("cannot analyse {}: {e}", recording.display())),
+        Err(e) => return Err(bad_input(format!("cannot analyse {}: {e}", recording.display()))),
     };
     print!("{}", report.to_table());
     if let Some(p) = &a.json {

@@ -56,7 +56,7 @@ impl ProgramArgs {
 /// `flag`'s value, if given, must be a positive finite number (else bad input).
 pub fn positive(flag: &str, v: Option<f64>) -> Result<(), Stop> {
     match v {
-        Some(x) if !(x.is_finite() && x > 0.0) => Err(crate::bad_input!("{flag} must be a positive number, got {x}")),
+        Some(x) if !(x.is_finite() && x > 0.0) => Err(bad_input(format!("{flag} must be a positive number, got {x}"))),
         _ => Ok(()),
     }
 }

@@ -93,7 +93,7 @@ fn avoid_input(program: &str, machine: &MachineArgs, what: &str, options: &JobOp
     } else if let Some(name) = program.strip_prefix("builtin:") {
         match fiveaxis::path::BuiltinPath::by_name(name) {
             Some(p) => p.cl_program(0.1),
-            None => return Err(crate::bad_input!("unknown built-in path '{name}' (also builtin:semi-cylinder)")),
+            None => return Err(bad_input(format!("unknown built-in path '{name}' (also builtin:semi-cylinder)"))),
         }
     } else {
         job::read_spec(program, options).map_err(bad_input)?
@@ -102,7 +102,7 @@ fn avoid_input(program: &str, machine: &MachineArgs, what: &str, options: &JobOp
         for d in prog.report() {
             eprintln!("{d}");
         }
-        return Err(crate::bad_input!("{program} has defects: refusing to {what} it"));
+        return Err(bad_input(format!("{program} has defects: refusing to {what} it")));
     }
     Ok((machine, prog))
 }
@@ -130,13 +130,10 @@ fn write_out(prog: &fiveaxis::program::Program, new: &fiveaxis::program::Program
 fn smooth(program: &str, machine: &MachineArgs, tool: fiveaxis::avoid::smooth::Tool, out: Option<&std::path::Path>, json: bool) -> Outcome {
     let options = JobOptions::default();
     let (machine, prog) = avoid_input(program, machine, "smooth", &options)?;
-    let (new, s) = match fiveaxis::avoid::smooth::smooth(&prog, &machine, tool, &options) {
-        Ok(x) => x,
-        Err(e) => return Err(crate::bad_input!("cannot smooth {program}: {e}")),
-    };
+    let (new, s) = fiveaxis::avoid::smooth::smooth(&prog, &machine, tool, &options).map_err(|e| bad_input(format!("cannot smooth {program}: {e}")))?;
     let (before, mut after) = match (fiveaxis::avoid::figures(&prog, &machine, &options), fiveaxis::avoid::figures(&new, &machine, &options)) {
         (Ok(b), Ok(a)) => (b, a),
-        (Err(e), _) | (_, Err(e)) => return Err(crate::bad_input!("cannot smooth {program}: {e}")),
+        (Err(e), _) | (_, Err(e)) => return Err(bad_input(format!("cannot smooth {program}: {e}"))),
     };
     after.max_orientation_deviation_deg = s.max_orientation_deviation_deg;
     write_out(&prog, &new, &machine, out, &options)?;
@@ -168,13 +165,10 @@ fn refine(program: &str, machine: &MachineArgs, opts: &fiveaxis::avoid::refine::
     let (machine, prog) = avoid_input(program, machine, "refine", &options)?;
     let refined = fiveaxis::avoid::refine::refine(&prog, &machine, opts, &options)
         .and_then(|(new, r)| fiveaxis::avoid::refine::conventional(&prog, &machine, &options).map(|c| (new, r, c)));
-    let (new, r, conventional) = match refined {
-        Ok(x) => x,
-        Err(e) => return Err(crate::bad_input!("cannot refine {program}: {e}")),
-    };
+    let (new, r, conventional) = refined.map_err(|e| bad_input(format!("cannot refine {program}: {e}")))?;
     let (before, after) = match (fiveaxis::avoid::figures(&conventional, &machine, &options), fiveaxis::avoid::figures(&new, &machine, &options)) {
         (Ok(b), Ok(a)) => (b, a),
-        (Err(e), _) | (_, Err(e)) => return Err(crate::bad_input!("cannot refine {program}: {e}")),
+        (Err(e), _) | (_, Err(e)) => return Err(bad_input(format!("cannot refine {program}: {e}"))),
     };
     write_out(&prog, &new, &machine, out, &options)?;
     if json {
@@ -198,14 +192,11 @@ fn refine(program: &str, machine: &MachineArgs, opts: &fiveaxis::avoid::refine::
 
 fn reorient(program: &str, machine: &MachineArgs, max_tilt_deg: f64, out: Option<&std::path::Path>, json: bool) -> Outcome {
     if !(max_tilt_deg.is_finite() && max_tilt_deg > 0.0 && max_tilt_deg <= 90.0) {
-        return Err(crate::bad_input!("--max-tilt-deg must be in (0, 90], got {max_tilt_deg}"));
+        return Err(bad_input(format!("--max-tilt-deg must be in (0, 90], got {max_tilt_deg}")));
     }
     let options = JobOptions::default();
     let (machine, prog) = avoid_input(program, machine, "reorient", &options)?;
-    let (r, new) = match fiveaxis::avoid::search(&prog, &machine, max_tilt_deg * DEG, &options) {
-        Ok(x) => x,
-        Err(e) => return Err(crate::bad_input!("cannot reorient {program}: {e}")),
-    };
+    let (r, new) = fiveaxis::avoid::search(&prog, &machine, max_tilt_deg * DEG, &options).map_err(|e| bad_input(format!("cannot reorient {program}: {e}")))?;
     write_out(&prog, &new, &machine, out, &options)?;
     if json {
         println!("{}", serde_json::to_string_pretty(&r)?);

@@ -47,15 +47,9 @@ impl From<serde_json::Error> for Stop {
     }
 }
 
-/// Bad input from a message.
-#[macro_export]
-macro_rules! bad_input {
-    ($($t:tt)*) => { $crate::exit::Stop::BadInput(anyhow::anyhow!($($t)*)) };
-}
-
 /// Write `text` to the output `path` the user named; failing to is bad input (exit 2).
 pub fn write_output(path: &std::path::Path, text: impl AsRef<[u8]>) -> Result<(), Stop> {
-    std::fs::write(path, text).map_err(|e| bad_input!("cannot write {}: {e}", path.display()))
+    std::fs::write(path, text).map_err(|e| bad_input(format!("cannot write {}: {e}", path.display())))
 }
 
 /// The process exit code of `outcome`, its reason said on stderr.

@@ -15,10 +15,7 @@ use fiveaxis_msgs::{AxisState, SingularityStatus};
 use serde::Serialize;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc;
-
-/// The monitored streams' names, relative to the namespace (default `/fiveaxis`), as the monitor node keys them.
-pub const COMMANDED_STATE: &str = crate::topics::COMMANDED_STATE.name;
-pub const SIMULATED_STATE: &str = crate::topics::SIMULATED_STATE.name;
+use crate::topics;
 
 /// Options of a run.
 #[derive(Debug, Clone, Default)]
@@ -62,18 +59,6 @@ impl Pace {
     }
 }
 
-/// Topic names of the node set, absolute, with the default namespace (from [`crate::topics`]).
-pub mod topics {
-    use crate::topics as t;
-    pub const COMMANDED_STATE: &str = t::COMMANDED_STATE.absolute;
-    pub const COMMANDED_JOINTS: &str = t::COMMANDED_JOINTS.absolute;
-    pub const SIMULATED_STATE: &str = t::SIMULATED_STATE.absolute;
-    pub const SIMULATED_JOINTS: &str = t::SIMULATED_JOINTS.absolute;
-    pub const STATUS: &str = t::STATUS.absolute;
-    pub const DIAGNOSTICS: &str = t::DIAGNOSTICS.absolute;
-    pub const CLOCK: &str = t::CLOCK.absolute;
-}
-
 /// Records the node set's topics in program time (the in-process clock, as with use_sim_time) to a
 /// rosbag2 bag (a directory, or one `.mcap` file when so named).
 struct Tape {
@@ -88,13 +73,13 @@ impl Tape {
         use fiveaxis_msgs::{Clock, DiagnosticArray, JointState};
         let mut rec = Bag::create(path, false, Default::default())?;
         let ids = [
-            rec.add::<AxisState>(topics::COMMANDED_STATE, OfferedQos::STATE)?,
-            rec.add::<JointState>(topics::COMMANDED_JOINTS, OfferedQos::STATE)?,
-            rec.add::<AxisState>(topics::SIMULATED_STATE, OfferedQos::STATE)?,
-            rec.add::<JointState>(topics::SIMULATED_JOINTS, OfferedQos::STATE)?,
-            rec.add::<SingularityStatus>(topics::STATUS, OfferedQos::STATE)?,
-            rec.add::<DiagnosticArray>(topics::DIAGNOSTICS, OfferedQos::DIAGNOSTICS)?,
-            rec.add::<Clock>(topics::CLOCK, OfferedQos::CLOCK)?,
+            rec.add::<AxisState>(topics::COMMANDED_STATE.absolute, OfferedQos::STATE)?,
+            rec.add::<JointState>(topics::COMMANDED_JOINTS.absolute, OfferedQos::STATE)?,
+            rec.add::<AxisState>(topics::SIMULATED_STATE.absolute, OfferedQos::STATE)?,
+            rec.add::<JointState>(topics::SIMULATED_JOINTS.absolute, OfferedQos::STATE)?,
+            rec.add::<SingularityStatus>(topics::STATUS.absolute, OfferedQos::STATE)?,
+            rec.add::<DiagnosticArray>(topics::DIAGNOSTICS.absolute, OfferedQos::DIAGNOSTICS)?,
+            rec.add::<Clock>(topics::CLOCK.absolute, OfferedQos::CLOCK)?,
         ];
         Ok(Tape { rec, ids, next_diag: 0.0 })
     }
@@ -306,15 +291,15 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                 };
                 let topic = if k == 0 {
                     m.on_commanded_ahead(st);
-                    COMMANDED_STATE
+                    topics::COMMANDED_STATE.name
                 } else {
-                    SIMULATED_STATE
+                    topics::SIMULATED_STATE.name
                 };
                 let wall = st.header.stamp.as_secs();
                 let status = m.on_state(topic, st, wall);
                 if let (Some(t), None) = (tape.as_mut(), &tape_error) {
                     let r = t
-                        .state(st, topic == COMMANDED_STATE, &m)
+                        .state(st, topic == topics::COMMANDED_STATE.name, &m)
                         .and_then(|_| match &status {
                             Ok(s) => t.status(s),
                             Err(_) => Ok(()),
@@ -324,7 +309,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                     }
                 }
                 if let Some(s) = status.ok().filter(|_| options.keep_statuses) {
-                    if topic == SIMULATED_STATE {
+                    if topic == topics::SIMULATED_STATE.name {
                         statuses.push(s);
                     } else {
                         commanded.push(s);
@@ -361,7 +346,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         report,
         statuses,
         commanded_statuses,
-        commanded_regions: monitor.regions(COMMANDED_STATE),
+        commanded_regions: monitor.regions(topics::COMMANDED_STATE.name),
     })
 }
 
@@ -373,7 +358,7 @@ fn simulated_report(
     lost: u64,
     monitor: &Monitor,
 ) -> SimulatedReport {
-    let (samples, ..) = monitor.counters(SIMULATED_STATE);
+    let (samples, ..) = monitor.counters(topics::SIMULATED_STATE.name);
     SimulatedReport {
         cycle_time_s: f.duration_s,
         commanded_cycle_time_s: commanded_s,
@@ -393,8 +378,8 @@ fn simulated_report(
         max_following_error_deg: summary.following_error_rotary.to_degrees(),
         samples: f.samples as usize,
         lost_samples: lost,
-        monitor_regions: monitor.regions(SIMULATED_STATE),
-        unlisted_monitor_regions: monitor.unlisted_regions(SIMULATED_STATE),
+        monitor_regions: monitor.regions(topics::SIMULATED_STATE.name),
+        unlisted_monitor_regions: monitor.unlisted_regions(topics::SIMULATED_STATE.name),
         monitor_statuses: samples,
     }
 }
