@@ -2,12 +2,13 @@
 //! an MCAP file (ours, or any rosbag2 MCAP with a machine bridge's JointState plus a machine model),
 //! regions with their x range, peak predicted C speed, lowest feed and time lost, and threshold checks.
 
-use crate::live::monitor::{FeedSource, InputId, LiveRegion, Monitor, MonitorConfig, Rejected};
+use crate::live::monitor::{FeedSource, InputId, InputSummary, Monitor, MonitorConfig, Rejected};
+use crate::recorded::{read_states, Selection, Unread};
 use crate::singularity::measured::Motion;
 use crate::machine::Machine;
-use crate::record::{read, RecordError};
+use crate::record::RecordError;
 use nalgebra::Vector3;
-use fiveaxis_msgs::{AxisState, JointState, RosMessage};
+use fiveaxis_msgs::AxisState;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -20,10 +21,8 @@ pub struct OfflineOptions {
     pub max_c_speed_rpm: Option<f64>,
     /// Fail when a moving tool axis comes closer than this to the singularity (degrees).
     pub min_distance_deg: Option<f64>,
-    /// JointState topics to analyze (default: all, when the recording has no AxisState).
-    pub joint_state_topics: Vec<String>,
-    /// Machine axis -> joint name in those JointStates.
-    pub axis_map: BTreeMap<String, String>,
+    /// Which JointState streams to analyse, and their joints' names for the machine's axes.
+    pub selection: Selection,
     /// A measured roughness profile (aligned to the workpiece x) and its filter cut-off (m).
     pub roughness: Option<(crate::roughness::Profile, f64)>,
     /// Where a machine stream's programmed feed comes from (`--program`, `--feed`, else assumed).
@@ -74,32 +73,18 @@ pub struct RoughnessReport {
     pub correlation_ra_feed_deficit: Option<f64>,
 }
 
-/// One analysed stream.
+/// One analysed stream: the monitor's summary of it, with what only the analysis of the whole
+/// recording knows.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct StreamReport {
-    pub topic: String,
-    pub source: u8,
-    pub samples: u64,
-    pub invalid: u64,
-    pub out_of_order: u64,
-    pub lost: u64,
-    /// Rejected samples by reason (missing joint, NaN/Inf, out of range, out of order, malformed),
-    /// plus messages that did not decode at all.
-    pub rejected: Rejected,
+    /// Counters, rejections by reason, sample period, motion kinds, the programmed feed assumed, and
+    /// the regions (the first in full, the rest folded: `--max-listed-regions`).
+    #[serde(flatten)]
+    pub input: InputSummary,
+    /// Messages that did not decode at all.
     pub undecodable: u64,
-    /// The stream's sample period (mean interval over about the last 1024 stamps, judged losses put back), s.
-    pub period_s: Option<f64>,
     pub peak_c_speed_rpm: f64,
     pub min_singularity_distance_deg: f64,
-    /// Machine streams: samples on rapids and on feed moves, the highest actual feed, and the
-    /// programmed feed the prediction assumed.
-    pub rapid_samples: u64,
-    pub feed_samples: u64,
-    pub max_path_feed_mm_per_min: f64,
-    pub feed_source: Option<String>,
-    /// The first regions in full, the rest folded (`--max-listed-regions`).
-    pub regions: Vec<LiveRegion>,
-    pub unlisted_regions: crate::listing::Unlisted,
 }
 
 /// The report of `fiveaxis analyze`.
@@ -136,9 +121,6 @@ use cuts::{Cut, CutLog, RegionSpan};
 /// What the analysis keeps per stream (topic) while reading.
 struct Stream {
     input: InputId,
-    /// JointState streams: the joint names of the first message, and messages that did not decode.
-    joint_names: Option<Vec<String>>,
-    undecodable: u64,
     /// Rejected samples whose positions would fit the axis ranges in mm and degrees.
     fits_mm_deg: u64,
     /// The previous valid sample: tool tip (workpiece, m), tool axis, linear axes (m), stamp (s).
@@ -147,14 +129,6 @@ struct Stream {
     cuts: CutLog,
     peak_c_speed_rpm: f64,
     min_distance_deg: f64,
-}
-
-/// How the messages of a channel are read.
-#[derive(Clone, Copy)]
-enum Decode {
-    AxisState(usize),
-    JointState(usize),
-    Skip,
 }
 
 /// Analyse the recording at `path` on `machine`.
@@ -171,10 +145,6 @@ pub fn analyze_mcap_with_progress(
     // Dynamic, so that a progress bar's code stays out of the per-message loop (called rarely).
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<OfflineReport, RecordError> {
-    let file_len = read::recording_len(path)?;
-    let axis_state_type = AxisState::type_name();
-    let joint_state_type = JointState::type_name();
-    let has_axis_state = read::may_carry_type(path, &axis_state_type)?;
     let mut monitor = Monitor::new(machine, options.monitor);
     monitor.set_feed_source(options.feed_source.clone());
     let mut report = OfflineReport {
@@ -192,82 +162,27 @@ pub fn analyze_mcap_with_progress(
         roughness_ra_inside_um: None,
         roughness_ra_outside_um: None,
     };
+    // By stream number of the read (in order of first message).
     let mut streams: Vec<Stream> = Vec::new();
-    let mut by_topic: BTreeMap<String, usize> = BTreeMap::new();
-    // By channel id.
-    let mut decode: Vec<Option<Decode>> = Vec::new();
-    let mut file = 0;
-    // Every JointState topic of the recording (for the error when one asked for is absent).
-    let mut joint_topics: std::collections::BTreeSet<String> = Default::default();
-    let mut state = AxisState::default();
-    let mut joints = JointState::default();
-    let read = read::for_each_message(path, |msg| {
-        report.messages_read += 1;
-        if report.messages_read % 65_536 == 0 {
-            progress(msg.file_position, file_len);
-        }
-        if msg.file != file {
-            // The next file of a rosbag2 directory: channel ids start again.
-            file = msg.file;
-            decode.clear();
-        }
-        let slot = usize::from(msg.channel.id);
-        if decode.len() <= slot {
-            decode.resize(slot + 1, None);
-        }
-        let how = *decode[slot].get_or_insert_with(|| {
-            let c = msg.channel;
-            if c.schema_name == joint_state_type {
-                joint_topics.insert(c.topic.clone());
-            }
-            let joint = c.schema_name == joint_state_type
-                && (options.joint_state_topics.contains(&c.topic) || (options.joint_state_topics.is_empty() && !has_axis_state));
-            if c.schema_name != axis_state_type && !joint {
-                return Decode::Skip;
-            }
-            let k = *by_topic.entry(c.topic.clone()).or_insert_with(|| {
-                streams.push(Stream {
-                    input: monitor.input(&c.topic),
-                    joint_names: None,
-                    undecodable: 0,
-                    fits_mm_deg: 0,
-                    last: None,
-                    last_line: None,
-                    cuts: CutLog::new(),
-                    peak_c_speed_rpm: 0.0,
-                    min_distance_deg: f64::INFINITY,
-                });
-                streams.len() - 1
+    let read = read_states(path, machine, &options.selection, progress, |msg| {
+        if msg.stream == streams.len() {
+            streams.push(Stream {
+                input: monitor.input(msg.topic),
+                fits_mm_deg: 0,
+                last: None,
+                last_line: None,
+                cuts: CutLog::new(),
+                peak_c_speed_rpm: 0.0,
+                min_distance_deg: f64::INFINITY,
             });
-            if joint { Decode::JointState(k) } else { Decode::AxisState(k) }
-        });
-        let k = match how {
-            Decode::Skip => return,
-            Decode::AxisState(k) => {
-                if state.read_cdr(msg.data).is_err() {
-                    report.messages_undecodable += 1;
-                    streams[k].undecodable += 1;
-                    return;
-                }
-                k
-            }
-            Decode::JointState(k) => {
-                if joints.read_cdr(msg.data).is_err() {
-                    report.messages_undecodable += 1;
-                    streams[k].undecodable += 1;
-                    return;
-                }
-                if streams[k].joint_names.is_none() {
-                    streams[k].joint_names = Some(joints.name.clone());
-                }
-                match monitor.joint_state_to_axis_state(&joints, &options.axis_map) {
-                    Ok(s) => state = s,
-                    Err(e) => {
-                        monitor.reject(streams[k].input, &e);
-                        return;
-                    }
-                }
-                k
+        }
+        let k = msg.stream;
+        let state = match msg.sample {
+            Ok(s) => s,
+            Err(Unread::Undecodable) => return,
+            Err(Unread::Unmapped(e)) => {
+                monitor.reject(streams[k].input, &e);
+                return;
             }
         };
         let log_s = msg.log_time as f64 * 1e-9;
@@ -275,7 +190,7 @@ pub fn analyze_mcap_with_progress(
         // N s", which a report of the whole recording does not need, and it would keep every
         // commanded sample in memory.
         let stream = &mut streams[k];
-        let status = match monitor.evaluate(stream.input, &state, log_s) {
+        let status = match monitor.evaluate(stream.input, state, log_s) {
             Ok(s) => s,
             Err(e) if e.is_out_of_range() => {
                 if fits_in_mm_deg(machine, &state.position) {
@@ -347,45 +262,33 @@ pub fn analyze_mcap_with_progress(
             stream.peak_c_speed_rpm = stream.peak_c_speed_rpm.max(status.predicted_c_speed.abs() / crate::units::RPM);
         }
     });
-    match read {
-        // Nothing readable at all: no report to keep.
-        Err(e) if report.messages_read == 0 => return Err(e),
-        // Damage after good messages: keep everything read before it, and say so.
-        Err(e) => report.damage = Some(e.to_string()),
-        Ok(_) => {}
-    }
-    progress(file_len, file_len);
-    let stream_of = |topic: &str| by_topic.get(topic).map(|&k| &streams[k]);
+    // Damage after good messages: the report keeps everything read before it, and says so.
+    let read = read?;
+    report.messages_read = read.messages_read;
+    report.messages_undecodable = read.undecodable();
+    report.damage = read.damage.as_ref().map(ToString::to_string);
     monitor.finish();
-    for s in monitor.summary() {
-        let (peak, min_d) = stream_of(&s.topic).map_or((0.0, f64::INFINITY), |st| (st.peak_c_speed_rpm, st.min_distance_deg));
+    // The read's stream number of each report stream (the report lists them in topic order).
+    let by_topic: BTreeMap<&str, usize> = read.streams.iter().enumerate().map(|(k, s)| (s.topic.as_str(), k)).collect();
+    let mut order = Vec::new();
+    for summary in monitor.summary() {
+        // Every input of the monitor is a stream of the read.
+        let Some(&k) = by_topic.get(summary.topic.as_str()) else { continue };
+        let min_d = streams[k].min_distance_deg;
+        order.push(k);
         report.streams.push(StreamReport {
-            topic: s.topic.clone(),
-            source: s.source,
-            samples: s.samples,
-            invalid: s.invalid,
-            out_of_order: s.out_of_order,
-            lost: s.lost,
-            rejected: s.rejected,
-            undecodable: stream_of(&s.topic).map_or(0, |st| st.undecodable),
-            period_s: s.period_s,
-            peak_c_speed_rpm: peak,
+            input: summary,
+            undecodable: read.streams[k].undecodable,
+            peak_c_speed_rpm: streams[k].peak_c_speed_rpm,
             min_singularity_distance_deg: if min_d.is_finite() { min_d } else { 180.0 },
-            rapid_samples: s.rapid_samples,
-            feed_samples: s.feed_samples,
-            max_path_feed_mm_per_min: s.max_path_feed_mm_per_min,
-            feed_source: s.feed_source,
-            regions: s.regions,
-            unlisted_regions: s.unlisted_regions,
         });
     }
-    report.input_errors = input_errors(machine, options, &report.streams, &joint_topics, |topic| stream_of(topic).map(|s| (s.joint_names.clone(), s.fits_mm_deg)));
-    let actual = [AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED]
-        .iter()
-        .find_map(|src| report.streams.iter().find(|s| s.source == *src))
-        .map(|s| s.topic.clone());
-    // The actual stream's cut samples, taken out for the region figures (read back once).
-    let mut actual_cuts: Option<CutLog> = actual.as_ref().and_then(|a| by_topic.get(a)).map(|&k| std::mem::take(&mut streams[k].cuts));
+    report.input_errors = input_errors(machine, options, &report.streams, &order, &read, &streams);
+    // The actual stream (a machine's, else the simulated one) and its cut samples, taken out for
+    // the region figures (read back once).
+    let actual = [AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED].iter().find_map(|src| report.streams.iter().position(|s| s.input.source == *src));
+    let mut actual_cuts: Option<CutLog> = actual.map(|i| std::mem::take(&mut streams[order[i]].cuts));
+    let actual = actual.map(|k| report.streams[k].input.topic.clone());
     let spill_error = |source| RecordError::Io { path: path.to_path_buf(), source };
     // The feed deficit along x, for the roughness correlation (kept only when a profile is given),
     // gathered on the one pass over the cut samples.
@@ -398,7 +301,7 @@ pub fn analyze_mcap_with_progress(
     };
     let mut cuts_read = false;
     for source in [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_MACHINE, AxisState::SOURCE_SIMULATED] {
-        if let Some(s) = report.streams.iter().find(|s| s.source == source && !s.regions.is_empty()) {
+        if let Some(s) = report.streams.iter().map(|s| &s.input).find(|s| s.source == source && !s.regions.is_empty()) {
             report.unlisted_regions = s.unlisted_regions;
             if s.source != AxisState::SOURCE_MACHINE {
                 // Only a machine stream's regions carry their own feed and time lost.
@@ -462,12 +365,12 @@ pub fn analyze_mcap_with_progress(
     for s in &report.streams {
         if let Some(limit) = options.max_c_speed_rpm {
             if s.peak_c_speed_rpm > limit {
-                report.violations.push(format!("{}: predicted C speed {:.1} rpm exceeds {limit} rpm", s.topic, s.peak_c_speed_rpm));
+                report.violations.push(format!("{}: predicted C speed {:.1} rpm exceeds {limit} rpm", s.input.topic, s.peak_c_speed_rpm));
             }
         }
         if let Some(d) = options.min_distance_deg {
             if s.min_singularity_distance_deg < d {
-                report.violations.push(format!("{}: tool axis {:.3} deg from the singularity, below {d} deg", s.topic, s.min_singularity_distance_deg));
+                report.violations.push(format!("{}: tool axis {:.3} deg from the singularity, below {d} deg", s.input.topic, s.min_singularity_distance_deg));
             }
         }
     }
@@ -489,12 +392,15 @@ fn input_errors(
     machine: &Machine,
     options: &OfflineOptions,
     streams: &[StreamReport],
-    joint_topics: &std::collections::BTreeSet<String>,
-    extra: impl Fn(&str) -> Option<(Option<Vec<String>>, u64)>,
+    // The read's stream number of each of `streams`.
+    order: &[usize],
+    read: &crate::recorded::StatesRead,
+    analysed: &[Stream],
 ) -> Vec<String> {
+    let joint_topics = &read.joint_state_topics;
     let mut errors = Vec::new();
     let list = |s: &std::collections::BTreeSet<String>| if s.is_empty() { "none".to_string() } else { s.iter().cloned().collect::<Vec<_>>().join(", ") };
-    for topic in &options.joint_state_topics {
+    for topic in &options.selection.joint_state_topics {
         if !joint_topics.contains(topic) {
             errors.push(format!("JointState topic '{topic}' is not in the recording (JointState topics there: {})", list(joint_topics)));
         }
@@ -502,9 +408,10 @@ fn input_errors(
     if streams.is_empty() && errors.is_empty() {
         errors.push(format!("no AxisState or JointState stream in the recording (JointState topics: {})", list(joint_topics)));
     }
-    for s in streams {
-        let (names, fits) = extra(&s.topic).unwrap_or((None, 0));
-        let rejected = s.rejected.total() + s.undecodable;
+    for (report, &k) in streams.iter().zip(order) {
+        let (names, fits) = (&read.streams[k].joint_names, analysed[k].fits_mm_deg);
+        let s = &report.input;
+        let rejected = s.rejected.total() + report.undecodable;
         let total = s.samples + rejected;
         if s.rejected.missing_joint > 0 {
             let found = names.clone().unwrap_or_default();
@@ -513,7 +420,7 @@ fn input_errors(
                 s.topic,
                 s.rejected.missing_joint,
                 found.join(", "),
-                machine.suggest_axis_map(&found, &options.axis_map)
+                machine.suggest_axis_map(&found, &options.selection.axis_map)
             ));
         }
         if s.rejected.out_of_range > 0 && fits * 2 >= s.rejected.out_of_range {
@@ -523,14 +430,14 @@ fn input_errors(
             ));
         }
         if s.samples == 0 {
-            errors.push(format!("{}: no valid sample ({rejected} rejected: {})", s.topic, reasons(&s.rejected, s.undecodable)));
+            errors.push(format!("{}: no valid sample ({rejected} rejected: {})", s.topic, reasons(&s.rejected, report.undecodable)));
         } else if total > 0 && rejected as f64 > options.max_rejected_share * total as f64 {
             errors.push(format!(
                 "{}: {rejected} of {total} samples rejected ({:.1} %, above the {:.1} % allowed): {}",
                 s.topic,
                 100.0 * rejected as f64 / total as f64,
                 100.0 * options.max_rejected_share,
-                reasons(&s.rejected, s.undecodable)
+                reasons(&s.rejected, report.undecodable)
             ));
         }
     }
@@ -637,7 +544,7 @@ impl OfflineReport {
         let mut suite = TestSuite::new(format!("fiveaxis analyze {}", self.file));
         for s in &self.streams {
             for (check, needle) in [("c_speed", "predicted C speed"), ("singularity_distance", "from the singularity")] {
-                let fail = self.violations.iter().find(|v| v.starts_with(&format!("{}:", s.topic)) && v.contains(needle));
+                let fail = self.violations.iter().find(|v| v.starts_with(&format!("{}:", s.input.topic)) && v.contains(needle));
                 let status = match fail {
                     Some(f) => {
                         let mut st = TestCaseStatus::non_success(NonSuccessKind::Failure);
@@ -646,7 +553,7 @@ impl OfflineReport {
                     }
                     None => TestCaseStatus::success(),
                 };
-                let mut case = TestCase::new(format!("{}:{check}", s.topic), status);
+                let mut case = TestCase::new(format!("{}:{check}", s.input.topic), status);
                 case.set_classname("fiveaxis.analyze");
                 suite.add_test_case(case);
             }
@@ -662,17 +569,18 @@ impl OfflineReport {
         if let Some(d) = &self.damage {
             let _ = writeln!(o, "DAMAGED    reading stopped after {} messages: {d}", self.messages_read);
         }
-        for s in &self.streams {
+        for report in &self.streams {
+            let s = &report.input;
             let _ = writeln!(
                 o,
                 "{}: {} samples ({} invalid, {} out of order, {} lost), peak C {:.1} rpm, closest {:.3} deg",
-                s.topic, s.samples, s.invalid, s.out_of_order, s.lost, s.peak_c_speed_rpm, s.min_singularity_distance_deg
+                s.topic, s.samples, s.invalid, s.out_of_order, s.lost, report.peak_c_speed_rpm, report.min_singularity_distance_deg
             );
             if let Some(f) = &s.feed_source {
                 let _ = writeln!(o, "  machine stream: feed {f}; {} samples on feed moves (highest feed held 0.1 s {:.0} mm/min), {} on rapids", s.feed_samples, s.max_path_feed_mm_per_min, s.rapid_samples);
             }
-            if s.rejected.total() + s.undecodable > 0 {
-                let _ = writeln!(o, "  rejected: {}", reasons(&s.rejected, s.undecodable));
+            if s.rejected.total() + report.undecodable > 0 {
+                let _ = writeln!(o, "  rejected: {}", reasons(&s.rejected, report.undecodable));
             }
             for r in &s.regions {
                 let _ = writeln!(

@@ -17,6 +17,7 @@ pub mod args;
 pub mod job;
 pub mod live;
 pub mod record;
+pub mod recorded;
 pub mod report;
 pub mod scene;
 pub mod topics;

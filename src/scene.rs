@@ -4,12 +4,13 @@
 //! The live bridge and `fiveaxis replay` feed the same [`Scene`], so a replay draws what the live
 //! view drew.
 
-use crate::live::monitor::{Monitor, MonitorConfig};
+use crate::live::monitor::{Monitor, MonitorConfig, Rejection};
 use crate::machine::Machine;
 use crate::record::RecordError;
+use crate::recorded::{read_states, Selection, Unread};
 use crate::roughness::Profile;
 use crate::units::{mm_per_min, RPM};
-use fiveaxis_msgs::{AxisState, JointState, RosMessage};
+use fiveaxis_msgs::AxisState;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -197,7 +198,7 @@ pub struct Scene {
     t0: Option<f64>,
     open: BTreeMap<String, (u32, f64)>,
     passes: BTreeMap<String, PassTracker>,
-    /// Samples the monitor refused (NaN, out of range, out of order), per topic.
+    /// Samples refused (a joint missing, NaN, out of range, out of order), per topic.
     pub rejected: BTreeMap<String, u64>,
 }
 
@@ -214,6 +215,18 @@ impl Scene {
     /// The monitor, e.g. to map a machine's JointState onto axes.
     pub fn monitor(&self) -> &Monitor {
         &self.monitor
+    }
+
+    /// The machine the scene is drawn for.
+    pub fn machine(&self) -> &Machine {
+        &self.machine
+    }
+
+    /// Count a sample refused before the monitor (a JointState that does not map onto the axes).
+    pub fn reject(&mut self, topic: &str, why: &Rejection) {
+        let id = self.monitor.input(topic);
+        self.monitor.reject(id, why);
+        *self.rejected.entry(topic.to_string()).or_default() += 1;
     }
 
     /// Feed one sample; returns its row (None when the monitor refused it) and any region events.
@@ -314,47 +327,28 @@ pub struct ReplayStats {
     pub undecodable: u64,
 }
 
-/// Replay the axis-state messages of a recording (ours, or JointState from a machine's bridge when
-/// it has no AxisState: all JointState topics, joint names = axis names unless `axis_map` says) into
-/// `scene`, handing each row and event to `sink` in recording order.
-pub fn replay_mcap(
-    path: &Path,
-    scene: &mut Scene,
-    axis_map: &BTreeMap<String, String>,
-    mut sink: impl FnMut(Option<&Row>, &[Event]),
-) -> Result<ReplayStats, RecordError> {
-    let axis_state_type = AxisState::type_name();
-    let has_axis_state = crate::record::read::may_carry_type(path, &axis_state_type)?;
-    let joint_state_type = JointState::type_name();
-    let mut stats = ReplayStats::default();
-    let mut state = AxisState::default();
-    let mut joints = JointState::default();
-    crate::record::read::for_each_message(path, |msg| {
-        stats.messages_read += 1;
-        let decoded = if msg.channel.schema_name == axis_state_type {
-            state.read_cdr(msg.data).is_ok()
-        } else if msg.channel.schema_name == joint_state_type && !has_axis_state {
-            match joints.read_cdr(msg.data).ok().and_then(|()| scene.monitor().joint_state_to_axis_state(&joints, axis_map).ok()) {
-                Some(s) => {
-                    state = s;
-                    true
-                }
-                None => false,
-            }
-        } else {
-            return;
-        };
-        if !decoded {
-            stats.undecodable += 1;
-            return;
+/// Replay the axis-state messages of a recording into `scene`, handing each row and event to `sink`
+/// in recording order. The streams are those `analyze` reads ([`crate::recorded`]): our AxisState,
+/// or a machine bridge's JointState (joints named as `selection` says). Damage after good messages
+/// is an error once those were handed on.
+pub fn replay_mcap(path: &Path, scene: &mut Scene, selection: &Selection, mut sink: impl FnMut(Option<&Row>, &[Event])) -> Result<ReplayStats, RecordError> {
+    let mut rows = 0;
+    let machine = scene.machine().clone();
+    let read = read_states(path, &machine, selection, &mut |_, _| {}, |msg| match msg.sample {
+        Ok(state) => {
+            let (row, events) = scene.push(msg.topic, state);
+            rows += row.is_some() as u64;
+            sink(row.as_ref(), &events);
         }
-        let (row, events) = scene.push(&msg.channel.topic, &state);
-        stats.rows += row.is_some() as u64;
-        sink(row.as_ref(), &events);
+        Err(Unread::Unmapped(e)) => scene.reject(msg.topic, &e),
+        Err(Unread::Undecodable) => {}
     })?;
+    if let Some(e) = read.damage {
+        return Err(e);
+    }
     let events = scene.finish();
     sink(None, &events);
-    Ok(stats)
+    Ok(ReplayStats { messages_read: read.messages_read, rows, undecodable: read.undecodable() })
 }
 
 /// The roughness profile for plotting: (x mm, roughness height um) after the ISO 16610-21 filter, and

@@ -4,6 +4,7 @@
 
 pub mod commander;
 pub mod inprocess;
+pub mod joint_map;
 pub mod monitor;
 pub mod sim_report;
 pub mod simulator;

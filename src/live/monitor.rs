@@ -447,32 +447,9 @@ impl Monitor {
     /// Convert a machine bridge's JointState (names mapped to this machine's axes, case-insensitive,
     /// through `rename`: machine axis -> name in the message) into an AxisState of source MACHINE.
     pub fn joint_state_to_axis_state(&self, js: &JointState, rename: &BTreeMap<String, String>) -> Result<AxisState, Rejection> {
-        let mut position = Vec::with_capacity(AXES);
-        let mut velocity = Vec::with_capacity(AXES);
-        for axis in &self.machine.axes {
-            let want = rename.get(&axis.name).unwrap_or(&axis.name);
-            let k = js
-                .name
-                .iter()
-                .position(|n| n.eq_ignore_ascii_case(want))
-                .ok_or_else(|| Rejection::MissingJoint(want.clone()))?;
-            position.push(*js.position.get(k).ok_or_else(|| Rejection::Invalid(format!("no position for joint '{want}'")))?);
-            if let Some(v) = js.velocity.get(k) {
-                velocity.push(*v);
-            }
-        }
-        if velocity.len() != AXES {
-            velocity.clear();
-        }
-        Ok(AxisState {
-            header: js.header.clone(),
-            source: AxisState::SOURCE_MACHINE,
-            name: self.machine.axis_names().to_vec(),
-            position,
-            velocity,
-            ..Default::default()
-        })
+        super::joint_map::JointMap::new(&self.machine, rename).axis_state(js)
     }
+
 
     /// The sample's tool axis and tool tip (workpiece coordinates): as the message gives them (the
     /// commander and the simulator fill them in), else by forward kinematics of its axis positions

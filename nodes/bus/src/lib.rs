@@ -14,8 +14,10 @@ pub mod program;
 pub mod raw;
 pub mod ros_args;
 pub mod security;
+pub mod states;
 pub use ros_args::RosOptions;
 pub use program::{open_program, Gate};
+pub use states::{subscribe_states, Received, StateInput, StateReceiver};
 
 use anyhow::{bail, Context as _};
 use fiveaxis_msgs::RosMessage;
@@ -613,14 +615,6 @@ pub fn forward<M: DeserializeOwned + Send + 'static, T: Send + 'static>(
     });
 }
 
-/// One axis-state sample from a watched topic: our AxisState, a machine bridge's JointState, or a
-/// message that did not decode (counted as a malformed sample of its stream).
-pub enum StateInput {
-    State(String, fiveaxis_msgs::AxisState),
-    Joints(String, fiveaxis_msgs::JointState),
-    Undecodable(String, String),
-}
-
 /// The axis-state streams a node watches (the monitor, the Rerun bridge).
 #[derive(Debug, Clone, clap::Args)]
 pub struct InputArgs {
@@ -650,23 +644,3 @@ impl InputArgs {
     }
 }
 
-/// Subscribe to the AxisState and JointState topics of `inputs` (state QoS; with none given, the node
-/// set's commanded and simulated streams), all onto one channel in arrival order; the channel closes
-/// when every reader has ended.
-pub fn subscribe_states(bus: &mut Bus, inputs: &InputArgs) -> anyhow::Result<std::sync::mpsc::Receiver<StateInput>> {
-    let default = fiveaxis::topics::MONITORED.map(|t| t.name.to_string());
-    let states: &[String] = if inputs.inputs.is_empty() && inputs.joint_inputs.is_empty() { &default } else { &inputs.inputs };
-    let joint_inputs = &inputs.joint_inputs;
-    let (tx, rx) = std::sync::mpsc::sync_channel::<StateInput>(8192);
-    for topic in states {
-        let sub = bus.subscription::<fiveaxis_msgs::AxisState>(topic, inputs.input_qos.profile(false))?;
-        tracing::info!(topic = %bus.resolve(topic), "watching AxisState");
-        forward(sub, bus.resolve(topic), tx.clone(), StateInput::State, StateInput::Undecodable);
-    }
-    for topic in joint_inputs {
-        let sub = bus.subscription::<fiveaxis_msgs::JointState>(topic, inputs.input_qos.profile(true))?;
-        tracing::info!(topic = %bus.resolve(topic), "watching JointState");
-        forward(sub, bus.resolve(topic), tx.clone(), StateInput::Joints, StateInput::Undecodable);
-    }
-    Ok(rx)
-}

@@ -3,22 +3,35 @@
 //! 2 Hz, `/diagnostics`: OK, WARN near the singularity or with a region ahead, ERROR above the C
 //! limit, STALE without samples.
 
-use fiveaxis::topics;
 use anyhow::Context as _;
 use clap::Parser;
+use fiveaxis::live::joint_map::JointMap;
 use fiveaxis::live::monitor::{Monitor, MonitorConfig, Rejection};
+use fiveaxis::topics;
 use fiveaxis::units::{MM, MM_PER_MIN, RPM};
-use fiveaxis_bus::{diagnostics_qos, subscribe_states, InputArgs, StateInput, init_tracing, state_qos, Bus, CommonArgs, Shutdown};
+use fiveaxis_bus::{diagnostics_qos, init_tracing, state_qos, subscribe_states, Bus, CommonArgs, InputArgs, Received, Shutdown, StateReceiver};
 use fiveaxis_msgs::{DiagnosticArray, SingularityStatus};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Columns of `--samples-csv`: mm, mm/min, rpm, degrees.
 const SAMPLES_CSV_HEADER: [&str; 15] = [
-    "topic", "t_s", "x_mm", "y_mm", "z_mm", "path_feed_mm_per_min", "programmed_feed_mm_per_min", "predicted_c_speed_rpm", "c_speed_rpm",
-    "singularity_distance_deg", "feed_limit_mm_per_min", "limiting_axis", "in_region", "region_id", "block",
+    "topic",
+    "t_s",
+    "x_mm",
+    "y_mm",
+    "z_mm",
+    "path_feed_mm_per_min",
+    "programmed_feed_mm_per_min",
+    "predicted_c_speed_rpm",
+    "c_speed_rpm",
+    "singularity_distance_deg",
+    "feed_limit_mm_per_min",
+    "limiting_axis",
+    "in_region",
+    "region_id",
+    "block",
 ];
 
 /// Watch axis-state streams for the singularity.
@@ -62,7 +75,6 @@ struct Args {
     exit_when_idle_s: Option<f64>,
 }
 
-
 fn main() -> anyhow::Result<()> {
     let (args, ros) = fiveaxis_bus::ros_args::parse::<Args>("fiveaxis_monitor");
     init_tracing(&ros);
@@ -76,11 +88,9 @@ fn main() -> anyhow::Result<()> {
         ..Default::default()
     };
     let mut monitor = Monitor::new(&machine, config);
-    let (rename, feed_source) = match args
-        .inputs
-        .axis_map(&machine)
-        .and_then(|m| fiveaxis::job::feed_source(args.program.as_deref(), args.feed_mm_per_min, &machine, &args.control.read_options()).map(|f| (m, f)))
-    {
+    let (rename, feed_source) = match args.inputs.axis_map(&machine).and_then(|m| {
+        fiveaxis::job::feed_source(args.program.as_deref(), args.feed_mm_per_min, &machine, &args.control.read_options()).map(|f| (m, f))
+    }) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("fiveaxis-monitor: {e}");
@@ -108,46 +118,14 @@ fn main() -> anyhow::Result<()> {
         }
         None => None,
     };
-    let start = Instant::now();
-    let wall = || start.elapsed().as_secs_f64();
+    let mut receiver = StateReceiver::new(rx, JointMap::new(&machine, &rename), &shutdown, Duration::from_millis(10), args.exit_when_idle_s);
     let mut last_diag = 0.0;
     let mut last_stale_status = 0.0;
-    let mut last_sample: Option<f64> = None;
     let mut in_region: BTreeMap<String, u32> = BTreeMap::new();
-    while !shutdown.requested() {
-        match rx.recv_timeout(Duration::from_millis(10)) {
-            Ok(input) => {
-                let now = wall();
-                last_sample = Some(now);
-                let (topic, state) = match input {
-                    StateInput::State(t, s) => (t, Ok(s)),
-                    StateInput::Joints(t, js) => {
-                        let st = monitor.joint_state_to_axis_state(&js, &rename).map_err(|e| (e, js.name));
-                        (t, st)
-                    }
-                    StateInput::Undecodable(t, reason) => {
-                        // Logged by the reader; counted here as a malformed sample of the stream.
-                        let id = monitor.input(&t);
-                        monitor.reject(id, &Rejection::Invalid(reason));
-                        continue;
-                    }
-                };
-                let state = match state {
-                    Ok(s) => s,
-                    Err((e, names)) => {
-                        let id = monitor.input(&topic);
-                        monitor.reject(id, &e);
-                        if said.insert((topic.clone(), "missing joint")) {
-                            tracing::error!(
-                                %topic,
-                                "{e}: joints found [{}]; map them with {} (said once; counted in the status and /diagnostics)",
-                                names.join(", "),
-                                machine.suggest_axis_map(&names, &rename)
-                            );
-                        }
-                        continue;
-                    }
-                };
+    while let Some(received) = receiver.next() {
+        let now = receiver.now();
+        match received {
+            Received::State { topic, state } => {
                 if lookahead.as_deref() == Some(topic.as_str()) {
                     monitor.on_commanded_ahead(&state);
                 }
@@ -156,7 +134,10 @@ fn main() -> anyhow::Result<()> {
                         let was = in_region.get(&topic).copied().unwrap_or(0);
                         if status.in_region && was != status.region_id {
                             tracing::warn!(%topic, region = status.region_id, x_mm = status.workpiece_position.x * 1e3, "entering a region: C speed above its limit");
-                            bus.rosout(ros2_client::ros2::LogLevel::Warn, &format!("{topic}: region {} at x {:.3} mm", status.region_id, status.workpiece_position.x * 1e3));
+                            bus.rosout(
+                                ros2_client::ros2::LogLevel::Warn,
+                                &format!("{topic}: region {} at x {:.3} mm", status.region_id, status.workpiece_position.x * 1e3),
+                            );
                         } else if !status.in_region && was != 0 {
                             tracing::info!(%topic, region = was, x_mm = status.workpiece_position.x * 1e3, "leaving the region");
                         }
@@ -198,10 +179,23 @@ fn main() -> anyhow::Result<()> {
                     }
                 }
             }
-            Err(mpsc::RecvTimeoutError::Timeout) => {}
-            Err(mpsc::RecvTimeoutError::Disconnected) => break,
+            Received::Refused { topic, why, joints } => {
+                let id = monitor.input(&topic);
+                monitor.reject(id, &why);
+                // A JointState whose joints do not map: said once, with the joints it has.
+                if let (Rejection::MissingJoint(_), Some(names)) = (&why, joints) {
+                    if said.insert((topic.clone(), "missing joint")) {
+                        tracing::error!(
+                            %topic,
+                            "{why}: joints found [{}]; map them with {} (said once; counted in the status and /diagnostics)",
+                            names.join(", "),
+                            machine.suggest_axis_map(&names, &rename)
+                        );
+                    }
+                }
+            }
+            Received::Idle => {}
         }
-        let now = wall();
         let gone = monitor.tick(now);
         for topic in &gone {
             tracing::warn!(%topic, "stale: no sample for {} ms", args.stale_ms);
@@ -225,12 +219,6 @@ fn main() -> anyhow::Result<()> {
                 tracing::warn!("publishing diagnostics: {e:?}");
             }
             monitor.reported();
-        }
-        if let (Some(idle), Some(last)) = (args.exit_when_idle_s, last_sample) {
-            if now - last > idle {
-                tracing::info!("inputs idle for {idle} s: exiting");
-                break;
-            }
         }
     }
     monitor.finish();

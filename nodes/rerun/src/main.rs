@@ -9,12 +9,12 @@ use fiveaxis::live::monitor::MonitorConfig;
 use fiveaxis::roughness::RoughnessArgs;
 use fiveaxis::scene::{replay_mcap, Scene};
 use fiveaxis::units::RPM;
-use fiveaxis_bus::{init_tracing, subscribe_states, Bus, CommonArgs, InputArgs, Shutdown, StateInput};
+use fiveaxis::live::joint_map::JointMap;
+use fiveaxis_bus::{init_tracing, subscribe_states, Bus, CommonArgs, InputArgs, Received, Shutdown, StateReceiver};
 use fiveaxis_rerun::{send_layout, Bridge, BridgeOptions, APP_ID};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 /// Stream the fiveaxis node set (live over DDS, or from an MCAP recording) to Rerun.
@@ -182,7 +182,8 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
     }
     let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm, a.work_offset));
     let mut failure: Option<anyhow::Error> = None;
-    let stats = replay_mcap(&a.recording, &mut scene, &map, |row, events| {
+    let selection = fiveaxis::recorded::Selection { axis_map: map, ..Default::default() };
+    let stats = replay_mcap(&a.recording, &mut scene, &selection, |row, events| {
         if failure.is_some() {
             return;
         }
@@ -212,7 +213,7 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
         stats.messages_read,
         stats.rows,
         if stats.undecodable > 0 { format!(", {} undecodable", stats.undecodable) } else { String::new() },
-        if rejected > 0 { format!(", {rejected} refused by the monitor (NaN, out of range, out of order)") } else { String::new() },
+        if rejected > 0 { format!(", {rejected} refused (a joint missing, NaN, out of range, out of order)") } else { String::new() },
         a.sink.save.as_ref().map_or(String::new(), |p| format!(" -> {}", p.display()))
     );
     Ok(ExitCode::SUCCESS)
@@ -240,45 +241,27 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
     let rx = subscribe_states(&mut bus, &a.inputs)?;
     let flush_every = Duration::from_millis(a.flush_ms.max(10));
     let mut last_flush = Instant::now();
-    let mut last_sample: Option<Instant> = None;
     let mut samples = 0u64;
-    while !shutdown.requested() {
-        match rx.recv_timeout(Duration::from_millis(20)) {
-            Ok(input) => {
-                last_sample = Some(Instant::now());
-                let (topic, state) = match input {
-                    StateInput::State(t, s) => (t, Ok(s)),
-                    StateInput::Joints(t, js) => {
-                        let st = scene.monitor().joint_state_to_axis_state(&js, &map);
-                        (t, st)
-                    }
-                    // Logged by the reader.
-                    StateInput::Undecodable(..) => continue,
-                };
-                match state {
-                    Ok(s) => {
-                        let (row, events) = scene.push(&topic, &s);
-                        if let Some(r) = row {
-                            bridge.row(&r)?;
-                            samples += 1;
-                        }
-                        bridge.events(&events)?;
-                    }
-                    Err(e) => tracing::warn!(%topic, "{e}"),
+    let receiver = StateReceiver::new(rx, JointMap::new(&machine, &map), &shutdown, Duration::from_millis(20), a.exit_when_idle_s);
+    for received in receiver {
+        match received {
+            Received::State { topic, state } => {
+                let (row, events) = scene.push(&topic, &state);
+                if let Some(r) = row {
+                    bridge.row(&r)?;
+                    samples += 1;
                 }
+                bridge.events(&events)?;
             }
-            Err(mpsc::RecvTimeoutError::Timeout) => {}
-            Err(mpsc::RecvTimeoutError::Disconnected) => break,
+            Received::Refused { topic, why, .. } => {
+                tracing::warn!(%topic, "{why}");
+                scene.reject(&topic, &why);
+            }
+            Received::Idle => {}
         }
         if last_flush.elapsed() >= flush_every {
             bridge.flush()?;
             last_flush = Instant::now();
-        }
-        if let (Some(idle), Some(last)) = (a.exit_when_idle_s, last_sample) {
-            if last.elapsed().as_secs_f64() > idle {
-                tracing::info!("inputs idle for {idle} s: exiting");
-                break;
-            }
         }
     }
     let events = scene.finish();

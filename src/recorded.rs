@@ -1,0 +1,180 @@
+//! Axis states out of a recording: which channels carry them and how each message reads (our
+//! AxisState as is; a machine bridge's JointState mapped onto the machine's axes by
+//! [`JointMap`]). One rule for `fiveaxis analyze` and `replay`, so both see the same streams.
+//!
+//! The rule: every AxisState channel; JointState channels on the topics asked for, or, when none
+//! are asked for, every JointState channel of a recording that has no AxisState (a machine bridge's
+//! bag).
+
+use crate::live::joint_map::JointMap;
+use crate::live::monitor::Rejection;
+use crate::machine::Machine;
+use crate::record::{read, RecordError};
+use fiveaxis_msgs::{AxisState, JointState, RosMessage};
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+/// Which JointState streams to read and how their joints map onto the machine's axes.
+#[derive(Debug, Clone, Default)]
+pub struct Selection {
+    /// JointState topics to read (empty: all, when the recording has no AxisState).
+    pub joint_state_topics: Vec<String>,
+    /// Machine axis -> joint name in those JointStates.
+    pub axis_map: BTreeMap<String, String>,
+}
+
+/// One stream read: a topic carrying axis states, numbered in order of its first message.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordedStream {
+    pub topic: String,
+    /// A machine bridge's JointState stream (else our AxisState).
+    pub joint_state: bool,
+    /// JointState streams: the joint names of the first message that decoded.
+    pub joint_names: Option<Vec<String>>,
+    /// Messages that did not decode.
+    pub undecodable: u64,
+}
+
+/// Why a message of a read stream gave no axis state.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Unread {
+    /// Not valid CDR of its type.
+    Undecodable,
+    /// A JointState whose joints do not map onto the machine's axes.
+    Unmapped(Rejection),
+}
+
+/// One message of a read stream.
+#[derive(Debug)]
+pub struct Recorded<'a> {
+    /// The stream's number (index into [`StatesRead::streams`], in order of first message).
+    pub stream: usize,
+    pub topic: &'a str,
+    /// Receive time, ns.
+    pub log_time: u64,
+    pub sample: Result<&'a AxisState, Unread>,
+}
+
+/// What reading the recording found.
+#[derive(Debug)]
+pub struct StatesRead {
+    /// Every message of the recording, of any topic.
+    pub messages_read: u64,
+    pub streams: Vec<RecordedStream>,
+    /// Every JointState topic of the recording, read or not (to name them when one asked for is absent).
+    pub joint_state_topics: BTreeSet<String>,
+    /// Why reading stopped before the end (a damaged or cut recording): what came before it was read.
+    pub damage: Option<RecordError>,
+}
+
+impl StatesRead {
+    /// Messages of read streams that did not decode.
+    pub fn undecodable(&self) -> u64 {
+        self.streams.iter().map(|s| s.undecodable).sum()
+    }
+}
+
+/// How the messages of a channel are read.
+#[derive(Clone, Copy)]
+enum Decode {
+    AxisState(usize),
+    JointState(usize),
+    Skip,
+}
+
+/// Read the axis states of the recording at `path` (an MCAP file or a rosbag2 directory) in
+/// recording order, handing each message of a read stream to `visit`; `progress(bytes read, file
+/// size)` is called now and then. Streamed: memory stays flat whatever the recording's size. An
+/// unreadable recording is an error; damage after good messages ends the read with
+/// [`StatesRead::damage`] set.
+pub fn read_states(
+    path: &Path,
+    machine: &Machine,
+    selection: &Selection,
+    // Dynamic, so that a progress bar's code stays out of the per-message loop (called rarely).
+    progress: &mut dyn FnMut(u64, u64),
+    mut visit: impl FnMut(Recorded<'_>),
+) -> Result<StatesRead, RecordError> {
+    let file_len = read::recording_len(path)?;
+    let axis_state_type = AxisState::type_name();
+    let joint_state_type = JointState::type_name();
+    let has_axis_state = read::may_carry_type(path, &axis_state_type)?;
+    let map = JointMap::new(machine, &selection.axis_map);
+    let mut out = StatesRead { messages_read: 0, streams: Vec::new(), joint_state_topics: BTreeSet::new(), damage: None };
+    let mut by_topic: BTreeMap<String, usize> = BTreeMap::new();
+    // By channel id, in the current file (a rosbag2 directory's files number channels anew).
+    let mut decode: Vec<Option<Decode>> = Vec::new();
+    let mut file = 0;
+    let mut state = AxisState::default();
+    let mut joints = JointState::default();
+    let result = read::for_each_message(path, |msg| {
+        out.messages_read += 1;
+        if out.messages_read.is_multiple_of(65_536) {
+            progress(msg.file_position, file_len);
+        }
+        if msg.file != file {
+            file = msg.file;
+            decode.clear();
+        }
+        let slot = usize::from(msg.channel.id);
+        if decode.len() <= slot {
+            decode.resize(slot + 1, None);
+        }
+        let how = *decode[slot].get_or_insert_with(|| {
+            let c = msg.channel;
+            let is_joint_state = c.schema_name == joint_state_type;
+            if is_joint_state {
+                out.joint_state_topics.insert(c.topic.clone());
+            }
+            let joint = is_joint_state
+                && (selection.joint_state_topics.contains(&c.topic) || (selection.joint_state_topics.is_empty() && !has_axis_state));
+            if c.schema_name != axis_state_type && !joint {
+                return Decode::Skip;
+            }
+            let k = *by_topic.entry(c.topic.clone()).or_insert_with(|| {
+                out.streams.push(RecordedStream { topic: c.topic.clone(), joint_state: joint, joint_names: None, undecodable: 0 });
+                out.streams.len() - 1
+            });
+            if joint {
+                Decode::JointState(k)
+            } else {
+                Decode::AxisState(k)
+            }
+        });
+        let (k, sample) = match how {
+            Decode::Skip => return,
+            Decode::AxisState(k) => (k, state.read_cdr(msg.data).map(|()| &state).map_err(|_| Unread::Undecodable)),
+            Decode::JointState(k) => {
+                let sample = match joints.read_cdr(msg.data) {
+                    Err(_) => Err(Unread::Undecodable),
+                    Ok(()) => {
+                        let stream = &mut out.streams[k];
+                        if stream.joint_names.is_none() {
+                            stream.joint_names = Some(joints.name.clone());
+                        }
+                        match map.axis_state(&joints) {
+                            Ok(s) => {
+                                state = s;
+                                Ok(&state)
+                            }
+                            Err(e) => Err(Unread::Unmapped(e)),
+                        }
+                    }
+                };
+                (k, sample)
+            }
+        };
+        if matches!(sample, Err(Unread::Undecodable)) {
+            out.streams[k].undecodable += 1;
+        }
+        visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample });
+    });
+    match result {
+        // Nothing readable at all: nothing to report.
+        Err(e) if out.messages_read == 0 => return Err(e),
+        Err(e) => out.damage = Some(e),
+        Ok(_) => {}
+    }
+    progress(file_len, file_len);
+    Ok(out)
+}
