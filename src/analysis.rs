@@ -397,17 +397,8 @@ fn input_errors(
     read: &crate::recorded::StatesRead,
     analysed: &[Stream],
 ) -> Vec<String> {
-    let joint_topics = &read.joint_state_topics;
-    let mut errors = Vec::new();
-    let list = |s: &std::collections::BTreeSet<String>| if s.is_empty() { "none".to_string() } else { s.iter().cloned().collect::<Vec<_>>().join(", ") };
-    for topic in &options.selection.joint_state_topics {
-        if !joint_topics.contains(topic) {
-            errors.push(format!("JointState topic '{topic}' is not in the recording (JointState topics there: {})", list(joint_topics)));
-        }
-    }
-    if streams.is_empty() && errors.is_empty() {
-        errors.push(format!("no AxisState or JointState stream in the recording (JointState topics: {})", list(joint_topics)));
-    }
+    // A topic asked for and absent, or nothing to read.
+    let mut errors = read.selection_errors(&options.selection);
     for (report, &k) in streams.iter().zip(order) {
         let (names, fits) = (&read.streams[k].joint_names, analysed[k].fits_mm_deg);
         let s = &report.input;

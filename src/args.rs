@@ -63,3 +63,24 @@ pub struct ListingArgs {
     #[arg(long = "max-listed-regions", value_name = "N", default_value_t = crate::listing::MAX_LISTED)]
     pub max_listed_regions: usize,
 }
+
+/// Which recorded JointState streams to read and how their joints are named (`fiveaxis analyze`,
+/// `fiveaxis-rerun replay`): one selection rule, [`crate::recorded`].
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct RecordedStreamArgs {
+    /// sensor_msgs/JointState topics to read (repeatable; default: all, if the recording has no
+    /// AxisState).
+    #[arg(long = "joint-state-topic", value_name = "TOPIC")]
+    pub joint_state_topics: Vec<String>,
+    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable; axis
+    /// names case-insensitive; an axis the machine lacks is refused).
+    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = crate::machine::parse_axis_map)]
+    pub axis_map: Vec<(String, String)>,
+}
+
+impl RecordedStreamArgs {
+    /// The selection on `machine` (an axis map naming an axis the machine lacks is an error).
+    pub fn selection(&self, machine: &Machine) -> Result<crate::recorded::Selection, String> {
+        Ok(crate::recorded::Selection { joint_state_topics: self.joint_state_topics.clone(), axis_map: machine.resolve_axis_map(&self.axis_map)? })
+    }
+}

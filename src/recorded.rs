@@ -72,6 +72,28 @@ impl StatesRead {
     pub fn undecodable(&self) -> u64 {
         self.streams.iter().map(|s| s.undecodable).sum()
     }
+
+    /// What the selection asked for and the recording lacks: a JointState topic absent, or no
+    /// stream to read at all (bad input for every reader of the recording).
+    pub fn selection_errors(&self, selection: &Selection) -> Vec<String> {
+        selection_errors(selection, &self.joint_state_topics, self.streams.is_empty())
+    }
+}
+
+/// [`StatesRead::selection_errors`] from what a read found: every JointState topic of the
+/// recording, and whether any stream was read.
+pub fn selection_errors(selection: &Selection, joint_state_topics: &BTreeSet<String>, no_stream: bool) -> Vec<String> {
+    let list = || if joint_state_topics.is_empty() { "none".to_string() } else { joint_state_topics.iter().cloned().collect::<Vec<_>>().join(", ") };
+    let mut errors: Vec<String> = selection
+        .joint_state_topics
+        .iter()
+        .filter(|t| !joint_state_topics.contains(*t))
+        .map(|t| format!("JointState topic '{t}' is not in the recording (JointState topics there: {})", list()))
+        .collect();
+    if no_stream && errors.is_empty() {
+        errors.push(format!("no AxisState or JointState stream in the recording (JointState topics: {})", list()));
+    }
+    errors
 }
 
 /// How the messages of a channel are read.

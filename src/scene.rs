@@ -325,6 +325,41 @@ pub struct ReplayStats {
     pub messages_read: u64,
     pub rows: u64,
     pub undecodable: u64,
+    /// The streams read (topics, JointState joint names), in order of first message, and every
+    /// JointState topic of the recording.
+    pub streams: Vec<crate::recorded::RecordedStream>,
+    pub joint_state_topics: std::collections::BTreeSet<String>,
+}
+
+impl ReplayStats {
+    /// What the replay could not draw, as `fiveaxis analyze` says it: (errors: a JointState topic
+    /// asked for and absent, or no stream at all; streams read of which no sample was drawn, a
+    /// JointState's with the joints found and the axis map to give).
+    pub fn input_errors(&self, scene: &Scene, selection: &Selection) -> (Vec<String>, Vec<String>) {
+        let errors = crate::recorded::selection_errors(selection, &self.joint_state_topics, self.streams.is_empty());
+        let summary = scene.monitor().summary();
+        let undrawn = self
+            .streams
+            .iter()
+            .filter_map(|s| {
+                let input = summary.iter().find(|i| i.topic == s.topic);
+                if input.is_some_and(|i| i.samples > 0) {
+                    return None;
+                }
+                let refused = scene.rejected.get(&s.topic).copied().unwrap_or(0);
+                Some(match (&s.joint_names, input) {
+                    (Some(names), Some(i)) if i.rejected.missing_joint > 0 => format!(
+                        "{}: no sample drawn, {refused} without a joint for every machine axis; joints found: [{}]; map them with {}",
+                        s.topic,
+                        names.join(", "),
+                        scene.machine().suggest_axis_map(names, &selection.axis_map)
+                    ),
+                    _ => format!("{}: no sample drawn ({refused} refused, {} undecodable)", s.topic, s.undecodable),
+                })
+            })
+            .collect();
+        (errors, undrawn)
+    }
 }
 
 /// Replay the axis-state messages of a recording into `scene`, handing each row and event to `sink`
@@ -348,7 +383,7 @@ pub fn replay_mcap(path: &Path, scene: &mut Scene, selection: &Selection, mut si
     }
     let events = scene.finish();
     sink(None, &events);
-    Ok(ReplayStats { messages_read: read.messages_read, rows, undecodable: read.undecodable() })
+    Ok(ReplayStats { messages_read: read.messages_read, rows, undecodable: read.undecodable(), streams: read.streams, joint_state_topics: read.joint_state_topics })
 }
 
 /// The roughness profile for plotting: (x mm, roughness height um) after the ISO 16610-21 filter, and

@@ -185,5 +185,24 @@ fn replay_of_a_machine_recording_with_the_controls_work_offset() {
     }
     assert!((ends[0] - 28.0).abs() <= 0.5, "with the work offset the region ends at x {:.3} mm", ends[0]);
     assert!((ends[1] - (ends[0] - 30.489)).abs() <= 0.05, "without it, 30.489 mm lower: {:.3} mm", ends[1]);
+    // Without the axis map no joint of the bag (written by rosbags, named by LinuxCNC's HAL) maps
+    // onto the machine's axes: replay draws nothing and says so as `fiveaxis analyze` does (exit 2,
+    // the joints found and the map to give), the same rule over the same streams.
+    let out = Command::new(bin("fiveaxis-rerun")).arg("replay").arg(&bag).arg("--save").arg(dir.join("unmapped.rrd")).output().unwrap();
+    let replay_err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{replay_err}");
+    let analyze = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).arg("analyze").arg(&bag).output().unwrap();
+    let analyze_out = format!("{}{}", String::from_utf8_lossy(&analyze.stdout), String::from_utf8_lossy(&analyze.stderr));
+    assert_eq!(analyze.status.code(), Some(2), "{analyze_out}");
+    // A JointState topic asked for and absent: both refuse it, naming it and the topics there.
+    let map = ["--axis-map", "X=x_joint", "--axis-map", "Y=y_joint", "--axis-map", "Z=z_joint", "--axis-map", "A=a_joint", "--axis-map", "C=c_joint"];
+    let out = Command::new(bin("fiveaxis-rerun")).arg("replay").arg(&bag).args(map).args(["--joint-state-topic", "/no/such", "--save"]).arg(dir.join("absent.rrd")).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("'/no/such' is not in the recording") && err.contains("/cnc/joint_states"), "{err}");
+    for text in [&*replay_err, &*analyze_out] {
+        assert!(text.contains("/joint_states") || text.contains("joint_states"), "names the stream: {text}");
+        assert!(text.contains("x_joint") && text.contains("--axis-map X=x_joint"), "names the joints and the map: {text}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

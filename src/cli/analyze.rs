@@ -29,13 +29,8 @@ pub struct OfflineArgs {
     /// Fail (exit 1) when a moving tool axis comes closer than this to the singularity, degrees.
     #[arg(long = "min-distance-deg")]
     min_distance_deg: Option<f64>,
-    /// sensor_msgs/JointState topics to analyse (default: all, if the recording has no AxisState).
-    #[arg(long = "joint-state-topic")]
-    joint_state_topics: Vec<String>,
-    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable; axis
-    /// names case-insensitive; an axis the machine lacks is refused).
-    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = fiveaxis::machine::parse_axis_map)]
-    axis_map: Vec<(String, String)>,
+    #[command(flatten)]
+    streams: fiveaxis::args::RecordedStreamArgs,
     /// The program the machine ran (a file, bundled:NAME): machine streams are aligned with its moves
     /// for the programmed feed, block numbers and rapids.
     #[arg(long, conflicts_with = "feed_mm_per_min")]
@@ -69,7 +64,7 @@ pub fn main(a: &OfflineArgs) -> Outcome {
     positive("--min-distance-deg", a.min_distance_deg)?;
     positive("--feed", a.feed_mm_per_min)?;
     let machine = a.machine.load().map_err(bad_input)?;
-    let axis_map = machine.resolve_axis_map(&a.axis_map).map_err(bad_input)?;
+    let selection = a.streams.selection(&machine).map_err(bad_input)?;
     let feed_source = fiveaxis::job::feed_source(a.program.as_deref(), a.feed_mm_per_min, &machine, &a.control.read_options()).map_err(bad_input)?;
     if !(a.max_rejected_percent >= 0.0 && a.max_rejected_percent <= 100.0) {
         return Err(bad_input(format!("--max-rejected-percent {} is not a percentage", a.max_rejected_percent)));
@@ -79,7 +74,7 @@ pub fn main(a: &OfflineArgs) -> Outcome {
         roughness,
         max_c_speed_rpm: a.max_c_speed_rpm,
         min_distance_deg: a.min_distance_deg,
-        selection: fiveaxis::recorded::Selection { joint_state_topics: a.joint_state_topics.clone(), axis_map },
+        selection,
         feed_source,
         max_rejected_share: a.max_rejected_percent / 100.0,
         monitor: fiveaxis::live::monitor::MonitorConfig { work_offset: a.work_offset.unwrap_or_default(), max_listed_regions: a.listing.max_listed_regions, ..Default::default() },

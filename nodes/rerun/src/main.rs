@@ -12,7 +12,6 @@ use fiveaxis::units::RPM;
 use fiveaxis::live::joint_map::JointMap;
 use fiveaxis_bus::{init_tracing, subscribe_states, Bus, CommonArgs, InputArgs, Received, Shutdown, StateReceiver};
 use fiveaxis_rerun::{send_layout, Bridge, BridgeOptions, APP_ID};
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
@@ -83,9 +82,8 @@ struct ReplayArgs {
     recording: PathBuf,
     #[command(flatten)]
     machine: fiveaxis::args::MachineArgs,
-    /// Joint name for a machine axis in a JointState recording: `--axis-map A=joint_a` (repeatable).
-    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = fiveaxis::machine::parse_axis_map)]
-    axis_map: Vec<(String, String)>,
+    #[command(flatten)]
+    streams: fiveaxis::args::RecordedStreamArgs,
     /// The control's active work offset (G54-style datum) `X,Y,Z` in mm: a recorded machine stream's
     /// tool tip less it is the program's point.
     #[arg(long = "work-offset-mm", value_name = "X,Y,Z", value_parser = fiveaxis::machine::parse_work_offset, allow_hyphen_values = true)]
@@ -169,7 +167,7 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
         Ok(s) => s,
         Err(code) => return Ok(code),
     };
-    let map: BTreeMap<String, String> = match machine.resolve_axis_map(&a.axis_map) {
+    let selection = match a.streams.selection(&machine) {
         Ok(m) => m,
         Err(e) => return Ok(bad_input(e)),
     };
@@ -182,7 +180,6 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
     }
     let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm, a.work_offset));
     let mut failure: Option<anyhow::Error> = None;
-    let selection = fiveaxis::recorded::Selection { axis_map: map, ..Default::default() };
     let stats = replay_mcap(&a.recording, &mut scene, &selection, |row, events| {
         if failure.is_some() {
             return;
@@ -207,6 +204,17 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
     }
     bridge.flush()?;
     bridge.stream().flush_blocking().context("flushing to the viewer or file")?;
+    // A stream asked for and absent, or nothing drawn of any stream read (joints that do not map,
+    // nothing the monitor took), is bad input, as `fiveaxis analyze` says of it; a stream not drawn
+    // beside others drawn (a gripper's JointState in a machine's bag) is said. The file holds what
+    // was drawn.
+    let (errors, undrawn) = stats.input_errors(&scene, &selection);
+    for e in errors.iter().chain(&undrawn) {
+        eprintln!("fiveaxis-rerun: {e}");
+    }
+    if !errors.is_empty() || stats.rows == 0 {
+        return Ok(ExitCode::from(EXIT_INPUT));
+    }
     let rejected: u64 = scene.rejected.values().sum();
     eprintln!(
         "fiveaxis-rerun: {} messages read, {} samples drawn{}{}{}",
