@@ -76,18 +76,9 @@ impl ViewArgs {
     }
 }
 
+/// What both commands draw and where: the region threshold, the roughness profile, the view, the sink.
 #[derive(Args)]
-struct ReplayArgs {
-    /// The recording.
-    recording: PathBuf,
-    #[command(flatten)]
-    machine: fiveaxis::args::MachineArgs,
-    #[command(flatten)]
-    streams: fiveaxis::args::RecordedStreamArgs,
-    /// The control's active work offset (G54-style datum) `X,Y,Z` in mm: a recorded machine stream's
-    /// tool tip less it is the program's point.
-    #[arg(long = "work-offset-mm", value_name = "X,Y,Z", value_parser = fiveaxis::machine::parse_work_offset, allow_hyphen_values = true)]
-    work_offset: Option<nalgebra::Vector3<f64>>,
+struct OutputArgs {
     /// Region threshold of the singular axis speed, rpm (default: the machine's limit).
     #[arg(long = "max-c-speed-rpm")]
     max_c_speed_rpm: Option<f64>,
@@ -100,14 +91,27 @@ struct ReplayArgs {
 }
 
 #[derive(Args)]
+struct ReplayArgs {
+    /// The recording.
+    recording: PathBuf,
+    #[command(flatten)]
+    machine: fiveaxis::args::MachineArgs,
+    #[command(flatten)]
+    streams: fiveaxis::args::RecordedStreamArgs,
+    /// The control's active work offset (G54-style datum) `X,Y,Z` in mm: a recorded machine stream's
+    /// tool tip less it is the program's point.
+    #[arg(long = "work-offset-mm", value_name = "X,Y,Z", value_parser = fiveaxis::machine::parse_work_offset, allow_hyphen_values = true)]
+    work_offset: Option<nalgebra::Vector3<f64>>,
+    #[command(flatten)]
+    out: OutputArgs,
+}
+
+#[derive(Args)]
 struct LiveArgs {
     #[command(flatten)]
     common: CommonArgs,
     #[command(flatten)]
     inputs: InputArgs,
-    /// Region threshold of the singular axis speed, rpm (default: the machine's limit).
-    #[arg(long = "max-c-speed-rpm")]
-    max_c_speed_rpm: Option<f64>,
     /// Send buffered samples to the viewer at least this often, ms.
     #[arg(long = "flush-ms", default_value_t = 200)]
     flush_ms: u64,
@@ -115,11 +119,7 @@ struct LiveArgs {
     #[arg(long = "exit-when-idle-s")]
     exit_when_idle_s: Option<f64>,
     #[command(flatten)]
-    roughness: RoughnessArgs,
-    #[command(flatten)]
-    view: ViewArgs,
-    #[command(flatten)]
-    sink: SinkArgs,
+    out: OutputArgs,
 }
 
 /// Exit codes: 0 done, 1 the viewer or the file failed, 2 bad input (unreadable recording, bad flags).
@@ -163,7 +163,7 @@ fn config(max_c_speed_rpm: Option<f64>, work_offset: Option<nalgebra::Vector3<f6
 }
 
 fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
-    let (machine, roughness, options) = match settings(&a.machine, &a.roughness, &a.view) {
+    let (machine, roughness, options) = match settings(&a.machine, &a.out.roughness, &a.out.view) {
         Ok(s) => s,
         Err(code) => return Ok(code),
     };
@@ -173,12 +173,12 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
     };
     // Every input is checked before the output is opened (a .rrd is not overwritten for nothing).
     let name = a.recording.file_name().map_or("recording".into(), |n| n.to_string_lossy().into_owned());
-    let rec = open_stream(&a.sink, &name)?;
+    let rec = open_stream(&a.out.sink, &name)?;
     let mut bridge = Bridge::new(rec, &machine, &options)?;
     if let Some((profile, cutoff)) = &roughness {
         bridge.roughness(profile, *cutoff)?;
     }
-    let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm, a.work_offset));
+    let mut scene = Scene::new(&machine, config(a.out.max_c_speed_rpm, a.work_offset));
     let mut failure: Option<anyhow::Error> = None;
     let stats = replay_mcap(&a.recording, &mut scene, &selection, |row, events| {
         if failure.is_some() {
@@ -222,7 +222,7 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
         stats.rows,
         if stats.undecodable > 0 { format!(", {} undecodable", stats.undecodable) } else { String::new() },
         if rejected > 0 { format!(", {rejected} refused (a joint missing, NaN, out of range, out of order)") } else { String::new() },
-        a.sink.save.as_ref().map_or(String::new(), |p| format!(" -> {}", p.display()))
+        a.out.sink.save.as_ref().map_or(String::new(), |p| format!(" -> {}", p.display()))
     );
     Ok(ExitCode::SUCCESS)
 }
@@ -230,7 +230,7 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
 
 fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode> {
     let shutdown = Shutdown::install()?;
-    let (machine, roughness, options) = match settings(&a.common.machine, &a.roughness, &a.view) {
+    let (machine, roughness, options) = match settings(&a.common.machine, &a.out.roughness, &a.out.view) {
         Ok(s) => s,
         Err(code) => return Ok(code),
     };
@@ -238,12 +238,12 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
         Ok(m) => m,
         Err(e) => return Ok(bad_input(e)),
     };
-    let rec = open_stream(&a.sink, "live")?;
+    let rec = open_stream(&a.out.sink, "live")?;
     let mut bridge = Bridge::new(rec, &machine, &options)?;
     if let Some((profile, cutoff)) = &roughness {
         bridge.roughness(profile, *cutoff)?;
     }
-    let mut scene = Scene::new(&machine, config(a.max_c_speed_rpm, a.inputs.work_offset));
+    let mut scene = Scene::new(&machine, config(a.out.max_c_speed_rpm, a.inputs.work_offset));
 
     let mut bus = Bus::new("fiveaxis_rerun", &a.common, ros)?;
     let rx = subscribe_states(&mut bus, &a.inputs)?;
