@@ -51,7 +51,7 @@ impl Default for MachineArgs {
 impl MachineArgs {
     /// The machine named (an unknown name or an invalid file is an error naming the field).
     pub fn load(&self) -> Result<Machine, MachineError> {
-        Machine::from_name_or_file(&self.spec)
+        crate::machine::load(&self.spec)
     }
 }
 

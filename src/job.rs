@@ -90,7 +90,7 @@ pub fn open_spec(spec: &str, options: &JobOptions) -> Result<program::BlockStrea
     if let Some((text, dialect)) = bundled(spec, options)? {
         return Ok(program::BlockStream::from_text(text, Some(dialect), spec, &options.read));
     }
-    Ok(program::BlockStream::open(Path::new(spec), options.dialect, &options.read)?)
+    Ok(program::open(Path::new(spec), options.dialect, &options.read)?)
 }
 
 /// Analyse the program named by `spec` as it is read (`fiveaxis program analyze`): blocks, segments

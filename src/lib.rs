@@ -23,12 +23,21 @@ pub mod scene;
 pub mod topics;
 
 // The math, from the sans-I/O core crate, at the paths it has always had.
-pub use fiveaxis_core::{kinematics, listing, machine, path, planner, singularity, units};
+pub use fiveaxis_core::{kinematics, listing, path, planner, singularity, units};
 use fiveaxis_core::xml;
 
-/// NC program readers ([`fiveaxis_core::program`]) and the control's set-up flags.
+/// Machines ([`fiveaxis_core::machine`]) and their files.
+pub mod machine {
+    mod files;
+    pub use files::{description_text, load, read_machine_file, MAX_MACHINE_FILE_BYTES};
+    pub use fiveaxis_core::machine::*;
+}
+
+/// NC program readers ([`fiveaxis_core::program`]), their files and the control's set-up flags.
 pub mod program {
+    mod files;
     pub use crate::args::ControlArgs;
+    pub use files::{load, open};
     pub use fiveaxis_core::program::*;
 }
 

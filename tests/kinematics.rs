@@ -224,5 +224,5 @@ fn machine_files_report_what_is_wrong() {
     assert!(bad.to_string().contains("3 [[linear]]"), "{bad}");
     let unknown = Machine::from_toml_str("name = \"x\"\nfoo = 1\nlinear = []\nrotary = []\n", "bad.toml").unwrap_err();
     assert!(unknown.to_string().contains("foo"), "{unknown}");
-    assert!(Machine::from_name_or_file("no-such-machine").is_err());
+    assert!(fiveaxis::machine::load("no-such-machine").is_err());
 }

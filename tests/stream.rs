@@ -57,7 +57,7 @@ fn corpus() -> Vec<(PathBuf, ReadOptions)> {
 fn a_streamed_program_is_the_program_read_whole() {
     for (path, options) in corpus() {
         let whole = program::load(&path, None, &options).unwrap();
-        let mut stream = BlockStream::open(&path, None, &options).unwrap();
+        let mut stream = fiveaxis::program::open(&path, None, &options).unwrap();
         let blocks: Vec<_> = stream.by_ref().collect();
         assert_eq!(stream.dialect(), whole.dialect, "{}", path.display());
         assert_eq!(stream.name(), whole.name.as_deref(), "{}", path.display());
@@ -103,7 +103,7 @@ fn line_endings_bad_bytes_and_overlong_lines_stream_as_they_read() {
     let whole = program::read(&String::from_utf8_lossy(&text), Dialect::Rs274, "t", &ReadOptions::default());
     let path = tmp("endings.ngc");
     std::fs::write(&path, &text).unwrap();
-    let mut s = BlockStream::open(&path, None, &ReadOptions::default()).unwrap();
+    let mut s = fiveaxis::program::open(&path, None, &ReadOptions::default()).unwrap();
     let blocks: Vec<_> = s.by_ref().collect();
     assert_eq!(blocks, whole.blocks);
     assert_eq!(s.diagnostics().to_vec(), whole.diagnostics);
@@ -113,7 +113,7 @@ fn line_endings_bad_bytes_and_overlong_lines_stream_as_they_read() {
     text.extend(std::iter::repeat_n(b'x', MAX_LINE_BYTES + 10));
     text.extend(b")\nG1 X5\n");
     std::fs::write(&path, &text).unwrap();
-    let mut s = BlockStream::open(&path, None, &ReadOptions::default()).unwrap();
+    let mut s = fiveaxis::program::open(&path, None, &ReadOptions::default()).unwrap();
     let blocks: Vec<_> = s.by_ref().collect();
     assert_eq!(blocks.iter().map(|b| b.line).collect::<Vec<_>>(), vec![1, 2, 4]);
     let d = s.diagnostics().to_vec();

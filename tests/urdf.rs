@@ -111,7 +111,7 @@ fn every_built_in_machine_written_as_urdf_reads_back_with_the_same_kinematics() 
 #[test]
 fn hand_written_hermle_urdf_gives_the_papers_figures() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/machines/urdf/hermle-c600u.urdf");
-    let m = Machine::from_name_or_file(path).unwrap();
+    let m = fiveaxis::machine::load(path).unwrap();
     assert_eq!(m.axis_names(), ["X", "Y", "Z", "A", "C"].map(String::from));
     assert_eq!(m.axes[m.secondary_axis()].name, "C", "C is the secondary axis (seed 001 §2.4)");
     let j = job::run("bundled:SING.I", &m, &JobOptions::default()).unwrap();

@@ -46,7 +46,7 @@ fn list() -> Outcome {
 
 /// `machine urdf`: the machine written as URDF, to a file or standard output.
 fn urdf(spec: &str, out: Option<&std::path::Path>) -> Outcome {
-    let machine = Machine::from_name_or_file(spec).map_err(bad_input)?;
+    let machine = fiveaxis::machine::load(spec).map_err(bad_input)?;
     let text = fiveaxis::machine::urdf::write(&machine);
     match out {
         Some(path) => write_output(path, text)?,

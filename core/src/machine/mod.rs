@@ -12,7 +12,6 @@ pub use file::{LinearAxisFile, MachineFile, RotaryAxisFile};
 
 use crate::kinematics::{unwrap_near, Carrier, Joints, KinematicsError, Pose, RotaryJoint, TwoRotaryChain};
 use nalgebra::Vector3;
-use std::path::Path;
 
 /// Number of machine axes: X, Y, Z and two rotary axes.
 pub const AXES: usize = 5;
@@ -115,17 +114,6 @@ impl Machine {
     /// The Hermle C600U of seed 001 (the default machine).
     pub fn hermle_c600u() -> Machine {
         Machine::builtin(DEFAULT_MACHINE).expect("built-in machine file is valid")
-    }
-
-    /// A built-in name, or else a path to a URDF (`.urdf`) or TOML machine file.
-    pub fn from_name_or_file(spec: &str) -> Result<Machine, MachineError> {
-        if builtin_file(spec).is_some() {
-            return Machine::builtin(spec);
-        }
-        if urdf::is_urdf_path(spec) {
-            return urdf::read(&read_machine_file(spec)?, spec);
-        }
-        Machine::from_toml_str(&description_text(spec)?, spec)
     }
 
     /// Parse a TOML machine description; `origin` names it in errors.
@@ -352,30 +340,3 @@ pub fn builtin_file(name: &str) -> Option<&'static str> {
     BUILTIN_FILES.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
 }
 
-/// The TOML text a `--machine` names: a built-in machine's, or else a machine file's (a `.toml` path
-/// or one that exists); anything else is an unknown machine.
-pub fn description_text(spec: &str) -> Result<std::borrow::Cow<'static, str>, MachineError> {
-    if let Some(text) = builtin_file(spec) {
-        return Ok(text.into());
-    }
-    let path = Path::new(spec);
-    if path.extension().is_some_and(|e| e == "toml") || path.exists() {
-        return read_machine_file(spec).map(Into::into);
-    }
-    Err(MachineError::Unknown(spec.to_string()))
-}
-
-/// Largest machine file read (bytes): a machine is a few kB.
-pub const MAX_MACHINE_FILE_BYTES: u64 = urdf::MAX_BYTES as u64;
-
-/// A machine file's text, read no further than [`MAX_MACHINE_FILE_BYTES`] (a larger one is refused).
-pub fn read_machine_file(spec: &str) -> Result<String, MachineError> {
-    use std::io::Read as _;
-    let io = |source| MachineError::Io { path: spec.to_string(), source };
-    let mut text = String::new();
-    std::fs::File::open(spec).map_err(io)?.take(MAX_MACHINE_FILE_BYTES + 1).read_to_string(&mut text).map_err(io)?;
-    if text.len() as u64 > MAX_MACHINE_FILE_BYTES {
-        return Err(MachineError::Parse { path: spec.to_string(), message: format!("more than {MAX_MACHINE_FILE_BYTES} bytes: a machine file is a few kB") });
-    }
-    Ok(text)
-}

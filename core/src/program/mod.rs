@@ -439,11 +439,3 @@ pub enum LoadError {
     Io { path: String, source: std::io::Error },
 }
 
-/// Read a program file, detecting its dialect unless given. Bytes that are not UTF-8 are replaced
-/// (and reported where they stand).
-pub fn load(path: &Path, dialect: Option<Dialect>, options: &ReadOptions) -> Result<Program, LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Io { path: path.display().to_string(), source })?;
-    let text = String::from_utf8_lossy(&bytes);
-    let dialect = dialect.unwrap_or_else(|| Dialect::detect(Some(path), &text));
-    Ok(read(&text, dialect, &path.display().to_string(), options))
-}

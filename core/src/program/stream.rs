@@ -17,7 +17,7 @@ use super::rs274::Rs274Reader;
 use super::sinumerik::SinumerikReader;
 use super::{Block, Diagnostic, Dialect, LoadError, Program, ReadOptions, Severity};
 use std::collections::VecDeque;
-use std::io::{BufRead, BufReader, Cursor, Read};
+use std::io::{BufRead, Cursor, Read};
 use std::path::Path;
 
 /// A dialect's reader, fed the program one line at a time.
@@ -169,29 +169,35 @@ const DETECT_LINES: usize = 2000;
 const DETECT_BYTES: usize = 1 << 20;
 
 impl BlockStream {
-    /// Open a program file, detecting its dialect from its name and first lines unless given.
-    pub fn open(path: &Path, dialect: Option<Dialect>, options: &ReadOptions) -> Result<BlockStream, LoadError> {
-        let io = |source| LoadError::Io { path: path.display().to_string(), source };
-        let file = std::fs::File::open(path).map_err(io)?;
-        let mut file = BufReader::with_capacity(1 << 16, file);
+    /// Read a program from `input` (a file's bytes, as they come), detecting its dialect from its
+    /// name (`path`, for the extension) and first lines unless given; `source` names it in reports.
+    /// Line-based dialects stream; Klartext is read whole. Opening the file is the caller's.
+    pub fn from_reader(
+        input: impl BufRead + Send + 'static,
+        path: Option<&Path>,
+        source: &str,
+        dialect: Option<Dialect>,
+        options: &ReadOptions,
+    ) -> Result<BlockStream, LoadError> {
+        let io = |source| LoadError::Io { path: path.map_or_else(String::new, |p| p.display().to_string()), source };
+        let mut input = input;
         // The first lines, for the dialect, then read again by the reader.
         let mut head = Vec::new();
         let mut lines = 0;
         while lines < DETECT_LINES && head.len() < DETECT_BYTES {
-            let n = file.by_ref().take((DETECT_BYTES - head.len()) as u64).read_until(b'\n', &mut head).map_err(io)?;
+            let n = input.by_ref().take((DETECT_BYTES - head.len()) as u64).read_until(b'\n', &mut head).map_err(io)?;
             if n == 0 {
                 break;
             }
             lines += 1;
         }
-        let dialect = dialect.unwrap_or_else(|| Dialect::detect(Some(path), &String::from_utf8_lossy(&head)));
-        let source = path.display().to_string();
+        let dialect = dialect.unwrap_or_else(|| Dialect::detect(path, &String::from_utf8_lossy(&head)));
         match Reader::new(dialect, options) {
-            Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(file)), reader, dialect, &source)),
+            Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
                 let mut rest = head;
-                file.read_to_end(&mut rest).map_err(io)?;
-                Ok(Self::whole(&String::from_utf8_lossy(&rest), dialect, &source, options))
+                input.read_to_end(&mut rest).map_err(io)?;
+                Ok(Self::whole(&String::from_utf8_lossy(&rest), dialect, source, options))
             }
         }
     }
