@@ -250,6 +250,7 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
     let flush_every = Duration::from_millis(a.flush_ms.max(10));
     let mut last_flush = Instant::now();
     let mut samples = 0u64;
+    let mut said = std::collections::BTreeSet::new();
     let receiver = StateReceiver::new(rx, JointMap::new(&machine, &map), &shutdown, Duration::from_millis(20), a.exit_when_idle_s);
     for received in receiver {
         match received {
@@ -261,8 +262,12 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
                 }
                 bridge.events(&events)?;
             }
-            Received::Refused { topic, why, .. } => {
-                tracing::warn!(%topic, "{why}");
+            Received::Refused { topic, why, joints } => {
+                // Said once per topic (a machine's JointState comes at 1 kHz); counted in the scene.
+                if said.insert(topic.clone()) {
+                    let map_hint = joints.map_or(String::new(), |names| format!("; joints found [{}]; map them with {}", names.join(", "), machine.suggest_axis_map(&names, &map)));
+                    tracing::warn!(%topic, "{why}{map_hint} (said once)");
+                }
                 scene.reject(&topic, &why);
             }
             Received::Idle => {}
