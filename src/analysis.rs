@@ -2,6 +2,7 @@
 //! an MCAP file (ours, or any rosbag2 MCAP with a machine bridge's JointState plus a machine model),
 //! regions with their x range, peak predicted C speed, lowest feed and time lost, and threshold checks.
 
+use crate::live::joint_map::unmapped_hint;
 use crate::live::monitor::{FeedSource, InputId, InputSummary, Monitor, MonitorConfig, Rejected};
 use crate::recorded::{read_states, Selection, Unread};
 use crate::singularity::measured::Motion;
@@ -405,13 +406,12 @@ fn input_errors(
         let rejected = s.rejected.total() + report.undecodable;
         let total = s.samples + rejected;
         if s.rejected.missing_joint > 0 {
-            let found = names.clone().unwrap_or_default();
+            let found = names.as_deref().unwrap_or_default();
             errors.push(format!(
-                "{}: {} samples without a joint for every machine axis; joints found: [{}]; map them with {}",
+                "{}: {} samples without a joint for every machine axis; {}",
                 s.topic,
                 s.rejected.missing_joint,
-                found.join(", "),
-                machine.suggest_axis_map(&found, &options.selection.axis_map)
+                unmapped_hint(machine, found, &options.selection.axis_map)
             ));
         }
         if s.rejected.out_of_range > 0 && fits * 2 >= s.rejected.out_of_range {

@@ -72,15 +72,31 @@ pub struct RecordedStreamArgs {
     /// AxisState).
     #[arg(long = "joint-state-topic", value_name = "TOPIC")]
     pub joint_state_topics: Vec<String>,
-    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable; axis
-    /// names case-insensitive; an axis the machine lacks is refused).
-    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = crate::machine::parse_axis_map)]
-    pub axis_map: Vec<(String, String)>,
+    #[command(flatten)]
+    pub axis_map: AxisMapArgs,
 }
 
 impl RecordedStreamArgs {
     /// The selection on `machine` (an axis map naming an axis the machine lacks is an error).
     pub fn selection(&self, machine: &Machine) -> Result<crate::recorded::Selection, String> {
-        Ok(crate::recorded::Selection { joint_state_topics: self.joint_state_topics.clone(), axis_map: machine.resolve_axis_map(&self.axis_map)? })
+        Ok(crate::recorded::Selection { joint_state_topics: self.joint_state_topics.clone(), axis_map: self.axis_map.resolve(machine)? })
+    }
+}
+
+/// `--axis-map`: the joint names of a machine bridge's JointState for the machine's axes, for
+/// everything that reads one (live or recorded).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct AxisMapArgs {
+    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable; axis
+    /// names case-insensitive; an axis the machine lacks is refused).
+    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = crate::machine::parse_axis_map)]
+    pub pairs: Vec<(String, String)>,
+}
+
+impl AxisMapArgs {
+    /// Machine axis -> joint name, resolved against `machine` (an axis the machine lacks is an error
+    /// naming its axes).
+    pub fn resolve(&self, machine: &Machine) -> Result<std::collections::BTreeMap<String, String>, String> {
+        machine.resolve_axis_map(&self.pairs)
     }
 }

@@ -7,7 +7,8 @@
 use crate::live::monitor::{Monitor, MonitorConfig, Rejection};
 use crate::machine::Machine;
 use crate::record::RecordError;
-use crate::recorded::{read_states, Selection, Unread};
+use crate::live::joint_map::unmapped_hint;
+use crate::recorded::{read_states, Selection, StatesRead, Unread};
 use crate::roughness::Profile;
 use crate::units::{mm_per_min, RPM};
 use fiveaxis_msgs::AxisState;
@@ -319,16 +320,12 @@ impl Scene {
     }
 }
 
-/// What a replay read.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// What a replay read, and how many rows it drew.
+#[derive(Debug)]
 pub struct ReplayStats {
-    pub messages_read: u64,
+    /// The messages, streams (topics, JointState joint names) and JointState topics of the recording.
+    pub read: StatesRead,
     pub rows: u64,
-    pub undecodable: u64,
-    /// The streams read (topics, JointState joint names), in order of first message, and every
-    /// JointState topic of the recording.
-    pub streams: Vec<crate::recorded::RecordedStream>,
-    pub joint_state_topics: std::collections::BTreeSet<String>,
 }
 
 impl ReplayStats {
@@ -336,9 +333,10 @@ impl ReplayStats {
     /// asked for and absent, or no stream at all; streams read of which no sample was drawn, a
     /// JointState's with the joints found and the axis map to give).
     pub fn input_errors(&self, scene: &Scene, selection: &Selection) -> (Vec<String>, Vec<String>) {
-        let errors = crate::recorded::selection_errors(selection, &self.joint_state_topics, self.streams.is_empty());
+        let errors = self.read.selection_errors(selection);
         let summary = scene.monitor().summary();
         let undrawn = self
+            .read
             .streams
             .iter()
             .filter_map(|s| {
@@ -349,10 +347,9 @@ impl ReplayStats {
                 let refused = scene.rejected.get(&s.topic).copied().unwrap_or(0);
                 Some(match (&s.joint_names, input) {
                     (Some(names), Some(i)) if i.rejected.missing_joint > 0 => format!(
-                        "{}: no sample drawn, {refused} without a joint for every machine axis; joints found: [{}]; map them with {}",
+                        "{}: no sample drawn, {refused} without a joint for every machine axis; {}",
                         s.topic,
-                        names.join(", "),
-                        scene.machine().suggest_axis_map(names, &selection.axis_map)
+                        unmapped_hint(scene.machine(), names, &selection.axis_map)
                     ),
                     _ => format!("{}: no sample drawn ({refused} refused, {} undecodable)", s.topic, s.undecodable),
                 })
@@ -378,12 +375,13 @@ pub fn replay_mcap(path: &Path, scene: &mut Scene, selection: &Selection, mut si
         Err(Unread::Unmapped(e)) => scene.reject(msg.topic, &e),
         Err(Unread::Undecodable) => {}
     })?;
-    if let Some(e) = read.damage {
+    let mut read = read;
+    if let Some(e) = read.damage.take() {
         return Err(e);
     }
     let events = scene.finish();
     sink(None, &events);
-    Ok(ReplayStats { messages_read: read.messages_read, rows, undecodable: read.undecodable(), streams: read.streams, joint_state_topics: read.joint_state_topics })
+    Ok(ReplayStats { read, rows })
 }
 
 /// The roughness profile for plotting: (x mm, roughness height um) after the ISO 16610-21 filter, and

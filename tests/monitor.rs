@@ -143,7 +143,7 @@ fn diagnostics_warn_near_the_singularity_and_error_above_the_c_limit() {
 /// A machine bridge's JointState with its own joint names, mapped onto the machine's axes.
 #[test]
 fn joint_states_from_a_bridge_with_other_names() {
-    let m = monitor();
+    let machine = Machine::hermle_c600u();
     let js = JointState {
         header: Header { stamp: Time::from_secs(3.0), frame_id: String::new() },
         name: ["joint_c", "joint_a", "x", "y", "z"].map(String::from).to_vec(),
@@ -152,11 +152,12 @@ fn joint_states_from_a_bridge_with_other_names() {
         effort: vec![],
     };
     let rename: BTreeMap<String, String> = [("A", "joint_a"), ("C", "joint_c")].into_iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
-    let st = m.joint_state_to_axis_state(&js, &rename).unwrap();
+    let map = fiveaxis::live::joint_map::JointMap::new(&machine, &rename);
+    let st = map.axis_state(&js).unwrap();
     assert_eq!(st.position, vec![0.01, 0.02, 0.03, 0.2, 0.5]);
     assert_eq!(st.source, AxisState::SOURCE_MACHINE);
     let missing = JointState { name: vec!["x".into()], position: vec![0.0], ..js };
-    assert!(m.joint_state_to_axis_state(&missing, &rename).is_err());
+    assert!(map.axis_state(&missing).is_err());
 }
 
 /// Item 5 of the machine-data issue: a rotary speed above the limit far from the pole is a region of

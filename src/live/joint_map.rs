@@ -8,6 +8,12 @@ use crate::machine::Machine;
 use fiveaxis_msgs::{AxisState, JointState};
 use std::collections::BTreeMap;
 
+/// What to tell a user whose JointState does not map: the joints it has, and the `--axis-map`
+/// flags that would map them onto `machine`'s axes (keeping those `given`).
+pub fn unmapped_hint(machine: &Machine, joints: &[String], given: &BTreeMap<String, String>) -> String {
+    format!("joints found: [{}]; map them with {}", joints.join(", "), machine.suggest_axis_map(joints, given))
+}
+
 /// Maps JointState messages onto one machine's axes.
 #[derive(Debug, Clone)]
 pub struct JointMap {

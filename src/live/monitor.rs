@@ -11,7 +11,7 @@ use crate::singularity::measured::{MeasuredConfig, MeasuredPath, Motion};
 use crate::singularity::tracker::{Cause, RegionRule, RegionTracker, RuleSample, TrackedRegion};
 use crate::singularity::{distance, FeedLimiter, LimitKind};
 use std::sync::Arc;
-use fiveaxis_msgs::{AxisState, DiagnosticArray, DiagnosticStatus, Header, JointState, KeyValue, Point, SingularityStatus, Time};
+use fiveaxis_msgs::{AxisState, DiagnosticArray, DiagnosticStatus, Header, KeyValue, Point, SingularityStatus, Time};
 use nalgebra::Vector3;
 use std::collections::{BTreeMap, VecDeque};
 
@@ -444,11 +444,6 @@ impl Monitor {
         });
     }
 
-    /// Convert a machine bridge's JointState (names mapped to this machine's axes, case-insensitive,
-    /// through `rename`: machine axis -> name in the message) into an AxisState of source MACHINE.
-    pub fn joint_state_to_axis_state(&self, js: &JointState, rename: &BTreeMap<String, String>) -> Result<AxisState, Rejection> {
-        super::joint_map::JointMap::new(&self.machine, rename).axis_state(js)
-    }
 
 
     /// The sample's tool axis and tool tip (workpiece coordinates): as the message gives them (the

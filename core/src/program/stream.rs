@@ -173,14 +173,13 @@ impl BlockStream {
     /// name (`path`, for the extension) and first lines unless given; `source` names it in reports.
     /// Line-based dialects stream; Klartext is read whole. Opening the file is the caller's.
     pub fn from_reader(
-        input: impl BufRead + Send + 'static,
+        mut input: impl BufRead + Send + 'static,
         path: Option<&Path>,
         source: &str,
         dialect: Option<Dialect>,
         options: &ReadOptions,
     ) -> Result<BlockStream, LoadError> {
         let io = |source| LoadError::Io { path: path.map_or_else(String::new, |p| p.display().to_string()), source };
-        let mut input = input;
         // The first lines, for the dialect, then read again by the reader.
         let mut head = Vec::new();
         let mut lines = 0;

@@ -624,9 +624,8 @@ pub struct InputArgs {
     /// sensor_msgs/JointState topics to watch, e.g. a machine bridge's /joint_states (repeatable).
     #[arg(long = "joint-state-input", value_name = "TOPIC")]
     pub joint_inputs: Vec<String>,
-    /// Joint name for a machine axis in those JointStates: `--axis-map A=joint_a` (repeatable).
-    #[arg(long = "axis-map", value_name = "AXIS=JOINT", value_parser = fiveaxis::machine::parse_axis_map)]
-    pub axis_map: Vec<(String, String)>,
+    #[command(flatten)]
+    pub axis_map: fiveaxis::args::AxisMapArgs,
     /// Reliability asked of the input publishers: reliable, best-effort, or auto (hear both).
     #[arg(long = "input-qos", value_enum, default_value = "auto")]
     pub input_qos: InputQos,
@@ -640,7 +639,7 @@ impl InputArgs {
     /// Machine axis -> joint name, resolved against `machine` (axis names case-insensitive; an axis
     /// the machine lacks is an error naming its axes).
     pub fn axis_map(&self, machine: &fiveaxis::machine::Machine) -> Result<std::collections::BTreeMap<String, String>, String> {
-        machine.resolve_axis_map(&self.axis_map)
+        self.axis_map.resolve(machine)
     }
 }
 

@@ -5,7 +5,7 @@
 
 use anyhow::Context as _;
 use clap::Parser;
-use fiveaxis::live::joint_map::JointMap;
+use fiveaxis::live::joint_map::{unmapped_hint, JointMap};
 use fiveaxis::live::monitor::{Monitor, MonitorConfig, Rejection};
 use fiveaxis::topics;
 use fiveaxis::units::{MM, MM_PER_MIN, RPM};
@@ -187,9 +187,8 @@ fn main() -> anyhow::Result<()> {
                     if said.insert((topic.clone(), "missing joint")) {
                         tracing::error!(
                             %topic,
-                            "{why}: joints found [{}]; map them with {} (said once; counted in the status and /diagnostics)",
-                            names.join(", "),
-                            machine.suggest_axis_map(&names, &rename)
+                            "{why}: {} (said once; counted in the status and /diagnostics)",
+                            unmapped_hint(&machine, &names, &rename)
                         );
                     }
                 }

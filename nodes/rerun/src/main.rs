@@ -9,7 +9,7 @@ use fiveaxis::live::monitor::MonitorConfig;
 use fiveaxis::roughness::RoughnessArgs;
 use fiveaxis::scene::{replay_mcap, Scene};
 use fiveaxis::units::RPM;
-use fiveaxis::live::joint_map::JointMap;
+use fiveaxis::live::joint_map::{unmapped_hint, JointMap};
 use fiveaxis_bus::{init_tracing, subscribe_states, Bus, CommonArgs, InputArgs, Received, Shutdown, StateReceiver};
 use fiveaxis_rerun::{send_layout, Bridge, BridgeOptions, APP_ID};
 use std::path::PathBuf;
@@ -218,9 +218,9 @@ fn replay(a: &ReplayArgs) -> anyhow::Result<ExitCode> {
     let rejected: u64 = scene.rejected.values().sum();
     eprintln!(
         "fiveaxis-rerun: {} messages read, {} samples drawn{}{}{}",
-        stats.messages_read,
+        stats.read.messages_read,
         stats.rows,
-        if stats.undecodable > 0 { format!(", {} undecodable", stats.undecodable) } else { String::new() },
+        if stats.read.undecodable() > 0 { format!(", {} undecodable", stats.read.undecodable()) } else { String::new() },
         if rejected > 0 { format!(", {rejected} refused (a joint missing, NaN, out of range, out of order)") } else { String::new() },
         a.out.sink.save.as_ref().map_or(String::new(), |p| format!(" -> {}", p.display()))
     );
@@ -265,7 +265,7 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
             Received::Refused { topic, why, joints } => {
                 // Said once per topic (a machine's JointState comes at 1 kHz); counted in the scene.
                 if said.insert(topic.clone()) {
-                    let map_hint = joints.map_or(String::new(), |names| format!("; joints found [{}]; map them with {}", names.join(", "), machine.suggest_axis_map(&names, &map)));
+                    let map_hint = joints.map_or(String::new(), |names| format!("; {}", unmapped_hint(&machine, &names, &map)));
                     tracing::warn!(%topic, "{why}{map_hint} (said once)");
                 }
                 scene.reject(&topic, &why);
