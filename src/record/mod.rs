@@ -16,6 +16,7 @@
 pub mod bag;
 pub mod read;
 mod recover;
+pub mod writer;
 
 pub use recover::{recover, recover_recording, RecoverReport};
 
@@ -25,6 +26,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::fs::File;
 use std::io::{BufWriter, Seek, Write};
 use std::path::{Path, PathBuf};
+use writer::{McapWriter, WriteError};
 
 /// CDR_LE encapsulation header (XCDR1, little endian).
 pub const CDR_LE: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
@@ -121,32 +123,6 @@ impl Default for RecordOptions {
     }
 }
 
-/// The file under a recorder: a buffered file that keeps the offset it has been handed up to, so
-/// that the end of the last chunk flushed whole is known when a later write fails.
-struct Tally {
-    file: BufWriter<File>,
-    position: std::sync::Arc<std::sync::atomic::AtomicU64>,
-}
-
-impl Write for Tally {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        let n = self.file.write(buf)?;
-        self.position.fetch_add(n as u64, std::sync::atomic::Ordering::Relaxed);
-        Ok(n)
-    }
-    fn flush(&mut self) -> std::io::Result<()> {
-        self.file.flush()
-    }
-}
-
-impl Seek for Tally {
-    fn seek(&mut self, to: std::io::SeekFrom) -> std::io::Result<u64> {
-        let p = self.file.seek(to)?;
-        self.position.store(p, std::sync::atomic::Ordering::Relaxed);
-        Ok(p)
-    }
-}
-
 /// MCAP's closing records for a file without a summary: Data End (data section CRC 0: not
 /// computed), Footer (no summary: offsets and CRC 0) and the magic (MCAP spec, "Footer", "Data End").
 const CLOSE_WITHOUT_SUMMARY: [u8; 50] = {
@@ -172,8 +148,7 @@ const CLOSE_WITHOUT_SUMMARY: [u8; 50] = {
 pub struct Recorder {
     path: PathBuf,
     /// `None` once finished or failed.
-    writer: Option<mcap::Writer<Tally>>,
-    position: std::sync::Arc<std::sync::atomic::AtomicU64>,
+    writer: Option<McapWriter<BufWriter<File>>>,
     /// File offset and message count at the end of the last chunk flushed whole.
     committed: (u64, u64),
     /// Messages per channel written, and at the end of the last chunk flushed whole.
@@ -189,21 +164,15 @@ impl Recorder {
     /// Create `path` (an unwritable path or a full disk is reported with the path).
     pub fn create(path: &Path, options: RecordOptions) -> Result<Self, RecordError> {
         let file = File::create(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?;
-        let position = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
-        let sink = Tally { file: BufWriter::with_capacity(1 << 20, file), position: position.clone() };
-        let opts = mcap::WriteOptions::new()
-            .profile("ros2")
-            .library(concat!("fiveaxis ", env!("CARGO_PKG_VERSION")))
-            .compression(Some(mcap::Compression::Zstd))
-            .chunk_size(Some(options.chunk_bytes));
-        let mut writer = mcap::Writer::with_options(sink, opts).map_err(|e| mcap_err(path, e))?;
+        let sink = BufWriter::with_capacity(1 << 20, file);
+        let mut writer =
+            McapWriter::new(sink, concat!("fiveaxis ", env!("CARGO_PKG_VERSION")), options.chunk_bytes).map_err(|e| write_err(path, e))?;
         let mut meta = BTreeMap::new();
         meta.insert("ROS_DISTRO".to_string(), "jazzy".to_string());
-        writer.write_metadata(&mcap::records::Metadata { name: "rosbag2".into(), metadata: meta }).map_err(|e| mcap_err(path, e))?;
+        writer.write_metadata("rosbag2", &meta).map_err(|e| write_err(path, e))?;
         let mut rec = Recorder {
             path: path.to_path_buf(),
             writer: Some(writer),
-            position,
             committed: (0, 0),
             per_channel: HashMap::new(),
             committed_per_channel: HashMap::new(),
@@ -218,18 +187,18 @@ impl Recorder {
     }
 
     /// The writer, or the error a failed recorder keeps giving.
-    fn writer(&mut self) -> Result<&mut mcap::Writer<Tally>, RecordError> {
+    fn writer(&mut self) -> Result<&mut McapWriter<BufWriter<File>>, RecordError> {
         let path = &self.path;
         self.writer.as_mut().ok_or_else(|| RecordError::Mcap { path: path.clone(), message: "the recorder already failed or finished".into() })
     }
 
     /// Run one write on the MCAP writer; on failure, close the file at its last whole chunk.
-    fn attempt<T>(&mut self, op: impl FnOnce(&mut mcap::Writer<Tally>) -> mcap::McapResult<T>) -> Result<T, RecordError> {
+    fn attempt<T>(&mut self, op: impl FnOnce(&mut McapWriter<BufWriter<File>>) -> Result<T, WriteError>) -> Result<T, RecordError> {
         let w = self.writer()?;
         match op(w) {
             Ok(v) => Ok(v),
-            Err(mcap::McapError::Io(source)) => Err(self.close_at_committed(source)),
-            Err(e) => Err(mcap_err(&self.path, e)),
+            Err(WriteError::Io(source)) => Err(self.close_at_committed(source)),
+            Err(e) => Err(write_err(&self.path, e)),
         }
     }
 
@@ -297,8 +266,7 @@ impl Recorder {
         }
         // The sequence is the channel's message count, wrapping at 2^32 as the field does.
         let n = self.per_channel.get(&channel).copied().unwrap_or(0) + 1;
-        let header = mcap::records::MessageHeader { channel_id: channel, sequence: n as u32, log_time: log_time_ns, publish_time: publish_time_ns };
-        self.attempt(|w| w.write_to_known_channel(&header, data))?;
+        self.attempt(|w| w.write_message(channel, n as u32, log_time_ns, publish_time_ns, data))?;
         self.messages += 1;
         self.per_channel.insert(channel, n);
         Ok(())
@@ -317,8 +285,8 @@ impl Recorder {
     /// Close the current chunk and flush it to the file (what a reader can recover up to, and
     /// where a later failed write closes the file).
     pub fn flush(&mut self) -> Result<(), RecordError> {
-        self.attempt(|w| w.flush())?;
-        self.committed = (self.position.load(std::sync::atomic::Ordering::Relaxed), self.messages);
+        let at = self.attempt(|w| w.flush().map(|()| w.position()))?;
+        self.committed = (at, self.messages);
         self.committed_per_channel.clone_from(&self.per_channel);
         Ok(())
     }
@@ -331,15 +299,9 @@ impl Recorder {
 
     /// Write the summary (indexes, statistics) and the footer; the recorder takes no more writes.
     pub fn finish(&mut self) -> Result<u64, RecordError> {
-        self.attempt(|w| w.finish().map(drop))?;
-        let path = self.path.clone();
-        if let Some(writer) = self.writer.take() {
-            // The summary may still be in the buffer: flush it, and on failure close at the last chunk.
-            let mut tally = writer.into_inner();
-            if let Err(source) = tally.flush() {
-                return Err(close_at(tally, path, source, self.committed));
-            }
-        }
+        // Writes the summary and flushes it; a failure closes the file at the last chunk.
+        self.attempt(|w| w.finish())?;
+        self.writer = None;
         Ok(self.messages)
     }
 }
@@ -347,9 +309,9 @@ impl Recorder {
 /// Close a file whose write failed with `source` at `committed` (offset, messages there): drop what
 /// is buffered, cut the file back (freeing what the failed chunk took) and append
 /// [`CLOSE_WITHOUT_SUMMARY`].
-fn close_at(tally: Tally, path: PathBuf, source: std::io::Error, committed: (u64, u64)) -> RecordError {
+fn close_at(out: BufWriter<File>, path: PathBuf, source: std::io::Error, committed: (u64, u64)) -> RecordError {
     let (at, kept) = committed;
-    let (mut file, _unwritten) = tally.file.into_parts();
+    let (mut file, _unwritten) = out.into_parts();
     let closed = file
         .set_len(at)
         .and_then(|()| file.seek(std::io::SeekFrom::Start(at)).map(drop))
@@ -361,9 +323,9 @@ fn close_at(tally: Tally, path: PathBuf, source: std::io::Error, committed: (u64
     }
 }
 
-fn mcap_err(path: &Path, e: mcap::McapError) -> RecordError {
+fn write_err(path: &Path, e: WriteError) -> RecordError {
     match e {
-        mcap::McapError::Io(source) => RecordError::Io { path: path.to_path_buf(), source },
+        WriteError::Io(source) => RecordError::Io { path: path.to_path_buf(), source },
         other => RecordError::Mcap { path: path.to_path_buf(), message: other.to_string() },
     }
 }

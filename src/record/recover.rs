@@ -3,6 +3,7 @@
 //! channel; the rest is reported.
 
 use super::read::{scan_records, Stop};
+use super::writer::McapWriter;
 use super::RecordError;
 use std::collections::HashMap;
 use std::io::BufWriter;
@@ -50,19 +51,19 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
     };
     let bytes_total = std::fs::metadata(input).map_err(io(input))?.len();
     let file = std::fs::File::create(output).map_err(io(output))?;
-    let opts = mcap::WriteOptions::new()
-        .profile("ros2")
-        .library(concat!("fiveaxis ", env!("CARGO_PKG_VERSION"), " (recovered)"))
-        .compression(Some(mcap::Compression::Zstd));
-    let mut writer = mcap::Writer::with_options(BufWriter::new(file), opts).map_err(|e| super::mcap_err(output, e))?;
+    let library = concat!("fiveaxis ", env!("CARGO_PKG_VERSION"), " (recovered)");
+    let mut writer =
+        McapWriter::new(BufWriter::new(file), library, super::RecordOptions::default().chunk_bytes).map_err(|e| super::write_err(output, e))?;
 
     let mut schema_ids: HashMap<u16, u16> = HashMap::new();
     let mut channel_ids: HashMap<u16, u16> = HashMap::new();
     let mut schemas: HashMap<u16, (String, String, Vec<u8>)> = HashMap::new();
     let mut report = RecoverReport { messages: 0, channels: 0, bytes_total, stopped: None };
     let mut ended = false;
-    let out = |e| Stop::Visitor(super::mcap_err(output, e));
-    let damaged = |position: u64, e: String| Stop::Damaged(RecordError::Mcap { path: input.to_path_buf(), message: format!("record before byte {position}: {e}") });
+    let out = |e| Stop::Visitor(super::write_err(output, e));
+    let damaged = |position: u64, e: String| {
+        Stop::Damaged(RecordError::Mcap { path: input.to_path_buf(), message: format!("record before byte {position}: {e}") })
+    };
     let mut copy = |opcode: u8, data: &[u8], position: u64| -> Result<(), Stop> {
         match opcode {
             op::DATA_END | op::FOOTER => {
@@ -74,8 +75,7 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
                     return Err(damaged(position, format!("a message record of {} bytes", data.len())));
                 };
                 let Some(&id) = channel_ids.get(&header.channel_id) else { return Ok(()) };
-                let h = mcap::records::MessageHeader { channel_id: id, ..header };
-                writer.write_to_known_channel(&h, body).map_err(out)?;
+                writer.write_message(id, header.sequence, header.log_time, header.publish_time, body).map_err(out)?;
                 report.messages += 1;
                 return Ok(());
             }
@@ -105,7 +105,7 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
                 let id = writer.add_channel(schema, &c.topic, &c.message_encoding, &c.metadata).map_err(out)?;
                 channel_ids.insert(c.id, id);
             }
-            Record::Metadata(m) => writer.write_metadata(&m).map_err(out)?,
+            Record::Metadata(m) => writer.write_metadata(&m.name, &m.metadata).map_err(out)?,
             _ => {}
         }
         Ok(())
@@ -120,7 +120,7 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
         report.stopped = Some("the file ends without its summary and footer (truncated)".into());
     }
     report.channels = channel_ids.len();
-    writer.finish().map_err(|e| super::mcap_err(output, e))?;
+    writer.finish().map_err(|e| super::write_err(output, e))?;
     // Damaged input that gave back nothing (not an MCAP at all, or cut before its first message)
     // recovered nothing: an error, with no empty file left to pass for a recording.
     if let (0, Some(why)) = (report.messages, &report.stopped) {

@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Independent check of a fiveaxis MCAP recording with Foxglove's mcap-ros2-support (PyPI), which
-decodes messages from the ros2msg schemas stored in the file, not from our Rust types.
+decodes messages from the ros2msg schemas stored in the file, not from our Rust types. The file is
+read through its summary (the seeking reader follows the chunk indexes), with CRCs checked, and the
+summary's statistics must agree with the messages read.
 
 Usage: check_mcap.py RECORDING EXPECTED.json
 EXPECTED holds, per topic, the message count and, for some messages (by index), field values that
@@ -20,7 +22,7 @@ def main():
     seen = {}
     problems = []
     with open(path, "rb") as f:
-        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        reader = make_reader(f, validate_crcs=True, decoder_factories=[DecoderFactory()])
         header = reader.get_header()
         if header.profile != "ros2":
             problems.append(f"profile {header.profile!r}, expected 'ros2'")
@@ -42,6 +44,18 @@ def main():
                     if got != value:
                         problems.append(f"{channel.topic}[{i}].{field}: {got!r} != {value!r}")
                 seen[channel.topic] = seen.get(channel.topic, 0) + 1
+        summary = reader.get_summary()
+    if summary is None or summary.statistics is None:
+        problems.append("no summary with statistics")
+    else:
+        stats = summary.statistics
+        if stats.message_count != sum(counts.values()):
+            problems.append(f"statistics: {stats.message_count} messages, read {sum(counts.values())}")
+        if stats.chunk_count != len(summary.chunk_indexes) or not summary.chunk_indexes:
+            problems.append(f"statistics: {stats.chunk_count} chunks, {len(summary.chunk_indexes)} chunk indexes")
+        by_topic = {summary.channels[c].topic: n for c, n in stats.channel_message_counts.items()}
+        if by_topic != counts:
+            problems.append(f"statistics per topic {by_topic} != read {counts}")
     for topic, e in expected.items():
         if counts.get(topic, 0) != e["count"]:
             problems.append(f"{topic}: {counts.get(topic, 0)} messages, expected {e['count']}")
