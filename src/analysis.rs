@@ -420,6 +420,9 @@ fn input_errors(
                 s.topic, s.rejected.out_of_range
             ));
         }
+        if let Some(why) = &s.program_unreadable {
+            errors.push(format!("{}: not aligned with the program: {why}", s.topic));
+        }
         if s.samples == 0 {
             errors.push(format!("{}: no valid sample ({rejected} rejected: {})", s.topic, reasons(&s.rejected, report.undecodable)));
         } else if total > 0 && rejected as f64 > options.max_rejected_share * total as f64 {

@@ -243,27 +243,47 @@ fn no_moves(blocks: usize) -> Diagnostic {
 
 /// The moves and regions of the program named by `spec` on `machine`, for aligning a machine stream
 /// with it (the monitor's and the offline analysis' `--program`); a program with defects is refused,
-/// naming them.
+/// naming them. The program is read here once, as a stream, for its defects and regions; each aligned
+/// stream reads it again as it goes (memory does not grow with the program).
 pub fn program_plan(spec: &str, machine: &Machine, read: &ReadOptions) -> Result<crate::live::monitor::ProgramPlan, String> {
-    // Every region's times: the look-ahead needs each one ahead (the plan holds the program anyway).
+    use crate::live::monitor::ProgramPlan;
+    // Every region's times: the look-ahead needs each one ahead (a few numbers per region).
     let analysis = AnalysisOptions { max_listed_regions: Some(usize::MAX), ..Default::default() };
     let options = JobOptions { read: read.clone(), analysis, ..Default::default() };
-    let job = run(spec, machine, &options).map_err(|e| e.to_string())?;
-    let errors: Vec<String> = job
-        .report
-        .diagnostics
-        .iter()
-        .filter(|d| d.severity == Severity::Error)
-        .map(|d| format!("{}:{}:{}: {}", d.file, d.line, d.column, d.message))
-        .collect();
-    if !errors.is_empty() {
-        return Err(format!("the program has defects:\n{}", errors.join("\n")));
+    let refuse = |diagnostics: &[Diagnostic], file: &str| {
+        let errors: Vec<String> =
+            diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{file}:{}:{}: {}", d.line, d.column, d.message)).collect();
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            Err(format!("the program has defects:\n{}", errors.join("\n")))
+        }
+    };
+    match Moves::open(spec, machine, &options).map_err(|e| e.to_string())? {
+        Moves::Held(job) => {
+            let diagnostics: Vec<Diagnostic> = job.program.diagnostics.iter().chain(&job.trajectory.diagnostics).cloned().collect();
+            refuse(&diagnostics, spec)?;
+            if job.trajectory.segments.is_empty() {
+                return Err("the program has no moves".into());
+            }
+            let regions = job.analysis.regions.iter().map(|r| (r.t_start, r.t_end)).collect();
+            Ok(ProgramPlan::held(job.trajectory.segments, regions))
+        }
+        Moves::Program { spec, options } => {
+            let mut segments = crate::path::SegmentStream::new(open_spec(&spec, &options).map_err(|e| e.to_string())?, machine, &options.path);
+            let (analysis, counts) = crate::singularity::analyze_segments(segments.by_ref(), options.path.period, machine, &options.analysis);
+            let diagnostics = read_rest(&mut segments, counts.segments);
+            refuse(&diagnostics, segments.blocks().source())?;
+            let regions = analysis.regions.iter().map(|r| (r.t_start, r.t_end)).collect();
+            let machine = machine.clone();
+            let open: crate::path::align::OpenSegments = std::sync::Arc::new(move || {
+                let blocks = open_spec(&spec, &options).map_err(|e| format!("--program {spec}: {e}"))?;
+                Ok(Box::new(crate::path::SegmentStream::owned(blocks, machine.clone(), &options.path))
+                    as Box<dyn Iterator<Item = crate::path::Segment> + Send>)
+            });
+            Ok(ProgramPlan { segments: open, regions })
+        }
     }
-    if job.trajectory.segments.is_empty() {
-        return Err("the program has no moves".into());
-    }
-    let regions = job.analysis.regions.iter().map(|r| (r.t_start, r.t_end)).collect();
-    Ok(crate::live::monitor::ProgramPlan { segments: std::sync::Arc::new(job.trajectory.segments), regions })
 }
 
 /// Where a machine stream's programmed feed comes from, from the `--program` and `--feed` flags of the

@@ -5,7 +5,7 @@
 
 use crate::kinematics::Joints;
 use crate::machine::{Machine, AXES};
-use crate::path::align::Aligner;
+use crate::path::align::{Aligner, OpenSegments};
 use crate::path::Segment;
 use crate::singularity::measured::{MeasuredConfig, MeasuredPath, Motion};
 use crate::singularity::tracker::{Cause, RegionRule, RegionTracker, RuleSample, TrackedRegion};
@@ -124,12 +124,33 @@ pub enum FeedSource {
     Assumed,
 }
 
-/// A program as a machine stream is aligned with it: its moves, and its regions (start and end in
-/// program time at the programmed feed, s) from the program analysis.
-#[derive(Debug, Clone, PartialEq)]
+/// A program as a machine stream is aligned with it: its moves, read again as a stream by each
+/// stream's aligner (not held), and its regions (start and end in program time at the programmed
+/// feed, s) from the program analysis.
+#[derive(Clone)]
 pub struct ProgramPlan {
-    pub segments: Arc<Vec<Segment>>,
+    pub segments: OpenSegments,
     pub regions: Vec<(f64, f64)>,
+}
+
+impl ProgramPlan {
+    /// A plan over moves already held (built-in paths, tests).
+    pub fn held(segments: Vec<Segment>, regions: Vec<(f64, f64)>) -> ProgramPlan {
+        ProgramPlan { segments: crate::path::align::open_held(Arc::new(segments)), regions }
+    }
+}
+
+impl std::fmt::Debug for ProgramPlan {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ProgramPlan").field("regions", &self.regions.len()).finish_non_exhaustive()
+    }
+}
+
+/// Two plans are the same plan (the same opener).
+impl PartialEq for ProgramPlan {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.segments, &other.segments) && self.regions == other.regions
+    }
 }
 
 impl FeedSource {
@@ -221,6 +242,10 @@ pub struct InputSummary {
     pub max_path_feed_mm_per_min: f64,
     /// The programmed feed the machine stream's prediction assumed, for people.
     pub feed_source: Option<String>,
+    /// Why the program (`--program`) could not be read again to align this stream with it (its
+    /// samples then have no program place): an error.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub program_unreadable: Option<String>,
     /// The first regions in full (with the open one), and the rest folded.
     pub regions: Vec<LiveRegion>,
     pub unlisted_regions: crate::listing::Unlisted,
@@ -280,7 +305,7 @@ struct Past {
 const MIN_DEMAND_PATH: f64 = 1e-6;
 
 /// What the monitor keeps per input stream.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 struct Input {
     source: u8,
     history: VecDeque<Past>,
@@ -387,7 +412,7 @@ impl Timeline {
 }
 
 /// The monitor's state.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct Monitor {
     machine: Machine,
     config: MonitorConfig,
@@ -979,6 +1004,7 @@ impl Monitor {
                 feed_samples: i.feed_samples,
                 max_path_feed_mm_per_min: i.max_feed / crate::units::MM_PER_MIN,
                 feed_source: (i.source == AxisState::SOURCE_MACHINE && i.samples > 0).then(|| self.feed_source.describe()),
+                program_unreadable: i.aligner.as_ref().and_then(|a| a.failure()).map(str::to_string),
                 regions: i.all_regions(),
                 unlisted_regions: i.unlisted,
             })

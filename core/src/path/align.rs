@@ -12,9 +12,10 @@
 //! instead, or not at all. Both frames are followed, and the one the stream has matched better so
 //! far (mean squared distance) is the answer; [`Place::offset`] says which (the datum, or zero).
 
-use super::{Segment, SegmentKind};
+use super::{Segment, SegmentKind, SegmentWindow};
 use crate::kinematics::Joints;
 use nalgebra::Vector3;
+use std::sync::Arc;
 
 /// Metres of tool-tip distance per radian of rotary-axis distance in the match (1 deg ~ 0.87 mm).
 const ROTARY_WEIGHT: f64 = 0.05;
@@ -43,13 +44,42 @@ pub struct Place {
     pub offset: Vector3<f64>,
 }
 
-/// The alignment's state for one stream.
-#[derive(Debug, Clone)]
+/// Opens the program's moves from the start, for an aligner to read as it goes (and again after a
+/// restart): the segments as a stream, or why they cannot be read.
+pub type OpenSegments = Arc<dyn Fn() -> Result<Box<dyn Iterator<Item = Segment> + Send>, String> + Send + Sync>;
+
+/// The opener of moves already held (each opening reads them from the first).
+pub fn open_held(segments: Arc<Vec<Segment>>) -> OpenSegments {
+    Arc::new(move || {
+        let s = segments.clone();
+        Ok(Box::new((0..s.len()).map(move |i| s[i].clone())) as Box<dyn Iterator<Item = Segment> + Send>)
+    })
+}
+
+/// The most moves held: from the lagging frame's move to [`AHEAD`] past the leading one's. A frame
+/// the stream does not follow is moved up to stay within it.
+const HELD: usize = 16 * AHEAD;
+
+/// The alignment's state for one stream: a window of the program's moves read as the stream
+/// advances (memory does not grow with the program).
 pub struct Aligner {
-    segments: std::sync::Arc<Vec<Segment>>,
+    open: OpenSegments,
+    window: Option<SegmentWindow<Box<dyn Iterator<Item = Segment> + Send>>>,
+    failed: Option<String>,
     /// Per frame (datum applied, not applied): the current move and the sum of squared distances.
     current: [usize; 2],
     error: [f64; 2],
+}
+
+impl std::fmt::Debug for Aligner {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Aligner").field("current", &self.current).field("error", &self.error).field("failed", &self.failed).finish()
+    }
+}
+
+/// The frame with the datum applied matches better (sums of squared distances: with, without).
+fn datum_matches_better(error: &[f64; 2]) -> bool {
+    error[0] < error[1]
 }
 
 /// Squared distance of a sample from a move, and the fraction along the move of the nearest point.
@@ -69,36 +99,55 @@ fn dist2(seg: &Segment, tip: &Vector3<f64>, q: &Joints, with_datum: bool) -> (f6
 }
 
 impl Aligner {
-    /// An aligner over the program's moves (empty: every sample is unplaced).
-    pub fn new(segments: std::sync::Arc<Vec<Segment>>) -> Aligner {
-        Aligner { segments, current: [0; 2], error: [0.0; 2] }
+    /// An aligner over the moves `open` reads (opened at the first sample, and again after a reset).
+    pub fn new(open: OpenSegments) -> Aligner {
+        Aligner { open, window: None, failed: None, current: [0; 2], error: [0.0; 2] }
+    }
+
+    /// An aligner over moves already held (a built-in path, tests; empty: every sample is unplaced).
+    pub fn over(segments: Arc<Vec<Segment>>) -> Aligner {
+        Aligner::new(open_held(segments))
+    }
+
+    /// Why the program's moves could not be read again (no sample is placed then).
+    pub fn failure(&self) -> Option<&str> {
+        self.failed.as_deref()
     }
 
     /// Start again from the program's first move (a restarted program).
     pub fn reset(&mut self) {
         self.current = [0; 2];
         self.error = [0.0; 2];
+        self.window = None;
+        self.failed = None;
     }
 
     /// True when the program's datum shift is in effect in the stream's coordinates (the better
     /// match so far).
     pub fn datum_applied(&self) -> bool {
-        self.error[0] < self.error[1]
+        datum_matches_better(&self.error)
     }
 
     /// The move of a sample with tool tip `tip` (workpiece frame, m) and unwrapped axes `q`.
     pub fn place(&mut self, tip: &Vector3<f64>, q: &Joints) -> Option<Place> {
-        let segs = &self.segments;
-        if segs.is_empty() {
-            return None;
+        if self.window.is_none() && self.failed.is_none() {
+            match (self.open)() {
+                Ok(segments) => self.window = Some(SegmentWindow::new(segments)),
+                Err(e) => self.failed = Some(e),
+            }
+        }
+        let segs = self.window.as_mut()?;
+        let lead = self.current[0].max(self.current[1]);
+        for c in &mut self.current {
+            *c = (*c).max(lead.saturating_sub(HELD - AHEAD));
         }
         let mut found = [((0.0, 0.0), 0); 2];
         for (frame, with_datum) in [(0, true), (1, false)] {
             let cur = self.current[frame];
-            let end = (cur + AHEAD).min(segs.len());
-            let mut best = (dist2(&segs[cur], tip, q, with_datum), cur);
-            for k in cur + 1..end {
-                let d = dist2(&segs[k], tip, q, with_datum);
+            let mut best = (dist2(segs.get(cur)?, tip, q, with_datum), cur);
+            for k in cur + 1..cur + AHEAD {
+                let Some(seg) = segs.get(k) else { break };
+                let d = dist2(seg, tip, q, with_datum);
                 if d.0 < best.0 .0 {
                     best = (d, k);
                 }
@@ -107,9 +156,10 @@ impl Aligner {
             self.error[frame] += best.0 .0;
             found[frame] = best;
         }
-        let frame = if self.datum_applied() { 0 } else { 1 };
+        segs.release_before(self.current[0].min(self.current[1]));
+        let frame = if datum_matches_better(&self.error) { 0 } else { 1 };
         let best = found[frame];
-        let seg = &segs[best.1];
+        let seg = segs.loaded(best.1)?;
         Some(Place {
             segment: best.1,
             line: u32::try_from(seg.line).unwrap_or(u32::MAX),
@@ -121,5 +171,75 @@ impl Aligner {
             program_time: seg.t0 + best.0 .1 * seg.duration,
             offset: if frame == 0 { seg.datum } else { Vector3::zeros() },
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::machine::Machine;
+    use crate::path::{PathOptions, SegmentStream};
+    use crate::program::{BlockStream, Dialect, ReadOptions};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// A CL raster line of `n` poses 0.02 mm apart along x, the tool tilted and turning slowly
+    /// (five-axis moves).
+    fn program(n: usize) -> String {
+        (0..n)
+            .map(|i| {
+                let (x, tilt, turn) = (i as f64 * 0.02, 0.3 + 0.1 * (i as f64 * 0.01).sin(), i as f64 * 1e-3);
+                format!("{x} 0 0 {} {} {} 1000\n", tilt.sin() * turn.cos(), tilt.sin() * turn.sin(), tilt.cos())
+            })
+            .collect()
+    }
+
+    fn stream(text: &str, machine: &Machine) -> SegmentStream<'static> {
+        SegmentStream::owned(
+            BlockStream::from_text(text, Some(Dialect::Cl), "raster", &ReadOptions::default()),
+            machine.clone(),
+            &PathOptions::default(),
+        )
+    }
+
+    #[test]
+    fn a_stream_is_placed_move_by_move_holding_a_window_and_read_again_after_a_reset() {
+        let machine = Machine::hermle_c600u();
+        let text: Arc<str> = program(5000).into();
+        let mut all = stream(&text, &machine);
+        let reference: Vec<Segment> = all.by_ref().collect();
+        assert_eq!((reference.len(), all.errors()), (4999, 0));
+        let opens = Arc::new(AtomicUsize::new(0));
+        let open: OpenSegments = {
+            let (opens, text, machine) = (opens.clone(), text.clone(), machine.clone());
+            Arc::new(move || {
+                opens.fetch_add(1, Ordering::SeqCst);
+                Ok(Box::new(stream(&text, &machine)) as Box<dyn Iterator<Item = Segment> + Send>)
+            })
+        };
+        let mut aligner = Aligner::new(open);
+        let mut most_held = 0;
+        for (k, seg) in reference.iter().enumerate() {
+            let q = seg.joints_at(0.5, &machine);
+            let tip = machine.forward(&q).tip - seg.datum;
+            let place = aligner.place(&tip, &q).expect("placed");
+            assert_eq!((place.segment, place.line), (k, u32::try_from(seg.line).unwrap()), "move {k}");
+            assert!((place.program_time - (seg.t0 + 0.5 * seg.duration)).abs() < 1e-9);
+            most_held = most_held.max(aligner.window.as_ref().map_or(0, |w| w.held()));
+        }
+        // The window: the move being matched and the look-ahead past it, not the program.
+        assert!((AHEAD..=HELD).contains(&most_held), "held {most_held} moves");
+        assert_eq!(opens.load(Ordering::SeqCst), 1);
+        aligner.reset();
+        let q = reference[0].joints_at(0.5, &machine);
+        assert_eq!(aligner.place(&(machine.forward(&q).tip), &q).map(|p| p.segment), Some(0));
+        assert_eq!(opens.load(Ordering::SeqCst), 2, "a restart reads the program again");
+    }
+
+    #[test]
+    fn a_program_that_cannot_be_read_again_places_nothing_and_says_why() {
+        let mut aligner = Aligner::new(Arc::new(|| Err("prog.cl: No such file or directory".to_string())));
+        assert_eq!(aligner.place(&Vector3::zeros(), &[0.0; 5]), None);
+        assert_eq!(aligner.failure(), Some("prog.cl: No such file or directory"));
+        assert_eq!(Aligner::over(Arc::new(Vec::new())).place(&Vector3::zeros(), &[0.0; 5]), None);
     }
 }

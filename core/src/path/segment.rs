@@ -297,7 +297,7 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
     let mut planner = SegmentPlanner::new(machine, program.dialect, options);
     let (mut segments, mut diags) = (Vec::new(), Vec::new());
     for (bi, b) in program.blocks.iter().enumerate() {
-        if !planner.push(bi, b, &mut segments, &mut diags) {
+        if !planner.push(machine, bi, b, &mut segments, &mut diags) {
             break;
         }
     }
@@ -307,8 +307,7 @@ pub fn plan(program: &Program, machine: &Machine, options: &PathOptions) -> (Vec
 /// Blocks to segments one block at a time (the state a control carries from block to block: where
 /// the axes are, the time and the path length so far), so that a program is planned as it is read.
 #[derive(Debug, Clone)]
-pub struct SegmentPlanner<'m> {
-    machine: &'m Machine,
+pub struct SegmentPlanner {
     options: PathOptions,
     q: Joints,
     t: f64,
@@ -319,20 +318,21 @@ pub struct SegmentPlanner<'m> {
     stopped: bool,
 }
 
-impl<'m> SegmentPlanner<'m> {
-    /// A planner at the program start of a program in `dialect`.
-    pub fn new(machine: &'m Machine, dialect: crate::program::Dialect, options: &PathOptions) -> Self {
+impl SegmentPlanner {
+    /// A planner at the program start of a program in `dialect` on `machine` (the machine each
+    /// [`push`](Self::push) is given).
+    pub fn new(machine: &Machine, dialect: crate::program::Dialect, options: &PathOptions) -> Self {
         let letters: [char; 2] = [3, 4].map(|i| machine.axes[i].name.chars().next().unwrap_or('?').to_ascii_uppercase());
-        SegmentPlanner { machine, options: *options, q: [0.0; 5], t: 0.0, s: 0.0, letters, first_orientation: true, at_start: dialect.starts_at_first_pose(), stopped: false }
+        SegmentPlanner { options: *options, q: [0.0; 5], t: 0.0, s: 0.0, letters, first_orientation: true, at_start: dialect.starts_at_first_pose(), stopped: false }
     }
 
     /// Plan block `bi`: its segments go to `segments`, what stops it to `diags`. False once planning
     /// has stopped (the program would run beyond the bound on its duration): no later block is planned.
-    pub fn push(&mut self, bi: usize, b: &Block, segments: &mut Vec<Segment>, diags: &mut Vec<Diagnostic>) -> bool {
+    pub fn push(&mut self, machine: &Machine, bi: usize, b: &Block, segments: &mut Vec<Segment>, diags: &mut Vec<Diagnostic>) -> bool {
         if self.stopped {
             return false;
         }
-        let (machine, options, letters) = (self.machine, &self.options, self.letters);
+        let (options, letters) = (&self.options, self.letters);
         let (mut q, mut t, mut s) = (self.q, self.t, self.s);
         let (mut first_orientation, mut at_start) = (self.first_orientation, self.at_start);
         let stopped = 'blocks: {

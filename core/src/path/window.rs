@@ -6,6 +6,7 @@
 use super::{PathOptions, Sample, Segment, SegmentPlanner};
 use crate::program::{BlockStream, Diagnostic, DiagnosticLog};
 use crate::machine::Machine;
+use std::borrow::Cow;
 use std::collections::VecDeque;
 
 /// The segments `base..base + len` of a stream, loaded on demand.
@@ -31,6 +32,11 @@ impl<I: Iterator<Item = Segment>> SegmentWindow<I> {
             }
         }
         i.checked_sub(self.base).and_then(|k| self.buf.get(k))
+    }
+
+    /// How many segments are held.
+    pub fn held(&self) -> usize {
+        self.buf.len()
     }
 
     /// Segment `i` if it is loaded (no reading).
@@ -87,8 +93,9 @@ impl GridSampler {
 /// ([`SegmentPlanner`]). Planning diagnostics are collected as it goes.
 #[derive(Debug)]
 pub struct SegmentStream<'m> {
+    machine: Cow<'m, Machine>,
     blocks: BlockStream,
-    planner: SegmentPlanner<'m>,
+    planner: SegmentPlanner,
     out: VecDeque<Segment>,
     buf: Vec<Segment>,
     diags: Vec<Diagnostic>,
@@ -99,8 +106,17 @@ pub struct SegmentStream<'m> {
 
 impl<'m> SegmentStream<'m> {
     pub fn new(blocks: BlockStream, machine: &'m Machine, options: &PathOptions) -> Self {
-        let planner = SegmentPlanner::new(machine, blocks.dialect(), options);
-        SegmentStream { blocks, planner, out: VecDeque::new(), buf: Vec::new(), diags: Vec::new(), log: DiagnosticLog::default(), block: 0, stopped: false }
+        Self::with(blocks, Cow::Borrowed(machine), options)
+    }
+
+    fn with(blocks: BlockStream, machine: Cow<'m, Machine>, options: &PathOptions) -> Self {
+        let planner = SegmentPlanner::new(&machine, blocks.dialect(), options);
+        SegmentStream { machine, blocks, planner, out: VecDeque::new(), buf: Vec::new(), diags: Vec::new(), log: DiagnosticLog::default(), block: 0, stopped: false }
+    }
+
+    /// A stream that owns its machine (a copy), for a consumer that outlives the caller's.
+    pub fn owned(blocks: BlockStream, machine: Machine, options: &PathOptions) -> SegmentStream<'static> {
+        SegmentStream::with(blocks, Cow::Owned(machine), options)
     }
 
     /// The blocks read so far (and, once ended, the reader's diagnostics).
@@ -130,7 +146,7 @@ impl Iterator for SegmentStream<'_> {
     fn next(&mut self) -> Option<Segment> {
         while self.out.is_empty() && !self.stopped {
             let Some(b) = self.blocks.next() else { break };
-            if !self.planner.push(self.block, &b, &mut self.buf, &mut self.diags) {
+            if !self.planner.push(&self.machine, self.block, &b, &mut self.buf, &mut self.diags) {
                 self.stopped = true;
             }
             self.block += 1;

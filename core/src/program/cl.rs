@@ -1,5 +1,6 @@
 //! Cutter-location data: one pose `x y z i j k [feed]` per line (mm, unit tool axis, mm/min),
-//! separated by commas, spaces or tabs; an optional header line; `#` or `;` comment lines.
+//! separated by commas, spaces or tabs; an optional header line; `#` or `;` comment lines. Numbers
+//! are decimals, also in exponent notation (`-6.0e-05`, as numpy and many exports write them).
 //! Poses are tool tips in the workpiece frame, so tool-centre-point control is on throughout.
 
 use super::lex::{excerpt, parse_number, Diags};
@@ -14,6 +15,20 @@ pub fn read_cl(text: &str, feed_mm_per_min: f64) -> Program {
 /// Read CL data for a control that interpolates the tool orientation as `orientation` says.
 pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) -> Program {
     super::stream::read_whole(&mut ClReader::new(feed_mm_per_min, orientation), text, Dialect::Cl)
+}
+
+/// A CL field: an NC decimal, or a finite number in exponent notation (`1.5e-3`; not `inf`, `nan`
+/// or an exponent that overflows).
+fn parse_field(f: &str) -> Option<f64> {
+    parse_number(f).or_else(|| {
+        let exponent = f.bytes().any(|b| b == b'e' || b == b'E');
+        let plain = f.bytes().all(|b| b.is_ascii_digit() || matches!(b, b'+' | b'-' | b'.' | b'e' | b'E'));
+        if exponent && plain {
+            f.parse::<f64>().ok().filter(|v| v.is_finite())
+        } else {
+            None
+        }
+    })
 }
 
 /// The CL reader, fed one line at a time.
@@ -52,7 +67,7 @@ impl super::stream::LineReader for ClReader {
                 _ => {}
             }
         }
-        let numbers: Vec<Option<f64>> = fields.iter().map(|(_, f)| parse_number(f)).collect();
+        let numbers: Vec<Option<f64>> = fields.iter().map(|(_, f)| parse_field(f)).collect();
         if !self.seen_data && numbers.iter().all(Option::is_none) {
             return; // header line such as `x,y,z,i,j,k`
         }
@@ -112,5 +127,24 @@ impl super::stream::LineReader for ClReader {
             orientation,
             events: Vec::new(),
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exponent_notation_is_read_and_non_finite_refused() {
+        let p = read_cl("x,y,z,i,j,k\n1.5e1 -2E-1 0 -6.0e-05 0 1 1.2e3\n", 1000.0);
+        assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
+        assert_eq!(p.blocks.len(), 1);
+        let t = &p.blocks[0].targets;
+        assert!((t.x.unwrap() - 15.0 * MM).abs() < 1e-15 && (t.y.unwrap() + 0.2 * MM).abs() < 1e-15);
+        for bad in ["1e400", "inf", "nan", "1e", "1e-3x"] {
+            let p = read_cl(&format!("0 0 0 0 0 1\n{bad} 0 0 0 0 1\n"), 1000.0);
+            assert_eq!(p.diagnostics.len(), 1, "{bad}: {:?}", p.diagnostics);
+            assert_eq!((p.diagnostics[0].line, p.diagnostics[0].column), (2, 1), "{bad}");
+        }
     }
 }
