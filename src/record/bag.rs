@@ -103,10 +103,7 @@ impl Bag {
                 if entries.next().is_some() {
                     return Err(RecordError::Io {
                         path: output.to_path_buf(),
-                        source: std::io::Error::new(
-                            std::io::ErrorKind::AlreadyExists,
-                            "the bag directory exists and is not empty: choose a new name",
-                        ),
+                        source: std::io::Error::new(std::io::ErrorKind::AlreadyExists, "the bag directory exists and is not empty: choose a new name"),
                     });
                 }
             }

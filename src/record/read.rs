@@ -242,8 +242,7 @@ pub fn for_each_message(path: &Path, mut visit: impl FnMut(MessageView<'_>)) -> 
 
 fn for_each_message_in_file(path: &Path, file_index: usize, offset: u64, visit: &mut impl FnMut(MessageView<'_>)) -> Result<u64, RecordError> {
     let mut records = Records { schemas: HashMap::new(), channels: Vec::new(), count: 0, file: file_index };
-    scan_records(path, offset, &mut |opcode, data, position| records.record(path, opcode, data, position, visit).map_err(Stop::Damaged))
-        .map_err(Stop::into_inner)?;
+    scan_records(path, offset, &mut |opcode, data, position| records.record(path, opcode, data, position, visit).map_err(Stop::Damaged)).map_err(Stop::into_inner)?;
     Ok(records.count)
 }
 
@@ -290,12 +289,8 @@ pub(crate) fn scan_records(path: &Path, offset: u64, visit: &mut impl FnMut(u8, 
                 let body = decompress_chunk(data, position, &mut zstd, &mut chunk).map_err(|e| Stop::Damaged(mcap_error(path, e)))?;
                 let mut rest = body;
                 while !rest.is_empty() {
-                    let (opcode, record, tail) = split_record(rest).ok_or_else(|| {
-                        Stop::Damaged(mcap_error(
-                            path,
-                            format!("chunk record before byte {position}: a record cut short {} bytes from its end", rest.len()),
-                        ))
-                    })?;
+                    let (opcode, record, tail) = split_record(rest)
+                        .ok_or_else(|| Stop::Damaged(mcap_error(path, format!("chunk record before byte {position}: a record cut short {} bytes from its end", rest.len()))))?;
                     visit(opcode, record, position)?;
                     rest = tail;
                 }
@@ -309,17 +304,12 @@ pub(crate) fn scan_records(path: &Path, offset: u64, visit: &mut impl FnMut(u8, 
 /// The records of a Chunk record `data` (read up to byte `position`): decompressed into `chunk`
 /// (or borrowed, uncompressed) and checked against the chunk's CRC.
 fn decompress_chunk<'a>(data: &'a [u8], position: u64, zstd: &mut zstd::bulk::Decompressor<'_>, chunk: &'a mut Vec<u8>) -> Result<&'a [u8], String> {
-    let Record::Chunk { header, data: compressed } =
-        parse_checked(mcap::records::op::CHUNK, data).map_err(|e| format!("chunk record before byte {position}: {e}"))?
-    else {
+    let Record::Chunk { header, data: compressed } = parse_checked(mcap::records::op::CHUNK, data).map_err(|e| format!("chunk record before byte {position}: {e}"))? else {
         unreachable!("a chunk opcode parses as a chunk")
     };
     let start = header.message_start_time;
     let damaged = |what: String| format!("chunk starting at log time {start} ns: {what}");
-    let size = usize::try_from(header.uncompressed_size)
-        .ok()
-        .filter(|n| *n <= MAX_CHUNK)
-        .ok_or_else(|| damaged(format!("claims {} bytes uncompressed", header.uncompressed_size)))?;
+    let size = usize::try_from(header.uncompressed_size).ok().filter(|n| *n <= MAX_CHUNK).ok_or_else(|| damaged(format!("claims {} bytes uncompressed", header.uncompressed_size)))?;
     let body: &[u8] = match header.compression.as_str() {
         "" => match compressed {
             std::borrow::Cow::Borrowed(b) => b,
@@ -399,8 +389,7 @@ impl Records {
     fn record(&mut self, path: &Path, opcode: u8, data: &[u8], position: u64, visit: &mut impl FnMut(MessageView<'_>)) -> Result<(), RecordError> {
         match opcode {
             mcap::records::op::MESSAGE => {
-                let (header, body) =
-                    message_header(data).ok_or_else(|| mcap_error(path, format!("message record of {} bytes is too short", data.len())))?;
+                let (header, body) = message_header(data).ok_or_else(|| mcap_error(path, format!("message record of {} bytes is too short", data.len())))?;
                 let channel = self
                     .channels
                     .get(usize::from(header.channel_id))
@@ -417,12 +406,9 @@ impl Records {
                     file: self.file,
                 });
             }
-            mcap::records::op::SCHEMA | mcap::records::op::CHANNEL => match parse_checked(opcode, data).map_err(|e| {
-                mcap_error(
-                    path,
-                    format!("{} record before byte {position}: {e}", if opcode == mcap::records::op::SCHEMA { "schema" } else { "channel" }),
-                )
-            })? {
+            mcap::records::op::SCHEMA | mcap::records::op::CHANNEL => match parse_checked(opcode, data)
+                .map_err(|e| mcap_error(path, format!("{} record before byte {position}: {e}", if opcode == mcap::records::op::SCHEMA { "schema" } else { "channel" })))?
+            {
                 Record::Schema { header, .. } => {
                     self.schemas.insert(header.id, header.name);
                 }
