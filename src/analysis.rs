@@ -211,7 +211,8 @@ pub fn analyze_mcap_with_progress(
             // Simultaneous five-axis motion (a feed move with the tool axis turning): the closest
             // approach counts there (parking at A = 0 is harmless), and the feed figures come from it.
             if status.motion == Motion::Feed && status.turning {
-                stream.cuts.push(Cut { t, x: tip.x, ds, feed: status.path_feed, programmed: status.programmed_feed, line: state.program_line });
+                // The program line is the alignment's (a JointState carries none).
+                stream.cuts.push(Cut { t, x: tip.x, ds, feed: status.path_feed, programmed: status.programmed_feed, line: status.program_line });
             }
             if let Some(d) = status.five_axis_distance {
                 stream.min_distance_deg = stream.min_distance_deg.min(d.to_degrees());

@@ -319,7 +319,9 @@ fn streaming_reader_agrees_with_the_mcap_crate_and_stops_at_damage() {
 
 /// Each of the program's regions is measured on its own pass: a raster that crosses the singular
 /// stretch twice (there at y 0, back at y 1 mm) has two regions at the same x, each losing what one
-/// pass alone loses (the second pass is not counted in the first region, nor the time between).
+/// pass alone loses (the second pass is not counted in the first region, nor the time between). So
+/// too from the run's JointState stream aligned with the program (`--program`): its program lines
+/// come from the alignment, not from the simulator's own messages.
 #[test]
 fn each_region_is_measured_on_its_own_pass() {
     let pass = |y: f64, forward: bool| -> String {
@@ -331,24 +333,34 @@ fn each_region_is_measured_on_its_own_pass() {
             })
             .collect()
     };
-    let lost = |text: String, name: &str| -> Vec<f64> {
+    // Time lost per region, with the actual stream each comes from: the simulated AxisState stream,
+    // and with `--program` the simulated JointState stream aligned with the program.
+    let lost = |text: String, name: &str| -> [Vec<(f64, String)>; 2] {
         let cl = tmp(&format!("{name}.cl"));
         std::fs::write(&cl, format!("x,y,z,i,j,k\n{text}")).unwrap();
         let mcap = tmp(&format!("{name}.mcap"));
         record(cl.to_str().unwrap(), &mcap);
         let json = tmp(&format!("{name}.json"));
-        let (code, table) = fiveaxis(&["analyze", mcap.to_str().unwrap(), "--json", json.to_str().unwrap()]);
-        assert_eq!(code, 0, "{table}");
-        let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-        v["regions"].as_array().unwrap().iter().map(|r| r["time_lost_s"].as_f64().unwrap()).collect()
+        let aligned = ["--program", cl.to_str().unwrap(), "--joint-state-topic", "/fiveaxis/simulated/joint_states"];
+        [&[][..], &aligned[..]].map(|extra| {
+            let mut args = vec!["analyze", mcap.to_str().unwrap(), "--json", json.to_str().unwrap()];
+            args.extend(extra);
+            let (code, table) = fiveaxis(&args);
+            assert_eq!(code, 0, "{table}");
+            let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+            v["regions"].as_array().unwrap().iter().map(|r| (r["time_lost_s"].as_f64().unwrap(), r["actual_topic"].as_str().unwrap().to_string())).collect()
+        })
     };
-    let one = lost(pass(0.0, true), "one-pass");
-    assert_eq!(one.len(), 1, "{one:?}");
-    assert!(one[0] > 0.1, "the pass loses time in the region: {one:?}");
+    let [one, one_aligned] = lost(pass(0.0, true), "one-pass");
+    assert_eq!((one.len(), one_aligned.len()), (1, 1), "{one:?} {one_aligned:?}");
+    assert!(one[0].0 > 0.1, "the pass loses time in the region: {one:?}");
+    assert_eq!((one[0].1.as_str(), one_aligned[0].1.as_str()), ("/fiveaxis/simulated/axis_state", "/fiveaxis/simulated/joint_states"));
     let two = lost(pass(0.0, true) + &pass(1.0, false), "two-passes");
-    assert_eq!(two.len(), 2, "{two:?}");
-    for l in &two {
-        assert!((l - one[0]).abs() < 0.3 * one[0], "a region's time lost {l} s, one pass alone {} s", one[0]);
+    for regions in &two {
+        assert_eq!(regions.len(), 2, "{regions:?}");
+        for (l, topic) in regions {
+            assert!((l - one[0].0).abs() < 0.3 * one[0].0, "{topic}: a region's time lost {l} s, one pass alone {} s", one[0].0);
+        }
     }
 }
 
