@@ -130,10 +130,17 @@ pub enum FeedSource {
 #[derive(Clone)]
 pub struct ProgramPlan {
     pub segments: OpenSegments,
+    /// In program order (start times increasing).
     pub regions: Vec<(f64, f64)>,
 }
 
 impl ProgramPlan {
+    /// Program time from `t` to the start of the first region starting after it, s (-1: none). The
+    /// regions are in program order: a binary search, not a scan of a long program's thousands.
+    pub fn time_to_next_region(&self, t: f64) -> f64 {
+        self.regions.get(self.regions.partition_point(|r| r.0 <= t)).map_or(-1.0, |r| r.0 - t)
+    }
+
     /// A plan over moves already held (built-in paths, tests).
     pub fn held(segments: Vec<Segment>, regions: Vec<(f64, f64)>) -> ProgramPlan {
         ProgramPlan { segments: crate::path::align::open_held(Arc::new(segments)), regions }
@@ -881,7 +888,7 @@ impl Monitor {
         // it, in program time at the programmed feed.
         let time_to_next = match (&self.feed_source, place) {
             _ if verdict.region_id != 0 => 0.0,
-            (FeedSource::Program(plan), Some(p)) => plan.regions.iter().find(|r| r.0 > p.program_time).map_or(-1.0, |r| r.0 - p.program_time),
+            (FeedSource::Program(plan), Some(p)) => plan.time_to_next_region(p.program_time),
             _ => -1.0,
         };
         if let Some(r) = closed {
@@ -1337,4 +1344,22 @@ fn lookahead(
     }
     let next = tl.region(k).map_or(-1.0, |i| tl.get(i).t - tl.get(best).t);
     ((best, k), next)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The binary search gives what the definition (the first region starting after t) gives.
+    #[test]
+    fn time_to_next_region_is_the_first_start_after_the_sample() {
+        let regions: Vec<(f64, f64)> = (0..500).map(|k| (k as f64 * 2.0 + (k % 3) as f64 * 0.1, k as f64 * 2.0 + 1.0)).collect();
+        let plan = ProgramPlan::held(Vec::new(), regions.clone());
+        for k in 0..4000 {
+            let t = k as f64 * 0.2537 - 3.0;
+            let want = regions.iter().find(|r| r.0 > t).map_or(-1.0, |r| r.0 - t);
+            assert_eq!(plan.time_to_next_region(t), want, "t {t}");
+        }
+        assert_eq!(plan.time_to_next_region(0.0), regions[1].0, "a region starting exactly at t is not ahead");
+    }
 }
