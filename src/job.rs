@@ -188,6 +188,7 @@ impl Moves {
     pub fn check(&self, machine: &Machine, mut progress: impl FnMut(f64, bool)) -> Result<Checked, JobError> {
         let (spec, options) = match self {
             Moves::Held(job) => {
+            // A built-in path: short, run whole (its few regions all listed).
                 let diagnostics: Vec<Diagnostic> = job.program.diagnostics.iter().chain(&job.trajectory.diagnostics).cloned().collect();
                 let errors = job.report.errors;
                 progress(job.trajectory.duration(), errors > 0);
@@ -247,9 +248,9 @@ fn no_moves(blocks: usize) -> Diagnostic {
 /// stream reads it again as it goes (memory does not grow with the program).
 pub fn program_plan(spec: &str, machine: &Machine, read: &ReadOptions) -> Result<crate::live::monitor::ProgramPlan, String> {
     use crate::live::monitor::ProgramPlan;
-    // Every region's times: the look-ahead needs each one ahead (a few numbers per region).
-    let analysis = AnalysisOptions { max_listed_regions: Some(usize::MAX), ..Default::default() };
-    let options = JobOptions { read: read.clone(), analysis, ..Default::default() };
+    // Every region's times: the look-ahead needs each one ahead (two numbers per region; the regions
+    // themselves are listed to the usual bound).
+    let options = JobOptions { read: read.clone(), ..Default::default() };
     let refuse = |diagnostics: &[Diagnostic], file: &str| {
         let errors: Vec<String> =
             diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{file}:{}:{}: {}", d.line, d.column, d.message)).collect();
@@ -261,6 +262,7 @@ pub fn program_plan(spec: &str, machine: &Machine, read: &ReadOptions) -> Result
     };
     match Moves::open(spec, machine, &options).map_err(|e| e.to_string())? {
         Moves::Held(job) => {
+            // A built-in path: short, run whole (its few regions all listed).
             let diagnostics: Vec<Diagnostic> = job.program.diagnostics.iter().chain(&job.trajectory.diagnostics).cloned().collect();
             refuse(&diagnostics, spec)?;
             if job.trajectory.segments.is_empty() {
@@ -271,10 +273,10 @@ pub fn program_plan(spec: &str, machine: &Machine, read: &ReadOptions) -> Result
         }
         Moves::Program { spec, options } => {
             let mut segments = crate::path::SegmentStream::new(open_spec(&spec, &options).map_err(|e| e.to_string())?, machine, &options.path);
-            let (analysis, counts) = crate::singularity::analyze_segments(segments.by_ref(), options.path.period, machine, &options.analysis);
+            let mut regions = Vec::new();
+            let (_, counts) = crate::singularity::analyze_segments_each(segments.by_ref(), options.path.period, machine, &options.analysis, |r| regions.push((r.t_start, r.t_end)));
             let diagnostics = read_rest(&mut segments, counts.segments);
             refuse(&diagnostics, segments.blocks().source())?;
-            let regions = analysis.regions.iter().map(|r| (r.t_start, r.t_end)).collect();
             let machine = machine.clone();
             let open: crate::path::align::OpenSegments = std::sync::Arc::new(move || {
                 let blocks = open_spec(&spec, &options).map_err(|e| format!("--program {spec}: {e}"))?;

@@ -216,7 +216,7 @@ pub fn statuses<'a>(traj: &'a Trajectory, machine: &'a Machine) -> impl Iterator
 
 /// Analyze a trajectory on a machine in one pass over its samples (see [`analyze_segments`]).
 pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) -> Analysis {
-    analyze_stream(traj.segments.iter().cloned(), Some(&traj.stored), traj.period, machine, options).0
+    analyze_stream(traj.segments.iter().cloned(), Some(&traj.stored), traj.period, machine, options, |_| {}).0
 }
 
 /// What a streamed analysis counted besides its findings.
@@ -229,7 +229,19 @@ pub struct StreamCounts {
 /// Analyze a stream of segments sampled every `period` s, in one pass: memory holds a window of the
 /// segments and the regions, never the samples or the program.
 pub fn analyze_segments(segments: impl Iterator<Item = Segment>, period: f64, machine: &Machine, options: &AnalysisOptions) -> (Analysis, StreamCounts) {
-    analyze_stream(segments, None, period, machine, options)
+    analyze_stream(segments, None, period, machine, options, |_| {})
+}
+
+/// [`analyze_segments`], handing every region to `each` as it closes (listed or folded): what a
+/// consumer keeps of all of them (their times, say) without holding them whole.
+pub fn analyze_segments_each(
+    segments: impl Iterator<Item = Segment>,
+    period: f64,
+    machine: &Machine,
+    options: &AnalysisOptions,
+    each: impl FnMut(&Region),
+) -> (Analysis, StreamCounts) {
+    analyze_stream(segments, None, period, machine, options, each)
 }
 
 /// The programmed extremes lie at block ends, which the sample grid may miss by a fraction of a
@@ -262,7 +274,14 @@ impl SegmentEnds {
     }
 }
 
-fn analyze_stream(segments: impl Iterator<Item = Segment>, stored: Option<&[Sample]>, period: f64, machine: &Machine, options: &AnalysisOptions) -> (Analysis, StreamCounts) {
+fn analyze_stream(
+    segments: impl Iterator<Item = Segment>,
+    stored: Option<&[Sample]>,
+    period: f64,
+    machine: &Machine,
+    options: &AnalysisOptions,
+    mut each: impl FnMut(&Region),
+) -> (Analysis, StreamCounts) {
     let sd = machine.singular_direction();
     let limits = machine.limits();
     let rate_limit = options.rate_limit.unwrap_or(limits[machine.secondary_axis()].velocity);
@@ -305,6 +324,7 @@ fn analyze_stream(segments: impl Iterator<Item = Segment>, stored: Option<&[Samp
                 let (ls, lst, linfo) = last.as_ref().expect("a region holds a sample");
                 let mut r = open.take().expect("open");
                 (r.t_end, r.tip_end) = boundary((ls, linfo), (&sm, &info), 1.0 - crossing(&st, lst, rate_limit));
+                each(&r);
                 crate::listing::push(&mut regions, &mut unlisted, cap, r);
             }
             (None, None) => {}
@@ -328,6 +348,7 @@ fn analyze_stream(segments: impl Iterator<Item = Segment>, stored: Option<&[Samp
     }
     if let (Some(mut r), Some((ls, _, _))) = (open.take(), &last) {
         (r.t_end, r.tip_end) = (ls.t, ls.tip);
+        each(&r);
         crate::listing::push(&mut regions, &mut unlisted, cap, r);
     }
     let (peak_rate, peak_tip, peak_line, peak_block) = match peak.best {
