@@ -188,7 +188,6 @@ impl Moves {
     pub fn check(&self, machine: &Machine, mut progress: impl FnMut(f64, bool)) -> Result<Checked, JobError> {
         let (spec, options) = match self {
             Moves::Held(job) => {
-            // A built-in path: short, run whole (its few regions all listed).
                 let diagnostics: Vec<Diagnostic> = job.program.diagnostics.iter().chain(&job.trajectory.diagnostics).cloned().collect();
                 let errors = job.report.errors;
                 progress(job.trajectory.duration(), errors > 0);

@@ -151,9 +151,8 @@ pub struct Recorder {
     writer: Option<McapWriter<BufWriter<File>>>,
     /// File offset and message count at the end of the last chunk flushed whole.
     committed: (u64, u64),
-    /// Messages per channel written, and at the end of the last chunk flushed whole.
-    per_channel: HashMap<u16, u64>,
-    committed_per_channel: HashMap<u16, u64>,
+    /// Messages per channel (by id) at the end of the last chunk flushed whole.
+    committed_per_channel: Vec<u64>,
     channels: HashMap<String, (u16, String)>,
     chunk_start: Option<u64>,
     options: RecordOptions,
@@ -174,8 +173,7 @@ impl Recorder {
             path: path.to_path_buf(),
             writer: Some(writer),
             committed: (0, 0),
-            per_channel: HashMap::new(),
-            committed_per_channel: HashMap::new(),
+            committed_per_channel: Vec::new(),
             channels: HashMap::new(),
             chunk_start: None,
             options,
@@ -265,10 +263,11 @@ impl Recorder {
             _ => {}
         }
         // The sequence is the channel's message count, wrapping at 2^32 as the field does.
-        let n = self.per_channel.get(&channel).copied().unwrap_or(0) + 1;
-        self.attempt(|w| w.write_message(channel, n as u32, log_time_ns, publish_time_ns, data))?;
+        self.attempt(|w| {
+            let n = w.message_counts().get(usize::from(channel)).copied().unwrap_or(0) + 1;
+            w.write_message(channel, n as u32, log_time_ns, publish_time_ns, data)
+        })?;
         self.messages += 1;
-        self.per_channel.insert(channel, n);
         Ok(())
     }
 
@@ -287,14 +286,16 @@ impl Recorder {
     pub fn flush(&mut self) -> Result<(), RecordError> {
         let at = self.attempt(|w| w.flush().map(|()| w.position()))?;
         self.committed = (at, self.messages);
-        self.committed_per_channel.clone_from(&self.per_channel);
+        let counts = self.writer.as_ref().map_or(&[][..], |w| w.message_counts());
+        self.committed_per_channel.clear();
+        self.committed_per_channel.extend_from_slice(counts);
         Ok(())
     }
 
     /// Messages on `channel` up to the end of the last chunk flushed whole: what the file holds
     /// after a failed write ([`RecordError::WriteFailed`]).
     pub fn committed_on(&self, channel: u16) -> u64 {
-        self.committed_per_channel.get(&channel).copied().unwrap_or(0)
+        self.committed_per_channel.get(usize::from(channel)).copied().unwrap_or(0)
     }
 
     /// Write the summary (indexes, statistics) and the footer; the recorder takes no more writes.

@@ -61,9 +61,7 @@ pub fn recover(input: &Path, output: &Path) -> Result<RecoverReport, RecordError
     let mut report = RecoverReport { messages: 0, channels: 0, bytes_total, stopped: None };
     let mut ended = false;
     let out = |e| Stop::Visitor(super::write_err(output, e));
-    let damaged = |position: u64, e: String| {
-        Stop::Damaged(RecordError::Mcap { path: input.to_path_buf(), message: format!("record before byte {position}: {e}") })
-    };
+    let damaged = |position: u64, e: String| Stop::Damaged(RecordError::Mcap { path: input.to_path_buf(), message: format!("record before byte {position}: {e}") });
     let mut copy = |opcode: u8, data: &[u8], position: u64| -> Result<(), Stop> {
         match opcode {
             op::DATA_END | op::FOOTER => {

@@ -178,6 +178,11 @@ impl<W: Write> McapWriter<W> {
         Ok(())
     }
 
+    /// Messages written on each channel, by channel id.
+    pub fn message_counts(&self) -> &[u64] {
+        &self.message_counts
+    }
+
     /// Bytes handed to the output so far (the file offset of the next record outside a chunk).
     pub fn position(&self) -> u64 {
         self.out.position

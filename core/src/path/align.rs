@@ -104,11 +104,6 @@ impl Aligner {
         Aligner { open, window: None, failed: None, current: [0; 2], error: [0.0; 2] }
     }
 
-    /// An aligner over moves already held (a built-in path, tests; empty: every sample is unplaced).
-    pub fn over(segments: Arc<Vec<Segment>>) -> Aligner {
-        Aligner::new(open_held(segments))
-    }
-
     /// Why the program's moves could not be read again (no sample is placed then).
     pub fn failure(&self) -> Option<&str> {
         self.failed.as_deref()
@@ -240,6 +235,6 @@ mod tests {
         let mut aligner = Aligner::new(Arc::new(|| Err("prog.cl: No such file or directory".to_string())));
         assert_eq!(aligner.place(&Vector3::zeros(), &[0.0; 5]), None);
         assert_eq!(aligner.failure(), Some("prog.cl: No such file or directory"));
-        assert_eq!(Aligner::over(Arc::new(Vec::new())).place(&Vector3::zeros(), &[0.0; 5]), None);
+        assert_eq!(Aligner::new(open_held(Arc::new(Vec::new()))).place(&Vector3::zeros(), &[0.0; 5]), None);
     }
 }
