@@ -1,6 +1,6 @@
 //! The two-rotary kinematic chain: forward transform, closed-form orientation inverse, linear axes.
 
-use super::{subproblem1, wrap_pi, Carrier, Joints, KinematicsError, RotaryJoint};
+use super::{subproblem1, wrap_pi, Carrier, Joints, KinematicsError, RotaryJoint, SinCos};
 use nalgebra::Vector3;
 
 /// sin of the angle from the singular direction below which the secondary rate is undefined.
@@ -190,6 +190,24 @@ impl TwoRotaryChain {
     /// Linear axis values that put the tool tip at workpiece point `tip` with rotary angles `rot`.
     pub fn linear_for(&self, tip: &Vector3<f64>, rot: &[f64; 2]) -> Vector3<f64> {
         self.table_to_machine(rot, tip) - self.head_to_machine(rot, &self.tool_tip)
+    }
+
+    /// [`linear_for`](Self::linear_for) along a sequence of nearby angles: each joint's sine and
+    /// cosine from `turns` (one per slot), which follows the sequence.
+    pub fn linear_for_along(&self, tip: &Vector3<f64>, rot: &[f64; 2], turns: &mut [SinCos; 2]) -> Vector3<f64> {
+        let mut sc = [(0.0, 1.0); 2];
+        for i in 0..2 {
+            sc[i] = turns[i].at(rot[i]);
+        }
+        let mut v = *tip;
+        for &i in self.table.iter().rev() {
+            v = self.joints[i].turn_point_sc(sc[i], &v);
+        }
+        let mut h = self.tool_tip;
+        for &i in self.head.iter().rev() {
+            h = self.joints[i].turn_point_sc(sc[i], &h);
+        }
+        v - h
     }
 
     /// Both rotary solutions for a tool axis (need not be unit; must be finite and non-zero).

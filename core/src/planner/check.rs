@@ -5,45 +5,54 @@
 use crate::kinematics::Joints;
 use crate::machine::{AxisLimits, AXES};
 
-/// Ratios |v|/v_max, |a|/a_max, |j|/j_max (largest over the axes) at the middle of five positions
-/// `q[k-2..=k+2]` sampled at period `t`.
-fn ratio_at(
-    m2: &Joints,
-    m1: &Joints,
-    p0: &Joints,
-    p1: &Joints,
-    p2: &Joints,
-    t: f64,
-    limits: &[AxisLimits; AXES],
-) -> [f64; 3] {
-    let mut r = [0.0f64; 3];
-    for i in 0..AXES {
-        let v = (p1[i] - m1[i]) / (2.0 * t);
-        let a = (p1[i] - 2.0 * p0[i] + m1[i]) / (t * t);
-        let j = (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) / (2.0 * t * t * t);
-        r[0] = r[0].max(v.abs() / limits[i].velocity);
-        r[1] = r[1].max(a.abs() / limits[i].acceleration);
-        r[2] = r[2].max(j.abs() / limits[i].jerk);
+/// The stencil's differences at period `t` as ratios to the limits: per axis, the factors that
+/// turn a first, second and third difference into |v|/v_max, |a|/a_max and |j|/j_max.
+#[derive(Debug, Clone, Copy)]
+struct Stencil {
+    scale: [[f64; 3]; AXES],
+}
+
+impl Stencil {
+    fn new(t: f64, limits: &[AxisLimits; AXES]) -> Stencil {
+        Stencil {
+            scale: std::array::from_fn(|i| {
+                let l = &limits[i];
+                [1.0 / (2.0 * t * l.velocity), 1.0 / (t * t * l.acceleration), 1.0 / (2.0 * t * t * t * l.jerk)]
+            }),
+        }
     }
-    r
+
+    /// Ratios |v|/v_max, |a|/a_max, |j|/j_max (largest over the axes) at the middle of five
+    /// positions `q[k-2..=k+2]`.
+    fn ratio_at(&self, m2: &Joints, m1: &Joints, p0: &Joints, p1: &Joints, p2: &Joints) -> [f64; 3] {
+        let mut r = [0.0f64; 3];
+        for i in 0..AXES {
+            let s = &self.scale[i];
+            let v = p1[i] - m1[i];
+            let a = p1[i] - 2.0 * p0[i] + m1[i];
+            let j = p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i];
+            r[0] = r[0].max(v.abs() * s[0]);
+            r[1] = r[1].max(a.abs() * s[1]);
+            r[2] = r[2].max(j.abs() * s[2]);
+        }
+        r
+    }
 }
 
 /// Largest ratios of finite-difference velocity, acceleration and jerk to the limits, per sample,
 /// for a position sequence `q` at period `t` that is at rest before and after.
 pub fn limit_ratios(q: &[Joints], t: f64, limits: &[AxisLimits; AXES]) -> Vec<[f64; 3]> {
     let n = q.len();
+    let stencil = Stencil::new(t, limits);
     let at = |k: isize| &q[k.clamp(0, n as isize - 1) as usize];
-    (0..n as isize)
-        .map(|k| ratio_at(at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2), t, limits))
-        .collect()
+    (0..n as isize).map(|k| stencil.ratio_at(at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2))).collect()
 }
 
 /// [`limit_ratios`] over a stream: positions pushed one at a time, the worst ratios kept; five
 /// positions held. The same figures as [`limit_ratios`] on the whole sequence.
 #[derive(Debug, Clone)]
 pub struct LimitCheck {
-    t: f64,
-    limits: [AxisLimits; AXES],
+    stencil: Stencil,
     /// The last five positions pushed (oldest first once full) and how many were pushed.
     last: [Joints; 5],
     n: u64,
@@ -53,8 +62,7 @@ pub struct LimitCheck {
 impl LimitCheck {
     pub fn new(t: f64, limits: &[AxisLimits; AXES]) -> LimitCheck {
         LimitCheck {
-            t,
-            limits: *limits,
+            stencil: Stencil::new(t, limits),
             last: [[0.0; AXES]; 5],
             n: 0,
             worst: [0.0; 3],
@@ -70,15 +78,7 @@ impl LimitCheck {
     }
 
     fn measure(&mut self, k: i64) {
-        let r = ratio_at(
-            self.at(k - 2),
-            self.at(k - 1),
-            self.at(k),
-            self.at(k + 1),
-            self.at(k + 2),
-            self.t,
-            &self.limits,
-        );
+        let r = self.stencil.ratio_at(self.at(k - 2), self.at(k - 1), self.at(k), self.at(k + 1), self.at(k + 2));
         for i in 0..3 {
             self.worst[i] = self.worst[i].max(r[i]);
         }

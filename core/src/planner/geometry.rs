@@ -1,7 +1,7 @@
 //! The geometric path the planner moves along: runs of segments the machine runs without stopping,
 //! and, per look-ahead window, the C2 curve `q(sigma)` through the window's block end points.
 
-use crate::kinematics::Joints;
+use crate::kinematics::{Joints, SinCos};
 use crate::machine::{Machine, AXES};
 use crate::path::{Segment, SegmentKind};
 use crate::singularity::CubicSpline;
@@ -68,6 +68,8 @@ pub struct Curve<'a> {
     splines: Vec<CubicSpline>,
     /// The knot interval of the last evaluation: the planner evaluates along increasing `s`.
     hint: std::cell::Cell<usize>,
+    /// The rotary angles' sines and cosines, which follow the evaluations.
+    turns: std::cell::Cell<[SinCos; 2]>,
 }
 
 impl Run {
@@ -182,7 +184,7 @@ impl Run {
                 })
                 .collect(),
         };
-        Curve { run: self, splines, hint: std::cell::Cell::new(0) }
+        Curve { run: self, splines, hint: std::cell::Cell::new(0), turns: Default::default() }
     }
 }
 
@@ -192,6 +194,14 @@ impl Curve<'_> {
         let i = self.splines[0].interval(s, self.hint.get());
         self.hint.set(i);
         std::array::from_fn(|a| self.splines[a].value_on(i, s))
+    }
+
+    /// The linear axes that put the tool tip at `tip` with the rotaries at `rot`.
+    fn linear_for(&self, tip: &Vector3<f64>, rot: &[f64; 2], machine: &Machine) -> Vector3<f64> {
+        let mut turns = self.turns.get();
+        let l = machine.chain.linear_for_along(tip, rot, &mut turns);
+        self.turns.set(turns);
+        l
     }
 
     /// Axis values at run parameter `s`.
@@ -207,7 +217,7 @@ impl Curve<'_> {
                 let v = self.values(s);
                 let tip = Vector3::new(v[0], v[1], v[2]);
                 let rot = [v[3], v[4]];
-                let l = machine.chain.linear_for(&(tip + run.datum), &rot);
+                let l = self.linear_for(&(tip + run.datum), &rot, machine);
                 [l.x, l.y, l.z, rot[0], rot[1]]
             }
             RunKind::Rotary => {
@@ -215,7 +225,7 @@ impl Curve<'_> {
                 let rot = [v[3], v[4]];
                 match run.tcp_tip {
                     Some(tip) => {
-                        let l = machine.chain.linear_for(&(tip + run.datum), &rot);
+                        let l = self.linear_for(&(tip + run.datum), &rot, machine);
                         [l.x, l.y, l.z, rot[0], rot[1]]
                     }
                     None => [run.q0[0], run.q0[1], run.q0[2], rot[0], rot[1]],

@@ -64,28 +64,46 @@ pub struct Planned {
     pub iterations: usize,
 }
 
-/// Tangential acceleration bounds (min, max) at a grid point moving at path speed `v`.
-fn accel_bounds(qs: &Joints, qss: &Joints, v: f64, limits: &[AxisLimits; AXES]) -> (f64, f64) {
-    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-    for i in 0..AXES {
-        if qs[i].abs() < 1e-12 {
-            continue;
+/// The tangential acceleration bounds of one grid point: axis `i` at path speed `v` and path
+/// acceleration `s''` moves at `q_s s'' + q_ss v^2`, within `+-a_max` when
+/// `-r_i - p_i v^2 <= s'' <= r_i - p_i v^2` with `p_i = q_ss / q_s` and `r_i = a_max / |q_s|`
+/// (axes that do not move along the path, `|q_s| < 1e-12`, bound nothing).
+#[derive(Debug, Clone, Copy)]
+struct AccelBounds {
+    p: [f64; AXES],
+    r: [f64; AXES],
+}
+
+impl AccelBounds {
+    fn new(qs: &Joints, qss: &Joints, limits: &[AxisLimits; AXES]) -> AccelBounds {
+        let mut b = AccelBounds { p: [0.0; AXES], r: [f64::INFINITY; AXES] };
+        for i in 0..AXES {
+            if qs[i].abs() >= 1e-12 {
+                b.p[i] = qss[i] / qs[i];
+                b.r[i] = limits[i].acceleration / qs[i].abs();
+            }
         }
-        let c = qss[i] * v * v;
-        let a = limits[i].acceleration;
-        let (b1, b2) = ((a - c) / qs[i], (-a - c) / qs[i]);
-        hi = hi.min(b1.max(b2));
-        lo = lo.max(b1.min(b2));
+        b
     }
-    (lo, hi)
+
+    /// Tangential acceleration bounds (min, max) moving at path speed `v`.
+    fn at(&self, v: f64) -> (f64, f64) {
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        let v2 = v * v;
+        for i in 0..AXES {
+            let c = self.p[i] * v2;
+            hi = hi.min(self.r[i] - c);
+            lo = lo.max(-self.r[i] - c);
+        }
+        (lo, hi)
+    }
 }
 
 /// The path grid of one look-ahead window: points `ka..=kb` of the run's uniform grid of step `h`.
 struct Window {
     ka: usize,
     h: f64,
-    qs: Vec<Joints>,
-    qss: Vec<Joints>,
+    bounds: Vec<AccelBounds>,
     limit: Vec<f64>,
 }
 
@@ -98,38 +116,40 @@ impl Window {
         let lo = ka as isize - 2;
         let q: Vec<Joints> = (lo..=kb as isize + 2).map(at).collect();
         let n = kb - ka + 1;
-        let (mut qs, mut qss) = (vec![[0.0; AXES]; n], vec![[0.0; AXES]; n]);
+        let limits = machine.limits();
+        let mut bounds = Vec::with_capacity(n);
         let mut limit = vec![0.0; n];
         for r in 0..n {
             let k = ka + r;
             let (m2, m1, p0, p1, p2) = (q[r], q[r + 1], q[r + 2], q[r + 3], q[r + 4]);
             let end = k == 0 || k == k_max;
             let span = if end { h } else { 2.0 * h };
-            let mut qsss = [0.0; AXES];
+            let (mut qs, mut qss, mut qsss) = ([0.0; AXES], [0.0; AXES], [0.0; AXES]);
             for i in 0..AXES {
-                qs[r][i] = (p1[i] - m1[i]) / span;
-                qss[r][i] = if end { 0.0 } else { (p1[i] - 2.0 * p0[i] + m1[i]) / (h * h) };
+                qs[i] = (p1[i] - m1[i]) / span;
+                qss[i] = if end { 0.0 } else { (p1[i] - 2.0 * p0[i] + m1[i]) / (h * h) };
                 qsss[i] = if k < 2 || k + 2 > k_max { 0.0 } else { (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) / (2.0 * h * h * h) };
             }
+            bounds.push(AccelBounds::new(&qs, &qss, &limits));
             let feed = run.feed(run.segment_at(k as f64 * h));
-            limit[r] = if end || k == kb { 0.0 } else { limiter.limit(feed, &qs[r], &qss[r], &qsss).feed };
+            limit[r] = if end || k == kb { 0.0 } else { limiter.limit(feed, &qs, &qss, &qsss).feed };
         }
-        Window { ka, h, qs, qss, limit }
+        Window { ka, h, bounds, limit }
     }
 
     /// Path speed over the window from `v0` at its start: forward and backward acceleration passes
     /// under `cap`, at rest at its end (the control must be able to stop where its look-ahead ends).
-    fn speed_profile(&self, cap: &[f64], v0: f64, limits: &[AxisLimits; AXES]) -> Vec<f64> {
-        self.speed_profile_to(cap, v0, limits, true)
+    fn speed_profile(&self, cap: &[f64], v0: f64) -> Vec<f64> {
+        self.speed_profile_to(cap, v0, true)
     }
 
     /// As [`Window::speed_profile`], at rest at the end only if `stop`.
-    fn speed_profile_to(&self, cap: &[f64], v0: f64, limits: &[AxisLimits; AXES], stop: bool) -> Vec<f64> {
+    fn speed_profile_to(&self, cap: &[f64], v0: f64, stop: bool) -> Vec<f64> {
         let n = cap.len();
         let mut v = vec![0.0; n];
         v[0] = v0;
         for k in 0..n - 1 {
-            let (_, hi) = accel_bounds(&self.qs[k], &self.qss[k], v[k], limits);
+            let (_, hi) = self.bounds[k].at(v[k]);
             let hi = if hi.is_finite() { hi } else { 1e12 };
             v[k + 1] = (v[k] * v[k] + 2.0 * hi * self.h).max(0.0).sqrt().min(cap[k + 1]);
         }
@@ -137,7 +157,7 @@ impl Window {
             v[n - 1] = 0.0;
         }
         for k in (1..n - 1).rev() {
-            let (lo, _) = accel_bounds(&self.qs[k + 1], &self.qss[k + 1], v[k + 1], limits);
+            let (lo, _) = self.bounds[k + 1].at(v[k + 1]);
             let lo = if lo.is_finite() { lo } else { -1e12 };
             v[k] = v[k].min((v[k + 1] * v[k + 1] - 2.0 * lo * self.h).max(0.0).sqrt());
         }
@@ -146,12 +166,12 @@ impl Window {
 
     /// The hardest braking from `v0` at the window's start: the speeds below which no lowering of the
     /// limit curve may go (the committed speed cannot drop faster than the axes can brake).
-    fn braking(&self, v0: f64, limits: &[AxisLimits; AXES]) -> Vec<f64> {
-        let n = self.qs.len();
+    fn braking(&self, v0: f64) -> Vec<f64> {
+        let n = self.bounds.len();
         let mut v = vec![0.0; n];
         v[0] = v0;
         for k in 0..n - 1 {
-            let (lo, _) = accel_bounds(&self.qs[k], &self.qss[k], v[k], limits);
+            let (lo, _) = self.bounds[k].at(v[k]);
             let lo = if lo.is_finite() { lo.min(0.0) } else { -1e12 };
             v[k + 1] = (v[k] * v[k] + 2.0 * lo * self.h).max(0.0).sqrt();
         }
@@ -262,12 +282,15 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
         for (r, &x) in carry.iter().enumerate().take(cap.len().saturating_sub(1)) {
             cap[r] = cap[r].min(x);
         }
-        let floor = win.braking(v0, &limits);
+        let floor = win.braking(v0);
         // Lower the limit curve around every violation, over the stretch the filter mixes (the
         // committed part before the window cannot change), never below the braking floor.
         let ka_f = ka as f64 * h;
         let lower = |cap: &mut Vec<f64>, raw: &[f64], v: &[f64], ratios: &[[f64; 3]], protected: usize| {
             for (i, r) in ratios.iter().enumerate().skip(protected) {
+                if r.iter().all(|&x| x <= 1.0) {
+                    continue;
+                }
                 let factor = [1.0 / r[0], 1.0 / r[1].sqrt(), 1.0 / r[2].cbrt()].into_iter().fold(1.0f64, f64::min);
                 if factor >= 1.0 {
                     continue;
@@ -286,7 +309,7 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
         let mut best: Option<(f64, Plan)> = None;
         let mut first_len: Option<usize> = None;
         let (raw, filtered, q, t, v, c, worst, cap) = loop {
-            let v = win.speed_profile(&cap, v0, &limits);
+            let v = win.speed_profile(&cap, v0);
             let (raw, t, c) = win.sample(&v, tau0, j0, config.period, kc, last);
             // Jerk filter: causal moving average over w samples, at rest at the window's end after it.
             let full: Vec<f64> = raw_hist.iter().copied().chain(raw.iter().copied()).chain(std::iter::repeat_n(end, w - 1)).collect();
@@ -349,7 +372,7 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
             let mut free_cap = cap.clone();
             let n = free_cap.len();
             free_cap[n - 1] = free_cap[n - 2];
-            let free = win.speed_profile_to(&free_cap, v0, &limits, false);
+            let free = win.speed_profile_to(&free_cap, v0, false);
             let top = free.iter().fold(0.0f64, |m, &x| m.max(x));
             let bound = (1..n).find(|&r| v[r] < free[r] - 1e-9 * top).unwrap_or(n - 1);
             let kc = ka + (kc - ka).min(bound.saturating_sub(1).max((kb - ka) / 8).max(1));
