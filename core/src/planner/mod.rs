@@ -27,6 +27,7 @@ mod geometry;
 pub mod orientation;
 mod profile;
 pub mod servo;
+mod tee;
 
 pub use geometry::{Run, RunHead, RunScout, CORNER_DEG};
 pub use check::{limit_ratios, LimitCheck};

@@ -418,7 +418,8 @@ pub fn plan_each(segments: &[Segment], machine: &Machine, config: &PlanConfig, m
 /// Plan a stream of segments on `machine`, calling `emit` for each set-point in time order, with
 /// the segment it lies on (planning stops early if it returns false). `scout` is the same segments
 /// once more: it runs ahead to measure each run before it is planned (its length sets the run's
-/// path grid), holding one segment. Memory is the look-ahead window, whatever the program's length.
+/// path grid), keeping what it reads for the planner up to a bound; `segments` is read only past
+/// it (see `tee`). Memory is the look-ahead window and that bound, whatever the program's length.
 pub fn plan_stream(
     segments: impl Iterator<Item = Segment>,
     scout: impl Iterator<Item = Segment>,
@@ -428,8 +429,11 @@ pub fn plan_stream(
 ) -> Planned {
     // The control smooths the tool axis of great-circle moves within a tolerance: the planner and its
     // scout see the same smoothed segments.
-    let mut source = super::orientation::OrientationSmoother::new(segments, machine);
-    let scout = super::orientation::OrientationSmoother::new(scout, machine);
+    // The program is read once for both while the scout's lead fits what it keeps (`tee`).
+    let (scout, mut source) = super::tee::tee(
+        super::orientation::OrientationSmoother::new(scout, machine),
+        super::orientation::OrientationSmoother::new(segments, machine),
+    );
     let limits = machine.limits();
     let limiter = FeedLimiter::new(&limits);
     // A moving average of width T turns a path acceleration bounded by +-b into a jerk bounded by

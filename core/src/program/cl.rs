@@ -31,6 +31,26 @@ fn parse_field(f: &str) -> Option<f64> {
     })
 }
 
+/// The fields of a line (separated by commas and white space) with their columns (1-based, in
+/// characters).
+fn split_fields(l: &str) -> impl Iterator<Item = (usize, &str)> {
+    let mut start = None;
+    l.char_indices().chain(std::iter::once((l.len(), ' '))).enumerate().filter_map(move |(col, (k, c))| {
+        let sep = c == ',' || c.is_whitespace();
+        match (sep, start) {
+            (false, None) => {
+                start = Some((k, col + 1));
+                None
+            }
+            (true, Some((s, col))) => {
+                start = None;
+                Some((col, &l[s..k]))
+            }
+            _ => None,
+        }
+    })
+}
+
 /// The CL reader, fed one line at a time.
 #[derive(Debug, Clone)]
 pub(crate) struct ClReader {
@@ -53,44 +73,41 @@ impl super::stream::LineReader for ClReader {
         if t.is_empty() || t.starts_with('#') || t.starts_with(';') {
             return;
         }
-        // Fields with their columns.
-        let mut fields: Vec<(usize, &str)> = Vec::new();
-        let mut start = None;
-        for (k, c) in l.char_indices().chain(std::iter::once((l.len(), ' '))) {
-            let sep = c == ',' || c.is_whitespace();
-            match (sep, start) {
-                (false, None) => start = Some(k),
-                (true, Some(s)) => {
-                    fields.push((l[..s].chars().count() + 1, &l[s..k]));
-                    start = None;
-                }
-                _ => {}
+        // Fields with their columns, the first eight kept: a pose has six or seven, and a longer
+        // line is counted, then refused.
+        let mut fields = [(0usize, ""); 8];
+        let mut split = split_fields(l);
+        let mut count = 0;
+        for (slot, f) in fields.iter_mut().zip(split.by_ref()) {
+            *slot = f;
+            count += 1;
+        }
+        count += split.count();
+        let fields = &fields[..count.min(8)];
+        let mut v = [0.0f64; 8];
+        let mut numbers = 0;
+        for (x, (_, f)) in v.iter_mut().zip(fields) {
+            if let Some(n) = parse_field(f) {
+                *x = n;
+                numbers += 1;
             }
         }
-        let numbers: Vec<Option<f64>> = fields.iter().map(|(_, f)| parse_field(f)).collect();
-        if !self.seen_data && numbers.iter().all(Option::is_none) {
+        if !self.seen_data && numbers == 0 && split_fields(l).all(|(_, f)| parse_field(f).is_none()) {
             return; // header line such as `x,y,z,i,j,k`
         }
         self.seen_data = true;
-        if fields.len() < 6 || fields.len() > 7 {
-            diags.error(
-                line,
-                1,
-                format!("expected 6 or 7 fields (x y z i j k [feed]), found {}", fields.len()),
-            );
+        if !(6..=7).contains(&count) {
+            diags.error(line, 1, format!("expected 6 or 7 fields (x y z i j k [feed]), found {count}"));
             return;
         }
-        let mut bad = false;
-        for ((col, f), v) in fields.iter().zip(&numbers) {
-            if v.is_none() {
-                diags.error(line, *col, format!("expected a number, found '{}'", excerpt(f)));
-                bad = true;
+        if numbers < count {
+            for (col, f) in fields {
+                if parse_field(f).is_none() {
+                    diags.error(line, *col, format!("expected a number, found '{}'", excerpt(f)));
+                }
             }
-        }
-        if bad {
             return;
         }
-        let v: Vec<f64> = numbers.into_iter().flatten().collect();
         let norm = (v[3] * v[3] + v[4] * v[4] + v[5] * v[5]).sqrt();
         if !(norm > 1e-9) {
             diags.error(line, fields[3].0, "tool axis (i j k) has zero length: expected a direction");
@@ -99,7 +116,7 @@ impl super::stream::LineReader for ClReader {
         if (norm - 1.0).abs() > 1e-2 {
             diags.warning(line, fields[3].0, format!("tool axis length {norm:.4} is not 1: normalised"));
         }
-        let feed = if v.len() == 7 {
+        let feed = if count == 7 {
             if !(v[6] > 0.0) {
                 diags.error(line, fields[6].0, "expected a positive feed (mm/min)");
                 return;
