@@ -153,6 +153,19 @@ impl Run {
         (self.base + k).saturating_sub(1).min(self.head.count - 1)
     }
 
+    /// [`Run::segment_at`] for an `s` at or after that of segment `b` (read and not dropped): a walk
+    /// forward from `b`, for evaluations along increasing `s`.
+    pub fn segment_at_from(&self, b: usize, s: f64) -> usize {
+        if b < self.base || b >= self.base + self.window.len() || self.entry(b).1 > s {
+            return self.segment_at(s);
+        }
+        let mut b = b;
+        while b + 1 < self.base + self.window.len() && self.entry(b + 1).1 <= s {
+            b += 1;
+        }
+        b.min(self.head.count - 1)
+    }
+
     /// Read segments from `source` until the one holding parameter `s` is read; its local index.
     pub fn segment_at_reading(&mut self, s: f64, source: &mut dyn Iterator<Item = Segment>) -> usize {
         while self.read < self.head.count && self.window.back().is_none_or(|e| e.2 <= s) {

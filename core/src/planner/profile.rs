@@ -117,6 +117,7 @@ impl Window {
         let q: Vec<Joints> = (lo..=kb as isize + 2).map(at).collect();
         let n = kb - ka + 1;
         let limits = machine.limits();
+        let mut b = run.segment_at(ka as f64 * h);
         let mut bounds = Vec::with_capacity(n);
         let mut limit = vec![0.0; n];
         for r in 0..n {
@@ -131,7 +132,8 @@ impl Window {
                 qsss[i] = if k < 2 || k + 2 > k_max { 0.0 } else { (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) / (2.0 * h * h * h) };
             }
             bounds.push(AccelBounds::new(&qs, &qss, &limits));
-            let feed = run.feed(run.segment_at(k as f64 * h));
+            b = run.segment_at_from(b, k as f64 * h);
+            let feed = run.feed(b);
             limit[r] = if end || k == kb { 0.0 } else { limiter.limit(feed, &qs, &qss, &qsss).feed };
         }
         Window { ka, h, bounds, limit }
@@ -381,8 +383,9 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
         };
         let new_q = &q[q_hist.len()..];
         let keep = if last { new_q.len() } else { c };
+        let mut b = filtered.first().map_or(0, |&x| run.segment_at(x));
         for i in 0..keep {
-            let b = run.segment_at(filtered[i]);
+            b = run.segment_at_from(b, filtered[i]);
             if !emit(new_q[i], run.first + b, run.segment(b)) {
                 stats.stopped = true;
                 return stats;
