@@ -226,3 +226,43 @@ fn lost_samples_are_counted_from_unrepaid_gaps() {
         .collect();
     assert_eq!(feed(&jittered), 0);
 }
+
+/// A machine stream aligned with a program (`--program`) that can no longer be read when the
+/// samples come (the file removed after the node checked it): the monitor says so in its summary
+/// and its diagnostics are ERROR naming why, instead of monitoring without the program's places.
+/// The same stream with the file in place is placed, and clear.
+#[test]
+fn a_program_that_cannot_be_read_again_is_an_error_not_a_silent_gap() {
+    use fiveaxis::live::monitor::FeedSource;
+    let machine = Machine::hermle_c600u();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("line.ngc");
+    std::fs::write(&path, "G90 G21 G94\nG0 X0 Y0 Z0 A10 C0\nG1 X50 F2000\nM30\n").unwrap();
+    for removed in [false, true] {
+        let plan = fiveaxis::job::program_plan(path.to_str().unwrap(), &machine, &Default::default()).expect("the program is read");
+        if removed {
+            std::fs::remove_file(&path).unwrap();
+        }
+        let mut m = monitor();
+        m.set_feed_source(FeedSource::Program(std::sync::Arc::new(plan)));
+        for k in 0..200 {
+            let t = k as f64 * 1e-3;
+            m.on_state(TOPIC, &state(1.0 + t, t * 2000.0 / 60.0, 10.0, 0.0), 1.0 + t).unwrap();
+        }
+        let status = &m.diagnostics(Time::from_secs(0.2)).status[0];
+        let summary = &m.summary()[0];
+        if removed {
+            let (topic, why) = m.program_unreadable().expect("the failure is reported");
+            assert_eq!(topic, TOPIC);
+            assert!(why.contains("line.ngc"), "{why}");
+            assert_eq!(summary.program_unreadable.as_deref(), Some(why));
+            assert_eq!(status.level, DiagnosticStatus::ERROR, "{}", status.message);
+            assert!(status.message.contains("cannot be read again"), "{}", status.message);
+        } else {
+            assert_eq!(m.program_unreadable(), None);
+            assert!(summary.program_unreadable.is_none());
+            assert_ne!(status.level, DiagnosticStatus::ERROR, "{}", status.message);
+            assert!(summary.feed_samples > 0, "the samples are placed on the program's feed move: {}", serde_json::to_string(summary).unwrap());
+        }
+    }
+}

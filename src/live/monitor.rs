@@ -994,6 +994,12 @@ impl Monitor {
         self.index.keys().cloned().collect()
     }
 
+    /// The first stream whose program (`--program`) could not be read again to place its samples,
+    /// and why: the node fails then (its samples have no program place).
+    pub fn program_unreadable(&self) -> Option<(&str, &str)> {
+        self.each().find_map(|(topic, i)| i.aligner.as_ref().and_then(|a| a.failure()).map(|why| (topic.as_str(), why)))
+    }
+
     /// A summary of every stream, for people and CI.
     pub fn summary(&self) -> Vec<InputSummary> {
         self.each()
@@ -1054,7 +1060,12 @@ impl Monitor {
                     (Some(c), Some((l, w))) if *l > c.0 => Some((*l, w)),
                     (c, _) => c,
                 };
+                let unreadable = input.aligner.as_ref().and_then(|a| a.failure());
                 let (level, message) = match worst {
+                    _ if unreadable.is_some() => (
+                        DiagnosticStatus::ERROR,
+                        format!("the program (--program) cannot be read again to place the samples: {}", unreadable.unwrap_or_default()),
+                    ),
                     Some((l, w)) if l == DiagnosticStatus::ERROR => event(l, w),
                     _ if input.stale_now => (DiagnosticStatus::STALE, format!("no sample for {:.0} ms", self.config.stale_timeout * 1e3)),
                     None => (DiagnosticStatus::STALE, "no valid sample yet".to_string()),

@@ -122,6 +122,7 @@ fn main() -> anyhow::Result<()> {
     let mut last_diag = 0.0;
     let mut last_stale_status = 0.0;
     let mut in_region: BTreeMap<String, u32> = BTreeMap::new();
+    let mut said_unreadable = false;
     while let Some(received) = receiver.next() {
         let now = receiver.now();
         match received {
@@ -213,6 +214,10 @@ fn main() -> anyhow::Result<()> {
         }
         if now - last_diag >= 0.5 {
             last_diag = now;
+            if let (Some((topic, why)), false) = (monitor.program_unreadable(), said_unreadable) {
+                said_unreadable = true;
+                tracing::error!(%topic, "the program cannot be read again to place this stream's samples: {why} (the node will exit 2)");
+            }
             // The node's clock: /clock's program time with use_sim_time, else wall time.
             if let Err(e) = diag_pub.publish(monitor.diagnostics(bus.now())) {
                 tracing::warn!("publishing diagnostics: {e:?}");
@@ -230,6 +235,11 @@ fn main() -> anyhow::Result<()> {
     }
     if let Some(path) = &args.summary_json {
         std::fs::write(path, serde_json::to_string_pretty(&summary)?).with_context(|| format!("writing {}", path.display()))?;
+    }
+    // Fail closed: a stream that could not be placed in the program was not monitored as asked.
+    if let Some((topic, why)) = monitor.program_unreadable() {
+        tracing::error!(%topic, "the program could not be read again to place this stream's samples: {why}");
+        std::process::exit(2);
     }
     Ok(())
 }
