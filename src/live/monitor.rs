@@ -997,7 +997,7 @@ impl Monitor {
     /// The first stream whose program (`--program`) could not be read again to place its samples,
     /// and why: the node fails then (its samples have no program place).
     pub fn program_unreadable(&self) -> Option<(&str, &str)> {
-        self.each().find_map(|(topic, i)| i.aligner.as_ref().and_then(|a| a.failure()).map(|why| (topic.as_str(), why)))
+        self.each().find_map(|(topic, i)| i.program_failure().map(|why| (topic.as_str(), why)))
     }
 
     /// A summary of every stream, for people and CI.
@@ -1017,7 +1017,7 @@ impl Monitor {
                 feed_samples: i.feed_samples,
                 max_path_feed_mm_per_min: i.max_feed / crate::units::MM_PER_MIN,
                 feed_source: (i.source == AxisState::SOURCE_MACHINE && i.samples > 0).then(|| self.feed_source.describe()),
-                program_unreadable: i.aligner.as_ref().and_then(|a| a.failure()).map(str::to_string),
+                program_unreadable: i.program_failure().map(str::to_string),
                 regions: i.all_regions(),
                 unlisted_regions: i.unlisted,
             })
@@ -1060,16 +1060,14 @@ impl Monitor {
                     (Some(c), Some((l, w))) if *l > c.0 => Some((*l, w)),
                     (c, _) => c,
                 };
-                let unreadable = input.aligner.as_ref().and_then(|a| a.failure());
-                let (level, message) = match worst {
-                    _ if unreadable.is_some() => (
-                        DiagnosticStatus::ERROR,
-                        format!("the program (--program) cannot be read again to place the samples: {}", unreadable.unwrap_or_default()),
-                    ),
-                    Some((l, w)) if l == DiagnosticStatus::ERROR => event(l, w),
+                let (level, message) = match (input.program_failure(), worst) {
+                    (Some(why), _) => {
+                        (DiagnosticStatus::ERROR, format!("the program (--program) cannot be read again to place the samples: {why}"))
+                    }
+                    (None, Some((l, w))) if l == DiagnosticStatus::ERROR => event(l, w),
                     _ if input.stale_now => (DiagnosticStatus::STALE, format!("no sample for {:.0} ms", self.config.stale_timeout * 1e3)),
-                    None => (DiagnosticStatus::STALE, "no valid sample yet".to_string()),
-                    Some((l, w)) => event(l, w),
+                    (None, None) => (DiagnosticStatus::STALE, "no valid sample yet".to_string()),
+                    (None, Some((l, w))) => event(l, w),
                 };
                 let mut values = vec![
                     KeyValue { key: "invalid_samples".into(), value: input.rejected.invalid().to_string() },
@@ -1128,6 +1126,11 @@ fn level_of(e: &Evaluation, warn_distance: f64, warn_ahead: f64) -> u8 {
 }
 
 impl Input {
+    /// Why the program (`--program`) could not be read again to place this stream's samples.
+    fn program_failure(&self) -> Option<&str> {
+        self.aligner.as_ref().and_then(|a| a.failure())
+    }
+
     /// Remember the evaluation if it is the worst since the last report (the peak speed of a region
     /// kept with it).
     fn latch(&mut self, e: &Evaluation, warn_distance: f64, warn_ahead: f64) {

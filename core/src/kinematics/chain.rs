@@ -93,13 +93,15 @@ impl TwoRotaryChain {
         self.joints[self.r2].axis
     }
 
+    /// Point `p` turned by the joints in `slots` (listed from the base outwards: the outer joint's
+    /// turn applied last), `turn(slot, p)` turning it about one joint.
+    fn turned(slots: &[usize], p: &Vector3<f64>, turn: impl Fn(usize, &Vector3<f64>) -> Vector3<f64>) -> Vector3<f64> {
+        slots.iter().rev().fold(*p, |v, &i| turn(i, &v))
+    }
+
     /// Workpiece point -> machine frame for table angles `rot` (outer table axis applied last).
     fn table_to_machine(&self, rot: &[f64; 2], p: &Vector3<f64>) -> Vector3<f64> {
-        let mut v = *p;
-        for &i in self.table.iter().rev() {
-            v = self.joints[i].turn_point(rot[i], &v);
-        }
-        v
+        Self::turned(&self.table, p, |i, v| self.joints[i].turn_point(rot[i], v))
     }
 
     /// Machine point -> workpiece frame (inverse of `table_to_machine`).
@@ -113,11 +115,7 @@ impl TwoRotaryChain {
 
     /// Spindle-frame point -> machine frame at zero linear axes (outer head axis applied last).
     fn head_to_machine(&self, rot: &[f64; 2], p: &Vector3<f64>) -> Vector3<f64> {
-        let mut v = *p;
-        for &i in self.head.iter().rev() {
-            v = self.joints[i].turn_point(rot[i], &v);
-        }
-        v
+        Self::turned(&self.head, p, |i, v| self.joints[i].turn_point(rot[i], v))
     }
 
     /// Tool axis in the workpiece frame for rotary angles `rot` (seed 001 eq. 2 on the Hermle).
@@ -195,19 +193,9 @@ impl TwoRotaryChain {
     /// [`linear_for`](Self::linear_for) along a sequence of nearby angles: each joint's sine and
     /// cosine from `turns` (one per slot), which follows the sequence.
     pub fn linear_for_along(&self, tip: &Vector3<f64>, rot: &[f64; 2], turns: &mut [SinCos; 2]) -> Vector3<f64> {
-        let mut sc = [(0.0, 1.0); 2];
-        for i in 0..2 {
-            sc[i] = turns[i].at(rot[i]);
-        }
-        let mut v = *tip;
-        for &i in self.table.iter().rev() {
-            v = self.joints[i].turn_point_sc(sc[i], &v);
-        }
-        let mut h = self.tool_tip;
-        for &i in self.head.iter().rev() {
-            h = self.joints[i].turn_point_sc(sc[i], &h);
-        }
-        v - h
+        let sc: [(f64, f64); 2] = std::array::from_fn(|i| turns[i].at(rot[i]));
+        let turn = |i: usize, v: &Vector3<f64>| self.joints[i].turn_point_sc(sc[i], v);
+        Self::turned(&self.table, tip, turn) - Self::turned(&self.head, &self.tool_tip, turn)
     }
 
     /// Both rotary solutions for a tool axis (need not be unit; must be finite and non-zero).
