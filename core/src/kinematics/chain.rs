@@ -1,6 +1,6 @@
 //! The two-rotary kinematic chain: forward transform, closed-form orientation inverse, linear axes.
 
-use super::{subproblem1, wrap_pi, Carrier, Joints, KinematicsError, RotaryJoint, SinCos};
+use super::{subproblem1, wrap_pi, Carrier, Joints, KinematicsError, RotaryJoint, SinCos, Turn};
 use nalgebra::Vector3;
 
 /// sin of the angle from the singular direction below which the secondary rate is undefined.
@@ -99,42 +99,59 @@ impl TwoRotaryChain {
         slots.iter().rev().fold(*p, |v, &i| turn(i, &v))
     }
 
-    /// Workpiece point -> machine frame for table angles `rot` (outer table axis applied last).
-    fn table_to_machine(&self, rot: &[f64; 2], p: &Vector3<f64>) -> Vector3<f64> {
-        Self::turned(&self.table, p, |i, v| self.joints[i].turn_point(rot[i], v))
+    /// Each joint's turn for the rotary angles `rot` (one `sin_cos` per joint).
+    fn turns(rot: &[f64; 2]) -> [Turn; 2] {
+        rot.map(f64::sin_cos)
     }
 
-    /// Machine point -> workpiece frame (inverse of `table_to_machine`).
-    fn machine_to_table(&self, rot: &[f64; 2], p: &Vector3<f64>) -> Vector3<f64> {
+    /// A joint's turn as the rotation of its side: a table axis turns the workpiece, so it enters
+    /// the orientation with `phi = -theta` (`sin` negated), a head axis with `phi = +theta`.
+    fn phi(&self, slot: usize, (sin, cos): Turn) -> Turn {
+        (sign(self.joints[slot].carrier) * sin, cos)
+    }
+
+    /// Workpiece point -> machine frame for the table turns (outer table axis applied last).
+    fn table_to_machine(&self, turns: &[Turn; 2], p: &Vector3<f64>) -> Vector3<f64> {
+        Self::turned(&self.table, p, |i, v| self.joints[i].turn_point(turns[i], v))
+    }
+
+    /// Machine point -> workpiece frame (inverse of `table_to_machine`: each turn undone, inner last).
+    fn machine_to_table(&self, turns: &[Turn; 2], p: &Vector3<f64>) -> Vector3<f64> {
         let mut v = *p;
         for &i in self.table.iter() {
-            v = self.joints[i].turn_point(-rot[i], &v);
+            let (sin, cos) = turns[i];
+            v = self.joints[i].turn_point((-sin, cos), &v);
         }
         v
     }
 
     /// Spindle-frame point -> machine frame at zero linear axes (outer head axis applied last).
-    fn head_to_machine(&self, rot: &[f64; 2], p: &Vector3<f64>) -> Vector3<f64> {
-        Self::turned(&self.head, p, |i, v| self.joints[i].turn_point(rot[i], v))
+    fn head_to_machine(&self, turns: &[Turn; 2], p: &Vector3<f64>) -> Vector3<f64> {
+        Self::turned(&self.head, p, |i, v| self.joints[i].turn_point(turns[i], v))
+    }
+
+    /// Tool axis in the workpiece frame for the joints' turns (seed 001 eq. 2 on the Hermle).
+    fn orientation_of(&self, turns: &[Turn; 2]) -> Vector3<f64> {
+        let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
+        let inner = j1.turn_vector(self.phi(self.r1, turns[self.r1]), &self.tool_axis);
+        j2.turn_vector(self.phi(self.r2, turns[self.r2]), &inner)
     }
 
     /// Tool axis in the workpiece frame for rotary angles `rot` (seed 001 eq. 2 on the Hermle).
     pub fn orientation(&self, rot: &[f64; 2]) -> Vector3<f64> {
-        let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
-        let phi1 = sign(j1.carrier) * rot[self.r1];
-        let phi2 = sign(j2.carrier) * rot[self.r2];
-        j2.rotation(phi2) * (j1.rotation(phi1) * self.tool_axis)
+        self.orientation_of(&Self::turns(rot))
     }
 
     /// Time derivative of the tool axis for rotary angles `rot` moving at `rate` (rad/s).
     pub fn orientation_rate(&self, rot: &[f64; 2], rate: &[f64; 2]) -> Vector3<f64> {
         let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
         let (s1, s2) = (sign(j1.carrier), sign(j2.carrier));
-        let inner = j1.rotation(s1 * rot[self.r1]) * self.tool_axis;
-        let r2 = j2.rotation(s2 * rot[self.r2]);
-        let o = r2 * inner;
+        let turns = Self::turns(rot);
+        let (t1, t2) = (self.phi(self.r1, turns[self.r1]), self.phi(self.r2, turns[self.r2]));
+        let inner = j1.turn_vector(t1, &self.tool_axis);
+        let o = j2.turn_vector(t2, &inner);
         let d_phi2 = j2.axis.cross(&o);
-        let d_phi1 = r2 * j1.axis.cross(&inner);
+        let d_phi1 = j2.turn_vector(t2, &j1.axis.cross(&inner));
         d_phi1 * (s1 * rate[self.r1]) + d_phi2 * (s2 * rate[self.r2])
     }
 
@@ -169,7 +186,7 @@ impl TwoRotaryChain {
                 return 0.0;
             }
             // The branch: the sign of t1 . w for the primary axis' direction at these angles.
-            let t1 = j2.rotation(sign(j2.carrier) * rot[self.r2]) * a1;
+            let t1 = j2.turn_vector(self.phi(self.r2, rot[self.r2].sin_cos()), &a1);
             let gamma = g2w.sqrt() / w2.sqrt() * if t1.dot(&w) < 0.0 { -1.0 } else { 1.0 };
             let rate_perp_a2 = axis_rate.dot(&a2) - axis_rate.dot(&o) * delta;
             rate += alpha * rate_perp_a2 / (gamma * w2);
@@ -179,23 +196,26 @@ impl TwoRotaryChain {
 
     /// Forward kinematics: axis values -> tool tip and tool axis in the workpiece frame.
     pub fn forward(&self, q: &Joints) -> Pose {
-        let rot = [q[3], q[4]];
+        let turns = Self::turns(&[q[3], q[4]]);
         let linear = Vector3::new(q[0], q[1], q[2]);
-        let tip_m = linear + self.head_to_machine(&rot, &self.tool_tip);
-        Pose { tip: self.machine_to_table(&rot, &tip_m), axis: self.orientation(&rot) }
+        let tip_m = linear + self.head_to_machine(&turns, &self.tool_tip);
+        Pose { tip: self.machine_to_table(&turns, &tip_m), axis: self.orientation_of(&turns) }
     }
 
     /// Linear axis values that put the tool tip at workpiece point `tip` with rotary angles `rot`.
     pub fn linear_for(&self, tip: &Vector3<f64>, rot: &[f64; 2]) -> Vector3<f64> {
-        self.table_to_machine(rot, tip) - self.head_to_machine(rot, &self.tool_tip)
+        self.linear_for_turns(tip, &Self::turns(rot))
+    }
+
+    /// [`linear_for`](Self::linear_for) given the joints' turns.
+    fn linear_for_turns(&self, tip: &Vector3<f64>, turns: &[Turn; 2]) -> Vector3<f64> {
+        self.table_to_machine(turns, tip) - self.head_to_machine(turns, &self.tool_tip)
     }
 
     /// [`linear_for`](Self::linear_for) along a sequence of nearby angles: each joint's sine and
     /// cosine from `turns` (one per slot), which follows the sequence.
     pub fn linear_for_along(&self, tip: &Vector3<f64>, rot: &[f64; 2], turns: &mut [SinCos; 2]) -> Vector3<f64> {
-        let sc: [(f64, f64); 2] = std::array::from_fn(|i| turns[i].at(rot[i]));
-        let turn = |i: usize, v: &Vector3<f64>| self.joints[i].turn_point_sc(sc[i], v);
-        Self::turned(&self.table, tip, turn) - Self::turned(&self.head, &self.tool_tip, turn)
+        self.linear_for_turns(tip, &std::array::from_fn(|i| turns[i].at(rot[i])))
     }
 
     /// Both rotary solutions for a tool axis (need not be unit; must be finite and non-zero).

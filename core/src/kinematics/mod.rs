@@ -14,7 +14,7 @@ mod chain;
 
 pub use chain::{OrientationSolutions, Pose, TwoRotaryChain, POLE};
 
-use nalgebra::{Isometry3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use serde::Deserialize;
 
 /// Axis values `[X, Y, Z, R1st, R2nd]` in SI (m, rad), in the machine's axis order.
@@ -39,24 +39,26 @@ pub struct RotaryJoint {
     pub center: Vector3<f64>,
 }
 
+/// The sine and cosine of a turn, `(sin, cos)`: each joint's computed once per transform and
+/// shared by every point and vector it turns.
+pub type Turn = (f64, f64);
+
 impl RotaryJoint {
-    fn rotation(&self, theta: f64) -> Rotation3<f64> {
-        Rotation3::from_axis_angle(&Unit::new_unchecked(self.axis), theta)
-    }
     /// The rigid motion of a turn by `theta` about this joint's line, `p' = c + R (p - c)`: what
     /// [`turn_point`](Self::turn_point) does to one point, for a view that moves a whole part.
     pub fn turn(&self, theta: f64) -> Isometry3<f64> {
         let r = UnitQuaternion::from_axis_angle(&Unit::new_unchecked(self.axis), theta);
         Isometry3::from_parts(Translation3::from(self.center - r * self.center), r)
     }
-    /// Turn point `p` by `theta` about this joint's line.
-    fn turn_point(&self, theta: f64, p: &Vector3<f64>) -> Vector3<f64> {
-        self.center + self.rotation(theta) * (p - self.center)
+    /// Turn vector `v` about this joint's direction by the turn whose sine and cosine are given
+    /// (Rodrigues' formula: `v cos + (k x v) sin + k (k . v)(1 - cos)`).
+    fn turn_vector(&self, (sin, cos): Turn, v: &Vector3<f64>) -> Vector3<f64> {
+        let k = &self.axis;
+        v * cos + k.cross(v) * sin + k * (k.dot(v) * (1.0 - cos))
     }
-    /// [`turn_point`](Self::turn_point) given the turn's sine and cosine (Rodrigues' formula).
-    fn turn_point_sc(&self, (sin, cos): (f64, f64), p: &Vector3<f64>) -> Vector3<f64> {
-        let (k, d) = (&self.axis, p - self.center);
-        self.center + d * cos + k.cross(&d) * sin + k * (k.dot(&d) * (1.0 - cos))
+    /// Turn point `p` about this joint's line by the turn whose sine and cosine are given.
+    fn turn_point(&self, turn: Turn, p: &Vector3<f64>) -> Vector3<f64> {
+        self.center + self.turn_vector(turn, &(p - self.center))
     }
 }
 
@@ -90,9 +92,10 @@ impl SinCos {
             return (self.sin, self.cos);
         }
         let d2 = d * d;
-        let sd = d * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0)));
+        // Multiplications by the reciprocal factorial ratios (divisions cost the inner loops dearly).
+        let sd = d * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0))));
         // 1 - cos d, kept apart from the 1 so that no digits of the small term are lost.
-        let vd = d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0)));
+        let vd = d2 * 0.5 * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0) * (1.0 - d2 * (1.0 / 56.0))));
         (self.sin - (self.sin * vd - self.cos * sd), self.cos - (self.cos * vd + self.sin * sd))
     }
 }
