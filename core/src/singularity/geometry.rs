@@ -103,15 +103,14 @@ impl CubicSpline {
 
     /// First, second and third derivative at `t` (clamped to the knot range).
     pub fn derivatives(&self, t: f64) -> (f64, f64, f64) {
-        let n = self.x.len();
-        if n < 2 {
+        self.derivatives_on(self.interval(t, 0), t)
+    }
+
+    /// [`CubicSpline::derivatives`] on knot interval `i` ([`CubicSpline::interval`]).
+    pub fn derivatives_on(&self, i: usize, t: f64) -> (f64, f64, f64) {
+        if self.x.len() < 2 {
             return (0.0, 0.0, 0.0);
         }
-        let i = match self.x.partition_point(|&v| v <= t) {
-            0 => 0,
-            k if k >= n => n - 2,
-            k => k - 1,
-        };
         let h = self.x[i + 1] - self.x[i];
         let t = t.clamp(self.x[i], self.x[i + 1]);
         let a = (self.x[i + 1] - t) / h;
@@ -149,8 +148,10 @@ fn joined(a: &Segment, b: &Segment) -> bool {
 /// 256 ahead, cut at the run's ends, and used up to the overlap before its far end.
 #[derive(Debug, Clone, Default)]
 pub struct PathGeometry {
-    /// Segments the current fit serves, and its splines.
+    /// Segments the current fit serves, and its splines (which share their knots).
     fit: Option<(std::ops::Range<usize>, [CubicSpline; AXES])>,
+    /// The knot interval of the last evaluation: samples come in path order.
+    hint: usize,
 }
 
 impl PathGeometry {
@@ -166,11 +167,14 @@ impl PathGeometry {
         }
         if !self.fit.as_ref().is_some_and(|(r, _)| r.contains(&segment)) {
             self.fit = Some(Self::fit(segment, window));
+            self.hint = 0;
         }
         let (_, splines) = self.fit.as_ref()?;
+        let k = splines[0].interval(s, self.hint);
+        self.hint = k;
         let mut out = ([0.0; AXES], [0.0; AXES], [0.0; AXES]);
         for (i, spline) in splines.iter().enumerate() {
-            let (d1, d2, d3) = spline.derivatives(s);
+            let (d1, d2, d3) = spline.derivatives_on(k, s);
             out.0[i] = d1;
             out.1[i] = d2;
             out.2[i] = d3;
