@@ -92,7 +92,7 @@ impl SinCos {
             return (self.sin, self.cos);
         }
         let d2 = d * d;
-        // Multiplications by the reciprocal factorial ratios (divisions cost the inner loops dearly).
+        // Multiplications by the reciprocal factorial ratios, which are cheaper than divisions.
         let sd = d * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0))));
         // 1 - cos d, kept apart from the 1 so that no digits of the small term are lost.
         let vd = d2 * 0.5 * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0) * (1.0 - d2 * (1.0 / 56.0))));
