@@ -276,6 +276,8 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             // One message per stream, refilled for each state (nothing allocated per state).
             let builders = [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_SIMULATED].map(|s| StateBuilder::new(machine, s));
             let mut messages: [Option<AxisState>; 2] = [None, None];
+            let want_status = tape.is_some() || options.keep_statuses;
+            let mut ids: [Option<crate::live::monitor::InputId>; 2] = [None, None];
             let inputs = rx.into_iter().map(|input| match input {
                 Input::Commanded(b) => (0, b),
                 Input::Simulated(b) => (1, b),
@@ -296,6 +298,12 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                     topics::SIMULATED_STATE.name
                 };
                 let wall = st.header.stamp.as_secs();
+                if !want_status {
+                    // Nothing records or keeps the status message: evaluate only (no per-state allocation).
+                    let id = *ids[k].get_or_insert_with(|| m.input(topic));
+                    let _ = m.evaluate(id, st, wall);
+                    continue;
+                }
                 let status = m.on_state(topic, st, wall);
                 if let (Some(t), None) = (tape.as_mut(), &tape_error) {
                     let r = t
