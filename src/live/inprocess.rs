@@ -2,7 +2,7 @@
 //! connected by bounded in-process channels instead of DDS, faster than real time. The node logic is
 //! the same as the executables'.
 
-use super::commander::commanded_moves;
+use super::commander::{commanded_moves, commanded_stream};
 use super::monitor::{LiveRegion, Monitor, MonitorConfig};
 pub use super::sim_report::{SimulatedReport, SlowRegion};
 use super::sim_report::{simulate_measured_stream, FeedFiguresReport};
@@ -205,30 +205,48 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         simulated: AtomicU64::new(0f64.to_bits()),
     };
     let moves = &moves;
+    // A program is read and planned once for the commander and the analysis: the commander hands
+    // the segments it reads to the analysis (a built-in path's report is made with it).
+    let (feed_tx, feed_rx) = match moves.held() {
+        None => mpsc::sync_channel::<job::Feed>(job::FEED_BATCHES),
+        Some(_) => mpsc::sync_channel::<job::Feed>(0),
+    };
+    let fed = moves.held().is_none();
     let (analysis, sim_out, sent, statuses, monitor, tape_result) = std::thread::scope(|scope| {
-        let analysis = scope.spawn(move || moves.report(machine));
+        let analysis = scope.spawn(move || if fed { job::analyze_fed(feed_rx, machine, &options.job) } else { moves.report(machine) });
         let tx_cmd = tx.clone();
         let pace = &pace;
         let commander = scope.spawn(move || -> Result<u64, JobError> {
             let mut sent = 0u64;
-            let mut states = commanded_moves(moves, machine);
             let mut batch = Batcher::new(Input::Commanded);
-            for st in states.iter_mut().flatten() {
-                let t = st.t;
-                Pace::wait(|| t > Pace::get(&pace.simulated) + COMMANDER_LEAD_MAX_S);
-                match batch.push(&tx_cmd, st) {
-                    None => break,
-                    Some(0) => {}
-                    // The monitor has every state up to t.
-                    Some(n) => {
-                        Pace::set(&pace.commanded, t);
-                        sent += n;
+            let mut publish = |states: &mut dyn Iterator<Item = StateValues>| {
+                for st in states {
+                    let t = st.t;
+                    Pace::wait(|| t > Pace::get(&pace.simulated) + COMMANDER_LEAD_MAX_S);
+                    match batch.push(&tx_cmd, st) {
+                        None => break,
+                        Some(0) => {}
+                        // The monitor has every state up to t.
+                        Some(n) => {
+                            Pace::set(&pace.commanded, t);
+                            sent += n;
+                        }
                     }
                 }
-            }
+            };
+            let published = match moves.segment_stream(machine) {
+                Ok(Some(mut stream)) => {
+                    let mut feed = job::FeedSender::new(feed_tx);
+                    publish(&mut commanded_stream(stream.by_ref().inspect(|s| feed.push(s)), period, machine));
+                    feed.finish(&mut stream);
+                    Ok(())
+                }
+                Ok(None) => commanded_moves(moves, machine).map(|mut states| publish(&mut states)),
+                Err(e) => Err(e),
+            };
             sent += batch.flush(&tx_cmd).unwrap_or(0);
             Pace::set(&pace.commanded, f64::INFINITY);
-            states.map(|_| sent)
+            published.map(|_| sent)
         });
         let tx_sim = tx;
         let simulator = scope.spawn(move || -> Result<_, JobError> {
@@ -340,8 +358,13 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         let lost = sim_out.as_ref().map_or(0, |((.., sent_sim), sent_cmd)| (sent_cmd + sent_sim).saturating_sub(received));
         (analysis, sim_out, lost, statuses, m, tape_result)
     });
-    let analysis = analysis?;
+    // A feed cut short by the commander's failure: the commander's error says why.
+    let analysis = match (analysis, &sim_out) {
+        (Err(JobError::FeedCut), Err(_)) => None,
+        (a, _) => Some(a?),
+    };
     let ((summary, figures, simulation, _), _) = sim_out?;
+    let analysis = analysis.ok_or(JobError::FeedCut)?;
     let recorded_messages = tape_result?;
     let simulated = simulated_report(analysis.cycle_time_s, &summary, figures, sent, &monitor);
     let report = RunReport { analysis, simulated };
