@@ -99,8 +99,9 @@ impl TwoRotaryChain {
         slots.iter().rev().fold(*p, |v, &i| turn(i, &v))
     }
 
-    /// Each joint's turn for the rotary angles `rot` (one `sin_cos` per joint).
-    fn turns(rot: &[f64; 2]) -> [Turn; 2] {
+    /// Each joint's turn for the rotary angles `rot` (one `sin_cos` per joint): computed once, it
+    /// serves every `*_turns` evaluation at that pose.
+    pub fn turns(rot: &[f64; 2]) -> [Turn; 2] {
         rot.map(f64::sin_cos)
     }
 
@@ -131,7 +132,7 @@ impl TwoRotaryChain {
     }
 
     /// Tool axis in the workpiece frame for the joints' turns (seed 001 eq. 2 on the Hermle).
-    fn orientation_of(&self, turns: &[Turn; 2]) -> Vector3<f64> {
+    pub fn orientation_of(&self, turns: &[Turn; 2]) -> Vector3<f64> {
         let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
         let inner = j1.turn_vector(self.phi(self.r1, turns[self.r1]), &self.tool_axis);
         j2.turn_vector(self.phi(self.r2, turns[self.r2]), &inner)
@@ -144,9 +145,13 @@ impl TwoRotaryChain {
 
     /// Time derivative of the tool axis for rotary angles `rot` moving at `rate` (rad/s).
     pub fn orientation_rate(&self, rot: &[f64; 2], rate: &[f64; 2]) -> Vector3<f64> {
+        self.orientation_rate_of(&Self::turns(rot), rate)
+    }
+
+    /// [`orientation_rate`](Self::orientation_rate) given the joints' turns.
+    pub fn orientation_rate_of(&self, turns: &[Turn; 2], rate: &[f64; 2]) -> Vector3<f64> {
         let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
         let (s1, s2) = (sign(j1.carrier), sign(j2.carrier));
-        let turns = Self::turns(rot);
         let (t1, t2) = (self.phi(self.r1, turns[self.r1]), self.phi(self.r2, turns[self.r2]));
         let inner = j1.turn_vector(t1, &self.tool_axis);
         let o = j2.turn_vector(t2, &inner);
@@ -196,7 +201,12 @@ impl TwoRotaryChain {
 
     /// Forward kinematics: axis values -> tool tip and tool axis in the workpiece frame.
     pub fn forward(&self, q: &Joints) -> Pose {
-        let turns = Self::turns(&[q[3], q[4]]);
+        self.forward_turns(q, &Self::turns(&[q[3], q[4]]))
+    }
+
+    /// [`forward`](Self::forward) given the turns of the joints at `q`'s rotary angles.
+    pub fn forward_turns(&self, q: &Joints, turns: &[Turn; 2]) -> Pose {
+        let turns = *turns;
         let linear = Vector3::new(q[0], q[1], q[2]);
         let tip_m = linear + self.head_to_machine(&turns, &self.tool_tip);
         Pose { tip: self.machine_to_table(&turns, &tip_m), axis: self.orientation_of(&turns) }
@@ -208,7 +218,7 @@ impl TwoRotaryChain {
     }
 
     /// [`linear_for`](Self::linear_for) given the joints' turns.
-    fn linear_for_turns(&self, tip: &Vector3<f64>, turns: &[Turn; 2]) -> Vector3<f64> {
+    pub fn linear_for_turns(&self, tip: &Vector3<f64>, turns: &[Turn; 2]) -> Vector3<f64> {
         self.table_to_machine(turns, tip) - self.head_to_machine(turns, &self.tool_tip)
     }
 

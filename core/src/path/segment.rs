@@ -1,7 +1,7 @@
 //! Blocks -> segments: resolve each move's start and end axis values, length and duration.
 
 use super::{PathOptions, Sample};
-use crate::kinematics::{Joints, Pose};
+use crate::kinematics::{Joints, Pose, Turn, TwoRotaryChain};
 use crate::machine::Machine;
 use crate::program::{ArcSpec, Block, Diagnostic, FeedMode, Motion, Orientation, Program, Severity};
 use crate::units::{DEG_PER_MIN, MM_PER_MIN};
@@ -244,17 +244,29 @@ impl Segment {
 
     /// Axis values at fraction `u` of the move.
     pub fn joints_at(&self, u: f64, machine: &Machine) -> Joints {
+        let rot = self.rotaries_at(u, machine);
+        self.joints_with(u, rot, || TwoRotaryChain::turns(&rot), machine)
+    }
+
+    /// The rotary angles at fraction `u`.
+    fn rotaries_at(&self, u: f64, machine: &Machine) -> [f64; 2] {
         let lerp = |a: f64, b: f64| a + (b - a) * u;
-        let mut rot = [lerp(self.q0[3], self.q1[3]), lerp(self.q0[4], self.q1[4])];
-        if let (Some(gc), SegmentKind::Tcp) = (&self.orient, self.kind) {
+        let rot = [lerp(self.q0[3], self.q1[3]), lerp(self.q0[4], self.q1[4])];
+        match (&self.orient, self.kind) {
             // The rotaries that put the tool axis on the great circle, the solution nearest the
             // piece's own linear blend (a piece turns each rotary by at most ORIENT_PIECE_RAD).
-            rot = machine.rotaries_near(&gc.axis(u), &rot).unwrap_or(rot);
+            (Some(gc), SegmentKind::Tcp) => machine.rotaries_near(&gc.axis(u), &rot).unwrap_or(rot),
+            _ => rot,
         }
+    }
+
+    /// [`Segment::joints_at`] with the rotaries `rot` there and their turns (asked only if needed).
+    fn joints_with(&self, u: f64, rot: [f64; 2], turns: impl FnOnce() -> [Turn; 2], machine: &Machine) -> Joints {
+        let lerp = |a: f64, b: f64| a + (b - a) * u;
         match self.kind {
             SegmentKind::Tcp => {
                 let tip = self.linear_at(u) + self.datum;
-                let l = machine.chain.linear_for(&tip, &rot);
+                let l = machine.chain.linear_for_turns(&tip, &turns());
                 [l.x, l.y, l.z, rot[0], rot[1]]
             }
             SegmentKind::Axes if self.arc.is_some() => {
@@ -267,16 +279,18 @@ impl Segment {
 
     /// The commanded sample at fraction `u` (time `t`); `index` is this segment's index.
     pub fn sample(&self, index: usize, u: f64, t: f64, machine: &Machine) -> Sample {
-        let q = self.joints_at(u, machine);
-        let rot = [q[3], q[4]];
+        // The rotaries' sines and cosines once, for the linear axes, the tip and the tool axis.
+        let rot = self.rotaries_at(u, machine);
+        let turns = TwoRotaryChain::turns(&rot);
+        let q = self.joints_with(u, rot, || turns, machine);
         let rate = [(self.q1[3] - self.q0[3]) / self.duration, (self.q1[4] - self.q0[4]) / self.duration];
         let tip = match self.kind {
             SegmentKind::Tcp => self.linear_at(u),
-            _ => machine.forward(&q).tip - self.datum,
+            _ => machine.chain.forward_turns(&q, &turns).tip - self.datum,
         };
         let (axis, axis_rate) = match (&self.orient, self.kind) {
             (Some(gc), SegmentKind::Tcp) => (gc.axis(u), gc.axis_rate(u) / self.duration),
-            _ => (machine.chain.orientation(&rot), machine.chain.orientation_rate(&rot, &rate)),
+            _ => (machine.chain.orientation_of(&turns), machine.chain.orientation_rate_of(&turns, &rate)),
         };
         Sample { t, s: self.s0 + self.length * u, segment: index, q, tip, axis, axis_rate, feed: self.feed }
     }
