@@ -289,6 +289,7 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
         // committed part before the window cannot change), never below the braking floor.
         let ka_f = ka as f64 * h;
         let lower = |cap: &mut Vec<f64>, raw: &[f64], v: &[f64], ratios: &[[f64; 3]], protected: usize| {
+            let mut spans: Vec<(usize, usize, f64)> = Vec::new();
             for (i, r) in ratios.iter().enumerate().skip(protected) {
                 if r.iter().all(|&x| x <= 1.0) {
                     continue;
@@ -302,8 +303,33 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
                 let hi = raw[(i + w / 2).min(raw.len() - 1)];
                 let a = (((lo - ka_f) / h).floor().max(1.0) as usize).min(cap.len() - 1);
                 let b = (((hi - ka_f) / h).ceil().max(1.0) as usize).min(cap.len() - 1);
-                for k in a..=b {
+                spans.push((a, b, factor));
+            }
+            // Each grid point is lowered to the smallest factor of the spans over it: the spans in
+            // order of factor each set the points no smaller one has set (skipped by `next`), so a
+            // point is written once however many spans overlap it. The same as lowering span by span
+            // (`min` and `max` commute with the rounding of a product, which is monotone).
+            spans.sort_by(|x, y| x.2.total_cmp(&y.2));
+            let base = spans.iter().map(|s| s.0).min().unwrap_or(0);
+            let top = spans.iter().map(|s| s.1).max().unwrap_or(0);
+            let mut next: Vec<usize> = (base..=top + 1).collect();
+            let find = |next: &mut Vec<usize>, k: usize| {
+                let mut root = k;
+                while next[root - base] != root {
+                    root = next[root - base];
+                }
+                let mut x = k;
+                while next[x - base] != root {
+                    x = std::mem::replace(&mut next[x - base], root);
+                }
+                root
+            };
+            for &(a, b, factor) in &spans {
+                let mut k = find(&mut next, a);
+                while k <= b {
                     cap[k] = cap[k].max(0.0).min(v[k].max(1e-12) * factor * 0.97).max(floor[k]);
+                    next[k - base] = k + 1;
+                    k = find(&mut next, k + 1);
                 }
             }
         };
