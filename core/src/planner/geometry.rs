@@ -206,7 +206,8 @@ impl Curve<'_> {
     fn values(&self, s: f64) -> Joints {
         let i = self.splines[0].interval(s, self.hint.get());
         self.hint.set(i);
-        std::array::from_fn(|a| self.splines[a].value_on(i, s))
+        let w = self.splines[0].basis(i, s);
+        std::array::from_fn(|a| self.splines[a].value_at(&w))
     }
 
     /// The linear axes that put the tool tip at `tip` with the rotaries at `rot`.

@@ -21,6 +21,18 @@ pub struct CubicSpline {
     m: Vec<f64>,
 }
 
+/// A point on a knot interval of a [`CubicSpline`]: the interval and the weights of its knots'
+/// values and second derivatives.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SplineBasis {
+    i: usize,
+    a: f64,
+    b: f64,
+    a3: f64,
+    b3: f64,
+    h: f64,
+}
+
 impl CubicSpline {
     /// Fit through `(x, y)`; knots closer than 1e-12 to the previous one are dropped.
     pub fn natural(xs: &[f64], ys: &[f64]) -> CubicSpline {
@@ -88,17 +100,32 @@ impl CubicSpline {
 
     /// Value at `t` on knot interval `i` ([`CubicSpline::interval`]).
     pub fn value_on(&self, i: usize, t: f64) -> f64 {
-        let n = self.x.len();
-        match n {
-            0 => return 0.0,
-            1 => return self.y[0],
-            _ => {}
+        self.value_at(&self.basis(i, t))
+    }
+
+    /// The weights of the knot values at `t` on knot interval `i`: they depend on the knots only, so
+    /// splines through the same knots share them ([`CubicSpline::value_at`]).
+    pub fn basis(&self, i: usize, t: f64) -> SplineBasis {
+        if self.x.len() < 2 {
+            return SplineBasis { i: 0, a: 0.0, b: 0.0, a3: 0.0, b3: 0.0, h: 0.0 };
         }
         let h = self.x[i + 1] - self.x[i];
         let t = t.clamp(self.x[i], self.x[i + 1]);
         let a = (self.x[i + 1] - t) / h;
         let b = (t - self.x[i]) / h;
-        a * self.y[i] + b * self.y[i + 1] + ((a * a * a - a) * self.m[i] + (b * b * b - b) * self.m[i + 1]) * h * h / 6.0
+        SplineBasis { i, a, b, a3: a * a * a - a, b3: b * b * b - b, h }
+    }
+
+    /// Value at the point `w` was made for ([`CubicSpline::basis`] of this spline or of one through
+    /// the same knots).
+    pub fn value_at(&self, w: &SplineBasis) -> f64 {
+        match self.x.len() {
+            0 => return 0.0,
+            1 => return self.y[0],
+            _ => {}
+        }
+        let (i, h) = (w.i, w.h);
+        w.a * self.y[i] + w.b * self.y[i + 1] + (w.a3 * self.m[i] + w.b3 * self.m[i + 1]) * h * h / 6.0
     }
 
     /// First, second and third derivative at `t` (clamped to the knot range).
