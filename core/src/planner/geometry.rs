@@ -203,6 +203,8 @@ impl Run {
 
 impl Curve<'_> {
     /// The splines' values at `s`: one knot search for all of them (they share their knots).
+    /// Inlined: returned through memory, the values stalled their caller's loads.
+    #[inline(always)]
     fn values(&self, s: f64) -> Joints {
         let i = self.splines[0].interval(s, self.hint.get());
         self.hint.set(i);
