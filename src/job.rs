@@ -179,10 +179,8 @@ pub fn analyze_fed(feed: std::sync::mpsc::Receiver<Feed>, machine: &Machine, opt
         })
         .flatten();
     let (analysis, counts) = crate::singularity::analyze_segments(segments, options.path.period, machine, &options.analysis);
-    let (source, blocks, mut diagnostics) = end.ok_or(JobError::FeedCut)?;
-    if counts.segments == 0 {
-        diagnostics.push(no_moves(blocks));
-    }
+    let (source, blocks, diagnostics) = end.ok_or(JobError::FeedCut)?;
+    let diagnostics = with_no_moves(diagnostics, counts.segments, blocks);
     let read = crate::report::ReadFacts { source: &source, blocks, samples: counts.samples, period: options.path.period };
     Ok(AnalysisReport::from_parts(&read, diagnostics.iter(), machine, &analysis, options.path.feed_override_mm_per_min))
 }
@@ -311,9 +309,14 @@ impl Moves {
 /// and the error of a program without a single move).
 fn read_rest(stream: &mut crate::path::SegmentStream, segments: usize) -> Vec<Diagnostic> {
     stream.read_to_end();
-    let mut diagnostics = reading_diagnostics(stream);
+    with_no_moves(reading_diagnostics(stream), segments, stream.blocks().blocks_read())
+}
+
+/// A reading's diagnostics, with the error of a program without a move if `segments` is 0 (of
+/// `blocks` read).
+fn with_no_moves(mut diagnostics: Vec<Diagnostic>, segments: usize, blocks: usize) -> Vec<Diagnostic> {
     if segments == 0 {
-        diagnostics.push(no_moves(stream.blocks().blocks_read()));
+        diagnostics.push(no_moves(blocks));
     }
     diagnostics
 }

@@ -209,12 +209,17 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
     // A program is read and planned once for the commander and the analysis: the commander hands
     // the segments it reads to the analysis (a built-in path's report is made with it).
     let (feed_tx, feed_rx) = match moves.held() {
-        None => mpsc::sync_channel::<job::Feed>(job::FEED_BATCHES),
-        Some(_) => mpsc::sync_channel::<job::Feed>(0),
+        None => {
+            let (tx, rx) = mpsc::sync_channel::<job::Feed>(job::FEED_BATCHES);
+            (Some(tx), Some(rx))
+        }
+        Some(_) => (None, None),
     };
-    let fed = moves.held().is_none();
     let (analysis, sim_out, sent, statuses, monitor, tape_result) = std::thread::scope(|scope| {
-        let analysis = scope.spawn(move || if fed { job::analyze_fed(feed_rx, machine, &options.job) } else { moves.report(machine) });
+        let analysis = scope.spawn(move || match feed_rx {
+            Some(rx) => job::analyze_fed(rx, machine, &options.job),
+            None => moves.report(machine),
+        });
         let tx_cmd = tx.clone();
         let pace = &pace;
         let commander = scope.spawn(move || -> Result<u64, JobError> {
@@ -235,15 +240,15 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                     }
                 }
             };
-            let published = match moves.segment_stream(machine) {
-                Ok(Some(mut stream)) => {
-                    let mut feed = job::FeedSender::new(feed_tx);
+            let published = match (moves.segment_stream(machine), feed_tx) {
+                (Ok(Some(mut stream)), Some(tx)) => {
+                    let mut feed = job::FeedSender::new(tx);
                     publish(&mut commanded_stream(stream.by_ref().inspect(|s| feed.push(s)), period, machine));
                     feed.finish(&mut stream);
                     Ok(())
                 }
-                Ok(None) => commanded_moves(moves, machine).map(|mut states| publish(&mut states)),
-                Err(e) => Err(e),
+                (Err(e), _) => Err(e),
+                (Ok(_), _) => commanded_moves(moves, machine).map(|mut states| publish(&mut states)),
             };
             sent += batch.flush(&tx_cmd).unwrap_or(0);
             Pace::set(&pace.commanded, f64::INFINITY);

@@ -206,10 +206,9 @@ impl TwoRotaryChain {
 
     /// [`forward`](Self::forward) given the turns of the joints at `q`'s rotary angles.
     pub fn forward_turns(&self, q: &Joints, turns: &[Turn; 2]) -> Pose {
-        let turns = *turns;
         let linear = Vector3::new(q[0], q[1], q[2]);
-        let tip_m = linear + self.head_to_machine(&turns, &self.tool_tip);
-        Pose { tip: self.machine_to_table(&turns, &tip_m), axis: self.orientation_of(&turns) }
+        let tip_m = linear + self.head_to_machine(turns, &self.tool_tip);
+        Pose { tip: self.machine_to_table(turns, &tip_m), axis: self.orientation_of(turns) }
     }
 
     /// Linear axis values that put the tool tip at workpiece point `tip` with rotary angles `rot`.

@@ -138,10 +138,7 @@ impl CubicSpline {
         if self.x.len() < 2 {
             return (0.0, 0.0, 0.0);
         }
-        let h = self.x[i + 1] - self.x[i];
-        let t = t.clamp(self.x[i], self.x[i + 1]);
-        let a = (self.x[i + 1] - t) / h;
-        let b = (t - self.x[i]) / h;
+        let SplineBasis { a, b, h, .. } = self.basis(i, t);
         let (m0, m1) = (self.m[i], self.m[i + 1]);
         let d1 = (self.y[i + 1] - self.y[i]) / h - (3.0 * a * a - 1.0) / 6.0 * h * m0 + (3.0 * b * b - 1.0) / 6.0 * h * m1;
         let d2 = a * m0 + b * m1;
