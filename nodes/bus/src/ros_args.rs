@@ -310,12 +310,12 @@ fn log_filter(levels: &[ros2args::LogLevelAssignment], node: &str, fqn: &str) ->
             Some(n) => targets.push(format!("{n}={}", level(a.level))),
         }
     }
-    let mut f = format!("{default},{}", crate::DDS_LOG_DIRECTIVES);
+    let mut f = default.to_string();
     for t in targets {
         f.push(',');
         f.push_str(&t);
     }
-    Some(f)
+    Some(crate::user_log_filter(&f))
 }
 
 /// The value `id` has in `m` on the command line, as strings (None: not given there).
