@@ -335,7 +335,7 @@ struct Input {
     period: Option<(f64, f64)>,
     lost: u64,
     episode: Option<LossEpisode>,
-    loss_events: VecDeque<(f64, u64)>,
+    loss_events: VecDeque<LossEvent>,
     rejected: Rejected,
     /// Machine streams: the measured path, the region rule's state, the program alignment and the
     /// lagged sample the rule saw last (t, s).
@@ -1194,6 +1194,14 @@ struct LossEpisode {
     period: f64,
 }
 
+/// Samples judged lost and the span of the episode's gaps they were missing from (stamps).
+#[derive(Debug, Clone, Copy)]
+struct LossEvent {
+    from: f64,
+    to: f64,
+    lost: u64,
+}
+
 /// Stamps kept for the period estimate (about 1 s at 1 kHz), and how many before gaps are judged.
 const STAMPS: usize = 1025;
 const STAMPS_BEFORE_JUDGING: usize = 256;
@@ -1201,7 +1209,7 @@ const STAMPS_BEFORE_JUDGING: usize = 256;
 /// Count samples missing from a stream, one interval `dt` (ending at stamp `t`) at a time.
 ///
 /// The period is the mean interval over the last 1024 stamps with the samples already judged lost
-/// put back (exact under jitter, whose intervals add up; not the smallest interval, which one catch-up
+/// put back, from after any loss that began before them (exact under jitter, whose intervals add up; not the smallest interval, which one catch-up
 /// makes tiny). An interval longer than the period plus the larger of half a period and twice the
 /// spread of the recent intervals (10th to 90th percentile) is a gap; a gap opens an episode that lasts
 /// until `max(0.2 s, 2 gaps)` pass without another. Then the samples the episode's time should hold at
@@ -1235,16 +1243,22 @@ fn count_lost(input: &mut Input, dt: f64, t: f64) {
         input.stamps.pop_front();
     }
     input.stamps.push_back(t);
-    while input.loss_events.front().is_some_and(|e| input.stamps.front().is_some_and(|s| e.0 <= *s)) {
+    while input.loss_events.front().is_some_and(|e| input.stamps.front().is_some_and(|s| e.to <= *s)) {
         input.loss_events.pop_front();
     }
     // Re-estimate every 64 samples (and at the start), outside episodes (a gap being judged must not
     // move the period): a mean and two O(n) selections, no allocation.
     let n = input.stamps.len();
     if input.episode.is_none() && n >= 25 && (input.period.is_none() || input.samples % 64 == 0) {
-        let lost_within: u64 = input.loss_events.iter().map(|e| e.1).sum();
-        let (first, last) = (input.stamps[0], input.stamps[n - 1]);
-        let mean = (last - first) / ((n - 1) as f64 + lost_within as f64);
+        // Stamps from after the last gap of a loss that began before the oldest stamp: every loss
+        // put back then lies within the stamps. (Putting back a whole loss of which the window held
+        // only part shortened the period, which made more gaps: a runaway, 106 k lost of 8 k missing.)
+        let cut = input.loss_events.iter().filter(|e| e.from < input.stamps[0]).map(|e| e.to).reduce(f64::max);
+        let i0 = cut.map_or(0, |c| input.stamps.partition_point(|s| *s < c)).min(n - 1);
+        let (first, last) = (input.stamps[i0], input.stamps[n - 1]);
+        let lost_within: u64 = input.loss_events.iter().filter(|e| e.to > first).map(|e| e.lost).sum();
+        // Too few stamps since such a loss: the period stays as it was.
+        let mean = if n - i0 >= 25 { (last - first) / ((n - 1 - i0) as f64 + lost_within as f64) } else { 0.0 };
         let m = INTERVALS.min(n - 1);
         let mut v = [0.0; INTERVALS];
         for (k, slot) in v.iter_mut().take(m).enumerate() {
@@ -1266,7 +1280,7 @@ fn close_loss_episode(input: &mut Input, t: f64) {
     let lost = ((t - e.t0) / e.period - e.received as f64 - margin).round().max(0.0) as u64;
     if lost > 0 {
         input.lost += lost;
-        input.loss_events.push_back((t, lost));
+        input.loss_events.push_back(LossEvent { from: e.t0, to: e.last_gap, lost });
     }
 }
 
