@@ -227,10 +227,10 @@ fn lost_samples_are_counted_from_unrepaid_gaps() {
     assert_eq!(feed(&jittered), 0);
     // A subscriber behind a reliable keep-last history: for 60 s of a 1 kHz stream, bursts of 5 to 80
     // samples replaced before it took them, every 20 to 400 samples (as the bench's 1 h monitor saw:
-    // 4 % to 16 % lost). Every missing sample is counted, no more: the losses an episode judged
-    // count in the period estimate only for the part of their span within its stamps (counting them
-    // whole once the window had slid past part of it shortened the period, so that every interval
-    // became a gap: 106 k lost of 8 k missing on the 0.05 h bench program).
+    // 4 % to 16 % lost). Every missing sample is counted, no more: the period estimate puts back only
+    // losses whose whole span lies within its stamps (putting back whole losses the window held only
+    // part of shortened the period, so that every interval became a gap: 106 k lost of 8 k missing
+    // on the 0.05 h bench program).
     let mut x = 777u64;
     let mut next = |lo: u64, hi: u64| {
         x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);

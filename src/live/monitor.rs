@@ -1209,8 +1209,8 @@ const STAMPS_BEFORE_JUDGING: usize = 256;
 /// Count samples missing from a stream, one interval `dt` (ending at stamp `t`) at a time.
 ///
 /// The period is the mean interval over the last 1024 stamps with the samples already judged lost
-/// put back, from after any loss that began before them (exact under jitter, whose intervals add up; not the smallest interval, which one catch-up
-/// makes tiny). An interval longer than the period plus the larger of half a period and twice the
+/// put back, from after any loss that began before them (exact under jitter, whose intervals add up;
+/// not the smallest interval, which one catch-up makes tiny). An interval longer than the period plus the larger of half a period and twice the
 /// spread of the recent intervals (10th to 90th percentile) is a gap; a gap opens an episode that lasts
 /// until `max(0.2 s, 2 gaps)` pass without another. Then the samples the episode's time should hold at
 /// the period, less those received and less the jitter's spread in periods, are lost: a stalled
@@ -1256,9 +1256,11 @@ fn count_lost(input: &mut Input, dt: f64, t: f64) {
         let cut = input.loss_events.iter().filter(|e| e.from < input.stamps[0]).map(|e| e.to).reduce(f64::max);
         let i0 = cut.map_or(0, |c| input.stamps.partition_point(|s| *s < c)).min(n - 1);
         let (first, last) = (input.stamps[i0], input.stamps[n - 1]);
+        if n - i0 < 25 {
+            return; // too few stamps since such a loss: the period stays as it was
+        }
         let lost_within: u64 = input.loss_events.iter().filter(|e| e.to > first).map(|e| e.lost).sum();
-        // Too few stamps since such a loss: the period stays as it was.
-        let mean = if n - i0 >= 25 { (last - first) / ((n - 1 - i0) as f64 + lost_within as f64) } else { 0.0 };
+        let mean = (last - first) / ((n - 1 - i0) as f64 + lost_within as f64);
         let m = INTERVALS.min(n - 1);
         let mut v = [0.0; INTERVALS];
         for (k, slot) in v.iter_mut().take(m).enumerate() {

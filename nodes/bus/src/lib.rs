@@ -217,7 +217,7 @@ impl CommonArgs {
 /// feeding a monitor for an hour of program, so that target is kept to errors.
 pub const DDS_LOG_DIRECTIVES: &str = "rustdds=warn,rustdds::network::udp_sender=error,ros2_client=warn,ros2_client::distributions=error";
 
-/// A filter the user wrote (`RUST_LOG`, `--log-filter`) with [`DDS_LOG_DIRECTIVES`] added for each
+/// A filter the user wrote (`RUST_LOG`, `--ros-args --log-level`) with [`DDS_LOG_DIRECTIVES`] added for each
 /// target it does not name: `RUST_LOG=debug` does not open the DDS stack's per-datagram chatter, and
 /// `RUST_LOG=debug,rustdds=trace` still gets RustDDS's traces.
 pub fn user_log_filter(user: &str) -> String {
@@ -246,7 +246,7 @@ pub fn user_log_filter(user: &str) -> String {
 /// Log with tracing to stderr: `--ros-args --log-level` first, else `RUST_LOG`, else info with DDS
 /// internals at warn; nothing with `--disable-stdout-logs`. Then log what the ROS arguments skipped.
 pub fn init_tracing(ros: &RosOptions) {
-    let default = format!("info,{DDS_LOG_DIRECTIVES}");
+    let default = user_log_filter("info");
     let default = default.as_str();
     let filter = match (&ros.log_filter, ros.stdout_logs) {
         (_, false) => tracing_subscriber::EnvFilter::new("off"),
