@@ -326,6 +326,59 @@ echo "commander=$rc_c monitor=$rc_m"
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A node's log history on /rosout is bounded: a reader joining late (rqt_console started mid-shift)
+/// gets at most about the last 1000 messages (rcl's rosout depth), however many the node has logged. Before,
+/// RustDDS kept up to 8192 of a transient-local writer's samples whatever its depth: several MB of a
+/// monitor's memory over a long program, one region message per second. The late joiner is Cyclone DDS.
+#[test]
+fn a_late_rosout_reader_gets_a_bounded_log_history() {
+    let b = bins();
+    let dir = common::scratch_dir("dds-rosout");
+    // 3000 regions in 9 s of program: 2 mm with the tool axis still 1 deg from the singularity, then
+    // 1 mm turning its azimuth 90 deg (C asked 500 rpm of a 25 rpm table), alternately.
+    let program = dir.join("regions.cl");
+    // Back and forth over 90 mm of X.
+    let (t, mut x, mut text) = (1.0f64.to_radians(), -45.0f64, String::new());
+    let (s, c) = (t.sin(), t.cos());
+    for group in 0..1500 {
+        let way = if (group / 15) % 2 == 0 { 1.0 } else { -1.0 };
+        for (i, j, run) in [(s, 0.0, 2.0), (s, 0.0, 1.0), (0.0, s, 2.0), (0.0, s, 1.0)] {
+            text.push_str(&format!("{x:.3} 0 0 {i:.7} {j:.7} {c:.7} 2000\n"));
+            x += way * run;
+        }
+    }
+    std::fs::write(&program, text).unwrap();
+    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/rosout_history.py");
+    let script = format!(
+        r#"B="{b}"
+RUST_LOG=info "$B/fiveaxis-monitor" --input commanded/axis_state --exit-when-idle-s 30 > /dev/null 2> "{d}/monitor.err" &
+M=$!
+"$B/fiveaxis-commander" "{p}" --fast --use-sim-time --wait-for-subscriber-s 20 || exit 3
+# The writer trims its history every 6 s: join after one trim that follows the monitor's last log.
+sleep 8
+python3 "{peer}" --duration-s 5 || exit 4
+kill -INT $M
+wait $M
+"#,
+        b = b.display(),
+        d = dir.display(),
+        p = program.display(),
+        peer = peer.display()
+    );
+    let out = netns_bash(&script);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let logs = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{text}\n{logs}");
+    let monitor_log = std::fs::read_to_string(dir.join("monitor.err")).unwrap();
+    let logged = monitor_log.lines().filter(|l| l.contains("[rosout] (fiveaxis_monitor)")).count();
+    let v: serde_json::Value = serde_json::from_str(text.trim()).unwrap_or_else(|e| panic!("{e}: {text}"));
+    let got = v["by_node"]["fiveaxis_monitor"].as_u64().unwrap_or(0);
+    assert!(logged > 2000, "the monitor logged {logged} messages on /rosout: {text}");
+    // 1000 and the newest: RustDDS's trim keeps the samples from the last minus the limit on.
+    assert!(got > 0 && got <= 1001, "a late reader got {got} of the monitor's {logged} log messages: {text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The recorder over DDS: SIGINT finishes a complete file holding every commanded sample; after
 /// SIGKILL, `fiveaxis mcap recover` keeps everything up to at most about a second before the kill.
 #[test]

@@ -59,6 +59,14 @@ pub mod rosout {
       .lifespan(Lifespan {
         duration: Duration::from_secs(10)
       })
+      // fiveaxis patch: RustDDS keeps a transient-local writer's samples up to its resource
+      // limit (8192 by default) whatever the history depth, and does not expire them by
+      // lifespan; bound the node's log history at rcl's rosout depth (1000).
+      .resource_limits(ResourceLimits {
+        max_samples: 1000,
+        max_instances: 1,
+        max_samples_per_instance: 1000,
+      })
       .build();
   }
 

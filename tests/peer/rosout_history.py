@@ -1,0 +1,74 @@
+#!/usr/bin/env python3
+# requirements: cyclonedds==11.0.1 (as tests/peer/cyclone_bridge.py)
+"""Join /rosout late, as rqt_console or `ros2 topic echo /rosout` started mid-run would, and count
+the log history each node's transient-local writer hands over.
+
+usage (inside netns-run): rosout_history.py --duration-s S [--domain-id N]
+    Reads rt/rosout (rcl_interfaces/msg/Log) for S seconds with a reliable, transient-local,
+    keep-last 100000 reader (far deeper than any writer's history, so the writer's retention is
+    what limits the count). Prints JSON: {"by_node": {name: count}, "total": N}.
+"""
+import argparse
+import json
+import os
+import sys
+import time
+from dataclasses import dataclass
+
+try:
+    from cyclonedds.idl import IdlStruct
+    from cyclonedds.idl.types import int32, uint8, uint32
+except ImportError:  # pragma: no cover
+    sys.stderr.write("rosout_history.py: needs `pip install cyclonedds==11.0.1`\n")
+    raise
+
+
+@dataclass
+class Time(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
+    sec: int32 = 0
+    nanosec: uint32 = 0
+
+
+@dataclass
+class Log(IdlStruct, typename="rcl_interfaces::msg::dds_::Log_"):
+    stamp: Time = None
+    level: uint8 = 0
+    name: str = ""
+    msg: str = ""
+    file: str = ""
+    function: str = ""
+    line: uint32 = 0
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--duration-s", type=float, required=True)
+    ap.add_argument("--domain-id", type=int, default=int(os.environ.get("ROS_DOMAIN_ID", "0") or 0))
+    args = ap.parse_args()
+
+    from cyclonedds.core import Policy, Qos
+    from cyclonedds.domain import DomainParticipant
+    from cyclonedds.sub import DataReader
+    from cyclonedds.topic import Topic
+    from cyclonedds.util import duration
+
+    participant = DomainParticipant(args.domain_id, qos=Qos(Policy.Userdata(data=b"enclave=/;")))
+    qos = Qos(
+        Policy.History.KeepLast(100000),
+        Policy.Reliability.Reliable(max_blocking_time=duration(infinite=True)),
+        Policy.Durability.TransientLocal,
+        Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=False),
+    )
+    reader = DataReader(participant, Topic(participant, "rt/rosout", Log), qos=qos)
+    by_node = {}
+    end = time.monotonic() + args.duration_s
+    while time.monotonic() < end:
+        for log in reader.take(N=10000):
+            if isinstance(log, Log):
+                by_node[log.name] = by_node.get(log.name, 0) + 1
+        time.sleep(0.05)
+    print(json.dumps({"by_node": by_node, "total": sum(by_node.values())}))
+
+
+if __name__ == "__main__":
+    main()
