@@ -15,18 +15,10 @@ import sys
 import time
 from dataclasses import dataclass
 
-try:
-    from cyclonedds.idl import IdlStruct
-    from cyclonedds.idl.types import int32, uint8, uint32
-except ImportError:  # pragma: no cover
-    sys.stderr.write("rosout_history.py: needs `pip install cyclonedds==11.0.1`\n")
-    raise
-
-
-@dataclass
-class Time(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
-    sec: int32 = 0
-    nanosec: uint32 = 0
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cyclone_bridge import Time, make_participant  # noqa: E402  (the IDL types as rmw_cyclonedds has them)
+from cyclonedds.idl import IdlStruct  # noqa: E402
+from cyclonedds.idl.types import uint8, uint32  # noqa: E402
 
 
 @dataclass
@@ -47,12 +39,11 @@ def main():
     args = ap.parse_args()
 
     from cyclonedds.core import Policy, Qos
-    from cyclonedds.domain import DomainParticipant
     from cyclonedds.sub import DataReader
     from cyclonedds.topic import Topic
     from cyclonedds.util import duration
 
-    participant = DomainParticipant(args.domain_id, qos=Qos(Policy.Userdata(data=b"enclave=/;")))
+    participant = make_participant(args.domain_id)
     qos = Qos(
         Policy.History.KeepLast(100000),
         Policy.Reliability.Reliable(max_blocking_time=duration(infinite=True)),
