@@ -335,9 +335,9 @@ fn a_late_rosout_reader_gets_a_bounded_log_history() {
     let b = bins();
     let dir = common::scratch_dir("dds-rosout");
     // 3000 regions in 9 s of program: 2 mm with the tool axis still 1 deg from the singularity, then
-    // 1 mm turning its azimuth 90 deg (C asked 500 rpm of a 25 rpm table), alternately.
+    // 1 mm turning its azimuth 90 deg (C asked 500 rpm of a 25 rpm table), alternately, back and
+    // forth over 90 mm of X.
     let program = dir.join("regions.cl");
-    // Back and forth over 90 mm of X.
     let (t, mut x, mut text) = (1.0f64.to_radians(), -45.0f64, String::new());
     let (s, c) = (t.sin(), t.cos());
     for group in 0..1500 {

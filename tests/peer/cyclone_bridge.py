@@ -266,9 +266,10 @@ def make_participant(domain_id: int):
     return DomainParticipant(domain_id, qos=Qos(Policy.Userdata(data=b"enclave=/;")))
 
 
-def rmw_qos(reliability: str, depth: int, typehash: Optional[str] = None):
+def rmw_qos(reliability: str, depth: int, typehash: Optional[str] = None, transient_local: bool = False):
     """Reader/writer QoS as rmw_cyclonedds' create_readwrite_qos maps a ROS QoS profile
-    (volatile, automatic liveliness, infinite lease) plus the sertype's XCDR1-only representation."""
+    (volatile unless transient_local, automatic liveliness, infinite lease) plus the sertype's
+    XCDR1-only representation."""
     from cyclonedds.core import Policy, Qos
     from cyclonedds.util import duration
     policies = [
@@ -276,7 +277,7 @@ def rmw_qos(reliability: str, depth: int, typehash: Optional[str] = None):
         Policy.History.KeepLast(depth),
         (Policy.Reliability.Reliable(max_blocking_time=duration(infinite=True)) if reliability == "reliable"
          else Policy.Reliability.BestEffort),
-        Policy.Durability.Volatile,
+        Policy.Durability.TransientLocal if transient_local else Policy.Durability.Volatile,
         Policy.Liveliness.Automatic(lease_duration=duration(infinite=True)),
         Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=False),
     ]

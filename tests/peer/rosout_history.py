@@ -16,7 +16,7 @@ import time
 from dataclasses import dataclass
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cyclone_bridge import Time, make_participant  # noqa: E402  (the IDL types as rmw_cyclonedds has them)
+from cyclone_bridge import Time, make_participant, rmw_qos  # noqa: E402  (as rmw_cyclonedds has them)
 from cyclonedds.idl import IdlStruct  # noqa: E402
 from cyclonedds.idl.types import uint8, uint32  # noqa: E402
 
@@ -38,18 +38,11 @@ def main():
     ap.add_argument("--domain-id", type=int, default=int(os.environ.get("ROS_DOMAIN_ID", "0") or 0))
     args = ap.parse_args()
 
-    from cyclonedds.core import Policy, Qos
     from cyclonedds.sub import DataReader
     from cyclonedds.topic import Topic
-    from cyclonedds.util import duration
 
     participant = make_participant(args.domain_id)
-    qos = Qos(
-        Policy.History.KeepLast(100000),
-        Policy.Reliability.Reliable(max_blocking_time=duration(infinite=True)),
-        Policy.Durability.TransientLocal,
-        Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=False),
-    )
+    qos = rmw_qos("reliable", 100000, transient_local=True)
     reader = DataReader(participant, Topic(participant, "rt/rosout", Log), qos=qos)
     by_node = {}
     end = time.monotonic() + args.duration_s
