@@ -258,6 +258,9 @@ for r in $(seq 8); do
     kill -KILL $victim 2>/dev/null || true
     echo "round $r: killed $( [ $victim = $C ] && echo commander || ([ $victim = $S ] && echo simulator || echo monitor))"
     sleep 0.$((RANDOM % 10))
+    # Not before the recorder's first chunk of messages is on disk (16 KiB; up to 10 s on a loaded
+    # machine): a file cut before its first message has nothing to recover, and recover says so.
+    for i in $(seq 100); do [ "$(stat -c %s "$D/round$r.mcap" 2>/dev/null || echo 0)" -gt 16384 ] && break; sleep 0.1; done
     kill -KILL $R
     wait $R || true
     kill -KILL $C $S $M 2>/dev/null || true
