@@ -86,10 +86,10 @@ impl AccelBounds {
         b
     }
 
-    /// Tangential acceleration bounds (min, max) moving at path speed `v`.
-    fn at(&self, v: f64) -> (f64, f64) {
+    /// Tangential acceleration bounds (min, max) moving at path speed `sqrt(v2)`: the bounds depend
+    /// on the speed's square only, so the profile passes run on squared speeds without a root.
+    fn at_sq(&self, v2: f64) -> (f64, f64) {
         let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-        let v2 = v * v;
         for i in 0..AXES {
             let c = self.p[i] * v2;
             hi = hi.min(self.r[i] - c);
@@ -145,24 +145,28 @@ impl Window {
         self.speed_profile_to(cap, v0, true)
     }
 
-    /// As [`Window::speed_profile`], at rest at the end only if `stop`.
+    /// As [`Window::speed_profile`], at rest at the end only if `stop`. Both passes step the squared
+    /// speed, `u' = u + 2 s'' h` (constant path acceleration over a step): the bounds need only `u`,
+    /// so no root lies on the passes' chain of dependent steps.
     fn speed_profile_to(&self, cap: &[f64], v0: f64, stop: bool) -> Vec<f64> {
         let n = cap.len();
-        let mut v = vec![0.0; n];
-        v[0] = v0;
+        let mut u = vec![0.0; n];
+        u[0] = v0 * v0;
         for k in 0..n - 1 {
-            let (_, hi) = self.bounds[k].at(v[k]);
+            let (_, hi) = self.bounds[k].at_sq(u[k]);
             let hi = if hi.is_finite() { hi } else { 1e12 };
-            v[k + 1] = (v[k] * v[k] + 2.0 * hi * self.h).max(0.0).sqrt().min(cap[k + 1]);
+            u[k + 1] = (u[k] + 2.0 * hi * self.h).max(0.0).min(cap[k + 1] * cap[k + 1]);
         }
         if stop {
-            v[n - 1] = 0.0;
+            u[n - 1] = 0.0;
         }
         for k in (1..n - 1).rev() {
-            let (lo, _) = self.bounds[k + 1].at(v[k + 1]);
+            let (lo, _) = self.bounds[k + 1].at_sq(u[k + 1]);
             let lo = if lo.is_finite() { lo } else { -1e12 };
-            v[k] = v[k].min((v[k + 1] * v[k + 1] - 2.0 * lo * self.h).max(0.0).sqrt());
+            u[k] = u[k].min((u[k + 1] - 2.0 * lo * self.h).max(0.0));
         }
+        let mut v: Vec<f64> = u.into_iter().map(f64::sqrt).collect();
+        v[0] = v0;
         v
     }
 
@@ -170,13 +174,15 @@ impl Window {
     /// limit curve may go (the committed speed cannot drop faster than the axes can brake).
     fn braking(&self, v0: f64) -> Vec<f64> {
         let n = self.bounds.len();
-        let mut v = vec![0.0; n];
-        v[0] = v0;
+        let mut u = vec![0.0; n];
+        u[0] = v0 * v0;
         for k in 0..n - 1 {
-            let (lo, _) = self.bounds[k].at(v[k]);
+            let (lo, _) = self.bounds[k].at_sq(u[k]);
             let lo = if lo.is_finite() { lo.min(0.0) } else { -1e12 };
-            v[k + 1] = (v[k] * v[k] + 2.0 * lo * self.h).max(0.0).sqrt();
+            u[k + 1] = (u[k] + 2.0 * lo * self.h).max(0.0);
         }
+        let mut v: Vec<f64> = u.into_iter().map(f64::sqrt).collect();
+        v[0] = v0;
         v
     }
 
