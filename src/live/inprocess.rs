@@ -9,6 +9,7 @@ use super::sim_report::{simulate_measured_stream, FeedFiguresReport};
 use super::simulator::{SimConfig, SimSummary, Simulation};
 use super::{StateBuilder, StateValues};
 use crate::job::{self, Job, JobError, JobOptions, Moves};
+use crate::path::{Segment, SharedRead};
 use crate::machine::Machine;
 use crate::report::AnalysisReport;
 use fiveaxis_msgs::{AxisState, SingularityStatus};
@@ -206,8 +207,23 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         simulated: AtomicU64::new(0f64.to_bits()),
     };
     let moves = &moves;
-    // A program is read and planned once for the commander and the analysis: the commander hands
-    // the segments it reads to the analysis (a built-in path's report is made with it).
+    // A program is read and segmented once for the commander, the analysis and the simulator's
+    // scout: the commander hands the segments it reads to the analysis (a built-in path's report is
+    // made with it), and shares the reading with the simulator (`SharedRead`: whichever is ahead reads
+    // on; one that falls too far behind reads a copy of its own, opened again here).
+    let shared = moves.segment_stream(machine)?.map(SharedRead::new);
+    let shared = shared.as_ref();
+    let reopen_failed = std::sync::Mutex::new(None);
+    let reopen_failed = &reopen_failed;
+    let reopen = move || {
+        let stream = moves.segment_stream(machine);
+        if let Ok(Some(stream)) = stream {
+            return Some(stream);
+        }
+        let e = stream.err().unwrap_or(JobError::FeedCut);
+        reopen_failed.lock().unwrap_or_else(|e| e.into_inner()).get_or_insert(e);
+        None
+    };
     let (feed_tx, feed_rx) = match moves.held() {
         None => {
             let (tx, rx) = mpsc::sync_channel::<job::Feed>(job::FEED_BATCHES);
@@ -240,15 +256,26 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                     }
                 }
             };
-            let published = match (moves.segment_stream(machine), feed_tx) {
-                (Ok(Some(mut stream)), Some(tx)) => {
+            let published = match (shared, feed_tx) {
+                (Some(shared), Some(tx)) => {
+                    let mut reader = shared.reader(0, reopen);
                     let mut feed = job::FeedSender::new(tx);
-                    publish(&mut commanded_stream(stream.by_ref().inspect(|s| feed.push(s)), period, machine));
-                    feed.finish(&mut stream);
-                    Ok(())
+                    publish(&mut commanded_stream(reader.by_ref().inspect(|s| feed.push(s)), period, machine));
+                    // What the commander did not publish (it stopped early) still goes to the analysis.
+                    for seg in reader.by_ref() {
+                        feed.push(&seg);
+                    }
+                    match reader.failed() {
+                        // The reading's end is not known: the analysis's feed is cut (the reopening's
+                        // error is the run's).
+                        true => Err(JobError::FeedCut),
+                        false => {
+                            reader.with_source(|stream| feed.finish(stream));
+                            Ok(())
+                        }
+                    }
                 }
-                (Err(e), _) => Err(e),
-                (Ok(_), _) => commanded_moves(moves, machine).map(|mut states| publish(&mut states)),
+                _ => commanded_moves(moves, machine).map(|mut states| publish(&mut states)),
             };
             sent += batch.flush(&tx_cmd).unwrap_or(0);
             Pace::set(&pace.commanded, f64::INFINITY);
@@ -256,7 +283,13 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         });
         let tx_sim = tx;
         let simulator = scope.spawn(move || -> Result<_, JobError> {
-            let opened = moves.segments(machine).and_then(|s| Ok((s, moves.segments(machine)?)));
+            // The scout shares the commander's reading; the planner's second copy is read only past
+            // what the scout keeps for it (a run longer than its bound).
+            let scout = match shared {
+                Some(shared) => Ok(Box::new(shared.reader(1, reopen)) as Box<dyn Iterator<Item = Segment> + '_>),
+                None => moves.segments(machine),
+            };
+            let opened = moves.segments(machine).and_then(|s| Ok((s, scout?)));
             let (segments, scout) = match opened {
                 Ok(o) => o,
                 Err(e) => {
@@ -364,6 +397,11 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         let lost = sim_out.as_ref().map_or(0, |((.., sent_sim), sent_cmd)| (sent_cmd + sent_sim).saturating_sub(received));
         (analysis, sim_out, lost, statuses, m, tape_result)
     });
+    // A reader that fell behind and could not read the program again: what it read is not the
+    // program (fail closed).
+    if let Some(e) = reopen_failed.lock().unwrap_or_else(|e| e.into_inner()).take() {
+        return Err(e);
+    }
     // A feed cut short by the commander's failure: the commander's error says why.
     let analysis = match (analysis, &sim_out) {
         (Err(JobError::FeedCut), Err(_)) => None,
