@@ -159,6 +159,8 @@ pub struct SimStates<'a> {
     prev: Option<Held>,
     cur: Option<Held>,
     k: u64,
+    /// The rotaries' sines and cosines, which follow the samples.
+    turns: [crate::kinematics::SinCos; 2],
 }
 
 #[derive(Clone)]
@@ -186,12 +188,14 @@ impl<'a> SimStates<'a> {
             prev: None,
             cur: None,
             k: 0,
+            turns: Default::default(),
         }
     }
 
-    fn held(&self, s: SimSample, seg: Option<Arc<Segment>>) -> Held {
+    fn held(&mut self, s: SimSample, seg: Option<Arc<Segment>>) -> Held {
         let datum = seg.as_ref().map_or(nalgebra::Vector3::zeros(), |g| g.datum);
-        let pose = self.machine.forward(&s.q);
+        let turns = [self.turns[0].at(s.q[3]), self.turns[1].at(s.q[4])];
+        let pose = self.machine.chain.forward_turns(&s.q, &turns);
         Held { s, tip: pose.tip - datum, pose, seg }
     }
 

@@ -1,7 +1,7 @@
 //! Blocks -> segments: resolve each move's start and end axis values, length and duration.
 
 use super::{PathOptions, Sample};
-use crate::kinematics::{Joints, Pose, Turn, TwoRotaryChain};
+use crate::kinematics::{Joints, Pose, SinCos, Turn, TwoRotaryChain};
 use crate::machine::Machine;
 use crate::program::{ArcSpec, Block, Diagnostic, FeedMode, Motion, Orientation, Program, Severity};
 use crate::units::{DEG_PER_MIN, MM_PER_MIN};
@@ -281,7 +281,18 @@ impl Segment {
     pub fn sample(&self, index: usize, u: f64, t: f64, machine: &Machine) -> Sample {
         // The rotaries' sines and cosines once, for the linear axes, the tip and the tool axis.
         let rot = self.rotaries_at(u, machine);
-        let turns = TwoRotaryChain::turns(&rot);
+        self.sample_turns(index, u, t, machine, rot, TwoRotaryChain::turns(&rot))
+    }
+
+    /// [`Segment::sample`] for a sampler moving along the path: the rotaries' sines and cosines
+    /// follow the samples from `turns` ([`SinCos`], the same to rounding).
+    pub fn sample_along(&self, index: usize, u: f64, t: f64, machine: &Machine, turns: &mut [SinCos; 2]) -> Sample {
+        let rot = self.rotaries_at(u, machine);
+        let turned = [turns[0].at(rot[0]), turns[1].at(rot[1])];
+        self.sample_turns(index, u, t, machine, rot, turned)
+    }
+
+    fn sample_turns(&self, index: usize, u: f64, t: f64, machine: &Machine, rot: [f64; 2], turns: [Turn; 2]) -> Sample {
         let q = self.joints_with(u, rot, || turns, machine);
         let rate = [(self.q1[3] - self.q0[3]) / self.duration, (self.q1[4] - self.q0[4]) / self.duration];
         let tip = match self.kind {

@@ -5,6 +5,7 @@
 
 use super::{PathOptions, Sample, Segment, SegmentPlanner};
 use crate::program::{BlockStream, Diagnostic, DiagnosticLog};
+use crate::kinematics::SinCos;
 use crate::machine::Machine;
 use std::borrow::Cow;
 use std::collections::VecDeque;
@@ -61,11 +62,13 @@ pub struct GridSampler {
     i: usize,
     k: u64,
     ended: bool,
+    /// The rotaries' sines and cosines, which follow the samples.
+    turns: [SinCos; 2],
 }
 
 impl GridSampler {
     pub fn new(period: f64) -> Self {
-        GridSampler { period, i: 0, k: 0, ended: false }
+        GridSampler { period, i: 0, k: 0, ended: false, turns: Default::default() }
     }
 
     /// The next sample, reading segments from `window` as it goes.
@@ -78,14 +81,14 @@ impl GridSampler {
             }
             let u = ((t - seg.t0) / seg.duration).clamp(0.0, 1.0);
             self.k += 1;
-            return Some(seg.sample(self.i, u, t, machine));
+            return Some(seg.sample_along(self.i, u, t, machine, &mut self.turns));
         }
         if self.ended {
             return None;
         }
         self.ended = true;
         let last = self.i.checked_sub(1)?;
-        window.loaded(last).map(|seg| seg.sample(last, 1.0, seg.t0 + seg.duration, machine))
+        window.loaded(last).map(|seg| seg.sample_along(last, 1.0, seg.t0 + seg.duration, machine, &mut self.turns))
     }
 }
 
