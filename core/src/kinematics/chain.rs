@@ -217,12 +217,14 @@ impl TwoRotaryChain {
     }
 
     /// [`linear_for`](Self::linear_for) given the joints' turns.
+    #[inline]
     pub fn linear_for_turns(&self, tip: &Vector3<f64>, turns: &[Turn; 2]) -> Vector3<f64> {
         self.table_to_machine(turns, tip) - self.head_to_machine(turns, &self.tool_tip)
     }
 
     /// [`linear_for`](Self::linear_for) along a sequence of nearby angles: each joint's sine and
     /// cosine from `turns` (one per slot), which follows the sequence.
+    #[inline]
     pub fn linear_for_along(&self, tip: &Vector3<f64>, rot: &[f64; 2], turns: &mut [SinCos; 2]) -> Vector3<f64> {
         self.linear_for_turns(tip, &std::array::from_fn(|i| turns[i].at(rot[i])))
     }
