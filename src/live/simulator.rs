@@ -154,10 +154,11 @@ pub struct SimStates<'a> {
     machine: &'a Machine,
     period: f64,
     builder: StateBuilder,
-    /// The samples before and at the one to be emitted next, with their tool tips (program
-    /// coordinates) and segments; `k` is the index of `cur`.
-    prev: Option<Held>,
-    cur: Option<Held>,
+    /// The samples before, at and after the one to be emitted next, with their tool tips (program
+    /// coordinates) and segments, in a ring (`cur` is `held[at]`; a new sample takes the oldest
+    /// slot, so none is moved); `k` is the index of `cur`.
+    ring: [Option<Held>; 3],
+    at: usize,
     k: u64,
     /// The rotaries' sines and cosines, which follow the samples.
     turns: [crate::kinematics::SinCos; 2],
@@ -185,8 +186,8 @@ impl<'a> SimStates<'a> {
             machine,
             period,
             builder: StateBuilder::new(machine, AxisState::SOURCE_SIMULATED),
-            prev: None,
-            cur: None,
+            ring: [None, None, None],
+            at: 0,
             k: 0,
             turns: Default::default(),
         }
@@ -225,14 +226,15 @@ impl<'a> SimStates<'a> {
     /// The next sample and its segment; the state of the one before it (its numbers:
     /// [`SimStates::message`] makes the message), if any, with its sample and segment.
     pub fn push(&mut self, s: SimSample, seg: Option<&Arc<Segment>>) -> Option<(SimSample, StateValues, Option<Arc<Segment>>)> {
-        let next = self.held(s, seg.cloned());
-        let out = self.cur.as_ref().map(|cur| {
-            let st = self.state(self.prev.as_ref(), cur, Some(&next));
-            (cur.s, st, cur.seg.clone())
+        let (prev, cur, next) = ((self.at + 2) % 3, self.at, (self.at + 1) % 3);
+        self.ring[next] = Some(self.held(s, seg.cloned()));
+        let out = self.ring[cur].as_ref().map(|c| {
+            let st = self.state(self.ring[prev].as_ref(), c, self.ring[next].as_ref());
+            (c.s, st, c.seg.clone())
         });
         self.k += u64::from(out.is_some());
-        self.prev = self.cur.take();
-        self.cur = Some(next);
+        self.ring[prev] = None;
+        self.at = next;
         out
     }
 
@@ -243,9 +245,10 @@ impl<'a> SimStates<'a> {
 
     /// The state of the last sample (the stream's end).
     pub fn finish(&mut self) -> Option<(SimSample, StateValues, Option<Arc<Segment>>)> {
-        let cur = self.cur.take()?;
-        let st = self.state(self.prev.as_ref(), &cur, None);
-        self.prev = None;
+        let prev = (self.at + 2) % 3;
+        let cur = self.ring[self.at].take()?;
+        let st = self.state(self.ring[prev].as_ref(), &cur, None);
+        self.ring[prev] = None;
         self.k += 1;
         Some((cur.s, st, cur.seg))
     }

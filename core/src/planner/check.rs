@@ -53,7 +53,7 @@ pub fn limit_ratios(q: &[Joints], t: f64, limits: &[AxisLimits; AXES]) -> Vec<[f
 #[derive(Debug, Clone)]
 pub struct LimitCheck {
     stencil: Stencil,
-    /// The last five positions pushed (oldest first once full) and how many were pushed.
+    /// The last five positions pushed (position k at slot k mod 5) and how many were pushed.
     last: [Joints; 5],
     n: u64,
     worst: [f64; 3],
@@ -72,9 +72,10 @@ impl LimitCheck {
     /// Position `k` (0-based) of the stream, read back from the last five pushed, clamped to the
     /// stream's first and last pushed.
     fn at(&self, k: i64) -> &Joints {
-        let k = k.clamp(0, self.n as i64 - 1);
-        let back = self.n as i64 - 1 - k; // 0 = the newest
-        &self.last[(4 - back.min(4)) as usize]
+        let n = self.n as i64;
+        // Position k is kept at slot k mod 5 (a ring: nothing moves on a push).
+        let k = k.clamp((n - 5).max(0), n - 1);
+        &self.last[k.rem_euclid(5) as usize]
     }
 
     fn measure(&mut self, k: i64) {
@@ -86,8 +87,7 @@ impl LimitCheck {
 
     /// The next position.
     pub fn push(&mut self, q: &Joints) {
-        self.last.rotate_left(1);
-        self.last[4] = *q;
+        self.last[(self.n % 5) as usize] = *q;
         self.n += 1;
         // The stencil of sample n - 3 is complete (it reaches two ahead).
         if self.n >= 3 {
