@@ -190,26 +190,7 @@ mod tests {
         Box::new(i)
     }
 
-    fn seg(k: usize) -> Segment {
-        Segment {
-            kind: crate::path::SegmentKind::Tcp,
-            block: k,
-            line: k + 1,
-            number: None,
-            t0: k as f64,
-            duration: 1.0,
-            s0: k as f64,
-            length: 1.0,
-            q0: [k as f64; 5],
-            q1: [k as f64 + 1.0; 5],
-            tip0: Default::default(),
-            tip1: Default::default(),
-            datum: Default::default(),
-            feed: 1.0,
-            arc: None,
-            orient: None,
-        }
-    }
+    use crate::path::stream_test_segment as seg;
 
     /// Both readers see the whole stream in order whatever their distance; the stream is read once
     /// while the distance stays within the bound, and a copy only past it.

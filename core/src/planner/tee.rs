@@ -96,28 +96,7 @@ impl<J: Iterator<Item = Segment>> Iterator for Follow<J> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::path::SegmentKind;
-
-    fn seg(k: usize) -> Segment {
-        Segment {
-            kind: SegmentKind::Tcp,
-            block: k,
-            line: k + 1,
-            number: None,
-            t0: k as f64,
-            duration: 1.0,
-            s0: k as f64,
-            length: 1.0,
-            q0: [k as f64; 5],
-            q1: [k as f64 + 1.0; 5],
-            tip0: Default::default(),
-            tip1: Default::default(),
-            datum: Default::default(),
-            feed: 1.0,
-            arc: None,
-            orient: None,
-        }
-    }
+    use crate::path::stream_test_segment as seg;
 
     /// A stream that counts how many segments were read from it.
     fn counted(n: usize, reads: Rc<RefCell<usize>>) -> impl Iterator<Item = Segment> {
