@@ -155,7 +155,7 @@ pub struct SimStates<'a> {
     period: f64,
     builder: StateBuilder,
     /// The samples before, at and after the one to be emitted next, with their tool tips (program
-    /// coordinates) and segments, in a ring (`cur` is `held[at]`; a new sample takes the oldest
+    /// coordinates) and segments, in a ring (`cur` is `ring[at]`; a new sample takes the oldest
     /// slot, so none is moved); `k` is the index of `cur`.
     ring: [Option<Held>; 3],
     at: usize,
