@@ -402,6 +402,10 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
     if let Some(e) = reopen_failed.lock().unwrap_or_else(|e| e.into_inner()).take() {
         return Err(e);
     }
+    // One that opened a copy but could not read it to where it was (the file changed under it).
+    if shared.is_some_and(|s| s.failed()) {
+        return Err(JobError::FeedCut);
+    }
     // A feed cut short by the commander's failure: the commander's error says why.
     let analysis = match (analysis, &sim_out) {
         (Err(JobError::FeedCut), Err(_)) => None,

@@ -15,7 +15,7 @@ mod window;
 
 pub use builtin::{builtin_names, paper_orientation, BuiltinPath};
 pub use passes::Passes;
-pub use shared::{SharedRead, SharedReader, KEPT_SEGMENTS as SHARED_KEPT_SEGMENTS};
+pub use shared::{SharedRead, SharedReader};
 pub use segment::{plan, GreatCircle, Segment, SegmentKind, SegmentPlanner, ORIENT_PIECE_RAD};
 pub use window::{GridSampler, SegmentStream, SegmentWindow};
 

@@ -48,6 +48,15 @@ struct State<I> {
     detached: [bool; 2],
     /// `source` has ended.
     ended: bool,
+    /// A reader was detached and could not read its copy to where it was (it ended there).
+    failed: bool,
+}
+
+/// What taking a batch from the shared stream found.
+enum Batch {
+    Took,
+    Ended,
+    Detached,
 }
 
 impl<I> State<I> {
@@ -74,13 +83,19 @@ pub struct SharedRead<I> {
 
 impl<I: Iterator<Item = Segment>> SharedRead<I> {
     pub fn new(source: I) -> Self {
-        SharedRead { state: Mutex::new(State { source, kept: VecDeque::new(), base: 0, taken: [0; 2], detached: [false; 2], ended: false }) }
+        SharedRead { state: Mutex::new(State { source, kept: VecDeque::new(), base: 0, taken: [0; 2], detached: [false; 2], ended: false, failed: false }) }
     }
 
     fn lock(&self) -> MutexGuard<'_, State<I>> {
         // A reader that panicked holding the lock left the state whole (no step of it can panic
         // half-way but the source's own `next`): read on.
         self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// True if a reader fell behind and could not read a copy of its own to where it was: it ended
+    /// early, so what it read is not the whole stream.
+    pub fn failed(&self) -> bool {
+        self.lock().failed
     }
 
     /// The reader of side `side` (0 or 1). `reopen` opens the stream again from its start, for
@@ -120,12 +135,11 @@ impl<I: Iterator<Item = Segment>, F: FnMut() -> Option<I>> SharedReader<'_, I, F
         }
     }
 
-    /// Take the next batch from the shared stream, reading it further if this reader is ahead; false
-    /// if this reader has been detached (or the stream has ended with nothing left for it).
-    fn take_batch(&mut self) -> bool {
+    /// Take the next batch from the shared stream, reading it further if this reader is ahead.
+    fn take_batch(&mut self) -> Batch {
         let mut st = self.shared.lock();
         if st.detached[self.side] {
-            return false;
+            return Batch::Detached;
         }
         let want = self.next + BATCH as u64;
         while !st.ended && st.base + (st.kept.len() as u64) < want {
@@ -141,7 +155,18 @@ impl<I: Iterator<Item = Segment>, F: FnMut() -> Option<I>> SharedReader<'_, I, F
         let side = self.side;
         st.taken[side] = self.next;
         st.trim();
-        n > 0
+        if n > 0 {
+            Batch::Took
+        } else {
+            Batch::Ended
+        }
+    }
+
+    /// This reader ends early: it was detached and has no copy to read on from where it was.
+    fn fail(&mut self) -> Option<Segment> {
+        self.failed = true;
+        self.shared.lock().failed = true;
+        None
     }
 }
 
@@ -158,20 +183,17 @@ impl<I: Iterator<Item = Segment>, F: FnMut() -> Option<I>> Iterator for SharedRe
         if self.failed {
             return None;
         }
-        if self.take_batch() {
-            return self.local.pop_front();
-        }
-        if !self.shared.lock().detached[self.side] {
-            return None; // the stream has ended
+        match self.take_batch() {
+            Batch::Took => return self.local.pop_front(),
+            Batch::Ended => return None,
+            Batch::Detached => {}
         }
         // Detached: a copy of its own, skipped to where this reader is.
         let Some(mut own) = (self.reopen)() else {
-            self.failed = true;
-            return None;
+            return self.fail();
         };
         if self.next > 0 && own.nth((self.next - 1) as usize).is_none() {
-            self.failed = true;
-            return None;
+            return self.fail();
         }
         let s = own.next();
         self.own = Some(own);
@@ -266,5 +288,6 @@ mod tests {
         assert!(rest < n - 1, "the reader behind read {rest} after being detached");
         assert!(behind.failed());
         assert!(!lead.failed());
+        assert!(shared.failed());
     }
 }
