@@ -753,23 +753,30 @@ rec unkeyed &
 R2=$!
 ROS_SECURITY_ENABLE=true ROS_SECURITY_KEYSTORE="{other}" rec stranger --ros-args --enclave /fiveaxis/recorder &
 R3=$!
-python3 "{sniff}" --needle workpiece --duration-s 8 --ready "$D/ready1" > "$D/secure.json" &
+python3 "{sniff}" --needle workpiece --duration-s 120 --ready "$D/ready1" --stop "$D/stop1" > "$D/secure.json" &
 S=$!
 while [ ! -e "$D/ready1" ]; do sleep 0.1; done
+# The secure handshake (authentication, then key exchange) can take seconds on a loaded machine:
+# wait for it up to 60 s rather than the default 10 (the recorder's count below checks it completed).
 ROS_SECURITY_ENABLE=true ROS_SECURITY_KEYSTORE="{ks}" "$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 0.5 --min-subscribers 1 \
-    --ros-args --enclave /fiveaxis/commander > "$D/commander.log" 2>&1
+    --wait-for-subscriber-s 60 --ros-args --enclave /fiveaxis/commander > "$D/commander.log" 2>&1
 echo "secure commander: $?"
+sleep 1; touch "$D/stop1"
 wait $S
-python3 "{sniff}" --needle workpiece --duration-s 8 --ready "$D/ready2" > "$D/plain.json" &
+python3 "{sniff}" --needle workpiece --duration-s 120 --ready "$D/ready2" --stop "$D/stop2" > "$D/plain.json" &
 S=$!
 while [ ! -e "$D/ready2" ]; do sleep 0.1; done
-"$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 0.5 --min-subscribers 1 > "$D/plain-commander.log" 2>&1
+"$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 0.5 --min-subscribers 1 --wait-for-subscriber-s 60 > "$D/plain-commander.log" 2>&1
 echo "plain commander: $?"
+sleep 1; touch "$D/stop2"
 wait $S
 # Enforce with an enclave that is not in the keystore: refused, naming it.
 ROS_SECURITY_ENABLE=true ROS_SECURITY_KEYSTORE="{ks}" "$B/fiveaxis-commander" builtin:paper-sing --ros-args --enclave /fiveaxis/absent > "$D/absent.log" 2>&1
 echo "absent enclave: $?"
 kill -INT $R1 $R2 $R3
+# Bounded: a recorder that does not stop (RustDDS deadlocked at its start once) fails the test, not CI.
+for i in $(seq 200); do kill -0 $R1 2> /dev/null || kill -0 $R2 2> /dev/null || kill -0 $R3 2> /dev/null || break; sleep 0.1; done
+for r in keyed:$R1 unkeyed:$R2 stranger:$R3; do kill -0 ${{r#*:}} 2> /dev/null && {{ echo "$r did not stop on SIGINT"; kill -9 ${{r#*:}}; }}; done
 wait $R1 $R2 $R3
 "#,
         b = b.display(),
@@ -785,6 +792,7 @@ wait $R1 $R2 $R3
         .join("\n");
     let context = format!("{said}\n{}\n{logs}", String::from_utf8_lossy(&out.stderr));
     assert!(said.contains("secure commander: 0") && said.contains("plain commander: 0"), "{context}");
+    assert!(!said.contains("did not stop"), "{context}");
     let absent = std::fs::read_to_string(dir.join("absent.log")).unwrap_or_default();
     // Bad input: exit 2, naming the enclave.
     assert!(said.contains("absent enclave: 2") && absent.contains("/fiveaxis/absent"), "{context}");

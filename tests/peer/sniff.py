@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """Capture the UDP datagrams on the loopback interface (a raw AF_PACKET socket; run inside the
-test's private network namespace, where the namespace's root may open one) for a while, and count
-those that carry a given byte string in the clear. Prints JSON: {"datagrams": N, "bytes": B,
+test's private network namespace, where the namespace's root may open one) until told to stop, and
+count those that carry a given byte string in the clear. Prints JSON: {"datagrams": N, "bytes": B,
 "with_needle": K}. Used to check that DDS Security encrypts what it protects: the same topic
 without security shows the needle (a string field of every message) in the clear.
 
-Usage: sniff.py --needle TEXT --duration-s S [--ready FILE]
+Usage: sniff.py --needle TEXT --duration-s S [--ready FILE] [--stop FILE]
+
+--duration-s is the longest it listens; with --stop it ends sooner, once FILE exists (the test makes
+it when the publisher it watches has ended, so a slow machine does not cut the capture short).
 """
 import argparse
 import json
@@ -22,6 +25,7 @@ def main():
     ap.add_argument("--needle", required=True)
     ap.add_argument("--duration-s", type=float, required=True)
     ap.add_argument("--ready", help="file created once the socket listens")
+    ap.add_argument("--stop", help="stop listening once this file exists")
     args = ap.parse_args()
     needle = args.needle.encode()
     s = socket.socket(socket.AF_PACKET, socket.SOCK_RAW, socket.ntohs(ETH_P_ALL))
@@ -31,7 +35,8 @@ def main():
         Path(args.ready).write_text("ready\n")
     datagrams = total = hits = 0
     end = time.monotonic() + args.duration_s
-    while time.monotonic() < end:
+    stop = Path(args.stop) if args.stop else None
+    while time.monotonic() < end and not (stop and stop.exists()):
         try:
             frame, addr = s.recvfrom(70000)
         except socket.timeout:

@@ -34,6 +34,9 @@ use std::time::{Duration, Instant};
 /// Keep-last depth of the axis-state and status streams.
 pub const STATE_DEPTH: usize = 1000;
 
+/// How long `Bus::new` waits for the spinner to create its readers (milliseconds when all is well).
+const SPINNER_START: Duration = Duration::from_secs(30);
+
 /// QoS of the axis-state and status streams: reliable, keep-last 1000, volatile.
 pub fn state_qos() -> QosProfile {
     QosProfile::publisher_default()
@@ -384,14 +387,32 @@ impl Bus {
             .new_node(NodeName::new(&args.namespace, &name).map_err(|e| anyhow::anyhow!("node name: {e:?}"))?, options)
             .map_err(|e| anyhow::anyhow!("creating node {name}: {e:?}"))?;
         let spinner = node.spinner().map_err(|e| anyhow::anyhow!("spinner: {e:?}"))?;
+        // Under DDS Security, RustDDS 0.15 deadlocks when one thread creates a topic (participant
+        // lock, then the security plugins' lock) while another creates a reader (the plugins' lock,
+        // then the participant's): a keyed recorder hung so at start. The spinner creates its
+        // readers before its first await, so the node's own entities wait for its first poll.
+        let (started, first_poll) = std::sync::mpsc::sync_channel::<()>(1);
         std::thread::Builder::new()
             .name("ros2-spinner".into())
             .spawn(move || {
-                if let Err(e) = smol::block_on(spinner.spin()) {
+                let mut spin = Box::pin(spinner.spin());
+                let mut started = Some(started);
+                let spun = smol::block_on(std::future::poll_fn(move |cx| {
+                    let poll = std::future::Future::poll(spin.as_mut(), cx);
+                    if let Some(started) = started.take() {
+                        let _ = started.send(());
+                    }
+                    poll
+                }));
+                if let Err(e) = spun {
                     tracing::warn!("spinner stopped: {e:?}");
                 }
             })
             .context("starting the spinner")?;
+        // Disconnected (the spinner ended or panicked at its first poll): nothing more will race.
+        if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = first_poll.recv_timeout(SPINNER_START) {
+            bail!("the ROS 2 spinner did not create its readers within {} s", SPINNER_START.as_secs());
+        }
         Ok(Bus { node, namespace: args.namespace.clone(), remaps: args.remaps.clone(), context })
     }
 
