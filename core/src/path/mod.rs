@@ -134,22 +134,22 @@ impl Trajectory {
 /// segment streams ([`shared`], [`crate::planner`]'s tee).
 #[cfg(test)]
 pub(crate) fn stream_test_segment(k: usize) -> Segment {
-        Segment {
-            kind: SegmentKind::Tcp,
-            block: k,
-            line: k + 1,
-            number: None,
-            t0: k as f64,
-            duration: 1.0,
-            s0: k as f64,
-            length: 1.0,
-            q0: [k as f64; 5],
-            q1: [k as f64 + 1.0; 5],
-            tip0: Default::default(),
-            tip1: Default::default(),
-            datum: Default::default(),
-            feed: 1.0,
-            arc: None,
-            orient: None,
-        }
+    Segment {
+        kind: SegmentKind::Tcp,
+        block: k,
+        line: k + 1,
+        number: None,
+        t0: k as f64,
+        duration: 1.0,
+        s0: k as f64,
+        length: 1.0,
+        q0: [k as f64; 5],
+        q1: [k as f64 + 1.0; 5],
+        tip0: Default::default(),
+        tip1: Default::default(),
+        datum: Default::default(),
+        feed: 1.0,
+        arc: None,
+        orient: None,
+    }
 }
