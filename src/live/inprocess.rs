@@ -155,9 +155,10 @@ impl RunOutput {
 }
 
 /// States cross to the monitor in batches of this many: one channel operation (and at most one
-/// wake-up) per batch instead of per state. About a second of program at 1 kHz, far inside the
-/// commander's lead ([`COMMANDER_LEAD_MIN_S`]); 1024 rather than 256 halves the context switches of a
-/// run on one core (38 k to 17 k on the 0.25 h bench program).
+/// wake-up) per batch instead of per state. About 4 s of program at 1 kHz, inside the commander's
+/// lead ([`COMMANDER_LEAD_MIN_S`]); on one core each batch costs two context switches (the monitor
+/// wakes, takes it, sleeps): 4096 rather than 1024 takes a 1 h run from 33 k to 14 k switches
+/// (about 850 kB a batch).
 const BATCH: usize = 4096;
 
 /// A batch of states of one stream, in time order.
@@ -210,7 +211,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
     let moves = Moves::open(spec, machine, &options.job)?;
     let job = if options.keep_simulation { Some(job::run(spec, machine, &options.job)?) } else { None };
     let period = moves.period();
-    let (tx, rx) = mpsc::sync_channel::<Input>(4096 / BATCH);
+    let (tx, rx) = mpsc::sync_channel::<Input>(1);
     let tape = match &options.mcap {
         Some(path) => Some(Tape::create(path)?),
         None => None,
