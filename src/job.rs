@@ -34,8 +34,8 @@ pub enum JobError {
     Record(#[from] crate::record::RecordError),
     #[error("built-in path {name} cannot be run on machine {machine}: {source}")]
     Kinematics { name: String, machine: String, source: crate::kinematics::KinematicsError },
-    /// The reader feeding an analysis ([`analyze_fed`]) stopped before the program's end (its own
-    /// error says why).
+    /// The reading an analysis was made along ([`report_of_reading`]) stopped before the program's
+    /// end (the reader's own error says why).
     #[error("the program's reader stopped before the end of the program")]
     FeedCut,
 }
@@ -111,78 +111,25 @@ pub fn analyze_streaming(spec: &str, machine: &Machine, options: &JobOptions) ->
     Ok(AnalysisReport::from_parts(&read, diagnostics.iter(), machine, &analysis, options.path.feed_override_mm_per_min))
 }
 
-/// What a consumer reading a program hands to the analysis it feeds ([`FeedSender`], [`analyze_fed`]).
-#[derive(Debug)]
-pub enum Feed {
-    Segments(Vec<crate::path::Segment>),
-    /// Reading ended: where the program came from, the blocks read and the reading's diagnostics.
-    End { source: String, blocks: usize, diagnostics: Vec<Diagnostic> },
-}
-
-/// Segments handed to the analysis per message.
-const FEED_BATCH: usize = 256;
-
-/// Batches handed over but not yet analysed: what the feed holds at most.
-pub const FEED_BATCHES: usize = 16;
-
-/// Hands the segments a consumer reads (the commander of `run`) to an analysis on another thread
-/// ([`analyze_fed`]), so that the program is read and planned once for both. A gone analysis is
-/// not an error of the reader (its thread reports its own).
-#[derive(Debug)]
-pub struct FeedSender {
-    tx: std::sync::mpsc::SyncSender<Feed>,
-    batch: Vec<crate::path::Segment>,
-}
-
-impl FeedSender {
-    pub fn new(tx: std::sync::mpsc::SyncSender<Feed>) -> FeedSender {
-        FeedSender { tx, batch: Vec::with_capacity(FEED_BATCH) }
+/// The report [`analyze_streaming`] makes, from an analysis made along another consumer's reading of
+/// the program (the in-process run's commander, [`crate::singularity::analyze_segments_along`])
+/// instead of reading and planning the program again. `stream` is the reading, ended; a segment
+/// still in it was not analysed: [`JobError::FeedCut`] (fail closed).
+pub fn report_of_reading(
+    stream: &mut crate::path::SegmentStream,
+    analysis: &crate::singularity::Analysis,
+    counts: crate::singularity::StreamCounts,
+    machine: &Machine,
+    options: &JobOptions,
+) -> Result<AnalysisReport, JobError> {
+    if stream.next().is_some() {
+        return Err(JobError::FeedCut);
     }
-
-    /// Hand over a copy of `seg`.
-    pub fn push(&mut self, seg: &crate::path::Segment) {
-        self.batch.push(seg.clone());
-        if self.batch.len() >= FEED_BATCH {
-            let batch = std::mem::replace(&mut self.batch, Vec::with_capacity(FEED_BATCH));
-            let _ = self.tx.send(Feed::Segments(batch));
-        }
-    }
-
-    /// Hand over the segments of `stream` its consumer did not read, and what reading the whole
-    /// program found.
-    pub fn finish(mut self, stream: &mut crate::path::SegmentStream) {
-        for seg in stream.by_ref() {
-            self.push(&seg);
-        }
-        if !self.batch.is_empty() {
-            let _ = self.tx.send(Feed::Segments(std::mem::take(&mut self.batch)));
-        }
-        stream.read_to_end();
-        let diagnostics = reading_diagnostics(stream);
-        let _ = self.tx.send(Feed::End { source: stream.blocks().source().to_string(), blocks: stream.blocks().blocks_read(), diagnostics });
-    }
-}
-
-/// The report [`analyze_streaming`] makes, from the segments another consumer reads and hands over
-/// ([`FeedSender`]) instead of reading and planning the program again. [`JobError::FeedCut`] if the
-/// feed ends before the program does (the reader failed, and says why).
-pub fn analyze_fed(feed: std::sync::mpsc::Receiver<Feed>, machine: &Machine, options: &JobOptions) -> Result<AnalysisReport, JobError> {
-    let mut end = None;
-    let segments = feed
-        .iter()
-        .map_while(|f| match f {
-            Feed::Segments(b) => Some(b),
-            Feed::End { source, blocks, diagnostics } => {
-                end = Some((source, blocks, diagnostics));
-                None
-            }
-        })
-        .flatten();
-    let (analysis, counts) = crate::singularity::analyze_segments(segments, options.path.period, machine, &options.analysis);
-    let (source, blocks, diagnostics) = end.ok_or(JobError::FeedCut)?;
-    let diagnostics = with_no_moves(diagnostics, counts.segments, blocks);
-    let read = crate::report::ReadFacts { source: &source, blocks, samples: counts.samples, period: options.path.period };
-    Ok(AnalysisReport::from_parts(&read, diagnostics.iter(), machine, &analysis, options.path.feed_override_mm_per_min))
+    stream.read_to_end();
+    let blocks = stream.blocks().blocks_read();
+    let diagnostics = with_no_moves(reading_diagnostics(stream), counts.segments, blocks);
+    let read = crate::report::ReadFacts { source: stream.blocks().source(), blocks, samples: counts.samples, period: options.path.period };
+    Ok(AnalysisReport::from_parts(&read, diagnostics.iter(), machine, analysis, options.path.feed_override_mm_per_min))
 }
 
 /// What reading and planning a whole program found ([`Moves::check`]).
@@ -408,52 +355,49 @@ impl Job {
 mod tests {
     use super::*;
 
-    /// The report of an analysis fed by another reader of the program, as the in-process run's
-    /// commander feeds it, against the report of the analysis reading the program itself.
-    fn fed_report(spec: &str, machine: &Machine, options: &JobOptions, cut_after: Option<usize>) -> Result<AnalysisReport, JobError> {
-        let (tx, rx) = std::sync::mpsc::sync_channel(FEED_BATCHES);
+    /// The report of an analysis made along another consumer's reading of the program, as the
+    /// in-process run's commander makes it, against the report of the analysis reading the program
+    /// itself; the consumer gets every sample, each with the next one and its segment.
+    fn along_report(spec: &str, machine: &Machine, options: &JobOptions, cut_after: Option<usize>) -> Result<(AnalysisReport, usize), JobError> {
         let moves = Moves::open(spec, machine, options)?;
-        std::thread::scope(|scope| {
-            let analysis = scope.spawn(|| analyze_fed(rx, machine, options));
-            let mut stream = moves.segment_stream(machine)?.expect("a program is streamed");
-            let mut feed = FeedSender::new(tx);
-            // The consumer reads part of the stream; finish hands over the rest.
-            for seg in stream.by_ref().take(cut_after.unwrap_or(40)) {
-                feed.push(&seg);
-            }
-            if cut_after.is_none() {
-                feed.finish(&mut stream);
-            } else {
-                drop(feed);
-            }
-            analysis.join().expect("analysis thread")
-        })
+        let mut stream = moves.segment_stream(machine)?.expect("a program is streamed");
+        let mut seen = 0usize;
+        let mut last_t = f64::NEG_INFINITY;
+        let (analysis, counts) = crate::singularity::analyze_segments_along(stream.by_ref().take(cut_after.unwrap_or(usize::MAX)), options.path.period, machine, &options.analysis, |cur, next, seg| {
+            assert!(cur.t > last_t && next.is_none_or(|n| n.t > cur.t), "samples in time order");
+            assert!(seg.is_some(), "a sample's segment is handed with it");
+            last_t = cur.t;
+            seen += 1;
+        });
+        assert_eq!(seen, counts.samples);
+        Ok((report_of_reading(&mut stream, &analysis, counts, machine, options)?, seen))
     }
 
     #[test]
-    fn an_analysis_fed_by_another_reader_reports_what_reading_the_program_reports() {
+    fn an_analysis_along_another_reading_reports_what_reading_the_program_reports() {
         let m = Machine::hermle_c600u();
         let options = JobOptions::default();
         let dir = std::env::temp_dir().join(format!("fiveaxis-feed-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        // A defect (an unknown word) and a program without a move: the diagnostics come through the feed.
+        // A defect (an unknown word) and a program without a move: the diagnostics come from the reading.
         let bad = dir.join("bad.ngc");
         std::fs::write(&bad, "G1 X10 F100\nG1 X20 Q5\nG1 X30 Y5\n").unwrap();
         let empty = dir.join("empty.ngc");
         std::fs::write(&empty, "(only a comment)\n").unwrap();
         for spec in ["bundled:SING.I", "bundled:NON_SING.I", bad.to_str().unwrap(), empty.to_str().unwrap()] {
             let own = analyze_streaming(spec, &m, &options).unwrap();
-            let fed = fed_report(spec, &m, &options, None).unwrap();
-            assert_eq!(fed, own, "{spec}");
+            let (along, seen) = along_report(spec, &m, &options, None).unwrap();
+            assert_eq!(along, own, "{spec}");
+            assert_eq!(seen, own.samples, "{spec}: every sample handed over");
         }
         assert!(!analyze_streaming(bad.to_str().unwrap(), &m, &options).unwrap().diagnostics.is_empty());
         std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
-    fn a_feed_cut_before_the_programs_end_is_an_error_not_a_report() {
+    fn a_reading_that_ended_before_the_programs_end_is_an_error_not_a_report() {
         let m = Machine::hermle_c600u();
-        let r = fed_report("bundled:SING.I", &m, &JobOptions::default(), Some(10));
+        let r = along_report("bundled:SING.I", &m, &JobOptions::default(), Some(10));
         assert!(matches!(r, Err(JobError::FeedCut)), "{r:?}");
     }
 }

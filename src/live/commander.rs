@@ -48,20 +48,42 @@ pub fn commanded_values_iter<'a>(traj: &'a Trajectory, machine: &'a Machine) -> 
 /// order: segments are read as the samples reach them and dropped behind, so memory holds two or three
 /// of them whatever the program's length.
 pub fn commanded_stream<'a, I: Iterator<Item = Segment> + 'a>(segments: I, period: f64, machine: &'a Machine) -> impl Iterator<Item = StateValues> + 'a {
-    let b = StateBuilder::new(machine, AxisState::SOURCE_COMMANDED);
+    let mut values = CommandedValues::new(machine, period);
     let mut window = SegmentWindow::new(segments);
     let mut sampler = GridSampler::new(period);
     let mut next = sampler.next(&mut window, machine);
-    let mut prev: Option<Sample> = None;
     std::iter::from_fn(move || {
         let cur = next.take()?;
         next = sampler.next(&mut window, machine);
-        let st = values_between(&b, machine, period, prev.as_ref(), &cur, next.as_ref(), window.loaded(cur.segment));
+        let st = values.next(&cur, next.as_ref(), window.loaded(cur.segment));
         // The end point is sampled from the last segment: keep the one the current sample is on.
         window.release_before(cur.segment);
-        prev = Some(cur);
         Some(st)
     })
+}
+
+/// The commanded states of a stream of samples handed over one at a time, each with the next sample
+/// and its segment (as [`crate::singularity::analyze_segments_along`] hands them): what
+/// [`commanded_stream`] makes of the same samples.
+#[derive(Debug, Clone)]
+pub struct CommandedValues<'a> {
+    b: StateBuilder,
+    machine: &'a Machine,
+    period: f64,
+    prev: Option<Sample>,
+}
+
+impl<'a> CommandedValues<'a> {
+    pub fn new(machine: &'a Machine, period: f64) -> CommandedValues<'a> {
+        CommandedValues { b: StateBuilder::new(machine, AxisState::SOURCE_COMMANDED), machine, period, prev: None }
+    }
+
+    /// The state of `cur`, the sample after the last one given.
+    pub fn next(&mut self, cur: &Sample, next: Option<&Sample>, seg: Option<&Segment>) -> StateValues {
+        let st = values_between(&self.b, self.machine, self.period, self.prev.as_ref(), cur, next, seg);
+        self.prev = Some(*cur);
+        st
+    }
 }
 
 /// The commanded states of a sampled trajectory, in time order, all in memory.

@@ -2,7 +2,7 @@
 //! connected by bounded in-process channels instead of DDS, faster than real time. The node logic is
 //! the same as the executables'.
 
-use super::commander::{commanded_moves, commanded_stream};
+use super::commander::{commanded_moves, CommandedValues};
 use super::monitor::{LiveRegion, Monitor, MonitorConfig};
 pub use super::sim_report::{SimulatedReport, SlowRegion};
 use super::sim_report::{simulate_measured_stream, FeedFiguresReport};
@@ -238,62 +238,60 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         reopen_failed.lock().unwrap_or_else(|e| e.into_inner()).get_or_insert(e);
         None
     };
-    let (feed_tx, feed_rx) = match moves.held() {
-        None => {
-            let (tx, rx) = mpsc::sync_channel::<job::Feed>(job::FEED_BATCHES);
-            (Some(tx), Some(rx))
-        }
-        Some(_) => (None, None),
-    };
     let (analysis, sim_out, sent, statuses, monitor, tape_result) = std::thread::scope(|scope| {
-        let analysis = scope.spawn(move || match feed_rx {
-            Some(rx) => job::analyze_fed(rx, machine, &options.job),
-            None => moves.report(machine),
-        });
+        // A built-in path's report is made from its held samples, beside the commander.
+        let analysis = moves.held().is_some().then(|| scope.spawn(move || moves.report(machine)));
         let tx_cmd = tx.clone();
         let pace = &pace;
-        let commander = scope.spawn(move || -> Result<u64, JobError> {
+        let commander = scope.spawn(move || -> Result<(u64, Option<AnalysisReport>), JobError> {
             let mut sent = 0u64;
             let mut batch = Batcher::new(Input::Commanded);
-            let mut publish = |states: &mut dyn Iterator<Item = StateValues>| {
-                for st in states {
-                    let t = st.t;
-                    Pace::wait(|slack| t > Pace::get(&pace.simulated) + COMMANDER_LEAD_MAX_S - slack);
-                    match batch.push(&tx_cmd, st) {
-                        None => break,
-                        Some(0) => {}
-                        // The monitor has every state up to t.
-                        Some(n) => {
-                            Pace::set(&pace.commanded, t);
-                            sent += n;
-                        }
+            // Publish one state; false once the monitor has gone.
+            let mut publish = |st: StateValues| {
+                let t = st.t;
+                Pace::wait(|slack| t > Pace::get(&pace.simulated) + COMMANDER_LEAD_MAX_S - slack);
+                match batch.push(&tx_cmd, st) {
+                    None => false,
+                    Some(0) => true,
+                    // The monitor has every state up to t.
+                    Some(n) => {
+                        Pace::set(&pace.commanded, t);
+                        sent += n;
+                        true
                     }
                 }
             };
-            let published = match (shared, feed_tx) {
-                (Some(shared), Some(tx)) => {
+            let published = match shared {
+                Some(shared) => {
+                    // The program's analysis samples it as the commander must: the commander publishes
+                    // the analysis's samples (one sampling of the program for both), and the analysis
+                    // goes on to the program's end if the commander stops publishing early.
                     let mut reader = shared.reader(0, reopen);
-                    let mut feed = job::FeedSender::new(tx);
-                    publish(&mut commanded_stream(reader.by_ref().inspect(|s| feed.push(s)), period, machine));
-                    // What the commander did not publish (it stopped early) still goes to the analysis.
-                    for seg in reader.by_ref() {
-                        feed.push(&seg);
-                    }
-                    match reader.failed() {
-                        // The reading's end is not known: the analysis's feed is cut (the reopening's
-                        // error is the run's).
-                        true => Err(JobError::FeedCut),
-                        false => {
-                            reader.with_source(|stream| feed.finish(stream));
-                            Ok(())
+                    let mut values = CommandedValues::new(machine, period);
+                    let mut publishing = true;
+                    let (analysis, counts) = crate::singularity::analyze_segments_along(reader.by_ref(), period, machine, &options.job.analysis, |cur, next, seg| {
+                        if publishing {
+                            publishing = publish(values.next(cur, next, seg));
                         }
+                    });
+                    match reader.failed() {
+                        // The reading's end is not known (the reopening's error is the run's).
+                        true => Err(JobError::FeedCut),
+                        false => reader.with_source(|stream| job::report_of_reading(stream, &analysis, counts, machine, &options.job)).map(Some),
                     }
                 }
-                _ => commanded_moves(moves, machine).map(|mut states| publish(&mut states)),
+                None => commanded_moves(moves, machine).map(|states| {
+                    for st in states {
+                        if !publish(st) {
+                            break;
+                        }
+                    }
+                    None
+                }),
             };
             sent += batch.flush(&tx_cmd).unwrap_or(0);
             Pace::set(&pace.commanded, f64::INFINITY);
-            published.map(|_| sent)
+            published.map(|report| (sent, report))
         });
         let tx_sim = tx;
         let simulator = scope.spawn(move || -> Result<_, JobError> {
@@ -403,8 +401,16 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             };
             (m, (statuses, commanded), received, tape_result)
         });
-        let analysis = analysis.join().expect("analysis thread");
-        let commanded = commander.join().expect("commander thread");
+        let (commanded, along) = match commander.join().expect("commander thread") {
+            Ok((sent, report)) => (Ok(sent), report),
+            Err(e) => (Err(e), None),
+        };
+        // The report: the built-in path's own, else the one made along the commander's reading.
+        let analysis = match (analysis, along) {
+            (Some(a), _) => a.join().expect("analysis thread"),
+            (None, Some(report)) => Ok(report),
+            (None, None) => Err(JobError::FeedCut),
+        };
         let simulated = simulator.join().expect("simulator thread");
         let (m, statuses, received, tape_result) = monitor.join().expect("monitor thread");
         let sim_out = commanded.and_then(|sent_cmd| simulated.map(|s| (s, sent_cmd)));

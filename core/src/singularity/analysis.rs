@@ -216,7 +216,7 @@ pub fn statuses<'a>(traj: &'a Trajectory, machine: &'a Machine) -> impl Iterator
 
 /// Analyze a trajectory on a machine in one pass over its samples (see [`analyze_segments`]).
 pub fn analyze(traj: &Trajectory, machine: &Machine, options: &AnalysisOptions) -> Analysis {
-    analyze_stream(traj.segments.iter().cloned(), Some(&traj.stored), traj.period, machine, options, |_| {}).0
+    analyze_stream(traj.segments.iter().cloned(), Some(&traj.stored), traj.period, machine, options, |_| {}, |_, _, _| {}).0
 }
 
 /// What a streamed analysis counted besides its findings.
@@ -229,7 +229,20 @@ pub struct StreamCounts {
 /// Analyze a stream of segments sampled every `period` s, in one pass: memory holds a window of the
 /// segments and the regions, never the samples or the program.
 pub fn analyze_segments(segments: impl Iterator<Item = Segment>, period: f64, machine: &Machine, options: &AnalysisOptions) -> (Analysis, StreamCounts) {
-    analyze_stream(segments, None, period, machine, options, |_| {})
+    analyze_stream(segments, None, period, machine, options, |_| {}, |_, _, _| {})
+}
+
+/// [`analyze_segments`], handing each sample to `on_sample` as the analysis makes it, with the next
+/// sample (None at the end) and the sample's segment: a consumer that needs the same samples (the
+/// in-process run's commander, which publishes them) takes them instead of sampling the program again.
+pub fn analyze_segments_along(
+    segments: impl Iterator<Item = Segment>,
+    period: f64,
+    machine: &Machine,
+    options: &AnalysisOptions,
+    on_sample: impl FnMut(&Sample, Option<&Sample>, Option<&Segment>),
+) -> (Analysis, StreamCounts) {
+    analyze_stream(segments, None, period, machine, options, |_| {}, on_sample)
 }
 
 /// [`analyze_segments`], handing every region to `each` as it closes (listed or folded): what a
@@ -241,7 +254,7 @@ pub fn analyze_segments_each(
     options: &AnalysisOptions,
     each: impl FnMut(&Region),
 ) -> (Analysis, StreamCounts) {
-    analyze_stream(segments, None, period, machine, options, each)
+    analyze_stream(segments, None, period, machine, options, each, |_, _, _| {})
 }
 
 /// The programmed extremes lie at block ends, which the sample grid may miss by a fraction of a
@@ -281,6 +294,7 @@ fn analyze_stream(
     machine: &Machine,
     options: &AnalysisOptions,
     mut each: impl FnMut(&Region),
+    mut on_sample: impl FnMut(&Sample, Option<&Sample>, Option<&Segment>),
 ) -> (Analysis, StreamCounts) {
     let sd = machine.singular_direction();
     let limits = machine.limits();
@@ -300,7 +314,10 @@ fn analyze_stream(
     let mut n = 0usize;
     let mut ends = SegmentEnds { sd, five_axis: None, all: f64::INFINITY, end_time: 0.0, count: 0 };
     let segments = segments.inspect(|seg| ends.push(seg, machine));
-    for (k, (sm, st, info)) in Statuses::new(segments, stored, period, machine).enumerate() {
+    let mut statuses = Statuses::new(segments, stored, period, machine);
+    for k in 0usize.. {
+        let Some((sm, st, info)) = statuses.next() else { break };
+        on_sample(&sm, statuses.next.as_ref(), statuses.window.loaded(sm.segment));
         n += 1;
         // Regions: contiguous samples beyond the limits, entered and left at the interpolated crossing.
         match (in_region(&st, rate_limit, options.min_distance), open.as_mut()) {

@@ -13,7 +13,7 @@ mod geometry;
 pub mod measured;
 pub mod tracker;
 
-pub use analysis::{analyze, analyze_segments, analyze_segments_each, statuses, Analysis, AnalysisOptions, Region, RegionCause, SegmentInfo, Status, Statuses, StreamCounts, Summary};
+pub use analysis::{analyze, analyze_segments, analyze_segments_along, analyze_segments_each, statuses, Analysis, AnalysisOptions, Region, RegionCause, SegmentInfo, Status, Statuses, StreamCounts, Summary};
 pub use feed::{feed_limit, FeedLimit, FeedLimiter, LimitKind};
 pub use geometry::{CubicSpline, PathGeometry, SplineBasis, CORNER_DEG, SPLINE_OVERLAP_BLOCKS};
 
