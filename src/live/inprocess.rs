@@ -351,45 +351,48 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                 Input::Commanded(b) => (0, b),
                 Input::Simulated(b) => (1, b),
             });
-            for (k, v) in inputs.flat_map(|(k, b)| b.into_iter().map(move |v| (k, v))) {
-                received += 1;
-                let st: &AxisState = match &mut messages[k] {
-                    Some(st) => {
-                        builders[k].fill(&v, st);
-                        st
-                    }
-                    slot => slot.insert(builders[k].message(&v)),
-                };
-                let topic = if k == 0 {
-                    m.on_commanded_ahead(st);
-                    topics::COMMANDED_STATE.name
-                } else {
-                    topics::SIMULATED_STATE.name
-                };
-                let wall = st.header.stamp.as_secs();
-                if !want_status {
-                    // Nothing records or keeps the status message: evaluate only (no per-state allocation).
-                    let id = *ids[k].get_or_insert_with(|| m.input(topic));
-                    let _ = m.evaluate(id, st, wall);
-                    continue;
-                }
-                let status = m.on_state(topic, st, wall);
-                if let (Some(t), None) = (tape.as_mut(), &tape_error) {
-                    let r = t
-                        .state(st, topic == topics::COMMANDED_STATE.name, &m)
-                        .and_then(|_| match &status {
-                            Ok(s) => t.status(s),
-                            Err(_) => Ok(()),
-                        });
-                    if let Err(e) = r {
-                        tape_error = Some(e);
-                    }
-                }
-                if let Some(s) = status.ok().filter(|_| options.keep_statuses) {
-                    if topic == topics::SIMULATED_STATE.name {
-                        statuses.push(s);
+            // Each state is read where its batch holds it, not moved out (about 200 bytes each).
+            for (k, batch) in inputs {
+                for v in &batch {
+                    received += 1;
+                    let st: &AxisState = match &mut messages[k] {
+                        Some(st) => {
+                            builders[k].fill(v, st);
+                            st
+                        }
+                        slot => slot.insert(builders[k].message(v)),
+                    };
+                    let topic = if k == 0 {
+                        m.on_commanded_ahead(st);
+                        topics::COMMANDED_STATE.name
                     } else {
-                        commanded.push(s);
+                        topics::SIMULATED_STATE.name
+                    };
+                    let wall = st.header.stamp.as_secs();
+                    if !want_status {
+                        // Nothing records or keeps the status message: evaluate only (no per-state allocation).
+                        let id = *ids[k].get_or_insert_with(|| m.input(topic));
+                        let _ = m.evaluate(id, st, wall);
+                        continue;
+                    }
+                    let status = m.on_state(topic, st, wall);
+                    if let (Some(t), None) = (tape.as_mut(), &tape_error) {
+                        let r = t
+                            .state(st, topic == topics::COMMANDED_STATE.name, &m)
+                            .and_then(|_| match &status {
+                                Ok(s) => t.status(s),
+                                Err(_) => Ok(()),
+                            });
+                        if let Err(e) = r {
+                            tape_error = Some(e);
+                        }
+                    }
+                    if let Some(s) = status.ok().filter(|_| options.keep_statuses) {
+                        if topic == topics::SIMULATED_STATE.name {
+                            statuses.push(s);
+                        } else {
+                            commanded.push(s);
+                        }
                     }
                 }
             }
