@@ -113,3 +113,31 @@ pub fn commanded_passes<'a>(
     }
     Ok(Box::new(commanded_stream(moves.passes(machine, passes, failed)?, moves.period(), machine)))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::job::{JobOptions, Moves};
+
+    /// The in-process run's commander publishes the analysis's samples ([`CommandedValues`] over
+    /// [`crate::singularity::analyze_segments_along`]): the same states, bit for bit, as the
+    /// commander node's own sampling of the program ([`commanded_stream`]).
+    #[test]
+    fn states_made_along_the_analysis_are_the_commanded_stream() {
+        let m = Machine::hermle_c600u();
+        let options = JobOptions::default();
+        for spec in ["bundled:SING.I", "bundled:NON_SING.I"] {
+            let moves = Moves::open(spec, &m, &options).unwrap();
+            let period = moves.period();
+            let own: Vec<StateValues> = commanded_stream(moves.segments(&m).unwrap(), period, &m).collect();
+            let mut values = CommandedValues::new(&m, period);
+            let mut along = Vec::new();
+            let (_, counts) = crate::singularity::analyze_segments_along(moves.segments(&m).unwrap(), period, &m, &options.analysis, |cur, next, seg| {
+                along.push(values.next(cur, next, seg));
+            });
+            assert!(own.len() > 1000, "{spec}: {} states", own.len());
+            assert_eq!(along.len(), counts.samples, "{spec}");
+            assert!(along == own, "{spec}: {} states along the analysis, {} of the commander's own", along.len(), own.len());
+        }
+    }
+}
