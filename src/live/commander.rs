@@ -33,14 +33,11 @@ pub fn commanded_values_iter<'a>(traj: &'a Trajectory, machine: &'a Machine) -> 
         return Box::new(commanded_stream(traj.segments.iter().cloned(), traj.period, machine));
     }
     // A built-in path's own samples, with the segments they name.
-    let b = StateBuilder::new(machine, AxisState::SOURCE_COMMANDED);
+    let mut values = CommandedValues::new(machine, traj.period);
     let mut samples = traj.stored.iter().peekable();
-    let mut prev: Option<Sample> = None;
     Box::new(std::iter::from_fn(move || {
-        let cur = *samples.next()?;
-        let st = values_between(&b, machine, traj.period, prev.as_ref(), &cur, samples.peek().copied(), traj.segments.get(cur.segment));
-        prev = Some(cur);
-        Some(st)
+        let cur = samples.next()?;
+        Some(values.next(cur, samples.peek().copied(), traj.segments.get(cur.segment)))
     }))
 }
 
