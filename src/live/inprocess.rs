@@ -199,8 +199,9 @@ impl Batcher {
     }
 }
 
-/// Run the node set in one process on `spec`. Each node reads the program for itself as a stream
-/// ([`Moves`]): the analysis, the commander, and the simulator's planner with its scout. The
+/// Run the node set in one process on `spec`. The program is read as a stream ([`Moves`]): once for
+/// the commander (which makes the program's analysis along its reading) and the simulator's scout,
+/// and again by the simulator's planner only past what its scout keeps for it. The
 /// commander's and the simulator's states stream through bounded channels into the monitor (and
 /// the recording) as they are made; nothing is held per sample or per block unless asked
 /// ([`RunOptions::keep_simulation`], [`RunOptions::keep_statuses`]), so memory does not grow with the
@@ -222,9 +223,9 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
     };
     let moves = &moves;
     // A program is read and segmented once for the commander, the analysis and the simulator's
-    // scout: the commander hands the segments it reads to the analysis (a built-in path's report is
-    // made with it), and shares the reading with the simulator (`SharedRead`: whichever is ahead reads
-    // on; one that falls too far behind reads a copy of its own, opened again here).
+    // scout: the commander makes the analysis along its reading (a built-in path's report is made
+    // from its held samples), and shares the reading with the simulator (`SharedRead`: whichever is
+    // ahead reads on; one that falls too far behind reads a copy of its own, opened again here).
     let shared = moves.segment_stream(machine)?.map(SharedRead::new);
     let shared = shared.as_ref();
     let reopen_failed = std::sync::Mutex::new(None);
