@@ -808,6 +808,72 @@ wait $R1 $R2 $R3
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// DDS Security's handshake answered late completes (vendor/rustdds, `handshake-resend.patch` and
+/// `poll-eintr.patch`). The keyed recorder starts the handshake (the lower GUID prefix, derived from
+/// its certificate); the keyed commander is stopped (SIGSTOP) from the recorder's first request
+/// until after its 10 resends (11 s), then continued. Upstream RustDDS 0.15.1 removed the request
+/// with its last resend, so every reply was "not related to the message that we have sent" and the
+/// pair never matched (0 of 1501: the CI failure of the security test above, where the commander
+/// learned of the recorder only at its periodic announcement 10 s after start); and the continued
+/// commander's discovery thread ended on EINTR. Now the commander, at 4x, delivers all 1501 samples.
+#[test]
+fn dds_security_handshake_answered_after_the_requests_resends_completes() {
+    let b = bins();
+    let dir = common::scratch_dir("dds-security-late");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let ks = dir.join("keystore");
+    let made = Command::new(root.join("launch-free-scripts/keystore")).arg(&ks).args(["/fiveaxis/commander", "/fiveaxis/recorder"]).output().expect("keystore runs");
+    assert!(made.status.success(), "keystore: {}", String::from_utf8_lossy(&made.stderr));
+    // Up to 3 attempts: one only counts when the commander was stopped before the handshake
+    // completed (the recorder's log shows its request's resends run out first).
+    let mut scenario = String::new();
+    for attempt in 1..=3 {
+        let d = dir.join(format!("attempt-{attempt}"));
+        std::fs::create_dir_all(&d).unwrap();
+        let script = format!(
+            r#"set -u
+B="{b}"; D="{d}"
+export ROS_SECURITY_ENABLE=true ROS_SECURITY_STRATEGY=Enforce ROS_SECURITY_KEYSTORE="{ks}"
+export RUST_LOG=warn,rustdds::discovery::secure_discovery=debug
+( exec "$B/fiveaxis-recorder" --output "$D/keyed.mcap" --topic commanded/axis_state:AxisState --ros-args --enclave /fiveaxis/recorder > "$D/keyed.log" 2>&1 ) &
+R=$!
+sleep 0.5
+"$B/fiveaxis-commander" builtin:paper-sing --use-sim-time --speed 4 --min-subscribers 1 --wait-for-subscriber-s 60 \
+    --ros-args --enclave /fiveaxis/commander > "$D/commander.log" 2>&1 &
+C=$!
+for i in $(seq 3000); do grep -q "Sending a handshake request message" "$D/keyed.log" && break; sleep 0.01; done
+kill -STOP $C; sleep 11; kill -CONT $C
+wait $C; echo "commander: $?"
+sleep 0.5; kill -INT $R
+for i in $(seq 100); do kill -0 $R 2> /dev/null || break; sleep 0.1; done
+kill -0 $R 2> /dev/null && {{ echo "recorder did not stop on SIGINT"; kill -9 $R; }}
+wait $R
+"#,
+            b = b.display(),
+            d = d.display(),
+            ks = ks.display(),
+        );
+        let out = netns_bash(&script);
+        let said = String::from_utf8_lossy(&out.stdout).to_string();
+        let read = |n: &str| std::fs::read_to_string(d.join(n)).unwrap_or_default();
+        let (keyed, commander) = (read("keyed.log"), read("commander.log"));
+        let context = format!("{said}\n{}\n--- keyed.log\n{keyed}\n--- commander.log\n{commander}", String::from_utf8_lossy(&out.stderr));
+        let exhausted = keyed.find("Resending at most 0 more times");
+        let authenticated = keyed.find("Authenticated successfully");
+        if exhausted.is_none() || authenticated.is_some_and(|a| a < exhausted.unwrap()) {
+            scenario = format!("attempt {attempt}: the handshake completed before the commander was stopped\n{context}");
+            continue;
+        }
+        assert!(said.contains("commander: 0") && !said.contains("did not stop"), "{context}");
+        assert!(!commander.contains("Failed in waiting of poll in discovery"), "the continued commander's discovery ended on EINTR: {context}");
+        assert!(authenticated.is_some(), "the handshake never completed: {context}");
+        assert_eq!(message_count(&d.join("keyed.mcap")), 1501, "keyed recorder: {context}");
+        let _ = std::fs::remove_dir_all(&dir);
+        return;
+    }
+    panic!("the scenario (commander stopped before the handshake completed) was never set up:\n{scenario}");
+}
+
 /// The recorder node on a full disk (a 1 MiB tmpfs in a private mount namespace) ends as `fiveaxis
 /// run --mcap` does: exit 2 naming the file and the cause, the file closed at its last whole chunk
 /// and read through by our reader, as many messages as the error says.
