@@ -51,7 +51,7 @@ fn main() -> anyhow::Result<()> {
             std::process::exit(EXIT_INPUT);
         }
     };
-    let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, clock_pub.as_ref(), &pacer, &shutdown);
+    let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, clock_pub.as_ref(), &pacer, args.stream.first_ack_wait(), &shutdown);
     fiveaxis_bus::program::finish_passes(&args.stream.program, &reread, sent);
     gate.finish(sent > 0, shutdown.requested());
     Ok(())

@@ -73,7 +73,7 @@ fn main() -> anyhow::Result<()> {
             Ok::<_, fiveaxis::job::JobError>(simulate_measured_stream(segments, scout, moves.period(), machine, &config, |_, _, st| tx.send(st).is_ok()))
         });
         let states = rx.into_iter().map(|v| builder.message(&v));
-        let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, None, &pacer, &shutdown);
+        let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, None, &pacer, args.stream.first_ack_wait(), &shutdown);
         (simulator.join().expect("simulator thread"), sent)
     });
     let (summary, figures) = match simulated {

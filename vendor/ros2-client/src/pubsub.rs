@@ -41,6 +41,18 @@ impl<M: Serialize> Publisher<M> {
     self.datawriter.assert_liveliness().map_err(Into::into)
   }
 
+  /// Blocks until every matched reliable subscription has acknowledged every
+  /// message published so far, or `max_wait` passes: `Ok(true)` when
+  /// acknowledged (or when no reliable subscription is matched), `Ok(false)` on
+  /// timeout. (fiveaxis patch `ack-wait.patch`: RustDDS has it, upstream
+  /// ros2-client does not expose it.)
+  pub fn wait_for_acknowledgments(&self, max_wait: std::time::Duration) -> WriteResult<bool, ()> {
+    self
+      .datawriter
+      .wait_for_acknowledgments(max_wait)
+      .map_err(Into::into)
+  }
+
   pub fn guid(&self) -> rustdds::GUID {
     self.datawriter.guid()
   }
