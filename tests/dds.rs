@@ -796,10 +796,11 @@ wait $R1 $R2 $R3
     let absent = std::fs::read_to_string(dir.join("absent.log")).unwrap_or_default();
     // Bad input: exit 2, naming the enclave.
     assert!(said.contains("absent enclave: 2") && absent.contains("/fiveaxis/absent"), "{context}");
-    // builtin:paper-sing is 1501 samples.
-    assert_eq!(message_count(&dir.join("keyed.mcap")), 1501, "keyed recorder: {context}");
-    assert_eq!(message_count(&dir.join("unkeyed.mcap")), 1501, "unkeyed recorder (the plain commander's only): {context}");
-    assert_eq!(message_count(&dir.join("stranger.mcap")), 0, "recorder keyed by another CA: {context}");
+    // builtin:paper-sing is 1501 samples. All three counts are read before any is asserted, so a
+    // failure reports them together.
+    let counts = ["keyed", "unkeyed", "stranger"].map(|n| message_count(&dir.join(format!("{n}.mcap"))));
+    let counts_said = format!("keyed {}, unkeyed (the plain commander's only) {}, keyed by another CA {}", counts[0], counts[1], counts[2]);
+    assert_eq!(counts, [1501, 1501, 0], "recorders' counts: {counts_said}\n{context}");
     let sniffed = |f: &str| -> serde_json::Value { serde_json::from_str(&std::fs::read_to_string(dir.join(f)).unwrap_or_default()).unwrap_or_else(|e| panic!("{f}: {e}\n{context}")) };
     let (secure, plain) = (sniffed("secure.json"), sniffed("plain.json"));
     assert!(secure["datagrams"].as_u64().unwrap() > 1000, "secure phase: {secure}");
