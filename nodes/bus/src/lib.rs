@@ -525,7 +525,7 @@ pub fn resolve(namespace: &str, remaps: &[(String, String)], topic: &str) -> Str
 /// one slow reader. Returns (sent, dropped).
 ///
 /// The first sample waits up to `first_ack_wait` until every matched subscriber has acknowledged
-/// it (and the pacing starts over from there): a subscriber is matched before it can read, and
+/// it (the pacing then starts over from there, or in wall time catches up on a short wait): a subscriber is matched before it can read, and
 /// under DDS Security before the key exchange that lets it decrypt has completed, so without the
 /// wait it lost the stream's first samples (a secure recorder kept 575-1025 of 1501 in half the runs
 /// at speed 4).
@@ -564,7 +564,14 @@ pub fn publish_states(
                     first_ack_wait.as_secs_f64()
                 );
             }
-            pacer = pacer.delayed(began.elapsed());
+            // Program-time stamps do not move with the pacing, so it starts over after the wait.
+            // Wall-time stamps are due times: a short wait is caught up (a burst of at most half a
+            // second of samples, within the writers' history), so the stamps stay regular (the soak
+            // counts a gap of 1.5 ms); only a longer one moves the pacing, leaving a gap there.
+            let waited = began.elapsed();
+            if !pacer.stamps_wall_time() || waited > CATCH_UP_MAX {
+                pacer = pacer.delayed(waited);
+            }
         }
         if ok {
             sent += 1;
@@ -585,6 +592,9 @@ pub fn publish_states(
     std::thread::sleep(Duration::from_millis(500));
     (sent, dropped)
 }
+
+/// The longest wait for the first sample's acknowledgement that wall-time pacing catches up on.
+const CATCH_UP_MAX: Duration = Duration::from_millis(500);
 
 /// Wait up to `max_wait` until every matched subscriber of the three publishers has acknowledged
 /// what they published; false on timeout (shutdown ends the wait early, as acknowledged).
@@ -635,6 +645,11 @@ impl Pacer {
     /// `speed` None: as fast as possible. Stamps program time.
     pub fn new(speed: Option<f64>) -> Pacer {
         Pacer { start: Instant::now(), speed, wall: None }
+    }
+
+    /// Whether it stamps wall time (else program time).
+    pub fn stamps_wall_time(&self) -> bool {
+        self.wall.is_some()
     }
 
     /// The same pacing started `d` later: every sample is due, and stamped in wall time, `d` later.
