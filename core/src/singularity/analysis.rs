@@ -315,9 +315,9 @@ fn analyze_stream(
     let mut ends = SegmentEnds { sd, five_axis: None, all: f64::INFINITY, end_time: 0.0, count: 0 };
     let segments = segments.inspect(|seg| ends.push(seg, machine));
     let mut statuses = Statuses::new(segments, stored, period, machine);
-    for k in 0usize.. {
-        let Some((sm, st, info)) = statuses.next() else { break };
+    while let Some((sm, st, info)) = statuses.next() {
         on_sample(&sm, statuses.next.as_ref(), statuses.window.loaded(sm.segment));
+        let k = n;
         n += 1;
         // Regions: contiguous samples beyond the limits, entered and left at the interpolated crossing.
         match (in_region(&st, rate_limit, options.min_distance), open.as_mut()) {

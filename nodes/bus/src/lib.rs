@@ -473,22 +473,21 @@ impl Bus {
         if !self.wait_for_subscriber(publisher, timeout, shutdown) {
             return false;
         }
-        while Instant::now() < end && !shutdown.requested() {
-            if publisher.get_subscription_count(&self.node) >= n {
-                return true;
+        let enough = |pause: Duration| {
+            let n_now = publisher.get_subscription_count(&self.node);
+            if n_now < n {
+                std::thread::sleep(pause);
             }
-            std::thread::sleep(Duration::from_millis(10));
-        }
-        false
+            n_now >= n
+        };
+        retry_until(end, shutdown, Duration::from_millis(10), enough).unwrap_or(false)
     }
 
     /// Wait up to `timeout` until `publisher` has a matched subscription; false on timeout or shutdown.
     pub fn wait_for_subscriber<M: Serialize>(&self, publisher: &Publisher<M>, timeout: Duration, shutdown: &Shutdown) -> bool {
-        let end = Instant::now() + timeout;
         let mut matched = Box::pin(publisher.wait_for_subscription(&self.node));
-        while Instant::now() < end && !shutdown.requested() {
-            let slice = Duration::from_millis(100).min(end.saturating_duration_since(Instant::now()));
-            let done = smol::block_on(smol::future::or(
+        let matched_within = |slice: Duration| {
+            smol::block_on(smol::future::or(
                 async {
                     (&mut matched).await;
                     true
@@ -497,12 +496,9 @@ impl Bus {
                     smol::Timer::after(slice).await;
                     false
                 },
-            ));
-            if done {
-                return true;
-            }
-        }
-        false
+            ))
+        };
+        retry_until(Instant::now() + timeout, shutdown, Duration::from_millis(100), matched_within).unwrap_or(false)
     }
 }
 
@@ -607,28 +603,27 @@ fn first_sample_acknowledged(
 ) -> bool {
     let end = Instant::now() + max_wait;
     let slice = Duration::from_millis(100);
-    let mut waits: Vec<Box<dyn Fn(Duration) -> bool + '_>> = vec![
-        Box::new(|d| state_pub.wait_for_acknowledgments(d).unwrap_or(false)),
-        Box::new(|d| joint_pub.wait_for_acknowledgments(d).unwrap_or(false)),
-    ];
-    if let Some(c) = clock_pub {
-        waits.push(Box::new(move |d| c.wait_for_acknowledgments(d).unwrap_or(false)));
+    fn acked<M: Serialize>(p: &Publisher<M>, end: Instant, slice: Duration, shutdown: &Shutdown) -> bool {
+        retry_until(end, shutdown, slice, |d| p.wait_for_acknowledgments(d).unwrap_or(false)).unwrap_or(true)
     }
-    for acked in &waits {
-        loop {
-            if shutdown.requested() {
-                return true;
-            }
-            let left = end.saturating_duration_since(Instant::now());
-            if acked(slice.min(left)) {
-                break;
-            }
-            if left <= slice {
-                return false;
-            }
+    acked(state_pub, end, slice, shutdown) && acked(joint_pub, end, slice, shutdown) && clock_pub.is_none_or(|c| acked(c, end, slice, shutdown))
+}
+
+/// Call `attempt` with how long it may block (`slice`, less near `end`) until it succeeds:
+/// Some(true); or `end` passes: Some(false); or shutdown is asked: None.
+fn retry_until(end: Instant, shutdown: &Shutdown, slice: Duration, mut attempt: impl FnMut(Duration) -> bool) -> Option<bool> {
+    loop {
+        if shutdown.requested() {
+            return None;
+        }
+        let left = end.saturating_duration_since(Instant::now());
+        if attempt(slice.min(left)) {
+            return Some(true);
+        }
+        if left <= slice {
+            return Some(false);
         }
     }
-    true
 }
 
 /// Paces a loop against the wall clock: sample time `t` (s) is due at `start + t / speed`; and
