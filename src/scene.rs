@@ -110,7 +110,7 @@ impl PassTracker {
             self.close();
             return None;
         }
-        let Some(p) = last else { return None };
+        let p = last?;
         let d: [f64; 3] = std::array::from_fn(|i| tip_mm[i] - p[i]);
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         if !len.is_finite() {

@@ -44,7 +44,7 @@ fn same(a: &AxisState, b: &AxisState) -> bool {
 fn to_cdr_be(m: &AxisState) -> Vec<u8> {
     let mut out = vec![0x00, 0x00, 0x00, 0x00];
     let pad = |out: &mut Vec<u8>, n: usize| {
-        while (out.len() - 4) % n != 0 {
+        while !(out.len() - 4).is_multiple_of(n) {
             out.push(0);
         }
     };

@@ -124,7 +124,7 @@ fn random_two_rotary_chains_predict_the_secondary_rate_of_their_own_inverse() {
         let (c1, c2) = (carriers[k % 2], carriers[(k / 2) % 2]);
         // The tool at home on the cone about r1 that passes through r2, so the pole is reachable
         // (r2: the inner table axis, else the outer head axis).
-        let r2 = if c2 == Carrier::Table { 1 } else if c1 == Carrier::Table { 0 } else { 0 };
+        let r2 = if c2 == Carrier::Table { 1 } else { 0 };
         let (ar1, ar2) = if r2 == 1 { (a1, a2) } else { (a2, a1) };
         let tool = rotate(&ar1, rng.range(-3.0, 3.0), &ar2);
         let joint = |name: &str, carrier, axis: Vector3<f64>, rng: &mut Rng| RotaryJoint {

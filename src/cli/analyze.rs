@@ -78,7 +78,6 @@ pub fn main(a: &OfflineArgs) -> Outcome {
         feed_source,
         max_rejected_share: a.max_rejected_percent / 100.0,
         monitor: fiveaxis::live::monitor::MonitorConfig { work_offset: a.work_offset.unwrap_or_default(), max_listed_regions: a.listing.max_listed_regions, ..Default::default() },
-        ..Default::default()
     };
     let recordings = recordings_of(a).map_err(bad_input)?;
     if let [one] = recordings.as_slice() {

@@ -1249,7 +1249,7 @@ fn count_lost(input: &mut Input, dt: f64, t: f64) {
     // Re-estimate every 64 samples (and at the start), outside episodes (a gap being judged must not
     // move the period): a mean and two O(n) selections, no allocation.
     let n = input.stamps.len();
-    if input.episode.is_none() && n >= 25 && (input.period.is_none() || input.samples % 64 == 0) {
+    if input.episode.is_none() && n >= 25 && (input.period.is_none() || input.samples.is_multiple_of(64)) {
         // Stamps from after the last gap of a loss that began before the oldest stamp: every loss
         // put back then lies within the stamps. (Putting back a whole loss of which the window held
         // only part shortened the period, which made more gaps: a runaway, 106 k lost of 8 k missing.)

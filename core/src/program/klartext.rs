@@ -117,7 +117,7 @@ pub fn read_klartext_with(text: &str, m_codes: &[MCodeRule], orientation: Orient
     let mut diags = Diags::default();
     let interp = Interpreter::new(Dialect::Klartext).with_m_codes(m_codes).with_orientation(orientation);
     let (name, blocks) = execute(text, interp, &mut diags);
-    diags.0.sort_by(|a, b| (a.line, a.column).cmp(&(b.line, b.column)));
+    diags.0.sort_by_key(|d| (d.line, d.column));
     diags.0.dedup();
     Program { source: String::new(), dialect: Dialect::Klartext, name, blocks, diagnostics: diags.0 }
 }
@@ -242,10 +242,10 @@ struct ParseState {
 fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Diags) -> Option<Stmt<'a>> {
     let ParseState { name, inch, began, ended, datum_defined } = st;
     let all = tokens(raw.trim_end_matches('\r'));
-    let Some(&(first, first_col)) = all.first() else { return None };
+    let &(first, first_col) = all.first()?;
     // The block number, then the block.
     let (number, toks) = if first.bytes().all(|c| c.is_ascii_digit()) { (first.parse::<u64>().ok(), &all[1..]) } else { (None, &all[..]) };
-    let Some(&(head, head_col)) = toks.first() else { return None };
+    let &(head, head_col) = toks.first()?;
     if head.starts_with('*') {
         return None; // `* - SECTION`: a structure line
     }
@@ -505,7 +505,7 @@ fn tool_call<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> O
             },
             "F" => feed = value_word("F", rest, tok, col, line, diags),
             "DL" | "DR" => match parse_val(rest) {
-                Some(Val::Num(v)) if v == 0.0 => {}
+                Some(Val::Num(0.0)) => {}
                 _ => diags.error(
                     line,
                     col,
