@@ -171,9 +171,9 @@ impl StreamArgs {
         Ok(())
     }
 
-    /// How long the first sample waits for every matched subscriber's acknowledgement: as long as
-    /// the wait for subscribers (none when that is 0).
-    pub fn first_ack_wait(&self) -> Duration {
+    /// `--wait-for-subscriber-s` as a duration (none when 0): how long the node waits for its
+    /// subscribers before publishing, and then for their acknowledgement of the first sample.
+    pub fn subscriber_wait(&self) -> Duration {
         if self.wait_s > 0.0 { Duration::from_secs_f64(self.wait_s.min(1e6)) } else { Duration::ZERO }
     }
 
@@ -481,6 +481,14 @@ impl Bus {
             n_now >= n
         };
         retry_until(end, shutdown, Duration::from_millis(10), enough).unwrap_or(false)
+    }
+
+    /// Wait as `--wait-for-subscriber-s` and `--min-subscribers` ask until `publisher` (on `topic`)
+    /// has enough matched subscriptions; on timeout warn and go on (the stream publishes anyway).
+    pub fn wait_for_stream_subscribers<M: Serialize>(&self, publisher: &Publisher<M>, topic: &str, stream: &StreamArgs, shutdown: &Shutdown) {
+        if stream.wait_s > 0.0 && !self.wait_for_subscribers(publisher, stream.min_subscribers.max(1), stream.subscriber_wait(), shutdown) {
+            tracing::warn!("no subscriber on {} after {} s: publishing anyway", self.resolve(topic), stream.wait_s);
+        }
     }
 
     /// Wait up to `timeout` until `publisher` has a matched subscription; false on timeout or shutdown.

@@ -37,9 +37,7 @@ fn main() -> anyhow::Result<()> {
     let joint_pub = bus.publisher::<JointState>(topics::COMMANDED_JOINTS.name, state_qos())?;
     // Program time goes on /clock only when it is the stamps' clock.
     let clock_pub = if args.common.use_sim_time { Some(bus.publisher::<Clock>(topics::CLOCK.name, clock_qos())?) } else { None };
-    if args.stream.wait_s > 0.0 && !bus.wait_for_subscribers(&state_pub, args.stream.min_subscribers.max(1), Duration::from_secs_f64(args.stream.wait_s), &shutdown) {
-        tracing::warn!("no subscriber on {} after {} s: publishing anyway", bus.resolve(topics::COMMANDED_STATE.name), args.stream.wait_s);
-    }
+    bus.wait_for_stream_subscribers(&state_pub, topics::COMMANDED_STATE.name, &args.stream, &shutdown);
     bus.rosout(ros2_client::ros2::LogLevel::Info, &format!("commanding {}", args.stream.program));
     let pacer = args.stream.pacer(args.common.use_sim_time);
     let builder = StateBuilder::new(&machine, AxisState::SOURCE_COMMANDED);
@@ -51,7 +49,7 @@ fn main() -> anyhow::Result<()> {
             std::process::exit(EXIT_INPUT);
         }
     };
-    let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, clock_pub.as_ref(), &pacer, args.stream.first_ack_wait(), &shutdown);
+    let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, clock_pub.as_ref(), &pacer, args.stream.subscriber_wait(), &shutdown);
     fiveaxis_bus::program::finish_passes(&args.stream.program, &reread, sent);
     gate.finish(sent > 0, shutdown.requested());
     Ok(())

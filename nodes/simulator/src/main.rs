@@ -43,20 +43,7 @@ fn main() -> anyhow::Result<()> {
     let mut bus = Bus::new("fiveaxis_simulator", &args.common, &ros)?;
     let state_pub = bus.publisher::<AxisState>(topics::SIMULATED_STATE.name, state_qos())?;
     let joint_pub = bus.publisher::<JointState>(topics::SIMULATED_JOINTS.name, state_qos())?;
-    if args.stream.wait_s > 0.0
-        && !bus.wait_for_subscribers(
-            &state_pub,
-            args.stream.min_subscribers.max(1),
-            Duration::from_secs_f64(args.stream.wait_s),
-            &shutdown,
-        )
-    {
-        tracing::warn!(
-            "no subscriber on {} after {} s: publishing anyway",
-            bus.resolve(topics::SIMULATED_STATE.name),
-            args.stream.wait_s
-        );
-    }
+    bus.wait_for_stream_subscribers(&state_pub, topics::SIMULATED_STATE.name, &args.stream, &shutdown);
     bus.rosout(ros2_client::ros2::LogLevel::Info, &format!("simulating {}", args.stream.program));
     let pacer = args.stream.pacer(args.common.use_sim_time);
     // The planner and servo run on their own thread, a bounded channel ahead of the publisher: the
@@ -73,7 +60,7 @@ fn main() -> anyhow::Result<()> {
             Ok::<_, fiveaxis::job::JobError>(simulate_measured_stream(segments, scout, moves.period(), machine, &config, |_, _, st| tx.send(st).is_ok()))
         });
         let states = rx.into_iter().map(|v| builder.message(&v));
-        let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, None, &pacer, args.stream.first_ack_wait(), &shutdown);
+        let (sent, _) = publish_states(gate.guard(states, || shutdown.requested()), &state_pub, &joint_pub, None, &pacer, args.stream.subscriber_wait(), &shutdown);
         (simulator.join().expect("simulator thread"), sent)
     });
     let (summary, figures) = match simulated {
