@@ -7,7 +7,6 @@ use crate::path::{BuiltinPath, PathOptions, Trajectory};
 use crate::program::{self, Dialect, Diagnostic, LoadError, Program, ReadOptions, Severity};
 use crate::report::AnalysisReport;
 use crate::singularity::{analyze, Analysis, AnalysisOptions};
-use std::path::Path;
 
 /// The paper's NC programs, compiled in (`bundled:SING.I`, `bundled:NON_SING.I`).
 pub use crate::program::BUNDLED;
@@ -56,12 +55,52 @@ fn bundled(spec: &str, options: &JobOptions) -> Result<Option<(&'static str, Dia
     Ok(Some((text, options.dialect.unwrap_or(Dialect::Heidenhain))))
 }
 
+/// Where a program spec's text comes from, resolved once so that each consumer reads the same text
+/// from its start: compiled in (`bundled:NAME`), or a file ([`program::ProgramFile`]: a pipe, a FIFO
+/// or standard input, `-`, is held in a temporary file so that it can be read again).
+#[derive(Debug, Clone)]
+pub enum ProgramSource {
+    Bundled { spec: String, text: &'static str, dialect: Dialect },
+    File(program::ProgramFile),
+}
+
+impl ProgramSource {
+    /// Resolve a program spec (not `builtin:NAME`, a path rather than a program).
+    pub fn resolve(spec: &str, options: &JobOptions) -> Result<ProgramSource, JobError> {
+        if let Some((text, dialect)) = bundled(spec, options)? {
+            return Ok(ProgramSource::Bundled { spec: spec.into(), text, dialect });
+        }
+        Ok(ProgramSource::File(program::ProgramFile::resolve(spec)?))
+    }
+
+    /// The program's name in diagnostics (`stdin` for `-`).
+    pub fn name(&self) -> String {
+        match self {
+            ProgramSource::Bundled { spec, .. } => spec.clone(),
+            ProgramSource::File(file) => file.name(),
+        }
+    }
+
+    /// Read the program whole.
+    pub fn read(&self, options: &JobOptions) -> Result<Program, JobError> {
+        Ok(match self {
+            ProgramSource::Bundled { spec, text, dialect } => program::read(text, *dialect, spec, &options.read),
+            ProgramSource::File(file) => file.load(options.dialect, &options.read)?,
+        })
+    }
+
+    /// Open the program from its start as a stream of blocks.
+    pub fn open(&self, options: &JobOptions) -> Result<program::BlockStream, JobError> {
+        Ok(match self {
+            ProgramSource::Bundled { spec, text, dialect } => program::BlockStream::from_text(text, Some(*dialect), spec, &options.read),
+            ProgramSource::File(file) => file.open(options.dialect, &options.read)?,
+        })
+    }
+}
+
 /// Read the program named by `spec`.
 pub fn read_spec(spec: &str, options: &JobOptions) -> Result<Program, JobError> {
-    if let Some((text, dialect)) = bundled(spec, options)? {
-        return Ok(program::read(text, dialect, spec, &options.read));
-    }
-    Ok(program::load(Path::new(spec), options.dialect, &options.read)?)
+    ProgramSource::resolve(spec, options)?.read(options)
 }
 
 /// Run a job on `spec`.
@@ -76,25 +115,32 @@ pub fn run(spec: &str, machine: &Machine, options: &JobOptions) -> Result<Job, J
         let program = Program { source: spec.into(), dialect: Dialect::Cl, name: Some(name.into()), blocks: vec![], diagnostics: vec![] };
         (program, traj)
     } else {
-        let program = read_spec(spec, options)?;
-        let traj = Trajectory::from_program(&program, machine, &options.path);
-        (program, traj)
+        return Ok(run_program(read_spec(spec, options)?, machine, options));
     };
+    Ok(analyzed(program, trajectory, machine, options))
+}
+
+/// Run a job on a program read whole.
+fn run_program(program: Program, machine: &Machine, options: &JobOptions) -> Job {
+    let trajectory = Trajectory::from_program(&program, machine, &options.path);
+    analyzed(program, trajectory, machine, options)
+}
+
+/// Analyse a program's trajectory and make its report.
+fn analyzed(program: Program, trajectory: Trajectory, machine: &Machine, options: &JobOptions) -> Job {
     let analysis = analyze(&trajectory, machine, &options.analysis);
     let mut extra: Vec<Diagnostic> = trajectory.diagnostics.clone();
     if trajectory.segments.is_empty() && trajectory.stored.is_empty() {
         extra.push(no_moves(program.blocks.len()));
     }
     let report = AnalysisReport::new(&program, machine, &analysis, &trajectory, &extra, options.path.feed_override_mm_per_min);
-    Ok(Job { program, trajectory, analysis, report })
+    Job { program, trajectory, analysis, report }
 }
 
-/// Open the program named by `spec` as a stream of blocks (a file, or `bundled:NAME`).
+/// Open the program named by `spec` as a stream of blocks (a file, `-` for standard input, or
+/// `bundled:NAME`).
 pub fn open_spec(spec: &str, options: &JobOptions) -> Result<program::BlockStream, JobError> {
-    if let Some((text, dialect)) = bundled(spec, options)? {
-        return Ok(program::BlockStream::from_text(text, Some(dialect), spec, &options.read));
-    }
-    Ok(program::open(Path::new(spec), options.dialect, &options.read)?)
+    ProgramSource::resolve(spec, options)?.open(options)
 }
 
 /// Analyse the program named by `spec` as it is read (`fiveaxis program analyze`): blocks, segments
@@ -104,7 +150,12 @@ pub fn analyze_streaming(spec: &str, machine: &Machine, options: &JobOptions) ->
     if spec.starts_with("builtin:") {
         return Ok(run(spec, machine, options)?.report);
     }
-    let mut segments = crate::path::SegmentStream::new(open_spec(spec, options)?, machine, &options.path);
+    analyze_source(&ProgramSource::resolve(spec, options)?, machine, options)
+}
+
+/// [`analyze_streaming`] on a resolved program.
+fn analyze_source(source: &ProgramSource, machine: &Machine, options: &JobOptions) -> Result<AnalysisReport, JobError> {
+    let mut segments = crate::path::SegmentStream::new(source.open(options)?, machine, &options.path);
     let (analysis, counts) = crate::singularity::analyze_segments(segments.by_ref(), options.path.period, machine, &options.analysis);
     let diagnostics = read_rest(&mut segments, counts.segments);
     let read = crate::report::ReadFacts { source: segments.blocks().source(), blocks: segments.blocks().blocks_read(), samples: counts.samples, period: options.path.period };
@@ -150,7 +201,7 @@ pub struct Checked {
 /// itself) is held.
 #[derive(Debug, Clone)]
 pub enum Moves {
-    Program { spec: String, options: JobOptions },
+    Program { source: ProgramSource, options: JobOptions },
     Held(Box<Job>),
 }
 
@@ -160,8 +211,15 @@ impl Moves {
         if spec.starts_with("builtin:") {
             return Ok(Moves::Held(Box::new(run(spec, machine, options)?)));
         }
-        open_spec(spec, options)?;
-        Ok(Moves::Program { spec: spec.into(), options: options.clone() })
+        Ok(Moves::Program { source: ProgramSource::resolve(spec, options)?, options: options.clone() })
+    }
+
+    /// The program's name in diagnostics (`stdin` for `-`).
+    pub fn name(&self) -> String {
+        match self {
+            Moves::Program { source, .. } => source.name(),
+            Moves::Held(job) => job.program.source.clone(),
+        }
     }
 
     /// Sample period, s.
@@ -175,7 +233,7 @@ impl Moves {
     /// The segments from the start, one at a time (the program is read again as a stream).
     pub fn segments<'a>(&'a self, machine: &'a Machine) -> Result<Box<dyn Iterator<Item = crate::path::Segment> + 'a>, JobError> {
         Ok(match self {
-            Moves::Program { spec, options } => Box::new(crate::path::SegmentStream::new(open_spec(spec, options)?, machine, &options.path)),
+            Moves::Program { source, options } => Box::new(crate::path::SegmentStream::new(source.open(options)?, machine, &options.path)),
             Moves::Held(job) => Box::new(job.trajectory.segments.iter().cloned()),
         })
     }
@@ -184,7 +242,7 @@ impl Moves {
     /// path, which is held).
     pub fn segment_stream<'a>(&'a self, machine: &'a Machine) -> Result<Option<crate::path::SegmentStream<'a>>, JobError> {
         Ok(match self {
-            Moves::Program { spec, options } => Some(crate::path::SegmentStream::new(open_spec(spec, options)?, machine, &options.path)),
+            Moves::Program { source, options } => Some(crate::path::SegmentStream::new(source.open(options)?, machine, &options.path)),
             Moves::Held(_) => None,
         })
     }
@@ -207,6 +265,14 @@ impl Moves {
         Ok(Box::new(crate::path::Passes::new(open, passes, machine)))
     }
 
+    /// The job read whole (the program read again; a built-in path's held job).
+    pub fn whole(&self, machine: &Machine) -> Result<Job, JobError> {
+        match self {
+            Moves::Program { source, options } => Ok(run_program(source.read(options)?, machine, options)),
+            Moves::Held(job) => Ok((**job).clone()),
+        }
+    }
+
     /// The held trajectory of a built-in path (`None` for a program, which is streamed).
     pub fn held(&self) -> Option<&Trajectory> {
         match self {
@@ -220,16 +286,16 @@ impl Moves {
     /// the commanded time (s) planned through and whether a defect was met so far, so that a consumer
     /// running behind can stop before it reaches one.
     pub fn check(&self, machine: &Machine, mut progress: impl FnMut(f64, bool)) -> Result<Checked, JobError> {
-        let (spec, options) = match self {
+        let (source, options) = match self {
             Moves::Held(job) => {
                 let diagnostics: Vec<Diagnostic> = job.program.diagnostics.iter().chain(&job.trajectory.diagnostics).cloned().collect();
                 let errors = job.report.errors;
                 progress(job.trajectory.duration(), errors > 0);
                 return Ok(Checked { diagnostics, errors, blocks: job.report.blocks, segments: job.trajectory.segments.len(), duration_s: job.trajectory.duration() });
             }
-            Moves::Program { spec, options } => (spec, options),
+            Moves::Program { source, options } => (source, options),
         };
-        let mut segments = crate::path::SegmentStream::new(open_spec(spec, options)?, machine, &options.path);
+        let mut segments = crate::path::SegmentStream::new(source.open(options)?, machine, &options.path);
         let (mut count, mut end) = (0usize, 0.0f64);
         while let Some(seg) = segments.next() {
             count += 1;
@@ -245,7 +311,7 @@ impl Moves {
     /// The analysis report ([`analyze_streaming`] for a program).
     pub fn report(&self, machine: &Machine) -> Result<AnalysisReport, JobError> {
         match self {
-            Moves::Program { spec, options } => analyze_streaming(spec, machine, options),
+            Moves::Program { source, options } => analyze_source(source, machine, options),
             Moves::Held(job) => Ok(job.report.clone()),
         }
     }
@@ -315,15 +381,16 @@ pub fn program_plan(spec: &str, machine: &Machine, read: &ReadOptions) -> Result
             let regions = job.analysis.regions.iter().map(|r| (r.t_start, r.t_end)).collect();
             Ok(ProgramPlan::held(job.trajectory.segments, regions))
         }
-        Moves::Program { spec, options } => {
-            let mut segments = crate::path::SegmentStream::new(open_spec(&spec, &options).map_err(|e| e.to_string())?, machine, &options.path);
+        Moves::Program { source, options } => {
+            let mut segments = crate::path::SegmentStream::new(source.open(&options).map_err(|e| e.to_string())?, machine, &options.path);
             let mut regions = Vec::new();
             let (_, counts) = crate::singularity::analyze_segments_each(segments.by_ref(), options.path.period, machine, &options.analysis, |r| regions.push((r.t_start, r.t_end)));
             let diagnostics = read_rest(&mut segments, counts.segments);
             refuse(&diagnostics, segments.blocks().source())?;
             let machine = machine.clone();
+            let spec = spec.to_string();
             let open: crate::path::align::OpenSegments = std::sync::Arc::new(move || {
-                let blocks = open_spec(&spec, &options).map_err(|e| format!("--program {spec}: {e}"))?;
+                let blocks = source.open(&options).map_err(|e| format!("--program {spec}: {e}"))?;
                 Ok(Box::new(crate::path::SegmentStream::owned(blocks, machine.clone(), &options.path))
                     as Box<dyn Iterator<Item = crate::path::Segment> + Send>)
             });

@@ -103,6 +103,9 @@ fn a_feed_typo_is_refused_with_its_place_inside_500_mb() {
     // The commander refuses before it opens DDS (so no network namespace is needed for it).
     assert!(commander.exists(), "fiveaxis-commander is built beside fiveaxis by `cargo test --workspace`");
     cases.push((format!("'{}' '{}' --wait-for-subscriber-s 0", commander.display(), typo.display()), "typo.ngc:2:1"));
+    // The same from standard input (held in a temporary file for the node's several readers).
+    cases.push((format!("'{}' - --wait-for-subscriber-s 0 < '{}'", commander.display(), typo.display()), "stdin:2:1"));
+    cases.push((format!("'{}' run - < '{}'", bin(), typo.display()), "stdin:2:1"));
     for (cmd, place) in cases {
         let (code, text) = limited(&cmd);
         assert_eq!(code, 2, "{cmd}: {text}");

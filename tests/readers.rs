@@ -146,6 +146,11 @@ fn dialect_detection() {
     assert_eq!(Dialect::detect(None, SING), Dialect::Heidenhain);
     assert_eq!(Dialect::detect(None, "G1 X1 Y2\n"), Dialect::Rs274);
     assert_eq!(Dialect::detect(None, "1 2 3 0 0 1\n"), Dialect::Cl);
+    // A comment header says nothing of the dialect (LinuxCNC's programs open with `;` and `(` lines
+    // of prose; read from a pipe, there is no extension to go by).
+    assert_eq!(Dialect::detect(None, "; made from SING.I by a script, for LinuxCNC\n(six words or more here)\nG21 G90 G94 G17 G40 G49\n"), Dialect::Rs274);
+    assert_eq!(Dialect::detect(None, "# x y z i j k feed, every 0.1 mm\n1 2 3 0 0 1 2000\n"), Dialect::Cl);
+    assert_eq!(Dialect::detect(None, "; Heidenhain DIN/ISO with a header comment\n%SING G71 *\nN10 G90 *\n"), Dialect::Heidenhain);
     assert_eq!(Dialect::detect(path("a.ngc"), ""), Dialect::Rs274);
     // Sinumerik by extension and by its own words, whatever the extension (.nc is everyone's).
     assert_eq!(Dialect::detect(path("a.MPF"), ""), Dialect::Sinumerik);

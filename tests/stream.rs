@@ -97,6 +97,76 @@ fn program_analyze_as_a_stream_reports_what_the_whole_analysis_does() {
     assert!((r.peak_c_speed_rpm - 175.0).abs() < 0.1 && (r.peak_c_speed_x_mm - 25.0).abs() < 0.1, "{} rpm at {} mm", r.peak_c_speed_rpm, r.peak_c_speed_x_mm);
 }
 
+/// The `--json` report of `fiveaxis ARGS` with stdin from `input`, its program's name (the keys
+/// `program` and `file`, wherever they stand) replaced, and the exit code.
+fn report_named_out(args: &[&str], input: Option<&Path>) -> (i32, serde_json::Value) {
+    fn unname(v: &mut serde_json::Value) {
+        match v {
+            serde_json::Value::Object(m) => {
+                for (k, x) in m.iter_mut() {
+                    if k == "program" || k == "file" {
+                        *x = serde_json::Value::Null;
+                    } else {
+                        unname(x);
+                    }
+                }
+            }
+            serde_json::Value::Array(a) => a.iter_mut().for_each(unname),
+            _ => {}
+        }
+    }
+    let mut cmd = Command::new(bin());
+    cmd.args(args).arg("--json");
+    if let Some(input) = input {
+        cmd.stdin(std::fs::File::open(input).unwrap());
+    }
+    let out = cmd.output().unwrap();
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"), "{args:?}");
+    let mut v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{args:?}: {e}: {}", String::from_utf8_lossy(&out.stderr)));
+    unname(&mut v);
+    (out.status.code().unwrap_or(-1), v)
+}
+
+/// A program from a pipe reads as its file: every part of a run reads the program from its start
+/// for itself (the commander, the planner and its scout, the check), so a FIFO (`<(zcat P.gz)`) or
+/// standard input (`-`) is held in a temporary file (before, the first reader emptied the pipe and
+/// the others read "no moves"). Every program of the repository through a FIFO of the same name
+/// (`program analyze`), and three through standard input (`run`, dialect from the content: the
+/// LinuxCNC program opens with six-word `;` comments, which once read as CL data), report what their
+/// files do, name aside.
+#[test]
+fn a_program_from_a_pipe_or_standard_input_reads_as_its_file() {
+    let dir = common::scratch_dir("stream-fifo");
+    let m_codes = ["--m-code", "428=tcp-on", "--m-code", "429=tcp-off"];
+    for (path, options) in corpus().into_iter().filter(|(p, _)| !p.to_string_lossy().contains("xyzbc")) {
+        let fifo = dir.join(path.file_name().unwrap());
+        assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let mut writer = Command::new("sh").arg("-c").arg(format!("cat '{}' > '{}'", path.display(), fifo.display())).spawn().unwrap();
+        let flags: &[&str] = if options.m_codes.is_empty() { &[] } else { &m_codes };
+        let (file, fifo_args) = (path.to_str().unwrap(), fifo.to_str().unwrap());
+        let piped = report_named_out(&[&["program", "analyze", fifo_args], flags].concat(), None);
+        let _ = writer.kill();
+        let _ = writer.wait();
+        let read = report_named_out(&[&["program", "analyze", file], flags].concat(), None);
+        assert!(read.1["blocks"].as_u64().unwrap() > 10, "{file}: {}", read.1);
+        assert_eq!(piped, read, "{file} through a FIFO");
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let stdin_cases: [(&str, &[&str]); 3] = [
+        ("recordings/machine/linuxcnc/SING.ngc", &m_codes),
+        ("recordings/programs/twins/SING_840d.mpf", &[]),
+        ("recordings/programs/SING.I", &[]),
+    ];
+    for (file, flags) in stdin_cases {
+        let path = root.join(file);
+        let piped = report_named_out(&[&["run", "-"], flags].concat(), Some(&path));
+        let read = report_named_out(&[&["run", path.to_str().unwrap()], flags].concat(), None);
+        assert_eq!(read.0, 0, "{file}: {}", read.1);
+        assert!(read.1["simulated"]["samples"].as_u64().unwrap() > 20_000, "{file}: {}", read.1);
+        assert_eq!(piped, read, "{file} on standard input");
+    }
+}
+
 #[test]
 fn line_endings_bad_bytes_and_overlong_lines_stream_as_they_read() {
     let mut text = b"G21 G90\r\nG1 X1 F100\r\nG1 X2 (caf\xc3\xa9 \xff)\nG1 X3".to_vec();

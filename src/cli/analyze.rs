@@ -31,7 +31,7 @@ pub struct OfflineArgs {
     min_distance_deg: Option<f64>,
     #[command(flatten)]
     streams: fiveaxis::args::RecordedStreamArgs,
-    /// The program the machine ran (a file, bundled:NAME): machine streams are aligned with its moves
+    /// The program the machine ran (a file, `-` for standard input, bundled:NAME): machine streams are aligned with its moves
     /// for the programmed feed, block numbers and rapids.
     #[arg(long, conflicts_with = "feed_mm_per_min")]
     program: Option<String>,

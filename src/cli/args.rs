@@ -11,8 +11,9 @@ use fiveaxis::program::{ControlArgs, Dialect, ReadOptions};
 /// The program and how to read it (shared by `program analyze` and `run`).
 #[derive(Args)]
 pub struct ProgramArgs {
-    /// A program file (.I/.H Heidenhain, .ngc RS274, .cl/.csv CL data), builtin:paper-sing,
-    /// builtin:paper-nonsing, bundled:SING.I or bundled:NON_SING.I.
+    /// A program file (.I/.H Heidenhain, .ngc RS274, .cl/.csv CL data; a pipe such as
+    /// `<(zcat P.ngc.gz)`, or `-` for standard input, is held in a temporary file),
+    /// builtin:paper-sing, builtin:paper-nonsing, bundled:SING.I or bundled:NON_SING.I.
     pub program: String,
     #[command(flatten)]
     pub machine: MachineArgs,

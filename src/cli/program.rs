@@ -66,7 +66,7 @@ fn analyze(a: &AnalyzeArgs) -> Outcome {
         print!("{}", report.to_table());
     }
     if report.errors > 0 {
-        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.src.program, report.errors);
+        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", report.program, report.errors);
         return Ok(BAD_INPUT);
     }
     Ok(OK)

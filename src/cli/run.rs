@@ -53,7 +53,7 @@ pub fn main(a: &RunArgs) -> Outcome {
     }
     if let (Some(rrd), Some(m)) = (&a.rrd, &mcap) {
         let mut args: Vec<std::ffi::OsString> = vec!["replay".into(), m.into(), "--save".into(), rrd.into(), "--machine".into(), a.src.machine.spec.clone().into()];
-        args.extend(["--recording-name".into(), a.src.program.clone().into()]);
+        args.extend(["--recording-name".into(), out.report.analysis.program.clone().into()]);
         let status = crate::replay::rerun_bridge(&args);
         if let Some(t) = &tmp_mcap {
             let _ = std::fs::remove_file(t);
@@ -70,7 +70,7 @@ pub fn main(a: &RunArgs) -> Outcome {
         print!("{}", out.report.simulated.to_table(&out.report.analysis.secondary_axis));
     }
     if out.has_errors() {
-        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", a.src.program, out.report.analysis.errors);
+        eprintln!("fiveaxis: {} has {} defect(s); see the diagnostics above", out.report.analysis.program, out.report.analysis.errors);
         return Ok(BAD_INPUT);
     }
     Ok(OK)

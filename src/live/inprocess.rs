@@ -210,7 +210,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
     let options = options.clone();
     let options = &options;
     let moves = Moves::open(spec, machine, &options.job)?;
-    let job = if options.keep_simulation { Some(job::run(spec, machine, &options.job)?) } else { None };
+    let job = if options.keep_simulation { Some(moves.whole(machine)?) } else { None };
     let period = moves.period();
     let (tx, rx) = mpsc::sync_channel::<Input>(1);
     let tape = match &options.mcap {

@@ -2,21 +2,126 @@
 //! system, so it lives here and the core's readers take text or bytes.
 
 use fiveaxis_core::program::{read, BlockStream, Dialect, LoadError, Program, ReadOptions};
-use std::io::BufReader;
-use std::path::Path;
+use std::fs::File;
+use std::io::{BufReader, Read};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-/// Read a program file whole, detecting its dialect unless given. Bytes that are not UTF-8 are
-/// replaced (and reported where they stand).
+/// Read a program file whole (once: a pipe is read as it comes), detecting its dialect unless
+/// given. Bytes that are not UTF-8 are replaced (and reported where they stand).
 pub fn load(path: &Path, dialect: Option<Dialect>, options: &ReadOptions) -> Result<Program, LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Io { path: path.display().to_string(), source })?;
-    let text = String::from_utf8_lossy(&bytes);
-    let dialect = dialect.unwrap_or_else(|| Dialect::detect(Some(path), &text));
-    Ok(read(&text, dialect, &path.display().to_string(), options))
+    ProgramFile::Path(path.to_path_buf()).load(dialect, options)
 }
 
 /// Open a program file as a stream of blocks (memory flat in its length), detecting its dialect
 /// from its name and first lines unless given.
 pub fn open(path: &Path, dialect: Option<Dialect>, options: &ReadOptions) -> Result<BlockStream, LoadError> {
-    let file = std::fs::File::open(path).map_err(|source| LoadError::Io { path: path.display().to_string(), source })?;
-    BlockStream::from_reader(BufReader::with_capacity(1 << 16, file), Some(path), &path.display().to_string(), dialect, options)
+    ProgramFile::Path(path.to_path_buf()).open(dialect, options)
+}
+
+/// The spec that names standard input.
+pub const STDIN: &str = "-";
+
+/// The most a pipe or standard input may hold, bytes: it is copied to a temporary file so that every
+/// reader can read it again, and a stream that never ends (`yes | fiveaxis run -`) must not fill the
+/// disk. 8 GiB is over 100 hours of CAM output at a block every 0.1 mm and F2000.
+pub const MAX_SPOOL_BYTES: u64 = 8 << 30;
+
+/// A program file that every consumer can read from its start, each at its own pace (the commander,
+/// the planner and its scout, the analysis and the check each read the program for themselves).
+/// A regular file is opened again by each; a pipe, a FIFO (`<(zcat prog.ngc.gz)`) or standard input
+/// (`-`) can be read only once, so it is copied here, as it comes, to an unlinked temporary file in
+/// `$TMPDIR` (gone when the last reader is), which each reader reads at its own offset.
+#[derive(Debug, Clone)]
+pub enum ProgramFile {
+    Path(PathBuf),
+    Spooled { name: String, file: Arc<File> },
+}
+
+impl ProgramFile {
+    /// Resolve `spec` (a path, or `-` for standard input): a regular file is checked to open; anything
+    /// else is read to its end now, up to [`MAX_SPOOL_BYTES`].
+    pub fn resolve(spec: &str) -> Result<ProgramFile, LoadError> {
+        let io = |source| LoadError::Io { path: spec.to_string(), source };
+        if spec == STDIN {
+            return Self::spool(std::io::stdin().lock(), "stdin");
+        }
+        let path = Path::new(spec);
+        let file = File::open(path).map_err(io)?;
+        if file.metadata().map_err(io)?.file_type().is_file() {
+            return Ok(ProgramFile::Path(path.to_path_buf()));
+        }
+        Self::spool(file, spec)
+    }
+
+    fn spool(input: impl Read, name: &str) -> Result<ProgramFile, LoadError> {
+        let io = |source| LoadError::Io { path: name.to_string(), source };
+        let mut file = tempfile::tempfile().map_err(|e| io(std::io::Error::new(e.kind(), format!("cannot make a temporary file to hold it in {}: {e}", std::env::temp_dir().display()))))?;
+        let mut input = input.take(MAX_SPOOL_BYTES + 1);
+        let copied = std::io::copy(&mut input, &mut file).map_err(io)?;
+        if copied > MAX_SPOOL_BYTES {
+            return Err(io(std::io::Error::other(format!(
+                "more than {} GiB from a pipe or standard input (the most that is held to be read again); save the program to a file",
+                MAX_SPOOL_BYTES >> 30
+            ))));
+        }
+        Ok(ProgramFile::Spooled { name: name.to_string(), file: Arc::new(file) })
+    }
+
+    /// The name diagnostics give the program (`stdin` for `-`).
+    pub fn name(&self) -> String {
+        match self {
+            ProgramFile::Path(p) => p.display().to_string(),
+            ProgramFile::Spooled { name, .. } => name.clone(),
+        }
+    }
+
+    /// The name's path, for the dialect's file extension (none for standard input).
+    fn path(&self) -> Option<&Path> {
+        match self {
+            ProgramFile::Path(p) => Some(p),
+            ProgramFile::Spooled { name, .. } => (name != "stdin").then(|| Path::new(name)),
+        }
+    }
+
+    /// The program's bytes from its start.
+    fn reader(&self) -> Result<Box<dyn Read + Send>, LoadError> {
+        Ok(match self {
+            ProgramFile::Path(p) => Box::new(File::open(p).map_err(|source| LoadError::Io { path: p.display().to_string(), source })?),
+            ProgramFile::Spooled { file, .. } => Box::new(AtOffset { file: file.clone(), offset: 0 }),
+        })
+    }
+
+    /// Open the program as a stream of blocks (memory flat in its length), detecting its dialect
+    /// from its name and first lines unless given.
+    pub fn open(&self, dialect: Option<Dialect>, options: &ReadOptions) -> Result<BlockStream, LoadError> {
+        BlockStream::from_reader(BufReader::with_capacity(1 << 16, self.reader()?), self.path(), &self.name(), dialect, options)
+    }
+
+    /// Read the program whole, detecting its dialect unless given. Bytes that are not UTF-8 are
+    /// replaced (and reported where they stand).
+    pub fn load(&self, dialect: Option<Dialect>, options: &ReadOptions) -> Result<Program, LoadError> {
+        let mut bytes = Vec::new();
+        self.reader()?.read_to_end(&mut bytes).map_err(|source| LoadError::Io { path: self.name(), source })?;
+        let text = String::from_utf8_lossy(&bytes);
+        let dialect = dialect.unwrap_or_else(|| Dialect::detect(self.path(), &text));
+        Ok(read(&text, dialect, &self.name(), options))
+    }
+}
+
+/// A reader of a shared file at its own offset (positioned reads: the file's own offset is not used).
+struct AtOffset {
+    file: Arc<File>,
+    offset: u64,
+}
+
+impl Read for AtOffset {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        #[cfg(unix)]
+        let n = std::os::unix::fs::FileExt::read_at(&*self.file, buf, self.offset)?;
+        #[cfg(windows)]
+        let n = std::os::windows::fs::FileExt::seek_read(&*self.file, buf, self.offset)?;
+        self.offset += n as u64;
+        Ok(n)
+    }
 }

@@ -91,7 +91,9 @@ impl Dialect {
             .and_then(|p| p.extension())
             .map(|e| e.to_string_lossy().to_ascii_lowercase())
             .unwrap_or_default();
-        let first = text.lines().map(str::trim).find(|l| !l.is_empty()).unwrap_or("");
+        // The first line that is not a comment (`;` in every dialect, `#` in CL data, `(` in RS274NGC):
+        // a comment's words say nothing of the dialect (a `; ...` header of six words is not CL data).
+        let first = text.lines().map(str::trim).find(|l| !l.is_empty() && !l.starts_with([';', '#', '('])).unwrap_or("");
         // Content that only one dialect writes decides before the extension (`.h` is both
         // Heidenhain's DIN/ISO and conversational; `.nc` is used by every control).
         let upper = |l: &str| l.to_ascii_uppercase();

@@ -106,7 +106,7 @@ pub struct CommonArgs {
 /// Options of the nodes that publish a program's axis states (commander, simulator).
 #[derive(Debug, Clone, clap::Args)]
 pub struct StreamArgs {
-    /// Program file, builtin:NAME or bundled:NAME (as for `fiveaxis program analyze`).
+    /// Program file (`-`: standard input), builtin:NAME or bundled:NAME (as for `fiveaxis program analyze`).
     pub program: String,
     /// Samples per second.
     #[arg(long, default_value_t = 1000.0)]

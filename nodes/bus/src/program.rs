@@ -180,6 +180,8 @@ pub fn open_program(program: &str, options: &JobOptions, machine: &Machine, sett
             std::process::exit(EXIT_INPUT);
         }
     };
+    let name = moves.name();
+    let program = name.as_str();
     let mut gate = Gate::start(program, &moves, machine);
     if gate.handle.is_none() {
         eprintln!("error: {program}: cannot start the program check (no thread)");

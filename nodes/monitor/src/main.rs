@@ -61,7 +61,7 @@ struct Args {
     /// distance, feed limit, region), in mm, mm/min, rpm and degrees.
     #[arg(long = "samples-csv")]
     samples_csv: Option<PathBuf>,
-    /// The program the machine runs (a file, bundled:NAME): machine streams (JointState inputs) are
+    /// The program the machine runs (a file, `-` for standard input, bundled:NAME): machine streams (JointState inputs) are
     /// aligned with its moves for the programmed feed, block numbers and rapids.
     #[arg(long, conflicts_with = "feed_mm_per_min")]
     program: Option<String>,
