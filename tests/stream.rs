@@ -167,6 +167,36 @@ fn a_program_from_a_pipe_or_standard_input_reads_as_its_file() {
     }
 }
 
+/// A compressed program reads as its text: LinuxCNC's impeller demo as the repository keeps it
+/// (`.ngc.gz`, made by gzip) and in zstd (libzstd's encoder), known by their first bytes and read
+/// as their inner name's dialect; a truncated one is refused naming it (exit 2), never read short.
+#[test]
+fn a_compressed_program_reads_as_its_text() {
+    let gz = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs/linuxcnc/impeller-7bl-xyzac.ngc.gz");
+    let bytes = std::fs::read(&gz).unwrap();
+    let text = Command::new("gzip").arg("-dc").arg(&gz).output().expect("gzip runs").stdout;
+    let plain = tmp("impeller.ngc");
+    std::fs::write(&plain, &text).unwrap();
+    let zst = tmp("impeller.ngc.zst");
+    std::fs::write(&zst, zstd::encode_all(&text[..], 3).unwrap()).unwrap();
+    let truncated = tmp("impeller-truncated.ngc.gz");
+    std::fs::write(&truncated, &bytes[..bytes.len() / 2]).unwrap();
+    let flags = ["--m-code", "428=tcp-on", "--m-code", "429=tcp-off"];
+    fn args<'a>(p: &'a Path, flags: &[&'a str]) -> Vec<&'a str> {
+        [&["program", "analyze", p.to_str().unwrap()][..], flags].concat()
+    }
+    let read = report_named_out(&args(&plain, &flags), None);
+    assert_eq!(read.0, 0, "{}", read.1);
+    assert_eq!(read.1["blocks"].as_u64(), Some(4498), "the impeller's 4,498 blocks (issue 13)");
+    for compressed in [&gz, &zst] {
+        assert_eq!(report_named_out(&args(compressed, &flags), None), read, "{}", compressed.display());
+    }
+    let out = Command::new(bin()).args(args(&truncated, &flags)).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("impeller-truncated.ngc.gz") && !err.contains("panicked"), "{err}");
+}
+
 #[test]
 fn line_endings_bad_bytes_and_overlong_lines_stream_as_they_read() {
     let mut text = b"G21 G90\r\nG1 X1 F100\r\nG1 X2 (caf\xc3\xa9 \xff)\nG1 X3".to_vec();

@@ -3,7 +3,7 @@
 
 use fiveaxis_core::program::{read, BlockStream, Dialect, LoadError, Program, ReadOptions};
 use std::fs::File;
-use std::io::{BufReader, Read};
+use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -76,26 +76,41 @@ impl ProgramFile {
         }
     }
 
-    /// The name's path, for the dialect's file extension (none for standard input).
-    fn path(&self) -> Option<&Path> {
-        match self {
-            ProgramFile::Path(p) => Some(p),
-            ProgramFile::Spooled { name, .. } => (name != "stdin").then(|| Path::new(name)),
-        }
+    /// The name's path, for the dialect's file extension (none for standard input; `P.ngc` for
+    /// `P.ngc.gz`).
+    fn path(&self) -> Option<PathBuf> {
+        let path = match self {
+            ProgramFile::Path(p) => p.clone(),
+            ProgramFile::Spooled { name, .. } if name != "stdin" => PathBuf::from(name),
+            ProgramFile::Spooled { .. } => return None,
+        };
+        let compressed = path.extension().is_some_and(|e| ["gz", "zst"].iter().any(|c| e.eq_ignore_ascii_case(c)));
+        Some(if compressed { path.with_extension("") } else { path })
     }
 
-    /// The program's bytes from its start.
+    /// The program's text from its start: decompressed as it is read if it is gzip or zstd
+    /// (known by its first bytes, whatever its name).
     fn reader(&self) -> Result<Box<dyn Read + Send>, LoadError> {
-        Ok(match self {
-            ProgramFile::Path(p) => Box::new(File::open(p).map_err(|source| LoadError::Io { path: p.display().to_string(), source })?),
+        let io = |source| LoadError::Io { path: self.name(), source };
+        let raw: Box<dyn Read + Send> = match self {
+            ProgramFile::Path(p) => Box::new(File::open(p).map_err(io)?),
             ProgramFile::Spooled { file, .. } => Box::new(AtOffset { file: file.clone(), offset: 0 }),
+        };
+        let mut raw = BufReader::with_capacity(1 << 16, raw);
+        let head = raw.fill_buf().map_err(io)?;
+        Ok(if head.starts_with(&GZIP_MAGIC) {
+            Box::new(flate2::bufread::MultiGzDecoder::new(raw))
+        } else if head.starts_with(&ZSTD_MAGIC) {
+            Box::new(zstd::stream::read::Decoder::with_buffer(raw).map_err(io)?)
+        } else {
+            Box::new(raw)
         })
     }
 
     /// Open the program as a stream of blocks (memory flat in its length), detecting its dialect
     /// from its name and first lines unless given.
     pub fn open(&self, dialect: Option<Dialect>, options: &ReadOptions) -> Result<BlockStream, LoadError> {
-        BlockStream::from_reader(BufReader::with_capacity(1 << 16, self.reader()?), self.path(), &self.name(), dialect, options)
+        BlockStream::from_reader(BufReader::with_capacity(1 << 16, self.reader()?), self.path().as_deref(), &self.name(), dialect, options)
     }
 
     /// Read the program whole, detecting its dialect unless given. Bytes that are not UTF-8 are
@@ -104,10 +119,14 @@ impl ProgramFile {
         let mut bytes = Vec::new();
         self.reader()?.read_to_end(&mut bytes).map_err(|source| LoadError::Io { path: self.name(), source })?;
         let text = String::from_utf8_lossy(&bytes);
-        let dialect = dialect.unwrap_or_else(|| Dialect::detect(self.path(), &text));
+        let dialect = dialect.unwrap_or_else(|| Dialect::detect(self.path().as_deref(), &text));
         Ok(read(&text, dialect, &self.name(), options))
     }
 }
+
+/// The first bytes of a gzip member (RFC 1952) and of a zstd frame (RFC 8878).
+const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
+const ZSTD_MAGIC: [u8; 4] = [0x28, 0xb5, 0x2f, 0xfd];
 
 /// A reader of a shared file at its own offset (positioned reads: the file's own offset is not used).
 struct AtOffset {

@@ -179,7 +179,7 @@ impl BlockStream {
         dialect: Option<Dialect>,
         options: &ReadOptions,
     ) -> Result<BlockStream, LoadError> {
-        let io = |source| LoadError::Io { path: path.map_or_else(String::new, |p| p.display().to_string()), source };
+        let io = |e| LoadError::Io { path: source.to_string(), source: e };
         // The first lines, for the dialect, then read again by the reader.
         let mut head = Vec::new();
         let mut lines = 0;
