@@ -117,7 +117,7 @@ impl ProgramFile {
     /// replaced (and reported where they stand).
     pub fn load(&self, dialect: Option<Dialect>, options: &ReadOptions) -> Result<Program, LoadError> {
         let mut bytes = Vec::new();
-        self.reader()?.read_to_end(&mut bytes).map_err(|source| LoadError::Io { path: self.name(), source })?;
+        fiveaxis_core::program::read_whole_bytes(self.reader()?, &mut bytes, &self.name())?;
         let text = String::from_utf8_lossy(&bytes);
         let dialect = dialect.unwrap_or_else(|| Dialect::detect(self.path().as_deref(), &text));
         Ok(read(&text, dialect, &self.name(), options))

@@ -439,5 +439,49 @@ pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -
 pub enum LoadError {
     #[error("cannot read {path}: {source}")]
     Io { path: String, source: std::io::Error },
+    /// A program read whole (Klartext, whose labels are called from anywhere; the remedies, which
+    /// rewrite it) is longer than [`MAX_WHOLE_PROGRAM_BYTES`]: refused rather than exhaust memory
+    /// (a compressed program can unpack to any length).
+    #[error("{path}: more than {} MiB of program text to read whole (Heidenhain conversational and the `avoid` remedies read a program whole)", MAX_WHOLE_PROGRAM_BYTES >> 20)]
+    TooLong { path: String },
 }
 
+/// The longest program text read whole, bytes (1 GiB: about 14 hours of CAM output at a block every
+/// 0.1 mm and F2000).
+pub const MAX_WHOLE_PROGRAM_BYTES: u64 = 1 << 30;
+
+/// Read a program's text whole from `input`, up to [`MAX_WHOLE_PROGRAM_BYTES`] in all (`text` may
+/// already hold its first bytes); `source` names it in errors.
+pub fn read_whole_bytes(input: impl std::io::Read, text: &mut Vec<u8>, source: &str) -> Result<(), LoadError> {
+    read_whole_within(input, text, source, MAX_WHOLE_PROGRAM_BYTES)
+}
+
+fn read_whole_within(input: impl std::io::Read, text: &mut Vec<u8>, source: &str, limit: u64) -> Result<(), LoadError> {
+    let room = (limit + 1).saturating_sub(text.len() as u64);
+    std::io::Read::read_to_end(&mut std::io::Read::take(input, room), text).map_err(|e| LoadError::Io { path: source.to_string(), source: e })?;
+    if text.len() as u64 > limit {
+        return Err(LoadError::TooLong { path: source.to_string() });
+    }
+    Ok(())
+}
+
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A whole read stops one byte past its bound, whatever the input's length (an endless one
+    /// here), and refuses; text up to the bound, with the bytes already read counted, is kept.
+    #[test]
+    fn a_whole_read_is_bounded() {
+        let mut text = b"0 BEGIN".to_vec();
+        let r = read_whole_within(std::io::repeat(b'x'), &mut text, "endless.h", 4096);
+        assert!(matches!(r, Err(LoadError::TooLong { ref path }) if path == "endless.h"), "{r:?}");
+        assert_eq!(text.len(), 4097);
+        let mut text = b"0 BEGIN".to_vec();
+        read_whole_within(&b" PGM T MM\n"[..], &mut text, "t.h", 17).unwrap();
+        assert_eq!(text, b"0 BEGIN PGM T MM\n");
+        let mut text = b"0 BEGIN".to_vec();
+        assert!(read_whole_within(&b" PGM T MM\n"[..], &mut text, "t.h", 16).is_err());
+    }
+}

@@ -195,7 +195,7 @@ impl BlockStream {
             Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
                 let mut rest = head;
-                input.read_to_end(&mut rest).map_err(io)?;
+                super::read_whole_bytes(input, &mut rest, source)?;
                 Ok(Self::whole(&String::from_utf8_lossy(&rest), dialect, source, options))
             }
         }
