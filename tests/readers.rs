@@ -118,6 +118,26 @@ fn rs274_reads_linuxcnc_style_programs() {
     has(&p, 8, 6, "word P1 without a G code that takes it");
 }
 
+/// Fanuc's program number (`O1234`, with its name as a comment, the first block of a program as
+/// every Fanuc program opens) names the program and moves nothing; it is the same program without
+/// it. An O word anywhere else (a second program number, LinuxCNC's `o100 sub` or `o100 call`) is
+/// still refused where it stands.
+#[test]
+fn rs274_reads_fanucs_program_number() {
+    let body = "G21 G90 G94\nG1 X0 Y0 Z10 F2000\nG1 X10 A5 C20\nM30\n";
+    let plain = read_rs274(body);
+    let numbered = read_rs274(&format!("%\nO1234 (SING TEST)\n{body}%\n"));
+    assert!(errors(&numbered).is_empty() && numbered.diagnostics.is_empty(), "{:?}", numbered.diagnostics);
+    assert_eq!(numbered.name.as_deref(), Some("O1234"));
+    let targets = |p: &Program| p.blocks.iter().map(|b| (b.motion, b.targets.x, b.targets.a, b.targets.c, b.feed.map(|f| f.value_per_min))).collect::<Vec<_>>();
+    assert_eq!(targets(&numbered), targets(&plain));
+    assert_eq!(numbered.blocks.len(), 4);
+    has(&read_rs274(&format!("O1234\n{body}O1235\n")), 6, 1, "unsupported word O1235");
+    has(&read_rs274(&format!("{body}O1234\n")), 5, 1, "unsupported word O1234");
+    has(&read_rs274(&format!("O1234 G1 X5\n{body}")), 1, 1, "unsupported word O1234");
+    assert!(!errors(&read_rs274(&format!("o100 sub\n{body}"))).is_empty());
+}
+
 #[test]
 fn rs274_defects_name_line_and_column() {
     let p = read_rs274("G1 X1 F100\nG1 X1.2.3 Y2\nG1 X2 (open comment\nG93 G1 X3\nG1 X$4\n");

@@ -30,11 +30,15 @@ pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::O
 #[derive(Debug, Clone)]
 pub(crate) struct Rs274Reader {
     interp: Interpreter,
+    /// A line with words has been read (a program number may come only before).
+    started: bool,
+    /// The program number (`O1234`), if the program opens with one.
+    number: Option<String>,
 }
 
 impl Rs274Reader {
     pub(crate) fn new(m_codes: &[MCodeRule], orientation: super::Orientation) -> Self {
-        Rs274Reader { interp: Interpreter::new(Dialect::Rs274).with_m_codes(m_codes).with_orientation(orientation) }
+        Rs274Reader { interp: Interpreter::new(Dialect::Rs274).with_m_codes(m_codes).with_orientation(orientation), started: false, number: None }
     }
 }
 
@@ -117,11 +121,25 @@ impl super::stream::LineReader for Rs274Reader {
         if words.is_empty() {
             return;
         }
+        // Fanuc's program number: `O` and a whole number alone in the program's first block (with its
+        // name as a comment, `O1001 (DWG. A-124D)`), naming the program in memory; it moves nothing.
+        // Any other O word (LinuxCNC's `o100 sub`, a second program after `%`) stays an error below.
+        let started = std::mem::replace(&mut self.started, true);
+        if let [w] = &words[..] {
+            if !started && number.is_none() && w.letter == 'O' && w.value.fract() == 0.0 && w.value >= 1.0 && !w.raw.contains(['.', '+', '-']) {
+                self.number = Some(format!("O{}", w.raw));
+                return;
+            }
+        }
         let col = words.first().map_or(first + 1, |w| w.column.min(first + 1));
         if let Some(b) = self.interp.block(&words, line, col, number, diags) {
             out.push(b);
         } else {
             diags.warning(line, first + 1, format!("line {line} not used"));
         }
+    }
+
+    fn name(&self) -> Option<String> {
+        self.number.clone()
     }
 }
