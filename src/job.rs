@@ -137,12 +137,6 @@ fn analyzed(program: Program, trajectory: Trajectory, machine: &Machine, options
     Job { program, trajectory, analysis, report }
 }
 
-/// Open the program named by `spec` as a stream of blocks (a file, `-` for standard input, or
-/// `bundled:NAME`).
-pub fn open_spec(spec: &str, options: &JobOptions) -> Result<program::BlockStream, JobError> {
-    ProgramSource::resolve(spec, options)?.open(options)
-}
-
 /// Analyse the program named by `spec` as it is read (`fiveaxis program analyze`): blocks, segments
 /// and samples are made and dropped as the analysis passes them, so memory does not grow with the
 /// program's length. The report is the one [`run`] makes (a built-in path is run whole).

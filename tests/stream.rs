@@ -99,7 +99,7 @@ fn program_analyze_as_a_stream_reports_what_the_whole_analysis_does() {
 
 /// The `--json` report of `fiveaxis ARGS` with stdin from `input`, its program's name (the keys
 /// `program` and `file`, wherever they stand) replaced, and the exit code.
-fn report_named_out(args: &[&str], input: Option<&Path>) -> (i32, serde_json::Value) {
+fn report_unnamed(args: &[&str], input: Option<&Path>) -> (i32, serde_json::Value) {
     fn unname(v: &mut serde_json::Value) {
         match v {
             serde_json::Value::Object(m) => {
@@ -144,10 +144,10 @@ fn a_program_from_a_pipe_or_standard_input_reads_as_its_file() {
         let mut writer = Command::new("sh").arg("-c").arg(format!("cat '{}' > '{}'", path.display(), fifo.display())).spawn().unwrap();
         let flags: &[&str] = if options.m_codes.is_empty() { &[] } else { &m_codes };
         let (file, fifo_args) = (path.to_str().unwrap(), fifo.to_str().unwrap());
-        let piped = report_named_out(&[&["program", "analyze", fifo_args], flags].concat(), None);
+        let piped = report_unnamed(&[&["program", "analyze", fifo_args], flags].concat(), None);
         let _ = writer.kill();
         let _ = writer.wait();
-        let read = report_named_out(&[&["program", "analyze", file], flags].concat(), None);
+        let read = report_unnamed(&[&["program", "analyze", file], flags].concat(), None);
         assert!(read.1["blocks"].as_u64().unwrap() > 10, "{file}: {}", read.1);
         assert_eq!(piped, read, "{file} through a FIFO");
     }
@@ -159,8 +159,8 @@ fn a_program_from_a_pipe_or_standard_input_reads_as_its_file() {
     ];
     for (file, flags) in stdin_cases {
         let path = root.join(file);
-        let piped = report_named_out(&[&["run", "-"], flags].concat(), Some(&path));
-        let read = report_named_out(&[&["run", path.to_str().unwrap()], flags].concat(), None);
+        let piped = report_unnamed(&[&["run", "-"], flags].concat(), Some(&path));
+        let read = report_unnamed(&[&["run", path.to_str().unwrap()], flags].concat(), None);
         assert_eq!(read.0, 0, "{file}: {}", read.1);
         assert!(read.1["simulated"]["samples"].as_u64().unwrap() > 20_000, "{file}: {}", read.1);
         assert_eq!(piped, read, "{file} on standard input");
@@ -185,11 +185,11 @@ fn a_compressed_program_reads_as_its_text() {
     fn args<'a>(p: &'a Path, flags: &[&'a str]) -> Vec<&'a str> {
         [&["program", "analyze", p.to_str().unwrap()][..], flags].concat()
     }
-    let read = report_named_out(&args(&plain, &flags), None);
+    let read = report_unnamed(&args(&plain, &flags), None);
     assert_eq!(read.0, 0, "{}", read.1);
     assert_eq!(read.1["blocks"].as_u64(), Some(4498), "the impeller's 4,498 blocks (issue 13)");
     for compressed in [&gz, &zst] {
-        assert_eq!(report_named_out(&args(compressed, &flags), None), read, "{}", compressed.display());
+        assert_eq!(report_unnamed(&args(compressed, &flags), None), read, "{}", compressed.display());
     }
     let out = Command::new(bin()).args(args(&truncated, &flags)).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);

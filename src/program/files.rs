@@ -22,6 +22,9 @@ pub fn open(path: &Path, dialect: Option<Dialect>, options: &ReadOptions) -> Res
 /// The spec that names standard input.
 pub const STDIN: &str = "-";
 
+/// Standard input's name in diagnostics.
+const STDIN_NAME: &str = "stdin";
+
 /// The most a pipe or standard input may hold, bytes: it is copied to a temporary file so that every
 /// reader can read it again, and a stream that never ends (`yes | fiveaxis run -`) must not fill the
 /// disk. 8 GiB is over 100 hours of CAM output at a block every 0.1 mm and F2000.
@@ -44,7 +47,7 @@ impl ProgramFile {
     pub fn resolve(spec: &str) -> Result<ProgramFile, LoadError> {
         let io = |source| LoadError::Io { path: spec.to_string(), source };
         if spec == STDIN {
-            return Self::spool(std::io::stdin().lock(), "stdin");
+            return Self::spool(std::io::stdin().lock(), STDIN_NAME);
         }
         let path = Path::new(spec);
         let file = File::open(path).map_err(io)?;
@@ -81,16 +84,16 @@ impl ProgramFile {
     fn path(&self) -> Option<PathBuf> {
         let path = match self {
             ProgramFile::Path(p) => p.clone(),
-            ProgramFile::Spooled { name, .. } if name != "stdin" => PathBuf::from(name),
+            ProgramFile::Spooled { name, .. } if name != STDIN_NAME => PathBuf::from(name),
             ProgramFile::Spooled { .. } => return None,
         };
         let compressed = path.extension().is_some_and(|e| ["gz", "zst"].iter().any(|c| e.eq_ignore_ascii_case(c)));
         Some(if compressed { path.with_extension("") } else { path })
     }
 
-    /// The program's text from its start: decompressed as it is read if it is gzip or zstd
-    /// (known by its first bytes, whatever its name).
-    fn reader(&self) -> Result<Box<dyn Read + Send>, LoadError> {
+    /// The program's text from its start, buffered: decompressed as it is read if it is gzip or
+    /// zstd (known by its first bytes, whatever its name).
+    fn reader(&self) -> Result<Box<dyn BufRead + Send>, LoadError> {
         let io = |source| LoadError::Io { path: self.name(), source };
         let raw: Box<dyn Read + Send> = match self {
             ProgramFile::Path(p) => Box::new(File::open(p).map_err(io)?),
@@ -99,9 +102,9 @@ impl ProgramFile {
         let mut raw = BufReader::with_capacity(1 << 16, raw);
         let head = raw.fill_buf().map_err(io)?;
         Ok(if head.starts_with(&GZIP_MAGIC) {
-            Box::new(flate2::bufread::MultiGzDecoder::new(raw))
+            Box::new(BufReader::with_capacity(1 << 16, flate2::bufread::MultiGzDecoder::new(raw)))
         } else if head.starts_with(&ZSTD_MAGIC) {
-            Box::new(zstd::stream::read::Decoder::with_buffer(raw).map_err(io)?)
+            Box::new(BufReader::with_capacity(1 << 16, zstd::stream::read::Decoder::with_buffer(raw).map_err(io)?))
         } else {
             Box::new(raw)
         })
@@ -110,7 +113,7 @@ impl ProgramFile {
     /// Open the program as a stream of blocks (memory flat in its length), detecting its dialect
     /// from its name and first lines unless given.
     pub fn open(&self, dialect: Option<Dialect>, options: &ReadOptions) -> Result<BlockStream, LoadError> {
-        BlockStream::from_reader(BufReader::with_capacity(1 << 16, self.reader()?), self.path().as_deref(), &self.name(), dialect, options)
+        BlockStream::from_reader(self.reader()?, self.path().as_deref(), &self.name(), dialect, options)
     }
 
     /// Read the program whole, detecting its dialect unless given. Bytes that are not UTF-8 are
