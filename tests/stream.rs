@@ -220,6 +220,33 @@ fn line_endings_bad_bytes_and_overlong_lines_stream_as_they_read() {
     assert!(d.iter().any(|d| d.line == 3 && d.column == 1 && d.message.contains("longer than")), "{d:?}");
 }
 
+/// A Klartext jump lands on the line after its label however the bytes before it read: CR LF line
+/// ends, bytes that are not UTF-8, characters of two bytes and a line over the length bound (skipped,
+/// an error at its line) all count in the file offsets the reader jumps to; a label's name ends
+/// before the line end (`LBL "TWO` with its closing quote missing is still `TWO`, as the run reads it).
+#[test]
+fn klartext_jumps_land_on_their_labels_past_odd_bytes() {
+    let mut text = b"0 BEGIN PGM J MM\r\n1 L X+0 Y+0 Z+0 R0 F100\r\n; caf\xc3\xa9 \xff\r\n;".to_vec();
+    text.extend(std::iter::repeat_n(b'x', MAX_LINE_BYTES + 10));
+    text.extend(b"\r\n2 LBL 1\r\n3 L IX+1\r\n4 CALL LBL 1 REP2\r\n5 CALL LBL \"TWO\"\r\n6 L Z+10 M30\r\n7 LBL \"TWO\r\n8 L IY+1\r\n9 LBL 0\r\n10 END PGM J MM\r\n");
+    let path = tmp("jumps.h");
+    std::fs::write(&path, &text).unwrap();
+    let mut s = fiveaxis::program::open(&path, None, &ReadOptions::default()).unwrap();
+    let blocks: Vec<_> = s.by_ref().collect();
+    let mm = 1e-3;
+    let run: Vec<(usize, Option<f64>, Option<f64>)> = blocks.iter().map(|b| (b.line, b.targets.x.map(|v| v / mm), b.targets.y.map(|v| v / mm))).collect();
+    let close = |a: Option<f64>, b: Option<f64>| a.zip(b).is_none_or(|(a, b)| (a - b).abs() < 1e-9) && a.is_some() == b.is_some();
+    let want = [(2, Some(0.0), Some(0.0)), (6, Some(1.0), None), (6, Some(2.0), None), (6, Some(3.0), None), (11, None, Some(1.0)), (9, None, None)];
+    assert_eq!(run.len(), want.len(), "{run:?}");
+    for (r, w) in run.iter().zip(&want) {
+        assert!(r.0 == w.0 && close(r.1, w.1) && close(r.2, w.2), "{run:?}");
+    }
+    let d = s.diagnostics().to_vec();
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert!(d[0].line == 4 && d[0].message.contains("longer than"), "{d:?}");
+    let _ = std::fs::remove_file(&path);
+}
+
 /// A dense CL program of `n` poses (a raster with the tool axis tilting), as CAM writes it, and its
 /// duration at its F2000: the tool tip's straight steps between the poses as written, summed.
 fn dense_cl(n: usize) -> (String, f64) {
@@ -260,6 +287,83 @@ fn program_analyze_of_an_hours_long_program_fits_in_64_mb() {
     let t = v["cycle_time_s"].as_f64().unwrap();
     assert!((t - duration).abs() < 1e-6 * duration, "{t} s, expected {duration} s");
     let _ = std::fs::remove_file(&path);
+}
+
+/// A long Klartext program as CAM writes it for a TNC under M128: `n` LN poses (a raster with
+/// the tool axis tilting, TX TY TZ) in a section run twice (`LBL 1` ... `CALL LBL 1 REP1`), and a
+/// subprogram after M30 (`LBL 9`: up 5 mm and back) called before the section and after it, so the
+/// reader jumps the length of the file each way. Also the blocks it runs and its duration at F2000:
+/// the tool tip's straight steps in the order the TNC runs them, summed.
+fn dense_klartext(n: usize) -> (String, usize, f64) {
+    let pose = |k: usize| {
+        let (row, i) = (k / 1001, k % 1001);
+        let u = if row % 2 == 0 { i as f64 * 0.1 } else { 100.0 - i as f64 * 0.1 };
+        let (x, y) = (u - 50.0, (row % 200) as f64 * 0.5 - 50.0);
+        let a = (x / 12.0).cos() * 0.3;
+        ([x, y, 8.0 * (x / 12.0).sin() - 10.0], [-a.sin(), 0.0, a.cos()])
+    };
+    let mut s = String::with_capacity(n * 120 + 1000);
+    s.push_str("0 BEGIN PGM DENSE MM\n1 TOOL CALL 1 Z S12000 F2000\n2 L X-50 Y-50 Z+10 R0 FAUTO M128\n3 CALL LBL 9\n4 LBL 1\n");
+    let mut raster = Vec::with_capacity(n);
+    for k in 0..n {
+        let (p, t) = pose(k);
+        let line = format!(
+            "{} LN X{:+.4} Y{:+.4} Z{:+.4} NX{:+.7} NY{:+.7} NZ{:+.7} TX{:+.7} TY{:+.7} TZ{:+.7}\n",
+            k + 5, p[0], p[1], p[2], t[0], t[1], t[2], t[0], t[1], t[2]
+        );
+        // The position as written (4 decimals), as the control reads it.
+        let v: Vec<f64> = line.split_whitespace().skip(2).take(3).map(|w| w[1..].parse().unwrap()).collect();
+        raster.push([v[0], v[1], v[2]]);
+        s.push_str(&line);
+    }
+    let b = n + 5;
+    s.push_str(&format!("{b} CALL LBL 1 REP1\n{} CALL LBL 9\n{} L Z+50 R0 M30\n{} LBL 9\n{} L IZ+5\n{} L IZ-5\n{} LBL 0\n{} END PGM DENSE MM\n", b + 1, b + 2, b + 3, b + 4, b + 5, b + 6, b + 7));
+    let lift = |p: [f64; 3]| [[p[0], p[1], p[2] + 5.0], p];
+    let last = raster[n - 1];
+    // From the origin, where the reader starts, to the first point.
+    let mut run = vec![[0.0, 0.0, 0.0], [-50.0, -50.0, 10.0]];
+    run.extend(lift(run[1]));
+    run.extend(raster.iter().chain(&raster));
+    run.extend(lift(last));
+    run.push([last[0], last[1], 50.0]);
+    let length_mm: f64 = run.windows(2).map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2) + (w[1][2] - w[0][2]).powi(2)).sqrt()).sum();
+    // A block per point but the origin, and the TOOL CALL (the tool change, no motion).
+    (s, run.len(), length_mm / 2000.0 * 60.0)
+}
+
+/// Klartext, whose calls and repeats jump about the file, streams too: a long program with a
+/// repeated section and a subprogram at its end (400,000 blocks, 22 minutes at F2000) reads in 64 MB
+/// (read whole, its text, 23 MB, and its blocks would not fit), with every block the TNC runs and the
+/// duration of its tool path. Gzip'ed and on standard input (each read again at every jump) a shorter
+/// one reports the same as its file.
+#[test]
+fn a_long_klartext_program_streams_in_64_mb() {
+    let path = tmp("dense.h");
+    let (text, blocks, duration) = dense_klartext(200_000);
+    std::fs::write(&path, &text).unwrap();
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -v 65536; exec '{}' program analyze '{}' --json", bin(), path.display()))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["blocks"].as_u64(), Some(blocks as u64), "{}", v["diagnostics"]);
+    let t = v["cycle_time_s"].as_f64().unwrap();
+    assert!((t - duration).abs() < 1e-6 * duration, "{t} s, expected {duration} s");
+
+    let (text, blocks, _) = dense_klartext(20_000);
+    std::fs::write(&path, &text).unwrap();
+    let plain = report_unnamed(&["program", "analyze", path.to_str().unwrap()], None);
+    assert_eq!(plain.1["blocks"].as_u64(), Some(blocks as u64));
+    let gz = tmp("dense.h.gz");
+    assert!(Command::new("sh").arg("-c").arg(format!("gzip -1c '{}' > '{}'", path.display(), gz.display())).status().unwrap().success());
+    assert_eq!(report_unnamed(&["program", "analyze", gz.to_str().unwrap()], None), plain, "gzip'ed");
+    assert_eq!(report_unnamed(&["program", "analyze", "-", "--dialect", "klartext"], Some(&path)), plain, "on standard input");
+    for p in [path, gz] {
+        let _ = std::fs::remove_file(p);
+    }
 }
 
 proptest! {

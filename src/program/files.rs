@@ -1,9 +1,9 @@
 //! Program files: opening them is the only part of reading a program that touches the file
 //! system, so it lives here and the core's readers take text or bytes.
 
-use fiveaxis_core::program::{read, BlockStream, Dialect, LoadError, Program, ReadOptions};
+use fiveaxis_core::program::{read, BlockStream, Dialect, LoadError, Program, ReadOptions, Reopen};
 use std::fs::File;
-use std::io::{BufRead, BufReader, Read};
+use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -91,29 +91,67 @@ impl ProgramFile {
         Some(if compressed { path.with_extension("") } else { path })
     }
 
-    /// The program's text from its start, buffered: decompressed as it is read if it is gzip or
-    /// zstd (known by its first bytes, whatever its name).
-    fn reader(&self) -> Result<Box<dyn BufRead + Send>, LoadError> {
-        let io = |source| LoadError::Io { path: self.name(), source };
+    /// The file's bytes from `offset`, buffered, as stored (compressed or not).
+    fn raw(&self, offset: u64) -> std::io::Result<BufReader<Box<dyn Read + Send>>> {
         let raw: Box<dyn Read + Send> = match self {
-            ProgramFile::Path(p) => Box::new(File::open(p).map_err(io)?),
-            ProgramFile::Spooled { file, .. } => Box::new(AtOffset { file: file.clone(), offset: 0 }),
+            ProgramFile::Path(p) => {
+                let mut f = File::open(p)?;
+                if offset > 0 {
+                    f.seek(SeekFrom::Start(offset))?;
+                }
+                Box::new(f)
+            }
+            ProgramFile::Spooled { file, .. } => Box::new(AtOffset { file: file.clone(), offset }),
         };
-        let mut raw = BufReader::with_capacity(1 << 16, raw);
-        let head = raw.fill_buf().map_err(io)?;
+        Ok(BufReader::with_capacity(1 << 16, raw))
+    }
+
+    /// The program's text from its start, buffered: decompressed as it is read if it is gzip or
+    /// zstd (known by its first bytes, whatever its name); whether it was.
+    fn text(&self) -> std::io::Result<(Box<dyn BufRead + Send>, bool)> {
+        let mut raw = self.raw(0)?;
+        let head = raw.fill_buf()?;
         Ok(if head.starts_with(&GZIP_MAGIC) {
-            Box::new(BufReader::with_capacity(1 << 16, flate2::bufread::MultiGzDecoder::new(raw)))
+            (Box::new(BufReader::with_capacity(1 << 16, flate2::bufread::MultiGzDecoder::new(raw))), true)
         } else if head.starts_with(&ZSTD_MAGIC) {
-            Box::new(BufReader::with_capacity(1 << 16, zstd::stream::read::Decoder::with_buffer(raw).map_err(io)?))
+            (Box::new(BufReader::with_capacity(1 << 16, zstd::stream::read::Decoder::with_buffer(raw)?)), true)
         } else {
-            Box::new(raw)
+            (Box::new(raw), false)
+        })
+    }
+
+    fn reader(&self) -> Result<Box<dyn BufRead + Send>, LoadError> {
+        self.text().map(|(r, _)| r).map_err(|source| LoadError::Io { path: self.name(), source })
+    }
+
+    /// The program's text from any byte offset, for a reader that jumps (Klartext's calls and
+    /// repeats): a plain file is read at the offset; a compressed one is unpacked once, at the
+    /// first jump, to an unlinked temporary file (at most [`MAX_SPOOL_BYTES`]) read at the offset.
+    fn reopen(&self) -> Reopen<'static> {
+        let this = self.clone();
+        let mut unpacked: Option<ProgramFile> = None;
+        Box::new(move |offset| {
+            if let Some(u) = &unpacked {
+                return Ok(Box::new(u.raw(offset)?));
+            }
+            let (text, compressed) = this.text()?;
+            if !compressed {
+                return Ok(Box::new(this.raw(offset)?));
+            }
+            let u = ProgramFile::spool(text, &this.name()).map_err(|e| match e {
+                LoadError::Io { source, .. } => source,
+                other => std::io::Error::other(other.to_string()),
+            })?;
+            let r = u.raw(offset)?;
+            unpacked = Some(u);
+            Ok(Box::new(r))
         })
     }
 
     /// Open the program as a stream of blocks (memory flat in its length), detecting its dialect
     /// from its name and first lines unless given.
     pub fn open(&self, dialect: Option<Dialect>, options: &ReadOptions) -> Result<BlockStream, LoadError> {
-        BlockStream::from_reader(self.reader()?, self.path().as_deref(), &self.name(), dialect, options)
+        BlockStream::from_reader(self.reader()?, self.reopen(), self.path().as_deref(), &self.name(), dialect, options)
     }
 
     /// Read the program whole, detecting its dialect unless given. Bytes that are not UTF-8 are

@@ -6,6 +6,10 @@
 //! `AXIS POS`, `PATHCTRL AXIS`/`VECTOR`); `CYCL DEF 7` datum shift; `LBL` with `CALL LBL ... REP`
 //! (section repeats and subprograms); `Q` parameters set to plain numbers.
 //!
+//! The program runs as it is read ([`Runner`], fed a line at a time): a first pass finds the labels,
+//! then the reader reads on from wherever a call, a repeat or a return goes, so memory holds the
+//! label table and the call stack, never the program (an hours-long CAM program in flat memory).
+//!
 //! Written from the iTNC 530 User's Manual, Conversational Programming (Heidenhain 670388): "Path
 //! contours - Cartesian coordinates" (CC, C, CR: R > 0 the arc under 180 deg, CT; "DR+" the
 //! mathematically positive, counter-clockwise turn), "Subprograms and program section repeats" (a
@@ -112,14 +116,10 @@ struct Stmt<'a> {
 }
 
 /// Read a Heidenhain conversational program on a control whose machine-specific M functions do what
-/// `m_codes` says and whose orientation interpolation starts as `orientation`.
+/// `m_codes` says and whose orientation interpolation starts as `orientation`: run as a stream
+/// over the text ([`super::stream`]), its blocks collected.
 pub fn read_klartext_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
-    let mut diags = Diags::default();
-    let interp = Interpreter::new(Dialect::Klartext).with_m_codes(m_codes).with_orientation(orientation);
-    let (name, blocks) = execute(text, interp, &mut diags);
-    diags.0.sort_by_key(|d| (d.line, d.column));
-    diags.0.dedup();
-    Program { source: String::new(), dialect: Dialect::Klartext, name, blocks, diagnostics: diags.0 }
+    super::stream::read_klartext(text, m_codes, orientation)
 }
 
 /// Whitespace-separated tokens of a line, borrowed, with their 1-based columns (characters).
@@ -673,128 +673,208 @@ fn assign<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, fn_form: bool,
     }
 }
 
-/// Run the program as the TNC does (labels, repeats, subprograms), parsing each line as it runs,
-/// and interpret each block; then check the lines that did not run (uncalled subprograms).
-fn execute<'a>(text: &'a str, mut interp: Interpreter, diags: &mut Diags) -> (Option<String>, Vec<Block>) {
-    let lines: Vec<&'a str> = text.lines().map(|l| l.trim_end_matches('\r')).collect();
-    // Labels first: a call may jump forward to a subprogram written after M2/M30.
-    let mut labels: HashMap<&str, usize> = HashMap::new();
-    for (k, l) in lines.iter().enumerate() {
-        if !l.as_bytes().windows(3).any(|w| w.eq_ignore_ascii_case(b"LBL")) {
-            continue;
+/// Where a line of the program starts: its number (1-based) and byte offset. A jump (a call, a
+/// repeat, a return) tells the reader to read on from here.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct At {
+    pub line: usize,
+    pub offset: u64,
+}
+
+/// The most labels a program may define (the TNC 640 numbers them 1 to 65535 and names others): a
+/// label beyond is an error where it stands, and a call to it fails. It bounds the label table.
+pub const MAX_LABELS: usize = 100_000;
+
+/// The labels of a program, from a first pass over it (a call may jump forward to a subprogram
+/// written after M2/M30): each label's line and where the line after it starts.
+#[derive(Debug, Default)]
+pub(crate) struct Labels {
+    at: HashMap<String, (usize, At)>,
+    lines: usize,
+}
+
+impl Labels {
+    /// Take line `line` (its bytes, without the newline), the line after it starting at `next`.
+    pub(crate) fn line(&mut self, line: usize, bytes: &[u8], next: At, diags: &mut Diags) {
+        self.lines = line;
+        // Most lines are moves: find a `B` before anything else.
+        let mut rest = bytes;
+        let has_lbl = loop {
+            let Some(i) = memchr::memchr2(b'B', b'b', rest) else { break false };
+            let (before, after) = (&rest[..i], &rest[i + 1..]);
+            if before.last().is_some_and(|c| c.eq_ignore_ascii_case(&b'L')) && after.first().is_some_and(|c| c.eq_ignore_ascii_case(&b'L')) {
+                break true;
+            }
+            rest = after;
+        };
+        if !has_lbl {
+            return;
         }
-        let t = tokens(l);
+        let text = String::from_utf8_lossy(bytes);
+        let t = tokens(text.trim_end_matches('\r'));
         let body = if t.first().is_some_and(|f| f.0.bytes().all(|c| c.is_ascii_digit())) { &t[1..] } else { &t[..] };
         if let [(kw, col), (label, _)] = body {
             let label = label.trim_matches('"');
-            if kw.eq_ignore_ascii_case("LBL") && label != "0" && labels.insert(label, k).is_some() {
-                diags.error(k + 1, *col, format!("LBL {label} defined twice"));
+            if !kw.eq_ignore_ascii_case("LBL") || label == "0" {
+                return;
+            }
+            if let Some(old) = self.at.get_mut(label) {
+                // Said where it stands; calls go to the last one, as they always have.
+                diags.error(line, *col, format!("LBL {label} defined twice"));
+                *old = (line, next);
+            } else if self.at.len() >= MAX_LABELS {
+                diags.error(line, *col, format!("LBL {label}: more than {MAX_LABELS} labels in one program; not kept"));
+            } else {
+                self.at.insert(label.to_string(), (line, next));
             }
         }
     }
-    let mut ex = Exec { q: HashMap::new(), tool_feed: None, tangent: None, blocks: Vec::with_capacity(lines.len()), words: Vec::with_capacity(12) };
-    let mut st = ParseState::default();
-    // Subprogram calls: where to come back to, and the call's line and column.
-    let mut stack: Vec<(usize, usize, usize)> = Vec::new();
-    let mut repeats: HashMap<usize, u64> = HashMap::new();
-    let budget = lines.len() + MAX_REPEATED_BLOCKS;
-    let mut executed = 0usize;
-    let mut pc = 0;
-    while pc < lines.len() {
-        let k = pc;
-        pc += 1;
-        let was_inch = st.inch;
-        let Some(s) = parse_line(k + 1, lines[k], &mut st, diags) else {
-            if st.inch != was_inch {
-                interp.set_inch(st.inch);
+}
+
+/// What the reader does after a line: read the next one, read on from elsewhere, or (the program
+/// has ended) only check the lines after it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Next {
+    On,
+    Jump(At),
+    Ended,
+}
+
+/// A Klartext program run as the TNC runs it (labels, section repeats, subprograms) one line at a
+/// time, sans I/O: the reader feeds it the line where it stands and goes where it says next, so
+/// memory holds the label table and the call stack, never the program. Each line is parsed as it
+/// runs (a repeated section is parsed again rather than held).
+pub(crate) struct Runner {
+    interp: Interpreter,
+    ex: Exec,
+    st: ParseState,
+    labels: Labels,
+    /// Subprogram calls: where to come back to, and the call's line and column.
+    stack: Vec<(At, usize, usize)>,
+    /// Section repeats under way: the call's line and the runs left.
+    repeats: HashMap<usize, u64>,
+    /// Statements that may run: the program's own lines and [`MAX_REPEATED_BLOCKS`] more.
+    budget: usize,
+    executed: usize,
+}
+
+impl Runner {
+    pub(crate) fn new(labels: Labels, m_codes: &[MCodeRule], orientation: Orientation) -> Runner {
+        Runner {
+            interp: Interpreter::new(Dialect::Klartext).with_m_codes(m_codes).with_orientation(orientation),
+            ex: Exec::default(),
+            st: ParseState::default(),
+            budget: labels.lines + MAX_REPEATED_BLOCKS,
+            labels,
+            stack: Vec::new(),
+            repeats: HashMap::new(),
+            executed: 0,
+        }
+    }
+
+    /// Run line `line` (without its newline), the line after it starting at `next`: its block
+    /// goes to `out`, its defects to `diags`.
+    pub(crate) fn line(&mut self, line: usize, raw: &str, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        let was_inch = self.st.inch;
+        let Some(s) = parse_line(line, raw, &mut self.st, diags) else {
+            if self.st.inch != was_inch {
+                self.interp.set_inch(self.st.inch);
             }
-            continue;
+            return Next::On;
         };
-        executed += 1;
-        if executed > budget {
+        self.executed += 1;
+        if self.executed > self.budget {
             diags.error(s.line, s.col, format!("the repeats and calls run more than {MAX_REPEATED_BLOCKS} blocks beyond the program's own: not read further"));
-            break;
+            return Next::Ended;
         }
         match &s.kind {
-            Kind::End => break,
-            Kind::Label("0") => {
-                if let Some((back, _, _)) = stack.pop() {
-                    pc = back;
-                }
-            }
-            Kind::Label(_) => {}
-            Kind::Call { label, rep } => {
-                let Some(&target) = labels.get(label) else {
-                    diags.error(s.line, s.col, format!("CALL LBL {label}: no LBL {label} in the program"));
-                    continue;
-                };
-                let count = match rep {
-                    None => 0,
-                    Some(w) => match ex.value(w, s.line, diags) {
-                        Some(v) if v.fract() == 0.0 && (0.0..=65534.0).contains(&v) => v as u64,
-                        Some(v) => {
-                            diags.error(s.line, w.col, format!("REP {v}: expected a whole number of repeats, 0 to 65534"));
-                            continue;
-                        }
-                        None => continue,
-                    },
-                };
-                if rep.is_some() {
-                    // A program section repeat: back to the label `count` more times.
-                    if target >= k {
-                        diags.error(s.line, s.col, format!("CALL LBL {label} REP: the label must come before the call"));
-                        continue;
-                    }
-                    let left = repeats.entry(k).or_insert(count);
-                    if *left > 0 {
-                        *left -= 1;
-                        pc = target + 1;
-                    } else {
-                        repeats.remove(&k);
-                    }
-                } else {
-                    if stack.len() >= MAX_NESTING {
-                        diags.error(s.line, s.col, format!("CALL LBL {label}: subprograms nested deeper than {MAX_NESTING} levels"));
-                        break;
-                    }
-                    stack.push((pc, s.line, s.col));
-                    pc = target + 1;
-                }
-            }
+            Kind::End => Next::Ended,
+            Kind::Label("0") => match self.stack.pop() {
+                Some((back, _, _)) => Next::Jump(back),
+                None => Next::On,
+            },
+            Kind::Label(_) => Next::On,
+            Kind::Call { label, rep } => self.call(&s, label, rep.as_ref(), next, diags),
             _ => {
-                if ex.run(&s, &mut interp, diags) && stack.is_empty() {
-                    break; // M2 / M30: the program ends (subprograms follow it)
+                if self.ex.run(&s, &mut self.interp, out, diags) && self.stack.is_empty() {
+                    Next::Ended // M2 / M30: the program ends (subprograms follow it)
+                } else {
+                    Next::On
                 }
             }
         }
     }
-    if let Some(&(_, line, col)) = stack.last() {
-        diags.error(line, col, "the subprogram called here has no LBL 0 before the program ends");
+
+    /// `CALL LBL label [REP n]` at `s`, the line after it starting at `next`.
+    fn call(&mut self, s: &Stmt<'_>, label: &str, rep: Option<&KWord<'_>>, next: At, diags: &mut Diags) -> Next {
+        let Some(&(label_line, target)) = self.labels.at.get(label) else {
+            diags.error(s.line, s.col, format!("CALL LBL {label}: no LBL {label} in the program"));
+            return Next::On;
+        };
+        let Some(w) = rep else {
+            if self.stack.len() >= MAX_NESTING {
+                diags.error(s.line, s.col, format!("CALL LBL {label}: subprograms nested deeper than {MAX_NESTING} levels"));
+                return Next::Ended;
+            }
+            self.stack.push((next, s.line, s.col));
+            return Next::Jump(target);
+        };
+        let count = match self.ex.value(w, s.line, diags) {
+            Some(v) if v.fract() == 0.0 && (0.0..=65534.0).contains(&v) => v as u64,
+            Some(v) => {
+                diags.error(s.line, w.col, format!("REP {v}: expected a whole number of repeats, 0 to 65534"));
+                return Next::On;
+            }
+            None => return Next::On,
+        };
+        // A program section repeat: back to the label `count` more times.
+        if label_line >= s.line {
+            diags.error(s.line, s.col, format!("CALL LBL {label} REP: the label must come before the call"));
+            return Next::On;
+        }
+        let left = self.repeats.entry(s.line).or_insert(count);
+        if *left > 0 {
+            *left -= 1;
+            Next::Jump(target)
+        } else {
+            self.repeats.remove(&s.line);
+            Next::On
+        }
     }
-    // The lines after the end that did not run (subprograms never called) are checked all the same.
-    for k in pc..lines.len() {
-        let _ = parse_line(k + 1, lines[k], &mut st, diags);
+
+    /// After the end: a line that does not run (a subprogram never called) is checked all the same.
+    pub(crate) fn check(&mut self, line: usize, raw: &str, diags: &mut Diags) {
+        let _ = parse_line(line, raw, &mut self.st, diags);
     }
-    if !st.began {
-        diags.error(1, 1, "missing program start: expected BEGIN PGM NAME MM");
+
+    /// The input has ended: a subprogram left open, a program without its start.
+    pub(crate) fn finish(&mut self, diags: &mut Diags) {
+        if let Some(&(_, line, col)) = self.stack.last() {
+            diags.error(line, col, "the subprogram called here has no LBL 0 before the program ends");
+        }
+        if !self.st.began {
+            diags.error(1, 1, "missing program start: expected BEGIN PGM NAME MM");
+        }
     }
-    (st.name, ex.blocks)
+
+    /// The program's name, once its `BEGIN PGM` has run.
+    pub(crate) fn name(&self) -> Option<&str> {
+        self.st.name.as_deref()
+    }
 }
 
 /// Run-time state besides the interpreter's.
-struct Exec<'a> {
+#[derive(Debug, Default)]
+struct Exec {
     q: HashMap<String, f64>,
-    /// The feed of the last TOOL CALL (program units per minute), for FAUTO.
-    tool_feed: Option<(f64, &'a str)>,
+    /// The feed of the last TOOL CALL (program units per minute, as written), for FAUTO.
+    tool_feed: Option<(f64, String)>,
     /// Direction of the contour at its end in the working plane, for CT.
     tangent: Option<[f64; 2]>,
-    blocks: Vec<Block>,
-    /// The words of the block being run (a buffer kept between blocks).
-    words: Vec<Word<'a>>,
 }
 
-impl<'a> Exec<'a> {
-    fn value(&self, w: &KWord<'a>, line: usize, diags: &mut Diags) -> Option<f64> {
+impl Exec {
+    fn value(&self, w: &KWord<'_>, line: usize, diags: &mut Diags) -> Option<f64> {
         match &w.val {
             Val::Num(v) => Some(*v),
             Val::Q { name, negative } => match self.q.get(*name) {
@@ -807,8 +887,8 @@ impl<'a> Exec<'a> {
         }
     }
 
-    /// Run one statement; true if it ends the program (M2, M30).
-    fn run(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, diags: &mut Diags) -> bool {
+    /// Run one statement, its block to `out`; true if it ends the program (M2, M30).
+    fn run<'a>(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let unit = interp.unit();
         // Statements that set state and run no block.
         match &s.kind {
@@ -835,8 +915,7 @@ impl<'a> Exec<'a> {
             _ => {}
         }
         let before = diags.errors();
-        let mut words = std::mem::take(&mut self.words);
-        words.clear();
+        let mut words: Vec<Word<'a>> = Vec::with_capacity(12);
         let word = |letter: char, value: f64, raw: Cow<'a, str>, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
         let mut ends = false;
         let mut vector = None;
@@ -848,7 +927,7 @@ impl<'a> Exec<'a> {
                     words.push(word(l.chars().next().unwrap_or('T'), 0.0, rest.to_string().into(), s.col, false));
                 }
                 if let Some(f) = feed {
-                    self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw));
+                    self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw.to_string()));
                 }
             }
             Kind::Misc(m) => ends = self.m_words(m, &mut words, s.line, diags),
@@ -914,8 +993,8 @@ impl<'a> Exec<'a> {
                             words.push(word('F', v, f.raw.into(), f.col, false));
                         }
                     }
-                    FeedWord::Auto(col) => match self.tool_feed {
-                        Some((v, raw)) => words.push(word('F', v, raw.into(), *col, false)),
+                    FeedWord::Auto(col) => match &self.tool_feed {
+                        Some((v, raw)) => words.push(word('F', *v, raw.clone().into(), *col, false)),
                         None => diags.error(s.line, *col, "FAUTO without a feed in the TOOL CALL before it"),
                     },
                     FeedWord::Max | FeedWord::None => {}
@@ -948,7 +1027,6 @@ impl<'a> Exec<'a> {
         }
         if diags.errors() > before {
             diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
-            self.words = words;
             return false;
         }
         if let Some(v) = vector {
@@ -956,11 +1034,10 @@ impl<'a> Exec<'a> {
         }
         let start = interp.position();
         let result = interp.block(&words, s.line, s.col, s.number, diags);
-        self.words = words;
         match result {
             Some(b) => {
                 self.follow(&b, start, interp.position(), interp);
-                self.blocks.push(b);
+                out.push(b);
                 ends
             }
             None => {
@@ -971,7 +1048,7 @@ impl<'a> Exec<'a> {
     }
 
     /// The block's M functions as words; true if one ends the program (M2, M30).
-    fn m_words(&self, m: &[KWord<'a>], words: &mut Vec<Word<'a>>, line: usize, diags: &mut Diags) -> bool {
+    fn m_words<'a>(&self, m: &[KWord<'a>], words: &mut Vec<Word<'a>>, line: usize, diags: &mut Diags) -> bool {
         let mut ends = false;
         for w in m {
             let v = self.value(w, line, diags).unwrap_or(0.0);
@@ -983,7 +1060,7 @@ impl<'a> Exec<'a> {
 
     /// `CT`: the arc from the current point, tangent to the contour before it, to the block's end in
     /// the working plane: its direction (G02/G03) and signed radius (negative over 180 deg).
-    fn tangent_arc(&self, words: &[Word<'a>], interp: &Interpreter, s: &Stmt, diags: &mut Diags) -> Option<(&'static str, f64)> {
+    fn tangent_arc(&self, words: &[Word<'_>], interp: &Interpreter, s: &Stmt, diags: &mut Diags) -> Option<(&'static str, f64)> {
         let Some(t) = self.tangent else {
             diags.error(s.line, s.col, "CT: no contour element before it to be tangent to");
             return None;

@@ -15,10 +15,10 @@ mod stream;
 
 pub use cl::{read_cl, read_cl_with};
 pub use heidenhain::{read_heidenhain, read_heidenhain_with};
-pub use klartext::{read_klartext_with, MAX_REPEATED_BLOCKS};
+pub use klartext::{read_klartext_with, MAX_LABELS, MAX_REPEATED_BLOCKS};
 pub use rs274::{read_rs274, read_rs274_setup, read_rs274_with};
 pub use sinumerik::read_sinumerik_with;
-pub use stream::{BlockStream, DiagnosticLog, MAX_DIAGNOSTICS, MAX_LINE_BYTES};
+pub use stream::{BlockStream, DiagnosticLog, Reopen, MAX_DIAGNOSTICS, MAX_LINE_BYTES};
 
 use std::fmt;
 
@@ -439,10 +439,10 @@ pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -
 pub enum LoadError {
     #[error("cannot read {path}: {source}")]
     Io { path: String, source: std::io::Error },
-    /// A program read whole (Klartext, whose labels are called from anywhere; the remedies, which
-    /// rewrite it) is longer than [`MAX_WHOLE_PROGRAM_BYTES`]: refused rather than exhaust memory
+    /// A program read whole (the remedies, which rewrite it; a run that keeps its whole simulation)
+    /// is longer than [`MAX_WHOLE_PROGRAM_BYTES`]: refused rather than exhaust memory
     /// (a compressed program can unpack to any length).
-    #[error("{path}: more than {} MiB of program text to read whole (Heidenhain conversational and the `avoid` remedies read a program whole)", MAX_WHOLE_PROGRAM_BYTES >> 20)]
+    #[error("{path}: more than {} MiB of program text to read whole (the `avoid` remedies and `roughness synthesize` read a program whole)", MAX_WHOLE_PROGRAM_BYTES >> 20)]
     TooLong { path: String },
 }
 

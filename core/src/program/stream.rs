@@ -12,11 +12,12 @@
 
 use super::cl::ClReader;
 use super::heidenhain::DinReader;
+use super::klartext::{At, Labels, Next, Runner};
 use super::lex::Diags;
 use super::rs274::Rs274Reader;
 use super::sinumerik::SinumerikReader;
-use super::{Block, Diagnostic, Dialect, LoadError, Program, ReadOptions, Severity};
-use std::collections::VecDeque;
+use super::{Block, Diagnostic, Dialect, LoadError, MCodeRule, Orientation, Program, ReadOptions, Severity};
+use std::collections::{HashSet, VecDeque};
 use std::io::{BufRead, Cursor, Read};
 use std::path::Path;
 
@@ -113,7 +114,7 @@ pub(crate) enum Reader {
 }
 
 impl Reader {
-    /// The reader of `dialect` (`None` for Klartext, which is read whole).
+    /// The reader of `dialect` (`None` for Klartext, which jumps: [`Seeking`]).
     pub(crate) fn new(dialect: Dialect, options: &ReadOptions) -> Option<Reader> {
         let orientation = options.orientation.unwrap_or(dialect.default_orientation());
         Some(match dialect {
@@ -135,11 +136,14 @@ impl Reader {
     }
 }
 
-/// Where the blocks come from: a reader fed line by line, or (Klartext, whose labels and subprogram
-/// calls jump about the file) the blocks of the program read whole.
+/// Opens the program's text again at a byte offset. Klartext's calls and repeats jump back and
+/// forth, so its reader reads parts of the program again rather than hold it.
+pub type Reopen<'a> = Box<dyn FnMut(u64) -> std::io::Result<Box<dyn BufRead + Send + 'a>> + Send + 'a>;
+
+/// Where the blocks come from: a reader fed line by line, or Klartext read as it runs.
 enum Source {
     Lines { input: Box<dyn BufRead + Send>, reader: Reader, line: usize, buf: Vec<u8> },
-    Whole(std::vec::IntoIter<Block>),
+    Klartext(Box<Seeking<'static>>),
 }
 
 /// The blocks of a program, read as they are asked for: memory holds one line and the blocks it
@@ -171,9 +175,11 @@ const DETECT_BYTES: usize = 1 << 20;
 impl BlockStream {
     /// Read a program from `input` (a file's bytes, as they come), detecting its dialect from its
     /// name (`path`, for the extension) and first lines unless given; `source` names it in reports.
-    /// Line-based dialects stream; Klartext is read whole. Opening the file is the caller's.
+    /// Klartext reads `input` for its labels, then runs from `reopen(0)`, reopening wherever a call
+    /// or a repeat jumps. Opening the file is the caller's.
     pub fn from_reader(
         mut input: impl BufRead + Send + 'static,
+        reopen: Reopen<'static>,
         path: Option<&Path>,
         source: &str,
         dialect: Option<Dialect>,
@@ -194,9 +200,13 @@ impl BlockStream {
         match Reader::new(dialect, options) {
             Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
-                let mut rest = head;
-                super::read_whole_bytes(input, &mut rest, source)?;
-                Ok(Self::whole(&String::from_utf8_lossy(&rest), dialect, source, options))
+                let orientation = options.orientation.unwrap_or(dialect.default_orientation());
+                let first = Box::new(Cursor::new(head).chain(input));
+                let mut k = Seeking::new(first, reopen, &options.m_codes, orientation);
+                match k.broken.take() {
+                    Some(e) => Err(io(e)),
+                    None => Ok(Self::klartext(k, source)),
+                }
             }
         }
     }
@@ -206,23 +216,31 @@ impl BlockStream {
         let dialect = dialect.unwrap_or_else(|| Dialect::detect(None, text));
         match Reader::new(dialect, options) {
             Some(reader) => Self::lines(Box::new(Cursor::new(text.as_bytes().to_vec())), reader, dialect, source),
-            None => Self::whole(text, dialect, source, options),
+            None => {
+                let text: std::sync::Arc<[u8]> = text.as_bytes().into();
+                let at = |text: std::sync::Arc<[u8]>, offset: u64| {
+                    let mut c = Cursor::new(text);
+                    c.set_position(offset);
+                    Box::new(c) as Box<dyn BufRead + Send>
+                };
+                let first = at(text.clone(), 0);
+                let reopen: Reopen<'static> = Box::new(move |offset| Ok(at(text.clone(), offset)));
+                let orientation = options.orientation.unwrap_or(dialect.default_orientation());
+                Self::klartext(Seeking::new(first, reopen, &options.m_codes, orientation), source)
+            }
         }
     }
 
-    fn whole(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> BlockStream {
-        let program = super::read(text, dialect, source, options);
-        let mut log = DiagnosticLog::default();
-        program.diagnostics.into_iter().for_each(|d| log.push(d));
+    fn klartext(k: Seeking<'static>, source: &str) -> BlockStream {
         BlockStream {
             source: source.into(),
-            dialect,
-            input: Source::Whole(program.blocks.into_iter()),
+            dialect: Dialect::Klartext,
+            input: Source::Klartext(Box::new(k)),
             pending: VecDeque::new(),
             out: Vec::new(),
             diags: Diags::default(),
-            log,
-            name: program.name,
+            log: DiagnosticLog::default(),
+            name: None,
             blocks: 0,
             ended: false,
         }
@@ -271,28 +289,28 @@ impl BlockStream {
     fn fill(&mut self) {
         while self.pending.is_empty() && !self.ended {
             match &mut self.input {
-                Source::Whole(blocks) => match blocks.next() {
-                    Some(b) => self.pending.push_back(b),
-                    None => self.ended = true,
-                },
+                Source::Klartext(k) => {
+                    self.ended = k.fill(&mut self.out, &mut self.diags);
+                    if self.name.is_none() {
+                        self.name = k.runner.name().map(String::from);
+                    }
+                    self.pending.extend(self.out.drain(..));
+                }
                 Source::Lines { input, reader, line, buf } => {
                     *line += 1;
-                    match read_line(input.as_mut(), buf) {
-                        Ok(Line::End) => {
+                    let (n, out, diags) = (*line, &mut self.out, &mut self.diags);
+                    match with_line(input.as_mut(), buf, |bytes| reader.get().line(n, &line_text(bytes), out, diags)) {
+                        Ok(Got::End) => {
                             reader.get().finish(None, &mut self.diags);
                             self.ended = true;
                         }
-                        Ok(Line::Text) => {
-                            let text = String::from_utf8_lossy(buf);
-                            let text = text.strip_suffix('\n').unwrap_or(&text);
-                            let text = text.strip_suffix('\r').unwrap_or(text);
-                            reader.get().line(*line, text, &mut self.out, &mut self.diags);
+                        Ok(Got::Text(..)) => {
                             if self.name.is_none() {
                                 self.name = reader.get().name();
                             }
                             self.pending.extend(self.out.drain(..));
                         }
-                        Ok(Line::TooLong) => self.diags.error(*line, 1, format!("line {line} is longer than {MAX_LINE_BYTES} bytes: not a program line; skipped")),
+                        Ok(Got::TooLong(_)) => self.diags.error(*line, 1, too_long(*line)),
                         Err(e) => {
                             self.diags.error(*line, 1, format!("cannot read line {line}: {e}; reading stops here"));
                             self.ended = true;
@@ -318,9 +336,45 @@ impl Iterator for BlockStream {
 }
 
 enum Line {
+    /// A line, in the buffer with its newline.
     Text,
-    TooLong,
+    /// A line longer than [`MAX_LINE_BYTES`], skipped: its length, bytes.
+    TooLong(u64),
     End,
+}
+
+/// A line read by [`with_line`]: its length with its newline and what was made of it, or the
+/// length of a line too long to read, or the input's end.
+enum Got<R> {
+    Text(u64, R),
+    TooLong(u64),
+    End,
+}
+
+/// Hand the next line (its bytes with the newline) to `f`: borrowed from the input's buffer where
+/// it lies there whole (most lines: no copy), else gathered in `buf` by [`read_line`].
+fn with_line<R>(input: &mut dyn BufRead, buf: &mut Vec<u8>, f: impl FnOnce(&[u8]) -> R) -> std::io::Result<Got<R>> {
+    let chunk = loop {
+        match input.fill_buf() {
+            Ok(c) => break c,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        }
+    };
+    if let Some(i) = memchr::memchr(b'\n', chunk).filter(|&i| i <= MAX_LINE_BYTES) {
+        let r = f(&chunk[..=i]);
+        input.consume(i + 1);
+        return Ok(Got::Text(i as u64 + 1, r));
+    }
+    Ok(match read_line(input, buf)? {
+        Line::End => Got::End,
+        Line::TooLong(n) => Got::TooLong(n),
+        Line::Text => Got::Text(buf.len() as u64, f(buf)),
+    })
+}
+
+fn too_long(line: usize) -> String {
+    format!("line {line} is longer than {MAX_LINE_BYTES} bytes: not a program line; skipped")
 }
 
 /// Read one line into `buf` (with its newline), never more than [`MAX_LINE_BYTES`]: a longer line
@@ -328,6 +382,7 @@ enum Line {
 fn read_line(input: &mut dyn BufRead, buf: &mut Vec<u8>) -> std::io::Result<Line> {
     buf.clear();
     let mut too_long = false;
+    let mut skipped = 0u64;
     loop {
         let chunk = match input.fill_buf() {
             Ok(c) => c,
@@ -335,7 +390,7 @@ fn read_line(input: &mut dyn BufRead, buf: &mut Vec<u8>) -> std::io::Result<Line
             Err(e) => return Err(e),
         };
         if chunk.is_empty() {
-            return Ok(if too_long { Line::TooLong } else if buf.is_empty() { Line::End } else { Line::Text });
+            return Ok(if too_long { Line::TooLong(skipped) } else if buf.is_empty() { Line::End } else { Line::Text });
         }
         let (take, done) = match chunk.iter().position(|&b| b == b'\n') {
             Some(i) => (i + 1, true),
@@ -344,14 +399,185 @@ fn read_line(input: &mut dyn BufRead, buf: &mut Vec<u8>) -> std::io::Result<Line
         if !too_long {
             if buf.len() + take > MAX_LINE_BYTES + 1 {
                 too_long = true;
+                skipped = buf.len() as u64;
                 buf.clear();
             } else {
                 buf.extend_from_slice(&chunk[..take]);
             }
         }
+        if too_long {
+            skipped += take as u64;
+        }
         input.consume(take);
         if done {
-            return Ok(if too_long { Line::TooLong } else { Line::Text });
+            return Ok(if too_long { Line::TooLong(skipped) } else { Line::Text });
         }
     }
+}
+
+/// A line's bytes without its line end (`\n` or `\r\n`).
+fn without_eol(line: &[u8]) -> &[u8] {
+    let b = line.strip_suffix(b"\n").unwrap_or(line);
+    b.strip_suffix(b"\r").unwrap_or(b)
+}
+
+/// The text of a line read into `buf`, without its line end (bytes that are not UTF-8 replaced).
+fn line_text(buf: &[u8]) -> std::borrow::Cow<'_, str> {
+    let b = without_eol(buf);
+    // The check alone is faster than the lossy conversion's, and almost every line passes it.
+    match std::str::from_utf8(b) {
+        Ok(s) => std::borrow::Cow::Borrowed(s),
+        Err(_) => String::from_utf8_lossy(b),
+    }
+}
+
+/// Klartext read as it runs: its labels from a first pass over the text, then line by line from
+/// where the program's flow goes, the text reopened at a byte offset for each jump. Memory holds
+/// one line, the label table and the call stack, whatever the program's length.
+pub(crate) struct Seeking<'a> {
+    reopen: Reopen<'a>,
+    input: Box<dyn BufRead + Send + 'a>,
+    /// The line to read next.
+    at: At,
+    runner: Runner,
+    /// False once the program has ended: the lines after it are only checked.
+    running: bool,
+    buf: Vec<u8>,
+    /// The label pass's diagnostics, given with the first lines.
+    early: Diags,
+    /// Diagnostics given so far (a section run again would give its own again), the first
+    /// [`MAX_DIAGNOSTICS`] of them.
+    given: HashSet<(usize, usize, String)>,
+    /// A read of the label pass or of the first reopening that failed.
+    broken: Option<std::io::Error>,
+}
+
+impl<'a> Seeking<'a> {
+    /// Read `first` (the program from its start) for the labels; run from `reopen(0)`. A read that
+    /// fails is kept in `broken` (a file's reader turns it into a [`LoadError`]; otherwise the first
+    /// [`Seeking::fill`] reports it).
+    pub(crate) fn new(mut first: Box<dyn BufRead + Send + 'a>, mut reopen: Reopen<'a>, m_codes: &[MCodeRule], orientation: Orientation) -> Self {
+        let (mut labels, mut early) = (Labels::default(), Diags::default());
+        let (mut buf, mut at) = (Vec::with_capacity(256), At { line: 1, offset: 0 });
+        let mut broken = None;
+        loop {
+            let read = with_line(first.as_mut(), &mut buf, |bytes| {
+                let next = At { line: at.line + 1, offset: at.offset + bytes.len() as u64 };
+                labels.line(at.line, without_eol(bytes), next, &mut early);
+            });
+            let len = match read {
+                Ok(Got::End) => break,
+                Ok(Got::TooLong(n) | Got::Text(n, ())) => n,
+                Err(e) => {
+                    broken = Some(e);
+                    break;
+                }
+            };
+            at = At { line: at.line + 1, offset: at.offset + len };
+        }
+        drop(first);
+        let input = match broken {
+            None => reopen(0).unwrap_or_else(|e| {
+                broken = Some(e);
+                Box::new(std::io::empty())
+            }),
+            Some(_) => Box::new(std::io::empty()),
+        };
+        Seeking {
+            reopen,
+            input,
+            at: At { line: 1, offset: 0 },
+            runner: Runner::new(labels, m_codes, orientation),
+            running: true,
+            buf,
+            early,
+            given: HashSet::new(),
+            broken,
+        }
+    }
+
+    /// Read one line and run (or check) it: its blocks to `out`, its diagnostics not given before to
+    /// `diags`. True once the input has ended.
+    pub(crate) fn fill(&mut self, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        let mut d = std::mem::take(&mut self.early);
+        let Seeking { reopen, input, at, runner, running, buf, broken, .. } = self;
+        let line = at.line;
+        let read = match broken.take() {
+            Some(e) => Err(e),
+            None => with_line(input.as_mut(), buf, |bytes| {
+                let next = At { line: line + 1, offset: at.offset + bytes.len() as u64 };
+                let text = line_text(bytes);
+                if *running {
+                    runner.line(line, &text, next, out, &mut d)
+                } else {
+                    runner.check(line, &text, &mut d);
+                    Next::On
+                }
+            }),
+        };
+        let ended = match read {
+            Ok(Got::End) => {
+                runner.finish(&mut d);
+                true
+            }
+            Ok(Got::TooLong(n)) => {
+                d.error(line, 1, too_long(line));
+                *at = At { line: line + 1, offset: at.offset + n };
+                false
+            }
+            Ok(Got::Text(len, next)) => {
+                *at = At { line: line + 1, offset: at.offset + len };
+                match next {
+                    Next::On => false,
+                    Next::Ended => {
+                        *running = false;
+                        false
+                    }
+                    Next::Jump(to) => {
+                        *at = to;
+                        match reopen(to.offset) {
+                            Ok(i) => {
+                                *input = i;
+                                false
+                            }
+                            Err(e) => {
+                                d.error(to.line, 1, format!("cannot read line {}: {e}; reading stops here", to.line));
+                                runner.finish(&mut d);
+                                true
+                            }
+                        }
+                    }
+                }
+            }
+            Err(e) => {
+                d.error(line, 1, format!("cannot read line {line}: {e}; reading stops here"));
+                runner.finish(&mut d);
+                true
+            }
+        };
+        for x in d.0 {
+            let key = (x.line, x.column, x.message);
+            if self.given.contains(&key) {
+                continue;
+            }
+            let x = Diagnostic { line: key.0, column: key.1, severity: x.severity, message: key.2.clone() };
+            if self.given.len() < MAX_DIAGNOSTICS {
+                self.given.insert(key);
+            }
+            diags.0.push(x);
+        }
+        ended
+    }
+}
+
+/// Read a Klartext program from `text` as the stream does, its blocks and diagnostics collected.
+pub(crate) fn read_klartext(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
+    let bytes = text.as_bytes();
+    let at = move |offset: u64| Box::new(&bytes[(offset as usize).min(bytes.len())..]) as Box<dyn BufRead + Send + '_>;
+    let reopen: Reopen<'_> = Box::new(move |offset| Ok(at(offset)));
+    let mut k = Seeking::new(at(0), reopen, m_codes, orientation);
+    let (mut blocks, mut diags) = (Vec::with_capacity(super::lex::line_count(text)), Diags::default());
+    while !k.fill(&mut blocks, &mut diags) {}
+    diags.0.sort_by_key(|d| (d.line, d.column));
+    Program { source: String::new(), dialect: Dialect::Klartext, name: k.runner.name().map(String::from), blocks, diagnostics: diags.0 }
 }
