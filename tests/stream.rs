@@ -268,6 +268,22 @@ fn dense_cl(n: usize) -> (String, f64) {
     (s, length_mm / 2000.0 * 60.0)
 }
 
+/// `program analyze PATH` under a 64 MB address-space limit: it succeeds with `blocks` blocks and a
+/// cycle time of `duration_s`.
+fn analyze_in_64_mb(path: &Path, blocks: usize, duration_s: f64) {
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -v 65536; exec '{}' program analyze '{}' --json", bin(), path.display()))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["blocks"].as_u64(), Some(blocks as u64), "{}", v["diagnostics"]);
+    let t = v["cycle_time_s"].as_f64().unwrap();
+    assert!((t - duration_s).abs() < 1e-6 * duration_s, "{t} s, expected {duration_s} s");
+}
+
 #[test]
 fn program_analyze_of_an_hours_long_program_fits_in_64_mb() {
     // 600,000 poses (over half an hour at F2000): read whole, its text (36 MB) and blocks (~180 MB)
@@ -275,17 +291,7 @@ fn program_analyze_of_an_hours_long_program_fits_in_64_mb() {
     let path = tmp("dense.cl");
     let (text, duration) = dense_cl(600_000);
     std::fs::write(&path, text).unwrap();
-    let out = Command::new("sh")
-        .arg("-c")
-        .arg(format!("ulimit -v 65536; exec '{}' program analyze '{}' --json", bin(), path.display()))
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "{text}");
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(v["blocks"].as_u64(), Some(600_000));
-    let t = v["cycle_time_s"].as_f64().unwrap();
-    assert!((t - duration).abs() < 1e-6 * duration, "{t} s, expected {duration} s");
+    analyze_in_64_mb(&path, 600_000, duration);
     let _ = std::fs::remove_file(&path);
 }
 
@@ -341,17 +347,7 @@ fn a_long_klartext_program_streams_in_64_mb() {
     let path = tmp("dense.h");
     let (text, blocks, duration) = dense_klartext(200_000);
     std::fs::write(&path, &text).unwrap();
-    let out = Command::new("sh")
-        .arg("-c")
-        .arg(format!("ulimit -v 65536; exec '{}' program analyze '{}' --json", bin(), path.display()))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "{err}");
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(v["blocks"].as_u64(), Some(blocks as u64), "{}", v["diagnostics"]);
-    let t = v["cycle_time_s"].as_f64().unwrap();
-    assert!((t - duration).abs() < 1e-6 * duration, "{t} s, expected {duration} s");
+    analyze_in_64_mb(&path, blocks, duration);
 
     let (text, blocks, _) = dense_klartext(20_000);
     std::fs::write(&path, &text).unwrap();
