@@ -47,26 +47,26 @@ impl ProgramFile {
     pub fn resolve(spec: &str) -> Result<ProgramFile, LoadError> {
         let io = |source| LoadError::Io { path: spec.to_string(), source };
         if spec == STDIN {
-            return Self::spool(std::io::stdin().lock(), STDIN_NAME);
+            return Self::spool(std::io::stdin().lock(), STDIN_NAME).map_err(io);
         }
         let path = Path::new(spec);
         let file = File::open(path).map_err(io)?;
         if file.metadata().map_err(io)?.file_type().is_file() {
             return Ok(ProgramFile::Path(path.to_path_buf()));
         }
-        Self::spool(file, spec)
+        Self::spool(file, spec).map_err(io)
     }
 
-    fn spool(input: impl Read, name: &str) -> Result<ProgramFile, LoadError> {
-        let io = |source| LoadError::Io { path: name.to_string(), source };
-        let mut file = tempfile::tempfile().map_err(|e| io(std::io::Error::new(e.kind(), format!("cannot make a temporary file to hold it in {}: {e}", std::env::temp_dir().display()))))?;
+    /// Copy `input` to an unlinked temporary file, at most [`MAX_SPOOL_BYTES`], named `name`.
+    fn spool(input: impl Read, name: &str) -> std::io::Result<ProgramFile> {
+        let mut file = tempfile::tempfile().map_err(|e| std::io::Error::new(e.kind(), format!("cannot make a temporary file to hold it in {}: {e}", std::env::temp_dir().display())))?;
         let mut input = input.take(MAX_SPOOL_BYTES + 1);
-        let copied = std::io::copy(&mut input, &mut file).map_err(io)?;
+        let copied = std::io::copy(&mut input, &mut file)?;
         if copied > MAX_SPOOL_BYTES {
-            return Err(io(std::io::Error::other(format!(
+            return Err(std::io::Error::other(format!(
                 "more than {} GiB from a pipe or standard input (the most that is held to be read again); save the program to a file",
                 MAX_SPOOL_BYTES >> 30
-            ))));
+            )));
         }
         Ok(ProgramFile::Spooled { name: name.to_string(), file: Arc::new(file) })
     }
@@ -125,8 +125,8 @@ impl ProgramFile {
     }
 
     /// The program's text from any byte offset, for a reader that jumps (Klartext's calls and
-    /// repeats): a plain file is read at the offset; a compressed one is unpacked once, at the
-    /// first jump, to an unlinked temporary file (at most [`MAX_SPOOL_BYTES`]) read at the offset.
+    /// repeats): a plain file is read at the offset; a compressed one is unpacked once, when first
+    /// opened, to an unlinked temporary file (at most [`MAX_SPOOL_BYTES`]) read at the offset.
     fn reopen(&self) -> Reopen<'static> {
         let this = self.clone();
         let mut unpacked: Option<ProgramFile> = None;
@@ -138,10 +138,7 @@ impl ProgramFile {
             if !compressed {
                 return Ok(Box::new(this.raw(offset)?));
             }
-            let u = ProgramFile::spool(text, &this.name()).map_err(|e| match e {
-                LoadError::Io { source, .. } => source,
-                other => std::io::Error::other(other.to_string()),
-            })?;
+            let u = ProgramFile::spool(text, &this.name())?;
             let r = u.raw(offset)?;
             unpacked = Some(u);
             Ok(Box::new(r))

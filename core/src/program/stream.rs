@@ -175,8 +175,8 @@ const DETECT_BYTES: usize = 1 << 20;
 impl BlockStream {
     /// Read a program from `input` (a file's bytes, as they come), detecting its dialect from its
     /// name (`path`, for the extension) and first lines unless given; `source` names it in reports.
-    /// Klartext reads `input` for its labels, then runs from `reopen(0)`, reopening wherever a call
-    /// or a repeat jumps. Opening the file is the caller's.
+    /// Klartext reads `reopen(0)` for its labels, then runs from `reopen(0)` again, reopening
+    /// wherever a call or a repeat jumps. Opening the file is the caller's.
     pub fn from_reader(
         mut input: impl BufRead + Send + 'static,
         reopen: Reopen<'static>,
@@ -201,8 +201,7 @@ impl BlockStream {
             Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
                 let orientation = options.orientation.unwrap_or(dialect.default_orientation());
-                let first = Box::new(Cursor::new(head).chain(input));
-                let mut k = Seeking::new(first, reopen, &options.m_codes, orientation);
+                let mut k = Seeking::new(reopen, &options.m_codes, orientation);
                 match k.broken.take() {
                     Some(e) => Err(io(e)),
                     None => Ok(Self::klartext(k, source)),
@@ -218,15 +217,8 @@ impl BlockStream {
             Some(reader) => Self::lines(Box::new(Cursor::new(text.as_bytes().to_vec())), reader, dialect, source),
             None => {
                 let text: std::sync::Arc<[u8]> = text.as_bytes().into();
-                let at = |text: std::sync::Arc<[u8]>, offset: u64| {
-                    let mut c = Cursor::new(text);
-                    c.set_position(offset);
-                    Box::new(c) as Box<dyn BufRead + Send>
-                };
-                let first = at(text.clone(), 0);
-                let reopen: Reopen<'static> = Box::new(move |offset| Ok(at(text.clone(), offset)));
                 let orientation = options.orientation.unwrap_or(dialect.default_orientation());
-                Self::klartext(Seeking::new(first, reopen, &options.m_codes, orientation), source)
+                Self::klartext(Seeking::new(in_memory(text), &options.m_codes, orientation), source)
             }
         }
     }
@@ -312,7 +304,7 @@ impl BlockStream {
                         }
                         Ok(Got::TooLong(_)) => self.diags.error(*line, 1, too_long(*line)),
                         Err(e) => {
-                            self.diags.error(*line, 1, format!("cannot read line {line}: {e}; reading stops here"));
+                            self.diags.error(*line, 1, cannot_read(*line, e));
                             self.ended = true;
                         }
                     }
@@ -335,16 +327,8 @@ impl Iterator for BlockStream {
     }
 }
 
-enum Line {
-    /// A line, in the buffer with its newline.
-    Text,
-    /// A line longer than [`MAX_LINE_BYTES`], skipped: its length, bytes.
-    TooLong(u64),
-    End,
-}
-
-/// A line read by [`with_line`]: its length with its newline and what was made of it, or the
-/// length of a line too long to read, or the input's end.
+/// A line read: its length with its newline and what was made of it, or the length of a line
+/// longer than [`MAX_LINE_BYTES`] (skipped), or the input's end.
 enum Got<R> {
     Text(u64, R),
     TooLong(u64),
@@ -367,9 +351,9 @@ fn with_line<R>(input: &mut dyn BufRead, buf: &mut Vec<u8>, f: impl FnOnce(&[u8]
         return Ok(Got::Text(i as u64 + 1, r));
     }
     Ok(match read_line(input, buf)? {
-        Line::End => Got::End,
-        Line::TooLong(n) => Got::TooLong(n),
-        Line::Text => Got::Text(buf.len() as u64, f(buf)),
+        Got::Text(n, ()) => Got::Text(n, f(buf)),
+        Got::TooLong(n) => Got::TooLong(n),
+        Got::End => Got::End,
     })
 }
 
@@ -377,9 +361,13 @@ fn too_long(line: usize) -> String {
     format!("line {line} is longer than {MAX_LINE_BYTES} bytes: not a program line; skipped")
 }
 
+fn cannot_read(line: usize, e: std::io::Error) -> String {
+    format!("cannot read line {line}: {e}; reading stops here")
+}
+
 /// Read one line into `buf` (with its newline), never more than [`MAX_LINE_BYTES`]: a longer line
 /// is skipped to its end.
-fn read_line(input: &mut dyn BufRead, buf: &mut Vec<u8>) -> std::io::Result<Line> {
+fn read_line(input: &mut dyn BufRead, buf: &mut Vec<u8>) -> std::io::Result<Got<()>> {
     buf.clear();
     let mut too_long = false;
     let mut skipped = 0u64;
@@ -390,7 +378,7 @@ fn read_line(input: &mut dyn BufRead, buf: &mut Vec<u8>) -> std::io::Result<Line
             Err(e) => return Err(e),
         };
         if chunk.is_empty() {
-            return Ok(if too_long { Line::TooLong(skipped) } else if buf.is_empty() { Line::End } else { Line::Text });
+            return Ok(if too_long { Got::TooLong(skipped) } else if buf.is_empty() { Got::End } else { Got::Text(buf.len() as u64, ()) });
         }
         let (take, done) = match chunk.iter().position(|&b| b == b'\n') {
             Some(i) => (i + 1, true),
@@ -410,7 +398,7 @@ fn read_line(input: &mut dyn BufRead, buf: &mut Vec<u8>) -> std::io::Result<Line
         }
         input.consume(take);
         if done {
-            return Ok(if too_long { Line::TooLong(skipped) } else { Line::Text });
+            return Ok(if too_long { Got::TooLong(skipped) } else { Got::Text(buf.len() as u64, ()) });
         }
     }
 }
@@ -453,14 +441,17 @@ pub(crate) struct Seeking<'a> {
 }
 
 impl<'a> Seeking<'a> {
-    /// Read `first` (the program from its start) for the labels; run from `reopen(0)`. A read that
-    /// fails is kept in `broken` (a file's reader turns it into a [`LoadError`]; otherwise the first
+    /// Read `reopen(0)` for the labels; run from `reopen(0)` again. A read that fails is kept in
+    /// `broken` (a file's reader turns it into a [`LoadError`]; otherwise the first
     /// [`Seeking::fill`] reports it).
-    pub(crate) fn new(mut first: Box<dyn BufRead + Send + 'a>, mut reopen: Reopen<'a>, m_codes: &[MCodeRule], orientation: Orientation) -> Self {
+    pub(crate) fn new(mut reopen: Reopen<'a>, m_codes: &[MCodeRule], orientation: Orientation) -> Self {
         let (mut labels, mut early) = (Labels::default(), Diags::default());
         let (mut buf, mut at) = (Vec::with_capacity(256), At { line: 1, offset: 0 });
-        let mut broken = None;
-        loop {
+        let (mut first, mut broken) = match reopen(0) {
+            Ok(f) => (f, None),
+            Err(e) => (Box::new(std::io::empty()) as Box<dyn BufRead + Send + 'a>, Some(e)),
+        };
+        while broken.is_none() {
             let read = with_line(first.as_mut(), &mut buf, |bytes| {
                 let next = At { line: at.line + 1, offset: at.offset + bytes.len() as u64 };
                 labels.line(at.line, without_eol(bytes), next, &mut early);
@@ -541,7 +532,7 @@ impl<'a> Seeking<'a> {
                                 false
                             }
                             Err(e) => {
-                                d.error(to.line, 1, format!("cannot read line {}: {e}; reading stops here", to.line));
+                                d.error(to.line, 1, cannot_read(to.line, e));
                                 runner.finish(&mut d);
                                 true
                             }
@@ -550,7 +541,7 @@ impl<'a> Seeking<'a> {
                 }
             }
             Err(e) => {
-                d.error(line, 1, format!("cannot read line {line}: {e}; reading stops here"));
+                d.error(line, 1, cannot_read(line, e));
                 runner.finish(&mut d);
                 true
             }
@@ -570,12 +561,18 @@ impl<'a> Seeking<'a> {
     }
 }
 
+/// A text in memory (borrowed or shared), opened at any offset.
+fn in_memory<'a, T: AsRef<[u8]> + Clone + Send + 'a>(text: T) -> Reopen<'a> {
+    Box::new(move |offset| {
+        let mut c = Cursor::new(text.clone());
+        c.set_position(offset);
+        Ok(Box::new(c) as Box<dyn BufRead + Send + 'a>)
+    })
+}
+
 /// Read a Klartext program from `text` as the stream does, its blocks and diagnostics collected.
 pub(crate) fn read_klartext(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
-    let bytes = text.as_bytes();
-    let at = move |offset: u64| Box::new(&bytes[(offset as usize).min(bytes.len())..]) as Box<dyn BufRead + Send + '_>;
-    let reopen: Reopen<'_> = Box::new(move |offset| Ok(at(offset)));
-    let mut k = Seeking::new(at(0), reopen, m_codes, orientation);
+    let mut k = Seeking::new(in_memory(text.as_bytes()), m_codes, orientation);
     let (mut blocks, mut diags) = (Vec::with_capacity(super::lex::line_count(text)), Diags::default());
     while !k.fill(&mut blocks, &mut diags) {}
     diags.0.sort_by_key(|d| (d.line, d.column));
