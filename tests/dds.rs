@@ -659,8 +659,14 @@ wait $P
             assert_eq!(topics["/clock"]["max_ns"], cmd["max_ns"], "/clock ends where the program does");
             assert!(!clock["publications"].as_array().unwrap().is_empty(), "the commander publishes /clock: {clock}");
         } else {
-            let span = u(&cmd["max_ns"]) - u(&cmd["min_ns"]);
-            assert!(span.abs_diff(program_ns) < 1_000_000, "at real time the wall stamps span the program: {span} ns");
+            // Wall stamps are due times, 1 ms apart. The first sample waits for its acknowledgement:
+            // a wait up to 0.5 s is caught up, a longer one (a loaded machine) moves the pacing,
+            // leaving one gap after the first sample (publish_states); from the second on, the
+            // stamps span the rest of the program.
+            let (first, second, last) = (u(&cmd["min_ns"]), u(&cmd["second_ns"]), u(&cmd["max_ns"]));
+            let (gap, span) = (second - first, last - second);
+            assert!(span.abs_diff(program_ns - 1_000_000) < 1_000_000, "at real time the wall stamps span the program: {span} ns from the second sample");
+            assert!(gap.abs_diff(1_000_000) < 1_000_000 || gap > 500_000_000, "the first sample's wait is caught up, or moves the pacing only past 0.5 s: a gap of {gap} ns");
             assert!(topics.get("/clock").is_none() && clock["publications"].as_array().unwrap().is_empty(), "no /clock without use_sim_time: {clock}");
         }
         // Every node's spinner reads /clock (ROS 2's use_sim_time), all as the type ROS 2 uses.

@@ -54,8 +54,14 @@ def bag(args):
                 t["stamped"] += 1
                 t["min_ns"] = s if t["min_ns"] is None else min(t["min_ns"], s)
                 t["max_ns"] = s if t["max_ns"] is None else max(t["max_ns"], s)
+                # The second-earliest stamp: the pacing after the first sample's acknowledgement.
+                low = sorted(set(t.pop("_low", []) + [s]))[:2]
+                t["_low"] = low
             t["log_min_ns"] = log_ns if t["log_min_ns"] is None else min(t["log_min_ns"], log_ns)
             t["log_max_ns"] = log_ns if t["log_max_ns"] is None else max(t["log_max_ns"], log_ns)
+    for t in out.values():
+        low = t.pop("_low", [])
+        t["second_ns"] = low[1] if len(low) > 1 else None
     print(json.dumps(out))
 
 
