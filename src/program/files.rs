@@ -1,7 +1,7 @@
 //! Program files: opening them is the only part of reading a program that touches the file
 //! system, so it lives here and the core's readers take text or bytes.
 
-use fiveaxis_core::program::{read, BlockStream, Dialect, LoadError, Program, ReadOptions, Reopen};
+use fiveaxis_core::program::{read, BlockStream, Dialect, LoadError, Program, ReadOptions, OpenText, Text};
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
@@ -91,25 +91,10 @@ impl ProgramFile {
         Some(if compressed { path.with_extension("") } else { path })
     }
 
-    /// The file's bytes from `offset`, buffered, as stored (compressed or not).
-    fn raw(&self, offset: u64) -> std::io::Result<BufReader<Box<dyn Read + Send>>> {
-        let raw: Box<dyn Read + Send> = match self {
-            ProgramFile::Path(p) => {
-                let mut f = File::open(p)?;
-                if offset > 0 {
-                    f.seek(SeekFrom::Start(offset))?;
-                }
-                Box::new(f)
-            }
-            ProgramFile::Spooled { file, .. } => Box::new(AtOffset { file: file.clone(), offset }),
-        };
-        Ok(BufReader::with_capacity(1 << 16, raw))
-    }
-
     /// The program's text from its start, buffered: decompressed as it is read if it is gzip or
     /// zstd (known by its first bytes, whatever its name); whether it was.
     fn text(&self) -> std::io::Result<(Box<dyn BufRead + Send>, bool)> {
-        let mut raw = self.raw(0)?;
+        let mut raw = BufReader::with_capacity(1 << 16, self.seekable()?);
         let head = raw.fill_buf()?;
         Ok(if head.starts_with(&GZIP_MAGIC) {
             (Box::new(BufReader::with_capacity(1 << 16, flate2::bufread::MultiGzDecoder::new(raw))), true)
@@ -124,31 +109,32 @@ impl ProgramFile {
         self.text().map(|(r, _)| r).map_err(|source| LoadError::Io { path: self.name(), source })
     }
 
-    /// The program's text from any byte offset, for a reader that jumps (Klartext's calls and
-    /// repeats): a plain file is read at the offset; a compressed one is unpacked once, when first
-    /// opened, to an unlinked temporary file (at most [`MAX_SPOOL_BYTES`]) read at the offset.
-    fn reopen(&self) -> Reopen<'static> {
+    /// The file's bytes as stored (compressed or not), from its start, unbuffered.
+    fn seekable(&self) -> std::io::Result<Box<dyn Text>> {
+        Ok(match self {
+            ProgramFile::Path(p) => Box::new(File::open(p)?),
+            ProgramFile::Spooled { file, .. } => Box::new(AtOffset { file: file.clone(), offset: 0 }),
+        })
+    }
+
+    /// The program's text for a reader that jumps (Klartext's calls and repeats), opened when
+    /// first read: a plain file as it is; a compressed one unpacked then to an unlinked temporary
+    /// file (at most [`MAX_SPOOL_BYTES`]).
+    fn open_text(&self) -> OpenText<'static> {
         let this = self.clone();
-        let mut unpacked: Option<ProgramFile> = None;
-        Box::new(move |offset| {
-            if let Some(u) = &unpacked {
-                return Ok(Box::new(u.raw(offset)?));
-            }
+        Box::new(move || {
             let (text, compressed) = this.text()?;
             if !compressed {
-                return Ok(Box::new(this.raw(offset)?));
+                return this.seekable();
             }
-            let u = ProgramFile::spool(text, &this.name())?;
-            let r = u.raw(offset)?;
-            unpacked = Some(u);
-            Ok(Box::new(r))
+            ProgramFile::spool(text, &this.name())?.seekable()
         })
     }
 
     /// Open the program as a stream of blocks (memory flat in its length), detecting its dialect
     /// from its name and first lines unless given.
     pub fn open(&self, dialect: Option<Dialect>, options: &ReadOptions) -> Result<BlockStream, LoadError> {
-        BlockStream::from_reader(self.reader()?, self.reopen(), self.path().as_deref(), &self.name(), dialect, options)
+        BlockStream::from_reader(self.reader()?, self.open_text(), self.path().as_deref(), &self.name(), dialect, options)
     }
 
     /// Read the program whole, detecting its dialect unless given. Bytes that are not UTF-8 are
@@ -180,5 +166,18 @@ impl Read for AtOffset {
         let n = std::os::windows::fs::FileExt::seek_read(&*self.file, buf, self.offset)?;
         self.offset += n as u64;
         Ok(n)
+    }
+}
+
+impl Seek for AtOffset {
+    fn seek(&mut self, to: SeekFrom) -> std::io::Result<u64> {
+        let (base, by) = match to {
+            SeekFrom::Start(n) => (0, n as i128),
+            SeekFrom::Current(d) => (self.offset, d as i128),
+            SeekFrom::End(d) => (self.file.metadata()?.len(), d as i128),
+        };
+        let at = u64::try_from(base as i128 + by).map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidInput, "seek before the start or past 2^64"))?;
+        self.offset = at;
+        Ok(at)
     }
 }

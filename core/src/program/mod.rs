@@ -18,7 +18,7 @@ pub use heidenhain::{read_heidenhain, read_heidenhain_with};
 pub use klartext::{read_klartext_with, MAX_LABELS, MAX_REPEATED_BLOCKS};
 pub use rs274::{read_rs274, read_rs274_setup, read_rs274_with};
 pub use sinumerik::read_sinumerik_with;
-pub use stream::{BlockStream, DiagnosticLog, Reopen, MAX_DIAGNOSTICS, MAX_LINE_BYTES};
+pub use stream::{BlockStream, DiagnosticLog, OpenText, Text, MAX_DIAGNOSTICS, MAX_LINE_BYTES};
 
 use std::fmt;
 

@@ -18,7 +18,7 @@ use super::rs274::Rs274Reader;
 use super::sinumerik::SinumerikReader;
 use super::{Block, Diagnostic, Dialect, LoadError, MCodeRule, Orientation, Program, ReadOptions, Severity};
 use std::collections::{HashSet, VecDeque};
-use std::io::{BufRead, Cursor, Read};
+use std::io::{BufRead, BufReader, Cursor, Read, Seek, SeekFrom};
 use std::path::Path;
 
 /// A dialect's reader, fed the program one line at a time.
@@ -136,9 +136,14 @@ impl Reader {
     }
 }
 
-/// Opens the program's text again at a byte offset. Klartext's calls and repeats jump back and
-/// forth, so its reader reads parts of the program again rather than hold it.
-pub type Reopen<'a> = Box<dyn FnMut(u64) -> std::io::Result<Box<dyn BufRead + Send + 'a>> + Send + 'a>;
+/// A program's text, readable from any byte offset.
+pub trait Text: Read + Seek + Send {}
+impl<T: Read + Seek + Send + ?Sized> Text for T {}
+
+/// Opens the program's text for a reader that jumps: Klartext's calls and repeats go back and
+/// forth, so its reader reads parts of the program again rather than hold it. Called once, when
+/// the program is first read (a compressed one is unpacked then).
+pub type OpenText<'a> = Box<dyn FnOnce() -> std::io::Result<Box<dyn Text + 'a>> + Send + 'a>;
 
 /// Where the blocks come from: a reader fed line by line, or Klartext read as it runs.
 enum Source {
@@ -175,11 +180,11 @@ const DETECT_BYTES: usize = 1 << 20;
 impl BlockStream {
     /// Read a program from `input` (a file's bytes, as they come), detecting its dialect from its
     /// name (`path`, for the extension) and first lines unless given; `source` names it in reports.
-    /// Klartext reads `reopen(0)` for its labels, then runs from `reopen(0)` again, reopening
-    /// wherever a call or a repeat jumps. Opening the file is the caller's.
+    /// Klartext reads `open()` for its labels, then runs it from its start, seeking wherever a
+    /// call or a repeat jumps. Opening the file is the caller's.
     pub fn from_reader(
         mut input: impl BufRead + Send + 'static,
-        reopen: Reopen<'static>,
+        open: OpenText<'static>,
         path: Option<&Path>,
         source: &str,
         dialect: Option<Dialect>,
@@ -201,7 +206,7 @@ impl BlockStream {
             Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
                 let orientation = options.orientation.unwrap_or(dialect.default_orientation());
-                let mut k = Seeking::new(reopen, &options.m_codes, orientation);
+                let mut k = Seeking::new(open, &options.m_codes, orientation);
                 match k.broken.take() {
                     Some(e) => Err(io(e)),
                     None => Ok(Self::klartext(k, source)),
@@ -420,11 +425,12 @@ fn line_text(buf: &[u8]) -> std::borrow::Cow<'_, str> {
 }
 
 /// Klartext read as it runs: its labels from a first pass over the text, then line by line from
-/// where the program's flow goes, the text reopened at a byte offset for each jump. Memory holds
-/// one line, the label table and the call stack, whatever the program's length.
+/// where the program's flow goes, seeking to a byte offset for each jump (within the read buffer
+/// when the target is in it: a short repeated section is not read again from the file). Memory
+/// holds one line, the read buffer, the label table and the call stack, whatever the program's
+/// length.
 pub(crate) struct Seeking<'a> {
-    reopen: Reopen<'a>,
-    input: Box<dyn BufRead + Send + 'a>,
+    input: BufReader<Box<dyn Text + 'a>>,
     /// The line to read next.
     at: At,
     runner: Runner,
@@ -436,23 +442,24 @@ pub(crate) struct Seeking<'a> {
     /// Diagnostics given so far (a section run again would give its own again), the first
     /// [`MAX_DIAGNOSTICS`] of them.
     given: HashSet<(usize, usize, String)>,
-    /// A read of the label pass or of the first reopening that failed.
+    /// An opening, a read of the label pass or the seek back to the start that failed.
     broken: Option<std::io::Error>,
 }
 
 impl<'a> Seeking<'a> {
-    /// Read `reopen(0)` for the labels; run from `reopen(0)` again. A read that fails is kept in
-    /// `broken` (a file's reader turns it into a [`LoadError`]; otherwise the first
-    /// [`Seeking::fill`] reports it).
-    pub(crate) fn new(mut reopen: Reopen<'a>, m_codes: &[MCodeRule], orientation: Orientation) -> Self {
+    /// Read `open()` for the labels; run it from its start. A failure is kept in `broken` (a
+    /// file's reader turns it into a [`LoadError`]; otherwise the first [`Seeking::fill`] reports
+    /// it).
+    pub(crate) fn new(open: OpenText<'a>, m_codes: &[MCodeRule], orientation: Orientation) -> Self {
         let (mut labels, mut early) = (Labels::default(), Diags::default());
         let (mut buf, mut at) = (Vec::with_capacity(256), At { line: 1, offset: 0 });
-        let (mut first, mut broken) = match reopen(0) {
-            Ok(f) => (f, None),
-            Err(e) => (Box::new(std::io::empty()) as Box<dyn BufRead + Send + 'a>, Some(e)),
+        let (text, mut broken) = match open() {
+            Ok(t) => (t, None),
+            Err(e) => (Box::new(Cursor::new([0u8; 0])) as Box<dyn Text + 'a>, Some(e)),
         };
+        let mut input = BufReader::with_capacity(1 << 16, text);
         while broken.is_none() {
-            let read = with_line(first.as_mut(), &mut buf, |bytes| {
+            let read = with_line(&mut input, &mut buf, |bytes| {
                 let next = At { line: at.line + 1, offset: at.offset + bytes.len() as u64 };
                 labels.line(at.line, without_eol(bytes), next, &mut early);
             });
@@ -466,16 +473,10 @@ impl<'a> Seeking<'a> {
             };
             at = At { line: at.line + 1, offset: at.offset + len };
         }
-        drop(first);
-        let input = match broken {
-            None => reopen(0).unwrap_or_else(|e| {
-                broken = Some(e);
-                Box::new(std::io::empty())
-            }),
-            Some(_) => Box::new(std::io::empty()),
-        };
+        if broken.is_none() {
+            broken = input.rewind().err();
+        }
         Seeking {
-            reopen,
             input,
             at: At { line: 1, offset: 0 },
             runner: Runner::new(labels, m_codes, orientation),
@@ -491,11 +492,11 @@ impl<'a> Seeking<'a> {
     /// `diags`. True once the input has ended.
     pub(crate) fn fill(&mut self, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let mut d = std::mem::take(&mut self.early);
-        let Seeking { reopen, input, at, runner, running, buf, broken, .. } = self;
+        let Seeking { input, at, runner, running, buf, broken, .. } = self;
         let line = at.line;
         let read = match broken.take() {
             Some(e) => Err(e),
-            None => with_line(input.as_mut(), buf, |bytes| {
+            None => with_line(input, buf, |bytes| {
                 let next = At { line: line + 1, offset: at.offset + bytes.len() as u64 };
                 let text = line_text(bytes);
                 if *running {
@@ -525,12 +526,11 @@ impl<'a> Seeking<'a> {
                         false
                     }
                     Next::Jump(to) => {
+                        // The reader stands at the line after this one.
+                        let from = at.offset;
                         *at = to;
-                        match reopen(to.offset) {
-                            Ok(i) => {
-                                *input = i;
-                                false
-                            }
+                        match seek(input, from, to.offset) {
+                            Ok(()) => false,
                             Err(e) => {
                                 d.error(to.line, 1, cannot_read(to.line, e));
                                 runner.finish(&mut d);
@@ -561,13 +561,18 @@ impl<'a> Seeking<'a> {
     }
 }
 
-/// A text in memory (borrowed or shared), opened at any offset.
-fn in_memory<'a, T: AsRef<[u8]> + Clone + Send + 'a>(text: T) -> Reopen<'a> {
-    Box::new(move |offset| {
-        let mut c = Cursor::new(text.clone());
-        c.set_position(offset);
-        Ok(Box::new(c) as Box<dyn BufRead + Send + 'a>)
-    })
+/// Move a reader standing at byte `from` to byte `to`: within its buffer when `to` is in it,
+/// else by seeking the text.
+fn seek(input: &mut BufReader<Box<dyn Text + '_>>, from: u64, to: u64) -> std::io::Result<()> {
+    match i64::try_from(to).ok().zip(i64::try_from(from).ok()) {
+        Some((to, from)) => input.seek_relative(to - from),
+        None => input.seek(SeekFrom::Start(to)).map(drop),
+    }
+}
+
+/// A text in memory (borrowed or shared).
+fn in_memory<'a, T: AsRef<[u8]> + Send + 'a>(text: T) -> OpenText<'a> {
+    Box::new(move || Ok(Box::new(Cursor::new(text)) as Box<dyn Text + 'a>))
 }
 
 /// Read a Klartext program from `text` as the stream does, its blocks and diagnostics collected.
