@@ -1,8 +1,10 @@
 //! Cutter-location data: one pose `x y z i j k [feed]` per line (mm, unit tool axis, mm/min),
 //! separated by commas, spaces or tabs; an optional header line; `#` or `;` comment lines. Numbers
 //! are decimals, also in exponent notation (`-6.0e-05`, as numpy and many exports write them).
+//! Or APT CLDATA (`GOTO/x,y,z,i,j,k`, [`super::apt`]), known by its first statement.
 //! Poses are tool tips in the workpiece frame, so tool-centre-point control is on throughout.
 
+use super::apt::{is_apt_line, AptReader};
 use super::lex::{excerpt, parse_number, Diags};
 use super::{Block, Dialect, Feed, FeedMode, Motion, Orientation, Program, Targets};
 use crate::units::MM;
@@ -57,11 +59,13 @@ pub(crate) struct ClReader {
     feed_mm_per_min: f64,
     orientation: Orientation,
     seen_data: bool,
+    /// APT CLDATA, known by the first line that is not blank or a comment.
+    apt: Option<Box<AptReader>>,
 }
 
 impl ClReader {
     pub(crate) fn new(feed_mm_per_min: f64, orientation: Orientation) -> Self {
-        ClReader { feed_mm_per_min, orientation, seen_data: false }
+        ClReader { feed_mm_per_min, orientation, seen_data: false, apt: None }
     }
 }
 
@@ -69,8 +73,17 @@ impl super::stream::LineReader for ClReader {
     fn line(&mut self, line: usize, l: &str, out: &mut Vec<Block>, diags: &mut Diags) {
         let (feed_mm_per_min, orientation) = (self.feed_mm_per_min, self.orientation);
         let l = l.trim_end_matches('\r');
+        if let Some(apt) = &mut self.apt {
+            return apt.line(line, l, out, diags);
+        }
         let t = l.trim();
         if t.is_empty() || t.starts_with('#') || t.starts_with(';') {
+            return;
+        }
+        if !self.seen_data && is_apt_line(t) {
+            let mut apt = Box::new(AptReader::new(feed_mm_per_min, orientation));
+            apt.line(line, l, out, diags);
+            self.apt = Some(apt);
             return;
         }
         // Fields with their columns, the first eight kept: a pose has six or seven, and a longer
@@ -144,6 +157,12 @@ impl super::stream::LineReader for ClReader {
             orientation,
             events: Vec::new(),
         });
+    }
+
+    fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, diags: &mut Diags) {
+        if let Some(apt) = &mut self.apt {
+            apt.finish(diags);
+        }
     }
 }
 

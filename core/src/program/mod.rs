@@ -4,6 +4,7 @@
 //! each defect (line, column, what it expected). A block with a defect is not used (a damaged value is
 //! never read as a number); every good block is kept.
 
+mod apt;
 mod cl;
 mod heidenhain;
 mod interp;
@@ -37,7 +38,7 @@ pub enum Dialect {
     Heidenhain,
     /// RS274NGC (LinuxCNC, Fanuc style).
     Rs274,
-    /// Cutter-location data: one `x y z i j k` pose per line.
+    /// Cutter-location data: one `x y z i j k` pose per line, or APT CLDATA (`GOTO/x,y,z,i,j,k`).
     Cl,
     /// Siemens Sinumerik 840D (`.MPF`, `TRAORI`, tool vectors `A3= B3= C3=`).
     Sinumerik,
@@ -105,6 +106,11 @@ impl Dialect {
         if klartext {
             return Dialect::Klartext;
         }
+        // APT CLDATA: a motion statement (`GOTO/`) no NC dialect writes.
+        let apt = text.lines().take(2000).any(|l| l.split_once('/').is_some_and(|(w, _)| w.trim().eq_ignore_ascii_case("GOTO")));
+        if apt {
+            return Dialect::Cl;
+        }
         let sinumerik_words = ["TRAORI", "TRAFOOF", "ORIWKS", "ORIMKS", "ORIVECT", "ORIAXES", "CYCLE800", "A3=", "B3=", "C3=", "G642", "G500"];
         let sinumerik = text.lines().take(2000).any(|l| {
             let u = upper(l);
@@ -117,7 +123,7 @@ impl Dialect {
             _ if sinumerik => return Dialect::Sinumerik,
             "h" => return Dialect::Heidenhain,
             "ngc" | "nc" | "gcode" | "tap" | "cnc" => return Dialect::Rs274,
-            "cl" | "csv" | "cls" => return Dialect::Cl,
+            "cl" | "csv" | "cls" | "apt" | "clsf" | "aptsource" => return Dialect::Cl,
             _ => {}
         }
         if first.starts_with('%') && first.ends_with('*') || text.contains(" *\n") {

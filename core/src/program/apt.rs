@@ -1,0 +1,369 @@
+//! APT cutter-location data (CLDATA as text, ISO 4343: what NX, CATIA, SOLIDWORKS CAM, NCL and
+//! Fusion's APT post write before post-processing): `GOTO/x,y,z[,i,j,k]` tool-tip poses with their
+//! tool axis (a GOTO of three keeps the last axis), `FEDRAT/` (MMPM or IPM, before or after the
+//! value), `RAPID` (the next motion only), `UNITS/`, `MULTAX`, `TLAXIS/`, `FROM/`, `GODLTA/`, and
+//! `CIRCLE/` arcs about X, Y or Z ended by the next GOTO. A statement runs on over lines ending in
+//! `$`; `$$` starts a comment. Statements that do not move the tool are kept as events (`SPINDL`,
+//! `COOLNT`, `LOADTL`, `STOP`) or passed over (`PARTNO`, `PPRINT`, `CUTTER`); any other
+//! statement, or one of these in a form that changes the motion in a way not read (feed per
+//! revolution, cutter compensation, `INSERT`ed NC text, cycles, a helix of several turns, a part
+//! frame turned against the machine's), is refused where it stands. NX's `MSYS/` places the part's
+//! frame (MCS), in which the GOTOs are: its origin is the part zero a work offset sets, so it is
+//! passed over when its axes are the machine's, and refused when they are turned.
+//!
+//! CIRCLE's direction depends on its writer: `CIRCLE/xc,yc,zc,i,j,k,r` (ISO, Creo) and
+//! SOLIDWORKS CAM's `CIRCLE/xc,yc,zc,i,j,k` (no radius) turn counter-clockwise about (i,j,k);
+//! NX's eleven-number `CIRCLE/xc,yc,zc,i,j,k,r,tol,ratio,d,e` turns clockwise about it (NX's own
+//! definition, and NCL's APT reader `aptsrc.f`: "11 parameter UG circle for which positive rotation
+//! is clockwise"). Other counts are refused.
+
+use super::lex::{excerpt, parse_number, Diags};
+use super::{ArcSpec, Block, Feed, FeedMode, Motion, Orientation, Plane, Targets};
+use crate::units::MM;
+
+/// Millimetres per inch (`UNITS/INCHES`, `FEDRAT/IPM`).
+const MM_PER_INCH: f64 = 25.4;
+
+/// The longest statement, continuation lines included, in bytes: a CLDATA record is short, so a
+/// longer one is damage (or a `$` on every line), refused rather than held.
+const MAX_STATEMENT_BYTES: usize = 64 * 1024;
+
+/// Whether a line of cutter-location data is an APT statement (a major word such as `GOTO/`,
+/// `RAPID`, `PARTNO`, or a `$$` comment) rather than a plain `x y z i j k` row.
+pub(crate) fn is_apt_line(t: &str) -> bool {
+    if t.starts_with("$$") {
+        return true;
+    }
+    let word: String = t.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == '-').collect::<String>().to_ascii_uppercase();
+    let after = t[word.len()..].trim_start();
+    word.starts_with(|c: char| c.is_ascii_alphabetic()) && (after.starts_with('/') || BARE.contains(&word.as_str()))
+}
+
+/// Major words written without a slash, as the first statement of a file may be.
+const BARE: [&str; 13] = ["RAPID", "FINI", "END", "STOP", "OPSTOP", "PARTNO", "PPRINT", "REMARK", "INSERT", "MULTAX", "GOHOME", "END-OF-PATH", "TOOL"];
+
+/// A `CIRCLE/` waiting for the `GOTO/` that ends it.
+#[derive(Debug, Clone, Copy)]
+struct Circle {
+    centre: [f64; 3],
+    plane: Plane,
+    ccw: bool,
+    /// None: the distance from the centre to the arc's start (SOLIDWORKS CAM writes no radius).
+    radius: Option<f64>,
+    line: usize,
+    column: usize,
+}
+
+/// The APT reader, fed one line at a time.
+#[derive(Debug, Clone)]
+pub(crate) struct AptReader {
+    orientation: Orientation,
+    /// A statement continued (`$`): its text so far, line and column.
+    pending: Option<(String, usize, usize)>,
+    /// Millimetres per program unit.
+    unit: f64,
+    feed: f64,
+    rapid: bool,
+    /// MULTAX as last written (None: never, as NX writes none).
+    multax: Option<bool>,
+    tool_axis: [f64; 3],
+    /// The tool tip (mm) after the last motion.
+    at: Option<[f64; 3]>,
+    circle: Option<Circle>,
+    events: Vec<String>,
+    finished: bool,
+}
+
+impl AptReader {
+    pub(crate) fn new(default_feed_mm_per_min: f64, orientation: Orientation) -> Self {
+        AptReader {
+            orientation,
+            pending: None,
+            unit: 1.0,
+            feed: default_feed_mm_per_min,
+            rapid: false,
+            multax: None,
+            tool_axis: [0.0, 0.0, 1.0],
+            at: None,
+            circle: None,
+            events: Vec::new(),
+            finished: false,
+        }
+    }
+
+    /// Read one line: a statement, its start, its continuation or a comment.
+    pub(crate) fn line(&mut self, line: usize, l: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        let code = match l.find("$$") {
+            Some(k) => &l[..k],
+            None => l,
+        };
+        let trimmed = code.trim_end();
+        let (body, continues) = match trimmed.strip_suffix('$') {
+            Some(b) => (b, true),
+            None => (trimmed, false),
+        };
+        let (mut text, at_line, column) = match self.pending.take() {
+            Some(p) => p,
+            None => {
+                if body.trim().is_empty() && !continues {
+                    return;
+                }
+                let column = l[..l.len() - l.trim_start().len()].chars().count() + 1;
+                (String::new(), line, column)
+            }
+        };
+        if text.len() + body.len() > MAX_STATEMENT_BYTES {
+            diags.error(at_line, column, format!("statement longer than {MAX_STATEMENT_BYTES} bytes over its continuation lines: not read"));
+            return;
+        }
+        text.push_str(body);
+        if continues {
+            self.pending = Some((text, at_line, column));
+            return;
+        }
+        self.statement(at_line, column, text.trim(), out, diags);
+    }
+
+    /// The input has ended: a continued statement or a circle left open is a defect.
+    pub(crate) fn finish(&mut self, diags: &mut Diags) {
+        if let Some((_, line, column)) = self.pending.take() {
+            diags.error(line, column, "the program ends inside this statement (its last line ends in '$')");
+        }
+        if let Some(c) = self.circle.take() {
+            diags.error(c.line, c.column, "CIRCLE without the GOTO that ends it");
+        }
+    }
+
+    fn statement(&mut self, line: usize, col: usize, s: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        // The major word, then `/` and its arguments, or free text (`PARTNO name`).
+        let w = &s[..s.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-')).unwrap_or(s.len())];
+        let rest = s[w.len()..].trim_start();
+        let (word, args) = (w.to_ascii_uppercase(), rest.strip_prefix('/'));
+        if self.finished {
+            diags.error(line, col, format!("{} after FINI (the end of the CL data)", excerpt(&word)));
+            return;
+        }
+        let values = |diags: &mut Diags| -> Option<(Vec<f64>, Vec<String>)> {
+            let (mut nums, mut minors) = (Vec::new(), Vec::new());
+            for f in args.unwrap_or("").split(',') {
+                let f = f.trim();
+                if f.is_empty() {
+                    continue;
+                }
+                match parse_number(f).or_else(|| f.parse::<f64>().ok().filter(|v| v.is_finite() && f.bytes().all(|b| b.is_ascii_digit() || b"+-.eE".contains(&b)))) {
+                    Some(v) => nums.push(v),
+                    None if f.bytes().all(|b| b.is_ascii_alphanumeric()) && f.as_bytes()[0].is_ascii_alphabetic() => minors.push(f.to_ascii_uppercase()),
+                    None => {
+                        diags.error(line, col, format!("{word}: expected a number or a minor word, found '{}'", excerpt(f)));
+                        return None;
+                    }
+                }
+            }
+            Some((nums, minors))
+        };
+        let circle_open = self.circle.is_some();
+        match word.as_str() {
+            "GOTO" | "FROM" | "GODLTA" => {
+                let Some((v, minors)) = values(diags) else { return };
+                if !minors.is_empty() {
+                    diags.error(line, col, format!("{word}/ with '{}': only numbers are read", minors[0]));
+                    return;
+                }
+                let (tip, axis) = match (word.as_str(), v.len(), self.at) {
+                    (_, 3 | 6, _) if word != "GODLTA" => ([v[0], v[1], v[2]].map(|c| c * self.unit), v.get(3..6).map(|a| [a[0], a[1], a[2]])),
+                    ("GODLTA", 3, Some(p)) => ([p[0] + v[0] * self.unit, p[1] + v[1] * self.unit, p[2] + v[2] * self.unit], None),
+                    ("GODLTA", 1, Some(p)) => (std::array::from_fn(|k| p[k] + self.tool_axis[k] * v[0] * self.unit), None),
+                    ("GODLTA", 1 | 3, None) => {
+                        diags.error(line, col, "GODLTA before any position (GOTO or FROM): no point to move from");
+                        return;
+                    }
+                    (_, n, _) => {
+                        let want = if word == "GODLTA" { "dx,dy,dz or a distance along the tool axis" } else { "x,y,z or x,y,z,i,j,k" };
+                        diags.error(line, col, format!("{word}/ expects {want}: found {n} numbers"));
+                        return;
+                    }
+                };
+                if axis.is_some() && self.multax == Some(false) {
+                    diags.error(line, col, format!("{word}/ with a tool axis under MULTAX/OFF"));
+                    return;
+                }
+                if let Some(a) = axis {
+                    let norm = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+                    if !(norm > 1e-9) {
+                        diags.error(line, col, format!("{word}: tool axis (i,j,k) has zero length: expected a direction"));
+                        return;
+                    }
+                    if (norm - 1.0).abs() > 1e-2 {
+                        diags.warning(line, col, format!("{word}: tool axis length {norm:.4} is not 1: normalised"));
+                    }
+                    self.tool_axis = a.map(|c| c / norm);
+                }
+                if word == "FROM" && (self.at.is_some() || circle_open) {
+                    diags.error(line, col, "FROM after the first position: a start point only opens the CL data");
+                    return;
+                }
+                let circle = self.circle.take();
+                if circle.is_some() && word != "GOTO" {
+                    diags.error(line, col, format!("{word} after CIRCLE: the circle's end must be a GOTO"));
+                    return;
+                }
+                let (mut motion, mut arc) = (if std::mem::take(&mut self.rapid) || word == "FROM" { Motion::Rapid } else { Motion::Linear }, None);
+                if let Some(c) = circle {
+                    let Some(start) = self.at else {
+                        diags.error(c.line, c.column, "CIRCLE before any position: the arc has no start");
+                        return;
+                    };
+                    let (i, j, _) = c.plane.axes();
+                    let r = |p: &[f64; 3]| ((p[i] - c.centre[i]).powi(2) + (p[j] - c.centre[j]).powi(2)).sqrt();
+                    let (r0, r1) = (r(&start), r(&tip));
+                    let radius = c.radius.unwrap_or(r0);
+                    let tol = 1e-3 * radius.max(1.0) + 1e-3;
+                    if !(radius > 1e-6) || (r0 - radius).abs() > tol || (r1 - radius).abs() > tol {
+                        diags.error(
+                            line,
+                            col,
+                            format!("CIRCLE of line {} (radius {:.4} mm): the arc's start and end lie {:.4} and {:.4} mm from its centre", c.line, radius, r0, r1),
+                        );
+                        return;
+                    }
+                    motion = if c.ccw { Motion::ArcCcw } else { Motion::ArcCw };
+                    arc = Some(ArcSpec { plane: c.plane, centre: c.centre.map(|v| v * MM), extra_turns: 0 });
+                }
+                self.at = Some(tip);
+                out.push(Block {
+                    line,
+                    column: col,
+                    number: None,
+                    motion,
+                    targets: Targets { x: Some(tip[0] * MM), y: Some(tip[1] * MM), z: Some(tip[2] * MM), tool_axis: Some(self.tool_axis), ..Targets::default() },
+                    arc,
+                    feed: Some(Feed { value_per_min: self.feed, mode: FeedMode::PerMinute }),
+                    tcp: true,
+                    datum: [0.0; 3],
+                    orientation: self.orientation,
+                    events: std::mem::take(&mut self.events),
+                });
+                return;
+            }
+            _ if circle_open => {
+                diags.error(line, col, format!("{} after CIRCLE: the circle's end must be the next statement, a GOTO", excerpt(&word)));
+                self.circle = None;
+                return;
+            }
+            "RAPID" => match values(diags) {
+                Some((v, m)) if v.is_empty() && m.is_empty() => self.rapid = true,
+                Some(_) => diags.error(line, col, "RAPID with words: only RAPID (the next motion at the rapid rate) is read"),
+                None => {}
+            },
+            "FEDRAT" => {
+                let Some((v, minors)) = values(diags) else { return };
+                let mut per_unit = self.unit;
+                for m in &minors {
+                    match m.as_str() {
+                        "MMPM" => per_unit = 1.0,
+                        "IPM" => per_unit = MM_PER_INCH,
+                        "MMPR" | "IPR" => {
+                            diags.error(line, col, format!("FEDRAT/{m}: a feed per revolution is not read"));
+                            return;
+                        }
+                        _ => {
+                            diags.error(line, col, format!("FEDRAT/ with '{m}': expected MMPM or IPM"));
+                            return;
+                        }
+                    }
+                }
+                match v.as_slice() {
+                    [f] if *f > 0.0 => self.feed = f * per_unit,
+                    _ => diags.error(line, col, format!("FEDRAT/ expects one positive feed: found {:?}", v)),
+                }
+            }
+            "UNITS" | "UNIT" => {
+                let Some((v, minors)) = values(diags) else { return };
+                match (v.len(), minors.first().map(String::as_str)) {
+                    (0, Some("MM")) if minors.len() == 1 => self.unit = 1.0,
+                    (0, Some("INCHES" | "INCH")) if minors.len() == 1 => self.unit = MM_PER_INCH,
+                    _ => diags.error(line, col, "UNITS/ expects MM or INCHES"),
+                }
+            }
+            "MULTAX" => {
+                // GOTO's count says whether it carries the tool axis; MULTAX only announces it.
+                let Some((v, minors)) = values(diags) else { return };
+                match (v.len(), minors.first().map(String::as_str), minors.len()) {
+                    (0, None | Some("ON"), 0 | 1) => self.multax = Some(true),
+                    (0, Some("OFF"), 1) => self.multax = Some(false),
+                    _ => diags.error(line, col, "MULTAX expects nothing, ON or OFF"),
+                }
+            }
+            "TLAXIS" => {
+                let Some((v, minors)) = values(diags) else { return };
+                let norm = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+                if v.len() != 3 || !minors.is_empty() || !(norm > 1e-9) {
+                    diags.error(line, col, "TLAXIS/ expects a tool axis i,j,k (a fixed direction; other forms are not read)");
+                    return;
+                }
+                self.tool_axis = [v[0] / norm, v[1] / norm, v[2] / norm];
+            }
+            "CIRCLE" => {
+                let Some((v, minors)) = values(diags) else { return };
+                if minors.iter().any(|m| m == "TIMES") {
+                    diags.error(line, col, "CIRCLE/ with TIMES: a helix of several turns is not read");
+                    return;
+                }
+                // Counter-clockwise about the axis, but for NX's eleven numbers (see the module's doc).
+                let (radius, about) = match (v.len(), minors.is_empty()) {
+                    (6, true) => (None, 1.0),
+                    (7, true) => (Some(v[6]), 1.0),
+                    (11, true) => (Some(v[6]), -1.0),
+                    _ => {
+                        diags.error(line, col, format!("CIRCLE/ expects xc,yc,zc,i,j,k[,r] or NX's eleven numbers: found {} numbers{}", v.len(), if minors.is_empty() { "" } else { " and words" }));
+                        return;
+                    }
+                };
+                let norm = (v[3] * v[3] + v[4] * v[4] + v[5] * v[5]).sqrt();
+                let axis = [v[3], v[4], v[5]].map(|c| c / norm);
+                // Seen from its axis's tip, the tool goes counter-clockwise about (i,j,k).
+                let plane = [(Plane::Yz, 0), (Plane::Zx, 1), (Plane::Xy, 2)].into_iter().find(|&(_, k)| norm > 1e-9 && (axis[k].abs() - 1.0).abs() < 1e-9);
+                let Some((plane, k)) = plane else {
+                    diags.error(line, col, "CIRCLE/ about an axis other than X, Y or Z is not read");
+                    return;
+                };
+                if radius.is_some_and(|r| !(r > 0.0)) {
+                    diags.error(line, col, "CIRCLE/ expects a positive radius");
+                    return;
+                }
+                let centre = [v[0], v[1], v[2]].map(|c| c * self.unit);
+                self.circle = Some(Circle { centre, plane, ccw: axis[k] * about > 0.0, radius: radius.map(|r| r * self.unit), line, column: col });
+            }
+            "SPINDL" | "COOLNT" | "LOADTL" | "LOAD" | "SELCTL" | "SELECT" | "STOP" | "OPSTOP" | "END" | "DELAY" => self.events.push(s.to_string()),
+            "FINI" => self.finished = true,
+            "PARTNO" | "PPRINT" | "TPRINT" | "REMARK" | "MACHIN" | "MODE" | "CUTTER" | "TLDATA" | "TOOL" | "PAINT" | "DISPLY" | "SEQNO"
+            | "CLRSRF" | "OPNAME" | "OPERATION" | "AUTOPS" | "END-OF-PATH" => {}
+            "MSYS" => {
+                let Some((v, _)) = values(diags) else { return };
+                let axes = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+                if v.len() != 9 || v[3..].iter().zip(axes).any(|(a, b)| (a - b).abs() > 1e-6) {
+                    diags.error(line, col, "MSYS/: a part frame (MCS) turned against the machine's is not read (its X and Y axes must be the machine's)");
+                }
+            }
+            // SOLIDWORKS CAM's tool data (flute and extension lengths).
+            w if w.starts_with("CSI_SET_") => {}
+            "CUTCOM" => {
+                let Some((v, minors)) = values(diags) else { return };
+                if !(v.is_empty() && minors == ["OFF"]) {
+                    diags.error(line, col, "CUTCOM: cutter compensation is not read (only CUTCOM/OFF)");
+                }
+            }
+            // SOLIDWORKS CAM's frame of the output (a 3 x 4 matrix, rows): the identity only.
+            "CSYS" | "TRNTYP" => {
+                let Some((v, _)) = values(diags) else { return };
+                let identity = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+                let ok = if word == "CSYS" { v.len() == 12 && v.iter().zip(identity).all(|(a, b)| (a - b).abs() < 1e-9) } else { v.iter().all(|a| *a == 0.0) };
+                if !ok {
+                    diags.error(line, col, format!("{word}/: a frame other than the part's is not read"));
+                }
+            }
+            "" => diags.error(line, col, format!("expected an APT statement (a major word such as GOTO/), found '{}'", excerpt(s))),
+            _ => diags.error(line, col, format!("APT statement {} is not read", excerpt(&word))),
+        }
+    }
+}
