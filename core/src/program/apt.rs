@@ -63,6 +63,8 @@ pub(crate) struct AptReader {
     /// Millimetres per program unit.
     unit: f64,
     feed: f64,
+    /// Whether a FEDRAT has been read (else the default feed applies, with a warning once).
+    fedrat: bool,
     rapid: bool,
     /// MULTAX as last written (None: never, as NX writes none).
     multax: Option<bool>,
@@ -81,6 +83,7 @@ impl AptReader {
             pending: None,
             unit: 1.0,
             feed: default_feed_mm_per_min,
+            fedrat: false,
             rapid: false,
             multax: None,
             tool_axis: [0.0, 0.0, 1.0],
@@ -229,6 +232,9 @@ impl AptReader {
                     motion = if c.ccw { Motion::ArcCcw } else { Motion::ArcCw };
                     arc = Some(ArcSpec { plane: c.plane, centre: c.centre.map(|v| v * MM), extra_turns: 0 });
                 }
+                if motion != Motion::Rapid && self.at.is_some() && !std::mem::replace(&mut self.fedrat, true) {
+                    diags.warning(line, col, format!("{word} before any FEDRAT/: at the default CL feed, {} mm/min", self.feed));
+                }
                 self.at = Some(tip);
                 out.push(Block {
                     line,
@@ -273,7 +279,10 @@ impl AptReader {
                     }
                 }
                 match v.as_slice() {
-                    [f] if *f > 0.0 => self.feed = f * per_unit,
+                    [f] if *f > 0.0 => {
+                        self.feed = f * per_unit;
+                        self.fedrat = true;
+                    }
                     _ => diags.error(line, col, format!("FEDRAT/ expects one positive feed: found {:?}", v)),
                 }
             }
