@@ -17,6 +17,7 @@
 //! definition, and NCL's APT reader `aptsrc.f`: "11 parameter UG circle for which positive rotation
 //! is clockwise"). Other counts are refused.
 
+use super::cl::unit_tool_axis;
 use super::lex::{excerpt, parse_number, Diags};
 use super::{ArcSpec, Block, Feed, FeedMode, Motion, Orientation, Plane, Targets};
 use crate::units::MM;
@@ -191,15 +192,8 @@ impl AptReader {
                     return;
                 }
                 if let Some(a) = axis {
-                    let norm = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-                    if !(norm > 1e-9) {
-                        diags.error(line, col, format!("{word}: tool axis (i,j,k) has zero length: expected a direction"));
-                        return;
-                    }
-                    if (norm - 1.0).abs() > 1e-2 {
-                        diags.warning(line, col, format!("{word}: tool axis length {norm:.4} is not 1: normalised"));
-                    }
-                    self.tool_axis = a.map(|c| c / norm);
+                    let Some(unit) = unit_tool_axis(a, line, col, diags) else { return };
+                    self.tool_axis = unit;
                 }
                 if word == "FROM" && (self.at.is_some() || circle_open) {
                     diags.error(line, col, "FROM after the first position: a start point only opens the CL data");

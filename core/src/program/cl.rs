@@ -53,6 +53,20 @@ fn split_fields(l: &str) -> impl Iterator<Item = (usize, &str)> {
     })
 }
 
+/// A tool axis as written (i j k), made a unit vector: zero length is an error, a length off 1 by
+/// over 1 % a warning (CAM writes unit vectors; a longer one is likely a wrong column).
+pub(crate) fn unit_tool_axis(v: [f64; 3], line: usize, column: usize, diags: &mut Diags) -> Option<[f64; 3]> {
+    let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if !(norm > 1e-9) {
+        diags.error(line, column, "tool axis (i j k) has zero length: expected a direction");
+        return None;
+    }
+    if (norm - 1.0).abs() > 1e-2 {
+        diags.warning(line, column, format!("tool axis length {norm:.4} is not 1: normalised"));
+    }
+    Some(v.map(|c| c / norm))
+}
+
 /// The CL reader, fed one line at a time.
 #[derive(Debug, Clone)]
 pub(crate) struct ClReader {
@@ -121,14 +135,7 @@ impl super::stream::LineReader for ClReader {
             }
             return;
         }
-        let norm = (v[3] * v[3] + v[4] * v[4] + v[5] * v[5]).sqrt();
-        if !(norm > 1e-9) {
-            diags.error(line, fields[3].0, "tool axis (i j k) has zero length: expected a direction");
-            return;
-        }
-        if (norm - 1.0).abs() > 1e-2 {
-            diags.warning(line, fields[3].0, format!("tool axis length {norm:.4} is not 1: normalised"));
-        }
+        let Some(axis) = unit_tool_axis([v[3], v[4], v[5]], line, fields[3].0, diags) else { return };
         let feed = if count == 7 {
             if !(v[6] > 0.0) {
                 diags.error(line, fields[6].0, "expected a positive feed (mm/min)");
@@ -147,7 +154,7 @@ impl super::stream::LineReader for ClReader {
                 x: Some(v[0] * MM),
                 y: Some(v[1] * MM),
                 z: Some(v[2] * MM),
-                tool_axis: Some([v[3] / norm, v[4] / norm, v[5] / norm]),
+                tool_axis: Some(axis),
                 ..Targets::default()
             },
             arc: None,
