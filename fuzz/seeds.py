@@ -52,6 +52,12 @@ def programs(corpus: pathlib.Path) -> int:
     # CL data: the SING cut's first moves as x y z i j k [feed] lines, with a header, comma and space separated.
     cl = b"x,y,z,i,j,k,f\n0,0,-8,0,0,1,2000\n10,0,-8,0,0.0174,0.9998,2000\n25,0,-8,0,0.0003,1,2000\n50 0 -8 0 0 1\n"
     put(corpus, "nc_program", "sing.cl", bytes([PICK["cl"]]) + cl)
+    # APT CL data (read as CL): both CIRCLE forms, a continuation, inches, GODLTA, a refused CUTCOM.
+    apt = (b"PARTNO SEED\nMULTAX/ON\nRAPID\nGOTO/5,5,50,0,0,1\nFEDRAT/MMPM,300\nGOTO/30,85,-2.5\n"
+           b"CIRCLE/55,85,-2.5,0,0,-1,25\nGOTO/80,85,-2.5\nCIRCLE/95,85,7.5,0,1,0,10,0.01,0.5,10,0\n"
+           b"GOTO/95,85,-2.5\nGOTO/105,60,$\n7.5,0.17,0,0.98 $$ tilted\nUNITS/INCHES\nFEDRAT/10,IPM\n"
+           b"GODLTA/0,0,0.2\nCUTCOM/LEFT\nEND\nFINI\n")
+    put(corpus, "nc_program", "contour.cls", bytes([PICK["cl"]]) + apt)
     return n + 1
 
 

@@ -148,3 +148,28 @@ fn apt_statements_that_change_motion_unread_are_refused_where_they_stand() {
     // Found by its content, without the extension.
     assert_eq!(Dialect::detect(None, "PARTNO TEST\nGOTO/1,2,3\n"), Dialect::Cl);
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 128, ..Default::default() })]
+    /// APT-shaped noise: the contour with characters replaced by APT's own (`/ , $ $$` digits, words)
+    /// never panics the reader or the sampler and analysis behind it, never makes more blocks than it
+    /// has GOTOs, and every diagnostic names a line of the text.
+    #[test]
+    fn mutated_apt_never_panics(cuts in proptest::collection::vec((0usize..2000, proptest::sample::select(vec!['/', ',', '$', '.', '-', '0', '9', 'E', ' ', '\n', 'G', 'X'])), 0..10)) {
+        let mut s: Vec<char> = CONTOUR.chars().collect();
+        for (at, c) in cuts {
+            let at = at % s.len();
+            s[at] = c;
+        }
+        let text: String = s.into_iter().collect();
+        let p = read(&text, Dialect::Cl, "t.cls", &ReadOptions::default());
+        let gotos = text.lines().filter(|l| l.contains('/')).count();
+        proptest::prop_assert!(p.blocks.len() <= gotos, "{} blocks from {} statements", p.blocks.len(), gotos);
+        let lines = text.lines().count().max(1);
+        proptest::prop_assert!(p.diagnostics.iter().all(|d| d.line >= 1 && d.line <= lines));
+        let m = Machine::hermle_c600u();
+        let opts = fiveaxis::path::PathOptions { period: 0.05, ..Default::default() };
+        let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
+        let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
+    }
+}
