@@ -17,8 +17,8 @@
 //! definition, and NCL's APT reader `aptsrc.f`: "11 parameter UG circle for which positive rotation
 //! is clockwise"). Other counts are refused.
 
-use super::cl::unit_tool_axis;
-use super::lex::{excerpt, parse_number, Diags};
+use super::cl::{parse_field, unit_tool_axis};
+use super::lex::{excerpt, Diags};
 use super::{ArcSpec, Block, Feed, FeedMode, Motion, Orientation, Plane, Targets};
 use crate::units::MM;
 
@@ -35,9 +35,21 @@ pub(crate) fn is_apt_line(t: &str) -> bool {
     if t.starts_with("$$") {
         return true;
     }
-    let word: String = t.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == '-').collect::<String>().to_ascii_uppercase();
-    let after = t[word.len()..].trim_start();
-    word.starts_with(|c: char| c.is_ascii_alphabetic()) && (after.starts_with('/') || BARE.contains(&word.as_str()))
+    let (word, rest) = major_word(t);
+    word.starts_with(|c: char| c.is_ascii_alphabetic()) && (rest.starts_with('/') || BARE.contains(&word.to_ascii_uppercase().as_str()))
+}
+
+/// Whether a line is an APT `GOTO/` (a motion statement no NC dialect writes), for the dialect's guess.
+pub(crate) fn is_goto(l: &str) -> bool {
+    let (word, rest) = major_word(l.trim_start());
+    word.eq_ignore_ascii_case("GOTO") && rest.starts_with('/')
+}
+
+/// A statement's major word as written (letters, digits, `_`, `-`: `GOTO`, `END-OF-PATH`,
+/// `CSI_SET_FLUTE_LENGTH`) and what follows it, from its first non-blank.
+fn major_word(s: &str) -> (&str, &str) {
+    let end = s.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-')).unwrap_or(s.len());
+    (&s[..end], s[end..].trim_start())
 }
 
 /// Major words written without a slash, as the first statement of a file may be.
@@ -140,8 +152,7 @@ impl AptReader {
 
     fn statement(&mut self, line: usize, col: usize, s: &str, out: &mut Vec<Block>, diags: &mut Diags) {
         // The major word, then `/` and its arguments, or free text (`PARTNO name`).
-        let w = &s[..s.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-')).unwrap_or(s.len())];
-        let rest = s[w.len()..].trim_start();
+        let (w, rest) = major_word(s);
         let (word, args) = (w.to_ascii_uppercase(), rest.strip_prefix('/'));
         if self.finished {
             diags.error(line, col, format!("{} after FINI (the end of the CL data)", excerpt(&word)));
@@ -154,7 +165,7 @@ impl AptReader {
                 if f.is_empty() {
                     continue;
                 }
-                match parse_number(f).or_else(|| f.parse::<f64>().ok().filter(|v| v.is_finite() && f.bytes().all(|b| b.is_ascii_digit() || b"+-.eE".contains(&b)))) {
+                match parse_field(f) {
                     Some(v) => nums.push(v),
                     None if f.bytes().all(|b| b.is_ascii_alphanumeric()) && f.as_bytes()[0].is_ascii_alphabetic() => minors.push(f.to_ascii_uppercase()),
                     None => {
@@ -299,12 +310,13 @@ impl AptReader {
             }
             "TLAXIS" => {
                 let Some((v, minors)) = values(diags) else { return };
-                let norm = v.iter().map(|c| c * c).sum::<f64>().sqrt();
-                if v.len() != 3 || !minors.is_empty() || !(norm > 1e-9) {
+                if v.len() != 3 || !minors.is_empty() {
                     diags.error(line, col, "TLAXIS/ expects a tool axis i,j,k (a fixed direction; other forms are not read)");
                     return;
                 }
-                self.tool_axis = [v[0] / norm, v[1] / norm, v[2] / norm];
+                if let Some(unit) = unit_tool_axis([v[0], v[1], v[2]], line, col, diags) {
+                    self.tool_axis = unit;
+                }
             }
             "CIRCLE" => {
                 let Some((v, minors)) = values(diags) else { return };

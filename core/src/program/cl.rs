@@ -21,7 +21,7 @@ pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) 
 
 /// A CL field: an NC decimal, or a finite number in exponent notation (`1.5e-3`; not `inf`, `nan`
 /// or an exponent that overflows).
-fn parse_field(f: &str) -> Option<f64> {
+pub(crate) fn parse_field(f: &str) -> Option<f64> {
     parse_number(f).or_else(|| {
         let exponent = f.bytes().any(|b| b == b'e' || b == b'E');
         let plain = f.bytes().all(|b| b.is_ascii_digit() || matches!(b, b'+' | b'-' | b'.' | b'e' | b'E'));

@@ -107,8 +107,7 @@ impl Dialect {
             return Dialect::Klartext;
         }
         // APT CLDATA: a motion statement (`GOTO/`) no NC dialect writes.
-        let apt = text.lines().take(2000).any(|l| l.split_once('/').is_some_and(|(w, _)| w.trim().eq_ignore_ascii_case("GOTO")));
-        if apt {
+        if text.lines().take(2000).any(apt::is_goto) {
             return Dialect::Cl;
         }
         let sinumerik_words = ["TRAORI", "TRAFOOF", "ORIWKS", "ORIMKS", "ORIVECT", "ORIAXES", "CYCLE800", "A3=", "B3=", "C3=", "G642", "G500"];
