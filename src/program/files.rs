@@ -91,22 +91,26 @@ impl ProgramFile {
         Some(if compressed { path.with_extension("") } else { path })
     }
 
-    /// The program's text from its start, buffered: decompressed as it is read if it is gzip or
-    /// zstd (known by its first bytes, whatever its name); whether it was.
-    fn text(&self) -> std::io::Result<(Box<dyn BufRead + Send>, bool)> {
+    /// The program's text from its start: the file's bytes, buffered, or, if they are gzip or zstd
+    /// (known by their first bytes, whatever the name), decompressed as they are read.
+    fn text(&self) -> std::io::Result<Opened> {
         let mut raw = BufReader::with_capacity(1 << 16, self.seekable()?);
         let head = raw.fill_buf()?;
         Ok(if head.starts_with(&GZIP_MAGIC) {
-            (Box::new(BufReader::with_capacity(1 << 16, flate2::bufread::MultiGzDecoder::new(raw))), true)
+            Opened::Packed(Box::new(BufReader::with_capacity(1 << 16, flate2::bufread::MultiGzDecoder::new(raw))))
         } else if head.starts_with(&ZSTD_MAGIC) {
-            (Box::new(BufReader::with_capacity(1 << 16, zstd::stream::read::Decoder::with_buffer(raw)?)), true)
+            Opened::Packed(Box::new(BufReader::with_capacity(1 << 16, zstd::stream::read::Decoder::with_buffer(raw)?)))
         } else {
-            (Box::new(raw), false)
+            Opened::Plain(raw)
         })
     }
 
     fn reader(&self) -> Result<Box<dyn BufRead + Send>, LoadError> {
-        self.text().map(|(r, _)| r).map_err(|source| LoadError::Io { path: self.name(), source })
+        match self.text() {
+            Ok(Opened::Plain(r)) => Ok(Box::new(r)),
+            Ok(Opened::Packed(r)) => Ok(r),
+            Err(source) => Err(LoadError::Io { path: self.name(), source }),
+        }
     }
 
     /// The file's bytes as stored (compressed or not), from its start, unbuffered.
@@ -122,12 +126,13 @@ impl ProgramFile {
     /// file (at most [`MAX_SPOOL_BYTES`]).
     fn open_text(&self) -> OpenText<'static> {
         let this = self.clone();
-        Box::new(move || {
-            let (text, compressed) = this.text()?;
-            if !compressed {
-                return this.seekable();
+        Box::new(move || match this.text()? {
+            Opened::Plain(r) => {
+                let mut text = r.into_inner();
+                text.rewind()?;
+                Ok(text)
             }
-            ProgramFile::spool(text, &this.name())?.seekable()
+            Opened::Packed(r) => ProgramFile::spool(r, &this.name())?.seekable(),
         })
     }
 
@@ -146,6 +151,12 @@ impl ProgramFile {
         let dialect = dialect.unwrap_or_else(|| Dialect::detect(self.path().as_deref(), &text));
         Ok(read(&text, dialect, &self.name(), options))
     }
+}
+
+/// A program file opened at its start: plain text, or a decompressing reader of gzip or zstd.
+enum Opened {
+    Plain(BufReader<Box<dyn Text>>),
+    Packed(Box<dyn BufRead + Send>),
 }
 
 /// The first bytes of a gzip member (RFC 1952) and of a zstd frame (RFC 8878).
