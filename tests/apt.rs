@@ -147,6 +147,17 @@ fn apt_statements_that_change_motion_unread_are_refused_where_they_stand() {
     assert_eq!((b[1].motion, b[2].motion), (fiveaxis::program::Motion::Rapid, fiveaxis::program::Motion::Linear));
     // Found by its content, without the extension.
     assert_eq!(Dialect::detect(None, "PARTNO TEST\nGOTO/1,2,3\n"), Dialect::Cl);
+    // And by its first statement, with no GOTO/ among the lines the guess reads (a header longer than
+    // them, or a file that only sets up): the APT reader's own errors, not RS274's.
+    let header = format!("PARTNO TEST\n$$ made by a CAM system\n{}MACHIN/UNCX01,1\nCUTCOM/LEFT\nGOTO/1,2,3\n", "PPRINT SET-UP NOTE\n".repeat(2500));
+    assert_eq!(Dialect::detect(None, &header), Dialect::Cl);
+    assert_eq!(Dialect::detect(None, "PARTNO TEST\nFEDRAT/MMPM,500\n"), Dialect::Cl);
+    let p = read(&header, Dialect::detect(None, &header), "t", &opts);
+    assert!(errors(&p).iter().any(|(l, c, m)| *l == 2504 && *c == 1 && m.contains("CUTCOM")), "{:#?}", errors(&p));
+    // Other dialects' first lines are not APT statements.
+    for (text, dialect) in [("N10 G0 X0 Y0\n", Dialect::Rs274), ("O1000\nG0 X0\n", Dialect::Rs274), ("%PGM G71 *\nN10 G0 X0 *\n", Dialect::Heidenhain), ("TRAORI\nG1 X0\n", Dialect::Sinumerik), ("1 2 3 0 0 1\n", Dialect::Cl)] {
+        assert_eq!(Dialect::detect(None, text), dialect, "{text:?}");
+    }
 }
 
 proptest::proptest! {

@@ -106,8 +106,9 @@ impl Dialect {
         if klartext {
             return Dialect::Klartext;
         }
-        // APT CLDATA: a motion statement (`GOTO/`) no NC dialect writes.
-        if text.lines().take(2000).any(apt::is_goto) {
+        // APT CLDATA: a motion statement (`GOTO/`) no NC dialect writes, or a first statement that is
+        // APT's (`PARTNO`, `$$`, `MACHIN/`, ...), as the CL reader itself takes it.
+        if apt::is_apt_line(first) || text.lines().take(2000).any(apt::is_goto) {
             return Dialect::Cl;
         }
         let sinumerik_words = ["TRAORI", "TRAFOOF", "ORIWKS", "ORIMKS", "ORIVECT", "ORIAXES", "CYCLE800", "A3=", "B3=", "C3=", "G642", "G500"];
