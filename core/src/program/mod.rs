@@ -430,11 +430,19 @@ impl Default for ReadOptions {
     }
 }
 
+impl ReadOptions {
+    /// The orientation interpolation a program in `dialect` starts in: the one asked for, else the
+    /// dialect's default.
+    pub fn orientation_for(&self, dialect: Dialect) -> Orientation {
+        self.orientation.unwrap_or(dialect.default_orientation())
+    }
+}
+
 /// Read `text` in `dialect`; `source` names it in reports.
 pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> Program {
     let mut p = match stream::Reader::new(dialect, options) {
         Some(mut reader) => stream::read_whole(reader.get(), text, dialect),
-        None => read_klartext_with(text, &options.m_codes, options.orientation.unwrap_or(dialect.default_orientation())),
+        None => read_klartext_with(text, &options.m_codes, options.orientation_for(dialect)),
     };
     p.source = source.to_string();
     p

@@ -116,7 +116,7 @@ pub(crate) enum Reader {
 impl Reader {
     /// The reader of `dialect` (`None` for Klartext, which jumps: [`Seeking`]).
     pub(crate) fn new(dialect: Dialect, options: &ReadOptions) -> Option<Reader> {
-        let orientation = options.orientation.unwrap_or(dialect.default_orientation());
+        let orientation = options.orientation_for(dialect);
         Some(match dialect {
             Dialect::Cl => Reader::Cl(ClReader::new(options.cl_feed_mm_per_min, orientation)),
             Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&options.m_codes, orientation)),
@@ -205,7 +205,7 @@ impl BlockStream {
         match Reader::new(dialect, options) {
             Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
-                let orientation = options.orientation.unwrap_or(dialect.default_orientation());
+                let orientation = options.orientation_for(dialect);
                 let mut k = Seeking::new(open, &options.m_codes, orientation);
                 match k.broken.take() {
                     Some(e) => Err(io(e)),
@@ -222,7 +222,7 @@ impl BlockStream {
             Some(reader) => Self::lines(Box::new(Cursor::new(text.as_bytes().to_vec())), reader, dialect, source),
             None => {
                 let text: std::sync::Arc<[u8]> = text.as_bytes().into();
-                let orientation = options.orientation.unwrap_or(dialect.default_orientation());
+                let orientation = options.orientation_for(dialect);
                 Self::klartext(Seeking::new(in_memory(text), &options.m_codes, orientation), source)
             }
         }
