@@ -194,6 +194,11 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
     let mut tcp = false;
     let mut datum = Vector3::zeros();
     for s in &traj.segments {
+        if s.kind == SegmentKind::Dwell {
+            // Heidenhain DIN/ISO: G04 F is the time, s; RS274NGC: G4 P, s.
+            line(&mut out, &if heid { format!("G04 F{:.3}", s.duration) } else { format!("G4 P{:.3}", s.duration) });
+            continue;
+        }
         let want_tcp = program.blocks[s.block].tcp;
         if s.datum != datum && heid {
             datum = s.datum;

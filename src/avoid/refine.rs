@@ -84,6 +84,7 @@ pub fn semi_cylinder() -> Program {
                 datum: [0.0; 3],
                 orientation: crate::program::Orientation::AxisLinear,
                 events: Vec::new(),
+                dwell_s: None,
             }
         })
         .collect();

@@ -79,6 +79,7 @@ impl BuiltinPath {
                     datum: [0.0; 3],
                     orientation: crate::program::Orientation::AxisLinear,
                     events: Vec::new(),
+                    dwell_s: None,
                 }
             })
             .collect();

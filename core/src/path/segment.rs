@@ -17,6 +17,8 @@ pub enum SegmentKind {
     Tcp,
     /// Feed move without TCPM: machine axes linear.
     Axes,
+    /// A dwell (`G4`, `DELAY/`): every axis stands still at `q0` for the duration.
+    Dwell,
 }
 
 /// One move of the program.
@@ -236,7 +238,7 @@ impl Segment {
     /// (no TCPM) move. Rapids and rotary-only moves are not path moves.
     pub fn is_path_move(&self) -> bool {
         match self.kind {
-            SegmentKind::Rapid => false,
+            SegmentKind::Rapid | SegmentKind::Dwell => false,
             SegmentKind::Tcp => self.length > 1e-9,
             SegmentKind::Axes => (0..3).any(|i| (self.q1[i] - self.q0[i]).abs() > 1e-12),
         }
@@ -361,6 +363,25 @@ impl SegmentPlanner {
         let (mut q, mut t, mut s) = (self.q, self.t, self.s);
         let (mut first_orientation, mut at_start) = (self.first_orientation, self.at_start);
         let stopped = 'blocks: {
+            // A dwell comes before the block's motion. Before CL data's first pose nothing has started.
+            if let Some(d) = b.dwell_s.filter(|d| *d > 0.0 && !at_start) {
+                if t + d > options.max_duration_s {
+                    diags.push(diag(
+                        b,
+                        format!(
+                            "this dwell ({d} s) would make the program run {:.1} h, beyond the bound of {:.1} h: planning stops here \
+                             (raise the bound with --max-program-hours if the program is meant to run this long)",
+                            (t + d) / 3600.0,
+                            options.max_duration_s / 3600.0
+                        ),
+                    ));
+                    break 'blocks true;
+                }
+                let datum = Vector3::from(b.datum);
+                let tip = machine.forward(&q).tip - datum;
+                segments.push(Segment { kind: SegmentKind::Dwell, block: bi, line: b.line, number: b.number, t0: t, duration: d, s0: s, length: 0.0, q0: q, q1: q, tip0: tip, tip1: tip, datum, feed: 0.0, arc: None, orient: None });
+                t += d;
+            }
             if b.targets.is_empty() {
                 break 'blocks false;
             }

@@ -43,6 +43,8 @@ pub struct RunHead {
     tcp_tip: Option<Vector3<f64>>,
     /// The parameter is an angle (rad): only the rotary axes move along the run.
     angular: bool,
+    /// A dwell's time, s (a dwell is a run of its own, of length 0): the axes stand at `q0`.
+    dwell: f64,
 }
 
 /// A run being planned: its head, and the window of its segments the look-ahead has read (each with
@@ -81,6 +83,16 @@ impl Run {
     /// Parameter length of the run.
     pub fn length(&self) -> f64 {
         self.head.length
+    }
+
+    /// A dwell's time, s (0 for a run that moves).
+    pub fn dwell(&self) -> f64 {
+        self.head.dwell
+    }
+
+    /// Axis values at the run's start.
+    pub fn start(&self) -> Joints {
+        self.head.q0
     }
 
     /// Segments in the run.
@@ -329,6 +341,7 @@ impl<I: Iterator<Item = Segment>> Iterator for RunScout<I> {
                 RunKind::Linear => (0..3).all(|i| (first.q1[i] - first.q0[i]).abs() <= 1e-12) && first.length <= 1e-12,
                 _ => false,
             },
+            dwell: if first.kind == SegmentKind::Dwell { first.duration } else { 0.0 },
         };
         let mut prev = first;
         for seg in self.source.by_ref() {

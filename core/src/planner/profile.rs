@@ -485,6 +485,23 @@ pub fn plan_stream(
         let mut run = Run::new(head, first);
         first += run.count();
         if run.length() <= 0.0 {
+            // A dwell: the axes stand where the last run stopped, for its time in whole periods.
+            let n = (run.dwell() / config.period).round() as u64;
+            if n > 0 {
+                run.read_through(0, &mut source);
+                let (q, seg) = (run.start(), run.segment(0).clone());
+                let mut stopped = false;
+                for j in 0..n {
+                    if !emit(PlannedSample { t: t0 + j as f64 * config.period, segment: run.first, run: ri, q }, &seg) {
+                        stopped = true;
+                        break;
+                    }
+                }
+                t0 += n as f64 * config.period;
+                if stopped {
+                    break;
+                }
+            }
             run.skip_rest(&mut source);
             continue;
         }

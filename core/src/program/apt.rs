@@ -253,6 +253,7 @@ impl AptReader {
                     datum: [0.0; 3],
                     orientation: self.orientation,
                     events: std::mem::take(&mut self.events),
+                    dwell_s: None,
                 });
                 return;
             }
@@ -349,7 +350,28 @@ impl AptReader {
                 let centre = [v[0], v[1], v[2]].map(|c| c * self.unit);
                 self.circle = Some(Circle { centre, plane, ccw: axis[k] * about > 0.0, radius: radius.map(|r| r * self.unit), line, column: col });
             }
-            "SPINDL" | "COOLNT" | "LOADTL" | "LOAD" | "SELCTL" | "SELECT" | "STOP" | "OPSTOP" | "END" | "DELAY" => self.events.push(s.to_string()),
+            "SPINDL" | "COOLNT" | "LOADTL" | "LOAD" | "SELCTL" | "SELECT" | "STOP" | "OPSTOP" | "END" => self.events.push(s.to_string()),
+            // DELAY/t: the tool stands still t seconds (ISO 4343); DELAY/n,REV (spindle turns) is not read.
+            "DELAY" => {
+                let Some((v, minors)) = values(diags) else { return };
+                match (v.as_slice(), minors.is_empty()) {
+                    ([t], true) if *t >= 0.0 => out.push(Block {
+                        line,
+                        column: col,
+                        number: None,
+                        motion: Motion::Linear,
+                        targets: Targets::default(),
+                        arc: None,
+                        feed: None,
+                        tcp: true,
+                        datum: [0.0; 3],
+                        orientation: self.orientation,
+                        events: std::mem::take(&mut self.events),
+                        dwell_s: Some(*t),
+                    }),
+                    _ => diags.error(line, col, "DELAY/ expects a time in seconds (DELAY/n,REV, in spindle turns, is not read)"),
+                }
+            }
             "FINI" => self.finished = true,
             "PARTNO" | "PPRINT" | "TPRINT" | "REMARK" | "MACHIN" | "MODE" | "CUTTER" | "TLDATA" | "TOOL" | "PAINT" | "DISPLY" | "SEQNO"
             | "CLRSRF" | "OPNAME" | "OPERATION" | "AUTOPS" | "END-OF-PATH" => {}

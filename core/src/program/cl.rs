@@ -163,6 +163,7 @@ impl super::stream::LineReader for ClReader {
             datum: [0.0; 3],
             orientation,
             events: Vec::new(),
+            dwell_s: None,
         });
     }
 

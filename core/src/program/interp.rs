@@ -212,6 +212,7 @@ impl Interpreter {
         // A code that changes the motion and is not modelled is an error (fail closed), never skipped.
         let mut uses: Vec<char> = Vec::new(); // letters besides axes that a code of this block takes
         let mut g10 = false;
+        let mut dwell_word: Option<&Word> = None;
         for w in words {
             match w.letter {
                 'G' => {
@@ -293,9 +294,9 @@ impl Interpreter {
                             )
                         }
                         ("64", false) => uses.extend(['P', 'Q']), // blending within a tolerance: what the planner does
-                        ("4", false) => {
+                        ("4", _) => {
                             uses.push('P');
-                            diags.warning(line, w.column, "G4 dwell: the pause is not timed (no motion)");
+                            dwell_word = Some(w);
                         }
                         ("61" | "61.1", false) => unsupported(diags, "exact stop mode: the planner blends blocks as G64 does"),
                         ("41" | "42" | "41.1" | "42.1", false) => unsupported(diags, "cutter radius compensation"),
@@ -388,6 +389,27 @@ impl Interpreter {
             next.move_origin(next.offsets[next.system]);
         }
 
+        // A dwell's time: P, s (RS274NGC, LinuxCNC: "G4 P- dwell, seconds"; Sinumerik's G4 F comes as
+        // P), or F, s, in Heidenhain DIN/ISO ("G04 F: dwell time in seconds", F is then not a feed).
+        let mut dwell_s = None;
+        if let Some(g) = dwell_word {
+            let time = if heid { feed_word.take() } else { words.iter().find(|w| w.letter == 'P') };
+            let letter = if heid { 'F' } else { 'P' };
+            match time {
+                Some(t) if t.value >= 0.0 && t.value.is_finite() => {
+                    dwell_s = Some(t.value);
+                    if self.dialect == Dialect::Rs274 && !t.raw.contains('.') && t.value >= 100.0 {
+                        diags.warning(
+                            line,
+                            t.column,
+                            format!("G4 P{}: a dwell of {} s (P is seconds in RS274NGC; a Fanuc control reads a P without a decimal point as milliseconds)", t.raw, t.value),
+                        );
+                    }
+                }
+                Some(t) => diags.error(line, t.column, format!("G{} {letter}{}: expected a dwell time of 0 s or more", g.raw, t.raw)),
+                None => diags.error(line, g.column, format!("G{} without {letter}: expected the dwell time in seconds ({letter})", g.raw)),
+            }
+        }
         if let Some(w) = feed_word {
             if !(w.value > 0.0) {
                 diags.error(line, w.column, format!("F{}: expected a positive feed", w.raw));
@@ -523,6 +545,7 @@ impl Interpreter {
             datum: self.datum,
             orientation: self.orientation,
             events,
+            dwell_s,
         })
     }
 }

@@ -99,6 +99,8 @@ enum Kind<'a> {
     Tcp { on: bool, orientation: Option<Orientation> },
     /// `CYCL DEF 7.x X..`: axis, value, incremental.
     Datum(usize, KWord<'a>, bool),
+    /// `CYCL DEF 9.1 DWELL 1.5`: the machine stands still, s.
+    Dwell(KWord<'a>),
     Label(&'a str),
     Call { label: &'a str, rep: Option<KWord<'a>> },
     Assign { name: String, value: f64 },
@@ -596,11 +598,23 @@ fn function<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut 
     Some(Kind::Tcp { on: true, orientation })
 }
 
-/// `CYCL DEF 7.0 DATUM SHIFT` / `7.1 X+..` / `7.2 Y+..` / `7.3 Z+..`; every other cycle is refused.
+/// `CYCL DEF 7.0 DATUM SHIFT` / `7.1 X+..` / `7.2 Y+..` / `7.3 Z+..`, `CYCL DEF 9.0 DWELL TIME` /
+/// `9.1 DWELL 1.5` (German `V.ZEIT`: the dwell, s, active where it is defined); every other cycle is refused.
 fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bool, diags: &mut Diags) -> Option<Kind<'a>> {
     let col = toks[0].1;
     let number = toks.get(2).map_or("", |t| t.0);
     let (cycle, part) = number.split_once('.').unwrap_or((number, ""));
+    if cycle == "9" {
+        return match (part, toks.len()) {
+            ("0", _) => None,
+            // 9.1, its label (in the control's language), the time.
+            ("1", 5) => value_word("DWELL", toks[4].0, toks[4].0, toks[4].1, line, diags).map(Kind::Dwell),
+            _ => {
+                diags.error(line, col, format!("CYCL DEF {number}: expected CYCL DEF 9.0 DWELL TIME or CYCL DEF 9.1 DWELL followed by the time, s"));
+                None
+            }
+        };
+    }
     if cycle != "7" {
         let what = match cycle {
             "19" => "a tilted working plane is not modelled",
@@ -921,6 +935,13 @@ impl Exec {
         let mut vector = None;
         match &s.kind {
             Kind::Stop => words.push(word('M', 0.0, "0".into(), s.col, false)),
+            // The interpreter reads a TNC dwell as G04 F, s.
+            Kind::Dwell(w) => {
+                if let Some(v) = self.value(w, s.line, diags) {
+                    words.push(word('G', 4.0, "04".into(), s.col, false));
+                    words.push(word('F', v, w.raw.into(), w.col, false));
+                }
+            }
             Kind::Tool { events, feed } => {
                 for e in events {
                     let (l, rest) = e.split_at(1);

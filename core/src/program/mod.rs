@@ -316,6 +316,9 @@ pub struct Block {
     pub orientation: Orientation,
     /// Non-motion words kept as events, as written (`M13`, `T5`, `S12000`, `M100`).
     pub events: Vec<String>,
+    /// A dwell (`G4 P`, Sinumerik `G4 F`, Heidenhain `G04 F`, APT `DELAY/`): the machine stands
+    /// still this long, s, before the block's motion (LinuxCNC's order of execution: dwell, then motion).
+    pub dwell_s: Option<f64>,
 }
 
 /// How bad a diagnostic is.

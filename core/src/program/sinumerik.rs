@@ -91,6 +91,22 @@ impl super::stream::LineReader for SinumerikReader {
             diags.warning(line, first + 1, format!("line {line} not used"));
             return;
         }
+        // G4 F: the dwell time, s (the programmed feed stays); the shared interpreter reads it as P.
+        // G4 S: spindle revolutions, whose time depends on the spindle speed, is not read.
+        if words.iter().any(|w| w.letter == 'G' && w.raw == "4") {
+            for w in words.iter_mut() {
+                match w.letter {
+                    'F' => w.letter = 'P',
+                    'S' => diags.error(line, w.column, format!("G4 S{}: a dwell in spindle revolutions is not read (expected G4 F, seconds)", w.raw)),
+                    _ => {}
+                }
+            }
+            if diags.errors() > errors_before {
+                self.interp = saved;
+                diags.warning(line, first + 1, format!("line {line} not used"));
+                return;
+            }
+        }
         // A block of only a tool vector still moves.
         match vector {
             Some(v) => self.interp.set_pending_vector(v),
@@ -350,7 +366,7 @@ fn sinumerik_g(code: &str) -> Result<Option<&'static str>, &'static str> {
         // Continuous-path modes and smoothing: what the planner does.
         "64" | "641" | "642" | "643" | "644" | "645" => return Ok(None),
         "60" | "9" => return Err("exact stop is not modelled: the planner blends blocks as G64 does"),
-        "4" => return Err("dwell: not modelled (its F is a time, not a feed)"),
+        "4" => "4",
         "41" | "42" => return Err("cutter radius compensation is not supported"),
         "53" | "153" => return Err("suppressing the frames is not modelled (machine coordinates)"),
         "95" | "96" | "97" => return Err("feed per revolution or constant cutting speed is not supported"),
