@@ -3,7 +3,7 @@
 //! tool axis (a GOTO of three keeps the last axis), `FEDRAT/` (MMPM or IPM, before or after the
 //! value), `RAPID` (the next motion only), `UNITS/`, `MULTAX`, `TLAXIS/`, `FROM/`, `GODLTA/`, and
 //! `CIRCLE/` arcs about X, Y or Z ended by the next GOTO. A statement runs on over lines ending in
-//! `$`; `$$` starts a comment. Statements that do not move the tool are kept as events (`SPINDL`,
+//! `$`; `$$` starts a comment. `DELAY/t` is a dwell of t seconds. Statements that do not move the tool are kept as events (`SPINDL`,
 //! `COOLNT`, `LOADTL`, `STOP`) or passed over (`PARTNO`, `PPRINT`, `CUTTER`); any other
 //! statement, or one of these in a form that changes the motion in a way not read (feed per
 //! revolution, cutter compensation, `INSERT`ed NC text, cycles, a helix of several turns, a part

@@ -3,7 +3,8 @@
 //! `FMAX` for its block only, `FAUTO` the `TOOL CALL`'s feed), `LN` lines with the surface normal
 //! `NX NY NZ` and the tool vector `TX TY TZ`; circles `CC` (pole), `C` about it, `CR` by radius, `CT`
 //! tangent to the contour before it (`DR+` counter-clockwise); `M128` and `FUNCTION TCPM` (`F TCP`,
-//! `AXIS POS`, `PATHCTRL AXIS`/`VECTOR`); `CYCL DEF 7` datum shift; `LBL` with `CALL LBL ... REP`
+//! `AXIS POS`, `PATHCTRL AXIS`/`VECTOR`); `CYCL DEF 7` datum shift; `CYCL DEF 9` dwell (s, active
+//! where it is defined); `LBL` with `CALL LBL ... REP`
 //! (section repeats and subprograms); `Q` parameters set to plain numbers.
 //!
 //! The program runs as it is read ([`Runner`], fed a line at a time): a first pass finds the labels,
