@@ -389,12 +389,16 @@ impl Interpreter {
             next.move_origin(next.offsets[next.system]);
         }
 
-        // A dwell's time: P, s (RS274NGC, LinuxCNC: "G4 P- dwell, seconds"; Sinumerik's G4 F comes as
-        // P), or F, s, in Heidenhain DIN/ISO ("G04 F: dwell time in seconds", F is then not a feed).
+        // A dwell's time, s: P in RS274NGC (LinuxCNC: "G4 P- dwell, seconds"), F in Sinumerik ("G4 F",
+        // the programmed feed stays) and Heidenhain ("G04 F: dwell time in seconds"): that F is not a
+        // feed. Sinumerik's G4 S (spindle revolutions, a time that depends on the speed) is not read.
         let mut dwell_s = None;
         if let Some(g) = dwell_word {
-            let time = if heid { feed_word.take() } else { words.iter().find(|w| w.letter == 'P') };
-            let letter = if heid { 'F' } else { 'P' };
+            let letter = if self.dialect == Dialect::Rs274 { 'P' } else { 'F' };
+            let time = if letter == 'F' { feed_word.take() } else { words.iter().find(|w| w.letter == 'P') };
+            if let Some(s) = words.iter().find(|w| w.letter == 'S').filter(|_| self.dialect == Dialect::Sinumerik) {
+                diags.error(line, s.column, format!("G4 S{}: a dwell in spindle revolutions is not read (expected G4 F, seconds)", s.raw));
+            }
             match time {
                 Some(t) if t.value >= 0.0 && t.value.is_finite() => {
                     dwell_s = Some(t.value);

@@ -91,22 +91,6 @@ impl super::stream::LineReader for SinumerikReader {
             diags.warning(line, first + 1, format!("line {line} not used"));
             return;
         }
-        // G4 F: the dwell time, s (the programmed feed stays); the shared interpreter reads it as P.
-        // G4 S: spindle revolutions, whose time depends on the spindle speed, is not read.
-        if words.iter().any(|w| w.letter == 'G' && w.raw == "4") {
-            for w in words.iter_mut() {
-                match w.letter {
-                    'F' => w.letter = 'P',
-                    'S' => diags.error(line, w.column, format!("G4 S{}: a dwell in spindle revolutions is not read (expected G4 F, seconds)", w.raw)),
-                    _ => {}
-                }
-            }
-            if diags.errors() > errors_before {
-                self.interp = saved;
-                diags.warning(line, first + 1, format!("line {line} not used"));
-                return;
-            }
-        }
         // A block of only a tool vector still moves.
         match vector {
             Some(v) => self.interp.set_pending_vector(v),
