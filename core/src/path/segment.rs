@@ -312,6 +312,16 @@ impl Segment {
 /// Tool-tip moves shorter than this (m) are program rounding when the rotaries turn.
 const MIN_PATH: f64 = 1e-6;
 
+/// Why planning stops at a block that would run the program to `end_s`, past the bound `bound_s`.
+fn beyond_bound(what: &str, hint: &str, end_s: f64, bound_s: f64) -> String {
+    format!(
+        "{what} would make the program run {:.1} h, beyond the bound of {:.1} h: {hint}planning stops here \
+         (raise the bound with --max-program-hours if the program is meant to run this long)",
+        end_s / 3600.0,
+        bound_s / 3600.0
+    )
+}
+
 fn diag(b: &Block, message: String) -> Diagnostic {
     Diagnostic { line: b.line, column: b.column, severity: Severity::Error, message }
 }
@@ -366,15 +376,7 @@ impl SegmentPlanner {
             // A dwell comes before the block's motion. Before CL data's first pose nothing has started.
             if let Some(d) = b.dwell_s.filter(|d| *d > 0.0 && !at_start) {
                 if t + d > options.max_duration_s {
-                    diags.push(diag(
-                        b,
-                        format!(
-                            "this dwell ({d} s) would make the program run {:.1} h, beyond the bound of {:.1} h: planning stops here \
-                             (raise the bound with --max-program-hours if the program is meant to run this long)",
-                            (t + d) / 3600.0,
-                            options.max_duration_s / 3600.0
-                        ),
-                    ));
+                    diags.push(diag(b, beyond_bound(&format!("this dwell ({d} s)"), "", t + d, options.max_duration_s)));
                     break 'blocks true;
                 }
                 let datum = Vector3::from(b.datum);
@@ -578,16 +580,8 @@ impl SegmentPlanner {
                         (_, Some(f)) => format!("this move (F{} over {:.3} mm)", options.feed_override_mm_per_min.unwrap_or(f.value_per_min), seg.length * n * 1e3),
                         (_, None) => "this move".to_string(),
                     };
-                    diags.push(diag(
-                        b,
-                        format!(
-                            "{what} takes {:.1} h and would make the program run {:.1} h, beyond the bound of {:.1} h: \
-                             a feed typo? planning stops here (raise the bound with --max-program-hours if the program is meant to run this long)",
-                            duration * n / 3600.0,
-                            (t + duration * n) / 3600.0,
-                            options.max_duration_s / 3600.0
-                        ),
-                    ));
+                    let what = format!("{what} takes {:.1} h and", duration * n / 3600.0);
+                    diags.push(diag(b, beyond_bound(&what, "a feed typo? ", t + duration * n, options.max_duration_s)));
                     break 'blocks true;
                 }
                 if seg.feed == 0.0 {

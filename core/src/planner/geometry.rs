@@ -90,11 +90,6 @@ impl Run {
         self.head.dwell
     }
 
-    /// Axis values at the run's start.
-    pub fn start(&self) -> Joints {
-        self.head.q0
-    }
-
     /// Segments in the run.
     pub fn count(&self) -> usize {
         self.head.count

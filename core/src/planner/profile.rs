@@ -489,10 +489,10 @@ pub fn plan_stream(
             let n = (run.dwell() / config.period).round() as u64;
             if n > 0 {
                 run.read_through(0, &mut source);
-                let (q, seg) = (run.start(), run.segment(0).clone());
+                let seg = run.segment(0).clone();
                 let mut stopped = false;
                 for j in 0..n {
-                    if !emit(PlannedSample { t: t0 + j as f64 * config.period, segment: run.first, run: ri, q }, &seg) {
+                    if !emit(PlannedSample { t: t0 + j as f64 * config.period, segment: run.first, run: ri, q: seg.q0 }, &seg) {
                         stopped = true;
                         break;
                     }

@@ -140,6 +140,25 @@ impl AptReader {
         self.statement(at_line, column, text.trim(), out, diags);
     }
 
+    /// A block of the statement at `line:column` that moves nothing yet: tool-tip poses (always under
+    /// TCPM, no datum), the orientation mode, and the events read since the last block.
+    fn block(&mut self, line: usize, column: usize) -> Block {
+        Block {
+            line,
+            column,
+            number: None,
+            motion: Motion::Linear,
+            targets: Targets::default(),
+            arc: None,
+            feed: None,
+            tcp: true,
+            datum: [0.0; 3],
+            orientation: self.orientation,
+            events: std::mem::take(&mut self.events),
+            dwell_s: None,
+        }
+    }
+
     /// The input has ended: a continued statement or a circle left open is a defect.
     pub(crate) fn finish(&mut self, diags: &mut Diags) {
         if let Some((_, line, column)) = self.pending.take() {
@@ -242,18 +261,11 @@ impl AptReader {
                 }
                 self.at = Some(tip);
                 out.push(Block {
-                    line,
-                    column: col,
-                    number: None,
                     motion,
                     targets: Targets { x: Some(tip[0] * MM), y: Some(tip[1] * MM), z: Some(tip[2] * MM), tool_axis: Some(self.tool_axis), ..Targets::default() },
                     arc,
                     feed: Some(Feed { value_per_min: self.feed, mode: FeedMode::PerMinute }),
-                    tcp: true,
-                    datum: [0.0; 3],
-                    orientation: self.orientation,
-                    events: std::mem::take(&mut self.events),
-                    dwell_s: None,
+                    ..self.block(line, col)
                 });
                 return;
             }
@@ -355,20 +367,7 @@ impl AptReader {
             "DELAY" => {
                 let Some((v, minors)) = values(diags) else { return };
                 match (v.as_slice(), minors.is_empty()) {
-                    ([t], true) if *t >= 0.0 => out.push(Block {
-                        line,
-                        column: col,
-                        number: None,
-                        motion: Motion::Linear,
-                        targets: Targets::default(),
-                        arc: None,
-                        feed: None,
-                        tcp: true,
-                        datum: [0.0; 3],
-                        orientation: self.orientation,
-                        events: std::mem::take(&mut self.events),
-                        dwell_s: Some(*t),
-                    }),
+                    ([t], true) if *t >= 0.0 => out.push(Block { dwell_s: Some(*t), ..self.block(line, col) }),
                     _ => diags.error(line, col, "DELAY/ expects a time in seconds (DELAY/n,REV, in spindle turns, is not read)"),
                 }
             }
