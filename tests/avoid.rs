@@ -205,3 +205,46 @@ fn smoothing_treats_the_conventional_flip_on_the_semi_cylinder() {
     assert_eq!(e.c_flips, 0, "{e:?}");
     assert!(figures(&new, &m, &o).unwrap().peak_c_speed_rpm < 25.0);
 }
+
+/// Every remedy keeps what a CL program does besides its points: it starts at its first pose (the
+/// written program positions there with a rapid before its first cut, instead of cutting its first
+/// step from wherever the machine stands) and its dwell (`DELAY/2.5` at X10) stays one dwell of
+/// 2.5 s where it was. Checked on the written text itself: its lines, their words and their order.
+#[test]
+fn remedies_keep_a_cl_programs_start_and_its_dwell() {
+    let m = Machine::hermle_c600u();
+    let o = JobOptions::default();
+    let apt = "UNITS/MM\nMULTAX/ON\nGOTO/0,0,10,0,0.3,1\nFEDRAT/600\nGOTO/10,0,10,0,0.2,1\nDELAY/2.5\nGOTO/20,0,10,0,-0.2,1\nGOTO/30,0,10,0,-0.3,1\nFINI\n";
+    let p = read(apt, Dialect::Cl, "dwell.apt", &ReadOptions::default());
+    assert!(!p.has_errors(), "{:?}", p.report());
+    let (refined, _) = refine(&p, &m, &RefineOptions::default(), &o).expect("a program with a dwell refines");
+    let (smoothed, _) = smooth(&p, &m, Tool::Ball(3e-3), &o).expect("a program with a dwell smooths");
+    let (_, turned) = search(&p, &m, 30.0 * DEG, &o).expect("a program with a dwell is reoriented");
+    let conv = conventional(&p, &m, &o).expect("a program with a dwell has a conventional post");
+    for (name, new) in [("refine", refined), ("smooth", smoothed), ("reorient", turned), ("conventional", conv)] {
+        let text = write_program(&new, &m, Dialect::Heidenhain, &o);
+        // The motion lines: (G code, X Y Z in mm, F) and the dwells, in order.
+        let word = |l: &str, c: char| l.split_whitespace().find_map(|w| w.strip_prefix(c)?.parse::<f64>().ok());
+        let lines: Vec<&str> = text.lines().filter(|l| l.contains(" G00 ") || l.contains(" G01 ") || l.contains(" G04 ")).collect();
+        let tip = |l: &str| nalgebra::Vector3::new(word(l, 'X').unwrap(), word(l, 'Y').unwrap(), word(l, 'Z').unwrap());
+        assert!(lines[0].contains(" G00 "), "{name}: the written program starts with a rapid to the start:\n{text}");
+        // The start pose, at 10 mm from the origin (a jig turns about the origin).
+        assert!((tip(lines[0]).norm() - 10.0).abs() < 1e-3, "{name}: starts at {:?}:\n{text}", tip(lines[0]));
+        if name != "reorient" {
+            assert!((tip(lines[0]) - nalgebra::Vector3::new(0.0, 0.0, 10.0)).norm() < 1e-3, "{name}:\n{text}");
+        }
+        assert!(lines[1..].iter().all(|l| !l.contains(" G00 ")), "{name}: every move after the start is a cut:\n{text}");
+        let dwells: Vec<usize> = lines.iter().enumerate().filter(|(_, l)| l.contains(" G04 ")).map(|(i, _)| i).collect();
+        assert_eq!(dwells.len(), 1, "{name}: one dwell:\n{text}");
+        assert_eq!(word(lines[dwells[0]], 'F'), Some(2.5), "{name}: of 2.5 s");
+        // Where the cut to X10 (14.142 mm from the origin) ends.
+        let at = tip(lines[dwells[0] - 1]);
+        assert!((at.norm() - 200f64.sqrt()).abs() < 1e-3, "{name}: the dwell is at {at:?}, not at X10:\n{text}");
+        // The cuts take the 30 mm at 600 mm/min, the dwell its 2.5 s.
+        let back = round_trip(&new, &m);
+        let t = Trajectory::from_program(&back, &m, &o.path);
+        let cut: f64 = t.segments.iter().filter(|s| s.kind == fiveaxis::path::SegmentKind::Tcp).map(|s| s.duration).sum();
+        let dwell: f64 = t.segments.iter().filter(|s| s.kind == fiveaxis::path::SegmentKind::Dwell).map(|s| s.duration).sum();
+        assert!((cut - 3.0).abs() < 1e-3 && (dwell - 2.5).abs() < 1e-9, "{name}: cuts {cut} s, dwell {dwell} s");
+    }
+}

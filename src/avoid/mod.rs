@@ -47,6 +47,16 @@ pub fn jig(theta_x: f64, theta_z: f64) -> Rotation3<f64> {
     Rotation3::from_axis_angle(&Vector3::x_axis(), theta_x) * Rotation3::from_axis_angle(&Vector3::z_axis(), theta_z)
 }
 
+/// CL data starts at its first pose (the first block with targets), where no segment ends: that
+/// block and the first segment, which starts there. None for NC programs (they start at home).
+pub(crate) fn start_pose<'a>(program: &Program, traj: &'a Trajectory) -> Option<(usize, &'a crate::path::Segment)> {
+    if !program.dialect.starts_at_first_pose() {
+        return None;
+    }
+    let b = program.blocks.iter().position(|b| !b.targets.is_empty())?;
+    traj.segments.first().filter(|seg| b < seg.block).map(|seg| (b, seg))
+}
+
 /// The program turned by the jig rotation `r` (about the workpiece origin): TCPM blocks get the rotated
 /// tool tip and tool axis as CL targets (A/C follow from the inverse kinematics); blocks without TCPM
 /// (positioning in machine coordinates, away from the part) are unchanged.
@@ -54,12 +64,24 @@ pub fn reoriented(program: &Program, machine: &Machine, r: &Rotation3<f64>, opti
     let traj = Trajectory::from_program(program, machine, &options.path);
     let mut out = program.clone();
     let mut prev_tcp = false;
+    let turned = |tip: &Vector3<f64>, q: &crate::kinematics::Joints| {
+        let (t, a) = (r * tip, r * machine.forward(q).axis);
+        Targets { x: Some(t.x), y: Some(t.y), z: Some(t.z), tool_axis: Some([a.x, a.y, a.z]), ..Targets::default() }
+    };
+    // CL data's first pose is where its first cut starts: turned too, and the lead-in to it.
+    if let Some((b, seg)) = start_pose(program, &traj).filter(|(b, _)| program.blocks[*b].tcp) {
+        out.blocks[b].targets = turned(&seg.tip0, &seg.q0);
+        prev_tcp = true;
+    }
     for s in &traj.segments {
+        // A dwell's block keeps its time and position (its motion, if any, has a segment of its own).
+        if s.kind == crate::path::SegmentKind::Dwell {
+            continue;
+        }
         let tcp = program.blocks[s.block].tcp;
         if tcp {
-            let (t, a) = (r * s.tip1, r * machine.forward(&s.q1).axis);
             let b: &mut Block = &mut out.blocks[s.block];
-            b.targets = Targets { x: Some(t.x), y: Some(t.y), z: Some(t.z), tool_axis: Some([a.x, a.y, a.z]), ..Targets::default() };
+            b.targets = turned(&s.tip1, &s.q1);
             // The lead-in to a TCPM stretch now also turns the tool: make it a positioning move (as a
             // post-processor would), not a cut that starts wherever the axes were parked.
             if !prev_tcp {
@@ -193,41 +215,48 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
     line(&mut out, if heid { "G90" } else { "G21 G90 G94" });
     let mut tcp = false;
     let mut datum = Vector3::zeros();
+    // CL data starts where its first pose is, not at the machine's home: a post positions the tool
+    // there first (a rapid), or the written program would cut its first step from wherever it stands.
+    let mut start = program.dialect.starts_at_first_pose();
     for s in &traj.segments {
+        // The positioning to the start, then the segment's own move (a dwell writes only its time).
+        let start_move = std::mem::take(&mut start).then_some((SegmentKind::Rapid, s.q0, s.tip0));
+        let own = (s.kind != SegmentKind::Dwell).then_some((s.kind, s.q1, s.tip1));
+        for (kind, q, tip) in start_move.into_iter().chain(own) {
+            let want_tcp = program.blocks[s.block].tcp;
+            if s.datum != datum && heid {
+                datum = s.datum;
+                line(&mut out, &format!("G54 X{:+.3} Y{:+.3} Z{:+.3}", datum.x * 1e3, datum.y * 1e3, datum.z * 1e3));
+            }
+            if want_tcp != tcp {
+                tcp = want_tcp;
+                line(&mut out, match (heid, tcp) {
+                    (true, true) => "M128",
+                    (true, false) => "M129",
+                    (false, true) => "G43.4",
+                    (false, false) => "G49",
+                });
+            }
+            let (x, y, z) = if tcp { (tip.x, tip.y, tip.z) } else { (q[0] - s.datum.x, q[1] - s.datum.y, q[2] - s.datum.z) };
+            let words = format!(
+                "X{:+.4} Y{:+.4} Z{:+.4} {}{:+.4} {}{:+.4}",
+                x * 1e3,
+                y * 1e3,
+                z * 1e3,
+                names[3],
+                q[3].to_degrees(),
+                names[4],
+                q[4].to_degrees()
+            );
+            let feed = program.blocks[s.block].feed.map(|f| f.value_per_min).unwrap_or(0.0);
+            match kind {
+                SegmentKind::Rapid => line(&mut out, &format!("G00 {words}")),
+                _ => line(&mut out, &format!("G01 {words} F{feed:.0}")),
+            }
+        }
         if s.kind == SegmentKind::Dwell {
             // Heidenhain DIN/ISO: G04 F is the time, s; RS274NGC: G4 P, s.
             line(&mut out, &if heid { format!("G04 F{:.3}", s.duration) } else { format!("G4 P{:.3}", s.duration) });
-            continue;
-        }
-        let want_tcp = program.blocks[s.block].tcp;
-        if s.datum != datum && heid {
-            datum = s.datum;
-            line(&mut out, &format!("G54 X{:+.3} Y{:+.3} Z{:+.3}", datum.x * 1e3, datum.y * 1e3, datum.z * 1e3));
-        }
-        if want_tcp != tcp {
-            tcp = want_tcp;
-            line(&mut out, match (heid, tcp) {
-                (true, true) => "M128",
-                (true, false) => "M129",
-                (false, true) => "G43.4",
-                (false, false) => "G49",
-            });
-        }
-        let (x, y, z) = if tcp { (s.tip1.x, s.tip1.y, s.tip1.z) } else { (s.q1[0] - s.datum.x, s.q1[1] - s.datum.y, s.q1[2] - s.datum.z) };
-        let words = format!(
-            "X{:+.4} Y{:+.4} Z{:+.4} {}{:+.4} {}{:+.4}",
-            x * 1e3,
-            y * 1e3,
-            z * 1e3,
-            names[3],
-            s.q1[3].to_degrees(),
-            names[4],
-            s.q1[4].to_degrees()
-        );
-        let feed = program.blocks[s.block].feed.map(|f| f.value_per_min).unwrap_or(0.0);
-        match s.kind {
-            SegmentKind::Rapid => line(&mut out, &format!("G00 {words}")),
-            _ => line(&mut out, &format!("G01 {words} F{feed:.0}")),
         }
     }
     if tcp {

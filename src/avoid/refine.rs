@@ -10,7 +10,7 @@
 use super::AvoidError;
 use crate::kinematics::{Joints, Pose};
 use crate::machine::Machine;
-use crate::path::Trajectory;
+use crate::path::{SegmentKind, Trajectory};
 use crate::program::{Block, Motion, Program, Targets};
 use crate::units::{DEG, MM};
 use nalgebra::Vector3;
@@ -104,8 +104,12 @@ fn poses(program: &Program, machine: &Machine, options: &crate::job::JobOptions)
         return Err(AvoidError::Refused(format!("line {}: {}", d.line, d.message)));
     }
     let mut out: Vec<(usize, Pose)> = Vec::new();
+    if let Some((b, seg)) = super::start_pose(program, &traj).filter(|(b, _)| program.blocks[*b].tcp) {
+        out.push((b, Pose { tip: seg.tip0, axis: machine.forward(&seg.q0).axis }));
+    }
     for seg in &traj.segments {
-        if !program.blocks.get(seg.block).is_some_and(|b| b.tcp) {
+        // A dwell is not a point: its block keeps its time (and its motion, if any, has a segment).
+        if seg.kind == SegmentKind::Dwell || !program.blocks.get(seg.block).is_some_and(|b| b.tcp) {
             continue;
         }
         let pose = Pose { tip: seg.tip1, axis: machine.forward(&seg.q1).axis };
@@ -214,6 +218,11 @@ pub fn refine(program: &Program, machine: &Machine, opts: &RefineOptions, option
                 let mut b = with_joints(block, machine, p, q);
                 if j + 1 < inserted.len() {
                     b.number = None;
+                }
+                // The block's dwell and events come before its motion: once, with the first piece.
+                if j > 0 {
+                    b.dwell_s = None;
+                    b.events.clear();
                 }
                 out.blocks.push(b);
                 points_after += 1;
