@@ -472,6 +472,11 @@ impl Interpreter {
         }
 
         let moves = !targets.is_empty();
+        // Sinumerik: "G4 must be programmed in a separate NC block" (Fundamentals, G4): a dwell with a
+        // move is an alarm on the control, not a dwell and then a move as LinuxCNC reads it.
+        if let (Some(g), true, Dialect::Sinumerik) = (dwell_word, moves, self.dialect) {
+            diags.error(line, g.column, "G4 with axis words: Sinumerik runs a dwell only in a block of its own (G4 F, seconds)");
+        }
         if moves && next.motion.is_none() {
             diags.error(line, column, "axis words without a motion mode: expected G00 or G01 first");
         }
