@@ -58,7 +58,7 @@ fn reoriented_program_written_and_read_back() {
     assert!((r.before.peak_c_speed_rpm - 175.0).abs() < 0.1);
     assert!(r.after.peak_c_speed_rpm < 25.0, "{r:?}");
     for dialect in [Dialect::Heidenhain, Dialect::Rs274] {
-        let text = write_program(&program, &m, dialect, &o);
+        let text = write_program(&program, &m, dialect, &o).unwrap();
         let back = read(&text, dialect, "reoriented", &ReadOptions::default());
         assert!(!back.has_errors(), "{dialect:?}: {:?}", back.report());
         let f = figures(&back, &m, &o).unwrap();
@@ -82,7 +82,7 @@ use fiveaxis::program::{read, Dialect, Program, ReadOptions};
 
 /// Write `p` as Heidenhain and read it back through our reader: what a user would run.
 fn round_trip(p: &Program, m: &Machine) -> Program {
-    let text = write_program(p, m, Dialect::Heidenhain, &JobOptions::default());
+    let text = write_program(p, m, Dialect::Heidenhain, &JobOptions::default()).unwrap();
     let back = read(&text, Dialect::Heidenhain, "written", &ReadOptions::default());
     assert!(!back.has_errors(), "the written program reads back cleanly: {:?}", back.report());
     back
@@ -125,7 +125,7 @@ fn smoothing_sing_holds_the_feed_within_the_limits_and_keeps_the_ball_centre() {
     let worst = c0.iter().zip(&c1).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max);
     assert!(worst < 1e-6, "ball centres moved by up to {:.3} um", worst * 1e6);
 
-    let run = pipeline(&write_program(&new, &m, Dialect::Heidenhain, &o), "smooth");
+    let run = pipeline(&write_program(&new, &m, Dialect::Heidenhain, &o).unwrap(), "smooth");
     assert!(run.commanded_regions.is_empty(), "commanded regions after smoothing: {:?}", run.commanded_regions);
     let sim = &run.report.simulated;
     assert!(sim.min_feed_mm_per_min >= 0.95 * 2000.0, "feed not held: {} mm/min", sim.min_feed_mm_per_min);
@@ -183,7 +183,7 @@ fn refinement_removes_the_180_degree_flip_on_the_semi_cylinder() {
     let before = figures(&conv, &m, &o).unwrap();
     let after = figures(&back, &m, &o).unwrap();
     assert!(before.peak_c_speed_rpm > 100.0 && after.peak_c_speed_rpm < 25.0, "{before:?} {after:?}");
-    let text = write_program(&new, &m, Dialect::Heidenhain, &o);
+    let text = write_program(&new, &m, Dialect::Heidenhain, &o).unwrap();
     let run = pipeline(&text, "refine");
     // The lead-in positioning (G00 to the first pose) is not a cut: regions may only lie there.
     let rapids: Vec<i64> = text.lines().filter(|l| l.contains(" G00 ")).filter_map(|l| l[1..].split_whitespace().next()?.parse().ok()).collect();
@@ -222,7 +222,7 @@ fn remedies_keep_a_cl_programs_start_and_its_dwell() {
     let (_, turned) = search(&p, &m, 30.0 * DEG, &o).expect("a program with a dwell is reoriented");
     let conv = conventional(&p, &m, &o).expect("a program with a dwell has a conventional post");
     for (name, new) in [("refine", refined), ("smooth", smoothed), ("reorient", turned), ("conventional", conv)] {
-        let text = write_program(&new, &m, Dialect::Heidenhain, &o);
+        let text = write_program(&new, &m, Dialect::Heidenhain, &o).unwrap();
         // The motion lines: (G code, X Y Z in mm, F) and the dwells, in order.
         let word = |l: &str, c: char| l.split_whitespace().find_map(|w| w.strip_prefix(c)?.parse::<f64>().ok());
         let lines: Vec<&str> = text.lines().filter(|l| l.contains(" G00 ") || l.contains(" G01 ") || l.contains(" G04 ")).collect();
@@ -247,4 +247,49 @@ fn remedies_keep_a_cl_programs_start_and_its_dwell() {
         let dwell: f64 = t.segments.iter().filter(|s| s.kind == fiveaxis::path::SegmentKind::Dwell).map(|s| s.duration).sum();
         assert!((cut - 3.0).abs() < 1e-3 && (dwell - 2.5).abs() < 1e-9, "{name}: cuts {cut} s, dwell {dwell} s");
     }
+}
+
+/// The written program does what the original does besides moving, in the written dialect: the tool
+/// change, spindle and coolant before the first cut, off after the last (RS274NGC as written; APT's
+/// `LOADTL/`, `SPINDL/` and `COOLNT/` translated), and refuses an event it cannot write instead of
+/// writing a program that would cut with the spindle off.
+#[test]
+fn written_programs_keep_the_tool_spindle_and_coolant() {
+    let m = Machine::hermle_c600u();
+    let o = JobOptions::default();
+    let ngc = "G21 G90 G94\nT1 M6\nS10000 M3\nM8\nG43.4 H1\nG0 X0 Y0 Z10 A0 C0\nG1 X10 A10 F600\nG1 X20 A20\nG49\nM5 M9\nM2\n";
+    let apt = "UNITS/MM\nMULTAX/ON\nLOADTL/7\nSPINDL/12000,RPM,CLW\nCOOLNT/FLOOD\nGOTO/0,0,10,0,0.3,1\nFEDRAT/600\nGOTO/10,0,10,0,0.2,1\nGOTO/20,0,10,0,-0.2,1\nSPINDL/OFF\nCOOLNT/OFF\nFINI\n";
+    let cases = [
+        (ngc, Dialect::Rs274, Dialect::Rs274, ["T1", "M6", "S10000", "M3", "M8"], ["M5", "M9"]),
+        (apt, Dialect::Cl, Dialect::Heidenhain, ["T7", "G17", "S12000", "M3", "M8"], ["M5", "M9"]),
+    ];
+    for (text, dialect, out, before, after) in cases {
+        let p = read(text, dialect, "events", &ReadOptions::default());
+        assert!(!p.has_errors(), "{:?}", p.report());
+        let (_, turned) = search(&p, &m, 30.0 * DEG, &o).unwrap();
+        let written = write_program(&turned, &m, out, &o).unwrap();
+        let lines: Vec<&str> = written.lines().collect();
+        let at = |word: &str| lines.iter().position(|l| l.split_whitespace().any(|w| w == word)).unwrap_or_else(|| panic!("{dialect:?}: no {word}:\n{written}"));
+        let (first_cut, last_cut) = (at("G01"), lines.iter().rposition(|l| l.contains(" G01 ")).unwrap());
+        for w in before {
+            assert!(at(w) < first_cut, "{dialect:?}: {w} before the first cut:\n{written}");
+        }
+        for w in after {
+            assert!(at(w) > last_cut, "{dialect:?}: {w} after the last cut:\n{written}");
+        }
+        // Each once; the program ends once.
+        for w in before.iter().chain(&after).chain(&[if out == Dialect::Rs274 { "M2" } else { "M30" }]) {
+            assert_eq!(lines.iter().filter(|l| l.split_whitespace().any(|x| x == *w)).count(), 1, "{dialect:?}: {w} once:\n{written}");
+        }
+        // What the control reads back is the same program.
+        let back = read(&written, out, "written", &ReadOptions::default());
+        assert!(!back.has_errors(), "{:?}", back.report());
+    }
+    // An event with no meaning in the written dialect: refused, named.
+    // (The machine's own M77, declared an event, as the reader asks.)
+    let declared = ReadOptions { m_codes: vec!["77=event".parse().unwrap()], ..ReadOptions::default() };
+    let p = read("G90 G71\nM77\nTRAORI\nG0 X0 Y0 Z10 A0 C0\nG1 X10 A10 F600\nM30\n", Dialect::Sinumerik, "events", &declared);
+    assert!(!p.has_errors(), "{:?}", p.report());
+    let e = write_program(&p, &m, Dialect::Heidenhain, &o).unwrap_err().to_string();
+    assert!(e.contains("M77"), "{e}");
 }

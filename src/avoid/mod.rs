@@ -186,9 +186,80 @@ pub fn search(program: &Program, machine: &Machine, max_tilt: f64, options: &Job
     Ok((Reorientation { theta_x_deg: tx.to_degrees(), theta_z_deg: tz.to_degrees().rem_euclid(360.0), before, after }, program))
 }
 
+/// The NC words that do a block's event (tool, spindle, coolant, a stop) in the written program: as
+/// written when the program is of the written dialect's family, else translated (APT's `SPINDL/`,
+/// `COOLNT/`, `LOADTL/`; a numbered tool, called as `T n G17` in DIN/ISO). None for what the writer
+/// writes itself (TCPM on and off, the program end) or what does nothing on the control (APT's
+/// `END`, a tool preselection); an error for an event it cannot write, rather than a program that
+/// would cut with the spindle off or the wrong tool.
+fn event_words(ev: &str, source: crate::program::Dialect, heid: bool, options: &JobOptions) -> Result<Option<String>, AvoidError> {
+    use crate::program::{Dialect, MCodeAction};
+    let tnc = matches!(source, Dialect::Heidenhain | Dialect::Klartext);
+    let same = matches!((source, heid), (Dialect::Rs274, false)) || (tnc && heid);
+    let cannot = |why: &str| AvoidError::Refused(format!("event '{ev}' cannot be written in {}: {why}", if heid { "Heidenhain DIN/ISO" } else { "RS274NGC" }));
+    let tool = |n: &str| -> Result<Option<String>, AvoidError> {
+        match n.trim().parse::<f64>() {
+            Ok(t) if t >= 0.0 && t.fract() == 0.0 => Ok(Some(if heid { format!("T{t} G17") } else { format!("T{t} M6") })),
+            _ => Err(cannot("not a tool number")),
+        }
+    };
+    if source == Dialect::Cl {
+        // APT: MAJOR/minor,... (ISO 4343).
+        let (word, args) = ev.split_once('/').unwrap_or((ev, ""));
+        let args: Vec<String> = args.split(',').map(|a| a.trim().to_ascii_uppercase()).filter(|a| !a.is_empty()).collect();
+        let has = |w: &str| args.iter().any(|a| a == w);
+        let number = args.iter().find_map(|a| a.parse::<f64>().ok());
+        return match word.trim().to_ascii_uppercase().as_str() {
+            "SPINDL" if has("OFF") => Ok(Some("M5".into())),
+            "SPINDL" if has("SFM") || has("SMM") => Err(cannot("a constant surface speed is not written")),
+            "SPINDL" => {
+                let dir = if has("CCLW") { "M4" } else { "M3" };
+                Ok(Some(number.map_or(dir.to_string(), |n| format!("S{n} {dir}"))))
+            }
+            "COOLNT" if has("OFF") => Ok(Some("M9".into())),
+            "COOLNT" if has("MIST") => Ok(Some("M7".into())),
+            "COOLNT" if has("ON") || has("FLOOD") || args.is_empty() => Ok(Some("M8".into())),
+            "COOLNT" => Err(cannot("only ON, FLOOD, MIST and OFF are written")),
+            "LOADTL" => tool(args.first().map_or("", |a| a.as_str())),
+            "LOAD" if has("TOOL") => tool(&number.map_or(String::new(), |n| n.to_string())),
+            "SELECT" | "SELCTL" => Ok(None),
+            "STOP" => Ok(Some("M0".into())),
+            "OPSTOP" => Ok(Some("M1".into())),
+            "END" => Ok(None),
+            _ => Err(cannot("not a known APT event")),
+        };
+    }
+    let (letter, rest) = ev.split_at(ev.chars().next().map_or(0, char::len_utf8));
+    match letter {
+        "M" => {
+            let code: u32 = rest.parse().map_err(|_| cannot("not an M code"))?;
+            let tcp = options.read.m_codes.iter().any(|r| r.code == code && matches!(r.action, MCodeAction::TcpOn | MCodeAction::TcpOff));
+            if tcp || matches!(code, 2 | 30) || (tnc && matches!(code, 128 | 129)) {
+                return Ok(None);
+            }
+            if same || matches!(code, 0 | 1 | 3 | 4 | 5 | 7 | 8 | 9) {
+                return Ok(Some(ev.to_string()));
+            }
+            // The TNC's spindle on with coolant on (clockwise, counter-clockwise).
+            if tnc && matches!(code, 13 | 14) {
+                return Ok(Some(if code == 13 { "M3 M8" } else { "M4 M8" }.into()));
+            }
+            // M6 with a T: the DIN/ISO tool call changes the tool.
+            if code == 6 && heid {
+                return Ok(None);
+            }
+            Err(cannot("a machine's own M code, with no known meaning in the written dialect"))
+        }
+        "S" if rest.parse::<f64>().is_ok() => Ok(Some(ev.to_string())),
+        "T" if same && !heid => Ok(Some(ev.to_string())),
+        "T" => tool(rest),
+        _ => Err(cannot("not a tool, spindle, coolant or stop word")),
+    }
+}
+
 /// Write a program's planned moves as an NC program in `dialect` (Heidenhain DIN/ISO with M128, or
 /// RS274NGC with G43.4), axes in mm and degrees, feeds in mm/min: what a reoriented program is run as.
-pub fn write_program(program: &Program, machine: &Machine, dialect: crate::program::Dialect, options: &JobOptions) -> String {
+pub fn write_program(program: &Program, machine: &Machine, dialect: crate::program::Dialect, options: &JobOptions) -> Result<String, AvoidError> {
     use crate::path::SegmentKind;
     use std::fmt::Write as _;
     let traj = Trajectory::from_program(program, machine, &options.path);
@@ -218,7 +289,21 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
     // CL data starts where its first pose is, not at the machine's home: a post positions the tool
     // there first (a rapid), or the written program would cut its first step from wherever it stands.
     let mut start = program.dialect.starts_at_first_pose();
+    // Each block's events, before its motion (LinuxCNC's order of execution), on a line of their own.
+    let mut next_block = 0;
+    let mut events = |out: &mut String, line: &mut dyn FnMut(&mut String, &str), upto: usize| -> Result<(), AvoidError> {
+        for b in &program.blocks[next_block.min(upto)..upto] {
+            let words = b.events.iter().map(|e| event_words(e, program.dialect, heid, options)).collect::<Result<Vec<_>, _>>()?;
+            let words: Vec<String> = words.into_iter().flatten().collect();
+            if !words.is_empty() {
+                line(out, &words.join(" "));
+            }
+        }
+        next_block = next_block.max(upto);
+        Ok(())
+    };
     for s in &traj.segments {
+        events(&mut out, &mut line, s.block + 1)?;
         // The positioning to the start, then the segment's own move (a dwell writes only its time).
         let start_move = std::mem::take(&mut start).then_some((SegmentKind::Rapid, s.q0, s.tip0));
         let own = (s.kind != SegmentKind::Dwell).then_some((s.kind, s.q1, s.tip1));
@@ -259,6 +344,7 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
             line(&mut out, &if heid { format!("G04 F{:.3}", s.duration) } else { format!("G4 P{:.3}", s.duration) });
         }
     }
+    events(&mut out, &mut line, program.blocks.len())?;
     if tcp {
         line(&mut out, if heid { "M129" } else { "G49" });
     }
@@ -268,5 +354,5 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
     } else {
         out.push_str("%\n");
     }
-    out
+    Ok(out)
 }

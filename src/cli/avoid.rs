@@ -122,7 +122,8 @@ fn remedy_table(before: &fiveaxis::avoid::Figures, after: &fiveaxis::avoid::Figu
 fn write_out(prog: &fiveaxis::program::Program, new: &fiveaxis::program::Program, machine: &Machine, out: Option<&std::path::Path>, options: &JobOptions) -> Result<(), Stop> {
     if let Some(path) = out {
         let dialect = if prog.dialect == Dialect::Rs274 { Dialect::Rs274 } else { Dialect::Heidenhain };
-        write_output(path, fiveaxis::avoid::write_program(new, machine, dialect, options))?;
+        let text = fiveaxis::avoid::write_program(new, machine, dialect, options).map_err(|e| bad_input(format!("cannot write {}: {e}", path.display())))?;
+        write_output(path, text)?;
     }
     Ok(())
 }

@@ -371,9 +371,16 @@ impl AptReader {
                     _ => diags.error(line, col, "DELAY/ expects a time in seconds (DELAY/n,REV, in spindle turns, is not read)"),
                 }
             }
-            "FINI" => self.finished = true,
+            // The end of the program or of a tool path: the events after its last motion (spindle and
+            // coolant off) are a block of their own, not lost with no block to carry them.
+            "FINI" | "END-OF-PATH" => {
+                if !self.events.is_empty() {
+                    out.push(self.block(line, col));
+                }
+                self.finished |= word == "FINI";
+            }
             "PARTNO" | "PPRINT" | "TPRINT" | "REMARK" | "MACHIN" | "MODE" | "CUTTER" | "TLDATA" | "TOOL" | "PAINT" | "DISPLY" | "SEQNO"
-            | "CLRSRF" | "OPNAME" | "OPERATION" | "AUTOPS" | "END-OF-PATH" => {}
+            | "CLRSRF" | "OPNAME" | "OPERATION" | "AUTOPS" => {}
             "MSYS" => {
                 let Some((v, _)) = values(diags) else { return };
                 let axes = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
