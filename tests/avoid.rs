@@ -293,3 +293,31 @@ fn written_programs_keep_the_tool_spindle_and_coolant() {
     let e = write_program(&p, &m, Dialect::Heidenhain, &o).unwrap_err().to_string();
     assert!(e.contains("M77"), "{e}");
 }
+
+/// A LinuxCNC program whose TCP is the configuration's own M codes (`--m-code 428=tcp-on
+/// --m-code 429=tcp-off`, the vismach five-axis demos' remap; LinuxCNC has no G43.4) is written back
+/// with them, and reads back with the same declaration as the reoriented program.
+#[test]
+fn declared_tcp_m_codes_are_written_back() {
+    let m = Machine::hermle_c600u();
+    let read_options = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..ReadOptions::default() };
+    let o = JobOptions { read: read_options.clone(), ..JobOptions::default() };
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc/SING.ngc");
+    let sing = read_spec(path, &o).unwrap();
+    assert!(!sing.has_errors(), "{:?}", sing.report());
+    let turned = reoriented(&sing, &m, &jig(10.0 * DEG, 0.0), &o);
+    let text = write_program(&turned, &m, Dialect::Rs274, &o).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let at = |w: &str| lines.iter().position(|l| l.split_whitespace().any(|x| x == w));
+    let (on, off, cut) = (at("M428").expect("M428 written"), at("M429").expect("M429 written"), at("G01").unwrap());
+    assert!(on < cut && off > lines.iter().rposition(|l| l.contains(" G01 ")).unwrap(), "{text}");
+    assert!(at("G43.4").is_none() && at("G49").is_none(), "{text}");
+    let back = read(&text, Dialect::Rs274, "written", &read_options);
+    assert!(!back.has_errors(), "{:?}", back.report());
+    // The same path: every tool tip and axis of the written program is the turned program's.
+    let (a, b) = (Trajectory::from_program(&turned, &m, &o.path), Trajectory::from_program(&back, &m, &o.path));
+    assert_eq!(a.segments.len(), b.segments.len());
+    for (x, y) in a.segments.iter().zip(&b.segments) {
+        assert!((x.tip1 - y.tip1).norm() < 1e-6 && (m.forward(&x.q1).axis - m.forward(&y.q1).axis).norm() < 1e-6, "{x:?} vs {y:?}");
+    }
+}

@@ -284,6 +284,16 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
         let _ = writeln!(out, "%\n({name}: written by fiveaxis from {source})");
     }
     line(&mut out, if heid { "G90" } else { "G21 G90 G94" });
+    // TCPM on and off: M128/M129 (DIN/ISO); in RS274NGC the machine's own M codes where the user
+    // declared them (`--m-code 428=tcp-on`: LinuxCNC's five-axis configurations switch kinematics
+    // with a remap), else G43.4/G49.
+    let declared = |action: crate::program::MCodeAction| options.read.m_codes.iter().find(|r| r.action == action).map(|r| format!("M{}", r.code));
+    let tcp_switch = |heid: bool, on: bool| match (heid, on) {
+        (true, true) => "M128".to_string(),
+        (true, false) => "M129".to_string(),
+        (false, true) => declared(crate::program::MCodeAction::TcpOn).unwrap_or_else(|| "G43.4".into()),
+        (false, false) => declared(crate::program::MCodeAction::TcpOff).unwrap_or_else(|| "G49".into()),
+    };
     let mut tcp = false;
     let mut datum = Vector3::zeros();
     // CL data starts where its first pose is, not at the machine's home: a post positions the tool
@@ -315,12 +325,7 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
             }
             if want_tcp != tcp {
                 tcp = want_tcp;
-                line(&mut out, match (heid, tcp) {
-                    (true, true) => "M128",
-                    (true, false) => "M129",
-                    (false, true) => "G43.4",
-                    (false, false) => "G49",
-                });
+                line(&mut out, &tcp_switch(heid, tcp));
             }
             let (x, y, z) = if tcp { (tip.x, tip.y, tip.z) } else { (q[0] - s.datum.x, q[1] - s.datum.y, q[2] - s.datum.z) };
             let words = format!(
@@ -346,7 +351,7 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
     }
     events(&mut out, &mut line, program.blocks.len())?;
     if tcp {
-        line(&mut out, if heid { "M129" } else { "G49" });
+        line(&mut out, &tcp_switch(heid, false));
     }
     line(&mut out, if heid { "M30" } else { "M2" });
     if heid {

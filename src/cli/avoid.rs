@@ -3,7 +3,7 @@
 
 use crate::exit::{bad_input, write_output, Outcome, Stop, OK};
 use clap::Subcommand;
-use fiveaxis::args::MachineArgs;
+use fiveaxis::args::{ControlArgs, MachineArgs};
 use fiveaxis::job::{self, JobOptions};
 use fiveaxis::machine::Machine;
 use fiveaxis::program::Dialect;
@@ -18,6 +18,8 @@ pub enum AvoidCmd {
         program: String,
         #[command(flatten)]
         machine: MachineArgs,
+        #[command(flatten)]
+        control: ControlArgs,
         /// Largest jig tilt allowed, degrees.
         #[arg(long = "max-tilt-deg", default_value_t = 10.0)]
         max_tilt_deg: f64,
@@ -36,6 +38,8 @@ pub enum AvoidCmd {
         program: String,
         #[command(flatten)]
         machine: MachineArgs,
+        #[command(flatten)]
+        control: ControlArgs,
         /// The cutter: ball:R_MM (required: flat:R_MM and bull:R_MM:r_MM are refused).
         #[arg(long)]
         tool: fiveaxis::avoid::smooth::Tool,
@@ -54,6 +58,8 @@ pub enum AvoidCmd {
         program: String,
         #[command(flatten)]
         machine: MachineArgs,
+        #[command(flatten)]
+        control: ControlArgs,
         /// Largest tool-axis angle between neighbours, degrees.
         #[arg(long = "max-angle-deg", default_value_t = 1.0)]
         max_angle_deg: f64,
@@ -74,15 +80,21 @@ pub enum AvoidCmd {
 
 pub fn main(c: &AvoidCmd) -> Outcome {
     match c {
-        AvoidCmd::Reorient { program, machine, max_tilt_deg, out, json } => reorient(program, machine, *max_tilt_deg, out.as_deref(), *json),
-        AvoidCmd::Smooth { program, machine, tool, out, json } => smooth(program, machine, *tool, out.as_deref(), *json),
-        AvoidCmd::Refine { program, machine, max_angle_deg, max_step_mm, max_axis_step_deg, out, json } => {
+        AvoidCmd::Reorient { program, machine, control, max_tilt_deg, out, json } => reorient(program, machine, &options(control), *max_tilt_deg, out.as_deref(), *json),
+        AvoidCmd::Smooth { program, machine, control, tool, out, json } => smooth(program, machine, &options(control), *tool, out.as_deref(), *json),
+        AvoidCmd::Refine { program, machine, control, max_angle_deg, max_step_mm, max_axis_step_deg, out, json } => {
             let opts = fiveaxis::avoid::refine::RefineOptions { max_step: max_step_mm * fiveaxis::units::MM, max_angle: max_angle_deg * DEG, max_axis_step: max_axis_step_deg * DEG };
-            refine(program, machine, &opts, out.as_deref(), *json)
+            refine(program, machine, &options(control), &opts, out.as_deref(), *json)
         }
     }
 }
 
+
+/// The job options of an `avoid` command: the control's set-up (`--m-code`, `--orientation`), the
+/// rest at their defaults.
+fn options(control: &ControlArgs) -> JobOptions {
+    JobOptions { read: control.read_options(), ..JobOptions::default() }
+}
 
 /// The machine and program of an `avoid` command (files, bundled:, builtin: paths as CL every 0.1 mm,
 /// builtin:semi-cylinder); programs with defects are bad input.
@@ -128,8 +140,7 @@ fn write_out(prog: &fiveaxis::program::Program, new: &fiveaxis::program::Program
     Ok(())
 }
 
-fn smooth(program: &str, machine: &MachineArgs, tool: fiveaxis::avoid::smooth::Tool, out: Option<&std::path::Path>, json: bool) -> Outcome {
-    let options = JobOptions::default();
+fn smooth(program: &str, machine: &MachineArgs, options: &JobOptions, tool: fiveaxis::avoid::smooth::Tool, out: Option<&std::path::Path>, json: bool) -> Outcome {
     let (machine, prog) = avoid_input(program, machine, "smooth", &options)?;
     let (new, s) = fiveaxis::avoid::smooth::smooth(&prog, &machine, tool, &options).map_err(|e| bad_input(format!("cannot smooth {program}: {e}")))?;
     let (before, mut after) = match (fiveaxis::avoid::figures(&prog, &machine, &options), fiveaxis::avoid::figures(&new, &machine, &options)) {
@@ -161,8 +172,7 @@ fn smooth(program: &str, machine: &MachineArgs, tool: fiveaxis::avoid::smooth::T
     Ok(OK)
 }
 
-fn refine(program: &str, machine: &MachineArgs, opts: &fiveaxis::avoid::refine::RefineOptions, out: Option<&std::path::Path>, json: bool) -> Outcome {
-    let options = JobOptions::default();
+fn refine(program: &str, machine: &MachineArgs, options: &JobOptions, opts: &fiveaxis::avoid::refine::RefineOptions, out: Option<&std::path::Path>, json: bool) -> Outcome {
     let (machine, prog) = avoid_input(program, machine, "refine", &options)?;
     let refined = fiveaxis::avoid::refine::refine(&prog, &machine, opts, &options)
         .and_then(|(new, r)| fiveaxis::avoid::refine::conventional(&prog, &machine, &options).map(|c| (new, r, c)));
@@ -191,12 +201,11 @@ fn refine(program: &str, machine: &MachineArgs, opts: &fiveaxis::avoid::refine::
     Ok(OK)
 }
 
-fn reorient(program: &str, machine: &MachineArgs, max_tilt_deg: f64, out: Option<&std::path::Path>, json: bool) -> Outcome {
+fn reorient(program: &str, machine: &MachineArgs, options: &JobOptions, max_tilt_deg: f64, out: Option<&std::path::Path>, json: bool) -> Outcome {
     if !(max_tilt_deg.is_finite() && max_tilt_deg > 0.0 && max_tilt_deg <= 90.0) {
         return Err(bad_input(format!("--max-tilt-deg must be in (0, 90], got {max_tilt_deg}")));
     }
-    let options = JobOptions::default();
-    let (machine, prog) = avoid_input(program, machine, "reorient", &options)?;
+    let (machine, prog) = avoid_input(program, machine, "reorient", options)?;
     let (r, new) = fiveaxis::avoid::search(&prog, &machine, max_tilt_deg * DEG, &options).map_err(|e| bad_input(format!("cannot reorient {program}: {e}")))?;
     write_out(&prog, &new, &machine, out, &options)?;
     if json {
