@@ -321,3 +321,36 @@ fn declared_tcp_m_codes_are_written_back() {
         assert!((x.tip1 - y.tip1).norm() < 1e-6 && (m.forward(&x.q1).axis - m.forward(&y.q1).axis).norm() < 1e-6, "{x:?} vs {y:?}");
     }
 }
+
+/// Events run when their control runs them: APT's statements one by one in order (a tool change
+/// between two cuts: spindle and coolant off, the new tool, on again), a tool change with TCPM off,
+/// and a TNC's spindle stop in a retract block after that block's move.
+#[test]
+fn written_events_run_in_the_controls_order() {
+    let m = Machine::hermle_c600u();
+    let o = JobOptions::default();
+    let apt = "UNITS/MM\nMULTAX/ON\nLOADTL/1\nSPINDL/10000,RPM,CLW\nGOTO/0,0,10,0,0.3,1\nFEDRAT/600\nGOTO/10,0,10,0,0.2,1\n\
+               SPINDL/OFF\nCOOLNT/OFF\nLOADTL/2\nSPINDL/RANGE,2,RPM,8000,CLW\nCOOLNT/ON\nGOTO/20,0,10,0,-0.2,1\nFINI\n";
+    let p = read(apt, Dialect::Cl, "tools.apt", &ReadOptions::default());
+    assert!(!p.has_errors(), "{:?}", p.report());
+    let text = write_program(&p, &m, Dialect::Heidenhain, &o).unwrap();
+    let body: Vec<String> = text.lines().map(|l| l.split_whitespace().skip(1).filter(|w| *w != "*").collect::<Vec<_>>().join(" ")).collect();
+    let at = |l: &str| body.iter().position(|x| x == l).unwrap_or_else(|| panic!("no line '{l}':\n{text}"));
+    let cut1 = body.iter().position(|l| l.starts_with("G01 X+10.0000")).unwrap();
+    let cut2 = body.iter().position(|l| l.starts_with("G01 X+20.0000")).unwrap();
+    let order = [at("T1 G17"), at("S10000 M3"), cut1, at("M129"), at("M5"), at("M9"), at("T2 G17"), at("S8000 M3"), at("M8"), cut2];
+    assert!(order.windows(2).all(|w| w[0] < w[1]), "{order:?}:\n{text}");
+    assert_eq!(body.iter().filter(|l| *l == "M128").count(), 2, "TCPM on again for the new tool:\n{text}");
+
+    // Heidenhain DIN/ISO: M5 in a retract block runs at its end.
+    let tnc = "%R G71 *\nN10 T1 G17 S9000 *\nN20 G00 X+0 Y+0 Z+10 M3 *\nN30 G01 X+10 F600 *\nN40 G00 Z+100 M5 *\nN50 M30 *\nN999999 %R G71 *\n";
+    let p = read(tnc, Dialect::Heidenhain, "retract.I", &ReadOptions::default());
+    assert!(!p.has_errors(), "{:?}", p.report());
+    let text = write_program(&p, &m, Dialect::Heidenhain, &o).unwrap();
+    let body: Vec<&str> = text.lines().collect();
+    let retract = body.iter().position(|l| l.contains("G00") && l.contains("Z+100")).unwrap();
+    let stop = body.iter().position(|l| l.split_whitespace().any(|w| w == "M5")).unwrap();
+    let start = body.iter().position(|l| l.split_whitespace().any(|w| w == "M3")).unwrap();
+    let first = body.iter().position(|l| l.contains("G00")).unwrap();
+    assert!(start < first && stop > retract, "M3 before the first move, M5 after the retract:\n{text}");
+}

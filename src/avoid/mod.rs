@@ -186,75 +186,132 @@ pub fn search(program: &Program, machine: &Machine, max_tilt: f64, options: &Job
     Ok((Reorientation { theta_x_deg: tx.to_degrees(), theta_z_deg: tz.to_degrees().rem_euclid(360.0), before, after }, program))
 }
 
-/// The NC words that do a block's event (tool, spindle, coolant, a stop) in the written program: as
-/// written when the program is of the written dialect's family, else translated (APT's `SPINDL/`,
-/// `COOLNT/`, `LOADTL/`; a numbered tool, called as `T n G17` in DIN/ISO). None for what the writer
-/// writes itself (TCPM on and off, the program end) or what does nothing on the control (APT's
-/// `END`, a tool preselection); an error for an event it cannot write, rather than a program that
-/// would cut with the spindle off or the wrong tool.
-fn event_words(ev: &str, source: crate::program::Dialect, heid: bool, options: &JobOptions) -> Result<Option<String>, AvoidError> {
+/// What the control does besides moving at one block, as the written program's lines: before the
+/// block's motion (tool, spindle and coolant on), after it (stops; the TNC's spindle and coolant off,
+/// which it runs at the block's end), and whether it changes the tool (TCPM must be off then).
+#[derive(Debug, Default)]
+struct BlockEvents {
+    before: Vec<String>,
+    after: Vec<String>,
+    tool_change: bool,
+}
+
+/// One event's words in the written program; see [`block_events`].
+struct EventWords {
+    text: String,
+    after: bool,
+    tool_change: bool,
+}
+
+/// The events of every block of `program` in the written dialect: as written when the program is of
+/// the written dialect's family, else translated (APT's `SPINDL/`, `COOLNT/`, `LOADTL/`; a tool called
+/// as `T n G17` in DIN/ISO, at its `M6` when the program changes tools with M6, so that a `T` alone
+/// is the preselection it is there). What the writer writes itself (TCPM on and off, the program end)
+/// or what does nothing on the control (APT's `END`, a preselection) is left out; an event it cannot
+/// write is an error, rather than a program that would cut with the spindle off or the wrong tool.
+/// APT's events are statements run in order: one line each.
+fn block_events(program: &Program, heid: bool, options: &JobOptions) -> Result<Vec<BlockEvents>, AvoidError> {
     use crate::program::{Dialect, MCodeAction};
+    let source = program.dialect;
     let tnc = matches!(source, Dialect::Heidenhain | Dialect::Klartext);
     let same = matches!((source, heid), (Dialect::Rs274, false)) || (tnc && heid);
-    let cannot = |why: &str| AvoidError::Refused(format!("event '{ev}' cannot be written in {}: {why}", if heid { "Heidenhain DIN/ISO" } else { "RS274NGC" }));
-    let tool = |n: &str| -> Result<Option<String>, AvoidError> {
-        match n.trim().parse::<f64>() {
-            Ok(t) if t >= 0.0 && t.fract() == 0.0 => Ok(Some(if heid { format!("T{t} G17") } else { format!("T{t} M6") })),
-            _ => Err(cannot("not a tool number")),
+    let m_code = |e: &str| e.strip_prefix('M').and_then(|r| r.parse::<f64>().ok()).filter(|c| c.fract() == 0.0 && *c >= 0.0).map(|c| c as u32);
+    let has_m6 = program.blocks.iter().flat_map(|b| &b.events).any(|e| m_code(e) == Some(6));
+    let mut selected: Option<String> = None;
+    let mut word = |ev: &str| -> Result<Option<EventWords>, AvoidError> {
+        let cannot = |why: &str| AvoidError::Refused(format!("event '{ev}' cannot be written in {}: {why}", if heid { "Heidenhain DIN/ISO" } else { "RS274NGC" }));
+        let plain = |text: &str| Ok(Some(EventWords { text: text.to_string(), after: false, tool_change: false }));
+        let call = |n: &str| -> Result<Option<EventWords>, AvoidError> {
+            match n.trim().parse::<f64>() {
+                Ok(t) if t >= 0.0 && t.fract() == 0.0 => Ok(Some(EventWords { text: if heid { format!("T{t} G17") } else { format!("T{t} M6") }, after: false, tool_change: true })),
+                _ => Err(cannot("not a tool number")),
+            }
+        };
+        if source == Dialect::Cl {
+            // APT: MAJOR/minor,... (ISO 4343).
+            let (major, args) = ev.split_once('/').unwrap_or((ev, ""));
+            let args: Vec<String> = args.split(',').map(|a| a.trim().to_ascii_uppercase()).filter(|a| !a.is_empty()).collect();
+            let has = |w: &str| args.iter().any(|a| a == w);
+            // The first number that is not a gear range's.
+            let number = args.iter().enumerate().filter(|(i, _)| *i == 0 || args[i - 1] != "RANGE").find_map(|(_, a)| a.parse::<f64>().ok());
+            return match major.trim().to_ascii_uppercase().as_str() {
+                "SPINDL" if has("OFF") => plain("M5"),
+                "SPINDL" if has("SFM") || has("SMM") => Err(cannot("a constant surface speed is not written")),
+                "SPINDL" => {
+                    let dir = if has("CCLW") { "M4" } else { "M3" };
+                    plain(&number.map_or(dir.to_string(), |n| format!("S{n} {dir}")))
+                }
+                "COOLNT" if has("OFF") => plain("M9"),
+                "COOLNT" if has("MIST") => plain("M7"),
+                "COOLNT" if has("ON") || has("FLOOD") || args.is_empty() => plain("M8"),
+                "COOLNT" => Err(cannot("only ON, FLOOD, MIST and OFF are written")),
+                "LOADTL" => call(args.first().map_or("", |a| a.as_str())),
+                "LOAD" if has("TOOL") => call(&number.map_or(String::new(), |n| n.to_string())),
+                "SELECT" | "SELCTL" | "END" => Ok(None),
+                "STOP" => plain("M0"),
+                "OPSTOP" => plain("M1"),
+                _ => Err(cannot("not a known APT event")),
+            };
+        }
+        let (letter, rest) = ev.split_at(ev.chars().next().map_or(0, char::len_utf8));
+        match letter {
+            "M" => {
+                let code = m_code(ev).ok_or_else(|| cannot("not an M code"))?;
+                let tcp = options.read.m_codes.iter().any(|r| r.code == code && matches!(r.action, MCodeAction::TcpOn | MCodeAction::TcpOff));
+                if tcp || matches!(code, 2 | 30) || (tnc && matches!(code, 128 | 129)) {
+                    return Ok(None);
+                }
+                // When each runs: stops after the block's motion (LinuxCNC's order of execution and
+                // the TNC's); the TNC also runs spindle and coolant off and the tool change at the end.
+                let after = matches!(code, 0 | 1 | 60) || (tnc && matches!(code, 5 | 6 | 9));
+                let tool_change = code == 6;
+                if code == 6 && !same {
+                    // The DIN/ISO tool call of the tool selected before (T n G17) changes it.
+                    return match (heid, selected.take()) {
+                        (true, Some(t)) => call(&t),
+                        (true, None) => Err(cannot("M6 without a tool selected before it")),
+                        (false, _) => Ok(Some(EventWords { text: ev.to_string(), after, tool_change })),
+                    };
+                }
+                if same || matches!(code, 0 | 1 | 3 | 4 | 5 | 7 | 8 | 9) {
+                    return Ok(Some(EventWords { text: ev.to_string(), after, tool_change }));
+                }
+                // The TNC's spindle on with coolant on (clockwise, counter-clockwise).
+                if tnc && matches!(code, 13 | 14) {
+                    return plain(if code == 13 { "M3 M8" } else { "M4 M8" });
+                }
+                Err(cannot("a machine's own M code, with no known meaning in the written dialect"))
+            }
+            "S" if rest.parse::<f64>().is_ok() => plain(ev),
+            "T" if same && !heid => plain(ev),
+            // A T that an M6 changes to later is a preselection.
+            "T" if has_m6 && !tnc => {
+                selected = Some(rest.to_string());
+                Ok(None)
+            }
+            "T" => call(rest),
+            _ => Err(cannot("not a tool, spindle, coolant or stop word")),
         }
     };
-    if source == Dialect::Cl {
-        // APT: MAJOR/minor,... (ISO 4343).
-        let (word, args) = ev.split_once('/').unwrap_or((ev, ""));
-        let args: Vec<String> = args.split(',').map(|a| a.trim().to_ascii_uppercase()).filter(|a| !a.is_empty()).collect();
-        let has = |w: &str| args.iter().any(|a| a == w);
-        let number = args.iter().find_map(|a| a.parse::<f64>().ok());
-        return match word.trim().to_ascii_uppercase().as_str() {
-            "SPINDL" if has("OFF") => Ok(Some("M5".into())),
-            "SPINDL" if has("SFM") || has("SMM") => Err(cannot("a constant surface speed is not written")),
-            "SPINDL" => {
-                let dir = if has("CCLW") { "M4" } else { "M3" };
-                Ok(Some(number.map_or(dir.to_string(), |n| format!("S{n} {dir}"))))
+    let mut all = Vec::with_capacity(program.blocks.len());
+    for b in &program.blocks {
+        let mut e = BlockEvents::default();
+        let (mut before, mut after) = (Vec::new(), Vec::new());
+        for ev in &b.events {
+            if let Some(w) = word(ev)? {
+                e.tool_change |= w.tool_change;
+                if w.after { after.push(w.text) } else { before.push(w.text) }
             }
-            "COOLNT" if has("OFF") => Ok(Some("M9".into())),
-            "COOLNT" if has("MIST") => Ok(Some("M7".into())),
-            "COOLNT" if has("ON") || has("FLOOD") || args.is_empty() => Ok(Some("M8".into())),
-            "COOLNT" => Err(cannot("only ON, FLOOD, MIST and OFF are written")),
-            "LOADTL" => tool(args.first().map_or("", |a| a.as_str())),
-            "LOAD" if has("TOOL") => tool(&number.map_or(String::new(), |n| n.to_string())),
-            "SELECT" | "SELCTL" => Ok(None),
-            "STOP" => Ok(Some("M0".into())),
-            "OPSTOP" => Ok(Some("M1".into())),
-            "END" => Ok(None),
-            _ => Err(cannot("not a known APT event")),
-        };
-    }
-    let (letter, rest) = ev.split_at(ev.chars().next().map_or(0, char::len_utf8));
-    match letter {
-        "M" => {
-            let code: u32 = rest.parse().map_err(|_| cannot("not an M code"))?;
-            let tcp = options.read.m_codes.iter().any(|r| r.code == code && matches!(r.action, MCodeAction::TcpOn | MCodeAction::TcpOff));
-            if tcp || matches!(code, 2 | 30) || (tnc && matches!(code, 128 | 129)) {
-                return Ok(None);
-            }
-            if same || matches!(code, 0 | 1 | 3 | 4 | 5 | 7 | 8 | 9) {
-                return Ok(Some(ev.to_string()));
-            }
-            // The TNC's spindle on with coolant on (clockwise, counter-clockwise).
-            if tnc && matches!(code, 13 | 14) {
-                return Ok(Some(if code == 13 { "M3 M8" } else { "M4 M8" }.into()));
-            }
-            // M6 with a T: the DIN/ISO tool call changes the tool.
-            if code == 6 && heid {
-                return Ok(None);
-            }
-            Err(cannot("a machine's own M code, with no known meaning in the written dialect"))
         }
-        "S" if rest.parse::<f64>().is_ok() => Ok(Some(ev.to_string())),
-        "T" if same && !heid => Ok(Some(ev.to_string())),
-        "T" => tool(rest),
-        _ => Err(cannot("not a tool, spindle, coolant or stop word")),
+        if source == Dialect::Cl {
+            (e.before, e.after) = (before, after);
+        } else {
+            e.before.extend((!before.is_empty()).then(|| before.join(" ")));
+            e.after.extend((!after.is_empty()).then(|| after.join(" ")));
+        }
+        all.push(e);
     }
+    Ok(all)
 }
 
 /// Write a program's planned moves as an NC program in `dialect` (Heidenhain DIN/ISO with M128, or
@@ -299,21 +356,37 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
     // CL data starts where its first pose is, not at the machine's home: a post positions the tool
     // there first (a rapid), or the written program would cut its first step from wherever it stands.
     let mut start = program.dialect.starts_at_first_pose();
-    // Each block's events, before its motion (LinuxCNC's order of execution), on a line of their own.
-    let mut next_block = 0;
-    let mut events = |out: &mut String, line: &mut dyn FnMut(&mut String, &str), upto: usize| -> Result<(), AvoidError> {
-        for b in &program.blocks[next_block.min(upto)..upto] {
-            let words = b.events.iter().map(|e| event_words(e, program.dialect, heid, options)).collect::<Result<Vec<_>, _>>()?;
-            let words: Vec<String> = words.into_iter().flatten().collect();
-            if !words.is_empty() {
-                line(out, &words.join(" "));
-            }
+    // Each block's events on lines of their own, before and after its motion; a tool change with
+    // TCPM off (the next TCPM move switches it on again, with the new tool's length).
+    let events = block_events(program, heid, options)?;
+    let tcp_off = tcp_switch(heid, false);
+    let emit = |out: &mut String, line: &mut dyn FnMut(&mut String, &str), tcp: &mut bool, b: usize, before: bool| {
+        let e = &events[b];
+        if before && e.tool_change && *tcp {
+            line(out, &tcp_off);
+            *tcp = false;
         }
-        next_block = next_block.max(upto);
-        Ok(())
+        for l in if before { &e.before } else { &e.after } {
+            line(out, l);
+        }
     };
+    let mut next_block = 0;
+    let mut moving: Option<usize> = None;
     for s in &traj.segments {
-        events(&mut out, &mut line, s.block + 1)?;
+        if s.block >= next_block {
+            // The block that moved last is done; the blocks up to this one run their events.
+            if let Some(b) = moving.take() {
+                emit(&mut out, &mut line, &mut tcp, b, false);
+            }
+            for b in next_block..=s.block {
+                emit(&mut out, &mut line, &mut tcp, b, true);
+                if b < s.block {
+                    emit(&mut out, &mut line, &mut tcp, b, false);
+                }
+            }
+            moving = Some(s.block);
+            next_block = s.block + 1;
+        }
         // The positioning to the start, then the segment's own move (a dwell writes only its time).
         let start_move = std::mem::take(&mut start).then_some((SegmentKind::Rapid, s.q0, s.tip0));
         let own = (s.kind != SegmentKind::Dwell).then_some((s.kind, s.q1, s.tip1));
@@ -349,7 +422,13 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
             line(&mut out, &if heid { format!("G04 F{:.3}", s.duration) } else { format!("G4 P{:.3}", s.duration) });
         }
     }
-    events(&mut out, &mut line, program.blocks.len())?;
+    if let Some(b) = moving.take() {
+        emit(&mut out, &mut line, &mut tcp, b, false);
+    }
+    for b in next_block..program.blocks.len() {
+        emit(&mut out, &mut line, &mut tcp, b, true);
+        emit(&mut out, &mut line, &mut tcp, b, false);
+    }
     if tcp {
         line(&mut out, &tcp_switch(heid, false));
     }
