@@ -345,7 +345,7 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
     // declared them (`--m-code 428=tcp-on`: LinuxCNC's five-axis configurations switch kinematics
     // with a remap), else G43.4/G49.
     let declared = |action: crate::program::MCodeAction| options.read.m_codes.iter().find(|r| r.action == action).map(|r| format!("M{}", r.code));
-    let tcp_switch = |heid: bool, on: bool| match (heid, on) {
+    let tcp_switch = |on: bool| match (heid, on) {
         (true, true) => "M128".to_string(),
         (true, false) => "M129".to_string(),
         (false, true) => declared(crate::program::MCodeAction::TcpOn).unwrap_or_else(|| "G43.4".into()),
@@ -355,11 +355,11 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
     let mut datum = Vector3::zeros();
     // CL data starts where its first pose is, not at the machine's home: a post positions the tool
     // there first (a rapid), or the written program would cut its first step from wherever it stands.
-    let mut start = program.dialect.starts_at_first_pose();
+    let mut start = start_pose(program, &traj).is_some();
     // Each block's events on lines of their own, before and after its motion; a tool change with
     // TCPM off (the next TCPM move switches it on again, with the new tool's length).
     let events = block_events(program, heid, options)?;
-    let tcp_off = tcp_switch(heid, false);
+    let tcp_off = tcp_switch(false);
     let emit = |out: &mut String, line: &mut dyn FnMut(&mut String, &str), tcp: &mut bool, b: usize, before: bool| {
         let e = &events[b];
         if before && e.tool_change && *tcp {
@@ -398,7 +398,7 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
             }
             if want_tcp != tcp {
                 tcp = want_tcp;
-                line(&mut out, &tcp_switch(heid, tcp));
+                line(&mut out, &tcp_switch(tcp));
             }
             let (x, y, z) = if tcp { (tip.x, tip.y, tip.z) } else { (q[0] - s.datum.x, q[1] - s.datum.y, q[2] - s.datum.z) };
             let words = format!(
@@ -430,7 +430,7 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
         emit(&mut out, &mut line, &mut tcp, b, false);
     }
     if tcp {
-        line(&mut out, &tcp_switch(heid, false));
+        line(&mut out, &tcp_off);
     }
     line(&mut out, if heid { "M30" } else { "M2" });
     if heid {
