@@ -1,7 +1,7 @@
 //! A real control's data, live: LinuxCNC's 1 kHz joint trace of the SING cut published over DDS by an
 //! independent stack (Cyclone DDS from PyPI, tests/peer/cyclone_bridge.py: `sensor_msgs/JointState` on
 //! `rt/cnc/joint_states` as rmw_cyclonedds puts it on the wire), the way real bridges do it: reliable
-//! or best effort, stamps on the sample grid or at send time with jitter, C modulo 360 deg. The
+//! or best effort, stamps on the sample grid or at send time with jitter, an outage, C modulo 360 deg. The
 //! monitor runs beside it as a process; the peer listens to the monitor's status and `/diagnostics`.
 //! Everything runs in a private loopback-only network namespace.
 
@@ -78,10 +78,15 @@ fn live_trace(tag: &str, peer: &str, trace: &Trace) -> Live {
 }
 
 fn check(l: &Live) {
+    check_lost(l, 0);
+}
+
+/// [`check`] for a publisher that skipped `lost` samples: the monitor counts exactly those.
+fn check_lost(l: &Live, lost: u64) {
     let input = l.summary.as_array().unwrap().iter().find(|i| i["topic"] == "/cnc/joint_states").unwrap_or_else(|| panic!("{:#}", l.summary));
     let sent = l.published["samples_sent"].as_u64().unwrap_or_else(|| panic!("{:#}", l.published));
     assert_eq!(input["samples"].as_u64().unwrap(), sent, "every sample heard: {input:#}\n{}", l.log);
-    assert_eq!(input["lost"], 0, "none lost, none reported lost: {input:#}");
+    assert_eq!(input["lost"], lost, "exactly the samples not sent reported lost: {input:#}");
     assert_eq!(input["rejected"]["out_of_order"], 0, "{input:#}");
     let regions = input["regions"].as_array().unwrap();
     assert_eq!(regions.len(), 1, "one region for the pass, no false one: {regions:#?}");
@@ -113,6 +118,16 @@ fn reliable_bridge_with_grid_stamps_and_modulo_c() {
 fn best_effort_bridge_stamping_at_send_time_with_jitter() {
     let l = live("best-effort", "--reliability best-effort --stamp send --jitter-ms 1 --seed 7");
     check(&l);
+}
+
+/// A best-effort bridge stamping at send time that goes silent for 40 ms of wall time at x 8 mm (its
+/// schedule skips those samples, as a bridge that drops what it could not send in time): the monitor
+/// counts exactly the 40 samples not sent, and the pass is judged as before.
+#[test]
+fn best_effort_bridge_outage_is_counted_exactly() {
+    let l = live("outage", "--reliability best-effort --stamp send --jitter-ms 1 --seed 11 --gap-at 12 --gap-ms 40");
+    assert_eq!(l.published["skipped_gap"], 40, "{:#}", l.published);
+    check_lost(&l, 40);
 }
 
 /// A bridged machine whose control applies SING.I's own G54 datum (G10 L2 P1 Y-7.1 Z+38.054):
