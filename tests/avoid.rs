@@ -259,13 +259,19 @@ fn written_programs_keep_the_tool_spindle_and_coolant() {
     let o = JobOptions::default();
     let ngc = "G21 G90 G94\nT1 M6\nS10000 M3\nM8\nG43.4 H1\nG0 X0 Y0 Z10 A0 C0\nG1 X10 A10 F600\nG1 X20 A20\nG49\nM5 M9\nM2\n";
     let apt = "UNITS/MM\nMULTAX/ON\nLOADTL/7\nSPINDL/12000,RPM,CLW\nCOOLNT/FLOOD\nGOTO/0,0,10,0,0.3,1\nFEDRAT/600\nGOTO/10,0,10,0,0.2,1\nGOTO/20,0,10,0,-0.2,1\nSPINDL/OFF\nCOOLNT/OFF\nFINI\n";
+    // The same CL data without FINI (the file just ends): its last events are kept all the same.
+    let apt_unfinished = apt.strip_suffix("FINI\n").unwrap();
     let cases = [
         (ngc, Dialect::Rs274, Dialect::Rs274, ["T1", "M6", "S10000", "M3", "M8"], ["M5", "M9"]),
         (apt, Dialect::Cl, Dialect::Heidenhain, ["T7", "G17", "S12000", "M3", "M8"], ["M5", "M9"]),
+        (apt_unfinished, Dialect::Cl, Dialect::Heidenhain, ["T7", "G17", "S12000", "M3", "M8"], ["M5", "M9"]),
     ];
     for (text, dialect, out, before, after) in cases {
         let p = read(text, dialect, "events", &ReadOptions::default());
         assert!(!p.has_errors(), "{:?}", p.report());
+        // Read as a stream, the same blocks with the same events.
+        let streamed: Vec<_> = fiveaxis::program::BlockStream::from_text(text, Some(dialect), "events", &ReadOptions::default()).collect();
+        assert_eq!(streamed.iter().map(|b| (b.line, b.events.clone())).collect::<Vec<_>>(), p.blocks.iter().map(|b| (b.line, b.events.clone())).collect::<Vec<_>>());
         let (_, turned) = search(&p, &m, 30.0 * DEG, &o).unwrap();
         let written = write_program(&turned, &m, out, &o).unwrap();
         let lines: Vec<&str> = written.lines().collect();

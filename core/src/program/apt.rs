@@ -86,6 +86,8 @@ pub(crate) struct AptReader {
     at: Option<[f64; 3]>,
     circle: Option<Circle>,
     events: Vec<String>,
+    /// Where the latest event was read.
+    event_at: (usize, usize),
     finished: bool,
 }
 
@@ -103,6 +105,7 @@ impl AptReader {
             at: None,
             circle: None,
             events: Vec::new(),
+            event_at: (0, 0),
             finished: false,
         }
     }
@@ -159,8 +162,13 @@ impl AptReader {
         }
     }
 
-    /// The input has ended: a continued statement or a circle left open is a defect.
-    pub(crate) fn finish(&mut self, diags: &mut Diags) {
+    /// The input has ended: a continued statement or a circle left open is a defect; events after the
+    /// last motion in a file with neither FINI nor END-OF-PATH are a block of their own, at the last.
+    pub(crate) fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
+        if !self.events.is_empty() {
+            let (line, column) = self.event_at;
+            out.push(self.block(line, column));
+        }
         if let Some((_, line, column)) = self.pending.take() {
             diags.error(line, column, "the program ends inside this statement (its last line ends in '$')");
         }
@@ -362,7 +370,10 @@ impl AptReader {
                 let centre = [v[0], v[1], v[2]].map(|c| c * self.unit);
                 self.circle = Some(Circle { centre, plane, ccw: axis[k] * about > 0.0, radius: radius.map(|r| r * self.unit), line, column: col });
             }
-            "SPINDL" | "COOLNT" | "LOADTL" | "LOAD" | "SELCTL" | "SELECT" | "STOP" | "OPSTOP" | "END" => self.events.push(s.to_string()),
+            "SPINDL" | "COOLNT" | "LOADTL" | "LOAD" | "SELCTL" | "SELECT" | "STOP" | "OPSTOP" | "END" => {
+                self.events.push(s.to_string());
+                self.event_at = (line, col);
+            }
             // DELAY/t: the tool stands still t seconds (ISO 4343); DELAY/n,REV (spindle turns) is not read.
             "DELAY" => {
                 let Some((v, minors)) = values(diags) else { return };

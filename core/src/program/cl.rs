@@ -167,9 +167,9 @@ impl super::stream::LineReader for ClReader {
         });
     }
 
-    fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, diags: &mut Diags) {
+    fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, out: &mut Vec<Block>, diags: &mut Diags) {
         if let Some(apt) = &mut self.apt {
-            apt.finish(diags);
+            apt.finish(out, diags);
         }
     }
 }

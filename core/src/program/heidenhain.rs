@@ -334,7 +334,7 @@ impl super::stream::LineReader for DinReader {
         }
     }
 
-    fn finish(&mut self, blocks: Option<&mut Vec<Block>>, diags: &mut Diags) {
+    fn finish(&mut self, blocks: Option<&mut Vec<Block>>, _out: &mut Vec<Block>, diags: &mut Diags) {
         if self.name.is_none() {
             diags.error(1, 1, "missing program header: expected %NAME G71 * on the first line");
         }

@@ -25,9 +25,10 @@ use std::path::Path;
 pub(crate) trait LineReader {
     /// Read line `line` (1-based; `text` without its newline): blocks go to `out`, defects to `diags`.
     fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags);
-    /// The input has ended: checks that need all of it (a missing header). `blocks` holds every
-    /// block when the program was read whole; a stream has handed them out already (`None`).
-    fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, _diags: &mut Diags) {}
+    /// The input has ended: checks that need all of it (a missing header), and blocks only the end
+    /// completes go to `out`. `blocks` holds every block when the program was read whole; a stream
+    /// has handed them out already (`None`).
+    fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, _out: &mut Vec<Block>, _diags: &mut Diags) {}
     /// The program's name, once its header has been read.
     fn name(&self) -> Option<String> {
         None
@@ -41,7 +42,9 @@ pub(crate) fn read_whole(reader: &mut dyn LineReader, text: &str, dialect: Diale
     for (idx, raw) in text.lines().enumerate() {
         reader.line(idx + 1, raw, &mut blocks, &mut diags);
     }
-    reader.finish(Some(&mut blocks), &mut diags);
+    let mut tail = Vec::new();
+    reader.finish(Some(&mut blocks), &mut tail, &mut diags);
+    blocks.append(&mut tail);
     diags.0.sort_by_key(|d| (d.line, d.column));
     Program { source: String::new(), dialect, name: reader.name(), blocks, diagnostics: diags.0 }
 }
@@ -298,7 +301,8 @@ impl BlockStream {
                     let (n, out, diags) = (*line, &mut self.out, &mut self.diags);
                     match with_line(input.as_mut(), buf, |bytes| reader.get().line(n, &line_text(bytes), out, diags)) {
                         Ok(Got::End) => {
-                            reader.get().finish(None, &mut self.diags);
+                            reader.get().finish(None, &mut self.out, &mut self.diags);
+                            self.pending.extend(self.out.drain(..));
                             self.ended = true;
                         }
                         Ok(Got::Text(..)) => {
