@@ -90,6 +90,12 @@ fn heidenhain_unsupported_words_and_arcs_are_reported() {
     // An arc with no centre before it (I J) and no R: refused where it stands.
     has(&p, 4, 1, "arc without a circle centre");
     assert_eq!(p.blocks.iter().map(|b| b.number).collect::<Vec<_>>(), vec![Some(10), Some(30)]);
+    // The TNC's tool call `T1 G18` calls the tool along Y (G19: X): the tool axis is not the one
+    // modelled, so it is refused at the plane code; `T1 G17` and a G18 of its own (the arc plane) read.
+    let p = read_heidenhain("%T G71 *\nN10 T1 G18 S1000 *\nN20 T2 G19 *\nN30 T1 G17 S1000 *\nN40 G18 *\nN50 G01 X+1 F100 *\n");
+    has(&p, 2, 8, "T with G18: a tool call along tool axis Y");
+    has(&p, 3, 8, "T with G19: a tool call along tool axis X");
+    assert_eq!(errors(&p).len(), 2, "{:?}", errors(&p));
 }
 
 #[test]

@@ -207,6 +207,8 @@ impl Interpreter {
         // Heidenhain DIN/ISO and conversational share the TNC's words: modal circle centre I J K,
         // M128/M129, and the TNC's M functions.
         let heid = matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext);
+        // The TNC's DIN/ISO tool call `T1 G17`: the block's plane code is the tool axis.
+        let tool_call = self.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'T');
 
         // Modal G codes and M codes first: they govern how the axis words of this block are read.
         // A code that changes the motion and is not modelled is an error (fail closed), never skipped.
@@ -240,6 +242,11 @@ impl Interpreter {
                             format!("G{} (tangential, polar or rounding arcs) is not supported in Heidenhain DIN/ISO yet: expected G00-G03 or G05", w.raw),
                         ),
                         ("17", _) => next.plane = Plane::Xy,
+                        ("18" | "19" | "20", true) if tool_call => diags.error(
+                            line,
+                            w.column,
+                            format!("T with G{}: a tool call along tool axis {} (only tool axis Z, G17, is modelled: the machine file's)", w.raw, ["Y", "X", "IV"][code.as_str().parse::<usize>().unwrap_or(18) - 18]),
+                        ),
                         ("18", _) => next.plane = Plane::Zx,
                         ("19", _) => next.plane = Plane::Yz,
                         // Cutter compensation off, canned cycle cancel: no motion of their own.
