@@ -287,6 +287,10 @@ fn written_programs_keep_the_tool_spindle_and_coolant() {
         for w in before.iter().chain(&after).chain(&[if out == Dialect::Rs274 { "M2" } else { "M30" }]) {
             assert_eq!(lines.iter().filter(|l| l.split_whitespace().any(|x| x == *w)).count(), 1, "{dialect:?}: {w} once:\n{written}");
         }
+        // TCPM takes the length of the tool in the spindle (G43.4's H).
+        if out == Dialect::Rs274 {
+            assert!(lines.iter().any(|l| l.ends_with(" G43.4 H1")), "{dialect:?}: G43.4 H1:\n{written}");
+        }
         // What the control reads back is the same program.
         let back = read(&written, out, "written", &ReadOptions::default());
         assert!(!back.has_errors(), "{:?}", back.report());
@@ -339,6 +343,10 @@ fn written_events_run_in_the_controls_order() {
                SPINDL/OFF\nCOOLNT/OFF\nLOADTL/2\nSPINDL/RANGE,2,RPM,8000,CLW\nCOOLNT/ON\nGOTO/20,0,10,0,-0.2,1\nFINI\n";
     let p = read(apt, Dialect::Cl, "tools.apt", &ReadOptions::default());
     assert!(!p.has_errors(), "{:?}", p.report());
+    // In RS274NGC, TCPM on again after the change takes the new tool's length.
+    let ngc = write_program(&p, &m, Dialect::Rs274, &o).unwrap();
+    let h: Vec<&str> = ngc.lines().filter(|l| l.contains("G43.4")).map(|l| l.split_whitespace().last().unwrap()).collect();
+    assert_eq!(h, ["H1", "H2"], "{ngc}");
     let text = write_program(&p, &m, Dialect::Heidenhain, &o).unwrap();
     let body: Vec<String> = text.lines().map(|l| l.split_whitespace().skip(1).filter(|w| *w != "*").collect::<Vec<_>>().join(" ")).collect();
     let at = |l: &str| body.iter().position(|x| x == l).unwrap_or_else(|| panic!("no line '{l}':\n{text}"));

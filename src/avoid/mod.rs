@@ -194,6 +194,8 @@ struct BlockEvents {
     before: Vec<String>,
     after: Vec<String>,
     tool_change: bool,
+    /// The tool number in the spindle after this block's change (for G43.4's H: its length).
+    tool: Option<String>,
 }
 
 /// One event's words in the written program; see [`block_events`].
@@ -294,11 +296,20 @@ fn block_events(program: &Program, heid: bool, options: &JobOptions) -> Result<V
         }
     };
     let mut all = Vec::with_capacity(program.blocks.len());
+    // The tool number last named (a T word, or LOADTL's), which a change puts in the spindle.
+    let mut named: Option<String> = None;
     for b in &program.blocks {
         let mut e = BlockEvents::default();
         let (mut before, mut after) = (Vec::new(), Vec::new());
         for ev in &b.events {
             if let Some(w) = word(ev)? {
+                if let Some(t) = w.text.split_whitespace().find_map(|x| x.strip_prefix('T')).filter(|t| t.parse::<u32>().is_ok()) {
+                    named = Some(t.to_string());
+                }
+                // A call (T n G17, T n M6) or an M6 of its own changes to the tool named.
+                if w.tool_change {
+                    e.tool = named.clone();
+                }
                 e.tool_change |= w.tool_change;
                 if w.after { after.push(w.text) } else { before.push(w.text) }
             }
@@ -345,10 +356,11 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
     // declared them (`--m-code 428=tcp-on`: LinuxCNC's five-axis configurations switch kinematics
     // with a remap), else G43.4/G49.
     let declared = |action: crate::program::MCodeAction| options.read.m_codes.iter().find(|r| r.action == action).map(|r| format!("M{}", r.code));
-    let tcp_switch = |on: bool| match (heid, on) {
+    // G43.4 takes the tool's length from the H word: the tool in the spindle, where the program says.
+    let tcp_switch = |on: bool, tool: Option<&str>| match (heid, on) {
         (true, true) => "M128".to_string(),
         (true, false) => "M129".to_string(),
-        (false, true) => declared(crate::program::MCodeAction::TcpOn).unwrap_or_else(|| "G43.4".into()),
+        (false, true) => declared(crate::program::MCodeAction::TcpOn).unwrap_or_else(|| tool.map_or("G43.4".into(), |t| format!("G43.4 H{t}"))),
         (false, false) => declared(crate::program::MCodeAction::TcpOff).unwrap_or_else(|| "G49".into()),
     };
     let mut tcp = false;
@@ -359,7 +371,17 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
     // Each block's events on lines of their own, before and after its motion; a tool change with
     // TCPM off (the next TCPM move switches it on again, with the new tool's length).
     let events = block_events(program, heid, options)?;
-    let tcp_off = tcp_switch(false);
+    let tcp_off = tcp_switch(false, None);
+    // The tool in the spindle at each block's motion.
+    let spindle: Vec<Option<&str>> = events
+        .iter()
+        .scan(None, |t: &mut Option<&str>, e| {
+            if e.tool_change {
+                *t = e.tool.as_deref();
+            }
+            Some(*t)
+        })
+        .collect();
     let emit = |out: &mut String, line: &mut dyn FnMut(&mut String, &str), tcp: &mut bool, b: usize, before: bool| {
         let e = &events[b];
         if before && e.tool_change && *tcp {
@@ -398,7 +420,7 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
             }
             if want_tcp != tcp {
                 tcp = want_tcp;
-                line(&mut out, &tcp_switch(tcp));
+                line(&mut out, &tcp_switch(tcp, spindle[s.block]));
             }
             let (x, y, z) = if tcp { (tip.x, tip.y, tip.z) } else { (q[0] - s.datum.x, q[1] - s.datum.y, q[2] - s.datum.z) };
             let words = format!(
