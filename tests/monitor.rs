@@ -294,7 +294,7 @@ fn lost_samples_are_counted_from_unrepaid_gaps() {
 
 /// Stamps from outside: Cyclone DDS's Python publisher (tests/peer/cyclone_bridge.py) sending LinuxCNC's
 /// SING trace at 1 kHz, stamped at send time with up to 1 ms of jitter, while two busy loops held both
-/// cores (recordings/bridge/make-loaded-logs): it stalled up to 37 ms and paid each stall back. All
+/// cores (recordings/bridge/make-loaded-logs): it stalled for up to 28 and 31 ms and paid each stall back. All
 /// 6001 samples were sent and heard, so none is lost (judged on one late sample, and on a period
 /// skewed by the first stamps' lateness, 6 of log a's were).
 #[test]
