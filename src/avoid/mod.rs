@@ -203,6 +203,8 @@ struct EventWords {
     text: String,
     after: bool,
     tool_change: bool,
+    /// The tool number it names (a call, or a T word a later M6 changes to).
+    tool: Option<String>,
 }
 
 /// The events of every block of `program` in the written dialect: as written when the program is of
@@ -222,10 +224,12 @@ fn block_events(program: &Program, heid: bool, options: &JobOptions) -> Result<V
     let mut selected: Option<String> = None;
     let mut word = |ev: &str| -> Result<Option<EventWords>, AvoidError> {
         let cannot = |why: &str| AvoidError::Refused(format!("event '{ev}' cannot be written in {}: {why}", if heid { "Heidenhain DIN/ISO" } else { "RS274NGC" }));
-        let plain = |text: &str| Ok(Some(EventWords { text: text.to_string(), after: false, tool_change: false }));
+        let plain = |text: &str| Ok(Some(EventWords { text: text.to_string(), after: false, tool_change: false, tool: None }));
         let call = |n: &str| -> Result<Option<EventWords>, AvoidError> {
             match n.trim().parse::<f64>() {
-                Ok(t) if t >= 0.0 && t.fract() == 0.0 => Ok(Some(EventWords { text: if heid { format!("T{t} G17") } else { format!("T{t} M6") }, after: false, tool_change: true })),
+                Ok(t) if t >= 0.0 && t.fract() == 0.0 => {
+                    Ok(Some(EventWords { text: if heid { format!("T{t} G17") } else { format!("T{t} M6") }, after: false, tool_change: true, tool: Some(t.to_string()) }))
+                }
                 _ => Err(cannot("not a tool number")),
             }
         };
@@ -272,11 +276,11 @@ fn block_events(program: &Program, heid: bool, options: &JobOptions) -> Result<V
                     return match (heid, selected.take()) {
                         (true, Some(t)) => call(&t),
                         (true, None) => Err(cannot("M6 without a tool selected before it")),
-                        (false, _) => Ok(Some(EventWords { text: ev.to_string(), after, tool_change })),
+                        (false, _) => Ok(Some(EventWords { text: ev.to_string(), after, tool_change, tool: None })),
                     };
                 }
                 if same || matches!(code, 0 | 1 | 3 | 4 | 5 | 7 | 8 | 9) {
-                    return Ok(Some(EventWords { text: ev.to_string(), after, tool_change }));
+                    return Ok(Some(EventWords { text: ev.to_string(), after, tool_change, tool: None }));
                 }
                 // The TNC's spindle on with coolant on (clockwise, counter-clockwise).
                 if tnc && matches!(code, 13 | 14) {
@@ -285,7 +289,7 @@ fn block_events(program: &Program, heid: bool, options: &JobOptions) -> Result<V
                 Err(cannot("a machine's own M code, with no known meaning in the written dialect"))
             }
             "S" if rest.parse::<f64>().is_ok() => plain(ev),
-            "T" if same && !heid => plain(ev),
+            "T" if same && !heid => Ok(Some(EventWords { text: ev.to_string(), after: false, tool_change: false, tool: Some(rest.to_string()) })),
             // A T that an M6 changes to later is a preselection.
             "T" if has_m6 && !tnc => {
                 selected = Some(rest.to_string());
@@ -303,8 +307,8 @@ fn block_events(program: &Program, heid: bool, options: &JobOptions) -> Result<V
         let (mut before, mut after) = (Vec::new(), Vec::new());
         for ev in &b.events {
             if let Some(w) = word(ev)? {
-                if let Some(t) = w.text.split_whitespace().find_map(|x| x.strip_prefix('T')).filter(|t| t.parse::<u32>().is_ok()) {
-                    named = Some(t.to_string());
+                if w.tool.is_some() {
+                    named = w.tool;
                 }
                 // A call (T n G17, T n M6) or an M6 of its own changes to the tool named.
                 if w.tool_change {
