@@ -261,8 +261,12 @@ fn written_programs_keep_the_tool_spindle_and_coolant() {
     let apt = "UNITS/MM\nMULTAX/ON\nLOADTL/7\nSPINDL/12000,RPM,CLW\nCOOLNT/FLOOD\nGOTO/0,0,10,0,0.3,1\nFEDRAT/600\nGOTO/10,0,10,0,0.2,1\nGOTO/20,0,10,0,-0.2,1\nSPINDL/OFF\nCOOLNT/OFF\nFINI\n";
     // The same CL data without FINI (the file just ends): its last events are kept all the same.
     let apt_unfinished = apt.strip_suffix("FINI\n").unwrap();
+    // Sinumerik's T selects, its M6 changes: RS274NGC's `T1 M6`, DIN/ISO's tool call `T1 G17`.
+    let sinumerik = "G90 G71\nT1\nM6\nS10000 M3\nM8\nTRAORI\nG0 X0 Y0 Z10 A0 C0\nG1 X10 A10 F600\nG1 X20 A20\nTRAFOOF\nM5 M9\nM30\n";
     let cases = [
         (ngc, Dialect::Rs274, Dialect::Rs274, ["T1", "M6", "S10000", "M3", "M8"], ["M5", "M9"]),
+        (sinumerik, Dialect::Sinumerik, Dialect::Rs274, ["T1", "M6", "S10000", "M3", "M8"], ["M5", "M9"]),
+        (sinumerik, Dialect::Sinumerik, Dialect::Heidenhain, ["T1", "G17", "S10000", "M3", "M8"], ["M5", "M9"]),
         (apt, Dialect::Cl, Dialect::Heidenhain, ["T7", "G17", "S12000", "M3", "M8"], ["M5", "M9"]),
         (apt_unfinished, Dialect::Cl, Dialect::Heidenhain, ["T7", "G17", "S12000", "M3", "M8"], ["M5", "M9"]),
     ];

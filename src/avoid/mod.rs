@@ -272,11 +272,13 @@ fn block_events(program: &Program, heid: bool, options: &JobOptions) -> Result<V
                 let after = matches!(code, 0 | 1 | 60) || (tnc && matches!(code, 5 | 6 | 9));
                 let tool_change = code == 6;
                 if code == 6 && !same {
-                    // The DIN/ISO tool call of the tool selected before (T n G17) changes it.
+                    // The tool selected before changes at the M6: DIN/ISO's call `T n G17`, RS274NGC's
+                    // `T n M6` (its T was not written: a preselection there too). A bare M6 with no
+                    // tool selected changes to what the control has selected, in RS274NGC as written.
                     return match (heid, selected.take()) {
-                        (true, Some(t)) => call(&t),
+                        (_, Some(t)) => call(&t),
                         (true, None) => Err(cannot("M6 without a tool selected before it")),
-                        (false, _) => Ok(Some(EventWords { text: ev.to_string(), after, tool_change, tool: None })),
+                        (false, None) => Ok(Some(EventWords { text: ev.to_string(), after, tool_change, tool: None })),
                     };
                 }
                 if same || matches!(code, 0 | 1 | 3 | 4 | 5 | 7 | 8 | 9) {
