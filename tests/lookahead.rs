@@ -1,8 +1,8 @@
 //! The planner on dense CAM output and the bound on a program's duration (issue: hours-long programs).
 //!
-//! - `avoid refine bundled:SING.I` writes ~4,500 blocks, 4,099 of them tiny rotary-only moves: the
-//!   look-ahead planner blends through them (no stop per block), so the refined program simulates within
-//!   10 % of the original's cycle time, and an independent check (numpy finite differences at a wider
+//! - SING.I with its reorientation cut into 4,096 tiny rotary-only moves (what `avoid refine` wrote
+//!   until session 42, and CAM writes): the look-ahead planner blends through them (no stop per
+//!   block), so the program simulates within 10 % of the original's cycle time, and an independent check (numpy finite differences at a wider
 //!   stencil than the planner's, tests/peer/limit_check.py) finds every axis within its velocity,
 //!   acceleration and jerk limits on the recorded simulated JointState stream.
 //! - The SING cut as CL data every 0.01 mm simulates within 5 % of the same cut every 1 mm under
@@ -52,13 +52,34 @@ fn limit_check(mcap: &Path) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
+/// SING.I with its reorientation N80 (A 0 -> 14.825, C 0 -> 137.259 deg about the tip at Z+100) cut
+/// into 4096 rotary-only moves along the same line in A/C: the same motion in 4096 blocks, as CAM
+/// writes a reorientation (and as `avoid refine` wrote this one until session 42).
+fn sing_with_a_cut_reorientation() -> String {
+    let mut out = String::new();
+    for line in include_str!("../recordings/programs/SING.I").lines() {
+        if let Some(rest) = line.strip_prefix("N80 ") {
+            let word = |l: char| rest.split_whitespace().find_map(|w| w.strip_prefix(l)).unwrap().parse::<f64>().unwrap();
+            let (a, c) = (word('A'), word('C'));
+            assert_eq!((word('X'), word('Y'), word('Z')), (0.0, 0.0, 100.0), "{line}");
+            for k in 1..=4096 {
+                let u = k as f64 / 4096.0;
+                out += &format!("X+0 Y+0 Z+100 A{:+.5} C{:+.5} *\n", a * u, c * u);
+            }
+        } else {
+            out += line;
+            out.push('\n');
+        }
+    }
+    out
+}
+
 #[test]
-fn refined_sing_blends_through_its_short_blocks_within_the_axis_limits() {
+fn a_reorientation_cut_into_4096_blocks_blends_within_the_axis_limits() {
     let refined = tmp("refined.I");
-    let st = Command::new(bin()).args(["avoid", "refine", "bundled:SING.I", "--out"]).arg(&refined).output().unwrap();
-    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
-    let blocks = std::fs::read_to_string(&refined).unwrap().lines().filter(|l| l.contains("G01")).count();
-    assert!(blocks > 4000, "the refined program has {blocks} moves");
+    std::fs::write(&refined, sing_with_a_cut_reorientation()).unwrap();
+    let blocks = std::fs::read_to_string(&refined).unwrap().lines().filter(|l| l.contains(" A")).count();
+    assert!(blocks > 4000, "the program has {blocks} moves");
 
     let original = tmp("SING.I");
     std::fs::write(&original, include_str!("../recordings/programs/SING.I")).unwrap();

@@ -167,12 +167,28 @@ pub fn refine(program: &Program, machine: &Machine, opts: &RefineOptions, option
     let mut out = program.clone();
     out.blocks.clear();
     let mut prev: Option<(Pose, Joints)> = None;
+    // The program's first points while all are on the singular direction (where each was written in
+    // `out`, its block, its pose and joints): their C is free until a step leaves the direction.
+    let mut leading: Vec<(usize, usize, Pose, Joints)> = Vec::new();
+    let mut left_singular = false;
+    let singular = |p: &Pose| machine.singular_direction().cross(&p.axis).norm() < 1e-9;
+    let si = machine.secondary_axis();
     let by_block: std::collections::BTreeMap<usize, Pose> = ps.iter().copied().collect();
     let mut points_after = 0;
     let mut max_tip_error: f64 = 0.0;
     for (bi, block) in program.blocks.iter().enumerate() {
         let Some(pose) = by_block.get(&bi).copied() else {
-            out.blocks.push(block.clone());
+            match prev {
+                // A TCPM move that goes nowhere (it has no segment): it stays where the last point
+                // is, on the refined branch; its own words would now move the axes.
+                Some((p, q)) if block.tcp && !block.targets.is_empty() => {
+                    if !left_singular {
+                        leading.push((out.blocks.len(), bi, p, q));
+                    }
+                    out.blocks.push(with_joints(block, machine, &p, &q));
+                }
+                _ => out.blocks.push(block.clone()),
+            }
             continue;
         };
         let solve = |p: &Pose, q_prev: &Joints| machine.inverse(p, q_prev).map_err(|e| AvoidError::Refused(format!("line {}: {e}", block.line)));
@@ -184,14 +200,28 @@ pub fn refine(program: &Program, machine: &Machine, opts: &RefineOptions, option
             }
             Some((_, q_prev)) => solve(&pose, q_prev)?,
         };
-        if let (Some((p0, q0)), Motion::Linear) = (prev, block.motion) {
+        if let (Some((p0, mut q0)), Motion::Linear) = (prev, block.motion) {
+            // The program's first points on the singular direction: their C is free (every C gives
+            // the same tool axis), so they take the C the first step off it needs, as a post starts;
+            // kept, C would turn in one step however finely that step is cut.
+            if !left_singular && !singular(&pose) {
+                let off = (p0.axis * (1.0 - 1e-6) + pose.axis * 1e-6).try_normalize(1e-12).unwrap_or(pose.axis);
+                q0[si] = solve(&Pose { tip: p0.tip, axis: off }, &q0)?[si];
+                for (out_at, at_block, at_pose, mut q) in leading.drain(..) {
+                    q[si] = q0[si];
+                    out.blocks[out_at] = with_joints(&program.blocks[at_block], machine, &at_pose, &q);
+                }
+            }
             // How many pieces this step needs.
             let angle = p0.axis.angle(&pose.axis);
             let mut pieces = ((pose.tip - p0.tip).norm() / opts.max_step).ceil().max((angle / opts.max_angle).ceil()).max(1.0) as usize;
             let axis_step = |q0: &Joints, q1: &Joints| (3..5).map(|i| (q1[i] - q0[i]).abs()).fold(0.0, f64::max);
             pieces = pieces.max((axis_step(&q0, &q_end) / opts.max_axis_step).ceil() as usize).min(4096);
-            // Densify until every sub-step keeps within the axis threshold (or 4096 pieces).
+            // Densify until every sub-step keeps within the axis threshold (or 4096 pieces), or until
+            // halving the sub-steps no longer shrinks the largest: a turn of C where the tool axis
+            // passes the singular direction itself, which no cutting removes.
             let mut inserted: Vec<(Pose, Joints)>;
+            let mut coarser: Option<(f64, Vec<(Pose, Joints)>)> = None;
             loop {
                 inserted = Vec::with_capacity(pieces);
                 let mut q = q0;
@@ -205,9 +235,16 @@ pub fn refine(program: &Program, machine: &Machine, opts: &RefineOptions, option
                     inserted.push((p, qj));
                     q = qj;
                 }
+                if let Some((w, fewer)) = coarser.take() {
+                    if worst > 0.75 * w {
+                        inserted = fewer;
+                        break;
+                    }
+                }
                 if worst <= opts.max_axis_step * (1.0 + 1e-9) || pieces >= 4096 {
                     break;
                 }
+                coarser = Some((worst, inserted));
                 pieces = (pieces * 2).min(4096);
             }
             for (j, (p, q)) in inserted.iter().enumerate() {
@@ -224,11 +261,19 @@ pub fn refine(program: &Program, machine: &Machine, opts: &RefineOptions, option
                     b.dwell_s = None;
                     b.events.clear();
                 }
+                left_singular |= !singular(p);
+                if !left_singular {
+                    leading.push((out.blocks.len(), bi, *p, *q));
+                }
                 out.blocks.push(b);
                 points_after += 1;
             }
             prev = inserted.last().copied();
             continue;
+        }
+        left_singular |= !singular(&pose);
+        if !left_singular {
+            leading.push((out.blocks.len(), bi, pose, q_end));
         }
         out.blocks.push(with_joints(block, machine, &pose, &q_end));
         points_after += 1;
@@ -247,7 +292,14 @@ pub fn chord_error(program: &Program, machine: &Machine, options: &crate::job::J
     let traj = Trajectory::from_program(program, machine, &options.path);
     let si = machine.secondary_axis();
     let mut e = ChordError { overcut_mm: 0.0, undercut_mm: 0.0, max_deviation_mm: 0.0, at_x_mm: f64::NAN, max_c_step_deg: 0.0, c_flips: 0 };
+    // Steps between CL points only: where the program does not start at its first pose, the move into
+    // it comes from wherever the machine stands (its C there is the start's, not a step of the path).
+    let mut before_first = super::start_pose(program, &traj).is_none();
     for seg in &traj.segments {
+        if before_first && program.blocks.get(seg.block).is_some_and(|b| b.tcp) {
+            before_first = false;
+            continue;
+        }
         if !seg.is_path_move() || seg.feed <= 0.0 {
             continue;
         }
