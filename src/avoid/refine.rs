@@ -121,6 +121,12 @@ fn poses(program: &Program, machine: &Machine, options: &crate::job::JobOptions)
     Ok(out)
 }
 
+/// True if the tool axis of `pose` lies on the machine's singular direction, where C is free (seed 001
+/// Table 1: C undefined).
+fn on_singular_direction(machine: &Machine, pose: &Pose) -> bool {
+    machine.singular_direction().cross(&pose.axis).norm() < 1e-9
+}
+
 fn with_joints(block: &Block, machine: &Machine, pose: &Pose, q: &Joints) -> Block {
     let mut b = block.clone();
     let names = machine.axis_names();
@@ -142,7 +148,7 @@ pub fn conventional(program: &Program, machine: &Machine, options: &crate::job::
     for (block, pose) in poses(program, machine, options)? {
         let sols = machine.inverse_all(&pose).map_err(|e| AvoidError::Refused(format!("line {}: {e}", program.blocks[block].line)))?;
         let mut q = if sols[0][pi] >= 0.0 { sols[0] } else { sols[1] };
-        let singular = machine.singular_direction().cross(&pose.axis).norm() < 1e-9;
+        let singular = on_singular_direction(machine, &pose);
         if let Some(c) = prev_c {
             q[si] = if singular { c } else { c + (q[si] - c + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI };
         }
@@ -171,7 +177,18 @@ pub fn refine(program: &Program, machine: &Machine, opts: &RefineOptions, option
     // `out`, its block, its pose and joints): their C is free until a step leaves the direction.
     let mut leading: Vec<(usize, usize, Pose, Joints)> = Vec::new();
     let mut left_singular = false;
-    let singular = |p: &Pose| machine.singular_direction().cross(&p.axis).norm() < 1e-9;
+    // A point written at `out_at` for block `at_block`: one of the leading points while none has left
+    // the direction (left other than by a feed step, they keep their C).
+    let mut mark = |leading: &mut Vec<(usize, usize, Pose, Joints)>, out_at: usize, at_block: usize, p: &Pose, q: &Joints| {
+        if !left_singular {
+            if on_singular_direction(machine, p) {
+                leading.push((out_at, at_block, *p, *q));
+            } else {
+                left_singular = true;
+                leading.clear();
+            }
+        }
+    };
     let si = machine.secondary_axis();
     let by_block: std::collections::BTreeMap<usize, Pose> = ps.iter().copied().collect();
     let mut points_after = 0;
@@ -182,9 +199,7 @@ pub fn refine(program: &Program, machine: &Machine, opts: &RefineOptions, option
                 // A TCPM move that goes nowhere (it has no segment): it stays where the last point
                 // is, on the refined branch; its own words would now move the axes.
                 Some((p, q)) if block.tcp && !block.targets.is_empty() => {
-                    if !left_singular {
-                        leading.push((out.blocks.len(), bi, p, q));
-                    }
+                    mark(&mut leading, out.blocks.len(), bi, &p, &q);
                     out.blocks.push(with_joints(block, machine, &p, &q));
                 }
                 _ => out.blocks.push(block.clone()),
@@ -204,7 +219,7 @@ pub fn refine(program: &Program, machine: &Machine, opts: &RefineOptions, option
             // The program's first points on the singular direction: their C is free (every C gives
             // the same tool axis), so they take the C the first step off it needs, as a post starts;
             // kept, C would turn in one step however finely that step is cut.
-            if !left_singular && !singular(&pose) {
+            if !leading.is_empty() && !on_singular_direction(machine, &pose) {
                 let off = (p0.axis * (1.0 - 1e-6) + pose.axis * 1e-6).try_normalize(1e-12).unwrap_or(pose.axis);
                 q0[si] = solve(&Pose { tip: p0.tip, axis: off }, &q0)?[si];
                 for (out_at, at_block, at_pose, mut q) in leading.drain(..) {
@@ -261,20 +276,14 @@ pub fn refine(program: &Program, machine: &Machine, opts: &RefineOptions, option
                     b.dwell_s = None;
                     b.events.clear();
                 }
-                left_singular |= !singular(p);
-                if !left_singular {
-                    leading.push((out.blocks.len(), bi, *p, *q));
-                }
+                mark(&mut leading, out.blocks.len(), bi, p, q);
                 out.blocks.push(b);
                 points_after += 1;
             }
             prev = inserted.last().copied();
             continue;
         }
-        left_singular |= !singular(&pose);
-        if !left_singular {
-            leading.push((out.blocks.len(), bi, pose, q_end));
-        }
+        mark(&mut leading, out.blocks.len(), bi, &pose, &q_end);
         out.blocks.push(with_joints(block, machine, &pose, &q_end));
         points_after += 1;
         prev = Some((pose, q_end));
