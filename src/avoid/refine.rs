@@ -250,14 +250,14 @@ pub fn refine(program: &Program, machine: &Machine, opts: &RefineOptions, option
                     inserted.push((p, qj));
                     q = qj;
                 }
+                if worst <= opts.max_axis_step * (1.0 + 1e-9) || pieces >= 4096 {
+                    break;
+                }
                 if let Some((w, fewer)) = coarser.take() {
                     if worst > 0.75 * w {
                         inserted = fewer;
                         break;
                     }
-                }
-                if worst <= opts.max_axis_step * (1.0 + 1e-9) || pieces >= 4096 {
-                    break;
                 }
                 coarser = Some((worst, inserted));
                 pieces = (pieces * 2).min(4096);
