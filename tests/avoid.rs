@@ -389,6 +389,25 @@ fn linuxcnc_trace(name: &str) -> (usize, f64, f64, i64) {
     (rows.len(), c_max, rpm, rows.iter().map(|r| r.1).max().unwrap())
 }
 
+/// The options LinuxCNC's configuration needs (TCP by its M428/M429 remap) and its SING.ngc, read.
+fn linuxcnc_sing() -> (ReadOptions, JobOptions, Program) {
+    let read_options = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..ReadOptions::default() };
+    let o = JobOptions { read: read_options.clone(), ..JobOptions::default() };
+    let sing = read_spec(concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc/SING.ngc"), &o).unwrap();
+    (read_options, o, sing)
+}
+
+/// The committed program `NAME.ngc` LinuxCNC was traced on, checked to be what the writer makes of
+/// `program` today (but for the comment naming its source), and the line of its last motion.
+fn traced_program(program: &Program, m: &Machine, o: &JobOptions, name: &str) -> (String, i64) {
+    let body = |t: &str| t.lines().filter(|l| !l.starts_with("(FIVEAXIS:")).map(String::from).collect::<Vec<_>>();
+    let written = write_program(program, m, Dialect::Rs274, o).unwrap();
+    let traced = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc/").to_string() + name + ".ngc").unwrap();
+    assert_eq!(body(&written), body(&traced), "{name}: the writer writes another program now: trace it again (make-traces --ngc)");
+    let last_motion = traced.lines().enumerate().filter(|(_, l)| l.contains(" G01 ") || l.contains(" G00 ")).map(|(i, _)| i as i64 + 1).max().unwrap();
+    (traced, last_motion)
+}
+
 /// The remedy on a real control: LinuxCNC 2.9 (its xyzac-trt kinematics, TCP by M428/M429) ran the
 /// program `avoid reorient` writes from its own SING.ngc (the jig the search finds, -10 deg about X
 /// and 180 deg about Z; recordings/machine/linuxcnc: SING_REORIENTED.ngc, traced by `make-traces
@@ -398,17 +417,9 @@ fn linuxcnc_trace(name: &str) -> (usize, f64, f64, i64) {
 #[test]
 fn a_reoriented_program_runs_on_linuxcnc_and_saves_the_time_it_predicted() {
     let m = Machine::hermle_c600u();
-    let read_options = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..ReadOptions::default() };
-    let o = JobOptions { read: read_options, ..JobOptions::default() };
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc");
-    let sing = read_spec(&format!("{dir}/SING.ngc"), &o).unwrap();
+    let (_, o, sing) = linuxcnc_sing();
     let turned = reoriented(&sing, &m, &jig(-10.0 * DEG, 180.0 * DEG), &o);
-    // The same program as the one traced, but for the comment naming its source.
-    let body = |t: &str| t.lines().filter(|l| !l.starts_with("(FIVEAXIS:")).map(String::from).collect::<Vec<_>>();
-    let written = write_program(&turned, &m, Dialect::Rs274, &o).unwrap();
-    let traced = std::fs::read_to_string(format!("{dir}/SING_REORIENTED.ngc")).unwrap();
-    assert_eq!(body(&written), body(&traced), "the writer writes another program now: trace it again (make-traces --ngc)");
-    let last_motion = traced.lines().enumerate().filter(|(_, l)| l.contains(" G01 ") || l.contains(" G00 ")).map(|(i, _)| i as i64 + 1).max().unwrap();
+    let (_, last_motion) = traced_program(&turned, &m, &o, "SING_REORIENTED");
     let (n0, c0, rpm0, _) = linuxcnc_trace("sing_trace.csv.gz");
     let (n1, c1, rpm1, line1) = linuxcnc_trace("sing_reoriented_trace.csv.gz");
     let (t0, t1) = (n0 as f64 * 1e-3, n1 as f64 * 1e-3);
@@ -431,24 +442,15 @@ fn a_reoriented_program_runs_on_linuxcnc_and_saves_the_time_it_predicted() {
 /// deg in its first step and cut that step into 4096 pieces, and LinuxCNC took 43.4 s over it.
 #[test]
 fn refined_and_smoothed_programs_run_on_linuxcnc_in_the_time_predicted() {
-    use fiveaxis::program::{read, Dialect, ReadOptions};
     let m = Machine::hermle_c600u();
-    let read_options = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..ReadOptions::default() };
-    let o = JobOptions { read: read_options.clone(), ..JobOptions::default() };
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc");
-    let sing = read_spec(&format!("{dir}/SING.ngc"), &o).unwrap();
-    let (t0, _, rpm0) = {
-        let (n, c, rpm, _) = linuxcnc_trace("sing_trace.csv.gz");
-        (n as f64 * 1e-3, c, rpm)
-    };
+    let (read_options, o, sing) = linuxcnc_sing();
+    let (n0, _, rpm0, _) = linuxcnc_trace("sing_trace.csv.gz");
+    let t0 = n0 as f64 * 1e-3;
     let refined = refine(&sing, &m, &RefineOptions::default(), &o).unwrap().0;
     let smoothed = smooth(&sing, &m, Tool::Ball(5e-3), &o).unwrap().0;
-    let body = |t: &str| t.lines().filter(|l| !l.starts_with("(FIVEAXIS:")).map(String::from).collect::<Vec<_>>();
+    let mut refined_text = String::new();
     for (name, program, trace) in [("SING_REFINED", &refined, "sing_refined_trace.csv.gz"), ("SING_SMOOTHED", &smoothed, "sing_smoothed_trace.csv.gz")] {
-        let written = write_program(program, &m, Dialect::Rs274, &o).unwrap();
-        let traced = std::fs::read_to_string(format!("{dir}/{name}.ngc")).unwrap();
-        assert_eq!(body(&written), body(&traced), "{name}: the writer writes another program now: trace it again (make-traces --ngc)");
-        let last_motion = traced.lines().enumerate().filter(|(_, l)| l.contains(" G01 ") || l.contains(" G00 ")).map(|(i, _)| i as i64 + 1).max().unwrap();
+        let (traced, last_motion) = traced_program(program, &m, &o, name);
         let (n, _, rpm, line) = linuxcnc_trace(trace);
         let t = n as f64 * 1e-3;
         eprintln!("LinuxCNC: SING {t0:.2} s, {rpm0:.1} rpm; {name} {t:.2} s, {rpm:.1} rpm, last line {line} of {last_motion}");
@@ -459,10 +461,13 @@ fn refined_and_smoothed_programs_run_on_linuxcnc_in_the_time_predicted() {
         assert!(!back.has_errors(), "{:?}", back.report());
         let predicted = figures(&back, &m, &o).unwrap().cycle_time_s;
         assert!((predicted - t).abs() < 0.1 * t, "{name}: fiveaxis {predicted:.2} s, LinuxCNC {t:.2} s");
+        if name == "SING_REFINED" {
+            refined_text = traced;
+        }
     }
     // The refined program's C steps, read from its text: within the 2 deg threshold from the first
     // cut on (4-decimal words).
-    let c_words: Vec<f64> = std::fs::read_to_string(format!("{dir}/SING_REFINED.ngc")).unwrap().lines().filter(|l| l.contains(" G01 ")).filter_map(|l| l.split_whitespace().find_map(|w| w.strip_prefix('C')).and_then(|v| v.parse().ok())).collect();
+    let c_words: Vec<f64> = refined_text.lines().filter(|l| l.contains(" G01 ")).filter_map(|l| l.split_whitespace().find_map(|w| w.strip_prefix('C')).and_then(|v| v.parse().ok())).collect();
     let worst = c_words.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
     assert!(c_words.len() > 100 && worst <= 2.0 + 1e-3, "{} points, largest C step {worst} deg", c_words.len());
 }
