@@ -205,6 +205,19 @@ impl ArcPath {
 }
 
 impl Segment {
+    /// What the control interpolates along the segment, at its start or end: the tool tip (m) and
+    /// the rotaries (rad) under TCPM, else the machine axes. Spline knots are thinned on it.
+    pub fn interpolated(&self, end: bool) -> Joints {
+        let q = if end { self.q1 } else { self.q0 };
+        match self.kind {
+            SegmentKind::Tcp => {
+                let tip = if end { self.tip1 } else { self.tip0 };
+                [tip.x, tip.y, tip.z, q[3], q[4]]
+            }
+            _ => q,
+        }
+    }
+
     /// The programmed linear path at fraction `u`, program coordinates: the tool tip under TCPM,
     /// the linear machine axes minus the datum without it (the arc for arc pieces, else the line).
     fn linear_at(&self, u: f64) -> Vector3<f64> {

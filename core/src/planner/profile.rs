@@ -273,7 +273,7 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
         // the splines' overlap) is needed again.
         let oldest = raw_hist.front().map_or(ka as f64 * h, |&x| x.min(ka as f64 * h));
         let b_oldest = run.segment_at(oldest);
-        run.release_before(b_oldest.saturating_sub(super::geometry::SPLINE_OVERLAP_BLOCKS));
+        run.release_before(b_oldest);
         let b_first = run.segment_at_reading(ka as f64 * h, source);
         let b_last = (b_first + lookahead - 1).min(nb - 1);
         run.read_through(b_last + 1, source);

@@ -153,8 +153,70 @@ impl CubicSpline {
 /// curvature where they meet: the windowed fit is the whole run's, and memory holds the window.
 pub const SPLINE_OVERLAP_BLOCKS: usize = 32;
 
-/// Segments a geometry window reaches ahead of the segment it is fitted for.
-const AHEAD_BLOCKS: usize = 256;
+/// Contour tolerance of a run's knots for the tool tip or linear axes, m (2 um, ASSUMED: finer than a
+/// finishing tolerance, e.g. Heidenhain's cycle 32 `T` or Sinumerik's `CTOL`, 0.005-0.05 mm, and
+/// coarser than a CAM post's 4-decimal rounding): see [`KnotThinning`].
+pub const KNOT_TOL_M: f64 = 2e-6;
+
+/// Contour tolerance of a run's knots for the rotary axes, rad (0.002 deg, ASSUMED as [`KNOT_TOL_M`];
+/// Heidenhain's `TA`, Sinumerik's `OTOL`).
+pub const KNOT_TOL_RAD: f64 = 0.002 * std::f64::consts::PI / 180.0;
+
+/// Most block end points in a row that are not knots: a chord is checked against all of them.
+pub const MAX_SKIPPED_POINTS: usize = 64;
+
+/// Chooses a run's spline knots among its block end points, in path order, as a control's
+/// compressor joins short blocks within its tolerance. On the points of what the control
+/// interpolates ([`crate::path::Segment::interpolated`]), a point is skipped if it, and every point
+/// skipped since the last knot, lies within [`KNOT_TOL_M`] (tool tip or linear axes) and
+/// [`KNOT_TOL_RAD`] (rotaries) of the chord from that knot to the next point, linear in the path
+/// parameter. A block a CAM system cut into pieces along one axis-linear line then has the knots of
+/// the block: an interpolating spline through every piece end would bend each corner between blocks
+/// within one piece, and ask the axes for an acceleration the piece length divides (seed 002 eq. 5).
+/// Each decision needs the points since the last knot only, so every window of a run sees the same knots.
+#[derive(Debug, Clone, Default)]
+pub struct KnotThinning {
+    anchor: Option<(f64, [f64; AXES])>,
+    skipped: Vec<(f64, [f64; AXES])>,
+}
+
+impl KnotThinning {
+    /// Start a run at its first point, a knot.
+    pub fn start(&mut self, x: f64, y: [f64; AXES]) {
+        self.anchor = Some((x, y));
+        self.skipped.clear();
+    }
+
+    /// Whether the point `(x, y)`, followed on the path by `next`, is a knot (the first point of a
+    /// run is one).
+    pub fn is_knot(&mut self, x: f64, y: [f64; AXES], next: (f64, [f64; AXES])) -> bool {
+        let Some(anchor) = self.anchor else {
+            self.start(x, y);
+            return true;
+        };
+        let on_chord = |p: &(f64, [f64; AXES])| -> bool {
+            let span = next.0 - anchor.0;
+            if span <= 1e-12 {
+                return false;
+            }
+            let u = (p.0 - anchor.0) / span;
+            (0..AXES).all(|i| {
+                let tol = if i < 3 { KNOT_TOL_M } else { KNOT_TOL_RAD };
+                (anchor.1[i] + (next.1[i] - anchor.1[i]) * u - p.1[i]).abs() <= tol
+            })
+        };
+        if self.skipped.len() < MAX_SKIPPED_POINTS && on_chord(&(x, y)) && self.skipped.iter().all(on_chord) {
+            self.skipped.push((x, y));
+            false
+        } else {
+            self.start(x, y);
+            true
+        }
+    }
+}
+
+/// Knots a geometry window reaches ahead of the segment it is fitted for.
+const AHEAD_KNOTS: usize = 256;
 
 /// True if a segment belongs to a run of the spline geometry: a path move that moves.
 fn in_run(seg: &Segment) -> bool {
@@ -168,14 +230,20 @@ fn joined(a: &Segment, b: &Segment) -> bool {
 }
 
 /// The per-axis spline geometry of the runs of a segment stream, fitted window by window as the
-/// samples reach them: each window is fitted through [`SPLINE_OVERLAP_BLOCKS`] blocks behind and up to
-/// 256 ahead, cut at the run's ends, and used up to the overlap before its far end.
+/// samples reach them: each window is fitted through the knots ([`KnotThinning`], as the planner's)
+/// [`SPLINE_OVERLAP_BLOCKS`] behind and up to 256 ahead, cut at the run's ends, and used up to the
+/// overlap before its far end.
 #[derive(Debug, Clone, Default)]
 pub struct PathGeometry {
     /// Segments the current fit serves, and its splines (which share their knots).
     fit: Option<(std::ops::Range<usize>, [CubicSpline; AXES])>,
     /// The knot interval of the last evaluation: samples come in path order.
     hint: usize,
+    /// The next segment whose start point is to be decided a knot or not, the rule's state, and the
+    /// current run's knots decided (segment, path length, axes), from the overlap behind the fit on.
+    decided: usize,
+    thinning: KnotThinning,
+    knots: std::collections::VecDeque<(usize, f64, [f64; AXES])>,
 }
 
 impl PathGeometry {
@@ -190,7 +258,7 @@ impl PathGeometry {
             return None;
         }
         if !self.fit.as_ref().is_some_and(|(r, _)| r.contains(&segment)) {
-            self.fit = Some(Self::fit(segment, window));
+            self.fit = Some(self.fit(segment, window));
             self.hint = 0;
         }
         let (_, splines) = self.fit.as_ref()?;
@@ -206,32 +274,58 @@ impl PathGeometry {
         Some(out)
     }
 
+    /// Decide whether segment `j`'s start is a knot (thinned on what the control interpolates, the
+    /// knot on the machine axes): the first of a run (or of the held segments, if the decisions do
+    /// not reach it) is.
+    fn decide<I: Iterator<Item = Segment>>(&mut self, j: usize, window: &SegmentWindow<I>) {
+        let seg = window.loaded(j).expect("the window holds the segment decided");
+        let continues = j > 0 && self.decided == j && window.loaded(j - 1).is_some_and(|a| joined(a, seg));
+        if !continues {
+            self.knots.clear();
+            self.thinning.start(seg.s0, seg.interpolated(false));
+            self.knots.push_back((j, seg.s0, seg.q0));
+        } else if self.thinning.is_knot(seg.s0, seg.interpolated(false), (seg.s0 + seg.length, seg.interpolated(true))) {
+            self.knots.push_back((j, seg.s0, seg.q0));
+        }
+        self.decided = j + 1;
+    }
+
     /// Fit the window for segment `k` (which is in a run).
-    fn fit<I: Iterator<Item = Segment>>(k: usize, window: &mut SegmentWindow<I>) -> (std::ops::Range<usize>, [CubicSpline; AXES]) {
+    fn fit<I: Iterator<Item = Segment>>(&mut self, k: usize, window: &mut SegmentWindow<I>) -> (std::ops::Range<usize>, [CubicSpline; AXES]) {
         let mut lo = k;
         while lo + SPLINE_OVERLAP_BLOCKS > k && lo > 0 && matches!((window.loaded(lo - 1), window.loaded(lo)), (Some(a), Some(b)) if joined(a, b)) {
             lo -= 1;
         }
+        // The decisions go on from the last one if it is in k's run and held, else from `lo`.
+        let start = if self.decided > k { k + 1 } else { self.decided.max(lo) };
+        for j in start..=k {
+            self.decide(j, window);
+        }
         let mut hi = k;
         let mut run_end = true;
         while window.get(hi + 1).is_some() && matches!((window.loaded(hi), window.loaded(hi + 1)), (Some(a), Some(b)) if joined(a, b)) {
-            if hi >= k + AHEAD_BLOCKS {
+            if self.knots.len() - self.knots.partition_point(|x| x.0 <= k) >= AHEAD_KNOTS {
                 run_end = false;
                 break;
             }
             hi += 1;
+            if hi >= self.decided {
+                self.decide(hi, window);
+            }
         }
-        let valid_end = if run_end { hi + 1 } else { hi + 1 - SPLINE_OVERLAP_BLOCKS };
-        let first = window.loaded(lo).expect("the window holds the fit's first segment");
-        let mut xs = Vec::with_capacity(hi - lo + 2);
-        let mut qs: Vec<[f64; AXES]> = Vec::with_capacity(hi - lo + 2);
-        xs.push(first.s0);
-        qs.push(first.q0);
-        for j in lo..=hi {
-            let seg = window.loaded(j).expect("the window holds the fit's segments");
-            xs.push(seg.s0 + seg.length);
-            qs.push(seg.q1);
+        let from = self.knots.partition_point(|x| x.0 <= k).saturating_sub(SPLINE_OVERLAP_BLOCKS + 1);
+        let to = self.knots.partition_point(|x| x.0 <= hi);
+        let valid_end = if run_end { hi + 1 } else { self.knots[to - 1 - SPLINE_OVERLAP_BLOCKS].0.max(k + 1) };
+        let last = window.loaded(hi).expect("the window holds the fit's segments");
+        let mut xs = Vec::with_capacity(to - from + 1);
+        let mut qs: Vec<[f64; AXES]> = Vec::with_capacity(to - from + 1);
+        for &(_, x, q) in self.knots.range(from..to) {
+            xs.push(x);
+            qs.push(q);
         }
+        xs.push(last.s0 + last.length);
+        qs.push(last.q1);
+        self.knots.drain(..from);
         let splines = std::array::from_fn(|i| CubicSpline::natural(&xs, &qs.iter().map(|q| q[i]).collect::<Vec<_>>()));
         (k..valid_end, splines)
     }
