@@ -166,7 +166,8 @@ pub const KNOT_TOL_RAD: f64 = 0.002 * std::f64::consts::PI / 180.0;
 pub const MAX_SKIPPED_POINTS: usize = 64;
 
 /// Chooses a run's spline knots among its block end points, in path order, as a control's
-/// compressor joins short blocks within its tolerance. On the points of what the control
+/// compressor joins short blocks within its tolerance (the TNC smooths contour points whose chord
+/// error is within cycle 32's `T`: TNC 620 Cycle Programming, 340 56x-03, §12.5). On the points of what the control
 /// interpolates ([`crate::path::Segment::interpolated`]), a point is skipped if it, and every point
 /// skipped since the last knot, lies within [`KNOT_TOL_M`] (tool tip or linear axes) and
 /// [`KNOT_TOL_RAD`] (rotaries) of the chord from that knot to the next point, linear in the path
