@@ -55,6 +55,20 @@ fn limit_check(mcap: &Path) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
+/// The independent check of `mcap`, the recording of a run of `t` s: it read the whole run, and every
+/// axis stays within its velocity, acceleration and jerk limits (and moves: a ratio above 0.01).
+fn assert_within_limits(mcap: &Path, t: f64, name: &str) -> serde_json::Value {
+    let v = limit_check(mcap);
+    assert!((v["duration_s"].as_f64().unwrap() - t).abs() < 0.01, "{name}: the check read {v} of the {t} s run");
+    for (k, what) in ["velocity", "acceleration", "jerk"].iter().enumerate() {
+        let r = v["worst"][k].as_f64().unwrap();
+        // 1e-3: the finite differences of positions rounded by the recording's f64 CDR are exact to
+        // far better; the planner's own bound is exactly 1 on the jerk filter's ramps.
+        assert!(r <= 1.0 + 1e-3 && r > 0.01, "{name}: {what} ratio {r} ({v})");
+    }
+    v
+}
+
 /// SING.I with its reorientation N80 (A 0 -> 14.825, C 0 -> 137.259 deg about the tip at Z+100) cut
 /// into 4096 rotary-only moves along the same line in A/C: the same motion in 4096 blocks, as CAM
 /// writes a reorientation (and as `avoid refine` wrote this one until session 42).
@@ -92,16 +106,8 @@ fn a_reorientation_cut_into_4096_blocks_blends_within_the_axis_limits() {
     assert!((t_refined / t_original - 1.0).abs() <= 0.10, "refined {t_refined:.2} s against SING.I {t_original:.2} s");
 
     // Independent limit check on the recorded simulated stream (SI units, REP 103).
-    let v = limit_check(&mcap);
-    let duration = v["duration_s"].as_f64().unwrap();
-    assert!((duration - t_refined).abs() < 0.01, "the check read {duration} s of the {t_refined} s run");
+    let v = assert_within_limits(&mcap, t_refined, "refined");
     assert_eq!(v["joints"].as_object().unwrap().len(), 5, "{v}");
-    for (k, what) in ["velocity", "acceleration", "jerk"].iter().enumerate() {
-        let r = v["worst"][k].as_f64().unwrap();
-        // 1e-3: the finite differences of positions rounded by the recording's f64 CDR are exact to
-        // far better; the planner's own bound is exactly 1 on the jerk filter's ramps.
-        assert!(r <= 1.0 + 1e-3 && r > 0.01, "{what} ratio {r} ({v})");
-    }
 }
 
 /// SING.I with each 1 mm block of its cut (N120-N610) cut into `pieces` moves along the same line in
@@ -153,12 +159,7 @@ fn the_sing_cut_in_axis_linear_pieces_simulates_as_sing() {
     let mcap = tmp("SING_in_pieces.mcap");
     let t_cut = cycle_time(&cut, Some(&mcap));
     assert!((t_cut / t_original - 1.0).abs() <= 0.05, "in pieces {t_cut:.2} s against SING.I {t_original:.2} s");
-    let v = limit_check(&mcap);
-    assert!((v["duration_s"].as_f64().unwrap() - t_cut).abs() < 0.01, "the check read {v}");
-    for (k, what) in ["velocity", "acceleration", "jerk"].iter().enumerate() {
-        let r = v["worst"][k].as_f64().unwrap();
-        assert!(r <= 1.0 + 1e-3 && r > 0.01, "{what} ratio {r} ({v})");
-    }
+    assert_within_limits(&mcap, t_cut, "in pieces");
     // The monitor's prediction thins its knots by the same rule: the same lowest feed limit, by the
     // same axis and limit (it said 54 mm/min by C's jerk, against 260 by C's velocity).
     let analyze = |p: &Path| -> serde_json::Value {
@@ -339,12 +340,7 @@ fn the_sing_cut_every_hundredth_of_a_mm_simulates_as_every_mm() {
         // The cut is slowed near the pole (C asks ~200 rpm of a 25 rpm table at F2000): far longer than
         // its 1.5 s at the programmed feed.
         assert!(t > 2.0, "{name}: {t} s");
-        let c = limit_check(&mcap);
-        assert!((c["duration_s"].as_f64().unwrap() - t).abs() < 0.01, "{name}: the check read {c}");
-        for (k, what) in ["velocity", "acceleration", "jerk"].iter().enumerate() {
-            let r = c["worst"][k].as_f64().unwrap();
-            assert!(r <= 1.0 + 1e-3 && r > 0.01, "{name}: {what} ratio {r} ({c})");
-        }
+        assert_within_limits(&mcap, t, name);
         times.push(t);
     }
     assert!((times[0] / times[1] - 1.0).abs() <= 0.05, "every 0.01 mm {:.3} s against every 1 mm {:.3} s", times[0], times[1]);

@@ -4,13 +4,10 @@
 use crate::kinematics::{Joints, SinCos};
 use crate::machine::{Machine, AXES};
 use crate::path::{Segment, SegmentKind};
-use crate::singularity::{CubicSpline, KnotThinning};
+use crate::singularity::{CubicSpline, Knots};
 use nalgebra::Vector3;
 
 pub use crate::singularity::CORNER_DEG;
-
-/// Blocks before a window's first committed point that its splines are also fitted through.
-pub use crate::singularity::SPLINE_OVERLAP_BLOCKS;
 
 /// How a run is parametrized and interpolated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -60,10 +57,9 @@ pub struct Run {
     read: usize,
     window: std::collections::VecDeque<(Segment, f64, f64, f64)>,
     next_sigma: f64,
-    /// The curve's knots ([`KnotThinning`]) among the block starts read: local block index,
-    /// parameter and the splined values; kept [`SPLINE_OVERLAP_BLOCKS`] knots behind the window.
-    knots: std::collections::VecDeque<(usize, f64, Joints)>,
-    thinning: KnotThinning,
+    /// The curve's knots among the block starts read (local block index), on what the control
+    /// interpolates ([`Segment::interpolated`]).
+    knots: Knots,
 }
 
 /// The curve of one look-ahead window of a run.
@@ -81,7 +77,7 @@ pub struct Curve<'a> {
 impl Run {
     /// The run `head`, whose first segment is `first` in the stream.
     pub fn new(head: RunHead, first: usize) -> Run {
-        Run { head, first, base: 0, read: 0, window: Default::default(), next_sigma: 0.0, knots: Default::default(), thinning: KnotThinning::default() }
+        Run { head, first, base: 0, read: 0, window: Default::default(), next_sigma: 0.0, knots: Knots::default() }
     }
 
     /// Parameter length of the run.
@@ -115,8 +111,8 @@ impl Run {
             let Some(seg) = source.next() else { break };
             let (start, feed) = (self.next_sigma, feed_of(&seg));
             self.next_sigma = start + path_length(&seg);
-            if self.head.kind != RunKind::Linear && self.thinning.is_knot(start, seg.interpolated(false), (self.next_sigma, seg.interpolated(true))) {
-                self.knots.push_back((self.read, start, self.head.kind.point(&seg, false)));
+            if self.head.kind != RunKind::Linear {
+                self.knots.offer(self.read, (start, self.next_sigma), &seg, seg.interpolated(false));
             }
             self.window.push_back((seg, start, self.next_sigma, feed));
             self.read += 1;
@@ -130,16 +126,14 @@ impl Run {
         }
     }
 
-    /// Drop the segments before local index `b`, and the knots before the [`SPLINE_OVERLAP_BLOCKS`]
-    /// before `b`'s: the planner will not reach back to them.
+    /// Drop the segments before local index `b`, and the knots no curve from `b` on reaches
+    /// ([`Knots::release_before`]): the planner will not reach back to them.
     pub fn release_before(&mut self, b: usize) {
         while self.base < b && self.window.len() > 1 {
             self.window.pop_front();
             self.base += 1;
         }
-        while self.knots.len() > SPLINE_OVERLAP_BLOCKS + 1 && self.knots[SPLINE_OVERLAP_BLOCKS + 1].0 <= b {
-            self.knots.pop_front();
-        }
+        self.knots.release_before(b);
     }
 
     fn entry(&self, b: usize) -> &(Segment, f64, f64, f64) {
@@ -193,13 +187,12 @@ impl Run {
     }
 
     /// The curve through blocks `first..=last` of the run (local indices): through their knots and
-    /// the end of `last`, fitted also through [`SPLINE_OVERLAP_BLOCKS`] knots before `first`'s.
+    /// the end of `last`, fitted also through [`crate::singularity::SPLINE_OVERLAP_BLOCKS`] knots
+    /// before `first`'s ([`Knots::for_fit`]).
     pub fn curve(&self, first: usize, last: usize) -> Curve<'_> {
         let last = last.min(self.head.count - 1);
-        let lo = self.knots.partition_point(|k| k.0 <= first).saturating_sub(SPLINE_OVERLAP_BLOCKS + 1);
-        let hi = self.knots.partition_point(|k| k.0 <= last);
         let end = self.entry(last);
-        let knots: Vec<(f64, Joints)> = self.knots.range(lo..hi).map(|k| (k.1, k.2)).chain(std::iter::once((end.2, self.head.kind.point(&end.0, true)))).collect();
+        let knots: Vec<(f64, Joints)> = self.knots.for_fit(first, last).map(|k| (k.1, k.2)).chain(std::iter::once((end.2, end.0.interpolated(true)))).collect();
         let xs: Vec<f64> = knots.iter().map(|k| k.0).collect();
         let splines = match self.head.kind {
             RunKind::Linear => Vec::new(),
@@ -260,17 +253,6 @@ impl Curve<'_> {
                     None => [run.q0[0], run.q0[1], run.q0[2], rot[0], rot[1]],
                 }
             }
-        }
-    }
-}
-
-impl RunKind {
-    /// What a run of this kind splines at a segment's start or end: the tool tip and rotaries
-    /// (TCPM), else the machine axes.
-    fn point(self, seg: &Segment, end: bool) -> Joints {
-        match self {
-            RunKind::Tcp => seg.interpolated(end),
-            _ => if end { seg.q1 } else { seg.q0 },
         }
     }
 }

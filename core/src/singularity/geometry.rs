@@ -155,7 +155,7 @@ pub const SPLINE_OVERLAP_BLOCKS: usize = 32;
 
 /// Contour tolerance of a run's knots for the tool tip or linear axes, m (2 um, ASSUMED: finer than a
 /// finishing tolerance, e.g. Heidenhain's cycle 32 `T` or Sinumerik's `CTOL`, 0.005-0.05 mm, and
-/// coarser than a CAM post's 4-decimal rounding): see [`KnotThinning`].
+/// coarser than a CAM post's 4-decimal rounding): see [`Knots`].
 pub const KNOT_TOL_M: f64 = 2e-6;
 
 /// Contour tolerance of a run's knots for the rotary axes, rad (0.002 deg, ASSUMED as [`KNOT_TOL_M`];
@@ -165,7 +165,7 @@ pub const KNOT_TOL_RAD: f64 = 0.002 * std::f64::consts::PI / 180.0;
 /// Most block end points in a row that are not knots: a chord is checked against all of them.
 pub const MAX_SKIPPED_POINTS: usize = 64;
 
-/// Chooses a run's spline knots among its block end points, in path order, as a control's
+/// Chooses a run's spline knots among its block start points, in path order, as a control's
 /// compressor joins short blocks within its tolerance (the TNC smooths contour points whose chord
 /// error is within cycle 32's `T`: TNC 620 Cycle Programming, 340 56x-03, §12.5). On the points of what the control
 /// interpolates ([`crate::path::Segment::interpolated`]), a point is skipped if it, and every point
@@ -174,25 +174,58 @@ pub const MAX_SKIPPED_POINTS: usize = 64;
 /// parameter. A block a CAM system cut into pieces along one axis-linear line then has the knots of
 /// the block: an interpolating spline through every piece end would bend each corner between blocks
 /// within one piece, and ask the axes for an acceleration the piece length divides (seed 002 eq. 5).
-/// Each decision needs the points since the last knot only, so every window of a run sees the same knots.
+/// Each decision needs the points since the last knot only, so every window of a run sees the same
+/// knots. The knots are kept from [`SPLINE_OVERLAP_BLOCKS`] before the first block a fit serves: the
+/// planner's windows and [`PathGeometry`] both fit through [`Knots::for_fit`].
 #[derive(Debug, Clone, Default)]
-pub struct KnotThinning {
+pub struct Knots {
+    /// The last knot and the points skipped since, on what the control interpolates.
     anchor: Option<(f64, [f64; AXES])>,
     skipped: Vec<(f64, [f64; AXES])>,
+    /// The knots decided: segment index, path parameter and the value splined there.
+    knots: std::collections::VecDeque<(usize, f64, [f64; AXES])>,
 }
 
-impl KnotThinning {
-    /// Start a run at its first point, a knot.
-    pub fn start(&mut self, x: f64, y: [f64; AXES]) {
-        self.anchor = Some((x, y));
-        self.skipped.clear();
+impl Knots {
+    /// Offer the start of segment `j` of a run, in path order: parameter `x0` (its end `x1`), and
+    /// `value`, the splined axes there. It is a knot if it is the run's first or its point
+    /// ([`Segment::interpolated`]) is not skipped.
+    pub fn offer(&mut self, j: usize, (x0, x1): (f64, f64), seg: &Segment, value: [f64; AXES]) {
+        if self.is_knot(x0, seg.interpolated(false), (x1, seg.interpolated(true))) {
+            self.knots.push_back((j, x0, value));
+        }
+    }
+
+    /// The knots a fit through segments `first..=last` uses: [`SPLINE_OVERLAP_BLOCKS`] before the knot
+    /// at or before `first`'s start, through the last at or before `last`'s (the fit adds `last`'s end).
+    pub fn for_fit(&self, first: usize, last: usize) -> impl Iterator<Item = &(usize, f64, [f64; AXES])> {
+        let from = self.knots.partition_point(|k| k.0 <= first).saturating_sub(SPLINE_OVERLAP_BLOCKS + 1);
+        self.knots.range(from..self.knots.partition_point(|k| k.0 <= last))
+    }
+
+    /// Drop the knots no fit from segment `first` on reaches ([`Knots::for_fit`]).
+    pub fn release_before(&mut self, first: usize) {
+        while self.knots.len() > SPLINE_OVERLAP_BLOCKS + 1 && self.knots[SPLINE_OVERLAP_BLOCKS + 1].0 <= first {
+            self.knots.pop_front();
+        }
+    }
+
+    /// Knots decided after segment `k`'s start.
+    pub fn after(&self, k: usize) -> usize {
+        self.knots.len() - self.knots.partition_point(|x| x.0 <= k)
+    }
+
+    /// The segment of the knot [`SPLINE_OVERLAP_BLOCKS`] before the last at or before segment
+    /// `last`'s start (0 if there are fewer).
+    pub fn overlap_start(&self, last: usize) -> usize {
+        self.knots.partition_point(|k| k.0 <= last).checked_sub(SPLINE_OVERLAP_BLOCKS + 1).map_or(0, |i| self.knots[i].0)
     }
 
     /// Whether the point `(x, y)`, followed on the path by `next`, is a knot (the first point of a
     /// run is one).
-    pub fn is_knot(&mut self, x: f64, y: [f64; AXES], next: (f64, [f64; AXES])) -> bool {
+    fn is_knot(&mut self, x: f64, y: [f64; AXES], next: (f64, [f64; AXES])) -> bool {
         let Some(anchor) = self.anchor else {
-            self.start(x, y);
+            self.anchor = Some((x, y));
             return true;
         };
         let on_chord = |p: &(f64, [f64; AXES])| -> bool {
@@ -210,7 +243,8 @@ impl KnotThinning {
             self.skipped.push((x, y));
             false
         } else {
-            self.start(x, y);
+            self.anchor = Some((x, y));
+            self.skipped.clear();
             true
         }
     }
@@ -231,7 +265,7 @@ fn joined(a: &Segment, b: &Segment) -> bool {
 }
 
 /// The per-axis spline geometry of the runs of a segment stream, fitted window by window as the
-/// samples reach them: each window is fitted through the knots ([`KnotThinning`], as the planner's)
+/// samples reach them: each window is fitted through the knots ([`Knots`], as the planner's)
 /// [`SPLINE_OVERLAP_BLOCKS`] behind and up to 256 ahead, cut at the run's ends, and used up to the
 /// overlap before its far end.
 #[derive(Debug, Clone, Default)]
@@ -240,11 +274,10 @@ pub struct PathGeometry {
     fit: Option<(std::ops::Range<usize>, [CubicSpline; AXES])>,
     /// The knot interval of the last evaluation: samples come in path order.
     hint: usize,
-    /// The next segment whose start point is to be decided a knot or not, the rule's state, and the
-    /// current run's knots decided (segment, path length, axes), from the overlap behind the fit on.
+    /// The next segment whose start point is to be decided a knot or not, and the current run's
+    /// knots (splined on the machine axes, in tool-tip length).
     decided: usize,
-    thinning: KnotThinning,
-    knots: std::collections::VecDeque<(usize, f64, [f64; AXES])>,
+    knots: Knots,
 }
 
 impl PathGeometry {
@@ -282,12 +315,9 @@ impl PathGeometry {
         let seg = window.loaded(j).expect("the window holds the segment decided");
         let continues = j > 0 && self.decided == j && window.loaded(j - 1).is_some_and(|a| joined(a, seg));
         if !continues {
-            self.knots.clear();
-            self.thinning.start(seg.s0, seg.interpolated(false));
-            self.knots.push_back((j, seg.s0, seg.q0));
-        } else if self.thinning.is_knot(seg.s0, seg.interpolated(false), (seg.s0 + seg.length, seg.interpolated(true))) {
-            self.knots.push_back((j, seg.s0, seg.q0));
+            self.knots = Knots::default();
         }
+        self.knots.offer(j, (seg.s0, seg.s0 + seg.length), seg, seg.q0);
         self.decided = j + 1;
     }
 
@@ -305,7 +335,7 @@ impl PathGeometry {
         let mut hi = k;
         let mut run_end = true;
         while window.get(hi + 1).is_some() && matches!((window.loaded(hi), window.loaded(hi + 1)), (Some(a), Some(b)) if joined(a, b)) {
-            if self.knots.len() - self.knots.partition_point(|x| x.0 <= k) >= AHEAD_KNOTS {
+            if self.knots.after(k) >= AHEAD_KNOTS {
                 run_end = false;
                 break;
             }
@@ -314,19 +344,12 @@ impl PathGeometry {
                 self.decide(hi, window);
             }
         }
-        let from = self.knots.partition_point(|x| x.0 <= k).saturating_sub(SPLINE_OVERLAP_BLOCKS + 1);
-        let to = self.knots.partition_point(|x| x.0 <= hi);
-        let valid_end = if run_end { hi + 1 } else { self.knots[to - 1 - SPLINE_OVERLAP_BLOCKS].0.max(k + 1) };
+        let valid_end = if run_end { hi + 1 } else { self.knots.overlap_start(hi).max(k + 1) };
+        self.knots.release_before(k);
         let last = window.loaded(hi).expect("the window holds the fit's segments");
-        let mut xs = Vec::with_capacity(to - from + 1);
-        let mut qs: Vec<[f64; AXES]> = Vec::with_capacity(to - from + 1);
-        for &(_, x, q) in self.knots.range(from..to) {
-            xs.push(x);
-            qs.push(q);
-        }
+        let (mut xs, mut qs): (Vec<f64>, Vec<[f64; AXES]>) = self.knots.for_fit(k, hi).map(|&(_, x, q)| (x, q)).unzip();
         xs.push(last.s0 + last.length);
         qs.push(last.q1);
-        self.knots.drain(..from);
         let splines = std::array::from_fn(|i| CubicSpline::natural(&xs, &qs.iter().map(|q| q[i]).collect::<Vec<_>>()));
         (k..valid_end, splines)
     }
