@@ -85,6 +85,7 @@ pub fn semi_cylinder() -> Program {
                 orientation: crate::program::Orientation::AxisLinear,
                 events: Vec::new(),
                 dwell_s: None,
+                tolerance: Default::default(),
             }
         })
         .collect();

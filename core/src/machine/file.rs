@@ -1,6 +1,6 @@
 //! The TOML machine description (units in field names: mm, deg, mm/min) and its validation.
 
-use super::{joint, Axis, AxisKind, AxisLimits, Machine, MachineError};
+use super::{joint, Axis, AxisKind, AxisLimits, ContourTolerance, Machine, MachineError};
 use crate::kinematics::{Carrier, TwoRotaryChain};
 use crate::units::{DEG, MM, MM_PER_MIN};
 use nalgebra::Vector3;
@@ -19,6 +19,12 @@ pub struct MachineFile {
     /// Tool tip at home relative to the linear-axis origin, mm (head machines: pivot minus tool length).
     #[serde(default)]
     pub tool_tip_mm: [f64; 3],
+    /// The control's contour tolerance where a program sets none (cycle 32 `T`), mm; default 0.002.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contour_tolerance_mm: Option<f64>,
+    /// The same on the rotary axes (cycle 32 `TA`), deg; default 0.002.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contour_tolerance_deg: Option<f64>,
     pub linear: Vec<LinearAxisFile>,
     /// Exactly two rotary axes, in chain order from the machine base outwards on each side.
     pub rotary: Vec<RotaryAxisFile>,
@@ -182,6 +188,16 @@ impl MachineFile {
             ));
         }
         let axes: [Axis; 5] = axes.try_into().map_err(|_| "five axes".to_string())?;
-        Ok(Machine { name: self.name.clone(), description: self.description.clone(), axes, chain })
+        let tolerance = |field: &str, value: Option<f64>, unit: f64, default: f64, max: f64| match value {
+            None => Ok(default),
+            Some(v) if v.is_finite() && v >= 0.0 && v * unit <= max => Ok(v * unit),
+            Some(v) => Err(format!("`{field}` = {v}: expected a tolerance from 0 to {}", max / unit)),
+        };
+        let (d, m) = (ContourTolerance::DEFAULT, ContourTolerance::MAX);
+        let contour_tolerance = ContourTolerance {
+            linear_m: tolerance("contour_tolerance_mm", self.contour_tolerance_mm, MM, d.linear_m, m.linear_m)?,
+            rotary_rad: tolerance("contour_tolerance_deg", self.contour_tolerance_deg, DEG, d.rotary_rad, m.rotary_rad)?,
+        };
+        Ok(Machine { name: self.name.clone(), description: self.description.clone(), axes, chain, contour_tolerance })
     }
 }

@@ -62,6 +62,34 @@ pub struct Machine {
     pub description: String,
     pub axes: [Axis; AXES],
     pub chain: TwoRotaryChain,
+    /// The control's contour tolerance where a program sets none (Heidenhain cycle 32 `T`/`TA`).
+    pub contour_tolerance: ContourTolerance,
+}
+
+/// A control's contour tolerance: how far the path may leave a programmed point that it smooths
+/// away (Heidenhain cycle 32 `T` and `TA`, Sinumerik `CTOL` and `OTOL`). The planner and the monitor
+/// skip a block end point as a spline knot within it ([`crate::singularity::Knots`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ContourTolerance {
+    /// On the tool tip (TCPM) or the linear axes, m.
+    pub linear_m: f64,
+    /// On the rotary axes, rad.
+    pub rotary_rad: f64,
+}
+
+impl ContourTolerance {
+    /// Where neither the machine file nor the program sets one: 2 um and 0.002 deg (ASSUMED: finer
+    /// than a finishing tolerance, 0.005-0.05 mm, and coarser than a CAM post's 4-decimal rounding).
+    pub const DEFAULT: ContourTolerance = ContourTolerance { linear_m: 2e-6, rotary_rad: 0.002 * std::f64::consts::PI / 180.0 };
+
+    /// Largest tolerance a program or machine file may set: 10 mm and 10 deg (cycle 32's input range).
+    pub const MAX: ContourTolerance = ContourTolerance { linear_m: 0.01, rotary_rad: 10.0 * std::f64::consts::PI / 180.0 };
+}
+
+impl Default for ContourTolerance {
+    fn default() -> Self {
+        ContourTolerance::DEFAULT
+    }
 }
 
 /// Errors building a machine from a description.

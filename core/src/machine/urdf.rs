@@ -401,6 +401,8 @@ impl<'a> Urdf<'a> {
             name,
             tool_axis: tidy(tool_home.rotation * Vector3::z()),
             tool_tip_mm: tidy(tool_home.translation.vector * MM_IN_M),
+            contour_tolerance_mm: None,
+            contour_tolerance_deg: None,
             linear: linear_files,
             rotary: rotary_files,
         };

@@ -80,6 +80,7 @@ impl BuiltinPath {
                     orientation: crate::program::Orientation::AxisLinear,
                     events: Vec::new(),
                     dwell_s: None,
+                    tolerance: Default::default(),
                 }
             })
             .collect();
@@ -136,6 +137,7 @@ impl BuiltinPath {
                 orient: None,
                 feed,
                 arc: None,
+                tolerance: machine.contour_tolerance,
             });
             q0 = q1;
         }

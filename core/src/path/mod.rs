@@ -151,5 +151,6 @@ pub(crate) fn stream_test_segment(k: usize) -> Segment {
         feed: 1.0,
         arc: None,
         orient: None,
+        tolerance: Default::default(),
     }
 }

@@ -110,6 +110,7 @@ fn joining_rapid(q0: Joints, first: &Segment, t0: f64, s0: f64, machine: &Machin
         feed: 0.0,
         arc: None,
         orient: None,
+        tolerance: first.tolerance,
     };
     seg.length = tip_length(&seg, machine);
     seg.feed = seg.length / duration;

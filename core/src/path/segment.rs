@@ -2,7 +2,7 @@
 
 use super::{PathOptions, Sample};
 use crate::kinematics::{Joints, Pose, SinCos, Turn, TwoRotaryChain};
-use crate::machine::Machine;
+use crate::machine::{ContourTolerance, Machine};
 use crate::program::{ArcSpec, Block, Diagnostic, FeedMode, Motion, Orientation, Program, Severity};
 use crate::units::{DEG_PER_MIN, MM_PER_MIN};
 use nalgebra::Vector3;
@@ -50,6 +50,9 @@ pub struct Segment {
     /// For a piece of a TCPM move whose tool axis turns on a great circle
     /// ([`Orientation::GreatCircle`]): the tool axis follows it and the rotaries follow the axis.
     pub orient: Option<Box<GreatCircle>>,
+    /// The contour tolerance in effect (the program's, else the machine's): how far the control may
+    /// smooth the path away from this segment's start point ([`crate::singularity::Knots`]).
+    pub tolerance: ContourTolerance,
 }
 
 /// The tool axis turning on the great circle from `o0` to `o1` at a constant angular rate (slerp),
@@ -385,6 +388,7 @@ impl SegmentPlanner {
         let (options, letters) = (&self.options, self.letters);
         let (mut q, mut t, mut s) = (self.q, self.t, self.s);
         let (mut first_orientation, mut at_start) = (self.first_orientation, self.at_start);
+        let tolerance = b.tolerance.on(machine.contour_tolerance);
         let stopped = 'blocks: {
             // A dwell comes before the block's motion. Before CL data's first pose nothing has started.
             if let Some(d) = b.dwell_s.filter(|d| *d > 0.0 && !at_start) {
@@ -394,7 +398,7 @@ impl SegmentPlanner {
                 }
                 let datum = Vector3::from(b.datum);
                 let tip = machine.forward(&q).tip - datum;
-                segments.push(Segment { kind: SegmentKind::Dwell, block: bi, line: b.line, number: b.number, t0: t, duration: d, s0: s, length: 0.0, q0: q, q1: q, tip0: tip, tip1: tip, datum, feed: 0.0, arc: None, orient: None });
+                segments.push(Segment { kind: SegmentKind::Dwell, block: bi, line: b.line, number: b.number, t0: t, duration: d, s0: s, length: 0.0, q0: q, q1: q, tip0: tip, tip1: tip, datum, feed: 0.0, arc: None, orient: None, tolerance });
                 t += d;
             }
             if b.targets.is_empty() {
@@ -506,7 +510,7 @@ impl SegmentPlanner {
                 (Some(arc), None) => {
                     // The whole move as one segment gives each piece end its axes (the arc's point, the
                     // rotaries linear in the fraction), the same as sampling it would.
-                    let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)), orient: None };
+                    let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)), orient: None, tolerance };
                     let n = arc.pieces();
                     let end = |k: usize| -> (Joints, Vector3<f64>) {
                         let u = k as f64 / n as f64;
@@ -548,6 +552,7 @@ impl SegmentPlanner {
                     feed: 0.0,
                     arc: parc,
                     orient: porient,
+                    tolerance,
                 };
                 seg.length = tip_length(&seg, machine);
                 let lin_len = seg.linear_axes_length();

@@ -159,6 +159,7 @@ impl AptReader {
             orientation: self.orientation,
             events: std::mem::take(&mut self.events),
             dwell_s: None,
+            tolerance: Default::default(),
         }
     }
 

@@ -164,6 +164,7 @@ impl super::stream::LineReader for ClReader {
             orientation,
             events: Vec::new(),
             dwell_s: None,
+            tolerance: Default::default(),
         });
     }
 

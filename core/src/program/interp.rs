@@ -52,6 +52,8 @@ pub struct Interpreter {
     pending_vector: Option<[f64; 3]>,
     /// Last programmed absolute value of X Y Z A B C (SI).
     last: [f64; 6],
+    /// The contour tolerance the program set (Heidenhain cycle 32).
+    tolerance: super::ProgrammedTolerance,
 }
 
 const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
@@ -78,6 +80,7 @@ impl Interpreter {
             last_arc: None,
             pending_vector: None,
             last: [0.0; 6],
+            tolerance: Default::default(),
         }
     }
 
@@ -172,6 +175,16 @@ impl Interpreter {
     /// coordinates about the rotary axes. The machine stays; axes a later block does not name stay.
     pub fn set_datum(&mut self, datum: [f64; 3]) {
         self.datum = datum;
+    }
+
+    /// The contour tolerance the program set (Heidenhain cycle 32), for the blocks that follow.
+    pub fn tolerance(&self) -> super::ProgrammedTolerance {
+        self.tolerance
+    }
+
+    /// Set the contour tolerance for the blocks that follow.
+    pub fn set_tolerance(&mut self, tolerance: super::ProgrammedTolerance) {
+        self.tolerance = tolerance;
     }
 
     /// The length unit in effect (m per program unit).
@@ -562,6 +575,7 @@ impl Interpreter {
             orientation: self.orientation,
             events,
             dwell_s,
+            tolerance: self.tolerance,
         })
     }
 }

@@ -4,7 +4,8 @@
 //! `NX NY NZ` and the tool vector `TX TY TZ`; circles `CC` (pole), `C` about it, `CR` by radius, `CT`
 //! tangent to the contour before it (`DR+` counter-clockwise); `M128` and `FUNCTION TCPM` (`F TCP`,
 //! `AXIS POS`, `PATHCTRL AXIS`/`VECTOR`); `CYCL DEF 7` datum shift; `CYCL DEF 9` dwell (s, active
-//! where it is defined); `LBL` with `CALL LBL ... REP`
+//! where it is defined); `CYCL DEF 32` contour tolerance (`T`, and `TA` on the rotaries, `HSC-MODE:0`:
+//! how far the control may smooth the path away from the programmed points); `LBL` with `CALL LBL ... REP`
 //! (section repeats and subprograms); `Q` parameters set to plain numbers.
 //!
 //! The program runs as it is read ([`Runner`], fed a line at a time): a first pass finds the labels,
@@ -22,7 +23,7 @@
 //! last shift).
 //!
 //! Refused at line:col, never guessed: radius compensation `RL`/`RR`, polar and free contours
-//! (`LP`, `CP`, `FK`), rounding and chamfers, approach/departure, tilted working planes (`PLANE`,
+//! (`LP`, `CP`, `FK`), cycle 32's roughing filter (`HSC-MODE:1`), rounding and chamfers, approach/departure, tilted working planes (`PLANE`,
 //! `CYCL DEF 19`), machining cycles and touch probes, `Q` arithmetic, tool deltas `DL`/`DR`, and
 //! `FUNCTION TCPM` options that read the program differently (`F CONT`, `AXIS SPAT`, a reference
 //! point other than the tool tip). The surface normal of an `LN` line moves the tool only by the
@@ -33,7 +34,9 @@ use std::collections::HashMap;
 
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, parse_number, Columns, Diags};
-use super::{Block, Dialect, MCodeRule, Orientation, Program};
+use super::{Block, Dialect, MCodeRule, Orientation, Program, ProgrammedTolerance};
+use crate::machine::ContourTolerance;
+use crate::units::{DEG, MM};
 
 /// How many blocks section repeats and subprogram calls may add beyond the program's own: a bound
 /// on memory for a program such as `LBL 1` / `CALL LBL 1 REP65534` nested.
@@ -102,6 +105,9 @@ enum Kind<'a> {
     Datum(usize, KWord<'a>, bool),
     /// `CYCL DEF 9.1 DWELL 1.5`: the machine stands still, s.
     Dwell(KWord<'a>),
+    /// `CYCL DEF 32.1 T0.05` (the contour tolerance, program unit; `32.1` alone resets both parts to
+    /// the machine's) or `CYCL DEF 32.2 HSC-MODE:0 TA0.5` (the rotary axes', deg).
+    Tolerance { linear: Option<KWord<'a>>, rotary: Option<KWord<'a>>, reset: bool },
     Label(&'a str),
     Call { label: &'a str, rep: Option<KWord<'a>> },
     Assign { name: String, value: f64 },
@@ -599,6 +605,54 @@ fn function<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut 
     Some(Kind::Tcp { on: true, orientation })
 }
 
+/// `CYCL DEF 32.0 TOLERANCE` / `32.1 T0.05` / `32.2 HSC-MODE:0 TA0.5` (TNC 620 Cycle Programming, 340
+/// 56x-03, §12.5): the contour tolerance on the path (program unit) and, under M128/TCPM, on the rotary
+/// axes (deg), for the blocks after it. `32.1` without `T` resets both to the machine's (its file's
+/// `contour_tolerance_mm`/`_deg`). `HSC-MODE:1` (roughing: the control's filter trades accuracy
+/// for speed) is refused: it changes the motion in a way the planner does not model.
+fn tolerance_cycle<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let col = toks[0].1;
+    let rest = &toks[3.min(toks.len())..];
+    match part {
+        // The cycle's name, in the control's language.
+        "0" if rest.len() <= 1 => None,
+        "1" if rest.is_empty() => Some(Kind::Tolerance { linear: None, rotary: None, reset: true }),
+        "1" if rest.len() == 1 && upper(rest[0].0).starts_with('T') => {
+            let (tok, c) = rest[0];
+            value_word("T", &tok[1..], tok, c, line, diags).map(|w| Kind::Tolerance { linear: Some(w), rotary: None, reset: false })
+        }
+        "2" if !rest.is_empty() => {
+            let mut rotary = None;
+            for &(tok, c) in rest {
+                let u = upper(tok);
+                if let Some(mode) = u.strip_prefix("HSC-MODE:") {
+                    match mode {
+                        "0" => {}
+                        "1" => {
+                            diags.error(line, c, "CYCL DEF 32.2 HSC-MODE:1: the roughing filter (speed before accuracy) is not modelled; HSC-MODE:0 (finishing) is");
+                            return None;
+                        }
+                        _ => {
+                            diags.error(line, c, format!("CYCL DEF 32.2: expected HSC-MODE:0 or HSC-MODE:1, found '{}'", excerpt(tok)));
+                            return None;
+                        }
+                    }
+                } else if u.starts_with("TA") {
+                    rotary = Some(value_word("TA", &tok[2..], tok, c, line, diags)?);
+                } else {
+                    diags.error(line, c, format!("CYCL DEF 32.2: expected HSC-MODE:0 and TA (the rotary axes' tolerance, deg), found '{}'", excerpt(tok)));
+                    return None;
+                }
+            }
+            rotary.map(|w| Kind::Tolerance { linear: None, rotary: Some(w), reset: false })
+        }
+        _ => {
+            diags.error(line, col, "CYCL DEF 32: expected CYCL DEF 32.0 TOLERANCE, CYCL DEF 32.1 T followed by the tolerance, or CYCL DEF 32.2 HSC-MODE:0 TA followed by the rotary axes' tolerance, deg");
+            None
+        }
+    }
+}
+
 /// `CYCL DEF 7.0 DATUM SHIFT` / `7.1 X+..` / `7.2 Y+..` / `7.3 Z+..`, `CYCL DEF 9.0 DWELL TIME` /
 /// `9.1 DWELL 1.5` (German `V.ZEIT`: the dwell, s, active where it is defined); every other cycle is refused.
 fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bool, diags: &mut Diags) -> Option<Kind<'a>> {
@@ -615,6 +669,9 @@ fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bool, diags: 
                 None
             }
         };
+    }
+    if cycle == "32" {
+        return tolerance_cycle(toks, part, line, diags);
     }
     if cycle != "7" {
         let what = match cycle {
@@ -911,6 +968,26 @@ impl Exec {
                 self.q.insert(name.clone(), *value);
                 return false;
             }
+            Kind::Tolerance { linear, rotary, reset } => {
+                let mut tolerance = if *reset { ProgrammedTolerance::default() } else { interp.tolerance() };
+                let max = ContourTolerance::MAX;
+                if let Some(w) = linear {
+                    match self.value(w, s.line, diags).map(|v| v * unit) {
+                        Some(v) if (0.0..=max.linear_m).contains(&v) => tolerance.linear_m = Some(v),
+                        Some(v) => diags.error(s.line, w.col, format!("CYCL DEF 32.1 T: {} mm is outside 0 to {} mm", v / MM, max.linear_m / MM)),
+                        None => {}
+                    }
+                }
+                if let Some(w) = rotary {
+                    match self.value(w, s.line, diags).map(|v| v * DEG) {
+                        Some(v) if (0.0..=max.rotary_rad).contains(&v) => tolerance.rotary_rad = Some(v),
+                        Some(v) => diags.error(s.line, w.col, format!("CYCL DEF 32.2 TA: {} deg is outside 0 to {} deg", v / DEG, max.rotary_rad / DEG)),
+                        None => {}
+                    }
+                }
+                interp.set_tolerance(tolerance);
+                return false;
+            }
             Kind::Tcp { on, orientation } => {
                 interp.set_tcp(*on);
                 if let Some(o) = orientation {
@@ -1045,7 +1122,7 @@ impl Exec {
                     }
                 }
             }
-            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } => {}
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } => {}
         }
         if diags.errors() > before {
             diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));

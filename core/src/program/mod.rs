@@ -319,6 +319,31 @@ pub struct Block {
     /// A dwell (`G4 P`, Sinumerik `G4 F`, Heidenhain `G04 F`, APT `DELAY/`): the machine stands
     /// still this long, s, before the block's motion (LinuxCNC's order of execution: dwell, then motion).
     pub dwell_s: Option<f64>,
+    /// The contour tolerance the program set for this block (Heidenhain cycle 32), if any.
+    #[serde(skip_serializing_if = "ProgrammedTolerance::is_unset")]
+    pub tolerance: ProgrammedTolerance,
+}
+
+/// A contour tolerance as a program sets it (Heidenhain `CYCL DEF 32.1 T` and `32.2 TA`): each part
+/// it leaves unset is the machine's ([`crate::machine::Machine::contour_tolerance`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct ProgrammedTolerance {
+    /// On the tool tip or the linear axes, m.
+    pub linear_m: Option<f64>,
+    /// On the rotary axes, rad.
+    pub rotary_rad: Option<f64>,
+}
+
+impl ProgrammedTolerance {
+    /// True if the program set neither part.
+    pub fn is_unset(&self) -> bool {
+        *self == ProgrammedTolerance::default()
+    }
+
+    /// The tolerance in effect on a machine whose own is `machine`.
+    pub fn on(&self, machine: crate::machine::ContourTolerance) -> crate::machine::ContourTolerance {
+        crate::machine::ContourTolerance { linear_m: self.linear_m.unwrap_or(machine.linear_m), rotary_rad: self.rotary_rad.unwrap_or(machine.rotary_rad) }
+    }
 }
 
 /// How bad a diagnostic is.

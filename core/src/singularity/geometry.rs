@@ -153,15 +153,6 @@ impl CubicSpline {
 /// curvature where they meet: the windowed fit is the whole run's, and memory holds the window.
 pub const SPLINE_OVERLAP_BLOCKS: usize = 32;
 
-/// Contour tolerance of a run's knots for the tool tip or linear axes, m (2 um, ASSUMED: finer than a
-/// finishing tolerance, e.g. Heidenhain's cycle 32 `T` or Sinumerik's `CTOL`, 0.005-0.05 mm, and
-/// coarser than a CAM post's 4-decimal rounding): see [`Knots`].
-pub const KNOT_TOL_M: f64 = 2e-6;
-
-/// Contour tolerance of a run's knots for the rotary axes, rad (0.002 deg, ASSUMED as [`KNOT_TOL_M`];
-/// Heidenhain's `TA`, Sinumerik's `OTOL`).
-pub const KNOT_TOL_RAD: f64 = 0.002 * std::f64::consts::PI / 180.0;
-
 /// Most block end points in a row that are not knots: a chord is checked against all of them.
 pub const MAX_SKIPPED_POINTS: usize = 64;
 
@@ -169,8 +160,9 @@ pub const MAX_SKIPPED_POINTS: usize = 64;
 /// compressor joins short blocks within its tolerance (the TNC smooths contour points whose chord
 /// error is within cycle 32's `T`: TNC 620 Cycle Programming, 340 56x-03, §12.5). On the points of what the control
 /// interpolates ([`crate::path::Segment::interpolated`]), a point is skipped if it, and every point
-/// skipped since the last knot, lies within [`KNOT_TOL_M`] (tool tip or linear axes) and
-/// [`KNOT_TOL_RAD`] (rotaries) of the chord from that knot to the next point, linear in the path
+/// skipped since the last knot, lies within the segment's contour tolerance
+/// ([`crate::machine::ContourTolerance`]: tool tip or linear axes, and rotaries; the program's cycle 32,
+/// else the machine's) of the chord from that knot to the next point, linear in the path
 /// parameter. A block a CAM system cut into pieces along one axis-linear line then has the knots of
 /// the block: an interpolating spline through every piece end would bend each corner between blocks
 /// within one piece, and ask the axes for an acceleration the piece length divides (seed 002 eq. 5).
@@ -191,7 +183,7 @@ impl Knots {
     /// `value`, the splined axes there. It is a knot if it is the run's first or its point
     /// ([`Segment::interpolated`]) is not skipped.
     pub fn offer(&mut self, j: usize, (x0, x1): (f64, f64), seg: &Segment, value: [f64; AXES]) {
-        if self.is_knot(x0, seg.interpolated(false), (x1, seg.interpolated(true))) {
+        if self.is_knot(x0, seg.interpolated(false), (x1, seg.interpolated(true)), seg.tolerance) {
             self.knots.push_back((j, x0, value));
         }
     }
@@ -223,7 +215,7 @@ impl Knots {
 
     /// Whether the point `(x, y)`, followed on the path by `next`, is a knot (the first point of a
     /// run is one).
-    fn is_knot(&mut self, x: f64, y: [f64; AXES], next: (f64, [f64; AXES])) -> bool {
+    fn is_knot(&mut self, x: f64, y: [f64; AXES], next: (f64, [f64; AXES]), tolerance: crate::machine::ContourTolerance) -> bool {
         let Some(anchor) = self.anchor else {
             self.anchor = Some((x, y));
             return true;
@@ -235,7 +227,7 @@ impl Knots {
             }
             let u = (p.0 - anchor.0) / span;
             (0..AXES).all(|i| {
-                let tol = if i < 3 { KNOT_TOL_M } else { KNOT_TOL_RAD };
+                let tol = if i < 3 { tolerance.linear_m } else { tolerance.rotary_rad };
                 (anchor.1[i] + (next.1[i] - anchor.1[i]) * u - p.1[i]).abs() <= tol
             })
         };
