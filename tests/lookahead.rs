@@ -12,6 +12,9 @@
 //! - SING.I with each block of its cut in 20 axis-linear pieces simulates within 5 % of SING.I (the
 //!   planner's knots skip piece ends on their block's line within its contour tolerance), within the
 //!   limits by the same check; the monitor's prediction (the same knots) finds the same lowest feed limit.
+//! - SING_tnc.h with its cut in 20 pieces rounded to 0.01 mm and 0.01 deg crawls under the default
+//!   contour tolerance, and simulates within 5 % of SING_tnc.h with `CYCL DEF 32` (T0.02, TA0.02) or the
+//!   same tolerance in the machine file, within the limits by the same check.
 //! - A feed typo (`F0.01` over 50 mm, 83 h) is refused with its line and column by `program analyze`,
 //!   `run` and the commander node inside a 500 MB address-space limit; a CL file with a zero feed too.
 
@@ -30,8 +33,13 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn cycle_time(program: &Path, mcap: Option<&Path>) -> f64 {
+    cycle_time_with(program, mcap, &[])
+}
+
+/// [`cycle_time`] with more arguments to `run` (a `--machine`).
+fn cycle_time_with(program: &Path, mcap: Option<&Path>, args: &[&str]) -> f64 {
     let mut cmd = Command::new(bin());
-    cmd.arg("run").arg(program).arg("--json");
+    cmd.arg("run").arg(program).arg("--json").args(args);
     if let Some(m) = mcap {
         cmd.arg("--mcap").arg(m);
     }
@@ -170,6 +178,79 @@ fn the_sing_cut_in_axis_linear_pieces_simulates_as_sing() {
     let (a, b) = (analyze(&original), analyze(&cut));
     let (fa, fb) = (a["min_feed_limit_mm_per_min"].as_f64().unwrap(), b["min_feed_limit_mm_per_min"].as_f64().unwrap());
     assert!((fb / fa - 1.0).abs() <= 0.05, "lowest feed limit in pieces {fb:.0} mm/min against SING.I {fa:.0}");
+    assert_eq!((&a["feed_limiting_axis"], &a["feed_limit_kind"]), (&b["feed_limiting_axis"], &b["feed_limit_kind"]));
+}
+
+/// SING_tnc.h (SING.I as a Heidenhain conversational program) with each 1 mm block of its cut (blocks
+/// 120-610) in 20 axis-linear pieces written at 2 decimals (0.01 mm, 0.01 deg, as a coarse CAM post
+/// rounds), and, if `tolerance` is given, `CYCL DEF 32` setting it (`T` mm, `TA` deg) before the cut.
+fn sing_tnc_in_rounded_pieces(tolerance: Option<(f64, f64)>) -> String {
+    let mut lines: Vec<String> = Vec::new();
+    let mut at = [0.0f64; 5];
+    for line in include_str!("../recordings/programs/twins/SING_tnc.h").lines() {
+        let (n, body) = line.split_once(' ').unwrap();
+        let n: u32 = n.parse().unwrap();
+        let mut to = at;
+        if body.starts_with("L ") {
+            for (i, l) in ['X', 'Y', 'Z', 'A', 'C'].into_iter().enumerate() {
+                if let Some(v) = body.split_whitespace().find_map(|w| w.strip_prefix(l)).and_then(|v| v.parse::<f64>().ok()) {
+                    to[i] = v;
+                }
+            }
+        }
+        if (120..=610).contains(&n) {
+            for k in 1..=20 {
+                let p: Vec<f64> = (0..5).map(|i| at[i] + (to[i] - at[i]) * k as f64 / 20.0).collect();
+                lines.push(format!("L X{:+.2} Y{:+.2} Z{:+.2} A{:+.2} C{:+.2} R0", p[0], p[1], p[2], p[3], p[4]));
+            }
+        } else {
+            lines.push(body.to_string());
+        }
+        if let (110, Some((t, ta))) = (n, tolerance) {
+            lines.extend(["CYCL DEF 32.0 TOLERANCE".to_string(), format!("CYCL DEF 32.1 T{t}"), format!("CYCL DEF 32.2 HSC-MODE:0 TA{ta}")]);
+        }
+        if n >= 70 {
+            at = to;
+        }
+    }
+    lines.iter().enumerate().map(|(i, l)| format!("{i} {l}\n")).collect()
+}
+
+/// The same cut rounded to 0.01 mm and 0.01 deg: its piece ends leave their block's line by up to
+/// twice the rounding, beyond the default contour tolerance (2 um, 0.002 deg), so each is a knot and
+/// the spline bends within the pieces. With a tolerance above the rounding, as TNC 620 Cycle
+/// Programming §12.5 advises (110-200 % of the CAM chord error) in the program's cycle 32 or in the
+/// machine file, the control smooths them: the program simulates within 5 % of SING_tnc.h, within
+/// the axis limits by the independent check, and the monitor finds SING's lowest feed limit.
+#[test]
+fn cycle_32_smooths_a_rounded_cut_as_the_tnc_does() {
+    let original = tmp("SING_tnc.h");
+    std::fs::write(&original, include_str!("../recordings/programs/twins/SING_tnc.h")).unwrap();
+    let t_original = cycle_time(&original, None);
+    let rounded = tmp("SING_rounded.h");
+    std::fs::write(&rounded, sing_tnc_in_rounded_pieces(None)).unwrap();
+    let t_rounded = cycle_time(&rounded, None);
+    assert!(t_rounded > 1.2 * t_original, "rounded without a tolerance {t_rounded:.2} s against {t_original:.2} s: the test needs knots at every piece end");
+    let cycle = tmp("SING_rounded_cycle32.h");
+    std::fs::write(&cycle, sing_tnc_in_rounded_pieces(Some((0.02, 0.02)))).unwrap();
+    let mcap = tmp("SING_rounded_cycle32.mcap");
+    let t_cycle = cycle_time(&cycle, Some(&mcap));
+    assert!((t_cycle / t_original - 1.0).abs() <= 0.05, "with cycle 32 {t_cycle:.2} s against SING_tnc.h {t_original:.2} s");
+    assert_within_limits(&mcap, t_cycle, "with cycle 32");
+    // The same tolerance from the machine file, the program without cycle 32.
+    let machine = tmp("hermle-tolerance.toml");
+    let text = include_str!("../machines/hermle-c600u.toml").replacen("\n[[linear]]", "\ncontour_tolerance_mm = 0.02\ncontour_tolerance_deg = 0.02\n\n[[linear]]", 1);
+    std::fs::write(&machine, text).unwrap();
+    let t_machine = cycle_time_with(&rounded, None, &["--machine", machine.to_str().unwrap()]);
+    assert!((t_machine / t_original - 1.0).abs() <= 0.05, "with the machine's tolerance {t_machine:.2} s against {t_original:.2} s");
+    let analyze = |p: &Path| -> serde_json::Value {
+        let out = Command::new(bin()).args(["program", "analyze"]).arg(p).arg("--json").output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let (a, b) = (analyze(&original), analyze(&cycle));
+    let (fa, fb) = (a["min_feed_limit_mm_per_min"].as_f64().unwrap(), b["min_feed_limit_mm_per_min"].as_f64().unwrap());
+    assert!((fb / fa - 1.0).abs() <= 0.05, "lowest feed limit with cycle 32 {fb:.0} mm/min against {fa:.0}");
     assert_eq!((&a["feed_limiting_axis"], &a["feed_limit_kind"]), (&b["feed_limiting_axis"], &b["feed_limit_kind"]));
 }
 

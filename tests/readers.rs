@@ -254,6 +254,34 @@ fn klartext_runs_section_repeats_and_subprograms_as_the_tnc_does() {
     assert!(p.blocks.len() <= fiveaxis::program::MAX_REPEATED_BLOCKS + 20);
 }
 
+/// Cycle 32 (TNC 620 Cycle Programming §12.5): `T` in the program's unit, `TA` in degrees, for the
+/// blocks after it; `32.1` alone returns both to the machine's; the roughing filter and values out of
+/// the cycle's range are refused where they are written.
+#[test]
+fn klartext_reads_the_contour_tolerance_of_cycle_32() {
+    let text = "0 BEGIN PGM T INCH\n1 L X+0 Y+0 Z+0 R0 F100\n2 CYCL DEF 32.0 TOLERANCE\n3 CYCL DEF 32.1 T0.001\n\
+                4 L X+1\n5 CYCL DEF 32.2 HSC-MODE:0 TA0.5\n6 L X+2\n7 CYCL DEF 32.0 TOLERANZ\n8 CYCL DEF 32.1\n9 L X+3\n\
+                10 END PGM T INCH\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let by = |n: u64| p.blocks.iter().find(|b| b.number == Some(n)).unwrap_or_else(|| panic!("block {n}")).tolerance;
+    let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() < 1e-15);
+    assert!(by(1).is_unset());
+    assert!(close(by(4).linear_m, 0.0254e-3) && by(4).rotary_rad.is_none(), "{:?}", by(4));
+    assert!(close(by(6).linear_m, 0.0254e-3) && close(by(6).rotary_rad, 0.5 * DEG), "{:?}", by(6));
+    assert!(by(9).is_unset(), "{:?}", by(9));
+
+    // Lines are the file's (block n on line n + 1).
+    let text = "0 BEGIN PGM T MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 CYCL DEF 32.2 HSC-MODE:1 TA1\n3 CYCL DEF 32.1 T12\n\
+                4 CYCL DEF 32.2 HSC-MODE:0 TA-1\n5 CYCL DEF 32.1 T0.01 TA1\n6 L X+1\n7 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    has(&p, 3, 17, "HSC-MODE:1");
+    has(&p, 4, 17, "12 mm is outside 0 to 10 mm");
+    has(&p, 5, 28, "-1 deg is outside 0 to 10 deg");
+    has(&p, 6, 3, "CYCL DEF 32");
+    assert!(p.blocks.iter().find(|b| b.number == Some(6)).is_some_and(|b| b.tolerance.is_unset()));
+}
+
 #[test]
 fn klartext_refuses_what_changes_the_motion_at_line_and_column() {
     let text = "0 BEGIN PGM BAD MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 L X+5 RL\n3 APPR LT X+1 Y+1 LEN5 RL\n4 CYCL DEF 19.0 WORKING PLANE\n\
