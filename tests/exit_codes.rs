@@ -138,6 +138,14 @@ fn avoid_commands_exit_0_or_2() {
     expect(&["avoid", "refine", "builtin:semi-cylinder", "--out", s(&unwritable("r.I"))], 2, "no-such-dir");
     expect(&["avoid", "refine", "builtin:no-such-path"], 2, "no-such-path");
     expect(&["avoid", "refine", "builtin:semi-cylinder", "--machine", "no-such-machine"], 2, "unknown machine");
+    // A program's contour tolerance (cycle 32) is not written: the written program would run under the
+    // control's own, so writing is refused rather than the tolerance dropped.
+    let tolerant = tmp("tolerant.h");
+    let sing = include_str!("../recordings/programs/twins/SING_tnc.h");
+    std::fs::write(&tolerant, sing.replacen("\n65 L M128\n", "\n64 CYCL DEF 32.0 TOLERANCE\n64 CYCL DEF 32.1 T0.02\n65 L M128\n", 1)).unwrap();
+    expect(&["avoid", "refine", s(&tolerant)], 0, "");
+    expect(&["avoid", "refine", s(&tolerant), "--out", s(&tmp("tolerant.I"))], 2, "contour tolerance (cycle 32) cannot be written");
+    expect(&["avoid", "smooth", s(&tolerant), "--tool", "ball:3", "--out", s(&tmp("tolerant.I"))], 2, "contour tolerance (cycle 32) cannot be written");
 }
 
 #[test]

@@ -336,6 +336,11 @@ fn block_events(program: &Program, heid: bool, options: &JobOptions) -> Result<V
 pub fn write_program(program: &Program, machine: &Machine, dialect: crate::program::Dialect, options: &JobOptions) -> Result<String, AvoidError> {
     use crate::path::SegmentKind;
     use std::fmt::Write as _;
+    // A contour tolerance the program set (cycle 32) shapes the motion; neither writer writes one, and
+    // the program would run under the control's own: refused rather than dropped.
+    if let Some(b) = program.blocks.iter().find(|b| !b.tolerance.is_unset()) {
+        return Err(AvoidError::Refused(format!("line {}: the program's contour tolerance (cycle 32) cannot be written; it would run under the control's own", b.line)));
+    }
     let traj = Trajectory::from_program(program, machine, &options.path);
     let names = machine.axis_names();
     let heid = dialect == crate::program::Dialect::Heidenhain;
