@@ -77,6 +77,20 @@ fn assert_within_limits(mcap: &Path, t: f64, name: &str) -> serde_json::Value {
     v
 }
 
+/// `program analyze` finds the same lowest feed limit in `other` as in `original` (within 5 %), set
+/// by the same axis and limit kind.
+fn assert_same_feed_limit(original: &Path, other: &Path, name: &str) {
+    let analyze = |p: &Path| -> serde_json::Value {
+        let out = Command::new(bin()).args(["program", "analyze"]).arg(p).arg("--json").output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let (a, b) = (analyze(original), analyze(other));
+    let (fa, fb) = (a["min_feed_limit_mm_per_min"].as_f64().unwrap(), b["min_feed_limit_mm_per_min"].as_f64().unwrap());
+    assert!((fb / fa - 1.0).abs() <= 0.05, "{name}: lowest feed limit {fb:.0} mm/min against {fa:.0}");
+    assert_eq!((&a["feed_limiting_axis"], &a["feed_limit_kind"]), (&b["feed_limiting_axis"], &b["feed_limit_kind"]), "{name}");
+}
+
 /// SING.I with its reorientation N80 (A 0 -> 14.825, C 0 -> 137.259 deg about the tip at Z+100) cut
 /// into 4096 rotary-only moves along the same line in A/C: the same motion in 4096 blocks, as CAM
 /// writes a reorientation (and as `avoid refine` wrote this one until session 42).
@@ -170,15 +184,7 @@ fn the_sing_cut_in_axis_linear_pieces_simulates_as_sing() {
     assert_within_limits(&mcap, t_cut, "in pieces");
     // The monitor's prediction thins its knots by the same rule: the same lowest feed limit, by the
     // same axis and limit (it said 54 mm/min by C's jerk, against 260 by C's velocity).
-    let analyze = |p: &Path| -> serde_json::Value {
-        let out = Command::new(bin()).args(["program", "analyze"]).arg(p).arg("--json").output().unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        serde_json::from_slice(&out.stdout).unwrap()
-    };
-    let (a, b) = (analyze(&original), analyze(&cut));
-    let (fa, fb) = (a["min_feed_limit_mm_per_min"].as_f64().unwrap(), b["min_feed_limit_mm_per_min"].as_f64().unwrap());
-    assert!((fb / fa - 1.0).abs() <= 0.05, "lowest feed limit in pieces {fb:.0} mm/min against SING.I {fa:.0}");
-    assert_eq!((&a["feed_limiting_axis"], &a["feed_limit_kind"]), (&b["feed_limiting_axis"], &b["feed_limit_kind"]));
+    assert_same_feed_limit(&original, &cut, "in pieces");
 }
 
 /// SING_tnc.h (SING.I as a Heidenhain conversational program) with each 1 mm block of its cut (blocks
@@ -243,15 +249,7 @@ fn cycle_32_smooths_a_rounded_cut_as_the_tnc_does() {
     std::fs::write(&machine, text).unwrap();
     let t_machine = cycle_time_with(&rounded, None, &["--machine", machine.to_str().unwrap()]);
     assert!((t_machine / t_original - 1.0).abs() <= 0.05, "with the machine's tolerance {t_machine:.2} s against {t_original:.2} s");
-    let analyze = |p: &Path| -> serde_json::Value {
-        let out = Command::new(bin()).args(["program", "analyze"]).arg(p).arg("--json").output().unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        serde_json::from_slice(&out.stdout).unwrap()
-    };
-    let (a, b) = (analyze(&original), analyze(&cycle));
-    let (fa, fb) = (a["min_feed_limit_mm_per_min"].as_f64().unwrap(), b["min_feed_limit_mm_per_min"].as_f64().unwrap());
-    assert!((fb / fa - 1.0).abs() <= 0.05, "lowest feed limit with cycle 32 {fb:.0} mm/min against {fa:.0}");
-    assert_eq!((&a["feed_limiting_axis"], &a["feed_limit_kind"]), (&b["feed_limiting_axis"], &b["feed_limit_kind"]));
+    assert_same_feed_limit(&original, &cycle, "with cycle 32");
 }
 
 /// Runs `cmd` under a 500 MB address-space limit; returns (exit code, stdout + stderr).
