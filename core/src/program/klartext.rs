@@ -971,20 +971,19 @@ impl Exec {
             Kind::Tolerance { linear, rotary, reset } => {
                 let mut tolerance = if *reset { ProgrammedTolerance::default() } else { interp.tolerance() };
                 let max = ContourTolerance::MAX;
-                if let Some(w) = linear {
-                    match self.value(w, s.line, diags).map(|v| v * unit) {
-                        Some(v) if (0.0..=max.linear_m).contains(&v) => tolerance.linear_m = Some(v),
-                        Some(v) => diags.error(s.line, w.col, format!("CYCL DEF 32.1 T: {} mm is outside 0 to {} mm", v / MM, max.linear_m / MM)),
-                        None => {}
+                // Each part written: its value in SI (from the program's unit, or deg), within 0..=max.
+                let parts = [(linear, "32.1 T", unit, max.linear_m, MM, "mm"), (rotary, "32.2 TA", DEG, max.rotary_rad, DEG, "deg")];
+                let [l, r] = parts.map(|(w, name, to_si, max, shown, shown_name)| {
+                    let w = w.as_ref()?;
+                    let v = self.value(w, s.line, diags)? * to_si;
+                    if !(0.0..=max).contains(&v) {
+                        diags.error(s.line, w.col, format!("CYCL DEF {name}: {} {shown_name} is outside 0 to {} {shown_name}", v / shown, max / shown));
+                        return None;
                     }
-                }
-                if let Some(w) = rotary {
-                    match self.value(w, s.line, diags).map(|v| v * DEG) {
-                        Some(v) if (0.0..=max.rotary_rad).contains(&v) => tolerance.rotary_rad = Some(v),
-                        Some(v) => diags.error(s.line, w.col, format!("CYCL DEF 32.2 TA: {} deg is outside 0 to {} deg", v / DEG, max.rotary_rad / DEG)),
-                        None => {}
-                    }
-                }
+                    Some(v)
+                });
+                tolerance.linear_m = l.or(tolerance.linear_m);
+                tolerance.rotary_rad = r.or(tolerance.rotary_rad);
                 interp.set_tolerance(tolerance);
                 return false;
             }
