@@ -341,6 +341,10 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
         };
         let mut it = 0;
         let mut best: Option<(f64, Plan)> = None;
+        // The previous iteration's filtered parameters and set-points: lowering the limit curve
+        // leaves the plan before the first lowered speed as it was, and its set-points are not
+        // evaluated again.
+        let mut prev: (Vec<f64>, Vec<Joints>) = (Vec::new(), Vec::new());
         let mut first_len: Option<usize> = None;
         let (raw, filtered, q, t, v, c, worst, cap) = loop {
             let v = win.speed_profile(&cap, v0);
@@ -359,7 +363,18 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
                     *x = end; // the run ends exactly at its end point
                 }
             }
-            let q: Vec<Joints> = q_hist.iter().copied().chain(filtered.iter().map(|&x| curve.joints(x, machine))).collect();
+            // Set-points past what this window commits and checks (and the check's stencil reaches)
+            // are the next window's: not evaluated.
+            let needed = if last { outputs } else { outputs.min(c + w + 2) };
+            let same = filtered[..needed].iter().zip(&prev.0).take_while(|(a, b)| a.to_bits() == b.to_bits()).count();
+            let reused = same.min(prev.1.len().saturating_sub(q_hist.len()));
+            let q: Vec<Joints> = q_hist
+                .iter()
+                .copied()
+                .chain(prev.1.iter().skip(q_hist.len()).take(reused).copied())
+                .chain(filtered[reused..needed].iter().map(|&x| curve.joints(x, machine)))
+                .collect();
+            prev = (filtered.clone(), q.clone());
             let all = limit_ratios(&q, config.period, &limits);
             let ratios = &all[q_hist.len()..];
             let keep = if last { outputs } else { c };
