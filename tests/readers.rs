@@ -217,6 +217,30 @@ fn klartext_reads_feeds_datums_labels_and_tcpm() {
 }
 
 #[test]
+fn klartext_reads_f_max_and_f_auto_written_with_a_space() {
+    // hyperMILL's and other posts' Klartext writes the rapid as `F MAX` (a public DMG DMU program:
+    // `L X173.5 Y20 R0 F MAX M3`); the TNC reads it as FMAX.
+    let text = "0 BEGIN PGM T MM\n1 TOOL CALL 5 Z S12000 F750\n2 L X+1 Y+2 Z+3 R0 F1000 M3\n3 L X+5 R0 F MAX M8\n\
+                4 L Y+6 f max\n5 L X+7 F AUTO\n6 L Z+9\n7 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let by = |n: u64| p.blocks.iter().find(|b| b.number == Some(n)).unwrap_or_else(|| panic!("block {n}"));
+    assert_eq!((by(3).motion, by(3).targets.x), (Motion::Rapid, Some(5.0 * MM)));
+    assert!(by(3).events.iter().any(|e| e == "M8"), "{:?}", by(3).events);
+    assert_eq!(by(4).motion, Motion::Rapid);
+    // F AUTO is the TOOL CALL's feed; a rapid is for its block only, so block 6 cuts at F750 too.
+    assert_eq!((by(5).motion, by(5).feed.unwrap().value_per_min), (Motion::Linear, 750.0));
+    assert_eq!((by(6).motion, by(6).feed.unwrap().value_per_min), (Motion::Linear, 750.0));
+    // `F` then something else is still a feed without its number, at F's column; on a circle F MAX
+    // is refused as FMAX is.
+    let bad = "0 BEGIN PGM T MM\n1 L X+1 R0 F MAXI\n2 CC X+0 Y+0\n3 C X+1 Y+0 DR+ F MAX\n4 END PGM T MM\n";
+    let p = read(bad, Dialect::Klartext, "t.h", &ReadOptions::default());
+    let found: Vec<(usize, usize)> = p.diagnostics.iter().map(|d| (d.line, d.column)).collect();
+    assert!(found.contains(&(2, 12)) && found.contains(&(2, 14)) && found.contains(&(4, 17)), "{:#?}", p.diagnostics);
+    assert!(p.diagnostics.iter().any(|d| d.message.contains("FMAX on a circle")), "{:#?}", p.diagnostics);
+}
+
+#[test]
 fn klartext_runs_section_repeats_and_subprograms_as_the_tnc_does() {
     // LBL 1 ... CALL LBL 1 REP 2 runs the section three times; CALL LBL 2 runs the subprogram after
     // M2 up to LBL 0 and comes back, nested once more inside it.

@@ -1,6 +1,6 @@
 //! Heidenhain conversational programs (Klartext, `.H`), as a TNC runs them: `BEGIN PGM NAME MM` ...
 //! `END PGM NAME MM`, numbered blocks, `;` comments and `*` structure lines; `L` lines (`R0`, `F`,
-//! `FMAX` for its block only, `FAUTO` the `TOOL CALL`'s feed), `LN` lines with the surface normal
+//! `FMAX` for its block only, `FAUTO` the `TOOL CALL`'s feed; also written `F MAX`, `F AUTO`), `LN` lines with the surface normal
 //! `NX NY NZ` and the tool vector `TX TY TZ`; circles `CC` (pole), `C` about it, `CR` by radius, `CT`
 //! tangent to the contour before it (`DR+` counter-clockwise); `M128` and `FUNCTION TCPM` (`F TCP`,
 //! `AXIS POS`, `PATHCTRL AXIS`/`VECTOR`); `CYCL DEF 7` datum shift; `CYCL DEF 9` dwell (s, active
@@ -401,8 +401,20 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
     let mut axes: Vec<KWord<'a>> = Vec::with_capacity(if shape == Shape::LineNormal { 9 } else { 5 });
     let (mut ccw, mut radius, mut feed, mut m) = (None, None, FeedWord::None, Vec::new());
     let mut seen = 0u32;
-    for &(tok, col) in &toks[1..] {
+    let mut words = toks[1..].iter().copied().peekable();
+    while let Some((tok, col)) = words.next() {
         let (addr, rest) = split_word(tok);
+        // `F MAX` and `F AUTO`, as many posts (hyperMILL among them) write FMAX and FAUTO.
+        let spaced = (addr == "F" && rest.is_empty())
+            .then(|| words.peek().map(|&(next, _)| upper(next)).filter(|n| n == "MAX" || n == "AUTO"))
+            .flatten();
+        let addr: Cow<'_, str> = match spaced {
+            Some(n) => {
+                words.next();
+                Cow::Owned(format!("F{n}"))
+            }
+            None => addr,
+        };
         let addr = addr.as_ref();
         match (motion_address(addr), addr) {
             (Some((_, bit)), _) if bit >= 6 && shape != Shape::LineNormal => {
