@@ -138,14 +138,25 @@ fn avoid_commands_exit_0_or_2() {
     expect(&["avoid", "refine", "builtin:semi-cylinder", "--out", s(&unwritable("r.I"))], 2, "no-such-dir");
     expect(&["avoid", "refine", "builtin:no-such-path"], 2, "no-such-path");
     expect(&["avoid", "refine", "builtin:semi-cylinder", "--machine", "no-such-machine"], 2, "unknown machine");
-    // A program's contour tolerance (cycle 32) is not written: the written program would run under the
-    // control's own, so writing is refused rather than the tolerance dropped.
+    // A program's contour tolerance (cycle 32) is written where the dialect has a form for it
+    // (RS274NGC: LinuxCNC's G64 P, the linear part); elsewhere the written program would run under
+    // the control's own, so writing is refused rather than the tolerance dropped.
     let tolerant = tmp("tolerant.h");
     let sing = include_str!("../recordings/programs/twins/SING_tnc.h");
-    std::fs::write(&tolerant, sing.replacen("\n65 L M128\n", "\n64 CYCL DEF 32.0 TOLERANCE\n64 CYCL DEF 32.1 T0.02\n65 L M128\n", 1)).unwrap();
+    let cycle = "\n64 CYCL DEF 32.0 TOLERANCE\n64 CYCL DEF 32.1 T0.02\n65 L M128\n";
+    std::fs::write(&tolerant, sing.replacen("\n65 L M128\n", cycle, 1)).unwrap();
     expect(&["avoid", "refine", s(&tolerant)], 0, "");
-    expect(&["avoid", "refine", s(&tolerant), "--out", s(&tmp("tolerant.I"))], 2, "contour tolerance (cycle 32) cannot be written");
-    expect(&["avoid", "smooth", s(&tolerant), "--tool", "ball:3", "--out", s(&tmp("tolerant.I"))], 2, "contour tolerance (cycle 32) cannot be written");
+    expect(&["avoid", "refine", s(&tolerant), "--out", s(&tmp("tolerant.I"))], 2, "contour tolerance cannot be written in Heidenhain");
+    expect(&["avoid", "smooth", s(&tolerant), "--tool", "ball:3", "--out", s(&tmp("tolerant.I"))], 2, "contour tolerance cannot be written in Heidenhain");
+    // LinuxCNC's SING with G64 P0.02: written back as G64 P0.0200 (the same tolerance read back).
+    let blended = tmp("blended.ngc");
+    let ngc = include_str!("../recordings/machine/linuxcnc/SING.ngc");
+    assert_eq!(ngc.matches(" G64 G92.1").count(), 1);
+    std::fs::write(&blended, ngc.replacen(" G64 G92.1", " G64 P0.02 G92.1", 1)).unwrap();
+    let written = tmp("blended_refined.ngc");
+    expect(&["avoid", "refine", s(&blended), "--m-code", "428=tcp-on", "--m-code", "429=tcp-off", "--out", s(&written)], 0, "");
+    let text = std::fs::read_to_string(&written).unwrap();
+    assert!(text.lines().any(|l| l.ends_with(" G64 P0.0200")), "{text}");
 }
 
 #[test]

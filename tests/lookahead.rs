@@ -252,6 +252,40 @@ fn cycle_32_smooths_a_rounded_cut_as_the_tnc_does() {
     assert_same_feed_limit(&original, &cycle, "with cycle 32");
 }
 
+/// A circle of radius 20 mm at F2000 in 628 pieces, as an RS274NGC post writes it, at `decimals`,
+/// under the blending mode `blend`.
+fn rs274_circle(decimals: usize, blend: &str) -> String {
+    let mut s = format!("G21 G90 G94 G17 {blend}\nG0 X20 Y0 Z0 A0 C0\n");
+    for k in 1..=628 {
+        let t = std::f64::consts::TAU * k as f64 / 628.0;
+        s += &format!("G1 X{:.*} Y{:.*} F2000\n", decimals, 20.0 * t.cos(), decimals, 20.0 * t.sin());
+    }
+    s + "M2\n"
+}
+
+/// The circle rounded to 0.01 mm: its points leave the arc by up to 0.007 mm, beyond the default
+/// contour tolerance (2 um), so each is a knot and the spline wobbles. LinuxCNC's `G64 P0.02` (the
+/// path may leave the programmed points by 0.02 mm; the naive-CAM tolerance Q is P's when not given)
+/// smooths it: within 5 % of the circle at 4 decimals, within the axis limits by the independent
+/// check. `Q0` (no merging) keeps every point, as LinuxCNC does.
+#[test]
+fn g64_p_smooths_a_rounded_circle_as_linuxcnc_blends_it() {
+    let run = |name: &str, decimals: usize, blend: &str, mcap: Option<&Path>| {
+        let path = tmp(name);
+        std::fs::write(&path, rs274_circle(decimals, blend)).unwrap();
+        cycle_time(&path, mcap)
+    };
+    let exact = run("circle_exact.ngc", 4, "G64", None);
+    let rounded = run("circle_rounded.ngc", 2, "G64", None);
+    assert!(rounded > 1.2 * exact, "rounded without a tolerance {rounded:.3} s against {exact:.3} s: the test needs knots at every point");
+    let mcap = tmp("circle_g64p.mcap");
+    let blended = run("circle_g64p.ngc", 2, "G64 P0.02", Some(&mcap));
+    assert!((blended / exact - 1.0).abs() <= 0.05, "with G64 P0.02 {blended:.3} s against {exact:.3} s");
+    assert_within_limits(&mcap, blended, "with G64 P0.02");
+    let unmerged = run("circle_g64q0.ngc", 2, "G64 P0.02 Q0", None);
+    assert!(unmerged > 1.2 * exact, "with G64 P0.02 Q0 {unmerged:.3} s against {exact:.3} s");
+}
+
 /// Runs `cmd` under a 500 MB address-space limit; returns (exit code, stdout + stderr).
 fn limited(cmd: &str) -> (i32, String) {
     let out = Command::new("sh").arg("-c").arg(format!("ulimit -v 512000; exec {cmd}")).output().unwrap();

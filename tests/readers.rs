@@ -306,6 +306,27 @@ fn klartext_reads_the_contour_tolerance_of_cycle_32() {
     assert!(p.blocks.iter().find(|b| b.number == Some(6)).is_some_and(|b| b.tolerance.is_unset()));
 }
 
+/// LinuxCNC's `G64 P- <Q->`: the naive-CAM tolerance Q (P when Q is not given) is the contour
+/// tolerance on the linear axes, in the program's unit; `G64` alone leaves the machine's.
+#[test]
+fn rs274_reads_the_path_tolerance_of_g64_p_q() {
+    let text = "G20 G90 G17 G64 P0.001\nG1 X0 Y0 Z0 F10\nG64 P0.5 Q0.002\nX1\nG21 G64 Q0.02\nX2\nG64 P0 Q0\nX3\nG64\nX4\nM2\n";
+    let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let on = |line: usize| p.blocks.iter().find(|b| b.line == line).unwrap_or_else(|| panic!("line {line}")).tolerance;
+    let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() < 1e-15);
+    assert!(close(on(2).linear_m, 0.0254e-3) && on(2).rotary_rad.is_none(), "{:?}", on(2));
+    assert!(close(on(4).linear_m, 2.0 * 0.0254e-3), "Q before P: {:?}", on(4));
+    assert!(close(on(6).linear_m, 0.02e-3), "Q alone, mm: {:?}", on(6));
+    assert!(close(on(8).linear_m, 0.0), "Q0: no merging: {:?}", on(8));
+    assert!(on(10).is_unset(), "G64 alone: the machine's: {:?}", on(10));
+    // Out of range, at the word's column; the block is not used.
+    let p = read("G21 G90\nG1 X0 F100\nG64 P-0.1\nG64 P0.01 Q11\nX1\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    has(&p, 3, 5, "G64 P-0.1: the path tolerance must be 0 to 10 mm");
+    has(&p, 4, 11, "G64 Q11");
+    assert!(p.blocks.iter().all(|b| b.tolerance.is_unset()), "{:#?}", p.blocks);
+}
+
 #[test]
 fn klartext_refuses_what_changes_the_motion_at_line_and_column() {
     let text = "0 BEGIN PGM BAD MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 L X+5 RL\n3 APPR LT X+1 Y+1 LEN5 RL\n4 CYCL DEF 19.0 WORKING PLANE\n\

@@ -336,14 +336,18 @@ fn block_events(program: &Program, heid: bool, options: &JobOptions) -> Result<V
 pub fn write_program(program: &Program, machine: &Machine, dialect: crate::program::Dialect, options: &JobOptions) -> Result<String, AvoidError> {
     use crate::path::SegmentKind;
     use std::fmt::Write as _;
-    // A contour tolerance the program set (cycle 32) shapes the motion; neither writer writes one, and
-    // the program would run under the control's own: refused rather than dropped.
-    if let Some(b) = program.blocks.iter().find(|b| !b.tolerance.is_unset()) {
-        return Err(AvoidError::Refused(format!("line {}: the program's contour tolerance (cycle 32) cannot be written; it would run under the control's own", b.line)));
+    let heid = dialect == crate::program::Dialect::Heidenhain;
+    // A contour tolerance the program set (cycle 32, G64 P) shapes the motion. RS274NGC writes the
+    // linear one as LinuxCNC's `G64 P` (read back as the same tolerance); a rotary one (cycle 32's TA)
+    // has no RS274NGC form, and the DIN/ISO writer writes none (G62's words are not known here): the
+    // program would run under the control's own, so it is refused rather than dropped.
+    let unwritable = |t: &crate::program::ProgrammedTolerance| if heid { !t.is_unset() } else { t.rotary_rad.is_some() };
+    if let Some(b) = program.blocks.iter().find(|b| unwritable(&b.tolerance)) {
+        let what = if heid { "contour tolerance" } else { "rotary-axis tolerance (cycle 32's TA)" };
+        return Err(AvoidError::Refused(format!("line {}: the program's {what} cannot be written in {dialect:?}; it would run under the control's own", b.line)));
     }
     let traj = Trajectory::from_program(program, machine, &options.path);
     let names = machine.axis_names();
-    let heid = dialect == crate::program::Dialect::Heidenhain;
     let name = program.name.clone().unwrap_or_else(|| "FIVEAXIS".into()).replace(' ', "_");
     let mut out = String::new();
     let mut n = 0;
@@ -375,6 +379,7 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
         (false, false) => declared(crate::program::MCodeAction::TcpOff).unwrap_or_else(|| "G49".into()),
     };
     let mut tcp = false;
+    let mut tolerance: Option<f64> = None;
     let mut datum = Vector3::zeros();
     // CL data starts where its first pose is, not at the machine's home: a post positions the tool
     // there first (a rapid), or the written program would cut its first step from wherever it stands.
@@ -432,6 +437,11 @@ pub fn write_program(program: &Program, machine: &Machine, dialect: crate::progr
             if want_tcp != tcp {
                 tcp = want_tcp;
                 line(&mut out, &tcp_switch(tcp, spindle[s.block]));
+            }
+            let want_tolerance = program.blocks[s.block].tolerance.linear_m;
+            if want_tolerance != tolerance {
+                tolerance = want_tolerance;
+                line(&mut out, &tolerance.map_or("G64".into(), |t| format!("G64 P{:.4}", t * 1e3)));
             }
             let (x, y, z) = if tcp { (tip.x, tip.y, tip.z) } else { (q[0] - s.datum.x, q[1] - s.datum.y, q[2] - s.datum.z) };
             let words = format!(

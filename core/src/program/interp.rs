@@ -228,6 +228,7 @@ impl Interpreter {
         let mut uses: Vec<char> = Vec::new(); // letters besides axes that a code of this block takes
         let mut g10 = false;
         let mut dwell_word: Option<&Word> = None;
+        let mut blend_word = false;
         for w in words {
             match w.letter {
                 'G' => {
@@ -313,7 +314,11 @@ impl Interpreter {
                                  on a table-table machine it only shifts Z by a constant",
                             )
                         }
-                        ("64", false) => uses.extend(['P', 'Q']), // blending within a tolerance: what the planner does
+                        // Blending within a tolerance: what the planner does (P and Q: below).
+                        ("64", false) => {
+                            uses.extend(['P', 'Q']);
+                            blend_word = true;
+                        }
                         ("4", _) => {
                             uses.push('P');
                             dwell_word = Some(w);
@@ -407,6 +412,25 @@ impl Interpreter {
         }
         if !heid && next.system != self.system {
             next.move_origin(next.offsets[next.system]);
+        }
+
+        // LinuxCNC's `G64 P- <Q->`: Q (the naive-CAM tolerance: near-collinear points within it merge
+        // into one move; it is P when Q is not given) is how far the path may leave the programmed
+        // points, the contour tolerance on the linear axes, program unit; `G64` alone leaves the
+        // machine's. (gcodes §G64; interp_convert.cc `convert_control_mode`.)
+        if blend_word && self.dialect == Dialect::Rs274 {
+            let merge = words.iter().rev().find(|w| w.letter == 'Q').or_else(|| words.iter().rev().find(|w| w.letter == 'P'));
+            next.tolerance = match merge {
+                None => super::ProgrammedTolerance::default(),
+                Some(w) => {
+                    let v = w.value * next.unit;
+                    let max = crate::machine::ContourTolerance::MAX.linear_m;
+                    if !(0.0..=max).contains(&v) {
+                        diags.error(line, w.column, format!("G64 {}{}: the path tolerance must be 0 to {} mm", w.letter, w.raw, max / MM));
+                    }
+                    super::ProgrammedTolerance { linear_m: Some(v.clamp(0.0, max)), rotary_rad: None }
+                }
+            };
         }
 
         // A dwell's time, s: P in RS274NGC (LinuxCNC: "G4 P- dwell, seconds"), F in Sinumerik ("G4 F",
