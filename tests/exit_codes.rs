@@ -148,6 +148,8 @@ fn avoid_commands_exit_0_or_2() {
     expect(&["avoid", "refine", s(&tolerant)], 0, "");
     expect(&["avoid", "refine", s(&tolerant), "--out", s(&tmp("tolerant.I"))], 2, "contour tolerance cannot be written in Heidenhain");
     expect(&["avoid", "smooth", s(&tolerant), "--tool", "ball:3", "--out", s(&tmp("tolerant.I"))], 2, "contour tolerance cannot be written in Heidenhain");
+    // Refused before the jig search (which takes minutes in a debug build), not after it.
+    expect(&["avoid", "reorient", s(&tolerant), "--out", s(&tmp("tolerant.I"))], 2, "contour tolerance cannot be written in Heidenhain");
     // LinuxCNC's SING with G64 P0.02: written back as G64 P0.0200 (the same tolerance read back).
     let blended = tmp("blended.ngc");
     let ngc = include_str!("../recordings/machine/linuxcnc/SING.ngc");

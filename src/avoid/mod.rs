@@ -331,21 +331,30 @@ fn block_events(program: &Program, heid: bool, options: &JobOptions) -> Result<V
     Ok(all)
 }
 
+/// Refuse a program [`write_program`] cannot write in `dialect` without changing its motion: a contour
+/// tolerance the program set (cycle 32, G64 P) shapes the motion. RS274NGC writes the linear one as
+/// LinuxCNC's `G64 P` (read back as the same tolerance); a rotary one (cycle 32's TA) has no RS274NGC
+/// form, and the DIN/ISO writer writes none (G62's words are not known here): the program would run
+/// under the control's own, so it is refused rather than dropped. Callers check before a long search.
+pub fn check_writable(program: &Program, dialect: crate::program::Dialect) -> Result<(), AvoidError> {
+    let heid = dialect == crate::program::Dialect::Heidenhain;
+    let unwritable = |t: &crate::program::ProgrammedTolerance| if heid { !t.is_unset() } else { t.rotary_rad.is_some() };
+    match program.blocks.iter().find(|b| unwritable(&b.tolerance)) {
+        Some(b) => {
+            let what = if heid { "contour tolerance" } else { "rotary-axis tolerance (cycle 32's TA)" };
+            Err(AvoidError::Refused(format!("line {}: the program's {what} cannot be written in {dialect:?}; it would run under the control's own", b.line)))
+        }
+        None => Ok(()),
+    }
+}
+
 /// Write a program's planned moves as an NC program in `dialect` (Heidenhain DIN/ISO with M128, or
 /// RS274NGC with G43.4), axes in mm and degrees, feeds in mm/min: what a reoriented program is run as.
 pub fn write_program(program: &Program, machine: &Machine, dialect: crate::program::Dialect, options: &JobOptions) -> Result<String, AvoidError> {
     use crate::path::SegmentKind;
     use std::fmt::Write as _;
     let heid = dialect == crate::program::Dialect::Heidenhain;
-    // A contour tolerance the program set (cycle 32, G64 P) shapes the motion. RS274NGC writes the
-    // linear one as LinuxCNC's `G64 P` (read back as the same tolerance); a rotary one (cycle 32's TA)
-    // has no RS274NGC form, and the DIN/ISO writer writes none (G62's words are not known here): the
-    // program would run under the control's own, so it is refused rather than dropped.
-    let unwritable = |t: &crate::program::ProgrammedTolerance| if heid { !t.is_unset() } else { t.rotary_rad.is_some() };
-    if let Some(b) = program.blocks.iter().find(|b| unwritable(&b.tolerance)) {
-        let what = if heid { "contour tolerance" } else { "rotary-axis tolerance (cycle 32's TA)" };
-        return Err(AvoidError::Refused(format!("line {}: the program's {what} cannot be written in {dialect:?}; it would run under the control's own", b.line)));
-    }
+    check_writable(program, dialect)?;
     let traj = Trajectory::from_program(program, machine, &options.path);
     let names = machine.axis_names();
     let name = program.name.clone().unwrap_or_else(|| "FIVEAXIS".into()).replace(' ', "_");

@@ -98,7 +98,7 @@ fn options(control: &ControlArgs) -> JobOptions {
 
 /// The machine and program of an `avoid` command (files, bundled:, builtin: paths as CL every 0.1 mm,
 /// builtin:semi-cylinder); programs with defects are bad input.
-fn avoid_input(program: &str, machine: &MachineArgs, what: &str, options: &JobOptions) -> Result<(Machine, fiveaxis::program::Program), Stop> {
+fn avoid_input(program: &str, machine: &MachineArgs, what: &str, options: &JobOptions, out: Option<&std::path::Path>) -> Result<(Machine, fiveaxis::program::Program), Stop> {
     let machine = machine.load().map_err(bad_input)?;
     let prog = if program == "builtin:semi-cylinder" {
         fiveaxis::avoid::refine::semi_cylinder()
@@ -116,7 +116,21 @@ fn avoid_input(program: &str, machine: &MachineArgs, what: &str, options: &JobOp
         }
         return Err(bad_input(format!("{program} has defects: refusing to {what} it")));
     }
+    // What cannot be written is refused before the remedy's search, not after it.
+    if let Some(path) = out {
+        fiveaxis::avoid::check_writable(&prog, out_dialect(&prog)).map_err(|e| bad_input(format!("cannot write {}: {e}", path.display())))?;
+    }
     Ok((machine, prog))
+}
+
+/// The dialect a remedied program is written in: RS274NGC stays RS274NGC, anything else becomes
+/// Heidenhain DIN/ISO.
+fn out_dialect(prog: &fiveaxis::program::Program) -> Dialect {
+    if prog.dialect == Dialect::Rs274 {
+        Dialect::Rs274
+    } else {
+        Dialect::Heidenhain
+    }
 }
 
 /// The before/after table every remedy prints.
@@ -133,15 +147,14 @@ fn remedy_table(before: &fiveaxis::avoid::Figures, after: &fiveaxis::avoid::Figu
 /// Write the remedied program to `out` (RS274NGC stays RS274NGC, anything else becomes Heidenhain DIN/ISO).
 fn write_out(prog: &fiveaxis::program::Program, new: &fiveaxis::program::Program, machine: &Machine, out: Option<&std::path::Path>, options: &JobOptions) -> Result<(), Stop> {
     if let Some(path) = out {
-        let dialect = if prog.dialect == Dialect::Rs274 { Dialect::Rs274 } else { Dialect::Heidenhain };
-        let text = fiveaxis::avoid::write_program(new, machine, dialect, options).map_err(|e| bad_input(format!("cannot write {}: {e}", path.display())))?;
+        let text = fiveaxis::avoid::write_program(new, machine, out_dialect(prog), options).map_err(|e| bad_input(format!("cannot write {}: {e}", path.display())))?;
         write_output(path, text)?;
     }
     Ok(())
 }
 
 fn smooth(program: &str, machine: &MachineArgs, options: &JobOptions, tool: fiveaxis::avoid::smooth::Tool, out: Option<&std::path::Path>, json: bool) -> Outcome {
-    let (machine, prog) = avoid_input(program, machine, "smooth", &options)?;
+    let (machine, prog) = avoid_input(program, machine, "smooth", &options, out)?;
     let (new, s) = fiveaxis::avoid::smooth::smooth(&prog, &machine, tool, &options).map_err(|e| bad_input(format!("cannot smooth {program}: {e}")))?;
     let (before, mut after) = match (fiveaxis::avoid::figures(&prog, &machine, &options), fiveaxis::avoid::figures(&new, &machine, &options)) {
         (Ok(b), Ok(a)) => (b, a),
@@ -173,7 +186,7 @@ fn smooth(program: &str, machine: &MachineArgs, options: &JobOptions, tool: five
 }
 
 fn refine(program: &str, machine: &MachineArgs, options: &JobOptions, opts: &fiveaxis::avoid::refine::RefineOptions, out: Option<&std::path::Path>, json: bool) -> Outcome {
-    let (machine, prog) = avoid_input(program, machine, "refine", &options)?;
+    let (machine, prog) = avoid_input(program, machine, "refine", &options, out)?;
     let refined = fiveaxis::avoid::refine::refine(&prog, &machine, opts, &options)
         .and_then(|(new, r)| fiveaxis::avoid::refine::conventional(&prog, &machine, &options).map(|c| (new, r, c)));
     let (new, r, conventional) = refined.map_err(|e| bad_input(format!("cannot refine {program}: {e}")))?;
@@ -205,7 +218,7 @@ fn reorient(program: &str, machine: &MachineArgs, options: &JobOptions, max_tilt
     if !(max_tilt_deg.is_finite() && max_tilt_deg > 0.0 && max_tilt_deg <= 90.0) {
         return Err(bad_input(format!("--max-tilt-deg must be in (0, 90], got {max_tilt_deg}")));
     }
-    let (machine, prog) = avoid_input(program, machine, "reorient", options)?;
+    let (machine, prog) = avoid_input(program, machine, "reorient", options, out)?;
     let (r, new) = fiveaxis::avoid::search(&prog, &machine, max_tilt_deg * DEG, &options).map_err(|e| bad_input(format!("cannot reorient {program}: {e}")))?;
     write_out(&prog, &new, &machine, out, &options)?;
     if json {
