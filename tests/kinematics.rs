@@ -225,4 +225,14 @@ fn machine_files_report_what_is_wrong() {
     let unknown = Machine::from_toml_str("name = \"x\"\nfoo = 1\nlinear = []\nrotary = []\n", "bad.toml").unwrap_err();
     assert!(unknown.to_string().contains("foo"), "{unknown}");
     assert!(fiveaxis::machine::load("no-such-machine").is_err());
+    // A contour tolerance outside 0 to 10 mm / 10 deg (cycle 32's input range), named by its field;
+    // within it, taken in SI.
+    let hermle = include_str!("../machines/hermle-c600u.toml");
+    let with = |fields: &str| Machine::from_toml_str(&hermle.replacen("\n[[linear]]", &format!("\n{fields}\n\n[[linear]]"), 1), "t.toml");
+    for (fields, named) in [("contour_tolerance_mm = 11", "`contour_tolerance_mm` = 11"), ("contour_tolerance_deg = -0.1", "`contour_tolerance_deg` = -0.1"), ("contour_tolerance_mm = nan", "`contour_tolerance_mm` = NaN")] {
+        let e = with(fields).unwrap_err().to_string();
+        assert!(e.contains(named) && e.contains("expected a tolerance from 0 to 10"), "{fields}: {e}");
+    }
+    let m = with("contour_tolerance_mm = 10\ncontour_tolerance_deg = 0.5").unwrap();
+    assert!((m.contour_tolerance.linear_m - 0.01).abs() < 1e-15 && (m.contour_tolerance.rotary_rad - 0.5f64.to_radians()).abs() < 1e-15, "{:?}", m.contour_tolerance);
 }

@@ -188,15 +188,15 @@ impl MachineFile {
             ));
         }
         let axes: [Axis; 5] = axes.try_into().map_err(|_| "five axes".to_string())?;
-        let tolerance = |field: &str, value: Option<f64>, unit: f64, default: f64, max: f64| match value {
+        let tolerance = |field: &str, value: Option<f64>, unit: f64, default: f64, max: f64, ok: fn(f64) -> bool| match value {
             None => Ok(default),
-            Some(v) if v.is_finite() && v >= 0.0 && v * unit <= max => Ok(v * unit),
+            Some(v) if ok(v * unit) => Ok(v * unit),
             Some(v) => Err(format!("`{field}` = {v}: expected a tolerance from 0 to {}", max / unit)),
         };
         let (d, m) = (ContourTolerance::DEFAULT, ContourTolerance::MAX);
         let contour_tolerance = ContourTolerance {
-            linear_m: tolerance("contour_tolerance_mm", self.contour_tolerance_mm, MM, d.linear_m, m.linear_m)?,
-            rotary_rad: tolerance("contour_tolerance_deg", self.contour_tolerance_deg, DEG, d.rotary_rad, m.rotary_rad)?,
+            linear_m: tolerance("contour_tolerance_mm", self.contour_tolerance_mm, MM, d.linear_m, m.linear_m, ContourTolerance::linear_ok)?,
+            rotary_rad: tolerance("contour_tolerance_deg", self.contour_tolerance_deg, DEG, d.rotary_rad, m.rotary_rad, ContourTolerance::rotary_ok)?,
         };
         Ok(Machine { name: self.name.clone(), description: self.description.clone(), axes, chain, contour_tolerance })
     }

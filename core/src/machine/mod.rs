@@ -84,6 +84,16 @@ impl ContourTolerance {
 
     /// Largest tolerance a program or machine file may set: 10 mm and 10 deg (cycle 32's input range).
     pub const MAX: ContourTolerance = ContourTolerance { linear_m: 0.01, rotary_rad: 10.0 * std::f64::consts::PI / 180.0 };
+
+    /// True if `v` (m) is a linear tolerance a program or machine file may set: 0 to [`Self::MAX`].
+    pub fn linear_ok(v: f64) -> bool {
+        (0.0..=Self::MAX.linear_m).contains(&v)
+    }
+
+    /// True if `v` (rad) is a rotary tolerance a program or machine file may set: 0 to [`Self::MAX`].
+    pub fn rotary_ok(v: f64) -> bool {
+        (0.0..=Self::MAX.rotary_rad).contains(&v)
+    }
 }
 
 impl Default for ContourTolerance {

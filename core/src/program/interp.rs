@@ -425,7 +425,7 @@ impl Interpreter {
                 Some(w) => {
                     let v = w.value * next.unit;
                     let max = crate::machine::ContourTolerance::MAX.linear_m;
-                    if !(0.0..=max).contains(&v) {
+                    if !crate::machine::ContourTolerance::linear_ok(v) {
                         diags.error(line, w.column, format!("G64 {}{}: the path tolerance must be 0 to {} mm", w.letter, w.raw, max / MM));
                     }
                     super::ProgrammedTolerance { linear_m: Some(v.clamp(0.0, max)), rotary_rad: None }

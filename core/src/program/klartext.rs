@@ -984,11 +984,14 @@ impl Exec {
                 let mut tolerance = if *reset { ProgrammedTolerance::default() } else { interp.tolerance() };
                 let max = ContourTolerance::MAX;
                 // Each part written: its value in SI (from the program's unit, or deg), within 0..=max.
-                let parts = [(linear, "32.1 T", unit, max.linear_m, MM, "mm"), (rotary, "32.2 TA", DEG, max.rotary_rad, DEG, "deg")];
-                let [l, r] = parts.map(|(w, name, to_si, max, shown, shown_name)| {
+                let parts: [(_, _, _, _, _, _, fn(f64) -> bool); 2] = [
+                    (linear, "32.1 T", unit, max.linear_m, MM, "mm", ContourTolerance::linear_ok),
+                    (rotary, "32.2 TA", DEG, max.rotary_rad, DEG, "deg", ContourTolerance::rotary_ok),
+                ];
+                let [l, r] = parts.map(|(w, name, to_si, max, shown, shown_name, ok)| {
                     let w = w.as_ref()?;
                     let v = self.value(w, s.line, diags)? * to_si;
-                    if !(0.0..=max).contains(&v) {
+                    if !ok(v) {
                         diags.error(s.line, w.col, format!("CYCL DEF {name}: {} {shown_name} is outside 0 to {} {shown_name}", v / shown, max / shown));
                         return None;
                     }
