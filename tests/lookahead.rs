@@ -32,6 +32,13 @@ fn tmp(name: &str) -> PathBuf {
     common::scratch_path("lookahead", name)
 }
 
+/// `text` written to the scratch file `name`.
+fn written(name: &str, text: impl AsRef<[u8]>) -> PathBuf {
+    let path = tmp(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
 fn cycle_time(program: &Path, mcap: Option<&Path>) -> f64 {
     cycle_time_with(program, mcap, &[])
 }
@@ -115,13 +122,11 @@ fn sing_with_a_cut_reorientation() -> String {
 
 #[test]
 fn a_reorientation_cut_into_4096_blocks_blends_within_the_axis_limits() {
-    let refined = tmp("refined.I");
-    std::fs::write(&refined, sing_with_a_cut_reorientation()).unwrap();
+    let refined = written("refined.I", sing_with_a_cut_reorientation());
     let blocks = std::fs::read_to_string(&refined).unwrap().lines().filter(|l| l.contains(" A")).count();
     assert!(blocks > 4000, "the program has {blocks} moves");
 
-    let original = tmp("SING.I");
-    std::fs::write(&original, include_str!("../recordings/programs/SING.I")).unwrap();
+    let original = written("SING.I", include_str!("../recordings/programs/SING.I"));
     let mcap = tmp("refined.mcap");
     let t_refined = cycle_time(&refined, Some(&mcap));
     let t_original = cycle_time(&original, None);
@@ -171,11 +176,9 @@ fn sing_with_a_cut_in_pieces(pieces: usize) -> String {
 /// and the independent check finds every axis within its limits.
 #[test]
 fn the_sing_cut_in_axis_linear_pieces_simulates_as_sing() {
-    let original = tmp("SING_for_pieces.I");
-    std::fs::write(&original, include_str!("../recordings/programs/SING.I")).unwrap();
+    let original = written("SING_for_pieces.I", include_str!("../recordings/programs/SING.I"));
     let t_original = cycle_time(&original, None);
-    let cut = tmp("SING_in_pieces.I");
-    std::fs::write(&cut, sing_with_a_cut_in_pieces(20)).unwrap();
+    let cut = written("SING_in_pieces.I", sing_with_a_cut_in_pieces(20));
     let blocks = std::fs::read_to_string(&cut).unwrap().lines().filter(|l| l.starts_with('X')).count();
     assert_eq!(blocks, 1000);
     let mcap = tmp("SING_in_pieces.mcap");
@@ -230,15 +233,12 @@ fn sing_tnc_in_rounded_pieces(tolerance: Option<(f64, f64)>) -> String {
 /// the axis limits by the independent check, and the monitor finds SING's lowest feed limit.
 #[test]
 fn cycle_32_smooths_a_rounded_cut_as_the_tnc_does() {
-    let original = tmp("SING_tnc.h");
-    std::fs::write(&original, include_str!("../recordings/programs/twins/SING_tnc.h")).unwrap();
+    let original = written("SING_tnc.h", include_str!("../recordings/programs/twins/SING_tnc.h"));
     let t_original = cycle_time(&original, None);
-    let rounded = tmp("SING_rounded.h");
-    std::fs::write(&rounded, sing_tnc_in_rounded_pieces(None)).unwrap();
+    let rounded = written("SING_rounded.h", sing_tnc_in_rounded_pieces(None));
     let t_rounded = cycle_time(&rounded, None);
     assert!(t_rounded > 1.2 * t_original, "rounded without a tolerance {t_rounded:.2} s against {t_original:.2} s: the test needs knots at every piece end");
-    let cycle = tmp("SING_rounded_cycle32.h");
-    std::fs::write(&cycle, sing_tnc_in_rounded_pieces(Some((0.02, 0.02)))).unwrap();
+    let cycle = written("SING_rounded_cycle32.h", sing_tnc_in_rounded_pieces(Some((0.02, 0.02))));
     let mcap = tmp("SING_rounded_cycle32.mcap");
     let t_cycle = cycle_time(&cycle, Some(&mcap));
     assert!((t_cycle / t_original - 1.0).abs() <= 0.05, "with cycle 32 {t_cycle:.2} s against SING_tnc.h {t_original:.2} s");
@@ -271,8 +271,7 @@ fn rs274_circle(decimals: usize, blend: &str) -> String {
 #[test]
 fn g64_p_smooths_a_rounded_circle_as_linuxcnc_blends_it() {
     let run = |name: &str, decimals: usize, blend: &str, mcap: Option<&Path>| {
-        let path = tmp(name);
-        std::fs::write(&path, rs274_circle(decimals, blend)).unwrap();
+        let path = written(name, rs274_circle(decimals, blend));
         cycle_time(&path, mcap)
     };
     let exact = run("circle_exact.ngc", 4, "G64", None);
@@ -295,10 +294,8 @@ fn limited(cmd: &str) -> (i32, String) {
 
 #[test]
 fn a_feed_typo_is_refused_with_its_place_inside_500_mb() {
-    let typo = tmp("typo.ngc");
-    std::fs::write(&typo, "G21 G90\nG1 X50 F0.01\nM2\n").unwrap();
-    let zero = tmp("zero.cl");
-    std::fs::write(&zero, "0 0 0 0 0 1 1000\n1 0 0 0 0 1 0\n").unwrap();
+    let typo = written("typo.ngc", "G21 G90\nG1 X50 F0.01\nM2\n");
+    let zero = written("zero.cl", "0 0 0 0 0 1 1000\n1 0 0 0 0 1 0\n");
     let commander = Path::new(bin()).parent().unwrap().join("fiveaxis-commander");
     let mut cases = vec![
         (format!("'{}' program analyze '{}'", bin(), typo.display()), "typo.ngc:2:1"),
@@ -443,8 +440,7 @@ fn smoothed_great_circles_follow_the_surface_orientation() {
 fn the_sing_cut_every_hundredth_of_a_mm_simulates_as_every_mm() {
     let mut times = Vec::new();
     for (name, step) in [("dense", 0.01), ("coarse", 1.0)] {
-        let cl = tmp(&format!("sing_cut_{name}.cl"));
-        std::fs::write(&cl, sing_cut_cl(step)).unwrap();
+        let cl = written(&format!("sing_cut_{name}.cl"), sing_cut_cl(step));
         let mcap = tmp(&format!("sing_cut_{name}.mcap"));
         let out = Command::new(bin()).arg("run").arg(&cl).args(["--orientation", "great-circle", "--json", "--mcap"]).arg(&mcap).output().unwrap();
         assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));

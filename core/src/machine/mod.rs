@@ -67,7 +67,7 @@ pub struct Machine {
 }
 
 /// A control's contour tolerance: how far the path may leave a programmed point that it smooths
-/// away (Heidenhain cycle 32 `T` and `TA`, Sinumerik `CTOL` and `OTOL`). The planner and the monitor
+/// away (Heidenhain cycle 32 `T` and `TA`, LinuxCNC `G64 P/Q`; Sinumerik's `CTOL`/`OTOL` are not read). The planner and the monitor
 /// skip a block end point as a spline knot within it ([`crate::singularity::Knots`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct ContourTolerance {

@@ -52,7 +52,7 @@ pub struct Interpreter {
     pending_vector: Option<[f64; 3]>,
     /// Last programmed absolute value of X Y Z A B C (SI).
     last: [f64; 6],
-    /// The contour tolerance the program set (Heidenhain cycle 32).
+    /// The contour tolerance the program set (Heidenhain cycle 32, LinuxCNC G64 P/Q).
     tolerance: super::ProgrammedTolerance,
 }
 
@@ -177,7 +177,8 @@ impl Interpreter {
         self.datum = datum;
     }
 
-    /// The contour tolerance the program set (Heidenhain cycle 32), for the blocks that follow.
+    /// The contour tolerance the program set (Heidenhain cycle 32, LinuxCNC G64 P/Q), for the blocks
+    /// that follow.
     pub fn tolerance(&self) -> super::ProgrammedTolerance {
         self.tolerance
     }
@@ -419,16 +420,17 @@ impl Interpreter {
         // points, the contour tolerance on the linear axes, program unit; `G64` alone leaves the
         // machine's. (gcodes §G64; interp_convert.cc `convert_control_mode`.)
         if blend_word && self.dialect == Dialect::Rs274 {
-            let merge = words.iter().rev().find(|w| w.letter == 'Q').or_else(|| words.iter().rev().find(|w| w.letter == 'P'));
+            let merge = words.iter().find(|w| w.letter == 'Q').or_else(|| words.iter().find(|w| w.letter == 'P'));
             next.tolerance = match merge {
                 None => super::ProgrammedTolerance::default(),
                 Some(w) => {
+                    // Out of range, the block is refused (and the tolerance before it stays).
                     let v = w.value * next.unit;
-                    let max = crate::machine::ContourTolerance::MAX.linear_m;
                     if !crate::machine::ContourTolerance::linear_ok(v) {
+                        let max = crate::machine::ContourTolerance::MAX.linear_m;
                         diags.error(line, w.column, format!("G64 {}{}: the path tolerance must be 0 to {} mm", w.letter, w.raw, max / MM));
                     }
-                    super::ProgrammedTolerance { linear_m: Some(v.clamp(0.0, max)), rotary_rad: None }
+                    super::ProgrammedTolerance { linear_m: Some(v), rotary_rad: None }
                 }
             };
         }

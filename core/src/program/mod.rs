@@ -319,12 +319,13 @@ pub struct Block {
     /// A dwell (`G4 P`, Sinumerik `G4 F`, Heidenhain `G04 F`, APT `DELAY/`): the machine stands
     /// still this long, s, before the block's motion (LinuxCNC's order of execution: dwell, then motion).
     pub dwell_s: Option<f64>,
-    /// The contour tolerance the program set for this block (Heidenhain cycle 32), if any.
+    /// The contour tolerance the program set for this block (Heidenhain cycle 32, LinuxCNC G64 P/Q), if any.
     #[serde(skip_serializing_if = "ProgrammedTolerance::is_unset")]
     pub tolerance: ProgrammedTolerance,
 }
 
-/// A contour tolerance as a program sets it (Heidenhain `CYCL DEF 32.1 T` and `32.2 TA`): each part
+/// A contour tolerance as a program sets it (Heidenhain `CYCL DEF 32.1 T` and `32.2 TA`, LinuxCNC
+/// `G64 P- <Q->` the linear part): each part
 /// it leaves unset is the machine's ([`crate::machine::Machine::contour_tolerance`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
 pub struct ProgrammedTolerance {
