@@ -1,6 +1,7 @@
 //! NC program readers: the paper's programs, their OCR-damaged copies, RS274NGC, Sinumerik,
 //! Heidenhain conversational and CL data.
 
+use std::path::Path;
 use fiveaxis::program::{read, read_cl, read_heidenhain, read_rs274, Dialect, FeedMode, Motion, Orientation, Program, ReadOptions, Severity};
 use fiveaxis::units::{DEG, MM};
 use proptest::prelude::*;
@@ -487,4 +488,95 @@ proptest! {
         prop_assert!(p.blocks.len() <= 75 + 8 * 9 * 10, "{} blocks", p.blocks.len());
         let _ = plan_sample_analyze(&p);
     }
+}
+
+/// The end points LinuxCNC's own interpreter (`rs274`, Debian 12's linuxcnc-uspace) makes of a program:
+/// its canonical STRAIGHT_FEED/STRAIGHT_TRAVERSE(x, y, z, a, b, c) lines (mm, deg; see make_canon.sh).
+fn linuxcnc_canon(name: &str) -> Vec<(Motion, [f64; 6])> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs/linuxcnc/parameters").join(name);
+    std::fs::read_to_string(&path)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let motion = if l.starts_with("STRAIGHT_FEED(") { Motion::Linear } else { Motion::Rapid };
+            let inner = &l[l.find('(').unwrap() + 1..l.rfind(')').unwrap()];
+            let v: Vec<f64> = inner.split(',').map(|x| x.trim().parse().unwrap()).collect();
+            (motion, [v[0], v[1], v[2], v[3], v[4], v[5]])
+        })
+        .collect()
+}
+
+/// Our reader's end points of every motion block, the axes a block does not write held from before (mm, deg).
+fn end_points(p: &Program) -> Vec<(Motion, [f64; 6])> {
+    let mut at = [0.0; 6];
+    let mut out = Vec::new();
+    for b in p.blocks.iter().filter(|b| !b.targets.is_empty()) {
+        let t = &b.targets;
+        for (k, (v, unit)) in [(t.x, MM), (t.y, MM), (t.z, MM), (t.a, DEG), (t.b, DEG), (t.c, DEG)].into_iter().enumerate() {
+            if let Some(v) = v {
+                at[k] = v / unit;
+            }
+        }
+        out.push((b.motion, at));
+    }
+    out
+}
+
+/// LinuxCNC's parameters and expressions (`#<feed>=1500`, `F#<feed>`, `X[2.0 / 3 * 1.5 - 5.5 / 11.0]`,
+/// `YSIN[30]`, `X##32`, a setting that takes effect after its line) are read to the motion LinuxCNC's
+/// own interpreter makes of them: every operator and function of the manual's §11.4.5-11.4.8 in a
+/// fixture, and the demos `xyzac_switchkins_test_1/2.ngc` that set their feed as `#<FRATE>`.
+#[test]
+fn rs274_evaluates_parameters_and_expressions_as_linuxcnc_does() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs/linuxcnc/parameters");
+    let switchkins = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..Default::default() };
+    for name in ["expressions", "xyzac_switchkins_test_1", "xyzac_switchkins_test_2"] {
+        let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
+        let p = read(&text, Dialect::Rs274, "t.ngc", &switchkins);
+        assert!(errors(&p).is_empty(), "{name}: {:?}", errors(&p));
+        let ours = end_points(&p);
+        let theirs = linuxcnc_canon(&format!("{name}.canon"));
+        assert_eq!(ours.len(), theirs.len(), "{name}: moves");
+        for (k, ((m, a), (n, b))) in ours.iter().zip(&theirs).enumerate() {
+            assert_eq!(m, n, "{name}: move {k}");
+            for i in 0..6 {
+                // rs274 prints 4 decimals.
+                assert!((a[i] - b[i]).abs() <= 0.5e-4 + 1e-9, "{name}: move {k} axis {i}: ours {a:?}, LinuxCNC {b:?}");
+            }
+        }
+        if name != "expressions" {
+            let feeds: Vec<f64> = p.blocks.iter().filter_map(|b| b.feed).map(|f| f.value_per_min).collect();
+            assert!(!feeds.is_empty() && feeds.iter().all(|&f| f == 1000.0), "{name}: F#<FRATE> is 1000 mm/min: {feeds:?}");
+        }
+    }
+}
+
+/// What the reader cannot know is refused where it stands, and a damaged line sets nothing: a named
+/// parameter read before it is set (LinuxCNC's error too), a numbered one (LinuxCNC reads 0, Fanuc
+/// vacant), the machine's state (`#5221`, `#<_x>`), a division by zero, an unclosed bracket.
+#[test]
+fn rs274_refuses_parameters_it_cannot_know() {
+    let body = |line: &str| format!("G21 G90 G94 F1000\n#<a> = 2\n{line}\nG1 X#<a>\nM2\n");
+    for (line, col, what) in [
+        ("G1 X#<b>", 5, "named parameter #<b> is not defined"),
+        ("G1 X#7", 5, "#7 is read before the program sets it"),
+        ("G1 X#5221", 5, "#5221 is a system parameter"),
+        ("G1 X#<_X>", 5, "#<_x> is the interpreter's or the machine's state"),
+        ("G1 X[1/[#<a>-2]]", 7, "division by zero"),
+        ("G1 X[#<a> + 1", 5, "'[' is not closed"),
+        ("G1 XFOO[1]", 5, "unknown function FOO"),
+        ("#5221 = 3", 1, "setting it is not modelled"),
+        ("#<_x> = 3", 1, "read-only"),
+        ("#<a> = [#<a> * 5] G1 X#<nope>", 23, "#<nope> is not defined"),
+        ("#<a>", 1, "expected '='"),
+    ] {
+        let p = read_rs274(&body(line));
+        has(&p, 3, col, what);
+        assert_eq!(errors(&p).len(), 1, "{line}: {:?}", errors(&p));
+        // The damaged line set nothing: #<a> is still 2 on the next line.
+        let b = p.blocks.iter().find(|b| b.line == 4).expect("line 4 is read");
+        assert_eq!(b.targets.x, Some(2.0 * MM), "{line}");
+    }
+    // A plain number still reads as before, and a word without a value is refused as before.
+    has(&read_rs274("G1 X Y5 F100\n"), 1, 4, "expected a number after 'X'");
 }

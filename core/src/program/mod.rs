@@ -10,6 +10,7 @@ mod heidenhain;
 mod interp;
 mod klartext;
 mod lex;
+mod params;
 mod rs274;
 mod sinumerik;
 mod stream;

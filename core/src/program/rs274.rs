@@ -4,10 +4,12 @@
 //! `G43.4`/`G49` tool-centre-point control on/off, Fanuc's `G43.5` with the tool axis as a vector
 //! `I J K`, work offsets the program sets (`G10 L2 Pn`, `G54`-`G59.3`). Codes and words that would
 //! change the motion and are not modelled are errors; machine-specific M codes are read only as
-//! `--m-code` says.
+//! `--m-code` says. LinuxCNC's parameters and expressions (`#<feed>=1000`, `F#<feed>`, `X[#1*2]`,
+//! `XSIN[30]`) are evaluated as its interpreter does ([`super::params`]).
 
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
+use super::params::{check_settable, Parameters, Target};
 use super::{Block, Dialect, MCodeRule, Program};
 
 /// Read an RS274NGC program (no machine-specific M codes).
@@ -34,11 +36,13 @@ pub(crate) struct Rs274Reader {
     started: bool,
     /// The program number (`O1234`), if the program opens with one.
     number: Option<String>,
+    /// The parameters the program has set so far.
+    params: Parameters,
 }
 
 impl Rs274Reader {
     pub(crate) fn new(m_codes: &[MCodeRule], orientation: super::Orientation) -> Self {
-        Rs274Reader { interp: Interpreter::new(Dialect::Rs274).with_m_codes(m_codes).with_orientation(orientation), started: false, number: None }
+        Rs274Reader { interp: Interpreter::new(Dialect::Rs274).with_m_codes(m_codes).with_orientation(orientation), started: false, number: None, params: Parameters::default() }
     }
 }
 
@@ -53,6 +57,8 @@ impl super::stream::LineReader for Rs274Reader {
         let errors_before = diags.errors();
         let mut words: Vec<Word> = Vec::new();
         let mut number = None;
+        // The line's parameter settings: made after every value on the line is read.
+        let mut settings: Vec<(Target, f64, usize)> = Vec::new();
         let mut i = first;
         if chars[i] == '/' {
             diags.warning(line, i + 1, "block delete '/' is not modelled: the block is run");
@@ -72,6 +78,23 @@ impl super::stream::LineReader for Rs274Reader {
                         break;
                     }
                 }
+            } else if c == '#' {
+                match self.params.setting(&chars, i) {
+                    Ok((target, value, end)) => match check_settable(&target, i + 1) {
+                        Ok(()) => {
+                            settings.push((target, value, i + 1));
+                            i = end;
+                        }
+                        Err(e) => {
+                            diags.error(line, e.column, e.message);
+                            break;
+                        }
+                    },
+                    Err(e) => {
+                        diags.error(line, e.column, e.message);
+                        break;
+                    }
+                }
             } else if c.is_ascii_alphabetic() {
                 let letter = c.to_ascii_uppercase();
                 let col = i + 1;
@@ -80,6 +103,23 @@ impl super::stream::LineReader for Rs274Reader {
                     i += 1;
                 }
                 let start = i;
+                if computed_value_at(&chars, start) {
+                    match self.params.real_value(&chars, start) {
+                        Ok((value, end)) => {
+                            i = end;
+                            if letter == 'N' {
+                                diags.error(line, col, "a line number 'N' must be written as a number");
+                            } else {
+                                words.push(Word { letter, value, raw: written(letter, value).into(), column: col, incremental: false });
+                            }
+                        }
+                        Err(e) => {
+                            diags.error(line, e.column, format!("{letter}: {}", e.message));
+                            break;
+                        }
+                    }
+                    continue;
+                }
                 while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.' || ((chars[i] == '+' || chars[i] == '-') && i == start)) {
                     i += 1;
                 }
@@ -113,6 +153,13 @@ impl super::stream::LineReader for Rs274Reader {
                 i = end;
             }
         }
+        if diags.errors() == errors_before {
+            for (target, value, column) in settings {
+                if let Err(e) = self.params.set(target, value, column) {
+                    diags.error(line, e.column, e.message);
+                }
+            }
+        }
         let damaged = diags.errors() > errors_before;
         if damaged {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
@@ -142,4 +189,40 @@ impl super::stream::LineReader for Rs274Reader {
     fn name(&self) -> Option<String> {
         self.number.clone()
     }
+}
+
+/// Whether the value at `chars[i]` is one the parameters evaluate (LinuxCNC `read_real_value`): a
+/// parameter, an expression, a unary function, or a sign before one of those; a plain number is not.
+fn computed_value_at(chars: &[char], i: usize) -> bool {
+    let blank = |mut k: usize| {
+        while chars.get(k).is_some_and(|c| *c == ' ' || *c == '\t') {
+            k += 1;
+        }
+        k
+    };
+    let function = |k: usize| {
+        let end = (k..chars.len()).find(|&e| !chars[e].is_ascii_alphabetic()).unwrap_or(chars.len());
+        end > k && chars.get(blank(end)) == Some(&'[')
+    };
+    match chars.get(i) {
+        Some('#' | '[') => true,
+        Some('+' | '-') => {
+            let k = blank(i + 1);
+            matches!(chars.get(k), Some('#' | '[')) || function(k)
+        }
+        Some(c) if c.is_ascii_alphabetic() => function(i),
+        _ => false,
+    }
+}
+
+/// A computed value as a word's text: G and M codes to their tenth (a code is a whole number or has
+/// one decimal; LinuxCNC takes a value within 0.0001 of it), other words as the shortest exact decimal.
+fn written(letter: char, value: f64) -> String {
+    if matches!(letter, 'G' | 'M') {
+        let tenth = (value * 10.0).round() / 10.0;
+        if (value - tenth).abs() <= 1e-4 {
+            return format!("{tenth}");
+        }
+    }
+    format!("{value}")
 }
