@@ -579,4 +579,10 @@ fn rs274_refuses_parameters_it_cannot_know() {
     }
     // A plain number still reads as before, and a word without a value is refused as before.
     has(&read_rs274("G1 X Y5 F100\n"), 1, 4, "expected a number after 'X'");
+    // LinuxCNC's control flow is refused by name at the O word (LinuxCNC's bridgemill demo loops so).
+    let p = read_rs274("#<n> = 0\no100 while [#<n> lt 3]\n  G1 X#<n> F100\n  #<n> = [#<n> + 1]\n  O100 endwhile\no<probe> call [1]\nM2\n");
+    has(&p, 2, 1, "LinuxCNC O-word 'o100 while'");
+    has(&p, 5, 3, "LinuxCNC O-word 'O100 endwhile'");
+    has(&p, 6, 1, "LinuxCNC O-word 'o<probe> call'");
+    assert_eq!(errors(&p).len(), 3, "{:?}", errors(&p));
 }

@@ -29,7 +29,7 @@ const INTEGER_CLOSE: f64 = 1e-4;
 
 /// LinuxCNC's predefined read-only named parameters (manual §11.4.3.4-11.4.3.5): the interpreter's
 /// and the machine's state, which this reader does not model.
-const PREDEFINED: [&str; 60] = [
+const PREDEFINED: [&str; 56] = [
     "_vmajor", "_vminor", "_line", "_motion_mode", "_plane", "_ccomp", "_metric", "_imperial", "_absolute",
     "_incremental", "_inverse_time", "_units_per_minute", "_units_per_rev", "_coord_system", "_tool_offset",
     "_retract_r_plane", "_retract_old_z", "_spindle_rpm_mode", "_spindle_css_mode", "_ijk_absolute_mode",
@@ -37,7 +37,7 @@ const PREDEFINED: [&str; 60] = [
     "_speed_override", "_feed_override", "_adaptive_feed", "_feed_hold", "_feed", "_rpm", "_x", "_y", "_z",
     "_a", "_b", "_c", "_u", "_v", "_w", "_abs_x", "_abs_y", "_abs_z", "_abs_a", "_abs_b", "_abs_c",
     "_current_tool", "_current_pocket", "_selected_tool", "_selected_pocket", "_value", "_value_returned",
-    "_task", "_call_level", "_remap_level", "_tool_diameter", "_absolute_mode", "_feed_mode", "_spindle",
+    "_task", "_call_level", "_remap_level",
 ];
 
 /// A value that could not be read: where (1-based column) and why.

@@ -55,6 +55,10 @@ impl super::stream::LineReader for Rs274Reader {
             return;
         }
         let errors_before = diags.errors();
+        if let Some(keyword) = o_word_control(&chars[first..]) {
+            diags.error(line, first + 1, format!("LinuxCNC O-word '{keyword}': subroutines, loops and conditions are not read (the motion would depend on them)"));
+            return;
+        }
         let mut words: Vec<Word> = Vec::new();
         let mut number = None;
         // The line's parameter settings: made after every value on the line is read.
@@ -225,4 +229,33 @@ fn written(letter: char, value: f64) -> String {
         }
     }
     format!("{value}")
+}
+
+/// LinuxCNC's O-word control flow at the start of a line (`o100 while [...]`, `o<name> sub`): its
+/// keyword, lower case.
+fn o_word_control(chars: &[char]) -> Option<String> {
+    if !matches!(chars.first(), Some('o' | 'O')) {
+        return None;
+    }
+    let mut i = 1;
+    while chars.get(i).is_some_and(|c| *c == ' ' || *c == '\t') {
+        i += 1;
+    }
+    if chars.get(i) == Some(&'<') {
+        i += chars[i..].iter().position(|&c| c == '>')? + 1;
+    } else {
+        let digits = i;
+        while chars.get(i).is_some_and(|c| c.is_ascii_digit()) {
+            i += 1;
+        }
+        if i == digits {
+            return None;
+        }
+    }
+    while chars.get(i).is_some_and(|c| *c == ' ' || *c == '\t') {
+        i += 1;
+    }
+    let word: String = chars[i..].iter().take_while(|c| c.is_ascii_alphabetic()).flat_map(|c| c.to_lowercase()).collect();
+    const KEYWORDS: [&str; 15] = ["sub", "endsub", "call", "return", "do", "while", "endwhile", "if", "elseif", "else", "endif", "repeat", "endrepeat", "break", "continue"];
+    KEYWORDS.contains(&word.as_str()).then(|| format!("{} {word}", chars[..i].iter().collect::<String>().trim_end()))
 }
