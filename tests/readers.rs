@@ -424,7 +424,21 @@ proptest! {
         }
     }
 
+    /// Expression-shaped noise: LinuxCNC's expressions with brackets, parameters, operators and function
+    /// names cut in or out never panic the reader, and a refused line names a column on it.
+    #[test]
+    fn mutated_expressions_never_panic(cuts in proptest::collection::vec((0usize..3000, proptest::sample::select(EXPRESSION_NOISE.chars().collect::<Vec<_>>())), 0..16)) {
+        let text = mutate(include_str!("../recordings/programs/linuxcnc/parameters/expressions.ngc"), cuts);
+        let p = read_rs274(&text);
+        for d in p.diagnostics.iter() {
+            let line = text.lines().nth(d.line - 1).unwrap_or("");
+            prop_assert!(d.column >= 1 && d.column <= line.chars().count() + 1, "{d:?} on {line:?}");
+        }
+    }
 }
+
+/// Characters of LinuxCNC's expressions, for the mutation test.
+const EXPRESSION_NOISE: &str = "#[]<>=+-*/ .0123456789XYZACFGMOSINTAQRDE_";
 
 /// `original` with the characters at `cuts` (positions taken modulo its length) replaced.
 fn mutate(original: &str, cuts: Vec<(usize, char)>) -> String {
