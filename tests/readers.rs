@@ -599,4 +599,10 @@ fn rs274_refuses_parameters_it_cannot_know() {
     has(&p, 5, 3, "LinuxCNC O-word 'O100 endwhile'");
     has(&p, 6, 1, "LinuxCNC O-word 'o<probe> call'");
     assert_eq!(errors(&p).len(), 3, "{:?}", errors(&p));
+    // Fanuc custom macro B's control flow, likewise by name.
+    let p = read_rs274("#1 = 0\nWHILE [#1 LT 3] DO1\nG1 X#1 F100\n#1 = [#1 + 1]\nEND1\nIF [#1 EQ 3] GOTO 10\nN10 M30\n");
+    has(&p, 2, 1, "Fanuc macro 'WHILE'");
+    has(&p, 5, 1, "Fanuc macro 'END'");
+    has(&p, 6, 1, "Fanuc macro 'IF'");
+    assert_eq!(errors(&p).len(), 3, "{:?}", errors(&p));
 }

@@ -100,6 +100,10 @@ impl super::stream::LineReader for Rs274Reader {
                     }
                 }
             } else if c.is_ascii_alphabetic() {
+                if let Some(word) = macro_control(&chars[i..]) {
+                    diags.error(line, i + 1, format!("Fanuc macro '{word}': control flow (IF, WHILE, GOTO) is not read (the motion would depend on it)"));
+                    break;
+                }
                 let letter = c.to_ascii_uppercase();
                 let col = i + 1;
                 i += 1;
@@ -258,4 +262,11 @@ fn o_word_control(chars: &[char]) -> Option<String> {
     let word: String = chars[i..].iter().take_while(|c| c.is_ascii_alphabetic()).flat_map(|c| c.to_lowercase()).collect();
     const KEYWORDS: [&str; 15] = ["sub", "endsub", "call", "return", "do", "while", "endwhile", "if", "elseif", "else", "endif", "repeat", "endrepeat", "break", "continue"];
     KEYWORDS.contains(&word.as_str()).then(|| format!("{} {word}", chars[..i].iter().collect::<String>().trim_end()))
+}
+
+/// Fanuc custom macro B's control words (`IF [..] GOTO n`, `WHILE [..] DO1`, `END1`) where a word
+/// letter would stand: the word, upper case.
+fn macro_control(chars: &[char]) -> Option<String> {
+    let word: String = chars.iter().take_while(|c| c.is_ascii_alphabetic()).map(|c| c.to_ascii_uppercase()).collect();
+    ["IF", "WHILE", "GOTO", "DO", "END", "THEN"].contains(&word.as_str()).then_some(word)
 }
