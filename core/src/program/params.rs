@@ -181,12 +181,17 @@ impl Parameters {
     }
 }
 
+/// The index of the first character at or after `i` that is not a space or tab.
+pub fn skip_blanks(chars: &[char], mut i: usize) -> usize {
+    while chars.get(i).is_some_and(|c| *c == ' ' || *c == '\t') {
+        i += 1;
+    }
+    i
+}
+
 impl Reader<'_> {
-    fn blank(&self, mut i: usize) -> usize {
-        while self.chars.get(i).is_some_and(|c| *c == ' ' || *c == '\t') {
-            i += 1;
-        }
-        i
+    fn blank(&self, i: usize) -> usize {
+        skip_blanks(self.chars, i)
     }
 
     fn deeper(&mut self, column: usize) -> Result<(), ExprError> {

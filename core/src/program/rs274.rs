@@ -9,7 +9,7 @@
 
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
-use super::params::{check_settable, Parameters, Target};
+use super::params::{check_settable, skip_blanks, Parameters, Target};
 use super::{Block, Dialect, MCodeRule, Program};
 
 /// Read an RS274NGC program (no machine-specific M codes).
@@ -202,12 +202,7 @@ impl super::stream::LineReader for Rs274Reader {
 /// Whether the value at `chars[i]` is one the parameters evaluate (LinuxCNC `read_real_value`): a
 /// parameter, an expression, a unary function, or a sign before one of those; a plain number is not.
 fn computed_value_at(chars: &[char], i: usize) -> bool {
-    let blank = |mut k: usize| {
-        while chars.get(k).is_some_and(|c| *c == ' ' || *c == '\t') {
-            k += 1;
-        }
-        k
-    };
+    let blank = |k: usize| skip_blanks(chars, k);
     let function = |k: usize| {
         let end = (k..chars.len()).find(|&e| !chars[e].is_ascii_alphabetic()).unwrap_or(chars.len());
         end > k && chars.get(blank(end)) == Some(&'[')
@@ -241,10 +236,7 @@ fn o_word_control(chars: &[char]) -> Option<String> {
     if !matches!(chars.first(), Some('o' | 'O')) {
         return None;
     }
-    let mut i = 1;
-    while chars.get(i).is_some_and(|c| *c == ' ' || *c == '\t') {
-        i += 1;
-    }
+    let mut i = skip_blanks(chars, 1);
     if chars.get(i) == Some(&'<') {
         i += chars[i..].iter().position(|&c| c == '>')? + 1;
     } else {
@@ -256,9 +248,7 @@ fn o_word_control(chars: &[char]) -> Option<String> {
             return None;
         }
     }
-    while chars.get(i).is_some_and(|c| *c == ' ' || *c == '\t') {
-        i += 1;
-    }
+    let i = skip_blanks(chars, i);
     let word: String = chars[i..].iter().take_while(|c| c.is_ascii_alphabetic()).flat_map(|c| c.to_lowercase()).collect();
     const KEYWORDS: [&str; 15] = ["sub", "endsub", "call", "return", "do", "while", "endwhile", "if", "elseif", "else", "endif", "repeat", "endrepeat", "break", "continue"];
     KEYWORDS.contains(&word.as_str()).then(|| format!("{} {word}", chars[..i].iter().collect::<String>().trim_end()))
