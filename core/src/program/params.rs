@@ -20,6 +20,8 @@ pub const MAX_USER_PARAMETER: u32 = 5000;
 const MAX_PARAMETER: u32 = 5602;
 /// Most distinct named parameters one program may set (the store stays bounded on any input).
 pub const MAX_NAMED_PARAMETERS: usize = 100_000;
+/// Longest parameter name, characters (LinuxCNC's whole line is 256): with the count above, the store's bound.
+pub const MAX_NAME_CHARS: usize = 256;
 /// Deepest nesting of brackets, functions and `#` in one value (the reader's recursion stays bounded).
 const MAX_DEPTH: usize = 64;
 /// LinuxCNC's `TOLERANCE_EQUAL`: EQ and NE compare within it; the other comparisons are strict.
@@ -367,6 +369,9 @@ impl Reader<'_> {
             if name.is_empty() {
                 return err(j + 1, "'#<>' names no parameter");
             }
+            if name.chars().count() > MAX_NAME_CHARS {
+                return err(j + 1, format!("a parameter name longer than {MAX_NAME_CHARS} characters"));
+            }
             return Ok((Target::Named(name), j + close + 1));
         }
         self.deeper(i + 1)?;
@@ -452,6 +457,8 @@ mod tests {
             assert_eq!(e.column, col, "{s}: {e:?}");
             assert!(e.message.contains(what), "{s}: {e:?}");
         }
+        let long = format!("#<{}>", "n".repeat(MAX_NAME_CHARS + 1));
+        assert!(eval(&p, &long).unwrap_err().message.contains("longer than 256"));
         let deep = format!("{}1{}", "[".repeat(200), "]".repeat(200));
         assert!(eval(&p, &deep).unwrap_err().message.contains("nested more than"));
     }
