@@ -148,16 +148,20 @@ struct Reader<'a> {
 impl Parameters {
     /// Read the real value that starts at `chars[i]` (after blanks): its value and the index after it.
     pub fn real_value(&self, chars: &[char], i: usize) -> Result<(f64, usize), ExprError> {
-        let mut r = Reader { params: self, chars, depth: 0 };
-        let v = r.value(i)?;
-        Ok(v)
+        Reader { params: self, chars, depth: 0 }.value(i)
     }
 
     /// Read the parameter setting `#ref = value` that starts at `chars[i] == '#'`: what it sets, the
     /// value, and the index after it. Nothing is set: the caller sets the line's settings after it.
+    /// A system parameter or the machine's state is refused: this reader does not model them.
     pub fn setting(&self, chars: &[char], i: usize) -> Result<(Target, f64, usize), ExprError> {
         let mut r = Reader { params: self, chars, depth: 0 };
         let (target, j) = r.reference(i)?;
+        match &target {
+            Target::Numbered(n) if *n > MAX_USER_PARAMETER => return err(i + 1, format!("{target} is a system parameter (offsets, tool, position): setting it is not modelled")),
+            Target::Named(n) if is_machine_state(n) => return err(i + 1, format!("{target} is read-only (the interpreter's or the machine's state)")),
+            _ => {}
+        }
         let j = r.blank(j);
         if chars.get(j) != Some(&'=') {
             return err(i + 1, format!("{target} stands alone: expected '=' and a value to set it (or a word letter before it)"));
@@ -392,9 +396,8 @@ impl Reader<'_> {
                 Some(&v) => Ok(v),
                 None => err(column, format!("#{n} is read before the program sets it (LinuxCNC reads 0, a Fanuc control reads it as vacant): not read")),
             },
-            Target::Named(name) if is_machine_state(name) && !self.params.named.contains_key(name) => {
-                err(column, format!("{target} is the interpreter's or the machine's state: not modelled"))
-            }
+            // Never set: a setting refuses them.
+            Target::Named(name) if is_machine_state(name) => err(column, format!("{target} is the interpreter's or the machine's state: not modelled")),
             Target::Named(name) => match self.params.named.get(name) {
                 Some(&v) => Ok(v),
                 None => err(column, format!("named parameter {target} is not defined (read before it is set)")),
@@ -404,17 +407,8 @@ impl Reader<'_> {
 }
 
 /// A predefined named parameter (LinuxCNC's read-only state, INI values or HAL pins).
-pub fn is_machine_state(name: &str) -> bool {
+fn is_machine_state(name: &str) -> bool {
     PREDEFINED.contains(&name) || name.starts_with("_ini[") || name.starts_with("_hal[")
-}
-
-/// Whether a setting may write `target`: not a system parameter, not the machine's state.
-pub fn check_settable(target: &Target, column: usize) -> Result<(), ExprError> {
-    match target {
-        Target::Numbered(n) if *n > MAX_USER_PARAMETER => err(column, format!("{target} is a system parameter (offsets, tool, position): setting it is not modelled")),
-        Target::Named(n) if is_machine_state(n) => err(column, format!("{target} is read-only (the interpreter's or the machine's state)")),
-        _ => Ok(()),
-    }
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@
 
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
-use super::params::{check_settable, skip_blanks, Parameters, Target};
+use super::params::{skip_blanks, Parameters, Target};
 use super::{Block, Dialect, MCodeRule, Program};
 
 /// Read an RS274NGC program (no machine-specific M codes).
@@ -84,16 +84,10 @@ impl super::stream::LineReader for Rs274Reader {
                 }
             } else if c == '#' {
                 match self.params.setting(&chars, i) {
-                    Ok((target, value, end)) => match check_settable(&target, i + 1) {
-                        Ok(()) => {
-                            settings.push((target, value, i + 1));
-                            i = end;
-                        }
-                        Err(e) => {
-                            diags.error(line, e.column, e.message);
-                            break;
-                        }
-                    },
+                    Ok((target, value, end)) => {
+                        settings.push((target, value, i + 1));
+                        i = end;
+                    }
                     Err(e) => {
                         diags.error(line, e.column, e.message);
                         break;
