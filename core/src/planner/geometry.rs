@@ -4,7 +4,7 @@
 use crate::kinematics::{Joints, SinCos};
 use crate::machine::{Machine, AXES};
 use crate::path::{Segment, SegmentKind};
-use crate::singularity::{CubicSpline, Knots};
+use crate::singularity::{Knots, SplineSet};
 use nalgebra::Vector3;
 
 pub use crate::singularity::CORNER_DEG;
@@ -66,8 +66,9 @@ pub struct Run {
 #[derive(Debug, Clone)]
 pub struct Curve<'a> {
     run: &'a Run,
-    /// One spline per axis (or tool tip and rotary axes), all through the same knots.
-    splines: Vec<CubicSpline>,
+    /// One spline per axis (or tool tip and rotary axes), all through the same knots (none for a
+    /// linear run).
+    splines: SplineSet<AXES>,
     /// The knot interval of the last evaluation: the planner evaluates along increasing `s`.
     hint: std::cell::Cell<usize>,
     /// The rotary angles' sines and cosines, which follow the evaluations.
@@ -192,16 +193,12 @@ impl Run {
     pub fn curve(&self, first: usize, last: usize) -> Curve<'_> {
         let last = last.min(self.head.count - 1);
         let end = self.entry(last);
-        let knots: Vec<(f64, Joints)> = self.knots.for_fit(first, last).map(|k| (k.1, k.2)).chain(std::iter::once((end.2, end.0.interpolated(true)))).collect();
-        let xs: Vec<f64> = knots.iter().map(|k| k.0).collect();
         let splines = match self.head.kind {
-            RunKind::Linear => Vec::new(),
-            _ => (0..AXES)
-                .map(|i| {
-                    let ys: Vec<f64> = knots.iter().map(|k| k.1[i]).collect();
-                    CubicSpline::natural(&xs, &ys)
-                })
-                .collect(),
+            RunKind::Linear => SplineSet::default(),
+            _ => {
+                let (xs, ys): (Vec<f64>, Vec<Joints>) = self.knots.for_fit(first, last).map(|k| (k.1, k.2)).chain(std::iter::once((end.2, end.0.interpolated(true)))).unzip();
+                SplineSet::natural(&xs, &ys)
+            }
         };
         Curve { run: self, splines, hint: std::cell::Cell::new(0), turns: Default::default() }
     }
@@ -212,10 +209,9 @@ impl Curve<'_> {
     /// Inlined: returned through memory, the values stalled their caller's loads.
     #[inline(always)]
     fn values(&self, s: f64) -> Joints {
-        let i = self.splines[0].interval(s, self.hint.get());
+        let i = self.splines.interval(s, self.hint.get());
         self.hint.set(i);
-        let w = self.splines[0].basis(i, s);
-        std::array::from_fn(|a| self.splines[a].value_at(&w))
+        self.splines.values_at(&self.splines.basis(i, s))
     }
 
     /// The linear axes that put the tool tip at `tip` with the rotaries at `rot`.

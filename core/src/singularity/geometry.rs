@@ -21,6 +21,33 @@ pub struct CubicSpline {
     m: Vec<f64>,
 }
 
+/// The second derivatives at the knots of the natural cubic spline through `(x, y)` (`x`
+/// increasing): the tridiagonal system of the interior ones by the Thomas algorithm, zero at the ends.
+fn second_derivatives(x: &[f64], y: &[f64]) -> Vec<f64> {
+    let n = x.len();
+    let mut m = vec![0.0; n];
+    if n >= 3 {
+        // Tridiagonal system for the interior second derivatives (Thomas algorithm).
+        let mut c_prime = vec![0.0; n];
+        let mut d_prime = vec![0.0; n];
+        for i in 1..n - 1 {
+            let h0 = x[i] - x[i - 1];
+            let h1 = x[i + 1] - x[i];
+            let a = h0 / 6.0;
+            let b = (h0 + h1) / 3.0;
+            let c = h1 / 6.0;
+            let d = (y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0;
+            let denom = b - a * c_prime[i - 1];
+            c_prime[i] = c / denom;
+            d_prime[i] = (d - a * d_prime[i - 1]) / denom;
+        }
+        for i in (1..n - 1).rev() {
+            m[i] = d_prime[i] - c_prime[i] * m[i + 1];
+        }
+    }
+    m
+}
+
 /// A point on a knot interval of a [`CubicSpline`]: the interval and the weights of its knots'
 /// values and second derivatives.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,27 +71,7 @@ impl CubicSpline {
                 y.push(b);
             }
         }
-        let n = x.len();
-        let mut m = vec![0.0; n];
-        if n >= 3 {
-            // Tridiagonal system for the interior second derivatives (Thomas algorithm).
-            let mut c_prime = vec![0.0; n];
-            let mut d_prime = vec![0.0; n];
-            for i in 1..n - 1 {
-                let h0 = x[i] - x[i - 1];
-                let h1 = x[i + 1] - x[i];
-                let a = h0 / 6.0;
-                let b = (h0 + h1) / 3.0;
-                let c = h1 / 6.0;
-                let d = (y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0;
-                let denom = b - a * c_prime[i - 1];
-                c_prime[i] = c / denom;
-                d_prime[i] = (d - a * d_prime[i - 1]) / denom;
-            }
-            for i in (1..n - 1).rev() {
-                m[i] = d_prime[i] - c_prime[i] * m[i + 1];
-            }
-        }
+        let m = second_derivatives(&x, &y);
         CubicSpline { x, y, m }
     }
 
@@ -144,6 +151,102 @@ impl CubicSpline {
         let d2 = a * m0 + b * m1;
         let d3 = (m1 - m0) / h;
         (d1, d2, d3)
+    }
+}
+
+/// `N` natural cubic splines through the same knots, as the planner's curve and the analysis fit
+/// the axes of one stretch of path: one knot search and one basis serve them all, and each knot's
+/// values and second derivatives lie together. Component `c` is [`CubicSpline::natural`] through
+/// the `c`-th values, to the bit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SplineSet<const N: usize> {
+    /// The first spline of the set: its knots, and the first component's values.
+    first: CubicSpline,
+    /// Per knot, each component's value and second derivative.
+    ym: Vec<[[f64; 2]; N]>,
+}
+
+impl<const N: usize> Default for SplineSet<N> {
+    fn default() -> Self {
+        SplineSet { first: CubicSpline { x: Vec::new(), y: Vec::new(), m: Vec::new() }, ym: Vec::new() }
+    }
+}
+
+impl<const N: usize> SplineSet<N> {
+    /// Fit component `c` through `(xs[k], ys[k][c])`; knots closer than 1e-12 to the previous one
+    /// are dropped (from every component).
+    pub fn natural(xs: &[f64], ys: &[[f64; N]]) -> SplineSet<N> {
+        let mut x = Vec::with_capacity(xs.len());
+        let mut kept: Vec<[f64; N]> = Vec::with_capacity(ys.len());
+        for (&a, b) in xs.iter().zip(ys) {
+            if x.last().is_none_or(|&l: &f64| a - l > 1e-12) {
+                x.push(a);
+                kept.push(*b);
+            }
+        }
+        let mut ym = vec![[[0.0; 2]; N]; x.len()];
+        let mut y = Vec::with_capacity(x.len());
+        for c in 0..N {
+            y.clear();
+            y.extend(kept.iter().map(|v| v[c]));
+            let m = second_derivatives(&x, &y);
+            for (k, e) in ym.iter_mut().enumerate() {
+                e[c] = [y[k], m[k]];
+            }
+        }
+        SplineSet { first: CubicSpline { x, y: Vec::new(), m: Vec::new() }, ym }
+    }
+
+    /// The knot interval of `t` ([`CubicSpline::interval`]).
+    #[inline]
+    pub fn interval(&self, t: f64, hint: usize) -> usize {
+        self.first.interval(t, hint)
+    }
+
+    /// The weights of the knots at `t` on interval `i` ([`CubicSpline::basis`]).
+    #[inline]
+    pub fn basis(&self, i: usize, t: f64) -> SplineBasis {
+        self.first.basis(i, t)
+    }
+
+    /// Every component's value at the point `w` was made for ([`CubicSpline::value_at`]).
+    #[inline(always)]
+    pub fn values_at(&self, w: &SplineBasis) -> [f64; N] {
+        let mut out = [0.0; N];
+        match self.ym.len() {
+            0 => return out,
+            1 => {
+                for (o, e) in out.iter_mut().zip(&self.ym[0]) {
+                    *o = e[0];
+                }
+                return out;
+            }
+            _ => {}
+        }
+        let (i, h) = (w.i, w.h);
+        let (k0, k1) = (&self.ym[i], &self.ym[i + 1]);
+        for c in 0..N {
+            out[c] = w.a * k0[c][0] + w.b * k1[c][0] + (w.a3 * k0[c][1] + w.b3 * k1[c][1]) * h * h / 6.0;
+        }
+        out
+    }
+
+    /// Every component's first, second and third derivative at `t` on interval `i`
+    /// ([`CubicSpline::derivatives_on`]).
+    pub fn derivatives_on(&self, i: usize, t: f64) -> ([f64; N], [f64; N], [f64; N]) {
+        let mut out = ([0.0; N], [0.0; N], [0.0; N]);
+        if self.ym.len() < 2 {
+            return out;
+        }
+        let SplineBasis { a, b, h, .. } = self.basis(i, t);
+        let (k0, k1) = (&self.ym[i], &self.ym[i + 1]);
+        for c in 0..N {
+            let (m0, m1) = (k0[c][1], k1[c][1]);
+            out.0[c] = (k1[c][0] - k0[c][0]) / h - (3.0 * a * a - 1.0) / 6.0 * h * m0 + (3.0 * b * b - 1.0) / 6.0 * h * m1;
+            out.1[c] = a * m0 + b * m1;
+            out.2[c] = (m1 - m0) / h;
+        }
+        out
     }
 }
 
@@ -263,7 +366,7 @@ fn joined(a: &Segment, b: &Segment) -> bool {
 #[derive(Debug, Clone, Default)]
 pub struct PathGeometry {
     /// Segments the current fit serves, and its splines (which share their knots).
-    fit: Option<(std::ops::Range<usize>, [CubicSpline; AXES])>,
+    fit: Option<(std::ops::Range<usize>, SplineSet<AXES>)>,
     /// The knot interval of the last evaluation: samples come in path order.
     hint: usize,
     /// The next segment whose start point is to be decided a knot or not, and the current run's
@@ -288,16 +391,9 @@ impl PathGeometry {
             self.hint = 0;
         }
         let (_, splines) = self.fit.as_ref()?;
-        let k = splines[0].interval(s, self.hint);
+        let k = splines.interval(s, self.hint);
         self.hint = k;
-        let mut out = ([0.0; AXES], [0.0; AXES], [0.0; AXES]);
-        for (i, spline) in splines.iter().enumerate() {
-            let (d1, d2, d3) = spline.derivatives_on(k, s);
-            out.0[i] = d1;
-            out.1[i] = d2;
-            out.2[i] = d3;
-        }
-        Some(out)
+        Some(splines.derivatives_on(k, s))
     }
 
     /// Decide whether segment `j`'s start is a knot (thinned on what the control interpolates, the
@@ -314,7 +410,7 @@ impl PathGeometry {
     }
 
     /// Fit the window for segment `k` (which is in a run).
-    fn fit<I: Iterator<Item = Segment>>(&mut self, k: usize, window: &mut SegmentWindow<I>) -> (std::ops::Range<usize>, [CubicSpline; AXES]) {
+    fn fit<I: Iterator<Item = Segment>>(&mut self, k: usize, window: &mut SegmentWindow<I>) -> (std::ops::Range<usize>, SplineSet<AXES>) {
         let mut lo = k;
         while lo + SPLINE_OVERLAP_BLOCKS > k && lo > 0 && matches!((window.loaded(lo - 1), window.loaded(lo)), (Some(a), Some(b)) if joined(a, b)) {
             lo -= 1;
@@ -342,7 +438,6 @@ impl PathGeometry {
         let (mut xs, mut qs): (Vec<f64>, Vec<[f64; AXES]>) = self.knots.for_fit(k, hi).map(|&(_, x, q)| (x, q)).unzip();
         xs.push(last.s0 + last.length);
         qs.push(last.q1);
-        let splines = std::array::from_fn(|i| CubicSpline::natural(&xs, &qs.iter().map(|q| q[i]).collect::<Vec<_>>()));
-        (k..valid_end, splines)
+        (k..valid_end, SplineSet::natural(&xs, &qs))
     }
 }

@@ -15,7 +15,7 @@ pub mod tracker;
 
 pub use analysis::{analyze, analyze_segments, analyze_segments_along, analyze_segments_each, statuses, Analysis, AnalysisOptions, Region, RegionCause, SegmentInfo, Status, Statuses, StreamCounts, Summary};
 pub use feed::{feed_limit, FeedLimit, FeedLimiter, LimitKind};
-pub use geometry::{CubicSpline, Knots, PathGeometry, SplineBasis, CORNER_DEG, SPLINE_OVERLAP_BLOCKS};
+pub use geometry::{CubicSpline, Knots, PathGeometry, SplineBasis, SplineSet, CORNER_DEG, SPLINE_OVERLAP_BLOCKS};
 
 use nalgebra::Vector3;
 
