@@ -441,3 +441,38 @@ impl PathGeometry {
         (k..valid_end, SplineSet::natural(&xs, &qs))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each component of a [`SplineSet`] is the [`CubicSpline`] through its values, to the bit:
+    /// values and derivatives, with knots closer than 1e-12 dropped, and with 0, 1 and 2 knots.
+    #[test]
+    fn a_set_is_its_splines_to_the_bit() {
+        for n in [0usize, 1, 2, 3, 7, 60] {
+            let mut xs: Vec<f64> = (0..n).map(|k| k as f64 * 1e-3 + (k as f64 * 0.7).sin() * 2e-4).collect();
+            if n > 4 {
+                xs[3] = xs[2] + 1e-13; // dropped
+            }
+            let ys: Vec<[f64; 3]> = (0..n).map(|k| [(k as f64).cos(), 1e-3 * k as f64 * k as f64, -(k as f64 * 0.3).exp()]).collect();
+            let set = SplineSet::natural(&xs, &ys);
+            let one: Vec<CubicSpline> = (0..3).map(|c| CubicSpline::natural(&xs, &ys.iter().map(|y| y[c]).collect::<Vec<_>>())).collect();
+            let end = xs.last().copied().unwrap_or(0.0);
+            let mut hint = 0;
+            for j in 0..=200 {
+                let t = -1e-4 + (end + 2e-4) * j as f64 / 200.0;
+                let i = set.interval(t, hint);
+                hint = i;
+                assert_eq!(i, one[0].interval(t, 0));
+                let v = set.values_at(&set.basis(i, t));
+                let (d1, d2, d3) = set.derivatives_on(i, t);
+                for c in 0..3 {
+                    assert_eq!(v[c].to_bits(), one[c].value(t).to_bits(), "n {n} t {t} c {c}");
+                    let d = if n < 2 { (0.0, 0.0, 0.0) } else { one[c].derivatives_on(i, t) };
+                    assert_eq!([d1[c], d2[c], d3[c]].map(f64::to_bits), [d.0, d.1, d.2].map(f64::to_bits), "n {n} t {t} c {c}");
+                }
+            }
+        }
+    }
+}
