@@ -41,6 +41,9 @@ pub fn main(a: &RunArgs) -> Outcome {
         },
         sim: fiveaxis::live::simulator::SimConfig { max_listed_regions: Some(listed), ..Default::default() },
         monitor: fiveaxis::live::monitor::MonitorConfig { max_listed_regions: listed, ..Default::default() },
+        // The report shows the simulated stream's monitor regions, not the commanded stream's (the
+        // program's analysis is its prediction); a recording holds both streams' statuses.
+        report_only: true,
         ..Default::default()
     };
     let out = match fiveaxis::live::inprocess::run(&a.src.program, &machine, &options) {

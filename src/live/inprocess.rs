@@ -30,6 +30,10 @@ pub struct RunOptions {
     pub keep_statuses: bool,
     /// Keep every simulated sample in [`RunOutput::simulation`] (memory grows with the program).
     pub keep_simulation: bool,
+    /// Evaluate only what the report shows or the recording holds: without a recording or kept
+    /// statuses the monitor takes the commanded stream for its look-ahead only, and
+    /// [`RunOutput::commanded_regions`] stays empty (`fiveaxis run` prints neither).
+    pub report_only: bool,
 }
 
 /// How far (s of commanded time) the in-process commander runs ahead of the simulated machine's place
@@ -141,7 +145,7 @@ pub struct RunOutput {
     /// [`RunOptions::keep_statuses`]).
     pub statuses: Vec<SingularityStatus>,
     pub commanded_statuses: Vec<SingularityStatus>,
-    /// Regions the monitor saw on the commanded stream.
+    /// Regions the monitor saw on the commanded stream (none with [`RunOptions::report_only`]).
     pub commanded_regions: Vec<LiveRegion>,
     /// Messages written to the MCAP recording, if one was asked for.
     pub recorded_messages: Option<u64>,
@@ -347,6 +351,8 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             let builders = [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_SIMULATED].map(|s| StateBuilder::new(machine, s));
             let mut messages: [Option<AxisState>; 2] = [None, None];
             let want_status = tape.is_some() || options.keep_statuses;
+            // The commanded stream's own statuses and regions, unless nothing would show them.
+            let commanded_evaluated = want_status || !options.report_only;
             let mut ids: [Option<crate::live::monitor::InputId>; 2] = [None, None];
             let inputs = rx.into_iter().map(|input| match input {
                 Input::Commanded(b) => (0, b),
@@ -365,6 +371,9 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                     };
                     let topic = if k == 0 {
                         m.on_commanded_ahead(st);
+                        if !commanded_evaluated {
+                            continue;
+                        }
                         topics::COMMANDED_STATE.name
                     } else {
                         topics::SIMULATED_STATE.name
