@@ -42,10 +42,18 @@ impl Stencil {
 /// Largest ratios of finite-difference velocity, acceleration and jerk to the limits, per sample,
 /// for a position sequence `q` at period `t` that is at rest before and after.
 pub fn limit_ratios(q: &[Joints], t: f64, limits: &[AxisLimits; AXES]) -> Vec<[f64; 3]> {
+    let mut out = Vec::with_capacity(q.len());
+    limit_ratios_into(q, t, limits, &mut out);
+    out
+}
+
+/// [`limit_ratios`] into `out` (cleared first), whose allocation a caller reuses.
+pub fn limit_ratios_into(q: &[Joints], t: f64, limits: &[AxisLimits; AXES], out: &mut Vec<[f64; 3]>) {
     let n = q.len();
     let stencil = Stencil::new(t, limits);
     let at = |k: isize| &q[k.clamp(0, n as isize - 1) as usize];
-    (0..n as isize).map(|k| stencil.ratio_at(at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2))).collect()
+    out.clear();
+    out.extend((0..n as isize).map(|k| stencil.ratio_at(at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2))));
 }
 
 /// [`limit_ratios`] over a stream: positions pushed one at a time, the worst ratios kept; five

@@ -30,5 +30,5 @@ pub mod servo;
 mod tee;
 
 pub use geometry::{Run, RunHead, RunScout, CORNER_DEG};
-pub use check::{limit_ratios, LimitCheck};
+pub use check::{limit_ratios, limit_ratios_into, LimitCheck};
 pub use profile::{plan_each, plan_stream, PlanConfig, Planned, PlannedSample, LOOKAHEAD_BLOCKS};

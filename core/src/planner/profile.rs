@@ -3,7 +3,7 @@
 use super::geometry::{Curve, Run, RunScout};
 use std::collections::VecDeque;
 use crate::kinematics::Joints;
-use super::check::limit_ratios;
+use super::check::limit_ratios_into;
 use crate::machine::{AxisLimits, Machine, AXES};
 use crate::path::Segment;
 use crate::singularity::FeedLimiter;
@@ -267,6 +267,8 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
     let mut raw_hist: VecDeque<f64> = std::iter::repeat_n(0.0, w - 1).collect();
     let mut q_hist: Vec<Joints> = Vec::new();
     let mut carry: Vec<f64> = Vec::new();
+    // Scratch of every plan: the filter's prefix sums and the check's ratios.
+    let (mut prefix, mut all): (Vec<f64>, Vec<[f64; 3]>) = (Vec::new(), Vec::new());
     loop {
         // The jerk filter's outputs lag its inputs: the curve must reach back to the oldest input
         // the filter still holds, where this window's first set-points lie; nothing before it (and
@@ -343,18 +345,20 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
         let mut best: Option<(f64, Plan)> = None;
         // The previous iteration's filtered parameters and set-points: lowering the limit curve
         // leaves the plan before the first lowered speed as it was, and its set-points are not
-        // evaluated again.
-        let mut prev: (Vec<f64>, Vec<Joints>) = (Vec::new(), Vec::new());
+        // evaluated again. They are the best plan's when that iteration made the best so far, else
+        // kept here.
+        let mut prev: Option<(Vec<f64>, Vec<Joints>)> = None;
         let mut first_len: Option<usize> = None;
         let (raw, filtered, q, t, v, c, worst, cap) = loop {
             let v = win.speed_profile(&cap, v0);
             let (raw, t, c) = win.sample(&v, tau0, j0, config.period, kc, last);
             // Jerk filter: causal moving average over w samples, at rest at the window's end after it.
-            let full: Vec<f64> = raw_hist.iter().copied().chain(raw.iter().copied()).chain(std::iter::repeat_n(end, w - 1)).collect();
-            let mut prefix = Vec::with_capacity(full.len() + 1);
+            prefix.clear();
             prefix.push(0.0);
-            for x in &full {
-                prefix.push(prefix[prefix.len() - 1] + x);
+            let mut sum = 0.0;
+            for x in raw_hist.iter().chain(&raw).chain(std::iter::repeat_n(&end, w - 1)) {
+                sum += x;
+                prefix.push(sum);
             }
             let outputs = raw.len() + w - 1;
             let mut filtered: Vec<f64> = (0..outputs).map(|i| (prefix[i + w] - prefix[i]) / w as f64).collect();
@@ -366,16 +370,18 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
             // Set-points past what this window commits and checks (and the check's stencil reaches)
             // are the next window's: not evaluated.
             let needed = if last { outputs } else { outputs.min(c + w + 2) };
-            let same = filtered[..needed].iter().zip(&prev.0).take_while(|(a, b)| a.to_bits() == b.to_bits()).count();
-            let reused = same.min(prev.1.len().saturating_sub(q_hist.len()));
-            let q: Vec<Joints> = q_hist
-                .iter()
-                .copied()
-                .chain(prev.1.iter().skip(q_hist.len()).take(reused).copied())
-                .chain(filtered[reused..needed].iter().map(|&x| curve.joints(x, machine)))
-                .collect();
-            prev = (filtered.clone(), q.clone());
-            let all = limit_ratios(&q, config.period, &limits);
+            let (prev_filtered, prev_q): (&[f64], &[Joints]) = match (&prev, &best) {
+                (Some((f, q)), _) => (f, q),
+                (None, Some((_, plan))) => (&plan.1, &plan.2),
+                (None, None) => (&[], &[]),
+            };
+            let same = filtered[..needed].iter().zip(prev_filtered).take_while(|(a, b)| a.to_bits() == b.to_bits()).count();
+            let reused = same.min(prev_q.len().saturating_sub(q_hist.len()));
+            let mut q: Vec<Joints> = Vec::with_capacity(q_hist.len() + needed);
+            q.extend_from_slice(&q_hist);
+            q.extend_from_slice(&prev_q[q_hist.len()..q_hist.len() + reused]);
+            q.extend(filtered[reused..needed].iter().map(|&x| curve.joints(x, machine)));
+            limit_ratios_into(&q, config.period, &limits, &mut all);
             let ratios = &all[q_hist.len()..];
             let keep = if last { outputs } else { c };
             let worst = ratios[..keep].iter().fold([0.0f64; 3], |m, r| [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]);
@@ -399,8 +405,12 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
             if !done {
                 lower(&mut cap, &raw, &v, &ratios[..checked], protected);
             }
-            if let Some(used) = used {
-                best = Some((score, (raw, filtered, q, t, v, c, worst, used)));
+            match used {
+                Some(used) => {
+                    best = Some((score, (raw, filtered, q, t, v, c, worst, used)));
+                    prev = None;
+                }
+                None => prev = Some((filtered, q)),
             }
             if done {
                 let (_, plan) = best.take().expect("a plan: the first iteration always sets one");
