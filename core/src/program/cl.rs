@@ -34,8 +34,38 @@ pub(crate) fn parse_field(f: &str) -> Option<f64> {
 }
 
 /// The fields of a line (separated by commas and white space) with their columns (1-based, in
-/// characters).
-fn split_fields(l: &str) -> impl Iterator<Item = (usize, &str)> {
+/// characters). An ASCII line (a CAM export's) is split by its bytes, where a byte is a column.
+fn split_fields(l: &str) -> Box<dyn Iterator<Item = (usize, &str)> + '_> {
+    if l.is_ascii() {
+        Box::new(split_ascii_fields(l))
+    } else {
+        Box::new(split_char_fields(l))
+    }
+}
+
+/// [`split_fields`] of an ASCII line: the white space of `char::is_whitespace` among ASCII (tab,
+/// line feed, vertical tab, form feed, carriage return, space) and commas separate.
+fn split_ascii_fields(l: &str) -> impl Iterator<Item = (usize, &str)> {
+    let bytes = l.as_bytes();
+    let mut k = 0;
+    std::iter::from_fn(move || {
+        let sep = |b: u8| b == b',' || b == b' ' || (b'\t'..=b'\r').contains(&b);
+        while k < bytes.len() && sep(bytes[k]) {
+            k += 1;
+        }
+        if k == bytes.len() {
+            return None;
+        }
+        let start = k;
+        while k < bytes.len() && !sep(bytes[k]) {
+            k += 1;
+        }
+        Some((start + 1, &l[start..k]))
+    })
+}
+
+/// [`split_fields`] by characters, for a line that is not ASCII.
+fn split_char_fields(l: &str) -> impl Iterator<Item = (usize, &str)> {
     let mut start = None;
     l.char_indices().chain(std::iter::once((l.len(), ' '))).enumerate().filter_map(move |(col, (k, c))| {
         let sep = c == ',' || c.is_whitespace();
@@ -178,6 +208,26 @@ impl super::stream::LineReader for ClReader {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The byte splitter of ASCII lines finds the fields and columns the character splitter finds,
+    /// with every ASCII separator and field character.
+    #[test]
+    fn ascii_lines_split_as_by_characters() {
+        let alphabet = [" ", ",", "\t", "\x0b", "\x0c", "\r", "\n", "1", "-", ".", "e", "x", "#", "\x1c", "\x7f"];
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..20_000 {
+            let mut l = String::new();
+            for _ in 0..(seed % 13) {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                l.push_str(alphabet[(seed % alphabet.len() as u64) as usize]);
+            }
+            let a: Vec<_> = split_ascii_fields(&l).collect();
+            let c: Vec<_> = split_char_fields(&l).collect();
+            assert_eq!(a, c, "{l:?}");
+        }
+    }
 
     #[test]
     fn exponent_notation_is_read_and_non_finite_refused() {
