@@ -24,6 +24,7 @@ impl Stencil {
 
     /// Ratios |v|/v_max, |a|/a_max, |j|/j_max (largest over the axes) at the middle of five
     /// positions `q[k-2..=k+2]`.
+    #[inline(always)]
     fn ratio_at(&self, m2: &Joints, m1: &Joints, p0: &Joints, p1: &Joints, p2: &Joints) -> [f64; 3] {
         let mut r = [0.0f64; 3];
         for i in 0..AXES {
@@ -53,7 +54,16 @@ pub fn limit_ratios_into(q: &[Joints], t: f64, limits: &[AxisLimits; AXES], out:
     let stencil = Stencil::new(t, limits);
     let at = |k: isize| &q[k.clamp(0, n as isize - 1) as usize];
     out.clear();
-    out.extend((0..n as isize).map(|k| stencil.ratio_at(at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2))));
+    out.reserve(n);
+    // The first and last two positions' stencils reach past the ends (held there); the rest are
+    // five neighbours in a row.
+    let edge = n.min(2);
+    out.extend((0..edge as isize).map(|k| stencil.ratio_at(at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2))));
+    if n > 4 {
+        out.extend(q.windows(5).map(|p| stencil.ratio_at(&p[0], &p[1], &p[2], &p[3], &p[4])));
+    }
+    let tail = n.saturating_sub(2).max(edge);
+    out.extend((tail as isize..n as isize).map(|k| stencil.ratio_at(at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2))));
 }
 
 /// [`limit_ratios`] over a stream: positions pushed one at a time, the worst ratios kept; five
