@@ -379,7 +379,7 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
             let reused = same.min(prev_q.len().saturating_sub(q_hist.len()));
             let mut q: Vec<Joints> = Vec::with_capacity(q_hist.len() + needed);
             q.extend_from_slice(&q_hist);
-            q.extend_from_slice(&prev_q[q_hist.len()..q_hist.len() + reused]);
+            q.extend(prev_q.iter().skip(q_hist.len()).take(reused).copied());
             q.extend(filtered[reused..needed].iter().map(|&x| curve.joints(x, machine)));
             limit_ratios_into(&q, config.period, &limits, &mut all);
             let ratios = &all[q_hist.len()..];
