@@ -30,9 +30,11 @@ pub struct RunOptions {
     pub keep_statuses: bool,
     /// Keep every simulated sample in [`RunOutput::simulation`] (memory grows with the program).
     pub keep_simulation: bool,
-    /// Evaluate only what the report shows or the recording holds: without a recording or kept
-    /// statuses the monitor takes the commanded stream for its look-ahead only, and
-    /// [`RunOutput::commanded_regions`] stays empty (`fiveaxis run` prints neither).
+    /// Make only what the report shows or the recording holds: without a recording or kept statuses
+    /// the commander's states are not made (the program's analysis is, along the same reading), so
+    /// the monitor has no commanded stream: no look-ahead (which feeds only the statuses and
+    /// diagnostics nothing keeps then) and [`RunOutput::commanded_regions`] stays empty (`fiveaxis
+    /// run` prints neither).
     pub report_only: bool,
 }
 
@@ -248,9 +250,21 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         let analysis = moves.held().is_some().then(|| scope.spawn(move || moves.report(machine)));
         let tx_cmd = tx.clone();
         let pace = &pace;
+        // The commanded states reach the monitor where something shows or keeps what they feed.
+        let states_wanted = !options.report_only || options.mcap.is_some() || options.keep_statuses;
         let commander = scope.spawn(move || -> Result<(u64, Option<AnalysisReport>), JobError> {
             let mut sent = 0u64;
             let mut batch = Batcher::new(Input::Commanded);
+            // Without states, the commander still keeps its lead on the simulator (the two share
+            // their reading of the program) and says how far it is, as often as a batch would.
+            let mut sampled = 0usize;
+            let mut keep_pace = |t: f64| {
+                Pace::wait(|slack| t > Pace::get(&pace.simulated) + COMMANDER_LEAD_MAX_S - slack);
+                sampled += 1;
+                if sampled % BATCH == 0 {
+                    Pace::set(&pace.commanded, t);
+                }
+            };
             // Publish one state; false once the monitor has gone.
             let mut publish = |st: StateValues| {
                 let t = st.t;
@@ -275,8 +289,11 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                     let mut values = CommandedValues::new(machine, period);
                     let mut publishing = true;
                     let (analysis, counts) = crate::singularity::analyze_segments_along(reader.by_ref(), period, machine, &options.job.analysis, |cur, next, seg| {
-                        if publishing {
+                        if !publishing {
+                        } else if states_wanted {
                             publishing = publish(values.next(cur, next, seg));
+                        } else {
+                            keep_pace(cur.t);
                         }
                     });
                     match reader.failed() {
@@ -351,8 +368,6 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             let builders = [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_SIMULATED].map(|s| StateBuilder::new(machine, s));
             let mut messages: [Option<AxisState>; 2] = [None, None];
             let want_status = tape.is_some() || options.keep_statuses;
-            // The commanded stream's own statuses and regions, unless nothing would show them.
-            let commanded_evaluated = want_status || !options.report_only;
             let mut ids: [Option<crate::live::monitor::InputId>; 2] = [None, None];
             let inputs = rx.into_iter().map(|input| match input {
                 Input::Commanded(b) => (0, b),
@@ -371,9 +386,6 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                     };
                     let topic = if k == 0 {
                         m.on_commanded_ahead(st);
-                        if !commanded_evaluated {
-                            continue;
-                        }
                         topics::COMMANDED_STATE.name
                     } else {
                         topics::SIMULATED_STATE.name
