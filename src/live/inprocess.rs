@@ -368,6 +368,8 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             let builders = [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_SIMULATED].map(|s| StateBuilder::new(machine, s));
             let mut messages: [Option<AxisState>; 2] = [None, None];
             let want_status = tape.is_some() || options.keep_statuses;
+            // Nothing reads an evaluation's feed limit when no status is kept (the report lists regions).
+            m.set_regions_only(options.report_only && !want_status);
             let mut ids: [Option<crate::live::monitor::InputId>; 2] = [None, None];
             let inputs = rx.into_iter().map(|input| match input {
                 Input::Commanded(b) => (0, b),

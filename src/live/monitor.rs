@@ -435,6 +435,8 @@ pub struct Monitor {
     /// Machine streams: where the programmed feed comes from, and the region rule.
     feed_source: FeedSource,
     rule: RegionRule,
+    /// Evaluations of program streams carry no feed limit ([`Monitor::set_regions_only`]).
+    regions_only: bool,
 }
 
 fn vec3(p: &Point) -> Vector3<f64> {
@@ -458,7 +460,17 @@ impl Monitor {
             prev_commanded_axis: None,
             feed_source: FeedSource::Assumed,
             rule: RegionRule::new(config.rate_limit.unwrap_or(limits[secondary].velocity), config.min_distance),
+            regions_only: false,
         }
+    }
+
+    /// For a caller that keeps only the regions and counters (an in-process run's report, which
+    /// records no status): the evaluations of commanded and simulated streams then carry the
+    /// programmed feed as their feed limit, with no limiting axis, instead of seed 002 eq. (5) on
+    /// the divided differences, which nothing would read. Regions, counters and the C speeds are
+    /// the same.
+    pub fn set_regions_only(&mut self, on: bool) {
+        self.regions_only = on;
     }
 
     /// Where machine streams' programmed feed comes from (default [`FeedSource::Assumed`]).
@@ -713,7 +725,11 @@ impl Monitor {
             None => (0.0, 0.0),
         };
         // Seed 002 eq. (5) from divided differences over the last samples along the path.
-        let fl = feed_limit_from_history(&input.history, &self.limiter, st.programmed_feed);
+        let fl = if self.regions_only {
+            (st.programmed_feed, None, LimitKind::Programmed)
+        } else {
+            feed_limit_from_history(&input.history, &self.limiter, st.programmed_feed)
+        };
         let dist = distance(&axis, &self.singular);
         let moving = ds > 1e-12;
         // The region rule ([`RegionTracker`], the same as for machine streams): the motion kind from the
