@@ -105,8 +105,19 @@ impl LimitCheck {
 
     /// The next position.
     pub fn push(&mut self, q: &Joints) {
-        self.last[(self.n % 5) as usize] = *q;
+        let slot = (self.n % 5) as usize;
+        self.last[slot] = *q;
         self.n += 1;
+        if self.n >= 5 {
+            // The stencil of sample n - 3 holds the last five pushed, the oldest in the slot after
+            // this one's (what `measure` reads back, without its clamping).
+            let at = |d: usize| &self.last[(slot + 1 + d) % 5];
+            let r = self.stencil.ratio_at(at(0), at(1), at(2), at(3), at(4));
+            for i in 0..3 {
+                self.worst[i] = self.worst[i].max(r[i]);
+            }
+            return;
+        }
         // The stencil of sample n - 3 is complete (it reaches two ahead).
         if self.n >= 3 {
             self.measure(self.n as i64 - 3);

@@ -268,6 +268,8 @@ struct SegmentEnds {
     all: f64,
     end_time: f64,
     count: usize,
+    /// The last end point's rotary angles and distance: a segment starts where the last ended.
+    last: Option<([u64; 2], f64)>,
 }
 
 impl SegmentEnds {
@@ -278,7 +280,12 @@ impl SegmentEnds {
             return;
         }
         for (q, tip) in [(&seg.q0, seg.tip0), (&seg.q1, seg.tip1)] {
-            let d = distance(&machine.chain.orientation(&[q[3], q[4]]), &self.sd);
+            let key = [q[3].to_bits(), q[4].to_bits()];
+            let d = match self.last {
+                Some((k, d)) if k == key => d,
+                _ => distance(&machine.chain.orientation(&[q[3], q[4]]), &self.sd),
+            };
+            self.last = Some((key, d));
             if self.five_axis.is_none_or(|(m, _)| d < m) {
                 self.five_axis = Some((d, tip));
             }
@@ -312,7 +319,7 @@ fn analyze_stream(
     let mut min_fl: Option<(FeedLimit, Vector3<f64>)> = None;
     let mut last: Option<(Sample, Status, SegmentInfo)> = None;
     let mut n = 0usize;
-    let mut ends = SegmentEnds { sd, five_axis: None, all: f64::INFINITY, end_time: 0.0, count: 0 };
+    let mut ends = SegmentEnds { sd, five_axis: None, all: f64::INFINITY, end_time: 0.0, count: 0, last: None };
     let segments = segments.inspect(|seg| ends.push(seg, machine));
     let mut statuses = Statuses::new(segments, stored, period, machine);
     while let Some((sm, st, info)) = statuses.next() {
