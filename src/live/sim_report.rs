@@ -8,7 +8,7 @@ use super::StateValues;
 use crate::kinematics::Joints;
 use crate::machine::Machine;
 use crate::path::{Segment, SegmentKind, Trajectory};
-use std::sync::Arc;
+use std::rc::Rc;
 use crate::planner::LimitCheck;
 use crate::units::mm_per_min;
 use serde::Serialize;
@@ -402,7 +402,7 @@ pub fn simulate_measured_stream(
     let mut figures = FeedFigures::new(machine, period, config.max_listed_regions.unwrap_or(crate::listing::MAX_LISTED));
     let mut open = true;
     // The segment of the state SimStates hands out (it is one sample behind).
-    let mut take = |out: Option<(SimSample, StateValues, Option<Arc<Segment>>)>, figures: &mut FeedFigures| -> bool {
+    let mut take = |out: Option<(SimSample, StateValues, Option<Rc<Segment>>)>, figures: &mut FeedFigures| -> bool {
         let Some((s, st, seg)) = out else { return open };
         let path_move = seg.as_ref().is_some_and(|g| g.is_path_move() && g.kind != SegmentKind::Rapid);
         figures.push(&(&st).into(), &s.q, s.run, path_move);

@@ -7,7 +7,7 @@ use crate::machine::Machine;
 use crate::path::{Segment, Trajectory};
 use crate::planner::{self, servo, PlanConfig};
 use fiveaxis_msgs::AxisState;
-use std::sync::Arc;
+use std::rc::Rc;
 
 /// Simulator settings.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -77,7 +77,7 @@ pub fn simulate_stream(
     period: f64,
     machine: &Machine,
     config: &SimConfig,
-    mut emit: impl FnMut(SimSample, &Arc<Segment>) -> bool,
+    mut emit: impl FnMut(SimSample, &Rc<Segment>) -> bool,
 ) -> SimSummary {
     let plan_cfg = PlanConfig { period, ..config.plan };
     let cfg = &config.servo;
@@ -87,9 +87,9 @@ pub fn simulate_stream(
     let mut open = true;
     // The segment of the latest set-point, shared by its samples (one copy per segment), and that
     // set-point with its run.
-    let mut current: Option<(usize, Arc<Segment>)> = None;
+    let mut current: Option<(usize, Rc<Segment>)> = None;
     let mut last: Option<(Joints, usize)> = None;
-    let mut push = |s: &mut servo::Servo, u: &Joints, segment: usize, run: usize, seg: &Arc<Segment>| -> bool {
+    let mut push = |s: &mut servo::Servo, u: &Joints, segment: usize, run: usize, seg: &Rc<Segment>| -> bool {
         let q = s.step(u);
         for i in 0..5 {
             let e = (u[i] - q[i]).abs();
@@ -117,7 +117,7 @@ pub fn simulate_stream(
             }
         }
         if current.as_ref().is_none_or(|c| c.0 != p.segment) {
-            current = Some((p.segment, Arc::new(segment.clone())));
+            current = Some((p.segment, Rc::new(segment.clone())));
         }
         last = Some((p.q, p.run));
         push(s, &p.q, p.segment, p.run, &current.as_ref().expect("just set").1)
@@ -170,7 +170,7 @@ struct Held {
     /// The sample's forward kinematics, and its tool tip in program coordinates.
     pose: crate::kinematics::Pose,
     tip: nalgebra::Vector3<f64>,
-    seg: Option<Arc<Segment>>,
+    seg: Option<Rc<Segment>>,
 }
 
 impl Held {
@@ -193,7 +193,7 @@ impl<'a> SimStates<'a> {
         }
     }
 
-    fn held(&mut self, s: SimSample, seg: Option<Arc<Segment>>) -> Held {
+    fn held(&mut self, s: SimSample, seg: Option<Rc<Segment>>) -> Held {
         let datum = seg.as_ref().map_or(nalgebra::Vector3::zeros(), |g| g.datum);
         let turns = [self.turns[0].at(s.q[3]), self.turns[1].at(s.q[4])];
         let pose = self.machine.chain.forward_turns(&s.q, &turns);
@@ -225,7 +225,7 @@ impl<'a> SimStates<'a> {
 
     /// The next sample and its segment; the state of the one before it (its numbers:
     /// [`SimStates::message`] makes the message), if any, with its sample and segment.
-    pub fn push(&mut self, s: SimSample, seg: Option<&Arc<Segment>>) -> Option<(SimSample, StateValues, Option<Arc<Segment>>)> {
+    pub fn push(&mut self, s: SimSample, seg: Option<&Rc<Segment>>) -> Option<(SimSample, StateValues, Option<Rc<Segment>>)> {
         let (prev, cur, next) = ((self.at + 2) % 3, self.at, (self.at + 1) % 3);
         self.ring[next] = Some(self.held(s, seg.cloned()));
         let out = self.ring[cur].as_ref().map(|c| {
@@ -244,7 +244,7 @@ impl<'a> SimStates<'a> {
     }
 
     /// The state of the last sample (the stream's end).
-    pub fn finish(&mut self) -> Option<(SimSample, StateValues, Option<Arc<Segment>>)> {
+    pub fn finish(&mut self) -> Option<(SimSample, StateValues, Option<Rc<Segment>>)> {
         let prev = (self.at + 2) % 3;
         let cur = self.ring[self.at].take()?;
         let st = self.state(self.ring[prev].as_ref(), &cur, None);
@@ -305,12 +305,12 @@ impl Simulation {
         let mut states = SimStates::new(traj.period, machine);
         let mut samples = self.samples();
         // One shared copy of each segment, as the simulation hands them out.
-        let mut current: Option<(usize, Arc<Segment>)> = None;
+        let mut current: Option<(usize, Rc<Segment>)> = None;
         std::iter::from_fn(move || loop {
             match samples.next() {
                 Some(s) => {
                     if current.as_ref().is_none_or(|c| c.0 != s.segment) {
-                        current = traj.segments.get(s.segment).map(|g| (s.segment, Arc::new(g.clone())));
+                        current = traj.segments.get(s.segment).map(|g| (s.segment, Rc::new(g.clone())));
                     }
                     if let Some((_, st, _)) = states.push(s, current.as_ref().map(|c| &c.1)) {
                         return Some(states.message(&st));
