@@ -132,3 +132,35 @@ fn monitor_look_ahead_counts_down_to_the_region() {
     let warned = statuses[..first].iter().filter(|s| s.time_to_next_region > 0.0 && s.time_to_next_region < 1.0).count();
     assert!(warned > 100, "{warned}");
 }
+
+/// `fiveaxis run` makes only what its report shows (`RunOptions::report_only`: no commanded states,
+/// no feed limits in the monitor's evaluations): the report is the full node set's, to the byte, on
+/// the paper's programs, a dwell program and a raster over two look-ahead windows a row.
+#[test]
+fn a_report_only_run_reports_what_the_whole_node_set_does() {
+    let dir = tempfile::tempdir().unwrap();
+    // A raster of 0.01 mm CL poses (benches/long_program.py's surface), 6,000 poses a row.
+    let raster = dir.path().join("raster.cl");
+    let mut text = String::new();
+    for k in 0..14_000 {
+        let (row, i) = (k / 6001, k % 6001);
+        let u = if row % 2 == 0 { i as f64 * 0.01 } else { 60.0 - i as f64 * 0.01 };
+        let (x, y) = (u - 30.0, row as f64 * 0.5 - 10.0);
+        let z = 8.0 * (x / 12.0).sin() * (y / 17.0).cos() - 10.0;
+        let (nx, ny) = (-8.0 / 12.0 * (x / 12.0).cos() * (y / 17.0).cos(), 8.0 / 17.0 * (x / 12.0).sin() * (y / 17.0).sin());
+        let norm = (nx * nx + ny * ny + 1.0f64).sqrt();
+        text += &format!("{x:.4} {y:.4} {z:.4} {:.7} {:.7} {:.7} 2000\n", nx / norm, ny / norm, 1.0 / norm);
+    }
+    std::fs::write(&raster, text).unwrap();
+    let m = Machine::hermle_c600u();
+    let dwell = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc/SING_DWELL.I");
+    for spec in ["bundled:SING.I", "bundled:NON_SING.I", dwell, raster.to_str().unwrap()] {
+        let report = |report_only| {
+            let out = run(spec, &m, &RunOptions { report_only, ..Default::default() }).expect("run");
+            serde_json::to_string(&out.report).unwrap()
+        };
+        let (whole, lean) = (report(false), report(true));
+        assert!(whole.contains("\"monitor_regions\""), "{spec}");
+        assert_eq!(lean, whole, "{spec}");
+    }
+}
