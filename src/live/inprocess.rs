@@ -77,6 +77,12 @@ impl Pace {
             pause = (pause * 2).min(std::time::Duration::from_micros(3200));
         }
     }
+
+    /// The commander at commanded time `t` waits while it is more than [`COMMANDER_LEAD_MAX_S`]
+    /// ahead of the simulator.
+    fn commander_at(&self, t: f64) {
+        Pace::wait(|slack| t > Pace::get(&self.simulated) + COMMANDER_LEAD_MAX_S - slack);
+    }
 }
 
 /// Records the node set's topics in program time (the in-process clock, as with use_sim_time) to a
@@ -245,13 +251,15 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
         reopen_failed.lock().unwrap_or_else(|e| e.into_inner()).get_or_insert(e);
         None
     };
+    // A report-only run that records and keeps nothing makes only what its report shows: no
+    // commanded states (they feed the monitor's look-ahead and commanded statuses, which nothing
+    // keeps then) and no feed limits in the monitor's evaluations (the report lists regions).
+    let lean = options.report_only && options.mcap.is_none() && !options.keep_statuses;
     let (analysis, sim_out, sent, statuses, monitor, tape_result) = std::thread::scope(|scope| {
         // A built-in path's report is made from its held samples, beside the commander.
         let analysis = moves.held().is_some().then(|| scope.spawn(move || moves.report(machine)));
         let tx_cmd = tx.clone();
         let pace = &pace;
-        // The commanded states reach the monitor where something shows or keeps what they feed.
-        let states_wanted = !options.report_only || options.mcap.is_some() || options.keep_statuses;
         let commander = scope.spawn(move || -> Result<(u64, Option<AnalysisReport>), JobError> {
             let mut sent = 0u64;
             let mut batch = Batcher::new(Input::Commanded);
@@ -259,16 +267,16 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             // their reading of the program) and says how far it is, as often as a batch would.
             let mut sampled = 0usize;
             let mut keep_pace = |t: f64| {
-                Pace::wait(|slack| t > Pace::get(&pace.simulated) + COMMANDER_LEAD_MAX_S - slack);
+                pace.commander_at(t);
                 sampled += 1;
-                if sampled % BATCH == 0 {
+                if sampled.is_multiple_of(BATCH) {
                     Pace::set(&pace.commanded, t);
                 }
             };
             // Publish one state; false once the monitor has gone.
             let mut publish = |st: StateValues| {
                 let t = st.t;
-                Pace::wait(|slack| t > Pace::get(&pace.simulated) + COMMANDER_LEAD_MAX_S - slack);
+                pace.commander_at(t);
                 match batch.push(&tx_cmd, st) {
                     None => false,
                     Some(0) => true,
@@ -289,11 +297,10 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
                     let mut values = CommandedValues::new(machine, period);
                     let mut publishing = true;
                     let (analysis, counts) = crate::singularity::analyze_segments_along(reader.by_ref(), period, machine, &options.job.analysis, |cur, next, seg| {
-                        if !publishing {
-                        } else if states_wanted {
-                            publishing = publish(values.next(cur, next, seg));
-                        } else {
-                            keep_pace(cur.t);
+                        match (publishing, lean) {
+                            (false, _) => {}
+                            (true, false) => publishing = publish(values.next(cur, next, seg)),
+                            (true, true) => keep_pace(cur.t),
                         }
                     });
                     match reader.failed() {
@@ -368,8 +375,7 @@ pub fn run(spec: &str, machine: &Machine, options: &RunOptions) -> Result<RunOut
             let builders = [AxisState::SOURCE_COMMANDED, AxisState::SOURCE_SIMULATED].map(|s| StateBuilder::new(machine, s));
             let mut messages: [Option<AxisState>; 2] = [None, None];
             let want_status = tape.is_some() || options.keep_statuses;
-            // Nothing reads an evaluation's feed limit when no status is kept (the report lists regions).
-            m.set_regions_only(options.report_only && !want_status);
+            m.set_regions_only(lean);
             let mut ids: [Option<crate::live::monitor::InputId>; 2] = [None, None];
             let inputs = rx.into_iter().map(|input| match input {
                 Input::Commanded(b) => (0, b),

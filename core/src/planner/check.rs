@@ -98,6 +98,10 @@ impl LimitCheck {
 
     fn measure(&mut self, k: i64) {
         let r = self.stencil.ratio_at(self.at(k - 2), self.at(k - 1), self.at(k), self.at(k + 1), self.at(k + 2));
+        self.keep_worst(r);
+    }
+
+    fn keep_worst(&mut self, r: [f64; 3]) {
         for i in 0..3 {
             self.worst[i] = self.worst[i].max(r[i]);
         }
@@ -113,9 +117,7 @@ impl LimitCheck {
             // this one's (what `measure` reads back, without its clamping).
             let at = |d: usize| &self.last[(slot + 1 + d) % 5];
             let r = self.stencil.ratio_at(at(0), at(1), at(2), at(3), at(4));
-            for i in 0..3 {
-                self.worst[i] = self.worst[i].max(r[i]);
-            }
+            self.keep_worst(r);
             return;
         }
         // The stencil of sample n - 3 is complete (it reaches two ahead).

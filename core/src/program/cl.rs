@@ -35,12 +35,11 @@ pub(crate) fn parse_field(f: &str) -> Option<f64> {
 
 /// The fields of a line (separated by commas and white space) with their columns (1-based, in
 /// characters). An ASCII line (a CAM export's) is split by its bytes, where a byte is a column.
-fn split_fields(l: &str) -> Box<dyn Iterator<Item = (usize, &str)> + '_> {
-    if l.is_ascii() {
-        Box::new(split_ascii_fields(l))
-    } else {
-        Box::new(split_char_fields(l))
-    }
+fn split_fields(l: &str) -> impl Iterator<Item = (usize, &str)> {
+    let ascii = l.is_ascii();
+    let by_bytes = ascii.then(|| split_ascii_fields(l));
+    let by_chars = (!ascii).then(|| split_char_fields(l));
+    by_bytes.into_iter().flatten().chain(by_chars.into_iter().flatten())
 }
 
 /// [`split_fields`] of an ASCII line: the white space of `char::is_whitespace` among ASCII (tab,

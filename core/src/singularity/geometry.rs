@@ -13,13 +13,9 @@ use crate::path::{Segment, SegmentWindow};
 /// simulator's planner, which follows the same curve).
 pub const CORNER_DEG: f64 = 30.0;
 
-/// A natural cubic spline `y(x)` through knots with increasing `x`.
+/// A natural cubic spline `y(x)` through knots with increasing `x`: a [`SplineSet`] of one.
 #[derive(Debug, Clone, PartialEq)]
-pub struct CubicSpline {
-    x: Vec<f64>,
-    y: Vec<f64>,
-    m: Vec<f64>,
-}
+pub struct CubicSpline(SplineSet<1>);
 
 /// The second derivatives at the knots of the natural cubic spline through `(x, y)` (`x`
 /// increasing): the tridiagonal system of the interior ones by the Thomas algorithm, zero at the ends.
@@ -48,7 +44,7 @@ fn second_derivatives(x: &[f64], y: &[f64]) -> Vec<f64> {
     m
 }
 
-/// A point on a knot interval of a [`CubicSpline`]: the interval and the weights of its knots'
+/// A point on a knot interval of a [`SplineSet`]: the interval and the weights of its knots'
 /// values and second derivatives.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SplineBasis {
@@ -63,16 +59,8 @@ pub struct SplineBasis {
 impl CubicSpline {
     /// Fit through `(x, y)`; knots closer than 1e-12 to the previous one are dropped.
     pub fn natural(xs: &[f64], ys: &[f64]) -> CubicSpline {
-        let mut x = Vec::with_capacity(xs.len());
-        let mut y = Vec::with_capacity(ys.len());
-        for (&a, &b) in xs.iter().zip(ys) {
-            if x.last().is_none_or(|&l: &f64| a - l > 1e-12) {
-                x.push(a);
-                y.push(b);
-            }
-        }
-        let m = second_derivatives(&x, &y);
-        CubicSpline { x, y, m }
+        let ys: Vec<[f64; 1]> = ys.iter().map(|&y| [y]).collect();
+        CubicSpline(SplineSet::natural(xs, &ys))
     }
 
     /// Value at `t` (the end values outside the knot range).
@@ -82,27 +70,12 @@ impl CubicSpline {
 
     /// The knots `x`, increasing.
     pub fn knots(&self) -> &[f64] {
-        &self.x
+        &self.0.x
     }
 
-    /// The knot interval [`CubicSpline::value`] evaluates `t` on (0 with fewer than two knots).
-    /// `hint` is a guess (the interval of the previous, nearby `t`): checked first, then the next
-    /// one, then by bisection, so that evaluating along increasing `t` costs O(1) per value.
-    /// Splines fitted through the same knots share their intervals.
+    /// The knot interval [`CubicSpline::value`] evaluates `t` on ([`SplineSet::interval`]).
     pub fn interval(&self, t: f64, hint: usize) -> usize {
-        let n = self.x.len();
-        if n < 2 {
-            return 0;
-        }
-        // Interval i holds t when partition_point(x <= t) - 1, clamped to 0..=n-2, is i.
-        let holds = |i: usize| (i == 0 || self.x[i] <= t) && (i == n - 2 || t < self.x[i + 1]);
-        if hint <= n - 2 && holds(hint) {
-            return hint;
-        }
-        if hint < n - 2 && holds(hint + 1) {
-            return hint + 1;
-        }
-        self.x.partition_point(|&v| v <= t).saturating_sub(1).min(n - 2)
+        self.0.interval(t, hint)
     }
 
     /// Value at `t` on knot interval `i` ([`CubicSpline::interval`]).
@@ -110,29 +83,15 @@ impl CubicSpline {
         self.value_at(&self.basis(i, t))
     }
 
-    /// The weights of the knot values at `t` on knot interval `i`: they depend on the knots only, so
-    /// splines through the same knots share them ([`CubicSpline::value_at`]).
+    /// The weights of the knot values at `t` on knot interval `i` ([`SplineSet::basis`]).
     pub fn basis(&self, i: usize, t: f64) -> SplineBasis {
-        if self.x.len() < 2 {
-            return SplineBasis { i: 0, a: 0.0, b: 0.0, a3: 0.0, b3: 0.0, h: 0.0 };
-        }
-        let h = self.x[i + 1] - self.x[i];
-        let t = t.clamp(self.x[i], self.x[i + 1]);
-        let a = (self.x[i + 1] - t) / h;
-        let b = (t - self.x[i]) / h;
-        SplineBasis { i, a, b, a3: a * a * a - a, b3: b * b * b - b, h }
+        self.0.basis(i, t)
     }
 
     /// Value at the point `w` was made for ([`CubicSpline::basis`] of this spline or of one through
     /// the same knots).
     pub fn value_at(&self, w: &SplineBasis) -> f64 {
-        match self.x.len() {
-            0 => return 0.0,
-            1 => return self.y[0],
-            _ => {}
-        }
-        let (i, h) = (w.i, w.h);
-        w.a * self.y[i] + w.b * self.y[i + 1] + (w.a3 * self.m[i] + w.b3 * self.m[i + 1]) * h * h / 6.0
+        self.0.values_at(w)[0]
     }
 
     /// First, second and third derivative at `t` (clamped to the knot range).
@@ -142,34 +101,21 @@ impl CubicSpline {
 
     /// [`CubicSpline::derivatives`] on knot interval `i` ([`CubicSpline::interval`]).
     pub fn derivatives_on(&self, i: usize, t: f64) -> (f64, f64, f64) {
-        if self.x.len() < 2 {
-            return (0.0, 0.0, 0.0);
-        }
-        let SplineBasis { a, b, h, .. } = self.basis(i, t);
-        let (m0, m1) = (self.m[i], self.m[i + 1]);
-        let d1 = (self.y[i + 1] - self.y[i]) / h - (3.0 * a * a - 1.0) / 6.0 * h * m0 + (3.0 * b * b - 1.0) / 6.0 * h * m1;
-        let d2 = a * m0 + b * m1;
-        let d3 = (m1 - m0) / h;
-        (d1, d2, d3)
+        let (d1, d2, d3) = self.0.derivatives_on(i, t);
+        (d1[0], d2[0], d3[0])
     }
 }
 
 /// `N` natural cubic splines through the same knots, as the planner's curve and the analysis fit
 /// the axes of one stretch of path: one knot search and one basis serve them all, and each knot's
-/// values and second derivatives lie together. Component `c` is [`CubicSpline::natural`] through
-/// the `c`-th values, to the bit.
-#[derive(Debug, Clone, PartialEq)]
+/// values and second derivatives lie together. Component `c` is the [`CubicSpline`] through the
+/// `c`-th values, to the bit.
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct SplineSet<const N: usize> {
-    /// The first spline of the set: its knots, and the first component's values.
-    first: CubicSpline,
+    /// The knots, increasing.
+    x: Vec<f64>,
     /// Per knot, each component's value and second derivative.
     ym: Vec<[[f64; 2]; N]>,
-}
-
-impl<const N: usize> Default for SplineSet<N> {
-    fn default() -> Self {
-        SplineSet { first: CubicSpline { x: Vec::new(), y: Vec::new(), m: Vec::new() }, ym: Vec::new() }
-    }
 }
 
 impl<const N: usize> SplineSet<N> {
@@ -194,22 +140,45 @@ impl<const N: usize> SplineSet<N> {
                 e[c] = [y[k], m[k]];
             }
         }
-        SplineSet { first: CubicSpline { x, y: Vec::new(), m: Vec::new() }, ym }
+        SplineSet { x, ym }
     }
 
-    /// The knot interval of `t` ([`CubicSpline::interval`]).
+    /// The knot interval of `t` (0 with fewer than two knots). `hint` is a guess (the interval of
+    /// the previous, nearby `t`): checked first, then the next one, then by bisection, so that
+    /// evaluating along increasing `t` costs O(1) per value.
     #[inline]
     pub fn interval(&self, t: f64, hint: usize) -> usize {
-        self.first.interval(t, hint)
+        let n = self.x.len();
+        if n < 2 {
+            return 0;
+        }
+        // Interval i holds t when partition_point(x <= t) - 1, clamped to 0..=n-2, is i.
+        let holds = |i: usize| (i == 0 || self.x[i] <= t) && (i == n - 2 || t < self.x[i + 1]);
+        if hint <= n - 2 && holds(hint) {
+            return hint;
+        }
+        if hint < n - 2 && holds(hint + 1) {
+            return hint + 1;
+        }
+        self.x.partition_point(|&v| v <= t).saturating_sub(1).min(n - 2)
     }
 
-    /// The weights of the knots at `t` on interval `i` ([`CubicSpline::basis`]).
+    /// The weights of the knot values at `t` on knot interval `i`: they depend on the knots only, so
+    /// every component (and splines through the same knots) share them.
     #[inline]
     pub fn basis(&self, i: usize, t: f64) -> SplineBasis {
-        self.first.basis(i, t)
+        if self.x.len() < 2 {
+            return SplineBasis { i: 0, a: 0.0, b: 0.0, a3: 0.0, b3: 0.0, h: 0.0 };
+        }
+        let h = self.x[i + 1] - self.x[i];
+        let t = t.clamp(self.x[i], self.x[i + 1]);
+        let a = (self.x[i + 1] - t) / h;
+        let b = (t - self.x[i]) / h;
+        SplineBasis { i, a, b, a3: a * a * a - a, b3: b * b * b - b, h }
     }
 
-    /// Every component's value at the point `w` was made for ([`CubicSpline::value_at`]).
+    /// Every component's value at the point `w` was made for ([`SplineSet::basis`]; the end values
+    /// outside the knot range).
     #[inline(always)]
     pub fn values_at(&self, w: &SplineBasis) -> [f64; N] {
         let mut out = [0.0; N];
@@ -231,8 +200,8 @@ impl<const N: usize> SplineSet<N> {
         out
     }
 
-    /// Every component's first, second and third derivative at `t` on interval `i`
-    /// ([`CubicSpline::derivatives_on`]).
+    /// Every component's first, second and third derivative at `t` on interval `i` (clamped to
+    /// the knot range; zero with fewer than two knots).
     pub fn derivatives_on(&self, i: usize, t: f64) -> ([f64; N], [f64; N], [f64; N]) {
         let mut out = ([0.0; N], [0.0; N], [0.0; N]);
         if self.ym.len() < 2 {
@@ -446,8 +415,9 @@ impl PathGeometry {
 mod tests {
     use super::*;
 
-    /// Each component of a [`SplineSet`] is the [`CubicSpline`] through its values, to the bit:
-    /// values and derivatives, with knots closer than 1e-12 dropped, and with 0, 1 and 2 knots.
+    /// Each component of a [`SplineSet`] is the [`CubicSpline`] (a set of one) through its values,
+    /// to the bit: the interleaved components do not mix. Values and derivatives, with knots closer
+    /// than 1e-12 dropped, and with 0, 1 and 2 knots.
     #[test]
     fn a_set_is_its_splines_to_the_bit() {
         for n in [0usize, 1, 2, 3, 7, 60] {
