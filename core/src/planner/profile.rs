@@ -105,6 +105,17 @@ struct Window {
     h: f64,
     bounds: Vec<AccelBounds>,
     limit: Vec<f64>,
+    /// The curve's derivatives at each grid point, `[q_s, q_ss, q_sss]` (for [`Window::estimate`]).
+    deriv: Vec<[Joints; 3]>,
+}
+
+/// The limits' reciprocals, per axis: velocity, acceleration, jerk.
+struct Reciprocals([[f64; AXES]; 3]);
+
+impl Reciprocals {
+    fn new(limits: &[AxisLimits; AXES]) -> Reciprocals {
+        Reciprocals([limits.map(|l| 1.0 / l.velocity), limits.map(|l| 1.0 / l.acceleration), limits.map(|l| 1.0 / l.jerk)])
+    }
 }
 
 impl Window {
@@ -120,6 +131,7 @@ impl Window {
         let mut b = run.segment_at(ka as f64 * h);
         let mut bounds = Vec::with_capacity(n);
         let mut limit = vec![0.0; n];
+        let mut deriv = Vec::with_capacity(n);
         for r in 0..n {
             let k = ka + r;
             let (m2, m1, p0, p1, p2) = (q[r], q[r + 1], q[r + 2], q[r + 3], q[r + 4]);
@@ -132,11 +144,73 @@ impl Window {
                 qsss[i] = if k < 2 || k + 2 > k_max { 0.0 } else { (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) / (2.0 * h * h * h) };
             }
             bounds.push(AccelBounds::new(&qs, &qss, &limits));
+            deriv.push([qs, qss, qsss]);
             b = run.segment_at_from(b, k as f64 * h);
             let feed = run.feed(b);
             limit[r] = if end || k == kb { 0.0 } else { limiter.limit(feed, &qs, &qss, &qsss).feed };
         }
-        Window { ka, h, bounds, limit }
+        Window { ka, h, bounds, limit, deriv }
+    }
+
+    /// Estimated limit ratios of the set-points at filtered parameters `f`, as [`limit_ratios_into`]
+    /// measures them but without the kinematics of each set-point: the chain rule,
+    /// `q' = q_s s'`, `q'' = q_ss s'^2 + q_s s''`, `q''' = q_sss s'^3 + 3 q_ss s' s'' + q_s s'''`, with
+    /// the grid's derivatives at the nearest grid point and the parameter's own differences at the
+    /// check's stencil (held at the ends).
+    fn estimate(&self, f: &[f64], period: f64, inv: &Reciprocals, out: &mut Vec<[f64; 3]>) {
+        out.clear();
+        let n = f.len();
+        out.reserve(n);
+        let (d1, d2, d3) = (1.0 / (2.0 * period), 1.0 / (period * period), 1.0 / (2.0 * period * period * period));
+        // A window has two grid points or more.
+        let last = self.deriv.len() - 1;
+        debug_assert!(last >= 1);
+        let (origin, per_step) = (self.ka as f64 * self.h, 1.0 / self.h);
+        let [iv, ia, ij] = &inv.0;
+        let ratio = |m2: f64, m1: f64, p0: f64, p1: f64, p2: f64| -> [f64; 3] {
+            let sd = (p1 - m1) * d1;
+            let sdd = (p1 - 2.0 * p0 + m1) * d2;
+            let sddd = (p2 - 2.0 * p1 + 2.0 * m1 - m2) * d3;
+            let (sd2, mixed) = (sd * sd, 3.0 * sd * sdd);
+            let sd3 = sd2 * sd;
+            // The grid point before the parameter (a parameter before the window's start reads its
+            // first): its first two derivatives carried to the parameter by the next one, the third
+            // interpolated to it from the next point's.
+            let x = ((p0 - origin) * per_step).max(0.0);
+            let k = (x as usize).min(last - 1);
+            let u = x - k as f64;
+            let dx = u * self.h;
+            let [qs, qss, qsss] = &self.deriv[k];
+            let qsss_next = &self.deriv[k + 1][2];
+            // Plain comparisons (the values are finite): `f64::max`'s NaN handling costs more than
+            // the products.
+            let big = |a: f64, b: f64| if b > a { b } else { a };
+            let mut r = [0.0f64; 3];
+            for i in 0..AXES {
+                let (qs, qss) = (qs[i] + qss[i] * dx, qss[i] + qsss[i] * dx);
+                let qsss = qsss[i] + (qsss_next[i] - qsss[i]) * u;
+                r[0] = big(r[0], (qs * sd).abs() * iv[i]);
+                r[1] = big(r[1], (qss * sd2 + qs * sdd).abs() * ia[i]);
+                r[2] = big(r[2], (qsss * sd3 + qss * mixed + qs * sddd).abs() * ij[i]);
+            }
+            r
+        };
+        let at = |k: isize| f[k.clamp(0, n as isize - 1) as usize];
+        let edge = n.min(2);
+        out.extend((0..edge as isize).map(|k| ratio(at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2))));
+        if n > 4 {
+            // Every other sample, its ratios standing for the next one's too: a limit is exceeded over
+            // stretches of many samples (the filter's reach), and the check judges every sample.
+            let mut x = [0.0; 3];
+            out.extend(f.windows(5).enumerate().map(|(i, p)| {
+                if i % 2 == 0 {
+                    x = ratio(p[0], p[1], p[2], p[3], p[4]);
+                }
+                x
+            }));
+        }
+        let tail = n.saturating_sub(2).max(edge);
+        out.extend((tail as isize..n as isize).map(|k| ratio(at(k - 2), at(k - 1), at(k), at(k + 1), at(k + 2))));
     }
 
     /// Path speed over the window from `v0` at its start: forward and backward acceleration passes
@@ -235,6 +309,12 @@ fn worst_all(ratios: &[[f64; 3]]) -> f64 {
     ratios.iter().flat_map(|r| r.iter().copied()).fold(0.0, f64::max)
 }
 
+/// No ratio above 1 (rounding on a ratio exactly at its limit, the filter's own jerk bound, is not a
+/// violation).
+fn within_limits(ratios: &[[f64; 3]]) -> bool {
+    ratios.iter().all(|r| r.iter().all(|&x| x <= 1.0 + 1e-9))
+}
+
 /// What planning a run measured.
 #[derive(Debug, Clone, Copy, Default)]
 struct RunStats {
@@ -269,6 +349,7 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
     let mut carry: Vec<f64> = Vec::new();
     // Scratch of every plan: the filter's prefix sums and the check's ratios.
     let (mut prefix, mut all): (Vec<f64>, Vec<[f64; 3]>) = (Vec::new(), Vec::new());
+    let reciprocals = Reciprocals::new(&limits);
     loop {
         // The jerk filter's outputs lag its inputs: the curve must reach back to the oldest input
         // the filter still holds, where this window's first set-points lie; nothing before it (and
@@ -349,6 +430,7 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
         // kept here.
         let mut prev: Option<(Vec<f64>, Vec<Joints>)> = None;
         let mut first_len: Option<usize> = None;
+        let mut estimating = true;
         let (raw, filtered, q, t, v, c, worst, cap) = loop {
             let v = win.speed_profile(&cap, v0);
             let (raw, t, c) = win.sample(&v, tau0, j0, config.period, kc, last);
@@ -375,6 +457,27 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
                 (None, Some((_, plan))) => (&plan.1, &plan.2),
                 (None, None) => (&[], &[]),
             };
+            let first_len = *first_len.get_or_insert(raw.len());
+            let collapsing = raw.len() > 4 * first_len + 16;
+            // The first w outputs of a window that continues committed motion average committed inputs:
+            // lowering this window's limit curve cannot change them (and braking there would put a
+            // step into the path acceleration where the windows meet).
+            let protected = if ka > 0 { w.min(raw.len()) } else { 0 };
+            // Outputs after the commit point (and past the filter's reach into the committed inputs)
+            // are the next window's to plan, with more look-ahead: only what this window commits is checked.
+            let checked = if last { outputs } else { (c + w).min(outputs) };
+            // The first plans of a window are judged on the estimate, and lowered where it exceeds a
+            // limit, until it exceeds none: their set-points are not evaluated. From then on each plan
+            // is evaluated and checked.
+            if estimating && !collapsing && it < config.max_iterations && !raw.is_empty() {
+                win.estimate(&filtered[..needed], config.period, &reciprocals, &mut all);
+                if !within_limits(&all[protected.min(checked)..checked]) {
+                    lower(&mut cap, &raw, &v, &all[..checked], protected);
+                    it += 1;
+                    continue;
+                }
+                estimating = false;
+            }
             let same = filtered[..needed].iter().zip(prev_filtered).take_while(|(a, b)| a.to_bits() == b.to_bits()).count();
             let reused = same.min(prev_q.len().saturating_sub(q_hist.len()));
             let mut q: Vec<Joints> = Vec::with_capacity(q_hist.len() + needed);
@@ -385,20 +488,10 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
             let ratios = &all[q_hist.len()..];
             let keep = if last { outputs } else { c };
             let worst = ratios[..keep].iter().fold([0.0f64; 3], |m, r| [m[0].max(r[0]), m[1].max(r[1]), m[2].max(r[2])]);
-            // Rounding on a ratio exactly at its limit (the filter's own jerk bound) is not a violation.
-            // The first w outputs of a window that continues committed motion average committed inputs:
-            // lowering this window's limit curve cannot change them (and braking there would put a
-            // step into the path acceleration where the windows meet).
-            let protected = if ka > 0 { w.min(raw.len()) } else { 0 };
-            // Outputs after the commit point (and past the filter's reach into the committed inputs)
-            // are the next window's to plan, with more look-ahead: only what this window commits is checked.
-            let checked = if last { ratios.len() } else { (c + w).min(ratios.len()) };
-            let ok = ratios[..checked].iter().skip(protected).all(|r| r.iter().all(|&x| x <= 1.0 + 1e-9));
+            let ok = within_limits(&ratios[protected.min(checked)..checked]);
             // Keep the best plan so far. A violation the committed past causes cannot be lowered
             // away: once lowering has more than quadrupled the window's time, stop with the best.
             let score = worst_all(&ratios[protected.min(checked)..checked]);
-            let first_len = *first_len.get_or_insert(raw.len());
-            let collapsing = raw.len() > 4 * first_len + 16;
             let done = ok || collapsing || it == config.max_iterations || raw.is_empty();
             // The limit curve this plan was made under, before it is lowered for the next.
             let used = best.as_ref().is_none_or(|b| score < b.0).then(|| cap.clone());
@@ -546,4 +639,60 @@ pub fn plan_stream(
         run.skip_rest(&mut source);
     }
     Planned { max_ratio, iterations }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::planner::check::limit_ratios;
+
+    /// A curve with its derivatives in closed form: per axis `a sin(s / l) + b s^2`, m or rad.
+    const CURVE: [(f64, f64, f64); AXES] = [(0.02, 0.004, 0.5), (0.01, 0.0025, -0.3), (0.005, 0.006, 0.0), (0.3, 0.003, 0.0), (0.8, 0.002, 2.0)];
+
+    fn curve(s: f64, d: usize) -> Joints {
+        std::array::from_fn(|i| {
+            let (a, l, b) = CURVE[i];
+            let x = s / l;
+            match d {
+                0 => a * x.sin() + b * s * s,
+                1 => a / l * x.cos() + 2.0 * b * s,
+                2 => -a / (l * l) * x.sin() + 2.0 * b,
+                _ => -a / (l * l * l) * x.cos(),
+            }
+        })
+    }
+
+    /// The estimate of the first plans measures what the check measures on the set-points' own
+    /// kinematics: on a motion along a curve whose derivatives are known, with a path speed that
+    /// swings, every ratio the estimate computes is within 1 % of the finite-difference check's (or
+    /// within 0.001 of it where both are small). The curve turns hard (the C axis 0.8 rad over 2 mm),
+    /// so that a derivative read at the nearest grid point alone would miss by several per cent.
+    #[test]
+    fn the_estimate_measures_what_the_check_measures() {
+        let limits = crate::machine::Machine::hermle_c600u().limits();
+        let (h, period) = (2e-5, 1e-3);
+        let n_grid = 60_000;
+        let deriv: Vec<[Joints; 3]> = (0..n_grid).map(|k| [curve(k as f64 * h, 1), curve(k as f64 * h, 2), curve(k as f64 * h, 3)]).collect();
+        let win = Window { ka: 0, h, bounds: Vec::new(), limit: Vec::new(), deriv };
+        // A path speed of 10-40 mm/s swinging at 2 Hz: the tangential terms matter as much as the
+        // curve's.
+        let s_at = |t: f64| 0.025 * t - 0.015 / (2.0 * std::f64::consts::PI * 2.0) * (2.0 * std::f64::consts::PI * 2.0 * t).sin();
+        let f: Vec<f64> = (0..2000).map(|j| s_at(j as f64 * period)).collect();
+        let q: Vec<Joints> = f.iter().map(|&s| curve(s, 0)).collect();
+        let exact = limit_ratios(&q, period, &limits);
+        let mut estimate = Vec::new();
+        win.estimate(&f, period, &Reciprocals::new(&limits), &mut estimate);
+        assert_eq!(estimate.len(), exact.len());
+        let mut largest = [0.0f64; 3];
+        // Interior samples the estimate computes (every other one from the third).
+        for i in (2..f.len() - 2).step_by(2) {
+            for k in 0..3 {
+                let (e, x) = (estimate[i][k], exact[i][k]);
+                largest[k] = largest[k].max(x);
+                assert!((e - x).abs() <= 0.01 * x.max(0.1), "sample {i}, ratio {k}: estimate {e}, check {x}");
+            }
+        }
+        // The motion asks enough of the axes for the comparison to mean something.
+        assert!(largest.iter().all(|&x| x > 0.3), "{largest:?}");
+    }
 }
