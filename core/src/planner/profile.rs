@@ -378,47 +378,56 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
         // committed part before the window cannot change), never below the braking floor.
         let ka_f = ka as f64 * h;
         let lower = |cap: &mut Vec<f64>, raw: &[f64], v: &[f64], ratios: &[[f64; 3]], protected: usize| {
+            // The spans to lower and their factors, in order of the outputs: both ends of the spans
+            // move forward with the output (the raw parameters grow).
             let mut spans: Vec<(usize, usize, f64)> = Vec::new();
+            let mut last: Option<([f64; 3], f64)> = None;
             for (i, r) in ratios.iter().enumerate().skip(protected) {
                 if r.iter().all(|&x| x <= 1.0) {
                     continue;
                 }
-                let factor = [1.0 / r[0], 1.0 / r[1].sqrt(), 1.0 / r[2].cbrt()].into_iter().fold(1.0f64, f64::min);
+                // The estimate repeats its ratios for the sample after each it computes.
+                let factor = match last {
+                    Some((lr, f)) if lr == *r => f,
+                    _ => [1.0 / r[0], 1.0 / r[1].sqrt(), 1.0 / r[2].cbrt()].into_iter().fold(1.0f64, f64::min),
+                };
+                last = Some((*r, factor));
                 if factor >= 1.0 {
                     continue;
                 }
                 // Output i averages inputs i + 1 - w ..= i: lower them, with half a window each side.
                 let lo = raw[i.saturating_sub(w + w / 2).max(protected).min(raw.len() - 1)];
                 let hi = raw[(i + w / 2).min(raw.len() - 1)];
-                let a = (((lo - ka_f) / h).floor().max(1.0) as usize).min(cap.len() - 1);
-                let b = (((hi - ka_f) / h).ceil().max(1.0) as usize).min(cap.len() - 1);
+                // floor and ceil of the grid positions (`as` truncates, and 0 is where both clamp).
+                let (x_lo, x_hi) = ((lo - ka_f) / h, (hi - ka_f) / h);
+                let (below, above) = (x_lo as usize, (x_hi as usize) + usize::from((x_hi as usize as f64) < x_hi));
+                let a = below.max(1).min(cap.len() - 1);
+                let b = above.max(1).min(cap.len() - 1);
                 spans.push((a, b, factor));
             }
-            // Each grid point is lowered to the smallest factor of the spans over it: the spans in
-            // order of factor each set the points no smaller one has set (skipped by `next`), so a
-            // point is written once however many spans overlap it. The same as lowering span by span
-            // (`min` and `max` commute with the rounding of a product, which is monotone).
-            spans.sort_by(|x, y| x.2.total_cmp(&y.2));
-            let base = spans.iter().map(|s| s.0).min().unwrap_or(0);
-            let top = spans.iter().map(|s| s.1).max().unwrap_or(0);
-            let mut next: Vec<usize> = (base..=top + 1).collect();
-            let find = |next: &mut Vec<usize>, k: usize| {
-                let mut root = k;
-                while next[root - base] != root {
-                    root = next[root - base];
+            // Each grid point is lowered to the smallest factor of the spans over it: a sliding
+            // minimum, the spans entering in order of their starts and leaving in order of their ends.
+            let mut open: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
+            let mut next = 0;
+            let mut k = spans.first().map_or(usize::MAX, |s| s.0);
+            while k < cap.len() && (next < spans.len() || !open.is_empty()) {
+                while next < spans.len() && spans[next].0 <= k {
+                    while open.back().is_some_and(|&j| spans[j].2 >= spans[next].2) {
+                        open.pop_back();
+                    }
+                    open.push_back(next);
+                    next += 1;
                 }
-                let mut x = k;
-                while next[x - base] != root {
-                    x = std::mem::replace(&mut next[x - base], root);
+                while open.front().is_some_and(|&j| spans[j].1 < k) {
+                    open.pop_front();
                 }
-                root
-            };
-            for &(a, b, factor) in &spans {
-                let mut k = find(&mut next, a);
-                while k <= b {
-                    cap[k] = cap[k].max(0.0).min(v[k].max(1e-12) * factor * 0.97).max(floor[k]);
-                    next[k - base] = k + 1;
-                    k = find(&mut next, k + 1);
+                match open.front() {
+                    Some(&j) => {
+                        cap[k] = cap[k].max(0.0).min(v[k].max(1e-12) * spans[j].2 * 0.97).max(floor[k]);
+                        k += 1;
+                    }
+                    // A gap between spans: on to the next one's start.
+                    None => k = spans.get(next).map_or(usize::MAX, |s| s.0),
                 }
             }
         };
