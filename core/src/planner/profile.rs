@@ -88,14 +88,21 @@ impl AccelBounds {
 
     /// Tangential acceleration bounds (min, max) moving at path speed `sqrt(v2)`: the bounds depend
     /// on the speed's square only, so the profile passes run on squared speeds without a root.
+    /// The passes are chains of dependent steps, each waiting on this: the axes' bounds are
+    /// combined pairwise (a minimum is exact in any order) with plain comparisons (nothing here is
+    /// NaN: `p` is finite, `r` finite or infinite).
+    #[inline(always)]
     fn at_sq(&self, v2: f64) -> (f64, f64) {
-        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-        for i in 0..AXES {
-            let c = self.p[i] * v2;
-            hi = hi.min(self.r[i] - c);
-            lo = lo.max(-self.r[i] - c);
-        }
-        (lo, hi)
+        const _: () = assert!(AXES == 5, "the pairwise combination below is written for five axes");
+        let less = |a: f64, b: f64| if b < a { b } else { a };
+        let more = |a: f64, b: f64| if b > a { b } else { a };
+        let c: [f64; AXES] = std::array::from_fn(|i| self.p[i] * v2);
+        let hi: [f64; AXES] = std::array::from_fn(|i| self.r[i] - c[i]);
+        let lo: [f64; AXES] = std::array::from_fn(|i| -self.r[i] - c[i]);
+        (
+            more(more(more(lo[0], lo[1]), more(lo[2], lo[3])), lo[4]),
+            less(less(less(hi[0], hi[1]), less(hi[2], hi[3])), hi[4]),
+        )
     }
 }
 
