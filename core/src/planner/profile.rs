@@ -233,10 +233,14 @@ impl Window {
         let n = cap.len();
         let mut u = vec![0.0; n];
         u[0] = v0 * v0;
+        // Each step waits on the one before: plain comparisons (nothing here is NaN) and `2 h` once
+        // (`2 hi h` and `hi (2 h)` round alike: doubling is exact).
+        let (less, more) = (|a: f64, b: f64| if b < a { b } else { a }, |a: f64, b: f64| if b > a { b } else { a });
+        let two_h = 2.0 * self.h;
         for k in 0..n - 1 {
             let (_, hi) = self.bounds[k].at_sq(u[k]);
             let hi = if hi.is_finite() { hi } else { 1e12 };
-            u[k + 1] = (u[k] + 2.0 * hi * self.h).max(0.0).min(cap[k + 1] * cap[k + 1]);
+            u[k + 1] = less(more(u[k] + hi * two_h, 0.0), cap[k + 1] * cap[k + 1]);
         }
         if stop {
             u[n - 1] = 0.0;
@@ -244,7 +248,7 @@ impl Window {
         for k in (1..n - 1).rev() {
             let (lo, _) = self.bounds[k + 1].at_sq(u[k + 1]);
             let lo = if lo.is_finite() { lo } else { -1e12 };
-            u[k] = u[k].min((u[k + 1] - 2.0 * lo * self.h).max(0.0));
+            u[k] = less(u[k], more(u[k + 1] - lo * two_h, 0.0));
         }
         let mut v: Vec<f64> = u.into_iter().map(f64::sqrt).collect();
         v[0] = v0;
