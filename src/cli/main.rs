@@ -58,6 +58,20 @@ enum Command {
     Demo(demo::DemoArgs),
 }
 
+/// Keep freed memory for reuse instead of handing it back to the kernel and faulting it in again.
+/// `run` streams its states between threads in batches of about 850 KB, and glibc's per-thread
+/// arenas gave each freed one back at once: 24 k page faults on the 1 h benchmark program, 5.5 k
+/// with this, about 2 % of `run`'s time on one core; its peak resident memory 28 MB against 24 MB.
+/// Call before the threads start.
+fn keep_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt only sets the allocator's parameters, under its own lock.
+    unsafe {
+        libc::mallopt(libc::M_TRIM_THRESHOLD, 256 << 20);
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 32 << 20);
+    }
+}
+
 fn main() -> ExitCode {
     // A closed stdout (`fiveaxis ... | head`) ends the process as it ends other Unix tools, by
     // SIGPIPE, instead of a panic in println! (Rust ignores SIGPIPE by default).
@@ -65,17 +79,6 @@ fn main() -> ExitCode {
     // SAFETY: called first in main, before any thread exists; SIG_DFL is a valid action for SIGPIPE.
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
-    }
-    // Freed memory is kept for reuse instead of handed back to the kernel and faulted in again:
-    // `run` streams its states between threads in batches of about 850 KB, and glibc's per-thread
-    // arenas gave each freed one back at once (24 k page faults on the 1 h benchmark program, 5.5 k
-    // with this, about 2 % of `run`'s time on one core). Peak resident memory is still what the
-    // streams hold at once (27 MB for that program against 24 MB).
-    #[cfg(all(target_os = "linux", target_env = "gnu"))]
-    // SAFETY: mallopt only sets the allocator's parameters; called before any thread exists.
-    unsafe {
-        libc::mallopt(libc::M_TRIM_THRESHOLD, 256 << 20);
-        libc::mallopt(libc::M_MMAP_THRESHOLD, 32 << 20);
     }
     // Usage errors exit 2 (clap's own code, the same as bad input).
     let cli = Cli::parse();
