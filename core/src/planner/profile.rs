@@ -79,8 +79,9 @@ impl AccelBounds {
         let mut b = AccelBounds { p: [0.0; AXES], r: [f64::INFINITY; AXES] };
         for i in 0..AXES {
             if qs[i].abs() >= 1e-12 {
-                b.p[i] = qss[i] / qs[i];
-                b.r[i] = limits[i].acceleration / qs[i].abs();
+                let per_qs = 1.0 / qs[i];
+                b.p[i] = qss[i] * per_qs;
+                b.r[i] = limits[i].acceleration * per_qs.abs();
             }
         }
         b
@@ -139,16 +140,19 @@ impl Window {
         let mut bounds = Vec::with_capacity(n);
         let mut limit = vec![0.0; n];
         let mut deriv = Vec::with_capacity(n);
+        // The differences' divisors as factors (a division costs several products; 25 a grid point
+        // were a tenth of the window's making).
+        let (per_h, per_2h, per_h2, per_2h3) = (1.0 / h, 1.0 / (2.0 * h), 1.0 / (h * h), 1.0 / (2.0 * h * h * h));
         for r in 0..n {
             let k = ka + r;
             let (m2, m1, p0, p1, p2) = (q[r], q[r + 1], q[r + 2], q[r + 3], q[r + 4]);
             let end = k == 0 || k == k_max;
-            let span = if end { h } else { 2.0 * h };
+            let per_span = if end { per_h } else { per_2h };
             let (mut qs, mut qss, mut qsss) = ([0.0; AXES], [0.0; AXES], [0.0; AXES]);
             for i in 0..AXES {
-                qs[i] = (p1[i] - m1[i]) / span;
-                qss[i] = if end { 0.0 } else { (p1[i] - 2.0 * p0[i] + m1[i]) / (h * h) };
-                qsss[i] = if k < 2 || k + 2 > k_max { 0.0 } else { (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) / (2.0 * h * h * h) };
+                qs[i] = (p1[i] - m1[i]) * per_span;
+                qss[i] = if end { 0.0 } else { (p1[i] - 2.0 * p0[i] + m1[i]) * per_h2 };
+                qsss[i] = if k < 2 || k + 2 > k_max { 0.0 } else { (p2[i] - 2.0 * p1[i] + 2.0 * m1[i] - m2[i]) * per_2h3 };
             }
             bounds.push(AccelBounds::new(&qs, &qss, &limits));
             deriv.push([qs, qss, qsss]);
