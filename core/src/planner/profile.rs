@@ -117,14 +117,6 @@ struct Window {
     deriv: Vec<[Joints; 3]>,
 }
 
-/// The limits' reciprocals, per axis: velocity, acceleration, jerk.
-struct Reciprocals([[f64; AXES]; 3]);
-
-impl Reciprocals {
-    fn new(limits: &[AxisLimits; AXES]) -> Reciprocals {
-        Reciprocals([limits.map(|l| 1.0 / l.velocity), limits.map(|l| 1.0 / l.acceleration), limits.map(|l| 1.0 / l.jerk)])
-    }
-}
 
 impl Window {
     /// Geometric derivatives by finite differences on the run's grid (one-sided at the run's ends)
@@ -166,9 +158,9 @@ impl Window {
     /// Estimated limit ratios of the set-points at filtered parameters `f`, as [`limit_ratios_into`]
     /// measures them but without the kinematics of each set-point: the chain rule,
     /// `q' = q_s s'`, `q'' = q_ss s'^2 + q_s s''`, `q''' = q_sss s'^3 + 3 q_ss s' s'' + q_s s'''`, with
-    /// the grid's derivatives at the nearest grid point and the parameter's own differences at the
-    /// check's stencil (held at the ends).
-    fn estimate(&self, f: &[f64], period: f64, inv: &Reciprocals, out: &mut Vec<[f64; 3]>) {
+    /// the grid's derivatives carried to the parameter and the parameter's own differences at the
+    /// check's stencil (held at the ends); `limiter` holds the limits' reciprocals.
+    fn estimate(&self, f: &[f64], period: f64, limiter: &FeedLimiter, out: &mut Vec<[f64; 3]>) {
         out.clear();
         let n = f.len();
         out.reserve(n);
@@ -177,7 +169,7 @@ impl Window {
         let last = self.deriv.len() - 1;
         debug_assert!(last >= 1);
         let (origin, per_step) = (self.ka as f64 * self.h, 1.0 / self.h);
-        let [iv, ia, ij] = &inv.0;
+        let [iv, ia, ij] = limiter.reciprocals();
         let ratio = |m2: f64, m1: f64, p0: f64, p1: f64, p2: f64| -> [f64; 3] {
             let sd = (p1 - m1) * d1;
             let sdd = (p1 - 2.0 * p0 + m1) * d2;
@@ -364,7 +356,6 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
     let mut carry: Vec<f64> = Vec::new();
     // Scratch of every plan: the filter's prefix sums and the check's ratios.
     let (mut prefix, mut all): (Vec<f64>, Vec<[f64; 3]>) = (Vec::new(), Vec::new());
-    let reciprocals = Reciprocals::new(&limits);
     loop {
         // The jerk filter's outputs lag its inputs: the curve must reach back to the oldest input
         // the filter still holds, where this window's first set-points lie; nothing before it (and
@@ -494,7 +485,7 @@ fn plan_run(run: &mut Run, source: &mut dyn Iterator<Item = Segment>, machine: &
             // limit, until it exceeds none: their set-points are not evaluated. From then on each plan
             // is evaluated and checked.
             if estimating && !collapsing && it < config.max_iterations && !raw.is_empty() {
-                win.estimate(&filtered[..needed], config.period, &reciprocals, &mut all);
+                win.estimate(&filtered[..needed], config.period, limiter, &mut all);
                 if !within_limits(&all[protected.min(checked)..checked]) {
                     lower(&mut cap, &raw, &v, &all[..checked], protected);
                     it += 1;
@@ -705,7 +696,7 @@ mod tests {
         let q: Vec<Joints> = f.iter().map(|&s| curve(s, 0)).collect();
         let exact = limit_ratios(&q, period, &limits);
         let mut estimate = Vec::new();
-        win.estimate(&f, period, &Reciprocals::new(&limits), &mut estimate);
+        win.estimate(&f, period, &FeedLimiter::new(&limits), &mut estimate);
         assert_eq!(estimate.len(), exact.len());
         let mut largest = [0.0f64; 3];
         // Interior samples the estimate computes (every other one from the third).

@@ -71,6 +71,12 @@ impl FeedLimiter {
         }
     }
 
+    /// The limits' reciprocals per axis, `[1/v_max, 1/a_max, 1/j_max]` (the planner's estimate of its
+    /// check reads them too).
+    pub fn reciprocals(&self) -> [&[f64; AXES]; 3] {
+        [&self.inv_v, &self.inv_a, &self.inv_j]
+    }
+
     /// The feed limit and the limiting axis (see [`feed_limit`]).
     #[inline]
     pub fn limit(&self, f_prog: f64, q_s: &[f64; AXES], q_ss: &[f64; AXES], q_sss: &[f64; AXES]) -> FeedLimit {
