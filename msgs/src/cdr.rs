@@ -141,9 +141,30 @@ impl<'a> CdrReader<'a> {
             if k == out.len() {
                 out.push(String::new());
             }
+            // A stream repeats its joint names: one that is the name already held is stepped over.
+            if let Some(end) = self.repeated_string(out[k].as_bytes(), MAX_NAME_BYTES + 1) {
+                self.pos = end;
+                continue;
+            }
             self.bounded_string_into(field, &mut out[k], MAX_NAME_BYTES + 1, "a joint name longer than 256 bytes (MAX_NAME_BYTES)")?;
         }
         Ok(())
+    }
+
+    /// Where the string at the cursor ends if it is `held` (its count, within `max`, and its bytes;
+    /// the terminator is not read, as [`CdrReader::bounded_string_into`] drops it unread): what that
+    /// reading would accept without a change, found in one comparison. None for anything else,
+    /// which the full reading then takes (and refuses where it must).
+    #[inline]
+    fn repeated_string(&self, held: &[u8], max: usize) -> Option<usize> {
+        let start = self.pos.next_multiple_of(4);
+        let count: [u8; 4] = self.body.get(start..start + 4)?.try_into().ok()?;
+        let count = if self.big_endian { u32::from_be_bytes(count) } else { u32::from_le_bytes(count) } as usize;
+        let end = start + 4 + count;
+        if count != held.len() + 1 || count > max || end > self.body.len() {
+            return None;
+        }
+        (self.body[start + 4..end - 1] == *held).then_some(end)
     }
 
     /// The joint values of a state message into `out`, reusing its buffer: at most [`MAX_JOINTS`].
@@ -158,11 +179,13 @@ impl<'a> CdrReader<'a> {
             .body
             .get(start..start + 8 * n)
             .ok_or(CdrError { offset: 4 + start, field, reason: "message ends inside the sequence" })?;
-        let be = self.big_endian;
-        out.extend(bytes.chunks_exact(8).map(|b| {
-            let b: [u8; 8] = b.try_into().expect("8 bytes");
-            if be { f64::from_be_bytes(b) } else { f64::from_le_bytes(b) }
-        }));
+        // The byte order chosen once for the sequence, not per value.
+        let values = bytes.chunks_exact(8).map(|b| -> [u8; 8] { b.try_into().expect("8 bytes") });
+        if self.big_endian {
+            out.extend(values.map(f64::from_be_bytes));
+        } else {
+            out.extend(values.map(f64::from_le_bytes));
+        }
         self.pos = start + 8 * n;
         Ok(())
     }
