@@ -164,7 +164,7 @@ impl<'a> CdrReader<'a> {
         if count != held.len() + 1 || count > max || end > self.body.len() {
             return None;
         }
-        (self.body[start + 4..end - 1] == *held).then_some(end)
+        same_bytes(&self.body[start + 4..end - 1], held).then_some(end)
     }
 
     /// The joint values of a state message into `out`, reusing its buffer: at most [`MAX_JOINTS`].
