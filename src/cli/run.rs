@@ -28,7 +28,7 @@ pub struct RunArgs {
 pub fn main(a: &RunArgs) -> Outcome {
     // A report-only run streams states between its threads and keeps nothing: freed batches are
     // reused (a recording's writer frees and reallocates its chunks: kept, they would add to its
-    // resident memory, 44 MB against 26 MB for the 1 h benchmark program).
+    // resident memory, 44 MB against 42 MB for the 1 h benchmark program).
     if a.mcap.is_none() && a.rrd.is_none() {
         crate::keep_freed_memory();
     }

@@ -129,7 +129,6 @@ struct Window {
     deriv: Vec<[Joints; 3]>,
 }
 
-
 impl Window {
     /// Geometric derivatives by finite differences on the run's grid (one-sided at the run's ends)
     /// and the seed 002 eq. (5) velocity-limit curve, zero at the run's ends and at the window's end.
