@@ -148,6 +148,8 @@ pub fn analyze_mcap_with_progress(
 ) -> Result<OfflineReport, RecordError> {
     let mut monitor = Monitor::new(machine, options.monitor);
     monitor.set_feed_source(options.feed_source.clone());
+    // The report keeps regions, counters, C speeds and distances, never a sample's feed limit.
+    monitor.set_regions_only(true);
     let mut report = OfflineReport {
         file: path.display().to_string(),
         machine: machine.name.clone(),

@@ -183,8 +183,10 @@ impl TwoRotaryChain {
         // Eq. (5) as printed: the rate about a2 of the tool axis' component across it.
         let mut rate = axis_rate.dot(&w) / w2;
         let delta = a2.dot(&o);
-        let alpha = (a1.dot(&a2) - delta * a1.dot(&self.tool_axis)) / w2;
-        if alpha != 0.0 {
+        // alpha's numerator first: zero on the orthogonal machines, which then skip a division.
+        let alpha_w2 = a1.dot(&a2) - delta * a1.dot(&self.tool_axis);
+        if alpha_w2 != 0.0 {
+            let alpha = alpha_w2 / w2;
             let beta = (a1.dot(&self.tool_axis) - delta * a1.dot(&a2)) / w2;
             let g2w = 1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * delta; // gamma^2 |w|^2
             if g2w <= POLE * POLE {

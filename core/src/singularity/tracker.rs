@@ -121,15 +121,16 @@ pub struct RegionTracker {
 }
 
 impl RegionTracker {
-    /// Take one sample; returns the verdict and a region that just closed.
-    pub fn push(&mut self, rule: &RegionRule, x: &RuleSample) -> (Verdict, Option<TrackedRegion>) {
+    /// Take one sample; returns the verdict and a region that just closed (boxed: the return per
+    /// sample stays small, the rare closed region takes the allocation).
+    pub fn push(&mut self, rule: &RegionRule, x: &RuleSample) -> (Verdict, Option<Box<TrackedRegion>>) {
         let moving = matches!(x.motion, Motion::Feed | Motion::Rotary);
         let speed = moving && x.predicted.is_some_and(|p| p.abs() > rule.rate_limit);
         let close = x.motion == Motion::Feed && rule.min_distance.is_some_and(|d| x.distance < d);
         let beyond = speed || close;
         let mut closed = None;
         if self.open.as_ref().is_some_and(|r| x.motion == Motion::Rapid || (moving && x.motion != r.kind)) {
-            closed = self.open.take();
+            closed = self.open.take().map(Box::new);
         }
         if beyond {
             if self.open.is_none() {
@@ -180,7 +181,7 @@ impl RegionTracker {
                 r.gap_lost += lost;
                 r.gap_min_feed = r.gap_min_feed.min(x.path_feed);
                 if r.gap >= rule.min_gap {
-                    closed = self.open.take();
+                    closed = self.open.take().map(Box::new);
                 }
             }
         }
