@@ -202,7 +202,54 @@ impl<'a> CdrReader<'a> {
     fn xyz(&mut self, field: &'static str) -> Result<[f64; 3], CdrError> {
         Ok([self.f64(field)?, self.f64(field)?, self.f64(field)?])
     }
+
+    /// The `N` bytes from the next multiple of 8 if the message holds them (the cursor moved past
+    /// them), else None with the cursor unmoved: a run of fields laid out from an 8-byte boundary,
+    /// read with one bounds check.
+    #[inline]
+    fn block8<const N: usize>(&mut self) -> Option<&'a [u8; N]> {
+        let start = self.pos.next_multiple_of(8);
+        let block = self.body.get(start..start.checked_add(N)?)?.try_into().ok()?;
+        self.pos = start + N;
+        Some(block)
+    }
 }
+
+/// Little- or big-endian values at fixed offsets of a block read by [`CdrReader::block8`].
+struct Fixed<'b, const N: usize> {
+    bytes: &'b [u8; N],
+    big_endian: bool,
+}
+
+impl<const N: usize> Fixed<'_, N> {
+    #[inline]
+    fn word<const W: usize>(&self, at: usize) -> [u8; W] {
+        let mut w = [0; W];
+        w.copy_from_slice(&self.bytes[at..at + W]);
+        w
+    }
+    #[inline]
+    fn f64(&self, at: usize) -> f64 {
+        let b = self.word::<8>(at);
+        if self.big_endian { f64::from_be_bytes(b) } else { f64::from_le_bytes(b) }
+    }
+    #[inline]
+    fn i64(&self, at: usize) -> i64 {
+        let b = self.word::<8>(at);
+        if self.big_endian { i64::from_be_bytes(b) } else { i64::from_le_bytes(b) }
+    }
+    #[inline]
+    fn u32(&self, at: usize) -> u32 {
+        let b = self.word::<4>(at);
+        if self.big_endian { u32::from_be_bytes(b) } else { u32::from_le_bytes(b) }
+    }
+}
+
+/// AxisState's fields after the acceleration sequence, from the 8-byte boundary where its tool tip
+/// starts: tool_tip (0), tool_axis (24), programmed_feed (48), path_feed (56), program_line (64, u32),
+/// 4 bytes of padding, block_number (72, i64), motion (80, u8). CDR aligns each to its size relative
+/// to the body, so from an 8-byte boundary these offsets are the sequential reading's.
+const AXIS_STATE_TAIL: usize = 81;
 
 impl AxisState {
     /// Decode a CDR message (with its encapsulation header) into `self`, reusing its buffers. On
@@ -215,6 +262,20 @@ impl AxisState {
         r.f64s_into("position", &mut self.position)?;
         r.f64s_into("velocity", &mut self.velocity)?;
         r.f64s_into("acceleration", &mut self.acceleration)?;
+        // The fixed-size rest in one read; a message that ends inside it is read field by field,
+        // which names the field it ends in.
+        let big_endian = r.big_endian;
+        if let Some(bytes) = r.block8::<AXIS_STATE_TAIL>() {
+            let t = Fixed { bytes, big_endian };
+            self.tool_tip = Point { x: t.f64(0), y: t.f64(8), z: t.f64(16) };
+            self.tool_axis = Vector3 { x: t.f64(24), y: t.f64(32), z: t.f64(40) };
+            self.programmed_feed = t.f64(48);
+            self.path_feed = t.f64(56);
+            self.program_line = t.u32(64);
+            self.block_number = t.i64(72);
+            self.motion = bytes[80];
+            return Ok(());
+        }
         let [x, y, z] = r.xyz("tool_tip")?;
         self.tool_tip = Point { x, y, z };
         let [x, y, z] = r.xyz("tool_axis")?;
