@@ -1267,14 +1267,14 @@ const LATE_TOLERATED: f64 = 0.25;
 
 /// The grid time of the last stamp kept: the least of `s_k + k p` over the last [`GRID_STAMPS`]
 /// stamps from `since` on (a judged loss shifts the grid: stamps before it are left out).
-fn grid_of_last(stamps: &[f64], p: f64, since: f64) -> Option<f64> {
+fn grid_of_last(stamps: &VecDeque<f64>, p: f64, since: f64) -> Option<f64> {
     stamps.iter().rev().take(GRID_STAMPS).take_while(|s| **s >= since).enumerate().map(|(k, s)| s + k as f64 * p).reduce(f64::min)
 }
 
 /// The grid time of `stamps[i0]`: the least of `s_k - k p` over the [`GRID_STAMPS`] stamps from it
 /// up to `until` (where a loss begins).
-fn grid_of(stamps: &[f64], i0: usize, p: f64, until: f64) -> Option<f64> {
-    stamps[i0..].iter().take(GRID_STAMPS).take_while(|s| **s <= until).enumerate().map(|(k, s)| s - k as f64 * p).reduce(f64::min)
+fn grid_of(stamps: &VecDeque<f64>, i0: usize, p: f64, until: f64) -> Option<f64> {
+    stamps.range(i0..).take(GRID_STAMPS).take_while(|s| **s <= until).enumerate().map(|(k, s)| s - k as f64 * p).reduce(f64::min)
 }
 
 /// Samples judged lost and the span of the episode's gaps they were missing from (stamps).
@@ -1316,7 +1316,7 @@ fn count_lost(input: &mut Input, dt: f64, t: f64) {
                 let period = input.period.map_or(dt, |p| p.0);
                 let on_grid = input.period.is_some_and(|(p, spread)| spread < 0.1 * p);
                 let since = input.loss_events.back().map_or(f64::NEG_INFINITY, |e| e.to);
-                let grid0 = grid_of_last(input.stamps.make_contiguous(), period, since).unwrap_or(t - dt);
+                let grid0 = grid_of_last(&input.stamps, period, since).unwrap_or(t - dt);
                 let mut e = LossEpisode { t0: t - dt, received: 1, last_gap: t, window: (2.0 * dt).max(0.2), period, grid0, groups: [(0.0, 0.0); GAP_GROUPS], len: 0, on_grid };
                 e.sample(t, true);
                 input.episode = Some(e);
@@ -1344,14 +1344,12 @@ fn count_lost(input: &mut Input, dt: f64, t: f64) {
     // move the period): a mean and two O(n) selections, no allocation.
     let n = input.stamps.len();
     if input.episode.is_none() && n >= 25 && (input.period.is_none() || input.samples.is_multiple_of(64)) {
-        // One slice: the scans below run over plain memory (the ring is turned at most once per call).
-        let stamps: &[f64] = input.stamps.make_contiguous();
         // Stamps from after the last gap of a loss that began before the oldest stamp: every loss
         // put back then lies within the stamps. (Putting back a whole loss of which the window held
         // only part shortened the period, which made more gaps: a runaway, 106 k lost of 8 k missing.)
-        let cut = input.loss_events.iter().filter(|e| e.from < stamps[0]).map(|e| e.to).reduce(f64::max);
-        let i0 = cut.map_or(0, |c| stamps.partition_point(|s| *s < c)).min(n - 1);
-        let (first, last) = (stamps[i0], stamps[n - 1]);
+        let cut = input.loss_events.iter().filter(|e| e.from < input.stamps[0]).map(|e| e.to).reduce(f64::max);
+        let i0 = cut.map_or(0, |c| input.stamps.partition_point(|s| *s < c)).min(n - 1);
+        let (first, last) = (input.stamps[i0], input.stamps[n - 1]);
         if n - i0 < 25 {
             return; // too few stamps since such a loss: the period stays as it was
         }
@@ -1367,14 +1365,14 @@ fn count_lost(input: &mut Input, dt: f64, t: f64) {
             let until = input.loss_events.iter().filter(|e| e.to > first).map(|e| e.from).reduce(f64::min).unwrap_or(f64::INFINITY);
             let since = input.loss_events.back().map_or(f64::NEG_INFINITY, |e| e.to);
             for _ in 0..3 {
-                let (g0, g1) = (grid_of(stamps, i0, mean, until).unwrap_or(first), grid_of_last(stamps, mean, since).unwrap_or(last));
+                let (g0, g1) = (grid_of(&input.stamps, i0, mean, until).unwrap_or(first), grid_of_last(&input.stamps, mean, since).unwrap_or(last));
                 mean = (g1 - g0) / intervals;
             }
         }
         let m = INTERVALS.min(n - 1);
         let mut v = [0.0; INTERVALS];
         for (k, slot) in v.iter_mut().take(m).enumerate() {
-            *slot = stamps[n - m + k] - stamps[n - m + k - 1];
+            *slot = input.stamps[n - m + k] - input.stamps[n - m + k - 1];
         }
         let v = &mut v[..m];
         let hi = *v.select_nth_unstable_by(m * 9 / 10, f64::total_cmp).1;
