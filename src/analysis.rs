@@ -582,7 +582,7 @@ impl OfflineReport {
             for r in &s.regions {
                 let _ = writeln!(
                     o,
-                    "  region {} ({}): x {:.3} to {:.3} mm, {}, peak C {:.1} rpm, feed down to {:.0} mm/min, {:.2} s lost",
+                    "  region {} ({}): x {:.3} to {:.3} mm, {}, peak C {:.1} rpm, feed down to {:.0} mm/min, {} s lost",
                     r.id,
                     cause_name(Some(r.cause)),
                     r.x_start_mm,
@@ -590,7 +590,7 @@ impl OfflineReport {
                     crate::report::block_span(r.block_start, r.block_end, r.line_start, r.line_end),
                     r.peak_c_speed_rpm,
                     r.min_path_feed_mm_per_min,
-                    r.time_lost_s
+                    crate::report::seconds(r.time_lost_s)
                 );
             }
             if let Some(more) = s.unlisted_regions.describe() {
@@ -599,7 +599,7 @@ impl OfflineReport {
         }
         for r in &self.regions {
             let feed = match (r.lowest_feed_mm_per_min, r.time_lost_s, &r.actual_topic) {
-                (Some(f), Some(t), Some(a)) => format!(", {a}: feed down to {f:.0} mm/min, {t:.2} s lost"),
+                (Some(f), Some(t), Some(a)) => format!(", {a}: feed down to {f:.0} mm/min, {} s lost", crate::report::seconds(t)),
                 _ => String::new(),
             };
             let _ = writeln!(o, "region     x {:.3} to {:.3} mm ({}, {}), peak C {:.1} rpm{feed}", r.x_start_mm, r.x_end_mm, crate::report::block_span(r.block_start, r.block_end, r.line_start, r.line_end), cause_name(r.cause), r.peak_c_speed_rpm);

@@ -264,6 +264,25 @@ impl AnalysisReport {
     }
 }
 
+/// Seconds for people, to 0.01 s: a figure that rounds to zero prints `0.00`, never `-0.00` (the
+/// time lost by a stream that ran at exactly its programmed feed sums to a rounding error of either
+/// sign). The one place every report prints a region's time lost.
+///
+/// ```
+/// use fiveaxis::report::seconds;
+/// assert_eq!(seconds(-1e-15), "0.00");
+/// assert_eq!(seconds(-0.004), "0.00");
+/// assert_eq!(seconds(-0.02), "-0.02");
+/// assert_eq!(seconds(1.5), "1.50");
+/// ```
+pub fn seconds(s: f64) -> String {
+    let text = format!("{s:.2}");
+    match text.strip_prefix('-') {
+        Some(zero) if zero == "0.00" => zero.to_string(),
+        _ => text,
+    }
+}
+
 /// Blocks for people: `N340-N390` where the program numbers its blocks (`-1`: no number), else its
 /// lines `line 12-40` (`0`: unknown), else `no block numbers`. The one place every report names a
 /// stretch of a program.

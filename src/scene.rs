@@ -299,8 +299,8 @@ impl Scene {
         let r = self.monitor.region(topic, id);
         let text = match r {
             Some(r) => format!(
-                "{stream}: region {id} ends at x {:.3} mm ({}): peak predicted C speed {:.1} rpm, feed down to {:.0} mm/min, {:.2} s lost",
-                r.x_end_mm, crate::report::block_span(r.block_start, r.block_end, r.line_start, r.line_end), r.peak_c_speed_rpm, r.min_path_feed_mm_per_min, r.time_lost_s
+                "{stream}: region {id} ends at x {:.3} mm ({}): peak predicted C speed {:.1} rpm, feed down to {:.0} mm/min, {} s lost",
+                r.x_end_mm, crate::report::block_span(r.block_start, r.block_end, r.line_start, r.line_end), r.peak_c_speed_rpm, r.min_path_feed_mm_per_min, crate::report::seconds(r.time_lost_s)
             ),
             None => format!("{stream}: region {id} ends"),
         };
