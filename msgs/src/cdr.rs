@@ -33,6 +33,23 @@ fn same_bytes(a: &[u8], b: &[u8]) -> bool {
     a.len() == b.len() && if a.len() <= 16 { a.iter().zip(b).all(|(x, y)| x == y) } else { a == b }
 }
 
+/// Values from their CDR bytes in the message's byte order: the one place it is applied (a
+/// sequence of doubles, [`CdrReader::f64s_into`], chooses it once for the whole run instead).
+#[inline]
+fn u32_in(b: [u8; 4], big_endian: bool) -> u32 {
+    if big_endian { u32::from_be_bytes(b) } else { u32::from_le_bytes(b) }
+}
+
+#[inline]
+fn i64_in(b: [u8; 8], big_endian: bool) -> i64 {
+    if big_endian { i64::from_be_bytes(b) } else { i64::from_le_bytes(b) }
+}
+
+#[inline]
+fn f64_in(b: [u8; 8], big_endian: bool) -> f64 {
+    if big_endian { f64::from_be_bytes(b) } else { f64::from_le_bytes(b) }
+}
+
 #[cold]
 fn cut_short(body_offset: usize, field: &'static str) -> CdrError {
     CdrError { offset: 4 + body_offset, field, reason: "message ends inside the field" }
@@ -77,8 +94,7 @@ impl<'a> CdrReader<'a> {
     }
 
     pub fn u32(&mut self, field: &'static str) -> Result<u32, CdrError> {
-        let b = self.take::<4>(field)?;
-        Ok(if self.big_endian { u32::from_be_bytes(b) } else { u32::from_le_bytes(b) })
+        Ok(u32_in(self.take(field)?, self.big_endian))
     }
 
     pub fn i32(&mut self, field: &'static str) -> Result<i32, CdrError> {
@@ -86,13 +102,11 @@ impl<'a> CdrReader<'a> {
     }
 
     pub fn i64(&mut self, field: &'static str) -> Result<i64, CdrError> {
-        let b = self.take::<8>(field)?;
-        Ok(if self.big_endian { i64::from_be_bytes(b) } else { i64::from_le_bytes(b) })
+        Ok(i64_in(self.take(field)?, self.big_endian))
     }
 
     pub fn f64(&mut self, field: &'static str) -> Result<f64, CdrError> {
-        let b = self.take::<8>(field)?;
-        Ok(if self.big_endian { f64::from_be_bytes(b) } else { f64::from_le_bytes(b) })
+        Ok(f64_in(self.take(field)?, self.big_endian))
     }
 
     /// A sequence count, checked against the bytes left (at `min_size` bytes per element).
@@ -159,7 +173,7 @@ impl<'a> CdrReader<'a> {
     fn repeated_string(&self, held: &[u8], max: usize) -> Option<usize> {
         let start = self.pos.next_multiple_of(4);
         let count: [u8; 4] = self.body.get(start..start + 4)?.try_into().ok()?;
-        let count = if self.big_endian { u32::from_be_bytes(count) } else { u32::from_le_bytes(count) } as usize;
+        let count = u32_in(count, self.big_endian) as usize;
         let end = start + 4 + count;
         if count != held.len() + 1 || count > max || end > self.body.len() {
             return None;
@@ -230,18 +244,15 @@ impl<const N: usize> Fixed<'_, N> {
     }
     #[inline]
     fn f64(&self, at: usize) -> f64 {
-        let b = self.word::<8>(at);
-        if self.big_endian { f64::from_be_bytes(b) } else { f64::from_le_bytes(b) }
+        f64_in(self.word(at), self.big_endian)
     }
     #[inline]
     fn i64(&self, at: usize) -> i64 {
-        let b = self.word::<8>(at);
-        if self.big_endian { i64::from_be_bytes(b) } else { i64::from_le_bytes(b) }
+        i64_in(self.word(at), self.big_endian)
     }
     #[inline]
     fn u32(&self, at: usize) -> u32 {
-        let b = self.word::<4>(at);
-        if self.big_endian { u32::from_be_bytes(b) } else { u32::from_le_bytes(b) }
+        u32_in(self.word(at), self.big_endian)
     }
 }
 
