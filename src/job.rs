@@ -48,6 +48,17 @@ pub struct JobOptions {
     pub read: ReadOptions,
 }
 
+impl JobOptions {
+    /// These options for a program run on `machine`: its control's M functions, machine coordinates
+    /// and kinematics reach the reader (a machine already set stays).
+    pub fn on(&self, machine: &Machine) -> JobOptions {
+        match self.read.machine {
+            Some(_) => self.clone(),
+            None => JobOptions { read: self.read.on(machine), ..self.clone() },
+        }
+    }
+}
+
 /// The text and dialect of a `bundled:NAME` spec (`None` for any other spec).
 fn bundled(spec: &str, options: &JobOptions) -> Result<Option<(&'static str, Dialect)>, JobError> {
     let Some(name) = spec.strip_prefix("bundled:") else { return Ok(None) };
@@ -115,7 +126,7 @@ pub fn run(spec: &str, machine: &Machine, options: &JobOptions) -> Result<Job, J
         let program = Program { source: spec.into(), dialect: Dialect::Cl, name: Some(name.into()), blocks: vec![], diagnostics: vec![] };
         (program, traj)
     } else {
-        return Ok(run_program(read_spec(spec, options)?, machine, options));
+        return Ok(run_program(read_spec(spec, &options.on(machine))?, machine, options));
     };
     Ok(analyzed(program, trajectory, machine, options))
 }
@@ -144,7 +155,7 @@ pub fn analyze_streaming(spec: &str, machine: &Machine, options: &JobOptions) ->
     if spec.starts_with("builtin:") {
         return Ok(run(spec, machine, options)?.report);
     }
-    analyze_source(&ProgramSource::resolve(spec, options)?, machine, options)
+    analyze_source(&ProgramSource::resolve(spec, options)?, machine, &options.on(machine))
 }
 
 /// [`analyze_streaming`] on a resolved program.
@@ -205,7 +216,7 @@ impl Moves {
         if spec.starts_with("builtin:") {
             return Ok(Moves::Held(Box::new(run(spec, machine, options)?)));
         }
-        Ok(Moves::Program { source: ProgramSource::resolve(spec, options)?, options: options.clone() })
+        Ok(Moves::Program { source: ProgramSource::resolve(spec, options)?, options: options.on(machine) })
     }
 
     /// The program's name in diagnostics (`stdin` for `-`).
@@ -354,7 +365,7 @@ pub fn program_plan(spec: &str, machine: &Machine, read: &ReadOptions) -> Result
     use crate::live::monitor::ProgramPlan;
     // Every region's times: the look-ahead needs each one ahead (two numbers per region; the regions
     // themselves are listed to the usual bound).
-    let options = JobOptions { read: read.clone(), ..Default::default() };
+    let options = JobOptions { read: read.on(machine), ..Default::default() };
     let refuse = |diagnostics: &[Diagnostic], file: &str| {
         let errors: Vec<String> =
             diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{file}:{}:{}: {}", d.line, d.column, d.message)).collect();

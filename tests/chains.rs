@@ -204,7 +204,7 @@ fn linuxcnc_machines_match_the_controls_own_kinematics_modules() {
         *counts.entry((f[0].to_string(), tool as i64)).or_insert(0) += 1;
     }
     // Every LinuxCNC machine, with a tool where its module takes one.
-    for (name, tools) in [("linuxcnc-xyzbc-trt", [0, 10]), ("linuxcnc-xyzab-tdr", [0, 30]), ("linuxcnc-bridgemill", [0, 100]), ("linuxcnc-max5", [0, 0])] {
+    for (name, tools) in [("linuxcnc-xyzbc-trt", [0, 10]), ("linuxcnc-xyzac-trt", [0, 10]), ("linuxcnc-xyzab-tdr", [0, 30]), ("linuxcnc-bridgemill", [0, 100]), ("linuxcnc-max5", [0, 0])] {
         for t in tools {
             assert!(counts.get(&(name.to_string(), t)).copied().unwrap_or(0) >= 40, "{name} T{t}: {counts:?}");
         }

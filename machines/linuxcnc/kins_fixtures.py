@@ -32,6 +32,9 @@ MACHINES = [
     ("linuxcnc-xyzbc-trt", "xyzbc-trt-kins", None,
      lambda t: {"x-rot-point": 0, "y-rot-point": 0, "z-rot-point": 0, "x-offset": -20, "z-offset": -15, "tool-offset": t},
      [0, 1, 2, 3, 4], [(-200, 200), (-100, 100), (-120, 120), (-100, 50), (-720, 720)], [0, 10]),
+    ("linuxcnc-xyzac-trt", "xyzac-trt-kins", None,
+     lambda t: {"x-rot-point": 0, "y-rot-point": 0, "z-rot-point": 0, "y-offset": 20, "z-offset": 10, "tool-offset": t},
+     [0, 1, 2, 3, 4], [(-200, 200), (-100, 100), (-120, 120), (-100, 50), (-720, 720)], [0, 10]),
     ("linuxcnc-xyzab-tdr", "xyzab_tdr_kins", 1,
      lambda t: {"x-rot-point": -50, "y-rot-point": -50, "z-rot-point": -100, "x-offset": -20, "z-offset": -10, "tool-offset-z": t},
      # our file order is X Y Z B A; LinuxCNC's joints are X Y Z A B

@@ -108,7 +108,7 @@ fn avoid_input(program: &str, machine: &MachineArgs, what: &str, options: &JobOp
             None => return Err(bad_input(format!("unknown built-in path '{name}' (also builtin:semi-cylinder)"))),
         }
     } else {
-        job::read_spec(program, options).map_err(bad_input)?
+        job::read_spec(program, &options.on(&machine)).map_err(bad_input)?
     };
     if prog.has_errors() {
         for d in prog.report() {

@@ -32,12 +32,19 @@ pub fn main(c: &MachineCmd) -> Outcome {
     }
 }
 
-/// `machine list`: each built-in machine with its description.
+/// `machine list`: each built-in machine's name (what `--machine` takes), maker and model as
+/// program headers write them, control, and description.
 fn list() -> Outcome {
+    let machines: Vec<(&str, Result<Machine, MachineError>)> = BUILTIN_NAMES.iter().map(|n| (*n, Machine::builtin(n))).collect();
     let w = BUILTIN_NAMES.iter().map(|n| n.len()).max().unwrap_or(0);
-    for n in BUILTIN_NAMES {
-        match Machine::builtin(n) {
-            Ok(m) => println!("{n:<w$}  {}", m.description),
+    let label = |m: &Machine| match &m.control {
+        Some(c) => format!("{} ({c})", m.label()),
+        None => m.label(),
+    };
+    let wl = machines.iter().filter_map(|(_, m)| m.as_ref().ok()).map(|m| label(m).chars().count()).max().unwrap_or(0);
+    for (n, m) in machines {
+        match m {
+            Ok(m) => println!("{n:<w$}  {:<wl$}  {}", label(&m), m.description),
             Err(e) => println!("{n:<w$}  ({e})"),
         }
     }

@@ -13,6 +13,17 @@ pub struct MachineFile {
     pub name: String,
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub description: String,
+    /// Who makes the machine, as program headers write it (`Haas`, `DMG`, `Mori Seiki`); `generic`
+    /// for a model of a kinematic class rather than of one machine.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub maker: Option<String>,
+    /// The model, as program headers write it (`UMC-750`, `DMU 70 eVo`); for a generic machine, its
+    /// class (`A/C table-table`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
+    /// The control that runs it, as its maker names it (`Heidenhain iTNC 530`, `Siemens 840D sl`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control: Option<String>,
     /// Tool axis O_M in the spindle frame at home (unit vector; default +Z).
     #[serde(default = "default_tool_axis")]
     pub tool_axis: [f64; 3],
@@ -28,6 +39,44 @@ pub struct MachineFile {
     pub linear: Vec<LinearAxisFile>,
     /// Exactly two rotary axes, in chain order from the machine base outwards on each side.
     pub rotary: Vec<RotaryAxisFile>,
+    /// Where the control's machine coordinates lie (`G53`, `M91`, `SUPA`, `G28`); without it a
+    /// program's machine-coordinate moves are refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub machine_coordinates: Option<MachineCoordinatesFile>,
+    /// M functions this machine's control defines beyond its dialect's own (a maker's, a LinuxCNC
+    /// remap such as vismach's `M428`), each with what it does to the motion.
+    #[serde(default, rename = "m_function", skip_serializing_if = "Vec::is_empty")]
+    pub m_functions: Vec<MFunctionFile>,
+}
+
+/// `[machine_coordinates]`: the control's machine coordinate system in this file's frame.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MachineCoordinatesFile {
+    /// The linear axes' positions in this file's frame (the frame of `center_mm` and the axis
+    /// ranges) where the control's machine coordinates read X0 Y0 Z0, mm.
+    pub zero_mm: [f64; 3],
+    /// Reference points in machine coordinates, mm: the first is where `G28` goes (Fanuc's reference
+    /// position, parameter 1240), the others `G30 P2`, `P3`, ... Default: the first at the machine zero.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub reference_points_mm: Vec<[f64; 3]>,
+    /// Heidenhain `M92`'s datum (the machine maker's, such as the tool change position), in machine
+    /// coordinates, mm; without it `M92` is refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub m92_datum_mm: Option<[f64; 3]>,
+}
+
+/// `[[m_function]]`: one M function of this machine's control.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MFunctionFile {
+    /// The M number (`428` for `M428`).
+    pub code: u32,
+    /// What it does to the motion: `tcp-on`, `tcp-off`, or `event` (no motion of its own).
+    pub action: String,
+    /// What it is, for people (`rotary brake on`, the maker's manual).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub what: String,
 }
 
 fn default_tool_axis() -> [f64; 3] {
@@ -198,6 +247,44 @@ impl MachineFile {
             linear_m: tolerance("contour_tolerance_mm", self.contour_tolerance_mm, MM, d.linear_m, m.linear_m, ContourTolerance::linear_ok)?,
             rotary_rad: tolerance("contour_tolerance_deg", self.contour_tolerance_deg, DEG, d.rotary_rad, m.rotary_rad, ContourTolerance::rotary_ok)?,
         };
-        Ok(Machine { name: self.name.clone(), description: self.description.clone(), axes, chain, contour_tolerance })
+        let mut m_functions = Vec::with_capacity(self.m_functions.len());
+        for (i, m) in self.m_functions.iter().enumerate() {
+            let action = m.action.parse::<crate::program::MCodeAction>().map_err(|e| format!("`m_function[{i}].action` (M{}): {e}", m.code))?;
+            if self.m_functions[..i].iter().any(|o| o.code == m.code) {
+                return Err(format!("`m_function[{i}].code` = {}: M{} is defined twice", m.code, m.code));
+            }
+            m_functions.push(crate::program::MCodeRule { code: m.code, action });
+        }
+        let machine_coordinates = match &self.machine_coordinates {
+            None => None,
+            Some(c) => {
+                let zero = finite("machine_coordinates.zero_mm", c.zero_mm)? * MM;
+                let mut references = Vec::with_capacity(c.reference_points_mm.len().max(1));
+                for (i, r) in c.reference_points_mm.iter().enumerate() {
+                    references.push(finite(&format!("machine_coordinates.reference_points_mm[{i}]"), *r)? * MM);
+                }
+                if references.is_empty() {
+                    references.push(Vector3::zeros());
+                }
+                let m92_datum = c.m92_datum_mm.map(|d| finite("machine_coordinates.m92_datum_mm", d)).transpose()?.map(|d| d * MM);
+                Some(super::MachineCoordinates { zero, references, m92_datum })
+            }
+        };
+        let text = |field: &str, v: &Option<String>| match v {
+            Some(s) if s.trim().is_empty() => Err(format!("`{field}` is empty: give it or leave it out")),
+            _ => Ok(v.clone()),
+        };
+        Ok(Machine {
+            name: self.name.clone(),
+            description: self.description.clone(),
+            maker: text("maker", &self.maker)?,
+            model: text("model", &self.model)?,
+            control: text("control", &self.control)?,
+            axes,
+            chain,
+            contour_tolerance,
+            machine_coordinates,
+            m_functions,
+        })
     }
 }

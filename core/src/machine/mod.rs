@@ -8,7 +8,7 @@
 mod file;
 pub mod urdf;
 
-pub use file::{LinearAxisFile, MachineFile, RotaryAxisFile};
+pub use file::{LinearAxisFile, MFunctionFile, MachineCoordinatesFile, MachineFile, RotaryAxisFile};
 
 use crate::kinematics::{unwrap_near, Carrier, Joints, KinematicsError, Pose, RotaryJoint, TwoRotaryChain};
 use nalgebra::Vector3;
@@ -60,10 +60,39 @@ pub struct Axis {
 pub struct Machine {
     pub name: String,
     pub description: String,
+    /// Who makes it, as program headers write it (`Haas`); `generic` for a kinematic class's model.
+    pub maker: Option<String>,
+    /// The model as program headers write it (`UMC-750`), or a generic model's class.
+    pub model: Option<String>,
+    /// The control that runs it (`Heidenhain iTNC 530`).
+    pub control: Option<String>,
     pub axes: [Axis; AXES],
     pub chain: TwoRotaryChain,
     /// The control's contour tolerance where a program sets none (Heidenhain cycle 32 `T`/`TA`).
     pub contour_tolerance: ContourTolerance,
+    /// Where the control's machine coordinates lie, if the machine file says.
+    pub machine_coordinates: Option<MachineCoordinates>,
+    /// M functions its control defines beyond the dialect's own, with what they do.
+    pub m_functions: Vec<crate::program::MCodeRule>,
+}
+
+/// The control's machine coordinate system (`G53`, `M91`, `SUPA`) and reference points (`G28`,
+/// `G30`, `M92`), SI.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MachineCoordinates {
+    /// The linear axes' positions in the model's frame where the machine coordinates read zero, m.
+    pub zero: Vector3<f64>,
+    /// Reference points in machine coordinates, m: `G28` goes to the first, `G30 Pn` to the n-th.
+    pub references: Vec<Vector3<f64>>,
+    /// Heidenhain `M92`'s datum in machine coordinates, m.
+    pub m92_datum: Option<Vector3<f64>>,
+}
+
+impl MachineCoordinates {
+    /// The linear axes' positions in the model's frame for a point in machine coordinates (m).
+    pub fn to_axes(&self, machine: Vector3<f64>) -> Vector3<f64> {
+        machine + self.zero
+    }
 }
 
 /// A control's contour tolerance: how far the path may leave a programmed point that it smooths
@@ -117,12 +146,13 @@ pub enum MachineError {
 
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
 /// of each family: table-table, table-head, head-head) and a 45 deg nutating head.
-const BUILTIN_FILES: [(&str, &str); 8] = [
+const BUILTIN_FILES: [(&str, &str); 9] = [
     ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
     ("dmu-style-b45", include_str!("../../../machines/dmu-style-b45.toml")),
     ("linuxcnc-xyzbc-trt", include_str!("../../../machines/linuxcnc-xyzbc-trt.toml")),
+    ("linuxcnc-xyzac-trt", include_str!("../../../machines/linuxcnc-xyzac-trt.toml")),
     ("linuxcnc-xyzab-tdr", include_str!("../../../machines/linuxcnc-xyzab-tdr.toml")),
     ("linuxcnc-max5", include_str!("../../../machines/linuxcnc-max5.toml")),
     ("linuxcnc-bridgemill", include_str!("../../../machines/linuxcnc-bridgemill.toml")),
@@ -185,6 +215,21 @@ impl Machine {
     /// The singular tool direction in the workpiece frame (unit vector; its opposite is singular too).
     pub fn singular_direction(&self) -> Vector3<f64> {
         self.chain.singular_direction()
+    }
+
+    /// The machine as people name it: maker and model (`Haas UMC-750`, `generic A/C table-table`),
+    /// or its name where the file gives neither.
+    pub fn label(&self) -> String {
+        match (&self.maker, &self.model) {
+            (Some(a), Some(b)) => format!("{a} {b}"),
+            (Some(a), None) | (None, Some(a)) => a.clone(),
+            (None, None) => self.name.clone(),
+        }
+    }
+
+    /// The rule for M function `code` this machine's control defines, if any.
+    pub fn m_function(&self, code: u32) -> Option<crate::program::MCodeAction> {
+        self.m_functions.iter().find(|r| r.code == code).map(|r| r.action)
     }
 
     /// Names of the axes, in order.

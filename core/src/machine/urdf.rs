@@ -399,6 +399,11 @@ impl<'a> Urdf<'a> {
         let file = MachineFile {
             description: format!("{name}, read from URDF"),
             name,
+            maker: None,
+            model: None,
+            control: None,
+            machine_coordinates: None,
+            m_functions: Vec::new(),
             tool_axis: tidy(tool_home.rotation * Vector3::z()),
             tool_tip_mm: tidy(tool_home.translation.vector * MM_IN_M),
             contour_tolerance_mm: None,

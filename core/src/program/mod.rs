@@ -418,6 +418,19 @@ pub enum MCodeAction {
     Event,
 }
 
+/// An action by its name (`--m-code`, a machine file's `[[m_function]]`): tcp-on, tcp-off, event.
+impl std::str::FromStr for MCodeAction {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "tcp-on" => Ok(MCodeAction::TcpOn),
+            "tcp-off" => Ok(MCodeAction::TcpOff),
+            "event" => Ok(MCodeAction::Event),
+            other => Err(format!("unknown M code action '{other}': expected tcp-on, tcp-off or event")),
+        }
+    }
+}
+
 /// One `--m-code CODE=ACTION` rule.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MCodeRule {
@@ -431,18 +444,12 @@ impl std::str::FromStr for MCodeRule {
         let (code, action) = s.split_once('=').ok_or_else(|| format!("expected CODE=ACTION (e.g. 428=tcp-on), got '{s}'"))?;
         let code = code.trim().trim_start_matches(['M', 'm']);
         let code: u32 = code.parse().map_err(|_| format!("'{code}' is not an M code number"))?;
-        let action = match action.trim() {
-            "tcp-on" => MCodeAction::TcpOn,
-            "tcp-off" => MCodeAction::TcpOff,
-            "event" => MCodeAction::Event,
-            other => return Err(format!("unknown M code action '{other}': expected tcp-on, tcp-off or event")),
-        };
-        Ok(MCodeRule { code, action })
+        Ok(MCodeRule { code, action: action.trim().parse()? })
     }
 }
 
 /// Options of the readers.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct ReadOptions {
     /// Feed for CL data without a feed column, mm/min.
     pub cl_feed_mm_per_min: f64,
@@ -452,11 +459,14 @@ pub struct ReadOptions {
     /// Orientation interpolation at program start (`None`: the dialect's default,
     /// [`Dialect::default_orientation`]).
     pub orientation: Option<Orientation>,
+    /// The machine the program runs on, as its control knows it: the M functions it defines, its
+    /// machine coordinates and reference points, its kinematics for tilted working planes.
+    pub machine: Option<std::sync::Arc<crate::machine::Machine>>,
 }
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None }
+        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None }
     }
 }
 
@@ -466,13 +476,27 @@ impl ReadOptions {
     pub fn orientation_for(&self, dialect: Dialect) -> Orientation {
         self.orientation.unwrap_or(dialect.default_orientation())
     }
+
+    /// These options for a program run on `machine`.
+    pub fn on(&self, machine: &crate::machine::Machine) -> ReadOptions {
+        ReadOptions { machine: Some(std::sync::Arc::new(machine.clone())), ..self.clone() }
+    }
+
+    /// The M-code rules in effect: the `--m-code` flags first (they override), then the machine's.
+    pub fn m_code_rules(&self) -> Vec<MCodeRule> {
+        let mut rules = self.m_codes.clone();
+        if let Some(m) = &self.machine {
+            rules.extend(m.m_functions.iter().filter(|r| !self.m_codes.iter().any(|f| f.code == r.code)));
+        }
+        rules
+    }
 }
 
 /// Read `text` in `dialect`; `source` names it in reports.
 pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> Program {
     let mut p = match stream::Reader::new(dialect, options) {
         Some(mut reader) => stream::read_whole(reader.get(), text, dialect),
-        None => read_klartext_with(text, &options.m_codes, options.orientation_for(dialect)),
+        None => read_klartext_with(text, &options.m_code_rules(), options.orientation_for(dialect)),
     };
     p.source = source.to_string();
     p

@@ -122,9 +122,9 @@ impl Reader {
         let orientation = options.orientation_for(dialect);
         Some(match dialect {
             Dialect::Cl => Reader::Cl(ClReader::new(options.cl_feed_mm_per_min, orientation)),
-            Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&options.m_codes, orientation)),
-            Dialect::Heidenhain => Reader::Din(DinReader::new(&options.m_codes, orientation)),
-            Dialect::Sinumerik => Reader::Sinumerik(SinumerikReader::new(&options.m_codes, orientation)),
+            Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&options.m_code_rules(), orientation)),
+            Dialect::Heidenhain => Reader::Din(DinReader::new(&options.m_code_rules(), orientation)),
+            Dialect::Sinumerik => Reader::Sinumerik(SinumerikReader::new(&options.m_code_rules(), orientation)),
             Dialect::Klartext => return None,
         })
     }
@@ -209,7 +209,7 @@ impl BlockStream {
             Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
                 let orientation = options.orientation_for(dialect);
-                let mut k = Seeking::new(open, &options.m_codes, orientation);
+                let mut k = Seeking::new(open, &options.m_code_rules(), orientation);
                 match k.broken.take() {
                     Some(e) => Err(io(e)),
                     None => Ok(Self::klartext(k, source)),
@@ -226,7 +226,7 @@ impl BlockStream {
             None => {
                 let text: std::sync::Arc<[u8]> = text.as_bytes().into();
                 let orientation = options.orientation_for(dialect);
-                Self::klartext(Seeking::new(in_memory(text), &options.m_codes, orientation), source)
+                Self::klartext(Seeking::new(in_memory(text), &options.m_code_rules(), orientation), source)
             }
         }
     }
