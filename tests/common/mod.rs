@@ -81,3 +81,12 @@ pub fn assert_machine_files_refused(dir: &std::path::Path, ext: &str, base: &str
         }
     }
 }
+
+/// A file of `../shared/outside/` (real programs, bags and machine data from outside the project;
+/// CI has `../shared` beside the clone, and the project never copies them). Missing, the test fails
+/// saying so: a test that read nothing must not pass.
+pub fn outside(relative: &str) -> PathBuf {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/outside").join(relative);
+    assert!(path.exists(), "{} is missing: the tests read ../shared/outside beside the clone (see DEVELOPERS.md)", path.display());
+    path
+}
