@@ -520,17 +520,21 @@ fn linuxcnc_canon(name: &str) -> Vec<(Motion, [f64; 6])> {
         .collect()
 }
 
-/// Our reader's end points of every motion block, the axes a block does not write held from before (mm, deg).
+/// Our reader's end points of every motion block in the block's program coordinates, as rs274 prints
+/// them: an axis a block does not write stays where the machine is (mm, deg), so after a change of
+/// work offset it reads anew.
 fn end_points(p: &Program) -> Vec<(Motion, [f64; 6])> {
-    let mut at = [0.0; 6];
+    let mut machine = [0.0; 6];
     let mut out = Vec::new();
     for b in p.blocks.iter().filter(|b| !b.targets.is_empty()) {
         let t = &b.targets;
-        for (k, (v, unit)) in [(t.x, MM), (t.y, MM), (t.z, MM), (t.a, DEG), (t.b, DEG), (t.c, DEG)].into_iter().enumerate() {
+        let datum = [b.datum[0], b.datum[1], b.datum[2], 0.0, 0.0, 0.0];
+        for (k, v) in [t.x, t.y, t.z, t.a, t.b, t.c].into_iter().enumerate() {
             if let Some(v) = v {
-                at[k] = v / unit;
+                machine[k] = v + datum[k];
             }
         }
+        let at: [f64; 6] = std::array::from_fn(|k| (machine[k] - datum[k]) / if k < 3 { MM } else { DEG });
         out.push((b.motion, at));
     }
     out
@@ -539,12 +543,13 @@ fn end_points(p: &Program) -> Vec<(Motion, [f64; 6])> {
 /// LinuxCNC's parameters and expressions (`#<feed>=1500`, `F#<feed>`, `X[2.0 / 3 * 1.5 - 5.5 / 11.0]`,
 /// `YSIN[30]`, `X##32`, a setting that takes effect after its line) are read to the motion LinuxCNC's
 /// own interpreter makes of them: every operator and function of the manual's §11.4.5-11.4.8 in a
-/// fixture, and the demos `xyzac_switchkins_test_1/2.ngc` that set their feed as `#<FRATE>`.
+/// fixture, and the demos `xyzac_switchkins_test_1/2.ngc` that set their feed as `#<FRATE>`. So are
+/// its work offsets (`offsets.ngc`: G10 L2 and L20, P0 for the active system, G53, G55).
 #[test]
 fn rs274_evaluates_parameters_and_expressions_as_linuxcnc_does() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs/linuxcnc/parameters");
     let switchkins = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..Default::default() };
-    for name in ["expressions", "xyzac_switchkins_test_1", "xyzac_switchkins_test_2"] {
+    for name in ["expressions", "offsets", "xyzac_switchkins_test_1", "xyzac_switchkins_test_2"] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
         let p = read(&text, Dialect::Rs274, "t.ngc", &switchkins);
         assert!(errors(&p).is_empty(), "{name}: {:?}", errors(&p));
@@ -558,7 +563,7 @@ fn rs274_evaluates_parameters_and_expressions_as_linuxcnc_does() {
                 assert!((a[i] - b[i]).abs() <= 0.5e-4 + 1e-9, "{name}: move {k} axis {i}: ours {a:?}, LinuxCNC {b:?}");
             }
         }
-        if name != "expressions" {
+        if name.starts_with("xyzac") {
             let feeds: Vec<f64> = p.blocks.iter().filter_map(|b| b.feed).map(|f| f.value_per_min).collect();
             assert!(!feeds.is_empty() && feeds.iter().all(|&f| f == 1000.0), "{name}: F#<FRATE> is 1000 mm/min: {feeds:?}");
         }
@@ -576,6 +581,7 @@ fn rs274_refuses_parameters_it_cannot_know() {
         ("G1 X#7", 5, "#7 is read before the program sets it"),
         ("G1 X#5221", 5, "#5221 is a system parameter"),
         ("G1 X#<_X>", 5, "#<_x> is the interpreter's or the machine's state"),
+        ("G1 X#<_hal[kins.x-offset]>", 5, "the machine file gives no HAL pin 'kins.x-offset'"),
         ("G1 X[1/[#<a>-2]]", 7, "division by zero"),
         ("G1 X[#<a> + 1", 5, "'[' is not closed"),
         ("G1 XFOO[1]", 5, "unknown function FOO"),

@@ -47,6 +47,10 @@ pub struct MachineFile {
     /// remap such as vismach's `M428`), each with what it does to the motion.
     #[serde(default, rename = "m_function", skip_serializing_if = "Vec::is_empty")]
     pub m_functions: Vec<MFunctionFile>,
+    /// LinuxCNC HAL pins a program may read (`#<_hal[name]>` with `[RS274NGC]HAL_PIN_VARS = 1`,
+    /// LinuxCNC manual §11.4.3.6), with the values the configuration gives them.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub hal_pins: std::collections::BTreeMap<String, f64>,
 }
 
 /// `[machine_coordinates]`: the control's machine coordinate system in this file's frame.
@@ -270,6 +274,13 @@ impl MachineFile {
                 Some(super::MachineCoordinates { zero, references, m92_datum })
             }
         };
+        let mut hal_pins = std::collections::BTreeMap::new();
+        for (name, v) in &self.hal_pins {
+            if !v.is_finite() {
+                return Err(format!("`hal_pins.\"{name}\"` = {v}: must be finite"));
+            }
+            hal_pins.insert(name.to_ascii_lowercase(), *v);
+        }
         let text = |field: &str, v: &Option<String>| match v {
             Some(s) if s.trim().is_empty() => Err(format!("`{field}` is empty: give it or leave it out")),
             _ => Ok(v.clone()),
@@ -285,6 +296,7 @@ impl MachineFile {
             contour_tolerance,
             machine_coordinates,
             m_functions,
+            hal_pins,
         })
     }
 }

@@ -74,6 +74,8 @@ pub struct Machine {
     pub machine_coordinates: Option<MachineCoordinates>,
     /// M functions its control defines beyond the dialect's own, with what they do.
     pub m_functions: Vec<crate::program::MCodeRule>,
+    /// LinuxCNC HAL pins a program may read, by lower-case name, with their configured values.
+    pub hal_pins: std::collections::BTreeMap<String, f64>,
 }
 
 /// The control's machine coordinate system (`G53`, `M91`, `SUPA`) and reference points (`G28`,

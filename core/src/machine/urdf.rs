@@ -404,6 +404,7 @@ impl<'a> Urdf<'a> {
             control: None,
             machine_coordinates: None,
             m_functions: Vec::new(),
+            hal_pins: Default::default(),
             tool_axis: tidy(tool_home.rotation * Vector3::z()),
             tool_tip_mm: tidy(tool_home.translation.vector * MM_IN_M),
             contour_tolerance_mm: None,

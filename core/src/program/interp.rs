@@ -101,35 +101,44 @@ impl Interpreter {
         self.offsets[k] != [0.0; 3]
     }
 
-    /// `G10 L2 Pn X Y Z`: set work offset n (absolute values; rotary offsets only at zero).
+    /// `G10 L2 Pn X Y Z`: set work offset n to the values; `G10 L20 Pn X Y Z`: set it so that the
+    /// current point reads the values (LinuxCNC G-code reference §G10 L2, §G10 L20); P0 is the active
+    /// system. Absolute values only; rotary offsets only where they stay zero.
     fn set_offsets(&self, words: &[Word], next: &mut Interpreter, line: usize, column: usize, diags: &mut Diags) {
         let word = |l: char| words.iter().find(|w| w.letter == l);
-        match word('L') {
-            Some(w) if w.value == 2.0 => {}
-            Some(w) => return diags.error(line, w.column, format!("G10 L{}: only L2 (set a work offset) is supported", w.raw)),
-            None => return diags.error(line, column, "G10 without L: expected G10 L2 Pn (set a work offset)"),
-        }
-        let p = match word('P') {
-            Some(w) if w.value.fract() == 0.0 && (1.0..=9.0).contains(&w.value) => w.value as usize,
-            Some(w) => return diags.error(line, w.column, format!("G10 L2 P{}: expected a coordinate system 1 to 9", w.raw)),
-            None => return diags.error(line, column, "G10 L2 without P: expected the coordinate system (P1 = G54)"),
+        let l20 = match word('L') {
+            Some(w) if w.value == 2.0 => false,
+            Some(w) if w.value == 20.0 => true,
+            Some(w) => return diags.error(line, w.column, format!("G10 L{}: only L2 and L20 (set a work offset) are supported", w.raw)),
+            None => return diags.error(line, column, "G10 without L: expected G10 L2 Pn or G10 L20 Pn (set a work offset)"),
         };
+        let l = if l20 { "L20" } else { "L2" };
+        let p = match word('P') {
+            Some(w) if w.value.fract() == 0.0 && (0.0..=9.0).contains(&w.value) => w.value as usize,
+            Some(w) => return diags.error(line, w.column, format!("G10 {l} P{}: expected a coordinate system 1 to 9, or 0 for the active one", w.raw)),
+            None => return diags.error(line, column, format!("G10 {l} without P: expected the coordinate system (P1 = G54, P0 the active one)")),
+        };
+        let k_system = if p == 0 { next.system } else { p - 1 };
         if !next.absolute {
-            return diags.error(line, column, "G10 L2 under G91 (offsets relative to the current ones) is not supported: write it under G90");
+            return diags.error(line, column, format!("G10 {l} under G91 (offsets relative to the current ones) is not supported: write it under G90"));
         }
-        let mut offsets = next.offsets[p - 1];
+        let mut offsets = next.offsets[k_system];
         for w in words {
             let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
             if k < 3 {
-                offsets[k] = w.value * next.unit;
-            } else if w.value != 0.0 {
-                diags.error(line, w.column, format!("G10 L2 {}{}: rotary-axis work offsets are not modelled", w.letter, w.raw));
+                // L20: the current point, in the offset-free (G53) frame, less the value it is to read.
+                offsets[k] = if l20 { next.last[k] + next.datum[k] - w.value * next.unit } else { w.value * next.unit };
+            } else {
+                let offset = if l20 { next.last[k] - w.value * DEG } else { w.value * DEG };
+                if offset.abs() > 1e-12 {
+                    diags.error(line, w.column, format!("G10 {l} {}{}: rotary-axis work offsets are not modelled (this one would be {:.6} deg)", w.letter, w.raw, offset / DEG));
+                }
             }
         }
-        if p - 1 == next.system {
+        if k_system == next.system {
             next.move_origin(offsets);
         }
-        next.offsets[p - 1] = offsets;
+        next.offsets[k_system] = offsets;
     }
 
     /// Put the program origin at `offset` (RS274: the active work offset, m): the machine stays, so
@@ -228,6 +237,7 @@ impl Interpreter {
         // A code that changes the motion and is not modelled is an error (fail closed), never skipped.
         let mut uses: Vec<char> = Vec::new(); // letters besides axes that a code of this block takes
         let mut g10 = false;
+        let mut g53 = false;
         let mut dwell_word: Option<&Word> = None;
         let mut blend_word = false;
         for w in words {
@@ -282,6 +292,15 @@ impl Interpreter {
                                     w.column,
                                     format!("G{}: this program never sets its offsets (G10 L2 P{}): taken as zero", w.raw, k + 1),
                                 );
+                            }
+                        }
+                        // LinuxCNC: the block's coordinates are absolute ones without the work offsets
+                        // (G-code reference §G53: "machine coordinates", LinuxCNC's world frame, in
+                        // which the machine files place the kinematics).
+                        ("53", false) if self.dialect == Dialect::Rs274 => {
+                            g53 = true;
+                            if !next.absolute {
+                                diags.error(line, w.column, "G53 under G91: LinuxCNC refuses incremental machine coordinates (write G90 first)");
                             }
                         }
                         ("53", false) => diags.warning(
@@ -360,8 +379,14 @@ impl Interpreter {
                                 diags.error(line, w.column, format!("M{}: {why}", w.raw));
                             }
                         }
-                        // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O.
-                        (None, 19 | 48..=53 | 60..=68, false) => {}
+                        // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O,
+                        // with the words they take (G-code reference §M61 Q, §M62-M65 P, §M66 P E L Q,
+                        // §M67/M68 E Q).
+                        (None, 19 | 48..=53 | 60, false) => {}
+                        (None, 61, false) => uses.push('Q'),
+                        (None, 62..=65, false) => uses.push('P'),
+                        (None, 66, false) => uses.extend(['P', 'E', 'L', 'Q']),
+                        (None, 67 | 68, false) => uses.extend(['E', 'Q']),
                         (None, _, false) => diags.error(
                             line,
                             w.column,
@@ -379,7 +404,7 @@ impl Interpreter {
                 'F' => feed_word = Some(w),
                 'N' => {}
                 c if AXIS_LETTERS.contains(&c) => {}
-                'I' | 'J' | 'K' | 'R' | 'P' | 'Q' | 'H' | 'L' if !heid => {} // checked below, with the codes that take them
+                'I' | 'J' | 'K' | 'R' | 'P' | 'Q' | 'H' | 'L' | 'E' if !heid => {} // checked below, with the codes that take them
                 'I' | 'J' | 'K' | 'R' if heid => {} // circle centre and radius, read below
                 _ => diags.error(
                     line,
@@ -396,7 +421,7 @@ impl Interpreter {
                     'I' | 'J' | 'K' => arc_motion || vector_words,
                     'R' => arc_motion,
                     'P' => arc_motion || uses.contains(&'P'),
-                    'Q' | 'H' | 'L' => uses.contains(&w.letter),
+                    'Q' | 'H' | 'L' | 'E' => uses.contains(&w.letter),
                     _ => true,
                 };
                 if !ok {
@@ -488,7 +513,13 @@ impl Interpreter {
                 }
                 continue;
             }
-            let abs = if next.absolute && !w.incremental { v } else { next.last[k] + v };
+            let abs = if g53 && k < 3 {
+                v - next.datum[k]
+            } else if next.absolute && !w.incremental {
+                v
+            } else {
+                next.last[k] + v
+            };
             next.last[k] = abs;
             match k {
                 0 => targets.x = Some(abs),

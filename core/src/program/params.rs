@@ -136,6 +136,9 @@ impl Op {
 pub struct Parameters {
     numbered: HashMap<u32, f64>,
     named: HashMap<String, f64>,
+    /// The machine's HAL pins a program may read (`#<_hal[name]>`), by lower-case pin name, as its
+    /// configuration sets them (the machine file's `hal_pins`).
+    hal_pins: std::collections::BTreeMap<String, f64>,
 }
 
 /// Reads values from one line's characters.
@@ -146,6 +149,11 @@ struct Reader<'a> {
 }
 
 impl Parameters {
+    /// Parameters that can read these HAL pins (lower-case names) as `#<_hal[name]>`.
+    pub fn with_hal_pins(hal_pins: std::collections::BTreeMap<String, f64>) -> Parameters {
+        Parameters { hal_pins, ..Default::default() }
+    }
+
     /// Read the real value that starts at `chars[i]` (after blanks): its value and the index after it.
     pub fn real_value(&self, chars: &[char], i: usize) -> Result<(f64, usize), ExprError> {
         Reader { params: self, chars, depth: 0 }.value(i)
@@ -396,6 +404,11 @@ impl Reader<'_> {
                 Some(&v) => Ok(v),
                 None => err(column, format!("#{n} is read before the program sets it (LinuxCNC reads 0, a Fanuc control reads it as vacant): not read")),
             },
+            // A HAL pin the machine's configuration gives (LinuxCNC manual §11.4.3.6, HAL_PIN_VARS).
+            Target::Named(name) if name.starts_with("_hal[") && name.ends_with(']') && self.params.hal_pins.contains_key(&name[5..name.len() - 1]) => {
+                Ok(self.params.hal_pins[&name[5..name.len() - 1]])
+            }
+            Target::Named(name) if name.starts_with("_hal[") => err(column, format!("{target}: the machine file gives no HAL pin '{}' (its hal_pins table)", name.trim_start_matches("_hal[").trim_end_matches(']'))),
             // Never set: a setting refuses them.
             Target::Named(name) if is_machine_state(name) => err(column, format!("{target} is the interpreter's or the machine's state: not modelled")),
             Target::Named(name) => match self.params.named.get(name) {

@@ -44,6 +44,14 @@ impl Rs274Reader {
     pub(crate) fn new(m_codes: &[MCodeRule], orientation: super::Orientation) -> Self {
         Rs274Reader { interp: Interpreter::new(Dialect::Rs274).with_m_codes(m_codes).with_orientation(orientation), started: false, number: None, params: Parameters::default() }
     }
+
+    /// Read the HAL pins of this machine's configuration (`#<_hal[...]>`).
+    pub(crate) fn on(mut self, machine: Option<&crate::machine::Machine>) -> Self {
+        if let Some(m) = machine {
+            self.params = Parameters::with_hal_pins(m.hal_pins.clone());
+        }
+        self
+    }
 }
 
 impl super::stream::LineReader for Rs274Reader {

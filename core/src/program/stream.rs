@@ -122,7 +122,7 @@ impl Reader {
         let orientation = options.orientation_for(dialect);
         Some(match dialect {
             Dialect::Cl => Reader::Cl(ClReader::new(options.cl_feed_mm_per_min, orientation)),
-            Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&options.m_code_rules(), orientation)),
+            Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&options.m_code_rules(), orientation).on(options.machine.as_deref())),
             Dialect::Heidenhain => Reader::Din(DinReader::new(&options.m_code_rules(), orientation)),
             Dialect::Sinumerik => Reader::Sinumerik(SinumerikReader::new(&options.m_code_rules(), orientation)),
             Dialect::Klartext => return None,
