@@ -3,11 +3,11 @@
 //! lives here, above the core's plain options.
 
 use crate::machine::{Machine, MachineError, DEFAULT_MACHINE};
-use crate::program::{MCodeRule, Orientation, ReadOptions};
+use crate::program::{LengthUnit, MCodeRule, Orientation, ReadOptions};
 use clap::builder::TypedValueParser;
 
 /// How the control is set up, for every command and node that reads a program: `--m-code`,
-/// `--orientation`.
+/// `--orientation`, `--units`.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct ControlArgs {
     /// What a machine-specific M code does, `CODE=ACTION` with ACTION tcp-on, tcp-off or event
@@ -20,6 +20,11 @@ pub struct ControlArgs {
     /// ORIAXES and Heidenhain's FUNCTION TCPM ... PATHCTRL VECTOR or AXIS, still switch it). Default: the dialect's, from its maker's documentation.
     #[arg(long = "orientation", value_name = "MODE", value_parser = orientation_parser())]
     pub orientation: Option<Orientation>,
+    /// The length unit of the program's numbers, whatever its own unit statements say (G20/G21,
+    /// G70/G71, BEGIN PGM ... INCH, APT UNITS/): for a file whose statement contradicts its numbers,
+    /// such as Creo CL data that says UNITS / INCHES on millimetres. Each overruled statement is noted.
+    #[arg(long = "units", value_name = "UNIT", value_parser = clap::builder::PossibleValuesParser::new(LengthUnit::NAMES).map(|s| s.parse::<LengthUnit>().expect("a listed name parses")))]
+    pub units: Option<LengthUnit>,
 }
 
 /// `--orientation`'s parser: the modes' names listed as clap's possible values.
@@ -30,7 +35,7 @@ fn orientation_parser() -> impl clap::builder::TypedValueParser<Value = Orientat
 impl ControlArgs {
     /// The readers' options these flags ask for (other options at their defaults).
     pub fn read_options(&self) -> ReadOptions {
-        ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, ..Default::default() }
+        ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, units: self.units, ..Default::default() }
     }
 }
 

@@ -160,6 +160,39 @@ fn apt_statements_that_change_motion_unread_are_refused_where_they_stand() {
     }
 }
 
+/// Creo Pro/CLfile's records: a `$$->` comment continued over lines ending in `$` (its CSYS), the
+/// GPOST vocabulary (`PPWORD/`), the output frame `CAMERA/` (12 numbers, where the GOTOs already are);
+/// a CAMERA of another size is refused. A program in inches whose tool tips span more than any
+/// machine is warned of, naming `--units mm`; with `--units mm` its UNITS/INCHES is noted and its
+/// numbers and IPM feeds read as mm and mm/min.
+#[test]
+fn creo_records_and_the_units_override() {
+    let head = "$$*          Pro/CLfile  Version 9.0 - 9.0.3.0\nPPWORD/TLANGL,1\nREMARK -> FEATNO / 1014\n\
+                $$-> CSYS / 1.0, 0.0, 0.0, 0.0,  $\n            0.0, 1.0, 0.0, 0.0,  $\n            0.0, 0.0, 1.0, 0.0\n\
+                CAMERA/ 1.0, 0.0, 0.0,$\n -106.6,  $\n 0.0, 1.0, 0.0,$\n -121.2,  $\n 0.0, 0.0, 1.0, -100.5\nUNITS / INCHES\nMULTAX / ON\n";
+    let text = format!("{head}GOTO / 0.0, 0.0, 10.0,  $\n0.0, 0.0, 1.0\nFEDRAT / 1200.0,  IPM\nGOTO / 100.0, 0.0, 10.0\nFINI\n");
+    let p = read(&text, Dialect::Cl, "t.ncl", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    assert!((p.blocks[1].targets.x.unwrap() - 100.0 * 0.0254).abs() < 1e-12);
+    assert!(p.diagnostics.iter().all(|d| !d.message.contains("--units")), "100 in is a part some machines hold: {:#?}", p.diagnostics);
+    // 2000 inches is 50.8 m: larger than any machine's travel, which the reader says at UNITS.
+    let long = text.replace("100.0, 0.0, 10.0", "2000.0, 0.0, 10.0");
+    let p = read(&long, Dialect::Cl, "t.ncl", &ReadOptions::default());
+    let w = p.diagnostics.iter().find(|d| d.message.contains("--units mm")).expect("the size warning");
+    assert_eq!((w.line, w.severity), (12, Severity::Warning), "{w:?}");
+    // Read in mm: the numbers as they are, IPM as mm/min, UNITS noted where it stands.
+    let mm = ReadOptions { units: Some("mm".parse().unwrap()), ..Default::default() };
+    let p = read(&long, Dialect::Cl, "t.ncl", &mm);
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    assert!((p.blocks[1].targets.x.unwrap() - 2.0).abs() < 1e-12);
+    assert!((p.blocks[1].feed.unwrap().value_per_min - 1200.0).abs() < 1e-9);
+    assert!(p.diagnostics.iter().any(|d| d.line == 12 && d.message.contains("read in mm (--units)")), "{:#?}", p.diagnostics);
+    for bad in ["CAMERA/1,0,0,0,0,1,0,0,0,0,1\n", "CAMERA/1,0,0,0,0,1,0,0,0,0,1,0,X\n"] {
+        let p = read(&format!("{bad}GOTO/0,0,0\n"), Dialect::Cl, "t.ncl", &ReadOptions::default());
+        assert!(errors(&p).iter().any(|(l, c, m)| (*l, *c) == (1, 1) && m.contains("CAMERA/")), "{bad}: {:#?}", errors(&p));
+    }
+}
+
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 128, ..Default::default() })]
     /// APT-shaped noise: the contour with characters replaced by APT's own (`/ , $ $$` digits, words)

@@ -231,6 +231,11 @@ fn impossible_machine_files_are_refused_naming_the_field() {
         ("negative-speed", hermle.replacen("velocity_deg_per_s = 150.0", "velocity_deg_per_s = -150.0", 1), "`rotary[0].velocity_deg_per_s`"),
         ("inverted-range", hermle.replace("min_deg = -110.0", "min_deg = 120.0"), "`rotary[0].min_deg`"),
         ("inf-travel", hermle.replacen("max_mm = 300.0", "max_mm = inf", 1), "`linear[0].min_mm`"),
+        ("grad", hermle.replacen("jerk_deg_per_s3 = 6000.0", "jerk_deg_per_s3 = 6000.0\nprogram_unit = \"grad\"", 1), "`rotary[0].program_unit`"),
+        ("m-action", format!("{hermle}\n[[m_function]]\ncode = 10\naction = \"brake\"\n"), "`m_function[0].action` (M10)"),
+        ("m-twice", format!("{hermle}\n[[m_function]]\ncode = 10\naction = \"event\"\n[[m_function]]\ncode = 10\naction = \"event\"\n"), "`m_function[1].code`"),
+        ("nan-zero", format!("{hermle}\n[machine_coordinates]\nzero_mm = [0.0, nan, 0.0]\n"), "`machine_coordinates.zero_mm`"),
+        ("empty-maker", hermle.replacen("maker = \"Hermle\"", "maker = \" \"", 1), "`maker` is empty"),
     ];
     let cases: Vec<(&str, String, Vec<&str>)> = cases.into_iter().map(|(name, text, field)| (name, text, vec![field])).collect();
     common::assert_machine_files_refused(&dir, "toml", hermle, &cases);

@@ -20,6 +20,11 @@ const CLEAN: &[Case] = &[
     Case { file: "linuxcnc-rs274ngc_boat-xyzac-hermle.ngc", machine: "linuxcnc-xyzac-trt", args: &[] },
     Case { file: "linuxcnc-rs274ngc_boat-xyzbc-hermle.ngc", machine: "linuxcnc-xyzbc-trt", args: &[] },
     Case { file: "linuxcnc-rs274ngc_xyzab-tdr-demo.ngc", machine: "linuxcnc-xyzab-tdr", args: &[] },
+    // Creo's CL data says UNITS / INCHES on millimetres (a 5.4 m part in inches; its feed of 1193.66
+    // "IPM" is the converter's F1193.663 mm/min): read with --units mm, as the reader's warning offers.
+    Case { file: "apt-cl_creo-proclfile_MULTAX-GOTO-ijk_finition2.ncl", machine: "hobby-rtcp-ab", args: &["--units", "mm"] },
+    Case { file: "apt-cl_creo-proclfile-remark-ppword_MULTAX_finition.ncl", machine: "hobby-rtcp-ab", args: &["--units", "mm"] },
+    Case { file: "gcode-xyzab-radians_hobby-rtcp-converter_from-creo_finition.nc", machine: "hobby-rtcp-ab", args: &[] },
 ];
 
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
@@ -38,9 +43,6 @@ const NOT_YET: &[(&str, &str)] = &[
     ("sinumerik-840dsl_nx-post_spinner-u5-620-bc_TRAORI-AROT_Achskreuz.mpf", "DEF variables, frames, CYCLE800, machine"),
     ("sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf", "SUPA, MCALL cycles, machine"),
     ("sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf", "CYCLE800, MCALL cycles, machine"),
-    ("apt-cl_creo-proclfile_MULTAX-GOTO-ijk_finition2.ncl", "UNITS/INCHES on millimetre coordinates, machine"),
-    ("apt-cl_creo-proclfile-remark-ppword_MULTAX_finition.ncl", "PPWORD, CAMERA, machine"),
-    ("gcode-xyzab-radians_hobby-rtcp-converter_from-creo_finition.nc", "rotaries in radians, machine"),
     ("apt-cl_solidworks-cam_boss_GOTO-ijk_CSYS.apt", "CSYS frames, CUTCOM, INSERT, machine"),
     ("apt-cl_solidworks-cam_interface-glue_ROTABL-TLAXIS.clt", "ROTABL, TLAXIS, CIRCLE forms, cycles, machine"),
 ];
@@ -88,4 +90,45 @@ fn corpus_programs_read_and_run_on_their_machines() {
             );
         }
     }
+}
+
+/// The hobby converter's G-code (rotaries in radians) and the Creo CL data it was made from
+/// (`finition.ncl`, read with `--units mm`) describe the same tool poses on `hobby-rtcp-ab`: the
+/// converter kept a GOTO when it lay more than 10 mm from the last one kept (nclReader.py `MINDIST`),
+/// and our forward kinematics of each G-code block's X Y Z A B gives that GOTO's tool tip and axis.
+/// This checks the machine file (axes, centres, radians) against the converter's own formula.
+#[test]
+fn the_hobby_converters_gcode_is_its_cl_data_on_its_machine() {
+    use fiveaxis::machine::Machine;
+    use fiveaxis::program::{read, Dialect, ReadOptions};
+    let machine = Machine::builtin("hobby-rtcp-ab").unwrap();
+    let text = |f: &str| std::fs::read_to_string(common::outside(&format!("programs/{f}"))).unwrap();
+    let mm = ReadOptions { units: Some("mm".parse().unwrap()), ..ReadOptions::default() }.on(&machine);
+    let cl = read(&text("apt-cl_creo-proclfile-remark-ppword_MULTAX_finition.ncl"), Dialect::Cl, "cl", &mm);
+    let nc = read(&text("gcode-xyzab-radians_hobby-rtcp-converter_from-creo_finition.nc"), Dialect::Rs274, "nc", &ReadOptions::default().on(&machine));
+    assert!(!cl.has_errors() && !nc.has_errors());
+    // The GOTOs the converter kept, in order.
+    let mut kept = Vec::new();
+    let mut last = [0.0f64; 3];
+    for b in &cl.blocks {
+        let (Some(x), Some(y), Some(z), Some(axis)) = (b.targets.x, b.targets.y, b.targets.z, b.targets.tool_axis) else { continue };
+        let tip = [x * 1e3, y * 1e3, z * 1e3];
+        if (0..3).map(|k| (tip[k] - last[k]).powi(2)).sum::<f64>().sqrt() > 10.0 {
+            kept.push((tip, axis));
+            last = tip;
+        }
+    }
+    assert_eq!(kept.len(), nc.blocks.len(), "one G-code block per GOTO kept");
+    let (mut worst_tip, mut worst_axis) = (0.0f64, 0.0f64);
+    for (b, (tip, axis)) in nc.blocks.iter().zip(&kept) {
+        let t = &b.targets;
+        let q = [t.x.unwrap(), t.y.unwrap(), t.z.unwrap(), t.b.unwrap(), t.a.unwrap()];
+        let pose = machine.forward(&q);
+        worst_tip = worst_tip.max((0..3).map(|k| (pose.tip[k] * 1e3 - tip[k]).powi(2)).sum::<f64>().sqrt());
+        // The converter's angles are exact where the tool axis has no j (a = asin(j) - pi/2); the CL
+        // data's j stays within 1e-5 of 0.
+        worst_axis = worst_axis.max((0..3).map(|k| (pose.axis[k] - axis[k]).powi(2)).sum::<f64>().sqrt());
+    }
+    eprintln!("{} poses: worst tip {worst_tip:.2e} mm, axis {worst_axis:.2e}", kept.len());
+    assert!(worst_tip < 1e-3 && worst_axis < 1e-4, "worst tip {worst_tip} mm, axis {worst_axis}");
 }

@@ -119,6 +119,10 @@ pub struct RotaryAxisFile {
     pub velocity_deg_per_s: f64,
     pub acceleration_deg_per_s2: f64,
     pub jerk_deg_per_s3: f64,
+    /// The unit its control reads this axis' program words in: `deg` (the default, every
+    /// industrial control) or `rad` (a hobby control whose rotary axis is set up in radians).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub program_unit: Option<String>,
 }
 
 fn vec3(a: [f64; 3]) -> Vector3<f64> {
@@ -188,6 +192,7 @@ impl MachineFile {
             });
         }
         let mut joints = Vec::with_capacity(2);
+        let mut word_units = Vec::with_capacity(2);
         for (i, r) in self.rotary.iter().enumerate() {
             let f = format!("rotary[{i}]");
             let (min, max) = match (r.min_deg, r.max_deg) {
@@ -214,6 +219,11 @@ impl MachineFile {
                 },
             });
             joints.push(joint(&r.name, r.carrier, axis, center * MM));
+            word_units.push(match r.program_unit.as_deref() {
+                None | Some("deg") => DEG,
+                Some("rad") => 1.0,
+                Some(other) => return Err(format!("`{f}.program_unit` = \"{other}\" ({}): expected \"deg\" or \"rad\"", r.name)),
+            });
         }
         let mut names: Vec<String> = axes.iter().map(|a| a.name.to_ascii_uppercase()).collect();
         names.sort();
@@ -297,6 +307,7 @@ impl MachineFile {
             machine_coordinates,
             m_functions,
             hal_pins,
+            rotary_word_units: [word_units[0], word_units[1]],
         })
     }
 }

@@ -76,6 +76,9 @@ pub struct Machine {
     pub m_functions: Vec<crate::program::MCodeRule>,
     /// LinuxCNC HAL pins a program may read, by lower-case name, with their configured values.
     pub hal_pins: std::collections::BTreeMap<String, f64>,
+    /// Radians per program unit of each rotary axis' words, in file order (degrees but on a control
+    /// set up in radians).
+    pub rotary_word_units: [f64; 2],
 }
 
 /// The control's machine coordinate system (`G53`, `M91`, `SUPA`) and reference points (`G28`,
@@ -148,7 +151,7 @@ pub enum MachineError {
 
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
 /// of each family: table-table, table-head, head-head) and a 45 deg nutating head.
-const BUILTIN_FILES: [(&str, &str); 9] = [
+const BUILTIN_FILES: [(&str, &str); 10] = [
     ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
@@ -158,6 +161,7 @@ const BUILTIN_FILES: [(&str, &str); 9] = [
     ("linuxcnc-xyzab-tdr", include_str!("../../../machines/linuxcnc-xyzab-tdr.toml")),
     ("linuxcnc-max5", include_str!("../../../machines/linuxcnc-max5.toml")),
     ("linuxcnc-bridgemill", include_str!("../../../machines/linuxcnc-bridgemill.toml")),
+    ("hobby-rtcp-ab", include_str!("../../../machines/hobby-rtcp-ab.toml")),
 ];
 
 /// The machine every command and node takes when none is named: the paper's Hermle C600U (A/C table).
@@ -232,6 +236,12 @@ impl Machine {
     /// The rule for M function `code` this machine's control defines, if any.
     pub fn m_function(&self, code: u32) -> Option<crate::program::MCodeAction> {
         self.m_functions.iter().find(|r| r.code == code).map(|r| r.action)
+    }
+
+    /// Radians per program unit of the rotary word `letter` (A, B or C) on this machine: its axis'
+    /// `program_unit`, degrees for a letter it lacks.
+    pub fn rotary_word_unit(&self, letter: char) -> f64 {
+        (0..2).find(|&k| self.axes[3 + k].name.eq_ignore_ascii_case(&letter.to_string())).map_or(crate::units::DEG, |k| self.rotary_word_units[k])
     }
 
     /// Names of the axes, in order.

@@ -391,6 +391,7 @@ impl<'a> Urdf<'a> {
                 velocity_deg_per_s: velocity / DEG,
                 acceleration_deg_per_s2: acceleration / DEG,
                 jerk_deg_per_s3: jerk / DEG,
+                program_unit: None,
             });
             places.push(format!("joint '{}' at {}", j.name, j.at));
         }

@@ -25,6 +25,10 @@ use crate::units::MM;
 /// Millimetres per inch (`UNITS/INCHES`, `FEDRAT/IPM`).
 const MM_PER_INCH: f64 = 25.4;
 
+/// A part larger than this (mm, 4 m: beyond the travels of the machines CAM writes five-axis
+/// programs for) in a program that says inches suggests its numbers are millimetres.
+const LARGEST_PART_MM: f64 = 4000.0;
+
 /// The longest statement, continuation lines included, in bytes: a CLDATA record is short, so a
 /// longer one is damage (or a `$` on every line), refused rather than held.
 const MAX_STATEMENT_BYTES: usize = 64 * 1024;
@@ -73,8 +77,16 @@ pub(crate) struct AptReader {
     orientation: Orientation,
     /// A statement continued (`$`): its text so far, line and column.
     pending: Option<(String, usize, usize)>,
+    /// A `$$` comment continued (`$` at its end, as Creo writes its `$$->` records over lines).
+    comment_continues: bool,
     /// Millimetres per program unit.
     unit: f64,
+    /// The unit the user imposed (`--units`): UNITS/ and FEDRAT/IPM are then noted, not obeyed.
+    forced: Option<super::LengthUnit>,
+    /// Where the program said UNITS/INCHES (line, column), for the size check at its end.
+    inches_at: Option<(usize, usize)>,
+    /// The extent of the tool tips read (mm): lowest and highest of each axis.
+    extent: Option<([f64; 3], [f64; 3])>,
     feed: f64,
     /// Whether a FEDRAT has been read (else the default feed applies, with a warning once).
     fedrat: bool,
@@ -92,11 +104,15 @@ pub(crate) struct AptReader {
 }
 
 impl AptReader {
-    pub(crate) fn new(default_feed_mm_per_min: f64, orientation: Orientation) -> Self {
+    pub(crate) fn new(default_feed_mm_per_min: f64, orientation: Orientation, forced: Option<super::LengthUnit>) -> Self {
         AptReader {
             orientation,
             pending: None,
-            unit: 1.0,
+            comment_continues: false,
+            unit: forced.map_or(1.0, |u| u.metres() / MM),
+            forced,
+            inches_at: None,
+            extent: None,
             feed: default_feed_mm_per_min,
             fedrat: false,
             rapid: false,
@@ -112,8 +128,20 @@ impl AptReader {
 
     /// Read one line: a statement, its start, its continuation or a comment.
     pub(crate) fn line(&mut self, line: usize, l: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        // A `$$` comment whose line ends in `$` goes on over the next line (Pro/CLfile writes its
+        // `$$-> CSYS / ...` record over three such lines); a statement continued stays continued.
+        if std::mem::take(&mut self.comment_continues) {
+            self.comment_continues = l.trim_end().ends_with('$');
+            return;
+        }
         let code = match l.find("$$") {
-            Some(k) => &l[..k],
+            Some(k) => {
+                if self.pending.is_none() && l[..k].trim().is_empty() {
+                    let comment = l[k + 2..].trim_end();
+                    self.comment_continues = comment.ends_with('$') && !comment.ends_with("$$");
+                }
+                &l[..k]
+            }
             None => l,
         };
         let trimmed = code.trim_end();
@@ -175,6 +203,18 @@ impl AptReader {
         }
         if let Some(c) = self.circle.take() {
             diags.error(c.line, c.column, "CIRCLE without the GOTO that ends it");
+        }
+        // A program in inches whose part is larger than any machine's table: say so, and how to
+        // read it in millimetres if its numbers are (never guessed).
+        if let (Some((line, col)), Some((lo, hi))) = (self.inches_at, self.extent) {
+            let span = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+            if span > LARGEST_PART_MM {
+                diags.warning(
+                    line,
+                    col,
+                    format!("UNITS/INCHES: the tool tips span {:.1} m in inches, more than any machine's travel; if the file's numbers are millimetres, read it with --units mm", span / 1000.0),
+                );
+            }
         }
     }
 
@@ -269,6 +309,10 @@ impl AptReader {
                     diags.warning(line, col, format!("{word} before any FEDRAT/: at the default CL feed, {} mm/min", self.feed));
                 }
                 self.at = Some(tip);
+                self.extent = Some(match self.extent {
+                    None => (tip, tip),
+                    Some((lo, hi)) => (std::array::from_fn(|k| lo[k].min(tip[k])), std::array::from_fn(|k| hi[k].max(tip[k]))),
+                });
                 out.push(Block {
                     motion,
                     targets: Targets { x: Some(tip[0] * MM), y: Some(tip[1] * MM), z: Some(tip[2] * MM), tool_axis: Some(self.tool_axis), ..Targets::default() },
@@ -294,6 +338,8 @@ impl AptReader {
                 for m in &minors {
                     match m.as_str() {
                         "MMPM" => per_unit = 1.0,
+                        // Under --units, the file's numbers are in that unit, its feeds per minute too.
+                        "IPM" if self.forced.is_some() => per_unit = self.unit,
                         "IPM" => per_unit = MM_PER_INCH,
                         "MMPR" | "IPR" => {
                             diags.error(line, col, format!("FEDRAT/{m}: a feed per revolution is not read"));
@@ -315,10 +361,20 @@ impl AptReader {
             }
             "UNITS" | "UNIT" => {
                 let Some((v, minors)) = values(diags) else { return };
-                match (v.len(), minors.first().map(String::as_str)) {
-                    (0, Some("MM")) if minors.len() == 1 => self.unit = 1.0,
-                    (0, Some("INCHES" | "INCH")) if minors.len() == 1 => self.unit = MM_PER_INCH,
-                    _ => diags.error(line, col, "UNITS/ expects MM or INCHES"),
+                let inch = match (v.len(), minors.first().map(String::as_str)) {
+                    (0, Some("MM")) if minors.len() == 1 => false,
+                    (0, Some("INCHES" | "INCH")) if minors.len() == 1 => true,
+                    _ => return diags.error(line, col, "UNITS/ expects MM or INCHES"),
+                };
+                match self.forced {
+                    Some(u) if (u == super::LengthUnit::Inch) != inch => {
+                        diags.warning(line, col, format!("UNITS/{}: the program's numbers are read in {} (--units)", minors[0], u.name()))
+                    }
+                    Some(_) => {}
+                    None => {
+                        self.unit = if inch { MM_PER_INCH } else { 1.0 };
+                        self.inches_at = inch.then_some((line, col));
+                    }
                 }
             }
             "MULTAX" => {
@@ -393,6 +449,17 @@ impl AptReader {
             }
             "PARTNO" | "PPRINT" | "TPRINT" | "REMARK" | "MACHIN" | "MODE" | "CUTTER" | "TLDATA" | "TOOL" | "PAINT" | "DISPLY" | "SEQNO"
             | "CLRSRF" | "OPNAME" | "OPERATION" | "AUTOPS" => {}
+            // A vocabulary entry (post-processor word and its number, Creo's GPOST table): no motion.
+            "PPWORD" => {}
+            // Pro/CLfile's output frame (3 x 4, rows) against the model: the GOTOs are already in it
+            // (Creo's two CL files of one tool path differ by CAMERA's translation exactly), so it is
+            // where the program's coordinates are, not a transform to apply.
+            "CAMERA" => {
+                let Some((v, minors)) = values(diags) else { return };
+                if v.len() != 12 || !minors.is_empty() {
+                    diags.error(line, col, format!("CAMERA/ expects a 3 x 4 matrix (12 numbers): found {}", v.len()));
+                }
+            }
             "MSYS" => {
                 let Some((v, _)) = values(diags) else { return };
                 let axes = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0];

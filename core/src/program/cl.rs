@@ -16,7 +16,8 @@ pub fn read_cl(text: &str, feed_mm_per_min: f64) -> Program {
 
 /// Read CL data for a control that interpolates the tool orientation as `orientation` says.
 pub fn read_cl_with(text: &str, feed_mm_per_min: f64, orientation: Orientation) -> Program {
-    super::stream::read_whole(&mut ClReader::new(feed_mm_per_min, orientation), text, Dialect::Cl)
+    let setup = super::ReadOptions { cl_feed_mm_per_min: feed_mm_per_min, orientation: Some(orientation), ..Default::default() }.setup(Dialect::Cl);
+    super::stream::read_whole(&mut ClReader::new(&setup), text, Dialect::Cl)
 }
 
 /// A CL field: an NC decimal, or a finite number in exponent notation (`1.5e-3`; not `inf`, `nan`
@@ -101,14 +102,15 @@ pub(crate) fn unit_tool_axis(v: [f64; 3], line: usize, column: usize, diags: &mu
 pub(crate) struct ClReader {
     feed_mm_per_min: f64,
     orientation: Orientation,
+    units: Option<super::LengthUnit>,
     seen_data: bool,
     /// APT CLDATA, known by the first line that is not blank or a comment.
     apt: Option<Box<AptReader>>,
 }
 
 impl ClReader {
-    pub(crate) fn new(feed_mm_per_min: f64, orientation: Orientation) -> Self {
-        ClReader { feed_mm_per_min, orientation, seen_data: false, apt: None }
+    pub(crate) fn new(setup: &super::Setup) -> Self {
+        ClReader { feed_mm_per_min: setup.cl_feed_mm_per_min, orientation: setup.orientation, units: setup.units, seen_data: false, apt: None }
     }
 }
 
@@ -124,7 +126,7 @@ impl super::stream::LineReader for ClReader {
             return;
         }
         if !self.seen_data && is_apt_line(t) {
-            let mut apt = Box::new(AptReader::new(feed_mm_per_min, orientation));
+            let mut apt = Box::new(AptReader::new(feed_mm_per_min, orientation, self.units));
             apt.line(line, l, out, diags);
             self.apt = Some(apt);
             return;

@@ -141,7 +141,7 @@ pub fn read_heidenhain(text: &str) -> Program {
 /// Read a Heidenhain DIN/ISO program on a control whose machine-specific M functions do what
 /// `m_codes` says and whose orientation interpolation starts as `orientation`.
 pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientation: super::Orientation) -> Program {
-    super::stream::read_whole(&mut DinReader::new(m_codes, orientation), text, Dialect::Heidenhain)
+    super::stream::read_whole(&mut DinReader::new(&super::Setup::plain(Dialect::Heidenhain, m_codes, orientation)), text, Dialect::Heidenhain)
 }
 
 /// The DIN/ISO reader, fed one line at a time.
@@ -157,9 +157,9 @@ pub(crate) struct DinReader {
 }
 
 impl DinReader {
-    pub(crate) fn new(m_codes: &[super::MCodeRule], orientation: super::Orientation) -> Self {
+    pub(crate) fn new(setup: &super::Setup) -> Self {
         DinReader {
-            interp: Interpreter::new(Dialect::Heidenhain).with_m_codes(m_codes).with_orientation(orientation),
+            interp: setup.interpreter(),
             name: None,
             seen: SeenNumbers::default(),
             last_number: None,
@@ -190,8 +190,9 @@ impl super::stream::LineReader for DinReader {
                     // already reported; keep the name as read
                 }
                 self.name = Some(n);
-                if rest.contains("G70") {
-                    self.interp.set_inch(true);
+                let inch = rest.contains("G70");
+                if let Err(u) = self.interp.set_inch(inch) {
+                    diags.warning(line, col, format!("the header says {}; the program's numbers are read in {} (--units)", if inch { "G70 (inches)" } else { "millimetres" }, u.name()));
                 }
             }
             return;

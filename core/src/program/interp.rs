@@ -54,6 +54,11 @@ pub struct Interpreter {
     last: [f64; 6],
     /// The contour tolerance the program set (Heidenhain cycle 32, LinuxCNC G64 P/Q).
     tolerance: super::ProgrammedTolerance,
+    /// A length unit imposed by the user (`--units`): the program's unit codes are noted, not obeyed.
+    forced_unit: Option<super::LengthUnit>,
+    /// Radians per program unit of the A, B and C words (degrees, unless the machine's control
+    /// reads an axis in radians).
+    rotary_unit: [f64; 3],
 }
 
 const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
@@ -81,12 +86,31 @@ impl Interpreter {
             pending_vector: None,
             last: [0.0; 6],
             tolerance: Default::default(),
+            forced_unit: None,
+            rotary_unit: [DEG; 3],
         }
+    }
+
+    /// Read the rotary words in the units this machine's control reads them in.
+    pub fn with_machine(mut self, machine: Option<&crate::machine::Machine>) -> Self {
+        if let Some(m) = machine {
+            self.rotary_unit = ['A', 'B', 'C'].map(|l| m.rotary_word_unit(l));
+        }
+        self
     }
 
     /// Start with this orientation interpolation (the machine's setting) instead of the dialect's default.
     pub fn with_orientation(mut self, orientation: Orientation) -> Self {
         self.orientation = orientation;
+        self
+    }
+
+    /// Read every length in `units` whatever the program's own unit codes say (`--units`).
+    pub fn with_units(mut self, units: Option<super::LengthUnit>) -> Self {
+        self.forced_unit = units;
+        if let Some(u) = units {
+            self.unit = u.metres();
+        }
         self
     }
 
@@ -129,7 +153,8 @@ impl Interpreter {
                 // L20: the current point, in the offset-free (G53) frame, less the value it is to read.
                 offsets[k] = if l20 { next.last[k] + next.datum[k] - w.value * next.unit } else { w.value * next.unit };
             } else {
-                let offset = if l20 { next.last[k] - w.value * DEG } else { w.value * DEG };
+                let u = next.rotary_unit[k - 3];
+                let offset = if l20 { next.last[k] - w.value * u } else { w.value * u };
                 if offset.abs() > 1e-12 {
                     diags.error(line, w.column, format!("G10 {l} {}{}: rotary-axis work offsets are not modelled (this one would be {:.6} deg)", w.letter, w.raw, offset / DEG));
                 }
@@ -207,9 +232,17 @@ impl Interpreter {
         self.pending_vector = Some(v);
     }
 
-    /// Set the program's length unit (Heidenhain header G70/G71).
-    pub fn set_inch(&mut self, inch: bool) {
-        self.unit = if inch { INCH } else { MM };
+    /// Set the program's length unit (Heidenhain header G70/G71, Klartext `BEGIN PGM ... INCH`),
+    /// unless the user imposed one: then `Err` names the unit the program's numbers are read in.
+    pub fn set_inch(&mut self, inch: bool) -> Result<(), super::LengthUnit> {
+        match self.forced_unit {
+            Some(u) if (u == super::LengthUnit::Inch) != inch => Err(u),
+            Some(_) => Ok(()),
+            None => {
+                self.unit = if inch { INCH } else { MM };
+                Ok(())
+            }
+        }
     }
 
     /// Interpret one block's words. Defects go to `diags` and yield `None` with the state unchanged
@@ -280,8 +313,18 @@ impl Interpreter {
                         ("91", _) => next.absolute = false,
                         ("90.1", false) => next.arc_absolute = true,
                         ("91.1", false) => next.arc_absolute = false,
-                        ("70", true) | ("20", false) => next.unit = INCH,
-                        ("71", true) | ("21", false) => next.unit = MM,
+                        ("70", true) | ("20", false) | ("71", true) | ("21", false) => {
+                            let inch = code == "70" || code == "20";
+                            match next.forced_unit {
+                                None => next.unit = if inch { INCH } else { MM },
+                                Some(u) if (u == super::LengthUnit::Inch) != inch => diags.warning(
+                                    line,
+                                    w.column,
+                                    format!("G{}: the program says {}; its numbers are read in {} (--units)", w.raw, if inch { "inches" } else { "millimetres" }, u.name()),
+                                ),
+                                Some(_) => {}
+                            }
+                        }
                         ("54", true) => datum_block = true,
                         ("54" | "55" | "56" | "57" | "58" | "59" | "59.1" | "59.2" | "59.3", false) => {
                             let k = ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"].iter().position(|c| *c == code).unwrap_or(0);
@@ -503,7 +546,7 @@ impl Interpreter {
             if g10 {
                 continue;
             }
-            let scale = if k < 3 { next.unit } else { DEG };
+            let scale = if k < 3 { next.unit } else { next.rotary_unit[k - 3] };
             let v = w.value * scale;
             if datum_block {
                 if k < 3 {

@@ -128,7 +128,7 @@ struct Stmt<'a> {
 /// `m_codes` says and whose orientation interpolation starts as `orientation`: run as a stream
 /// over the text ([`super::stream`]), its blocks collected.
 pub fn read_klartext_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
-    super::stream::read_klartext(text, m_codes, orientation)
+    super::stream::read_klartext(text, &super::Setup::plain(Dialect::Klartext, m_codes, orientation))
 }
 
 /// Whitespace-separated tokens of a line, borrowed, with their 1-based columns (characters).
@@ -843,9 +843,9 @@ pub(crate) struct Runner {
 }
 
 impl Runner {
-    pub(crate) fn new(labels: Labels, m_codes: &[MCodeRule], orientation: Orientation) -> Runner {
+    pub(crate) fn new(labels: Labels, setup: &super::Setup) -> Runner {
         Runner {
-            interp: Interpreter::new(Dialect::Klartext).with_m_codes(m_codes).with_orientation(orientation),
+            interp: setup.interpreter(),
             ex: Exec::default(),
             st: ParseState::default(),
             budget: labels.lines + MAX_REPEATED_BLOCKS,
@@ -862,7 +862,9 @@ impl Runner {
         let was_inch = self.st.inch;
         let Some(s) = parse_line(line, raw, &mut self.st, diags) else {
             if self.st.inch != was_inch {
-                self.interp.set_inch(self.st.inch);
+                if let Err(u) = self.interp.set_inch(self.st.inch) {
+                    diags.warning(line, 1, format!("the program header says {}; its numbers are read in {} (--units)", if self.st.inch { "INCH" } else { "MM" }, u.name()));
+                }
             }
             return Next::On;
         };

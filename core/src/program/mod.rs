@@ -12,6 +12,7 @@ mod klartext;
 mod lex;
 mod params;
 mod rs274;
+mod setup;
 mod sinumerik;
 mod stream;
 
@@ -19,6 +20,7 @@ pub use cl::{read_cl, read_cl_with};
 pub use heidenhain::{read_heidenhain, read_heidenhain_with};
 pub use klartext::{read_klartext_with, MAX_LABELS, MAX_REPEATED_BLOCKS};
 pub use rs274::{read_rs274, read_rs274_setup, read_rs274_with};
+pub use setup::{LengthUnit, Setup};
 pub use sinumerik::read_sinumerik_with;
 pub use stream::{BlockStream, DiagnosticLog, OpenText, Text, MAX_DIAGNOSTICS, MAX_LINE_BYTES};
 
@@ -462,11 +464,14 @@ pub struct ReadOptions {
     /// The machine the program runs on, as its control knows it: the M functions it defines, its
     /// machine coordinates and reference points, its kinematics for tilted working planes.
     pub machine: Option<std::sync::Arc<crate::machine::Machine>>,
+    /// The length unit the program's numbers are in, whatever it says (`--units`): for a program
+    /// whose unit statement contradicts its numbers (Creo's `UNITS / INCHES` on millimetres).
+    pub units: Option<LengthUnit>,
 }
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None }
+        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None, units: None }
     }
 }
 
@@ -496,7 +501,7 @@ impl ReadOptions {
 pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> Program {
     let mut p = match stream::Reader::new(dialect, options) {
         Some(mut reader) => stream::read_whole(reader.get(), text, dialect),
-        None => read_klartext_with(text, &options.m_code_rules(), options.orientation_for(dialect)),
+        None => stream::read_klartext(text, &options.setup(dialect)),
     };
     p.source = source.to_string();
     p

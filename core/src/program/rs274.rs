@@ -25,7 +25,7 @@ pub fn read_rs274_with(text: &str, m_codes: &[MCodeRule]) -> Program {
 /// Read an RS274NGC program with these machine-specific M codes, on a control whose orientation
 /// interpolation starts as `orientation`.
 pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::Orientation) -> Program {
-    super::stream::read_whole(&mut Rs274Reader::new(m_codes, orientation), text, Dialect::Rs274)
+    super::stream::read_whole(&mut Rs274Reader::new(&super::Setup::plain(Dialect::Rs274, m_codes, orientation)), text, Dialect::Rs274)
 }
 
 /// The RS274NGC reader, fed one line at a time.
@@ -41,16 +41,13 @@ pub(crate) struct Rs274Reader {
 }
 
 impl Rs274Reader {
-    pub(crate) fn new(m_codes: &[MCodeRule], orientation: super::Orientation) -> Self {
-        Rs274Reader { interp: Interpreter::new(Dialect::Rs274).with_m_codes(m_codes).with_orientation(orientation), started: false, number: None, params: Parameters::default() }
-    }
-
-    /// Read the HAL pins of this machine's configuration (`#<_hal[...]>`).
-    pub(crate) fn on(mut self, machine: Option<&crate::machine::Machine>) -> Self {
-        if let Some(m) = machine {
-            self.params = Parameters::with_hal_pins(m.hal_pins.clone());
-        }
-        self
+    /// A reader for this setup; a machine's HAL pins can be read (`#<_hal[...]>`).
+    pub(crate) fn new(setup: &super::Setup) -> Self {
+        let params = match &setup.machine {
+            Some(m) => Parameters::with_hal_pins(m.hal_pins.clone()),
+            None => Parameters::default(),
+        };
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params }
     }
 }
 

@@ -23,7 +23,7 @@ use super::{Dialect, MCodeRule, Orientation, Program};
 /// Read a Sinumerik program on a control whose orientation interpolation starts as `orientation`
 /// (the reset state is [`Orientation::GreatCircle`], ORIWKS/ORIVECT).
 pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
-    super::stream::read_whole(&mut SinumerikReader::new(m_codes, orientation), text, Dialect::Sinumerik)
+    super::stream::read_whole(&mut SinumerikReader::new(&super::Setup::plain(Dialect::Sinumerik, m_codes, orientation)), text, Dialect::Sinumerik)
 }
 
 /// The Sinumerik reader, fed one line at a time.
@@ -33,8 +33,8 @@ pub(crate) struct SinumerikReader {
 }
 
 impl SinumerikReader {
-    pub(crate) fn new(m_codes: &[MCodeRule], orientation: Orientation) -> Self {
-        SinumerikReader { interp: Interpreter::new(Dialect::Sinumerik).with_m_codes(m_codes).with_orientation(orientation) }
+    pub(crate) fn new(setup: &super::Setup) -> Self {
+        SinumerikReader { interp: setup.interpreter() }
     }
 }
 

@@ -16,7 +16,7 @@ use super::klartext::{At, Labels, Next, Runner};
 use super::lex::Diags;
 use super::rs274::Rs274Reader;
 use super::sinumerik::SinumerikReader;
-use super::{Block, Diagnostic, Dialect, LoadError, MCodeRule, Orientation, Program, ReadOptions, Severity};
+use super::{Block, Diagnostic, Dialect, LoadError, Program, ReadOptions, Severity};
 use std::collections::{HashSet, VecDeque};
 use std::io::{BufRead, BufReader, Cursor, Read, Seek, SeekFrom};
 use std::path::Path;
@@ -119,12 +119,12 @@ pub(crate) enum Reader {
 impl Reader {
     /// The reader of `dialect` (`None` for Klartext, which jumps: [`Seeking`]).
     pub(crate) fn new(dialect: Dialect, options: &ReadOptions) -> Option<Reader> {
-        let orientation = options.orientation_for(dialect);
+        let setup = options.setup(dialect);
         Some(match dialect {
-            Dialect::Cl => Reader::Cl(ClReader::new(options.cl_feed_mm_per_min, orientation)),
-            Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&options.m_code_rules(), orientation).on(options.machine.as_deref())),
-            Dialect::Heidenhain => Reader::Din(DinReader::new(&options.m_code_rules(), orientation)),
-            Dialect::Sinumerik => Reader::Sinumerik(SinumerikReader::new(&options.m_code_rules(), orientation)),
+            Dialect::Cl => Reader::Cl(ClReader::new(&setup)),
+            Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&setup)),
+            Dialect::Heidenhain => Reader::Din(DinReader::new(&setup)),
+            Dialect::Sinumerik => Reader::Sinumerik(SinumerikReader::new(&setup)),
             Dialect::Klartext => return None,
         })
     }
@@ -208,8 +208,7 @@ impl BlockStream {
         match Reader::new(dialect, options) {
             Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
-                let orientation = options.orientation_for(dialect);
-                let mut k = Seeking::new(open, &options.m_code_rules(), orientation);
+                let mut k = Seeking::new(open, &options.setup(dialect));
                 match k.broken.take() {
                     Some(e) => Err(io(e)),
                     None => Ok(Self::klartext(k, source)),
@@ -225,8 +224,7 @@ impl BlockStream {
             Some(reader) => Self::lines(Box::new(Cursor::new(text.as_bytes().to_vec())), reader, dialect, source),
             None => {
                 let text: std::sync::Arc<[u8]> = text.as_bytes().into();
-                let orientation = options.orientation_for(dialect);
-                Self::klartext(Seeking::new(in_memory(text), &options.m_code_rules(), orientation), source)
+                Self::klartext(Seeking::new(in_memory(text), &options.setup(dialect)), source)
             }
         }
     }
@@ -454,7 +452,7 @@ impl<'a> Seeking<'a> {
     /// Read `open()` for the labels; run it from its start. A failure is kept in `broken` (a
     /// file's reader turns it into a [`LoadError`]; otherwise the first [`Seeking::fill`] reports
     /// it).
-    pub(crate) fn new(open: OpenText<'a>, m_codes: &[MCodeRule], orientation: Orientation) -> Self {
+    pub(crate) fn new(open: OpenText<'a>, setup: &super::Setup) -> Self {
         let (mut labels, mut early) = (Labels::default(), Diags::default());
         let (mut buf, mut at) = (Vec::with_capacity(256), At { line: 1, offset: 0 });
         let (text, mut broken) = match open() {
@@ -483,7 +481,7 @@ impl<'a> Seeking<'a> {
         Seeking {
             input,
             at: At { line: 1, offset: 0 },
-            runner: Runner::new(labels, m_codes, orientation),
+            runner: Runner::new(labels, setup),
             running: true,
             buf,
             early,
@@ -580,8 +578,8 @@ fn in_memory<'a, T: AsRef<[u8]> + Send + 'a>(text: T) -> OpenText<'a> {
 }
 
 /// Read a Klartext program from `text` as the stream does, its blocks and diagnostics collected.
-pub(crate) fn read_klartext(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
-    let mut k = Seeking::new(in_memory(text.as_bytes()), m_codes, orientation);
+pub(crate) fn read_klartext(text: &str, setup: &super::Setup) -> Program {
+    let mut k = Seeking::new(in_memory(text.as_bytes()), setup);
     let (mut blocks, mut diags) = (Vec::with_capacity(super::lex::line_count(text)), Diags::default());
     while !k.fill(&mut blocks, &mut diags) {}
     diags.0.sort_by_key(|d| (d.line, d.column));

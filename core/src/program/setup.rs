@@ -1,0 +1,90 @@
+//! What a reader is told of the control that runs the program: [`super::ReadOptions`] resolved for one
+//! dialect (the M functions in effect, the orientation interpolation at start, a length unit the
+//! user imposes, the machine with its machine coordinates and kinematics).
+
+use super::interp::Interpreter;
+use super::{Dialect, MCodeRule, Orientation, ReadOptions};
+use crate::machine::Machine;
+use std::sync::Arc;
+
+/// A length unit a program's numbers are read in (`--units`), overriding what the program says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LengthUnit {
+    Mm,
+    Inch,
+}
+
+impl LengthUnit {
+    /// Metres per unit.
+    pub fn metres(self) -> f64 {
+        match self {
+            LengthUnit::Mm => crate::units::MM,
+            LengthUnit::Inch => crate::units::INCH,
+        }
+    }
+
+    /// The unit's name as people write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            LengthUnit::Mm => "mm",
+            LengthUnit::Inch => "inch",
+        }
+    }
+
+    /// The names `--units` takes.
+    pub const NAMES: [&'static str; 2] = ["mm", "inch"];
+}
+
+impl std::str::FromStr for LengthUnit {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "mm" => Ok(LengthUnit::Mm),
+            "inch" | "in" | "inches" => Ok(LengthUnit::Inch),
+            other => Err(format!("unknown length unit '{other}': expected mm or inch")),
+        }
+    }
+}
+
+/// The options of one read, for one dialect.
+#[derive(Debug, Clone)]
+pub struct Setup {
+    pub dialect: Dialect,
+    /// M-code rules in effect: the `--m-code` flags, then the machine's own.
+    pub m_codes: Vec<MCodeRule>,
+    /// Orientation interpolation at program start.
+    pub orientation: Orientation,
+    /// A length unit imposed on the program (`--units`): its own unit statements are then noted, not obeyed.
+    pub units: Option<LengthUnit>,
+    /// The machine, where the read is for one.
+    pub machine: Option<Arc<Machine>>,
+    /// Feed for CL data without one, mm/min.
+    pub cl_feed_mm_per_min: f64,
+}
+
+impl Setup {
+    /// A setup with these M-code rules and orientation, nothing else (the readers' plain entry points).
+    pub fn plain(dialect: Dialect, m_codes: &[MCodeRule], orientation: Orientation) -> Setup {
+        ReadOptions { m_codes: m_codes.to_vec(), orientation: Some(orientation), ..ReadOptions::default() }.setup(dialect)
+    }
+
+    /// The G-code interpreter this setup starts.
+    pub fn interpreter(&self) -> Interpreter {
+        Interpreter::new(self.dialect).with_m_codes(&self.m_codes).with_orientation(self.orientation).with_units(self.units).with_machine(self.machine.as_deref())
+    }
+}
+
+impl ReadOptions {
+    /// These options resolved for a program in `dialect`.
+    pub fn setup(&self, dialect: Dialect) -> Setup {
+        Setup {
+            dialect,
+            m_codes: self.m_code_rules(),
+            orientation: self.orientation_for(dialect),
+            units: self.units,
+            machine: self.machine.clone(),
+            cl_feed_mm_per_min: self.cl_feed_mm_per_min,
+        }
+    }
+}
