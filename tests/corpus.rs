@@ -67,29 +67,32 @@ fn every_corpus_program_is_accounted_for() {
     }
 }
 
-/// Each program read with no defect on its machine (exit 0, no error diagnostic), then simulated by `run`.
+/// Each program read with no defect on its machine (exit 0, no error diagnostic), then simulated by
+/// `run`; two commands at a time (the long CL programs take a while in a debug build).
 #[test]
 fn corpus_programs_read_and_run_on_their_machines() {
-    for case in CLEAN {
-        let path = common::outside(&format!("programs/{}", case.file));
-        let path = path.to_str().unwrap();
-        for command in [&["program", "analyze"][..], &["run"][..]] {
-            let mut args: Vec<&str> = command.to_vec();
-            args.extend([path, "--machine", case.machine]);
-            args.extend(case.args);
-            let out = fiveaxis(&args);
-            let stdout = String::from_utf8_lossy(&out.stdout);
-            let errors: Vec<&str> = stdout.lines().filter(|l| l.contains(": error:")).collect();
-            assert!(
-                out.status.code() == Some(0) && errors.is_empty(),
-                "{} {}: exit {:?}, errors {errors:#?}\n{}",
-                command.join(" "),
-                case.file,
-                out.status.code(),
-                String::from_utf8_lossy(&out.stderr)
-            );
+    let jobs: Vec<(&Case, &str)> = CLEAN.iter().flat_map(|c| [(c, "analyze"), (c, "run")]).collect();
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let failures = std::sync::Mutex::new(Vec::new());
+    std::thread::scope(|s| {
+        for _ in 0..2 {
+            s.spawn(|| loop {
+                let Some(&(case, command)) = jobs.get(next.fetch_add(1, std::sync::atomic::Ordering::Relaxed)) else { break };
+                let path = common::outside(&format!("programs/{}", case.file));
+                let mut args: Vec<&str> = if command == "run" { vec!["run"] } else { vec!["program", "analyze"] };
+                args.extend([path.to_str().unwrap(), "--machine", case.machine]);
+                args.extend(case.args);
+                let out = fiveaxis(&args);
+                let stdout = String::from_utf8_lossy(&out.stdout);
+                let errors: Vec<String> = stdout.lines().filter(|l| l.contains(": error:")).map(String::from).collect();
+                if out.status.code() != Some(0) || !errors.is_empty() {
+                    failures.lock().unwrap().push(format!("{command} {}: exit {:?}, errors {errors:#?}\n{}", case.file, out.status.code(), String::from_utf8_lossy(&out.stderr)));
+                }
+            });
         }
-    }
+    });
+    let failures = failures.into_inner().unwrap();
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 /// The hobby converter's G-code (rotaries in radians) and the Creo CL data it was made from
