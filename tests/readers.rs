@@ -570,6 +570,64 @@ fn rs274_evaluates_parameters_and_expressions_as_linuxcnc_does() {
     }
 }
 
+/// Canned cycles (G81, G82, G83, G73, G85 three times under G91, G86, G89; G98, G99) read in the
+/// Haas dialect (L repeats, P seconds with a decimal point) make the moves LinuxCNC's own
+/// interpreter makes of them (`cycles.ngc`/`.canon`), on a machine whose peck distances are
+/// LinuxCNC's 0.254 mm; each dwell where LinuxCNC dwells.
+#[test]
+fn canned_cycles_move_as_linuxcnc_runs_them() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join("cycles.ngc")).unwrap();
+    let file = fiveaxis::machine::builtin_file("haas-umc-750").unwrap().replace("g73_retract_mm = 2.54", "g73_retract_mm = 0.254").replace("g83_clearance_mm = 0.76", "g83_clearance_mm = 0.254");
+    let machine = fiveaxis::machine::Machine::from_toml_str(&file, "t").unwrap();
+    let p = read(&text, Dialect::Haas, "cycles.nc", &ReadOptions::default().on(&machine));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ours = end_points(&p);
+    let theirs = linuxcnc_canon("cycles.canon");
+    assert_eq!(ours.len(), theirs.len(), "moves: ours {ours:#?}");
+    for (k, ((m, a), (n, b))) in ours.iter().zip(&theirs).enumerate() {
+        assert_eq!(m, n, "move {k}");
+        assert!((0..6).all(|i| (a[i] - b[i]).abs() <= 0.5e-4 + 1e-9), "move {k}: ours {a:?}, LinuxCNC {b:?}");
+    }
+    let dwells: Vec<f64> = p.blocks.iter().filter_map(|b| b.dwell_s).collect();
+    assert_eq!(dwells, [0.5, 0.2, 0.25]);
+}
+
+/// Fanuc's reference returns and machine coordinates on a machine whose file places them: `G91 G28
+/// Z0` goes straight up to the reference point, `G28 X10 Y0` (G90) through the intermediate point,
+/// `G53 G0 Z-5` to 5 mm below the machine zero; a number without a decimal point is in thousandths
+/// of a mm (`X1500` is 1.5 mm); the leader before `%` is skipped; Fanuc's G04 P is milliseconds.
+#[test]
+fn fanuc_reference_returns_and_decimal_points() {
+    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    let text = "NX listing header\nDate : today\n%\nO0001\nG21 G90 G17 G40\nG91 G28 Z0.\nG90 G0 X1500 Y2. Z3.\nG28 X10. Y0.\nG53 G0 Z-5.\nG04 P250\nM30\n%\ntrailer text\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&machine));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let zero = machine.machine_coordinates.as_ref().unwrap().zero;
+    let pts = end_points(&p);
+    let mm = |v: f64| v * 1e3;
+    // Z to the machine zero (program = machine point + zero, G54 taken as zero).
+    assert_eq!(pts[0].0, Motion::Rapid);
+    assert!((pts[0].1[2] - mm(zero.z)).abs() < 1e-9, "{pts:?}");
+    assert!((pts[1].1[0] - 1.5).abs() < 1e-12 && (pts[1].1[1] - 2.0).abs() < 1e-12);
+    // G28 X10 Y0: the intermediate point, then X and Y to the reference (Z stays).
+    assert_eq!(&pts[2].1[..3], &[10.0, 0.0, 3.0]);
+    assert!((pts[3].1[0] - mm(zero.x)).abs() < 1e-9 && (pts[3].1[1] - mm(zero.y)).abs() < 1e-9 && (pts[3].1[2] - 3.0).abs() < 1e-9, "{pts:?}");
+    assert!((pts[4].1[2] - (mm(zero.z) - 5.0)).abs() < 1e-9);
+    assert_eq!(p.blocks.iter().filter_map(|b| b.dwell_s).collect::<Vec<_>>(), [0.25]);
+    assert!(p.diagnostics.iter().any(|d| d.line == 1 && d.message.contains("leader")));
+    // Fanuc's P takes no decimal point; a peck cycle needs the machine's d.
+    let p = read("%\nG21 G90\nG04 P1.5\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&machine));
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 3 && m.contains("milliseconds")), "{:?}", errors(&p));
+    let bare = fiveaxis::machine::builtin_file("mori-seiki-nmv5000").unwrap().replace("g83_clearance_mm = 0.1\n", "");
+    let bare = fiveaxis::machine::Machine::from_toml_str(&bare, "t").unwrap();
+    let p = read("%\nG21 G90 F100\nG0 Z10.\nG83 X0 Y0 Z-5. R1. Q2.\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&bare));
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 4 && m.contains("No. 5115")), "{:?}", errors(&p));
+    // Without machine coordinates, G28 cannot be placed.
+    let p = read("%\nG21 G91 G28 Z0.\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 2 && m.contains("machine_coordinates")), "{:?}", errors(&p));
+}
+
 /// What the reader cannot know is refused where it stands, and a damaged line sets nothing: a named
 /// parameter read before it is set (LinuxCNC's error too), a numbered one (LinuxCNC reads 0, Fanuc
 /// vacant), the machine's state (`#5221`, `#<_x>`), a division by zero, an unclosed bracket.

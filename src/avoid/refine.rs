@@ -86,6 +86,7 @@ pub fn semi_cylinder() -> Program {
                 events: Vec::new(),
                 dwell_s: None,
                 tolerance: Default::default(),
+            offset_assumed: false,
             }
         })
         .collect();

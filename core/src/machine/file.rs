@@ -24,6 +24,10 @@ pub struct MachineFile {
     /// The control that runs it, as its maker names it (`Heidenhain iTNC 530`, `Siemens 840D sl`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub control: Option<String>,
+    /// The dialect its control reads (`fanuc`, `haas`, `rs274`, `klartext`, `sinumerik`, ...): a
+    /// generic G-code file for this machine is read in it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dialect: Option<String>,
     /// Tool axis O_M in the spindle frame at home (unit vector; default +Z).
     #[serde(default = "default_tool_axis")]
     pub tool_axis: [f64; 3],
@@ -47,6 +51,14 @@ pub struct MachineFile {
     /// remap such as vismach's `M428`), each with what it does to the motion.
     #[serde(default, rename = "m_function", skip_serializing_if = "Vec::is_empty")]
     pub m_functions: Vec<MFunctionFile>,
+    /// How far an arc's end may lie off its circle (end radius less start radius) before the control
+    /// refuses it, mm: Fanuc's parameter No. 3410, LinuxCNC's CENTER_ARC_RADIUS_TOLERANCE (default
+    /// 0.00127 mm, LinuxCNC's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arc_radius_tolerance_mm: Option<f64>,
+    /// The control's canned-cycle settings that shape their motion.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub canned_cycles: Option<CannedCyclesFile>,
     /// LinuxCNC HAL pins a program may read (`#<_hal[name]>` with `[RS274NGC]HAL_PIN_VARS = 1`,
     /// LinuxCNC manual §11.4.3.6), with the values the configuration gives them.
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
@@ -68,6 +80,18 @@ pub struct MachineCoordinatesFile {
     /// coordinates, mm; without it `M92` is refused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub m92_datum_mm: Option<[f64; 3]>,
+}
+
+/// `[canned_cycles]`: the control's settings of its peck cycles.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CannedCyclesFile {
+    /// G73's retract after each peck, mm (Fanuc parameter No. 5114, Haas Setting 22).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub g73_retract_mm: Option<f64>,
+    /// G83's stop short of the last depth on the way back down, mm (Fanuc parameter No. 5115).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub g83_clearance_mm: Option<f64>,
 }
 
 /// `[[m_function]]`: one M function of this machine's control.
@@ -291,11 +315,28 @@ impl MachineFile {
             }
             hal_pins.insert(name.to_ascii_lowercase(), *v);
         }
+        let arc_radius_tolerance = match self.arc_radius_tolerance_mm {
+            None => None,
+            Some(t) if t.is_finite() && t > 0.0 && t <= 1.0 => Some(t * MM),
+            Some(t) => return Err(format!("`arc_radius_tolerance_mm` = {t}: expected more than 0 and at most 1 mm")),
+        };
+        let mut peck = [None, None];
+        if let Some(c) = &self.canned_cycles {
+            for (k, (field, v)) in [("canned_cycles.g73_retract_mm", c.g73_retract_mm), ("canned_cycles.g83_clearance_mm", c.g83_clearance_mm)].into_iter().enumerate() {
+                match v {
+                    None => {}
+                    Some(d) if d.is_finite() && (0.0..=100.0).contains(&d) => peck[k] = Some(d * MM),
+                    Some(d) => return Err(format!("`{field}` = {d}: expected 0 to 100 mm")),
+                }
+            }
+        }
         let text = |field: &str, v: &Option<String>| match v {
             Some(s) if s.trim().is_empty() => Err(format!("`{field}` is empty: give it or leave it out")),
             _ => Ok(v.clone()),
         };
+        let dialect = self.dialect.as_deref().map(|d| d.parse::<crate::program::Dialect>().map_err(|e| format!("`dialect`: {e}"))).transpose()?;
         Ok(Machine {
+            dialect,
             name: self.name.clone(),
             description: self.description.clone(),
             maker: text("maker", &self.maker)?,
@@ -308,6 +349,8 @@ impl MachineFile {
             m_functions,
             hal_pins,
             rotary_word_units: [word_units[0], word_units[1]],
+            peck_distances: peck,
+            arc_radius_tolerance,
         })
     }
 }

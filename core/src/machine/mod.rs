@@ -8,7 +8,7 @@
 mod file;
 pub mod urdf;
 
-pub use file::{LinearAxisFile, MFunctionFile, MachineCoordinatesFile, MachineFile, RotaryAxisFile};
+pub use file::{CannedCyclesFile, LinearAxisFile, MFunctionFile, MachineCoordinatesFile, MachineFile, RotaryAxisFile};
 
 use crate::kinematics::{unwrap_near, Carrier, Joints, KinematicsError, Pose, RotaryJoint, TwoRotaryChain};
 use nalgebra::Vector3;
@@ -66,6 +66,8 @@ pub struct Machine {
     pub model: Option<String>,
     /// The control that runs it (`Heidenhain iTNC 530`).
     pub control: Option<String>,
+    /// The dialect its control reads: generic G-code files for it are read in it.
+    pub dialect: Option<crate::program::Dialect>,
     pub axes: [Axis; AXES],
     pub chain: TwoRotaryChain,
     /// The control's contour tolerance where a program sets none (Heidenhain cycle 32 `T`/`TA`).
@@ -79,6 +81,10 @@ pub struct Machine {
     /// Radians per program unit of each rotary axis' words, in file order (degrees but on a control
     /// set up in radians).
     pub rotary_word_units: [f64; 2],
+    /// The peck cycles' distances, m: G73's retract and G83's clearance (Fanuc No. 5114, 5115).
+    pub peck_distances: [Option<f64>; 2],
+    /// How far an arc's end radius may differ from its start radius, m (the control's setting).
+    pub arc_radius_tolerance: Option<f64>,
 }
 
 /// The control's machine coordinate system (`G53`, `M91`, `SUPA`) and reference points (`G28`,
@@ -151,7 +157,7 @@ pub enum MachineError {
 
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
 /// of each family: table-table, table-head, head-head) and a 45 deg nutating head.
-const BUILTIN_FILES: [(&str, &str); 10] = [
+const BUILTIN_FILES: [(&str, &str); 13] = [
     ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
@@ -162,6 +168,9 @@ const BUILTIN_FILES: [(&str, &str); 10] = [
     ("linuxcnc-max5", include_str!("../../../machines/linuxcnc-max5.toml")),
     ("linuxcnc-bridgemill", include_str!("../../../machines/linuxcnc-bridgemill.toml")),
     ("hobby-rtcp-ab", include_str!("../../../machines/hobby-rtcp-ab.toml")),
+    ("haas-umc-750", include_str!("../../../machines/haas-umc-750.toml")),
+    ("haas-vf2-tr", include_str!("../../../machines/haas-vf2-tr.toml")),
+    ("mori-seiki-nmv5000", include_str!("../../../machines/mori-seiki-nmv5000.toml")),
 ];
 
 /// The machine every command and node takes when none is named: the paper's Hermle C600U (A/C table).

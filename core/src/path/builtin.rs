@@ -81,6 +81,7 @@ impl BuiltinPath {
                     events: Vec::new(),
                     dwell_s: None,
                     tolerance: Default::default(),
+            offset_assumed: false,
                 }
             })
             .collect();

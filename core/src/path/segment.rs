@@ -369,6 +369,8 @@ pub struct SegmentPlanner {
     first_orientation: bool,
     at_start: bool,
     stopped: bool,
+    /// Linear axes already warned of beyond their range under a work offset the program never set.
+    warned_range: [bool; 3],
 }
 
 impl SegmentPlanner {
@@ -376,7 +378,7 @@ impl SegmentPlanner {
     /// [`push`](Self::push) is given).
     pub fn new(machine: &Machine, dialect: crate::program::Dialect, options: &PathOptions) -> Self {
         let letters: [char; 2] = [3, 4].map(|i| machine.axes[i].name.chars().next().unwrap_or('?').to_ascii_uppercase());
-        SegmentPlanner { options: *options, q: [0.0; 5], t: 0.0, s: 0.0, letters, first_orientation: true, at_start: dialect.starts_at_first_pose(), stopped: false }
+        SegmentPlanner { options: *options, q: [0.0; 5], t: 0.0, s: 0.0, letters, first_orientation: true, at_start: dialect.starts_at_first_pose(), stopped: false, warned_range: [false; 3] }
     }
 
     /// Plan block `bi`: its segments go to `segments`, what stops it to `diags`. False once planning
@@ -385,7 +387,7 @@ impl SegmentPlanner {
         if self.stopped {
             return false;
         }
-        let (options, letters) = (&self.options, self.letters);
+        let (options, letters) = (&self.options.clone(), self.letters);
         let (mut q, mut t, mut s) = (self.q, self.t, self.s);
         let (mut first_orientation, mut at_start) = (self.first_orientation, self.at_start);
         let tolerance = b.tolerance.on(machine.contour_tolerance);
@@ -450,8 +452,7 @@ impl SegmentPlanner {
                 q1 = [lin(0, b.targets.x), lin(1, b.targets.y), lin(2, b.targets.z), rot1[0], rot1[1]];
                 tip1 = machine.forward(&q1).tip - datum;
             }
-            if let Some(d) = out_of_range(b, machine, &q1) {
-                diags.push(d);
+            if self.range_stops(b, machine, &q1, diags) {
                 break 'blocks false;
             }
             if at_start {
@@ -524,8 +525,7 @@ impl SegmentPlanner {
                     let mut pieces = Vec::with_capacity(n);
                     for k in 0..n {
                         let ((qa, ta), (qb, tb)) = (end(k), end(k + 1));
-                        if let Some(d) = out_of_range(b, machine, &qb) {
-                            diags.push(d);
+                        if self.range_stops(b, machine, &qb, diags) {
                             break 'blocks false;
                         }
                         pieces.push((qa, qb, ta, tb, Some(Box::new(arc.piece(k as f64 / n as f64, (k + 1) as f64 / n as f64))), None));
@@ -665,6 +665,38 @@ fn great_circle_pieces(gc: &GreatCircle, arc: Option<&ArcPath>, q: Joints, tip0:
 }
 
 /// The error for a block whose end (or arc point) `q` lies outside an axis range, if it does.
+impl SegmentPlanner {
+    /// Whether an axis beyond its range stops the block (an error, in `diags`). A linear axis, where
+    /// the block's datum holds a work offset the program never set ([`Block::offset_assumed`]), is
+    /// where the unknown offset puts it: warned of once per axis, and the block runs.
+    fn range_stops(&mut self, b: &Block, machine: &Machine, q: &Joints, diags: &mut Vec<Diagnostic>) -> bool {
+        for (i, v) in q.iter().enumerate() {
+            if machine.axes[i].limits.contains(*v) {
+                continue;
+            }
+            if i < 3 && b.offset_assumed {
+                if !std::mem::replace(&mut self.warned_range[i], true) {
+                    let a = &machine.axes[i];
+                    let message = format!(
+                        "axis {} would move to {:.3} mm, outside its range {:.3}..{:.3} mm, with the program's work offset taken as zero: the operator's offset decides (not checked for this axis again)",
+                        a.name,
+                        v * 1e3,
+                        a.limits.min * 1e3,
+                        a.limits.max * 1e3
+                    );
+                    diags.push(Diagnostic { severity: Severity::Warning, ..diag(b, message) });
+                }
+                continue;
+            }
+            if let Some(d) = out_of_range(b, machine, q) {
+                diags.push(d);
+            }
+            return true;
+        }
+        false
+    }
+}
+
 fn out_of_range(b: &Block, machine: &Machine, q: &Joints) -> Option<Diagnostic> {
     let (i, _) = q.iter().enumerate().find(|(i, v)| !machine.axes[*i].limits.contains(**v))?;
     let a = &machine.axes[i];

@@ -188,6 +188,7 @@ impl AptReader {
             events: std::mem::take(&mut self.events),
             dwell_s: None,
             tolerance: Default::default(),
+            offset_assumed: false,
         }
     }
 

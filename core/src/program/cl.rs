@@ -196,6 +196,7 @@ impl super::stream::LineReader for ClReader {
             events: Vec::new(),
             dwell_s: None,
             tolerance: Default::default(),
+            offset_assumed: false,
         });
     }
 

@@ -327,9 +327,7 @@ impl super::stream::LineReader for DinReader {
                 diags.warning(line, first_col, format!("block {} not used: it is damaged", label(number, line)));
                 continue;
             }
-            if let Some(b) = self.interp.block(&words, line, first_col, number, diags) {
-                out.push(b);
-            } else {
+            if !self.interp.block(&words, line, first_col, number, diags, out) {
                 diags.warning(line, first_col, format!("block {} not used", label(number, line)));
             }
         }

@@ -59,6 +59,38 @@ pub struct Interpreter {
     /// Radians per program unit of the A, B and C words (degrees, unless the machine's control
     /// reads an axis in radians).
     rotary_unit: [f64; 3],
+    /// The machine's coordinates (`G53`, `G28`), if its file places them.
+    machine_coords: Option<crate::machine::MachineCoordinates>,
+    /// How the next block is made, overriding the modal state for it alone (a reference return's
+    /// legs, a canned cycle's moves).
+    pub(crate) oneshot: Option<OneShot>,
+    /// Fanuc canned cycles: the active cycle (G73-G89 until G80 or a motion code), its return level
+    /// (G98 initial, G99 R point) and the intermediate points G28 stored.
+    pub(crate) cycles: super::cycles::CycleState,
+    /// The machine's rotary axis letters (for Haas' G28 with no axis: every axis).
+    rotary_letters: [Option<char>; 2],
+    /// The machine's peck distances (G73's retract, G83's clearance), m.
+    peck: [Option<f64>; 2],
+    /// How far an arc's end radius may differ from its start radius, m (the machine's control setting).
+    arc_tolerance: f64,
+    /// Haas G254 (dynamic work offset) in effect: no rotary axis may move until G255.
+    dwo: bool,
+    /// Which work offsets (G54-G59.3) the program set (G10 L2, L20).
+    offsets_given: [bool; 9],
+    /// An additional work offset (Fanuc G54.1 P) is in effect.
+    extra_offset: bool,
+}
+
+/// How one block is made whatever the modal state says.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct OneShot {
+    /// Its motion (the modal one stays).
+    pub motion: Motion,
+    /// Its axis words are absolute, whatever G90/G91 say.
+    pub absolute: bool,
+    /// Its linear words are machine coordinates (`G53`, a reference point), and the block moves the
+    /// machine's axes, tool-centre-point management or not.
+    pub machine: bool,
 }
 
 const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
@@ -88,6 +120,15 @@ impl Interpreter {
             tolerance: Default::default(),
             forced_unit: None,
             rotary_unit: [DEG; 3],
+            machine_coords: None,
+            oneshot: None,
+            cycles: Default::default(),
+            rotary_letters: [None; 2],
+            peck: [None; 2],
+            arc_tolerance: ARC_RADIUS_TOLERANCE,
+            dwo: false,
+            offsets_given: [false; 9],
+            extra_offset: false,
         }
     }
 
@@ -95,6 +136,12 @@ impl Interpreter {
     pub fn with_machine(mut self, machine: Option<&crate::machine::Machine>) -> Self {
         if let Some(m) = machine {
             self.rotary_unit = ['A', 'B', 'C'].map(|l| m.rotary_word_unit(l));
+            self.machine_coords = m.machine_coordinates.clone();
+            self.rotary_letters = [3, 4].map(|k| m.axes[k].name.chars().next().map(|c| c.to_ascii_uppercase()));
+            self.peck = m.peck_distances;
+            if let Some(t) = m.arc_radius_tolerance {
+                self.arc_tolerance = t;
+            }
         }
         self
     }
@@ -164,6 +211,7 @@ impl Interpreter {
             next.move_origin(offsets);
         }
         next.offsets[k_system] = offsets;
+        next.offsets_given[k_system] = true;
     }
 
     /// Put the program origin at `offset` (RS274: the active work offset, m): the machine stays, so
@@ -245,16 +293,82 @@ impl Interpreter {
         }
     }
 
-    /// Interpret one block's words. Defects go to `diags` and yield `None` with the state unchanged
-    /// (but for a pending tool vector, which was this block's and is dropped).
-    pub fn block(
-        &mut self,
-        words: &[Word],
-        line: usize,
-        column: usize,
-        number: Option<u64>,
-        diags: &mut Diags,
-    ) -> Option<Block> {
+    /// Interpret one block's words: the blocks it makes go to `out` (a reference return or a canned
+    /// cycle makes several, a block of settings one without targets). Defects go to `diags` and
+    /// make nothing, with the state unchanged; false then.
+    pub fn block(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+        if self.dialect.is_fanuc() {
+            if let Some(done) = super::fanuc::expand(self, words, line, column, number, diags, out) {
+                return done;
+            }
+        }
+        match self.block_one(words, line, column, number, diags) {
+            Some(b) => {
+                out.push(b);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The machine's coordinates, where its file places them.
+    pub(crate) fn machine_coords(&self) -> Option<&crate::machine::MachineCoordinates> {
+        self.machine_coords.as_ref()
+    }
+
+    /// A block that moves nothing, with the state in effect (a dwell's, a cycle's events').
+    pub(crate) fn still_block(&self, line: usize, column: usize, number: Option<u64>) -> Block {
+        Block {
+            line,
+            column,
+            number,
+            motion: self.motion.unwrap_or(Motion::Linear),
+            targets: Targets::default(),
+            arc: None,
+            feed: self.feed.map(|value_per_min| Feed { value_per_min, mode: self.feed_mode }),
+            tcp: self.tcp,
+            datum: self.datum,
+            orientation: self.orientation,
+            events: Vec::new(),
+            dwell_s: None,
+            tolerance: self.tolerance,
+            offset_assumed: self.offset_assumed(),
+        }
+    }
+
+    /// Whether the datum in effect holds a work offset the program never set (Fanuc and Haas: every
+    /// work offset is the operator's, G54 the reset state's included, unless the program sets it
+    /// with G10; G54.1 P's never): taken as zero.
+    fn offset_assumed(&self) -> bool {
+        self.dialect.is_fanuc() && (self.extra_offset || !self.offsets_given[self.system])
+    }
+
+    /// Whether G90 is in effect.
+    pub(crate) fn absolute(&self) -> bool {
+        self.absolute
+    }
+
+    /// The dialect read.
+    pub(crate) fn dialect(&self) -> Dialect {
+        self.dialect
+    }
+
+    /// Whether the machine has axis `letter` (X Y Z always; a rotary one if the machine names it).
+    pub(crate) fn has_axis(&self, letter: char) -> bool {
+        "XYZ".contains(letter) || self.rotary_letters.contains(&Some(letter))
+    }
+
+    /// The distance d of a peck cycle (G73's retract, G83's clearance), m: the machine's setting.
+    pub(crate) fn peck_clearance(&self, kind: super::cycles::Kind) -> Result<f64, &'static str> {
+        match kind {
+            super::cycles::Kind::G73 => self.peck[0].ok_or("the machine file gives no G73 retract (canned_cycles.g73_retract_mm: Fanuc parameter No. 5114, Haas Setting 22)"),
+            _ => self.peck[1].ok_or("the machine file gives no G83 clearance (canned_cycles.g83_clearance_mm: Fanuc parameter No. 5115)"),
+        }
+    }
+
+    /// Interpret one block's words into one block (see [`Interpreter::block`]).
+    pub(crate) fn block_one(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags) -> Option<Block> {
+        let shot = self.oneshot.take();
         let mut next = self.clone();
         let errors_before = diags.errors();
         let mut datum_block = false;
@@ -263,6 +377,8 @@ impl Interpreter {
         // Heidenhain DIN/ISO and conversational share the TNC's words: modal circle centre I J K,
         // M128/M129, and the TNC's M functions.
         let heid = matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext);
+        // Fanuc-style controls (Fanuc, Haas) and Haas alone.
+        let (fanuc, haas) = (self.dialect.is_fanuc(), self.dialect == Dialect::Haas);
         // The TNC's DIN/ISO tool call `T1 G17`: the block's plane code is the tool axis.
         let tool_call = self.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'T');
 
@@ -329,7 +445,8 @@ impl Interpreter {
                         ("54" | "55" | "56" | "57" | "58" | "59" | "59.1" | "59.2" | "59.3", false) => {
                             let k = ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"].iter().position(|c| *c == code).unwrap_or(0);
                             next.system = k;
-                            if k > 0 && !self.offsets_set(k) {
+                            next.extra_offset = false;
+                            if k > 0 && !self.offsets_set(k) && !fanuc {
                                 diags.warning(
                                     line,
                                     w.column,
@@ -351,6 +468,54 @@ impl Interpreter {
                             w.column,
                             "G53: work offsets are not modelled (G54 is taken as zero), so machine coordinates are read as program coordinates",
                         ),
+                        // G98/G99: a canned cycle returns to the initial level or to the R point.
+                        ("98" | "99", false) if fanuc => next.cycles.to_r = code == "99",
+                        // Additional work offsets (Fanuc G54.1 P1-P48), which the program never sets here.
+                        ("54.1", false) if fanuc => {
+                            uses.push('P');
+                            diags.warning(line, w.column, format!("G{}: additional work offsets are not set by the program: taken as zero", w.raw));
+                            next.system = 0;
+                            next.extra_offset = true;
+                            next.move_origin([0.0; 3]);
+                        }
+                        // AI contour control (Q1 on, Q0 off): look-ahead feed control, not the path's
+                        // geometry (FANUC A-63512EN §2.3: "interpolation data ensures that the machining
+                        // follows a specified line or curve").
+                        ("5.1", false) if fanuc => uses.push('Q'),
+                        // Haas' smoothness: P the level (feed), E the most a corner may be rounded,
+                        // which is the path's tolerance (Haas NGC manual, G187; Setting 85).
+                        ("187", false) if haas => {
+                            uses.extend(['P', 'E']);
+                            next.tolerance = match words.iter().find(|w| w.letter == 'E') {
+                                Some(e) if e.value >= 0.0 && crate::machine::ContourTolerance::linear_ok(e.value * next.unit) => {
+                                    super::ProgrammedTolerance { linear_m: Some(e.value * next.unit), rotary_rad: None }
+                                }
+                                Some(e) => {
+                                    diags.error(line, e.column, format!("G187 E{}: a corner rounding of 0 to 10 mm", e.raw));
+                                    next.tolerance
+                                }
+                                None => super::ProgrammedTolerance::default(),
+                            };
+                        }
+                        // Haas TCPC: X Y Z are the tool tip on the table (as Fanuc's G43.4), H the length.
+                        ("234", false) if haas => {
+                            (next.tcp, next.tool_vector) = (true, false);
+                            uses.push('H');
+                        }
+                        // Haas DWO: the work offset turns with the rotary table (3+2 positioning only):
+                        // "machine = MRZP + Rot(B,C) (G54 - MRZP) + program". With the offsets taken
+                        // as zero (the part's origin on the rotary axes, this model's frame) the turned
+                        // offset is the offset itself; an offset the program set is not turned here.
+                        ("254", false) if haas => {
+                            if next.datum != [0.0; 3] {
+                                diags.error(line, w.column, "G254 (dynamic work offset) with a work offset the program set: turning it with the table is not modelled");
+                            }
+                            next.dwo = true;
+                        }
+                        ("255", false) if haas => next.dwo = false,
+                        ("10", false) if fanuc && words.iter().any(|w| w.letter == 'L' && w.value == 20.0) => {
+                            diags.error(line, w.column, "G10 L20: Fanuc's additional work offsets (G54.1 Pn) are not modelled");
+                        }
                         ("10", false) => {
                             g10 = true;
                             uses.extend(['L', 'P']);
@@ -444,6 +609,8 @@ impl Interpreter {
                     events.push(format!("M{}", w.raw));
                 }
                 'T' | 'S' => events.push(format!("{}{}", w.letter, w.raw)),
+                // Fanuc, Haas: D selects a cutter radius register, used only under G41/G42 (refused).
+                'D' if fanuc => events.push(format!("D{}", w.raw)),
                 'F' => feed_word = Some(w),
                 'N' => {}
                 c if AXIS_LETTERS.contains(&c) => {}
@@ -456,7 +623,9 @@ impl Interpreter {
                 ),
             }
         }
-        let arc_motion = next.motion.is_some_and(Motion::is_arc);
+        // The block's own motion: a one-shot's, else the modal one.
+        let block_motion = shot.map(|s| s.motion).or(next.motion);
+        let arc_motion = block_motion.is_some_and(Motion::is_arc);
         let vector_words = next.tool_vector && !arc_motion && !g10;
         if !heid {
             for w in words {
@@ -508,12 +677,17 @@ impl Interpreter {
         // feed. Sinumerik's G4 S (spindle revolutions, a time that depends on the speed) is not read.
         let mut dwell_s = None;
         if let Some(g) = dwell_word {
-            let letter = if self.dialect == Dialect::Rs274 { 'P' } else { 'F' };
+            let letter = if self.dialect.is_rs274_family() { 'P' } else { 'F' };
             let time = if letter == 'F' { feed_word.take() } else { words.iter().find(|w| w.letter == 'P') };
             if let Some(s) = words.iter().find(|w| w.letter == 'S').filter(|_| self.dialect == Dialect::Sinumerik) {
                 diags.error(line, s.column, format!("G4 S{}: a dwell in spindle revolutions is not read (expected G4 F, seconds)", s.raw));
             }
             match time {
+                // Fanuc and Haas: P in milliseconds (Haas: seconds with a decimal point).
+                Some(t) if self.dialect.is_fanuc() => match super::fanuc::dwell(self.dialect, t) {
+                    Ok(s) => dwell_s = Some(s),
+                    Err(why) => diags.error(line, t.column, format!("G{} {why}", g.raw)),
+                },
                 Some(t) if t.value >= 0.0 && t.value.is_finite() => {
                     dwell_s = Some(t.value);
                     if self.dialect == Dialect::Rs274 && !t.raw.contains('.') && t.value >= 100.0 {
@@ -556,9 +730,18 @@ impl Interpreter {
                 }
                 continue;
             }
-            let abs = if g53 && k < 3 {
+            let abs = if shot.is_some_and(|s| s.machine) && k < 3 {
+                match &next.machine_coords {
+                    // Machine coordinates: the axes at the machine point, read in program coordinates.
+                    Some(m) => v + m.zero[k] - next.datum[k],
+                    None => {
+                        diags.error(line, w.column, "machine coordinates: the machine file places none ([machine_coordinates] zero_mm)");
+                        v
+                    }
+                }
+            } else if g53 && k < 3 {
                 v - next.datum[k]
-            } else if next.absolute && !w.incremental {
+            } else if (next.absolute || shot.is_some_and(|s| s.absolute)) && !w.incremental {
                 v
             } else {
                 next.last[k] + v
@@ -592,12 +775,16 @@ impl Interpreter {
         }
 
         let moves = !targets.is_empty();
+        // Haas: "Cancel G254 with G255 immediately after use and before ANY rotary motion" (G254, rule 5).
+        if next.dwo && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some()) {
+            diags.error(line, column, "a rotary axis moves under G254 (dynamic work offset): Haas forbids it until G255");
+        }
         // Sinumerik: "G4 must be programmed in a separate NC block" (Fundamentals, G4): a dwell with a
         // move is an alarm on the control, not a dwell and then a move as LinuxCNC reads it.
         if let (Some(g), true, Dialect::Sinumerik) = (dwell_word, moves, self.dialect) {
             diags.error(line, g.column, "G4 with axis words: Sinumerik runs a dwell only in a block of its own (G4 F, seconds)");
         }
-        if moves && next.motion.is_none() {
+        if moves && block_motion.is_none() {
             diags.error(line, column, "axis words without a motion mode: expected G00 or G01 first");
         }
         let mut arc = None;
@@ -644,7 +831,7 @@ impl Interpreter {
                 diags.error(line, column, "arc words without an end point: expected X, Y or Z with them");
             }
         }
-        if moves && next.motion.is_some_and(|m| m == Motion::Linear || m.is_arc()) {
+        if moves && block_motion.is_some_and(|m| m == Motion::Linear || m.is_arc()) {
             match next.feed_mode {
                 FeedMode::PerMinute if next.feed.is_none() => {
                     diags.error(line, column, "G01 move without a feed: expected an F word before or in this block")
@@ -666,21 +853,23 @@ impl Interpreter {
             line,
             column,
             number,
-            motion: self.motion.unwrap_or(Motion::Linear),
+            motion: block_motion.unwrap_or(Motion::Linear),
             targets,
             arc,
             feed: self.feed.map(|value_per_min| Feed { value_per_min, mode: self.feed_mode }),
-            tcp: self.tcp,
+            tcp: self.tcp && !shot.is_some_and(|s| s.machine),
             datum: self.datum,
             orientation: self.orientation,
             events,
             dwell_s,
             tolerance: self.tolerance,
+            offset_assumed: self.offset_assumed(),
         })
     }
 }
 
-/// How far the radius to an arc's end may differ from the radius to its start: LinuxCNC's default
+/// How far the radius to an arc's end may differ from the radius to its start, unless the machine
+/// file says its control's (`arc_radius_tolerance_mm`, Fanuc parameter No. 3410): LinuxCNC's default
 /// `[RS274NGC]CENTER_ARC_RADIUS_TOLERANCE_INCH` 0.00005 in (0.00127 mm); within it the control runs a
 /// spiral (the radius changes evenly along the arc), beyond it the block is refused.
 pub const ARC_RADIUS_TOLERANCE: f64 = 0.00005 * INCH;
@@ -728,7 +917,7 @@ fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3],
                 diags.error(line, column, format!("{g}: zero-radius arc (the centre is on its start or end point)"));
                 return None;
             }
-            if (r0 - r1).abs() > ARC_RADIUS_TOLERANCE {
+            if (r0 - r1).abs() > st.arc_tolerance {
                 diags.error(
                     line,
                     column,
@@ -736,7 +925,7 @@ fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3],
                         "{g}: the radius to the end ({:.4} mm) differs from the radius to the start ({:.4} mm) by more than {:.5} mm",
                         r1 / MM,
                         r0 / MM,
-                        ARC_RADIUS_TOLERANCE / MM
+                        st.arc_tolerance / MM
                     ),
                 );
                 return None;
@@ -749,7 +938,7 @@ fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3],
                 diags.error(line, r.column, format!("{g} R{}: the end point is the start point, so R gives no centre (a full circle needs I J K)", r.raw));
                 return None;
             }
-            if !(radius.abs() > 0.0) || half - radius.abs() > ARC_RADIUS_TOLERANCE {
+            if !(radius.abs() > 0.0) || half - radius.abs() > st.arc_tolerance {
                 diags.error(line, r.column, format!("{g} R{}: the radius is too small to reach the end point ({:.4} mm away)", r.raw, 2.0 * half / MM));
                 return None;
             }

@@ -1148,7 +1148,7 @@ impl Exec {
             interp.set_pending_vector(v);
         }
         let start = interp.position();
-        let result = interp.block(&words, s.line, s.col, s.number, diags);
+        let result = interp.block_one(&words, s.line, s.col, s.number, diags);
         match result {
             Some(b) => {
                 self.follow(&b, start, interp.position(), interp);

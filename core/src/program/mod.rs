@@ -6,6 +6,8 @@
 
 mod apt;
 mod cl;
+mod cycles;
+mod fanuc;
 mod heidenhain;
 mod interp;
 mod klartext;
@@ -47,10 +49,16 @@ pub enum Dialect {
     Sinumerik,
     /// Heidenhain conversational (Klartext, `.H`: `BEGIN PGM NAME MM`, `L X+0 Y+0 R0 F1000`).
     Klartext,
+    /// Fanuc Series 30i/31i and the controls that follow it (Mori Seiki's MAPPS): G-code as
+    /// RS274NGC, with Fanuc's own reference returns, canned cycles, dwell in ms and codes.
+    Fanuc,
+    /// Haas NGC mills: Fanuc-style G-code with Haas' own rules (G28 with no axis homes every axis,
+    /// G234 TCPC, G254 DWO, G187, dwell in seconds, L as the repeat count).
+    Haas,
 }
 
 /// A dialect by the names people call it (`--dialect`): heidenhain (din, iso), rs274 (ngc, gcode,
-/// linuxcnc), cl, sinumerik (840d, siemens), klartext (conversational); case-insensitive.
+/// linuxcnc), cl, sinumerik (840d, siemens), klartext (conversational), fanuc, haas; case-insensitive.
 impl std::str::FromStr for Dialect {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
@@ -60,7 +68,9 @@ impl std::str::FromStr for Dialect {
             "cl" => Ok(Dialect::Cl),
             "sinumerik" | "840d" | "siemens" => Ok(Dialect::Sinumerik),
             "klartext" | "conversational" => Ok(Dialect::Klartext),
-            _ => Err(format!("unknown dialect '{s}': expected heidenhain, rs274, cl, sinumerik or klartext")),
+            "fanuc" => Ok(Dialect::Fanuc),
+            "haas" => Ok(Dialect::Haas),
+            _ => Err(format!("unknown dialect '{s}': expected heidenhain, rs274, cl, sinumerik, klartext, fanuc or haas")),
         }
     }
 }
@@ -81,11 +91,32 @@ impl Dialect {
     /// the control that runs it decides; axis-linear, as the post-processed program runs on a TNC.
     pub fn default_orientation(self) -> Orientation {
         match self {
-            Dialect::Heidenhain | Dialect::Rs274 | Dialect::Cl | Dialect::Klartext => Orientation::AxisLinear,
+            Dialect::Heidenhain | Dialect::Rs274 | Dialect::Cl | Dialect::Klartext | Dialect::Fanuc | Dialect::Haas => Orientation::AxisLinear,
             // ORIWKS and ORIVECT are the reset state (840D sl Programming Manual Job Planning
             // 03/2006 §7.1.2: "The default setting is ORIWKS"; G group 51 default ORIVECT, large-circle
             // interpolation, Fundamentals 10/2004 §12.3).
             Dialect::Sinumerik => Orientation::GreatCircle,
+        }
+    }
+
+    /// True for the Fanuc-style dialects (Fanuc, Haas): reference returns, canned cycles and work
+    /// offsets as Fanuc reads them.
+    pub fn is_fanuc(self) -> bool {
+        matches!(self, Dialect::Fanuc | Dialect::Haas)
+    }
+
+    /// True for the dialects read by the RS274 reader (LinuxCNC, Fanuc, Haas).
+    pub fn is_rs274_family(self) -> bool {
+        matches!(self, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas)
+    }
+
+    /// The dialect of a program for a machine whose control reads `control`: a file whose content
+    /// or name says nothing beyond generic G-code (what [`Dialect::detect`] calls RS274NGC) is read
+    /// in the control's own G-code dialect.
+    pub fn detect_for(path: Option<&Path>, text: &str, control: Option<Dialect>) -> Dialect {
+        match (Dialect::detect(path, text), control) {
+            (Dialect::Rs274, Some(c)) if c.is_rs274_family() => c,
+            (d, _) => d,
         }
     }
 
@@ -325,6 +356,11 @@ pub struct Block {
     /// The contour tolerance the program set for this block (Heidenhain cycle 32, LinuxCNC G64 P/Q), if any.
     #[serde(skip_serializing_if = "ProgrammedTolerance::is_unset")]
     pub tolerance: ProgrammedTolerance,
+    /// The datum includes a work offset the program selects but never sets (Fanuc's G54-G59 and
+    /// G54.1 P, set on the machine by its operator): taken as zero, so where the linear axes stand
+    /// is known only up to it, and a linear axis' range cannot be judged.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub offset_assumed: bool,
 }
 
 /// A contour tolerance as a program sets it (Heidenhain `CYCL DEF 32.1 T` and `32.2 TA`, LinuxCNC

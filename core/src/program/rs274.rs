@@ -38,7 +38,19 @@ pub(crate) struct Rs274Reader {
     number: Option<String>,
     /// The parameters the program has set so far.
     params: Parameters,
+    /// RS274NGC, Fanuc or Haas.
+    dialect: Dialect,
+    /// Fanuc and Haas: the lines before the program's first `%`, held until it comes (they are the
+    /// tape's leader, which the control skips: an NX listing's header) or until it cannot (then
+    /// read as program). `None` once decided.
+    leader: Option<Vec<(usize, String)>>,
+    /// Fanuc, Haas: the tape's end `%` has been read: nothing after it is program.
+    refused: bool,
 }
+
+/// The most leader held back, lines and bytes: an NX "Information listing" header is a few lines.
+const MAX_LEADER_LINES: usize = 64;
+const MAX_LEADER_BYTES: usize = 16 * 1024;
 
 impl Rs274Reader {
     /// A reader for this setup; a machine's HAL pins can be read (`#<_hal[...]>`).
@@ -47,24 +59,94 @@ impl Rs274Reader {
             Some(m) => Parameters::with_hal_pins(m.hal_pins.clone()),
             None => Parameters::default(),
         };
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params }
+        let leader = setup.dialect.is_fanuc().then(Vec::new);
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false }
     }
 }
 
 impl super::stream::LineReader for Rs274Reader {
     fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
+        let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
+        if self.refused {
+            return;
+        }
+        // Fanuc, Haas: what comes before the first `%` is the leader, skipped ("Leader section: the
+        // data before the first % is ignored": FANUC 30i Operator's Manual B-64484EN, "Program
+        // configuration"). Held until the `%` says so; a file without one is all program.
+        if let Some(held) = &mut self.leader {
+            if text.trim() == "%" || text.trim_start().starts_with('%') {
+                let held = std::mem::take(held);
+                self.leader = None;
+                if let (Some((first, _)), Some((last, _))) = (held.first(), held.last()) {
+                    diags.warning(*first, 1, format!("lines {first}-{last} before the program's first % are the tape's leader: skipped, as the control does"));
+                }
+                return;
+            }
+            let bytes: usize = held.iter().map(|(_, t)| t.len()).sum::<usize>() + text.len();
+            if held.len() < MAX_LEADER_LINES && bytes <= MAX_LEADER_BYTES {
+                held.push((line, text.to_string()));
+                return;
+            }
+            self.release_leader(out, diags);
+        }
+        self.program_line(line, text, out, diags);
+    }
+
+    fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, out: &mut Vec<Block>, diags: &mut Diags) {
+        self.release_leader(out, diags);
+    }
+
+    fn name(&self) -> Option<String> {
+        self.number.clone()
+    }
+}
+
+impl Rs274Reader {
+    /// No `%` came: the lines held as leader are the program's, read now.
+    fn release_leader(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
+        if let Some(held) = self.leader.take() {
+            for (n, t) in held {
+                self.program_line(n, &t, out, diags);
+            }
+        }
+    }
+
+    fn program_line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        if self.refused {
+            return;
+        }
         let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
         let first = chars.iter().position(|c| !c.is_whitespace());
         let Some(first) = first else { return };
         if chars[first] == '%' {
+            // Fanuc, Haas: the `%` after the program ends the tape ("end of record"); what follows
+            // it (an NX listing's line count) is not program.
+            self.refused = self.dialect.is_fanuc() && self.started;
             return;
         }
         let errors_before = diags.errors();
+        // Fanuc, Haas: the program opens with its number, `O` and digits (FANUC B-64014EN §2.5: "an O
+        // number or ... a file name ... enclosed by < and >"; Haas: `O` and 4 or 5 digits). Anything
+        // else there (an NX post's placeholder `O ENTER OP AND LAST 3 DIGITS`, a name `OFinal ToolPath`)
+        // is the program's title line, which moves nothing: noted, and the control may refuse to
+        // load the program for it.
+        if self.dialect.is_fanuc() && !self.started && matches!(chars[first], 'O' | 'o') {
+            let after = chars[first + 1..].iter().find(|c| !c.is_whitespace());
+            if !after.is_some_and(|c| c.is_ascii_digit()) {
+                let text: String = chars[first..].iter().collect();
+                diags.warning(line, first + 1, format!("'{}' is not a program number (O and digits): read as the program's title; the control may refuse to load the program for it", excerpt(text.trim_end())));
+                self.started = true;
+                return;
+            }
+        }
         if let Some(keyword) = o_word_control(&chars[first..]) {
             diags.error(line, first + 1, format!("LinuxCNC O-word '{keyword}': subroutines, loops and conditions are not read (the motion would depend on them)"));
             return;
         }
         let mut words: Vec<Word> = Vec::new();
+        // Words whose value was computed (parameters, expressions): they carry their decimal point.
+        let mut computed: Vec<usize> = Vec::new();
         let mut number = None;
         // The line's parameter settings: made after every value on the line is read.
         let mut settings: Vec<(Target, f64, usize)> = Vec::new();
@@ -117,6 +199,7 @@ impl super::stream::LineReader for Rs274Reader {
                             if letter == 'N' {
                                 diags.error(line, col, "a line number 'N' must be written as a number");
                             } else {
+                                computed.push(words.len());
                                 words.push(Word { letter, value, raw: written(letter, value).into(), column: col, incremental: false });
                             }
                         }
@@ -150,6 +233,11 @@ impl super::stream::LineReader for Rs274Reader {
                         i = end.max(i + usize::from(i == start));
                     }
                 }
+            } else if c == ')' && self.dialect.is_fanuc() {
+                // A comment ends at its first ')' (control-in); one more closes nothing and says
+                // nothing (NX's Haas post writes `(#508= (MILL_.25_PROFILE ))`).
+                diags.warning(line, i + 1, "')' closes no comment: skipped");
+                i += 1;
             } else {
                 let mut end = i;
                 while end < chars.len() && !chars[end].is_whitespace() {
@@ -186,15 +274,37 @@ impl super::stream::LineReader for Rs274Reader {
             }
         }
         let col = words.first().map_or(first + 1, |w| w.column.min(first + 1));
-        if let Some(b) = self.interp.block(&words, line, col, number, diags) {
-            out.push(b);
-        } else {
+        if self.dialect.is_fanuc() {
+            self.decimal_points(&mut words, &computed);
+        }
+        if !self.interp.block(&words, line, col, number, diags, out) {
             diags.warning(line, first + 1, format!("line {line} not used"));
         }
     }
 
-    fn name(&self) -> Option<String> {
-        self.number.clone()
+    /// Fanuc and Haas read a number without a decimal point in a length or angle address as a count
+    /// of least input increments: `X1` is 0.001 mm, 0.0001 in or 0.001 deg (FANUC B-64484EN,
+    /// "Decimal point programming", parameter DPI No. 3401#0 = 0; Haas Setting 162 "Default to
+    /// float" off: "X5 means X0.0005"). A value computed from parameters has its point.
+    fn decimal_points(&self, words: &mut [Word], computed: &[usize]) {
+        let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
+        let inch = if g(20.0) { true } else if g(21.0) { false } else { self.interp.unit() == crate::units::INCH };
+        // Q is a depth in a cycle but a mode in G05.1; K a repeat count in a cycle.
+        let cycle = self.interp.cycles.active.is_some() || words.iter().any(|w| w.letter == 'G' && [73.0, 74.0, 76.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0, 88.0, 89.0].contains(&w.value));
+        let mode_q = g(5.1);
+        for (i, w) in words.iter_mut().enumerate() {
+            if computed.contains(&i) || w.raw.contains('.') {
+                continue;
+            }
+            let step = match w.letter {
+                'Q' if mode_q => continue,
+                'K' if cycle => continue,
+                'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'Q' | 'U' | 'V' | 'W' => if inch { 1e-4 } else { 1e-3 },
+                'A' | 'B' | 'C' => 1e-3,
+                _ => continue,
+            };
+            w.value *= step;
+        }
     }
 }
 

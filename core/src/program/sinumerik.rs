@@ -98,12 +98,9 @@ impl super::stream::LineReader for SinumerikReader {
             None => {}
         }
         let col = words.iter().map(|w| w.column).min().unwrap_or(first + 1).min(first + 1);
-        match self.interp.block(&words, line, col, number, diags) {
-            Some(b) => out.push(b),
-            None => {
-                self.interp = saved;
-                diags.warning(line, first + 1, format!("line {line} not used"));
-            }
+        if !self.interp.block(&words, line, col, number, diags, out) {
+            self.interp = saved;
+            diags.warning(line, first + 1, format!("line {line} not used"));
         }
     }
 }

@@ -122,7 +122,7 @@ impl Reader {
         let setup = options.setup(dialect);
         Some(match dialect {
             Dialect::Cl => Reader::Cl(ClReader::new(&setup)),
-            Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&setup)),
+            Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas => Reader::Rs274(Rs274Reader::new(&setup)),
             Dialect::Heidenhain => Reader::Din(DinReader::new(&setup)),
             Dialect::Sinumerik => Reader::Sinumerik(SinumerikReader::new(&setup)),
             Dialect::Klartext => return None,
@@ -204,7 +204,8 @@ impl BlockStream {
             }
             lines += 1;
         }
-        let dialect = dialect.unwrap_or_else(|| Dialect::detect(path, &String::from_utf8_lossy(&head)));
+        let control = options.machine.as_ref().and_then(|m| m.dialect);
+        let dialect = dialect.unwrap_or_else(|| Dialect::detect_for(path, &String::from_utf8_lossy(&head), control));
         match Reader::new(dialect, options) {
             Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
@@ -219,7 +220,7 @@ impl BlockStream {
 
     /// Read `text` as a stream (the dialect detected from it unless given); `source` names it.
     pub fn from_text(text: &str, dialect: Option<Dialect>, source: &str, options: &ReadOptions) -> BlockStream {
-        let dialect = dialect.unwrap_or_else(|| Dialect::detect(None, text));
+        let dialect = dialect.unwrap_or_else(|| Dialect::detect_for(None, text, options.machine.as_ref().and_then(|m| m.dialect)));
         match Reader::new(dialect, options) {
             Some(reader) => Self::lines(Box::new(Cursor::new(text.as_bytes().to_vec())), reader, dialect, source),
             None => {

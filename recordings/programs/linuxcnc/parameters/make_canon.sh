@@ -6,7 +6,7 @@
 # are dropped from rs274's copy: they move nothing.
 set -eu
 cd "$(dirname "$0")"
-for f in expressions offsets xyzac_switchkins_test_1 xyzac_switchkins_test_2; do
+for f in cycles expressions offsets xyzac_switchkins_test_1 xyzac_switchkins_test_2; do
     sed -e 's/^M42[89]\b.*$//' "$f.ngc" > "/tmp/$f.rs274.ngc"
     rs274 -g "/tmp/$f.rs274.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
     grep -o 'STRAIGHT_[A-Z]*(.*)' "/tmp/$f.canon" > "$f.canon"

@@ -1,0 +1,316 @@
+//! What Fanuc-style controls (Fanuc 30i, Haas NGC) make of a block beyond one move: a reference
+//! return through an intermediate point (G28, G30), a move in machine coordinates (G53), a canned
+//! drilling cycle (G73-G89 with G98/G99, R, Q, P, K or L). Each becomes the plain moves it is,
+//! made by the interpreter as one-shot blocks ([`OneShot`]); the modal state is the control's.
+//!
+//! Rules, from FANUC Series 15i-MB Operator's Manual B-63784EN §6 (G28/G30: "positioning to the
+//! intermediate or reference positions are performed at the rapid traverse rate of each axis";
+//! only the axes named move), the 30i User's Manual B-63944EN §5.1 (canned cycles: initial level,
+//! R point, G98/G99; under G91 R is from the initial level and Z from the R point; K repeats) and
+//! the Haas Mill Operator's Manual (G28 with no axis returns every axis; G53 non-modal machine
+//! coordinates; canned cycles repeat with L, dwell P in seconds).
+
+use std::borrow::Cow;
+
+use super::cycles::{self, Active, Kind, Step};
+use super::interp::{Interpreter, OneShot, Word};
+use super::lex::Diags;
+use super::{Block, Dialect, Motion};
+
+/// A G word's code without leading zeros (`G01` is `1`, `G05.1` is `5.1`).
+fn code(w: &Word) -> String {
+    let c = w.raw.trim_start_matches('+').trim_start_matches('0');
+    if c.is_empty() || c.starts_with('.') {
+        format!("0{c}")
+    } else {
+        c.to_string()
+    }
+}
+
+/// A word made here, its value in program units.
+fn word(letter: char, value: f64, column: usize) -> Word<'static> {
+    Word { letter, value, raw: Cow::Owned(format!("{value}")), column, incremental: false }
+}
+
+/// Make the block's special moves, if it has any: `Some(made)` (false if a defect stopped it), or
+/// `None` for an ordinary block (a cycle cancelled by it is cancelled here).
+pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
+    let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
+    let has = |c: &str| g.iter().find(|(k, _)| k == c).map(|(_, w)| *w);
+    if let Some(w) = has("28").or(has("30")) {
+        return Some(reference_return(it, w, words, line, column, number, diags, out));
+    }
+    if let Some(w) = has("53") {
+        return Some(machine_move(it, w, words, line, column, number, diags, out));
+    }
+    if let Some((kind, w)) = g.iter().find_map(|(k, w)| Kind::from_code(k).map(|kind| (kind, *w))) {
+        return Some(drill(it, Some((kind, w)), words, line, column, number, diags, out));
+    }
+    // G80, or a motion code (group 01), ends the cycle.
+    if g.iter().any(|(k, _)| matches!(k.as_str(), "80" | "0" | "1" | "2" | "3")) {
+        it.cycles.active = None;
+        return None;
+    }
+    let positions = words.iter().any(|w| matches!(w.letter, 'X' | 'Y'));
+    if it.cycles.active.is_some() && positions {
+        return Some(drill(it, None, words, line, column, number, diags, out));
+    }
+    None
+}
+
+/// The words a special block's own codes take (its axis words, R, Q, P, K, L), kept out of the
+/// block of settings (modal codes, M, S, T, F) the interpreter reads first.
+fn settings<'a>(words: &'a [Word<'a>], taken: &[char], special: &[&str]) -> Vec<Word<'a>> {
+    words.iter().filter(|w| !taken.contains(&w.letter) && !(w.letter == 'G' && special.contains(&code(w).as_str()))).cloned().collect()
+}
+
+/// The block of settings (if it has words), read before the special moves; false if a defect.
+fn apply(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+    if words.is_empty() {
+        return true;
+    }
+    match it.block_one(words, line, column, number, diags) {
+        Some(b) => {
+            out.push(b);
+            true
+        }
+        None => false,
+    }
+}
+
+/// One one-shot move.
+fn shot(it: &mut Interpreter, shot: OneShot, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+    if words.iter().all(|w| !"XYZABC".contains(w.letter)) {
+        return true;
+    }
+    it.oneshot = Some(shot);
+    match it.block_one(words, line, column, number, diags) {
+        Some(b) => {
+            out.push(b);
+            true
+        }
+        None => false,
+    }
+}
+
+const AXES: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
+
+/// `G28 IP` / `G30 [Pn] IP`: to the intermediate point (rapid, the block's own G90/G91), then to
+/// the reference point in machine coordinates, for the axes named (Haas' G28 with none: every axis).
+#[allow(clippy::too_many_arguments)]
+fn reference_return(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+    let g30 = code(g) == "30";
+    let n = match words.iter().find(|w| w.letter == 'P') {
+        None => if g30 { 2 } else { 1 },
+        Some(p) if g30 && p.value.fract() == 0.0 && (2.0..=4.0).contains(&p.value) => p.value as usize,
+        Some(p) => {
+            diags.error(line, p.column, format!("G{} P{}: expected G30 P2, P3 or P4 (the reference point)", g.raw, p.raw));
+            return false;
+        }
+    };
+    if !apply(it, &settings(words, &['X', 'Y', 'Z', 'A', 'B', 'C', 'P'], &["28", "30"]), line, column, number, diags, out) {
+        return false;
+    }
+    let mut axes: Vec<Word> = words.iter().filter(|w| AXES.contains(&w.letter)).cloned().collect();
+    if axes.is_empty() {
+        if it.dialect() != Dialect::Haas || g30 {
+            // Fanuc: only the axes named move; none named, none moves.
+            return true;
+        }
+        // Haas: "G28 returns all axes simultaneously to the machine zero position when no axis is specified".
+        axes = ['X', 'Y', 'Z', 'A', 'B', 'C'].into_iter().filter(|l| it.has_axis(*l)).map(|l| Word { incremental: true, ..word(l, 0.0, g.column) }).collect();
+    }
+    let Some(reference) = it.machine_coords().map(|m| m.references.get(n - 1).copied()) else {
+        diags.error(line, g.column, format!("G{}: the machine file places no machine coordinates ([machine_coordinates]), so the reference point is unknown", g.raw));
+        return false;
+    };
+    let Some(reference) = reference else {
+        diags.error(line, g.column, format!("G{}: the machine file gives no reference point {n} (machine_coordinates.reference_points_mm)", g.raw));
+        return false;
+    };
+    // The intermediate point: nothing to do where it is where the tool stands (`G91 G28 Z0`).
+    let still = !it.absolute() && axes.iter().all(|w| w.value == 0.0) || axes.iter().all(|w| w.incremental && w.value == 0.0);
+    if !still && !shot(it, OneShot { motion: Motion::Rapid, absolute: false, machine: false }, &axes, line, column, number, diags, out) {
+        return false;
+    }
+    let unit = it.unit();
+    let to: Vec<Word> = axes
+        .iter()
+        .map(|w| {
+            let k = AXES.iter().position(|l| *l == w.letter).unwrap_or(0);
+            // Rotary axes' reference point: their zero.
+            word(w.letter, if k < 3 { reference[k] / unit } else { 0.0 }, w.column)
+        })
+        .collect();
+    shot(it, OneShot { motion: Motion::Rapid, absolute: true, machine: true }, &to, line, column, number, diags, out)
+}
+
+/// `G53 IP`: a rapid move to a point in machine coordinates, this block only (absolute values).
+#[allow(clippy::too_many_arguments)]
+fn machine_move(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+    let axes: Vec<Word> = words.iter().filter(|w| AXES.contains(&w.letter)).cloned().collect();
+    if !apply(it, &settings(words, &AXES, &["53"]), line, column, number, diags, out) {
+        return false;
+    }
+    if axes.iter().any(|w| w.incremental) {
+        diags.error(line, g.column, format!("G{}: machine coordinates are absolute", g.raw));
+        return false;
+    }
+    shot(it, OneShot { motion: Motion::Rapid, absolute: true, machine: true }, &axes, line, column, number, diags, out)
+}
+
+/// A canned cycle's block (`kind` where it names the cycle, `None` for a new position under the
+/// active one): its settings, then for each repeat the positioning, the rapid to the R point and
+/// the hole's moves.
+#[allow(clippy::too_many_arguments)]
+fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+    let haas = it.dialect() == Dialect::Haas;
+    let repeat_letter = if haas { 'L' } else { 'K' };
+    let find = |l: char| words.iter().find(|w| w.letter == l);
+    let cycle_codes = ["73", "74", "76", "81", "82", "83", "84", "85", "86", "87", "88", "89"];
+    let taken = ['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', repeat_letter];
+    let before = it.cycles.active;
+    let start = it.position();
+    if !apply(it, &settings(words, &taken, &cycle_codes), line, column, number, diags, out) {
+        return false;
+    }
+    if it.plane() != super::Plane::Xy {
+        diags.error(line, column, "a canned cycle outside the G17 plane (drilling along X or Y) is not modelled");
+        return false;
+    }
+    let unit = it.unit();
+    let (kind, at) = match (named, before) {
+        (Some((k, w)), _) => (k, w.column),
+        (None, Some(a)) => (a.kind, column),
+        (None, None) => return true,
+    };
+    // The initial level: where the tool stood when the cycle began (a cycle that follows another
+    // without G80 keeps it).
+    let initial = before.map_or(start[2], |a| a.initial);
+    let r = match (find('R'), before) {
+        (Some(w), _) if it.absolute() => w.value * unit,
+        (Some(w), _) => initial + w.value * unit,
+        (None, Some(a)) => a.r,
+        (None, None) => {
+            diags.error(line, at, format!("G{}: a new cycle needs its R point (R)", code_of(kind)));
+            return false;
+        }
+    };
+    let bottom = match (find('Z'), before) {
+        (Some(w), _) if it.absolute() => w.value * unit,
+        (Some(w), _) => r + w.value * unit,
+        (None, Some(a)) => a.bottom,
+        (None, None) => {
+            diags.error(line, at, format!("G{}: a new cycle needs the hole's bottom (Z)", code_of(kind)));
+            return false;
+        }
+    };
+    let peck = match (find('Q'), before) {
+        (Some(w), _) if w.value > 0.0 => Some(w.value.abs() * unit),
+        (Some(w), _) => {
+            diags.error(line, w.column, format!("Q{}: a peck depth must be positive", w.raw));
+            return false;
+        }
+        (None, Some(a)) => a.peck,
+        (None, None) => None,
+    };
+    if kind.pecks() && peck.is_none() {
+        diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q)", code_of(kind)));
+        return false;
+    }
+    if kind == Kind::G87 && it.cycles.to_r {
+        diags.warning(line, at, "G87 under G99: back boring returns to the initial level whatever G99 says (its R point is below the part)");
+    }
+    if matches!(kind, Kind::G76 | Kind::G87) && find('Q').is_some() {
+        diags.error(line, at, format!("G{} with Q: the shift at the bottom goes the way the machine's parameter says (Fanuc No. 5101 RD1/RD2): not modelled", code_of(kind)));
+        return false;
+    }
+    let dwell_s = match (find('P'), before) {
+        (Some(w), _) => match dwell(it.dialect(), w) {
+            Ok(t) => Some(t),
+            Err(why) => {
+                diags.error(line, w.column, why);
+                return false;
+            }
+        },
+        (None, Some(a)) => a.dwell_s,
+        (None, None) => None,
+    };
+    let repeats = match find(repeat_letter) {
+        None => 1,
+        Some(w) if w.value.fract() == 0.0 && (0.0..=9999.0).contains(&w.value) => w.value as usize,
+        Some(w) => {
+            diags.error(line, w.column, format!("{repeat_letter}{}: expected a repeat count 0 to 9999", w.raw));
+            return false;
+        }
+    };
+    let active = Active { kind, bottom, r, peck, dwell_s, initial };
+    it.cycles.active = Some(active);
+    let clearance = if kind.pecks() {
+        match it.peck_clearance(kind) {
+            Ok(d) => d,
+            Err(why) => {
+                diags.error(line, at, format!("G{}: {why}", code_of(kind)));
+                return false;
+            }
+        }
+    } else {
+        0.0
+    };
+    // The position: X Y (and rotary axes) as written, under the modal G90/G91, repeated K times.
+    let position: Vec<Word> = words.iter().filter(|w| matches!(w.letter, 'X' | 'Y' | 'A' | 'B' | 'C')).cloned().collect();
+    for k in 0..repeats {
+        if (k == 0 || !it.absolute()) && !shot(it, OneShot { motion: Motion::Rapid, absolute: false, machine: false }, &position, line, column, number, diags, out) {
+            return false;
+        }
+        let z = |v: f64| [word('Z', v / unit, column)];
+        if it.position()[2] != r && !shot(it, OneShot { motion: Motion::Rapid, absolute: true, machine: false }, &z(r), line, column, number, diags, out) {
+            return false;
+        }
+        for step in cycles::hole(&active, it.cycles.to_r, clearance) {
+            let ok = match step {
+                Step::Rapid(v) => shot(it, OneShot { motion: Motion::Rapid, absolute: true, machine: false }, &z(v), line, column, number, diags, out),
+                Step::Feed(v) => shot(it, OneShot { motion: Motion::Linear, absolute: true, machine: false }, &z(v), line, column, number, diags, out),
+                Step::Dwell(t) => {
+                    out.push(Block { dwell_s: Some(t), ..it.still_block(line, column, number) });
+                    true
+                }
+            };
+            if !ok {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+fn code_of(kind: Kind) -> &'static str {
+    match kind {
+        Kind::G73 => "73",
+        Kind::G74 => "74",
+        Kind::G76 => "76",
+        Kind::G81 => "81",
+        Kind::G82 => "82",
+        Kind::G83 => "83",
+        Kind::G84 => "84",
+        Kind::G85 => "85",
+        Kind::G86 => "86",
+        Kind::G87 => "87",
+        Kind::G88 => "88",
+        Kind::G89 => "89",
+    }
+}
+
+/// A dwell's P, s: Fanuc's is in milliseconds and takes no decimal point (B-63944EN §5.1: "P: dwell
+/// time"; the least input increment of P is 1 ms); Haas reads a P with a decimal point as seconds
+/// (its G82 example `P.05`), one without as milliseconds.
+pub(crate) fn dwell(dialect: Dialect, p: &Word) -> Result<f64, String> {
+    if !(p.value >= 0.0 && p.value.is_finite()) {
+        return Err(format!("P{}: a dwell must be 0 or more", p.raw));
+    }
+    match (dialect, p.raw.contains('.')) {
+        (_, false) => Ok(p.value / 1000.0),
+        (Dialect::Haas, true) => Ok(p.value),
+        (_, true) => Err(format!("P{}: Fanuc reads a dwell's P in milliseconds, without a decimal point", p.raw)),
+    }
+}
