@@ -339,7 +339,7 @@ fn klartext_refuses_what_changes_the_motion_at_line_and_column() {
     has(&p, 4, 3, "APPR");
     has(&p, 5, 3, "CYCL DEF 19.0: a tilted working plane");
     has(&p, 6, 3, "PLANE");
-    has(&p, 7, 3, "Q parameter arithmetic");
+    has(&p, 7, 3, "Q2 is read before it is set");
     has(&p, 8, 17, "DL+0.5");
     has(&p, 9, 3, "AXIS SPAT");
     has(&p, 10, 9, "M91");
@@ -567,6 +567,34 @@ fn rs274_evaluates_parameters_and_expressions_as_linuxcnc_does() {
             let feeds: Vec<f64> = p.blocks.iter().filter_map(|b| b.feed).map(|f| f.value_per_min).collect();
             assert!(!feeds.is_empty() && feeds.iter().all(|&f| f == 1000.0), "{name}: F#<FRATE> is 1000 mm/min: {feeds:?}");
         }
+    }
+}
+
+/// Klartext Q parameter formulas, FN 0-8 and the jumps FN 9-12 run as the TNC runs them: a loop
+/// by FN 12 back to a label three times, a named label jumped to, a block skip before a block
+/// number; a parameter read before it is set, a formula's defect and an unknown label are refused
+/// where they stand.
+#[test]
+fn klartext_q_formulas_and_jumps_run_as_the_tnc_runs_them() {
+    let text = "0 BEGIN PGM Q MM\n1 Q1 = 10\n2 Q2 = (Q1 + 2) * 2 ^ 2 - 400 % 360 ; 8\n3 FN 1: Q3 = +Q1 + +Q2\n4 FN 0: Q4 = +0\n\
+                5 LBL 1\n6 FN 1: Q4 = +Q4 + +1\n7 L X+Q4 Y+Q3 Z-Q2 R0 F500\n8 FN 12: IF +Q4 LT +3 GOTO LBL 1\n\
+                9 FN 9: IF +Q4 EQU +3 GOTO LBL \"DONE\"\n10 L X+99 R0 F500\n11 LBL \"DONE\"\n12 Q5 = SQRT (Q1 ^ 2 - 36)\n13 L X+Q5 R0 F500\n/14 M30\n15 END PGM Q MM\n";
+    let p = read(text, Dialect::Klartext, "q.h", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let xs: Vec<f64> = p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect();
+    assert_eq!(xs, [1.0, 2.0, 3.0, 8.0], "the loop three times, X+99 jumped over, then SQRT(100 - 36)");
+    let b = p.blocks.iter().find(|b| b.targets.y.is_some()).unwrap();
+    assert_eq!((b.targets.y.unwrap() / MM, b.targets.z.unwrap() / MM), (18.0, -8.0));
+    let bad = |line: &str| read(&format!("0 BEGIN PGM Q MM\n1 Q1 = 1\n{line}\n3 END PGM Q MM\n"), Dialect::Klartext, "q.h", &ReadOptions::default());
+    for (line, needle) in [
+        ("2 L X+Q7 R0 F100", "Q7 is used before it is set"),
+        ("2 Q2 = Q1 / (Q1 - 1)", "division by zero"),
+        ("2 Q2 = (Q1 + 1", "not closed"),
+        ("2 FN 9: IF +Q1 EQU +1 GOTO LBL 5", "no LBL 5"),
+        ("2 FN 14: ERROR = 1000", "FN 14: not read"),
+    ] {
+        let p = bad(line);
+        assert!(errors(&p).iter().any(|(l, _, m)| *l == 3 && m.contains(needle)), "{line}: {:?}", errors(&p));
     }
 }
 

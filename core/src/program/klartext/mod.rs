@@ -29,14 +29,16 @@
 //! point other than the tool tip). The surface normal of an `LN` line moves the tool only by the
 //! tool deltas, which are refused, so it is read only as the tool axis when `T` is missing.
 
-use std::borrow::Cow;
-use std::collections::HashMap;
+mod formula;
+mod run;
 
-use super::interp::{Interpreter, Word};
+pub(crate) use run::{At, Labels, Next, Runner};
+pub use run::MAX_LABELS;
+
+use std::borrow::Cow;
+
 use super::lex::{excerpt, parse_number, Columns, Diags};
-use super::{Block, Dialect, MCodeRule, Orientation, Program, ProgrammedTolerance};
-use crate::machine::ContourTolerance;
-use crate::units::{DEG, MM};
+use super::{Dialect, MCodeRule, Orientation, Program};
 
 /// How many blocks section repeats and subprogram calls may add beyond the program's own: a bound
 /// on memory for a program such as `LBL 1` / `CALL LBL 1 REP65534` nested.
@@ -110,10 +112,33 @@ enum Kind<'a> {
     Tolerance { linear: Option<KWord<'a>>, rotary: Option<KWord<'a>>, reset: bool },
     Label(&'a str),
     Call { label: &'a str, rep: Option<KWord<'a>> },
-    Assign { name: String, value: f64 },
+    /// `Q1 = formula`, `FN 0..8: Q1 = ...`: the parameter and the formula that sets it.
+    Assign { name: String, formula: Cow<'a, str> },
+    /// `FN 9..12: IF a EQU|NE|GT|LT b GOTO LBL n`.
+    Jump { a: String, cmp: Cmp, b: String, label: &'a str },
     /// `STOP`: a programmed stop, as M0.
     Stop,
     End,
+}
+
+/// The comparison of a conditional jump (FN 9 EQU, FN 10 NE, FN 11 GT, FN 12 LT).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Cmp {
+    Eq,
+    Ne,
+    Gt,
+    Lt,
+}
+
+impl Cmp {
+    fn holds(self, a: f64, b: f64) -> bool {
+        match self {
+            Cmp::Eq => a == b,
+            Cmp::Ne => a != b,
+            Cmp::Gt => a > b,
+            Cmp::Lt => a < b,
+        }
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -259,10 +284,17 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         return None; // `* - SECTION`: a structure line
     }
     let owned: Vec<(&'a str, usize)>;
+    let mut number = number;
     let toks: &[(&'a str, usize)] = match head.strip_prefix('/') {
         Some(rest) => {
             diags.warning(line, head_col, "block skip '/' is not modelled: the block is run");
-            let rest = (!rest.is_empty()).then_some((rest, head_col + 1));
+            // `/290 M30`: the skip mark before the block number.
+            let rest = if number.is_none() && !rest.is_empty() && rest.bytes().all(|c| c.is_ascii_digit()) {
+                number = rest.parse::<u64>().ok();
+                None
+            } else {
+                (!rest.is_empty()).then_some((rest, head_col + 1))
+            };
             owned = rest.into_iter().chain(toks[1..].iter().copied()).collect();
             &owned
         }
@@ -336,8 +368,8 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
             diags.error(line, col, "PLANE: a tilted working plane is not modelled (it changes the motion)");
             None
         }
-        "FN" => assign(&toks[1..], line, col, true, diags),
-        k if k.starts_with('Q') => assign(toks, line, col, false, diags),
+        "FN" => fn_statement(raw, toks, line, col, diags),
+        k if k.starts_with('Q') => assign(raw, toks, line, col, diags),
         k if k.starts_with('M') && split_word(k).0 == "M" => misc(toks, line, diags),
         k @ ("APPR" | "DEP" | "RND" | "CHF" | "LP" | "CP" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH") => {
             diags.error(line, col, format!("{}: {} is not read (it changes the motion)", toks[0].0, unsupported(k)));
@@ -726,497 +758,110 @@ fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bool, diags: 
     value_word(a, rest, tok, wcol, line, diags).map(|w| Kind::Datum(k, w, incremental))
 }
 
-/// `Q1 = +5`, `FN 0: Q1 = +5`: plain assignments of a number.
-fn assign<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, fn_form: bool, diags: &mut Diags) -> Option<Kind<'a>> {
-    let mut text: String = toks.iter().map(|t| t.0).collect::<Vec<_>>().join("");
-    if fn_form {
-        match text.strip_prefix("0:") {
-            Some(rest) => text = rest.to_string(),
-            None => {
-                diags.error(line, col, format!("FN {}: Q parameter arithmetic and functions are not read (only FN 0, a plain assignment)", excerpt(&text)));
-                return None;
-            }
-        }
-    }
+/// The text of a line from token `k` on, to its comment (`;`), as written.
+fn text_from<'a>(raw: &'a str, toks: &[(&'a str, usize)], k: usize) -> &'a str {
+    let Some(&(t, _)) = toks.get(k) else { return "" };
+    // Tokens borrow from `raw`: the offset of the token in it.
+    let start = t.as_ptr() as usize - raw.as_ptr() as usize;
+    let rest = &raw[start..];
+    rest.split(';').next().unwrap_or(rest).trim_end_matches('\r').trim_end()
+}
+
+/// A Q parameter's name in capitals (`Q1`, `QL3`, `QR20`), if `s` is one.
+fn q_name(s: &str) -> Option<String> {
+    let u = s.trim().to_ascii_uppercase();
+    ["QL", "QR", "Q"].iter().any(|p| u.strip_prefix(p).is_some_and(|d| !d.is_empty() && d.bytes().all(|c| c.is_ascii_digit()))).then_some(u)
+}
+
+/// `Q1 = formula` (TNC 320 DIN/ISO 3/2014 §9.9, "Entering formulas directly").
+fn assign<'a>(raw: &'a str, toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let text = text_from(raw, toks, 0);
     let Some((lhs, rhs)) = text.split_once('=') else {
-        diags.error(line, col, format!("'{}': expected Qn = number", excerpt(&text)));
+        diags.error(line, col, format!("'{}': expected Qn = a value or formula", excerpt(text)));
         return None;
     };
-    let lhs = lhs.to_ascii_uppercase();
-    let name_ok = ["QL", "QR", "Q"].iter().any(|p| lhs.strip_prefix(p).is_some_and(|d| !d.is_empty() && d.chars().all(|c| c.is_ascii_digit())));
-    match (name_ok, parse_number(rhs)) {
-        (true, Some(value)) => Some(Kind::Assign { name: lhs, value }),
-        (false, _) => {
-            diags.error(line, col, format!("'{}': expected a Q parameter name such as Q1", excerpt(&lhs)));
+    let Some(name) = q_name(lhs) else {
+        diags.error(line, col, format!("'{}': expected a Q parameter name such as Q1", excerpt(lhs.trim())));
+        return None;
+    };
+    formula_kind(name, Cow::Borrowed(rhs.trim()), line, col + text.find('=').map_or(0, |k| k + 1), diags)
+}
+
+fn formula_kind<'a>(name: String, formula: Cow<'a, str>, line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    match formula::check(&formula) {
+        Ok(()) => Some(Kind::Assign { name, formula }),
+        Err(e) => {
+            diags.error(line, col + e.at, format!("{name} = {}: {}", excerpt(&formula), e.message));
             None
         }
-        (true, None) => {
-            diags.error(line, col, format!("{lhs} = {}: Q parameter arithmetic is not read (only a plain number)", excerpt(rhs)));
-            None
-        }
     }
 }
 
-/// Where a line of the program starts: its number (1-based) and byte offset. A jump (a call, a
-/// repeat, a return) tells the reader to read on from here.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct At {
-    pub line: usize,
-    pub offset: u64,
-}
-
-/// The most labels a program may define (the TNC 640 numbers them 1 to 65535 and names others): a
-/// label beyond is an error where it stands, and a call to it fails. It bounds the label table.
-pub const MAX_LABELS: usize = 100_000;
-
-/// The labels of a program, from a first pass over it (a call may jump forward to a subprogram
-/// written after M2/M30): each label's line and where the line after it starts.
-#[derive(Debug, Default)]
-pub(crate) struct Labels {
-    at: HashMap<String, (usize, At)>,
-    lines: usize,
-}
-
-impl Labels {
-    /// Take line `line` (its bytes, without the newline), the line after it starting at `next`.
-    pub(crate) fn line(&mut self, line: usize, bytes: &[u8], next: At, diags: &mut Diags) {
-        self.lines = line;
-        // Most lines are moves: find a `B` before anything else.
-        let mut rest = bytes;
-        let has_lbl = loop {
-            let Some(i) = memchr::memchr2(b'B', b'b', rest) else { break false };
-            let (before, after) = (&rest[..i], &rest[i + 1..]);
-            if before.last().is_some_and(|c| c.eq_ignore_ascii_case(&b'L')) && after.first().is_some_and(|c| c.eq_ignore_ascii_case(&b'L')) {
-                break true;
-            }
-            rest = after;
-        };
-        if !has_lbl {
-            return;
-        }
-        let text = String::from_utf8_lossy(bytes);
-        let t = tokens(text.trim_end_matches('\r'));
-        let body = if t.first().is_some_and(|f| f.0.bytes().all(|c| c.is_ascii_digit())) { &t[1..] } else { &t[..] };
-        if let [(kw, col), (label, _)] = body {
-            let label = label.trim_matches('"');
-            if !kw.eq_ignore_ascii_case("LBL") || label == "0" {
-                return;
-            }
-            if let Some(old) = self.at.get_mut(label) {
-                // Said where it stands; calls go to the last one, as they always have.
-                diags.error(line, *col, format!("LBL {label} defined twice"));
-                *old = (line, next);
-            } else if self.at.len() >= MAX_LABELS {
-                diags.error(line, *col, format!("LBL {label}: more than {MAX_LABELS} labels in one program; not kept"));
-            } else {
-                self.at.insert(label.to_string(), (line, next));
-            }
-        }
-    }
-}
-
-/// What the reader does after a line: read the next one, read on from elsewhere, or (the program
-/// has ended) only check the lines after it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Next {
-    On,
-    Jump(At),
-    Ended,
-}
-
-/// A Klartext program run as the TNC runs it (labels, section repeats, subprograms) one line at a
-/// time, sans I/O: the reader feeds it the line where it stands and goes where it says next, so
-/// memory holds the label table and the call stack, never the program. Each line is parsed as it
-/// runs (a repeated section is parsed again rather than held).
-pub(crate) struct Runner {
-    interp: Interpreter,
-    ex: Exec,
-    st: ParseState,
-    labels: Labels,
-    /// Subprogram calls: where to come back to, and the call's line and column.
-    stack: Vec<(At, usize, usize)>,
-    /// Section repeats under way: the call's line and the runs left.
-    repeats: HashMap<usize, u64>,
-    /// Statements that may run: the program's own lines and [`MAX_REPEATED_BLOCKS`] more.
-    budget: usize,
-    executed: usize,
-}
-
-impl Runner {
-    pub(crate) fn new(labels: Labels, setup: &super::Setup) -> Runner {
-        Runner {
-            interp: setup.interpreter(),
-            ex: Exec::default(),
-            st: ParseState::default(),
-            budget: labels.lines + MAX_REPEATED_BLOCKS,
-            labels,
-            stack: Vec::new(),
-            repeats: HashMap::new(),
-            executed: 0,
-        }
-    }
-
-    /// Run line `line` (without its newline), the line after it starting at `next`: its block
-    /// goes to `out`, its defects to `diags`.
-    pub(crate) fn line(&mut self, line: usize, raw: &str, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        let was_inch = self.st.inch;
-        let Some(s) = parse_line(line, raw, &mut self.st, diags) else {
-            if self.st.inch != was_inch {
-                if let Err(u) = self.interp.set_inch(self.st.inch) {
-                    diags.warning(line, 1, format!("the program header says {}; its numbers are read in {} (--units)", if self.st.inch { "INCH" } else { "MM" }, u.name()));
-                }
-            }
-            return Next::On;
-        };
-        self.executed += 1;
-        if self.executed > self.budget {
-            diags.error(s.line, s.col, format!("the repeats and calls run more than {MAX_REPEATED_BLOCKS} blocks beyond the program's own: not read further"));
-            return Next::Ended;
-        }
-        match &s.kind {
-            Kind::End => Next::Ended,
-            Kind::Label("0") => match self.stack.pop() {
-                Some((back, _, _)) => Next::Jump(back),
-                None => Next::On,
-            },
-            Kind::Label(_) => Next::On,
-            Kind::Call { label, rep } => self.call(&s, label, rep.as_ref(), next, diags),
-            _ => {
-                if self.ex.run(&s, &mut self.interp, out, diags) && self.stack.is_empty() {
-                    Next::Ended // M2 / M30: the program ends (subprograms follow it)
-                } else {
-                    Next::On
-                }
-            }
-        }
-    }
-
-    /// `CALL LBL label [REP n]` at `s`, the line after it starting at `next`.
-    fn call(&mut self, s: &Stmt<'_>, label: &str, rep: Option<&KWord<'_>>, next: At, diags: &mut Diags) -> Next {
-        let Some(&(label_line, target)) = self.labels.at.get(label) else {
-            diags.error(s.line, s.col, format!("CALL LBL {label}: no LBL {label} in the program"));
-            return Next::On;
-        };
-        let Some(w) = rep else {
-            if self.stack.len() >= MAX_NESTING {
-                diags.error(s.line, s.col, format!("CALL LBL {label}: subprograms nested deeper than {MAX_NESTING} levels"));
-                return Next::Ended;
-            }
-            self.stack.push((next, s.line, s.col));
-            return Next::Jump(target);
-        };
-        let count = match self.ex.value(w, s.line, diags) {
-            Some(v) if v.fract() == 0.0 && (0.0..=65534.0).contains(&v) => v as u64,
-            Some(v) => {
-                diags.error(s.line, w.col, format!("REP {v}: expected a whole number of repeats, 0 to 65534"));
-                return Next::On;
-            }
-            None => return Next::On,
-        };
-        // A program section repeat: back to the label `count` more times.
-        if label_line >= s.line {
-            diags.error(s.line, s.col, format!("CALL LBL {label} REP: the label must come before the call"));
-            return Next::On;
-        }
-        let left = self.repeats.entry(s.line).or_insert(count);
-        if *left > 0 {
-            *left -= 1;
-            Next::Jump(target)
-        } else {
-            self.repeats.remove(&s.line);
-            Next::On
-        }
-    }
-
-    /// After the end: a line that does not run (a subprogram never called) is checked all the same.
-    pub(crate) fn check(&mut self, line: usize, raw: &str, diags: &mut Diags) {
-        let _ = parse_line(line, raw, &mut self.st, diags);
-    }
-
-    /// The input has ended: a subprogram left open, a program without its start.
-    pub(crate) fn finish(&mut self, diags: &mut Diags) {
-        if let Some(&(_, line, col)) = self.stack.last() {
-            diags.error(line, col, "the subprogram called here has no LBL 0 before the program ends");
-        }
-        if !self.st.began {
-            diags.error(1, 1, "missing program start: expected BEGIN PGM NAME MM");
-        }
-    }
-
-    /// The program's name, once its `BEGIN PGM` has run.
-    pub(crate) fn name(&self) -> Option<&str> {
-        self.st.name.as_deref()
-    }
-}
-
-/// Run-time state besides the interpreter's.
-#[derive(Debug, Default)]
-struct Exec {
-    q: HashMap<String, f64>,
-    /// The feed of the last TOOL CALL (program units per minute, as written), for FAUTO.
-    tool_feed: Option<(f64, String)>,
-    /// Direction of the contour at its end in the working plane, for CT.
-    tangent: Option<[f64; 2]>,
-}
-
-impl Exec {
-    fn value(&self, w: &KWord<'_>, line: usize, diags: &mut Diags) -> Option<f64> {
-        match &w.val {
-            Val::Num(v) => Some(*v),
-            Val::Q { name, negative } => match self.q.get(*name) {
-                Some(v) => Some(if *negative { -v } else { *v }),
-                None => {
-                    diags.error(line, w.col, format!("{}: {name} is used before it is set (only plain assignments Qn = number are read)", w.addr));
+/// `FN n: ...`: the arithmetic functions FN 0 to FN 8 (a formula), the jumps FN 9 to FN 12.
+fn fn_statement<'a>(raw: &'a str, toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let text = text_from(raw, toks, 1);
+    let Some((number, body)) = text.split_once(':') else {
+        diags.error(line, col, format!("FN {}: expected FN n: followed by its operands", excerpt(text)));
+        return None;
+    };
+    let Ok(n) = number.trim().parse::<u32>() else {
+        diags.error(line, col, format!("FN {}: expected a function number", excerpt(number)));
+        return None;
+    };
+    match n {
+        0..=8 => {
+            let Some((lhs, rhs)) = body.split_once('=') else {
+                diags.error(line, col, format!("FN {n}: expected Qn = its operands"));
+                return None;
+            };
+            let Some(name) = q_name(lhs) else {
+                diags.error(line, col, format!("FN {n}: '{}' is not a Q parameter", excerpt(lhs.trim())));
+                return None;
+            };
+            match formula::fn_formula(n, rhs) {
+                Ok(f) => formula_kind(name, Cow::Owned(f), line, col, diags),
+                Err(why) => {
+                    diags.error(line, col, why);
                     None
                 }
-            },
-        }
-    }
-
-    /// Run one statement, its block to `out`; true if it ends the program (M2, M30).
-    fn run<'a>(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
-        let unit = interp.unit();
-        // Statements that set state and run no block.
-        match &s.kind {
-            Kind::Assign { name, value } => {
-                self.q.insert(name.clone(), *value);
-                return false;
-            }
-            Kind::Tolerance { linear, rotary, reset } => {
-                let mut tolerance = if *reset { ProgrammedTolerance::default() } else { interp.tolerance() };
-                let max = ContourTolerance::MAX;
-                // Each part written: its value in SI (from the program's unit, or deg), within 0..=max.
-                let parts: [(_, _, _, _, _, _, fn(f64) -> bool); 2] = [
-                    (linear, "32.1 T", unit, max.linear_m, MM, "mm", ContourTolerance::linear_ok),
-                    (rotary, "32.2 TA", DEG, max.rotary_rad, DEG, "deg", ContourTolerance::rotary_ok),
-                ];
-                let [l, r] = parts.map(|(w, name, to_si, max, shown, shown_name, ok)| {
-                    let w = w.as_ref()?;
-                    let v = self.value(w, s.line, diags)? * to_si;
-                    if !ok(v) {
-                        diags.error(s.line, w.col, format!("CYCL DEF {name}: {} {shown_name} is outside 0 to {} {shown_name}", v / shown, max / shown));
-                        return None;
-                    }
-                    Some(v)
-                });
-                tolerance.linear_m = l.or(tolerance.linear_m);
-                tolerance.rotary_rad = r.or(tolerance.rotary_rad);
-                interp.set_tolerance(tolerance);
-                return false;
-            }
-            Kind::Tcp { on, orientation } => {
-                interp.set_tcp(*on);
-                if let Some(o) = orientation {
-                    interp.set_orientation(*o);
-                }
-                return false;
-            }
-            Kind::Datum(k, w, incremental) => {
-                if let Some(v) = self.value(w, s.line, diags) {
-                    let mut datum = interp.datum();
-                    datum[*k] = if *incremental { datum[*k] + v * unit } else { v * unit };
-                    interp.set_datum(datum);
-                }
-                return false;
-            }
-            Kind::End | Kind::Label(_) | Kind::Call { .. } => return false,
-            _ => {}
-        }
-        let before = diags.errors();
-        let mut words: Vec<Word<'a>> = Vec::with_capacity(12);
-        let word = |letter: char, value: f64, raw: Cow<'a, str>, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
-        let mut ends = false;
-        let mut vector = None;
-        match &s.kind {
-            Kind::Stop => words.push(word('M', 0.0, "0".into(), s.col, false)),
-            // The interpreter reads a TNC dwell as G04 F, s.
-            Kind::Dwell(w) => {
-                if let Some(v) = self.value(w, s.line, diags) {
-                    words.push(word('G', 4.0, "04".into(), s.col, false));
-                    words.push(word('F', v, w.raw.into(), w.col, false));
-                }
-            }
-            Kind::Tool { events, feed } => {
-                for e in events {
-                    let (l, rest) = e.split_at(1);
-                    words.push(word(l.chars().next().unwrap_or('T'), 0.0, rest.to_string().into(), s.col, false));
-                }
-                if let Some(f) = feed {
-                    self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw.to_string()));
-                }
-            }
-            Kind::Misc(m) => ends = self.m_words(m, &mut words, s.line, diags),
-            Kind::Centre(axes) => {
-                let pos = interp.position();
-                let (a0, a1, _) = interp.plane().axes();
-                let mut c = [pos[a0], pos[a1]];
-                for w in axes {
-                    let k = axis_index(w.addr);
-                    let Some(v) = self.value(w, s.line, diags) else { continue };
-                    let incremental = w.addr.starts_with('I');
-                    let slot = if k == a0 {
-                        0
-                    } else if k == a1 {
-                        1
-                    } else {
-                        diags.error(s.line, w.col, format!("CC {}: not an axis of the working plane", w.addr));
-                        continue;
-                    };
-                    c[slot] = if incremental { pos[k] + v * unit } else { v * unit };
-                }
-                for (slot, k) in [a0, a1].into_iter().enumerate() {
-                    words.push(word(['I', 'J', 'K'][k], c[slot] / unit, format!("{}", c[slot] / unit).into(), s.col, false));
-                }
-            }
-            Kind::Move { shape, axes, ccw, radius, feed, m } => {
-                let mut tool = [None; 3];
-                let mut normal = [None; 3];
-                for w in axes {
-                    let Some(v) = self.value(w, s.line, diags) else { continue };
-                    match w.addr.as_bytes()[0] {
-                        b'N' => normal[axis_index(w.addr)] = Some(v),
-                        b'T' => tool[axis_index(w.addr)] = Some(v),
-                        _ => {
-                            let letter = w.addr.as_bytes()[w.addr.len() - 1] as char;
-                            words.push(word(letter, v, w.raw.into(), w.col, w.addr.len() == 2))
-                        }
-                    }
-                }
-                ends = self.m_words(m, &mut words, s.line, diags);
-                let g = match (shape, feed) {
-                    (Shape::Line | Shape::LineNormal, FeedWord::Max) => "0",
-                    (Shape::Line | Shape::LineNormal, _) => "1",
-                    (Shape::Circle | Shape::CircleRadius, _) if *ccw == Some(true) => "3",
-                    (Shape::Circle | Shape::CircleRadius, _) => "2",
-                    (Shape::CircleTangent, _) => match self.tangent_arc(&words, interp, s, diags) {
-                        Some((g, r)) => {
-                            words.push(word('R', r, format!("{r}").into(), s.col, false));
-                            g
-                        }
-                        None => "1",
-                    },
-                };
-                words.push(word('G', if g == "0" { 0.0 } else { g.parse().unwrap_or(1.0) }, g.into(), s.col, false));
-                if let Some(r) = radius {
-                    if let Some(v) = self.value(r, s.line, diags) {
-                        words.push(word('R', v, r.raw.into(), r.col, false));
-                    }
-                }
-                match feed {
-                    FeedWord::Value(f) => {
-                        if let Some(v) = self.value(f, s.line, diags) {
-                            words.push(word('F', v, f.raw.into(), f.col, false));
-                        }
-                    }
-                    FeedWord::Auto(col) => match &self.tool_feed {
-                        Some((v, raw)) => words.push(word('F', *v, raw.clone().into(), *col, false)),
-                        None => diags.error(s.line, *col, "FAUTO without a feed in the TOOL CALL before it"),
-                    },
-                    FeedWord::Max | FeedWord::None => {}
-                }
-                if *shape == Shape::LineNormal {
-                    let full = |v: [Option<f64>; 3]| -> Option<[f64; 3]> { Some([v[0]?, v[1]?, v[2]?]) };
-                    let m128 = m.iter().any(|w| w.val == Val::Num(128.0));
-                    let t = full(tool);
-                    if interp.tcp() || m128 {
-                        // Under TCPM the tool keeps the orientation T, or without T stands on the normal.
-                        let given = if t.is_some() { "TX TY TZ" } else { "NX NY NZ" };
-                        if let Some(v) = t.or_else(|| full(normal)) {
-                            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-                            if n > 1e-9 && n.is_finite() {
-                                vector = Some(v.map(|c| c / n));
-                            } else {
-                                diags.error(s.line, s.col, format!("LN: the vector {given} has zero length: expected a direction"));
-                            }
-                        }
-                    } else if t.is_some() {
-                        diags.warning(
-                            s.line,
-                            s.col,
-                            "LN with TX TY TZ but neither M128 nor FUNCTION TCPM: the TNC ignores the tool vector, and so does this reader",
-                        );
-                    }
-                }
-            }
-            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } => {}
-        }
-        if diags.errors() > before {
-            diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
-            return false;
-        }
-        if let Some(v) = vector {
-            interp.set_pending_vector(v);
-        }
-        let start = interp.position();
-        let result = interp.block_one(&words, s.line, s.col, s.number, diags);
-        match result {
-            Some(b) => {
-                self.follow(&b, start, interp.position(), interp);
-                out.push(b);
-                ends
-            }
-            None => {
-                diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
-                false
             }
         }
-    }
-
-    /// The block's M functions as words; true if one ends the program (M2, M30).
-    fn m_words<'a>(&self, m: &[KWord<'a>], words: &mut Vec<Word<'a>>, line: usize, diags: &mut Diags) -> bool {
-        let mut ends = false;
-        for w in m {
-            let v = self.value(w, line, diags).unwrap_or(0.0);
-            ends |= v == 2.0 || v == 30.0;
-            words.push(Word { letter: 'M', value: v, raw: w.raw.into(), column: w.col, incremental: false });
-        }
-        ends
-    }
-
-    /// `CT`: the arc from the current point, tangent to the contour before it, to the block's end in
-    /// the working plane: its direction (G02/G03) and signed radius (negative over 180 deg).
-    fn tangent_arc(&self, words: &[Word<'_>], interp: &Interpreter, s: &Stmt, diags: &mut Diags) -> Option<(&'static str, f64)> {
-        let Some(t) = self.tangent else {
-            diags.error(s.line, s.col, "CT: no contour element before it to be tangent to");
-            return None;
-        };
-        let unit = interp.unit();
-        let pos = interp.position();
-        let (a0, a1, _) = interp.plane().axes();
-        let mut end = [pos[a0], pos[a1]];
-        for w in words {
-            let Some(k) = "XYZ".find(w.letter) else { continue };
-            let slot = if k == a0 { 0 } else if k == a1 { 1 } else { continue };
-            end[slot] = if w.incremental { pos[k] + w.value * unit } else { w.value * unit };
-        }
-        let d = [end[0] - pos[a0], end[1] - pos[a1]];
-        let n = [-t[1], t[0]]; // left of the tangent
-        let dn = d[0] * n[0] + d[1] * n[1];
-        let dd = d[0] * d[0] + d[1] * d[1];
-        if dd == 0.0 || dn.abs() <= 1e-9 * dd.sqrt() {
-            diags.error(s.line, s.col, "CT: the end point lies on the tangent (a straight line, not an arc)");
-            return None;
-        }
-        let signed = dd / (2.0 * dn); // centre = start + signed * n
-        let over_half = d[0] * t[0] + d[1] * t[1] < 0.0;
-        let r = signed.abs() / unit * if over_half { -1.0 } else { 1.0 };
-        Some((if signed > 0.0 { "3" } else { "2" }, r))
-    }
-
-    /// Keep the contour's end direction for a later CT.
-    fn follow(&mut self, b: &Block, start: [f64; 6], end: [f64; 6], interp: &Interpreter) {
-        let (a0, a1, _) = interp.plane().axes();
-        if let Some(arc) = &b.arc {
-            let r = [end[a0] - arc.centre[a0], end[a1] - arc.centre[a1]];
-            let n = r[0].hypot(r[1]);
-            if n > 0.0 {
-                let ccw = b.motion == super::Motion::ArcCcw;
-                self.tangent = Some(if ccw { [-r[1] / n, r[0] / n] } else { [r[1] / n, -r[0] / n] });
+        9..=12 => {
+            // IF a OP b GOTO LBL label
+            let u = body.to_ascii_uppercase();
+            let (op, cmp) = [("EQU", Cmp::Eq), ("NE", Cmp::Ne), ("GT", Cmp::Gt), ("LT", Cmp::Lt)][(n - 9) as usize];
+            let (Some(if_at), Some(op_at), Some(goto_at)) = (u.find("IF"), u.find(op), u.find("GOTO")) else {
+                diags.error(line, col, format!("FN {n}: expected IF a {op} b GOTO LBL label"));
+                return None;
+            };
+            if !(if_at < op_at && op_at < goto_at) {
+                diags.error(line, col, format!("FN {n}: expected IF a {op} b GOTO LBL label"));
+                return None;
             }
-        } else if !b.targets.is_empty() {
-            let d = [end[a0] - start[a0], end[a1] - start[a1]];
-            let n = d[0].hypot(d[1]);
-            self.tangent = if n > 0.0 { Some([d[0] / n, d[1] / n]) } else { None };
+            let a = body[if_at + 2..op_at].trim().to_string();
+            let b = body[op_at + op.len()..goto_at].trim().to_string();
+            let after = body[goto_at + 4..].trim_start();
+            let Some(label) = after.get(..3).filter(|l| l.eq_ignore_ascii_case("LBL")).map(|_| after[3..].trim().trim_matches('"')) else {
+                diags.error(line, col, format!("FN {n}: expected GOTO LBL and the label"));
+                return None;
+            };
+            for v in [&a, &b] {
+                if let Err(e) = formula::check(v) {
+                    diags.error(line, col, format!("FN {n}: '{}': {}", excerpt(v), e.message));
+                    return None;
+                }
+            }
+            if label.is_empty() {
+                diags.error(line, col, format!("FN {n}: GOTO LBL without a label"));
+                return None;
+            }
+            // The label borrows from the line's text.
+            let start = label.as_ptr() as usize - raw.as_ptr() as usize;
+            Some(Kind::Jump { a, cmp, b, label: &raw[start..start + label.len()] })
+        }
+        _ => {
+            diags.error(line, col, format!("FN {n}: not read (only the arithmetic FN 0 to FN 8 and the jumps FN 9 to FN 12)"));
+            None
         }
     }
 }

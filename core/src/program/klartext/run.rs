@@ -1,0 +1,502 @@
+//! Running a Klartext program: its labels, calls, repeats and jumps, and each statement's block.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+
+use super::{axis_index, label, parse_line, tokens, FeedWord, KWord, Kind, ParseState, Shape, Stmt, Val, MAX_NESTING, MAX_REPEATED_BLOCKS};
+use crate::machine::ContourTolerance;
+use crate::program::interp::{Interpreter, Word};
+use crate::program::lex::Diags;
+use crate::program::{Block, ProgrammedTolerance};
+use crate::units::{DEG, MM};
+
+/// Where a line of the program starts: its number (1-based) and byte offset. A jump (a call, a
+/// repeat, a return) tells the reader to read on from here.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct At {
+    pub line: usize,
+    pub offset: u64,
+}
+
+/// The most labels a program may define (the TNC 640 numbers them 1 to 65535 and names others): a
+/// label beyond is an error where it stands, and a call to it fails. It bounds the label table.
+pub const MAX_LABELS: usize = 100_000;
+
+/// The labels of a program, from a first pass over it (a call may jump forward to a subprogram
+/// written after M2/M30): each label's line and where the line after it starts.
+#[derive(Debug, Default)]
+pub(crate) struct Labels {
+    at: HashMap<String, (usize, At)>,
+    lines: usize,
+}
+
+impl Labels {
+    /// Take line `line` (its bytes, without the newline), the line after it starting at `next`.
+    pub(crate) fn line(&mut self, line: usize, bytes: &[u8], next: At, diags: &mut Diags) {
+        self.lines = line;
+        // Most lines are moves: find a `B` before anything else.
+        let mut rest = bytes;
+        let has_lbl = loop {
+            let Some(i) = memchr::memchr2(b'B', b'b', rest) else { break false };
+            let (before, after) = (&rest[..i], &rest[i + 1..]);
+            if before.last().is_some_and(|c| c.eq_ignore_ascii_case(&b'L')) && after.first().is_some_and(|c| c.eq_ignore_ascii_case(&b'L')) {
+                break true;
+            }
+            rest = after;
+        };
+        if !has_lbl {
+            return;
+        }
+        let text = String::from_utf8_lossy(bytes);
+        let t = tokens(text.trim_end_matches('\r'));
+        let body = if t.first().is_some_and(|f| f.0.bytes().all(|c| c.is_ascii_digit())) { &t[1..] } else { &t[..] };
+        if let [(kw, col), (label, _)] = body {
+            let label = label.trim_matches('"');
+            if !kw.eq_ignore_ascii_case("LBL") || label == "0" {
+                return;
+            }
+            if let Some(old) = self.at.get_mut(label) {
+                // Said where it stands; calls go to the last one, as they always have.
+                diags.error(line, *col, format!("LBL {label} defined twice"));
+                *old = (line, next);
+            } else if self.at.len() >= MAX_LABELS {
+                diags.error(line, *col, format!("LBL {label}: more than {MAX_LABELS} labels in one program; not kept"));
+            } else {
+                self.at.insert(label.to_string(), (line, next));
+            }
+        }
+    }
+}
+
+/// What the reader does after a line: read the next one, read on from elsewhere, or (the program
+/// has ended) only check the lines after it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Next {
+    On,
+    Jump(At),
+    Ended,
+}
+
+/// A Klartext program run as the TNC runs it (labels, section repeats, subprograms) one line at a
+/// time, sans I/O: the reader feeds it the line where it stands and goes where it says next, so
+/// memory holds the label table and the call stack, never the program. Each line is parsed as it
+/// runs (a repeated section is parsed again rather than held).
+pub(crate) struct Runner {
+    interp: Interpreter,
+    ex: Exec,
+    st: ParseState,
+    labels: Labels,
+    /// Subprogram calls: where to come back to, and the call's line and column.
+    stack: Vec<(At, usize, usize)>,
+    /// Section repeats under way: the call's line and the runs left.
+    repeats: HashMap<usize, u64>,
+    /// Statements that may run: the program's own lines and [`MAX_REPEATED_BLOCKS`] more.
+    budget: usize,
+    executed: usize,
+}
+
+impl Runner {
+    pub(crate) fn new(labels: Labels, setup: &crate::program::Setup) -> Runner {
+        Runner {
+            interp: setup.interpreter(),
+            ex: Exec::default(),
+            st: ParseState::default(),
+            budget: labels.lines + MAX_REPEATED_BLOCKS,
+            labels,
+            stack: Vec::new(),
+            repeats: HashMap::new(),
+            executed: 0,
+        }
+    }
+
+    /// Run line `line` (without its newline), the line after it starting at `next`: its block
+    /// goes to `out`, its defects to `diags`.
+    pub(crate) fn line(&mut self, line: usize, raw: &str, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        let was_inch = self.st.inch;
+        let Some(s) = parse_line(line, raw, &mut self.st, diags) else {
+            if self.st.inch != was_inch {
+                if let Err(u) = self.interp.set_inch(self.st.inch) {
+                    diags.warning(line, 1, format!("the program header says {}; its numbers are read in {} (--units)", if self.st.inch { "INCH" } else { "MM" }, u.name()));
+                }
+            }
+            return Next::On;
+        };
+        self.executed += 1;
+        if self.executed > self.budget {
+            diags.error(s.line, s.col, format!("the repeats and calls run more than {MAX_REPEATED_BLOCKS} blocks beyond the program's own: not read further"));
+            return Next::Ended;
+        }
+        match &s.kind {
+            Kind::End => Next::Ended,
+            Kind::Label("0") => match self.stack.pop() {
+                Some((back, _, _)) => Next::Jump(back),
+                None => Next::On,
+            },
+            Kind::Label(_) => Next::On,
+            Kind::Call { label, rep } => self.call(&s, label, rep.as_ref(), next, diags),
+            // A conditional jump (FN 9-12): on to the line after the label when it holds.
+            Kind::Jump { a, cmp, b, label } => match (self.ex.formula(a, s.line, s.col, diags), self.ex.formula(b, s.line, s.col, diags)) {
+                (Some(x), Some(y)) if cmp.holds(x, y) => match self.labels.at.get(*label) {
+                    Some(&(_, target)) => Next::Jump(target),
+                    None => {
+                        diags.error(s.line, s.col, format!("GOTO LBL {label}: no LBL {label} in the program"));
+                        Next::On
+                    }
+                },
+                _ => Next::On,
+            },
+            _ => {
+                if self.ex.run(&s, &mut self.interp, out, diags) && self.stack.is_empty() {
+                    Next::Ended // M2 / M30: the program ends (subprograms follow it)
+                } else {
+                    Next::On
+                }
+            }
+        }
+    }
+
+    /// `CALL LBL label [REP n]` at `s`, the line after it starting at `next`.
+    fn call(&mut self, s: &Stmt<'_>, label: &str, rep: Option<&KWord<'_>>, next: At, diags: &mut Diags) -> Next {
+        let Some(&(label_line, target)) = self.labels.at.get(label) else {
+            diags.error(s.line, s.col, format!("CALL LBL {label}: no LBL {label} in the program"));
+            return Next::On;
+        };
+        let Some(w) = rep else {
+            if self.stack.len() >= MAX_NESTING {
+                diags.error(s.line, s.col, format!("CALL LBL {label}: subprograms nested deeper than {MAX_NESTING} levels"));
+                return Next::Ended;
+            }
+            self.stack.push((next, s.line, s.col));
+            return Next::Jump(target);
+        };
+        let count = match self.ex.value(w, s.line, diags) {
+            Some(v) if v.fract() == 0.0 && (0.0..=65534.0).contains(&v) => v as u64,
+            Some(v) => {
+                diags.error(s.line, w.col, format!("REP {v}: expected a whole number of repeats, 0 to 65534"));
+                return Next::On;
+            }
+            None => return Next::On,
+        };
+        // A program section repeat: back to the label `count` more times.
+        if label_line >= s.line {
+            diags.error(s.line, s.col, format!("CALL LBL {label} REP: the label must come before the call"));
+            return Next::On;
+        }
+        let left = self.repeats.entry(s.line).or_insert(count);
+        if *left > 0 {
+            *left -= 1;
+            Next::Jump(target)
+        } else {
+            self.repeats.remove(&s.line);
+            Next::On
+        }
+    }
+
+    /// After the end: a line that does not run (a subprogram never called) is checked all the same.
+    pub(crate) fn check(&mut self, line: usize, raw: &str, diags: &mut Diags) {
+        let _ = parse_line(line, raw, &mut self.st, diags);
+    }
+
+    /// The input has ended: a subprogram left open, a program without its start.
+    pub(crate) fn finish(&mut self, diags: &mut Diags) {
+        if let Some(&(_, line, col)) = self.stack.last() {
+            diags.error(line, col, "the subprogram called here has no LBL 0 before the program ends");
+        }
+        if !self.st.began {
+            diags.error(1, 1, "missing program start: expected BEGIN PGM NAME MM");
+        }
+    }
+
+    /// The program's name, once its `BEGIN PGM` has run.
+    pub(crate) fn name(&self) -> Option<&str> {
+        self.st.name.as_deref()
+    }
+}
+
+/// Run-time state besides the interpreter's.
+#[derive(Debug, Default)]
+struct Exec {
+    q: HashMap<String, f64>,
+    /// The feed of the last TOOL CALL (program units per minute, as written), for FAUTO.
+    tool_feed: Option<(f64, String)>,
+    /// Direction of the contour at its end in the working plane, for CT.
+    tangent: Option<[f64; 2]>,
+}
+
+impl Exec {
+    /// A formula's value with the parameters set so far; a defect goes to `diags`.
+    fn formula(&self, text: &str, line: usize, col: usize, diags: &mut Diags) -> Option<f64> {
+        match super::formula::eval(text, &|n| self.q.get(n).copied()) {
+            Ok(v) => Some(v),
+            Err(e) => {
+                diags.error(line, col, format!("'{}': {}", crate::program::lex::excerpt(text), e.message));
+                None
+            }
+        }
+    }
+
+    fn value(&self, w: &KWord<'_>, line: usize, diags: &mut Diags) -> Option<f64> {
+        match &w.val {
+            Val::Num(v) => Some(*v),
+            Val::Q { name, negative } => match self.q.get(*name) {
+                Some(v) => Some(if *negative { -v } else { *v }),
+                None => {
+                    diags.error(line, w.col, format!("{}: {name} is used before it is set", w.addr));
+                    None
+                }
+            },
+        }
+    }
+
+    /// Run one statement, its block to `out`; true if it ends the program (M2, M30).
+    fn run<'a>(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        let unit = interp.unit();
+        // Statements that set state and run no block.
+        match &s.kind {
+            Kind::Assign { name, formula } => {
+                match self.formula(formula, s.line, s.col, diags) {
+                    Some(v) => {
+                        self.q.insert(name.clone(), v);
+                    }
+                    None => diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line))),
+                }
+                return false;
+            }
+            Kind::Tolerance { linear, rotary, reset } => {
+                let mut tolerance = if *reset { ProgrammedTolerance::default() } else { interp.tolerance() };
+                let max = ContourTolerance::MAX;
+                // Each part written: its value in SI (from the program's unit, or deg), within 0..=max.
+                let parts: [(_, _, _, _, _, _, fn(f64) -> bool); 2] = [
+                    (linear, "32.1 T", unit, max.linear_m, MM, "mm", ContourTolerance::linear_ok),
+                    (rotary, "32.2 TA", DEG, max.rotary_rad, DEG, "deg", ContourTolerance::rotary_ok),
+                ];
+                let [l, r] = parts.map(|(w, name, to_si, max, shown, shown_name, ok)| {
+                    let w = w.as_ref()?;
+                    let v = self.value(w, s.line, diags)? * to_si;
+                    if !ok(v) {
+                        diags.error(s.line, w.col, format!("CYCL DEF {name}: {} {shown_name} is outside 0 to {} {shown_name}", v / shown, max / shown));
+                        return None;
+                    }
+                    Some(v)
+                });
+                tolerance.linear_m = l.or(tolerance.linear_m);
+                tolerance.rotary_rad = r.or(tolerance.rotary_rad);
+                interp.set_tolerance(tolerance);
+                return false;
+            }
+            Kind::Tcp { on, orientation } => {
+                interp.set_tcp(*on);
+                if let Some(o) = orientation {
+                    interp.set_orientation(*o);
+                }
+                return false;
+            }
+            Kind::Datum(k, w, incremental) => {
+                if let Some(v) = self.value(w, s.line, diags) {
+                    let mut datum = interp.datum();
+                    datum[*k] = if *incremental { datum[*k] + v * unit } else { v * unit };
+                    interp.set_datum(datum);
+                }
+                return false;
+            }
+            Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } => return false,
+            _ => {}
+        }
+        let before = diags.errors();
+        let mut words: Vec<Word<'a>> = Vec::with_capacity(12);
+        let word = |letter: char, value: f64, raw: Cow<'a, str>, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
+        let mut ends = false;
+        let mut vector = None;
+        match &s.kind {
+            Kind::Stop => words.push(word('M', 0.0, "0".into(), s.col, false)),
+            // The interpreter reads a TNC dwell as G04 F, s.
+            Kind::Dwell(w) => {
+                if let Some(v) = self.value(w, s.line, diags) {
+                    words.push(word('G', 4.0, "04".into(), s.col, false));
+                    words.push(word('F', v, w.raw.into(), w.col, false));
+                }
+            }
+            Kind::Tool { events, feed } => {
+                for e in events {
+                    let (l, rest) = e.split_at(1);
+                    words.push(word(l.chars().next().unwrap_or('T'), 0.0, rest.to_string().into(), s.col, false));
+                }
+                if let Some(f) = feed {
+                    self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw.to_string()));
+                }
+            }
+            Kind::Misc(m) => ends = self.m_words(m, &mut words, s.line, diags),
+            Kind::Centre(axes) => {
+                let pos = interp.position();
+                let (a0, a1, _) = interp.plane().axes();
+                let mut c = [pos[a0], pos[a1]];
+                for w in axes {
+                    let k = axis_index(w.addr);
+                    let Some(v) = self.value(w, s.line, diags) else { continue };
+                    let incremental = w.addr.starts_with('I');
+                    let slot = if k == a0 {
+                        0
+                    } else if k == a1 {
+                        1
+                    } else {
+                        diags.error(s.line, w.col, format!("CC {}: not an axis of the working plane", w.addr));
+                        continue;
+                    };
+                    c[slot] = if incremental { pos[k] + v * unit } else { v * unit };
+                }
+                for (slot, k) in [a0, a1].into_iter().enumerate() {
+                    words.push(word(['I', 'J', 'K'][k], c[slot] / unit, format!("{}", c[slot] / unit).into(), s.col, false));
+                }
+            }
+            Kind::Move { shape, axes, ccw, radius, feed, m } => {
+                let mut tool = [None; 3];
+                let mut normal = [None; 3];
+                for w in axes {
+                    let Some(v) = self.value(w, s.line, diags) else { continue };
+                    match w.addr.as_bytes()[0] {
+                        b'N' => normal[axis_index(w.addr)] = Some(v),
+                        b'T' => tool[axis_index(w.addr)] = Some(v),
+                        _ => {
+                            let letter = w.addr.as_bytes()[w.addr.len() - 1] as char;
+                            words.push(word(letter, v, w.raw.into(), w.col, w.addr.len() == 2))
+                        }
+                    }
+                }
+                ends = self.m_words(m, &mut words, s.line, diags);
+                let g = match (shape, feed) {
+                    (Shape::Line | Shape::LineNormal, FeedWord::Max) => "0",
+                    (Shape::Line | Shape::LineNormal, _) => "1",
+                    (Shape::Circle | Shape::CircleRadius, _) if *ccw == Some(true) => "3",
+                    (Shape::Circle | Shape::CircleRadius, _) => "2",
+                    (Shape::CircleTangent, _) => match self.tangent_arc(&words, interp, s, diags) {
+                        Some((g, r)) => {
+                            words.push(word('R', r, format!("{r}").into(), s.col, false));
+                            g
+                        }
+                        None => "1",
+                    },
+                };
+                words.push(word('G', if g == "0" { 0.0 } else { g.parse().unwrap_or(1.0) }, g.into(), s.col, false));
+                if let Some(r) = radius {
+                    if let Some(v) = self.value(r, s.line, diags) {
+                        words.push(word('R', v, r.raw.into(), r.col, false));
+                    }
+                }
+                match feed {
+                    FeedWord::Value(f) => {
+                        if let Some(v) = self.value(f, s.line, diags) {
+                            words.push(word('F', v, f.raw.into(), f.col, false));
+                        }
+                    }
+                    FeedWord::Auto(col) => match &self.tool_feed {
+                        Some((v, raw)) => words.push(word('F', *v, raw.clone().into(), *col, false)),
+                        None => diags.error(s.line, *col, "FAUTO without a feed in the TOOL CALL before it"),
+                    },
+                    FeedWord::Max | FeedWord::None => {}
+                }
+                if *shape == Shape::LineNormal {
+                    let full = |v: [Option<f64>; 3]| -> Option<[f64; 3]> { Some([v[0]?, v[1]?, v[2]?]) };
+                    let m128 = m.iter().any(|w| w.val == Val::Num(128.0));
+                    let t = full(tool);
+                    if interp.tcp() || m128 {
+                        // Under TCPM the tool keeps the orientation T, or without T stands on the normal.
+                        let given = if t.is_some() { "TX TY TZ" } else { "NX NY NZ" };
+                        if let Some(v) = t.or_else(|| full(normal)) {
+                            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                            if n > 1e-9 && n.is_finite() {
+                                vector = Some(v.map(|c| c / n));
+                            } else {
+                                diags.error(s.line, s.col, format!("LN: the vector {given} has zero length: expected a direction"));
+                            }
+                        }
+                    } else if t.is_some() {
+                        diags.warning(
+                            s.line,
+                            s.col,
+                            "LN with TX TY TZ but neither M128 nor FUNCTION TCPM: the TNC ignores the tool vector, and so does this reader",
+                        );
+                    }
+                }
+            }
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } => {}
+        }
+        if diags.errors() > before {
+            diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+            return false;
+        }
+        if let Some(v) = vector {
+            interp.set_pending_vector(v);
+        }
+        let start = interp.position();
+        let result = interp.block_one(&words, s.line, s.col, s.number, diags);
+        match result {
+            Some(b) => {
+                self.follow(&b, start, interp.position(), interp);
+                out.push(b);
+                ends
+            }
+            None => {
+                diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+                false
+            }
+        }
+    }
+
+    /// The block's M functions as words; true if one ends the program (M2, M30).
+    fn m_words<'a>(&self, m: &[KWord<'a>], words: &mut Vec<Word<'a>>, line: usize, diags: &mut Diags) -> bool {
+        let mut ends = false;
+        for w in m {
+            let v = self.value(w, line, diags).unwrap_or(0.0);
+            ends |= v == 2.0 || v == 30.0;
+            words.push(Word { letter: 'M', value: v, raw: w.raw.into(), column: w.col, incremental: false });
+        }
+        ends
+    }
+
+    /// `CT`: the arc from the current point, tangent to the contour before it, to the block's end in
+    /// the working plane: its direction (G02/G03) and signed radius (negative over 180 deg).
+    fn tangent_arc(&self, words: &[Word<'_>], interp: &Interpreter, s: &Stmt, diags: &mut Diags) -> Option<(&'static str, f64)> {
+        let Some(t) = self.tangent else {
+            diags.error(s.line, s.col, "CT: no contour element before it to be tangent to");
+            return None;
+        };
+        let unit = interp.unit();
+        let pos = interp.position();
+        let (a0, a1, _) = interp.plane().axes();
+        let mut end = [pos[a0], pos[a1]];
+        for w in words {
+            let Some(k) = "XYZ".find(w.letter) else { continue };
+            let slot = if k == a0 { 0 } else if k == a1 { 1 } else { continue };
+            end[slot] = if w.incremental { pos[k] + w.value * unit } else { w.value * unit };
+        }
+        let d = [end[0] - pos[a0], end[1] - pos[a1]];
+        let n = [-t[1], t[0]]; // left of the tangent
+        let dn = d[0] * n[0] + d[1] * n[1];
+        let dd = d[0] * d[0] + d[1] * d[1];
+        if dd == 0.0 || dn.abs() <= 1e-9 * dd.sqrt() {
+            diags.error(s.line, s.col, "CT: the end point lies on the tangent (a straight line, not an arc)");
+            return None;
+        }
+        let signed = dd / (2.0 * dn); // centre = start + signed * n
+        let over_half = d[0] * t[0] + d[1] * t[1] < 0.0;
+        let r = signed.abs() / unit * if over_half { -1.0 } else { 1.0 };
+        Some((if signed > 0.0 { "3" } else { "2" }, r))
+    }
+
+    /// Keep the contour's end direction for a later CT.
+    fn follow(&mut self, b: &Block, start: [f64; 6], end: [f64; 6], interp: &Interpreter) {
+        let (a0, a1, _) = interp.plane().axes();
+        if let Some(arc) = &b.arc {
+            let r = [end[a0] - arc.centre[a0], end[a1] - arc.centre[a1]];
+            let n = r[0].hypot(r[1]);
+            if n > 0.0 {
+                let ccw = b.motion == crate::program::Motion::ArcCcw;
+                self.tangent = Some(if ccw { [-r[1] / n, r[0] / n] } else { [r[1] / n, -r[0] / n] });
+            }
+        } else if !b.targets.is_empty() {
+            let d = [end[a0] - start[a0], end[a1] - start[a1]];
+            let n = d[0].hypot(d[1]);
+            self.tangent = if n > 0.0 { Some([d[0] / n, d[1] / n]) } else { None };
+        }
+    }
+}
