@@ -231,6 +231,19 @@ impl TwoRotaryChain {
         self.linear_for_turns(tip, &std::array::from_fn(|i| turns[i].at(rot[i])))
     }
 
+    /// The spindle's frame in the workpiece at rotary angles `rot`: the rotation that takes a
+    /// direction fixed to the spindle (given in the machine frame at home) to the workpiece frame,
+    /// head turns applied, table turns undone. Its third column is the tool axis when the tool is
+    /// along Z; its first, the machine's X as the tilted tool sees it.
+    pub fn tool_frame(&self, rot: &[f64; 2]) -> nalgebra::Matrix3<f64> {
+        let turns = Self::turns(rot);
+        let dir = |v: Vector3<f64>| {
+            let m = self.head_to_machine(&turns, &v) - self.head_to_machine(&turns, &Vector3::zeros());
+            self.machine_to_table(&turns, &m) - self.machine_to_table(&turns, &Vector3::zeros())
+        };
+        nalgebra::Matrix3::from_columns(&[dir(Vector3::x()), dir(Vector3::y()), dir(Vector3::z())])
+    }
+
     /// Both rotary solutions for a tool axis (need not be unit; must be finite and non-zero).
     /// When the axis is parallel to r2 (the singularity), r2's angle is undefined: it is returned as 0
     /// and `singular` is set, so the caller can keep the previous value.

@@ -56,6 +56,10 @@ pub struct MachineFile {
     /// 0.00127 mm, LinuxCNC's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub arc_radius_tolerance_mm: Option<f64>,
+    /// Heidenhain cycle 19's angles are spatial angles (machine parameter MP7500 bit 1 = 1), not the
+    /// rotary axes' positions (bit 1 = 0, the default).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub cycle19_spatial: bool,
     /// The control's canned-cycle settings that shape their motion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub canned_cycles: Option<CannedCyclesFile>,
@@ -351,6 +355,7 @@ impl MachineFile {
             rotary_word_units: [word_units[0], word_units[1]],
             peck_distances: peck,
             arc_radius_tolerance,
+            cycle19_spatial: self.cycle19_spatial,
         })
     }
 }

@@ -85,6 +85,8 @@ pub struct Machine {
     pub peck_distances: [Option<f64>; 2],
     /// How far an arc's end radius may differ from its start radius, m (the control's setting).
     pub arc_radius_tolerance: Option<f64>,
+    /// Heidenhain cycle 19's angles are spatial angles (MP7500 bit 1), not axis positions.
+    pub cycle19_spatial: bool,
 }
 
 /// The control's machine coordinate system (`G53`, `M91`, `SUPA`) and reference points (`G28`,

@@ -144,7 +144,9 @@ impl ArcPath {
     /// The arc of `spec` from `start` to `end` (program coordinates, m), counter-clockwise if `ccw`.
     pub fn new(spec: &ArcSpec, ccw: bool, start: Vector3<f64>, end: Vector3<f64>) -> ArcPath {
         let (a0, a1, an) = spec.plane.axes();
-        let (e1, e2, n) = (Vector3::ith(a0, 1.0), Vector3::ith(a1, 1.0), Vector3::ith(an, 1.0));
+        // In a tilted working plane the arc's axes are the plane's.
+        let turn = spec.frame.map_or(nalgebra::Matrix3::identity(), |f| nalgebra::Matrix3::from_columns(&f.map(Vector3::from)));
+        let (e1, e2, n) = (turn * Vector3::ith(a0, 1.0), turn * Vector3::ith(a1, 1.0), turn * Vector3::ith(an, 1.0));
         let c = Vector3::from(spec.centre);
         let centre = c - n * c.dot(&n);
         let (ds, de) = (start - centre, end - centre);

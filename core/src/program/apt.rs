@@ -304,7 +304,7 @@ impl AptReader {
                         return;
                     }
                     motion = if c.ccw { Motion::ArcCcw } else { Motion::ArcCw };
-                    arc = Some(ArcSpec { plane: c.plane, centre: c.centre.map(|v| v * MM), extra_turns: 0 });
+                    arc = Some(ArcSpec { plane: c.plane, centre: c.centre.map(|v| v * MM), extra_turns: 0, frame: None });
                 }
                 if motion != Motion::Rapid && self.at.is_some() && !std::mem::replace(&mut self.fedrat, true) {
                     diags.warning(line, col, format!("{word} before any FEDRAT/: at the default CL feed, {} mm/min", self.feed));

@@ -75,6 +75,16 @@ pub struct Interpreter {
     arc_tolerance: f64,
     /// Haas G254 (dynamic work offset) in effect: no rotary axis may move until G255.
     dwo: bool,
+    /// A tilted working plane in effect (Heidenhain PLANE, cycle 19): its frame in the workpiece
+    /// (columns: the plane's X Y Z). X Y Z words, `last` and the arcs are in it.
+    tilt: Option<nalgebra::Matrix3<f64>>,
+    /// Heidenhain M126: rotary axes whose display is reduced below 360 deg take the shorter way;
+    /// which letters name such (multi-turn) axes on the machine.
+    shortest: bool,
+    modulo: [bool; 3],
+    /// The machine, whose kinematics place the tool where the program's coordinates change meaning
+    /// (a plane tilted or reset, rotary axes moved without TCPM in a tilted plane).
+    machine: Option<std::sync::Arc<crate::machine::Machine>>,
     /// Which work offsets (G54-G59.3) the program set (G10 L2, L20).
     offsets_given: [bool; 9],
     /// An additional work offset (Fanuc G54.1 P) is in effect.
@@ -88,9 +98,18 @@ pub(crate) struct OneShot {
     pub motion: Motion,
     /// Its axis words are absolute, whatever G90/G91 say.
     pub absolute: bool,
-    /// Its linear words are machine coordinates (`G53`, a reference point), and the block moves the
-    /// machine's axes, tool-centre-point management or not.
-    pub machine: bool,
+    /// Its linear words are axis positions about this origin (the model's frame, m): machine
+    /// coordinates (`G53`, `M91`, a reference point: the machine zero), `M92`'s datum, or the axes'
+    /// own positions (zero); the block moves the machine's axes, tool-centre-point management or not.
+    pub axes: Option<[f64; 3]>,
+}
+
+impl OneShot {
+    /// A move of the machine's axes to words in the control's machine coordinates, if the machine
+    /// places them: their origin in the model's frame.
+    pub(crate) fn machine_origin(it: &Interpreter) -> Option<[f64; 3]> {
+        it.machine_coords.as_ref().map(|m| [m.zero.x, m.zero.y, m.zero.z])
+    }
 }
 
 const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
@@ -127,18 +146,24 @@ impl Interpreter {
             peck: [None; 2],
             arc_tolerance: ARC_RADIUS_TOLERANCE,
             dwo: false,
+            tilt: None,
+            shortest: false,
+            modulo: [false; 3],
+            machine: None,
             offsets_given: [false; 9],
             extra_offset: false,
         }
     }
 
     /// Read the rotary words in the units this machine's control reads them in.
-    pub fn with_machine(mut self, machine: Option<&crate::machine::Machine>) -> Self {
+    pub fn with_machine(mut self, machine: Option<&std::sync::Arc<crate::machine::Machine>>) -> Self {
+        self.machine = machine.cloned();
         if let Some(m) = machine {
             self.rotary_unit = ['A', 'B', 'C'].map(|l| m.rotary_word_unit(l));
             self.machine_coords = m.machine_coordinates.clone();
             self.rotary_letters = [3, 4].map(|k| m.axes[k].name.chars().next().map(|c| c.to_ascii_uppercase()));
             self.peck = m.peck_distances;
+            self.modulo = ['A', 'B', 'C'].map(|l| m.axis_index(&l.to_string()).is_some_and(|i| i >= 3 && m.axes[i].limits.is_unlimited()));
             if let Some(t) = m.arc_radius_tolerance {
                 self.arc_tolerance = t;
             }
@@ -248,6 +273,50 @@ impl Interpreter {
         self.orientation = orientation;
     }
 
+    /// The tilted working plane in effect, if any (columns: its X Y Z in the workpiece).
+    pub fn tilt(&self) -> Option<nalgebra::Matrix3<f64>> {
+        self.tilt
+    }
+
+    /// Tilt the working plane (`None`: untilt). The tool stays: the current point is read anew in
+    /// the new plane's coordinates (through the machine's kinematics where X Y Z were its axes).
+    pub fn set_tilt(&mut self, tilt: Option<nalgebra::Matrix3<f64>>) {
+        let axes = self.axes_now();
+        self.tilt = tilt;
+        self.read_axes(axes);
+    }
+
+    /// The rotary positions in the machine's order (its axes 3 and 4), rad, from the last words.
+    fn rot_now(&self) -> [f64; 2] {
+        self.rotary_letters.map(|l| l.and_then(|l| "ABC".find(l)).map_or(0.0, |k| self.last[3 + k]))
+    }
+
+    /// Where the machine's linear axes stand (model frame, m): X Y Z themselves without TCPM or a
+    /// tilted plane, else the tool tip placed through the kinematics.
+    fn axes_now(&self) -> nalgebra::Vector3<f64> {
+        let p = nalgebra::Vector3::new(self.last[0], self.last[1], self.last[2]);
+        let d = nalgebra::Vector3::from(self.datum);
+        match (&self.machine, self.tilt, self.tcp) {
+            (_, None, false) | (None, _, _) => p + d,
+            (Some(m), tilt, _) => m.chain.linear_for(&(tilt.map_or(p, |r| r * p) + d), &self.rot_now()),
+        }
+    }
+
+    /// Read the axes standing at `axes` (model frame) in the current coordinates: X Y Z are the axes
+    /// without TCPM or a tilted plane, else the tool tip (in the plane where tilted).
+    fn read_axes(&mut self, axes: nalgebra::Vector3<f64>) {
+        let d = nalgebra::Vector3::from(self.datum);
+        let p = match (&self.machine, self.tilt, self.tcp) {
+            (_, None, false) | (None, _, _) => axes - d,
+            (Some(m), tilt, _) => {
+                let rot = self.rot_now();
+                let tip = m.chain.forward(&[axes.x, axes.y, axes.z, rot[0], rot[1]]).tip - d;
+                tilt.map_or(tip, |r| r.transpose() * tip)
+            }
+        };
+        self.last[..3].copy_from_slice(p.as_slice());
+    }
+
     /// The datum shift in effect, m.
     pub fn datum(&self) -> [f64; 3] {
         self.datum
@@ -312,7 +381,7 @@ impl Interpreter {
     }
 
     /// The machine's coordinates, where its file places them.
-    pub(crate) fn machine_coords(&self) -> Option<&crate::machine::MachineCoordinates> {
+    pub fn machine_coords(&self) -> Option<&crate::machine::MachineCoordinates> {
         self.machine_coords.as_ref()
     }
 
@@ -369,6 +438,10 @@ impl Interpreter {
     /// Interpret one block's words into one block (see [`Interpreter::block`]).
     pub(crate) fn block_one(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags) -> Option<Block> {
         let shot = self.oneshot.take();
+        if shot.is_some_and(|s| s.axes.is_some()) && self.tilt.is_some() {
+            diags.error(line, column, "machine coordinates in a tilted working plane: the control refuses them (TNC 426 B ISO §7.3: \"M91 and M92 are not effective in a tilted working plane\"); reset the plane first");
+            return None;
+        }
         let mut next = self.clone();
         let errors_before = diags.errors();
         let mut datum_block = false;
@@ -580,8 +653,14 @@ impl Interpreter {
                         (Some(MCodeAction::TcpOff), _, _) => next.tcp = false,
                         (Some(MCodeAction::Event), _, _) => {}
                         (None, 128, true) => next.tcp = true,
+                        // M126 / M127: the shorter way for rotary axes shown modulo 360 deg, on / off
+                        // (TNC 620 10/2017 §13 "Shorter-path traverse of rotary axes: M126").
+                        (None, 126, true) => next.shortest = true,
+                        (None, 127, true) => next.shortest = false,
                         (None, 129, true) => next.tcp = false,
                         (None, 0..=9 | 13 | 14 | 30, _) => {}
+                        // M91/M92: the Klartext reader made this block a move of the axes (its oneshot).
+                        (None, 91 | 92, true) if shot.is_some_and(|s| s.axes.is_some()) => {}
                         (None, _, true) => {
                             if let Err(why) = tnc_m_code(code) {
                                 diags.error(line, w.column, format!("M{}: {why}", w.raw));
@@ -730,19 +809,18 @@ impl Interpreter {
                 }
                 continue;
             }
-            let abs = if shot.is_some_and(|s| s.machine) && k < 3 {
-                match &next.machine_coords {
-                    // Machine coordinates: the axes at the machine point, read in program coordinates.
-                    Some(m) => v + m.zero[k] - next.datum[k],
-                    None => {
-                        diags.error(line, w.column, "machine coordinates: the machine file places none ([machine_coordinates] zero_mm)");
-                        v
-                    }
-                }
+            let abs = if let (Some(origin), true) = (shot.and_then(|s| s.axes), k < 3) {
+                // Axis positions (machine coordinates): the axes there, read in program coordinates.
+                v + origin[k] - next.datum[k]
             } else if g53 && k < 3 {
                 v - next.datum[k]
             } else if (next.absolute || shot.is_some_and(|s| s.absolute)) && !w.incremental {
-                v
+                // M126 (it acts in its own block): a modulo axis goes the shorter way to the position.
+                if k >= 3 && next.shortest && next.modulo[k - 3] {
+                    crate::kinematics::unwrap_near(v, next.last[k])
+                } else {
+                    v
+                }
             } else {
                 next.last[k] + v
             };
@@ -757,6 +835,16 @@ impl Interpreter {
             }
         }
         next.datum = datum;
+        // In a tilted plane the linear words are the plane's: the point, every coordinate of it,
+        // in the workpiece; the control places the axes through the kinematics, as under TCPM.
+        let linear_words = targets.x.is_some() || targets.y.is_some() || targets.z.is_some();
+        if let (Some(r), true) = (next.tilt, linear_words) {
+            let w = r * nalgebra::Vector3::new(next.last[0], next.last[1], next.last[2]);
+            (targets.x, targets.y, targets.z) = (Some(w.x), Some(w.y), Some(w.z));
+            if !next.tcp && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some()) {
+                diags.error(line, column, "linear and rotary axis words in one block in a tilted working plane without M128 / FUNCTION TCPM: position the rotary axes in a block of their own");
+            }
+        }
         if vector_words && words.iter().any(|w| "IJK".contains(w.letter)) {
             targets.tool_axis = tool_vector(words, &targets, line, column, diags);
         }
@@ -816,6 +904,12 @@ impl Interpreter {
                 let st = Interpreter { arc_absolute: true, ..next.clone() };
                 if as_rs274.len() == 2 || as_rs274.iter().any(|w| w.letter == 'R') {
                     arc = resolve_arc(&as_rs274, &st, start, end, line, column, diags);
+                    // An arc in a tilted plane: its centre in the workpiece, its axes the plane's.
+                    if let (Some(r), Some(a)) = (next.tilt, arc.as_mut()) {
+                        let c = r * nalgebra::Vector3::from(a.centre);
+                        a.centre = [c.x, c.y, c.z];
+                        a.frame = Some([0, 1, 2].map(|k| [r[(0, k)], r[(1, k)], r[(2, k)]]));
+                    }
                 }
             }
             if arc_motion {
@@ -848,7 +942,14 @@ impl Interpreter {
             self.pending_vector = None;
             return None;
         }
+        // In a tilted plane without TCPM a move of the rotary axes alone leaves the linear axes where
+        // they stand, so the tool tip moves in the plane: read it anew.
+        let rotary_only = !linear_words && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some());
+        let axes_before = (self.tilt.is_some() && !self.tcp && rotary_only).then(|| self.axes_now());
         *self = next;
+        if let Some(axes) = axes_before {
+            self.read_axes(axes);
+        }
         Some(Block {
             line,
             column,
@@ -857,7 +958,7 @@ impl Interpreter {
             targets,
             arc,
             feed: self.feed.map(|value_per_min| Feed { value_per_min, mode: self.feed_mode }),
-            tcp: self.tcp && !shot.is_some_and(|s| s.machine),
+            tcp: (self.tcp || self.tilt.is_some() && (targets.x.is_some() || targets.y.is_some() || targets.z.is_some())) && !shot.is_some_and(|s| s.axes.is_some()),
             datum: self.datum,
             orientation: self.orientation,
             events,
@@ -953,7 +1054,7 @@ fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3],
             centre[a1] = 0.5 * (v0 + v1) + side * h * du;
         }
     }
-    Some(ArcSpec { plane: st.plane, centre, extra_turns })
+    Some(ArcSpec { plane: st.plane, centre, extra_turns, frame: None })
 }
 
 /// The tool axis of a `G43.5` block from its `I J K` (all three, any length but zero; normalised as
@@ -988,7 +1089,6 @@ fn tnc_m_code(code: i64) -> Result<(), &'static str> {
         91 | 92 | 130 => Err("positions in the machine coordinate system are not modelled (it changes the motion)"),
         89 | 99 => Err("cycle call: machining cycles are not read (they cut)"),
         103 | 109 | 110 | 116 | 136 => Err("changes how the feed is read: not modelled"),
-        126 => Err("rotary axes on the shortest path (modulo 360 deg) are not modelled: the axes move as written"),
         94 => Err("reducing the rotary axis display below 360 deg is not modelled (it changes later absolute positions)"),
         114 | 134 | 138 | 140 | 143 | 144 => Err("not modelled (it changes the motion)"),
         _ => Err("not a TNC M function that leaves the motion alone: a machine maker's own, whose effect is unknown; \

@@ -13,6 +13,7 @@ mod interp;
 mod klartext;
 mod lex;
 mod params;
+pub mod plane;
 mod rs274;
 mod setup;
 mod sinumerik;
@@ -233,6 +234,10 @@ pub struct ArcSpec {
     pub centre: [f64; 3],
     /// Full turns beyond the first (LinuxCNC's `P` word minus one; 0 for most arcs).
     pub extra_turns: u32,
+    /// The tilted working plane the arc was written in (its columns the plane's X Y Z in the
+    /// workpiece): `plane` names the axes of that frame, and `centre` is in the workpiece.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frame: Option<[[f64; 3]; 3]>,
 }
 
 /// How the control interpolates the tool orientation between a block's start and end under

@@ -71,7 +71,7 @@ impl Setup {
 
     /// The G-code interpreter this setup starts.
     pub fn interpreter(&self) -> Interpreter {
-        Interpreter::new(self.dialect).with_m_codes(&self.m_codes).with_orientation(self.orientation).with_units(self.units).with_machine(self.machine.as_deref())
+        Interpreter::new(self.dialect).with_m_codes(&self.m_codes).with_orientation(self.orientation).with_units(self.units).with_machine(self.machine.as_ref())
     }
 }
 

@@ -116,9 +116,50 @@ enum Kind<'a> {
     Assign { name: String, formula: Cow<'a, str> },
     /// `FN 9..12: IF a EQU|NE|GT|LT b GOTO LBL n`.
     Jump { a: String, cmp: Cmp, b: String, label: &'a str },
+    /// `PLANE ...` and cycle 19: a tilted working plane.
+    Plane(PlaneStmt<'a>),
     /// `STOP`: a programmed stop, as M0.
     Stop,
     End,
+}
+
+/// How a `PLANE` states the working plane.
+#[derive(Debug, Clone)]
+enum PlaneForm<'a> {
+    /// `SPATIAL SPA SPB SPC`, deg (and cycle 19 with spatial angles).
+    Spatial([KWord<'a>; 3]),
+    /// `EULER EULPR EULNU EULROT`, deg.
+    Euler([KWord<'a>; 3]),
+    /// `VECTOR BX BY BZ NX NY NZ`.
+    Vector([KWord<'a>; 6]),
+    /// `RELATIV SPA|SPB|SPC`: one turn about the tilted plane's own axis (0 X, 1 Y, 2 Z).
+    Relativ(usize, KWord<'a>),
+    /// `AXIAL A B C` (and cycle 19 with axis angles): the rotary axes' positions, deg.
+    Axial(Vec<KWord<'a>>),
+    /// `RESET`, or cycle 19 with nothing.
+    Reset,
+}
+
+/// How a `PLANE` positions the rotary axes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PlaneMode {
+    /// `TURN`: the rotary axes move, the linear ones stay.
+    Turn,
+    /// `STAY`: nothing moves; the angles go to Q120 (A), Q121 (B), Q122 (C).
+    Stay,
+    /// Cycle 19: nothing moves (the program positions the axes itself), no Q parameters.
+    Cycle,
+}
+
+/// A `PLANE` statement.
+#[derive(Debug, Clone)]
+struct PlaneStmt<'a> {
+    form: PlaneForm<'a>,
+    mode: PlaneMode,
+    feed: FeedWord<'a>,
+    choice: super::plane::Choice,
+    /// Cycle 19's spatial angles (a machine setting decides between them and axis angles).
+    cycle: bool,
 }
 
 /// The comparison of a conditional jump (FN 9 EQU, FN 10 NE, FN 11 GT, FN 12 LT).
@@ -363,11 +404,7 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
             diags.error(line, col, "CYCL CALL: machining cycles are not read (they cut)");
             None
         }
-        "PLANE" if key(1) == "RESET" && key(2) == "STAY" && toks.len() == 3 => None, // no tilted plane is ever set
-        "PLANE" => {
-            diags.error(line, col, "PLANE: a tilted working plane is not modelled (it changes the motion)");
-            None
-        }
+        "PLANE" => plane(toks, line, col, diags),
         "FN" => fn_statement(raw, toks, line, col, diags),
         k if k.starts_with('Q') => assign(raw, toks, line, col, diags),
         k if k.starts_with('M') && split_word(k).0 == "M" => misc(toks, line, diags),
@@ -717,9 +754,11 @@ fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bool, diags: 
     if cycle == "32" {
         return tolerance_cycle(toks, part, line, diags);
     }
+    if cycle == "19" {
+        return cycle19(toks, part, line, diags);
+    }
     if cycle != "7" {
         let what = match cycle {
-            "19" => "a tilted working plane is not modelled",
             "8" | "10" | "11" | "26" => "mirroring, rotation or scaling is not modelled",
             "247" => "datum setting from the preset table is not modelled",
             _ => "machining cycles are not read (they cut)",
@@ -861,6 +900,152 @@ fn fn_statement<'a>(raw: &'a str, toks: &[(&'a str, usize)], line: usize, col: u
         }
         _ => {
             diags.error(line, col, format!("FN {n}: not read (only the arithmetic FN 0 to FN 8 and the jumps FN 9 to FN 12)"));
+            None
+        }
+    }
+}
+
+/// `PLANE SPATIAL SPA.. SPB.. SPC.. | EULER EULPR.. EULNU.. EULROT.. | VECTOR BX.. BY.. BZ.. NX.. NY..
+/// NZ.. | RELATIV SPA..|SPB..|SPC.. | AXIAL A.. B.. C.. | RESET`, then `TURN` or `STAY` (`MOVE`, the
+/// compensating move about DIST, is refused), `F`/`FMAX`/`F MAX`, `SEQ+`/`SEQ-`, `COORD ROT`/`TABLE
+/// ROT`, in any order (iTNC 530 User's Manual 340 422 §9.2-9.8; PLANE RESET without positioning is
+/// hyperMILL's `PLANE RESET STAY`).
+fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let form_name = upper(toks.get(1).map_or("", |t| t.0));
+    let mut rest = toks[2.min(toks.len())..].iter().copied().peekable();
+    let mut values: Vec<(String, KWord<'a>)> = Vec::new();
+    let (mut mode, mut feed, mut choice) = (None, FeedWord::None, super::plane::Choice::default());
+    let addresses: &[&str] = match form_name.as_ref() {
+        "SPATIAL" => &["SPA", "SPB", "SPC"],
+        "EULER" => &["EULPR", "EULNU", "EULROT"],
+        "VECTOR" => &["BX", "BY", "BZ", "NX", "NY", "NZ"],
+        "RELATIV" => &["SPA", "SPB", "SPC"],
+        "AXIAL" => &["A", "B", "C"],
+        "RESET" => &[],
+        "PROJECTED" | "POINTS" => {
+            diags.error(line, col, format!("PLANE {form_name}: this form of the working plane is not modelled yet (SPATIAL, EULER, VECTOR, RELATIV, AXIAL and RESET are)"));
+            return None;
+        }
+        other => {
+            diags.error(line, col, format!("PLANE {}: expected SPATIAL, PROJECTED, EULER, VECTOR, POINTS, RELATIV, AXIAL or RESET", excerpt(other)));
+            return None;
+        }
+    };
+    while let Some((tok, c)) = rest.next() {
+        let u = upper(tok);
+        let next_is = |rest: &mut std::iter::Peekable<std::iter::Copied<std::slice::Iter<'_, (&'a str, usize)>>>, w: &str| {
+            let yes = rest.peek().is_some_and(|(t, _)| t.eq_ignore_ascii_case(w));
+            if yes {
+                rest.next();
+            }
+            yes
+        };
+        match u.as_ref() {
+            "TURN" => mode = Some(PlaneMode::Turn),
+            "STAY" => mode = Some(PlaneMode::Stay),
+            "MOVE" => {
+                diags.error(line, c, "PLANE ... MOVE: the compensating move about DIST is not modelled (TURN and STAY are)");
+                return None;
+            }
+            "FMAX" => feed = FeedWord::Max,
+            "F" if next_is(&mut rest, "MAX") => feed = FeedWord::Max,
+            "SEQ+" => choice.seq = Some(true),
+            "SEQ-" => choice.seq = Some(false),
+            "COORD" if next_is(&mut rest, "ROT") => choice.table_rot = Some(false),
+            "TABLE" if next_is(&mut rest, "ROT") => choice.table_rot = Some(true),
+            "MB" | "DIST" => {
+                diags.error(line, c, format!("PLANE ... {u}: a retract or a distance before tilting is not modelled"));
+                return None;
+            }
+            _ => {
+                let (addr, v) = split_word(tok);
+                match (addresses.iter().find(|a| **a == addr.as_ref()), addr.as_ref()) {
+                    (Some(a), _) => {
+                        if values.iter().any(|(n, _)| n == a) {
+                            diags.error(line, c, format!("PLANE: {a} written twice"));
+                            return None;
+                        }
+                        let w = value_word(addr_static(a), v, tok, c, line, diags)?;
+                        values.push((a.to_string(), w));
+                    }
+                    (None, "F") => feed = FeedWord::Value(value_word("F", v, tok, c, line, diags)?),
+                    _ => {
+                        diags.error(line, c, format!("PLANE {form_name}: unexpected '{}'", excerpt(tok)));
+                        return None;
+                    }
+                }
+            }
+        }
+    }
+    let Some(mode) = mode else {
+        diags.error(line, col, format!("PLANE {form_name}: expected TURN or STAY (how the rotary axes are positioned)"));
+        return None;
+    };
+    let take = |name: &str| values.iter().find(|(n, _)| n == name).map(|(_, w)| w.clone());
+    let all = |names: &[&str], diags: &mut Diags| -> Option<Vec<KWord<'a>>> {
+        let v: Vec<Option<KWord<'a>>> = names.iter().map(|n| take(n)).collect();
+        match v.iter().position(Option::is_none) {
+            Some(k) => {
+                diags.error(line, col, format!("PLANE {form_name}: expected {} (all of {})", names[k], names.join(" ")));
+                None
+            }
+            None => Some(v.into_iter().flatten().collect()),
+        }
+    };
+    let form = match form_name.as_ref() {
+        "SPATIAL" => PlaneForm::Spatial(all(addresses, diags)?.try_into().ok()?),
+        "EULER" => PlaneForm::Euler(all(addresses, diags)?.try_into().ok()?),
+        "VECTOR" => PlaneForm::Vector(all(addresses, diags)?.try_into().ok()?),
+        "RELATIV" => match values.as_slice() {
+            [(n, w)] => PlaneForm::Relativ(addresses.iter().position(|a| a == n).unwrap_or(0), w.clone()),
+            _ => {
+                diags.error(line, col, "PLANE RELATIV: expected one of SPA, SPB, SPC");
+                return None;
+            }
+        },
+        "AXIAL" if !values.is_empty() => PlaneForm::Axial(values.into_iter().map(|(_, w)| w).collect()),
+        "AXIAL" => {
+            diags.error(line, col, "PLANE AXIAL: expected the rotary axes' positions A, B or C");
+            return None;
+        }
+        _ => PlaneForm::Reset,
+    };
+    Some(Kind::Plane(PlaneStmt { form, mode, feed, choice, cycle: false }))
+}
+
+/// The static address of a PLANE word.
+fn addr_static(a: &str) -> &'static str {
+    ["SPA", "SPB", "SPC", "EULPR", "EULNU", "EULROT", "BX", "BY", "BZ", "NX", "NY", "NZ", "A", "B", "C"].into_iter().find(|s| *s == a).unwrap_or("PLANE")
+}
+
+/// `CYCL DEF 19.0 WORKING PLANE` (its name in the control's language) and `CYCL DEF 19.1 A.. B..
+/// C.. [F..]`, or `19.1` alone, the reset (TNC 320 Cycle Programming 340 55x-04 §11.9): the plane
+/// becomes effective as it is defined, nothing moves (the program positions the rotary axes). Its
+/// angles are the rotary axes' positions or spatial angles as the machine is set up (iTNC 530 HSCI
+/// Technical Manual §6.5.6, MP7500 bit 1): the runner decides.
+fn cycle19<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let col = toks[0].1;
+    match part {
+        "0" => None,
+        "1" => {
+            let mut values = Vec::new();
+            let mut feed = FeedWord::None;
+            for &(tok, c) in &toks[3.min(toks.len())..] {
+                let (addr, v) = split_word(tok);
+                match addr.as_ref() {
+                    "A" | "B" | "C" => values.push(value_word(addr_static(&addr), v, tok, c, line, diags)?),
+                    "F" => feed = FeedWord::Value(value_word("F", v, tok, c, line, diags)?),
+                    _ => {
+                        diags.error(line, c, format!("CYCL DEF 19.1: expected A, B, C (and F), found '{}'", excerpt(tok)));
+                        return None;
+                    }
+                }
+            }
+            let form = if values.is_empty() { PlaneForm::Reset } else { PlaneForm::Axial(values) };
+            Some(Kind::Plane(PlaneStmt { form, mode: PlaneMode::Cycle, feed, choice: Default::default(), cycle: true }))
+        }
+        _ => {
+            diags.error(line, col, "CYCL DEF 19: expected CYCL DEF 19.0 and its name, or CYCL DEF 19.1 with the angles A, B, C");
             None
         }
     }

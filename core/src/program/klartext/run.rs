@@ -3,9 +3,9 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
-use super::{axis_index, label, parse_line, tokens, FeedWord, KWord, Kind, ParseState, Shape, Stmt, Val, MAX_NESTING, MAX_REPEATED_BLOCKS};
+use super::{axis_index, label, parse_line, tokens, FeedWord, KWord, Kind, ParseState, PlaneForm, PlaneMode, PlaneStmt, Shape, Stmt, Val, MAX_NESTING, MAX_REPEATED_BLOCKS};
 use crate::machine::ContourTolerance;
-use crate::program::interp::{Interpreter, Word};
+use crate::program::interp::{Interpreter, OneShot, Word};
 use crate::program::lex::Diags;
 use crate::program::{Block, ProgrammedTolerance};
 use crate::units::{DEG, MM};
@@ -99,7 +99,7 @@ impl Runner {
     pub(crate) fn new(labels: Labels, setup: &crate::program::Setup) -> Runner {
         Runner {
             interp: setup.interpreter(),
-            ex: Exec::default(),
+            ex: Exec { machine: setup.machine.clone(), ..Exec::default() },
             st: ParseState::default(),
             budget: labels.lines + MAX_REPEATED_BLOCKS,
             labels,
@@ -217,6 +217,8 @@ impl Runner {
 #[derive(Debug, Default)]
 struct Exec {
     q: HashMap<String, f64>,
+    /// The machine, for tilted working planes (its kinematics and limits).
+    machine: Option<std::sync::Arc<crate::machine::Machine>>,
     /// The feed of the last TOOL CALL (program units per minute, as written), for FAUTO.
     tool_feed: Option<(f64, String)>,
     /// Direction of the contour at its end in the working plane, for CT.
@@ -297,6 +299,10 @@ impl Exec {
                     datum[*k] = if *incremental { datum[*k] + v * unit } else { v * unit };
                     interp.set_datum(datum);
                 }
+                return false;
+            }
+            Kind::Plane(p) => {
+                self.plane(p, s, interp, out, diags);
                 return false;
             }
             Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } => return false,
@@ -418,7 +424,25 @@ impl Exec {
                     }
                 }
             }
-            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } => {}
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) => {}
+        }
+        // M91 / M92: the block's coordinates are the machine's, about its machine datum or the
+        // maker's second datum (TNC 426 B ISO §7.3: "M91 and M92 are effective only in the blocks in
+        // which they are programmed"; the tool length is not compensated, so they place the axes).
+        if let Kind::Move { shape, m, feed, .. } = &s.kind {
+            let code = m.iter().find_map(|w| match w.val {
+                Val::Num(v) if v == 91.0 || v == 92.0 => Some((v as u32, w.col)),
+                _ => None,
+            });
+            if let Some((code, col)) = code {
+                match self.machine_axes(code, interp, *shape, words.iter().any(|w| w.incremental)) {
+                    Ok(origin) => {
+                        let motion = if matches!(feed, FeedWord::Max) { crate::program::Motion::Rapid } else { crate::program::Motion::Linear };
+                        interp.oneshot = Some(OneShot { motion, absolute: true, axes: Some(origin) });
+                    }
+                    Err(why) => diags.error(s.line, col, format!("M{code}: {why}")),
+                }
+            }
         }
         if diags.errors() > before {
             diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
@@ -440,6 +464,156 @@ impl Exec {
                 false
             }
         }
+    }
+
+    /// A `PLANE` or cycle 19: the working plane's frame, the rotary positions the control picks
+    /// for it ([`crate::program::plane::solve`]), Q120-Q122 (`STAY`), the rotary move (`TURN`).
+    fn plane(&mut self, p: &PlaneStmt<'_>, s: &Stmt<'_>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) {
+        use crate::program::plane;
+        let what = if p.cycle { "CYCL DEF 19" } else { "PLANE" };
+        let Some(machine) = self.machine.clone() else {
+            diags.error(s.line, s.col, format!("{what}: a tilted working plane needs the machine's kinematics (--machine)"));
+            return;
+        };
+        let letters: [char; 2] = [3, 4].map(|k| machine.axes[k].name.chars().next().unwrap_or('?').to_ascii_uppercase());
+        let pos = interp.position();
+        let current = letters.map(|l| "ABC".find(l).map_or(0.0, |k| pos[3 + k]));
+        let deg = |w: &KWord<'_>, diags: &mut Diags| self.value(w, s.line, diags).map(|v| v * DEG);
+        let before = diags.errors();
+        let frame = match &p.form {
+            PlaneForm::Reset => None,
+            PlaneForm::Spatial(w) => {
+                let v: Vec<f64> = w.iter().filter_map(|w| deg(w, diags)).collect();
+                (v.len() == 3).then(|| plane::spatial(v[0], v[1], v[2]))
+            }
+            PlaneForm::Euler(w) => {
+                let v: Vec<f64> = w.iter().filter_map(|w| deg(w, diags)).collect();
+                (v.len() == 3).then(|| plane::euler_zxz(v[0], v[1], v[2]))
+            }
+            PlaneForm::Vector(w) => {
+                let v: Vec<f64> = w.iter().filter_map(|w| self.value(w, s.line, diags)).collect();
+                if v.len() == 6 {
+                    match plane::from_vectors(nalgebra::Vector3::new(v[0], v[1], v[2]), nalgebra::Vector3::new(v[3], v[4], v[5])) {
+                        Ok(r) => Some(r),
+                        Err(why) => {
+                            diags.error(s.line, s.col, format!("PLANE VECTOR: {why}"));
+                            None
+                        }
+                    }
+                } else {
+                    None
+                }
+            }
+            PlaneForm::Relativ(k, w) => deg(w, diags).map(|a| {
+                let axis = nalgebra::Unit::new_normalize(nalgebra::Vector3::ith(*k, 1.0));
+                interp.tilt().unwrap_or_else(nalgebra::Matrix3::identity) * *nalgebra::Rotation3::from_axis_angle(&axis, a).matrix()
+            }),
+            PlaneForm::Axial(w) => {
+                // Axis positions: the tool's frame there (cycle 19 set up for spatial angles reads
+                // them as those instead).
+                let mut rot = current;
+                let mut spatial = [0.0; 3];
+                for w in w {
+                    let Some(v) = deg(w, diags) else { continue };
+                    let l = w.addr.chars().next().unwrap_or('?');
+                    spatial["ABC".find(l).unwrap_or(0)] = v;
+                    match letters.iter().position(|&m| m == l) {
+                        Some(k) => rot[k] = v,
+                        None if p.cycle && machine.cycle19_spatial => {}
+                        None => diags.error(s.line, w.col, format!("{what}: the machine has no axis {l} (its rotary axes are {} and {})", letters[0], letters[1])),
+                    }
+                }
+                Some(if p.cycle && machine.cycle19_spatial { plane::spatial(spatial[0], spatial[1], spatial[2]) } else { machine.chain.tool_frame(&rot) })
+            }
+        };
+        if diags.errors() > before {
+            return;
+        }
+        let Some(r) = frame else {
+            interp.set_tilt(None);
+            return;
+        };
+        let axial = matches!(p.form, PlaneForm::Axial(_)) && !(p.cycle && machine.cycle19_spatial);
+        let rot = if axial {
+            let mut rot = current;
+            if let PlaneForm::Axial(w) = &p.form {
+                for w in w {
+                    if let (Some(v), Some(k)) = (self.value(w, s.line, diags), letters.iter().position(|&m| Some(m) == w.addr.chars().next())) {
+                        rot[k] = v * DEG;
+                    }
+                }
+            }
+            rot
+        } else {
+            match plane::solve(&machine, &r, current, p.choice) {
+                Ok(sol) => {
+                    if let Some(pole) = sol.pole {
+                        let name = &machine.axes[pole.free_axis].name;
+                        let table = pole.table_rot.map_or("cannot turn it to the plane's X (a head axis)".into(), |t| format!("turns it to {:.3} deg", t.to_degrees()));
+                        let said = match p.choice.table_rot {
+                            Some(true) => "the program says TABLE ROT",
+                            Some(false) => "the program says COORD ROT",
+                            None => "the program says neither, so it depends on the control's setting; read as COORD ROT",
+                        };
+                        diags.warning(
+                            s.line,
+                            s.col,
+                            format!(
+                                "{what} at the pole: the tool lies along {name}'s axis, which leaves {name} free; COORD ROT keeps it at {:.3} deg, TABLE ROT {table}; {said} ({name} {:.3} deg)",
+                                pole.coord_rot.to_degrees(),
+                                sol.rot[pole.free_axis - 3].to_degrees()
+                            ),
+                        );
+                    }
+                    sol.rot
+                }
+                Err(why) => {
+                    diags.error(s.line, s.col, format!("{what}: {why}"));
+                    return;
+                }
+            }
+        };
+        // STAY (and TURN): the angles the control computed, in Q120 (A), Q121 (B), Q122 (C).
+        if p.mode != PlaneMode::Cycle {
+            for (k, l) in letters.iter().enumerate() {
+                if let Some(i) = "ABC".find(*l) {
+                    self.q.insert(format!("Q{}", 120 + i), rot[k] / DEG);
+                }
+            }
+        }
+        interp.set_tilt(Some(r));
+        if p.mode == PlaneMode::Turn {
+            let mut words: Vec<Word<'static>> = letters.iter().zip(rot).map(|(l, v)| Word { letter: *l, value: v / DEG, raw: Cow::Owned(format!("{:.6}", v / DEG)), column: s.col, incremental: false }).collect();
+            match &p.feed {
+                FeedWord::Value(f) => {
+                    let Some(v) = self.value(f, s.line, diags) else { return };
+                    words.push(Word { letter: 'G', value: 1.0, raw: "1".into(), column: s.col, incremental: false });
+                    words.push(Word { letter: 'F', value: v, raw: Cow::Owned(f.raw.to_string()), column: f.col, incremental: false });
+                }
+                _ => words.push(Word { letter: 'G', value: 0.0, raw: "0".into(), column: s.col, incremental: false }),
+            }
+            if let Some(b) = interp.block_one(&words, s.line, s.col, s.number, diags) {
+                out.push(b);
+            }
+        }
+    }
+
+    /// Where M91's (machine datum) or M92's (the maker's datum) coordinates start, in the model's
+    /// frame; why not, if the machine file does not place them or the block cannot take them.
+    fn machine_axes(&self, code: u32, interp: &Interpreter, shape: Shape, incremental: bool) -> Result<[f64; 3], String> {
+        if interp.tcp() {
+            return Err("machine coordinates under M128 / FUNCTION TCPM: the TNC wants it reset first (M129, FUNCTION RESET TCPM)".into());
+        }
+        if shape != Shape::Line || incremental {
+            return Err("machine coordinates are absolute positions of an L block".into());
+        }
+        let machine = interp.machine_coords().ok_or("the machine file places no machine coordinates ([machine_coordinates] zero_mm)")?;
+        let datum = match code {
+            92 => machine.m92_datum.ok_or("the machine file gives no M92 datum (machine_coordinates.m92_datum_mm)")?,
+            _ => nalgebra::Vector3::zeros(),
+        };
+        let o = machine.to_axes(datum);
+        Ok([o.x, o.y, o.z])
     }
 
     /// The block's M functions as words; true if one ends the program (M2, M30).
