@@ -26,6 +26,7 @@ const CLEAN: &[Case] = &[
     Case { file: "apt-cl_creo-proclfile-remark-ppword_MULTAX_finition.ncl", machine: "hobby-rtcp-ab", args: &["--units", "mm"] },
     Case { file: "gcode-xyzab-radians_hobby-rtcp-converter_from-creo_finition.nc", machine: "hobby-rtcp-ab", args: &[] },
     Case { file: "haas-ngc-G234_nx-post_umc750-bc_FinalToolPath.txt", machine: "haas-umc-750", args: &[] },
+    Case { file: "heidenhain-klartext_hypermill_dmu100p-duoblock-bc_M128_W5270NS01003A25.h", machine: "dmg-dmu-100p-duoblock", args: &[] },
 ];
 
 /// Programs refused on their machine with one clear message each: a defect of the program as its
@@ -43,7 +44,6 @@ const NOT_YET: &[(&str, &str)] = &[
     ("heidenhain-klartext_nx-post_dmg-dmc100-bc_M128-simultaneous_Sample_part.h", "PLANE, cycles, M91/M140, machine"),
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "MillPlus dialect, machine"),
     ("heidenhain-klartext_hypermill_trimill-vu3019_W5269NS01002A21.h", "PLANE, cycles, Q arithmetic, M91, machine"),
-    ("heidenhain-klartext_hypermill_dmu100p-duoblock-bc_M128_W5270NS01003A25.h", "PLANE STAY with Q120-Q122, cycles, M91/M92, machine"),
     ("heidenhain-klartext_hypermill_dmu85-monoblock-ac_large-3plus2_W5270NS01061A16.h", "PLANE, Q jumps, M91, machine"),
     ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "cycle 19, cycles, polar arcs, radius compensation, CALL PGM"),
     ("sinumerik-840dsl_nx-post_spinner-u5-620-bc_TRAORI-AROT_Achskreuz.mpf", "DEF variables, frames, CYCLE800, machine"),
@@ -112,6 +112,35 @@ fn refused_corpus_programs_say_one_clear_thing() {
         assert_eq!(out.status.code(), Some(2), "{file}");
         assert!(errors.len() == 1 && errors[0].contains(message), "{file}: {errors:#?}");
     }
+}
+
+/// hyperMILL writes the axes its post expects above each tilted plane (`; B180 C270` before
+/// `PLANE SPATIAL SPA90 SPB0 SPC90 STAY SEQ+ TABLE ROT`, then `L B+Q121 C+Q122`): on the DMU 100P
+/// duoBLOCK the TNC's solution (SEQ+, Q121 and Q122) puts the axes there, to 0.001 deg (C modulo 360).
+#[test]
+fn hypermills_plane_comments_are_the_axes_the_plane_gives() {
+    use fiveaxis::machine::Machine;
+    use fiveaxis::program::{read, Dialect, ReadOptions};
+    let machine = Machine::builtin("dmg-dmu-100p-duoblock").unwrap();
+    let bytes = std::fs::read(common::outside("programs/heidenhain-klartext_hypermill_dmu100p-duoblock-bc_M128_W5270NS01003A25.h")).unwrap();
+    let text: String = bytes.iter().map(|&b| b as char).collect(); // ISO 8859-1
+    let p = read(&text, Dialect::Klartext, "dmu100p", &ReadOptions::default().on(&machine));
+    assert!(!p.has_errors(), "{:?}", p.report());
+    let lines: Vec<&str> = text.lines().collect();
+    let mut checked = 0;
+    for (i, l) in lines.iter().enumerate() {
+        let Some(c) = l.split_once("; B").map(|(_, r)| r) else { continue };
+        let Some((b, c)) = c.trim().split_once(" C") else { continue };
+        let (Ok(b), Ok(c)) = (b.parse::<f64>(), c.parse::<f64>()) else { continue };
+        // The positioning block after the plane that follows the comment.
+        let k = (i..lines.len()).find(|&k| lines[k].contains("B+Q121 C+Q122")).unwrap();
+        let block = p.blocks.iter().find(|bl| bl.line == k + 1).unwrap_or_else(|| panic!("line {}", k + 1));
+        let (gb, gc) = (block.targets.b.unwrap().to_degrees(), block.targets.c.unwrap().to_degrees());
+        let dc = (gc - c).rem_euclid(360.0);
+        assert!((gb - b).abs() < 1e-3 && dc.min(360.0 - dc) < 1e-3, "line {}: hyperMILL B{b} C{c}, the TNC's plane B{gb:.3} C{gc:.3}", i + 1);
+        checked += 1;
+    }
+    assert!(checked >= 6, "{checked} planes checked");
 }
 
 /// The hobby converter's G-code (rotaries in radians) and the Creo CL data it was made from

@@ -300,11 +300,13 @@ fn klartext_reads_the_contour_tolerance_of_cycle_32() {
     let text = "0 BEGIN PGM T MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 CYCL DEF 32.2 HSC-MODE:1 TA1\n3 CYCL DEF 32.1 T12\n\
                 4 CYCL DEF 32.2 HSC-MODE:0 TA-1\n5 CYCL DEF 32.1 T0.01 TA1\n6 L X+1\n7 END PGM T MM\n";
     let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
-    has(&p, 3, 17, "HSC-MODE:1");
+    // HSC-MODE:1 (the roughing filter) keeps the tolerance as the bound: read as HSC-MODE:0.
+    assert!(errors(&p).iter().all(|(l, _, _)| *l != 3), "{:?}", errors(&p));
     has(&p, 4, 17, "12 mm is outside 0 to 10 mm");
     has(&p, 5, 28, "-1 deg is outside 0 to 10 deg");
     has(&p, 6, 3, "CYCL DEF 32");
-    assert!(p.blocks.iter().find(|b| b.number == Some(6)).is_some_and(|b| b.tolerance.is_unset()));
+    let six = p.blocks.iter().find(|b| b.number == Some(6)).unwrap().tolerance;
+    assert!(six.linear_m.is_none() && six.rotary_rad.is_some_and(|r| (r - DEG).abs() < 1e-15), "{six:?}");
 }
 
 /// LinuxCNC's `G64 P- <Q->`: the naive-CAM tolerance Q (P when Q is not given) is the contour

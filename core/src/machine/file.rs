@@ -63,6 +63,10 @@ pub struct MachineFile {
     /// The control's canned-cycle settings that shape their motion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub canned_cycles: Option<CannedCyclesFile>,
+    /// Cycles of the machine maker's own that set the control's dynamics and move nothing (DMG's
+    /// Heidenhain cycle 392 ATC), by number.
+    #[serde(default, rename = "cycle", skip_serializing_if = "Vec::is_empty")]
+    pub cycles: Vec<CycleFile>,
     /// LinuxCNC HAL pins a program may read (`#<_hal[name]>` with `[RS274NGC]HAL_PIN_VARS = 1`,
     /// LinuxCNC manual §11.4.3.6), with the values the configuration gives them.
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
@@ -96,6 +100,17 @@ pub struct CannedCyclesFile {
     /// G83's stop short of the last depth on the way back down, mm (Fanuc parameter No. 5115).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub g83_clearance_mm: Option<f64>,
+}
+
+/// `[[cycle]]`: one of the machine maker's cycles that moves nothing.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CycleFile {
+    /// The cycle's number (`392` for `CYCL DEF 392`).
+    pub number: u32,
+    /// What it is, and why it moves nothing.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub what: String,
 }
 
 /// `[[m_function]]`: one M function of this machine's control.
@@ -356,6 +371,7 @@ impl MachineFile {
             peck_distances: peck,
             arc_radius_tolerance,
             cycle19_spatial: self.cycle19_spatial,
+            state_cycles: self.cycles.iter().map(|c| c.number).collect(),
         })
     }
 }

@@ -8,7 +8,7 @@
 mod file;
 pub mod urdf;
 
-pub use file::{CannedCyclesFile, LinearAxisFile, MFunctionFile, MachineCoordinatesFile, MachineFile, RotaryAxisFile};
+pub use file::{CannedCyclesFile, CycleFile, LinearAxisFile, MFunctionFile, MachineCoordinatesFile, MachineFile, RotaryAxisFile};
 
 use crate::kinematics::{unwrap_near, Carrier, Joints, KinematicsError, Pose, RotaryJoint, TwoRotaryChain};
 use nalgebra::Vector3;
@@ -87,6 +87,8 @@ pub struct Machine {
     pub arc_radius_tolerance: Option<f64>,
     /// Heidenhain cycle 19's angles are spatial angles (MP7500 bit 1), not axis positions.
     pub cycle19_spatial: bool,
+    /// The machine maker's cycles that move nothing (they set the control's dynamics), by number.
+    pub state_cycles: Vec<u32>,
 }
 
 /// The control's machine coordinate system (`G53`, `M91`, `SUPA`) and reference points (`G28`,
@@ -159,7 +161,7 @@ pub enum MachineError {
 
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
 /// of each family: table-table, table-head, head-head) and a 45 deg nutating head.
-const BUILTIN_FILES: [(&str, &str); 13] = [
+const BUILTIN_FILES: [(&str, &str); 14] = [
     ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
@@ -173,6 +175,7 @@ const BUILTIN_FILES: [(&str, &str); 13] = [
     ("haas-umc-750", include_str!("../../../machines/haas-umc-750.toml")),
     ("haas-vf2-tr", include_str!("../../../machines/haas-vf2-tr.toml")),
     ("mori-seiki-nmv5000", include_str!("../../../machines/mori-seiki-nmv5000.toml")),
+    ("dmg-dmu-100p-duoblock", include_str!("../../../machines/dmg-dmu-100p-duoblock.toml")),
 ];
 
 /// The machine every command and node takes when none is named: the paper's Hermle C600U (A/C table).

@@ -410,6 +410,7 @@ impl<'a> Urdf<'a> {
             canned_cycles: None,
             arc_radius_tolerance_mm: None,
             cycle19_spatial: false,
+            cycles: Vec::new(),
             tool_axis: tidy(tool_home.rotation * Vector3::z()),
             tool_tip_mm: tidy(tool_home.translation.vector * MM_IN_M),
             contour_tolerance_mm: None,

@@ -152,6 +152,60 @@ pub(crate) fn hole(a: &Active, to_r: bool, clearance: f64) -> Vec<Step> {
     steps
 }
 
+/// A Heidenhain drilling cycle's parameters, absolute along the tool axis of the working plane (m,
+/// s): the surface Q203, the set-up clearance Q200 and 2nd set-up clearance Q204 above it, the
+/// depth Q201 (negative: below the surface), the plunging depth Q202 (0: at once), the dwells at the
+/// top Q210 and at the bottom Q211, and whether the tool comes back at feed (tapping).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct TncHole {
+    pub surface: f64,
+    pub clearance: f64,
+    pub clearance2: f64,
+    pub depth: f64,
+    pub plunge: f64,
+    pub dwell_top_s: f64,
+    pub dwell_bottom_s: f64,
+    pub feed_out: bool,
+}
+
+/// The moves of a Heidenhain drilling cycle at the current position (TNC 426/430 User's Manual
+/// §8.3, cycle 200 DRILLING: "the TNC positions the tool in the spindle axis at rapid traverse FMAX
+/// to the set-up clearance above the workpiece surface"; drills to each plunging depth at feed,
+/// "returns the tool at FMAX to the set-up clearance, dwells there, and then moves at FMAX to the
+/// set-up clearance above the" depth reached; at the bottom dwells and retracts at FMAX to the
+/// set-up clearance or, if larger, the 2nd set-up clearance. Cycle 240 CENTERING is one plunge;
+/// cycle 207 RIGID TAPPING comes back at feed). A depth of 0 makes nothing.
+pub(crate) fn tnc_hole(h: &TncHole) -> Vec<Step> {
+    let (top, bottom) = (h.surface + h.clearance, h.surface + h.depth);
+    if h.depth == 0.0 {
+        return Vec::new();
+    }
+    let mut steps = vec![Step::Rapid(top)];
+    let q = if h.plunge > 0.0 { h.plunge } else { f64::INFINITY };
+    let mut reached = h.surface;
+    loop {
+        let next = (reached - q).max(bottom);
+        steps.push(Step::Feed(next));
+        if next <= bottom {
+            break;
+        }
+        steps.push(Step::Rapid(top));
+        if h.dwell_top_s > 0.0 {
+            steps.push(Step::Dwell(h.dwell_top_s));
+        }
+        steps.push(Step::Rapid(next + h.clearance));
+        reached = next;
+    }
+    if h.dwell_bottom_s > 0.0 {
+        steps.push(Step::Dwell(h.dwell_bottom_s));
+    }
+    if h.feed_out {
+        steps.push(Step::Feed(top));
+    }
+    steps.push(Step::Rapid(h.surface + h.clearance.max(h.clearance2)));
+    steps
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -177,5 +231,20 @@ mod tests {
         assert_eq!(hole(&cycle(Kind::G73, Some(5.0)), false, 0.25), vec![Feed(-3.0), Rapid(-2.75), Feed(-8.0), Rapid(-7.75), Feed(-10.0), Dwell(0.5), Rapid(50.0)]);
         // A peck deeper than the hole drills it in one go.
         assert_eq!(hole(&cycle(Kind::G83, Some(50.0)), true, 0.25), vec![Feed(-10.0), Dwell(0.5), Rapid(2.0)]);
+    }
+
+    /// Cycle 200 as the manual describes it, with the hyperMILL program's values (Q200=2 set-up
+    /// clearance, Q201=-6.5 depth, Q202=2.5 plunge, Q203=0 surface, Q204=50 2nd clearance).
+    #[test]
+    fn tnc_drilling_moves_as_the_manual_describes() {
+        use Step::*;
+        let h = TncHole { surface: 0.0, clearance: 2.0, clearance2: 50.0, depth: -6.5, plunge: 2.5, dwell_top_s: 0.5, dwell_bottom_s: 1.0, feed_out: false };
+        assert_eq!(
+            tnc_hole(&h),
+            vec![Rapid(2.0), Feed(-2.5), Rapid(2.0), Dwell(0.5), Rapid(-0.5), Feed(-5.0), Rapid(2.0), Dwell(0.5), Rapid(-3.0), Feed(-6.5), Dwell(1.0), Rapid(50.0)]
+        );
+        assert_eq!(tnc_hole(&TncHole { plunge: 6.5, dwell_top_s: 0.0, dwell_bottom_s: 0.0, ..h }), vec![Rapid(2.0), Feed(-6.5), Rapid(50.0)]);
+        assert_eq!(tnc_hole(&TncHole { plunge: 0.0, feed_out: true, dwell_top_s: 0.0, dwell_bottom_s: 0.0, clearance2: 0.0, ..h }), vec![Rapid(2.0), Feed(-6.5), Feed(2.0), Rapid(2.0)]);
+        assert!(tnc_hole(&TncHole { depth: 0.0, ..h }).is_empty());
     }
 }

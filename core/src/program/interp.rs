@@ -89,6 +89,8 @@ pub struct Interpreter {
     offsets_given: [bool; 9],
     /// An additional work offset (Fanuc G54.1 P) is in effect.
     extra_offset: bool,
+    /// A preset the program selects but cannot know (Heidenhain cycle 247) is in effect.
+    preset_assumed: bool,
 }
 
 /// How one block is made whatever the modal state says.
@@ -152,6 +154,7 @@ impl Interpreter {
             machine: None,
             offsets_given: [false; 9],
             extra_offset: false,
+            preset_assumed: false,
         }
     }
 
@@ -409,7 +412,23 @@ impl Interpreter {
     /// work offset is the operator's, G54 the reset state's included, unless the program sets it
     /// with G10; G54.1 P's never): taken as zero.
     fn offset_assumed(&self) -> bool {
-        self.dialect.is_fanuc() && (self.extra_offset || !self.offsets_given[self.system])
+        self.preset_assumed || self.dialect.is_fanuc() && (self.extra_offset || !self.offsets_given[self.system])
+    }
+
+    /// The modal motion and feed, to restore after a cycle's own moves.
+    pub(crate) fn feed_state(&self) -> (Option<Motion>, Option<f64>, FeedMode) {
+        (self.motion, self.feed, self.feed_mode)
+    }
+
+    /// Restore what [`Interpreter::feed_state`] saved.
+    pub(crate) fn restore_feed(&mut self, (motion, feed, mode): (Option<Motion>, Option<f64>, FeedMode)) {
+        (self.motion, self.feed, self.feed_mode) = (motion, feed, mode);
+    }
+
+    /// A preset of the machine's table is in effect (Heidenhain cycle 247): its values are the
+    /// operator's, taken as the workpiece datum, so linear ranges are not judged.
+    pub(crate) fn set_preset_assumed(&mut self) {
+        self.preset_assumed = true;
     }
 
     /// Whether G90 is in effect.

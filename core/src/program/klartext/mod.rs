@@ -1,16 +1,20 @@
 //! Heidenhain conversational programs (Klartext, `.H`), as a TNC runs them: `BEGIN PGM NAME MM` ...
 //! `END PGM NAME MM`, numbered blocks, `;` comments and `*` structure lines; `L` lines (`R0`, `F`,
-//! `FMAX` for its block only, `FAUTO` the `TOOL CALL`'s feed; also written `F MAX`, `F AUTO`), `LN` lines with the surface normal
-//! `NX NY NZ` and the tool vector `TX TY TZ`; circles `CC` (pole), `C` about it, `CR` by radius, `CT`
-//! tangent to the contour before it (`DR+` counter-clockwise); `M128` and `FUNCTION TCPM` (`F TCP`,
-//! `AXIS POS`, `PATHCTRL AXIS`/`VECTOR`); `CYCL DEF 7` datum shift; `CYCL DEF 9` dwell (s, active
-//! where it is defined); `CYCL DEF 32` contour tolerance (`T`, and `TA` on the rotaries, `HSC-MODE:0`:
-//! how far the control may smooth the path away from the programmed points); `LBL` with `CALL LBL ... REP`
-//! (section repeats and subprograms); `Q` parameters set to plain numbers.
+//! `FMAX` for its block only, `FAUTO` the `TOOL CALL`'s feed; also written `F MAX`, `F AUTO`), `LN`
+//! lines with the surface normal `NX NY NZ` and the tool vector `TX TY TZ`; circles `CC` (pole), `C`
+//! about it, `CR` by radius, `CT` tangent to the contour before it (`DR+` counter-clockwise); `M128`
+//! and `FUNCTION TCPM` (`F TCP`, `AXIS POS`, `PATHCTRL AXIS`/`VECTOR`); `M91`/`M92` machine
+//! coordinates, `M126`/`M127`; `CYCL DEF 7` datum shift; `CYCL DEF 9` dwell; `CYCL DEF 32` contour
+//! tolerance; tilted working planes `PLANE SPATIAL`/`EULER`/`VECTOR`/`RELATIV`/`AXIAL`/`RESET` with
+//! `TURN`/`STAY`, `SEQ`, `COORD ROT`/`TABLE ROT`, and cycle 19 ([`crate::program::plane`]); the
+//! drilling cycles 200, 207, 240 called by `CYCL CALL`, `M99`, `M89`; cycle 247 (a preset of the
+//! machine's table); the machine maker's cycles its file names; `LBL` with `CALL LBL ... REP`
+//! (section repeats and subprograms); `Q` parameters with formulas, `FN 0`-`FN 8` and the jumps
+//! `FN 9`-`FN 12` ([`formula`]).
 //!
 //! The program runs as it is read ([`Runner`], fed a line at a time): a first pass finds the labels,
-//! then the reader reads on from wherever a call, a repeat or a return goes, so memory holds the
-//! label table and the call stack, never the program (an hours-long CAM program in flat memory).
+//! then the reader reads on from wherever a call, a repeat or a jump goes, so memory holds the label
+//! table and the call stack, never the program (an hours-long CAM program in flat memory).
 //!
 //! Written from the iTNC 530 User's Manual, Conversational Programming (Heidenhain 670388): "Path
 //! contours - Cartesian coordinates" (CC, C, CR: R > 0 the arc under 180 deg, CT; "DR+" the
@@ -23,8 +27,8 @@
 //! last shift).
 //!
 //! Refused at line:col, never guessed: radius compensation `RL`/`RR`, polar and free contours
-//! (`LP`, `CP`, `FK`), cycle 32's roughing filter (`HSC-MODE:1`), rounding and chamfers, approach/departure, tilted working planes (`PLANE`,
-//! `CYCL DEF 19`), machining cycles and touch probes, `Q` arithmetic, tool deltas `DL`/`DR`, and
+//! (`LP`, `CP`, `FK`), rounding and chamfers, approach/departure, `PLANE PROJECTED`/`POINTS` and
+//! `MOVE`, machining cycles other than those above and touch probes, tool deltas `DL`/`DR`, and
 //! `FUNCTION TCPM` options that read the program differently (`F CONT`, `AXIS SPAT`, a reference
 //! point other than the tool tip). The surface normal of an `LN` line moves the tool only by the
 //! tool deltas, which are refused, so it is read only as the tool axis when `T` is missing.
@@ -118,6 +122,10 @@ enum Kind<'a> {
     Jump { a: String, cmp: Cmp, b: String, label: &'a str },
     /// `PLANE ...` and cycle 19: a tilted working plane.
     Plane(PlaneStmt<'a>),
+    /// `CYCL DEF n NAME`: a cycle defined (its parameters are the Q assignments that follow).
+    CycleDef(u32),
+    /// `CYCL CALL`: the cycle runs where the tool stands.
+    CycleCall,
     /// `STOP`: a programmed stop, as M0.
     Stop,
     End,
@@ -356,11 +364,15 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         "BEGIN" if key(1) == "PGM" => {
             if *began {
                 diags.error(line, col, "a second BEGIN PGM: one program per file");
-            } else if toks.len() != 4 || !matches!(key(3).as_ref(), "MM" | "INCH") {
+            } else if toks.len() != 4 || !matches!(key(3).as_ref(), "MM" | "INCH" | "IN") {
                 diags.error(line, col, "expected BEGIN PGM NAME MM (or INCH)");
             } else {
                 *name = Some(toks[2].0.to_string());
-                *inch = key(3) == "INCH";
+                *inch = key(3) != "MM";
+                if key(3) == "IN" {
+                    // NX's TNC posts write IN for INCH: the unit is not in doubt.
+                    diags.warning(line, toks[3].1, "BEGIN PGM ... IN: the TNC writes INCH; read as inches");
+                }
             }
             *began = true;
             None
@@ -400,8 +412,9 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         }
         "FUNCTION" => function(toks, line, col, diags),
         "CYCL" if key(1) == "DEF" => cycle(toks, line, datum_defined, diags),
+        "CYCL" if key(1) == "CALL" && toks.len() == 2 => Some(Kind::CycleCall),
         "CYCL" => {
-            diags.error(line, col, "CYCL CALL: machining cycles are not read (they cut)");
+            diags.error(line, col, format!("CYCL {}: expected CYCL DEF or CYCL CALL (CYCL CALL PAT and POS are not read)", excerpt(&key(1))));
             None
         }
         "PLANE" => plane(toks, line, col, diags),
@@ -689,8 +702,8 @@ fn function<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut 
 /// `CYCL DEF 32.0 TOLERANCE` / `32.1 T0.05` / `32.2 HSC-MODE:0 TA0.5` (TNC 620 Cycle Programming, 340
 /// 56x-03, §12.5): the contour tolerance on the path (program unit) and, under M128/TCPM, on the rotary
 /// axes (deg), for the blocks after it. `32.1` without `T` resets both to the machine's (its file's
-/// `contour_tolerance_mm`/`_deg`). `HSC-MODE:1` (roughing: the control's filter trades accuracy
-/// for speed) is refused: it changes the motion in a way the planner does not model.
+/// `contour_tolerance_mm`/`_deg`). `HSC-MODE:0` and `:1` (finishing, roughing) choose the maker's
+/// filter within the same tolerance.
 fn tolerance_cycle<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
     let col = toks[0].1;
     let rest = &toks[3.min(toks.len())..];
@@ -708,11 +721,11 @@ fn tolerance_cycle<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags
                 let u = upper(tok);
                 if let Some(mode) = u.strip_prefix("HSC-MODE:") {
                     match mode {
-                        "0" => {}
-                        "1" => {
-                            diags.error(line, c, "CYCL DEF 32.2 HSC-MODE:1: the roughing filter (speed before accuracy) is not modelled; HSC-MODE:0 (finishing) is");
-                            return None;
-                        }
+                        // HSC-MODE:1 (roughing) picks the maker's other filter: "Even if the control
+                        // does not move the axes with reduced speed, it will always comply with the
+                        // tolerance that you have defined" (TNC7 basic User's Manual 81762x-19, cycle
+                        // 32), so T stays the bound the planner keeps either way.
+                        "0" | "1" => {}
                         _ => {
                             diags.error(line, c, format!("CYCL DEF 32.2: expected HSC-MODE:0 or HSC-MODE:1, found '{}'", excerpt(tok)));
                             return None;
@@ -758,13 +771,19 @@ fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bool, diags: 
         return cycle19(toks, part, line, diags);
     }
     if cycle != "7" {
-        let what = match cycle {
-            "8" | "10" | "11" | "26" => "mirroring, rotation or scaling is not modelled",
-            "247" => "datum setting from the preset table is not modelled",
-            _ => "machining cycles are not read (they cut)",
+        return match (cycle, part.is_empty(), cycle.parse::<u32>()) {
+            ("8" | "10" | "11" | "26", _, _) => {
+                diags.error(line, col, format!("CYCL DEF {number}: mirroring, rotation or scaling is not modelled"));
+                None
+            }
+            // A cycle and its name; its Q parameters follow on the lines after it. Whether it is read
+            // is the runner's (the machine's own cycles are in its file).
+            (_, true, Ok(n)) => Some(Kind::CycleDef(n)),
+            _ => {
+                diags.error(line, col, format!("CYCL DEF {number}: expected a cycle number"));
+                None
+            }
         };
-        diags.error(line, col, format!("CYCL DEF {number}: {what}"));
-        return None;
     }
     if part == "0" {
         *defined = true;

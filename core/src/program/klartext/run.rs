@@ -219,6 +219,12 @@ struct Exec {
     q: HashMap<String, f64>,
     /// The machine, for tilted working planes (its kinematics and limits).
     machine: Option<std::sync::Arc<crate::machine::Machine>>,
+    /// The cycle defined last (CYCL DEF), which CYCL CALL, M99 and M89 run.
+    cycle: Option<(u32, usize)>,
+    /// M89: the cycle runs after every positioning block until M99 or CYCL CALL.
+    modal_call: bool,
+    /// The spindle speed of the last TOOL CALL (1/min), for tapping.
+    spindle: Option<f64>,
     /// The feed of the last TOOL CALL (program units per minute, as written), for FAUTO.
     tool_feed: Option<(f64, String)>,
     /// Direction of the contour at its end in the working plane, for CT.
@@ -305,6 +311,15 @@ impl Exec {
                 self.plane(p, s, interp, out, diags);
                 return false;
             }
+            Kind::CycleDef(n) => {
+                self.define_cycle(*n, s, interp, diags);
+                return false;
+            }
+            Kind::CycleCall => {
+                self.modal_call = false;
+                self.call_cycle(s, interp, out, diags);
+                return false;
+            }
             Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } => return false,
             _ => {}
         }
@@ -323,6 +338,12 @@ impl Exec {
                 }
             }
             Kind::Tool { events, feed } => {
+                if let Some(sp) = events.iter().find_map(|e| e.strip_prefix('S')) {
+                    self.spindle = super::parse_val(sp).and_then(|v| match v {
+                        Val::Num(n) => Some(n),
+                        Val::Q { name, negative } => self.q.get(name).map(|v| if negative { -v } else { *v }),
+                    });
+                }
                 for e in events {
                     let (l, rest) = e.split_at(1);
                     words.push(word(l.chars().next().unwrap_or('T'), 0.0, rest.to_string().into(), s.col, false));
@@ -424,7 +445,7 @@ impl Exec {
                     }
                 }
             }
-            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) => {}
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::CycleCall => {}
         }
         // M91 / M92: the block's coordinates are the machine's, about its machine datum or the
         // maker's second datum (TNC 426 B ISO §7.3: "M91 and M92 are effective only in the blocks in
@@ -451,12 +472,28 @@ impl Exec {
         if let Some(v) = vector {
             interp.set_pending_vector(v);
         }
+        // M99 runs the cycle at the block's end point, M89 from here on after every positioning.
+        let (m99, m89) = match &s.kind {
+            Kind::Move { m, .. } | Kind::Misc(m) => (m.iter().any(|w| w.val == Val::Num(99.0)), m.iter().any(|w| w.val == Val::Num(89.0))),
+            _ => (false, false),
+        };
+        let words: Vec<Word<'a>> = words.into_iter().filter(|w| !(w.letter == 'M' && (w.value == 99.0 || w.value == 89.0))).collect();
         let start = interp.position();
         let result = interp.block_one(&words, s.line, s.col, s.number, diags);
         match result {
             Some(b) => {
                 self.follow(&b, start, interp.position(), interp);
+                let moved = !b.targets.is_empty();
                 out.push(b);
+                if m89 {
+                    self.modal_call = true;
+                }
+                if m99 {
+                    self.modal_call = false;
+                }
+                if m99 || (self.modal_call && moved && !m89) {
+                    self.call_cycle(s, interp, out, diags);
+                }
                 ends
             }
             None => {
@@ -596,6 +633,106 @@ impl Exec {
                 out.push(b);
             }
         }
+    }
+
+    /// `CYCL DEF n`: the drilling cycles 200, 207, 240 are kept for the next call; cycle 247 selects
+    /// a preset of the machine's table (its values are the operator's: the datum is taken as the
+    /// workpiece's, and linear ranges are not judged); the machine maker's own cycles that move
+    /// nothing are in its file; any other is refused.
+    fn define_cycle(&mut self, n: u32, s: &Stmt<'_>, interp: &mut Interpreter, diags: &mut Diags) {
+        match n {
+            200 | 207 | 240 => self.cycle = Some((n, s.line)),
+            247 => interp.set_preset_assumed(),
+            _ if self.machine.as_ref().is_some_and(|m| m.state_cycles.contains(&n)) => {}
+            _ => diags.error(s.line, s.col, format!("CYCL DEF {n}: this cycle is not read (it may move the tool; the drilling cycles 200, 207 and 240 are, and the machine file names its maker's cycles that move nothing)")),
+        }
+    }
+
+    /// A Q parameter a cycle needs, in SI (`scale` per program unit); why not, if unset.
+    fn cycle_q(&self, name: &str, scale: f64) -> Result<f64, String> {
+        self.q.get(name).map(|v| v * scale).ok_or_else(|| format!("{name} is not set"))
+    }
+
+    /// Run the cycle defined last where the tool stands, along the working plane's Z: its moves as
+    /// blocks of this statement (the modal feed stays the program's).
+    fn call_cycle(&mut self, s: &Stmt<'_>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) {
+        let Some((n, _)) = self.cycle else {
+            diags.error(s.line, s.col, "a cycle call with no cycle defined before it (CYCL DEF)");
+            return;
+        };
+        let unit = interp.unit();
+        let hole = (|| -> Result<(crate::program::cycles::TncHole, f64), String> {
+            let q = |name: &str| self.cycle_q(name, unit);
+            let mut h = crate::program::cycles::TncHole {
+                surface: q("Q203")?,
+                clearance: q("Q200")?.abs(),
+                clearance2: q("Q204")?.abs(),
+                depth: q("Q201")?,
+                plunge: 0.0,
+                dwell_top_s: 0.0,
+                dwell_bottom_s: 0.0,
+                feed_out: false,
+            };
+            let feed = match n {
+                200 => {
+                    h.plunge = q("Q202")?.abs();
+                    h.dwell_top_s = self.cycle_q("Q210", 1.0)?;
+                    h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
+                    self.cycle_q("Q206", 1.0)?
+                }
+                240 => {
+                    if self.cycle_q("Q343", 1.0)? != 0.0 {
+                        return Err("Q343=1: a depth from the centering diameter (the tool's point angle) is not read".into());
+                    }
+                    h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
+                    self.cycle_q("Q206", 1.0)?
+                }
+                _ => {
+                    // 207 RIGID TAPPING: the feed is the pitch Q239 at the spindle speed.
+                    h.feed_out = true;
+                    let pitch = self.cycle_q("Q239", 1.0)?.abs();
+                    let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
+                    pitch * speed.abs()
+                }
+            };
+            if h.depth > 0.0 {
+                return Err(format!("Q201={}: a positive depth (drilling up) is not read", h.depth / unit));
+            }
+            if !(feed > 0.0) {
+                return Err("the cycle's feed is not positive".into());
+            }
+            Ok((h, feed))
+        })();
+        let (h, feed) = match hole {
+            Ok(h) => h,
+            Err(why) => {
+                diags.error(s.line, s.col, format!("cycle {n} called: {why}"));
+                return;
+            }
+        };
+        let saved = interp.feed_state();
+        let z = |v: f64, motion: &str| -> Vec<Word<'static>> {
+            let mut w = vec![
+                Word { letter: 'G', value: if motion == "0" { 0.0 } else { 1.0 }, raw: Cow::Owned(motion.to_string()), column: s.col, incremental: false },
+                Word { letter: 'Z', value: v / unit, raw: Cow::Owned(format!("{}", v / unit)), column: s.col, incremental: false },
+            ];
+            if motion == "1" {
+                w.push(Word { letter: 'F', value: feed, raw: Cow::Owned(format!("{feed}")), column: s.col, incremental: false });
+            }
+            w
+        };
+        for step in crate::program::cycles::tnc_hole(&h) {
+            let block = match step {
+                crate::program::cycles::Step::Rapid(v) => interp.block_one(&z(v, "0"), s.line, s.col, s.number, diags),
+                crate::program::cycles::Step::Feed(v) => interp.block_one(&z(v, "1"), s.line, s.col, s.number, diags),
+                crate::program::cycles::Step::Dwell(t) => Some(Block { dwell_s: Some(t), ..interp.still_block(s.line, s.col, s.number) }),
+            };
+            match block {
+                Some(b) => out.push(b),
+                None => break,
+            }
+        }
+        interp.restore_feed(saved);
     }
 
     /// Where M91's (machine datum) or M92's (the maker's datum) coordinates start, in the model's
