@@ -27,6 +27,8 @@ const CLEAN: &[Case] = &[
     Case { file: "gcode-xyzab-radians_hobby-rtcp-converter_from-creo_finition.nc", machine: "hobby-rtcp-ab", args: &[] },
     Case { file: "haas-ngc-G234_nx-post_umc750-bc_FinalToolPath.txt", machine: "haas-umc-750", args: &[] },
     Case { file: "heidenhain-klartext_hypermill_dmu100p-duoblock-bc_M128_W5270NS01003A25.h", machine: "dmg-dmu-100p-duoblock", args: &[] },
+    Case { file: "heidenhain-klartext_hypermill_dmu85-monoblock-ac_large-3plus2_W5270NS01061A16.h", machine: "dmg-dmu-85-monoblock", args: &[] },
+    Case { file: "heidenhain-klartext_hypermill_trimill-vu3019_W5269NS01002A21.h", machine: "trimill-vu3019", args: &[] },
 ];
 
 /// Programs refused on their machine with one clear message each: a defect of the program as its
@@ -43,8 +45,6 @@ const NOT_YET: &[(&str, &str)] = &[
     ("linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc", "O-words; the W quill, a sixth axis"),
     ("heidenhain-klartext_nx-post_dmg-dmc100-bc_M128-simultaneous_Sample_part.h", "PLANE, cycles, M91/M140, machine"),
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "MillPlus dialect, machine"),
-    ("heidenhain-klartext_hypermill_trimill-vu3019_W5269NS01002A21.h", "PLANE, cycles, Q arithmetic, M91, machine"),
-    ("heidenhain-klartext_hypermill_dmu85-monoblock-ac_large-3plus2_W5270NS01061A16.h", "PLANE, Q jumps, M91, machine"),
     ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "cycle 19, cycles, polar arcs, radius compensation, CALL PGM"),
     ("sinumerik-840dsl_nx-post_spinner-u5-620-bc_TRAORI-AROT_Achskreuz.mpf", "DEF variables, frames, CYCLE800, machine"),
     ("sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf", "SUPA, MCALL cycles, machine"),

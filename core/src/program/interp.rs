@@ -408,11 +408,14 @@ impl Interpreter {
         }
     }
 
-    /// Whether the datum in effect holds a work offset the program never set (Fanuc and Haas: every
-    /// work offset is the operator's, G54 the reset state's included, unless the program sets it
-    /// with G10; G54.1 P's never): taken as zero.
+    /// Whether the datum in effect holds a work offset the program never set, taken as zero: on
+    /// Fanuc and Haas every work offset is the operator's (G54, the reset state's, included) unless
+    /// the program sets it with G10, G54.1 P's never; on Heidenhain and Sinumerik controls the
+    /// workpiece preset (datum) always is (the program's datum shifts are relative to it).
     fn offset_assumed(&self) -> bool {
-        self.preset_assumed || self.dialect.is_fanuc() && (self.extra_offset || !self.offsets_given[self.system])
+        self.preset_assumed
+            || matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext | Dialect::Sinumerik)
+            || self.dialect.is_fanuc() && (self.extra_offset || !self.offsets_given[self.system])
     }
 
     /// The modal motion and feed, to restore after a cycle's own moves.
@@ -983,7 +986,8 @@ impl Interpreter {
             events,
             dwell_s,
             tolerance: self.tolerance,
-            offset_assumed: self.offset_assumed(),
+            // A move of the machine's axes (machine coordinates) is where it is, whatever the datum.
+            offset_assumed: self.offset_assumed() && !shot.is_some_and(|s| s.axes.is_some()),
         })
     }
 }

@@ -586,7 +586,9 @@ impl Exec {
                 Ok(sol) => {
                     if let Some(pole) = sol.pole {
                         let name = &machine.axes[pole.free_axis].name;
-                        let table = pole.table_rot.map_or("cannot turn it to the plane's X (a head axis)".into(), |t| format!("turns it to {:.3} deg", t.to_degrees()));
+                        // Degrees to 3 decimals, a rounding of zero without its sign.
+                        let deg3 = |v: f64| format!("{:.3}", if v.to_degrees().abs() < 5e-4 { 0.0 } else { v.to_degrees() });
+                        let table = pole.table_rot.map_or("cannot turn it to the plane's X (a head axis)".into(), |t| format!("turns it to {} deg", deg3(t)));
                         let said = match p.choice.table_rot {
                             Some(true) => "the program says TABLE ROT",
                             Some(false) => "the program says COORD ROT",
@@ -596,9 +598,9 @@ impl Exec {
                             s.line,
                             s.col,
                             format!(
-                                "{what} at the pole: the tool lies along {name}'s axis, which leaves {name} free; COORD ROT keeps it at {:.3} deg, TABLE ROT {table}; {said} ({name} {:.3} deg)",
-                                pole.coord_rot.to_degrees(),
-                                sol.rot[pole.free_axis - 3].to_degrees()
+                                "{what} at the pole: the tool lies along {name}'s axis, which leaves {name} free; COORD ROT keeps it at {} deg, TABLE ROT {table}; {said} ({name} {} deg)",
+                                deg3(pole.coord_rot),
+                                deg3(sol.rot[pole.free_axis - 3])
                             ),
                         );
                     }
