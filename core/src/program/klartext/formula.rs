@@ -110,22 +110,27 @@ impl Parser<'_> {
         Ok(v)
     }
 
-    /// `('+' | '-') signed | power`: a sign applies to the power after it (`-Q1^2` is -(Q1^2)).
-    fn signed(&mut self) -> Result<f64, FormulaError> {
+    /// Signs, then what `then` reads: a sign applies to all of it.
+    fn signs(&mut self, then: fn(&mut Self) -> Result<f64, FormulaError>) -> Result<f64, FormulaError> {
         self.deeper()?;
         let v = match self.peek() {
             Some(b'+') => {
                 self.i += 1;
-                self.signed()
+                self.signs(then)
             }
             Some(b'-') => {
                 self.i += 1;
-                self.signed().map(|v| -v)
+                self.signs(then).map(|v| -v)
             }
-            _ => self.power(),
+            _ => then(self),
         };
         self.depth -= 1;
         v
+    }
+
+    /// `('+' | '-') signed | power`: a sign applies to the power after it (`-Q1^2` is -(Q1^2)).
+    fn signed(&mut self) -> Result<f64, FormulaError> {
+        self.signs(Self::power)
     }
 
     /// `atom ('^' signed)?`, to the right.
@@ -142,20 +147,7 @@ impl Parser<'_> {
 
     /// A function's argument: signs, then an atom (`SIN -30`, `SQRT Q1`; `SIN 30^2` is (SIN 30)^2).
     fn argument(&mut self) -> Result<f64, FormulaError> {
-        self.deeper()?;
-        let v = match self.peek() {
-            Some(b'+') => {
-                self.i += 1;
-                self.argument()
-            }
-            Some(b'-') => {
-                self.i += 1;
-                self.argument().map(|v| -v)
-            }
-            _ => self.atom(),
-        };
-        self.depth -= 1;
-        v
+        self.signs(Self::atom)
     }
 
     /// A bracket, a parameter, `PI`, a number, or a function of an argument.
