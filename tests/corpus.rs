@@ -43,14 +43,14 @@ const REFUSED: &[(&str, &str, &str)] = &[
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
     ("linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc", "O-words; the W quill, a sixth axis"),
-    ("heidenhain-klartext_nx-post_dmg-dmc100-bc_M128-simultaneous_Sample_part.h", "PLANE, cycles, M91/M140, machine"),
-    ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "MillPlus dialect, machine"),
-    ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "cycle 19, cycles, polar arcs, radius compensation, CALL PGM"),
-    ("sinumerik-840dsl_nx-post_spinner-u5-620-bc_TRAORI-AROT_Achskreuz.mpf", "DEF variables, frames, CYCLE800, machine"),
-    ("sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf", "SUPA, MCALL cycles, machine"),
-    ("sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf", "CYCLE800, MCALL cycles, machine"),
-    ("apt-cl_solidworks-cam_boss_GOTO-ijk_CSYS.apt", "CSYS frames, CUTCOM, INSERT, machine"),
-    ("apt-cl_solidworks-cam_interface-glue_ROTABL-TLAXIS.clt", "ROTABL, TLAXIS, CIRCLE forms, cycles, machine"),
+    ("heidenhain-klartext_nx-post_dmg-dmc100-bc_M128-simultaneous_Sample_part.h", "NX writes CC with Z (a circle outside the TNC's working plane, 23 blocks); M140 MB MAX; the DMC 100 U's machine file"),
+    ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect (G7 plane, G141 TCP, G74, G93 datum shift); the DMC 160 U's machine file"),
+    ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR radius compensation, CP polar arcs, cycles 202 and 203; a four-axis machine (A only)"),
+    ("sinumerik-840dsl_nx-post_spinner-u5-620-bc_TRAORI-AROT_Achskreuz.mpf", "Sinumerik DEF variables and expressions, SUPA, AROT/ROT frames, CYCLE800, CYCLE832, COMPOF; the Spinner U5-620's machine file"),
+    ("sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf", "Sinumerik SUPA, MCALL CYCLE81-89, ROT/TRANS resets; the DMU 70 eVo's machine file (45 deg nutating table)"),
+    ("sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf", "Sinumerik CYCLE800, TRAORI(1), MCALL cycles, MSG, M202(...); the program writes TRAOOF for TRAFOOF (refused); the FTV5's machine file"),
+    ("apt-cl_solidworks-cam_boss_GOTO-ijk_CSYS.apt", "APT CSYS frames turned against the part's, CUTCOM/LEFT, INSERT; a DMU 50 machine file"),
+    ("apt-cl_solidworks-cam_interface-glue_ROTABL-TLAXIS.clt", "APT ROTABL, CIRCLE without a radius in the GOTO's plane, MOVE_ATTRIB, CYCLE/DRILL, BOX, OPFEATSTART; a machine file"),
 ];
 
 fn fiveaxis(args: &[&str]) -> std::process::Output {
@@ -182,4 +182,42 @@ fn the_hobby_converters_gcode_is_its_cl_data_on_its_machine() {
     }
     eprintln!("{} poses: worst tip {worst_tip:.2e} mm, axis {worst_axis:.2e}", kept.len());
     assert!(worst_tip < 1e-3 && worst_axis < 1e-4, "worst tip {worst_tip} mm, axis {worst_axis}");
+}
+
+/// The stutter NX's Fanuc post for the NMV5000 writes: the spiral out of B = 0 (VARIABLE_CONTOUR_MCS9,
+/// lines 439-785: `B0.0 C315.` then `X-.0004 B-.274 C369.167`, 54 deg of C in 0.0004 in at F9.8
+/// in/min). Its C speed per block, computed independently from the program's words with numpy
+/// (tests/peer/block_speeds.py: under G43.4 the tip moves straight at F, the rotary axes linear in
+/// the block), against `program analyze`: the same peak at the same line, the region from the first
+/// block over the machine's C limit to the last, close to the singular direction (within the 15 deg
+/// the monitor calls a singularity).
+#[test]
+fn the_nmv5000_spiral_out_of_b0_is_found_as_computed_independently() {
+    let file = common::outside("programs/fanuc-G43.4_nx-post_mori-nmv5000-bc_near-B0_MS_NMV_sample_output.nc");
+    let out = fiveaxis(&["program", "analyze", file.to_str().unwrap(), "--machine", "mori-seiki-nmv5000", "--json"]);
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let limit = report["c_max_rpm"].as_f64().unwrap();
+    let peer = Command::new("python3")
+        .args([concat!(env!("CARGO_MANIFEST_DIR"), "/tests/peer/block_speeds.py"), file.to_str().unwrap(), "439", "785", "C", &limit.to_string(), "X0 Y0 Z-.3881 B0 C315 F9.8"])
+        .output()
+        .unwrap();
+    assert!(peer.status.success(), "{}", String::from_utf8_lossy(&peer.stderr));
+    let numpy: serde_json::Value = serde_json::from_slice(&peer.stdout).unwrap();
+    let (ours, theirs) = (report["peak_c_speed_rpm"].as_f64().unwrap(), numpy["peak_rpm"].as_f64().unwrap());
+    eprintln!("peak C: ours {ours:.3} rpm at line {}, numpy {theirs:.3} rpm at line {}", report["peak_c_speed_line"], numpy["peak_line"]);
+    assert!((ours - theirs).abs() <= 1e-3 * theirs, "peak C: ours {ours} rpm, numpy {theirs} rpm");
+    assert_eq!(report["peak_c_speed_line"], numpy["peak_line"]);
+    let over: Vec<u64> = numpy["over_limit_lines"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap()).collect();
+    let regions: Vec<(u64, u64, f64)> = report["regions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r["line_start"].as_u64().unwrap(), r["line_end"].as_u64().unwrap(), r["min_singularity_distance_deg"].as_f64().unwrap()))
+        .filter(|r| r.1 >= 439 && r.0 <= 785)
+        .collect();
+    assert_eq!((regions[0].0, regions.last().unwrap().1), (over[0], *over.last().unwrap()), "{regions:?}");
+    let inside = over.iter().filter(|n| regions.iter().any(|r| r.0 <= **n && **n <= r.1)).count();
+    assert!(inside as f64 >= 0.95 * over.len() as f64, "{inside} of {} blocks over the limit in our regions", over.len());
+    assert!(regions[0].2 < 15.0, "the first region's closest approach {} deg", regions[0].2);
+    eprintln!("{} blocks over {limit:.0} rpm (numpy), {inside} inside the regions {regions:?}", over.len());
 }

@@ -1,0 +1,47 @@
+#!/usr/bin/env python3
+"""The secondary rotary axis' speed of each block of a five-axis program, computed here from the
+program's words alone, as an independent reference for tests/corpus.rs.
+
+The control's interpolation for the blocks read (Fanuc G43.4 and Siemens TRAORI with the rotary axes
+moving as written, linear in the block): the tool tip moves on a straight line at the programmed feed
+F (program units per minute), so a block lasts |tip displacement| / F, and the rotary axis turns its
+whole change in that time at a constant rate. Reads absolute (G90) blocks of address words from
+FIRST_LINE to LAST_LINE (1-based, inclusive), the modal values before it from STATE ("X0 Y0 Z0 B0 C0
+F1"); prints JSON: the peak speed (rpm) and its line, and every block above LIMIT_RPM.
+
+usage: block_speeds.py PROGRAM FIRST_LINE LAST_LINE AXIS LIMIT_RPM [STATE]
+"""
+import json
+import re
+import sys
+
+import numpy as np
+
+
+def main():
+    path, first, last, axis, limit = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4].upper(), float(sys.argv[5])
+    state = {"X": 0.0, "Y": 0.0, "Z": 0.0, "A": 0.0, "B": 0.0, "C": 0.0, "F": None}
+    for w in re.findall(r"([A-Z])\s*([-+]?\d*\.?\d+)", sys.argv[6].upper() if len(sys.argv) > 6 else ""):
+        state[w[0]] = float(w[1])
+    lines = open(path, encoding="latin-1").read().splitlines()
+    rows = []
+    for n in range(first, last + 1):
+        text = re.sub(r"\(.*?\)|;.*$", "", lines[n - 1]).upper()
+        words = dict((a, float(v)) for a, v in re.findall(r"([XYZABCF])\s*([-+]?\d*\.?\d+)", text))
+        if not any(k in words for k in "XYZABC"):
+            state.update({k: v for k, v in words.items() if k == "F"})
+            continue
+        start = np.array([state["X"], state["Y"], state["Z"]])
+        turn0 = state[axis]
+        state.update(words)
+        length = float(np.linalg.norm(np.array([state["X"], state["Y"], state["Z"]]) - start))
+        minutes = length / state["F"]
+        rpm = abs(state[axis] - turn0) / 360.0 / minutes if minutes > 0 else float("inf")
+        rows.append((n, rpm))
+    peak_line, peak = max(rows, key=lambda r: r[1])
+    over = [n for n, rpm in rows if rpm > limit]
+    print(json.dumps({"peak_rpm": peak, "peak_line": peak_line, "over_limit_lines": over, "blocks": len(rows)}))
+
+
+if __name__ == "__main__":
+    main()
