@@ -500,11 +500,7 @@ fn roughness_report(profile: &crate::roughness::Profile, cutoff: f64, regions: &
 }
 
 fn cause_name(c: Option<crate::singularity::tracker::Cause>) -> &'static str {
-    match c {
-        Some(crate::singularity::tracker::Cause::Singularity) => "singularity",
-        Some(crate::singularity::tracker::Cause::RotaryFeed) => "rotary_feed",
-        None => "cause unknown",
-    }
+    c.map_or("cause unknown", crate::singularity::tracker::Cause::name)
 }
 
 

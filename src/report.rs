@@ -28,7 +28,11 @@ impl std::fmt::Display for DiagnosticReport {
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct RegionReport {
     pub id: usize,
-    pub cause: RegionCause,
+    /// Why the region is there: `singularity` when its closest approach lies within 15 deg of the
+    /// singular direction, `rotary_feed` otherwise (the rule of live streams and recordings).
+    pub cause: crate::singularity::tracker::Cause,
+    /// What the path crossed: the secondary axis' speed limit, the distance threshold, or both.
+    pub limit: RegionCause,
     pub x_start_mm: f64,
     pub x_end_mm: f64,
     pub y_start_mm: f64,
@@ -140,7 +144,8 @@ impl AnalysisReport {
             .iter()
             .map(|r| RegionReport {
                 id: r.id,
-                cause: r.cause,
+                cause: crate::singularity::tracker::Cause::of(r.min_distance, crate::singularity::tracker::SINGULAR_WITHIN_DEG.to_radians()),
+                limit: r.cause,
                 x_start_mm: mm(r.tip_start.x),
                 x_end_mm: mm(r.tip_end.x),
                 y_start_mm: mm(r.tip_start.y),
@@ -232,7 +237,7 @@ impl AnalysisReport {
             let _ = writeln!(o, "regions    none: {c} stays within {:.1} rpm", self.c_max_rpm);
         } else {
             let _ = writeln!(o, "regions where {c} speed > {:.1} rpm:", self.c_max_rpm);
-            let _ = writeln!(o, "   #   x from     x to   blocks          peak rpm  min dist deg  min feed mm/min");
+            let _ = writeln!(o, "   #   x from     x to   blocks          peak rpm  min dist deg  cause        min feed mm/min");
             for r in &self.regions {
                 let number = |b: Option<u64>| b.map_or(-1, |n| i64::try_from(n).unwrap_or(i64::MAX));
                 let line = |l: usize| u32::try_from(l).unwrap_or(u32::MAX);
@@ -244,8 +249,15 @@ impl AnalysisReport {
                 };
                 let _ = writeln!(
                     o,
-                    "{:>4} {:8.3} {:8.3}   {:<14} {:9.1} {:13.3}  {}",
-                    r.id, r.x_start_mm, r.x_end_mm, blocks, r.peak_c_speed_rpm, r.min_singularity_distance_deg, feed
+                    "{:>4} {:8.3} {:8.3}   {:<14} {:9.1} {:13.3}  {:<12} {}",
+                    r.id,
+                    r.x_start_mm,
+                    r.x_end_mm,
+                    blocks,
+                    r.peak_c_speed_rpm,
+                    r.min_singularity_distance_deg,
+                    r.cause.name(),
+                    feed
                 );
             }
             if let Some(more) = self.unlisted_regions.describe() {

@@ -95,7 +95,8 @@ fn distance_threshold_opens_regions_on_five_axis_moves() {
     let j = job::run("bundled:NON_SING.I", &m, &opts(12.0)).unwrap();
     assert_eq!(j.analysis.regions.len(), 1, "{:?}", j.report.regions);
     let r = &j.report.regions[0];
-    assert_eq!(r.cause, RegionCause::Distance);
+    assert_eq!(r.limit, RegionCause::Distance);
+    assert_eq!(r.cause, fiveaxis::singularity::tracker::Cause::Singularity, "11 deg from the pole: within 15");
     let x_in = 31.0 - (12.243 - 12.0) / (12.243 - 11.88);
     let x_out = 20.0 - (12.0 - 11.88) / (12.243 - 11.88);
     // Boundaries lie between two 1 ms samples (0.033 mm apart).
@@ -105,7 +106,7 @@ fn distance_threshold_opens_regions_on_five_axis_moves() {
     // SING: the speed region and the distance region overlap into one.
     let j = job::run("bundled:SING.I", &m, &opts(2.0)).unwrap();
     assert_eq!(j.analysis.regions.len(), 1);
-    assert_eq!(j.report.regions[0].cause, RegionCause::SpeedAndDistance);
+    assert_eq!(j.report.regions[0].limit, RegionCause::SpeedAndDistance);
 }
 
 /// Great-circle orientation across the pole. A circle through the singular direction itself is a

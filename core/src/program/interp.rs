@@ -71,8 +71,11 @@ pub struct Interpreter {
     rotary_letters: [Option<char>; 2],
     /// The machine's peck distances (G73's retract, G83's clearance), m.
     peck: [Option<f64>; 2],
-    /// How far an arc's end radius may differ from its start radius, m (the machine's control setting).
+    /// How far an arc's end radius may differ from its start radius, m (the machine's control
+    /// setting), and, where the control scales it with the radius, the fraction of the radius it may
+    /// reach instead (Sinumerik MD21010 `CIRCLE_ERROR_FACTOR`; 0 elsewhere).
     arc_tolerance: f64,
+    arc_tolerance_factor: f64,
     /// Haas G254 (dynamic work offset) in effect: no rotary axis may move until G255.
     dwo: bool,
     /// A tilted working plane in effect (Heidenhain PLANE, cycle 19): its frame in the workpiece
@@ -146,7 +149,8 @@ impl Interpreter {
             cycles: Default::default(),
             rotary_letters: [None; 2],
             peck: [None; 2],
-            arc_tolerance: ARC_RADIUS_TOLERANCE,
+            arc_tolerance: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_CONST } else { ARC_RADIUS_TOLERANCE },
+            arc_tolerance_factor: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_FACTOR } else { 0.0 },
             dwo: false,
             tilt: None,
             shortest: false,
@@ -318,6 +322,25 @@ impl Interpreter {
             }
         };
         self.last[..3].copy_from_slice(p.as_slice());
+    }
+
+    /// Switch tool-centre-point management and read the current point anew (Sinumerik `TRAORI` /
+    /// `TRAFOOF`): the axes stay, their meaning changes, so an axis a later block does not name
+    /// stays where it physically is.
+    pub fn switch_tcp(&mut self, on: bool) {
+        let axes = self.axes_now();
+        self.tcp = on;
+        self.read_axes(axes);
+    }
+
+    /// Set the frame in effect: `datum` (m) and a rotation (`None`: none), as the Sinumerik frames
+    /// `TRANS`, `ROT` and their additive forms make them; the current point is read anew in it (the
+    /// axes stay).
+    pub fn set_frame(&mut self, datum: [f64; 3], tilt: Option<nalgebra::Matrix3<f64>>) {
+        let axes = self.axes_now();
+        self.datum = datum;
+        self.tilt = tilt;
+        self.read_axes(axes);
     }
 
     /// The datum shift in effect, m.
@@ -541,7 +564,7 @@ impl Interpreter {
                             let k = ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"].iter().position(|c| *c == code).unwrap_or(0);
                             next.system = k;
                             next.extra_offset = false;
-                            if k > 0 && !self.offsets_set(k) && !fanuc {
+                            if k > 0 && !self.offsets_set(k) && !fanuc && self.dialect != Dialect::Sinumerik {
                                 diags.warning(
                                     line,
                                     w.column,
@@ -688,6 +711,19 @@ impl Interpreter {
                                 diags.error(line, w.column, format!("M{}: {why}", w.raw));
                             }
                         }
+                        // Sinumerik's own M functions (Fundamentals §"Miscellaneous functions (M)": M17
+                        // end of subprogram, M19 spindle positioning, M40-M45 gear stages, M70 spindle
+                        // to axis mode); any other is the machine maker's.
+                        (None, 17 | 19 | 40..=45 | 70, false) if self.dialect == Dialect::Sinumerik => {}
+                        (None, _, false) if self.dialect == Dialect::Sinumerik => diags.error(
+                            line,
+                            w.column,
+                            format!(
+                                "M{}: the machine maker's M function, whose effect is not known here: its machine file names it \
+                                 ([[m_function]]), or say what it does with --m-code {}=tcp-on|tcp-off|event",
+                                w.raw, code
+                            ),
+                        ),
                         // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O,
                         // with the words they take (G-code reference §M61 Q, §M62-M65 P, §M66 P E L Q,
                         // §M67/M68 E Q).
@@ -749,7 +785,9 @@ impl Interpreter {
             // The axis words of a G10 block set an offset; they are not a move (skipped below).
             self.set_offsets(words, &mut next, line, column, diags);
         }
-        if !heid && next.system != self.system {
+        // Sinumerik's settable frames (G54-G57, G505-G599) are the operator's, never set by the
+        // program: the datum is the programmable frame's, which its reader keeps.
+        if !heid && self.dialect != Dialect::Sinumerik && next.system != self.system {
             next.move_origin(next.offsets[next.system]);
         }
 
@@ -998,6 +1036,12 @@ impl Interpreter {
 /// spiral (the radius changes evenly along the arc), beyond it the block is refused.
 pub const ARC_RADIUS_TOLERANCE: f64 = 0.00005 * INCH;
 
+/// Sinumerik's circle end-point check (alarm 14040): the radii to the start and the end may differ
+/// by MD21000 `CIRCLE_ERROR_CONST` (default 0.01 mm) or, on larger circles, by the radius times
+/// MD21010 `CIRCLE_ERROR_FACTOR` (default 0.001), whichever is larger.
+pub const SINUMERIK_CIRCLE_ERROR_CONST: f64 = 0.01 * MM;
+pub const SINUMERIK_CIRCLE_ERROR_FACTOR: f64 = 0.001;
+
 /// The circle of a G02/G03 block from its I J K (centre) or R (radius) words (RS274/NGC 3 §3.5.3),
 /// `start`/`end` the block's start and end point (program coordinates, m). Defects go to `diags`.
 fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3], line: usize, column: usize, diags: &mut Diags) -> Option<ArcSpec> {
@@ -1041,7 +1085,8 @@ fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3],
                 diags.error(line, column, format!("{g}: zero-radius arc (the centre is on its start or end point)"));
                 return None;
             }
-            if (r0 - r1).abs() > st.arc_tolerance {
+            let allowed = st.arc_tolerance.max(st.arc_tolerance_factor * r0);
+            if (r0 - r1).abs() > allowed {
                 diags.error(
                     line,
                     column,
@@ -1049,7 +1094,7 @@ fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3],
                         "{g}: the radius to the end ({:.4} mm) differs from the radius to the start ({:.4} mm) by more than {:.5} mm",
                         r1 / MM,
                         r0 / MM,
-                        st.arc_tolerance / MM
+                        allowed / MM
                     ),
                 );
                 return None;

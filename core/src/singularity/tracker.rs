@@ -27,9 +27,14 @@ pub struct RegionRule {
     pub singular_within: f64,
 }
 
+/// The closest approach within which a region's cause is the singularity, deg (15 deg: there `1/sin`
+/// amplifies the orientation speed at least 3.9 times): the rule's default, for live streams,
+/// recordings and programs alike.
+pub const SINGULAR_WITHIN_DEG: f64 = 15.0;
+
 impl RegionRule {
     pub fn new(rate_limit: f64, min_distance: Option<f64>) -> RegionRule {
-        RegionRule { rate_limit, min_distance, min_gap: 0.5e-3, singular_within: 15f64.to_radians() }
+        RegionRule { rate_limit, min_distance, min_gap: 0.5e-3, singular_within: SINGULAR_WITHIN_DEG.to_radians() }
     }
 }
 
@@ -42,6 +47,24 @@ pub enum Cause {
 }
 
 impl Cause {
+    /// A region's cause from its closest approach to the singular direction (rad): the singularity
+    /// within `singular_within` of it, a rotary feed beyond.
+    pub fn of(min_distance: f64, singular_within: f64) -> Cause {
+        if min_distance <= singular_within {
+            Cause::Singularity
+        } else {
+            Cause::RotaryFeed
+        }
+    }
+
+    /// The cause's name, as the JSON reports spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Cause::Singularity => "singularity",
+            Cause::RotaryFeed => "rotary_feed",
+        }
+    }
+
     /// The `region_cause` code of `fiveaxis_msgs/SingularityStatus` (CAUSE_*).
     pub fn code(self) -> u8 {
         match self {
@@ -167,7 +190,7 @@ impl RegionTracker {
             (r.gap, r.gap_lost, r.gap_min_feed) = (0.0, 0.0, f64::INFINITY);
             r.peak = r.peak.max(x.predicted.map_or(0.0, f64::abs));
             r.min_distance = r.min_distance.min(x.distance);
-            r.cause = if r.min_distance <= rule.singular_within { Cause::Singularity } else { Cause::RotaryFeed };
+            r.cause = Cause::of(r.min_distance, rule.singular_within);
         }
         if let Some(r) = self.open.as_mut() {
             // The machine's lowest feed and the time lost against the programmed feed, over the

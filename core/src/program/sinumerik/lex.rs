@@ -1,0 +1,570 @@
+//! One Sinumerik block's words, as the 840D reads a block (Fundamentals 6FC5398-1BP10 §2.2 "Block
+//! structure": `N` number, `/` skip, words of an address and a value, `X=<expression>` where the
+//! value is computed, extended addresses `A3=`, `CR=`, `TURN=`, keywords with or without arguments
+//! `CYCLE800(...)`, `;` comment), and the variables a program defines (`DEF REAL _X_HOME`, the R
+//! parameters) that its expressions read. Values are evaluated here, in the block's order: an
+//! assignment is in effect for the words after it.
+
+use super::expr;
+use crate::program::interp::Word;
+use crate::program::lex::{excerpt, parse_number, Columns, Diags};
+use std::borrow::Cow;
+use std::collections::HashMap;
+
+/// Most variables one program may define (DEF and R parameters together): bounds the table.
+pub(crate) const MAX_VARIABLES: usize = 10_000;
+
+/// Highest R parameter number read (R0-R999: the 840D's MD28050 `MM_NUM_R_PARAM` allows up to 32535;
+/// its default is 100).
+const MAX_R: u32 = 999;
+
+/// A variable's data type (DEF REAL, INT, BOOL): what an assignment to it keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Type {
+    Real,
+    Int,
+    Bool,
+}
+
+/// The variables of a program: DEF variables and R parameters, by name in capitals, with a value
+/// once set.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Vars {
+    map: HashMap<String, (Type, Option<f64>)>,
+    /// What the current block changed (each name's entry before it), to undo if the block is refused.
+    journal: Vec<(String, Option<(Type, Option<f64>)>)>,
+}
+
+/// `R12`: an R parameter's name (R, then its number).
+fn r_number(name: &str) -> Option<u32> {
+    let digits = name.strip_prefix('R')?;
+    (!digits.is_empty() && digits.len() <= 5 && digits.bytes().all(|b| b.is_ascii_digit())).then(|| digits.parse().ok()).flatten()
+}
+
+impl Vars {
+    /// The value of `name` (capitals), or why it has none.
+    pub(crate) fn get(&self, name: &str) -> Result<f64, String> {
+        match self.map.get(name) {
+            Some((_, Some(v))) => Ok(*v),
+            Some((_, None)) => Err(format!("{name} is read before it is set")),
+            None if r_number(name).is_some() => Err(format!("{name} is read before this program sets it (R parameters keep what earlier programs left)")),
+            None => Err(format!("{name} is not defined (DEF) in this program")),
+        }
+    }
+
+    /// Whether `name` is a variable an assignment may set.
+    pub(crate) fn is_variable(&self, name: &str) -> bool {
+        self.map.contains_key(name) || r_number(name).is_some_and(|n| n <= MAX_R)
+    }
+
+    /// The block read well: keep what it set.
+    pub(crate) fn commit(&mut self) {
+        self.journal.clear();
+    }
+
+    /// The block was refused: undo what it set.
+    pub(crate) fn rollback(&mut self) {
+        while let Some((name, before)) = self.journal.pop() {
+            match before {
+                Some(entry) => self.map.insert(name, entry),
+                None => self.map.remove(&name),
+            };
+        }
+    }
+
+    fn remember(&mut self, name: &str) {
+        let before = self.map.get(name).copied();
+        self.journal.push((name.to_string(), before));
+    }
+
+    /// `DEF type name[=value]`.
+    pub(crate) fn define(&mut self, name: &str, ty: Type, value: Option<f64>) -> Result<(), String> {
+        if self.map.contains_key(name) {
+            return Err(format!("{name} is defined twice"));
+        }
+        if r_number(name).is_some() || name.len() < 2 {
+            return Err(format!("{name}: not a variable name (R parameters need no DEF; a name has two characters or more)"));
+        }
+        if self.map.len() >= MAX_VARIABLES {
+            return Err(format!("more than {MAX_VARIABLES} variables"));
+        }
+        self.remember(name);
+        self.map.insert(name.to_string(), (ty, value.map(|v| keep(ty, v))));
+        Ok(())
+    }
+
+    /// `name = value`: an INT keeps the value rounded, a BOOL whether it is not 0.
+    pub(crate) fn assign(&mut self, name: &str, value: f64) -> Result<(), String> {
+        if self.map.contains_key(name) {
+            self.remember(name);
+        }
+        if let Some((ty, v)) = self.map.get_mut(name) {
+            *v = Some(keep(*ty, value));
+            return Ok(());
+        }
+        match r_number(name) {
+            Some(n) if n <= MAX_R => {
+                if self.map.len() >= MAX_VARIABLES {
+                    return Err(format!("more than {MAX_VARIABLES} variables"));
+                }
+                self.remember(name);
+                self.map.insert(name.to_string(), (Type::Real, Some(value)));
+                Ok(())
+            }
+            Some(n) => Err(format!("R{n}: R parameters are read up to R{MAX_R}")),
+            None => Err(format!("{name} is not defined (DEF) in this program")),
+        }
+    }
+}
+
+/// The value a variable of type `ty` keeps (the 840D converts REAL to INT by rounding).
+fn keep(ty: Type, v: f64) -> f64 {
+    match ty {
+        Type::Real => v,
+        Type::Int => expr::round(v),
+        Type::Bool => f64::from(u8::from(v != 0.0)),
+    }
+}
+
+/// A keyword of a block (`TRAORI`, `SUPA`, `CYCLE800(...)`): its name in capitals, its arguments'
+/// text inside the brackets, and its column.
+#[derive(Debug, Clone)]
+pub(crate) struct Keyword<'a> {
+    pub name: String,
+    pub args: Option<&'a str>,
+    pub col: usize,
+}
+
+/// A block's words.
+pub(crate) struct Lexed<'a> {
+    pub words: Vec<Word<'a>>,
+    pub number: Option<u64>,
+    pub keywords: Vec<Keyword<'a>>,
+    /// A3 B3 C3, unit.
+    pub vector: Option<[f64; 3]>,
+    /// `D`: the tool edge selected (0: the tool's offsets off), and its column.
+    pub edge: Option<(f64, usize)>,
+    /// `RPL=`: a frame's rotation in the working plane, degrees, and its column.
+    pub rpl: Option<(f64, usize)>,
+}
+
+/// Where the expression that starts at byte `start` ends: at a blank or `;` outside brackets and
+/// strings, unless an operator stands before or after the blank (`X=R1 + 5`).
+fn expression_end(b: &[u8], start: usize) -> usize {
+    let n = b.len();
+    let ident = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    // A word operator (DIV, AND ...) starting at `j`.
+    let word_op_at = |j: usize| {
+        ["DIV", "MOD", "AND", "OR", "XOR", "NOT"].iter().any(|op| {
+            let e = j + op.len();
+            b.get(j..e).is_some_and(|w| w.eq_ignore_ascii_case(op.as_bytes())) && !b.get(e).copied().is_some_and(ident)
+        })
+    };
+    // A word operator ending just before `j`.
+    let word_op_before = |j: usize| {
+        let mut k = j;
+        while k > start && ident(b[k - 1]) {
+            k -= 1;
+        }
+        k < j && word_op_at(k) && (k == start || !ident(b[k - 1]))
+    };
+    let (mut i, mut depth, mut in_str) = (start, 0i32, false);
+    while i < n {
+        let c = b[i];
+        if in_str {
+            in_str = c != b'"';
+            i += 1;
+            continue;
+        }
+        match c {
+            b'"' => in_str = true,
+            b'(' | b'[' => depth += 1,
+            b')' | b']' => {
+                depth -= 1;
+                if depth < 0 {
+                    return i;
+                }
+            }
+            b';' if depth == 0 => return i,
+            c if c.is_ascii_whitespace() && depth == 0 => {
+                let mut j = i;
+                while j < n && b[j].is_ascii_whitespace() {
+                    j += 1;
+                }
+                if j >= n || b[j] == b';' {
+                    return i;
+                }
+                let prev = b[start..i].iter().rev().copied().find(|c| !c.is_ascii_whitespace());
+                let after_op = prev.is_none_or(|p| b"+-*/=<>(,".contains(&p)) || word_op_before(i);
+                let before_op = b"+-*/=<>)".contains(&b[j]) || word_op_at(j);
+                if !(after_op || before_op) {
+                    return i;
+                }
+                i = j;
+                continue;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    n
+}
+
+/// The end of the bracketed arguments that open at byte `open` (`(`), past the `)`, outside strings;
+/// `None` if the line ends first.
+fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
+    let (mut depth, mut in_str) = (0usize, false);
+    for (k, &c) in b.iter().enumerate().skip(open) {
+        match c {
+            b'"' => in_str = !in_str,
+            b'(' if !in_str => depth += 1,
+            b')' if !in_str => {
+                depth -= 1;
+                if depth == 0 {
+                    return Some(k + 1);
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// Split one line into words; assignments go to `vars` as they are read; defects go to `diags`.
+/// Works on bytes: every character that can form a word is ASCII, and any other one is reported
+/// where it stands.
+pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: &mut Vars, diags: &mut Diags) -> Lexed<'a> {
+    let b = src.as_bytes();
+    let n = b.len();
+    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None };
+    let mut vec3: [Option<f64>; 3] = [None; 3];
+    let mut vec_col = 0;
+    let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
+    if i < n && b[i] == b'/' {
+        diags.warning(line, cols.col(i), "block skip '/' is not modelled: the block is run");
+        i += 1;
+    }
+    // The end of a token from byte `from`: the next whitespace or ';', on a character boundary.
+    let token_end = |from: usize| {
+        let mut e = from;
+        while e < n && !b[e].is_ascii_whitespace() && b[e] != b';' {
+            e += 1;
+        }
+        while e < n && !src.is_char_boundary(e) {
+            e += 1;
+        }
+        e
+    };
+    while i < n {
+        let c = b[i];
+        if c.is_ascii_whitespace() || !src.is_char_boundary(i) {
+            i += 1;
+            continue;
+        }
+        if c == b';' {
+            break;
+        }
+        let col = cols.col(i);
+        if !c.is_ascii_alphabetic() && c != b'_' {
+            let end = token_end(i).max(i + 1);
+            let end = (end..=n).find(|&e| src.is_char_boundary(e)).unwrap_or(n);
+            diags.error(line, col, format!("unexpected '{}': expected a word such as G1 or X=10.5", excerpt(&src[i..end])));
+            i = end;
+            continue;
+        }
+        // The address: letters, then digits that belong to it when '=' follows (A3=, CR=, R1=,
+        // _VAR_2=) or when it is a keyword (CYCLE800).
+        let mut j = i;
+        while j < n && (b[j].is_ascii_alphabetic() || b[j] == b'_') {
+            j += 1;
+        }
+        let mut k = j;
+        while k < n && (b[k].is_ascii_alphanumeric() || b[k] == b'_') {
+            k += 1;
+        }
+        let mut e = k;
+        while e < n && (b[e] == b' ' || b[e] == b'\t') {
+            e += 1;
+        }
+        let with_eq = e < n && b[e] == b'=' && b.get(e + 1) != Some(&b'=');
+        let letters = &src[i..j];
+        // Keywords: more than one letter and no '=' (TRAORI, SUPA, MSG(...), CYCLE800(...)).
+        if !with_eq && letters.len() > 1 {
+            let name = src[i..k].to_ascii_uppercase();
+            let mut end = k;
+            let mut args = None;
+            let mut a = k;
+            while a < n && (b[a] == b' ' || b[a] == b'\t') {
+                a += 1;
+            }
+            if a < n && b[a] == b'(' {
+                match arguments_end(b, a) {
+                    Some(close) => {
+                        args = Some(&src[a + 1..close - 1]);
+                        end = close;
+                    }
+                    None => {
+                        diags.error(line, col, format!("{name}(: the bracket is not closed on this line"));
+                        return out;
+                    }
+                }
+            }
+            out.keywords.push(Keyword { name, args, col });
+            i = end;
+            continue;
+        }
+        let address = if with_eq { src[i..k].to_ascii_uppercase() } else { letters.to_ascii_uppercase() };
+        let value_start = if with_eq { e + 1 } else { j };
+        let mut v = value_start;
+        while with_eq && v < n && (b[v] == b' ' || b[v] == b'\t') {
+            v += 1;
+        }
+        if address == "T" && v < n && b[v] == b'"' {
+            // T="NAME": a tool called by name (an event, as T5 is).
+            match src[v + 1..].find('"') {
+                Some(p) => {
+                    let e = v + 1 + p + 1;
+                    out.words.push(Word { letter: 'T', value: 0.0, raw: src[v..e].into(), column: col, incremental: false });
+                    i = e;
+                }
+                None => {
+                    diags.error(line, col, "T=\"...: the tool name's quote is not closed on this line");
+                    i = n;
+                }
+            }
+            continue;
+        }
+        // The value: an expression after '=', else a number written straight after the address.
+        let (value, text): (f64, &'a str) = if with_eq {
+            let end = expression_end(b, v);
+            let text = &src[v..end];
+            i = end.max(v + 1).min(n);
+            while i < n && !src.is_char_boundary(i) {
+                i += 1;
+            }
+            match parse_number(text.trim()) {
+                Some(x) => (x, text.trim()),
+                None => match value_of(text, vars) {
+                    Ok(x) => (x, text.trim()),
+                    Err(why) => {
+                        diags.error(line, cols.col(v), format!("{address}={}: {why}", excerpt(text)));
+                        continue;
+                    }
+                },
+            }
+        } else {
+            let start = v;
+            let mut end = v;
+            while end < n && (b[end].is_ascii_digit() || b[end] == b'.' || ((b[end] == b'+' || b[end] == b'-') && end == start)) {
+                end += 1;
+            }
+            let text = &src[start..end];
+            let stop = token_end(end);
+            i = stop.max(i + 1);
+            match parse_number(text).filter(|_| stop == end) {
+                Some(x) => (x, text),
+                None => {
+                    let found = &src[start..token_end(start)];
+                    let hint = if found.is_empty() { "" } else { " (a computed value is written with '=': X=R1+5)" };
+                    diags.error(line, col, format!("{address}: expected a number, found '{}'{hint}", excerpt(found)));
+                    continue;
+                }
+            }
+        };
+        let word = |letter: char, value: f64, raw: Cow<'a, str>| Word { letter, value, raw, column: col, incremental: false };
+        match address.as_str() {
+            "N" if with_eq => diags.error(line, col, "N=: a block number is written N10"),
+            "N" if value.fract() == 0.0 && value >= 0.0 => out.number = Some(value as u64),
+            "N" => diags.error(line, col, format!("expected a whole block number after 'N', found '{text}'")),
+            "G" => match super::sinumerik_g(text) {
+                Ok(Some(g)) => out.words.push(word('G', parse_number(g).unwrap_or(0.0), g.into())),
+                Ok(None) => {}
+                Err(why) => diags.error(line, col, format!("G{text}: {why}")),
+            },
+            "X" | "Y" | "Z" | "A" | "B" | "C" | "I" | "J" | "K" | "F" | "M" | "S" | "T" => {
+                let raw: Cow<'a, str> = if with_eq && parse_number(text).is_none() { Cow::Owned(format!("{value}")) } else { text.into() };
+                out.words.push(word(address.as_bytes()[0] as char, value, raw));
+            }
+            "D" if value.fract() == 0.0 && value >= 0.0 => out.edge = Some((value, col)),
+            "D" => diags.error(line, col, format!("D{text}: expected a tool edge number (D0 switches the offsets off)")),
+            "H" => diags.error(line, col, format!("H{text}: auxiliary function not read")),
+            "A3" | "B3" | "C3" => {
+                vec3[usize::from(address.as_bytes()[0] - b'A')] = Some(value);
+                vec_col = if vec_col == 0 { col } else { vec_col };
+            }
+            "CR" => out.words.push(word('R', value, text.into())),
+            "TURN" if value.fract() == 0.0 && (0.0..1000.0).contains(&value) => out.words.push(word('P', value + 1.0, format!("{}", value + 1.0).into())),
+            "TURN" => diags.error(line, col, format!("TURN={text}: expected a whole number of turns, 0 to 999")),
+            "RPL" => out.rpl = Some((value, col)),
+            name if with_eq && vars.is_variable(name) => {
+                if let Err(why) = vars.assign(name, value) {
+                    diags.error(line, col, why);
+                }
+            }
+            name if with_eq => diags.error(line, col, format!("{name}={text}: {} (it may change the motion)", unknown_address(name))),
+            name => diags.error(line, col, format!("unsupported word {name}{text}: not read (it may change the motion)")),
+        }
+    }
+    if vec3.iter().any(Option::is_some) {
+        let v = vec3.map(|c| c.unwrap_or(0.0)); // a component not written is 0 (840D: not modal)
+        let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if norm > 1e-9 {
+            out.vector = Some(v.map(|c| c / norm));
+        } else {
+            diags.error(line, vec_col, "tool vector A3 B3 C3 has zero length: expected a direction");
+        }
+    }
+    out
+}
+
+/// What an address with '=' the reader does not know is.
+fn unknown_address(name: &str) -> &'static str {
+    if name.starts_with('$') {
+        "a system variable, not set here"
+    } else if name.len() == 2 && name.as_bytes()[1].is_ascii_digit() {
+        "an extended address (a further axis or spindle), not read"
+    } else {
+        "not a variable this program defines (DEF), nor an address read here"
+    }
+}
+
+/// The value of an expression (`R1+5`, `_X_HOME`, `AC(5)`: the value in brackets; an IC() is
+/// refused by the caller's words).
+fn value_of(text: &str, vars: &Vars) -> Result<f64, String> {
+    let t = text.trim();
+    let upper = t.to_ascii_uppercase();
+    if upper.starts_with("IC(") || upper.starts_with("IC ") {
+        return Err("IC(): an incremental value in an absolute block is not read".into());
+    }
+    let inner = if upper.starts_with("AC(") && t.ends_with(')') { &t[3..t.len() - 1] } else { t };
+    expr::eval(inner, &|name| vars.get(name)).map_err(|e| format!("{} (at '{}')", e.message, excerpt(&inner[e.at.min(inner.len())..])))
+}
+
+/// The arguments of a call (`CYCLE81(2.5,0,,-10)`): each a value, a string, or empty; `vars` give the
+/// expressions' values. Why not, with the byte offset in `text` where it fails.
+pub(crate) fn call_arguments(text: &str, vars: &Vars) -> Result<Vec<Arg>, (usize, String)> {
+    let b = text.as_bytes();
+    let mut args = Vec::new();
+    let (mut start, mut depth, mut in_str) = (0usize, 0i32, false);
+    for k in 0..=b.len() {
+        let c = b.get(k).copied();
+        match c {
+            Some(b'"') => in_str = !in_str,
+            Some(b'(') if !in_str => depth += 1,
+            Some(b')') if !in_str => depth -= 1,
+            Some(b',') | None if !in_str && depth == 0 => {
+                let piece = &text[start..k];
+                let t = piece.trim();
+                let at = start + (piece.len() - piece.trim_start().len());
+                args.push(if t.is_empty() {
+                    Arg::Empty
+                } else if t.starts_with('"') {
+                    match t[1..].strip_suffix('"') {
+                        Some(s) if !s.contains('"') => Arg::Text(s.to_string()),
+                        _ => return Err((at, format!("'{}': a string is one quoted text", excerpt(t)))),
+                    }
+                } else {
+                    match parse_number(t).map_or_else(|| value_of(t, vars), Ok) {
+                        Ok(v) => Arg::Value(v),
+                        Err(why) => return Err((at, why)),
+                    }
+                });
+                start = k + 1;
+            }
+            _ => {}
+        }
+        if args.len() > 64 {
+            return Err((start, "more than 64 arguments".into()));
+        }
+    }
+    if in_str {
+        return Err((text.len(), "a string is not closed".into()));
+    }
+    Ok(args)
+}
+
+/// One argument of a call.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Arg {
+    Empty,
+    Value(f64),
+    Text(String),
+}
+
+impl Arg {
+    /// The argument's value; an empty one is 0 (the cycles' default for a parameter not written).
+    pub(crate) fn value(&self) -> Result<f64, String> {
+        match self {
+            Arg::Empty => Ok(0.0),
+            Arg::Value(v) => Ok(*v),
+            Arg::Text(t) => Err(format!("\"{t}\": expected a number")),
+        }
+    }
+}
+
+/// `DEF REAL a, b=1`: define the variables (REAL, INT, BOOL; the text after `DEF`). Why not, with
+/// the byte offset in `text` where it fails.
+pub(crate) fn define(text: &str, vars: &mut Vars) -> Result<(), (usize, String)> {
+    let t = text.trim_start();
+    let lead = text.len() - t.len();
+    let (ty_name, rest) = t.split_once(|c: char| c.is_whitespace()).unwrap_or((t, ""));
+    let ty = match ty_name.to_ascii_uppercase().as_str() {
+        "REAL" => Type::Real,
+        "INT" => Type::Int,
+        "BOOL" => Type::Bool,
+        "LUD" | "PUD" | "GUD" | "NCK" | "CHAN" => return Err((lead, format!("DEF {ty_name}: a data range (global user data) is not read: define the program's own variables (DEF REAL name)"))),
+        other => return Err((lead, format!("DEF {other}: only REAL, INT and BOOL variables are read"))),
+    };
+    let rest_at = text.len() - rest.len();
+    let mut at = rest_at;
+    for piece in rest.split(',') {
+        let (name, init) = match piece.split_once('=') {
+            Some((n, v)) => (n.trim(), Some(v)),
+            None => (piece.trim(), None),
+        };
+        let name_at = at + (piece.len() - piece.trim_start().len());
+        let ok_name = name.len() >= 2 && name.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_') && name.as_bytes()[0] != b'$' && !name.as_bytes()[0].is_ascii_digit();
+        if !ok_name {
+            return Err((name_at, format!("'{}': expected a variable name (letters, digits, '_'; arrays are not read)", excerpt(name))));
+        }
+        let value = match init {
+            None => None,
+            Some(v) => Some(parse_number(v.trim()).map_or_else(|| value_of(v, vars), Ok).map_err(|why| (name_at, why))?),
+        };
+        vars.define(&name.to_ascii_uppercase(), ty, value).map_err(|why| (name_at, why))?;
+        at += piece.len() + 1;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_read_their_variables_in_order() {
+        let mut vars = Vars::default();
+        define(" REAL _X_HOME, _Y_HOME=2*3, _N", &mut vars).unwrap();
+        define("INT _K=2.5", &mut vars).unwrap();
+        assert_eq!(vars.get("_Y_HOME"), Ok(6.0));
+        assert_eq!(vars.get("_K"), Ok(3.0), "REAL to INT rounds");
+        assert!(vars.get("_X_HOME").unwrap_err().contains("before it is set"));
+        assert!(define("REAL _X_HOME", &mut vars).unwrap_err().1.contains("twice"));
+        assert!(define("STRING[8] S", &mut vars).is_err());
+        let src = "N120 _X_HOME=-365. R1=_X_HOME+5 G0 X=R1 Y=_Y_HOME * 2 Z=AC(1) D0 ; home";
+        let mut diags = Diags::default();
+        let l = lex_line(src, &Columns::new(src), 1, &mut vars, &mut diags);
+        assert!(diags.0.is_empty(), "{:?}", diags.0);
+        assert_eq!(l.number, Some(120));
+        assert_eq!(vars.get("R1"), Ok(-360.0));
+        let xyz: Vec<(char, f64)> = l.words.iter().filter(|w| "XYZ".contains(w.letter)).map(|w| (w.letter, w.value)).collect();
+        assert_eq!(xyz, vec![('X', -360.0), ('Y', 12.0), ('Z', 1.0)]);
+        assert_eq!(l.edge.map(|e| e.0), Some(0.0));
+        let bad = "G1 X=R7 Y=_NOPE Z=IC(2)";
+        let l = lex_line(bad, &Columns::new(bad), 2, &mut vars, &mut diags);
+        assert!(l.words.iter().all(|w| w.letter == 'G'));
+        let cols: Vec<usize> = diags.0.iter().map(|d| d.column).collect();
+        assert_eq!(cols, vec![6, 11, 19], "{:?}", diags.0);
+        assert_eq!(call_arguments(" 1, \" R_DATA\", ,2*R1, ", &vars), Ok(vec![Arg::Value(1.0), Arg::Text(" R_DATA".into()), Arg::Empty, Arg::Value(-720.0), Arg::Empty]));
+    }
+}

@@ -1,0 +1,476 @@
+//! Siemens Sinumerik 840D programs (`.MPF`/`.SPF`), as written from the 840D sl Programming Manual
+//! Job Planning (6FC5398-2BP20, 5-axis transformation TRAORI) and Fundamentals: `N` numbers, `;`
+//! comments, `G0/G1/G2/G3` (arcs: `I J K` from the start, or `CR=` radius, `TURN=` full turns),
+//! `G17-G19`, `G90/G91`, `G93/G94`, `G70/G700/G71/G710`, `G54-G57`/`G500`/`G505-G599` (settable
+//! frames: the operator's), blending `G64`/`G641`-`G645` and exact stop `G60` (a rapid only),
+//! `TRAORI`/`TRAFOOF` (tool-centre point), the tool vector `A3= B3= C3=` (a missing component is 0;
+//! it points from the tip to the tool holder), rotary axes `A= B= C=`, `ORIWKS`/`ORIVECT`/`ORIPLANE`
+//! (the tool axis on a great circle in the workpiece, the reset state) and `ORIMKS`/`ORIAXES` (the
+//! rotary axes linear), the programmable frame (`TRANS`/`ATRANS`/`ROT`/`AROT`, [`frame`]),
+//! machine coordinates (`SUPA`, `G53`, `G153`), variables (`DEF REAL`, R parameters) and
+//! expressions ([`expr`], [`lex`]), `MCALL` of the drilling cycles ([`cycles`]), `CYCLE832` (the
+//! contour tolerance), `T`, `D`, `S`, `M`, `F`, `MSG`, `M30`.
+//!
+//! What changes the motion and is not modelled is an error at its line and column, never skipped:
+//! `SCALE`/`MIRROR` frames, a rotated frame without `TRAORI`, `CYCLE800` with a swivel, other cycles
+//! and subprogram calls, program control (jumps, loops), cutter compensation, orientation by angles
+//! (`A2=`) or cone/polynomial orientation, exact stop on a feed move.
+//!
+//! Orientation interpolation: which of ORIWKS/ORIMKS and ORIVECT/ORIAXES governs depends on machine
+//! datum MD21104 `ORI_IPO_WITH_G_CODE`; here the one programmed last governs (at reset ORIWKS and
+//! ORIVECT agree: the great circle).
+
+mod cycles;
+mod expr;
+mod frame;
+mod lex;
+
+use super::interp::{Interpreter, OneShot, Word};
+use super::lex::{Columns, Diags};
+use super::{Block, Dialect, MCodeRule, Motion, Orientation, Program};
+use crate::units::{DEG, MM};
+use frame::{Frame, Statement};
+use lex::{Keyword, Lexed, Vars};
+use std::borrow::Cow;
+
+/// Read a Sinumerik program on a control whose orientation interpolation starts as `orientation`
+/// (the reset state is [`Orientation::GreatCircle`], ORIWKS/ORIVECT).
+pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
+    super::stream::read_whole(&mut SinumerikReader::new(&super::Setup::plain(Dialect::Sinumerik, m_codes, orientation)), text, Dialect::Sinumerik)
+}
+
+/// The Sinumerik reader, fed one line at a time.
+#[derive(Debug, Clone)]
+pub(crate) struct SinumerikReader {
+    interp: Interpreter,
+    vars: Vars,
+    /// The programmable frame (TRANS, ROT and their additive forms), SI.
+    frame: Frame,
+    /// The tool's offsets are on (a `D` edge other than D0 selected; the reset state's D1).
+    tool_offsets: bool,
+    /// `G60` (exact stop) in effect, rather than a continuous-path mode.
+    exact_stop: bool,
+    /// The drilling cycle `MCALL` made modal, and its line.
+    mcall: Option<(cycles::Hole, usize)>,
+}
+
+impl SinumerikReader {
+    pub(crate) fn new(setup: &super::Setup) -> Self {
+        SinumerikReader {
+            interp: setup.interpreter(),
+            vars: Vars::default(),
+            frame: Frame::default(),
+            tool_offsets: true,
+            exact_stop: false,
+            mcall: None,
+        }
+    }
+
+    /// Put the frame in effect: the interpreter's datum and rotation follow it.
+    fn set_frame(&mut self, frame: Frame) {
+        self.frame = frame;
+        let t = frame.t;
+        self.interp.set_frame([t.x, t.y, t.z], frame.rotated().then_some(frame.r));
+    }
+}
+
+/// A statement of a line that is not a block of words: `DEF`, as the definitions part writes them.
+fn def_statement(text: &str) -> Option<usize> {
+    let t = text.trim_start();
+    let mut rest = t;
+    // An N number before it.
+    if rest.starts_with(['N', 'n']) && rest[1..].starts_with(|c: char| c.is_ascii_digit()) {
+        let digits = rest[1..].find(|c: char| !c.is_ascii_digit()).map_or(rest.len(), |k| k + 1);
+        rest = rest[digits..].trim_start();
+    }
+    let upper = rest.get(..4).map(str::to_ascii_uppercase);
+    (upper.as_deref() == Some("DEF ")).then(|| text.len() - rest.len() + 4)
+}
+
+impl super::stream::LineReader for SinumerikReader {
+    fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        let text_line = text.trim_end_matches('\r');
+        let Some(first) = text_line.find(|c: char| !c.is_whitespace()) else { return };
+        if text_line[first..].starts_with('%') {
+            return; // `%_N_NAME_MPF` transfer header
+        }
+        let cols = Columns::new(text_line);
+        if let Some(at) = def_statement(text_line) {
+            // The comment after the definitions.
+            let body = text_line[at..].split(';').next().unwrap_or("");
+            if let Err((k, why)) = lex::define(body, &mut self.vars) {
+                self.vars.rollback();
+                diags.error(line, cols.col(at + k), format!("DEF: {why}"));
+            }
+            self.vars.commit();
+            return;
+        }
+        let errors_before = diags.errors();
+        let first = cols.col(first) - 1;
+        let lexed = lex::lex_line(text_line, &cols, line, &mut self.vars, diags);
+        if diags.errors() > errors_before {
+            self.vars.rollback();
+            diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+            return;
+        }
+        let saved = (self.interp.clone(), self.frame, self.tool_offsets, self.exact_stop, self.mcall.clone());
+        if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
+            (self.interp, self.frame, self.tool_offsets, self.exact_stop, self.mcall) = saved;
+            self.vars.rollback();
+            diags.warning(line, first + 1, format!("line {line} not used"));
+            return;
+        }
+        self.vars.commit();
+    }
+}
+
+impl SinumerikReader {
+    /// Run one block's words; false (or an error in `diags`) if it is refused.
+    fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        let errors_before = diags.errors();
+        let Lexed { mut words, number, keywords, vector, edge, rpl } = lexed;
+        let mut frame_statement: Option<(Statement, usize)> = None;
+        let mut machine_coords: Option<(usize, &str)> = None;
+        let mut keywords = keywords.into_iter();
+        while let Some(k) = keywords.next() {
+            match k.name.as_str() {
+                "TRAORI" => match k.args.map(str::trim) {
+                    None | Some("1") | Some("") => self.interp.switch_tcp(true),
+                    Some(a) => diags.error(line, k.col, format!("TRAORI({a}): only the first orientation transformation, without a basic orientation or offsets, is read")),
+                },
+                "TRAFOOF" if self.frame.rotated() => diags.error(line, k.col, "TRAFOOF with a rotated frame in effect: the frame would then turn the linear axes only, which is not modelled (reset it first: ROT, TRANS)"),
+                "TRAFOOF" => self.interp.switch_tcp(false),
+                "ORIWKS" | "ORIVECT" | "ORIPLANE" => self.interp.set_orientation(Orientation::GreatCircle),
+                "ORIMKS" | "ORIAXES" => self.interp.set_orientation(Orientation::AxisLinear),
+                // Angle conventions for A2 B2 C2, which are not read: no effect on these programs.
+                "ORIEULER" | "ORIRPY" => {}
+                // Acceleration modes and feed-forward: the planner always limits jerk.
+                "SOFT" | "BRISK" | "FFWON" | "FFWOF" => {}
+                // The feed profile over the block: FNORM (the reset state) is the programmed F throughout.
+                "FNORM" => {}
+                // The compressors (Job Planning §"Compressor"): they join short blocks into a curve
+                // within the contour tolerance, as the planner's own smoothing does; COMPOF is off.
+                "COMPOF" | "COMPON" | "COMPCURV" | "COMPCAD" => {}
+                // An operator message: no motion.
+                "MSG" => {}
+                "TRANS" | "ATRANS" | "ROT" | "AROT" => {
+                    if frame_statement.is_some() {
+                        diags.error(line, k.col, "two frame statements in one block: each stands in a block of its own");
+                    }
+                    frame_statement = Statement::from_name(&k.name).map(|s| (s, k.col));
+                }
+                "SUPA" => machine_coords = Some((k.col, "SUPA")),
+                "MCALL" => self.modal_call(keywords.next(), line, diags),
+                "CYCLE800" => self.swivel(&k, line, diags),
+                "CYCLE832" => self.high_speed_settings(&k, line, diags),
+                name if name.starts_with("CYCLE") && k.args.is_some() => {
+                    diags.error(line, k.col, format!("{name}: this cycle is not read (it may move the tool; the drilling cycles CYCLE81-CYCLE89 are, under MCALL)"))
+                }
+                other => diags.error(line, k.col, format!("{other}: {}", unsupported_keyword(other))),
+            }
+        }
+        if let Some((e, col)) = edge {
+            self.tool_offsets = e != 0.0;
+            let _ = col;
+        }
+        // Reader-level G codes: exact stop and continuous path (G group 10), machine coordinates.
+        let mut moves_feed = false;
+        let mut g60_col = None;
+        words.retain(|w| {
+            if w.letter != 'G' {
+                return true;
+            }
+            match w.raw.as_ref() {
+                "60" => {
+                    self.exact_stop = true;
+                    g60_col = Some(w.column);
+                }
+                "64" => self.exact_stop = false,
+                "53" => machine_coords = Some((w.column, "G53")),
+                _ => return true,
+            }
+            false
+        });
+        if let Some((statement, col)) = frame_statement {
+            return self.frame_block(statement, col, &words, rpl, line, diags) && diags.errors() == errors_before;
+        }
+        if let Some((_, col)) = rpl {
+            diags.error(line, col, "RPL= outside a frame statement (ROT, AROT)");
+        }
+        if diags.errors() > errors_before {
+            return false;
+        }
+        // A block of only a tool vector still moves.
+        match vector {
+            Some(v) => self.interp.set_pending_vector(v),
+            None if words.is_empty() => return true,
+            None => {}
+        }
+        let (modal_motion, _, _) = self.interp.feed_state();
+        let block_motion = words.iter().rev().find(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "0" | "1" | "2" | "3")).map(|w| w.raw.to_string());
+        let motion = match block_motion.as_deref() {
+            Some("0") => Some(Motion::Rapid),
+            Some("1") => Some(Motion::Linear),
+            Some(_) => Some(Motion::ArcCw),
+            None => modal_motion,
+        };
+        let positions = words.iter().any(|w| "XYZABC".contains(w.letter)) || vector.is_some();
+        if positions && motion.is_some_and(|m| m != Motion::Rapid) {
+            moves_feed = true;
+        }
+        if self.exact_stop && moves_feed {
+            diags.error(line, g60_col.unwrap_or(first_col), "a feed move under G60 (exact stop): the stop at each block's end is not modelled (the planner blends blocks as G64 does)");
+            return false;
+        }
+        if let Some((col, what)) = machine_coords {
+            if !self.machine_move(what, col, motion, &words, line, diags) {
+                return false;
+            }
+        }
+        let col = words.iter().map(|w| w.column).min().unwrap_or(first_col).min(first_col);
+        if !self.interp.block(&words, line, col, number, diags, out) {
+            return false;
+        }
+        // MCALL: a block that moves the tool calls the cycle where it leaves it.
+        if positions && self.mcall.is_some() && machine_coords.is_none() {
+            return self.call_cycle(line, col, number, out, diags);
+        }
+        true
+    }
+
+    /// `TRANS`/`ATRANS`/`ROT`/`AROT` with X Y Z (offsets or angles, degrees) or `RPL=` (a rotation in
+    /// the working plane): a block of its own ("Frame statements must be programmed in a separate
+    /// NC block", NC programming 12/2019 §2.12).
+    fn frame_block(&mut self, statement: Statement, col: usize, words: &[Word], rpl: Option<(f64, usize)>, line: usize, diags: &mut Diags) -> bool {
+        let unit = self.interp.unit();
+        let mut values = [0.0; 3];
+        for w in words {
+            match "XYZ".find(w.letter) {
+                Some(k) => values[k] = if statement.rotates() { w.value * DEG } else { w.value * unit },
+                None => diags.error(line, w.column, format!("{}{} in a {} block: a frame statement stands in a block of its own", w.letter, w.raw, statement.name())),
+            }
+        }
+        if let Some((angle, c)) = rpl {
+            if !statement.rotates() {
+                diags.error(line, c, format!("RPL= in a {} block: only ROT and AROT turn", statement.name()));
+            } else if words.iter().any(|w| "XYZ".contains(w.letter)) {
+                diags.error(line, c, "RPL= with axis angles: a rotation in the plane or about the axes, not both");
+            } else {
+                let (_, _, normal) = self.interp.plane().axes();
+                values[normal] = angle * DEG;
+            }
+        }
+        let next = self.frame.apply(statement, values);
+        if next.rotated() && !self.interp.tcp() {
+            diags.error(line, col, format!("{}: a rotated frame without TRAORI turns the linear axes only, which is not modelled (switch TRAORI on first)", statement.name()));
+        }
+        self.set_frame(next);
+        true
+    }
+
+    /// `SUPA`, `G53`, `G153`: the block's linear words are machine coordinates (Fundamentals §3.6
+    /// "Frame suppression": non-modal, all frames off; SUPA also the handwheel and external offsets,
+    /// none of which is modelled); `D0` must have switched the tool's offsets off for a Z position
+    /// (with them on, the position is the tool tip's, whose length is not known here).
+    fn machine_move(&mut self, what: &str, col: usize, motion: Option<Motion>, words: &[Word], line: usize, diags: &mut Diags) -> bool {
+        if self.interp.tcp() {
+            diags.error(line, col, format!("{what} under TRAORI: machine coordinates with the transformation on are not modelled (TRAFOOF first)"));
+            return false;
+        }
+        if self.frame.rotated() {
+            diags.error(line, col, format!("{what} with a rotated frame in effect is not modelled"));
+            return false;
+        }
+        if let Some(z) = words.iter().find(|w| w.letter == 'Z').filter(|_| self.tool_offsets) {
+            diags.error(line, z.column, format!("{what} Z with the tool's offsets on: the tool tip's machine position needs the tool's length (write D0 in the block, as posts do)"));
+            return false;
+        }
+        let motion = match motion {
+            Some(m @ (Motion::Rapid | Motion::Linear)) => m,
+            None => Motion::Rapid,
+            Some(_) => {
+                diags.error(line, col, format!("{what} with a circle: machine coordinates are reached by G0 or G1"));
+                return false;
+            }
+        };
+        let linear = words.iter().any(|w| "XYZ".contains(w.letter));
+        let origin = OneShot::machine_origin(&self.interp);
+        if origin.is_none() && linear {
+            diags.error(line, col, format!("{what}: the machine file places no machine coordinates ([machine_coordinates] zero_mm)"));
+            return false;
+        }
+        self.interp.oneshot = Some(OneShot { motion, absolute: true, axes: origin });
+        true
+    }
+
+    /// `MCALL CYCLE8x(...)`: the cycle is called after each later block that moves (its
+    /// parameters read once, here); `MCALL` alone ends it.
+    fn modal_call(&mut self, call: Option<Keyword<'_>>, line: usize, diags: &mut Diags) {
+        let Some(call) = call else {
+            self.mcall = None;
+            return;
+        };
+        let Some(cycle) = cycles::Cycle::from_name(&call.name) else {
+            let why = if call.name == "CYCLE76" { " (CYCLE76 is rectangular spigot milling, not boring: Milling Operating Manual 03/2010 §8.2.4)" } else { "" };
+            diags.error(line, call.col, format!("MCALL {}: only the drilling cycles CYCLE81-CYCLE89 are read as modal calls{why}", call.name));
+            return;
+        };
+        let args = match lex::call_arguments(call.args.unwrap_or(""), &self.vars) {
+            Ok(a) => a,
+            Err((_, why)) => return diags.error(line, call.col, format!("{}: {why}", call.name)),
+        };
+        match cycles::decode(cycle, &args, self.interp.unit() / MM) {
+            Ok(hole) => self.mcall = Some((hole, line)),
+            Err(why) => diags.error(line, call.col, format!("{}: {why}", call.name)),
+        }
+    }
+
+    /// The modal cycle's moves where the tool stands, as blocks of this line; a rapid to where the
+    /// tool already is makes none.
+    fn call_cycle(&mut self, line: usize, col: usize, number: Option<u64>, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        let Some((hole, _)) = self.mcall.clone() else { return true };
+        if self.interp.plane() != super::Plane::Xy {
+            diags.error(line, col, "a drilling cycle outside the G17 plane (drilling along X or Y) is not modelled");
+            return false;
+        }
+        let saved = self.interp.feed_state();
+        let modal_f = saved.1.map(|mm_per_min| mm_per_min * MM / self.interp.unit());
+        let mut feeds = 0;
+        let word = |letter: char, v: f64| Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, incremental: false };
+        for step in hole.steps {
+            let block = match step {
+                cycles::Step::Rapid(z) if (self.interp.position()[2] - z * self.interp.unit()).abs() < 1e-12 => continue,
+                cycles::Step::Rapid(z) => self.interp.block_one(&[word('G', 0.0), word('Z', z)], line, col, number, diags),
+                cycles::Step::Feed(z, f) => {
+                    // CYCLE83's first infeed at FRF times F; tapping at the pitch times the speed in, then out.
+                    let f = match (f, hole.first_feed_factor, hole.tapping) {
+                        (Some(f), _, _) => Some(f),
+                        (None, _, Some((pitch, s_in, s_out))) => Some(pitch * if feeds == 0 { s_in } else { s_out }),
+                        (None, Some(k), None) if feeds == 0 => modal_f.map(|f| f * k),
+                        (None, _, None) => None,
+                    };
+                    feeds += 1;
+                    let mut w = vec![word('G', 1.0), word('Z', z)];
+                    w.extend(f.map(|f| word('F', f)));
+                    self.interp.block_one(&w, line, col, number, diags)
+                }
+                cycles::Step::Dwell(t) => Some(Block { dwell_s: Some(t), ..self.interp.still_block(line, col, number) }),
+                cycles::Step::Stop => Some(Block { events: vec!["M5".into(), "M0".into()], ..self.interp.still_block(line, col, number) }),
+            };
+            match block {
+                Some(b) => out.push(b),
+                None => return false,
+            }
+            // A feed of the cycle's own does not stay (the cycles restore F; SAVE restores G0/G1).
+            self.interp.restore_feed(saved);
+        }
+        true
+    }
+
+    /// `CYCLE800()`: the swivel deselected (no swivel is ever in effect here); a swivel itself is
+    /// refused.
+    fn swivel(&mut self, k: &Keyword<'_>, line: usize, diags: &mut Diags) {
+        let empty = k.args.is_none_or(|a| a.split(',').all(|p| p.trim().is_empty()));
+        if !empty {
+            diags.error(line, k.col, "CYCLE800 (swivel: a tilted working plane through the machine's swivel data) is not modelled yet");
+        }
+    }
+
+    /// `CYCLE832(_TOL, _TOLM, _OTOL)` (NC programming 12/2019 §3.25, "High Speed Settings"): the
+    /// contour tolerance `_TOL` for the blocks that follow, a continuous-path mode; `_TOLM`'s
+    /// units digit 0 (or no arguments) deselects it: the machine's tolerance again.
+    fn high_speed_settings(&mut self, k: &Keyword<'_>, line: usize, diags: &mut Diags) {
+        let args = match lex::call_arguments(k.args.unwrap_or(""), &self.vars) {
+            Ok(a) => a,
+            Err((_, why)) => return diags.error(line, k.col, format!("CYCLE832: {why}")),
+        };
+        let get = |i: usize| args.get(i).map_or(Ok(0.0), |a| a.value());
+        let (tol, tolm) = match (get(0), get(1)) {
+            (Ok(t), Ok(m)) => (t, m),
+            (Err(e), _) | (_, Err(e)) => return diags.error(line, k.col, format!("CYCLE832: {e}")),
+        };
+        if tolm.fract() != 0.0 || tolm < 0.0 {
+            return diags.error(line, k.col, format!("CYCLE832: _TOLM={tolm}: expected a whole, decimal-coded number"));
+        }
+        if (tolm as u64) % 10 == 0 {
+            self.interp.set_tolerance(super::ProgrammedTolerance::default());
+            return;
+        }
+        let t = tol * self.interp.unit();
+        if !(tol > 0.0) || !crate::machine::ContourTolerance::linear_ok(t) {
+            return diags.error(line, k.col, format!("CYCLE832: _TOL={tol}: the contour tolerance must be positive and at most {} mm", crate::machine::ContourTolerance::MAX.linear_m / MM));
+        }
+        if (tolm as u64 / 10) % 10 == 1 {
+            diags.error(line, k.col, "CYCLE832: an orientation tolerance (_TOLM tens digit 1, _OTOL) is not read");
+            return;
+        }
+        self.interp.set_tolerance(super::ProgrammedTolerance { linear_m: Some(t), rotary_rad: None });
+        self.exact_stop = false;
+    }
+}
+
+/// Why a keyword is refused.
+fn unsupported_keyword(k: &str) -> &'static str {
+    match k {
+        "SCALE" | "ASCALE" | "MIRROR" | "AMIRROR" | "ROTS" | "AROTS" | "CROTS" => "frame scaling, mirroring or solid-angle rotation is not modelled (it changes the motion)",
+        "TRAFOOF_" | "TRANSMIT" | "TRACYL" | "TRAANG" => "this transformation is not modelled",
+        "ORICONCW" | "ORICONCCW" | "ORICONTO" | "ORICONIO" | "ORICURVE" | "ORIPATH" | "ORIPATHS" | "ORIROTA" | "ORIROTR" | "ORIROTT" | "ORIROTC" => {
+            "this orientation interpolation (cone, curve or path-relative) is not modelled"
+        }
+        "OFFN" | "CUT2D" | "CUT3DC" | "CUT3DF" => "cutter compensation is not modelled",
+        "FGROUP" | "FGREF" => "feed reference axes are not modelled (they change how F is read)",
+        "FLIN" | "FCUB" | "FPO" => "a feed profile over the block is not modelled (it changes the speed along it)",
+        "GOTOF" | "GOTOB" | "GOTO" | "GOTOC" | "CALL" | "REPEAT" | "IF" | "ELSE" | "ENDIF" | "WHILE" | "ENDWHILE" | "FOR" | "ENDFOR" | "LOOP" | "ENDLOOP" | "PROC" | "RET" => {
+            "program control (jumps, loops, calls) is not modelled"
+        }
+        "DEF" => "a definition stands at the start of its line, in the definitions part",
+        _ => "unknown instruction: not read (it may change the motion)",
+    }
+}
+
+/// A Sinumerik G code as the shared interpreter reads it (`Ok(None)`: no effect on the path), or why
+/// it is refused.
+fn sinumerik_g(code: &str) -> Result<Option<&'static str>, &'static str> {
+    let n = code.trim_start_matches('0');
+    Ok(Some(match n {
+        "" => "0",
+        "1" => "1",
+        "2" => "2",
+        "3" => "3",
+        "17" => "17",
+        "18" => "18",
+        "19" => "19",
+        "40" => "40",
+        "90" => "90",
+        "91" => "91",
+        "93" => "93",
+        "94" => "94",
+        "54" => "54",
+        "55" => "55",
+        "56" => "56",
+        "57" => "57",
+        // Settable frames off, or the 6th to 99th settable frame: the operator's, as G54's.
+        "500" => "54",
+        s if s.len() == 3 && s.starts_with('5') && ("505".."600").contains(&s) => "54",
+        "70" | "700" => "20",
+        "71" | "710" => "21",
+        // Continuous-path modes (G group 10): the reader's; smoothing within a tolerance is what the
+        // planner does.
+        "64" | "641" | "642" | "643" | "644" | "645" => "64",
+        // Exact stop (G group 10) and its window (G group 12, which only G60 reads).
+        "60" => "60",
+        "601" | "602" | "603" => return Ok(None),
+        // Corner deceleration at inside corners: only with cutter radius compensation (refused).
+        "62" | "621" => return Ok(None),
+        "9" => return Err("non-modal exact stop is not modelled: the planner blends blocks as G64 does"),
+        "4" => "4",
+        "41" | "42" => return Err("cutter radius compensation is not supported"),
+        // Frames suppressed for the block: machine coordinates (the reader's, as SUPA).
+        "53" | "153" => "53",
+        "95" | "96" | "97" => return Err("feed per revolution or constant cutting speed is not supported"),
+        "110" | "111" | "112" => return Err("polar coordinates are not supported"),
+        "25" | "26" | "74" | "75" => return Err("working-area limits and reference-point moves are not supported"),
+        "33" | "331" | "332" | "63" => return Err("threading and tapping are not supported"),
+        _ => return Err("unknown G code: not read (it may change the motion)"),
+    }))
+}
