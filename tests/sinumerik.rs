@@ -1,0 +1,103 @@
+//! The Sinumerik reader on what 840D posts write: variables in axis words, machine coordinates
+//! (SUPA with D0), the programmable frame under TRAORI, MCALL drilling cycles, CYCLE832 and G60, and
+//! the circle end-point tolerance. Every expected figure is worked by hand from the manual's rule
+//! named beside it.
+
+use fiveaxis::machine::Machine;
+use fiveaxis::program::{read, Block, Dialect, Motion, Program, ReadOptions, Severity};
+use fiveaxis::units::MM;
+
+fn errors(p: &Program) -> Vec<(usize, usize, String)> {
+    p.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| (d.line, d.column, d.message.clone())).collect()
+}
+
+/// The Haas UMC-750's file: a B/C table whose machine zero its file places (X 381, Y 254, Z 610 mm
+/// from the rotary axes), read as a Sinumerik program here.
+fn on_umc(text: &str) -> Program {
+    let m = Machine::builtin("haas-umc-750").unwrap();
+    read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&m))
+}
+
+fn blocks_of(p: &Program, line: usize) -> Vec<&Block> {
+    p.blocks.iter().filter(|b| b.line == line).collect()
+}
+
+fn close(a: Option<f64>, want_mm: f64) -> bool {
+    a.is_some_and(|v| (v - want_mm * MM).abs() < 1e-9)
+}
+
+/// `SUPA G0 Z=_Z_HOME D0` (the Spinner post's home moves): the variables' values, in machine
+/// coordinates: program Z = machine Z + the machine zero's 610 mm; X -371 + 381 = 10.
+#[test]
+fn supa_moves_to_machine_coordinates_given_by_variables() {
+    let p = on_umc("N10 DEF REAL _Z_HOME, _X_HOME\nN20 G90 G71 G94\nN30 _Z_HOME=-100 _X_HOME=-381+10\nN40 SUPA G0 Z=_Z_HOME D0\nN50 SUPA X=_X_HOME Y=0 D1\nN60 G54 G0 X10 Y10 Z50\n");
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let z = blocks_of(&p, 4)[0];
+    assert!(close(z.targets.z, 510.0) && z.motion == Motion::Rapid && !z.offset_assumed, "{z:?}");
+    let xy = blocks_of(&p, 5)[0];
+    assert!(close(xy.targets.x, 10.0) && close(xy.targets.y, 254.0), "{xy:?}");
+    // With the tool's offsets on, a Z in machine coordinates would be the tip's: refused.
+    let p = on_umc("G90 G71\nD1\nSUPA G0 Z-100\n");
+    assert!(errors(&p).iter().any(|(l, c, m)| *l == 3 && *c == 9 && m.contains("D0")), "{:#?}", errors(&p));
+    // A variable read before it is set, or never defined, is an error at its value.
+    let p = on_umc("DEF REAL _A\nG0 X=_A Y=_B\n");
+    let e = errors(&p);
+    assert!(e.iter().any(|(l, c, m)| *l == 2 && *c == 6 && m.contains("before it is set")) && e.iter().any(|(_, c, m)| *c == 11 && m.contains("not defined")), "{e:#?}");
+}
+
+/// `G0 B90 C0`, `TRAORI`, `AROT Y90`, `G0 X31 Y-15 Z165` (the Spinner post's 3+2 set-up): the frame
+/// turned 90 deg about Y, so frame (x, y, z) is workpiece (z, y, -x): (165, -15, -31); `G1 Z2` keeps
+/// the frame's X 31 and Y -15: (2, -15, -31). `TRANS X0 Y0 Z0` resets the frame.
+#[test]
+fn arot_turns_the_frame_under_traori() {
+    let p = on_umc("G90 G71 G94\nG0 B90 C0\nTRAORI\nAROT Y90.\nG0 X31. Y-15.001 Z165.236\nG1 Z2 F1000\nTRANS X0 Y0 Z0\nG0 X1 Y2 Z3\nTRAFOOF\n");
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let b = blocks_of(&p, 5)[0];
+    assert!(b.tcp && close(b.targets.x, 165.236) && close(b.targets.y, -15.001) && close(b.targets.z, -31.0), "{:?}", b.targets);
+    let b = blocks_of(&p, 6)[0];
+    assert!(close(b.targets.x, 2.0) && close(b.targets.y, -15.001) && close(b.targets.z, -31.0), "{:?}", b.targets);
+    let b = blocks_of(&p, 8)[0];
+    assert!(close(b.targets.x, 1.0) && close(b.targets.z, 3.0), "{:?}", b.targets);
+    // Without TRAORI a rotated frame would turn the linear axes only: refused.
+    let p = on_umc("G90 G71\nAROT Y90\nG0 X1\n");
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 2 && m.contains("without TRAORI")), "{:#?}", errors(&p));
+}
+
+/// `MCALL CYCLE81(10, 0, 2, -5)` (RTP 10, RFP 0, SDIS 2, DP -5): each later positioning block, then
+/// G0 to RFP + SDIS = 2, G1 to -5 at the modal F, G0 to RTP 10 (CYCLE81.SPF); `MCALL` alone ends it.
+#[test]
+fn mcall_drills_at_each_position() {
+    let p = on_umc("G90 G71 G94 F200\nG0 X0 Y0 Z50\nMCALL CYCLE81(10, 0, 2, -5)\nX10 Y20\nX30\nMCALL\nX40\n");
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let hole = |line: usize| blocks_of(&p, line).iter().map(|b| (b.motion, b.targets.x.map(|v| (v / MM).round()), b.targets.z.map(|v| (v / MM * 1e6).round() / 1e6))).collect::<Vec<_>>();
+    use Motion::{Linear, Rapid};
+    assert_eq!(hole(4), vec![(Rapid, Some(10.0), None), (Rapid, None, Some(2.0)), (Linear, None, Some(-5.0)), (Rapid, None, Some(10.0))]);
+    assert_eq!(hole(5), vec![(Rapid, Some(30.0), None), (Rapid, None, Some(2.0)), (Linear, None, Some(-5.0)), (Rapid, None, Some(10.0))]);
+    assert_eq!(hole(7), vec![(Rapid, Some(40.0), None)]);
+    assert_eq!(blocks_of(&p, 4)[2].feed.unwrap().value_per_min, 200.0);
+    // The DMU 70 eVo post's call: RTP (the clearance) below RFP while drilling down, alarm 61101.
+    let p = on_umc("G90 G70 F9.8\nMCALL CYCLE81(.2362,2.728,.2362,2.5311,)\n");
+    assert!(errors(&p).iter().any(|(l, c, m)| *l == 2 && *c == 7 && m.contains("61101")), "{:#?}", errors(&p));
+}
+
+/// CYCLE832(_TOL, _TOLM, _OTOL): the tolerance for the blocks after it, and a continuous-path mode
+/// that ends G60; CYCLE832() deselects it. G60 on a feed move is refused; on a rapid it is what the
+/// planner does anyway.
+#[test]
+fn cycle832_sets_the_tolerance_and_g60_stops_feed_moves() {
+    let p = on_umc("G90 G71 G94 G60 G601\nG0 X1\nCYCLE832(.02,1,1)\nG1 X2 F100\nCYCLE832()\nG1 X3\nG60\nG1 X4\n");
+    let e = errors(&p);
+    assert!(e.len() == 1 && e[0].0 == 8 && e[0].2.contains("G60"), "{e:#?}");
+    assert!(close(blocks_of(&p, 4)[0].tolerance.linear_m, 0.02));
+    assert_eq!(blocks_of(&p, 6)[0].tolerance.linear_m, None);
+}
+
+/// Alarm 14040's rule: the radii to an arc's start and end may differ by max(0.01 mm, 0.001 R).
+#[test]
+fn circle_end_points_within_the_840ds_tolerance() {
+    let arc = |end_x: f64, i: f64| on_umc(&format!("G90 G71 G17\nG1 X0 Y0 F100\nG2 X{end_x} Y0 I{i} J0\n"));
+    assert!(errors(&arc(10.009, 5.0)).is_empty(), "0.009 mm on R 5");
+    assert!(errors(&arc(10.012, 5.0)).iter().any(|(_, _, m)| m.contains("0.01000 mm")), "0.012 mm on R 5");
+    assert!(errors(&arc(40.015, 20.0)).is_empty(), "0.015 mm on R 20: 0.02 allowed");
+    assert!(errors(&arc(40.025, 20.0)).iter().any(|(_, _, m)| m.contains("0.02000 mm")), "0.025 mm on R 20");
+}
