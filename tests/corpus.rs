@@ -40,6 +40,14 @@ const REFUSED: &[(&str, &str, &str)] = &[
     ("fanuc-G43.4_nx-post_mori-nmv5000-bc_mm_MS_NMV_sample_mm.nc", "mori-seiki-nmv5000", "630:24: error: Q0.0: a peck depth must be positive"),
 ];
 
+/// Programs refused for defects of their own at several places, each checked by its own test below
+/// (the file, its machine, what the control refuses).
+const DEFECTIVE: &[(&str, &str, &str)] = &[(
+    "sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf",
+    "dmg-dmu-70-evo",
+    "every drilling cycle NX's post calls has its retraction plane below the reference plane (alarm 61101) or FRF empty (a feed of 0), and a CYCLE76 (spigot milling) for boring",
+)];
+
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
     ("linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc", "O-words; the W quill, a sixth axis"),
@@ -47,7 +55,6 @@ const NOT_YET: &[(&str, &str)] = &[
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect (G7 plane, G141 TCP, G74, G93 datum shift); the DMC 160 U's machine file"),
     ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR radius compensation, CP polar arcs, cycles 202 and 203; a four-axis machine (A only)"),
     ("sinumerik-840dsl_nx-post_spinner-u5-620-bc_TRAORI-AROT_Achskreuz.mpf", "Sinumerik DEF variables and expressions, SUPA, AROT/ROT frames, CYCLE800, CYCLE832, COMPOF; the Spinner U5-620's machine file"),
-    ("sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf", "Sinumerik SUPA, MCALL CYCLE81-89, ROT/TRANS resets; the DMU 70 eVo's machine file (45 deg nutating table)"),
     ("sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf", "Sinumerik CYCLE800, TRAORI(1), MCALL cycles, MSG, M202(...); the program writes TRAOOF for TRAFOOF (refused); the FTV5's machine file"),
     ("apt-cl_solidworks-cam_boss_GOTO-ijk_CSYS.apt", "APT CSYS frames turned against the part's, CUTCOM/LEFT, INSERT; a DMU 50 machine file"),
     ("apt-cl_solidworks-cam_interface-glue_ROTABL-TLAXIS.clt", "APT ROTABL, CIRCLE without a radius in the GOTO's plane, MOVE_ATTRIB, CYCLE/DRILL, BOX, OPFEATSTART; a machine file"),
@@ -64,10 +71,19 @@ fn every_corpus_program_is_accounted_for() {
     let mut files: Vec<String> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).filter(|f| f != "SOURCES.md").collect();
     files.sort();
     assert_eq!(files.len(), 23, "{files:?}");
-    let mut listed: Vec<String> = CLEAN.iter().map(|c| c.file.to_string()).chain(REFUSED.iter().map(|(f, _, _)| f.to_string())).chain(NOT_YET.iter().map(|(f, _)| f.to_string())).collect();
+    let mut listed: Vec<String> = CLEAN
+        .iter()
+        .map(|c| c.file.to_string())
+        .chain(REFUSED.iter().map(|(f, _, _)| f.to_string()))
+        .chain(DEFECTIVE.iter().map(|(f, _, _)| f.to_string()))
+        .chain(NOT_YET.iter().map(|(f, _)| f.to_string()))
+        .collect();
     listed.sort();
     assert_eq!(files, listed);
-    eprintln!("{} of 23 read with no defect, {} refused with one message; not yet:", CLEAN.len(), REFUSED.len());
+    eprintln!("{} of 23 read with no defect, {} refused with one message, {} for several defects of their own; not yet:", CLEAN.len(), REFUSED.len(), DEFECTIVE.len());
+    for (f, _, why) in DEFECTIVE {
+        eprintln!("  defective {f}: {why}");
+    }
     for (f, why) in NOT_YET {
         eprintln!("  {f}: {why}");
     }
@@ -219,5 +235,77 @@ fn the_nmv5000_spiral_out_of_b0_is_found_as_computed_independently() {
     let inside = over.iter().filter(|n| regions.iter().any(|r| r.0 <= **n && **n <= r.1)).count();
     assert!(inside as f64 >= 0.95 * over.len() as f64, "{inside} of {} blocks over the limit in our regions", over.len());
     assert!(regions[0].2 < 15.0, "the first region's closest approach {} deg", regions[0].2);
+    assert_eq!(first_region_cause(&report, 439), "singularity");
     eprintln!("{} blocks over {limit:.0} rpm (numpy), {inside} inside the regions {regions:?}", over.len());
+}
+
+/// The cause `program analyze` gives the first region from `line` on.
+fn first_region_cause(report: &serde_json::Value, line: u64) -> String {
+    let r = report["regions"].as_array().unwrap().iter().find(|r| r["line_end"].as_u64().unwrap() >= line).expect("a region");
+    r["cause"].as_str().unwrap().to_string()
+}
+
+/// NX's 840D post for the DMU 70 eVo: `G00 B0.0`, `G00 C185.644`, `TRAORI`, then the spiral out of
+/// B = 0 (VARIABLE_CONTOUR_MCS9, lines 480-828: `G01 X.9857 Y.9845 B.387 C9.03 F9.8`, 176.6 deg of C in
+/// 0.0014 in). Its C speed per block from the program's words with numpy (tests/peer/block_speeds.py:
+/// under TRAORI the tip moves straight at F, the block's C change over its time) against `program
+/// analyze` on the machine's file: the same peak at the same line, every block over the C limit inside
+/// a region, the regions from the first such block to the last (or the block after it, whose 29.997
+/// rpm the planner's smoothing across the block end takes over 30), cause `singularity`.
+#[test]
+fn the_dmu70_evo_spiral_out_of_b0_is_found_as_computed_independently() {
+    let file = common::outside("programs/sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf");
+    let out = fiveaxis(&["program", "analyze", file.to_str().unwrap(), "--machine", "dmg-dmu-70-evo", "--json"]);
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let limit = report["c_max_rpm"].as_f64().unwrap();
+    let peer = Command::new("python3")
+        .args([concat!(env!("CARGO_MANIFEST_DIR"), "/tests/peer/block_speeds.py"), file.to_str().unwrap(), "480", "828", "C", &limit.to_string(), "X.9843 Y.9843 Z1.5804 B0 C185.644 F9.8"])
+        .output()
+        .unwrap();
+    assert!(peer.status.success(), "{}", String::from_utf8_lossy(&peer.stderr));
+    let numpy: serde_json::Value = serde_json::from_slice(&peer.stdout).unwrap();
+    let (ours, theirs) = (report["peak_c_speed_rpm"].as_f64().unwrap(), numpy["peak_rpm"].as_f64().unwrap());
+    eprintln!("peak C: ours {ours:.3} rpm at line {}, numpy {theirs:.3} rpm at line {}", report["peak_c_speed_line"], numpy["peak_line"]);
+    assert!((ours - theirs).abs() <= 1e-3 * theirs, "peak C: ours {ours} rpm, numpy {theirs} rpm");
+    assert_eq!(report["peak_c_speed_line"], numpy["peak_line"]);
+    let over: Vec<u64> = numpy["over_limit_lines"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap()).collect();
+    let regions: Vec<(u64, u64)> = report["regions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r["line_start"].as_u64().unwrap(), r["line_end"].as_u64().unwrap()))
+        .filter(|r| r.1 >= 480 && r.0 <= 828)
+        .collect();
+    let (first, last) = (regions[0].0, regions.last().unwrap().1);
+    assert!(first == over[0] && (last == *over.last().unwrap() || last == over.last().unwrap() + 1), "regions {regions:?}, numpy over the limit {over:?}");
+    assert!(over.iter().all(|n| regions.iter().any(|r| r.0 <= *n && *n <= r.1)), "{over:?} not all inside {regions:?}");
+    assert!(report["regions"].as_array().unwrap().iter().filter(|r| r["line_end"].as_u64().unwrap() >= 480 && r["line_start"].as_u64().unwrap() <= 828).all(|r| r["cause"] == "singularity"));
+    eprintln!("{} blocks over {limit:.0} rpm (numpy), regions {regions:?}", over.len());
+}
+
+/// The DMU 70 eVo program's defects, as the 840D reads them: an error on each `MCALL CYCLE..` line
+/// whose cycle would move (RFP != DP), none elsewhere; each names the alarm (61101: RTP on the depth's
+/// side of RFP), the empty FRF of CYCLE83 (its first infeed at F0) or CYCLE76 (spigot milling).
+#[test]
+fn the_dmu70_evo_programs_drilling_cycles_are_refused_as_the_840d_refuses_them() {
+    let file = common::outside("programs/sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let expected: Vec<usize> = text
+        .lines()
+        .enumerate()
+        .filter_map(|(i, l)| {
+            let args = l.split_once("MCALL CYCLE")?.1.split_once('(')?.1.trim_end().trim_end_matches(')');
+            let a: Vec<&str> = args.split(',').collect();
+            // RFP = DP (and no DPR): the cycle returns at once (CYCLE81-84.SPF).
+            (a.get(1) != a.get(3) || a.get(4).is_some_and(|d| !d.is_empty())).then_some(i + 1)
+        })
+        .collect();
+    let out = fiveaxis(&["program", "analyze", file.to_str().unwrap(), "--machine", "dmg-dmu-70-evo"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let errors: Vec<&str> = stdout.lines().filter(|l| l.contains(": error:")).collect();
+    let lines: Vec<usize> = errors.iter().map(|e| e.split(".mpf:").nth(1).unwrap().split(':').next().unwrap().parse().unwrap()).collect();
+    assert_eq!(lines, expected, "{errors:#?}");
+    assert!(errors.iter().all(|e| e.contains("alarm 61101") || e.contains("FRF=0") || e.contains("CYCLE76")), "{errors:#?}");
+    eprintln!("{} drilling calls refused: {:?}", lines.len(), lines);
 }
