@@ -29,6 +29,7 @@ const CLEAN: &[Case] = &[
     Case { file: "heidenhain-klartext_hypermill_dmu100p-duoblock-bc_M128_W5270NS01003A25.h", machine: "dmg-dmu-100p-duoblock", args: &[] },
     Case { file: "heidenhain-klartext_hypermill_dmu85-monoblock-ac_large-3plus2_W5270NS01061A16.h", machine: "dmg-dmu-85-monoblock", args: &[] },
     Case { file: "heidenhain-klartext_hypermill_trimill-vu3019_W5269NS01002A21.h", machine: "trimill-vu3019", args: &[] },
+    Case { file: "sinumerik-840dsl_nx-post_spinner-u5-620-bc_TRAORI-AROT_Achskreuz.mpf", machine: "spinner-u5-620", args: &[] },
 ];
 
 /// Programs refused on their machine with one clear message each: a defect of the program as its
@@ -54,7 +55,6 @@ const NOT_YET: &[(&str, &str)] = &[
     ("heidenhain-klartext_nx-post_dmg-dmc100-bc_M128-simultaneous_Sample_part.h", "NX writes CC with Z (a circle outside the TNC's working plane, 23 blocks); M140 MB MAX; the DMC 100 U's machine file"),
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect (G7 plane, G141 TCP, G74, G93 datum shift); the DMC 160 U's machine file"),
     ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR radius compensation, CP polar arcs, cycles 202 and 203; a four-axis machine (A only)"),
-    ("sinumerik-840dsl_nx-post_spinner-u5-620-bc_TRAORI-AROT_Achskreuz.mpf", "Sinumerik DEF variables and expressions, SUPA, AROT/ROT frames, CYCLE800, CYCLE832, COMPOF; the Spinner U5-620's machine file"),
     ("sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf", "Sinumerik CYCLE800, TRAORI(1), MCALL cycles, MSG, M202(...); the program writes TRAOOF for TRAFOOF (refused); the FTV5's machine file"),
     ("apt-cl_solidworks-cam_boss_GOTO-ijk_CSYS.apt", "APT CSYS frames turned against the part's, CUTCOM/LEFT, INSERT; a DMU 50 machine file"),
     ("apt-cl_solidworks-cam_interface-glue_ROTABL-TLAXIS.clt", "APT ROTABL, CIRCLE without a radius in the GOTO's plane, MOVE_ATTRIB, CYCLE/DRILL, BOX, OPFEATSTART; a machine file"),

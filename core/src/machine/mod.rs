@@ -161,7 +161,7 @@ pub enum MachineError {
 
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
 /// of each family: table-table, table-head, head-head) and a 45 deg nutating head.
-const BUILTIN_FILES: [(&str, &str); 17] = [
+const BUILTIN_FILES: [(&str, &str); 18] = [
     ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
@@ -179,6 +179,7 @@ const BUILTIN_FILES: [(&str, &str); 17] = [
     ("dmg-dmu-85-monoblock", include_str!("../../../machines/dmg-dmu-85-monoblock.toml")),
     ("trimill-vu3019", include_str!("../../../machines/trimill-vu3019.toml")),
     ("dmg-dmu-70-evo", include_str!("../../../machines/dmg-dmu-70-evo.toml")),
+    ("spinner-u5-620", include_str!("../../../machines/spinner-u5-620.toml")),
 ];
 
 /// The machine every command and node takes when none is named: the paper's Hermle C600U (A/C table).

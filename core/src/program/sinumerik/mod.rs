@@ -392,8 +392,11 @@ impl SinumerikReader {
         if tolm.fract() != 0.0 || tolm < 0.0 {
             return diags.error(line, k.col, format!("CYCLE832: _TOLM={tolm}: expected a whole, decimal-coded number"));
         }
+        // Deselection: the machine's tolerance and continuous-path mode G64 (NX's 840D post writes
+        // `FFWOF UPATH SOFT COMPOF G64` as its equivalent where the control has no CYCLE832).
         if (tolm as u64) % 10 == 0 {
             self.interp.set_tolerance(super::ProgrammedTolerance::default());
+            self.exact_stop = false;
             return;
         }
         let t = tol * self.interp.unit();
