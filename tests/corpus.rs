@@ -43,11 +43,18 @@ const REFUSED: &[(&str, &str, &str)] = &[
 
 /// Programs refused for defects of their own at several places, each checked by its own test below
 /// (the file, its machine, what the control refuses).
-const DEFECTIVE: &[(&str, &str, &str)] = &[(
-    "sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf",
-    "dmg-dmu-70-evo",
-    "every drilling cycle NX's post calls has its retraction plane below the reference plane (alarm 61101) or FRF empty (a feed of 0), and a CYCLE76 (spigot milling) for boring",
-)];
+const DEFECTIVE: &[(&str, &str, &str)] = &[
+    (
+        "sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf",
+        "dmg-dmu-70-evo",
+        "every drilling cycle NX's post calls has its retraction plane below the reference plane (alarm 61101) or FRF empty (a feed of 0), and a CYCLE76 (spigot milling) for boring",
+    ),
+    (
+        "sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf",
+        "cincinnati-ftv5",
+        "NX's post writes M202(tolerance) (no 840D syntax), TRAOOF for TRAFOOF, G503 (no 840D G code) and a CYCLE84 without a pitch (alarm 61001)",
+    ),
+];
 
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
@@ -55,7 +62,6 @@ const NOT_YET: &[(&str, &str)] = &[
     ("heidenhain-klartext_nx-post_dmg-dmc100-bc_M128-simultaneous_Sample_part.h", "NX writes CC with Z (a circle outside the TNC's working plane, 23 blocks); M140 MB MAX; the DMC 100 U's machine file"),
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect (G7 plane, G141 TCP, G74, G93 datum shift); the DMC 160 U's machine file"),
     ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR radius compensation, CP polar arcs, cycles 202 and 203; a four-axis machine (A only)"),
-    ("sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf", "Sinumerik CYCLE800, TRAORI(1), MCALL cycles, MSG, M202(...); the program writes TRAOOF for TRAFOOF (refused); the FTV5's machine file"),
     ("apt-cl_solidworks-cam_boss_GOTO-ijk_CSYS.apt", "APT CSYS frames turned against the part's, CUTCOM/LEFT, INSERT; a DMU 50 machine file"),
     ("apt-cl_solidworks-cam_interface-glue_ROTABL-TLAXIS.clt", "APT ROTABL, CIRCLE without a radius in the GOTO's plane, MOVE_ATTRIB, CYCLE/DRILL, BOX, OPFEATSTART; a machine file"),
 ];
@@ -281,6 +287,90 @@ fn the_dmu70_evo_spiral_out_of_b0_is_found_as_computed_independently() {
     assert!(over.iter().all(|n| regions.iter().any(|r| r.0 <= *n && *n <= r.1)), "{over:?} not all inside {regions:?}");
     assert!(report["regions"].as_array().unwrap().iter().filter(|r| r["line_end"].as_u64().unwrap() >= 480 && r["line_start"].as_u64().unwrap() <= 828).all(|r| r["cause"] == "singularity"));
     eprintln!("{} blocks over {limit:.0} rpm (numpy), regions {regions:?}", over.len());
+}
+
+/// NX's Haas post for the UMC-750 (G234 TCPC): the variable-axis operation
+/// VARIABLE_AXIS_GUIDING_CURVES_CURVE_FILLET (lines 12869-15499, every block G01 at F10 in/min) swings C
+/// fast far from the pole (390.9 rpm, line 13158, B 81.7 deg) and comes within 4.2 deg of B = 0 near its
+/// end. Per block with numpy (tests/peer/block_speeds.py, as for the NMV5000): the same peak at the same
+/// line; every block over the C limit inside a region, the regions from the first to the last of them;
+/// each region's closest approach the smallest |B| of its blocks (B linear in the block) to 0.01 deg; its
+/// cause `singularity` exactly where that is within 15 deg.
+#[test]
+fn the_umc750_variable_axis_operation_is_found_as_computed_independently() {
+    let file = common::outside("programs/haas-ngc-G234_nx-post_umc750-bc_FinalToolPath.txt");
+    let out = fiveaxis(&["program", "analyze", file.to_str().unwrap(), "--machine", "haas-umc-750", "--json"]);
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let limit = report["c_max_rpm"].as_f64().unwrap();
+    let peer = Command::new("python3")
+        .args([concat!(env!("CARGO_MANIFEST_DIR"), "/tests/peer/block_speeds.py"), file.to_str().unwrap(), "12870", "15499", "C", &limit.to_string(), "X.1384 Y3.6787 Z.8764 B93.722 C-268.761 F10", "B"])
+        .output()
+        .unwrap();
+    assert!(peer.status.success(), "{}", String::from_utf8_lossy(&peer.stderr));
+    let numpy: serde_json::Value = serde_json::from_slice(&peer.stdout).unwrap();
+    let (ours, theirs) = (report["peak_c_speed_rpm"].as_f64().unwrap(), numpy["peak_rpm"].as_f64().unwrap());
+    eprintln!("peak C: ours {ours:.3} rpm at line {}, numpy {theirs:.3} rpm at line {}", report["peak_c_speed_line"], numpy["peak_line"]);
+    assert!((ours - theirs).abs() <= 1e-3 * theirs, "peak C: ours {ours} rpm, numpy {theirs} rpm");
+    assert_eq!(report["peak_c_speed_line"], numpy["peak_line"]);
+    let over: Vec<u64> = numpy["over_limit_lines"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap()).collect();
+    let regions: Vec<&serde_json::Value> = report["regions"].as_array().unwrap().iter().filter(|r| r["line_end"].as_u64().unwrap() >= 12870 && r["line_start"].as_u64().unwrap() <= 15499).collect();
+    let span = |r: &serde_json::Value| (r["line_start"].as_u64().unwrap(), r["line_end"].as_u64().unwrap());
+    assert_eq!((span(regions[0]).0, span(regions.last().unwrap()).1), (over[0], *over.last().unwrap()));
+    let inside = over.iter().filter(|n| regions.iter().any(|r| span(r).0 <= **n && **n <= span(r).1)).count();
+    assert!(inside as f64 >= 0.95 * over.len() as f64, "{inside} of {} blocks over the limit in our regions", over.len());
+    let tilt = numpy["tilt_deg"].as_object().unwrap();
+    let mut singular = 0;
+    for r in &regions {
+        let (a, b) = span(r);
+        let closest = (a..=b).filter_map(|l| tilt.get(&l.to_string()).and_then(|v| v.as_f64())).fold(f64::INFINITY, f64::min);
+        let d = r["min_singularity_distance_deg"].as_f64().unwrap();
+        assert!((d - closest).abs() <= 0.01, "region {a}-{b}: closest {d} deg, numpy's |B| {closest}");
+        assert_eq!(r["cause"], if closest <= 15.0 { "singularity" } else { "rotary_feed" }, "region {a}-{b}");
+        singular += usize::from(closest <= 15.0);
+    }
+    assert!(singular >= 5, "{singular} regions near B = 0");
+    eprintln!("{} blocks over {limit:.0} rpm (numpy), {inside} inside {} regions, {singular} of them within 15 deg of B = 0", over.len(), regions.len());
+}
+
+/// The FTV5 program's defects, as the 840D reads them: an error on each line NX's post wrote
+/// `M202(...)` (a bracket after an M number), `TRAOOF`, `G503`, and on the `MCALL CYCLE84` whose MPIT
+/// and PIT are both empty (alarm 61001), none elsewhere: its CYCLE800 swivels, TRAORI(1) operations and
+/// the rest read (the swivels' angles: tests/sinumerik.rs).
+#[test]
+fn the_ftv5_programs_defects_are_refused_as_the_840d_refuses_them() {
+    let file = common::outside("programs/sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let expected: Vec<(usize, &str)> = text
+        .lines()
+        .enumerate()
+        .filter_map(|(i, l)| {
+            let cycle84_without_pitch = l.split_once("MCALL CYCLE84(").is_some_and(|(_, a)| {
+                let a: Vec<&str> = a.split(',').map(str::trim).collect();
+                a.get(7).is_none_or(|m| m.is_empty()) && a.get(8).is_none_or(|p| p.is_empty())
+            });
+            let why = if l.contains("M202(") {
+                "not 840D syntax"
+            } else if l.trim() == "TRAOOF" {
+                "TRAOOF: unknown instruction"
+            } else if l.contains("G503") {
+                "G503: unknown G code"
+            } else if cycle84_without_pitch {
+                "alarm 61001"
+            } else {
+                return None;
+            };
+            Some((i + 1, why))
+        })
+        .collect();
+    let out = fiveaxis(&["program", "analyze", file.to_str().unwrap(), "--machine", "cincinnati-ftv5"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let errors: Vec<(usize, &str)> = stdout.lines().filter(|l| l.contains(": error:")).map(|e| (e.split(".mpf:").nth(1).unwrap().split(':').next().unwrap().parse().unwrap(), e)).collect();
+    assert_eq!(errors.iter().map(|e| e.0).collect::<Vec<_>>(), expected.iter().map(|e| e.0).collect::<Vec<_>>(), "{errors:#?}");
+    for ((line, e), (_, why)) in errors.iter().zip(&expected) {
+        assert!(e.contains(why), "line {line}: {e}, expected {why:?}");
+    }
+    eprintln!("{} lines refused: {:?}", errors.len(), expected);
 }
 
 /// The DMU 70 eVo program's defects, as the 840D reads them: an error on each `MCALL CYCLE..` line

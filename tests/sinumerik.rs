@@ -3,6 +3,8 @@
 //! the circle end-point tolerance. Every expected figure is worked by hand from the manual's rule
 //! named beside it.
 
+mod common;
+
 use fiveaxis::machine::Machine;
 use fiveaxis::program::{read, Block, Dialect, Motion, Program, ReadOptions, Severity};
 use fiveaxis::units::MM;
@@ -100,4 +102,35 @@ fn circle_end_points_within_the_840ds_tolerance() {
     assert!(errors(&arc(10.012, 5.0)).iter().any(|(_, _, m)| m.contains("0.01000 mm")), "0.012 mm on R 5");
     assert!(errors(&arc(40.015, 20.0)).is_empty(), "0.015 mm on R 20: 0.02 allowed");
     assert!(errors(&arc(40.025, 20.0)).iter().any(|(_, _, m)| m.contains("0.02000 mm")), "0.025 mm on R 20");
+}
+
+/// CYCLE800 on the FTV5 (C/A fork head) as NX's 840D post calls it: `_FR` 1 retracts machine Z to the
+/// data set's position, then `_DIR` +1 turns A to the higher of its two solutions. The plane of mode 57
+/// X 28.5492, Y' -25.5438, Z'' 90 has its Z at (-0.431201, -0.431200, 0.792548), which the head reaches
+/// at A = acos(0.792548) = 37.576 deg, C = -45 deg (Rz(C) Rx(A) e_z, worked by hand); X 45, Y' 35.2644,
+/// Z'' 150 at A 54.736, C 45. NX's post for the DMU 70 eVo writes the same part's operations with the
+/// table at B54.19 C1825.111 and B81.101 C103.826: on that machine's kinematics the tool in the part
+/// points the same way, to 0.001 deg (the DMU's turning senses were read off these two planes, so the
+/// agreement of both tilts and azimuths is the check).
+#[test]
+fn cycle800_swivels_the_ftv5_as_the_dmu70_program_tilts_the_same_part() {
+    let ftv5 = Machine::builtin("cincinnati-ftv5").unwrap();
+    let dmu = Machine::builtin("dmg-dmu-70-evo").unwrap();
+    let file = common::outside("programs/sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let p = read(&text, Dialect::Sinumerik, "ftv5.mpf", &ReadOptions::default().on(&ftv5));
+    let deg = fiveaxis::units::DEG;
+    for (line, a, c, dmu_b, dmu_c) in [(363, 37.576, -45.0, 54.19, 1825.111), (389, 54.736, 45.0, 81.101, 103.826)] {
+        let b = blocks_of(&p, line);
+        assert_eq!(b.len(), 2, "line {line}: the retraction and the swivel");
+        assert!(close(b[0].targets.z, 1300.0) && b[0].motion == Motion::Rapid, "the data set's retract Z: {:?}", b[0].targets);
+        let (ga, gc) = (b[1].targets.a.unwrap() / deg, b[1].targets.c.unwrap() / deg);
+        assert!((ga - a).abs() < 1e-3 && (gc - c).abs() < 1e-3, "line {line}: A {ga} C {gc}, by hand A {a} C {c}");
+        let tool = ftv5.chain.tool_frame(&[gc * deg, ga * deg]).column(2).into_owned();
+        let other = dmu.chain.tool_frame(&[dmu_b * deg, dmu_c * deg]).column(2).into_owned();
+        let angle = tool.dot(&other).clamp(-1.0, 1.0).acos() / deg;
+        assert!(angle < 1e-3, "line {line}: the FTV5's tool and the DMU 70 eVo's are {angle} deg apart");
+        // The next block is in the swivelled plane, through the head's kinematics.
+        assert!(p.blocks.iter().any(|b| b.line == line + 1 && b.tcp));
+    }
 }

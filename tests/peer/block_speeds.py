@@ -7,9 +7,12 @@ moving as written, linear in the block): the tool tip moves on a straight line a
 F (program units per minute), so a block lasts |tip displacement| / F, and the rotary axis turns its
 whole change in that time at a constant rate. Reads absolute (G90) blocks of address words from
 FIRST_LINE to LAST_LINE (1-based, inclusive), the modal values before it from STATE ("X0 Y0 Z0 B0 C0
-F1"); prints JSON: the peak speed (rpm) and its line, and every block above LIMIT_RPM.
+F1"); prints JSON: the peak speed (rpm) and its line, and every block above LIMIT_RPM. With TILT (the
+tilting axis of a table whose singular direction is TILT = 0, such as B on a B/C table), also each
+block's closest approach to it: the smallest |TILT| over the block (linear in the block: at an end, or 0
+where it changes sign), degrees.
 
-usage: block_speeds.py PROGRAM FIRST_LINE LAST_LINE AXIS LIMIT_RPM [STATE]
+usage: block_speeds.py PROGRAM FIRST_LINE LAST_LINE AXIS LIMIT_RPM [STATE] [TILT]
 """
 import json
 import re
@@ -23,8 +26,10 @@ def main():
     state = {"X": 0.0, "Y": 0.0, "Z": 0.0, "A": 0.0, "B": 0.0, "C": 0.0, "F": None}
     for w in re.findall(r"([A-Z])\s*([-+]?\d*\.?\d+)", sys.argv[6].upper() if len(sys.argv) > 6 else ""):
         state[w[0]] = float(w[1])
+    tilt_axis = sys.argv[7].upper() if len(sys.argv) > 7 else None
     lines = open(path, encoding="latin-1").read().splitlines()
     rows = []
+    tilts = {}
     for n in range(first, last + 1):
         text = re.sub(r"\(.*?\)|;.*$", "", lines[n - 1]).upper()
         words = dict((a, float(v)) for a, v in re.findall(r"([XYZABCF])\s*([-+]?\d*\.?\d+)", text))
@@ -33,14 +38,21 @@ def main():
             continue
         start = np.array([state["X"], state["Y"], state["Z"]])
         turn0 = state[axis]
+        tilt0 = state[tilt_axis] if tilt_axis else None
         state.update(words)
+        if tilt_axis:
+            t1 = state[tilt_axis]
+            tilts[n] = 0.0 if tilt0 * t1 <= 0 else min(abs(tilt0), abs(t1))
         length = float(np.linalg.norm(np.array([state["X"], state["Y"], state["Z"]]) - start))
         minutes = length / state["F"]
         rpm = abs(state[axis] - turn0) / 360.0 / minutes if minutes > 0 else float("inf")
         rows.append((n, rpm))
     peak_line, peak = max(rows, key=lambda r: r[1])
     over = [n for n, rpm in rows if rpm > limit]
-    print(json.dumps({"peak_rpm": peak, "peak_line": peak_line, "over_limit_lines": over, "blocks": len(rows)}))
+    out = {"peak_rpm": peak, "peak_line": peak_line, "over_limit_lines": over, "blocks": len(rows)}
+    if tilt_axis:
+        out["tilt_deg"] = tilts
+    print(json.dumps(out))
 
 
 if __name__ == "__main__":

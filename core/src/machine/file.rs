@@ -67,6 +67,9 @@ pub struct MachineFile {
     /// Heidenhain cycle 392 ATC), by number.
     #[serde(default, rename = "cycle", skip_serializing_if = "Vec::is_empty")]
     pub cycles: Vec<CycleFile>,
+    /// The Sinumerik swivel data set `CYCLE800` uses ($TC_CARR...): without it a swivel is refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub swivel: Option<SwivelFile>,
     /// LinuxCNC HAL pins a program may read (`#<_hal[name]>` with `[RS274NGC]HAL_PIN_VARS = 1`,
     /// LinuxCNC manual §11.4.3.6), with the values the configuration gives them.
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
@@ -100,6 +103,24 @@ pub struct CannedCyclesFile {
     /// G83's stop short of the last depth on the way back down, mm (Fanuc parameter No. 5115).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub g83_clearance_mm: Option<f64>,
+}
+
+/// `[swivel]`: the Sinumerik swivel data set `CYCLE800` turns the working plane with ($TC_CARR1-65,
+/// set at commissioning; its kinematics are this file's).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SwivelFile {
+    /// The names a program may call it by (`_TC`, as `"R_DATA"`; blanks around a name are not part
+    /// of it).
+    pub names: Vec<String>,
+    /// Where `_FR` 1 and 2 retract to before swivelling, machine coordinates, mm ($TC_CARR38-40): 1
+    /// moves Z there, 2 Z and then X and Y.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub retract_mm: Option<[f64; 3]>,
+    /// The rotary axis whose higher (`_DIR` +1) or lower (-1) value picks the solution (the data
+    /// set's direction reference): the tilting axis unless named.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction_axis: Option<String>,
 }
 
 /// `[[cycle]]`: one of the machine maker's cycles that moves nothing.
@@ -349,6 +370,20 @@ impl MachineFile {
                 }
             }
         }
+        let swivel = match &self.swivel {
+            None => None,
+            Some(w) => {
+                if w.names.is_empty() || w.names.iter().any(|n| n.trim().is_empty()) {
+                    return Err("`swivel.names`: name the data set (a name that is not blank)".into());
+                }
+                let retract = w.retract_mm.map(|r| finite("swivel.retract_mm", r)).transpose()?.map(|r| r * MM);
+                let direction_axis = match &w.direction_axis {
+                    None => None,
+                    Some(n) => Some(self.rotary.iter().position(|r| r.name.eq_ignore_ascii_case(n)).map(|k| 3 + k).ok_or_else(|| format!("`swivel.direction_axis` = {n:?}: not one of the rotary axes"))?),
+                };
+                Some(super::Swivel { names: w.names.iter().map(|n| n.trim().to_string()).collect(), retract, direction_axis })
+            }
+        };
         let text = |field: &str, v: &Option<String>| match v {
             Some(s) if s.trim().is_empty() => Err(format!("`{field}` is empty: give it or leave it out")),
             _ => Ok(v.clone()),
@@ -372,6 +407,7 @@ impl MachineFile {
             arc_radius_tolerance,
             cycle19_spatial: self.cycle19_spatial,
             state_cycles: self.cycles.iter().map(|c| c.number).collect(),
+            swivel,
         })
     }
 }

@@ -8,7 +8,7 @@
 mod file;
 pub mod urdf;
 
-pub use file::{CannedCyclesFile, CycleFile, LinearAxisFile, MFunctionFile, MachineCoordinatesFile, MachineFile, RotaryAxisFile};
+pub use file::{CannedCyclesFile, CycleFile, LinearAxisFile, MFunctionFile, MachineCoordinatesFile, MachineFile, RotaryAxisFile, SwivelFile};
 
 use crate::kinematics::{unwrap_near, Carrier, Joints, KinematicsError, Pose, RotaryJoint, TwoRotaryChain};
 use nalgebra::Vector3;
@@ -89,6 +89,17 @@ pub struct Machine {
     pub cycle19_spatial: bool,
     /// The machine maker's cycles that move nothing (they set the control's dynamics), by number.
     pub state_cycles: Vec<u32>,
+    /// The Sinumerik swivel data set (`CYCLE800`), if the file gives it.
+    pub swivel: Option<Swivel>,
+}
+
+/// A Sinumerik swivel data set: its names, where it retracts (machine coordinates, m) and the axis
+/// `_DIR` refers to (3 or 4; `None`: the tilting axis).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Swivel {
+    pub names: Vec<String>,
+    pub retract: Option<Vector3<f64>>,
+    pub direction_axis: Option<usize>,
 }
 
 /// The control's machine coordinate system (`G53`, `M91`, `SUPA`) and reference points (`G28`,
@@ -161,7 +172,7 @@ pub enum MachineError {
 
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
 /// of each family: table-table, table-head, head-head) and a 45 deg nutating head.
-const BUILTIN_FILES: [(&str, &str); 18] = [
+const BUILTIN_FILES: [(&str, &str); 19] = [
     ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
@@ -180,6 +191,7 @@ const BUILTIN_FILES: [(&str, &str); 18] = [
     ("trimill-vu3019", include_str!("../../../machines/trimill-vu3019.toml")),
     ("dmg-dmu-70-evo", include_str!("../../../machines/dmg-dmu-70-evo.toml")),
     ("spinner-u5-620", include_str!("../../../machines/spinner-u5-620.toml")),
+    ("cincinnati-ftv5", include_str!("../../../machines/cincinnati-ftv5.toml")),
 ];
 
 /// The machine every command and node takes when none is named: the paper's Hermle C600U (A/C table).

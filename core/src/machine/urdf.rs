@@ -411,6 +411,7 @@ impl<'a> Urdf<'a> {
             arc_radius_tolerance_mm: None,
             cycle19_spatial: false,
             cycles: Vec::new(),
+            swivel: None,
             tool_axis: tidy(tool_home.rotation * Vector3::z()),
             tool_tip_mm: tidy(tool_home.translation.vector * MM_IN_M),
             contour_tolerance_mm: None,

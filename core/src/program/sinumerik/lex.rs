@@ -265,6 +265,7 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             break;
         }
         let col = cols.col(i);
+        let word_start = i;
         if !c.is_ascii_alphabetic() && c != b'_' {
             let end = token_end(i).max(i + 1);
             let end = (end..=n).find(|&e| src.is_char_boundary(e)).unwrap_or(n);
@@ -363,6 +364,13 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             i = stop.max(i + 1);
             match parse_number(text).filter(|_| stop == end) {
                 Some(x) => (x, text),
+                None if end < n && b[end] == b'(' => {
+                    // M202(0.0059): a bracket after an address' number is no 840D word (an M value is
+                    // a whole number; a subprogram's name starts with two letters).
+                    let found = &src[word_start..token_end(word_start)];
+                    diags.error(line, col, format!("{}: an address with a bracketed argument is not 840D syntax (an M function takes a whole number; a subprogram's name starts with two letters)", excerpt(found)));
+                    continue;
+                }
                 None => {
                     let found = &src[start..token_end(start)];
                     let hint = if found.is_empty() { "" } else { " (a computed value is written with '=': X=R1+5)" };

@@ -24,6 +24,7 @@ mod cycles;
 mod expr;
 mod frame;
 mod lex;
+mod swivel;
 
 use super::interp::{Interpreter, OneShot, Word};
 use super::lex::{Columns, Diags};
@@ -52,6 +53,10 @@ pub(crate) struct SinumerikReader {
     exact_stop: bool,
     /// The drilling cycle `MCALL` made modal, and its line.
     mcall: Option<(cycles::Hole, usize)>,
+    /// The swivelled plane `CYCLE800` set (its frame before the programmable one).
+    swivel: Option<Frame>,
+    /// The machine, for the swivel's kinematics.
+    machine: Option<std::sync::Arc<crate::machine::Machine>>,
 }
 
 impl SinumerikReader {
@@ -63,14 +68,22 @@ impl SinumerikReader {
             tool_offsets: true,
             exact_stop: false,
             mcall: None,
+            swivel: None,
+            machine: setup.machine.clone(),
         }
     }
 
-    /// Put the frame in effect: the interpreter's datum and rotation follow it.
+    /// Put the programmable frame in effect, inside the swivel's if one is: the interpreter's datum
+    /// and rotation follow them (the frame chain's order, K2 §2.4.5.8: `$P_PARTFRAME : ... :
+    /// $P_PFRAME`).
     fn set_frame(&mut self, frame: Frame) {
         self.frame = frame;
-        let t = frame.t;
-        self.interp.set_frame([t.x, t.y, t.z], frame.rotated().then_some(frame.r));
+        let whole = match self.swivel {
+            Some(s) => Frame { t: s.t + s.r * frame.t, r: s.r * frame.r },
+            None => frame,
+        };
+        let t = whole.t;
+        self.interp.set_frame([t.x, t.y, t.z], whole.rotated().then_some(whole.r));
     }
 }
 
@@ -113,9 +126,11 @@ impl super::stream::LineReader for SinumerikReader {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             return;
         }
-        let saved = (self.interp.clone(), self.frame, self.tool_offsets, self.exact_stop, self.mcall.clone());
+        let saved = (self.interp.clone(), self.frame, self.tool_offsets, self.exact_stop, self.mcall.clone(), self.swivel);
+        let blocks_before = out.len();
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
-            (self.interp, self.frame, self.tool_offsets, self.exact_stop, self.mcall) = saved;
+            (self.interp, self.frame, self.tool_offsets, self.exact_stop, self.mcall, self.swivel) = saved;
+            out.truncate(blocks_before);
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used"));
             return;
@@ -138,7 +153,7 @@ impl SinumerikReader {
                     None | Some("1") | Some("") => self.interp.switch_tcp(true),
                     Some(a) => diags.error(line, k.col, format!("TRAORI({a}): only the first orientation transformation, without a basic orientation or offsets, is read")),
                 },
-                "TRAFOOF" if self.frame.rotated() => diags.error(line, k.col, "TRAFOOF with a rotated frame in effect: the frame would then turn the linear axes only, which is not modelled (reset it first: ROT, TRANS)"),
+                "TRAFOOF" if self.frame.rotated() && self.swivel.is_none() => diags.error(line, k.col, "TRAFOOF with a rotated frame in effect: the frame would then turn the linear axes only, which is not modelled (reset it first: ROT, TRANS)"),
                 "TRAFOOF" => self.interp.switch_tcp(false),
                 "ORIWKS" | "ORIVECT" | "ORIPLANE" => self.interp.set_orientation(Orientation::GreatCircle),
                 "ORIMKS" | "ORIAXES" => self.interp.set_orientation(Orientation::AxisLinear),
@@ -161,7 +176,7 @@ impl SinumerikReader {
                 }
                 "SUPA" => machine_coords = Some((k.col, "SUPA")),
                 "MCALL" => self.modal_call(keywords.next(), line, diags),
-                "CYCLE800" => self.swivel(&k, line, diags),
+                "CYCLE800" => self.swivel(&k, line, number, out, diags),
                 "CYCLE832" => self.high_speed_settings(&k, line, diags),
                 name if name.starts_with("CYCLE") && k.args.is_some() => {
                     diags.error(line, k.col, format!("{name}: this cycle is not read (it may move the tool; the drilling cycles CYCLE81-CYCLE89 are, under MCALL)"))
@@ -261,7 +276,7 @@ impl SinumerikReader {
             }
         }
         let next = self.frame.apply(statement, values);
-        if next.rotated() && !self.interp.tcp() {
+        if next.rotated() && !self.interp.tcp() && self.swivel.is_none() {
             diags.error(line, col, format!("{}: a rotated frame without TRAORI turns the linear axes only, which is not modelled (switch TRAORI on first)", statement.name()));
         }
         self.set_frame(next);
@@ -277,8 +292,8 @@ impl SinumerikReader {
             diags.error(line, col, format!("{what} under TRAORI: machine coordinates with the transformation on are not modelled (TRAFOOF first)"));
             return false;
         }
-        if self.frame.rotated() {
-            diags.error(line, col, format!("{what} with a rotated frame in effect is not modelled"));
+        if self.frame.rotated() || self.swivel.is_some() {
+            diags.error(line, col, format!("{what} with a rotated frame or a swivelled plane (CYCLE800) in effect is not modelled"));
             return false;
         }
         if let Some(z) = words.iter().find(|w| w.letter == 'Z').filter(|_| self.tool_offsets) {
@@ -367,13 +382,107 @@ impl SinumerikReader {
         true
     }
 
-    /// `CYCLE800()`: the swivel deselected (no swivel is ever in effect here); a swivel itself is
-    /// refused.
-    fn swivel(&mut self, k: &Keyword<'_>, line: usize, diags: &mut Diags) {
-        let empty = k.args.is_none_or(|a| a.split(',').all(|p| p.trim().is_empty()));
-        if !empty {
-            diags.error(line, k.col, "CYCLE800 (swivel: a tilted working plane through the machine's swivel data) is not modelled yet");
+    /// `CYCLE800` ([`swivel`]): the swivelled plane's frame, the retraction and the rotary axes
+    /// turned to it as the data set's kinematics (the machine file's) give them, as blocks of this
+    /// line; `CYCLE800()` deselects it (the axes stay).
+    fn swivel(&mut self, k: &Keyword<'_>, line: usize, number: Option<u64>, out: &mut Vec<Block>, diags: &mut Diags) {
+        let col = k.col;
+        let args = match lex::call_arguments(k.args.unwrap_or(""), &self.vars) {
+            Ok(a) => a,
+            Err((_, why)) => return diags.error(line, col, format!("CYCLE800: {why}")),
+        };
+        let call = match swivel::decode(&args) {
+            Ok(Some(c)) => c,
+            Ok(None) => {
+                self.swivel = None;
+                return self.set_frame(self.frame);
+            }
+            Err(why) => return diags.error(line, col, format!("CYCLE800: {why}")),
+        };
+        let Some(machine) = self.machine.clone() else {
+            return diags.error(line, col, "CYCLE800: a swivel needs the machine's kinematics (--machine)");
+        };
+        let Some(data) = machine.swivel.clone() else {
+            return diags.error(line, col, format!("CYCLE800: the machine file gives no swivel data set ([swivel]) for \"{}\"", call.data_set));
+        };
+        if !data.names.contains(&call.data_set) {
+            return diags.error(line, col, format!("CYCLE800: _TC \"{}\": the machine's swivel data set is {:?}", call.data_set, data.names));
         }
+        if self.interp.tcp() {
+            return diags.error(line, col, "CYCLE800 under TRAORI: a swivel with the transformation on (tool-tip follow-up) is not read; TRAFOOF first");
+        }
+        let unit = self.interp.unit();
+        let letters: [char; 2] = [3, 4].map(|i| machine.axes[i].name.chars().next().unwrap_or('?').to_ascii_uppercase());
+        let pos = self.interp.position();
+        let current = letters.map(|l| "ABC".find(l).map_or(0.0, |i| pos[3 + i]));
+        let r = match call.turn {
+            swivel::Turn::Frame(r) => r,
+            swivel::Turn::Direct(d) => machine.chain.tool_frame(&d.map(|v| v * DEG)),
+        };
+        let plane = Frame { t: (call.x0 + r * call.x1) * unit, r };
+        let plane = match (call.additive, self.swivel) {
+            (true, Some(s)) => Frame { t: s.t + s.r * plane.t, r: s.r * plane.r },
+            _ => plane,
+        };
+        // The axes' positions for the plane (its Z, with the programmable frame's rotation, along the tool).
+        let rot = match call.turn {
+            swivel::Turn::Direct(d) => Some(d.map(|v| v * DEG)),
+            _ if call.direction == 0 => None,
+            _ => {
+                let tilting = 3 + (1 - machine.chain.secondary_slot());
+                if data.direction_axis.is_some_and(|a| a != tilting) {
+                    return diags.error(line, col, "CYCLE800: _DIR referred to the swivel's other axis (swivel.direction_axis) is not modelled; the tilting axis is");
+                }
+                let plus = call.direction > 0;
+                let solve = |seq: bool| crate::program::plane::solve(&machine, &(plane.r * self.frame.r), current, crate::program::plane::Choice { seq: Some(seq), table_rot: None });
+                let sol = match solve(plus) {
+                    Ok(s) => s,
+                    Err(why) => match solve(!plus) {
+                        Ok(s) => {
+                            diags.warning(line, col, format!("CYCLE800 _DIR={}: {why}; the control takes the other solution (Operating Manual §10.6: \"the alternative position is automatically selected\")", call.direction));
+                            s
+                        }
+                        Err(_) => return diags.error(line, col, format!("CYCLE800: {why}")),
+                    },
+                };
+                if let Some(pole) = sol.pole {
+                    let name = &machine.axes[pole.free_axis].name;
+                    diags.warning(line, col, format!("CYCLE800 at the pole: the tool lies along {name}'s axis, which leaves {name} free (\"the NC calculates two solutions\"); read as staying at {:.3} deg: the program depends on the control here", pole.coord_rot.to_degrees()));
+                }
+                Some(sol.rot)
+            }
+        };
+        // The swivel before this one goes; the retraction, the axes turned, then the new plane.
+        self.swivel = None;
+        self.set_frame(self.frame);
+        let word = |letter: char, v: f64| Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, incremental: false };
+        if let Some(rot) = rot {
+            if call.retract > 0 {
+                let (Some(to), Some(origin)) = (data.retract, OneShot::machine_origin(&self.interp)) else {
+                    return diags.error(line, col, format!("CYCLE800 _FR={}: the data set's retract position (swivel.retract_mm) or the machine coordinates are not in the machine file", call.retract));
+                };
+                let legs: &[&[usize]] = if call.retract == 1 { &[&[2]] } else { &[&[2], &[0, 1]] };
+                for leg in legs {
+                    let mut w = vec![word('G', 0.0)];
+                    w.extend(leg.iter().map(|&k| word(['X', 'Y', 'Z'][k], to[k] / unit)));
+                    self.interp.oneshot = Some(OneShot { motion: Motion::Rapid, absolute: true, axes: Some(origin) });
+                    match self.interp.block_one(&w, line, col, number, diags) {
+                        Some(b) => out.push(b),
+                        None => return,
+                    }
+                }
+            }
+            let mut w = vec![word('G', 0.0)];
+            w.extend((0..2).map(|i| word(letters[i], rot[i] / DEG)));
+            let saved = self.interp.feed_state();
+            match self.interp.block_one(&w, line, col, number, diags) {
+                Some(b) => out.push(b),
+                None => return,
+            }
+            self.interp.restore_feed(saved);
+        }
+        self.swivel = Some(plane);
+        self.set_frame(self.frame);
     }
 
     /// `CYCLE832(_TOL, _TOLM, _OTOL)` (NC programming 12/2019 §3.25, "High Speed Settings"): the
