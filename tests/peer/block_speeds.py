@@ -8,9 +8,10 @@ F (program units per minute), so a block lasts |tip displacement| / F, and the r
 whole change in that time at a constant rate. Reads absolute (G90) blocks of address words from
 FIRST_LINE to LAST_LINE (1-based, inclusive), the modal values before it from STATE ("X0 Y0 Z0 B0 C0
 F1"); prints JSON: the peak speed (rpm) and its line, and every block above LIMIT_RPM. With TILT (the
-tilting axis of a table whose singular direction is TILT = 0, such as B on a B/C table), also each
-block's closest approach to it: the smallest |TILT| over the block (linear in the block: at an end, or 0
-where it changes sign), degrees.
+tilting axis of a table whose tool lies along the other axis at TILT = 0, such as B on a B/C table),
+also each block's closest approach to that axis' line: the angle min(|TILT|, 180 - |TILT|) (TILT taken
+in -180..180), smallest over the block (TILT linear in the block: at an end, or 0 where it passes 0 or
+180), degrees, and the angle at its end: `tilt_deg` maps each line to [closest, at the end].
 
 usage: block_speeds.py PROGRAM FIRST_LINE LAST_LINE AXIS LIMIT_RPM [STATE] [TILT]
 """
@@ -19,6 +20,16 @@ import re
 import sys
 
 import numpy as np
+
+
+def closest_to_line(t0, t1):
+    """The smallest angle between the tool and the axis line over a block whose tilt goes linearly from
+    t0 to t1 (degrees): 0 where it passes a multiple of 180, else the nearer end's."""
+    lo, hi = min(t0, t1), max(t0, t1)
+    if np.floor(lo / 180.0) != np.floor(hi / 180.0) or lo % 180.0 == 0.0:
+        return 0.0
+    d = lambda t: min(t % 180.0, 180.0 - t % 180.0)
+    return min(d(t0), d(t1))
 
 
 def main():
@@ -42,7 +53,7 @@ def main():
         state.update(words)
         if tilt_axis:
             t1 = state[tilt_axis]
-            tilts[n] = 0.0 if tilt0 * t1 <= 0 else min(abs(tilt0), abs(t1))
+            tilts[n] = [closest_to_line(tilt0, t1), closest_to_line(t1, t1)]
         length = float(np.linalg.norm(np.array([state["X"], state["Y"], state["Z"]]) - start))
         minutes = length / state["F"]
         rpm = abs(state[axis] - turn0) / 360.0 / minutes if minutes > 0 else float("inf")
