@@ -247,3 +247,43 @@ fn impossible_machine_files_are_refused_naming_the_field() {
     assert_eq!(String::from_utf8_lossy(&out.stdout), hermle);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The generic model of each kinematic class (issue 64): `machine list` names it `generic <class>`,
+/// home is its pole (the tool along the secondary axis), and tilting the primary axis by t turns the
+/// tool away from the pole by t, or on a 45 deg nutating axis by acos((1 + cos t) / 2) (the cone's
+/// spherical geometry: 60 deg at t = 90, 90 deg at t = 180).
+#[test]
+fn generic_models_of_each_class_have_their_pole_and_tilt_where_the_class_has_them() {
+    let classes = [
+        ("generic-ac-table", "A/C table-table", false),
+        ("generic-bc-table", "B/C table-table", false),
+        ("generic-ab-table", "A/B table-table", false),
+        ("generic-b45-table", "B/C 45 deg nutating table", true),
+        ("generic-b45-head", "B/C 45 deg nutating head over a C table", true),
+        ("generic-ac-head", "A/C fork head", false),
+        ("generic-bc-head", "B/C fork head", false),
+    ];
+    let list = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["machine", "list"]).output().unwrap();
+    let list = String::from_utf8_lossy(&list.stdout);
+    for (name, class, nutating) in classes {
+        assert!(list.lines().any(|l| l.starts_with(name) && l.contains(&format!("generic {class}"))), "{name} not listed as generic {class}:\n{list}");
+        let m = Machine::builtin(name).unwrap();
+        assert_eq!(m.label(), format!("generic {class}"));
+        let pole = m.singular_direction();
+        let primary = m.primary_axis();
+        for t_deg in [0.0, 30.0, 60.0, 90.0, 120.0] {
+            let mut q = [0.0; 5];
+            q[primary] = t_deg * DEG;
+            // The secondary axis turns about the pole: it must not change the angle.
+            q[m.secondary_axis()] = 37.0 * DEG;
+            let away = m.forward(&q).axis.angle(&pole).min(m.forward(&q).axis.angle(&-pole)) / DEG;
+            let t = t_deg * DEG;
+            let expected = if nutating { ((1.0 + t.cos()) / 2.0).acos() / DEG } else { t_deg };
+            let expected = expected.min(180.0 - expected);
+            assert!((away - expected).abs() < 1e-9, "{name}: primary at {t_deg} deg puts the tool {away} deg from the pole, expected {expected}");
+        }
+        // Wide ranges: a part anywhere within 4 m and the tool tilted up to 89 deg is reachable.
+        let lim = m.limits();
+        assert!((0..3).all(|k| lim[k].min <= -4.0 && lim[k].max >= 4.0), "{name}: linear ranges {lim:?}");
+    }
+}

@@ -171,8 +171,9 @@ pub enum MachineError {
 }
 
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
-/// of each family: table-table, table-head, head-head) and a 45 deg nutating head.
-const BUILTIN_FILES: [(&str, &str); 19] = [
+/// of each family: table-table, table-head, head-head), a 45 deg nutating head, the corpus machines of
+/// issue 64 and a generic model of each kinematic class (`generic-*`, wide ranges).
+const BUILTIN_FILES: [(&str, &str); 26] = [
     ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
@@ -192,6 +193,13 @@ const BUILTIN_FILES: [(&str, &str); 19] = [
     ("dmg-dmu-70-evo", include_str!("../../../machines/dmg-dmu-70-evo.toml")),
     ("spinner-u5-620", include_str!("../../../machines/spinner-u5-620.toml")),
     ("cincinnati-ftv5", include_str!("../../../machines/cincinnati-ftv5.toml")),
+    ("generic-ac-table", include_str!("../../../machines/generic-ac-table.toml")),
+    ("generic-bc-table", include_str!("../../../machines/generic-bc-table.toml")),
+    ("generic-ab-table", include_str!("../../../machines/generic-ab-table.toml")),
+    ("generic-b45-table", include_str!("../../../machines/generic-b45-table.toml")),
+    ("generic-b45-head", include_str!("../../../machines/generic-b45-head.toml")),
+    ("generic-ac-head", include_str!("../../../machines/generic-ac-head.toml")),
+    ("generic-bc-head", include_str!("../../../machines/generic-bc-head.toml")),
 ];
 
 /// The machine every command and node takes when none is named: the paper's Hermle C600U (A/C table).
