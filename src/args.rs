@@ -3,7 +3,7 @@
 //! lives here, above the core's plain options.
 
 use crate::machine::{Machine, MachineError, DEFAULT_MACHINE};
-use crate::program::{LengthUnit, MCodeRule, Orientation, ReadOptions};
+use crate::program::{AngleUnit, LengthUnit, MCodeRule, Orientation, ReadOptions};
 use clap::builder::TypedValueParser;
 
 /// How the control is set up, for every command and node that reads a program: `--m-code`,
@@ -25,6 +25,11 @@ pub struct ControlArgs {
     /// such as Creo CL data that says UNITS / INCHES on millimetres. Each overruled statement is noted.
     #[arg(long = "units", value_name = "UNIT", value_parser = clap::builder::PossibleValuesParser::new(LengthUnit::NAMES).map(|s| s.parse::<LengthUnit>().expect("a listed name parses")))]
     pub units: Option<LengthUnit>,
+    /// The unit of the rotary angles in CL data (APT `ROTABL/`): `deg`, the APT vocabulary's, unless
+    /// the file's writer uses radians, as SOLIDWORKS CAM's `.clt` does (`ROTABL/ 1.570796,AAXIS`); a
+    /// table turn that contradicts the file's `TLAXIS/` is refused, naming the unit that agrees.
+    #[arg(long = "cl-angles", value_name = "UNIT", default_value = "deg", value_parser = clap::builder::PossibleValuesParser::new(AngleUnit::NAMES).map(|s| s.parse::<AngleUnit>().expect("a listed name parses")))]
+    pub cl_angles: AngleUnit,
 }
 
 /// `--orientation`'s parser: the modes' names listed as clap's possible values.
@@ -35,7 +40,7 @@ fn orientation_parser() -> impl clap::builder::TypedValueParser<Value = Orientat
 impl ControlArgs {
     /// The readers' options these flags ask for (other options at their defaults).
     pub fn read_options(&self) -> ReadOptions {
-        ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, units: self.units, ..Default::default() }
+        ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, units: self.units, cl_angles: self.cl_angles, ..Default::default() }
     }
 }
 

@@ -108,9 +108,9 @@ fn an_apt_contour_runs_as_written() {
 #[test]
 fn apt_statements_that_change_motion_unread_are_refused_where_they_stand() {
     let opts = ReadOptions::default();
-    let cases: [(&str, usize, usize, &str); 19] = [
+    let cases: [(&str, usize, usize, &str); 26] = [
         ("GOTO/0,0,0\nFEDRAT/0.1,IPR\n", 2, 1, "per revolution"),
-        ("GOTO/0,0,0\n  CUTCOM/LEFT\n", 2, 3, "cutter compensation"),
+        ("GOTO/0,0,0\n  CUTCOM/XYPLAN,LEFT\n", 2, 3, "CUTCOM/ expects"),
         ("GOTO/0,0,0\nINSERT G41 D1\n", 2, 1, "INSERT"),
         ("GOTO/0,0,0\nCIRCLE/0,0,0,0,0.6,0.8,10\nGOTO/1,0,0\n", 2, 1, "other than X, Y or Z"),
         ("GOTO/10,0,0\nCIRCLE/0,0,0,0,0,1,10,0.01,0.5,10,0,TIMES,2\nGOTO/10,0,0\n", 2, 1, "helix"),
@@ -123,7 +123,15 @@ fn apt_statements_that_change_motion_unread_are_refused_where_they_stand() {
         ("GOTO/0,0,0\nGOTO/1,2,$\n", 2, 1, "ends inside this statement"),
         ("GOTO/0,0,0\nGOTO/1,2,3,4\n", 2, 1, "found 4 numbers"),
         ("GOTO/0,0,0\nFINI\nGOTO/1,0,0\n", 3, 1, "after FINI"),
-        ("CSYS/1,0,0,10,0,1,0,0,0,0,1,0\nGOTO/0,0,0\n", 1, 1, "frame other"),
+        ("CSYS/1,0,0,10,0,1,0,0,0,0,1,0\nGOTO/0,0,0\n", 1, 1, "translation"),
+        ("CSYS/1,0,0,0,0,2,0,0,0,0,1,0\nGOTO/0,0,0\n", 1, 1, "not a rotation"),
+        ("TRNTYP/LOCAL,0,0,0\nGOTO/0,0,0\n", 1, 1, "WORLD"),
+        ("ROTABL/90,AAXIS,TABLE,CLW\nGOTO/0,0,0\n", 1, 1, "CLW"),
+        ("ROTABL/90,AAXIS\nROTABL/90,CAXIS\nGOTO/0,0,0\n", 2, 1, "two axes"),
+        // SOLIDWORKS CAM's radians read as APT's degrees: the turn contradicts TLAXIS/, and says so.
+        ("TLAXIS/0,-1,0\nROTABL/1.570796,AAXIS,TABLE,CCLW\nGOTO/0,0,0\n", 2, 1, "--cl-angles rad"),
+        ("GOTO/10,0,0\nCIRCLE/0,0,0,0,0,1,10,SOMEWAY\nGOTO/0,10,0\n", 2, 1, "CLOCKWISE or COUNTERCLOCKWISE"),
+        ("GOTO/0,0,0\nCYCLE/ DRILL,G98,12.3,3.0,46.9 46.9 DWELL,0\nGOTO/1,2,3\nCYCLE/OFF\n", 2, 1, "a comma missing"),
         ("MSYS/-120.2591,-1196.5,142.5,0,1,0,1,0,0\nGOTO/0,0,0,0,0,-1\n", 1, 1, "turned"),
         ("GOTO/0,0,0,0,0,0\n", 1, 1, "zero length"),
         ("GOTO/0,0,0\nGOTO/1,0,x1\n", 2, 1, "only numbers"),
@@ -149,7 +157,7 @@ fn apt_statements_that_change_motion_unread_are_refused_where_they_stand() {
     assert_eq!(Dialect::detect(None, "PARTNO TEST\nGOTO/1,2,3\n"), Dialect::Cl);
     // And by its first statement, with no GOTO/ among the lines the guess reads (a header longer than
     // them, or a file that only sets up): the APT reader's own errors, not RS274's.
-    let header = format!("PARTNO TEST\n$$ made by a CAM system\n{}MACHIN/UNCX01,1\nCUTCOM/LEFT\nGOTO/1,2,3\n", "PPRINT SET-UP NOTE\n".repeat(2500));
+    let header = format!("PARTNO TEST\n$$ made by a CAM system\n{}MACHIN/UNCX01,1\nCUTCOM/NORMAL\nGOTO/1,2,3\n", "PPRINT SET-UP NOTE\n".repeat(2500));
     assert_eq!(Dialect::detect(None, &header), Dialect::Cl);
     assert_eq!(Dialect::detect(None, "PARTNO TEST\nFEDRAT/MMPM,500\n"), Dialect::Cl);
     let p = read(&header, Dialect::detect(None, &header), "t", &opts);
@@ -216,4 +224,58 @@ proptest::proptest! {
         let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
         let _ = fiveaxis::singularity::analyze(&t, &m, &Default::default());
     }
+}
+
+/// SOLIDWORKS CAM's forms, as the AptPostProcessor project reads its output: CUTCOM/LEFT leaves the
+/// GOTOs the tool centre's path (noted once), an INSERTed note is an event, a CSYS/ turned working
+/// plane gives the tool axis of the GOTOs after it (its Z column); its `.clt` turns the table by
+/// ROTABL/ in radians and writes GOTOs and CIRCLEs in the part so turned. By hand: A = 90 deg about +X
+/// takes (x, y, z) written to (x, -z, y) in the part, the tool to (0, -1, 0); a full circle about the
+/// turned Z, centre (0, 0, -5) radius 10, is the circle x^2 + z^2 = 100 at y = 5 in the part.
+/// The holes of a cycle that is not read make no motion.
+#[test]
+fn solidworks_cam_csys_rotabl_and_clockwise_circles() {
+    let rad = ReadOptions { cl_angles: fiveaxis::program::AngleUnit::Rad, ..ReadOptions::default() };
+    let text = "UNITS/ MM\nTLAXIS/ 0,-1,0\nINSERT/[HOLDER=C40] 6MM CRB 2FL\nROTABL/ 1.570796327,AAXIS,TABLE,CCLW\nROTABL/ -0.000000,BAXIS,TABLE,CCLW\n\
+RAPID/\nGOTO/ 10,0,-5\nCUTCOM/ ON\nCUTCOM/ LEFT\nFEDRAT/ MMPM,600\nMOVE_ATTRIB/ LEADIN,END_ATTRIB\n\
+CIRCLE/ 0,0,-5,0,0,1,10,CLOCKWISE\nGOTO/ 10,0,-5\nCUTCOM/ OFF\nCYCLE/ ON\nCYCLE/ DRILL,G98,5,MMPM,100,3,20\nGOTO/ 1,2,3\nCYCLE/ OFF\n\
+ROTABL/ 0,AAXIS,TABLE,CCLW\nCSYS/0,0,1.,0,1.,0,0,0,0,1.,0,0\nGOTO/ 30,0,0\nFINI\n";
+    let p = read(text, Dialect::Cl, "t.clt", &rad);
+    let errs = errors(&p);
+    assert!(errs.len() == 1 && errs[0].0 == 16 && errs[0].2.contains("CYCLE/DRILL"), "{errs:#?}");
+    let warned: Vec<_> = p.diagnostics.iter().filter(|d| d.severity == Severity::Warning).collect();
+    assert!(warned.len() == 1 && warned[0].line == 9 && warned[0].message.contains("tool centre"), "{warned:#?}");
+    let b = &p.blocks;
+    assert_eq!(b.len(), 3, "the approach, the circle, the move after the CSYS: {b:#?}");
+    let mm = |v: Option<f64>| v.unwrap() * 1e3;
+    assert!((mm(b[0].targets.x) - 10.0).abs() < 1e-9 && (mm(b[0].targets.y) - 5.0).abs() < 1e-6 && mm(b[0].targets.z).abs() < 1e-6, "{:?}", b[0].targets);
+    let axis = b[0].targets.tool_axis.unwrap();
+    assert!(axis[0].abs() < 1e-9 && (axis[1] + 1.0).abs() < 1e-9 && axis[2].abs() < 1e-9, "{axis:?}");
+    assert!(b[0].events.iter().any(|e| e.contains("HOLDER")), "{:?}", b[0].events);
+    // After the table turns back to 0 (ROTABL/a is a position, ICAM's) and the CSYS: the tool along the CSYS's Z column, (1, 0, 0).
+    let axis = b[2].targets.tool_axis.unwrap();
+    assert!((axis[0] - 1.0).abs() < 1e-9 && axis[1].abs() < 1e-9 && axis[2].abs() < 1e-9, "{axis:?}");
+    assert!((mm(b[2].targets.x) - 30.0).abs() < 1e-9);
+
+    // The full circle, sampled: on x^2 + z^2 = 100 at y = 5, once round (20 pi mm), clockwise seen
+    // from the turned Z's tip, (0, -1, 0): from (10, 5, 0) it first goes towards +z... seen from -Y
+    // (x right, z up as seen from there is mirrored): clockwise about -Y is counter-clockwise about +Y,
+    // which takes +x towards -z.
+    let dir = common::scratch_dir("apt-solidworks");
+    let path = dir.join("t.clt");
+    let clean = text.replace("CYCLE/ ON\nCYCLE/ DRILL,G98,5,MMPM,100,3,20\nGOTO/ 1,2,3\nCYCLE/ OFF\n", "");
+    std::fs::write(&path, &clean).unwrap();
+    let machine = Machine::builtin("generic-ac-table").unwrap();
+    let opts = JobOptions { read: rad.clone(), ..JobOptions::default() };
+    let job = job::run(&path.display().to_string(), &machine, &opts).unwrap();
+    assert!(job.report.diagnostics.iter().all(|d| d.severity != Severity::Error), "{:#?}", job.report.diagnostics);
+    let circle: Vec<_> = job.trajectory.samples(&machine).filter(|s| job.trajectory.segments[s.segment].line == 13).map(|s| s.tip * 1e3).collect();
+    assert!(circle.len() > 100);
+    let worst = circle.iter().map(|p| (p.x.hypot(p.z) - 10.0).abs().max((p.y - 5.0).abs())).fold(0.0, f64::max);
+    assert!(worst < 1e-6, "a tip {worst:e} mm off the circle");
+    let length: f64 = job.trajectory.segments.iter().filter(|g| g.line == 13).map(|g| g.length).sum::<f64>() * 1e3;
+    assert!((length - 20.0 * std::f64::consts::PI).abs() < 1e-6, "{length} mm");
+    let early = circle[circle.len() / 10];
+    assert!(early.z < -1.0, "clockwise about the turned Z takes +x towards -z first: {early:?}");
+    let _ = std::fs::remove_dir_all(dir);
 }

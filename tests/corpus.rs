@@ -30,15 +30,25 @@ const CLEAN: &[Case] = &[
     Case { file: "heidenhain-klartext_hypermill_dmu85-monoblock-ac_large-3plus2_W5270NS01061A16.h", machine: "dmg-dmu-85-monoblock", args: &[] },
     Case { file: "heidenhain-klartext_hypermill_trimill-vu3019_W5269NS01002A21.h", machine: "trimill-vu3019", args: &[] },
     Case { file: "sinumerik-840dsl_nx-post_spinner-u5-620-bc_TRAORI-AROT_Achskreuz.mpf", machine: "spinner-u5-620", args: &[] },
+    // SOLIDWORKS CAM for a DMU 50 (the AptPostProcessor project's machine): 3+2 by CSYS, CUTCOM.
+    Case { file: "apt-cl_solidworks-cam_boss_GOTO-ijk_CSYS.apt", machine: "dmg-dmu-50", args: &[] },
 ];
 
 /// Programs refused on their machine with one clear message each: a defect of the program as its
-/// control reads it (the file, machine and the message's telling part).
-const REFUSED: &[(&str, &str, &str)] = &[
+/// control reads it (the file, machine, flags and the message's telling part).
+const REFUSED: &[(&str, &str, &[&str], &str)] = &[
     // NX's sample posts write G83 with Q0.0: a peck of nothing never reaches the hole's bottom.
-    ("haas-fanuc-style_nx-post_vf2-trunnion-ab_Haas_5T.nc", "haas-vf2-tr", "977:41: error: Q0.0: a peck depth must be positive"),
-    ("fanuc-G43.4_nx-post_mori-nmv5000-bc_near-B0_MS_NMV_sample_output.nc", "mori-seiki-nmv5000", "862:29: error: Q0.0: a peck depth must be positive"),
-    ("fanuc-G43.4_nx-post_mori-nmv5000-bc_mm_MS_NMV_sample_mm.nc", "mori-seiki-nmv5000", "630:24: error: Q0.0: a peck depth must be positive"),
+    ("haas-fanuc-style_nx-post_vf2-trunnion-ab_Haas_5T.nc", "haas-vf2-tr", &[], "977:41: error: Q0.0: a peck depth must be positive"),
+    ("fanuc-G43.4_nx-post_mori-nmv5000-bc_near-B0_MS_NMV_sample_output.nc", "mori-seiki-nmv5000", &[], "862:29: error: Q0.0: a peck depth must be positive"),
+    ("fanuc-G43.4_nx-post_mori-nmv5000-bc_mm_MS_NMV_sample_mm.nc", "mori-seiki-nmv5000", &[], "630:24: error: Q0.0: a peck depth must be positive"),
+    // SOLIDWORKS CAM's .clt turns an A table (no machine named: the generic A/C table-table) by ROTABL
+    // in radians; its one drilling cycle lacks a comma between two numbers.
+    (
+        "apt-cl_solidworks-cam_interface-glue_ROTABL-TLAXIS.clt",
+        "generic-ac-table",
+        &["--cl-angles", "rad"],
+        "12:1: error: CYCLE/DRILL: field 10 '46.927686 46.927686 DWEL",
+    ),
 ];
 
 /// Programs refused for defects of their own at several places, each checked by its own test below
@@ -62,8 +72,6 @@ const NOT_YET: &[(&str, &str)] = &[
     ("heidenhain-klartext_nx-post_dmg-dmc100-bc_M128-simultaneous_Sample_part.h", "NX writes CC with Z (a circle outside the TNC's working plane, 23 blocks); M140 MB MAX; the DMC 100 U's machine file"),
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect (G7 plane, G141 TCP, G74, G93 datum shift); the DMC 160 U's machine file"),
     ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR radius compensation, CP polar arcs, cycles 202 and 203; a four-axis machine (A only)"),
-    ("apt-cl_solidworks-cam_boss_GOTO-ijk_CSYS.apt", "APT CSYS frames turned against the part's, CUTCOM/LEFT, INSERT; a DMU 50 machine file"),
-    ("apt-cl_solidworks-cam_interface-glue_ROTABL-TLAXIS.clt", "APT ROTABL, CIRCLE without a radius in the GOTO's plane, MOVE_ATTRIB, CYCLE/DRILL, BOX, OPFEATSTART; a machine file"),
 ];
 
 fn fiveaxis(args: &[&str]) -> std::process::Output {
@@ -80,7 +88,7 @@ fn every_corpus_program_is_accounted_for() {
     let mut listed: Vec<String> = CLEAN
         .iter()
         .map(|c| c.file.to_string())
-        .chain(REFUSED.iter().map(|(f, _, _)| f.to_string()))
+        .chain(REFUSED.iter().map(|(f, _, _, _)| f.to_string()))
         .chain(DEFECTIVE.iter().map(|(f, _, _)| f.to_string()))
         .chain(NOT_YET.iter().map(|(f, _)| f.to_string()))
         .collect();
@@ -126,9 +134,11 @@ fn corpus_programs_read_and_run_on_their_machines() {
 /// Each refused program: exit 2 and exactly one error, the expected one.
 #[test]
 fn refused_corpus_programs_say_one_clear_thing() {
-    for (file, machine, message) in REFUSED {
+    for (file, machine, flags, message) in REFUSED {
         let path = common::outside(&format!("programs/{file}"));
-        let out = fiveaxis(&["program", "analyze", path.to_str().unwrap(), "--machine", machine]);
+        let mut args = vec!["program", "analyze", path.to_str().unwrap(), "--machine", machine];
+        args.extend(*flags);
+        let out = fiveaxis(&args);
         let stdout = String::from_utf8_lossy(&out.stdout);
         let errors: Vec<&str> = stdout.lines().filter(|l| l.contains(": error:")).collect();
         assert_eq!(out.status.code(), Some(2), "{file}");
@@ -403,4 +413,30 @@ fn the_dmu70_evo_programs_drilling_cycles_are_refused_as_the_840d_refuses_them()
     assert_eq!(lines, expected, "{errors:#?}");
     assert!(errors.iter().all(|e| e.contains("alarm 61101") || e.contains("FRF=0") || e.contains("CYCLE76")), "{errors:#?}");
     eprintln!("{} drilling calls refused: {:?}", lines.len(), lines);
+}
+
+/// SOLIDWORKS CAM's boss for a DMU 50: its second set-up (`CSYS/0,0,1.,0,1.,0,0,0,0,1.,0,0`, every
+/// GOTO with the tool along +X) puts the table at B 90, C 0 on `dmg-dmu-50`, as the AptPostProcessor
+/// project's own post computes it for this file (its test output `boss/12.h`: "axis 1.000 0.000
+/// 0.000 rot 0.000 tilt 90.000"; B = acos(k), C = atan2(j, i)); B -90 lies outside the table's range.
+#[test]
+fn the_solidworks_boss_second_setup_tilts_the_dmu50_table_as_its_post_does() {
+    use fiveaxis::kinematics::Pose;
+    use fiveaxis::machine::Machine;
+    use fiveaxis::program::{read, Dialect, ReadOptions};
+    let machine = Machine::builtin("dmg-dmu-50").unwrap();
+    let text = std::fs::read_to_string(common::outside("programs/apt-cl_solidworks-cam_boss_GOTO-ijk_CSYS.apt")).unwrap();
+    let p = read(&text, Dialect::Cl, "boss.apt", &ReadOptions::default().on(&machine));
+    assert!(!p.has_errors(), "{:?}", p.report());
+    let deg = fiveaxis::units::DEG;
+    let mut checked = 0;
+    for b in p.blocks.iter().filter(|b| b.line > 5551) {
+        let (Some(x), Some(y), Some(z), Some(axis)) = (b.targets.x, b.targets.y, b.targets.z, b.targets.tool_axis) else { continue };
+        let pose = Pose { tip: nalgebra::Vector3::new(x, y, z), axis: nalgebra::Vector3::from(axis) };
+        let q = machine.inverse_in_rotary_ranges(&pose, &[0.0; 5]).unwrap();
+        let (bb, c) = (q[3] / deg, (q[4] / deg).rem_euclid(360.0));
+        assert!((bb - 90.0).abs() < 1e-9 && c.min(360.0 - c) < 1e-9, "line {}: B {bb} C {c}", b.line);
+        checked += 1;
+    }
+    assert_eq!(checked, 5751, "every GOTO of the second set-up");
 }

@@ -173,7 +173,7 @@ pub enum MachineError {
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
 /// of each family: table-table, table-head, head-head), a 45 deg nutating head, the corpus machines of
 /// issue 64 and a generic model of each kinematic class (`generic-*`, wide ranges).
-const BUILTIN_FILES: [(&str, &str); 26] = [
+const BUILTIN_FILES: [(&str, &str); 27] = [
     ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
@@ -193,6 +193,7 @@ const BUILTIN_FILES: [(&str, &str); 26] = [
     ("dmg-dmu-70-evo", include_str!("../../../machines/dmg-dmu-70-evo.toml")),
     ("spinner-u5-620", include_str!("../../../machines/spinner-u5-620.toml")),
     ("cincinnati-ftv5", include_str!("../../../machines/cincinnati-ftv5.toml")),
+    ("dmg-dmu-50", include_str!("../../../machines/dmg-dmu-50.toml")),
     ("generic-ac-table", include_str!("../../../machines/generic-ac-table.toml")),
     ("generic-bc-table", include_str!("../../../machines/generic-bc-table.toml")),
     ("generic-ab-table", include_str!("../../../machines/generic-ab-table.toml")),
@@ -354,6 +355,25 @@ impl Machine {
     /// read 386.198 deg), within every axis range. At the singularity the secondary axis keeps its
     /// previous value (seed 001 Table 1: C undefined).
     pub fn inverse(&self, pose: &Pose, previous: &Joints) -> Result<Joints, KinematicsError> {
+        let q = self.inverse_in_rotary_ranges(pose, previous)?;
+        for (axis, &v) in self.axes.iter().zip(&q).take(3) {
+            let lim = &axis.limits;
+            if !lim.contains(v) {
+                return Err(KinematicsError::OutOfRange {
+                    axis: axis.name.clone(),
+                    value: v / crate::units::MM,
+                    min: lim.min / crate::units::MM,
+                    max: lim.max / crate::units::MM,
+                    unit: "mm",
+                });
+            }
+        }
+        Ok(q)
+    }
+
+    /// [`Machine::inverse`] with the rotary ranges only: where the part lies on the machine is not
+    /// known (a work offset the program never states), so the linear axes' ranges cannot be judged.
+    pub fn inverse_in_rotary_ranges(&self, pose: &Pose, previous: &Joints) -> Result<Joints, KinematicsError> {
         check_pose(pose)?;
         if !previous.iter().all(|v| v.is_finite()) {
             return Err(KinematicsError::NotFinite);
@@ -369,20 +389,7 @@ impl Machine {
             })
         })?;
         let l = self.chain.linear_for(&pose.tip, &rot);
-        let q = [l.x, l.y, l.z, rot[0], rot[1]];
-        for (axis, &v) in self.axes.iter().zip(&q).take(3) {
-            let lim = &axis.limits;
-            if !lim.contains(v) {
-                return Err(KinematicsError::OutOfRange {
-                    axis: axis.name.clone(),
-                    value: v / crate::units::MM,
-                    min: lim.min / crate::units::MM,
-                    max: lim.max / crate::units::MM,
-                    unit: "mm",
-                });
-            }
-        }
-        Ok(q)
+        Ok([l.x, l.y, l.z, rot[0], rot[1]])
     }
 }
 

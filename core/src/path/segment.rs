@@ -437,7 +437,9 @@ impl SegmentPlanner {
                             previous[4] = pick[4];
                         }
                     }
-                    match machine.inverse(&pose, &previous) {
+                    // An unknown work offset leaves the linear ranges to the range check, which warns.
+                    let solved = if b.offset_assumed { machine.inverse_in_rotary_ranges(&pose, &previous) } else { machine.inverse(&pose, &previous) };
+                    match solved {
                         Ok(sol) => rot1 = [sol[3], sol[4]],
                         Err(e) => {
                             diags.push(diag(b, format!("tool pose cannot be reached: {e}; block skipped")));

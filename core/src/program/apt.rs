@@ -4,15 +4,27 @@
 //! value), `RAPID` (the next motion only), `UNITS/`, `MULTAX`, `TLAXIS/`, `FROM/`, `GODLTA/`, and
 //! `CIRCLE/` arcs about X, Y or Z ended by the next GOTO. A statement runs on over lines ending in
 //! `$`; `$$` starts a comment. `DELAY/t` is a dwell of t seconds. Statements that do not move the tool are kept as events (`SPINDL`,
-//! `COOLNT`, `LOADTL`, `STOP`) or passed over (`PARTNO`, `PPRINT`, `CUTTER`); any other
-//! statement, or one of these in a form that changes the motion in a way not read (feed per
-//! revolution, cutter compensation, `INSERT`ed NC text, cycles, a helix of several turns, a part
+//! `COOLNT`, `LOADTL`, `STOP`, an `INSERT`ed note) or passed over (`PARTNO`, `PPRINT`, `CUTTER`,
+//! `BOX`, `MOVE_ATTRIB`); any other statement, or one of these in a form that changes the motion in a
+//! way not read (feed per revolution, `INSERT`ed NC code, cycles, a helix of several turns, a part
 //! frame turned against the machine's), is refused where it stands. NX's `MSYS/` places the part's
 //! frame (MCS), in which the GOTOs are: its origin is the part zero a work offset sets, so it is
 //! passed over when its axes are the machine's, and refused when they are turned.
 //!
+//! SOLIDWORKS CAM (as the AptPostProcessor project's `clsplit` reads it): `CSYS/` [R | t] is a 3+2
+//! operation's working plane, whose Z column is its tool axis, the GOTOs staying in the part's frame
+//! (`TRNTYP/WORLD`); a translation is refused. `CUTCOM/LEFT|RIGHT` leaves the GOTOs the tool centre's
+//! path (CL data are cutter locations; the control adds only the register's wear, noted once). Its
+//! `.clt` turns the table with `ROTABL/a,AAXIS,TABLE,CCLW` (ICAM's vocabulary: `a` the position,
+//! `INCR` a step; CCLW right-handed about the axis) and writes the GOTOs and CIRCLEs in the part so
+//! turned, the tool along its Z: the turn must put the tool along `TLAXIS/`, which is how its radians
+//! are told from degrees (`--cl-angles rad`). A `CYCLE/` other than ON/OFF is refused, with the
+//! holes at its GOTOs up to `CYCLE/OFF`.
+//!
 //! CIRCLE's direction depends on its writer: `CIRCLE/xc,yc,zc,i,j,k,r` (ISO, Creo) and
-//! SOLIDWORKS CAM's `CIRCLE/xc,yc,zc,i,j,k` (no radius) turn counter-clockwise about (i,j,k);
+//! SOLIDWORKS CAM's `CIRCLE/xc,yc,zc,i,j,k` (no radius) turn counter-clockwise about (i,j,k), and
+//! its `.clt`'s `CIRCLE/xc,yc,zc,i,j,k,r,CLOCKWISE|COUNTERCLOCKWISE` as the word says, seen from
+//! the axis' tip;
 //! NX's eleven-number `CIRCLE/xc,yc,zc,i,j,k,r,tol,ratio,d,e` turns clockwise about it (NX's own
 //! definition, and NCL's APT reader `aptsrc.f`: "11 parameter UG circle for which positive rotation
 //! is clockwise"). Other counts are refused.
@@ -71,6 +83,14 @@ struct Circle {
     column: usize,
 }
 
+/// Whether a `CYCLE/` is in force, and whether it is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum CycleState {
+    Off,
+    /// A cycle that is not read is in force: its GOTOs are hole positions, refused with it.
+    Unread,
+}
+
 /// The APT reader, fed one line at a time.
 #[derive(Debug, Clone)]
 pub(crate) struct AptReader {
@@ -98,13 +118,29 @@ pub(crate) struct AptReader {
     at: Option<[f64; 3]>,
     circle: Option<Circle>,
     events: Vec<String>,
+    /// Radians per `ROTABL/` unit (`--cl-angles`).
+    angle_unit: f64,
+    /// Whether the user gave `--cl-angles` radians (for the message that offers the other).
+    radians: bool,
+    /// The table's turn from `ROTABL/` (A, B, C, rad, absolute): the GOTOs are in the part turned by it.
+    table: [f64; 3],
+    /// Where the last ROTABL was read, and the TLAXIS/ given (line, column, axis), for the check
+    /// that the turned table puts the tool where TLAXIS says.
+    rotabl_at: (usize, usize),
+    tlaxis: Option<(usize, usize, [f64; 3])>,
+    /// The table turn and TLAXIS have been checked against each other since either changed.
+    frame_checked: bool,
+    /// `CYCLE/` state: the GOTOs of a cycle that is not read are the holes it drills, not motion.
+    cycle: CycleState,
+    /// CUTCOM's note has been given.
+    cutcom_noted: bool,
     /// Where the latest event was read.
     event_at: (usize, usize),
     finished: bool,
 }
 
 impl AptReader {
-    pub(crate) fn new(default_feed_mm_per_min: f64, orientation: Orientation, forced: Option<super::LengthUnit>) -> Self {
+    pub(crate) fn new(default_feed_mm_per_min: f64, orientation: Orientation, forced: Option<super::LengthUnit>, angles: super::AngleUnit) -> Self {
         AptReader {
             orientation,
             pending: None,
@@ -121,6 +157,14 @@ impl AptReader {
             at: None,
             circle: None,
             events: Vec::new(),
+            angle_unit: angles.radians(),
+            radians: angles == super::AngleUnit::Rad,
+            table: [0.0; 3],
+            rotabl_at: (0, 0),
+            tlaxis: None,
+            frame_checked: false,
+            cycle: CycleState::Off,
+            cutcom_noted: false,
             event_at: (0, 0),
             finished: false,
         }
@@ -188,7 +232,9 @@ impl AptReader {
             events: std::mem::take(&mut self.events),
             dwell_s: None,
             tolerance: Default::default(),
-            offset_assumed: false,
+            // CL data are in the part's frame; where the part lies on the machine is the operator's
+            // set-up (a work offset or preset), which the file never states.
+            offset_assumed: true,
         }
     }
 
@@ -236,7 +282,7 @@ impl AptReader {
                 }
                 match parse_field(f) {
                     Some(v) => nums.push(v),
-                    None if f.bytes().all(|b| b.is_ascii_alphanumeric()) && f.as_bytes()[0].is_ascii_alphabetic() => minors.push(f.to_ascii_uppercase()),
+                    None if f.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') && f.as_bytes()[0].is_ascii_alphabetic() => minors.push(f.to_ascii_uppercase()),
                     None => {
                         diags.error(line, col, format!("{word}: expected a number or a minor word, found '{}'", excerpt(f)));
                         return None;
@@ -247,15 +293,24 @@ impl AptReader {
         };
         let circle_open = self.circle.is_some();
         match word.as_str() {
+            // The holes of a cycle that is not read: refused with the cycle, where it stands.
+            "GOTO" | "FROM" | "GODLTA" if self.cycle == CycleState::Unread => {}
             "GOTO" | "FROM" | "GODLTA" => {
                 let Some((v, minors)) = values(diags) else { return };
                 if !minors.is_empty() {
                     diags.error(line, col, format!("{word}/ with '{}': only numbers are read", minors[0]));
                     return;
                 }
+                // Under a table turned by ROTABL/ the numbers are in the turned part (see `turned`).
+                let turn = table_rotation(&self.table);
+                let turned = turn != nalgebra::Matrix3::identity();
+                let to_part = |p: [f64; 3]| -> [f64; 3] { (turn * nalgebra::Vector3::from(p)).into() };
                 let (tip, axis) = match (word.as_str(), v.len(), self.at) {
-                    (_, 3 | 6, _) if word != "GODLTA" => ([v[0], v[1], v[2]].map(|c| c * self.unit), v.get(3..6).map(|a| [a[0], a[1], a[2]])),
-                    ("GODLTA", 3, Some(p)) => ([p[0] + v[0] * self.unit, p[1] + v[1] * self.unit, p[2] + v[2] * self.unit], None),
+                    (_, 3 | 6, _) if word != "GODLTA" => (to_part([v[0], v[1], v[2]].map(|c| c * self.unit)), v.get(3..6).map(|a| to_part([a[0], a[1], a[2]]))),
+                    ("GODLTA", 3, Some(p)) => {
+                        let d = to_part([v[0], v[1], v[2]].map(|c| c * self.unit));
+                        ([p[0] + d[0], p[1] + d[1], p[2] + d[2]], None)
+                    }
                     ("GODLTA", 1, Some(p)) => (std::array::from_fn(|k| p[k] + self.tool_axis[k] * v[0] * self.unit), None),
                     ("GODLTA", 1 | 3, None) => {
                         diags.error(line, col, "GODLTA before any position (GOTO or FROM): no point to move from");
@@ -274,6 +329,12 @@ impl AptReader {
                 if let Some(a) = axis {
                     let Some(unit) = unit_tool_axis(a, line, col, diags) else { return };
                     self.tool_axis = unit;
+                } else if turned {
+                    // A turned table presents its Z to the spindle: the tool lies along it.
+                    self.tool_axis = to_part([0.0, 0.0, 1.0]);
+                    if !std::mem::replace(&mut self.frame_checked, true) {
+                        self.check_turn(diags);
+                    }
                 }
                 if word == "FROM" && (self.at.is_some() || circle_open) {
                     diags.error(line, col, "FROM after the first position: a start point only opens the CL data");
@@ -290,9 +351,11 @@ impl AptReader {
                         diags.error(c.line, c.column, "CIRCLE before any position: the arc has no start");
                         return;
                     };
+                    // The circle is in the turned part's frame, as its centre and axis were written.
+                    let local = |p: [f64; 3]| -> [f64; 3] { (turn.transpose() * nalgebra::Vector3::from(p)).into() };
                     let (i, j, _) = c.plane.axes();
                     let r = |p: &[f64; 3]| ((p[i] - c.centre[i]).powi(2) + (p[j] - c.centre[j]).powi(2)).sqrt();
-                    let (r0, r1) = (r(&start), r(&tip));
+                    let (r0, r1) = (r(&local(start)), r(&local(tip)));
                     let radius = c.radius.unwrap_or(r0);
                     let tol = 1e-3 * radius.max(1.0) + 1e-3;
                     if !(radius > 1e-6) || (r0 - radius).abs() > tol || (r1 - radius).abs() > tol {
@@ -304,7 +367,8 @@ impl AptReader {
                         return;
                     }
                     motion = if c.ccw { Motion::ArcCcw } else { Motion::ArcCw };
-                    arc = Some(ArcSpec { plane: c.plane, centre: c.centre.map(|v| v * MM), extra_turns: 0, frame: None });
+                    let frame = turned.then(|| [0, 1, 2].map(|k| [turn[(0, k)], turn[(1, k)], turn[(2, k)]]));
+                    arc = Some(ArcSpec { plane: c.plane, centre: to_part(c.centre).map(|v| v * MM), extra_turns: 0, frame });
                 }
                 if motion != Motion::Rapid && self.at.is_some() && !std::mem::replace(&mut self.fedrat, true) {
                     diags.warning(line, col, format!("{word} before any FEDRAT/: at the default CL feed, {} mm/min", self.feed));
@@ -395,6 +459,8 @@ impl AptReader {
                 }
                 if let Some(unit) = unit_tool_axis([v[0], v[1], v[2]], line, col, diags) {
                     self.tool_axis = unit;
+                    self.tlaxis = Some((line, col, unit));
+                    self.frame_checked = false;
                 }
             }
             "CIRCLE" => {
@@ -404,10 +470,21 @@ impl AptReader {
                     return;
                 }
                 // Counter-clockwise about the axis, but for NX's eleven numbers (see the module's doc).
-                let (radius, about) = match (v.len(), minors.is_empty()) {
-                    (6, true) => (None, 1.0),
-                    (7, true) => (Some(v[6]), 1.0),
-                    (11, true) => (Some(v[6]), -1.0),
+                let sense = match minors.as_slice() {
+                    [] => None,
+                    [w] if w == "COUNTERCLOCKWISE" || w == "CCLW" => Some(1.0),
+                    [w] if w == "CLOCKWISE" || w == "CLW" => Some(-1.0),
+                    _ => {
+                        diags.error(line, col, format!("CIRCLE/ with '{}': only CLOCKWISE or COUNTERCLOCKWISE (seen from the axis' tip) is read", minors.join(",")));
+                        return;
+                    }
+                };
+                let (radius, about) = match (v.len(), sense) {
+                    (6, None) => (None, 1.0),
+                    (7, None) => (Some(v[6]), 1.0),
+                    // SOLIDWORKS CAM's .clt: the radius, then the sense about (i,j,k) in words.
+                    (7, Some(s)) => (Some(v[6]), s),
+                    (11, None) => (Some(v[6]), -1.0),
                     _ => {
                         diags.error(line, col, format!("CIRCLE/ expects xc,yc,zc,i,j,k[,r] or NX's eleven numbers: found {} numbers{}", v.len(), if minors.is_empty() { "" } else { " and words" }));
                         return;
@@ -450,6 +527,63 @@ impl AptReader {
             }
             "PARTNO" | "PPRINT" | "TPRINT" | "REMARK" | "MACHIN" | "MODE" | "CUTTER" | "TLDATA" | "TOOL" | "PAINT" | "DISPLY" | "SEQNO"
             | "CLRSRF" | "OPNAME" | "OPERATION" | "AUTOPS" => {}
+            // SOLIDWORKS CAM's operation brackets (a feature's name) and the stock's box: no motion.
+            "OPFEATSTART" | "OPFEATEND" | "BOX" => {}
+            // SOLIDWORKS CAM's kind of the moves that follow (lead-in, link, lead-out): no motion.
+            "MOVE_ATTRIB" => {
+                let Some((v, minors)) = values(diags) else { return };
+                if !v.is_empty() || !minors.iter().all(|m| ["LEADIN", "LEADOUT", "LINK", "CUT", "END_ATTRIB"].contains(&m.as_str())) {
+                    diags.error(line, col, "MOVE_ATTRIB/ expects LEADIN, LINK, LEADOUT or CUT, then END_ATTRIB");
+                }
+            }
+            // ROTABL/a,AAXIS|BAXIS|CAXIS[,TABLE][,CCLW] (ICAM's vocabulary): the table turns to a
+            // (INCR: by a), and the GOTOs that follow are in the part so turned, their tool along its Z.
+            "ROTABL" => {
+                let Some((v, minors)) = values(diags) else { return };
+                let axis = minors.iter().find_map(|m| ["AAXIS", "BAXIS", "CAXIS"].iter().position(|a| a == m));
+                let known = minors.iter().all(|m| ["AAXIS", "BAXIS", "CAXIS", "TABLE", "CCLW", "INCR", "ATANGL"].contains(&m.as_str()));
+                let (Some(k), [a], true) = (axis, v.as_slice(), known) else {
+                    let why = if minors.iter().any(|m| m == "CLW") {
+                        "CLW (whether it negates the angle or only picks the way round differs between APT writers)"
+                    } else if minors.iter().any(|m| m == "RAM" || m == "HEAD") {
+                        "a head's turn"
+                    } else {
+                        "other forms"
+                    };
+                    diags.error(line, col, format!("ROTABL/ expects an angle and AAXIS, BAXIS or CAXIS [,TABLE] [,CCLW]: {why} not read"));
+                    return;
+                };
+                let a = a * self.angle_unit;
+                let was = self.table[k];
+                self.table[k] = if minors.iter().any(|m| m == "INCR") { was + a } else { a };
+                if was != 0.0 || self.table[k] != 0.0 {
+                    self.rotabl_at = (line, col);
+                }
+                self.frame_checked = false;
+                if self.table.iter().filter(|t| t.sin().abs() > 1e-9 || t.cos() < 0.0).count() > 1 {
+                    diags.error(line, col, "ROTABL/: the table turned about two axes at once (the order of the turns is not established)");
+                    self.table = [0.0; 3];
+                }
+            }
+            // CYCLE/ON ... CYCLE/OFF: a drilling (or other) cycle at each GOTO between them.
+            "CYCLE" => {
+                let fields: Vec<&str> = args.unwrap_or("").split(',').map(str::trim).filter(|f| !f.is_empty()).collect();
+                match fields.as_slice() {
+                    [w] if w.eq_ignore_ascii_case("OFF") => self.cycle = CycleState::Off,
+                    // SOLIDWORKS CAM writes ON before the cycle's definition.
+                    [w] if w.eq_ignore_ascii_case("ON") => {}
+                    _ => {
+                        let kind = excerpt(fields.first().copied().unwrap_or(""));
+                        let bad = fields.iter().position(|f| parse_field(f).is_none() && !(f.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') && f.as_bytes()[0].is_ascii_alphabetic()));
+                        let why = match bad {
+                            Some(k) => format!("field {} '{}' is neither a number nor a word (a comma missing?)", k + 1, excerpt(fields[k])),
+                            None => "cycles in CL data are not read".to_string(),
+                        };
+                        diags.error(line, col, format!("CYCLE/{kind}: {why}; the holes at its GOTOs up to CYCLE/OFF are not read"));
+                        self.cycle = CycleState::Unread;
+                    }
+                }
+            }
             // A vocabulary entry (post-processor word and its number, Creo's GPOST table): no motion.
             "PPWORD" => {}
             // Pro/CLfile's output frame (3 x 4, rows) against the model: the GOTOs are already in it
@@ -470,23 +604,91 @@ impl AptReader {
             }
             // SOLIDWORKS CAM's tool data (flute and extension lengths).
             w if w.starts_with("CSI_SET_") => {}
+            // CL data are cutter locations (the tool centre's path): CUTCOM only hands the control's
+            // compensation the register's wear (a worn or reground tool), which no program states.
             "CUTCOM" => {
                 let Some((v, minors)) = values(diags) else { return };
-                if !(v.is_empty() && minors == ["OFF"]) {
-                    diags.error(line, col, "CUTCOM: cutter compensation is not read (only CUTCOM/OFF)");
+                match (v.as_slice(), minors.as_slice()) {
+                    ([], [w]) if w == "OFF" || w == "ON" => {}
+                    ([] | [_], [w]) if w == "LEFT" || w == "RIGHT" => {
+                        if !std::mem::replace(&mut self.cutcom_noted, true) {
+                            diags.warning(line, col, format!("CUTCOM/{w}: the GOTOs are the tool centre's path; the control's compensation adds only its register's wear, not modelled"));
+                        }
+                    }
+                    _ => diags.error(line, col, "CUTCOM/ expects LEFT, RIGHT [,register], ON or OFF"),
                 }
             }
-            // SOLIDWORKS CAM's frame of the output (a 3 x 4 matrix, rows): the identity only.
-            "CSYS" | "TRNTYP" => {
-                let Some((v, _)) = values(diags) else { return };
-                let identity = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
-                let ok = if word == "CSYS" { v.len() == 12 && v.iter().zip(identity).all(|(a, b)| (a - b).abs() < 1e-9) } else { v.iter().all(|a| *a == 0.0) };
-                if !ok {
-                    diags.error(line, col, format!("{word}/: a frame other than the part's is not read"));
+            // SOLIDWORKS CAM's working plane (a 3 x 4 matrix [R | t], rows): its Z column is the tool
+            // axis of a 3+2 operation, in the part's frame, in which the GOTOs stay (TRNTYP/WORLD).
+            "CSYS" => {
+                let Some((v, minors)) = values(diags) else { return };
+                if v.len() != 12 || !minors.is_empty() {
+                    diags.error(line, col, format!("CSYS/ expects a 3 x 4 matrix (12 numbers): found {}", v.len()));
+                    return;
+                }
+                let r = nalgebra::Matrix3::new(v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10]);
+                if (r * r.transpose() - nalgebra::Matrix3::identity()).abs().max() > 1e-5 || r.determinant() < 0.0 {
+                    diags.error(line, col, "CSYS/: the matrix is not a rotation (orthonormal, right-handed)");
+                } else if [v[3], v[7], v[11]].iter().any(|t| t.abs() > 1e-9) {
+                    diags.error(line, col, "CSYS/ with a translation: whether the GOTOs are moved by it is not established (only an origin at the part's is read)");
+                } else {
+                    self.tool_axis = [v[2], v[6], v[10]];
+                }
+            }
+            "TRNTYP" => {
+                let Some((v, minors)) = values(diags) else { return };
+                if minors != ["WORLD"] || v.iter().any(|a| *a != 0.0) {
+                    diags.error(line, col, "TRNTYP/: only WORLD,0,0,0 (the GOTOs in the part's frame) is read");
+                }
+            }
+            // Text handed to the post: a note (a holder, the stock's size) is kept as an event; NC
+            // code the post would pass to the control (G01 ..., M6, X10.) is not read.
+            "INSERT" => {
+                let text = args.unwrap_or(rest).trim();
+                let b = text.as_bytes();
+                let code = b.first().is_some_and(|c| c.is_ascii_alphabetic()) && b.get(1).is_some_and(|c| c.is_ascii_digit() || b"+-.".contains(c)) || text.starts_with('%');
+                if code {
+                    diags.error(line, col, format!("INSERT/ passes NC code to the control ('{}'): not read", excerpt(text)));
+                } else {
+                    self.events.push(s.to_string());
+                    self.event_at = (line, col);
                 }
             }
             "" => diags.error(line, col, format!("expected an APT statement (a major word such as GOTO/), found '{}'", excerpt(s))),
             _ => diags.error(line, col, format!("APT statement {} is not read", excerpt(&word))),
         }
+    }
+}
+
+/// The rotation of a table turned by `t` (A, B, C about +X, +Y, +Z, rad; at most one of them, as
+/// ROTABL/ refuses two): a point written in the turned part is at `R p` in the part.
+fn table_rotation(t: &[f64; 3]) -> nalgebra::Matrix3<f64> {
+    let r = |axis: nalgebra::Unit<nalgebra::Vector3<f64>>, a: f64| if a == 0.0 { nalgebra::Matrix3::identity() } else { *nalgebra::Rotation3::from_axis_angle(&axis, a).matrix() };
+    r(nalgebra::Vector3::x_axis(), t[0]) * r(nalgebra::Vector3::y_axis(), t[1]) * r(nalgebra::Vector3::z_axis(), t[2])
+}
+
+impl AptReader {
+    /// The table's turn puts the tool (its Z) where TLAXIS/ says, if it said: else the angles are in
+    /// the other unit (SOLIDWORKS CAM's radians) or the file contradicts itself; said once per turn.
+    fn check_turn(&self, diags: &mut Diags) {
+        let Some((tl, tc, want)) = self.tlaxis else { return };
+        let along = |turn: nalgebra::Matrix3<f64>| (turn * nalgebra::Vector3::z()).angle(&nalgebra::Vector3::from(want));
+        if along(table_rotation(&self.table)) < 1e-4 {
+            return;
+        }
+        let (line, col) = self.rotabl_at;
+        let other = if self.radians { crate::units::DEG } else { 1.0 / crate::units::DEG };
+        let t = table_rotation(&self.table.map(|a| a * other));
+        let hint = if along(t) < 1e-4 {
+            format!("; read in {} (--cl-angles {}) it does", if self.radians { "degrees" } else { "radians" }, if self.radians { "deg" } else { "rad" })
+        } else {
+            String::new()
+        };
+        let z = table_rotation(&self.table) * nalgebra::Vector3::z();
+        diags.error(
+            line,
+            col,
+            format!("ROTABL/: the table so turned puts the tool along ({:.4},{:.4},{:.4}) in the part, not along TLAXIS/ of line {tl}:{tc} ({:.4},{:.4},{:.4}){hint}", z.x, z.y, z.z, want[0], want[1], want[2]),
+        );
     }
 }

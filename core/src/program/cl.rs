@@ -103,6 +103,7 @@ pub(crate) struct ClReader {
     feed_mm_per_min: f64,
     orientation: Orientation,
     units: Option<super::LengthUnit>,
+    angles: super::AngleUnit,
     seen_data: bool,
     /// APT CLDATA, known by the first line that is not blank or a comment.
     apt: Option<Box<AptReader>>,
@@ -110,7 +111,7 @@ pub(crate) struct ClReader {
 
 impl ClReader {
     pub(crate) fn new(setup: &super::Setup) -> Self {
-        ClReader { feed_mm_per_min: setup.cl_feed_mm_per_min, orientation: setup.orientation, units: setup.units, seen_data: false, apt: None }
+        ClReader { feed_mm_per_min: setup.cl_feed_mm_per_min, orientation: setup.orientation, units: setup.units, angles: setup.cl_angles, seen_data: false, apt: None }
     }
 }
 
@@ -126,7 +127,7 @@ impl super::stream::LineReader for ClReader {
             return;
         }
         if !self.seen_data && is_apt_line(t) {
-            let mut apt = Box::new(AptReader::new(feed_mm_per_min, orientation, self.units));
+            let mut apt = Box::new(AptReader::new(feed_mm_per_min, orientation, self.units, self.angles));
             apt.line(line, l, out, diags);
             self.apt = Some(apt);
             return;

@@ -23,7 +23,7 @@ pub use cl::{read_cl, read_cl_with};
 pub use heidenhain::{read_heidenhain, read_heidenhain_with};
 pub use klartext::{read_klartext_with, MAX_LABELS, MAX_REPEATED_BLOCKS};
 pub use rs274::{read_rs274, read_rs274_setup, read_rs274_with};
-pub use setup::{LengthUnit, Setup};
+pub use setup::{AngleUnit, LengthUnit, Setup};
 pub use sinumerik::read_sinumerik_with;
 pub use stream::{BlockStream, DiagnosticLog, OpenText, Text, MAX_DIAGNOSTICS, MAX_LINE_BYTES};
 
@@ -508,11 +508,13 @@ pub struct ReadOptions {
     /// The length unit the program's numbers are in, whatever it says (`--units`): for a program
     /// whose unit statement contradicts its numbers (Creo's `UNITS / INCHES` on millimetres).
     pub units: Option<LengthUnit>,
+    /// The unit of CL data's rotary angles (`--cl-angles`; APT's own is degrees).
+    pub cl_angles: AngleUnit,
 }
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None, units: None }
+        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None, units: None, cl_angles: AngleUnit::Deg }
     }
 }
 

@@ -47,6 +47,48 @@ impl std::str::FromStr for LengthUnit {
     }
 }
 
+/// The unit of the rotary angles in CL data (`--cl-angles`): APT's `ROTABL/` is in degrees (ICAM's
+/// vocabulary), but SOLIDWORKS CAM's `.clt` writes radians (`ROTABL/ 1.570796,AAXIS`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AngleUnit {
+    #[default]
+    Deg,
+    Rad,
+}
+
+impl AngleUnit {
+    /// Radians per unit.
+    pub fn radians(self) -> f64 {
+        match self {
+            AngleUnit::Deg => crate::units::DEG,
+            AngleUnit::Rad => 1.0,
+        }
+    }
+
+    /// The unit's name as people write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            AngleUnit::Deg => "deg",
+            AngleUnit::Rad => "rad",
+        }
+    }
+
+    /// The names `--cl-angles` takes.
+    pub const NAMES: [&'static str; 2] = ["deg", "rad"];
+}
+
+impl std::str::FromStr for AngleUnit {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "deg" | "degrees" => Ok(AngleUnit::Deg),
+            "rad" | "radians" => Ok(AngleUnit::Rad),
+            other => Err(format!("unknown angle unit '{other}': expected deg or rad")),
+        }
+    }
+}
+
 /// The options of one read, for one dialect.
 #[derive(Debug, Clone)]
 pub struct Setup {
@@ -61,6 +103,8 @@ pub struct Setup {
     pub machine: Option<Arc<Machine>>,
     /// Feed for CL data without one, mm/min.
     pub cl_feed_mm_per_min: f64,
+    /// The unit of CL data's rotary angles (`ROTABL/`).
+    pub cl_angles: AngleUnit,
 }
 
 impl Setup {
@@ -85,6 +129,7 @@ impl ReadOptions {
             units: self.units,
             machine: self.machine.clone(),
             cl_feed_mm_per_min: self.cl_feed_mm_per_min,
+            cl_angles: self.cl_angles,
         }
     }
 }
