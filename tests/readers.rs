@@ -718,3 +718,37 @@ fn scratch_print_blocks() {
         eprintln!("{d}");
     }
 }
+
+/// `M140 MB` (TNC 426/430 user's manual §7.4: "Retraction from the contour in the tool-axis
+/// direction"): the tool backs off along its own axis, by MB or, with MB MAX, to the end of the
+/// traverse range. On the Hermle (a table machine, the spindle along Z) MAX takes Z to the top of
+/// its range; on the generic B/C fork head at B 90 the tool lies along +X, so
+/// MB 25 moves X by 25 mm (the head's pivot 300 mm up does not change the direction) and MAX
+/// takes X to +5 m.
+#[test]
+fn klartext_m140_backs_off_along_the_tool_axis() {
+    use fiveaxis::machine::Machine;
+    let hermle = Machine::builtin("hermle-c600u").unwrap();
+    let p = read("0 BEGIN PGM R MM\n1 L X+10 Y+20 Z+30 FMAX\n2 M140 MB MAX F1000\n3 L Z+40 FMAX\n4 M140 MB+12 F500\n5 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default().on(&hermle));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let zmax = hermle.axes[2].limits.max;
+    let b2 = p.blocks.iter().find(|b| b.line == 3).unwrap();
+    assert!((b2.targets.z.unwrap() + b2.datum[2] - zmax).abs() < 1e-9 && b2.motion == fiveaxis::program::Motion::Linear, "{b2:?}");
+    let b4 = p.blocks.iter().find(|b| b.line == 5).unwrap();
+    assert!((b4.targets.z.unwrap() + b4.datum[2] - 0.052).abs() < 1e-9, "Z 40 + 12 mm: {b4:?}");
+    assert!((b4.feed.unwrap().value_per_min - 500.0).abs() < 1e-9);
+
+    let head = Machine::builtin("generic-bc-head").unwrap();
+    let p = read("0 BEGIN PGM R MM\n1 L X+10 Y+20 Z+30 B+90 C+0 FMAX\n2 M140 MB+25 F800\n3 M140 MB MAX FMAX\n4 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default().on(&head));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let at = |line: usize| {
+        let b = p.blocks.iter().find(|b| b.line == line).unwrap();
+        [b.targets.x.unwrap() + b.datum[0], b.targets.y.unwrap() + b.datum[1], b.targets.z.unwrap() + b.datum[2]]
+    };
+    let (a, b, c) = (at(2), at(3), at(4));
+    assert!((b[0] - a[0] - 0.025).abs() < 1e-9 && (b[1] - a[1]).abs() < 1e-9 && (b[2] - a[2]).abs() < 1e-9, "{a:?} -> {b:?}");
+    assert!((c[0] - 5.0).abs() < 1e-9 && (c[2] - a[2]).abs() < 1e-9, "{c:?}");
+    // Without a machine there is no tool axis or travel to go by: refused, naming why.
+    let p = read("0 BEGIN PGM R MM\n1 M140 MB MAX\n2 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default());
+    has(&p, 2, 3, "M140: ");
+}

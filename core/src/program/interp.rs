@@ -149,7 +149,11 @@ impl Interpreter {
             cycles: Default::default(),
             rotary_letters: [None; 2],
             peck: [None; 2],
-            arc_tolerance: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_CONST } else { ARC_RADIUS_TOLERANCE },
+            arc_tolerance: match dialect {
+                Dialect::Sinumerik => SINUMERIK_CIRCLE_ERROR_CONST,
+                Dialect::Klartext | Dialect::Heidenhain => TNC_CIRCLE_TOLERANCE,
+                _ => ARC_RADIUS_TOLERANCE,
+            },
             arc_tolerance_factor: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_FACTOR } else { 0.0 },
             dwo: false,
             tilt: None,
@@ -307,6 +311,33 @@ impl Interpreter {
             (_, None, false) | (None, _, _) => p + d,
             (Some(m), tilt, _) => m.chain.linear_for(&(tilt.map_or(p, |r| r * p) + d), &self.rot_now()),
         }
+    }
+
+    /// Where the linear axes go (model frame, m) when the tool backs off along its own axis by
+    /// `distance` (m), or as far as the axes' ranges let it (`None`): Heidenhain's `M140 MB`.
+    pub(crate) fn retract_target(&self, distance: Option<f64>) -> Result<[f64; 3], String> {
+        let m = self.machine.as_ref().ok_or("the tool axis and the travel limits are the machine's: read the program on one (--machine)")?;
+        let axes = self.axes_now();
+        let rot = self.rot_now();
+        let pose = m.chain.forward(&[axes.x, axes.y, axes.z, rot[0], rot[1]]);
+        // The linear axes move the tool along its axis by this much per metre (a unit vector).
+        let along = m.chain.linear_for(&(pose.tip + pose.axis), &rot) - axes;
+        let t = match distance {
+            Some(d) => d,
+            None => (0..3)
+                .filter(|&k| along[k].abs() > 1e-12)
+                .map(|k| {
+                    let lim = &m.axes[k].limits;
+                    ((if along[k] > 0.0 { lim.max } else { lim.min }) - axes[k]) / along[k]
+                })
+                .fold(f64::INFINITY, f64::min)
+                .max(0.0),
+        };
+        if !t.is_finite() {
+            return Err("no linear axis moves along the tool axis".into());
+        }
+        let to = axes + along * t;
+        Ok([to.x, to.y, to.z])
     }
 
     /// Read the axes standing at `axes` (model frame) in the current coordinates: X Y Z are the axes
@@ -1040,6 +1071,11 @@ pub const ARC_RADIUS_TOLERANCE: f64 = 0.00005 * INCH;
 /// by MD21000 `CIRCLE_ERROR_CONST` (default 0.01 mm) or, on larger circles, by the radius times
 /// MD21010 `CIRCLE_ERROR_FACTOR` (default 0.001), whichever is larger.
 pub const SINUMERIK_CIRCLE_ERROR_CONST: f64 = 0.01 * MM;
+
+/// The TNC's: "The starting and end points of the arc must lie on the circle. Input tolerance: up
+/// to 0.016 mm (selectable with MP 7431)" (TNC 407/415/425 user's manual §5, Circular path C around
+/// the circle center CC; TNC 410 §6.4 the same): the largest, where the machine file sets none.
+pub const TNC_CIRCLE_TOLERANCE: f64 = 0.016 * MM;
 pub const SINUMERIK_CIRCLE_ERROR_FACTOR: f64 = 0.001;
 
 /// The circle of a G02/G03 block from its I J K (centre) or R (radius) words (RS274/NGC 3 §3.5.3),

@@ -105,6 +105,9 @@ enum Kind<'a> {
     Centre(Vec<KWord<'a>>),
     /// A block of `M` functions only.
     Misc(Vec<KWord<'a>>),
+    /// `M140 MB n|MAX [F..|FMAX]`: back along the tool axis by n (program unit) or to the end of
+    /// the travel (None), at the feed given (else the feed in effect).
+    Retract { distance: Option<KWord<'a>>, feed: FeedWord<'a>, col: usize },
     Tool { events: Vec<String>, feed: Option<KWord<'a>> },
     Tcp { on: bool, orientation: Option<Orientation> },
     /// `CYCL DEF 7.x X..`: axis, value, incremental.
@@ -566,8 +569,44 @@ fn centre<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> Opti
     Some(Kind::Centre(axes))
 }
 
-/// A block of M functions only (`M128`, `M3 M8`).
+/// A block of M functions only (`M128`, `M3 M8`), or `M140 MB MAX F..` (TNC 426/430 user's manual
+/// §7.4 "Retraction from the contour in the tool-axis direction: M140": MB the distance, MAX to the
+/// end of the traverse range, F its feed).
 fn misc<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    if let Some(&(first, col)) = toks.first() {
+        if split_word(first) == (Cow::Borrowed("M"), "140") {
+            let (mut distance, mut feed, mut mb) = (None, FeedWord::None, false);
+            let mut k = 1;
+            while let Some(&(tok, c)) = toks.get(k) {
+                let (addr, rest) = split_word(tok);
+                match (addr.as_ref(), rest) {
+                    ("MB", "") if !mb => {
+                        mb = true;
+                        match toks.get(k + 1) {
+                            Some(&(v, _)) if v.eq_ignore_ascii_case("MAX") => k += 1,
+                            Some(&(v, vc)) if v.starts_with(|ch: char| ch.is_ascii_digit() || "+-.Q".contains(ch)) => {
+                                distance = value_word("MB", v, v, vc, line, diags);
+                                k += 1;
+                            }
+                            _ => diags.error(line, c, "M140 MB: expected a distance or MAX"),
+                        }
+                    }
+                    ("MB", v) if !mb => {
+                        mb = true;
+                        distance = value_word("MB", v, tok, c, line, diags);
+                    }
+                    ("F", v) if !v.is_empty() => feed = value_word("F", v, tok, c, line, diags).map_or(FeedWord::None, FeedWord::Value),
+                    ("FMAX", "") => feed = FeedWord::Max,
+                    _ => diags.error(line, c, format!("unexpected word '{}' in M140: expected MB and a distance or MAX, and F", excerpt(tok))),
+                }
+                k += 1;
+            }
+            if !mb {
+                diags.error(line, col, "M140 without MB: expected MB and a distance or MAX");
+            }
+            return Some(Kind::Retract { distance, feed, col });
+        }
+    }
     let mut m = Vec::new();
     for &(tok, col) in toks {
         let (addr, rest) = split_word(tok);

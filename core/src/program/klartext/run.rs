@@ -353,6 +353,30 @@ impl Exec {
                 }
             }
             Kind::Misc(m) => ends = self.m_words(m, &mut words, s.line, diags),
+            Kind::Retract { distance, feed, col } => {
+                let d = match distance {
+                    Some(w) => self.value(w, s.line, diags).map(|v| Some(v * unit)),
+                    None => Some(None),
+                };
+                if let Some(d) = d {
+                    match interp.retract_target(d) {
+                        Ok(axes) => {
+                            // A move of the axes themselves (origin zero), as M91's are of the machine's.
+                            let motion = if matches!(feed, FeedWord::Max) { crate::program::Motion::Rapid } else { crate::program::Motion::Linear };
+                            interp.oneshot = Some(OneShot { motion, absolute: true, axes: Some([0.0; 3]) });
+                            for (k, letter) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+                                words.push(word(letter, axes[k] / unit, format!("{}", axes[k] / unit).into(), *col, false));
+                            }
+                            if let FeedWord::Value(f) = feed {
+                                if let Some(v) = self.value(f, s.line, diags) {
+                                    words.push(word('F', v, f.raw.into(), f.col, false));
+                                }
+                            }
+                        }
+                        Err(why) => diags.error(s.line, *col, format!("M140: {why}")),
+                    }
+                }
+            }
             Kind::Centre(axes) => {
                 let pos = interp.position();
                 let (a0, a1, _) = interp.plane().axes();
