@@ -60,6 +60,11 @@ const DEFECTIVE: &[(&str, &str, &str)] = &[
         "every drilling cycle NX's post calls has its retraction plane below the reference plane (alarm 61101) or FRF empty (a feed of 0), and a CYCLE76 (spigot milling) for boring",
     ),
     (
+        "heidenhain-klartext_nx-post_dmg-dmc100-bc_M128-simultaneous_Sample_part.h",
+        "dmg-dmc-100u",
+        "NX's post writes 23 circle centres CC X Y Z for arcs in the Y-Z plane at B-90 (the TNC puts a circle in XY, its working plane: half circles of radius 0); some operations lie 2.5-5.6 m from the others, so its machine-coordinate moves take the axes beyond the 55 x 28 x 28 in travels",
+    ),
+    (
         "sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf",
         "cincinnati-ftv5",
         "NX's post writes M202(tolerance) (no 840D syntax), TRAOOF for TRAFOOF, G503 (no 840D G code) and a CYCLE84 without a pitch (alarm 61001)",
@@ -69,7 +74,6 @@ const DEFECTIVE: &[(&str, &str, &str)] = &[
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
     ("linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc", "O-words; the W quill, a sixth axis"),
-    ("heidenhain-klartext_nx-post_dmg-dmc100-bc_M128-simultaneous_Sample_part.h", "NX writes CC with Z (a circle outside the TNC's working plane, 23 blocks); M140 MB MAX; the DMC 100 U's machine file"),
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect (G7 plane, G141 TCP, G74, G93 datum shift); the DMC 160 U's machine file"),
     ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR radius compensation, CP polar arcs, cycles 202 and 203; a four-axis machine (A only)"),
 ];
@@ -439,4 +443,40 @@ fn the_solidworks_boss_second_setup_tilts_the_dmu50_table_as_its_post_does() {
         checked += 1;
     }
     assert_eq!(checked, 5751, "every GOTO of the second set-up");
+}
+
+/// The DMC 100 U program's defects, as the TNC reads it: an error at the Z of each `CC X.. Y.. Z..`
+/// (found here by scanning the file), arc errors only on `C` blocks of the operations that hold such
+/// centres (in the working plane XY those circles have no radius, or two), range errors only on the
+/// M91 moves of its start-up subprogram (lines 7 and 8: from where the far operations left the
+/// axes); nothing else. Its `M140 MB MAX F99999` (line 5) and DMG's M57 read clean.
+#[test]
+fn the_dmc100u_programs_defects_are_refused_as_the_tnc_reads_them() {
+    let file = common::outside("programs/heidenhain-klartext_nx-post_dmg-dmc100-bc_M128-simultaneous_Sample_part.h");
+    let text: String = std::fs::read(&file).unwrap().iter().map(|&b| b as char).collect();
+    let lines: Vec<&str> = text.lines().collect();
+    let words = |i: usize| lines[i - 1].split_whitespace().collect::<Vec<_>>();
+    let cc_xyz: Vec<usize> = (1..=lines.len()).filter(|&i| words(i).get(1) == Some(&"CC") && ["X", "Y", "Z"].iter().all(|a| words(i).iter().any(|t| t.starts_with(a)))).collect();
+    assert_eq!(cc_xyz.len(), 23);
+    // Each line's operation (counted by TOOL CALL), and the operations that hold such a centre.
+    let op: Vec<usize> = lines.iter().scan(0, |n, l| {
+        *n += usize::from(l.contains("TOOL CALL"));
+        Some(*n)
+    }).collect();
+    let ops_with_cc: Vec<usize> = cc_xyz.iter().map(|&i| op[i - 1]).collect();
+    let out = fiveaxis(&["program", "analyze", file.to_str().unwrap(), "--machine", "dmg-dmc-100u"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let errors: Vec<(usize, &str)> = stdout.lines().filter(|l| l.contains(": error:")).map(|e| (e.split(".h:").nth(1).unwrap().split(':').next().unwrap().parse().unwrap(), e)).collect();
+    let mut centres = Vec::new();
+    for (line, e) in &errors {
+        if e.contains("CC Z: not an axis of the working plane") {
+            centres.push(*line);
+        } else if e.contains("zero-radius arc") || e.contains("the radius to the end") {
+            assert!(words(*line).get(1) == Some(&"C") && ops_with_cc.contains(&op[line - 1]), "line {line}: {e}");
+        } else {
+            assert!((*line == 7 || *line == 8) && e.contains("outside its range"), "line {line}: {e}");
+        }
+    }
+    assert_eq!(centres, cc_xyz);
 }

@@ -719,8 +719,8 @@ fn scratch_print_blocks() {
     }
 }
 
-/// `M140 MB` (TNC 426/430 user's manual §7.4: "Retraction from the contour in the tool-axis
-/// direction"): the tool backs off along its own axis, by MB or, with MB MAX, to the end of the
+/// `M140 MB` (iTNC 530 user's manual, "Retraction from the contour in the tool-axis direction:
+/// M140"): the tool backs off along its own axis, by MB or, with MB MAX, to the end of the
 /// traverse range. On the Hermle (a table machine, the spindle along Z) MAX takes Z to the top of
 /// its range; on the generic B/C fork head at B 90 the tool lies along +X, so
 /// MB 25 moves X by 25 mm (the head's pivot 300 mm up does not change the direction) and MAX
@@ -739,7 +739,7 @@ fn klartext_m140_backs_off_along_the_tool_axis() {
     assert!((b4.feed.unwrap().value_per_min - 500.0).abs() < 1e-9);
 
     let head = Machine::builtin("generic-bc-head").unwrap();
-    let p = read("0 BEGIN PGM R MM\n1 L X+10 Y+20 Z+30 B+90 C+0 FMAX\n2 M140 MB+25 F800\n3 M140 MB MAX FMAX\n4 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default().on(&head));
+    let p = read("0 BEGIN PGM R MM\n1 L X+10 Y+20 Z+30 B+90 C+0 FMAX\n2 M140 MB+25 F800\n3 M140 MB MAX\n4 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default().on(&head));
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     let at = |line: usize| {
         let b = p.blocks.iter().find(|b| b.line == line).unwrap();
@@ -748,6 +748,8 @@ fn klartext_m140_backs_off_along_the_tool_axis() {
     let (a, b, c) = (at(2), at(3), at(4));
     assert!((b[0] - a[0] - 0.025).abs() < 1e-9 && (b[1] - a[1]).abs() < 1e-9 && (b[2] - a[2]).abs() < 1e-9, "{a:?} -> {b:?}");
     assert!((c[0] - 5.0).abs() < 1e-9 && (c[2] - a[2]).abs() < 1e-9, "{c:?}");
+    // Without F, at rapid traverse.
+    assert_eq!(p.blocks.iter().find(|b| b.line == 4).unwrap().motion, fiveaxis::program::Motion::Rapid);
     // Without a machine there is no tool axis or travel to go by: refused, naming why.
     let p = read("0 BEGIN PGM R MM\n1 M140 MB MAX\n2 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default());
     has(&p, 2, 3, "M140: ");

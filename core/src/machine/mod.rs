@@ -173,7 +173,7 @@ pub enum MachineError {
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
 /// of each family: table-table, table-head, head-head), a 45 deg nutating head, the corpus machines of
 /// issue 64 and a generic model of each kinematic class (`generic-*`, wide ranges).
-const BUILTIN_FILES: [(&str, &str); 27] = [
+const BUILTIN_FILES: [(&str, &str); 28] = [
     ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
@@ -194,6 +194,7 @@ const BUILTIN_FILES: [(&str, &str); 27] = [
     ("spinner-u5-620", include_str!("../../../machines/spinner-u5-620.toml")),
     ("cincinnati-ftv5", include_str!("../../../machines/cincinnati-ftv5.toml")),
     ("dmg-dmu-50", include_str!("../../../machines/dmg-dmu-50.toml")),
+    ("dmg-dmc-100u", include_str!("../../../machines/dmg-dmc-100u.toml")),
     ("generic-ac-table", include_str!("../../../machines/generic-ac-table.toml")),
     ("generic-bc-table", include_str!("../../../machines/generic-bc-table.toml")),
     ("generic-ab-table", include_str!("../../../machines/generic-ab-table.toml")),

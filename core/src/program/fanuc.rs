@@ -131,7 +131,7 @@ fn reference_return(it: &mut Interpreter, g: &Word, words: &[Word], line: usize,
     };
     // The intermediate point: nothing to do where it is where the tool stands (`G91 G28 Z0`).
     let still = !it.absolute() && axes.iter().all(|w| w.value == 0.0) || axes.iter().all(|w| w.incremental && w.value == 0.0);
-    if !still && !shot(it, OneShot { motion: Motion::Rapid, absolute: false, axes: None }, &axes, line, column, number, diags, out) {
+    if !still && !shot(it, OneShot { motion: Motion::Rapid, absolute: false, axes: None, own: false }, &axes, line, column, number, diags, out) {
         return false;
     }
     let unit = it.unit();
@@ -143,7 +143,7 @@ fn reference_return(it: &mut Interpreter, g: &Word, words: &[Word], line: usize,
             word(w.letter, if k < 3 { reference[k] / unit } else { 0.0 }, w.column)
         })
         .collect();
-    shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: origin }, &to, line, column, number, diags, out)
+    shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: origin, own: false }, &to, line, column, number, diags, out)
 }
 
 /// `G53 IP`: a rapid move to a point in machine coordinates, this block only (absolute values).
@@ -162,9 +162,9 @@ fn machine_move(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, col
             diags.error(line, g.column, format!("G{}: the machine file places no machine coordinates ([machine_coordinates] zero_mm)", g.raw));
             return false;
         }
-        return shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None }, &axes, line, column, number, diags, out);
+        return shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None, own: false }, &axes, line, column, number, diags, out);
     };
-    shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: Some(origin) }, &axes, line, column, number, diags, out)
+    shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: Some(origin), own: false }, &axes, line, column, number, diags, out)
 }
 
 /// A canned cycle's block (`kind` where it names the cycle, `None` for a new position under the
@@ -268,17 +268,17 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     // The position: X Y (and rotary axes) as written, under the modal G90/G91, repeated K times.
     let position: Vec<Word> = words.iter().filter(|w| matches!(w.letter, 'X' | 'Y' | 'A' | 'B' | 'C')).cloned().collect();
     for k in 0..repeats {
-        if (k == 0 || !it.absolute()) && !shot(it, OneShot { motion: Motion::Rapid, absolute: false, axes: None }, &position, line, column, number, diags, out) {
+        if (k == 0 || !it.absolute()) && !shot(it, OneShot { motion: Motion::Rapid, absolute: false, axes: None, own: false }, &position, line, column, number, diags, out) {
             return false;
         }
         let z = |v: f64| [word('Z', v / unit, column)];
-        if it.position()[2] != r && !shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None }, &z(r), line, column, number, diags, out) {
+        if it.position()[2] != r && !shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None, own: false }, &z(r), line, column, number, diags, out) {
             return false;
         }
         for step in cycles::hole(&active, it.cycles.to_r, clearance) {
             let ok = match step {
-                Step::Rapid(v) => shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None }, &z(v), line, column, number, diags, out),
-                Step::Feed(v) => shot(it, OneShot { motion: Motion::Linear, absolute: true, axes: None }, &z(v), line, column, number, diags, out),
+                Step::Rapid(v) => shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None, own: false }, &z(v), line, column, number, diags, out),
+                Step::Feed(v) => shot(it, OneShot { motion: Motion::Linear, absolute: true, axes: None, own: false }, &z(v), line, column, number, diags, out),
                 Step::Dwell(t) => {
                     out.push(Block { dwell_s: Some(t), ..it.still_block(line, column, number) });
                     true

@@ -107,6 +107,9 @@ pub(crate) struct OneShot {
     /// coordinates (`G53`, `M91`, a reference point: the machine zero), `M92`'s datum, or the axes'
     /// own positions (zero); the block moves the machine's axes, tool-centre-point management or not.
     pub axes: Option<[f64; 3]>,
+    /// The axes move from where they stand, not to machine coordinates (Heidenhain's `M140`): as
+    /// valid in a tilted working plane, and where they stand rests on the same work offset.
+    pub own: bool,
 }
 
 impl OneShot {
@@ -514,7 +517,7 @@ impl Interpreter {
     /// Interpret one block's words into one block (see [`Interpreter::block`]).
     pub(crate) fn block_one(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags) -> Option<Block> {
         let shot = self.oneshot.take();
-        if shot.is_some_and(|s| s.axes.is_some()) && self.tilt.is_some() {
+        if shot.is_some_and(|s| s.axes.is_some() && !s.own) && self.tilt.is_some() {
             diags.error(line, column, "machine coordinates in a tilted working plane: the control refuses them (TNC 426 B ISO §7.3: \"M91 and M92 are not effective in a tilted working plane\"); reset the plane first");
             return None;
         }
@@ -1056,7 +1059,7 @@ impl Interpreter {
             dwell_s,
             tolerance: self.tolerance,
             // A move of the machine's axes (machine coordinates) is where it is, whatever the datum.
-            offset_assumed: self.offset_assumed() && !shot.is_some_and(|s| s.axes.is_some()),
+            offset_assumed: self.offset_assumed() && !shot.is_some_and(|s| s.axes.is_some() && !s.own),
         })
     }
 }

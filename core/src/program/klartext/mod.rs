@@ -106,7 +106,7 @@ enum Kind<'a> {
     /// A block of `M` functions only.
     Misc(Vec<KWord<'a>>),
     /// `M140 MB n|MAX [F..|FMAX]`: back along the tool axis by n (program unit) or to the end of
-    /// the travel (None), at the feed given (else the feed in effect).
+    /// the travel (None), at the feed given (else at rapid traverse).
     Retract { distance: Option<KWord<'a>>, feed: FeedWord<'a>, col: usize },
     Tool { events: Vec<String>, feed: Option<KWord<'a>> },
     Tcp { on: bool, orientation: Option<Orientation> },
@@ -569,9 +569,10 @@ fn centre<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> Opti
     Some(Kind::Centre(axes))
 }
 
-/// A block of M functions only (`M128`, `M3 M8`), or `M140 MB MAX F..` (TNC 426/430 user's manual
-/// §7.4 "Retraction from the contour in the tool-axis direction: M140": MB the distance, MAX to the
-/// end of the traverse range, F its feed).
+/// A block of M functions only (`M128`, `M3 M8`), or `M140 MB MAX F..` (iTNC 530 user's manual,
+/// "Miscellaneous functions for contouring behavior", "Retraction from the contour in the tool-axis
+/// direction: M140": MB the distance, MAX to the end of the traverse range, F its feed, rapid
+/// without one; along the tool axis also when tilted or under M128).
 fn misc<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
     if let Some(&(first, col)) = toks.first() {
         if split_word(first) == (Cow::Borrowed("M"), "140") {

@@ -362,8 +362,9 @@ impl Exec {
                     match interp.retract_target(d) {
                         Ok(axes) => {
                             // A move of the axes themselves (origin zero), as M91's are of the machine's.
-                            let motion = if matches!(feed, FeedWord::Max) { crate::program::Motion::Rapid } else { crate::program::Motion::Linear };
-                            interp.oneshot = Some(OneShot { motion, absolute: true, axes: Some([0.0; 3]) });
+                            // Without F (or with FMAX) at rapid traverse.
+                            let motion = if matches!(feed, FeedWord::Value(_)) { crate::program::Motion::Linear } else { crate::program::Motion::Rapid };
+                            interp.oneshot = Some(OneShot { motion, absolute: true, axes: Some([0.0; 3]), own: true });
                             for (k, letter) in ['X', 'Y', 'Z'].into_iter().enumerate() {
                                 words.push(word(letter, axes[k] / unit, format!("{}", axes[k] / unit).into(), *col, false));
                             }
@@ -390,7 +391,16 @@ impl Exec {
                     } else if k == a1 {
                         1
                     } else {
-                        diags.error(s.line, w.col, format!("CC {}: not an axis of the working plane", w.addr));
+                        diags.error(
+                            s.line,
+                            w.col,
+                            format!(
+                                "CC {}: not an axis of the working plane ({}{}, from the TOOL CALL's axis): \"the TNC assigns a circle to one of the main planes\", \"defined when you set the spindle axis during TOOL CALL\" (TNC 425/415 B/407 user's manual §5, Circles in the main planes)",
+                                w.addr,
+                                ['X', 'Y', 'Z'][a0],
+                                ['X', 'Y', 'Z'][a1]
+                            ),
+                        );
                         continue;
                     };
                     c[slot] = if incremental { pos[k] + v * unit } else { v * unit };
@@ -483,7 +493,7 @@ impl Exec {
                 match self.machine_axes(code, interp, *shape, words.iter().any(|w| w.incremental)) {
                     Ok(origin) => {
                         let motion = if matches!(feed, FeedWord::Max) { crate::program::Motion::Rapid } else { crate::program::Motion::Linear };
-                        interp.oneshot = Some(OneShot { motion, absolute: true, axes: Some(origin) });
+                        interp.oneshot = Some(OneShot { motion, absolute: true, axes: Some(origin), own: false });
                     }
                     Err(why) => diags.error(s.line, col, format!("M{code}: {why}")),
                 }

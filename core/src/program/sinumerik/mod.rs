@@ -314,7 +314,7 @@ impl SinumerikReader {
             diags.error(line, col, format!("{what}: the machine file places no machine coordinates ([machine_coordinates] zero_mm)"));
             return false;
         }
-        self.interp.oneshot = Some(OneShot { motion, absolute: true, axes: origin });
+        self.interp.oneshot = Some(OneShot { motion, absolute: true, axes: origin, own: false });
         true
     }
 
@@ -465,7 +465,7 @@ impl SinumerikReader {
                 for leg in legs {
                     let mut w = vec![word('G', 0.0)];
                     w.extend(leg.iter().map(|&k| word(['X', 'Y', 'Z'][k], to[k] / unit)));
-                    self.interp.oneshot = Some(OneShot { motion: Motion::Rapid, absolute: true, axes: Some(origin) });
+                    self.interp.oneshot = Some(OneShot { motion: Motion::Rapid, absolute: true, axes: Some(origin), own: false });
                     match self.interp.block_one(&w, line, col, number, diags) {
                         Some(b) => out.push(b),
                         None => return,
