@@ -73,7 +73,7 @@ const DEFECTIVE: &[(&str, &str, &str)] = &[
 
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
-    ("linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc", "O-words; the W quill, a sixth axis"),
+    ("linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc", "the W quill, a sixth axis (its O-word loops are read: tests/readers.rs)"),
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect (G7 plane, G141 TCP, G74, G93 datum shift); the DMC 160 U's machine file"),
     ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR radius compensation, CP polar arcs, cycles 202 and 203; a four-axis machine (A only)"),
 ];

@@ -546,12 +546,15 @@ fn end_points(p: &Program) -> Vec<(Motion, [f64; 6])> {
 /// `YSIN[30]`, `X##32`, a setting that takes effect after its line) are read to the motion LinuxCNC's
 /// own interpreter makes of them: every operator and function of the manual's §11.4.5-11.4.8 in a
 /// fixture, and the demos `xyzac_switchkins_test_1/2.ngc` that set their feed as `#<FRATE>`. So are
-/// its work offsets (`offsets.ngc`: G10 L2 and L20, P0 for the active system, G53, G55).
+/// its work offsets (`offsets.ngc`: G10 L2 and L20, P0 for the active system, G53, G55), and its
+/// O-word control flow (`owords.ngc`: a subroutine called twice with arguments, its own `#<n>` and a
+/// global `#<_scale>`, `return`, `while` with `continue` and `break`, `do`/`while`, `repeat`, `if`/
+/// `elseif`/`else`).
 #[test]
 fn rs274_evaluates_parameters_and_expressions_as_linuxcnc_does() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs/linuxcnc/parameters");
     let switchkins = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..Default::default() };
-    for name in ["expressions", "offsets", "xyzac_switchkins_test_1", "xyzac_switchkins_test_2"] {
+    for name in ["expressions", "offsets", "owords", "xyzac_switchkins_test_1", "xyzac_switchkins_test_2"] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
         let p = read(&text, Dialect::Rs274, "t.ngc", &switchkins);
         assert!(errors(&p).is_empty(), "{name}: {:?}", errors(&p));
@@ -687,12 +690,12 @@ fn rs274_refuses_parameters_it_cannot_know() {
     }
     // A plain number still reads as before, and a word without a value is refused as before.
     has(&read_rs274("G1 X Y5 F100\n"), 1, 4, "expected a number after 'X'");
-    // LinuxCNC's control flow is refused by name at the O word (LinuxCNC's bridgemill demo loops so).
+    // LinuxCNC's control flow runs (the loop three times, an upper-case O); a call of a subroutine in
+    // another file is refused at the O word.
     let p = read_rs274("#<n> = 0\no100 while [#<n> lt 3]\n  G1 X#<n> F100\n  #<n> = [#<n> + 1]\n  O100 endwhile\no<probe> call [1]\nM2\n");
-    has(&p, 2, 1, "LinuxCNC O-word 'o100 while'");
-    has(&p, 5, 3, "LinuxCNC O-word 'O100 endwhile'");
-    has(&p, 6, 1, "LinuxCNC O-word 'o<probe> call'");
-    assert_eq!(errors(&p).len(), 3, "{:?}", errors(&p));
+    has(&p, 6, 1, "o<probe> call: no subroutine");
+    assert_eq!(errors(&p).len(), 1, "{:?}", errors(&p));
+    assert_eq!(p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect::<Vec<_>>(), [0.0, 1.0, 2.0]);
     // Fanuc custom macro B's control flow, likewise by name.
     let p = read_rs274("#1 = 0\nWHILE [#1 LT 3] DO1\nG1 X#1 F100\n#1 = [#1 + 1]\nEND1\nIF [#1 EQ 3] GOTO 10\nN10 M30\n");
     has(&p, 2, 1, "Fanuc macro 'WHILE'");
@@ -753,4 +756,81 @@ fn klartext_m140_backs_off_along_the_tool_axis() {
     // Without a machine there is no tool axis or travel to go by: refused, naming why.
     let p = read("0 BEGIN PGM R MM\n1 M140 MB MAX\n2 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default());
     has(&p, 2, 3, "M140: ");
+}
+
+/// LinuxCNC's O-word blocks fail closed: a block that never ends, an end of another name, a
+/// `break` outside its loop, a call of a subroutine not defined before it, a condition that cannot
+/// be read and an endless loop are each refused at their line, and nothing after them is read.
+#[test]
+fn rs274_o_word_defects_are_refused_where_they_stand() {
+    let opts = ReadOptions::default();
+    for (text, line, needle) in [
+        ("G1 X1 F100\no1 while [1 LT 2]\nG1 X2\n", 2, "the program ends inside o1 while"),
+        ("G1 X1 F100\no1 if [1]\nG1 X2\no2 endif\n", 4, "o2 endif ends no block: o1 if is open"),
+        ("G1 X1 F100\no1 if [1]\no5 break\no1 endif\n", 3, "not inside a while or do loop of that name"),
+        ("G1 X1 F100\no1 repeat [2]\no1 break\no1 endrepeat\n", 3, "not inside a while or do loop of that name"),
+        ("G1 X1 F100\no<tool_change> call [3]\n", 2, "no subroutine o<tool_change> is defined before it"),
+        ("G1 X1 F100\no1 while [#<undefined> LT 2]\nG1 X2\no1 endwhile\n", 2, "o1 while"),
+        ("G1 X1 F100\n#<i> = 0\no1 while [#<i> LT 1]\nG1 X2\no1 endwhile\nG1 X3\n", 4, "an endless loop"),
+        ("G1 X1 F100\no1 endwhile\n", 2, "no block of that name is open"),
+        ("G1 X1 F100\no1 repeat [2.5]\nG1 X2\no1 endrepeat\n", 2, "a whole count"),
+    ] {
+        let p = read(text, Dialect::Rs274, "t.ngc", &opts);
+        assert!(errors(&p).iter().any(|(l, _, m)| *l == line && m.contains(needle)), "{text:?}: {:#?}", errors(&p));
+    }
+    // After an endless loop nothing more is read: X3 never comes.
+    let p = read("G1 X1 F100\n#<i> = 0\no1 while [#<i> LT 1]\nG1 X2\no1 endwhile\nG1 X3\n", Dialect::Rs274, "t.ngc", &opts);
+    assert!(p.blocks.iter().all(|b| b.targets.x != Some(3.0 * MM)));
+    // Fanuc's program number is not an O-word block.
+    let p = read("%\nO1001 (PART)\nG1 X1 F100\n%\n", Dialect::Fanuc, "t.nc", &opts);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+}
+
+/// LinuxCNC's bridgemill demo (`../shared/outside/programs`): a hemisphere of holes drilled in nested
+/// O-word loops (`while`, `if`/`else`), named parameters, `cos`, `sin`, `mod`, `G10 L20`, `G53`, read
+/// to the same moves as LinuxCNC's own interpreter (`bridgemill_without_w.canon`, made by
+/// make_canon.sh), X Y Z B C to its 4 decimals. Standalone rs274 has no W axis, so the W (quill)
+/// words are taken out of both copies.
+#[test]
+fn rs274_runs_linuxcncs_bridgemill_loops_as_linuxcnc_does() {
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/outside/programs/linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc")).unwrap();
+    // The W words: `w` or `W`, blanks, then a number or a bracketed expression (make_canon.sh's sed).
+    let mut without_w = String::new();
+    let chars: Vec<char> = text.chars().collect();
+    let mut i = 0;
+    while i < chars.len() {
+        let mut k = i + 1;
+        while k < chars.len() && chars[k] == ' ' {
+            k += 1;
+        }
+        if matches!(chars[i], 'w' | 'W') && k < chars.len() && (chars[k] == '[' || chars[k].is_ascii_digit() || "+-.".contains(chars[k])) {
+            i = if chars[k] == '[' { k + chars[k..].iter().position(|&c| c == ']').unwrap() + 1 } else { k + 1 + chars[k + 1..].iter().take_while(|c| c.is_ascii_digit() || **c == '.').count() };
+            continue;
+        }
+        without_w.push(chars[i]);
+        i += 1;
+    }
+    let p = read(&without_w, Dialect::Rs274, "bridgemill.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    // rs274 also prints the null moves of a bare `g1` or `g0` (a W move's block without its W): only
+    // the moves that go somewhere are compared, on both sides.
+    let moving = |v: Vec<(Motion, [f64; 6])>| -> Vec<(Motion, [f64; 6])> {
+        let mut out: Vec<(Motion, [f64; 6])> = Vec::new();
+        for m in v {
+            if out.last().is_none_or(|l| (0..6).any(|i| (l.1[i] - m.1[i]).abs() > 0.5e-4 + 1e-9)) {
+                out.push(m);
+            }
+        }
+        out
+    };
+    let ours = moving(end_points(&p));
+    let theirs = moving(linuxcnc_canon("bridgemill_without_w.canon"));
+    assert_eq!(ours.len(), theirs.len(), "moves");
+    assert!(theirs.len() > 150, "{} moves", theirs.len());
+    for (k, ((m, a), (n, b))) in ours.iter().zip(&theirs).enumerate() {
+        assert_eq!(m, n, "move {k}");
+        for i in 0..6 {
+            assert!((a[i] - b[i]).abs() <= 0.5e-4 + 1e-9, "move {k} axis {i}: ours {a:?}, LinuxCNC {b:?}");
+        }
+    }
 }

@@ -12,6 +12,7 @@ mod heidenhain;
 mod interp;
 mod klartext;
 mod lex;
+mod oword;
 mod params;
 pub mod plane;
 mod rs274;

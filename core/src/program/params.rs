@@ -195,6 +195,37 @@ impl Parameters {
     }
 }
 
+/// What a subroutine call set aside: the caller's `#1`-`#30` and its local named parameters.
+#[derive(Debug, Clone)]
+pub struct Scope {
+    numbered: Vec<(u32, f64)>,
+    named: Vec<(String, f64)>,
+}
+
+impl Parameters {
+    /// Enter a subroutine (LinuxCNC manual, O codes, "Subroutines": `#1`-`#30` are its arguments and
+    /// its own, as are the named parameters it sets whose name does not begin with `_`).
+    pub fn enter_call(&mut self, args: &[f64]) -> Scope {
+        let numbered = (1..=30).filter_map(|n| self.numbered.remove(&n).map(|v| (n, v))).collect();
+        let locals: Vec<String> = self.named.keys().filter(|k| !k.starts_with('_')).cloned().collect();
+        let named = locals.into_iter().filter_map(|k| self.named.remove(&k).map(|v| (k, v))).collect();
+        for (k, v) in args.iter().enumerate() {
+            self.numbered.insert(k as u32 + 1, *v);
+        }
+        Scope { numbered, named }
+    }
+
+    /// Leave a subroutine: its own parameters go, the caller's come back.
+    pub fn leave_call(&mut self, scope: Scope) {
+        for n in 1..=30 {
+            self.numbered.remove(&n);
+        }
+        self.named.retain(|k, _| k.starts_with('_'));
+        self.numbered.extend(scope.numbered);
+        self.named.extend(scope.named);
+    }
+}
+
 /// The index of the first character at or after `i` that is not a space or tab.
 pub fn skip_blanks(chars: &[char], mut i: usize) -> usize {
     while chars.get(i).is_some_and(|c| *c == ' ' || *c == '\t') {

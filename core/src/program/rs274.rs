@@ -37,7 +37,7 @@ pub(crate) struct Rs274Reader {
     /// The program number (`O1234`), if the program opens with one.
     number: Option<String>,
     /// The parameters the program has set so far.
-    params: Parameters,
+    pub(super) params: Parameters,
     /// RS274NGC, Fanuc or Haas.
     dialect: Dialect,
     /// Fanuc and Haas: the lines before the program's first `%`, held until it comes (they are the
@@ -46,6 +46,8 @@ pub(crate) struct Rs274Reader {
     leader: Option<Vec<(usize, String)>>,
     /// Fanuc, Haas: the tape's end `%` has been read: nothing after it is program.
     refused: bool,
+    /// LinuxCNC's O-word blocks held and run ([`super::oword`]).
+    pub(super) flow: super::oword::Flow,
 }
 
 /// The most leader held back, lines and bytes: an NX "Information listing" header is a few lines.
@@ -60,7 +62,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, flow: Default::default() }
     }
 }
 
@@ -95,6 +97,7 @@ impl super::stream::LineReader for Rs274Reader {
 
     fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, out: &mut Vec<Block>, diags: &mut Diags) {
         self.release_leader(out, diags);
+        self.flow_finish(diags);
     }
 
     fn name(&self) -> Option<String> {
@@ -112,7 +115,16 @@ impl Rs274Reader {
         }
     }
 
+    /// A line of the program as it streams: O-word blocks are held and run, other lines read.
     fn program_line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        if self.refused || (self.dialect == Dialect::Rs274 && self.flow_line(line, text, out, diags)) {
+            return;
+        }
+        self.plain_line(line, text, out, diags);
+    }
+
+    /// One line read as the interpreter reads it (O-word lines are the flow's).
+    pub(super) fn plain_line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
         if self.refused {
             return;
         }
@@ -141,7 +153,7 @@ impl Rs274Reader {
             }
         }
         if let Some(keyword) = o_word_control(&chars[first..]) {
-            diags.error(line, first + 1, format!("LinuxCNC O-word '{keyword}': subroutines, loops and conditions are not read (the motion would depend on them)"));
+            diags.error(line, first + 1, format!("O-word '{keyword}': LinuxCNC's control flow, not this dialect's"));
             return;
         }
         let mut words: Vec<Word> = Vec::new();

@@ -6,9 +6,22 @@
 # are dropped from rs274's copy: they move nothing.
 set -eu
 cd "$(dirname "$0")"
-for f in cycles expressions offsets xyzac_switchkins_test_1 xyzac_switchkins_test_2; do
+for f in cycles expressions offsets owords xyzac_switchkins_test_1 xyzac_switchkins_test_2; do
     sed -e 's/^M42[89]\b.*$//' "$f.ngc" > "/tmp/$f.rs274.ngc"
     rs274 -g "/tmp/$f.rs274.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
     grep -o 'STRAIGHT_[A-Z]*(.*)' "/tmp/$f.canon" > "$f.canon"
     rm "/tmp/$f.rs274.ngc" "/tmp/$f.canon"
 done
+# LinuxCNC's bridgemill demo (../shared/outside/programs, not committed here) drills a hemisphere in
+# nested O-word loops. Standalone rs274 has no W axis (its axis mask is XYZABC), so the W (quill)
+# words are taken out of rs274's copy, as tests/readers.rs takes them out of ours; its tool 100 is
+# given a table.
+shared="../../../../../shared/outside/programs"
+f=linuxcnc-rs274ngc_bridgemill-5axisgui-oword
+if [ -f "$shared/$f.ngc" ]; then
+    sed -E 's/[wW] *(\[[^]]*\]|[-+]?[0-9.]+)//g' "$shared/$f.ngc" > /tmp/bridgemill.rs274.ngc
+    printf 'T100 P100 Z0 D10 ;\n' > /tmp/bridgemill.tbl
+    rs274 -t /tmp/bridgemill.tbl -g /tmp/bridgemill.rs274.ngc /tmp/bridgemill.canon < /dev/null > /dev/null
+    grep -o 'STRAIGHT_[A-Z]*(.*)' /tmp/bridgemill.canon > bridgemill_without_w.canon
+    rm /tmp/bridgemill.rs274.ngc /tmp/bridgemill.tbl /tmp/bridgemill.canon
+fi

@@ -1,0 +1,511 @@
+//! LinuxCNC's O-word control flow (LinuxCNC manual, "O Codes"): `sub`/`endsub`/`call`/`return`,
+//! `while`/`endwhile`, `do`/`while`, `repeat`/`endrepeat`, `if`/`elseif`/`else`/`endif`, `break`,
+//! `continue` (of a while or do loop), each block named by its O number (`o100`) or name (`o<name>`), the same on every line
+//! of the block, conditions and counts in `[...]` as the parameters evaluate them.
+//!
+//! The reader streams lines; a control block is held (bounded) from its opening line to its end,
+//! then run: its lines read as the interpreter would, as many times as the flow says, within a
+//! budget of lines run (an endless loop is an error at its line, not a hang). A subroutine is held
+//! until called; its arguments are `#1`-`#30`, and its numbered `#1`-`#30` and named parameters
+//! without a leading `_` are its own (LinuxCNC's scoping), restored when it returns. A call of a
+//! subroutine not defined before it (later in the file, or in another file on LinuxCNC's
+//! SUBROUTINE_PATH) is refused: the motion would depend on a program not read.
+
+use super::lex::{excerpt, Diags};
+use super::params::skip_blanks;
+use super::rs274::Rs274Reader;
+use super::Block;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// The most lines one held block (a loop, a condition, a subroutine) may have, and bytes.
+pub const MAX_HELD_LINES: usize = 100_000;
+pub const MAX_HELD_BYTES: usize = 16 << 20;
+/// The most lines control blocks may run in one program (the Klartext reader's repeat budget).
+pub const MAX_RUN_LINES: usize = 4_000_000;
+/// Deepest nesting of subroutine calls (LinuxCNC's `MAX_NESTED_CALLS`... its stack is 10 deep).
+pub const MAX_CALL_DEPTH: usize = 10;
+/// Most subroutines one program may define.
+pub const MAX_SUBS: usize = 10_000;
+
+/// An O word's keyword.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Keyword {
+    Sub,
+    EndSub,
+    Call,
+    Return,
+    Do,
+    While,
+    EndWhile,
+    If,
+    ElseIf,
+    Else,
+    EndIf,
+    Repeat,
+    EndRepeat,
+    Break,
+    Continue,
+}
+
+impl Keyword {
+    fn of(word: &str) -> Option<Keyword> {
+        Some(match word {
+            "sub" => Keyword::Sub,
+            "endsub" => Keyword::EndSub,
+            "call" => Keyword::Call,
+            "return" => Keyword::Return,
+            "do" => Keyword::Do,
+            "while" => Keyword::While,
+            "endwhile" => Keyword::EndWhile,
+            "if" => Keyword::If,
+            "elseif" => Keyword::ElseIf,
+            "else" => Keyword::Else,
+            "endif" => Keyword::EndIf,
+            "repeat" => Keyword::Repeat,
+            "endrepeat" => Keyword::EndRepeat,
+            "break" => Keyword::Break,
+            "continue" => Keyword::Continue,
+            _ => return None,
+        })
+    }
+}
+
+/// One O-word line: the block's name (lower case, `100` or `<name>`), its keyword, and where what
+/// follows the keyword starts (a condition, a count, a call's arguments).
+#[derive(Debug, Clone)]
+pub struct OLine {
+    pub name: String,
+    pub keyword: Keyword,
+    pub rest: usize,
+}
+
+/// The O-word control line at the start of `chars`, if it is one.
+pub fn parse(chars: &[char]) -> Option<OLine> {
+    if !matches!(chars.first(), Some('o' | 'O')) {
+        return None;
+    }
+    let mut i = skip_blanks(chars, 1);
+    let start = i;
+    if chars.get(i) == Some(&'<') {
+        i += chars[i..].iter().position(|&c| c == '>')? + 1;
+    } else {
+        while chars.get(i).is_some_and(|c| c.is_ascii_digit()) {
+            i += 1;
+        }
+        if i == start {
+            return None;
+        }
+    }
+    let name: String = chars[start..i].iter().filter(|c| !c.is_whitespace()).flat_map(|c| c.to_lowercase()).collect();
+    let name = name.trim_start_matches('0').to_string();
+    let k = skip_blanks(chars, i);
+    let end = (k..chars.len()).find(|&e| !chars[e].is_ascii_alphabetic()).unwrap_or(chars.len());
+    let word: String = chars[k..end].iter().flat_map(|c| c.to_lowercase()).collect();
+    Some(OLine { name, keyword: Keyword::of(&word)?, rest: end })
+}
+
+/// Whether `l` opens a block that must be held to its end (a subroutine, a loop, a condition);
+/// `open` is the blocks open so far, innermost last (a `while` ends the `do` of its name).
+fn opens(l: &OLine, open: &[(String, Keyword)]) -> bool {
+    match l.keyword {
+        Keyword::Sub | Keyword::Do | Keyword::If | Keyword::Repeat => true,
+        Keyword::While => !open.last().is_some_and(|(n, k)| *k == Keyword::Do && *n == l.name),
+        _ => false,
+    }
+}
+
+/// The keyword that ends a block opened by `k`.
+fn closer(k: Keyword) -> Keyword {
+    match k {
+        Keyword::Sub => Keyword::EndSub,
+        Keyword::Do => Keyword::While,
+        Keyword::If => Keyword::EndIf,
+        Keyword::Repeat => Keyword::EndRepeat,
+        _ => Keyword::EndWhile,
+    }
+}
+
+fn word(k: Keyword) -> &'static str {
+    match k {
+        Keyword::Sub => "sub",
+        Keyword::EndSub => "endsub",
+        Keyword::Call => "call",
+        Keyword::Return => "return",
+        Keyword::Do => "do",
+        Keyword::While => "while",
+        Keyword::EndWhile => "endwhile",
+        Keyword::If => "if",
+        Keyword::ElseIf => "elseif",
+        Keyword::Else => "else",
+        Keyword::EndIf => "endif",
+        Keyword::Repeat => "repeat",
+        Keyword::EndRepeat => "endrepeat",
+        Keyword::Break => "break",
+        Keyword::Continue => "continue",
+    }
+}
+
+/// A line as read: its number and text.
+type Line = (usize, String);
+
+/// A block being held: its lines so far and the blocks open in it.
+#[derive(Debug, Clone, Default)]
+struct Held {
+    lines: Vec<Line>,
+    bytes: usize,
+    open: Vec<(String, Keyword, usize)>,
+}
+
+/// The control-flow state of one read.
+#[derive(Debug, Clone, Default)]
+pub struct Flow {
+    held: Option<Held>,
+    subs: HashMap<String, Arc<Vec<Line>>>,
+    run_lines: usize,
+    depth: usize,
+    /// The diagnostics said by lines run so far: a loop's second pass over a defect says it once.
+    said: std::collections::HashSet<(usize, usize, String)>,
+    /// The run was stopped (budget, a defect in the flow): what is left of the block is not read.
+    stopped: bool,
+}
+
+/// How a run of lines ended.
+enum End {
+    Done,
+    Return,
+    Stopped,
+}
+
+impl Rs274Reader {
+    /// A streamed line: held while a block is open, run when its block closes; true if the line
+    /// was taken here (the caller reads it otherwise).
+    pub(super) fn flow_line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
+        let first = chars.iter().position(|c| !c.is_whitespace()).unwrap_or(chars.len());
+        let o = parse(&chars[first..]);
+        if let Some(held) = &mut self.flow.held {
+            if held.lines.len() >= MAX_HELD_LINES || held.bytes + text.len() > MAX_HELD_BYTES {
+                let (name, k, at) = held.open[0].clone();
+                diags.error(at, 1, format!("o{name} {}: the block runs over {MAX_HELD_LINES} lines or {} MiB: not read", word(k), MAX_HELD_BYTES >> 20));
+                self.flow.held = None;
+                self.flow.stopped = true;
+                return true;
+            }
+            held.lines.push((line, text.to_string()));
+            held.bytes += text.len();
+            if let Some(o) = o {
+                if opens(&o, &held.open.iter().map(|(n, k, _)| (n.clone(), *k)).collect::<Vec<_>>()) {
+                    held.open.push((o.name, o.keyword, line));
+                } else if let Some((name, k, _)) = held.open.last().cloned() {
+                    if o.keyword == closer(k) && o.name == name {
+                        held.open.pop();
+                    } else if matches!(o.keyword, Keyword::EndSub | Keyword::EndWhile | Keyword::EndIf | Keyword::EndRepeat) {
+                        // An end of another block: what it closes is unknown, so is all after it.
+                        self.flow.held = None;
+                        self.stop(line, first + 1, format!("o{} {} ends no block: o{name} {} is open", o.name, word(o.keyword), word(k)), diags);
+                        return true;
+                    }
+                }
+            }
+            if held.open.is_empty() {
+                let held = self.flow.held.take().unwrap_or_default();
+                self.run_held(held.lines, out, diags);
+            }
+            return true;
+        }
+        if self.flow.stopped {
+            return true;
+        }
+        let Some(o) = o else { return false };
+        if opens(&o, &[]) {
+            self.flow.held = Some(Held { lines: vec![(line, text.to_string())], bytes: text.len(), open: vec![(o.name, o.keyword, line)] });
+            return true;
+        }
+        // A lone keyword outside any block: a call runs now; anything else ends nothing.
+        if o.keyword == Keyword::Call {
+            let lines = [(line, text.to_string())];
+            self.run(&lines, out, diags);
+        } else {
+            diags.error(line, first + 1, format!("o{} {}: no block of that name is open", o.name, word(o.keyword)));
+        }
+        true
+    }
+
+    /// The input has ended: a block still held never closed.
+    pub(super) fn flow_finish(&mut self, diags: &mut Diags) {
+        if let Some(held) = self.flow.held.take() {
+            let (name, k, at) = &held.open[0];
+            diags.error(*at, 1, format!("the program ends inside o{name} {} (no o{name} {})", word(*k), word(closer(*k))));
+        }
+    }
+
+    /// A held block closed: a subroutine is kept for its calls, anything else runs.
+    fn run_held(&mut self, lines: Vec<Line>, out: &mut Vec<Block>, diags: &mut Diags) {
+        let first = lines.first().and_then(|(_, t)| parse(&t.trim_start().chars().collect::<Vec<_>>()));
+        if let Some(o) = first.filter(|o| o.keyword == Keyword::Sub) {
+            if self.flow.subs.len() >= MAX_SUBS && !self.flow.subs.contains_key(&o.name) {
+                diags.error(lines[0].0, 1, format!("more than {MAX_SUBS} subroutines"));
+                return;
+            }
+            self.flow.subs.insert(o.name, Arc::new(lines));
+            return;
+        }
+        self.run(&lines, out, diags);
+    }
+
+    /// Run `lines` (a whole block, or a subroutine's body with its `sub` and `endsub` lines) as the
+    /// flow says. Every control block in them is matched first: a name closed by another's end,
+    /// or a `break` outside its loop, stops the run before anything moves.
+    fn run(&mut self, lines: &[Line], out: &mut Vec<Block>, diags: &mut Diags) -> End {
+        let parsed: Vec<Option<(OLine, usize)>> = lines
+            .iter()
+            .map(|(_, t)| {
+                let chars: Vec<char> = t.trim_end_matches('\r').chars().collect();
+                let first = chars.iter().position(|c| !c.is_whitespace()).unwrap_or(chars.len());
+                parse(&chars[first..]).map(|o| (o, first))
+            })
+            .collect();
+        // Match the blocks: for each opening line its end, and for an if its branches.
+        let mut end_of: HashMap<usize, usize> = HashMap::new();
+        let mut opener_of: HashMap<usize, usize> = HashMap::new();
+        let mut branches: HashMap<usize, Vec<usize>> = HashMap::new();
+        let mut open: Vec<(String, Keyword, usize)> = Vec::new();
+        for (i, p) in parsed.iter().enumerate() {
+            let Some((o, col)) = p else { continue };
+            let names: Vec<(String, Keyword)> = open.iter().map(|(n, k, _)| (n.clone(), *k)).collect();
+            if opens(o, &names) {
+                open.push((o.name.clone(), o.keyword, i));
+                continue;
+            }
+            let (line, col) = (lines[i].0, col + 1);
+            match o.keyword {
+                Keyword::ElseIf | Keyword::Else => match open.last() {
+                    Some((n, Keyword::If, at)) if *n == o.name => branches.entry(*at).or_default().push(i),
+                    _ => return self.stop(line, col, format!("o{} {}: not inside o{} if", o.name, word(o.keyword), o.name), diags),
+                },
+                Keyword::EndSub | Keyword::While | Keyword::EndWhile | Keyword::EndIf | Keyword::EndRepeat => match open.pop() {
+                    Some((n, k, at)) if n == o.name && closer(k) == o.keyword => {
+                        end_of.insert(at, i);
+                        opener_of.insert(i, at);
+                    }
+                    Some((n, k, _)) => return self.stop(line, col, format!("o{} {} ends no block: o{n} {} is open", o.name, word(o.keyword), word(k)), diags),
+                    None => return self.stop(line, col, format!("o{} {}: no block of that name is open", o.name, word(o.keyword)), diags),
+                },
+                Keyword::Break | Keyword::Continue => {
+                    // LinuxCNC's: of a while or do loop only ("no matching while/do label" for a repeat).
+                    if !open.iter().any(|(n, k, _)| *n == o.name && matches!(k, Keyword::While | Keyword::Do)) {
+                        return self.stop(line, col, format!("o{} {}: not inside a while or do loop of that name", o.name, word(o.keyword)), diags);
+                    }
+                }
+                _ => {}
+            }
+        }
+        if let Some((n, k, at)) = open.first() {
+            return self.stop(lines[*at].0, 1, format!("o{n} {}: its block does not end (no o{n} {})", word(*k), word(closer(*k))), diags);
+        }
+        // Run.
+        let mut repeats: HashMap<usize, f64> = HashMap::new();
+        let mut pc = 0;
+        while pc < lines.len() {
+            if self.flow.stopped {
+                return End::Stopped;
+            }
+            self.flow.run_lines += 1;
+            let (line, text) = (&lines[pc].0, &lines[pc].1);
+            if self.flow.run_lines > MAX_RUN_LINES {
+                return self.stop(*line, 1, format!("more than {MAX_RUN_LINES} lines run by O-word loops and calls: an endless loop? not read further"), diags);
+            }
+            let Some((o, col)) = &parsed[pc] else {
+                let before = diags.0.len();
+                self.plain_line(*line, text, out, diags);
+                // Said once per line, however often the flow runs it.
+                let fresh: Vec<_> = diags.0.drain(before..).collect();
+                for d in fresh {
+                    if self.flow.said.len() < MAX_HELD_LINES && self.flow.said.insert((d.line, d.column, d.message.clone())) {
+                        diags.0.push(d);
+                    } else if self.flow.said.len() >= MAX_HELD_LINES {
+                        diags.0.push(d);
+                    }
+                }
+                pc += 1;
+                continue;
+            };
+            let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
+            match o.keyword {
+                Keyword::Sub => {
+                    // A subroutine defined inside a block: kept, its body skipped.
+                    let end = end_of[&pc];
+                    self.flow.subs.insert(o.name.clone(), Arc::new(lines[pc..=end].to_vec()));
+                    pc = end + 1;
+                }
+                Keyword::EndSub | Keyword::Return => return End::Return,
+                Keyword::Call => {
+                    match self.call(o, &chars[*col..], *line, *col, out, diags) {
+                        End::Stopped => return End::Stopped,
+                        _ => pc += 1,
+                    }
+                }
+                Keyword::Do => pc += 1,
+                Keyword::While if end_of.contains_key(&pc) => {
+                    // A while loop: its condition, here.
+                    let Some(c) = self.condition(o, &chars[*col..], *line, *col, diags) else { return End::Stopped };
+                    pc = if c { pc + 1 } else { end_of[&pc] + 1 };
+                }
+                Keyword::While => {
+                    // The end of a do loop: again while its condition holds.
+                    let Some(c) = self.condition(o, &chars[*col..], *line, *col, diags) else { return End::Stopped };
+                    pc = if c { opener_of[&pc] + 1 } else { pc + 1 };
+                }
+                Keyword::EndWhile => pc = opener_of[&pc],
+                Keyword::Repeat => {
+                    let Some(n) = self.count(o, &chars[*col..], *line, *col, diags) else { return End::Stopped };
+                    if n >= 1.0 {
+                        repeats.insert(pc, n);
+                        pc += 1;
+                    } else {
+                        pc = end_of[&pc] + 1;
+                    }
+                }
+                Keyword::EndRepeat => {
+                    let start = opener_of[&pc];
+                    let left = repeats.get(&start).copied().unwrap_or(0.0) - 1.0;
+                    repeats.insert(start, left);
+                    pc = if left >= 1.0 { start + 1 } else { pc + 1 };
+                }
+                Keyword::If => {
+                    let Some(c) = self.condition(o, &chars[*col..], *line, *col, diags) else { return End::Stopped };
+                    if c {
+                        pc += 1;
+                        continue;
+                    }
+                    let mut next = end_of[&pc] + 1;
+                    for &b in branches.get(&pc).map_or(&[][..], |v| &v[..]) {
+                        let (bl, bt) = (&lines[b].0, &lines[b].1);
+                        let (bo, bcol) = parsed[b].as_ref().expect("a branch is an O line");
+                        if bo.keyword == Keyword::Else {
+                            next = b + 1;
+                            break;
+                        }
+                        let bchars: Vec<char> = bt.trim_end_matches('\r').chars().collect();
+                        let Some(c) = self.condition(bo, &bchars[*bcol..], *bl, *bcol, diags) else { return End::Stopped };
+                        if c {
+                            next = b + 1;
+                            break;
+                        }
+                    }
+                    pc = next;
+                }
+                // The branch taken has ended: past the if's end.
+                Keyword::ElseIf | Keyword::Else => {
+                    let opener = branches.iter().find(|(_, v)| v.contains(&pc)).map(|(k, _)| *k).expect("matched above");
+                    pc = end_of[&opener] + 1;
+                }
+                Keyword::EndIf => pc += 1,
+                Keyword::Break | Keyword::Continue => {
+                    // The innermost open loop of that name around this line.
+                    let opener = (0..pc)
+                        .rev()
+                        .find(|&k| parsed[k].as_ref().is_some_and(|(l, _)| l.name == o.name && matches!(l.keyword, Keyword::While | Keyword::Do) && end_of.get(&k).is_some_and(|&e| e > pc)))
+                        .expect("matched above");
+                    let end = end_of[&opener];
+                    pc = match (o.keyword, parsed[opener].as_ref().map(|(l, _)| l.keyword)) {
+                        (Keyword::Break, _) => end + 1,
+                        // Continue: to the loop's test (a while's head, a do's tail).
+                        (_, Some(Keyword::While)) => opener,
+                        _ => end,
+                    };
+                }
+            }
+        }
+        End::Done
+    }
+
+    /// A defect in the flow: said at its line, and nothing more is read (what follows would run
+    /// from a state the flow left unknown).
+    fn stop(&mut self, line: usize, column: usize, message: String, diags: &mut Diags) -> End {
+        if !self.flow.stopped {
+            diags.error(line, column, format!("{message} (the rest of the program is not read)"));
+        }
+        self.flow.stopped = true;
+        End::Stopped
+    }
+
+    /// The `[...]` after a keyword, evaluated: its value, or None (the defect said, the run stopped).
+    /// `chars` is the line from its O word on, which stands at 0-based column `col`.
+    fn bracket(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, diags: &mut Diags) -> Option<f64> {
+        let start = skip_blanks(chars, o.rest);
+        if chars.get(start) != Some(&'[') {
+            self.stop(line, col + start + 1, format!("o{} {}: expected a [condition] or [count]", o.name, word(o.keyword)), diags);
+            return None;
+        }
+        match self.params.real_value(chars, start) {
+            Ok((v, end)) => {
+                let rest: String = chars[end..].iter().collect();
+                let rest = rest.trim();
+                if !(rest.is_empty() || rest.starts_with(';') || rest.starts_with('(')) {
+                    self.stop(line, col + end + 1, format!("o{} {}: unexpected '{}' after its [...]", o.name, word(o.keyword), excerpt(rest)), diags);
+                    return None;
+                }
+                Some(v)
+            }
+            Err(e) => {
+                self.stop(line, col + e.column, format!("o{} {}: {}", o.name, word(o.keyword), e.message), diags);
+                None
+            }
+        }
+    }
+
+    fn condition(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, diags: &mut Diags) -> Option<bool> {
+        self.bracket(o, chars, line, col, diags).map(|v| v != 0.0)
+    }
+
+    fn count(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, diags: &mut Diags) -> Option<f64> {
+        let n = self.bracket(o, chars, line, col, diags)?;
+        if n.fract().abs() > 1e-4 && (1.0 - n.fract()).abs() > 1e-4 {
+            self.stop(line, col + 1, format!("o{} repeat [{n}]: expected a whole count", o.name), diags);
+            return None;
+        }
+        Some(n.round())
+    }
+
+    /// `oN call [a] [b] ...`: the subroutine's body with `#1`.. set to the arguments, in its own scope
+    /// (`chars` from the O word on, which stands at 0-based column `col`).
+    fn call(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> End {
+        let Some(body) = self.flow.subs.get(&o.name).cloned() else {
+            return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined before it in this file (LinuxCNC would look on its SUBROUTINE_PATH): the motion depends on a program not read", o.name, o.name), diags);
+        };
+        if self.flow.depth >= MAX_CALL_DEPTH {
+            return self.stop(line, col + 1, format!("o{} call: calls nested more than {MAX_CALL_DEPTH} deep", o.name), diags);
+        }
+        let mut args = Vec::new();
+        let mut i = o.rest;
+        loop {
+            i = skip_blanks(chars, i);
+            match chars.get(i) {
+                None | Some(';') | Some('(') => break,
+                Some('[') => match self.params.real_value(chars, i) {
+                    Ok((v, end)) => {
+                        args.push(v);
+                        i = end;
+                    }
+                    Err(e) => return self.stop(line, col + e.column, format!("o{} call: {}", o.name, e.message), diags),
+                },
+                Some(_) => return self.stop(line, col + i + 1, format!("o{} call: expected arguments in [...], found '{}'", o.name, excerpt(&chars[i..].iter().collect::<String>())), diags),
+            }
+        }
+        if args.len() > 30 {
+            return self.stop(line, col + 1, format!("o{} call: {} arguments, LinuxCNC takes 30 (#1-#30)", o.name, args.len()), diags);
+        }
+        let scope = self.params.enter_call(&args);
+        self.flow.depth += 1;
+        // The body, without its `sub` and `endsub` lines.
+        let end = self.run(&body[1..body.len().saturating_sub(1).max(1)], out, diags);
+        self.flow.depth -= 1;
+        self.params.leave_call(scope);
+        match end {
+            End::Stopped => End::Stopped,
+            _ => End::Done,
+        }
+    }
+}
