@@ -4,7 +4,8 @@
 //! analyze` reads it. Prints blocks/s and MB/s per dialect, best of three reads.
 //!
 //! usage: cargo bench --bench readers [-- BLOCKS] [DIALECT]     (default 1000000, every dialect;
-//! DIALECT one of rs274 heidenhain sinumerik klartext fanuc haas cl apt)
+//! DIALECT one of rs274 heidenhain sinumerik klartext fanuc haas cl apt rs274loop; rs274loop makes a
+//! quarter of BLOCKS moves in a LinuxCNC O-word loop, each computed from expressions)
 
 use fiveaxis::program::{read, Dialect, ReadOptions};
 use std::fmt::Write;
@@ -24,6 +25,18 @@ fn pose(k: usize) -> ([f64; 3], [f64; 3], [f64; 2]) {
     let o = n.map(|c| c / norm);
     let (aa, cc) = (o[2].acos().to_degrees(), o[0].atan2(o[1]).to_degrees());
     ([x, y, z], o, [aa, cc])
+}
+
+/// A LinuxCNC program making `blocks` moves in an O-word loop: each pass evaluates its X Y Z A C
+/// from the loop counter (a wavy raster as above, in expressions), so a parameter program's cost per
+/// block can be set beside a written one's (issue 64: "parameter programs cost no more than their
+/// blocks"). Four lines run per move: the test, the move, the count, the loop's end.
+fn loop_program(blocks: usize) -> String {
+    format!(
+        "G21 G90 G94\nG1 F2000\n#<k> = 0\no1 while [#<k> LT {blocks}]\n\
+         G1 X[[#<k> MOD 1001] * 0.1 - 50] Y[[FIX[#<k> / 1001] MOD 200] * 0.5 - 50] Z[8 * SIN[[#<k> MOD 1001] * 0.48] - 10] A[10 + 5 * COS[#<k> * 0.01]] C[#<k> * 0.02]\n\
+         #<k> = [#<k> + 1]\no1 endwhile\nM2\n"
+    )
 }
 
 /// The program in `dialect` (APT CL data: `apt` with [`Dialect::Cl`]).
@@ -87,11 +100,13 @@ fn main() {
         ("Cl", Dialect::Cl, false),
         ("Apt", Dialect::Cl, true),
     ];
-    for (name, dialect, apt) in forms {
+    for (name, dialect, apt) in forms.into_iter().chain([("Rs274Loop", Dialect::Rs274, false)]) {
         if only.as_ref().is_some_and(|o| !name.eq_ignore_ascii_case(o)) {
             continue;
         }
-        let text = program(dialect, apt, blocks);
+        // The loop's moves: a quarter, within the O-word run budget of 4 M lines.
+        let blocks = if name == "Rs274Loop" { blocks / 4 } else { blocks };
+        let text = if name == "Rs274Loop" { loop_program(blocks) } else { program(dialect, apt, blocks) };
         let mut best = f64::INFINITY;
         let mut read_blocks = 0;
         for _ in 0..3 {
