@@ -834,3 +834,50 @@ fn rs274_runs_linuxcncs_bridgemill_loops_as_linuxcnc_does() {
         }
     }
 }
+
+/// The bridgemill demo's drilling is its W quill: 5axiskins puts the world point at
+/// `J + (0, 0, L) + s2r(L + W, C, 180 - B)` with `s2r(r, t, p) = r (sin p cos t, sin p sin t, cos p)`
+/// (LinuxCNC src/emc/kinematics/5axiskins.c), the tool drawn L from the pivot, so `g1 w-10` takes the
+/// tip to `P - s2r(W, C, 180 - B)`: computed here from the C source's formula at each hole's B and C,
+/// and the reader's blocks put the tip there (1e-9 mm), then back on `g0 w0`. The program reads clean
+/// on the machine (W its quill, 5axiskins from start).
+#[test]
+fn rs274_bridgemill_drills_with_its_w_quill_as_5axiskins_moves_the_tip() {
+    use fiveaxis::machine::Machine;
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/outside/programs/linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc")).unwrap();
+    let machine = Machine::builtin("linuxcnc-bridgemill").unwrap();
+    let p = read(&text, Dialect::Rs274, "bridgemill.ngc", &ReadOptions::default().on(&machine));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let (mut at, mut b, mut c) = ([0.0f64; 3], 0.0f64, 0.0f64);
+    let (mut drilled, mut back, mut hole) = (0, 0, [0.0f64; 3]);
+    for blk in &p.blocks {
+        let t = &blk.targets;
+        let to = [t.x.unwrap_or(at[0] * MM) / MM, t.y.unwrap_or(at[1] * MM) / MM, t.z.unwrap_or(at[2] * MM) / MM];
+        match blk.line {
+            // `g1 w[-10]`: the tip off the hole by -s2r(W, C, 180 - B), W = -10.
+            43 => {
+                let (w, pr, th) = (-10.0, (180.0 - b).to_radians(), c.to_radians());
+                let s2r = [w * pr.sin() * th.cos(), w * pr.sin() * th.sin(), w * pr.cos()];
+                for i in 0..3 {
+                    assert!((to[i] - (at[i] - s2r[i])).abs() < 1e-9, "line 43 at B {b} C {c}: tip {to:?}, 5axiskins {:?}", [at[0] - s2r[0], at[1] - s2r[1], at[2] - s2r[2]]);
+                }
+                assert_eq!(blk.motion, Motion::Linear);
+                hole = at;
+                drilled += 1;
+            }
+            44 => {
+                assert!((0..3).all(|i| (to[i] - hole[i]).abs() < 1e-9) && blk.motion == Motion::Rapid, "line 44: {to:?}, the hole {hole:?}");
+                back += 1;
+            }
+            _ => {}
+        }
+        if let Some(v) = t.b {
+            b = v / DEG;
+        }
+        if let Some(v) = t.c {
+            c = v / DEG;
+        }
+        at = to;
+    }
+    assert_eq!((drilled, back), (128, 128), "8 rings of 16 holes");
+}

@@ -60,6 +60,10 @@ pub struct MachineFile {
     /// rotary axes' positions (bit 1 = 0, the default).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub cycle19_spatial: bool,
+    /// The control starts with tool-centre-point kinematics on (LinuxCNC's bridgemill starts in
+    /// 5axiskins): a program's X Y Z are the tool tip before any M code switches them.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub tcp_at_start: bool,
     /// The control's canned-cycle settings that shape their motion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub canned_cycles: Option<CannedCyclesFile>,
@@ -70,6 +74,10 @@ pub struct MachineFile {
     /// The Sinumerik swivel data set `CYCLE800` uses ($TC_CARR...): without it a swivel is refused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub swivel: Option<SwivelFile>,
+    /// A quill: a sixth, linear axis along the tool (LinuxCNC bridgemill's W); without it its
+    /// words are refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quill: Option<QuillFile>,
     /// LinuxCNC HAL pins a program may read (`#<_hal[name]>` with `[RS274NGC]HAL_PIN_VARS = 1`,
     /// LinuxCNC manual §11.4.3.6), with the values the configuration gives them.
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
@@ -121,6 +129,23 @@ pub struct SwivelFile {
     /// set's direction reference): the tilting axis unless named.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub direction_axis: Option<String>,
+}
+
+/// `[quill]`: a linear axis that moves the tool along its own axis, the tool tip going with it.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuillFile {
+    /// Its address letter in programs (`W`).
+    pub name: String,
+    pub min_mm: f64,
+    pub max_mm: f64,
+    pub velocity_mm_per_min: f64,
+    /// Which way a positive move takes the tool tip: +1 towards the spindle (out of the work), -1
+    /// away from it.
+    pub sense: f64,
+    /// What it is and where the figures come from.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub what: Option<String>,
 }
 
 /// `[[cycle]]`: one of the machine maker's cycles that moves nothing.
@@ -384,6 +409,25 @@ impl MachineFile {
                 Some(super::Swivel { names: w.names.iter().map(|n| n.trim().to_string()).collect(), retract, direction_axis })
             }
         };
+        let quill = match &self.quill {
+            None => None,
+            Some(q) => {
+                let letter = match q.name.trim().to_ascii_uppercase().as_str() {
+                    l @ ("U" | "V" | "W") => l.chars().next().unwrap_or('W'),
+                    other => return Err(format!("`quill.name` = {other:?}: expected U, V or W (X Y Z A B C are the five axes')")),
+                };
+                if !(q.min_mm.is_finite() && q.max_mm.is_finite() && q.min_mm < q.max_mm) {
+                    return Err(format!("`quill.min_mm`..`quill.max_mm` = {}..{}: expected a finite range, min below max", q.min_mm, q.max_mm));
+                }
+                if !(q.velocity_mm_per_min.is_finite() && q.velocity_mm_per_min > 0.0) {
+                    return Err(format!("`quill.velocity_mm_per_min` = {}: expected a positive speed", q.velocity_mm_per_min));
+                }
+                if q.sense != 1.0 && q.sense != -1.0 {
+                    return Err(format!("`quill.sense` = {}: expected 1 or -1", q.sense));
+                }
+                Some(super::Quill { letter, min: q.min_mm * MM, max: q.max_mm * MM, velocity: q.velocity_mm_per_min * MM / 60.0, sense: q.sense })
+            }
+        };
         let text = |field: &str, v: &Option<String>| match v {
             Some(s) if s.trim().is_empty() => Err(format!("`{field}` is empty: give it or leave it out")),
             _ => Ok(v.clone()),
@@ -406,8 +450,10 @@ impl MachineFile {
             peck_distances: peck,
             arc_radius_tolerance,
             cycle19_spatial: self.cycle19_spatial,
+            tcp_at_start: self.tcp_at_start,
             state_cycles: self.cycles.iter().map(|c| c.number).collect(),
             swivel,
+            quill,
         })
     }
 }

@@ -8,7 +8,7 @@
 mod file;
 pub mod urdf;
 
-pub use file::{CannedCyclesFile, CycleFile, LinearAxisFile, MFunctionFile, MachineCoordinatesFile, MachineFile, RotaryAxisFile, SwivelFile};
+pub use file::{CannedCyclesFile, CycleFile, LinearAxisFile, MFunctionFile, MachineCoordinatesFile, MachineFile, QuillFile, RotaryAxisFile, SwivelFile};
 
 use crate::kinematics::{unwrap_near, Carrier, Joints, KinematicsError, Pose, RotaryJoint, TwoRotaryChain};
 use nalgebra::Vector3;
@@ -87,10 +87,27 @@ pub struct Machine {
     pub arc_radius_tolerance: Option<f64>,
     /// Heidenhain cycle 19's angles are spatial angles (MP7500 bit 1), not axis positions.
     pub cycle19_spatial: bool,
+    /// The control starts with tool-centre-point kinematics on.
+    pub tcp_at_start: bool,
     /// The machine maker's cycles that move nothing (they set the control's dynamics), by number.
     pub state_cycles: Vec<u32>,
     /// The Sinumerik swivel data set (`CYCLE800`), if the file gives it.
     pub swivel: Option<Swivel>,
+    /// A quill along the tool, if the machine has one (LinuxCNC bridgemill's W).
+    pub quill: Option<Quill>,
+}
+
+/// A quill: a linear axis that moves the tool tip along the tool's own axis, SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quill {
+    /// Its address letter (`W`).
+    pub letter: char,
+    pub min: f64,
+    pub max: f64,
+    /// Its top speed, m/s.
+    pub velocity: f64,
+    /// +1: a positive move takes the tip towards the spindle; -1: away from it.
+    pub sense: f64,
 }
 
 /// A Sinumerik swivel data set: its names, where it retracts (machine coordinates, m) and the axis

@@ -30,6 +30,9 @@ pub struct Interpreter {
     feed: Option<f64>,
     feed_mode: FeedMode,
     tcp: bool,
+    /// Tool-centre-point kinematics switched on by the machine's own M code or at start (LinuxCNC's
+    /// 5axiskins), which G49 (a tool length cancel) leaves on.
+    kins_tcp: bool,
     datum: [f64; 3],
     /// Arc plane (G17/G18/G19) and whether I J K are absolute (G90.1) or from the start (G91.1).
     plane: Plane,
@@ -132,6 +135,7 @@ impl Interpreter {
             feed: None,
             feed_mode: FeedMode::PerMinute,
             tcp: false,
+            kins_tcp: false,
             datum: [0.0; 3],
             plane: Plane::Xy,
             arc_absolute: false,
@@ -173,6 +177,8 @@ impl Interpreter {
     pub fn with_machine(mut self, machine: Option<&std::sync::Arc<crate::machine::Machine>>) -> Self {
         self.machine = machine.cloned();
         if let Some(m) = machine {
+            self.tcp |= m.tcp_at_start;
+            self.kins_tcp |= m.tcp_at_start;
             self.rotary_unit = ['A', 'B', 'C'].map(|l| m.rotary_word_unit(l));
             self.machine_coords = m.machine_coordinates.clone();
             self.rotary_letters = [3, 4].map(|k| m.axes[k].name.chars().next().map(|c| c.to_ascii_uppercase()));
@@ -275,6 +281,16 @@ impl Interpreter {
     /// The arc plane in effect (G17/G18/G19).
     pub fn plane(&self) -> Plane {
         self.plane
+    }
+
+    /// The tool axis now, in the program's frame (the workpiece's, or the tilted plane's), from the
+    /// rotary axes' last positions: None without a machine.
+    pub(crate) fn tool_axis_now(&self) -> Option<nalgebra::Vector3<f64>> {
+        let m = self.machine.as_ref()?;
+        let axes = self.axes_now();
+        let rot = self.rot_now();
+        let axis = m.chain.forward(&[axes.x, axes.y, axes.z, rot[0], rot[1]]).axis;
+        Some(self.tilt.map_or(axis, |r| r.transpose() * axis))
     }
 
     /// Switch tool-centre-point management (Sinumerik `TRAORI` / `TRAFOOF`).
@@ -684,7 +700,8 @@ impl Interpreter {
                             (next.tcp, next.tool_vector) = (true, true);
                             uses.push('H');
                         }
-                        ("49", false) => (next.tcp, next.tool_vector) = (false, false),
+                        // The TCP G43.4/G43.5 turned on; the kinematics' own stays.
+                        ("49", false) => (next.tcp, next.tool_vector) = (next.kins_tcp, false),
                         ("43", false) => {
                             uses.push('H');
                             diags.warning(
@@ -728,8 +745,8 @@ impl Interpreter {
                     }
                     let rule = self.m_codes.iter().find(|r| i64::from(r.code) == code).map(|r| r.action);
                     match (rule, code, heid) {
-                        (Some(MCodeAction::TcpOn), _, _) => next.tcp = true,
-                        (Some(MCodeAction::TcpOff), _, _) => next.tcp = false,
+                        (Some(MCodeAction::TcpOn), _, _) => (next.tcp, next.kins_tcp) = (true, true),
+                        (Some(MCodeAction::TcpOff), _, _) => (next.tcp, next.kins_tcp) = (false, false),
                         (Some(MCodeAction::Event), _, _) => {}
                         (None, 128, true) => next.tcp = true,
                         // M126 / M127: the shorter way for rotary axes shown modulo 360 deg, on / off

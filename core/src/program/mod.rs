@@ -15,6 +15,7 @@ mod lex;
 mod oword;
 mod params;
 pub mod plane;
+mod quill;
 mod rs274;
 mod setup;
 mod sinumerik;

@@ -31,7 +31,7 @@ pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::O
 /// The RS274NGC reader, fed one line at a time.
 #[derive(Debug, Clone)]
 pub(crate) struct Rs274Reader {
-    interp: Interpreter,
+    pub(super) interp: Interpreter,
     /// A line with words has been read (a program number may come only before).
     started: bool,
     /// The program number (`O1234`), if the program opens with one.
@@ -48,6 +48,8 @@ pub(crate) struct Rs274Reader {
     refused: bool,
     /// LinuxCNC's O-word blocks held and run ([`super::oword`]).
     pub(super) flow: super::oword::Flow,
+    /// The machine's quill, where it has one ([`super::quill`]).
+    pub(super) quill: Option<super::quill::QuillState>,
 }
 
 /// The most leader held back, lines and bytes: an NX "Information listing" header is a few lines.
@@ -62,7 +64,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, flow: Default::default() }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, flow: Default::default(), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new) }
     }
 }
 
@@ -288,6 +290,10 @@ impl Rs274Reader {
         let col = words.first().map_or(first + 1, |w| w.column.min(first + 1));
         if self.dialect.is_fanuc() {
             self.decimal_points(&mut words, &computed);
+        }
+        if !self.quill_words(&mut words, line, diags) {
+            diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+            return;
         }
         if !self.interp.block(&words, line, col, number, diags, out) {
             diags.warning(line, first + 1, format!("line {line} not used"));
