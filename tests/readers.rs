@@ -881,3 +881,46 @@ fn rs274_bridgemill_drills_with_its_w_quill_as_5axiskins_moves_the_tip() {
     }
     assert_eq!((drilled, back), (128, 128), "8 rings of 16 holes");
 }
+
+/// Klartext polar contours (iTNC 530 user's manual §6.5): LP to a radius and angle about the pole,
+/// CP about it to an angle (its radius the start's), IPA beyond 360 deg as turns of a helix with the
+/// tool axis' coordinate, IPR and IPA from the start's polar coordinates. By hand, pole (0, 0) from
+/// (10, 0): LP PR+20 PA+90 to (0, 20); CP PA+180 DR+ to (-20, 0), a quarter circle (10 pi mm); CP
+/// IPA+720 Z-4 DR+ two turns down 4 mm (a helix of sqrt((80 pi)^2 + 4^2) mm) back to (-20, 0);
+/// LP IPR+5 IPA-90 to (0, 25). CP IPA+90 with DR- is refused (the TNC wants one sign for both).
+#[test]
+fn klartext_polar_lines_circles_and_helices_are_where_the_tnc_puts_them() {
+    let text = "0 BEGIN PGM P MM\n1 CC X+0 Y+0\n2 L X+10 Y+0 Z+0 R0 F600\n3 LP PR+20 PA+90\n4 CP PA+180 DR+\n5 CP IPA+720 Z-4 DR+\n6 LP IPR+5 IPA-90\n7 END PGM P MM\n";
+    let p = read(text, Dialect::Klartext, "p.h", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let end = |line: usize| {
+        let b = p.blocks.iter().find(|b| b.line == line).unwrap();
+        [b.targets.x.unwrap() / MM, b.targets.y.unwrap() / MM]
+    };
+    let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9;
+    assert!(close(end(4), [0.0, 20.0]), "{:?}", end(4));
+    assert!(close(end(5), [-20.0, 0.0]), "{:?}", end(5));
+    assert!(close(end(6), [-20.0, 0.0]), "{:?}", end(6));
+    assert!(close(end(7), [0.0, 25.0]), "{:?}", end(7));
+    // The path's lengths, sampled by the planner.
+    let dir = std::env::temp_dir().join(format!("fiveaxis-polar-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("p.h");
+    std::fs::write(&path, text).unwrap();
+    let machine = fiveaxis::machine::Machine::hermle_c600u();
+    let job = fiveaxis::job::run(&path.display().to_string(), &machine, &fiveaxis::job::JobOptions::default()).unwrap();
+    let length = |line: usize| job.trajectory.segments.iter().filter(|g| g.line == line).map(|g| g.length).sum::<f64>() / MM;
+    let pi = std::f64::consts::PI;
+    // The planner's arcs are cubic pieces 5 deg long, within R 1e-7 of the circle.
+    assert!((length(5) - 10.0 * pi).abs() < 1e-4, "quarter circle: {}", length(5));
+    assert!((length(6) - (80.0 * pi).hypot(4.0)).abs() < 1e-4, "helix: {}", length(6));
+    let worst = job.trajectory.samples(&machine).filter(|s| job.trajectory.segments[s.segment].line == 6).map(|s| (s.tip.x.hypot(s.tip.y) / MM - 20.0).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-4, "the helix leaves its cylinder by {worst} mm");
+    let _ = std::fs::remove_dir_all(&dir);
+    let bad = read("0 BEGIN PGM P MM\n1 CC X+0 Y+0\n2 L X+10 Y+0 R0 F600\n3 CP IPA+90 DR-\n4 LP PR+5 PA+0 X+3\n5 LP PA+10\n6 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
+    has(&bad, 4, 3, "the same sign");
+    has(&bad, 5, 16, "the end point in the working plane is the polar one");
+    has(&bad, 6, 3, "LP: expected the polar radius PR");
+    let no_pole = read("0 BEGIN PGM P MM\n1 L X+10 Y+0 R0 F600\n2 LP PR+5 PA+0\n3 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
+    has(&no_pole, 3, 3, "no pole CC");
+}

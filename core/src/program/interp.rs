@@ -804,6 +804,7 @@ impl Interpreter {
                 c if AXIS_LETTERS.contains(&c) => {}
                 'I' | 'J' | 'K' | 'R' | 'P' | 'Q' | 'H' | 'L' | 'E' if !heid => {} // checked below, with the codes that take them
                 'I' | 'J' | 'K' | 'R' if heid => {} // circle centre and radius, read below
+                'P' if heid => {} // a polar circle's turns (Klartext CP IPA beyond 360 deg): checked below
                 _ => diags.error(
                     line,
                     w.column,
@@ -831,6 +832,9 @@ impl Interpreter {
             if next.tool_vector && arc_motion {
                 diags.error(line, column, "G02/G03 under G43.5 (tool vector mode) is not supported");
             }
+        }
+        if let Some(w) = words.iter().find(|w| heid && w.letter == 'P' && !arc_motion) {
+            diags.error(line, w.column, format!("word P{} without a circle: not read", w.raw));
         }
         if g10 {
             // The axis words of a G10 block set an offset; they are not a move (skipped below).
@@ -1014,6 +1018,8 @@ impl Interpreter {
                 }
                 let st = Interpreter { arc_absolute: true, ..next.clone() };
                 if as_rs274.len() == 2 || as_rs274.iter().any(|w| w.letter == 'R') {
+                    // A polar circle's turns (P), as RS274's.
+                    as_rs274.extend(words.iter().filter(|w| w.letter == 'P').cloned());
                     arc = resolve_arc(&as_rs274, &st, start, end, line, column, diags);
                     // An arc in a tilted plane: its centre in the workpiece, its axes the plane's.
                     if let (Some(r), Some(a)) = (next.tilt, arc.as_mut()) {

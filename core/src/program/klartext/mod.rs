@@ -8,7 +8,9 @@
 //! tolerance; tilted working planes `PLANE SPATIAL`/`EULER`/`VECTOR`/`RELATIV`/`AXIAL`/`RESET` with
 //! `TURN`/`STAY`, `SEQ`, `COORD ROT`/`TABLE ROT`, and cycle 19 ([`crate::program::plane`]); the
 //! drilling cycles 200, 207, 240 called by `CYCL CALL`, `M99`, `M89`; cycle 247 (a preset of the
-//! machine's table); the machine maker's cycles its file names; `LBL` with `CALL LBL ... REP`
+//! machine's table); the machine maker's cycles its file names; polar contours `LP` and `CP` about the
+//! pole `CC` (`PR`/`IPR`, `PA`/`IPA`; a helix by `CP IPA` with the tool axis' coordinate, several turns
+//! beyond 360 deg; IPA's sign and DR's must agree); `M140 MB`; `LBL` with `CALL LBL ... REP`
 //! (section repeats and subprograms); `Q` parameters with formulas, `FN 0`-`FN 8` and the jumps
 //! `FN 9`-`FN 12` ([`formula`]).
 //!
@@ -26,8 +28,8 @@
 //! "TCPM FUNCTION" and cycle 7 DATUM SHIFT (absolute from the workpiece datum, incremental from the
 //! last shift).
 //!
-//! Refused at line:col, never guessed: radius compensation `RL`/`RR`, polar and free contours
-//! (`LP`, `CP`, `FK`), rounding and chamfers, approach/departure, `PLANE PROJECTED`/`POINTS` and
+//! Refused at line:col, never guessed: radius compensation `RL`/`RR`, `CTP` and free contours
+//! (`FK`), rounding and chamfers, approach/departure, `PLANE PROJECTED`/`POINTS` and
 //! `MOVE`, machining cycles other than those above and touch probes, tool deltas `DL`/`DR`, and
 //! `FUNCTION TCPM` options that read the program differently (`F CONT`, `AXIS SPAT`, a reference
 //! point other than the tool tip). The surface normal of an `LN` line moves the tool only by the
@@ -79,6 +81,10 @@ enum Shape {
     CircleRadius,
     /// `CT`
     CircleTangent,
+    /// `LP`: a line to a point in polar coordinates about the pole CC.
+    LinePolar,
+    /// `CP`: a circle about the pole CC to a polar angle (a helix with the tool axis' coordinate).
+    CirclePolar,
 }
 
 #[derive(Debug, Clone)]
@@ -398,7 +404,7 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         "BLK" if key(1) == "FORM" => None, // the workpiece blank: drawing only
         "TOOL" if key(1) == "DEF" => None, // tool preselection: no motion
         "TOOL" if key(1) == "CALL" => tool_call(toks, line, diags),
-        "L" | "LN" | "C" | "CR" | "CT" => motion(toks, &k0, line, diags),
+        "L" | "LN" | "C" | "CR" | "CT" | "LP" | "CP" => motion(toks, &k0, line, diags),
         "CC" => centre(toks, line, diags),
         "STOP" => Some(Kind::Stop),
         "LBL" => match toks.get(1) {
@@ -424,7 +430,7 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         "FN" => fn_statement(raw, toks, line, col, diags),
         k if k.starts_with('Q') => assign(raw, toks, line, col, diags),
         k if k.starts_with('M') && split_word(k).0 == "M" => misc(toks, line, diags),
-        k @ ("APPR" | "DEP" | "RND" | "CHF" | "LP" | "CP" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH") => {
+        k @ ("APPR" | "DEP" | "RND" | "CHF" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH") => {
             diags.error(line, col, format!("{}: {} is not read (it changes the motion)", toks[0].0, unsupported(k)));
             None
         }
@@ -480,9 +486,12 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
         "LN" => Shape::LineNormal,
         "C" => Shape::Circle,
         "CR" => Shape::CircleRadius,
+        "LP" => Shape::LinePolar,
+        "CP" => Shape::CirclePolar,
         _ => Shape::CircleTangent,
     };
-    let arc = matches!(shape, Shape::Circle | Shape::CircleRadius | Shape::CircleTangent);
+    let arc = matches!(shape, Shape::Circle | Shape::CircleRadius | Shape::CircleTangent | Shape::CirclePolar);
+    let polar = matches!(shape, Shape::LinePolar | Shape::CirclePolar);
     let mut axes: Vec<KWord<'a>> = Vec::with_capacity(if shape == Shape::LineNormal { 9 } else { 5 });
     let (mut ccw, mut radius, mut feed, mut m) = (None, None, FeedWord::None, Vec::new());
     let mut seen = 0u32;
@@ -514,6 +523,22 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
                     axes.push(w);
                 }
             }
+            // Polar coordinates about the pole: radius PR (not on CP: its radius is the start's) and angle PA.
+            (None, a @ ("PR" | "IPR" | "PA" | "IPA")) if polar && !(shape == Shape::CirclePolar && a.ends_with("PR")) => {
+                let (name, bit) = match a {
+                    "PR" => ("PR", 12),
+                    "IPR" => ("IPR", 12),
+                    "PA" => ("PA", 13),
+                    _ => ("IPA", 13),
+                };
+                if seen & (1 << bit) != 0 {
+                    diags.error(line, col, format!("{name} written twice in one block"));
+                }
+                seen |= 1 << bit;
+                if let Some(w) = value_word(name, rest, tok, col, line, diags) {
+                    axes.push(w);
+                }
+            }
             (None, "F") => feed = value_word("F", rest, tok, col, line, diags).map_or(FeedWord::None, FeedWord::Value),
             (None, "FMAX") if rest.is_empty() && !arc => feed = FeedWord::Max,
             (None, "FMAX") if rest.is_empty() => diags.error(line, col, "FMAX on a circle: expected a feed F"),
@@ -533,7 +558,9 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
     }
     let at = toks[0].1;
     match shape {
-        Shape::Circle | Shape::CircleRadius if ccw.is_none() => diags.error(line, at, format!("{key}: expected the direction DR+ or DR-")),
+        Shape::Circle | Shape::CircleRadius | Shape::CirclePolar if ccw.is_none() => diags.error(line, at, format!("{key}: expected the direction DR+ or DR-")),
+        Shape::LinePolar if seen & (3 << 12) != 3 << 12 => diags.error(line, at, "LP: expected the polar radius PR (or IPR) and angle PA (or IPA)"),
+        Shape::CirclePolar if seen & (1 << 13) == 0 => diags.error(line, at, "CP: expected the polar angle PA (or IPA) of the arc's end"),
         Shape::CircleRadius if radius.is_none() => diags.error(line, at, "CR: expected the radius R+.. (R- for an arc over 180 deg)"),
         Shape::LineNormal => {
             // Bits: X Y Z 0-2, A B C 3-5, NX NY NZ 6-8, TX TY TZ 9-11.

@@ -229,6 +229,8 @@ struct Exec {
     tool_feed: Option<(f64, String)>,
     /// Direction of the contour at its end in the working plane, for CT.
     tangent: Option<[f64; 2]>,
+    /// The pole CC in the working plane (its two axes and coordinates, m), for LP and CP.
+    pole: Option<([usize; 2], [f64; 2])>,
 }
 
 impl Exec {
@@ -408,11 +410,26 @@ impl Exec {
                 for (slot, k) in [a0, a1].into_iter().enumerate() {
                     words.push(word(['I', 'J', 'K'][k], c[slot] / unit, format!("{}", c[slot] / unit).into(), s.col, false));
                 }
+                self.pole = Some(([a0, a1], c));
             }
             Kind::Move { shape, axes, ccw, radius, feed, m } => {
                 let mut tool = [None; 3];
                 let mut normal = [None; 3];
-                for w in axes {
+                if matches!(shape, Shape::LinePolar | Shape::CirclePolar) {
+                    match self.polar(*shape, axes, *ccw, interp, s, diags) {
+                        Some((end, turns)) => {
+                            let (a0, a1, _) = interp.plane().axes();
+                            for (k, v) in [(a0, end[0]), (a1, end[1])] {
+                                words.push(word(['X', 'Y', 'Z'][k], v / unit, format!("{}", v / unit).into(), s.col, false));
+                            }
+                            if turns > 1 {
+                                words.push(word('P', turns as f64, format!("{turns}").into(), s.col, false));
+                            }
+                        }
+                        None => return false,
+                    }
+                }
+                for w in axes.iter().filter(|w| !w.addr.ends_with("PR") && !w.addr.ends_with("PA")) {
                     let Some(v) = self.value(w, s.line, diags) else { continue };
                     match w.addr.as_bytes()[0] {
                         b'N' => normal[axis_index(w.addr)] = Some(v),
@@ -425,10 +442,10 @@ impl Exec {
                 }
                 ends = self.m_words(m, &mut words, s.line, diags);
                 let g = match (shape, feed) {
-                    (Shape::Line | Shape::LineNormal, FeedWord::Max) => "0",
-                    (Shape::Line | Shape::LineNormal, _) => "1",
-                    (Shape::Circle | Shape::CircleRadius, _) if *ccw == Some(true) => "3",
-                    (Shape::Circle | Shape::CircleRadius, _) => "2",
+                    (Shape::Line | Shape::LineNormal | Shape::LinePolar, FeedWord::Max) => "0",
+                    (Shape::Line | Shape::LineNormal | Shape::LinePolar, _) => "1",
+                    (Shape::Circle | Shape::CircleRadius | Shape::CirclePolar, _) if *ccw == Some(true) => "3",
+                    (Shape::Circle | Shape::CircleRadius | Shape::CirclePolar, _) => "2",
                     (Shape::CircleTangent, _) => match self.tangent_arc(&words, interp, s, diags) {
                         Some((g, r)) => {
                             words.push(word('R', r, format!("{r}").into(), s.col, false));
@@ -769,6 +786,60 @@ impl Exec {
             }
         }
         interp.restore_feed(saved);
+    }
+
+    /// `LP` and `CP` (iTNC 530 user's manual §6.5 "Path contours—Polar coordinates"): the end point in
+    /// the working plane from the pole CC, the polar radius PR (CP: the start's distance to the pole)
+    /// and angle PA from the plane's reference axis (X in XY, Y in YZ, Z in ZX), IPR and IPA from
+    /// the start's; and a CP's turns (P of its arc: `IPA+720` is two). A plane axis written beside
+    /// them, a pole of another plane, a CP whose IPA and DR differ in sign ("Define the same algebraic
+    /// sign for the direction of rotation DR and the incremental total angle IPA. The tool may
+    /// otherwise move on a wrong path", TNC7 user's manual, Programming a helix) are refused.
+    fn polar(&self, shape: Shape, axes: &[KWord<'_>], ccw: Option<bool>, interp: &Interpreter, s: &Stmt<'_>, diags: &mut Diags) -> Option<([f64; 2], u64)> {
+        let (a0, a1, _) = interp.plane().axes();
+        let key = if shape == Shape::LinePolar { "LP" } else { "CP" };
+        let Some(([p0, p1], pole)) = self.pole.filter(|(axes, _)| *axes == [a0, a1]) else {
+            diags.error(s.line, s.col, format!("{key}: no pole CC in the working plane before it"));
+            return None;
+        };
+        debug_assert!(p0 == a0 && p1 == a1);
+        if let Some(w) = axes.iter().find(|w| !w.addr.ends_with("PR") && !w.addr.ends_with("PA") && [a0, a1].contains(&axis_index(w.addr)) && !w.addr.starts_with(['N', 'T'])) {
+            diags.error(s.line, w.col, format!("{key} with {}: the end point in the working plane is the polar one", w.addr));
+            return None;
+        }
+        let unit = interp.unit();
+        let pos = interp.position();
+        let (d0, d1) = (pos[a0] - pole[0], pos[a1] - pole[1]);
+        let (r_start, pa_start) = (d0.hypot(d1), d1.atan2(d0).to_degrees());
+        let mut get = |name: &str| axes.iter().find(|w| w.addr == name).and_then(|w| self.value(w, s.line, diags));
+        let (pr, ipr, pa, ipa) = (get("PR"), get("IPR"), get("PA"), get("IPA"));
+        let r = match (pr, ipr) {
+            (Some(v), _) => v * unit,
+            (_, Some(v)) => r_start + v * unit,
+            _ => r_start,
+        };
+        let (pa, turns) = match (pa, ipa) {
+            (Some(v), _) => (v, 1),
+            (_, Some(v)) => {
+                if shape == Shape::CirclePolar && v != 0.0 && (v > 0.0) != (ccw == Some(true)) {
+                    diags.error(s.line, s.col, format!("CP IPA{v:+} with DR{}: the TNC wants the same sign for both, or the tool may move on a wrong path", if ccw == Some(true) { "+" } else { "-" }));
+                    return None;
+                }
+                // Whole turns beyond the first (the arc's P), the end where the total angle ends.
+                (pa_start + v, ((v.abs() - 1e-9) / 360.0).floor().max(0.0) as u64 + 1)
+            }
+            _ => return None,
+        };
+        if !(r >= 0.0 && r.is_finite()) {
+            diags.error(s.line, s.col, format!("{key}: a negative polar radius ({:.4})", r / unit));
+            return None;
+        }
+        if shape == Shape::CirclePolar && r_start < 1e-9 {
+            diags.error(s.line, s.col, "CP from the pole itself: a circle of radius 0");
+            return None;
+        }
+        let (sin, cos) = pa.to_radians().sin_cos();
+        Some(([pole[0] + r * cos, pole[1] + r * sin], turns))
     }
 
     /// Where M91's (machine datum) or M92's (the maker's datum) coordinates start, in the model's
