@@ -75,8 +75,8 @@ const DEFECTIVE: &[(&str, &str, &str)] = &[
 
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
-    ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect (G7 plane, G141 TCP, G74, G93 datum shift); the DMC 160 U's machine file"),
-    ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR radius compensation, CP polar arcs, cycles 202 and 203; a four-axis machine (A only)"),
+    ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect: no MillPlus manual in reach for G7's angle order, G141, G74 L1, G174 (only NX's and Autodesk's posts); the same part as the DMC 100 U's, its G141 operations at 200-334 in under G70"),
+    ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR (the radii are its tool table's); cycles 202 and 203; CP IPA+360 with DR- (the TNC wants one sign); a four-axis machine (A only)"),
 ];
 
 fn fiveaxis(args: &[&str]) -> std::process::Output {

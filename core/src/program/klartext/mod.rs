@@ -551,7 +551,7 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
             }
             (None, "R") if rest == "0" => {} // radius compensation off
             (None, "R") if shape == Shape::CircleRadius && rest.starts_with(['+', '-']) => radius = value_word("R", rest, tok, col, line, diags),
-            (None, "RL" | "RR") if rest.is_empty() => diags.error(line, col, format!("{tok}: tool radius compensation is not supported (expected R0)")),
+            (None, "RL" | "RR") if rest.is_empty() => diags.error(line, col, format!("{tok}: tool radius compensation is not read: the radius is the tool table's, which the program does not give (expected R0)")),
             (None, "DR") if arc && (rest == "+" || rest == "-") && shape != Shape::CircleTangent => ccw = Some(rest == "+"),
             _ => diags.error(line, col, format!("unexpected word '{}' in an {key} block", excerpt(tok))),
         }
