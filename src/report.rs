@@ -208,12 +208,17 @@ impl AnalysisReport {
         let _ = writeln!(o, "machine    {} (singular axis {c}, limit {:.1} rpm)", self.machine, self.c_max_rpm);
         let _ = writeln!(o, "cycle time {:.2} s at the programmed feed", self.cycle_time_s);
         let block = |b: Option<u64>| b.map_or(String::new(), |n| format!("N{n}, "));
-        let _ = writeln!(
-            o,
-            "peak {c} speed (eq. 5)    {:8.1} rpm at x {:.3} y {:.3} z {:.3} mm ({}line {})",
-            self.peak_c_speed_rpm, self.peak_c_speed_x_mm, self.peak_c_speed_y_mm, self.peak_c_speed_z_mm,
-            block(self.peak_c_speed_block), self.peak_c_speed_line
-        );
+        // A peak that rounds to 0.0 rpm has no place worth naming (every sample ties).
+        if self.peak_c_speed_rpm < 0.05 {
+            let _ = writeln!(o, "peak {c} speed (eq. 5)    {:8.1} rpm ({c} asked to turn nowhere)", self.peak_c_speed_rpm);
+        } else {
+            let _ = writeln!(
+                o,
+                "peak {c} speed (eq. 5)    {:8.1} rpm at x {:.3} y {:.3} z {:.3} mm ({}line {})",
+                self.peak_c_speed_rpm, self.peak_c_speed_x_mm, self.peak_c_speed_y_mm, self.peak_c_speed_z_mm,
+                block(self.peak_c_speed_block), self.peak_c_speed_line
+            );
+        }
         let _ = writeln!(o, "peak {c} speed (fin. diff) {:8.1} rpm", self.peak_c_speed_fd_rpm);
         match (self.min_singularity_distance_deg, self.min_singularity_distance_x_mm) {
             (Some(d), Some(x)) => {

@@ -181,6 +181,10 @@ impl Rs274Reader {
     /// A streamed line: held while a block is open, run when its block closes; true if the line
     /// was taken here (the caller reads it otherwise).
     pub(super) fn flow_line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        // Most lines are neither held nor O words: passed on without a copy.
+        if self.flow.held.is_none() && !self.flow.stopped && !text.trim_start().starts_with(['o', 'O']) {
+            return false;
+        }
         let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
         let first = chars.iter().position(|c| !c.is_whitespace()).unwrap_or(chars.len());
         let o = parse(&chars[first..]);

@@ -130,7 +130,11 @@ impl Rs274Reader {
         if self.refused {
             return;
         }
-        let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
+        // Room for every character at once (a char per byte at most): no regrowing as it fills.
+        let text = text.trim_end_matches('\r');
+        let mut chars: Vec<char> = Vec::with_capacity(text.len());
+        chars.extend(text.chars());
+        let ascii = text.is_ascii();
         let first = chars.iter().position(|c| !c.is_whitespace());
         let Some(first) = first else { return };
         if chars[first] == '%' {
@@ -158,7 +162,8 @@ impl Rs274Reader {
             diags.error(line, first + 1, format!("O-word '{keyword}': LinuxCNC's control flow, not this dialect's"));
             return;
         }
-        let mut words: Vec<Word> = Vec::new();
+        // A block's words: a five-axis move has about eight (N G X Y Z A C F), held without regrowing.
+        let mut words: Vec<Word> = Vec::with_capacity(10);
         // Words whose value was computed (parameters, expressions): they carry their decimal point.
         let mut computed: Vec<usize> = Vec::new();
         let mut number = None;
@@ -227,16 +232,18 @@ impl Rs274Reader {
                 while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.' || ((chars[i] == '+' || chars[i] == '-') && i == start)) {
                     i += 1;
                 }
-                let text: String = chars[start..i].iter().collect();
-                match parse_number(&text) {
+                // On an ASCII line (nearly every one) a character is a byte: the number's text is the
+                // line's own, not a copy.
+                let number_text: std::borrow::Cow<str> = if ascii { std::borrow::Cow::Borrowed(&text[start..i]) } else { chars[start..i].iter().collect::<String>().into() };
+                match parse_number(&number_text) {
                     Some(v) if letter == 'N' => {
                         if v.fract() == 0.0 && v >= 0.0 {
                             number = Some(v as u64);
                         } else {
-                            diags.error(line, col, format!("expected a whole line number after 'N', found '{text}'"));
+                            diags.error(line, col, format!("expected a whole line number after 'N', found '{number_text}'"));
                         }
                     }
-                    Some(v) => words.push(Word { letter, value: v, raw: text.into(), column: col, incremental: false }),
+                    Some(v) => words.push(Word { letter, value: v, raw: number_text, column: col, incremental: false }),
                     None => {
                         let mut end = i;
                         while end < chars.len() && !chars[end].is_whitespace() {
