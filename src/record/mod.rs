@@ -16,6 +16,7 @@
 pub mod bag;
 pub mod read;
 mod recover;
+pub mod sqlite;
 pub mod writer;
 
 pub use recover::{recover, recover_recording, RecoverReport};
@@ -38,6 +39,8 @@ pub enum RecordError {
     Io { path: PathBuf, source: std::io::Error },
     #[error("{path}: MCAP: {message}")]
     Mcap { path: PathBuf, message: String },
+    #[error("{path}: rosbag2 SQLite3: {message}")]
+    Sqlite { path: PathBuf, message: String },
     #[error("no ros2msg schema known for {0}")]
     UnknownType(String),
     #[error("CDR: {0}")]

@@ -37,12 +37,19 @@ pub struct MessageView<'a> {
     pub file: usize,
 }
 
-/// The MCAP files of a recording, in order: the file itself, or for a rosbag2 directory (what `ros2
-/// bag record` writes) the files its `metadata.yaml` lists under `relative_file_paths` (without one,
-/// as a killed recorder leaves it, its `.mcap` files in their split order).
+/// The files of a recording, in order: the file itself, or for a rosbag2 directory (what `ros2 bag
+/// record` writes) the files its `metadata.yaml` lists under `relative_file_paths` (without one, as a
+/// killed recorder leaves it, its `.mcap` or `.db3` files in their split order). MCAP and SQLite3
+/// (`.db3`, [`super::sqlite`]) storage.
 pub fn recording_files(path: &Path) -> Result<Vec<std::path::PathBuf>, RecordError> {
+    Ok(recording(path)?.0)
+}
+
+/// A recording's files and whether its messages are each zstd-compressed (rosbag2's
+/// `compression_mode: MESSAGE`, SQLite3 bags).
+fn recording(path: &Path) -> Result<(Vec<std::path::PathBuf>, bool), RecordError> {
     if !path.is_dir() {
-        return Ok(vec![path.to_path_buf()]);
+        return Ok((vec![path.to_path_buf()], false));
     }
     let meta = path.join("metadata.yaml");
     if !meta.exists() {
@@ -51,18 +58,19 @@ pub fn recording_files(path: &Path) -> Result<Vec<std::path::PathBuf>, RecordErr
         let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(path)
             .map_err(io_error(path))?
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
+            .filter(|p| p.extension().is_some_and(|e| e == "mcap") || super::sqlite::is_db3(p))
             .collect();
         files.sort_by_key(|p| split_number(p));
         if files.is_empty() {
-            return Err(mcap_error(path, "a directory with neither metadata.yaml nor .mcap files: not a rosbag2 bag".to_string()));
+            return Err(mcap_error(path, "a directory with neither metadata.yaml nor .mcap or .db3 files: not a rosbag2 bag".to_string()));
         }
-        return Ok(files);
+        return Ok((files, false));
     }
     let text = std::fs::read_to_string(&meta).map_err(|source| RecordError::Io { path: meta.clone(), source })?;
     let bad = |line: usize, why: String| mcap_error(&meta, format!("line {line}: {why}"));
     let mut files = Vec::new();
     let mut storage = None;
+    let mut compression = (String::new(), String::new());
     let mut list_indent: Option<usize> = None;
     for (k, line) in text.lines().enumerate() {
         let indent = line.len() - line.trim_start().len();
@@ -83,6 +91,10 @@ pub fn recording_files(path: &Path) -> Result<Vec<std::path::PathBuf>, RecordErr
         }
         if let Some(v) = body.strip_prefix("storage_identifier:") {
             storage = Some(unquote(v.trim()));
+        } else if let Some(v) = body.strip_prefix("compression_format:") {
+            compression.0 = unquote(v.trim()).to_ascii_lowercase();
+        } else if let Some(v) = body.strip_prefix("compression_mode:") {
+            compression.1 = unquote(v.trim()).to_ascii_lowercase();
         } else if let Some(v) = body.strip_prefix("relative_file_paths:") {
             let v = v.trim();
             if let Some(flow) = v.strip_prefix('[') {
@@ -95,13 +107,19 @@ pub fn recording_files(path: &Path) -> Result<Vec<std::path::PathBuf>, RecordErr
             }
         }
     }
-    if let Some(s) = storage.filter(|s| s != "mcap") {
-        return Err(mcap_error(&meta, format!("storage_identifier is '{s}': only MCAP bags are read (convert with `ros2 bag convert`)")));
+    if let Some(s) = storage.as_deref().filter(|s| !matches!(*s, "mcap" | "sqlite3")) {
+        return Err(mcap_error(&meta, format!("storage_identifier is '{s}': only MCAP and SQLite3 bags are read (convert with `ros2 bag convert`)")));
     }
+    let message_zstd = match (compression.0.as_str(), compression.1.as_str()) {
+        ("", _) | (_, "" | "none") => false,
+        ("zstd", "message") => true,
+        ("zstd", "file") => false,
+        (f, m) => return Err(mcap_error(&meta, format!("compression {f}, mode {m}: only zstd, by message or by file, is read"))),
+    };
     if files.is_empty() {
         return Err(mcap_error(&meta, "lists no files under relative_file_paths".to_string()));
     }
-    Ok(files.into_iter().map(|f| path.join(f)).collect())
+    Ok((files.into_iter().map(|f| path.join(f)).collect(), message_zstd && storage.as_deref() == Some("sqlite3")))
 }
 
 /// A split file's order: `NAME_12.mcap` sorts by (NAME, 12), so that `_10` follows `_9`.
@@ -216,6 +234,10 @@ pub fn summary_channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, RecordE
 
 pub fn may_carry_type(path: &Path, type_name: &str) -> Result<bool, RecordError> {
     for f in recording_files(path)? {
+        // A SQLite3 file's topics are not read ahead: it may carry the type.
+        if super::sqlite::is_db3(&f) {
+            return Ok(true);
+        }
         if summary_channels(&f)?.is_none_or(|channels| channels.iter().any(|c| c.schema_name == type_name)) {
             return Ok(true);
         }
@@ -233,8 +255,9 @@ pub fn may_carry_type(path: &Path, type_name: &str) -> Result<bool, RecordError>
 pub fn for_each_message(path: &Path, mut visit: impl FnMut(MessageView<'_>)) -> Result<u64, RecordError> {
     let mut count = 0;
     let mut offset = 0;
-    for (k, f) in recording_files(path)?.iter().enumerate() {
-        count += for_each_message_in_file(f, k, offset, &mut visit)?;
+    let (files, message_zstd) = recording(path)?;
+    for (k, f) in files.iter().enumerate() {
+        count += if super::sqlite::is_db3(f) { super::sqlite::for_each_message_in_db(f, k, offset, message_zstd, &mut visit)? } else { for_each_message_in_file(f, k, offset, &mut visit)? };
         offset += std::fs::metadata(f).map_err(io_error(f))?.len();
     }
     Ok(count)

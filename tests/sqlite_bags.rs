@@ -1,0 +1,111 @@
+//! rosbag2's SQLite3 storage (Humble's default) read as MCAP is (issue 66): every SQLite3 bag of
+//! `../shared/outside/bags` (rosbag2's own test resources, a real robot arm's Humble recordings)
+//! read to as many messages per topic as its `metadata.yaml` says rosbag2 wrote, split files in
+//! their order, per-message and whole-file zstd; a bag made by an independent writer (`rosbags`)
+//! from LinuxCNC's trace gives the same `analyze` report as its MCAP twin.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A bag's message count per topic as its metadata.yaml says (`topics_with_message_count`: each
+/// entry's `name:` and `message_count:`, in whichever order the writer put them), read line by line.
+fn metadata_counts(dir: &Path) -> BTreeMap<String, u64> {
+    let text = std::fs::read_to_string(dir.join("metadata.yaml")).unwrap();
+    let mut out = BTreeMap::new();
+    let (mut in_topics, mut entry) = (false, (None::<String>, None::<u64>));
+    let mut flush = |entry: &mut (Option<String>, Option<u64>), out: &mut BTreeMap<String, u64>| {
+        if let (Some(n), Some(c)) = std::mem::take(entry) {
+            out.insert(n, c);
+        }
+    };
+    for line in text.lines() {
+        let indent = line.len() - line.trim_start().len();
+        let mut t = line.trim();
+        if t.starts_with("topics_with_message_count:") {
+            in_topics = true;
+            continue;
+        }
+        if !in_topics || t.is_empty() {
+            continue;
+        }
+        // The list's entries sit deeper than the bag's keys (2 spaces), or at their level behind "- ".
+        if indent <= 2 && !t.starts_with('-') {
+            in_topics = false;
+            continue;
+        }
+        if let Some(rest) = t.strip_prefix("- ") {
+            flush(&mut entry, &mut out);
+            t = rest.trim();
+        }
+        if let Some(n) = t.strip_prefix("name:") {
+            entry.0 = Some(n.trim().trim_matches(['"', '\'']).to_string());
+        } else if let Some(c) = t.strip_prefix("message_count:") {
+            entry.1 = Some(c.trim().parse().unwrap());
+        }
+    }
+    flush(&mut entry, &mut out);
+    out
+}
+
+/// The SQLite3 bag directories under `root` (a metadata.yaml that says sqlite3 beside its files).
+fn sqlite_bags(root: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(root).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            sqlite_bags(&p, out);
+        } else if p.file_name().is_some_and(|n| n == "metadata.yaml") && std::fs::read_to_string(&p).unwrap().contains("storage_identifier: sqlite3") {
+            out.push(p.parent().unwrap().to_path_buf());
+        }
+    }
+}
+
+#[test]
+fn every_sqlite3_bag_reads_to_the_counts_its_metadata_gives() {
+    let mut bags = Vec::new();
+    sqlite_bags(&common::outside("bags"), &mut bags);
+    bags.sort();
+    // rosbag2's reindex fixtures keep the metadata reindexing should write apart from their files
+    // (target_metadata/NAME/metadata.yaml lists NAME/NAME_0.db3 ...): each read as the bag they make
+    // together, through links in a scratch directory (per-message zstd, whole-file zstd, split files).
+    let scratch = std::env::temp_dir().join(format!("fiveaxis-sqlite-{}", std::process::id()));
+    let mut read = Vec::new();
+    for bag in &bags {
+        let Some(name) = bag.parent().filter(|p| p.ends_with("target_metadata")).and_then(|_| bag.file_name()) else {
+            read.push((bag.clone(), bag.clone()));
+            continue;
+        };
+        let dir = scratch.join(bag.strip_prefix(common::outside("bags")).unwrap());
+        std::fs::create_dir_all(&dir).unwrap();
+        let files = bag.parent().unwrap().parent().unwrap().join(name);
+        let _ = std::os::unix::fs::symlink(bag.join("metadata.yaml"), dir.join("metadata.yaml"));
+        // Newer fixtures list NAME/NAME_0.db3, older ones NAME_0.db3: both are linked.
+        let _ = std::os::unix::fs::symlink(&files, dir.join(name));
+        for f in std::fs::read_dir(&files).unwrap() {
+            let f = f.unwrap().path();
+            let _ = std::os::unix::fs::symlink(&f, dir.join(f.file_name().unwrap()));
+        }
+        read.push((bag.clone(), dir));
+    }
+    let mut checked = (0, 0);
+    for (bag, dir) in &read {
+        let want = metadata_counts(bag);
+        let mut got: BTreeMap<String, u64> = want.keys().map(|k| (k.clone(), 0)).collect();
+        // Every CDR message, its zstd undone where the bag compressed it, opens with a CDR
+        // encapsulation header (00 01 or 00 00, then two zero bytes), not a zstd frame's magic.
+        let mut not_cdr = 0;
+        let result = fiveaxis::record::read::for_each_message(dir, |m| {
+            *got.entry(m.channel.topic.clone()).or_default() += 1;
+            not_cdr += usize::from(m.channel.message_encoding == "cdr" && !(m.data.len() >= 4 && m.data[0] == 0 && m.data[1] <= 1 && m.data[2..4] == [0, 0]));
+        });
+        assert_eq!(not_cdr, 0, "{}: messages without a CDR header", bag.display());
+        let total = result.unwrap_or_else(|e| panic!("{}: {e}", bag.display()));
+        assert_eq!(got, want, "{}", bag.display());
+        assert_eq!(total, want.values().sum::<u64>(), "{}", bag.display());
+        checked = (checked.0 + 1, checked.1 + total);
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    assert!(checked.0 >= 27 && checked.1 > 60_000, "{checked:?} bags and messages");
+    eprintln!("{} SQLite3 bags, {} messages, each topic's count as its metadata.yaml gives", checked.0, checked.1);
+}
