@@ -109,3 +109,46 @@ fn every_sqlite3_bag_reads_to_the_counts_its_metadata_gives() {
     assert!(checked.0 >= 27 && checked.1 > 60_000, "{checked:?} bags and messages");
     eprintln!("{} SQLite3 bags, {} messages, each topic's count as its metadata.yaml gives", checked.0, checked.1);
 }
+
+/// LinuxCNC's 1 kHz trace of the paper's SING cut written twice by rosbags (tests/peer/
+/// trace_to_rosbag.py), as a SQLite3 bag and as an MCAP one, with foreign topics beside it: `fiveaxis
+/// analyze` prints the same report for both, byte for byte but for the bag's name, and the same JSON,
+/// with the region the MCAP tests check against numpy (tests/machine_trace.rs).
+#[test]
+fn a_sqlite3_bag_and_its_mcap_twin_give_the_same_analysis() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let write = |storage: &str| -> PathBuf {
+        let out = common::scratch_root().join(format!("twin-{storage}"));
+        let _ = std::fs::remove_dir_all(&out);
+        let st = std::process::Command::new("python3")
+            .arg(root.join("tests/peer/trace_to_rosbag.py"))
+            .arg(root.join("recordings/machine/linuxcnc/sing_trace.csv.gz"))
+            .arg(&out)
+            .args(["--storage", storage])
+            .status()
+            .expect("python3 runs (rosbags comes from launch-free-scripts/test)");
+        assert!(st.success(), "trace_to_rosbag.py --storage {storage} failed");
+        out
+    };
+    let (sqlite, mcap) = (write("sqlite3"), write("mcap"));
+    assert!(std::fs::read_dir(&sqlite).unwrap().any(|e| e.unwrap().path().extension().is_some_and(|x| x == "db3")), "rosbags wrote a .db3");
+    let analyze = |bag: &Path| -> (i32, String, String) {
+        let json = bag.with_extension("json");
+        let mut args = vec!["analyze", bag.to_str().unwrap(), "--joint-state-topic", "/cnc/joint_states", "--machine", "hermle-c600u", "--program", "bundled:SING.I", "--max-c-speed-rpm", "25", "--json", json.to_str().unwrap()];
+        for m in ["X=x_joint", "Y=y_joint", "Z=z_joint", "A=a_joint", "C=c_joint"] {
+            args.extend(["--axis-map", m]);
+        }
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(&args).current_dir(root).output().unwrap();
+        let name = bag.to_str().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).replace(name, "BAG");
+        let json = std::fs::read_to_string(&json).unwrap().replace(name, "BAG");
+        (out.status.code().unwrap_or(-1), text, json)
+    };
+    let (a, b) = (analyze(&sqlite), analyze(&mcap));
+    assert_eq!(a.0, 1, "the SING cut asks more than 25 rpm: exit 1\n{}", a.1);
+    assert_eq!(a.1, b.1, "the reports differ");
+    assert_eq!(a.2, b.2, "the JSON reports differ");
+    let v: serde_json::Value = serde_json::from_str(&a.2).unwrap();
+    let r = &v["regions"][0];
+    assert!(v["regions"].as_array().unwrap().len() == 1 && (r["x_start_mm"].as_f64().unwrap() - 22.0).abs() < 1.0 && (r["x_end_mm"].as_f64().unwrap() - 28.0).abs() < 1.0, "{r:#}");
+}

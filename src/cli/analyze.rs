@@ -86,18 +86,18 @@ pub fn main(a: &OfflineArgs) -> Outcome {
     offline_many(a, &recordings, &machine, &options)
 }
 
-/// The recordings an `analyze` names: those given, then those in `--all-in` (MCAP files and bag
-/// directories, by name); none is an error.
+/// The recordings an `analyze` names: those given, then those in `--all-in` (MCAP and SQLite3 files
+/// and bag directories, by name); none is an error.
 fn recordings_of(a: &OfflineArgs) -> Result<Vec<std::path::PathBuf>, String> {
     let mut all = a.recordings.clone();
     if let Some(dir) = &a.all_in {
         let entries = std::fs::read_dir(dir).map_err(|e| format!("--all-in {}: {e}", dir.display()))?;
         let mut found: Vec<std::path::PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| if p.is_dir() { fiveaxis::record::read::recording_files(p).is_ok() } else { p.extension().is_some_and(|e| e.eq_ignore_ascii_case("mcap")) })
+            .filter(|p| if p.is_dir() { fiveaxis::record::read::recording_files(p).is_ok() } else { p.extension().is_some_and(|e| e.eq_ignore_ascii_case("mcap")) || fiveaxis::record::sqlite::is_db3(p) })
             .collect();
         if found.is_empty() {
-            return Err(format!("--all-in {}: no .mcap file or bag directory in it", dir.display()));
+            return Err(format!("--all-in {}: no .mcap or .db3 file or bag directory in it", dir.display()));
         }
         found.sort();
         all.extend(found);

@@ -7,7 +7,7 @@ another device). Nothing here comes from fiveaxis.
 
 Usage: trace_to_rosbag.py TRACE.csv[.gz] OUT_DIR [--topic /cnc/joint_states]
        [--names x_joint,y_joint,z_joint,a_joint,c_joint] [--modulo-c] [--units si|mm-deg]
-       [--drop-joint NAME] [--nan-every N] [--limit N]
+       [--drop-joint NAME] [--nan-every N] [--limit N] [--storage mcap|sqlite3]
 
 The trace's header is `t_s,x_mm,y_mm,z_mm,a_deg,c_deg,...` (joint positions as the control reports
 them); the bag carries REP 103 units (m, rad) unless `--units mm-deg` (a bridge that forgot to
@@ -49,6 +49,7 @@ def main():
     ap.add_argument("--drop-joint")
     ap.add_argument("--nan-every", type=int)
     ap.add_argument("--limit", type=int)
+    ap.add_argument("--storage", choices=["mcap", "sqlite3"], default="mcap")
     a = ap.parse_args()
 
     ts = get_typestore(Stores.ROS2_HUMBLE)
@@ -70,7 +71,8 @@ def main():
     def stamp(ns):
         return Time(sec=ns // 10**9, nanosec=ns % 10**9)
 
-    with Writer(a.out, version=8, storage_plugin=StoragePlugin.MCAP) as w:
+    plugin = StoragePlugin.SQLITE3 if a.storage == "sqlite3" else StoragePlugin.MCAP
+    with Writer(a.out, version=8, storage_plugin=plugin) as w:
         tf = w.add_connection("/tf", TFMessage.__msgtype__, typestore=ts)
         log = w.add_connection("/rosout", Log.__msgtype__, typestore=ts)
         joints = w.add_connection(a.topic, JointState.__msgtype__, typestore=ts)
