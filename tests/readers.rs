@@ -924,3 +924,30 @@ fn klartext_polar_lines_circles_and_helices_are_where_the_tnc_puts_them() {
     let no_pole = read("0 BEGIN PGM P MM\n1 L X+10 Y+0 R0 F600\n2 LP PR+5 PA+0\n3 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
     has(&no_pole, 3, 3, "no pole CC");
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 192, ..ProptestConfig::default() })]
+    /// O-word noise (block names, keywords, brackets) cut into `owords.ngc` never panics the flow, nor
+    /// runs past its budget, and every diagnostic names a column on its line.
+    #[test]
+    fn mutated_o_word_programs_never_panic(cuts in proptest::collection::vec((0usize..1800, proptest::sample::select("o0123456789<>[] \nwhiledorepatsubcl#".chars().collect::<Vec<_>>())), 0..14)) {
+        let text = mutate(include_str!("../recordings/programs/linuxcnc/parameters/owords.ngc"), cuts);
+        let p = read_rs274(&text);
+        prop_assert!(p.blocks.len() <= 4_000_000);
+        for d in p.diagnostics.iter() {
+            let line = text.lines().nth(d.line - 1).unwrap_or("");
+            prop_assert!(d.column >= 1 && d.column <= line.chars().count() + 1, "{d:?} on {line:?}");
+        }
+    }
+
+    /// Klartext's polar contours and M140 with their words cut and shuffled never panic.
+    #[test]
+    fn mutated_polar_klartext_never_panics(cuts in proptest::collection::vec((0usize..400, proptest::sample::select("LPCRAIMB+-.0123456789 \nDX".chars().collect::<Vec<_>>())), 0..12)) {
+        let original = "0 BEGIN PGM P MM\n1 CC X+0 Y+0\n2 L X+10 Y+0 Z+0 R0 F600\n3 LP PR+20 PA+90\n4 CP PA+180 DR+\n5 CP IPA+720 Z-4 DR+\n6 LP IPR+5 IPA-90\n7 M140 MB MAX F500\n8 M140 MB+5\n9 END PGM P MM\n";
+        let text = mutate(original, cuts);
+        let m = fiveaxis::machine::Machine::hermle_c600u();
+        let p = read(&text, Dialect::Klartext, "p.h", &ReadOptions::default().on(&m));
+        let opts = fiveaxis::path::PathOptions { period: 0.05, ..Default::default() };
+        let _ = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
+    }
+}

@@ -152,3 +152,47 @@ fn a_sqlite3_bag_and_its_mcap_twin_give_the_same_analysis() {
     let r = &v["regions"][0];
     assert!(v["regions"].as_array().unwrap().len() == 1 && (r["x_start_mm"].as_f64().unwrap() - 22.0).abs() < 1.0 && (r["x_end_mm"].as_f64().unwrap() - 28.0).abs() < 1.0, "{r:#}");
 }
+
+/// A damaged SQLite3 file (bytes cut, flipped or not a database at all) is refused naming the file,
+/// never a panic; the messages before the damage were visited.
+#[test]
+fn damaged_sqlite3_files_are_refused_naming_the_file() {
+    let source = common::outside("bags/rosbag2/rosbag2_py/test/resources/sqlite3/talker/talker.db3");
+    let bytes = std::fs::read(&source).unwrap();
+    let dir = common::scratch_root().join("sqlite-damage");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut seed = 0x5EED_u64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    };
+    let mut refused = 0;
+    for k in 0..40 {
+        let mut b = bytes.clone();
+        match k % 4 {
+            0 => b.truncate((next() as usize) % b.len()),
+            1 => {
+                for _ in 0..16 {
+                    let i = (next() as usize) % b.len();
+                    b[i] ^= 1 << (next() % 8);
+                }
+            }
+            2 => b = b"not a database at all".to_vec(),
+            _ => b.iter_mut().skip(100).step_by(97).for_each(|x| *x = !*x),
+        }
+        let f = dir.join(format!("damaged_{k}.db3"));
+        std::fs::write(&f, &b).unwrap();
+        match fiveaxis::record::read::for_each_message(&f, |_| {}) {
+            Ok(_) => {}
+            Err(e) => {
+                assert!(e.to_string().contains(&format!("damaged_{k}.db3")), "{e}");
+                refused += 1;
+            }
+        }
+    }
+    assert!(refused >= 10, "{refused} of 40 damaged files refused");
+    let _ = std::fs::remove_dir_all(&dir);
+}
