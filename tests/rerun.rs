@@ -107,7 +107,7 @@ fn replay_of_the_sing_run_has_the_entities_timelines_layout_and_the_papers_regio
         assert!(data.contains(tick), "no '{tick}' tick label across the part");
     }
 
-    // What Rerun makes of the same MCAP without us (the README's account): JointState decoded into
+    // What Rerun makes of the same MCAP without us (the book's account, docs/src/rerun.md): JointState decoded into
     // scalars per joint, AxisState as one reflected struct per message, on the MCAP's timelines.
     let native = dir.join("native.rrd");
     rerun_cli(&["mcap", "convert", mcap.to_str().unwrap(), "-o", native.to_str().unwrap()]);
