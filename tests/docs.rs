@@ -76,3 +76,69 @@ fn every_relative_link_of_the_readme_and_the_book_reaches_a_file() {
     assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
     assert!(checked >= 20, "{checked} links checked");
 }
+
+/// The README's tour runs: each `fiveaxis` command of its sh blocks (continuation lines joined, the
+/// comments cut) is run with the tour's placeholders bound to real inputs (`part.h`: the hyperMILL
+/// DMU 85 monoBLOCK program of the corpus; `part.ngc`: the paper's SING program, which LinuxCNC ran for
+/// the trace; `cnc_bag/`: LinuxCNC's SING trace as a rosbag2 bag written by rosbags), and ends as the tour says: 0, or 1 where a gate
+/// fails. The DDS monitor beside a live bridge is the node set's own tests' (tests/dds.rs).
+#[test]
+fn the_readmes_tour_runs() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let tour = readme.split("## A five-minute tour").nth(1).expect("the tour");
+    let mut commands = Vec::new();
+    for block in tour.split("```sh").skip(1) {
+        let body = block.split("```").next().unwrap();
+        let mut joined = String::new();
+        for line in body.lines() {
+            let code = line.split(" # ").next().unwrap().trim_end();
+            joined.push_str(code.trim_end_matches('\\'));
+            if !code.ends_with('\\') {
+                if !joined.trim().is_empty() {
+                    commands.push(joined.trim().to_string());
+                }
+                joined.clear();
+            } else {
+                joined.push(' ');
+            }
+        }
+    }
+    let scratch = std::env::temp_dir().join(format!("fiveaxis-tour-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch).unwrap();
+    let bag = scratch.join("cnc_bag");
+    let st = std::process::Command::new("python3")
+        .arg(root().join("tests/peer/trace_to_rosbag.py"))
+        .arg(root().join("recordings/machine/linuxcnc/sing_trace.csv.gz"))
+        .arg(&bag)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let part_h = root().join("../shared/outside/programs/heidenhain-klartext_hypermill_dmu85-monoblock-ac_large-3plus2_W5270NS01061A16.h");
+    let mut ran = 0;
+    for c in &commands {
+        let words: Vec<String> = c
+            .split_whitespace()
+            .map(|w| match w {
+                "part.h" => part_h.display().to_string(),
+                "part.ngc" => "bundled:SING.I".to_string(),
+                "cnc_bag/" => bag.display().to_string(),
+                "report.json" | "sing.rrd" => scratch.join(w).display().to_string(),
+                _ => w.to_string(),
+            })
+            .collect();
+        if words[0] != "fiveaxis" {
+            assert!(c.contains("monitor-machine"), "a tour command not run here: {c}");
+            continue;
+        }
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(&words[1..]).current_dir(&scratch).output().unwrap();
+        let code = out.status.code();
+        let gate = words.iter().any(|w| w == "--max-c-speed-rpm");
+        assert!(code == Some(0) || (gate && code == Some(1)), "{c}: exit {code:?}\n{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        if c.contains("analyze bundled:SING.I") {
+            assert!(String::from_utf8_lossy(&out.stdout).contains("175.0 rpm at x 24.984"), "the tour's 175 rpm at x 25 mm");
+        }
+        ran += 1;
+    }
+    assert!(ran >= 5, "{ran} of the tour's commands ran: {commands:#?}");
+    let _ = std::fs::remove_dir_all(&scratch);
+}
