@@ -142,3 +142,60 @@ fn the_readmes_tour_runs() {
     assert!(ran >= 5, "{ran} of the tour's commands ran: {commands:#?}");
     let _ = std::fs::remove_dir_all(&scratch);
 }
+
+/// The book's reference pages (`docs/src/reference/`) are the commands' and nodes' own `--help`,
+/// word for word: a changed flag fails this test until the page is made again (`FIVEAXIS_BLESS=1
+/// cargo test --test docs` writes them), so the reference cannot rot.
+#[test]
+fn the_reference_pages_are_the_commands_own_help() {
+    let bin = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
+    let pages: [(&str, &str, &[&str]); 16] = [
+        ("fiveaxis", "fiveaxis", &[]),
+        ("fiveaxis-program-analyze", "fiveaxis", &["program", "analyze"]),
+        ("fiveaxis-machine-list", "fiveaxis", &["machine", "list"]),
+        ("fiveaxis-machine-show", "fiveaxis", &["machine", "show"]),
+        ("fiveaxis-machine-urdf", "fiveaxis", &["machine", "urdf"]),
+        ("fiveaxis-run", "fiveaxis", &["run"]),
+        ("fiveaxis-analyze", "fiveaxis", &["analyze"]),
+        ("fiveaxis-mcap-recover", "fiveaxis", &["mcap", "recover"]),
+        ("fiveaxis-avoid", "fiveaxis", &["avoid"]),
+        ("fiveaxis-roughness", "fiveaxis", &["roughness"]),
+        ("fiveaxis-demo", "fiveaxis", &["demo"]),
+        ("fiveaxis-commander", "fiveaxis-commander", &[]),
+        ("fiveaxis-simulator", "fiveaxis-simulator", &[]),
+        ("fiveaxis-monitor", "fiveaxis-monitor", &[]),
+        ("fiveaxis-recorder", "fiveaxis-recorder", &[]),
+        ("fiveaxis-rerun", "fiveaxis-rerun", &[]),
+    ];
+    let dir = root().join("docs/src/reference");
+    let bless = std::env::var_os("FIVEAXIS_BLESS").is_some();
+    let mut stale = Vec::new();
+    let mut index = String::from("# Reference\n\nEach command's and node's own `--help`, as this version prints it (tests/docs.rs keeps them so).\n\n");
+    for (page, exe, args) in pages {
+        let path = bin.join(exe);
+        assert!(path.exists(), "{} is built by launch-free-scripts/test (cargo build --workspace --bins)", path.display());
+        let out = std::process::Command::new(&path).args(args).arg("--help").output().unwrap();
+        assert!(out.status.success(), "{exe} {args:?} --help: {}", String::from_utf8_lossy(&out.stderr));
+        let help = String::from_utf8(out.stdout).unwrap();
+        let title = std::iter::once(exe).chain(args.iter().copied()).collect::<Vec<_>>().join(" ");
+        let text = format!("# `{title}`\n\n```text\n{}\n```\n", help.trim_end());
+        let file = dir.join(format!("{page}.md"));
+        index.push_str(&format!("- [`{title}`]({page}.md)\n"));
+        if bless {
+            std::fs::create_dir_all(&dir).unwrap();
+            std::fs::write(&file, &text).unwrap();
+        } else if std::fs::read_to_string(&file).ok().as_deref() != Some(text.as_str()) {
+            stale.push(file.display().to_string());
+        }
+    }
+    let index_file = dir.join("README.md");
+    if bless {
+        std::fs::write(&index_file, &index).unwrap();
+    } else if std::fs::read_to_string(&index_file).ok().as_deref() != Some(index.as_str()) {
+        stale.push(index_file.display().to_string());
+    }
+    assert!(stale.is_empty(), "reference pages that are not the commands' --help (make them again with FIVEAXIS_BLESS=1 cargo test --test docs):\n{}", stale.join("\n"));
+    // The book lists them.
+    let summary = std::fs::read_to_string(root().join("docs/src/SUMMARY.md")).unwrap();
+    assert!(summary.contains("(reference/README.md)"), "SUMMARY.md has no Reference");
+}
