@@ -803,7 +803,9 @@ impl Exec {
             return None;
         };
         debug_assert!(p0 == a0 && p1 == a1);
-        if let Some(w) = axes.iter().find(|w| !w.addr.ends_with("PR") && !w.addr.ends_with("PA") && [a0, a1].contains(&axis_index(w.addr)) && !w.addr.starts_with(['N', 'T'])) {
+        // A linear word of the working plane (X, Y, Z or IX ...; not the rotary A B C, nor LN's N and T).
+        let linear = |a: &str| a.ends_with(['X', 'Y', 'Z']) && !a.starts_with(['N', 'T']);
+        if let Some(w) = axes.iter().find(|w| linear(w.addr) && [a0, a1].contains(&axis_index(w.addr))) {
             diags.error(s.line, w.col, format!("{key} with {}: the end point in the working plane is the polar one", w.addr));
             return None;
         }
