@@ -196,3 +196,33 @@ fn damaged_sqlite3_files_are_refused_naming_the_file() {
     assert!(refused >= 10, "{refused} of 40 damaged files refused");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A bag directory without metadata.yaml (a recorder killed before writing it) is read as its
+/// `.db3` files in split order: `_10` after `_9`, whole-file zstd (`.db3.zstd`) as well. Eleven splits
+/// of rosbag2's talker fixture, compressed here as talker_0.db3.zstd .. talker_10.db3.zstd, read to
+/// eleven times its messages, in that order.
+#[test]
+fn a_bag_without_metadata_reads_its_splits_in_order() {
+    let source = common::outside("bags/rosbag2/rosbag2_py/test/resources/sqlite3/talker/talker.db3");
+    let dir = common::scratch_root().join("sqlite-splits");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let packed = zstd::encode_all(std::fs::read(&source).unwrap().as_slice(), 3).unwrap();
+    for k in 0..11 {
+        std::fs::write(dir.join(format!("talker_{k}.db3.zstd")), &packed).unwrap();
+    }
+    let files = fiveaxis::record::read::recording_files(&dir).unwrap();
+    let names: Vec<String> = files.iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect();
+    let want: Vec<String> = (0..11).map(|k| format!("talker_{k}.db3.zstd")).collect();
+    assert_eq!(names, want);
+    let mut files_seen = Vec::new();
+    let n = fiveaxis::record::read::for_each_message(&dir, |m| {
+        if files_seen.last() != Some(&m.file) {
+            files_seen.push(m.file);
+        }
+    })
+    .unwrap();
+    assert_eq!(n, 11 * 20);
+    assert_eq!(files_seen, (0..11).collect::<Vec<_>>());
+    let _ = std::fs::remove_dir_all(&dir);
+}

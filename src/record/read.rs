@@ -122,9 +122,11 @@ fn recording(path: &Path) -> Result<(Vec<std::path::PathBuf>, bool), RecordError
     Ok((files.into_iter().map(|f| path.join(f)).collect(), message_zstd && storage.as_deref() == Some("sqlite3")))
 }
 
-/// A split file's order: `NAME_12.mcap` sorts by (NAME, 12), so that `_10` follows `_9`.
+/// A split file's order: `NAME_12.mcap` (or `.db3`, `.db3.zstd`) sorts by (NAME, 12), so that `_10`
+/// follows `_9`.
 fn split_number(p: &Path) -> (String, u64) {
-    let stem = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = p.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let stem = name.split('.').next().unwrap_or_default().to_string();
     match stem.rsplit_once('_') {
         Some((name, n)) if n.chars().all(|c| c.is_ascii_digit()) && !n.is_empty() => (name.to_string(), n.parse().unwrap_or(u64::MAX)),
         _ => (stem, 0),
