@@ -126,7 +126,12 @@ fn recording(path: &Path) -> Result<(Vec<std::path::PathBuf>, bool), RecordError
 /// follows `_9`.
 fn split_number(p: &Path) -> (String, u64) {
     let name = p.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let stem = name.split('.').next().unwrap_or_default().to_string();
+    // The storage's extensions come off (a bag's own name may hold dots).
+    let mut stem = name.as_str();
+    for ext in [".zstd", ".db3", ".mcap"] {
+        stem = stem.strip_suffix(ext).unwrap_or(stem);
+    }
+    let stem = stem.to_string();
     match stem.rsplit_once('_') {
         Some((name, n)) if n.chars().all(|c| c.is_ascii_digit()) && !n.is_empty() => (name.to_string(), n.parse().unwrap_or(u64::MAX)),
         _ => (stem, 0),
