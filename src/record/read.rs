@@ -156,7 +156,7 @@ fn mcap_error(path: &Path, e: impl std::fmt::Display) -> RecordError {
     RecordError::Mcap { path: path.to_path_buf(), message: e.to_string() }
 }
 
-fn io_error(path: &Path) -> impl Fn(std::io::Error) -> RecordError + '_ {
+pub(super) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> RecordError + '_ {
     move |source| RecordError::Io { path: path.to_path_buf(), source }
 }
 

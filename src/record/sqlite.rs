@@ -6,7 +6,7 @@
 //! (`.db3.zstd`), unpacked here to an unlinked temporary file. Rows are read one at a time: memory
 //! holds one message, whatever the bag's size.
 
-use super::read::{ChannelInfo, MessageView};
+use super::read::{io_error, ChannelInfo, MessageView};
 use super::RecordError;
 use std::path::Path;
 
@@ -31,8 +31,8 @@ pub fn for_each_message_in_db(path: &Path, file_index: usize, offset: u64, messa
     // A whole-file zstd bag: unpacked to a temporary file that goes when it closes.
     let unpacked;
     let db_path = if path.to_string_lossy().to_ascii_lowercase().ends_with(".zstd") {
-        let mut input = std::fs::File::open(path).map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?;
-        let mut tmp = tempfile::NamedTempFile::new().map_err(|source| RecordError::Io { path: path.to_path_buf(), source })?;
+        let mut input = std::fs::File::open(path).map_err(io_error(path))?;
+        let mut tmp = tempfile::NamedTempFile::new().map_err(io_error(path))?;
         zstd::stream::copy_decode(&mut input, tmp.as_file_mut()).map_err(|e| error(path, format!("its zstd compression: {e}")))?;
         unpacked = tmp;
         unpacked.path().to_path_buf()

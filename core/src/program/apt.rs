@@ -118,10 +118,8 @@ pub(crate) struct AptReader {
     at: Option<[f64; 3]>,
     circle: Option<Circle>,
     events: Vec<String>,
-    /// Radians per `ROTABL/` unit (`--cl-angles`).
-    angle_unit: f64,
-    /// Whether the user gave `--cl-angles` radians (for the message that offers the other).
-    radians: bool,
+    /// The unit of `ROTABL/`'s angles (`--cl-angles`).
+    angles: super::AngleUnit,
     /// The table's turn from `ROTABL/` (A, B, C, rad, absolute): the GOTOs are in the part turned by it.
     table: [f64; 3],
     /// Where the last ROTABL was read, and the TLAXIS/ given (line, column, axis), for the check
@@ -157,8 +155,7 @@ impl AptReader {
             at: None,
             circle: None,
             events: Vec::new(),
-            angle_unit: angles.radians(),
-            radians: angles == super::AngleUnit::Rad,
+            angles,
             table: [0.0; 3],
             rotabl_at: (0, 0),
             tlaxis: None,
@@ -282,7 +279,7 @@ impl AptReader {
                 }
                 match parse_field(f) {
                     Some(v) => nums.push(v),
-                    None if f.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') && f.as_bytes()[0].is_ascii_alphabetic() => minors.push(f.to_ascii_uppercase()),
+                    None if is_minor_word(f) => minors.push(f.to_ascii_uppercase()),
                     None => {
                         diags.error(line, col, format!("{word}: expected a number or a minor word, found '{}'", excerpt(f)));
                         return None;
@@ -367,7 +364,7 @@ impl AptReader {
                         return;
                     }
                     motion = if c.ccw { Motion::ArcCcw } else { Motion::ArcCw };
-                    let frame = turned.then(|| [0, 1, 2].map(|k| [turn[(0, k)], turn[(1, k)], turn[(2, k)]]));
+                    let frame = turned.then(|| ArcSpec::frame_of(&turn));
                     arc = Some(ArcSpec { plane: c.plane, centre: to_part(c.centre).map(|v| v * MM), extra_turns: 0, frame });
                 }
                 if motion != Motion::Rapid && self.at.is_some() && !std::mem::replace(&mut self.fedrat, true) {
@@ -553,7 +550,7 @@ impl AptReader {
                     diags.error(line, col, format!("ROTABL/ expects an angle and AAXIS, BAXIS or CAXIS [,TABLE] [,CCLW]: {why} not read"));
                     return;
                 };
-                let a = a * self.angle_unit;
+                let a = a * self.angles.radians();
                 let was = self.table[k];
                 self.table[k] = if minors.iter().any(|m| m == "INCR") { was + a } else { a };
                 if was != 0.0 || self.table[k] != 0.0 {
@@ -574,7 +571,7 @@ impl AptReader {
                     [w] if w.eq_ignore_ascii_case("ON") => {}
                     _ => {
                         let kind = excerpt(fields.first().copied().unwrap_or(""));
-                        let bad = fields.iter().position(|f| parse_field(f).is_none() && !(f.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') && f.as_bytes()[0].is_ascii_alphabetic()));
+                        let bad = fields.iter().position(|f| parse_field(f).is_none() && !is_minor_word(f));
                         let why = match bad {
                             Some(k) => format!("field {} '{}' is neither a number nor a word (a comma missing?)", k + 1, excerpt(fields[k])),
                             None => "cycles in CL data are not read".to_string(),
@@ -660,6 +657,12 @@ impl AptReader {
     }
 }
 
+/// Whether a statement's field is a minor word (`AAXIS`, `END_ATTRIB`): a letter, then letters,
+/// digits or `_`.
+fn is_minor_word(f: &str) -> bool {
+    f.as_bytes().first().is_some_and(u8::is_ascii_alphabetic) && f.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
+}
+
 /// The rotation of a table turned by `t` (A, B, C about +X, +Y, +Z, rad; at most one of them, as
 /// ROTABL/ refuses two): a point written in the turned part is at `R p` in the part.
 fn table_rotation(t: &[f64; 3]) -> nalgebra::Matrix3<f64> {
@@ -677,10 +680,10 @@ impl AptReader {
             return;
         }
         let (line, col) = self.rotabl_at;
-        let other = if self.radians { crate::units::DEG } else { 1.0 / crate::units::DEG };
-        let t = table_rotation(&self.table.map(|a| a * other));
+        let other = if self.angles == super::AngleUnit::Rad { super::AngleUnit::Deg } else { super::AngleUnit::Rad };
+        let t = table_rotation(&self.table.map(|a| a / self.angles.radians() * other.radians()));
         let hint = if along(t) < 1e-4 {
-            format!("; read in {} (--cl-angles {}) it does", if self.radians { "degrees" } else { "radians" }, if self.radians { "deg" } else { "rad" })
+            format!("; read in {} (--cl-angles {}) it does", if other == super::AngleUnit::Rad { "radians" } else { "degrees" }, other.name())
         } else {
             String::new()
         };

@@ -287,9 +287,7 @@ impl Interpreter {
     /// rotary axes' last positions: None without a machine.
     pub(crate) fn tool_axis_now(&self) -> Option<nalgebra::Vector3<f64>> {
         let m = self.machine.as_ref()?;
-        let axes = self.axes_now();
-        let rot = self.rot_now();
-        let axis = m.chain.forward(&[axes.x, axes.y, axes.z, rot[0], rot[1]]).axis;
+        let axis = m.chain.forward(&self.joints_now()).axis;
         Some(self.tilt.map_or(axis, |r| r.transpose() * axis))
     }
 
@@ -321,6 +319,12 @@ impl Interpreter {
         self.rotary_letters.map(|l| l.and_then(|l| "ABC".find(l)).map_or(0.0, |k| self.last[3 + k]))
     }
 
+    /// The machine's axes as they stand: [`Interpreter::axes_now`] and [`Interpreter::rot_now`].
+    fn joints_now(&self) -> crate::kinematics::Joints {
+        let (axes, rot) = (self.axes_now(), self.rot_now());
+        [axes.x, axes.y, axes.z, rot[0], rot[1]]
+    }
+
     /// Where the machine's linear axes stand (model frame, m): X Y Z themselves without TCPM or a
     /// tilted plane, else the tool tip placed through the kinematics.
     fn axes_now(&self) -> nalgebra::Vector3<f64> {
@@ -336,11 +340,11 @@ impl Interpreter {
     /// `distance` (m), or as far as the axes' ranges let it (`None`): Heidenhain's `M140 MB`.
     pub(crate) fn retract_target(&self, distance: Option<f64>) -> Result<[f64; 3], String> {
         let m = self.machine.as_ref().ok_or("the tool axis and the travel limits are the machine's: read the program on one (--machine)")?;
-        let axes = self.axes_now();
-        let rot = self.rot_now();
-        let pose = m.chain.forward(&[axes.x, axes.y, axes.z, rot[0], rot[1]]);
+        let q = self.joints_now();
+        let axes = nalgebra::Vector3::new(q[0], q[1], q[2]);
+        let pose = m.chain.forward(&q);
         // The linear axes move the tool along its axis by this much per metre (a unit vector).
-        let along = m.chain.linear_for(&(pose.tip + pose.axis), &rot) - axes;
+        let along = m.chain.linear_for(&(pose.tip + pose.axis), &[q[3], q[4]]) - axes;
         let t = match distance {
             Some(d) => d,
             None => (0..3)
@@ -1025,7 +1029,7 @@ impl Interpreter {
                     if let (Some(r), Some(a)) = (next.tilt, arc.as_mut()) {
                         let c = r * nalgebra::Vector3::from(a.centre);
                         a.centre = [c.x, c.y, c.z];
-                        a.frame = Some([0, 1, 2].map(|k| [r[(0, k)], r[(1, k)], r[(2, k)]]));
+                        a.frame = Some(ArcSpec::frame_of(&r));
                     }
                 }
             }

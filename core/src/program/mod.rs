@@ -242,6 +242,13 @@ pub struct ArcSpec {
     pub frame: Option<[[f64; 3]; 3]>,
 }
 
+impl ArcSpec {
+    /// [`ArcSpec::frame`] of a tilted plane or a turned part: the rotation's columns.
+    pub fn frame_of(r: &nalgebra::Matrix3<f64>) -> [[f64; 3]; 3] {
+        [0, 1, 2].map(|k| [r[(0, k)], r[(1, k)], r[(2, k)]])
+    }
+}
+
 /// How the control interpolates the tool orientation between a block's start and end under
 /// tool-centre-point management.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]

@@ -106,11 +106,11 @@ pub fn parse(chars: &[char]) -> Option<OLine> {
 }
 
 /// Whether `l` opens a block that must be held to its end (a subroutine, a loop, a condition);
-/// `open` is the blocks open so far, innermost last (a `while` ends the `do` of its name).
-fn opens(l: &OLine, open: &[(String, Keyword)]) -> bool {
+/// `innermost` is the block open around it, if any (a `while` ends the `do` of its name).
+fn opens(l: &OLine, innermost: Option<(&str, Keyword)>) -> bool {
     match l.keyword {
         Keyword::Sub | Keyword::Do | Keyword::If | Keyword::Repeat => true,
-        Keyword::While => !open.last().is_some_and(|(n, k)| *k == Keyword::Do && *n == l.name),
+        Keyword::While => innermost != Some((l.name.as_str(), Keyword::Do)),
         _ => false,
     }
 }
@@ -199,7 +199,7 @@ impl Rs274Reader {
             held.lines.push((line, text.to_string()));
             held.bytes += text.len();
             if let Some(o) = o {
-                if opens(&o, &held.open.iter().map(|(n, k, _)| (n.clone(), *k)).collect::<Vec<_>>()) {
+                if opens(&o, held.open.last().map(|(n, k, _)| (n.as_str(), *k))) {
                     held.open.push((o.name, o.keyword, line));
                 } else if let Some((name, k, _)) = held.open.last().cloned() {
                     if o.keyword == closer(k) && o.name == name {
@@ -222,7 +222,7 @@ impl Rs274Reader {
             return true;
         }
         let Some(o) = o else { return false };
-        if opens(&o, &[]) {
+        if opens(&o, None) {
             self.flow.held = Some(Held { lines: vec![(line, text.to_string())], bytes: text.len(), open: vec![(o.name, o.keyword, line)] });
             return true;
         }
@@ -262,12 +262,14 @@ impl Rs274Reader {
     /// flow says. Every control block in them is matched first: a name closed by another's end,
     /// or a `break` outside its loop, stops the run before anything moves.
     fn run(&mut self, lines: &[Line], out: &mut Vec<Block>, diags: &mut Diags) -> End {
-        let parsed: Vec<Option<(OLine, usize)>> = lines
+        // Each control line once: its O word, the column it stands at, and its characters from there
+        // (a loop's test is evaluated from them on every pass).
+        let parsed: Vec<Option<(OLine, usize, Vec<char>)>> = lines
             .iter()
             .map(|(_, t)| {
                 let chars: Vec<char> = t.trim_end_matches('\r').chars().collect();
                 let first = chars.iter().position(|c| !c.is_whitespace()).unwrap_or(chars.len());
-                parse(&chars[first..]).map(|o| (o, first))
+                parse(&chars[first..]).map(|o| (o, first, chars[first..].to_vec()))
             })
             .collect();
         // Match the blocks: for each opening line its end, and for an if its branches.
@@ -276,16 +278,18 @@ impl Rs274Reader {
         let mut branches: HashMap<usize, Vec<usize>> = HashMap::new();
         let mut open: Vec<(String, Keyword, usize)> = Vec::new();
         for (i, p) in parsed.iter().enumerate() {
-            let Some((o, col)) = p else { continue };
-            let names: Vec<(String, Keyword)> = open.iter().map(|(n, k, _)| (n.clone(), *k)).collect();
-            if opens(o, &names) {
+            let Some((o, col, _)) = p else { continue };
+            if opens(o, open.last().map(|(n, k, _)| (n.as_str(), *k))) {
                 open.push((o.name.clone(), o.keyword, i));
                 continue;
             }
             let (line, col) = (lines[i].0, col + 1);
             match o.keyword {
                 Keyword::ElseIf | Keyword::Else => match open.last() {
-                    Some((n, Keyword::If, at)) if *n == o.name => branches.entry(*at).or_default().push(i),
+                    Some((n, Keyword::If, at)) if *n == o.name => {
+                        branches.entry(*at).or_default().push(i);
+                        opener_of.insert(i, *at);
+                    }
                     _ => return self.stop(line, col, format!("o{} {}: not inside o{} if", o.name, word(o.keyword), o.name), diags),
                 },
                 Keyword::EndSub | Keyword::While | Keyword::EndWhile | Keyword::EndIf | Keyword::EndRepeat => match open.pop() {
@@ -320,22 +324,20 @@ impl Rs274Reader {
             if self.flow.run_lines > MAX_RUN_LINES {
                 return self.stop(*line, 1, format!("more than {MAX_RUN_LINES} lines run by O-word loops and calls: an endless loop? not read further"), diags);
             }
-            let Some((o, col)) = &parsed[pc] else {
+            let Some((o, col, chars)) = &parsed[pc] else {
                 let before = diags.0.len();
                 self.plain_line(*line, text, out, diags);
                 // Said once per line, however often the flow runs it.
                 let fresh: Vec<_> = diags.0.drain(before..).collect();
                 for d in fresh {
-                    if self.flow.said.len() < MAX_HELD_LINES && self.flow.said.insert((d.line, d.column, d.message.clone())) {
-                        diags.0.push(d);
-                    } else if self.flow.said.len() >= MAX_HELD_LINES {
+                    // A full memory of what was said (bounded) says everything again.
+                    if self.flow.said.len() >= MAX_HELD_LINES || self.flow.said.insert((d.line, d.column, d.message.clone())) {
                         diags.0.push(d);
                     }
                 }
                 pc += 1;
                 continue;
             };
-            let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
             match o.keyword {
                 Keyword::Sub => {
                     // A subroutine defined inside a block: kept, its body skipped.
@@ -345,7 +347,7 @@ impl Rs274Reader {
                 }
                 Keyword::EndSub | Keyword::Return => return End::Return,
                 Keyword::Call => {
-                    match self.call(o, &chars[*col..], *line, *col, out, diags) {
+                    match self.call(o, chars, *line, *col, out, diags) {
                         End::Stopped => return End::Stopped,
                         _ => pc += 1,
                     }
@@ -353,17 +355,17 @@ impl Rs274Reader {
                 Keyword::Do => pc += 1,
                 Keyword::While if end_of.contains_key(&pc) => {
                     // A while loop: its condition, here.
-                    let Some(c) = self.condition(o, &chars[*col..], *line, *col, diags) else { return End::Stopped };
+                    let Some(c) = self.condition(o, chars, *line, *col, diags) else { return End::Stopped };
                     pc = if c { pc + 1 } else { end_of[&pc] + 1 };
                 }
                 Keyword::While => {
                     // The end of a do loop: again while its condition holds.
-                    let Some(c) = self.condition(o, &chars[*col..], *line, *col, diags) else { return End::Stopped };
+                    let Some(c) = self.condition(o, chars, *line, *col, diags) else { return End::Stopped };
                     pc = if c { opener_of[&pc] + 1 } else { pc + 1 };
                 }
                 Keyword::EndWhile => pc = opener_of[&pc],
                 Keyword::Repeat => {
-                    let Some(n) = self.count(o, &chars[*col..], *line, *col, diags) else { return End::Stopped };
+                    let Some(n) = self.count(o, chars, *line, *col, diags) else { return End::Stopped };
                     if n >= 1.0 {
                         repeats.insert(pc, n);
                         pc += 1;
@@ -378,21 +380,19 @@ impl Rs274Reader {
                     pc = if left >= 1.0 { start + 1 } else { pc + 1 };
                 }
                 Keyword::If => {
-                    let Some(c) = self.condition(o, &chars[*col..], *line, *col, diags) else { return End::Stopped };
+                    let Some(c) = self.condition(o, chars, *line, *col, diags) else { return End::Stopped };
                     if c {
                         pc += 1;
                         continue;
                     }
                     let mut next = end_of[&pc] + 1;
                     for &b in branches.get(&pc).map_or(&[][..], |v| &v[..]) {
-                        let (bl, bt) = (&lines[b].0, &lines[b].1);
-                        let (bo, bcol) = parsed[b].as_ref().expect("a branch is an O line");
+                        let (bo, bcol, bchars) = parsed[b].as_ref().expect("a branch is an O line");
                         if bo.keyword == Keyword::Else {
                             next = b + 1;
                             break;
                         }
-                        let bchars: Vec<char> = bt.trim_end_matches('\r').chars().collect();
-                        let Some(c) = self.condition(bo, &bchars[*bcol..], *bl, *bcol, diags) else { return End::Stopped };
+                        let Some(c) = self.condition(bo, bchars, lines[b].0, *bcol, diags) else { return End::Stopped };
                         if c {
                             next = b + 1;
                             break;
@@ -401,19 +401,16 @@ impl Rs274Reader {
                     pc = next;
                 }
                 // The branch taken has ended: past the if's end.
-                Keyword::ElseIf | Keyword::Else => {
-                    let opener = branches.iter().find(|(_, v)| v.contains(&pc)).map(|(k, _)| *k).expect("matched above");
-                    pc = end_of[&opener] + 1;
-                }
+                Keyword::ElseIf | Keyword::Else => pc = end_of[&opener_of[&pc]] + 1,
                 Keyword::EndIf => pc += 1,
                 Keyword::Break | Keyword::Continue => {
                     // The innermost open loop of that name around this line.
                     let opener = (0..pc)
                         .rev()
-                        .find(|&k| parsed[k].as_ref().is_some_and(|(l, _)| l.name == o.name && matches!(l.keyword, Keyword::While | Keyword::Do) && end_of.get(&k).is_some_and(|&e| e > pc)))
+                        .find(|&k| parsed[k].as_ref().is_some_and(|(l, _, _)| l.name == o.name && matches!(l.keyword, Keyword::While | Keyword::Do) && end_of.get(&k).is_some_and(|&e| e > pc)))
                         .expect("matched above");
                     let end = end_of[&opener];
-                    pc = match (o.keyword, parsed[opener].as_ref().map(|(l, _)| l.keyword)) {
+                    pc = match (o.keyword, parsed[opener].as_ref().map(|(l, _, _)| l.keyword)) {
                         (Keyword::Break, _) => end + 1,
                         // Continue: to the loop's test (a while's head, a do's tail).
                         (_, Some(Keyword::While)) => opener,
@@ -504,7 +501,7 @@ impl Rs274Reader {
         let scope = self.params.enter_call(&args);
         self.flow.depth += 1;
         // The body, without its `sub` and `endsub` lines.
-        let end = self.run(&body[1..body.len().saturating_sub(1).max(1)], out, diags);
+        let end = self.run(body.get(1..body.len().saturating_sub(1)).unwrap_or(&[]), out, diags);
         self.flow.depth -= 1;
         self.params.leave_call(scope);
         match end {

@@ -798,11 +798,10 @@ impl Exec {
     fn polar(&self, shape: Shape, axes: &[KWord<'_>], ccw: Option<bool>, interp: &Interpreter, s: &Stmt<'_>, diags: &mut Diags) -> Option<([f64; 2], u64)> {
         let (a0, a1, _) = interp.plane().axes();
         let key = if shape == Shape::LinePolar { "LP" } else { "CP" };
-        let Some(([p0, p1], pole)) = self.pole.filter(|(axes, _)| *axes == [a0, a1]) else {
+        let Some((_, pole)) = self.pole.filter(|(axes, _)| *axes == [a0, a1]) else {
             diags.error(s.line, s.col, format!("{key}: no pole CC in the working plane before it"));
             return None;
         };
-        debug_assert!(p0 == a0 && p1 == a1);
         // A linear word of the working plane (X, Y, Z or IX ...; not the rotary A B C, nor LN's N and T).
         let linear = |a: &str| a.ends_with(['X', 'Y', 'Z']) && !a.starts_with(['N', 'T']);
         if let Some(w) = axes.iter().find(|w| linear(w.addr) && [a0, a1].contains(&axis_index(w.addr))) {
