@@ -7,6 +7,7 @@
 //! bag).
 
 use crate::live::joint_map::JointMap;
+use crate::live::joint_stream::JointStream;
 use crate::live::monitor::Rejection;
 use crate::machine::Machine;
 use crate::record::{read, RecordError};
@@ -129,6 +130,8 @@ pub fn read_states(
     let mut file = 0;
     let mut state = AxisState::default();
     let mut joints = JointState::default();
+    // JointState streams (by stream number): each message's joints merged into whole poses.
+    let mut merges: Vec<Option<JointStream>> = Vec::new();
     let result = read::for_each_message(path, |msg| {
         out.messages_read += 1;
         if out.messages_read.is_multiple_of(65_536) {
@@ -167,23 +170,29 @@ pub fn read_states(
             Decode::Skip => return,
             Decode::AxisState(k) => (k, state.read_cdr(msg.data).map(|()| &state).map_err(|_| Unread::Undecodable)),
             Decode::JointState(k) => {
-                let sample = match joints.read_cdr(msg.data) {
-                    Err(_) => Err(Unread::Undecodable),
-                    Ok(()) => {
-                        let stream = &mut out.streams[k];
-                        if stream.joint_names.is_none() {
-                            stream.joint_names = Some(joints.name.clone());
-                        }
-                        match map.axis_state(&joints) {
-                            Ok(s) => {
-                                state = s;
-                                Ok(&state)
-                            }
-                            Err(e) => Err(Unread::Unmapped(e)),
-                        }
-                    }
-                };
-                (k, sample)
+                if joints.read_cdr(msg.data).is_err() {
+                    out.streams[k].undecodable += 1;
+                    visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample: Err(Unread::Undecodable) });
+                    return;
+                }
+                let stream = &mut out.streams[k];
+                if stream.joint_names.is_none() {
+                    stream.joint_names = Some(joints.name.clone());
+                }
+                if merges.len() <= k {
+                    merges.resize(k + 1, None);
+                }
+                let merge = merges[k].get_or_insert_with(|| JointStream::new(machine));
+                // A recording has no silence to tell a restarted publisher by: a stamp no later than
+                // the last is out of order.
+                if let Err(e) = merge.push(&map, &joints, msg.log_time as f64 * 1e-9, f64::INFINITY) {
+                    visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample: Err(Unread::Unmapped(e)) });
+                }
+                while let Some(s) = merge.pop() {
+                    state = s;
+                    visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample: Ok(&state) });
+                }
+                return;
             }
         };
         if matches!(sample, Err(Unread::Undecodable)) {
@@ -191,6 +200,22 @@ pub fn read_states(
         }
         visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample });
     });
+    // The end of the recording: every JointState stream's waiting instants are made, and messages
+    // still waiting for an axis never reported are refused as missing it.
+    for (k, merge) in merges.iter_mut().enumerate() {
+        let Some(merge) = merge else { continue };
+        merge.flush();
+        let log_time = merge.last_wall().map_or(0, |w| (w * 1e9) as u64);
+        while let Some(s) = merge.pop() {
+            state = s;
+            visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time, sample: Ok(&state) });
+        }
+        if let Some((n, why)) = merge.unplaced(&map) {
+            for _ in 0..n {
+                visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time, sample: Err(Unread::Unmapped(why.clone())) });
+            }
+        }
+    }
     match result {
         // Nothing readable at all: nothing to report.
         Err(e) if out.messages_read == 0 => return Err(e),

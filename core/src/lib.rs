@@ -10,6 +10,8 @@
 //!   the seed 002 feed limit and the regions where the rate exceeds the axis.
 //! - [`planner`]: a control's look-ahead (seed 002 eq. 5 velocity-limit curve, acceleration passes,
 //!   jerk filter) and servo: what a machine with axis limits does.
+//! - [`sampling`]: machine data reported per axis at their own rates, merged into poses at common
+//!   instants.
 //! - [`roughness`]: ISO 16610-21 Gaussian filter and ISO 4287 parameters of a height profile.
 //!
 //! Units: SI inside (m, rad, s; REP 103). Readers convert from mm, inch and degrees; [`units`] holds
@@ -41,6 +43,7 @@ pub mod path;
 pub mod planner;
 pub mod program;
 pub mod roughness;
+pub mod sampling;
 pub mod singularity;
 pub mod units;
 pub mod xml;

@@ -37,6 +37,21 @@ impl JointMap {
         &self.joints
     }
 
+    /// The machine axes a message reports, in the machine's axis order (None: its joint is not in
+    /// this message; a change-only bridge sends some joints only). No mapped joint at all refuses it.
+    pub fn reports(&self, js: &JointState) -> Result<[Option<f64>; AXES], Rejection> {
+        let mut values = [None; AXES];
+        for (i, want) in self.joints.iter().enumerate() {
+            if let Some(k) = js.name.iter().position(|n| n.eq_ignore_ascii_case(want)) {
+                values[i] = Some(*js.position.get(k).ok_or_else(|| Rejection::Invalid(format!("no position for joint '{want}'")))?);
+            }
+        }
+        if values.iter().all(Option::is_none) {
+            return Err(Rejection::MissingJoint(self.joints[0].clone()));
+        }
+        Ok(values)
+    }
+
     /// The sample as a machine stream's AxisState (positions, and velocities when every axis has
     /// one; m and rad, REP 103). A joint missing, or without a position, refuses the sample.
     pub fn axis_state(&self, js: &JointState) -> Result<AxisState, Rejection> {

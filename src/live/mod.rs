@@ -5,6 +5,7 @@
 pub mod commander;
 pub mod inprocess;
 pub mod joint_map;
+pub mod joint_stream;
 pub mod monitor;
 pub mod sim_report;
 pub mod simulator;

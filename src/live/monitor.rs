@@ -46,6 +46,9 @@ impl Default for MonitorConfig {
 pub enum Rejection {
     #[error("invalid sample: {0}")]
     Invalid(String),
+    /// A position that is NaN or infinite (the axis and value).
+    #[error("invalid sample: {0}")]
+    NonFinite(String),
     #[error("out of order: stamp {stamp:.6} s is not after {last:.6} s")]
     OutOfOrder { stamp: f64, last: f64 },
     /// A machine axis has no joint in a JointState (the joint name looked for).
@@ -485,6 +488,7 @@ impl Monitor {
             Rejection::MissingJoint(_) => Reason::MissingJoint,
             Rejection::OutOfOrder { .. } => Reason::OutOfOrder,
             Rejection::Invalid(_) => Reason::Malformed,
+            Rejection::NonFinite(_) => Reason::NonFinite,
         });
     }
 

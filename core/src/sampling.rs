@@ -1,0 +1,378 @@
+//! Machine data as shop-floor interfaces deliver it: each axis reported on its own clock, a few
+//! times a second, often only when it changed (an MTConnect adapter's SHDR, a change-only bridge's
+//! partial `JointState`), or every axis at once (an OPC UA subscription, a control's servo trace).
+//! [`PoseMerger`] keeps each axis' own reports and makes whole poses at common instants by
+//! interpolating every axis to them: never a stale value held beside a fresh one.
+//!
+//! The rule, per axis: a report whose value differs from the axis' last one is a *change point*.
+//! Between two change points the axis moved linearly, unless they lie more than
+//! [`MergeConfig::hold_factor`] of the axis' own reporting period apart: then it stood still until
+//! one period before the second (moving, it would have been reported sooner). A pose is made at every
+//! report's instant once every axis' value there is known: a change point of that axis at or after
+//! it, or no change of it while the stream went on for `hold_factor` of its periods (it stood still).
+//! That wait is the latency the merge costs ([`PoseMerger::latency`]): two samples at 1 kHz, about
+//! half a second for an axis reported at 3 Hz.
+
+use crate::kinematics::Joints;
+use crate::machine::AXES;
+use std::collections::VecDeque;
+use std::f64::consts::{PI, TAU};
+
+/// The merge's stated rules.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MergeConfig {
+    /// Change points further apart than this many of the axis' reporting periods enclose a stop.
+    pub hold_factor: f64,
+    /// Most instants waiting for an axis; beyond it the oldest is made with what is known (bounds
+    /// memory when an axis falls silent while the others go on).
+    pub max_pending: usize,
+    /// Axes reported modulo a turn (multi-turn rotary axes): unwrapped before interpolation, a step
+    /// beyond half a turn between two reports taken as a wrap.
+    pub wrap: [bool; AXES],
+}
+
+impl Default for MergeConfig {
+    fn default() -> Self {
+        MergeConfig { hold_factor: 1.5, max_pending: 65_536, wrap: [false; AXES] }
+    }
+}
+
+/// An axis' period before it has shown one (s): 1 Hz, the slowest rate machine data come at.
+pub const DEFAULT_PERIOD: f64 = 1.0;
+/// Change intervals an axis' own period is the median of.
+const OWN_INTERVALS: usize = 15;
+/// Change intervals of every axis pooled, for an axis that has shown too few of its own.
+const POOLED_INTERVALS: usize = 64;
+/// Own intervals needed before the axis' own median is trusted.
+const OWN_NEEDED: usize = 4;
+
+/// Why a report was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MergeError {
+    #[error("out of order: stamp {stamp:.6} s is not after {last:.6} s")]
+    OutOfOrder { stamp: f64, last: f64 },
+    #[error("axis {axis} position is {value}")]
+    NonFinite { axis: usize, value: f64 },
+    #[error("a report with no axis in it")]
+    Empty,
+}
+
+#[derive(Debug, Clone, Default)]
+struct AxisTrack {
+    /// Change points (t, unwrapped value), oldest first, from the last one at or before the oldest
+    /// waiting instant.
+    points: VecDeque<(f64, f64)>,
+    /// The last raw value and the unwrap offset (multiples of a turn).
+    raw: Option<f64>,
+    offset: f64,
+    intervals: VecDeque<f64>,
+    /// Median of `intervals` once there are enough of them.
+    own_period: Option<f64>,
+}
+
+/// Median of a short list.
+fn median(v: impl Iterator<Item = f64>) -> Option<f64> {
+    let mut v: Vec<f64> = v.collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    Some(v[v.len() / 2])
+}
+
+/// The merge's state for one stream.
+#[derive(Debug, Clone)]
+pub struct PoseMerger {
+    config: MergeConfig,
+    axes: [AxisTrack; AXES],
+    pooled: VecDeque<f64>,
+    pooled_period: Option<f64>,
+    /// Instants waiting for an axis, oldest first, and the newest report's stamp.
+    pending: VecDeque<f64>,
+    last: Option<f64>,
+    /// Instants dropped because an axis had not been reported yet, and instants made before every
+    /// axis was known (`max_pending` reached).
+    before_all_known: u64,
+    forced: u64,
+    /// The longest wait an instant has had, s.
+    max_latency: f64,
+}
+
+impl PoseMerger {
+    pub fn new(config: MergeConfig) -> PoseMerger {
+        PoseMerger {
+            config,
+            axes: Default::default(),
+            pooled: VecDeque::new(),
+            pooled_period: None,
+            pending: VecDeque::new(),
+            last: None,
+            before_all_known: 0,
+            forced: 0,
+            max_latency: 0.0,
+        }
+    }
+
+    /// Start again (a restarted publisher): nothing of the past is used; nothing waiting is made.
+    pub fn reset(&mut self) {
+        *self = PoseMerger::new(self.config);
+    }
+
+    /// The reporting period of axis `i` as the merge judges it now (s).
+    pub fn period(&self, i: usize) -> f64 {
+        self.axes[i].own_period.or(self.pooled_period).unwrap_or(DEFAULT_PERIOD)
+    }
+
+    /// How long an instant waits now, at most, before every axis' value there is known (s).
+    pub fn latency(&self) -> f64 {
+        (0..AXES).map(|i| self.config.hold_factor * self.period(i)).fold(0.0, f64::max)
+    }
+
+    /// The longest an instant has waited so far (s).
+    pub fn max_latency(&self) -> f64 {
+        self.max_latency
+    }
+
+    /// Instants dropped because an axis had not been reported yet.
+    pub fn before_all_known(&self) -> u64 {
+        self.before_all_known
+    }
+
+    /// Instants made with an axis still unknown (too many waiting).
+    pub fn forced(&self) -> u64 {
+        self.forced
+    }
+
+    /// Axis `i` has been reported.
+    pub fn reported(&self, i: usize) -> bool {
+        self.axes[i].raw.is_some()
+    }
+
+    /// Instants wait for an axis.
+    pub fn has_pending(&self) -> bool {
+        !self.pending.is_empty()
+    }
+
+    /// The newest report's stamp.
+    pub fn last_stamp(&self) -> Option<f64> {
+        self.last
+    }
+
+    /// Take one report: stamp `t` (s, increasing) and the axes it carries (SI); every pose that
+    /// became known goes to `out` in time order. A refused report changes nothing.
+    pub fn push(&mut self, t: f64, values: &[Option<f64>; AXES], mut out: impl FnMut(f64, Joints)) -> Result<(), MergeError> {
+        if let Some(last) = self.last {
+            if !(t > last) {
+                return Err(MergeError::OutOfOrder { stamp: t, last });
+            }
+        }
+        if values.iter().all(Option::is_none) {
+            return Err(MergeError::Empty);
+        }
+        if let Some((axis, value)) = values.iter().enumerate().find_map(|(i, v)| v.filter(|v| !v.is_finite()).map(|v| (i, v))) {
+            return Err(MergeError::NonFinite { axis, value });
+        }
+        self.last = Some(t);
+        for (i, v) in values.iter().enumerate() {
+            let Some(raw) = *v else { continue };
+            let track = &mut self.axes[i];
+            if self.config.wrap[i] {
+                if let Some(prev) = track.raw {
+                    let step = raw - prev;
+                    if step > PI {
+                        track.offset -= TAU * ((step + PI) / TAU).floor();
+                    } else if step < -PI {
+                        track.offset += TAU * ((-step + PI) / TAU).floor();
+                    }
+                }
+            }
+            track.raw = Some(raw);
+            let value = raw + track.offset;
+            if track.points.back().is_some_and(|p| p.1 == value) {
+                continue;
+            }
+            if let Some(&(t0, _)) = track.points.back() {
+                let dt = t - t0;
+                track.intervals.push_back(dt);
+                if track.intervals.len() > OWN_INTERVALS {
+                    track.intervals.pop_front();
+                }
+                if track.intervals.len() >= OWN_NEEDED {
+                    track.own_period = median(track.intervals.iter().copied());
+                }
+                self.pooled.push_back(dt);
+                if self.pooled.len() > POOLED_INTERVALS {
+                    self.pooled.pop_front();
+                }
+                self.pooled_period = median(self.pooled.iter().copied());
+            }
+            track.points.push_back((t, value));
+        }
+        if self.axes.iter().all(|a| !a.points.is_empty()) {
+            self.pending.push_back(t);
+        } else {
+            self.before_all_known += 1;
+        }
+        self.emit(false, &mut out);
+        Ok(())
+    }
+
+    /// Make every waiting instant with what is known (the end of a stream, a stream gone silent):
+    /// an axis with no change after an instant is taken as still there.
+    pub fn flush(&mut self, mut out: impl FnMut(f64, Joints)) {
+        self.emit(true, &mut out);
+    }
+
+    fn known(&self, i: usize, at: f64) -> bool {
+        let a = &self.axes[i];
+        a.points.back().is_some_and(|p| p.0 >= at) || self.last.is_some_and(|last| last - at >= self.config.hold_factor * self.period(i))
+    }
+
+    /// Axis `i` at instant `at` by the rule of the module's doc.
+    fn value(&self, i: usize, at: f64) -> f64 {
+        let points = &self.axes[i].points;
+        let k = points.partition_point(|p| p.0 <= at);
+        let Some(&(t0, v0)) = k.checked_sub(1).and_then(|j| points.get(j)) else {
+            return points.front().map_or(0.0, |p| p.1);
+        };
+        let Some(&(t1, v1)) = points.get(k) else { return v0 };
+        let p = self.period(i);
+        let start = if t1 - t0 > self.config.hold_factor * p { t1 - p } else { t0 };
+        if at <= start {
+            v0
+        } else {
+            v0 + (v1 - v0) * (at - start) / (t1 - start)
+        }
+    }
+
+    fn emit(&mut self, all: bool, out: &mut impl FnMut(f64, Joints)) {
+        while let Some(&at) = self.pending.front() {
+            let ready = (0..AXES).all(|i| self.known(i, at));
+            let forced = !ready && self.pending.len() > self.config.max_pending;
+            if !(ready || all || forced) {
+                break;
+            }
+            if forced {
+                self.forced += 1;
+            }
+            let q: Joints = std::array::from_fn(|i| self.value(i, at));
+            self.pending.pop_front();
+            if let Some(last) = self.last {
+                self.max_latency = self.max_latency.max(last - at);
+            }
+            // Keep each axis' change points from the last one at or before the next instant.
+            let next = self.pending.front().copied().unwrap_or(at);
+            for a in self.axes.iter_mut() {
+                while a.points.len() > 1 && a.points[1].0 <= next {
+                    a.points.pop_front();
+                }
+            }
+            out(at, q);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(m: &mut PoseMerger, reports: &[(f64, [Option<f64>; AXES])]) -> Vec<(f64, Joints)> {
+        let mut got = Vec::new();
+        for (t, v) in reports {
+            m.push(*t, v, |t, q| got.push((t, q))).unwrap();
+        }
+        m.flush(|t, q| got.push((t, q)));
+        got
+    }
+
+    #[test]
+    fn together_stream_passes_through() {
+        let mut m = PoseMerger::new(MergeConfig::default());
+        let reports: Vec<_> = (0..50).map(|k| (k as f64 * 1e-3, [Some(k as f64), Some(0.0), Some(-(k as f64)), Some(0.5), Some(2.0 * k as f64)])).collect();
+        let got = run(&mut m, &reports);
+        assert_eq!(got.len(), 50);
+        for (k, (t, q)) in got.iter().enumerate() {
+            assert_eq!(*t, k as f64 * 1e-3);
+            assert_eq!(*q, [k as f64, 0.0, -(k as f64), 0.5, 2.0 * k as f64]);
+        }
+        // The still axes are known two samples later: 1.5 ms of wait at 1 kHz.
+        assert!(m.max_latency() <= 2.0e-3 + 1e-12, "{}", m.max_latency());
+    }
+
+    #[test]
+    fn per_axis_reports_interpolate_to_common_instants() {
+        // X moves at 1 unit/s, reported every 0.3 s; C at 10 units/s, reported every 0.25 s with
+        // another phase; Y, Z, A report once and stay still.
+        let mut m = PoseMerger::new(MergeConfig::default());
+        let mut reports: Vec<(f64, [Option<f64>; AXES])> = vec![(0.01, [None, Some(0.0), Some(0.0), Some(0.0), None])];
+        for k in 0..20 {
+            let t = 0.02 + 0.3 * k as f64;
+            reports.push((t, [Some(t), None, None, None, None]));
+            let t = 0.03 + 0.25 * k as f64;
+            reports.push((t, [None, None, None, None, Some(10.0 * t)]));
+        }
+        reports.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let got = run(&mut m, &reports);
+        for (t, q) in got.iter().filter(|(t, _)| *t > 0.1 && *t < 4.7) {
+            assert!((q[0] - t).abs() < 1e-9, "X at {t}: {}", q[0]);
+            assert!((q[4] - 10.0 * t).abs() < 1e-9, "C at {t}: {}", q[4]);
+            assert_eq!(&q[1..4], &[0.0; 3]);
+        }
+        assert!(got.windows(2).all(|w| w[0].0 < w[1].0));
+    }
+
+    #[test]
+    fn a_still_axis_that_starts_moving_ramps_over_one_period() {
+        // X reported every 0.3 s; still at 0 until t = 3, then at 1 unit/s.
+        let mut m = PoseMerger::new(MergeConfig::default());
+        let reports: Vec<_> = (0..20)
+            .map(|k| {
+                let t = 0.3 * k as f64;
+                let x = (t - 3.0).max(0.0);
+                (t, [Some(x), Some(0.0), Some(0.0), Some(0.0), Some(0.0)])
+            })
+            .collect();
+        let got = run(&mut m, &reports);
+        let at = |t: f64| got.iter().find(|g| (g.0 - t).abs() < 1e-9).unwrap().1[0];
+        // Held, not ramped from t = 0: the report at 3.3 (0.3) is X's first change.
+        assert_eq!(at(2.7), 0.0);
+        assert!((at(3.3) - 0.3).abs() < 1e-9);
+        assert!((at(3.6) - 0.6).abs() < 1e-9);
+    }
+
+    #[test]
+    fn modulo_axis_is_unwrapped_before_interpolating() {
+        let mut config = MergeConfig::default();
+        config.wrap[4] = true;
+        let mut m = PoseMerger::new(config);
+        let c = |deg: f64| Some(deg.to_radians().rem_euclid(TAU));
+        let reports: Vec<_> = (0..10).map(|k| (0.1 * k as f64, [Some(0.0), Some(0.0), Some(0.0), Some(0.0), c(340.0 + 10.0 * k as f64)])).collect();
+        let got = run(&mut m, &reports);
+        for (k, (_, q)) in got.iter().enumerate() {
+            assert!((q[4] - (340.0 + 10.0 * k as f64).to_radians()).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn refused_reports_change_nothing() {
+        let mut m = PoseMerger::new(MergeConfig::default());
+        m.push(1.0, &[Some(0.0); AXES], |_, _| {}).unwrap();
+        assert!(matches!(m.push(1.0, &[Some(1.0); AXES], |_, _| {}), Err(MergeError::OutOfOrder { .. })));
+        assert!(matches!(m.push(2.0, &[None; AXES], |_, _| {}), Err(MergeError::Empty)));
+        assert!(matches!(m.push(2.0, &[Some(f64::NAN), None, None, None, None], |_, _| {}), Err(MergeError::NonFinite { axis: 0, .. })));
+        assert_eq!(m.last_stamp(), Some(1.0));
+    }
+
+    #[test]
+    fn memory_is_bounded_when_an_axis_falls_silent() {
+        let mut m = PoseMerger::new(MergeConfig { max_pending: 100, ..MergeConfig::default() });
+        // C reported once, then X alone for a long time at 1 kHz while C's period says 1 s.
+        m.push(0.0, &[Some(0.0); AXES], |_, _| {}).unwrap();
+        let mut made = 0;
+        for k in 1..10_000 {
+            m.push(k as f64 * 1e-3, &[Some(k as f64), None, None, None, None], |_, _| made += 1).unwrap();
+        }
+        assert!(m.pending.len() <= 101);
+        assert!(made > 9_000);
+    }
+}

@@ -1,0 +1,166 @@
+//! A machine bridge's `JointState` stream made into whole poses: each message's mapped joints are
+//! reports of those axes at its stamp (a message may carry some joints only: legal in ROS, what a
+//! change-only bridge publishes), merged per axis into poses at common instants by
+//! [`fiveaxis_core::sampling::PoseMerger`]. One rule for the live monitor, the Rerun bridge,
+//! `analyze` and `replay`.
+
+use super::joint_map::JointMap;
+use super::monitor::Rejection;
+use crate::machine::{AxisKind, Machine, AXES};
+use fiveaxis_core::sampling::{MergeConfig, MergeError, PoseMerger};
+use fiveaxis_msgs::{AxisState, Header, JointState, Time};
+use std::collections::VecDeque;
+
+/// Stream time an axis may stay unreported at a stream's start before its messages are refused as
+/// missing that joint (s): the slowest rate machine data come at, with the merge's margin.
+pub const FIRST_REPORT_WITHIN_S: f64 = 1.5;
+
+/// One JointState stream's merge.
+#[derive(Debug, Clone)]
+pub struct JointStream {
+    merger: PoseMerger,
+    names: Vec<String>,
+    frame_id: String,
+    /// Stamps are merged relative to the first one's whole seconds (full f64 resolution).
+    base: TimeBase,
+    first: Option<f64>,
+    /// Messages before every axis had been reported, not yet refused.
+    waiting: u64,
+    /// Poses made, oldest first.
+    ready: VecDeque<AxisState>,
+    /// Arrival time of the last message (any monotonic clock, s).
+    last_wall: Option<f64>,
+}
+
+impl JointStream {
+    /// The merge for `machine` (multi-turn rotary axes unwrapped before interpolating).
+    pub fn new(machine: &Machine) -> JointStream {
+        let wrap = std::array::from_fn(|i| machine.axes[i].kind == AxisKind::Rotary && machine.axes[i].limits.is_unlimited());
+        JointStream {
+            merger: PoseMerger::new(MergeConfig { wrap, ..MergeConfig::default() }),
+            names: machine.axis_names().to_vec(),
+            frame_id: String::new(),
+            base: TimeBase { sec: None },
+            first: None,
+            waiting: 0,
+            ready: VecDeque::new(),
+            last_wall: None,
+        }
+    }
+
+    /// Take one message arriving at `wall` (s, monotonic); `restart_after`: a message stamped no
+    /// later than the last after this much silence is a restarted publisher (the merge starts
+    /// again) rather than out of order. Poses made go to [`JointStream::pop`].
+    pub fn push(&mut self, map: &JointMap, js: &JointState, wall: f64, restart_after: f64) -> Result<(), Rejection> {
+        let values = map.reports(js)?;
+        let stamp = js.header.stamp;
+        if stamp.nanosec >= 1_000_000_000 {
+            return Err(Rejection::Invalid("header stamp nanosec out of range".into()));
+        }
+        let base = *self.base.sec.get_or_insert(i64::from(stamp.sec));
+        let t = (i64::from(stamp.sec) - base) as f64 + f64::from(stamp.nanosec) * 1e-9;
+        let silent = self.last_wall.is_some_and(|w| wall - w > restart_after);
+        if silent && self.merger.last_stamp().is_some_and(|last| t <= last) {
+            self.flush();
+            self.merger.reset();
+            self.first = None;
+            self.waiting = 0;
+        }
+        self.frame_id.clone_from(&js.header.frame_id);
+        let before = self.merger.before_all_known();
+        let (base, names, frame, ready) = (self.base, &self.names, &self.frame_id, &mut self.ready);
+        let result = self.merger.push(t, &values, |at, q| ready.push_back(base.state(at, &q, names, frame)));
+        match result {
+            Err(MergeError::OutOfOrder { stamp, last }) => return Err(Rejection::OutOfOrder { stamp, last }),
+            Err(MergeError::NonFinite { axis, value }) => return Err(Rejection::NonFinite(format!("{} position is {value}", self.names[axis]))),
+            Err(MergeError::Empty) => return Err(Rejection::MissingJoint(map.joints()[0].clone())),
+            Ok(()) => {}
+        }
+        self.last_wall = Some(wall);
+        let first = *self.first.get_or_insert(t);
+        if self.merger.before_all_known() > before {
+            // An axis not reported yet: wait for it a while, then refuse its messages.
+            if t - first <= FIRST_REPORT_WITHIN_S {
+                self.waiting += 1;
+                return Ok(());
+            }
+            return Err(self.missing(map));
+        }
+        self.waiting = 0;
+        Ok(())
+    }
+
+    /// The joint of the first axis never reported.
+    fn missing(&self, map: &JointMap) -> Rejection {
+        let axis = (0..AXES).find(|&i| !self.merger.reported(i)).unwrap_or(0);
+        Rejection::MissingJoint(map.joints()[axis].clone())
+    }
+
+    /// The next pose made, oldest first.
+    pub fn pop(&mut self) -> Option<AxisState> {
+        self.ready.pop_front()
+    }
+
+    /// Make every waiting instant with what is known (the stream ended or fell silent).
+    pub fn flush(&mut self) {
+        let (base, names, frame, ready) = (self.base, &self.names, &self.frame_id, &mut self.ready);
+        self.merger.flush(|at, q| ready.push_back(base.state(at, &q, names, frame)));
+    }
+
+    /// Messages still waiting at the end for an axis never reported: refused as missing it (the
+    /// count, and the rejection), once.
+    pub fn unplaced(&mut self, map: &JointMap) -> Option<(u64, Rejection)> {
+        let n = std::mem::take(&mut self.waiting);
+        (n > 0 && (0..AXES).any(|i| !self.merger.reported(i))).then(|| (n, self.missing(map)))
+    }
+
+    /// The longest an instant waited for every axis to be known, s (the latency the merge cost).
+    pub fn max_latency(&self) -> f64 {
+        self.merger.max_latency()
+    }
+
+    /// Arrival time of the last message.
+    pub fn last_wall(&self) -> Option<f64> {
+        self.last_wall
+    }
+
+    /// The merge's current wait, s.
+    pub fn latency(&self) -> f64 {
+        self.merger.latency()
+    }
+
+    /// Poses waiting to be made.
+    pub fn has_pending(&self) -> bool {
+        self.merger.has_pending()
+    }
+}
+
+/// A stream's clock base: merge times are seconds after its whole second `sec`.
+#[derive(Debug, Clone, Copy)]
+struct TimeBase {
+    sec: Option<i64>,
+}
+
+impl TimeBase {
+    fn time(self, t: f64) -> Time {
+        let whole = t.floor();
+        let mut nanosec = ((t - whole) * 1e9).round() as i64;
+        let mut sec = self.sec.unwrap_or(0) + whole as i64;
+        if nanosec >= 1_000_000_000 {
+            nanosec -= 1_000_000_000;
+            sec += 1;
+        }
+        Time { sec: sec.clamp(i32::MIN.into(), i32::MAX.into()) as i32, nanosec: nanosec as u32 }
+    }
+
+    /// A merged pose as a machine stream's AxisState (positions only; m and rad).
+    fn state(self, at: f64, q: &[f64; AXES], names: &[String], frame_id: &str) -> AxisState {
+        AxisState {
+            header: Header { stamp: self.time(at), frame_id: frame_id.to_string() },
+            source: AxisState::SOURCE_MACHINE,
+            name: names.to_vec(),
+            position: q.to_vec(),
+            ..Default::default()
+        }
+    }
+}
