@@ -6,7 +6,8 @@
   the sample, random).
 - `per-axis --period P`: each axis sampled on its own clock (period P +-10 %, its own phase) and
   reported only when it changed (an MTConnect adapter's SHDR: a data item is sent when its value
-  differs from the last one sent), stamped when sent.
+  differs from the last one sent), stamped with the adapter's clock when read (to the millisecond,
+  as SHDR timestamps are written; MTConnect Part 1, "timestamp: the time the data was observed").
 
 Output: a rosbag2 directory (`rosbags` from PyPI) of `sensor_msgs/msg/JointState` (REP 103, m and
 rad) on /cnc/joint_states, either `--held` (a bridge that republishes every joint at each report,
@@ -60,7 +61,7 @@ def reports(t, q, mode, period, rng):
                 i = min(np.searchsorted(t, ts), len(t) - 1)
                 v = round(q[i, j], 4)
                 if last is None or v != last:
-                    out.append((ts + rng.uniform(0.002, 0.040), j, v, None))
+                    out.append((round(ts, 3), j, v, None))
                     last = v
                 ts += period * rng.uniform(0.9, 1.1)
     out.sort(key=lambda r: r[0])

@@ -66,12 +66,17 @@ pub struct MeasuredConfig {
     pub speed_window: f64,
     /// Below this tool-tip speed the tip is still, m/s (1 mm/min).
     pub still_feed: f64,
+    /// Also still: a tip moving at less than this share of its *swing* (the sum of the tip speeds
+    /// each axis alone would make) while the axes move: the axes compensate each other, as on a
+    /// rotary-only move under TCP, and what is left is servo error or the sampling's interpolation
+    /// (1 %: on the paper's cut at the pole the tip keeps 7 % of its swing, LinuxCNC's slowed run 5 %).
+    pub still_share: f64,
     /// Above this tool-axis turning rate the rotary axes are moving, rad/s (0.1 deg/s).
     pub turning: f64,
-    /// Without a program: a linear axis above this share of its velocity limit, or the tool tip above
-    /// this share of the linear axes' rapid traverse (the smallest linear velocity limit), is a rapid
-    /// (cutting feeds lie far below rapid traverse; the rotary axes are not judged, since the path
-    /// itself drives them to their limit near the singularity).
+    /// Without a program: the tool tip (workpiece frame) above this share of the linear axes' rapid
+    /// traverse (the smallest linear velocity limit) is a rapid (cutting feeds lie far below rapid
+    /// traverse; the machine axes are not judged, since near the singularity the path itself swings
+    /// the linear axes with the turning part and drives the rotary axes to their limit).
     pub rapid_share: f64,
     /// Most samples kept (bounds memory at very low feeds).
     pub max_samples: usize,
@@ -79,9 +84,12 @@ pub struct MeasuredConfig {
 
 impl Default for MeasuredConfig {
     fn default() -> Self {
-        MeasuredConfig { demand_window: 0.5e-3, speed_window: 0.010, still_feed: crate::units::MM_PER_MIN, turning: 0.1f64.to_radians(), rapid_share: 0.5, max_samples: 8192 }
+        MeasuredConfig { demand_window: 0.5e-3, speed_window: 0.010, still_feed: crate::units::MM_PER_MIN, still_share: 0.01, turning: 0.1f64.to_radians(), rapid_share: 0.5, max_samples: 8192 }
     }
 }
+
+/// Kept samples searched back for the start of a demand window.
+const SEARCH: usize = 256;
 
 /// One sample of the measured path.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -146,7 +154,6 @@ pub struct MeasuredPath {
     config: MeasuredConfig,
     secondary: usize,
     unlimited: [bool; AXES],
-    velocity: [f64; AXES],
     /// The linear axes' rapid traverse (their smallest velocity limit), m/s.
     rapid_traverse: f64,
     /// Raw previous positions and the unwrap offsets (multiples of 2 pi) of each axis.
@@ -155,6 +162,10 @@ pub struct MeasuredPath {
     s: f64,
     /// Samples since the last rotary-only move, back to at least one demand window and one speed window.
     kept: VecDeque<Kept>,
+    /// The rotary axes' indices, for the swing.
+    rotary: Vec<usize>,
+    /// The previous sample was not a feed move: the step from it mixes two kinds of motion.
+    after_stop: bool,
 }
 
 impl MeasuredPath {
@@ -163,12 +174,13 @@ impl MeasuredPath {
             config,
             secondary: machine.secondary_axis(),
             unlimited: std::array::from_fn(|i| machine.axes[i].kind == AxisKind::Rotary && machine.axes[i].limits.is_unlimited()),
-            velocity: std::array::from_fn(|i| machine.axes[i].limits.velocity),
             rapid_traverse: (0..3).map(|i| machine.axes[i].limits.velocity).fold(f64::INFINITY, f64::min),
             raw: None,
             offset: [0.0; AXES],
             s: 0.0,
             kept: VecDeque::new(),
+            rotary: (0..AXES).filter(|&i| machine.axes[i].kind == AxisKind::Rotary).collect(),
+            after_stop: false,
         }
     }
 
@@ -178,6 +190,7 @@ impl MeasuredPath {
         self.offset = [0.0; AXES];
         self.s = 0.0;
         self.kept.clear();
+        self.after_stop = false;
     }
 
     /// The unwrapped value of a raw position of axis `i`: a multi-turn rotary axis that a control
@@ -213,24 +226,45 @@ impl MeasuredPath {
         self.kept.push_back(now);
         let c = &self.config;
         // Drop what neither window needs any more (the front is the newest sample outside both).
-        while self.kept.len() > 2 && (self.s - self.kept[1].s >= c.demand_window && t - self.kept[1].t >= c.speed_window || self.kept.len() > c.max_samples) {
+        // Two windows of path are kept: the demand's window is one of displacement, which a path
+        // that curves within it takes more path to fill.
+        while self.kept.len() > 2 && (self.s - self.kept[1].s >= 2.0 * c.demand_window && t - self.kept[1].t >= c.speed_window || self.kept.len() > c.max_samples) {
             self.kept.pop_front();
         }
         // Speeds over the speed window: from the newest kept sample at least that old.
         let back = self.kept.iter().rev().skip(1).find(|k| t - k.t >= c.speed_window).or_else(|| self.kept.front().filter(|k| k.t < t));
-        let (path_feed, c_speed, turn, linear_share) = match back {
+        let (path_feed, c_speed, turn, linear_share, swing) = match back {
             Some(b) => {
                 let dt = t - b.t;
                 let feed = (self.s - b.s) / dt;
-                let share = (0..3).map(|i| (q[i] - b.q[i]).abs() / dt / self.velocity[i]).fold(feed / self.rapid_traverse, f64::max);
-                (feed, (q[self.secondary] - b.q[self.secondary]) / dt, (axis - b.axis).norm() / dt, share)
+                // A rapid is fast tool-tip motion in the workpiece frame, never fast linear axes
+                // swinging with a part that turns under the tool.
+                let share = feed / self.rapid_traverse;
+                // The swing: linear axes move the tip by their own step, a rotary axis by its step
+                // times the tip's distance from it (forward kinematics of that axis' step alone).
+                let swing = if feed >= c.still_feed {
+                    let linear: f64 = (0..AXES).filter(|i| !self.rotary.contains(i)).map(|i| (q[i] - b.q[i]).abs()).sum();
+                    let rotary: f64 = self
+                        .rotary
+                        .iter()
+                        .map(|&i| {
+                            let mut alone = b.q;
+                            alone[i] = q[i];
+                            (machine.forward(&alone).tip - b.tip).norm()
+                        })
+                        .sum();
+                    (linear + rotary) / dt
+                } else {
+                    0.0
+                };
+                (feed, (q[self.secondary] - b.q[self.secondary]) / dt, (axis - b.axis).norm() / dt, share, swing)
             }
-            None => (0.0, 0.0, 0.0, 0.0),
+            None => (0.0, 0.0, 0.0, 0.0, 0.0),
         };
         let motion = match back {
             None => Motion::Unknown,
             Some(_) if rapid == Some(true) => Motion::Rapid,
-            Some(_) if path_feed < c.still_feed => {
+            Some(_) if path_feed < c.still_feed || path_feed < c.still_share * swing => {
                 if turn > c.turning {
                     Motion::Rotary
                 } else {
@@ -244,28 +278,34 @@ impl MeasuredPath {
             (k.path_feed, k.motion, k.turning) = (path_feed, motion, turn > c.turning);
         }
         // A rotary-only move changes C without path: a stretch that contains one measures no path's
-        // demand. Start the demand window again after it.
-        if motion == Motion::Rotary {
+        // demand. Start the demand window again after it, at the first sample of the move that
+        // follows (the step into it mixes the turn's end with the path's start).
+        if motion == Motion::Rotary || (motion == Motion::Feed && self.after_stop) {
             let keep = self.kept.len().saturating_sub(1);
             self.kept.drain(..keep);
         }
-        let demand = self.demand();
+        self.after_stop = motion == Motion::Rotary;
+        // The newest step is judged by the next sample: the step into a rotary-only move mixes the
+        // path's end with the turn's start, so the demand ends one sample back and a turn starting
+        // next withholds it.
+        let demand = if motion == Motion::Rotary { None } else { self.demand(self.kept.len() - 1) };
         MeasuredSample { q, tip, axis, s: self.s, path_feed, c_speed, motion, turning: turn > c.turning, demand }
     }
 
-    /// dC/ds over the last demand window of path, at the window's middle.
-    fn demand(&self) -> Option<Demand> {
+    /// dC/ds over the last demand window ending at kept sample `end - 1`, attributed to the window's
+    /// middle. The window must reach one window of tool-tip *displacement* (dC is then taken per
+    /// metre of the path within it): noise about a still point (servo error, a sparse stream's
+    /// interpolation) fills no window however long it goes on, where the path summed over it would.
+    fn demand(&self, end: usize) -> Option<Demand> {
         let c = &self.config;
-        let last = self.kept.back()?;
-        // The newest kept sample at least one window of path back.
-        let k = self.kept.partition_point(|k| last.s - k.s >= c.demand_window);
-        let first = self.kept.get(k.checked_sub(1)?)?;
+        let last = self.kept.get(end.checked_sub(1)?)?;
+        // The newest kept sample at least one window of displacement back: at least a window of path
+        // back too (a chord is no longer than its path); the search is bounded, a tip that has
+        // wandered about for longer than that has no window.
+        let within = self.kept.partition_point(|k| last.s - k.s >= c.demand_window).min(end - 1);
+        let first = self.kept.range(..within).rev().take(SEARCH).find(|k| (last.tip - k.tip).norm() >= c.demand_window)?;
         let ds = last.s - first.s;
-        if ds < c.demand_window {
-            return None;
-        }
-        let mid_s = last.s - ds / 2.0;
-        let m = self.kept.partition_point(|k| k.s < mid_s).min(self.kept.len() - 1);
+        let m = self.kept.partition_point(|k| k.s < last.s - (last.s - first.s) / 2.0).min(end - 1);
         let mid = &self.kept[m];
         let (h1, h2) = (mid.s - first.s, last.s - mid.s);
         let q_s: Joints = std::array::from_fn(|i| (last.q[i] - first.q[i]) / ds);
