@@ -228,7 +228,8 @@ impl MeasuredPath {
         // Drop what neither window needs any more (the front is the newest sample outside both).
         // Two windows of path are kept: the demand's window is one of displacement, which a path
         // that curves within it takes more path to fill.
-        while self.kept.len() > 2 && (self.s - self.kept[1].s >= 2.0 * c.demand_window && t - self.kept[1].t >= c.speed_window || self.kept.len() > c.max_samples) {
+        // The demand's window ends one sample back (see below): its path counts from there.
+        while self.kept.len() > 3 && (self.kept[self.kept.len() - 2].s - self.kept[1].s >= 2.0 * c.demand_window && t - self.kept[1].t >= c.speed_window || self.kept.len() > c.max_samples) {
             self.kept.pop_front();
         }
         // Speeds over the speed window: from the newest kept sample at least that old.
