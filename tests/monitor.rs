@@ -360,3 +360,56 @@ fn a_program_that_cannot_be_read_again_is_an_error_not_a_silent_gap() {
         }
     }
 }
+
+/// A bridge that was down for 3 s and comes back where its clock left off (stamps go on): the gap is
+/// stale time, counted once as a stale episode, not 3,000 samples lost; the summary, the status and
+/// `/diagnostics` say the same.
+#[test]
+fn an_outage_is_stale_time_not_lost_samples() {
+    let mut m = monitor();
+    let mut wall = 0.0;
+    let mut t = 0.0;
+    let send = |m: &mut Monitor, t: f64, wall: f64| m.on_state(TOPIC, &state(t, t * 10.0, 10.0, 0.0), wall).unwrap();
+    for _ in 0..1000 {
+        t += 1e-3;
+        wall += 1e-3;
+        send(&mut m, t, wall);
+    }
+    wall += 3.0;
+    t += 3.0;
+    assert_eq!(m.tick(wall), vec![TOPIC.to_string()]);
+    // Long enough after it for a gap to be judged (a loss is judged over twice the gap).
+    let mut last = None;
+    for _ in 0..8000 {
+        t += 1e-3;
+        wall += 1e-3;
+        last = Some(send(&mut m, t, wall));
+    }
+    let status = last.unwrap();
+    assert_eq!((status.lost_count, status.stale_count), (0, 1));
+    let d = m.diagnostics(Time::from_secs(t));
+    let lost = d.status[0].values.iter().find(|kv| kv.key == "lost_samples").unwrap();
+    assert_eq!(lost.value, "0");
+    m.finish();
+    assert_eq!(m.lost(TOPIC), 0);
+    assert_eq!((m.summary()[0].lost, m.summary()[0].stale), (0, 1));
+}
+
+/// A bridge that sends a few times a second is not stale between its samples: three of its own
+/// periods, not the 100 ms timeout.
+#[test]
+fn a_slow_stream_is_stale_after_three_of_its_periods() {
+    let mut m = monitor();
+    let period = 0.3;
+    for k in 0..40 {
+        let t = k as f64 * period;
+        m.on_state(TOPIC, &state(t, t, 10.0, 0.0), t).unwrap();
+        // From its second sample on (its last interval until a period is known; before the first
+        // interval the 100 ms timeout applies).
+        let gone = m.tick(t + 0.25);
+        assert!(k == 0 || gone.is_empty(), "stale between samples at {t}");
+    }
+    let last = 39.0 * period;
+    assert!(m.tick(last + 2.0 * period).is_empty());
+    assert_eq!(m.tick(last + 3.5 * period), vec![TOPIC.to_string()]);
+}

@@ -18,7 +18,8 @@ use std::collections::{BTreeMap, VecDeque};
 /// Monitor settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MonitorConfig {
-    /// A stream with no sample for this long (s, wall clock) is stale.
+    /// A stream with no sample for this long (s, wall clock) is stale; for one that sends more
+    /// slowly, three of its own periods.
     pub stale_timeout: f64,
     /// WARN when the tool axis comes closer than this to the singularity (rad).
     pub warn_distance: f64,
@@ -336,6 +337,8 @@ struct Input {
     /// missing from gaps in the stamps, a stretch of gaps being judged and the losses judged recently.
     stamps: VecDeque<f64>,
     period: Option<(f64, f64)>,
+    /// The last interval between stamps (the stale limit before a period is known).
+    last_interval: Option<f64>,
     lost: u64,
     episode: Option<LossEpisode>,
     loss_events: VecDeque<LossEvent>,
@@ -668,6 +671,7 @@ impl Monitor {
             // they make the period tiny and every interval a gap, judging the stream mostly lost).
             input.stamps.clear();
             input.period = None;
+            input.last_interval = None;
             input.loss_events.clear();
             if let Some(r) = input.tracker.finish() {
                 input.close(&r, self.config.max_listed_regions);
@@ -681,7 +685,10 @@ impl Monitor {
             input.lagged = None;
             input.last = None;
         }
-        input.stale_now = false;
+        // The stream went stale and goes on where it left off (a bridge that was down, a publisher
+        // that stalled): the gap in its stamps is stale time, already counted as such, not samples
+        // lost. The loss judgement starts again after it.
+        let outage = std::mem::replace(&mut input.stale_now, false);
         if let Some(last) = input.history.back() {
             if t <= last.t {
                 input.rejected.count(Reason::OutOfOrder);
@@ -690,8 +697,14 @@ impl Monitor {
         }
         input.source = st.source;
         input.samples += 1;
-        if let Some(last) = input.history.back() {
-            count_lost(input, t - last.t, t);
+        if let Some(last) = input.history.back().map(|h| h.t) {
+            if outage {
+                close_loss_episode(input, last);
+                input.stamps.clear();
+                input.loss_events.clear();
+            }
+            input.last_interval = Some(t - last);
+            count_lost(input, t - last, t);
         }
         if st.source == AxisState::SOURCE_MACHINE {
             return Ok(self.evaluate_measured(id, st, q, t));
@@ -955,7 +968,7 @@ impl Monitor {
         for (topic, &k) in &self.index {
             let input = &mut self.inputs[k];
             if let Some(last) = input.last_arrival {
-                if !input.stale_now && wall - last > self.config.stale_timeout {
+                if !input.stale_now && wall - last > input.stale_after(self.config.stale_timeout) {
                     input.stale_now = true;
                     input.stale += 1;
                     gone.push(topic.clone());
@@ -1085,7 +1098,7 @@ impl Monitor {
                         (DiagnosticStatus::ERROR, format!("the program (--program) cannot be read again to place the samples: {why}"))
                     }
                     (None, Some((l, w))) if l == DiagnosticStatus::ERROR => event(l, w),
-                    _ if input.stale_now => (DiagnosticStatus::STALE, format!("no sample for {:.0} ms", self.config.stale_timeout * 1e3)),
+                    _ if input.stale_now => (DiagnosticStatus::STALE, format!("no sample for {:.0} ms", input.stale_after(self.config.stale_timeout) * 1e3)),
                     (None, None) => (DiagnosticStatus::STALE, "no valid sample yet".to_string()),
                     (None, Some((l, w))) => event(l, w),
                 };
@@ -1145,7 +1158,17 @@ fn level_of(e: &Evaluation, warn_distance: f64, warn_ahead: f64) -> u8 {
     }
 }
 
+/// A stream is stale after this many of its own sample periods without a sample (or the configured
+/// timeout, whichever is longer): a bridge that sends a few times a second is not stale between
+/// its samples.
+const STALE_PERIODS: f64 = 3.0;
+
 impl Input {
+    /// How long this stream may be silent before it is stale, s.
+    fn stale_after(&self, timeout: f64) -> f64 {
+        self.period.map(|p| p.0).or(self.last_interval).map_or(timeout, |p| timeout.max(STALE_PERIODS * p))
+    }
+
     /// Why the program (`--program`) could not be read again to place this stream's samples.
     fn program_failure(&self) -> Option<&str> {
         self.aligner.as_ref().and_then(|a| a.failure())

@@ -5,7 +5,10 @@
 
 use crate::{forward, Bus, InputArgs, Shutdown};
 use fiveaxis::live::joint_map::JointMap;
-use fiveaxis::live::monitor::Rejection;
+use fiveaxis::live::joint_stream::JointStream;
+use fiveaxis::live::monitor::{MonitorConfig, Rejection};
+use fiveaxis::machine::Machine;
+use std::collections::{BTreeMap, VecDeque};
 use fiveaxis_msgs::{AxisState, JointState};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::time::{Duration, Instant};
@@ -52,10 +55,18 @@ pub enum Received {
 
 /// The receive loop over [`subscribe_states`]' channel, as an iterator: it ends on a shutdown
 /// signal, when every reader has ended, or once the inputs have been silent for the idle limit after
-/// a first sample.
+/// a first sample. A JointState topic's messages (whole or some joints only) are merged per axis into
+/// whole poses ([`JointStream`]): a pose comes once every axis is known at its instant, and a topic
+/// that falls silent has its waiting poses made.
 pub struct StateReceiver<'a> {
     rx: Receiver<StateInput>,
     map: JointMap,
+    machine: Machine,
+    joints: BTreeMap<String, JointStream>,
+    ready: VecDeque<Received>,
+    /// A message stamped no later than its topic's last after this much silence is a restarted
+    /// publisher (s).
+    restart_after: f64,
     shutdown: &'a Shutdown,
     poll: Duration,
     exit_when_idle_s: Option<f64>,
@@ -66,8 +77,50 @@ pub struct StateReceiver<'a> {
 impl<'a> StateReceiver<'a> {
     /// Receive from `rx`, waiting at most `poll` for each sample; `exit_when_idle_s`: end once no
     /// sample has come for this long after the first.
-    pub fn new(rx: Receiver<StateInput>, map: JointMap, shutdown: &'a Shutdown, poll: Duration, exit_when_idle_s: Option<f64>) -> StateReceiver<'a> {
-        StateReceiver { rx, map, shutdown, poll, exit_when_idle_s, start: Instant::now(), last_sample: None }
+    pub fn new(rx: Receiver<StateInput>, map: JointMap, machine: &Machine, shutdown: &'a Shutdown, poll: Duration, exit_when_idle_s: Option<f64>) -> StateReceiver<'a> {
+        StateReceiver {
+            rx,
+            map,
+            machine: machine.clone(),
+            joints: BTreeMap::new(),
+            ready: VecDeque::new(),
+            restart_after: MonitorConfig::default().stale_timeout,
+            shutdown,
+            poll,
+            exit_when_idle_s,
+            start: Instant::now(),
+            last_sample: None,
+        }
+    }
+
+    /// The silence after which a JointState topic stamped anew is a restarted publisher (s; the
+    /// monitor's stale timeout).
+    pub fn set_restart_after(&mut self, seconds: f64) {
+        self.restart_after = seconds;
+    }
+
+    /// Merge one JointState message of `topic`; what it completes (and why it was refused) is queued.
+    fn take_joints(&mut self, topic: String, js: JointState, wall: f64) {
+        let stream = self.joints.entry(topic.clone()).or_insert_with(|| JointStream::new(&self.machine));
+        if let Err(why) = stream.push(&self.map, &js, wall, self.restart_after) {
+            self.ready.push_back(Received::Refused { topic: topic.clone(), why, joints: Some(js.name) });
+        }
+        while let Some(state) = stream.pop() {
+            self.ready.push_back(Received::State { topic: topic.clone(), state });
+        }
+    }
+
+    /// Make the waiting poses of topics silent for longer than their merge's wait (`all`: every
+    /// topic, at the end).
+    fn flush_silent(&mut self, wall: f64, all: bool) {
+        for (topic, stream) in self.joints.iter_mut() {
+            if stream.has_pending() && (all || stream.last_wall().is_some_and(|w| wall - w > stream.latency())) {
+                stream.flush();
+                while let Some(state) = stream.pop() {
+                    self.ready.push_back(Received::State { topic: topic.clone(), state });
+                }
+            }
+        }
     }
 
     /// Seconds since the loop started (the node's monotonic arrival clock).
@@ -80,29 +133,49 @@ impl Iterator for StateReceiver<'_> {
     type Item = Received;
 
     fn next(&mut self) -> Option<Received> {
-        if self.shutdown.requested() {
-            return None;
-        }
-        if let (Some(idle), Some(last)) = (self.exit_when_idle_s, self.last_sample) {
-            if self.now() - last > idle {
-                tracing::info!("inputs idle for {idle} s: exiting");
+        loop {
+            if let Some(r) = self.ready.pop_front() {
+                return Some(r);
+            }
+            if self.shutdown.requested() {
                 return None;
             }
+            if let (Some(idle), Some(last)) = (self.exit_when_idle_s, self.last_sample) {
+                if self.now() - last > idle {
+                    self.flush_silent(self.now(), true);
+                    if !self.ready.is_empty() {
+                        continue;
+                    }
+                    tracing::info!("inputs idle for {idle} s: exiting");
+                    return None;
+                }
+            }
+            let input = match self.rx.recv_timeout(self.poll) {
+                Ok(input) => input,
+                Err(RecvTimeoutError::Timeout) => {
+                    self.flush_silent(self.now(), false);
+                    if self.ready.is_empty() {
+                        return Some(Received::Idle);
+                    }
+                    continue;
+                }
+                Err(RecvTimeoutError::Disconnected) => {
+                    self.flush_silent(self.now(), true);
+                    if self.ready.is_empty() {
+                        return None;
+                    }
+                    // Drain what the end made; the next call finds the channel closed again.
+                    continue;
+                }
+            };
+            let now = self.now();
+            self.last_sample = Some(now);
+            match input {
+                StateInput::State(topic, state) => return Some(Received::State { topic, state }),
+                StateInput::Joints(topic, js) => self.take_joints(topic, js, now),
+                // Logged by the reader; a malformed sample of its stream.
+                StateInput::Undecodable(topic, reason) => return Some(Received::Refused { topic, why: Rejection::Invalid(reason), joints: None }),
+            }
         }
-        let input = match self.rx.recv_timeout(self.poll) {
-            Ok(input) => input,
-            Err(RecvTimeoutError::Timeout) => return Some(Received::Idle),
-            Err(RecvTimeoutError::Disconnected) => return None,
-        };
-        self.last_sample = Some(self.now());
-        Some(match input {
-            StateInput::State(topic, state) => Received::State { topic, state },
-            StateInput::Joints(topic, js) => match self.map.axis_state(&js) {
-                Ok(state) => Received::State { topic, state },
-                Err(why) => Received::Refused { topic, why, joints: Some(js.name) },
-            },
-            // Logged by the reader; a malformed sample of its stream.
-            StateInput::Undecodable(topic, reason) => Received::Refused { topic, why: Rejection::Invalid(reason), joints: None },
-        })
     }
 }

@@ -118,7 +118,8 @@ fn main() -> anyhow::Result<()> {
         }
         None => None,
     };
-    let mut receiver = StateReceiver::new(rx, JointMap::new(&machine, &rename), &shutdown, Duration::from_millis(10), args.exit_when_idle_s);
+    let mut receiver = StateReceiver::new(rx, JointMap::new(&machine, &rename), &machine, &shutdown, Duration::from_millis(10), args.exit_when_idle_s);
+    receiver.set_restart_after(args.stale_ms * 1e-3);
     let mut last_diag = 0.0;
     let mut last_stale_status = 0.0;
     let mut in_region: BTreeMap<String, u32> = BTreeMap::new();

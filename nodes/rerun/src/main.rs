@@ -251,7 +251,7 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
     let mut last_flush = Instant::now();
     let mut samples = 0u64;
     let mut said = std::collections::BTreeSet::new();
-    let receiver = StateReceiver::new(rx, JointMap::new(&machine, &map), &shutdown, Duration::from_millis(20), a.exit_when_idle_s);
+    let receiver = StateReceiver::new(rx, JointMap::new(&machine, &map), &machine, &shutdown, Duration::from_millis(20), a.exit_when_idle_s);
     for received in receiver {
         match received {
             Received::State { topic, state } => {
