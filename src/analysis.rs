@@ -426,8 +426,9 @@ fn input_errors(
         if let Some(why) = &s.program_unreadable {
             errors.push(format!("{}: not aligned with the program: {why}", s.topic));
         }
+        let first = read.first_malformed.get(&k).map_or(String::new(), |m| format!("; the first: {m}"));
         if s.samples == 0 {
-            errors.push(format!("{}: no valid sample ({rejected} rejected: {})", s.topic, reasons(&s.rejected, report.undecodable)));
+            errors.push(format!("{}: no valid sample ({rejected} rejected: {}){first}", s.topic, reasons(&s.rejected, report.undecodable)));
         } else if total > 0 && rejected as f64 > options.max_rejected_share * total as f64 {
             errors.push(format!(
                 "{}: {rejected} of {total} samples rejected ({:.1} %, above the {:.1} % allowed): {}",
@@ -435,7 +436,7 @@ fn input_errors(
                 100.0 * rejected as f64 / total as f64,
                 100.0 * options.max_rejected_share,
                 reasons(&s.rejected, report.undecodable)
-            ));
+            ) + &first);
         }
     }
     errors

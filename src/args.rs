@@ -84,12 +84,24 @@ pub struct RecordedStreamArgs {
     pub joint_state_topics: Vec<String>,
     #[command(flatten)]
     pub axis_map: AxisMapArgs,
+    /// Read the input as an MTConnect adapter's SHDR log, against this device description (an
+    /// agent's Devices.xml or its /probe answer); each machine axis is the actual POSITION or ANGLE
+    /// of the device's axis of the same name, or the data item `--axis-map AXIS=ID` names.
+    #[arg(long = "mtconnect-devices", value_name = "DEVICES.XML")]
+    pub mtconnect_devices: Option<std::path::PathBuf>,
+    /// The device of the description the log is for (name or uuid; default: the only one).
+    #[arg(long = "mtconnect-device", value_name = "NAME", requires = "mtconnect_devices")]
+    pub mtconnect_device: Option<String>,
 }
 
 impl RecordedStreamArgs {
     /// The selection on `machine` (an axis map naming an axis the machine lacks is an error).
     pub fn selection(&self, machine: &Machine) -> Result<crate::recorded::Selection, String> {
-        Ok(crate::recorded::Selection { joint_state_topics: self.joint_state_topics.clone(), axis_map: self.axis_map.resolve(machine)? })
+        Ok(crate::recorded::Selection {
+            joint_state_topics: self.joint_state_topics.clone(),
+            axis_map: self.axis_map.resolve(machine)?,
+            mtconnect: self.mtconnect_devices.as_ref().map(|d| crate::recorded::MtconnectSource { devices: d.clone(), device: self.mtconnect_device.clone() }),
+        })
     }
 }
 

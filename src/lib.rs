@@ -16,6 +16,7 @@ pub mod avoid;
 pub mod args;
 pub mod job;
 pub mod live;
+pub mod mtconnect;
 pub mod record;
 pub mod recorded;
 pub mod report;

@@ -20,8 +20,18 @@ use std::path::Path;
 pub struct Selection {
     /// JointState topics to read (empty: all, when the recording has no AxisState).
     pub joint_state_topics: Vec<String>,
-    /// Machine axis -> joint name in those JointStates.
+    /// Machine axis -> joint name in those JointStates (an MTConnect log: data item id or name).
     pub axis_map: BTreeMap<String, String>,
+    /// Read the recording as an MTConnect adapter's SHDR log against this device description.
+    pub mtconnect: Option<MtconnectSource>,
+}
+
+/// An SHDR log's device: its description (an agent's `Devices.xml` or `/probe` answer) and which
+/// device of it (None: the only one).
+#[derive(Debug, Clone, Default)]
+pub struct MtconnectSource {
+    pub devices: std::path::PathBuf,
+    pub device: Option<String>,
 }
 
 /// One stream read: a topic carrying axis states, numbered in order of its first message.
@@ -66,6 +76,9 @@ pub struct StatesRead {
     pub joint_state_topics: BTreeSet<String>,
     /// Why reading stopped before the end (a damaged or cut recording): what came before it was read.
     pub damage: Option<RecordError>,
+    /// The first malformed message of a stream, where the format says where (an SHDR log's line
+    /// and column), by stream number.
+    pub first_malformed: BTreeMap<usize, String>,
 }
 
 impl StatesRead {
@@ -118,12 +131,15 @@ pub fn read_states(
     progress: &mut dyn FnMut(u64, u64),
     mut visit: impl FnMut(Recorded<'_>),
 ) -> Result<StatesRead, RecordError> {
+    if let Some(source) = &selection.mtconnect {
+        return read_shdr(path, machine, selection, source, progress, visit);
+    }
     let file_len = read::recording_len(path)?;
     let axis_state_type = AxisState::type_name();
     let joint_state_type = JointState::type_name();
     let has_axis_state = read::may_carry_type(path, &axis_state_type)?;
     let map = JointMap::new(machine, &selection.axis_map);
-    let mut out = StatesRead { messages_read: 0, streams: Vec::new(), joint_state_topics: BTreeSet::new(), damage: None };
+    let mut out = StatesRead { messages_read: 0, streams: Vec::new(), joint_state_topics: BTreeSet::new(), damage: None, first_malformed: BTreeMap::new() };
     let mut by_topic: BTreeMap<String, usize> = BTreeMap::new();
     // By channel id, in the current file (a rosbag2 directory's files number channels anew).
     let mut decode: Vec<Option<Decode>> = Vec::new();
@@ -210,7 +226,7 @@ pub fn read_states(
             state = s;
             visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time, sample: Ok(&state) });
         }
-        if let Some((n, why)) = merge.unplaced(&map) {
+        if let Some((n, why)) = merge.unplaced(map.joints()) {
             for _ in 0..n {
                 visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time, sample: Err(Unread::Unmapped(why.clone())) });
             }
@@ -221,6 +237,84 @@ pub fn read_states(
         Err(e) if out.messages_read == 0 => return Err(e),
         Err(e) => out.damage = Some(e),
         Ok(_) => {}
+    }
+    progress(file_len, file_len);
+    Ok(out)
+}
+
+/// Largest device description read (bytes): descriptions of whole shops run to a few megabytes.
+const MAX_DEVICES_BYTES: u64 = 64 << 20;
+
+/// [`read_states`] of an MTConnect adapter's SHDR log: one stream, `mtconnect:<device>`, of the
+/// machine axes' position reports merged into poses ([`JointStream`]); a refused line counts as a
+/// malformed sample (the first one named by line and column in [`StatesRead::first_malformed`]).
+fn read_shdr(
+    path: &Path,
+    machine: &Machine,
+    selection: &Selection,
+    source: &MtconnectSource,
+    progress: &mut dyn FnMut(u64, u64),
+    mut visit: impl FnMut(Recorded<'_>),
+) -> Result<StatesRead, RecordError> {
+    use crate::mtconnect;
+    let refuse = |p: &Path, message: String| RecordError::Mtconnect { path: p.to_path_buf(), message };
+    let io = |p: &Path| {
+        let path = p.to_path_buf();
+        move |source| RecordError::Io { path, source }
+    };
+    let size = std::fs::metadata(&source.devices).map_err(io(&source.devices))?.len();
+    if size > MAX_DEVICES_BYTES {
+        return Err(refuse(&source.devices, format!("{size} bytes: larger than the {MAX_DEVICES_BYTES} read")));
+    }
+    let text = std::fs::read_to_string(&source.devices).map_err(io(&source.devices))?;
+    let devices = mtconnect::devices::parse(&text).map_err(|e| refuse(&source.devices, e.to_string()))?;
+    let device = mtconnect::pick(&devices, source.device.as_deref()).map_err(|e| refuse(&source.devices, e))?;
+    let items = mtconnect::axis_items(device, machine, &selection.axis_map).map_err(|e| refuse(&source.devices, e))?;
+    let file = std::fs::File::open(path).map_err(io(path))?;
+    let file_len = file.metadata().map_err(io(path))?.len();
+    let topic = format!("mtconnect:{}", device.name);
+    let mut out = StatesRead {
+        messages_read: 0,
+        streams: vec![RecordedStream { topic: topic.clone(), joint_state: true, joint_names: Some(items.ids.to_vec()), undecodable: 0 }],
+        joint_state_topics: BTreeSet::new(),
+        damage: None,
+        first_malformed: BTreeMap::new(),
+    };
+    let mut merge = JointStream::new(machine);
+    let mut state = AxisState::default();
+    let mut last_log = 0;
+    let lines = mtconnect::read_log(std::io::BufReader::new(file), &devices, device, &items, |report| {
+        match report {
+            Ok(r) => {
+                let log_time = u64::try_from(r.stamp.sec).unwrap_or(0).saturating_mul(1_000_000_000) + u64::from(r.stamp.nanosec);
+                last_log = log_time;
+                let stamp = fiveaxis_msgs::Time { sec: r.stamp.sec.clamp(i32::MIN.into(), i32::MAX.into()) as i32, nanosec: r.stamp.nanosec };
+                // A log has no silence to tell a restarted adapter by: a stamp no later than the last
+                // is out of order.
+                if let Err(e) = merge.push_values(stamp, "", &r.values, r.stamp.as_secs(), f64::INFINITY) {
+                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Err(Unread::Unmapped(e)) });
+                }
+                while let Some(s) = merge.pop() {
+                    state = s;
+                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Ok(&state) });
+                }
+            }
+            Err(why) => {
+                out.first_malformed.entry(0).or_insert_with(|| why.clone());
+                visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample: Err(Unread::Unmapped(Rejection::Invalid(why))) });
+            }
+        }
+    });
+    out.messages_read = lines.map_err(io(path))?;
+    merge.flush();
+    while let Some(s) = merge.pop() {
+        state = s;
+        visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample: Ok(&state) });
+    }
+    if let Some((n, why)) = merge.unplaced(&items.ids) {
+        for _ in 0..n {
+            visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample: Err(Unread::Unmapped(why.clone())) });
+        }
     }
     progress(file_len, file_len);
     Ok(out)

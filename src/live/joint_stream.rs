@@ -53,7 +53,15 @@ impl JointStream {
     /// again) rather than out of order. Poses made go to [`JointStream::pop`].
     pub fn push(&mut self, map: &JointMap, js: &JointState, wall: f64, restart_after: f64) -> Result<(), Rejection> {
         let values = map.reports(js)?;
-        let stamp = js.header.stamp;
+        self.push_values(js.header.stamp, &js.header.frame_id, &values, wall, restart_after).map_err(|e| match e {
+            Rejection::MissingJoint(_) => self.missing(map.joints()),
+            e => e,
+        })
+    }
+
+    /// [`JointStream::push`] of axis positions already mapped (SI, None where not reported): an
+    /// MTConnect adapter's line, an OPC UA notification.
+    pub fn push_values(&mut self, stamp: Time, frame_id: &str, values: &[Option<f64>; AXES], wall: f64, restart_after: f64) -> Result<(), Rejection> {
         if stamp.nanosec >= 1_000_000_000 {
             return Err(Rejection::Invalid("header stamp nanosec out of range".into()));
         }
@@ -66,14 +74,16 @@ impl JointStream {
             self.first = None;
             self.waiting = 0;
         }
-        self.frame_id.clone_from(&js.header.frame_id);
+        if self.frame_id != frame_id {
+            self.frame_id = frame_id.to_string();
+        }
         let before = self.merger.before_all_known();
         let (base, names, frame, ready) = (self.base, &self.names, &self.frame_id, &mut self.ready);
-        let result = self.merger.push(t, &values, |at, q| ready.push_back(base.state(at, &q, names, frame)));
+        let result = self.merger.push(t, values, |at, q| ready.push_back(base.state(at, &q, names, frame)));
         match result {
             Err(MergeError::OutOfOrder { stamp, last }) => return Err(Rejection::OutOfOrder { stamp, last }),
             Err(MergeError::NonFinite { axis, value }) => return Err(Rejection::NonFinite(format!("{} position is {value}", self.names[axis]))),
-            Err(MergeError::Empty) => return Err(Rejection::MissingJoint(map.joints()[0].clone())),
+            Err(MergeError::Empty) => return Err(Rejection::MissingJoint(String::new())),
             Ok(()) => {}
         }
         self.last_wall = Some(wall);
@@ -84,16 +94,16 @@ impl JointStream {
                 self.waiting += 1;
                 return Ok(());
             }
-            return Err(self.missing(map));
+            return Err(Rejection::MissingJoint(String::new()));
         }
         self.waiting = 0;
         Ok(())
     }
 
-    /// The joint of the first axis never reported.
-    fn missing(&self, map: &JointMap) -> Rejection {
+    /// The joint (`joints`: per axis) of the first axis never reported.
+    fn missing(&self, joints: &[String]) -> Rejection {
         let axis = (0..AXES).find(|&i| !self.merger.reported(i)).unwrap_or(0);
-        Rejection::MissingJoint(map.joints()[axis].clone())
+        Rejection::MissingJoint(joints[axis].clone())
     }
 
     /// The next pose made, oldest first.
@@ -109,9 +119,9 @@ impl JointStream {
 
     /// Messages still waiting at the end for an axis never reported: refused as missing it (the
     /// count, and the rejection), once.
-    pub fn unplaced(&mut self, map: &JointMap) -> Option<(u64, Rejection)> {
+    pub fn unplaced(&mut self, joints: &[String]) -> Option<(u64, Rejection)> {
         let n = std::mem::take(&mut self.waiting);
-        (n > 0 && (0..AXES).any(|i| !self.merger.reported(i))).then(|| (n, self.missing(map)))
+        (n > 0 && (0..AXES).any(|i| !self.merger.reported(i))).then(|| (n, self.missing(joints)))
     }
 
     /// The longest an instant waited for every axis to be known, s (the latency the merge cost).

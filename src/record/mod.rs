@@ -41,6 +41,10 @@ pub enum RecordError {
     Mcap { path: PathBuf, message: String },
     #[error("{path}: rosbag2 SQLite3: {message}")]
     Sqlite { path: PathBuf, message: String },
+    /// An MTConnect device description that cannot be used for the log (unreadable, no such
+    /// device, an axis without a data item).
+    #[error("{path}: MTConnect: {message}")]
+    Mtconnect { path: PathBuf, message: String },
     #[error("no ros2msg schema known for {0}")]
     UnknownType(String),
     #[error("CDR: {0}")]

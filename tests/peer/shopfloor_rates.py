@@ -13,7 +13,9 @@ Output: a rosbag2 directory (`rosbags` from PyPI) of `sensor_msgs/msg/JointState
 rad) on /cnc/joint_states, either `--held` (a bridge that republishes every joint at each report,
 the others held at their last reported value) or partial (only the joints reported: legal in ROS,
 what a change-only bridge publishes); or `--shdr FILE`, an adapter's SHDR log
-(`2026-01-01T00:00:01.234000Z|Xact|12.3456`, mm and degrees, as cppagent's demo log is written).
+(`2026-01-01T00:00:01.234000Z|Xact|12.3456`, mm and degrees, as cppagent's demo log is written),
+with the device's description beside it (OUT.devices.xml: MTConnectDevices 2.0 with Linear X Y Z and
+Rotary A C, each an actual POSITION or ANGLE sample in machine coordinates).
 
 Usage: shopfloor_rates.py TRACE.csv[.gz] OUT (together|per-axis) --period P [--held] [--shdr]
        [--seed N] [--t0 S] [--t1 S]
@@ -78,6 +80,52 @@ def si(j, v):
     return v * 1e-3 if j < 3 else math.radians(v)
 
 
+def write_devices(path):
+    axes = []
+    for j, name in enumerate("XYZAC"):
+        linear = j < 3
+        element = "Linear" if linear else "Rotary"
+        kind, units = ("POSITION", "MILLIMETER") if linear else ("ANGLE", "DEGREE")
+        axes.append(f"""        <{element} id="{name.lower()}" name="{name}">
+          <DataItems>
+            <DataItem category="SAMPLE" id="{name.lower()}_act" name="{SHDR_NAMES[j]}" type="{kind}" subType="ACTUAL" units="{units}" coordinateSystemIdRef="machcoord"/>
+            <DataItem category="SAMPLE" id="{name.lower()}_load" name="{name}load" type="LOAD" units="PERCENT"/>
+            <DataItem category="CONDITION" id="{name.lower()}_travel" type="POSITION"/>
+          </DataItems>
+        </{element}>""")
+    with open(path, "w") as f:
+        f.write(f"""<?xml version="1.0" encoding="UTF-8"?>
+<MTConnectDevices xmlns="urn:mtconnect.org:MTConnectDevices:2.0">
+  <Header creationTime="2026-01-01T00:00:00Z" sender="shopfloor_rates.py" instanceId="1" version="2.0" bufferSize="131072"/>
+  <Devices>
+    <Device id="c600u" name="C600U" uuid="hermle-c600u-sim">
+      <Configuration>
+        <CoordinateSystems>
+          <CoordinateSystem id="machcoord" type="MACHINE"/>
+        </CoordinateSystems>
+      </Configuration>
+      <DataItems>
+        <DataItem category="EVENT" id="avail" name="avail" type="AVAILABILITY"/>
+      </DataItems>
+      <Components>
+        <Axes id="axes" name="base">
+          <Components>
+{chr(10).join(axes)}
+          </Components>
+        </Axes>
+        <Controller id="cont" name="controller">
+          <DataItems>
+            <DataItem category="EVENT" id="exec" name="execution" type="EXECUTION"/>
+            <DataItem category="EVENT" id="msg" name="message" type="MESSAGE"/>
+          </DataItems>
+        </Controller>
+      </Components>
+    </Device>
+  </Devices>
+</MTConnectDevices>
+""")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("trace")
@@ -93,6 +141,7 @@ def main():
     reps = reports(t, q, a.mode, a.period, rng)
 
     if a.shdr:
+        write_devices(a.out + ".devices.xml")
         with open(a.out, "w") as f:
             f.write(f"{stamp_text(0.0)}|avail|AVAILABLE|execution|ACTIVE\n")
             k = 0
