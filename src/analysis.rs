@@ -187,6 +187,13 @@ pub fn analyze_mcap_with_progress(
                 monitor.reject(streams[k].input, &e);
                 return;
             }
+            Err(Unread::Session { change_only }) => {
+                monitor.new_session(streams[k].input);
+                monitor.set_change_only(streams[k].input, change_only);
+                streams[k].last = None;
+                streams[k].last_line = None;
+                return;
+            }
         };
         let log_s = msg.log_time as f64 * 1e-9;
         // No look-ahead (`on_commanded_ahead`): it only serves the live warning "region ahead in
@@ -417,7 +424,8 @@ fn input_errors(
                 unmapped_hint(machine, found, &options.selection.axis_map)
             ));
         }
-        if s.rejected.out_of_range > 0 && fits * 2 >= s.rejected.out_of_range {
+        // An MTConnect log's values were converted from the units its device states.
+        if s.rejected.out_of_range > 0 && fits * 2 >= s.rejected.out_of_range && !read.streams[k].mtconnect {
             errors.push(format!(
                 "{}: {} samples outside the axis ranges would fit them read as mm and degrees: JointState positions must be in m and rad (REP 103)",
                 s.topic, s.rejected.out_of_range

@@ -44,6 +44,8 @@ pub struct RecordedStream {
     pub joint_names: Option<Vec<String>>,
     /// Messages that did not decode.
     pub undecodable: u64,
+    /// An MTConnect adapter's log (its values converted to SI from the units the device states).
+    pub mtconnect: bool,
 }
 
 /// Why a message of a read stream gave no axis state.
@@ -53,6 +55,10 @@ pub enum Unread {
     Undecodable,
     /// A JointState whose joints do not map onto the machine's axes.
     Unmapped(Rejection),
+    /// The stream's source starts a session here (an SHDR log's start, and each time its adapter
+    /// connected again): what follows is judged afresh. `change_only`: the source reports a value
+    /// only when it changed (SHDR), so gaps between its samples are no evidence of losses.
+    Session { change_only: bool },
 }
 
 /// One message of a read stream.
@@ -173,7 +179,7 @@ pub fn read_states(
                 return Decode::Skip;
             }
             let k = *by_topic.entry(c.topic.clone()).or_insert_with(|| {
-                out.streams.push(RecordedStream { topic: c.topic.clone(), joint_state: joint, joint_names: None, undecodable: 0 });
+                out.streams.push(RecordedStream { topic: c.topic.clone(), joint_state: joint, joint_names: None, undecodable: 0, mtconnect: false });
                 out.streams.len() - 1
             });
             if joint {
@@ -242,6 +248,9 @@ pub fn read_states(
     Ok(out)
 }
 
+/// A stamp this far (s) before the newest of an SHDR log starts a new adapter session.
+pub const NEW_SESSION_JUMP_S: f64 = 1.0;
+
 /// Largest device description read (bytes): descriptions of whole shops run to a few megabytes.
 const MAX_DEVICES_BYTES: u64 = 64 << 20;
 
@@ -275,7 +284,7 @@ fn read_shdr(
     let topic = format!("mtconnect:{}", device.name);
     let mut out = StatesRead {
         messages_read: 0,
-        streams: vec![RecordedStream { topic: topic.clone(), joint_state: true, joint_names: Some(items.ids.to_vec()), undecodable: 0 }],
+        streams: vec![RecordedStream { topic: topic.clone(), joint_state: true, joint_names: Some(items.ids.to_vec()), undecodable: 0, mtconnect: true }],
         joint_state_topics: BTreeSet::new(),
         damage: None,
         first_malformed: BTreeMap::new(),
@@ -283,10 +292,29 @@ fn read_shdr(
     let mut merge = JointStream::new(machine);
     let mut state = AxisState::default();
     let mut last_log = 0;
+    // The newest stamp of the adapter's current session.
+    let mut newest: Option<f64> = None;
     let lines = mtconnect::read_log(std::io::BufReader::new(file), &devices, device, &items, |report| {
         match report {
             Ok(r) => {
                 let log_time = u64::try_from(r.stamp.sec).unwrap_or(0).saturating_mul(1_000_000_000) + u64::from(r.stamp.nanosec);
+                // An adapter that connects again sends its whole state, stamped anew: a stamp that
+                // goes back more than [`NEW_SESSION_JUMP_S`] starts a new session, not a run of
+                // samples out of order.
+                let t = r.stamp.as_secs();
+                if newest.is_none() {
+                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Err(Unread::Session { change_only: true }) });
+                }
+                if newest.is_some_and(|n| t < n - NEW_SESSION_JUMP_S) {
+                    merge.restart();
+                    while let Some(s) = merge.pop() {
+                        state = s;
+                        visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample: Ok(&state) });
+                    }
+                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Err(Unread::Session { change_only: true }) });
+                    newest = Some(t);
+                }
+                newest = Some(newest.map_or(t, |n| n.max(t)));
                 last_log = log_time;
                 let stamp = fiveaxis_msgs::Time { sec: r.stamp.sec.clamp(i32::MIN.into(), i32::MAX.into()) as i32, nanosec: r.stamp.nanosec };
                 // A log has no silence to tell a restarted adapter by: a stamp no later than the last

@@ -223,6 +223,14 @@ impl Scene {
         &self.machine
     }
 
+    /// Stream `topic`'s source starts a session (its stamps start over; `change_only`: it reports
+    /// values only when they change).
+    pub fn new_session(&mut self, topic: &str, change_only: bool) {
+        let id = self.monitor.input(topic);
+        self.monitor.new_session(id);
+        self.monitor.set_change_only(id, change_only);
+    }
+
     /// Count a sample refused before the monitor (a JointState that does not map onto the axes).
     pub fn reject(&mut self, topic: &str, why: &Rejection) {
         let id = self.monitor.input(topic);
@@ -373,6 +381,7 @@ pub fn replay_mcap(path: &Path, scene: &mut Scene, selection: &Selection, mut si
             sink(row.as_ref(), &events);
         }
         Err(Unread::Unmapped(e)) => scene.reject(msg.topic, &e),
+        Err(Unread::Session { change_only }) => scene.new_session(msg.topic, change_only),
         Err(Unread::Undecodable) => {}
     })?;
     let mut read = read;

@@ -146,3 +146,33 @@ fn a_log_with_no_readable_line_fails_closed_naming_the_line() {
     assert_eq!(code, 2, "{out}");
     assert!(out.contains("MTConnect") && out.contains("XML"), "{out}");
 }
+
+/// The Okuma's log through `analyze`, its axes named (work coordinates) on a B/C head model with the
+/// MULTUS' B range: every line reporting an axis is a sample or a counted refusal (as many as the
+/// independent reading finds), the adapter's second session (its stamps start 14 min earlier) is a
+/// new session, not 2,000 samples out of order, and nothing is called lost on a change-only stream.
+#[test]
+fn the_okuma_log_through_analyze() {
+    let (log, devices_xml) = okuma();
+    let dir = common::scratch_dir("mtconnect-okuma");
+    let (code, text) = fiveaxis(&["machine", "show", "generic-bc-head"]);
+    assert_eq!(code, 0, "{text}");
+    let model = text.trim().replace("name = \"generic-bc-head\"", "name = \"okuma-multus-like\"").replacen("min_deg = -130.0", "min_deg = -30.0", 1).replacen("max_deg = 130.0", "max_deg = 210.0", 1);
+    let file = dir.join("multus.toml");
+    std::fs::write(&file, model.trim_start_matches('\n')).unwrap();
+    let json = dir.join("okuma.json");
+    let mut args = vec!["analyze", log.to_str().unwrap(), "--mtconnect-devices", devices_xml.to_str().unwrap(), "--mtconnect-device", "OKUMA", "--machine", file.to_str().unwrap()];
+    args.extend(["--axis-map", "X=X1actw", "--axis-map", "Y=YI1actw", "--axis-map", "Z=Z1actw", "--axis-map", "B=B1actw", "--axis-map", "C=C3actw"]);
+    args.extend(["--feed", "1000", "--json", json.to_str().unwrap()]);
+    let (code, text) = fiveaxis(&args);
+    assert!(code == 0 || code == 1, "no input error: {text}");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let s = &v["streams"][0];
+    let reference: serde_json::Value =
+        serde_json::from_slice(&python("shdr_counts.py", &[log.to_str().unwrap(), devices_xml.to_str().unwrap(), "OKUMA", "X1actw", "YI1actw", "Z1actw", "B1actw", "C3actw"])).unwrap();
+    let samples = s["samples"].as_u64().unwrap();
+    let rejected: u64 = ["missing_joint", "non_finite", "out_of_range", "out_of_order", "malformed"].iter().map(|k| s["rejected"][k].as_u64().unwrap()).sum();
+    assert_eq!(samples + rejected, reference["lines_with_any"].as_u64().unwrap(), "{s:#}");
+    assert_eq!((s["rejected"]["out_of_order"].as_u64(), s["lost"].as_u64()), (Some(0), Some(0)), "{s:#}");
+    assert_eq!(rejected, 0, "{s:#}");
+}

@@ -30,11 +30,14 @@ pub struct MergeConfig {
     /// Axes reported modulo a turn (multi-turn rotary axes): unwrapped before interpolation, a step
     /// beyond half a turn between two reports taken as a wrap.
     pub wrap: [bool; AXES],
+    /// Each axis' travel (SI): the cubic between two reports within it stays within it (an axis
+    /// that runs up to its end stop does not overshoot it between reports).
+    pub range: [(f64, f64); AXES],
 }
 
 impl Default for MergeConfig {
     fn default() -> Self {
-        MergeConfig { hold_factor: 1.5, max_pending: 65_536, wrap: [false; AXES] }
+        MergeConfig { hold_factor: 1.5, max_pending: 65_536, wrap: [false; AXES], range: [(f64::NEG_INFINITY, f64::INFINITY); AXES] }
     }
 }
 
@@ -265,7 +268,9 @@ impl PoseMerger {
         let m1 = beyond.map_or(secant, |b| slope((t0, v0), (t1, v1), b));
         let u = (at - t0) / h;
         let (u2, u3) = (u * u, u * u * u);
-        (2.0 * u3 - 3.0 * u2 + 1.0) * v0 + (u3 - 2.0 * u2 + u) * h * m0 + (-2.0 * u3 + 3.0 * u2) * v1 + (u3 - u2) * h * m1
+        let v = (2.0 * u3 - 3.0 * u2 + 1.0) * v0 + (u3 - 2.0 * u2 + u) * h * m0 + (-2.0 * u3 + 3.0 * u2) * v1 + (u3 - u2) * h * m1;
+        let (lo, hi) = self.config.range[i];
+        v.clamp(lo.min(v0).min(v1), hi.max(v0).max(v1))
     }
 
     fn emit(&mut self, all: bool, out: &mut impl FnMut(f64, Joints)) {
@@ -367,6 +372,29 @@ mod tests {
             .map(|(t, q)| ((q[0] - r * (w * t).cos()).powi(2) + (q[1] - r * (w * t).sin()).powi(2)).sqrt())
             .fold(0.0, f64::max);
         assert!(worst < 0.097e-3, "worst error {:.4} mm", worst * 1e3);
+    }
+
+    #[test]
+    fn the_cubic_does_not_overshoot_an_end_stop() {
+        // An axis decelerating into its end stop at 1.0, then reported a little later at 1.0
+        // again after a small dip (a servo's settling): the cubic through the neighbours would
+        // overshoot past 1.0 between the reports.
+        let reports = [(0.0, 0.0), (0.3, 0.6), (0.6, 0.99), (0.9, 1.0), (1.2, 0.7), (1.5, 0.2)];
+        let run_with = |range: (f64, f64)| {
+            let mut config = MergeConfig::default();
+            config.range[0] = range;
+            let mut m = PoseMerger::new(config);
+            let mut got = Vec::new();
+            for (t, x) in reports {
+                m.push(t, &[Some(x), Some(0.0), Some(0.0), Some(0.0), Some(0.0)], |_, q| got.push(q[0])).unwrap();
+                // Instants between the reports, from the other axes.
+                m.push(t + 0.15, &[None, Some(t), None, None, None], |_, q| got.push(q[0])).unwrap();
+            }
+            m.flush(|_, q| got.push(q[0]));
+            got.into_iter().fold(f64::NEG_INFINITY, f64::max)
+        };
+        assert!(run_with((f64::NEG_INFINITY, f64::INFINITY)) > 1.0, "the unbounded cubic overshoots here");
+        assert!(run_with((-1.0, 1.0)) <= 1.0);
     }
 
     #[test]

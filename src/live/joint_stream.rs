@@ -36,8 +36,9 @@ impl JointStream {
     /// The merge for `machine` (multi-turn rotary axes unwrapped before interpolating).
     pub fn new(machine: &Machine) -> JointStream {
         let wrap = std::array::from_fn(|i| machine.axes[i].kind == AxisKind::Rotary && machine.axes[i].limits.is_unlimited());
+        let range = std::array::from_fn(|i| (machine.axes[i].limits.min, machine.axes[i].limits.max));
         JointStream {
-            merger: PoseMerger::new(MergeConfig { wrap, ..MergeConfig::default() }),
+            merger: PoseMerger::new(MergeConfig { wrap, range, ..MergeConfig::default() }),
             names: machine.axis_names().to_vec(),
             frame_id: String::new(),
             base: TimeBase { sec: None },
@@ -69,10 +70,7 @@ impl JointStream {
         let t = (i64::from(stamp.sec) - base) as f64 + f64::from(stamp.nanosec) * 1e-9;
         let silent = self.last_wall.is_some_and(|w| wall - w > restart_after);
         if silent && self.merger.last_stamp().is_some_and(|last| t <= last) {
-            self.flush();
-            self.merger.reset();
-            self.first = None;
-            self.waiting = 0;
+            self.restart();
         }
         if self.frame_id != frame_id {
             self.frame_id = frame_id.to_string();
@@ -104,6 +102,15 @@ impl JointStream {
     fn missing(&self, joints: &[String]) -> Rejection {
         let axis = (0..AXES).find(|&i| !self.merger.reported(i)).unwrap_or(0);
         Rejection::MissingJoint(joints[axis].clone())
+    }
+
+    /// A new session of the source (its clock starts over): what waits is made, then the merge
+    /// starts again.
+    pub fn restart(&mut self) {
+        self.flush();
+        self.merger.reset();
+        self.first = None;
+        self.waiting = 0;
     }
 
     /// The next pose made, oldest first.

@@ -337,6 +337,8 @@ struct Input {
     /// missing from gaps in the stamps, a stretch of gaps being judged and the losses judged recently.
     stamps: VecDeque<f64>,
     period: Option<(f64, f64)>,
+    /// Gaps are not judged as losses (see [`Monitor::set_change_only`]).
+    change_only: bool,
     /// The last interval between stamps (the stale limit before a period is known).
     last_interval: Option<f64>,
     lost: u64,
@@ -642,6 +644,18 @@ impl Monitor {
             .collect()
     }
 
+    /// Stream `id` starts a new session where its source says so (an SHDR log whose adapter connected
+    /// again: its stamps start over): as for a publisher restarted after going stale.
+    pub fn new_session(&mut self, id: InputId) {
+        self.inputs[id.0].new_session(self.config.max_listed_regions);
+    }
+
+    /// Stream `id`'s source reports values only when they change (an MTConnect adapter): a gap in
+    /// its stamps is a machine at rest as likely as a loss, so none is judged lost.
+    pub fn set_change_only(&mut self, id: InputId, on: bool) {
+        self.inputs[id.0].change_only = on;
+    }
+
     /// The stream of `topic`, if seen.
     pub fn input_id(&self, topic: &str) -> Option<InputId> {
         self.index.get(topic).map(|&k| InputId(k))
@@ -663,27 +677,7 @@ impl Monitor {
         // before): a restarted publisher, a new session (a gap still being judged is judged on what
         // came before). A stream that comes back where it left off (a publisher that stalled) goes on.
         if input.stale_now && input.history.back().is_some_and(|h| t <= h.t) {
-            if let Some(last) = input.history.back().map(|h| h.t) {
-                close_loss_episode(input, last);
-            }
-            input.history.clear();
-            // The new session's stamps start again: the old ones must not enter its period (mixed,
-            // they make the period tiny and every interval a gap, judging the stream mostly lost).
-            input.stamps.clear();
-            input.period = None;
-            input.last_interval = None;
-            input.loss_events.clear();
-            if let Some(r) = input.tracker.finish() {
-                input.close(&r, self.config.max_listed_regions);
-            }
-            if let Some(m) = input.measured.as_mut() {
-                m.reset();
-            }
-            if let Some(a) = input.aligner.as_mut() {
-                a.reset();
-            }
-            input.lagged = None;
-            input.last = None;
+            input.new_session(self.config.max_listed_regions);
         }
         // The stream went stale and goes on where it left off (a bridge that was down, a publisher
         // that stalled): the gap in its stamps is stale time, already counted as such, not samples
@@ -1164,6 +1158,32 @@ fn level_of(e: &Evaluation, warn_distance: f64, warn_ahead: f64) -> u8 {
 const STALE_PERIODS: f64 = 3.0;
 
 impl Input {
+    /// A new session of the stream (a restarted publisher, an adapter that connected again): what
+    /// came before is judged and closed, nothing of it is used after.
+    fn new_session(&mut self, max_listed: usize) {
+        if let Some(last) = self.history.back().map(|h| h.t) {
+            close_loss_episode(self, last);
+        }
+        self.history.clear();
+        // The new session's stamps start again: the old ones must not enter its period (mixed,
+        // they make the period tiny and every interval a gap, judging the stream mostly lost).
+        self.stamps.clear();
+        self.period = None;
+        self.last_interval = None;
+        self.loss_events.clear();
+        if let Some(r) = self.tracker.finish() {
+            self.close(&r, max_listed);
+        }
+        if let Some(m) = self.measured.as_mut() {
+            m.reset();
+        }
+        if let Some(a) = self.aligner.as_mut() {
+            a.reset();
+        }
+        self.lagged = None;
+        self.last = None;
+    }
+
     /// How long this stream may be silent before it is stale, s.
     fn stale_after(&self, timeout: f64) -> f64 {
         self.period.map(|p| p.0).or(self.last_interval).map_or(timeout, |p| timeout.max(STALE_PERIODS * p))
@@ -1334,7 +1354,7 @@ fn count_lost(input: &mut Input, dt: f64, t: f64) {
         e.received += 1;
     }
     let gap = match input.period {
-        Some((p, spread)) if input.stamps.len() >= STAMPS_BEFORE_JUDGING => dt > p + (0.5 * p).max(2.0 * spread),
+        Some((p, spread)) if input.stamps.len() >= STAMPS_BEFORE_JUDGING && !input.change_only => dt > p + (0.5 * p).max(2.0 * spread),
         _ => false,
     };
     if gap {

@@ -4,7 +4,8 @@ field counts of cppagent's Adapter Agent Protocol: a CONDITION data item takes f
 key, a MESSAGE two, a legacy ALARM four, a TIME_SERIES three, any other one; `@ASSET@` lines with
 `--multiline--TAG` bodies run to the line starting with the tag; `*` lines are commands.
 
-Prints JSON: lines, data lines, for each data item key given: reports (values other than
+Prints JSON: lines, data lines, the data lines that report any of the keys given (a value other
+than UNAVAILABLE), and for each data item key given: reports (values other than
 UNAVAILABLE), changes, and the median interval between its reports (s).
 
 Usage: shdr_counts.py LOG DEVICES.XML DEVICE KEY [KEY ...]
@@ -48,7 +49,7 @@ def main():
         return t + (float("0." + frac) if frac else 0.0)
 
     reports = {k: [] for k in keys}
-    lines = data = 0
+    lines = data = with_any = 0
     multi = None
     with open(log, encoding="utf-8", errors="replace", newline="") as f:
         for raw in f:
@@ -63,6 +64,7 @@ def main():
             fields = line.split("|")
             data += 1
             t = stamp(fields[0])
+            any_here = False
             j = 1
             while j < len(fields):
                 k = fields[j]
@@ -73,8 +75,10 @@ def main():
                 w = width(k)
                 if k in reports and fields[j + 1].strip().upper() != "UNAVAILABLE":
                     reports[k].append((t, float(fields[j + 1])))
+                    any_here = True
                 j += 1 + w
-    out = {"lines": lines, "data_lines": data, "items": {}}
+            with_any += any_here
+    out = {"lines": lines, "data_lines": data, "lines_with_any": with_any, "items": {}}
     for k, r in reports.items():
         changes = sum(1 for a, b in zip(r, r[1:]) if a[1] != b[1])
         gaps = [b[0] - a[0] for a, b in zip(r, r[1:]) if b[0] > a[0]]
