@@ -656,6 +656,14 @@ impl Monitor {
         self.inputs[id.0].change_only = on;
     }
 
+    /// A message of `topic` arrived at `wall` without completing a sample yet (one joint of a
+    /// bridge that sends each on its own): the source is alive, not stale.
+    pub fn heard(&mut self, topic: &str, wall: f64) {
+        if let Some(&k) = self.index.get(topic) {
+            self.inputs[k].last_arrival = Some(wall);
+        }
+    }
+
     /// The stream of `topic`, if seen.
     pub fn input_id(&self, topic: &str) -> Option<InputId> {
         self.index.get(topic).map(|&k| InputId(k))
@@ -1152,9 +1160,9 @@ fn level_of(e: &Evaluation, warn_distance: f64, warn_ahead: f64) -> u8 {
     }
 }
 
-/// A stream is stale after this many of its own sample periods without a sample (or the configured
-/// timeout, whichever is longer): a bridge that sends a few times a second is not stale between
-/// its samples.
+/// A stream is stale after this many of its own sample periods (plus the spread of its intervals)
+/// without a sample, or the configured timeout, whichever is longer: a bridge that sends a few times
+/// a second is not stale between its samples.
 const STALE_PERIODS: f64 = 3.0;
 
 impl Input {
@@ -1186,7 +1194,9 @@ impl Input {
 
     /// How long this stream may be silent before it is stale, s.
     fn stale_after(&self, timeout: f64) -> f64 {
-        self.period.map(|p| p.0).or(self.last_interval).map_or(timeout, |p| timeout.max(STALE_PERIODS * p))
+        // The period and the spread of its intervals (10th to 90th percentile): a stream whose axes
+        // report on their own clocks comes in bursts.
+        self.period.map(|p| p.0 + p.1).or(self.last_interval).map_or(timeout, |p| timeout.max(STALE_PERIODS * p))
     }
 
     /// Why the program (`--program`) could not be read again to place this stream's samples.

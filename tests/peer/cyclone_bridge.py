@@ -411,6 +411,34 @@ class Publisher:
                 gap = (kg, kg + int(round(a.gap_ms * 1e-3 * rate)))
         pos = [self.positions(xs[i], ys[i], zs[i], as_[i], cs[i]) for _, i in ticks]
         rng = random.Random(a.seed)
+        # Per axis (an MTConnect-fed bridge): each joint sampled on its own clock (period +-10 %, its
+        # own phase), sent only when it changed (4 decimals of mm/deg), in a JointState that carries
+        # the joints sent at that instant only. Schedule: (trace time, names, positions).
+        schedule = None
+        if a.per_axis_period:
+            events = []
+            for j in self.keep:
+                tt = t0 + rng.uniform(0.0, a.per_axis_period)
+                last_v = None
+                while tt <= t1:
+                    i = bisect.bisect_right(t, tt + 1e-9) - 1
+                    raw = [xs[i], ys[i], zs[i], as_[i], cs[i]][j]
+                    if last_v is None or round(raw, 4) != last_v:
+                        last_v = round(raw, 4)
+                        full = self.positions(*[round(v, 4) for v in (xs[i], ys[i], zs[i], as_[i], cs[i])])
+                        events.append((round(tt, 3), self.all_names[j], full[self.keep.index(j)]))
+                    tt += a.per_axis_period * rng.uniform(0.9, 1.1)
+            events.sort()
+            schedule = []
+            for tt, name, v in events:
+                if schedule and schedule[-1][0] == tt:
+                    schedule[-1][1].append(name)
+                    schedule[-1][2].append(v)
+                else:
+                    schedule.append((tt, [name], [v]))
+            # The loop below runs over (k, i) ticks: here one per message, at its own trace time.
+            ticks = [(k, bisect.bisect_right(t, tt + 1e-9) - 1) for k, (tt, _, _) in enumerate(schedule)]
+            pos = [p for _, _, p in schedule]
 
         matched = self.wait_subscribers(stop)
         # Grid stamps in integer ns (a float epoch + t_s would lose ~0.1 us to rounding).
@@ -437,19 +465,23 @@ class Publisher:
             if gap and gap[0] <= k < gap[1]:
                 skipped_gap += 1
                 continue
-            deadline = start_mono + k * period
+            deadline = start_mono + (k * period if schedule is None else (schedule[k][0] - t0) / a.speed)
             if jitter > 0:
                 deadline += rng.uniform(0.0, jitter)
             rem = deadline - mono()
             if rem > 0:
                 sleep(rem)
-            if a.stamp == "grid":
+            if a.stamp == "grid" and schedule is not None:
+                sec, nsec = divmod(epoch_ns + int(round(schedule[k][0] * 1e9)), 1_000_000_000)
+            elif a.stamp == "grid":
                 sec, nsec = divmod(epoch_ns + t_ns[i], 1_000_000_000)
             else:
                 ns = time.time_ns()
                 sec, nsec = divmod(ns, 1_000_000_000)
             msg.header.stamp.sec = int(sec)
             msg.header.stamp.nanosec = int(nsec)
+            if schedule is not None:
+                msg.name = schedule[k][1]
             msg.position = p
             write(msg)
             now = mono()
@@ -1028,6 +1060,8 @@ def add_publish_args(p):
     p.add_argument("--wait-s", type=float, default=10.0)
     p.add_argument("--ack-timeout-s", type=float, default=5.0)
     p.add_argument("--send-log", default=None)
+    p.add_argument("--per-axis-period", type=float, default=None,
+                   help="each joint on its own clock every S s of trace time (+-10 %%), sent when it changed, alone")
 
 
 def add_listen_args(p):

@@ -49,6 +49,9 @@ pub enum Received {
     /// A sample refused before the monitor: a JointState whose joints do not map (with the joint
     /// names it had), or a message that did not decode.
     Refused { topic: String, why: Rejection, joints: Option<Vec<String>> },
+    /// A message of `topic` arrived but completed no pose yet (a joint reported on its own, waiting
+    /// for the others): the source is alive.
+    Heard { topic: String },
     /// No sample within the poll interval (time for the node's periodic work).
     Idle,
 }
@@ -102,11 +105,15 @@ impl<'a> StateReceiver<'a> {
     /// Merge one JointState message of `topic`; what it completes (and why it was refused) is queued.
     fn take_joints(&mut self, topic: String, js: JointState, wall: f64) {
         let stream = self.joints.entry(topic.clone()).or_insert_with(|| JointStream::new(&self.machine));
+        let before = self.ready.len();
         if let Err(why) = stream.push(&self.map, &js, wall, self.restart_after) {
             self.ready.push_back(Received::Refused { topic: topic.clone(), why, joints: Some(js.name) });
         }
         while let Some(state) = stream.pop() {
             self.ready.push_back(Received::State { topic: topic.clone(), state });
+        }
+        if self.ready.len() == before {
+            self.ready.push_back(Received::Heard { topic });
         }
     }
 

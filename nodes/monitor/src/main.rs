@@ -195,6 +195,7 @@ fn main() -> anyhow::Result<()> {
                     }
                 }
             }
+            Received::Heard { topic } => monitor.heard(&topic, now),
             Received::Idle => {}
         }
         let gone = monitor.tick(now);

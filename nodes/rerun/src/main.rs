@@ -270,7 +270,7 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
                 }
                 scene.reject(&topic, &why);
             }
-            Received::Idle => {}
+            Received::Heard { .. } | Received::Idle => {}
         }
         if last_flush.elapsed() >= flush_every {
             bridge.flush()?;
