@@ -15,7 +15,7 @@ fn metadata_counts(dir: &Path) -> BTreeMap<String, u64> {
     let text = std::fs::read_to_string(dir.join("metadata.yaml")).unwrap();
     let mut out = BTreeMap::new();
     let (mut in_topics, mut entry) = (false, (None::<String>, None::<u64>));
-    let mut flush = |entry: &mut (Option<String>, Option<u64>), out: &mut BTreeMap<String, u64>| {
+    let flush = |entry: &mut (Option<String>, Option<u64>), out: &mut BTreeMap<String, u64>| {
         if let (Some(n), Some(c)) = std::mem::take(entry) {
             out.insert(n, c);
         }
