@@ -86,6 +86,10 @@ pub struct StreamReport {
     pub undecodable: u64,
     pub peak_c_speed_rpm: f64,
     pub min_singularity_distance_deg: f64,
+    /// Machine streams read as JointState or MTConnect: the longest a pose waited for every axis to
+    /// be known at its instant (the per-axis merge's latency), s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub merge_latency_s: Option<f64>,
 }
 
 /// The report of `fiveaxis analyze`.
@@ -292,6 +296,7 @@ pub fn analyze_mcap_with_progress(
             undecodable: read.streams[k].undecodable,
             peak_c_speed_rpm: streams[k].peak_c_speed_rpm,
             min_singularity_distance_deg: if min_d.is_finite() { min_d } else { 180.0 },
+            merge_latency_s: read.streams[k].merge_latency_s,
         });
     }
     report.input_errors = input_errors(machine, options, &report.streams, &order, &read, &streams);
@@ -583,6 +588,9 @@ impl OfflineReport {
             }
             if s.rejected.total() + report.undecodable > 0 {
                 let _ = writeln!(o, "  rejected: {}", reasons(&s.rejected, report.undecodable));
+            }
+            if let Some(l) = report.merge_latency_s.filter(|l| *l > 0.01) {
+                let _ = writeln!(o, "  axes merged per axis into poses: a pose waited up to {l:.2} s for every axis to be known");
             }
             for r in &s.regions {
                 let _ = writeln!(

@@ -46,6 +46,9 @@ pub struct RecordedStream {
     pub undecodable: u64,
     /// An MTConnect adapter's log (its values converted to SI from the units the device states).
     pub mtconnect: bool,
+    /// JointState and MTConnect streams: the longest a pose waited for every axis to be known at its
+    /// instant, s (the latency the per-axis merge cost; [`JointStream`]).
+    pub merge_latency_s: Option<f64>,
 }
 
 /// Why a message of a read stream gave no axis state.
@@ -179,7 +182,7 @@ pub fn read_states(
                 return Decode::Skip;
             }
             let k = *by_topic.entry(c.topic.clone()).or_insert_with(|| {
-                out.streams.push(RecordedStream { topic: c.topic.clone(), joint_state: joint, joint_names: None, undecodable: 0, mtconnect: false });
+                out.streams.push(RecordedStream { topic: c.topic.clone(), joint_state: joint, joint_names: None, undecodable: 0, mtconnect: false, merge_latency_s: None });
                 out.streams.len() - 1
             });
             if joint {
@@ -237,6 +240,7 @@ pub fn read_states(
                 visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time, sample: Err(Unread::Unmapped(why.clone())) });
             }
         }
+        out.streams[k].merge_latency_s = Some(merge.max_latency());
     }
     match result {
         // Nothing readable at all: nothing to report.
@@ -284,7 +288,7 @@ fn read_shdr(
     let topic = format!("mtconnect:{}", device.name);
     let mut out = StatesRead {
         messages_read: 0,
-        streams: vec![RecordedStream { topic: topic.clone(), joint_state: true, joint_names: Some(items.ids.to_vec()), undecodable: 0, mtconnect: true }],
+        streams: vec![RecordedStream { topic: topic.clone(), joint_state: true, joint_names: Some(items.ids.to_vec()), undecodable: 0, mtconnect: true, merge_latency_s: None }],
         joint_state_topics: BTreeSet::new(),
         damage: None,
         first_malformed: BTreeMap::new(),
@@ -344,6 +348,7 @@ fn read_shdr(
             visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample: Err(Unread::Unmapped(why.clone())) });
         }
     }
+    out.streams[0].merge_latency_s = Some(merge.max_latency());
     progress(file_len, file_len);
     Ok(out)
 }

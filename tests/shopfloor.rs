@@ -87,6 +87,10 @@ fn every_axis_together_every_100_ms() {
         let s = &v["streams"][0];
         assert_eq!(s["lost"], 0, "{s:#}");
         assert_eq!(s["rapid_samples"], 0, "{s:#}");
+        // The merge's latency is stated: at most the cubic's next report and a still axis' 1.5
+        // periods, about three periods here.
+        let wait = f(s, "merge_latency_s");
+        assert!(wait > 0.0 && wait <= 3.5 * 0.1, "merge latency {wait} s");
     }
 }
 
@@ -110,6 +114,9 @@ fn each_axis_on_its_own_at_3_hz_reported_on_change() {
         let (code, v, text) = analyze(bag, &["--program", "bundled:SING.I"]);
         one_region(code, &v, &text, 1.0);
         regions.push(v["regions"][0].clone());
+        // About three of the axes' 0.33 s periods at most (the wait is stated, not hidden).
+        let wait = f(&v["streams"][0], "merge_latency_s");
+        assert!(wait > 0.33 && wait <= 3.5 * 0.363, "merge latency {wait} s");
         assert_eq!(v["streams"][0]["rejected"]["missing_joint"], 0, "partial JointStates are merged, not refused: {:#}", v["streams"][0]);
     }
     assert_eq!(f(&regions[0], "peak_c_speed_rpm"), f(&regions[1], "peak_c_speed_rpm"));

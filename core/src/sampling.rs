@@ -227,14 +227,17 @@ impl PoseMerger {
         self.emit(true, &mut out);
     }
 
-    /// Axis `i`'s value at `at` is known: two of its change points at or after it (the cubic needs
-    /// the one beyond the bracket), or one and no change since for `hold_factor` periods, or none
-    /// for that long (it stood still).
+    /// Axis `i`'s value at `at` is known: a change point at the instant itself, two of its change
+    /// points after it (the cubic needs the one beyond the bracket), or one and no change since for
+    /// `hold_factor` periods, or none for that long (it stood still).
     fn known(&self, i: usize, at: f64) -> bool {
         let a = &self.axes[i];
-        let after = a.points.len() - a.points.partition_point(|p| p.0 < at);
+        let k = a.points.partition_point(|p| p.0 < at);
+        let after = a.points.len() - k;
         let still = |since: f64| self.last.is_some_and(|last| last - since >= self.config.hold_factor * self.period(i));
-        after >= 2 || (after == 1 && still(a.points.back().map_or(at, |p| p.0))) || (after == 0 && still(at))
+        // Reported at the instant itself: its value there is exact.
+        let exact = a.points.get(k).is_some_and(|p| p.0 == at);
+        exact || after >= 2 || (after == 1 && still(a.points.back().map_or(at, |p| p.0))) || (after == 0 && still(at))
     }
 
     /// Axis `i` at instant `at` by the rule of the module's doc: between two change points of a move,
