@@ -166,3 +166,25 @@ fn per_axis_partial_joint_states_live() {
     let peak = r["peak_c_speed_rpm"].as_f64().unwrap();
     assert!((peak - 175.0).abs() <= 0.05 * 175.0, "peak {peak:.1} rpm (numpy: 175.0 on the 1 kHz trace)");
 }
+
+/// A bridge that was down for 3 s and comes back where its clock left off (grid stamps go on; the
+/// samples of the outage are never sent): the outage is one stale episode, not 3,000 samples lost,
+/// and the summary, the status and `/diagnostics` say the same (before, the summary said about
+/// 3,000 lost while /diagnostics said 0).
+#[test]
+fn a_bridge_down_for_seconds_is_stale_not_lost_everywhere() {
+    let l = live("down-3s", "--reliability reliable --stamp grid --gap-at 12 --gap-ms 3000");
+    assert_eq!(l.published["skipped_gap"], 3000, "{:#}", l.published);
+    let input = l.summary.as_array().unwrap().iter().find(|i| i["topic"] == "/cnc/joint_states").unwrap_or_else(|| panic!("{:#}", l.summary));
+    assert_eq!(input["lost"], 0, "summary: {input:#}");
+    // Stale for the outage, and again once the publisher stops at the end.
+    assert_eq!(input["stale"], 2, "summary: {input:#}");
+    let diag = &l.heard["diagnostics_last"]["fiveaxis monitor: /cnc/joint_states"]["values"];
+    assert_eq!(diag["lost_samples"], "0", "/diagnostics: {diag:#}");
+    assert_eq!(diag["stale_count"], "2", "/diagnostics: {diag:#}");
+    let status = &l.heard["last_status"];
+    assert_eq!(status["lost_count"], 0, "status: {status:#}");
+    // The pass is still judged: the one region.
+    let regions = input["regions"].as_array().unwrap();
+    assert_eq!(regions.len(), 1, "{regions:#?}");
+}
