@@ -256,4 +256,13 @@ fn rapids_open_no_region() {
     assert!(linuxcnc > 3000.0 && (ours - linuxcnc).abs() <= 0.05 * linuxcnc, "rapid samples: ours {ours}, LinuxCNC's traverse {linuxcnc}");
     let (code, v, out, err) = analyze(&b, &["--feed", "2000", "--max-c-speed-rpm", "25"]);
     check_sing("sing_rapid_trace.csv.gz", code, &v, &out, &err);
+    // With neither: the feed is assumed from what the stream holds steady. N70's G00 up to Z100
+    // blending into N80's G00 that turns the table away from A = 0 (TCP, the tip still) is no
+    // programmed feed and opens nothing (it opened a region at x 0, 79-88 rpm, when a rapid's
+    // acceleration counted as a feed held).
+    let (code, v, out, _) = analyze(&b, &["--max-c-speed-rpm", "25"]);
+    assert_eq!(code, 1, "{out}");
+    let regions = v["regions"].as_array().unwrap();
+    assert_eq!(regions.len(), 1, "the one region, none from the positioning G0: {regions:#?}\n{out}");
+    assert!((f(&regions[0], "x_start_mm") - 22.0).abs() <= 0.5 && (f(&regions[0], "x_end_mm") - 28.0).abs() <= 0.5, "{:#}", regions[0]);
 }

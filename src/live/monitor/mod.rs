@@ -519,13 +519,22 @@ impl Monitor {
         // misjudged for one sample does not count).
         if motion == Motion::Feed {
             input.feed_run.push_back((t, m.s));
-            while input.feed_run.len() > 2 && t - input.feed_run[1].0 >= HELD {
+            // At least 0.1 s and three samples (a sparse stream's feed is held over its samples).
+            while input.feed_run.len() > 3 && t - input.feed_run[1].0 >= HELD {
                 input.feed_run.pop_front();
             }
             while input.feed_run.len() > 4096 {
                 input.feed_run.pop_front();
             }
-            if let Some(&(t0, s0)) = input.feed_run.front().filter(|f| t - f.0 >= HELD) {
+            // Held: the same speed over both halves of the window (within 5 %): a rapid's
+            // acceleration or deceleration below rapid speed is no programmed feed.
+            let steady = |run: &VecDeque<(f64, f64)>, t0: f64, s0: f64| {
+                let mid_t = (t0 + t) / 2.0;
+                let (tm, sm) = run[run.partition_point(|p| p.0 < mid_t).min(run.len() - 1)];
+                let (h1, h2) = ((sm - s0) / (tm - t0), (m.s - sm) / (t - tm));
+                tm > t0 && tm < t && (h1 - h2).abs() <= 0.05 * h1.max(h2)
+            };
+            if let Some(&(t0, s0)) = input.feed_run.front().filter(|f| t - f.0 >= HELD && input.feed_run.len() >= 3 && steady(&input.feed_run, f.0, f.1)) {
                 let held = (m.s - s0) / (t - t0);
                 input.max_feed = input.max_feed.max(held);
                 let dt = input.feed_run.get(input.feed_run.len().wrapping_sub(2)).map_or(0.0, |p| t - p.0);
