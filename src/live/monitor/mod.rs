@@ -526,13 +526,14 @@ impl Monitor {
             while input.feed_run.len() > 4096 {
                 input.feed_run.pop_front();
             }
-            // Held: the same speed over both halves of the window (within 5 %): a rapid's
-            // acceleration or deceleration below rapid speed is no programmed feed.
+            // Held: about the same speed over both halves of the window (within 20 %): a rapid's
+            // acceleration or deceleration below rapid speed (its halves differ by half or more)
+            // is no programmed feed.
             let steady = |run: &VecDeque<(f64, f64)>, t0: f64, s0: f64| {
                 let mid_t = (t0 + t) / 2.0;
                 let (tm, sm) = run[run.partition_point(|p| p.0 < mid_t).min(run.len() - 1)];
                 let (h1, h2) = ((sm - s0) / (tm - t0), (m.s - sm) / (t - tm));
-                tm > t0 && tm < t && (h1 - h2).abs() <= 0.05 * h1.max(h2)
+                tm > t0 && tm < t && (h1 - h2).abs() <= 0.2 * h1.max(h2)
             };
             if let Some(&(t0, s0)) = input.feed_run.front().filter(|f| t - f.0 >= HELD && input.feed_run.len() >= 3 && steady(&input.feed_run, f.0, f.1)) {
                 let held = (m.s - s0) / (t - t0);

@@ -158,7 +158,7 @@ impl FeedSource {
         match self {
             FeedSource::Program(_) => "the program's feed of each move (stream aligned with the program)".into(),
             FeedSource::Fixed(f) => format!("{:.0} mm/min for every feed move (--feed)", f / crate::units::MM_PER_MIN),
-            FeedSource::Assumed => "ASSUMED: the tool-tip feed the stream held longest (steady within 5 % over 0.1 s, 2 % bins) on feed moves so far (no --program or --feed given: give one for a sound figure)".into(),
+            FeedSource::Assumed => "ASSUMED: the tool-tip feed the stream held longest (steady within 20 % over 0.1 s, 2 % bins) on feed moves so far (no --program or --feed given: give one for a sound figure)".into(),
         }
     }
 }
