@@ -54,6 +54,9 @@ pub struct RegionReport {
     pub time_lost_s: Option<f64>,
     /// Why the region was opened: `singularity` or `rotary_feed`.
     pub cause: Option<crate::singularity::tracker::Cause>,
+    /// Each end of the region is known to within this much path, mm: the spacing of the stream's
+    /// samples around it (a few micrometres at 1 kHz, millimetres at a few hertz).
+    pub x_resolution_mm: f64,
 }
 
 /// Roughness along the part against the regions.
@@ -363,6 +366,7 @@ pub fn analyze_mcap_with_progress(
                         lowest_feed_mm_per_min: lowest.is_finite().then_some(lowest / crate::units::MM_PER_MIN),
                         time_lost_s: lost,
                         cause: Some(r.cause),
+                        x_resolution_mm: r.x_resolution_mm,
                     }
                 })
                 .collect();

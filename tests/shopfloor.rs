@@ -100,6 +100,9 @@ fn every_axis_together_every_250_ms() {
     for extra in [&["--program", "bundled:SING.I"][..], &["--feed", "2000"]] {
         let (code, v, text) = analyze(&bag, extra);
         one_region(code, &v, &text, 1.0);
+        // Samples lie millimetres apart along the path here: the region says so.
+        let resolution = f(&v["regions"][0], "x_resolution_mm");
+        assert!(resolution > 1.0 && resolution < 10.0, "x resolution {resolution} mm");
     }
 }
 
@@ -143,6 +146,8 @@ fn the_papers_path_at_1_khz_without_slowdown_is_one_region() {
         assert!((f(r, "x_start_mm") - span[0].as_f64().unwrap()).abs() < 0.1 && (f(r, "x_end_mm") - span[1].as_f64().unwrap()).abs() < 0.1, "{r:#} vs numpy {span}");
         let peak = f(r, "peak_c_speed_rpm");
         assert!((peak - f(&numpy, "peak_rpm")).abs() <= 0.02 * f(&numpy, "peak_rpm"), "peak {peak:.1} rpm, numpy {:.1}", f(&numpy, "peak_rpm"));
+        // 1 ms of path at F2000 is 0.033 mm: the ends are that sharp.
+        assert!(f(r, "x_resolution_mm") < 0.05, "{r:#}");
         let s = &v["streams"][0];
         assert_eq!(s["rapid_samples"], 0, "{s:#}");
         let closest = f(s, "min_singularity_distance_deg");

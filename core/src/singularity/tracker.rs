@@ -117,6 +117,11 @@ pub struct TrackedRegion {
     pub min_path_feed: f64,
     /// Time spent beyond what the programmed feed would have taken, s.
     pub time_lost: f64,
+    /// The tool-tip path from the sample before the region to its first, and from its last to the
+    /// sample after (0 until seen), m: where between those samples each end lies is not known (the
+    /// ends' resolution; sparse machine data make it millimetres).
+    pub step_in: f64,
+    pub step_out: f64,
     /// Path length since the last sample inside (for the hysteresis), m, and what the gap would add
     /// to the lowest feed and the time lost if the region goes on after it.
     gap: f64,
@@ -173,6 +178,8 @@ impl RegionTracker {
                     min_distance: f64::INFINITY,
                     min_path_feed: f64::INFINITY,
                     time_lost: 0.0,
+                    step_in: x.ds,
+                    step_out: 0.0,
                     gap: 0.0,
                     gap_min_feed: f64::INFINITY,
                     gap_lost: 0.0,
@@ -187,6 +194,7 @@ impl RegionTracker {
             // Back inside after a gap shorter than the hysteresis: the gap belongs to the region.
             r.time_lost += r.gap_lost;
             r.min_path_feed = r.min_path_feed.min(r.gap_min_feed);
+            r.step_out = 0.0;
             (r.gap, r.gap_lost, r.gap_min_feed) = (0.0, 0.0, f64::INFINITY);
             r.peak = r.peak.max(x.predicted.map_or(0.0, f64::abs));
             r.min_distance = r.min_distance.min(x.distance);
@@ -200,6 +208,9 @@ impl RegionTracker {
                 r.min_path_feed = r.min_path_feed.min(x.path_feed);
                 r.time_lost += lost;
             } else {
+                if r.gap == 0.0 {
+                    r.step_out = x.ds;
+                }
                 r.gap += x.ds;
                 r.gap_lost += lost;
                 r.gap_min_feed = r.gap_min_feed.min(x.path_feed);

@@ -183,6 +183,9 @@ pub struct LiveRegion {
     pub time_lost_s: f64,
     /// Why the region was opened.
     pub cause: Cause,
+    /// How far apart the samples around its ends lie along the path, mm (the larger of the two):
+    /// each end is known to within that.
+    pub x_resolution_mm: f64,
 }
 
 impl crate::listing::Listed for LiveRegion {
@@ -216,6 +219,7 @@ impl LiveRegion {
             min_singularity_distance_deg: r.min_distance.to_degrees(),
             time_lost_s: r.time_lost,
             cause: r.cause,
+            x_resolution_mm: r.step_in.max(r.step_out) * 1e3,
         }
     }
 }
