@@ -207,16 +207,12 @@ pub fn read_states(
                 if merges.len() <= k {
                     merges.resize(k + 1, None);
                 }
-                let merge = merges[k].get_or_insert_with(|| JointStream::new(machine));
+                let merge = merges[k].get_or_insert_with(|| JointStream::new(machine, map.joints()));
                 // A recording has no silence to tell a restarted publisher by: a stamp no later than
                 // the last is out of order.
-                if let Err(e) = merge.push(&map, &joints, msg.log_time as f64 * 1e-9, f64::INFINITY) {
-                    visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample: Err(Unread::Unmapped(e)) });
-                }
-                while let Some(s) = merge.pop() {
-                    state = s;
-                    visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample: Ok(&state) });
-                }
+                let pushed = merge.push(&map, &joints, msg.log_time as f64 * 1e-9, f64::INFINITY);
+                let topic = &out.streams[k].topic;
+                push_merged(merge, pushed, |sample| visit(Recorded { stream: k, topic, log_time: msg.log_time, sample }));
                 return;
             }
         };
@@ -229,18 +225,10 @@ pub fn read_states(
     // still waiting for an axis never reported are refused as missing it.
     for (k, merge) in merges.iter_mut().enumerate() {
         let Some(merge) = merge else { continue };
-        merge.flush();
         let log_time = merge.last_wall().map_or(0, |w| (w * 1e9) as u64);
-        while let Some(s) = merge.pop() {
-            state = s;
-            visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time, sample: Ok(&state) });
-        }
-        if let Some((n, why)) = merge.unplaced(map.joints()) {
-            for _ in 0..n {
-                visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time, sample: Err(Unread::Unmapped(why.clone())) });
-            }
-        }
-        out.streams[k].merge_latency_s = Some(merge.max_latency());
+        let topic = &out.streams[k].topic;
+        let latency = finish_merged(merge, |sample| visit(Recorded { stream: k, topic, log_time, sample }));
+        out.streams[k].merge_latency_s = Some(latency);
     }
     match result {
         // Nothing readable at all: nothing to report.
@@ -293,8 +281,7 @@ fn read_shdr(
         damage: None,
         first_malformed: BTreeMap::new(),
     };
-    let mut merge = JointStream::new(machine);
-    let mut state = AxisState::default();
+    let mut merge = JointStream::new(machine, &items.ids);
     let mut last_log = 0;
     // The newest stamp of the adapter's current session.
     let mut newest: Option<f64> = None;
@@ -306,30 +293,21 @@ fn read_shdr(
                 // goes back more than [`NEW_SESSION_JUMP_S`] starts a new session, not a run of
                 // samples out of order.
                 let t = r.stamp.as_secs();
-                if newest.is_none() {
-                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Err(Unread::Session { change_only: true }) });
-                }
-                if newest.is_some_and(|n| t < n - NEW_SESSION_JUMP_S) {
+                let restart = newest.is_some_and(|n| t < n - NEW_SESSION_JUMP_S);
+                if restart {
                     merge.restart();
-                    while let Some(s) = merge.pop() {
-                        state = s;
-                        visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample: Ok(&state) });
-                    }
-                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Err(Unread::Session { change_only: true }) });
-                    newest = Some(t);
+                    drain_merged(&mut merge, |sample| visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample }));
                 }
-                newest = Some(newest.map_or(t, |n| n.max(t)));
+                if restart || newest.is_none() {
+                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Err(Unread::Session { change_only: true }) });
+                }
+                newest = Some(if restart { t } else { newest.map_or(t, |n| n.max(t)) });
                 last_log = log_time;
                 let stamp = fiveaxis_msgs::Time { sec: r.stamp.sec.clamp(i32::MIN.into(), i32::MAX.into()) as i32, nanosec: r.stamp.nanosec };
                 // A log has no silence to tell a restarted adapter by: a stamp no later than the last
                 // is out of order.
-                if let Err(e) = merge.push_values(stamp, "", &r.values, r.stamp.as_secs(), f64::INFINITY) {
-                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Err(Unread::Unmapped(e)) });
-                }
-                while let Some(s) = merge.pop() {
-                    state = s;
-                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Ok(&state) });
-                }
+                let pushed = merge.push_values(stamp, "", &r.values, t, f64::INFINITY);
+                push_merged(&mut merge, pushed, |sample| visit(Recorded { stream: 0, topic: &topic, log_time, sample }));
             }
             Err(why) => {
                 out.first_malformed.entry(0).or_insert_with(|| why.clone());
@@ -338,17 +316,36 @@ fn read_shdr(
         }
     });
     out.messages_read = lines.map_err(io(path))?;
-    merge.flush();
-    while let Some(s) = merge.pop() {
-        state = s;
-        visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample: Ok(&state) });
-    }
-    if let Some((n, why)) = merge.unplaced(&items.ids) {
-        for _ in 0..n {
-            visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample: Err(Unread::Unmapped(why.clone())) });
-        }
-    }
-    out.streams[0].merge_latency_s = Some(merge.max_latency());
+    out.streams[0].merge_latency_s = Some(finish_merged(&mut merge, |sample| visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample })));
     progress(file_len, file_len);
     Ok(out)
+}
+
+/// What one message pushed into a merged stream gave: its refusal, if any, then every pose it
+/// completed, oldest first.
+fn push_merged(merge: &mut JointStream, pushed: Result<(), Rejection>, mut each: impl FnMut(Result<&AxisState, Unread>)) {
+    if let Err(e) = pushed {
+        each(Err(Unread::Unmapped(e)));
+    }
+    drain_merged(merge, each);
+}
+
+/// Every pose a merged stream has made, oldest first.
+fn drain_merged(merge: &mut JointStream, mut each: impl FnMut(Result<&AxisState, Unread>)) {
+    while let Some(s) = merge.pop() {
+        each(Ok(&s));
+    }
+}
+
+/// The end of a merged stream: its waiting instants made, then the messages still waiting for an
+/// axis never reported refused as missing it. Returns the merge's latency (s).
+fn finish_merged(merge: &mut JointStream, mut each: impl FnMut(Result<&AxisState, Unread>)) -> f64 {
+    merge.flush();
+    drain_merged(merge, &mut each);
+    if let Some((n, why)) = merge.unplaced() {
+        for _ in 0..n {
+            each(Err(Unread::Unmapped(why.clone())));
+        }
+    }
+    merge.max_latency()
 }

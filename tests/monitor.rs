@@ -140,9 +140,11 @@ fn diagnostics_warn_near_the_singularity_and_error_above_the_c_limit() {
     assert_eq!(m.diagnostics(Time::default()).status[0].level, DiagnosticStatus::WARN, "1 deg from the pole, no region");
 }
 
-/// A machine bridge's JointState with its own joint names, mapped onto the machine's axes.
+/// A machine bridge's JointState with its own joint names, mapped onto the machine's axes (and merged
+/// into poses, as analyze, replay and the nodes read them).
 #[test]
 fn joint_states_from_a_bridge_with_other_names() {
+    use fiveaxis::live::joint_stream::JointStream;
     let machine = Machine::hermle_c600u();
     let js = JointState {
         header: Header { stamp: Time::from_secs(3.0), frame_id: String::new() },
@@ -153,11 +155,22 @@ fn joint_states_from_a_bridge_with_other_names() {
     };
     let rename: BTreeMap<String, String> = [("A", "joint_a"), ("C", "joint_c")].into_iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
     let map = fiveaxis::live::joint_map::JointMap::new(&machine, &rename);
-    let st = map.axis_state(&js).unwrap();
+    let mut stream = JointStream::new(&machine, map.joints());
+    stream.push(&map, &js, 0.0, f64::INFINITY).unwrap();
+    stream.flush();
+    let st = stream.pop().unwrap();
     assert_eq!(st.position, vec![0.01, 0.02, 0.03, 0.2, 0.5]);
     assert_eq!(st.source, AxisState::SOURCE_MACHINE);
+    // A message with none of the mapped joints is refused at once.
+    let none = JointState { name: vec!["other".into()], position: vec![0.0], ..js.clone() };
+    assert!(stream.push(&map, &none, 0.0, f64::INFINITY).is_err());
+    // A joint no message ever carries: the messages are refused as missing it, by the bridge's name.
     let missing = JointState { name: vec!["x".into()], position: vec![0.0], ..js };
-    assert!(map.axis_state(&missing).is_err());
+    let mut stream = JointStream::new(&machine, map.joints());
+    stream.push(&map, &missing, 0.0, f64::INFINITY).unwrap();
+    stream.flush();
+    assert!(stream.pop().is_none());
+    assert!(matches!(stream.unplaced(), Some((1, Rejection::MissingJoint(j))) if j == "y"), "the first axis never reported is Y");
 }
 
 /// Item 5 of the machine-data issue: a rotary speed above the limit far from the pole is a region of

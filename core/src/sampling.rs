@@ -74,14 +74,18 @@ struct AxisTrack {
     own_period: Option<f64>,
 }
 
-/// Median of a short list.
-fn median(v: impl Iterator<Item = f64>) -> Option<f64> {
-    let mut v: Vec<f64> = v.collect();
-    if v.is_empty() {
+/// Median of at most [`POOLED_INTERVALS`] values, without allocating (it runs on every change of
+/// every axis: five times a sample at 1 kHz).
+fn median(v: &VecDeque<f64>) -> Option<f64> {
+    let mut buf = [0.0; POOLED_INTERVALS];
+    let n = v.len().min(POOLED_INTERVALS);
+    if n == 0 {
         return None;
     }
-    v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
+    for (slot, x) in buf.iter_mut().zip(v.iter()) {
+        *slot = *x;
+    }
+    Some(*buf[..n].select_nth_unstable_by(n / 2, f64::total_cmp).1)
 }
 
 /// The merge's state for one stream.
@@ -94,10 +98,6 @@ pub struct PoseMerger {
     /// Instants waiting for an axis, oldest first, and the newest report's stamp.
     pending: VecDeque<f64>,
     last: Option<f64>,
-    /// Instants dropped because an axis had not been reported yet, and instants made before every
-    /// axis was known (`max_pending` reached).
-    before_all_known: u64,
-    forced: u64,
     /// The longest wait an instant has had, s.
     max_latency: f64,
 }
@@ -111,8 +111,6 @@ impl PoseMerger {
             pooled_period: None,
             pending: VecDeque::new(),
             last: None,
-            before_all_known: 0,
-            forced: 0,
             max_latency: 0.0,
         }
     }
@@ -137,19 +135,14 @@ impl PoseMerger {
         self.max_latency
     }
 
-    /// Instants dropped because an axis had not been reported yet.
-    pub fn before_all_known(&self) -> u64 {
-        self.before_all_known
-    }
-
-    /// Instants made with an axis still unknown (too many waiting).
-    pub fn forced(&self) -> u64 {
-        self.forced
-    }
-
     /// Axis `i` has been reported.
     pub fn reported(&self, i: usize) -> bool {
         self.axes[i].raw.is_some()
+    }
+
+    /// Every axis has been reported: instants are made from here on (before, they are dropped).
+    pub fn all_reported(&self) -> bool {
+        (0..AXES).all(|i| self.reported(i))
     }
 
     /// Instants wait for an axis.
@@ -202,20 +195,18 @@ impl PoseMerger {
                     track.intervals.pop_front();
                 }
                 if track.intervals.len() >= OWN_NEEDED {
-                    track.own_period = median(track.intervals.iter().copied());
+                    track.own_period = median(&track.intervals);
                 }
                 self.pooled.push_back(dt);
                 if self.pooled.len() > POOLED_INTERVALS {
                     self.pooled.pop_front();
                 }
-                self.pooled_period = median(self.pooled.iter().copied());
+                self.pooled_period = median(&self.pooled);
             }
             track.points.push_back((t, value));
         }
-        if self.axes.iter().all(|a| !a.points.is_empty()) {
+        if self.all_reported() {
             self.pending.push_back(t);
-        } else {
-            self.before_all_known += 1;
         }
         self.emit(false, &mut out);
         Ok(())
@@ -282,9 +273,6 @@ impl PoseMerger {
             let forced = !ready && self.pending.len() > self.config.max_pending;
             if !(ready || all || forced) {
                 break;
-            }
-            if forced {
-                self.forced += 1;
             }
             let q: Joints = std::array::from_fn(|i| self.value(i, at));
             self.pending.pop_front();

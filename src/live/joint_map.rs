@@ -5,7 +5,7 @@
 use super::monitor::Rejection;
 use crate::machine::AXES;
 use crate::machine::Machine;
-use fiveaxis_msgs::{AxisState, JointState};
+use fiveaxis_msgs::JointState;
 use std::collections::BTreeMap;
 
 /// What to tell a user whose JointState does not map: the joints it has, and the `--axis-map`
@@ -17,8 +17,6 @@ pub fn unmapped_hint(machine: &Machine, joints: &[String], given: &BTreeMap<Stri
 /// Maps JointState messages onto one machine's axes.
 #[derive(Debug, Clone)]
 pub struct JointMap {
-    /// The machine's axis names, in its axis order (the AxisState's names).
-    axes: Vec<String>,
     /// The joint name looked for per axis (the axis' own name unless renamed).
     joints: Vec<String>,
 }
@@ -27,9 +25,8 @@ impl JointMap {
     /// The map for `machine`, with `rename` (machine axis -> joint name) for bridges that name joints
     /// otherwise.
     pub fn new(machine: &Machine, rename: &BTreeMap<String, String>) -> JointMap {
-        let axes = machine.axis_names().to_vec();
-        let joints = axes.iter().map(|a| rename.get(a).unwrap_or(a).clone()).collect();
-        JointMap { axes, joints }
+        let joints = machine.axis_names().iter().map(|a| rename.get(a).unwrap_or(a).clone()).collect();
+        JointMap { joints }
     }
 
     /// The joint names looked for, in the machine's axis order.
@@ -50,30 +47,5 @@ impl JointMap {
             return Err(Rejection::MissingJoint(self.joints[0].clone()));
         }
         Ok(values)
-    }
-
-    /// The sample as a machine stream's AxisState (positions, and velocities when every axis has
-    /// one; m and rad, REP 103). A joint missing, or without a position, refuses the sample.
-    pub fn axis_state(&self, js: &JointState) -> Result<AxisState, Rejection> {
-        let mut position = Vec::with_capacity(AXES);
-        let mut velocity = Vec::with_capacity(AXES);
-        for want in &self.joints {
-            let k = js.name.iter().position(|n| n.eq_ignore_ascii_case(want)).ok_or_else(|| Rejection::MissingJoint(want.clone()))?;
-            position.push(*js.position.get(k).ok_or_else(|| Rejection::Invalid(format!("no position for joint '{want}'")))?);
-            if let Some(v) = js.velocity.get(k) {
-                velocity.push(*v);
-            }
-        }
-        if velocity.len() != AXES {
-            velocity.clear();
-        }
-        Ok(AxisState {
-            header: js.header.clone(),
-            source: AxisState::SOURCE_MACHINE,
-            name: self.axes.clone(),
-            position,
-            velocity,
-            ..Default::default()
-        })
     }
 }

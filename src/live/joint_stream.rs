@@ -20,6 +20,9 @@ pub const FIRST_REPORT_WITHIN_S: f64 = 1.5;
 pub struct JointStream {
     merger: PoseMerger,
     names: Vec<String>,
+    /// What the source calls each axis (a JointState's joint, an MTConnect data item), for the
+    /// error of one never reported.
+    joints: Vec<String>,
     frame_id: String,
     /// Stamps are merged relative to the first one's whole seconds (full f64 resolution).
     base: TimeBase,
@@ -33,13 +36,15 @@ pub struct JointStream {
 }
 
 impl JointStream {
-    /// The merge for `machine` (multi-turn rotary axes unwrapped before interpolating).
-    pub fn new(machine: &Machine) -> JointStream {
+    /// The merge for `machine` (multi-turn rotary axes unwrapped before interpolating), whose
+    /// axes the source calls `joints` (in the machine's axis order).
+    pub fn new(machine: &Machine, joints: &[String]) -> JointStream {
         let wrap = std::array::from_fn(|i| machine.axes[i].kind == AxisKind::Rotary && machine.axes[i].limits.is_unlimited());
         let range = std::array::from_fn(|i| (machine.axes[i].limits.min, machine.axes[i].limits.max));
         JointStream {
             merger: PoseMerger::new(MergeConfig { wrap, range, ..MergeConfig::default() }),
             names: machine.axis_names().to_vec(),
+            joints: joints.to_vec(),
             frame_id: String::new(),
             base: TimeBase { sec: None },
             first: None,
@@ -54,10 +59,7 @@ impl JointStream {
     /// again) rather than out of order. Poses made go to [`JointStream::pop`].
     pub fn push(&mut self, map: &JointMap, js: &JointState, wall: f64, restart_after: f64) -> Result<(), Rejection> {
         let values = map.reports(js)?;
-        self.push_values(js.header.stamp, &js.header.frame_id, &values, wall, restart_after).map_err(|e| match e {
-            Rejection::MissingJoint(_) => self.missing(map.joints()),
-            e => e,
-        })
+        self.push_values(js.header.stamp, &js.header.frame_id, &values, wall, restart_after)
     }
 
     /// [`JointStream::push`] of axis positions already mapped (SI, None where not reported): an
@@ -75,33 +77,32 @@ impl JointStream {
         if self.frame_id != frame_id {
             self.frame_id = frame_id.to_string();
         }
-        let before = self.merger.before_all_known();
         let (base, names, frame, ready) = (self.base, &self.names, &self.frame_id, &mut self.ready);
         let result = self.merger.push(t, values, |at, q| ready.push_back(base.state(at, &q, names, frame)));
         match result {
             Err(MergeError::OutOfOrder { stamp, last }) => return Err(Rejection::OutOfOrder { stamp, last }),
             Err(MergeError::NonFinite { axis, value }) => return Err(Rejection::NonFinite(format!("{} position is {value}", self.names[axis]))),
-            Err(MergeError::Empty) => return Err(Rejection::MissingJoint(String::new())),
+            Err(MergeError::Empty) => return Err(self.missing()),
             Ok(()) => {}
         }
         self.last_wall = Some(wall);
         let first = *self.first.get_or_insert(t);
-        if self.merger.before_all_known() > before {
+        if !self.merger.all_reported() {
             // An axis not reported yet: wait for it a while, then refuse its messages.
             if t - first <= FIRST_REPORT_WITHIN_S {
                 self.waiting += 1;
                 return Ok(());
             }
-            return Err(Rejection::MissingJoint(String::new()));
+            return Err(self.missing());
         }
         self.waiting = 0;
         Ok(())
     }
 
-    /// The joint (`joints`: per axis) of the first axis never reported.
-    fn missing(&self, joints: &[String]) -> Rejection {
+    /// The joint of the first axis never reported.
+    fn missing(&self) -> Rejection {
         let axis = (0..AXES).find(|&i| !self.merger.reported(i)).unwrap_or(0);
-        Rejection::MissingJoint(joints[axis].clone())
+        Rejection::MissingJoint(self.joints[axis].clone())
     }
 
     /// A new session of the source (its clock starts over): what waits is made, then the merge
@@ -126,9 +127,9 @@ impl JointStream {
 
     /// Messages still waiting at the end for an axis never reported: refused as missing it (the
     /// count, and the rejection), once.
-    pub fn unplaced(&mut self, joints: &[String]) -> Option<(u64, Rejection)> {
+    pub fn unplaced(&mut self) -> Option<(u64, Rejection)> {
         let n = std::mem::take(&mut self.waiting);
-        (n > 0 && (0..AXES).any(|i| !self.merger.reported(i))).then(|| (n, self.missing(joints)))
+        (n > 0 && !self.merger.all_reported()).then(|| (n, self.missing()))
     }
 
     /// The longest an instant waited for every axis to be known, s (the latency the merge cost).

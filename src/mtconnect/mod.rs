@@ -156,7 +156,7 @@ pub fn read_log<R: BufRead>(reader: R, devices: &[Device], device: &Device, axes
         match state.line(text, device, devices) {
             Err(e) => visit(Err(format!("line {line}: {e}"))),
             Ok(shdr::Line::Other) => {}
-            Ok(shdr::Line::Data { stamp, observations, .. }) => {
+            Ok(shdr::Line::Data { stamp, observations }) => {
                 let mut values = [None; AXES];
                 let mut bad = None;
                 for o in &observations {

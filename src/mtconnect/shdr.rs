@@ -100,8 +100,8 @@ pub struct Observation<'a> {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Line<'a> {
     /// Observations of the device's data items at a time (keys of unknown items and of other
-    /// devices are skipped, as the agent skips them, and counted).
-    Data { stamp: Stamp, observations: Vec<Observation<'a>>, unknown: usize },
+    /// devices are skipped, as the agent skips them).
+    Data { stamp: Stamp, observations: Vec<Observation<'a>> },
     /// A command (`* PING`, `* shdrVersion: 2`), an asset or a line of an asset's body, a blank line.
     Other,
 }
@@ -129,7 +129,6 @@ impl ShdrReader {
         let stamp = Stamp::parse(fields[0].trim()).ok_or_else(|| ShdrError::Timestamp { col: 1, text: fields[0].chars().take(40).collect() })?;
         let col_of = |k: usize| fields[..k].iter().map(|f| f.len() + 1).sum::<usize>() + 1;
         let mut observations = Vec::new();
-        let mut unknown = 0;
         let mut k = 1;
         while k < fields.len() {
             let key = fields[k];
@@ -152,13 +151,12 @@ impl ShdrReader {
             if have < need {
                 return Err(ShdrError::Short { col: col_of(k), key: key.to_string(), need, have });
             }
-            match item.filter(|_| dev.is_some_and(|d| std::ptr::eq(d, device))) {
-                Some(item) => observations.push(Observation { item, fields: fields[k + 1..k + 1 + need].to_vec(), col: col_of(k + 1) }),
-                None => unknown += 1,
+            if let Some(item) = item.filter(|_| dev.is_some_and(|d| std::ptr::eq(d, device))) {
+                observations.push(Observation { item, fields: fields[k + 1..k + 1 + need].to_vec(), col: col_of(k + 1) });
             }
             k += 1 + need;
         }
-        Ok(Line::Data { stamp, observations, unknown })
+        Ok(Line::Data { stamp, observations })
     }
 }
 

@@ -164,7 +164,7 @@ pub struct MeasuredPath {
     kept: VecDeque<Kept>,
     /// The rotary axes' indices, for the swing.
     rotary: Vec<usize>,
-    /// The previous sample was not a feed move: the step from it mixes two kinds of motion.
+    /// The previous sample was a rotary-only move: the step from it mixes the turn with the path.
     after_stop: bool,
 }
 
@@ -245,9 +245,11 @@ impl MeasuredPath {
                 // times the tip's distance from it (forward kinematics of that axis' step alone).
                 let swing = if feed >= c.still_feed {
                     let linear: f64 = (0..AXES).filter(|i| !self.rotary.contains(i)).map(|i| (q[i] - b.q[i]).abs()).sum();
+                    // (An axis that did not move adds nothing: no kinematics for it.)
                     let rotary: f64 = self
                         .rotary
                         .iter()
+                        .filter(|&&i| q[i] != b.q[i])
                         .map(|&i| {
                             let mut alone = b.q;
                             alone[i] = q[i];
@@ -306,7 +308,7 @@ impl MeasuredPath {
         let within = self.kept.partition_point(|k| last.s - k.s >= c.demand_window).min(end - 1);
         let first = self.kept.range(..within).rev().take(SEARCH).find(|k| (last.tip - k.tip).norm() >= c.demand_window)?;
         let ds = last.s - first.s;
-        let m = self.kept.partition_point(|k| k.s < last.s - (last.s - first.s) / 2.0).min(end - 1);
+        let m = self.kept.partition_point(|k| k.s < last.s - ds / 2.0).min(end - 1);
         let mid = &self.kept[m];
         let (h1, h2) = (mid.s - first.s, last.s - mid.s);
         let q_s: Joints = std::array::from_fn(|i| (last.q[i] - first.q[i]) / ds);

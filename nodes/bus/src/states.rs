@@ -64,7 +64,8 @@ pub enum Received {
 pub struct StateReceiver<'a> {
     rx: Receiver<StateInput>,
     map: JointMap,
-    machine: Machine,
+    /// A topic's merge as it starts (each JointState topic begins with a copy).
+    fresh: JointStream,
     joints: BTreeMap<String, JointStream>,
     ready: VecDeque<Received>,
     /// A message stamped no later than its topic's last after this much silence is a restarted
@@ -83,8 +84,8 @@ impl<'a> StateReceiver<'a> {
     pub fn new(rx: Receiver<StateInput>, map: JointMap, machine: &Machine, shutdown: &'a Shutdown, poll: Duration, exit_when_idle_s: Option<f64>) -> StateReceiver<'a> {
         StateReceiver {
             rx,
+            fresh: JointStream::new(machine, map.joints()),
             map,
-            machine: machine.clone(),
             joints: BTreeMap::new(),
             ready: VecDeque::new(),
             restart_after: MonitorConfig::default().stale_timeout,
@@ -104,14 +105,12 @@ impl<'a> StateReceiver<'a> {
 
     /// Merge one JointState message of `topic`; what it completes (and why it was refused) is queued.
     fn take_joints(&mut self, topic: String, js: JointState, wall: f64) {
-        let stream = self.joints.entry(topic.clone()).or_insert_with(|| JointStream::new(&self.machine));
+        let stream = self.joints.entry(topic.clone()).or_insert_with(|| self.fresh.clone());
         let before = self.ready.len();
         if let Err(why) = stream.push(&self.map, &js, wall, self.restart_after) {
             self.ready.push_back(Received::Refused { topic: topic.clone(), why, joints: Some(js.name) });
         }
-        while let Some(state) = stream.pop() {
-            self.ready.push_back(Received::State { topic: topic.clone(), state });
-        }
+        queue_poses(&mut self.ready, &topic, stream);
         if self.ready.len() == before {
             self.ready.push_back(Received::Heard { topic });
         }
@@ -123,9 +122,7 @@ impl<'a> StateReceiver<'a> {
         for (topic, stream) in self.joints.iter_mut() {
             if stream.has_pending() && (all || stream.last_wall().is_some_and(|w| wall - w > stream.latency())) {
                 stream.flush();
-                while let Some(state) = stream.pop() {
-                    self.ready.push_back(Received::State { topic: topic.clone(), state });
-                }
+                queue_poses(&mut self.ready, topic, stream);
             }
         }
     }
@@ -133,6 +130,13 @@ impl<'a> StateReceiver<'a> {
     /// Seconds since the loop started (the node's monotonic arrival clock).
     pub fn now(&self) -> f64 {
         self.start.elapsed().as_secs_f64()
+    }
+}
+
+/// Queue the poses `stream` of `topic` has made, oldest first.
+fn queue_poses(ready: &mut VecDeque<Received>, topic: &str, stream: &mut JointStream) {
+    while let Some(state) = stream.pop() {
+        ready.push_back(Received::State { topic: topic.to_string(), state });
     }
 }
 
