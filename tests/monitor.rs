@@ -170,7 +170,7 @@ fn joint_states_from_a_bridge_with_other_names() {
     stream.push(&map, &missing, 0.0, f64::INFINITY).unwrap();
     stream.flush();
     assert!(stream.pop().is_none());
-    assert!(matches!(stream.unplaced(), Some((1, Rejection::MissingJoint(j))) if j == "y"), "the first axis never reported is Y");
+    assert!(matches!(stream.unplaced(), Some((1, Rejection::MissingJoint(j))) if j == "Y"), "the first axis never reported is Y, looked for by its own name");
 }
 
 /// Item 5 of the machine-data issue: a rotary speed above the limit far from the pole is a region of
