@@ -419,6 +419,14 @@ fn input_errors(
 ) -> Vec<String> {
     // A topic asked for and absent, or nothing to read.
     let mut errors = read.selection_errors(&options.selection);
+    // A stream read that gave the monitor nothing at all, not even a refusal (an MTConnect log none
+    // of whose lines reports one of the machine's axes): nothing was read from it.
+    for (k, stream) in read.streams.iter().enumerate() {
+        if !order.contains(&k) {
+            let names = stream.joint_names.as_deref().map_or(String::new(), |n| format!(" (looked for: {})", n.join(", ")));
+            errors.push(format!("{}: nothing in the recording reports the machine's axes{names}", stream.topic));
+        }
+    }
     for (report, &k) in streams.iter().zip(order) {
         let (names, fits) = (&read.streams[k].joint_names, analysed[k].fits_mm_deg);
         let s = &report.input;

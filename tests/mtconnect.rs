@@ -176,3 +176,14 @@ fn the_okuma_log_through_analyze() {
     assert_eq!((s["rejected"]["out_of_order"].as_u64(), s["lost"].as_u64()), (Some(0), Some(0)), "{s:#}");
     assert_eq!(rejected, 0, "{s:#}");
 }
+
+/// A log none of whose lines reports the device's axes (another machine's adapter log read against
+/// this description) is an error, not a pass with nothing read.
+#[test]
+fn a_log_that_reports_none_of_the_axes_fails_closed() {
+    let (_, devices) = sing_shdr("none");
+    let (okuma_log, _) = okuma();
+    let (code, out) = fiveaxis(&["analyze", okuma_log.to_str().unwrap(), "--mtconnect-devices", devices.to_str().unwrap(), "--machine", "hermle-c600u", "--feed", "2000"]);
+    assert_eq!(code, 2, "{out}");
+    assert!(out.contains("mtconnect:C600U: nothing in the recording reports the machine's axes") && out.contains("x_act"), "{out}");
+}
