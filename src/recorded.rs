@@ -270,7 +270,7 @@ fn read_shdr(
     let text = std::fs::read_to_string(&source.devices).map_err(io(&source.devices))?;
     let devices = mtconnect::devices::parse(&text).map_err(|e| refuse(&source.devices, e.to_string()))?;
     let device = mtconnect::pick(&devices, source.device.as_deref()).map_err(|e| refuse(&source.devices, e))?;
-    let items = mtconnect::axis_items(device, machine, &selection.axis_map).map_err(|e| refuse(&source.devices, e))?;
+    let items = mtconnect::axis_items(device, machine, &selection.axis_map, mtconnect::UnitsOf::Adapter).map_err(|e| refuse(&source.devices, e))?;
     let file = std::fs::File::open(path).map_err(io(path))?;
     let file_len = file.metadata().map_err(io(path))?.len();
     let topic = format!("mtconnect:{}", device.name);

@@ -29,6 +29,9 @@ pub const COMMANDED_JOINTS: Topic = in_namespace!("commanded/joint_states", "Joi
 /// What the simulated machine does (the simulator: planner and servo).
 pub const SIMULATED_STATE: Topic = in_namespace!("simulated/axis_state", "AxisState");
 pub const SIMULATED_JOINTS: Topic = in_namespace!("simulated/joint_states", "JointState");
+/// A machine's own axis positions as a bridge publishes them (`fiveaxis-bridge`: MTConnect), each
+/// message the axes reported at one instant.
+pub const MACHINE_JOINTS: Topic = in_namespace!("machine/joint_states", "JointState");
 /// The monitor's per-sample singularity status.
 pub const STATUS: Topic = in_namespace!("monitor/status", "SingularityStatus");
 /// ROS-wide diagnostics (the monitor, 2 Hz).

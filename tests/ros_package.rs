@@ -57,7 +57,7 @@ fn colcon_finds_every_package_with_its_build_type() {
             (f.len() == 3).then(|| (f[0].to_string(), (f[1].to_string(), f[2].to_string())))
         })
         .collect();
-    for node in ["commander", "simulator", "monitor", "recorder", "rerun"] {
+    for node in ["commander", "simulator", "monitor", "recorder", "rerun", "bridge"] {
         assert_eq!(listed.get(&format!("fiveaxis_{node}")), Some(&(format!("nodes/{node}"), "(ament_cargo)".to_string())), "{listed:?}");
     }
     assert_eq!(listed.get("fiveaxis_msgs"), Some(&("msgs".to_string(), "(ros.ament_cmake)".to_string())), "{listed:?}");
@@ -65,7 +65,7 @@ fn colcon_finds_every_package_with_its_build_type() {
     // The launch package runs the node packages; they run with the interface package.
     let info = colcon(&["info", "fiveaxis_bringup"]);
     let run = info.lines().find(|l| l.trim_start().starts_with("run:")).unwrap_or_else(|| panic!("{info}"));
-    for dep in ["fiveaxis_commander", "fiveaxis_simulator", "fiveaxis_monitor", "fiveaxis_recorder", "launch", "launch_ros"] {
+    for dep in ["fiveaxis_commander", "fiveaxis_simulator", "fiveaxis_monitor", "fiveaxis_recorder", "fiveaxis_bridge", "launch", "launch_ros"] {
         assert!(run.split_whitespace().any(|d| d == dep), "fiveaxis_bringup does not run {dep}: {info}");
     }
     let info = colcon(&["info", "fiveaxis_monitor"]);

@@ -4,7 +4,10 @@
 //! adapter's rate, merged into poses by [`crate::live::joint_stream`].
 
 pub mod devices;
+pub mod http;
+pub mod live;
 pub mod shdr;
+pub mod streams;
 
 use crate::machine::{AxisKind, Machine, AXES};
 use devices::{DataItem, Device};
@@ -43,11 +46,39 @@ fn label(i: &DataItem) -> String {
     }
 }
 
+impl AxisItems {
+    /// The machine axis (index) a data item carries, if any.
+    pub fn axis_of(&self, id: &str) -> Option<usize> {
+        self.ids.iter().position(|i| i == id)
+    }
+
+    /// Axis `i`'s value from its text, in SI: None for `UNAVAILABLE` (the source has no value), an
+    /// error for what is not a finite number.
+    pub fn value(&self, i: usize, text: &str) -> Result<Option<f64>, String> {
+        let v = text.trim();
+        if v.eq_ignore_ascii_case("UNAVAILABLE") {
+            return Ok(None);
+        }
+        match v.parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(Some(x * self.to_si[i])),
+            _ => Err(format!("{} value '{}' is not a number", self.ids[i], v.chars().take(40).collect::<String>())),
+        }
+    }
+}
+
+/// Which units a source's values are in: an adapter sends `nativeUnits` (the agent converts them),
+/// an agent answers in `units`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnitsOf {
+    Adapter,
+    Agent,
+}
+
 /// The data items of `device` that carry `machine`'s axes: those `axis_map` names (axis -> data
 /// item id or name), else the actual POSITION (linear) or ANGLE (rotary) sample of the device's axis
 /// component of the same name, in machine coordinates where it has several. Ambiguity and absence
 /// are errors naming the candidates.
-pub fn axis_items(device: &Device, machine: &Machine, axis_map: &BTreeMap<String, String>) -> Result<AxisItems, String> {
+pub fn axis_items(device: &Device, machine: &Machine, axis_map: &BTreeMap<String, String>, source: UnitsOf) -> Result<AxisItems, String> {
     let mut ids: [String; AXES] = Default::default();
     let mut to_si = [0.0; AXES];
     for (i, axis) in machine.axes.iter().enumerate() {
@@ -99,7 +130,11 @@ pub fn axis_items(device: &Device, machine: &Machine, axis_map: &BTreeMap<String
             }
         };
         // The adapter sends native units where the item has them (the agent converts them).
-        let units = item.native_units.as_deref().or(item.units.as_deref()).unwrap_or(if kind == "ANGLE" { "DEGREE" } else { "MILLIMETER" });
+        let units = match source {
+            UnitsOf::Adapter => item.native_units.as_deref().or(item.units.as_deref()),
+            UnitsOf::Agent => item.units.as_deref(),
+        };
+        let units = units.unwrap_or(if kind == "ANGLE" { "DEGREE" } else { "MILLIMETER" });
         to_si[i] = factor(units).ok_or_else(|| format!("axis {}: data item '{}' in {units}: not a length or angle unit", axis.name, item.id))?;
         ids[i] = item.id.clone();
     }
@@ -116,9 +151,10 @@ pub fn pick<'a>(devices: &'a [Device], name: Option<&str>) -> Result<&'a Device,
     }
 }
 
-/// One line's axis positions (SI, None where not reported or UNAVAILABLE).
+/// Axis positions reported at one instant (SI, None where not reported or UNAVAILABLE).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisReport {
+    /// Where it came from: an SHDR line's number, or an agent's sequence number of its first value.
     pub line: u64,
     pub stamp: shdr::Stamp,
     pub values: [Option<f64>; AXES],
@@ -153,29 +189,27 @@ pub fn read_log<R: BufRead>(reader: R, devices: &[Device], device: &Device, axes
         }
         let text = String::from_utf8_lossy(&buf);
         let text = text.trim_end_matches(['\n', '\r']);
-        match state.line(text, device, devices) {
-            Err(e) => visit(Err(format!("line {line}: {e}"))),
-            Ok(shdr::Line::Other) => {}
-            Ok(shdr::Line::Data { stamp, observations }) => {
-                let mut values = [None; AXES];
-                let mut bad = None;
-                for o in &observations {
-                    let Some(i) = axes.ids.iter().position(|id| *id == o.item.id) else { continue };
-                    let v = o.fields[0].trim();
-                    if v.eq_ignore_ascii_case("UNAVAILABLE") {
-                        continue;
-                    }
-                    match v.parse::<f64>() {
-                        Ok(x) if x.is_finite() => values[i] = Some(x * axes.to_si[i]),
-                        _ => bad = Some(format!("line {line}:{}: {} value '{v}' is not a number", o.col, o.item.id)),
-                    }
-                }
-                if let Some(why) = bad {
-                    visit(Err(why));
-                } else if values.iter().any(Option::is_some) {
-                    visit(Ok(AxisReport { line, stamp, values }));
-                }
+        match shdr_report(&mut state, text, line, devices, device, axes, None) {
+            Err(e) => visit(Err(e)),
+            Ok(Some(report)) => visit(Ok(report)),
+            Ok(None) => {}
+        }
+    }
+}
+
+/// One SHDR line's axis positions (None: it reports none of the axes); `line` names it in errors and
+/// in the report; `now`, the receive time, stands for an empty timestamp on a live stream.
+pub fn shdr_report(state: &mut shdr::ShdrReader, text: &str, line: u64, devices: &[Device], device: &Device, axes: &AxisItems, now: Option<shdr::Stamp>) -> Result<Option<AxisReport>, String> {
+    match state.line(text, device, devices, now) {
+        Err(e) => Err(format!("line {line}: {e}")),
+        Ok(shdr::Line::Other) => Ok(None),
+        Ok(shdr::Line::Data { stamp, observations }) => {
+            let mut values = [None; AXES];
+            for o in &observations {
+                let Some(i) = axes.axis_of(&o.item.id) else { continue };
+                values[i] = axes.value(i, o.fields[0]).map_err(|e| format!("line {line}:{}: {e}", o.col))?;
             }
+            Ok(values.iter().any(Option::is_some).then_some(AxisReport { line, stamp, values }))
         }
     }
 }

@@ -15,6 +15,12 @@ pub struct Stamp {
 }
 
 impl Stamp {
+    /// The wall clock now.
+    pub fn now() -> Stamp {
+        let d = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
+        Stamp { sec: i64::try_from(d.as_secs()).unwrap_or(i64::MAX), nanosec: d.subsec_nanos() }
+    }
+
     /// ISO 8601 in UTC as adapters write it: `2022-08-08T13:51:34.7167146Z` (fraction optional, up
     /// to nine digits; `Z`, `+HH:MM`, `-HH:MM` or nothing, taken as UTC).
     pub fn parse(text: &str) -> Option<Stamp> {
@@ -114,8 +120,10 @@ pub struct ShdrReader {
 
 impl ShdrReader {
     /// Read one line (without its line end) against `device` (the one its keys name, `devices`
-    /// for keys prefixed with another's name).
-    pub fn line<'a>(&mut self, text: &'a str, device: &'a Device, devices: &'a [Device]) -> Result<Line<'a>, ShdrError> {
+    /// for keys prefixed with another's name). A timestamp may carry a duration (`T@seconds`, cut
+    /// off); an empty one is the time it was received, `now`, as the agent takes it
+    /// (cppagent's timestamp_extractor.cpp), and refused where there is none (a log read later).
+    pub fn line<'a>(&mut self, text: &'a str, device: &'a Device, devices: &'a [Device], now: Option<Stamp>) -> Result<Line<'a>, ShdrError> {
         if let Some(tag) = &self.multiline {
             if text.starts_with(tag.as_str()) {
                 self.multiline = None;
@@ -126,7 +134,12 @@ impl ShdrReader {
             return Ok(Line::Other);
         }
         let fields: Vec<&str> = text.split('|').collect();
-        let stamp = Stamp::parse(fields[0].trim()).ok_or_else(|| ShdrError::Timestamp { col: 1, text: fields[0].chars().take(40).collect() })?;
+        let stamp_text = fields[0].split('@').next().unwrap_or("").trim();
+        let stamp = match (stamp_text, now) {
+            ("", Some(now)) => Some(now),
+            (t, _) => Stamp::parse(t),
+        };
+        let stamp = stamp.ok_or_else(|| ShdrError::Timestamp { col: 1, text: fields[0].chars().take(40).collect() })?;
         let col_of = |k: usize| fields[..k].iter().map(|f| f.len() + 1).sum::<usize>() + 1;
         let mut observations = Vec::new();
         let mut k = 1;
