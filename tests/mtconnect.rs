@@ -3,7 +3,9 @@
 //! each axis at its own rate, counted against an independent reading (tests/peer/shdr_counts.py);
 //! and LinuxCNC's SING trace as an adapter would send it (each axis on its own at ~3 Hz, on change,
 //! tests/peer/shopfloor_rates.py --shdr) through `fiveaxis analyze`, with the figures checked against
-//! numpy's (machine_figures.py).
+//! numpy's (machine_figures.py). Live: the same streams served over TCP by an independent adapter and
+//! agent (tests/peer/mtconnect_peer.py, from the protocols alone) in real time, read by
+//! `fiveaxis-bridge` and watched over DDS by `fiveaxis-monitor`, in a private network namespace.
 
 mod common;
 use fiveaxis::mtconnect::{self, devices, AxisItems};
@@ -186,4 +188,149 @@ fn a_log_that_reports_none_of_the_axes_fails_closed() {
     let (code, out) = fiveaxis(&["analyze", okuma_log.to_str().unwrap(), "--mtconnect-devices", devices.to_str().unwrap(), "--machine", "hermle-c600u", "--feed", "2000"]);
     assert_eq!(code, 2, "{out}");
     assert!(out.contains("mtconnect:C600U: nothing in the recording reports the machine's axes") && out.contains("x_act"), "{out}");
+}
+
+/// What a live run through `fiveaxis-bridge` gave: the monitor's summary (if one ran), the bridge's,
+/// the peer's, and the bridge's log.
+struct Live {
+    monitor: Option<serde_json::Value>,
+    bridge: serde_json::Value,
+    peer: serde_json::Value,
+    log: String,
+}
+
+fn node_bin(name: &str) -> PathBuf {
+    let b = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().join(name);
+    assert!(b.exists(), "{name} is not built: run `cargo test --workspace` (launch-free-scripts/test)");
+    b
+}
+
+/// Serve `log` with the peer as `role` (adapter on port 7878, agent on 5000), the bridge reading it
+/// with `bridge_args`, and (given its flags) the monitor watching the bridge's JointState; all in one
+/// private network namespace. The bridge exits once its source has been down for 2.5 s.
+fn live(tag: &str, role: &str, log: &Path, devices: &Path, peer_args: &str, bridge_args: &str, monitor_args: Option<&str>) -> Live {
+    // One live run at a time: they run in real time and share two cores.
+    static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _one = ONE.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = common::scratch_dir(&format!("mtconnect-run-{tag}"));
+    let d = dir.display();
+    let source = match role {
+        "adapter" => format!("--shdr-adapter 127.0.0.1:7878 --mtconnect-devices '{}'", devices.display()),
+        _ => "--mtconnect-agent http://127.0.0.1:5000 --heartbeat-ms 1000".to_string(),
+    };
+    let port = if role == "adapter" { 7878 } else { 5000 };
+    // With a monitor, the bridge reads the source once the monitor listens.
+    let wait = if monitor_args.is_some() { "--wait-for-subscriber-s 10" } else { "" };
+    let monitor = monitor_args.map_or(String::new(), |m| {
+        format!(
+            "'{}' --joint-state-input /fiveaxis/machine/joint_states --lookahead '' --summary-json {d}/monitor.json --exit-when-idle-s 3 {m} > {d}/monitor.log 2>&1 &",
+            node_bin("fiveaxis-monitor").display()
+        )
+    });
+    let script = format!(
+        "set -e
+        {monitor}
+        python3 '{peer}' {role} '{log}' '{devices}' --port {port} --linger 2 {peer_args} > {d}/peer.json &
+        P=$!
+        '{bridge}' {source} --exit-when-down-s 2.5 --summary-json {d}/bridge.json {wait} {bridge_args} > {d}/bridge.log 2>&1 &
+        wait $P
+        wait",
+        peer = root().join("tests/peer/mtconnect_peer.py").display(),
+        log = log.display(),
+        devices = devices.display(),
+        bridge = node_bin("fiveaxis-bridge").display(),
+    );
+    let out = Command::new(root().join("launch-free-scripts/netns-run")).args(["bash", "-c", &script]).env("RUST_LOG", "info").output().expect("netns-run runs");
+    let log = std::fs::read_to_string(dir.join("bridge.log")).unwrap_or_default();
+    let monitor_log = std::fs::read_to_string(dir.join("monitor.log")).unwrap_or_default();
+    assert!(out.status.success(), "live run failed: {}\n{}\nbridge: {log}\nmonitor: {monitor_log}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let read = |f: &str| -> serde_json::Value {
+        let text = std::fs::read_to_string(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}\nbridge: {log}\nmonitor: {monitor_log}"));
+        serde_json::from_str(&text)
+            .or_else(|_| serde_json::from_str(text.lines().rfind(|l| l.starts_with('{')).unwrap_or(&text)))
+            .unwrap_or_else(|e| panic!("{f}: {e}: {text}"))
+    };
+    let live = Live { monitor: monitor_args.map(|_| read("monitor.json")), bridge: read("bridge.json"), peer: read("peer.json"), log };
+    let _ = std::fs::remove_dir_all(&dir);
+    live
+}
+
+/// The SING cut's window of the per-axis adapter log (s after its first line): x 0 at 0.5 s.
+const SING_WINDOW: &str = "--start 10.5 --end 17.5";
+
+/// The monitor saw the one region at x 22-28 mm (+-1) with the peak within 5 % of numpy's on the
+/// 1 kHz trace, nothing lost.
+fn check_sing_live(l: &Live) {
+    let summary = l.monitor.as_ref().unwrap();
+    let input = summary.as_array().unwrap().iter().find(|i| i["topic"] == "/fiveaxis/machine/joint_states").unwrap_or_else(|| panic!("{summary:#}\n{}", l.log));
+    assert_eq!(input["lost"], 0, "{input:#}");
+    assert_eq!(input["rejected"]["missing_joint"], 0, "{input:#}");
+    assert_eq!(input["rejected"]["out_of_order"], 0, "{input:#}");
+    let regions = input["regions"].as_array().unwrap();
+    assert_eq!(regions.len(), 1, "{regions:#?}\n{}", l.log);
+    let r = &regions[0];
+    assert_eq!(r["cause"], "singularity");
+    let trace = root().join("recordings/machine/linuxcnc/sing_trace.csv.gz");
+    let reference: serde_json::Value = serde_json::from_slice(&python("machine_figures.py", &[trace.to_str().unwrap(), "--feed", "2000", "--x-range", "15", "35"])).unwrap();
+    let f = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k} in {v}"));
+    let (x0, x1) = (f(r, "x_start_mm"), f(r, "x_end_mm"));
+    assert!((x0 - f(&reference, "x_start_mm")).abs() <= 1.0 && (x1 - f(&reference, "x_end_mm")).abs() <= 1.0, "region x {x0:.2}-{x1:.2}: {reference:#}");
+    let (peak, want) = (f(r, "peak_c_speed_rpm"), f(&reference, "peak_predicted_c_rpm"));
+    assert!((peak - want).abs() <= 0.05 * want, "peak {peak:.1} rpm, numpy {want:.1}");
+    assert_eq!(l.bridge["refused"], 0, "{:#}", l.bridge);
+    eprintln!("live: region x {x0:.2}-{x1:.2} mm, peak {peak:.1} rpm (numpy {want:.1}), {} poses, stale {}, bridge {}", input["samples"], input["stale"], l.bridge);
+}
+
+/// An adapter's SHDR stream of the SING cut (each axis on its own at ~3 Hz, on change, stamped when
+/// sent), read over TCP with PING/PONG by the bridge: the monitor finds the one region live, and the
+/// bridge published every axis value the adapter sent (its snapshot on connecting included).
+#[test]
+fn an_adapters_live_stream_of_the_sing_cut_gives_the_one_region() {
+    let (log, devices) = sing_shdr("live-adapter");
+    let l = live("adapter", "adapter", &log, &devices, SING_WINDOW, "--machine hermle-c600u", Some("--machine hermle-c600u --feed 2000"));
+    check_sing_live(&l);
+    assert_eq!(l.bridge["connections"], 1, "{:#}", l.bridge);
+    let sent: u64 = l.peer["per_key"].as_object().unwrap().iter().filter(|(k, _)| k.ends_with("act")).map(|(_, v)| v.as_u64().unwrap()).sum();
+    let published: u64 = l.bridge["reports_per_axis"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap()).sum();
+    // The lines of the window, and the snapshot's five axes.
+    assert_eq!(published, sent + 5, "{:#}\n{:#}", l.peer, l.bridge);
+}
+
+/// An agent serving the same stream (probe, current, a streamed sample) restarts 1.7 s before the
+/// cut and is down for 1 s: the bridge reads the new instance from /current and the monitor finds
+/// the one region after it, nothing lost (the outage is stale time).
+#[test]
+fn an_agents_live_stream_gives_the_one_region_and_survives_the_agents_restart() {
+    let (log, devices) = sing_shdr("live-agent");
+    let l = live("agent", "agent", &log, &devices, "--start 8.5 --end 17.5 --restart-at 0.8 --down-s 1.0", "--machine hermle-c600u", Some("--machine hermle-c600u --feed 2000"));
+    check_sing_live(&l);
+    assert!(l.bridge["gaps"].as_u64().unwrap() >= 1 && l.bridge["connections"].as_u64().unwrap() >= 2, "the restart seen: {:#}\n{}", l.bridge, l.log);
+    assert!(l.log.contains("the agent restarted"), "{}", l.log);
+}
+
+/// cppagent's Okuma log served by an agent at its own rates (20 s of its first session, where Z
+/// reports about three times a second and the others now and then): every value of the five axes
+/// the agent handed out (in /current and the stream) is published, none refused.
+#[test]
+fn the_okuma_log_through_an_agent_and_the_bridge() {
+    let (log, devices_xml) = okuma();
+    let dir = common::scratch_dir("mtconnect-okuma-live");
+    let (code, text) = fiveaxis(&["machine", "show", "generic-bc-head"]);
+    assert_eq!(code, 0, "{text}");
+    let model = text.trim().replace("name = \"generic-bc-head\"", "name = \"okuma-multus-like\"").replacen("min_deg = -130.0", "min_deg = -30.0", 1).replacen("max_deg = 130.0", "max_deg = 210.0", 1);
+    let file = dir.join("multus.toml");
+    std::fs::write(&file, model.trim_start_matches('\n')).unwrap();
+    let ids = ["X1actw", "YI1actw", "Z1actw", "B1actw", "C3actw"];
+    let bridge_args = format!("--machine '{}' --mtconnect-device OKUMA --axis-map X=X1actw --axis-map Y=YI1actw --axis-map Z=Z1actw --axis-map B=B1actw --axis-map C=C3actw", file.display());
+    let l = live("okuma", "agent", &log, &devices_xml, "--device OKUMA --start 20 --end 40", &bridge_args, None);
+    assert_eq!((l.bridge["refused"].as_u64(), l.bridge["gaps"].as_u64()), (Some(0), Some(0)), "{:#}\n{}", l.bridge, l.log);
+    let served = &l.peer["values_per_item"];
+    let published: Vec<u64> = l.bridge["reports_per_axis"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap()).collect();
+    let axes: Vec<&str> = l.bridge["axes"].as_array().unwrap().iter().map(|a| a.as_str().unwrap()).collect();
+    let id_of = |axis: &str| ids["XYZBC".find(axis).unwrap_or_else(|| panic!("axis {axis}"))];
+    let want: Vec<u64> = axes.iter().map(|a| served[id_of(a)].as_u64().unwrap_or(0)).collect();
+    assert_eq!(published, want, "per axis {axes:?}: published vs served\n{:#}\n{}", l.peer, l.log);
+    let z = axes.iter().position(|a| *a == "Z").unwrap();
+    assert!(want[z] >= 40, "Z reports about 50 times in these 20 s of the log: {want:?}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

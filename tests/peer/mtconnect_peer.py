@@ -326,7 +326,15 @@ def error_document(buf, code, text):
 def serve_agent(a, devices_path, devices, name, log):
     device = devices[name]
     probe = open(devices_path, "rb").read()
-    state = {"buf": Buffer(a.buffer), "served": 0, "streams": 0, "per_item": {}}
+    state = {"buf": Buffer(a.buffer), "served": 0, "streams": 0, "per_item": {}, "values": {}}
+
+    def count_values(obs):
+        """Values (not UNAVAILABLE) handed to a client, per data item: in /current and streams."""
+        for o in obs:
+            if o[3] and o[3][0] not in ("", "UNAVAILABLE"):
+                # Under the item's id and its name (what the adapter's keys and --axis-map use).
+                for k in {o[1]["id"], o[1].get("name") or o[1]["id"]}:
+                    state["values"][k] = state["values"].get(k, 0) + 1
 
     class Handler(BaseHTTPRequestHandler):
         protocol_version = "HTTP/1.1"
@@ -356,6 +364,7 @@ def serve_agent(a, devices_path, devices, name, log):
             if what == "current":
                 with buf.cond:
                     obs = sorted(buf.latest.values(), key=lambda o: o[0])
+                    count_values(obs)
                     return self.reply(200, document(buf, name, device, obs, buf.next))
             if what != "sample":
                 return self.reply(404, error_document(buf, "UNSUPPORTED", f"no such request {u.path}"))
@@ -401,6 +410,7 @@ def serve_agent(a, devices_path, devices, name, log):
                     self.wfile.flush()
                     if obs is None:
                         break
+                    count_values(obs)
                     for o in obs:
                         state["per_item"][o[1]["id"]] = state["per_item"].get(o[1]["id"], 0) + 1
                     state["served"] += len(obs)
@@ -417,14 +427,15 @@ def serve_agent(a, devices_path, devices, name, log):
         threading.Thread(target=srv.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True).start()
         return srv
 
-    srv = start_server()
     latest, lines = window(log, a.start, a.end)
     buf = state["buf"]
     now = time.time()
+    # What the agent holds when it starts serving: every item's latest value.
     for key, f in latest.items():
         item = device["items"].get(key)
         if item:
             buf.add(item, now, f)
+    srv = start_server()
     t_begin = time.time()
     restarted = False
     for t, obs in lines:
@@ -460,7 +471,7 @@ def serve_agent(a, devices_path, devices, name, log):
         buf.running = False
         buf.cond.notify_all()
     srv.shutdown()
-    print(json.dumps({"observations_served": state["served"], "streams": state["streams"], "per_item": state["per_item"]}))
+    print(json.dumps({"observations_served": state["served"], "streams": state["streams"], "per_item": state["per_item"], "values_per_item": state["values"]}))
 
 
 def main():

@@ -8,7 +8,7 @@
 use clap::Parser;
 use fiveaxis::machine::Machine;
 use fiveaxis::mtconnect::live::{Adapter, Agent, Event, ProbeError};
-use fiveaxis::mtconnect::{devices, AxisReport};
+use fiveaxis::mtconnect::{devices, AxisReport, Restater};
 use fiveaxis::topics;
 use fiveaxis_bus::{init_tracing, state_qos, Bus, CommonArgs, Shutdown};
 use fiveaxis_msgs::{Header, JointState, Time};
@@ -51,6 +51,15 @@ struct Args {
     /// Topic of the JointState published.
     #[arg(long, default_value = topics::MACHINE_JOINTS.name)]
     topic: String,
+    /// Restate an axis unreported this long in the next message, s (0: never): a change-only source
+    /// says nothing of a still axis, so a subscriber that joins later would never learn where it
+    /// stands. Its value still holds at the message's instant (nothing changed, or the source would
+    /// have said so).
+    #[arg(long = "restate-still-s", default_value_t = 1.0)]
+    restate_still_s: f64,
+    /// Wait this long for a subscriber before reading the source, s (then read anyway).
+    #[arg(long = "wait-for-subscriber-s", default_value_t = 0.0)]
+    wait_for_subscriber_s: f64,
     /// Exit once the source has been unreachable this long after having delivered data, s.
     #[arg(long = "exit-when-down-s")]
     exit_when_down_s: Option<f64>,
@@ -69,6 +78,11 @@ struct Summary {
     axes: Vec<String>,
     reports_per_axis: Vec<u64>,
     refused: u64,
+    /// Values restated for still axes.
+    restated: u64,
+    /// Reports not newer than what was published, repeating held values (an agent's /current after a
+    /// reconnection).
+    repeated: u64,
     connections: u64,
     downs: u64,
     gaps: u64,
@@ -142,6 +156,10 @@ fn main() -> anyhow::Result<()> {
     let mut bus = Bus::new("fiveaxis_bridge", &args.common, &ros)?;
     let publisher = bus.publisher::<JointState>(&args.topic, state_qos())?;
     tracing::info!(topic = %bus.resolve(&args.topic), "publishing JointState");
+    if args.wait_for_subscriber_s > 0.0 && !bus.wait_for_subscriber(&publisher, Duration::from_secs_f64(args.wait_for_subscriber_s), &shutdown) {
+        tracing::warn!("no subscriber on {} after {} s: reading the source anyway", bus.resolve(&args.topic), args.wait_for_subscriber_s);
+    }
+    let mut held = Restater::new(args.restate_still_s);
     let mut summary = Summary {
         source: args.mtconnect_agent.clone().or(args.shdr_adapter.clone()).unwrap_or_default(),
         axes: machine.axis_names().to_vec(),
@@ -183,13 +201,19 @@ fn main() -> anyhow::Result<()> {
             };
             match event {
                 Event::Report(r) => {
+                    tracing::debug!(stamp_s = r.stamp.as_secs(), at = r.line, values = ?r.values, "axis report");
                     delivered = true;
                     down_since = None;
                     for (i, v) in r.values.iter().enumerate() {
                         summary.reports_per_axis[i] += u64::from(v.is_some());
                     }
+                    let Some((out, restated)) = held.next(&r) else {
+                        summary.repeated += 1;
+                        continue;
+                    };
+                    summary.restated += restated;
                     summary.messages += 1;
-                    if let Err(e) = publisher.publish(joint_state(&machine, &r)) {
+                    if let Err(e) = publisher.publish(joint_state(&machine, &out)) {
                         tracing::warn!("publishing: {e:?}");
                     }
                 }
