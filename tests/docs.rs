@@ -149,7 +149,7 @@ fn the_readmes_tour_runs() {
 #[test]
 fn the_reference_pages_are_the_commands_own_help() {
     let bin = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
-    let pages: [(&str, &str, &[&str]); 16] = [
+    let pages: [(&str, &str, &[&str]); 17] = [
         ("fiveaxis", "fiveaxis", &[]),
         ("fiveaxis-program-analyze", "fiveaxis", &["program", "analyze"]),
         ("fiveaxis-machine-list", "fiveaxis", &["machine", "list"]),
@@ -166,6 +166,7 @@ fn the_reference_pages_are_the_commands_own_help() {
         ("fiveaxis-monitor", "fiveaxis-monitor", &[]),
         ("fiveaxis-recorder", "fiveaxis-recorder", &[]),
         ("fiveaxis-rerun", "fiveaxis-rerun", &[]),
+        ("fiveaxis-bridge", "fiveaxis-bridge", &[]),
     ];
     let dir = root().join("docs/src/reference");
     let bless = std::env::var_os("FIVEAXIS_BLESS").is_some();

@@ -6,7 +6,10 @@ and publishes `monitor/status` and /diagnostics; optionally the recorder keeps a
         namespace:=/cell1 program:=part.ngc bag:=shift_bag
 
 `axis_map` gives the bridge's joint name for each machine axis (comma-separated AXIS=JOINT; empty:
-the joints are named as the axes). `program` (optional) is the NC program the machine runs, for the
+the joints are named as the axes). A machine read through MTConnect needs no ROS bridge of its own:
+`mtconnect_agent:=http://agent:5000` starts fiveaxis-bridge on the agent (`mtconnect_device:=NAME`
+where it serves several), which publishes the axes on `machine/joint_states` for the monitor; then
+`axis_map` names the agent's data items (AXIS=ID, empty: the axis components of the same names). `program` (optional) is the NC program the machine runs, for the
 programmed feed and the work offset; `work_offset_mm` (X,Y,Z) is the control's active datum when no
 program is given. The machine's own clock stamps its states: `use_sim_time` stays false.
 """
@@ -27,18 +30,28 @@ def nodes(context):
     """The monitor (and the recorder when `bag` is given), with the optional settings only when set:
     a ROS parameter cannot be declared empty."""
     arg = lambda name: LaunchConfiguration(name).perform(context).strip()
-    monitor = {"machine": arg("machine"), "joint_state_input": [arg("joint_states")], "lookahead": ""}
+    joint_states = arg("joint_states")
     axis_map = [m.strip() for m in arg("axis_map").split(",") if m.strip()]
+    actions = [PushRosNamespace(arg("namespace"))]
+    if arg("mtconnect_agent"):
+        # The bridge reads the agent; its JointState names the joints as the machine's axes.
+        bridge = {"machine": arg("machine"), "mtconnect_agent": arg("mtconnect_agent")}
+        if arg("mtconnect_device"):
+            bridge["mtconnect_device"] = arg("mtconnect_device")
+        if axis_map:
+            bridge["axis_map"] = axis_map
+        actions.append(node("bridge", parameters=[bridge]))
+        joint_states, axis_map = "machine/joint_states", []
+    monitor = {"machine": arg("machine"), "joint_state_input": [joint_states], "lookahead": ""}
     if axis_map:
         monitor["axis_map"] = axis_map
     for name in ("program", "work_offset_mm"):
         if arg(name):
             monitor[name] = arg(name)
-    actions = [PushRosNamespace(arg("namespace")),
-               node("monitor", parameters=[monitor])]
+    actions.append(node("monitor", parameters=[monitor]))
     if arg("bag"):
         actions.append(node("recorder", parameters=[{"machine": arg("machine"), "output": arg("bag"),
-                                                     "topic": [arg("joint_states") + ":JointState",
+                                                     "topic": [joint_states + ":JointState",
                                                                "monitor/status:SingularityStatus",
                                                                "/diagnostics:DiagnosticArray"]}]))
     return [GroupAction(actions)]
@@ -58,6 +71,10 @@ def generate_launch_description():
                               description="the NC program the machine runs (optional)"),
         DeclareLaunchArgument("work_offset_mm", default_value="",
                               description="the control's active work offset X,Y,Z in mm, without a program"),
+        DeclareLaunchArgument("mtconnect_agent", default_value="",
+                              description="an MTConnect agent's URL: read the machine from it (starts fiveaxis-bridge)"),
+        DeclareLaunchArgument("mtconnect_device", default_value="",
+                              description="the agent's device (name or uuid) where it serves several"),
         DeclareLaunchArgument("bag", default_value="",
                               description="also record the joint states, status and diagnostics to this bag"),
         OpaqueFunction(function=nodes),

@@ -60,7 +60,7 @@ struct Args {
     /// Wait this long for a subscriber before reading the source, s (then read anyway).
     #[arg(long = "wait-for-subscriber-s", default_value_t = 0.0)]
     wait_for_subscriber_s: f64,
-    /// Exit once the source has been unreachable this long after having delivered data, s.
+    /// Exit once the source has been unreachable this long, s (exit 2 if it never answered).
     #[arg(long = "exit-when-down-s")]
     exit_when_down_s: Option<f64>,
     /// Write a JSON summary (messages, axis reports per axis, refusals, reconnections, gaps) here on
@@ -121,6 +121,7 @@ fn main() -> anyhow::Result<()> {
     let source = if let Some(url) = &args.mtconnect_agent {
         // The agent may come up after the bridge: an unreachable one is retried, a wrong one refused.
         let mut wait = Duration::from_millis(200);
+        let start = Instant::now();
         loop {
             match Agent::probe(url, args.mtconnect_device.as_deref(), &machine, &axis_map) {
                 Ok(mut agent) => {
@@ -130,6 +131,9 @@ fn main() -> anyhow::Result<()> {
                 }
                 Err(ProbeError::Refused(why)) => refuse(why),
                 Err(ProbeError::Unreachable(why)) => {
+                    if args.exit_when_down_s.is_some_and(|s| start.elapsed().as_secs_f64() > s) {
+                        refuse(format!("{why}: no answer for {:.1} s", start.elapsed().as_secs_f64()));
+                    }
                     tracing::warn!("{why}: retrying");
                     std::thread::sleep(wait);
                     wait = (wait * 2).min(Duration::from_secs(2));
@@ -181,15 +185,19 @@ fn main() -> anyhow::Result<()> {
                 Source::Adapter(a) => a.run(keep_going, &mut send),
             }
         });
-        // Since when the source has been down, once it has delivered.
-        let mut down_since: Option<Instant> = None;
+        // Since when the source has been down (from the start until it delivers).
+        let mut down_since: Option<Instant> = Some(Instant::now());
         let mut delivered = false;
         loop {
             if !keep_going() {
                 break;
             }
             if let (Some(limit), Some(since)) = (args.exit_when_down_s, down_since) {
-                if delivered && since.elapsed().as_secs_f64() > limit {
+                if since.elapsed().as_secs_f64() > limit {
+                    if !delivered {
+                        tracing::error!("the source gave nothing for {limit} s: exiting");
+                        std::process::exit(EXIT_INPUT);
+                    }
                     tracing::info!("the source has been down for {limit} s: exiting");
                     break;
                 }
