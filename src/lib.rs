@@ -17,6 +17,7 @@ pub mod args;
 pub mod job;
 pub mod live;
 pub mod mtconnect;
+pub mod opcua;
 pub mod record;
 pub mod recorded;
 pub mod report;

@@ -1,9 +1,12 @@
 //! `fiveaxis-bridge`: a machine's axis positions read from its MTConnect agent (`/probe`, `/current`,
-//! a streamed `/sample`) or straight from its adapter (SHDR over TCP), published as
+//! a streamed `/sample`), straight from its adapter (SHDR over TCP), or from its OPC UA server (the
+//! OPC 40502 CNC model, by subscription), published as
 //! `sensor_msgs/JointState` (REP 103: m, rad) on `machine/joint_states`: one message per instant
 //! the source reported, carrying only the axes reported then (legal in ROS; the monitor, the Rerun
 //! bridge and `analyze` merge them per axis), stamped with the source's own timestamp. It
 //! reconnects on its own; an agent stream continues from the sequence it left off at.
+
+mod opcua;
 
 use clap::Parser;
 use fiveaxis::machine::Machine;
@@ -27,8 +30,23 @@ struct Args {
     common: CommonArgs,
     /// An MTConnect agent's base URL (`http://host:5000`): its /probe names the axes; /sample is
     /// streamed.
-    #[arg(long = "mtconnect-agent", value_name = "URL", required_unless_present = "shdr_adapter", conflicts_with = "shdr_adapter")]
+    #[arg(long = "mtconnect-agent", value_name = "URL", required_unless_present_any = ["shdr_adapter", "opcua_server"], conflicts_with_all = ["shdr_adapter", "opcua_server"])]
     mtconnect_agent: Option<String>,
+    /// An OPC UA server of the control (`opc.tcp://cnc:4840`): its OPC 40502 CNC model
+    /// (Objects/CncInterface/CncAxisList) is browsed for the axes, whose ActPos are subscribed to.
+    #[arg(long = "opcua-server", value_name = "URL", conflicts_with = "shdr_adapter")]
+    opcua_server: Option<String>,
+    /// Which position of each CncAxis to read: its indirect (motor encoder) or direct (scale)
+    /// measuring system.
+    #[arg(long = "opcua-measuring", value_enum, default_value = "indirect")]
+    opcua_measuring: fiveaxis::opcua::Measuring,
+    /// The sampling and publishing interval asked of the OPC UA server, ms (a Sinumerik offers 100
+    /// at best).
+    #[arg(long = "sampling-ms", default_value_t = 100)]
+    sampling_ms: u64,
+    /// Read OPC UA positions without EngineeringUnits as mm and degrees (else refused).
+    #[arg(long = "assume-mm-deg")]
+    assume_mm_deg: bool,
     /// An MTConnect adapter's SHDR stream (`host:7878`), read without an agent; needs the device's
     /// description (--mtconnect-devices).
     #[arg(long = "shdr-adapter", value_name = "HOST:PORT", requires = "mtconnect_devices")]
@@ -106,6 +124,7 @@ fn joint_state(machine: &Machine, r: &AxisReport) -> JointState {
 enum Source {
     Agent(Agent),
     Adapter(Adapter),
+    OpcUa(opcua::OpcUa),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -118,7 +137,12 @@ fn main() -> anyhow::Result<()> {
         std::process::exit(EXIT_INPUT);
     };
     let axis_map = args.axis_map.resolve(&machine).unwrap_or_else(|e| refuse(e));
-    let source = if let Some(url) = &args.mtconnect_agent {
+    let source = if let Some(url) = &args.opcua_server {
+        if args.sampling_ms == 0 {
+            refuse("--sampling-ms must be positive".into());
+        }
+        Source::OpcUa(opcua::OpcUa::new(url, &machine, axis_map.clone(), args.opcua_measuring, Duration::from_millis(args.sampling_ms), args.assume_mm_deg))
+    } else if let Some(url) = &args.mtconnect_agent {
         // The agent may come up after the bridge: an unreachable one is retried, a wrong one refused.
         let mut wait = Duration::from_millis(200);
         let start = Instant::now();
@@ -150,10 +174,11 @@ fn main() -> anyhow::Result<()> {
         Source::Adapter(Adapter::new(address, all, args.mtconnect_device.as_deref(), &machine, &axis_map).unwrap_or_else(|e| refuse(format!("{}: {e}", path.display()))))
     };
     let items = match &source {
-        Source::Agent(a) => &a.items,
-        Source::Adapter(a) => &a.items,
+        Source::Agent(a) => Some(&a.items),
+        Source::Adapter(a) => Some(&a.items),
+        Source::OpcUa(_) => None,
     };
-    for (axis, id) in machine.axis_names().iter().zip(&items.ids) {
+    for (axis, id) in machine.axis_names().iter().zip(items.map(|i| i.ids.as_slice()).unwrap_or_default()) {
         tracing::info!(axis = %axis, data_item = %id, "axis read from");
     }
 
@@ -165,7 +190,7 @@ fn main() -> anyhow::Result<()> {
     }
     let mut held = Restater::new(args.restate_still_s);
     let mut summary = Summary {
-        source: args.mtconnect_agent.clone().or(args.shdr_adapter.clone()).unwrap_or_default(),
+        source: args.mtconnect_agent.clone().or(args.shdr_adapter.clone()).or(args.opcua_server.clone()).unwrap_or_default(),
         axes: machine.axis_names().to_vec(),
         reports_per_axis: vec![0; machine.axis_names().len()],
         ..Default::default()
@@ -173,17 +198,19 @@ fn main() -> anyhow::Result<()> {
     let stop = AtomicBool::new(false);
     let keep_going = || !shutdown.requested() && !stop.load(Ordering::Relaxed);
     let (tx, rx) = std::sync::mpsc::sync_channel::<Event>(4096);
-    std::thread::scope(|scope| {
+    let refused = std::thread::scope(|scope| {
         let source = &source;
         let keep_going = &keep_going;
-        scope.spawn(move || {
+        let reader = scope.spawn(move || {
             let mut send = |e: Event| {
                 let _ = tx.send(e);
             };
             match source {
                 Source::Agent(a) => a.run(keep_going, &mut send),
                 Source::Adapter(a) => a.run(keep_going, &mut send),
+                Source::OpcUa(o) => return o.run(keep_going, &mut send),
             }
+            Ok(())
         });
         // Since when the source has been down (from the start until it delivers).
         let mut down_since: Option<Instant> = Some(Instant::now());
@@ -247,7 +274,11 @@ fn main() -> anyhow::Result<()> {
             }
         }
         stop.store(true, Ordering::Relaxed);
+        reader.join().unwrap_or_else(|_| Err("the source's reader panicked".into())).err()
     });
+    if let Some(why) = refused {
+        refuse(why);
+    }
     tracing::info!(messages = summary.messages, refused = summary.refused, connections = summary.connections, gaps = summary.gaps, "bridge summary");
     if let Some(path) = &args.summary_json {
         std::fs::write(path, serde_json::to_string_pretty(&summary)?)?;

@@ -1,0 +1,291 @@
+//! A CNC's axes from its OPC UA server (async-opcua's client): the OPC 40502 CNC model found by
+//! browsing (`Objects/CncInterface/CncAxisList`, each axis' `PosIndirect` or `PosDirect` `ActPos`,
+//! its `EngineeringUnits` and `IsRotational`), subscribed to at the sampling interval asked, each
+//! value taken at its SourceTimestamp. A lost connection is made again from the start: the model
+//! browsed anew (a restarted server may number its nodes otherwise) and the subscription created
+//! again, so the stream goes on as before.
+
+use fiveaxis::machine::{AxisKind, Machine};
+use fiveaxis::mtconnect::live::{Event, KeepGoing};
+use fiveaxis::mtconnect::shdr::Stamp;
+use fiveaxis::opcua::{self as model, Measuring, Notifications};
+use opcua::client::{ClientBuilder, DataChangeCallback, IdentityToken, MonitoredItem, Session};
+use opcua::crypto::SecurityPolicy;
+use opcua::types::{
+    AttributeId, BrowseDescription, BrowseDirection, BrowsePath, DataValue, EUInformation, MessageSecurityMode, MonitoredItemCreateRequest, NodeClass, NodeId, QualifiedName,
+    ReadValueId, ReferenceTypeId, RelativePath, RelativePathElement, TimestampsToReturn, UserTokenPolicy, Variant,
+};
+use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+/// An OPC UA server to read a machine's axes from.
+pub struct OpcUa {
+    pub url: String,
+    pub measuring: Measuring,
+    pub sampling: Duration,
+    /// Machine axis -> the CncAxis browse name where they differ.
+    pub axis_map: BTreeMap<String, String>,
+    pub assume_mm_deg: bool,
+    /// (name, rotary) per machine axis.
+    axes: Vec<(String, bool)>,
+}
+
+/// What browsing found: per machine axis, its ActPos node and the factor to SI.
+struct Found {
+    nodes: Vec<NodeId>,
+    factors: Vec<f64>,
+}
+
+impl OpcUa {
+    pub fn new(url: &str, machine: &Machine, axis_map: BTreeMap<String, String>, measuring: Measuring, sampling: Duration, assume_mm_deg: bool) -> OpcUa {
+        let axes = machine.axes.iter().map(|a| (a.name.clone(), a.kind == AxisKind::Rotary)).collect();
+        OpcUa { url: url.to_string(), measuring, sampling, axis_map, assume_mm_deg, axes }
+    }
+
+    /// Read until `keep_going` says stop, connecting again whenever the connection is lost; an
+    /// address space without the axes is refused (`Err`), since trying again will not help.
+    pub fn run(&self, keep_going: KeepGoing, on: &mut dyn FnMut(Event)) -> Result<(), String> {
+        let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().map_err(|e| e.to_string())?;
+        let mut wait = Duration::from_millis(200);
+        while keep_going() {
+            match runtime.block_on(self.session(keep_going, on)) {
+                Ok(()) => return Ok(()),
+                Err(Failure::Refused(why)) => return Err(why),
+                Err(Failure::Down(why)) => on(Event::Down(format!("OPC UA {}: {why}", self.url))),
+            }
+            let until = std::time::Instant::now() + wait;
+            wait = (wait * 2).min(Duration::from_secs(2));
+            while std::time::Instant::now() < until {
+                if !keep_going() {
+                    return Ok(());
+                }
+                std::thread::sleep(Duration::from_millis(50));
+            }
+        }
+        Ok(())
+    }
+
+    async fn session(&self, keep_going: KeepGoing<'_>, on: &mut dyn FnMut(Event)) -> Result<(), Failure> {
+        // The client's own certificate (OPC UA Part 4 §5.4: every application has one, even on an
+        // endpoint without security), made once and kept.
+        let pki = pki_dir();
+        let mut client = ClientBuilder::new()
+            .application_name("fiveaxis-bridge")
+            .application_uri("urn:fiveaxis:bridge")
+            .product_uri("urn:fiveaxis")
+            .pki_dir(pki)
+            .create_sample_keypair(true)
+            .trust_server_certs(true)
+            // Connection losses are this module's to handle: browse again, subscribe again.
+            .session_retry_limit(0)
+            .session_timeout(60_000)
+            .client()
+            .map_err(|e| Failure::Refused(format!("OPC UA client: {}", e.join("; "))))?;
+        let (session, event_loop) = client
+            .connect_to_matching_endpoint((self.url.as_str(), SecurityPolicy::None.to_str(), MessageSecurityMode::None, UserTokenPolicy::anonymous()), IdentityToken::Anonymous)
+            .await
+            .map_err(|e| Failure::Down(format!("connecting: {e}")))?;
+        let handle = event_loop.spawn();
+        let connected = tokio::time::timeout(Duration::from_secs(10), session.wait_for_connection()).await;
+        if !matches!(connected, Ok(true)) {
+            handle.abort();
+            return Err(Failure::Down("no session within 10 s".into()));
+        }
+        let result = self.subscribed(&session, &handle, keep_going, on).await;
+        let _ = tokio::time::timeout(Duration::from_secs(2), session.disconnect()).await;
+        handle.abort();
+        result
+    }
+
+    /// Browse, subscribe, and hand the values on until the connection ends or the caller stops.
+    async fn subscribed(&self, session: &Arc<Session>, handle: &tokio::task::JoinHandle<opcua::types::StatusCode>, keep_going: KeepGoing<'_>, on: &mut dyn FnMut(Event)) -> Result<(), Failure> {
+        let found = self.browse(session).await?;
+        let gathered = Arc::new(Mutex::new(Notifications::default()));
+        let refused = Arc::new(Mutex::new(Vec::<String>::new()));
+        let by_node: Arc<std::collections::HashMap<NodeId, usize>> = Arc::new(found.nodes.iter().cloned().enumerate().map(|(i, n)| (n, i)).collect());
+        let (g, r, factors) = (gathered.clone(), refused.clone(), found.factors.clone());
+        let callback = DataChangeCallback::new(move |dv: DataValue, item: &MonitoredItem| {
+            let Some(&axis) = by_node.get(&item.item_to_monitor().node_id) else { return };
+            match value_of(&dv) {
+                Ok(Some(v)) => g.lock().unwrap_or_else(|e| e.into_inner()).push(stamp_of(&dv), axis, v * factors[axis]),
+                Ok(None) => {}
+                Err(why) => r.lock().unwrap_or_else(|e| e.into_inner()).push(format!("{}: {why}", item.item_to_monitor().node_id)),
+            }
+        });
+        let sampling = self.sampling;
+        let subscription = session
+            .create_subscription(sampling, 60, 10, 0, 0, true, callback)
+            .await
+            .map_err(|e| Failure::Down(format!("creating the subscription: {e}")))?;
+        let items: Vec<MonitoredItemCreateRequest> = found
+            .nodes
+            .iter()
+            .map(|n| {
+                let mut req: MonitoredItemCreateRequest = n.clone().into();
+                req.requested_parameters.sampling_interval = sampling.as_secs_f64() * 1e3;
+                // Every sample kept between two publishes (a late publish loses none).
+                req.requested_parameters.queue_size = 100;
+                req.requested_parameters.discard_oldest = true;
+                req
+            })
+            .collect();
+        let created = session
+            .create_monitored_items(subscription, TimestampsToReturn::Both, items)
+            .await
+            .map_err(|e| Failure::Down(format!("creating the monitored items: {e}")))?;
+        for (c, (name, _)) in created.iter().zip(&self.axes) {
+            if !c.result.status_code.is_good() {
+                return Err(Failure::Refused(format!("axis {name}: the server refused to monitor its position: {}", c.result.status_code)));
+            }
+        }
+        on(Event::Connected(format!("OPC UA {}: {} axes subscribed, sampled every {} ms", self.url, found.nodes.len(), sampling.as_millis())));
+        loop {
+            tokio::time::sleep(Duration::from_millis(20)).await;
+            let mut batch = std::mem::take(&mut *gathered.lock().unwrap_or_else(|e| e.into_inner()));
+            batch.drain(|r| on(Event::Report(r)));
+            for why in std::mem::take(&mut *refused.lock().unwrap_or_else(|e| e.into_inner())) {
+                on(Event::Refused(why));
+            }
+            if !keep_going() {
+                return Ok(());
+            }
+            if handle.is_finished() {
+                return Err(Failure::Down("the connection was lost".into()));
+            }
+        }
+    }
+
+    /// The machine's axes in the CNC model: their ActPos nodes and units.
+    async fn browse(&self, session: &Session) -> Result<Found, Failure> {
+        let down = |what: &str, e: &dyn std::fmt::Display| Failure::Down(format!("{what}: {e}"));
+        let ns_array = session
+            .read(&[ReadValueId { node_id: NodeId::new(0, 2255u32), attribute_id: AttributeId::Value as u32, ..Default::default() }], TimestampsToReturn::Neither, 0.0)
+            .await
+            .map_err(|e| down("reading the namespace array", &e))?;
+        let namespaces: Vec<String> = match ns_array.first().and_then(|d| d.value.as_ref()) {
+            Some(Variant::Array(a)) => a.values.iter().map(|v| if let Variant::String(s) = v { s.as_ref().to_string() } else { String::new() }).collect(),
+            _ => Vec::new(),
+        };
+        let ns = namespaces.iter().position(|u| u == model::CNC_NAMESPACE).ok_or_else(|| Failure::Refused(format!("the server has no OPC 40502 CNC model (namespace {} not among {namespaces:?})", model::CNC_NAMESPACE)))? as u16;
+        let list = self.follow(session, &NodeId::new(0, 85u32), &[(ns, model::CNC_INTERFACE), (ns, model::CNC_AXIS_LIST)]).await?.ok_or_else(|| {
+            Failure::Refused(format!("no Objects/{}/{} in the server's address space", model::CNC_INTERFACE, model::CNC_AXIS_LIST))
+        })?;
+        let browsed = session
+            .browse(
+                &[BrowseDescription {
+                    node_id: list.clone(),
+                    browse_direction: BrowseDirection::Forward,
+                    reference_type_id: ReferenceTypeId::HierarchicalReferences.into(),
+                    include_subtypes: true,
+                    node_class_mask: NodeClass::Object as u32,
+                    result_mask: 0x3f,
+                }],
+                1000,
+                None,
+            )
+            .await
+            .map_err(|e| down("browsing the axis list", &e))?;
+        let children: Vec<(String, NodeId)> =
+            browsed.first().and_then(|r| r.references.clone()).unwrap_or_default().into_iter().map(|r| (r.browse_name.name.as_ref().to_string(), r.node_id.node_id)).collect();
+        let names: Vec<&str> = children.iter().map(|(n, _)| n.as_str()).collect();
+        let mut nodes = Vec::new();
+        let mut factors = Vec::new();
+        for (axis, rotary) in &self.axes {
+            let want = self.axis_map.get(axis).unwrap_or(axis);
+            let (_, node) = children.iter().find(|(n, _)| n.eq_ignore_ascii_case(want)).ok_or_else(|| {
+                Failure::Refused(format!("axis {axis}: no CncAxis '{want}' in {}/{} (its axes: {names:?}; name one with --axis-map {axis}=NAME)", model::CNC_INTERFACE, model::CNC_AXIS_LIST))
+            })?;
+            let pos = self.measuring.browse_name();
+            let act = self.follow(session, node, &[(ns, pos), (ns, model::ACT_POS)]).await?.ok_or_else(|| Failure::Refused(format!("axis {axis}: no {pos}/{} under CncAxis '{want}'", model::ACT_POS)))?;
+            // EngineeringUnits: the CNC model's own (ns CNC) or the standard property's name.
+            let mut eu_node = self.follow(session, node, &[(ns, pos), (ns, "EngineeringUnits")]).await?;
+            if eu_node.is_none() {
+                eu_node = self.follow(session, node, &[(ns, pos), (0, "EngineeringUnits")]).await?;
+            }
+            let units = match eu_node {
+                Some(eu) => {
+                    let v = session
+                        .read(&[ReadValueId { node_id: eu, attribute_id: AttributeId::Value as u32, ..Default::default() }], TimestampsToReturn::Neither, 0.0)
+                        .await
+                        .map_err(|e| down("reading EngineeringUnits", &e))?;
+                    match v.first().and_then(|d| d.value.as_ref()) {
+                        Some(Variant::ExtensionObject(x)) => x.inner_as::<EUInformation>().map(|e| (e.namespace_uri.as_ref().to_string(), e.unit_id)),
+                        _ => None,
+                    }
+                }
+                None => None,
+            };
+            let factor = model::position_factor(axis, *rotary, units.as_ref().map(|(u, i)| (u.as_str(), *i)), self.assume_mm_deg).map_err(Failure::Refused)?;
+            nodes.push(act);
+            factors.push(factor);
+        }
+        Ok(Found { nodes, factors })
+    }
+
+    /// The node reached from `start` by hierarchical references with these browse names (None: no such path).
+    async fn follow(&self, session: &Session, start: &NodeId, path: &[(u16, &str)]) -> Result<Option<NodeId>, Failure> {
+        let elements = path
+            .iter()
+            .map(|(ns, name)| RelativePathElement { reference_type_id: ReferenceTypeId::HierarchicalReferences.into(), is_inverse: false, include_subtypes: true, target_name: QualifiedName::new(*ns, *name) })
+            .collect();
+        let results = session
+            .translate_browse_paths_to_node_ids(&[BrowsePath { starting_node: start.clone(), relative_path: RelativePath { elements: Some(elements) } }])
+            .await
+            .map_err(|e| Failure::Down(format!("translating a browse path: {e}")))?;
+        Ok(results.into_iter().next().filter(|r| r.status_code.is_good()).and_then(|r| r.targets).and_then(|t| t.into_iter().next()).map(|t| t.target_id.node_id))
+    }
+}
+
+/// Why a session ended.
+enum Failure {
+    /// The connection failed or was lost: try again.
+    Down(String),
+    /// The server has no such axes: trying again will not help.
+    Refused(String),
+}
+
+/// A position's value (None: no good value, e.g. the server's Bad status while an axis is not
+/// referenced); a value that is not a number is an error.
+fn value_of(dv: &DataValue) -> Result<Option<f64>, String> {
+    if dv.status.is_some_and(|s| !s.is_good()) {
+        return Ok(None);
+    }
+    let v = match dv.value.as_ref() {
+        None | Some(Variant::Empty) => return Ok(None),
+        Some(Variant::Double(x)) => *x,
+        Some(Variant::Float(x)) => f64::from(*x),
+        Some(Variant::Int32(x)) => f64::from(*x),
+        Some(Variant::Int64(x)) => *x as f64,
+        Some(other) => return Err(format!("a position of type {:?}, not a number", other.type_id())),
+    };
+    if v.is_finite() {
+        Ok(Some(v))
+    } else {
+        Err(format!("a position of {v}"))
+    }
+}
+
+/// When the value was taken: its SourceTimestamp (else the server's, else now).
+fn stamp_of(dv: &DataValue) -> Stamp {
+    match dv.source_timestamp.or(dv.server_timestamp) {
+        Some(t) if !t.is_null() => {
+            let c = t.as_chrono();
+            Stamp { sec: c.timestamp(), nanosec: c.timestamp_subsec_nanos() }
+        }
+        _ => Stamp::now(),
+    }
+}
+
+/// Where the client keeps its certificate and the servers' it has seen: `$FIVEAXIS_OPCUA_PKI`, else
+/// `$XDG_STATE_HOME/fiveaxis/opcua-pki` or `~/.local/state/fiveaxis/opcua-pki`.
+fn pki_dir() -> std::path::PathBuf {
+    if let Some(d) = std::env::var_os("FIVEAXIS_OPCUA_PKI") {
+        return d.into();
+    }
+    let state = std::env::var_os("XDG_STATE_HOME")
+        .map(std::path::PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| std::path::PathBuf::from(h).join(".local/state")))
+        .unwrap_or_else(std::env::temp_dir);
+    state.join("fiveaxis/opcua-pki")
+}
