@@ -189,43 +189,41 @@ fn a_bridge_down_for_seconds_is_stale_not_lost_everywhere() {
     assert_eq!(regions.len(), 1, "{regions:#?}");
 }
 
-/// The bridge's view of a CNC's OPC UA server: the server (asyncua, tests/peer/opcua_cnc_server.py,
-/// with the OPC 40502 CNC nodeset as node-opcua-nodesets ships it) has its five CncAxis follow
-/// LinuxCNC's SING trace, sampled every 100 ms as a Sinumerik's server samples at best, each value
-/// stamped when sampled; `fiveaxis-bridge --opcua-server` browses the model, subscribes to the axes'
-/// ActPos and publishes JointState; the monitor watches it. The server restarts 1.2 s before the
-/// cut and is down for 1 s (a new session, its nodes browsed again).
-#[test]
-fn a_cncs_opc_ua_server_at_100_ms_through_the_bridge_and_its_restart() {
+/// The bridge's view of a CNC's OPC UA server: an independent server has its five CncAxis (OPC 40502,
+/// the CNC nodeset as node-opcua-nodesets ships it) follow LinuxCNC's SING trace, sampled every
+/// 100 ms as a Sinumerik's server samples at best, each value stamped when sampled;
+/// `fiveaxis-bridge --opcua-server` browses the model, subscribes to the axes' ActPos and publishes
+/// JointState; the monitor watches it. The server restarts 1.2 s before the cut and is down for 1 s
+/// (a new session, its nodes browsed again). `server`: the peer's command before its options.
+fn opcua_live(tag: &str, server: &str) {
     static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _one = ONE.lock().unwrap_or_else(|e| e.into_inner());
-    let nodeset = root().join("target/npm/node_modules/node-opcua-nodesets/nodesets/Opc.Ua.CNC.NodeSet.xml");
-    assert!(nodeset.exists(), "{} is installed by launch-free-scripts/test (npm node-opcua-nodesets)", nodeset.display());
-    let dir = common::scratch_dir("live-opcua");
+    let dir = common::scratch_dir(&format!("live-opcua-{tag}"));
     let d = dir.display();
     let bin = monitor_bin().parent().unwrap().to_path_buf();
     let script = format!(
         "'{bin}/fiveaxis-monitor' --joint-state-input /fiveaxis/machine/joint_states --machine hermle-c600u --feed 2000 --lookahead '' \
             --summary-json {d}/summary.json --exit-when-idle-s 3 > {d}/monitor.log 2>&1 &
         M=$!
-        python3 '{peer}' '{trace}' --nodeset '{nodeset}' --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 > {d}/peer.json 2> {d}/peer.err &
+        {server} --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 > {d}/peer.json 2> {d}/peer.err &
         P=$!
         for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
-        FIVEAXIS_OPCUA_PKI={d}/pki '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis/ --machine hermle-c600u --exit-when-down-s 4 \
+        FIVEAXIS_OPCUA_PKI={d}/pki '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 4 \
             --wait-for-subscriber-s 10 --summary-json {d}/bridge.json > {d}/bridge.log 2>&1 &
         B=$!
         wait $P; wait $B; wait $M",
         bin = bin.display(),
-        peer = root().join("tests/peer/opcua_cnc_server.py").display(),
-        trace = root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display(),
-        nodeset = nodeset.display(),
     );
     let out = Command::new(root().join("launch-free-scripts/netns-run")).args(["bash", "-c", &script]).env("RUST_LOG", "info").output().expect("netns-run runs");
     let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap_or_default();
     let logs = format!("{}\n{}\nbridge: {}\nmonitor: {}\npeer: {}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr), read("bridge.log"), read("monitor.log"), read("peer.err"));
     assert!(out.status.success(), "{logs}");
-    let json = |f: &str| -> serde_json::Value { serde_json::from_str(&read(f)).unwrap_or_else(|e| panic!("{f}: {e}\n{logs}")) };
-    let (summary, bridge, peer) = (json("summary.json"), json("bridge.json"), json("peer.json"));
+    // A whole JSON file, or the last JSON line of a peer's output.
+    let json = |f: &str| -> serde_json::Value {
+        let text = read(f);
+        serde_json::from_str(&text).or_else(|_| serde_json::from_str(text.lines().rfind(|l| l.starts_with('{')).unwrap_or(""))).unwrap_or_else(|e| panic!("{f}: {e}\n{logs}"))
+    };
+    let (summary, bridge, peer) = (serde_json::from_str::<serde_json::Value>(&read("summary.json")).unwrap_or_else(|e| panic!("{e}\n{logs}")), json("bridge.json"), json("peer.json"));
     assert_eq!(peer["restarts"], 1, "{peer}");
     // The restart was seen and got over: two sessions, nothing refused.
     assert_eq!((bridge["connections"].as_u64(), bridge["refused"].as_u64()), (Some(2), Some(0)), "{bridge:#}\n{logs}");
@@ -243,6 +241,27 @@ fn a_cncs_opc_ua_server_at_100_ms_through_the_bridge_and_its_restart() {
     assert!((x0 - 22.0).abs() <= 1.0 && (x1 - 28.0).abs() <= 1.0, "region x {x0:.2}-{x1:.2}");
     let peak = r["peak_c_speed_rpm"].as_f64().unwrap();
     assert!((peak - 175.0).abs() <= 0.05 * 175.0, "peak {peak:.1} rpm (numpy: 175.0 on the 1 kHz trace)");
-    eprintln!("OPC UA at 100 ms: region x {x0:.2}-{x1:.2} mm, peak {peak:.1} rpm, {} poses, bridge {bridge}", input["samples"]);
+    eprintln!("OPC UA ({tag}) at 100 ms: region x {x0:.2}-{x1:.2} mm, peak {peak:.1} rpm, {} poses, bridge {bridge}", input["samples"]);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn npm_modules() -> PathBuf {
+    let m = root().join("target/npm/node_modules");
+    assert!(m.join("node-opcua-nodesets/nodesets/Opc.Ua.CNC.NodeSet.xml").exists(), "{} is installed by launch-free-scripts/test (npm)", m.display());
+    m
+}
+
+/// node-opcua's server (npm) with the CNC nodeset loaded as node-opcua loads nodesets.
+#[test]
+fn node_opcuas_cnc_server_at_100_ms_through_the_bridge_and_its_restart() {
+    let server = format!("NODE_PATH='{}' node '{}' '{}'", npm_modules().display(), root().join("tests/peer/opcua_cnc_server.js").display(), root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display());
+    opcua_live("node", &server);
+}
+
+/// asyncua's server (PyPI) with the same nodeset imported.
+#[test]
+fn asyncuas_cnc_server_at_100_ms_through_the_bridge_and_its_restart() {
+    let nodeset = npm_modules().join("node-opcua-nodesets/nodesets/Opc.Ua.CNC.NodeSet.xml");
+    let server = format!("python3 '{}' '{}' --nodeset '{}'", root().join("tests/peer/opcua_cnc_server.py").display(), root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display(), nodeset.display());
+    opcua_live("asyncua", &server);
 }
