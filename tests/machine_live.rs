@@ -194,22 +194,23 @@ fn a_bridge_down_for_seconds_is_stale_not_lost_everywhere() {
 /// 100 ms as a Sinumerik's server samples at best, each value stamped when sampled;
 /// `fiveaxis-bridge --opcua-server` browses the model, subscribes to the axes' ActPos and publishes
 /// JointState; the monitor watches it. The server restarts 1.2 s before the cut and is down for 1 s
-/// (a new session, its nodes browsed again). `server`: the peer's command before its options.
-fn opcua_live(tag: &str, server: &str) {
+/// (a new session, its nodes browsed again). `server`: the peer's command before its options;
+/// `bridge`: the bridge's options beyond the server and machine.
+fn opcua_live(tag: &str, server: &str, bridge: &str) {
     static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _one = ONE.lock().unwrap_or_else(|e| e.into_inner());
     let dir = common::scratch_dir(&format!("live-opcua-{tag}"));
     let d = dir.display();
     let bin = monitor_bin().parent().unwrap().to_path_buf();
     let script = format!(
-        "'{bin}/fiveaxis-monitor' --joint-state-input /fiveaxis/machine/joint_states --machine hermle-c600u --feed 2000 --lookahead '' \
+        "timeout 90 '{bin}/fiveaxis-monitor' --joint-state-input /fiveaxis/machine/joint_states --machine hermle-c600u --feed 2000 --lookahead '' \
             --summary-json {d}/summary.json --exit-when-idle-s 3 > {d}/monitor.log 2>&1 &
         M=$!
         {server} --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 > {d}/peer.json 2> {d}/peer.err &
         P=$!
         for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
         FIVEAXIS_OPCUA_PKI={d}/pki '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 4 \
-            --wait-for-subscriber-s 10 --summary-json {d}/bridge.json > {d}/bridge.log 2>&1 &
+            --wait-for-subscriber-s 10 --summary-json {d}/bridge.json {bridge} > {d}/bridge.log 2>&1 &
         B=$!
         wait $P; wait $B; wait $M",
         bin = bin.display(),
@@ -255,7 +256,7 @@ fn npm_modules() -> PathBuf {
 #[test]
 fn node_opcuas_cnc_server_at_100_ms_through_the_bridge_and_its_restart() {
     let server = format!("NODE_PATH='{}' node '{}' '{}'", npm_modules().display(), root().join("tests/peer/opcua_cnc_server.js").display(), root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display());
-    opcua_live("node", &server);
+    opcua_live("node", &server, "");
 }
 
 /// asyncua's server (PyPI) with the same nodeset imported.
@@ -263,5 +264,44 @@ fn node_opcuas_cnc_server_at_100_ms_through_the_bridge_and_its_restart() {
 fn asyncuas_cnc_server_at_100_ms_through_the_bridge_and_its_restart() {
     let nodeset = npm_modules().join("node-opcua-nodesets/nodesets/Opc.Ua.CNC.NodeSet.xml");
     let server = format!("python3 '{}' '{}' --nodeset '{}'", root().join("tests/peer/opcua_cnc_server.py").display(), root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display(), nodeset.display());
-    opcua_live("asyncua", &server);
+    opcua_live("asyncua", &server, "");
+}
+
+/// The Sinumerik node map of the README: the control's own NC variables
+/// (`ns=2;s=/Channel/MachineAxis/actToolBasePos[u1,N]`, no EngineeringUnits: mm and degrees said
+/// with --assume-mm-deg), served by asyncua as a Sinumerik's server names them.
+fn sinumerik_nodes() -> String {
+    "XYZAC".chars().enumerate().map(|(k, a)| format!("--opcua-node '{a}=ns=2;s=/Channel/MachineAxis/actToolBasePos[u1,{}]' ", k + 1)).collect()
+}
+
+#[test]
+fn a_sinumeriks_own_nc_variables_by_node_map_through_the_bridge() {
+    let server = format!("python3 '{}' '{}' --sinumerik", root().join("tests/peer/opcua_cnc_server.py").display(), root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display());
+    opcua_live("sinumerik", &server, &format!("--assume-mm-deg {}", sinumerik_nodes()));
+}
+
+/// Fail closed: a server without the CNC model and no node map, and a node map whose positions
+/// carry no units and none assumed, are refused at once (exit 2) saying why.
+#[test]
+fn an_opc_ua_server_without_the_axes_is_refused_with_why() {
+    let dir = common::scratch_dir("opcua-refused");
+    let d = dir.display();
+    let bridge = format!("FIVEAXIS_OPCUA_PKI={d}/pki '{}' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 20", monitor_bin().parent().unwrap().join("fiveaxis-bridge").display());
+    let script = format!(
+        "python3 '{peer}' '{trace}' --sinumerik --port 4840 --start 8 --end 12 --linger 0 > /dev/null 2>&1 &
+        for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
+        {bridge} > {d}/model.log 2>&1; echo \"model $?\"
+        {bridge} {nodes} > {d}/units.log 2>&1; echo \"units $?\"
+        kill %1",
+        peer = root().join("tests/peer/opcua_cnc_server.py").display(),
+        trace = root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display(),
+        nodes = sinumerik_nodes(),
+    );
+    let out = Command::new(root().join("launch-free-scripts/netns-run")).args(["bash", "-c", &script]).output().expect("netns-run runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let log = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap_or_default();
+    assert!(stdout.contains("model 2") && stdout.contains("units 2"), "{stdout}\n{}\n{}", log("model.log"), log("units.log"));
+    assert!(log("model.log").contains("no OPC 40502 CNC model (namespace http://opcfoundation.org/UA/CNC not among"), "{}", log("model.log"));
+    assert!(log("units.log").contains("axis X: its position has no EngineeringUnits (say --assume-mm-deg"), "{}", log("units.log"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

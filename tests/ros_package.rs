@@ -75,11 +75,12 @@ fn colcon_finds_every_package_with_its_build_type() {
 #[test]
 fn launch_files_start_built_executables_with_parameters_they_accept() {
     let dir = common::scratch_dir("launch-check");
-    let cases: [(&str, &[&str], &[&str]); 4] = [
+    let cases: [(&str, &[&str], &[&str]); 5] = [
         ("node_set.launch.py", &[], &["commander", "simulator", "monitor", "recorder"]),
         ("monitor_machine.launch.py", &[], &["monitor"]),
         ("monitor_machine.launch.py", &["axis_map=X=joint_0,Y=joint_1,Z=joint_2,A=joint_3,C=joint_4", "bag=shift_bag", "program=bundled:SING.I"], &["monitor", "recorder"]),
         ("monitor_machine.launch.py", &["mtconnect_agent=http://agent:5000", "mtconnect_device=C600U", "axis_map=Z=z_act", "bag=shift_bag"], &["bridge", "monitor", "recorder"]),
+        ("monitor_machine.launch.py", &["opcua_server=opc.tcp://cnc:4840", "program=bundled:SING.I"], &["bridge", "monitor"]),
     ];
     for (k, (file, overrides, expected)) in cases.iter().enumerate() {
         let out = Command::new("python3").arg(root().join("tests/peer/launch_check.py")).arg(root().join("bringup/launch").join(file)).args(*overrides).output().unwrap();

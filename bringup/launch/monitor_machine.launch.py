@@ -9,7 +9,9 @@ and publishes `monitor/status` and /diagnostics; optionally the recorder keeps a
 the joints are named as the axes). A machine read through MTConnect needs no ROS bridge of its own:
 `mtconnect_agent:=http://agent:5000` starts fiveaxis-bridge on the agent (`mtconnect_device:=NAME`
 where it serves several), which publishes the axes on `machine/joint_states` for the monitor; then
-`axis_map` names the agent's data items (AXIS=ID, empty: the axis components of the same names). `program` (optional) is the NC program the machine runs, for the
+`axis_map` names the agent's data items (AXIS=ID, empty: the axis components of the same names).
+`opcua_server:=opc.tcp://cnc:4840` does the same for a control's OPC UA server with the OPC 40502
+CNC model (`axis_map` then names its CncAxis objects). `program` (optional) is the NC program the machine runs, for the
 programmed feed and the work offset; `work_offset_mm` (X,Y,Z) is the control's active datum when no
 program is given. The machine's own clock stamps its states: `use_sim_time` stays false.
 """
@@ -33,11 +35,13 @@ def nodes(context):
     joint_states = arg("joint_states")
     axis_map = [m.strip() for m in arg("axis_map").split(",") if m.strip()]
     actions = [PushRosNamespace(arg("namespace"))]
-    if arg("mtconnect_agent"):
-        # The bridge reads the agent; its JointState names the joints as the machine's axes.
-        bridge = {"machine": arg("machine"), "mtconnect_agent": arg("mtconnect_agent")}
-        if arg("mtconnect_device"):
-            bridge["mtconnect_device"] = arg("mtconnect_device")
+    if arg("mtconnect_agent") or arg("opcua_server"):
+        # The bridge reads the agent or the server; its JointState names the joints as the machine's
+        # axes.
+        bridge = {"machine": arg("machine")}
+        for name in ("mtconnect_agent", "mtconnect_device", "opcua_server"):
+            if arg(name):
+                bridge[name] = arg(name)
         if axis_map:
             bridge["axis_map"] = axis_map
         actions.append(node("bridge", parameters=[bridge]))
@@ -75,6 +79,8 @@ def generate_launch_description():
                               description="an MTConnect agent's URL: read the machine from it (starts fiveaxis-bridge)"),
         DeclareLaunchArgument("mtconnect_device", default_value="",
                               description="the agent's device (name or uuid) where it serves several"),
+        DeclareLaunchArgument("opcua_server", default_value="",
+                              description="an OPC UA server's URL (opc.tcp://...): read the machine's OPC 40502 CNC model (starts fiveaxis-bridge)"),
         DeclareLaunchArgument("bag", default_value="",
                               description="also record the joint states, status and diagnostics to this bag"),
         OpaqueFunction(function=nodes),

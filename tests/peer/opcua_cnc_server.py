@@ -8,7 +8,9 @@ control's joint trace (t_s, x_mm, y_mm, z_mm, a_deg, c_deg), sampled every `--pe
 Sinumerik's OPC UA server samples (100 ms at best), each value stamped with the time it was sampled
 (its SourceTimestamp).
 
-Usage: opcua_cnc_server.py TRACE.csv[.gz] --nodeset Opc.Ua.CNC.NodeSet.xml --port P [--period 0.1]
+`--sinumerik`: no CNC model; a Sinumerik's own NC variable paths instead (see `sinumerik`).
+
+Usage: opcua_cnc_server.py TRACE.csv[.gz] (--nodeset Opc.Ua.CNC.NodeSet.xml | --sinumerik) --port P [--period 0.1]
        [--start S --end E] [--restart-at S --down-s D] [--linger L]
 Prints a JSON summary at the end: samples written per axis, restarts.
 """
@@ -60,12 +62,28 @@ def importable(path):
     return re.sub(r"<UAObject [^>]*>.*?</UAObject>", adopt, text, flags=re.S)
 
 
+async def sinumerik(server):
+    """A Sinumerik's own address space as its OPC UA server shows NC variables (SINUMERIK Integrate
+    Access MyMachine / OPC UA, Commissioning Manual 10/2015, 4.3.1 "Variable paths"): string node ids
+    in its namespace (ns=2), `/Channel/MachineAxis/actToolBasePos[u1,N]` the position of machine axis
+    N of channel 1, with no EngineeringUnits (the control's units: mm and degrees here)."""
+    ns = await server.register_namespace("SinumerikVarProvider")
+    folder = await server.nodes.objects.add_folder(ua.NodeId("Sinumerik", ns), "Sinumerik")
+    values = {}
+    for k, (name, _, _) in enumerate(AXES):
+        path = f"/Channel/MachineAxis/actToolBasePos[u1,{k + 1}]"
+        values[name] = [await folder.add_variable(ua.NodeId(path, ns), path, 0.0, varianttype=ua.VariantType.Double)]
+    return values
+
+
 async def build(a):
     server = Server()
     await server.init()
     server.set_endpoint(f"opc.tcp://127.0.0.1:{a.port}/fiveaxis/")
     server.set_server_name("fiveaxis test CNC")
     server.set_security_policy([ua.SecurityPolicyType.NoSecurity])
+    if a.sinumerik:
+        return server, await sinumerik(server)
     await server.import_xml(xmlstring=importable(a.nodeset))
     ns = await server.get_namespace_index(CNC_URI)
     objects = server.nodes.objects
@@ -91,7 +109,8 @@ async def build(a):
 async def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("trace")
-    ap.add_argument("--nodeset", required=True)
+    ap.add_argument("--nodeset")
+    ap.add_argument("--sinumerik", action="store_true", help="a Sinumerik's own NC variable paths instead of the CNC model")
     ap.add_argument("--port", type=int, required=True)
     ap.add_argument("--period", type=float, default=0.1)
     ap.add_argument("--start", type=float, default=0.0)

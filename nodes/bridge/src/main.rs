@@ -47,6 +47,11 @@ struct Args {
     /// Read OPC UA positions without EngineeringUnits as mm and degrees (else refused).
     #[arg(long = "assume-mm-deg")]
     assume_mm_deg: bool,
+    /// The OPC UA node of a machine axis' position, for a control's own address space instead of
+    /// the CNC model: `--opcua-node X=ns=2;s=/Channel/MachineAxis/actToolBasePos[u1,1]` (one per
+    /// axis).
+    #[arg(long = "opcua-node", value_name = "AXIS=NODEID", requires = "opcua_server")]
+    opcua_node: Vec<String>,
     /// An MTConnect adapter's SHDR stream (`host:7878`), read without an agent; needs the device's
     /// description (--mtconnect-devices).
     #[arg(long = "shdr-adapter", value_name = "HOST:PORT", requires = "mtconnect_devices")]
@@ -141,7 +146,10 @@ fn main() -> anyhow::Result<()> {
         if args.sampling_ms == 0 {
             refuse("--sampling-ms must be positive".into());
         }
-        Source::OpcUa(opcua::OpcUa::new(url, &machine, axis_map.clone(), args.opcua_measuring, Duration::from_millis(args.sampling_ms), args.assume_mm_deg))
+        let nodes = args.opcua_node.iter().map(|n| opcua::parse_node(n)).collect::<Result<Vec<_>, _>>().unwrap_or_else(|e| refuse(e));
+        Source::OpcUa(
+            opcua::OpcUa::new(url, &machine, axis_map.clone(), args.opcua_measuring, Duration::from_millis(args.sampling_ms), args.assume_mm_deg, nodes).unwrap_or_else(|e| refuse(e)),
+        )
     } else if let Some(url) = &args.mtconnect_agent {
         // The agent may come up after the bridge: an unreachable one is retried, a wrong one refused.
         let mut wait = Duration::from_millis(200);

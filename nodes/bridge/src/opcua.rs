@@ -27,8 +27,18 @@ pub struct OpcUa {
     /// Machine axis -> the CncAxis browse name where they differ.
     pub axis_map: BTreeMap<String, String>,
     pub assume_mm_deg: bool,
+    /// A node per machine axis, for a control's own address space (a Sinumerik's
+    /// `ns=2;s=/Channel/MachineAxis/actToolBasePos[u1,1]`): no CNC model is browsed then.
+    pub nodes: BTreeMap<String, NodeId>,
     /// (name, rotary) per machine axis.
     axes: Vec<(String, bool)>,
+}
+
+/// A node map's entry: `AXIS=NODEID` in OPC UA's text form (`ns=2;s=...`, `ns=3;i=1001`).
+pub fn parse_node(text: &str) -> Result<(String, NodeId), String> {
+    let (axis, id) = text.split_once('=').ok_or_else(|| format!("'{text}': expected AXIS=NODEID"))?;
+    let node: NodeId = id.trim().parse().map_err(|_| format!("'{id}': not an OPC UA node id (e.g. ns=2;s=/Channel/MachineAxis/actToolBasePos[u1,1])"))?;
+    Ok((axis.trim().to_string(), node))
 }
 
 /// What browsing found: per machine axis, its ActPos node and the factor to SI.
@@ -38,9 +48,21 @@ struct Found {
 }
 
 impl OpcUa {
-    pub fn new(url: &str, machine: &Machine, axis_map: BTreeMap<String, String>, measuring: Measuring, sampling: Duration, assume_mm_deg: bool) -> OpcUa {
-        let axes = machine.axes.iter().map(|a| (a.name.clone(), a.kind == AxisKind::Rotary)).collect();
-        OpcUa { url: url.to_string(), measuring, sampling, axis_map, assume_mm_deg, axes }
+    /// A server at `url`; `nodes` (axis -> node, given for every axis or none) replaces browsing the
+    /// CNC model.
+    pub fn new(url: &str, machine: &Machine, axis_map: BTreeMap<String, String>, measuring: Measuring, sampling: Duration, assume_mm_deg: bool, nodes: Vec<(String, NodeId)>) -> Result<OpcUa, String> {
+        let axes: Vec<(String, bool)> = machine.axes.iter().map(|a| (a.name.clone(), a.kind == AxisKind::Rotary)).collect();
+        let mut map = BTreeMap::new();
+        for (axis, node) in nodes {
+            let name = axes.iter().find(|(n, _)| n.eq_ignore_ascii_case(&axis)).map(|(n, _)| n.clone()).ok_or_else(|| format!("--opcua-node {axis}=...: the machine has no axis {axis}"))?;
+            map.insert(name, node);
+        }
+        if !map.is_empty() {
+            if let Some((missing, _)) = axes.iter().find(|(n, _)| !map.contains_key(n)) {
+                return Err(format!("--opcua-node gives no node for axis {missing}: give one per axis, or none to browse the CNC model"));
+            }
+        }
+        Ok(OpcUa { url: url.to_string(), measuring, sampling, axis_map, assume_mm_deg, nodes: map, axes })
     }
 
     /// Read until `keep_going` says stop, connecting again whenever the connection is lost; an
@@ -156,8 +178,46 @@ impl OpcUa {
         }
     }
 
+    /// The nodes given, with the units their `EngineeringUnits` property says (if any).
+    async fn given(&self, session: &Session) -> Result<Found, Failure> {
+        let mut nodes = Vec::new();
+        let mut factors = Vec::new();
+        for (axis, rotary) in &self.axes {
+            let node = self.nodes[axis].clone();
+            // The node must be there and readable (a mistyped path is refused, not waited for).
+            let v = session
+                .read(&[ReadValueId { node_id: node.clone(), attribute_id: AttributeId::Value as u32, ..Default::default() }], TimestampsToReturn::Neither, 0.0)
+                .await
+                .map_err(|e| Failure::Down(format!("reading {node}: {e}")))?;
+            if let Some(status) = v.first().and_then(|d| d.status).filter(|s| !s.is_good()) {
+                return Err(Failure::Refused(format!("axis {axis}: node {node}: {status}")));
+            }
+            let eu = self.follow(session, &node, &[(0, "EngineeringUnits")]).await?;
+            let units = self.units(session, eu).await?;
+            factors.push(model::position_factor(axis, *rotary, units.as_ref().map(|(u, i)| (u.as_str(), *i)), self.assume_mm_deg).map_err(Failure::Refused)?);
+            nodes.push(node);
+        }
+        Ok(Found { nodes, factors })
+    }
+
+    /// An `EngineeringUnits` property's namespace URI and unit id.
+    async fn units(&self, session: &Session, node: Option<NodeId>) -> Result<Option<(String, i32)>, Failure> {
+        let Some(eu) = node else { return Ok(None) };
+        let v = session
+            .read(&[ReadValueId { node_id: eu, attribute_id: AttributeId::Value as u32, ..Default::default() }], TimestampsToReturn::Neither, 0.0)
+            .await
+            .map_err(|e| Failure::Down(format!("reading EngineeringUnits: {e}")))?;
+        Ok(match v.first().and_then(|d| d.value.as_ref()) {
+            Some(Variant::ExtensionObject(x)) => x.inner_as::<EUInformation>().map(|e| (e.namespace_uri.as_ref().to_string(), e.unit_id)),
+            _ => None,
+        })
+    }
+
     /// The machine's axes in the CNC model: their ActPos nodes and units.
     async fn browse(&self, session: &Session) -> Result<Found, Failure> {
+        if !self.nodes.is_empty() {
+            return self.given(session).await;
+        }
         let down = |what: &str, e: &dyn std::fmt::Display| Failure::Down(format!("{what}: {e}"));
         let ns_array = session
             .read(&[ReadValueId { node_id: NodeId::new(0, 2255u32), attribute_id: AttributeId::Value as u32, ..Default::default() }], TimestampsToReturn::Neither, 0.0)
@@ -203,19 +263,7 @@ impl OpcUa {
             if eu_node.is_none() {
                 eu_node = self.follow(session, node, &[(ns, pos), (0, "EngineeringUnits")]).await?;
             }
-            let units = match eu_node {
-                Some(eu) => {
-                    let v = session
-                        .read(&[ReadValueId { node_id: eu, attribute_id: AttributeId::Value as u32, ..Default::default() }], TimestampsToReturn::Neither, 0.0)
-                        .await
-                        .map_err(|e| down("reading EngineeringUnits", &e))?;
-                    match v.first().and_then(|d| d.value.as_ref()) {
-                        Some(Variant::ExtensionObject(x)) => x.inner_as::<EUInformation>().map(|e| (e.namespace_uri.as_ref().to_string(), e.unit_id)),
-                        _ => None,
-                    }
-                }
-                None => None,
-            };
+            let units = self.units(session, eu_node).await?;
             let factor = model::position_factor(axis, *rotary, units.as_ref().map(|(u, i)| (u.as_str(), *i)), self.assume_mm_deg).map_err(Failure::Refused)?;
             nodes.push(act);
             factors.push(factor);
