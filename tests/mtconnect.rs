@@ -149,6 +149,17 @@ fn a_log_with_no_readable_line_fails_closed_naming_the_line() {
     assert!(out.contains("MTConnect") && out.contains("XML"), "{out}");
 }
 
+/// A machine model for the Okuma MULTUS of cppagent's demo, written into `dir`: the generic B/C head
+/// with the MULTUS' B range (-30 to 210 deg).
+fn multus_model(dir: &Path) -> PathBuf {
+    let (code, text) = fiveaxis(&["machine", "show", "generic-bc-head"]);
+    assert_eq!(code, 0, "{text}");
+    let model = text.trim().replace("name = \"generic-bc-head\"", "name = \"okuma-multus-like\"").replacen("min_deg = -130.0", "min_deg = -30.0", 1).replacen("max_deg = 130.0", "max_deg = 210.0", 1);
+    let file = dir.join("multus.toml");
+    std::fs::write(&file, model.trim_start_matches('\n')).unwrap();
+    file
+}
+
 /// The Okuma's log through `analyze`, its axes named (work coordinates) on a B/C head model with the
 /// MULTUS' B range: every line reporting an axis is a sample or a counted refusal (as many as the
 /// independent reading finds), the adapter's second session (its stamps start 14 min earlier) is a
@@ -157,11 +168,7 @@ fn a_log_with_no_readable_line_fails_closed_naming_the_line() {
 fn the_okuma_log_through_analyze() {
     let (log, devices_xml) = okuma();
     let dir = common::scratch_dir("mtconnect-okuma");
-    let (code, text) = fiveaxis(&["machine", "show", "generic-bc-head"]);
-    assert_eq!(code, 0, "{text}");
-    let model = text.trim().replace("name = \"generic-bc-head\"", "name = \"okuma-multus-like\"").replacen("min_deg = -130.0", "min_deg = -30.0", 1).replacen("max_deg = 130.0", "max_deg = 210.0", 1);
-    let file = dir.join("multus.toml");
-    std::fs::write(&file, model.trim_start_matches('\n')).unwrap();
+    let file = multus_model(&dir);
     let json = dir.join("okuma.json");
     let mut args = vec!["analyze", log.to_str().unwrap(), "--mtconnect-devices", devices_xml.to_str().unwrap(), "--mtconnect-device", "OKUMA", "--machine", file.to_str().unwrap()];
     args.extend(["--axis-map", "X=X1actw", "--axis-map", "Y=YI1actw", "--axis-map", "Z=Z1actw", "--axis-map", "B=B1actw", "--axis-map", "C=C3actw"]);
@@ -315,11 +322,7 @@ fn an_agents_live_stream_gives_the_one_region_and_survives_the_agents_restart() 
 fn the_okuma_log_through_an_agent_and_the_bridge() {
     let (log, devices_xml) = okuma();
     let dir = common::scratch_dir("mtconnect-okuma-live");
-    let (code, text) = fiveaxis(&["machine", "show", "generic-bc-head"]);
-    assert_eq!(code, 0, "{text}");
-    let model = text.trim().replace("name = \"generic-bc-head\"", "name = \"okuma-multus-like\"").replacen("min_deg = -130.0", "min_deg = -30.0", 1).replacen("max_deg = 130.0", "max_deg = 210.0", 1);
-    let file = dir.join("multus.toml");
-    std::fs::write(&file, model.trim_start_matches('\n')).unwrap();
+    let file = multus_model(&dir);
     let ids = ["X1actw", "YI1actw", "Z1actw", "B1actw", "C3actw"];
     let bridge_args = format!("--machine '{}' --mtconnect-device OKUMA --axis-map X=X1actw --axis-map Y=YI1actw --axis-map Z=Z1actw --axis-map B=B1actw --axis-map C=C3actw", file.display());
     let l = live("okuma", "agent", &log, &devices_xml, "--device OKUMA --start 20 --end 40", &bridge_args, None);

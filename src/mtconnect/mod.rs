@@ -89,13 +89,17 @@ pub fn axis_items(device: &Device, machine: &Machine, axis_map: &BTreeMap<String
                 if item.kind != kind {
                     return Err(format!("axis {}: data item '{key}' is a {}, not a {kind}", axis.name, item.kind));
                 }
+                if item.representation.as_deref() == Some("TIME_SERIES") {
+                    // Its values come in bursts whose instants the burst's rate and stamp imply: not read yet.
+                    return Err(format!("axis {}: data item '{key}' is a TIME_SERIES (bursts of samples): not read yet; name its VALUE sample", axis.name));
+                }
                 item
             }
             None => {
                 let candidates: Vec<&DataItem> = device
                     .items
                     .iter()
-                    .filter(|d| d.category == "SAMPLE" && d.kind == kind && d.sub_type.as_deref().is_none_or(|s| s == "ACTUAL"))
+                    .filter(|d| d.category == "SAMPLE" && d.kind == kind && d.sub_type.as_deref().is_none_or(|s| s == "ACTUAL") && d.representation.as_deref() != Some("TIME_SERIES"))
                     .filter(|d| d.axis.as_ref().is_some_and(|(_, n)| n.eq_ignore_ascii_case(&axis.name)))
                     .collect();
                 let machine_coords: Vec<&DataItem> = candidates.iter().copied().filter(|d| d.coordinate_system.as_deref() == Some("MACHINE")).collect();
@@ -268,6 +272,28 @@ mod tests {
 
     fn report(t: f64, values: [Option<f64>; AXES]) -> AxisReport {
         AxisReport { line: 0, stamp: shdr::Stamp { sec: t.floor() as i64, nanosec: ((t - t.floor()) * 1e9).round() as u32 }, values }
+    }
+
+    /// A TIME_SERIES position is never taken for an axis' value (its first field is a count): it is
+    /// passed over when the axes are found by name, and refused when named.
+    #[test]
+    fn time_series_positions_are_not_misread() {
+        let axes: String = ["X", "Y", "Z"]
+            .iter()
+            .map(|a| {
+                let rep = if *a == "X" { r#"representation="TIME_SERIES" sampleRate="100""# } else { "" };
+                format!(r#"<Linear id="{a}" name="{a}"><DataItems><DataItem category="SAMPLE" id="{a}ts" type="POSITION" subType="ACTUAL" units="MILLIMETER" {rep}/></DataItems></Linear>"#)
+            })
+            .chain(["A", "C"].iter().map(|a| format!(r#"<Rotary id="{a}" name="{a}"><DataItems><DataItem category="SAMPLE" id="{a}a" type="ANGLE" subType="ACTUAL" units="DEGREE"/></DataItems></Rotary>"#)))
+            .collect();
+        let xml = format!(r#"<MTConnectDevices><Devices><Device id="d" name="D"><Components><Axes id="ax">{axes}</Axes></Components></Device></Devices></MTConnectDevices>"#);
+        let all = devices::parse(&xml).unwrap();
+        let machine = Machine::builtin("hermle-c600u").unwrap();
+        let e = axis_items(&all[0], &machine, &BTreeMap::new(), UnitsOf::Adapter).unwrap_err();
+        assert!(e.starts_with("axis X: device 'D' has no axis component named X"), "{e}");
+        let named = BTreeMap::from([("X".to_string(), "Xts".to_string())]);
+        let e = axis_items(&all[0], &machine, &named, UnitsOf::Adapter).unwrap_err();
+        assert!(e.contains("is a TIME_SERIES"), "{e}");
     }
 
     #[test]
