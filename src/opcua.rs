@@ -38,6 +38,16 @@ impl Measuring {
     }
 }
 
+/// How the bridge secures its channel to the server: none, or Basic256Sha256 (the policy a
+/// Sinumerik's server offers by default) signed, or signed and encrypted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Security {
+    #[default]
+    None,
+    Sign,
+    SignAndEncrypt,
+}
+
 /// The UNECE code an `EUInformation.UnitId` holds: its letters as a base-256 number (Part 8 §5.6.3:
 /// "MMT" is 5066068).
 pub fn unece_code(unit_id: i32) -> String {

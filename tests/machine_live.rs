@@ -209,7 +209,7 @@ fn opcua_live(tag: &str, server: &str, bridge: &str) {
         {server} --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 > {d}/peer.json 2> {d}/peer.err &
         P=$!
         for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
-        FIVEAXIS_OPCUA_PKI={d}/pki '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 4 \
+        FIVEAXIS_OPCUA_PKI={d}/pki FIVEAXIS_OPCUA_PASSWORD=s3cret '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 4 \
             --wait-for-subscriber-s 10 --summary-json {d}/bridge.json {bridge} > {d}/bridge.log 2>&1 &
         B=$!
         wait $P; wait $B; wait $M",
@@ -274,14 +274,23 @@ fn sinumerik_nodes() -> String {
     "XYZAC".chars().enumerate().map(|(k, a)| format!("--opcua-node '{a}=ns=2;s=/Channel/MachineAxis/actToolBasePos[u1,{}]' ", k + 1)).collect()
 }
 
+/// As a Sinumerik's server is set up by default: no anonymous session, Basic256Sha256 signed and
+/// encrypted only.
 #[test]
 fn a_sinumeriks_own_nc_variables_by_node_map_through_the_bridge() {
-    let server = format!("python3 '{}' '{}' --sinumerik", root().join("tests/peer/opcua_cnc_server.py").display(), root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display());
-    opcua_live("sinumerik", &server, &format!("--assume-mm-deg {}", sinumerik_nodes()));
+    let pki = common::scratch_root().join("opcua-sinumerik-server-pki");
+    let server = format!(
+        "python3 '{}' '{}' --sinumerik --user OpcUaClient:s3cret --secure '{}'",
+        root().join("tests/peer/opcua_cnc_server.py").display(),
+        root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display(),
+        pki.display()
+    );
+    opcua_live("sinumerik", &server, &format!("--opcua-security sign-and-encrypt --opcua-user OpcUaClient --assume-mm-deg {}", sinumerik_nodes()));
 }
 
-/// Fail closed: a server without the CNC model and no node map, and a node map whose positions
-/// carry no units and none assumed, are refused at once (exit 2) saying why.
+/// Fail closed: a server without the CNC model and no node map, a node map whose positions carry no
+/// units and none assumed, a secured server asked for no security, and a wrong password, are each
+/// refused at once (exit 2) saying why.
 #[test]
 fn an_opc_ua_server_without_the_axes_is_refused_with_why() {
     let dir = common::scratch_dir("opcua-refused");
@@ -292,6 +301,11 @@ fn an_opc_ua_server_without_the_axes_is_refused_with_why() {
         for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
         {bridge} > {d}/model.log 2>&1; echo \"model $?\"
         {bridge} {nodes} > {d}/units.log 2>&1; echo \"units $?\"
+        kill %1; wait
+        python3 '{peer}' '{trace}' --sinumerik --user OpcUaClient:s3cret --secure {d}/server-pki --port 4840 --start 8 --end 30 --linger 0 > /dev/null 2>&1 &
+        for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
+        {bridge} --assume-mm-deg {nodes} > {d}/security.log 2>&1; echo \"security $?\"
+        FIVEAXIS_OPCUA_PASSWORD=wrong {bridge} --assume-mm-deg --opcua-security sign-and-encrypt --opcua-user OpcUaClient {nodes} > {d}/password.log 2>&1; echo \"password $?\"
         kill %1",
         peer = root().join("tests/peer/opcua_cnc_server.py").display(),
         trace = root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display(),
@@ -303,5 +317,8 @@ fn an_opc_ua_server_without_the_axes_is_refused_with_why() {
     assert!(stdout.contains("model 2") && stdout.contains("units 2"), "{stdout}\n{}\n{}", log("model.log"), log("units.log"));
     assert!(log("model.log").contains("no OPC 40502 CNC model (namespace http://opcfoundation.org/UA/CNC not among"), "{}", log("model.log"));
     assert!(log("units.log").contains("axis X: its position has no EngineeringUnits (say --assume-mm-deg"), "{}", log("units.log"));
+    assert!(stdout.contains("security 2") && stdout.contains("password 2"), "{stdout}\n{}\n{}", log("security.log"), log("password.log"));
+    assert!(log("security.log").contains("the server offers no endpoint with security None"), "{}", log("security.log"));
+    assert!(log("password.log").contains("the server refused the session's identity: BadUserAccessDenied"), "{}", log("password.log"));
     let _ = std::fs::remove_dir_all(&dir);
 }

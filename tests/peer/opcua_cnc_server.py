@@ -9,6 +9,8 @@ Sinumerik's OPC UA server samples (100 ms at best), each value stamped with the 
 (its SourceTimestamp).
 
 `--sinumerik`: no CNC model; a Sinumerik's own NC variable paths instead (see `sinumerik`).
+`--user NAME:PASSWORD --secure DIR`: as a Sinumerik's server is set up by default, no anonymous
+session and only Basic256Sha256 SignAndEncrypt (a self-signed server certificate made in DIR).
 
 Usage: opcua_cnc_server.py TRACE.csv[.gz] (--nodeset Opc.Ua.CNC.NodeSet.xml | --sinumerik) --port P [--period 0.1]
        [--start S --end E] [--restart-at S --down-s D] [--linger L]
@@ -23,7 +25,12 @@ import gzip
 import json
 import logging
 
+from pathlib import Path
+
 from asyncua import Server, ua
+from asyncua.crypto.cert_gen import setup_self_signed_certificate
+from asyncua.server.user_managers import User, UserManager, UserRole
+from cryptography.x509.oid import ExtendedKeyUsageOID
 
 CNC_URI = "http://opcfoundation.org/UA/CNC"
 AXES = [("X", "x_mm", False), ("Y", "y_mm", False), ("Z", "z_mm", False), ("A", "a_deg", True), ("C", "c_deg", True)]
@@ -76,12 +83,40 @@ async def sinumerik(server):
     return values
 
 
+class OneUser(UserManager):
+    """The one user a Sinumerik's server is set up with (it refuses anonymous sessions by default)."""
+
+    def __init__(self, name, password):
+        self.name, self.password = name, password
+
+    def get_user(self, iserver, username=None, password=None, certificate=None):
+        return User(role=UserRole.User) if (username, password) == (self.name, self.password) else None
+
+
 async def build(a):
-    server = Server()
+    if a.user:
+        name, password = a.user.split(":", 1)
+        server = Server(user_manager=OneUser(name, password))
+    else:
+        server = Server()
     await server.init()
+    await server.set_application_uri("urn:fiveaxis:test:cnc")
     server.set_endpoint(f"opc.tcp://127.0.0.1:{a.port}/fiveaxis/")
     server.set_server_name("fiveaxis test CNC")
-    server.set_security_policy([ua.SecurityPolicyType.NoSecurity])
+    if a.secure:
+        # Basic256Sha256, signed and encrypted only, with a self-signed certificate of the server's.
+        key, cert = Path(a.secure) / "server-key.pem", Path(a.secure) / "server-cert.der"
+        if not cert.exists():
+            Path(a.secure).mkdir(parents=True, exist_ok=True)
+            await setup_self_signed_certificate(key, cert, "urn:fiveaxis:test:cnc", "127.0.0.1",
+                                                [ExtendedKeyUsageOID.SERVER_AUTH], {"commonName": "fiveaxis test CNC"})
+        await server.load_certificate(str(cert))
+        await server.load_private_key(str(key))
+        server.set_security_policy([ua.SecurityPolicyType.Basic256Sha256_SignAndEncrypt])
+    else:
+        server.set_security_policy([ua.SecurityPolicyType.NoSecurity])
+    if a.user:
+        server.set_identity_tokens([ua.UserNameIdentityToken])
     if a.sinumerik:
         return server, await sinumerik(server)
     await server.import_xml(xmlstring=importable(a.nodeset))
@@ -111,6 +146,8 @@ async def main():
     ap.add_argument("trace")
     ap.add_argument("--nodeset")
     ap.add_argument("--sinumerik", action="store_true", help="a Sinumerik's own NC variable paths instead of the CNC model")
+    ap.add_argument("--user", help="NAME:PASSWORD: the only identity accepted (no anonymous sessions)")
+    ap.add_argument("--secure", metavar="DIR", help="Basic256Sha256 SignAndEncrypt only, the server's certificate made in DIR")
     ap.add_argument("--port", type=int, required=True)
     ap.add_argument("--period", type=float, default=0.1)
     ap.add_argument("--start", type=float, default=0.0)

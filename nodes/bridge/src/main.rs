@@ -47,6 +47,15 @@ struct Args {
     /// Read OPC UA positions without EngineeringUnits as mm and degrees (else refused).
     #[arg(long = "assume-mm-deg")]
     assume_mm_deg: bool,
+    /// The OPC UA channel's security: none, or Basic256Sha256 signed (`sign`) or signed and
+    /// encrypted (`sign-and-encrypt`, what a Sinumerik offers by default). The server's certificate
+    /// is trusted on first use and kept (the bridge's PKI directory).
+    #[arg(long = "opcua-security", value_enum, default_value = "none")]
+    opcua_security: fiveaxis::opcua::Security,
+    /// Log in as this user (the password from the environment variable FIVEAXIS_OPCUA_PASSWORD,
+    /// never on the command line); anonymous without it.
+    #[arg(long = "opcua-user", value_name = "NAME")]
+    opcua_user: Option<String>,
     /// The OPC UA node of a machine axis' position, for a control's own address space instead of
     /// the CNC model: `--opcua-node X=ns=2;s=/Channel/MachineAxis/actToolBasePos[u1,1]` (one per
     /// axis).
@@ -147,9 +156,13 @@ fn main() -> anyhow::Result<()> {
             refuse("--sampling-ms must be positive".into());
         }
         let nodes = args.opcua_node.iter().map(|n| opcua::parse_node(n)).collect::<Result<Vec<_>, _>>().unwrap_or_else(|e| refuse(e));
-        Source::OpcUa(
-            opcua::OpcUa::new(url, &machine, axis_map.clone(), args.opcua_measuring, Duration::from_millis(args.sampling_ms), args.assume_mm_deg, nodes).unwrap_or_else(|e| refuse(e)),
-        )
+        let mut server = opcua::OpcUa::new(url, &machine, axis_map.clone(), args.opcua_measuring, Duration::from_millis(args.sampling_ms), args.assume_mm_deg, nodes).unwrap_or_else(|e| refuse(e));
+        server.security = args.opcua_security;
+        if let Some(user) = &args.opcua_user {
+            let password = std::env::var("FIVEAXIS_OPCUA_PASSWORD").unwrap_or_else(|_| refuse(format!("--opcua-user {user}: set its password in the environment variable FIVEAXIS_OPCUA_PASSWORD")));
+            server.identity = Some((user.clone(), password));
+        }
+        Source::OpcUa(server)
     } else if let Some(url) = &args.mtconnect_agent {
         // The agent may come up after the bridge: an unreachable one is retried, a wrong one refused.
         let mut wait = Duration::from_millis(200);

@@ -8,7 +8,7 @@
 use fiveaxis::machine::{AxisKind, Machine};
 use fiveaxis::mtconnect::live::{Event, KeepGoing};
 use fiveaxis::mtconnect::shdr::Stamp;
-use fiveaxis::opcua::{self as model, Measuring, Notifications};
+use fiveaxis::opcua::{self as model, Measuring, Notifications, Security};
 use opcua::client::{ClientBuilder, DataChangeCallback, IdentityToken, MonitoredItem, Session};
 use opcua::crypto::SecurityPolicy;
 use opcua::types::{
@@ -30,6 +30,9 @@ pub struct OpcUa {
     /// A node per machine axis, for a control's own address space (a Sinumerik's
     /// `ns=2;s=/Channel/MachineAxis/actToolBasePos[u1,1]`): no CNC model is browsed then.
     pub nodes: BTreeMap<String, NodeId>,
+    /// The channel's security and the user's identity (anonymous without one).
+    pub security: Security,
+    pub identity: Option<(String, String)>,
     /// (name, rotary) per machine axis.
     axes: Vec<(String, bool)>,
 }
@@ -62,7 +65,7 @@ impl OpcUa {
                 return Err(format!("--opcua-node gives no node for axis {missing}: give one per axis, or none to browse the CNC model"));
             }
         }
-        Ok(OpcUa { url: url.to_string(), measuring, sampling, axis_map, assume_mm_deg, nodes: map, axes })
+        Ok(OpcUa { url: url.to_string(), measuring, sampling, axis_map, assume_mm_deg, nodes: map, security: Security::None, identity: None, axes })
     }
 
     /// Read until `keep_going` says stop, connecting again whenever the connection is lost; an
@@ -104,15 +107,47 @@ impl OpcUa {
             .session_timeout(60_000)
             .client()
             .map_err(|e| Failure::Refused(format!("OPC UA client: {}", e.join("; "))))?;
+        let (policy, mode) = match self.security {
+            Security::None => (SecurityPolicy::None, MessageSecurityMode::None),
+            Security::Sign => (SecurityPolicy::Basic256Sha256, MessageSecurityMode::Sign),
+            Security::SignAndEncrypt => (SecurityPolicy::Basic256Sha256, MessageSecurityMode::SignAndEncrypt),
+        };
+        let identity = match &self.identity {
+            Some((user, password)) => IdentityToken::new_user_name(user.clone(), password.clone()),
+            None => IdentityToken::Anonymous,
+        };
         let (session, event_loop) = client
-            .connect_to_matching_endpoint((self.url.as_str(), SecurityPolicy::None.to_str(), MessageSecurityMode::None, UserTokenPolicy::anonymous()), IdentityToken::Anonymous)
+            .connect_to_matching_endpoint((self.url.as_str(), policy.to_str(), mode, UserTokenPolicy::anonymous()), identity)
             .await
-            .map_err(|e| Failure::Down(format!("connecting: {e}")))?;
-        let handle = event_loop.spawn();
-        let connected = tokio::time::timeout(Duration::from_secs(10), session.wait_for_connection()).await;
-        if !matches!(connected, Ok(true)) {
+            .map_err(|e| {
+                // No endpoint with this security: the server is set up otherwise, retrying will not help.
+                if e.status() == opcua::types::StatusCode::BadTcpEndpointUrlInvalid {
+                    Failure::Refused(format!("the server offers no endpoint with security {:?} ({e})", self.security))
+                } else {
+                    Failure::Down(format!("connecting: {e}"))
+                }
+            })?;
+        let mut handle = event_loop.spawn();
+        // Connected, or the event loop ended (the server refused: it says why), or nothing for 10 s.
+        let (connected, why) = tokio::select! {
+            c = session.wait_for_connection() => (c, None),
+            code = &mut handle => (false, code.ok()),
+            _ = tokio::time::sleep(Duration::from_secs(10)) => (false, None),
+        };
+        if !connected {
+            // Who we are, or our certificate, will not change by trying again.
             handle.abort();
-            return Err(Failure::Down("no session within 10 s".into()));
+            use opcua::types::StatusCode as S;
+            return Err(match why {
+                Some(code) if [S::BadUserAccessDenied, S::BadIdentityTokenInvalid, S::BadIdentityTokenRejected].contains(&code) => {
+                    Failure::Refused(format!("the server refused the session's identity: {code} (user and FIVEAXIS_OPCUA_PASSWORD)"))
+                }
+                Some(code) if [S::BadSecurityChecksFailed, S::BadCertificateUntrusted, S::BadCertificateInvalid, S::BadSecurityPolicyRejected].contains(&code) => {
+                    Failure::Refused(format!("the server refused the channel: {code} (it must trust the bridge's certificate, in its PKI directory's own/)"))
+                }
+                Some(code) => Failure::Down(format!("no session: {code}")),
+                None => Failure::Down("no session within 10 s".into()),
+            });
         }
         let result = self.subscribed(&session, &handle, keep_going, on).await;
         let _ = tokio::time::timeout(Duration::from_secs(2), session.disconnect()).await;
