@@ -18,6 +18,7 @@ pub mod job;
 pub mod live;
 pub mod mtconnect;
 pub mod opcua;
+pub mod source;
 pub mod record;
 pub mod recorded;
 pub mod report;

@@ -1,14 +1,8 @@
 //! A CNC read over OPC UA, without the transport: where the axes are in the OPC 40502 CNC companion
 //! model (`Objects/CncInterface/CncAxisList/<axis>/PosIndirect|PosDirect/ActPos`, with
 //! `EngineeringUnits` and `IsRotational`; OPC 40502 §6.8.2 CncAxisType, §7.3.2
-//! CncPositionVariableType), the units an `EUInformation` names (UNECE Recommendation 20 codes, as
-//! OPC UA Part 8 §5.6.3 puts them in `UnitId`), and data-change notifications turned into axis
-//! reports in time order (a subscription delivers each item's values on their own, several per
-//! publish).
-
-use crate::machine::AXES;
-use crate::mtconnect::shdr::Stamp;
-use crate::mtconnect::AxisReport;
+//! CncPositionVariableType), and the units an `EUInformation` names (UNECE Recommendation 20 codes,
+//! as OPC UA Part 8 §5.6.3 puts them in `UnitId`).
 
 /// The CNC companion model's namespace.
 pub const CNC_NAMESPACE: &str = "http://opcfoundation.org/UA/CNC";
@@ -93,49 +87,6 @@ pub fn position_factor(axis: &str, rotary: bool, units: Option<(&str, i32)>, ass
     Ok(f)
 }
 
-/// Data-change notifications (an axis' value at its source timestamp) gathered as they arrive and
-/// handed on as axis reports in time order, those of one timestamp together.
-#[derive(Debug, Default)]
-pub struct Notifications {
-    pending: Vec<(Stamp, usize, f64)>,
-}
-
-impl Notifications {
-    /// Take axis `axis`'s value (SI) sampled at `stamp`.
-    pub fn push(&mut self, stamp: Stamp, axis: usize, value: f64) {
-        if axis < AXES {
-            self.pending.push((stamp, axis, value));
-        }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.pending.is_empty()
-    }
-
-    /// Everything gathered, as reports in time order (an axis reported twice at one instant keeps
-    /// its last value).
-    pub fn drain(&mut self, mut on: impl FnMut(AxisReport)) {
-        self.pending.sort_by_key(|p| p.0);
-        let mut report: Option<AxisReport> = None;
-        for (stamp, axis, value) in self.pending.drain(..) {
-            match report.as_mut() {
-                Some(r) if r.stamp == stamp => r.values[axis] = Some(value),
-                _ => {
-                    if let Some(r) = report.take() {
-                        on(r);
-                    }
-                    let mut values = [None; AXES];
-                    values[axis] = Some(value);
-                    report = Some(AxisReport { line: 0, stamp, values });
-                }
-            }
-        }
-        if let Some(r) = report {
-            on(r);
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -152,22 +103,5 @@ mod tests {
         assert_eq!(position_factor("X", false, None, true), Ok(1e-3));
         // The inch: "INH" = 0x494E48.
         assert_eq!(position_factor("X", false, Some((UNECE_NAMESPACE, 0x49_4E_48)), false), Ok(25.4e-3));
-    }
-
-    #[test]
-    fn notifications_in_time_order_grouped_by_instant() {
-        let s = |ms: i64| Stamp { sec: ms / 1000, nanosec: (ms % 1000) as u32 * 1_000_000 };
-        let mut n = Notifications::default();
-        // One publish: each item's queue in turn (X's two samples, then Y's).
-        n.push(s(100), 0, 1.0);
-        n.push(s(200), 0, 2.0);
-        n.push(s(100), 1, 10.0);
-        n.push(s(200), 1, 20.0);
-        let mut out = Vec::new();
-        n.drain(|r| out.push(r));
-        assert_eq!(out.len(), 2);
-        assert_eq!(out[0].values, [Some(1.0), Some(10.0), None, None, None]);
-        assert_eq!(out[1].values, [Some(2.0), Some(20.0), None, None, None]);
-        assert!(out[0].stamp < out[1].stamp && n.is_empty());
     }
 }

@@ -7,10 +7,11 @@
 
 use super::devices::{self, Device};
 use super::http::{self, HttpError};
-use super::shdr::{ShdrReader, Stamp};
+use super::shdr::ShdrReader;
 use super::streams::{self, StreamsError};
-use super::{axis_items, pick, AxisItems, AxisReport, UnitsOf, MAX_LINE};
-use crate::machine::{Machine, AXES};
+use super::{axis_items, pick, AxisItems, UnitsOf, MAX_LINE};
+use crate::source::{ByInstant, Event, Failure, KeepGoing, Retry, Stamp};
+use crate::machine::Machine;
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, ErrorKind, Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
@@ -20,29 +21,8 @@ use std::time::{Duration, Instant};
 const POLL: Duration = Duration::from_millis(100);
 /// How long a connection attempt may take.
 const CONNECT: Duration = Duration::from_secs(2);
-/// Waits between reconnection attempts: the first, doubled up to the last.
-const RETRY: (Duration, Duration) = (Duration::from_millis(200), Duration::from_secs(2));
 /// A silent adapter that never answered a PING is dead after this long (cppagent's legacy timeout).
 const LEGACY_TIMEOUT: Duration = Duration::from_secs(600);
-
-/// What a source tells its user.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Event {
-    /// Connected (again): what to, and where it starts.
-    Connected(String),
-    /// Axis positions at one instant.
-    Report(AxisReport),
-    /// Something read was refused (named by line or sequence); the stream goes on.
-    Refused(String),
-    /// The connection failed or ended; it is retried.
-    Down(String),
-    /// Observations the source no longer has: an agent whose buffer moved past the sequence to
-    /// continue from, or that restarted (`lost`: how many sequence numbers, when known).
-    Gap { why: String, lost: Option<u64> },
-}
-
-/// Whether to go on (checked at least every [`POLL`]).
-pub type KeepGoing<'a> = &'a dyn Fn() -> bool;
 
 fn connect(address: &str) -> std::io::Result<TcpStream> {
     let mut last = std::io::Error::new(ErrorKind::NotFound, format!("'{address}' resolves to no address"));
@@ -56,19 +36,6 @@ fn connect(address: &str) -> std::io::Result<TcpStream> {
         }
     }
     Err(last)
-}
-
-/// Sleep before the next attempt (interruptible); false if asked to stop.
-fn back_off(wait: &mut Duration, keep_going: KeepGoing) -> bool {
-    let until = Instant::now() + *wait;
-    *wait = (*wait * 2).min(RETRY.1);
-    while Instant::now() < until {
-        if !keep_going() {
-            return false;
-        }
-        std::thread::sleep(POLL.min(until.saturating_duration_since(Instant::now())));
-    }
-    keep_going()
 }
 
 fn timed_out(e: &std::io::Error) -> bool {
@@ -95,19 +62,19 @@ impl Adapter {
 
     /// Read until `keep_going` says stop, reconnecting whenever the connection fails or ends.
     pub fn run(&self, keep_going: KeepGoing, on: &mut dyn FnMut(Event)) {
-        let mut wait = RETRY.0;
+        let mut retry = Retry::new();
         let mut line = 0u64;
         while keep_going() {
             match connect(&self.address) {
                 Ok(stream) => {
                     on(Event::Connected(format!("adapter {}", self.address)));
-                    wait = RETRY.0;
+                    retry.reset();
                     let why = self.session(stream, &mut line, keep_going, on);
                     on(Event::Down(why));
                 }
                 Err(e) => on(Event::Down(format!("adapter {}: {e}", self.address))),
             }
-            if !back_off(&mut wait, keep_going) {
+            if !retry.back_off(keep_going) {
                 return;
             }
         }
@@ -218,15 +185,6 @@ enum AgentError {
     Other(String),
 }
 
-/// Why a probe gave no agent to stream from.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ProbeError {
-    #[error("{0}")]
-    Unreachable(String),
-    #[error("{0}")]
-    Refused(String),
-}
-
 /// An agent's REST service, streamed.
 pub struct Agent {
     pub url: AgentUrl,
@@ -239,20 +197,20 @@ pub struct Agent {
 }
 
 impl Agent {
-    /// Probe the agent at `url` (blocking): unreachable (worth retrying), or refused (the URL, the
-    /// description, the device or its axes are wrong: retrying will not help).
-    pub fn probe(url: &str, device: Option<&str>, machine: &Machine, axis_map: &BTreeMap<String, String>) -> Result<Agent, ProbeError> {
-        let url = AgentUrl::parse(url).map_err(ProbeError::Refused)?;
+    /// Probe the agent at `url` (blocking): down (unreachable: worth retrying), or refused (the URL,
+    /// the description, the device or its axes are wrong: retrying will not help).
+    pub fn probe(url: &str, device: Option<&str>, machine: &Machine, axis_map: &BTreeMap<String, String>) -> Result<Agent, Failure> {
+        let url = AgentUrl::parse(url).map_err(Failure::Refused)?;
         let at = format!("{}{}/probe", url.host, url.prefix);
         let body = match get(&url, &format!("{}/probe", url.prefix), None) {
             Ok(b) => b,
-            Err(AgentError::Http(HttpError::Io(e))) => return Err(ProbeError::Unreachable(format!("{at}: {e}"))),
-            Err(AgentError::Http(HttpError::Closed(w))) => return Err(ProbeError::Unreachable(format!("{at}: the connection closed {w}"))),
-            Err(e) => return Err(ProbeError::Refused(format!("{at}: {e}"))),
+            Err(AgentError::Http(HttpError::Io(e))) => return Err(Failure::Down(format!("{at}: {e}"))),
+            Err(AgentError::Http(HttpError::Closed(w))) => return Err(Failure::Down(format!("{at}: the connection closed {w}"))),
+            Err(e) => return Err(Failure::Refused(format!("{at}: {e}"))),
         };
-        let all = devices::parse(&String::from_utf8_lossy(&body)).map_err(|e| ProbeError::Refused(format!("{at}: {e}")))?;
-        let d = pick(&all, device).map_err(ProbeError::Refused)?;
-        let items = axis_items(d, machine, axis_map, UnitsOf::Agent).map_err(ProbeError::Refused)?;
+        let all = devices::parse(&String::from_utf8_lossy(&body)).map_err(|e| Failure::Refused(format!("{at}: {e}")))?;
+        let d = pick(&all, device).map_err(Failure::Refused)?;
+        let items = axis_items(d, machine, axis_map, UnitsOf::Agent).map_err(Failure::Refused)?;
         Ok(Agent { url, device: d.name.clone(), items, interval_ms: 0, heartbeat_ms: 10_000 })
     }
 
@@ -263,16 +221,16 @@ impl Agent {
     /// Stream until `keep_going` says stop: `/current`, then `/sample` from its next sequence;
     /// reconnect from where the stream left off.
     pub fn run(&self, keep_going: KeepGoing, on: &mut dyn FnMut(Event)) {
-        let mut wait = RETRY.0;
+        let mut retry = Retry::new();
         // Where to continue: (instance, next sequence).
         let mut at: Option<(u64, u64)> = None;
         while keep_going() {
-            let why = match self.session(&mut at, keep_going, on, &mut wait) {
+            let why = match self.session(&mut at, keep_going, on, &mut retry) {
                 Ok(()) => return,
                 Err(e) => e,
             };
             on(Event::Down(format!("agent {}: {why}", self.url.host)));
-            if !back_off(&mut wait, keep_going) {
+            if !retry.back_off(keep_going) {
                 return;
             }
         }
@@ -286,7 +244,7 @@ impl Agent {
         Ok((doc.header.instance_id, doc.header.next_sequence))
     }
 
-    fn session(&self, at: &mut Option<(u64, u64)>, keep_going: KeepGoing, on: &mut dyn FnMut(Event), wait: &mut Duration) -> Result<(), String> {
+    fn session(&self, at: &mut Option<(u64, u64)>, keep_going: KeepGoing, on: &mut dyn FnMut(Event), retry: &mut Retry) -> Result<(), String> {
         let (instance, from) = match *at {
             Some(a) => a,
             None => {
@@ -318,7 +276,7 @@ impl Agent {
             return Err(format!("{path}: the answer is not a stream (Content-Type {:?})", head.header("content-type")));
         };
         on(Event::Connected(format!("agent {}{}: device {}, instance {instance}, from sequence {from}", self.url.host, self.url.prefix, self.device)));
-        *wait = RETRY.0;
+        retry.reset();
         let body: Box<dyn Read + '_> = if head.chunked() { Box::new(http::Chunked::new(reader)) } else { Box::new(reader) };
         let mut parts = http::Parts::new(BufReader::new(body), &boundary);
         loop {
@@ -357,35 +315,18 @@ impl Agent {
         }
     }
 
-    /// The axes' observations as reports: in sequence order, those of one timestamp together.
+    /// The axes' observations as reports: in time order, those of one timestamp together.
     fn emit(&self, observations: &[streams::Observation], on: &mut dyn FnMut(Event)) {
-        let mut mine: Vec<(&streams::Observation, usize)> = observations.iter().filter_map(|o| Some((o, self.items.axis_of(&o.data_item_id)?))).collect();
-        mine.sort_by_key(|(o, _)| o.sequence);
-        let mut report: Option<AxisReport> = None;
-        for (o, i) in mine {
-            let value = match self.items.value(i, &o.value) {
-                Ok(v) => v,
-                Err(e) => {
-                    on(Event::Refused(format!("sequence {}: {e}", o.sequence)));
-                    continue;
-                }
-            };
-            let Some(v) = value else { continue };
-            match report.as_mut() {
-                Some(r) if r.stamp == o.stamp && r.values[i].is_none() => r.values[i] = Some(v),
-                _ => {
-                    if let Some(r) = report.take() {
-                        on(Event::Report(r));
-                    }
-                    let mut values = [None; AXES];
-                    values[i] = Some(v);
-                    report = Some(AxisReport { line: o.sequence, stamp: o.stamp, values });
-                }
+        let mut gathered = ByInstant::default();
+        for o in observations {
+            let Some(i) = self.items.axis_of(&o.data_item_id) else { continue };
+            match self.items.value(i, &o.value) {
+                Ok(Some(v)) => gathered.push(o.stamp, i, v),
+                Ok(None) => {}
+                Err(e) => on(Event::Refused(format!("sequence {}: {e}", o.sequence))),
             }
         }
-        if let Some(r) = report {
-            on(Event::Report(r));
-        }
+        gathered.drain(|r| on(Event::Report(r)));
     }
 }
 

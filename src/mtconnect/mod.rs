@@ -14,6 +14,8 @@ use devices::{DataItem, Device};
 use std::collections::BTreeMap;
 use std::io::BufRead;
 
+pub use crate::source::AxisReport;
+
 /// Longest SHDR line read (bytes): a longer one is refused, not held (an asset's body is read line
 /// by line).
 pub const MAX_LINE: usize = 1 << 20;
@@ -155,15 +157,6 @@ pub fn pick<'a>(devices: &'a [Device], name: Option<&str>) -> Result<&'a Device,
     }
 }
 
-/// Axis positions reported at one instant (SI, None where not reported or UNAVAILABLE).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AxisReport {
-    /// Where it came from: an SHDR line's number, or an agent's sequence number of its first value.
-    pub line: u64,
-    pub stamp: shdr::Stamp,
-    pub values: [Option<f64>; AXES],
-}
-
 /// Read an SHDR log: each line that reports one of the axes is handed to `visit` (a refused line as
 /// an error naming it by line and column). Returns the lines read. Streamed: one line held at a time.
 pub fn read_log<R: BufRead>(reader: R, devices: &[Device], device: &Device, axes: &AxisItems, mut visit: impl FnMut(Result<AxisReport, String>)) -> std::io::Result<u64> {
@@ -203,7 +196,7 @@ pub fn read_log<R: BufRead>(reader: R, devices: &[Device], device: &Device, axes
 
 /// One SHDR line's axis positions (None: it reports none of the axes); `line` names it in errors and
 /// in the report; `now`, the receive time, stands for an empty timestamp on a live stream.
-pub fn shdr_report(state: &mut shdr::ShdrReader, text: &str, line: u64, devices: &[Device], device: &Device, axes: &AxisItems, now: Option<shdr::Stamp>) -> Result<Option<AxisReport>, String> {
+pub fn shdr_report(state: &mut shdr::ShdrReader, text: &str, line: u64, devices: &[Device], device: &Device, axes: &AxisItems, now: Option<crate::source::Stamp>) -> Result<Option<AxisReport>, String> {
     match state.line(text, device, devices, now) {
         Err(e) => Err(format!("line {line}: {e}")),
         Ok(shdr::Line::Other) => Ok(None),
@@ -218,61 +211,9 @@ pub fn shdr_report(state: &mut shdr::ShdrReader, text: &str, line: u64, devices:
     }
 }
 
-/// What a change-only bridge last published per axis: a still axis is restated once it has gone
-/// unreported for a while (a subscriber that joins later learns where it stands; its value holds at
-/// the message's instant, since the source reports every change), and a report that is not newer
-/// than what went out and repeats held values (an agent's `/current` after a reconnection) is
-/// dropped.
-#[derive(Debug, Clone)]
-pub struct Restater {
-    /// Per axis: its value and the stamp it was last published at (s).
-    axes: [Option<(f64, f64)>; AXES],
-    /// The newest stamp published (s).
-    last: Option<f64>,
-    /// Restate an axis unreported this long (s; 0: never).
-    restate_after: f64,
-}
-
-impl Restater {
-    pub fn new(restate_after: f64) -> Restater {
-        Restater { axes: [None; AXES], last: None, restate_after }
-    }
-
-    /// The report to publish for `r` (None: it repeats what was published), with the still axes
-    /// restated, and how many were.
-    pub fn next(&mut self, r: &AxisReport) -> Option<(AxisReport, u64)> {
-        let t = r.stamp.as_secs();
-        if self.last.is_some_and(|l| t <= l) {
-            let same = r.values.iter().enumerate().all(|(i, v)| v.is_none_or(|v| self.axes[i].is_some_and(|(h, _)| h == v)));
-            if same {
-                return None;
-            }
-        }
-        let mut out = *r;
-        let mut restated = 0;
-        for (i, held) in self.axes.iter_mut().enumerate() {
-            match (r.values[i], held.as_mut()) {
-                (Some(v), _) => *held = Some((v, t)),
-                (None, Some((v, at))) if self.restate_after > 0.0 && t - *at >= self.restate_after => {
-                    out.values[i] = Some(*v);
-                    *at = t;
-                    restated += 1;
-                }
-                _ => {}
-            }
-        }
-        self.last = Some(self.last.map_or(t, |l| l.max(t)));
-        Some((out, restated))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn report(t: f64, values: [Option<f64>; AXES]) -> AxisReport {
-        AxisReport { line: 0, stamp: shdr::Stamp { sec: t.floor() as i64, nanosec: ((t - t.floor()) * 1e9).round() as u32 }, values }
-    }
 
     /// A TIME_SERIES position is never taken for an axis' value (its first field is a count): it is
     /// passed over when the axes are found by name, and refused when named.
@@ -294,28 +235,5 @@ mod tests {
         let named = BTreeMap::from([("X".to_string(), "Xts".to_string())]);
         let e = axis_items(&all[0], &machine, &named, UnitsOf::Adapter).unwrap_err();
         assert!(e.contains("is a TIME_SERIES"), "{e}");
-    }
-
-    #[test]
-    fn still_axes_are_restated_and_repeats_dropped() {
-        let mut r = Restater::new(1.0);
-        // Every axis once (a /current), then X alone at 3 Hz.
-        assert_eq!(r.next(&report(10.0, [Some(1.0), Some(2.0), Some(3.0), Some(4.0), Some(5.0)])).unwrap().1, 0);
-        let (out, n) = r.next(&report(10.4, [Some(1.1), None, None, None, None])).unwrap();
-        assert_eq!((out.values, n), ([Some(1.1), None, None, None, None], 0));
-        r.next(&report(10.7, [Some(1.2), None, None, None, None])).unwrap();
-        // 1 s after they were published, the four still axes ride along with X's report.
-        let (out, n) = r.next(&report(11.0, [Some(1.3), None, None, None, None])).unwrap();
-        assert_eq!((out.values, n), ([Some(1.3), Some(2.0), Some(3.0), Some(4.0), Some(5.0)], 4));
-        let (out, _) = r.next(&report(11.3, [Some(1.4), None, None, None, None])).unwrap();
-        assert_eq!(out.values, [Some(1.4), None, None, None, None]);
-        // A reconnection's /current: older stamps, values held: dropped. A changed value is not.
-        assert!(r.next(&report(10.0, [None, Some(2.0), Some(3.0), None, None])).is_none());
-        assert!(r.next(&report(11.3, [Some(1.4), None, None, None, None])).is_none());
-        assert!(r.next(&report(11.2, [None, Some(2.5), None, None, None])).is_some());
-        // Never restated when turned off.
-        let mut off = Restater::new(0.0);
-        off.next(&report(1.0, [Some(1.0), Some(2.0), None, None, None]));
-        assert_eq!(off.next(&report(9.0, [Some(1.5), None, None, None, None])).unwrap().1, 0);
     }
 }

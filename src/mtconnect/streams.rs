@@ -4,7 +4,7 @@
 //! Document"; Part 3, Observation Information Model). An `MTConnectError` answer is an error with its
 //! codes (e.g. `OUT_OF_RANGE` when `from` has left the agent's buffer).
 
-use super::shdr::Stamp;
+use crate::source::Stamp;
 
 /// The `Header` of a streams document: which agent run it comes from and where its buffer stands.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -10,8 +10,9 @@ mod opcua;
 
 use clap::Parser;
 use fiveaxis::machine::Machine;
-use fiveaxis::mtconnect::live::{Adapter, Agent, Event, ProbeError};
-use fiveaxis::mtconnect::{devices, AxisReport, Restater};
+use fiveaxis::mtconnect::devices;
+use fiveaxis::mtconnect::live::{Adapter, Agent};
+use fiveaxis::source::{AxisReport, Event, Failure, Restater, Retry};
 use fiveaxis::topics;
 use fiveaxis_bus::{init_tracing, state_qos, Bus, CommonArgs, Shutdown};
 use fiveaxis_msgs::{Header, JointState, Time};
@@ -165,7 +166,7 @@ fn main() -> anyhow::Result<()> {
         Source::OpcUa(server)
     } else if let Some(url) = &args.mtconnect_agent {
         // The agent may come up after the bridge: an unreachable one is retried, a wrong one refused.
-        let mut wait = Duration::from_millis(200);
+        let mut retry = Retry::new();
         let start = Instant::now();
         loop {
             match Agent::probe(url, args.mtconnect_device.as_deref(), &machine, &axis_map) {
@@ -174,15 +175,13 @@ fn main() -> anyhow::Result<()> {
                     agent.heartbeat_ms = args.heartbeat_ms.max(1);
                     break Source::Agent(agent);
                 }
-                Err(ProbeError::Refused(why)) => refuse(why),
-                Err(ProbeError::Unreachable(why)) => {
+                Err(Failure::Refused(why)) => refuse(why),
+                Err(Failure::Down(why)) => {
                     if args.exit_when_down_s.is_some_and(|s| start.elapsed().as_secs_f64() > s) {
                         refuse(format!("{why}: no answer for {:.1} s", start.elapsed().as_secs_f64()));
                     }
                     tracing::warn!("{why}: retrying");
-                    std::thread::sleep(wait);
-                    wait = (wait * 2).min(Duration::from_secs(2));
-                    if shutdown.requested() {
+                    if !retry.back_off(&|| !shutdown.requested()) {
                         return Ok(());
                     }
                 }

@@ -6,9 +6,8 @@
 //! again, so the stream goes on as before.
 
 use fiveaxis::machine::{AxisKind, Machine};
-use fiveaxis::mtconnect::live::{Event, KeepGoing};
-use fiveaxis::mtconnect::shdr::Stamp;
-use fiveaxis::opcua::{self as model, Measuring, Notifications, Security};
+use fiveaxis::opcua::{self as model, Measuring, Security};
+use fiveaxis::source::{ByInstant, Event, Failure, KeepGoing, Retry, Stamp};
 use opcua::client::{ClientBuilder, DataChangeCallback, IdentityToken, MonitoredItem, Session};
 use opcua::crypto::SecurityPolicy;
 use opcua::types::{
@@ -72,20 +71,15 @@ impl OpcUa {
     /// address space without the axes is refused (`Err`), since trying again will not help.
     pub fn run(&self, keep_going: KeepGoing, on: &mut dyn FnMut(Event)) -> Result<(), String> {
         let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().map_err(|e| e.to_string())?;
-        let mut wait = Duration::from_millis(200);
+        let mut retry = Retry::new();
         while keep_going() {
             match runtime.block_on(self.session(keep_going, on)) {
                 Ok(()) => return Ok(()),
                 Err(Failure::Refused(why)) => return Err(why),
                 Err(Failure::Down(why)) => on(Event::Down(format!("OPC UA {}: {why}", self.url))),
             }
-            let until = std::time::Instant::now() + wait;
-            wait = (wait * 2).min(Duration::from_secs(2));
-            while std::time::Instant::now() < until {
-                if !keep_going() {
-                    return Ok(());
-                }
-                std::thread::sleep(Duration::from_millis(50));
+            if !retry.back_off(keep_going) {
+                break;
             }
         }
         Ok(())
@@ -158,7 +152,7 @@ impl OpcUa {
     /// Browse, subscribe, and hand the values on until the connection ends or the caller stops.
     async fn subscribed(&self, session: &Arc<Session>, handle: &tokio::task::JoinHandle<opcua::types::StatusCode>, keep_going: KeepGoing<'_>, on: &mut dyn FnMut(Event)) -> Result<(), Failure> {
         let found = self.browse(session).await?;
-        let gathered = Arc::new(Mutex::new(Notifications::default()));
+        let gathered = Arc::new(Mutex::new(ByInstant::default()));
         let refused = Arc::new(Mutex::new(Vec::<String>::new()));
         let by_node: Arc<std::collections::HashMap<NodeId, usize>> = Arc::new(found.nodes.iter().cloned().enumerate().map(|(i, n)| (n, i)).collect());
         let (g, r, factors) = (gathered.clone(), refused.clone(), found.factors.clone());
@@ -318,14 +312,6 @@ impl OpcUa {
             .map_err(|e| Failure::Down(format!("translating a browse path: {e}")))?;
         Ok(results.into_iter().next().filter(|r| r.status_code.is_good()).and_then(|r| r.targets).and_then(|t| t.into_iter().next()).map(|t| t.target_id.node_id))
     }
-}
-
-/// Why a session ended.
-enum Failure {
-    /// The connection failed or was lost: try again.
-    Down(String),
-    /// The server has no such axes: trying again will not help.
-    Refused(String),
 }
 
 /// A position's value (None: no good value, e.g. the server's Bad status while an axis is not
