@@ -453,6 +453,7 @@ class Publisher:
         jitter = a.jitter_ms * 1e-3
         n_sent = 0
         skipped_gap = 0
+        gap_stamps = [None, None]  # stamps (s) of the last sample before the gap and the first after it
         late = []
         send_log = [] if a.send_log else None
         first = last = None  # (mono, wall, stamp)
@@ -491,6 +492,10 @@ class Publisher:
             if first is None:
                 first = (now, sec + nsec * 1e-9, [int(sec), int(nsec)])
             last = (now, sec + nsec * 1e-9, [int(sec), int(nsec)])
+            if gap and k < gap[0]:
+                gap_stamps[0] = last[1]
+            elif gap and k >= gap[1] and gap_stamps[1] is None:
+                gap_stamps[1] = last[1]
             self.last_send_mono = now
             self.send_monos.append(now)
             n_sent += 1
@@ -514,6 +519,8 @@ class Publisher:
             "stamp_mode": a.stamp,
             "samples_sent": n_sent,
             "skipped_gap": skipped_gap,
+            # The stamps' own span over the gap: with send-time stamps it is the gap plus each side's lateness.
+            "gap_stamp_span_s": (gap_stamps[1] - gap_stamps[0]) if None not in gap_stamps else None,
             "matched_readers_at_start": matched,
             "matched_readers_at_end": self.writer.get_publication_matched_status().current_count,
             "acked": acked,
