@@ -207,7 +207,7 @@ pub fn analyze_mcap_with_progress(
         // N s", which a report of the whole recording does not need, and it would keep every
         // commanded sample in memory.
         let stream = &mut streams[k];
-        let status = match monitor.evaluate(stream.input, state, log_s) {
+        let status = match monitor.evaluate_merged(stream.input, state, msg.uncertainty.as_ref(), log_s) {
             Ok(s) => s,
             Err(e) if e.is_out_of_range() => {
                 if fits_in_mm_deg(machine, &state.position) {
@@ -603,6 +603,13 @@ impl OfflineReport {
             }
             if let Some(l) = report.merge_latency_s.filter(|l| *l > 0.01) {
                 let _ = writeln!(o, "  axes merged per axis into poses: a pose waited up to {l:.2} s for every axis to be known");
+            }
+            if s.unconfirmed_regions > 0 {
+                let _ = writeln!(
+                    o,
+                    "  {} stretch(es) where the demand passed the limit only within the merged poses' uncertainty: not regions",
+                    s.unconfirmed_regions
+                );
             }
             for r in &s.regions {
                 let _ = writeln!(

@@ -9,6 +9,7 @@
 use crate::live::joint_map::JointMap;
 use crate::live::joint_stream::JointStream;
 use crate::live::monitor::Rejection;
+use crate::kinematics::Joints;
 use crate::machine::Machine;
 use crate::record::{read, RecordError};
 use fiveaxis_msgs::{AxisState, JointState, RosMessage};
@@ -73,6 +74,8 @@ pub struct Recorded<'a> {
     /// Receive time, ns.
     pub log_time: u64,
     pub sample: Result<&'a AxisState, Unread>,
+    /// A pose merged from per-axis reports: how far each axis may be off in it (SI).
+    pub uncertainty: Option<Joints>,
 }
 
 /// What reading the recording found.
@@ -197,7 +200,7 @@ pub fn read_states(
             Decode::JointState(k) => {
                 if joints.read_cdr(msg.data).is_err() {
                     out.streams[k].undecodable += 1;
-                    visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample: Err(Unread::Undecodable) });
+                    visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample: Err(Unread::Undecodable), uncertainty: None });
                     return;
                 }
                 let stream = &mut out.streams[k];
@@ -212,14 +215,14 @@ pub fn read_states(
                 // the last is out of order.
                 let pushed = merge.push(&map, &joints, msg.log_time as f64 * 1e-9, f64::INFINITY);
                 let topic = &out.streams[k].topic;
-                push_merged(merge, pushed, |sample| visit(Recorded { stream: k, topic, log_time: msg.log_time, sample }));
+                push_merged(merge, pushed, |sample, uncertainty| visit(Recorded { stream: k, topic, log_time: msg.log_time, sample, uncertainty }));
                 return;
             }
         };
         if matches!(sample, Err(Unread::Undecodable)) {
             out.streams[k].undecodable += 1;
         }
-        visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample });
+        visit(Recorded { stream: k, topic: &out.streams[k].topic, log_time: msg.log_time, sample, uncertainty: None });
     });
     // The end of the recording: every JointState stream's waiting instants are made, and messages
     // still waiting for an axis never reported are refused as missing it.
@@ -227,7 +230,7 @@ pub fn read_states(
         let Some(merge) = merge else { continue };
         let log_time = merge.last_wall().map_or(0, |w| (w * 1e9) as u64);
         let topic = &out.streams[k].topic;
-        let latency = finish_merged(merge, |sample| visit(Recorded { stream: k, topic, log_time, sample }));
+        let latency = finish_merged(merge, |sample, uncertainty| visit(Recorded { stream: k, topic, log_time, sample, uncertainty }));
         out.streams[k].merge_latency_s = Some(latency);
     }
     match result {
@@ -296,10 +299,10 @@ fn read_shdr(
                 let restart = newest.is_some_and(|n| t < n - NEW_SESSION_JUMP_S);
                 if restart {
                     merge.restart();
-                    drain_merged(&mut merge, |sample| visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample }));
+                    drain_merged(&mut merge, |sample, uncertainty| visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample, uncertainty }));
                 }
                 if restart || newest.is_none() {
-                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Err(Unread::Session { change_only: true }) });
+                    visit(Recorded { stream: 0, topic: &topic, log_time, sample: Err(Unread::Session { change_only: true }), uncertainty: None });
                 }
                 newest = Some(if restart { t } else { newest.map_or(t, |n| n.max(t)) });
                 last_log = log_time;
@@ -307,44 +310,44 @@ fn read_shdr(
                 // A log has no silence to tell a restarted adapter by: a stamp no later than the last
                 // is out of order.
                 let pushed = merge.push_values(stamp, "", &r.values, t, f64::INFINITY);
-                push_merged(&mut merge, pushed, |sample| visit(Recorded { stream: 0, topic: &topic, log_time, sample }));
+                push_merged(&mut merge, pushed, |sample, uncertainty| visit(Recorded { stream: 0, topic: &topic, log_time, sample, uncertainty }));
             }
             Err(why) => {
                 out.first_malformed.entry(0).or_insert_with(|| why.clone());
-                visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample: Err(Unread::Unmapped(Rejection::Invalid(why))) });
+                visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample: Err(Unread::Unmapped(Rejection::Invalid(why))), uncertainty: None });
             }
         }
     });
     out.messages_read = lines.map_err(io(path))?;
-    out.streams[0].merge_latency_s = Some(finish_merged(&mut merge, |sample| visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample })));
+    out.streams[0].merge_latency_s = Some(finish_merged(&mut merge, |sample, uncertainty| visit(Recorded { stream: 0, topic: &topic, log_time: last_log, sample, uncertainty })));
     progress(file_len, file_len);
     Ok(out)
 }
 
 /// What one message pushed into a merged stream gave: its refusal, if any, then every pose it
 /// completed, oldest first.
-fn push_merged(merge: &mut JointStream, pushed: Result<(), Rejection>, mut each: impl FnMut(Result<&AxisState, Unread>)) {
+fn push_merged(merge: &mut JointStream, pushed: Result<(), Rejection>, mut each: impl FnMut(Result<&AxisState, Unread>, Option<Joints>)) {
     if let Err(e) = pushed {
-        each(Err(Unread::Unmapped(e)));
+        each(Err(Unread::Unmapped(e)), None);
     }
     drain_merged(merge, each);
 }
 
 /// Every pose a merged stream has made, oldest first.
-fn drain_merged(merge: &mut JointStream, mut each: impl FnMut(Result<&AxisState, Unread>)) {
-    while let Some(s) = merge.pop() {
-        each(Ok(&s));
+fn drain_merged(merge: &mut JointStream, mut each: impl FnMut(Result<&AxisState, Unread>, Option<Joints>)) {
+    while let Some(m) = merge.pop() {
+        each(Ok(&m.state), Some(m.uncertainty));
     }
 }
 
 /// The end of a merged stream: its waiting instants made, then the messages still waiting for an
 /// axis never reported refused as missing it. Returns the merge's latency (s).
-fn finish_merged(merge: &mut JointStream, mut each: impl FnMut(Result<&AxisState, Unread>)) -> f64 {
+fn finish_merged(merge: &mut JointStream, mut each: impl FnMut(Result<&AxisState, Unread>, Option<Joints>)) -> f64 {
     merge.flush();
     drain_merged(merge, &mut each);
     if let Some((n, why)) = merge.unplaced() {
         for _ in 0..n {
-            each(Err(Unread::Unmapped(why.clone())));
+            each(Err(Unread::Unmapped(why.clone())), None);
         }
     }
     merge.max_latency()

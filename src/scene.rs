@@ -4,6 +4,7 @@
 //! The live bridge and `fiveaxis replay` feed the same [`Scene`], so a replay draws what the live
 //! view drew.
 
+use crate::kinematics::Joints;
 use crate::live::monitor::{Monitor, MonitorConfig, Rejection};
 use crate::machine::Machine;
 use crate::record::RecordError;
@@ -240,11 +241,17 @@ impl Scene {
 
     /// Feed one sample; returns its row (None when the monitor refused it) and any region events.
     pub fn push(&mut self, topic: &str, st: &AxisState) -> (Option<Row>, Vec<Event>) {
+        self.push_merged(topic, st, None)
+    }
+
+    /// [`Scene::push`] of a pose merged from per-axis reports, with how far each axis may be off in
+    /// it (SI).
+    pub fn push_merged(&mut self, topic: &str, st: &AxisState, uncertainty: Option<&Joints>) -> (Option<Row>, Vec<Event>) {
         if st.source == AxisState::SOURCE_COMMANDED {
             self.monitor.on_commanded_ahead(st);
         }
         let t = st.header.stamp.as_secs();
-        let status = match self.monitor.on_state(topic, st, t) {
+        let status = match self.monitor.on_merged_state(topic, st, uncertainty, t) {
             Ok(s) => s,
             Err(_) => {
                 *self.rejected.entry(topic.to_string()).or_default() += 1;
@@ -376,7 +383,7 @@ pub fn replay_mcap(path: &Path, scene: &mut Scene, selection: &Selection, mut si
     let machine = scene.machine().clone();
     let read = read_states(path, &machine, selection, &mut |_, _| {}, |msg| match msg.sample {
         Ok(state) => {
-            let (row, events) = scene.push(msg.topic, state);
+            let (row, events) = scene.push_merged(msg.topic, state, msg.uncertainty.as_ref());
             rows += row.is_some() as u64;
             sink(row.as_ref(), &events);
         }

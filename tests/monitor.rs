@@ -158,7 +158,7 @@ fn joint_states_from_a_bridge_with_other_names() {
     let mut stream = JointStream::new(&machine, map.joints());
     stream.push(&map, &js, 0.0, f64::INFINITY).unwrap();
     stream.flush();
-    let st = stream.pop().unwrap();
+    let st = stream.pop().unwrap().state;
     assert_eq!(st.position, vec![0.01, 0.02, 0.03, 0.2, 0.5]);
     assert_eq!(st.source, AxisState::SOURCE_MACHINE);
     // A message with none of the mapped joints is refused at once.

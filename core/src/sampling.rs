@@ -13,6 +13,11 @@
 //! or after it, or no change of it while the stream went on for `hold_factor` of its periods (it
 //! stood still). That wait is the latency the merge costs ([`PoseMerger::latency`]): a few samples at
 //! 1 kHz, up to a second for an axis reported at 3 Hz.
+//!
+//! Every pose comes with each axis' uncertainty: how far its interpolated value may be off (0 at its
+//! own reports, and between them as much as its speed departs there from a smooth course). The path
+//! estimates downstream carry it through the kinematics, and a region must be longer than it to be
+//! one ([`crate::singularity::tracker`]).
 
 use crate::kinematics::Joints;
 use crate::machine::AXES;
@@ -157,7 +162,7 @@ impl PoseMerger {
 
     /// Take one report: stamp `t` (s, increasing) and the axes it carries (SI); every pose that
     /// became known goes to `out` in time order. A refused report changes nothing.
-    pub fn push(&mut self, t: f64, values: &[Option<f64>; AXES], mut out: impl FnMut(f64, Joints)) -> Result<(), MergeError> {
+    pub fn push(&mut self, t: f64, values: &[Option<f64>; AXES], mut out: impl FnMut(f64, Joints, Joints)) -> Result<(), MergeError> {
         if let Some(last) = self.last {
             if !(t > last) {
                 return Err(MergeError::OutOfOrder { stamp: t, last });
@@ -214,7 +219,7 @@ impl PoseMerger {
 
     /// Make every waiting instant with what is known (the end of a stream, a stream gone silent):
     /// an axis with no change after an instant is taken as still there.
-    pub fn flush(&mut self, mut out: impl FnMut(f64, Joints)) {
+    pub fn flush(&mut self, mut out: impl FnMut(f64, Joints, Joints)) {
         self.emit(true, &mut out);
     }
 
@@ -231,23 +236,32 @@ impl PoseMerger {
         exact || after >= 2 || (after == 1 && still(a.points.back().map_or(at, |p| p.0))) || (after == 0 && still(at))
     }
 
-    /// Axis `i` at instant `at` by the rule of the module's doc: between two change points of a move,
-    /// a cubic Hermite curve whose slopes are the three-point derivatives at its ends (exact for a
-    /// quadratic: the arc an axis sweeps while the part turns under the tool is followed to the
-    /// fourth order in the step, a straight chord only to the second); linear where a neighbour
-    /// lies across a stop; held, then one period's ramp, across a stop.
-    fn value(&self, i: usize, at: f64) -> f64 {
+    /// Axis `i` at instant `at` by the rule of the module's doc, and how far that value may be off
+    /// (its uncertainty, SI). Between two change points of a move, a cubic Hermite curve whose slopes
+    /// are the three-point derivatives at its ends (exact for a quadratic: the arc an axis sweeps
+    /// while the part turns under the tool is followed to the fourth order in the step, a straight
+    /// chord only to the second); linear where a neighbour lies across a stop; held, then one
+    /// period's ramp, across a stop.
+    ///
+    /// The uncertainty is 0 at the axis' own reports and where it stood still. Between reports of a
+    /// move it is `u (1 - u) h r`: how far the axis could stray from the curve at the fraction `u` of
+    /// the interval `h` had its speed departed by `r` from the course the curve assumes, `r` being
+    /// [`PoseMerger::unsmooth`]. Across a stop, once the axis may have started (within `hold_factor`
+    /// periods of the change), half the change: it started somewhere in that time.
+    fn value(&self, i: usize, at: f64) -> (f64, f64) {
         let points = &self.axes[i].points;
         let k = points.partition_point(|p| p.0 <= at);
         let Some(&(t0, v0)) = k.checked_sub(1).and_then(|j| points.get(j)) else {
-            return points.front().map_or(0.0, |p| p.1);
+            return (points.front().map_or(0.0, |p| p.1), 0.0);
         };
-        let Some(&(t1, v1)) = points.get(k) else { return v0 };
+        let Some(&(t1, v1)) = points.get(k) else { return (v0, 0.0) };
         let p = self.period(i);
         let stop = |a: f64, b: f64| b - a > self.config.hold_factor * p;
         if stop(t0, t1) {
             let start = t1 - p;
-            return if at <= start { v0 } else { v0 + (v1 - v0) * (at - start) / p };
+            let v = if at <= start { v0 } else { v0 + (v1 - v0) * (at - start) / p };
+            let sigma = if at <= t1 - self.config.hold_factor * p { 0.0 } else { 0.5 * (v1 - v0).abs() };
+            return (v, sigma);
         }
         let h = t1 - t0;
         let secant = (v1 - v0) / h;
@@ -264,30 +278,66 @@ impl PoseMerger {
         let (u2, u3) = (u * u, u * u * u);
         let v = (2.0 * u3 - 3.0 * u2 + 1.0) * v0 + (u3 - 2.0 * u2 + u) * h * m0 + (-2.0 * u3 + 3.0 * u2) * v1 + (u3 - u2) * h * m1;
         let (lo, hi) = self.config.range[i];
-        v.clamp(lo.min(v0).min(v1), hi.max(v0).max(v1))
+        (v.clamp(lo.min(v0).min(v1), hi.max(v0).max(v1)), u * (1.0 - u) * h * self.unsmooth(i, k))
     }
 
-    fn emit(&mut self, all: bool, out: &mut impl FnMut(f64, Joints)) {
+    /// How far axis `i`'s speed departs from a smooth course about its interval from change point
+    /// `k - 1` to `k` (SI per second): the largest residual of the quadratic in time (a constant jerk,
+    /// which the cubic follows closely) through the speeds of the four intervals from `k - 3` to
+    /// `k + 1`, taken at their middles. The table turning at the pole swings the linear axes on arcs
+    /// that such a quadratic follows to a few hundredths of a millimetre at 3 Hz; a block junction
+    /// where an axis stops, starts or turns back within an interval leaves residuals of tens of mm/s.
+    /// With fewer than four intervals of motion about it (beside a stop, at a stream's ends): the
+    /// spread of the speeds there, and at least the interval's own speed beside a stop or an end
+    /// (the axis may have started or stopped anywhere in it).
+    fn unsmooth(&self, i: usize, k: usize) -> f64 {
+        let points = &self.axes[i].points;
+        let hold = self.config.hold_factor * self.period(i);
+        // (mid-time, speed) of the interval from change point `a` to `a + 1`, if a move.
+        let interval = |a: usize| -> Option<(f64, f64)> {
+            let (&(ta, va), &(tb, vb)) = (points.get(a)?, points.get(a + 1)?);
+            (tb - ta <= hold).then(|| (0.5 * (ta + tb), (vb - va) / (tb - ta)))
+        };
+        let own = interval(k - 1).map_or(0.0, |x| x.1);
+        let around: [Option<(f64, f64)>; 4] = std::array::from_fn(|j| (k + j).checked_sub(3).and_then(interval));
+        if let [Some(a), Some(b), Some(c), Some(d)] = around {
+            // The residual of the least-squares quadratic through four points is along the weights
+            // of their third divided difference, w_j = 1 / prod(t_j - t_m), which every quadratic
+            // sums to zero against.
+            let x = [a, b, c, d];
+            let w: [f64; 4] = std::array::from_fn(|j| 1.0 / (0..4).filter(|&m| m != j).map(|m| x[j].0 - x[m].0).product::<f64>());
+            let dot: f64 = (0..4).map(|j| w[j] * x[j].1).sum();
+            let norm: f64 = w.iter().map(|w| w * w).sum();
+            return (dot / norm).abs() * w.iter().map(|w| w.abs()).sum::<f64>();
+        }
+        let speeds = around.iter().flatten().map(|x| x.1);
+        let spread = speeds.clone().fold(f64::NEG_INFINITY, f64::max) - speeds.fold(f64::INFINITY, f64::min);
+        let beside_stop = around[1].is_none() || around[3].is_none();
+        spread.max(0.0).max(if beside_stop { own.abs() } else { 0.0 })
+    }
+
+    fn emit(&mut self, all: bool, out: &mut impl FnMut(f64, Joints, Joints)) {
         while let Some(&at) = self.pending.front() {
             let ready = (0..AXES).all(|i| self.known(i, at));
             let forced = !ready && self.pending.len() > self.config.max_pending;
             if !(ready || all || forced) {
                 break;
             }
-            let q: Joints = std::array::from_fn(|i| self.value(i, at));
+            let both: [(f64, f64); AXES] = std::array::from_fn(|i| self.value(i, at));
+            let (q, sigma): (Joints, Joints) = (both.map(|b| b.0), both.map(|b| b.1));
             self.pending.pop_front();
             if let Some(last) = self.last {
                 self.max_latency = self.max_latency.max(last - at);
             }
-            // Keep each axis' change points from the one before the last at or before the next
-            // instant (the cubic's left neighbour).
+            // Keep each axis' change points from the second before the last at or before the next
+            // instant (the cubic's left neighbour, and the one before it for the uncertainty).
             let next = self.pending.front().copied().unwrap_or(at);
             for a in self.axes.iter_mut() {
-                while a.points.len() > 2 && a.points[2].0 <= next {
+                while a.points.len() > 3 && a.points[3].0 <= next {
                     a.points.pop_front();
                 }
             }
-            out(at, q);
+            out(at, q, sigma);
         }
     }
 }
@@ -299,9 +349,9 @@ mod tests {
     fn run(m: &mut PoseMerger, reports: &[(f64, [Option<f64>; AXES])]) -> Vec<(f64, Joints)> {
         let mut got = Vec::new();
         for (t, v) in reports {
-            m.push(*t, v, |t, q| got.push((t, q))).unwrap();
+            m.push(*t, v, |t, q, _| got.push((t, q))).unwrap();
         }
-        m.flush(|t, q| got.push((t, q)));
+        m.flush(|t, q, _| got.push((t, q)));
         got
     }
 
@@ -377,11 +427,11 @@ mod tests {
             let mut m = PoseMerger::new(config);
             let mut got = Vec::new();
             for (t, x) in reports {
-                m.push(t, &[Some(x), Some(0.0), Some(0.0), Some(0.0), Some(0.0)], |_, q| got.push(q[0])).unwrap();
+                m.push(t, &[Some(x), Some(0.0), Some(0.0), Some(0.0), Some(0.0)], |_, q, _| got.push(q[0])).unwrap();
                 // Instants between the reports, from the other axes.
-                m.push(t + 0.15, &[None, Some(t), None, None, None], |_, q| got.push(q[0])).unwrap();
+                m.push(t + 0.15, &[None, Some(t), None, None, None], |_, q, _| got.push(q[0])).unwrap();
             }
-            m.flush(|_, q| got.push(q[0]));
+            m.flush(|_, q, _| got.push(q[0]));
             got.into_iter().fold(f64::NEG_INFINITY, f64::max)
         };
         assert!(run_with((f64::NEG_INFINITY, f64::INFINITY)) > 1.0, "the unbounded cubic overshoots here");
@@ -407,6 +457,58 @@ mod tests {
         assert!((at(3.6) - 0.6).abs() < 1e-9);
     }
 
+    /// (t, value, uncertainty) of axis `i` for every pose made.
+    fn run_sigma(m: &mut PoseMerger, reports: &[(f64, [Option<f64>; AXES])], i: usize) -> Vec<(f64, f64, f64)> {
+        let mut got = Vec::new();
+        for (t, v) in reports {
+            m.push(*t, v, |t, q, s| got.push((t, q[i], s[i]))).unwrap();
+        }
+        m.flush(|t, q, s| got.push((t, q[i], s[i])));
+        got
+    }
+
+    #[test]
+    fn the_uncertainty_covers_a_stop_between_reports_and_stays_small_on_an_arc() {
+        // Z at 2000 mm/min (33.3 mm/s) until it arrives at 100 mm at t = 3.02 s, then creeping at
+        // -0.1 mm/s (a TCP's compensation), reported every 0.33 s; Y reported between. The cubic
+        // rounds the stop off (0.9 mm short of 100 at 3.05 s): the uncertainty must say so.
+        let z = |t: f64| if t <= 3.02 { 100.0 - 33.3 * (3.02 - t) } else { 100.0 - 0.1 * (t - 3.02) };
+        let mut reports = Vec::new();
+        for k in 0..14 {
+            let t = 0.33 * k as f64;
+            reports.push((t, [Some(0.0), Some(0.0), Some(z(t)), Some(0.0), Some(0.0)]));
+            for f in [0.08, 0.16, 0.24] {
+                reports.push((t + f, [None, Some(t + f), None, None, None]));
+            }
+        }
+        let got = run_sigma(&mut PoseMerger::new(MergeConfig::default()), &reports, 2);
+        let about: Vec<_> = got.iter().filter(|g| (2.4..3.6).contains(&g.0)).collect();
+        let worst = about.iter().map(|g| (g.1 - z(g.0)).abs()).fold(0.0, f64::max);
+        assert!(worst > 0.5, "the cubic is off by {worst:.3} mm about the stop");
+        for (t, v, sigma) in &about {
+            assert!((v - z(*t)).abs() <= *sigma + 1e-9, "at {t:.2} s off by {:.3} mm, uncertainty {sigma:.3} mm", (v - z(*t)).abs());
+        }
+        // Before the stop, a steady move (once Z has shown its own period): no uncertainty.
+        for g in got.iter().filter(|g| (1.7..2.3).contains(&g.0)) { assert!(g.2 < 1e-6, "{g:?}"); }
+
+        // X = R cos(wt) (a linear axis while the part turns under the tool, R = 25 mm, 96 deg/s),
+        // reported every 0.33 s, Y between: the cubic is within 0.1 mm (0.05 here) and says it may be off
+        // by at most 0.25 mm (0.22 here: four times too careful on an arc, against a junction's 0.6 mm).
+        let (r, w) = (25.0, 96f64.to_radians());
+        let mut reports = Vec::new();
+        for k in 0..30 {
+            let t = 0.05 + 0.33 * k as f64;
+            reports.push((t, [Some(r * (w * t).cos()), Some(0.0), Some(0.0), Some(0.0), Some(0.0)]));
+            reports.push((t + 0.16, [None, Some(t), None, None, None]));
+        }
+        let got = run_sigma(&mut PoseMerger::new(MergeConfig::default()), &reports, 0);
+        let inner: Vec<_> = got.iter().filter(|g| (1.5..8.5).contains(&g.0)).collect();
+        let largest = inner.iter().map(|g| g.2).fold(0.0, f64::max);
+        let worst = inner.iter().map(|g| (g.1 - r * (w * g.0).cos()).abs()).fold(0.0, f64::max);
+        assert!(worst < 0.1, "{worst}");
+        assert!(largest > 0.0 && largest < 0.25, "uncertainty on the arc up to {largest:.3} mm");
+    }
+
     #[test]
     fn modulo_axis_is_unwrapped_before_interpolating() {
         let mut config = MergeConfig::default();
@@ -423,10 +525,10 @@ mod tests {
     #[test]
     fn refused_reports_change_nothing() {
         let mut m = PoseMerger::new(MergeConfig::default());
-        m.push(1.0, &[Some(0.0); AXES], |_, _| {}).unwrap();
-        assert!(matches!(m.push(1.0, &[Some(1.0); AXES], |_, _| {}), Err(MergeError::OutOfOrder { .. })));
-        assert!(matches!(m.push(2.0, &[None; AXES], |_, _| {}), Err(MergeError::Empty)));
-        assert!(matches!(m.push(2.0, &[Some(f64::NAN), None, None, None, None], |_, _| {}), Err(MergeError::NonFinite { axis: 0, .. })));
+        m.push(1.0, &[Some(0.0); AXES], |_, _, _| {}).unwrap();
+        assert!(matches!(m.push(1.0, &[Some(1.0); AXES], |_, _, _| {}), Err(MergeError::OutOfOrder { .. })));
+        assert!(matches!(m.push(2.0, &[None; AXES], |_, _, _| {}), Err(MergeError::Empty)));
+        assert!(matches!(m.push(2.0, &[Some(f64::NAN), None, None, None, None], |_, _, _| {}), Err(MergeError::NonFinite { axis: 0, .. })));
         assert_eq!(m.last_stamp(), Some(1.0));
     }
 
@@ -434,10 +536,10 @@ mod tests {
     fn memory_is_bounded_when_an_axis_falls_silent() {
         let mut m = PoseMerger::new(MergeConfig { max_pending: 100, ..MergeConfig::default() });
         // C reported once, then X alone for a long time at 1 kHz while C's period says 1 s.
-        m.push(0.0, &[Some(0.0); AXES], |_, _| {}).unwrap();
+        m.push(0.0, &[Some(0.0); AXES], |_, _, _| {}).unwrap();
         let mut made = 0;
         for k in 1..10_000 {
-            m.push(k as f64 * 1e-3, &[Some(k as f64), None, None, None, None], |_, _| made += 1).unwrap();
+            m.push(k as f64 * 1e-3, &[Some(k as f64), None, None, None, None], |_, _, _| made += 1).unwrap();
         }
         assert!(m.pending.len() <= 101);
         assert!(made > 9_000);

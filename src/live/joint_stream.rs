@@ -9,6 +9,7 @@ use super::monitor::Rejection;
 use crate::machine::{AxisKind, Machine, AXES};
 use fiveaxis_core::sampling::{MergeConfig, MergeError, PoseMerger};
 use fiveaxis_msgs::{AxisState, Header, JointState, Time};
+use crate::kinematics::Joints;
 use std::collections::VecDeque;
 
 /// Stream time an axis may stay unreported at a stream's start before its messages are refused as
@@ -30,7 +31,7 @@ pub struct JointStream {
     /// Messages before every axis had been reported, not yet refused.
     waiting: u64,
     /// Poses made, oldest first.
-    ready: VecDeque<AxisState>,
+    ready: VecDeque<Merged>,
     /// Arrival time of the last message (any monotonic clock, s).
     last_wall: Option<f64>,
 }
@@ -78,7 +79,7 @@ impl JointStream {
             self.frame_id = frame_id.to_string();
         }
         let (base, names, frame, ready) = (self.base, &self.names, &self.frame_id, &mut self.ready);
-        let result = self.merger.push(t, values, |at, q| ready.push_back(base.state(at, &q, names, frame)));
+        let result = self.merger.push(t, values, |at, q, uncertainty| ready.push_back(Merged { state: base.state(at, &q, names, frame), uncertainty }));
         match result {
             Err(MergeError::OutOfOrder { stamp, last }) => return Err(Rejection::OutOfOrder { stamp, last }),
             Err(MergeError::NonFinite { axis, value }) => return Err(Rejection::NonFinite(format!("{} position is {value}", self.names[axis]))),
@@ -115,14 +116,14 @@ impl JointStream {
     }
 
     /// The next pose made, oldest first.
-    pub fn pop(&mut self) -> Option<AxisState> {
+    pub fn pop(&mut self) -> Option<Merged> {
         self.ready.pop_front()
     }
 
     /// Make every waiting instant with what is known (the stream ended or fell silent).
     pub fn flush(&mut self) {
         let (base, names, frame, ready) = (self.base, &self.names, &self.frame_id, &mut self.ready);
-        self.merger.flush(|at, q| ready.push_back(base.state(at, &q, names, frame)));
+        self.merger.flush(|at, q, uncertainty| ready.push_back(Merged { state: base.state(at, &q, names, frame), uncertainty }));
     }
 
     /// Messages still waiting at the end for an axis never reported: refused as missing it (the
@@ -151,6 +152,14 @@ impl JointStream {
     pub fn has_pending(&self) -> bool {
         self.merger.has_pending()
     }
+}
+
+/// A pose merged from per-axis reports, and how far each axis' value in it may be off (SI: the
+/// merge's interpolation uncertainty, 0 at an axis' own report).
+#[derive(Debug, Clone)]
+pub struct Merged {
+    pub state: AxisState,
+    pub uncertainty: Joints,
 }
 
 /// A stream's clock base: merge times are seconds after its whole second `sec`.

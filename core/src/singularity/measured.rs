@@ -123,6 +123,9 @@ pub struct MeasuredSample {
 pub struct Demand {
     /// dC/ds, rad/m (machine sign).
     pub per_metre: f64,
+    /// How far the middle sample's tool tip may be off, m (0 on exact samples; a per-axis merge's
+    /// interpolation uncertainty carried through the kinematics, [`crate::sampling`]).
+    pub tip_uncertainty: f64,
     /// Every axis' first and second derivative with respect to path length over the window (the
     /// second from the two halves' first derivatives): the geometry seed 002 eq. (5) needs.
     pub q_s: Joints,
@@ -140,6 +143,8 @@ pub struct Demand {
 struct Kept {
     t: f64,
     s: f64,
+    /// How far the tool tip may be off, m.
+    tip_sigma: f64,
     q: Joints,
     tip: Vector3<f64>,
     axis: Vector3<f64>,
@@ -213,16 +218,36 @@ impl MeasuredPath {
         std::array::from_fn(|i| q[i] + self.offset[i])
     }
 
-    /// Take one sample: stamp `t` (s, increasing), raw axis positions (SI). `rapid` says, where a
-    /// program is known, that the sample belongs to a rapid move (None: judge by the stream).
-    pub fn push(&mut self, machine: &Machine, t: f64, raw: &Joints, rapid: Option<bool>) -> MeasuredSample {
+    /// Take one sample: stamp `t` (s, increasing), raw axis positions (SI) and how far each may be
+    /// off (SI; zeros for exact samples, a per-axis merge's interpolation uncertainty otherwise).
+    /// `rapid` says, where a program is known, that the sample belongs to a rapid move (None: judge
+    /// by the stream).
+    pub fn push(&mut self, machine: &Machine, t: f64, raw: &Joints, sigma: &Joints, rapid: Option<bool>) -> MeasuredSample {
         let q = self.unwrap(raw);
         let pose = machine.forward(&q);
         let (tip, axis) = (pose.tip, pose.axis);
+        // The tip's uncertainty: each linear axis' own, each rotary axis' swung by the tip's distance
+        // from it (forward kinematics of that axis' uncertainty alone).
+        let tip_sigma = if sigma.iter().any(|s| *s > 0.0) {
+            (0..AXES)
+                .filter(|&i| sigma[i] > 0.0)
+                .map(|i| {
+                    if self.rotary.contains(&i) {
+                        let mut off = q;
+                        off[i] += sigma[i];
+                        (machine.forward(&off).tip - tip).norm()
+                    } else {
+                        sigma[i]
+                    }
+                })
+                .sum()
+        } else {
+            0.0
+        };
         if let Some(last) = self.kept.back() {
             self.s += (tip - last.tip).norm();
         }
-        let now = Kept { t, s: self.s, q, tip, axis, path_feed: 0.0, motion: Motion::Unknown, turning: false };
+        let now = Kept { t, s: self.s, tip_sigma, q, tip, axis, path_feed: 0.0, motion: Motion::Unknown, turning: false };
         self.kept.push_back(now);
         let c = &self.config;
         // Drop what neither window needs any more (the front is the newest sample outside both).
@@ -321,6 +346,7 @@ impl MeasuredPath {
         });
         Some(Demand {
             per_metre: q_s[self.secondary],
+            tip_uncertainty: mid.tip_sigma,
             q_s,
             q_ss,
             t: mid.t,

@@ -3,6 +3,15 @@
 //! axis comes closer to the singular direction than a threshold on a feed move; never on a rapid (its
 //! axes run at their limits by definition) or a dwell. One pass through it is one region.
 //!
+//! Confirmation: a region is a stretch of path, which the samples must locate. Each sample says how
+//! far its tool tip may be off ([`RuleSample::uncertainty`]: 0 on exact samples, tenths of a
+//! millimetre to millimetres on a sparse per-axis stream's interpolated poses). A region is announced
+//! (an id, `beyond` in the verdict) once the path inside it, from its first sample to one beyond,
+//! is at least the two samples' uncertainty together, starting where it opened; one that closes
+//! shorter is not a region but counted ([`RegionTracker::unconfirmed`]): at a block junction where
+//! the table turns with the tip still, the interpolated tip wanders by about its uncertainty and no
+//! further, where the path through a pole goes on for millimetres. Exact samples confirm at once.
+//!
 //! Hysteresis: a region stays open until the demand has stayed within the limit (and the distance
 //! above its threshold) for [`RegionRule::min_gap`] of tool-tip path, or the motion changes kind (a
 //! rapid, a feed move after a rotary-only one or the reverse); it then ends at its last sample inside. Each region says its cause:
@@ -85,6 +94,8 @@ pub struct RuleSample {
     pub motion: Motion,
     /// Predicted secondary-axis speed at the programmed feed, rad/s (None: not known here).
     pub predicted: Option<f64>,
+    /// How far the tool tip may be off, m (0: exact).
+    pub uncertainty: f64,
     /// Angle to the singular direction, rad.
     pub distance: f64,
     /// Actual tool-tip feed and programmed feed, m/s (0: none).
@@ -129,6 +140,11 @@ pub struct TrackedRegion {
     gap_lost: f64,
     /// The motion kind it opened on (feed or rotary-only).
     kind: Motion,
+    /// The path inside reached the uncertainty of its ends (the id is given then), and the path
+    /// length and uncertainty at its first sample, m.
+    confirmed: bool,
+    s_start: f64,
+    uncertainty_start: f64,
 }
 
 /// What the rule says about one sample.
@@ -146,6 +162,8 @@ pub struct Verdict {
 pub struct RegionTracker {
     next_id: u32,
     open: Option<TrackedRegion>,
+    /// Regions closed without a confirmed sample.
+    unconfirmed: u64,
 }
 
 impl RegionTracker {
@@ -158,13 +176,12 @@ impl RegionTracker {
         let beyond = speed || close;
         let mut closed = None;
         if self.open.as_ref().is_some_and(|r| x.motion == Motion::Rapid || (moving && x.motion != r.kind)) {
-            closed = self.open.take().map(Box::new);
+            closed = self.take_open();
         }
         if beyond {
             if self.open.is_none() {
-                self.next_id += 1;
                 self.open = Some(TrackedRegion {
-                    id: self.next_id,
+                    id: 0,
                     cause: Cause::RotaryFeed,
                     t_start: x.t,
                     t_end: x.t,
@@ -184,9 +201,16 @@ impl RegionTracker {
                     gap_min_feed: f64::INFINITY,
                     gap_lost: 0.0,
                     kind: x.motion,
+                    confirmed: false,
+                    s_start: x.s,
+                    uncertainty_start: x.uncertainty,
                 });
             }
             let r = self.open.as_mut().expect("a region is open");
+            if !r.confirmed && x.s - r.s_start >= r.uncertainty_start + x.uncertainty {
+                self.next_id += 1;
+                (r.id, r.confirmed) = (self.next_id, true);
+            }
             r.t_end = x.t;
             r.tip_end = x.tip;
             r.block_end = x.block;
@@ -215,21 +239,97 @@ impl RegionTracker {
                 r.gap_lost += lost;
                 r.gap_min_feed = r.gap_min_feed.min(x.path_feed);
                 if r.gap >= rule.min_gap {
-                    closed = self.open.take().map(Box::new);
+                    closed = self.take_open();
                 }
             }
         }
-        let open = self.open.as_ref();
-        (Verdict { beyond, region_id: open.map_or(0, |r| r.id), cause: open.map(|r| r.cause) }, closed)
+        let open = self.open();
+        (Verdict { beyond: beyond && open.is_some(), region_id: open.map_or(0, |r| r.id), cause: open.map(|r| r.cause) }, closed)
+    }
+
+    /// Close the open region: itself if confirmed, else nothing (counted).
+    fn take_open(&mut self) -> Option<Box<TrackedRegion>> {
+        let r = self.open.take()?;
+        if r.confirmed {
+            Some(Box::new(r))
+        } else {
+            self.unconfirmed += 1;
+            None
+        }
     }
 
     /// Close the open region (end of the stream, a stale input).
     pub fn finish(&mut self) -> Option<TrackedRegion> {
-        self.open.take()
+        self.take_open().map(|r| *r)
     }
 
-    /// The open region, if any.
+    /// The open region, if any (once confirmed).
     pub fn open(&self) -> Option<&TrackedRegion> {
-        self.open.as_ref()
+        self.open.as_ref().filter(|r| r.confirmed)
+    }
+
+    /// Regions closed shorter than the uncertainty of their ends.
+    pub fn unconfirmed(&self) -> u64 {
+        self.unconfirmed
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A feed sample at path `s` (mm) asking `rpm` of C at 25 rpm's limit, its tip `sigma` mm off.
+    fn sample(k: usize, s_mm: f64, rpm: f64, sigma_mm: f64) -> RuleSample {
+        RuleSample {
+            t: k as f64 * 0.01,
+            s: s_mm * 1e-3,
+            tip: Vector3::new(s_mm * 1e-3, 0.0, 0.0),
+            motion: Motion::Feed,
+            predicted: Some(rpm * crate::units::RPM),
+            uncertainty: sigma_mm * 1e-3,
+            distance: 0.1,
+            path_feed: 0.01,
+            programmed_feed: 0.033,
+            dt: 0.01,
+            ds: 0.1e-3,
+            block: -1,
+            line: 0,
+        }
+    }
+
+    fn run(samples: &[RuleSample]) -> (Vec<Verdict>, Vec<TrackedRegion>, u64) {
+        let rule = RegionRule::new(25.0 * crate::units::RPM, None);
+        let mut tracker = RegionTracker::default();
+        let (mut verdicts, mut closed) = (Vec::new(), Vec::new());
+        for x in samples {
+            let (v, c) = tracker.push(&rule, x);
+            verdicts.push(v);
+            closed.extend(c.map(|r| *r));
+        }
+        closed.extend(tracker.finish());
+        (verdicts, closed, tracker.unconfirmed())
+    }
+
+    #[test]
+    fn a_stretch_shorter_than_its_uncertainty_is_no_region_and_a_longer_one_is_from_its_start() {
+        // 0.3 mm beyond the limit with the tip 0.5 mm uncertain at both ends: the wander of a
+        // junction, counted but not a region, and never announced.
+        let wander: Vec<_> = (0..20).map(|k| sample(k, k as f64 * 0.1, if (5..8).contains(&k) { 60.0 } else { 10.0 }, 0.5)).collect();
+        let (verdicts, closed, unconfirmed) = run(&wander);
+        assert!(closed.is_empty() && unconfirmed == 1, "{closed:?}");
+        assert!(verdicts.iter().all(|v| !v.beyond && v.region_id == 0));
+        // 3 mm beyond it, the same uncertainty: announced once 1 mm of it is behind (0.5 + 0.5 mm),
+        // and the region starts where the demand first passed the limit.
+        let pole: Vec<_> = (0..60).map(|k| sample(k, k as f64 * 0.1, if (10..40).contains(&k) { 150.0 } else { 10.0 }, 0.5)).collect();
+        let (verdicts, closed, unconfirmed) = run(&pole);
+        assert_eq!((closed.len(), unconfirmed), (1, 0));
+        assert!((closed[0].tip_start.x - 1.0e-3).abs() < 1e-12 && (closed[0].tip_end.x - 3.9e-3).abs() < 1e-12, "{:?}", closed[0]);
+        let first = verdicts.iter().position(|v| v.beyond).unwrap();
+        assert_eq!((first, verdicts[first].region_id), (20, 1));
+        // Exact samples: a one-sample region is a region, announced at once.
+        let exact: Vec<_> = (0..20).map(|k| sample(k, k as f64 * 0.1, if k == 5 { 60.0 } else { 10.0 }, 0.0)).collect();
+        let (verdicts, closed, unconfirmed) = run(&exact);
+        assert_eq!((closed.len(), unconfirmed), (1, 0));
+        assert!(verdicts[5].beyond && verdicts[5].region_id == 1);
     }
 }

@@ -4,6 +4,7 @@
 //! ([`fiveaxis::live::joint_map::JointMap`]).
 
 use crate::{forward, Bus, InputArgs, Shutdown};
+use fiveaxis::kinematics::Joints;
 use fiveaxis::live::joint_map::JointMap;
 use fiveaxis::live::joint_stream::JointStream;
 use fiveaxis::live::monitor::{MonitorConfig, Rejection};
@@ -44,8 +45,9 @@ pub fn subscribe_states(bus: &mut Bus, inputs: &InputArgs) -> anyhow::Result<Rec
 
 /// What the receive loop hands the node, in arrival order.
 pub enum Received {
-    /// A sample of `topic`: our AxisState, or a JointState mapped onto the machine's axes.
-    State { topic: String, state: AxisState },
+    /// A sample of `topic`: our AxisState, or a JointState mapped onto the machine's axes and merged
+    /// per axis into a pose, with how far each axis may be off in it (SI; [`JointStream`]).
+    State { topic: String, state: AxisState, uncertainty: Option<Joints> },
     /// A sample refused before the monitor: a JointState whose joints do not map (with the joint
     /// names it had), or a message that did not decode.
     Refused { topic: String, why: Rejection, joints: Option<Vec<String>> },
@@ -135,8 +137,8 @@ impl<'a> StateReceiver<'a> {
 
 /// Queue the poses `stream` of `topic` has made, oldest first.
 fn queue_poses(ready: &mut VecDeque<Received>, topic: &str, stream: &mut JointStream) {
-    while let Some(state) = stream.pop() {
-        ready.push_back(Received::State { topic: topic.to_string(), state });
+    while let Some(merged) = stream.pop() {
+        ready.push_back(Received::State { topic: topic.to_string(), state: merged.state, uncertainty: Some(merged.uncertainty) });
     }
 }
 
@@ -182,7 +184,7 @@ impl Iterator for StateReceiver<'_> {
             let now = self.now();
             self.last_sample = Some(now);
             match input {
-                StateInput::State(topic, state) => return Some(Received::State { topic, state }),
+                StateInput::State(topic, state) => return Some(Received::State { topic, state, uncertainty: None }),
                 StateInput::Joints(topic, js) => self.take_joints(topic, js, now),
                 // Logged by the reader; a malformed sample of its stream.
                 StateInput::Undecodable(topic, reason) => return Some(Received::Refused { topic, why: Rejection::Invalid(reason), joints: None }),

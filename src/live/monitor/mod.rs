@@ -257,8 +257,14 @@ impl Monitor {
 
     /// Evaluate one sample of stream `topic`; `wall` is the arrival time (s, any monotonic clock).
     pub fn on_state(&mut self, topic: &str, st: &AxisState, wall: f64) -> Result<SingularityStatus, Rejection> {
+        self.on_merged_state(topic, st, None, wall)
+    }
+
+    /// [`Monitor::on_state`] of a pose merged from per-axis reports, with how far each axis may be
+    /// off in it (SI; None: exact, as [`Monitor::on_state`]).
+    pub fn on_merged_state(&mut self, topic: &str, st: &AxisState, uncertainty: Option<&Joints>, wall: f64) -> Result<SingularityStatus, Rejection> {
         let id = self.input(topic);
-        let e = self.evaluate(id, st, wall)?;
+        let e = self.evaluate_merged(id, st, uncertainty, wall)?;
         Ok(self.status_of(id, topic, &e, &st.header.frame_id, false))
     }
 
@@ -341,6 +347,13 @@ impl Monitor {
 
     /// [`Monitor::on_state`] without building the status message: the figures only.
     pub fn evaluate(&mut self, id: InputId, st: &AxisState, wall: f64) -> Result<Evaluation, Rejection> {
+        self.evaluate_merged(id, st, None, wall)
+    }
+
+    /// [`Monitor::evaluate`] of a pose merged from per-axis reports, with how far each axis may be
+    /// off in it (SI; [`crate::live::joint_stream::Merged`]): a region is announced only where the
+    /// demand is beyond its limit at the least that allows ([`RegionTracker`]).
+    pub fn evaluate_merged(&mut self, id: InputId, st: &AxisState, uncertainty: Option<&Joints>, wall: f64) -> Result<Evaluation, Rejection> {
         let q = match self.validate(st) {
             Ok(q) => q,
             Err((reason, e)) => {
@@ -379,7 +392,7 @@ impl Monitor {
             count_lost(input, t - last, t);
         }
         if st.source == AxisState::SOURCE_MACHINE {
-            return Ok(self.evaluate_measured(id, st, q, t));
+            return Ok(self.evaluate_measured(id, st, q, uncertainty.unwrap_or(&[0.0; AXES]), t));
         }
         let (axis, tip) = Self::axis_and_tip(&self.machine, st, &q);
         let prev = input.history.back().copied();
@@ -436,6 +449,7 @@ impl Monitor {
             tip,
             motion,
             predicted: Some(predicted),
+            uncertainty: 0.0,
             distance: dist,
             path_feed: st.path_feed,
             programmed_feed: st.programmed_feed,
@@ -489,7 +503,7 @@ impl Monitor {
     /// kinematics, actual feed), the path's demand on the secondary axis at the programmed feed (seed
     /// 001 eq. 5 as dC/ds * F over a stretch of path), the feed limit on the same stretch (seed 002
     /// eq. 5, velocity and acceleration terms) and the region rule ([`RegionTracker`]).
-    fn evaluate_measured(&mut self, id: InputId, st: &AxisState, q: Joints, t: f64) -> Evaluation {
+    fn evaluate_measured(&mut self, id: InputId, st: &AxisState, q: Joints, uncertainty: &Joints, t: f64) -> Evaluation {
         let input = &mut self.inputs[id.0];
         let measured = input.measured.get_or_insert_with(|| MeasuredPath::new(&self.machine, MeasuredConfig::default()));
         if input.aligner.is_none() {
@@ -501,7 +515,7 @@ impl Monitor {
         // A source that knows the motion kind (an AxisState of source MACHINE from a bridge that has the
         // program) says whether this is a rapid; a JointState does not.
         let hint = (st.motion != AxisState::MOTION_UNKNOWN).then_some(st.motion == AxisState::MOTION_RAPID);
-        let m = measured.push(&self.machine, t, &q, hint);
+        let m = measured.push(&self.machine, t, &q, uncertainty, hint);
         let place = input.aligner.as_mut().and_then(|a| a.place(&m.tip, &m.q));
         let motion = match place {
             Some(p) if p.rapid => Motion::Rapid,
@@ -584,6 +598,7 @@ impl Monitor {
                     tip: d.tip - offset,
                     motion: lag_motion,
                     predicted,
+                    uncertainty: d.tip_uncertainty,
                     distance: distance(&d.axis, &self.singular),
                     path_feed: d.path_feed,
                     programmed_feed: f_prog,
@@ -595,7 +610,7 @@ impl Monitor {
             }
             None => {
                 input.lagged = None;
-                RuleSample { t, s: m.s, tip: m.tip - offset, motion, predicted: None, distance: dist, path_feed: m.path_feed, programmed_feed: f_prog, dt: 0.0, ds: 0.0, block: place.map_or(-1, |p| p.block), line: place.map_or(st.program_line, |p| p.line) }
+                RuleSample { t, s: m.s, tip: m.tip - offset, motion, predicted: None, uncertainty: 0.0, distance: dist, path_feed: m.path_feed, programmed_feed: f_prog, dt: 0.0, ds: 0.0, block: place.map_or(-1, |p| p.block), line: place.map_or(st.program_line, |p| p.line) }
             }
         };
         let (verdict, closed) = input.tracker.push(&self.rule, &rule_sample);
@@ -735,6 +750,7 @@ impl Monitor {
                 program_unreadable: i.program_failure().map(str::to_string),
                 regions: i.all_regions(),
                 unlisted_regions: i.unlisted,
+                unconfirmed_regions: i.tracker.unconfirmed(),
             })
             .collect()
     }

@@ -252,6 +252,9 @@ pub struct InputSummary {
     /// The first regions in full (with the open one), and the rest folded.
     pub regions: Vec<LiveRegion>,
     pub unlisted_regions: crate::listing::Unlisted,
+    /// Stretches where the demand passed the limit but never beyond what the samples' uncertainty
+    /// allows (a sparse per-axis stream's interpolated poses): not regions, counted here.
+    pub unconfirmed_regions: u64,
 }
 
 /// The monitor's figures for one sample, without the strings of [`SingularityStatus`]: what the
