@@ -216,6 +216,13 @@ fn node_bin(name: &str) -> PathBuf {
 /// with `bridge_args`, and (given its flags) the monitor watching the bridge's JointState; all in one
 /// private network namespace. The bridge exits once its source has been down for 2.5 s.
 fn live(tag: &str, role: &str, log: &Path, devices: &Path, peer_args: &str, bridge_args: &str, monitor_args: Option<&str>) -> Live {
+    live_killed(tag, role, log, devices, peer_args, bridge_args, monitor_args, None)
+}
+
+/// [`live`] with the bridge killed (SIGKILL) `kill.0` s after it started and a new one started
+/// `kill.1` s later.
+#[allow(clippy::too_many_arguments)]
+fn live_killed(tag: &str, role: &str, log: &Path, devices: &Path, peer_args: &str, bridge_args: &str, monitor_args: Option<&str>, kill: Option<(f64, f64)>) -> Live {
     // One live run at a time: they run in real time and share two cores.
     static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _one = ONE.lock().unwrap_or_else(|e| e.into_inner());
@@ -234,18 +241,21 @@ fn live(tag: &str, role: &str, log: &Path, devices: &Path, peer_args: &str, brid
             node_bin("fiveaxis-monitor").display()
         )
     });
+    let bridge_cmd = format!("'{}' {source} --exit-when-down-s 2.5 --summary-json {d}/bridge.json {wait} {bridge_args}", node_bin("fiveaxis-bridge").display());
+    let restart = kill.map_or(String::new(), |(after, down)| format!("sleep {after}; kill -9 $B; sleep {down}; {bridge_cmd} >> {d}/bridge.log 2>&1 &"));
     let script = format!(
         "set -e
         {monitor}
         python3 '{peer}' {role} '{log}' '{devices}' --port {port} --linger 2 {peer_args} > {d}/peer.json &
         P=$!
-        '{bridge}' {source} --exit-when-down-s 2.5 --summary-json {d}/bridge.json {wait} {bridge_args} > {d}/bridge.log 2>&1 &
+        {bridge_cmd} > {d}/bridge.log 2>&1 &
+        B=$!
+        {restart}
         wait $P
         wait",
         peer = root().join("tests/peer/mtconnect_peer.py").display(),
         log = log.display(),
         devices = devices.display(),
-        bridge = node_bin("fiveaxis-bridge").display(),
     );
     let out = Command::new(root().join("launch-free-scripts/netns-run")).args(["bash", "-c", &script]).env("RUST_LOG", "info").output().expect("netns-run runs");
     let log = std::fs::read_to_string(dir.join("bridge.log")).unwrap_or_default();
@@ -257,7 +267,7 @@ fn live(tag: &str, role: &str, log: &Path, devices: &Path, peer_args: &str, brid
             .or_else(|_| serde_json::from_str(text.lines().rfind(|l| l.starts_with('{')).unwrap_or(&text)))
             .unwrap_or_else(|e| panic!("{f}: {e}: {text}"))
     };
-    let live = Live { monitor: monitor_args.map(|_| read("monitor.json")), bridge: read("bridge.json"), peer: read("peer.json"), log };
+    let live = Live { monitor: monitor_args.map(|_| read("monitor.json")), bridge: read("bridge.json"), peer: read("peer.json"), log: format!("{log}\nmonitor: {monitor_log}") };
     let _ = std::fs::remove_dir_all(&dir);
     live
 }
@@ -313,6 +323,23 @@ fn an_agents_live_stream_gives_the_one_region_and_survives_the_agents_restart() 
     check_sing_live(&l);
     assert!(l.bridge["gaps"].as_u64().unwrap() >= 1 && l.bridge["connections"].as_u64().unwrap() >= 2, "the restart seen: {:#}\n{}", l.bridge, l.log);
     assert!(l.log.contains("the agent restarted"), "{}", l.log);
+}
+
+/// The bridge itself killed (SIGKILL, no goodbye) 1 s after it started, before the cut, and a new
+/// one started 1.5 s later, which reads the agent's /current and streams on: the monitor sees the
+/// outage as one stale episode (and another once the stream ends), loses nothing, and finds the one
+/// region after it.
+#[test]
+fn a_bridge_killed_and_restarted_is_stale_time_not_lost_samples() {
+    let (log, devices) = sing_shdr("live-killed");
+    let l = live_killed("killed", "agent", &log, &devices, "--start 8.5 --end 17.5", "--machine hermle-c600u", Some("--machine hermle-c600u --feed 2000"), Some((1.0, 1.5)));
+    let summary = l.monitor.as_ref().unwrap();
+    let input = summary.as_array().unwrap().iter().find(|i| i["topic"] == "/fiveaxis/machine/joint_states").unwrap();
+    assert_eq!(input["rejected"]["missing_joint"], 0, "{}", l.log);
+    assert_eq!(input["stale"], 2, "the outage and the end: {input:#}\n{}", l.log);
+    // The second bridge's own summary: one connection, from /current.
+    assert_eq!(l.bridge["connections"], 1, "{:#}", l.bridge);
+    check_sing_live(&l);
 }
 
 /// cppagent's Okuma log served by an agent at its own rates (20 s of its first session, where Z

@@ -12,8 +12,10 @@ use fiveaxis_msgs::{AxisState, Header, JointState, Time};
 use crate::kinematics::Joints;
 use std::collections::VecDeque;
 
-/// Stream time an axis may stay unreported at a stream's start before its messages are refused as
-/// missing that joint (s): the slowest rate machine data come at, with the merge's margin.
+/// Time an axis may stay unreported at a stream's start before its messages are refused as missing
+/// that joint (s, of arrival: a source's snapshot of its last values, such as an MTConnect agent's
+/// /current, arrives at once but is stamped over however long ago each axis last changed): the
+/// slowest rate machine data come at, with the merge's margin.
 pub const FIRST_REPORT_WITHIN_S: f64 = 1.5;
 
 /// One JointState stream's merge.
@@ -27,6 +29,7 @@ pub struct JointStream {
     frame_id: String,
     /// Stamps are merged relative to the first one's whole seconds (full f64 resolution).
     base: TimeBase,
+    /// Arrival of the first message (of this session).
     first: Option<f64>,
     /// Messages before every axis had been reported, not yet refused.
     waiting: u64,
@@ -79,7 +82,7 @@ impl JointStream {
             self.frame_id = frame_id.to_string();
         }
         let (base, names, frame, ready) = (self.base, &self.names, &self.frame_id, &mut self.ready);
-        let result = self.merger.push(t, values, |at, q, uncertainty| ready.push_back(Merged { state: base.state(at, &q, names, frame), uncertainty }));
+        let result = self.merger.push(t, values, |at, q, uncertainty| ready.push_back(Merged { state: base.state(at, &q, names, frame), uncertainty, arrival: wall }));
         match result {
             Err(MergeError::OutOfOrder { stamp, last }) => return Err(Rejection::OutOfOrder { stamp, last }),
             Err(MergeError::NonFinite { axis, value }) => return Err(Rejection::NonFinite(format!("{} position is {value}", self.names[axis]))),
@@ -87,10 +90,10 @@ impl JointStream {
             Ok(()) => {}
         }
         self.last_wall = Some(wall);
-        let first = *self.first.get_or_insert(t);
+        let first = *self.first.get_or_insert(wall);
         if !self.merger.all_reported() {
             // An axis not reported yet: wait for it a while, then refuse its messages.
-            if t - first <= FIRST_REPORT_WITHIN_S {
+            if wall - first <= FIRST_REPORT_WITHIN_S {
                 self.waiting += 1;
                 return Ok(());
             }
@@ -122,8 +125,8 @@ impl JointStream {
 
     /// Make every waiting instant with what is known (the stream ended or fell silent).
     pub fn flush(&mut self) {
-        let (base, names, frame, ready) = (self.base, &self.names, &self.frame_id, &mut self.ready);
-        self.merger.flush(|at, q, uncertainty| ready.push_back(Merged { state: base.state(at, &q, names, frame), uncertainty }));
+        let (base, names, frame, ready, arrival) = (self.base, &self.names, &self.frame_id, &mut self.ready, self.last_wall.unwrap_or(0.0));
+        self.merger.flush(|at, q, uncertainty| ready.push_back(Merged { state: base.state(at, &q, names, frame), uncertainty, arrival }));
     }
 
     /// Messages still waiting at the end for an axis never reported: refused as missing it (the
@@ -160,6 +163,9 @@ impl JointStream {
 pub struct Merged {
     pub state: AxisState,
     pub uncertainty: Joints,
+    /// Arrival of the report that completed it (s, the caller's clock): a pose made because its
+    /// stream fell silent carries the last report's, for it says nothing of the source being alive.
+    pub arrival: f64,
 }
 
 /// A stream's clock base: merge times are seconds after its whole second `sec`.

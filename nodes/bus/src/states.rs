@@ -47,7 +47,9 @@ pub fn subscribe_states(bus: &mut Bus, inputs: &InputArgs) -> anyhow::Result<Rec
 pub enum Received {
     /// A sample of `topic`: our AxisState, or a JointState mapped onto the machine's axes and merged
     /// per axis into a pose, with how far each axis may be off in it (SI; [`JointStream`]).
-    State { topic: String, state: AxisState, uncertainty: Option<Joints> },
+    /// `arrival`: when the report that completed it arrived (the loop's clock, [`StateReceiver::now`];
+    /// None: now).
+    State { topic: String, state: AxisState, uncertainty: Option<Joints>, arrival: Option<f64> },
     /// A sample refused before the monitor: a JointState whose joints do not map (with the joint
     /// names it had), or a message that did not decode.
     Refused { topic: String, why: Rejection, joints: Option<Vec<String>> },
@@ -138,7 +140,7 @@ impl<'a> StateReceiver<'a> {
 /// Queue the poses `stream` of `topic` has made, oldest first.
 fn queue_poses(ready: &mut VecDeque<Received>, topic: &str, stream: &mut JointStream) {
     while let Some(merged) = stream.pop() {
-        ready.push_back(Received::State { topic: topic.to_string(), state: merged.state, uncertainty: Some(merged.uncertainty) });
+        ready.push_back(Received::State { topic: topic.to_string(), state: merged.state, uncertainty: Some(merged.uncertainty), arrival: Some(merged.arrival) });
     }
 }
 
@@ -184,7 +186,7 @@ impl Iterator for StateReceiver<'_> {
             let now = self.now();
             self.last_sample = Some(now);
             match input {
-                StateInput::State(topic, state) => return Some(Received::State { topic, state, uncertainty: None }),
+                StateInput::State(topic, state) => return Some(Received::State { topic, state, uncertainty: None, arrival: None }),
                 StateInput::Joints(topic, js) => self.take_joints(topic, js, now),
                 // Logged by the reader; a malformed sample of its stream.
                 StateInput::Undecodable(topic, reason) => return Some(Received::Refused { topic, why: Rejection::Invalid(reason), joints: None }),

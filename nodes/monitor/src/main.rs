@@ -127,11 +127,11 @@ fn main() -> anyhow::Result<()> {
     while let Some(received) = receiver.next() {
         let now = receiver.now();
         match received {
-            Received::State { topic, state, uncertainty } => {
+            Received::State { topic, state, uncertainty, arrival } => {
                 if lookahead.as_deref() == Some(topic.as_str()) {
                     monitor.on_commanded_ahead(&state);
                 }
-                match monitor.on_merged_state(&topic, &state, uncertainty.as_ref(), now) {
+                match monitor.on_merged_state(&topic, &state, uncertainty.as_ref(), arrival.unwrap_or(now)) {
                     Ok(status) => {
                         let was = in_region.get(&topic).copied().unwrap_or(0);
                         if status.in_region && was != status.region_id {

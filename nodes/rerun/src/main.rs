@@ -254,7 +254,7 @@ fn live(a: LiveArgs, ros: &fiveaxis_bus::RosOptions) -> anyhow::Result<ExitCode>
     let receiver = StateReceiver::new(rx, JointMap::new(&machine, &map), &machine, &shutdown, Duration::from_millis(20), a.exit_when_idle_s);
     for received in receiver {
         match received {
-            Received::State { topic, state, uncertainty } => {
+            Received::State { topic, state, uncertainty, .. } => {
                 let (row, events) = scene.push_merged(&topic, &state, uncertainty.as_ref());
                 if let Some(r) = row {
                     bridge.row(&r)?;

@@ -363,7 +363,12 @@ impl Monitor {
         };
         let t = st.header.stamp.as_secs();
         let input = &mut self.inputs[id.0];
-        input.last_arrival = Some(wall);
+        // A sample that arrived no later than the last one (a pose a merge made because its stream
+        // fell silent) says nothing of the source being alive: it neither ends nor starts a stale episode.
+        let arrived = input.last_arrival.is_none_or(|last| wall > last);
+        if arrived {
+            input.last_arrival = Some(wall);
+        }
         // The stream had gone stale and comes back with its clock restarted (stamped no later than
         // before): a restarted publisher, a new session (a gap still being judged is judged on what
         // came before). A stream that comes back where it left off (a publisher that stalled) goes on.
@@ -373,7 +378,7 @@ impl Monitor {
         // The stream went stale and goes on where it left off (a bridge that was down, a publisher
         // that stalled): the gap in its stamps is stale time, already counted as such, not samples
         // lost. The loss judgement starts again after it.
-        let outage = std::mem::replace(&mut input.stale_now, false);
+        let outage = arrived && std::mem::replace(&mut input.stale_now, false);
         if let Some(last) = input.history.back() {
             if t <= last.t {
                 input.rejected.count(Reason::OutOfOrder);
