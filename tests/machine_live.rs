@@ -175,14 +175,15 @@ fn per_axis_partial_joint_states_live() {
     assert!((peak - 175.0).abs() <= 0.05 * 175.0, "peak {peak:.1} rpm (numpy: 175.0 on the 1 kHz trace)");
 }
 
-/// A bridge that was down for 3 s and comes back where its clock left off (grid stamps go on; the
-/// samples of the outage are never sent): the outage is one stale episode, not 3,000 samples lost,
+/// A bridge that was down for 2 s and comes back where its clock left off (grid stamps go on; the
+/// samples of the outage are never sent): the outage is one stale episode, not 2,000 samples lost,
 /// and the summary, the status and `/diagnostics` say the same (before, the summary said about
-/// 3,000 lost while /diagnostics said 0).
+/// 3,000 lost for a 3 s outage while /diagnostics said 0). Shorter than the monitor's 3 s idle exit
+/// by a whole second: at 3 s a loaded machine let the monitor end inside the outage.
 #[test]
 fn a_bridge_down_for_seconds_is_stale_not_lost_everywhere() {
-    let l = live("down-3s", "--reliability reliable --stamp grid --gap-at 12 --gap-ms 3000");
-    assert_eq!(l.published["skipped_gap"], 3000, "{:#}", l.published);
+    let l = live("down-2s", "--reliability reliable --stamp grid --gap-at 12 --gap-ms 2000");
+    assert_eq!(l.published["skipped_gap"], 2000, "{:#}", l.published);
     let input = l.summary.as_array().unwrap().iter().find(|i| i["topic"] == "/cnc/joint_states").unwrap_or_else(|| panic!("{:#}", l.summary));
     assert_eq!(input["lost"], 0, "summary: {input:#}");
     // Stale for the outage, and again once the publisher stops at the end.
@@ -202,7 +203,9 @@ fn a_bridge_down_for_seconds_is_stale_not_lost_everywhere() {
 /// 100 ms as a Sinumerik's server samples at best, each value stamped when sampled;
 /// `fiveaxis-bridge --opcua-server` browses the model, subscribes to the axes' ActPos and publishes
 /// JointState; the monitor watches it. The server restarts 1.2 s before the cut and is down for 1 s
-/// (a new session, its nodes browsed again). `server`: the peer's command before its options;
+/// (a new session, its nodes browsed again); the bridge waits for it as long as it takes (node-opcua
+/// loading the CNC nodeset again took over 4 s on a loaded CI machine) and is stopped (SIGINT) once
+/// the server has finished. `server`: the peer's command before its options;
 /// `bridge`: the bridge's options beyond the server and machine.
 fn opcua_live(tag: &str, server: &str, bridge: &str) {
     static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
@@ -217,10 +220,10 @@ fn opcua_live(tag: &str, server: &str, bridge: &str) {
         {server} --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 > {d}/peer.json 2> {d}/peer.err &
         P=$!
         for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
-        FIVEAXIS_OPCUA_PKI={d}/pki FIVEAXIS_OPCUA_PASSWORD=s3cret '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 4 \
+        FIVEAXIS_OPCUA_PKI={d}/pki FIVEAXIS_OPCUA_PASSWORD=s3cret '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 30 \
             --wait-for-subscriber-s 10 --summary-json {d}/bridge.json {bridge} > {d}/bridge.log 2>&1 &
         B=$!
-        wait $P; wait $B; wait $M",
+        wait $P; kill -INT $B 2>/dev/null; wait $B; wait $M",
         bin = bin.display(),
     );
     let out = Command::new(root().join("launch-free-scripts/netns-run")).args(["bash", "-c", &script]).env("RUST_LOG", "info").output().expect("netns-run runs");

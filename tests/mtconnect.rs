@@ -214,7 +214,8 @@ fn node_bin(name: &str) -> PathBuf {
 
 /// Serve `log` with the peer as `role` (adapter on port 7878, agent on 5000), the bridge reading it
 /// with `bridge_args`, and (given its flags) the monitor watching the bridge's JointState; all in one
-/// private network namespace. The bridge exits once its source has been down for 2.5 s.
+/// private network namespace. The bridge is stopped (SIGINT) once the peer has finished; a source
+/// down for however long before that is waited for (a loaded machine restarts a server slowly).
 fn live(tag: &str, role: &str, log: &Path, devices: &Path, peer_args: &str, bridge_args: &str, monitor_args: Option<&str>) -> Live {
     live_killed(tag, role, log, devices, peer_args, bridge_args, monitor_args, None)
 }
@@ -241,8 +242,8 @@ fn live_killed(tag: &str, role: &str, log: &Path, devices: &Path, peer_args: &st
             node_bin("fiveaxis-monitor").display()
         )
     });
-    let bridge_cmd = format!("'{}' {source} --exit-when-down-s 2.5 --summary-json {d}/bridge.json {wait} {bridge_args}", node_bin("fiveaxis-bridge").display());
-    let restart = kill.map_or(String::new(), |(after, down)| format!("sleep {after}; kill -9 $B; sleep {down}; {bridge_cmd} >> {d}/bridge.log 2>&1 &"));
+    let bridge_cmd = format!("'{}' {source} --exit-when-down-s 30 --summary-json {d}/bridge.json {wait} {bridge_args}", node_bin("fiveaxis-bridge").display());
+    let restart = kill.map_or(String::new(), |(after, down)| format!("sleep {after}; kill -9 $B; sleep {down}; {bridge_cmd} >> {d}/bridge.log 2>&1 & B=$!"));
     let script = format!(
         "set -e
         {monitor}
@@ -252,6 +253,7 @@ fn live_killed(tag: &str, role: &str, log: &Path, devices: &Path, peer_args: &st
         B=$!
         {restart}
         wait $P
+        kill -INT $B 2>/dev/null
         wait",
         peer = root().join("tests/peer/mtconnect_peer.py").display(),
         log = log.display(),
