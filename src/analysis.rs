@@ -607,7 +607,7 @@ impl OfflineReport {
             if s.unconfirmed_regions > 0 {
                 let _ = writeln!(
                     o,
-                    "  {} stretch(es) where the demand passed the limit only within the merged poses' uncertainty: not regions",
+                    "  {} stretch(es) where the demand passed the limit over less path than the merged poses' uncertainty: not regions",
                     s.unconfirmed_regions
                 );
             }

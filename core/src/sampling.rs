@@ -278,7 +278,10 @@ impl PoseMerger {
         let (u2, u3) = (u * u, u * u * u);
         let v = (2.0 * u3 - 3.0 * u2 + 1.0) * v0 + (u3 - 2.0 * u2 + u) * h * m0 + (-2.0 * u3 + 3.0 * u2) * v1 + (u3 - u2) * h * m1;
         let (lo, hi) = self.config.range[i];
-        (v.clamp(lo.min(v0).min(v1), hi.max(v0).max(v1)), u * (1.0 - u) * h * self.unsmooth(i, k))
+        // At the axis' own report (every pose of a stream that reports all axes together) the value
+        // is exact: no need to look at its neighbours.
+        let sigma = if at == t0 { 0.0 } else { u * (1.0 - u) * h * self.unsmooth(i, k) };
+        (v.clamp(lo.min(v0).min(v1), hi.max(v0).max(v1)), sigma)
     }
 
     /// How far axis `i`'s speed departs from a smooth course about its interval from change point
@@ -298,8 +301,8 @@ impl PoseMerger {
             let (&(ta, va), &(tb, vb)) = (points.get(a)?, points.get(a + 1)?);
             (tb - ta <= hold).then(|| (0.5 * (ta + tb), (vb - va) / (tb - ta)))
         };
-        let own = interval(k - 1).map_or(0.0, |x| x.1);
         let around: [Option<(f64, f64)>; 4] = std::array::from_fn(|j| (k + j).checked_sub(3).and_then(interval));
+        let own = around[2].map_or(0.0, |x| x.1);
         if let [Some(a), Some(b), Some(c), Some(d)] = around {
             // The residual of the least-squares quadratic through four points is along the weights
             // of their third divided difference, w_j = 1 / prod(t_j - t_m), which every quadratic
@@ -489,7 +492,9 @@ mod tests {
             assert!((v - z(*t)).abs() <= *sigma + 1e-9, "at {t:.2} s off by {:.3} mm, uncertainty {sigma:.3} mm", (v - z(*t)).abs());
         }
         // Before the stop, a steady move (once Z has shown its own period): no uncertainty.
-        for g in got.iter().filter(|g| (1.7..2.3).contains(&g.0)) { assert!(g.2 < 1e-6, "{g:?}"); }
+        for g in got.iter().filter(|g| (1.7..2.3).contains(&g.0)) {
+            assert!(g.2 < 1e-6, "{g:?}");
+        }
 
         // X = R cos(wt) (a linear axis while the part turns under the tool, R = 25 mm, 96 deg/s),
         // reported every 0.33 s, Y between: the cubic is within 0.1 mm (0.05 here) and says it may be off

@@ -162,7 +162,7 @@ pub struct Verdict {
 pub struct RegionTracker {
     next_id: u32,
     open: Option<TrackedRegion>,
-    /// Regions closed without a confirmed sample.
+    /// Regions closed shorter than the uncertainty of their ends.
     unconfirmed: u64,
 }
 

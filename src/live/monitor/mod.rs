@@ -351,8 +351,8 @@ impl Monitor {
     }
 
     /// [`Monitor::evaluate`] of a pose merged from per-axis reports, with how far each axis may be
-    /// off in it (SI; [`crate::live::joint_stream::Merged`]): a region is announced only where the
-    /// demand is beyond its limit at the least that allows ([`RegionTracker`]).
+    /// off in it (SI; [`crate::live::joint_stream::Merged`]): a region is announced only once the
+    /// path inside it is longer than the tool tip's uncertainty at its ends ([`RegionTracker`]).
     pub fn evaluate_merged(&mut self, id: InputId, st: &AxisState, uncertainty: Option<&Joints>, wall: f64) -> Result<Evaluation, Rejection> {
         let q = match self.validate(st) {
             Ok(q) => q,

@@ -252,8 +252,8 @@ pub struct InputSummary {
     /// The first regions in full (with the open one), and the rest folded.
     pub regions: Vec<LiveRegion>,
     pub unlisted_regions: crate::listing::Unlisted,
-    /// Stretches where the demand passed the limit but never beyond what the samples' uncertainty
-    /// allows (a sparse per-axis stream's interpolated poses): not regions, counted here.
+    /// Stretches where the demand passed the limit over less path than the tool tip's uncertainty at
+    /// their ends (a sparse per-axis stream's interpolated poses): not regions, counted here.
     pub unconfirmed_regions: u64,
 }
 
