@@ -36,7 +36,9 @@ fn relative_links(text: &str) -> Vec<String> {
 
 fn pages() -> Vec<PathBuf> {
     let mut pages = vec![root().join("README.md")];
-    let mut chapters: Vec<PathBuf> = std::fs::read_dir(root().join("docs/src")).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "md")).collect();
+    let md = |d: &str| -> Vec<PathBuf> { std::fs::read_dir(root().join(d)).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "md")).collect() };
+    let mut chapters = md("docs/src");
+    chapters.extend(md("docs/src/design"));
     chapters.sort();
     pages.extend(chapters);
     pages
@@ -53,7 +55,7 @@ fn the_readme_is_a_page_and_the_book_holds_every_chapter() {
     let summary = std::fs::read_to_string(root().join("docs/src/SUMMARY.md")).unwrap();
     let listed = relative_links(&summary);
     for page in pages().iter().skip(1) {
-        let name = page.file_name().unwrap().to_string_lossy().into_owned();
+        let name = page.strip_prefix(root().join("docs/src")).unwrap().to_string_lossy().into_owned();
         if name != "SUMMARY.md" {
             assert!(listed.contains(&name), "docs/src/{name} is not in SUMMARY.md");
         }
@@ -189,7 +191,7 @@ fn the_reference_pages_are_the_commands_own_help() {
             stale.push(file.display().to_string());
         }
     }
-    let index_file = dir.join("README.md");
+    let index_file = dir.join("index.md");
     if bless {
         std::fs::write(&index_file, &index).unwrap();
     } else if std::fs::read_to_string(&index_file).ok().as_deref() != Some(index.as_str()) {
@@ -198,5 +200,221 @@ fn the_reference_pages_are_the_commands_own_help() {
     assert!(stale.is_empty(), "reference pages that are not the commands' --help (make them again with FIVEAXIS_BLESS=1 cargo test --test docs):\n{}", stale.join("\n"));
     // The book lists them.
     let summary = std::fs::read_to_string(root().join("docs/src/SUMMARY.md")).unwrap();
-    assert!(summary.contains("(reference/README.md)"), "SUMMARY.md has no Reference");
+    assert!(summary.contains("(reference/index.md)"), "SUMMARY.md has no Reference");
+}
+
+/// A command or script a book page shows, in page order.
+#[derive(Debug)]
+enum Step {
+    /// A `console` block's `$ command` (continuation lines joined), the output the page shows after it
+    /// and the exit status it says (`# exit N` at its end; 0 otherwise).
+    Console { line: usize, command: String, shown: Vec<String>, exit: i32 },
+    /// An `sh` block, run as one script; `no_run` for `sh,no-run` blocks (the release build).
+    Script { line: usize, body: String, no_run: bool },
+}
+
+/// The `console` and `sh` blocks of a page (fences may be indented, as in list items).
+fn steps(page: &str) -> Vec<Step> {
+    let mut steps = Vec::new();
+    let mut lines = page.lines().enumerate().peekable();
+    while let Some((n, l)) = lines.next() {
+        let fence = l.trim_start();
+        let Some(info) = fence.strip_prefix("```") else { continue };
+        let indent = l.len() - fence.len();
+        let mut body = Vec::new();
+        for (_, l) in lines.by_ref() {
+            if l.trim_start().starts_with("```") {
+                break;
+            }
+            body.push(l.get(indent..).unwrap_or(l.trim_start()).to_string());
+        }
+        let info: Vec<&str> = info.split(',').map(str::trim).collect();
+        match info[0] {
+            "sh" => steps.push(Step::Script { line: n + 1, body: body.join("\n"), no_run: info.contains(&"no-run") }),
+            "console" => {
+                let mut k = 0;
+                while k < body.len() {
+                    let Some(first) = body[k].strip_prefix("$ ") else { panic!("line {}: a console block's output before its command: {:?}", n + 2 + k, body[k]) };
+                    let line = n + 2 + k;
+                    let mut command = first.to_string();
+                    while command.ends_with('\\') {
+                        command.pop();
+                        k += 1;
+                        command.push(' ');
+                        command.push_str(body[k].trim());
+                    }
+                    k += 1;
+                    let mut shown = Vec::new();
+                    while k < body.len() && !body[k].starts_with("$ ") {
+                        shown.push(body[k].clone());
+                        k += 1;
+                    }
+                    let exit = command.split_once("# exit ").map_or(0, |(_, e)| e.trim().parse().unwrap_or_else(|_| panic!("line {line}: `# exit N`")));
+                    steps.push(Step::Console { line, command, shown, exit });
+                }
+            }
+            _ => {}
+        }
+    }
+    steps
+}
+
+/// Whether `actual` output shows what the page `shown`: line by line with runs of blanks as one, where
+/// a line `...` stands for any number of lines and a line ending in `...` for any line beginning so.
+fn shows(shown: &[String], actual: &[&str]) -> bool {
+    let norm = |s: &str| s.split_whitespace().collect::<Vec<_>>().join(" ");
+    let line_ok = |e: &str, a: &str| match norm(e).strip_suffix("...") {
+        Some(prefix) => norm(a).starts_with(prefix.trim_end()),
+        None => norm(e) == norm(a),
+    };
+    // ok[i][j]: shown[i..] matches actual[j..].
+    let (m, n) = (shown.len(), actual.len());
+    let mut ok = vec![vec![false; n + 1]; m + 1];
+    ok[m][n] = true;
+    for i in (0..m).rev() {
+        for j in (0..=n).rev() {
+            ok[i][j] = if shown[i].trim() == "..." { ok[i + 1][j] || (j < n && ok[i][j + 1]) } else { j < n && line_ok(&shown[i], actual[j]) && ok[i + 1][j + 1] };
+        }
+    }
+    ok[0][0]
+}
+
+/// The page's commands run in order, from a scratch folder that sees the repository's `recordings`,
+/// `machines`, `tests` and `launch-free-scripts` as a clone's root does, with the test build's
+/// executables on the path (`fiveaxis`, and the nodes the scripts start: FIVEAXIS_BIN), inside a
+/// private loopback-only network namespace. Returns the scratch folder, for checks of what they wrote.
+fn run_page(name: &str) -> PathBuf {
+    let page = std::fs::read_to_string(root().join("docs/src").join(name)).unwrap();
+    let bin = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
+    let scratch = std::env::temp_dir().join(format!("fiveaxis-book-{}-{}", name.trim_end_matches(".md"), std::process::id()));
+    let _ = std::fs::remove_dir_all(&scratch);
+    std::fs::create_dir_all(&scratch).unwrap();
+    for d in ["recordings", "machines", "tests", "launch-free-scripts"] {
+        std::os::unix::fs::symlink(root().join(d), scratch.join(d)).unwrap();
+    }
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let run = |script: &str| {
+        std::process::Command::new(root().join("launch-free-scripts/netns-run"))
+            .args(["bash", "-c", &format!("set -euo pipefail\n{script}")])
+            .current_dir(&scratch)
+            .env("PATH", &path)
+            .env("FIVEAXIS_BIN", &bin)
+            .output()
+            .unwrap()
+    };
+    let steps = steps(&page);
+    assert!(!steps.is_empty(), "{name}: no commands");
+    for step in &steps {
+        match step {
+            Step::Script { body, no_run: true, line } => {
+                // Only the release build the scripts make on first use is not run here (the tests are a debug build).
+                for c in body.lines().map(|l| l.split(" #").next().unwrap().trim()).filter(|l| !l.is_empty()) {
+                    assert!(c.starts_with("cargo build --release") || c == "launch-free-scripts/demo" || c.starts_with("export PATH="), "{name}:{line}: `{c}` in a no-run block");
+                }
+            }
+            Step::Script { body, line, .. } => {
+                let out = run(&format!("{body}\nwait"));
+                assert!(out.status.success(), "{name}:{line}: exit {:?}\n{}\n{}", out.status.code(), String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+            }
+            Step::Console { line, command, shown, exit } => {
+                let out = run(command);
+                let stdout = String::from_utf8_lossy(&out.stdout);
+                let actual: Vec<&str> = stdout.lines().collect();
+                assert_eq!(out.status.code(), Some(*exit), "{name}:{line}: {command}\n{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+                assert!(shows(shown, &actual), "{name}:{line}: {command}\nthe page shows:\n{}\nit printed:\n{stdout}", shown.join("\n"));
+            }
+        }
+    }
+    scratch
+}
+
+#[test]
+fn shown_output_matches_with_elisions() {
+    let s = |v: &[&str]| v.iter().map(|l| l.to_string()).collect::<Vec<_>>();
+    assert!(shows(&s(&["a", "...", "d"]), &["a", "b", "c", "d"]));
+    assert!(shows(&s(&["a  b", "..."]), &["a b", "x"]));
+    assert!(shows(&s(&["gen   A/C ...", "..."]), &["gen A/C table"]));
+    assert!(!shows(&s(&["a", "d"]), &["a", "b", "d"]));
+    assert!(!shows(&s(&["a"]), &["a", "b"]));
+    assert!(!shows(&s(&["a", "...", "e"]), &["a", "b", "d"]));
+}
+
+/// Getting started: its commands print what the page shows (the paper's 175 rpm region at x 22-28 mm,
+/// and none on the reoriented program).
+#[test]
+fn the_getting_started_page_runs() {
+    let scratch = run_page("getting-started.md");
+    let _ = std::fs::remove_dir_all(&scratch);
+}
+
+/// Your machine in 15 minutes: the machine from a URDF, the Klartext twin of the paper's program on it,
+/// a live monitor beside an MTConnect adapter replaying LinuxCNC's trace at 3 Hz per axis, and the CI
+/// gate on the adapter's log. Beyond the shown output: the live monitor found the one region at x
+/// 22-28 mm (+-1) with nothing lost, and the JUnit report names the violation.
+#[test]
+fn the_your_machine_page_runs() {
+    let scratch = run_page("your-machine.md");
+    let live: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scratch.join("live.json")).expect("the live run's summary")).unwrap();
+    let input = live.as_array().unwrap().iter().find(|i| i["topic"] == "/fiveaxis/machine/joint_states").unwrap_or_else(|| panic!("{live:#}"));
+    assert_eq!(input["lost"], 0, "{input:#}");
+    let regions = input["regions"].as_array().unwrap();
+    assert_eq!(regions.len(), 1, "{input:#}");
+    let (x0, x1) = (regions[0]["x_start_mm"].as_f64().unwrap(), regions[0]["x_end_mm"].as_f64().unwrap());
+    assert!((x0 - 22.0).abs() <= 1.0 && (x1 - 28.0).abs() <= 1.0, "live region x {x0}-{x1}");
+    assert_eq!(regions[0]["cause"], "singularity");
+    let junit = std::fs::read_to_string(scratch.join("report.xml")).unwrap();
+    assert!(junit.contains("<failure") && junit.contains("170.6 rpm"), "{junit}");
+    let _ = std::fs::remove_dir_all(&scratch);
+}
+
+/// The book builds with mdBook (`launch-free-scripts/test` installs it into `target/tools`), a chapter
+/// missing from disk fails the build (`create-missing = false`), and every relative link and image of
+/// the built HTML reaches a file of the output: the link check on what a reader clicks, after mdBook
+/// turned `.md` links into `.html` (a link out of the book, such as to the repository's README, breaks).
+#[test]
+fn the_book_builds_and_its_links_resolve() {
+    let mdbook = root().join("target/tools/bin/mdbook");
+    assert!(mdbook.exists(), "{} is installed by launch-free-scripts/test (cargo install mdbook)", mdbook.display());
+    let out_dir = std::env::temp_dir().join(format!("fiveaxis-book-html-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out_dir);
+    let out = std::process::Command::new(&mdbook).arg("build").arg(root().join("docs")).arg("-d").arg(&out_dir).output().unwrap();
+    let said = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "mdbook build docs: {said}");
+    assert!(!said.contains("[WARN]") && !said.contains("[ERROR]"), "mdbook build docs: {said}");
+    let mut html = Vec::new();
+    let mut dirs = vec![out_dir.clone()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if p.extension().is_some_and(|e| e == "html") {
+                html.push(p);
+            }
+        }
+    }
+    let (mut broken, mut checked) = (Vec::new(), 0);
+    for page in &html {
+        let text = std::fs::read_to_string(page).unwrap();
+        for attr in ["href=\"", "src=\""] {
+            for piece in text.split(attr).skip(1) {
+                let target = piece.split('"').next().unwrap();
+                let path = target.split(['#', '?']).next().unwrap();
+                // (The 404 page's `/` is the site's root, wherever the book is served.)
+                if path.is_empty() || path.starts_with('/') || target.contains("://") || target.starts_with("mailto:") || target.starts_with("javascript:") {
+                    continue;
+                }
+                checked += 1;
+                let file = page.parent().unwrap().join(path);
+                if !(file.is_file() || file.join("index.html").is_file()) {
+                    broken.push(format!("{}: {target}", page.strip_prefix(&out_dir).unwrap().display()));
+                }
+            }
+        }
+    }
+    broken.sort();
+    broken.dedup();
+    assert!(broken.is_empty(), "broken links in the built book:\n{}", broken.join("\n"));
+    assert!(html.len() >= 20 && checked >= 200, "{} pages, {checked} links", html.len());
+    let _ = std::fs::remove_dir_all(&out_dir);
 }

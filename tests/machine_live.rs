@@ -202,7 +202,8 @@ fn a_bridge_down_for_seconds_is_stale_not_lost_everywhere() {
 /// the CNC nodeset as node-opcua-nodesets ships it) follow LinuxCNC's SING trace, sampled every
 /// 100 ms as a Sinumerik's server samples at best, each value stamped when sampled;
 /// `fiveaxis-bridge --opcua-server` browses the model, subscribes to the axes' ActPos and publishes
-/// JointState; the monitor watches it. The server restarts 1.2 s before the cut and is down for 1 s
+/// JointState; the monitor watches it. The server replays from the bridge's subscription (however
+/// long a loaded machine took to start the bridge), restarts 1.2 s before the cut and is down for 1 s
 /// (a new session, its nodes browsed again); the bridge waits for it as long as it takes (node-opcua
 /// loading the CNC nodeset again took over 4 s on a loaded CI machine) and is stopped (SIGINT) once
 /// the server has finished. `server`: the peer's command before its options;
@@ -217,7 +218,7 @@ fn opcua_live(tag: &str, server: &str, bridge: &str) {
         "timeout 90 '{bin}/fiveaxis-monitor' --joint-state-input /fiveaxis/machine/joint_states --machine hermle-c600u --feed 2000 --lookahead '' \
             --summary-json {d}/summary.json --exit-when-idle-s 3 > {d}/monitor.log 2>&1 &
         M=$!
-        {server} --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 > {d}/peer.json 2> {d}/peer.err &
+        {server} --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 --wait-subscription 60 > {d}/peer.json 2> {d}/peer.err &
         P=$!
         for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
         FIVEAXIS_OPCUA_PKI={d}/pki FIVEAXIS_OPCUA_PASSWORD=s3cret '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 30 \

@@ -7,7 +7,8 @@
 // a_deg, c_deg), sampled every --period s, each value stamped when sampled (SourceTimestamp).
 //
 // Usage: opcua_cnc_server.js TRACE.csv[.gz] --port P [--period 0.1] [--start S --end E]
-//        [--restart-at S --down-s D] [--linger L]
+//        [--restart-at S --down-s D] [--linger L] [--wait-subscription S]
+// --wait-subscription S: start the replay once a client has subscribed (at most S s after start).
 // Prints a JSON summary at the end: samples written, restarts.
 "use strict";
 const fs = require("fs");
@@ -19,7 +20,7 @@ const CNC_URI = "http://opcfoundation.org/UA/CNC";
 const AXES = [["X", "x_mm", false], ["Y", "y_mm", false], ["Z", "z_mm", false], ["A", "a_deg", true], ["C", "c_deg", true]];
 
 function args() {
-    const a = { period: 0.1, start: 0, end: null, restartAt: null, downS: 1, linger: 1 };
+    const a = { period: 0.1, start: 0, end: null, restartAt: null, downS: 1, linger: 1, waitSubscription: 0 };
     const argv = process.argv.slice(2);
     a.trace = argv[0];
     for (let i = 1; i < argv.length; i += 2) {
@@ -32,6 +33,7 @@ function args() {
             case "--restart-at": a.restartAt = Number(v); break;
             case "--down-s": a.downS = Number(v); break;
             case "--linger": a.linger = Number(v); break;
+            case "--wait-subscription": a.waitSubscription = Number(v); break;
             default: throw new Error(`unknown option ${argv[i]}`);
         }
     }
@@ -91,6 +93,10 @@ async function main() {
     // The server it restarts as is built beforehand (loading the nodesets takes seconds).
     let fresh = a.restartAt === null ? null : await build(a);
     await server.start();
+    // The replay (and its restart) counts from a client's first subscription, however long the
+    // client took to come (a loaded machine).
+    const deadline = Date.now() + a.waitSubscription * 1000;
+    while (server.currentSubscriptionCount === 0 && Date.now() < deadline) await sleep(0.02);
     const t0 = Date.now() / 1000;
     let k = 0, i = 0, written = 0, restarts = 0;
     for (;;) {

@@ -13,7 +13,7 @@ Sinumerik's OPC UA server samples (100 ms at best), each value stamped with the 
 session and only Basic256Sha256 SignAndEncrypt (a self-signed server certificate made in DIR).
 
 Usage: opcua_cnc_server.py TRACE.csv[.gz] (--nodeset Opc.Ua.CNC.NodeSet.xml | --sinumerik) --port P [--period 0.1]
-       [--start S --end E] [--restart-at S --down-s D] [--linger L]
+       [--start S --end E] [--restart-at S --down-s D] [--linger L] [--wait-subscription S]
 Prints a JSON summary at the end: samples written per axis, restarts.
 """
 
@@ -155,6 +155,7 @@ async def main():
     ap.add_argument("--restart-at", type=float)
     ap.add_argument("--down-s", type=float, default=1.0)
     ap.add_argument("--linger", type=float, default=1.0)
+    ap.add_argument("--wait-subscription", type=float, default=0.0, help="start the replay once a client has subscribed (at most S s after start)")
     a = ap.parse_args()
     logging.getLogger("asyncua").setLevel(logging.ERROR)
     trace = read_trace(a.trace)
@@ -168,6 +169,11 @@ async def main():
     written = 0
     restarts = 0
     loop = asyncio.get_running_loop()
+    # The replay (and its restart) counts from a client's first subscription, however long the
+    # client took to come (a loaded machine).
+    deadline = loop.time() + a.wait_subscription
+    while not server.iserver.subscription_service.subscriptions and loop.time() < deadline:
+        await asyncio.sleep(0.02)
     t0 = loop.time()
     k = 0
     i = 0
