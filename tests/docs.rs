@@ -129,7 +129,7 @@ fn the_readmes_tour_runs() {
             })
             .collect();
         if words[0] != "fiveaxis" {
-            assert!(c.contains("monitor-machine"), "a tour command not run here: {c}");
+            assert!(c.contains("monitor-machine"), "a tour command not run here: {c}"); // the_readmes_live_commands_run_against_peers_on_this_host
             continue;
         }
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(&words[1..]).current_dir(&scratch).output().unwrap();
@@ -500,4 +500,69 @@ fn every_page_with_commands_is_run() {
             assert!(tests.contains(&format!("run_page(\"{name}\")")), "{name} shows commands that no test runs");
         }
     }
+}
+
+/// The README's live commands (`monitor-machine` beside a machine's ROS 2 bridge, MTConnect agent,
+/// OPC UA server and a Sinumerik's server) run as shown, each against an independent peer standing in
+/// for the machine on this host: Cyclone DDS publishing LinuxCNC's SING trace as JointState on domain 7,
+/// an MTConnect agent serving it per axis at about 3 Hz, asyncua's OPC 40502 server and asyncua as a
+/// Sinumerik (its own NC variables, a user, Basic256Sha256) at 100 ms. The machines' names become
+/// 127.0.0.1, the password a test one, `part.ngc` the paper's program LinuxCNC ran, and the monitor is
+/// told to stop once the stream has ended (`--exit-when-idle-s 3 --summary-json`); each finds the one
+/// region at x 22-28 mm (+-1) and loses nothing.
+#[test]
+fn the_readmes_live_commands_run_against_peers_on_this_host() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let tour = readme.split("## A five-minute tour").nth(1).unwrap();
+    let live: Vec<String> = tour.split("```sh").skip(1).flat_map(|b| commands(b.split("```").next().unwrap())).filter(|c| c.contains("monitor-machine")).collect();
+    assert_eq!(live.len(), 4, "{live:#?}");
+    let bin = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
+    let scratch = std::env::temp_dir().join(format!("fiveaxis-readme-live-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&scratch);
+    std::fs::create_dir_all(&scratch).unwrap();
+    std::os::unix::fs::symlink(root().join("launch-free-scripts"), scratch.join("launch-free-scripts")).unwrap();
+    let trace = root().join("recordings/machine/linuxcnc/sing_trace.csv.gz");
+    let peer = |p: &str| root().join("tests/peer").join(p).display().to_string();
+    let nodeset = root().join("target/npm/node_modules/node-opcua-nodesets/nodesets/Opc.Ua.CNC.NodeSet.xml");
+    assert!(nodeset.exists(), "{} is installed by launch-free-scripts/test (npm)", nodeset.display());
+    let st = std::process::Command::new("python3").args([&peer("shopfloor_rates.py"), trace.to_str().unwrap(), "agent.shdr", "per-axis", "--period", "0.33", "--shdr"]).current_dir(&scratch).status().unwrap();
+    assert!(st.success());
+    for (k, command) in live.iter().enumerate() {
+        let (machine, topic) = if command.contains("--joint-states") {
+            // On the domain the command names (`ROS_DOMAIN_ID=7 ...`).
+            let domain = command.strip_prefix("ROS_DOMAIN_ID=").and_then(|r| r.split_whitespace().next()).unwrap_or("0");
+            (format!("python3 '{}' publish '{}' --domain-id {domain} --start 8.0 --end 17.5 --wait-subscribers 1 --wait-s 30 > peer.json", peer("cyclone_bridge.py"), trace.display()), "/cnc/joint_states")
+        } else if command.contains("--mtconnect-agent") {
+            (format!("python3 '{}' agent agent.shdr agent.shdr.devices.xml --port 5000 --start 8.5 --end 17.5 --linger 2 > peer.json", peer("mtconnect_peer.py")), "/fiveaxis/machine/joint_states")
+        } else if command.contains("sinumerik") {
+            (format!("python3 '{}' '{}' --sinumerik --user OpcUaClient:s3cret --secure server-pki --port 4840 --start 8.0 --end 17.5 --linger 2 --wait-subscription 60 > peer.json", peer("opcua_cnc_server.py"), trace.display()), "/fiveaxis/machine/joint_states")
+        } else {
+            (format!("python3 '{}' '{}' --nodeset '{}' --port 4840 --start 8.0 --end 17.5 --linger 2 --wait-subscription 60 > peer.json", peer("opcua_cnc_server.py"), trace.display(), nodeset.display()), "/fiveaxis/machine/joint_states")
+        };
+        let shown = command
+            .replace("http://agent:5000", "http://127.0.0.1:5000")
+            .replace("opc.tcp://cnc:4840", "opc.tcp://127.0.0.1:4840/fiveaxis")
+            .replace("opc.tcp://sinumerik:4840", "opc.tcp://127.0.0.1:4840/fiveaxis")
+            .replace("FIVEAXIS_OPCUA_PASSWORD=...", "FIVEAXIS_OPCUA_PASSWORD=s3cret")
+            .replace("part.ngc", "bundled:SING.I");
+        let summary = format!("summary{k}.json");
+        let script = format!("{machine} &\nP=$!\n{shown} --exit-when-idle-s 3 --summary-json {summary}\nwait $P");
+        let out = std::process::Command::new(root().join("launch-free-scripts/netns-run"))
+            .args(["bash", "-c", &format!("set -euo pipefail\n{script}")])
+            .current_dir(&scratch)
+            .env("FIVEAXIS_BIN", &bin)
+            .env("FIVEAXIS_OPCUA_PKI", scratch.join(format!("pki{k}")))
+            .output()
+            .unwrap();
+        let said = format!("{command}\n{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        assert!(out.status.success(), "{said}");
+        let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scratch.join(&summary)).unwrap_or_else(|e| panic!("{e}: {said}"))).unwrap();
+        let input = v.as_array().unwrap().iter().find(|i| i["topic"] == topic).unwrap_or_else(|| panic!("{v:#}\n{said}"));
+        assert_eq!(input["lost"], 0, "{input:#}\n{said}");
+        let regions = input["regions"].as_array().unwrap();
+        assert_eq!(regions.len(), 1, "{input:#}\n{said}");
+        let (x0, x1) = (regions[0]["x_start_mm"].as_f64().unwrap(), regions[0]["x_end_mm"].as_f64().unwrap());
+        assert!((x0 - 22.0).abs() <= 1.0 && (x1 - 28.0).abs() <= 1.0 && regions[0]["cause"] == "singularity", "region x {x0}-{x1}: {said}");
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
 }
