@@ -88,23 +88,7 @@ fn every_relative_link_of_the_readme_and_the_book_reaches_a_file() {
 fn the_readmes_tour_runs() {
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
     let tour = readme.split("## A five-minute tour").nth(1).expect("the tour");
-    let mut commands = Vec::new();
-    for block in tour.split("```sh").skip(1) {
-        let body = block.split("```").next().unwrap();
-        let mut joined = String::new();
-        for line in body.lines() {
-            let code = line.split(" # ").next().unwrap().trim_end();
-            joined.push_str(code.trim_end_matches('\\'));
-            if !code.ends_with('\\') {
-                if !joined.trim().is_empty() {
-                    commands.push(joined.trim().to_string());
-                }
-                joined.clear();
-            } else {
-                joined.push(' ');
-            }
-        }
-    }
+    let commands: Vec<String> = tour.split("```sh").skip(1).flat_map(|block| commands(block.split("```").next().unwrap())).collect();
     let scratch = std::env::temp_dir().join(format!("fiveaxis-tour-{}", std::process::id()));
     std::fs::create_dir_all(&scratch).unwrap();
     let bag = scratch.join("cnc_bag");
