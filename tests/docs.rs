@@ -2,6 +2,8 @@
 //! chapter is in the book's SUMMARY, and every relative link of the README and the book reaches a file
 //! of the repository (a moved or renamed file breaks the test, not the reader's click).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 fn root() -> &'static Path {
@@ -86,9 +88,7 @@ fn every_relative_link_of_the_readme_and_the_book_reaches_a_file() {
 /// fails. The DDS monitor beside a live bridge is the node set's own tests' (tests/dds.rs).
 #[test]
 fn the_readmes_tour_runs() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let tour = readme.split("## A five-minute tour").nth(1).expect("the tour");
-    let commands: Vec<String> = tour.split("```sh").skip(1).flat_map(|block| commands(block.split("```").next().unwrap())).collect();
+    let commands = tour_commands();
     let scratch = std::env::temp_dir().join(format!("fiveaxis-tour-{}", std::process::id()));
     std::fs::create_dir_all(&scratch).unwrap();
     let bag = scratch.join("cnc_bag");
@@ -193,14 +193,14 @@ enum Step {
     /// A `console` block's `$ command` (continuation lines joined), the output the page shows after it
     /// and the exit status it says (`# exit N` at its end; 0 otherwise).
     Console { line: usize, command: String, shown: Vec<String>, exit: i32 },
-    /// An `sh` block, run as one script; `no_run` for `sh,no-run` blocks (the release build).
+    /// An `sh` block, run as one script; `no_run` for `sh,no-run` blocks (see [`cannot_run_here`]).
     Script { line: usize, body: String, no_run: bool },
 }
 
 /// The `console` and `sh` blocks of a page (fences may be indented, as in list items).
 fn steps(page: &str) -> Vec<Step> {
     let mut steps = Vec::new();
-    let mut lines = page.lines().enumerate().peekable();
+    let mut lines = page.lines().enumerate();
     while let Some((n, l)) = lines.next() {
         let fence = l.trim_start();
         let Some(info) = fence.strip_prefix("```") else { continue };
@@ -269,23 +269,8 @@ fn shows(shown: &[String], actual: &[&str]) -> bool {
 /// private loopback-only network namespace. Returns the scratch folder, for checks of what they wrote.
 fn run_page(name: &str) -> PathBuf {
     let page = std::fs::read_to_string(root().join("docs/src").join(name)).unwrap();
-    let bin = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
-    let scratch = std::env::temp_dir().join(format!("fiveaxis-book-{}-{}", name.trim_end_matches(".md"), std::process::id()));
-    let _ = std::fs::remove_dir_all(&scratch);
-    std::fs::create_dir_all(&scratch).unwrap();
-    for d in ["recordings", "machines", "tests", "launch-free-scripts"] {
-        std::os::unix::fs::symlink(root().join(d), scratch.join(d)).unwrap();
-    }
-    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
-    let run = |script: &str| {
-        std::process::Command::new(root().join("launch-free-scripts/netns-run"))
-            .args(["bash", "-c", &format!("set -euo pipefail\n{script}")])
-            .current_dir(&scratch)
-            .env("PATH", &path)
-            .env("FIVEAXIS_BIN", &bin)
-            .output()
-            .unwrap()
-    };
+    let scratch = sandbox(&format!("book-{}", name.trim_end_matches(".md")), &["recordings", "machines", "tests", "launch-free-scripts"]);
+    let run = |script: &str| sandboxed(&scratch, script, &[]);
     let steps = steps(&page);
     assert!(!steps.is_empty(), "{name}: no commands");
     for step in &steps {
@@ -309,6 +294,39 @@ fn run_page(name: &str) -> PathBuf {
         }
     }
     scratch
+}
+
+/// A fresh scratch folder for a documented command, seeing the repository's folders `links` as a
+/// clone's root does.
+fn sandbox(tag: &str, links: &[&str]) -> PathBuf {
+    let scratch = common::scratch_dir(tag);
+    for d in links {
+        std::os::unix::fs::symlink(root().join(d), scratch.join(d)).unwrap();
+    }
+    scratch
+}
+
+/// `script` run by bash (`set -euo pipefail`) in `scratch`, inside a private loopback-only network
+/// namespace, with the test build's executables on the path and as the scripts' FIVEAXIS_BIN, and
+/// `env` beside them.
+fn sandboxed(scratch: &Path, script: &str, env: &[(&str, &Path)]) -> std::process::Output {
+    let bin = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap();
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    std::process::Command::new(root().join("launch-free-scripts/netns-run"))
+        .args(["bash", "-c", &format!("set -euo pipefail\n{script}")])
+        .current_dir(scratch)
+        .env("PATH", path)
+        .env("FIVEAXIS_BIN", bin)
+        .envs(env.iter().copied())
+        .output()
+        .unwrap()
+}
+
+/// The commands of the README's five-minute tour (its `sh` blocks).
+fn tour_commands() -> Vec<String> {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let tour = readme.split("## A five-minute tour").nth(1).expect("the tour");
+    tour.split("```sh").skip(1).flat_map(|block| commands(block.split("```").next().unwrap())).collect()
 }
 
 /// A script's commands: continuation lines joined, comments and blank lines left out.
@@ -496,15 +514,9 @@ fn every_page_with_commands_is_run() {
 /// region at x 22-28 mm (+-1) and loses nothing.
 #[test]
 fn the_readmes_live_commands_run_against_peers_on_this_host() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let tour = readme.split("## A five-minute tour").nth(1).unwrap();
-    let live: Vec<String> = tour.split("```sh").skip(1).flat_map(|b| commands(b.split("```").next().unwrap())).filter(|c| c.contains("monitor-machine")).collect();
+    let live: Vec<String> = tour_commands().into_iter().filter(|c| c.contains("monitor-machine")).collect();
     assert_eq!(live.len(), 4, "{live:#?}");
-    let bin = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
-    let scratch = std::env::temp_dir().join(format!("fiveaxis-readme-live-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&scratch);
-    std::fs::create_dir_all(&scratch).unwrap();
-    std::os::unix::fs::symlink(root().join("launch-free-scripts"), scratch.join("launch-free-scripts")).unwrap();
+    let scratch = sandbox("readme-live", &["launch-free-scripts"]);
     let trace = root().join("recordings/machine/linuxcnc/sing_trace.csv.gz");
     let peer = |p: &str| root().join("tests/peer").join(p).display().to_string();
     let nodeset = root().join("target/npm/node_modules/node-opcua-nodesets/nodesets/Opc.Ua.CNC.NodeSet.xml");
@@ -531,13 +543,7 @@ fn the_readmes_live_commands_run_against_peers_on_this_host() {
             .replace("part.ngc", "bundled:SING.I");
         let summary = format!("summary{k}.json");
         let script = format!("{machine} &\nP=$!\n{shown} --exit-when-idle-s 3 --summary-json {summary}\nwait $P");
-        let out = std::process::Command::new(root().join("launch-free-scripts/netns-run"))
-            .args(["bash", "-c", &format!("set -euo pipefail\n{script}")])
-            .current_dir(&scratch)
-            .env("FIVEAXIS_BIN", &bin)
-            .env("FIVEAXIS_OPCUA_PKI", scratch.join(format!("pki{k}")))
-            .output()
-            .unwrap();
+        let out = sandboxed(&scratch, &script, &[("FIVEAXIS_OPCUA_PKI", &scratch.join(format!("pki{k}")))]);
         let said = format!("{command}\n{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
         assert!(out.status.success(), "{said}");
         let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scratch.join(&summary)).unwrap_or_else(|e| panic!("{e}: {said}"))).unwrap();

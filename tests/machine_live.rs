@@ -214,13 +214,14 @@ fn opcua_live(tag: &str, server: &str, bridge: &str) {
     let dir = common::scratch_dir(&format!("live-opcua-{tag}"));
     let d = dir.display();
     let bin = monitor_bin().parent().unwrap().to_path_buf();
+    let listening = common::wait_for_port_sh(4840);
     let script = format!(
         "timeout 90 '{bin}/fiveaxis-monitor' --joint-state-input /fiveaxis/machine/joint_states --machine hermle-c600u --feed 2000 --lookahead '' \
             --summary-json {d}/summary.json --exit-when-idle-s 3 > {d}/monitor.log 2>&1 &
         M=$!
         {server} --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 --wait-subscription 60 > {d}/peer.json 2> {d}/peer.err &
         P=$!
-        for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
+        {listening}
         FIVEAXIS_OPCUA_PKI={d}/pki FIVEAXIS_OPCUA_PASSWORD=s3cret '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 30 \
             --wait-for-subscriber-s 10 --summary-json {d}/bridge.json {bridge} > {d}/bridge.log 2>&1 &
         B=$!
@@ -308,14 +309,15 @@ fn an_opc_ua_server_without_the_axes_is_refused_with_why() {
     let dir = common::scratch_dir("opcua-refused");
     let d = dir.display();
     let bridge = format!("FIVEAXIS_OPCUA_PKI={d}/pki '{}' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 20", monitor_bin().parent().unwrap().join("fiveaxis-bridge").display());
+    let listening = common::wait_for_port_sh(4840);
     let script = format!(
         "python3 '{peer}' '{trace}' --sinumerik --port 4840 --start 8 --end 12 --linger 0 > /dev/null 2>&1 &
-        for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
+        {listening}
         {bridge} > {d}/model.log 2>&1; echo \"model $?\"
         {bridge} {nodes} > {d}/units.log 2>&1; echo \"units $?\"
         kill %1; wait
         python3 '{peer}' '{trace}' --sinumerik --user OpcUaClient:s3cret --secure {d}/server-pki --port 4840 --start 8 --end 30 --linger 0 > /dev/null 2>&1 &
-        for i in $(seq 300); do (exec 3<>/dev/tcp/127.0.0.1/4840) 2>/dev/null && break; sleep 0.1; done
+        {listening}
         {bridge} --assume-mm-deg {nodes} > {d}/security.log 2>&1; echo \"security $?\"
         FIVEAXIS_OPCUA_PASSWORD=wrong {bridge} --assume-mm-deg --opcua-security sign-and-encrypt --opcua-user OpcUaClient {nodes} > {d}/password.log 2>&1; echo \"password $?\"
         kill %1",

@@ -246,7 +246,7 @@ fn live_killed(tag: &str, role: &str, log: &Path, devices: &Path, peer_args: &st
     let restart = kill.map_or(String::new(), |(after, down)| format!("sleep {after}; kill -9 $B; sleep {down}; {bridge_cmd} >> {d}/bridge.log 2>&1 & B=$!"));
     // The bridge starts once an agent listens (on a loaded machine the agent may take a second), so
     // that a kill `after` s later falls where it would on a quiet one.
-    let listening = if role == "agent" { format!("for i in $(seq 600); do (exec 3<>/dev/tcp/127.0.0.1/{port}) 2>/dev/null && break; sleep 0.05; done") } else { String::new() };
+    let listening = if role == "agent" { common::wait_for_port_sh(port) } else { String::new() };
     let script = format!(
         "set -e
         {monitor}

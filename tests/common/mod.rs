@@ -18,6 +18,12 @@ pub fn scratch_dir(name: &str) -> PathBuf {
     dir
 }
 
+/// A bash loop that waits (up to 30 s) until a server listens on 127.0.0.1:`port`, for the live tests'
+/// scripts: a peer is started in the background, its client once it can be reached.
+pub fn wait_for_port_sh(port: u16) -> String {
+    format!("for i in $(seq 600); do (exec 3<>/dev/tcp/127.0.0.1/{port}) 2>/dev/null && break; sleep 0.05; done")
+}
+
 /// A fresh path `name` (nothing there) in the directory `dir` that several tests of a binary share.
 pub fn scratch_path(dir: &str, name: &str) -> PathBuf {
     let dir = scratch_root().join(dir);
