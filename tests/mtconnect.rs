@@ -298,8 +298,13 @@ fn check_sing_live(l: &Live) {
     let f = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k} in {v}"));
     let (x0, x1) = (f(r, "x_start_mm"), f(r, "x_end_mm"));
     assert!((x0 - f(&reference, "x_start_mm")).abs() <= 1.0 && (x1 - f(&reference, "x_end_mm")).abs() <= 1.0, "region x {x0:.2}-{x1:.2}: {reference:#}");
+    // Live, the reports fall where the machine's load puts them (stamped when sent): at about 3 Hz per
+    // axis the peak is as good as the reports near the pole, 132-204 rpm over seven draws of the axes'
+    // clocks against numpy's 175 (the book's node-set page). This checks the live figure within that
+    // spread (and far above the table's 25 rpm); the adapter's log on fixed stamps is checked within
+    // 5 % above (an_adapters_log_of_the_sing_cut_gives_the_one_region).
     let (peak, want) = (f(r, "peak_c_speed_rpm"), f(&reference, "peak_predicted_c_rpm"));
-    assert!((peak - want).abs() <= 0.05 * want, "peak {peak:.1} rpm, numpy {want:.1}");
+    assert!(peak >= 0.75 * want && peak <= 1.17 * want, "peak {peak:.1} rpm, numpy {want:.1}: outside the 3 Hz spread");
     assert_eq!(l.bridge["refused"], 0, "{:#}", l.bridge);
     eprintln!("live: region x {x0:.2}-{x1:.2} mm, peak {peak:.1} rpm (numpy {want:.1}), {} poses, stale {}, bridge {}", input["samples"], input["stale"], l.bridge);
 }
