@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    PathBuf::from(env!("FIVEAXIS_ROOT"))
 }
 
 fn linuxcnc_m_codes() -> ReadOptions {
@@ -220,7 +220,7 @@ fn check_arcs_loose(traj: &Trajectory, machine: &Machine, expect: &[Expect], sla
 }
 
 fn bin() -> PathBuf {
-    PathBuf::from(env!("CARGO_BIN_EXE_fiveaxis"))
+    PathBuf::from(env!("FIVEAXIS_EXE"))
 }
 
 fn impeller() -> PathBuf {

@@ -130,7 +130,7 @@ fn smoothing_sing_holds_the_feed_within_the_limits_and_keeps_the_ball_centre() {
     let sim = &run.report.simulated;
     assert!(sim.min_feed_mm_per_min >= 0.95 * 2000.0, "feed not held: {} mm/min", sim.min_feed_mm_per_min);
     assert!(sim.max_axis_velocity_ratio <= 1.0 + 1e-9 && sim.max_axis_acceleration_ratio <= 1.0 + 1e-9 && sim.max_axis_jerk_ratio <= 1.0 + 1e-9, "{sim:?}");
-    let before = pipeline(&std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/programs/SING.I")).unwrap(), "sing");
+    let before = pipeline(&std::fs::read_to_string(concat!(env!("FIVEAXIS_ROOT"), "/recordings/programs/SING.I")).unwrap(), "sing");
     assert!(before.report.simulated.min_feed_mm_per_min < 500.0, "the original stutters");
     assert!(sim.cycle_time_s < before.report.simulated.cycle_time_s);
 }
@@ -316,7 +316,7 @@ fn declared_tcp_m_codes_are_written_back() {
     let m = Machine::hermle_c600u();
     let read_options = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..ReadOptions::default() };
     let o = JobOptions { read: read_options.clone(), ..JobOptions::default() };
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc/SING.ngc");
+    let path = concat!(env!("FIVEAXIS_ROOT"), "/recordings/machine/linuxcnc/SING.ngc");
     let sing = read_spec(path, &o).unwrap();
     assert!(!sing.has_errors(), "{:?}", sing.report());
     let turned = reoriented(&sing, &m, &jig(10.0 * DEG, 0.0), &o);
@@ -377,7 +377,7 @@ fn written_events_run_in_the_controls_order() {
 /// |C| (deg), the fastest C (rpm, central difference over +-2 ms) and the last program line reached.
 fn linuxcnc_trace(name: &str) -> (usize, f64, f64, i64) {
     use std::io::Read;
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc/").to_string() + name;
+    let path = concat!(env!("FIVEAXIS_ROOT"), "/recordings/machine/linuxcnc/").to_string() + name;
     let mut text = String::new();
     flate2::read::GzDecoder::new(std::fs::File::open(&path).unwrap()).read_to_string(&mut text).unwrap();
     let rows: Vec<(f64, i64)> = text.lines().skip(1).map(|l| {
@@ -393,7 +393,7 @@ fn linuxcnc_trace(name: &str) -> (usize, f64, f64, i64) {
 fn linuxcnc_sing() -> (ReadOptions, JobOptions, Program) {
     let read_options = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..ReadOptions::default() };
     let o = JobOptions { read: read_options.clone(), ..JobOptions::default() };
-    let sing = read_spec(concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc/SING.ngc"), &o).unwrap();
+    let sing = read_spec(concat!(env!("FIVEAXIS_ROOT"), "/recordings/machine/linuxcnc/SING.ngc"), &o).unwrap();
     (read_options, o, sing)
 }
 
@@ -402,7 +402,7 @@ fn linuxcnc_sing() -> (ReadOptions, JobOptions, Program) {
 fn traced_program(program: &Program, m: &Machine, o: &JobOptions, name: &str) -> (String, i64) {
     let body = |t: &str| t.lines().filter(|l| !l.starts_with("(FIVEAXIS:")).map(String::from).collect::<Vec<_>>();
     let written = write_program(program, m, Dialect::Rs274, o).unwrap();
-    let traced = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc/").to_string() + name + ".ngc").unwrap();
+    let traced = std::fs::read_to_string(concat!(env!("FIVEAXIS_ROOT"), "/recordings/machine/linuxcnc/").to_string() + name + ".ngc").unwrap();
     assert_eq!(body(&written), body(&traced), "{name}: the writer writes another program now: trace it again (make-traces --ngc)");
     let last_motion = traced.lines().enumerate().filter(|(_, l)| l.contains(" G01 ") || l.contains(" G00 ")).map(|(i, _)| i as i64 + 1).max().unwrap();
     (traced, last_motion)

@@ -184,7 +184,7 @@ fn printed_eq_5_is_not_exact_on_a_nutating_head() {
 /// takes one); our forward kinematics must give the same program point to 1e-9 mm.
 #[test]
 fn linuxcnc_machines_match_the_controls_own_kinematics_modules() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = std::path::Path::new(env!("FIVEAXIS_ROOT"));
     let text = std::fs::read_to_string(root.join("machines/linuxcnc/kins_fixtures.csv")).unwrap();
     let mut counts = std::collections::BTreeMap::new();
     let mut worst: f64 = 0.0;
@@ -242,7 +242,7 @@ fn impossible_machine_files_are_refused_naming_the_field() {
     // A valid file passes `machine show`, and its text comes back.
     let ok = dir.join("ok.toml");
     std::fs::write(&ok, hermle).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["machine", "show", ok.to_str().unwrap()]).output().unwrap();
+    let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(["machine", "show", ok.to_str().unwrap()]).output().unwrap();
     assert_eq!(out.status.code(), Some(0));
     assert_eq!(String::from_utf8_lossy(&out.stdout), hermle);
     std::fs::remove_dir_all(&dir).ok();
@@ -263,7 +263,7 @@ fn generic_models_of_each_class_have_their_pole_and_tilt_where_the_class_has_the
         ("generic-ac-head", "A/C fork head", false),
         ("generic-bc-head", "B/C fork head", false),
     ];
-    let list = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["machine", "list"]).output().unwrap();
+    let list = std::process::Command::new(env!("FIVEAXIS_EXE")).args(["machine", "list"]).output().unwrap();
     let list = String::from_utf8_lossy(&list.stdout);
     for (name, class, nutating) in classes {
         assert!(list.lines().any(|l| l.starts_with(name) && l.contains(&format!("generic {class}"))), "{name} not listed as generic {class}:\n{list}");

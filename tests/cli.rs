@@ -4,7 +4,7 @@ mod common;
 use std::process::Command;
 
 fn fiveaxis(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
+    let out = Command::new(env!("FIVEAXIS_EXE")).args(args).current_dir(env!("FIVEAXIS_ROOT")).output().unwrap();
     (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
 }
 
@@ -132,7 +132,7 @@ fn a_closed_stdout_ends_the_cli_quietly() {
     // The pipe's read end is closed before the CLI starts: its first write meets a closed pipe.
     let (reader, writer) = std::io::pipe().unwrap();
     drop(reader);
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis"))
+    let out = std::process::Command::new(env!("FIVEAXIS_EXE"))
         .args(["program", "analyze", "bundled:SING.I", "--json"])
         .stdout(writer)
         .output()

@@ -80,7 +80,7 @@ const NOT_YET: &[(&str, &str)] = &[
 ];
 
 fn fiveaxis(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(args).output().unwrap()
+    Command::new(env!("FIVEAXIS_EXE")).args(args).output().unwrap()
 }
 
 /// The corpus is whole: every program of SOURCES.md is either read or listed as not yet read.
@@ -235,7 +235,7 @@ fn the_nmv5000_spiral_out_of_b0_is_found_as_computed_independently() {
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let limit = report["c_max_rpm"].as_f64().unwrap();
     let peer = Command::new("python3")
-        .args([concat!(env!("CARGO_MANIFEST_DIR"), "/tests/peer/block_speeds.py"), file.to_str().unwrap(), "439", "785", "C", &limit.to_string(), "X0 Y0 Z-.3881 B0 C315 F9.8"])
+        .args([concat!(env!("FIVEAXIS_ROOT"), "/tests/peer/block_speeds.py"), file.to_str().unwrap(), "439", "785", "C", &limit.to_string(), "X0 Y0 Z-.3881 B0 C315 F9.8"])
         .output()
         .unwrap();
     assert!(peer.status.success(), "{}", String::from_utf8_lossy(&peer.stderr));
@@ -280,7 +280,7 @@ fn the_dmu70_evo_spiral_out_of_b0_is_found_as_computed_independently() {
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let limit = report["c_max_rpm"].as_f64().unwrap();
     let peer = Command::new("python3")
-        .args([concat!(env!("CARGO_MANIFEST_DIR"), "/tests/peer/block_speeds.py"), file.to_str().unwrap(), "480", "828", "C", &limit.to_string(), "X.9843 Y.9843 Z1.5804 B0 C185.644 F9.8"])
+        .args([concat!(env!("FIVEAXIS_ROOT"), "/tests/peer/block_speeds.py"), file.to_str().unwrap(), "480", "828", "C", &limit.to_string(), "X.9843 Y.9843 Z1.5804 B0 C185.644 F9.8"])
         .output()
         .unwrap();
     assert!(peer.status.success(), "{}", String::from_utf8_lossy(&peer.stderr));
@@ -319,7 +319,7 @@ fn the_umc750_variable_axis_operation_is_found_as_computed_independently() {
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let limit = report["c_max_rpm"].as_f64().unwrap();
     let peer = Command::new("python3")
-        .args([concat!(env!("CARGO_MANIFEST_DIR"), "/tests/peer/block_speeds.py"), file.to_str().unwrap(), "12870", "15499", "C", &limit.to_string(), "X.1384 Y3.6787 Z.8764 B93.722 C-268.761 F10", "B"])
+        .args([concat!(env!("FIVEAXIS_ROOT"), "/tests/peer/block_speeds.py"), file.to_str().unwrap(), "12870", "15499", "C", &limit.to_string(), "X.1384 Y3.6787 Z.8764 B93.722 C-268.761 F10", "B"])
         .output()
         .unwrap();
     assert!(peer.status.success(), "{}", String::from_utf8_lossy(&peer.stderr));

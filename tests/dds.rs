@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn bins() -> PathBuf {
-    let dir = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
+    let dir = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().to_path_buf();
     for b in ["fiveaxis-commander", "fiveaxis-simulator", "fiveaxis-monitor", "fiveaxis-recorder"] {
         assert!(dir.join(b).exists(), "{b} is not built in {}: run `cargo test --workspace` (launch-free-scripts/test)", dir.display());
     }
@@ -40,7 +40,7 @@ fn rows(csv: &Path) -> Vec<Row> {
 fn launch(script: &str, program: &str, tag: &str) -> (serde_json::Value, Vec<Row>) {
     let dir = common::scratch_dir(&format!("dds-{tag}"));
     let (summary, csv) = (dir.join("summary.json"), dir.join("samples.csv"));
-    let status = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts").join(script))
+    let status = Command::new(Path::new(env!("FIVEAXIS_ROOT")).join("launch-free-scripts").join(script))
         .args([program, "--speed", "4", "--summary-json"])
         .arg(&summary)
         .arg("--samples-csv")
@@ -63,7 +63,7 @@ fn input<'a>(summary: &'a serde_json::Value, topic: &str) -> &'a serde_json::Val
 
 /// Run a bash script inside a private loopback-only network namespace.
 fn netns_bash(script: &str) -> std::process::Output {
-    Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts/netns-run"))
+    Command::new(Path::new(env!("FIVEAXIS_ROOT")).join("launch-free-scripts/netns-run"))
         .args(["bash", "-c", script])
         .env("RUST_LOG", "warn")
         .output()
@@ -272,11 +272,11 @@ done
     );
     let out = netns_bash(&script);
     assert!(out.status.success(), "{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/read_linear.py");
+    let peer = Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/read_linear.py");
     let mut mended = 0;
     for r in 1..=8 {
         let (killed, fixed) = (dir.join(format!("round{r}.mcap")), dir.join(format!("fixed{r}.mcap")));
-        let status = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["mcap", "recover"]).arg(&killed).arg(&fixed).output().unwrap();
+        let status = Command::new(env!("FIVEAXIS_EXE")).args(["mcap", "recover"]).arg(&killed).arg(&fixed).output().unwrap();
         assert!(status.status.success(), "round {r}: recover failed: {}", String::from_utf8_lossy(&status.stderr));
         let ours = fiveaxis::record::read::for_each_message(&fixed, |_| {}).unwrap_or_else(|e| panic!("round {r}: the mended file: {e}"));
         let theirs = Command::new("python3").arg(&peer).arg(&fixed).output().unwrap();
@@ -351,7 +351,7 @@ fn a_late_rosout_reader_gets_a_bounded_log_history() {
         }
     }
     std::fs::write(&program, text).unwrap();
-    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/rosout_history.py");
+    let peer = Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/rosout_history.py");
     let script = format!(
         r#"B="{b}"
 RUST_LOG=info "$B/fiveaxis-monitor" --input commanded/axis_state --exit-when-idle-s 30 > /dev/null 2> "{d}/monitor.err" &
@@ -472,7 +472,7 @@ fn a_defect_deep_in_a_long_program_stops_the_publishing_nodes() {
     let program = dir.join("long.cl");
     // 6 minutes of a dense five-axis raster (120,000 poses), then one damaged line.
     let made = Command::new("python3")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/long_program.py"))
+        .arg(Path::new(env!("FIVEAXIS_ROOT")).join("benches/long_program.py"))
         .args(["0.1"])
         .arg(&program)
         .status()
@@ -514,7 +514,7 @@ fn recorder_all_writes_a_rosbag2_directory_of_what_it_received() {
     let b = bins();
     let dir = common::scratch_dir("dds-bag");
     let (bag, sent) = (dir.join("cell_bag"), dir.join("sent.json"));
-    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/bag_peer.py");
+    let peer = Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/bag_peer.py");
     let script = format!(
         r#"set -e
 "{b}/fiveaxis-recorder" --all --output "{bag}" --duration-s 15 &
@@ -584,7 +584,7 @@ fn recorder_refuses_a_used_bag_directory_and_a_bad_topic() {
 #[test]
 fn stamps_follow_use_sim_time() {
     let b = bins();
-    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/stamps.py");
+    let peer = Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/stamps.py");
     for sim in [true, false] {
         let dir = common::scratch_dir(if sim { "dds-time-sim" } else { "dds-time-wall" });
         let bag = dir.join("run");
@@ -686,7 +686,7 @@ wait $P
 fn another_ros_domain_is_never_heard() {
     let b = bins();
     let dir = common::scratch_dir("dds-domain");
-    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/ros_graph.py");
+    let peer = Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/ros_graph.py");
     let script = format!(
         r#"set -e
 B="{b}"; D="{d}"
@@ -740,7 +740,7 @@ fn message_count(path: &Path) -> u64 {
 fn dds_security_keyed_nodes_talk_and_unkeyed_ones_hear_nothing() {
     let b = bins();
     let dir = common::scratch_dir("dds-security");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(env!("FIVEAXIS_ROOT"));
     let (ks, other) = (dir.join("keystore"), dir.join("other-keystore"));
     for (store, enclaves) in [(&ks, &["/fiveaxis/commander", "/fiveaxis/recorder"][..]), (&other, &["/fiveaxis/recorder"][..])] {
         let made = Command::new(root.join("launch-free-scripts/keystore")).arg(store).args(enclaves).output().expect("keystore runs");
@@ -827,7 +827,7 @@ wait $R1 $R2 $R3
 fn dds_security_handshake_answered_after_the_requests_resends_completes() {
     let b = bins();
     let dir = common::scratch_dir("dds-security-late");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(env!("FIVEAXIS_ROOT"));
     let ks = dir.join("keystore");
     let made = Command::new(root.join("launch-free-scripts/keystore")).arg(&ks).args(["/fiveaxis/commander", "/fiveaxis/recorder"]).output().expect("keystore runs");
     assert!(made.status.success(), "keystore: {}", String::from_utf8_lossy(&made.stderr));
@@ -896,7 +896,11 @@ unshare --mount --map-root-user sh -c 'mount -t tmpfs -o size=1m tmpfs "$1" || e
 cp -r "$1/." "$3/"; exit $rc' sh "{mnt}" "$B" "{out}" &
 R=$!
 sleep 0.5
-"$B/fiveaxis-commander" bundled:SING.I --use-sim-time --speed 8 --passes 4 --min-subscribers 1 > /dev/null 2>&1
+"$B/fiveaxis-commander" bundled:SING.I --use-sim-time --speed 8 --passes 4 --min-subscribers 1 > /dev/null 2>&1 &
+C=$!
+# The disk fills within seconds; the commander's four passes (about a minute) only bound the wait.
+while kill -0 $R 2> /dev/null && kill -0 $C 2> /dev/null; do sleep 0.1; done
+kill $C 2> /dev/null; wait $C
 for i in $(seq 100); do kill -0 $R 2> /dev/null || break; sleep 0.1; done
 kill -INT $R 2> /dev/null
 wait $R; echo "recorder exit $?" >&2

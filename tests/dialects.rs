@@ -14,7 +14,7 @@ use fiveaxis::program::{Orientation, ReadOptions};
 use std::path::PathBuf;
 
 fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    PathBuf::from(env!("FIVEAXIS_ROOT"))
 }
 
 #[test]

@@ -7,7 +7,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("FIVEAXIS_ROOT"))
 }
 
 /// The targets of `[text](target)` links in `text` that are neither web addresses nor anchors.
@@ -116,7 +116,7 @@ fn the_readmes_tour_runs() {
             assert!(c.contains("monitor-machine"), "a tour command not run here: {c}"); // the_readmes_live_commands_run_against_peers_on_this_host
             continue;
         }
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(&words[1..]).current_dir(&scratch).output().unwrap();
+        let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(&words[1..]).current_dir(&scratch).output().unwrap();
         let code = out.status.code();
         let gate = words.iter().any(|w| w == "--max-c-speed-rpm");
         assert!(code == Some(0) || (gate && code == Some(1)), "{c}: exit {code:?}\n{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
@@ -134,7 +134,7 @@ fn the_readmes_tour_runs() {
 /// cargo test --test docs` writes them), so the reference cannot rot.
 #[test]
 fn the_reference_pages_are_the_commands_own_help() {
-    let bin = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
+    let bin = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().to_path_buf();
     let pages: [(&str, &str, &[&str]); 17] = [
         ("fiveaxis", "fiveaxis", &[]),
         ("fiveaxis-program-analyze", "fiveaxis", &["program", "analyze"]),
@@ -310,7 +310,7 @@ fn sandbox(tag: &str, links: &[&str]) -> PathBuf {
 /// namespace, with the test build's executables on the path and as the scripts' FIVEAXIS_BIN, and
 /// `env` beside them.
 fn sandboxed(scratch: &Path, script: &str, env: &[(&str, &Path)]) -> std::process::Output {
-    let bin = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap();
+    let bin = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap();
     let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
     std::process::Command::new(root().join("launch-free-scripts/netns-run"))
         .args(["bash", "-c", &format!("set -euo pipefail\n{script}")])

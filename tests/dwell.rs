@@ -14,7 +14,7 @@ use std::path::Path;
 use std::process::Command;
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("FIVEAXIS_ROOT"))
 }
 
 fn program(text: &str, dialect: Dialect) -> Program {
@@ -110,7 +110,7 @@ fn dwells_that_cannot_be_timed_are_refused_where_they_stand() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("no_time.ngc");
     std::fs::write(&path, "G21 G90\nG1 X1 F100\nG4\nM2\n").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["program", "analyze"]).arg(&path).output().unwrap();
+    let out = Command::new(env!("FIVEAXIS_EXE")).args(["program", "analyze"]).arg(&path).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     let all = format!("{}{err}", String::from_utf8_lossy(&out.stdout));
     assert_eq!(out.status.code(), Some(2), "{all}");

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("FIVEAXIS_ROOT"))
 }
 
 /// Run `exe` with `args` from the repository; exit code and stderr.
@@ -20,7 +20,7 @@ fn run_exe(exe: &Path, args: &[&str]) -> (i32, String) {
 
 /// `fiveaxis ARGS` exits with `code` and says `why` on stderr (empty: no reason to check, code 0).
 fn expect(args: &[&str], code: i32, why: &str) {
-    let (got, err) = run_exe(Path::new(env!("CARGO_BIN_EXE_fiveaxis")), args);
+    let (got, err) = run_exe(Path::new(env!("FIVEAXIS_EXE")), args);
     assert_eq!(got, code, "fiveaxis {}: {err}", args.join(" "));
     assert!(err.contains(why), "fiveaxis {}: stderr does not say '{why}': {err}", args.join(" "));
 }
@@ -48,12 +48,12 @@ fn unwritable(name: &str) -> PathBuf {
 #[test]
 fn usage_errors_exit_2_for_every_command() {
     for cmd in [&["program", "analyze"][..], &["run"], &["analyze"], &["mcap", "recover"], &["roughness", "synthesize"], &["avoid", "reorient"], &["avoid", "smooth"], &["avoid", "refine"], &["machine", "show"], &["machine", "urdf"], &["demo", "--no-such-flag"], &["machine", "list", "extra"], &["no-such-command"]] {
-        let (code, err) = run_exe(Path::new(env!("CARGO_BIN_EXE_fiveaxis")), cmd);
+        let (code, err) = run_exe(Path::new(env!("FIVEAXIS_EXE")), cmd);
         assert_eq!(code, 2, "fiveaxis {cmd:?}: {err}");
         assert!(err.contains("Usage") || err.contains("usage"), "fiveaxis {cmd:?}: {err}");
     }
     // --help documents the codes.
-    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).arg("--help").output().unwrap();
+    let out = Command::new(env!("FIVEAXIS_EXE")).arg("--help").output().unwrap();
     let help = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success() && help.contains("Exit codes: 0") && help.contains("2 bad input"), "{help}");
 }
@@ -79,7 +79,7 @@ fn run_exits_0_1_or_2() {
     // fails itself (1), naming what it could not run.
     let lone = common::scratch_dir("exit-codes-lone");
     let exe = lone.join("fiveaxis");
-    std::fs::copy(env!("CARGO_BIN_EXE_fiveaxis"), &exe).unwrap();
+    std::fs::copy(env!("FIVEAXIS_EXE"), &exe).unwrap();
     let rrd = tmp("run.rrd");
     let out = Command::new(&exe).args(["run", "bundled:NON_SING.I", "--rrd", s(&rrd)]).env("PATH", s(&lone)).current_dir(root()).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
@@ -173,14 +173,14 @@ fn machine_commands_exit_0_or_2() {
 
 #[test]
 fn replay_passes_the_bridge_code_and_fails_without_it() {
-    let bridge = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).with_file_name("fiveaxis-rerun");
+    let bridge = Path::new(env!("FIVEAXIS_EXE")).with_file_name("fiveaxis-rerun");
     assert!(bridge.exists(), "{} is built by launch-free-scripts/test (cargo build --workspace --bins)", bridge.display());
     let nonsing = recording("bundled:NON_SING.I", "nonsing-replay.mcap");
     expect(&["replay", s(&nonsing), "--save", s(&tmp("replay.rrd"))], 0, "");
     expect(&["replay", "no/such/recording.mcap", "--save", s(&tmp("replay2.rrd"))], 2, "no/such/recording.mcap");
     let lone = common::scratch_dir("exit-codes-lone-replay");
     let exe = lone.join("fiveaxis");
-    std::fs::copy(env!("CARGO_BIN_EXE_fiveaxis"), &exe).unwrap();
+    std::fs::copy(env!("FIVEAXIS_EXE"), &exe).unwrap();
     let out = Command::new(&exe).args(["replay", s(&nonsing)]).env("PATH", s(&lone)).current_dir(root()).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
@@ -196,7 +196,7 @@ fn demo_exits_0() {
 /// an unknown machine is bad input, exit 2 naming it, before anything joins the DDS graph.
 #[test]
 fn nodes_and_the_bridge_refuse_an_unknown_machine_with_exit_2() {
-    let dir = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap();
+    let dir = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap();
     let cases: [(&str, &[&str]); 5] = [
         ("fiveaxis-commander", &["bundled:SING.I", "--machine", "no-such-machine"]),
         ("fiveaxis-simulator", &["bundled:SING.I", "--machine", "no-such-machine"]),

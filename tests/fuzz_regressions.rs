@@ -41,7 +41,7 @@ const MAX_ALLOCATION: usize = 512 << 20;
 
 #[test]
 fn every_input_the_fuzzers_found_returns_cleanly_within_the_allocation_limit() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz-regressions");
+    let root = Path::new(env!("FIVEAXIS_ROOT")).join("tests/fuzz-regressions");
     let targets: [(&str, fn(&[u8])); 9] = [
         ("nc_program", targets::nc_program),
         ("mcap_recording", targets::mcap_recording),

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn bin() -> &'static str {
-    env!("CARGO_BIN_EXE_fiveaxis")
+    env!("FIVEAXIS_EXE")
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -61,7 +61,7 @@ fn cycle_time_with(program: &Path, mcap: Option<&Path>, args: &[&str]) -> f64 {
 fn limit_check(mcap: &Path) -> serde_json::Value {
     let m = Machine::hermle_c600u();
     let mut cmd = Command::new("python3");
-    cmd.arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/limit_check.py")).arg(mcap).arg(fiveaxis::topics::SIMULATED_JOINTS.absolute);
+    cmd.arg(Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/limit_check.py")).arg(mcap).arg(fiveaxis::topics::SIMULATED_JOINTS.absolute);
     for (axis, l) in m.axes.iter().zip(m.limits().iter()) {
         cmd.arg(format!("{}={},{},{}", axis.name, l.velocity, l.acceleration, l.jerk));
     }

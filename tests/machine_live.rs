@@ -10,11 +10,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("FIVEAXIS_ROOT"))
 }
 
 fn monitor_bin() -> PathBuf {
-    let b = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().join("fiveaxis-monitor");
+    let b = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().join("fiveaxis-monitor");
     assert!(b.exists(), "fiveaxis-monitor is not built: run `cargo test --workspace` (launch-free-scripts/test)");
     b
 }

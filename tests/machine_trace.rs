@@ -12,7 +12,7 @@ use std::process::Command;
 const AXIS_MAP: [&str; 10] = ["--axis-map", "X=x_joint", "--axis-map", "Y=y_joint", "--axis-map", "Z=z_joint", "--axis-map", "A=a_joint", "--axis-map", "C=c_joint"];
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("FIVEAXIS_ROOT"))
 }
 
 fn trace(name: &str) -> PathBuf {
@@ -35,7 +35,7 @@ fn bag(trace_file: &str, tag: &str, extra: &[&str]) -> PathBuf {
 }
 
 fn fiveaxis(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(args).current_dir(root()).output().unwrap();
+    let out = Command::new(env!("FIVEAXIS_EXE")).args(args).current_dir(root()).output().unwrap();
     (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
 }
 

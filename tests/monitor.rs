@@ -314,7 +314,7 @@ fn lost_samples_are_counted_from_unrepaid_gaps() {
 fn a_bridge_stalling_under_load_loses_nothing() {
     use std::io::Read;
     for name in ["a", "b"] {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("recordings/bridge/loaded_send_log_{name}.csv.gz"));
+        let path = std::path::Path::new(env!("FIVEAXIS_ROOT")).join(format!("recordings/bridge/loaded_send_log_{name}.csv.gz"));
         let mut text = String::new();
         flate2::read::GzDecoder::new(std::fs::File::open(&path).unwrap()).read_to_string(&mut text).unwrap();
         let mut m = monitor();

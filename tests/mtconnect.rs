@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("FIVEAXIS_ROOT"))
 }
 
 fn okuma() -> (PathBuf, PathBuf) {
@@ -27,7 +27,7 @@ fn python(script: &str, args: &[&str]) -> Vec<u8> {
 }
 
 fn fiveaxis(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(args).current_dir(root()).output().unwrap();
+    let out = Command::new(env!("FIVEAXIS_EXE")).args(args).current_dir(root()).output().unwrap();
     (out.status.code().unwrap_or(-1), format!("{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)))
 }
 
@@ -207,7 +207,7 @@ struct Live {
 }
 
 fn node_bin(name: &str) -> PathBuf {
-    let b = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().join(name);
+    let b = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().join(name);
     assert!(b.exists(), "{name} is not built: run `cargo test --workspace` (launch-free-scripts/test)");
     b
 }

@@ -509,7 +509,7 @@ proptest! {
 /// The end points LinuxCNC's own interpreter (`rs274`, Debian 12's linuxcnc-uspace) makes of a program:
 /// its canonical STRAIGHT_FEED/STRAIGHT_TRAVERSE(x, y, z, a, b, c) lines (mm, deg; see make_canon.sh).
 fn linuxcnc_canon(name: &str) -> Vec<(Motion, [f64; 6])> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs/linuxcnc/parameters").join(name);
+    let path = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters").join(name);
     std::fs::read_to_string(&path)
         .unwrap()
         .lines()
@@ -552,7 +552,7 @@ fn end_points(p: &Program) -> Vec<(Motion, [f64; 6])> {
 /// `elseif`/`else`).
 #[test]
 fn rs274_evaluates_parameters_and_expressions_as_linuxcnc_does() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs/linuxcnc/parameters");
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
     let switchkins = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..Default::default() };
     for name in ["expressions", "offsets", "owords", "xyzac_switchkins_test_1", "xyzac_switchkins_test_2"] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
@@ -609,7 +609,7 @@ fn klartext_q_formulas_and_jumps_run_as_the_tnc_runs_them() {
 /// LinuxCNC's 0.254 mm; each dwell where LinuxCNC dwells.
 #[test]
 fn canned_cycles_move_as_linuxcnc_runs_them() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs/linuxcnc/parameters");
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
     let text = std::fs::read_to_string(dir.join("cycles.ngc")).unwrap();
     let file = fiveaxis::machine::builtin_file("haas-umc-750").unwrap().replace("g73_retract_mm = 2.54", "g73_retract_mm = 0.254").replace("g83_clearance_mm = 0.76", "g83_clearance_mm = 0.254");
     let machine = fiveaxis::machine::Machine::from_toml_str(&file, "t").unwrap();
@@ -793,7 +793,7 @@ fn rs274_o_word_defects_are_refused_where_they_stand() {
 /// words are taken out of both copies.
 #[test]
 fn rs274_runs_linuxcncs_bridgemill_loops_as_linuxcnc_does() {
-    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/outside/programs/linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc")).unwrap();
+    let text = std::fs::read_to_string(Path::new(env!("FIVEAXIS_ROOT")).join("../shared/outside/programs/linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc")).unwrap();
     // The W words: `w` or `W`, blanks, then a number or a bracketed expression (make_canon.sh's sed).
     let mut without_w = String::new();
     let chars: Vec<char> = text.chars().collect();
@@ -844,7 +844,7 @@ fn rs274_runs_linuxcncs_bridgemill_loops_as_linuxcnc_does() {
 #[test]
 fn rs274_bridgemill_drills_with_its_w_quill_as_5axiskins_moves_the_tip() {
     use fiveaxis::machine::Machine;
-    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/outside/programs/linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc")).unwrap();
+    let text = std::fs::read_to_string(Path::new(env!("FIVEAXIS_ROOT")).join("../shared/outside/programs/linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc")).unwrap();
     let machine = Machine::builtin("linuxcnc-bridgemill").unwrap();
     let p = read(&text, Dialect::Rs274, "bridgemill.ngc", &ReadOptions::default().on(&machine));
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));

@@ -88,7 +88,7 @@ fn independent_python_reader_decodes_every_message() {
     );
     let exp = tmp("expected.json");
     std::fs::write(&exp, serde_json::Value::Object(expected).to_string()).unwrap();
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/check_mcap.py");
+    let script = Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/check_mcap.py");
     let out = Command::new("python3").arg(&script).arg(&path).arg(&exp).output().expect("python3 runs");
     assert!(
         out.status.success(),
@@ -143,7 +143,7 @@ fn recovery_keeps_every_complete_chunk() {
 }
 
 fn fiveaxis(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(args).output().unwrap();
+    let out = Command::new(env!("FIVEAXIS_EXE")).args(args).output().unwrap();
     (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into())
 }
 
@@ -393,7 +393,7 @@ fn chunk_size_claims_are_bounded_before_allocating() {
         bad[field..field + 8].copy_from_slice(&claim.to_le_bytes());
         let p = tmp(&format!("claim-{claim}.mcap"));
         std::fs::write(&p, &bad).unwrap();
-        let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["analyze", p.to_str().unwrap()]).output().unwrap();
+        let out = Command::new(env!("FIVEAXIS_EXE")).args(["analyze", p.to_str().unwrap()]).output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr).to_string() + &String::from_utf8_lossy(&out.stdout);
         assert_eq!(out.status.code(), Some(2), "{err}");
         assert!(err.contains(&want) && err.contains("chunk starting at log time"), "no '{want}' in: {err}");
@@ -409,7 +409,7 @@ fn lz4_chunks_read_like_zstd_ones() {
     record("bundled:SING.I", &zstd);
     let lz4 = tmp("lz4.mcap");
     let out = Command::new("python3")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/rechunk_mcap.py"))
+        .arg(Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/rechunk_mcap.py"))
         .args([zstd.to_str().unwrap(), lz4.to_str().unwrap(), "lz4", "262144"])
         .output()
         .expect("python3 runs (mcap comes with mcap-ros2-support from launch-free-scripts/test)");
@@ -465,7 +465,7 @@ fn run_writes_a_rosbag2_directory_rosbags_reads() {
     let mut files = files;
     files.sort();
     assert_eq!(files, ["metadata.yaml", "sing_bag_0.mcap"]);
-    let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/bag_peer.py");
+    let peer = Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/bag_peer.py");
     let check = Command::new("python3").arg(&peer).arg("check").arg(&bag).arg("-").output().expect("python3 runs");
     let report = String::from_utf8_lossy(&check.stdout);
     assert!(check.status.success(), "rosbags: {report}\n{}", String::from_utf8_lossy(&check.stderr));
@@ -494,7 +494,7 @@ fn run_writes_a_rosbag2_directory_rosbags_reads() {
 /// What Foxglove's Python stream reader (tests/peer/read_linear.py) finds in a file, front to back:
 /// (topic, log time, data MD5) per message; None if it does not read through to a footer.
 fn read_linear(path: &Path) -> Option<Vec<(String, u64, String)>> {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/read_linear.py");
+    let script = Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/read_linear.py");
     let out = Command::new("python3").arg(&script).arg(path).output().expect("python3 runs");
     if !out.status.success() {
         return None;
@@ -529,7 +529,7 @@ fn full_disk_ends_with_a_clear_error_and_a_readable_file() {
 cp -r "$1/." "$3/"; exit $rc"#;
         let run = Command::new("unshare")
             .args(["--mount", "--map-root-user", "sh", "-c", script, "sh"])
-            .args([mnt.to_str().unwrap(), env!("CARGO_BIN_EXE_fiveaxis"), out.to_str().unwrap(), inner])
+            .args([mnt.to_str().unwrap(), env!("FIVEAXIS_EXE"), out.to_str().unwrap(), inner])
             .output()
             .expect("unshare runs (util-linux)");
         let stderr = String::from_utf8_lossy(&run.stderr);
@@ -559,7 +559,7 @@ cp -r "$1/." "$3/"; exit $rc"#;
             let meta = std::fs::read_to_string(out.join("bag/metadata.yaml")).expect("metadata.yaml written");
             assert!(meta.contains("bag_0.mcap") && meta.contains(&format!("message_count: {kept}")), "{meta}");
             // rosbags (independent) opens the bag and finds per topic what metadata.yaml says.
-            let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/bag_peer.py");
+            let peer = Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/bag_peer.py");
             let check = Command::new("python3").arg(&peer).arg("check").arg(out.join("bag")).arg("-").output().expect("python3 runs");
             assert!(check.status.success(), "rosbags: {}\n{}", String::from_utf8_lossy(&check.stdout), String::from_utf8_lossy(&check.stderr));
         }

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn bin(name: &str) -> PathBuf {
-    let p = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().join(name);
+    let p = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().join(name);
     assert!(p.exists(), "{name} is not built: run `cargo test --workspace` (launch-free-scripts/test)");
     p
 }
@@ -69,8 +69,8 @@ const ENTITIES: [&str; 28] = [
 fn replay_of_the_sing_run_has_the_entities_timelines_layout_and_the_papers_region() {
     let dir = tmp("replay");
     let (mcap, rrd) = (dir.join("sing.mcap"), dir.join("sing.rrd"));
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let run = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["run", "bundled:SING.I", "--mcap"]).arg(&mcap).output().unwrap();
+    let root = Path::new(env!("FIVEAXIS_ROOT"));
+    let run = Command::new(env!("FIVEAXIS_EXE")).args(["run", "bundled:SING.I", "--mcap"]).arg(&mcap).output().unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let out = Command::new(bin("fiveaxis-rerun"))
         .args(["replay"])
@@ -120,7 +120,7 @@ fn replay_of_the_sing_run_has_the_entities_timelines_layout_and_the_papers_regio
     // recording is refused with exit code 2.
     let bad = dir.join("bad.mcap");
     std::fs::write(&bad, b"not an mcap file").unwrap();
-    let code = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).arg("replay").arg(&bad).arg("--save").arg(dir.join("bad.rrd")).output().unwrap().status.code();
+    let code = Command::new(env!("FIVEAXIS_EXE")).arg("replay").arg(&bad).arg("--save").arg(dir.join("bad.rrd")).output().unwrap().status.code();
     assert_eq!(code, Some(2), "an unreadable recording is bad input");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -129,7 +129,7 @@ fn replay_of_the_sing_run_has_the_entities_timelines_layout_and_the_papers_regio
 fn live_bridge_over_dds_draws_the_node_set() {
     let dir = tmp("live");
     let rrd = dir.join("live.rrd");
-    let status = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts/paper-demo"))
+    let status = Command::new(Path::new(env!("FIVEAXIS_ROOT")).join("launch-free-scripts/paper-demo"))
         .args(["bundled:SING.I", "--speed", "4", "--rrd"])
         .arg(&rrd)
         .env("FIVEAXIS_BIN", bin("fiveaxis").parent().unwrap())
@@ -162,7 +162,7 @@ fn region_end_x(rrd: &Path) -> f64 {
 #[test]
 fn replay_of_a_machine_recording_with_the_controls_work_offset() {
     let dir = tmp("g54");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(env!("FIVEAXIS_ROOT"));
     let bag = dir.join("bag");
     let st = Command::new("python3")
         .arg(root.join("tests/peer/trace_to_rosbag.py"))
@@ -191,7 +191,7 @@ fn replay_of_a_machine_recording_with_the_controls_work_offset() {
     let out = Command::new(bin("fiveaxis-rerun")).arg("replay").arg(&bag).arg("--save").arg(dir.join("unmapped.rrd")).output().unwrap();
     let replay_err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{replay_err}");
-    let analyze = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).arg("analyze").arg(&bag).output().unwrap();
+    let analyze = Command::new(env!("FIVEAXIS_EXE")).arg("analyze").arg(&bag).output().unwrap();
     let analyze_out = format!("{}{}", String::from_utf8_lossy(&analyze.stdout), String::from_utf8_lossy(&analyze.stderr));
     assert_eq!(analyze.status.code(), Some(2), "{analyze_out}");
     // A JointState topic asked for and absent: both refuse it, naming it and the topics there.

@@ -10,11 +10,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("FIVEAXIS_ROOT"))
 }
 
 fn bin(name: &str) -> PathBuf {
-    let b = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().join(name);
+    let b = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().join(name);
     assert!(b.exists(), "{name} is not built in {}: run `cargo test --workspace` (launch-free-scripts/test)", b.parent().unwrap().display());
     b
 }

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("FIVEAXIS_ROOT"))
 }
 
 /// `python3 -m colcon ARGS` over the repository, with the colcon installed under target/.
@@ -37,7 +37,7 @@ fn colcon(args: &[&str]) -> String {
 }
 
 fn bin(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().join(name)
+    Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().join(name)
 }
 
 /// The ROS parameters an executable lists at the end of its `--help`.

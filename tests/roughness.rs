@@ -141,9 +141,9 @@ fn synthetic_profile_is_seeded_and_rougher_where_the_feed_drops() {
 #[test]
 fn committed_synthetic_profile_is_reproducible() {
     let out = tmp("regen.csv");
-    let status = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["roughness", "synthesize", "--out"]).arg(&out).output().unwrap();
+    let status = Command::new(env!("FIVEAXIS_EXE")).args(["roughness", "synthesize", "--out"]).arg(&out).output().unwrap();
     assert!(status.status.success());
-    let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/roughness/SYNTHETIC_sing_profile.csv");
+    let committed = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/roughness/SYNTHETIC_sing_profile.csv");
     assert_eq!(std::fs::read_to_string(&out).unwrap(), std::fs::read_to_string(committed).unwrap());
 }
 
@@ -159,9 +159,9 @@ fn analyze_sing_with_roughness() {
         path
     };
     let sing = rec("bundled:SING.I", "sing.mcap");
-    let rough = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/roughness/SYNTHETIC_sing_profile.x3p");
+    let rough = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/roughness/SYNTHETIC_sing_profile.x3p");
     let json = tmp("sing.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis"))
+    let out = Command::new(env!("FIVEAXIS_EXE"))
         .args(["analyze", sing.to_str().unwrap(), "--roughness", rough.to_str().unwrap(), "--max-c-speed-rpm", "25", "--json", json.to_str().unwrap()])
         .output()
         .unwrap();
@@ -175,7 +175,7 @@ fn analyze_sing_with_roughness() {
     let overlap = v["roughness"]["rough_overlap_with_regions"].as_f64().unwrap();
     assert!(overlap > 0.3, "{overlap}");
     let nonsing = rec("bundled:NON_SING.I", "nonsing.mcap");
-    let code = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["analyze", nonsing.to_str().unwrap(), "--max-c-speed-rpm", "25"]).output().unwrap().status.code();
+    let code = Command::new(env!("FIVEAXIS_EXE")).args(["analyze", nonsing.to_str().unwrap(), "--max-c-speed-rpm", "25"]).output().unwrap().status.code();
     assert_eq!(code, Some(0));
     // The committed X3P reads back with every point of its CSV twin.
     let x3p: Profile = read_profile(&rough, CsvUnits::default()).unwrap();

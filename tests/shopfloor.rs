@@ -13,7 +13,7 @@ use std::process::Command;
 const AXIS_MAP: [&str; 10] = ["--axis-map", "X=x_joint", "--axis-map", "Y=y_joint", "--axis-map", "Z=z_joint", "--axis-map", "A=a_joint", "--axis-map", "C=c_joint"];
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("FIVEAXIS_ROOT"))
 }
 
 fn sing_trace() -> PathBuf {
@@ -43,7 +43,7 @@ fn analyze(bag: &Path, extra: &[&str]) -> (i32, serde_json::Value, String) {
     let mut args = vec!["analyze", bag.to_str().unwrap(), "--joint-state-topic", "/cnc/joint_states", "--machine", "hermle-c600u", "--max-c-speed-rpm", "25", "--json", json.to_str().unwrap()];
     args.extend(AXIS_MAP);
     args.extend(extra);
-    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(&args).current_dir(root()).output().unwrap();
+    let out = Command::new(env!("FIVEAXIS_EXE")).args(&args).current_dir(root()).output().unwrap();
     let text = format!("{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
     let v = std::fs::read_to_string(&json).ok().and_then(|t| serde_json::from_str(&t).ok()).unwrap_or(serde_json::Value::Null);
     (out.status.code().unwrap_or(-1), v, text)

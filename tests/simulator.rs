@@ -153,7 +153,7 @@ fn a_report_only_run_reports_what_the_whole_node_set_does() {
     }
     std::fs::write(&raster, text).unwrap();
     let m = Machine::hermle_c600u();
-    let dwell = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/machine/linuxcnc/SING_DWELL.I");
+    let dwell = concat!(env!("FIVEAXIS_ROOT"), "/recordings/machine/linuxcnc/SING_DWELL.I");
     for spec in ["bundled:SING.I", "bundled:NON_SING.I", dwell, raster.to_str().unwrap()] {
         let report = |report_only| {
             let out = run(spec, &m, &RunOptions { report_only, ..Default::default() }).expect("run");

@@ -9,12 +9,12 @@ use std::process::Command;
 
 #[test]
 fn soak_for_two_minutes_loses_nothing_in_flat_memory() {
-    let bins = Path::new(env!("CARGO_BIN_EXE_fiveaxis")).parent().unwrap().to_path_buf();
+    let bins = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().to_path_buf();
     for b in ["fiveaxis-commander", "fiveaxis-simulator", "fiveaxis-monitor", "fiveaxis-recorder"] {
         assert!(bins.join(b).exists(), "{b} is not built in {}: run `cargo test --workspace` (launch-free-scripts/test)", bins.display());
     }
     let out = common::scratch_dir("soak");
-    let run = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("launch-free-scripts/soak"))
+    let run = Command::new(Path::new(env!("FIVEAXIS_ROOT")).join("launch-free-scripts/soak"))
         .args(["--duration-s", "120", "--warmup-s", "60", "--out"])
         .arg(&out)
         .env("FIVEAXIS_BIN", &bins)

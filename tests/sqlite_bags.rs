@@ -116,7 +116,7 @@ fn every_sqlite3_bag_reads_to_the_counts_its_metadata_gives() {
 /// with the region the MCAP tests check against numpy (tests/machine_trace.rs).
 #[test]
 fn a_sqlite3_bag_and_its_mcap_twin_give_the_same_analysis() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(env!("FIVEAXIS_ROOT"));
     let write = |storage: &str| -> PathBuf {
         let out = common::scratch_root().join(format!("twin-{storage}"));
         let _ = std::fs::remove_dir_all(&out);
@@ -138,7 +138,7 @@ fn a_sqlite3_bag_and_its_mcap_twin_give_the_same_analysis() {
         for m in ["X=x_joint", "Y=y_joint", "Z=z_joint", "A=a_joint", "C=c_joint"] {
             args.extend(["--axis-map", m]);
         }
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(&args).current_dir(root).output().unwrap();
+        let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(&args).current_dir(root).output().unwrap();
         let name = bag.to_str().unwrap();
         let text = String::from_utf8_lossy(&out.stdout).replace(name, "BAG");
         let json = std::fs::read_to_string(&json).unwrap().replace(name, "BAG");

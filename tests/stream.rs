@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn bin() -> &'static str {
-    env!("CARGO_BIN_EXE_fiveaxis")
+    env!("FIVEAXIS_EXE")
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -27,7 +27,7 @@ fn linuxcnc() -> ReadOptions {
 
 /// Every program of the repository (the impeller unpacked), with the reader options it needs.
 fn corpus() -> Vec<(PathBuf, ReadOptions)> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs");
+    let root = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs");
     let mut out = Vec::new();
     for dir in ["", "damaged", "twins", "linuxcnc"] {
         for entry in std::fs::read_dir(root.join(dir)).unwrap() {
@@ -151,7 +151,7 @@ fn a_program_from_a_pipe_or_standard_input_reads_as_its_file() {
         assert!(read.1["blocks"].as_u64().unwrap() > 10, "{file}: {}", read.1);
         assert_eq!(piped, read, "{file} through a FIFO");
     }
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(env!("FIVEAXIS_ROOT"));
     let stdin_cases: [(&str, &[&str]); 3] = [
         ("recordings/machine/linuxcnc/SING.ngc", &m_codes),
         ("recordings/programs/twins/SING_840d.mpf", &[]),
@@ -172,7 +172,7 @@ fn a_program_from_a_pipe_or_standard_input_reads_as_its_file() {
 /// as their inner name's dialect; a truncated one is refused naming it (exit 2), never read short.
 #[test]
 fn a_compressed_program_reads_as_its_text() {
-    let gz = Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/programs/linuxcnc/impeller-7bl-xyzac.ngc.gz");
+    let gz = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/impeller-7bl-xyzac.ngc.gz");
     let bytes = std::fs::read(&gz).unwrap();
     let text = Command::new("gzip").arg("-dc").arg(&gz).output().expect("gzip runs").stdout;
     let plain = tmp("impeller.ngc");
@@ -410,7 +410,7 @@ fn region_lists_past_their_cap_are_counted_and_folded() {
     // the ten thousand in its 10-hour program; the report lists the first ones and folds the rest
     // into a count, their time and their worst figures.
     let path = tmp("rows.cl");
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/long_program.py");
+    let script = Path::new(env!("FIVEAXIS_ROOT")).join("benches/long_program.py");
     assert!(Command::new("python3").arg(script).arg("0.006").arg(&path).status().unwrap().success());
     let json = |args: &[&str]| -> serde_json::Value {
         let out = Command::new(bin()).args(args).arg(&path).arg("--json").output().unwrap();

@@ -9,7 +9,7 @@ const FORBIDDEN: [&str; 10] = ["mcap", "zstd", "zip", "indicatif", "clap", "toki
 
 #[test]
 fn core_depends_on_no_io_transport_cli_or_drawing_crate() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(env!("FIVEAXIS_ROOT"));
     let out = Command::new(env!("CARGO"))
         .args(["tree", "--offline", "-p", "fiveaxis-core", "-e", "normal", "--prefix", "none", "--format", "{p}"])
         .current_dir(root)
@@ -25,7 +25,7 @@ fn core_depends_on_no_io_transport_cli_or_drawing_crate() {
 
 #[test]
 fn core_sources_touch_no_file_system_network_or_process() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("core/src");
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("core/src");
     let mut files = vec![dir];
     let mut read = 0;
     let mut hits = Vec::new();

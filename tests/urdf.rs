@@ -50,7 +50,7 @@ fn yourdfpy_fk(file: &Path, names: &[String], rows: &[[f64; 5]], dir: &Path) -> 
     }
     std::fs::write(&joints, csv).unwrap();
     let st = Command::new("python3")
-        .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/peer/urdf_fk.py"))
+        .arg(concat!(env!("FIVEAXIS_ROOT"), "/tests/peer/urdf_fk.py"))
         .args([file, &joints, &out])
         .status()
         .expect("python3 runs (yourdfpy comes from launch-free-scripts/test)");
@@ -110,7 +110,7 @@ fn every_built_in_machine_written_as_urdf_reads_back_with_the_same_kinematics() 
 /// in X, ram in Z, a 250 mm tool): the same machine as seed 001's, so SING.I gives the paper's figures.
 #[test]
 fn hand_written_hermle_urdf_gives_the_papers_figures() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/machines/urdf/hermle-c600u.urdf");
+    let path = concat!(env!("FIVEAXIS_ROOT"), "/machines/urdf/hermle-c600u.urdf");
     let m = fiveaxis::machine::load(path).unwrap();
     assert_eq!(m.axis_names(), ["X", "Y", "Z", "A", "C"].map(String::from));
     assert_eq!(m.axes[m.secondary_axis()].name, "C", "C is the secondary axis (seed 001 §2.4)");
@@ -194,9 +194,9 @@ fn impossible_urdf_machines_are_refused_naming_the_joint() {
 fn machine_urdf_command_writes_a_file_the_cli_reads() {
     let dir = temp_dir("cli");
     let file = dir.join("b45.urdf");
-    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["machine", "urdf", "dmu-style-b45", "--out"]).arg(&file).output().unwrap();
+    let out = Command::new(env!("FIVEAXIS_EXE")).args(["machine", "urdf", "dmu-style-b45", "--out"]).arg(&file).output().unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
-    let show = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["machine", "show"]).arg(&file).output().unwrap();
+    let show = Command::new(env!("FIVEAXIS_EXE")).args(["machine", "show"]).arg(&file).output().unwrap();
     assert_eq!(show.status.code(), Some(0), "{}", String::from_utf8_lossy(&show.stderr));
     let toml = String::from_utf8_lossy(&show.stdout);
     let shown = Machine::from_toml_str(&toml, "shown").unwrap();
@@ -205,7 +205,7 @@ fn machine_urdf_command_writes_a_file_the_cli_reads() {
     let poses: Vec<_> = rows.iter().map(|q| shown.forward(q)).map(|p| (p.tip / MM, p.axis)).collect();
     let (tip, axis) = worst(&b45, &rows, &poses);
     assert!(tip <= TIP_TOL_MM && axis <= AXIS_TOL, "machine show of the URDF differs by {tip:.2e} mm, {axis:.2e}");
-    let out = Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(["run", "bundled:SING.I", "--json", "--machine", HAND_WRITTEN_PATH]).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
+    let out = Command::new(env!("FIVEAXIS_EXE")).args(["run", "bundled:SING.I", "--json", "--machine", HAND_WRITTEN_PATH]).current_dir(env!("FIVEAXIS_ROOT")).output().unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -78,7 +78,7 @@ pub fn assert_machine_files_refused(dir: &std::path::Path, ext: &str, base: &str
         std::fs::write(&path, text).unwrap();
         let p = path.to_str().unwrap();
         for args in [vec!["machine", "show", p], vec!["program", "analyze", "bundled:SING.I", "--machine", p]] {
-            let out = std::process::Command::new(env!("CARGO_BIN_EXE_fiveaxis")).args(&args).output().unwrap();
+            let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(&args).output().unwrap();
             let err = String::from_utf8_lossy(&out.stderr);
             assert_eq!(out.status.code(), Some(2), "{name} {args:?}: {err}");
             for w in want {
@@ -92,7 +92,7 @@ pub fn assert_machine_files_refused(dir: &std::path::Path, ext: &str, base: &str
 /// CI has `../shared` beside the clone, and the project never copies them). Missing, the test fails
 /// saying so: a test that read nothing must not pass.
 pub fn outside(relative: &str) -> PathBuf {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/outside").join(relative);
+    let path = Path::new(env!("FIVEAXIS_ROOT")).join("../shared/outside").join(relative);
     assert!(path.exists(), "{} is missing: the tests read ../shared/outside beside the clone (see DEVELOPERS.md)", path.display());
     path
 }
