@@ -1,6 +1,6 @@
 //! End to end over real DDS: the node executables as separate processes, started by the launch-free
 //! scripts inside private network namespaces (loopback only, or two namespaces joined by a veth pair).
-//! Needs the node executables, which `cargo test --workspace` builds beside this test's binary.
+//! Needs the node executables, which launch-free-scripts/test builds (cargo build --workspace --bins).
 
 mod common;
 use std::path::{Path, PathBuf};
@@ -9,7 +9,7 @@ use std::process::Command;
 fn bins() -> PathBuf {
     let dir = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().to_path_buf();
     for b in ["fiveaxis-commander", "fiveaxis-simulator", "fiveaxis-monitor", "fiveaxis-recorder"] {
-        assert!(dir.join(b).exists(), "{b} is not built in {}: run `cargo test --workspace` (launch-free-scripts/test)", dir.display());
+        assert!(dir.join(b).exists(), "{b} is not built in {}: run launch-free-scripts/test (or cargo build --workspace --bins)", dir.display());
     }
     dir
 }
@@ -900,7 +900,9 @@ sleep 0.5
 C=$!
 # The disk fills within seconds; the commander's four passes (about a minute) only bound the wait.
 while kill -0 $R 2> /dev/null && kill -0 $C 2> /dev/null; do sleep 0.1; done
-kill $C 2> /dev/null; wait $C
+kill $C 2> /dev/null
+for i in $(seq 50); do kill -0 $C 2> /dev/null || break; sleep 0.1; done
+kill -KILL $C 2> /dev/null; wait $C; echo "commander exit $?" >&2
 for i in $(seq 100); do kill -0 $R 2> /dev/null || break; sleep 0.1; done
 kill -INT $R 2> /dev/null
 wait $R; echo "recorder exit $?" >&2

@@ -131,7 +131,7 @@ fn the_readmes_tour_runs() {
 
 /// The book's reference pages (`docs/src/reference/`) are the commands' and nodes' own `--help`,
 /// word for word: a changed flag fails this test until the page is made again (`FIVEAXIS_BLESS=1
-/// cargo test --test docs` writes them), so the reference cannot rot.
+/// cargo test -p fiveaxis-tests --test docs` writes them), so the reference cannot rot.
 #[test]
 fn the_reference_pages_are_the_commands_own_help() {
     let bin = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().to_path_buf();
@@ -181,7 +181,7 @@ fn the_reference_pages_are_the_commands_own_help() {
     } else if std::fs::read_to_string(&index_file).ok().as_deref() != Some(index.as_str()) {
         stale.push(index_file.display().to_string());
     }
-    assert!(stale.is_empty(), "reference pages that are not the commands' --help (make them again with FIVEAXIS_BLESS=1 cargo test --test docs):\n{}", stale.join("\n"));
+    assert!(stale.is_empty(), "reference pages that are not the commands' --help (make them again with cargo build --workspace --bins && FIVEAXIS_BLESS=1 cargo test -p fiveaxis-tests --test docs):\n{}", stale.join("\n"));
     // The book lists them.
     let summary = std::fs::read_to_string(root().join("docs/src/SUMMARY.md")).unwrap();
     assert!(summary.contains("(reference/index.md)"), "SUMMARY.md has no Reference");

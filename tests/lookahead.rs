@@ -304,7 +304,7 @@ fn a_feed_typo_is_refused_with_its_place_inside_500_mb() {
         (format!("'{}' run '{}'", bin(), zero.display()), "zero.cl:2:"),
     ];
     // The commander refuses before it opens DDS (so no network namespace is needed for it).
-    assert!(commander.exists(), "fiveaxis-commander is built beside fiveaxis by `cargo test --workspace`");
+    assert!(commander.exists(), "fiveaxis-commander is built beside fiveaxis by launch-free-scripts/test (cargo build --workspace --bins)");
     cases.push((format!("'{}' '{}' --wait-for-subscriber-s 0", commander.display(), typo.display()), "typo.ngc:2:1"));
     // The same from standard input (held in a temporary file for the node's several readers).
     cases.push((format!("'{}' - --wait-for-subscriber-s 0 < '{}'", commander.display(), typo.display()), "stdin:2:1"));

@@ -15,7 +15,7 @@ fn root() -> &'static Path {
 
 fn monitor_bin() -> PathBuf {
     let b = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().join("fiveaxis-monitor");
-    assert!(b.exists(), "fiveaxis-monitor is not built: run `cargo test --workspace` (launch-free-scripts/test)");
+    assert!(b.exists(), "fiveaxis-monitor is not built: run launch-free-scripts/test (or cargo build --workspace --bins)");
     b
 }
 

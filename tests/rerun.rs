@@ -8,7 +8,7 @@ use std::process::Command;
 
 fn bin(name: &str) -> PathBuf {
     let p = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().join(name);
-    assert!(p.exists(), "{name} is not built: run `cargo test --workspace` (launch-free-scripts/test)");
+    assert!(p.exists(), "{name} is not built: run launch-free-scripts/test (or cargo build --workspace --bins)");
     p
 }
 

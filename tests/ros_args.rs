@@ -15,7 +15,7 @@ fn root() -> &'static Path {
 
 fn bin(name: &str) -> PathBuf {
     let b = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().join(name);
-    assert!(b.exists(), "{name} is not built in {}: run `cargo test --workspace` (launch-free-scripts/test)", b.parent().unwrap().display());
+    assert!(b.exists(), "{name} is not built in {}: run launch-free-scripts/test (or cargo build --workspace --bins)", b.parent().unwrap().display());
     b
 }
 

@@ -11,7 +11,7 @@ use std::process::Command;
 fn soak_for_two_minutes_loses_nothing_in_flat_memory() {
     let bins = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().to_path_buf();
     for b in ["fiveaxis-commander", "fiveaxis-simulator", "fiveaxis-monitor", "fiveaxis-recorder"] {
-        assert!(bins.join(b).exists(), "{b} is not built in {}: run `cargo test --workspace` (launch-free-scripts/test)", bins.display());
+        assert!(bins.join(b).exists(), "{b} is not built in {}: run launch-free-scripts/test (or cargo build --workspace --bins)", bins.display());
     }
     let out = common::scratch_dir("soak");
     let run = Command::new(Path::new(env!("FIVEAXIS_ROOT")).join("launch-free-scripts/soak"))

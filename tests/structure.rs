@@ -48,3 +48,23 @@ fn core_sources_touch_no_file_system_network_or_process() {
     assert!(read > 20, "read the core's sources ({read} files)");
     assert!(hits.is_empty(), "I/O in the core:\n{}", hits.join("\n"));
 }
+
+/// Every test file is built: the tests package lists its test executables by hand (autotests is off,
+/// so that the files stay in `tests/` beside the package's own build script and library), and a file
+/// it does not list would never run.
+#[test]
+fn every_test_file_is_a_test_executable() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("tests");
+    let manifest = std::fs::read_to_string(dir.join("Cargo.toml")).unwrap();
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "rs"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .filter(|n| n != "build" && n != "lib")
+        .collect();
+    files.sort();
+    assert!(files.len() > 30 && files.contains(&"structure".to_string()), "read the test files: {files:?}");
+    let missing: Vec<&String> = files.iter().filter(|n| !manifest.contains(&format!("[[test]]\nname = \"{n}\"\npath = \"{n}.rs\"\n"))).collect();
+    assert!(missing.is_empty(), "tests/Cargo.toml has no [[test]] for {missing:?}");
+}
