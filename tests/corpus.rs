@@ -75,7 +75,7 @@ const DEFECTIVE: &[(&str, &str, &str)] = &[
 
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
-    ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect: no MillPlus manual in reach for G7's angle order, G141, G74 L1, G174 (only NX's and Autodesk's posts); the same part as the DMC 100 U's, its G141 operations at 200-334 in under G70"),
+    ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect: no MillPlus manual in reach for G7's angle order, G141, G74 L1, G174 (only NX's and Autodesk's posts); the same part as the DMC 100 U's, its G141 operations at 200-334 in under G70. Refused once, naming MillPlus (the_millplus_program_is_refused_once_naming_its_language)"),
     ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR (the radii are its tool table's); cycles 202 and 203; CP IPA+360 with DR- (the TNC wants one sign); a four-axis machine (A only)"),
 ];
 
@@ -480,4 +480,27 @@ fn the_dmc100u_programs_defects_are_refused_as_the_tnc_reads_them() {
         }
     }
     assert_eq!(centres, cc_xyz);
+}
+
+/// The MillPlus program is not read as G-code (its `.nc` name says RS274, where nearly every block
+/// would be an error): it is refused once, at its first tilted plane `G7 A5= B5= C5=`, naming the
+/// language; the only other error is that nothing was read.
+#[test]
+fn the_millplus_program_is_refused_once_naming_its_language() {
+    let path = common::outside("programs/heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc");
+    let text = std::fs::read_to_string(&path).unwrap();
+    // Its first G7 block, found here independently of the reader.
+    let (line, g7) = text.lines().enumerate().find(|(_, l)| l.contains(" G7 ") && l.contains("A5=")).map(|(i, l)| (i + 1, l.find("G7").unwrap() + 1)).unwrap();
+    let out = fiveaxis(&["program", "analyze", path.to_str().unwrap(), "--machine", "generic-bc-head"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let errors: Vec<&str> = stdout.lines().filter(|l| l.contains(": error:")).collect();
+    assert_eq!(out.status.code(), Some(2), "{stdout}");
+    assert_eq!(errors.len(), 2, "{errors:#?}");
+    assert!(errors.iter().any(|e| e.contains(&format!(":{line}:{g7}: error:")) && e.contains("Heidenhain MillPlus")), "{errors:#?}");
+    assert!(errors.iter().any(|e| e.contains("no moves: 0 blocks read")), "{errors:#?}");
+    // Given as RS274 on purpose, it is read as such (and refused block by block).
+    let forced = fiveaxis(&["program", "analyze", path.to_str().unwrap(), "--machine", "generic-bc-head", "--dialect", "rs274"]);
+    let forced_out = String::from_utf8_lossy(&forced.stdout);
+    assert_eq!(forced.status.code(), Some(2));
+    assert!(!forced_out.contains("Heidenhain MillPlus") && forced_out.matches(": error:").count() > 100, "{forced_out}");
 }

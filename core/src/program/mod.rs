@@ -123,6 +123,38 @@ impl Dialect {
         }
     }
 
+    /// A program that its name or first lines send to the RS274 family but that is written in a
+    /// language no reader here follows: Heidenhain MillPlus's ISO dialect, recognised by a `G7` block
+    /// with MillPlus's angle words `A5=` `B5=` `C5=` (its tilted working plane, as NX's and Autodesk's
+    /// MillPlus posts write it; no RS274 word holds `=`). Read as G-code it would give an error on
+    /// nearly every block: refused once instead, at that block (the first of `text`'s lines).
+    pub fn unread_language(text: &str) -> Option<Diagnostic> {
+        text.lines().enumerate().find_map(|(i, raw)| {
+            // The code of the line: no `( )` comment, nothing after `;`.
+            let mut code = String::with_capacity(raw.len());
+            let mut depth = 0usize;
+            for c in raw.chars().take_while(|&c| c != ';') {
+                match c {
+                    '(' => depth += 1,
+                    ')' => depth = depth.saturating_sub(1),
+                    _ if depth == 0 => code.push(c.to_ascii_uppercase()),
+                    _ => code.push(' '),
+                }
+            }
+            let words: Vec<&str> = code.split_whitespace().collect();
+            let g7 = words.iter().position(|w| *w == "G7" || *w == "G07")?;
+            words.iter().any(|w| ["A5=", "B5=", "C5="].iter().any(|a| w.starts_with(a))).then(|| Diagnostic {
+                line: i + 1,
+                column: code.find(words[g7]).map_or(1, |b| code[..b].chars().count() + 1),
+                severity: Severity::Error,
+                message: format!(
+                    "{}: a Heidenhain MillPlus program (its tilted plane G7 with A5= B5= C5=): fiveaxis does not read MillPlus ISO (its G7, G141 and G74 follow no manual within reach); nothing was read",
+                    words.join(" ")
+                ),
+            })
+        })
+    }
+
     /// Guess the dialect from the file name, then from the text.
     pub fn detect(path: Option<&Path>, text: &str) -> Dialect {
         let ext = path
@@ -608,5 +640,17 @@ mod tests {
         assert_eq!(text, b"0 BEGIN PGM T MM\n");
         let mut text = b"0 BEGIN".to_vec();
         assert!(read_whole_within(&b" PGM T MM\n"[..], &mut text, "t.h", 16).is_err());
+    }
+
+    /// MillPlus is recognised by G7 with its angle words in code, at the G7; never in a comment,
+    /// and never by G7 or an `A5` alone.
+    #[test]
+    fn millplus_is_recognised_by_its_tilted_plane() {
+        let d = Dialect::unread_language("%\nN10 G17\nN20 G7 A5=15. B5=0.0 C5=210. B7=254 C7=255\n").unwrap();
+        assert_eq!((d.line, d.column, d.severity), (3, 5, Severity::Error));
+        assert!(d.message.contains("MillPlus"), "{}", d.message);
+        for text in ["N20 (G7 A5=15.) G1 X1\n", "N20 G1 X1 ; G7 A5=15.\n", "N20 G7 X1\n", "N20 G1 A5 X1\n", "G17 G7\nG1 A5.0\n"] {
+            assert_eq!(Dialect::unread_language(text), None, "{text:?}");
+        }
     }
 }

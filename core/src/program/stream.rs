@@ -205,7 +205,12 @@ impl BlockStream {
             lines += 1;
         }
         let control = options.machine.as_ref().and_then(|m| m.dialect);
-        let dialect = dialect.unwrap_or_else(|| Dialect::detect_for(path, &String::from_utf8_lossy(&head), control));
+        let given = dialect.is_some();
+        let text = String::from_utf8_lossy(&head);
+        let dialect = dialect.unwrap_or_else(|| Dialect::detect_for(path, &text, control));
+        if let Some(d) = Self::unread(given, dialect, &text) {
+            return Ok(Self::refused(d, dialect, source));
+        }
         match Reader::new(dialect, options) {
             Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
@@ -220,13 +225,41 @@ impl BlockStream {
 
     /// Read `text` as a stream (the dialect detected from it unless given); `source` names it.
     pub fn from_text(text: &str, dialect: Option<Dialect>, source: &str, options: &ReadOptions) -> BlockStream {
+        let given = dialect.is_some();
         let dialect = dialect.unwrap_or_else(|| Dialect::detect_for(None, text, options.machine.as_ref().and_then(|m| m.dialect)));
+        if let Some(d) = Self::unread(given, dialect, text.lines().take(DETECT_LINES).collect::<Vec<_>>().join("\n").as_str()) {
+            return Self::refused(d, dialect, source);
+        }
         match Reader::new(dialect, options) {
             Some(reader) => Self::lines(Box::new(Cursor::new(text.as_bytes().to_vec())), reader, dialect, source),
             None => {
                 let text: std::sync::Arc<[u8]> = text.as_bytes().into();
                 Self::klartext(Seeking::new(in_memory(text), &options.setup(dialect)), source)
             }
+        }
+    }
+
+    /// A detected (not given) RS274-family program whose first lines are in a language no reader
+    /// follows ([`Dialect::unread_language`]).
+    fn unread(given: bool, dialect: Dialect, head: &str) -> Option<Diagnostic> {
+        (!given && dialect.is_rs274_family()).then(|| Dialect::unread_language(head)).flatten()
+    }
+
+    /// A stream that hands out no block and says why, once.
+    fn refused(d: Diagnostic, dialect: Dialect, source: &str) -> BlockStream {
+        let mut log = DiagnosticLog::default();
+        log.push(d);
+        BlockStream {
+            source: source.into(),
+            dialect,
+            input: Source::Lines { input: Box::new(Cursor::new(Vec::new())), reader: Reader::new(Dialect::Rs274, &ReadOptions::default()).expect("RS274 reads by lines"), line: 0, buf: Vec::new() },
+            pending: VecDeque::new(),
+            out: Vec::new(),
+            diags: Diags::default(),
+            log,
+            name: None,
+            blocks: 0,
+            ended: true,
         }
     }
 
