@@ -150,11 +150,8 @@ impl ProgramFile {
         let text = String::from_utf8_lossy(&bytes);
         let given = dialect.is_some();
         let dialect = dialect.unwrap_or_else(|| Dialect::detect(self.path().as_deref(), &text));
-        if !given && dialect.is_rs274_family() {
-            let head: String = text.lines().take(2000).collect::<Vec<_>>().join("\n");
-            if let Some(d) = Dialect::unread_language(&head) {
-                return Ok(fiveaxis_core::program::Program { source: self.name(), dialect, name: None, blocks: Vec::new(), diagnostics: vec![d] });
-            }
+        if let Some(d) = Dialect::unread(given, dialect, &text) {
+            return Ok(fiveaxis_core::program::Program { source: self.name(), dialect, name: None, blocks: Vec::new(), diagnostics: vec![d] });
         }
         Ok(read(&text, dialect, &self.name(), options))
     }

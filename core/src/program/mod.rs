@@ -60,6 +60,9 @@ pub enum Dialect {
     Haas,
 }
 
+/// How many of a program's first lines its dialect is judged from.
+pub const DETECT_LINES: usize = 2000;
+
 /// A dialect by the names people call it (`--dialect`): heidenhain (din, iso), rs274 (ngc, gcode,
 /// linuxcnc), cl, sinumerik (840d, siemens), klartext (conversational), fanuc, haas; case-insensitive.
 impl std::str::FromStr for Dialect {
@@ -123,13 +126,19 @@ impl Dialect {
         }
     }
 
+    /// The refusal of a program whose dialect was detected (`given` false) as the RS274 family but
+    /// whose first lines are in a language no reader follows ([`Dialect::unread_language`]).
+    pub fn unread(given: bool, detected: Dialect, text: &str) -> Option<Diagnostic> {
+        (!given && detected.is_rs274_family()).then(|| Dialect::unread_language(text)).flatten()
+    }
+
     /// A program that its name or first lines send to the RS274 family but that is written in a
     /// language no reader here follows: Heidenhain MillPlus's ISO dialect, recognised by a `G7` block
     /// with MillPlus's angle words `A5=` `B5=` `C5=` (its tilted working plane, as NX's and Autodesk's
     /// MillPlus posts write it; no RS274 word holds `=`). Read as G-code it would give an error on
-    /// nearly every block: refused once instead, at that block (the first of `text`'s lines).
+    /// nearly every block: refused once instead, at that block (within the first [`DETECT_LINES`]).
     pub fn unread_language(text: &str) -> Option<Diagnostic> {
-        text.lines().enumerate().find_map(|(i, raw)| {
+        text.lines().take(DETECT_LINES).enumerate().find_map(|(i, raw)| {
             // The code of the line: no `( )` comment, nothing after `;`.
             let mut code = String::with_capacity(raw.len());
             let mut depth = 0usize;
@@ -177,11 +186,11 @@ impl Dialect {
         }
         // APT CLDATA: a motion statement (`GOTO/`) no NC dialect writes, or a first statement that is
         // APT's (`PARTNO`, `$$`, `MACHIN/`, ...), as the CL reader itself takes it.
-        if apt::is_apt_line(first) || text.lines().take(2000).any(apt::is_goto) {
+        if apt::is_apt_line(first) || text.lines().take(DETECT_LINES).any(apt::is_goto) {
             return Dialect::Cl;
         }
         let sinumerik_words = ["TRAORI", "TRAFOOF", "ORIWKS", "ORIMKS", "ORIVECT", "ORIAXES", "CYCLE800", "A3=", "B3=", "C3=", "G642", "G500"];
-        let sinumerik = text.lines().take(2000).any(|l| {
+        let sinumerik = text.lines().take(DETECT_LINES).any(|l| {
             let u = upper(l);
             let code = u.split(';').next().unwrap_or("");
             sinumerik_words.iter().any(|w| code.contains(w))

@@ -16,7 +16,7 @@ use super::klartext::{At, Labels, Next, Runner};
 use super::lex::Diags;
 use super::rs274::Rs274Reader;
 use super::sinumerik::SinumerikReader;
-use super::{Block, Diagnostic, Dialect, LoadError, Program, ReadOptions, Severity};
+use super::{Block, Diagnostic, Dialect, LoadError, Program, ReadOptions, Severity, DETECT_LINES};
 use std::collections::{HashSet, VecDeque};
 use std::io::{BufRead, BufReader, Cursor, Read, Seek, SeekFrom};
 use std::path::Path;
@@ -176,8 +176,8 @@ impl std::fmt::Debug for BlockStream {
     }
 }
 
-/// How much of a file the dialect is guessed from: the lines [`Dialect::detect`] looks at.
-const DETECT_LINES: usize = 2000;
+/// How much of a file the dialect is guessed from: the lines [`Dialect::detect`] looks at
+/// ([`DETECT_LINES`]), at most this many bytes.
 const DETECT_BYTES: usize = 1 << 20;
 
 impl BlockStream {
@@ -208,7 +208,7 @@ impl BlockStream {
         let given = dialect.is_some();
         let text = String::from_utf8_lossy(&head);
         let dialect = dialect.unwrap_or_else(|| Dialect::detect_for(path, &text, control));
-        if let Some(d) = Self::unread(given, dialect, &text) {
+        if let Some(d) = Dialect::unread(given, dialect, &text) {
             return Ok(Self::refused(d, dialect, source));
         }
         match Reader::new(dialect, options) {
@@ -227,7 +227,7 @@ impl BlockStream {
     pub fn from_text(text: &str, dialect: Option<Dialect>, source: &str, options: &ReadOptions) -> BlockStream {
         let given = dialect.is_some();
         let dialect = dialect.unwrap_or_else(|| Dialect::detect_for(None, text, options.machine.as_ref().and_then(|m| m.dialect)));
-        if let Some(d) = Self::unread(given, dialect, text.lines().take(DETECT_LINES).collect::<Vec<_>>().join("\n").as_str()) {
+        if let Some(d) = Dialect::unread(given, dialect, text) {
             return Self::refused(d, dialect, source);
         }
         match Reader::new(dialect, options) {
@@ -237,12 +237,6 @@ impl BlockStream {
                 Self::klartext(Seeking::new(in_memory(text), &options.setup(dialect)), source)
             }
         }
-    }
-
-    /// A detected (not given) RS274-family program whose first lines are in a language no reader
-    /// follows ([`Dialect::unread_language`]).
-    fn unread(given: bool, dialect: Dialect, head: &str) -> Option<Diagnostic> {
-        (!given && dialect.is_rs274_family()).then(|| Dialect::unread_language(head)).flatten()
     }
 
     /// A stream that hands out no block and says why, once.
