@@ -34,6 +34,9 @@ pub const SIMULATED_JOINTS: Topic = in_namespace!("simulated/joint_states", "Joi
 pub const MACHINE_JOINTS: Topic = in_namespace!("machine/joint_states", "JointState");
 /// The monitor's per-sample singularity status.
 pub const STATUS: Topic = in_namespace!("monitor/status", "SingularityStatus");
+/// The regions of the monitor's status, one message per closed region (the fleet gateway, in each
+/// machine's namespace on the fleet network).
+pub const REGIONS: Topic = in_namespace!("fleet/regions", "Region");
 /// ROS-wide diagnostics (the monitor, 2 Hz).
 pub const DIAGNOSTICS: Topic = Topic { name: "/diagnostics", absolute: "/diagnostics", ty: "DiagnosticArray" };
 /// Program time, with `use_sim_time` (the commander).

@@ -191,6 +191,26 @@ impl SingularityStatus {
     pub const CAUSE_ROTARY_FEED: u8 = 2;
 }
 
+/// fiveaxis_msgs/Region: see `msg/Region.msg`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Region {
+    pub header: Header,
+    pub input_topic: String,
+    pub region_id: u32,
+    pub cause: u8,
+    pub start: Time,
+    pub end: Time,
+    pub start_position: Point,
+    pub end_position: Point,
+    pub min_singularity_distance: f64,
+    pub peak_predicted_c_speed: f64,
+    pub c_speed_limit: f64,
+    pub start_line: u32,
+    pub end_line: u32,
+    pub samples: u64,
+}
+ros_message!(Region, "fiveaxis_msgs", "Region");
+
 /// sensor_msgs/JointState.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct JointState {

@@ -1,9 +1,10 @@
 //! ros2msg definition texts, with dependencies, as rosbag2 stores them in MCAP schemas.
 
 /// Definition text of each known type by `pkg/Type` (without `msg/`).
-pub const DEFINITIONS: [(&str, &str); 11] = [
+pub const DEFINITIONS: [(&str, &str); 12] = [
     ("fiveaxis_msgs/AxisState", include_str!("../msg/AxisState.msg")),
     ("fiveaxis_msgs/SingularityStatus", include_str!("../msg/SingularityStatus.msg")),
+    ("fiveaxis_msgs/Region", include_str!("../msg/Region.msg")),
     ("builtin_interfaces/Time", include_str!("../defs/builtin_interfaces__Time.msg")),
     ("std_msgs/Header", include_str!("../defs/std_msgs__Header.msg")),
     ("geometry_msgs/Point", include_str!("../defs/geometry_msgs__Point.msg")),

@@ -180,6 +180,7 @@ fn rust_types_match_the_definitions() {
     check(&Vector3::default());
     check(&AxisState { name: vec![s()], position: vec![0.0], velocity: vec![0.0], acceleration: vec![0.0], ..Default::default() });
     check(&SingularityStatus::default());
+    check(&Region::default());
     check(&JointState { name: vec![s()], position: vec![0.0], velocity: vec![0.0], effort: vec![0.0], ..Default::default() });
     check(&KeyValue::default());
     check(&DiagnosticStatus { values: vec![KeyValue::default()], ..Default::default() });

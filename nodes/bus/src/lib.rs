@@ -21,10 +21,12 @@ pub use states::{subscribe_states, Received, StateInput, StateReceiver};
 
 use anyhow::{bail, Context as _};
 use fiveaxis_msgs::RosMessage;
+// The DDS backend by its module path: the fleet crate enables ros2-client's Zenoh backend too, and with
+// both backends the crate root re-exports neither's `Context`/`Node`/... (ros2-client's ADR-0010).
 use ros2_client::{
-    dds::rustdds,
+    dds::{rustdds, Context, Node, Publisher, Subscription},
     qos::{Durability, History, WhenFull},
-    Context, MessageTypeName, Name, Node, NodeName, NodeOptions, Publisher, QosProfile, Subscription,
+    MessageTypeName, Name, NodeName, NodeOptions, QosProfile,
 };
 use serde::{de::DeserializeOwned, Serialize};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -433,7 +435,7 @@ impl Bus {
     /// ([`Bus::now`]; ros2-client's `rosout!` stamps wall time whatever `use_sim_time` says).
     #[track_caller]
     pub fn rosout(&self, level: ros2_client::ros2::LogLevel, msg: &str) {
-        use ros2_client::RosoutRaw;
+        use ros2_client::dds::RosoutRaw;
         let at = std::panic::Location::caller();
         self.node.rosout_raw(self.node.time_now().into(), level, self.node.base_name(), msg, at.file(), "<unknown_func>", at.line());
     }

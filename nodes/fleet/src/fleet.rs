@@ -1,0 +1,328 @@
+//! The head office's picture of the fleet, from what reaches it: each machine's monitor state (the
+//! worst level of its monitor's `/diagnostics`, as ROS 2's diagnostic aggregator ranks them; STALE
+//! when nothing has come for the stale timeout), its latest distance and C demand, and its regions,
+//! each once whether it came live or by a catch-up after an outage.
+
+use crate::keys::MachinePath;
+use fiveaxis_msgs::{DiagnosticArray, DiagnosticStatus, Region, SingularityStatus};
+use serde::Serialize;
+use std::collections::{BTreeMap, VecDeque};
+use std::time::{Duration, Instant};
+
+/// A machine's state as the fleet view shows it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+pub enum Level {
+    #[serde(rename = "OK")]
+    Ok,
+    #[serde(rename = "WARN")]
+    Warn,
+    #[serde(rename = "ERROR")]
+    Error,
+    #[serde(rename = "STALE")]
+    Stale,
+}
+
+impl Level {
+    /// diagnostic_msgs/DiagnosticStatus levels (OK 0, WARN 1, ERROR 2, STALE 3).
+    pub fn of_diagnostic(level: u8) -> Level {
+        match level {
+            DiagnosticStatus::OK => Level::Ok,
+            DiagnosticStatus::WARN => Level::Warn,
+            DiagnosticStatus::ERROR => Level::Error,
+            _ => Level::Stale,
+        }
+    }
+}
+
+/// Something the view reports as it happens.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "event", rename_all = "snake_case")]
+pub enum Event {
+    /// A machine heard for the first time.
+    Joined { machine: String },
+    /// A region heard for the first time: live, or by a catch-up (`caught_up`) after an outage.
+    Region {
+        machine: String,
+        input_topic: String,
+        region_id: u32,
+        cause: u8,
+        start_x_mm: f64,
+        end_x_mm: f64,
+        peak_c_demand_rpm: f64,
+        min_distance_deg: f64,
+        start_line: u32,
+        end_line: u32,
+        caught_up: bool,
+    },
+    /// Nothing heard from the machine for the stale timeout.
+    Stale { machine: String, silent_s: f64 },
+    /// Heard again after being stale.
+    Recovered { machine: String, silent_s: f64 },
+}
+
+/// One machine's line in the fleet view.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Row {
+    pub machine: String,
+    pub state: Level,
+    /// The monitor's latest distance to the singularity and C speed demand, of the stream the
+    /// machine reports on ([`preferred`]), degrees and rpm.
+    pub distance_deg: Option<f64>,
+    pub c_demand_rpm: Option<f64>,
+    pub stream: Option<String>,
+    pub in_region: bool,
+    /// Regions heard this shift (since the gateway started).
+    pub regions: usize,
+    pub last_heard_s: f64,
+    /// Status messages in the last second, by the gateway's send stamps.
+    pub status_rate_hz: usize,
+    /// Status messages missing from the gateway's sequence (the cap drops none: these are the
+    /// link's losses).
+    pub status_missing: u64,
+}
+
+/// What the view knows of one machine.
+#[derive(Debug)]
+struct Machine {
+    last_heard: Instant,
+    stale_since: Option<Instant>,
+    level: Option<Level>,
+    latest: BTreeMap<String, SingularityStatus>,
+    regions: BTreeMap<(String, u32), Region>,
+    /// Send stamps of the statuses of the last second, ns.
+    recent: VecDeque<i64>,
+    max_rate: usize,
+    last_seq: Option<i64>,
+    missing: u64,
+}
+
+/// Degrees from radians, rpm from rad/s: the units people read.
+fn deg(rad: f64) -> f64 {
+    rad.to_degrees()
+}
+fn rpm(rad_s: f64) -> f64 {
+    rad_s * 60.0 / std::f64::consts::TAU
+}
+
+/// The stream a machine's line shows: the machine's own (a bridge's), else the simulated, else the
+/// commanded one (what the machine does before what it was told).
+pub fn preferred<'a>(topics: impl Iterator<Item = &'a String>) -> Option<&'a String> {
+    topics.min_by_key(|t| if t.contains("/machine/") { 0 } else if t.contains("/simulated/") { 1 } else { 2 })
+}
+
+/// The fleet as the head office sees it.
+#[derive(Debug)]
+pub struct Fleet {
+    stale_after: Duration,
+    machines: BTreeMap<MachinePath, Machine>,
+}
+
+impl Fleet {
+    pub fn new(stale_after: Duration) -> Fleet {
+        Fleet { stale_after, machines: BTreeMap::new() }
+    }
+
+    fn heard(&mut self, path: &MachinePath, now: Instant, events: &mut Vec<Event>) -> &mut Machine {
+        if !self.machines.contains_key(path) {
+            events.push(Event::Joined { machine: path.namespace() });
+        }
+        let m = self.machines.entry(path.clone()).or_insert_with(|| Machine {
+            last_heard: now,
+            stale_since: None,
+            level: None,
+            latest: BTreeMap::new(),
+            regions: BTreeMap::new(),
+            recent: VecDeque::new(),
+            max_rate: 0,
+            last_seq: None,
+            missing: 0,
+        });
+        if m.stale_since.take().is_some() {
+            events.push(Event::Recovered { machine: path.namespace(), silent_s: (now - m.last_heard).as_secs_f64() });
+        }
+        m.last_heard = now;
+        m
+    }
+
+    /// A status from `path`, with its rmw_zenoh sequence number and send stamp (ns) when known.
+    pub fn on_status(&mut self, path: &MachinePath, s: SingularityStatus, sent: Option<(i64, i64)>, now: Instant) -> Vec<Event> {
+        let mut events = Vec::new();
+        let m = self.heard(path, now, &mut events);
+        if let Some((seq, stamp)) = sent {
+            if let Some(last) = m.last_seq {
+                if seq > last + 1 {
+                    m.missing += (seq - last - 1) as u64;
+                }
+            }
+            if m.last_seq.is_none_or(|l| seq > l) {
+                m.last_seq = Some(seq);
+            }
+            m.recent.push_back(stamp);
+            while m.recent.front().is_some_and(|&f| f <= stamp - 1_000_000_000) {
+                m.recent.pop_front();
+            }
+            m.max_rate = m.max_rate.max(m.recent.len());
+        }
+        m.latest.insert(s.input_topic.clone(), s);
+        events
+    }
+
+    /// The monitor's `/diagnostics` from `path`: the machine's level is the worst of its statuses.
+    pub fn on_diagnostics(&mut self, path: &MachinePath, d: &DiagnosticArray, now: Instant) -> Vec<Event> {
+        let mut events = Vec::new();
+        let m = self.heard(path, now, &mut events);
+        m.level = d.status.iter().map(|s| Level::of_diagnostic(s.level)).max();
+        events
+    }
+
+    /// A region from `path`: reported once, whether live or caught up (`caught_up`). A caught-up
+    /// region of a machine already known is no sign of life (the catch-up answers from the
+    /// gateway's store), so it does not refresh the machine's last heard time.
+    pub fn on_region(&mut self, path: &MachinePath, r: Region, caught_up: bool, now: Instant) -> Vec<Event> {
+        let mut events = Vec::new();
+        if !caught_up || !self.machines.contains_key(path) {
+            self.heard(path, now, &mut events);
+        }
+        let Some(m) = self.machines.get_mut(path) else { return events };
+        let key = (r.input_topic.clone(), r.region_id);
+        if m.regions.contains_key(&key) {
+            return events;
+        }
+        events.push(Event::Region {
+            machine: path.namespace(),
+            input_topic: r.input_topic.clone(),
+            region_id: r.region_id,
+            cause: r.cause,
+            start_x_mm: r.start_position.x * 1e3,
+            end_x_mm: r.end_position.x * 1e3,
+            peak_c_demand_rpm: rpm(r.peak_predicted_c_speed),
+            min_distance_deg: deg(r.min_singularity_distance),
+            start_line: r.start_line,
+            end_line: r.end_line,
+            caught_up,
+        });
+        m.regions.insert(key, r);
+        events
+    }
+
+    /// Mark the machines not heard for the stale timeout.
+    pub fn tick(&mut self, now: Instant) -> Vec<Event> {
+        let mut events = Vec::new();
+        for (path, m) in &mut self.machines {
+            let silent = now.saturating_duration_since(m.last_heard);
+            if m.stale_since.is_none() && silent >= self.stale_after {
+                m.stale_since = Some(now);
+                events.push(Event::Stale { machine: path.namespace(), silent_s: silent.as_secs_f64() });
+            }
+        }
+        events
+    }
+
+    /// The machines that are stale now.
+    pub fn stale(&self) -> Vec<MachinePath> {
+        self.machines.iter().filter(|(_, m)| m.stale_since.is_some()).map(|(p, _)| p.clone()).collect()
+    }
+
+    /// The highest status rate seen per machine (messages in any one second of send stamps).
+    pub fn max_rate(&self, path: &MachinePath) -> Option<usize> {
+        self.machines.get(path).map(|m| m.max_rate)
+    }
+
+    /// The fleet view's lines, one per machine.
+    pub fn rows(&self, now: Instant) -> Vec<Row> {
+        self.machines
+            .iter()
+            .map(|(path, m)| {
+                let stream = preferred(m.latest.keys()).cloned();
+                let latest = stream.as_ref().and_then(|t| m.latest.get(t));
+                let state = if m.stale_since.is_some() { Level::Stale } else { m.level.unwrap_or(Level::Stale) };
+                let newest = m.recent.back().copied().unwrap_or(0);
+                Row {
+                    machine: path.namespace(),
+                    state,
+                    distance_deg: latest.map(|s| deg(s.singularity_distance)),
+                    c_demand_rpm: latest.map(|s| rpm(s.predicted_c_speed)),
+                    in_region: latest.is_some_and(|s| s.in_region),
+                    stream,
+                    regions: m.regions.len(),
+                    last_heard_s: now.saturating_duration_since(m.last_heard).as_secs_f64(),
+                    status_rate_hz: m.recent.iter().filter(|&&t| t > newest - 1_000_000_000).count(),
+                    status_missing: m.missing,
+                }
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fiveaxis_msgs::Point;
+
+    fn path(m: &str) -> MachinePath {
+        MachinePath::new("plant", "cell_a", m).unwrap()
+    }
+
+    fn region(id: u32) -> Region {
+        Region { input_topic: "/fiveaxis/simulated/axis_state".into(), region_id: id, start_position: Point { x: 0.022, y: 0.0, z: 0.0 }, end_position: Point { x: 0.028, y: 0.0, z: 0.0 }, peak_predicted_c_speed: std::f64::consts::TAU, min_singularity_distance: 0.01, ..Default::default() }
+    }
+
+    #[test]
+    fn machines_join_go_stale_and_recover() {
+        let t0 = Instant::now();
+        let mut f = Fleet::new(Duration::from_secs(3));
+        let s = SingularityStatus { input_topic: "/fiveaxis/simulated/axis_state".into(), singularity_distance: 0.5f64.to_radians(), predicted_c_speed: 20.0, ..Default::default() };
+        assert_eq!(f.on_status(&path("a"), s.clone(), Some((1, 0)), t0), vec![Event::Joined { machine: "/plant/cell_a/a".into() }]);
+        assert!(f.on_status(&path("a"), s.clone(), Some((2, 100_000_000)), t0).is_empty());
+        assert!(f.tick(t0 + Duration::from_millis(2900)).is_empty());
+        let e = f.tick(t0 + Duration::from_secs(3));
+        assert!(matches!(&e[..], [Event::Stale { machine, .. }] if machine == "/plant/cell_a/a"));
+        assert!(f.tick(t0 + Duration::from_secs(4)).is_empty(), "said once");
+        assert_eq!(f.rows(t0 + Duration::from_secs(4))[0].state, Level::Stale);
+        let e = f.on_status(&path("a"), s, Some((5, 10_000_000_000)), t0 + Duration::from_secs(13));
+        assert!(matches!(&e[..], [Event::Recovered { silent_s, .. }] if (*silent_s - 13.0).abs() < 1e-9));
+        let row = &f.rows(t0 + Duration::from_secs(13))[0];
+        assert_eq!(row.status_missing, 2);
+        assert!((row.distance_deg.unwrap() - 0.5).abs() < 1e-12);
+        assert!((row.c_demand_rpm.unwrap() - 20.0 * 60.0 / std::f64::consts::TAU).abs() < 1e-9);
+        assert_eq!(row.state, Level::Stale, "no /diagnostics heard yet");
+    }
+
+    #[test]
+    fn the_state_is_the_worst_diagnostic_level() {
+        let t0 = Instant::now();
+        let mut f = Fleet::new(Duration::from_secs(3));
+        let d = DiagnosticArray { status: vec![DiagnosticStatus { level: DiagnosticStatus::WARN, ..Default::default() }, DiagnosticStatus { level: DiagnosticStatus::OK, ..Default::default() }], ..Default::default() };
+        f.on_diagnostics(&path("a"), &d, t0);
+        assert_eq!(f.rows(t0)[0].state, Level::Warn);
+    }
+
+    #[test]
+    fn a_region_is_reported_once_live_or_caught_up() {
+        let t0 = Instant::now();
+        let mut f = Fleet::new(Duration::from_secs(3));
+        // A view started mid-shift learns of a machine from its catch-up.
+        let e = f.on_region(&path("a"), region(1), true, t0);
+        assert!(matches!(&e[..], [Event::Joined { .. }, Event::Region { region_id: 1, caught_up: true, peak_c_demand_rpm, .. }] if (*peak_c_demand_rpm - 60.0).abs() < 1e-9));
+        assert!(f.on_region(&path("a"), region(1), false, t0).is_empty());
+        // A catch-up of a stale machine does not make it heard.
+        f.tick(t0 + Duration::from_secs(5));
+        assert!(f.on_region(&path("a"), region(3), true, t0 + Duration::from_secs(5)).iter().all(|e| matches!(e, Event::Region { .. })));
+        assert_eq!(f.stale().len(), 1);
+        let e = f.on_region(&path("a"), region(2), true, t0);
+        assert!(matches!(&e[..], [Event::Region { region_id: 2, caught_up: true, start_x_mm, .. }] if (*start_x_mm - 22.0).abs() < 1e-9));
+        assert_eq!(f.rows(t0)[0].regions, 3);
+    }
+
+    #[test]
+    fn the_rate_is_counted_on_send_stamps() {
+        let t0 = Instant::now();
+        let mut f = Fleet::new(Duration::from_secs(3));
+        // 10 Hz for 3 s, delivered all at once (a burst after an outage) still counts 10 a second.
+        for i in 0..30i64 {
+            f.on_status(&path("a"), SingularityStatus::default(), Some((i + 1, i * 100_000_000)), t0);
+        }
+        assert_eq!(f.max_rate(&path("a")), Some(10));
+        assert_eq!(f.rows(t0)[0].status_rate_hz, 10);
+    }
+}

@@ -1,0 +1,3 @@
+fn main() {
+    let _ = ros2_client::zenoh::ContextOptions::new();
+}
