@@ -14,7 +14,7 @@
 
 usage (inside launch-free-scripts/netns-run):
   ros_graph.py --node /cell1/m1 [--domain-id N] [--timeout-s 20]
-Prints one JSON object: {"node": {...} or null, "nodes": [...], "publications": [...],
+Prints one JSON object: {"node": {...} or null, "nodes": [...], "publications": [...], "domain_publications": [...],
 "subscriptions": [...], "participant_subscriptions": [...], "parameters": {name: value} or null, "parameter_types": {name: type}}.
 """
 import argparse
@@ -182,7 +182,9 @@ def main():
             break
         time.sleep(0.1)
     out = {"node": None, "nodes": sorted(f"{k[0].rstrip('/')}/{k[1]}" for k in nodes), "publications": [], "subscriptions": [],
-           "parameters": None, "parameter_types": None}
+           "parameters": None, "parameter_types": None,
+           # Every topic any participant of the domain writes (the fleet test: what a cell's domain holds).
+           "domain_publications": sorted({p["topic"] for p in pubs.values()})}
     if node:
         for s in pubs_r.take(N=100):
             pubs[s.key.bytes.hex()] = {"topic": ros_topic(s.topic_name), "type": ros_type(s.type_name)}

@@ -74,8 +74,10 @@ pub struct Row {
     /// Regions heard this shift (since the gateway started).
     pub regions: usize,
     pub last_heard_s: f64,
-    /// Status messages in the last second, by the gateway's send stamps.
+    /// Status messages in the last second, and at most in any one second so far, by the gateway's
+    /// send stamps (what the link carried, whatever delay or burst it added).
     pub status_rate_hz: usize,
+    pub max_status_rate_hz: usize,
     /// Status messages missing from the gateway's sequence (the cap drops none: these are the
     /// link's losses).
     pub status_missing: u64,
@@ -247,6 +249,7 @@ impl Fleet {
                     regions: m.regions.len(),
                     last_heard_s: now.saturating_duration_since(m.last_heard).as_secs_f64(),
                     status_rate_hz: m.recent.iter().filter(|&&t| t > newest - 1_000_000_000).count(),
+                    max_status_rate_hz: m.max_rate,
                     status_missing: m.missing,
                 }
             })
@@ -323,6 +326,6 @@ mod tests {
             f.on_status(&path("a"), SingularityStatus::default(), Some((i + 1, i * 100_000_000)), t0);
         }
         assert_eq!(f.max_rate(&path("a")), Some(10));
-        assert_eq!(f.rows(t0)[0].status_rate_hz, 10);
+        assert_eq!((f.rows(t0)[0].status_rate_hz, f.rows(t0)[0].max_status_rate_hz), (10, 10));
     }
 }

@@ -1,0 +1,159 @@
+//! `fiveaxis-fleet gateway`: one machine's monitor, from its cell's DDS domain to the fleet's Zenoh
+//! network under `/site/cell/machine`, as rmw_zenoh names and encodes topics. One way only: nothing
+//! from the fleet network enters the cell. What crosses is the allow list: the monitor's status at
+//! most `--state-rate-hz` a second (the latest of each stream), its `/diagnostics`, and each region
+//! whole. Publications drop rather than wait when the link is slow or down (the cell never waits
+//! for the head office); the shift's regions stay here and are answered on request, so a view
+//! catches up when the link returns.
+
+use crate::zenoh_args::ZenohArgs;
+use fiveaxis::topics;
+use fiveaxis_bus::{diagnostics_qos, state_qos, Bus, CommonArgs, RosOptions, Shutdown};
+use fiveaxis_fleet::{cap::RateCap, keys, keys::MachinePath, regions::RegionTracker};
+use fiveaxis_msgs::{DiagnosticArray, Region, RosMessage, SingularityStatus};
+use ros2_client::zenoh::{Context, ContextOptions, Node, Publisher};
+use ros2_client::{MessageTypeName, Name, NodeName, NodeOptions, QosProfile};
+use std::collections::VecDeque;
+use std::sync::{mpsc, Arc, Mutex};
+use std::time::{Duration, Instant};
+use zenoh::Wait;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    common: CommonArgs,
+    /// This machine's place on the fleet network: `/SITE/CELL/MACHINE`, each a ROS name token.
+    #[arg(long = "fleet-namespace", value_name = "/SITE/CELL/MACHINE")]
+    fleet_namespace: String,
+    /// Status messages a second this machine sends to the fleet, all streams together (the monitor
+    /// publishes one per sample, 1 kHz on a live machine).
+    #[arg(long = "state-rate-hz", default_value_t = 10.0)]
+    state_rate_hz: f64,
+    /// Regions kept for a view's catch-up (this shift's); beyond, the oldest are dropped.
+    #[arg(long = "max-regions", default_value_t = 10_000)]
+    max_regions: usize,
+    #[command(flatten)]
+    zenoh: ZenohArgs,
+    /// Stop after this long, s (default: until SIGINT or SIGTERM).
+    #[arg(long = "duration-s")]
+    duration_s: Option<f64>,
+}
+
+/// What the cell side hands the loop.
+enum In {
+    Status(SingularityStatus),
+    Diagnostics(DiagnosticArray),
+    Undecodable(String),
+}
+
+/// A publisher on the fleet network for `topic` of type `M` under the machine's namespace.
+fn publisher<M: RosMessage + serde::Serialize>(node: &Node, path: &MachinePath, topic: &topics::Topic, qos: &QosProfile) -> anyhow::Result<Publisher<M>> {
+    let full = path.topic(topic);
+    let name = Name::parse(&full).map_err(|e| anyhow::anyhow!("topic {full}: {e:?}"))?;
+    let t = node.create_topic(&name, MessageTypeName::new(M::PACKAGE, M::NAME), qos);
+    node.create_publisher(&t, None).map_err(|e| anyhow::anyhow!("publisher {full}: {e:?}"))
+}
+
+pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
+    let path = MachinePath::parse(&args.fleet_namespace)?;
+    if !(args.state_rate_hz.is_finite() && args.state_rate_hz > 0.0) {
+        anyhow::bail!("--state-rate-hz {}: a positive rate", args.state_rate_hz);
+    }
+    let config = args.zenoh.config("client")?;
+    let shutdown = Shutdown::install()?;
+
+    // The cell side: the monitor's topics on the cell's DDS domain.
+    let mut bus = Bus::new("fiveaxis_fleet_gateway", &args.common, ros)?;
+    let (tx, rx) = mpsc::sync_channel::<In>(4096);
+    let status = bus.subscription::<SingularityStatus>(topics::STATUS.name, state_qos())?;
+    fiveaxis_bus::forward(status, bus.resolve(topics::STATUS.name), tx.clone(), |_, s| In::Status(s), |t, e| In::Undecodable(format!("{t}: {e}")));
+    let diagnostics = bus.subscription::<DiagnosticArray>(topics::DIAGNOSTICS.name, diagnostics_qos())?;
+    fiveaxis_bus::forward(diagnostics, bus.resolve(topics::DIAGNOSTICS.name), tx, |_, d| In::Diagnostics(d), |t, e| In::Undecodable(format!("{t}: {e}")));
+
+    // The fleet side: a ROS 2 node on Zenoh in the machine's namespace.
+    let domain = args.zenoh.domain;
+    let context = Context::with_options(ContextOptions::new().domain_id(domain).zenoh_config(config)).map_err(|e| anyhow::anyhow!("opening the fleet session: {e:?}"))?;
+    let node_name = NodeName::new(&path.namespace(), "fiveaxis_fleet_gateway").map_err(|e| anyhow::anyhow!("node name: {e:?}"))?;
+    let node = context.new_node(node_name, NodeOptions::new().enable_rosout(false)).map_err(|e| anyhow::anyhow!("fleet node: {e:?}"))?;
+    let qos = QosProfile::publisher_default();
+    let status_pub = publisher::<SingularityStatus>(&node, &path, &topics::STATUS, &qos)?;
+    let diagnostics_pub = publisher::<DiagnosticArray>(&node, &path, &topics::DIAGNOSTICS, &qos)?;
+    let regions_pub = publisher::<Region>(&node, &path, &topics::REGIONS, &qos)?;
+
+    // The shift's regions, answered to a view's catch-up query (one reply per region, CDR).
+    let store: Arc<Mutex<VecDeque<Region>>> = Arc::new(Mutex::new(VecDeque::new()));
+    let answer = store.clone();
+    let regions_key = keys::regions_query(domain, &path);
+    let reply_key = regions_key.clone();
+    let _queryable = context
+        .session()
+        .declare_queryable(regions_key.clone())
+        .callback(move |query| {
+            let regions: Vec<Region> = answer.lock().map(|s| s.iter().cloned().collect()).unwrap_or_default();
+            for r in regions {
+                if let Ok(bytes) = fiveaxis::record::to_cdr(&r) {
+                    let _ = query.reply(reply_key.clone(), bytes).wait();
+                }
+            }
+        })
+        .wait()
+        .map_err(|e| anyhow::anyhow!("regions queryable {regions_key}: {e}"))?;
+    tracing::info!(machine = %path, zid = %context.session().zid(), rate_hz = args.state_rate_hz, "fleet gateway up");
+
+    let mut tracker = RegionTracker::new();
+    let mut cap: RateCap<SingularityStatus> = RateCap::new(args.state_rate_hz);
+    let mut undecodable = 0u64;
+    let (mut sent, mut regions, mut dropped) = (0u64, 0u64, 0u64);
+    let start = Instant::now();
+    let send_region = |r: Region, dropped: &mut u64| {
+        if let Ok(mut s) = store.lock() {
+            if s.len() >= args.max_regions {
+                s.pop_front();
+                *dropped += 1;
+            }
+            s.push_back(r.clone());
+        }
+        tracing::info!(stream = %r.input_topic, region = r.region_id, x_mm = r.start_position.x * 1e3, "region closed");
+        if let Err(e) = regions_pub.publish(r) {
+            tracing::debug!("region not sent now (a view catches up): {e:?}");
+        }
+    };
+    while !shutdown.requested() && !args.duration_s.is_some_and(|d| start.elapsed().as_secs_f64() >= d) {
+        let now = Instant::now();
+        let wait = cap.next_release().map_or(Duration::from_millis(50), |n| n.saturating_duration_since(now).min(Duration::from_millis(50)));
+        match rx.recv_timeout(wait) {
+            Ok(In::Status(s)) => {
+                if let Some(r) = tracker.on_status(&s) {
+                    regions += 1;
+                    send_region(r, &mut dropped);
+                }
+                let stream = s.input_topic.clone();
+                cap.offer(&stream, s);
+            }
+            Ok(In::Diagnostics(d)) => {
+                let _ = diagnostics_pub.publish(d);
+            }
+            Ok(In::Undecodable(why)) => {
+                undecodable += 1;
+                if undecodable == 1 {
+                    tracing::warn!("a message from the cell did not decode: {why} (counted)");
+                }
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => break,
+        }
+        if let Some(s) = cap.poll(Instant::now()) {
+            if status_pub.publish(s).is_ok() {
+                sent += 1;
+            }
+        }
+    }
+    for r in tracker.finish() {
+        regions += 1;
+        send_region(r, &mut dropped);
+    }
+    tracing::info!(machine = %path, statuses_sent = sent, superseded = cap.superseded(), regions, regions_dropped_from_store = dropped, undecodable, "fleet gateway done");
+    drop(node);
+    let _ = context.session().close().wait();
+    Ok(())
+}

@@ -1,0 +1,249 @@
+//! `fiveaxis-fleet view`: the head office's view of every machine on the fleet network. It
+//! subscribes to every machine's status, `/diagnostics` and regions by wildcard (machines join and
+//! leave without a restart), shows each one's state (OK/WARN/ERROR/STALE), distance, C demand and
+//! regions this shift, asks each gateway for the shift's regions when a machine joins or comes back
+//! from stale (the catch-up after an outage), writes its events as JSON lines and records what
+//! reaches it to MCAP, a topic per machine.
+
+use crate::zenoh_args::ZenohArgs;
+use fiveaxis::record::{from_cdr, OfferedQos, RecordOptions, Recorder};
+use fiveaxis::topics::{self, Topic};
+use fiveaxis_fleet::fleet::{Event, Fleet, Row};
+use fiveaxis_fleet::keys::{self, MachinePath};
+use fiveaxis_msgs::{DiagnosticArray, Region, RosMessage, SingularityStatus};
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::PathBuf;
+use std::sync::mpsc;
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use zenoh::Wait;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    zenoh: ZenohArgs,
+    /// A machine not heard for this long is STALE, ms.
+    #[arg(long = "stale-ms", default_value_t = 3000)]
+    stale_ms: u64,
+    /// Write the view's events (joined, region, stale, recovered) and, every `--table-every-s`,
+    /// each machine's line, as JSON lines to this file (`-`: standard output).
+    #[arg(long = "json-lines", value_name = "FILE")]
+    json_lines: Option<PathBuf>,
+    /// Print the fleet's table to standard error this often, s (0: never).
+    #[arg(long = "table-every-s", default_value_t = 2.0)]
+    table_every_s: f64,
+    /// Record every message that reaches the office to this MCAP file (a topic per machine).
+    #[arg(long = "record", value_name = "FILE.mcap")]
+    record: Option<PathBuf>,
+    /// Stop after this long, s (default: until SIGINT or SIGTERM).
+    #[arg(long = "duration-s")]
+    duration_s: Option<f64>,
+}
+
+/// What the network hands the loop.
+enum In {
+    /// A sample of `topic` from a machine: its payload and rmw_zenoh attachment (seq, send stamp).
+    Sample { path: MachinePath, topic: Topic, payload: Vec<u8>, sent: Option<(i64, i64)> },
+    /// A region from a gateway's store.
+    CaughtUp { path: MachinePath, payload: Vec<u8> },
+}
+
+fn now_ns() -> u64 {
+    SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_nanos() as u64)
+}
+
+/// The machines' lines as a table: what a process engineer reads.
+fn table(rows: &[Row]) -> String {
+    let mut out = format!("{:<32} {:<6} {:>13} {:>13} {:>8} {:>9} {:>7}\n", "machine", "state", "distance deg", "C demand rpm", "regions", "heard s", "rate/s");
+    for r in rows {
+        let f = |v: Option<f64>, p: usize| v.map_or("-".to_string(), |v| format!("{v:.p$}"));
+        let state = serde_json::to_value(r.state).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default();
+        out += &format!("{:<32} {:<6} {:>13} {:>13} {:>8} {:>9.1} {:>7}\n", r.machine, state, f(r.distance_deg, 3), f(r.c_demand_rpm, 1), r.regions, r.last_heard_s, r.status_rate_hz);
+    }
+    out
+}
+
+/// Ask the gateways matching `key` for their regions; the replies come back on `tx`.
+fn catch_up(session: &zenoh::Session, key: String, domain: u16, tx: mpsc::SyncSender<In>) {
+    // Every reply: they share the key, and Zenoh's default consolidation would keep only the latest.
+    match session.get(&key).consolidation(zenoh::query::ConsolidationMode::None).timeout(Duration::from_secs(10)).wait() {
+        Ok(replies) => {
+            std::thread::spawn(move || {
+                while let Ok(reply) = replies.recv() {
+                    if let Ok(sample) = reply.result() {
+                        if let Some(path) = keys::machine_of_regions(sample.key_expr().as_str(), domain) {
+                            let _ = tx.send(In::CaughtUp { path, payload: sample.payload().to_bytes().into_owned() });
+                        }
+                    }
+                }
+            });
+        }
+        Err(e) => tracing::warn!(%key, "catch-up query not sent: {e}"),
+    }
+}
+
+/// The MCAP channels of the machines heard so far.
+struct Recording {
+    recorder: Recorder,
+    channels: BTreeMap<(MachinePath, &'static str), u16>,
+}
+
+impl Recording {
+    fn write(&mut self, path: &MachinePath, topic: &Topic, type_name: &str, payload: &[u8], publish_ns: u64) -> anyhow::Result<()> {
+        let key = (path.clone(), topic.absolute);
+        let channel = match self.channels.get(&key) {
+            Some(c) => *c,
+            None => {
+                let qos = if topic.absolute == topics::DIAGNOSTICS.absolute { OfferedQos::DIAGNOSTICS } else { OfferedQos::STATE };
+                let c = self.recorder.add_topic_type(&path.topic(topic), type_name, qos)?;
+                self.channels.insert(key, c);
+                c
+            }
+        };
+        self.recorder.write_raw(channel, payload, now_ns(), publish_ns)?;
+        Ok(())
+    }
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let shutdown = fiveaxis_bus::Shutdown::install()?;
+    let domain = args.zenoh.domain;
+    let config = args.zenoh.config("client")?;
+    let mut json: Option<Box<dyn Write>> = match &args.json_lines {
+        None => None,
+        Some(p) if p.as_os_str() == "-" => Some(Box::new(std::io::stdout())),
+        Some(p) => Some(Box::new(std::io::BufWriter::new(std::fs::File::create(p).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?))),
+    };
+    let mut recording = match &args.record {
+        None => None,
+        Some(p) => Some(Recording { recorder: Recorder::create(p, RecordOptions::default()).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?, channels: BTreeMap::new() }),
+    };
+    let session = zenoh::open(config).wait().map_err(|e| anyhow::anyhow!("opening the fleet session: {e}"))?;
+    let (tx, rx) = mpsc::sync_channel::<In>(65536);
+    let streams: [(Topic, &str, &str); 3] = [
+        (topics::STATUS, SingularityStatus::PACKAGE, SingularityStatus::NAME),
+        (topics::DIAGNOSTICS, DiagnosticArray::PACKAGE, DiagnosticArray::NAME),
+        (topics::REGIONS, Region::PACKAGE, Region::NAME),
+    ];
+    let mut subscribers = Vec::new();
+    for (topic, package, name) in streams {
+        let key = keys::every_machine(domain, &topic, package, name);
+        let tx = tx.clone();
+        let sub = session
+            .declare_subscriber(&key)
+            .callback(move |sample| {
+                let Some(path) = keys::machine_of(sample.key_expr().as_str(), domain, &topic) else { return };
+                let sent = sample.attachment().and_then(|a| keys::attachment(&a.to_bytes()));
+                let _ = tx.try_send(In::Sample { path, topic, payload: sample.payload().to_bytes().into_owned(), sent });
+            })
+            .wait()
+            .map_err(|e| anyhow::anyhow!("subscribing to {key}: {e}"))?;
+        subscribers.push(sub);
+    }
+    tracing::info!(zid = %session.zid(), connect = ?args.zenoh.connect, "fleet view up");
+    catch_up(&session, keys::every_regions_query(domain), domain, tx.clone());
+
+    let mut fleet = Fleet::new(Duration::from_millis(args.stale_ms));
+    let start = Instant::now();
+    let mut next_table = start;
+    let mut last_flush = start;
+    let mut undecodable = 0u64;
+    let type_of = |t: &Topic| match t.absolute {
+        a if a == topics::STATUS.absolute => SingularityStatus::type_name(),
+        a if a == topics::REGIONS.absolute => Region::type_name(),
+        _ => DiagnosticArray::type_name(),
+    };
+    while !shutdown.requested() && !args.duration_s.is_some_and(|d| start.elapsed().as_secs_f64() >= d) {
+        let mut events = Vec::new();
+        match rx.recv_timeout(Duration::from_millis(50)) {
+            Ok(In::Sample { path, topic, payload, sent }) => {
+                let now = Instant::now();
+                let decoded = match topic.absolute {
+                    a if a == topics::STATUS.absolute => from_cdr::<SingularityStatus>(&payload).map(|s| events.extend(fleet.on_status(&path, s, sent, now))),
+                    a if a == topics::REGIONS.absolute => from_cdr::<Region>(&payload).map(|r| events.extend(fleet.on_region(&path, r, false, now))),
+                    _ => from_cdr::<DiagnosticArray>(&payload).map(|d| events.extend(fleet.on_diagnostics(&path, &d, now))),
+                };
+                match decoded {
+                    Ok(()) => {
+                        if let Some(rec) = recording.as_mut() {
+                            let publish_ns = sent.map_or_else(now_ns, |(_, t)| t.max(0) as u64);
+                            rec.write(&path, &topic, &type_of(&topic), &payload, publish_ns)?;
+                        }
+                    }
+                    Err(e) => {
+                        undecodable += 1;
+                        if undecodable == 1 {
+                            tracing::warn!(machine = %path, topic = topic.absolute, "a message did not decode: {e} (counted)");
+                        }
+                    }
+                }
+            }
+            Ok(In::CaughtUp { path, payload }) => match from_cdr::<Region>(&payload) {
+                Ok(r) => {
+                    let new = fleet.on_region(&path, r, true, Instant::now());
+                    // A region first heard by a catch-up is recorded too (its own stamps say when it was).
+                    if let (Some(rec), true) = (recording.as_mut(), new.iter().any(|e| matches!(e, Event::Region { .. }))) {
+                        rec.write(&path, &topics::REGIONS, &Region::type_name(), &payload, now_ns())?;
+                    }
+                    events.extend(new);
+                }
+                Err(_) => undecodable += 1,
+            },
+            Err(_) => {}
+        }
+        events.extend(fleet.tick(Instant::now()));
+        for e in &events {
+            match e {
+                Event::Joined { machine } | Event::Recovered { machine, .. } => {
+                    tracing::info!(%machine, "{}", if matches!(e, Event::Joined { .. }) { "machine joined" } else { "machine heard again" });
+                    if let Ok(path) = MachinePath::parse(machine) {
+                        catch_up(&session, keys::regions_query(domain, &path), domain, tx.clone());
+                    }
+                }
+                Event::Stale { machine, silent_s } => tracing::warn!(%machine, silent_s, "machine stale"),
+                Event::Region { machine, region_id, start_x_mm, peak_c_demand_rpm, caught_up, .. } => {
+                    tracing::info!(%machine, region = region_id, x_mm = start_x_mm, peak_c_demand_rpm, caught_up, "region")
+                }
+            }
+            if let Some(out) = json.as_mut() {
+                writeln!(out, "{}", serde_json::to_string(e)?)?;
+            }
+        }
+        let now = Instant::now();
+        if now >= next_table && args.table_every_s > 0.0 {
+            next_table = now + Duration::from_secs_f64(args.table_every_s);
+            let rows = fleet.rows(now);
+            if !rows.is_empty() {
+                eprint!("{}", table(&rows));
+            }
+            if let Some(out) = json.as_mut() {
+                for r in &rows {
+                    writeln!(out, "{}", serde_json::json!({ "event": "line", "line": r }))?;
+                }
+            }
+        }
+        if now.duration_since(last_flush) >= Duration::from_secs(1) {
+            last_flush = now;
+            if let Some(out) = json.as_mut() {
+                out.flush()?;
+            }
+            if let Some(rec) = recording.as_mut() {
+                rec.recorder.flush()?;
+            }
+        }
+    }
+    let rows = fleet.rows(Instant::now());
+    if let Some(out) = json.as_mut() {
+        for r in &rows {
+            writeln!(out, "{}", serde_json::json!({ "event": "final", "line": r }))?;
+        }
+        out.flush()?;
+    }
+    if let Some(mut rec) = recording {
+        rec.recorder.finish()?;
+    }
+    tracing::info!(machines = rows.len(), undecodable, "fleet view done");
+    drop(subscribers);
+    let _ = session.close().wait();
+    Ok(())
+}

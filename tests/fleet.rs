@@ -1,0 +1,149 @@
+//! A shop's fleet over Zenoh (issue 67), on one machine in network namespaces
+//! (`launch-free-scripts/fleet`): two cells, each its own DDS domain 0 with commander, simulator,
+//! monitor and gateway (cell_a on SING.I, cell_b on NON_SING.I), a site router, and a head office
+//! (router and view) behind a WAN link of 30 ms each way and 1 % packet loss, down for 10 s in the
+//! middle of the run. What the head office gets is checked against what the cells' own monitors
+//! logged, against an independent Zenoh peer (Eclipse Zenoh's Python API) and an independent MCAP
+//! reader (Foxglove's mcap-ros2-support); what cell_b's domain holds against Cyclone DDS.
+
+mod common;
+
+use serde_json::Value;
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::process::Command;
+
+const CELL_A: &str = "/plant/cell_a/c600u";
+const CELL_B: &str = "/plant/cell_b/c600u";
+const RATE_HZ: usize = 10;
+
+/// The "entering a region" lines of a monitor's log: (topic, region id, x mm).
+fn monitor_regions(log: &str) -> Vec<(String, u32, f64)> {
+    let plain = String::from_utf8(strip_ansi(log.as_bytes())).unwrap();
+    let field = |line: &str, name: &str| line.split_whitespace().find_map(|w| w.strip_prefix(&format!("{name}=")).map(String::from));
+    plain
+        .lines()
+        .filter(|l| l.contains("entering a region"))
+        .map(|l| (field(l, "topic").unwrap(), field(l, "region").unwrap().parse().unwrap(), field(l, "x_mm").unwrap().parse().unwrap()))
+        .collect()
+}
+
+fn strip_ansi(b: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == 0x1b && b.get(i + 1) == Some(&b'[') {
+            i += 2;
+            while i < b.len() && !(b[i] as char).is_ascii_alphabetic() {
+                i += 1;
+            }
+            i += 1;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    out
+}
+
+#[test]
+fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
+    let bins = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap();
+    assert!(bins.join("fiveaxis-fleet").exists(), "fiveaxis-fleet is not built: run launch-free-scripts/test");
+    let dir = common::scratch_dir("fleet");
+    let status = Command::new(Path::new(env!("FIVEAXIS_ROOT")).join("launch-free-scripts/fleet"))
+        .args(["--duration-s", "50", "--outage-at-s", "8", "--outage-s", "10", "--state-rate-hz", &RATE_HZ.to_string()])
+        .args(["--wan-delay-ms", "30", "--wan-loss-pct", "1", "--out"])
+        .arg(&dir)
+        .env("FIVEAXIS_BIN", bins)
+        .env_remove("FIVEAXIS_IN_NETNS")
+        .status()
+        .expect("the fleet script runs");
+    assert!(status.success(), "launch-free-scripts/fleet failed: {status} (logs in {})", dir.display());
+    let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+    let lines: Vec<Value> = read("view.jsonl").lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let events = |kind: &'static str| lines.iter().filter(move |e| e["event"] == kind);
+
+    // Both machines, under their namespaces, and nothing else.
+    let finals: Vec<&Value> = events("final").map(|e| &e["line"]).collect();
+    let machines: Vec<&str> = finals.iter().map(|l| l["machine"].as_str().unwrap()).collect();
+    assert_eq!(machines, [CELL_A, CELL_B], "{finals:?}");
+
+    // cell_a's regions are the ones its own monitor entered (the same streams, ids and x, which the
+    // view gets only through the gateway's regions), each once; cell_b (NON_SING) has none.
+    let regions: Vec<&Value> = events("region").collect();
+    assert!(regions.iter().all(|r| r["machine"] == CELL_A), "{regions:?}");
+    let keys: BTreeSet<(String, u64)> = regions.iter().map(|r| (r["input_topic"].as_str().unwrap().to_string(), r["region_id"].as_u64().unwrap())).collect();
+    assert_eq!(keys.len(), regions.len(), "a region reported twice: {regions:?}");
+    let entered = monitor_regions(&read("cell_a-monitor.log"));
+    assert!(entered.len() >= 4, "two passes of SING.I, two streams: {entered:?}");
+    for (topic, id, x_mm) in &entered[..4] {
+        let r = regions.iter().find(|r| r["input_topic"] == topic.as_str() && r["region_id"] == *id).unwrap_or_else(|| panic!("{topic} region {id} never reached the office: {regions:?}"));
+        assert!((r["start_x_mm"].as_f64().unwrap() - x_mm).abs() < 1e-9, "{r}: the monitor entered at x {x_mm}");
+        // The paper's region, about x 22-28 mm (the simulated stream lags the commanded one).
+        let (a, b) = (r["start_x_mm"].as_f64().unwrap(), r["end_x_mm"].as_f64().unwrap());
+        assert!((21.0..=23.0).contains(&a) && (27.0..=29.0).contains(&b), "{r}");
+        assert_eq!(r["cause"], 1, "cause singularity: {r}");
+    }
+    assert!(monitor_regions(&read("cell_b-monitor.log")).is_empty());
+    assert_eq!(finals[1]["regions"], 0);
+
+    // The outage: both machines stale (3 s after the link went down), heard again after it, and
+    // the regions of the outage caught up from the gateway's store.
+    let outage = read("outage.txt");
+    assert!(outage.contains("down") && outage.contains("up"), "{outage}");
+    for m in [CELL_A, CELL_B] {
+        let stale: Vec<&Value> = events("stale").filter(|e| e["machine"] == m).collect();
+        let back: Vec<&Value> = events("recovered").filter(|e| e["machine"] == m).collect();
+        assert_eq!((stale.len(), back.len()), (1, 1), "{m}: {stale:?} {back:?}");
+        let silent = back[0]["silent_s"].as_f64().unwrap();
+        assert!((10.0..20.0).contains(&silent), "{m} silent {silent} s over a 10 s outage");
+    }
+    assert!(regions.iter().any(|r| r["caught_up"] == true), "no region of the outage was caught up: {regions:?}");
+    assert!(regions.iter().any(|r| r["caught_up"] == false), "no region came live: {regions:?}");
+
+    // The state rate cap holds on the office's side, by the gateways' send stamps.
+    for l in &finals {
+        let max = l["max_status_rate_hz"].as_u64().unwrap() as usize;
+        assert!((RATE_HZ / 2..=RATE_HZ).contains(&max), "{l}");
+        assert_ne!(l["state"], "STALE", "{l}");
+    }
+
+    // Cell B's DDS domain holds its own node set only: nothing of cell A's, nothing from the fleet.
+    let graph: Value = serde_json::from_str(&read("cell_b-graph.json")).unwrap();
+    let nodes = graph["nodes"].as_array().unwrap();
+    assert!(nodes.len() >= 4 && nodes.iter().all(|n| n.as_str().unwrap().starts_with("/fiveaxis/")), "{graph}");
+    let topics = graph["domain_publications"].as_array().unwrap();
+    assert!(topics.iter().any(|t| t == "/fiveaxis/monitor/status"), "{graph}");
+    assert!(topics.iter().all(|t| !t.as_str().unwrap().contains("plant") && !t.as_str().unwrap().contains("cell_a")), "{graph}");
+
+    // Eclipse Zenoh's own Python API reads cell_a's status at the head office, on rmw_zenoh's key
+    // and attachment, decoded from the .msg layout.
+    let peer: Value = serde_json::from_str(&read("zenoh-peer.json")).unwrap_or_else(|e| panic!("{e}: {}", read("zenoh-peer.log")));
+    let samples = peer["samples"].as_array().unwrap();
+    assert_eq!(samples.len(), 5, "{peer}");
+    let prefix = "0/plant/cell_a/c600u/fiveaxis/monitor/status/fiveaxis_msgs::msg::dds_::SingularityStatus_/RIHS01_";
+    for s in samples {
+        assert!(s["key"].as_str().unwrap().starts_with(prefix), "{s}");
+        assert!(s["input_topic"].as_str().unwrap().starts_with("/fiveaxis/"), "{s}");
+        assert!(s["singularity_distance"].as_f64().unwrap().is_finite());
+    }
+    let stamps: Vec<i64> = samples.iter().map(|s| s["stamp_ns"].as_i64().unwrap()).collect();
+    let span = (stamps[4] - stamps[0]) as f64 * 1e-9;
+    assert!(span >= 4.0 / RATE_HZ as f64 * 0.95, "5 statuses in {span} s: over the cap");
+
+    // The office's recording, read by Foxglove's reader: every machine's status, and cell_a's
+    // regions, each one the view reported (live or caught up).
+    let expected = dir.join("expected.json");
+    std::fs::write(&expected, "{}").unwrap();
+    let out = Command::new("python3").arg(Path::new(env!("FIVEAXIS_ROOT")).join("tests/peer/check_mcap.py")).arg(dir.join("office.mcap")).arg(&expected).output().unwrap();
+    assert!(out.status.success(), "{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let checked: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let counts = &checked["counts"];
+    for m in [CELL_A, CELL_B] {
+        assert!(counts[format!("{m}/fiveaxis/monitor/status")].as_u64().unwrap_or(0) > 100, "{checked}");
+        assert!(counts[format!("{m}/diagnostics")].as_u64().unwrap_or(0) > 10, "{checked}");
+    }
+    assert_eq!(counts[format!("{CELL_A}/fiveaxis/fleet/regions")].as_u64(), Some(regions.len() as u64), "{checked}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
