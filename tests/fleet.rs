@@ -122,9 +122,10 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
     let peer: Value = serde_json::from_str(&read("zenoh-peer.json")).unwrap_or_else(|e| panic!("{e}: {}", read("zenoh-peer.log")));
     let samples = peer["samples"].as_array().unwrap();
     assert_eq!(samples.len(), 5, "{peer}");
-    let prefix = "0/plant/cell_a/c600u/fiveaxis/monitor/status/fiveaxis_msgs::msg::dds_::SingularityStatus_/RIHS01_";
+    // The key rmw_zenoh gives the topic, with the type's REP 2016 hash (checked against rosbags below).
+    let key = format!("0/plant/cell_a/c600u/fiveaxis/monitor/status/fiveaxis_msgs::msg::dds_::SingularityStatus_/{}", fiveaxis_msgs::type_hash::rihs01("fiveaxis_msgs/msg/SingularityStatus").unwrap());
     for s in samples {
-        assert!(s["key"].as_str().unwrap().starts_with(prefix), "{s}");
+        assert_eq!(s["key"], key.as_str(), "{s}");
         assert!(s["input_topic"].as_str().unwrap().starts_with("/fiveaxis/"), "{s}");
         assert!(s["singularity_distance"].as_f64().unwrap().is_finite());
     }
@@ -146,4 +147,20 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
     }
     assert_eq!(counts[format!("{CELL_A}/fiveaxis/fleet/regions")].as_u64(), Some(regions.len() as u64), "{checked}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The type hashes in the fleet's keys (REP 2016, from the `.msg` files) are the ones rosbags
+/// computes with its own implementation of rosidl's: for the standard types from its ROS 2 Jazzy
+/// store, for ours from our `.msg` files.
+#[test]
+fn type_hashes_are_the_ones_rosbags_computes() {
+    let types: Vec<String> = fiveaxis_msgs::schema::DEFINITIONS.iter().map(|(n, _)| n.replacen('/', "/msg/", 1)).collect();
+    let root = Path::new(env!("FIVEAXIS_ROOT"));
+    let out = Command::new("python3").arg(root.join("tests/peer/type_hashes.py")).arg(root.join("msgs/msg")).args(&types).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let theirs: Value = serde_json::from_slice(&out.stdout).unwrap();
+    for t in &types {
+        assert_eq!(fiveaxis_msgs::type_hash::rihs01(t).as_deref(), theirs[t].as_str(), "{t}");
+    }
+    assert_eq!(types.len(), 12);
 }

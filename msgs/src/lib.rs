@@ -8,6 +8,7 @@
 pub mod bounds;
 pub mod cdr;
 pub mod schema;
+pub mod type_hash;
 
 use serde::{Deserialize, Serialize};
 

@@ -47,7 +47,11 @@ enum In {
 }
 
 /// A publisher on the fleet network for `topic` of type `M` under the machine's namespace.
+/// Its key and liveliness token carry the type's REP 2016 hash, computed from the `.msg` files, as
+/// rmw_zenoh subscribers expect.
 fn publisher<M: RosMessage + serde::Serialize>(node: &Node, path: &MachinePath, topic: &topics::Topic, qos: &QosProfile) -> anyhow::Result<Publisher<M>> {
+    let hash = fiveaxis_msgs::type_hash::rihs01(&M::type_name()).ok_or_else(|| anyhow::anyhow!("no definition of {}", M::type_name()))?;
+    ros2_client::zenoh::register_type_hash(&keys::dds_type(M::PACKAGE, M::NAME), &hash);
     let full = path.topic(topic);
     let name = Name::parse(&full).map_err(|e| anyhow::anyhow!("topic {full}: {e:?}"))?;
     let t = node.create_topic(&name, MessageTypeName::new(M::PACKAGE, M::NAME), qos);

@@ -246,6 +246,8 @@ pub mod zenoh {
   pub use crate::zenoh_backend::parameters::{ParameterClient, ParameterEvent, ParameterServer};
   #[doc(inline)]
   pub use crate::zenoh_backend::rosout::Logger;
+  #[doc(inline)]
+  pub use crate::zenoh_backend::type_hash::register_type_hash;
 }
 
 // Re-exports from crate root to simplify usage

@@ -86,6 +86,9 @@ lazy_static::lazy_static! {
 /// messages ([`STD_MSGS_SCALAR_HASHES`]). Returns `None` for anything else;
 /// callers then fall back to a wildcard/placeholder for the send direction.
 pub fn known_type_hash(dds_type_name: &str) -> Option<&'static str> {
+  if let Some(hash) = registered_type_hash(dds_type_name) {
+    return Some(hash);
+  }
   if dds_type_name == "std_msgs::msg::dds_::String_" {
     return Some("RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18");
   }
@@ -97,6 +100,32 @@ pub fn known_type_hash(dds_type_name: &str) -> Option<&'static str> {
   STD_MSGS_SCALAR_HASHES
     .get(dds_type_name)
     .map(String::as_str)
+}
+
+/// Type hashes the application registered (fiveaxis patch `zenoh-type-hash.patch`): the types
+/// this crate has no description of, whose hash the application computed from its `.msg` files.
+static REGISTERED: std::sync::RwLock<Vec<(String, &'static str)>> = std::sync::RwLock::new(Vec::new());
+
+fn registered_type_hash(dds_type_name: &str) -> Option<&'static str> {
+  let registered = REGISTERED.read().ok()?;
+  registered.iter().find(|(n, _)| n == dds_type_name).map(|(_, h)| *h)
+}
+
+/// Register the REP-2016 hash (`RIHS01_...`) of a DDS-form type name (e.g.
+/// `fiveaxis_msgs::msg::dds_::Region_`), so that publishers, clients and
+/// liveliness tokens of that type carry it, as `rmw_zenoh` peers expect, instead
+/// of [`PLACEHOLDER_HASH`]. A later registration of the same type replaces the
+/// hash. (fiveaxis patch `zenoh-type-hash.patch`.)
+pub fn register_type_hash(dds_type_name: &str, rihs01: &str) {
+  if let Ok(mut registered) = REGISTERED.write() {
+    if let Some(entry) = registered.iter_mut().find(|(n, _)| n == dds_type_name) {
+      if entry.1 != rihs01 {
+        entry.1 = Box::leak(rihs01.to_string().into_boxed_str());
+      }
+    } else {
+      registered.push((dds_type_name.to_string(), Box::leak(rihs01.to_string().into_boxed_str())));
+    }
+  }
 }
 
 /// The hash to place in a *sender's* (publisher/client) concrete key: the known
