@@ -135,7 +135,7 @@ fn the_readmes_tour_runs() {
 #[test]
 fn the_reference_pages_are_the_commands_own_help() {
     let bin = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().to_path_buf();
-    let pages: [(&str, &str, &[&str]); 17] = [
+    let pages: [(&str, &str, &[&str]); 21] = [
         ("fiveaxis", "fiveaxis", &[]),
         ("fiveaxis-program-analyze", "fiveaxis", &["program", "analyze"]),
         ("fiveaxis-machine-list", "fiveaxis", &["machine", "list"]),
@@ -153,6 +153,10 @@ fn the_reference_pages_are_the_commands_own_help() {
         ("fiveaxis-recorder", "fiveaxis-recorder", &[]),
         ("fiveaxis-rerun", "fiveaxis-rerun", &[]),
         ("fiveaxis-bridge", "fiveaxis-bridge", &[]),
+        ("fiveaxis-fleet", "fiveaxis-fleet", &[]),
+        ("fiveaxis-fleet-gateway", "fiveaxis-fleet", &["gateway"]),
+        ("fiveaxis-fleet-router", "fiveaxis-fleet", &["router"]),
+        ("fiveaxis-fleet-view", "fiveaxis-fleet", &["view"]),
     ];
     let dir = root().join("docs/src/reference");
     let bless = std::env::var_os("FIVEAXIS_BLESS").is_some();

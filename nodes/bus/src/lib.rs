@@ -202,7 +202,8 @@ impl StreamArgs {
     }
 }
 
-fn parse_remap(s: &str) -> Result<(String, String), String> {
+/// `FROM:=TO`, as `--remap` and ROS 2's `-r` take it.
+pub fn parse_remap(s: &str) -> Result<(String, String), String> {
     match s.split_once(":=") {
         Some((a, b)) if !a.is_empty() && !b.is_empty() => Ok((a.to_string(), b.to_string())),
         _ => Err(format!("expected FROM:=TO, got '{s}'")),

@@ -20,8 +20,18 @@ use zenoh::Wait;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    #[command(flatten)]
-    common: CommonArgs,
+    /// Namespace of the cell's node set (its monitor's topics are read from it).
+    #[arg(long, default_value = fiveaxis::topics::NAMESPACE)]
+    namespace: String,
+    /// Rename a cell topic: `--remap monitor/status:=/cnc/monitor/status` (repeatable).
+    #[arg(long = "remap", value_name = "FROM:=TO", value_parser = fiveaxis_bus::parse_remap)]
+    remaps: Vec<(String, String)>,
+    /// The gateway's node name on the cell's domain.
+    #[arg(long, default_value = "fiveaxis_fleet_gateway")]
+    node_name: String,
+    /// Take time from the cell's /clock, as its nodes do with `use_sim_time`.
+    #[arg(long = "use-sim-time")]
+    use_sim_time: bool,
     /// This machine's place on the fleet network: `/SITE/CELL/MACHINE`, each a ROS name token.
     #[arg(long = "fleet-namespace", value_name = "/SITE/CELL/MACHINE")]
     fleet_namespace: String,
@@ -67,7 +77,8 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
     let shutdown = Shutdown::install()?;
 
     // The cell side: the monitor's topics on the cell's DDS domain.
-    let mut bus = Bus::new("fiveaxis_fleet_gateway", &args.common, ros)?;
+    let common = CommonArgs { namespace: args.namespace.clone(), machine: Default::default(), remaps: args.remaps.clone(), node_name: Some(args.node_name.clone()), use_sim_time: args.use_sim_time };
+    let mut bus = Bus::new("fiveaxis_fleet_gateway", &common, ros)?;
     let (tx, rx) = mpsc::sync_channel::<In>(4096);
     let status = bus.subscription::<SingularityStatus>(topics::STATUS.name, state_qos())?;
     fiveaxis_bus::forward(status, bus.resolve(topics::STATUS.name), tx.clone(), |_, s| In::Status(s), |t, e| In::Undecodable(format!("{t}: {e}")));
