@@ -1,8 +1,8 @@
 //! A shop's fleet over Zenoh (issue 67), on one machine in network namespaces
 //! (`launch-free-scripts/fleet`): two cells, each its own DDS domain 0 with commander, simulator,
 //! monitor and gateway (cell_a on SING.I, cell_b on NON_SING.I), a site router, and a head office
-//! (router and view) behind a WAN link of 30 ms each way and 1 % packet loss, down for 10 s in the
-//! middle of the run. What the head office gets is checked against what the cells' own monitors
+//! (router and view) behind a WAN link of 30 ms each way and 1 % packet loss carrying Zenoh's TLS with
+//! client certificates, down for 10 s in the middle of the run. What the head office gets is checked against what the cells' own monitors
 //! logged, against an independent Zenoh peer (Eclipse Zenoh's Python API) and an independent MCAP
 //! reader (Foxglove's mcap-ros2-support); what cell_b's domain holds against Cyclone DDS.
 
@@ -52,7 +52,11 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
     assert!(bins.join("fiveaxis-fleet").exists(), "fiveaxis-fleet is not built: run launch-free-scripts/test");
     let dir = common::scratch_dir("fleet");
     let status = Command::new(Path::new(env!("FIVEAXIS_ROOT")).join("launch-free-scripts/fleet"))
-        .args(["--duration-s", "50", "--outage-at-s", "8", "--outage-s", "10", "--state-rate-hz", &RATE_HZ.to_string()])
+        // SING.I twice over at twice its speed (a pass of 14 s, its region 6-8 s in), sampled at 250 Hz
+        // of program time (two cells at 1 kHz would starve the tests running beside this one); the
+        // link down from 2 s to 12 s after the office heard both machines: the first pass' regions
+        // close during the outage, the second's after it.
+        .args(["--duration-s", "32", "--speed", "2", "--sample-rate-hz", "250", "--outage-at-s", "2", "--outage-s", "10", "--state-rate-hz", &RATE_HZ.to_string()])
         .args(["--wan-delay-ms", "30", "--wan-loss-pct", "1", "--out"])
         .arg(&dir)
         .env("FIVEAXIS_BIN", bins)
@@ -133,6 +137,11 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
     let span = (stamps[4] - stamps[0]) as f64 * 1e-9;
     assert!(span >= 4.0 / RATE_HZ as f64 * 0.95, "5 statuses in {span} s: over the cap");
 
+    // The WAN is Zenoh's TLS with client certificates: a peer that trusts the CA but holds no
+    // certificate of it gets nothing through the office's endpoint.
+    let refused: Value = serde_json::from_str(&read("zenoh-peer-no-certificate.json")).unwrap_or_else(|e| panic!("{e}: {}", read("zenoh-peer-no-certificate.log")));
+    assert!(refused["samples"].as_array().unwrap().is_empty(), "{refused}");
+
     // The office's recording, read by Foxglove's reader: every machine's status, and cell_a's
     // regions, each one the view reported (live or caught up).
     let expected = dir.join("expected.json");
@@ -146,6 +155,22 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
         assert!(counts[format!("{m}/diagnostics")].as_u64().unwrap_or(0) > 10, "{checked}");
     }
     assert_eq!(counts[format!("{CELL_A}/fiveaxis/fleet/regions")].as_u64(), Some(regions.len() as u64), "{checked}");
+
+    // The office's Rerun stream, read back by Rerun's own CLI: a machine per entity tree.
+    let rrd = dir.join("office.rrd");
+    let rerun = |args: &[&str]| {
+        let out = Command::new("rerun").args(args).env("RERUN_ANALYTICS", "0").output().expect("the rerun CLI (pip install rerun-sdk==0.36.3)");
+        assert!(out.status.success(), "rerun {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    rerun(&["rrd", "verify", rrd.to_str().unwrap()]);
+    let printed = rerun(&["rrd", "print", "-vv", rrd.to_str().unwrap()]);
+    for m in [CELL_A, CELL_B] {
+        for leaf in ["distance_deg", "c_demand_rpm", "state"] {
+            assert!(printed.contains(&format!("/fleet{m}/{leaf}")), "no /fleet{m}/{leaf} in the .rrd");
+        }
+    }
+    assert!(printed.contains(&format!("/fleet{CELL_A}/regions")) && !printed.contains(&format!("/fleet{CELL_B}/regions")));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

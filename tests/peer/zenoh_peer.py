@@ -8,8 +8,9 @@ with CDR's alignment rules), and rmw_zenoh's 33-byte attachment (sequence number
 GID).
 
 usage: zenoh_peer.py --connect tcp/127.0.0.1:7447 --machine /plant/cell_a/c600u [--count 5] [--timeout-s 20]
+                     [--root-ca ca.pem]
 Prints one JSON object: {"samples": [{"key", "seq", "stamp_ns", "input_topic", "singularity_distance",
-"predicted_c_speed", "in_region", "region_id", "x"}...]}.
+"predicted_c_speed", "in_region", "region_id", "x"}...]}, and "error" when the router refused the session.
 """
 import argparse
 import json
@@ -84,14 +85,22 @@ def main():
     ap.add_argument("--domain", type=int, default=0)
     ap.add_argument("--count", type=int, default=5)
     ap.add_argument("--timeout-s", type=float, default=20.0)
+    ap.add_argument("--root-ca", help="for a tls/ endpoint: the CA to trust (no client certificate is presented)")
     a = ap.parse_args()
     conf = zenoh.Config()
+    if a.root_ca:
+        conf.insert_json5("transport/link/tls/root_ca_certificate", json.dumps(a.root_ca))
     conf.insert_json5("mode", '"client"')
     conf.insert_json5("connect/endpoints", json.dumps([a.connect]))
     conf.insert_json5("scouting/multicast/enabled", "false")
     key = f"{a.domain}/{a.machine.strip('/')}/fiveaxis/monitor/status/fiveaxis_msgs::msg::dds_::SingularityStatus_/*"
     got = queue.Queue()
-    with zenoh.open(conf) as session:
+    try:
+        session = zenoh.open(conf)
+    except Exception as e:  # a router that refuses us (mTLS without a certificate)
+        print(json.dumps({"samples": [], "error": str(e)}))
+        return
+    with session:
         sub = session.declare_subscriber(key, lambda s: got.put((str(s.key_expr), s.payload.to_bytes(),
                                                                   s.attachment.to_bytes() if s.attachment else b"")))
         samples = []

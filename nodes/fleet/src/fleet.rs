@@ -60,6 +60,41 @@ pub enum Event {
     Recovered { machine: String, silent_s: f64 },
 }
 
+/// Latency samples kept per machine (the last ones).
+const LATENCY_WINDOW: usize = 1000;
+/// A status stamp further than this from the office's clock is no wall time (a cell on
+/// `use_sim_time` stamps program time): no latency is taken from it.
+const WALL_CLOCK_SLACK_NS: i64 = 3_600_000_000_000;
+
+/// How long statuses took to reach the office, over the last [`LATENCY_WINDOW`] (nearest-rank
+/// percentiles, ms): from the monitor's sample stamp (the whole way from the cell, cap included),
+/// and from the gateway's send stamp (the fleet network alone).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Latency {
+    pub sample_p50_ms: Option<f64>,
+    pub sample_p99_ms: Option<f64>,
+    pub link_p50_ms: Option<f64>,
+    pub link_p99_ms: Option<f64>,
+}
+
+/// The nearest-rank `p` percentile (0 < p <= 1).
+fn percentile(v: &VecDeque<f64>, p: f64) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    let mut sorted: Vec<f64> = v.iter().copied().collect();
+    sorted.sort_by(f64::total_cmp);
+    let rank = ((p * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+    Some(sorted[rank - 1])
+}
+
+fn keep(v: &mut VecDeque<f64>, x: f64) {
+    if v.len() == LATENCY_WINDOW {
+        v.pop_front();
+    }
+    v.push_back(x);
+}
+
 /// One machine's line in the fleet view.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Row {
@@ -81,6 +116,7 @@ pub struct Row {
     /// Status messages missing from the gateway's sequence (the cap drops none: these are the
     /// link's losses).
     pub status_missing: u64,
+    pub latency: Latency,
 }
 
 /// What the view knows of one machine.
@@ -96,6 +132,8 @@ struct Machine {
     max_rate: usize,
     last_seq: Option<i64>,
     missing: u64,
+    sample_latency_ms: VecDeque<f64>,
+    link_latency_ms: VecDeque<f64>,
 }
 
 /// Degrees from radians, rpm from rad/s: the units people read.
@@ -138,6 +176,8 @@ impl Fleet {
             max_rate: 0,
             last_seq: None,
             missing: 0,
+            sample_latency_ms: VecDeque::new(),
+            link_latency_ms: VecDeque::new(),
         });
         if m.stale_since.take().is_some() {
             events.push(Event::Recovered { machine: path.namespace(), silent_s: (now - m.last_heard).as_secs_f64() });
@@ -146,10 +186,18 @@ impl Fleet {
         m
     }
 
-    /// A status from `path`, with its rmw_zenoh sequence number and send stamp (ns) when known.
-    pub fn on_status(&mut self, path: &MachinePath, s: SingularityStatus, sent: Option<(i64, i64)>, now: Instant) -> Vec<Event> {
+    /// A status from `path`, with its rmw_zenoh sequence number and send stamp (ns) when known,
+    /// received at `received_ns` (ns since the UNIX epoch).
+    pub fn on_status(&mut self, path: &MachinePath, s: SingularityStatus, sent: Option<(i64, i64)>, received_ns: i64, now: Instant) -> Vec<Event> {
         let mut events = Vec::new();
         let m = self.heard(path, now, &mut events);
+        let sampled = s.header.stamp.as_nanos() as i64;
+        if (received_ns - sampled).abs() < WALL_CLOCK_SLACK_NS {
+            keep(&mut m.sample_latency_ms, (received_ns - sampled) as f64 * 1e-6);
+        }
+        if let Some((_, stamp)) = sent {
+            keep(&mut m.link_latency_ms, (received_ns - stamp) as f64 * 1e-6);
+        }
         if let Some((seq, stamp)) = sent {
             if let Some(last) = m.last_seq {
                 if seq > last + 1 {
@@ -250,6 +298,12 @@ impl Fleet {
                     last_heard_s: now.saturating_duration_since(m.last_heard).as_secs_f64(),
                     status_rate_hz: m.recent.iter().filter(|&&t| t > newest - 1_000_000_000).count(),
                     max_status_rate_hz: m.max_rate,
+                    latency: Latency {
+                        sample_p50_ms: percentile(&m.sample_latency_ms, 0.5),
+                        sample_p99_ms: percentile(&m.sample_latency_ms, 0.99),
+                        link_p50_ms: percentile(&m.link_latency_ms, 0.5),
+                        link_p99_ms: percentile(&m.link_latency_ms, 0.99),
+                    },
                     status_missing: m.missing,
                 }
             })
@@ -275,14 +329,14 @@ mod tests {
         let t0 = Instant::now();
         let mut f = Fleet::new(Duration::from_secs(3));
         let s = SingularityStatus { input_topic: "/fiveaxis/simulated/axis_state".into(), singularity_distance: 0.5f64.to_radians(), predicted_c_speed: 20.0, ..Default::default() };
-        assert_eq!(f.on_status(&path("a"), s.clone(), Some((1, 0)), t0), vec![Event::Joined { machine: "/plant/cell_a/a".into() }]);
-        assert!(f.on_status(&path("a"), s.clone(), Some((2, 100_000_000)), t0).is_empty());
+        assert_eq!(f.on_status(&path("a"), s.clone(), Some((1, 0)), 0, t0), vec![Event::Joined { machine: "/plant/cell_a/a".into() }]);
+        assert!(f.on_status(&path("a"), s.clone(), Some((2, 100_000_000)), 0, t0).is_empty());
         assert!(f.tick(t0 + Duration::from_millis(2900)).is_empty());
         let e = f.tick(t0 + Duration::from_secs(3));
         assert!(matches!(&e[..], [Event::Stale { machine, .. }] if machine == "/plant/cell_a/a"));
         assert!(f.tick(t0 + Duration::from_secs(4)).is_empty(), "said once");
         assert_eq!(f.rows(t0 + Duration::from_secs(4))[0].state, Level::Stale);
-        let e = f.on_status(&path("a"), s, Some((5, 10_000_000_000)), t0 + Duration::from_secs(13));
+        let e = f.on_status(&path("a"), s, Some((5, 10_000_000_000)), 0, t0 + Duration::from_secs(13));
         assert!(matches!(&e[..], [Event::Recovered { silent_s, .. }] if (*silent_s - 13.0).abs() < 1e-9));
         let row = &f.rows(t0 + Duration::from_secs(13))[0];
         assert_eq!(row.status_missing, 2);
@@ -323,9 +377,29 @@ mod tests {
         let mut f = Fleet::new(Duration::from_secs(3));
         // 10 Hz for 3 s, delivered all at once (a burst after an outage) still counts 10 a second.
         for i in 0..30i64 {
-            f.on_status(&path("a"), SingularityStatus::default(), Some((i + 1, i * 100_000_000)), t0);
+            f.on_status(&path("a"), SingularityStatus::default(), Some((i + 1, i * 100_000_000)), 0, t0);
         }
         assert_eq!(f.max_rate(&path("a")), Some(10));
         assert_eq!((f.rows(t0)[0].status_rate_hz, f.rows(t0)[0].max_status_rate_hz), (10, 10));
+    }
+
+    #[test]
+    fn latencies_are_percentiles_of_wall_clock_stamps() {
+        let t0 = Instant::now();
+        let mut f = Fleet::new(Duration::from_secs(3));
+        let epoch = 1_800_000_000_000_000_000i64;
+        // 100 statuses, sampled 1..=100 ms before arrival, sent 0.5 ms before it.
+        for i in 1..=100i64 {
+            let received = epoch + i * 100_000_000;
+            let s = SingularityStatus { header: fiveaxis_msgs::Header { stamp: fiveaxis_msgs::Time::from_nanos((received - i * 1_000_000) as u64), frame_id: String::new() }, ..Default::default() };
+            f.on_status(&path("a"), s, Some((i, received - 500_000)), received, t0);
+        }
+        let l = f.rows(t0)[0].latency.clone();
+        assert_eq!((l.sample_p50_ms, l.sample_p99_ms), (Some(50.0), Some(99.0)));
+        assert!((l.link_p50_ms.unwrap() - 0.5).abs() < 1e-9 && (l.link_p99_ms.unwrap() - 0.5).abs() < 1e-9);
+        // Program time (a cell on use_sim_time) is no wall time: no sample latency from it.
+        let mut g = Fleet::new(Duration::from_secs(3));
+        g.on_status(&path("b"), SingularityStatus::default(), None, epoch, t0);
+        assert_eq!(g.rows(t0)[0].latency, Latency::default());
     }
 }

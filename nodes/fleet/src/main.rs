@@ -5,6 +5,7 @@
 //! Exit 2 on bad input (a name, an endpoint, a Zenoh configuration file), with the reason.
 
 mod gateway;
+mod rerun_out;
 mod router;
 mod view;
 mod zenoh_args;

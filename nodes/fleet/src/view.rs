@@ -2,9 +2,11 @@
 //! subscribes to every machine's status, `/diagnostics` and regions by wildcard (machines join and
 //! leave without a restart), shows each one's state (OK/WARN/ERROR/STALE), distance, C demand and
 //! regions this shift, asks each gateway for the shift's regions when a machine joins or comes back
-//! from stale (the catch-up after an outage), writes its events as JSON lines and records what
-//! reaches it to MCAP, a topic per machine.
+//! from stale (the catch-up after an outage), writes its events as JSON lines, records what
+//! reaches it to MCAP (a topic per machine) and streams it to a Rerun viewer (a machine per entity
+//! tree).
 
+use crate::rerun_out::{FleetRerun, RerunArgs};
 use crate::zenoh_args::ZenohArgs;
 use fiveaxis::record::{from_cdr, OfferedQos, RecordOptions, Recorder};
 use fiveaxis::topics::{self, Topic};
@@ -35,15 +37,20 @@ pub struct Args {
     /// Record every message that reaches the office to this MCAP file (a topic per machine).
     #[arg(long = "record", value_name = "FILE.mcap")]
     record: Option<PathBuf>,
+    #[command(flatten)]
+    rerun: RerunArgs,
     /// Stop after this long, s (default: until SIGINT or SIGTERM).
     #[arg(long = "duration-s")]
     duration_s: Option<f64>,
 }
 
+/// How often each machine's line goes to Rerun.
+const RERUN_EVERY: Duration = Duration::from_millis(200);
+
 /// What the network hands the loop.
 enum In {
     /// A sample of `topic` from a machine: its payload and rmw_zenoh attachment (seq, send stamp).
-    Sample { path: MachinePath, topic: Topic, payload: Vec<u8>, sent: Option<(i64, i64)> },
+    Sample { path: MachinePath, topic: Topic, payload: Vec<u8>, sent: Option<(i64, i64)>, received_ns: u64 },
     /// A region from a gateway's store.
     CaughtUp { path: MachinePath, payload: Vec<u8> },
 }
@@ -118,6 +125,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => None,
         Some(p) => Some(Recording { recorder: Recorder::create(p, RecordOptions::default()).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?, channels: BTreeMap::new() }),
     };
+    let mut rerun = FleetRerun::open(&args.rerun)?;
     let session = zenoh::open(config).wait().map_err(|e| anyhow::anyhow!("opening the fleet session: {e}"))?;
     let (tx, rx) = mpsc::sync_channel::<In>(65536);
     let streams: [(Topic, &str, &str); 3] = [
@@ -134,7 +142,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .callback(move |sample| {
                 let Some(path) = keys::machine_of(sample.key_expr().as_str(), domain, &topic) else { return };
                 let sent = sample.attachment().and_then(|a| keys::attachment(&a.to_bytes()));
-                let _ = tx.try_send(In::Sample { path, topic, payload: sample.payload().to_bytes().into_owned(), sent });
+                let _ = tx.try_send(In::Sample { path, topic, payload: sample.payload().to_bytes().into_owned(), sent, received_ns: now_ns() });
             })
             .wait()
             .map_err(|e| anyhow::anyhow!("subscribing to {key}: {e}"))?;
@@ -146,6 +154,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut fleet = Fleet::new(Duration::from_millis(args.stale_ms));
     let start = Instant::now();
     let mut next_table = start;
+    let mut next_rerun = start;
     let mut last_flush = start;
     let mut undecodable = 0u64;
     let type_of = |t: &Topic| match t.absolute {
@@ -156,10 +165,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     while !shutdown.requested() && !args.duration_s.is_some_and(|d| start.elapsed().as_secs_f64() >= d) {
         let mut events = Vec::new();
         match rx.recv_timeout(Duration::from_millis(50)) {
-            Ok(In::Sample { path, topic, payload, sent }) => {
+            Ok(In::Sample { path, topic, payload, sent, received_ns }) => {
                 let now = Instant::now();
                 let decoded = match topic.absolute {
-                    a if a == topics::STATUS.absolute => from_cdr::<SingularityStatus>(&payload).map(|s| events.extend(fleet.on_status(&path, s, sent, now))),
+                    a if a == topics::STATUS.absolute => from_cdr::<SingularityStatus>(&payload).map(|s| events.extend(fleet.on_status(&path, s, sent, received_ns as i64, now))),
                     a if a == topics::REGIONS.absolute => from_cdr::<Region>(&payload).map(|r| events.extend(fleet.on_region(&path, r, false, now))),
                     _ => from_cdr::<DiagnosticArray>(&payload).map(|d| events.extend(fleet.on_diagnostics(&path, &d, now))),
                 };
@@ -192,6 +201,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Err(_) => {}
         }
         events.extend(fleet.tick(Instant::now()));
+        if let Some(rr) = rerun.as_mut() {
+            rr.events(start.elapsed().as_secs_f64(), &events)?;
+            if Instant::now() >= next_rerun {
+                next_rerun = Instant::now() + RERUN_EVERY;
+                rr.rows(start.elapsed().as_secs_f64(), &fleet.rows(Instant::now()))?;
+            }
+        }
         for e in &events {
             match e {
                 Event::Joined { machine } | Event::Recovered { machine, .. } => {
@@ -241,6 +257,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     if let Some(mut rec) = recording {
         rec.recorder.finish()?;
+    }
+    if let Some(mut rr) = rerun {
+        rr.rows(start.elapsed().as_secs_f64(), &rows)?;
+        rr.flush();
     }
     tracing::info!(machines = rows.len(), undecodable, "fleet view done");
     drop(subscribers);

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct ZenohArgs {
-    /// A Zenoh configuration file (JSON5): TLS certificates, access control, timeouts. The flags
-    /// below override its mode and endpoints.
+    /// A Zenoh configuration file (JSON5): TLS certificates, access control, timeouts. The command
+    /// sets its mode, the endpoints given below, no multicast scouting and endless connect retries.
     #[arg(long = "zenoh-config", value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Listen on this endpoint, e.g. `tcp/10.0.1.1:7447` or `tls/10.0.1.1:7448` (repeatable).
@@ -22,7 +22,7 @@ pub struct ZenohArgs {
 }
 
 impl ZenohArgs {
-    /// The session configuration for `mode` (`client`, `router`). Without a file, multicast
+    /// The session configuration for `mode` (`client`, `router`), over the file's. Multicast
     /// scouting is off: a fleet is joined by its named endpoints, never by what a LAN answers. A
     /// session starts whether or not its router is up yet, and reconnects when a link returns.
     pub fn config(&self, mode: &str) -> anyhow::Result<zenoh::Config> {
@@ -38,11 +38,9 @@ impl ZenohArgs {
         if !self.connect.is_empty() {
             set("connect/endpoints", serde_json::to_string(&self.connect)?).context("--connect")?;
         }
-        if self.config.is_none() {
-            set("scouting/multicast/enabled", "false".into())?;
-            set("connect/exit_on_failure", "false".into())?;
-            set("connect/timeout_ms", "-1".into())?;
-        }
+        set("scouting/multicast/enabled", "false".into())?;
+        set("connect/exit_on_failure", "false".into())?;
+        set("connect/timeout_ms", "-1".into())?;
         Ok(c)
     }
 }
