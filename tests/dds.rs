@@ -194,8 +194,17 @@ for k in $(seq 100); do
     sleep 0.2
     kill -0 $M
 done
-kill -INT $R; wait $R
-kill -INT $M; wait $M
+# Each node must stop within 30 s of SIGINT; if one does not, say which and what its threads wait on.
+stop() {{
+    kill -INT $1
+    for i in $(seq 300); do kill -0 $1 2>/dev/null || {{ wait $1; return $?; }}; sleep 0.1; done
+    echo "$2 did not stop within 30 s of SIGINT; its threads:" >&2
+    for t in /proc/$1/task/*; do echo "$(cat $t/comm): $(cat $t/wchan 2>/dev/null) $(grep State $t/status)" >&2; done
+    kill -KILL $1
+    return 1
+}}
+stop $R recorder
+stop $M monitor
 "#,
         b = b.display(),
         s = summary.display(),

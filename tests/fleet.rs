@@ -189,3 +189,26 @@ fn type_hashes_are_the_ones_rosbags_computes() {
     }
     assert_eq!(types.len(), 12);
 }
+
+/// Bad input to the fleet's commands exits 2, naming what and why, before anything joins a network.
+#[test]
+fn bad_fleet_input_exits_2_naming_it() {
+    let exe = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().join("fiveaxis-fleet");
+    let dir = common::scratch_dir("fleet-bad");
+    let config = dir.join("broken.json5");
+    std::fs::write(&config, "{ mode: \"router\", listen: { endpoints: [ }").unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (&["gateway", "--fleet-namespace", "/plant/cell_a"], "expected /SITE/CELL/MACHINE"),
+        (&["gateway", "--fleet-namespace", "/plant/cell-a/c600u"], "cell 'cell-a'"),
+        (&["gateway", "--fleet-namespace", "/plant/cell_a/c600u", "--state-rate-hz", "0"], "--state-rate-hz 0"),
+        (&["router", "--zenoh-config", config.to_str().unwrap()], "broken.json5"),
+        (&["view", "--zenoh-config", "/nonexistent/fleet.json5"], "/nonexistent/fleet.json5"),
+    ];
+    for (args, says) in cases {
+        let out = Command::new(&exe).args(args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?} should say {says:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

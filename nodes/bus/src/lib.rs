@@ -347,6 +347,18 @@ pub fn context_with(settings: &ParticipantSettings) -> anyhow::Result<Context> {
     Context::from_domain_participant(participant).context("creating the ROS 2 context")
 }
 
+/// Exit with `code` if the process is still running `grace` after this call: a node calls it once
+/// its results are written, before it returns and drops its DDS participant, whose teardown (RustDDS
+/// joins its threads) must not keep a finished node alive. (A CI run of the 100-kill test waited
+/// 300 s on a monitor or recorder told to stop; where it hung is not known.)
+pub fn exit_if_teardown_hangs(code: i32, grace: Duration) {
+    std::thread::spawn(move || {
+        std::thread::sleep(grace);
+        tracing::warn!("the DDS teardown did not end within {} s of the node's last work: exiting", grace.as_secs_f64());
+        std::process::exit(code);
+    });
+}
+
 /// Set when SIGINT or SIGTERM arrives.
 #[derive(Debug, Clone)]
 pub struct Shutdown(Arc<AtomicBool>);

@@ -243,5 +243,6 @@ fn main() -> anyhow::Result<()> {
         tracing::error!(%topic, "the program could not be read again to place this stream's samples: {why}");
         std::process::exit(2);
     }
+    fiveaxis_bus::exit_if_teardown_hangs(0, Duration::from_secs(10));
     Ok(())
 }

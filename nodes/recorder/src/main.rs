@@ -227,5 +227,6 @@ fn main() -> anyhow::Result<()> {
     }
     let n = written(bag.finish());
     tracing::info!(messages = n, bag = %args.output.display(), "recording finished");
+    fiveaxis_bus::exit_if_teardown_hangs(0, Duration::from_secs(10));
     Ok(())
 }
