@@ -136,12 +136,12 @@ struct Machine {
     link_latency_ms: VecDeque<f64>,
 }
 
-/// Degrees from radians, rpm from rad/s: the units people read.
+/// Degrees from radians, rpm from rad/s: the units people read (the one rpm factor, `units::RPM`).
 fn deg(rad: f64) -> f64 {
     rad.to_degrees()
 }
 fn rpm(rad_s: f64) -> f64 {
-    rad_s * 60.0 / std::f64::consts::TAU
+    rad_s / fiveaxis::units::RPM
 }
 
 /// The stream a machine's line shows: the machine's own (a bridge's), else the simulated, else the
@@ -243,8 +243,8 @@ impl Fleet {
             input_topic: r.input_topic.clone(),
             region_id: r.region_id,
             cause: r.cause,
-            start_x_mm: r.start_position.x * 1e3,
-            end_x_mm: r.end_position.x * 1e3,
+            start_x_mm: r.start_position.x / fiveaxis::units::MM,
+            end_x_mm: r.end_position.x / fiveaxis::units::MM,
             peak_c_demand_rpm: rpm(r.peak_predicted_c_speed),
             min_distance_deg: deg(r.min_singularity_distance),
             start_line: r.start_line,

@@ -128,7 +128,7 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
             }
             s.push_back(r.clone());
         }
-        tracing::info!(stream = %r.input_topic, region = r.region_id, x_mm = r.start_position.x * 1e3, "region closed");
+        tracing::info!(stream = %r.input_topic, region = r.region_id, x_mm = r.start_position.x / fiveaxis::units::MM, "region closed");
         if let Err(e) = regions_pub.publish(r) {
             tracing::debug!("region not sent now (a view catches up): {e:?}");
         }
