@@ -81,12 +81,16 @@ fn check(l: &Live) {
     check_lost(l, 0);
 }
 
-/// [`check`] for a publisher that skipped `lost` samples: the monitor counts exactly those.
+/// [`check`] for a publisher that skipped `lost` samples: the monitor counts exactly those, or, when
+/// the publisher stamps at send time, at most one more for each send it made over a period late (a
+/// starved sender's stamps; no reader of them can tell such a send from one after a lost sample).
 fn check_lost(l: &Live, lost: u64) {
     let input = l.summary.as_array().unwrap().iter().find(|i| i["topic"] == "/cnc/joint_states").unwrap_or_else(|| panic!("{:#}", l.summary));
     let sent = l.published["samples_sent"].as_u64().unwrap_or_else(|| panic!("{:#}", l.published));
     assert_eq!(input["samples"].as_u64().unwrap(), sent, "every sample heard: {input:#}\n{}", l.log);
-    assert_eq!(input["lost"], lost, "exactly the samples not sent reported lost: {input:#}");
+    let late = if l.published["stamp_mode"] == "send" { l.published["late_ms"]["over_1ms"].as_u64().unwrap_or(0) } else { 0 };
+    let counted = input["lost"].as_u64().unwrap();
+    assert!(counted >= lost && counted <= lost + late, "the samples not sent ({lost}) reported lost, {late} sends over 1 ms late: {input:#}\n{:#}", l.published["late_ms"]);
     assert_eq!(input["rejected"]["out_of_order"], 0, "{input:#}");
     let regions = input["regions"].as_array().unwrap();
     assert_eq!(regions.len(), 1, "one region for the pass, no false one: {regions:#?}");
