@@ -348,7 +348,10 @@ fn a_bridge_killed_and_restarted_is_stale_time_not_lost_samples() {
     let summary = l.monitor.as_ref().unwrap();
     let input = summary.as_array().unwrap().iter().find(|i| i["topic"] == "/fiveaxis/machine/joint_states").unwrap();
     assert_eq!(input["rejected"]["missing_joint"], 0, "{}", l.log);
-    assert_eq!(input["stale"], 2, "the outage and the end: {input:#}\n{}", l.log);
+    // The outage and the end; on a starved machine the restarted bridge's first reports can come late
+    // enough for one more stale episode (seen in CI: 3), which is stale time too, never lost samples.
+    let stale = input["stale"].as_u64().unwrap();
+    assert!((2..=3).contains(&stale), "{stale} stale episodes: the outage and the end: {input:#}\n{}", l.log);
     // The second bridge's own summary: one connection, from /current.
     assert_eq!(l.bridge["connections"], 1, "{:#}", l.bridge);
     check_sing_live(&l);
