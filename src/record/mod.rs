@@ -59,6 +59,12 @@ pub enum RecordError {
     WriteFailedUnclosed { path: PathBuf, source: std::io::Error, kept: u64, close: std::io::Error },
 }
 
+/// The wall clock in ns since the UNIX epoch, as a recorder takes a message's log time when it
+/// arrives (0 before the epoch).
+pub fn wall_clock_ns() -> u64 {
+    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos() as u64)
+}
+
 /// Encode a message as rosbag2 stores it: CDR_LE header + XCDR1 body.
 pub fn to_cdr<M: Serialize>(msg: &M) -> Result<Vec<u8>, RecordError> {
     let body = cdr_encoding::to_vec::<M, byteorder::LittleEndian>(msg).map_err(|e| RecordError::Cdr(e.to_string()))?;

@@ -10,19 +10,31 @@ use std::collections::{BTreeMap, VecDeque};
 use std::time::{Duration, Instant};
 
 /// A machine's state as the fleet view shows it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Level {
-    #[serde(rename = "OK")]
     Ok,
-    #[serde(rename = "WARN")]
     Warn,
-    #[serde(rename = "ERROR")]
     Error,
-    #[serde(rename = "STALE")]
     Stale,
 }
 
+impl Serialize for Level {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
 impl Level {
+    /// As people read it, and as the JSON lines write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Level::Ok => "OK",
+            Level::Warn => "WARN",
+            Level::Error => "ERROR",
+            Level::Stale => "STALE",
+        }
+    }
+
     /// diagnostic_msgs/DiagnosticStatus levels (OK 0, WARN 1, ERROR 2, STALE 3).
     pub fn of_diagnostic(level: u8) -> Level {
         match level {
@@ -195,10 +207,8 @@ impl Fleet {
         if (received_ns - sampled).abs() < WALL_CLOCK_SLACK_NS {
             keep(&mut m.sample_latency_ms, (received_ns - sampled) as f64 * 1e-6);
         }
-        if let Some((_, stamp)) = sent {
-            keep(&mut m.link_latency_ms, (received_ns - stamp) as f64 * 1e-6);
-        }
         if let Some((seq, stamp)) = sent {
+            keep(&mut m.link_latency_ms, (received_ns - stamp) as f64 * 1e-6);
             if let Some(last) = m.last_seq {
                 if seq > last + 1 {
                     m.missing += (seq - last - 1) as u64;

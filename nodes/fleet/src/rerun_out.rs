@@ -63,8 +63,7 @@ impl FleetRerun {
                     Level::Warn | Level::Stale => "WARN",
                     Level::Error => "ERROR",
                 };
-                let name = serde_json::to_value(r.state)?.as_str().unwrap_or_default().to_string();
-                self.rec.log(entity(&r.machine, "state").as_str(), &rerun::TextLog::new(name).with_level(level))?;
+                self.rec.log(entity(&r.machine, "state").as_str(), &rerun::TextLog::new(r.state.name()).with_level(level))?;
             }
         }
         Ok(())

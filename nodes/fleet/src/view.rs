@@ -8,7 +8,7 @@
 
 use crate::rerun_out::{FleetRerun, RerunArgs};
 use crate::zenoh_args::ZenohArgs;
-use fiveaxis::record::{from_cdr, OfferedQos, RecordOptions, Recorder};
+use fiveaxis::record::{from_cdr, wall_clock_ns, OfferedQos, RecordOptions, Recorder};
 use fiveaxis::topics::{self, Topic};
 use fiveaxis_fleet::fleet::{Event, Fleet, Row};
 use fiveaxis_fleet::keys::{self, MachinePath};
@@ -17,7 +17,7 @@ use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::mpsc;
-use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant};
 use zenoh::Wait;
 
 #[derive(Debug, clap::Args)]
@@ -47,16 +47,41 @@ pub struct Args {
 /// How often each machine's line goes to Rerun.
 const RERUN_EVERY: Duration = Duration::from_millis(200);
 
-/// What the network hands the loop.
-enum In {
-    /// A sample of `topic` from a machine: its payload and rmw_zenoh attachment (seq, send stamp).
-    Sample { path: MachinePath, topic: Topic, payload: Vec<u8>, sent: Option<(i64, i64)>, received_ns: u64 },
-    /// A region from a gateway's store.
-    CaughtUp { path: MachinePath, payload: Vec<u8> },
+/// The streams the view takes from each machine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Stream {
+    Status,
+    Diagnostics,
+    Regions,
 }
 
-fn now_ns() -> u64 {
-    SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_nanos() as u64)
+impl Stream {
+    const ALL: [Stream; 3] = [Stream::Status, Stream::Diagnostics, Stream::Regions];
+
+    fn topic(self) -> Topic {
+        match self {
+            Stream::Status => topics::STATUS,
+            Stream::Diagnostics => topics::DIAGNOSTICS,
+            Stream::Regions => topics::REGIONS,
+        }
+    }
+
+    /// Its message type's package and name.
+    fn message(self) -> (&'static str, &'static str) {
+        match self {
+            Stream::Status => (SingularityStatus::PACKAGE, SingularityStatus::NAME),
+            Stream::Diagnostics => (DiagnosticArray::PACKAGE, DiagnosticArray::NAME),
+            Stream::Regions => (Region::PACKAGE, Region::NAME),
+        }
+    }
+}
+
+/// What the network hands the loop.
+enum In {
+    /// A sample of a stream from a machine: its payload and rmw_zenoh attachment (seq, send stamp).
+    Sample { path: MachinePath, stream: Stream, payload: Vec<u8>, sent: Option<(i64, i64)>, received_ns: u64 },
+    /// A region from a gateway's store.
+    CaughtUp { path: MachinePath, payload: Vec<u8> },
 }
 
 /// The machines' lines as a table: what a process engineer reads.
@@ -64,8 +89,7 @@ fn table(rows: &[Row]) -> String {
     let mut out = format!("{:<32} {:<6} {:>13} {:>13} {:>8} {:>9} {:>7}\n", "machine", "state", "distance deg", "C demand rpm", "regions", "heard s", "rate/s");
     for r in rows {
         let f = |v: Option<f64>, p: usize| v.map_or("-".to_string(), |v| format!("{v:.p$}"));
-        let state = serde_json::to_value(r.state).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default();
-        out += &format!("{:<32} {:<6} {:>13} {:>13} {:>8} {:>9.1} {:>7}\n", r.machine, state, f(r.distance_deg, 3), f(r.c_demand_rpm, 1), r.regions, r.last_heard_s, r.status_rate_hz);
+        out += &format!("{:<32} {:<6} {:>13} {:>13} {:>8} {:>9.1} {:>7}\n", r.machine, r.state.name(), f(r.distance_deg, 3), f(r.c_demand_rpm, 1), r.regions, r.last_heard_s, r.status_rate_hz);
     }
     out
 }
@@ -92,22 +116,23 @@ fn catch_up(session: &zenoh::Session, key: String, domain: u16, tx: mpsc::SyncSe
 /// The MCAP channels of the machines heard so far.
 struct Recording {
     recorder: Recorder,
-    channels: BTreeMap<(MachinePath, &'static str), u16>,
+    channels: BTreeMap<(MachinePath, Stream), u16>,
 }
 
 impl Recording {
-    fn write(&mut self, path: &MachinePath, topic: &Topic, type_name: &str, payload: &[u8], publish_ns: u64) -> anyhow::Result<()> {
-        let key = (path.clone(), topic.absolute);
+    fn write(&mut self, path: &MachinePath, stream: Stream, payload: &[u8], publish_ns: u64) -> anyhow::Result<()> {
+        let key = (path.clone(), stream);
         let channel = match self.channels.get(&key) {
             Some(c) => *c,
             None => {
-                let qos = if topic.absolute == topics::DIAGNOSTICS.absolute { OfferedQos::DIAGNOSTICS } else { OfferedQos::STATE };
-                let c = self.recorder.add_topic_type(&path.topic(topic), type_name, qos)?;
+                let qos = if stream == Stream::Diagnostics { OfferedQos::DIAGNOSTICS } else { OfferedQos::STATE };
+                let (package, name) = stream.message();
+                let c = self.recorder.add_topic_type(&path.topic(&stream.topic()), &format!("{package}/msg/{name}"), qos)?;
                 self.channels.insert(key, c);
                 c
             }
         };
-        self.recorder.write_raw(channel, payload, now_ns(), publish_ns)?;
+        self.recorder.write_raw(channel, payload, wall_clock_ns(), publish_ns)?;
         Ok(())
     }
 }
@@ -128,13 +153,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut rerun = FleetRerun::open(&args.rerun)?;
     let session = zenoh::open(config).wait().map_err(|e| anyhow::anyhow!("opening the fleet session: {e}"))?;
     let (tx, rx) = mpsc::sync_channel::<In>(65536);
-    let streams: [(Topic, &str, &str); 3] = [
-        (topics::STATUS, SingularityStatus::PACKAGE, SingularityStatus::NAME),
-        (topics::DIAGNOSTICS, DiagnosticArray::PACKAGE, DiagnosticArray::NAME),
-        (topics::REGIONS, Region::PACKAGE, Region::NAME),
-    ];
     let mut subscribers = Vec::new();
-    for (topic, package, name) in streams {
+    for stream in Stream::ALL {
+        let (topic, (package, name)) = (stream.topic(), stream.message());
         let key = keys::every_machine(domain, &topic, package, name);
         let tx = tx.clone();
         let sub = session
@@ -142,7 +163,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .callback(move |sample| {
                 let Some(path) = keys::machine_of(sample.key_expr().as_str(), domain, &topic) else { return };
                 let sent = sample.attachment().and_then(|a| keys::attachment(&a.to_bytes()));
-                let _ = tx.try_send(In::Sample { path, topic, payload: sample.payload().to_bytes().into_owned(), sent, received_ns: now_ns() });
+                let _ = tx.try_send(In::Sample { path, stream, payload: sample.payload().to_bytes().into_owned(), sent, received_ns: wall_clock_ns() });
             })
             .wait()
             .map_err(|e| anyhow::anyhow!("subscribing to {key}: {e}"))?;
@@ -157,32 +178,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut next_rerun = start;
     let mut last_flush = start;
     let mut undecodable = 0u64;
-    let type_of = |t: &Topic| match t.absolute {
-        a if a == topics::STATUS.absolute => SingularityStatus::type_name(),
-        a if a == topics::REGIONS.absolute => Region::type_name(),
-        _ => DiagnosticArray::type_name(),
-    };
     while !shutdown.requested() && !args.duration_s.is_some_and(|d| start.elapsed().as_secs_f64() >= d) {
         let mut events = Vec::new();
         match rx.recv_timeout(Duration::from_millis(50)) {
-            Ok(In::Sample { path, topic, payload, sent, received_ns }) => {
+            Ok(In::Sample { path, stream, payload, sent, received_ns }) => {
                 let now = Instant::now();
-                let decoded = match topic.absolute {
-                    a if a == topics::STATUS.absolute => from_cdr::<SingularityStatus>(&payload).map(|s| events.extend(fleet.on_status(&path, s, sent, received_ns as i64, now))),
-                    a if a == topics::REGIONS.absolute => from_cdr::<Region>(&payload).map(|r| events.extend(fleet.on_region(&path, r, false, now))),
-                    _ => from_cdr::<DiagnosticArray>(&payload).map(|d| events.extend(fleet.on_diagnostics(&path, &d, now))),
+                let decoded = match stream {
+                    Stream::Status => from_cdr::<SingularityStatus>(&payload).map(|s| events.extend(fleet.on_status(&path, s, sent, received_ns as i64, now))),
+                    Stream::Regions => from_cdr::<Region>(&payload).map(|r| events.extend(fleet.on_region(&path, r, false, now))),
+                    Stream::Diagnostics => from_cdr::<DiagnosticArray>(&payload).map(|d| events.extend(fleet.on_diagnostics(&path, &d, now))),
                 };
                 match decoded {
                     Ok(()) => {
                         if let Some(rec) = recording.as_mut() {
-                            let publish_ns = sent.map_or_else(now_ns, |(_, t)| t.max(0) as u64);
-                            rec.write(&path, &topic, &type_of(&topic), &payload, publish_ns)?;
+                            let publish_ns = sent.map_or_else(wall_clock_ns, |(_, t)| t.max(0) as u64);
+                            rec.write(&path, stream, &payload, publish_ns)?;
                         }
                     }
                     Err(e) => {
                         undecodable += 1;
                         if undecodable == 1 {
-                            tracing::warn!(machine = %path, topic = topic.absolute, "a message did not decode: {e} (counted)");
+                            tracing::warn!(machine = %path, topic = stream.topic().absolute, "a message did not decode: {e} (counted)");
                         }
                     }
                 }
@@ -192,7 +208,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     let new = fleet.on_region(&path, r, true, Instant::now());
                     // A region first heard by a catch-up is recorded too (its own stamps say when it was).
                     if let (Some(rec), true) = (recording.as_mut(), new.iter().any(|e| matches!(e, Event::Region { .. }))) {
-                        rec.write(&path, &topics::REGIONS, &Region::type_name(), &payload, now_ns())?;
+                        rec.write(&path, Stream::Regions, &payload, wall_clock_ns())?;
                     }
                     events.extend(new);
                 }

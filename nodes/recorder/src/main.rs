@@ -17,7 +17,7 @@ use ros2_client::QosProfile;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::mpsc;
-use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant};
 
 /// Record topics to a rosbag2 bag.
 #[derive(Parser)]
@@ -70,10 +70,6 @@ fn written<T>(r: Result<T, fiveaxis::record::RecordError>) -> T {
     r.unwrap_or_else(|e| bad_input(&e.into()))
 }
 
-fn now_ns() -> u64 {
-    SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_nanos() as u64)
-}
-
 /// A topic to record: its name, type `pkg/msg/Type`, the reader's QoS and the QoS noted in the bag.
 type Plan = (String, String, QosProfile, OfferedQos);
 
@@ -111,7 +107,7 @@ fn forward(sub: RawSubscription, index: usize, name: String, tx: mpsc::SyncSende
     std::thread::spawn(move || loop {
         match smol::block_on(sub.take()) {
             Ok(m) => {
-                let log_ns = now_ns();
+                let log_ns = fiveaxis::record::wall_clock_ns();
                 let item = Item { topic: index, data: m.data, log_ns, publish_ns: m.sent_ns.unwrap_or(log_ns) };
                 if tx.send(item).is_err() {
                     break;
