@@ -2,7 +2,8 @@
 //! (`launch-free-scripts/fleet`): two cells, each its own DDS domain 0 with commander, simulator,
 //! monitor and gateway (cell_a on SING.I, cell_b on NON_SING.I), a site router, and a head office
 //! (router and view) behind a WAN link of 30 ms each way and 1 % packet loss carrying Zenoh's TLS with
-//! client certificates, down for 10 s in the middle of the run. What the head office gets is checked against what the cells' own monitors
+//! client certificates, down for 10 s in the middle of the run; the site router's access control
+//! keeps each cell to its own namespace. What the head office gets is checked against what the cells' own monitors
 //! logged, against an independent Zenoh peer (Eclipse Zenoh's Python API) and an independent MCAP
 //! reader (Foxglove's mcap-ros2-support); what cell_b's domain holds against Cyclone DDS.
 
@@ -16,6 +17,7 @@ use std::process::Command;
 const CELL_A: &str = "/plant/cell_a/c600u";
 const CELL_B: &str = "/plant/cell_b/c600u";
 const RATE_HZ: usize = 10;
+const JOINT_STATES_RATE_HZ: usize = 4;
 
 /// The "entering a region" lines of a monitor's log: (topic, region id, x mm).
 fn monitor_regions(log: &str) -> Vec<(String, u32, f64)> {
@@ -36,7 +38,7 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
         // of program time, 0.33 mm apart at F2000 (two cells at 1 kHz starve the tests running beside
         // this one); the link down from 2 s to 12 s after the office heard both machines: the first
         // pass' regions close during the outage, the second's after it.
-        .args(["--duration-s", "32", "--speed", "2", "--sample-rate-hz", "100", "--outage-at-s", "2", "--outage-s", "10", "--state-rate-hz", &RATE_HZ.to_string()])
+        .args(["--duration-s", "32", "--speed", "2", "--sample-rate-hz", "100", "--outage-at-s", "2", "--outage-s", "10", "--state-rate-hz", &RATE_HZ.to_string(), "--joint-states-rate-hz", &JOINT_STATES_RATE_HZ.to_string()])
         .args(["--wan-delay-ms", "30", "--wan-loss-pct", "1", "--out"])
         .arg(&dir)
         .env("FIVEAXIS_BIN", bins)
@@ -119,6 +121,39 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
     let span = (stamps[4] - stamps[0]) as f64 * 1e-9;
     assert!(span >= 4.0 / RATE_HZ as f64 * 0.95, "5 statuses in {span} s: over the cap");
 
+    // ... and cell_a's simulated axis states, the machine's joints, no faster than their own cap.
+    let joints: Value = serde_json::from_str(&read("zenoh-peer-joint-states.json")).unwrap_or_else(|e| panic!("{e}: {}", read("zenoh-peer-joint-states.log")));
+    let samples = joints["samples"].as_array().unwrap();
+    assert_eq!(samples.len(), 10, "{joints}");
+    let key = format!("0/plant/cell_a/c600u/fiveaxis/simulated/joint_states/sensor_msgs::msg::dds_::JointState_/{}", fiveaxis_msgs::type_hash::rihs01("sensor_msgs/msg/JointState").unwrap());
+    let c600u = fiveaxis::machine::Machine::hermle_c600u();
+    for s in samples {
+        assert_eq!(s["key"], key.as_str(), "{s}");
+        let names: Vec<&str> = s["name"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect();
+        assert_eq!(names.len(), 5, "{s}");
+        // The C600U's axes, each within its travel (m and rad, REP 103).
+        for (name, p) in names.iter().zip(s["position"].as_array().unwrap()) {
+            let axis = c600u.axes.iter().find(|a| a.name.eq_ignore_ascii_case(name)).unwrap_or_else(|| panic!("joint {name} is no C600U axis: {s}"));
+            assert!(axis.limits.contains(p.as_f64().unwrap()), "{name} = {p} outside {:?}", axis.limits);
+        }
+    }
+    let stamps: Vec<i64> = samples.iter().map(|s| s["stamp_ns"].as_i64().unwrap()).collect();
+    let span = (stamps[9] - stamps[0]) as f64 * 1e-9;
+    assert!(span >= 9.0 / JOINT_STATES_RATE_HZ as f64 * 0.95, "10 joint states in {span} s: over the cap of {JOINT_STATES_RATE_HZ}/s");
+
+    // The site's access control (Zenoh's ACL on the cells' links): a client in cell_b gets its own
+    // namespace through to the office, not cell_a's (a publication under cell_a's name refused),
+    // and hears nothing of cell_a's (its subscription refused), while the office hears both cells.
+    let probe = |f: &str| -> Value { serde_json::from_str(&read(f)).unwrap_or_else(|e| panic!("{f}: {e}: {}", read(&f.replace(".json", ".log")))) };
+    let sent = probe("probe-cell_b-put.json");
+    assert!(sent["sent"]["0/plant/cell_a/c600u/probe"].as_u64().unwrap() >= 20, "{sent}");
+    let office = probe("probe-office-watch.json");
+    assert!(office["received"]["0/plant/cell_b/c600u/probe"].as_u64().unwrap_or(0) >= 10, "cell_b's own namespace should reach the office: {office}");
+    assert!(office["received"].get("0/plant/cell_a/c600u/probe").is_none(), "cell_b published under cell_a's namespace: {office}");
+    let heard = probe("probe-cell_b-watch.json");
+    assert_eq!(heard["received"], serde_json::json!({}), "cell_b heard cell_a: {heard}");
+    eprintln!("WAN delay and loss by {}", read("wan.txt").trim());
+
     // The WAN is Zenoh's TLS with client certificates: a peer that trusts the CA but holds no
     // certificate of it gets nothing through the office's endpoint.
     let refused: Value = serde_json::from_str(&read("zenoh-peer-no-certificate.json")).unwrap_or_else(|e| panic!("{e}: {}", read("zenoh-peer-no-certificate.log")));
@@ -179,8 +214,9 @@ fn bad_fleet_input_exits_2_naming_it() {
     let dir = common::scratch_dir("fleet-bad");
     let config = dir.join("broken.json5");
     std::fs::write(&config, "{ mode: \"router\", listen: { endpoints: [ }").unwrap();
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 6] = [
         (&["gateway", "--fleet-namespace", "/plant/cell_a"], "expected /SITE/CELL/MACHINE"),
+        (&["gateway", "--fleet-namespace", "/plant/cell_a/c600u", "--joint-states-rate-hz=-1"], "--joint-states-rate-hz -1: a rate of 0"),
         (&["gateway", "--fleet-namespace", "/plant/cell-a/c600u"], "cell 'cell-a'"),
         (&["gateway", "--fleet-namespace", "/plant/cell_a/c600u", "--state-rate-hz", "0"], "--state-rate-hz 0"),
         (&["router", "--zenoh-config", config.to_str().unwrap()], "broken.json5"),

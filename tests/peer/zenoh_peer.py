@@ -1,16 +1,17 @@
 #!/usr/bin/env python3
 # requirements: eclipse-zenoh==1.10.2
 """An independent Zenoh peer (Eclipse Zenoh's Python API, not our Rust crates) reading a machine's
-monitor status from a fleet router, as an rmw_zenoh subscriber would: the key
-`<domain>/<namespace>/fiveaxis/monitor/status/<DDS type>/<type hash>`, the payload CDR with its
-4-byte encapsulation header (fiveaxis_msgs/msg/SingularityStatus, decoded here from the .msg layout
-with CDR's alignment rules), and rmw_zenoh's 33-byte attachment (sequence number, source stamp,
-GID).
+monitor status (or its simulated axis states) from a fleet router, as an rmw_zenoh subscriber would:
+the key `<domain>/<namespace>/fiveaxis/monitor/status/<DDS type>/<type hash>`, the payload CDR with
+its 4-byte encapsulation header (fiveaxis_msgs/msg/SingularityStatus or sensor_msgs/msg/JointState,
+decoded here from the .msg layout with CDR's alignment rules), and rmw_zenoh's 33-byte attachment
+(sequence number, source stamp, GID).
 
 usage: zenoh_peer.py --connect tcp/127.0.0.1:7447 --machine /plant/cell_a/c600u [--count 5] [--timeout-s 20]
-                     [--root-ca ca.pem]
+                     [--root-ca ca.pem] [--topic status|joint_states]
 Prints one JSON object: {"samples": [{"key", "seq", "stamp_ns", "input_topic", "singularity_distance",
-"predicted_c_speed", "in_region", "region_id", "x"}...]}, and "error" when the router refused the session.
+"predicted_c_speed", "in_region", "region_id", "x"}...]} (for joint_states: "name", "position"), and
+"error" when the router refused the session.
 """
 import argparse
 import json
@@ -78,6 +79,20 @@ def status(payload):
     return out
 
 
+def joint_state(payload):
+    c = Cdr(payload)
+    c.i32(), c.u32(), c.string()  # header: stamp, frame_id
+    names = [c.string() for _ in range(c.u32())]
+    position = [c.f64() for _ in range(c.u32())]
+    return {"name": names, "position": position}
+
+
+TOPICS = {
+    "status": ("fiveaxis/monitor/status/fiveaxis_msgs::msg::dds_::SingularityStatus_", status),
+    "joint_states": ("fiveaxis/simulated/joint_states/sensor_msgs::msg::dds_::JointState_", joint_state),
+}
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--connect", required=True)
@@ -85,6 +100,7 @@ def main():
     ap.add_argument("--domain", type=int, default=0)
     ap.add_argument("--count", type=int, default=5)
     ap.add_argument("--timeout-s", type=float, default=20.0)
+    ap.add_argument("--topic", choices=sorted(TOPICS), default="status")
     ap.add_argument("--root-ca", help="for a tls/ endpoint: the CA to trust (no client certificate is presented)")
     a = ap.parse_args()
     conf = zenoh.Config()
@@ -93,7 +109,8 @@ def main():
     conf.insert_json5("mode", '"client"')
     conf.insert_json5("connect/endpoints", json.dumps([a.connect]))
     conf.insert_json5("scouting/multicast/enabled", "false")
-    key = f"{a.domain}/{a.machine.strip('/')}/fiveaxis/monitor/status/fiveaxis_msgs::msg::dds_::SingularityStatus_/*"
+    topic, decode = TOPICS[a.topic]
+    key = f"{a.domain}/{a.machine.strip('/')}/{topic}/*"
     got = queue.Queue()
     try:
         session = zenoh.open(conf)
@@ -113,7 +130,7 @@ def main():
             if len(att) != 33 or att[16] != 16:
                 raise SystemExit(f"{k}: attachment of {len(att)} bytes, not rmw_zenoh's 33")
             seq, stamp = struct.unpack_from("<qq", att, 0)
-            samples.append({"key": k, "seq": seq, "stamp_ns": stamp, **status(payload)})
+            samples.append({"key": k, "seq": seq, "stamp_ns": stamp, **decode(payload)})
         sub.undeclare()
     print(json.dumps({"samples": samples}))
 

@@ -44,9 +44,14 @@ impl<T> RateCap<T> {
         pending.take()
     }
 
-    /// When [`poll`](Self::poll) may next release a message.
+    /// When [`poll`](Self::poll) may next release a message: `None` while nothing is pending (a
+    /// loop waiting on it then waits for input, not for a release time long past).
     pub fn next_release(&self) -> Option<Instant> {
-        self.next
+        if self.streams.iter().any(|(_, p, _)| p.is_some()) {
+            Some(self.next.unwrap_or_else(Instant::now))
+        } else {
+            None
+        }
     }
 
     /// Messages replaced by a newer one of their stream before release.
@@ -90,8 +95,15 @@ mod tests {
     fn nothing_pending_releases_nothing() {
         let mut cap: RateCap<u8> = RateCap::new(5.0);
         assert_eq!(cap.poll(Instant::now()), None);
+        assert_eq!(cap.next_release(), None);
         cap.offer("a", 1);
-        assert_eq!(cap.poll(Instant::now()), Some(1));
-        assert_eq!(cap.poll(Instant::now() + Duration::from_secs(1)), None);
+        assert!(cap.next_release().is_some());
+        let t = Instant::now();
+        assert_eq!(cap.poll(t), Some(1));
+        assert_eq!(cap.poll(t + Duration::from_secs(1)), None);
+        // Nothing pending: no release time to wait for, however long ago the last one was.
+        assert_eq!(cap.next_release(), None);
+        cap.offer("a", 2);
+        assert_eq!(cap.next_release(), Some(t + Duration::from_millis(200)));
     }
 }

@@ -1,16 +1,17 @@
 //! `fiveaxis-fleet gateway`: one machine's monitor, from its cell's DDS domain to the fleet's Zenoh
 //! network under `/site/cell/machine`, as rmw_zenoh names and encodes topics. One way only: nothing
 //! from the fleet network enters the cell. What crosses is the allow list: the monitor's status at
-//! most `--state-rate-hz` a second (the latest of each stream), its `/diagnostics`, and each region
-//! whole. Publications drop rather than wait when the link is slow or down (the cell never waits
+//! most `--state-rate-hz` a second (the latest of each stream), its `/diagnostics`, each region
+//! whole, and the machine's axis states (the node set's and a real machine's `JointState` topics)
+//! at most `--joint-states-rate-hz` a second. Publications drop rather than wait when the link is slow or down (the cell never waits
 //! for the head office); the shift's regions stay here and are answered on request, so a view
 //! catches up when the link returns.
 
 use crate::zenoh_args::ZenohArgs;
 use fiveaxis::topics;
-use fiveaxis_bus::{diagnostics_qos, state_qos, Bus, CommonArgs, RosOptions, Shutdown};
+use fiveaxis_bus::{diagnostics_qos, state_qos, Bus, CommonArgs, InputQos, RosOptions, Shutdown};
 use fiveaxis_fleet::{cap::RateCap, keys, keys::MachinePath, regions::RegionTracker};
-use fiveaxis_msgs::{DiagnosticArray, Region, RosMessage, SingularityStatus};
+use fiveaxis_msgs::{DiagnosticArray, JointState, Region, RosMessage, SingularityStatus};
 use ros2_client::zenoh::{Context, ContextOptions, Node, Publisher};
 use ros2_client::{MessageTypeName, Name, NodeName, NodeOptions, QosProfile};
 use std::collections::VecDeque;
@@ -39,6 +40,11 @@ pub struct Args {
     /// publishes one per sample, 1 kHz on a live machine).
     #[arg(long = "state-rate-hz", default_value_t = 10.0)]
     state_rate_hz: f64,
+    /// JointState messages a second this machine sends to the fleet, all of its axis-state topics
+    /// together (commanded, simulated and the real machine's `machine/joint_states`, the latest of
+    /// each in turn); 0 sends none.
+    #[arg(long = "joint-states-rate-hz", default_value_t = 5.0)]
+    joint_states_rate_hz: f64,
     /// Regions kept for a view's catch-up (this shift's); beyond, the oldest are dropped.
     #[arg(long = "max-regions", default_value_t = 10_000)]
     max_regions: usize,
@@ -49,10 +55,15 @@ pub struct Args {
     duration_s: Option<f64>,
 }
 
+/// The cell's axis-state topics that go out, rate-capped: the node set's and a real machine's.
+const JOINT_STATES: [topics::Topic; 3] = [topics::COMMANDED_JOINTS, topics::SIMULATED_JOINTS, topics::MACHINE_JOINTS];
+
 /// What the cell side hands the loop.
 enum In {
-    Status(SingularityStatus),
+    Status(Box<SingularityStatus>),
     Diagnostics(DiagnosticArray),
+    /// A JointState of the cell topic named (as resolved in the cell).
+    Joints(String, JointState),
     Undecodable(String),
 }
 
@@ -73,6 +84,9 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
     if !(args.state_rate_hz.is_finite() && args.state_rate_hz > 0.0) {
         anyhow::bail!("--state-rate-hz {}: a positive rate", args.state_rate_hz);
     }
+    if !(args.joint_states_rate_hz.is_finite() && args.joint_states_rate_hz >= 0.0) {
+        anyhow::bail!("--joint-states-rate-hz {}: a rate of 0 (none sent) or more", args.joint_states_rate_hz);
+    }
     let config = args.zenoh.config("client")?;
     let shutdown = Shutdown::install()?;
 
@@ -81,9 +95,19 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
     let mut bus = Bus::new("fiveaxis_fleet_gateway", &common, ros)?;
     let (tx, rx) = mpsc::sync_channel::<In>(4096);
     let status = bus.subscription::<SingularityStatus>(topics::STATUS.name, state_qos())?;
-    fiveaxis_bus::forward(status, bus.resolve(topics::STATUS.name), tx.clone(), |_, s| In::Status(s), |t, e| In::Undecodable(format!("{t}: {e}")));
+    fiveaxis_bus::forward(status, bus.resolve(topics::STATUS.name), tx.clone(), |_, s| In::Status(Box::new(s)), |t, e| In::Undecodable(format!("{t}: {e}")));
     let diagnostics = bus.subscription::<DiagnosticArray>(topics::DIAGNOSTICS.name, diagnostics_qos())?;
-    fiveaxis_bus::forward(diagnostics, bus.resolve(topics::DIAGNOSTICS.name), tx, |_, d| In::Diagnostics(d), |t, e| In::Undecodable(format!("{t}: {e}")));
+    fiveaxis_bus::forward(diagnostics, bus.resolve(topics::DIAGNOSTICS.name), tx.clone(), |_, d| In::Diagnostics(d), |t, e| In::Undecodable(format!("{t}: {e}")));
+    // Axis states as the monitor hears them: a best-effort request, which DDS matches with the node
+    // set's reliable publishers and a machine bridge's SensorData ones alike.
+    let cell_joint_topics: Vec<String> = JOINT_STATES.iter().map(|t| bus.resolve(t.name)).collect();
+    if args.joint_states_rate_hz > 0.0 {
+        for t in &JOINT_STATES {
+            let sub = bus.subscription::<JointState>(t.name, InputQos::Auto.profile(true))?;
+            fiveaxis_bus::forward(sub, bus.resolve(t.name), tx.clone(), In::Joints, |t, e| In::Undecodable(format!("{t}: {e}")));
+        }
+    }
+    drop(tx);
 
     // The fleet side: a ROS 2 node on Zenoh in the machine's namespace.
     let domain = args.zenoh.domain;
@@ -94,6 +118,7 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
     let status_pub = publisher::<SingularityStatus>(&node, &path, &topics::STATUS, &qos)?;
     let diagnostics_pub = publisher::<DiagnosticArray>(&node, &path, &topics::DIAGNOSTICS, &qos)?;
     let regions_pub = publisher::<Region>(&node, &path, &topics::REGIONS, &qos)?;
+    let joint_pubs = if args.joint_states_rate_hz > 0.0 { JOINT_STATES.iter().map(|t| publisher::<JointState>(&node, &path, t, &qos)).collect::<anyhow::Result<Vec<_>>>()? } else { Vec::new() };
 
     // The shift's regions, answered to a view's catch-up query (one reply per region, CDR).
     let store: Arc<Mutex<VecDeque<Region>>> = Arc::new(Mutex::new(VecDeque::new()));
@@ -117,8 +142,10 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
 
     let mut tracker = RegionTracker::new();
     let mut cap: RateCap<SingularityStatus> = RateCap::new(args.state_rate_hz);
+    // The axis states' own cap (a rate of 0 forwards none: no message is offered to it).
+    let mut joint_cap: RateCap<(usize, JointState)> = RateCap::new(args.joint_states_rate_hz.max(1e-3));
     let mut undecodable = 0u64;
-    let (mut sent, mut regions, mut dropped) = (0u64, 0u64, 0u64);
+    let (mut sent, mut joints_sent, mut regions, mut dropped) = (0u64, 0u64, 0u64, 0u64);
     let start = Instant::now();
     let send_region = |r: Region, dropped: &mut u64| {
         if let Ok(mut s) = store.lock() {
@@ -135,7 +162,8 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
     };
     while !shutdown.requested() && !args.duration_s.is_some_and(|d| start.elapsed().as_secs_f64() >= d) {
         let now = Instant::now();
-        let wait = cap.next_release().map_or(Duration::from_millis(50), |n| n.saturating_duration_since(now).min(Duration::from_millis(50)));
+        let next = [cap.next_release(), joint_cap.next_release()].into_iter().flatten().min();
+        let wait = next.map_or(Duration::from_millis(50), |n| n.saturating_duration_since(now).min(Duration::from_millis(50)));
         match rx.recv_timeout(wait) {
             Ok(In::Status(s)) => {
                 if let Some(r) = tracker.on_status(&s) {
@@ -143,7 +171,12 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
                     send_region(r, &mut dropped);
                 }
                 let stream = s.input_topic.clone();
-                cap.offer(&stream, s);
+                cap.offer(&stream, *s);
+            }
+            Ok(In::Joints(topic, j)) => {
+                if let Some(i) = cell_joint_topics.iter().position(|t| *t == topic) {
+                    joint_cap.offer(&topic, (i, j));
+                }
             }
             Ok(In::Diagnostics(d)) => {
                 let _ = diagnostics_pub.publish(d);
@@ -162,12 +195,17 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
                 sent += 1;
             }
         }
+        if let Some((i, j)) = joint_cap.poll(Instant::now()) {
+            if joint_pubs[i].publish(j).is_ok() {
+                joints_sent += 1;
+            }
+        }
     }
     for r in tracker.finish() {
         regions += 1;
         send_region(r, &mut dropped);
     }
-    tracing::info!(machine = %path, statuses_sent = sent, superseded = cap.superseded(), regions, regions_dropped_from_store = dropped, undecodable, "fleet gateway done");
+    tracing::info!(machine = %path, statuses_sent = sent, superseded = cap.superseded(), joint_states_sent = joints_sent, joint_states_superseded = joint_cap.superseded(), regions, regions_dropped_from_store = dropped, undecodable, "fleet gateway done");
     drop(node);
     let _ = context.session().close().wait();
     Ok(())
