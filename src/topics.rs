@@ -45,6 +45,10 @@ pub const CLOCK: Topic = Topic { name: "/clock", absolute: "/clock", ty: "Clock"
 /// Every topic of the node set, in the order recordings list them.
 pub const NODE_SET: [Topic; 7] = [COMMANDED_STATE, COMMANDED_JOINTS, SIMULATED_STATE, SIMULATED_JOINTS, STATUS, DIAGNOSTICS, CLOCK];
 
+/// A machine's axes as JointState (m and rad): the node set's and a real machine's, which the fleet
+/// gateway forwards rate-capped.
+pub const JOINT_STATES: [Topic; 3] = [COMMANDED_JOINTS, SIMULATED_JOINTS, MACHINE_JOINTS];
+
 /// The axis-state streams the monitor watches by default (commanded and simulated).
 pub const MONITORED: [Topic; 2] = [COMMANDED_STATE, SIMULATED_STATE];
 

@@ -170,6 +170,7 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
     for m in [CELL_A, CELL_B] {
         assert!(counts[format!("{m}/fiveaxis/monitor/status")].as_u64().unwrap_or(0) > 100, "{checked}");
         assert!(counts[format!("{m}/diagnostics")].as_u64().unwrap_or(0) > 10, "{checked}");
+        assert!(counts[format!("{m}/fiveaxis/simulated/joint_states")].as_u64().unwrap_or(0) > 10, "{checked}");
     }
     assert_eq!(counts[format!("{CELL_A}/fiveaxis/fleet/regions")].as_u64(), Some(regions.len() as u64), "{checked}");
 

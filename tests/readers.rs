@@ -276,7 +276,13 @@ fn klartext_runs_section_repeats_and_subprograms_as_the_tnc_does() {
     t.push_str("40 END PGM R MM\n");
     let p = read(&t, Dialect::Klartext, "r.h", &ReadOptions::default());
     assert!(errors(&p).iter().any(|(_, _, m)| m.contains("blocks beyond the program's own")), "{:#?}", errors(&p));
-    assert!(p.blocks.len() <= fiveaxis::program::MAX_REPEATED_BLOCKS + 20);
+    assert!(p.blocks.len() <= fiveaxis::program::MAX_RUN_LINES + 20);
+    // The bound is the reader's option: a smaller one stops the same program sooner, and says so.
+    let small = ReadOptions { max_run_lines: 5000, ..ReadOptions::default() };
+    let p = read(&t, Dialect::Klartext, "r.h", &small);
+    assert!(errors(&p).iter().any(|(_, _, m)| m.contains("more than 5000 blocks beyond the program's own")), "{:#?}", errors(&p));
+    // (It counts statements run, labels and calls too: fewer blocks than that, and far fewer than the default's.)
+    assert!((1000..=5000 + 20).contains(&p.blocks.len()), "{}", p.blocks.len());
 }
 
 /// Cycle 32 (TNC 620 Cycle Programming §12.5): `T` in the program's unit, `TA` in degrees, for the
@@ -928,12 +934,15 @@ fn klartext_polar_lines_circles_and_helices_are_where_the_tnc_puts_them() {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 192, ..ProptestConfig::default() })]
     /// O-word noise (block names, keywords, brackets) cut into `owords.ngc` never panics the flow, nor
-    /// runs past its budget, and every diagnostic names a column on its line.
+    /// runs past its budget, and every diagnostic names a column on its line. The budget is the
+    /// reader's option at 20,000 lines (the default's 4,000,000 runs the same code 200 times longer
+    /// for each mutation that makes an endless loop).
     #[test]
     fn mutated_o_word_programs_never_panic(cuts in proptest::collection::vec((0usize..1800, proptest::sample::select("o0123456789<>[] \nwhiledorepatsubcl#".chars().collect::<Vec<_>>())), 0..14)) {
         let text = mutate(include_str!("../recordings/programs/linuxcnc/parameters/owords.ngc"), cuts);
-        let p = read_rs274(&text);
-        prop_assert!(p.blocks.len() <= 4_000_000);
+        let budget = ReadOptions { max_run_lines: 20_000, ..ReadOptions::default() };
+        let p = read(&text, Dialect::Rs274, "owords.ngc", &budget);
+        prop_assert!(p.blocks.len() <= 20_000 + text.lines().count());
         for d in p.diagnostics.iter() {
             let line = text.lines().nth(d.line - 1).unwrap_or("");
             prop_assert!(d.column >= 1 && d.column <= line.chars().count() + 1, "{d:?} on {line:?}");

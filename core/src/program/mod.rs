@@ -23,7 +23,7 @@ mod stream;
 
 pub use cl::{read_cl, read_cl_with};
 pub use heidenhain::{read_heidenhain, read_heidenhain_with};
-pub use klartext::{read_klartext_with, MAX_LABELS, MAX_REPEATED_BLOCKS};
+pub use klartext::{read_klartext_with, MAX_LABELS};
 pub use rs274::{read_rs274, read_rs274_setup, read_rs274_with};
 pub use setup::{AngleUnit, LengthUnit, Setup};
 pub use sinumerik::read_sinumerik_with;
@@ -560,11 +560,18 @@ pub struct ReadOptions {
     pub units: Option<LengthUnit>,
     /// The unit of CL data's rotary angles (`--cl-angles`; APT's own is degrees).
     pub cl_angles: AngleUnit,
+    /// The most lines a program's loops, repeats and subprogram calls may run beyond its own lines
+    /// (RS274NGC O-words, Klartext's `CALL LBL … REP`): an endless loop is refused there, at the
+    /// line it had reached (default [`MAX_RUN_LINES`]).
+    pub max_run_lines: usize,
 }
+
+/// The default of [`ReadOptions::max_run_lines`].
+pub const MAX_RUN_LINES: usize = 4_000_000;
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None, units: None, cl_angles: AngleUnit::Deg }
+        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None, units: None, cl_angles: AngleUnit::Deg, max_run_lines: MAX_RUN_LINES }
     }
 }
 

@@ -21,8 +21,6 @@ use std::sync::Arc;
 /// The most lines one held block (a loop, a condition, a subroutine) may have, and bytes.
 pub const MAX_HELD_LINES: usize = 100_000;
 pub const MAX_HELD_BYTES: usize = 16 << 20;
-/// The most lines control blocks may run in one program (the Klartext reader's repeat budget).
-pub const MAX_RUN_LINES: usize = 4_000_000;
 /// Deepest nesting of subroutine calls (LinuxCNC's `MAX_NESTED_CALLS`... its stack is 10 deep).
 pub const MAX_CALL_DEPTH: usize = 10;
 /// Most subroutines one program may define.
@@ -163,11 +161,20 @@ pub struct Flow {
     held: Option<Held>,
     subs: HashMap<String, Arc<Vec<Line>>>,
     run_lines: usize,
+    /// The most lines control blocks may run ([`crate::program::ReadOptions::max_run_lines`]).
+    budget: usize,
     depth: usize,
     /// The diagnostics said by lines run so far: a loop's second pass over a defect says it once.
     said: std::collections::HashSet<(usize, usize, String)>,
     /// The run was stopped (budget, a defect in the flow): what is left of the block is not read.
     stopped: bool,
+}
+
+impl Flow {
+    /// The flow of a read whose control blocks may run `budget` lines.
+    pub fn new(budget: usize) -> Flow {
+        Flow { budget, ..Flow::default() }
+    }
 }
 
 /// How a run of lines ended.
@@ -321,8 +328,8 @@ impl Rs274Reader {
             }
             self.flow.run_lines += 1;
             let (line, text) = (&lines[pc].0, &lines[pc].1);
-            if self.flow.run_lines > MAX_RUN_LINES {
-                return self.stop(*line, 1, format!("more than {MAX_RUN_LINES} lines run by O-word loops and calls: an endless loop? not read further"), diags);
+            if self.flow.run_lines > self.flow.budget {
+                return self.stop(*line, 1, format!("more than {} lines run by O-word loops and calls: an endless loop? not read further", self.flow.budget), diags);
             }
             let Some((o, col, chars)) = &parsed[pc] else {
                 let before = diags.0.len();

@@ -64,7 +64,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, flow: Default::default(), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new) }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, flow: super::oword::Flow::new(setup.max_run_lines), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new) }
     }
 }
 

@@ -105,6 +105,8 @@ pub struct Setup {
     pub cl_feed_mm_per_min: f64,
     /// The unit of CL data's rotary angles (`ROTABL/`).
     pub cl_angles: AngleUnit,
+    /// Lines loops, repeats and calls may run beyond the program's own ([`ReadOptions::max_run_lines`]).
+    pub max_run_lines: usize,
 }
 
 impl Setup {
@@ -130,6 +132,7 @@ impl ReadOptions {
             machine: self.machine.clone(),
             cl_feed_mm_per_min: self.cl_feed_mm_per_min,
             cl_angles: self.cl_angles,
+            max_run_lines: self.max_run_lines,
         }
     }
 }

@@ -55,9 +55,6 @@ pub struct Args {
     duration_s: Option<f64>,
 }
 
-/// The cell's axis-state topics that go out, rate-capped: the node set's and a real machine's.
-const JOINT_STATES: [topics::Topic; 3] = [topics::COMMANDED_JOINTS, topics::SIMULATED_JOINTS, topics::MACHINE_JOINTS];
-
 /// What the cell side hands the loop.
 enum In {
     Status(Box<SingularityStatus>),
@@ -100,9 +97,9 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
     fiveaxis_bus::forward(diagnostics, bus.resolve(topics::DIAGNOSTICS.name), tx.clone(), |_, d| In::Diagnostics(d), |t, e| In::Undecodable(format!("{t}: {e}")));
     // Axis states as the monitor hears them: a best-effort request, which DDS matches with the node
     // set's reliable publishers and a machine bridge's SensorData ones alike.
-    let cell_joint_topics: Vec<String> = JOINT_STATES.iter().map(|t| bus.resolve(t.name)).collect();
+    let cell_joint_topics: Vec<String> = topics::JOINT_STATES.iter().map(|t| bus.resolve(t.name)).collect();
     if args.joint_states_rate_hz > 0.0 {
-        for t in &JOINT_STATES {
+        for t in &topics::JOINT_STATES {
             let sub = bus.subscription::<JointState>(t.name, InputQos::Auto.profile(true))?;
             fiveaxis_bus::forward(sub, bus.resolve(t.name), tx.clone(), In::Joints, |t, e| In::Undecodable(format!("{t}: {e}")));
         }
@@ -118,7 +115,7 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
     let status_pub = publisher::<SingularityStatus>(&node, &path, &topics::STATUS, &qos)?;
     let diagnostics_pub = publisher::<DiagnosticArray>(&node, &path, &topics::DIAGNOSTICS, &qos)?;
     let regions_pub = publisher::<Region>(&node, &path, &topics::REGIONS, &qos)?;
-    let joint_pubs = if args.joint_states_rate_hz > 0.0 { JOINT_STATES.iter().map(|t| publisher::<JointState>(&node, &path, t, &qos)).collect::<anyhow::Result<Vec<_>>>()? } else { Vec::new() };
+    let joint_pubs = if args.joint_states_rate_hz > 0.0 { topics::JOINT_STATES.iter().map(|t| publisher::<JointState>(&node, &path, t, &qos)).collect::<anyhow::Result<Vec<_>>>()? } else { Vec::new() };
 
     // The shift's regions, answered to a view's catch-up query (one reply per region, CDR).
     let store: Arc<Mutex<VecDeque<Region>>> = Arc::new(Mutex::new(VecDeque::new()));

@@ -1,5 +1,5 @@
 //! `fiveaxis-fleet view`: the head office's view of every machine on the fleet network. It
-//! subscribes to every machine's status, `/diagnostics` and regions by wildcard (machines join and
+//! subscribes to every machine's status, `/diagnostics`, regions and axis states by wildcard (machines join and
 //! leave without a restart), shows each one's state (OK/WARN/ERROR/STALE), distance, C demand and
 //! regions this shift, asks each gateway for the shift's regions when a machine joins or comes back
 //! from stale (the catch-up after an outage), writes its events as JSON lines, records what
@@ -12,7 +12,7 @@ use fiveaxis::record::{from_cdr, wall_clock_ns, OfferedQos, RecordOptions, Recor
 use fiveaxis::topics::{self, Topic};
 use fiveaxis_fleet::fleet::{Event, Fleet, Row};
 use fiveaxis_fleet::keys::{self, MachinePath};
-use fiveaxis_msgs::{DiagnosticArray, Region, RosMessage, SingularityStatus};
+use fiveaxis_msgs::{DiagnosticArray, JointState, Region, RosMessage, SingularityStatus};
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::PathBuf;
@@ -53,16 +53,19 @@ enum Stream {
     Status,
     Diagnostics,
     Regions,
+    /// One of [`topics::JOINT_STATES`] (recorded, not shown).
+    Joints(usize),
 }
 
 impl Stream {
-    const ALL: [Stream; 3] = [Stream::Status, Stream::Diagnostics, Stream::Regions];
+    const ALL: [Stream; 6] = [Stream::Status, Stream::Diagnostics, Stream::Regions, Stream::Joints(0), Stream::Joints(1), Stream::Joints(2)];
 
     fn topic(self) -> Topic {
         match self {
             Stream::Status => topics::STATUS,
             Stream::Diagnostics => topics::DIAGNOSTICS,
             Stream::Regions => topics::REGIONS,
+            Stream::Joints(i) => topics::JOINT_STATES[i],
         }
     }
 
@@ -72,6 +75,7 @@ impl Stream {
             Stream::Status => (SingularityStatus::PACKAGE, SingularityStatus::NAME),
             Stream::Diagnostics => (DiagnosticArray::PACKAGE, DiagnosticArray::NAME),
             Stream::Regions => (Region::PACKAGE, Region::NAME),
+            Stream::Joints(_) => (JointState::PACKAGE, JointState::NAME),
         }
     }
 }
@@ -187,6 +191,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     Stream::Status => from_cdr::<SingularityStatus>(&payload).map(|s| events.extend(fleet.on_status(&path, s, sent, received_ns as i64, now))),
                     Stream::Regions => from_cdr::<Region>(&payload).map(|r| events.extend(fleet.on_region(&path, r, false, now))),
                     Stream::Diagnostics => from_cdr::<DiagnosticArray>(&payload).map(|d| events.extend(fleet.on_diagnostics(&path, &d, now))),
+                    Stream::Joints(_) => from_cdr::<JointState>(&payload).map(|_| ()),
                 };
                 match decoded {
                     Ok(()) => {

@@ -46,9 +46,6 @@ use std::borrow::Cow;
 use super::lex::{excerpt, parse_number, Columns, Diags};
 use super::{Dialect, MCodeRule, Orientation, Program};
 
-/// How many blocks section repeats and subprogram calls may add beyond the program's own: a bound
-/// on memory for a program such as `LBL 1` / `CALL LBL 1 REP65534` nested.
-pub const MAX_REPEATED_BLOCKS: usize = 4_000_000;
 /// Subprogram nesting depth of the TNC (iTNC 530: "up to 19 levels").
 const MAX_NESTING: usize = 19;
 

@@ -3,7 +3,7 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
-use super::{axis_index, label, parse_line, tokens, FeedWord, KWord, Kind, ParseState, PlaneForm, PlaneMode, PlaneStmt, Shape, Stmt, Val, MAX_NESTING, MAX_REPEATED_BLOCKS};
+use super::{axis_index, label, parse_line, tokens, FeedWord, KWord, Kind, ParseState, PlaneForm, PlaneMode, PlaneStmt, Shape, Stmt, Val, MAX_NESTING};
 use crate::machine::ContourTolerance;
 use crate::program::interp::{Interpreter, OneShot, Word};
 use crate::program::lex::Diags;
@@ -90,8 +90,10 @@ pub(crate) struct Runner {
     stack: Vec<(At, usize, usize)>,
     /// Section repeats under way: the call's line and the runs left.
     repeats: HashMap<usize, u64>,
-    /// Statements that may run: the program's own lines and [`MAX_REPEATED_BLOCKS`] more.
+    /// Statements that may run: the program's own lines and the setup's `max_run_lines` more (a
+    /// bound on memory for a program such as `LBL 1` / `CALL LBL 1 REP65534` nested).
     budget: usize,
+    repeats_allowed: usize,
     executed: usize,
 }
 
@@ -101,7 +103,8 @@ impl Runner {
             interp: setup.interpreter(),
             ex: Exec { machine: setup.machine.clone(), ..Exec::default() },
             st: ParseState::default(),
-            budget: labels.lines + MAX_REPEATED_BLOCKS,
+            budget: labels.lines.saturating_add(setup.max_run_lines),
+            repeats_allowed: setup.max_run_lines,
             labels,
             stack: Vec::new(),
             repeats: HashMap::new(),
@@ -123,7 +126,7 @@ impl Runner {
         };
         self.executed += 1;
         if self.executed > self.budget {
-            diags.error(s.line, s.col, format!("the repeats and calls run more than {MAX_REPEATED_BLOCKS} blocks beyond the program's own: not read further"));
+            diags.error(s.line, s.col, format!("the repeats and calls run more than {} blocks beyond the program's own: not read further", self.repeats_allowed));
             return Next::Ended;
         }
         match &s.kind {
