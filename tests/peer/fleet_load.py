@@ -4,7 +4,10 @@
 benchmark (benches/fleet): each of --machines N publishes a fiveaxis_msgs/SingularityStatus at
 --rate-hz on rmw_zenoh's key under /plant/sim/mNN, stamped with the wall clock, with rmw_zenoh's
 attachment (sequence number, send stamp, GID), and a DiagnosticArray at 2 Hz. The CDR comes from
-rosbags' serializer (our .msg files registered in its ROS 2 Jazzy store), not from our Rust types.
+rosbags' serializer (our .msg files registered in its ROS 2 Jazzy store), not from our Rust types:
+each machine's messages are serialized once (ten phases of its distance) and each send writes its
+stamp into the header (the first field: int32 sec, uint32 nanosec after the 4-byte encapsulation),
+so that the generator keeps its rate in Python.
 
 usage: fleet_load.py --connect tcp/127.0.0.1:7447 --msg-dir msgs/msg [--machines 49] [--rate-hz 10] [--duration-s 30]
 """
@@ -61,6 +64,13 @@ def main():
     conf.insert_json5("scouting/multicast/enabled", "false")
     status_hash, diag_hash = store.hash_rihs01(status_t), store.hash_rihs01(diag_t)
     sent = 0
+    phases = 10
+
+    def stamped(cdr, ns):
+        b = bytearray(cdr)
+        struct.pack_into("<iI", b, 4, ns // 1_000_000_000, ns % 1_000_000_000)
+        return bytes(b)
+
     with zenoh.open(conf) as session:
         machines = []
         for i in range(a.machines):
@@ -68,7 +78,9 @@ def main():
             machines.append({
                 "status": session.declare_publisher(f"0/{ns}/fiveaxis/monitor/status/fiveaxis_msgs::msg::dds_::SingularityStatus_/{status_hash}"),
                 "diag": session.declare_publisher(f"0/{ns}/diagnostics/diagnostic_msgs::msg::dds_::DiagnosticArray_/{diag_hash}"),
-                "gid": bytes([i]) * 16, "seq": 0})
+                "gid": bytes([i]) * 16, "seq": 0,
+                "statuses": [bytes(store.serialize_cdr(status(0, k * math.pi / phases + i), status_t)) for k in range(phases)],
+                "diagnostics": bytes(store.serialize_cdr(diagnostics(0), diag_t))})
         period = 1.0 / a.rate_hz
         start = time.monotonic()
         tick = 0
@@ -82,10 +94,10 @@ def main():
                 now = time.time_ns()
                 m["seq"] += 1
                 att = struct.pack("<qqB", m["seq"], now, 16) + m["gid"]
-                m["status"].put(bytes(store.serialize_cdr(status(now, now * 1e-9 + i), status_t)), attachment=att)
+                m["status"].put(stamped(m["statuses"][tick % phases], now), attachment=att)
                 sent += 1
                 if tick % max(1, round(a.rate_hz / 2)) == 0:
-                    m["diag"].put(bytes(store.serialize_cdr(diagnostics(now), diag_t)), attachment=att)
+                    m["diag"].put(stamped(m["diagnostics"], now), attachment=att)
             tick += 1
     print(json.dumps({"machines": a.machines, "statuses_sent": sent, "seconds": time.monotonic() - start}))
 
