@@ -10,6 +10,7 @@ stamp into the header (the first field: int32 sec, uint32 nanosec after the 4-by
 so that the generator keeps its rate in Python.
 
 usage: fleet_load.py --connect tcp/127.0.0.1:7447 --msg-dir msgs/msg [--machines 49] [--rate-hz 10] [--duration-s 30]
+                     [--ready FILE]   (created once the messages are made, before the first is sent)
 """
 import argparse
 import json
@@ -29,6 +30,7 @@ def main():
     ap.add_argument("--machines", type=int, default=49)
     ap.add_argument("--rate-hz", type=float, default=10.0)
     ap.add_argument("--duration-s", type=float, default=30.0)
+    ap.add_argument("--ready")
     a = ap.parse_args()
     store = get_typestore(Stores.ROS2_JAZZY)
     for f in sorted(pathlib.Path(a.msg_dir).glob("*.msg")):
@@ -81,6 +83,8 @@ def main():
                 "gid": bytes([i]) * 16, "seq": 0,
                 "statuses": [bytes(store.serialize_cdr(status(0, k * math.pi / phases + i), status_t)) for k in range(phases)],
                 "diagnostics": bytes(store.serialize_cdr(diagnostics(0), diag_t))})
+        if a.ready:
+            pathlib.Path(a.ready).touch()
         period = 1.0 / a.rate_hz
         start = time.monotonic()
         tick = 0

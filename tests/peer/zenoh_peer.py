@@ -9,7 +9,8 @@ decoded here from the .msg layout with CDR's alignment rules), and rmw_zenoh's 3
 
 usage: zenoh_peer.py --connect tcp/127.0.0.1:7447 --machine /plant/cell_a/c600u [--count 5] [--timeout-s 20]
                      [--root-ca ca.pem] [--topic status|joint_states]
-Prints one JSON object: {"samples": [{"key", "seq", "stamp_ns", "input_topic", "singularity_distance",
+Prints one JSON object: {"samples": [{"key", "seq", "stamp_ns" (the send stamp), "received_ns",
+"header_stamp_ns", "input_topic", "singularity_distance",
 "predicted_c_speed", "in_region", "region_id", "x"}...]} (for joint_states: "name", "position"), and
 "error" when the router refused the session.
 """
@@ -61,9 +62,10 @@ class Cdr:
 
 def status(payload):
     c = Cdr(payload)
-    c.i32(), c.u32(), c.string()  # header: stamp, frame_id
+    sec, nanosec = c.i32(), c.u32()
+    c.string()  # header: frame_id
     c.u8()  # source
-    out = {"input_topic": c.string()}
+    out = {"header_stamp_ns": sec * 1_000_000_000 + nanosec, "input_topic": c.string()}
     c.u8()  # motion
     out["singularity_distance"] = c.f64()
     c.string()  # secondary_axis
@@ -119,18 +121,19 @@ def main():
         return
     with session:
         sub = session.declare_subscriber(key, lambda s: got.put((str(s.key_expr), s.payload.to_bytes(),
-                                                                  s.attachment.to_bytes() if s.attachment else b"")))
+                                                                  s.attachment.to_bytes() if s.attachment else b"",
+                                                                  time.time_ns())))
         samples = []
         end = time.monotonic() + a.timeout_s
         while len(samples) < a.count and time.monotonic() < end:
             try:
-                k, payload, att = got.get(timeout=0.2)
+                k, payload, att, received = got.get(timeout=0.2)
             except queue.Empty:
                 continue
             if len(att) != 33 or att[16] != 16:
                 raise SystemExit(f"{k}: attachment of {len(att)} bytes, not rmw_zenoh's 33")
             seq, stamp = struct.unpack_from("<qq", att, 0)
-            samples.append({"key": k, "seq": seq, "stamp_ns": stamp, **decode(payload)})
+            samples.append({"key": k, "seq": seq, "stamp_ns": stamp, "received_ns": received, **decode(payload)})
         sub.undeclare()
     print(json.dumps({"samples": samples}))
 
