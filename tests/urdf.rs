@@ -38,34 +38,50 @@ fn random_joints(m: &Machine, rng: &mut Rng, n: usize) -> Vec<[f64; 5]> {
         .collect()
 }
 
+/// A tool pose: tip (mm) and axis.
+type Pose = (Vector3<f64>, Vector3<f64>);
+
 /// yourdfpy's tool pose in the workpiece frame (tip mm, axis) for each row; `names` are the URDF's
 /// joint names for the five axes, in axis order.
-fn yourdfpy_fk(file: &Path, names: &[String], rows: &[[f64; 5]], dir: &Path) -> Vec<(Vector3<f64>, Vector3<f64>)> {
-    let joints = dir.join("joints.csv");
-    let out = dir.join("fk.csv");
-    let mut csv = names.join(",") + "\n";
-    for r in rows {
-        csv += &r.iter().map(|v| format!("{v:?}")).collect::<Vec<_>>().join(",");
-        csv += "\n";
+fn yourdfpy_fk(file: &Path, names: &[String], rows: &[[f64; 5]], dir: &Path) -> Vec<Pose> {
+    yourdfpy_fk_many(&[(file.to_path_buf(), names.to_vec(), rows.to_vec())], dir).remove(0)
+}
+
+/// [`yourdfpy_fk`] for several URDF files in one Python process (its imports take a second).
+fn yourdfpy_fk_many(jobs: &[(PathBuf, Vec<String>, Vec<[f64; 5]>)], dir: &Path) -> Vec<Vec<Pose>> {
+    let mut args = Vec::new();
+    for (k, (file, names, rows)) in jobs.iter().enumerate() {
+        let (joints, out) = (dir.join(format!("joints-{k}.csv")), dir.join(format!("fk-{k}.csv")));
+        let mut csv = names.join(",") + "\n";
+        for r in rows {
+            csv += &r.iter().map(|v| format!("{v:?}")).collect::<Vec<_>>().join(",");
+            csv += "\n";
+        }
+        std::fs::write(&joints, csv).unwrap();
+        args.extend([file.clone(), joints, out]);
     }
-    std::fs::write(&joints, csv).unwrap();
     let st = Command::new("python3")
         .arg(concat!(env!("FIVEAXIS_ROOT"), "/tests/peer/urdf_fk.py"))
-        .args([file, &joints, &out])
+        .args(&args)
         .status()
         .expect("python3 runs (yourdfpy comes from launch-free-scripts/test)");
-    assert!(st.success(), "urdf_fk.py failed on {}", file.display());
-    let text = std::fs::read_to_string(&out).unwrap();
-    let poses: Vec<_> = text
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
-            (Vector3::new(v[0], v[1], v[2]), Vector3::new(v[3], v[4], v[5]))
+    assert!(st.success(), "urdf_fk.py failed on {args:?}");
+    jobs.iter()
+        .enumerate()
+        .map(|(k, (file, _, rows))| {
+            let text = std::fs::read_to_string(dir.join(format!("fk-{k}.csv"))).unwrap();
+            let poses: Vec<Pose> = text
+                .lines()
+                .skip(1)
+                .map(|l| {
+                    let v: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
+                    (Vector3::new(v[0], v[1], v[2]), Vector3::new(v[3], v[4], v[5]))
+                })
+                .collect();
+            assert_eq!(poses.len(), rows.len(), "{}: one pose per row", file.display());
+            poses
         })
-        .collect();
-    assert_eq!(poses.len(), rows.len(), "one pose per row");
-    poses
+        .collect()
 }
 
 /// Largest tip (mm) and axis differences between our forward kinematics and `poses`.
@@ -80,14 +96,19 @@ fn worst(m: &Machine, rows: &[[f64; 5]], poses: &[(Vector3<f64>, Vector3<f64>)])
 fn every_built_in_machine_written_as_urdf_reads_back_with_the_same_kinematics() {
     let dir = temp_dir("builtin");
     let mut rng = Rng(0x5eed_0012);
+    let mut jobs = Vec::new();
     for name in BUILTIN_NAMES {
         let m = Machine::builtin(name).unwrap();
-        let text = urdf::write(&m);
         let file = dir.join(format!("{name}.urdf"));
-        std::fs::write(&file, &text).unwrap();
-        let rows = random_joints(&m, &mut rng, 60);
-        // The independent parser: the URDF's joints are named after the axes.
-        let (tip, axis) = worst(&m, &rows, &yourdfpy_fk(&file, &m.axis_names(), &rows, &dir));
+        std::fs::write(&file, urdf::write(&m)).unwrap();
+        jobs.push((file, m.axis_names().to_vec(), random_joints(&m, &mut rng, 60)));
+    }
+    // The independent parser, every machine in one run: the URDF's joints are named after the axes.
+    let theirs = yourdfpy_fk_many(&jobs, &dir);
+    for ((name, (_, _, rows)), poses) in BUILTIN_NAMES.iter().zip(&jobs).zip(&theirs) {
+        let m = Machine::builtin(name).unwrap();
+        let text = urdf::write(&m);
+        let (tip, axis) = worst(&m, rows, poses);
         assert!(tip <= TIP_TOL_MM && axis <= AXIS_TOL, "{name}: yourdfpy differs by {tip:.2e} mm, {axis:.2e} in the axis");
         // Ours: the same axes, limits, secondary axis and forward kinematics.
         let back = urdf::read(&text, name).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -100,7 +121,7 @@ fn every_built_in_machine_written_as_urdf_reads_back_with_the_same_kinematics() 
             }
         }
         let poses: Vec<_> = rows.iter().map(|q| back.forward(q)).map(|p| (p.tip / MM, p.axis)).collect();
-        let (tip, axis) = worst(&m, &rows, &poses);
+        let (tip, axis) = worst(&m, rows, &poses);
         assert!(tip <= TIP_TOL_MM && axis <= AXIS_TOL, "{name}: read back differs by {tip:.2e} mm, {axis:.2e} in the axis");
     }
     std::fs::remove_dir_all(&dir).ok();
