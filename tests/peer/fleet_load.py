@@ -20,6 +20,7 @@ import struct
 import time
 
 import zenoh
+from zenoh_client import client_config
 from rosbags.typesys import Stores, get_typestore, get_types_from_msg
 
 
@@ -60,10 +61,7 @@ def main():
                                                       hardware_id="", values=[])
         return T[diag_t](header=header(ns), status=[ok])
 
-    conf = zenoh.Config()
-    conf.insert_json5("mode", '"client"')
-    conf.insert_json5("connect/endpoints", json.dumps([a.connect]))
-    conf.insert_json5("scouting/multicast/enabled", "false")
+    conf = client_config(a.connect)
     status_hash, diag_hash = store.hash_rihs01(status_t), store.hash_rihs01(diag_t)
     sent = 0
     phases = 10

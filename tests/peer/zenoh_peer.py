@@ -21,6 +21,7 @@ import struct
 import time
 
 import zenoh
+from zenoh_client import client_config
 
 
 class Cdr:
@@ -105,12 +106,7 @@ def main():
     ap.add_argument("--topic", choices=sorted(TOPICS), default="status")
     ap.add_argument("--root-ca", help="for a tls/ endpoint: the CA to trust (no client certificate is presented)")
     a = ap.parse_args()
-    conf = zenoh.Config()
-    if a.root_ca:
-        conf.insert_json5("transport/link/tls/root_ca_certificate", json.dumps(a.root_ca))
-    conf.insert_json5("mode", '"client"')
-    conf.insert_json5("connect/endpoints", json.dumps([a.connect]))
-    conf.insert_json5("scouting/multicast/enabled", "false")
+    conf = client_config(a.connect, a.root_ca)
     topic, decode = TOPICS[a.topic]
     key = f"{a.domain}/{a.machine.strip('/')}/{topic}/*"
     got = queue.Queue()

@@ -14,6 +14,7 @@ import threading
 import time
 
 import zenoh
+from zenoh_client import client_config
 
 
 def main():
@@ -23,10 +24,7 @@ def main():
     ap.add_argument("--key", action="append", required=True)
     ap.add_argument("--for-s", type=float, default=6.0)
     a = ap.parse_args()
-    conf = zenoh.Config()
-    conf.insert_json5("mode", '"client"')
-    conf.insert_json5("connect/endpoints", json.dumps([a.connect]))
-    conf.insert_json5("scouting/multicast/enabled", "false")
+    conf = client_config(a.connect)
     counts = {}
     lock = threading.Lock()
     with zenoh.open(conf) as session:

@@ -204,7 +204,11 @@ impl Fleet {
         let mut events = Vec::new();
         let m = self.heard(path, now, &mut events);
         let sampled = s.header.stamp.as_nanos() as i64;
-        if (received_ns - sampled).abs() < WALL_CLOCK_SLACK_NS {
+        // Only a new sample says how long it took: a status whose stamp is no newer than its
+        // stream's last is of the same sample again (a node set holding its start pose re-sends it
+        // with its first stamp, which would read as a latency growing by the cap's period).
+        let new_sample = m.latest.get(&s.input_topic).is_none_or(|l| (l.header.stamp.as_nanos() as i64) < sampled);
+        if new_sample && (received_ns - sampled).abs() < WALL_CLOCK_SLACK_NS {
             keep(&mut m.sample_latency_ms, (received_ns - sampled) as f64 * 1e-6);
         }
         if let Some((seq, stamp)) = sent {
@@ -407,6 +411,12 @@ mod tests {
         let l = f.rows(t0)[0].latency.clone();
         assert_eq!((l.sample_p50_ms, l.sample_p99_ms), (Some(50.0), Some(99.0)));
         assert!((l.link_p50_ms.unwrap() - 0.5).abs() < 1e-9 && (l.link_p99_ms.unwrap() - 0.5).abs() < 1e-9);
+        // A status of the same sample again (its stamp no newer than the stream's last) is no new
+        // latency, however late it arrives.
+        let late = epoch + 101 * 100_000_000;
+        let again = SingularityStatus { header: fiveaxis_msgs::Header { stamp: fiveaxis_msgs::Time::from_nanos((epoch + 100 * 100_000_000 - 100_000_000) as u64), frame_id: String::new() }, ..Default::default() };
+        f.on_status(&path("a"), again, Some((101, late - 500_000)), late + 5_000_000_000, t0);
+        assert_eq!(f.rows(t0)[0].latency.sample_p99_ms, Some(99.0));
         // Program time (a cell on use_sim_time) is no wall time: no sample latency from it.
         let mut g = Fleet::new(Duration::from_secs(3));
         g.on_status(&path("b"), SingularityStatus::default(), None, epoch, t0);
