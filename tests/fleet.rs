@@ -107,7 +107,9 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
 
     // Eclipse Zenoh's own Python API reads cell_a's status at the head office, on rmw_zenoh's key
     // and attachment, decoded from the .msg layout.
-    let peer: Value = serde_json::from_str(&read("zenoh-peer.json")).unwrap_or_else(|e| panic!("{e}: {}", read("zenoh-peer.log")));
+    // A Python peer's JSON output, with its log when it wrote none.
+    let peer_json = |f: &str| -> Value { serde_json::from_str(&read(f)).unwrap_or_else(|e| panic!("{f}: {e}: {}", read(&f.replace(".json", ".log")))) };
+    let peer = peer_json("zenoh-peer.json");
     let samples = peer["samples"].as_array().unwrap();
     assert_eq!(samples.len(), 5, "{peer}");
     // The key rmw_zenoh gives the topic, with the type's REP 2016 hash (checked against rosbags below).
@@ -122,7 +124,7 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
     assert!(span >= 4.0 / RATE_HZ as f64 * 0.95, "5 statuses in {span} s: over the cap");
 
     // ... and cell_a's simulated axis states, the machine's joints, no faster than their own cap.
-    let joints: Value = serde_json::from_str(&read("zenoh-peer-joint-states.json")).unwrap_or_else(|e| panic!("{e}: {}", read("zenoh-peer-joint-states.log")));
+    let joints = peer_json("zenoh-peer-joint-states.json");
     let samples = joints["samples"].as_array().unwrap();
     assert_eq!(samples.len(), 10, "{joints}");
     let key = format!("0/plant/cell_a/c600u/fiveaxis/simulated/joint_states/sensor_msgs::msg::dds_::JointState_/{}", fiveaxis_msgs::type_hash::rihs01("sensor_msgs/msg/JointState").unwrap());
@@ -144,19 +146,18 @@ fn two_cells_reach_the_head_office_over_a_lossy_wan_and_an_outage() {
     // The site's access control (Zenoh's ACL on the cells' links): a client in cell_b gets its own
     // namespace through to the office, not cell_a's (a publication under cell_a's name refused),
     // and hears nothing of cell_a's (its subscription refused), while the office hears both cells.
-    let probe = |f: &str| -> Value { serde_json::from_str(&read(f)).unwrap_or_else(|e| panic!("{f}: {e}: {}", read(&f.replace(".json", ".log")))) };
-    let sent = probe("probe-cell_b-put.json");
+    let sent = peer_json("probe-cell_b-put.json");
     assert!(sent["sent"]["0/plant/cell_a/c600u/probe"].as_u64().unwrap() >= 20, "{sent}");
-    let office = probe("probe-office-watch.json");
+    let office = peer_json("probe-office-watch.json");
     assert!(office["received"]["0/plant/cell_b/c600u/probe"].as_u64().unwrap_or(0) >= 10, "cell_b's own namespace should reach the office: {office}");
     assert!(office["received"].get("0/plant/cell_a/c600u/probe").is_none(), "cell_b published under cell_a's namespace: {office}");
-    let heard = probe("probe-cell_b-watch.json");
+    let heard = peer_json("probe-cell_b-watch.json");
     assert_eq!(heard["received"], serde_json::json!({}), "cell_b heard cell_a: {heard}");
     eprintln!("WAN delay and loss by {}", read("wan.txt").trim());
 
     // The WAN is Zenoh's TLS with client certificates: a peer that trusts the CA but holds no
     // certificate of it gets nothing through the office's endpoint.
-    let refused: Value = serde_json::from_str(&read("zenoh-peer-no-certificate.json")).unwrap_or_else(|e| panic!("{e}: {}", read("zenoh-peer-no-certificate.log")));
+    let refused = peer_json("zenoh-peer-no-certificate.json");
     assert!(refused["samples"].as_array().unwrap().is_empty(), "{refused}");
 
     // The office's recording, read by Foxglove's reader: every machine's status, and cell_a's

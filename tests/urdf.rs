@@ -96,22 +96,22 @@ fn worst(m: &Machine, rows: &[[f64; 5]], poses: &[(Vector3<f64>, Vector3<f64>)])
 fn every_built_in_machine_written_as_urdf_reads_back_with_the_same_kinematics() {
     let dir = temp_dir("builtin");
     let mut rng = Rng(0x5eed_0012);
-    let mut jobs = Vec::new();
+    let (mut machines, mut jobs) = (Vec::new(), Vec::new());
     for name in BUILTIN_NAMES {
         let m = Machine::builtin(name).unwrap();
+        let text = urdf::write(&m);
         let file = dir.join(format!("{name}.urdf"));
-        std::fs::write(&file, urdf::write(&m)).unwrap();
+        std::fs::write(&file, &text).unwrap();
         jobs.push((file, m.axis_names().to_vec(), random_joints(&m, &mut rng, 60)));
+        machines.push((name, m, text));
     }
     // The independent parser, every machine in one run: the URDF's joints are named after the axes.
     let theirs = yourdfpy_fk_many(&jobs, &dir);
-    for ((name, (_, _, rows)), poses) in BUILTIN_NAMES.iter().zip(&jobs).zip(&theirs) {
-        let m = Machine::builtin(name).unwrap();
-        let text = urdf::write(&m);
-        let (tip, axis) = worst(&m, rows, poses);
+    for (((name, m, text), (_, _, rows)), poses) in machines.iter().zip(&jobs).zip(&theirs) {
+        let (tip, axis) = worst(m, rows, poses);
         assert!(tip <= TIP_TOL_MM && axis <= AXIS_TOL, "{name}: yourdfpy differs by {tip:.2e} mm, {axis:.2e} in the axis");
         // Ours: the same axes, limits, secondary axis and forward kinematics.
-        let back = urdf::read(&text, name).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let back = urdf::read(text, name).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(back.axis_names(), m.axis_names(), "{name}");
         assert_eq!(back.secondary_axis(), m.secondary_axis(), "{name}");
         for (a, b) in back.axes.iter().zip(&m.axes) {
@@ -121,7 +121,7 @@ fn every_built_in_machine_written_as_urdf_reads_back_with_the_same_kinematics() 
             }
         }
         let poses: Vec<_> = rows.iter().map(|q| back.forward(q)).map(|p| (p.tip / MM, p.axis)).collect();
-        let (tip, axis) = worst(&m, rows, &poses);
+        let (tip, axis) = worst(m, rows, &poses);
         assert!(tip <= TIP_TOL_MM && axis <= AXIS_TOL, "{name}: read back differs by {tip:.2e} mm, {axis:.2e} in the axis");
     }
     std::fs::remove_dir_all(&dir).ok();

@@ -139,8 +139,8 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
 
     let mut tracker = RegionTracker::new();
     let mut cap: RateCap<SingularityStatus> = RateCap::new(args.state_rate_hz);
-    // The axis states' own cap (a rate of 0 forwards none: no message is offered to it).
-    let mut joint_cap: RateCap<(usize, JointState)> = RateCap::new(args.joint_states_rate_hz.max(1e-3));
+    // The axis states' own cap; none at a rate of 0 (nor their subscriptions above).
+    let mut joint_cap: Option<RateCap<(usize, JointState)>> = (args.joint_states_rate_hz > 0.0).then(|| RateCap::new(args.joint_states_rate_hz));
     let mut undecodable = 0u64;
     let (mut sent, mut joints_sent, mut regions, mut dropped) = (0u64, 0u64, 0u64, 0u64);
     let start = Instant::now();
@@ -159,7 +159,7 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
     };
     while !shutdown.requested() && !args.duration_s.is_some_and(|d| start.elapsed().as_secs_f64() >= d) {
         let now = Instant::now();
-        let next = [cap.next_release(), joint_cap.next_release()].into_iter().flatten().min();
+        let next = [cap.next_release(), joint_cap.as_ref().and_then(|c| c.next_release())].into_iter().flatten().min();
         let wait = next.map_or(Duration::from_millis(50), |n| n.saturating_duration_since(now).min(Duration::from_millis(50)));
         match rx.recv_timeout(wait) {
             Ok(In::Status(s)) => {
@@ -171,8 +171,8 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
                 cap.offer(&stream, *s);
             }
             Ok(In::Joints(topic, j)) => {
-                if let Some(i) = cell_joint_topics.iter().position(|t| *t == topic) {
-                    joint_cap.offer(&topic, (i, j));
+                if let (Some(i), Some(c)) = (cell_joint_topics.iter().position(|t| *t == topic), joint_cap.as_mut()) {
+                    c.offer(&topic, (i, j));
                 }
             }
             Ok(In::Diagnostics(d)) => {
@@ -192,7 +192,7 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
                 sent += 1;
             }
         }
-        if let Some((i, j)) = joint_cap.poll(Instant::now()) {
+        if let Some((i, j)) = joint_cap.as_mut().and_then(|c| c.poll(Instant::now())) {
             if joint_pubs[i].publish(j).is_ok() {
                 joints_sent += 1;
             }
@@ -202,7 +202,7 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
         regions += 1;
         send_region(r, &mut dropped);
     }
-    tracing::info!(machine = %path, statuses_sent = sent, superseded = cap.superseded(), joint_states_sent = joints_sent, joint_states_superseded = joint_cap.superseded(), regions, regions_dropped_from_store = dropped, undecodable, "fleet gateway done");
+    tracing::info!(machine = %path, statuses_sent = sent, superseded = cap.superseded(), joint_states_sent = joints_sent, joint_states_superseded = joint_cap.as_ref().map_or(0, |c| c.superseded()), regions, regions_dropped_from_store = dropped, undecodable, "fleet gateway done");
     drop(node);
     let _ = context.session().close().wait();
     Ok(())

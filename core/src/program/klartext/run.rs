@@ -93,7 +93,6 @@ pub(crate) struct Runner {
     /// Statements that may run: the program's own lines and the setup's `max_run_lines` more (a
     /// bound on memory for a program such as `LBL 1` / `CALL LBL 1 REP65534` nested).
     budget: usize,
-    repeats_allowed: usize,
     executed: usize,
 }
 
@@ -104,7 +103,6 @@ impl Runner {
             ex: Exec { machine: setup.machine.clone(), ..Exec::default() },
             st: ParseState::default(),
             budget: labels.lines.saturating_add(setup.max_run_lines),
-            repeats_allowed: setup.max_run_lines,
             labels,
             stack: Vec::new(),
             repeats: HashMap::new(),
@@ -126,7 +124,7 @@ impl Runner {
         };
         self.executed += 1;
         if self.executed > self.budget {
-            diags.error(s.line, s.col, format!("the repeats and calls run more than {} blocks beyond the program's own: not read further", self.repeats_allowed));
+            diags.error(s.line, s.col, format!("the repeats and calls run more than {} blocks beyond the program's own: not read further", self.budget - self.labels.lines));
             return Next::Ended;
         }
         match &s.kind {
