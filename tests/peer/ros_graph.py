@@ -13,7 +13,8 @@
   ros2-client's parameter services use, as rmw_fastrtps does).
 
 usage (inside launch-free-scripts/netns-run):
-  ros_graph.py --node /cell1/m1 [--domain-id N] [--timeout-s 20]
+  ros_graph.py --node /cell1/m1 [--domain-id N] [--timeout-s 20] [--min-nodes N]
+  (--min-nodes: wait, within the timeout, until N nodes of the domain are known too)
 Prints one JSON object: {"node": {...} or null, "nodes": [...], "publications": [...], "domain_publications": [...],
 "subscriptions": [...], "participant_subscriptions": [...], "parameters": {name: value} or null, "parameter_types": {name: type}}.
 """
@@ -152,6 +153,7 @@ def main():
     ap.add_argument("--node", required=True, help="fully qualified node name, e.g. /cell1/m1")
     ap.add_argument("--domain-id", type=int, default=int(os.environ.get("ROS_DOMAIN_ID", "0") or 0))
     ap.add_argument("--timeout-s", type=float, default=20.0)
+    ap.add_argument("--min-nodes", type=int, default=0)
     a = ap.parse_args()
     ns, _, name = a.node.rpartition("/")
     ns = ns or "/"
@@ -177,7 +179,7 @@ def main():
             subs[s.key.bytes.hex()] = {"topic": ros_topic(s.topic_name), "type": ros_type(s.type_name)}
         node = nodes.get((ns, name))
         # Seen once the node and every one of its writers is known from discovery.
-        if node and node["writers"] and all(w in pubs for w in node["writers"]):
+        if node and node["writers"] and all(w in pubs for w in node["writers"]) and len(nodes) >= a.min_nodes:
             time.sleep(0.5)
             break
         time.sleep(0.1)
