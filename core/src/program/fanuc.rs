@@ -18,7 +18,7 @@ use super::lex::Diags;
 use super::{Block, Dialect, Motion};
 
 /// A G word's code without leading zeros (`G01` is `1`, `G05.1` is `5.1`).
-fn code(w: &Word) -> String {
+pub(crate) fn code(w: &Word) -> String {
     let c = w.raw.trim_start_matches('+').trim_start_matches('0');
     if c.is_empty() || c.starts_with('.') {
         format!("0{c}")
@@ -35,6 +35,9 @@ fn word(letter: char, value: f64, column: usize) -> Word<'static> {
 /// Make the block's special moves, if it has any: `Some(made)` (false if a defect stopped it), or
 /// `None` for an ordinary block (a cycle cancelled by it is cancelled here).
 pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
+    if let Some(done) = super::feature::expand(it, words, line, column, number, diags, out) {
+        return Some(done);
+    }
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
     let has = |c: &str| g.iter().find(|(k, _)| k == c).map(|(_, w)| *w);
     if let Some(w) = has("28").or(has("30")) {
@@ -60,12 +63,12 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
 
 /// The words a special block's own codes take (its axis words, R, Q, P, K, L), kept out of the
 /// block of settings (modal codes, M, S, T, F) the interpreter reads first.
-fn settings<'a>(words: &'a [Word<'a>], taken: &[char], special: &[&str]) -> Vec<Word<'a>> {
+pub(crate) fn settings<'a>(words: &'a [Word<'a>], taken: &[char], special: &[&str]) -> Vec<Word<'a>> {
     words.iter().filter(|w| !taken.contains(&w.letter) && !(w.letter == 'G' && special.contains(&code(w).as_str()))).cloned().collect()
 }
 
 /// The block of settings (if it has words), read before the special moves; false if a defect.
-fn apply(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+pub(crate) fn apply(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
     if words.is_empty() {
         return true;
     }

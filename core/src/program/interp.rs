@@ -97,6 +97,9 @@ pub struct Interpreter {
     extra_offset: bool,
     /// A preset the program selects but cannot know (Heidenhain cycle 247) is in effect.
     preset_assumed: bool,
+    /// Fanuc `G68.2`'s feature coordinate system in effect: its origin (m, in the workpiece
+    /// coordinates), which the datum holds on top of the work offset until `G69`.
+    pub(crate) feature: Option<[f64; 3]>,
 }
 
 /// How one block is made whatever the modal state says.
@@ -170,6 +173,7 @@ impl Interpreter {
             offsets_given: [false; 9],
             extra_offset: false,
             preset_assumed: false,
+            feature: None,
         }
     }
 
@@ -315,7 +319,7 @@ impl Interpreter {
     }
 
     /// The rotary positions in the machine's order (its axes 3 and 4), rad, from the last words.
-    fn rot_now(&self) -> [f64; 2] {
+    pub(crate) fn rot_now(&self) -> [f64; 2] {
         self.rotary_letters.map(|l| l.and_then(|l| "ABC".find(l)).map_or(0.0, |k| self.last[3 + k]))
     }
 
@@ -460,6 +464,16 @@ impl Interpreter {
         }
     }
 
+    /// The machine the program runs on, if the reader knows it.
+    pub(crate) fn machine(&self) -> Option<&std::sync::Arc<crate::machine::Machine>> {
+        self.machine.as_ref()
+    }
+
+    /// The rotary axes' letters, in the machine's order (its axes 3 and 4).
+    pub(crate) fn rotary_letters(&self) -> [Option<char>; 2] {
+        self.rotary_letters
+    }
+
     /// The machine's coordinates, where its file places them.
     pub fn machine_coords(&self) -> Option<&crate::machine::MachineCoordinates> {
         self.machine_coords.as_ref()
@@ -538,7 +552,12 @@ impl Interpreter {
     pub(crate) fn block_one(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags) -> Option<Block> {
         let shot = self.oneshot.take();
         if shot.is_some_and(|s| s.axes.is_some() && !s.own) && self.tilt.is_some() {
-            diags.error(line, column, "machine coordinates in a tilted working plane: the control refuses them (TNC 426 B ISO §7.3: \"M91 and M92 are not effective in a tilted working plane\"); reset the plane first");
+            let why = if self.dialect.is_fanuc() {
+                "machine coordinates under a tilted working plane (G68.2): not read (what the control does with them there is not at hand); cancel the plane with G69 first"
+            } else {
+                "machine coordinates in a tilted working plane: the control refuses them (TNC 426 B ISO §7.3: \"M91 and M92 are not effective in a tilted working plane\"); reset the plane first"
+            };
+            diags.error(line, column, why);
             return None;
         }
         let mut next = self.clone();

@@ -8,6 +8,7 @@ mod apt;
 mod cl;
 mod cycles;
 mod fanuc;
+mod feature;
 mod heidenhain;
 mod interp;
 mod klartext;

@@ -178,6 +178,64 @@ pub fn solve(machine: &Machine, r: &Matrix3<f64>, current: [f64; 2], choice: Cho
     Ok(Solution { rot: pick, pole })
 }
 
+/// The rotary positions a Fanuc control outputs for `G53.1` (tool axis direction control): of the
+/// computed angles (each solution, turned by any multiple of 360 deg) within both axes' ranges, the
+/// pair whose master axis moves least; on a tie the slave's move, then the master's angle nearest 0
+/// deg (modulo 360), then the slave's (FANUC 16i/18i-MB Operator's Manual B-63534EN, "Angle of
+/// rotation axis": the "output judgement conditions"; 30i B-63944EN/02 §21, p.677: on a mixed
+/// machine the table axis is judged first). The master is the axis nearer the machine's base, the
+/// one carrying the other, on a mixed machine the table's (parameter PRI, No. 19608#5, at 0). At the
+/// pole the free axis stays where it stands (B-63944EN/02 p.680: "the master axis does not move from
+/// the current angle").
+pub fn solve_fanuc(machine: &Machine, r: &Matrix3<f64>, current: [f64; 2]) -> Result<Solution, String> {
+    let n: Vector3<f64> = r.column(2).into();
+    let sol = machine.chain.orientation_solutions(&n).map_err(|e| format!("the machine cannot point the tool along the plane's Z: {e}"))?;
+    let sec = machine.chain.secondary_slot();
+    let master = machine.chain.table_slots().first().or(machine.chain.head_slots().first()).copied().unwrap_or(0);
+    let slave = 1 - master;
+    let limits = [machine.axes[3].limits, machine.axes[4].limits];
+    let names = [machine.axes[3].name.as_str(), machine.axes[4].name.as_str()];
+    let pole = sol.singular.then_some(Pole { free_axis: 3 + sec, coord_rot: current[sec], table_rot: None });
+    let tau = std::f64::consts::TAU;
+    // The judgement's measures, in order: what the master moves, what the slave moves, how far each
+    // lies from 0 deg.
+    let key = |c: &[f64; 2]| [(c[master] - current[master]).abs(), (c[slave] - current[slave]).abs(), crate::kinematics::wrap_pi(c[master]).abs(), crate::kinematics::wrap_pi(c[slave]).abs()];
+    let better = |a: &[f64; 2], b: &[f64; 2]| {
+        for (x, y) in key(a).iter().zip(key(b)) {
+            if (x - y).abs() > 1e-9 {
+                return x < &y;
+            }
+        }
+        false
+    };
+    let mut best: Option<[f64; 2]> = None;
+    let mut outside: Vec<String> = Vec::new();
+    for raw in sol.solutions {
+        let mut target = raw;
+        if pole.is_some() {
+            target[sec] = current[sec];
+        }
+        let images: [Vec<f64>; 2] = std::array::from_fn(|k| {
+            let near = unwrap_near(target[k], current[k]);
+            [near, near - tau, near + tau].into_iter().filter(|v| limits[k].contains(*v)).collect()
+        });
+        if let Some(k) = (0..2).find(|&k| images[k].is_empty()) {
+            outside.push(format!("{} {:.3} deg", names[k], unwrap_near(target[k], current[k]).to_degrees()));
+        }
+        for &a in &images[0] {
+            for &b in &images[1] {
+                if best.as_ref().is_none_or(|c| better(&[a, b], c)) {
+                    best = Some([a, b]);
+                }
+            }
+        }
+    }
+    match best {
+        Some(rot) => Ok(Solution { rot, pole }),
+        None => Err(format!("no solution within the axes' limits ({})", outside.join(", "))),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -238,5 +296,40 @@ mod tests {
         assert!((p.coord_rot / D - 10.0).abs() < 1e-9 && (pole.rot[0]).abs() < 1e-9);
         let x = hermle.chain.tool_frame(&pole.rot).column(0).into_owned();
         assert!((x - spatial(0.0, 0.0, 30.0 * D).column(0)).norm() < 1e-9, "TABLE ROT: the plane's X is the machine's X");
+    }
+
+    /// FANUC's worked examples of G53.1's output angles (30i User's Manual B-63944EN/02 §21, p.680;
+    /// 15i-B Connection Manual B-63783EN-1/01 p.1257), "BC type tool axis Z" (a C head carrying the B
+    /// head, `generic-bc-head`, its ranges widened to a turn each way as the example's B270 needs):
+    /// from B180 C90 the candidates B90 C180 and B270 C0 (the tool along -X) tie on both axes' moves,
+    /// and the master C nearer 0 deg decides: B270 C0. From B45 C90, the tool along Z (B0): C, free,
+    /// "does not move from the current angle": B0 C90.
+    #[test]
+    fn fanucs_output_angle_examples_on_a_bc_head() {
+        let mut m = Machine::builtin("generic-bc-head").unwrap();
+        for k in [3, 4] {
+            (m.axes[k].limits.min, m.axes[k].limits.max) = (-360.0 * D, 360.0 * D);
+        }
+        let (c, b) = (m.axes.iter().position(|a| a.name == "C").unwrap() - 3, m.axes.iter().position(|a| a.name == "B").unwrap() - 3);
+        let at = |bv: f64, cv: f64| {
+            let mut q = [0.0; 2];
+            (q[b], q[c]) = (bv * D, cv * D);
+            q
+        };
+        let minus_x = Matrix3::from_columns(&[Vector3::y(), Vector3::z(), -Vector3::x()]);
+        let s = solve_fanuc(&m, &minus_x, at(180.0, 90.0)).unwrap();
+        assert!((s.rot[b] / D - 270.0).abs() < 1e-3 && (s.rot[c] / D).abs() < 1e-3, "manual B270 C0, got B{} C{}", s.rot[b] / D, s.rot[c] / D);
+        assert!(s.pole.is_none());
+        // Both candidates point the tool along -X (the example's direction, as its two pairs say).
+        for q in [at(90.0, 180.0), at(270.0, 0.0)] {
+            assert!((m.chain.tool_frame(&q).column(2) + Vector3::x()).norm() < 1e-12);
+        }
+        let s = solve_fanuc(&m, &Matrix3::identity(), at(45.0, 90.0)).unwrap();
+        assert!((s.rot[b] / D).abs() < 1e-3 && (s.rot[c] / D - 90.0).abs() < 1e-3, "manual B0 C90, got B{} C{}", s.rot[b] / D, s.rot[c] / D);
+        assert_eq!(s.pole.map(|p| p.free_axis), Some(3 + c));
+        // From B100 C90 the two tie on C's move (90 deg each way), and B's smaller move decides.
+        let own = Machine::builtin("generic-bc-head").unwrap();
+        let s = solve_fanuc(&own, &minus_x, at(100.0, 90.0)).unwrap();
+        assert!((s.rot[b] / D - 90.0).abs() < 1e-3 && (s.rot[c] / D - 180.0).abs() < 1e-3, "B{} C{}", s.rot[b] / D, s.rot[c] / D);
     }
 }

@@ -317,6 +317,8 @@ impl Rs274Reader {
         // Q is a depth in a cycle but a mode in G05.1; K a repeat count in a cycle.
         let cycle = self.interp.cycles.active.is_some() || words.iter().any(|w| w.letter == 'G' && [73.0, 74.0, 76.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0, 88.0, 89.0].contains(&w.value));
         let mode_q = g(5.1);
+        // G68.2's I J K are angles (Euler's), in degrees' increments whatever the length unit.
+        let angles_ijk = g(68.2);
         for (i, w) in words.iter_mut().enumerate() {
             if computed.contains(&i) || w.raw.contains('.') {
                 continue;
@@ -324,6 +326,7 @@ impl Rs274Reader {
             let step = match w.letter {
                 'Q' if mode_q => continue,
                 'K' if cycle => continue,
+                'I' | 'J' | 'K' if angles_ijk => 1e-3,
                 'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'Q' | 'U' | 'V' | 'W' => if inch { 1e-4 } else { 1e-3 },
                 'A' | 'B' | 'C' => 1e-3,
                 _ => continue,
