@@ -806,6 +806,15 @@ impl Interpreter {
                         (None, 62..=65, false) => uses.push('P'),
                         (None, 66, false) => uses.extend(['P', 'E', 'L', 'Q']),
                         (None, 67 | 68, false) => uses.extend(['E', 'Q']),
+                        (None, _, false) if fanuc => diags.error(
+                            line,
+                            w.column,
+                            format!(
+                                "M{}: the machine maker's M function, whose effect is not known here: its machine file names it \
+                                 ([[m_function]]), or say what it does with --m-code {}=tcp-on|tcp-off|event",
+                                w.raw, code
+                            ),
+                        ),
                         (None, _, false) => diags.error(
                             line,
                             w.column,

@@ -13,6 +13,7 @@ mod heidenhain;
 mod interp;
 mod klartext;
 mod lex;
+mod macro_b;
 mod oword;
 mod params;
 pub mod plane;
@@ -602,7 +603,7 @@ impl ReadOptions {
 pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> Program {
     let mut p = match stream::Reader::new(dialect, options) {
         Some(mut reader) => stream::read_whole(reader.get(), text, dialect),
-        None => stream::read_klartext(text, &options.setup(dialect)),
+        None => stream::read_jumping(text, dialect, stream::jumping(dialect, options)),
     };
     p.source = source.to_string();
     p

@@ -178,6 +178,25 @@ impl Parameters {
         Ok((target, v, k))
     }
 
+    /// Fanuc's macro statement `#i = <expression>` at `chars[i] == '#'`: as [`Parameters::setting`],
+    /// but the expression runs on without brackets (FANUC B-64484EN, "Custom macro": "#i = <expression>",
+    /// brackets only to group), operators and functions as the parameters read them.
+    pub fn macro_setting(&self, chars: &[char], i: usize) -> Result<(Target, f64, usize), ExprError> {
+        let mut r = Reader { params: self, chars, depth: 0 };
+        let (target, j) = r.reference(i)?;
+        if let Target::Numbered(n) = &target {
+            if *n > MAX_USER_PARAMETER {
+                return err(i + 1, format!("{target} is a system variable (offsets, tool, position): setting it is not modelled"));
+            }
+        }
+        let j = r.blank(j);
+        if chars.get(j) != Some(&'=') {
+            return err(i + 1, format!("{target} stands alone: expected '=' and an expression to set it (or a word letter before it)"));
+        }
+        let (v, k) = r.binary(j + 1, 0)?;
+        Ok((target, v, k))
+    }
+
     /// Set a parameter (a line's settings, after every value on the line was read).
     pub fn set(&mut self, target: Target, value: f64, column: usize) -> Result<(), ExprError> {
         match target {
@@ -223,6 +242,24 @@ impl Parameters {
         self.named.retain(|k, _| k.starts_with('_'));
         self.numbered.extend(scope.numbered);
         self.named.extend(scope.named);
+    }
+}
+
+impl Parameters {
+    /// Enter a Fanuc macro (`G65`): the local variables `#1`-`#33` are its own, vacant but for its
+    /// arguments (FANUC B-64484EN, "Custom macro", local variables and argument specification I).
+    pub fn enter_locals(&mut self, args: &[(u32, f64)]) -> Scope {
+        let numbered = (1..=33).filter_map(|n| self.numbered.remove(&n).map(|v| (n, v))).collect();
+        self.numbered.extend(args.iter().copied());
+        Scope { numbered, named: Vec::new() }
+    }
+
+    /// Leave a Fanuc macro: its locals go, the caller's come back.
+    pub fn leave_locals(&mut self, scope: Scope) {
+        for n in 1..=33 {
+            self.numbered.remove(&n);
+        }
+        self.numbered.extend(scope.numbered);
     }
 }
 

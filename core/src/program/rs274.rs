@@ -68,6 +68,28 @@ impl Rs274Reader {
     }
 }
 
+impl Rs274Reader {
+    /// Fanuc, Haas: the lines read now are the program's (past the tape's leader, before its end `%`).
+    pub(super) fn in_program(&self) -> bool {
+        self.leader.is_none() && !self.refused
+    }
+
+    /// The tape's end `%` has been read: nothing after it is program.
+    pub(super) fn at_tape_end(&self) -> bool {
+        self.refused
+    }
+
+    /// A line with words has been read (an `O` number now is another program's).
+    pub(super) fn started(&self) -> bool {
+        self.started
+    }
+
+    /// The text has no `%`: no line of it is the tape's leader.
+    pub(super) fn no_leader(&mut self) {
+        self.leader = None;
+    }
+}
+
 impl super::stream::LineReader for Rs274Reader {
     fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
         // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
@@ -189,7 +211,8 @@ impl Rs274Reader {
                     }
                 }
             } else if c == '#' {
-                match self.params.setting(&chars, i) {
+                let setting = if self.dialect.is_fanuc() { self.params.macro_setting(&chars, i) } else { self.params.setting(&chars, i) };
+                match setting {
                     Ok((target, value, end)) => {
                         settings.push((target, value, i + 1));
                         i = end;

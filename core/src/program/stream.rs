@@ -12,7 +12,7 @@
 
 use super::cl::ClReader;
 use super::heidenhain::DinReader;
-use super::klartext::{At, Labels, Next, Runner};
+use super::klartext::Runner;
 use super::lex::Diags;
 use super::rs274::Rs274Reader;
 use super::sinumerik::SinumerikReader;
@@ -117,15 +117,15 @@ pub(crate) enum Reader {
 }
 
 impl Reader {
-    /// The reader of `dialect` (`None` for Klartext, which jumps: [`Seeking`]).
+    /// The reader of `dialect` (`None` for the dialects whose programs jump: [`jumping`]).
     pub(crate) fn new(dialect: Dialect, options: &ReadOptions) -> Option<Reader> {
         let setup = options.setup(dialect);
         Some(match dialect {
             Dialect::Cl => Reader::Cl(ClReader::new(&setup)),
-            Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas => Reader::Rs274(Rs274Reader::new(&setup)),
+            Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&setup)),
             Dialect::Heidenhain => Reader::Din(DinReader::new(&setup)),
             Dialect::Sinumerik => Reader::Sinumerik(SinumerikReader::new(&setup)),
-            Dialect::Klartext => return None,
+            Dialect::Klartext | Dialect::Fanuc | Dialect::Haas => return None,
         })
     }
 
@@ -139,6 +139,16 @@ impl Reader {
     }
 }
 
+/// The reader of a dialect whose programs jump, read by [`Seeking`]: Klartext (labels, calls,
+/// repeats), Fanuc and Haas (macro branches and loops, subprograms).
+pub(crate) fn jumping(dialect: Dialect, options: &ReadOptions) -> Box<dyn Jumping> {
+    let setup = options.setup(dialect);
+    match dialect {
+        Dialect::Fanuc | Dialect::Haas => Box::new(super::macro_b::MacroRunner::new(&setup)),
+        _ => Box::new(Runner::new(&setup)),
+    }
+}
+
 /// A program's text, readable from any byte offset.
 pub trait Text: Read + Seek + Send {}
 impl<T: Read + Seek + Send + ?Sized> Text for T {}
@@ -148,10 +158,10 @@ impl<T: Read + Seek + Send + ?Sized> Text for T {}
 /// the program is first read (a compressed one is unpacked then).
 pub type OpenText<'a> = Box<dyn FnOnce() -> std::io::Result<Box<dyn Text + 'a>> + Send + 'a>;
 
-/// Where the blocks come from: a reader fed line by line, or Klartext read as it runs.
+/// Where the blocks come from: a reader fed line by line, or a program read as it runs.
 enum Source {
     Lines { input: Box<dyn BufRead + Send>, reader: Reader, line: usize, buf: Vec<u8> },
-    Klartext(Box<Seeking<'static>>),
+    Seeking(Box<Seeking<'static>>),
 }
 
 /// The blocks of a program, read as they are asked for: memory holds one line and the blocks it
@@ -214,10 +224,10 @@ impl BlockStream {
         match Reader::new(dialect, options) {
             Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
             None => {
-                let mut k = Seeking::new(open, &options.setup(dialect));
+                let mut k = Seeking::new(open, jumping(dialect, options));
                 match k.broken.take() {
                     Some(e) => Err(io(e)),
-                    None => Ok(Self::klartext(k, source)),
+                    None => Ok(Self::seeking(k, dialect, source)),
                 }
             }
         }
@@ -234,7 +244,7 @@ impl BlockStream {
             Some(reader) => Self::lines(Box::new(Cursor::new(text.as_bytes().to_vec())), reader, dialect, source),
             None => {
                 let text: std::sync::Arc<[u8]> = text.as_bytes().into();
-                Self::klartext(Seeking::new(in_memory(text), &options.setup(dialect)), source)
+                Self::seeking(Seeking::new(in_memory(text), jumping(dialect, options)), dialect, source)
             }
         }
     }
@@ -257,11 +267,11 @@ impl BlockStream {
         }
     }
 
-    fn klartext(k: Seeking<'static>, source: &str) -> BlockStream {
+    fn seeking(k: Seeking<'static>, dialect: Dialect, source: &str) -> BlockStream {
         BlockStream {
             source: source.into(),
-            dialect: Dialect::Klartext,
-            input: Source::Klartext(Box::new(k)),
+            dialect,
+            input: Source::Seeking(Box::new(k)),
             pending: VecDeque::new(),
             out: Vec::new(),
             diags: Diags::default(),
@@ -315,10 +325,10 @@ impl BlockStream {
     fn fill(&mut self) {
         while self.pending.is_empty() && !self.ended {
             match &mut self.input {
-                Source::Klartext(k) => {
+                Source::Seeking(k) => {
                     self.ended = k.fill(&mut self.out, &mut self.diags);
                     if self.name.is_none() {
-                        self.name = k.runner.name().map(String::from);
+                        self.name = k.runner.name();
                     }
                     self.pending.extend(self.out.drain(..));
                 }
@@ -454,16 +464,71 @@ fn line_text(buf: &[u8]) -> std::borrow::Cow<'_, str> {
     }
 }
 
-/// Klartext read as it runs: its labels from a first pass over the text, then line by line from
-/// where the program's flow goes, seeking to a byte offset for each jump (within the read buffer
-/// when the target is in it: a short repeated section is not read again from the file). Memory
-/// holds one line, the read buffer, the label table and the call stack, whatever the program's
-/// length.
+/// Where a line of the program starts: its number (1-based) and byte offset. A jump (a call, a
+/// repeat, a return) tells the reader to read on from here.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct At {
+    pub line: usize,
+    pub offset: u64,
+}
+
+/// What the reader does after a line: read the next one, read on from elsewhere, look for lines
+/// (a label the program jumps to), or (the program has ended) only check the lines after it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Next {
+    On,
+    Jump(At),
+    Find(Find),
+    Ended,
+}
+
+/// A search a program's flow asks for: the lines from `from` on, up to the byte offset `to` (the
+/// text's end if `None`), that the reader's [`Jumping::matches`] takes for `key`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Find {
+    pub from: At,
+    pub to: Option<u64>,
+    pub key: u64,
+}
+
+/// The most lines a search reports: enough to tell a label from one written twice.
+const MAX_HITS: usize = 2;
+
+/// A dialect's reader whose programs jump (Klartext's labels and calls, Fanuc's macro branches and
+/// subprograms), run by [`Seeking`], sans I/O.
+pub(crate) trait Jumping: Send {
+    /// The first pass over the text, before the run: line `line`'s bytes, the next line at `next`.
+    fn scan(&mut self, line: usize, bytes: &[u8], next: At, diags: &mut Diags);
+    /// Run line `line` (`text`, without its newline), which starts at `here`, the next at `next`:
+    /// its blocks to `out`, its defects to `diags`; where to read on.
+    fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next;
+    /// A line after the program's end: checked, not run.
+    fn check(&mut self, line: usize, text: &str, diags: &mut Diags);
+    /// The input has ended: blocks only the end completes go to `out`.
+    fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags);
+    /// The program's name, once read.
+    fn name(&self) -> Option<String>;
+    /// Whether line `bytes` is one a search for `key` looks for.
+    fn matches(&self, _key: u64, _bytes: &[u8]) -> bool {
+        false
+    }
+    /// A search's answer: where the lines it looked for start (at most [`MAX_HITS`]); where to
+    /// read on.
+    fn found(&mut self, _find: Find, _hits: &[At], _diags: &mut Diags) -> Next {
+        Next::Ended
+    }
+}
+
+/// A program read as it runs: a first pass over the text ([`Jumping::scan`]: Klartext's labels,
+/// Fanuc's programs), then line by line from where the program's flow goes, seeking to a byte
+/// offset for each jump (within the read buffer when the target is in it: a short repeated section
+/// is not read again from the file). Memory holds one line, the read buffer and what the reader
+/// keeps (a label table, a call stack), whatever the program's length.
 pub(crate) struct Seeking<'a> {
     input: BufReader<Box<dyn Text + 'a>>,
     /// The line to read next.
     at: At,
-    runner: Runner,
+    runner: Box<dyn Jumping + 'a>,
     /// False once the program has ended: the lines after it are only checked.
     running: bool,
     buf: Vec<u8>,
@@ -477,11 +542,11 @@ pub(crate) struct Seeking<'a> {
 }
 
 impl<'a> Seeking<'a> {
-    /// Read `open()` for the labels; run it from its start. A failure is kept in `broken` (a
-    /// file's reader turns it into a [`LoadError`]; otherwise the first [`Seeking::fill`] reports
-    /// it).
-    pub(crate) fn new(open: OpenText<'a>, setup: &super::Setup) -> Self {
-        let (mut labels, mut early) = (Labels::default(), Diags::default());
+    /// Read `open()` for `runner`'s first pass; run it from its start. A failure is kept in
+    /// `broken` (a file's reader turns it into a [`LoadError`]; otherwise the first
+    /// [`Seeking::fill`] reports it).
+    pub(crate) fn new(open: OpenText<'a>, mut runner: Box<dyn Jumping + 'a>) -> Self {
+        let mut early = Diags::default();
         let (mut buf, mut at) = (Vec::with_capacity(256), At { line: 1, offset: 0 });
         let (text, mut broken) = match open() {
             Ok(t) => (t, None),
@@ -491,7 +556,7 @@ impl<'a> Seeking<'a> {
         while broken.is_none() {
             let read = with_line(&mut input, &mut buf, |bytes| {
                 let next = At { line: at.line + 1, offset: at.offset + bytes.len() as u64 };
-                labels.line(at.line, without_eol(bytes), next, &mut early);
+                runner.scan(at.line, without_eol(bytes), next, &mut early);
             });
             let len = match read {
                 Ok(Got::End) => break,
@@ -506,16 +571,7 @@ impl<'a> Seeking<'a> {
         if broken.is_none() {
             broken = input.rewind().err();
         }
-        Seeking {
-            input,
-            at: At { line: 1, offset: 0 },
-            runner: Runner::new(labels, setup),
-            running: true,
-            buf,
-            early,
-            given: HashSet::new(),
-            broken,
-        }
+        Seeking { input, at: At { line: 1, offset: 0 }, runner, running: true, buf, early, given: HashSet::new(), broken }
     }
 
     /// Read one line and run (or check) it: its blocks to `out`, its diagnostics not given before to
@@ -524,13 +580,14 @@ impl<'a> Seeking<'a> {
         let mut d = std::mem::take(&mut self.early);
         let Seeking { input, at, runner, running, buf, broken, .. } = self;
         let line = at.line;
+        let here = *at;
         let read = match broken.take() {
             Some(e) => Err(e),
             None => with_line(input, buf, |bytes| {
                 let next = At { line: line + 1, offset: at.offset + bytes.len() as u64 };
                 let text = line_text(bytes);
                 if *running {
-                    runner.line(line, &text, next, out, &mut d)
+                    runner.line(line, &text, here, next, out, &mut d)
                 } else {
                     runner.check(line, &text, &mut d);
                     Next::On
@@ -539,7 +596,7 @@ impl<'a> Seeking<'a> {
         };
         let ended = match read {
             Ok(Got::End) => {
-                runner.finish(&mut d);
+                runner.finish(out, &mut d);
                 true
             }
             Ok(Got::TooLong(n)) => {
@@ -549,21 +606,44 @@ impl<'a> Seeking<'a> {
             }
             Ok(Got::Text(len, next)) => {
                 *at = At { line: line + 1, offset: at.offset + len };
-                match next {
-                    Next::On => false,
-                    Next::Ended => {
-                        *running = false;
-                        false
+                let mut next = next;
+                // A search, then where its answer says: the reader stands after the lines it read.
+                let mut stands = at.offset;
+                let mut result = Ok(());
+                if let Next::Find(find) = next {
+                    result = search(input, buf, &mut stands, find, runner.as_ref()).map(|hits| {
+                        next = runner.found(find, &hits, &mut d);
+                        if next == Next::On {
+                            next = Next::Jump(*at);
+                        }
+                    });
+                }
+                match (result, next) {
+                    (Err(e), _) => {
+                        d.error(line, 1, cannot_read(line, e));
+                        runner.finish(out, &mut d);
+                        true
                     }
-                    Next::Jump(to) => {
-                        // The reader stands at the line after this one.
-                        let from = at.offset;
+                    (Ok(()), Next::On) => false,
+                    (Ok(()), Next::Ended | Next::Find(_)) => {
+                        *running = false;
+                        // The lines after the end are checked from where the reader stands.
+                        match seek(input, stands, at.offset) {
+                            Ok(()) => false,
+                            Err(e) => {
+                                d.error(at.line, 1, cannot_read(at.line, e));
+                                runner.finish(out, &mut d);
+                                true
+                            }
+                        }
+                    }
+                    (Ok(()), Next::Jump(to)) => {
                         *at = to;
-                        match seek(input, from, to.offset) {
+                        match seek(input, stands, to.offset) {
                             Ok(()) => false,
                             Err(e) => {
                                 d.error(to.line, 1, cannot_read(to.line, e));
-                                runner.finish(&mut d);
+                                runner.finish(out, &mut d);
                                 true
                             }
                         }
@@ -572,7 +652,7 @@ impl<'a> Seeking<'a> {
             }
             Err(e) => {
                 d.error(line, 1, cannot_read(line, e));
-                runner.finish(&mut d);
+                runner.finish(out, &mut d);
                 true
             }
         };
@@ -591,6 +671,33 @@ impl<'a> Seeking<'a> {
     }
 }
 
+/// The lines from `find.from` up to `find.to` that `runner` takes for `find.key`, the reader
+/// standing at byte `stands` (moved to where the search stopped).
+fn search(input: &mut BufReader<Box<dyn Text + '_>>, buf: &mut Vec<u8>, stands: &mut u64, find: Find, runner: &dyn Jumping) -> std::io::Result<Vec<At>> {
+    seek(input, *stands, find.from.offset)?;
+    *stands = find.from.offset;
+    let mut at = find.from;
+    let mut hits = Vec::new();
+    while find.to.is_none_or(|to| at.offset < to) && hits.len() < MAX_HITS {
+        let hit = match with_line(input, buf, |bytes| runner.matches(find.key, without_eol(bytes)))? {
+            Got::End => break,
+            Got::TooLong(n) => {
+                at = At { line: at.line + 1, offset: at.offset + n };
+                *stands = at.offset;
+                continue;
+            }
+            Got::Text(n, hit) => {
+                let here = at;
+                at = At { line: at.line + 1, offset: at.offset + n };
+                *stands = at.offset;
+                hit.then_some(here)
+            }
+        };
+        hits.extend(hit);
+    }
+    Ok(hits)
+}
+
 /// Move a reader standing at byte `from` to byte `to`: within its buffer when `to` is in it,
 /// else by seeking the text.
 fn seek(input: &mut BufReader<Box<dyn Text + '_>>, from: u64, to: u64) -> std::io::Result<()> {
@@ -605,11 +712,12 @@ fn in_memory<'a, T: AsRef<[u8]> + Send + 'a>(text: T) -> OpenText<'a> {
     Box::new(move || Ok(Box::new(Cursor::new(text)) as Box<dyn Text + 'a>))
 }
 
-/// Read a Klartext program from `text` as the stream does, its blocks and diagnostics collected.
-pub(crate) fn read_klartext(text: &str, setup: &super::Setup) -> Program {
-    let mut k = Seeking::new(in_memory(text.as_bytes()), setup);
+/// Read a program that jumps from `text` as the stream does (`runner`, a reader of `dialect`), its
+/// blocks and diagnostics collected.
+pub(crate) fn read_jumping(text: &str, dialect: Dialect, runner: Box<dyn Jumping + '_>) -> Program {
+    let mut k = Seeking::new(in_memory(text.as_bytes()), runner);
     let (mut blocks, mut diags) = (Vec::with_capacity(super::lex::line_count(text)), Diags::default());
     while !k.fill(&mut blocks, &mut diags) {}
     diags.0.sort_by_key(|d| (d.line, d.column));
-    Program { source: String::new(), dialect: Dialect::Klartext, name: k.runner.name().map(String::from), blocks, diagnostics: diags.0 }
+    Program { source: String::new(), dialect, name: k.runner.name(), blocks, diagnostics: diags.0 }
 }

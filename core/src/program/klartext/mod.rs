@@ -38,7 +38,7 @@
 mod formula;
 mod run;
 
-pub(crate) use run::{At, Labels, Next, Runner};
+pub(crate) use run::Runner;
 pub use run::MAX_LABELS;
 
 use std::borrow::Cow;
@@ -208,7 +208,7 @@ struct Stmt<'a> {
 /// `m_codes` says and whose orientation interpolation starts as `orientation`: run as a stream
 /// over the text ([`super::stream`]), its blocks collected.
 pub fn read_klartext_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
-    super::stream::read_klartext(text, &super::Setup::plain(Dialect::Klartext, m_codes, orientation))
+    super::stream::read_jumping(text, Dialect::Klartext, Box::new(Runner::new(&super::Setup::plain(Dialect::Klartext, m_codes, orientation))))
 }
 
 /// Whitespace-separated tokens of a line, borrowed, with their 1-based columns (characters).

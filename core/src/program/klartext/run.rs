@@ -7,16 +7,9 @@ use super::{axis_index, label, parse_line, tokens, FeedWord, KWord, Kind, ParseS
 use crate::machine::ContourTolerance;
 use crate::program::interp::{Interpreter, OneShot, Word};
 use crate::program::lex::Diags;
+use crate::program::stream::{At, Jumping, Next};
 use crate::program::{Block, ProgrammedTolerance};
 use crate::units::{DEG, MM};
-
-/// Where a line of the program starts: its number (1-based) and byte offset. A jump (a call, a
-/// repeat, a return) tells the reader to read on from here.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct At {
-    pub line: usize,
-    pub offset: u64,
-}
 
 /// The most labels a program may define (the TNC 640 numbers them 1 to 65535 and names others): a
 /// label beyond is an error where it stands, and a call to it fails. It bounds the label table.
@@ -68,15 +61,6 @@ impl Labels {
     }
 }
 
-/// What the reader does after a line: read the next one, read on from elsewhere, or (the program
-/// has ended) only check the lines after it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Next {
-    On,
-    Jump(At),
-    Ended,
-}
-
 /// A Klartext program run as the TNC runs it (labels, section repeats, subprograms) one line at a
 /// time, sans I/O: the reader feeds it the line where it stands and goes where it says next, so
 /// memory holds the label table and the call stack, never the program. Each line is parsed as it
@@ -90,20 +74,20 @@ pub(crate) struct Runner {
     stack: Vec<(At, usize, usize)>,
     /// Section repeats under way: the call's line and the runs left.
     repeats: HashMap<usize, u64>,
-    /// Statements that may run: the program's own lines and the setup's `max_run_lines` more (a
+    /// Statements that may run beyond the program's own lines: the setup's `max_run_lines` (a
     /// bound on memory for a program such as `LBL 1` / `CALL LBL 1 REP65534` nested).
     budget: usize,
     executed: usize,
 }
 
 impl Runner {
-    pub(crate) fn new(labels: Labels, setup: &crate::program::Setup) -> Runner {
+    pub(crate) fn new(setup: &crate::program::Setup) -> Runner {
         Runner {
             interp: setup.interpreter(),
             ex: Exec { machine: setup.machine.clone(), ..Exec::default() },
             st: ParseState::default(),
-            budget: labels.lines.saturating_add(setup.max_run_lines),
-            labels,
+            budget: setup.max_run_lines,
+            labels: Labels::default(),
             stack: Vec::new(),
             repeats: HashMap::new(),
             executed: 0,
@@ -123,8 +107,8 @@ impl Runner {
             return Next::On;
         };
         self.executed += 1;
-        if self.executed > self.budget {
-            diags.error(s.line, s.col, format!("the repeats and calls run more than {} blocks beyond the program's own: not read further", self.budget - self.labels.lines));
+        if self.executed > self.labels.lines.saturating_add(self.budget) {
+            diags.error(s.line, s.col, format!("the repeats and calls run more than {} blocks beyond the program's own: not read further", self.budget));
             return Next::Ended;
         }
         match &s.kind {
@@ -211,6 +195,28 @@ impl Runner {
     /// The program's name, once its `BEGIN PGM` has run.
     pub(crate) fn name(&self) -> Option<&str> {
         self.st.name.as_deref()
+    }
+}
+
+impl Jumping for Runner {
+    fn scan(&mut self, line: usize, bytes: &[u8], next: At, diags: &mut Diags) {
+        self.labels.line(line, bytes, next, diags);
+    }
+
+    fn line(&mut self, line: usize, text: &str, _here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        Runner::line(self, line, text, next, out, diags)
+    }
+
+    fn check(&mut self, line: usize, text: &str, diags: &mut Diags) {
+        Runner::check(self, line, text, diags);
+    }
+
+    fn finish(&mut self, _out: &mut Vec<Block>, diags: &mut Diags) {
+        Runner::finish(self, diags);
+    }
+
+    fn name(&self) -> Option<String> {
+        Runner::name(self).map(String::from)
     }
 }
 

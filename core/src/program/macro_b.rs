@@ -1,0 +1,791 @@
+//! Fanuc's and Haas' program flow as the control runs it: custom macro B's branches and loops and
+//! the subprograms a file holds. Every other line is the RS274 reader's ([`Rs274Reader`]).
+//!
+//! Rules (FANUC Series 0i-MODEL F Operator's Manual B-64604EN and 30i B-64484EN, "Custom macro" and
+//! "Subprogram"; Haas Mill Operator's Manual, M97-M99 and G65):
+//! - `GOTO n`, `IF [c] GOTO n`: to the block numbered `N n` of the program running (a number written
+//!   twice there is refused: which one the control takes is not read); `IF [c] THEN #i = e`.
+//! - `WHILE [c] DOm` ... `ENDm` (`m` 1 to 3, nested by different numbers), `DOm` alone loops for
+//!   ever; a branch out of a loop leaves it (a branch within one is refused at its `END`).
+//! - `M98 P<program> L<count>` runs the file's program `O<program>` `L` times, `M99` returns (to the
+//!   block after the call; `M99 P n` to the caller's `N n`); `G65 P L` with arguments `A`-`Z`
+//!   (argument specification I: `#1`-`#26`) runs it with local variables `#1`-`#33` of its own;
+//!   Haas' `M97 P n` runs the program's own blocks from `N n`. A program not in the file is refused
+//!   (the motion would depend on it); calls nest 10 deep.
+//! - The program ends at `M30` or `M02` (the file's subprograms after it run only when called), at
+//!   the tape's end `%`, or where another program starts. `M99` in the main program (the control
+//!   runs it again from its start, endlessly) is read once and said.
+//! - Loops, branches and calls run at most the program's lines and `max_run_lines` more: an endless
+//!   loop is refused at the line it had reached.
+
+use super::interp::Word;
+use super::lex::{excerpt, Diags};
+use super::params::{skip_blanks, Scope};
+use super::rs274::Rs274Reader;
+use super::stream::{At, Find, Jumping, LineReader, Next};
+use super::{Block, Dialect};
+
+/// Deepest nesting of subprogram and macro calls (FANUC: subprograms 10 levels).
+pub const MAX_CALL_DEPTH: usize = 10;
+/// Most programs one file may hold.
+pub const MAX_PROGRAMS: usize = 10_000;
+/// Deepest nesting of `DO` loops (FANUC: identification numbers 1 to 3).
+const MAX_LOOPS: usize = 3;
+
+/// A program the file holds: its number, and where its blocks start and end (byte offset).
+#[derive(Debug, Clone, Copy)]
+struct Program {
+    number: u64,
+    body: At,
+    end: Option<u64>,
+}
+
+/// A call under way, or the main program (the first frame).
+#[derive(Debug)]
+struct Frame {
+    /// Where its program's text starts and ends (byte offset): a branch looks there.
+    unit: At,
+    end: Option<u64>,
+    /// Where a repeat starts again.
+    start: At,
+    /// Where to come back to, and the runs left after this one.
+    back: At,
+    repeats: u64,
+    /// Its `DO` loops open: the identification number and where the loop's head stands.
+    loops: Vec<(u8, At)>,
+    /// A macro call's (G65) caller's locals, restored at its return.
+    locals: Option<Scope>,
+    /// The call's line and column.
+    call: (usize, usize),
+}
+
+/// What a search for a block number is for.
+#[derive(Debug, Clone, Copy)]
+enum Wanted {
+    Goto,
+    /// Haas M97: a call of the program's own blocks from there.
+    LocalCall { back: At, repeats: u64, call: (usize, usize) },
+    /// M99 P: the caller's block to return to.
+    Return,
+}
+
+/// A line's flow statement.
+enum Stmt {
+    If { cond: usize, then: Then },
+    Goto(usize),
+    While { cond: Option<usize>, m: u8 },
+    End(u8),
+    Call(Vec<Word<'static>>),
+}
+
+enum Then {
+    Goto(usize),
+    Set(usize),
+}
+
+/// Fanuc and Haas programs run line by line as the control runs them (sans I/O: the reader feeds
+/// the line where it stands and goes where the flow says, [`super::stream::Seeking`]).
+pub(crate) struct MacroRunner {
+    reader: Rs274Reader,
+    dialect: Dialect,
+    /// The programs after the main one, from the first pass.
+    programs: Vec<Program>,
+    /// First pass: lines, whether a `%` was seen, whether program text came before the first `O`.
+    lines: usize,
+    scanned: u64,
+    percent: bool,
+    content: bool,
+    main_numbered: bool,
+    frames: Vec<Frame>,
+    /// Lines skipped to the `END` of a loop whose test failed: its number, loops nested in it.
+    skipping: Option<(u8, usize, usize)>,
+    wanted: Option<(Wanted, u64, usize, usize)>,
+    executed: usize,
+    budget: usize,
+}
+
+impl MacroRunner {
+    pub(crate) fn new(setup: &super::Setup) -> Self {
+        MacroRunner {
+            reader: Rs274Reader::new(setup),
+            dialect: setup.dialect,
+            programs: Vec::new(),
+            lines: 0,
+            scanned: 0,
+            percent: false,
+            content: false,
+            main_numbered: false,
+            frames: vec![Frame { unit: At { line: 1, offset: 0 }, end: None, start: At { line: 1, offset: 0 }, back: At { line: 1, offset: 0 }, repeats: 0, loops: Vec::new(), locals: None, call: (0, 0) }],
+            skipping: None,
+            wanted: None,
+            executed: 0,
+            budget: setup.max_run_lines,
+        }
+    }
+
+    fn frame(&mut self) -> &mut Frame {
+        self.frames.last_mut().expect("the main program's frame")
+    }
+
+    /// Stop reading: the defect said at its place.
+    fn stop(&mut self, line: usize, column: usize, message: String, diags: &mut Diags) -> Next {
+        diags.error(line, column, format!("{message} (the rest of the program is not read)"));
+        Next::Ended
+    }
+}
+
+/// Where a line's text starts: past blanks, a block delete `/` and its `N` number.
+fn body_start(chars: &[char]) -> usize {
+    let mut i = skip_blanks(chars, 0);
+    if chars.get(i) == Some(&'/') {
+        i = skip_blanks(chars, i + 1);
+    }
+    if chars.get(i).is_some_and(|c| c.eq_ignore_ascii_case(&'N')) && chars.get(i + 1).is_some_and(|c| c.is_ascii_digit()) {
+        i += 1;
+        while chars.get(i).is_some_and(|c| c.is_ascii_digit()) {
+            i += 1;
+        }
+    }
+    skip_blanks(chars, i)
+}
+
+/// The block number a line starts with, if any.
+fn block_number(bytes: &[u8]) -> Option<u64> {
+    let mut i = bytes.iter().position(|b| !b.is_ascii_whitespace())?;
+    if bytes[i] == b'/' {
+        i += 1 + bytes[i + 1..].iter().position(|b| !b.is_ascii_whitespace())?;
+    }
+    if !bytes[i].eq_ignore_ascii_case(&b'N') {
+        return None;
+    }
+    let digits = bytes[i + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
+    if digits == 0 || digits > 9 {
+        return None;
+    }
+    std::str::from_utf8(&bytes[i + 1..i + 1 + digits]).ok()?.parse().ok()
+}
+
+/// The program number an `O` (or `:`) line starts, if it is one.
+fn program_number(bytes: &[u8]) -> Option<u64> {
+    let i = bytes.iter().position(|b| !b.is_ascii_whitespace())?;
+    if !(bytes[i].eq_ignore_ascii_case(&b'O') || bytes[i] == b':') {
+        return None;
+    }
+    let digits = bytes[i + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
+    if digits == 0 || digits > 9 {
+        return None;
+    }
+    std::str::from_utf8(&bytes[i + 1..i + 1 + digits]).ok()?.parse().ok()
+}
+
+/// Whether a line may hold a flow statement or a call: most lines are moves, passed on unparsed.
+fn maybe_flow(text: &str) -> bool {
+    text.as_bytes().windows(2).any(|w| {
+        let (a, b) = (w[0].to_ascii_uppercase(), w[1].to_ascii_uppercase());
+        matches!((a, b), (b'I', b'F') | (b'G', b'O') | (b'W', b'H') | (b'D', b'O') | (b'E', b'N') | (b'M', b'9') | (b'M', b'0') | (b'G', b'6'))
+    })
+}
+
+/// Whether `chars[i..]` starts with the keyword `kw` (any case).
+fn keyword(chars: &[char], i: usize, kw: &str) -> bool {
+    kw.chars().enumerate().all(|(k, c)| chars.get(i + k).is_some_and(|x| x.eq_ignore_ascii_case(&c)))
+}
+
+/// The one-digit loop number at `chars[i..]` (after blanks), 1 to 3, and the index after it.
+fn loop_number(chars: &[char], i: usize) -> Result<(u8, usize), usize> {
+    let i = skip_blanks(chars, i);
+    match chars.get(i).and_then(|c| c.to_digit(10)) {
+        Some(m @ 1..=3) if !chars.get(i + 1).is_some_and(|c| c.is_ascii_digit()) => Ok((m as u8, i + 1)),
+        _ => Err(i),
+    }
+}
+
+/// Whether the rest of a line from `i` is blank or comments.
+fn rest_is_empty(chars: &[char], i: usize) -> bool {
+    let mut i = skip_blanks(chars, i);
+    loop {
+        match chars.get(i) {
+            None | Some(';') => return true,
+            Some('(') => match chars[i..].iter().position(|&c| c == ')') {
+                Some(p) => i = skip_blanks(chars, i + p + 1),
+                None => return false,
+            },
+            _ => return false,
+        }
+    }
+}
+
+impl MacroRunner {
+    /// The flow statement of a line (`None`: a plain line), or a defect (column, message).
+    fn statement(&self, chars: &[char]) -> Result<Option<Stmt>, (usize, String)> {
+        let i = body_start(chars);
+        if keyword(chars, i, "IF") {
+            let c = skip_blanks(chars, i + 2);
+            if chars.get(c) != Some(&'[') {
+                return Err((c + 1, "IF: expected a [condition]".into()));
+            }
+            let end = self.reader.params.real_value(chars, c).map_err(|e| (e.column, format!("IF: {}", e.message)))?.1;
+            let j = skip_blanks(chars, end);
+            return if keyword(chars, j, "GOTO") {
+                Ok(Some(Stmt::If { cond: c, then: Then::Goto(j + 4) }))
+            } else if keyword(chars, j, "THEN") {
+                Ok(Some(Stmt::If { cond: c, then: Then::Set(skip_blanks(chars, j + 4)) }))
+            } else {
+                Err((j + 1, "IF [..]: expected GOTO n or THEN #i = ...".into()))
+            };
+        }
+        if keyword(chars, i, "GOTO") {
+            return Ok(Some(Stmt::Goto(i + 4)));
+        }
+        if keyword(chars, i, "WHILE") {
+            let c = skip_blanks(chars, i + 5);
+            if chars.get(c) != Some(&'[') {
+                return Err((c + 1, "WHILE: expected a [condition]".into()));
+            }
+            let end = self.reader.params.real_value(chars, c).map_err(|e| (e.column, format!("WHILE: {}", e.message)))?.1;
+            let j = skip_blanks(chars, end);
+            if !keyword(chars, j, "DO") {
+                return Err((j + 1, "WHILE [..]: expected DO1, DO2 or DO3".into()));
+            }
+            let (m, k) = loop_number(chars, j + 2).map_err(|k| (k + 1, "WHILE [..] DO: expected the loop's number 1, 2 or 3".into()))?;
+            if !rest_is_empty(chars, k) {
+                return Err((k + 1, format!("unexpected '{}' after DO{m}", excerpt(&chars[k..].iter().collect::<String>()))));
+            }
+            return Ok(Some(Stmt::While { cond: Some(c), m }));
+        }
+        if keyword(chars, i, "DO") {
+            if let Ok((m, k)) = loop_number(chars, i + 2) {
+                if rest_is_empty(chars, k) {
+                    return Ok(Some(Stmt::While { cond: None, m }));
+                }
+            }
+        }
+        if keyword(chars, i, "END") {
+            if let Ok((m, k)) = loop_number(chars, i + 3) {
+                if rest_is_empty(chars, k) {
+                    return Ok(Some(Stmt::End(m)));
+                }
+            }
+        }
+        self.call_words(chars, i)
+    }
+
+    /// A block holding a call code (`M98`, `M97`, `M99`, `G65`, `G66`, `G67`): its words, values
+    /// evaluated; `None` for a block without one.
+    fn call_words(&self, chars: &[char], from: usize) -> Result<Option<Stmt>, (usize, String)> {
+        // Only a block with a call code is parsed here: M or G and the code's digits.
+        let mut i = from;
+        let mut calls = false;
+        while i < chars.len() {
+            match chars[i] {
+                ';' => break,
+                '(' => i += chars[i..].iter().position(|&c| c == ')').unwrap_or(chars.len() - i),
+                c if c.eq_ignore_ascii_case(&'M') || c.eq_ignore_ascii_case(&'G') => {
+                    let j = skip_blanks(chars, i + 1);
+                    let k = (j..chars.len()).find(|&k| !chars[k].is_ascii_digit()).unwrap_or(chars.len());
+                    let code: String = chars[j..k].iter().collect();
+                    let code = code.trim_start_matches('0');
+                    let m = c.eq_ignore_ascii_case(&'M');
+                    if chars.get(k) != Some(&'.') && (m && matches!(code, "97" | "98" | "99") || !m && matches!(code, "65" | "66" | "67")) {
+                        calls = true;
+                    }
+                }
+                _ => {}
+            }
+            i += 1;
+        }
+        if !calls {
+            return Ok(None);
+        }
+        let mut words = Vec::new();
+        let mut i = from;
+        loop {
+            i = skip_blanks(chars, i);
+            let Some(&c) = chars.get(i) else { break };
+            if c == ';' {
+                break;
+            }
+            if c == '(' {
+                i += chars[i..].iter().position(|&c| c == ')').map_or(chars.len(), |p| p + 1);
+                continue;
+            }
+            if !c.is_ascii_alphabetic() {
+                return Err((i + 1, format!("unexpected '{}' in a call's block", excerpt(&chars[i..].iter().collect::<String>()))));
+            }
+            let at = skip_blanks(chars, i + 1);
+            let (value, end) = self.reader.params.real_value(chars, at).map_err(|e| (e.column, format!("{c}: {}", e.message)))?;
+            let raw: String = chars[at..end].iter().filter(|c| !c.is_whitespace()).collect();
+            words.push(Word { letter: c.to_ascii_uppercase(), value, raw: raw.into(), column: i + 1, incremental: false });
+            i = end;
+        }
+        Ok(Some(Stmt::Call(words)))
+    }
+
+    /// The value at `chars[at..]` (a number, `#i` or `[..]`) as a block number, the index after it
+    /// and its column.
+    fn label(&self, chars: &[char], at: usize, what: &str) -> Result<(u64, usize, usize), (usize, String)> {
+        let at = skip_blanks(chars, at);
+        let (v, end) = self.reader.params.real_value(chars, at).map_err(|e| (e.column, format!("{what}: {}", e.message)))?;
+        if v.fract() != 0.0 || !(1.0..=99_999_999.0).contains(&v) {
+            return Err((at + 1, format!("{what} {v}: expected a block number 1 to 99999999")));
+        }
+        Ok((v as u64, end, at + 1))
+    }
+
+    /// Look for block `N n` in the program running, for `wanted`.
+    fn find(&mut self, n: u64, wanted: Wanted, line: usize, column: usize) -> Next {
+        let f = self.frames.last().expect("a frame");
+        let find = Find { from: f.unit, to: f.end, key: n };
+        self.wanted = Some((wanted, n, line, column));
+        Next::Find(find)
+    }
+
+    /// A call of the file's program `number`: its frame, and the jump to its first block.
+    #[allow(clippy::too_many_arguments)]
+    fn call(&mut self, number: u64, repeats: u64, locals: Option<Vec<(u32, f64)>>, back: At, line: usize, column: usize, diags: &mut Diags) -> Next {
+        let Some(p) = self.programs.iter().find(|p| p.number == number).copied() else {
+            return self.stop(line, column, format!("O{number} is not in this file: the motion depends on a program not read"), diags);
+        };
+        if self.frames.len() > MAX_CALL_DEPTH {
+            return self.stop(line, column, format!("calls nested more than {MAX_CALL_DEPTH} deep"), diags);
+        }
+        if repeats == 0 {
+            return Next::On;
+        }
+        let locals = locals.map(|args| self.reader.params.enter_locals(&args));
+        self.frames.push(Frame { unit: p.body, end: p.end, start: p.body, back, repeats: repeats - 1, loops: Vec::new(), locals, call: (line, column) });
+        Next::Jump(p.body)
+    }
+
+    /// `M99`: the end of a subprogram's run (again, if repeats are left), back to the caller.
+    fn ret(&mut self, to: Option<u64>, line: usize, column: usize, diags: &mut Diags) -> Next {
+        if self.frames.len() == 1 {
+            diags.warning(line, column, "M99 in the main program: the control runs it again from its start, endlessly; read once");
+            return Next::Ended;
+        }
+        let f = self.frame();
+        if f.repeats > 0 && to.is_none() {
+            f.repeats -= 1;
+            f.loops.clear();
+            return Next::Jump(f.start);
+        }
+        let f = self.frames.pop().expect("a call's frame");
+        if let Some(scope) = f.locals {
+            self.reader.params.leave_locals(scope);
+        }
+        match to {
+            Some(n) => self.find(n, Wanted::Return, line, column),
+            None => Next::Jump(f.back),
+        }
+    }
+
+    /// Run a call block's words.
+    fn call_block(&mut self, words: &[Word<'static>], line: usize, next: At, diags: &mut Diags) -> Next {
+        let code = |w: &Word| (w.letter, w.raw.trim_start_matches('0').to_string());
+        let call = words.iter().find(|w| matches!(code(w), ('M', ref c) if c == "97" || c == "98" || c == "99") || matches!(code(w), ('G', ref c) if c == "65" || c == "66" || c == "67"));
+        let Some(call) = call else { return Next::On };
+        let (letter, c) = code(call);
+        let name = format!("{letter}{c}");
+        let get = |l: char| words.iter().find(|w| w.letter == l);
+        let whole = |w: &Word| w.value.fract() == 0.0 && w.value >= 0.0 && w.value <= 99_999_999.0;
+        if letter == 'G' && c != "65" {
+            return self.stop(line, call.column, format!("{name}: a modal macro call is not read (each later move would call the macro)"), diags);
+        }
+        if c == "97" && self.dialect != Dialect::Haas {
+            return self.stop(line, call.column, "M97 is Haas' local subprogram call, not a Fanuc control's".into(), diags);
+        }
+        // G65's arguments (argument specification I: A B C I J K D E F H M Q R S T U V W X Y Z).
+        let args = "ABCIJKDEFHMQRSTUVWXYZ";
+        let allowed = |l: char| matches!(l, 'N' | 'P' | 'L') || l == letter || c == "65" && args.contains(l);
+        if let Some(w) = words.iter().find(|w| !allowed(w.letter) || w.letter == letter && !std::ptr::eq(*w, call)) {
+            return self.stop(line, w.column, format!("{}{} in a {name} block: give {name} a block of its own (other words with a call are not read)", w.letter, w.raw, name = name), diags);
+        }
+        let repeats = match get('L') {
+            Some(w) if whole(w) => w.value as u64,
+            Some(w) => return self.stop(line, w.column, format!("L{}: expected a whole count of runs", w.raw), diags),
+            None => 1,
+        };
+        let p = get('P');
+        if let Some(w) = p.filter(|w| !whole(w)) {
+            return self.stop(line, w.column, format!("P{}: expected a whole program or block number", w.raw), diags);
+        }
+        match c.as_str() {
+            "99" => self.ret(p.map(|w| w.value as u64), line, call.column, diags),
+            "97" => match p {
+                Some(w) => self.find(w.value as u64, Wanted::LocalCall { back: next, repeats, call: (line, call.column) }, line, w.column),
+                None => self.stop(line, call.column, "M97 without P: expected the block number to run from".into(), diags),
+            },
+            _ => {
+                let Some(w) = p else {
+                    return self.stop(line, call.column, format!("{name} without P: expected the program to call"), diags);
+                };
+                // Fanuc's packed form (M98 P<count><program>) or an eight-digit program number: the
+                // control's parameter says which.
+                if c == "65" && repeats != 1 {
+                    return self.stop(line, call.column, format!("G65 L{repeats}: a macro called more than once is not read (whether its arguments are set again each time is not at hand)"), diags);
+                }
+                if self.dialect == Dialect::Fanuc && c == "98" && get('L').is_none() && w.value > 9999.0 {
+                    return self.stop(line, w.column, format!("M98 P{}: a count and a program number packed in P, or an eight-digit program number, as the control's parameter says: write M98 P<program> L<count>", w.raw), diags);
+                }
+                let locals = (c == "65").then(|| {
+                    let increments = |l: char, v: f64, raw: &str| {
+                        // A value without a decimal point counts the address' least increments.
+                        let step = if raw.contains('.') || raw.contains('#') || raw.contains('[') {
+                            1.0
+                        } else if "XYZIJKRQUVW".contains(l) {
+                            if self.reader.interp.unit() == crate::units::INCH { 1e-4 } else { 1e-3 }
+                        } else if "ABC".contains(l) {
+                            1e-3
+                        } else {
+                            1.0
+                        };
+                        v * step
+                    };
+                    words.iter().filter_map(|w| args.find(w.letter).map(|k| ([1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 13, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26][k], increments(w.letter, w.value, &w.raw)))).collect()
+                });
+                self.call(w.value as u64, repeats, locals, next, line, w.column, diags)
+            }
+        }
+    }
+}
+
+impl Jumping for MacroRunner {
+    /// The first pass: the programs the file holds after the main one, and whether it has a `%`.
+    fn scan(&mut self, line: usize, bytes: &[u8], next: At, diags: &mut Diags) {
+        self.lines = line;
+        let here = std::mem::replace(&mut self.scanned, next.offset);
+        let text = bytes.trim_ascii();
+        if text.first() == Some(&b'%') {
+            self.percent = true;
+            if self.programs.is_empty() {
+                // What came before the first % is the tape's leader, not program.
+                self.content = false;
+            }
+            if let Some(p) = self.programs.last_mut().filter(|p| p.end.is_none()) {
+                p.end = Some(here);
+            }
+            return;
+        }
+        if let Some(number) = program_number(text) {
+            if !self.content && self.programs.is_empty() && !self.main_numbered {
+                // The main program's own number.
+                self.main_numbered = true;
+                return;
+            }
+            if self.frames[0].end.is_none() && self.programs.is_empty() {
+                self.frames[0].end = Some(here);
+            }
+            if let Some(p) = self.programs.last_mut().filter(|p| p.end.is_none()) {
+                p.end = Some(here);
+            }
+            if self.programs.len() >= MAX_PROGRAMS {
+                diags.error(line, 1, format!("more than {MAX_PROGRAMS} programs in one file: O{number} is not kept"));
+                return;
+            }
+            self.programs.push(Program { number, body: next, end: None });
+            return;
+        }
+        if !text.is_empty() && text.first() != Some(&b'(') {
+            self.content = true;
+        }
+    }
+
+    fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        if line == 1 && !self.percent {
+            self.reader.no_leader();
+        }
+        self.executed += 1;
+        if self.executed > self.lines.saturating_add(self.budget) {
+            return self.stop(line, 1, format!("more than {} lines run by loops, branches and calls beyond the program's own: an endless loop?", self.budget), diags);
+        }
+        if !self.reader.in_program() {
+            self.reader.line(line, text, out, diags);
+            return if self.reader.at_tape_end() { Next::Ended } else { Next::On };
+        }
+        let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
+        // Another program starts here: the one running has no end before it.
+        if self.reader.started() && program_number(text.as_bytes()).is_some() {
+            if self.frames.len() == 1 {
+                diags.warning(line, 1, "the main program runs into the next program of the file without M30 or M02: read as its end");
+                return Next::Ended;
+            }
+            return self.stop(line, 1, "the subprogram runs into the next program of the file without M99".into(), diags);
+        }
+        if let Some((m, depth, _)) = self.skipping {
+            // Past a loop whose test failed: to its END.
+            if let Ok(Some(s)) = self.statement(&chars) {
+                match s {
+                    Stmt::While { m: n, .. } if n == m => self.skipping = Some((m, depth + 1, line)),
+                    Stmt::End(n) if n == m && depth == 0 => self.skipping = None,
+                    Stmt::End(n) if n == m => self.skipping = Some((m, depth - 1, line)),
+                    _ => {}
+                }
+            }
+            return Next::On;
+        }
+        if !maybe_flow(text) {
+            return self.plain(line, text, out, diags);
+        }
+        let stmt = match self.statement(&chars) {
+            Ok(Some(s)) => s,
+            Ok(None) => return self.plain(line, text, out, diags),
+            Err((col, why)) => return self.stop(line, col, why, diags),
+        };
+        let params = &self.reader.params;
+        let cond = |at: usize| params.real_value(&chars, at).map(|(v, _)| v != 0.0).map_err(|e| (e.column, e.message));
+        match stmt {
+            Stmt::If { cond: c, then } => {
+                let holds = match cond(c) {
+                    Ok(h) => h,
+                    Err((col, why)) => return self.stop(line, col, format!("IF: {why}"), diags),
+                };
+                match then {
+                    Then::Goto(at) => {
+                        let (n, end, col) = match self.label(&chars, at, "GOTO") {
+                            Ok(v) => v,
+                            Err((col, why)) => return self.stop(line, col, why, diags),
+                        };
+                        if !rest_is_empty(&chars, end) {
+                            return self.stop(line, end + 1, "unexpected text after GOTO n".into(), diags);
+                        }
+                        if holds {
+                            return self.find(n, Wanted::Goto, line, col);
+                        }
+                        Next::On
+                    }
+                    Then::Set(at) => {
+                        if chars.get(at) != Some(&'#') {
+                            return self.stop(line, at + 1, "IF [..] THEN: only a macro statement (#i = ...) is read after THEN".into(), diags);
+                        }
+                        let (target, value, end) = match self.reader.params.macro_setting(&chars, at) {
+                            Ok(s) => s,
+                            Err(e) => return self.stop(line, e.column, e.message, diags),
+                        };
+                        if !rest_is_empty(&chars, end) {
+                            return self.stop(line, end + 1, "unexpected text after the statement".into(), diags);
+                        }
+                        if holds {
+                            if let Err(e) = self.reader.params.set(target, value, at + 1) {
+                                return self.stop(line, e.column, e.message, diags);
+                            }
+                        }
+                        Next::On
+                    }
+                }
+            }
+            Stmt::Goto(at) => match self.label(&chars, at, "GOTO") {
+                Ok((n, end, col)) if rest_is_empty(&chars, end) => self.find(n, Wanted::Goto, line, col),
+                Ok((_, end, _)) => self.stop(line, end + 1, "unexpected text after GOTO n".into(), diags),
+                Err((col, why)) => self.stop(line, col, why, diags),
+            },
+            Stmt::While { cond: c, m } => {
+                let holds = match c.map(cond) {
+                    None => true,
+                    Some(Ok(h)) => h,
+                    Some(Err((col, why))) => return self.stop(line, col, format!("WHILE: {why}"), diags),
+                };
+                let f = self.frame();
+                if f.loops.iter().any(|(n, _)| *n == m) {
+                    return self.stop(line, 1, format!("DO{m} inside a loop DO{m}: nested loops take different numbers"), diags);
+                }
+                if f.loops.len() >= MAX_LOOPS {
+                    return self.stop(line, 1, format!("loops nested more than {MAX_LOOPS} deep"), diags);
+                }
+                if holds {
+                    f.loops.push((m, here));
+                } else {
+                    self.skipping = Some((m, 0, line));
+                }
+                Next::On
+            }
+            Stmt::End(m) => match self.frame().loops.pop() {
+                Some((n, head)) if n == m => Next::Jump(head),
+                _ => self.stop(line, 1, format!("END{m} with no DO{m} open here (a branch into a loop, or within one, is not read)"), diags),
+            },
+            Stmt::Call(words) => self.call_block(&words, line, next, diags),
+        }
+    }
+
+    fn check(&mut self, _line: usize, _text: &str, _diags: &mut Diags) {}
+
+    fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
+        self.reader.finish(None, out, diags);
+        if let Some((m, _, at)) = self.skipping {
+            diags.error(at, 1, format!("the program ends inside a loop DO{m} whose END{m} never comes"));
+        }
+        if let Some(f) = self.frames.get(1) {
+            diags.error(f.call.0, f.call.1, "the program called here ends before its M99");
+        }
+    }
+
+    fn name(&self) -> Option<String> {
+        LineReader::name(&self.reader)
+    }
+
+    fn matches(&self, key: u64, bytes: &[u8]) -> bool {
+        block_number(bytes) == Some(key)
+    }
+
+    fn found(&mut self, _find: Find, hits: &[At], diags: &mut Diags) -> Next {
+        let Some((wanted, n, line, column)) = self.wanted.take() else { return Next::On };
+        match hits {
+            [] => self.stop(line, column, format!("no block N{n} in the program running"), diags),
+            [at] => match wanted {
+                Wanted::Goto => {
+                    // A branch leaves the loops it stands in.
+                    self.frame().loops.clear();
+                    Next::Jump(*at)
+                }
+                Wanted::Return => Next::Jump(*at),
+                Wanted::LocalCall { back, repeats, call } => {
+                    if self.frames.len() > MAX_CALL_DEPTH {
+                        return self.stop(line, column, format!("calls nested more than {MAX_CALL_DEPTH} deep"), diags);
+                    }
+                    if repeats == 0 {
+                        return Next::On;
+                    }
+                    let (unit, end) = self.frames.last().map_or((At { line: 1, offset: 0 }, None), |f| (f.unit, f.end));
+                    self.frames.push(Frame { unit, end, start: *at, back, repeats: repeats - 1, loops: Vec::new(), locals: None, call });
+                    Next::Jump(*at)
+                }
+            },
+            _ => self.stop(line, column, format!("N{n} numbers more than one block of the program running: which one the control takes is not read"), diags),
+        }
+    }
+}
+
+impl MacroRunner {
+    /// A line without flow: the reader's; an end of program (M30, M02) ends the run.
+    fn plain(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        let before = out.len();
+        self.reader.line(line, text, out, diags);
+        if self.reader.at_tape_end() {
+            return Next::Ended;
+        }
+        let ends = out[before..].iter().flat_map(|b| &b.events).any(|e| e.strip_prefix('M').and_then(|c| c.parse::<f64>().ok()).is_some_and(|c| c == 2.0 || c == 30.0));
+        if ends { Next::Ended } else { Next::On }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{read, Dialect, Program, ReadOptions, Severity};
+
+    fn run(text: &str, dialect: Dialect, options: &ReadOptions) -> Program {
+        read(text, dialect, "t.nc", options)
+    }
+
+    fn errors(p: &Program) -> Vec<String> {
+        p.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect()
+    }
+
+    /// The X Y of each block that moves, mm.
+    fn points(p: &Program) -> Vec<(usize, f64, f64)> {
+        p.blocks.iter().filter(|b| b.targets.x.is_some() || b.targets.y.is_some()).map(|b| (b.line, b.targets.x.unwrap_or(f64::NAN) * 1e3, b.targets.y.unwrap_or(f64::NAN) * 1e3)).collect()
+    }
+
+    fn near(a: f64, b: f64) -> bool {
+        (a - b).abs() < 1e-9
+    }
+
+    /// A bolt circle by `WHILE [..] DO1` ... `END1`: six holes 60 deg apart on a 50 mm radius, the
+    /// positions computed here from the circle's definition.
+    #[test]
+    fn a_while_loop_runs_as_its_condition_says() {
+        let text = "%\nO0001\n#1=0\nWHILE [#1 LT 6] DO1\nG1 X[50*COS[#1*60]] Y[50*SIN[#1*60]] F500.\n#1=#1+1\nEND1\nG0 X0. Y0.\nM30\n%\n";
+        let p = run(text, Dialect::Fanuc, &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let pts = points(&p);
+        assert_eq!(pts.len(), 7, "{pts:?}");
+        for (k, (line, x, y)) in pts[..6].iter().enumerate() {
+            let a = (60.0 * k as f64).to_radians();
+            assert!(*line == 5 && (x - 50.0 * a.cos()).abs() < 1e-9 && (y - 50.0 * a.sin()).abs() < 1e-9, "hole {k}: {pts:?}");
+        }
+        assert_eq!(pts[6].0, 8);
+    }
+
+    /// `IF [..] GOTO n` back to a numbered block, `IF [..] THEN`, and a `GOTO` forward past blocks
+    /// that then never run.
+    #[test]
+    fn branches_go_to_their_numbered_blocks() {
+        let text = "#1=1.\nN10 G1 X#1 F100.\n#1=#1+1.\nIF [#1 LE 3.] GOTO10\nIF [#1 EQ 4.] THEN #2=7.\nGOTO 30\nG1 X99.\nN30 G1 Y#2\nM30\n";
+        let p = run(text, Dialect::Fanuc, &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let pts = points(&p);
+        let xs: Vec<f64> = pts.iter().filter(|p| p.0 == 2).map(|p| p.1).collect();
+        assert_eq!(xs.len(), 3);
+        assert!(near(xs[0], 1.0) && near(xs[1], 2.0) && near(xs[2], 3.0), "{xs:?}");
+        assert!(!pts.iter().any(|p| p.0 == 7), "GOTO 30 skips line 7: {pts:?}");
+        assert!(pts.iter().any(|p| p.0 == 8 && near(p.2, 7.0)), "{pts:?}");
+    }
+
+    /// `M98 P L` runs the file's subprogram after M30 L times (under G91: 10, 20, 30 mm), and the
+    /// subprogram's blocks never run as the main program's.
+    #[test]
+    fn a_subprogram_runs_where_it_is_called() {
+        let text = "%\nO0001\nG90 G0 X0. Y0.\nM98 P1000 L3\nG90 G0 X0.\nM30\nO1000 (STEP)\nG91 G1 X10. F100.\nM99\n%\n";
+        let p = run(text, Dialect::Fanuc, &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let pts = points(&p);
+        let lines: Vec<usize> = pts.iter().map(|p| p.0).collect();
+        assert_eq!(lines, [3, 8, 8, 8, 5], "{pts:?}");
+        assert!(near(pts[1].1, 10.0) && near(pts[2].1, 20.0) && near(pts[3].1, 30.0) && near(pts[4].1, 0.0), "{pts:?}");
+    }
+
+    /// `G65 P` with arguments: `X` is `#24`, `Y` `#25` (argument specification I), the macro's own,
+    /// gone after its return.
+    #[test]
+    fn a_macro_call_passes_its_arguments_as_locals() {
+        let text = "G65 P9000 X5. Y7.\nG1 X#24\nM30\nO9000\nG1 X#24 Y#25 F100.\nM99\n";
+        let p = run(text, Dialect::Fanuc, &ReadOptions::default());
+        let pts = points(&p);
+        assert!(pts.iter().any(|p| p.0 == 5 && near(p.1, 5.0) && near(p.2, 7.0)), "{pts:?}");
+        let e = errors(&p);
+        assert!(e.len() == 1 && e[0].starts_with("2:") && e[0].contains("#24"), "the caller has no #24: {e:#?}");
+    }
+
+    /// Haas' `M97 P n L`: the program's own blocks from `N n` (after M30), twice.
+    #[test]
+    fn haas_m97_runs_the_programs_own_blocks() {
+        let text = "%\nO01234\nG90 G0 X0.\nM97 P100 L2\nM30\nN100 G91 G1 X1. F100.\nM99\n%\n";
+        let p = run(text, Dialect::Haas, &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let xs: Vec<f64> = points(&p).iter().map(|p| p.1).collect();
+        assert_eq!(xs.len(), 3);
+        assert!(near(xs[1], 1.0) && near(xs[2], 2.0), "{xs:?}");
+        let p = run(text, Dialect::Fanuc, &ReadOptions::default());
+        assert!(errors(&p).iter().any(|e| e.contains("M97 is Haas'")), "{:#?}", errors(&p));
+    }
+
+    /// What the flow cannot follow is refused at its place, and nothing after it is read.
+    #[test]
+    fn flow_defects_are_refused_where_they_stand() {
+        for (text, at, needle) in [
+            ("GOTO 20\nG1 X1.\nM30\n", "1:6:", "no block N20"),
+            ("GOTO 20\nN20 G1 X1.\nN20 G1 X2.\nM30\n", "1:6:", "more than one block"),
+            ("M98 P2000\nM30\n", "1:5:", "O2000 is not in this file"),
+            ("G1 X1. M98 P2000\nM30\nO2000\nM99\n", "1:1:", "a block of its own"),
+            ("END1\n", "1:1:", "END1 with no DO1"),
+            ("WHILE [1 EQ 1] DO1\nWHILE [1 EQ 1] DO1\nEND1\nEND1\n", "2:1:", "nested loops take different numbers"),
+            ("N1 G1 X1. F100.\nGOTO 1\n", "", "an endless loop"),
+            ("M98 P12341000\nM30\n", "1:5:", "packed in P"),
+            ("G66 P9000\n", "1:1:", "modal macro call"),
+            ("WHILE [1 EQ 0] DO1\nG1 X1.\n", "1:1:", "whose END1 never comes"),
+        ] {
+            let options = ReadOptions { max_run_lines: 1000, ..ReadOptions::default() };
+            let p = run(text, Dialect::Fanuc, &options);
+            let e = errors(&p);
+            assert!(e.iter().any(|m| m.starts_with(at) && m.contains(needle)), "{text:?}: {e:#?}");
+        }
+        // M99 in the main program: read once, said.
+        let p = run("G1 X1. F100.\nM99\n", Dialect::Fanuc, &ReadOptions::default());
+        assert!(errors(&p).is_empty() && p.diagnostics.iter().any(|d| d.message.contains("read once")));
+    }
+
+    /// The program ends at M30: what follows it runs only when called.
+    #[test]
+    fn nothing_after_m30_runs_uncalled() {
+        let p = run("G1 X1. F100.\nM30\nG1 X2.\n", Dialect::Fanuc, &ReadOptions::default());
+        assert_eq!(points(&p).len(), 1, "{:?}", points(&p));
+    }
+}
