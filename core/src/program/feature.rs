@@ -30,7 +30,9 @@ const DEG: f64 = std::f64::consts::PI / 180.0;
 /// Read the block's tilted-plane codes, if it has any: `Some(made)` (false if a defect stopped it),
 /// `None` for a block without them.
 pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
-    if it.dialect() != Dialect::Fanuc {
+    // Most blocks hold none of these codes: passed on without a look at their words' text.
+    let plane_code = |w: &Word| w.letter == 'G' && [68.2, 68.3, 68.4, 69.0, 53.1, 53.6].contains(&w.value);
+    if it.dialect() != Dialect::Fanuc || it.feature.is_none() && !words.iter().any(plane_code) {
         return None;
     }
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (super::fanuc::code(w), w)).collect();

@@ -178,11 +178,21 @@ fn program_number(bytes: &[u8]) -> Option<u64> {
     std::str::from_utf8(&bytes[i + 1..i + 1 + digits]).ok()?.parse().ok()
 }
 
-/// Whether a line may hold a flow statement or a call: most lines are moves, passed on unparsed.
+/// Whether a line may hold a flow statement or a call (`IF`, `GOTO`, `WHILE`, `DO`, `END`, `M9x`,
+/// `M0..`, `G6x`): most lines are moves, passed on unparsed after a look at each byte.
 fn maybe_flow(text: &str) -> bool {
-    text.as_bytes().windows(2).any(|w| {
-        let (a, b) = (w[0].to_ascii_uppercase(), w[1].to_ascii_uppercase());
-        matches!((a, b), (b'I', b'F') | (b'G', b'O') | (b'W', b'H') | (b'D', b'O') | (b'E', b'N') | (b'M', b'9') | (b'M', b'0') | (b'G', b'6'))
+    let b = text.as_bytes();
+    (0..b.len().saturating_sub(1)).any(|i| {
+        let next = b[i + 1].to_ascii_uppercase();
+        match b[i] | 0x20 {
+            b'i' => next == b'F',
+            b'g' => next == b'O' || next == b'6',
+            b'w' => next == b'H',
+            b'd' => next == b'O',
+            b'e' => next == b'N',
+            b'm' => next == b'9' || next == b'0',
+            _ => false,
+        }
     })
 }
 
@@ -502,7 +512,6 @@ impl Jumping for MacroRunner {
             self.reader.line(line, text, out, diags);
             return if self.reader.at_tape_end() { Next::Ended } else { Next::On };
         }
-        let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
         // Another program starts here: the one running has no end before it.
         if self.reader.started() && program_number(text.as_bytes()).is_some() {
             if self.frames.len() == 1 {
@@ -513,6 +522,7 @@ impl Jumping for MacroRunner {
         }
         if let Some((m, depth, _)) = self.skipping {
             // Past a loop whose test failed: to its END.
+            let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
             if let Ok(Some(s)) = self.statement(&chars) {
                 match s {
                     Stmt::While { m: n, .. } if n == m => self.skipping = Some((m, depth + 1, line)),
@@ -526,6 +536,7 @@ impl Jumping for MacroRunner {
         if !maybe_flow(text) {
             return self.plain(line, text, out, diags);
         }
+        let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
         let stmt = match self.statement(&chars) {
             Ok(Some(s)) => s,
             Ok(None) => return self.plain(line, text, out, diags),
