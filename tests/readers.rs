@@ -400,14 +400,14 @@ fn sinumerik_reads_traori_vectors_frames_and_arcs() {
 #[test]
 fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
     let text = "N10 G1 X1 F100\nN20 ROT Z45\nN30 CYCLE800(1,\"TC1\",0,57,0,0,0,0,0,0,0,0,0,1)\nN40 X=R1+5\nN50 G60 X2\n\
-                N60 A3=0 B3=0 C3=1\nN70 GOTOF END\nN80 X=IC(5)\nN90 TRAORI\nN100 A3=0 B3=0 C3=0\nN110 X3 A3=0 B3=0 C3=1 C=5\nN120 ORICONCW\n";
+                N60 A3=0 B3=0 C3=1\nN70 RET\nN80 X=IC(5)\nN90 TRAORI\nN100 A3=0 B3=0 C3=0\nN110 X3 A3=0 B3=0 C3=1 C=5\nN120 ORICONCW\n";
     let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
     has(&p, 2, 5, "ROT");
     has(&p, 3, 5, "CYCLE800");
     has(&p, 4, 7, "R1 is read before this program sets it");
     has(&p, 5, 5, "exact stop");
     has(&p, 6, 1, "without TRAORI");
-    has(&p, 7, 5, "program control");
+    has(&p, 7, 5, "subprogram calls");
     has(&p, 8, 7, "IC()");
     has(&p, 10, 6, "zero length");
     has(&p, 11, 1, "both a tool vector");
@@ -423,8 +423,9 @@ proptest! {
     fn readers_never_panic_on_arbitrary_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
         let text = String::from_utf8_lossy(&bytes);
         let m = fiveaxis::machine::Machine::hermle_c600u();
-        for d in [Dialect::Heidenhain, Dialect::Rs274, Dialect::Cl, Dialect::Sinumerik, Dialect::Klartext] {
-            let great = ReadOptions { orientation: Some(Orientation::GreatCircle), ..Default::default() };
+        for d in [Dialect::Heidenhain, Dialect::Rs274, Dialect::Cl, Dialect::Sinumerik, Dialect::Klartext, Dialect::Fanuc, Dialect::Haas] {
+            // A loop the noise makes ends within 20,000 lines run, not 4 million.
+            let great = ReadOptions { orientation: Some(Orientation::GreatCircle), max_run_lines: 20_000, ..Default::default() };
             let p = read(&text, d, "fuzz", &great);
             let opts = fiveaxis::path::PathOptions { period: 0.05, ..Default::default() };
             let t = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
@@ -443,7 +444,28 @@ proptest! {
             prop_assert!(d.column >= 1 && d.column <= line.chars().count() + 1, "{d:?} on {line:?}");
         }
     }
+
+    /// Flow-shaped noise: Fanuc's macro statements and subprograms and the 840D's jumps and control
+    /// structures, characters cut in, never panic their readers, and a defect names a column on its line.
+    #[test]
+    fn mutated_program_flow_never_panics(cuts in proptest::collection::vec((0usize..3000, proptest::sample::select(FLOW_NOISE.chars().collect::<Vec<_>>())), 0..12)) {
+        for (original, d) in [(FANUC_FLOW, Dialect::Fanuc), (FANUC_FLOW, Dialect::Haas), (SINUMERIK_FLOW, Dialect::Sinumerik)] {
+            let text = mutate(original, cuts.clone());
+            let p = read(&text, d, "t", &ReadOptions { max_run_lines: 20_000, ..Default::default() });
+            for e in p.diagnostics.iter() {
+                let line = text.lines().nth(e.line - 1).unwrap_or("");
+                prop_assert!(e.column >= 1 && e.column <= line.chars().count() + 1, "{d:?} {e:?} on {line:?}");
+            }
+        }
+    }
 }
+
+/// A Fanuc program of every flow statement the reader runs, for the mutation test.
+const FANUC_FLOW: &str = "%\nO0001\n#1=0\nWHILE [#1 LT 3] DO1\nG1 X[#1*10] F100.\n#1=#1+1\nEND1\nN10 #2=#1*2\nIF [#2 GT 100] GOTO 20\n#2=#2+50\nGOTO10\nN20 M98 P1000 L2\nG65 P1000 X1. Y2.\nIF [#1 EQ 3] THEN #3=1\nM97 P30\nM30\nN30 G1 Y1.\nM99\nO1000\nG91 G1 X1.\nM99 P40\nN40 G90\nM99\n%\n";
+/// An 840D program of every jump and control structure the reader runs, for the mutation test.
+const SINUMERIK_FLOW: &str = "DEF INT COUNT\nR1=0\nWHILE R1<3\nG1 X=R1*10 F100\nR1=R1+1\nENDWHILE\nFOR COUNT=1 TO 2\nIF COUNT==1\nG1 Y1\nELSE\nG1 Y2\nENDIF\nENDFOR\nMARK1: R2=R1\nREPEAT\nR2=R2-1\nUNTIL R2<=0\nIF R1<2 GOTOB MARK1\nGOTOF DONE\nLOOP\nENDLOOP\nDONE: M30\n";
+/// Characters of program flow, for the mutation test.
+const FLOW_NOISE: &str = "#[]=<>+-*/ .0123456789GOTIFWHLEDNMPXYRU:\n";
 
 /// Characters of LinuxCNC's expressions, for the mutation test.
 const EXPRESSION_NOISE: &str = "#[]<>=+-*/ .0123456789XYZACFGMOSINTAQRDE_";

@@ -15,7 +15,6 @@ use super::heidenhain::DinReader;
 use super::klartext::Runner;
 use super::lex::Diags;
 use super::rs274::Rs274Reader;
-use super::sinumerik::SinumerikReader;
 use super::{Block, Diagnostic, Dialect, LoadError, Program, ReadOptions, Severity, DETECT_LINES};
 use std::collections::{HashSet, VecDeque};
 use std::io::{BufRead, BufReader, Cursor, Read, Seek, SeekFrom};
@@ -113,7 +112,6 @@ pub(crate) enum Reader {
     Cl(ClReader),
     Rs274(Rs274Reader),
     Din(DinReader),
-    Sinumerik(SinumerikReader),
 }
 
 impl Reader {
@@ -124,8 +122,7 @@ impl Reader {
             Dialect::Cl => Reader::Cl(ClReader::new(&setup)),
             Dialect::Rs274 => Reader::Rs274(Rs274Reader::new(&setup)),
             Dialect::Heidenhain => Reader::Din(DinReader::new(&setup)),
-            Dialect::Sinumerik => Reader::Sinumerik(SinumerikReader::new(&setup)),
-            Dialect::Klartext | Dialect::Fanuc | Dialect::Haas => return None,
+            Dialect::Klartext | Dialect::Fanuc | Dialect::Haas | Dialect::Sinumerik => return None,
         })
     }
 
@@ -134,17 +131,18 @@ impl Reader {
             Reader::Cl(r) => r,
             Reader::Rs274(r) => r,
             Reader::Din(r) => r,
-            Reader::Sinumerik(r) => r,
         }
     }
 }
 
 /// The reader of a dialect whose programs jump, read by [`Seeking`]: Klartext (labels, calls,
-/// repeats), Fanuc and Haas (macro branches and loops, subprograms).
+/// repeats), Fanuc and Haas (macro branches and loops, subprograms), Sinumerik (jumps, control
+/// structures).
 pub(crate) fn jumping(dialect: Dialect, options: &ReadOptions) -> Box<dyn Jumping> {
     let setup = options.setup(dialect);
     match dialect {
         Dialect::Fanuc | Dialect::Haas => Box::new(super::macro_b::MacroRunner::new(&setup)),
+        Dialect::Sinumerik => Box::new(super::sinumerik::FlowRunner::new(&setup)),
         _ => Box::new(Runner::new(&setup)),
     }
 }
@@ -497,6 +495,10 @@ const MAX_HITS: usize = 2;
 /// A dialect's reader whose programs jump (Klartext's labels and calls, Fanuc's macro branches and
 /// subprograms), run by [`Seeking`], sans I/O.
 pub(crate) trait Jumping: Send {
+    /// Whether the reader needs [`Jumping::scan`]'s first pass over the text.
+    fn wants_scan(&self) -> bool {
+        true
+    }
     /// The first pass over the text, before the run: line `line`'s bytes, the next line at `next`.
     fn scan(&mut self, line: usize, bytes: &[u8], next: At, diags: &mut Diags);
     /// Run line `line` (`text`, without its newline), which starts at `here`, the next at `next`:
@@ -553,7 +555,8 @@ impl<'a> Seeking<'a> {
             Err(e) => (Box::new(Cursor::new([0u8; 0])) as Box<dyn Text + 'a>, Some(e)),
         };
         let mut input = BufReader::with_capacity(1 << 16, text);
-        while broken.is_none() {
+        let scan = runner.wants_scan();
+        while broken.is_none() && scan {
             let read = with_line(&mut input, &mut buf, |bytes| {
                 let next = At { line: at.line + 1, offset: at.offset + bytes.len() as u64 };
                 runner.scan(at.line, without_eol(bytes), next, &mut early);
@@ -568,7 +571,7 @@ impl<'a> Seeking<'a> {
             };
             at = At { line: at.line + 1, offset: at.offset + len };
         }
-        if broken.is_none() {
+        if broken.is_none() && scan {
             broken = input.rewind().err();
         }
         Seeking { input, at: At { line: 1, offset: 0 }, runner, running: true, buf, early, given: HashSet::new(), broken }

@@ -9,11 +9,12 @@
 //! rotary axes linear), the programmable frame (`TRANS`/`ATRANS`/`ROT`/`AROT`, [`frame`]),
 //! machine coordinates (`SUPA`, `G53`, `G153`), variables (`DEF REAL`, R parameters) and
 //! expressions ([`expr`], [`lex`]), `MCALL` of the drilling cycles ([`cycles`]), `CYCLE832` (the
-//! contour tolerance), `T`, `D`, `S`, `M`, `F`, `MSG`, `M30`.
+//! contour tolerance), `T`, `D`, `S`, `M`, `F`, `MSG`, `M30`; jumps and control structures as they
+//! run ([`flow`]).
 //!
 //! What changes the motion and is not modelled is an error at its line and column, never skipped:
 //! `SCALE`/`MIRROR` frames, a rotated frame without `TRAORI`, `CYCLE800` with a swivel, other cycles
-//! and subprogram calls, program control (jumps, loops), cutter compensation, orientation by angles
+//! and subprogram calls, cutter compensation, orientation by angles
 //! (`A2=`) or cone/polynomial orientation, exact stop on a feed move.
 //!
 //! Orientation interpolation: which of ORIWKS/ORIMKS and ORIVECT/ORIAXES governs depends on machine
@@ -22,6 +23,7 @@
 
 mod cycles;
 mod expr;
+mod flow;
 mod frame;
 mod lex;
 mod swivel;
@@ -34,10 +36,12 @@ use frame::{Frame, Statement};
 use lex::{Keyword, Lexed, Vars};
 use std::borrow::Cow;
 
+pub(crate) use flow::FlowRunner;
+
 /// Read a Sinumerik program on a control whose orientation interpolation starts as `orientation`
 /// (the reset state is [`Orientation::GreatCircle`], ORIWKS/ORIVECT).
 pub fn read_sinumerik_with(text: &str, m_codes: &[MCodeRule], orientation: Orientation) -> Program {
-    super::stream::read_whole(&mut SinumerikReader::new(&super::Setup::plain(Dialect::Sinumerik, m_codes, orientation)), text, Dialect::Sinumerik)
+    super::stream::read_jumping(text, Dialect::Sinumerik, Box::new(FlowRunner::new(&super::Setup::plain(Dialect::Sinumerik, m_codes, orientation))))
 }
 
 /// The Sinumerik reader, fed one line at a time.
@@ -532,9 +536,10 @@ fn unsupported_keyword(k: &str) -> &'static str {
         "OFFN" | "CUT2D" | "CUT3DC" | "CUT3DF" => "cutter compensation is not modelled",
         "FGROUP" | "FGREF" => "feed reference axes are not modelled (they change how F is read)",
         "FLIN" | "FCUB" | "FPO" => "a feed profile over the block is not modelled (it changes the speed along it)",
-        "GOTOF" | "GOTOB" | "GOTO" | "GOTOC" | "CALL" | "REPEAT" | "IF" | "ELSE" | "ENDIF" | "WHILE" | "ENDWHILE" | "FOR" | "ENDFOR" | "LOOP" | "ENDLOOP" | "PROC" | "RET" => {
-            "program control (jumps, loops, calls) is not modelled"
+        "GOTOF" | "GOTOB" | "GOTO" | "GOTOC" | "REPEAT" | "REPEATB" | "UNTIL" | "IF" | "ELSE" | "ENDIF" | "WHILE" | "ENDWHILE" | "FOR" | "ENDFOR" | "LOOP" | "ENDLOOP" => {
+            "program control after other words of a block is not read (a jump or a control structure stands at the block's start)"
         }
+        "CALL" | "PCALL" | "PROC" | "RET" => "program control by subprogram calls is not modelled (the motion would depend on a program not read)",
         "DEF" => "a definition stands at the start of its line, in the definitions part",
         _ => "unknown instruction: not read (it may change the motion)",
     }

@@ -1,0 +1,482 @@
+//! The 840D's program control as it runs (Job Planning 6FC5398-2BP20, "Flexible NC programming":
+//! "Program jumps to jump markers", "Program branches", "Control structures"). Every other line is
+//! the block reader's ([`SinumerikReader`]).
+//!
+//! Rules:
+//! - Jump markers: `NAME:` at a block's start (after its `N` number); a jump goes to a marker or to a
+//!   block number (`N100`). `GOTOF` looks forward, `GOTOB` backward, `GOTO` both, `GOTOC` as `GOTO`
+//!   without an alarm when the marker is missing (the block after it runs); `IF <condition> GOTOF ..`
+//!   jumps when the condition holds. A marker written twice is refused (the manual: "must be unique").
+//! - Control structures: `IF` ... `ELSE` ... `ENDIF`, `WHILE` ... `ENDWHILE`, `FOR var = a TO b` ...
+//!   `ENDFOR` (the variable counts up by 1), `LOOP` ... `ENDLOOP`, `REPEAT` ... `UNTIL`. A jump leaves
+//!   the structures open around it (a jump into one, or within one, is refused at its end).
+//! - The program ends at `M30`, `M2` or `M17`; loops and jumps run at most the program's lines and
+//!   `max_run_lines` more (an endless loop is refused at the line it had reached). Section repeats
+//!   (`REPEAT marker P=n`, `REPEATB`) and subprogram calls are refused.
+
+use super::expr;
+use super::SinumerikReader;
+use crate::program::lex::Diags;
+use crate::program::stream::{At, Find, Jumping, LineReader, Next};
+use crate::program::Block;
+
+/// Deepest nesting of control structures (the 840D's: 16 per level).
+const MAX_NESTING: usize = 16;
+
+/// A control structure running, and where it goes back to.
+#[derive(Debug, Clone)]
+enum Open {
+    If,
+    Else,
+    While(At),
+    For { var: String, end: f64, body: At },
+    Loop(At),
+    Repeat(At),
+}
+
+impl Open {
+    fn name(&self) -> &'static str {
+        match self {
+            Open::If | Open::Else => "IF",
+            Open::While(_) => "WHILE",
+            Open::For { .. } => "FOR",
+            Open::Loop(_) => "LOOP",
+            Open::Repeat(_) => "REPEAT",
+        }
+    }
+}
+
+/// Lines passed over to a structure's end: which keywords close what is skipped, how deep.
+#[derive(Debug, Clone, Copy)]
+struct Skip {
+    open: &'static str,
+    close: &'static str,
+    /// An `ELSE` at depth 0 ends it too (an IF whose condition failed).
+    at_else: bool,
+    depth: usize,
+    line: usize,
+}
+
+/// A jump's direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Way {
+    Forward,
+    Back,
+    Either,
+    /// GOTOC: either way, no alarm when the marker is missing.
+    Quiet,
+}
+
+/// A Sinumerik program run as the control runs it, line by line.
+pub(crate) struct FlowRunner {
+    reader: SinumerikReader,
+    /// The furthest line reached: a line at or before it runs again, and counts against `budget`.
+    reached: usize,
+    budget: usize,
+    again: usize,
+    open: Vec<Open>,
+    skipping: Option<Skip>,
+    /// The jump being looked for: its marker (capitals, or `N` and digits), way, line and column, and
+    /// where it stands.
+    wanted: Option<(String, Way, usize, usize, At)>,
+}
+
+impl FlowRunner {
+    pub(crate) fn new(setup: &crate::program::Setup) -> Self {
+        FlowRunner { reader: SinumerikReader::new(setup), reached: 0, budget: setup.max_run_lines, again: 0, open: Vec::new(), skipping: None, wanted: None }
+    }
+
+    fn stop(&mut self, line: usize, column: usize, message: String, diags: &mut Diags) -> Next {
+        diags.error(line, column, format!("{message} (the rest of the program is not read)"));
+        Next::Ended
+    }
+
+    fn condition(&self, text: &str) -> Result<bool, String> {
+        let text = text.split(';').next().unwrap_or("").trim();
+        if text.is_empty() {
+            return Err("expected a condition".into());
+        }
+        expr::eval(text, &|name| self.reader.vars.get(name)).map(|v| v != 0.0).map_err(|e| e.message)
+    }
+}
+
+/// A line split: where its block starts (past blanks and its `N` number), its jump marker (capitals)
+/// and where the block after the marker starts.
+fn split(text: &str) -> (usize, Option<(String, usize)>, usize) {
+    let b = text.as_bytes();
+    let mut i = b.iter().position(|c| !c.is_ascii_whitespace()).unwrap_or(b.len());
+    if b.get(i).is_some_and(|c| c.eq_ignore_ascii_case(&b'N')) && b.get(i + 1).is_some_and(u8::is_ascii_digit) {
+        i += 1;
+        while b.get(i).is_some_and(u8::is_ascii_digit) {
+            i += 1;
+        }
+        while b.get(i).is_some_and(u8::is_ascii_whitespace) {
+            i += 1;
+        }
+    }
+    let start = i;
+    let name_end = (i..b.len()).find(|&k| !(b[k].is_ascii_alphanumeric() || b[k] == b'_')).unwrap_or(b.len());
+    // A marker: two characters or more, the first two letters or underscores, then ':'.
+    let marker = name_end >= start + 2 && b[start..start + 2].iter().all(|c| c.is_ascii_alphabetic() || *c == b'_') && b.get(name_end) == Some(&b':');
+    if marker {
+        let body = name_end + 1 + b[name_end + 1..].iter().take_while(|c| c.is_ascii_whitespace()).count();
+        return (start, Some((text[start..name_end].to_ascii_uppercase(), name_end + 1)), body);
+    }
+    (start, None, start)
+}
+
+/// The first word of `text` from `at`, and where what follows it starts.
+fn first_word(text: &str, at: usize) -> (&str, usize) {
+    let b = text.as_bytes();
+    let end = (at..b.len()).find(|&k| !(b[k].is_ascii_alphanumeric() || b[k] == b'_')).unwrap_or(b.len());
+    (&text[at..end], end)
+}
+
+/// A jump keyword's way.
+fn way(word: &str) -> Option<Way> {
+    Some(match word {
+        "GOTOF" => Way::Forward,
+        "GOTOB" => Way::Back,
+        "GOTO" => Way::Either,
+        "GOTOC" => Way::Quiet,
+        _ => return None,
+    })
+}
+
+/// The words that open a line of program control.
+const CONTROL: [&str; 16] = ["IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "LOOP", "ENDLOOP", "REPEAT", "REPEATB", "UNTIL", "GOTOF", "GOTOB", "GOTO", "GOTOC"];
+
+/// Whether a line's first word is program control: most lines are moves, passed on after a look
+/// at it (any case, no copy).
+fn control_word(word: &str) -> bool {
+    (2..=8).contains(&word.len()) && CONTROL.iter().any(|k| k.eq_ignore_ascii_case(word))
+}
+
+impl FlowRunner {
+    /// A jump to `target` (after the keyword at byte `at` of `text`).
+    fn jump(&mut self, text: &str, at: usize, w: Way, line: usize, here: At, diags: &mut Diags) -> Next {
+        let rest = text[at..].split(';').next().unwrap_or("").trim();
+        let target = rest.to_ascii_uppercase();
+        let ok = target.len() >= 2 && target.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_');
+        if !ok {
+            return self.stop(line, at + 1, format!("expected a jump marker or a block number after the jump, found '{}'", crate::program::lex::excerpt(rest)), diags);
+        }
+        self.wanted = Some((target, w, line, at + 2, here));
+        Next::Find(Find { from: At { line: 1, offset: 0 }, to: None, key: 0 })
+    }
+
+    /// A control keyword's line: what it does.
+    #[allow(clippy::too_many_arguments)]
+    fn control(&mut self, word: &str, text: &str, after: usize, line: usize, here: At, next: At, diags: &mut Diags) -> Next {
+        let col = after - word.len() + 1;
+        let rest = &text[after..];
+        if self.open.len() >= MAX_NESTING && matches!(word, "IF" | "WHILE" | "FOR" | "LOOP" | "REPEAT") && !rest.to_ascii_uppercase().contains("GOTO") {
+            return self.stop(line, col, format!("control structures nested more than {MAX_NESTING} deep"), diags);
+        }
+        let pop = |open: &mut Vec<Open>, want: &[&str]| -> Option<Open> { open.last().filter(|o| want.contains(&o.name())).is_some().then(|| open.pop()).flatten() };
+        match word {
+            "IF" => {
+                let upper = rest.to_ascii_uppercase();
+                // IF <condition> GOTOx <marker>: a conditional jump.
+                let jump = ["GOTOF", "GOTOB", "GOTOC", "GOTO"].iter().find_map(|k| upper.find(&format!(" {k} ")).map(|p| (p, *k)));
+                let (cond, jump) = match jump {
+                    Some((p, k)) => (&rest[..p], Some((k, after + p + 1 + k.len()))),
+                    None => (rest, None),
+                };
+                let holds = match self.condition(cond) {
+                    Ok(h) => h,
+                    Err(why) => return self.stop(line, col, format!("IF: {why}"), diags),
+                };
+                match (jump, holds) {
+                    (Some((k, at)), true) => self.jump(text, at, way(k).expect("a jump keyword"), line, here, diags),
+                    (Some(_), false) => Next::On,
+                    (None, true) => {
+                        self.open.push(Open::If);
+                        Next::On
+                    }
+                    (None, false) => {
+                        self.skipping = Some(Skip { open: "IF", close: "ENDIF", at_else: true, depth: 0, line });
+                        Next::On
+                    }
+                }
+            }
+            "ELSE" => match pop(&mut self.open, &["IF"]) {
+                Some(Open::If) => {
+                    self.skipping = Some(Skip { open: "IF", close: "ENDIF", at_else: false, depth: 0, line });
+                    Next::On
+                }
+                _ => self.stop(line, col, "ELSE with no IF open here".into(), diags),
+            },
+            "ENDIF" => match pop(&mut self.open, &["IF"]) {
+                Some(_) => Next::On,
+                None => self.stop(line, col, "ENDIF with no IF open here (a jump into or within a structure is not read)".into(), diags),
+            },
+            "WHILE" => match self.condition(rest) {
+                Ok(true) => {
+                    self.open.push(Open::While(here));
+                    Next::On
+                }
+                Ok(false) => {
+                    self.skipping = Some(Skip { open: "WHILE", close: "ENDWHILE", at_else: false, depth: 0, line });
+                    Next::On
+                }
+                Err(why) => self.stop(line, col, format!("WHILE: {why}"), diags),
+            },
+            "ENDWHILE" => match pop(&mut self.open, &["WHILE"]) {
+                Some(Open::While(head)) => Next::Jump(head),
+                _ => self.stop(line, col, "ENDWHILE with no WHILE open here (a jump into or within a structure is not read)".into(), diags),
+            },
+            "FOR" => {
+                let r = rest.split(';').next().unwrap_or("");
+                let upper = r.to_ascii_uppercase();
+                let (Some(eq), Some(to)) = (r.find('='), upper.find(" TO ")) else {
+                    return self.stop(line, col, "FOR: expected FOR variable = start TO end".into(), diags);
+                };
+                let var = r[..eq].trim().to_ascii_uppercase();
+                if eq > to || !self.reader.vars.is_variable(&var) {
+                    return self.stop(line, col, format!("FOR: '{}' is not a variable of this program (DEF, or an R parameter)", crate::program::lex::excerpt(r[..eq.min(r.len())].trim())), diags);
+                }
+                let eval = |t: &str| expr::eval(t.trim(), &|name| self.reader.vars.get(name)).map_err(|e| e.message);
+                let (start, end) = match (eval(&r[eq + 1..to]), eval(&r[to + 4..])) {
+                    (Ok(a), Ok(b)) => (a, b),
+                    (Err(why), _) | (_, Err(why)) => return self.stop(line, col, format!("FOR: {why}"), diags),
+                };
+                if let Err(why) = self.reader.vars.assign(&var, start) {
+                    return self.stop(line, col, format!("FOR: {why}"), diags);
+                }
+                self.reader.vars.commit();
+                if start > end {
+                    self.skipping = Some(Skip { open: "FOR", close: "ENDFOR", at_else: false, depth: 0, line });
+                } else {
+                    self.open.push(Open::For { var, end, body: next });
+                }
+                Next::On
+            }
+            "ENDFOR" => match self.open.last().cloned() {
+                Some(Open::For { var, end, body }) => {
+                    let v = self.reader.vars.get(&var).unwrap_or(f64::INFINITY) + 1.0;
+                    if let Err(why) = self.reader.vars.assign(&var, v) {
+                        return self.stop(line, col, format!("ENDFOR: {why}"), diags);
+                    }
+                    self.reader.vars.commit();
+                    if v <= end {
+                        Next::Jump(body)
+                    } else {
+                        self.open.pop();
+                        Next::On
+                    }
+                }
+                _ => self.stop(line, col, "ENDFOR with no FOR open here (a jump into or within a structure is not read)".into(), diags),
+            },
+            "LOOP" => {
+                self.open.push(Open::Loop(next));
+                Next::On
+            }
+            "ENDLOOP" => match self.open.last() {
+                Some(Open::Loop(body)) => Next::Jump(*body),
+                _ => self.stop(line, col, "ENDLOOP with no LOOP open here (a jump into or within a structure is not read)".into(), diags),
+            },
+            "REPEAT" if rest.split(';').next().unwrap_or("").trim().is_empty() => {
+                self.open.push(Open::Repeat(next));
+                Next::On
+            }
+            "REPEAT" | "REPEATB" => self.stop(line, col, format!("{word} with a marker: a section repeat is not read yet"), diags),
+            "UNTIL" => match (self.open.last().cloned(), self.condition(rest)) {
+                (Some(Open::Repeat(body)), Ok(false)) => Next::Jump(body),
+                (Some(Open::Repeat(_)), Ok(true)) => {
+                    self.open.pop();
+                    Next::On
+                }
+                (Some(Open::Repeat(_)), Err(why)) => self.stop(line, col, format!("UNTIL: {why}"), diags),
+                _ => self.stop(line, col, "UNTIL with no REPEAT open here (a jump into or within a structure is not read)".into(), diags),
+            },
+            _ => match way(word) {
+                Some(w) => self.jump(text, after, w, line, here, diags),
+                None => Next::On,
+            },
+        }
+    }
+
+    /// A plain block: the reader's, its marker blanked; an end of program (M30, M2, M17) ends the run.
+    fn plain(&mut self, line: usize, text: &str, marker: Option<(usize, usize)>, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        let before = out.len();
+        match marker {
+            Some((from, to)) => {
+                let mut t = String::with_capacity(text.len());
+                t.push_str(&text[..from]);
+                t.extend(std::iter::repeat_n(' ', to - from));
+                t.push_str(&text[to..]);
+                self.reader.line(line, &t, out, diags);
+            }
+            None => self.reader.line(line, text, out, diags),
+        }
+        let ends = out[before..].iter().flat_map(|b| &b.events).any(|e| e.strip_prefix('M').and_then(|c| c.parse::<f64>().ok()).is_some_and(|c| c == 2.0 || c == 30.0 || c == 17.0));
+        if ends { Next::Ended } else { Next::On }
+    }
+}
+
+impl Jumping for FlowRunner {
+    fn wants_scan(&self) -> bool {
+        false
+    }
+
+    fn scan(&mut self, _line: usize, _bytes: &[u8], _next: At, _diags: &mut Diags) {}
+
+    fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        if line <= self.reached {
+            self.again += 1;
+        }
+        self.reached = self.reached.max(line);
+        if self.again > self.budget {
+            return self.stop(line, 1, format!("more than {} lines run by loops and jumps beyond the program's own: an endless loop?", self.budget), diags);
+        }
+        let text = text.trim_end_matches('\r');
+        let (start, marker, body) = split(text);
+        let (word, after) = first_word(text, body);
+        if self.skipping.is_none() && !control_word(word) {
+            let blank = marker.as_ref().map(|(_, end)| (start, *end));
+            return self.plain(line, text, blank, out, diags);
+        }
+        let word = word.to_ascii_uppercase();
+        if let Some(mut s) = self.skipping {
+            if word == s.close && s.depth == 0 || word == "ELSE" && s.at_else && s.depth == 0 {
+                self.skipping = None;
+                if word == "ELSE" {
+                    self.open.push(Open::Else);
+                }
+            } else if word == s.close {
+                s.depth -= 1;
+                self.skipping = Some(s);
+            } else if word == s.open && !(s.open == "IF" && text[after..].to_ascii_uppercase().contains(" GOTO")) {
+                s.depth += 1;
+                self.skipping = Some(s);
+            }
+            return Next::On;
+        }
+        self.control(&word, text, after, line, here, next, diags)
+    }
+
+    fn check(&mut self, _line: usize, _text: &str, _diags: &mut Diags) {}
+
+    fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
+        self.reader.finish(None, out, diags);
+        if let Some(s) = self.skipping {
+            diags.error(s.line, 1, format!("the program ends inside {} (no {})", s.open, s.close));
+        }
+    }
+
+    fn name(&self) -> Option<String> {
+        None
+    }
+
+    fn matches(&self, _key: u64, bytes: &[u8]) -> bool {
+        let Some((target, ..)) = &self.wanted else { return false };
+        let text = String::from_utf8_lossy(bytes);
+        let text = text.trim_start();
+        if target.starts_with('N') && target[1..].bytes().all(|c| c.is_ascii_digit()) {
+            let digits: String = text.chars().skip(1).take_while(char::is_ascii_digit).collect();
+            return text.starts_with(['N', 'n']) && !digits.is_empty() && digits.parse::<u64>().ok() == target[1..].parse::<u64>().ok();
+        }
+        split(&text).1.is_some_and(|(m, _)| m == *target)
+    }
+
+    fn found(&mut self, _find: Find, hits: &[At], diags: &mut Diags) -> Next {
+        let Some((target, w, line, column, here)) = self.wanted.take() else { return Next::On };
+        let at = match hits {
+            [] if w == Way::Quiet => return Next::On,
+            [] => return self.stop(line, column, format!("jump destination {target} not found in the program (alarm 14080)"), diags),
+            [at] => *at,
+            _ => return self.stop(line, column, format!("jump marker {target} written more than once: which one the control takes is not read"), diags),
+        };
+        let ok = match w {
+            Way::Forward => at.offset > here.offset,
+            Way::Back => at.offset <= here.offset,
+            Way::Either | Way::Quiet => true,
+        };
+        if !ok {
+            let (kw, side) = if w == Way::Forward { ("GOTOF", "before") } else { ("GOTOB", "after") };
+            return self.stop(line, column, format!("{kw} {target}: the marker stands {side} the jump (alarm 14080)"), diags);
+        }
+        // A jump leaves the structures it stands in.
+        self.open.clear();
+        Next::Jump(at)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::program::{read, Dialect, Program, ReadOptions, Severity};
+
+    fn run(text: &str, options: &ReadOptions) -> Program {
+        read(text, Dialect::Sinumerik, "t.mpf", options)
+    }
+
+    fn errors(p: &Program) -> Vec<String> {
+        p.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect()
+    }
+
+    /// Each block that moves: its line and X Y Z (mm, NaN where not named).
+    fn moves(p: &Program) -> Vec<(usize, [f64; 3])> {
+        p.blocks.iter().filter(|b| b.targets.x.is_some() || b.targets.y.is_some() || b.targets.z.is_some()).map(|b| (b.line, [b.targets.x, b.targets.y, b.targets.z].map(|v| v.map_or(f64::NAN, |v| v * 1e3)))).collect()
+    }
+
+    /// A bolt circle by `WHILE` ... `ENDWHILE`: six holes 60 deg apart on a 50 mm radius, computed
+    /// here from the circle; then `FOR` counting 1 to 3.
+    #[test]
+    fn while_and_for_loops_run_as_their_conditions_say() {
+        let text = "DEF INT COUNT\nR1=0\nWHILE R1<6\nG1 X=50*COS(R1*60) Y=50*SIN(R1*60) F500\nR1=R1+1\nENDWHILE\nFOR COUNT=1 TO 3\nG1 Z=COUNT*10\nENDFOR\nM30\n";
+        let p = run(text, &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let m = moves(&p);
+        assert_eq!(m.len(), 9, "{m:?}");
+        for (k, (line, at)) in m[..6].iter().enumerate() {
+            let a = (60.0 * k as f64).to_radians();
+            assert!(*line == 4 && (at[0] - 50.0 * a.cos()).abs() < 1e-9 && (at[1] - 50.0 * a.sin()).abs() < 1e-9, "hole {k}: {m:?}");
+        }
+        for (k, (line, at)) in m[6..].iter().enumerate() {
+            assert!(*line == 8 && (at[2] - 10.0 * (k + 1) as f64).abs() < 1e-9, "{m:?}");
+        }
+    }
+
+    /// `IF` ... `ELSE` ... `ENDIF` takes one branch; `REPEAT` ... `UNTIL` runs until its condition.
+    #[test]
+    fn branches_and_repeats_take_their_way() {
+        let text = "R2=5\nIF R2>3\nG1 Y1 F100\nELSE\nG1 Y2\nENDIF\nIF R2<3\nG1 Y3\nELSE\nG1 Y4\nENDIF\nR4=0\nREPEAT\nR4=R4+1\nG1 X=R4\nUNTIL R4>=2\nM30\n";
+        let p = run(text, &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let lines: Vec<usize> = moves(&p).iter().map(|m| m.0).collect();
+        assert_eq!(lines, [3, 10, 15, 15], "{:?}", moves(&p));
+    }
+
+    /// Jumps to markers: `GOTOB` back while a condition holds, `GOTOF` past blocks that then never run.
+    #[test]
+    fn jumps_go_to_their_markers() {
+        let text = "R3=0\nMARK1: G1 Z=R3 F100\nR3=R3+1\nIF R3<3 GOTOB MARK1\nGOTOF DONE\nG1 X99\nDONE: G1 Y7\nGOTOC NOWHERE\nM30\nG1 X98\n";
+        let p = run(text, &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let m = moves(&p);
+        let z: Vec<f64> = m.iter().filter(|m| m.0 == 2).map(|m| m.1[2]).collect();
+        assert_eq!(z, [0.0, 1.0, 2.0], "{m:?}");
+        assert!(!m.iter().any(|m| m.0 == 6 || m.0 == 10), "{m:?}");
+        assert!(m.iter().any(|m| m.0 == 7 && (m.1[1] - 7.0).abs() < 1e-9), "{m:?}");
+    }
+
+    /// What the flow cannot follow is refused where it stands.
+    #[test]
+    fn control_defects_are_refused_where_they_stand() {
+        for (text, at, needle) in [
+            ("BACK: G1 X1 F100\nGOTOF BACK\n", "2:7:", "stands before the jump"),
+            ("GOTOF NOWHERE\n", "1:7:", "NOWHERE not found"),
+            ("GOTOF TWICE\nTWICE: G1 X1 F100\nTWICE: G1 X2\n", "1:7:", "more than once"),
+            ("ENDIF\n", "1:1:", "ENDIF with no IF"),
+            ("REPEAT MARK1 P=2\n", "1:1:", "section repeat"),
+            ("LOOP\nG1 X1 F100\nENDLOOP\n", "", "an endless loop"),
+            ("WHILE 1==0\nG1 X1 F100\n", "1:1:", "ends inside WHILE"),
+            ("FOR NOPE=1 TO 3\nENDFOR\n", "1:1:", "not a variable"),
+        ] {
+            let p = run(text, &ReadOptions { max_run_lines: 1000, ..ReadOptions::default() });
+            let e = errors(&p);
+            assert!(e.iter().any(|m| m.starts_with(at) && m.contains(needle)), "{text:?}: {e:#?}");
+        }
+    }
+}
