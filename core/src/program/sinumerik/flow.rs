@@ -3,7 +3,9 @@
 //! the block reader's ([`SinumerikReader`]).
 //!
 //! Rules:
-//! - Jump markers: `NAME:` at a block's start (after its `N` number); a jump goes to a marker or to a
+//! - Jump markers: `NAME:` at a block's start (after its `N` number), a name whose "first two
+//!   characters must be letters or underscores" (Programming Manual Fundamentals 6FC5298-7AB00-0BP1
+//!   10.2004 §2.2, identifiers and jump markers); a jump goes to a marker or to a
 //!   block number (`N100`). `GOTOF` looks forward, `GOTOB` backward, `GOTO` both, `GOTOC` as `GOTO`
 //!   without an alarm when the marker is missing (the block after it runs); `IF <condition> GOTOF ..`
 //!   jumps when the condition holds. A marker written twice is refused (the manual: "must be unique").
