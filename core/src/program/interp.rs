@@ -789,15 +789,7 @@ impl Interpreter {
                         // end of subprogram, M19 spindle positioning, M40-M45 gear stages, M70 spindle
                         // to axis mode); any other is the machine maker's.
                         (None, 17 | 19 | 40..=45 | 70, false) if self.dialect == Dialect::Sinumerik => {}
-                        (None, _, false) if self.dialect == Dialect::Sinumerik => diags.error(
-                            line,
-                            w.column,
-                            format!(
-                                "M{}: the machine maker's M function, whose effect is not known here: its machine file names it \
-                                 ([[m_function]]), or say what it does with --m-code {}=tcp-on|tcp-off|event",
-                                w.raw, code
-                            ),
-                        ),
+                        (None, _, false) if self.dialect == Dialect::Sinumerik => diags.error(line, w.column, maker_m_function(&w.raw, code)),
                         // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O,
                         // with the words they take (G-code reference §M61 Q, §M62-M65 P, §M66 P E L Q,
                         // §M67/M68 E Q).
@@ -806,15 +798,7 @@ impl Interpreter {
                         (None, 62..=65, false) => uses.push('P'),
                         (None, 66, false) => uses.extend(['P', 'E', 'L', 'Q']),
                         (None, 67 | 68, false) => uses.extend(['E', 'Q']),
-                        (None, _, false) if fanuc => diags.error(
-                            line,
-                            w.column,
-                            format!(
-                                "M{}: the machine maker's M function, whose effect is not known here: its machine file names it \
-                                 ([[m_function]]), or say what it does with --m-code {}=tcp-on|tcp-off|event",
-                                w.raw, code
-                            ),
-                        ),
+                        (None, _, false) if fanuc => diags.error(line, w.column, maker_m_function(&w.raw, code)),
                         (None, _, false) => diags.error(
                             line,
                             w.column,
@@ -1117,6 +1101,12 @@ impl Interpreter {
             offset_assumed: self.offset_assumed() && !shot.is_some_and(|s| s.axes.is_some() && !s.own),
         })
     }
+}
+
+/// Why a machine maker's M function (on a Sinumerik, Fanuc or Haas control) is refused: what it does
+/// is the machine's, said by its file or a flag.
+fn maker_m_function(raw: &str, code: i64) -> String {
+    format!("M{raw}: the machine maker's M function, whose effect is not known here: its machine file names it ([[m_function]]), or say what it does with --m-code {code}=tcp-on|tcp-off|event")
 }
 
 /// How far the radius to an arc's end may differ from the radius to its start, unless the machine

@@ -230,11 +230,7 @@ impl MacroRunner {
     fn statement(&self, chars: &[char]) -> Result<Option<Stmt>, (usize, String)> {
         let i = body_start(chars);
         if keyword(chars, i, "IF") {
-            let c = skip_blanks(chars, i + 2);
-            if chars.get(c) != Some(&'[') {
-                return Err((c + 1, "IF: expected a [condition]".into()));
-            }
-            let end = self.reader.params.real_value(chars, c).map_err(|e| (e.column, format!("IF: {}", e.message)))?.1;
+            let (c, end) = self.condition_at(chars, i + 2, "IF")?;
             let j = skip_blanks(chars, end);
             return if keyword(chars, j, "GOTO") {
                 Ok(Some(Stmt::If { cond: c, then: Then::Goto(j + 4) }))
@@ -248,11 +244,7 @@ impl MacroRunner {
             return Ok(Some(Stmt::Goto(i + 4)));
         }
         if keyword(chars, i, "WHILE") {
-            let c = skip_blanks(chars, i + 5);
-            if chars.get(c) != Some(&'[') {
-                return Err((c + 1, "WHILE: expected a [condition]".into()));
-            }
-            let end = self.reader.params.real_value(chars, c).map_err(|e| (e.column, format!("WHILE: {}", e.message)))?.1;
+            let (c, end) = self.condition_at(chars, i + 5, "WHILE")?;
             let j = skip_blanks(chars, end);
             if !keyword(chars, j, "DO") {
                 return Err((j + 1, "WHILE [..]: expected DO1, DO2 or DO3".into()));
@@ -278,6 +270,17 @@ impl MacroRunner {
             }
         }
         self.call_words(chars, i)
+    }
+
+    /// The `[condition]` after a keyword that ends at `from`: where it starts and ends (its value
+    /// is read where it runs).
+    fn condition_at(&self, chars: &[char], from: usize, what: &str) -> Result<(usize, usize), (usize, String)> {
+        let c = skip_blanks(chars, from);
+        if chars.get(c) != Some(&'[') {
+            return Err((c + 1, format!("{what}: expected a [condition]")));
+        }
+        let end = self.reader.params.real_value(chars, c).map_err(|e| (e.column, format!("{what}: {}", e.message)))?.1;
+        Ok((c, end))
     }
 
     /// A block holding a call code (`M98`, `M97`, `M99`, `G65`, `G66`, `G67`): its words, values

@@ -628,24 +628,17 @@ impl<'a> Seeking<'a> {
                         true
                     }
                     (Ok(()), Next::On) => false,
-                    (Ok(()), Next::Ended | Next::Find(_)) => {
-                        *running = false;
-                        // The lines after the end are checked from where the reader stands.
+                    (Ok(()), next) => {
+                        // Read on from the jump's line, or (the program has ended: its lines after the
+                        // end are only checked) from the next.
+                        match next {
+                            Next::Jump(to) => *at = to,
+                            _ => *running = false,
+                        }
                         match seek(input, stands, at.offset) {
                             Ok(()) => false,
                             Err(e) => {
                                 d.error(at.line, 1, cannot_read(at.line, e));
-                                runner.finish(out, &mut d);
-                                true
-                            }
-                        }
-                    }
-                    (Ok(()), Next::Jump(to)) => {
-                        *at = to;
-                        match seek(input, stands, to.offset) {
-                            Ok(()) => false,
-                            Err(e) => {
-                                d.error(to.line, 1, cannot_read(to.line, e));
                                 runner.finish(out, &mut d);
                                 true
                             }
