@@ -98,6 +98,9 @@ fn table(rows: &[Row]) -> String {
     out
 }
 
+/// When a machine's catch-up is asked again after the first, from it (see where it is used).
+const CATCH_UP_AGAIN: [Duration; 2] = [Duration::from_secs(2), Duration::from_secs(3)];
+
 /// Ask the gateways matching `key` for their regions; the replies come back on `tx`.
 fn catch_up(session: &zenoh::Session, key: String, domain: u16, tx: mpsc::SyncSender<In>) {
     // Every reply: they share the key, and Zenoh's default consolidation would keep only the latest.
@@ -234,7 +237,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 Event::Joined { machine } | Event::Recovered { machine, .. } => {
                     tracing::info!(%machine, "{}", if matches!(e, Event::Joined { .. }) { "machine joined" } else { "machine heard again" });
                     if let Ok(path) = MachinePath::parse(machine) {
-                        catch_up(&session, keys::regions_query(domain, &path), domain, tx.clone());
+                        let key = keys::regions_query(domain, &path);
+                        catch_up(&session, key.clone(), domain, tx.clone());
+                        // Again a little later: after an outage the machine's statuses can come
+                        // before the routers have learnt its gateway's queryable again, and a query
+                        // then reaches no one. A region is reported once however often it comes.
+                        let (again, tx) = (session.clone(), tx.clone());
+                        std::thread::spawn(move || {
+                            for wait in CATCH_UP_AGAIN {
+                                std::thread::sleep(wait);
+                                catch_up(&again, key.clone(), domain, tx.clone());
+                            }
+                        });
                     }
                 }
                 Event::Stale { machine, silent_s } => tracing::warn!(%machine, silent_s, "machine stale"),
