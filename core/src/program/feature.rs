@@ -43,7 +43,7 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
             return Some(false);
         }
     }
-    if it.feature.is_some() {
+    if it.feature.is_some() && has("69").is_none() {
         if let Some((_, w)) = g.iter().find(|(k, _)| matches!(k.as_str(), "54" | "55" | "56" | "57" | "58" | "59" | "54.1" | "10" | "92" | "52")) {
             diags.error(line, w.column, format!("G{} under a tilted working plane (G68.2): cancel the plane with G69 before changing the work offset", w.raw));
             return Some(false);
@@ -66,6 +66,11 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     None
 }
 
+/// Whether the block holds the G code `code`.
+fn has_code(words: &[Word], code: f64) -> bool {
+    words.iter().any(|w| w.letter == 'G' && w.value == code)
+}
+
 /// `G68.2 X Y Z I J K`: the feature coordinate system from here on (no motion).
 #[allow(clippy::too_many_arguments)]
 fn set_plane(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
@@ -84,7 +89,13 @@ fn set_plane(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, column
         diags.error(line, g.column, "G68.2 while a feature coordinate system is in effect: cancel it with G69 first (how a second one composes is not at hand)");
         return false;
     }
-    if !it.absolute() {
+    // G90/G91 in the block itself governs its words.
+    let absolute = match (has_code(words, 90.0), has_code(words, 91.0)) {
+        (_, true) => false,
+        (true, false) => true,
+        _ => it.absolute(),
+    };
+    if !absolute {
         diags.error(line, g.column, "G68.2 under G91: write its origin under G90 (how the control reads an incremental origin is not at hand)");
         return false;
     }
@@ -145,7 +156,8 @@ fn turn_axes(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, column
         );
     }
     let letters = it.rotary_letters();
-    let mut moves: Vec<Word> = vec![Word { letter: 'G', value: 0.0, raw: Cow::Borrowed("0"), column: g.column, incremental: false }];
+    // The axes' words alone: the one-shot below makes the move a rapid, the modal motion stays.
+    let mut moves: Vec<Word> = Vec::new();
     for (k, l) in letters.iter().enumerate() {
         let Some(l) = l else { continue };
         let deg = sol.rot[k] / DEG;
@@ -189,21 +201,21 @@ mod tests {
     /// Rz(-90) e_x = (0, -1, 0)); a move then runs in the feature frame, about its origin.
     #[test]
     fn g68_2_and_g53_1_give_the_manuals_output_angles_and_coordinates() {
-        let text = "G90 G21\nG0 B180. C90.\nG68.2 X5. Y0 Z0 I-90. J90. K0\nG53.1\nG1 X10. Y0 Z4. F1000.\nG69\nG1 X1. Y2. Z3.\n";
+        let text = "G90 G21\nG0 B180. C90.\nG68.2 X5. Y0 Z0 I-90. J90. K0\nG1 F1000.\nG53.1\nX10. Y0 Z4.\nG69 G54\nG1 X1. Y2. Z3.\n";
         let p = read(text, Dialect::Fanuc, "t.nc", &bc_head());
         assert!(messages(&p, Severity::Error).is_empty(), "{:#?}", messages(&p, Severity::Error));
-        let turn = p.blocks.iter().find(|b| b.line == 4).expect("G53.1 moves the rotary axes");
+        let turn = p.blocks.iter().find(|b| b.line == 5).expect("G53.1 moves the rotary axes");
         let (b, c) = (turn.targets.b.unwrap() / D, turn.targets.c.unwrap() / D);
         assert!((b - 270.0).abs() < 1e-3 && c.abs() < 1e-3, "manual B270 C0, got B{b} C{c}");
         assert_eq!(turn.motion, super::super::Motion::Rapid);
         assert!(turn.targets.x.is_none() && turn.targets.y.is_none() && turn.targets.z.is_none(), "the linear axes stay");
         // X10 Z4 in the feature frame: 10 (0, -1, 0) + 4 (-1, 0, 0), about the origin X5.
-        let mv = p.blocks.iter().find(|b| b.line == 5).unwrap();
+        let mv = p.blocks.iter().find(|b| b.line == 6).unwrap();
         let at: Vec<f64> = [mv.targets.x, mv.targets.y, mv.targets.z].iter().zip(mv.datum).map(|(t, d)| (t.unwrap() + d) * 1e3).collect();
         assert!((at[0] - 1.0).abs() < 1e-9 && (at[1] + 10.0).abs() < 1e-9 && at[2].abs() < 1e-9, "{at:?}");
-        assert_eq!(mv.motion, super::super::Motion::Linear, "G53.1's rapid leaves the modal motion");
-        // G69: the workpiece coordinates again.
-        let back = p.blocks.iter().find(|b| b.line == 7).unwrap();
+        assert_eq!(mv.motion, super::super::Motion::Linear, "G53.1's rapid leaves the modal G1");
+        // G69 (with a work offset in the same block): the workpiece coordinates again.
+        let back = p.blocks.iter().find(|b| b.line == 8).unwrap();
         let at: Vec<f64> = [back.targets.x, back.targets.y, back.targets.z].iter().zip(back.datum).map(|(t, d)| (t.unwrap() + d) * 1e3).collect();
         assert!((at[0] - 1.0).abs() < 1e-9 && (at[1] - 2.0).abs() < 1e-9 && (at[2] - 3.0).abs() < 1e-9, "{at:?}");
     }
@@ -247,6 +259,7 @@ mod tests {
             ("G68.2 X0 Y0 Z0 I0 J45 K0\nG55\n", "2:1:", "G55 under a tilted working plane"),
             ("G68.2 X0 Y0 Z0 I0 J45 K0\nG53.1 X0\n", "2:7:", "a block of its own"),
             ("G91\nG68.2 X0 Y0 Z0 I0 J45 K0\n", "2:1:", "under G91"),
+            ("G91 G68.2 X0 Y0 Z0 I0 J45 K0\n", "1:5:", "under G91"),
         ] {
             let p = read(text, Dialect::Fanuc, "t.nc", &bc_head());
             let e = messages(&p, Severity::Error);

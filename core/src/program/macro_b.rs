@@ -31,6 +31,9 @@ pub const MAX_CALL_DEPTH: usize = 10;
 pub const MAX_PROGRAMS: usize = 10_000;
 /// Deepest nesting of `DO` loops (FANUC: identification numbers 1 to 3).
 const MAX_LOOPS: usize = 3;
+/// Most block numbers whose place a program's branches remember (a branch taken again does not
+/// search again).
+const MAX_CACHED: usize = 10_000;
 
 /// A program the file holds: its number, and where its blocks start and end (byte offset).
 #[derive(Debug, Clone, Copy)]
@@ -94,14 +97,21 @@ pub(crate) struct MacroRunner {
     lines: usize,
     scanned: u64,
     percent: bool,
+    /// Lines and bytes before the first `%` (the tape's leader, if the reader can hold it).
+    leader: (usize, usize),
     content: bool,
     main_numbered: bool,
     frames: Vec<Frame>,
     /// Lines skipped to the `END` of a loop whose test failed: its number, loops nested in it.
     skipping: Option<(u8, usize, usize)>,
     wanted: Option<(Wanted, u64, usize, usize)>,
+    /// The places of block numbers searched before, by the program's start and the number.
+    places: std::collections::HashMap<(u64, u64), Vec<At>>,
     executed: usize,
     budget: usize,
+    /// The run has ended (M30, M02, the tape's end, a defect): the end of the input then leaves
+    /// nothing open to report.
+    done: bool,
 }
 
 impl MacroRunner {
@@ -113,13 +123,16 @@ impl MacroRunner {
             lines: 0,
             scanned: 0,
             percent: false,
+            leader: (0, 0),
             content: false,
             main_numbered: false,
             frames: vec![Frame { unit: At { line: 1, offset: 0 }, end: None, start: At { line: 1, offset: 0 }, back: At { line: 1, offset: 0 }, repeats: 0, loops: Vec::new(), locals: None, call: (0, 0) }],
             skipping: None,
             wanted: None,
+            places: std::collections::HashMap::new(),
             executed: 0,
             budget: setup.max_run_lines,
+            done: false,
         }
     }
 
@@ -183,7 +196,8 @@ fn program_number(bytes: &[u8]) -> Option<u64> {
 fn maybe_flow(text: &str) -> bool {
     let b = text.as_bytes();
     (0..b.len().saturating_sub(1)).any(|i| {
-        let next = b[i + 1].to_ascii_uppercase();
+        // The letter's next character, past blanks (`M 98`).
+        let next = b[i + 1..].iter().find(|c| **c != b' ' && **c != b'\t').map_or(0, u8::to_ascii_uppercase);
         match b[i] | 0x20 {
             b'i' => next == b'F',
             b'g' => next == b'O' || next == b'6',
@@ -345,10 +359,13 @@ impl MacroRunner {
         Ok((v as u64, end, at + 1))
     }
 
-    /// Look for block `N n` in the program running, for `wanted`.
-    fn find(&mut self, n: u64, wanted: Wanted, line: usize, column: usize) -> Next {
+    /// Look for block `N n` in the program running, for `wanted` (where it was found before, if it was).
+    fn find(&mut self, n: u64, wanted: Wanted, line: usize, column: usize, diags: &mut Diags) -> Next {
         let f = self.frames.last().expect("a frame");
         let find = Find { from: f.unit, to: f.end, key: n };
+        if let Some(hits) = self.places.get(&(find.from.offset, n)).cloned() {
+            return self.resolve(wanted, n, line, column, &hits, diags);
+        }
         self.wanted = Some((wanted, n, line, column));
         Next::Find(find)
     }
@@ -387,7 +404,7 @@ impl MacroRunner {
             self.reader.params.leave_locals(scope);
         }
         match to {
-            Some(n) => self.find(n, Wanted::Return, line, column),
+            Some(n) => self.find(n, Wanted::Return, line, column, diags),
             None => Next::Jump(f.back),
         }
     }
@@ -425,7 +442,7 @@ impl MacroRunner {
         match c.as_str() {
             "99" => self.ret(p.map(|w| w.value as u64), line, call.column, diags),
             "97" => match p {
-                Some(w) => self.find(w.value as u64, Wanted::LocalCall { back: next, repeats, call: (line, call.column) }, line, w.column),
+                Some(w) => self.find(w.value as u64, Wanted::LocalCall { back: next, repeats, call: (line, call.column) }, line, w.column, diags),
                 None => self.stop(line, call.column, "M97 without P: expected the block number to run from".into(), diags),
             },
             _ => {
@@ -468,6 +485,9 @@ impl Jumping for MacroRunner {
         self.lines = line;
         let here = std::mem::replace(&mut self.scanned, next.offset);
         let text = bytes.trim_ascii();
+        if !self.percent && text.first() != Some(&b'%') {
+            self.leader = (self.leader.0 + 1, self.leader.1 + bytes.len());
+        }
         if text.first() == Some(&b'%') {
             self.percent = true;
             if self.programs.is_empty() {
@@ -504,7 +524,61 @@ impl Jumping for MacroRunner {
     }
 
     fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        if line == 1 && !self.percent {
+        let n = self.run_line(line, text, here, next, out, diags);
+        self.done |= n == Next::Ended;
+        n
+    }
+
+    fn check(&mut self, _line: usize, _text: &str, _diags: &mut Diags) {}
+
+    fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
+        self.reader.finish(None, out, diags);
+        if self.done {
+            return;
+        }
+        // The input ended while the program ran: what it left open.
+        if let Some((m, _, at)) = self.skipping {
+            diags.error(at, 1, format!("the program ends inside a loop DO{m} whose END{m} never comes"));
+        }
+        for f in &self.frames {
+            if let Some((m, head)) = f.loops.last() {
+                diags.error(head.line, 1, format!("the program ends inside the loop DO{m} begun here (no END{m})"));
+            }
+        }
+        if let Some(f) = self.frames.get(1) {
+            diags.error(f.call.0, f.call.1, "the program called here ends before its M99");
+        }
+    }
+
+    fn name(&self) -> Option<String> {
+        LineReader::name(&self.reader)
+    }
+
+    fn matches(&self, key: u64, bytes: &[u8]) -> bool {
+        block_number(bytes) == Some(key)
+    }
+
+    fn found(&mut self, find: Find, hits: &[At], read: usize, diags: &mut Diags) -> Next {
+        let Some((wanted, n, line, column)) = self.wanted.take() else { return Next::On };
+        // The lines a search reads count as run: a branch taken a million times over a long
+        // program stays bounded.
+        self.executed = self.executed.saturating_add(read);
+        if self.places.len() < MAX_CACHED {
+            self.places.insert((find.from.offset, n), hits.to_vec());
+        }
+        let next = self.resolve(wanted, n, line, column, hits, diags);
+        self.done |= next == Next::Ended;
+        next
+    }
+}
+
+impl MacroRunner {
+    /// Run one line: what [`Jumping::line`] does.
+    fn run_line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        // The tape's leader is decided by the first pass: no `%`, or one too far for the reader to
+        // hold what comes before it, and every line is program, run as such.
+        let (lead_lines, lead_bytes) = self.leader;
+        if line == 1 && (!self.percent || lead_lines >= super::rs274::MAX_LEADER_LINES || lead_bytes > super::rs274::MAX_LEADER_BYTES) {
             self.reader.no_leader();
         }
         self.executed += 1;
@@ -522,6 +596,13 @@ impl Jumping for MacroRunner {
                 return Next::Ended;
             }
             return self.stop(line, 1, "the subprogram runs into the next program of the file without M99".into(), diags);
+        }
+        if text.trim_start().starts_with('%') {
+            // The tape's end, whatever the flow is doing.
+            self.reader.line(line, text, out, diags);
+            if self.reader.at_tape_end() {
+                return Next::Ended;
+            }
         }
         if let Some((m, depth, _)) = self.skipping {
             // Past a loop whose test failed: to its END.
@@ -563,7 +644,7 @@ impl Jumping for MacroRunner {
                             return self.stop(line, end + 1, "unexpected text after GOTO n".into(), diags);
                         }
                         if holds {
-                            return self.find(n, Wanted::Goto, line, col);
+                            return self.find(n, Wanted::Goto, line, col, diags);
                         }
                         Next::On
                     }
@@ -588,7 +669,7 @@ impl Jumping for MacroRunner {
                 }
             }
             Stmt::Goto(at) => match self.label(&chars, at, "GOTO") {
-                Ok((n, end, col)) if rest_is_empty(&chars, end) => self.find(n, Wanted::Goto, line, col),
+                Ok((n, end, col)) if rest_is_empty(&chars, end) => self.find(n, Wanted::Goto, line, col, diags),
                 Ok((_, end, _)) => self.stop(line, end + 1, "unexpected text after GOTO n".into(), diags),
                 Err((col, why)) => self.stop(line, col, why, diags),
             },
@@ -620,28 +701,11 @@ impl Jumping for MacroRunner {
         }
     }
 
-    fn check(&mut self, _line: usize, _text: &str, _diags: &mut Diags) {}
+}
 
-    fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
-        self.reader.finish(None, out, diags);
-        if let Some((m, _, at)) = self.skipping {
-            diags.error(at, 1, format!("the program ends inside a loop DO{m} whose END{m} never comes"));
-        }
-        if let Some(f) = self.frames.get(1) {
-            diags.error(f.call.0, f.call.1, "the program called here ends before its M99");
-        }
-    }
-
-    fn name(&self) -> Option<String> {
-        LineReader::name(&self.reader)
-    }
-
-    fn matches(&self, key: u64, bytes: &[u8]) -> bool {
-        block_number(bytes) == Some(key)
-    }
-
-    fn found(&mut self, _find: Find, hits: &[At], diags: &mut Diags) -> Next {
-        let Some((wanted, n, line, column)) = self.wanted.take() else { return Next::On };
+impl MacroRunner {
+    /// Where a branch, call or return to block `N n` goes, its block found at `hits`.
+    fn resolve(&mut self, wanted: Wanted, n: u64, line: usize, column: usize, hits: &[At], diags: &mut Diags) -> Next {
         match hits {
             [] => self.stop(line, column, format!("no block N{n} in the program running"), diags),
             [at] => match wanted {
@@ -785,6 +849,8 @@ mod tests {
             ("M98 P12341000\nM30\n", "1:5:", "packed in P"),
             ("G66 P9000\n", "1:1:", "modal macro call"),
             ("WHILE [1 EQ 0] DO1\nG1 X1.\n", "1:1:", "whose END1 never comes"),
+            ("WHILE [1 EQ 1] DO1\nG1 X1. F100.\n", "1:1:", "ends inside the loop DO1"),
+            ("M 98 P2000\nM30\n", "1:6:", "O2000 is not in this file"),
         ] {
             let options = ReadOptions { max_run_lines: 1000, ..ReadOptions::default() };
             let p = run(text, Dialect::Fanuc, &options);
@@ -794,6 +860,33 @@ mod tests {
         // M99 in the main program: read once, said.
         let p = run("G1 X1. F100.\nM99\n", Dialect::Fanuc, &ReadOptions::default());
         assert!(errors(&p).is_empty() && p.diagnostics.iter().any(|d| d.message.contains("read once")));
+    }
+
+    /// A branch taken again goes where it went without searching again: 5,000 turns of a loop before
+    /// 2,000 lines run within a bound (14,000 lines beyond the program's own) that a search per turn
+    /// (2,000 lines each) would pass many times over.
+    #[test]
+    fn a_branch_taken_again_does_not_search_again() {
+        let mut text = String::from("#1=0\nN10 #1=#1+1\nIF [#1 LT 5000] GOTO10\n");
+        text.push_str(&"G1 X1. F100.\n".repeat(2000));
+        text.push_str("M30\n");
+        let p = run(&text, Dialect::Fanuc, &ReadOptions { max_run_lines: 14_000, ..ReadOptions::default() });
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert_eq!(points(&p).len(), 2000);
+    }
+
+    /// A program whose only `%` ends it, after more lines than a tape's leader holds: every line is
+    /// run as the flow says, the first ones too (its M97 calls its blocks after M30, which run once).
+    #[test]
+    fn a_long_program_without_a_leading_percent_runs_its_flow() {
+        let mut text = String::from("O01234\nM97 P100\n");
+        text.push_str(&"G1 X1. F100.\n".repeat(80));
+        text.push_str("M30\nN100 G1 Y5. F100.\nM99\n%\n");
+        let p = run(&text, Dialect::Haas, &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let pts = points(&p);
+        assert_eq!(pts.len(), 81);
+        assert!(pts[0].0 == 84 && near(pts[0].2, 5.0), "{:?}", pts[0]);
     }
 
     /// The program ends at M30: what follows it runs only when called.

@@ -53,8 +53,8 @@ pub(crate) struct Rs274Reader {
 }
 
 /// The most leader held back, lines and bytes: an NX "Information listing" header is a few lines.
-const MAX_LEADER_LINES: usize = 64;
-const MAX_LEADER_BYTES: usize = 16 * 1024;
+pub(super) const MAX_LEADER_LINES: usize = 64;
+pub(super) const MAX_LEADER_BYTES: usize = 16 * 1024;
 
 impl Rs274Reader {
     /// A reader for this setup; a machine's HAL pins can be read (`#<_hal[...]>`).

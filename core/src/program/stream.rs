@@ -514,9 +514,9 @@ pub(crate) trait Jumping: Send {
     fn matches(&self, _key: u64, _bytes: &[u8]) -> bool {
         false
     }
-    /// A search's answer: where the lines it looked for start (at most [`MAX_HITS`]); where to
-    /// read on.
-    fn found(&mut self, _find: Find, _hits: &[At], _diags: &mut Diags) -> Next {
+    /// A search's answer: where the lines it looked for start (at most [`MAX_HITS`]) and how many
+    /// lines it read (a reader bounds what its jumps cost by them); where to read on.
+    fn found(&mut self, _find: Find, _hits: &[At], _read: usize, _diags: &mut Diags) -> Next {
         Next::Ended
     }
 }
@@ -614,9 +614,10 @@ impl<'a> Seeking<'a> {
                 let mut stands = at.offset;
                 let mut result = Ok(());
                 if let Next::Find(find) = next {
-                    result = search(input, buf, &mut stands, find, runner.as_ref()).map(|hits| {
-                        next = runner.found(find, &hits, &mut d);
-                        if next == Next::On {
+                    result = search(input, buf, &mut stands, find, runner.as_ref()).map(|(hits, read)| {
+                        next = runner.found(find, &hits, read, &mut d);
+                        // A search answers with a place, not another search.
+                        if matches!(next, Next::On | Next::Find(_)) {
                             next = Next::Jump(*at);
                         }
                     });
@@ -667,13 +668,14 @@ impl<'a> Seeking<'a> {
     }
 }
 
-/// The lines from `find.from` up to `find.to` that `runner` takes for `find.key`, the reader
-/// standing at byte `stands` (moved to where the search stopped).
-fn search(input: &mut BufReader<Box<dyn Text + '_>>, buf: &mut Vec<u8>, stands: &mut u64, find: Find, runner: &dyn Jumping) -> std::io::Result<Vec<At>> {
+/// The lines from `find.from` up to `find.to` that `runner` takes for `find.key`, and how many lines
+/// were read, the reader standing at byte `stands` (moved to where the search stopped).
+fn search(input: &mut BufReader<Box<dyn Text + '_>>, buf: &mut Vec<u8>, stands: &mut u64, find: Find, runner: &dyn Jumping) -> std::io::Result<(Vec<At>, usize)> {
     seek(input, *stands, find.from.offset)?;
     *stands = find.from.offset;
     let mut at = find.from;
     let mut hits = Vec::new();
+    let first = at.line;
     while find.to.is_none_or(|to| at.offset < to) && hits.len() < MAX_HITS {
         let hit = match with_line(input, buf, |bytes| runner.matches(find.key, without_eol(bytes)))? {
             Got::End => break,
@@ -691,7 +693,7 @@ fn search(input: &mut BufReader<Box<dyn Text + '_>>, buf: &mut Vec<u8>, stands: 
         };
         hits.extend(hit);
     }
-    Ok(hits)
+    Ok((hits, at.line - first))
 }
 
 /// Move a reader standing at byte `from` to byte `to`: within its buffer when `to` is in it,

@@ -24,6 +24,8 @@ use crate::program::Block;
 
 /// Deepest nesting of control structures (the 840D's: 16 per level).
 const MAX_NESTING: usize = 16;
+/// Most jump targets whose place the run remembers (a jump taken again does not search again).
+const MAX_CACHED: usize = 10_000;
 
 /// A control structure running, and where it goes back to.
 #[derive(Debug, Clone)]
@@ -81,11 +83,15 @@ pub(crate) struct FlowRunner {
     /// The jump being looked for: its marker (capitals, or `N` and digits), way, line and column, and
     /// where it stands.
     wanted: Option<(String, Way, usize, usize, At)>,
+    /// Where each target searched before stands.
+    places: std::collections::HashMap<String, Vec<At>>,
+    /// The run has ended (M30, a defect): the end of the input then leaves nothing open to report.
+    done: bool,
 }
 
 impl FlowRunner {
     pub(crate) fn new(setup: &crate::program::Setup) -> Self {
-        FlowRunner { reader: SinumerikReader::new(setup), reached: 0, budget: setup.max_run_lines, again: 0, open: Vec::new(), skipping: None, wanted: None }
+        FlowRunner { reader: SinumerikReader::new(setup), reached: 0, budget: setup.max_run_lines, again: 0, open: Vec::new(), skipping: None, wanted: None, places: std::collections::HashMap::new(), done: false }
     }
 
     fn stop(&mut self, line: usize, column: usize, message: String, diags: &mut Diags) -> Next {
@@ -157,13 +163,18 @@ fn control_word(word: &str) -> bool {
 impl FlowRunner {
     /// A jump to `target` (after the keyword at byte `at` of `text`).
     fn jump(&mut self, text: &str, at: usize, w: Way, line: usize, here: At, diags: &mut Diags) -> Next {
-        let rest = text[at..].split(';').next().unwrap_or("").trim();
+        let rest = text[at..].split(';').next().unwrap_or("");
+        let column = crate::program::lex::Columns::new(text).col(at + (rest.len() - rest.trim_start().len()));
+        let rest = rest.trim();
         let target = rest.to_ascii_uppercase();
         let ok = target.len() >= 2 && target.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_');
         if !ok {
-            return self.stop(line, at + 1, format!("expected a jump marker or a block number after the jump, found '{}'", crate::program::lex::excerpt(rest)), diags);
+            return self.stop(line, column, format!("expected a jump marker or a block number after the jump, found '{}'", crate::program::lex::excerpt(rest)), diags);
         }
-        self.wanted = Some((target, w, line, at + 2, here));
+        if let Some(hits) = self.places.get(&target).cloned() {
+            return self.resolve(target, w, line, column, here, &hits, diags);
+        }
+        self.wanted = Some((target, w, line, column, here));
         Next::Find(Find { from: At { line: 1, offset: 0 }, to: None, key: 0 })
     }
 
@@ -178,6 +189,7 @@ impl FlowRunner {
         let pop = |open: &mut Vec<Open>, want: &[&str]| -> Option<Open> { open.last().filter(|o| want.contains(&o.name())).is_some().then(|| open.pop()).flatten() };
         match word {
             "IF" => {
+                let rest = rest.split(';').next().unwrap_or("");
                 let upper = rest.to_ascii_uppercase();
                 // IF <condition> GOTOx <marker>: a conditional jump.
                 let jump = ["GOTOF", "GOTOB", "GOTOC", "GOTO"].iter().find_map(|k| upper.find(&format!(" {k} ")).map(|p| (p, *k)));
@@ -325,6 +337,59 @@ impl Jumping for FlowRunner {
     fn scan(&mut self, _line: usize, _bytes: &[u8], _next: At, _diags: &mut Diags) {}
 
     fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        let n = self.run_line(line, text, here, next, out, diags);
+        self.done |= n == Next::Ended;
+        n
+    }
+
+    fn check(&mut self, _line: usize, _text: &str, _diags: &mut Diags) {}
+
+    fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
+        self.reader.finish(None, out, diags);
+        if self.done {
+            return;
+        }
+        // The input ended while the program ran: what it left open.
+        if let Some(s) = self.skipping {
+            diags.error(s.line, 1, format!("the program ends inside {} (no {})", s.open, s.close));
+        } else if let Some(o) = self.open.last() {
+            diags.error(self.reached, 1, format!("the program ends inside {} (its end never comes)", o.name()));
+        }
+    }
+
+    fn name(&self) -> Option<String> {
+        None
+    }
+
+    fn matches(&self, _key: u64, bytes: &[u8]) -> bool {
+        let Some((target, ..)) = &self.wanted else { return false };
+        let text = String::from_utf8_lossy(bytes);
+        let text = text.trim_start();
+        if target.starts_with('N') && target[1..].bytes().all(|c| c.is_ascii_digit()) {
+            let digits: String = text.chars().skip(1).take_while(char::is_ascii_digit).collect();
+            return text.starts_with(['N', 'n']) && !digits.is_empty() && digits.parse::<u64>().ok() == target[1..].parse::<u64>().ok();
+        }
+        split(text).1.is_some_and(|(m, _)| m == *target)
+    }
+
+    fn found(&mut self, _find: Find, hits: &[At], read: usize, diags: &mut Diags) -> Next {
+        let Some((target, w, line, column, here)) = self.wanted.take() else { return Next::On };
+        // The lines a search reads count as run again: a jump taken a million times stays bounded.
+        self.again = self.again.saturating_add(read);
+        if self.places.len() < MAX_CACHED {
+            self.places.insert(target.clone(), hits.to_vec());
+        }
+        let next = self.resolve(target, w, line, column, here, hits, diags);
+        self.done |= next == Next::Ended;
+        next
+    }
+}
+
+impl FlowRunner {
+    /// Run one line: what [`Jumping::line`] does.
+    fn run_line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
+        let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
         if line <= self.reached {
             self.again += 1;
         }
@@ -357,33 +422,12 @@ impl Jumping for FlowRunner {
         }
         self.control(&word, text, after, line, here, next, diags)
     }
+}
 
-    fn check(&mut self, _line: usize, _text: &str, _diags: &mut Diags) {}
-
-    fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
-        self.reader.finish(None, out, diags);
-        if let Some(s) = self.skipping {
-            diags.error(s.line, 1, format!("the program ends inside {} (no {})", s.open, s.close));
-        }
-    }
-
-    fn name(&self) -> Option<String> {
-        None
-    }
-
-    fn matches(&self, _key: u64, bytes: &[u8]) -> bool {
-        let Some((target, ..)) = &self.wanted else { return false };
-        let text = String::from_utf8_lossy(bytes);
-        let text = text.trim_start();
-        if target.starts_with('N') && target[1..].bytes().all(|c| c.is_ascii_digit()) {
-            let digits: String = text.chars().skip(1).take_while(char::is_ascii_digit).collect();
-            return text.starts_with(['N', 'n']) && !digits.is_empty() && digits.parse::<u64>().ok() == target[1..].parse::<u64>().ok();
-        }
-        split(&text).1.is_some_and(|(m, _)| m == *target)
-    }
-
-    fn found(&mut self, _find: Find, hits: &[At], diags: &mut Diags) -> Next {
-        let Some((target, w, line, column, here)) = self.wanted.take() else { return Next::On };
+impl FlowRunner {
+    /// Where a jump to `target` goes, its marker found at `hits`.
+    #[allow(clippy::too_many_arguments)]
+    fn resolve(&mut self, target: String, w: Way, line: usize, column: usize, here: At, hits: &[At], diags: &mut Diags) -> Next {
         let at = match hits {
             [] if w == Way::Quiet => return Next::On,
             [] => return self.stop(line, column, format!("jump destination {target} not found in the program (alarm 14080)"), diags),
@@ -463,6 +507,18 @@ mod tests {
         assert!(m.iter().any(|m| m.0 == 7 && (m.1[1] - 7.0).abs() < 1e-9), "{m:?}");
     }
 
+    /// A jump taken again goes where it went without searching again (5,000 turns before 2,000 lines,
+    /// within a bound a search per turn would pass many times over); a `GOTOF` in a comment is none.
+    #[test]
+    fn a_jump_taken_again_does_not_search_again() {
+        let mut text = String::from("R1=0\nMARK: R1=R1+1\nIF R1<5000 GOTOB MARK\nIF R1==5000 ; GOTOF LATER\nG1 Y1 F100\nENDIF\n");
+        text.push_str(&"G1 X1\n".repeat(2000));
+        text.push_str("M30\n");
+        let p = run(&text, &ReadOptions { max_run_lines: 14_000, ..ReadOptions::default() });
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert_eq!(moves(&p).len(), 2001);
+    }
+
     /// What the flow cannot follow is refused where it stands.
     #[test]
     fn control_defects_are_refused_where_they_stand() {
@@ -475,6 +531,8 @@ mod tests {
             ("LOOP\nG1 X1 F100\nENDLOOP\n", "", "an endless loop"),
             ("WHILE 1==0\nG1 X1 F100\n", "1:1:", "ends inside WHILE"),
             ("FOR NOPE=1 TO 3\nENDFOR\n", "1:1:", "not a variable"),
+            ("WHILE 1==1\nG1 X1 F100\n", "2:1:", "ends inside WHILE"),
+            ("GOTOF   NOWHERE\n", "1:9:", "NOWHERE not found"),
         ] {
             let p = run(text, &ReadOptions { max_run_lines: 1000, ..ReadOptions::default() });
             let e = errors(&p);
