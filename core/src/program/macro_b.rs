@@ -196,9 +196,13 @@ fn program_number(bytes: &[u8]) -> Option<u64> {
 fn maybe_flow(text: &str) -> bool {
     let b = text.as_bytes();
     (0..b.len().saturating_sub(1)).any(|i| {
+        let letter = b[i] | 0x20;
+        if !matches!(letter, b'i' | b'g' | b'w' | b'd' | b'e' | b'm') {
+            return false;
+        }
         // The letter's next character, past blanks (`M 98`).
         let next = b[i + 1..].iter().find(|c| **c != b' ' && **c != b'\t').map_or(0, u8::to_ascii_uppercase);
-        match b[i] | 0x20 {
+        match letter {
             b'i' => next == b'F',
             b'g' => next == b'O' || next == b'6',
             b'w' => next == b'H',
