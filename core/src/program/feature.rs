@@ -176,7 +176,7 @@ fn turn_axes(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, column
 
 #[cfg(test)]
 mod tests {
-    use super::super::{read, Dialect, Program, ReadOptions, Severity};
+    use super::super::{read, Dialect, ReadOptions, Severity};
     use crate::machine::Machine;
 
     const D: f64 = std::f64::consts::PI / 180.0;
@@ -191,9 +191,6 @@ mod tests {
         ReadOptions { machine: Some(std::sync::Arc::new(m)), ..ReadOptions::default() }
     }
 
-    fn messages(p: &Program, severity: Severity) -> Vec<String> {
-        p.diagnostics.iter().filter(|d| d.severity == severity).map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect()
-    }
 
     /// FANUC's worked example of G53.1 (B-63944EN/02 p.680, example <4>): the tool along -X, from
     /// B180 C90, gives B270 C0. Here the plane comes from G68.2's Euler angles, I-90 J90 K0 (Z, then
@@ -203,7 +200,7 @@ mod tests {
     fn g68_2_and_g53_1_give_the_manuals_output_angles_and_coordinates() {
         let text = "G90 G21\nG0 B180. C90.\nG68.2 X5. Y0 Z0 I-90. J90. K0\nG1 F1000.\nG53.1\nX10. Y0 Z4.\nG69 G54\nG1 X1. Y2. Z3.\n";
         let p = read(text, Dialect::Fanuc, "t.nc", &bc_head());
-        assert!(messages(&p, Severity::Error).is_empty(), "{:#?}", messages(&p, Severity::Error));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let turn = p.blocks.iter().find(|b| b.line == 5).expect("G53.1 moves the rotary axes");
         let (b, c) = (turn.targets.b.unwrap() / D, turn.targets.c.unwrap() / D);
         assert!((b - 270.0).abs() < 1e-3 && c.abs() < 1e-3, "manual B270 C0, got B{b} C{c}");
@@ -226,7 +223,7 @@ mod tests {
     fn g68_2_angles_without_a_point_are_thousandths_of_a_degree() {
         let turn = |text: &str| {
             let p = read(text, Dialect::Fanuc, "t.nc", &bc_head());
-            assert!(messages(&p, Severity::Error).is_empty(), "{:#?}", messages(&p, Severity::Error));
+            assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
             let b = p.blocks.iter().find(|b| b.line == 3).unwrap();
             [b.targets.b.unwrap(), b.targets.c.unwrap()]
         };
@@ -240,10 +237,10 @@ mod tests {
     #[test]
     fn g53_1_at_the_pole_keeps_the_free_axis_and_says_so() {
         let p = read("G0 B45. C90.\nG68.2 X0 Y0 Z0 I30. J0 K0\nG53.1\n", Dialect::Fanuc, "t.nc", &bc_head());
-        assert!(messages(&p, Severity::Error).is_empty(), "{:#?}", messages(&p, Severity::Error));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let turn = p.blocks.iter().find(|b| b.line == 3).unwrap();
         assert!(turn.targets.b.unwrap().abs() < 1e-9 && (turn.targets.c.unwrap() / D - 90.0).abs() < 1e-9, "{:?}", turn.targets);
-        let w = messages(&p, Severity::Warning);
+        let w = p.messages(Severity::Warning);
         assert!(w.iter().any(|m| m.starts_with("3:1: G53.1 at the pole") && m.contains("C 90.000 deg")), "{w:#?}");
     }
 
@@ -262,16 +259,16 @@ mod tests {
             ("G91 G68.2 X0 Y0 Z0 I0 J45 K0\n", "1:5:", "under G91"),
         ] {
             let p = read(text, Dialect::Fanuc, "t.nc", &bc_head());
-            let e = messages(&p, Severity::Error);
+            let e = p.messages(Severity::Error);
             assert!(e.iter().any(|m| m.starts_with(at) && m.contains(needle)), "{text:?}: {e:#?}");
         }
         // Without a machine there are no kinematics to tilt with; on Haas G68.2 is not read.
         let p = read("G68.2 X0 Y0 Z0 I0 J45 K0\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
-        assert!(messages(&p, Severity::Error).iter().any(|m| m.contains("--machine")));
+        assert!(p.messages(Severity::Error).iter().any(|m| m.contains("--machine")));
         let p = read("G68.2 X0 Y0 Z0 I0 J45 K0\n", Dialect::Haas, "t.nc", &bc_head());
-        assert!(messages(&p, Severity::Error).iter().any(|m| m.contains("tilted working plane")));
+        assert!(p.messages(Severity::Error).iter().any(|m| m.contains("tilted working plane")));
         // G69 with no plane in effect (a post's safe start) is read.
         let p = read("G69\nG1 X1 F100\n", Dialect::Fanuc, "t.nc", &bc_head());
-        assert!(messages(&p, Severity::Error).is_empty(), "{:#?}", messages(&p, Severity::Error));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
     }
 }

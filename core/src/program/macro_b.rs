@@ -22,7 +22,7 @@ use super::interp::Word;
 use super::lex::{excerpt, Diags};
 use super::params::{skip_blanks, Scope};
 use super::rs274::Rs274Reader;
-use super::stream::{At, Find, Jumping, LineReader, Next};
+use super::stream::{ends_program, stop, At, Find, Jumping, LineReader, Next};
 use super::{Block, Dialect};
 
 /// Deepest nesting of subprogram and macro calls (FANUC: subprograms 10 levels).
@@ -109,9 +109,6 @@ pub(crate) struct MacroRunner {
     places: std::collections::HashMap<(u64, u64), Vec<At>>,
     executed: usize,
     budget: usize,
-    /// The run has ended (M30, M02, the tape's end, a defect): the end of the input then leaves
-    /// nothing open to report.
-    done: bool,
 }
 
 impl MacroRunner {
@@ -132,18 +129,11 @@ impl MacroRunner {
             places: std::collections::HashMap::new(),
             executed: 0,
             budget: setup.max_run_lines,
-            done: false,
         }
     }
 
     fn frame(&mut self) -> &mut Frame {
         self.frames.last_mut().expect("the main program's frame")
-    }
-
-    /// Stop reading: the defect said at its place.
-    fn stop(&mut self, line: usize, column: usize, message: String, diags: &mut Diags) -> Next {
-        diags.error(line, column, format!("{message} (the rest of the program is not read)"));
-        Next::Ended
     }
 }
 
@@ -378,10 +368,10 @@ impl MacroRunner {
     #[allow(clippy::too_many_arguments)]
     fn call(&mut self, number: u64, repeats: u64, locals: Option<Vec<(u32, f64)>>, back: At, line: usize, column: usize, diags: &mut Diags) -> Next {
         let Some(p) = self.programs.iter().find(|p| p.number == number).copied() else {
-            return self.stop(line, column, format!("O{number} is not in this file: the motion depends on a program not read"), diags);
+            return stop(line, column, format!("O{number} is not in this file: the motion depends on a program not read"), diags);
         };
         if self.frames.len() > MAX_CALL_DEPTH {
-            return self.stop(line, column, format!("calls nested more than {MAX_CALL_DEPTH} deep"), diags);
+            return stop(line, column, format!("calls nested more than {MAX_CALL_DEPTH} deep"), diags);
         }
         if repeats == 0 {
             return Next::On;
@@ -423,43 +413,43 @@ impl MacroRunner {
         let get = |l: char| words.iter().find(|w| w.letter == l);
         let whole = |w: &Word| w.value.fract() == 0.0 && w.value >= 0.0 && w.value <= 99_999_999.0;
         if letter == 'G' && c != "65" {
-            return self.stop(line, call.column, format!("{name}: a modal macro call is not read (each later move would call the macro)"), diags);
+            return stop(line, call.column, format!("{name}: a modal macro call is not read (each later move would call the macro)"), diags);
         }
         if c == "97" && self.dialect != Dialect::Haas {
-            return self.stop(line, call.column, "M97 is Haas' local subprogram call, not a Fanuc control's".into(), diags);
+            return stop(line, call.column, "M97 is Haas' local subprogram call, not a Fanuc control's".into(), diags);
         }
         // G65's arguments (argument specification I: A B C I J K D E F H M Q R S T U V W X Y Z).
         let args = "ABCIJKDEFHMQRSTUVWXYZ";
         let allowed = |l: char| matches!(l, 'N' | 'P' | 'L') || l == letter || c == "65" && args.contains(l);
         if let Some(w) = words.iter().find(|w| !allowed(w.letter) || w.letter == letter && !std::ptr::eq(*w, call)) {
-            return self.stop(line, w.column, format!("{}{} in a {name} block: give {name} a block of its own (other words with a call are not read)", w.letter, w.raw, name = name), diags);
+            return stop(line, w.column, format!("{}{} in a {name} block: give {name} a block of its own (other words with a call are not read)", w.letter, w.raw, name = name), diags);
         }
         let repeats = match get('L') {
             Some(w) if whole(w) => w.value as u64,
-            Some(w) => return self.stop(line, w.column, format!("L{}: expected a whole count of runs", w.raw), diags),
+            Some(w) => return stop(line, w.column, format!("L{}: expected a whole count of runs", w.raw), diags),
             None => 1,
         };
         let p = get('P');
         if let Some(w) = p.filter(|w| !whole(w)) {
-            return self.stop(line, w.column, format!("P{}: expected a whole program or block number", w.raw), diags);
+            return stop(line, w.column, format!("P{}: expected a whole program or block number", w.raw), diags);
         }
         match c.as_str() {
             "99" => self.ret(p.map(|w| w.value as u64), line, call.column, diags),
             "97" => match p {
                 Some(w) => self.find(w.value as u64, Wanted::LocalCall { back: next, repeats, call: (line, call.column) }, line, w.column, diags),
-                None => self.stop(line, call.column, "M97 without P: expected the block number to run from".into(), diags),
+                None => stop(line, call.column, "M97 without P: expected the block number to run from".into(), diags),
             },
             _ => {
                 let Some(w) = p else {
-                    return self.stop(line, call.column, format!("{name} without P: expected the program to call"), diags);
+                    return stop(line, call.column, format!("{name} without P: expected the program to call"), diags);
                 };
                 // Fanuc's packed form (M98 P<count><program>) or an eight-digit program number: the
                 // control's parameter says which.
                 if c == "65" && repeats != 1 {
-                    return self.stop(line, call.column, format!("G65 L{repeats}: a macro called more than once is not read (whether its arguments are set again each time is not at hand)"), diags);
+                    return stop(line, call.column, format!("G65 L{repeats}: a macro called more than once is not read (whether its arguments are set again each time is not at hand)"), diags);
                 }
                 if self.dialect == Dialect::Fanuc && c == "98" && get('L').is_none() && w.value > 9999.0 {
-                    return self.stop(line, w.column, format!("M98 P{}: a count and a program number packed in P, or an eight-digit program number, as the control's parameter says: write M98 P<program> L<count>", w.raw), diags);
+                    return stop(line, w.column, format!("M98 P{}: a count and a program number packed in P, or an eight-digit program number, as the control's parameter says: write M98 P<program> L<count>", w.raw), diags);
                 }
                 let locals = (c == "65").then(|| {
                     let increments = |l: char, v: f64, raw: &str| {
@@ -528,16 +518,133 @@ impl Jumping for MacroRunner {
     }
 
     fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        let n = self.run_line(line, text, here, next, out, diags);
-        self.done |= n == Next::Ended;
-        n
+        // The tape's leader is decided by the first pass: no `%`, or one too far for the reader to
+        // hold what comes before it, and every line is program, run as such.
+        let (lead_lines, lead_bytes) = self.leader;
+        if line == 1 && (!self.percent || lead_lines >= super::rs274::MAX_LEADER_LINES || lead_bytes > super::rs274::MAX_LEADER_BYTES) {
+            self.reader.no_leader();
+        }
+        self.executed += 1;
+        if self.executed > self.lines.saturating_add(self.budget) {
+            return stop(line, 1, format!("more than {} lines run by loops, branches and calls beyond the program's own: an endless loop?", self.budget), diags);
+        }
+        if !self.reader.in_program() {
+            self.reader.line(line, text, out, diags);
+            return if self.reader.at_tape_end() { Next::Ended } else { Next::On };
+        }
+        // Another program starts here: the one running has no end before it.
+        if self.reader.started() && program_number(text.as_bytes()).is_some() {
+            if self.frames.len() == 1 {
+                diags.warning(line, 1, "the main program runs into the next program of the file without M30 or M02: read as its end");
+                return Next::Ended;
+            }
+            return stop(line, 1, "the subprogram runs into the next program of the file without M99".into(), diags);
+        }
+        if text.trim_start().starts_with('%') {
+            // The tape's end (the reader's to say), whatever the flow is doing.
+            self.reader.line(line, text, out, diags);
+            return if self.reader.at_tape_end() { Next::Ended } else { Next::On };
+        }
+        if let Some((m, depth, _)) = self.skipping {
+            // Past a loop whose test failed: to its END.
+            let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
+            if let Ok(Some(s)) = self.statement(&chars) {
+                match s {
+                    Stmt::While { m: n, .. } if n == m => self.skipping = Some((m, depth + 1, line)),
+                    Stmt::End(n) if n == m && depth == 0 => self.skipping = None,
+                    Stmt::End(n) if n == m => self.skipping = Some((m, depth - 1, line)),
+                    _ => {}
+                }
+            }
+            return Next::On;
+        }
+        if !maybe_flow(text) {
+            return self.plain(line, text, out, diags);
+        }
+        let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
+        let stmt = match self.statement(&chars) {
+            Ok(Some(s)) => s,
+            Ok(None) => return self.plain(line, text, out, diags),
+            Err((col, why)) => return stop(line, col, why, diags),
+        };
+        let params = &self.reader.params;
+        let cond = |at: usize| params.real_value(&chars, at).map(|(v, _)| v != 0.0).map_err(|e| (e.column, e.message));
+        match stmt {
+            Stmt::If { cond: c, then } => {
+                let holds = match cond(c) {
+                    Ok(h) => h,
+                    Err((col, why)) => return stop(line, col, format!("IF: {why}"), diags),
+                };
+                match then {
+                    Then::Goto(at) => {
+                        let (n, end, col) = match self.label(&chars, at, "GOTO") {
+                            Ok(v) => v,
+                            Err((col, why)) => return stop(line, col, why, diags),
+                        };
+                        if !rest_is_empty(&chars, end) {
+                            return stop(line, end + 1, "unexpected text after GOTO n".into(), diags);
+                        }
+                        if holds {
+                            return self.find(n, Wanted::Goto, line, col, diags);
+                        }
+                        Next::On
+                    }
+                    Then::Set(at) => {
+                        if chars.get(at) != Some(&'#') {
+                            return stop(line, at + 1, "IF [..] THEN: only a macro statement (#i = ...) is read after THEN".into(), diags);
+                        }
+                        let (target, value, end) = match self.reader.params.macro_setting(&chars, at) {
+                            Ok(s) => s,
+                            Err(e) => return stop(line, e.column, e.message, diags),
+                        };
+                        if !rest_is_empty(&chars, end) {
+                            return stop(line, end + 1, "unexpected text after the statement".into(), diags);
+                        }
+                        if holds {
+                            if let Err(e) = self.reader.params.set(target, value, at + 1) {
+                                return stop(line, e.column, e.message, diags);
+                            }
+                        }
+                        Next::On
+                    }
+                }
+            }
+            Stmt::Goto(at) => match self.label(&chars, at, "GOTO") {
+                Ok((n, end, col)) if rest_is_empty(&chars, end) => self.find(n, Wanted::Goto, line, col, diags),
+                Ok((_, end, _)) => stop(line, end + 1, "unexpected text after GOTO n".into(), diags),
+                Err((col, why)) => stop(line, col, why, diags),
+            },
+            Stmt::While { cond: c, m } => {
+                let holds = match c.map(cond) {
+                    None => true,
+                    Some(Ok(h)) => h,
+                    Some(Err((col, why))) => return stop(line, col, format!("WHILE: {why}"), diags),
+                };
+                let f = self.frame();
+                if f.loops.iter().any(|(n, _)| *n == m) {
+                    return stop(line, 1, format!("DO{m} inside a loop DO{m}: nested loops take different numbers"), diags);
+                }
+                if f.loops.len() >= MAX_LOOPS {
+                    return stop(line, 1, format!("loops nested more than {MAX_LOOPS} deep"), diags);
+                }
+                if holds {
+                    f.loops.push((m, here));
+                } else {
+                    self.skipping = Some((m, 0, line));
+                }
+                Next::On
+            }
+            Stmt::End(m) => match self.frame().loops.pop() {
+                Some((n, head)) if n == m => Next::Jump(head),
+                _ => stop(line, 1, format!("END{m} with no DO{m} open here (a branch into a loop, or within one, is not read)"), diags),
+            },
+            Stmt::Call(words) => self.call_block(&words, line, next, diags),
+        }
     }
 
-    fn check(&mut self, _line: usize, _text: &str, _diags: &mut Diags) {}
-
-    fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
+    fn finish(&mut self, ended: bool, out: &mut Vec<Block>, diags: &mut Diags) {
         self.reader.finish(None, out, diags);
-        if self.done {
+        if ended {
             return;
         }
         // The input ended while the program ran: what it left open.
@@ -570,148 +677,16 @@ impl Jumping for MacroRunner {
         if self.places.len() < MAX_CACHED {
             self.places.insert((find.from.offset, n), hits.to_vec());
         }
-        let next = self.resolve(wanted, n, line, column, hits, diags);
-        self.done |= next == Next::Ended;
-        next
+        self.resolve(wanted, n, line, column, hits, diags)
     }
 }
 
 impl MacroRunner {
-    /// Run one line: what [`Jumping::line`] does.
-    fn run_line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        // The tape's leader is decided by the first pass: no `%`, or one too far for the reader to
-        // hold what comes before it, and every line is program, run as such.
-        let (lead_lines, lead_bytes) = self.leader;
-        if line == 1 && (!self.percent || lead_lines >= super::rs274::MAX_LEADER_LINES || lead_bytes > super::rs274::MAX_LEADER_BYTES) {
-            self.reader.no_leader();
-        }
-        self.executed += 1;
-        if self.executed > self.lines.saturating_add(self.budget) {
-            return self.stop(line, 1, format!("more than {} lines run by loops, branches and calls beyond the program's own: an endless loop?", self.budget), diags);
-        }
-        if !self.reader.in_program() {
-            self.reader.line(line, text, out, diags);
-            return if self.reader.at_tape_end() { Next::Ended } else { Next::On };
-        }
-        // Another program starts here: the one running has no end before it.
-        if self.reader.started() && program_number(text.as_bytes()).is_some() {
-            if self.frames.len() == 1 {
-                diags.warning(line, 1, "the main program runs into the next program of the file without M30 or M02: read as its end");
-                return Next::Ended;
-            }
-            return self.stop(line, 1, "the subprogram runs into the next program of the file without M99".into(), diags);
-        }
-        if text.trim_start().starts_with('%') {
-            // The tape's end, whatever the flow is doing.
-            self.reader.line(line, text, out, diags);
-            if self.reader.at_tape_end() {
-                return Next::Ended;
-            }
-        }
-        if let Some((m, depth, _)) = self.skipping {
-            // Past a loop whose test failed: to its END.
-            let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
-            if let Ok(Some(s)) = self.statement(&chars) {
-                match s {
-                    Stmt::While { m: n, .. } if n == m => self.skipping = Some((m, depth + 1, line)),
-                    Stmt::End(n) if n == m && depth == 0 => self.skipping = None,
-                    Stmt::End(n) if n == m => self.skipping = Some((m, depth - 1, line)),
-                    _ => {}
-                }
-            }
-            return Next::On;
-        }
-        if !maybe_flow(text) {
-            return self.plain(line, text, out, diags);
-        }
-        let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
-        let stmt = match self.statement(&chars) {
-            Ok(Some(s)) => s,
-            Ok(None) => return self.plain(line, text, out, diags),
-            Err((col, why)) => return self.stop(line, col, why, diags),
-        };
-        let params = &self.reader.params;
-        let cond = |at: usize| params.real_value(&chars, at).map(|(v, _)| v != 0.0).map_err(|e| (e.column, e.message));
-        match stmt {
-            Stmt::If { cond: c, then } => {
-                let holds = match cond(c) {
-                    Ok(h) => h,
-                    Err((col, why)) => return self.stop(line, col, format!("IF: {why}"), diags),
-                };
-                match then {
-                    Then::Goto(at) => {
-                        let (n, end, col) = match self.label(&chars, at, "GOTO") {
-                            Ok(v) => v,
-                            Err((col, why)) => return self.stop(line, col, why, diags),
-                        };
-                        if !rest_is_empty(&chars, end) {
-                            return self.stop(line, end + 1, "unexpected text after GOTO n".into(), diags);
-                        }
-                        if holds {
-                            return self.find(n, Wanted::Goto, line, col, diags);
-                        }
-                        Next::On
-                    }
-                    Then::Set(at) => {
-                        if chars.get(at) != Some(&'#') {
-                            return self.stop(line, at + 1, "IF [..] THEN: only a macro statement (#i = ...) is read after THEN".into(), diags);
-                        }
-                        let (target, value, end) = match self.reader.params.macro_setting(&chars, at) {
-                            Ok(s) => s,
-                            Err(e) => return self.stop(line, e.column, e.message, diags),
-                        };
-                        if !rest_is_empty(&chars, end) {
-                            return self.stop(line, end + 1, "unexpected text after the statement".into(), diags);
-                        }
-                        if holds {
-                            if let Err(e) = self.reader.params.set(target, value, at + 1) {
-                                return self.stop(line, e.column, e.message, diags);
-                            }
-                        }
-                        Next::On
-                    }
-                }
-            }
-            Stmt::Goto(at) => match self.label(&chars, at, "GOTO") {
-                Ok((n, end, col)) if rest_is_empty(&chars, end) => self.find(n, Wanted::Goto, line, col, diags),
-                Ok((_, end, _)) => self.stop(line, end + 1, "unexpected text after GOTO n".into(), diags),
-                Err((col, why)) => self.stop(line, col, why, diags),
-            },
-            Stmt::While { cond: c, m } => {
-                let holds = match c.map(cond) {
-                    None => true,
-                    Some(Ok(h)) => h,
-                    Some(Err((col, why))) => return self.stop(line, col, format!("WHILE: {why}"), diags),
-                };
-                let f = self.frame();
-                if f.loops.iter().any(|(n, _)| *n == m) {
-                    return self.stop(line, 1, format!("DO{m} inside a loop DO{m}: nested loops take different numbers"), diags);
-                }
-                if f.loops.len() >= MAX_LOOPS {
-                    return self.stop(line, 1, format!("loops nested more than {MAX_LOOPS} deep"), diags);
-                }
-                if holds {
-                    f.loops.push((m, here));
-                } else {
-                    self.skipping = Some((m, 0, line));
-                }
-                Next::On
-            }
-            Stmt::End(m) => match self.frame().loops.pop() {
-                Some((n, head)) if n == m => Next::Jump(head),
-                _ => self.stop(line, 1, format!("END{m} with no DO{m} open here (a branch into a loop, or within one, is not read)"), diags),
-            },
-            Stmt::Call(words) => self.call_block(&words, line, next, diags),
-        }
-    }
 
-}
-
-impl MacroRunner {
     /// Where a branch, call or return to block `N n` goes, its block found at `hits`.
     fn resolve(&mut self, wanted: Wanted, n: u64, line: usize, column: usize, hits: &[At], diags: &mut Diags) -> Next {
         match hits {
-            [] => self.stop(line, column, format!("no block N{n} in the program running"), diags),
+            [] => stop(line, column, format!("no block N{n} in the program running"), diags),
             [at] => match wanted {
                 Wanted::Goto => {
                     // A branch leaves the loops it stands in.
@@ -721,7 +696,7 @@ impl MacroRunner {
                 Wanted::Return => Next::Jump(*at),
                 Wanted::LocalCall { back, repeats, call } => {
                     if self.frames.len() > MAX_CALL_DEPTH {
-                        return self.stop(line, column, format!("calls nested more than {MAX_CALL_DEPTH} deep"), diags);
+                        return stop(line, column, format!("calls nested more than {MAX_CALL_DEPTH} deep"), diags);
                     }
                     if repeats == 0 {
                         return Next::On;
@@ -731,12 +706,10 @@ impl MacroRunner {
                     Next::Jump(*at)
                 }
             },
-            _ => self.stop(line, column, format!("N{n} numbers more than one block of the program running: which one the control takes is not read"), diags),
+            _ => stop(line, column, format!("N{n} numbers more than one block of the program running: which one the control takes is not read"), diags),
         }
     }
-}
 
-impl MacroRunner {
     /// A line without flow: the reader's; an end of program (M30, M02) ends the run.
     fn plain(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
         let before = out.len();
@@ -744,8 +717,7 @@ impl MacroRunner {
         if self.reader.at_tape_end() {
             return Next::Ended;
         }
-        let ends = out[before..].iter().flat_map(|b| &b.events).any(|e| e.strip_prefix('M').and_then(|c| c.parse::<f64>().ok()).is_some_and(|c| c == 2.0 || c == 30.0));
-        if ends { Next::Ended } else { Next::On }
+        if ends_program(&out[before..], &[2.0, 30.0]) { Next::Ended } else { Next::On }
     }
 }
 
@@ -757,9 +729,6 @@ mod tests {
         read(text, dialect, "t.nc", options)
     }
 
-    fn errors(p: &Program) -> Vec<String> {
-        p.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect()
-    }
 
     /// The X Y of each block that moves, mm.
     fn points(p: &Program) -> Vec<(usize, f64, f64)> {
@@ -776,7 +745,7 @@ mod tests {
     fn a_while_loop_runs_as_its_condition_says() {
         let text = "%\nO0001\n#1=0\nWHILE [#1 LT 6] DO1\nG1 X[50*COS[#1*60]] Y[50*SIN[#1*60]] F500.\n#1=#1+1\nEND1\nG0 X0. Y0.\nM30\n%\n";
         let p = run(text, Dialect::Fanuc, &ReadOptions::default());
-        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let pts = points(&p);
         assert_eq!(pts.len(), 7, "{pts:?}");
         for (k, (line, x, y)) in pts[..6].iter().enumerate() {
@@ -792,7 +761,7 @@ mod tests {
     fn branches_go_to_their_numbered_blocks() {
         let text = "#1=1.\nN10 G1 X#1 F100.\n#1=#1+1.\nIF [#1 LE 3.] GOTO10\nIF [#1 EQ 4.] THEN #2=7.\nGOTO 30\nG1 X99.\nN30 G1 Y#2\nM30\n";
         let p = run(text, Dialect::Fanuc, &ReadOptions::default());
-        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let pts = points(&p);
         let xs: Vec<f64> = pts.iter().filter(|p| p.0 == 2).map(|p| p.1).collect();
         assert_eq!(xs.len(), 3);
@@ -807,7 +776,7 @@ mod tests {
     fn a_subprogram_runs_where_it_is_called() {
         let text = "%\nO0001\nG90 G0 X0. Y0.\nM98 P1000 L3\nG90 G0 X0.\nM30\nO1000 (STEP)\nG91 G1 X10. F100.\nM99\n%\n";
         let p = run(text, Dialect::Fanuc, &ReadOptions::default());
-        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let pts = points(&p);
         let lines: Vec<usize> = pts.iter().map(|p| p.0).collect();
         assert_eq!(lines, [3, 8, 8, 8, 5], "{pts:?}");
@@ -822,7 +791,7 @@ mod tests {
         let p = run(text, Dialect::Fanuc, &ReadOptions::default());
         let pts = points(&p);
         assert!(pts.iter().any(|p| p.0 == 5 && near(p.1, 5.0) && near(p.2, 7.0)), "{pts:?}");
-        let e = errors(&p);
+        let e = p.messages(Severity::Error);
         assert!(e.len() == 1 && e[0].starts_with("2:") && e[0].contains("#24"), "the caller has no #24: {e:#?}");
     }
 
@@ -831,12 +800,12 @@ mod tests {
     fn haas_m97_runs_the_programs_own_blocks() {
         let text = "%\nO01234\nG90 G0 X0.\nM97 P100 L2\nM30\nN100 G91 G1 X1. F100.\nM99\n%\n";
         let p = run(text, Dialect::Haas, &ReadOptions::default());
-        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let xs: Vec<f64> = points(&p).iter().map(|p| p.1).collect();
         assert_eq!(xs.len(), 3);
         assert!(near(xs[1], 1.0) && near(xs[2], 2.0), "{xs:?}");
         let p = run(text, Dialect::Fanuc, &ReadOptions::default());
-        assert!(errors(&p).iter().any(|e| e.contains("M97 is Haas'")), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).iter().any(|e| e.contains("M97 is Haas'")), "{:#?}", p.messages(Severity::Error));
     }
 
     /// What the flow cannot follow is refused at its place, and nothing after it is read.
@@ -858,12 +827,12 @@ mod tests {
         ] {
             let options = ReadOptions { max_run_lines: 1000, ..ReadOptions::default() };
             let p = run(text, Dialect::Fanuc, &options);
-            let e = errors(&p);
+            let e = p.messages(Severity::Error);
             assert!(e.iter().any(|m| m.starts_with(at) && m.contains(needle)), "{text:?}: {e:#?}");
         }
         // M99 in the main program: read once, said.
         let p = run("G1 X1. F100.\nM99\n", Dialect::Fanuc, &ReadOptions::default());
-        assert!(errors(&p).is_empty() && p.diagnostics.iter().any(|d| d.message.contains("read once")));
+        assert!(p.messages(Severity::Error).is_empty() && p.diagnostics.iter().any(|d| d.message.contains("read once")));
     }
 
     /// A branch taken again goes where it went without searching again: 5,000 turns of a loop before
@@ -875,7 +844,7 @@ mod tests {
         text.push_str(&"G1 X1. F100.\n".repeat(2000));
         text.push_str("M30\n");
         let p = run(&text, Dialect::Fanuc, &ReadOptions { max_run_lines: 14_000, ..ReadOptions::default() });
-        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         assert_eq!(points(&p).len(), 2000);
     }
 
@@ -887,7 +856,7 @@ mod tests {
         text.push_str(&"G1 X1. F100.\n".repeat(80));
         text.push_str("M30\nN100 G1 Y5. F100.\nM99\n%\n");
         let p = run(&text, Dialect::Haas, &ReadOptions::default());
-        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let pts = points(&p);
         assert_eq!(pts.len(), 81);
         assert!(pts[0].0 == 84 && near(pts[0].2, 5.0), "{:?}", pts[0]);

@@ -609,6 +609,14 @@ pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -
     p
 }
 
+#[cfg(test)]
+impl Program {
+    /// Its diagnostics of `severity`, each as `line:column: message` (the readers' tests).
+    pub(crate) fn messages(&self, severity: Severity) -> Vec<String> {
+        self.diagnostics.iter().filter(|d| d.severity == severity).map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect()
+    }
+}
+
 /// Errors loading a program file (its content never errors: see [`Program::diagnostics`]).
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {

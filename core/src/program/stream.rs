@@ -504,10 +504,12 @@ pub(crate) trait Jumping: Send {
     /// Run line `line` (`text`, without its newline), which starts at `here`, the next at `next`:
     /// its blocks to `out`, its defects to `diags`; where to read on.
     fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next;
-    /// A line after the program's end: checked, not run.
-    fn check(&mut self, line: usize, text: &str, diags: &mut Diags);
-    /// The input has ended: blocks only the end completes go to `out`.
-    fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags);
+    /// A line after the program's end: checked, not run (by default not looked at).
+    fn check(&mut self, _line: usize, _text: &str, _diags: &mut Diags) {}
+    /// The input has ended, the program too (`ended`: its run ended before, at its end or at a
+    /// defect) or not (it ran to the input's end, or a read failed): blocks only the end completes go
+    /// to `out`.
+    fn finish(&mut self, ended: bool, out: &mut Vec<Block>, diags: &mut Diags);
     /// The program's name, once read.
     fn name(&self) -> Option<String>;
     /// Whether line `bytes` is one a search for `key` looks for.
@@ -519,6 +521,19 @@ pub(crate) trait Jumping: Send {
     fn found(&mut self, _find: Find, _hits: &[At], _read: usize, _diags: &mut Diags) -> Next {
         Next::Ended
     }
+}
+
+/// A defect in a program's flow: said at its place, and the run ends (what follows would run from a
+/// state the flow left unknown).
+pub(crate) fn stop(line: usize, column: usize, message: String, diags: &mut Diags) -> Next {
+    diags.error(line, column, format!("{message} (the rest of the program is not read)"));
+    Next::Ended
+}
+
+/// Whether the blocks a line made end the program: an M function among `codes` (the control's
+/// ends of program) in their events.
+pub(crate) fn ends_program(blocks: &[Block], codes: &[f64]) -> bool {
+    blocks.iter().flat_map(|b| &b.events).any(|e| e.strip_prefix('M').and_then(|c| c.parse::<f64>().ok()).is_some_and(|c| codes.contains(&c)))
 }
 
 /// A program read as it runs: a first pass over the text ([`Jumping::scan`]: Klartext's labels,
@@ -599,7 +614,7 @@ impl<'a> Seeking<'a> {
         };
         let ended = match read {
             Ok(Got::End) => {
-                runner.finish(out, &mut d);
+                runner.finish(!*running, out, &mut d);
                 true
             }
             Ok(Got::TooLong(n)) => {
@@ -625,7 +640,7 @@ impl<'a> Seeking<'a> {
                 match (result, next) {
                     (Err(e), _) => {
                         d.error(line, 1, cannot_read(line, e));
-                        runner.finish(out, &mut d);
+                        runner.finish(!*running, out, &mut d);
                         true
                     }
                     (Ok(()), Next::On) => false,
@@ -640,7 +655,7 @@ impl<'a> Seeking<'a> {
                             Ok(()) => false,
                             Err(e) => {
                                 d.error(at.line, 1, cannot_read(at.line, e));
-                                runner.finish(out, &mut d);
+                                runner.finish(!*running, out, &mut d);
                                 true
                             }
                         }
@@ -649,7 +664,7 @@ impl<'a> Seeking<'a> {
             }
             Err(e) => {
                 d.error(line, 1, cannot_read(line, e));
-                runner.finish(out, &mut d);
+                runner.finish(!*running, out, &mut d);
                 true
             }
         };

@@ -211,7 +211,7 @@ impl Jumping for Runner {
         Runner::check(self, line, text, diags);
     }
 
-    fn finish(&mut self, _out: &mut Vec<Block>, diags: &mut Diags) {
+    fn finish(&mut self, _ended: bool, _out: &mut Vec<Block>, diags: &mut Diags) {
         Runner::finish(self, diags);
     }
 

@@ -19,7 +19,7 @@
 use super::expr;
 use super::SinumerikReader;
 use crate::program::lex::Diags;
-use crate::program::stream::{At, Find, Jumping, LineReader, Next};
+use crate::program::stream::{ends_program, stop, At, Find, Jumping, LineReader, Next};
 use crate::program::Block;
 
 /// Deepest nesting of control structures (the 840D's: 16 per level).
@@ -85,18 +85,11 @@ pub(crate) struct FlowRunner {
     wanted: Option<(String, Way, usize, usize, At)>,
     /// Where each target searched before stands.
     places: std::collections::HashMap<String, Vec<At>>,
-    /// The run has ended (M30, a defect): the end of the input then leaves nothing open to report.
-    done: bool,
 }
 
 impl FlowRunner {
     pub(crate) fn new(setup: &crate::program::Setup) -> Self {
-        FlowRunner { reader: SinumerikReader::new(setup), reached: 0, budget: setup.max_run_lines, again: 0, open: Vec::new(), skipping: None, wanted: None, places: std::collections::HashMap::new(), done: false }
-    }
-
-    fn stop(&mut self, line: usize, column: usize, message: String, diags: &mut Diags) -> Next {
-        diags.error(line, column, format!("{message} (the rest of the program is not read)"));
-        Next::Ended
+        FlowRunner { reader: SinumerikReader::new(setup), reached: 0, budget: setup.max_run_lines, again: 0, open: Vec::new(), skipping: None, wanted: None, places: std::collections::HashMap::new() }
     }
 
     fn condition(&self, text: &str) -> Result<bool, String> {
@@ -169,7 +162,7 @@ impl FlowRunner {
         let target = rest.to_ascii_uppercase();
         let ok = target.len() >= 2 && target.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_');
         if !ok {
-            return self.stop(line, column, format!("expected a jump marker or a block number after the jump, found '{}'", crate::program::lex::excerpt(rest)), diags);
+            return stop(line, column, format!("expected a jump marker or a block number after the jump, found '{}'", crate::program::lex::excerpt(rest)), diags);
         }
         if let Some(hits) = self.places.get(&target).cloned() {
             return self.resolve(target, w, line, column, here, &hits, diags);
@@ -184,7 +177,7 @@ impl FlowRunner {
         let col = after - word.len() + 1;
         let rest = &text[after..];
         if self.open.len() >= MAX_NESTING && matches!(word, "IF" | "WHILE" | "FOR" | "LOOP" | "REPEAT") && !rest.to_ascii_uppercase().contains("GOTO") {
-            return self.stop(line, col, format!("control structures nested more than {MAX_NESTING} deep"), diags);
+            return stop(line, col, format!("control structures nested more than {MAX_NESTING} deep"), diags);
         }
         let pop = |open: &mut Vec<Open>, want: &[&str]| -> Option<Open> { open.last().filter(|o| want.contains(&o.name())).is_some().then(|| open.pop()).flatten() };
         match word {
@@ -199,7 +192,7 @@ impl FlowRunner {
                 };
                 let holds = match self.condition(cond) {
                     Ok(h) => h,
-                    Err(why) => return self.stop(line, col, format!("IF: {why}"), diags),
+                    Err(why) => return stop(line, col, format!("IF: {why}"), diags),
                 };
                 match (jump, holds) {
                     (Some((k, at)), true) => self.jump(text, at, way(k).expect("a jump keyword"), line, here, diags),
@@ -219,11 +212,11 @@ impl FlowRunner {
                     self.skipping = Some(Skip { open: "IF", close: "ENDIF", at_else: false, depth: 0, line });
                     Next::On
                 }
-                _ => self.stop(line, col, "ELSE with no IF open here".into(), diags),
+                _ => stop(line, col, "ELSE with no IF open here".into(), diags),
             },
             "ENDIF" => match pop(&mut self.open, &["IF"]) {
                 Some(_) => Next::On,
-                None => self.stop(line, col, "ENDIF with no IF open here (a jump into or within a structure is not read)".into(), diags),
+                None => stop(line, col, "ENDIF with no IF open here (a jump into or within a structure is not read)".into(), diags),
             },
             "WHILE" => match self.condition(rest) {
                 Ok(true) => {
@@ -234,29 +227,29 @@ impl FlowRunner {
                     self.skipping = Some(Skip { open: "WHILE", close: "ENDWHILE", at_else: false, depth: 0, line });
                     Next::On
                 }
-                Err(why) => self.stop(line, col, format!("WHILE: {why}"), diags),
+                Err(why) => stop(line, col, format!("WHILE: {why}"), diags),
             },
             "ENDWHILE" => match pop(&mut self.open, &["WHILE"]) {
                 Some(Open::While(head)) => Next::Jump(head),
-                _ => self.stop(line, col, "ENDWHILE with no WHILE open here (a jump into or within a structure is not read)".into(), diags),
+                _ => stop(line, col, "ENDWHILE with no WHILE open here (a jump into or within a structure is not read)".into(), diags),
             },
             "FOR" => {
                 let r = rest.split(';').next().unwrap_or("");
                 let upper = r.to_ascii_uppercase();
                 let (Some(eq), Some(to)) = (r.find('='), upper.find(" TO ")) else {
-                    return self.stop(line, col, "FOR: expected FOR variable = start TO end".into(), diags);
+                    return stop(line, col, "FOR: expected FOR variable = start TO end".into(), diags);
                 };
                 let var = r[..eq].trim().to_ascii_uppercase();
                 if eq > to || !self.reader.vars.is_variable(&var) {
-                    return self.stop(line, col, format!("FOR: '{}' is not a variable of this program (DEF, or an R parameter)", crate::program::lex::excerpt(r[..eq.min(r.len())].trim())), diags);
+                    return stop(line, col, format!("FOR: '{}' is not a variable of this program (DEF, or an R parameter)", crate::program::lex::excerpt(r[..eq.min(r.len())].trim())), diags);
                 }
                 let eval = |t: &str| expr::eval(t.trim(), &|name| self.reader.vars.get(name)).map_err(|e| e.message);
                 let (start, end) = match (eval(&r[eq + 1..to]), eval(&r[to + 4..])) {
                     (Ok(a), Ok(b)) => (a, b),
-                    (Err(why), _) | (_, Err(why)) => return self.stop(line, col, format!("FOR: {why}"), diags),
+                    (Err(why), _) | (_, Err(why)) => return stop(line, col, format!("FOR: {why}"), diags),
                 };
                 if let Err(why) = self.reader.vars.assign(&var, start) {
-                    return self.stop(line, col, format!("FOR: {why}"), diags);
+                    return stop(line, col, format!("FOR: {why}"), diags);
                 }
                 self.reader.vars.commit();
                 if start > end {
@@ -270,7 +263,7 @@ impl FlowRunner {
                 Some(Open::For { var, end, body }) => {
                     let v = self.reader.vars.get(&var).unwrap_or(f64::INFINITY) + 1.0;
                     if let Err(why) = self.reader.vars.assign(&var, v) {
-                        return self.stop(line, col, format!("ENDFOR: {why}"), diags);
+                        return stop(line, col, format!("ENDFOR: {why}"), diags);
                     }
                     self.reader.vars.commit();
                     if v <= end {
@@ -280,7 +273,7 @@ impl FlowRunner {
                         Next::On
                     }
                 }
-                _ => self.stop(line, col, "ENDFOR with no FOR open here (a jump into or within a structure is not read)".into(), diags),
+                _ => stop(line, col, "ENDFOR with no FOR open here (a jump into or within a structure is not read)".into(), diags),
             },
             "LOOP" => {
                 self.open.push(Open::Loop(next));
@@ -288,21 +281,21 @@ impl FlowRunner {
             }
             "ENDLOOP" => match self.open.last() {
                 Some(Open::Loop(body)) => Next::Jump(*body),
-                _ => self.stop(line, col, "ENDLOOP with no LOOP open here (a jump into or within a structure is not read)".into(), diags),
+                _ => stop(line, col, "ENDLOOP with no LOOP open here (a jump into or within a structure is not read)".into(), diags),
             },
             "REPEAT" if rest.split(';').next().unwrap_or("").trim().is_empty() => {
                 self.open.push(Open::Repeat(next));
                 Next::On
             }
-            "REPEAT" | "REPEATB" => self.stop(line, col, format!("{word} with a marker: a section repeat is not read yet"), diags),
+            "REPEAT" | "REPEATB" => stop(line, col, format!("{word} with a marker: a section repeat is not read yet"), diags),
             "UNTIL" => match (self.open.last().cloned(), self.condition(rest)) {
                 (Some(Open::Repeat(body)), Ok(false)) => Next::Jump(body),
                 (Some(Open::Repeat(_)), Ok(true)) => {
                     self.open.pop();
                     Next::On
                 }
-                (Some(Open::Repeat(_)), Err(why)) => self.stop(line, col, format!("UNTIL: {why}"), diags),
-                _ => self.stop(line, col, "UNTIL with no REPEAT open here (a jump into or within a structure is not read)".into(), diags),
+                (Some(Open::Repeat(_)), Err(why)) => stop(line, col, format!("UNTIL: {why}"), diags),
+                _ => stop(line, col, "UNTIL with no REPEAT open here (a jump into or within a structure is not read)".into(), diags),
             },
             _ => match way(word) {
                 Some(w) => self.jump(text, after, w, line, here, diags),
@@ -324,8 +317,7 @@ impl FlowRunner {
             }
             None => self.reader.line(line, text, out, diags),
         }
-        let ends = out[before..].iter().flat_map(|b| &b.events).any(|e| e.strip_prefix('M').and_then(|c| c.parse::<f64>().ok()).is_some_and(|c| c == 2.0 || c == 30.0 || c == 17.0));
-        if ends { Next::Ended } else { Next::On }
+        if ends_program(&out[before..], &[2.0, 30.0, 17.0]) { Next::Ended } else { Next::On }
     }
 }
 
@@ -337,16 +329,44 @@ impl Jumping for FlowRunner {
     fn scan(&mut self, _line: usize, _bytes: &[u8], _next: At, _diags: &mut Diags) {}
 
     fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        let n = self.run_line(line, text, here, next, out, diags);
-        self.done |= n == Next::Ended;
-        n
+        // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
+        let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
+        if line <= self.reached {
+            self.again += 1;
+        }
+        self.reached = self.reached.max(line);
+        if self.again > self.budget {
+            return stop(line, 1, format!("more than {} lines run by loops and jumps beyond the program's own: an endless loop?", self.budget), diags);
+        }
+        let text = text.trim_end_matches('\r');
+        let (start, marker, body) = split(text);
+        let (word, after) = first_word(text, body);
+        if self.skipping.is_none() && !control_word(word) {
+            let blank = marker.as_ref().map(|(_, end)| (start, *end));
+            return self.plain(line, text, blank, out, diags);
+        }
+        let word = word.to_ascii_uppercase();
+        if let Some(mut s) = self.skipping {
+            if word == s.close && s.depth == 0 || word == "ELSE" && s.at_else && s.depth == 0 {
+                self.skipping = None;
+                if word == "ELSE" {
+                    self.open.push(Open::Else);
+                }
+            } else if word == s.close {
+                s.depth -= 1;
+                self.skipping = Some(s);
+            } else if word == s.open && !(s.open == "IF" && text[after..].to_ascii_uppercase().contains(" GOTO")) {
+                s.depth += 1;
+                self.skipping = Some(s);
+            }
+            return Next::On;
+        }
+        self.control(&word, text, after, line, here, next, diags)
     }
 
-    fn check(&mut self, _line: usize, _text: &str, _diags: &mut Diags) {}
-
-    fn finish(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
+    fn finish(&mut self, ended: bool, out: &mut Vec<Block>, diags: &mut Diags) {
         self.reader.finish(None, out, diags);
-        if self.done {
+        if ended {
             return;
         }
         // The input ended while the program ran: what it left open.
@@ -379,60 +399,20 @@ impl Jumping for FlowRunner {
         if self.places.len() < MAX_CACHED {
             self.places.insert(target.clone(), hits.to_vec());
         }
-        let next = self.resolve(target, w, line, column, here, hits, diags);
-        self.done |= next == Next::Ended;
-        next
+        self.resolve(target, w, line, column, here, hits, diags)
     }
 }
 
 impl FlowRunner {
-    /// Run one line: what [`Jumping::line`] does.
-    fn run_line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
-        let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
-        if line <= self.reached {
-            self.again += 1;
-        }
-        self.reached = self.reached.max(line);
-        if self.again > self.budget {
-            return self.stop(line, 1, format!("more than {} lines run by loops and jumps beyond the program's own: an endless loop?", self.budget), diags);
-        }
-        let text = text.trim_end_matches('\r');
-        let (start, marker, body) = split(text);
-        let (word, after) = first_word(text, body);
-        if self.skipping.is_none() && !control_word(word) {
-            let blank = marker.as_ref().map(|(_, end)| (start, *end));
-            return self.plain(line, text, blank, out, diags);
-        }
-        let word = word.to_ascii_uppercase();
-        if let Some(mut s) = self.skipping {
-            if word == s.close && s.depth == 0 || word == "ELSE" && s.at_else && s.depth == 0 {
-                self.skipping = None;
-                if word == "ELSE" {
-                    self.open.push(Open::Else);
-                }
-            } else if word == s.close {
-                s.depth -= 1;
-                self.skipping = Some(s);
-            } else if word == s.open && !(s.open == "IF" && text[after..].to_ascii_uppercase().contains(" GOTO")) {
-                s.depth += 1;
-                self.skipping = Some(s);
-            }
-            return Next::On;
-        }
-        self.control(&word, text, after, line, here, next, diags)
-    }
-}
 
-impl FlowRunner {
     /// Where a jump to `target` goes, its marker found at `hits`.
     #[allow(clippy::too_many_arguments)]
     fn resolve(&mut self, target: String, w: Way, line: usize, column: usize, here: At, hits: &[At], diags: &mut Diags) -> Next {
         let at = match hits {
             [] if w == Way::Quiet => return Next::On,
-            [] => return self.stop(line, column, format!("jump destination {target} not found in the program (alarm 14080)"), diags),
+            [] => return stop(line, column, format!("jump destination {target} not found in the program (alarm 14080)"), diags),
             [at] => *at,
-            _ => return self.stop(line, column, format!("jump marker {target} written more than once: which one the control takes is not read"), diags),
+            _ => return stop(line, column, format!("jump marker {target} written more than once: which one the control takes is not read"), diags),
         };
         let ok = match w {
             Way::Forward => at.offset > here.offset,
@@ -441,7 +421,7 @@ impl FlowRunner {
         };
         if !ok {
             let (kw, side) = if w == Way::Forward { ("GOTOF", "before") } else { ("GOTOB", "after") };
-            return self.stop(line, column, format!("{kw} {target}: the marker stands {side} the jump (alarm 14080)"), diags);
+            return stop(line, column, format!("{kw} {target}: the marker stands {side} the jump (alarm 14080)"), diags);
         }
         // A jump leaves the structures it stands in.
         self.open.clear();
@@ -457,9 +437,6 @@ mod tests {
         read(text, Dialect::Sinumerik, "t.mpf", options)
     }
 
-    fn errors(p: &Program) -> Vec<String> {
-        p.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect()
-    }
 
     /// Each block that moves: its line and X Y Z (mm, NaN where not named).
     fn moves(p: &Program) -> Vec<(usize, [f64; 3])> {
@@ -472,7 +449,7 @@ mod tests {
     fn while_and_for_loops_run_as_their_conditions_say() {
         let text = "DEF INT COUNT\nR1=0\nWHILE R1<6\nG1 X=50*COS(R1*60) Y=50*SIN(R1*60) F500\nR1=R1+1\nENDWHILE\nFOR COUNT=1 TO 3\nG1 Z=COUNT*10\nENDFOR\nM30\n";
         let p = run(text, &ReadOptions::default());
-        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let m = moves(&p);
         assert_eq!(m.len(), 9, "{m:?}");
         for (k, (line, at)) in m[..6].iter().enumerate() {
@@ -489,7 +466,7 @@ mod tests {
     fn branches_and_repeats_take_their_way() {
         let text = "R2=5\nIF R2>3\nG1 Y1 F100\nELSE\nG1 Y2\nENDIF\nIF R2<3\nG1 Y3\nELSE\nG1 Y4\nENDIF\nR4=0\nREPEAT\nR4=R4+1\nG1 X=R4\nUNTIL R4>=2\nM30\n";
         let p = run(text, &ReadOptions::default());
-        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let lines: Vec<usize> = moves(&p).iter().map(|m| m.0).collect();
         assert_eq!(lines, [3, 10, 15, 15], "{:?}", moves(&p));
     }
@@ -499,7 +476,7 @@ mod tests {
     fn jumps_go_to_their_markers() {
         let text = "R3=0\nMARK1: G1 Z=R3 F100\nR3=R3+1\nIF R3<3 GOTOB MARK1\nGOTOF DONE\nG1 X99\nDONE: G1 Y7\nGOTOC NOWHERE\nM30\nG1 X98\n";
         let p = run(text, &ReadOptions::default());
-        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let m = moves(&p);
         let z: Vec<f64> = m.iter().filter(|m| m.0 == 2).map(|m| m.1[2]).collect();
         assert_eq!(z, [0.0, 1.0, 2.0], "{m:?}");
@@ -515,7 +492,7 @@ mod tests {
         text.push_str(&"G1 X1\n".repeat(2000));
         text.push_str("M30\n");
         let p = run(&text, &ReadOptions { max_run_lines: 14_000, ..ReadOptions::default() });
-        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         assert_eq!(moves(&p).len(), 2001);
     }
 
@@ -535,7 +512,7 @@ mod tests {
             ("GOTOF   NOWHERE\n", "1:9:", "NOWHERE not found"),
         ] {
             let p = run(text, &ReadOptions { max_run_lines: 1000, ..ReadOptions::default() });
-            let e = errors(&p);
+            let e = p.messages(Severity::Error);
             assert!(e.iter().any(|m| m.starts_with(at) && m.contains(needle)), "{text:?}: {e:#?}");
         }
     }
