@@ -2,7 +2,7 @@
 //! path it describes, with times and circles computed here from the statements as written, and the
 //! statements that would change the motion in ways not read refused where they stand.
 
-mod common;
+use crate::common;
 use fiveaxis::job::{self, JobOptions};
 use fiveaxis::machine::Machine;
 use fiveaxis::program::{read, Dialect, Program, ReadOptions, Severity};

@@ -2,7 +2,7 @@
 //! the program's words, durations from the arc length at the feed, LinuxCNC's five-axis demos read
 //! and run, and the fail-closed reader on words it does not model.
 
-mod common;
+use crate::common;
 use fiveaxis::machine::Machine;
 use fiveaxis::path::{PathOptions, Trajectory};
 use fiveaxis::program::{read, Dialect, MCodeAction, MCodeRule, Program, ReadOptions, Severity};

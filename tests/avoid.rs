@@ -1,6 +1,6 @@
 //! Remedies: workpiece reorientation (seed 001 §3, eq. 7).
 
-mod common;
+use crate::common;
 use fiveaxis::avoid::{figures, jig, reoriented, search};
 use fiveaxis::job::JobOptions;
 use fiveaxis::machine::Machine;

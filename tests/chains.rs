@@ -6,8 +6,8 @@ use fiveaxis::machine::{Machine, BUILTIN_NAMES};
 use fiveaxis::units::DEG;
 use nalgebra::{Rotation3, Unit, Vector3};
 
-mod common;
-use common::Rng;
+use crate::common;
+use crate::common::Rng;
 
 fn rotate(axis: &Vector3<f64>, angle: f64, v: &Vector3<f64>) -> Vector3<f64> {
     Rotation3::from_axis_angle(&Unit::new_normalize(*axis), angle) * v

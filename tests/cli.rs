@@ -1,6 +1,6 @@
 //! The `fiveaxis` binary as users and CI call it: exit codes, JSON keys, damaged input.
 
-mod common;
+use crate::common;
 use std::process::Command;
 
 fn fiveaxis(args: &[&str]) -> (i32, String, String) {

@@ -3,7 +3,7 @@
 //! and model, with no defect, and simulated by `fiveaxis run`. Issue 64's corpus; a program not yet
 //! read is listed in [`NOT_YET`] with what stops it, so the list can only shrink.
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 

@@ -2,7 +2,7 @@
 //! scripts inside private network namespaces (loopback only, or two namespaces joined by a veth pair).
 //! Needs the node executables, which launch-free-scripts/test builds (cargo build --workspace --bins).
 
-mod common;
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

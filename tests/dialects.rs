@@ -7,7 +7,7 @@
 //! linear between blocks (axis-linear: M128, Fanuc's default) and with the tool axis on great circles
 //! (Sinumerik's ORIWKS/ORIVECT reset state), the latter against an independent numpy slerp.
 
-mod common;
+use crate::common;
 use fiveaxis::job::{self, Job, JobOptions};
 use fiveaxis::machine::Machine;
 use fiveaxis::program::{Orientation, ReadOptions};

@@ -2,7 +2,7 @@
 //! chapter is in the book's SUMMARY, and every relative link of the README and the book reaches a file
 //! of the repository (a moved or renamed file breaks the test, not the reader's click).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
@@ -131,7 +131,7 @@ fn the_readmes_tour_runs() {
 
 /// The book's reference pages (`docs/src/reference/`) are the commands' and nodes' own `--help`,
 /// word for word: a changed flag fails this test until the page is made again (`FIVEAXIS_BLESS=1
-/// cargo test -p fiveaxis-tests --test docs` writes them), so the reference cannot rot.
+/// cargo test -p fiveaxis-tests --test integration docs::` writes them), so the reference cannot rot.
 #[test]
 fn the_reference_pages_are_the_commands_own_help() {
     let bin = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap().to_path_buf();
@@ -185,7 +185,7 @@ fn the_reference_pages_are_the_commands_own_help() {
     } else if std::fs::read_to_string(&index_file).ok().as_deref() != Some(index.as_str()) {
         stale.push(index_file.display().to_string());
     }
-    assert!(stale.is_empty(), "reference pages that are not the commands' --help (make them again with cargo build --workspace --bins && FIVEAXIS_BLESS=1 cargo test -p fiveaxis-tests --test docs):\n{}", stale.join("\n"));
+    assert!(stale.is_empty(), "reference pages that are not the commands' --help (make them again with cargo build --workspace --bins && FIVEAXIS_BLESS=1 cargo test -p fiveaxis-tests --test integration docs::):\n{}", stale.join("\n"));
     // The book lists them.
     let summary = std::fs::read_to_string(root().join("docs/src/SUMMARY.md")).unwrap();
     assert!(summary.contains("(reference/index.md)"), "SUMMARY.md has no Reference");
@@ -402,14 +402,33 @@ fn the_your_machine_page_runs() {
     let _ = std::fs::remove_dir_all(&scratch);
 }
 
+/// mdBook, once `launch-free-scripts/test` has installed it into `target/tools` beside the build and the
+/// tests: its install is under way while `mdbook-install.pending` is there, and says how it ended in
+/// `mdbook-install.status` (waited for up to 15 minutes, a second at a time).
+fn installed_mdbook() -> std::path::PathBuf {
+    let tools = root().join("target/tools");
+    let (pending, status) = (tools.join("mdbook-install.pending"), tools.join("mdbook-install.status"));
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(900);
+    while pending.exists() && !status.exists() {
+        assert!(std::time::Instant::now() < deadline, "mdBook's install ({}) has not ended in 15 minutes", pending.display());
+        std::thread::sleep(std::time::Duration::from_secs(1));
+    }
+    if let Ok(s) = std::fs::read_to_string(&status) {
+        let log = std::fs::read_to_string(root().join("target/mdbook-install.log")).unwrap_or_default();
+        assert_eq!(s.trim(), "0", "installing mdBook failed: {log}");
+    }
+    let mdbook = tools.join("bin/mdbook");
+    assert!(mdbook.exists(), "{} is installed by launch-free-scripts/test (cargo install mdbook)", mdbook.display());
+    mdbook
+}
+
 /// The book builds with mdBook (`launch-free-scripts/test` installs it into `target/tools`), a chapter
 /// missing from disk fails the build (`create-missing = false`), and every relative link and image of
 /// the built HTML reaches a file of the output: the link check on what a reader clicks, after mdBook
 /// turned `.md` links into `.html` (a link out of the book, such as to the repository's README, breaks).
 #[test]
 fn the_book_builds_and_its_links_resolve() {
-    let mdbook = root().join("target/tools/bin/mdbook");
-    assert!(mdbook.exists(), "{} is installed by launch-free-scripts/test (cargo install mdbook)", mdbook.display());
+    let mdbook = installed_mdbook();
     let out_dir = std::env::temp_dir().join(format!("fiveaxis-book-html-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out_dir);
     let out = std::process::Command::new(&mdbook).arg("build").arg(root().join("docs")).arg("-d").arg(&out_dir).output().unwrap();

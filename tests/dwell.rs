@@ -5,7 +5,7 @@
 //! refused at line:col. The simulated dwell is checked against LinuxCNC's own timing of the same
 //! program (recordings/machine/linuxcnc/sing_dwell_trace.csv.gz, made by `make-traces`).
 
-mod common;
+use crate::common;
 use fiveaxis::machine::Machine;
 use fiveaxis::path::{PathOptions, SegmentKind, Trajectory};
 use fiveaxis::planner::{plan_each, PlanConfig};

@@ -3,7 +3,7 @@
 //! a program with defects, an output that cannot be written). Each case also checks that stderr
 //! names the reason, so a code is never right by accident.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -7,7 +7,7 @@
 //! logged, against an independent Zenoh peer (Eclipse Zenoh's Python API) and an independent MCAP
 //! reader (Foxglove's mcap-ros2-support); what cell_b's domain holds against Cyclone DDS.
 
-mod common;
+use crate::common;
 
 use serde_json::Value;
 use std::collections::BTreeSet;

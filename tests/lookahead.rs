@@ -18,7 +18,7 @@
 //! - A feed typo (`F0.01` over 50 mm, 83 h) is refused with its line and column by `program analyze`,
 //!   `run` and the commander node inside a 500 MB address-space limit; a CL file with a zero feed too.
 
-mod common;
+use crate::common;
 
 use fiveaxis::machine::Machine;
 use std::path::{Path, PathBuf};

@@ -5,7 +5,7 @@
 //! monitor runs beside it as a process; the peer listens to the monitor's status and `/diagnostics`.
 //! Everything runs in a private loopback-only network namespace.
 
-mod common;
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -5,7 +5,7 @@
 //! independent numpy computation from the trace (tests/peer/machine_figures.py), never against what
 //! fiveaxis printed.
 
-mod common;
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -7,7 +7,7 @@
 //! agent (tests/peer/mtconnect_peer.py, from the protocols alone) in real time, read by
 //! `fiveaxis-bridge` and watched over DDS by `fiveaxis-monitor`, in a private network namespace.
 
-mod common;
+use crate::common;
 use fiveaxis::mtconnect::{self, devices, AxisItems};
 use std::path::{Path, PathBuf};
 use std::process::Command;

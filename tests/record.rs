@@ -1,7 +1,7 @@
 //! Recordings: the MCAP layout rosbag2 readers expect, read back by the mcap crate and by an
 //! independent Python reader; recovery after a kill; the offline analysis and its exit codes.
 
-mod common;
+use crate::common;
 use fiveaxis::live::inprocess::{run, RunOptions};
 use fiveaxis::topics;
 use fiveaxis::machine::Machine;

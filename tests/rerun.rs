@@ -2,7 +2,7 @@
 //! the matching rerun-sdk 0.36.3, installed by launch-free-scripts/test): replayed from MCAP and live
 //! over DDS. The CLI decodes the file independently of our code.
 
-mod common;
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

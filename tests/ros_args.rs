@@ -4,7 +4,7 @@
 //! `ros_discovery_info`, its topics from DDS discovery and its parameters through its
 //! `list_parameters` / `get_parameters` services. Each node runs in a private network namespace.
 
-mod common;
+use crate::common;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -5,7 +5,7 @@
 //! `launch_ros` (not on PyPI; tests/peer/launch_check.py), start packages colcon finds, executables
 //! they build, with parameters each real executable lists and accepts.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

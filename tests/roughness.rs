@@ -1,6 +1,6 @@
 //! Roughness profiles: X3P and CSV import, the synthetic example, and the analysis beside the stutter.
 
-mod common;
+use crate::common;
 use fiveaxis::roughness::{read_csv, read_profile, read_x3p, synthetic, write_x3p, CsvUnits, Profile};
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -6,7 +6,7 @@
 //! checked against numpy's own computation from the same data (machine_figures.py,
 //! paper_path_trace.py), never against what fiveaxis printed.
 
-mod common;
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -3,7 +3,7 @@
 //! the circle end-point tolerance. Every expected figure is worked by hand from the manual's rule
 //! named beside it.
 
-mod common;
+use crate::common;
 
 use fiveaxis::machine::Machine;
 use fiveaxis::program::{read, Block, Dialect, Motion, Program, ReadOptions, Severity};

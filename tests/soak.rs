@@ -3,7 +3,7 @@
 //! outside the nodes (/proc, and the recording read by Foxglove's MCAP reader). Its own test binary,
 //! so that it runs alone rather than beside the other DDS tests.
 
-mod common;
+use crate::common;
 use std::path::Path;
 use std::process::Command;
 

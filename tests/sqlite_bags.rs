@@ -4,7 +4,7 @@
 //! their order, per-message and whole-file zstd; a bag made by an independent writer (`rosbags`)
 //! from LinuxCNC's trace gives the same `analyze` report as its MCAP twin.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -1,7 +1,7 @@
 //! Programs read and analysed as streams (`fiveaxis program analyze`): the same blocks, diagnostics
 //! and report as the program read whole, in memory that does not grow with the program.
 
-mod common;
+use crate::common;
 use fiveaxis::job::{self, JobOptions};
 use fiveaxis::machine::Machine;
 use fiveaxis::program::{self, BlockStream, Dialect, MCodeAction, MCodeRule, ReadOptions, MAX_LINE_BYTES};

@@ -10,8 +10,8 @@ use nalgebra::Vector3;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-mod common;
-use common::Rng;
+use crate::common;
+use crate::common::Rng;
 
 /// Tool tip agreement, mm, and tool axis agreement (unit vector components).
 const TIP_TOL_MM: f64 = 1e-9;
