@@ -37,8 +37,9 @@ pub struct Interpreter {
     /// Arc plane (G17/G18/G19) and whether I J K are absolute (G90.1) or from the start (G91.1).
     plane: Plane,
     arc_absolute: bool,
-    /// Machine-specific M codes and what they do (`--m-code`).
-    m_codes: Vec<MCodeRule>,
+    /// Machine-specific M codes and what they do (`--m-code`; shared: a reader clones the
+    /// interpreter to roll a refused block back).
+    m_codes: std::sync::Arc<[MCodeRule]>,
     /// RS274: the work offsets the program set (`G10 L2 P1..P9`, m; a system it never set is taken as
     /// zero) and the active one (`G54`..`G59.3` = 0..8).
     offsets: [[f64; 3]; 9],
@@ -63,7 +64,7 @@ pub struct Interpreter {
     /// reads an axis in radians).
     rotary_unit: [f64; 3],
     /// The machine's coordinates (`G53`, `G28`), if its file places them.
-    machine_coords: Option<crate::machine::MachineCoordinates>,
+    machine_coords: Option<std::sync::Arc<crate::machine::MachineCoordinates>>,
     /// How the next block is made, overriding the modal state for it alone (a reference return's
     /// legs, a canned cycle's moves).
     pub(crate) oneshot: Option<OneShot>,
@@ -142,7 +143,7 @@ impl Interpreter {
             datum: [0.0; 3],
             plane: Plane::Xy,
             arc_absolute: false,
-            m_codes: Vec::new(),
+            m_codes: std::sync::Arc::from([]),
             offsets: [[0.0; 3]; 9],
             system: 0,
             tool_vector: false,
@@ -184,7 +185,7 @@ impl Interpreter {
             self.tcp |= m.tcp_at_start;
             self.kins_tcp |= m.tcp_at_start;
             self.rotary_unit = ['A', 'B', 'C'].map(|l| m.rotary_word_unit(l));
-            self.machine_coords = m.machine_coordinates.clone();
+            self.machine_coords = m.machine_coordinates.clone().map(std::sync::Arc::new);
             self.rotary_letters = [3, 4].map(|k| m.axes[k].name.chars().next().map(|c| c.to_ascii_uppercase()));
             self.peck = m.peck_distances;
             self.modulo = ['A', 'B', 'C'].map(|l| m.axis_index(&l.to_string()).is_some_and(|i| i >= 3 && m.axes[i].limits.is_unlimited()));
@@ -212,7 +213,7 @@ impl Interpreter {
 
     /// Read these machine-specific M codes as told (LinuxCNC remaps such as M428).
     pub fn with_m_codes(mut self, rules: &[MCodeRule]) -> Self {
-        self.m_codes = rules.to_vec();
+        self.m_codes = rules.into();
         self
     }
 
@@ -476,7 +477,7 @@ impl Interpreter {
 
     /// The machine's coordinates, where its file places them.
     pub fn machine_coords(&self) -> Option<&crate::machine::MachineCoordinates> {
-        self.machine_coords.as_ref()
+        self.machine_coords.as_deref()
     }
 
     /// A block that moves nothing, with the state in effect (a dwell's, a cycle's events').

@@ -155,8 +155,9 @@ struct Held {
     open: Vec<(String, Keyword, usize)>,
 }
 
-/// The control-flow state of one read.
-#[derive(Debug, Clone, Default)]
+/// The control-flow state of one read (no `Default`: a flow without its bound would refuse every
+/// loop; [`Flow::new`] takes it).
+#[derive(Debug, Clone)]
 pub struct Flow {
     held: Option<Held>,
     subs: HashMap<String, Arc<Vec<Line>>>,
@@ -173,7 +174,7 @@ pub struct Flow {
 impl Flow {
     /// The flow of a read whose control blocks may run `budget` lines.
     pub fn new(budget: usize) -> Flow {
-        Flow { budget, ..Flow::default() }
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false }
     }
 }
 

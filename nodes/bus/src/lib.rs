@@ -788,8 +788,8 @@ pub fn forward<M: DeserializeOwned + Send + 'static, T: Send + 'static>(
     sub: Subscription<M>,
     topic: String,
     tx: std::sync::mpsc::SyncSender<T>,
-    wrap: fn(String, M) -> T,
-    failed: fn(String, String) -> T,
+    wrap: impl Fn(String, M) -> T + Send + 'static,
+    failed: impl Fn(String, String) -> T + Send + 'static,
 ) {
     std::thread::spawn(move || {
         let mut errors = 0u64;

@@ -59,8 +59,8 @@ pub struct Args {
 enum In {
     Status(Box<SingularityStatus>),
     Diagnostics(DiagnosticArray),
-    /// A JointState of the cell topic named (as resolved in the cell).
-    Joints(String, JointState),
+    /// A JointState of the cell's joint-state topic `topics::JOINT_STATES[i]`.
+    Joints(usize, JointState),
     Undecodable(String),
 }
 
@@ -99,9 +99,9 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
     // set's reliable publishers and a machine bridge's SensorData ones alike.
     let cell_joint_topics: Vec<String> = topics::JOINT_STATES.iter().map(|t| bus.resolve(t.name)).collect();
     if args.joint_states_rate_hz > 0.0 {
-        for t in &topics::JOINT_STATES {
+        for (i, t) in topics::JOINT_STATES.iter().enumerate() {
             let sub = bus.subscription::<JointState>(t.name, InputQos::Auto.profile(true))?;
-            fiveaxis_bus::forward(sub, bus.resolve(t.name), tx.clone(), In::Joints, |t, e| In::Undecodable(format!("{t}: {e}")));
+            fiveaxis_bus::forward(sub, bus.resolve(t.name), tx.clone(), move |_, j| In::Joints(i, j), |t, e| In::Undecodable(format!("{t}: {e}")));
         }
     }
     drop(tx);
@@ -170,9 +170,9 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
                 let stream = s.input_topic.clone();
                 cap.offer(&stream, *s);
             }
-            Ok(In::Joints(topic, j)) => {
-                if let (Some(i), Some(c)) = (cell_joint_topics.iter().position(|t| *t == topic), joint_cap.as_mut()) {
-                    c.offer(&topic, (i, j));
+            Ok(In::Joints(i, j)) => {
+                if let Some(c) = joint_cap.as_mut() {
+                    c.offer(&cell_joint_topics[i], (i, j));
                 }
             }
             Ok(In::Diagnostics(d)) => {

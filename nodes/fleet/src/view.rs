@@ -58,7 +58,10 @@ enum Stream {
 }
 
 impl Stream {
-    const ALL: [Stream; 6] = [Stream::Status, Stream::Diagnostics, Stream::Regions, Stream::Joints(0), Stream::Joints(1), Stream::Joints(2)];
+    /// Every stream the view subscribes to: one per joint-state topic, however many there are.
+    fn all() -> impl Iterator<Item = Stream> {
+        [Stream::Status, Stream::Diagnostics, Stream::Regions].into_iter().chain((0..topics::JOINT_STATES.len()).map(Stream::Joints))
+    }
 
     fn topic(self) -> Topic {
         match self {
@@ -161,7 +164,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let session = zenoh::open(config).wait().map_err(|e| anyhow::anyhow!("opening the fleet session: {e}"))?;
     let (tx, rx) = mpsc::sync_channel::<In>(65536);
     let mut subscribers = Vec::new();
-    for stream in Stream::ALL {
+    for stream in Stream::all() {
         let (topic, (package, name)) = (stream.topic(), stream.message());
         let key = keys::every_machine(domain, &topic, package, name);
         let tx = tx.clone();

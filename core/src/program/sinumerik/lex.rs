@@ -314,7 +314,8 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             i = end;
             continue;
         }
-        let address = if with_eq { src[i..k].to_ascii_uppercase() } else { letters.to_ascii_uppercase() };
+        // Upper case as written almost always: borrowed then, no allocation per word.
+        let address = upper(if with_eq { &src[i..k] } else { letters });
         let value_start = if with_eq { e + 1 } else { j };
         let mut v = value_start;
         while with_eq && v < n && (b[v] == b' ' || b[v] == b'\t') {
@@ -380,7 +381,7 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             }
         };
         let word = |letter: char, value: f64, raw: Cow<'a, str>| Word { letter, value, raw, column: col, incremental: false };
-        match address.as_str() {
+        match address.as_ref() {
             "N" if with_eq => diags.error(line, col, "N=: a block number is written N10"),
             "N" if value.fract() == 0.0 && value >= 0.0 => out.number = Some(value as u64),
             "N" => diags.error(line, col, format!("expected a whole block number after 'N', found '{text}'")),
@@ -423,6 +424,15 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
         }
     }
     out
+}
+
+/// `s` in upper case, borrowed where it already is.
+fn upper(s: &str) -> Cow<'_, str> {
+    if s.bytes().any(|c| c.is_ascii_lowercase()) {
+        Cow::Owned(s.to_ascii_uppercase())
+    } else {
+        Cow::Borrowed(s)
+    }
 }
 
 /// What an address with '=' the reader does not know is.
