@@ -18,7 +18,17 @@ from mcap.writer import CompressionType, Writer
 FUZZ = pathlib.Path(__file__).resolve().parent
 ROOT = FUZZ.parent
 SHARED = ROOT.parent / "shared" / "reference" / "programs"
-PICK = {"heidenhain": 0, "rs274": 1, "cl": 2, "sinumerik": 3, "klartext": 4}
+PICK = {"heidenhain": 0, "rs274": 1, "cl": 2, "sinumerik": 3, "klartext": 4, "fanuc": 5, "haas": 6}
+# Real CAM output (issue 64's corpus), read where it lies beside the clone; never copied here.
+OUTSIDE = ROOT.parent / "shared" / "outside" / "programs"
+# Program flow as the controls run it (the readers' unit tests' forms): custom macro B with the
+# file's subprograms, and the 840D's control structures and jumps.
+FANUC_FLOW = (b"%\nO0001\n#1=0\nWHILE [#1 LT 3] DO1\nG1 X[#1*10] F100.\n#1=#1+1\nEND1\nN10 #2=#1*2\n"
+              b"IF [#2 GT 100] GOTO 20\n#2=#2+50\nGOTO10\nN20 M98 P1000 L2\nG65 P1000 X1. Y2.\n"
+              b"IF [#1 EQ 3] THEN #3=1\nM97 P30\nM30\nN30 G1 Y1.\nM99\nO1000\nG91 G1 X1.\nM99 P40\nN40 G90\nM99\n%\n")
+SINUMERIK_FLOW = (b"DEF INT COUNT\nR1=0\nWHILE R1<3\nG1 X=R1*10 F100\nR1=R1+1\nENDWHILE\nFOR COUNT=1 TO 2\n"
+                  b"IF COUNT==1\nG1 Y1\nELSE\nG1 Y2\nENDIF\nENDFOR\nMARK1: R2=R1\nREPEAT\nR2=R2-1\nUNTIL R2<=0\n"
+                  b"IF R1<2 GOTOB MARK1\nGOTOF DONE\nLOOP\nENDLOOP\nDONE: M30\n")
 
 
 def put(corpus: pathlib.Path, target: str, name: str, data: bytes) -> None:
@@ -33,6 +43,13 @@ def dialect(path: pathlib.Path, text: bytes) -> str:
         return "klartext"
     if ext in (".mpf", ".spf"):
         return "sinumerik"
+    name = path.name.lower()
+    if name.startswith("haas"):
+        return "haas"
+    if name.startswith("fanuc"):
+        return "fanuc"
+    if name.startswith("apt-cl"):
+        return "cl"
     if ext in (".i", ".h"):
         return "heidenhain"
     return "rs274"
@@ -42,6 +59,8 @@ def programs(corpus: pathlib.Path) -> int:
     files = [p for p in (ROOT / "recordings").rglob("*") if p.suffix.lower() in (".i", ".h", ".ngc", ".nc", ".mpf")]
     if SHARED.is_dir():
         files += [p for p in SHARED.rglob("*") if p.is_file()]
+    if OUTSIDE.is_dir():
+        files += [p for p in OUTSIDE.iterdir() if p.is_file() and p.name != "SOURCES.md"]
     n = 0
     for p in sorted(files):
         text = p.read_bytes()
@@ -49,6 +68,10 @@ def programs(corpus: pathlib.Path) -> int:
             text = text[: 64 << 10]  # the LinuxCNC boat programs: their first 64 KiB
         put(corpus, "nc_program", p.name, bytes([PICK[dialect(p, text)]]) + text)
         n += 1
+    put(corpus, "nc_program", "flow.fanuc", bytes([PICK["fanuc"]]) + FANUC_FLOW)
+    put(corpus, "nc_program", "flow.haas", bytes([PICK["haas"]]) + FANUC_FLOW)
+    put(corpus, "nc_program", "flow.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_FLOW)
+    n += 3
     # CL data: the SING cut's first moves as x y z i j k [feed] lines, with a header, comma and space separated.
     cl = b"x,y,z,i,j,k,f\n0,0,-8,0,0,1,2000\n10,0,-8,0,0.0174,0.9998,2000\n25,0,-8,0,0.0003,1,2000\n50 0 -8 0 0 1\n"
     put(corpus, "nc_program", "sing.cl", bytes([PICK["cl"]]) + cl)

@@ -129,15 +129,19 @@ pub fn mcap_recording(data: &[u8]) {
     let _ = recover(&path, &scratch_dir().join("out.mcap"));
 }
 
-const DIALECTS: [Dialect; 5] = [Dialect::Heidenhain, Dialect::Rs274, Dialect::Cl, Dialect::Sinumerik, Dialect::Klartext];
+const DIALECTS: [Dialect; 7] = [Dialect::Heidenhain, Dialect::Rs274, Dialect::Cl, Dialect::Sinumerik, Dialect::Klartext, Dialect::Fanuc, Dialect::Haas];
 
 /// NC and CL program readers: the first byte picks the dialect (Heidenhain DIN/ISO, RS274NGC, CL,
-/// Sinumerik, Klartext), the rest is the program text (not UTF-8: replaced, as `program::load` does).
+/// Sinumerik, Klartext, Fanuc, Haas), the rest is the program text (not UTF-8: replaced, as
+/// `program::load` does). Loops and calls run at most 20,000 lines beyond the program's own (the
+/// readers' bound, `max_run_lines`, set low so that an endless loop ends well within the 10 s an
+/// input may take).
 pub fn nc_program(data: &[u8]) {
     let Some((&pick, body)) = data.split_first() else { return };
     let text = String::from_utf8_lossy(body);
     let _ = Dialect::detect(None, &text);
-    let program = read(&text, DIALECTS[pick as usize % DIALECTS.len()], "fuzz", &ReadOptions::default());
+    let options = ReadOptions { max_run_lines: 20_000, ..ReadOptions::default() };
+    let program = read(&text, DIALECTS[pick as usize % DIALECTS.len()], "fuzz", &options);
     let _ = program.report();
 }
 
