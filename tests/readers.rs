@@ -362,6 +362,38 @@ fn klartext_refuses_what_changes_the_motion_at_line_and_column() {
     has(&p, 1, 3, "expected BEGIN PGM");
 }
 
+/// `PLANE POINTS` (iTNC 530 ISO 340 49x-03 §9.6: point 1 to point 2 is the tilted X, point 3 on the
+/// tilted Y's side) of the plane of the manual's worked example `PLANE SPATIAL SPA+0 SPB+45 SPC+0` on
+/// a table with a rotary C and a tilting A (User's Manual DIN/ISO 6/2010 §12.2): from A0 C0 the
+/// control turns to A+45 C+90, to 0.001 deg, as for the spatial angles; STAY leaves the angles in
+/// Q120-Q122 for the program's own positioning. Points on one line are refused at the block.
+#[test]
+fn klartext_plane_points_gives_the_manuals_axes() {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let options = ReadOptions::default().on(&hermle);
+    let axes = |plane: &str| {
+        let text = format!("0 BEGIN PGM P MM\n1 L X+0 Y+0 Z+100 A+0 C+0 R0 FMAX\n2 {plane}\n3 END PGM P MM\n");
+        let p = read(&text, Dialect::Klartext, "p.h", &options);
+        assert!(errors(&p).is_empty(), "{plane}: {:?}", errors(&p));
+        let b = p.blocks.iter().rev().find(|b| b.line == 3 && b.targets.a.is_some()).unwrap_or_else(|| panic!("{plane}: {:#?}", p.blocks));
+        [b.targets.a.unwrap().to_degrees(), b.targets.c.unwrap().to_degrees()]
+    };
+    let spatial = axes("PLANE SPATIAL SPA+0 SPB+45 SPC+0 TURN FMAX");
+    let points = axes("PLANE POINTS P1X+0 P1Y+0 P1Z+0 P2X+10 P2Y+0 P2Z-10 P3X+0 P3Y+10 P3Z+0 TURN FMAX");
+    for (got, name) in [(spatial, "SPATIAL"), (points, "POINTS")] {
+        assert!((got[0] - 45.0).abs() < 1e-3 && (got[1] - 90.0).abs() < 1e-3, "PLANE {name}: A{} C{}, the manual's A+45 C+90", got[0], got[1]);
+    }
+    // STAY: the same angles in Q120 (A) and Q122 (C), positioned by the program.
+    let text = "0 BEGIN PGM P MM\n1 L X+0 Y+0 Z+100 A+0 C+0 R0 FMAX\n\
+                2 PLANE POINTS P1X+5 P1Y+5 P1Z+5 P2X+15 P2Y+5 P2Z-5 P3X+5 P3Y+15 P3Z+5 STAY\n3 L A+Q120 C+Q122 FMAX\n4 END PGM P MM\n";
+    let p = read(text, Dialect::Klartext, "p.h", &options);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let b = p.blocks.iter().find(|b| b.line == 4).unwrap();
+    assert!((b.targets.a.unwrap().to_degrees() - 45.0).abs() < 1e-3 && (b.targets.c.unwrap().to_degrees() - 90.0).abs() < 1e-3, "{:?}", b.targets);
+    let text = "0 BEGIN PGM P MM\n1 PLANE POINTS P1X+0 P1Y+0 P1Z+0 P2X+10 P2Y+0 P2Z+0 P3X+30 P3Y+0 P3Z+0 TURN FMAX\n2 END PGM P MM\n";
+    has(&read(text, Dialect::Klartext, "p.h", &options), 2, 3, "PLANE POINTS: the three points lie on one line");
+}
+
 #[test]
 fn sinumerik_reads_traori_vectors_frames_and_arcs() {
     let text = "; a Sinumerik 840D test program\nN10 G71 G90 G94 G17\nN20 T=\"MILL_10\" D1 S12000 M3\nN30 TRANS X10 Y-5 Z2\n\

@@ -45,6 +45,24 @@ pub fn from_vectors(base: Vector3<f64>, normal: Vector3<f64>) -> Result<Matrix3<
     Ok(Matrix3::from_columns(&[x, z.cross(&x), z]))
 }
 
+/// The frame of `PLANE POINTS` (iTNC 530 User's Manual ISO programming 340 49x-03 §9.6, p.476; TNC 640
+/// 34059x-05 p.424): "The connection from Point 1 to Point 2 determines the direction of the tilted
+/// principal axis" (X); by the right-hand rule, "thumb (X axis) points from Point 1 to Point 2, index
+/// finger (Y axis) points parallel to the tilted Y axis in the direction of Point 3. Then the middle
+/// finger points in the direction of the tilted tool axis" (Z). Only the points' differences count:
+/// the plane's orientation, not its place.
+pub fn from_points(p1: Vector3<f64>, p2: Vector3<f64>, p3: Vector3<f64>) -> Result<Matrix3<f64>, String> {
+    let x = p2 - p1;
+    if x.norm() < 1e-9 {
+        return Err("points 1 and 2 coincide: they give no direction for the tilted X axis".into());
+    }
+    let z = x.cross(&(p3 - p1));
+    if z.norm() < 1e-9 * x.norm() * (p3 - p1).norm().max(1e-9) {
+        return Err("the three points lie on one line: they give no plane".into());
+    }
+    from_vectors(x, z)
+}
+
 /// What the program says of the solution: `SEQ+`/`SEQ-` (the master axis' sign) and what a free
 /// axis does at the pole (`TABLE ROT` true, `COORD ROT` false; `None`: not said).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -258,6 +276,30 @@ mod tests {
         let v = from_vectors(Vector3::new(1.0, 0.0, 0.3), Vector3::new(0.0, 0.0, 2.0)).unwrap();
         assert!((v - Matrix3::identity()).norm() < 1e-12);
         assert!(from_vectors(Vector3::z(), Vector3::z()).is_err());
+    }
+
+    /// `PLANE POINTS` by the manual's right-hand rule: points 1 and 2 along X, point 3 on the plane's
+    /// +Y side, which gives the frame of the spatial angles of the same plane (a turn about X, about
+    /// Y, and both with one about Z; worked out here from the angles, not from the points); point 3
+    /// below the line turns the tool axis over (TNC 620 10/2017 p.549: "to have the positive tool
+    /// axis pointing away from the workpiece, Point 3 must be located above the connection line");
+    /// only the points' differences count; points on a line or coinciding are no plane.
+    #[test]
+    fn three_points_give_the_frame_of_the_right_hand_rule() {
+        let (s30, c30) = (30f64.to_radians().sin(), 30f64.to_radians().cos());
+        let p1 = Vector3::new(10.0, -5.0, 20.0);
+        let about_x = from_points(p1, p1 + Vector3::new(40.0, 0.0, 0.0), p1 + Vector3::new(7.0, 10.0 * c30, 10.0 * s30)).unwrap();
+        assert!((about_x - spatial(30.0 * D, 0.0, 0.0)).norm() < 1e-12, "{about_x}");
+        let about_y = from_points(p1, p1 + Vector3::new(c30, 0.0, -s30), p1 + Vector3::new(0.0, 3.0, 0.0)).unwrap();
+        assert!((about_y - spatial(0.0, 30.0 * D, 0.0)).norm() < 1e-12, "{about_y}");
+        let r = spatial(20.0 * D, -35.0 * D, 70.0 * D);
+        let (x, y) = (r.column(0).into_owned(), r.column(1).into_owned());
+        let general = from_points(p1, p1 + 25.0 * x, p1 + 12.0 * y - 4.0 * x).unwrap();
+        assert!((general - r).norm() < 1e-12, "{general}");
+        let below = from_points(p1, p1 + 25.0 * x, p1 - 12.0 * y).unwrap();
+        assert!((below.column(2) + r.column(2)).norm() < 1e-12 && (below.column(0) - r.column(0)).norm() < 1e-12);
+        assert!(from_points(p1, p1, p1 + y).is_err());
+        assert!(from_points(p1, p1 + x, p1 + 3.0 * x).is_err());
     }
 
     /// The iTNC 530's worked example (User's Manual DIN/ISO 6/2010 §12.2, "machine with a rotary

@@ -5,7 +5,7 @@
 //! about it, `CR` by radius, `CT` tangent to the contour before it (`DR+` counter-clockwise); `M128`
 //! and `FUNCTION TCPM` (`F TCP`, `AXIS POS`, `PATHCTRL AXIS`/`VECTOR`); `M91`/`M92` machine
 //! coordinates, `M126`/`M127`; `CYCL DEF 7` datum shift; `CYCL DEF 9` dwell; `CYCL DEF 32` contour
-//! tolerance; tilted working planes `PLANE SPATIAL`/`EULER`/`VECTOR`/`RELATIV`/`AXIAL`/`RESET` with
+//! tolerance; tilted working planes `PLANE SPATIAL`/`EULER`/`VECTOR`/`POINTS`/`RELATIV`/`AXIAL`/`RESET` with
 //! `TURN`/`STAY`, `SEQ`, `COORD ROT`/`TABLE ROT`, and cycle 19 ([`crate::program::plane`]); the
 //! drilling cycles 200, 207, 240 called by `CYCL CALL`, `M99`, `M89`; cycle 247 (a preset of the
 //! machine's table); the machine maker's cycles its file names; polar contours `LP` and `CP` about the
@@ -29,7 +29,7 @@
 //! last shift).
 //!
 //! Refused at line:col, never guessed: radius compensation `RL`/`RR`, `CTP` and free contours
-//! (`FK`), rounding and chamfers, approach/departure, `PLANE PROJECTED`/`POINTS` and
+//! (`FK`), rounding and chamfers, approach/departure, `PLANE PROJECTED` and
 //! `MOVE`, machining cycles other than those above and touch probes, tool deltas `DL`/`DR`, and
 //! `FUNCTION TCPM` options that read the program differently (`F CONT`, `AXIS SPAT`, a reference
 //! point other than the tool tip). The surface normal of an `LN` line moves the tool only by the
@@ -146,6 +146,8 @@ enum PlaneForm<'a> {
     Euler([KWord<'a>; 3]),
     /// `VECTOR BX BY BZ NX NY NZ`.
     Vector([KWord<'a>; 6]),
+    /// `POINTS P1X P1Y P1Z P2X P2Y P2Z P3X P3Y P3Z`: three points of the plane.
+    Points([KWord<'a>; 9]),
     /// `RELATIV SPA|SPB|SPC`: one turn about the tilted plane's own axis (0 X, 1 Y, 2 Z).
     Relativ(usize, KWord<'a>),
     /// `AXIAL A B C` (and cycle 19 with axis angles): the rotary axes' positions, deg.
@@ -1002,11 +1004,12 @@ fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Dia
         "SPATIAL" => &["SPA", "SPB", "SPC"],
         "EULER" => &["EULPR", "EULNU", "EULROT"],
         "VECTOR" => &["BX", "BY", "BZ", "NX", "NY", "NZ"],
+        "POINTS" => &["P1X", "P1Y", "P1Z", "P2X", "P2Y", "P2Z", "P3X", "P3Y", "P3Z"],
         "RELATIV" => &["SPA", "SPB", "SPC"],
         "AXIAL" => &["A", "B", "C"],
         "RESET" => &[],
-        "PROJECTED" | "POINTS" => {
-            diags.error(line, col, format!("PLANE {form_name}: this form of the working plane is not modelled yet (SPATIAL, EULER, VECTOR, RELATIV, AXIAL and RESET are)"));
+        "PROJECTED" => {
+            diags.error(line, col, "PLANE PROJECTED: this form of the working plane is not modelled yet (the sign of its projection angles is the manual's figure, not at hand; SPATIAL, EULER, VECTOR, POINTS, RELATIV, AXIAL and RESET are)");
             return None;
         }
         other => {
@@ -1041,7 +1044,7 @@ fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Dia
                 return None;
             }
             _ => {
-                let (addr, v) = split_word(tok);
+                let (addr, v) = point_word(tok).unwrap_or_else(|| split_word(tok));
                 match (addresses.iter().find(|a| **a == addr.as_ref()), addr.as_ref()) {
                     (Some(a), _) => {
                         if values.iter().any(|(n, _)| n == a) {
@@ -1079,6 +1082,7 @@ fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Dia
         "SPATIAL" => PlaneForm::Spatial(all(addresses, diags)?.try_into().ok()?),
         "EULER" => PlaneForm::Euler(all(addresses, diags)?.try_into().ok()?),
         "VECTOR" => PlaneForm::Vector(all(addresses, diags)?.try_into().ok()?),
+        "POINTS" => PlaneForm::Points(all(addresses, diags)?.try_into().ok()?),
         "RELATIV" => match values.as_slice() {
             [(n, w)] => PlaneForm::Relativ(addresses.iter().position(|a| a == n).unwrap_or(0), w.clone()),
             _ => {
@@ -1096,9 +1100,20 @@ fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Dia
     Some(Kind::Plane(PlaneStmt { form, mode, feed, choice, cycle: false }))
 }
 
+/// A `PLANE POINTS` coordinate word (`P1X+0`, `P3Z-12.5`): its address (a digit inside, which
+/// [`split_word`] would end it at) and value.
+fn point_word(tok: &str) -> Option<(Cow<'_, str>, &str)> {
+    let b = tok.as_bytes();
+    let is = b.len() > 3 && b[0].eq_ignore_ascii_case(&b'P') && (b'1'..=b'3').contains(&b[1]) && matches!(b[2].to_ascii_uppercase(), b'X' | b'Y' | b'Z');
+    is.then(|| (upper(&tok[..3]), &tok[3..]))
+}
+
 /// The static address of a PLANE word.
 fn addr_static(a: &str) -> &'static str {
-    ["SPA", "SPB", "SPC", "EULPR", "EULNU", "EULROT", "BX", "BY", "BZ", "NX", "NY", "NZ", "A", "B", "C"].into_iter().find(|s| *s == a).unwrap_or("PLANE")
+    ["SPA", "SPB", "SPC", "EULPR", "EULNU", "EULROT", "BX", "BY", "BZ", "NX", "NY", "NZ", "P1X", "P1Y", "P1Z", "P2X", "P2Y", "P2Z", "P3X", "P3Y", "P3Z", "A", "B", "C"]
+        .into_iter()
+        .find(|s| *s == a)
+        .unwrap_or("PLANE")
 }
 
 /// `CYCL DEF 19.0 WORKING PLANE` (its name in the control's language) and `CYCL DEF 19.1 A.. B..

@@ -599,6 +599,18 @@ impl Exec {
                     None
                 }
             }
+            PlaneForm::Points(w) => {
+                let v: Vec<f64> = w.iter().filter_map(|w| self.value(w, s.line, diags)).collect();
+                let p = |k: usize| nalgebra::Vector3::new(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+                match (v.len() == 9).then(|| plane::from_points(p(0), p(1), p(2))) {
+                    Some(Ok(r)) => Some(r),
+                    Some(Err(why)) => {
+                        diags.error(s.line, s.col, format!("PLANE POINTS: {why}"));
+                        None
+                    }
+                    None => None,
+                }
+            }
             PlaneForm::Relativ(k, w) => deg(w, diags).map(|a| {
                 let axis = nalgebra::Unit::new_normalize(nalgebra::Vector3::ith(*k, 1.0));
                 interp.tilt().unwrap_or_else(nalgebra::Matrix3::identity) * *nalgebra::Rotation3::from_axis_angle(&axis, a).matrix()
