@@ -50,7 +50,13 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
         }
     }
     if let Some(w) = has("68.2") {
-        return Some(set_plane(it, w, words, line, column, number, diags, out));
+        // G90/G91 in the block itself governs its words.
+        let absolute = match (has("90"), has("91")) {
+            (_, Some(_)) => false,
+            (Some(_), None) => true,
+            _ => it.absolute(),
+        };
+        return Some(set_plane(it, w, absolute, words, line, column, number, diags, out));
     }
     if let Some(w) = has("53.1") {
         return Some(turn_axes(it, w, words, line, column, number, diags, out));
@@ -66,14 +72,10 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     None
 }
 
-/// Whether the block holds the G code `code`.
-fn has_code(words: &[Word], code: f64) -> bool {
-    words.iter().any(|w| w.letter == 'G' && w.value == code)
-}
-
-/// `G68.2 X Y Z I J K`: the feature coordinate system from here on (no motion).
+/// `G68.2 X Y Z I J K`: the feature coordinate system from here on (no motion); `absolute`: its
+/// words are (G90 in effect or in the block).
 #[allow(clippy::too_many_arguments)]
-fn set_plane(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+fn set_plane(it: &mut Interpreter, g: &Word, absolute: bool, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
     let find = |l: char| words.iter().find(|w| w.letter == l);
     if let Some(p) = find('P').filter(|p| p.value != 0.0) {
         diags.error(line, p.column, format!("G68.2 P{}: only Euler angles (P0) are read; roll-pitch-yaw (P1), three points (P2), two vectors (P3) and projection angles (P4) are not", p.raw));
@@ -89,12 +91,6 @@ fn set_plane(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, column
         diags.error(line, g.column, "G68.2 while a feature coordinate system is in effect: cancel it with G69 first (how a second one composes is not at hand)");
         return false;
     }
-    // G90/G91 in the block itself governs its words.
-    let absolute = match (has_code(words, 90.0), has_code(words, 91.0)) {
-        (_, true) => false,
-        (true, false) => true,
-        _ => it.absolute(),
-    };
     if !absolute {
         diags.error(line, g.column, "G68.2 under G91: write its origin under G90 (how the control reads an incremental origin is not at hand)");
         return false;

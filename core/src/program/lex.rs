@@ -40,6 +40,16 @@ pub fn parse_number(s: &str) -> Option<f64> {
     s.parse::<f64>().ok().filter(|v| v.is_finite())
 }
 
+/// `s` in capitals, borrowed when it already is (the readers' addresses and keywords: no
+/// allocation for the upper case most programs write).
+pub(crate) fn upper(s: &str) -> std::borrow::Cow<'_, str> {
+    if s.bytes().any(|c| c.is_ascii_lowercase()) {
+        std::borrow::Cow::Owned(s.to_ascii_uppercase())
+    } else {
+        std::borrow::Cow::Borrowed(s)
+    }
+}
+
 /// How many lines `text` has: the readers reserve a block per line, so that a million-block
 /// program is not copied as its block list grows.
 pub fn line_count(text: &str) -> usize {

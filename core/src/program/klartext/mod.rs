@@ -43,7 +43,7 @@ pub use run::MAX_LABELS;
 
 use std::borrow::Cow;
 
-use super::lex::{excerpt, parse_number, Columns, Diags};
+use super::lex::{excerpt, parse_number, upper, Columns, Diags};
 use super::{Dialect, MCodeRule, Orientation, Program};
 
 /// Subprogram nesting depth of the TNC (iTNC 530: "up to 19 levels").
@@ -246,15 +246,6 @@ fn tokens(line: &str) -> Vec<(&str, usize)> {
         out.push((&line[start..i], cols.col(start)));
     }
     out
-}
-
-/// `s` in capitals, borrowed when it already is.
-fn upper(s: &str) -> Cow<'_, str> {
-    if s.bytes().any(|c| c.is_ascii_lowercase()) {
-        Cow::Owned(s.to_ascii_uppercase())
-    } else {
-        Cow::Borrowed(s)
-    }
 }
 
 /// A value as written after an address: a number or a `Q` parameter with an optional sign.

@@ -7,7 +7,7 @@
 
 use super::expr;
 use crate::program::interp::Word;
-use crate::program::lex::{excerpt, parse_number, Columns, Diags};
+use crate::program::lex::{excerpt, parse_number, upper, Columns, Diags};
 use std::borrow::Cow;
 use std::collections::HashMap;
 
@@ -424,15 +424,6 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
         }
     }
     out
-}
-
-/// `s` in upper case, borrowed where it already is.
-fn upper(s: &str) -> Cow<'_, str> {
-    if s.bytes().any(|c| c.is_ascii_lowercase()) {
-        Cow::Owned(s.to_ascii_uppercase())
-    } else {
-        Cow::Borrowed(s)
-    }
 }
 
 /// What an address with '=' the reader does not know is.
