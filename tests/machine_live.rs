@@ -222,11 +222,14 @@ fn opcua_live(tag: &str, server: &str, bridge: &str) {
     let d = dir.display();
     let bin = monitor_bin().parent().unwrap().to_path_buf();
     let listening = common::wait_for_port_sh(4840);
+    // Every process bounded (the peer at most its 60 s wait for a subscription and the trace's 9.5 s):
+    // a peer that hangs fails the test with its logs, not at nextest's five-minute limit (seen once,
+    // session 61: the asyncua server's first try ran until nextest stopped it, the retry passed).
     let script = format!(
         "timeout 90 '{bin}/fiveaxis-monitor' --joint-state-input /fiveaxis/machine/joint_states --machine hermle-c600u --feed 2000 --lookahead '' \
             --summary-json {d}/summary.json --exit-when-idle-s 3 > {d}/monitor.log 2>&1 &
         M=$!
-        {server} --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 --wait-subscription 60 > {d}/peer.json 2> {d}/peer.err &
+        timeout 120 {server} --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 --wait-subscription 60 > {d}/peer.json 2> {d}/peer.err &
         P=$!
         {listening}
         FIVEAXIS_OPCUA_PKI={d}/pki FIVEAXIS_OPCUA_PASSWORD=s3cret '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 30 \
@@ -275,7 +278,7 @@ fn npm_modules() -> PathBuf {
 /// node-opcua's server (npm) with the CNC nodeset loaded as node-opcua loads nodesets.
 #[test]
 fn node_opcuas_cnc_server_at_100_ms_through_the_bridge_and_its_restart() {
-    let server = format!("NODE_PATH='{}' node '{}' '{}'", npm_modules().display(), root().join("tests/peer/opcua_cnc_server.js").display(), root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display());
+    let server = format!("env NODE_PATH='{}' node '{}' '{}'", npm_modules().display(), root().join("tests/peer/opcua_cnc_server.js").display(), root().join("recordings/machine/linuxcnc/sing_trace.csv.gz").display());
     opcua_live("node", &server, "");
 }
 
