@@ -13,7 +13,8 @@
 
 use super::lex::{excerpt, Diags};
 use super::params::skip_blanks;
-use super::rs274::Rs274Reader;
+use super::params::expr::{self, Compiled};
+use super::rs274::{ReadLine, Rs274Reader};
 use super::Block;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -281,8 +282,8 @@ impl Rs274Reader {
             })
             .collect();
         // Match the blocks: for each opening line its end, and for an if its branches.
-        let mut end_of: HashMap<usize, usize> = HashMap::new();
-        let mut opener_of: HashMap<usize, usize> = HashMap::new();
+        let mut ends: Vec<Option<usize>> = vec![None; lines.len()];
+        let mut openers: Vec<Option<usize>> = vec![None; lines.len()];
         let mut branches: HashMap<usize, Vec<usize>> = HashMap::new();
         let mut open: Vec<(String, Keyword, usize)> = Vec::new();
         for (i, p) in parsed.iter().enumerate() {
@@ -296,14 +297,14 @@ impl Rs274Reader {
                 Keyword::ElseIf | Keyword::Else => match open.last() {
                     Some((n, Keyword::If, at)) if *n == o.name => {
                         branches.entry(*at).or_default().push(i);
-                        opener_of.insert(i, *at);
+                        openers[i] = Some(*at);
                     }
                     _ => return self.stop(line, col, format!("o{} {}: not inside o{} if", o.name, word(o.keyword), o.name), diags),
                 },
                 Keyword::EndSub | Keyword::While | Keyword::EndWhile | Keyword::EndIf | Keyword::EndRepeat => match open.pop() {
                     Some((n, k, at)) if n == o.name && closer(k) == o.keyword => {
-                        end_of.insert(at, i);
-                        opener_of.insert(i, at);
+                        ends[at] = Some(i);
+                        openers[i] = Some(at);
                     }
                     Some((n, k, _)) => return self.stop(line, col, format!("o{} {} ends no block: o{n} {} is open", o.name, word(o.keyword), word(k)), diags),
                     None => return self.stop(line, col, format!("o{} {}: no block of that name is open", o.name, word(o.keyword)), diags),
@@ -320,6 +321,12 @@ impl Rs274Reader {
         if let Some((n, k, at)) = open.first() {
             return self.stop(lines[*at].0, 1, format!("o{n} {}: its block does not end (no o{n} {})", word(*k), word(closer(*k))), diags);
         }
+        let end_of = |k: usize| ends[k].expect("matched above");
+        let opener_of = |k: usize| openers[k].expect("matched above");
+        // Each plain line read once and each test compiled once, when first run (a loop's passes
+        // evaluate them with the parameters as they stand).
+        let mut kept: Vec<Option<ReadLine>> = vec![None; lines.len()];
+        let mut tests: Vec<Option<Compiled>> = vec![None; lines.len()];
         // Run.
         let mut repeats: HashMap<usize, f64> = HashMap::new();
         let mut pc = 0;
@@ -334,7 +341,7 @@ impl Rs274Reader {
             }
             let Some((o, col, chars)) = &parsed[pc] else {
                 let before = diags.0.len();
-                self.plain_line(*line, text, out, diags);
+                self.loop_line(*line, text, &mut kept[pc], out, diags);
                 // Said once per line, however often the flow runs it.
                 let fresh: Vec<_> = diags.0.drain(before..).collect();
                 for d in fresh {
@@ -349,7 +356,7 @@ impl Rs274Reader {
             match o.keyword {
                 Keyword::Sub => {
                     // A subroutine defined inside a block: kept, its body skipped.
-                    let end = end_of[&pc];
+                    let end = end_of(pc);
                     self.flow.subs.insert(o.name.clone(), Arc::new(lines[pc..=end].to_vec()));
                     pc = end + 1;
                 }
@@ -361,46 +368,46 @@ impl Rs274Reader {
                     }
                 }
                 Keyword::Do => pc += 1,
-                Keyword::While if end_of.contains_key(&pc) => {
+                Keyword::While if ends[pc].is_some() => {
                     // A while loop: its condition, here.
-                    let Some(c) = self.condition(o, chars, *line, *col, diags) else { return End::Stopped };
-                    pc = if c { pc + 1 } else { end_of[&pc] + 1 };
+                    let Some(c) = self.condition(o, chars, *line, *col, &mut tests[pc], diags) else { return End::Stopped };
+                    pc = if c { pc + 1 } else { end_of(pc) + 1 };
                 }
                 Keyword::While => {
                     // The end of a do loop: again while its condition holds.
-                    let Some(c) = self.condition(o, chars, *line, *col, diags) else { return End::Stopped };
-                    pc = if c { opener_of[&pc] + 1 } else { pc + 1 };
+                    let Some(c) = self.condition(o, chars, *line, *col, &mut tests[pc], diags) else { return End::Stopped };
+                    pc = if c { opener_of(pc) + 1 } else { pc + 1 };
                 }
-                Keyword::EndWhile => pc = opener_of[&pc],
+                Keyword::EndWhile => pc = opener_of(pc),
                 Keyword::Repeat => {
-                    let Some(n) = self.count(o, chars, *line, *col, diags) else { return End::Stopped };
+                    let Some(n) = self.count(o, chars, *line, *col, &mut tests[pc], diags) else { return End::Stopped };
                     if n >= 1.0 {
                         repeats.insert(pc, n);
                         pc += 1;
                     } else {
-                        pc = end_of[&pc] + 1;
+                        pc = end_of(pc) + 1;
                     }
                 }
                 Keyword::EndRepeat => {
-                    let start = opener_of[&pc];
+                    let start = opener_of(pc);
                     let left = repeats.get(&start).copied().unwrap_or(0.0) - 1.0;
                     repeats.insert(start, left);
                     pc = if left >= 1.0 { start + 1 } else { pc + 1 };
                 }
                 Keyword::If => {
-                    let Some(c) = self.condition(o, chars, *line, *col, diags) else { return End::Stopped };
+                    let Some(c) = self.condition(o, chars, *line, *col, &mut tests[pc], diags) else { return End::Stopped };
                     if c {
                         pc += 1;
                         continue;
                     }
-                    let mut next = end_of[&pc] + 1;
+                    let mut next = end_of(pc) + 1;
                     for &b in branches.get(&pc).map_or(&[][..], |v| &v[..]) {
                         let (bo, bcol, bchars) = parsed[b].as_ref().expect("a branch is an O line");
                         if bo.keyword == Keyword::Else {
                             next = b + 1;
                             break;
                         }
-                        let Some(c) = self.condition(bo, bchars, lines[b].0, *bcol, diags) else { return End::Stopped };
+                        let Some(c) = self.condition(bo, bchars, lines[b].0, *bcol, &mut tests[b], diags) else { return End::Stopped };
                         if c {
                             next = b + 1;
                             break;
@@ -409,15 +416,15 @@ impl Rs274Reader {
                     pc = next;
                 }
                 // The branch taken has ended: past the if's end.
-                Keyword::ElseIf | Keyword::Else => pc = end_of[&opener_of[&pc]] + 1,
+                Keyword::ElseIf | Keyword::Else => pc = end_of(opener_of(pc)) + 1,
                 Keyword::EndIf => pc += 1,
                 Keyword::Break | Keyword::Continue => {
                     // The innermost open loop of that name around this line.
                     let opener = (0..pc)
                         .rev()
-                        .find(|&k| parsed[k].as_ref().is_some_and(|(l, _, _)| l.name == o.name && matches!(l.keyword, Keyword::While | Keyword::Do) && end_of.get(&k).is_some_and(|&e| e > pc)))
+                        .find(|&k| parsed[k].as_ref().is_some_and(|(l, _, _)| l.name == o.name && matches!(l.keyword, Keyword::While | Keyword::Do) && ends.get(k).copied().flatten().is_some_and(|e| e > pc)))
                         .expect("matched above");
-                    let end = end_of[&opener];
+                    let end = end_of(opener);
                     pc = match (o.keyword, parsed[opener].as_ref().map(|(l, _, _)| l.keyword)) {
                         (Keyword::Break, _) => end + 1,
                         // Continue: to the loop's test (a while's head, a do's tail).
@@ -441,23 +448,33 @@ impl Rs274Reader {
     }
 
     /// The `[...]` after a keyword, evaluated: its value, or None (the defect said, the run stopped).
-    /// `chars` is the line from its O word on, which stands at 0-based column `col`.
-    fn bracket(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, diags: &mut Diags) -> Option<f64> {
-        let start = skip_blanks(chars, o.rest);
-        if chars.get(start) != Some(&'[') {
-            self.stop(line, col + start + 1, format!("o{} {}: expected a [condition] or [count]", o.name, word(o.keyword)), diags);
-            return None;
-        }
-        match self.params.real_value(chars, start) {
-            Ok((v, end)) => {
-                let rest: String = chars[end..].iter().collect();
-                let rest = rest.trim();
-                if !(rest.is_empty() || rest.starts_with(';') || rest.starts_with('(')) {
-                    self.stop(line, col + end + 1, format!("o{} {}: unexpected '{}' after its [...]", o.name, word(o.keyword), excerpt(rest)), diags);
+    /// `chars` is the line from its O word on, which stands at 0-based column `col`; `kept` the
+    /// value compiled when first run.
+    fn bracket(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<f64> {
+        if kept.is_none() {
+            let start = skip_blanks(chars, o.rest);
+            if chars.get(start) != Some(&'[') {
+                self.stop(line, col + start + 1, format!("o{} {}: expected a [condition] or [count]", o.name, word(o.keyword)), diags);
+                return None;
+            }
+            match expr::value(chars, start) {
+                Ok((c, end)) => {
+                    let rest: String = chars[end..].iter().collect();
+                    let rest = rest.trim();
+                    if !(rest.is_empty() || rest.starts_with(';') || rest.starts_with('(')) {
+                        self.stop(line, col + end + 1, format!("o{} {}: unexpected '{}' after its [...]", o.name, word(o.keyword), excerpt(rest)), diags);
+                        return None;
+                    }
+                    *kept = Some(c);
+                }
+                Err(e) => {
+                    self.stop(line, col + e.column, format!("o{} {}: {}", o.name, word(o.keyword), e.message), diags);
                     return None;
                 }
-                Some(v)
             }
+        }
+        match kept.as_ref()?.eval(&self.params) {
+            Ok(v) => Some(v),
             Err(e) => {
                 self.stop(line, col + e.column, format!("o{} {}: {}", o.name, word(o.keyword), e.message), diags);
                 None
@@ -465,12 +482,12 @@ impl Rs274Reader {
         }
     }
 
-    fn condition(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, diags: &mut Diags) -> Option<bool> {
-        self.bracket(o, chars, line, col, diags).map(|v| v != 0.0)
+    fn condition(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<bool> {
+        self.bracket(o, chars, line, col, kept, diags).map(|v| v != 0.0)
     }
 
-    fn count(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, diags: &mut Diags) -> Option<f64> {
-        let n = self.bracket(o, chars, line, col, diags)?;
+    fn count(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<f64> {
+        let n = self.bracket(o, chars, line, col, kept, diags)?;
         if n.fract().abs() > 1e-4 && (1.0 - n.fract()).abs() > 1e-4 {
             self.stop(line, col + 1, format!("o{} repeat [{n}]: expected a whole count", o.name), diags);
             return None;

@@ -9,6 +9,7 @@
 
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
+use super::params::expr::{self, Compiled, Setting};
 use super::params::{skip_blanks, Parameters, Target};
 use super::{Block, Dialect, MCodeRule, Program};
 
@@ -152,18 +153,49 @@ impl Rs274Reader {
         if self.refused {
             return;
         }
-        // Room for every character at once (a char per byte at most): no regrowing as it fills.
         let text = text.trim_end_matches('\r');
+        if let Some(read) = self.read_line(line, text, diags) {
+            self.run_line(line, text, &read, out, diags);
+        }
+    }
+
+    /// A line an O-word block runs on each pass: read once (when reading it says nothing, so each
+    /// pass says what the first did), kept in `kept`, then run from what was read.
+    pub(super) fn loop_line(&mut self, line: usize, text: &str, kept: &mut Option<ReadLine>, out: &mut Vec<Block>, diags: &mut Diags) {
+        if self.refused {
+            return;
+        }
+        let text = text.trim_end_matches('\r');
+        if let Some(read) = kept {
+            return self.run_line(line, text, read, out, diags);
+        }
+        let before = diags.0.len();
+        if let Some(read) = self.read_line(line, text, diags) {
+            let quiet = diags.0.len() == before;
+            self.run_line(line, text, &read, out, diags);
+            if quiet {
+                *kept = Some(read);
+            }
+        }
+    }
+
+    /// A line's words and settings as read from its text (`\r` trimmed), values compiled, not yet
+    /// evaluated: what [`Rs274Reader::run_line`] runs, once or on each pass of a loop. None when
+    /// the line has nothing to run (blank, the tape's `%`, a title) or is damaged (said here).
+    pub(super) fn read_line(&mut self, line: usize, text: &str, diags: &mut Diags) -> Option<ReadLine> {
+        // Room for every character at once (a char per byte at most): no regrowing as it fills.
         let mut chars: Vec<char> = Vec::with_capacity(text.len());
         chars.extend(text.chars());
         let ascii = text.is_ascii();
-        let first = chars.iter().position(|c| !c.is_whitespace());
-        let Some(first) = first else { return };
+        // Where each character starts in the text (a word's text is a byte range of it).
+        let offsets: Vec<usize> = if ascii { Vec::new() } else { text.char_indices().map(|(b, _)| b).chain([text.len()]).collect() };
+        let byte = |i: usize| if ascii { i } else { offsets[i] };
+        let first = chars.iter().position(|c| !c.is_whitespace())?;
         if chars[first] == '%' {
             // Fanuc, Haas: the `%` after the program ends the tape ("end of record"); what follows
             // it (an NX listing's line count) is not program.
             self.refused = self.dialect.is_fanuc() && self.started;
-            return;
+            return None;
         }
         let errors_before = diags.errors();
         // Fanuc, Haas: the program opens with its number, `O` and digits (FANUC B-64014EN §2.5: "an O
@@ -174,23 +206,17 @@ impl Rs274Reader {
         if self.dialect.is_fanuc() && !self.started && matches!(chars[first], 'O' | 'o') {
             let after = chars[first + 1..].iter().find(|c| !c.is_whitespace());
             if !after.is_some_and(|c| c.is_ascii_digit()) {
-                let text: String = chars[first..].iter().collect();
-                diags.warning(line, first + 1, format!("'{}' is not a program number (O and digits): read as the program's title; the control may refuse to load the program for it", excerpt(text.trim_end())));
+                diags.warning(line, first + 1, format!("'{}' is not a program number (O and digits): read as the program's title; the control may refuse to load the program for it", excerpt(text[byte(first)..].trim_end())));
                 self.started = true;
-                return;
+                return None;
             }
         }
         if let Some(keyword) = o_word_control(&chars[first..]) {
             diags.error(line, first + 1, format!("O-word '{keyword}': LinuxCNC's control flow, not this dialect's"));
-            return;
+            return None;
         }
-        // A block's words: a five-axis move has about eight (N G X Y Z A C F), held without regrowing.
-        let mut words: Vec<Word> = Vec::with_capacity(10);
-        // Words whose value was computed (parameters, expressions): they carry their decimal point.
-        let mut computed: Vec<usize> = Vec::new();
-        let mut number = None;
-        // The line's parameter settings: made after every value on the line is read.
-        let mut settings: Vec<(Target, f64, usize)> = Vec::new();
+        // A five-axis move has about eight words (N G X Y Z A C F), held without regrowing.
+        let mut read = ReadLine { first, number: None, items: Vec::with_capacity(10) };
         let mut i = first;
         if chars[i] == '/' {
             diags.warning(line, i + 1, "block delete '/' is not modelled: the block is run");
@@ -211,10 +237,9 @@ impl Rs274Reader {
                     }
                 }
             } else if c == '#' {
-                let setting = if self.dialect.is_fanuc() { self.params.macro_setting(&chars, i) } else { self.params.setting(&chars, i) };
-                match setting {
-                    Ok((target, value, end)) => {
-                        settings.push((target, value, i + 1));
+                match expr::setting(&chars, i, self.dialect.is_fanuc()) {
+                    Ok((setting, end)) => {
+                        read.items.push(Item::Setting { setting, column: i + 1 });
                         i = end;
                     }
                     Err(e) => {
@@ -228,22 +253,21 @@ impl Rs274Reader {
                     break;
                 }
                 let letter = c.to_ascii_uppercase();
-                let col = i + 1;
+                let column = i + 1;
                 i += 1;
                 while i < chars.len() && (chars[i] == ' ' || chars[i] == '\t') {
                     i += 1;
                 }
                 let start = i;
                 if computed_value_at(&chars, start) {
-                    match self.params.real_value(&chars, start) {
-                        Ok((value, end)) => {
+                    match expr::value(&chars, start) {
+                        Ok((_, end)) if letter == 'N' => {
+                            diags.error(line, column, "a line number 'N' must be written as a number");
                             i = end;
-                            if letter == 'N' {
-                                diags.error(line, col, "a line number 'N' must be written as a number");
-                            } else {
-                                computed.push(words.len());
-                                words.push(Word { letter, value, raw: written(letter, value).into(), column: col, incremental: false });
-                            }
+                        }
+                        Ok((value, end)) => {
+                            read.items.push(Item::Word { letter, column, raw: (byte(start), byte(end)), value: Value::Computed(value) });
+                            i = end;
                         }
                         Err(e) => {
                             diags.error(line, e.column, format!("{letter}: {}", e.message));
@@ -255,25 +279,22 @@ impl Rs274Reader {
                 while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.' || ((chars[i] == '+' || chars[i] == '-') && i == start)) {
                     i += 1;
                 }
-                // On an ASCII line (nearly every one) a character is a byte: the number's text is the
-                // line's own, not a copy.
-                let number_text: std::borrow::Cow<str> = if ascii { std::borrow::Cow::Borrowed(&text[start..i]) } else { chars[start..i].iter().collect::<String>().into() };
-                match parse_number(&number_text) {
+                let number_text = &text[byte(start)..byte(i)];
+                match parse_number(number_text) {
                     Some(v) if letter == 'N' => {
                         if v.fract() == 0.0 && v >= 0.0 {
-                            number = Some(v as u64);
+                            read.number = Some(v as u64);
                         } else {
-                            diags.error(line, col, format!("expected a whole line number after 'N', found '{number_text}'"));
+                            diags.error(line, column, format!("expected a whole line number after 'N', found '{number_text}'"));
                         }
                     }
-                    Some(v) => words.push(Word { letter, value: v, raw: number_text, column: col, incremental: false }),
+                    Some(v) => read.items.push(Item::Word { letter, column, raw: (byte(start), byte(i)), value: Value::Written(v) }),
                     None => {
                         let mut end = i;
                         while end < chars.len() && !chars[end].is_whitespace() {
                             end += 1;
                         }
-                        let found: String = chars[start..end].iter().collect();
-                        diags.error(line, col, format!("expected a number after '{letter}', found '{}'", excerpt(&found)));
+                        diags.error(line, column, format!("expected a number after '{letter}', found '{}'", excerpt(&text[byte(start)..byte(end)])));
                         i = end.max(i + usize::from(i == start));
                     }
                 }
@@ -287,9 +308,53 @@ impl Rs274Reader {
                 while end < chars.len() && !chars[end].is_whitespace() {
                     end += 1;
                 }
-                let found: String = chars[i..end].iter().collect();
-                diags.error(line, i + 1, format!("unexpected '{}': expected a word such as G1 or X10.5", excerpt(&found)));
+                diags.error(line, i + 1, format!("unexpected '{}': expected a word such as G1 or X10.5", excerpt(&text[byte(i)..byte(end)])));
                 i = end;
+            }
+        }
+        if diags.errors() > errors_before {
+            diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+            return None;
+        }
+        Some(read)
+    }
+
+    /// Run a line as read: its values evaluated with the parameters as they stand, left to right
+    /// (the first that cannot be is the line's defect), its settings made after every value is
+    /// read (`#3=6 G1 X#3` moves to the old `#3`), then its words interpreted.
+    pub(super) fn run_line(&mut self, line: usize, text: &str, read: &ReadLine, out: &mut Vec<Block>, diags: &mut Diags) {
+        let errors_before = diags.errors();
+        let mut words: Vec<Word> = Vec::with_capacity(read.items.len());
+        // Words whose value was computed (parameters, expressions): they carry their decimal point.
+        let mut computed: Vec<usize> = Vec::new();
+        let mut settings: Vec<(Target, f64, usize)> = Vec::new();
+        for item in &read.items {
+            match item {
+                Item::Word { letter, column, raw, value: Value::Written(v) } => words.push(Word { letter: *letter, value: *v, raw: text[raw.0..raw.1].into(), column: *column, incremental: false }),
+                Item::Word { letter, column, raw, value: Value::Computed(c) } => match c.eval(&self.params) {
+                    Ok(value) => {
+                        computed.push(words.len());
+                        // A coordinate's, feed's or arc's computed value: its text is the expression
+                        // as written (for messages; formatting the number costs more than reading
+                        // it). Codes and events carry the number.
+                        let raw: std::borrow::Cow<str> = match letter {
+                            'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' | 'I' | 'J' | 'K' | 'R' | 'F' => text[raw.0..raw.1].trim_end().into(),
+                            _ => written(*letter, value).into(),
+                        };
+                        words.push(Word { letter: *letter, value, raw, column: *column, incremental: false });
+                    }
+                    Err(e) => {
+                        diags.error(line, e.column, format!("{letter}: {}", e.message));
+                        break;
+                    }
+                },
+                Item::Setting { setting, column } => match setting.run(&self.params) {
+                    Ok((target, value)) => settings.push((target, value, *column)),
+                    Err(e) => {
+                        diags.error(line, e.column, e.message);
+                        break;
+                    }
+                },
             }
         }
         if diags.errors() == errors_before {
@@ -299,6 +364,7 @@ impl Rs274Reader {
                 }
             }
         }
+        let first = read.first;
         let damaged = diags.errors() > errors_before;
         if damaged {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
@@ -312,7 +378,7 @@ impl Rs274Reader {
         // Any other O word (LinuxCNC's `o100 sub`, a second program after `%`) stays an error below.
         let started = std::mem::replace(&mut self.started, true);
         if let [w] = &words[..] {
-            if !started && number.is_none() && w.letter == 'O' && w.value.fract() == 0.0 && w.value >= 1.0 && !w.raw.contains(['.', '+', '-']) {
+            if !started && read.number.is_none() && w.letter == 'O' && w.value.fract() == 0.0 && w.value >= 1.0 && !w.raw.contains(['.', '+', '-']) {
                 self.number = Some(format!("O{}", w.raw));
                 return;
             }
@@ -325,7 +391,7 @@ impl Rs274Reader {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             return;
         }
-        if !self.interp.block(&words, line, col, number, diags, out) {
+        if !self.interp.block(&words, line, col, read.number, diags, out) {
             diags.warning(line, first + 1, format!("line {line} not used"));
         }
     }
@@ -357,6 +423,31 @@ impl Rs274Reader {
             w.value *= step;
         }
     }
+}
+
+/// A line as read, to run once or on each pass of a loop ([`Rs274Reader::read_line`]).
+#[derive(Debug, Clone)]
+pub(super) struct ReadLine {
+    /// The 0-based column of its first character that is not blank.
+    first: usize,
+    /// Its `N` number.
+    number: Option<u64>,
+    /// Its words and settings, in order.
+    items: Vec<Item>,
+}
+
+/// A word or a parameter setting of a line; a word's text is a byte range of the line.
+#[derive(Debug, Clone)]
+enum Item {
+    Word { letter: char, column: usize, raw: (usize, usize), value: Value },
+    Setting { setting: Setting, column: usize },
+}
+
+/// A word's value: written, or compiled from parameters and expressions.
+#[derive(Debug, Clone)]
+enum Value {
+    Written(f64),
+    Computed(Compiled),
 }
 
 /// Whether the value at `chars[i]` is one the parameters evaluate (LinuxCNC `read_real_value`): a
@@ -416,7 +507,13 @@ fn o_word_control(chars: &[char]) -> Option<String> {
 
 /// Fanuc custom macro B's control words (`IF [..] GOTO n`, `WHILE [..] DO1`, `END1`) where a word
 /// letter would stand: the word, upper case.
-fn macro_control(chars: &[char]) -> Option<String> {
-    let word: String = chars.iter().take_while(|c| c.is_ascii_alphabetic()).map(|c| c.to_ascii_uppercase()).collect();
-    ["IF", "WHILE", "GOTO", "DO", "END", "THEN"].contains(&word.as_str()).then_some(word)
+fn macro_control(chars: &[char]) -> Option<&'static str> {
+    // A word letter stands alone before its value: only a run of two letters or more can be one.
+    if !chars.get(1).is_some_and(|c| c.is_ascii_alphabetic()) {
+        return None;
+    }
+    let len = chars.iter().take_while(|c| c.is_ascii_alphabetic()).count();
+    ["IF", "WHILE", "GOTO", "DO", "END", "THEN"]
+        .into_iter()
+        .find(|w| w.len() == len && chars.iter().zip(w.chars()).all(|(c, u)| c.to_ascii_uppercase() == u))
 }

@@ -1,0 +1,614 @@
+//! RS274NGC values compiled once, evaluated on each pass (LinuxCNC manual §11.4.4-11.4.8): a line
+//! an O-word loop runs a thousand times is read once, its expressions kept as postfix steps.
+//!
+//! A real value is a number, a parameter, an expression, a unary function or one of those with a
+//! sign (`X-#3`). What only the text decides (syntax, unknown functions, names too long, nesting)
+//! is refused when compiled; what depends on the parameters (one read before it is set, a division
+//! by zero, `SQRT` of a negative) when evaluated. Columns are 1-based characters of the text read.
+
+use super::{err, is_machine_state, ExprError, Parameters, Target, INTEGER_CLOSE, MAX_NAME_CHARS, MAX_PARAMETER, MAX_USER_PARAMETER};
+
+/// Deepest nesting of brackets, functions and `#` in one value (the compiler's recursion stays bounded).
+const MAX_DEPTH: usize = 64;
+/// LinuxCNC's `TOLERANCE_EQUAL`: EQ and NE compare within it; the other comparisons are strict.
+const TOLERANCE_EQUAL: f64 = 1e-4;
+/// Values an evaluation holds on the stack before it takes the heap.
+const STACK: usize = 16;
+
+/// The binary operators by precedence group (LinuxCNC manual table 11.5), lowest first.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Op {
+    And,
+    Or,
+    Xor,
+    Eq,
+    Ne,
+    Gt,
+    Ge,
+    Lt,
+    Le,
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Mod,
+    Pow,
+}
+
+impl Op {
+    fn precedence(self) -> u8 {
+        match self {
+            Op::And | Op::Or | Op::Xor => 0,
+            Op::Eq | Op::Ne | Op::Gt | Op::Ge | Op::Lt | Op::Le => 1,
+            Op::Add | Op::Sub => 2,
+            Op::Mul | Op::Div | Op::Mod => 3,
+            Op::Pow => 4,
+        }
+    }
+
+    /// LinuxCNC's `execute_binary`: MOD is non-negative for a positive divisor (`fmod`, then plus
+    /// `|b|` if negative), `**` of a negative base needs a whole exponent, logic is on non-zero.
+    fn apply(self, a: f64, b: f64, column: usize) -> Result<f64, ExprError> {
+        let truth = |x: bool| if x { 1.0 } else { 0.0 };
+        let v = match self {
+            Op::And => truth(a != 0.0 && b != 0.0),
+            Op::Or => truth(a != 0.0 || b != 0.0),
+            Op::Xor => truth((a != 0.0) != (b != 0.0)),
+            Op::Eq => truth((a - b).abs() < TOLERANCE_EQUAL),
+            Op::Ne => truth((a - b).abs() >= TOLERANCE_EQUAL),
+            Op::Gt => truth(a > b),
+            Op::Ge => truth(a >= b),
+            Op::Lt => truth(a < b),
+            Op::Le => truth(a <= b),
+            Op::Add => a + b,
+            Op::Sub => a - b,
+            Op::Mul => a * b,
+            Op::Div if b == 0.0 => return err(column, "division by zero"),
+            Op::Div => a / b,
+            Op::Mod if b == 0.0 => return err(column, "MOD by zero"),
+            Op::Mod => {
+                let r = a % b;
+                if r < 0.0 { r + b.abs() } else { r }
+            }
+            Op::Pow if a < 0.0 && b.fract() != 0.0 => return err(column, format!("{a} ** {b}: a negative number to a non-integer power")),
+            Op::Pow => a.powf(b),
+        };
+        if v.is_finite() { Ok(v) } else { err(column, format!("the result is not a finite number ({a} and {b})")) }
+    }
+}
+
+/// The unary functions of one argument (LinuxCNC manual §11.4.8); angles in degrees.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Function {
+    Abs,
+    Acos,
+    Asin,
+    Cos,
+    Sin,
+    Tan,
+    Exp,
+    Ln,
+    Sqrt,
+    Fix,
+    Fup,
+    Round,
+}
+
+impl Function {
+    const ALL: [(&'static str, Function); 12] = [
+        ("ABS", Function::Abs),
+        ("ACOS", Function::Acos),
+        ("ASIN", Function::Asin),
+        ("COS", Function::Cos),
+        ("SIN", Function::Sin),
+        ("TAN", Function::Tan),
+        ("EXP", Function::Exp),
+        ("LN", Function::Ln),
+        ("SQRT", Function::Sqrt),
+        ("FIX", Function::Fix),
+        ("FUP", Function::Fup),
+        ("ROUND", Function::Round),
+    ];
+
+    fn name(self) -> &'static str {
+        Function::ALL.iter().find(|(_, f)| *f == self).map_or("?", |(n, _)| n)
+    }
+
+    fn apply(self, x: f64, column: usize) -> Result<f64, ExprError> {
+        let name = self.name();
+        let v = match self {
+            Function::Abs => x.abs(),
+            Function::Acos | Function::Asin if !(-1.0..=1.0).contains(&x) => return err(column, format!("{name}[{x}]: the argument must be -1 to 1")),
+            Function::Acos => x.acos().to_degrees(),
+            Function::Asin => x.asin().to_degrees(),
+            Function::Cos => x.to_radians().cos(),
+            Function::Sin => x.to_radians().sin(),
+            Function::Tan => x.to_radians().tan(),
+            Function::Exp => x.exp(),
+            Function::Ln if x <= 0.0 => return err(column, format!("LN[{x}]: the argument must be positive")),
+            Function::Ln => x.ln(),
+            Function::Sqrt if x < 0.0 => return err(column, format!("SQRT[{x}]: the argument must not be negative")),
+            Function::Sqrt => x.sqrt(),
+            Function::Fix => x.floor(),
+            Function::Fup => x.ceil(),
+            Function::Round => x.round(),
+        };
+        if v.is_finite() { Ok(v) } else { err(column, format!("{name}[{x}] is not a finite number")) }
+    }
+}
+
+/// One step of a compiled value, in postfix order; columns are where the step's text starts.
+#[derive(Debug, Clone, PartialEq)]
+enum Step {
+    Number(f64),
+    /// `#n` of a written number.
+    Numbered(u32, usize),
+    /// `#` of the value on top of the stack: its whole number names the parameter.
+    Indirect(usize),
+    /// `#<name>`, lower case without blanks.
+    Named(Box<str>, usize),
+    /// `EXISTS[#<name>]`.
+    Exists(Box<str>),
+    Negate,
+    Function(Function, usize),
+    /// `ATAN[y]/[x]`: the two values on top, y below x.
+    Atan,
+    Binary(Op, usize),
+}
+
+/// A value compiled from a line's text: evaluate it against the parameters as they stand.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Compiled {
+    steps: Vec<Step>,
+    /// The most values the steps hold at once.
+    stack: usize,
+}
+
+/// A setting's parameter: named in the text, or a number computed when it runs (`#[#1 + 1] = 5`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum CompiledTarget {
+    Fixed(Target),
+    Indirect(Compiled, usize),
+}
+
+/// A parameter setting `#ref = value`, compiled.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Setting {
+    pub target: CompiledTarget,
+    pub value: Compiled,
+}
+
+impl Compiled {
+    /// The value, with the parameters as they stand.
+    pub fn eval(&self, params: &Parameters) -> Result<f64, ExprError> {
+        let mut small = [0.0f64; STACK];
+        let mut large = Vec::new();
+        let stack: &mut [f64] = if self.stack <= STACK {
+            &mut small
+        } else {
+            large.resize(self.stack, 0.0);
+            &mut large
+        };
+        let mut n = 0;
+        for step in &self.steps {
+            match step {
+                Step::Number(v) => {
+                    stack[n] = *v;
+                    n += 1;
+                }
+                Step::Numbered(k, col) => {
+                    stack[n] = params.read_numbered(*k, *col)?;
+                    n += 1;
+                }
+                Step::Indirect(col) => stack[n - 1] = params.read_numbered(parameter_number(stack[n - 1], *col)?, *col)?,
+                Step::Named(name, col) => {
+                    stack[n] = params.read_named(name, *col)?;
+                    n += 1;
+                }
+                Step::Exists(name) => {
+                    stack[n] = if params.has_named(name) { 1.0 } else { 0.0 };
+                    n += 1;
+                }
+                Step::Negate => stack[n - 1] = -stack[n - 1],
+                Step::Function(f, col) => stack[n - 1] = f.apply(stack[n - 1], *col)?,
+                Step::Atan => {
+                    n -= 1;
+                    stack[n - 1] = stack[n - 1].atan2(stack[n]).to_degrees();
+                }
+                Step::Binary(op, col) => {
+                    n -= 1;
+                    stack[n - 1] = op.apply(stack[n - 1], stack[n], *col)?;
+                }
+            }
+        }
+        Ok(stack[0])
+    }
+
+    /// The value if it needs no parameter (a number, or arithmetic of numbers that cannot fail).
+    fn constant(&self) -> Option<f64> {
+        match self.steps[..] {
+            [Step::Number(v)] => Some(v),
+            _ => None,
+        }
+    }
+}
+
+impl Setting {
+    /// The parameter it sets and the value, with the parameters as they stand (a computed index
+    /// naming a system parameter is refused as a written one is).
+    pub fn run(&self, params: &Parameters) -> Result<(Target, f64), ExprError> {
+        let target = self.target.eval(params)?;
+        if let (CompiledTarget::Indirect(_, column), Target::Numbered(n)) = (&self.target, &target) {
+            if *n > MAX_USER_PARAMETER {
+                return err(*column, format!("{target} is a system parameter (offsets, tool, position): setting it is not modelled"));
+            }
+        }
+        Ok((target, self.value.eval(params)?))
+    }
+}
+
+impl CompiledTarget {
+    /// The parameter it names with the parameters as they stand (`column`: the `#`'s).
+    pub fn eval(&self, params: &Parameters) -> Result<Target, ExprError> {
+        match self {
+            CompiledTarget::Fixed(t) => Ok(t.clone()),
+            CompiledTarget::Indirect(c, column) => Ok(Target::Numbered(parameter_number(c.eval(params)?, *column)?)),
+        }
+    }
+}
+
+/// A value meant as a parameter's number: a whole number 1 to [`MAX_PARAMETER`].
+fn parameter_number(v: f64, column: usize) -> Result<u32, ExprError> {
+    let n = v.round();
+    if (v - n).abs() > INTEGER_CLOSE || !(1.0..=MAX_PARAMETER as f64).contains(&n) {
+        return err(column, format!("#{v}: a parameter number must be a whole number 1 to {MAX_PARAMETER}"));
+    }
+    Ok(n as u32)
+}
+
+/// The real value that starts at `chars[i]` (after blanks), compiled: it and the index after it.
+pub fn value(chars: &[char], i: usize) -> Result<(Compiled, usize), ExprError> {
+    let mut c = Compiler::new(chars);
+    let end = c.value(i)?;
+    Ok((c.finish(), end))
+}
+
+/// The setting `#ref = value` at `chars[i] == '#'`, compiled. `bare`: Fanuc's macro statement,
+/// whose expression runs on without brackets (FANUC B-64484EN, "Custom macro": "#i = <expression>").
+/// A system parameter or the machine's state is refused: this reader does not model them.
+pub fn setting(chars: &[char], i: usize, bare: bool) -> Result<(Setting, usize), ExprError> {
+    let mut c = Compiler::new(chars);
+    let (target, j) = c.target(i)?;
+    let what = if bare { "an expression" } else { "a value" };
+    let system = if bare { "system variable" } else { "system parameter" };
+    match &target {
+        CompiledTarget::Fixed(t @ Target::Numbered(n)) if *n > MAX_USER_PARAMETER => return err(i + 1, format!("{t} is a {system} (offsets, tool, position): setting it is not modelled")),
+        CompiledTarget::Fixed(t @ Target::Named(n)) if !bare && is_machine_state(n) => return err(i + 1, format!("{t} is read-only (the interpreter's or the machine's state)")),
+        _ => {}
+    }
+    let j = c.blank(j);
+    if chars.get(j) != Some(&'=') {
+        let shown = match &target {
+            CompiledTarget::Fixed(t) => t.to_string(),
+            CompiledTarget::Indirect(..) => chars[i..j].iter().collect::<String>().trim_end().to_string(),
+        };
+        return err(i + 1, format!("{shown} stands alone: expected '=' and {what} to set it (or a word letter before it)"));
+    }
+    let end = if bare { c.binary(j + 1, 0)? } else { c.value(j + 1)? };
+    Ok((Setting { target, value: c.finish() }, end))
+}
+
+/// A `#` reference as read: a number's value compiled, or a name's span (between `<` and `>`).
+enum Ref {
+    Value,
+    Named(usize, usize),
+}
+
+/// Compiles one value from a line's characters (recursive descent, bounded by [`MAX_DEPTH`]).
+struct Compiler<'a> {
+    chars: &'a [char],
+    steps: Vec<Step>,
+    depth: usize,
+    /// Values held now, and the most held at once.
+    held: usize,
+    most: usize,
+}
+
+impl<'a> Compiler<'a> {
+    fn new(chars: &'a [char]) -> Compiler<'a> {
+        Compiler { chars, steps: Vec::new(), depth: 0, held: 0, most: 0 }
+    }
+
+    fn finish(self) -> Compiled {
+        Compiled { steps: self.steps, stack: self.most }
+    }
+
+    /// Add a step; `pushes` the values it leaves less those it takes (1, 0 or -1).
+    fn emit(&mut self, step: Step, pushes: isize) {
+        self.held = self.held.saturating_add_signed(pushes);
+        self.most = self.most.max(self.held);
+        self.steps.push(step);
+    }
+
+    fn blank(&self, i: usize) -> usize {
+        super::skip_blanks(self.chars, i)
+    }
+
+    fn deeper(&mut self, column: usize) -> Result<(), ExprError> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return err(column, format!("a value nested more than {MAX_DEPTH} deep"));
+        }
+        Ok(())
+    }
+
+    /// A real value (LinuxCNC `read_real_value`): `[expr]`, `#ref`, a sign before a non-number, a
+    /// unary function, or a number.
+    fn value(&mut self, i: usize) -> Result<usize, ExprError> {
+        let i = self.blank(i);
+        self.deeper(i + 1)?;
+        let out = match self.chars.get(i) {
+            None => err(i + 1, "expected a value, found the end of the line"),
+            Some('[') => self.expression(i),
+            Some('#') => match self.reference(i)? {
+                (Ref::Value, j) => {
+                    self.parameter_of_value(i + 1)?;
+                    Ok(j)
+                }
+                (Ref::Named(a, b), j) => {
+                    let name = self.name(a, b)?;
+                    self.emit(Step::Named(name.into(), i + 1), 1);
+                    Ok(j)
+                }
+            },
+            Some(&c @ ('+' | '-')) if !self.chars.get(self.blank(i + 1)).is_some_and(|n| n.is_ascii_digit() || *n == '.') => {
+                let j = self.value(i + 1)?;
+                if c == '-' {
+                    self.emit(Step::Negate, 0);
+                }
+                Ok(j)
+            }
+            Some(c) if c.is_ascii_alphabetic() => self.function(i),
+            Some(_) => self.number(i),
+        };
+        self.depth -= 1;
+        out
+    }
+
+    /// The value just compiled names a parameter (`#3`, `#[#1 + 1]`): read it, at `column`.
+    fn parameter_of_value(&mut self, column: usize) -> Result<(), ExprError> {
+        if let Some(Step::Number(v)) = self.steps.last() {
+            let k = parameter_number(*v, column)?;
+            self.steps.pop();
+            self.emit(Step::Numbered(k, column), 0);
+        } else {
+            self.emit(Step::Indirect(column), 0);
+        }
+        Ok(())
+    }
+
+    fn number(&mut self, i: usize) -> Result<usize, ExprError> {
+        let mut j = i;
+        if matches!(self.chars.get(j), Some('+' | '-')) {
+            j = self.blank(j + 1);
+        }
+        let digits = j;
+        while self.chars.get(j).is_some_and(|c| c.is_ascii_digit() || *c == '.') {
+            j += 1;
+        }
+        // The sign, digits and point are ASCII: their text on the stack (a long one on the heap).
+        let mut stack = [0u8; 64];
+        let mut len = 0;
+        let mut heap = String::new();
+        for c in self.chars[i..j].iter().filter(|c| !c.is_whitespace()) {
+            if len < stack.len() {
+                stack[len] = *c as u8;
+                len += 1;
+            } else {
+                if heap.is_empty() {
+                    heap.push_str(std::str::from_utf8(&stack).unwrap_or_default());
+                }
+                heap.push(*c);
+            }
+        }
+        let text = if heap.is_empty() { std::str::from_utf8(&stack[..len]).unwrap_or_default() } else { heap.as_str() };
+        match crate::program::lex::parse_number(text) {
+            Some(v) if j > digits => {
+                self.emit(Step::Number(v), 1);
+                Ok(j)
+            }
+            _ => {
+                let found: String = self.chars[i..].iter().take_while(|c| !c.is_whitespace()).collect();
+                err(i + 1, format!("expected a number, a parameter or an expression, found '{}'", crate::program::lex::excerpt(&found)))
+            }
+        }
+    }
+
+    /// `[` expression `]`: operands and binary operators, by precedence, left to right within a group.
+    fn expression(&mut self, i: usize) -> Result<usize, ExprError> {
+        let j = self.binary(i + 1, 0)?;
+        let j = self.blank(j);
+        match self.chars.get(j) {
+            Some(']') => Ok(j + 1),
+            Some(_) => {
+                let found: String = self.chars[j..].iter().take_while(|c| !c.is_whitespace()).collect();
+                err(j + 1, format!("expected an operator or ']', found '{}'", crate::program::lex::excerpt(&found)))
+            }
+            None => err(i + 1, "'[' is not closed: expected ']' on the same line"),
+        }
+    }
+
+    /// Precedence climbing: operands joined by operators of group `min` or higher.
+    fn binary(&mut self, i: usize, min: u8) -> Result<usize, ExprError> {
+        let mut j = self.value(i)?;
+        loop {
+            let Some((op, len, at)) = self.operator(j) else { return Ok(j) };
+            if op.precedence() < min {
+                return Ok(j);
+            }
+            j = self.binary(at + len, op.precedence() + 1)?;
+            self.emit(Step::Binary(op, at + 1), -1);
+        }
+    }
+
+    /// The binary operator at `i` (after blanks), its length and where it starts.
+    fn operator(&self, i: usize) -> Option<(Op, usize, usize)> {
+        let i = self.blank(i);
+        let c = *self.chars.get(i)?;
+        let sym = match c {
+            '*' if self.chars.get(i + 1) == Some(&'*') => return Some((Op::Pow, 2, i)),
+            '*' => Some(Op::Mul),
+            '/' => Some(Op::Div),
+            '+' => Some(Op::Add),
+            '-' => Some(Op::Sub),
+            _ => None,
+        };
+        if let Some(op) = sym {
+            return Some((op, 1, i));
+        }
+        if !c.is_ascii_alphabetic() {
+            return None;
+        }
+        for (name, op) in [("MOD", Op::Mod), ("AND", Op::And), ("XOR", Op::Xor), ("OR", Op::Or), ("EQ", Op::Eq), ("NE", Op::Ne), ("GT", Op::Gt), ("GE", Op::Ge), ("LT", Op::Lt), ("LE", Op::Le)] {
+            if starts_with_word(&self.chars[i..], name) {
+                return Some((op, name.len(), i));
+            }
+        }
+        None
+    }
+
+    /// A unary function `NAME[arg]` (`ATAN[y]/[x]`, `EXISTS[#<name>]`).
+    fn function(&mut self, i: usize) -> Result<usize, ExprError> {
+        let mut j = i;
+        while self.chars.get(j).is_some_and(|c| c.is_ascii_alphabetic()) {
+            j += 1;
+        }
+        let word = &self.chars[i..j];
+        let open = self.blank(j);
+        if self.chars.get(open) != Some(&'[') {
+            let found: String = self.chars[i..].iter().take_while(|c| !c.is_whitespace()).collect();
+            return err(i + 1, format!("expected a number, a parameter or an expression, found '{}'", crate::program::lex::excerpt(&found)));
+        }
+        let is = |name: &str| word.len() == name.len() && starts_with_word(word, name);
+        if is("EXISTS") {
+            let k = self.blank(open + 1);
+            if self.chars.get(k) != Some(&'#') || self.chars.get(self.blank(k + 1)) != Some(&'<') {
+                return err(k + 1, "EXISTS takes a named parameter: EXISTS[#<name>]");
+            }
+            let (Ref::Named(a, b), k) = self.reference(k)? else { unreachable!("checked: a named parameter") };
+            let k = self.blank(k);
+            if self.chars.get(k) != Some(&']') {
+                return err(k + 1, "expected ']' after EXISTS's parameter");
+            }
+            let name = self.name(a, b)?;
+            if is_machine_state(&name) {
+                return err(i + 1, format!("EXISTS[#<{name}>]: the interpreter's and machine's parameters are not modelled"));
+            }
+            self.emit(Step::Exists(name.into()), 1);
+            return Ok(k + 1);
+        }
+        if is("ATAN") {
+            let k = self.expression(open)?;
+            let slash = self.blank(k);
+            if self.chars.get(slash) != Some(&'/') || self.chars.get(self.blank(slash + 1)) != Some(&'[') {
+                return err(slash + 1, "ATAN takes two arguments: ATAN[y]/[x]");
+            }
+            // ATAN[y]/[x]: the first argument is the numerator.
+            let k2 = self.expression(self.blank(slash + 1))?;
+            self.emit(Step::Atan, -1);
+            return Ok(k2);
+        }
+        let Some(&(_, f)) = Function::ALL.iter().find(|(name, _)| is(name)) else {
+            let name: String = word.iter().map(|c| c.to_ascii_uppercase()).collect();
+            return err(i + 1, format!("unknown function {name}: expected ABS ACOS ASIN ATAN COS EXISTS EXP FIX FUP LN ROUND SIN SQRT TAN"));
+        };
+        let k = self.expression(open)?;
+        self.emit(Step::Function(f, i + 1), 0);
+        Ok(k)
+    }
+
+    /// `#` and what it names: `<name>` (the span inside the brackets), or a real value (compiled
+    /// here) whose whole number is the parameter's.
+    fn reference(&mut self, i: usize) -> Result<(Ref, usize), ExprError> {
+        let j = self.blank(i + 1);
+        if self.chars.get(j) == Some(&'<') {
+            let Some(close) = self.chars[j..].iter().position(|&c| c == '>') else {
+                return err(j + 1, "'#<' is not closed: expected '>' on the same line");
+            };
+            return Ok((Ref::Named(j + 1, j + close), j + close + 1));
+        }
+        self.deeper(i + 1)?;
+        let k = self.value(j)?;
+        self.depth -= 1;
+        Ok((Ref::Value, k))
+    }
+
+    /// A setting's parameter at `chars[i] == '#'`.
+    fn target(&mut self, i: usize) -> Result<(CompiledTarget, usize), ExprError> {
+        match self.reference(i)? {
+            (Ref::Named(a, b), j) => Ok((CompiledTarget::Fixed(Target::Named(self.name(a, b)?)), j)),
+            (Ref::Value, j) => {
+                let index = Compiled { steps: std::mem::take(&mut self.steps), stack: self.most };
+                (self.held, self.most) = (0, 0);
+                match index.constant() {
+                    Some(v) => Ok((CompiledTarget::Fixed(Target::Numbered(parameter_number(v, i + 1)?)), j)),
+                    None => Ok((CompiledTarget::Indirect(index, i + 1), j)),
+                }
+            }
+        }
+    }
+
+    /// The name between `#<` and `>` (`chars[a..b]`) as LinuxCNC keys it: without blanks, lower case.
+    fn name(&self, a: usize, b: usize) -> Result<String, ExprError> {
+        let name: String = self.chars[a..b].iter().filter(|c| !c.is_whitespace()).flat_map(|c| c.to_lowercase()).collect();
+        if name.is_empty() {
+            return err(a, "'#<>' names no parameter");
+        }
+        if name.chars().count() > MAX_NAME_CHARS {
+            return err(a, format!("a parameter name longer than {MAX_NAME_CHARS} characters"));
+        }
+        Ok(name)
+    }
+}
+
+/// Whether `chars` begins with the ASCII word `upper` in any case.
+fn starts_with_word(chars: &[char], upper: &str) -> bool {
+    chars.len() >= upper.len() && chars.iter().zip(upper.bytes()).all(|(c, u)| c.to_ascii_uppercase() == u as char)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A loop's line read once and run with the parameters of each pass: the same values as the
+    /// text read each time, and a parameter read before it is set is refused on the pass that reads it.
+    #[test]
+    fn compiled_once_evaluated_per_pass() {
+        let chars: Vec<char> = "[[#<k> MOD 7] * 0.5 - ATAN[#<k>]/[2] + FIX[#<k> / 3]]".chars().collect();
+        let (c, end) = value(&chars, 0).unwrap();
+        assert_eq!(end, chars.len());
+        let mut p = Parameters::default();
+        assert!(c.eval(&p).unwrap_err().message.contains("not defined"));
+        for k in 0..20 {
+            p.set(Target::Named("k".into()), k as f64, 1).unwrap();
+            let kf = k as f64;
+            let want = (kf % 7.0) * 0.5 - kf.atan2(2.0).to_degrees() + (kf / 3.0).floor();
+            assert!((c.eval(&p).unwrap() - want).abs() < 1e-12, "k {k}");
+        }
+    }
+
+    /// `#[#1 + 1] = 5` sets the parameter its index names when it runs; `#2` is read through `#[...]`.
+    #[test]
+    fn indirect_settings_name_their_parameter_when_run() {
+        let chars: Vec<char> = "#[#1 + 1] = [#[#1] * 2]".chars().collect();
+        let (s, end) = setting(&chars, 0, false).unwrap();
+        assert_eq!(end, chars.len());
+        let mut p = Parameters::default();
+        p.set(Target::Numbered(1), 3.0, 1).unwrap();
+        p.set(Target::Numbered(3), 4.0, 1).unwrap();
+        assert_eq!(s.target.eval(&p).unwrap(), Target::Numbered(4));
+        assert_eq!(s.value.eval(&p).unwrap(), 8.0);
+        p.set(Target::Numbered(1), 5000.5, 1).unwrap();
+        assert!(s.target.eval(&p).unwrap_err().message.contains("whole number"));
+    }
+}
