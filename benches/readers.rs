@@ -4,8 +4,9 @@
 //! analyze` reads it. Prints blocks/s and MB/s per dialect, best of three reads.
 //!
 //! usage: cargo bench --bench readers [-- BLOCKS] [DIALECT]     (default 1000000, every dialect;
-//! DIALECT one of rs274 heidenhain sinumerik klartext fanuc haas cl apt rs274loop; rs274loop makes a
-//! quarter of BLOCKS moves in a LinuxCNC O-word loop, each computed from expressions)
+//! DIALECT one of rs274 heidenhain sinumerik klartext fanuc haas cl apt, or a loop: rs274loop
+//! fanucloop sinumerikloop klartextloop make a quarter of BLOCKS moves in a loop of the dialect's
+//! parameter language, each computed from expressions, and print the blocks they run per second)
 
 use fiveaxis::program::{read, Dialect, ReadOptions};
 use std::fmt::Write;
@@ -27,16 +28,54 @@ fn pose(k: usize) -> ([f64; 3], [f64; 3], [f64; 2]) {
     ([x, y, z], o, [aa, cc])
 }
 
-/// A LinuxCNC program making `blocks` moves in an O-word loop: each pass evaluates its X Y Z A C
-/// from the loop counter (a wavy raster as above, in expressions), so a parameter program's cost per
-/// block can be set beside a written one's (issue 64: "parameter programs cost no more than their
-/// blocks"). Four lines run per move: the test, the move, the count, the loop's end.
-fn loop_program(blocks: usize) -> String {
-    format!(
-        "G21 G90 G94\nG1 F2000\n#<k> = 0\no1 while [#<k> LT {blocks}]\n\
-         G1 X[[#<k> MOD 1001] * 0.1 - 50] Y[[FIX[#<k> / 1001] MOD 200] * 0.5 - 50] Z[8 * SIN[[#<k> MOD 1001] * 0.48] - 10] A[10 + 5 * COS[#<k> * 0.01]] C[#<k> * 0.02]\n\
-         #<k> = [#<k> + 1]\no1 endwhile\nM2\n"
-    )
+/// A program making `moves` moves in a loop of its dialect's parameter language: each pass
+/// evaluates its X Y Z and orientation from the loop counter (a wavy raster as above, in
+/// expressions), so a parameter program's cost per block run can be set beside a written one's
+/// (issue 64: "parameter programs cost no more than their blocks"). The program and the blocks
+/// (lines) it runs in all: the loop's lines on every pass, its setup once.
+fn loop_program(dialect: Dialect, moves: usize) -> (String, usize) {
+    match dialect {
+        // LinuxCNC O-words (manual, "O Codes"): the test, the move, the count, the loop's end.
+        Dialect::Rs274 => (
+            format!(
+                "G21 G90 G94\nG1 F2000\n#<k> = 0\no1 while [#<k> LT {moves}]\n\
+                 G1 X[[#<k> MOD 1001] * 0.1 - 50] Y[[FIX[#<k> / 1001] MOD 200] * 0.5 - 50] Z[8 * SIN[[#<k> MOD 1001] * 0.48] - 10] A[10 + 5 * COS[#<k> * 0.01]] C[#<k> * 0.02]\n\
+                 #<k> = [#<k> + 1]\no1 endwhile\nM2\n"
+            ),
+            4 * moves + 5,
+        ),
+        // Fanuc custom macro B (B-64484EN, "Custom macro"): WHILE [..] DO1 ... END1 under G43.4.
+        Dialect::Fanuc => (
+            format!(
+                "%\nO1000\nG21 G90 G94\nG43.4 H1\nG1 F2000.\n#100 = 0\nWHILE [#100 LT {moves}] DO1\n\
+                 G1 X[[#100 MOD 1001] * 0.1 - 50] Y[[FIX[#100 / 1001] MOD 200] * 0.5 - 50] Z[8 * SIN[[#100 MOD 1001] * 0.48] - 10] A[10 + 5 * COS[#100 * 0.01]] C[#100 * 0.02]\n\
+                 #100 = #100 + 1\nEND1\nM30\n%\n"
+            ),
+            4 * moves + 7,
+        ),
+        // Sinumerik 840D (Job Planning, "Program loop with alternative WHILE"): the tool axis as a
+        // vector (A3 B3 C3) under TRAORI, CNT a user variable (a single letter is an address).
+        Dialect::Sinumerik => (
+            format!(
+                "DEF INT CNT\nG71 G90 G94\nTRAORI\nG1 F2000\nCNT=0\nWHILE CNT<{moves}\n\
+                 G1 X=(CNT MOD 1001)*0.1-50 Y=((CNT DIV 1001) MOD 200)*0.5-50 Z=8*SIN((CNT MOD 1001)*0.48)-10 A3=SIN(10+5*COS(CNT*0.01))*SIN(CNT*0.02) B3=SIN(10+5*COS(CNT*0.01))*COS(CNT*0.02) C3=COS(10+5*COS(CNT*0.01))\n\
+                 CNT=CNT+1\nENDWHILE\nM30\n"
+            ),
+            4 * moves + 7,
+        ),
+        // Heidenhain Klartext (TNC 320 §9.9 formulas, FN 12 jump to a label): the Q parameters of a
+        // move, the move, the count and the jump back.
+        Dialect::Klartext => (
+            format!(
+                "0 BEGIN PGM LOOP MM\n1 L M128\n2 L F2000\n3 Q1 = 0\n4 LBL 1\n\
+                 5 Q10 = (Q1 % 1001) * 0.1 - 50\n6 Q11 = (INT (Q1 / 1001) % 200) * 0.5 - 50\n\
+                 7 Q12 = 8 * SIN ((Q1 % 1001) * 0.48) - 10\n8 Q13 = 10 + 5 * COS (Q1 * 0.01)\n9 Q14 = Q1 * 0.02\n\
+                 10 L X+Q10 Y+Q11 Z+Q12 A+Q13 C+Q14\n11 Q1 = Q1 + 1\n12 FN 12: IF +Q1 LT +{moves} GOTO LBL 1\n13 END PGM LOOP MM\n"
+            ),
+            9 * moves + 6,
+        ),
+        _ => unreachable!("no loop for {dialect:?}"),
+    }
 }
 
 /// The program in `dialect` (APT CL data: `apt` with [`Dialect::Cl`]).
@@ -100,26 +139,47 @@ fn main() {
         ("Cl", Dialect::Cl, false),
         ("Apt", Dialect::Cl, true),
     ];
-    for (name, dialect, apt) in forms.into_iter().chain([("Rs274Loop", Dialect::Rs274, false)]) {
+    for (name, dialect, apt) in forms {
         if only.as_ref().is_some_and(|o| !name.eq_ignore_ascii_case(o)) {
             continue;
         }
-        // The loop's moves: a quarter, within the O-word run budget of 4 M lines.
-        let blocks = if name == "Rs274Loop" { blocks / 4 } else { blocks };
-        let text = if name == "Rs274Loop" { loop_program(blocks) } else { program(dialect, apt, blocks) };
-        let mut best = f64::INFINITY;
-        let mut read_blocks = 0;
-        for _ in 0..3 {
-            let t = Instant::now();
-            let p = read(&text, dialect, "bench", &ReadOptions::default());
-            best = best.min(t.elapsed().as_secs_f64());
-            assert!(!p.has_errors(), "{name}: {:?}", &p.diagnostics[..p.diagnostics.len().min(3)]);
-            read_blocks = p.blocks.len();
-            drop(p);
-        }
+        let text = program(dialect, apt, blocks);
+        let (best, read_blocks) = best_of_three(name, &text, dialect);
         assert!(read_blocks >= blocks, "{name}: {read_blocks} blocks read of {blocks}");
         let rate = blocks as f64 / best / 1e6;
         let mb = text.len() as f64 / 1e6;
         println!("{:<12} {:>10.1} {:>14.2} {:>10.0} {:>8}", name, mb, rate, mb / best, if rate >= 1.0 { "met" } else { "MISSED" });
     }
+    // Parameter programs: the blocks they run per second against the same target, and the moves.
+    let loops = [("Rs274Loop", Dialect::Rs274), ("FanucLoop", Dialect::Fanuc), ("SinumerikLoop", Dialect::Sinumerik), ("KlartextLoop", Dialect::Klartext)];
+    if only.as_ref().is_none_or(|o| loops.iter().any(|(n, _)| n.eq_ignore_ascii_case(o))) {
+        println!("{:<14} {:>8} {:>16} {:>12} {:>8}", "loop", "moves", "M blocks run/s", "M moves/s", "target");
+    }
+    for (name, dialect) in loops {
+        if only.as_ref().is_some_and(|o| !name.eq_ignore_ascii_case(o)) {
+            continue;
+        }
+        // A quarter of BLOCKS moves: within the default budget of lines loops may run (4 M).
+        let moves = blocks / 4;
+        let (text, run) = loop_program(dialect, moves);
+        let (best, read_blocks) = best_of_three(name, &text, dialect);
+        assert!(read_blocks >= moves, "{name}: {read_blocks} blocks of {moves} moves");
+        let rate = run as f64 / best / 1e6;
+        println!("{:<14} {:>8} {:>16.2} {:>12.2} {:>8}", name, moves, rate, moves as f64 / best / 1e6, if rate >= 1.0 { "met" } else { "MISSED" });
+    }
+}
+
+/// The best of three reads (s) and the blocks read; a read with an error stops the bench.
+fn best_of_three(name: &str, text: &str, dialect: Dialect) -> (f64, usize) {
+    let mut best = f64::INFINITY;
+    let mut read_blocks = 0;
+    for _ in 0..3 {
+        let t = Instant::now();
+        let p = read(text, dialect, "bench", &ReadOptions::default());
+        best = best.min(t.elapsed().as_secs_f64());
+        assert!(!p.has_errors(), "{name}: {:?}", &p.diagnostics[..p.diagnostics.len().min(3)]);
+        read_blocks = p.blocks.len();
+        drop(p);
+    }
+    (best, read_blocks)
 }

@@ -180,20 +180,25 @@ impl Parser<'_> {
         v
     }
 
-    /// The arguments of a function, after its name: `(a, b, ...)`.
-    fn arguments(&mut self, name: &str) -> Result<Vec<f64>, ExprError> {
+    /// The arguments of a function, after its name: `(a, b, ...)`: the first two (no function
+    /// takes more) and how many there were.
+    fn arguments(&mut self, name: &str) -> Result<([f64; 2], usize), ExprError> {
         if self.peek() != Some(b'(') {
             return err(self.i, format!("{name}: expected '(' and the function's arguments"));
         }
         self.i += 1;
-        let mut args = Vec::new();
+        let (mut args, mut n) = ([0.0; 2], 0);
         loop {
-            args.push(self.compare()?);
+            let v = self.compare()?;
+            if n < 2 {
+                args[n] = v;
+            }
+            n += 1;
             match self.peek() {
                 Some(b',') => self.i += 1,
                 Some(b')') => {
                     self.i += 1;
-                    return Ok(args);
+                    return Ok((args, n));
                 }
                 _ => return err(self.i, format!("{name}(: expected ',' or ')'")),
             }
@@ -226,29 +231,39 @@ impl Parser<'_> {
                 while self.s.get(self.i).is_some_and(|c| c.is_ascii_alphanumeric() || *c == b'_') {
                     self.i += 1;
                 }
-                let name = std::str::from_utf8(&self.s[at..self.i]).unwrap_or("").to_ascii_uppercase();
+                // The name in capitals: on the stack when short (every one a program uses).
+                let written = &self.s[at..self.i];
+                let mut stack = [0u8; 32];
+                let heap;
+                let name: &str = if written.len() <= stack.len() {
+                    stack[..written.len()].copy_from_slice(written);
+                    stack[..written.len()].make_ascii_uppercase();
+                    std::str::from_utf8(&stack[..written.len()]).unwrap_or("")
+                } else {
+                    heap = String::from_utf8_lossy(written).to_ascii_uppercase();
+                    &heap
+                };
                 let is_call = self.peek() == Some(b'(');
                 if !is_call {
-                    return match name.as_str() {
+                    return match name {
                         "TRUE" => Ok(1.0),
                         "FALSE" => Ok(0.0),
-                        _ => (self.var)(&name).or_else(|why| err(at, why)),
+                        _ => (self.var)(name).or_else(|why| err(at, why)),
                     };
                 }
                 self.deeper()?;
-                let args = self.arguments(&name)?;
+                let (args, n) = self.arguments(name)?;
                 self.depth -= 1;
-                let n = args.len();
                 let want = |k: usize| if n == k { Ok(()) } else { err(at, format!("{name}: expected {k} argument{}, found {n}", if k == 1 { "" } else { "s" })) };
-                let domain = |ok: bool, v: f64| if ok { Ok(v) } else { err(at, format!("{name}{args:?} is outside the function's domain")) };
+                let domain = |ok: bool, v: f64| if ok { Ok(v) } else { err(at, format!("{name}{:?} is outside the function's domain", &args[..n.min(2)])) };
                 let x = args[0];
-                match name.as_str() {
+                match name {
                     "SIN" | "COS" | "TAN" | "ASIN" | "ACOS" | "SQRT" | "ABS" | "POT" | "TRUNC" | "ROUND" | "LN" | "EXP" => want(1)?,
                     "ATAN2" | "MINVAL" | "MAXVAL" => want(2)?,
                     _ => return err(at, format!("unknown function {name}: expected SIN COS TAN ASIN ACOS ATAN2 SQRT ABS POT TRUNC ROUND LN EXP MINVAL MAXVAL")),
                 }
                 let deg = x.to_radians();
-                match name.as_str() {
+                match name {
                     "SIN" => Ok(deg.sin()),
                     "COS" => Ok(deg.cos()),
                     "TAN" => domain(deg.cos().abs() > 1e-12, deg.tan()),

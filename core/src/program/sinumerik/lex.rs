@@ -391,7 +391,10 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
                 Err(why) => diags.error(line, col, format!("G{text}: {why}")),
             },
             "X" | "Y" | "Z" | "A" | "B" | "C" | "I" | "J" | "K" | "F" | "M" | "S" | "T" => {
-                let raw: Cow<'a, str> = if with_eq && parse_number(text).is_none() { Cow::Owned(format!("{value}")) } else { text.into() };
+                // A computed coordinate's or feed's text is its expression as written (for messages;
+                // formatting the number costs more than reading it); M, S and T carry the number.
+                let computed = with_eq && matches!(address.as_ref(), "M" | "S" | "T") && parse_number(text).is_none();
+                let raw: Cow<'a, str> = if computed { Cow::Owned(format!("{value}")) } else { text.into() };
                 out.words.push(word(address.as_bytes()[0] as char, value, raw));
             }
             "D" if value.fract() == 0.0 && value >= 0.0 => out.edge = Some((value, col)),
