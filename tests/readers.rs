@@ -756,6 +756,14 @@ fn rs274_refuses_parameters_it_cannot_know() {
     has(&p, 6, 1, "o<probe> call: no subroutine");
     assert_eq!(errors(&p).len(), 1, "{:?}", errors(&p));
     assert_eq!(p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect::<Vec<_>>(), [0.0, 1.0, 2.0]);
+    // A loop's line is read once and evaluated on each pass: the pass whose value fails (a
+    // division by zero at #<n> = 3) is a defect at its line and column, the others move.
+    let p = read_rs274("#<n> = 0\no1 while [#<n> lt 5]\nG1 X[10 / [3 - #<n>]] Y#<n> F100\n#<n> = [#<n> + 1]\no1 endwhile\nM2\n");
+    has(&p, 3, 9, "division by zero");
+    assert_eq!(errors(&p).len(), 1, "{:?}", errors(&p));
+    let xs: Vec<f64> = p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect();
+    let want = [0.0, 1.0, 2.0, 4.0].map(|n: f64| 10.0 / (3.0 - n));
+    assert!(xs.len() == 4 && xs.iter().zip(want).all(|(x, w)| (x - w).abs() < 1e-9), "{xs:?}");
     // Fanuc custom macro B's control flow, likewise by name.
     let p = read_rs274("#1 = 0\nWHILE [#1 LT 3] DO1\nG1 X#1 F100\n#1 = [#1 + 1]\nEND1\nIF [#1 EQ 3] GOTO 10\nN10 M30\n");
     has(&p, 2, 1, "Fanuc macro 'WHILE'");

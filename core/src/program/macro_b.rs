@@ -21,7 +21,7 @@
 use super::interp::Word;
 use super::lex::{excerpt, Diags};
 use super::params::{skip_blanks, Scope};
-use super::rs274::Rs274Reader;
+use super::rs274::{ReadLine, Rs274Reader};
 use super::stream::{ends_program, stop, At, Find, Jumping, LineReader, Next};
 use super::{Block, Dialect};
 
@@ -32,8 +32,10 @@ pub const MAX_PROGRAMS: usize = 10_000;
 /// Deepest nesting of `DO` loops (FANUC: identification numbers 1 to 3).
 const MAX_LOOPS: usize = 3;
 /// Most block numbers whose place a program's branches remember (a branch taken again does not
-/// search again).
+/// search again), and most lines kept as read for the passes that run them again.
 const MAX_CACHED: usize = 10_000;
+/// Most bytes of lines kept as read.
+const MAX_KEPT_BYTES: usize = 16 << 20;
 
 /// A program the file holds: its number, and where its blocks start and end (byte offset).
 #[derive(Debug, Clone, Copy)]
@@ -107,6 +109,12 @@ pub(crate) struct MacroRunner {
     wanted: Option<(Wanted, u64, usize, usize)>,
     /// The places of block numbers searched before, by the program's start and the number.
     places: std::collections::HashMap<(u64, u64), Vec<At>>,
+    /// Lines run again (loops, branches back, subprograms) as read, by offset, and their bytes: a
+    /// pass runs them from what was read ([`Rs274Reader::loop_line`]).
+    kept: std::collections::HashMap<u64, ReadLine>,
+    kept_bytes: usize,
+    /// The furthest offset run so far: a line before it runs again.
+    furthest: u64,
     executed: usize,
     budget: usize,
 }
@@ -127,6 +135,9 @@ impl MacroRunner {
             skipping: None,
             wanted: None,
             places: std::collections::HashMap::new(),
+            kept: std::collections::HashMap::new(),
+            kept_bytes: 0,
+            furthest: 0,
             executed: 0,
             budget: setup.max_run_lines,
         }
@@ -558,8 +569,10 @@ impl Jumping for MacroRunner {
             }
             return Next::On;
         }
+        let again = here.offset < self.furthest;
+        self.furthest = self.furthest.max(here.offset);
         if !maybe_flow(text) {
-            return self.plain(line, text, out, diags);
+            return if again { self.again(line, text, here, out, diags) } else { self.plain(line, text, out, diags) };
         }
         let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
         let stmt = match self.statement(&chars) {
@@ -711,6 +724,30 @@ impl MacroRunner {
     }
 
     /// A line without flow: the reader's; an end of program (M30, M02) ends the run.
+    /// A line run again (a loop's pass, a branch back, a subprogram called again): run from what
+    /// was read the time before, or read and kept (when reading it says nothing), within bounds.
+    fn again(&mut self, line: usize, text: &str, here: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
+        if line == 1 || !self.reader.started() {
+            return self.plain(line, text, out, diags);
+        }
+        let before = out.len();
+        match self.kept.get(&here.offset) {
+            Some(read) => self.reader.run_line(line, text.trim_end_matches('\r'), read, out, diags),
+            None => {
+                let mut kept = None;
+                self.reader.loop_line(line, text, &mut kept, out, diags);
+                if let Some(read) = kept.filter(|_| self.kept.len() < MAX_CACHED && self.kept_bytes + text.len() <= MAX_KEPT_BYTES) {
+                    self.kept_bytes += text.len();
+                    self.kept.insert(here.offset, read);
+                }
+            }
+        }
+        if self.reader.at_tape_end() {
+            return Next::Ended;
+        }
+        if ends_program(&out[before..], &[2.0, 30.0]) { Next::Ended } else { Next::On }
+    }
+
     fn plain(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
         let before = out.len();
         self.reader.line(line, text, out, diags);
@@ -753,6 +790,24 @@ mod tests {
             assert!(*line == 5 && (x - 50.0 * a.cos()).abs() < 1e-9 && (y - 50.0 * a.sin()).abs() < 1e-9, "hole {k}: {pts:?}");
         }
         assert_eq!(pts[6].0, 8);
+    }
+
+    /// A line a loop runs again is read once and evaluated on each pass: its values follow the
+    /// counter, and a value that fails on one pass only (a division by zero at #100 = 3) is that
+    /// pass's defect, at its line and column, while the passes before and after it move.
+    #[test]
+    fn a_line_run_again_is_evaluated_on_each_pass() {
+        let text = "%\nO1000\nG21 G90 G94\nG1 F100.\n#100 = 0\nWHILE [#100 LT 5] DO1\nG1 X[10 / [3 - #100]] Y#100\n#100 = #100 + 1\nEND1\nM30\n%\n";
+        let p = run(text, Dialect::Fanuc, &ReadOptions::default());
+        let errors = p.messages(Severity::Error);
+        assert_eq!(errors.len(), 1, "{errors:#?}");
+        assert!(errors[0].starts_with("7:9:") && errors[0].contains("division by zero"), "{errors:#?}");
+        let pts = points(&p);
+        let want: Vec<(usize, f64, f64)> = [0.0, 1.0, 2.0, 4.0].iter().map(|k| (7, 10.0 / (3.0 - k), *k)).collect();
+        assert_eq!(pts.len(), want.len(), "{pts:?}");
+        for ((l, x, y), (wl, wx, wy)) in pts.iter().zip(&want) {
+            assert!(l == wl && near(*x, *wx) && near(*y, *wy), "{pts:?}");
+        }
     }
 
     /// `IF [..] GOTO n` back to a numbered block, `IF [..] THEN`, and a `GOTO` forward past blocks
