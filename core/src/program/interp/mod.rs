@@ -1,0 +1,557 @@
+//! The modal state machine shared by the G-code readers: validated words of one block in, a
+//! [`Block`] out. A block with a semantic defect changes no modal state and yields no block.
+
+use std::borrow::Cow;
+
+use super::lex::Diags;
+use super::{Block, Dialect, Feed, FeedMode, MCodeRule, Motion, Orientation, Plane, Targets};
+use crate::units::{DEG, INCH, MM};
+
+mod arc;
+mod block;
+mod codes;
+
+pub use arc::{ARC_RADIUS_TOLERANCE, SINUMERIK_CIRCLE_ERROR_CONST, SINUMERIK_CIRCLE_ERROR_FACTOR, TNC_CIRCLE_TOLERANCE};
+
+/// One address word with a valid number.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Word<'a> {
+    pub letter: char,
+    pub value: f64,
+    /// The value as written (`43.4`, `+14.825`), for messages and G-code sub-numbers: borrowed from
+    /// the program's text where it stands there (no allocation per word).
+    pub raw: Cow<'a, str>,
+    pub column: usize,
+    /// Heidenhain `IX+5`: incremental for this word only.
+    pub incremental: bool,
+}
+
+/// Modal state of a G-code program.
+#[derive(Debug, Clone)]
+pub struct Interpreter {
+    dialect: Dialect,
+    unit: f64,
+    absolute: bool,
+    motion: Option<Motion>,
+    feed: Option<f64>,
+    feed_mode: FeedMode,
+    tcp: bool,
+    /// Tool-centre-point kinematics switched on by the machine's own M code or at start (LinuxCNC's
+    /// 5axiskins), which G49 (a tool length cancel) leaves on.
+    kins_tcp: bool,
+    datum: [f64; 3],
+    /// Arc plane (G17/G18/G19) and whether I J K are absolute (G90.1) or from the start (G91.1).
+    plane: Plane,
+    arc_absolute: bool,
+    /// Machine-specific M codes and what they do (`--m-code`; shared: a reader clones the
+    /// interpreter to roll a refused block back).
+    m_codes: std::sync::Arc<[MCodeRule]>,
+    /// RS274: the work offsets the program set (`G10 L2 P1..P9`, m; a system it never set is taken as
+    /// zero) and the active one (`G54`..`G59.3` = 0..8).
+    offsets: [[f64; 3]; 9],
+    system: usize,
+    /// Fanuc `G43.5`: tool-centre point with the tool axis written as a vector `I J K`.
+    tool_vector: bool,
+    /// How the tool orientation is interpolated under TCPM.
+    orientation: Orientation,
+    /// Heidenhain DIN/ISO: the circle centre `I J K` (absolute program coordinates, m; modal, set
+    /// with or before the arc) and the direction of the last G02/G03 (for G05).
+    centre: [Option<f64>; 3],
+    last_arc: Option<Motion>,
+    /// A tool vector the dialect's reader found in the next block (Sinumerik `A3= B3= C3=`), unit.
+    pending_vector: Option<[f64; 3]>,
+    /// Last programmed absolute value of X Y Z A B C (SI).
+    last: [f64; 6],
+    /// The contour tolerance the program set (Heidenhain cycle 32, LinuxCNC G64 P/Q).
+    tolerance: super::ProgrammedTolerance,
+    /// A length unit imposed by the user (`--units`): the program's unit codes are noted, not obeyed.
+    forced_unit: Option<super::LengthUnit>,
+    /// Radians per program unit of the A, B and C words (degrees, unless the machine's control
+    /// reads an axis in radians).
+    rotary_unit: [f64; 3],
+    /// The machine's coordinates (`G53`, `G28`), if its file places them.
+    machine_coords: Option<std::sync::Arc<crate::machine::MachineCoordinates>>,
+    /// How the next block is made, overriding the modal state for it alone (a reference return's
+    /// legs, a canned cycle's moves).
+    pub(crate) oneshot: Option<OneShot>,
+    /// Fanuc canned cycles: the active cycle (G73-G89 until G80 or a motion code), its return level
+    /// (G98 initial, G99 R point) and the intermediate points G28 stored.
+    pub(crate) cycles: super::cycles::CycleState,
+    /// The machine's rotary axis letters (for Haas' G28 with no axis: every axis).
+    rotary_letters: [Option<char>; 2],
+    /// The machine's peck distances (G73's retract, G83's clearance), m.
+    peck: [Option<f64>; 2],
+    /// How far an arc's end radius may differ from its start radius, m (the machine's control
+    /// setting), and, where the control scales it with the radius, the fraction of the radius it may
+    /// reach instead (Sinumerik MD21010 `CIRCLE_ERROR_FACTOR`; 0 elsewhere).
+    arc_tolerance: f64,
+    arc_tolerance_factor: f64,
+    /// Haas G254 (dynamic work offset) in effect: no rotary axis may move until G255.
+    dwo: bool,
+    /// A tilted working plane in effect (Heidenhain PLANE, cycle 19): its frame in the workpiece
+    /// (columns: the plane's X Y Z). X Y Z words, `last` and the arcs are in it.
+    tilt: Option<nalgebra::Matrix3<f64>>,
+    /// Heidenhain M126: rotary axes whose display is reduced below 360 deg take the shorter way;
+    /// which letters name such (multi-turn) axes on the machine.
+    shortest: bool,
+    modulo: [bool; 3],
+    /// The machine, whose kinematics place the tool where the program's coordinates change meaning
+    /// (a plane tilted or reset, rotary axes moved without TCPM in a tilted plane).
+    machine: Option<std::sync::Arc<crate::machine::Machine>>,
+    /// Which work offsets (G54-G59.3) the program set (G10 L2, L20).
+    offsets_given: [bool; 9],
+    /// An additional work offset (Fanuc G54.1 P) is in effect.
+    extra_offset: bool,
+    /// A preset the program selects but cannot know (Heidenhain cycle 247) is in effect.
+    preset_assumed: bool,
+    /// Fanuc `G68.2`'s feature coordinate system in effect: its origin (m, in the workpiece
+    /// coordinates), which the datum holds on top of the work offset until `G69`.
+    pub(crate) feature: Option<[f64; 3]>,
+}
+
+/// How one block is made whatever the modal state says.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct OneShot {
+    /// Its motion (the modal one stays).
+    pub motion: Motion,
+    /// Its axis words are absolute, whatever G90/G91 say.
+    pub absolute: bool,
+    /// Its linear words are axis positions about this origin (the model's frame, m): machine
+    /// coordinates (`G53`, `M91`, a reference point: the machine zero), `M92`'s datum, or the axes'
+    /// own positions (zero); the block moves the machine's axes, tool-centre-point management or not.
+    pub axes: Option<[f64; 3]>,
+    /// The axes move from where they stand, not to machine coordinates (Heidenhain's `M140`): as
+    /// valid in a tilted working plane, and where they stand rests on the same work offset.
+    pub own: bool,
+}
+
+impl OneShot {
+    /// A move of the machine's axes to words in the control's machine coordinates, if the machine
+    /// places them: their origin in the model's frame.
+    pub(crate) fn machine_origin(it: &Interpreter) -> Option<[f64; 3]> {
+        it.machine_coords.as_ref().map(|m| [m.zero.x, m.zero.y, m.zero.z])
+    }
+}
+
+const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
+
+impl Interpreter {
+    pub fn new(dialect: Dialect) -> Self {
+        Interpreter {
+            dialect,
+            unit: MM,
+            absolute: true,
+            motion: None,
+            feed: None,
+            feed_mode: FeedMode::PerMinute,
+            tcp: false,
+            kins_tcp: false,
+            datum: [0.0; 3],
+            plane: Plane::Xy,
+            arc_absolute: false,
+            m_codes: std::sync::Arc::from([]),
+            offsets: [[0.0; 3]; 9],
+            system: 0,
+            tool_vector: false,
+            orientation: dialect.default_orientation(),
+            centre: [None; 3],
+            last_arc: None,
+            pending_vector: None,
+            last: [0.0; 6],
+            tolerance: Default::default(),
+            forced_unit: None,
+            rotary_unit: [DEG; 3],
+            machine_coords: None,
+            oneshot: None,
+            cycles: Default::default(),
+            rotary_letters: [None; 2],
+            peck: [None; 2],
+            arc_tolerance: match dialect {
+                Dialect::Sinumerik => SINUMERIK_CIRCLE_ERROR_CONST,
+                Dialect::Klartext | Dialect::Heidenhain => TNC_CIRCLE_TOLERANCE,
+                _ => ARC_RADIUS_TOLERANCE,
+            },
+            arc_tolerance_factor: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_FACTOR } else { 0.0 },
+            dwo: false,
+            tilt: None,
+            shortest: false,
+            modulo: [false; 3],
+            machine: None,
+            offsets_given: [false; 9],
+            extra_offset: false,
+            preset_assumed: false,
+            feature: None,
+        }
+    }
+
+    /// Read the rotary words in the units this machine's control reads them in.
+    pub fn with_machine(mut self, machine: Option<&std::sync::Arc<crate::machine::Machine>>) -> Self {
+        self.machine = machine.cloned();
+        if let Some(m) = machine {
+            self.tcp |= m.tcp_at_start;
+            self.kins_tcp |= m.tcp_at_start;
+            self.rotary_unit = ['A', 'B', 'C'].map(|l| m.rotary_word_unit(l));
+            self.machine_coords = m.machine_coordinates.clone().map(std::sync::Arc::new);
+            self.rotary_letters = [3, 4].map(|k| m.axes[k].name.chars().next().map(|c| c.to_ascii_uppercase()));
+            self.peck = m.peck_distances;
+            self.modulo = ['A', 'B', 'C'].map(|l| m.axis_index(&l.to_string()).is_some_and(|i| i >= 3 && m.axes[i].limits.is_unlimited()));
+            if let Some(t) = m.arc_radius_tolerance {
+                self.arc_tolerance = t;
+            }
+        }
+        self
+    }
+
+    /// Start with this orientation interpolation (the machine's setting) instead of the dialect's default.
+    pub fn with_orientation(mut self, orientation: Orientation) -> Self {
+        self.orientation = orientation;
+        self
+    }
+
+    /// Read every length in `units` whatever the program's own unit codes say (`--units`).
+    pub fn with_units(mut self, units: Option<super::LengthUnit>) -> Self {
+        self.forced_unit = units;
+        if let Some(u) = units {
+            self.unit = u.metres();
+        }
+        self
+    }
+
+    /// Read these machine-specific M codes as told (LinuxCNC remaps such as M428).
+    pub fn with_m_codes(mut self, rules: &[MCodeRule]) -> Self {
+        self.m_codes = rules.into();
+        self
+    }
+
+    /// True if the program set work offset `k` (0 = G54) to anything but zero.
+    fn offsets_set(&self, k: usize) -> bool {
+        self.offsets[k] != [0.0; 3]
+    }
+
+    /// `G10 L2 Pn X Y Z`: set work offset n to the values; `G10 L20 Pn X Y Z`: set it so that the
+    /// current point reads the values (LinuxCNC G-code reference §G10 L2, §G10 L20); P0 is the active
+    /// system. Absolute values only; rotary offsets only where they stay zero.
+    fn set_offsets(&self, words: &[Word], next: &mut Interpreter, line: usize, column: usize, diags: &mut Diags) {
+        let word = |l: char| words.iter().find(|w| w.letter == l);
+        let l20 = match word('L') {
+            Some(w) if w.value == 2.0 => false,
+            Some(w) if w.value == 20.0 => true,
+            Some(w) => return diags.error(line, w.column, format!("G10 L{}: only L2 and L20 (set a work offset) are supported", w.raw)),
+            None => return diags.error(line, column, "G10 without L: expected G10 L2 Pn or G10 L20 Pn (set a work offset)"),
+        };
+        let l = if l20 { "L20" } else { "L2" };
+        let p = match word('P') {
+            Some(w) if w.value.fract() == 0.0 && (0.0..=9.0).contains(&w.value) => w.value as usize,
+            Some(w) => return diags.error(line, w.column, format!("G10 {l} P{}: expected a coordinate system 1 to 9, or 0 for the active one", w.raw)),
+            None => return diags.error(line, column, format!("G10 {l} without P: expected the coordinate system (P1 = G54, P0 the active one)")),
+        };
+        let k_system = if p == 0 { next.system } else { p - 1 };
+        if !next.absolute {
+            return diags.error(line, column, format!("G10 {l} under G91 (offsets relative to the current ones) is not supported: write it under G90"));
+        }
+        let mut offsets = next.offsets[k_system];
+        for w in words {
+            let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
+            if k < 3 {
+                // L20: the current point, in the offset-free (G53) frame, less the value it is to read.
+                offsets[k] = if l20 { next.last[k] + next.datum[k] - w.value * next.unit } else { w.value * next.unit };
+            } else {
+                let u = next.rotary_unit[k - 3];
+                let offset = if l20 { next.last[k] - w.value * u } else { w.value * u };
+                if offset.abs() > 1e-12 {
+                    diags.error(line, w.column, format!("G10 {l} {}{}: rotary-axis work offsets are not modelled (this one would be {:.6} deg)", w.letter, w.raw, offset / DEG));
+                }
+            }
+        }
+        if k_system == next.system {
+            next.move_origin(offsets);
+        }
+        next.offsets[k_system] = offsets;
+        next.offsets_given[k_system] = true;
+    }
+
+    /// Put the program origin at `offset` (RS274: the active work offset, m): the machine stays, so
+    /// the current point's program coordinates change by the difference.
+    fn move_origin(&mut self, offset: [f64; 3]) {
+        for k in 0..3 {
+            self.last[k] += self.datum[k] - offset[k];
+        }
+        self.datum = offset;
+    }
+
+    /// The last programmed position, absolute program coordinates (m, rad): X Y Z A B C.
+    pub fn position(&self) -> [f64; 6] {
+        self.last
+    }
+
+    /// True while tool-centre-point management is on.
+    pub fn tcp(&self) -> bool {
+        self.tcp
+    }
+
+    /// The arc plane in effect (G17/G18/G19).
+    pub fn plane(&self) -> Plane {
+        self.plane
+    }
+
+    /// The tool axis now, in the program's frame (the workpiece's, or the tilted plane's), from the
+    /// rotary axes' last positions: None without a machine.
+    pub(crate) fn tool_axis_now(&self) -> Option<nalgebra::Vector3<f64>> {
+        let m = self.machine.as_ref()?;
+        let axis = m.chain.forward(&self.joints_now()).axis;
+        Some(self.tilt.map_or(axis, |r| r.transpose() * axis))
+    }
+
+    /// Switch tool-centre-point management (Sinumerik `TRAORI` / `TRAFOOF`).
+    pub fn set_tcp(&mut self, on: bool) {
+        self.tcp = on;
+    }
+
+    /// Switch the orientation interpolation (Sinumerik `ORIVECT`/`ORIAXES`, `ORIWKS`/`ORIMKS`).
+    pub fn set_orientation(&mut self, orientation: Orientation) {
+        self.orientation = orientation;
+    }
+
+    /// The tilted working plane in effect, if any (columns: its X Y Z in the workpiece).
+    pub fn tilt(&self) -> Option<nalgebra::Matrix3<f64>> {
+        self.tilt
+    }
+
+    /// Tilt the working plane (`None`: untilt). The tool stays: the current point is read anew in
+    /// the new plane's coordinates (through the machine's kinematics where X Y Z were its axes).
+    pub fn set_tilt(&mut self, tilt: Option<nalgebra::Matrix3<f64>>) {
+        let axes = self.axes_now();
+        self.tilt = tilt;
+        self.read_axes(axes);
+    }
+
+    /// The rotary positions in the machine's order (its axes 3 and 4), rad, from the last words.
+    pub(crate) fn rot_now(&self) -> [f64; 2] {
+        self.rotary_letters.map(|l| l.and_then(|l| "ABC".find(l)).map_or(0.0, |k| self.last[3 + k]))
+    }
+
+    /// The machine's axes as they stand: [`Interpreter::axes_now`] and [`Interpreter::rot_now`].
+    fn joints_now(&self) -> crate::kinematics::Joints {
+        let (axes, rot) = (self.axes_now(), self.rot_now());
+        [axes.x, axes.y, axes.z, rot[0], rot[1]]
+    }
+
+    /// Where the machine's linear axes stand (model frame, m): X Y Z themselves without TCPM or a
+    /// tilted plane, else the tool tip placed through the kinematics.
+    fn axes_now(&self) -> nalgebra::Vector3<f64> {
+        let p = nalgebra::Vector3::new(self.last[0], self.last[1], self.last[2]);
+        let d = nalgebra::Vector3::from(self.datum);
+        match (&self.machine, self.tilt, self.tcp) {
+            (_, None, false) | (None, _, _) => p + d,
+            (Some(m), tilt, _) => m.chain.linear_for(&(tilt.map_or(p, |r| r * p) + d), &self.rot_now()),
+        }
+    }
+
+    /// Where the linear axes go (model frame, m) when the tool backs off along its own axis by
+    /// `distance` (m), or as far as the axes' ranges let it (`None`): Heidenhain's `M140 MB`.
+    pub(crate) fn retract_target(&self, distance: Option<f64>) -> Result<[f64; 3], String> {
+        let m = self.machine.as_ref().ok_or("the tool axis and the travel limits are the machine's: read the program on one (--machine)")?;
+        let q = self.joints_now();
+        let axes = nalgebra::Vector3::new(q[0], q[1], q[2]);
+        let pose = m.chain.forward(&q);
+        // The linear axes move the tool along its axis by this much per metre (a unit vector).
+        let along = m.chain.linear_for(&(pose.tip + pose.axis), &[q[3], q[4]]) - axes;
+        let t = match distance {
+            Some(d) => d,
+            None => (0..3)
+                .filter(|&k| along[k].abs() > 1e-12)
+                .map(|k| {
+                    let lim = &m.axes[k].limits;
+                    ((if along[k] > 0.0 { lim.max } else { lim.min }) - axes[k]) / along[k]
+                })
+                .fold(f64::INFINITY, f64::min)
+                .max(0.0),
+        };
+        if !t.is_finite() {
+            return Err("no linear axis moves along the tool axis".into());
+        }
+        let to = axes + along * t;
+        Ok([to.x, to.y, to.z])
+    }
+
+    /// Read the axes standing at `axes` (model frame) in the current coordinates: X Y Z are the axes
+    /// without TCPM or a tilted plane, else the tool tip (in the plane where tilted).
+    fn read_axes(&mut self, axes: nalgebra::Vector3<f64>) {
+        let d = nalgebra::Vector3::from(self.datum);
+        let p = match (&self.machine, self.tilt, self.tcp) {
+            (_, None, false) | (None, _, _) => axes - d,
+            (Some(m), tilt, _) => {
+                let rot = self.rot_now();
+                let tip = m.chain.forward(&[axes.x, axes.y, axes.z, rot[0], rot[1]]).tip - d;
+                tilt.map_or(tip, |r| r.transpose() * tip)
+            }
+        };
+        self.last[..3].copy_from_slice(p.as_slice());
+    }
+
+    /// Switch tool-centre-point management and read the current point anew (Sinumerik `TRAORI` /
+    /// `TRAFOOF`): the axes stay, their meaning changes, so an axis a later block does not name
+    /// stays where it physically is.
+    pub fn switch_tcp(&mut self, on: bool) {
+        let axes = self.axes_now();
+        self.tcp = on;
+        self.read_axes(axes);
+    }
+
+    /// Set the frame in effect: `datum` (m) and a rotation (`None`: none), as the Sinumerik frames
+    /// `TRANS`, `ROT` and their additive forms make them; the current point is read anew in it (the
+    /// axes stay).
+    pub fn set_frame(&mut self, datum: [f64; 3], tilt: Option<nalgebra::Matrix3<f64>>) {
+        let axes = self.axes_now();
+        self.datum = datum;
+        self.tilt = tilt;
+        self.read_axes(axes);
+    }
+
+    /// The datum shift in effect, m.
+    pub fn datum(&self) -> [f64; 3] {
+        self.datum
+    }
+
+    /// Shift the program origin (Sinumerik `TRANS`/`ATRANS` frames), m: program coordinates + datum =
+    /// coordinates about the rotary axes. The machine stays; axes a later block does not name stay.
+    pub fn set_datum(&mut self, datum: [f64; 3]) {
+        self.datum = datum;
+    }
+
+    /// The contour tolerance the program set (Heidenhain cycle 32, LinuxCNC G64 P/Q), for the blocks
+    /// that follow.
+    pub fn tolerance(&self) -> super::ProgrammedTolerance {
+        self.tolerance
+    }
+
+    /// Set the contour tolerance for the blocks that follow.
+    pub fn set_tolerance(&mut self, tolerance: super::ProgrammedTolerance) {
+        self.tolerance = tolerance;
+    }
+
+    /// The length unit in effect (m per program unit).
+    pub fn unit(&self) -> f64 {
+        self.unit
+    }
+
+    /// The next block's tool vector (Sinumerik `A3= B3= C3=`, unit, workpiece frame).
+    pub fn set_pending_vector(&mut self, v: [f64; 3]) {
+        self.pending_vector = Some(v);
+    }
+
+    /// Set the program's length unit (Heidenhain header G70/G71, Klartext `BEGIN PGM ... INCH`),
+    /// unless the user imposed one: then `Err` names the unit the program's numbers are read in.
+    pub fn set_inch(&mut self, inch: bool) -> Result<(), super::LengthUnit> {
+        match self.forced_unit {
+            Some(u) if (u == super::LengthUnit::Inch) != inch => Err(u),
+            Some(_) => Ok(()),
+            None => {
+                self.unit = if inch { INCH } else { MM };
+                Ok(())
+            }
+        }
+    }
+
+    /// Interpret one block's words: the blocks it makes go to `out` (a reference return or a canned
+    /// cycle makes several, a block of settings one without targets). Defects go to `diags` and
+    /// make nothing, with the state unchanged; false then.
+    pub fn block(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+        if self.dialect.is_fanuc() {
+            if let Some(done) = super::fanuc::expand(self, words, line, column, number, diags, out) {
+                return done;
+            }
+        }
+        match self.block_one(words, line, column, number, diags) {
+            Some(b) => {
+                out.push(b);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The machine the program runs on, if the reader knows it.
+    pub(crate) fn machine(&self) -> Option<&std::sync::Arc<crate::machine::Machine>> {
+        self.machine.as_ref()
+    }
+
+    /// The rotary axes' letters, in the machine's order (its axes 3 and 4).
+    pub(crate) fn rotary_letters(&self) -> [Option<char>; 2] {
+        self.rotary_letters
+    }
+
+    /// The machine's coordinates, where its file places them.
+    pub fn machine_coords(&self) -> Option<&crate::machine::MachineCoordinates> {
+        self.machine_coords.as_deref()
+    }
+
+    /// A block that moves nothing, with the state in effect (a dwell's, a cycle's events').
+    pub(crate) fn still_block(&self, line: usize, column: usize, number: Option<u64>) -> Block {
+        Block {
+            line,
+            column,
+            number,
+            motion: self.motion.unwrap_or(Motion::Linear),
+            targets: Targets::default(),
+            arc: None,
+            feed: self.feed.map(|value_per_min| Feed { value_per_min, mode: self.feed_mode }),
+            tcp: self.tcp,
+            datum: self.datum,
+            orientation: self.orientation,
+            events: Vec::new(),
+            dwell_s: None,
+            tolerance: self.tolerance,
+            offset_assumed: self.offset_assumed(),
+        }
+    }
+
+    /// Whether the datum in effect holds a work offset the program never set, taken as zero: on
+    /// Fanuc and Haas every work offset is the operator's (G54, the reset state's, included) unless
+    /// the program sets it with G10, G54.1 P's never; on Heidenhain and Sinumerik controls the
+    /// workpiece preset (datum) always is (the program's datum shifts are relative to it).
+    fn offset_assumed(&self) -> bool {
+        self.preset_assumed
+            || matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext | Dialect::Sinumerik)
+            || self.dialect.is_fanuc() && (self.extra_offset || !self.offsets_given[self.system])
+    }
+
+    /// The modal motion and feed, to restore after a cycle's own moves.
+    pub(crate) fn feed_state(&self) -> (Option<Motion>, Option<f64>, FeedMode) {
+        (self.motion, self.feed, self.feed_mode)
+    }
+
+    /// Restore what [`Interpreter::feed_state`] saved.
+    pub(crate) fn restore_feed(&mut self, (motion, feed, mode): (Option<Motion>, Option<f64>, FeedMode)) {
+        (self.motion, self.feed, self.feed_mode) = (motion, feed, mode);
+    }
+
+    /// A preset of the machine's table is in effect (Heidenhain cycle 247): its values are the
+    /// operator's, taken as the workpiece datum, so linear ranges are not judged.
+    pub(crate) fn set_preset_assumed(&mut self) {
+        self.preset_assumed = true;
+    }
+
+    /// Whether G90 is in effect.
+    pub(crate) fn absolute(&self) -> bool {
+        self.absolute
+    }
+
+    /// The dialect read.
+    pub(crate) fn dialect(&self) -> Dialect {
+        self.dialect
+    }
+
+    /// Whether the machine has axis `letter` (X Y Z always; a rotary one if the machine names it).
+    pub(crate) fn has_axis(&self, letter: char) -> bool {
+        "XYZ".contains(letter) || self.rotary_letters.contains(&Some(letter))
+    }
+
+    /// The distance d of a peck cycle (G73's retract, G83's clearance), m: the machine's setting.
+    pub(crate) fn peck_clearance(&self, kind: super::cycles::Kind) -> Result<f64, &'static str> {
+        match kind {
+            super::cycles::Kind::G73 => self.peck[0].ok_or("the machine file gives no G73 retract (canned_cycles.g73_retract_mm: Fanuc parameter No. 5114, Haas Setting 22)"),
+            _ => self.peck[1].ok_or("the machine file gives no G83 clearance (canned_cycles.g83_clearance_mm: Fanuc parameter No. 5115)"),
+        }
+    }
+}
