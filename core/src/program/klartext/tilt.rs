@@ -1,0 +1,205 @@
+//! Tilted working planes as a block states them: `PLANE SPATIAL/EULER/VECTOR/POINTS/RELATIV/AXIAL/
+//! RESET` with `TURN`/`STAY`, `SEQ`, `COORD ROT`/`TABLE ROT`, and cycle 19 (iTNC 530 User's Manual,
+//! "Tilting the working plane"); what the plane does is [`crate::program::plane`]'s.
+
+use super::*;
+
+/// How a `PLANE` states the working plane.
+#[derive(Debug, Clone)]
+pub(super) enum PlaneForm<'a> {
+    /// `SPATIAL SPA SPB SPC`, deg (and cycle 19 with spatial angles).
+    Spatial([KWord<'a>; 3]),
+    /// `EULER EULPR EULNU EULROT`, deg.
+    Euler([KWord<'a>; 3]),
+    /// `VECTOR BX BY BZ NX NY NZ`.
+    Vector([KWord<'a>; 6]),
+    /// `POINTS P1X P1Y P1Z P2X P2Y P2Z P3X P3Y P3Z`: three points of the plane.
+    Points([KWord<'a>; 9]),
+    /// `RELATIV SPA|SPB|SPC`: one turn about the tilted plane's own axis (0 X, 1 Y, 2 Z).
+    Relativ(usize, KWord<'a>),
+    /// `AXIAL A B C` (and cycle 19 with axis angles): the rotary axes' positions, deg.
+    Axial(Vec<KWord<'a>>),
+    /// `RESET`, or cycle 19 with nothing.
+    Reset,
+}
+
+/// How a `PLANE` positions the rotary axes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum PlaneMode {
+    /// `TURN`: the rotary axes move, the linear ones stay.
+    Turn,
+    /// `STAY`: nothing moves; the angles go to Q120 (A), Q121 (B), Q122 (C).
+    Stay,
+    /// Cycle 19: nothing moves (the program positions the axes itself), no Q parameters.
+    Cycle,
+}
+
+/// A `PLANE` statement.
+#[derive(Debug, Clone)]
+pub(super) struct PlaneStmt<'a> {
+    pub(super) form: PlaneForm<'a>,
+    pub(super) mode: PlaneMode,
+    pub(super) feed: FeedWord<'a>,
+    pub(super) choice: crate::program::plane::Choice,
+    /// Cycle 19's spatial angles (a machine setting decides between them and axis angles).
+    pub(super) cycle: bool,
+}
+
+/// `PLANE SPATIAL SPA.. SPB.. SPC.. | EULER EULPR.. EULNU.. EULROT.. | VECTOR BX.. BY.. BZ.. NX.. NY..
+/// NZ.. | RELATIV SPA..|SPB..|SPC.. | AXIAL A.. B.. C.. | RESET`, then `TURN` or `STAY` (`MOVE`, the
+/// compensating move about DIST, is refused), `F`/`FMAX`/`F MAX`, `SEQ+`/`SEQ-`, `COORD ROT`/`TABLE
+/// ROT`, in any order (iTNC 530 User's Manual 340 422 §9.2-9.8; PLANE RESET without positioning is
+/// hyperMILL's `PLANE RESET STAY`).
+pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let form_name = upper(toks.get(1).map_or("", |t| t.0));
+    let mut rest = toks[2.min(toks.len())..].iter().copied().peekable();
+    let mut values: Vec<(String, KWord<'a>)> = Vec::new();
+    let (mut mode, mut feed, mut choice) = (None, FeedWord::None, crate::program::plane::Choice::default());
+    let addresses: &[&str] = match form_name.as_ref() {
+        "SPATIAL" => &["SPA", "SPB", "SPC"],
+        "EULER" => &["EULPR", "EULNU", "EULROT"],
+        "VECTOR" => &["BX", "BY", "BZ", "NX", "NY", "NZ"],
+        "POINTS" => &["P1X", "P1Y", "P1Z", "P2X", "P2Y", "P2Z", "P3X", "P3Y", "P3Z"],
+        "RELATIV" => &["SPA", "SPB", "SPC"],
+        "AXIAL" => &["A", "B", "C"],
+        "RESET" => &[],
+        "PROJECTED" => {
+            diags.error(line, col, "PLANE PROJECTED: this form of the working plane is not modelled yet (the sign of its projection angles is the manual's figure, not at hand; SPATIAL, EULER, VECTOR, POINTS, RELATIV, AXIAL and RESET are)");
+            return None;
+        }
+        other => {
+            diags.error(line, col, format!("PLANE {}: expected SPATIAL, PROJECTED, EULER, VECTOR, POINTS, RELATIV, AXIAL or RESET", excerpt(other)));
+            return None;
+        }
+    };
+    while let Some((tok, c)) = rest.next() {
+        let u = upper(tok);
+        let next_is = |rest: &mut std::iter::Peekable<std::iter::Copied<std::slice::Iter<'_, (&'a str, usize)>>>, w: &str| {
+            let yes = rest.peek().is_some_and(|(t, _)| t.eq_ignore_ascii_case(w));
+            if yes {
+                rest.next();
+            }
+            yes
+        };
+        match u.as_ref() {
+            "TURN" => mode = Some(PlaneMode::Turn),
+            "STAY" => mode = Some(PlaneMode::Stay),
+            "MOVE" => {
+                diags.error(line, c, "PLANE ... MOVE: the compensating move about DIST is not modelled (TURN and STAY are)");
+                return None;
+            }
+            "FMAX" => feed = FeedWord::Max,
+            "F" if next_is(&mut rest, "MAX") => feed = FeedWord::Max,
+            "SEQ+" => choice.seq = Some(true),
+            "SEQ-" => choice.seq = Some(false),
+            "COORD" if next_is(&mut rest, "ROT") => choice.table_rot = Some(false),
+            "TABLE" if next_is(&mut rest, "ROT") => choice.table_rot = Some(true),
+            "MB" | "DIST" => {
+                diags.error(line, c, format!("PLANE ... {u}: a retract or a distance before tilting is not modelled"));
+                return None;
+            }
+            _ => {
+                let (addr, v) = point_word(tok).unwrap_or_else(|| split_word(tok));
+                match (addresses.iter().find(|a| **a == addr.as_ref()), addr.as_ref()) {
+                    (Some(a), _) => {
+                        if values.iter().any(|(n, _)| n == a) {
+                            diags.error(line, c, format!("PLANE: {a} written twice"));
+                            return None;
+                        }
+                        let w = value_word(addr_static(a), v, tok, c, line, diags)?;
+                        values.push((a.to_string(), w));
+                    }
+                    (None, "F") => feed = FeedWord::Value(value_word("F", v, tok, c, line, diags)?),
+                    _ => {
+                        diags.error(line, c, format!("PLANE {form_name}: unexpected '{}'", excerpt(tok)));
+                        return None;
+                    }
+                }
+            }
+        }
+    }
+    let Some(mode) = mode else {
+        diags.error(line, col, format!("PLANE {form_name}: expected TURN or STAY (how the rotary axes are positioned)"));
+        return None;
+    };
+    let take = |name: &str| values.iter().find(|(n, _)| n == name).map(|(_, w)| w.clone());
+    let all = |names: &[&str], diags: &mut Diags| -> Option<Vec<KWord<'a>>> {
+        let v: Vec<Option<KWord<'a>>> = names.iter().map(|n| take(n)).collect();
+        match v.iter().position(Option::is_none) {
+            Some(k) => {
+                diags.error(line, col, format!("PLANE {form_name}: expected {} (all of {})", names[k], names.join(" ")));
+                None
+            }
+            None => Some(v.into_iter().flatten().collect()),
+        }
+    };
+    let form = match form_name.as_ref() {
+        "SPATIAL" => PlaneForm::Spatial(all(addresses, diags)?.try_into().ok()?),
+        "EULER" => PlaneForm::Euler(all(addresses, diags)?.try_into().ok()?),
+        "VECTOR" => PlaneForm::Vector(all(addresses, diags)?.try_into().ok()?),
+        "POINTS" => PlaneForm::Points(all(addresses, diags)?.try_into().ok()?),
+        "RELATIV" => match values.as_slice() {
+            [(n, w)] => PlaneForm::Relativ(addresses.iter().position(|a| a == n).unwrap_or(0), w.clone()),
+            _ => {
+                diags.error(line, col, "PLANE RELATIV: expected one of SPA, SPB, SPC");
+                return None;
+            }
+        },
+        "AXIAL" if !values.is_empty() => PlaneForm::Axial(values.into_iter().map(|(_, w)| w).collect()),
+        "AXIAL" => {
+            diags.error(line, col, "PLANE AXIAL: expected the rotary axes' positions A, B or C");
+            return None;
+        }
+        _ => PlaneForm::Reset,
+    };
+    Some(Kind::Plane(PlaneStmt { form, mode, feed, choice, cycle: false }))
+}
+
+/// A `PLANE POINTS` coordinate word (`P1X+0`, `P3Z-12.5`): its address (a digit inside, which
+/// [`split_word`] would end it at) and value.
+pub(super) fn point_word(tok: &str) -> Option<(Cow<'_, str>, &str)> {
+    let b = tok.as_bytes();
+    let is = b.len() > 3 && b[0].eq_ignore_ascii_case(&b'P') && (b'1'..=b'3').contains(&b[1]) && matches!(b[2].to_ascii_uppercase(), b'X' | b'Y' | b'Z');
+    is.then(|| (upper(&tok[..3]), &tok[3..]))
+}
+
+/// The static address of a PLANE word.
+pub(super) fn addr_static(a: &str) -> &'static str {
+    ["SPA", "SPB", "SPC", "EULPR", "EULNU", "EULROT", "BX", "BY", "BZ", "NX", "NY", "NZ", "P1X", "P1Y", "P1Z", "P2X", "P2Y", "P2Z", "P3X", "P3Y", "P3Z", "A", "B", "C"]
+        .into_iter()
+        .find(|s| *s == a)
+        .unwrap_or("PLANE")
+}
+
+/// `CYCL DEF 19.0 WORKING PLANE` (its name in the control's language) and `CYCL DEF 19.1 A.. B..
+/// C.. [F..]`, or `19.1` alone, the reset (TNC 320 Cycle Programming 340 55x-04 §11.9): the plane
+/// becomes effective as it is defined, nothing moves (the program positions the rotary axes). Its
+/// angles are the rotary axes' positions or spatial angles as the machine is set up (iTNC 530 HSCI
+/// Technical Manual §6.5.6, MP7500 bit 1): the runner decides.
+pub(super) fn cycle19<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let col = toks[0].1;
+    match part {
+        "0" => None,
+        "1" => {
+            let mut values = Vec::new();
+            let mut feed = FeedWord::None;
+            for &(tok, c) in &toks[3.min(toks.len())..] {
+                let (addr, v) = split_word(tok);
+                match addr.as_ref() {
+                    "A" | "B" | "C" => values.push(value_word(addr_static(&addr), v, tok, c, line, diags)?),
+                    "F" => feed = FeedWord::Value(value_word("F", v, tok, c, line, diags)?),
+                    _ => {
+                        diags.error(line, c, format!("CYCL DEF 19.1: expected A, B, C (and F), found '{}'", excerpt(tok)));
+                        return None;
+                    }
+                }
+            }
+            let form = if values.is_empty() { PlaneForm::Reset } else { PlaneForm::Axial(values) };
+            Some(Kind::Plane(PlaneStmt { form, mode: PlaneMode::Cycle, feed, choice: Default::default(), cycle: true }))
+        }
+        _ => {
+            diags.error(line, col, "CYCL DEF 19: expected CYCL DEF 19.0 and its name, or CYCL DEF 19.1 with the angles A, B, C");
+            None
+        }
+    }
+}
