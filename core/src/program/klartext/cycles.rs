@@ -1,7 +1,13 @@
 //! `CYCL DEF` blocks: which cycle, its parameters, and the cycles read here (7 datum shift, 9 dwell,
-//! 19 working plane, 32 tolerance, the drilling cycles and the machine maker's own).
+//! 19 working plane, 32 tolerance, the drilling cycles and the machine maker's own), parsed, then
+//! defined and called as the TNC runs them (`CYCL CALL`, `M99`, `M89`).
 
 use super::*;
+use std::borrow::Cow;
+
+use super::exec::Exec;
+use crate::program::interp::{Interpreter, Word};
+use crate::program::Block;
 
 /// `CYCL DEF 32.0 TOLERANCE` / `32.1 T0.05` / `32.2 HSC-MODE:0 TA0.5` (TNC 620 Cycle Programming, 340
 /// 56x-03, §12.5): the contour tolerance on the path (program unit) and, under M128/TCPM, on the rotary
@@ -118,4 +124,106 @@ pub(super) fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bo
     }
     let k = axis_index(a);
     value_word(a, rest, tok, wcol, line, diags).map(|w| Kind::Datum(k, w, incremental))
+}
+
+impl Exec {
+    /// `CYCL DEF n`: the drilling cycles 200, 207, 240 are kept for the next call; cycle 247 selects
+    /// a preset of the machine's table (its values are the operator's: the datum is taken as the
+    /// workpiece's, and linear ranges are not judged); the machine maker's own cycles that move
+    /// nothing are in its file; any other is refused.
+    pub(super) fn define_cycle(&mut self, n: u32, s: &Stmt<'_>, interp: &mut Interpreter, diags: &mut Diags) {
+        match n {
+            200 | 207 | 240 => self.cycle = Some((n, s.line)),
+            247 => interp.set_preset_assumed(),
+            _ if self.machine.as_ref().is_some_and(|m| m.state_cycles.contains(&n)) => {}
+            _ => diags.error(s.line, s.col, format!("CYCL DEF {n}: this cycle is not read (it may move the tool; the drilling cycles 200, 207 and 240 are, and the machine file names its maker's cycles that move nothing)")),
+        }
+    }
+
+    /// A Q parameter a cycle needs, in SI (`scale` per program unit); why not, if unset.
+    pub(super) fn cycle_q(&self, name: &str, scale: f64) -> Result<f64, String> {
+        self.q.get(name).map(|v| v * scale).ok_or_else(|| format!("{name} is not set"))
+    }
+
+    /// Run the cycle defined last where the tool stands, along the working plane's Z: its moves as
+    /// blocks of this statement (the modal feed stays the program's).
+    pub(super) fn call_cycle(&mut self, s: &Stmt<'_>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) {
+        let Some((n, _)) = self.cycle else {
+            diags.error(s.line, s.col, "a cycle call with no cycle defined before it (CYCL DEF)");
+            return;
+        };
+        let unit = interp.unit();
+        let hole = (|| -> Result<(crate::program::cycles::TncHole, f64), String> {
+            let q = |name: &str| self.cycle_q(name, unit);
+            let mut h = crate::program::cycles::TncHole {
+                surface: q("Q203")?,
+                clearance: q("Q200")?.abs(),
+                clearance2: q("Q204")?.abs(),
+                depth: q("Q201")?,
+                plunge: 0.0,
+                dwell_top_s: 0.0,
+                dwell_bottom_s: 0.0,
+                feed_out: false,
+            };
+            let feed = match n {
+                200 => {
+                    h.plunge = q("Q202")?.abs();
+                    h.dwell_top_s = self.cycle_q("Q210", 1.0)?;
+                    h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
+                    self.cycle_q("Q206", 1.0)?
+                }
+                240 => {
+                    if self.cycle_q("Q343", 1.0)? != 0.0 {
+                        return Err("Q343=1: a depth from the centering diameter (the tool's point angle) is not read".into());
+                    }
+                    h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
+                    self.cycle_q("Q206", 1.0)?
+                }
+                _ => {
+                    // 207 RIGID TAPPING: the feed is the pitch Q239 at the spindle speed.
+                    h.feed_out = true;
+                    let pitch = self.cycle_q("Q239", 1.0)?.abs();
+                    let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
+                    pitch * speed.abs()
+                }
+            };
+            if h.depth > 0.0 {
+                return Err(format!("Q201={}: a positive depth (drilling up) is not read", h.depth / unit));
+            }
+            if !(feed > 0.0) {
+                return Err("the cycle's feed is not positive".into());
+            }
+            Ok((h, feed))
+        })();
+        let (h, feed) = match hole {
+            Ok(h) => h,
+            Err(why) => {
+                diags.error(s.line, s.col, format!("cycle {n} called: {why}"));
+                return;
+            }
+        };
+        let saved = interp.feed_state();
+        let z = |v: f64, motion: &str| -> Vec<Word<'static>> {
+            let mut w = vec![
+                Word { letter: 'G', value: if motion == "0" { 0.0 } else { 1.0 }, raw: Cow::Owned(motion.to_string()), column: s.col, incremental: false },
+                Word { letter: 'Z', value: v / unit, raw: Cow::Owned(format!("{}", v / unit)), column: s.col, incremental: false },
+            ];
+            if motion == "1" {
+                w.push(Word { letter: 'F', value: feed, raw: Cow::Owned(format!("{feed}")), column: s.col, incremental: false });
+            }
+            w
+        };
+        for step in crate::program::cycles::tnc_hole(&h) {
+            let block = match step {
+                crate::program::cycles::Step::Rapid(v) => interp.block_one(&z(v, "0"), s.line, s.col, s.number, diags),
+                crate::program::cycles::Step::Feed(v) => interp.block_one(&z(v, "1"), s.line, s.col, s.number, diags),
+                crate::program::cycles::Step::Dwell(t) => Some(Block { dwell_s: Some(t), ..interp.still_block(s.line, s.col, s.number) }),
+            };
+            match block {
+                Some(b) => out.push(b),
+                None => break,
+            }
+        }
+        interp.restore_feed(saved);
+    }
 }

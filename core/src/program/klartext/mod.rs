@@ -38,12 +38,13 @@
 mod cycles;
 mod formula;
 mod params;
+mod exec;
 mod run;
 mod tilt;
 
 use cycles::cycle;
 use params::{assign, fn_statement, Cmp};
-use tilt::{cycle19, plane, PlaneForm, PlaneMode, PlaneStmt};
+use tilt::{cycle19, plane, PlaneStmt};
 
 pub(crate) use run::Runner;
 pub use run::MAX_LABELS;

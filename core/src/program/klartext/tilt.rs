@@ -1,8 +1,15 @@
 //! Tilted working planes as a block states them: `PLANE SPATIAL/EULER/VECTOR/POINTS/RELATIV/AXIAL/
 //! RESET` with `TURN`/`STAY`, `SEQ`, `COORD ROT`/`TABLE ROT`, and cycle 19 (iTNC 530 User's Manual,
-//! "Tilting the working plane"); what the plane does is [`crate::program::plane`]'s.
+//! "Tilting the working plane"): parsed, then run (the axes the control picks, its Q120-Q122, the
+//! frame it sets); the plane's geometry is [`crate::program::plane`]'s.
 
 use super::*;
+use std::borrow::Cow;
+
+use super::exec::Exec;
+use crate::program::interp::{Interpreter, Word};
+use crate::program::Block;
+use crate::units::DEG;
 
 /// How a `PLANE` states the working plane.
 #[derive(Debug, Clone)]
@@ -200,6 +207,154 @@ pub(super) fn cycle19<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, di
         _ => {
             diags.error(line, col, "CYCL DEF 19: expected CYCL DEF 19.0 and its name, or CYCL DEF 19.1 with the angles A, B, C");
             None
+        }
+    }
+}
+
+impl Exec {
+    /// A `PLANE` or cycle 19: the working plane's frame, the rotary positions the control picks
+    /// for it ([`crate::program::plane::solve`]), Q120-Q122 (`STAY`), the rotary move (`TURN`).
+    pub(super) fn plane(&mut self, p: &PlaneStmt<'_>, s: &Stmt<'_>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) {
+        use crate::program::plane;
+        let what = if p.cycle { "CYCL DEF 19" } else { "PLANE" };
+        let Some(machine) = self.machine.clone() else {
+            diags.error(s.line, s.col, format!("{what}: a tilted working plane needs the machine's kinematics (--machine)"));
+            return;
+        };
+        let letters: [char; 2] = [3, 4].map(|k| machine.axes[k].name.chars().next().unwrap_or('?').to_ascii_uppercase());
+        let pos = interp.position();
+        let current = letters.map(|l| "ABC".find(l).map_or(0.0, |k| pos[3 + k]));
+        let deg = |w: &KWord<'_>, diags: &mut Diags| self.value(w, s.line, diags).map(|v| v * DEG);
+        let before = diags.errors();
+        let frame = match &p.form {
+            PlaneForm::Reset => None,
+            PlaneForm::Spatial(w) => {
+                let v: Vec<f64> = w.iter().filter_map(|w| deg(w, diags)).collect();
+                (v.len() == 3).then(|| plane::spatial(v[0], v[1], v[2]))
+            }
+            PlaneForm::Euler(w) => {
+                let v: Vec<f64> = w.iter().filter_map(|w| deg(w, diags)).collect();
+                (v.len() == 3).then(|| plane::euler_zxz(v[0], v[1], v[2]))
+            }
+            PlaneForm::Vector(w) => {
+                let v: Vec<f64> = w.iter().filter_map(|w| self.value(w, s.line, diags)).collect();
+                if v.len() == 6 {
+                    match plane::from_vectors(nalgebra::Vector3::new(v[0], v[1], v[2]), nalgebra::Vector3::new(v[3], v[4], v[5])) {
+                        Ok(r) => Some(r),
+                        Err(why) => {
+                            diags.error(s.line, s.col, format!("PLANE VECTOR: {why}"));
+                            None
+                        }
+                    }
+                } else {
+                    None
+                }
+            }
+            PlaneForm::Points(w) => {
+                let v: Vec<f64> = w.iter().filter_map(|w| self.value(w, s.line, diags)).collect();
+                let p = |k: usize| nalgebra::Vector3::new(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+                match (v.len() == 9).then(|| plane::from_points(p(0), p(1), p(2))) {
+                    Some(Ok(r)) => Some(r),
+                    Some(Err(why)) => {
+                        diags.error(s.line, s.col, format!("PLANE POINTS: {why}"));
+                        None
+                    }
+                    None => None,
+                }
+            }
+            PlaneForm::Relativ(k, w) => deg(w, diags).map(|a| {
+                let axis = nalgebra::Unit::new_normalize(nalgebra::Vector3::ith(*k, 1.0));
+                interp.tilt().unwrap_or_else(nalgebra::Matrix3::identity) * *nalgebra::Rotation3::from_axis_angle(&axis, a).matrix()
+            }),
+            PlaneForm::Axial(w) => {
+                // Axis positions: the tool's frame there (cycle 19 set up for spatial angles reads
+                // them as those instead).
+                let mut rot = current;
+                let mut spatial = [0.0; 3];
+                for w in w {
+                    let Some(v) = deg(w, diags) else { continue };
+                    let l = w.addr.chars().next().unwrap_or('?');
+                    spatial["ABC".find(l).unwrap_or(0)] = v;
+                    match letters.iter().position(|&m| m == l) {
+                        Some(k) => rot[k] = v,
+                        None if p.cycle && machine.cycle19_spatial => {}
+                        None => diags.error(s.line, w.col, format!("{what}: the machine has no axis {l} (its rotary axes are {} and {})", letters[0], letters[1])),
+                    }
+                }
+                Some(if p.cycle && machine.cycle19_spatial { plane::spatial(spatial[0], spatial[1], spatial[2]) } else { machine.chain.tool_frame(&rot) })
+            }
+        };
+        if diags.errors() > before {
+            return;
+        }
+        let Some(r) = frame else {
+            interp.set_tilt(None);
+            return;
+        };
+        let axial = matches!(p.form, PlaneForm::Axial(_)) && !(p.cycle && machine.cycle19_spatial);
+        let rot = if axial {
+            let mut rot = current;
+            if let PlaneForm::Axial(w) = &p.form {
+                for w in w {
+                    if let (Some(v), Some(k)) = (self.value(w, s.line, diags), letters.iter().position(|&m| Some(m) == w.addr.chars().next())) {
+                        rot[k] = v * DEG;
+                    }
+                }
+            }
+            rot
+        } else {
+            match plane::solve(&machine, &r, current, p.choice) {
+                Ok(sol) => {
+                    if let Some(pole) = sol.pole {
+                        let name = &machine.axes[pole.free_axis].name;
+                        // Degrees to 3 decimals, a rounding of zero without its sign.
+                        let deg3 = |v: f64| format!("{:.3}", if v.to_degrees().abs() < 5e-4 { 0.0 } else { v.to_degrees() });
+                        let table = pole.table_rot.map_or("cannot turn it to the plane's X (a head axis)".into(), |t| format!("turns it to {} deg", deg3(t)));
+                        let said = match p.choice.table_rot {
+                            Some(true) => "the program says TABLE ROT",
+                            Some(false) => "the program says COORD ROT",
+                            None => "the program says neither, so it depends on the control's setting; read as COORD ROT",
+                        };
+                        diags.warning(
+                            s.line,
+                            s.col,
+                            format!(
+                                "{what} at the pole: the tool lies along {name}'s axis, which leaves {name} free; COORD ROT keeps it at {} deg, TABLE ROT {table}; {said} ({name} {} deg)",
+                                deg3(pole.coord_rot),
+                                deg3(sol.rot[pole.free_axis - 3])
+                            ),
+                        );
+                    }
+                    sol.rot
+                }
+                Err(why) => {
+                    diags.error(s.line, s.col, format!("{what}: {why}"));
+                    return;
+                }
+            }
+        };
+        // STAY (and TURN): the angles the control computed, in Q120 (A), Q121 (B), Q122 (C).
+        if p.mode != PlaneMode::Cycle {
+            for (k, l) in letters.iter().enumerate() {
+                if let Some(i) = "ABC".find(*l) {
+                    self.q.insert(format!("Q{}", 120 + i), rot[k] / DEG);
+                }
+            }
+        }
+        interp.set_tilt(Some(r));
+        if p.mode == PlaneMode::Turn {
+            let mut words: Vec<Word<'static>> = letters.iter().zip(rot).map(|(l, v)| Word { letter: *l, value: v / DEG, raw: Cow::Owned(format!("{:.6}", v / DEG)), column: s.col, incremental: false }).collect();
+            match &p.feed {
+                FeedWord::Value(f) => {
+                    let Some(v) = self.value(f, s.line, diags) else { return };
+                    words.push(Word { letter: 'G', value: 1.0, raw: "1".into(), column: s.col, incremental: false });
+                    words.push(Word { letter: 'F', value: v, raw: Cow::Owned(f.raw.to_string()), column: f.col, incremental: false });
+                }
+                _ => words.push(Word { letter: 'G', value: 0.0, raw: "0".into(), column: s.col, incremental: false }),
+            }
+            if let Some(b) = interp.block_one(&words, s.line, s.col, s.number, diags) {
+                out.push(b);
+            }
         }
     }
 }

@@ -1,0 +1,486 @@
+//! Running one Klartext statement: its block for the interpreter, its parameters, its tilted plane
+//! ([`super::tilt`]) or cycle ([`super::cycles`]), with the run-time state the TNC keeps between
+//! blocks.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+
+use super::{axis_index, label, FeedWord, KWord, Kind, Shape, Stmt, Val};
+use crate::machine::ContourTolerance;
+use crate::program::interp::{Interpreter, OneShot, Word};
+use crate::program::lex::Diags;
+use crate::program::{Block, ProgrammedTolerance};
+use crate::units::{DEG, MM};
+
+/// Run-time state besides the interpreter's.
+#[derive(Debug, Default)]
+pub(super) struct Exec {
+    pub(super) q: HashMap<String, f64>,
+    /// The machine, for tilted working planes (its kinematics and limits).
+    pub(super) machine: Option<std::sync::Arc<crate::machine::Machine>>,
+    /// The cycle defined last (CYCL DEF), which CYCL CALL, M99 and M89 run.
+    pub(super) cycle: Option<(u32, usize)>,
+    /// M89: the cycle runs after every positioning block until M99 or CYCL CALL.
+    pub(super) modal_call: bool,
+    /// The spindle speed of the last TOOL CALL (1/min), for tapping.
+    pub(super) spindle: Option<f64>,
+    /// The feed of the last TOOL CALL (program units per minute, as written), for FAUTO.
+    pub(super) tool_feed: Option<(f64, String)>,
+    /// Direction of the contour at its end in the working plane, for CT.
+    pub(super) tangent: Option<[f64; 2]>,
+    /// The pole CC in the working plane (its two axes and coordinates, m), for LP and CP.
+    pub(super) pole: Option<([usize; 2], [f64; 2])>,
+}
+
+impl Exec {
+    /// A formula's value with the parameters set so far; a defect goes to `diags`.
+    pub(super) fn formula(&self, text: &str, line: usize, col: usize, diags: &mut Diags) -> Option<f64> {
+        match super::formula::eval(text, &|n| self.q.get(n).copied()) {
+            Ok(v) => Some(v),
+            Err(e) => {
+                diags.error(line, col, format!("'{}': {}", crate::program::lex::excerpt(text), e.message));
+                None
+            }
+        }
+    }
+
+    pub(super) fn value(&self, w: &KWord<'_>, line: usize, diags: &mut Diags) -> Option<f64> {
+        match &w.val {
+            Val::Num(v) => Some(*v),
+            Val::Q { name, negative } => match self.q.get(*name) {
+                Some(v) => Some(if *negative { -v } else { *v }),
+                None => {
+                    diags.error(line, w.col, format!("{}: {name} is used before it is set", w.addr));
+                    None
+                }
+            },
+        }
+    }
+
+    /// Run one statement, its block to `out`; true if it ends the program (M2, M30).
+    pub(super) fn run<'a>(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        let unit = interp.unit();
+        // Statements that set state and run no block.
+        match &s.kind {
+            Kind::Assign { name, formula } => {
+                match self.formula(formula, s.line, s.col, diags) {
+                    Some(v) => {
+                        self.q.insert(name.clone(), v);
+                    }
+                    None => diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line))),
+                }
+                return false;
+            }
+            Kind::Tolerance { linear, rotary, reset } => {
+                let mut tolerance = if *reset { ProgrammedTolerance::default() } else { interp.tolerance() };
+                let max = ContourTolerance::MAX;
+                // Each part written: its value in SI (from the program's unit, or deg), within 0..=max.
+                let parts: [(_, _, _, _, _, _, fn(f64) -> bool); 2] = [
+                    (linear, "32.1 T", unit, max.linear_m, MM, "mm", ContourTolerance::linear_ok),
+                    (rotary, "32.2 TA", DEG, max.rotary_rad, DEG, "deg", ContourTolerance::rotary_ok),
+                ];
+                let [l, r] = parts.map(|(w, name, to_si, max, shown, shown_name, ok)| {
+                    let w = w.as_ref()?;
+                    let v = self.value(w, s.line, diags)? * to_si;
+                    if !ok(v) {
+                        diags.error(s.line, w.col, format!("CYCL DEF {name}: {} {shown_name} is outside 0 to {} {shown_name}", v / shown, max / shown));
+                        return None;
+                    }
+                    Some(v)
+                });
+                tolerance.linear_m = l.or(tolerance.linear_m);
+                tolerance.rotary_rad = r.or(tolerance.rotary_rad);
+                interp.set_tolerance(tolerance);
+                return false;
+            }
+            Kind::Tcp { on, orientation } => {
+                interp.set_tcp(*on);
+                if let Some(o) = orientation {
+                    interp.set_orientation(*o);
+                }
+                return false;
+            }
+            Kind::Datum(k, w, incremental) => {
+                if let Some(v) = self.value(w, s.line, diags) {
+                    let mut datum = interp.datum();
+                    datum[*k] = if *incremental { datum[*k] + v * unit } else { v * unit };
+                    interp.set_datum(datum);
+                }
+                return false;
+            }
+            Kind::Plane(p) => {
+                self.plane(p, s, interp, out, diags);
+                return false;
+            }
+            Kind::CycleDef(n) => {
+                self.define_cycle(*n, s, interp, diags);
+                return false;
+            }
+            Kind::CycleCall => {
+                self.modal_call = false;
+                self.call_cycle(s, interp, out, diags);
+                return false;
+            }
+            Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } => return false,
+            _ => {}
+        }
+        let before = diags.errors();
+        let mut words: Vec<Word<'a>> = Vec::with_capacity(12);
+        let word = |letter: char, value: f64, raw: Cow<'a, str>, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
+        let mut ends = false;
+        let mut vector = None;
+        match &s.kind {
+            Kind::Stop => words.push(word('M', 0.0, "0".into(), s.col, false)),
+            // The interpreter reads a TNC dwell as G04 F, s.
+            Kind::Dwell(w) => {
+                if let Some(v) = self.value(w, s.line, diags) {
+                    words.push(word('G', 4.0, "04".into(), s.col, false));
+                    words.push(word('F', v, w.raw.into(), w.col, false));
+                }
+            }
+            Kind::Tool { events, feed } => {
+                if let Some(sp) = events.iter().find_map(|e| e.strip_prefix('S')) {
+                    self.spindle = super::parse_val(sp).and_then(|v| match v {
+                        Val::Num(n) => Some(n),
+                        Val::Q { name, negative } => self.q.get(name).map(|v| if negative { -v } else { *v }),
+                    });
+                }
+                for e in events {
+                    let (l, rest) = e.split_at(1);
+                    words.push(word(l.chars().next().unwrap_or('T'), 0.0, rest.to_string().into(), s.col, false));
+                }
+                if let Some(f) = feed {
+                    self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw.to_string()));
+                }
+            }
+            Kind::Misc(m) => ends = self.m_words(m, &mut words, s.line, diags),
+            Kind::Retract { distance, feed, col } => {
+                let d = match distance {
+                    Some(w) => self.value(w, s.line, diags).map(|v| Some(v * unit)),
+                    None => Some(None),
+                };
+                if let Some(d) = d {
+                    match interp.retract_target(d) {
+                        Ok(axes) => {
+                            // A move of the axes themselves (origin zero), as M91's are of the machine's.
+                            // Without F (or with FMAX) at rapid traverse.
+                            let motion = if matches!(feed, FeedWord::Value(_)) { crate::program::Motion::Linear } else { crate::program::Motion::Rapid };
+                            interp.oneshot = Some(OneShot { motion, absolute: true, axes: Some([0.0; 3]), own: true });
+                            for (k, letter) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+                                words.push(word(letter, axes[k] / unit, format!("{}", axes[k] / unit).into(), *col, false));
+                            }
+                            if let FeedWord::Value(f) = feed {
+                                if let Some(v) = self.value(f, s.line, diags) {
+                                    words.push(word('F', v, f.raw.into(), f.col, false));
+                                }
+                            }
+                        }
+                        Err(why) => diags.error(s.line, *col, format!("M140: {why}")),
+                    }
+                }
+            }
+            Kind::Centre(axes) => {
+                let pos = interp.position();
+                let (a0, a1, _) = interp.plane().axes();
+                let mut c = [pos[a0], pos[a1]];
+                for w in axes {
+                    let k = axis_index(w.addr);
+                    let Some(v) = self.value(w, s.line, diags) else { continue };
+                    let incremental = w.addr.starts_with('I');
+                    let slot = if k == a0 {
+                        0
+                    } else if k == a1 {
+                        1
+                    } else {
+                        diags.error(
+                            s.line,
+                            w.col,
+                            format!(
+                                "CC {}: not an axis of the working plane ({}{}, from the TOOL CALL's axis): \"the TNC assigns a circle to one of the main planes\", \"defined when you set the spindle axis during TOOL CALL\" (TNC 425/415 B/407 user's manual §5, Circles in the main planes)",
+                                w.addr,
+                                ['X', 'Y', 'Z'][a0],
+                                ['X', 'Y', 'Z'][a1]
+                            ),
+                        );
+                        continue;
+                    };
+                    c[slot] = if incremental { pos[k] + v * unit } else { v * unit };
+                }
+                for (slot, k) in [a0, a1].into_iter().enumerate() {
+                    words.push(word(['I', 'J', 'K'][k], c[slot] / unit, format!("{}", c[slot] / unit).into(), s.col, false));
+                }
+                self.pole = Some(([a0, a1], c));
+            }
+            Kind::Move { shape, axes, ccw, radius, feed, m } => {
+                let mut tool = [None; 3];
+                let mut normal = [None; 3];
+                if matches!(shape, Shape::LinePolar | Shape::CirclePolar) {
+                    match self.polar(*shape, axes, *ccw, interp, s, diags) {
+                        Some((end, turns)) => {
+                            let (a0, a1, _) = interp.plane().axes();
+                            for (k, v) in [(a0, end[0]), (a1, end[1])] {
+                                words.push(word(['X', 'Y', 'Z'][k], v / unit, format!("{}", v / unit).into(), s.col, false));
+                            }
+                            if turns > 1 {
+                                words.push(word('P', turns as f64, format!("{turns}").into(), s.col, false));
+                            }
+                        }
+                        None => return false,
+                    }
+                }
+                for w in axes.iter().filter(|w| !w.addr.ends_with("PR") && !w.addr.ends_with("PA")) {
+                    let Some(v) = self.value(w, s.line, diags) else { continue };
+                    match w.addr.as_bytes()[0] {
+                        b'N' => normal[axis_index(w.addr)] = Some(v),
+                        b'T' => tool[axis_index(w.addr)] = Some(v),
+                        _ => {
+                            let letter = w.addr.as_bytes()[w.addr.len() - 1] as char;
+                            words.push(word(letter, v, w.raw.into(), w.col, w.addr.len() == 2))
+                        }
+                    }
+                }
+                ends = self.m_words(m, &mut words, s.line, diags);
+                let g = match (shape, feed) {
+                    (Shape::Line | Shape::LineNormal | Shape::LinePolar, FeedWord::Max) => "0",
+                    (Shape::Line | Shape::LineNormal | Shape::LinePolar, _) => "1",
+                    (Shape::Circle | Shape::CircleRadius | Shape::CirclePolar, _) if *ccw == Some(true) => "3",
+                    (Shape::Circle | Shape::CircleRadius | Shape::CirclePolar, _) => "2",
+                    (Shape::CircleTangent, _) => match self.tangent_arc(&words, interp, s, diags) {
+                        Some((g, r)) => {
+                            words.push(word('R', r, format!("{r}").into(), s.col, false));
+                            g
+                        }
+                        None => "1",
+                    },
+                };
+                words.push(word('G', if g == "0" { 0.0 } else { g.parse().unwrap_or(1.0) }, g.into(), s.col, false));
+                if let Some(r) = radius {
+                    if let Some(v) = self.value(r, s.line, diags) {
+                        words.push(word('R', v, r.raw.into(), r.col, false));
+                    }
+                }
+                match feed {
+                    FeedWord::Value(f) => {
+                        if let Some(v) = self.value(f, s.line, diags) {
+                            words.push(word('F', v, f.raw.into(), f.col, false));
+                        }
+                    }
+                    FeedWord::Auto(col) => match &self.tool_feed {
+                        Some((v, raw)) => words.push(word('F', *v, raw.clone().into(), *col, false)),
+                        None => diags.error(s.line, *col, "FAUTO without a feed in the TOOL CALL before it"),
+                    },
+                    FeedWord::Max | FeedWord::None => {}
+                }
+                if *shape == Shape::LineNormal {
+                    let full = |v: [Option<f64>; 3]| -> Option<[f64; 3]> { Some([v[0]?, v[1]?, v[2]?]) };
+                    let m128 = m.iter().any(|w| w.val == Val::Num(128.0));
+                    let t = full(tool);
+                    if interp.tcp() || m128 {
+                        // Under TCPM the tool keeps the orientation T, or without T stands on the normal.
+                        let given = if t.is_some() { "TX TY TZ" } else { "NX NY NZ" };
+                        if let Some(v) = t.or_else(|| full(normal)) {
+                            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                            if n > 1e-9 && n.is_finite() {
+                                vector = Some(v.map(|c| c / n));
+                            } else {
+                                diags.error(s.line, s.col, format!("LN: the vector {given} has zero length: expected a direction"));
+                            }
+                        }
+                    } else if t.is_some() {
+                        diags.warning(
+                            s.line,
+                            s.col,
+                            "LN with TX TY TZ but neither M128 nor FUNCTION TCPM: the TNC ignores the tool vector, and so does this reader",
+                        );
+                    }
+                }
+            }
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::CycleCall => {}
+        }
+        // M91 / M92: the block's coordinates are the machine's, about its machine datum or the
+        // maker's second datum (TNC 426 B ISO §7.3: "M91 and M92 are effective only in the blocks in
+        // which they are programmed"; the tool length is not compensated, so they place the axes).
+        if let Kind::Move { shape, m, feed, .. } = &s.kind {
+            let code = m.iter().find_map(|w| match w.val {
+                Val::Num(v) if v == 91.0 || v == 92.0 => Some((v as u32, w.col)),
+                _ => None,
+            });
+            if let Some((code, col)) = code {
+                match self.machine_axes(code, interp, *shape, words.iter().any(|w| w.incremental)) {
+                    Ok(origin) => {
+                        let motion = if matches!(feed, FeedWord::Max) { crate::program::Motion::Rapid } else { crate::program::Motion::Linear };
+                        interp.oneshot = Some(OneShot { motion, absolute: true, axes: Some(origin), own: false });
+                    }
+                    Err(why) => diags.error(s.line, col, format!("M{code}: {why}")),
+                }
+            }
+        }
+        if diags.errors() > before {
+            diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+            return false;
+        }
+        if let Some(v) = vector {
+            interp.set_pending_vector(v);
+        }
+        // M99 runs the cycle at the block's end point, M89 from here on after every positioning.
+        let (m99, m89) = match &s.kind {
+            Kind::Move { m, .. } | Kind::Misc(m) => (m.iter().any(|w| w.val == Val::Num(99.0)), m.iter().any(|w| w.val == Val::Num(89.0))),
+            _ => (false, false),
+        };
+        let words: Vec<Word<'a>> = words.into_iter().filter(|w| !(w.letter == 'M' && (w.value == 99.0 || w.value == 89.0))).collect();
+        let start = interp.position();
+        let result = interp.block_one(&words, s.line, s.col, s.number, diags);
+        match result {
+            Some(b) => {
+                self.follow(&b, start, interp.position(), interp);
+                let moved = !b.targets.is_empty();
+                out.push(b);
+                if m89 {
+                    self.modal_call = true;
+                }
+                if m99 {
+                    self.modal_call = false;
+                }
+                if m99 || (self.modal_call && moved && !m89) {
+                    self.call_cycle(s, interp, out, diags);
+                }
+                ends
+            }
+            None => {
+                diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+                false
+            }
+        }
+    }
+
+    /// `LP` and `CP` (iTNC 530 user's manual §6.5 "Path contours—Polar coordinates"): the end point in
+    /// the working plane from the pole CC, the polar radius PR (CP: the start's distance to the pole)
+    /// and angle PA from the plane's reference axis (X in XY, Y in YZ, Z in ZX), IPR and IPA from
+    /// the start's; and a CP's turns (P of its arc: `IPA+720` is two). A plane axis written beside
+    /// them, a pole of another plane, a CP whose IPA and DR differ in sign ("Define the same algebraic
+    /// sign for the direction of rotation DR and the incremental total angle IPA. The tool may
+    /// otherwise move on a wrong path", TNC7 user's manual, Programming a helix) are refused.
+    pub(super) fn polar(&self, shape: Shape, axes: &[KWord<'_>], ccw: Option<bool>, interp: &Interpreter, s: &Stmt<'_>, diags: &mut Diags) -> Option<([f64; 2], u64)> {
+        let (a0, a1, _) = interp.plane().axes();
+        let key = if shape == Shape::LinePolar { "LP" } else { "CP" };
+        let Some((_, pole)) = self.pole.filter(|(axes, _)| *axes == [a0, a1]) else {
+            diags.error(s.line, s.col, format!("{key}: no pole CC in the working plane before it"));
+            return None;
+        };
+        // A linear word of the working plane (X, Y, Z or IX ...; not the rotary A B C, nor LN's N and T).
+        let linear = |a: &str| a.ends_with(['X', 'Y', 'Z']) && !a.starts_with(['N', 'T']);
+        if let Some(w) = axes.iter().find(|w| linear(w.addr) && [a0, a1].contains(&axis_index(w.addr))) {
+            diags.error(s.line, w.col, format!("{key} with {}: the end point in the working plane is the polar one", w.addr));
+            return None;
+        }
+        let unit = interp.unit();
+        let pos = interp.position();
+        let (d0, d1) = (pos[a0] - pole[0], pos[a1] - pole[1]);
+        let (r_start, pa_start) = (d0.hypot(d1), d1.atan2(d0).to_degrees());
+        let mut get = |name: &str| axes.iter().find(|w| w.addr == name).and_then(|w| self.value(w, s.line, diags));
+        let (pr, ipr, pa, ipa) = (get("PR"), get("IPR"), get("PA"), get("IPA"));
+        let r = match (pr, ipr) {
+            (Some(v), _) => v * unit,
+            (_, Some(v)) => r_start + v * unit,
+            _ => r_start,
+        };
+        let (pa, turns) = match (pa, ipa) {
+            (Some(v), _) => (v, 1),
+            (_, Some(v)) => {
+                if shape == Shape::CirclePolar && v != 0.0 && (v > 0.0) != (ccw == Some(true)) {
+                    diags.error(s.line, s.col, format!("CP IPA{v:+} with DR{}: the TNC wants the same sign for both, or the tool may move on a wrong path", if ccw == Some(true) { "+" } else { "-" }));
+                    return None;
+                }
+                // Whole turns beyond the first (the arc's P), the end where the total angle ends.
+                (pa_start + v, ((v.abs() - 1e-9) / 360.0).floor().max(0.0) as u64 + 1)
+            }
+            _ => return None,
+        };
+        if !(r >= 0.0 && r.is_finite()) {
+            diags.error(s.line, s.col, format!("{key}: a negative polar radius ({:.4})", r / unit));
+            return None;
+        }
+        if shape == Shape::CirclePolar && r_start < 1e-9 {
+            diags.error(s.line, s.col, "CP from the pole itself: a circle of radius 0");
+            return None;
+        }
+        let (sin, cos) = pa.to_radians().sin_cos();
+        Some(([pole[0] + r * cos, pole[1] + r * sin], turns))
+    }
+
+    /// Where M91's (machine datum) or M92's (the maker's datum) coordinates start, in the model's
+    /// frame; why not, if the machine file does not place them or the block cannot take them.
+    pub(super) fn machine_axes(&self, code: u32, interp: &Interpreter, shape: Shape, incremental: bool) -> Result<[f64; 3], String> {
+        if interp.tcp() {
+            return Err("machine coordinates under M128 / FUNCTION TCPM: the TNC wants it reset first (M129, FUNCTION RESET TCPM)".into());
+        }
+        if shape != Shape::Line || incremental {
+            return Err("machine coordinates are absolute positions of an L block".into());
+        }
+        let machine = interp.machine_coords().ok_or("the machine file places no machine coordinates ([machine_coordinates] zero_mm)")?;
+        let datum = match code {
+            92 => machine.m92_datum.ok_or("the machine file gives no M92 datum (machine_coordinates.m92_datum_mm)")?,
+            _ => nalgebra::Vector3::zeros(),
+        };
+        let o = machine.to_axes(datum);
+        Ok([o.x, o.y, o.z])
+    }
+
+    /// The block's M functions as words; true if one ends the program (M2, M30).
+    pub(super) fn m_words<'a>(&self, m: &[KWord<'a>], words: &mut Vec<Word<'a>>, line: usize, diags: &mut Diags) -> bool {
+        let mut ends = false;
+        for w in m {
+            let v = self.value(w, line, diags).unwrap_or(0.0);
+            ends |= v == 2.0 || v == 30.0;
+            words.push(Word { letter: 'M', value: v, raw: w.raw.into(), column: w.col, incremental: false });
+        }
+        ends
+    }
+
+    /// `CT`: the arc from the current point, tangent to the contour before it, to the block's end in
+    /// the working plane: its direction (G02/G03) and signed radius (negative over 180 deg).
+    pub(super) fn tangent_arc(&self, words: &[Word<'_>], interp: &Interpreter, s: &Stmt, diags: &mut Diags) -> Option<(&'static str, f64)> {
+        let Some(t) = self.tangent else {
+            diags.error(s.line, s.col, "CT: no contour element before it to be tangent to");
+            return None;
+        };
+        let unit = interp.unit();
+        let pos = interp.position();
+        let (a0, a1, _) = interp.plane().axes();
+        let mut end = [pos[a0], pos[a1]];
+        for w in words {
+            let Some(k) = "XYZ".find(w.letter) else { continue };
+            let slot = if k == a0 { 0 } else if k == a1 { 1 } else { continue };
+            end[slot] = if w.incremental { pos[k] + w.value * unit } else { w.value * unit };
+        }
+        let d = [end[0] - pos[a0], end[1] - pos[a1]];
+        let n = [-t[1], t[0]]; // left of the tangent
+        let dn = d[0] * n[0] + d[1] * n[1];
+        let dd = d[0] * d[0] + d[1] * d[1];
+        if dd == 0.0 || dn.abs() <= 1e-9 * dd.sqrt() {
+            diags.error(s.line, s.col, "CT: the end point lies on the tangent (a straight line, not an arc)");
+            return None;
+        }
+        let signed = dd / (2.0 * dn); // centre = start + signed * n
+        let over_half = d[0] * t[0] + d[1] * t[1] < 0.0;
+        let r = signed.abs() / unit * if over_half { -1.0 } else { 1.0 };
+        Some((if signed > 0.0 { "3" } else { "2" }, r))
+    }
+
+    /// Keep the contour's end direction for a later CT.
+    pub(super) fn follow(&mut self, b: &Block, start: [f64; 6], end: [f64; 6], interp: &Interpreter) {
+        let (a0, a1, _) = interp.plane().axes();
+        if let Some(arc) = &b.arc {
+            let r = [end[a0] - arc.centre[a0], end[a1] - arc.centre[a1]];
+            let n = r[0].hypot(r[1]);
+            if n > 0.0 {
+                let ccw = b.motion == crate::program::Motion::ArcCcw;
+                self.tangent = Some(if ccw { [-r[1] / n, r[0] / n] } else { [r[1] / n, -r[0] / n] });
+            }
+        } else if !b.targets.is_empty() {
+            let d = [end[a0] - start[a0], end[a1] - start[a1]];
+            let n = d[0].hypot(d[1]);
+            self.tangent = if n > 0.0 { Some([d[0] / n, d[1] / n]) } else { None };
+        }
+    }
+}
