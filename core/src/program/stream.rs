@@ -492,6 +492,38 @@ pub(crate) struct Find {
 /// The most lines a search reports: enough to tell a label from one written twice.
 const MAX_HITS: usize = 2;
 
+/// The most targets whose places a runner remembers ([`Places`]).
+pub(crate) const MAX_PLACES: usize = 10_000;
+
+/// Where the lines a jump looked for stand, by what it looked for (a Fanuc block number in its
+/// program, an 840D marker): a jump taken again does not search again. At most [`MAX_PLACES`]
+/// targets are remembered; a search for one more is made each time it is taken.
+#[derive(Debug, Clone)]
+pub(crate) struct Places<K> {
+    map: std::collections::HashMap<K, Vec<At>>,
+}
+
+impl<K: std::hash::Hash + Eq> Places<K> {
+    pub(crate) fn new() -> Self {
+        Places { map: std::collections::HashMap::new() }
+    }
+
+    /// The places found before for `key`, if it was looked for.
+    pub(crate) fn get<Q: std::hash::Hash + Eq + ?Sized>(&self, key: &Q) -> Option<Vec<At>>
+    where
+        K: std::borrow::Borrow<Q>,
+    {
+        self.map.get(key).cloned()
+    }
+
+    /// Remember a search's answer (within the bound).
+    pub(crate) fn remember(&mut self, key: K, hits: &[At]) {
+        if self.map.len() < MAX_PLACES {
+            self.map.insert(key, hits.to_vec());
+        }
+    }
+}
+
 /// A dialect's reader whose programs jump (Klartext's labels and calls, Fanuc's macro branches and
 /// subprograms), run by [`Seeking`], sans I/O.
 pub(crate) trait Jumping: Send {

@@ -25,7 +25,7 @@ use super::interp::Word;
 use super::lex::Diags;
 use super::params::Scope;
 use super::rs274::{ReadLine, Rs274Reader};
-use super::stream::{ends_program, stop, At, Find, Jumping, LineReader, Next};
+use super::stream::{ends_program, stop, At, Find, Jumping, LineReader, Next, Places};
 use super::{Block, Dialect};
 
 /// Deepest nesting of subprogram and macro calls (FANUC: subprograms 10 levels).
@@ -34,10 +34,8 @@ pub const MAX_CALL_DEPTH: usize = 10;
 pub const MAX_PROGRAMS: usize = 10_000;
 /// Deepest nesting of `DO` loops (FANUC: identification numbers 1 to 3).
 const MAX_LOOPS: usize = 3;
-/// Most block numbers whose place a program's branches remember (a branch taken again does not
-/// search again), and most lines kept as read for the passes that run them again.
-const MAX_CACHED: usize = 10_000;
-/// Most bytes of lines kept as read.
+/// Most lines kept as read for the passes that run them again, and their bytes.
+const MAX_KEPT_LINES: usize = 10_000;
 const MAX_KEPT_BYTES: usize = 16 << 20;
 
 /// A program the file holds: its number, and where its blocks start and end (byte offset).
@@ -97,7 +95,7 @@ pub(crate) struct MacroRunner {
     skipping: Option<(u8, usize, usize)>,
     wanted: Option<(Wanted, u64, usize, usize)>,
     /// The places of block numbers searched before, by the program's start and the number.
-    places: std::collections::HashMap<(u64, u64), Vec<At>>,
+    places: Places<(u64, u64)>,
     /// Lines run again (loops, branches back, subprograms) as read, by offset, and their bytes: a
     /// pass runs them from what was read ([`Rs274Reader::loop_line`]).
     kept: std::collections::HashMap<u64, ReadLine>,
@@ -123,7 +121,7 @@ impl MacroRunner {
             frames: vec![Frame { unit: At { line: 1, offset: 0 }, end: None, start: At { line: 1, offset: 0 }, back: At { line: 1, offset: 0 }, repeats: 0, loops: Vec::new(), locals: None, call: (0, 0) }],
             skipping: None,
             wanted: None,
-            places: std::collections::HashMap::new(),
+            places: Places::new(),
             kept: std::collections::HashMap::new(),
             kept_bytes: 0,
             furthest: 0,
@@ -142,7 +140,7 @@ impl MacroRunner {
     fn find(&mut self, n: u64, wanted: Wanted, line: usize, column: usize, diags: &mut Diags) -> Next {
         let f = self.frames.last().expect("a frame");
         let find = Find { from: f.unit, to: f.end, key: n };
-        if let Some(hits) = self.places.get(&(find.from.offset, n)).cloned() {
+        if let Some(hits) = self.places.get(&(find.from.offset, n)) {
             return self.resolve(wanted, n, line, column, &hits, diags);
         }
         self.wanted = Some((wanted, n, line, column));
@@ -461,9 +459,7 @@ impl Jumping for MacroRunner {
         // The lines a search reads count as run: a branch taken a million times over a long
         // program stays bounded.
         self.executed = self.executed.saturating_add(read);
-        if self.places.len() < MAX_CACHED {
-            self.places.insert((find.from.offset, n), hits.to_vec());
-        }
+        self.places.remember((find.from.offset, n), hits);
         self.resolve(wanted, n, line, column, hits, diags)
     }
 }
@@ -510,7 +506,7 @@ impl MacroRunner {
             None => {
                 let mut kept = None;
                 self.reader.loop_line(line, text, &mut kept, out, diags);
-                if let Some(read) = kept.filter(|_| self.kept.len() < MAX_CACHED && self.kept_bytes + text.len() <= MAX_KEPT_BYTES) {
+                if let Some(read) = kept.filter(|_| self.kept.len() < MAX_KEPT_LINES && self.kept_bytes + text.len() <= MAX_KEPT_BYTES) {
                     self.kept_bytes += text.len();
                     self.kept.insert(here.offset, read);
                 }

@@ -19,13 +19,11 @@
 use super::expr;
 use super::SinumerikReader;
 use crate::program::lex::Diags;
-use crate::program::stream::{ends_program, stop, At, Find, Jumping, LineReader, Next};
+use crate::program::stream::{ends_program, stop, At, Find, Jumping, LineReader, Next, Places};
 use crate::program::Block;
 
 /// Deepest nesting of control structures (the 840D's: 16 per level).
 const MAX_NESTING: usize = 16;
-/// Most jump targets whose place the run remembers (a jump taken again does not search again).
-const MAX_CACHED: usize = 10_000;
 
 /// A control structure running, and where it goes back to.
 #[derive(Debug, Clone)]
@@ -84,12 +82,12 @@ pub(crate) struct FlowRunner {
     /// where it stands.
     wanted: Option<(String, Way, usize, usize, At)>,
     /// Where each target searched before stands.
-    places: std::collections::HashMap<String, Vec<At>>,
+    places: Places<String>,
 }
 
 impl FlowRunner {
     pub(crate) fn new(setup: &crate::program::Setup) -> Self {
-        FlowRunner { reader: SinumerikReader::new(setup), reached: 0, budget: setup.max_run_lines, again: 0, open: Vec::new(), skipping: None, wanted: None, places: std::collections::HashMap::new() }
+        FlowRunner { reader: SinumerikReader::new(setup), reached: 0, budget: setup.max_run_lines, again: 0, open: Vec::new(), skipping: None, wanted: None, places: Places::new() }
     }
 
     fn condition(&self, text: &str) -> Result<bool, String> {
@@ -164,7 +162,7 @@ impl FlowRunner {
         if !ok {
             return stop(line, column, format!("expected a jump marker or a block number after the jump, found '{}'", crate::program::lex::excerpt(rest)), diags);
         }
-        if let Some(hits) = self.places.get(&target).cloned() {
+        if let Some(hits) = self.places.get(&target) {
             return self.resolve(target, w, line, column, here, &hits, diags);
         }
         self.wanted = Some((target, w, line, column, here));
@@ -396,9 +394,7 @@ impl Jumping for FlowRunner {
         let Some((target, w, line, column, here)) = self.wanted.take() else { return Next::On };
         // The lines a search reads count as run again: a jump taken a million times stays bounded.
         self.again = self.again.saturating_add(read);
-        if self.places.len() < MAX_CACHED {
-            self.places.insert(target.clone(), hits.to_vec());
-        }
+        self.places.remember(target.clone(), hits);
         self.resolve(target, w, line, column, here, hits, diags)
     }
 }
