@@ -756,6 +756,15 @@ fn rs274_refuses_parameters_it_cannot_know() {
     has(&p, 6, 1, "o<probe> call: no subroutine");
     assert_eq!(errors(&p).len(), 1, "{:?}", errors(&p));
     assert_eq!(p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect::<Vec<_>>(), [0.0, 1.0, 2.0]);
+    // A line's first defect from the left is the one said, as LinuxCNC's reader evaluates each
+    // value as it reads it: the unset #7 before the unfinished expression after it, and in a loop's
+    // test before the text after its brackets.
+    let p = read_rs274("G1 X#7 Y[2 +] F100\n");
+    has(&p, 1, 5, "#7 is read before");
+    assert_eq!(errors(&p).len(), 1, "{:?}", errors(&p));
+    let p = read_rs274("o100 while [#7 LT 3] junk\nG1 X1 F100\no100 endwhile\n");
+    has(&p, 1, 13, "#7 is read before");
+    assert_eq!(errors(&p).len(), 1, "{:?}", errors(&p));
     // A loop's line is read once and evaluated on each pass: the pass whose value fails (a
     // division by zero at #<n> = 3) is a defect at its line and column, the others move.
     let p = read_rs274("#<n> = 0\no1 while [#<n> lt 5]\nG1 X[10 / [3 - #<n>]] Y#<n> F100\n#<n> = [#<n> + 1]\no1 endwhile\nM2\n");

@@ -14,6 +14,7 @@
 use super::lex::{excerpt, Diags};
 use super::params::skip_blanks;
 use super::params::expr::{self, Compiled};
+use super::params::ExprError;
 use super::rs274::{ReadLine, Rs274Reader};
 use super::Block;
 use std::collections::HashMap;
@@ -26,6 +27,9 @@ pub const MAX_HELD_BYTES: usize = 16 << 20;
 pub const MAX_CALL_DEPTH: usize = 10;
 /// Most subroutines one program may define.
 pub const MAX_SUBS: usize = 10_000;
+/// The most memory the lines kept as read may hold, over every block running (calls nest): a line
+/// as read holds several times its text; beyond this, lines are read again on each pass.
+const MAX_KEPT_BYTES: usize = 64 << 20;
 
 /// An O word's keyword.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -170,12 +174,14 @@ pub struct Flow {
     said: std::collections::HashSet<(usize, usize, String)>,
     /// The run was stopped (budget, a defect in the flow): what is left of the block is not read.
     stopped: bool,
+    /// The memory the blocks running hold in lines kept as read.
+    kept_bytes: usize,
 }
 
 impl Flow {
     /// The flow of a read whose control blocks may run `budget` lines.
     pub fn new(budget: usize) -> Flow {
-        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false }
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, kept_bytes: 0 }
     }
 }
 
@@ -271,6 +277,15 @@ impl Rs274Reader {
     /// flow says. Every control block in them is matched first: a name closed by another's end,
     /// or a `break` outside its loop, stops the run before anything moves.
     fn run(&mut self, lines: &[Line], out: &mut Vec<Block>, diags: &mut Diags) -> End {
+        // Each plain line read once, when first run (a loop's passes evaluate it with the
+        // parameters as they stand), within the flow's memory for kept lines.
+        let mut kept: Vec<Option<ReadLine>> = vec![None; lines.len()];
+        let end = self.run_keeping(lines, &mut kept, out, diags);
+        self.flow.kept_bytes -= kept.iter().flatten().map(ReadLine::size).sum::<usize>();
+        end
+    }
+
+    fn run_keeping(&mut self, lines: &[Line], kept: &mut [Option<ReadLine>], out: &mut Vec<Block>, diags: &mut Diags) -> End {
         // Each control line once: its O word, the column it stands at, and its characters from there
         // (a loop's test is evaluated from them on every pass).
         let parsed: Vec<Option<(OLine, usize, Vec<char>)>> = lines
@@ -323,9 +338,7 @@ impl Rs274Reader {
         }
         let end_of = |k: usize| ends[k].expect("matched above");
         let opener_of = |k: usize| openers[k].expect("matched above");
-        // Each plain line read once and each test compiled once, when first run (a loop's passes
-        // evaluate them with the parameters as they stand).
-        let mut kept: Vec<Option<ReadLine>> = vec![None; lines.len()];
+        // Each test compiled once, when first run.
         let mut tests: Vec<Option<Compiled>> = vec![None; lines.len()];
         // Run.
         let mut repeats: HashMap<usize, f64> = HashMap::new();
@@ -341,7 +354,15 @@ impl Rs274Reader {
             }
             let Some((o, col, chars)) = &parsed[pc] else {
                 let before = diags.0.len();
+                let had = kept[pc].is_some();
                 self.loop_line(*line, text, &mut kept[pc], out, diags);
+                if let Some(size) = kept[pc].as_ref().filter(|_| !had).map(ReadLine::size) {
+                    if self.flow.kept_bytes + size > MAX_KEPT_BYTES {
+                        kept[pc] = None;
+                    } else {
+                        self.flow.kept_bytes += size;
+                    }
+                }
                 // Said once per line, however often the flow runs it.
                 let fresh: Vec<_> = diags.0.drain(before..).collect();
                 for d in fresh {
@@ -451,35 +472,38 @@ impl Rs274Reader {
     /// `chars` is the line from its O word on, which stands at 0-based column `col`; `kept` the
     /// value compiled when first run.
     fn bracket(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<f64> {
-        if kept.is_none() {
-            let start = skip_blanks(chars, o.rest);
-            if chars.get(start) != Some(&'[') {
-                self.stop(line, col + start + 1, format!("o{} {}: expected a [condition] or [count]", o.name, word(o.keyword)), diags);
-                return None;
-            }
-            match expr::value(chars, start) {
-                Ok((c, end)) => {
-                    let rest: String = chars[end..].iter().collect();
-                    let rest = rest.trim();
-                    if !(rest.is_empty() || rest.starts_with(';') || rest.starts_with('(')) {
-                        self.stop(line, col + end + 1, format!("o{} {}: unexpected '{}' after its [...]", o.name, word(o.keyword), excerpt(rest)), diags);
-                        return None;
-                    }
-                    *kept = Some(c);
-                }
-                Err(e) => {
-                    self.stop(line, col + e.column, format!("o{} {}: {}", o.name, word(o.keyword), e.message), diags);
-                    return None;
-                }
-            }
+        let fail = |this: &mut Self, e: ExprError, diags: &mut Diags| {
+            this.stop(line, col + e.column, format!("o{} {}: {}", o.name, word(o.keyword), e.message), diags);
+            None
+        };
+        if let Some(c) = kept {
+            return match c.eval(&self.params) {
+                Ok(v) => Some(v),
+                Err(e) => fail(self, e, diags),
+            };
         }
-        match kept.as_ref()?.eval(&self.params) {
-            Ok(v) => Some(v),
-            Err(e) => {
-                self.stop(line, col + e.column, format!("o{} {}: {}", o.name, word(o.keyword), e.message), diags);
-                None
-            }
+        // First run: read and evaluated as LinuxCNC does (its value, then what follows it).
+        let start = skip_blanks(chars, o.rest);
+        if chars.get(start) != Some(&'[') {
+            self.stop(line, col + start + 1, format!("o{} {}: expected a [condition] or [count]", o.name, word(o.keyword)), diags);
+            return None;
         }
+        let (c, end) = match expr::value(chars, start) {
+            Ok(read) => read,
+            Err(e) => return fail(self, e, diags),
+        };
+        let v = match c.eval(&self.params) {
+            Ok(v) => v,
+            Err(e) => return fail(self, e, diags),
+        };
+        let rest: String = chars[end..].iter().collect();
+        let rest = rest.trim();
+        if !(rest.is_empty() || rest.starts_with(';') || rest.starts_with('(')) {
+            self.stop(line, col + end + 1, format!("o{} {}: unexpected '{}' after its [...]", o.name, word(o.keyword), excerpt(rest)), diags);
+            return None;
+        }
+        *kept = Some(c);
+        Some(v)
     }
 
     fn condition(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<bool> {

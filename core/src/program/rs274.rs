@@ -10,7 +10,7 @@
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
 use super::params::expr::{self, Compiled, Setting};
-use super::params::{skip_blanks, Parameters, Target};
+use super::params::{skip_blanks, ExprError, Parameters, Target};
 use super::{Block, Dialect, MCodeRule, Program};
 
 /// Read an RS274NGC program (no machine-specific M codes).
@@ -154,8 +154,8 @@ impl Rs274Reader {
             return;
         }
         let text = text.trim_end_matches('\r');
-        if let Some(read) = self.read_line(line, text, diags) {
-            self.run_line(line, text, &read, out, diags);
+        if let Some((read, now)) = self.read_line(line, text, diags) {
+            self.run_line(line, text, &read, Some(now), out, diags);
         }
     }
 
@@ -167,22 +167,24 @@ impl Rs274Reader {
         }
         let text = text.trim_end_matches('\r');
         if let Some(read) = kept {
-            return self.run_line(line, text, read, out, diags);
+            return self.run_line(line, text, read, None, out, diags);
         }
         let before = diags.0.len();
-        if let Some(read) = self.read_line(line, text, diags) {
+        if let Some((read, now)) = self.read_line(line, text, diags) {
             let quiet = diags.0.len() == before;
-            self.run_line(line, text, &read, out, diags);
+            self.run_line(line, text, &read, Some(now), out, diags);
             if quiet {
                 *kept = Some(read);
             }
         }
     }
 
-    /// A line's words and settings as read from its text (`\r` trimmed), values compiled, not yet
-    /// evaluated: what [`Rs274Reader::run_line`] runs, once or on each pass of a loop. None when
-    /// the line has nothing to run (blank, the tape's `%`, a title) or is damaged (said here).
-    pub(super) fn read_line(&mut self, line: usize, text: &str, diags: &mut Diags) -> Option<ReadLine> {
+    /// A line's words and settings as read from its text (`\r` trimmed), values compiled: what
+    /// [`Rs274Reader::run_line`] runs, once or on each pass of a loop. Each value is evaluated as it
+    /// is read too, as LinuxCNC's reader does, so that the line's first defect from the left is the
+    /// one said; those values (`Now`) are this pass's. None when the line has nothing to run (blank,
+    /// the tape's `%`, a title) or is damaged (said here).
+    pub(super) fn read_line(&mut self, line: usize, text: &str, diags: &mut Diags) -> Option<(ReadLine, Vec<Now>)> {
         // Room for every character at once (a char per byte at most): no regrowing as it fills.
         let mut chars: Vec<char> = Vec::with_capacity(text.len());
         chars.extend(text.chars());
@@ -217,6 +219,7 @@ impl Rs274Reader {
         }
         // A five-axis move has about eight words (N G X Y Z A C F), held without regrowing.
         let mut read = ReadLine { first, number: None, items: Vec::with_capacity(10) };
+        let mut now = Vec::new();
         let mut i = first;
         if chars[i] == '/' {
             diags.warning(line, i + 1, "block delete '/' is not modelled: the block is run");
@@ -237,9 +240,10 @@ impl Rs274Reader {
                     }
                 }
             } else if c == '#' {
-                match expr::setting(&chars, i, self.dialect.is_fanuc()) {
-                    Ok((setting, end)) => {
+                match expr::setting(&chars, i, self.dialect.is_fanuc()).and_then(|(setting, end)| Ok((setting.run(&self.params)?, setting, end))) {
+                    Ok(((target, value), setting, end)) => {
                         read.items.push(Item::Setting { setting, column: i + 1 });
+                        now.push(Now::Set(target, value));
                         i = end;
                     }
                     Err(e) => {
@@ -260,13 +264,14 @@ impl Rs274Reader {
                 }
                 let start = i;
                 if computed_value_at(&chars, start) {
-                    match expr::value(&chars, start) {
-                        Ok((_, end)) if letter == 'N' => {
+                    match expr::value(&chars, start).and_then(|(c, end)| Ok((c.eval(&self.params)?, c, end))) {
+                        Ok((_, _, end)) if letter == 'N' => {
                             diags.error(line, column, "a line number 'N' must be written as a number");
                             i = end;
                         }
-                        Ok((value, end)) => {
+                        Ok((v, value, end)) => {
                             read.items.push(Item::Word { letter, column, raw: (byte(start), byte(end)), value: Value::Computed(value) });
+                            now.push(Now::Value(v));
                             i = end;
                         }
                         Err(e) => {
@@ -316,14 +321,16 @@ impl Rs274Reader {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             return None;
         }
-        Some(read)
+        Some((read, now))
     }
 
-    /// Run a line as read: its values evaluated with the parameters as they stand, left to right
-    /// (the first that cannot be is the line's defect), its settings made after every value is
-    /// read (`#3=6 G1 X#3` moves to the old `#3`), then its words interpreted.
-    pub(super) fn run_line(&mut self, line: usize, text: &str, read: &ReadLine, out: &mut Vec<Block>, diags: &mut Diags) {
+    /// Run a line as read: its values as evaluated when it was read (`now`), or evaluated with the
+    /// parameters as they stand, left to right (the first that cannot be is the line's defect); its
+    /// settings made after every value is read (`#3=6 G1 X#3` moves to the old `#3`); then its words
+    /// interpreted.
+    pub(super) fn run_line(&mut self, line: usize, text: &str, read: &ReadLine, now: Option<Vec<Now>>, out: &mut Vec<Block>, diags: &mut Diags) {
         let errors_before = diags.errors();
+        let mut now = now.map(Vec::into_iter);
         let mut words: Vec<Word> = Vec::with_capacity(read.items.len());
         // Words whose value was computed (parameters, expressions): they carry their decimal point.
         let mut computed: Vec<usize> = Vec::new();
@@ -331,7 +338,7 @@ impl Rs274Reader {
         for item in &read.items {
             match item {
                 Item::Word { letter, column, raw, value: Value::Written(v) } => words.push(Word { letter: *letter, value: *v, raw: text[raw.0..raw.1].into(), column: *column, incremental: false }),
-                Item::Word { letter, column, raw, value: Value::Computed(c) } => match c.eval(&self.params) {
+                Item::Word { letter, column, raw, value: Value::Computed(c) } => match now.as_mut().and_then(Iterator::next).map_or_else(|| c.eval(&self.params), Now::value) {
                     Ok(value) => {
                         computed.push(words.len());
                         // A coordinate's, feed's or arc's computed value: its text is the expression
@@ -348,7 +355,7 @@ impl Rs274Reader {
                         break;
                     }
                 },
-                Item::Setting { setting, column } => match setting.run(&self.params) {
+                Item::Setting { setting, column } => match now.as_mut().and_then(Iterator::next).map_or_else(|| setting.run(&self.params), Now::setting) {
                     Ok((target, value)) => settings.push((target, value, *column)),
                     Err(e) => {
                         diags.error(line, e.column, e.message);
@@ -409,7 +416,7 @@ impl Rs274Reader {
         // G68.2's I J K are angles (Euler's), in degrees' increments whatever the length unit.
         let angles_ijk = g(68.2);
         for (i, w) in words.iter_mut().enumerate() {
-            if computed.contains(&i) || w.raw.contains('.') {
+            if computed.binary_search(&i).is_ok() || w.raw.contains('.') {
                 continue;
             }
             let step = match w.letter {
@@ -441,6 +448,46 @@ pub(super) struct ReadLine {
 enum Item {
     Word { letter: char, column: usize, raw: (usize, usize), value: Value },
     Setting { setting: Setting, column: usize },
+}
+
+/// A value as evaluated when its line was read: a computed word's, or a setting's parameter and value.
+#[derive(Debug)]
+pub(super) enum Now {
+    Value(f64),
+    Set(Target, f64),
+}
+
+impl Now {
+    fn value(self) -> Result<f64, ExprError> {
+        match self {
+            Now::Value(v) => Ok(v),
+            Now::Set(..) => Err(ExprError { column: 1, message: "a setting's value where a word's was read (internal)".into() }),
+        }
+    }
+
+    fn setting(self) -> Result<(Target, f64), ExprError> {
+        match self {
+            Now::Set(t, v) => Ok((t, v)),
+            Now::Value(_) => Err(ExprError { column: 1, message: "a word's value where a setting's was read (internal)".into() }),
+        }
+    }
+}
+
+impl ReadLine {
+    /// The memory it holds, bytes (what a runner keeping lines bounds).
+    pub(super) fn size(&self) -> usize {
+        std::mem::size_of::<ReadLine>()
+            + self.items.capacity() * std::mem::size_of::<Item>()
+            + self
+                .items
+                .iter()
+                .map(|item| match item {
+                    Item::Word { value: Value::Computed(c), .. } => c.size(),
+                    Item::Word { .. } => 0,
+                    Item::Setting { setting, .. } => setting.size(),
+                })
+                .sum::<usize>()
+    }
 }
 
 /// A word's value: written, or compiled from parameters and expressions.

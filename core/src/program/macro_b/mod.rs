@@ -34,9 +34,10 @@ pub const MAX_CALL_DEPTH: usize = 10;
 pub const MAX_PROGRAMS: usize = 10_000;
 /// Deepest nesting of `DO` loops (FANUC: identification numbers 1 to 3).
 const MAX_LOOPS: usize = 3;
-/// Most lines kept as read for the passes that run them again, and their bytes.
+/// Most lines kept as read for the passes that run them again, and the memory they may hold
+/// (as read, a line holds several times its text).
 const MAX_KEPT_LINES: usize = 10_000;
-const MAX_KEPT_BYTES: usize = 16 << 20;
+const MAX_KEPT_BYTES: usize = 64 << 20;
 
 /// A program the file holds: its number, and where its blocks start and end (byte offset).
 #[derive(Debug, Clone, Copy)]
@@ -100,8 +101,9 @@ pub(crate) struct MacroRunner {
     /// pass runs them from what was read ([`Rs274Reader::loop_line`]).
     kept: std::collections::HashMap<u64, ReadLine>,
     kept_bytes: usize,
-    /// The furthest offset run so far: a line before it runs again.
-    furthest: u64,
+    /// The furthest offset run so far in each program of the file (by where it starts): a line of it
+    /// before that runs again.
+    furthest: std::collections::HashMap<u64, u64>,
     executed: usize,
     budget: usize,
 }
@@ -124,7 +126,7 @@ impl MacroRunner {
             places: Places::new(),
             kept: std::collections::HashMap::new(),
             kept_bytes: 0,
-            furthest: 0,
+            furthest: std::collections::HashMap::new(),
             executed: 0,
             budget: setup.max_run_lines,
         }
@@ -341,8 +343,12 @@ impl Jumping for MacroRunner {
             }
             return Next::On;
         }
-        let again = here.offset < self.furthest;
-        self.furthest = self.furthest.max(here.offset);
+        // Within the program running (a line of the main program after a subprogram's return has
+        // not run before, though the subprogram stands after it).
+        let unit = self.frames.last().map_or(0, |f| f.unit.offset);
+        let furthest = self.furthest.entry(unit).or_insert(0);
+        let again = here.offset < *furthest;
+        *furthest = (*furthest).max(here.offset);
         if !maybe_flow(text) {
             return if again { self.again(line, text, here, out, diags) } else { self.plain(line, text, out, diags) };
         }
@@ -502,12 +508,12 @@ impl MacroRunner {
         }
         let before = out.len();
         match self.kept.get(&here.offset) {
-            Some(read) => self.reader.run_line(line, text.trim_end_matches('\r'), read, out, diags),
+            Some(read) => self.reader.run_line(line, text.trim_end_matches('\r'), read, None, out, diags),
             None => {
                 let mut kept = None;
                 self.reader.loop_line(line, text, &mut kept, out, diags);
-                if let Some(read) = kept.filter(|_| self.kept.len() < MAX_KEPT_LINES && self.kept_bytes + text.len() <= MAX_KEPT_BYTES) {
-                    self.kept_bytes += text.len();
+                if let Some(read) = kept.filter(|r| self.kept.len() < MAX_KEPT_LINES && self.kept_bytes + r.size() <= MAX_KEPT_BYTES) {
+                    self.kept_bytes += read.size();
                     self.kept.insert(here.offset, read);
                 }
             }

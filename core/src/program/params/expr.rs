@@ -176,6 +176,8 @@ pub enum CompiledTarget {
 pub struct Setting {
     pub target: CompiledTarget,
     pub value: Compiled,
+    /// Fanuc's macro statement (its manual says "system variable").
+    pub bare: bool,
 }
 
 impl Compiled {
@@ -224,7 +226,16 @@ impl Compiled {
         Ok(stack[0])
     }
 
-    /// The value if it needs no parameter (a number, or arithmetic of numbers that cannot fail).
+    /// The memory it holds beyond its own struct, bytes.
+    pub fn size(&self) -> usize {
+        self.steps.capacity() * std::mem::size_of::<Step>()
+            + self.steps.iter().map(|s| match s {
+                Step::Named(n, _) | Step::Exists(n) => n.len(),
+                _ => 0,
+            }).sum::<usize>()
+    }
+
+    /// The value if it is a written number.
     fn constant(&self) -> Option<f64> {
         match self.steps[..] {
             [Step::Number(v)] => Some(v),
@@ -234,13 +245,24 @@ impl Compiled {
 }
 
 impl Setting {
+    /// The memory it holds beyond its own struct, bytes.
+    pub fn size(&self) -> usize {
+        self.value.size()
+            + match &self.target {
+                CompiledTarget::Fixed(Target::Named(n)) => n.len(),
+                CompiledTarget::Fixed(Target::Numbered(_)) => 0,
+                CompiledTarget::Indirect(c, _) => c.size(),
+            }
+    }
+
     /// The parameter it sets and the value, with the parameters as they stand (a computed index
     /// naming a system parameter is refused as a written one is).
     pub fn run(&self, params: &Parameters) -> Result<(Target, f64), ExprError> {
         let target = self.target.eval(params)?;
         if let (CompiledTarget::Indirect(_, column), Target::Numbered(n)) = (&self.target, &target) {
             if *n > MAX_USER_PARAMETER {
-                return err(*column, format!("{target} is a system parameter (offsets, tool, position): setting it is not modelled"));
+                let system = if self.bare { "system variable" } else { "system parameter" };
+                return err(*column, format!("{target} is a {system} (offsets, tool, position): setting it is not modelled"));
             }
         }
         Ok((target, self.value.eval(params)?))
@@ -295,7 +317,7 @@ pub fn setting(chars: &[char], i: usize, bare: bool) -> Result<(Setting, usize),
         return err(i + 1, format!("{shown} stands alone: expected '=' and {what} to set it (or a word letter before it)"));
     }
     let end = if bare { c.binary(j + 1, 0)? } else { c.value(j + 1)? };
-    Ok((Setting { target, value: c.finish() }, end))
+    Ok((Setting { target, value: c.finish(), bare }, end))
 }
 
 /// A `#` reference as read: a number's value compiled, or a name's span (between `<` and `>`).

@@ -184,26 +184,30 @@ impl Parameters {
         }
     }
 
-    /// A named parameter's value (`name` lower case, without blanks).
+    /// A named parameter's value (`name` lower case, without blanks). The machine's HAL pins and
+    /// state are read as such whatever the program set (a Fanuc macro may write `#<_x>`, which then
+    /// still reads as the machine's state).
     fn read_named(&self, name: &str, column: usize) -> Result<f64, ExprError> {
-        if let Some(&v) = self.named.get(name) {
-            return Ok(v);
+        // The machine's names all start with '_' (most a program's own do not: no look at them).
+        if name.starts_with('_') {
+            // A HAL pin the machine's configuration gives (LinuxCNC manual §11.4.3.6, HAL_PIN_VARS).
+            if let Some(pin) = name.strip_prefix("_hal[").and_then(|n| n.strip_suffix(']')) {
+                return match self.hal_pins.get(pin) {
+                    Some(&v) => Ok(v),
+                    None => err(column, format!("#<{name}>: the machine file gives no HAL pin '{pin}' (its hal_pins table)")),
+                };
+            }
+            if let Some(pin) = name.strip_prefix("_hal[") {
+                return err(column, format!("#<{name}>: the machine file gives no HAL pin '{pin}' (its hal_pins table)"));
+            }
+            if is_machine_state(name) {
+                return err(column, format!("#<{name}> is the interpreter's or the machine's state: not modelled"));
+            }
         }
-        // A HAL pin the machine's configuration gives (LinuxCNC manual §11.4.3.6, HAL_PIN_VARS).
-        if let Some(pin) = name.strip_prefix("_hal[").and_then(|n| n.strip_suffix(']')) {
-            return match self.hal_pins.get(pin) {
-                Some(&v) => Ok(v),
-                None => err(column, format!("#<{name}>: the machine file gives no HAL pin '{pin}' (its hal_pins table)")),
-            };
+        match self.named.get(name) {
+            Some(&v) => Ok(v),
+            None => err(column, format!("named parameter #<{name}> is not defined (read before it is set)")),
         }
-        if let Some(pin) = name.strip_prefix("_hal[") {
-            return err(column, format!("#<{name}>: the machine file gives no HAL pin '{pin}' (its hal_pins table)"));
-        }
-        // Never set: a setting refuses them.
-        if is_machine_state(name) {
-            return err(column, format!("#<{name}> is the interpreter's or the machine's state: not modelled"));
-        }
-        err(column, format!("named parameter #<{name}> is not defined (read before it is set)"))
     }
 
     /// Whether the program has set this named parameter (`EXISTS`).
@@ -257,6 +261,9 @@ mod tests {
             assert_eq!(e.column, col, "{s}: {e:?}");
             assert!(e.message.contains(what), "{s}: {e:?}");
         }
+        // The machine's state reads as such even where a program (a Fanuc macro) wrote it.
+        p.set(Target::Named("_x".into()), 5.0, 1).unwrap();
+        assert!(eval(&p, "#<_x>").unwrap_err().message.contains("machine's state"));
         let long = format!("#<{}>", "n".repeat(MAX_NAME_CHARS + 1));
         assert!(eval(&p, &long).unwrap_err().message.contains("longer than 256"));
         let deep = format!("{}1{}", "[".repeat(200), "]".repeat(200));
