@@ -187,14 +187,20 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
             Err(mpsc::RecvTimeoutError::Timeout) => {}
             Err(mpsc::RecvTimeoutError::Disconnected) => break,
         }
+        // Each cap's next release counts from when the message has left (its send stamp is
+        // written while it is sent).
         if let Some(s) = cap.poll(Instant::now()) {
             if status_pub.publish(s).is_ok() {
                 sent += 1;
             }
+            cap.sent(Instant::now());
         }
-        if let Some((i, j)) = joint_cap.as_mut().and_then(|c| c.poll(Instant::now())) {
-            if joint_pubs[i].publish(j).is_ok() {
-                joints_sent += 1;
+        if let Some(c) = joint_cap.as_mut() {
+            if let Some((i, j)) = c.poll(Instant::now()) {
+                if joint_pubs[i].publish(j).is_ok() {
+                    joints_sent += 1;
+                }
+                c.sent(Instant::now());
             }
         }
     }
