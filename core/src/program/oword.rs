@@ -27,9 +27,6 @@ pub const MAX_HELD_BYTES: usize = 16 << 20;
 pub const MAX_CALL_DEPTH: usize = 10;
 /// Most subroutines one program may define.
 pub const MAX_SUBS: usize = 10_000;
-/// The most memory the lines kept as read may hold, over every block running (calls nest): a line
-/// as read holds several times its text; beyond this, lines are read again on each pass.
-const MAX_KEPT_BYTES: usize = 64 << 20;
 
 /// An O word's keyword.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -174,14 +171,12 @@ pub struct Flow {
     said: std::collections::HashSet<(usize, usize, String)>,
     /// The run was stopped (budget, a defect in the flow): what is left of the block is not read.
     stopped: bool,
-    /// The memory the blocks running hold in lines kept as read.
-    kept_bytes: usize,
 }
 
 impl Flow {
     /// The flow of a read whose control blocks may run `budget` lines.
     pub fn new(budget: usize) -> Flow {
-        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, kept_bytes: 0 }
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false }
     }
 }
 
@@ -278,10 +273,10 @@ impl Rs274Reader {
     /// or a `break` outside its loop, stops the run before anything moves.
     fn run(&mut self, lines: &[Line], out: &mut Vec<Block>, diags: &mut Diags) -> End {
         // Each plain line read once, when first run (a loop's passes evaluate it with the
-        // parameters as they stand), within the flow's memory for kept lines.
+        // parameters as they stand), let go when the run ends.
         let mut kept: Vec<Option<ReadLine>> = vec![None; lines.len()];
         let end = self.run_keeping(lines, &mut kept, out, diags);
-        self.flow.kept_bytes -= kept.iter().flatten().map(ReadLine::size).sum::<usize>();
+        self.let_go(kept.iter().flatten());
         end
     }
 
@@ -354,15 +349,7 @@ impl Rs274Reader {
             }
             let Some((o, col, chars)) = &parsed[pc] else {
                 let before = diags.0.len();
-                let had = kept[pc].is_some();
                 self.loop_line(*line, text, &mut kept[pc], out, diags);
-                if let Some(size) = kept[pc].as_ref().filter(|_| !had).map(ReadLine::size) {
-                    if self.flow.kept_bytes + size > MAX_KEPT_BYTES {
-                        kept[pc] = None;
-                    } else {
-                        self.flow.kept_bytes += size;
-                    }
-                }
                 // Said once per line, however often the flow runs it.
                 let fresh: Vec<_> = diags.0.drain(before..).collect();
                 for d in fresh {

@@ -51,7 +51,13 @@ pub(crate) struct Rs274Reader {
     pub(super) flow: super::oword::Flow,
     /// The machine's quill, where it has one ([`super::quill`]).
     pub(super) quill: Option<super::quill::QuillState>,
+    /// The memory the lines kept as read hold ([`Rs274Reader::loop_line`]), at most [`MAX_KEPT_BYTES`].
+    kept_bytes: usize,
 }
+
+/// The most memory lines kept as read may hold, over every loop and call that keeps them: a line as
+/// read holds several times its text; beyond this, lines are read again on each pass.
+const MAX_KEPT_BYTES: usize = 64 << 20;
 
 /// The most leader held back, lines and bytes: an NX "Information listing" header is a few lines.
 pub(super) const MAX_LEADER_LINES: usize = 64;
@@ -65,7 +71,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, flow: super::oword::Flow::new(setup.max_run_lines), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new) }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, flow: super::oword::Flow::new(setup.max_run_lines), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0 }
     }
 }
 
@@ -159,8 +165,9 @@ impl Rs274Reader {
         }
     }
 
-    /// A line an O-word block runs on each pass: read once (when reading it says nothing, so each
-    /// pass says what the first did), kept in `kept`, then run from what was read.
+    /// A line a loop runs on each pass: read once (when reading it says nothing, so each pass says
+    /// what the first did, and while the kept lines' memory allows), kept in `kept`, then run from
+    /// what was read. A kept line [`let_go`](Self::let_go) frees its share of the memory.
     pub(super) fn loop_line(&mut self, line: usize, text: &str, kept: &mut Option<ReadLine>, out: &mut Vec<Block>, diags: &mut Diags) {
         if self.refused {
             return;
@@ -173,10 +180,17 @@ impl Rs274Reader {
         if let Some((read, now)) = self.read_line(line, text, diags) {
             let quiet = diags.0.len() == before;
             self.run_line(line, text, &read, Some(now), out, diags);
-            if quiet {
+            let size = read.size();
+            if quiet && self.kept_bytes + size <= MAX_KEPT_BYTES {
+                self.kept_bytes += size;
                 *kept = Some(read);
             }
         }
+    }
+
+    /// Lines kept by [`loop_line`](Self::loop_line) that are let go: their memory counts no more.
+    pub(super) fn let_go<'a>(&mut self, kept: impl Iterator<Item = &'a ReadLine>) {
+        self.kept_bytes -= kept.map(ReadLine::size).sum::<usize>();
     }
 
     /// A line's words and settings as read from its text (`\r` trimmed), values compiled: what

@@ -34,10 +34,9 @@ pub const MAX_CALL_DEPTH: usize = 10;
 pub const MAX_PROGRAMS: usize = 10_000;
 /// Deepest nesting of `DO` loops (FANUC: identification numbers 1 to 3).
 const MAX_LOOPS: usize = 3;
-/// Most lines kept as read for the passes that run them again, and the memory they may hold
-/// (as read, a line holds several times its text).
+/// Most lines kept as read for the passes that run them again (their memory is the reader's to
+/// bound, [`Rs274Reader::loop_line`]).
 const MAX_KEPT_LINES: usize = 10_000;
-const MAX_KEPT_BYTES: usize = 64 << 20;
 
 /// A program the file holds: its number, and where its blocks start and end (byte offset).
 #[derive(Debug, Clone, Copy)]
@@ -97,10 +96,9 @@ pub(crate) struct MacroRunner {
     wanted: Option<(Wanted, u64, usize, usize)>,
     /// The places of block numbers searched before, by the program's start and the number.
     places: Places<(u64, u64)>,
-    /// Lines run again (loops, branches back, subprograms) as read, by offset, and their bytes: a
-    /// pass runs them from what was read ([`Rs274Reader::loop_line`]).
+    /// Lines run again (loops, branches back, subprograms) as read, by offset: a pass runs them
+    /// from what was read ([`Rs274Reader::loop_line`]).
     kept: std::collections::HashMap<u64, ReadLine>,
-    kept_bytes: usize,
     /// The furthest offset run so far in each program of the file (by where it starts): a line of it
     /// before that runs again.
     furthest: std::collections::HashMap<u64, u64>,
@@ -125,7 +123,6 @@ impl MacroRunner {
             wanted: None,
             places: Places::new(),
             kept: std::collections::HashMap::new(),
-            kept_bytes: 0,
             furthest: std::collections::HashMap::new(),
             executed: 0,
             budget: setup.max_run_lines,
@@ -499,7 +496,6 @@ impl MacroRunner {
         }
     }
 
-    /// A line without flow: the reader's; an end of program (M30, M02) ends the run.
     /// A line run again (a loop's pass, a branch back, a subprogram called again): run from what
     /// was read the time before, or read and kept (when reading it says nothing), within bounds.
     fn again(&mut self, line: usize, text: &str, here: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
@@ -509,28 +505,32 @@ impl MacroRunner {
         let before = out.len();
         match self.kept.get(&here.offset) {
             Some(read) => self.reader.run_line(line, text.trim_end_matches('\r'), read, None, out, diags),
-            None => {
+            None if self.kept.len() < MAX_KEPT_LINES => {
                 let mut kept = None;
                 self.reader.loop_line(line, text, &mut kept, out, diags);
-                if let Some(read) = kept.filter(|r| self.kept.len() < MAX_KEPT_LINES && self.kept_bytes + r.size() <= MAX_KEPT_BYTES) {
-                    self.kept_bytes += read.size();
+                if let Some(read) = kept {
                     self.kept.insert(here.offset, read);
                 }
             }
+            None => return self.plain(line, text, out, diags),
         }
-        if self.reader.at_tape_end() {
-            return Next::Ended;
-        }
-        if ends_program(&out[before..], &[2.0, 30.0]) { Next::Ended } else { Next::On }
+        self.ended(&out[before..])
     }
 
+    /// A line without flow: the reader's; an end of program (M30, M02) ends the run.
     fn plain(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
         let before = out.len();
         self.reader.line(line, text, out, diags);
-        if self.reader.at_tape_end() {
-            return Next::Ended;
+        self.ended(&out[before..])
+    }
+
+    /// After a line made `made`: the run ends at the tape's end or an end of program (M30, M02).
+    fn ended(&self, made: &[Block]) -> Next {
+        if self.reader.at_tape_end() || ends_program(made, &[2.0, 30.0]) {
+            Next::Ended
+        } else {
+            Next::On
         }
-        if ends_program(&out[before..], &[2.0, 30.0]) { Next::Ended } else { Next::On }
     }
 }
 
