@@ -1,0 +1,291 @@
+//! Heidenhain Klartext read as the TNC reads it: feeds, datums, labels and repeats, cycle 32, PLANE
+//! POINTS, Q formulas and jumps, M140 and polar contours, and what it refuses.
+
+use super::*;
+
+#[test]
+fn klartext_reads_feeds_datums_labels_and_tcpm() {
+    let text = "0 BEGIN PGM T MM\n1 TOOL CALL 5 Z S12000 F750\n2 Q7 = +1.5\n3 FN 0: Q8 = -2\n4 L X+1 Y+Q7 Z-Q8 R0 F1000 M3\n\
+                5 L IX+2 FMAX\n6 L X+0 FAUTO\n7 CYCL DEF 7.0 DATUM SHIFT\n8 CYCL DEF 7.1 X+10\n9 CYCL DEF 7.2 IY+5\n\
+                10 FUNCTION TCPM F TCP AXIS POS PATHCTRL VECTOR\n11 L A+10 C+20\n12 FUNCTION RESET TCPM\n13 L Z+50 FMAX M30\n\
+                14 L X+99 F100\n15 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let by = |n: u64| p.blocks.iter().find(|b| b.number == Some(n)).unwrap_or_else(|| panic!("block {n}"));
+    assert_eq!(by(1).events, vec!["T5".to_string(), "S12000".to_string()]);
+    // Q parameters set to numbers, with the word's sign: Y = Q7, Z = -Q8.
+    assert_eq!((by(4).targets.y, by(4).targets.z), (Some(1.5 * MM), Some(2.0 * MM)));
+    assert_eq!(by(4).feed.unwrap().value_per_min, 1000.0);
+    // FMAX: a rapid for its block only; the feed of the blocks after it stays; FAUTO is TOOL CALL's F.
+    assert_eq!((by(5).motion, by(5).targets.x), (Motion::Rapid, Some(3.0 * MM)));
+    assert_eq!((by(6).motion, by(6).feed.unwrap().value_per_min), (Motion::Linear, 750.0));
+    // Cycle 7: absolute X, incremental Y from the last shift.
+    assert_eq!(by(11).datum, [10.0 * MM, 5.0 * MM, 0.0]);
+    assert!(by(11).tcp && by(11).orientation == Orientation::GreatCircle);
+    assert!(!by(13).tcp);
+    // M30 ends the program: block 14 is not run.
+    assert!(p.blocks.iter().all(|b| b.number != Some(14)));
+}
+
+#[test]
+fn klartext_reads_f_max_and_f_auto_written_with_a_space() {
+    // hyperMILL's and other posts' Klartext writes the rapid as `F MAX` (a public DMG DMU program:
+    // `L X173.5 Y20 R0 F MAX M3`); the TNC reads it as FMAX.
+    let text = "0 BEGIN PGM T MM\n1 TOOL CALL 5 Z S12000 F750\n2 L X+1 Y+2 Z+3 R0 F1000 M3\n3 L X+5 R0 F MAX M8\n\
+                4 L Y+6 f max\n5 L X+7 F AUTO\n6 L Z+9\n7 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let by = |n: u64| p.blocks.iter().find(|b| b.number == Some(n)).unwrap_or_else(|| panic!("block {n}"));
+    assert_eq!((by(3).motion, by(3).targets.x), (Motion::Rapid, Some(5.0 * MM)));
+    assert!(by(3).events.iter().any(|e| e == "M8"), "{:?}", by(3).events);
+    assert_eq!(by(4).motion, Motion::Rapid);
+    // F AUTO is the TOOL CALL's feed; a rapid is for its block only, so block 6 cuts at F750 too.
+    assert_eq!((by(5).motion, by(5).feed.unwrap().value_per_min), (Motion::Linear, 750.0));
+    assert_eq!((by(6).motion, by(6).feed.unwrap().value_per_min), (Motion::Linear, 750.0));
+    // `F` then something else is still a feed without its number, at F's column; on a circle F MAX
+    // is refused as FMAX is.
+    let bad = "0 BEGIN PGM T MM\n1 L X+1 R0 F MAXI\n2 CC X+0 Y+0\n3 C X+1 Y+0 DR+ F MAX\n4 END PGM T MM\n";
+    let p = read(bad, Dialect::Klartext, "t.h", &ReadOptions::default());
+    let found: Vec<(usize, usize)> = p.diagnostics.iter().map(|d| (d.line, d.column)).collect();
+    assert!(found.contains(&(2, 12)) && found.contains(&(2, 14)) && found.contains(&(4, 17)), "{:#?}", p.diagnostics);
+    assert!(p.diagnostics.iter().any(|d| d.message.contains("FMAX on a circle")), "{:#?}", p.diagnostics);
+}
+
+#[test]
+fn klartext_runs_section_repeats_and_subprograms_as_the_tnc_does() {
+    // LBL 1 ... CALL LBL 1 REP 2 runs the section three times; CALL LBL 2 runs the subprogram after
+    // M2 up to LBL 0 and comes back, nested once more inside it.
+    let text = "0 BEGIN PGM R MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 LBL 1\n3 L IX+1\n4 CALL LBL 1 REP2\n5 CALL LBL 2\n\
+                6 L X+50\n7 L Z+10 M2\n8 LBL 2\n9 L Y+7\n10 CALL LBL \"DEEP\"\n11 LBL 0\n12 LBL \"DEEP\"\n13 L Z-1\n14 LBL 0\n\
+                15 END PGM R MM\n";
+    let p = read(text, Dialect::Klartext, "r.h", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let run: Vec<(u64, Option<f64>)> = p.blocks.iter().map(|b| (b.number.unwrap(), b.targets.x.or(b.targets.y).or(b.targets.z))).collect();
+    let mm = |v: f64| Some(v * MM);
+    assert_eq!(run, vec![(1, mm(0.0)), (3, mm(1.0)), (3, mm(2.0)), (3, mm(3.0)), (9, mm(7.0)), (13, mm(-1.0)), (6, mm(50.0)), (7, mm(10.0))]);
+    // Keywords in mixed case read the same (the labels found before the run too).
+    let lower = read(&text.replace("LBL", "Lbl").replace("CALL", "Call"), Dialect::Klartext, "r.h", &ReadOptions::default());
+    assert!(lower.diagnostics.is_empty(), "{:#?}", lower.diagnostics);
+    assert_eq!(lower.blocks.len(), run.len());
+
+    // A call that never returns, a label that is not there, a repeat beyond the TNC's count.
+    let p = read("0 BEGIN PGM R MM\n1 LBL 1\n2 CALL LBL 1\n3 CALL LBL 9\n4 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default());
+    has(&p, 3, 3, "subprograms nested deeper than 19 levels");
+    let p = read("0 BEGIN PGM R MM\n1 CALL LBL 9\n2 LBL 1\n3 CALL LBL 1 REP 70000\n4 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default());
+    has(&p, 2, 3, "no LBL 9");
+    has(&p, 4, 14, "REP 70000");
+    // Repeats nested to billions of blocks stop at a stated bound, not at the memory's end.
+    let mut t = String::from("0 BEGIN PGM R MM\n1 L X+0 F100\n");
+    for k in 0..4 {
+        t.push_str(&format!("{} LBL {}\n", 2 + 3 * k, k + 1));
+    }
+    t.push_str("20 L IX+1\n");
+    for k in (0..4).rev() {
+        t.push_str(&format!("{} CALL LBL {} REP 1000\n", 30 - k, k + 1));
+    }
+    t.push_str("40 END PGM R MM\n");
+    let p = read(&t, Dialect::Klartext, "r.h", &ReadOptions::default());
+    assert!(errors(&p).iter().any(|(_, _, m)| m.contains("blocks beyond the program's own")), "{:#?}", errors(&p));
+    assert!(p.blocks.len() <= fiveaxis::program::MAX_RUN_LINES + 20);
+    // The bound is the reader's option: a smaller one stops the same program sooner, and says so.
+    let small = ReadOptions { max_run_lines: 5000, ..ReadOptions::default() };
+    let p = read(&t, Dialect::Klartext, "r.h", &small);
+    assert!(errors(&p).iter().any(|(_, _, m)| m.contains("more than 5000 blocks beyond the program's own")), "{:#?}", errors(&p));
+    // (It counts statements run, labels and calls too: fewer blocks than that, and far fewer than the default's.)
+    assert!((1000..=5000 + 20).contains(&p.blocks.len()), "{}", p.blocks.len());
+}
+
+/// Cycle 32 (TNC 620 Cycle Programming §12.5): `T` in the program's unit, `TA` in degrees, for the
+/// blocks after it; `32.1` alone returns both to the machine's; the roughing filter and values out of
+/// the cycle's range are refused where they are written.
+#[test]
+fn klartext_reads_the_contour_tolerance_of_cycle_32() {
+    let text = "0 BEGIN PGM T INCH\n1 L X+0 Y+0 Z+0 R0 F100\n2 CYCL DEF 32.0 TOLERANCE\n3 CYCL DEF 32.1 T0.001\n\
+                4 L X+1\n5 CYCL DEF 32.2 HSC-MODE:0 TA0.5\n6 L X+2\n7 CYCL DEF 32.0 TOLERANZ\n8 CYCL DEF 32.1\n9 L X+3\n\
+                10 END PGM T INCH\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let by = |n: u64| p.blocks.iter().find(|b| b.number == Some(n)).unwrap_or_else(|| panic!("block {n}")).tolerance;
+    let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() < 1e-15);
+    assert!(by(1).is_unset());
+    assert!(close(by(4).linear_m, 0.0254e-3) && by(4).rotary_rad.is_none(), "{:?}", by(4));
+    assert!(close(by(6).linear_m, 0.0254e-3) && close(by(6).rotary_rad, 0.5 * DEG), "{:?}", by(6));
+    assert!(by(9).is_unset(), "{:?}", by(9));
+
+    // Lines are the file's (block n on line n + 1).
+    let text = "0 BEGIN PGM T MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 CYCL DEF 32.2 HSC-MODE:1 TA1\n3 CYCL DEF 32.1 T12\n\
+                4 CYCL DEF 32.2 HSC-MODE:0 TA-1\n5 CYCL DEF 32.1 T0.01 TA1\n6 L X+1\n7 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    // HSC-MODE:1 (the roughing filter) keeps the tolerance as the bound: read as HSC-MODE:0.
+    assert!(errors(&p).iter().all(|(l, _, _)| *l != 3), "{:?}", errors(&p));
+    has(&p, 4, 17, "12 mm is outside 0 to 10 mm");
+    has(&p, 5, 28, "-1 deg is outside 0 to 10 deg");
+    has(&p, 6, 3, "CYCL DEF 32");
+    let six = p.blocks.iter().find(|b| b.number == Some(6)).unwrap().tolerance;
+    assert!(six.linear_m.is_none() && six.rotary_rad.is_some_and(|r| (r - DEG).abs() < 1e-15), "{six:?}");
+}
+
+#[test]
+fn klartext_refuses_what_changes_the_motion_at_line_and_column() {
+    let text = "0 BEGIN PGM BAD MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 L X+5 RL\n3 APPR LT X+1 Y+1 LEN5 RL\n4 CYCL DEF 19.0 WORKING PLANE\n\
+                5 PLANE SPATIAL SPA+0 SPB+45 SPC+0 TURN FMAX\n6 Q1 = Q2 + 3\n7 TOOL CALL 2 Z DL+0.5\n\
+                8 FUNCTION TCPM F TCP AXIS SPAT PATHCTRL AXIS\n9 L X+1 M91\n10 L X+Q5\n11 CT X+9 Y+9\n12 LN X+1 Y+1 NX+0 NY+0 NZ+1\n\
+                13 L X+7\n14 END PGM BAD MM\n";
+    let p = read(text, Dialect::Klartext, "bad.h", &ReadOptions::default());
+    has(&p, 3, 9, "RL: tool radius compensation");
+    has(&p, 4, 3, "APPR");
+    // Without a machine, a tilted plane cannot be solved (the machine's kinematics pick the axes).
+    has(&p, 6, 3, "PLANE: a tilted working plane needs the machine's kinematics");
+    has(&p, 7, 3, "Q2 is read before it is set");
+    has(&p, 8, 17, "DL+0.5");
+    has(&p, 9, 3, "AXIS SPAT");
+    has(&p, 10, 9, "M91: the machine file places no machine coordinates");
+    has(&p, 11, 6, "Q5 is used before it is set");
+    has(&p, 12, 4, "CT: no contour element before it");
+    has(&p, 13, 4, "LN: expected X Y Z and NX NY NZ");
+    // Every good block is kept; none of the refused ones is.
+    let numbers: Vec<u64> = p.blocks.iter().filter_map(|b| b.number).collect();
+    assert_eq!(numbers, vec![1, 13]);
+    // A file without BEGIN PGM says so.
+    let p = read("1 L X+0 F100\n", Dialect::Klartext, "x.h", &ReadOptions::default());
+    has(&p, 1, 3, "expected BEGIN PGM");
+}
+
+/// `PLANE POINTS` (iTNC 530 ISO 340 49x-03 §9.6: point 1 to point 2 is the tilted X, point 3 on the
+/// tilted Y's side) of the plane of the manual's worked example `PLANE SPATIAL SPA+0 SPB+45 SPC+0` on
+/// a table with a rotary C and a tilting A (User's Manual DIN/ISO 6/2010 §12.2): from A0 C0 the
+/// control turns to A+45 C+90, to 0.001 deg, as for the spatial angles; STAY leaves the angles in
+/// Q120-Q122 for the program's own positioning. Points on one line are refused at the block.
+#[test]
+fn klartext_plane_points_gives_the_manuals_axes() {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let options = ReadOptions::default().on(&hermle);
+    let axes = |plane: &str| {
+        let text = format!("0 BEGIN PGM P MM\n1 L X+0 Y+0 Z+100 A+0 C+0 R0 FMAX\n2 {plane}\n3 END PGM P MM\n");
+        let p = read(&text, Dialect::Klartext, "p.h", &options);
+        assert!(errors(&p).is_empty(), "{plane}: {:?}", errors(&p));
+        let b = p.blocks.iter().rev().find(|b| b.line == 3 && b.targets.a.is_some()).unwrap_or_else(|| panic!("{plane}: {:#?}", p.blocks));
+        [b.targets.a.unwrap().to_degrees(), b.targets.c.unwrap().to_degrees()]
+    };
+    let spatial = axes("PLANE SPATIAL SPA+0 SPB+45 SPC+0 TURN FMAX");
+    let points = axes("PLANE POINTS P1X+0 P1Y+0 P1Z+0 P2X+10 P2Y+0 P2Z-10 P3X+0 P3Y+10 P3Z+0 TURN FMAX");
+    for (got, name) in [(spatial, "SPATIAL"), (points, "POINTS")] {
+        assert!((got[0] - 45.0).abs() < 1e-3 && (got[1] - 90.0).abs() < 1e-3, "PLANE {name}: A{} C{}, the manual's A+45 C+90", got[0], got[1]);
+    }
+    // STAY: the same angles in Q120 (A) and Q122 (C), positioned by the program.
+    let text = "0 BEGIN PGM P MM\n1 L X+0 Y+0 Z+100 A+0 C+0 R0 FMAX\n\
+                2 PLANE POINTS P1X+5 P1Y+5 P1Z+5 P2X+15 P2Y+5 P2Z-5 P3X+5 P3Y+15 P3Z+5 STAY\n3 L A+Q120 C+Q122 FMAX\n4 END PGM P MM\n";
+    let p = read(text, Dialect::Klartext, "p.h", &options);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let b = p.blocks.iter().find(|b| b.line == 4).unwrap();
+    assert!((b.targets.a.unwrap().to_degrees() - 45.0).abs() < 1e-3 && (b.targets.c.unwrap().to_degrees() - 90.0).abs() < 1e-3, "{:?}", b.targets);
+    let text = "0 BEGIN PGM P MM\n1 PLANE POINTS P1X+0 P1Y+0 P1Z+0 P2X+10 P2Y+0 P2Z+0 P3X+30 P3Y+0 P3Z+0 TURN FMAX\n2 END PGM P MM\n";
+    has(&read(text, Dialect::Klartext, "p.h", &options), 2, 3, "PLANE POINTS: the three points lie on one line");
+}
+
+/// Klartext Q parameter formulas, FN 0-8 and the jumps FN 9-12 run as the TNC runs them: a loop
+/// by FN 12 back to a label three times, a named label jumped to, a block skip before a block
+/// number; a parameter read before it is set, a formula's defect and an unknown label are refused
+/// where they stand.
+#[test]
+fn klartext_q_formulas_and_jumps_run_as_the_tnc_runs_them() {
+    let text = "0 BEGIN PGM Q MM\n1 Q1 = 10\n2 Q2 = (Q1 + 2) * 2 ^ 2 - 400 % 360 ; 8\n3 FN 1: Q3 = +Q1 + +Q2\n4 FN 0: Q4 = +0\n\
+                5 LBL 1\n6 FN 1: Q4 = +Q4 + +1\n7 L X+Q4 Y+Q3 Z-Q2 R0 F500\n8 FN 12: IF +Q4 LT +3 GOTO LBL 1\n\
+                9 FN 9: IF +Q4 EQU +3 GOTO LBL \"DONE\"\n10 L X+99 R0 F500\n11 LBL \"DONE\"\n12 Q5 = SQRT (Q1 ^ 2 - 36)\n13 L X+Q5 R0 F500\n/14 M30\n15 END PGM Q MM\n";
+    let p = read(text, Dialect::Klartext, "q.h", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let xs: Vec<f64> = p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect();
+    assert_eq!(xs, [1.0, 2.0, 3.0, 8.0], "the loop three times, X+99 jumped over, then SQRT(100 - 36)");
+    let b = p.blocks.iter().find(|b| b.targets.y.is_some()).unwrap();
+    assert_eq!((b.targets.y.unwrap() / MM, b.targets.z.unwrap() / MM), (18.0, -8.0));
+    let bad = |line: &str| read(&format!("0 BEGIN PGM Q MM\n1 Q1 = 1\n{line}\n3 END PGM Q MM\n"), Dialect::Klartext, "q.h", &ReadOptions::default());
+    for (line, needle) in [
+        ("2 L X+Q7 R0 F100", "Q7 is used before it is set"),
+        ("2 Q2 = Q1 / (Q1 - 1)", "division by zero"),
+        ("2 Q2 = (Q1 + 1", "not closed"),
+        ("2 FN 9: IF +Q1 EQU +1 GOTO LBL 5", "no LBL 5"),
+        ("2 FN 14: ERROR = 1000", "FN 14: not read"),
+    ] {
+        let p = bad(line);
+        assert!(errors(&p).iter().any(|(l, _, m)| *l == 3 && m.contains(needle)), "{line}: {:?}", errors(&p));
+    }
+}
+
+/// `M140 MB` (iTNC 530 user's manual, "Retraction from the contour in the tool-axis direction:
+/// M140"): the tool backs off along its own axis, by MB or, with MB MAX, to the end of the
+/// traverse range. On the Hermle (a table machine, the spindle along Z) MAX takes Z to the top of
+/// its range; on the generic B/C fork head at B 90 the tool lies along +X, so
+/// MB 25 moves X by 25 mm (the head's pivot 300 mm up does not change the direction) and MAX
+/// takes X to +5 m.
+#[test]
+fn klartext_m140_backs_off_along_the_tool_axis() {
+    use fiveaxis::machine::Machine;
+    let hermle = Machine::builtin("hermle-c600u").unwrap();
+    let p = read("0 BEGIN PGM R MM\n1 L X+10 Y+20 Z+30 FMAX\n2 M140 MB MAX F1000\n3 L Z+40 FMAX\n4 M140 MB+12 F500\n5 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default().on(&hermle));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let zmax = hermle.axes[2].limits.max;
+    let b2 = p.blocks.iter().find(|b| b.line == 3).unwrap();
+    assert!((b2.targets.z.unwrap() + b2.datum[2] - zmax).abs() < 1e-9 && b2.motion == fiveaxis::program::Motion::Linear, "{b2:?}");
+    let b4 = p.blocks.iter().find(|b| b.line == 5).unwrap();
+    assert!((b4.targets.z.unwrap() + b4.datum[2] - 0.052).abs() < 1e-9, "Z 40 + 12 mm: {b4:?}");
+    assert!((b4.feed.unwrap().value_per_min - 500.0).abs() < 1e-9);
+
+    let head = Machine::builtin("generic-bc-head").unwrap();
+    let p = read("0 BEGIN PGM R MM\n1 L X+10 Y+20 Z+30 B+90 C+0 FMAX\n2 M140 MB+25 F800\n3 M140 MB MAX\n4 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default().on(&head));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let at = |line: usize| {
+        let b = p.blocks.iter().find(|b| b.line == line).unwrap();
+        [b.targets.x.unwrap() + b.datum[0], b.targets.y.unwrap() + b.datum[1], b.targets.z.unwrap() + b.datum[2]]
+    };
+    let (a, b, c) = (at(2), at(3), at(4));
+    assert!((b[0] - a[0] - 0.025).abs() < 1e-9 && (b[1] - a[1]).abs() < 1e-9 && (b[2] - a[2]).abs() < 1e-9, "{a:?} -> {b:?}");
+    assert!((c[0] - 5.0).abs() < 1e-9 && (c[2] - a[2]).abs() < 1e-9, "{c:?}");
+    // Without F, at rapid traverse.
+    assert_eq!(p.blocks.iter().find(|b| b.line == 4).unwrap().motion, fiveaxis::program::Motion::Rapid);
+    // Without a machine there is no tool axis or travel to go by: refused, naming why.
+    let p = read("0 BEGIN PGM R MM\n1 M140 MB MAX\n2 END PGM R MM\n", Dialect::Klartext, "r.h", &ReadOptions::default());
+    has(&p, 2, 3, "M140: ");
+}
+
+/// Klartext polar contours (iTNC 530 user's manual §6.5): LP to a radius and angle about the pole,
+/// CP about it to an angle (its radius the start's), IPA beyond 360 deg as turns of a helix with the
+/// tool axis' coordinate, IPR and IPA from the start's polar coordinates. By hand, pole (0, 0) from
+/// (10, 0): LP PR+20 PA+90 to (0, 20); CP PA+180 DR+ to (-20, 0), a quarter circle (10 pi mm); CP
+/// IPA+720 Z-4 DR+ two turns down 4 mm (a helix of sqrt((80 pi)^2 + 4^2) mm) back to (-20, 0);
+/// LP IPR+5 IPA-90 to (0, 25). CP IPA+90 with DR- is refused (the TNC wants one sign for both).
+#[test]
+fn klartext_polar_lines_circles_and_helices_are_where_the_tnc_puts_them() {
+    let text = "0 BEGIN PGM P MM\n1 CC X+0 Y+0\n2 L X+10 Y+0 Z+0 R0 F600\n3 LP PR+20 PA+90\n4 CP PA+180 DR+\n5 CP IPA+720 Z-4 DR+\n6 LP IPR+5 IPA-90\n7 END PGM P MM\n";
+    let p = read(text, Dialect::Klartext, "p.h", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let end = |line: usize| {
+        let b = p.blocks.iter().find(|b| b.line == line).unwrap();
+        [b.targets.x.unwrap() / MM, b.targets.y.unwrap() / MM]
+    };
+    let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9;
+    assert!(close(end(4), [0.0, 20.0]), "{:?}", end(4));
+    assert!(close(end(5), [-20.0, 0.0]), "{:?}", end(5));
+    assert!(close(end(6), [-20.0, 0.0]), "{:?}", end(6));
+    assert!(close(end(7), [0.0, 25.0]), "{:?}", end(7));
+    // The path's lengths, sampled by the planner.
+    let dir = std::env::temp_dir().join(format!("fiveaxis-polar-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("p.h");
+    std::fs::write(&path, text).unwrap();
+    let machine = fiveaxis::machine::Machine::hermle_c600u();
+    let job = fiveaxis::job::run(&path.display().to_string(), &machine, &fiveaxis::job::JobOptions::default()).unwrap();
+    let length = |line: usize| job.trajectory.segments.iter().filter(|g| g.line == line).map(|g| g.length).sum::<f64>() / MM;
+    let pi = std::f64::consts::PI;
+    // The planner's arcs are cubic pieces 5 deg long, within R 1e-7 of the circle.
+    assert!((length(5) - 10.0 * pi).abs() < 1e-4, "quarter circle: {}", length(5));
+    assert!((length(6) - (80.0 * pi).hypot(4.0)).abs() < 1e-4, "helix: {}", length(6));
+    let worst = job.trajectory.samples(&machine).filter(|s| job.trajectory.segments[s.segment].line == 6).map(|s| (s.tip.x.hypot(s.tip.y) / MM - 20.0).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-4, "the helix leaves its cylinder by {worst} mm");
+    let _ = std::fs::remove_dir_all(&dir);
+    let bad = read("0 BEGIN PGM P MM\n1 CC X+0 Y+0\n2 L X+10 Y+0 R0 F600\n3 CP IPA+90 DR-\n4 LP PR+5 PA+0 X+3\n5 LP PA+10\n6 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
+    has(&bad, 4, 3, "the same sign");
+    has(&bad, 5, 16, "the end point in the working plane is the polar one");
+    has(&bad, 6, 3, "LP: expected the polar radius PR");
+    let no_pole = read("0 BEGIN PGM P MM\n1 L X+10 Y+0 R0 F600\n2 LP PR+5 PA+0\n3 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
+    has(&no_pole, 3, 3, "no pole CC");
+}

@@ -1,0 +1,308 @@
+//! RS274NGC read as LinuxCNC reads it: end points against its own interpreter's canonical output
+//! (`rs274`, fixtures made by make_canon.sh), parameters, expressions and O-word flow, canned cycles,
+//! the path tolerance and the bridgemill demo.
+
+use super::*;
+
+#[test]
+fn rs274_reads_linuxcnc_style_programs() {
+    let text = "%\n(five-axis test) ; header\nN10 G21 G90 G94\nG1 X  16.339 Y-2 Z.5 A10 C20 F1500 (cut)\nG91 X1\nG90 G20 X1 ; inches\nG93 G1 X2 F30\nM100\nG0 Z10\nM30\n%\n";
+    // M100 is a LinuxCNC user M code: read only when told what it does.
+    let refused = read_rs274(text);
+    has(&refused, 8, 1, "M100 is not an RS274NGC M code");
+    let told = ReadOptions { m_codes: vec!["100=event".parse().unwrap()], ..Default::default() };
+    let p = read(text, Dialect::Rs274, "t.ngc", &told);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let b: Vec<_> = p.blocks.iter().filter(|b| !b.targets.is_empty()).collect();
+    assert_eq!(b[0].targets.x, Some(16.339 * MM));
+    assert_eq!(b[0].targets.z, Some(0.5 * MM));
+    assert_eq!(b[0].targets.c, Some(20.0 * DEG));
+    assert_eq!(b[0].feed.unwrap().value_per_min, 1500.0);
+    assert!((b[1].targets.x.unwrap() - 17.339 * MM).abs() < 1e-15, "G91 increment");
+    assert!((b[2].targets.x.unwrap() - 25.4 * MM).abs() < 1e-15, "G20 inches");
+    assert_eq!(b[3].feed.unwrap().mode, FeedMode::InverseTime);
+    assert_eq!(b[3].feed.unwrap().value_per_min, 30.0);
+    assert_eq!(b[4].motion, Motion::Rapid);
+    let m100 = p.blocks.iter().find(|b| b.events.contains(&"M100".to_string())).expect("unknown M code kept as an event");
+    assert_eq!(m100.line, 8);
+    // P without a code that takes it is an error, not silently dropped.
+    let p = read(&text.replace("M100", "M100 P1"), Dialect::Rs274, "t.ngc", &told);
+    has(&p, 8, 6, "word P1 without a G code that takes it");
+}
+
+/// LinuxCNC's `G64 P- <Q->`: the naive-CAM tolerance Q (P when Q is not given) is the contour
+/// tolerance on the linear axes, in the program's unit; `G64` alone leaves the machine's.
+#[test]
+fn rs274_reads_the_path_tolerance_of_g64_p_q() {
+    let text = "G20 G90 G17 G64 P0.001\nG1 X0 Y0 Z0 F10\nG64 P0.5 Q0.002\nX1\nG21 G64 Q0.02\nX2\nG64 P0 Q0\nX3\nG64\nX4\nM2\n";
+    let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let on = |line: usize| p.blocks.iter().find(|b| b.line == line).unwrap_or_else(|| panic!("line {line}")).tolerance;
+    let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() < 1e-15);
+    assert!(close(on(2).linear_m, 0.0254e-3) && on(2).rotary_rad.is_none(), "{:?}", on(2));
+    assert!(close(on(4).linear_m, 2.0 * 0.0254e-3), "Q before P: {:?}", on(4));
+    assert!(close(on(6).linear_m, 0.02e-3), "Q alone, mm: {:?}", on(6));
+    assert!(close(on(8).linear_m, 0.0), "Q0: no merging: {:?}", on(8));
+    assert!(on(10).is_unset(), "G64 alone: the machine's: {:?}", on(10));
+    // Out of range, at the word's column; the block is not used.
+    let p = read("G21 G90\nG1 X0 F100\nG64 P-0.1\nG64 P0.01 Q11\nX1\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    has(&p, 3, 5, "G64 P-0.1: the path tolerance must be 0 to 10 mm");
+    has(&p, 4, 11, "G64 Q11");
+    assert!(p.blocks.iter().all(|b| b.tolerance.is_unset()), "{:#?}", p.blocks);
+}
+
+/// The end points LinuxCNC's own interpreter (`rs274`, Debian 12's linuxcnc-uspace) makes of a program:
+/// its canonical STRAIGHT_FEED/STRAIGHT_TRAVERSE(x, y, z, a, b, c) lines (mm, deg; see make_canon.sh).
+fn linuxcnc_canon(name: &str) -> Vec<(Motion, [f64; 6])> {
+    let path = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters").join(name);
+    std::fs::read_to_string(&path)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let motion = if l.starts_with("STRAIGHT_FEED(") { Motion::Linear } else { Motion::Rapid };
+            let inner = &l[l.find('(').unwrap() + 1..l.rfind(')').unwrap()];
+            let v: Vec<f64> = inner.split(',').map(|x| x.trim().parse().unwrap()).collect();
+            (motion, [v[0], v[1], v[2], v[3], v[4], v[5]])
+        })
+        .collect()
+}
+
+/// LinuxCNC's parameters and expressions (`#<feed>=1500`, `F#<feed>`, `X[2.0 / 3 * 1.5 - 5.5 / 11.0]`,
+/// `YSIN[30]`, `X##32`, a setting that takes effect after its line) are read to the motion LinuxCNC's
+/// own interpreter makes of them: every operator and function of the manual's §11.4.5-11.4.8 in a
+/// fixture, and the demos `xyzac_switchkins_test_1/2.ngc` that set their feed as `#<FRATE>`. So are
+/// its work offsets (`offsets.ngc`: G10 L2 and L20, P0 for the active system, G53, G55), and its
+/// O-word control flow (`owords.ngc`: a subroutine called twice with arguments, its own `#<n>` and a
+/// global `#<_scale>`, `return`, `while` with `continue` and `break`, `do`/`while`, `repeat`, `if`/
+/// `elseif`/`else`).
+#[test]
+fn rs274_evaluates_parameters_and_expressions_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let switchkins = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..Default::default() };
+    for name in ["expressions", "offsets", "owords", "xyzac_switchkins_test_1", "xyzac_switchkins_test_2"] {
+        let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
+        let p = read(&text, Dialect::Rs274, "t.ngc", &switchkins);
+        assert!(errors(&p).is_empty(), "{name}: {:?}", errors(&p));
+        let ours = end_points(&p);
+        let theirs = linuxcnc_canon(&format!("{name}.canon"));
+        assert_eq!(ours.len(), theirs.len(), "{name}: moves");
+        for (k, ((m, a), (n, b))) in ours.iter().zip(&theirs).enumerate() {
+            assert_eq!(m, n, "{name}: move {k}");
+            for i in 0..6 {
+                // rs274 prints 4 decimals.
+                assert!((a[i] - b[i]).abs() <= 0.5e-4 + 1e-9, "{name}: move {k} axis {i}: ours {a:?}, LinuxCNC {b:?}");
+            }
+        }
+        if name.starts_with("xyzac") {
+            let feeds: Vec<f64> = p.blocks.iter().filter_map(|b| b.feed).map(|f| f.value_per_min).collect();
+            assert!(!feeds.is_empty() && feeds.iter().all(|&f| f == 1000.0), "{name}: F#<FRATE> is 1000 mm/min: {feeds:?}");
+        }
+    }
+}
+
+/// Canned cycles (G81, G82, G83, G73, G85 three times under G91, G86, G89; G98, G99) read in the
+/// Haas dialect (L repeats, P seconds with a decimal point) make the moves LinuxCNC's own
+/// interpreter makes of them (`cycles.ngc`/`.canon`), on a machine whose peck distances are
+/// LinuxCNC's 0.254 mm; each dwell where LinuxCNC dwells.
+#[test]
+fn canned_cycles_move_as_linuxcnc_runs_them() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join("cycles.ngc")).unwrap();
+    let file = fiveaxis::machine::builtin_file("haas-umc-750").unwrap().replace("g73_retract_mm = 2.54", "g73_retract_mm = 0.254").replace("g83_clearance_mm = 0.76", "g83_clearance_mm = 0.254");
+    let machine = fiveaxis::machine::Machine::from_toml_str(&file, "t").unwrap();
+    let p = read(&text, Dialect::Haas, "cycles.nc", &ReadOptions::default().on(&machine));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ours = end_points(&p);
+    let theirs = linuxcnc_canon("cycles.canon");
+    assert_eq!(ours.len(), theirs.len(), "moves: ours {ours:#?}");
+    for (k, ((m, a), (n, b))) in ours.iter().zip(&theirs).enumerate() {
+        assert_eq!(m, n, "move {k}");
+        assert!((0..6).all(|i| (a[i] - b[i]).abs() <= 0.5e-4 + 1e-9), "move {k}: ours {a:?}, LinuxCNC {b:?}");
+    }
+    let dwells: Vec<f64> = p.blocks.iter().filter_map(|b| b.dwell_s).collect();
+    assert_eq!(dwells, [0.5, 0.2, 0.25]);
+}
+
+/// What the reader cannot know is refused where it stands, and a damaged line sets nothing: a named
+/// parameter read before it is set (LinuxCNC's error too), a numbered one (LinuxCNC reads 0, Fanuc
+/// vacant), the machine's state (`#5221`, `#<_x>`), a division by zero, an unclosed bracket.
+#[test]
+fn rs274_refuses_parameters_it_cannot_know() {
+    let body = |line: &str| format!("G21 G90 G94 F1000\n#<a> = 2\n{line}\nG1 X#<a>\nM2\n");
+    for (line, col, what) in [
+        ("G1 X#<b>", 5, "named parameter #<b> is not defined"),
+        ("G1 X#7", 5, "#7 is read before the program sets it"),
+        ("G1 X#5221", 5, "#5221 is a system parameter"),
+        ("G1 X#<_X>", 5, "#<_x> is the interpreter's or the machine's state"),
+        ("G1 X#<_hal[kins.x-offset]>", 5, "the machine file gives no HAL pin 'kins.x-offset'"),
+        ("G1 X[1/[#<a>-2]]", 7, "division by zero"),
+        ("G1 X[#<a> + 1", 5, "'[' is not closed"),
+        ("G1 XFOO[1]", 5, "unknown function FOO"),
+        ("#5221 = 3", 1, "setting it is not modelled"),
+        ("#<_x> = 3", 1, "read-only"),
+        ("#<a> = [#<a> * 5] G1 X#<nope>", 23, "#<nope> is not defined"),
+        ("#<a>", 1, "expected '='"),
+    ] {
+        let p = read_rs274(&body(line));
+        has(&p, 3, col, what);
+        assert_eq!(errors(&p).len(), 1, "{line}: {:?}", errors(&p));
+        // The damaged line set nothing: #<a> is still 2 on the next line.
+        let b = p.blocks.iter().find(|b| b.line == 4).expect("line 4 is read");
+        assert_eq!(b.targets.x, Some(2.0 * MM), "{line}");
+    }
+    // A plain number still reads as before, and a word without a value is refused as before.
+    has(&read_rs274("G1 X Y5 F100\n"), 1, 4, "expected a number after 'X'");
+    // LinuxCNC's control flow runs (the loop three times, an upper-case O); a call of a subroutine in
+    // another file is refused at the O word.
+    let p = read_rs274("#<n> = 0\no100 while [#<n> lt 3]\n  G1 X#<n> F100\n  #<n> = [#<n> + 1]\n  O100 endwhile\no<probe> call [1]\nM2\n");
+    has(&p, 6, 1, "o<probe> call: no subroutine");
+    assert_eq!(errors(&p).len(), 1, "{:?}", errors(&p));
+    assert_eq!(p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect::<Vec<_>>(), [0.0, 1.0, 2.0]);
+    // A line's first defect from the left is the one said, as LinuxCNC's reader evaluates each
+    // value as it reads it: the unset #7 before the unfinished expression after it, and in a loop's
+    // test before the text after its brackets.
+    let p = read_rs274("G1 X#7 Y[2 +] F100\n");
+    has(&p, 1, 5, "#7 is read before");
+    assert_eq!(errors(&p).len(), 1, "{:?}", errors(&p));
+    let p = read_rs274("o100 while [#7 LT 3] junk\nG1 X1 F100\no100 endwhile\n");
+    has(&p, 1, 13, "#7 is read before");
+    assert_eq!(errors(&p).len(), 1, "{:?}", errors(&p));
+    // A loop's line is read once and evaluated on each pass: the pass whose value fails (a
+    // division by zero at #<n> = 3) is a defect at its line and column, the others move.
+    let p = read_rs274("#<n> = 0\no1 while [#<n> lt 5]\nG1 X[10 / [3 - #<n>]] Y#<n> F100\n#<n> = [#<n> + 1]\no1 endwhile\nM2\n");
+    has(&p, 3, 9, "division by zero");
+    assert_eq!(errors(&p).len(), 1, "{:?}", errors(&p));
+    let xs: Vec<f64> = p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect();
+    let want = [0.0, 1.0, 2.0, 4.0].map(|n: f64| 10.0 / (3.0 - n));
+    assert!(xs.len() == 4 && xs.iter().zip(want).all(|(x, w)| (x - w).abs() < 1e-9), "{xs:?}");
+    // Fanuc custom macro B's control flow, likewise by name.
+    let p = read_rs274("#1 = 0\nWHILE [#1 LT 3] DO1\nG1 X#1 F100\n#1 = [#1 + 1]\nEND1\nIF [#1 EQ 3] GOTO 10\nN10 M30\n");
+    has(&p, 2, 1, "Fanuc macro 'WHILE'");
+    has(&p, 5, 1, "Fanuc macro 'END'");
+    has(&p, 6, 1, "Fanuc macro 'IF'");
+    assert_eq!(errors(&p).len(), 3, "{:?}", errors(&p));
+}
+
+/// LinuxCNC's O-word blocks fail closed: a block that never ends, an end of another name, a
+/// `break` outside its loop, a call of a subroutine not defined before it, a condition that cannot
+/// be read and an endless loop are each refused at their line, and nothing after them is read.
+#[test]
+fn rs274_o_word_defects_are_refused_where_they_stand() {
+    let opts = ReadOptions::default();
+    for (text, line, needle) in [
+        ("G1 X1 F100\no1 while [1 LT 2]\nG1 X2\n", 2, "the program ends inside o1 while"),
+        ("G1 X1 F100\no1 if [1]\nG1 X2\no2 endif\n", 4, "o2 endif ends no block: o1 if is open"),
+        ("G1 X1 F100\no1 if [1]\no5 break\no1 endif\n", 3, "not inside a while or do loop of that name"),
+        ("G1 X1 F100\no1 repeat [2]\no1 break\no1 endrepeat\n", 3, "not inside a while or do loop of that name"),
+        ("G1 X1 F100\no<tool_change> call [3]\n", 2, "no subroutine o<tool_change> is defined before it"),
+        ("G1 X1 F100\no1 while [#<undefined> LT 2]\nG1 X2\no1 endwhile\n", 2, "o1 while"),
+        ("G1 X1 F100\n#<i> = 0\no1 while [#<i> LT 1]\nG1 X2\no1 endwhile\nG1 X3\n", 4, "an endless loop"),
+        ("G1 X1 F100\no1 endwhile\n", 2, "no block of that name is open"),
+        ("G1 X1 F100\no1 repeat [2.5]\nG1 X2\no1 endrepeat\n", 2, "a whole count"),
+    ] {
+        let p = read(text, Dialect::Rs274, "t.ngc", &opts);
+        assert!(errors(&p).iter().any(|(l, _, m)| *l == line && m.contains(needle)), "{text:?}: {:#?}", errors(&p));
+    }
+    // After an endless loop nothing more is read: X3 never comes.
+    let p = read("G1 X1 F100\n#<i> = 0\no1 while [#<i> LT 1]\nG1 X2\no1 endwhile\nG1 X3\n", Dialect::Rs274, "t.ngc", &opts);
+    assert!(p.blocks.iter().all(|b| b.targets.x != Some(3.0 * MM)));
+    // Fanuc's program number is not an O-word block.
+    let p = read("%\nO1001 (PART)\nG1 X1 F100\n%\n", Dialect::Fanuc, "t.nc", &opts);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+}
+
+/// LinuxCNC's bridgemill demo (`../shared/outside/programs`): a hemisphere of holes drilled in nested
+/// O-word loops (`while`, `if`/`else`), named parameters, `cos`, `sin`, `mod`, `G10 L20`, `G53`, read
+/// to the same moves as LinuxCNC's own interpreter (`bridgemill_without_w.canon`, made by
+/// make_canon.sh), X Y Z B C to its 4 decimals. Standalone rs274 has no W axis, so the W (quill)
+/// words are taken out of both copies.
+#[test]
+fn rs274_runs_linuxcncs_bridgemill_loops_as_linuxcnc_does() {
+    let text = std::fs::read_to_string(Path::new(env!("FIVEAXIS_ROOT")).join("../shared/outside/programs/linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc")).unwrap();
+    // The W words: `w` or `W`, blanks, then a number or a bracketed expression (make_canon.sh's sed).
+    let mut without_w = String::new();
+    let chars: Vec<char> = text.chars().collect();
+    let mut i = 0;
+    while i < chars.len() {
+        let mut k = i + 1;
+        while k < chars.len() && chars[k] == ' ' {
+            k += 1;
+        }
+        if matches!(chars[i], 'w' | 'W') && k < chars.len() && (chars[k] == '[' || chars[k].is_ascii_digit() || "+-.".contains(chars[k])) {
+            i = if chars[k] == '[' { k + chars[k..].iter().position(|&c| c == ']').unwrap() + 1 } else { k + 1 + chars[k + 1..].iter().take_while(|c| c.is_ascii_digit() || **c == '.').count() };
+            continue;
+        }
+        without_w.push(chars[i]);
+        i += 1;
+    }
+    let p = read(&without_w, Dialect::Rs274, "bridgemill.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    // rs274 also prints the null moves of a bare `g1` or `g0` (a W move's block without its W): only
+    // the moves that go somewhere are compared, on both sides.
+    let moving = |v: Vec<(Motion, [f64; 6])>| -> Vec<(Motion, [f64; 6])> {
+        let mut out: Vec<(Motion, [f64; 6])> = Vec::new();
+        for m in v {
+            if out.last().is_none_or(|l| (0..6).any(|i| (l.1[i] - m.1[i]).abs() > 0.5e-4 + 1e-9)) {
+                out.push(m);
+            }
+        }
+        out
+    };
+    let ours = moving(end_points(&p));
+    let theirs = moving(linuxcnc_canon("bridgemill_without_w.canon"));
+    assert_eq!(ours.len(), theirs.len(), "moves");
+    assert!(theirs.len() > 150, "{} moves", theirs.len());
+    for (k, ((m, a), (n, b))) in ours.iter().zip(&theirs).enumerate() {
+        assert_eq!(m, n, "move {k}");
+        for i in 0..6 {
+            assert!((a[i] - b[i]).abs() <= 0.5e-4 + 1e-9, "move {k} axis {i}: ours {a:?}, LinuxCNC {b:?}");
+        }
+    }
+}
+
+/// The bridgemill demo's drilling is its W quill: 5axiskins puts the world point at
+/// `J + (0, 0, L) + s2r(L + W, C, 180 - B)` with `s2r(r, t, p) = r (sin p cos t, sin p sin t, cos p)`
+/// (LinuxCNC src/emc/kinematics/5axiskins.c), the tool drawn L from the pivot, so `g1 w-10` takes the
+/// tip to `P - s2r(W, C, 180 - B)`: computed here from the C source's formula at each hole's B and C,
+/// and the reader's blocks put the tip there (1e-9 mm), then back on `g0 w0`. The program reads clean
+/// on the machine (W its quill, 5axiskins from start).
+#[test]
+fn rs274_bridgemill_drills_with_its_w_quill_as_5axiskins_moves_the_tip() {
+    use fiveaxis::machine::Machine;
+    let text = std::fs::read_to_string(Path::new(env!("FIVEAXIS_ROOT")).join("../shared/outside/programs/linuxcnc-rs274ngc_bridgemill-5axisgui-oword.ngc")).unwrap();
+    let machine = Machine::builtin("linuxcnc-bridgemill").unwrap();
+    let p = read(&text, Dialect::Rs274, "bridgemill.ngc", &ReadOptions::default().on(&machine));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let (mut at, mut b, mut c) = ([0.0f64; 3], 0.0f64, 0.0f64);
+    let (mut drilled, mut back, mut hole) = (0, 0, [0.0f64; 3]);
+    for blk in &p.blocks {
+        let t = &blk.targets;
+        let to = [t.x.unwrap_or(at[0] * MM) / MM, t.y.unwrap_or(at[1] * MM) / MM, t.z.unwrap_or(at[2] * MM) / MM];
+        match blk.line {
+            // `g1 w[-10]`: the tip off the hole by -s2r(W, C, 180 - B), W = -10.
+            43 => {
+                let (w, pr, th) = (-10.0, (180.0 - b).to_radians(), c.to_radians());
+                let s2r = [w * pr.sin() * th.cos(), w * pr.sin() * th.sin(), w * pr.cos()];
+                for i in 0..3 {
+                    assert!((to[i] - (at[i] - s2r[i])).abs() < 1e-9, "line 43 at B {b} C {c}: tip {to:?}, 5axiskins {:?}", [at[0] - s2r[0], at[1] - s2r[1], at[2] - s2r[2]]);
+                }
+                assert_eq!(blk.motion, Motion::Linear);
+                hole = at;
+                drilled += 1;
+            }
+            44 => {
+                assert!((0..3).all(|i| (to[i] - hole[i]).abs() < 1e-9) && blk.motion == Motion::Rapid, "line 44: {to:?}, the hole {hole:?}");
+                back += 1;
+            }
+            _ => {}
+        }
+        if let Some(v) = t.b {
+            b = v / DEG;
+        }
+        if let Some(v) = t.c {
+            c = v / DEG;
+        }
+        at = to;
+    }
+    assert_eq!((drilled, back), (128, 128), "8 rings of 16 holes");
+}
