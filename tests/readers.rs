@@ -124,11 +124,13 @@ fn rs274_reads_fanucs_program_number() {
 
 #[test]
 fn rs274_defects_name_line_and_column() {
-    let p = read_rs274("G1 X1 F100\nG1 X1.2.3 Y2\nG1 X2 (open comment\nG93 G1 X3\nG1 X$4\n");
+    let p = read_rs274("G1 X1 F100\nG1 X1.2.3 Y2\nG1 X2 (open comment\nG93 G1 X3\nG1 X$4\n/2 G1 X5\n");
     has(&p, 2, 4, "expected a number after 'X', found '1.2.3'");
     has(&p, 3, 7, "not closed");
     has(&p, 4, 1, "inverse-time");
     has(&p, 5, 4, "found '$4'");
+    // A numbered block delete (Fanuc's optional block skip 2-9) is not read: refused, not run.
+    has(&p, 6, 1, "block delete level '/2' is not read");
     assert_eq!(p.blocks.len(), 1);
 }
 
@@ -208,7 +210,7 @@ fn sinumerik_reads_traori_vectors_frames_and_arcs() {
 #[test]
 fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
     let text = "N10 G1 X1 F100\nN20 ROT Z45\nN30 CYCLE800(1,\"TC1\",0,57,0,0,0,0,0,0,0,0,0,1)\nN40 X=R1+5\nN50 G60 X2\n\
-                N60 A3=0 B3=0 C3=1\nN70 RET\nN80 X=IC(5)\nN90 TRAORI\nN100 A3=0 B3=0 C3=0\nN110 X3 A3=0 B3=0 C3=1 C=5\nN120 ORICONCW\n";
+                N60 A3=0 B3=0 C3=1\nN70 RET\nN80 X=IC(5)\nN90 TRAORI\nN100 A3=0 B3=0 C3=0\nN110 X3 A3=0 B3=0 C3=1 C=5\nN120 ORICONCW\n/1 N130 X4\n";
     let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
     has(&p, 2, 5, "ROT");
     has(&p, 3, 5, "CYCLE800");
@@ -220,6 +222,7 @@ fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
     has(&p, 10, 6, "zero length");
     has(&p, 11, 1, "both a tool vector");
     has(&p, 12, 6, "cone");
+    has(&p, 13, 1, "block skip level '/1' is not read");
     let used: Vec<_> = p.blocks.iter().filter(|b| !b.targets.is_empty()).map(|b| b.number).collect();
     assert_eq!(used, vec![Some(10)], "no refused block is used");
 }

@@ -236,6 +236,12 @@ impl Rs274Reader {
         let mut now = Vec::new();
         let mut i = first;
         if chars[i] == '/' {
+            if chars.get(i + 1).is_some_and(char::is_ascii_digit) {
+                // Fanuc's optional block skip 2-9 (`/2`) is not in the manuals in reach, nor in LinuxCNC's.
+                let level: String = chars[i..].iter().take_while(|c| **c == '/' || c.is_ascii_digit()).collect();
+                diags.error(line, i + 1, format!("block delete level '{level}' is not read (only the plain block delete '/' is)"));
+                return None;
+            }
             diags.warning(line, i + 1, "block delete '/' is not modelled: the block is run");
             i += 1;
         }

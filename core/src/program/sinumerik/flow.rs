@@ -9,6 +9,8 @@
 //!   block number (`N100`). `GOTOF` looks forward, `GOTOB` backward, `GOTO` both, `GOTOC` as `GOTO`
 //!   without an alarm when the marker is missing (the block after it runs); `IF <condition> GOTOF ..`
 //!   jumps when the condition holds. A marker written twice is refused (the manual: "must be unique").
+//!   A block skip `/` before the block number and marker leaves both found: the skip is not modelled
+//!   (the block runs, with a warning), so a block that has one is a jump's destination as any other.
 //! - Control structures: `IF` ... `ELSE` ... `ENDIF`, `WHILE` ... `ENDWHILE`, `FOR var = a TO b` ...
 //!   `ENDFOR` (the variable counts up by 1), `LOOP` ... `ENDLOOP`, `REPEAT` ... `UNTIL`. A jump leaves
 //!   the structures open around it (a jump into one, or within one, is refused at its end).
@@ -99,11 +101,33 @@ impl FlowRunner {
     }
 }
 
-/// A line split: where its block starts (past blanks and its `N` number), its jump marker (capitals)
-/// and where the block after the marker starts.
+/// Where a block's words start: past blanks and a block skip `/`, which "stands at the start",
+/// "before the block number" (SINUMERIK 802D Programming, 6FC5698-2AA00-1AP4 08/2005 §8.1.4, block
+/// structure `/N... word1 word2 ...`), and whether the block had one.
+fn past_skip(b: &[u8]) -> (usize, bool) {
+    let blank = |from: usize| from + b[from.min(b.len())..].iter().take_while(|c| c.is_ascii_whitespace()).count();
+    let i = blank(0);
+    if b.get(i) == Some(&b'/') { (blank(i + 1), true) } else { (i, false) }
+}
+
+/// The block number (`N100`) a line starts with, past a block skip `/`.
+fn block_number(b: &[u8]) -> Option<u64> {
+    let (i, _) = past_skip(b);
+    if !b.get(i).is_some_and(|c| c.eq_ignore_ascii_case(&b'N')) {
+        return None;
+    }
+    let digits = b[i + 1..].iter().take_while(|c| c.is_ascii_digit()).count();
+    if digits == 0 || digits > 18 {
+        return None;
+    }
+    std::str::from_utf8(&b[i + 1..i + 1 + digits]).ok()?.parse().ok()
+}
+
+/// A line split: where its block starts (past blanks, a block skip `/` and its `N` number), its jump
+/// marker (capitals) and where the block after the marker starts.
 fn split(text: &str) -> (usize, Option<(String, usize)>, usize) {
     let b = text.as_bytes();
-    let mut i = b.iter().position(|c| !c.is_ascii_whitespace()).unwrap_or(b.len());
+    let (mut i, _) = past_skip(b);
     if b.get(i).is_some_and(|c| c.eq_ignore_ascii_case(&b'N')) && b.get(i + 1).is_some_and(u8::is_ascii_digit) {
         i += 1;
         while b.get(i).is_some_and(u8::is_ascii_digit) {
@@ -344,6 +368,10 @@ impl Jumping for FlowRunner {
             return self.plain(line, text, blank, out, diags);
         }
         let word = word.to_ascii_uppercase();
+        if self.skipping.is_none() && past_skip(text.as_bytes()).1 {
+            // The block reader says so of the blocks it reads; a flow statement is run here.
+            diags.warning(line, text.find('/').map_or(1, |c| c + 1), "block skip '/' is not modelled: the block is run");
+        }
         if let Some(mut s) = self.skipping {
             if word == s.close && s.depth == 0 || word == "ELSE" && s.at_else && s.depth == 0 {
                 self.skipping = None;
@@ -381,13 +409,10 @@ impl Jumping for FlowRunner {
 
     fn matches(&self, _key: u64, bytes: &[u8]) -> bool {
         let Some((target, ..)) = &self.wanted else { return false };
-        let text = String::from_utf8_lossy(bytes);
-        let text = text.trim_start();
         if target.starts_with('N') && target[1..].bytes().all(|c| c.is_ascii_digit()) {
-            let digits: String = text.chars().skip(1).take_while(char::is_ascii_digit).collect();
-            return text.starts_with(['N', 'n']) && !digits.is_empty() && digits.parse::<u64>().ok() == target[1..].parse::<u64>().ok();
+            return block_number(bytes).is_some_and(|n| target[1..].parse::<u64>().ok() == Some(n));
         }
-        split(text).1.is_some_and(|(m, _)| m == *target)
+        split(&String::from_utf8_lossy(bytes)).1.is_some_and(|(m, _)| m == *target)
     }
 
     fn found(&mut self, _find: Find, hits: &[At], read: usize, diags: &mut Diags) -> Next {
@@ -478,6 +503,25 @@ mod tests {
         assert_eq!(z, [0.0, 1.0, 2.0], "{m:?}");
         assert!(!m.iter().any(|m| m.0 == 6 || m.0 == 10), "{m:?}");
         assert!(m.iter().any(|m| m.0 == 7 && (m.1[1] - 7.0).abs() < 1e-9), "{m:?}");
+    }
+
+    /// A block skip `/` stands before the block number (802D §8.1.4: `/N... word1 ...`): a jump finds
+    /// `/N20` and `/ SKIP1:` as it finds them without it, and a flow statement after `/` runs, with
+    /// the warning the block reader gives its blocks (the skip switch is not modelled: off).
+    #[test]
+    fn a_block_skip_before_the_number_or_marker_leaves_them_found() {
+        let text = "G90 G1 X0 Y0 F100\nGOTOF N20\nN10 G1 X5\n/N20 G1 X10\n/ GOTOF SKIP1\nG1 X15\n/ SKIP1: G1 X20\nR1=0\n/ N30 G1 Y=R1\nR1=R1+1\nIF R1<2 GOTOB N30\nM30\n";
+        let p = run(text, &ReadOptions::default());
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
+        let m = moves(&p);
+        let lines: Vec<usize> = m.iter().map(|m| m.0).collect();
+        assert_eq!(lines, [1, 4, 7, 9, 9], "{m:?}");
+        assert!((m[1].1[0] - 10.0).abs() < 1e-9 && (m[2].1[0] - 20.0).abs() < 1e-9, "{m:?}");
+        assert!((m[4].1[1] - 1.0).abs() < 1e-9, "{m:?}");
+        let w = p.messages(Severity::Warning);
+        for at in ["4:1:", "5:1:", "7:1:", "9:1:"] {
+            assert!(w.iter().any(|m| m.starts_with(at) && m.contains("block skip '/'")), "{at}: {w:#?}");
+        }
     }
 
     /// A jump taken again goes where it went without searching again (5,000 turns before 2,000 lines,

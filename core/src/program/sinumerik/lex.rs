@@ -241,6 +241,12 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
     let mut vec_col = 0;
     let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
     if i < n && b[i] == b'/' {
+        if b.get(i + 1).is_some_and(u8::is_ascii_digit) {
+            // Skip levels (/0 to /9 on some controls) are not in the manuals in reach: refused, not guessed.
+            let level: String = src[i..].chars().take_while(|c| *c == '/' || c.is_ascii_digit()).collect();
+            diags.error(line, cols.col(i), format!("block skip level '{level}' is not read (only the plain skip '/' is)"));
+            return out;
+        }
         diags.warning(line, cols.col(i), "block skip '/' is not modelled: the block is run");
         i += 1;
     }
