@@ -116,8 +116,8 @@ fn rs274_reads_fanucs_program_number() {
     let targets = |p: &Program| p.blocks.iter().map(|b| (b.motion, b.targets.x, b.targets.a, b.targets.c, b.feed.map(|f| f.value_per_min))).collect::<Vec<_>>();
     assert_eq!(targets(&numbered), targets(&plain));
     assert_eq!(numbered.blocks.len(), 4);
-    has(&read_rs274(&format!("O1234\n{body}O1235\n")), 6, 1, "unsupported word O1235");
-    has(&read_rs274(&format!("{body}O1234\n")), 5, 1, "unsupported word O1234");
+    has(&read_rs274(&format!("O1234\nG21\nO1235\n{body}")), 3, 1, "unsupported word O1235");
+    has(&read_rs274(&format!("G21\nO1234\n{body}")), 2, 1, "unsupported word O1234");
     has(&read_rs274(&format!("O1234 G1 X5\n{body}")), 1, 1, "unsupported word O1234");
     assert!(!errors(&read_rs274(&format!("o100 sub\n{body}"))).is_empty());
 }
@@ -210,7 +210,7 @@ fn sinumerik_reads_traori_vectors_frames_and_arcs() {
 #[test]
 fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
     let text = "N10 G1 X1 F100\nN20 ROT Z45\nN30 CYCLE800(1,\"TC1\",0,57,0,0,0,0,0,0,0,0,0,1)\nN40 X=R1+5\nN50 G60 X2\n\
-                N60 A3=0 B3=0 C3=1\nN70 RET\nN80 X=IC(5)\nN90 TRAORI\nN100 A3=0 B3=0 C3=0\nN110 X3 A3=0 B3=0 C3=1 C=5\nN120 ORICONCW\n/1 N130 X4\n";
+                N60 A3=0 B3=0 C3=1\nN70 RET\nN80 X=DC(5)\nN90 TRAORI\nN100 A3=0 B3=0 C3=0\nN110 X3 A3=0 B3=0 C3=1 C=5\nN120 ORICONCW\n/1 N130 X4\n";
     let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
     has(&p, 2, 5, "ROT");
     has(&p, 3, 5, "CYCLE800");
@@ -218,7 +218,7 @@ fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
     has(&p, 5, 5, "exact stop");
     has(&p, 6, 1, "without TRAORI");
     has(&p, 7, 5, "subprogram calls");
-    has(&p, 8, 7, "IC()");
+    has(&p, 8, 7, "DC");
     has(&p, 10, 6, "zero length");
     has(&p, 11, 1, "both a tool vector");
     has(&p, 12, 6, "cone");

@@ -134,3 +134,21 @@ fn cycle800_swivels_the_ftv5_as_the_dmu70_program_tilts_the_same_part() {
         assert!(p.blocks.iter().any(|b| b.line == line + 1 && b.tcp));
     }
 }
+
+/// `AC()` and `IC()` dimension one word whatever G90/G91 say (SINUMERIK 802D sl Programming manual,
+/// "Absolute/incremental dimensioning": `N180 G91 X40 Y20` then `N190 X-12 Y=AC(17)`, "X still
+/// incremental dimensioning, Y absolute"; Programming Manual Fundamentals: "Non-modal absolute
+/// dimensions (AC) are also possible for ... interpolation parameters (I, J, K)"). By hand: from X0
+/// Y0, N180 goes to X40 Y20 and N190 to X28 Y17; under G90 `X=IC(5)` is X33; the arc about the
+/// absolute centre `I=AC(23) J=AC(17)` from X33 Y17 to X23 Y27 has radius 10.
+#[test]
+fn ac_and_ic_dimension_their_word_only() {
+    let p = read("N10 G71 G90 G94 G17 G1 X0 Y0 F100\nN180 G91 X40 Y20\nN190 X-12 Y=AC(17)\nN200 G90 X=IC(5)\nN210 G2 X23 Y27 I=AC(23) J=AC(17)\nN220 M30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let at = |line: usize| blocks_of(&p, line)[0];
+    assert!(close(at(2).targets.x, 40.0) && close(at(2).targets.y, 20.0), "{:?}", at(2).targets);
+    assert!(close(at(3).targets.x, 28.0) && close(at(3).targets.y, 17.0), "{:?}", at(3).targets);
+    assert!(close(at(4).targets.x, 33.0), "{:?}", at(4).targets);
+    let arc = at(5).arc.expect("G2 about an absolute centre");
+    assert!((arc.centre[0] - 23.0 * MM).abs() < 1e-12 && (arc.centre[1] - 17.0 * MM).abs() < 1e-12, "{:?}", arc.centre);
+}

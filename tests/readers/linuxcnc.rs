@@ -306,3 +306,31 @@ fn rs274_bridgemill_drills_with_its_w_quill_as_5axiskins_moves_the_tip() {
     }
     assert_eq!((drilled, back), (128, 128), "8 rings of 16 holes");
 }
+
+/// Nothing runs after the program's end (RS274/NGC Interpreter v3, NIST IR 6556 §3.3.1: "Lines of a
+/// file that occur after the end of a program are not to be executed"; "The useful contents of a
+/// file demarcated by percents stop after the second percent line"): not after `M2`, not after `M30`
+/// inside a loop (which would otherwise run until its bound), not after the closing `%`. The first
+/// line with words after the end is said not to run; the closing `%` and comments are not.
+#[test]
+fn nothing_runs_after_the_programs_end() {
+    let xs = |p: &Program| p.blocks.iter().filter_map(|b| b.targets.x).map(|x| (x / MM).round()).collect::<Vec<_>>();
+    for (text, want, said) in [
+        ("G21 G90 G94\nG1 X10 F60\nM2\nG1 X100\n", vec![10.0], Some(4)),
+        ("G21 G90 G94\nG1 X10 F60\nM30\n%\n(end)\n", vec![10.0], None),
+        ("%\nG21 G90 G94\nG1 X10 F60\n%\nG1 X100\n", vec![10.0], Some(5)),
+        ("G21 G90 G94\nG1 X10 F60\no100 while [1]\nG1 X20\nM30\nG1 X50\no100 endwhile\nG1 X100\n", vec![10.0, 20.0], Some(8)),
+    ] {
+        let p = read_rs274(text);
+        assert!(errors(&p).is_empty(), "{text:?}: {:?}", errors(&p));
+        assert_eq!(xs(&p), want, "{text:?}");
+        let warned: Vec<usize> = p.diagnostics.iter().filter(|d| d.message.contains("are not run: the program ended")).map(|d| d.line).collect();
+        assert_eq!(warned, said.into_iter().collect::<Vec<_>>(), "{text:?}: {:?}", p.diagnostics);
+    }
+    // The TNC's DIN/ISO program: M30 stops the run and goes back to block 1; the `N99999 %` end line
+    // still closes the program (its name checked against the header's).
+    let p = read_heidenhain("%T G71 *\nN10 G90 G01 X+10 Y+0 Z+0 F60 *\nN20 M30 *\nN30 G01 X+100 *\nN99999 %T G71 *\n");
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    assert_eq!(xs(&p), vec![10.0]);
+    assert!(p.diagnostics.iter().any(|d| d.line == 4 && d.message.contains("not run")), "{:?}", p.diagnostics);
+}

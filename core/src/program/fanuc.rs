@@ -10,6 +10,7 @@
 //! the Haas Mill Operator's Manual (G28 with no axis returns every axis; G53 non-modal machine
 //! coordinates; canned cycles repeat with L, dwell P in seconds).
 
+use crate::program::interp::Dimension;
 use std::borrow::Cow;
 
 use super::cycles::{self, Active, Kind, Step};
@@ -29,7 +30,7 @@ pub(crate) fn code(w: &Word) -> String {
 
 /// A word made here, its value in program units.
 fn word(letter: char, value: f64, column: usize) -> Word<'static> {
-    Word { letter, value, raw: Cow::Owned(format!("{value}")), column, incremental: false }
+    Word { letter, value, raw: Cow::Owned(format!("{value}")), column, dimension: Dimension::Modal }
 }
 
 /// Make the block's special moves, if it has any: `Some(made)` (false if a defect stopped it), or
@@ -121,7 +122,7 @@ fn reference_return(it: &mut Interpreter, g: &Word, words: &[Word], line: usize,
             return true;
         }
         // Haas: "G28 returns all axes simultaneously to the machine zero position when no axis is specified".
-        axes = ['X', 'Y', 'Z', 'A', 'B', 'C'].into_iter().filter(|l| it.has_axis(*l)).map(|l| Word { incremental: true, ..word(l, 0.0, g.column) }).collect();
+        axes = ['X', 'Y', 'Z', 'A', 'B', 'C'].into_iter().filter(|l| it.has_axis(*l)).map(|l| Word { dimension: Dimension::Incremental, ..word(l, 0.0, g.column) }).collect();
     }
     let origin = OneShot::machine_origin(it);
     let Some(reference) = it.machine_coords().map(|m| m.references.get(n - 1).copied()) else {
@@ -133,7 +134,7 @@ fn reference_return(it: &mut Interpreter, g: &Word, words: &[Word], line: usize,
         return false;
     };
     // The intermediate point: nothing to do where it is where the tool stands (`G91 G28 Z0`).
-    let still = !it.absolute() && axes.iter().all(|w| w.value == 0.0) || axes.iter().all(|w| w.incremental && w.value == 0.0);
+    let still = !it.absolute() && axes.iter().all(|w| w.value == 0.0) || axes.iter().all(|w| w.dimension == Dimension::Incremental && w.value == 0.0);
     if !still && !shot(it, OneShot { motion: Motion::Rapid, absolute: false, axes: None, own: false }, &axes, line, column, number, diags, out) {
         return false;
     }
@@ -156,7 +157,7 @@ fn machine_move(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, col
     if !apply(it, &settings(words, &AXES, &["53"]), line, column, number, diags, out) {
         return false;
     }
-    if axes.iter().any(|w| w.incremental) {
+    if axes.iter().any(|w| w.dimension == Dimension::Incremental) {
         diags.error(line, g.column, format!("G{}: machine coordinates are absolute", g.raw));
         return false;
     }

@@ -19,6 +19,7 @@
 //! - Haas' G68.2 is not read here: Haas' documented 3+2 is G254 (the Haas reader's), its G68.2 page
 //!   not being at hand.
 
+use crate::program::interp::Dimension;
 use std::borrow::Cow;
 
 use super::interp::{Interpreter, Word};
@@ -157,7 +158,7 @@ fn turn_axes(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, column
     for (k, l) in letters.iter().enumerate() {
         let Some(l) = l else { continue };
         let deg = sol.rot[k] / DEG;
-        moves.push(Word { letter: *l, value: deg, raw: Cow::Owned(format!("{deg:.6}")), column: g.column, incremental: false });
+        moves.push(Word { letter: *l, value: deg, raw: Cow::Owned(format!("{deg:.6}")), column: g.column, dimension: Dimension::Modal });
     }
     // Absolute whatever G90/G91 say; the modal motion stays the program's.
     it.oneshot = Some(super::interp::OneShot { motion: super::Motion::Rapid, absolute: true, axes: None, own: false });

@@ -8,6 +8,7 @@
 //! Damage is reported where it stands: two blocks run together on one line, a number split by a space,
 //! a garbled word, repeated or out-of-order block numbers, a header with a space in the name.
 
+use crate::program::interp::Dimension;
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, number_prefix_len, parse_number, Diags};
 use super::{Block, Dialect, Program};
@@ -154,6 +155,9 @@ pub(crate) struct DinReader {
     /// Block numbers went backwards somewhere: a damaged copy whose order may be recovered.
     out_of_order: bool,
     ended: bool,
+    /// The program stopped at `M02`/`M30` (its line and block number; whether the blocks after it
+    /// have been said not to run): the TNC goes back to its first block there.
+    stopped: Option<(usize, Option<u64>, bool)>,
 }
 
 impl DinReader {
@@ -165,6 +169,7 @@ impl DinReader {
             last_number: None,
             out_of_order: false,
             ended: false,
+            stopped: None,
         }
     }
 }
@@ -269,7 +274,7 @@ impl super::stream::LineReader for DinReader {
                             value: *v,
                             raw: (*text).into(),
                             column: *col,
-                            incremental: *incremental,
+                            dimension: if *incremental { Dimension::Incremental } else { Dimension::Modal },
                         }),
                     },
                     Tok::Bare { text, col } => {
@@ -323,12 +328,27 @@ impl super::stream::LineReader for DinReader {
                 self.seen.insert(n, line);
                 self.last_number = Some((n, line));
             }
+            // After M02/M30 nothing runs ("M02/M30: stop program run, go to block 1", iTNC 530 ISO
+            // Programming, M functions); a block numbered before it stands out of order in a damaged
+            // copy, and is read for the order's recovery.
+            if let Some((end_line, end_number, said)) = &mut self.stopped {
+                if !number.is_some_and(|n| end_number.is_some_and(|e| n < e)) {
+                    if !std::mem::replace(said, true) {
+                        diags.warning(line, first_col, format!("block {} and after are not run: the program stopped at M02/M30 on line {end_line}", label(number, line)));
+                    }
+                    continue;
+                }
+            }
             if damaged {
                 diags.warning(line, first_col, format!("block {} not used: it is damaged", label(number, line)));
                 continue;
             }
+            let before = out.len();
             if !self.interp.block(&words, line, first_col, number, diags, out) {
                 diags.warning(line, first_col, format!("block {} not used", label(number, line)));
+            }
+            if self.stopped.is_none() && super::stream::ends_program(&out[before..], &[2.0, 30.0]) {
+                self.stopped = Some((line, number, false));
             }
         }
     }

@@ -339,7 +339,8 @@ impl Rs274Reader {
         let mut repeats: HashMap<usize, f64> = HashMap::new();
         let mut pc = 0;
         while pc < lines.len() {
-            if self.flow.stopped {
+            // A defect stopped the flow, or the program ended (M2/M30) inside the block.
+            if self.flow.stopped || self.program_ended() {
                 return End::Stopped;
             }
             self.flow.run_lines += 1;

@@ -8,6 +8,7 @@
 //! program point by a W the other moves do not carry), a W beyond the quill's range, a W move
 //! without tool-centre-point kinematics, W in another system's offset (`G10 ... P1`..).
 
+use crate::program::interp::Dimension;
 use super::interp::Word;
 use super::lex::Diags;
 use super::rs274::Rs274Reader;
@@ -98,7 +99,7 @@ impl Rs274Reader {
         let absolute = self.interp.absolute();
         for (i, l) in ['X', 'Y', 'Z'].into_iter().enumerate() {
             let value = if absolute { tip[i] } else { tip[i] - p[i] } / unit;
-            words.push(Word { letter: l, value, raw: format!("{value}").into(), column: w.column, incremental: false });
+            words.push(Word { letter: l, value, raw: format!("{value}").into(), column: w.column, dimension: Dimension::Modal });
         }
         q.machine = to;
         q.base = if to == 0.0 { None } else { Some(base) };

@@ -7,6 +7,7 @@
 //! `--m-code` says. LinuxCNC's parameters and expressions (`#<feed>=1000`, `F#<feed>`, `X[#1*2]`,
 //! `XSIN[30]`) are evaluated as its interpreter does ([`super::params`]).
 
+use crate::program::interp::Dimension;
 use super::interp::{Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
 use super::params::expr::{self, Compiled, Setting};
@@ -47,6 +48,11 @@ pub(crate) struct Rs274Reader {
     leader: Option<Vec<(usize, String)>>,
     /// Fanuc, Haas: the tape's end `%` has been read: nothing after it is program.
     refused: bool,
+    /// LinuxCNC: the program ended (`M2`/`M30`, or the `%` closing a file that opens with one) on
+    /// this line; what follows is not run (and whether that has been said).
+    ended: Option<(usize, bool)>,
+    /// LinuxCNC: the file opens with `%`, so the next `%` line ends it.
+    percent: bool,
     /// LinuxCNC's O-word blocks held and run ([`super::oword`]).
     pub(super) flow: super::oword::Flow,
     /// The machine's quill, where it has one ([`super::quill`]).
@@ -71,7 +77,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, flow: super::oword::Flow::new(setup.max_run_lines), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0 }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, flow: super::oword::Flow::new(setup.max_run_lines), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0 }
     }
 }
 
@@ -101,7 +107,7 @@ impl super::stream::LineReader for Rs274Reader {
     fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
         // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
         let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
-        if self.refused {
+        if self.refused || self.after_end(line, text, diags) {
             return;
         }
         // Fanuc, Haas: what comes before the first `%` is the leader, skipped ("Leader section: the
@@ -137,6 +143,39 @@ impl super::stream::LineReader for Rs274Reader {
 }
 
 impl Rs274Reader {
+    /// LinuxCNC: whether the program has ended before this line (said once, at the first line
+    /// after the end with anything on it), or ends with it: a file that opens with a `%` line ends
+    /// at the next one ("The useful contents of a file demarcated by percents stop after the second
+    /// percent line", NIST IR 6556 §3.3.1).
+    fn after_end(&mut self, line: usize, text: &str, diags: &mut Diags) -> bool {
+        if self.dialect != Dialect::Rs274 {
+            return false;
+        }
+        let body = text.trim();
+        if let Some((end, said)) = &mut self.ended {
+            // The closing `%` and comments after the end move nothing: said only for a line with words.
+            if !*said && !body.is_empty() && !body.starts_with(['%', '(', ';']) {
+                *said = true;
+                diags.warning(line, 1, format!("line {line} and after are not run: the program ended on line {end}, and LinuxCNC runs nothing after its end"));
+            }
+            return true;
+        }
+        if body.starts_with('%') {
+            if self.percent {
+                self.ended = Some((line, false));
+                return true;
+            }
+            // Only a `%` before any word opens the demarcated file; another is read as before.
+            self.percent = !self.started;
+        }
+        false
+    }
+
+    /// LinuxCNC: the program has ended (`M2`/`M30`): nothing runs after it, in a loop or not.
+    pub(super) fn program_ended(&self) -> bool {
+        self.ended.is_some()
+    }
+
     /// No `%` came: the lines held as leader are the program's, read now.
     fn release_leader(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
         if let Some(held) = self.leader.take() {
@@ -156,7 +195,7 @@ impl Rs274Reader {
 
     /// One line read as the interpreter reads it (O-word lines are the flow's).
     pub(super) fn plain_line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
-        if self.refused {
+        if self.refused || self.ended.is_some() {
             return;
         }
         let text = text.trim_end_matches('\r');
@@ -169,7 +208,7 @@ impl Rs274Reader {
     /// what the first did, and while the kept lines' memory allows), kept in `kept`, then run from
     /// what was read. A kept line [`let_go`](Self::let_go) frees its share of the memory.
     pub(super) fn loop_line(&mut self, line: usize, text: &str, kept: &mut Option<ReadLine>, out: &mut Vec<Block>, diags: &mut Diags) {
-        if self.refused {
+        if self.refused || self.ended.is_some() {
             return;
         }
         let text = text.trim_end_matches('\r');
@@ -357,7 +396,7 @@ impl Rs274Reader {
         let mut settings: Vec<(Target, f64, usize)> = Vec::new();
         for item in &read.items {
             match item {
-                Item::Word { letter, column, raw, value: Value::Written(v) } => words.push(Word { letter: *letter, value: *v, raw: text[raw.0..raw.1].into(), column: *column, incremental: false }),
+                Item::Word { letter, column, raw, value: Value::Written(v) } => words.push(Word { letter: *letter, value: *v, raw: text[raw.0..raw.1].into(), column: *column, dimension: Dimension::Modal }),
                 Item::Word { letter, column, raw, value: Value::Computed(c) } => match now.as_mut().and_then(Iterator::next).map_or_else(|| c.eval(&self.params), Now::value) {
                     Ok(value) => {
                         computed.push(words.len());
@@ -368,7 +407,7 @@ impl Rs274Reader {
                             'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' | 'I' | 'J' | 'K' | 'R' | 'F' => text[raw.0..raw.1].trim_end().into(),
                             _ => written(*letter, value).into(),
                         };
-                        words.push(Word { letter: *letter, value, raw, column: *column, incremental: false });
+                        words.push(Word { letter: *letter, value, raw, column: *column, dimension: Dimension::Modal });
                     }
                     Err(e) => {
                         diags.error(line, e.column, format!("{letter}: {}", e.message));
@@ -418,8 +457,15 @@ impl Rs274Reader {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             return;
         }
+        let before = out.len();
         if !self.interp.block(&words, line, col, read.number, diags, out) {
             diags.warning(line, first + 1, format!("line {line} not used"));
+        }
+        // LinuxCNC: "Lines of a file that occur after the end of a program are not to be executed"
+        // (RS274/NGC Interpreter v3, NIST IR 6556, §3.3.1; M2 and M30 end it, §3.6.1). Fanuc and Haas
+        // end in their macro runner, whose subprograms stand after M30.
+        if self.dialect == Dialect::Rs274 && self.ended.is_none() && super::stream::ends_program(&out[before..], &[2.0, 30.0]) {
+            self.ended = Some((line, false));
         }
     }
 

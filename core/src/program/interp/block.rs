@@ -1,6 +1,7 @@
 //! One block's words interpreted: modal G codes, M functions, feed, targets and arcs, into a
 //! [`Block`] (the [`Interpreter`]'s state changes only when the block has no defect).
 
+use crate::program::interp::Dimension;
 use super::arc::resolve_arc;
 use super::codes::{maker_m_function, tnc_m_code, tool_vector};
 use super::{Interpreter, Word, AXIS_LETTERS};
@@ -406,7 +407,11 @@ impl Interpreter {
                 v + origin[k] - next.datum[k]
             } else if g53 && k < 3 {
                 v - next.datum[k]
-            } else if (next.absolute || shot.is_some_and(|s| s.absolute)) && !w.incremental {
+            } else if match w.dimension {
+                Dimension::Absolute => true,
+                Dimension::Incremental => false,
+                Dimension::Modal => next.absolute || shot.is_some_and(|s| s.absolute),
+            } {
                 // M126 (it acts in its own block): a modulo axis goes the shorter way to the position.
                 if k >= 3 && next.shortest && next.modulo[k - 3] {
                     crate::kinematics::unwrap_near(v, next.last[k])
@@ -488,7 +493,7 @@ impl Interpreter {
                 if as_rs274.is_empty() {
                     for k in [a0, a1] {
                         match next.centre[k] {
-                            Some(c) => as_rs274.push(Word { letter: ['I', 'J', 'K'][k], value: c / next.unit, raw: format!("{}", c / next.unit).into(), column, incremental: false }),
+                            Some(c) => as_rs274.push(Word { letter: ['I', 'J', 'K'][k], value: c / next.unit, raw: format!("{}", c / next.unit).into(), column, dimension: Dimension::Modal }),
                             None => diags.error(line, column, format!("arc without a circle centre: expected {} (and {}) before or in this block, or R", ['I', 'J', 'K'][k], ['I', 'J', 'K'][a0 + a1 - k])),
                         }
                     }

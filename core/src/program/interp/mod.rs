@@ -22,8 +22,20 @@ pub struct Word<'a> {
     /// the program's text where it stands there (no allocation per word).
     pub raw: Cow<'a, str>,
     pub column: usize,
-    /// Heidenhain `IX+5`: incremental for this word only.
-    pub incremental: bool,
+    /// Heidenhain `IX+5`, Sinumerik `X=IC(5)`: incremental for this word only; Sinumerik
+    /// `X=AC(5)`: absolute for this word only; else as the block's G90/G91 say.
+    pub dimension: Dimension,
+}
+
+/// How a word's value is dimensioned: as the modal G90/G91 say, or for this word only (Sinumerik
+/// Programming Manual Fundamentals, "Absolute dimensions (G90, AC)" and "Incremental dimensions
+/// (G91, IC)": "non-modal absolute dimensions ... also for interpolation parameters (I, J, K)").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Dimension {
+    #[default]
+    Modal,
+    Incremental,
+    Absolute,
 }
 
 /// Modal state of a G-code program.

@@ -2,6 +2,7 @@
 //! 19 working plane, 32 tolerance, the drilling cycles and the machine maker's own), parsed, then
 //! defined and called as the TNC runs them (`CYCL CALL`, `M99`, `M89`).
 
+use crate::program::interp::Dimension;
 use super::*;
 use std::borrow::Cow;
 
@@ -205,11 +206,11 @@ impl Exec {
         let saved = interp.feed_state();
         let z = |v: f64, motion: &str| -> Vec<Word<'static>> {
             let mut w = vec![
-                Word { letter: 'G', value: if motion == "0" { 0.0 } else { 1.0 }, raw: Cow::Owned(motion.to_string()), column: s.col, incremental: false },
-                Word { letter: 'Z', value: v / unit, raw: Cow::Owned(format!("{}", v / unit)), column: s.col, incremental: false },
+                Word { letter: 'G', value: if motion == "0" { 0.0 } else { 1.0 }, raw: Cow::Owned(motion.to_string()), column: s.col, dimension: Dimension::Modal },
+                Word { letter: 'Z', value: v / unit, raw: Cow::Owned(format!("{}", v / unit)), column: s.col, dimension: Dimension::Modal },
             ];
             if motion == "1" {
-                w.push(Word { letter: 'F', value: feed, raw: Cow::Owned(format!("{feed}")), column: s.col, incremental: false });
+                w.push(Word { letter: 'F', value: feed, raw: Cow::Owned(format!("{feed}")), column: s.col, dimension: Dimension::Modal });
             }
             w
         };

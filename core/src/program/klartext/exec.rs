@@ -2,6 +2,7 @@
 //! ([`super::tilt`]) or cycle ([`super::cycles`]), with the run-time state the TNC keeps between
 //! blocks.
 
+use crate::program::interp::Dimension;
 use std::borrow::Cow;
 use std::collections::HashMap;
 
@@ -126,7 +127,7 @@ impl Exec {
         }
         let before = diags.errors();
         let mut words: Vec<Word<'a>> = Vec::with_capacity(12);
-        let word = |letter: char, value: f64, raw: Cow<'a, str>, column: usize, incremental: bool| Word { letter, value, raw, column, incremental };
+        let word = |letter: char, value: f64, raw: Cow<'a, str>, column: usize, incremental: bool| Word { letter, value, raw, column, dimension: if incremental { Dimension::Incremental } else { Dimension::Modal } };
         let mut ends = false;
         let mut vector = None;
         match &s.kind {
@@ -306,7 +307,7 @@ impl Exec {
                 _ => None,
             });
             if let Some((code, col)) = code {
-                match self.machine_axes(code, interp, *shape, words.iter().any(|w| w.incremental)) {
+                match self.machine_axes(code, interp, *shape, words.iter().any(|w| w.dimension == Dimension::Incremental)) {
                     Ok(origin) => {
                         let motion = if matches!(feed, FeedWord::Max) { crate::program::Motion::Rapid } else { crate::program::Motion::Linear };
                         interp.oneshot = Some(OneShot { motion, absolute: true, axes: Some(origin), own: false });
@@ -432,7 +433,7 @@ impl Exec {
         for w in m {
             let v = self.value(w, line, diags).unwrap_or(0.0);
             ends |= v == 2.0 || v == 30.0;
-            words.push(Word { letter: 'M', value: v, raw: w.raw.into(), column: w.col, incremental: false });
+            words.push(Word { letter: 'M', value: v, raw: w.raw.into(), column: w.col, dimension: Dimension::Modal });
         }
         ends
     }
@@ -451,7 +452,7 @@ impl Exec {
         for w in words {
             let Some(k) = "XYZ".find(w.letter) else { continue };
             let slot = if k == a0 { 0 } else if k == a1 { 1 } else { continue };
-            end[slot] = if w.incremental { pos[k] + w.value * unit } else { w.value * unit };
+            end[slot] = if w.dimension == Dimension::Incremental { pos[k] + w.value * unit } else { w.value * unit };
         }
         let d = [end[0] - pos[a0], end[1] - pos[a1]];
         let n = [-t[1], t[0]]; // left of the tangent

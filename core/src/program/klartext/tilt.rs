@@ -3,6 +3,7 @@
 //! "Tilting the working plane"): parsed, then run (the axes the control picks, its Q120-Q122, the
 //! frame it sets); the plane's geometry is [`crate::program::plane`]'s.
 
+use crate::program::interp::Dimension;
 use super::*;
 use std::borrow::Cow;
 
@@ -343,14 +344,14 @@ impl Exec {
         }
         interp.set_tilt(Some(r));
         if p.mode == PlaneMode::Turn {
-            let mut words: Vec<Word<'static>> = letters.iter().zip(rot).map(|(l, v)| Word { letter: *l, value: v / DEG, raw: Cow::Owned(format!("{:.6}", v / DEG)), column: s.col, incremental: false }).collect();
+            let mut words: Vec<Word<'static>> = letters.iter().zip(rot).map(|(l, v)| Word { letter: *l, value: v / DEG, raw: Cow::Owned(format!("{:.6}", v / DEG)), column: s.col, dimension: Dimension::Modal }).collect();
             match &p.feed {
                 FeedWord::Value(f) => {
                     let Some(v) = self.value(f, s.line, diags) else { return };
-                    words.push(Word { letter: 'G', value: 1.0, raw: "1".into(), column: s.col, incremental: false });
-                    words.push(Word { letter: 'F', value: v, raw: Cow::Owned(f.raw.to_string()), column: f.col, incremental: false });
+                    words.push(Word { letter: 'G', value: 1.0, raw: "1".into(), column: s.col, dimension: Dimension::Modal });
+                    words.push(Word { letter: 'F', value: v, raw: Cow::Owned(f.raw.to_string()), column: f.col, dimension: Dimension::Modal });
                 }
-                _ => words.push(Word { letter: 'G', value: 0.0, raw: "0".into(), column: s.col, incremental: false }),
+                _ => words.push(Word { letter: 'G', value: 0.0, raw: "0".into(), column: s.col, dimension: Dimension::Modal }),
             }
             if let Some(b) = interp.block_one(&words, s.line, s.col, s.number, diags) {
                 out.push(b);

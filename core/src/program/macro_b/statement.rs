@@ -2,6 +2,7 @@
 //! "Custom macro" and "Subprogram"): which statement a line holds, its condition, its label, the
 //! words of a call. The runner ([`super::MacroRunner`]) does what they say.
 
+use crate::program::interp::Dimension;
 use super::super::interp::Word;
 use super::super::lex::excerpt;
 use super::super::params::skip_blanks;
@@ -220,7 +221,7 @@ impl MacroRunner {
             let at = skip_blanks(chars, i + 1);
             let (value, end) = self.reader.params.real_value(chars, at).map_err(|e| (e.column, format!("{c}: {}", e.message)))?;
             let raw: String = chars[at..end].iter().filter(|c| !c.is_whitespace()).collect();
-            words.push(Word { letter: c.to_ascii_uppercase(), value, raw: raw.into(), column: i + 1, incremental: false });
+            words.push(Word { letter: c.to_ascii_uppercase(), value, raw: raw.into(), column: i + 1, dimension: Dimension::Modal });
             i = end;
         }
         Ok(Some(Stmt::Call(words)))

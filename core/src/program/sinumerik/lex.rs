@@ -5,6 +5,7 @@
 //! parameters) that its expressions read. Values are evaluated here, in the block's order: an
 //! assignment is in effect for the words after it.
 
+use crate::program::interp::Dimension;
 use super::expr;
 use crate::program::interp::Word;
 use crate::program::lex::{excerpt, parse_number, upper, Columns, Diags};
@@ -332,7 +333,7 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             match src[v + 1..].find('"') {
                 Some(p) => {
                     let e = v + 1 + p + 1;
-                    out.words.push(Word { letter: 'T', value: 0.0, raw: src[v..e].into(), column: col, incremental: false });
+                    out.words.push(Word { letter: 'T', value: 0.0, raw: src[v..e].into(), column: col, dimension: Dimension::Modal });
                     i = e;
                 }
                 None => {
@@ -343,6 +344,7 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             continue;
         }
         // The value: an expression after '=', else a number written straight after the address.
+        let mut dimension = Dimension::Modal;
         let (value, text): (f64, &'a str) = if with_eq {
             let end = expression_end(b, v);
             let text = &src[v..end];
@@ -350,10 +352,15 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             while i < n && !src.is_char_boundary(i) {
                 i += 1;
             }
+            // AC()/IC() dimension an axis or a circle centre's word; anywhere else they are refused.
+            let dimensioned_word = matches!(address.as_ref(), "X" | "Y" | "Z" | "A" | "B" | "C" | "I" | "J" | "K");
             match parse_number(text.trim()) {
                 Some(x) => (x, text.trim()),
-                None => match value_of(text, vars) {
-                    Ok(x) => (x, text.trim()),
+                None => match if dimensioned_word { dimensioned(text, vars) } else { value_of(text, vars).map(|x| (x, Dimension::Modal)) } {
+                    Ok((x, d)) => {
+                        dimension = d;
+                        (x, text.trim())
+                    }
                     Err(why) => {
                         diags.error(line, cols.col(v), format!("{address}={}: {why}", excerpt(text)));
                         continue;
@@ -386,7 +393,7 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
                 }
             }
         };
-        let word = |letter: char, value: f64, raw: Cow<'a, str>| Word { letter, value, raw, column: col, incremental: false };
+        let word = |letter: char, value: f64, raw: Cow<'a, str>| Word { letter, value, raw, column: col, dimension };
         match address.as_ref() {
             "N" if with_eq => diags.error(line, col, "N=: a block number is written N10"),
             "N" if value.fract() == 0.0 && value >= 0.0 => out.number = Some(value as u64),
@@ -446,16 +453,29 @@ fn unknown_address(name: &str) -> &'static str {
     }
 }
 
-/// The value of an expression (`R1+5`, `_X_HOME`, `AC(5)`: the value in brackets; an IC() is
-/// refused by the caller's words).
+/// The value of an expression (`R1+5`, `_X_HOME`), where no dimension may be given (`AC(5)` reads
+/// as its value in brackets, as before; an `IC()` is refused).
 fn value_of(text: &str, vars: &Vars) -> Result<f64, String> {
+    match dimensioned(text, vars)? {
+        (_, Dimension::Incremental) => Err("IC(): an incremental value is written on an axis or a circle centre (X=IC(5), I=IC(2))".into()),
+        (v, _) => Ok(v),
+    }
+}
+
+/// The value of an expression and its dimension for this word: `AC(...)` absolute and `IC(...)`
+/// incremental whatever G90/G91 say (Programming Manual Fundamentals, "Absolute dimensions (G90,
+/// AC)": "With preset incremental dimensions (G91), the AC command can be used to set non-modal
+/// absolute dimensions for individual axes"; "Incremental dimensions (G91, IC)").
+fn dimensioned(text: &str, vars: &Vars) -> Result<(f64, Dimension), String> {
     let t = text.trim();
     let upper = t.to_ascii_uppercase();
-    if upper.starts_with("IC(") || upper.starts_with("IC ") {
-        return Err("IC(): an incremental value in an absolute block is not read".into());
-    }
-    let inner = if upper.starts_with("AC(") && t.ends_with(')') { &t[3..t.len() - 1] } else { t };
-    expr::eval(inner, &|name| vars.get(name)).map_err(|e| format!("{} (at '{}')", e.message, excerpt(&inner[e.at.min(inner.len())..])))
+    let (inner, dimension) = match upper.get(..3) {
+        Some("AC(") if t.ends_with(')') => (&t[3..t.len() - 1], Dimension::Absolute),
+        Some("IC(") if t.ends_with(')') => (&t[3..t.len() - 1], Dimension::Incremental),
+        _ => (t, Dimension::Modal),
+    };
+    let v = expr::eval(inner, &|name| vars.get(name)).map_err(|e| format!("{} (at '{}')", e.message, excerpt(&inner[e.at.min(inner.len())..])))?;
+    Ok((v, dimension))
 }
 
 /// The arguments of a call (`CYCLE81(2.5,0,,-10)`): each a value, a string, or empty; `vars` give the
@@ -578,7 +598,16 @@ mod tests {
         let xyz: Vec<(char, f64)> = l.words.iter().filter(|w| "XYZ".contains(w.letter)).map(|w| (w.letter, w.value)).collect();
         assert_eq!(xyz, vec![('X', -360.0), ('Y', 12.0), ('Z', 1.0)]);
         assert_eq!(l.edge.map(|e| e.0), Some(0.0));
-        let bad = "G1 X=R7 Y=_NOPE Z=IC(2)";
+        // AC() and IC() dimension their word only; on a feed, IC() is refused.
+        let dims: Vec<(char, Dimension)> = l.words.iter().filter(|w| "XYZ".contains(w.letter)).map(|w| (w.letter, w.dimension)).collect();
+        assert_eq!(dims, vec![('X', Dimension::Modal), ('Y', Dimension::Modal), ('Z', Dimension::Absolute)]);
+        let src = "G1 X=IC(R1+361) I=AC(2) F=IC(5)";
+        let l = lex_line(src, &Columns::new(src), 1, &mut vars, &mut diags);
+        let dims: Vec<(char, f64, Dimension)> = l.words.iter().filter(|w| w.letter != 'G').map(|w| (w.letter, w.value, w.dimension)).collect();
+        assert_eq!(dims, vec![('X', 1.0, Dimension::Incremental), ('I', 2.0, Dimension::Absolute)]);
+        assert_eq!(diags.0.iter().map(|d| d.column).collect::<Vec<_>>(), vec![27], "{:?}", diags.0);
+        diags.0.clear();
+        let bad = "G1 X=R7 Y=_NOPE Z=IC(2";
         let l = lex_line(bad, &Columns::new(bad), 2, &mut vars, &mut diags);
         assert!(l.words.iter().all(|w| w.letter == 'G'));
         let cols: Vec<usize> = diags.0.iter().map(|d| d.column).collect();

@@ -28,6 +28,7 @@ mod frame;
 mod lex;
 mod swivel;
 
+use crate::program::interp::Dimension;
 use super::interp::{Interpreter, OneShot, Word};
 use super::lex::{Columns, Diags};
 use super::{Block, Dialect, MCodeRule, Motion, Orientation, Program};
@@ -355,7 +356,7 @@ impl SinumerikReader {
         let saved = self.interp.feed_state();
         let modal_f = saved.1.map(|mm_per_min| mm_per_min * MM / self.interp.unit());
         let mut feeds = 0;
-        let word = |letter: char, v: f64| Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, incremental: false };
+        let word = |letter: char, v: f64| Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, dimension: Dimension::Modal };
         for step in hole.steps {
             let block = match step {
                 cycles::Step::Rapid(z) if (self.interp.position()[2] - z * self.interp.unit()).abs() < 1e-12 => continue,
@@ -459,7 +460,7 @@ impl SinumerikReader {
         // The swivel before this one goes; the retraction, the axes turned, then the new plane.
         self.swivel = None;
         self.set_frame(self.frame);
-        let word = |letter: char, v: f64| Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, incremental: false };
+        let word = |letter: char, v: f64| Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, dimension: Dimension::Modal };
         if let Some(rot) = rot {
             if call.retract > 0 {
                 let (Some(to), Some(origin)) = (data.retract, OneShot::machine_origin(&self.interp)) else {
