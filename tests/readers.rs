@@ -447,3 +447,57 @@ proptest! {
         let _ = fiveaxis::path::Trajectory::from_program(&p, &m, &opts);
     }
 }
+
+/// The cycle time `program analyze` gives a program (s), on a machine.
+fn cycle_time_s(text: &str, ext: &str, machine: &str) -> f64 {
+    let path = std::env::temp_dir().join(format!("fiveaxis-feed-{}-{}.{ext}", std::process::id(), text.len()));
+    std::fs::write(&path, text).unwrap();
+    let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(["program", "analyze", path.to_str().unwrap(), "--machine", machine, "--json"]).output().unwrap();
+    std::fs::remove_file(&path).ok();
+    assert!(out.status.success(), "{text:?}: {}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()["cycle_time_s"].as_f64().unwrap()
+}
+
+/// F on a move of the rotary axes alone is in degrees per minute whatever the length unit (LinuxCNC's
+/// SET_FEED_RATE: the angular feed is FROM_PROG_ANG(rate), no inch conversion): `G1 B45` at F60 takes
+/// 45 s under G20 as under G21, where the inch feed had been read as 1524 deg/min (1.77 s). A linear
+/// move at F60 under G20 covers 60 in a minute: X1 (1 in) in 1 s. Sinumerik's G70 is the geometry's
+/// unit only ("Feedrate functions are not affected by G70/G71", 840Di sl Programming Manual
+/// 6FC5398-1BP10): X1 at F60 is 25.4 mm at 60 mm/min, 25.4 s, on a metric basic system; G700 makes F
+/// inch/min (1 s), as G70 does on an inch basic system (the machine file's `inch_basic_system`).
+#[test]
+fn a_rotary_feed_is_in_degrees_and_sinumeriks_g70_leaves_f_alone() {
+    for (unit, want) in [("G21", 45.0), ("G20", 45.0)] {
+        let t = cycle_time_s(&format!("{unit} G90 G94 G17\nG1 X0 F60\nG1 B45\nM2\n"), "ngc", "generic-bc-table");
+        assert!((t - want).abs() < 0.05, "{unit}: {t} s");
+    }
+    let t = cycle_time_s("G20 G90 G94 G17\nG1 X0 Y0 Z0 F60\nG1 X1\nM2\n", "ngc", "generic-bc-table");
+    assert!((t - 1.0).abs() < 0.05, "G20 X1 at F60: {t} s");
+    for (code, want) in [("G70", 25.4), ("G700", 1.0), ("G71", 1.0)] {
+        let t = cycle_time_s(&format!("{code} G90 G94 G17\nG1 X0 Y0 Z0 F60\nG1 X1\nM30\n"), "mpf", "generic-bc-table");
+        assert!((t - want).abs() < 0.05 * want.max(1.0), "{code}: {t} s, want {want}");
+    }
+    // On an inch basic system G70 reads F in inch/min.
+    let machine = format!("inch_basic_system = true\n{}", fiveaxis::machine::builtin_file("generic-bc-table").unwrap());
+    let path = std::env::temp_dir().join(format!("fiveaxis-inch-basic-{}.toml", std::process::id()));
+    std::fs::write(&path, machine).unwrap();
+    let t = cycle_time_s("G70 G90 G94 G17\nG1 X0 Y0 Z0 F60\nG1 X1\nM30\n", "mpf", path.to_str().unwrap());
+    std::fs::remove_file(&path).ok();
+    assert!((t - 1.0).abs() < 0.05, "G70 on an inch basic system: {t} s");
+}
+
+/// A change of feed mode leaves no feed (Siemens: "In the event of switching between G93, G94 and
+/// G95, the path feedrate value has to be reprogrammed"; LinuxCNC sets it to 0 on every G94): a G1
+/// after `G93 ... F6` and `G94` without a new F is refused, not run at "6 mm/min".
+#[test]
+fn a_change_of_feed_mode_leaves_no_feed() {
+    for (dialect, name, metric) in [(Dialect::Rs274, "t.ngc", "G21"), (Dialect::Fanuc, "t.nc", "G21"), (Dialect::Sinumerik, "t.mpf", "G71")] {
+        let p = read(&format!("{metric} G90 G94 G17\nG1 X10. F60.\nG93 G1 X20. F6.\nG94 G1 X30.\nM30\n"), dialect, name, &ReadOptions::default());
+        has(&p, 4, 1, "without a feed");
+        let p = read(&format!("{metric} G90 G94 G17\nG1 X10. F60.\nG93 G1 X20. F6.\nG94 G1 X30. F60.\nM30\n"), dialect, name, &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
+    }
+    // LinuxCNC: even a G94 in G94 mode leaves the feed 0.
+    has(&read_rs274("G21 G90 G94\nG1 X10 F60\nG94 G1 X20\nM2\n"), 3, 1, "without a feed");
+    assert!(errors(&read("G21 G90 G94\nG1 X10. F60.\nG94 G1 X20.\nM30\n", Dialect::Fanuc, "t.nc", &ReadOptions::default())).is_empty());
+}

@@ -64,6 +64,10 @@ pub struct MachineFile {
     /// 5axiskins): a program's X Y Z are the tool tip before any M code switches them.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub tcp_at_start: bool,
+    /// Siemens: the control's basic system is inch (MD10240 SCALING_SYSTEM_IS_METRIC = 0): a program
+    /// without G70/G71 is in inches, and F is in inch/min under G70 and G71 alike (G700/G710 set it).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub inch_basic_system: bool,
     /// The control's canned-cycle settings that shape their motion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub canned_cycles: Option<CannedCyclesFile>,
@@ -451,6 +455,7 @@ impl MachineFile {
             arc_radius_tolerance,
             cycle19_spatial: self.cycle19_spatial,
             tcp_at_start: self.tcp_at_start,
+            inch_basic_system: self.inch_basic_system,
             state_cycles: self.cycles.iter().map(|c| c.number).collect(),
             swivel,
             quill,

@@ -89,6 +89,8 @@ pub struct Machine {
     pub cycle19_spatial: bool,
     /// The control starts with tool-centre-point kinematics on.
     pub tcp_at_start: bool,
+    /// Siemens: the basic system is inch (MD10240 = 0), the unit of F under G70/G71.
+    pub inch_basic_system: bool,
     /// The machine maker's cycles that move nothing (they set the control's dynamics), by number.
     pub state_cycles: Vec<u32>,
     /// The Sinumerik swivel data set (`CYCLE800`), if the file gives it.

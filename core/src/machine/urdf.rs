@@ -411,6 +411,7 @@ impl<'a> Urdf<'a> {
             arc_radius_tolerance_mm: None,
             cycle19_spatial: false,
             tcp_at_start: false,
+            inch_basic_system: false,
             cycles: Vec::new(),
             swivel: None,
             quill: None,

@@ -586,7 +586,7 @@ impl SegmentPlanner {
                                     path_len / f
                                 } else {
                                     // Rotary axes only: F is read in degrees per minute.
-                                    rot_len / (feed.value_per_min * DEG_PER_MIN)
+                                    rot_len / (feed.rotary_per_min * DEG_PER_MIN)
                                 }
                             }
                         }

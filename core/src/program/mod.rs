@@ -336,8 +336,11 @@ pub enum FeedMode {
 /// Programmed feed in effect for a block.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Feed {
-    /// F as programmed, converted to mm/min (or deg/min, or 1/min in inverse-time mode).
+    /// F as programmed, converted to mm/min (or 1/min in inverse-time mode).
     pub value_per_min: f64,
+    /// F for a move of the rotary axes alone, deg/min: the number as programmed, whatever the length
+    /// unit (G20's inches convert `value_per_min`, not this).
+    pub rotary_per_min: f64,
     pub mode: FeedMode,
 }
 

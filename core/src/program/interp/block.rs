@@ -82,10 +82,23 @@ impl Interpreter {
                         ("91", _) => next.absolute = false,
                         ("90.1", false) => next.arc_absolute = true,
                         ("91.1", false) => next.arc_absolute = false,
-                        ("70", true) | ("20", false) | ("71", true) | ("21", false) => {
+                        ("70", true) | ("20", false) | ("71", true) | ("21", false) | ("70" | "71", false) if heid || self.dialect == Dialect::Sinumerik || code.starts_with('2') => {
                             let inch = code == "70" || code == "20";
+                            // Sinumerik's G70/G71 are the geometry's unit only: "Feedrate functions are
+                            // not affected by G70/G71" (840Di sl Programming Manual 6FC5398-1BP10,
+                            // "Inch/metric dimensions"), F stays in the basic system's; G700/G710
+                            // (read as G20/G21) set both.
+                            let feed_too = !(self.dialect == Dialect::Sinumerik && code.starts_with('7'));
                             match next.forced_unit {
-                                None => next.unit = if inch { INCH } else { MM },
+                                None => {
+                                    next.unit = if inch { INCH } else { MM };
+                                    if feed_too {
+                                        next.feed_unit = next.unit;
+                                    } else if next.feed_unit != next.unit {
+                                        let (f, g7) = if next.feed_unit == MM { ("mm/min", "G700") } else { ("inch/min", "G710") };
+                                        diags.warning(line, w.column, format!("G{}: F stays in {f}, the basic system's (the machine file's inch_basic_system); {g7} would read it in the program's unit", w.raw));
+                                    }
+                                }
                                 Some(u) if (u == crate::program::LengthUnit::Inch) != inch => diags.warning(
                                     line,
                                     w.column,
@@ -174,8 +187,22 @@ impl Interpreter {
                             uses.extend(['L', 'P']);
                         }
                         ("92.1" | "92.2", false) => {} // cancel G92 offsets: none are modelled
-                        ("93", false) => next.feed_mode = FeedMode::InverseTime,
-                        ("94", false) => next.feed_mode = FeedMode::PerMinute,
+                        // A change of feed mode leaves no feed: Siemens, "In the event of switching
+                        // between G93, G94 and G95, the path feedrate value has to be reprogrammed"
+                        // (Programming Manual Fundamentals, "Feedrate (G93, G94, G95, F ...)");
+                        // LinuxCNC sets the feed to 0 on every G94 (Interp::convert_feed_mode).
+                        ("93", false) => {
+                            if next.feed_mode != FeedMode::InverseTime {
+                                next.feed = None;
+                            }
+                            next.feed_mode = FeedMode::InverseTime;
+                        }
+                        ("94", false) => {
+                            if next.feed_mode != FeedMode::PerMinute || self.dialect == Dialect::Rs274 {
+                                next.feed = None;
+                            }
+                            next.feed_mode = FeedMode::PerMinute;
+                        }
                         ("95", false) => diags.error(line, w.column, "G95 (feed per revolution) is not supported: expected G93 or G94"),
                         ("43.4", false) => {
                             (next.tcp, next.tool_vector) = (true, false);
@@ -378,9 +405,12 @@ impl Interpreter {
             if !(w.value > 0.0) {
                 diags.error(line, w.column, format!("F{}: expected a positive feed", w.raw));
             } else {
+                // A move of the rotary axes alone takes F in degrees per minute whatever the length
+                // unit (LinuxCNC's SET_FEED_RATE: the angular feed is FROM_PROG_ANG(rate), no inch
+                // conversion; a degree is no length).
                 next.feed = Some(match next.feed_mode {
-                    FeedMode::PerMinute => w.value * next.unit / MM,
-                    FeedMode::InverseTime => w.value,
+                    FeedMode::PerMinute => (w.value * next.feed_unit / MM, w.value),
+                    FeedMode::InverseTime => (w.value, w.value),
                 });
             }
         }
@@ -527,7 +557,8 @@ impl Interpreter {
         if moves && block_motion.is_some_and(|m| m == Motion::Linear || m.is_arc()) {
             match next.feed_mode {
                 FeedMode::PerMinute if next.feed.is_none() => {
-                    diags.error(line, column, "G01 move without a feed: expected an F word before or in this block")
+                    let why = if self.feed.is_some() { " (the change of feed mode left none)" } else { "" };
+                    diags.error(line, column, format!("G01 move without a feed: expected an F word before or in this block{why}"))
                 }
                 FeedMode::InverseTime if feed_word.is_none() => {
                     diags.error(line, column, "G93 inverse-time move without F in the block: expected F (1/min)")
@@ -556,7 +587,7 @@ impl Interpreter {
             motion: block_motion.unwrap_or(Motion::Linear),
             targets,
             arc,
-            feed: self.feed.map(|value_per_min| Feed { value_per_min, mode: self.feed_mode }),
+            feed: self.feed.map(|(value_per_min, rotary_per_min)| Feed { value_per_min, rotary_per_min, mode: self.feed_mode }),
             tcp: (self.tcp || self.tilt.is_some() && (targets.x.is_some() || targets.y.is_some() || targets.z.is_some())) && !shot.is_some_and(|s| s.axes.is_some()),
             datum: self.datum,
             orientation: self.orientation,

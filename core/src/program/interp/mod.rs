@@ -43,9 +43,13 @@ pub enum Dimension {
 pub struct Interpreter {
     dialect: Dialect,
     unit: f64,
+    /// The length unit of F (m per program unit): the geometry's, but for Sinumerik's G70/G71, which
+    /// leave F in the basic system's unit.
+    feed_unit: f64,
     absolute: bool,
     motion: Option<Motion>,
-    feed: Option<f64>,
+    /// F (mm/min, or 1/min in inverse time) and F for a move of the rotary axes alone (deg/min).
+    feed: Option<(f64, f64)>,
     feed_mode: FeedMode,
     tcp: bool,
     /// Tool-centre-point kinematics switched on by the machine's own M code or at start (LinuxCNC's
@@ -152,6 +156,7 @@ impl Interpreter {
         Interpreter {
             dialect,
             unit: MM,
+            feed_unit: MM,
             absolute: true,
             motion: None,
             feed: None,
@@ -210,6 +215,10 @@ impl Interpreter {
             if let Some(t) = m.arc_radius_tolerance {
                 self.arc_tolerance = t;
             }
+            // The 840D's basic system: the unit a program starts in, and F's under G70/G71.
+            if m.inch_basic_system && self.dialect == Dialect::Sinumerik && self.forced_unit.is_none() {
+                (self.unit, self.feed_unit) = (INCH, INCH);
+            }
         }
         self
     }
@@ -225,6 +234,7 @@ impl Interpreter {
         self.forced_unit = units;
         if let Some(u) = units {
             self.unit = u.metres();
+            self.feed_unit = self.unit;
         }
         self
     }
@@ -447,6 +457,11 @@ impl Interpreter {
         self.unit
     }
 
+    /// The length unit of F (m per program unit): [`Interpreter::unit`] but under Sinumerik's G70/G71.
+    pub fn feed_unit(&self) -> f64 {
+        self.feed_unit
+    }
+
     /// The next block's tool vector (Sinumerik `A3= B3= C3=`, unit, workpiece frame).
     pub fn set_pending_vector(&mut self, v: [f64; 3]) {
         self.pending_vector = Some(v);
@@ -460,6 +475,7 @@ impl Interpreter {
             Some(_) => Ok(()),
             None => {
                 self.unit = if inch { INCH } else { MM };
+                self.feed_unit = self.unit;
                 Ok(())
             }
         }
@@ -507,7 +523,7 @@ impl Interpreter {
             motion: self.motion.unwrap_or(Motion::Linear),
             targets: Targets::default(),
             arc: None,
-            feed: self.feed.map(|value_per_min| Feed { value_per_min, mode: self.feed_mode }),
+            feed: self.feed.map(|(value_per_min, rotary_per_min)| Feed { value_per_min, rotary_per_min, mode: self.feed_mode }),
             tcp: self.tcp,
             datum: self.datum,
             orientation: self.orientation,
@@ -529,12 +545,12 @@ impl Interpreter {
     }
 
     /// The modal motion and feed, to restore after a cycle's own moves.
-    pub(crate) fn feed_state(&self) -> (Option<Motion>, Option<f64>, FeedMode) {
+    pub(crate) fn feed_state(&self) -> (Option<Motion>, Option<(f64, f64)>, FeedMode) {
         (self.motion, self.feed, self.feed_mode)
     }
 
     /// Restore what [`Interpreter::feed_state`] saved.
-    pub(crate) fn restore_feed(&mut self, (motion, feed, mode): (Option<Motion>, Option<f64>, FeedMode)) {
+    pub(crate) fn restore_feed(&mut self, (motion, feed, mode): (Option<Motion>, Option<(f64, f64)>, FeedMode)) {
         (self.motion, self.feed, self.feed_mode) = (motion, feed, mode);
     }
 

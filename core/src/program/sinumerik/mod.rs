@@ -354,7 +354,10 @@ impl SinumerikReader {
             return false;
         }
         let saved = self.interp.feed_state();
-        let modal_f = saved.1.map(|mm_per_min| mm_per_min * MM / self.interp.unit());
+        // F as programmed (in the feed's unit, which G70 leaves in the basic system's).
+        let modal_f = saved.1.map(|(_, programmed)| programmed);
+        // A tapping feed is the pitch (a length of the geometry's unit) per turn, written as F.
+        let geometry_per_feed_unit = self.interp.unit() / self.interp.feed_unit();
         let mut feeds = 0;
         let word = |letter: char, v: f64| Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, dimension: Dimension::Modal };
         for step in hole.steps {
@@ -365,7 +368,7 @@ impl SinumerikReader {
                     // CYCLE83's first infeed at FRF times F; tapping at the pitch times the speed in, then out.
                     let f = match (f, hole.first_feed_factor, hole.tapping) {
                         (Some(f), _, _) => Some(f),
-                        (None, _, Some((pitch, s_in, s_out))) => Some(pitch * if feeds == 0 { s_in } else { s_out }),
+                        (None, _, Some((pitch, s_in, s_out))) => Some(pitch * geometry_per_feed_unit * if feeds == 0 { s_in } else { s_out }),
                         (None, Some(k), None) if feeds == 0 => modal_f.map(|f| f * k),
                         (None, _, None) => None,
                     };
@@ -570,8 +573,11 @@ fn sinumerik_g(code: &str) -> Result<Option<&'static str>, &'static str> {
         // Settable frames off, or the 6th to 99th settable frame: the operator's, as G54's.
         "500" => "54",
         s if s.len() == 3 && s.starts_with('5') && ("505".."600").contains(&s) => "54",
-        "70" | "700" => "20",
-        "71" | "710" => "21",
+        // G70/G71 the geometry's unit, G700/G710 the feed's too (the interpreter tells them apart).
+        "70" => "70",
+        "71" => "71",
+        "700" => "20",
+        "710" => "21",
         // Continuous-path modes (G group 10): the reader's; smoothing within a tolerance is what the
         // planner does.
         "64" | "641" | "642" | "643" | "644" | "645" => "64",
