@@ -476,7 +476,7 @@ impl Rs274Reader {
             self.stop(line, col + start + 1, format!("o{} {}: expected a [condition] or [count]", o.name, word(o.keyword)), diags);
             return None;
         }
-        let (c, end) = match expr::value(chars, start) {
+        let (c, end) = match expr::value(chars, start, false) {
             Ok(read) => read,
             Err(e) => return fail(self, e, diags),
         };
@@ -522,7 +522,7 @@ impl Rs274Reader {
             i = skip_blanks(chars, i);
             match chars.get(i) {
                 None | Some(';') | Some('(') => break,
-                Some('[') => match self.params.real_value(chars, i) {
+                Some('[') => match self.params.real_value(chars, i, false) {
                     Ok((v, end)) => {
                         args.push(v);
                         i = end;

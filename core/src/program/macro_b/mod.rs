@@ -356,7 +356,7 @@ impl Jumping for MacroRunner {
             Err((col, why)) => return stop(line, col, why, diags),
         };
         let params = &self.reader.params;
-        let cond = |at: usize| params.real_value(&chars, at).map(|(v, _)| v != 0.0).map_err(|e| (e.column, e.message));
+        let cond = |at: usize| params.real_value(&chars, at, true).map(|(v, _)| v != 0.0).map_err(|e| (e.column, e.message));
         match stmt {
             Stmt::If { cond: c, then } => {
                 let holds = match cond(c) {
@@ -566,6 +566,26 @@ mod tests {
             assert!(*line == 5 && (x - 50.0 * a.cos()).abs() < 1e-9 && (y - 50.0 * a.sin()).abs() < 1e-9, "hole {k}: {pts:?}");
         }
         assert_eq!(pts[6].0, 8);
+    }
+
+    /// Fanuc's FIX and FUP round toward and away from zero (the custom macro manual's example: #2 =
+    /// -1.2, FUP[#2] = -2.0, FIX[#2] = -1.0), and AND, OR, XOR act on bits (Haas: `1 OR 2` is 3),
+    /// in macro statements and in words; LinuxCNC's FIX and FUP are floor and ceiling, its AND and
+    /// OR logical. A bit operation on a fraction is refused where it stands.
+    #[test]
+    fn fanucs_fix_fup_and_bit_operations() {
+        let text = "#1=FIX[-1.6]\n#2=FUP[-1.2]\n#3=1 OR 2\n#4=7 AND 3\n#5=5 XOR 3\nG1 X#1 Y#2 Z#3 F100.\nG1 X#4 Y#5 Z[FIX[1.6]+FUP[1.2]]\nM30\n";
+        for dialect in [Dialect::Fanuc, Dialect::Haas] {
+            let p = run(text, dialect, &ReadOptions::default());
+            assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
+            let xyz: Vec<[f64; 3]> = p.blocks.iter().filter(|b| b.targets.x.is_some()).map(|b| [b.targets.x, b.targets.y, b.targets.z].map(|v| v.unwrap() * 1e3)).collect();
+            assert_eq!(xyz, vec![[-1.0, -2.0, 3.0], [3.0, 6.0, 3.0]], "{dialect:?}");
+        }
+        let linuxcnc = crate::program::read("G21 G1 X[FIX[-1.6]] Y[FUP[-1.2]] Z[1 OR 2] F100\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        let b = linuxcnc.blocks.iter().find(|b| b.targets.x.is_some()).unwrap();
+        assert_eq!([b.targets.x, b.targets.y, b.targets.z].map(|v| v.unwrap() * 1e3), [-2.0, -1.0, 1.0]);
+        let p = run("#1=1.5 OR 2\nM30\n", Dialect::Fanuc, &ReadOptions::default());
+        assert!(p.messages(Severity::Error).iter().any(|m| m.starts_with("1:") && m.contains("bits of whole numbers")), "{:#?}", p.messages(Severity::Error));
     }
 
     /// A line a loop runs again is read once and evaluated on each pass: its values follow the

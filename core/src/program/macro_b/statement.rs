@@ -172,7 +172,7 @@ impl MacroRunner {
         if chars.get(c) != Some(&'[') {
             return Err((c + 1, format!("{what}: expected a [condition]")));
         }
-        let end = self.reader.params.real_value(chars, c).map_err(|e| (e.column, format!("{what}: {}", e.message)))?.1;
+        let end = self.reader.params.real_value(chars, c, true).map_err(|e| (e.column, format!("{what}: {}", e.message)))?.1;
         Ok((c, end))
     }
 
@@ -219,7 +219,7 @@ impl MacroRunner {
                 return Err((i + 1, format!("unexpected '{}' in a call's block", excerpt(&chars[i..].iter().collect::<String>()))));
             }
             let at = skip_blanks(chars, i + 1);
-            let (value, end) = self.reader.params.real_value(chars, at).map_err(|e| (e.column, format!("{c}: {}", e.message)))?;
+            let (value, end) = self.reader.params.real_value(chars, at, true).map_err(|e| (e.column, format!("{c}: {}", e.message)))?;
             let raw: String = chars[at..end].iter().filter(|c| !c.is_whitespace()).collect();
             words.push(Word { letter: c.to_ascii_uppercase(), value, raw: raw.into(), column: i + 1, dimension: Dimension::Modal });
             i = end;
@@ -231,7 +231,7 @@ impl MacroRunner {
     /// and its column.
     pub(super) fn label(&self, chars: &[char], at: usize, what: &str) -> Result<(u64, usize, usize), (usize, String)> {
         let at = skip_blanks(chars, at);
-        let (v, end) = self.reader.params.real_value(chars, at).map_err(|e| (e.column, format!("{what}: {}", e.message)))?;
+        let (v, end) = self.reader.params.real_value(chars, at, true).map_err(|e| (e.column, format!("{what}: {}", e.message)))?;
         if v.fract() != 0.0 || !(1.0..=99_999_999.0).contains(&v) {
             return Err((at + 1, format!("{what} {v}: expected a block number 1 to 99999999")));
         }

@@ -21,6 +21,11 @@ enum Op {
     And,
     Or,
     Xor,
+    /// Fanuc's AND, OR, XOR: on the bits of whole numbers ("#i = #j OR #k: logical sum (bit by
+    /// bit)", FANUC custom macro B, arithmetic and logic operations; Haas: `1 OR 2` is 3).
+    BitAnd,
+    BitOr,
+    BitXor,
     Eq,
     Ne,
     Gt,
@@ -38,7 +43,7 @@ enum Op {
 impl Op {
     fn precedence(self) -> u8 {
         match self {
-            Op::And | Op::Or | Op::Xor => 0,
+            Op::And | Op::Or | Op::Xor | Op::BitAnd | Op::BitOr | Op::BitXor => 0,
             Op::Eq | Op::Ne | Op::Gt | Op::Ge | Op::Lt | Op::Le => 1,
             Op::Add | Op::Sub => 2,
             Op::Mul | Op::Div | Op::Mod => 3,
@@ -54,6 +59,17 @@ impl Op {
             Op::And => truth(a != 0.0 && b != 0.0),
             Op::Or => truth(a != 0.0 || b != 0.0),
             Op::Xor => truth((a != 0.0) != (b != 0.0)),
+            Op::BitAnd | Op::BitOr | Op::BitXor => {
+                let whole = |x: f64| (x.fract() == 0.0 && (0.0..=u32::MAX as f64).contains(&x)).then_some(x as u64);
+                let (Some(x), Some(y)) = (whole(a), whole(b)) else {
+                    return err(column, format!("{a} and {b}: Fanuc's AND, OR and XOR act on the bits of whole numbers 0 or more"));
+                };
+                (match self {
+                    Op::BitAnd => x & y,
+                    Op::BitOr => x | y,
+                    _ => x ^ y,
+                }) as f64
+            }
             Op::Eq => truth((a - b).abs() < TOLERANCE_EQUAL),
             Op::Ne => truth((a - b).abs() >= TOLERANCE_EQUAL),
             Op::Gt => truth(a > b),
@@ -92,6 +108,10 @@ enum Function {
     Fix,
     Fup,
     Round,
+    /// Fanuc's FIX and FUP: toward and away from zero ("#2 = -1.2: FUP[#2] is -2.0, FIX[#2] is
+    /// -1.0", FANUC custom macro B, rounding up and down), where LinuxCNC's are floor and ceiling.
+    FixTowardZero,
+    FupAwayFromZero,
 }
 
 impl Function {
@@ -111,7 +131,11 @@ impl Function {
     ];
 
     fn name(self) -> &'static str {
-        Function::ALL.iter().find(|(_, f)| *f == self).map_or("?", |(n, _)| n)
+        match self {
+            Function::FixTowardZero => "FIX",
+            Function::FupAwayFromZero => "FUP",
+            _ => Function::ALL.iter().find(|(_, f)| *f == self).map_or("?", |(n, _)| n),
+        }
     }
 
     fn apply(self, x: f64, column: usize) -> Result<f64, ExprError> {
@@ -132,6 +156,8 @@ impl Function {
             Function::Fix => x.floor(),
             Function::Fup => x.ceil(),
             Function::Round => x.round(),
+            Function::FixTowardZero => x.trunc(),
+            Function::FupAwayFromZero => x.signum() * x.abs().ceil(),
         };
         if v.is_finite() { Ok(v) } else { err(column, format!("{name}[{x}] is not a finite number")) }
     }
@@ -289,8 +315,9 @@ fn parameter_number(v: f64, column: usize) -> Result<u32, ExprError> {
 }
 
 /// The real value that starts at `chars[i]` (after blanks), compiled: it and the index after it.
-pub fn value(chars: &[char], i: usize) -> Result<(Compiled, usize), ExprError> {
-    let mut c = Compiler::new(chars);
+/// `fanuc`: FIX, FUP, AND, OR and XOR as Fanuc's custom macro B computes them, else as LinuxCNC's.
+pub fn value(chars: &[char], i: usize, fanuc: bool) -> Result<(Compiled, usize), ExprError> {
+    let mut c = Compiler::new(chars, fanuc);
     let end = c.value(i)?;
     Ok((c.finish(), end))
 }
@@ -299,7 +326,7 @@ pub fn value(chars: &[char], i: usize) -> Result<(Compiled, usize), ExprError> {
 /// whose expression runs on without brackets (FANUC B-64484EN, "Custom macro": "#i = <expression>").
 /// A system parameter or the machine's state is refused: this reader does not model them.
 pub fn setting(chars: &[char], i: usize, bare: bool) -> Result<(Setting, usize), ExprError> {
-    let mut c = Compiler::new(chars);
+    let mut c = Compiler::new(chars, bare);
     let (target, j) = c.target(i)?;
     let what = if bare { "an expression" } else { "a value" };
     let system = if bare { "system variable" } else { "system parameter" };
@@ -329,6 +356,8 @@ enum Ref {
 /// Compiles one value from a line's characters (recursive descent, bounded by [`MAX_DEPTH`]).
 struct Compiler<'a> {
     chars: &'a [char],
+    /// Fanuc's rules (FIX, FUP, AND, OR, XOR), else LinuxCNC's.
+    fanuc: bool,
     steps: Vec<Step>,
     depth: usize,
     /// Values held now, and the most held at once.
@@ -337,8 +366,8 @@ struct Compiler<'a> {
 }
 
 impl<'a> Compiler<'a> {
-    fn new(chars: &'a [char]) -> Compiler<'a> {
-        Compiler { chars, steps: Vec::new(), depth: 0, held: 0, most: 0 }
+    fn new(chars: &'a [char], fanuc: bool) -> Compiler<'a> {
+        Compiler { chars, fanuc, steps: Vec::new(), depth: 0, held: 0, most: 0 }
     }
 
     fn finish(self) -> Compiled {
@@ -493,6 +522,12 @@ impl<'a> Compiler<'a> {
         }
         for (name, op) in [("MOD", Op::Mod), ("AND", Op::And), ("XOR", Op::Xor), ("OR", Op::Or), ("EQ", Op::Eq), ("NE", Op::Ne), ("GT", Op::Gt), ("GE", Op::Ge), ("LT", Op::Lt), ("LE", Op::Le)] {
             if starts_with_word(&self.chars[i..], name) {
+                let op = match op {
+                    Op::And if self.fanuc => Op::BitAnd,
+                    Op::Or if self.fanuc => Op::BitOr,
+                    Op::Xor if self.fanuc => Op::BitXor,
+                    _ => op,
+                };
                 return Some((op, name.len(), i));
             }
         }
@@ -543,6 +578,11 @@ impl<'a> Compiler<'a> {
         let Some(&(_, f)) = Function::ALL.iter().find(|(name, _)| is(name)) else {
             let name: String = word.iter().map(|c| c.to_ascii_uppercase()).collect();
             return err(i + 1, format!("unknown function {name}: expected ABS ACOS ASIN ATAN COS EXISTS EXP FIX FUP LN ROUND SIN SQRT TAN"));
+        };
+        let f = match f {
+            Function::Fix if self.fanuc => Function::FixTowardZero,
+            Function::Fup if self.fanuc => Function::FupAwayFromZero,
+            _ => f,
         };
         let k = self.expression(open)?;
         self.emit(Step::Function(f, i + 1), 0);
@@ -607,7 +647,7 @@ mod tests {
     #[test]
     fn compiled_once_evaluated_per_pass() {
         let chars: Vec<char> = "[[#<k> MOD 7] * 0.5 - ATAN[#<k>]/[2] + FIX[#<k> / 3]]".chars().collect();
-        let (c, end) = value(&chars, 0).unwrap();
+        let (c, end) = value(&chars, 0, false).unwrap();
         assert_eq!(end, chars.len());
         let mut p = Parameters::default();
         assert!(c.eval(&p).unwrap_err().message.contains("not defined"));

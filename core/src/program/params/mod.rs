@@ -83,9 +83,10 @@ impl Parameters {
         Parameters { hal_pins, ..Default::default() }
     }
 
-    /// Read the real value that starts at `chars[i]` (after blanks): its value and the index after it.
-    pub fn real_value(&self, chars: &[char], i: usize) -> Result<(f64, usize), ExprError> {
-        let (c, end) = expr::value(chars, i)?;
+    /// Read the real value that starts at `chars[i]` (after blanks): its value and the index after it
+    /// (`fanuc`: by Fanuc's rules for FIX, FUP, AND, OR and XOR).
+    pub fn real_value(&self, chars: &[char], i: usize, fanuc: bool) -> Result<(f64, usize), ExprError> {
+        let (c, end) = expr::value(chars, i, fanuc)?;
         Ok((c.eval(self)?, end))
     }
 
@@ -227,7 +228,7 @@ mod tests {
 
     fn eval(p: &Parameters, s: &str) -> Result<f64, ExprError> {
         let chars: Vec<char> = s.chars().collect();
-        let (v, end) = p.real_value(&chars, 0)?;
+        let (v, end) = p.real_value(&chars, 0, false)?;
         assert_eq!(end, chars.len(), "{s}: read up to {end}");
         Ok(v)
     }
