@@ -132,6 +132,12 @@ fn rs274_defects_name_line_and_column() {
     // A numbered block delete (Fanuc's optional block skip 2-9) is not read: refused, not run.
     has(&p, 6, 1, "block delete level '/2' is not read");
     assert_eq!(p.blocks.len(), 1);
+    // A word written twice (LinuxCNC: "Multiple X words on one line"): refused in every G-code
+    // dialect, where the last one had silently counted.
+    for (dialect, name) in [(Dialect::Rs274, "t.ngc"), (Dialect::Fanuc, "t.nc"), (Dialect::Haas, "t.nc"), (Dialect::Sinumerik, "t.mpf")] {
+        let p = read("G90 G1 X10. F60.\nX20. Y5. X30.\nM30\n", dialect, name, &ReadOptions::default());
+        has(&p, 2, 10, "X written twice in one block");
+    }
 }
 
 #[test]

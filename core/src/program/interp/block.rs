@@ -34,6 +34,13 @@ impl Interpreter {
         let (fanuc, haas) = (self.dialect.is_fanuc(), self.dialect == Dialect::Haas);
         // The TNC's DIN/ISO tool call `T1 G17`: the block's plane code is the tool axis.
         let tool_call = self.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'T');
+        // An axis, centre, radius or feed written twice: LinuxCNC refuses it ("Multiple X words on one
+        // line", NIST IR 6556 §3.3.2: "a line may have only one word with a given letter" but G and
+        // M), as the TNC does; which one another control takes is not read, so refused too.
+        // The first one said: a block of thousands of words says one thing.
+        if let Some(w) = words.iter().enumerate().find(|(k, w)| "XYZABCIJKRF".contains(w.letter) && words[..*k].iter().any(|v| v.letter == w.letter)).map(|(_, w)| w) {
+            diags.error(line, w.column, format!("{}{}: {} written twice in one block (which one counts is not read)", w.letter, w.raw, w.letter));
+        }
 
         // Modal G codes and M codes first: they govern how the axis words of this block are read.
         // A code that changes the motion and is not modelled is an error (fail closed), never skipped.
