@@ -507,3 +507,14 @@ fn a_change_of_feed_mode_leaves_no_feed() {
     has(&read_rs274("G21 G90 G94\nG1 X10 F60\nG94 G1 X20\nM2\n"), 3, 1, "without a feed");
     assert!(errors(&read("G21 G90 G94\nG1 X10. F60.\nG94 G1 X20.\nM30\n", Dialect::Fanuc, "t.nc", &ReadOptions::default())).is_empty());
 }
+
+/// What a Fanuc control reads and this reader does not is refused with the control's own name for
+/// it: a dwell written `G04 X` (seconds on Fanuc, where P is milliseconds), the vacant variable
+/// `#0`, a G65 argument given twice (argument specification II).
+#[test]
+fn fanuc_forms_not_read_are_named_as_the_control_names_them() {
+    let fanuc = |text: &str| read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    has(&fanuc("G21 G90\nG04 X1.\nM30\n"), 2, 5, "a dwell written with X is not read (write P, in milliseconds on Fanuc)");
+    has(&fanuc("#4=#0+1\nM30\n"), 1, 4, "Fanuc's #0 is its vacant variable");
+    has(&fanuc("G65 P2 I1. J2. K3. I4.\nM30\nO0002\nM99\n"), 1, 20, "I given twice in a G65 call (argument specification II)");
+}

@@ -405,6 +405,11 @@ impl Interpreter {
                     }
                 }
                 Some(t) => diags.error(line, t.column, format!("G{} {letter}{}: expected a dwell time of 0 s or more", g.raw, t.raw)),
+                // Fanuc and Haas also take the time as X (seconds); that form is not read here.
+                None if self.dialect.is_fanuc() => match words.iter().find(|w| w.letter == 'X') {
+                    Some(x) => diags.error(line, x.column, format!("G{} X{}: a dwell written with X is not read (write P, in milliseconds on Fanuc)", g.raw, x.raw)),
+                    None => diags.error(line, g.column, format!("G{} without P: expected the dwell time (P, milliseconds on Fanuc; seconds with a decimal point on Haas)", g.raw)),
+                },
                 None => diags.error(line, g.column, format!("G{} without {letter}: expected the dwell time in seconds ({letter})", g.raw)),
             }
         }

@@ -206,6 +206,11 @@ impl MacroRunner {
         if let Some(w) = words.iter().find(|w| !allowed(w.letter) || w.letter == letter && !std::ptr::eq(*w, call)) {
             return stop(line, w.column, format!("{}{} in a {name} block: give {name} a block of its own (other words with a call are not read)", w.letter, w.raw, name = name), diags);
         }
+        // An argument letter written twice is argument specification II (I J K repeated for #4-#33),
+        // which is not read: refused rather than one of them dropped.
+        if let Some(w) = words.iter().enumerate().find(|(k, w)| c == "65" && args.contains(w.letter) && words[..*k].iter().any(|v| v.letter == w.letter)).map(|(_, w)| w) {
+            return stop(line, w.column, format!("{}{}: {} given twice in a G65 call (argument specification II) is not read", w.letter, w.raw, w.letter), diags);
+        }
         let repeats = match get('L') {
             Some(w) if whole(w) => w.value as u64,
             Some(w) => return stop(line, w.column, format!("L{}: expected a whole count of runs", w.raw), diags),

@@ -309,7 +309,8 @@ impl CompiledTarget {
 fn parameter_number(v: f64, column: usize) -> Result<u32, ExprError> {
     let n = v.round();
     if (v - n).abs() > INTEGER_CLOSE || !(1.0..=MAX_PARAMETER as f64).contains(&n) {
-        return err(column, format!("#{v}: a parameter number must be a whole number 1 to {MAX_PARAMETER}"));
+        let vacant = if n == 0.0 { " (Fanuc's #0 is its vacant variable, whose empty value is not read)" } else { "" };
+        return err(column, format!("#{v}: a parameter number must be a whole number 1 to {MAX_PARAMETER}{vacant}"));
     }
     Ok(n as u32)
 }
