@@ -593,6 +593,18 @@ mod tests {
         assert!(p.messages(Severity::Error).iter().any(|m| m.starts_with("1:") && m.contains("bits of whole numbers")), "{:#?}", p.messages(Severity::Error));
     }
 
+    /// The macro alarm `#3000 = n` stops the control where it runs: refused there, as a setting of any
+    /// system variable (#1000 and up) is; a branch that skips it runs on.
+    #[test]
+    fn the_macro_alarm_stops_the_program_where_it_runs() {
+        let p = run("#1=5.\nIF [#1 LT 3.] GOTO 10\n#3000=1 (TOO FEW)\nN10 G1 X#1 F100.\nM30\n", Dialect::Fanuc, &ReadOptions::default());
+        assert!(p.messages(Severity::Error).iter().any(|m| m.starts_with("3:1:") && m.contains("macro alarm")), "{:#?}", p.messages(Severity::Error));
+        let p = run("#1=1.\nIF [#1 LT 3.] GOTO 10\n#3000=1 (TOO FEW)\nN10 G1 X#1 F100.\nM30\n", Dialect::Fanuc, &ReadOptions::default());
+        assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
+        let p = run("#2=2001.\n#[#2]=0.5\nM30\n", Dialect::Haas, &ReadOptions::default());
+        assert!(p.messages(Severity::Error).iter().any(|m| m.starts_with("2:1:") && m.contains("#2001 is a system variable")), "{:#?}", p.messages(Severity::Error));
+    }
+
     /// A line a loop runs again is read once and evaluated on each pass: its values follow the
     /// counter, and a value that fails on one pass only (a division by zero at #100 = 3) is that
     /// pass's defect, at its line and column, while the passes before and after it move.
