@@ -1,7 +1,8 @@
 //! Siemens Sinumerik 840D programs (`.MPF`/`.SPF`), as written from the 840D sl Programming Manual
 //! Job Planning (6FC5398-2BP20, 5-axis transformation TRAORI) and Fundamentals: `N` numbers, `;`
 //! comments, `G0/G1/G2/G3` (arcs: `I J K` from the start, or `CR=` radius, `TURN=` full turns),
-//! `G17-G19`, `G90/G91`, `G93/G94`, `G70/G700/G71/G710`, `G54-G57`/`G500`/`G505-G599` (settable
+//! `G17-G19`, `G90/G91` with `AC()`/`IC()` for one word, `G93/G94`, `G70/G71` (the geometry's
+//! unit; F in the basic system's) and `G700/G710` (F's too), `G54-G57`/`G500`/`G505-G599` (settable
 //! frames: the operator's), blending `G64`/`G641`-`G645` and exact stop `G60` (a rapid only),
 //! `TRAORI`/`TRAFOOF` (tool-centre point), the tool vector `A3= B3= C3=` (a missing component is 0;
 //! it points from the tip to the tool holder), rotary axes `A= B= C=`, `ORIWKS`/`ORIVECT`/`ORIPLANE`
@@ -9,12 +10,12 @@
 //! rotary axes linear), the programmable frame (`TRANS`/`ATRANS`/`ROT`/`AROT`, [`frame`]),
 //! machine coordinates (`SUPA`, `G53`, `G153`), variables (`DEF REAL`, R parameters) and
 //! expressions ([`expr`], [`lex`]), `MCALL` of the drilling cycles ([`cycles`]), `CYCLE832` (the
-//! contour tolerance), `T`, `D`, `S`, `M`, `F`, `MSG`, `M30`; jumps and control structures as they
-//! run ([`flow`]).
+//! contour tolerance), the swivel cycle `CYCLE800` on the machine file's data set ([`swivel`]), `T`,
+//! `D`, `S`, `M`, `F`, `MSG`, `M30`; jumps and control structures as they run ([`flow`]).
 //!
 //! What changes the motion and is not modelled is an error at its line and column, never skipped:
-//! `SCALE`/`MIRROR` frames, a rotated frame without `TRAORI`, `CYCLE800` with a swivel, other cycles
-//! and subprogram calls, cutter compensation, orientation by angles
+//! `SCALE`/`MIRROR` frames, a rotated frame without `TRAORI`, `CYCLE800` beyond what [`swivel`]
+//! reads, other cycles and subprogram calls, cutter compensation, orientation by angles
 //! (`A2=`) or cone/polynomial orientation, exact stop on a feed move.
 //!
 //! Orientation interpolation: which of ORIWKS/ORIMKS and ORIVECT/ORIAXES governs depends on machine
