@@ -503,6 +503,12 @@ fn a_change_of_feed_mode_leaves_no_feed() {
         let p = read(&format!("{metric} G90 G94 G17\nG1 X10. F60.\nG93 G1 X20. F6.\nG94 G1 X30. F60.\nM30\n"), dialect, name, &ReadOptions::default());
         assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
     }
+    // Fanuc's inverse-time F without a decimal point counts thousandths ("F1 -> 0.001", FANUC 16/18-C
+    // MC Operator's Manual, inverse time feed), as its lengths do; with one it is the number.
+    let p = read("G21 G90 G94 G17\nG1 X10. F60.\nG93 G1 X20. F6\nG1 X30. F6.\nM30\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let frn: Vec<f64> = p.blocks.iter().filter(|b| (3..=4).contains(&b.line)).filter_map(|b| b.feed).map(|f| f.value_per_min).collect();
+    assert_eq!(frn, vec![0.006, 6.0]);
     // LinuxCNC: even a G94 in G94 mode leaves the feed 0.
     has(&read_rs274("G21 G90 G94\nG1 X10 F60\nG94 G1 X20\nM2\n"), 3, 1, "without a feed");
     assert!(errors(&read("G21 G90 G94\nG1 X10. F60.\nG94 G1 X20.\nM30\n", Dialect::Fanuc, "t.nc", &ReadOptions::default())).is_empty());

@@ -481,6 +481,9 @@ impl Rs274Reader {
         let mode_q = g(5.1);
         // G68.2's I J K are angles (Euler's), in degrees' increments whatever the length unit.
         let angles_ijk = g(68.2);
+        // An inverse-time F (G93) counts thousandths: "F1 -> 0.001" (FANUC Series 16/18-C MC
+        // Operator's Manual, Feed functions, inverse time feed: F code specification value FRN).
+        let inverse_time = g(93.0) || !g(94.0) && self.interp.inverse_time();
         for (i, w) in words.iter_mut().enumerate() {
             if computed.binary_search(&i).is_ok() || w.raw.contains('.') {
                 continue;
@@ -491,6 +494,7 @@ impl Rs274Reader {
                 'I' | 'J' | 'K' if angles_ijk => 1e-3,
                 'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'Q' | 'U' | 'V' | 'W' => if inch { 1e-4 } else { 1e-3 },
                 'A' | 'B' | 'C' => 1e-3,
+                'F' if inverse_time && self.dialect == Dialect::Fanuc => 1e-3,
                 _ => continue,
             };
             w.value *= step;

@@ -457,6 +457,11 @@ impl Interpreter {
         self.unit
     }
 
+    /// Inverse-time feed (G93) is in effect.
+    pub fn inverse_time(&self) -> bool {
+        self.feed_mode == FeedMode::InverseTime
+    }
+
     /// The length unit of F (m per program unit): [`Interpreter::unit`] but under Sinumerik's G70/G71.
     pub fn feed_unit(&self) -> f64 {
         self.feed_unit
