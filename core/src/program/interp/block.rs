@@ -38,8 +38,15 @@ impl Interpreter {
         // line", NIST IR 6556 §3.3.2: "a line may have only one word with a given letter" but G and
         // M), as the TNC does; which one another control takes is not read, so refused too.
         // The first one said: a block of thousands of words says one thing.
-        if let Some(w) = words.iter().enumerate().find(|(k, w)| "XYZABCIJKRF".contains(w.letter) && words[..*k].iter().any(|v| v.letter == w.letter)).map(|(_, w)| w) {
-            diags.error(line, w.column, format!("{}{}: {} written twice in one block (which one counts is not read)", w.letter, w.raw, w.letter));
+        const ONCE: u32 = letters_mask("XYZABCIJKRF");
+        let mut seen = 0u32;
+        for w in words {
+            let bit = if w.letter.is_ascii_uppercase() { 1u32 << (w.letter as u32 - 'A' as u32) } else { 0 };
+            if bit & ONCE & seen != 0 {
+                diags.error(line, w.column, format!("{}{}: {} written twice in one block (which one counts is not read)", w.letter, w.raw, w.letter));
+                break;
+            }
+            seen |= bit;
         }
 
         // Modal G codes and M codes first: they govern how the axis words of this block are read.
@@ -610,4 +617,15 @@ impl Interpreter {
             offset_assumed: self.offset_assumed() && !shot.is_some_and(|s| s.axes.is_some() && !s.own),
         })
     }
+}
+
+/// The bits of these capital letters (A is bit 0), for a block's letters checked at a glance.
+const fn letters_mask(letters: &str) -> u32 {
+    let b = letters.as_bytes();
+    let (mut mask, mut k) = (0u32, 0);
+    while k < b.len() {
+        mask |= 1 << (b[k] - b'A');
+        k += 1;
+    }
+    mask
 }
