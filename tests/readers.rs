@@ -524,3 +524,34 @@ fn fanuc_forms_not_read_are_named_as_the_control_names_them() {
     has(&fanuc("#4=#0+1\nM30\n"), 1, 4, "Fanuc's #0 is its vacant variable");
     has(&fanuc("G65 P2 I1. J2. K3. I4.\nM30\nO0002\nM99\n"), 1, 20, "I given twice in a G65 call (argument specification II)");
 }
+
+/// Fanuc without tool-centre-point control: a move of linear and rotary axes together takes F along a
+/// path whose rotary part counts degrees as millimetres (FANUC B-63174EN §4.2, "G91 G01 X20.0 C40.0
+/// F300.0 ... time = sqrt(20^2 + 40^2) / 300 = 0.14907 min"): `G1 X10. B30.` at F60 takes
+/// sqrt(10^2 + 30^2) s = 31.62 s, where LinuxCNC and Siemens give F to X (10 s, B following).
+#[test]
+fn fanuc_counts_degrees_in_the_path_of_a_combined_move() {
+    let fanuc = cycle_time_s("%\nO1000\nG21 G90 G94 G17\nG1 X0. Y0. Z0. B0. F60.\nG1 X10. B30.\nM30\n%\n", "nc", "mori-seiki-nmv5000");
+    let want = (10.0f64.powi(2) + 30.0f64.powi(2)).sqrt();
+    assert!((fanuc - want).abs() < 0.1, "Fanuc: {fanuc} s, want {want}");
+    let linuxcnc = cycle_time_s("G21 G90 G94 G17\nG1 X0 Y0 Z0 B0 F60\nG1 X10 B30\nM2\n", "ngc", "generic-bc-table");
+    assert!((linuxcnc - 10.0).abs() < 0.1, "LinuxCNC: {linuxcnc} s");
+}
+
+/// A block that moves only Z under a Fanuc canned cycle is no G01 move (the cycle stays the modal
+/// motion until G80 or G00-G03); whether the control drills there or stores the depth is not read, so
+/// the block is refused. The TNC's DIN/ISO unit is its header's: a `G70` block under a `G71` header
+/// is refused rather than switching the lengths that follow to inches. Klartext cycle 200's `Q395=1`
+/// (the depth to the tool's full diameter) is refused.
+#[test]
+fn a_z_alone_under_a_cycle_a_unit_against_the_header_and_q395_are_refused() {
+    let p = read("%\nO1000\nG21 G90 G94 G17\nG1 X0. Y0. Z10. F60.\nG98 G81 X10. R2. Z-18. F60.\nZ-28.\nG80 G1 X10. Y0. Z2.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    has(&p, 6, 1, "without X or Y under a canned cycle");
+    let p = read_heidenhain("%T G71 *\nN10 G17 G90 G01 X+0 Y+0 Z+0 F60 *\nN20 G70 *\nN30 G01 X+30 Y+0 *\nN99999999 %T G71 *\n");
+    has(&p, 3, 5, "takes the program's unit from its header");
+    let x: Vec<f64> = p.blocks.iter().filter_map(|b| b.targets.x).collect();
+    assert!((x.last().unwrap() / MM - 30.0).abs() < 1e-9, "{x:?}");
+    let text = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL Z+50 R0 FMAX\nCYCL DEF 200 DRILLING ~\n Q200=+2 ;SET-UP CLEARANCE ~\n Q201=-10 ;DEPTH ~\n Q206=+150 ;FEED RATE FOR PLNGNG ~\n Q202=+5 ;PLUNGING DEPTH ~\n Q210=+0 ;DWELL TIME AT TOP ~\n Q203=+0 ;SURFACE COORDINATE ~\n Q204=+50 ;2ND SET-UP CLEARANCE ~\n Q211=+0 ;DWELL TIME AT DEPTH ~\n Q395=+1 ;DEPTH REFERENCE\nL X+10 Y+10 R0 FMAX M99\nEND PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(errors(&p).iter().any(|(_, _, m)| m.contains("Q395=1")), "{:?}", errors(&p));
+}

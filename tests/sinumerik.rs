@@ -77,6 +77,13 @@ fn mcall_drills_at_each_position() {
     assert_eq!(hole(5), vec![(Rapid, Some(30.0), None), (Rapid, None, Some(2.0)), (Linear, None, Some(-5.0)), (Rapid, None, Some(10.0))]);
     assert_eq!(hole(7), vec![(Rapid, Some(40.0), None)]);
     assert_eq!(blocks_of(&p, 4)[2].feed.unwrap().value_per_min, 200.0);
+    // The cycle's levels are absolute whatever G90/G91 say ("RTP retraction plane (absolute)", "DP
+    // final drilling depth (absolute)"): holes positioned under G91 drill to the same Z.
+    let p = on_umc("G90 G71 G94 F200\nG0 X0 Y0 Z50\nMCALL CYCLE81(10, 0, 2, -5)\nG91 X10 Y20\nX20\nG90 MCALL\n");
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let hole = |line: usize| blocks_of(&p, line).iter().map(|b| (b.motion, b.targets.x.map(|v| (v / MM).round()), b.targets.z.map(|v| (v / MM * 1e6).round() / 1e6))).collect::<Vec<_>>();
+    assert_eq!(hole(4), vec![(Rapid, Some(10.0), None), (Rapid, None, Some(2.0)), (Linear, None, Some(-5.0)), (Rapid, None, Some(10.0))]);
+    assert_eq!(hole(5), vec![(Rapid, Some(30.0), None), (Rapid, None, Some(2.0)), (Linear, None, Some(-5.0)), (Rapid, None, Some(10.0))]);
     // The DMU 70 eVo post's call: RTP (the clearance) below RFP while drilling down, alarm 61101.
     let p = on_umc("G90 G70 F9.8\nMCALL CYCLE81(.2362,2.728,.2362,2.5311,)\n");
     assert!(errors(&p).iter().any(|(l, c, m)| *l == 2 && *c == 7 && m.contains("61101")), "{:#?}", errors(&p));

@@ -4,7 +4,7 @@ use super::{PathOptions, Sample};
 use crate::kinematics::{Joints, Pose, SinCos, Turn, TwoRotaryChain};
 use crate::machine::{ContourTolerance, Machine};
 use crate::program::{ArcSpec, Block, Diagnostic, FeedMode, Motion, Orientation, Program, Severity};
-use crate::units::{DEG_PER_MIN, MM_PER_MIN};
+use crate::units::{DEG_PER_MIN, MM, MM_PER_MIN};
 use nalgebra::Vector3;
 
 /// How a segment moves.
@@ -575,6 +575,16 @@ impl SegmentPlanner {
                                 Some(gc) => 60.0 / feed.value_per_min * (gc.u1 - gc.u0),
                                 None => 60.0 / feed.value_per_min / n,
                             },
+                            FeedMode::PerMinute if feed.rotary_in_path && kind != SegmentKind::Tcp => {
+                                // Fanuc: degrees count as the program's length unit in the path F is along.
+                                let unit = MM * feed.value_per_min / feed.rotary_per_min;
+                                let f = options.feed_override_mm_per_min.map_or(feed.rotary_per_min, |o| o * feed.rotary_per_min / feed.value_per_min);
+                                let t = ((lin_len / unit).powi(2) + rot_len.to_degrees().powi(2)).sqrt() / f * 60.0;
+                                if seg.length > 1e-9 && t > 0.0 {
+                                    seg.feed = seg.length / t;
+                                }
+                                t
+                            }
                             FeedMode::PerMinute => {
                                 let path_len = if kind == SegmentKind::Tcp { seg.length } else { lin_len };
                                 // A tip move under 1 um that turns the rotaries is rounding in the program's

@@ -59,6 +59,15 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     if it.cycles.active.is_some() && positions {
         return Some(drill(it, None, words, line, column, number, diags, out));
     }
+    // The cycle stays the modal motion until G80 or G00-G03: a block that moves an axis other than
+    // X or Y under it is no G01 move. Whether the control drills there or only stores the value is
+    // not at hand: refused.
+    if it.cycles.active.is_some() {
+        if let Some(w) = words.iter().find(|w| matches!(w.letter, 'Z' | 'A' | 'B' | 'C')) {
+            diags.error(line, w.column, format!("{}{} without X or Y under a canned cycle: whether the control drills at the new value or only stores it is not read (cancel the cycle with G80 first, or give the hole's X Y)", w.letter, w.raw));
+            return Some(false);
+        }
+    }
     None
 }
 

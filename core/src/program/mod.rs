@@ -341,6 +341,11 @@ pub struct Feed {
     /// F for a move of the rotary axes alone, deg/min: the number as programmed, whatever the length
     /// unit (G20's inches convert `value_per_min`, not this).
     pub rotary_per_min: f64,
+    /// Fanuc without tool-centre-point control: a move of linear and rotary axes together takes F
+    /// along a path whose rotary part counts degrees as the program's length unit (FANUC B-63174EN
+    /// §4.2, "G91 G01 X20.0 C40.0 F300.0 ... time = sqrt(20^2 + 40^2) / 300"), where LinuxCNC and
+    /// Siemens give F to the linear axes and the rotary ones follow.
+    pub rotary_in_path: bool,
     pub mode: FeedMode,
 }
 

@@ -103,7 +103,14 @@ impl Interpreter {
                             // "Inch/metric dimensions"), F stays in the basic system's; G700/G710
                             // (read as G20/G21) set both.
                             let feed_too = !(self.dialect == Dialect::Sinumerik && code.starts_with('7'));
+                            // The TNC's DIN/ISO unit is the program's, set in its header (`%NAME G71 *`)
+                            // and end lines; a block that says another is refused, not obeyed.
+                            let header_only = self.dialect == Dialect::Heidenhain && next.forced_unit.is_none() && (next.unit == INCH) != inch;
+                            if header_only {
+                                diags.error(line, w.column, format!("G{} in a block: the TNC takes the program's unit from its header (%NAME G70 or G71), which says otherwise", w.raw));
+                            }
                             match next.forced_unit {
+                                None if header_only => {}
                                 None => {
                                     next.unit = if inch { INCH } else { MM };
                                     if feed_too {
@@ -606,7 +613,7 @@ impl Interpreter {
             motion: block_motion.unwrap_or(Motion::Linear),
             targets,
             arc,
-            feed: self.feed.map(|(value_per_min, rotary_per_min)| Feed { value_per_min, rotary_per_min, mode: self.feed_mode }),
+            feed: self.feed.map(|(value_per_min, rotary_per_min)| Feed { value_per_min, rotary_per_min, rotary_in_path: self.dialect == Dialect::Fanuc, mode: self.feed_mode }),
             tcp: (self.tcp || self.tilt.is_some() && (targets.x.is_some() || targets.y.is_some() || targets.z.is_some())) && !shot.is_some_and(|s| s.axes.is_some()),
             datum: self.datum,
             orientation: self.orientation,

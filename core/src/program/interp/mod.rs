@@ -528,7 +528,7 @@ impl Interpreter {
             motion: self.motion.unwrap_or(Motion::Linear),
             targets: Targets::default(),
             arc: None,
-            feed: self.feed.map(|(value_per_min, rotary_per_min)| Feed { value_per_min, rotary_per_min, mode: self.feed_mode }),
+            feed: self.feed.map(|(value_per_min, rotary_per_min)| Feed { value_per_min, rotary_per_min, rotary_in_path: self.dialect == Dialect::Fanuc, mode: self.feed_mode }),
             tcp: self.tcp,
             datum: self.datum,
             orientation: self.orientation,

@@ -168,6 +168,11 @@ impl Exec {
             };
             let feed = match n {
                 200 => {
+                    // Q395 DEPTH REFERENCE 1: the depth is to the tool's full diameter, deeper by its
+                    // point's length, which the program does not give.
+                    if self.q.get("Q395").is_some_and(|v| *v != 0.0) {
+                        return Err("Q395=1: a depth to the tool's full diameter (deeper by its point's length) is not read".into());
+                    }
                     h.plunge = q("Q202")?.abs();
                     h.dwell_top_s = self.cycle_q("Q210", 1.0)?;
                     h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;

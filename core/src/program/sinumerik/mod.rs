@@ -360,7 +360,12 @@ impl SinumerikReader {
         // A tapping feed is the pitch (a length of the geometry's unit) per turn, written as F.
         let geometry_per_feed_unit = self.interp.unit() / self.interp.feed_unit();
         let mut feeds = 0;
-        let word = |letter: char, v: f64| Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, dimension: Dimension::Modal };
+        // The cycle's levels (RTP, RFP, DP) are absolute whatever G90/G91 say (the cycles' parameter
+        // tables: "RTP retraction plane (absolute)", "DP final drilling depth (absolute)").
+        let word = |letter: char, v: f64| {
+            let dimension = if letter == 'Z' { Dimension::Absolute } else { Dimension::Modal };
+            Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, dimension }
+        };
         for step in hole.steps {
             let block = match step {
                 cycles::Step::Rapid(z) if (self.interp.position()[2] - z * self.interp.unit()).abs() < 1e-12 => continue,
