@@ -289,3 +289,12 @@ fn klartext_polar_lines_circles_and_helices_are_where_the_tnc_puts_them() {
     let no_pole = read("0 BEGIN PGM P MM\n1 L X+10 Y+0 R0 F600\n2 LP PR+5 PA+0\n3 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
     has(&no_pole, 3, 3, "no pole CC");
 }
+
+/// A circle `C` with no pole before it is refused once, naming the TNC's `CC` (not DIN/ISO's I and J).
+#[test]
+fn klartext_a_circle_without_its_pole_names_cc() {
+    let p = read("BEGIN PGM T MM\nL X+10 Y+0 Z+0 R0 F100\nC X+0 Y+10 DR+\nEND PGM T MM\n", Dialect::Klartext, "t.h", &ReadOptions::default());
+    let said: Vec<_> = errors(&p).into_iter().filter(|(l, _, _)| *l == 3).collect();
+    assert_eq!(said.len(), 1, "{said:?}");
+    assert!(said[0].2.contains("a circle centre CC before this block"), "{said:?}");
+}

@@ -548,10 +548,15 @@ impl Interpreter {
                 let mut as_rs274: Vec<Word> = words.iter().filter(|w| w.letter == 'R').cloned().collect();
                 if as_rs274.is_empty() {
                     for k in [a0, a1] {
-                        match next.centre[k] {
-                            Some(c) => as_rs274.push(Word { letter: ['I', 'J', 'K'][k], value: c / next.unit, raw: format!("{}", c / next.unit).into(), column, dimension: Dimension::Modal }),
-                            None => diags.error(line, column, format!("arc without a circle centre: expected {} (and {}) before or in this block, or R", ['I', 'J', 'K'][k], ['I', 'J', 'K'][a0 + a1 - k])),
+                        if let Some(c) = next.centre[k] {
+                            as_rs274.push(Word { letter: ['I', 'J', 'K'][k], value: c / next.unit, raw: format!("{}", c / next.unit).into(), column, dimension: Dimension::Modal });
                         }
+                    }
+                    // Said once, in the dialect's words (Klartext's centre is its CC pole).
+                    if as_rs274.len() < 2 {
+                        let (i, j) = (['I', 'J', 'K'][a0], ['I', 'J', 'K'][a1]);
+                        let want = if self.dialect == Dialect::Klartext { "a circle centre CC before this block".to_string() } else { format!("{i} and {j} before or in this block, or R") };
+                        diags.error(line, column, format!("arc without a circle centre: expected {want}"));
                     }
                 }
                 let st = Interpreter { arc_absolute: true, ..next.clone() };
