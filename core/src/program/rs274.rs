@@ -53,6 +53,8 @@ pub(crate) struct Rs274Reader {
     ended: Option<(usize, bool)>,
     /// LinuxCNC: the file opens with `%`, so the next `%` line ends it.
     percent: bool,
+    /// Fanuc, Haas: a macro alarm (`#3000`) stopped the control.
+    alarmed: bool,
     /// LinuxCNC's O-word blocks held and run ([`super::oword`]).
     pub(super) flow: super::oword::Flow,
     /// The machine's quill, where it has one ([`super::quill`]).
@@ -77,7 +79,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, flow: super::oword::Flow::new(setup.max_run_lines), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0 }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, flow: super::oword::Flow::new(setup.max_run_lines), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0 }
     }
 }
 
@@ -90,6 +92,11 @@ impl Rs274Reader {
     /// The tape's end `%` has been read: nothing after it is program.
     pub(super) fn at_tape_end(&self) -> bool {
         self.refused
+    }
+
+    /// A macro alarm (`#3000`) stopped the control: nothing after it runs.
+    pub(super) fn alarmed(&self) -> bool {
+        self.alarmed
     }
 
     /// A line with words has been read (an `O` number now is another program's).
@@ -306,6 +313,7 @@ impl Rs274Reader {
                         i = end;
                     }
                     Err(e) => {
+                        self.alarmed |= e.stops;
                         diags.error(line, e.column, e.message);
                         break;
                     }
@@ -531,14 +539,14 @@ impl Now {
     fn value(self) -> Result<f64, ExprError> {
         match self {
             Now::Value(v) => Ok(v),
-            Now::Set(..) => Err(ExprError { column: 1, message: "a setting's value where a word's was read (internal)".into() }),
+            Now::Set(..) => Err(ExprError { column: 1, message: "a setting's value where a word's was read (internal)".into(), stops: false }),
         }
     }
 
     fn setting(self) -> Result<(Target, f64), ExprError> {
         match self {
             Now::Set(t, v) => Ok((t, v)),
-            Now::Value(_) => Err(ExprError { column: 1, message: "a word's value where a setting's was read (internal)".into() }),
+            Now::Value(_) => Err(ExprError { column: 1, message: "a word's value where a setting's was read (internal)".into(), stops: false }),
         }
     }
 }

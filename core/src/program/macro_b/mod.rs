@@ -531,7 +531,7 @@ impl MacroRunner {
 
     /// After a line made `made`: the run ends at the tape's end or an end of program (M30, M02).
     fn ended(&self, made: &[Block]) -> Next {
-        if self.reader.at_tape_end() || ends_program(made, &[2.0, 30.0]) {
+        if self.reader.at_tape_end() || self.reader.alarmed() || ends_program(made, &[2.0, 30.0]) {
             Next::Ended
         } else {
             Next::On
@@ -599,6 +599,7 @@ mod tests {
     fn the_macro_alarm_stops_the_program_where_it_runs() {
         let p = run("#1=5.\nIF [#1 LT 3.] GOTO 10\n#3000=1 (TOO FEW)\nN10 G1 X#1 F100.\nM30\n", Dialect::Fanuc, &ReadOptions::default());
         assert!(p.messages(Severity::Error).iter().any(|m| m.starts_with("3:1:") && m.contains("macro alarm")), "{:#?}", p.messages(Severity::Error));
+        assert!(points(&p).is_empty(), "nothing runs after the alarm: {:?}", points(&p));
         let p = run("#1=1.\nIF [#1 LT 3.] GOTO 10\n#3000=1 (TOO FEW)\nN10 G1 X#1 F100.\nM30\n", Dialect::Fanuc, &ReadOptions::default());
         assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
         let p = run("#2=2001.\n#[#2]=0.5\nM30\n", Dialect::Haas, &ReadOptions::default());

@@ -287,7 +287,7 @@ impl Setting {
         let target = self.target.eval(params)?;
         if let (CompiledTarget::Indirect(_, column), Target::Numbered(n)) = (&self.target, &target) {
             if let Some(why) = fanuc_system(*n).filter(|_| self.bare) {
-                return err(*column, why);
+                return Err(ExprError { column: *column, message: why, stops: *n == 3000 });
             }
             if *n > MAX_USER_PARAMETER {
                 let system = if self.bare { "system variable" } else { "system parameter" };
@@ -346,7 +346,9 @@ pub fn setting(chars: &[char], i: usize, bare: bool) -> Result<(Setting, usize),
     let what = if bare { "an expression" } else { "a value" };
     let system = if bare { "system variable" } else { "system parameter" };
     match &target {
-        CompiledTarget::Fixed(Target::Numbered(n)) if bare && fanuc_system(*n).is_some() => return err(i + 1, fanuc_system(*n).unwrap_or_default()),
+        CompiledTarget::Fixed(Target::Numbered(n)) if bare && fanuc_system(*n).is_some() => {
+            return Err(ExprError { column: i + 1, message: fanuc_system(*n).unwrap_or_default(), stops: *n == 3000 });
+        }
         CompiledTarget::Fixed(t @ Target::Numbered(n)) if *n > MAX_USER_PARAMETER => return err(i + 1, format!("{t} is a {system} (offsets, tool, position): setting it is not modelled")),
         CompiledTarget::Fixed(t @ Target::Named(n)) if !bare && is_machine_state(n) => return err(i + 1, format!("{t} is read-only (the interpreter's or the machine's state)")),
         _ => {}

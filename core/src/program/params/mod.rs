@@ -45,10 +45,12 @@ const PREDEFINED: [&str; 56] = [
 pub struct ExprError {
     pub column: usize,
     pub message: String,
+    /// The control stops here (Fanuc's macro alarm `#3000`): nothing after it runs.
+    pub stops: bool,
 }
 
 fn err<T>(column: usize, message: impl Into<String>) -> Result<T, ExprError> {
-    Err(ExprError { column, message: message.into() })
+    Err(ExprError { column, message: message.into(), stops: false })
 }
 
 /// A parameter a setting writes.
