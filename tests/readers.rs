@@ -454,14 +454,37 @@ proptest! {
     }
 }
 
-/// The cycle time `program analyze` gives a program (s), on a machine.
-fn cycle_time_s(text: &str, ext: &str, machine: &str) -> f64 {
-    let path = std::env::temp_dir().join(format!("fiveaxis-feed-{}-{}.{ext}", std::process::id(), text.len()));
+/// What `program analyze --json` reports of a program, on a machine.
+fn analyze_json(text: &str, ext: &str, machine: &str) -> serde_json::Value {
+    let path = std::env::temp_dir().join(format!("fiveaxis-feed-{}-{}-{}.{ext}", std::process::id(), text.len(), text.bytes().map(u64::from).sum::<u64>()));
     std::fs::write(&path, text).unwrap();
     let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(["program", "analyze", path.to_str().unwrap(), "--machine", machine, "--json"]).output().unwrap();
     std::fs::remove_file(&path).ok();
     assert!(out.status.success(), "{text:?}: {}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()["cycle_time_s"].as_f64().unwrap()
+    serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+}
+
+/// The cycle time `program analyze` gives a program (s), on a machine.
+fn cycle_time_s(text: &str, ext: &str, machine: &str) -> f64 {
+    analyze_json(text, ext, machine)["cycle_time_s"].as_f64().unwrap()
+}
+
+/// A block shorter than the 1 ms sample period is seen: C turns 170 deg in a block of 0.005 mm at
+/// F2000 near A = 0 (0.15 ms), which asks 170/360 rev in 0.005/2000 min = 188,889 rpm of C, by hand;
+/// it had fallen between two samples (peak 2.8 rpm elsewhere, no region), or not, as the program's
+/// start shifted the sample grid. Each such block is now evaluated once at its middle.
+#[test]
+fn a_block_between_two_samples_is_still_seen() {
+    let want = 170.0 / 360.0 / (0.005 / 2000.0);
+    for dz in ["50", "50.3", "50.6"] {
+        let text = format!("G21 G90 G94\nG0 X0 Y0 Z{dz} A3 C0\nG1 X10 A1 C0 F2000\nG1 X19.5 A0.3 C0\nG1 X19.505 A0.3 C170\nG1 X30 A2 C175\nG1 X40 A10 C180\nM2\n");
+        let r = analyze_json(&text, "ngc", "hermle-c600u");
+        let peak = r["peak_c_speed_rpm"].as_f64().unwrap();
+        assert!((peak - want).abs() < 1e-3 * want, "Z{dz}: peak {peak} rpm, want {want}");
+        assert_eq!(r["peak_c_speed_line"], 5, "Z{dz}");
+        let lines: Vec<(u64, u64)> = r["regions"].as_array().unwrap().iter().map(|g| (g["line_start"].as_u64().unwrap(), g["line_end"].as_u64().unwrap())).collect();
+        assert!(lines.iter().any(|&(a, b)| a <= 5 && 5 <= b), "Z{dz}: regions {lines:?}");
+    }
 }
 
 /// F on a move of the rotary axes alone is in degrees per minute whatever the length unit (LinuxCNC's

@@ -145,6 +145,9 @@ pub struct Statuses<'a, I: Iterator<Item = Segment>> {
     prev: Option<Sample>,
     next: Option<Sample>,
     started: bool,
+    /// The segments between the last two samples that no sample fell in (shorter than the period),
+    /// each evaluated once at its middle (see [`Statuses::skipped`]).
+    skipped: Vec<(Sample, Status, SegmentInfo)>,
 }
 
 impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
@@ -164,7 +167,36 @@ impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
             prev: None,
             next: None,
             started: false,
+            skipped: Vec::new(),
         }
+    }
+
+    /// The segments the sample just handed out passed over since the one before: no sample fell in
+    /// them (each shorter than the period), so each is evaluated once, at its middle, so that no
+    /// block's demand on the secondary axis goes unseen (a C flip in a 0.15 ms block had been).
+    /// Not samples: what publishes samples never sees them.
+    pub fn skipped(&mut self) -> std::vec::Drain<'_, (Sample, Status, SegmentInfo)> {
+        self.skipped.drain(..)
+    }
+
+    /// Segment `j` evaluated at its middle, if it lasts.
+    fn midway(&mut self, j: usize) -> Option<(Sample, Status, SegmentInfo)> {
+        let seg = self.window.get(j)?;
+        if !(seg.duration > 0.0) {
+            return None;
+        }
+        let sm = seg.sample(j, 0.5, seg.t0 + 0.5 * seg.duration, self.machine);
+        let info = SegmentInfo { block: seg.block, line: seg.line, number: seg.number, t0: seg.t0, tip0: seg.tip0 };
+        let status = Status {
+            distance: distance(&sm.axis, &self.sd),
+            predicted_rate: self.machine.chain.secondary_rate(&sm.axis, &sm.axis_rate, &[sm.q[3], sm.q[4]]),
+            fd_rate: 0.0,
+            feed_limit: None,
+            five_axis: seg.is_five_axis(),
+            on_pole: on_pole(&sm.axis, &sm.axis_rate, &self.sd),
+            rapid: seg.kind == crate::path::SegmentKind::Rapid,
+        };
+        Some((sm, status, info))
     }
 
     fn pull(&mut self) -> Option<Sample> {
@@ -184,6 +216,15 @@ impl<I: Iterator<Item = Segment>> Iterator for Statuses<'_, I> {
         }
         let sm = self.next.take()?;
         self.next = self.pull();
+        // The segments passed over since the last sample, while the window still holds them.
+        self.skipped.clear();
+        if let (Some(p), SampleSource::Grid(_)) = (self.prev, &self.source) {
+            for j in p.segment + 1..sm.segment {
+                if let Some(x) = self.midway(j) {
+                    self.skipped.push(x);
+                }
+            }
+        }
         let seg = self.window.get(sm.segment).expect("a sample's segment is in the window");
         let info = SegmentInfo { block: seg.block, line: seg.line, number: seg.number, t0: seg.t0, tip0: seg.tip0 };
         let (five_axis, rapid) = (seg.is_five_axis(), seg.kind == crate::path::SegmentKind::Rapid);
@@ -322,53 +363,65 @@ fn analyze_stream(
     let mut ends = SegmentEnds { sd, five_axis: None, all: f64::INFINITY, end_time: 0.0, count: 0, last: None };
     let segments = segments.inspect(|seg| ends.push(seg, machine));
     let mut statuses = Statuses::new(segments, stored, period, machine);
+    // One evaluation (a sample, or a segment no sample fell in: `real` false) into the regions and
+    // the summary, as the `k`th sample.
+    macro_rules! evaluate {
+        ($k:expr, $sm:expr, $st:expr, $info:expr, $real:expr) => {{
+            let (k, sm, st, info, real): (usize, Sample, Status, SegmentInfo, bool) = ($k, $sm, $st, $info, $real);
+            // Regions: contiguous samples beyond the limits, entered and left at the interpolated crossing.
+            match (in_region(&st, rate_limit, options.min_distance), open.as_mut()) {
+                (Some(cause), Some(r)) => {
+                    if cause != r.cause {
+                        r.cause = RegionCause::SpeedAndDistance;
+                    }
+                    r.grow(k, &sm, &st, &info);
+                }
+                (Some(cause), None) => {
+                    let (t_start, tip_start) = match &last {
+                        Some((ps, pst, pinfo)) => boundary((ps, pinfo), (&sm, &info), crossing(pst, &st, rate_limit)),
+                        None => (sm.t, sm.tip),
+                    };
+                    opened += 1;
+                    let mut r = Region::start(opened, cause, k, t_start, tip_start, &sm, &info);
+                    r.grow(k, &sm, &st, &info);
+                    open = Some(r);
+                }
+                (None, Some(_)) => {
+                    let (ls, lst, linfo) = last.as_ref().expect("a region holds a sample");
+                    let mut r = open.take().expect("open");
+                    (r.t_end, r.tip_end) = boundary((ls, linfo), (&sm, &info), 1.0 - crossing(&st, lst, rate_limit));
+                    each(&r);
+                    crate::listing::push(&mut regions, &mut unlisted, cap, r);
+                }
+                (None, None) => {}
+            }
+            // Summary.
+            peak.push(k, &sm, &st, &info);
+            if real && st.on_pole {
+                singular_samples += 1;
+            }
+            peak_fd = peak_fd.max(st.fd_rate.abs());
+            min_all = min_all.min(st.distance);
+            if st.five_axis && min_d.is_none_or(|(d, _)| st.distance < d) {
+                min_d = Some((st.distance, sm.tip));
+            }
+            if let Some(fl) = st.feed_limit {
+                if min_fl.is_none_or(|(m, _)| fl.feed < m.feed) {
+                    min_fl = Some((fl, sm.tip));
+                }
+            }
+            last = Some((sm, st, info));
+        }};
+    }
     while let Some((sm, st, info)) = statuses.next() {
         on_sample(&sm, statuses.next.as_ref(), statuses.window.loaded(sm.segment));
+        let passed: Vec<_> = statuses.skipped().collect();
+        for (xs, xst, xinfo) in passed {
+            evaluate!(n, xs, xst, xinfo, false);
+        }
         let k = n;
         n += 1;
-        // Regions: contiguous samples beyond the limits, entered and left at the interpolated crossing.
-        match (in_region(&st, rate_limit, options.min_distance), open.as_mut()) {
-            (Some(cause), Some(r)) => {
-                if cause != r.cause {
-                    r.cause = RegionCause::SpeedAndDistance;
-                }
-                r.grow(k, &sm, &st, &info);
-            }
-            (Some(cause), None) => {
-                let (t_start, tip_start) = match &last {
-                    Some((ps, pst, pinfo)) => boundary((ps, pinfo), (&sm, &info), crossing(pst, &st, rate_limit)),
-                    None => (sm.t, sm.tip),
-                };
-                opened += 1;
-                let mut r = Region::start(opened, cause, k, t_start, tip_start, &sm, &info);
-                r.grow(k, &sm, &st, &info);
-                open = Some(r);
-            }
-            (None, Some(_)) => {
-                let (ls, lst, linfo) = last.as_ref().expect("a region holds a sample");
-                let mut r = open.take().expect("open");
-                (r.t_end, r.tip_end) = boundary((ls, linfo), (&sm, &info), 1.0 - crossing(&st, lst, rate_limit));
-                each(&r);
-                crate::listing::push(&mut regions, &mut unlisted, cap, r);
-            }
-            (None, None) => {}
-        }
-        // Summary.
-        peak.push(k, &sm, &st, &info);
-        if st.on_pole {
-            singular_samples += 1;
-        }
-        peak_fd = peak_fd.max(st.fd_rate.abs());
-        min_all = min_all.min(st.distance);
-        if st.five_axis && min_d.is_none_or(|(d, _)| st.distance < d) {
-            min_d = Some((st.distance, sm.tip));
-        }
-        if let Some(fl) = st.feed_limit {
-            if min_fl.is_none_or(|(m, _)| fl.feed < m.feed) {
-                min_fl = Some((fl, sm.tip));
-            }
-        }
-        last = Some((sm, st, info));
+        evaluate!(k, sm, st, info, true);
     }
     if let (Some(mut r), Some((ls, _, _))) = (open.take(), &last) {
         (r.t_end, r.tip_end) = (ls.t, ls.tip);
