@@ -79,7 +79,7 @@ pub fn semi_cylinder() -> Program {
                 motion: if k == 0 { Motion::Rapid } else { Motion::Linear },
                 targets: Targets { x: Some(tip.x), y: Some(tip.y), z: Some(tip.z), tool_axis: Some([normal.x, normal.y, normal.z]), ..Default::default() },
                 arc: None,
-                feed: Some(crate::program::Feed { value_per_min: 1000.0, rotary_per_min: 1000.0, rotary_in_path: false, mode: crate::program::FeedMode::PerMinute }),
+                feed: Some(crate::program::Feed { value_per_min: 1000.0, rotary_per_min: 1000.0, mode: crate::program::FeedMode::PerMinute }),
                 tcp: true,
                 datum: [0.0; 3],
                 orientation: crate::program::Orientation::AxisLinear,

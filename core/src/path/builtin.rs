@@ -74,7 +74,7 @@ impl BuiltinPath {
                         ..Default::default()
                     },
                     arc: None,
-                    feed: Some(crate::program::Feed { value_per_min: self.feed_mm_per_min, rotary_per_min: self.feed_mm_per_min, rotary_in_path: false, mode: crate::program::FeedMode::PerMinute }),
+                    feed: Some(crate::program::Feed { value_per_min: self.feed_mm_per_min, rotary_per_min: self.feed_mm_per_min, mode: crate::program::FeedMode::PerMinute }),
                     tcp: true,
                     datum: [0.0; 3],
                     orientation: crate::program::Orientation::AxisLinear,

@@ -370,6 +370,8 @@ pub struct SegmentPlanner {
     letters: [char; 2],
     first_orientation: bool,
     at_start: bool,
+    /// The control counts degrees in a combined move's feed path ([`crate::program::Dialect::counts_degrees_in_feed_path`]).
+    degrees_in_path: bool,
     stopped: bool,
     /// Linear axes already warned of beyond their range under a work offset the program never set.
     warned_range: [bool; 3],
@@ -380,7 +382,7 @@ impl SegmentPlanner {
     /// [`push`](Self::push) is given).
     pub fn new(machine: &Machine, dialect: crate::program::Dialect, options: &PathOptions) -> Self {
         let letters: [char; 2] = [3, 4].map(|i| machine.axes[i].name.chars().next().unwrap_or('?').to_ascii_uppercase());
-        SegmentPlanner { options: *options, q: [0.0; 5], t: 0.0, s: 0.0, letters, first_orientation: true, at_start: dialect.starts_at_first_pose(), stopped: false, warned_range: [false; 3] }
+        SegmentPlanner { options: *options, q: [0.0; 5], t: 0.0, s: 0.0, letters, first_orientation: true, at_start: dialect.starts_at_first_pose(), degrees_in_path: dialect.counts_degrees_in_feed_path(), stopped: false, warned_range: [false; 3] }
     }
 
     /// Plan block `bi`: its segments go to `segments`, what stops it to `diags`. False once planning
@@ -575,7 +577,7 @@ impl SegmentPlanner {
                                 Some(gc) => 60.0 / feed.value_per_min * (gc.u1 - gc.u0),
                                 None => 60.0 / feed.value_per_min / n,
                             },
-                            FeedMode::PerMinute if feed.rotary_in_path && kind != SegmentKind::Tcp => {
+                            FeedMode::PerMinute if self.degrees_in_path && kind != SegmentKind::Tcp => {
                                 // Fanuc: degrees count as the program's length unit in the path F is along.
                                 let unit = MM * feed.value_per_min / feed.rotary_per_min;
                                 let f = options.feed_override_mm_per_min.map_or(feed.rotary_per_min, |o| o * feed.rotary_per_min / feed.value_per_min);

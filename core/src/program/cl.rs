@@ -190,7 +190,7 @@ impl super::stream::LineReader for ClReader {
                 ..Targets::default()
             },
             arc: None,
-            feed: Some(Feed { value_per_min: feed, rotary_per_min: feed, rotary_in_path: false, mode: FeedMode::PerMinute }),
+            feed: Some(Feed { value_per_min: feed, rotary_per_min: feed, mode: FeedMode::PerMinute }),
             tcp: true,
             datum: [0.0; 3],
             orientation,

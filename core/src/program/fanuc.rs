@@ -10,11 +10,10 @@
 //! the Haas Mill Operator's Manual (G28 with no axis returns every axis; G53 non-modal machine
 //! coordinates; canned cycles repeat with L, dwell P in seconds).
 
-use crate::program::interp::Dimension;
 use std::borrow::Cow;
 
 use super::cycles::{self, Active, Kind, Step};
-use super::interp::{Interpreter, OneShot, Word};
+use super::interp::{Dimension, Interpreter, OneShot, Word};
 use super::lex::Diags;
 use super::{Block, Dialect, Motion};
 

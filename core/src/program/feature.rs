@@ -19,10 +19,9 @@
 //! - Haas' G68.2 is not read here: Haas' documented 3+2 is G254 (the Haas reader's), its G68.2 page
 //!   not being at hand.
 
-use crate::program::interp::Dimension;
 use std::borrow::Cow;
 
-use super::interp::{Interpreter, Word};
+use super::interp::{Dimension, Interpreter, Word};
 use super::lex::Diags;
 use super::{Block, Dialect};
 

@@ -8,8 +8,7 @@
 //! Damage is reported where it stands: two blocks run together on one line, a number split by a space,
 //! a garbled word, repeated or out-of-order block numbers, a header with a space in the name.
 
-use crate::program::interp::Dimension;
-use super::interp::{Interpreter, Word};
+use super::interp::{Dimension, Interpreter, Word};
 use super::lex::{excerpt, number_prefix_len, parse_number, Diags};
 use super::{Block, Dialect, Program};
 

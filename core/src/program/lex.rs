@@ -110,6 +110,30 @@ pub fn excerpt(s: &str) -> String {
     out
 }
 
+
+/// Where a block's words start: past blanks and a block skip `/`, which stands at the block's start,
+/// before its number (FANUC "optional block skip"; SINUMERIK 802D Programming 6FC5698-2AA00-1AP4
+/// §8.1.4, `/N... word1 ...`), and whether the block had one.
+pub(crate) fn past_skip(b: &[u8]) -> (usize, bool) {
+    let blank = |from: usize| from + b[from.min(b.len())..].iter().take_while(|c| c.is_ascii_whitespace()).count();
+    let i = blank(0);
+    if b.get(i) == Some(&b'/') { (blank(i + 1), true) } else { (i, false) }
+}
+
+/// The block number (`N100`, at most `max_digits` digits) a line starts with, past a block skip `/`:
+/// what a jump to a block number looks for.
+pub(crate) fn block_number(b: &[u8], max_digits: usize) -> Option<u64> {
+    let (i, _) = past_skip(b);
+    if !b.get(i).is_some_and(|c| c.eq_ignore_ascii_case(&b'N')) {
+        return None;
+    }
+    let digits = b[i + 1..].iter().take_while(|c| c.is_ascii_digit()).count();
+    if digits == 0 || digits > max_digits {
+        return None;
+    }
+    std::str::from_utf8(&b[i + 1..i + 1 + digits]).ok()?.parse().ok()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

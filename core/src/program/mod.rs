@@ -90,6 +90,14 @@ impl Dialect {
         self == Dialect::Cl
     }
 
+    /// True if, without tool-centre-point control, a move of linear and rotary axes together takes F
+    /// along a path whose rotary part counts degrees as the program's length unit: Fanuc's (FANUC
+    /// B-63174EN §4.2, "G91 G01 X20.0 C40.0 F300.0 ... time = sqrt(20^2 + 40^2) / 300"). LinuxCNC and
+    /// Siemens give F to the linear axes, the rotary ones following.
+    pub fn counts_degrees_in_feed_path(self) -> bool {
+        self == Dialect::Fanuc
+    }
+
     /// How a control of this dialect interpolates the tool orientation under tool-centre-point
     /// management unless told otherwise. Heidenhain: `M128` moves the rotary axes linearly (as
     /// FUNCTION TCPM's `PATHCTRL AXIS`, with which "the tool circumference does not describe a defined
@@ -341,11 +349,6 @@ pub struct Feed {
     /// F for a move of the rotary axes alone, deg/min: the number as programmed, whatever the length
     /// unit (G20's inches convert `value_per_min`, not this).
     pub rotary_per_min: f64,
-    /// Fanuc without tool-centre-point control: a move of linear and rotary axes together takes F
-    /// along a path whose rotary part counts degrees as the program's length unit (FANUC B-63174EN
-    /// §4.2, "G91 G01 X20.0 C40.0 F300.0 ... time = sqrt(20^2 + 40^2) / 300"), where LinuxCNC and
-    /// Siemens give F to the linear axes and the rotary ones follow.
-    pub rotary_in_path: bool,
     pub mode: FeedMode,
 }
 

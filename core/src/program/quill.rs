@@ -8,8 +8,7 @@
 //! program point by a W the other moves do not carry), a W beyond the quill's range, a W move
 //! without tool-centre-point kinematics, W in another system's offset (`G10 ... P1`..).
 
-use crate::program::interp::Dimension;
-use super::interp::Word;
+use super::interp::{Dimension, Word};
 use super::lex::Diags;
 use super::rs274::Rs274Reader;
 use crate::machine::Quill;

@@ -7,8 +7,7 @@
 //! `--m-code` says. LinuxCNC's parameters and expressions (`#<feed>=1000`, `F#<feed>`, `X[#1*2]`,
 //! `XSIN[30]`) are evaluated as its interpreter does ([`super::params`]).
 
-use crate::program::interp::Dimension;
-use super::interp::{Interpreter, Word};
+use super::interp::{Dimension, Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
 use super::params::expr::{self, Compiled, Setting};
 use super::params::{skip_blanks, ExprError, Parameters, Target};

@@ -125,6 +125,26 @@ pub struct SegmentInfo {
     pub tip0: Vector3<f64>,
 }
 
+/// What sample `sm` of segment `seg` says on `machine` (singular direction `sd`): the singularity's
+/// figures at it, with its finite difference and feed limit as the caller has them.
+fn status(machine: &Machine, sd: &Vector3<f64>, sm: &Sample, seg: &Segment, fd_rate: f64, feed_limit: Option<FeedLimit>) -> Status {
+    Status {
+        distance: distance(&sm.axis, sd),
+        predicted_rate: machine.chain.secondary_rate(&sm.axis, &sm.axis_rate, &[sm.q[3], sm.q[4]]),
+        fd_rate,
+        feed_limit,
+        five_axis: seg.is_five_axis(),
+        on_pole: on_pole(&sm.axis, &sm.axis_rate, sd),
+        rapid: seg.kind == crate::path::SegmentKind::Rapid,
+    }
+}
+
+impl SegmentInfo {
+    fn of(seg: &Segment) -> SegmentInfo {
+        SegmentInfo { block: seg.block, line: seg.line, number: seg.number, t0: seg.t0, tip0: seg.tip0 }
+    }
+}
+
 /// Where the samples come from: the period's grid over the segments, or samples held already (a
 /// built-in continuous path, sampled from the path itself).
 enum SampleSource<'a> {
@@ -186,18 +206,12 @@ impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
             return None;
         }
         let sm = seg.sample(j, 0.5, seg.t0 + 0.5 * seg.duration, self.machine);
-        let info = SegmentInfo { block: seg.block, line: seg.line, number: seg.number, t0: seg.t0, tip0: seg.tip0 };
-        let status = Status {
-            distance: distance(&sm.axis, &self.sd),
-            predicted_rate: self.machine.chain.secondary_rate(&sm.axis, &sm.axis_rate, &[sm.q[3], sm.q[4]]),
-            fd_rate: 0.0,
-            feed_limit: None,
-            five_axis: seg.is_five_axis(),
-            on_pole: on_pole(&sm.axis, &sm.axis_rate, &self.sd),
-            rapid: seg.kind == crate::path::SegmentKind::Rapid,
-        };
+        let info = SegmentInfo::of(seg);
+        let status = status(self.machine, &self.sd, &sm, seg, 0.0, None);
         Some((sm, status, info))
     }
+
+
 
     fn pull(&mut self) -> Option<Sample> {
         match &mut self.source {
@@ -225,26 +239,16 @@ impl<I: Iterator<Item = Segment>> Iterator for Statuses<'_, I> {
                 }
             }
         }
-        let seg = self.window.get(sm.segment).expect("a sample's segment is in the window");
-        let info = SegmentInfo { block: seg.block, line: seg.line, number: seg.number, t0: seg.t0, tip0: seg.tip0 };
-        let (five_axis, rapid) = (seg.is_five_axis(), seg.kind == crate::path::SegmentKind::Rapid);
         // Central difference of the commanded secondary axis (one-sided at the ends).
         let (a, b) = (self.prev.unwrap_or(sm), self.next.unwrap_or(sm));
         let dt = b.t - a.t;
         let fd_rate = if dt > 0.0 { (b.q[self.sec] - a.q[self.sec]) / dt } else { 0.0 };
         let feed_limit = self.geometry.derivatives(sm.segment, sm.s, &mut self.window).map(|(d1, d2, d3)| self.limiter.limit(sm.feed, &d1, &d2, &d3));
+        let seg = self.window.get(sm.segment).expect("a sample's segment is in the window");
+        let (info, status) = (SegmentInfo::of(seg), status(self.machine, &self.sd, &sm, seg, fd_rate, feed_limit));
         // Keep what the geometry's overlap reaches back to.
         self.window.release_before(sm.segment.saturating_sub(SPLINE_OVERLAP_BLOCKS + 1));
         self.prev = Some(sm);
-        let status = Status {
-            distance: distance(&sm.axis, &self.sd),
-            predicted_rate: self.machine.chain.secondary_rate(&sm.axis, &sm.axis_rate, &[sm.q[3], sm.q[4]]),
-            fd_rate,
-            feed_limit,
-            five_axis,
-            on_pole: on_pole(&sm.axis, &sm.axis_rate, &self.sd),
-            rapid,
-        };
         Some((sm, status, info))
     }
 }

@@ -1,7 +1,6 @@
 //! Circles of G02/G03 blocks: centre from I J K or R, and how far the end may lie off the circle
 //! as each control checks it.
 
-use super::Dimension;
 use super::{Interpreter, Word};
 use crate::program::lex::Diags;
 use crate::program::{ArcSpec, Motion};
@@ -58,12 +57,7 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
             for k in [a0, a1] {
                 if let Some(w) = word(offset_letter[k]) {
                     let v = w.value * st.unit;
-                    let absolute = match w.dimension {
-                        Dimension::Absolute => true,
-                        Dimension::Incremental => false,
-                        Dimension::Modal => st.arc_absolute,
-                    };
-                    centre[k] = if absolute { v } else { start[k] + v };
+                    centre[k] = if w.dimension.absolute(st.arc_absolute) { v } else { start[k] + v };
                 }
             }
             let r0 = (u0 - centre[a0]).hypot(v0 - centre[a1]);

@@ -1,12 +1,11 @@
 //! One block's words interpreted: modal G codes, M functions, feed, targets and arcs, into a
 //! [`Block`] (the [`Interpreter`]'s state changes only when the block has no defect).
 
-use crate::program::interp::Dimension;
 use super::arc::resolve_arc;
 use super::codes::{maker_m_function, tnc_m_code, tool_vector};
-use super::{Interpreter, Word, AXIS_LETTERS};
+use super::{Dimension, Interpreter, Word, AXIS_LETTERS};
 use crate::program::lex::Diags;
-use crate::program::{ArcSpec, Block, Dialect, Feed, FeedMode, MCodeAction, Motion, Plane, Targets};
+use crate::program::{ArcSpec, Block, Dialect, FeedMode, MCodeAction, Motion, Plane, Targets};
 use crate::units::{INCH, MM};
 
 impl Interpreter {
@@ -463,11 +462,7 @@ impl Interpreter {
                 v + origin[k] - next.datum[k]
             } else if g53 && k < 3 {
                 v - next.datum[k]
-            } else if match w.dimension {
-                Dimension::Absolute => true,
-                Dimension::Incremental => false,
-                Dimension::Modal => next.absolute || shot.is_some_and(|s| s.absolute),
-            } {
+            } else if w.dimension.absolute(next.absolute || shot.is_some_and(|s| s.absolute)) {
                 // M126 (it acts in its own block): a modulo axis goes the shorter way to the position.
                 if k >= 3 && next.shortest && next.modulo[k - 3] {
                     crate::kinematics::unwrap_near(v, next.last[k])
@@ -618,7 +613,7 @@ impl Interpreter {
             motion: block_motion.unwrap_or(Motion::Linear),
             targets,
             arc,
-            feed: self.feed.map(|(value_per_min, rotary_per_min)| Feed { value_per_min, rotary_per_min, rotary_in_path: self.dialect == Dialect::Fanuc, mode: self.feed_mode }),
+            feed: self.feed_now(),
             tcp: (self.tcp || self.tilt.is_some() && (targets.x.is_some() || targets.y.is_some() || targets.z.is_some())) && !shot.is_some_and(|s| s.axes.is_some()),
             datum: self.datum,
             orientation: self.orientation,

@@ -38,6 +38,18 @@ pub enum Dimension {
     Absolute,
 }
 
+impl Dimension {
+    /// Whether the word's value is absolute, the modal dimensioning (G90, or G90.1 for circle
+    /// centres) being `modal_absolute`.
+    pub fn absolute(self, modal_absolute: bool) -> bool {
+        match self {
+            Dimension::Absolute => true,
+            Dimension::Incremental => false,
+            Dimension::Modal => modal_absolute,
+        }
+    }
+}
+
 /// Modal state of a G-code program.
 #[derive(Debug, Clone)]
 pub struct Interpreter {
@@ -528,7 +540,7 @@ impl Interpreter {
             motion: self.motion.unwrap_or(Motion::Linear),
             targets: Targets::default(),
             arc: None,
-            feed: self.feed.map(|(value_per_min, rotary_per_min)| Feed { value_per_min, rotary_per_min, rotary_in_path: self.dialect == Dialect::Fanuc, mode: self.feed_mode }),
+            feed: self.feed_now(),
             tcp: self.tcp,
             datum: self.datum,
             orientation: self.orientation,
@@ -547,6 +559,11 @@ impl Interpreter {
         self.preset_assumed
             || matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext | Dialect::Sinumerik)
             || self.dialect.is_fanuc() && (self.extra_offset || !self.offsets_given[self.system])
+    }
+
+    /// The feed in effect, as a block carries it.
+    pub(crate) fn feed_now(&self) -> Option<Feed> {
+        self.feed.map(|(value_per_min, rotary_per_min)| Feed { value_per_min, rotary_per_min, mode: self.feed_mode })
     }
 
     /// The modal motion and feed, to restore after a cycle's own moves.

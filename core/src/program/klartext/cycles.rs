@@ -2,12 +2,11 @@
 //! 19 working plane, 32 tolerance, the drilling cycles and the machine maker's own), parsed, then
 //! defined and called as the TNC runs them (`CYCL CALL`, `M99`, `M89`).
 
-use crate::program::interp::Dimension;
 use super::*;
 use std::borrow::Cow;
 
 use super::exec::Exec;
-use crate::program::interp::{Interpreter, Word};
+use crate::program::interp::{Dimension, Interpreter, Word};
 use crate::program::Block;
 
 /// `CYCL DEF 32.0 TOLERANCE` / `32.1 T0.05` / `32.2 HSC-MODE:0 TA0.5` (TNC 620 Cycle Programming, 340

@@ -2,13 +2,12 @@
 //! ([`super::tilt`]) or cycle ([`super::cycles`]), with the run-time state the TNC keeps between
 //! blocks.
 
-use crate::program::interp::Dimension;
 use std::borrow::Cow;
 use std::collections::HashMap;
 
 use super::{axis_index, label, FeedWord, KWord, Kind, Shape, Stmt, Val};
 use crate::machine::ContourTolerance;
-use crate::program::interp::{Interpreter, OneShot, Word};
+use crate::program::interp::{Dimension, Interpreter, OneShot, Word};
 use crate::program::lex::Diags;
 use crate::program::{Block, ProgrammedTolerance};
 use crate::units::{DEG, MM};

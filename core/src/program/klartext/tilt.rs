@@ -3,12 +3,11 @@
 //! "Tilting the working plane"): parsed, then run (the axes the control picks, its Q120-Q122, the
 //! frame it sets); the plane's geometry is [`crate::program::plane`]'s.
 
-use crate::program::interp::Dimension;
 use super::*;
 use std::borrow::Cow;
 
 use super::exec::Exec;
-use crate::program::interp::{Interpreter, Word};
+use crate::program::interp::{Dimension, Interpreter, Word};
 use crate::program::Block;
 use crate::units::DEG;
 

@@ -20,14 +20,16 @@
 
 mod statement;
 
-use statement::{block_number, maybe_flow, program_number, rest_is_empty, Stmt, Then};
+use statement::{maybe_flow, program_number, rest_is_empty, Stmt, Then};
 use super::interp::Word;
-use super::lex::Diags;
+use super::lex::{block_number, Diags};
 use super::params::Scope;
 use super::rs274::{ReadLine, Rs274Reader};
 use super::stream::{ends_program, stop, At, Find, Jumping, LineReader, Next, Places};
 use super::{Block, Dialect};
 
+/// The most digits of a sequence number (`N`) a branch looks for.
+const MAX_N_DIGITS: usize = 9;
 /// Deepest nesting of subprogram and macro calls (FANUC: subprograms 10 levels).
 pub const MAX_CALL_DEPTH: usize = 10;
 /// Most programs one file may hold.
@@ -459,7 +461,7 @@ impl Jumping for MacroRunner {
     }
 
     fn matches(&self, key: u64, bytes: &[u8]) -> bool {
-        block_number(bytes) == Some(key)
+        block_number(bytes, MAX_N_DIGITS) == Some(key)
     }
 
     fn found(&mut self, find: Find, hits: &[At], read: usize, diags: &mut Diags) -> Next {

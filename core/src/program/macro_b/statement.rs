@@ -2,8 +2,7 @@
 //! "Custom macro" and "Subprogram"): which statement a line holds, its condition, its label, the
 //! words of a call. The runner ([`super::MacroRunner`]) does what they say.
 
-use crate::program::interp::Dimension;
-use super::super::interp::Word;
+use super::super::interp::{Dimension, Word};
 use super::super::lex::excerpt;
 use super::super::params::skip_blanks;
 use super::MacroRunner;
@@ -35,22 +34,6 @@ pub(super) fn body_start(chars: &[char]) -> usize {
         }
     }
     skip_blanks(chars, i)
-}
-
-/// The block number a line starts with, if any.
-pub(super) fn block_number(bytes: &[u8]) -> Option<u64> {
-    let mut i = bytes.iter().position(|b| !b.is_ascii_whitespace())?;
-    if bytes[i] == b'/' {
-        i += 1 + bytes[i + 1..].iter().position(|b| !b.is_ascii_whitespace())?;
-    }
-    if !bytes[i].eq_ignore_ascii_case(&b'N') {
-        return None;
-    }
-    let digits = bytes[i + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
-    if digits == 0 || digits > 9 {
-        return None;
-    }
-    std::str::from_utf8(&bytes[i + 1..i + 1 + digits]).ok()?.parse().ok()
 }
 
 /// The program number an `O` (or `:`) line starts, if it is one.

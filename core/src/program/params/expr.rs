@@ -286,8 +286,8 @@ impl Setting {
     pub fn run(&self, params: &Parameters) -> Result<(Target, f64), ExprError> {
         let target = self.target.eval(params)?;
         if let (CompiledTarget::Indirect(_, column), Target::Numbered(n)) = (&self.target, &target) {
-            if let Some(why) = fanuc_system(*n).filter(|_| self.bare) {
-                return Err(ExprError { column: *column, message: why, stops: *n == 3000 });
+            if self.bare && *n >= FANUC_SYSTEM {
+                return Err(fanuc_system(*n, *column));
             }
             if *n > MAX_USER_PARAMETER {
                 let system = if self.bare { "system variable" } else { "system parameter" };
@@ -308,15 +308,20 @@ impl CompiledTarget {
     }
 }
 
-/// Why a Fanuc macro may not set `#n`: #1000 and up are the control's system variables (interface
-/// signals, tool offsets, the macro alarm #3000, clocks, modal information, positions; FANUC custom
-/// macro B, "Types of variables": local #1-#33, common #100-#199 and #500-#999).
-fn fanuc_system(n: u32) -> Option<String> {
-    match n {
-        3000 => Some("#3000 is the macro alarm: setting it stops the control with an alarm here (the program does not run on)".into()),
-        1000.. => Some(format!("#{n} is a system variable of the control (#1000 and up: signals, offsets, alarms, clocks, modal state, positions): setting it is not modelled")),
-        _ => None,
-    }
+/// The first of Fanuc's system variables, which a macro may not set here: #1000 and up are the
+/// control's (interface signals, tool offsets, the macro alarm #3000, clocks, modal information,
+/// positions; FANUC custom macro B, "Types of variables": local #1-#33, common #100-#199 and
+/// #500-#999).
+const FANUC_SYSTEM: u32 = 1000;
+
+/// The defect of setting Fanuc's system variable `#n` (n >= [`FANUC_SYSTEM`]) at `column`: the
+/// macro alarm `#3000` stops the run there.
+fn fanuc_system(n: u32, column: usize) -> ExprError {
+    let message = match n {
+        3000 => "#3000 is the macro alarm: setting it stops the control with an alarm here (the program does not run on)".to_string(),
+        _ => format!("#{n} is a system variable of the control (#1000 and up: signals, offsets, alarms, clocks, modal state, positions): setting it is not modelled"),
+    };
+    ExprError { column, message, stops: n == 3000 }
 }
 
 /// A value meant as a parameter's number: a whole number 1 to [`MAX_PARAMETER`].
@@ -346,9 +351,7 @@ pub fn setting(chars: &[char], i: usize, bare: bool) -> Result<(Setting, usize),
     let what = if bare { "an expression" } else { "a value" };
     let system = if bare { "system variable" } else { "system parameter" };
     match &target {
-        CompiledTarget::Fixed(Target::Numbered(n)) if bare && fanuc_system(*n).is_some() => {
-            return Err(ExprError { column: i + 1, message: fanuc_system(*n).unwrap_or_default(), stops: *n == 3000 });
-        }
+        CompiledTarget::Fixed(Target::Numbered(n)) if bare && *n >= FANUC_SYSTEM => return Err(fanuc_system(*n, i + 1)),
         CompiledTarget::Fixed(t @ Target::Numbered(n)) if *n > MAX_USER_PARAMETER => return err(i + 1, format!("{t} is a {system} (offsets, tool, position): setting it is not modelled")),
         CompiledTarget::Fixed(t @ Target::Named(n)) if !bare && is_machine_state(n) => return err(i + 1, format!("{t} is read-only (the interpreter's or the machine's state)")),
         _ => {}

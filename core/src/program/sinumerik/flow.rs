@@ -20,7 +20,7 @@
 
 use super::expr;
 use super::SinumerikReader;
-use crate::program::lex::Diags;
+use crate::program::lex::{block_number, past_skip, Diags};
 use crate::program::stream::{ends_program, stop, At, Find, Jumping, LineReader, Next, Places};
 use crate::program::Block;
 
@@ -101,27 +101,8 @@ impl FlowRunner {
     }
 }
 
-/// Where a block's words start: past blanks and a block skip `/`, which "stands at the start",
-/// "before the block number" (SINUMERIK 802D Programming, 6FC5698-2AA00-1AP4 08/2005 §8.1.4, block
-/// structure `/N... word1 word2 ...`), and whether the block had one.
-fn past_skip(b: &[u8]) -> (usize, bool) {
-    let blank = |from: usize| from + b[from.min(b.len())..].iter().take_while(|c| c.is_ascii_whitespace()).count();
-    let i = blank(0);
-    if b.get(i) == Some(&b'/') { (blank(i + 1), true) } else { (i, false) }
-}
-
-/// The block number (`N100`) a line starts with, past a block skip `/`.
-fn block_number(b: &[u8]) -> Option<u64> {
-    let (i, _) = past_skip(b);
-    if !b.get(i).is_some_and(|c| c.eq_ignore_ascii_case(&b'N')) {
-        return None;
-    }
-    let digits = b[i + 1..].iter().take_while(|c| c.is_ascii_digit()).count();
-    if digits == 0 || digits > 18 {
-        return None;
-    }
-    std::str::from_utf8(&b[i + 1..i + 1 + digits]).ok()?.parse().ok()
-}
+/// The most digits of a block number a jump looks for.
+const MAX_N_DIGITS: usize = 18;
 
 /// A line split: where its block starts (past blanks, a block skip `/` and its `N` number), its jump
 /// marker (capitals) and where the block after the marker starts.
@@ -410,7 +391,7 @@ impl Jumping for FlowRunner {
     fn matches(&self, _key: u64, bytes: &[u8]) -> bool {
         let Some((target, ..)) = &self.wanted else { return false };
         if target.starts_with('N') && target[1..].bytes().all(|c| c.is_ascii_digit()) {
-            return block_number(bytes).is_some_and(|n| target[1..].parse::<u64>().ok() == Some(n));
+            return block_number(bytes, MAX_N_DIGITS).is_some_and(|n| target[1..].parse::<u64>().ok() == Some(n));
         }
         split(&String::from_utf8_lossy(bytes)).1.is_some_and(|(m, _)| m == *target)
     }

@@ -5,9 +5,8 @@
 //! parameters) that its expressions read. Values are evaluated here, in the block's order: an
 //! assignment is in effect for the words after it.
 
-use crate::program::interp::Dimension;
 use super::expr;
-use crate::program::interp::Word;
+use crate::program::interp::{Dimension, Word};
 use crate::program::lex::{excerpt, parse_number, upper, Columns, Diags};
 use std::borrow::Cow;
 use std::collections::HashMap;

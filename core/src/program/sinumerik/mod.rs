@@ -29,8 +29,7 @@ mod frame;
 mod lex;
 mod swivel;
 
-use crate::program::interp::Dimension;
-use super::interp::{Interpreter, OneShot, Word};
+use super::interp::{Dimension, Interpreter, OneShot, Word};
 use super::lex::{Columns, Diags};
 use super::{Block, Dialect, MCodeRule, Motion, Orientation, Program};
 use crate::units::{DEG, MM};
