@@ -148,3 +148,69 @@ fn great_circles_at_the_pole() {
     assert!((c_turn - 180.0).abs() < 0.2, "C turns {c_turn} deg");
     assert!(pieces.len() < 5000, "{} pieces", pieces.len());
 }
+
+/// A TCPM move whose tool axis turns on a great circle beside the pole is timed on the whole block's
+/// tip path (840D: F is the tip's speed under TRAORI), however short the pieces near the pole are,
+/// where C turns fastest. Reference, independent of the planner: on a great circle whose closest
+/// approach to the pole is `d`, turned at the steady rate `w`, the azimuth (C) turns at most at
+/// `w / sin d` (Clairaut's relation at the closest point). A 2 mm block at F1000 turning the tool axis
+/// from 1 deg tilted at azimuth 0 to 1 deg at azimuth 170 asks 1819 rpm of C; timing the pieces under
+/// 1 um as rotary moves (F in deg/min) had given 352 rpm, and 2.9 rpm for a 20 um block.
+#[test]
+fn a_great_circle_beside_the_pole_is_timed_on_the_blocks_tip_path() {
+    use fiveaxis::program::{read, Dialect, ReadOptions};
+    use nalgebra::Vector3;
+    let m = Machine::hermle_c600u();
+    let axis = |tilt: f64, az: f64| {
+        let (t, a) = (tilt.to_radians(), az.to_radians());
+        Vector3::new(t.sin() * a.cos(), t.sin() * a.sin(), t.cos())
+    };
+    let (v0, v1) = (axis(1.0, 0.0), axis(1.0, 170.0));
+    for dx_mm in [2.0, 0.2, 0.02] {
+        let w = |v: &Vector3<f64>| format!("A3={:.12} B3={:.12} C3={:.12}", v.x, v.y, v.z);
+        let src = format!(
+            "N10 G90 G71 G94\nN20 TRAORI\nN30 ORIVECT\nN40 G0 X10 Y0 Z0 {}\nN50 G1 X{} {} F1000\nN60 M30\n",
+            w(&v0),
+            10.0 + dx_mm,
+            w(&v1)
+        );
+        let p = read(&src, Dialect::Sinumerik, "beside.mpf", &ReadOptions::default());
+        assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+        let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+        assert!(t.diagnostics.is_empty(), "{:#?}", t.diagnostics);
+        // The block's time is its tip path over F, whatever its pieces.
+        let block: Vec<_> = t.segments.iter().filter(|s| s.line == 5).collect();
+        assert!(block.len() > 100, "{} pieces", block.len());
+        let time: f64 = block.iter().map(|s| s.duration).sum();
+        let expect_s = dx_mm / 1000.0 * 60.0;
+        assert!(close(time, expect_s, 1e-9 + expect_s * 1e-9), "{dx_mm} mm block takes {time} s, not {expect_s} s");
+        // The peak C speed against the closed form.
+        let omega = v0.angle(&v1) / expect_s;
+        let d = v0.cross(&v1).normalize().z.abs().asin();
+        let expect_rpm = omega / d.sin() * 60.0 / std::f64::consts::TAU;
+        let a = fiveaxis::singularity::analyze(&t, &m, &AnalysisOptions { rate_limit: None, ..Default::default() });
+        let peak_rpm = a.summary.peak_rate.abs() * 60.0 / std::f64::consts::TAU;
+        assert!((peak_rpm / expect_rpm - 1.0).abs() < 2e-3, "{dx_mm} mm: peak C {peak_rpm} rpm, closed form {expect_rpm} rpm");
+        assert!(close(a.summary.min_distance.unwrap(), d, 1e-6), "closest {} deg, closed form {} deg", a.summary.min_distance.unwrap().to_degrees(), d.to_degrees());
+    }
+}
+
+/// A stated 1 um move beside a C turn is a path move, as the control times it (LinuxCNC counts an
+/// axis as moving from 1e-7 mm, emccanon.cc): `G1 X1.101 C90 F100` from X1.1 takes 1 um / F =
+/// 0.6 ms and asks C for 90 deg in it, 25,000 rpm (by hand). A 1 um threshold had timed it as a
+/// rotary move (54 s at 100 deg/min) or not, as the float rounding of X1.1 or X2.2 fell.
+#[test]
+fn a_one_micrometre_move_beside_a_c_turn_is_a_path_move() {
+    let m = Machine::hermle_c600u();
+    for x in [1.1, 2.2, 10.0] {
+        let p = read_rs274(&format!("G21 G90 G94\nG0 X{x} Y0 Z0 A10 C0\nG1 X{} C90 F100\nM2\n", (x * 1000.0 + 1.0) / 1000.0));
+        assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+        let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+        assert!(t.diagnostics.is_empty(), "{:#?}", t.diagnostics);
+        let time: f64 = t.segments.iter().filter(|s| s.line == 3).map(|s| s.duration).sum();
+        assert!(close(time, 0.6e-3, 1e-9), "X{x} + 1 um: {time} s");
+        let a = fiveaxis::singularity::analyze(&t, &m, &AnalysisOptions { rate_limit: None, ..Default::default() });
+        let peak_rpm = a.summary.peak_rate.abs() * 60.0 / std::f64::consts::TAU;
+        assert!((peak_rpm - 25_000.0).abs() < 1.0, "X{x} + 1 um: peak C {peak_rpm} rpm");
+    }
+}

@@ -7,7 +7,8 @@ moving as written, linear in the block): the tool tip moves on a straight line a
 F (program units per minute), so a block lasts |tip displacement| / F, and the rotary axis turns its
 whole change in that time at a constant rate. Reads absolute (G90) blocks of address words from
 FIRST_LINE to LAST_LINE (1-based, inclusive), the modal values before it from STATE ("X0 Y0 Z0 B0 C0
-F1"); prints JSON: the peak speed (rpm) and its line, and every block above LIMIT_RPM. With TILT (the
+F1"); prints JSON: the peak speed (rpm) and its line, every block above LIMIT_RPM, and each block's
+time (`seconds`, line to s). With TILT (the
 tilting axis of a table whose tool lies along the other axis at TILT = 0, such as B on a B/C table),
 also each block's closest approach to that axis' line: the angle min(|TILT|, 180 - |TILT|) (TILT taken
 in -180..180), smallest over the block (TILT linear in the block: at an end, or 0 where it passes 0 or
@@ -41,6 +42,7 @@ def main():
     lines = open(path, encoding="latin-1").read().splitlines()
     rows = []
     tilts = {}
+    seconds = {}
     for n in range(first, last + 1):
         text = re.sub(r"\(.*?\)|;.*$", "", lines[n - 1]).upper()
         words = dict((a, float(v)) for a, v in re.findall(r"([XYZABCF])\s*([-+]?\d*\.?\d+)", text))
@@ -56,11 +58,12 @@ def main():
             tilts[n] = [closest_to_line(tilt0, t1), closest_to_line(t1, t1)]
         length = float(np.linalg.norm(np.array([state["X"], state["Y"], state["Z"]]) - start))
         minutes = length / state["F"]
+        seconds[n] = minutes * 60.0
         rpm = abs(state[axis] - turn0) / 360.0 / minutes if minutes > 0 else float("inf")
         rows.append((n, rpm))
     peak_line, peak = max(rows, key=lambda r: r[1])
     over = [n for n, rpm in rows if rpm > limit]
-    out = {"peak_rpm": peak, "peak_line": peak_line, "over_limit_lines": over, "blocks": len(rows)}
+    out = {"peak_rpm": peak, "peak_line": peak_line, "over_limit_lines": over, "blocks": len(rows), "seconds": seconds}
     if tilt_axis:
         out["tilt_deg"] = tilts
     print(json.dumps(out))

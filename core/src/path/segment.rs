@@ -327,8 +327,11 @@ impl Segment {
     }
 }
 
-/// Tool-tip moves shorter than this (m) are program rounding when the rotaries turn.
-const MIN_PATH: f64 = 1e-6;
+/// A block whose programmed path (m) is shorter than this is a rotary move, F in deg/min: LinuxCNC
+/// counts an axis as moving from 1e-7 mm (emccanon.cc, `tiny`); Fanuc, Siemens and Heidenhain time
+/// any programmed linear motion as a path. A stated 1 um next to a C flip is a path, however
+/// short: the control runs C at its limit there. Decided per block, never per piece.
+const MIN_PATH: f64 = 1e-10;
 
 /// Why planning stops at a block that would run the program to `end_s`, past the bound `bound_s`.
 fn beyond_bound(what: &str, hint: &str, end_s: f64, bound_s: f64) -> String {
@@ -540,15 +543,16 @@ impl SegmentPlanner {
                 }
             };
             let n = pieces.len() as f64;
+            let mut segs: Vec<Segment> = Vec::with_capacity(pieces.len());
             for (pq0, pq1, ptip0, ptip1, parc, porient) in pieces {
                 let mut seg = Segment {
                     kind,
                     block: bi,
                     line: b.line,
                     number: b.number,
-                    t0: t,
+                    t0: 0.0,
                     duration: 0.0,
-                    s0: s,
+                    s0: 0.0,
                     length: 0.0,
                     q0: pq0,
                     q1: pq1,
@@ -561,6 +565,16 @@ impl SegmentPlanner {
                     tolerance,
                 };
                 seg.length = tip_length(&seg, machine);
+                segs.push(seg);
+            }
+            // The path F runs along (the tip under TCPM, the linear axes without), over the whole
+            // block: whether the block is a path move is the block's, not its pieces'.
+            let path_of = |seg: &Segment| if kind == SegmentKind::Tcp { seg.length } else { seg.linear_axes_length() };
+            let block_path: f64 = segs.iter().map(path_of).sum();
+            let rotary_only = block_path < MIN_PATH;
+            for mut seg in segs {
+                (seg.t0, seg.s0) = (t, s);
+                let (pq0, pq1) = (seg.q0, seg.q1);
                 let lin_len = seg.linear_axes_length();
                 let rot_len = ((pq1[3] - pq0[3]).powi(2) + (pq1[4] - pq0[4]).powi(2)).sqrt();
                 let duration = match kind {
@@ -588,11 +602,8 @@ impl SegmentPlanner {
                                 t
                             }
                             FeedMode::PerMinute => {
-                                let path_len = if kind == SegmentKind::Tcp { seg.length } else { lin_len };
-                                // A tip move under 1 um that turns the rotaries is rounding in the program's
-                                // coordinates, not a path: it is a rotary move (F in deg/min).
-                                let rounding = path_len < MIN_PATH && rot_len > 1e-9;
-                                if path_len > 1e-9 && !rounding {
+                                let path_len = path_of(&seg);
+                                if !rotary_only {
                                     let f = options.feed_override_mm_per_min.unwrap_or(feed.value_per_min) * MM_PER_MIN;
                                     seg.feed = seg.length / (path_len / f);
                                     path_len / f
@@ -605,7 +616,9 @@ impl SegmentPlanner {
                     }
                 };
                 if !(duration > 1e-12) {
-                    continue; // nothing moves
+                    // Nothing moves, or a piece too short to time: the next starts where it ends.
+                    q = pq1;
+                    continue;
                 }
                 if t + duration > options.max_duration_s {
                     let what = match (kind, b.feed) {
