@@ -159,3 +159,19 @@ fn ac_and_ic_dimension_their_word_only() {
     let arc = at(5).arc.expect("G2 about an absolute centre");
     assert!((arc.centre[0] - 23.0 * MM).abs() < 1e-12 && (arc.centre[1] - 17.0 * MM).abs() < 1e-12, "{:?}", arc.centre);
 }
+
+/// The 840D's subprogram calls, each of another program not given with this one (Fundamentals,
+/// "Subprogram call": a name alone in its block, `L47`; Job Planning, `CALL "NAME"`), are refused at
+/// their column, saying what they call: the motion would depend on that program.
+#[test]
+fn subprogram_calls_name_the_program_they_call() {
+    let p = read("G90 G71\nG0 X0 Y0 Z50\nCALL \"SUB1\"\nSUB1\nL100\nG1 X10 F100\nM30\n", Dialect::Sinumerik, "calls.mpf", &ReadOptions::default());
+    let e = errors(&p);
+    assert_eq!(e.len(), 3, "{e:?}");
+    assert_eq!((e[0].0, e[0].1), (3, 6));
+    assert!(e[0].2.contains("CALL \"NAME\" calls another program"), "{e:?}");
+    assert_eq!((e[1].0, e[1].1), (4, 1));
+    assert!(e[1].2.contains("alone it calls the subprogram SUB1"), "{e:?}");
+    assert_eq!((e[2].0, e[2].1), (5, 1));
+    assert!(e[2].2.contains("a call of the subprogram L100"), "{e:?}");
+}

@@ -275,7 +275,12 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
         if !c.is_ascii_alphabetic() && c != b'_' {
             let end = token_end(i).max(i + 1);
             let end = (end..=n).find(|&e| src.is_char_boundary(e)).unwrap_or(n);
-            diags.error(line, col, format!("unexpected '{}': expected a word such as G1 or X=10.5", excerpt(&src[i..end])));
+            if c == b'"' {
+                // `CALL "NAME"` (Job Planning, "Indirect subprogram call"): another program.
+                diags.error(line, col, format!("{}: a program name in quotes (CALL \"NAME\" calls another program, which is not read; the motion would depend on it)", excerpt(&src[i..end])));
+            } else {
+                diags.error(line, col, format!("unexpected '{}': expected a word such as G1 or X=10.5", excerpt(&src[i..end])));
+            }
             i = end;
             continue;
         }
@@ -412,6 +417,8 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             "D" if value.fract() == 0.0 && value >= 0.0 => out.edge = Some((value, col)),
             "D" => diags.error(line, col, format!("D{text}: expected a tool edge number (D0 switches the offsets off)")),
             "H" => diags.error(line, col, format!("H{text}: auxiliary function not read")),
+            // `L47` calls the subprogram L47 (Fundamentals, "Subprogram call"): another program.
+            "L" if !with_eq => diags.error(line, col, format!("L{text}: a call of the subprogram L{text} (another program, not read; the motion would depend on it)")),
             "A3" | "B3" | "C3" => {
                 vec3[usize::from(address.as_bytes()[0] - b'A')] = Some(value);
                 vec_col = if vec_col == 0 { col } else { vec_col };

@@ -186,7 +186,11 @@ impl SinumerikReader {
                 name if name.starts_with("CYCLE") && k.args.is_some() => {
                     diags.error(line, k.col, format!("{name}: this cycle is not read (it may move the tool; the drilling cycles CYCLE81-CYCLE89 are, under MCALL)"))
                 }
-                other => diags.error(line, k.col, format!("{other}: {}", unsupported_keyword(other))),
+                other => match unsupported_keyword(other) {
+                    Some(why) => diags.error(line, k.col, format!("{other}: {why}")),
+                    // A name of its own is a subprogram call on the 840D (Fundamentals, "Subprogram call").
+                    None => diags.error(line, k.col, format!("{other}: not an instruction read here; alone it calls the subprogram {other} (another program, not read): either may change the motion")),
+                },
             }
         }
         if let Some((e, col)) = edge {
@@ -534,9 +538,9 @@ impl SinumerikReader {
     }
 }
 
-/// Why a keyword is refused.
-fn unsupported_keyword(k: &str) -> &'static str {
-    match k {
+/// Why a keyword the reader knows is refused (`None`: a name it does not know).
+fn unsupported_keyword(k: &str) -> Option<&'static str> {
+    Some(match k {
         "SCALE" | "ASCALE" | "MIRROR" | "AMIRROR" | "ROTS" | "AROTS" | "CROTS" => "frame scaling, mirroring or solid-angle rotation is not modelled (it changes the motion)",
         "TRAFOOF_" | "TRANSMIT" | "TRACYL" | "TRAANG" => "this transformation is not modelled",
         "ORICONCW" | "ORICONCCW" | "ORICONTO" | "ORICONIO" | "ORICURVE" | "ORIPATH" | "ORIPATHS" | "ORIROTA" | "ORIROTR" | "ORIROTT" | "ORIROTC" => {
@@ -550,8 +554,8 @@ fn unsupported_keyword(k: &str) -> &'static str {
         }
         "CALL" | "PCALL" | "PROC" | "RET" => "program control by subprogram calls is not modelled (the motion would depend on a program not read)",
         "DEF" => "a definition stands at the start of its line, in the definitions part",
-        _ => "unknown instruction: not read (it may change the motion)",
-    }
+        _ => return None,
+    })
 }
 
 /// A Sinumerik G code as the shared interpreter reads it (`Ok(None)`: no effect on the path), or why
