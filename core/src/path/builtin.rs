@@ -139,6 +139,7 @@ impl BuiltinPath {
                 feed,
                 arc: None,
                 tolerance: machine.contour_tolerance,
+                path: true,
             });
             q0 = q1;
         }

@@ -152,5 +152,6 @@ pub(crate) fn stream_test_segment(k: usize) -> Segment {
         arc: None,
         orient: None,
         tolerance: Default::default(),
+        path: true,
     }
 }

@@ -111,6 +111,7 @@ fn joining_rapid(q0: Joints, first: &Segment, t0: f64, s0: f64, machine: &Machin
         arc: None,
         orient: None,
         tolerance: first.tolerance,
+        path: false,
     };
     seg.length = tip_length(&seg, machine);
     seg.feed = seg.length / duration;

@@ -53,6 +53,10 @@ pub struct Segment {
     /// The contour tolerance in effect (the program's, else the machine's): how far the control may
     /// smooth the path away from this segment's start point ([`crate::singularity::Knots`]).
     pub tolerance: ContourTolerance,
+    /// Whether the move's block is a path move (its programmed path, the tip under TCPM or the
+    /// linear axes without, at least [`MIN_PATH`]): decided per block, so that a piece beside the
+    /// pole, short because the rotaries turn fast there, is part of the path as its block is.
+    pub path: bool,
 }
 
 /// The tool axis turning on the great circle from `o0` to `o1` at a constant angular rate (slerp),
@@ -257,8 +261,7 @@ impl Segment {
     pub fn is_path_move(&self) -> bool {
         match self.kind {
             SegmentKind::Rapid | SegmentKind::Dwell => false,
-            SegmentKind::Tcp => self.length > 1e-9,
-            SegmentKind::Axes => (0..3).any(|i| (self.q1[i] - self.q0[i]).abs() > 1e-12),
+            SegmentKind::Tcp | SegmentKind::Axes => self.path,
         }
     }
 
@@ -407,7 +410,7 @@ impl SegmentPlanner {
                 }
                 let datum = Vector3::from(b.datum);
                 let tip = machine.forward(&q).tip - datum;
-                segments.push(Segment { kind: SegmentKind::Dwell, block: bi, line: b.line, number: b.number, t0: t, duration: d, s0: s, length: 0.0, q0: q, q1: q, tip0: tip, tip1: tip, datum, feed: 0.0, arc: None, orient: None, tolerance });
+                segments.push(Segment { kind: SegmentKind::Dwell, block: bi, line: b.line, number: b.number, t0: t, duration: d, s0: s, length: 0.0, q0: q, q1: q, tip0: tip, tip1: tip, datum, feed: 0.0, arc: None, orient: None, tolerance, path: false });
                 t += d;
             }
             if b.targets.is_empty() {
@@ -520,7 +523,7 @@ impl SegmentPlanner {
                 (Some(arc), None) => {
                     // The whole move as one segment gives each piece end its axes (the arc's point, the
                     // rotaries linear in the fraction), the same as sampling it would.
-                    let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)), orient: None, tolerance };
+                    let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)), orient: None, tolerance, path: false };
                     let n = arc.pieces();
                     let end = |k: usize| -> (Joints, Vector3<f64>) {
                         let u = k as f64 / n as f64;
@@ -563,6 +566,7 @@ impl SegmentPlanner {
                     arc: parc,
                     orient: porient,
                     tolerance,
+                    path: false,
                 };
                 seg.length = tip_length(&seg, machine);
                 segs.push(seg);
@@ -573,7 +577,7 @@ impl SegmentPlanner {
             let block_path: f64 = segs.iter().map(path_of).sum();
             let rotary_only = block_path < MIN_PATH;
             for mut seg in segs {
-                (seg.t0, seg.s0) = (t, s);
+                (seg.t0, seg.s0, seg.path) = (t, s, !rotary_only);
                 let (pq0, pq1) = (seg.q0, seg.q1);
                 let lin_len = seg.linear_axes_length();
                 let rot_len = ((pq1[3] - pq0[3]).powi(2) + (pq1[4] - pq0[4]).powi(2)).sqrt();
