@@ -216,3 +216,34 @@ fn a_one_micrometre_move_beside_a_c_turn_is_a_path_move() {
         assert!((peak_rpm - 25_000.0).abs() < 1.0, "X{x} + 1 um: peak C {peak_rpm} rpm");
     }
 }
+
+/// The first tool-vector block after the program set the rotaries by their words takes the solution
+/// nearest where they stand (as every later one does), not the first pose's convention (seed 001
+/// Table 1's + sign): hyperMILL-style `L A-5 C+0 FMAX` then `LN ... TY-0.1736482 TZ+0.9848078` is
+/// A -5 -> -10 with C standing (by hand: the tool axis 10 deg from Z in -Y is A-10 C0 or A+10 C180 on
+/// the C600U), 5 deg from the pole at the closest. Taking A+10 C180 had swung C 180 deg through the
+/// pole (50 rpm, a region; found by a helper). The same for the 840D's first vector under ORIAXES.
+/// Rotaries set on the pole (SING.I's `A0 C0`) say nothing of the side: the convention stays there
+/// (the twins in tests/dialects.rs).
+#[test]
+fn the_first_tool_vector_after_rotary_words_is_solved_nearest_them() {
+    use fiveaxis::program::{read, Dialect, ReadOptions};
+    let m = Machine::hermle_c600u();
+    let klartext = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L M128\n3 L X+0 Y+0 Z+10 A-5 C+0 R0 FMAX\n\
+                    4 LN X+10 Y+0 Z+10 NX+0 NY-0.1736482 NZ+0.9848078 TX+0 TY-0.1736482 TZ+0.9848078 F1000\n5 END PGM T MM\n";
+    let sinumerik = "G71 G17 G90 G94\nTRAORI\nORIAXES\nG0 X0 Y0 Z10 A-5 C0\nG1 X10 A3=0 B3=-0.1736482 C3=0.9848078 F1000\nM30\n";
+    for (src, dialect, line) in [(klartext, Dialect::Klartext, 5), (sinumerik, Dialect::Sinumerik, 5)] {
+        let p = read(src, dialect, "first.nc", &ReadOptions::default());
+        assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+        let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+        assert!(t.diagnostics.is_empty(), "{:#?}", t.diagnostics);
+        let (a, c) = (m.primary_axis(), m.secondary_axis());
+        let moves: Vec<_> = t.segments.iter().filter(|s| s.line == line).collect();
+        let (first, last) = (moves[0], moves[moves.len() - 1]);
+        assert!(close(first.q0[a].to_degrees(), -5.0, 1e-9) && close(last.q1[a].to_degrees(), -10.0, 1e-6), "{dialect:?}: A {} -> {}", first.q0[a].to_degrees(), last.q1[a].to_degrees());
+        assert!(close(first.q0[c], last.q1[c], 1e-9), "{dialect:?}: C turns {} deg", (last.q1[c] - first.q0[c]).to_degrees());
+        let an = fiveaxis::singularity::analyze(&t, &m, &AnalysisOptions::default());
+        assert!(an.summary.peak_rate.abs() < 1e-9, "{dialect:?}: peak C {} rad/s", an.summary.peak_rate);
+        assert!(close(an.summary.min_distance.unwrap().to_degrees(), 5.0, 1e-6), "{dialect:?}: closest {:?}", an.summary.min_distance);
+    }
+}
