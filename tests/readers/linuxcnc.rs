@@ -100,27 +100,103 @@ fn rs274_evaluates_parameters_and_expressions_as_linuxcnc_does() {
     }
 }
 
-/// Canned cycles (G81, G82, G83, G73, G85 three times under G91, G86, G89; G98, G99) read in the
-/// Haas dialect (L repeats, P seconds with a decimal point) make the moves LinuxCNC's own
-/// interpreter makes of them (`cycles.ngc`/`.canon`), on a machine whose peck distances are
-/// LinuxCNC's 0.254 mm; each dwell where LinuxCNC dwells.
+/// Canned cycles (G81, G82, G83, G73, G85 three times under G91, G86, G89; G98, G99) make the moves
+/// LinuxCNC's own interpreter makes of them (`cycles.ngc`/`.canon`): read as LinuxCNC's (on a machine
+/// that sets no peck distance: LinuxCNC 2.9's 0.254 mm), and in the Haas dialect (L repeats, P
+/// seconds with a decimal point) on a machine whose peck distances are LinuxCNC's; each dwell where
+/// LinuxCNC dwells.
 #[test]
 fn canned_cycles_move_as_linuxcnc_runs_them() {
     let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
     let text = std::fs::read_to_string(dir.join("cycles.ngc")).unwrap();
     let file = fiveaxis::machine::builtin_file("haas-umc-750").unwrap().replace("g73_retract_mm = 2.54", "g73_retract_mm = 0.254").replace("g83_clearance_mm = 0.76", "g83_clearance_mm = 0.254");
-    let machine = fiveaxis::machine::Machine::from_toml_str(&file, "t").unwrap();
-    let p = read(&text, Dialect::Haas, "cycles.nc", &ReadOptions::default().on(&machine));
+    let haas = fiveaxis::machine::Machine::from_toml_str(&file, "t").unwrap();
+    let linuxcnc = fiveaxis::machine::Machine::builtin("linuxcnc-xyzac-trt").unwrap();
+    for (dialect, machine) in [(Dialect::Rs274, &linuxcnc), (Dialect::Haas, &haas)] {
+        let p = read(&text, dialect, "cycles.nc", &ReadOptions::default().on(machine));
+        assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
+        let ours = end_points(&p);
+        let theirs = linuxcnc_canon("cycles.canon");
+        assert_eq!(ours.len(), theirs.len(), "{dialect:?}: moves: ours {ours:#?}");
+        for (k, ((m, a), (n, b))) in ours.iter().zip(&theirs).enumerate() {
+            assert_eq!(m, n, "{dialect:?}: move {k}");
+            assert!((0..6).all(|i| (a[i] - b[i]).abs() <= 0.5e-4 + 1e-9), "{dialect:?}: move {k}: ours {a:?}, LinuxCNC {b:?}");
+        }
+        let dwells: Vec<f64> = p.blocks.iter().filter_map(|b| b.dwell_s).collect();
+        assert_eq!(dwells, [0.5, 0.2, 0.25], "{dialect:?}");
+    }
+}
+
+/// Where LinuxCNC's cycles differ from Fanuc's, the moves its interpreter makes (interp_cycles.cc of
+/// LinuxCNC 2.9: `convert_cycle_xy`, `CYCLE_MACRO`, `convert_cycle_g89`, `g74_g84`), worked by hand
+/// from the source: a tool below R goes straight up to R first and G98 then returns to R; G98 after a
+/// G99 hole goes to the return level with the move to the next hole, then down to R; G89 and G84 feed
+/// out to the return level itself (Fanuc: to R, then rapid); a block with only Z drills again where
+/// the tool stands; P stays from the last cycle (G84 takes G89's 0.5 s).
+#[test]
+fn linuxcnc_cycles_differ_from_fanucs_as_its_interpreter_says() {
+    let text = "G21 G90 G94 G17 F300 S1000 M3\nG0 X0 Y0 Z-1\nG98 G81 X10 Z-5 R2\nG80\nG0 Z20\n\
+                G99 G81 X20 Z-5 R2\nG98 X30\nG80\nG0 Z20\nG98 G89 X40 Z-3 R1 P0.5\nZ-4\nG84 X50 Z-2 R1\nG80\nM2\n";
+    let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
-    let ours = end_points(&p);
-    let theirs = linuxcnc_canon("cycles.canon");
-    assert_eq!(ours.len(), theirs.len(), "moves: ours {ours:#?}");
-    for (k, ((m, a), (n, b))) in ours.iter().zip(&theirs).enumerate() {
-        assert_eq!(m, n, "move {k}");
-        assert!((0..6).all(|i| (a[i] - b[i]).abs() <= 0.5e-4 + 1e-9), "move {k}: ours {a:?}, LinuxCNC {b:?}");
+    let mut moves: Vec<(Motion, f64, f64)> = Vec::new();
+    for (m, at) in end_points(&p) {
+        if moves.last().is_none_or(|&(_, x, z)| (x, z) != (at[0], at[2])) {
+            moves.push((m, at[0], at[2]));
+        }
+    }
+    use Motion::{Linear as F, Rapid as R};
+    let want = [
+        (R, 0.0, -1.0),
+        (R, 0.0, 2.0), // below R: up to it first
+        (R, 10.0, 2.0),
+        (F, 10.0, -5.0),
+        (R, 10.0, 2.0), // G98 returns to R, the tool having started below it
+        (R, 10.0, 20.0),
+        (R, 20.0, 20.0),
+        (R, 20.0, 2.0),
+        (F, 20.0, -5.0),
+        (R, 20.0, 2.0), // G99
+        (R, 30.0, 20.0), // G98 after G99: to the return level with the move
+        (R, 30.0, 2.0),
+        (F, 30.0, -5.0),
+        (R, 30.0, 20.0),
+        (R, 40.0, 20.0),
+        (R, 40.0, 1.0),
+        (F, 40.0, -3.0),
+        (F, 40.0, 20.0), // G89 feeds out to the return level
+        (R, 40.0, 1.0), // Z-4 alone: the cycle again where the tool stands
+        (F, 40.0, -4.0),
+        (F, 40.0, 20.0),
+        (R, 50.0, 20.0),
+        (R, 50.0, 1.0),
+        (F, 50.0, -2.0),
+        (F, 50.0, 20.0), // G84 feeds out to the return level
+    ];
+    assert_eq!(moves.len(), want.len(), "{moves:?}");
+    for (k, (a, b)) in moves.iter().zip(&want).enumerate() {
+        assert!(a.0 == b.0 && (a.1 - b.1).abs() < 1e-9 && (a.2 - b.2).abs() < 1e-9, "move {k}: ours {a:?}, LinuxCNC {b:?}");
     }
     let dwells: Vec<f64> = p.blocks.iter().filter_map(|b| b.dwell_s).collect();
-    assert_eq!(dwells, [0.5, 0.2, 0.25]);
+    assert_eq!(dwells, [0.5, 0.5, 0.5]);
+    // What LinuxCNC refuses, where it stands.
+    let body = |block: &str| format!("G21 G90 G94 G17 F300 S1000 M3\nG0 X0 Y0 Z20\n{block}\nG80\nM2\n");
+    for (block, col, what) in [
+        ("G81 X1 Z-5", 1, "needs its R plane"),
+        ("G82 X1 Z-5 R2", 1, "needs its dwell (P, seconds)"),
+        ("G83 X1 Z-5 R2", 1, "needs its peck depth (Q)"),
+        ("G81 X1 Z-5 R2 A10", 15, "rotary axis words are not allowed"),
+        ("G81 X1 Z5 R2", 1, "R 2 is below Z 5"),
+        ("G81 X1 Z-5 R2 L0", 15, "Cannot do zero repeats"),
+        ("G83 X1 Z-5 R2 Q-1", 15, "a peck depth must be positive"),
+        ("G83 X1 Z-5 R2 Q0.0001", 15, "more than 10000 pecks"),
+        ("G87 X1 Z-5 R2", 1, "behaviour is undefined"),
+        ("G93 G81 X1 Z-5 R2", 5, "inverse time"),
+    ] {
+        let p = read(&body(block), Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        let e = errors(&p);
+        assert!(e.iter().any(|(l, c, m)| *l == 3 && *c == col && m.contains(what)), "{block}: {e:?}");
+    }
 }
 
 /// What the reader cannot know is refused where it stands, and a damaged line sets nothing: a named

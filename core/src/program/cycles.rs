@@ -85,6 +85,8 @@ pub(crate) struct CycleState {
     pub active: Option<Active>,
     /// G99 (back to the R point) rather than G98 (back to the initial level, the reset state).
     pub to_r: bool,
+    /// LinuxCNC's words that stay from one cycle block to the next.
+    pub linuxcnc: super::lcnc_cycles::Sticky,
 }
 
 /// One move of a hole, along the drilling axis.
@@ -149,6 +151,55 @@ pub(crate) fn hole(a: &Active, to_r: bool, clearance: f64) -> Vec<Step> {
         Step::Rapid(z) | Step::Feed(z) => std::mem::replace(&mut at, z) != z,
         Step::Dwell(_) => true,
     });
+    steps
+}
+
+/// The most pecks a hole may take (a peck depth a thousand times too small is a typo, and each
+/// peck makes blocks).
+pub(crate) const MAX_PECKS: usize = 10_000;
+
+/// The moves of one hole of a LinuxCNC canned cycle, from the R point `r` (the tool stands there)
+/// down to `bottom` and out to `clear` (G99: `r`; G98: the level before the cycles, or `r` if that
+/// was below it): LinuxCNC 2.9's interp_cycles.cc, `convert_cycle_g73` ... `g89`. G73 backs off
+/// `delta` after each `peck`; G83 goes out to R and comes back down to `delta` above the depth
+/// reached; G74/G84 (a floating tap holder) and G89 dwell `dwell_s` and feed out to `clear`; G85
+/// feeds out to R, then rapids to `clear`; G82 and G86 dwell and rapid out. G76, G87 and G88 are
+/// no drilling cycles of LinuxCNC's: nothing.
+pub(crate) fn lcnc_hole(kind: Kind, r: f64, bottom: f64, clear: f64, peck: f64, dwell_s: f64, delta: f64) -> Vec<Step> {
+    use Step::*;
+    let dwell = |steps: &mut Vec<Step>| {
+        if dwell_s > 0.0 {
+            steps.push(Dwell(dwell_s));
+        }
+    };
+    let mut steps = Vec::new();
+    match kind {
+        Kind::G81 => steps.extend([Feed(bottom), Rapid(clear)]),
+        Kind::G82 | Kind::G86 => {
+            steps.push(Feed(bottom));
+            dwell(&mut steps);
+            steps.push(Rapid(clear));
+        }
+        Kind::G73 | Kind::G83 => {
+            let mut depth = r - peck;
+            while depth > bottom && steps.len() < 3 * MAX_PECKS {
+                steps.push(Feed(depth));
+                if kind == Kind::G83 {
+                    steps.push(Rapid(r));
+                }
+                steps.push(Rapid(depth + delta));
+                depth -= peck;
+            }
+            steps.extend([Feed(bottom), Rapid(clear)]);
+        }
+        Kind::G74 | Kind::G84 | Kind::G89 => {
+            steps.push(Feed(bottom));
+            dwell(&mut steps);
+            steps.push(Feed(clear));
+        }
+        Kind::G85 => steps.extend([Feed(bottom), Feed(r), Rapid(clear)]),
+        Kind::G76 | Kind::G87 | Kind::G88 => {}
+    }
     steps
 }
 

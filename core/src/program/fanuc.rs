@@ -28,7 +28,7 @@ pub(crate) fn code(w: &Word) -> String {
 }
 
 /// A word made here, its value in program units.
-fn word(letter: char, value: f64, column: usize) -> Word<'static> {
+pub(crate) fn word(letter: char, value: f64, column: usize) -> Word<'static> {
     Word { letter, value, raw: Cow::Owned(format!("{value}")), column, dimension: Dimension::Modal }
 }
 
@@ -91,7 +91,7 @@ pub(crate) fn apply(it: &mut Interpreter, words: &[Word], line: usize, column: u
 }
 
 /// One one-shot move.
-fn shot(it: &mut Interpreter, shot: OneShot, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+pub(crate) fn shot(it: &mut Interpreter, shot: OneShot, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
     if words.iter().all(|w| !"XYZABC".contains(w.letter)) {
         return true;
     }
@@ -238,6 +238,10 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q)", code_of(kind)));
         return false;
     }
+    if let Some(q) = peck.filter(|q| (r - bottom).abs() / q > cycles::MAX_PECKS as f64) {
+        diags.error(line, find('Q').map_or(at, |w| w.column), format!("G{}: Q{} makes more than {} pecks of a {} deep hole: a typo?", code_of(kind), q / unit, cycles::MAX_PECKS, (r - bottom).abs() / unit));
+        return false;
+    }
     if kind == Kind::G87 && it.cycles.to_r {
         diags.warning(line, at, "G87 under G99: back boring returns to the initial level whatever G99 says (its R point is below the part)");
     }
@@ -304,7 +308,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     true
 }
 
-fn code_of(kind: Kind) -> &'static str {
+pub(crate) fn code_of(kind: Kind) -> &'static str {
     match kind {
         Kind::G73 => "73",
         Kind::G74 => "74",

@@ -12,6 +12,7 @@ mod feature;
 mod heidenhain;
 mod interp;
 mod klartext;
+mod lcnc_cycles;
 mod lex;
 mod macro_b;
 mod oword;

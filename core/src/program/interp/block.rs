@@ -155,7 +155,7 @@ impl Interpreter {
                             "G53: work offsets are not modelled (G54 is taken as zero), so machine coordinates are read as program coordinates",
                         ),
                         // G98/G99: a canned cycle returns to the initial level or to the R point.
-                        ("98" | "99", false) if fanuc => next.cycles.to_r = code == "99",
+                        ("98" | "99", false) if fanuc || self.dialect == Dialect::Rs274 => next.cycles.to_r = code == "99",
                         // Additional work offsets (Fanuc G54.1 P1-P48), which the program never sets here.
                         ("54.1", false) if fanuc => {
                             uses.push('P');

@@ -507,6 +507,11 @@ impl Interpreter {
                 return done;
             }
         }
+        if self.dialect == Dialect::Rs274 {
+            if let Some(done) = super::lcnc_cycles::expand(self, words, line, column, number, diags, out) {
+                return done;
+            }
+        }
         match self.block_one(words, line, column, number, diags) {
             Some(b) => {
                 out.push(b);

@@ -1,0 +1,205 @@
+//! LinuxCNC's canned cycles (G73, G74, G81-G86, G89 with G98/G99, R, Q, P, L) as the motion
+//! LinuxCNC 2.9's interpreter makes of them, in the XY plane: `interp_cycles.cc` (`convert_cycle`,
+//! `convert_cycle_xy`, `CYCLE_MACRO`, `convert_cycle_g73` ... `g89`) and the G-code reference
+//! §"G80-G89 Canned Cycles". Where they differ from Fanuc's ([`super::fanuc`]): R and Z are sticky
+//! only while the same cycle goes on, a tool below R goes up to it first and G98's return level is
+//! then R, G74/G84/G89 feed out to the return level itself, a block with only Z drills, the pecks'
+//! clearance is LinuxCNC's 0.254 mm, and rotary words, inverse time, a zero L and R below Z are
+//! errors, as LinuxCNC makes them.
+
+use super::cycles::{Active, Kind, Step};
+use super::fanuc::{apply, code, settings, shot, word};
+use super::interp::{Interpreter, OneShot, Word};
+use super::lex::Diags;
+use super::{Block, Motion};
+use crate::units::MM;
+
+/// The peck clearance of LinuxCNC 2.9 (`G83_RAPID_DELTA`, 0.010 in, times 25.4 in mm programs:
+/// the same length either way), m: G73 backs off by it, G83 comes back down to it above the last
+/// depth. A machine file's `[canned_cycles]` keys replace it (LinuxCNC 2.10's INI settings).
+const RAPID_DELTA: f64 = 0.254 * MM;
+
+/// What stays from one cycle block to the next (`settings->cycle_*`): the words as written (program
+/// units), which each block reads again under its own G90/G91.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Sticky {
+    pub r: f64,
+    pub z: f64,
+    pub p: f64,
+    pub q: f64,
+}
+
+/// The cycles' G codes, kept out of the block of settings read first.
+const CYCLE_CODES: [&str; 12] = ["73", "74", "76", "81", "82", "83", "84", "85", "86", "87", "88", "89"];
+
+/// Make the block's cycle moves: `Some(made)`, or `None` for a block that is no cycle's (a motion
+/// code or G80 ends the cycle here).
+pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
+    let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
+    // G76 is LinuxCNC's threading cycle, not a drilling one: the interpreter refuses it elsewhere.
+    if let Some((kind, w)) = g.iter().find_map(|(k, w)| Kind::from_code(k).filter(|k| *k != Kind::G76).map(|kind| (kind, *w))) {
+        return Some(drill(it, Some((kind, w)), words, line, column, number, diags, out));
+    }
+    if g.iter().any(|(k, _)| matches!(k.as_str(), "80" | "0" | "1" | "2" | "3" | "33" | "33.1" | "38.2" | "38.3" | "38.4" | "38.5" | "5" | "5.1" | "5.2")) {
+        it.cycles.active = None;
+        return None;
+    }
+    // "The canned cycle will attempt to repeat itself using the next block of code that contains an
+    // X, Y, or Z word" (G80 section).
+    if it.cycles.active.is_some() && words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C')) {
+        return Some(drill(it, None, words, line, column, number, diags, out));
+    }
+    None
+}
+
+/// A cycle block: its settings, the checks `convert_cycle` makes, then `convert_cycle_xy`'s moves.
+#[allow(clippy::too_many_arguments)]
+fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+    let find = |l: char| words.iter().find(|w| w.letter == l);
+    let taken = ['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', 'L'];
+    let before = it.cycles.active;
+    let start = it.position();
+    let (kind, at) = match (named, before) {
+        (Some((k, w)), _) => (k, w.column),
+        (None, Some(a)) => (a.kind, column),
+        (None, None) => return true,
+    };
+    let name = format!("G{}", code_of(kind));
+    if matches!(kind, Kind::G87 | Kind::G88) {
+        diags.error(line, at, format!("{name}: LinuxCNC accepts it but its behaviour is undefined (G-code reference, \"currently unimplemented\"): not read"));
+        return false;
+    }
+    if let Some(w) = words.iter().find(|w| matches!(w.letter, 'A' | 'B' | 'C')) {
+        diags.error(line, w.column, format!("{}{}: rotary axis words are not allowed in a canned cycle (LinuxCNC: \"Cannot put an {} in canned cycle\")", w.letter, w.raw, w.letter));
+        return false;
+    }
+    if !apply(it, &settings(words, &taken, &CYCLE_CODES), line, column, number, diags, out) {
+        return false;
+    }
+    if it.plane() != super::Plane::Xy {
+        diags.error(line, column, "a canned cycle outside the G17 plane (drilling along X or Y) is not modelled");
+        return false;
+    }
+    if it.inverse_time() {
+        diags.error(line, at, format!("{name}: LinuxCNC cannot use inverse time feed with canned cycles"));
+        return false;
+    }
+    if it.feed_now().is_none_or(|f| !(f.value_per_min > 0.0)) {
+        diags.error(line, at, format!("{name}: LinuxCNC cannot feed with zero feed rate (no F yet)"));
+        return false;
+    }
+    // R and Z as written: sticky while the same cycle goes on (`settings->motion_mode == motion`).
+    let same = before.is_some_and(|a| a.kind == kind);
+    let sticky = it.cycles.linuxcnc;
+    let Some(r_word) = find('R').map(|w| w.value).or(same.then_some(sticky.r)) else {
+        diags.error(line, at, format!("{name}: a cycle after another motion needs its R plane (R)"));
+        return false;
+    };
+    let Some(z_word) = find('Z').map(|w| w.value).or(same.then_some(sticky.z)) else {
+        diags.error(line, at, format!("{name}: a cycle after another motion needs its Z (the hole's bottom)"));
+        return false;
+    };
+    let repeats = match find('L') {
+        None => 1,
+        Some(w) if w.value.fract() == 0.0 && (1.0..=9999.0).contains(&w.value) => w.value as usize,
+        Some(w) => {
+            diags.error(line, w.column, format!("L{}: expected a repeat count 1 to 9999 (LinuxCNC: \"Cannot do zero repeats of cycle\")", w.raw));
+            return false;
+        }
+    };
+    // P (s) and Q: required where the cycle starts, sticky after (G82, G86, G89; G73, G83); G74/G84
+    // take the last P any cycle had.
+    let p = match find('P') {
+        Some(w) if w.value < 0.0 => {
+            diags.error(line, w.column, format!("P{}: a dwell must be 0 or more", w.raw));
+            return false;
+        }
+        Some(w) => w.value,
+        None if matches!(kind, Kind::G82 | Kind::G86 | Kind::G89) && !same => {
+            diags.error(line, at, format!("{name}: a cycle after another motion needs its dwell (P, seconds)"));
+            return false;
+        }
+        None => sticky.p,
+    };
+    let q = match find('Q') {
+        Some(w) => w.value,
+        None if kind.pecks() && !same => {
+            diags.error(line, at, format!("{name}: a cycle after another motion needs its peck depth (Q)"));
+            return false;
+        }
+        None => sticky.q,
+    };
+    if kind.pecks() && !(q > 0.0) {
+        diags.error(line, find('Q').map_or(at, |w| w.column), format!("{name}: Q{q}: a peck depth must be positive (LinuxCNC: \"negative or zero Q value used\")"));
+        return false;
+    }
+    let unit = it.unit();
+    // The level the series began at (`cycle_il`), reset where another motion ran.
+    let initial = before.map_or(start[2], |a| a.initial);
+    let (r, bottom) = if it.absolute() { (r_word * unit, z_word * unit) } else { (r_word * unit + initial, r_word * unit + initial + z_word * unit) };
+    if r < bottom {
+        diags.error(line, at, format!("{name}: R {} is below Z {}: LinuxCNC refuses it (\"R less than Z in cycle in XY plane\")", r / unit, bottom / unit));
+        return false;
+    }
+    if kind.pecks() && (r - bottom) / (q * unit) > super::cycles::MAX_PECKS as f64 {
+        diags.error(line, find('Q').map_or(at, |w| w.column), format!("{name}: Q{q} makes more than {} pecks of a {} deep hole: a typo?", super::cycles::MAX_PECKS, (r - bottom) / unit));
+        return false;
+    }
+    let clearance = match kind {
+        Kind::G73 | Kind::G83 => it.peck_clearance(kind).unwrap_or(RAPID_DELTA),
+        _ => 0.0,
+    };
+    it.cycles.linuxcnc = Sticky { r: r_word, z: z_word, p, q };
+    it.cycles.active = Some(Active { kind, bottom, r, peck: kind.pecks().then_some(q * unit), dwell_s: Some(p), initial });
+    let rapid = |absolute| OneShot { motion: Motion::Rapid, absolute, axes: None, own: false };
+    let feed = OneShot { motion: Motion::Linear, absolute: true, axes: None, own: false };
+    let z = |v: f64| [word('Z', v / unit, column)];
+    // Below the R plane: straight up to it first, once, and the return level is then R.
+    let mut here = start;
+    let mut old = initial;
+    if old < r {
+        if !shot(it, rapid(true), &z(r), line, column, number, diags, out) {
+            return false;
+        }
+        old = r;
+        here[2] = r;
+    }
+    let clear = if it.cycles.to_r { r } else { old };
+    let (x_word, y_word) = (find('X').map(|w| w.value * unit), find('Y').map(|w| w.value * unit));
+    let (mut x, mut y) = (here[0], here[1]);
+    for k in 0..repeats {
+        if it.absolute() {
+            (x, y) = (x_word.unwrap_or(x), y_word.unwrap_or(y));
+        } else {
+            (x, y) = (x + x_word.unwrap_or(0.0), y + y_word.unwrap_or(0.0));
+        }
+        let xy = [word('X', x / unit, column), word('Y', y / unit, column)];
+        let ok = if k == 0 && here[2] > r {
+            shot(it, rapid(true), &xy, line, column, number, diags, out) && shot(it, rapid(true), &z(r), line, column, number, diags, out)
+        } else {
+            let to_clear = [xy[0].clone(), xy[1].clone(), z(clear)[0].clone()];
+            shot(it, rapid(true), &to_clear, line, column, number, diags, out) && (clear <= r || shot(it, rapid(true), &z(r), line, column, number, diags, out))
+        };
+        if !ok {
+            return false;
+        }
+        for step in super::cycles::lcnc_hole(kind, r, bottom, clear, q * unit, p, clearance) {
+            let ok = match step {
+                Step::Rapid(v) => shot(it, rapid(true), &z(v), line, column, number, diags, out),
+                Step::Feed(v) => shot(it, feed, &z(v), line, column, number, diags, out),
+                Step::Dwell(t) => {
+                    out.push(Block { dwell_s: Some(t), ..it.still_block(line, column, number) });
+                    true
+                }
+            };
+            if !ok {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+fn code_of(kind: Kind) -> &'static str {
+    super::fanuc::code_of(kind)
+}
