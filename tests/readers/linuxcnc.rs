@@ -199,6 +199,30 @@ fn linuxcnc_cycles_differ_from_fanucs_as_its_interpreter_says() {
     }
 }
 
+/// A centre-format arc whose end lies off its start's circle, as LinuxCNC 2.9 checks it (interp_arc.cc
+/// `arc_data_ijk`): refused where the radii differ by more than 2 x 0.01 x sqrt 2 = 0.0283 mm (G21;
+/// 0.00283 in under G20) and by more than 0.1 % of the radius, or by more than 100 times that; else run
+/// as a spiral. The cases, by hand: a 10 mm arc ending 0.02 mm out runs (0.00127 mm, the R-format
+/// tolerance, had refused it: 82 arcs of two shop programs), 0.03 mm out is refused; a 50 mm arc
+/// 0.04 mm out runs (0.08 %); 1 in ending 0.002 in out runs under G20, the same 0.0508 mm under G21
+/// does not.
+#[test]
+fn linuxcnc_checks_an_arcs_end_as_its_interpreter_does() {
+    let cases = [("G21", "10", "20.02", true), ("G21", "10", "20.03", false), ("G21", "50", "100.04", true), ("G20", "1", "2.002", true), ("G21", "25.4", "50.8508", false)];
+    for (units, r0, r1, ok) in cases {
+        let text = format!("{units} G90 G94 G17 F100\nG0 X0 Y0 Z0\nG2 X{r1} Y0 I{r0} J0\nM2\n");
+        let p = read(&text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        let e = errors(&p);
+        if ok {
+            assert!(e.is_empty(), "{units} r0 {r0} end X{r1}: {e:?}");
+            let arc = p.blocks.iter().find(|b| b.line == 3).expect("the arc");
+            assert_eq!(arc.motion, Motion::ArcCw);
+        } else {
+            assert!(e.iter().any(|(l, c, m)| *l == 3 && *c == 1 && m.contains("differs from the radius to the start")), "{units} r0 {r0} end X{r1}: {e:?}");
+        }
+    }
+}
+
 /// What the reader cannot know is refused where it stands, and a damaged line sets nothing: a named
 /// parameter read before it is set (LinuxCNC's error too), a numbered one (LinuxCNC reads 0, Fanuc
 /// vacant), the machine's state (`#5221`, `#<_x>`), a division by zero, an unclosed bracket.

@@ -6,11 +6,19 @@ use crate::program::lex::Diags;
 use crate::program::{ArcSpec, Motion};
 use crate::units::{INCH, MM};
 
-/// How far the radius to an arc's end may differ from the radius to its start, unless the machine
-/// file says its control's (`arc_radius_tolerance_mm`, Fanuc parameter No. 3410): LinuxCNC's default
-/// `[RS274NGC]CENTER_ARC_RADIUS_TOLERANCE_INCH` 0.00005 in (0.00127 mm); within it the control runs a
-/// spiral (the radius changes evenly along the arc), beyond it the block is refused.
+/// How far the radius to an arc's end may differ from the radius to its start on Fanuc and Haas,
+/// unless the machine file says its control's (`arc_radius_tolerance_mm`, Fanuc parameter No. 3410),
+/// and how far an R arc's chord may exceed its diameter everywhere: LinuxCNC's `RADIUS_TOLERANCE_INCH`
+/// 0.00005 in (0.00127 mm, interp_internal.hh); within it the control runs a spiral (the radius
+/// changes evenly along the arc), beyond it the block is refused.
 pub const ARC_RADIUS_TOLERANCE: f64 = 0.00005 * INCH;
+
+/// LinuxCNC 2.9's centre-format arc check (interp_arc.cc `arc_data_ijk`): the radii to the start and
+/// the end may differ by `CENTER_ARC_RADIUS_TOLERANCE_MM` (2 x 0.01 x sqrt 2 mm in a G21 program;
+/// `_INCH` 2 x 0.001 x sqrt 2 in under G20; the INI's, or the machine file's `arc_radius_tolerance_mm`,
+/// replaces it), or by up to 100 times that where they differ by no more than 0.1 % of the larger.
+pub const LINUXCNC_CENTER_TOLERANCE_MM: f64 = 2.0 * 0.01 * std::f64::consts::SQRT_2 * MM;
+pub const LINUXCNC_CENTER_TOLERANCE_INCH: f64 = 2.0 * 0.001 * std::f64::consts::SQRT_2 * INCH;
 
 /// Sinumerik's circle end-point check (alarm 14040): the radii to the start and the end may differ
 /// by MD21000 `CIRCLE_ERROR_CONST` (default 0.01 mm) or, on larger circles, by the radius times
@@ -66,8 +74,16 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
                 diags.error(line, column, format!("{g}: zero-radius arc (the centre is on its start or end point)"));
                 return None;
             }
-            let allowed = st.arc_tolerance.max(st.arc_tolerance_factor * r0);
-            if (r0 - r1).abs() > allowed {
+            let error = (r0 - r1).abs();
+            let (refused, allowed) = if st.dialect == crate::program::Dialect::Rs274 {
+                let tol = st.arc_tolerance_set.unwrap_or(if st.unit == INCH { LINUXCNC_CENTER_TOLERANCE_INCH } else { LINUXCNC_CENTER_TOLERANCE_MM });
+                let within = if error / r0.max(r1) > 0.001 { tol } else { 100.0 * tol };
+                (error > within, within)
+            } else {
+                let allowed = st.arc_tolerance.max(st.arc_tolerance_factor * r0);
+                (error > allowed, allowed)
+            };
+            if refused {
                 diags.error(
                     line,
                     column,
