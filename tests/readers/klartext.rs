@@ -298,3 +298,20 @@ fn klartext_a_circle_without_its_pole_names_cc() {
     assert_eq!(said.len(), 1, "{said:?}");
     assert!(said[0].2.contains("a circle centre CC before this block"), "{said:?}");
 }
+
+/// A cycle not read says what it is, and a call of it names it: the older numbered form (`CYCL DEF
+/// 1.0 PECKING`, NX's TNC posts' drilling) is named as such, not "expected a cycle number", and
+/// `M99` after a refused `CYCL DEF 205` names the cycle it would run (had been "a cycle call with no
+/// cycle defined before it").
+#[test]
+fn cycles_not_read_are_named_where_they_are_called() {
+    let old = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL Z+100 R0 FMAX\nCYCL DEF 1.0 PECKING\nCYCL DEF 1.1 SET UP 2\nL X+10 Y+10 R0 FMAX M99\nEND PGM T MM\n";
+    let p = read(old, Dialect::Klartext, "t.h", &ReadOptions::default());
+    let e = errors(&p);
+    assert!(e.iter().any(|(l, c, m)| (*l, *c) == (4, 1) && m.contains("cycle 1 in the older numbered form")), "{e:?}");
+    assert!(e.iter().any(|(l, _, m)| *l == 5 && m.contains("cycle 1 in the older numbered form")), "{e:?}");
+    let called = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL Z+100 R0 FMAX\nCYCL DEF 205 UNIVERSAL PECKING ~\n Q200=+2 ;SET-UP CLEARANCE\nL X+10 Y+10 R0 FMAX M99\nEND PGM T MM\n";
+    let p = read(called, Dialect::Klartext, "t.h", &ReadOptions::default());
+    let e = errors(&p);
+    assert!(e.iter().any(|(l, c, m)| (*l, *c) == (6, 1) && m.contains("a call of CYCL DEF 205 (line 4), which is not read")), "{e:?}");
+}

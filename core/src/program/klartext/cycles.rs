@@ -89,6 +89,12 @@ pub(super) fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bo
             // A cycle and its name; its Q parameters follow on the lines after it. Whether it is read
             // is the runner's (the machine's own cycles are in its file).
             (_, true, Ok(n)) => Some(Kind::CycleDef(n)),
+            // The older cycles' form, a number and its parts: `CYCL DEF 1.0 PECKING`, `1.1 SET UP 2`,
+            // ... (NX's TNC posts write it for drilling).
+            (_, false, Ok(n)) if part.parse::<u32>().is_ok() => {
+                diags.error(line, col, format!("CYCL DEF {number}: cycle {n} in the older numbered form ({n}.0, {n}.1, ...) is not read (it moves the tool)"));
+                None
+            }
             _ => {
                 diags.error(line, col, format!("CYCL DEF {number}: expected a cycle number"));
                 None
@@ -133,10 +139,14 @@ impl Exec {
     /// nothing are in its file; any other is refused.
     pub(super) fn define_cycle(&mut self, n: u32, s: &Stmt<'_>, interp: &mut Interpreter, diags: &mut Diags) {
         match n {
-            200 | 207 | 240 => self.cycle = Some((n, s.line)),
+            200 | 207 | 240 => (self.cycle, self.refused_cycle) = (Some((n, s.line)), None),
             247 => interp.set_preset_assumed(),
             _ if self.machine.as_ref().is_some_and(|m| m.state_cycles.contains(&n)) => {}
-            _ => diags.error(s.line, s.col, format!("CYCL DEF {n}: this cycle is not read (it may move the tool; the drilling cycles 200, 207 and 240 are, and the machine file names its maker's cycles that move nothing)")),
+            _ => {
+                diags.error(s.line, s.col, format!("CYCL DEF {n}: this cycle is not read (it may move the tool; the drilling cycles 200, 207 and 240 are, and the machine file names its maker's cycles that move nothing)"));
+                // A call runs the cycle defined last: this one.
+                (self.cycle, self.refused_cycle) = (None, Some((n, s.line)));
+            }
         }
     }
 
@@ -149,7 +159,10 @@ impl Exec {
     /// blocks of this statement (the modal feed stays the program's).
     pub(super) fn call_cycle(&mut self, s: &Stmt<'_>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) {
         let Some((n, _)) = self.cycle else {
-            diags.error(s.line, s.col, "a cycle call with no cycle defined before it (CYCL DEF)");
+            match self.refused_cycle {
+                Some((n, line)) => diags.error(s.line, s.col, format!("a call of CYCL DEF {n} (line {line}), which is not read")),
+                None => diags.error(s.line, s.col, "a cycle call with no cycle defined before it (CYCL DEF)"),
+            }
             return;
         };
         let unit = interp.unit();

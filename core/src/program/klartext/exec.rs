@@ -20,6 +20,8 @@ pub(super) struct Exec {
     pub(super) machine: Option<std::sync::Arc<crate::machine::Machine>>,
     /// The cycle defined last (CYCL DEF), which CYCL CALL, M99 and M89 run.
     pub(super) cycle: Option<(u32, usize)>,
+    /// The cycle defined last when it is one not read (its number, line): what a call would run.
+    pub(super) refused_cycle: Option<(u32, usize)>,
     /// M89: the cycle runs after every positioning block until M99 or CYCL CALL.
     pub(super) modal_call: bool,
     /// The spindle speed of the last TOOL CALL (1/min), for tapping.
