@@ -578,3 +578,30 @@ fn a_z_alone_under_a_cycle_a_unit_against_the_header_and_q395_are_refused() {
     let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
     assert!(errors(&p).iter().any(|(_, _, m)| m.contains("Q395=1")), "{:?}", errors(&p));
 }
+
+/// LinuxCNC, Fanuc and Haas start in the unit their setting says; a program that moves before it says
+/// G20 or G21 is read in millimetres, and a warning says so once, at its first move (the same program
+/// with G20 is 25.4 times larger; shop programs without either came out "clean" in mm, a helper found).
+/// Saying the unit, or giving --units, leaves nothing to warn of.
+#[test]
+fn a_program_that_never_says_its_unit_is_warned_of_once() {
+    let warned = |p: &Program| -> Vec<(usize, usize)> {
+        p.diagnostics.iter().filter(|d| d.severity == Severity::Warning && d.message.contains("no G20/G21 before the first move")).map(|d| (d.line, d.column)).collect()
+    };
+    for dialect in [Dialect::Rs274, Dialect::Fanuc, Dialect::Haas] {
+        let p = read("G90 G94 G17\nG0 X1. Y2. Z3.\nG1 X10. F100.\nM30\n", dialect, "t.nc", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
+        assert_eq!(warned(&p), [(2, 1)], "{dialect:?}");
+        let x: Vec<f64> = p.blocks.iter().filter_map(|b| b.targets.x).collect();
+        assert!((x[0] / MM - 1.0).abs() < 1e-12, "{dialect:?}: read in mm");
+        for said in ["G20 G90 G94 G17\nG0 X1. Y2. Z3.\nG1 X10. F100.\nM30\n", "G21 G90 G94 G17\nG0 X1. Y2. Z3.\nG1 X10. F100.\nM30\n"] {
+            let p = read(said, dialect, "t.nc", &ReadOptions::default());
+            assert!(warned(&p).is_empty(), "{dialect:?}: {said:?}");
+        }
+        let forced = ReadOptions { units: Some("inch".parse().unwrap()), ..Default::default() };
+        let p = read("G90 G94 G17\nG0 X1. Y2. Z3.\nM30\n", dialect, "t.nc", &forced);
+        assert!(warned(&p).is_empty(), "{dialect:?}: --units inch");
+        let x: Vec<f64> = p.blocks.iter().filter_map(|b| b.targets.x).collect();
+        assert!((x[0] / MM - 25.4).abs() < 1e-12, "{dialect:?}: --units inch");
+    }
+}

@@ -97,6 +97,7 @@ impl Interpreter {
                         ("91.1", false) => next.arc_absolute = false,
                         ("70", true) | ("20", false) | ("71", true) | ("21", false) | ("70" | "71", false) if heid || self.dialect == Dialect::Sinumerik || code.starts_with('2') => {
                             let inch = code == "70" || code == "20";
+                            next.unit_stated = true;
                             // Sinumerik's G70/G71 are the geometry's unit only: "Feedrate functions are
                             // not affected by G70/G71" (840Di sl Programming Manual 6FC5398-1BP10,
                             // "Inch/metric dimensions"), F stays in the basic system's; G700/G710
@@ -357,6 +358,17 @@ impl Interpreter {
             if next.tool_vector && arc_motion {
                 diags.error(line, column, "G02/G03 under G43.5 (tool vector mode) is not supported");
             }
+        }
+        // LinuxCNC, Fanuc and Haas start in the unit their setting says (LinuxCNC's startup code or
+        // LINEAR_UNITS, Fanuc parameter No. 0000 INI, Haas Setting 9): a program that moves before
+        // it says G20 or G21 is read in mm, and that is said once.
+        if self.dialect.is_rs274_family() && !next.unit_stated && next.forced_unit.is_none() && !g10 && words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z')) {
+            (self.unit_stated, next.unit_stated) = (true, true);
+            diags.warning(
+                line,
+                column,
+                "no G20/G21 before the first move: lengths are read in millimetres, which the control's setting decides (LinuxCNC's startup code, Fanuc parameter No. 0000 INI, Haas Setting 9); --units inch if it is set to inches",
+            );
         }
         if let Some(w) = words.iter().find(|w| heid && w.letter == 'P' && !arc_motion) {
             diags.error(line, w.column, format!("word P{} without a circle: not read", w.raw));

@@ -116,6 +116,8 @@ pub struct Interpreter {
     arc_tolerance_factor: f64,
     /// The machine file's arc tolerance, where it gives one (LinuxCNC's replaces its centre check's).
     arc_tolerance_set: Option<f64>,
+    /// The program has said its unit (G20/G21, G70/G71, a header), or has been told that it did not.
+    unit_stated: bool,
     /// Haas G254 (dynamic work offset) in effect: no rotary axis may move until G255.
     dwo: bool,
     /// A tilted working plane in effect (Heidenhain PLANE, cycle 19): its frame in the workpiece
@@ -204,6 +206,7 @@ impl Interpreter {
             },
             arc_tolerance_factor: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_FACTOR } else { 0.0 },
             arc_tolerance_set: None,
+            unit_stated: false,
             dwo: false,
             tilt: None,
             shortest: false,
