@@ -223,6 +223,27 @@ fn linuxcnc_checks_an_arcs_end_as_its_interpreter_does() {
     }
 }
 
+/// A full circle as LinuxCNC programs it: "No axis words and one or more offsets must be programmed
+/// for full circles. The 'P' word defaults to 1" (G-code reference §G2/G3; both offsets under G90.1):
+/// `G2 I10` from X0 Y0 is the circle of radius 10 about X10 Y0, 62.83 mm, and with P2 twice round
+/// (by hand: 2 pi r per turn). One offset under G90.1 gives no circle: refused, as before.
+#[test]
+fn linuxcnc_reads_a_full_circle_without_axis_words() {
+    use fiveaxis::path::{PathOptions, Trajectory};
+    let m = fiveaxis::machine::Machine::builtin("linuxcnc-xyzac-trt").unwrap();
+    for (text, turns) in [("G2 I10", 1.0), ("G3 I10 J0 P2", 2.0), ("G90.1 G2 I10 J0", 1.0)] {
+        let src = format!("G21 G90 G94 G17 F100\nG0 X0 Y0 Z0\n{text}\nM2\n");
+        let p = read(&src, Dialect::Rs274, "t.ngc", &ReadOptions::default().on(&m));
+        assert!(errors(&p).is_empty(), "{text}: {:?}", errors(&p));
+        let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+        let length: f64 = t.segments.iter().filter(|s| s.line == 3).map(|s| s.length).sum();
+        let want = turns * std::f64::consts::TAU * 10.0 * MM;
+        assert!((length - want).abs() < 1e-6 * want, "{text}: {} mm, by hand {} mm", length / MM, want / MM);
+    }
+    let p = read("G21 G90 G94 G17 F100\nG0 X0 Y0 Z0\nG90.1 G2 I10\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 3 && m.contains("without an end point")), "{:?}", errors(&p));
+}
+
 /// What the reader cannot know is refused where it stands, and a damaged line sets nothing: a named
 /// parameter read before it is set (LinuxCNC's error too), a numbered one (LinuxCNC reads 0, Fanuc
 /// vacant), the machine's state (`#5221`, `#<_x>`), a division by zero, an unclosed bracket.

@@ -522,6 +522,21 @@ impl Interpreter {
             }
         }
 
+        // LinuxCNC: "No axis words and one or more offsets must be programmed for full circles" (both,
+        // under G90.1; G-code reference §G2/G3): the arc ends where it starts.
+        if self.dialect == Dialect::Rs274 && arc_motion && targets.is_empty() && !g10 && !words.iter().any(|w| w.letter == 'R') {
+            let (a0, a1, _) = next.plane.axes();
+            let offset = |k: usize| words.iter().any(|w| w.letter == ['I', 'J', 'K'][k]);
+            if if next.arc_absolute { offset(a0) && offset(a1) } else { offset(a0) || offset(a1) } {
+                for k in [a0, a1] {
+                    match k {
+                        0 => targets.x = Some(next.last[0]),
+                        1 => targets.y = Some(next.last[1]),
+                        _ => targets.z = Some(next.last[2]),
+                    }
+                }
+            }
+        }
         let moves = !targets.is_empty();
         // Haas: "Cancel G254 with G255 immediately after use and before ANY rotary motion" (G254, rule 5).
         if next.dwo && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some()) {
