@@ -247,3 +247,26 @@ fn the_first_tool_vector_after_rotary_words_is_solved_nearest_them() {
         assert!(close(an.summary.min_distance.unwrap().to_degrees(), 5.0, 1e-6), "{dialect:?}: closest {:?}", an.summary.min_distance);
     }
 }
+
+/// A block whose tilt crosses the pole between two samples (axis-linear: A 5 -> -4.37 deg on the
+/// C600U, by hand through A = 0) reports the true closest approach, 0, not the 1 ms grid's nearest
+/// sample (0.37 deg had been reported, and `--min-distance-deg 0.3` opened no region; found by a
+/// helper): the minimum between two samples is found where the distance stops falling. With C
+/// turning along (30 -> 60 deg), the C-speed region runs through the pole as one region, though eq. 5
+/// is undefined on it.
+#[test]
+fn a_tilt_through_the_pole_between_samples_is_its_closest_approach() {
+    use fiveaxis::program::{read, Dialect, ReadOptions};
+    let m = Machine::hermle_c600u();
+    for c1 in ["30.", "60."] {
+        let src = format!("%\nO1000\nG21 G17 G90 G94\nG43.4 H1\nG0 X0. Y0. Z10. A5. C30.\nG1 X1. A-4.37 C{c1} F5730.\nG49\nM30\n%\n");
+        let p = read(&src, Dialect::Fanuc, "pole.nc", &ReadOptions::default());
+        assert!(p.diagnostics.iter().all(|d| d.severity != fiveaxis::program::Severity::Error), "{:#?}", p.diagnostics);
+        let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+        let a = fiveaxis::singularity::analyze(&t, &m, &AnalysisOptions { min_distance: Some(0.3 * DEG), rate_limit: Some(1e-3), ..Default::default() });
+        let closest = a.summary.min_distance.unwrap();
+        assert!(closest < 1e-9, "C {c1}: closest {} deg, by hand 0", closest.to_degrees());
+        assert_eq!(a.regions.len(), 1, "C {c1}: {:#?}", a.regions);
+        assert!(a.regions[0].min_distance < 1e-9, "C {c1}: {:?}", a.regions[0]);
+    }
+}
