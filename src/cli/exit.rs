@@ -13,7 +13,7 @@ pub const VIOLATED: u8 = 1;
 pub const BAD_INPUT: u8 = 2;
 
 /// The exit codes as `--help` states them.
-pub const HELP: &str = "Exit codes: 0 done; 1 a threshold set with --max-c-speed-rpm or --min-distance-deg was violated (analyze), \
+pub const HELP: &str = "Exit codes: 0 done; 1 a threshold set with --max-c-speed-rpm or --min-distance-deg was violated (`fiveaxis analyze` of recordings; `program analyze` reports its regions and exits 0), \
 or the command itself failed; 2 bad input: usage, an unreadable or invalid program, machine, recording or profile, \
 a program with defects, an output that cannot be written.";
 
