@@ -605,3 +605,20 @@ fn a_program_that_never_says_its_unit_is_warned_of_once() {
         assert!((x[0] / MM - 25.4).abs() < 1e-12, "{dialect:?}: --units inch");
     }
 }
+
+/// The TNC's DIN/ISO program head, as the TNC 360 ISO manual's example writes it: the blank form
+/// `G30`/`G31` (MIN and MAX points, "Define workpiece blank") and the tool definition `G99 T1 L+0 R+4`
+/// define and do not move (Klartext's BLK FORM and TOOL DEF alike); they had been refused as unknown G
+/// codes with axis words without a motion mode, so no TNC ISO program read past its second line.
+/// The first move is N50's, from where the tool stood.
+#[test]
+fn a_tnc_iso_programs_blank_form_and_tool_definition_move_nothing() {
+    let text = "%S846I G71 *\nN10 G30 G17 X+0 Y+0 Z-20 *\nN20 G31 G90 X+100 Y+100 Z+0 *\nN30 G99 T1 L+0 R+4 *\nN40 T1 G17 S1500 *\n\
+                N50 G00 G40 G90 Z+100 *\nN60 X+10 Y+10 *\nN70 G01 Z-5 F100 M03 *\nN80 G00 Z+100 M02 *\nN9999 %S846I G71 *\n";
+    let p = read_heidenhain(text);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let moves: Vec<(u64, [Option<f64>; 3])> = p.blocks.iter().filter(|b| !b.targets.is_empty()).map(|b| (b.number.unwrap(), [b.targets.x, b.targets.y, b.targets.z])).collect();
+    assert_eq!(moves.first().map(|m| m.0), Some(50), "{moves:?}");
+    assert_eq!(moves.iter().map(|m| m.0).collect::<Vec<_>>(), [50, 60, 70, 80]);
+    assert!((moves[2].1[2].unwrap() / MM + 5.0).abs() < 1e-12);
+}

@@ -52,6 +52,9 @@ impl Interpreter {
         // A code that changes the motion and is not modelled is an error (fail closed), never skipped.
         let mut uses: Vec<char> = Vec::new(); // letters besides axes that a code of this block takes
         let mut g10 = false;
+        // The TNC's DIN/ISO blank form (G30 MIN point, G31 MAX point) and tool definition (G99 T L R):
+        // their words define, they do not move (as Klartext's BLK FORM and TOOL DEF).
+        let mut defines = false;
         let mut g53 = false;
         let mut dwell_word: Option<&Word> = None;
         let mut blend_word = false;
@@ -81,6 +84,10 @@ impl Interpreter {
                             w.column,
                             format!("G{} (tangential, polar or rounding arcs) is not supported in Heidenhain DIN/ISO yet: expected G00-G03 or G05", w.raw),
                         ),
+                        // TNC 360 ISO Programming, cycle example: "N10 G30 G17 X+0 Y+0 Z-20 *",
+                        // "N20 G31 X+100 Y+100 Z+0 *" (Define workpiece blank), "N30 G99 T1 L+0 R+4 *"
+                        // (Tool definition): drawing and tool data, no motion.
+                        ("30" | "31" | "99", true) if self.dialect == Dialect::Heidenhain => defines = true,
                         ("17", _) => next.plane = Plane::Xy,
                         ("18" | "19" | "20", true) if tool_call => diags.error(
                             line,
@@ -329,6 +336,7 @@ impl Interpreter {
                 'N' => {}
                 c if AXIS_LETTERS.contains(&c) => {}
                 'I' | 'J' | 'K' | 'R' | 'P' | 'Q' | 'H' | 'L' | 'E' if !heid => {} // checked below, with the codes that take them
+                'L' | 'R' if defines => {} // a tool definition's length and radius
                 'I' | 'J' | 'K' | 'R' if heid => {} // circle centre and radius, read below
                 'P' if heid => {} // a polar circle's turns (Klartext CP IPA beyond 360 deg): checked below
                 _ => diags.error(
@@ -456,7 +464,7 @@ impl Interpreter {
         let mut datum = next.datum;
         for w in words {
             let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
-            if g10 {
+            if g10 || defines {
                 continue;
             }
             let scale = if k < 3 { next.unit } else { next.rotary_unit[k - 3] };
@@ -559,7 +567,7 @@ impl Interpreter {
                 let v = w.value * next.unit;
                 next.centre[k] = Some(if next.absolute { v } else { self.last[k] + v });
             }
-            if let Some(w) = words.iter().find(|w| w.letter == 'R').filter(|_| !arc_motion) {
+            if let Some(w) = words.iter().find(|w| w.letter == 'R').filter(|_| !arc_motion && !defines) {
                 diags.error(line, w.column, format!("R{}: a radius without G02/G03", w.raw));
             }
             if arc_motion && moves {
