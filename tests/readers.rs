@@ -610,7 +610,8 @@ fn a_program_that_never_says_its_unit_is_warned_of_once() {
 /// `G30`/`G31` (MIN and MAX points, "Define workpiece blank") and the tool definition `G99 T1 L+0 R+4`
 /// define and do not move (Klartext's BLK FORM and TOOL DEF alike); they had been refused as unknown G
 /// codes with axis words without a motion mode, so no TNC ISO program read past its second line.
-/// The first move is N50's, from where the tool stood.
+/// The first move is N50's, from where the tool stood, and the tool is called at N40, not at its
+/// definition.
 #[test]
 fn a_tnc_iso_programs_blank_form_and_tool_definition_move_nothing() {
     let text = "%S846I G71 *\nN10 G30 G17 X+0 Y+0 Z-20 *\nN20 G31 G90 X+100 Y+100 Z+0 *\nN30 G99 T1 L+0 R+4 *\nN40 T1 G17 S1500 *\n\
@@ -621,4 +622,7 @@ fn a_tnc_iso_programs_blank_form_and_tool_definition_move_nothing() {
     assert_eq!(moves.first().map(|m| m.0), Some(50), "{moves:?}");
     assert_eq!(moves.iter().map(|m| m.0).collect::<Vec<_>>(), [50, 60, 70, 80]);
     assert!((moves[2].1[2].unwrap() / MM + 5.0).abs() < 1e-12);
+    // The definition's T calls no tool; the call on N40 does.
+    let t_on = |line: usize| p.blocks.iter().any(|b| b.line == line && b.events.iter().any(|e| e == "T1"));
+    assert!(!t_on(4) && t_on(5));
 }

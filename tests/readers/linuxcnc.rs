@@ -199,6 +199,38 @@ fn linuxcnc_cycles_differ_from_fanucs_as_its_interpreter_says() {
     }
 }
 
+/// LinuxCNC's cycles where its interpreter's state says more than the cycle block (LinuxCNC 2.9
+/// source, worked by hand): it starts in G99 (interp_setup.cc `retract_mode(R_PLANE)`), so a program
+/// that never says G98/G99 returns to R; a work offset selected in the cycle block is in effect
+/// before the cycle starts (G55 with Z -10: the tool at Z20 stands at Z30 in it, where G98 returns);
+/// G80 belongs to the motion group, so axis words after it need a G0/G1 again; a G10 under an
+/// active cycle sets its offset and drills no hole.
+#[test]
+fn linuxcnc_cycles_follow_the_interpreters_state() {
+    let moves = |text: &str| -> Vec<(Motion, f64, f64, f64)> {
+        let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{text}: {:?}", errors(&p));
+        let mut out: Vec<(Motion, f64, f64, f64)> = Vec::new();
+        for (m, at) in end_points(&p) {
+            if out.last().is_none_or(|&(_, x, y, z)| (x, y, z) != (at[0], at[1], at[2])) {
+                out.push((m, at[0], at[1], at[2]));
+            }
+        }
+        out
+    };
+    use Motion::{Linear as F, Rapid as R};
+    let g99 = moves("G21 G90 G17 G94 F100\nG0 X0 Y0 Z20\nG81 X5 Y5 Z-1 R2\nX10\nG80\nM2\n");
+    assert_eq!(g99, [(R, 0.0, 0.0, 20.0), (R, 5.0, 5.0, 20.0), (R, 5.0, 5.0, 2.0), (F, 5.0, 5.0, -1.0), (R, 5.0, 5.0, 2.0), (R, 10.0, 5.0, 2.0), (F, 10.0, 5.0, -1.0), (R, 10.0, 5.0, 2.0)]);
+    let g55 = moves("G21 G90 G17 G94 F100\nG10 L2 P2 Z-10\nG0 X0 Y0 Z20\nG98 G55 G81 X5 Y5 Z-1 R2\nG80\nM2\n");
+    assert_eq!(g55.last().copied(), Some((R, 5.0, 5.0, 30.0)), "{g55:?}");
+    let drilled = moves("G21 G90 G17 G94 F100\nG0 X0 Y0 Z20\nG81 X5 Y5 Z-1 R2\nG10 L2 P1 X0 Y0\nG80\nM2\n");
+    assert_eq!(drilled.iter().filter(|m| m.0 == F).count(), 1, "{drilled:?}");
+    for (text, line) in [("G21 G90 G17 G94 F100\nG1 X0 Y0 Z10\nG81 X5 Y5 Z-1 R2\nG80 X20\nM2\n", 4), ("G21 G90 G17 G94 F100\nG1 X0 Y0 Z10\nG81 X5 Y5 Z-1 R2\nG80\nX20\nM2\n", 5)] {
+        let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        assert!(errors(&p).iter().any(|(l, _, m)| *l == line && m.contains("without a motion mode")), "{text}: {:?}", errors(&p));
+    }
+}
+
 /// A centre-format arc whose end lies off its start's circle, as LinuxCNC 2.9 checks it (interp_arc.cc
 /// `arc_data_ijk`): refused where the radii differ by more than 2 x 0.01 x sqrt 2 = 0.0283 mm (G21;
 /// 0.00283 in under G20) and by more than 0.1 % of the radius, or by more than 100 times that; else run

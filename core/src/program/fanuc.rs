@@ -190,10 +190,11 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     let cycle_codes = ["73", "74", "76", "81", "82", "83", "84", "85", "86", "87", "88", "89"];
     let taken = ['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', repeat_letter];
     let before = it.cycles.active;
-    let start = it.position();
     if !apply(it, &settings(words, &taken, &cycle_codes), line, column, number, diags, out) {
         return false;
     }
+    // Where the tool stands once the block's own settings (a work offset) are in effect.
+    let start = it.position();
     if it.plane() != super::Plane::Xy {
         diags.error(line, column, "a canned cycle outside the G17 plane (drilling along X or Y) is not modelled");
         return false;
@@ -238,7 +239,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q)", code_of(kind)));
         return false;
     }
-    if let Some(q) = peck.filter(|q| (r - bottom).abs() / q > cycles::MAX_PECKS as f64) {
+    if let Some(q) = peck.filter(|q| kind.pecks() && (r - bottom).abs() / q > cycles::MAX_PECKS as f64) {
         diags.error(line, find('Q').map_or(at, |w| w.column), format!("G{}: Q{} makes more than {} pecks of a {} deep hole: a typo?", code_of(kind), q / unit, cycles::MAX_PECKS, (r - bottom).abs() / unit));
         return false;
     }

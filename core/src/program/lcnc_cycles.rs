@@ -35,13 +35,23 @@ const CYCLE_CODES: [&str; 12] = ["73", "74", "76", "81", "82", "83", "84", "85",
 /// Make the block's cycle moves: `Some(made)`, or `None` for a block that is no cycle's (a motion
 /// code or G80 ends the cycle here).
 pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
+    // Most blocks: no cycle active and no cycle's G code (G73-G89) in them.
+    if it.cycles.active.is_none() && !words.iter().any(|w| w.letter == 'G' && (73.0..90.0).contains(&w.value)) {
+        return None;
+    }
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
     // G76 is LinuxCNC's threading cycle, not a drilling one: the interpreter refuses it elsewhere.
     if let Some((kind, w)) = g.iter().find_map(|(k, w)| Kind::from_code(k).filter(|k| *k != Kind::G76).map(|kind| (kind, *w))) {
         return Some(drill(it, Some((kind, w)), words, line, column, number, diags, out));
     }
-    if g.iter().any(|(k, _)| matches!(k.as_str(), "80" | "0" | "1" | "2" | "3" | "33" | "33.1" | "38.2" | "38.3" | "38.4" | "38.5" | "5" | "5.1" | "5.2")) {
+    // Another code of the motion group ends the cycle (and is read, or refused, as itself).
+    if g.iter().any(|(k, _)| matches!(k.as_str(), "80" | "0" | "1" | "2" | "3" | "33" | "33.1" | "38.2" | "38.3" | "38.4" | "38.5" | "5" | "5.1" | "5.2" | "5.3" | "70" | "71" | "72" | "76")) {
         it.cycles.active = None;
+        return None;
+    }
+    // A code that takes the block's axis words for itself (G10, G28, G30, G52, G92, G53): no hole
+    // (interp_convert.cc: `mode_zero_covets_axes`).
+    if g.iter().any(|(k, _)| matches!(k.as_str(), "10" | "28" | "30" | "52" | "53" | "92")) {
         return None;
     }
     // "The canned cycle will attempt to repeat itself using the next block of code that contains an
@@ -58,7 +68,6 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     let find = |l: char| words.iter().find(|w| w.letter == l);
     let taken = ['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', 'L'];
     let before = it.cycles.active;
-    let start = it.position();
     let (kind, at) = match (named, before) {
         (Some((k, w)), _) => (k, w.column),
         (None, Some(a)) => (a.kind, column),
@@ -76,6 +85,8 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     if !apply(it, &settings(words, &taken, &CYCLE_CODES), line, column, number, diags, out) {
         return false;
     }
+    // Where the tool stands once the block's own settings (a work offset) are in effect.
+    let start = it.position();
     if it.plane() != super::Plane::Xy {
         diags.error(line, column, "a canned cycle outside the G17 plane (drilling along X or Y) is not modelled");
         return false;

@@ -420,7 +420,7 @@ fn analyze_stream(
             // Regions: contiguous samples beyond the limits, entered and left at the interpolated crossing.
             // On the pole eq. (5) is undefined (0 is reported): a region goes on through it.
             let cause = match (in_region(&st, rate_limit, options.min_distance), &open) {
-                (None, Some(r)) if st.on_pole => Some(r.cause),
+                (None, Some(r)) if st.on_pole && !st.rapid => Some(r.cause),
                 (c, _) => c,
             };
             match (cause, open.as_mut()) {

@@ -54,7 +54,7 @@ impl Interpreter {
         let mut g10 = false;
         // The TNC's DIN/ISO blank form (G30 MIN point, G31 MAX point) and tool definition (G99 T L R):
         // their words define, they do not move (as Klartext's BLK FORM and TOOL DEF).
-        let mut defines = false;
+        let defines = self.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'G' && matches!(w.value, 30.0 | 31.0 | 99.0));
         let mut g53 = false;
         let mut dwell_word: Option<&Word> = None;
         let mut blend_word = false;
@@ -87,7 +87,7 @@ impl Interpreter {
                         // TNC 360 ISO Programming, cycle example: "N10 G30 G17 X+0 Y+0 Z-20 *",
                         // "N20 G31 X+100 Y+100 Z+0 *" (Define workpiece blank), "N30 G99 T1 L+0 R+4 *"
                         // (Tool definition): drawing and tool data, no motion.
-                        ("30" | "31" | "99", true) if self.dialect == Dialect::Heidenhain => defines = true,
+                        ("30" | "31" | "99", true) if defines => {}
                         ("17", _) => next.plane = Plane::Xy,
                         ("18" | "19" | "20", true) if tool_call => diags.error(
                             line,
@@ -97,6 +97,10 @@ impl Interpreter {
                         ("18", _) => next.plane = Plane::Zx,
                         ("19", _) => next.plane = Plane::Yz,
                         // Cutter compensation off, canned cycle cancel: no motion of their own.
+                        // LinuxCNC's G80 is of the motion group: no motion mode after it, so axis
+                        // words need a G0/G1 again (LinuxCNC: "Cannot use axis values with G80",
+                        // "without a G code that uses them"). Fanuc's cycles are a group of their own.
+                        ("80", _) if self.dialect == Dialect::Rs274 => next.motion = None,
                         ("40" | "80", _) => {}
                         ("90", _) => next.absolute = true,
                         ("91", _) => next.absolute = false,
@@ -329,6 +333,8 @@ impl Interpreter {
                     }
                     events.push(format!("M{}", w.raw));
                 }
+                // A tool definition's T (G99) calls no tool.
+                'T' | 'S' if defines => {}
                 'T' | 'S' => events.push(format!("{}{}", w.letter, w.raw)),
                 // Fanuc, Haas: D selects a cutter radius register, used only under G41/G42 (refused).
                 'D' if fanuc => events.push(format!("D{}", w.raw)),

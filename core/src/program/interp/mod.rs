@@ -196,7 +196,9 @@ impl Interpreter {
             rotary_unit: [DEG; 3],
             machine_coords: None,
             oneshot: None,
-            cycles: Default::default(),
+            // LinuxCNC's interpreter starts in G99 (interp_setup.cc: `retract_mode(R_PLANE)`); Fanuc's
+            // and Haas' reset state is G98.
+            cycles: super::cycles::CycleState { to_r: dialect == Dialect::Rs274, ..Default::default() },
             rotary_letters: [None; 2],
             peck: [None; 2],
             arc_tolerance: match dialect {
