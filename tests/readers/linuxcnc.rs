@@ -192,6 +192,10 @@ fn linuxcnc_cycles_differ_from_fanucs_as_its_interpreter_says() {
         ("G83 X1 Z-5 R2 Q0.0001", 15, "more than 10000 pecks"),
         ("G87 X1 Z-5 R2", 1, "behaviour is undefined"),
         ("G93 G81 X1 Z-5 R2", 5, "inverse time"),
+        ("G81 G0 X1 Z-5 R2", 5, "two codes of the motion group"),
+        ("G81 X1 Z-5 R2 P1", 15, "G81 takes no P"),
+        ("G82 X1 Z-5 R2 P1 Q1", 18, "G82 takes no Q"),
+        ("G81 R2", 1, "without X, Y or Z"),
     ] {
         let p = read(&body(block), Dialect::Rs274, "t.ngc", &ReadOptions::default());
         let e = errors(&p);

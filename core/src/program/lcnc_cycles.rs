@@ -29,6 +29,9 @@ pub(crate) struct Sticky {
     pub q: f64,
 }
 
+/// The other codes of LinuxCNC's motion group (modal group 1): each ends a cycle.
+const MOTION_GROUP: [&str; 19] = ["80", "0", "1", "2", "3", "33", "33.1", "38.2", "38.3", "38.4", "38.5", "5", "5.1", "5.2", "5.3", "70", "71", "72", "76"];
+
 /// The cycles' G codes, kept out of the block of settings read first.
 const CYCLE_CODES: [&str; 12] = ["73", "74", "76", "81", "82", "83", "84", "85", "86", "87", "88", "89"];
 
@@ -42,10 +45,18 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
     // G76 is LinuxCNC's threading cycle, not a drilling one: the interpreter refuses it elsewhere.
     if let Some((kind, w)) = g.iter().find_map(|(k, w)| Kind::from_code(k).filter(|k| *k != Kind::G76).map(|kind| (kind, *w))) {
+        if let Some((k, other)) = g.iter().find(|(k, o)| !std::ptr::eq(*o, w) && (MOTION_GROUP.contains(&k.as_str()) || Kind::from_code(k).is_some())) {
+            diags.error(line, other.column, format!("G{k} with G{}: two codes of the motion group in one block (LinuxCNC: \"Two G-codes used from same modal group\")", code(w)));
+            return Some(false);
+        }
+        if !words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z')) {
+            diags.error(line, w.column, format!("G{}: a canned cycle block without X, Y or Z (LinuxCNC: \"All axes missing with motion code\")", code(w)));
+            return Some(false);
+        }
         return Some(drill(it, Some((kind, w)), words, line, column, number, diags, out));
     }
     // Another code of the motion group ends the cycle (and is read, or refused, as itself).
-    if g.iter().any(|(k, _)| matches!(k.as_str(), "80" | "0" | "1" | "2" | "3" | "33" | "33.1" | "38.2" | "38.3" | "38.4" | "38.5" | "5" | "5.1" | "5.2" | "5.3" | "70" | "71" | "72" | "76")) {
+    if g.iter().any(|(k, _)| MOTION_GROUP.contains(&k.as_str())) {
         it.cycles.active = None;
         return None;
     }
@@ -118,6 +129,15 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
             return false;
         }
     };
+    // A P or Q the cycle does not take, and no other code of the block does, is LinuxCNC's error
+    // (interp_check.cc `check_other_codes`: "P word with no G2 G3 G4 G10 G64 ... to use it").
+    let other_takes = |w: &Word| words.iter().any(|g| g.letter == 'G' && matches!(code(g).as_str(), "4" | "10" | "64")) || (w.letter == 'Q' && words.iter().any(|m| m.letter == 'M' && matches!(m.value, 66.0 | 67.0 | 68.0)));
+    for (letter, takes) in [('P', matches!(kind, Kind::G74 | Kind::G82 | Kind::G84 | Kind::G86 | Kind::G89)), ('Q', kind.pecks())] {
+        if let Some(w) = find(letter).filter(|w| !takes && !other_takes(w)) {
+            diags.error(line, w.column, format!("{letter}{}: {name} takes no {letter} (LinuxCNC: \"{letter} word with no G code that uses it\")", w.raw));
+            return false;
+        }
+    }
     // P (s) and Q: required where the cycle starts, sticky after (G82, G86, G89; G73, G83); G74/G84
     // take the last P any cycle had.
     let p = match find('P') {
