@@ -429,12 +429,11 @@ impl SegmentPlanner {
                     rot1[slot] = v;
                 }
             }
-            // Rotaries the program put off the pole: a tool axis after them takes the solution
+            // Rotaries the program puts off the pole: a tool axis after them takes the solution
             // nearest them, not the first pose's convention (which stays where they say nothing of
-            // the side, on the pole: SING.I's `A0 C0` before its first tool vector).
-            if letters.iter().any(|l| b.targets.rotary(*l).is_some()) && machine.chain.singular_direction().cross(&machine.chain.orientation(&rot1)).norm() > 1e-9 {
-                first_orientation = false;
-            }
+            // the side, on the pole: SING.I's `A0 C0` before its first tool vector); once the block
+            // is in range.
+            let rotaries_set = letters.iter().any(|l| b.targets.rotary(*l).is_some()) && machine.chain.singular_direction().cross(&machine.chain.orientation(&rot1)).norm() > 1e-9;
             let q1: Joints;
             let tip1: Vector3<f64>;
             if tcp {
@@ -472,6 +471,9 @@ impl SegmentPlanner {
             }
             if self.range_stops(b, machine, &q1, diags) {
                 break 'blocks false;
+            }
+            if rotaries_set {
+                first_orientation = false;
             }
             if at_start {
                 // CL data: the first pose is where the tool is; nothing moves to it.
