@@ -292,18 +292,29 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         if it.position()[2] != r && !shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None, own: false }, &z(r), line, column, number, diags, out) {
             return false;
         }
-        for step in cycles::hole(&active, it.cycles.to_r, clearance) {
-            let ok = match step {
-                Step::Rapid(v) => shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None, own: false }, &z(v), line, column, number, diags, out),
-                Step::Feed(v) => shot(it, OneShot { motion: Motion::Linear, absolute: true, axes: None, own: false }, &z(v), line, column, number, diags, out),
-                Step::Dwell(t) => {
-                    out.push(Block { dwell_s: Some(t), ..it.still_block(line, column, number) });
-                    true
-                }
-            };
-            if !ok {
-                return false;
+        if !hole_moves(it, cycles::hole(&active, it.cycles.to_r, clearance), line, column, number, diags, out) {
+            return false;
+        }
+    }
+    true
+}
+
+/// A hole's steps as blocks: each Z move a one-shot rapid or feed to that level (absolute, program
+/// units), each dwell a block of its own; false if a defect stopped it.
+pub(crate) fn hole_moves(it: &mut Interpreter, steps: Vec<Step>, line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+    let unit = it.unit();
+    let z = |v: f64| [word('Z', v / unit, column)];
+    for step in steps {
+        let ok = match step {
+            Step::Rapid(v) => shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None, own: false }, &z(v), line, column, number, diags, out),
+            Step::Feed(v) => shot(it, OneShot { motion: Motion::Linear, absolute: true, axes: None, own: false }, &z(v), line, column, number, diags, out),
+            Step::Dwell(t) => {
+                out.push(Block { dwell_s: Some(t), ..it.still_block(line, column, number) });
+                true
             }
+        };
+        if !ok {
+            return false;
         }
     }
     true

@@ -7,8 +7,8 @@
 //! clearance is LinuxCNC's 0.254 mm, and rotary words, inverse time, a zero L and R below Z are
 //! errors, as LinuxCNC makes them.
 
-use super::cycles::{Active, Kind, Step};
-use super::fanuc::{apply, code, settings, shot, word};
+use super::cycles::{Active, Kind};
+use super::fanuc::{apply, code, code_of, hole_moves, settings, shot, word};
 use super::interp::{Interpreter, OneShot, Word};
 use super::lex::Diags;
 use super::{Block, Motion};
@@ -183,7 +183,6 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     it.cycles.linuxcnc = Sticky { r: r_word, z: z_word, p, q };
     it.cycles.active = Some(Active { kind, bottom, r, peck: kind.pecks().then_some(q * unit), dwell_s: Some(p), initial });
     let rapid = |absolute| OneShot { motion: Motion::Rapid, absolute, axes: None, own: false };
-    let feed = OneShot { motion: Motion::Linear, absolute: true, axes: None, own: false };
     let z = |v: f64| [word('Z', v / unit, column)];
     // Below the R plane: straight up to it first, once, and the return level is then R.
     let mut here = start;
@@ -214,23 +213,9 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         if !ok {
             return false;
         }
-        for step in super::cycles::lcnc_hole(kind, r, bottom, clear, q * unit, p, clearance) {
-            let ok = match step {
-                Step::Rapid(v) => shot(it, rapid(true), &z(v), line, column, number, diags, out),
-                Step::Feed(v) => shot(it, feed, &z(v), line, column, number, diags, out),
-                Step::Dwell(t) => {
-                    out.push(Block { dwell_s: Some(t), ..it.still_block(line, column, number) });
-                    true
-                }
-            };
-            if !ok {
-                return false;
-            }
+        if !hole_moves(it, super::cycles::lcnc_hole(kind, r, bottom, clear, q * unit, p, clearance), line, column, number, diags, out) {
+            return false;
         }
     }
     true
-}
-
-fn code_of(kind: Kind) -> &'static str {
-    super::fanuc::code_of(kind)
 }
