@@ -587,7 +587,6 @@ impl SegmentPlanner {
             for mut seg in segs {
                 (seg.t0, seg.s0, seg.path) = (t, s, !rotary_only);
                 let (pq0, pq1) = (seg.q0, seg.q1);
-                let lin_len = seg.linear_axes_length();
                 let rot_len = ((pq1[3] - pq0[3]).powi(2) + (pq1[4] - pq0[4]).powi(2)).sqrt();
                 let duration = match kind {
                     SegmentKind::Rapid => rapid_duration(&pq0, &pq1, machine),
@@ -607,7 +606,7 @@ impl SegmentPlanner {
                                 // Fanuc: degrees count as the program's length unit in the path F is along.
                                 let unit = MM * feed.value_per_min / feed.rotary_per_min;
                                 let f = options.feed_override_mm_per_min.map_or(feed.rotary_per_min, |o| o * feed.rotary_per_min / feed.value_per_min);
-                                let t = ((lin_len / unit).powi(2) + rot_len.to_degrees().powi(2)).sqrt() / f * 60.0;
+                                let t = ((seg.linear_axes_length() / unit).powi(2) + rot_len.to_degrees().powi(2)).sqrt() / f * 60.0;
                                 if seg.length > 1e-9 && t > 0.0 {
                                     seg.feed = seg.length / t;
                                 }

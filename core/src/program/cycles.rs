@@ -5,6 +5,12 @@
 //! Haas Mill Operator's Manual 96-8000, "Canned cycles": G73's retract of Setting 22). Pure: no
 //! words, no state but the cycle's own; [`super::fanuc`] turns the steps into blocks.
 
+/// The cycles' G codes (as normalised, `81`), in the order of [`Kind`]'s variants.
+pub(crate) const CODES: [&str; 12] = ["73", "74", "76", "81", "82", "83", "84", "85", "86", "87", "88", "89"];
+
+/// The cycles, in the order of their [`CODES`].
+const KINDS: [Kind; 12] = [Kind::G73, Kind::G74, Kind::G76, Kind::G81, Kind::G82, Kind::G83, Kind::G84, Kind::G85, Kind::G86, Kind::G87, Kind::G88, Kind::G89];
+
 /// A drilling cycle, by its G code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Kind {
@@ -39,21 +45,12 @@ pub(crate) enum Kind {
 impl Kind {
     /// The cycle a G code (as normalised, `81`) names.
     pub(crate) fn from_code(code: &str) -> Option<Kind> {
-        Some(match code {
-            "73" => Kind::G73,
-            "74" => Kind::G74,
-            "76" => Kind::G76,
-            "81" => Kind::G81,
-            "82" => Kind::G82,
-            "83" => Kind::G83,
-            "84" => Kind::G84,
-            "85" => Kind::G85,
-            "86" => Kind::G86,
-            "89" => Kind::G89,
-            "87" => Kind::G87,
-            "88" => Kind::G88,
-            _ => return None,
-        })
+        CODES.iter().position(|c| *c == code).map(|i| KINDS[i])
+    }
+
+    /// Its G code, as normalised (`81`).
+    pub(crate) fn code(self) -> &'static str {
+        CODES[self as usize]
     }
 
     /// Whether the cycle pecks (needs its machine's clearance d).
@@ -260,6 +257,17 @@ pub(crate) fn tnc_hole(h: &TncHole) -> Vec<Step> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each cycle's code names it, and it has that code.
+    #[test]
+    fn codes_and_kinds_name_each_other() {
+        for (i, k) in KINDS.iter().enumerate() {
+            assert_eq!(*k as usize, i);
+            assert_eq!(Kind::from_code(k.code()), Some(*k));
+        }
+        assert_eq!(Kind::from_code("81").map(Kind::code), Some("81"));
+        assert_eq!(Kind::from_code("80"), None);
+    }
 
     fn cycle(kind: Kind, peck: Option<f64>) -> Active {
         Active { kind, bottom: -10.0, r: 2.0, peck, dwell_s: Some(0.5), initial: 50.0 }

@@ -187,18 +187,11 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     let haas = it.dialect() == Dialect::Haas;
     let repeat_letter = if haas { 'L' } else { 'K' };
     let find = |l: char| words.iter().find(|w| w.letter == l);
-    let cycle_codes = ["73", "74", "76", "81", "82", "83", "84", "85", "86", "87", "88", "89"];
     let taken = ['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', repeat_letter];
     let before = it.cycles.active;
-    if !apply(it, &settings(words, &taken, &cycle_codes), line, column, number, diags, out) {
+    let Some(start) = cycle_settings(it, words, &taken, line, column, number, diags, out) else {
         return false;
-    }
-    // Where the tool stands once the block's own settings (a work offset) are in effect.
-    let start = it.position();
-    if it.plane() != super::Plane::Xy {
-        diags.error(line, column, "a canned cycle outside the G17 plane (drilling along X or Y) is not modelled");
-        return false;
-    }
+    };
     let unit = it.unit();
     let (kind, at) = match (named, before) {
         (Some((k, w)), _) => (k, w.column),
@@ -213,7 +206,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         (Some(w), _) => initial + w.value * unit,
         (None, Some(a)) => a.r,
         (None, None) => {
-            diags.error(line, at, format!("G{}: a new cycle needs its R point (R)", code_of(kind)));
+            diags.error(line, at, format!("G{}: a new cycle needs its R point (R)", kind.code()));
             return false;
         }
     };
@@ -222,7 +215,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         (Some(w), _) => r + w.value * unit,
         (None, Some(a)) => a.bottom,
         (None, None) => {
-            diags.error(line, at, format!("G{}: a new cycle needs the hole's bottom (Z)", code_of(kind)));
+            diags.error(line, at, format!("G{}: a new cycle needs the hole's bottom (Z)", kind.code()));
             return false;
         }
     };
@@ -236,18 +229,18 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         (None, None) => None,
     };
     if kind.pecks() && peck.is_none() {
-        diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q)", code_of(kind)));
+        diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q)", kind.code()));
         return false;
     }
     if let Some(q) = peck.filter(|q| kind.pecks() && (r - bottom).abs() / q > cycles::MAX_PECKS as f64) {
-        diags.error(line, find('Q').map_or(at, |w| w.column), format!("G{}: Q{} makes more than {} pecks of a {} deep hole: a typo?", code_of(kind), q / unit, cycles::MAX_PECKS, (r - bottom).abs() / unit));
+        diags.error(line, find('Q').map_or(at, |w| w.column), format!("G{}: Q{} makes more than {} pecks of a {} deep hole: a typo?", kind.code(), q / unit, cycles::MAX_PECKS, (r - bottom).abs() / unit));
         return false;
     }
     if kind == Kind::G87 && it.cycles.to_r {
         diags.warning(line, at, "G87 under G99: back boring returns to the initial level whatever G99 says (its R point is below the part)");
     }
     if matches!(kind, Kind::G76 | Kind::G87) && find('Q').is_some() {
-        diags.error(line, at, format!("G{} with Q: the shift at the bottom goes the way the machine's parameter says (Fanuc No. 5101 RD1/RD2): not modelled", code_of(kind)));
+        diags.error(line, at, format!("G{} with Q: the shift at the bottom goes the way the machine's parameter says (Fanuc No. 5101 RD1/RD2): not modelled", kind.code()));
         return false;
     }
     let dwell_s = match (find('P'), before) {
@@ -275,7 +268,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         match it.peck_clearance(kind) {
             Ok(d) => d,
             Err(why) => {
-                diags.error(line, at, format!("G{}: {why}", code_of(kind)));
+                diags.error(line, at, format!("G{}: {why}", kind.code()));
                 return false;
             }
         }
@@ -299,6 +292,21 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     true
 }
 
+/// A cycle block's settings (its modal codes, F, S, M: every word but the cycle's G code and the
+/// `taken` ones), read first; then where the tool stands, with them in effect (a work offset), if
+/// the plane is G17. `None` on a defect.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn cycle_settings(it: &mut Interpreter, words: &[Word], taken: &[char], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<[f64; 6]> {
+    if !apply(it, &settings(words, taken, &cycles::CODES), line, column, number, diags, out) {
+        return None;
+    }
+    if it.plane() != super::Plane::Xy {
+        diags.error(line, column, "a canned cycle outside the G17 plane (drilling along X or Y) is not modelled");
+        return None;
+    }
+    Some(it.position())
+}
+
 /// A hole's steps as blocks: each Z move a one-shot rapid or feed to that level (absolute, program
 /// units), each dwell a block of its own; false if a defect stopped it.
 pub(crate) fn hole_moves(it: &mut Interpreter, steps: Vec<Step>, line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
@@ -318,23 +326,6 @@ pub(crate) fn hole_moves(it: &mut Interpreter, steps: Vec<Step>, line: usize, co
         }
     }
     true
-}
-
-pub(crate) fn code_of(kind: Kind) -> &'static str {
-    match kind {
-        Kind::G73 => "73",
-        Kind::G74 => "74",
-        Kind::G76 => "76",
-        Kind::G81 => "81",
-        Kind::G82 => "82",
-        Kind::G83 => "83",
-        Kind::G84 => "84",
-        Kind::G85 => "85",
-        Kind::G86 => "86",
-        Kind::G87 => "87",
-        Kind::G88 => "88",
-        Kind::G89 => "89",
-    }
 }
 
 /// A dwell's P, s: Fanuc's is in milliseconds and takes no decimal point (B-63944EN §5.1: "P: dwell

@@ -8,7 +8,7 @@
 //! errors, as LinuxCNC makes them.
 
 use super::cycles::{Active, Kind};
-use super::fanuc::{apply, code, code_of, hole_moves, settings, shot, word};
+use super::fanuc::{code, cycle_settings, hole_moves, shot, word};
 use super::interp::{Interpreter, OneShot, Word};
 use super::lex::Diags;
 use super::{Block, Motion};
@@ -31,9 +31,6 @@ pub(crate) struct Sticky {
 
 /// The other codes of LinuxCNC's motion group (modal group 1): each ends a cycle.
 const MOTION_GROUP: [&str; 19] = ["80", "0", "1", "2", "3", "33", "33.1", "38.2", "38.3", "38.4", "38.5", "5", "5.1", "5.2", "5.3", "70", "71", "72", "76"];
-
-/// The cycles' G codes, kept out of the block of settings read first.
-const CYCLE_CODES: [&str; 12] = ["73", "74", "76", "81", "82", "83", "84", "85", "86", "87", "88", "89"];
 
 /// Make the block's cycle moves: `Some(made)`, or `None` for a block that is no cycle's (a motion
 /// code or G80 ends the cycle here).
@@ -84,7 +81,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         (None, Some(a)) => (a.kind, column),
         (None, None) => return true,
     };
-    let name = format!("G{}", code_of(kind));
+    let name = format!("G{}", kind.code());
     if matches!(kind, Kind::G87 | Kind::G88) {
         diags.error(line, at, format!("{name}: LinuxCNC accepts it but its behaviour is undefined (G-code reference, \"currently unimplemented\"): not read"));
         return false;
@@ -93,15 +90,9 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         diags.error(line, w.column, format!("{}{}: rotary axis words are not allowed in a canned cycle (LinuxCNC: \"Cannot put an {} in canned cycle\")", w.letter, w.raw, w.letter));
         return false;
     }
-    if !apply(it, &settings(words, &taken, &CYCLE_CODES), line, column, number, diags, out) {
+    let Some(start) = cycle_settings(it, words, &taken, line, column, number, diags, out) else {
         return false;
-    }
-    // Where the tool stands once the block's own settings (a work offset) are in effect.
-    let start = it.position();
-    if it.plane() != super::Plane::Xy {
-        diags.error(line, column, "a canned cycle outside the G17 plane (drilling along X or Y) is not modelled");
-        return false;
-    }
+    };
     if it.inverse_time() {
         diags.error(line, at, format!("{name}: LinuxCNC cannot use inverse time feed with canned cycles"));
         return false;

@@ -386,6 +386,17 @@ impl Targets {
             _ => None,
         }
     }
+    /// Set axis `k` of the machine's order: 0-2 X Y Z, 3-5 A B C.
+    pub fn set_axis(&mut self, k: usize, value: f64) {
+        match k {
+            0 => self.x = Some(value),
+            1 => self.y = Some(value),
+            2 => self.z = Some(value),
+            3 => self.a = Some(value),
+            4 => self.b = Some(value),
+            _ => self.c = Some(value),
+        }
+    }
     /// Set the rotary word for letter `A`, `B` or `C` (other letters are ignored).
     pub fn set_rotary(&mut self, letter: char, value: f64) {
         match letter.to_ascii_uppercase() {

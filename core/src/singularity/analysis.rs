@@ -233,16 +233,21 @@ impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
             Some((seg.sample(j, u, t, machine), j))
         };
         let d = |s: &Sample| distance(&s.axis, &sd);
-        // Golden section: 60 steps narrow the bracket by 0.618^60 (below 1e-12 of it).
+        // Golden section: 60 steps narrow the bracket by 0.618^60 (below 1e-12 of it), one new
+        // evaluation each (the other interior point is the last step's).
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut lo, mut hi) = (a.t, b.t);
+        let (mut t1, mut t2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        let (mut d1, mut d2) = (d(&at(t1)?.0), d(&at(t2)?.0));
         for _ in 0..60 {
-            let (t1, t2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-            let (d1, d2) = (d(&at(t1)?.0), d(&at(t2)?.0));
             if d1 < d2 {
-                hi = t2;
+                (hi, t2, d2) = (t2, t1, d1);
+                t1 = hi - g * (hi - lo);
+                d1 = d(&at(t1)?.0);
             } else {
-                lo = t1;
+                (lo, t1, d1) = (t1, t2, d2);
+                t2 = lo + g * (hi - lo);
+                d2 = d(&at(t2)?.0);
             }
         }
         let (sm, j) = at(0.5 * (lo + hi))?;

@@ -76,7 +76,8 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
             }
             let error = (r0 - r1).abs();
             let (refused, allowed) = if st.dialect == crate::program::Dialect::Rs274 {
-                let tol = st.arc_tolerance_set.unwrap_or(if st.unit == INCH { LINUXCNC_CENTER_TOLERANCE_INCH } else { LINUXCNC_CENTER_TOLERANCE_MM });
+                // The machine file's tolerance replaces LinuxCNC's default, as its INI's does.
+                let tol = st.machine().and_then(|m| m.arc_radius_tolerance).unwrap_or(if st.unit == INCH { LINUXCNC_CENTER_TOLERANCE_INCH } else { LINUXCNC_CENTER_TOLERANCE_MM });
                 let within = if error / r0.max(r1) > 0.001 { tol } else { 100.0 * tol };
                 (error > within, within)
             } else {

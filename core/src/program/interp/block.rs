@@ -499,14 +499,7 @@ impl Interpreter {
                 next.last[k] + v
             };
             next.last[k] = abs;
-            match k {
-                0 => targets.x = Some(abs),
-                1 => targets.y = Some(abs),
-                2 => targets.z = Some(abs),
-                3 => targets.a = Some(abs),
-                4 => targets.b = Some(abs),
-                _ => targets.c = Some(abs),
-            }
+            targets.set_axis(k, abs);
         }
         next.datum = datum;
         // In a tilted plane the linear words are the plane's: the point, every coordinate of it,
@@ -543,11 +536,7 @@ impl Interpreter {
             let offset = |k: usize| words.iter().any(|w| w.letter == ['I', 'J', 'K'][k]);
             if if next.arc_absolute { offset(a0) && offset(a1) } else { offset(a0) || offset(a1) } {
                 for k in [a0, a1] {
-                    match k {
-                        0 => targets.x = Some(next.last[0]),
-                        1 => targets.y = Some(next.last[1]),
-                        _ => targets.z = Some(next.last[2]),
-                    }
+                    targets.set_axis(k, next.last[k]);
                 }
             }
         }

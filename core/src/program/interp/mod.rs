@@ -114,8 +114,6 @@ pub struct Interpreter {
     /// reach instead (Sinumerik MD21010 `CIRCLE_ERROR_FACTOR`; 0 elsewhere).
     arc_tolerance: f64,
     arc_tolerance_factor: f64,
-    /// The machine file's arc tolerance, where it gives one (LinuxCNC's replaces its centre check's).
-    arc_tolerance_set: Option<f64>,
     /// The program has said its unit (G20/G21, G70/G71, a header), or has been told that it did not.
     unit_stated: bool,
     /// Haas G254 (dynamic work offset) in effect: no rotary axis may move until G255.
@@ -207,7 +205,6 @@ impl Interpreter {
                 _ => ARC_RADIUS_TOLERANCE,
             },
             arc_tolerance_factor: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_FACTOR } else { 0.0 },
-            arc_tolerance_set: None,
             unit_stated: false,
             dwo: false,
             tilt: None,
@@ -234,7 +231,6 @@ impl Interpreter {
             self.modulo = ['A', 'B', 'C'].map(|l| m.axis_index(&l.to_string()).is_some_and(|i| i >= 3 && m.axes[i].limits.is_unlimited()));
             if let Some(t) = m.arc_radius_tolerance {
                 self.arc_tolerance = t;
-                self.arc_tolerance_set = Some(t);
             }
             // The 840D's basic system: the unit a program starts in, and F's under G70/G71.
             if m.inch_basic_system && self.dialect == Dialect::Sinumerik && self.forced_unit.is_none() {
