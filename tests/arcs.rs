@@ -320,7 +320,7 @@ fn cl_data_starts_at_its_first_pose() {
 fn work_offsets_set_by_the_program_move_the_origin() {
     // G10 L2 P2 under a modal G03 (its P is the offset's, not turns), then G55: the machine stays at
     // X-10, so the current point is X-15 in G55 and G91 X1 ends at program X-14 (machine X-9).
-    let text = "G21 G90 G94 G17\nG0 X10 Y0 Z0\nG3 X-10 Y0 I-10 J0 F1000\nG10 L2 P2 X5\nG55\nG1 G91 X1\nG90 G54 X0\n";
+    let text = "G21 G90 G94 G17\nG0 X10 Y0 Z0\nG3 X-10 Y0 I-10 J0 F1000\nG10 L2 P2 X5\nG55\nG1 G91 X1\nG90 G54 X0\nM2\n";
     let p = read(text, Dialect::Rs274, "offsets.ngc", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
     assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);

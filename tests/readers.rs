@@ -96,7 +96,7 @@ fn heidenhain_unsupported_words_and_arcs_are_reported() {
     assert_eq!(p.blocks.iter().map(|b| b.number).collect::<Vec<_>>(), vec![Some(10), Some(30)]);
     // The TNC's tool call `T1 G18` calls the tool along Y (G19: X): the tool axis is not the one
     // modelled, so it is refused at the plane code; `T1 G17` and a G18 of its own (the arc plane) read.
-    let p = read_heidenhain("%T G71 *\nN10 T1 G18 S1000 *\nN20 T2 G19 *\nN30 T1 G17 S1000 *\nN40 G18 *\nN50 G01 X+1 F100 *\n");
+    let p = read_heidenhain("%T G71 *\nN10 T1 G18 S1000 *\nN20 T2 G19 *\nN30 T1 G17 S1000 *\nN40 G18 *\nN50 G01 X+1 F100 *\nN99999999 %T G71 *\n");
     has(&p, 2, 8, "T with G18: a tool call along tool axis Y");
     has(&p, 3, 8, "T with G19: a tool call along tool axis X");
     assert_eq!(errors(&p).len(), 2, "{:?}", errors(&p));
@@ -625,4 +625,50 @@ fn a_tnc_iso_programs_blank_form_and_tool_definition_move_nothing() {
     // The definition's T calls no tool; the call on N40 does.
     let t_on = |line: usize| p.blocks.iter().any(|b| b.line == line && b.events.iter().any(|e| e == "T1"));
     assert!(!t_on(4) && t_on(5));
+}
+
+/// A file cut short (or a program without its end) is said at its last line in every dialect, and
+/// the moves before it are kept. LinuxCNC's own interpreter (`rs274` of Debian 12's linuxcnc-uspace,
+/// run on these texts) stops at the end of such a file with "File ended with no percent sign or
+/// program end" (or "... no percent sign" when the file opened with `%`), after making the move before
+/// it; it says nothing for M2, M30 or a closing `%`. The TNC's programs end with END PGM (DIN/ISO:
+/// `N... %NAME G71 *`) as they begin with BEGIN PGM: without it, an error, as a missing start is.
+#[test]
+fn a_program_without_its_end_is_said_at_its_last_line() {
+    let options = ReadOptions::default();
+    let said = |p: &Program, line: usize, needle: &str, severity: Severity| {
+        assert!(
+            p.diagnostics.iter().any(|d| d.line == line && d.severity == severity && d.message.contains(needle)),
+            "no {severity:?} at line {line} containing {needle:?}: {:#?}",
+            p.diagnostics
+        );
+        assert_eq!(p.blocks.iter().filter(|b| !b.targets.is_empty()).count(), 1, "the move before the end is kept: {:#?}", p.blocks);
+    };
+    let quiet = |p: &Program| assert!(p.diagnostics.iter().all(|d| !d.message.contains("cut short")), "{:#?}", p.diagnostics);
+    // LinuxCNC.
+    let p = read("G21 G90\nG1 X10 F100\n", Dialect::Rs274, "t.ngc", &options);
+    said(&p, 2, "File ended with no percent sign or program end", Severity::Warning);
+    let p = read("%\nG21 G90\nG1 X10 F100\n\n", Dialect::Rs274, "t.ngc", &options);
+    said(&p, 3, "\"File ended with no percent sign\"", Severity::Warning);
+    for ends in ["G21 G90\nG1 X10 F100\nM2\n", "G21 G90\nG1 X10 F100\nM30\n", "%\nG21 G90\nG1 X10 F100\n%\n"] {
+        quiet(&read(ends, Dialect::Rs274, "t.ngc", &options));
+    }
+    // Fanuc and Haas: the tape's end before M30, or no end at all.
+    let p = read("%\nO0001\nG21 G90\nG1 X10. F100.\n%\n", Dialect::Fanuc, "t.nc", &options);
+    said(&p, 5, "the tape's end % comes before the program's end (M30, M02 or M99) (Fanuc: alarm PS5010", Severity::Warning);
+    let p = read("%\nO0001\nG21 G90\nG1 X10. F100.\n", Dialect::Haas, "t.nc", &options);
+    said(&p, 4, "the file ends before the program's end", Severity::Warning);
+    for ends in ["%\nO0001\nG21 G90\nG1 X10. F100.\nM30\n%\n", "G21 G90\nG1 X10. F100.\nM02\n", "%\nO0001\nG21 G90\nG1 X10. F100.\nM99\n%\n"] {
+        quiet(&read(ends, Dialect::Fanuc, "t.nc", &options));
+    }
+    // Sinumerik.
+    let p = read("G71 G90\nG1 X10 F100\n", Dialect::Sinumerik, "t.mpf", &options);
+    said(&p, 2, "the file ends before the program's end (M30, M2 or M17)", Severity::Warning);
+    quiet(&read("G71 G90\nG1 X10 F100\nM30\n", Dialect::Sinumerik, "t.mpf", &options));
+    // Heidenhain: an error, as a missing BEGIN PGM is.
+    let p = read("BEGIN PGM T MM\nL X10 R0 F100\n", Dialect::Klartext, "t.h", &options);
+    said(&p, 2, "missing program end: expected END PGM", Severity::Error);
+    quiet(&read("BEGIN PGM T MM\nL X10 R0 F100\nEND PGM T MM\n", Dialect::Klartext, "t.h", &options));
+    let p = read("%T G71 *\nN10 G01 X+10 F100 *\n", Dialect::Heidenhain, "t.i", &options);
+    said(&p, 2, "missing program end: expected N... %T G71 *", Severity::Error);
 }

@@ -157,6 +157,8 @@ pub(crate) struct DinReader {
     /// The program stopped at `M02`/`M30` (its line and block number; whether the blocks after it
     /// have been said not to run): the TNC goes back to its first block there.
     stopped: Option<(usize, Option<u64>, bool)>,
+    /// The last line with anything on it (where a missing program end is said).
+    last_line: usize,
 }
 
 impl DinReader {
@@ -169,6 +171,7 @@ impl DinReader {
             out_of_order: false,
             ended: false,
             stopped: None,
+            last_line: 0,
         }
     }
 }
@@ -176,6 +179,9 @@ impl DinReader {
 impl super::stream::LineReader for DinReader {
     fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
         let trimmed = text.trim_end_matches('\r');
+        if !trimmed.trim().is_empty() {
+            self.last_line = line;
+        }
         let lead = trimmed.len() - trimmed.trim_start().len();
         let body = trimmed.trim_start();
         if body.is_empty() || body.starts_with(';') {
@@ -355,6 +361,11 @@ impl super::stream::LineReader for DinReader {
     fn finish(&mut self, blocks: Option<&mut Vec<Block>>, _out: &mut Vec<Block>, diags: &mut Diags) {
         if self.name.is_none() {
             diags.error(1, 1, "missing program header: expected %NAME G71 * on the first line");
+        } else if !self.ended {
+            // The TNC's DIN/ISO program ends with the block `N99999999 %NAME G71 *` (its program
+            // end, as the header begins it): without it, the file was cut short.
+            let name = self.name.as_deref().unwrap_or("NAME");
+            diags.error(self.last_line.max(1), 1, format!("missing program end: expected N... %{name} G71 * as the last block (was the file cut short?)"));
         }
         if self.out_of_order {
             match blocks {

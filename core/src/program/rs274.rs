@@ -54,6 +54,8 @@ pub(crate) struct Rs274Reader {
     percent: bool,
     /// Fanuc, Haas: a macro alarm (`#3000`) stopped the control.
     alarmed: bool,
+    /// The last line read with anything on it (where a missing program end is said).
+    last_line: usize,
     /// LinuxCNC's O-word blocks held and run ([`super::oword`]).
     pub(super) flow: super::oword::Flow,
     /// The machine's quill, where it has one ([`super::quill`]).
@@ -78,7 +80,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, flow: super::oword::Flow::new(setup.max_run_lines), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0 }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0 }
     }
 }
 
@@ -98,6 +100,11 @@ impl Rs274Reader {
         self.alarmed
     }
 
+    /// The last line read with anything on it.
+    pub(super) fn last_line(&self) -> usize {
+        self.last_line
+    }
+
     /// A line with words has been read (an `O` number now is another program's).
     pub(super) fn started(&self) -> bool {
         self.started
@@ -113,6 +120,9 @@ impl super::stream::LineReader for Rs274Reader {
     fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
         // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
         let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
+        if !text.trim().is_empty() {
+            self.last_line = line;
+        }
         if self.refused || self.after_end(line, text, diags) {
             return;
         }
@@ -141,6 +151,14 @@ impl super::stream::LineReader for Rs274Reader {
     fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, out: &mut Vec<Block>, diags: &mut Diags) {
         self.release_leader(out, diags);
         self.flow_finish(diags);
+        // LinuxCNC: a file must end its program (interp_read.cc, read_text: "if the file started with a
+        // percent line, it must end with a percent line ... if [not], it must have a program ending
+        // command (M2 or M30) in it"); at the end of the file it stops with an error, after the moves
+        // before it. A file cut short ends so too.
+        if self.dialect == Dialect::Rs274 && self.ended.is_none() && self.started {
+            let what = if self.percent { "File ended with no percent sign" } else { "File ended with no percent sign or program end" };
+            diags.warning(self.last_line, 1, format!("the file ends without {}: LinuxCNC stops here with \"{what}\" after running the moves before it; was the file cut short?", if self.percent { "the % closing the one that opens it" } else { "M2, M30 or a closing %" }));
+        }
     }
 
     fn name(&self) -> Option<String> {

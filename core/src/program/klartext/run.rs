@@ -187,6 +187,10 @@ impl Runner {
         }
         if !self.st.began {
             diags.error(1, 1, "missing program start: expected BEGIN PGM NAME MM");
+        } else if !self.st.ended {
+            // The TNC's program ends with the block END PGM (TNC 640 User's Manual, "Program
+            // structure": BEGIN PGM first, END PGM last): without it, the file was cut short.
+            diags.error(self.labels.lines.max(1), 1, "missing program end: expected END PGM NAME MM as the last block (was the file cut short?)");
         }
     }
 

@@ -106,6 +106,8 @@ pub(crate) struct MacroRunner {
     furthest: std::collections::HashMap<u64, u64>,
     executed: usize,
     budget: usize,
+    /// The main program has ended (M30, M02, or M99 in it, or the next program of the file).
+    program_end: bool,
 }
 
 impl MacroRunner {
@@ -122,6 +124,7 @@ impl MacroRunner {
             main_numbered: false,
             frames: vec![Frame { unit: At { line: 1, offset: 0 }, end: None, start: At { line: 1, offset: 0 }, back: At { line: 1, offset: 0 }, repeats: 0, loops: Vec::new(), locals: None, call: (0, 0) }],
             skipping: None,
+            program_end: false,
             wanted: None,
             places: Places::new(),
             kept: std::collections::HashMap::new(),
@@ -168,6 +171,7 @@ impl MacroRunner {
     /// `M99`: the end of a subprogram's run (again, if repeats are left), back to the caller.
     fn ret(&mut self, to: Option<u64>, line: usize, column: usize, diags: &mut Diags) -> Next {
         if self.frames.len() == 1 {
+            self.program_end = true;
             diags.warning(line, column, "M99 in the main program: the control runs it again from its start, endlessly; read once");
             return Next::Ended;
         }
@@ -325,6 +329,7 @@ impl Jumping for MacroRunner {
         if self.reader.started() && program_number(text.as_bytes()).is_some() {
             if self.frames.len() == 1 {
                 diags.warning(line, 1, "the main program runs into the next program of the file without M30 or M02: read as its end");
+                self.program_end = true;
                 return Next::Ended;
             }
             return stop(line, 1, "the subprogram runs into the next program of the file without M99".into(), diags);
@@ -439,6 +444,15 @@ impl Jumping for MacroRunner {
 
     fn finish(&mut self, ended: bool, out: &mut Vec<Block>, diags: &mut Diags) {
         self.reader.finish(None, out, diags);
+        // A program ends with M30, M02 or M99 (FANUC B-64484EN, "Program end"; Haas Mill Operator's
+        // Manual, M30 and M99): the tape's end `%` before it stops a Fanuc control with alarm PS5010
+        // END OF RECORD, after the moves before it; a file without either was cut short, or is not all
+        // of the program.
+        if !self.program_end && !self.reader.alarmed() && self.reader.started() && (!ended || self.reader.at_tape_end()) {
+            let (at, what) = (self.reader.last_line(), if self.reader.at_tape_end() { "the tape's end % comes" } else { "the file ends" });
+            let alarm = if self.dialect == Dialect::Fanuc && self.reader.at_tape_end() { " (Fanuc: alarm PS5010 END OF RECORD, after running the moves before it)" } else { "" };
+            diags.warning(at, 1, format!("{what} before the program's end (M30, M02 or M99){alarm}; was the file cut short?"));
+        }
         if ended {
             return;
         }
@@ -532,8 +546,11 @@ impl MacroRunner {
     }
 
     /// After a line made `made`: the run ends at the tape's end or an end of program (M30, M02).
-    fn ended(&self, made: &[Block]) -> Next {
-        if self.reader.at_tape_end() || self.reader.alarmed() || ends_program(made, &[2.0, 30.0]) {
+    fn ended(&mut self, made: &[Block]) -> Next {
+        if ends_program(made, &[2.0, 30.0]) {
+            self.program_end = true;
+        }
+        if self.reader.at_tape_end() || self.reader.alarmed() || self.program_end {
             Next::Ended
         } else {
             Next::On

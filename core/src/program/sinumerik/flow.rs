@@ -376,6 +376,11 @@ impl Jumping for FlowRunner {
         if ended {
             return;
         }
+        // A program ends with M2 or M30 (M17 a subprogram: SINUMERIK 840D sl Programming Manual
+        // Fundamentals, "M functions"): a file without one was cut short, or is not all of the program.
+        if self.reached > 0 {
+            diags.warning(self.reached, 1, "the file ends before the program's end (M30, M2 or M17); was the file cut short?");
+        }
         // The input ended while the program ran: what it left open.
         if let Some(s) = self.skipping {
             diags.error(s.line, 1, format!("the program ends inside {} (no {})", s.open, s.close));
