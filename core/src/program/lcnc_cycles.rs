@@ -40,6 +40,10 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
         return None;
     }
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
+    if let Some(w) = words.iter().find(|w| matches!(w.letter, '@' | '^')) {
+        diags.error(line, w.column, format!("{}{}: polar coordinates in a canned cycle block are not read", w.letter, w.raw));
+        return Some(false);
+    }
     // G76 is LinuxCNC's threading cycle, not a drilling one: the interpreter refuses it elsewhere.
     if let Some((kind, w)) = g.iter().find_map(|(k, w)| Kind::from_code(k).filter(|k| *k != Kind::G76).map(|kind| (kind, *w))) {
         if let Some((k, other)) = g.iter().find(|(k, o)| !std::ptr::eq(*o, w) && (MOTION_GROUP.contains(&k.as_str()) || Kind::from_code(k).is_some())) {

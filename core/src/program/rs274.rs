@@ -335,7 +335,7 @@ impl Rs274Reader {
                         break;
                     }
                 }
-            } else if c.is_ascii_alphabetic() {
+            } else if c.is_ascii_alphabetic() || (self.dialect == Dialect::Rs274 && (c == '@' || c == '^')) {
                 if let Some(word) = macro_control(&chars[i..]) {
                     diags.error(line, i + 1, format!("Fanuc macro '{word}': control flow (IF, WHILE, GOTO) is not read (the motion would depend on it)"));
                     break;

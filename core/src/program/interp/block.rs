@@ -52,6 +52,8 @@ impl Interpreter {
         // A code that changes the motion and is not modelled is an error (fail closed), never skipped.
         let mut uses: Vec<char> = Vec::new(); // letters besides axes that a code of this block takes
         let mut g10 = false;
+        // LinuxCNC's G92, G92.1-G92.3 and G52: the code, applied once the block's modal codes are.
+        let mut g92: Option<String> = None;
         // The TNC's DIN/ISO blank form (G30 MIN point, G31 MAX point) and tool definition (G99 T L R):
         // their words define, they do not move (as Klartext's BLK FORM and TOOL DEF).
         let defines = self.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'G' && matches!(w.value, 30.0 | 31.0 | 99.0));
@@ -218,6 +220,12 @@ impl Interpreter {
                             g10 = true;
                             uses.extend(['L', 'P']);
                         }
+                        ("92" | "92.1" | "92.2" | "92.3" | "52", false) if self.dialect == Dialect::Rs274 => {
+                            if g10 || g92.is_some() {
+                                diags.error(line, w.column, format!("G{}: two codes of modal group 0 (G10, G52, G92) in one block", w.raw));
+                            }
+                            g92 = Some(code.clone());
+                        }
                         ("92.1" | "92.2", false) => {} // cancel G92 offsets: none are modelled
                         // A change of feed mode leaves no feed: Siemens, "In the event of switching
                         // between G93, G94 and G95, the path feedrate value has to be reprogrammed"
@@ -341,6 +349,7 @@ impl Interpreter {
                 'F' => feed_word = Some(w),
                 'N' => {}
                 c if AXIS_LETTERS.contains(&c) => {}
+                '@' | '^' if self.dialect == Dialect::Rs274 => {} // polar coordinates, read below
                 'I' | 'J' | 'K' | 'R' | 'P' | 'Q' | 'H' | 'L' | 'E' if !heid => {} // checked below, with the codes that take them
                 'L' | 'R' if defines => {} // a tool definition's length and radius
                 'I' | 'J' | 'K' | 'R' if heid => {} // circle centre and radius, read below
@@ -392,9 +401,15 @@ impl Interpreter {
             self.set_offsets(words, &mut next, line, column, diags);
         }
         // Sinumerik's settable frames (G54-G57, G505-G599) are the operator's, never set by the
-        // program: the datum is the programmable frame's, which its reader keeps.
+        // program: the datum is the programmable frame's, which its reader keeps. LinuxCNC's axis
+        // offsets (G92, G52) apply in every system.
         if !heid && self.dialect != Dialect::Sinumerik && next.system != self.system {
-            next.move_origin(next.offsets[next.system]);
+            let axis = next.axis_offset;
+            next.move_origin(std::array::from_fn(|k| next.offsets[next.system][k] + axis[k]));
+        }
+        if let Some(code) = &g92 {
+            // Its axis words set the offset; they are not a move (skipped below).
+            self.axis_offsets(code, words, &mut next, line, diags);
         }
 
         // LinuxCNC's `G64 P- <Q->`: Q (the naive-CAM tolerance: near-collinear points within it merge
@@ -466,11 +481,19 @@ impl Interpreter {
             }
         }
 
+        let polar_end = match words.iter().any(|w| matches!(w.letter, '@' | '^')) {
+            true if g10 || g92.is_some() => {
+                diags.error(line, column, "polar coordinates (@, ^) in a block whose axis words set an offset (G10, G52, G92) are not read");
+                None
+            }
+            true => polar(words, &next, g53, line, diags),
+            false => None,
+        };
         let mut targets = Targets::default();
         let mut datum = next.datum;
         for w in words {
             let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
-            if g10 || defines {
+            if g10 || defines || g92.is_some() {
                 continue;
             }
             let scale = if k < 3 { next.unit } else { next.rotary_unit[k - 3] };
@@ -500,6 +523,12 @@ impl Interpreter {
             };
             next.last[k] = abs;
             targets.set_axis(k, abs);
+        }
+        if let Some(xy) = polar_end {
+            for k in 0..2 {
+                next.last[k] = xy[k];
+                targets.set_axis(k, xy[k]);
+            }
         }
         next.datum = datum;
         // In a tilted plane the linear words are the plane's: the point, every coordinate of it,
@@ -665,4 +694,60 @@ const fn letters_mask(letters: &str) -> u32 {
         k += 1;
     }
     mask
+}
+
+/// LinuxCNC's polar coordinates (G-code reference, "Polar Coordinates"; interp_find.cc find_ends):
+/// `@` the distance from the program origin and `^` the angle from +X (deg) of the end point in the
+/// XY plane. Under G90 a word left out keeps the current point's; under G91 `@` adds to the distance
+/// and `^` to the angle, about the origin. The end point (program coordinates, m), or None with the
+/// error LinuxCNC gives.
+fn polar(words: &[Word], next: &Interpreter, g53: bool, line: usize, diags: &mut Diags) -> Option<[f64; 2]> {
+    let find = |c: char| words.iter().filter(|w| w.letter == c).collect::<Vec<_>>();
+    let (radius, theta) = (find('@'), find('^'));
+    let column = radius.iter().chain(&theta).map(|w| w.column).min().unwrap_or(1);
+    let refuse = |diags: &mut Diags, why: &str| {
+        diags.error(line, column, format!("polar coordinates: {why} (LinuxCNC refuses it so)"));
+        None
+    };
+    if radius.len() > 1 || theta.len() > 1 {
+        return refuse(diags, "@ or ^ written twice in one block");
+    }
+    if next.plane != Plane::Xy {
+        return refuse(diags, "\"Cannot use polar coordinate except in G17 plane\"");
+    }
+    if words.iter().any(|w| matches!(w.letter, 'X' | 'Y')) {
+        return refuse(diags, "\"Cannot specify both polar coordinate and X word\" (or Y)");
+    }
+    if g53 {
+        return refuse(diags, "\"Cannot use polar coordinates with G53\"");
+    }
+    let (r, t) = (radius.first().map(|w| w.value * next.unit), theta.first().map(|w| w.value.to_radians()));
+    let (x, y) = (next.last[0], next.last[1]);
+    let at_origin = x == 0.0 && y == 0.0;
+    let end = |r: f64, t: f64| [r * t.cos(), r * t.sin()];
+    if next.absolute {
+        match (r, t) {
+            (Some(r), Some(t)) => Some(end(r, t)),
+            (Some(_), None) if at_origin => refuse(diags, "\"Must specify angle in polar coordinate if at the origin\""),
+            (Some(r), None) => Some(end(r, y.atan2(x))),
+            (None, Some(t)) => Some(end(x.hypot(y), t)),
+            (None, None) => None,
+        }
+    } else {
+        // The distance first, then the angle, each about the origin (find_ends, MODE_INCREMENTAL).
+        let mut p = [x, y];
+        if let Some(r) = r {
+            if at_origin {
+                return refuse(diags, "\"Incremental motion with polar coordinates is indeterminate when at the origin\"");
+            }
+            p = end(p[0].hypot(p[1]) + r, p[1].atan2(p[0]));
+        }
+        if let Some(t) = t {
+            if p == [0.0, 0.0] {
+                return refuse(diags, "\"G91 motion with polar coordinates is indeterminate when at the origin\"");
+            }
+            p = end(p[0].hypot(p[1]), p[1].atan2(p[0]) + t);
+        }
+        Some(p)
+    }
 }

@@ -78,6 +78,10 @@ pub struct Interpreter {
     /// zero) and the active one (`G54`..`G59.3` = 0..8).
     offsets: [[f64; 3]; 9],
     system: usize,
+    /// LinuxCNC: the axis offsets of G92 and G52 (m), on top of the active work offset in every
+    /// system, and the copy parameters 5211-5213 keep for G92.3 (G92.2 leaves it, G92.1 zeroes it).
+    axis_offset: [f64; 3],
+    axis_offset_kept: [f64; 3],
     /// Fanuc `G43.5`: tool-centre point with the tool axis written as a vector `I J K`.
     tool_vector: bool,
     /// How the tool orientation is interpolated under TCPM.
@@ -183,6 +187,8 @@ impl Interpreter {
             m_codes: std::sync::Arc::from([]),
             offsets: [[0.0; 3]; 9],
             system: 0,
+            axis_offset: [0.0; 3],
+            axis_offset_kept: [0.0; 3],
             tool_vector: false,
             orientation: dialect.default_orientation(),
             centre: [None; 3],
@@ -293,7 +299,7 @@ impl Interpreter {
             let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
             if k < 3 {
                 // L20: the current point, in the offset-free (G53) frame, less the value it is to read.
-                offsets[k] = if l20 { next.last[k] + next.datum[k] - w.value * next.unit } else { w.value * next.unit };
+                offsets[k] = if l20 { next.last[k] + next.datum[k] - next.axis_offset[k] - w.value * next.unit } else { w.value * next.unit };
             } else {
                 let u = next.rotary_unit[k - 3];
                 let offset = if l20 { next.last[k] - w.value * u } else { w.value * u };
@@ -303,7 +309,7 @@ impl Interpreter {
             }
         }
         if k_system == next.system {
-            next.move_origin(offsets);
+            next.move_origin(std::array::from_fn(|k| offsets[k] + next.axis_offset[k]));
         }
         next.offsets[k_system] = offsets;
         next.offsets_given[k_system] = true;
@@ -316,6 +322,41 @@ impl Interpreter {
             self.last[k] += self.datum[k] - offset[k];
         }
         self.datum = offset;
+    }
+
+    /// LinuxCNC's axis offsets (G-code reference §G92, §G52; interp_convert.cc convert_axis_offsets):
+    /// `G92` moves the origin so that the current point has the block's coordinates, `G52` sets the
+    /// offset itself, `G92.1`/`G92.2` take it away (G92.1 zeroes the copy G92.3 restores). Incremental
+    /// mode has no effect on them. Rotary-axis offsets are not modelled: a word that would make one
+    /// is an error.
+    fn axis_offsets(&self, code: &str, words: &[Word], next: &mut Interpreter, line: usize, diags: &mut Diags) {
+        let work = next.offsets[next.system];
+        let mut offset = next.axis_offset;
+        match code {
+            "92" | "52" => {
+                for w in words {
+                    let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
+                    if k >= 3 {
+                        let turned = if code == "92" { next.last[k] - w.value * next.rotary_unit[k - 3] } else { w.value * next.rotary_unit[k - 3] };
+                        if turned.abs() > 1e-12 {
+                            diags.error(line, w.column, format!("G{code} {}{}: rotary-axis offsets are not modelled (this one would be {:.6} deg)", w.letter, w.raw, turned / DEG));
+                        }
+                        continue;
+                    }
+                    let v = w.value * next.unit;
+                    offset[k] = if code == "92" { next.last[k] + next.datum[k] - work[k] - v } else { v };
+                }
+                next.axis_offset_kept = offset;
+            }
+            "92.1" => {
+                offset = [0.0; 3];
+                next.axis_offset_kept = offset;
+            }
+            "92.2" => offset = [0.0; 3],
+            _ => offset = next.axis_offset_kept, // 92.3
+        }
+        next.axis_offset = offset;
+        next.move_origin(std::array::from_fn(|k| work[k] + offset[k]));
     }
 
     /// The last programmed position, absolute program coordinates (m, rad): X Y Z A B C.

@@ -4,14 +4,30 @@
 # canonical machining commands (STRAIGHT_FEED/STRAIGHT_TRAVERSE(x, y, z, a, b, c), 4 decimals).
 # The switchkins demos' M428/M429 (remapped kinematics switches, which plain rs274 has no INI for)
 # are dropped from rs274's copy: they move nothing.
+# Where linuxcnc-uspace will not install (its libpcre2-dev dependency held back), rs274 runs from the
+# package unpacked: `apt-get download linuxcnc-uspace libboost-python1.74.0`, `dpkg-deb -x` each into a
+# directory, LD_LIBRARY_PATH=<dir>/usr/lib:<dir>/usr/lib/x86_64-linux-gnu, and RS274=<dir>/usr/bin/rs274.
 set -eu
 cd "$(dirname "$0")"
+RS274=${RS274:-rs274}
+rs274() { "$RS274" "$@"; }
+# A tool table: rs274 wants one (a full install has its sample configuration's).
+printf 'T1 P1 Z0 D10 ;\n' > /tmp/make_canon.tbl
 for f in cycles expressions offsets owords xyzac_switchkins_test_1 xyzac_switchkins_test_2; do
     sed -e 's/^M42[89]\b.*$//' "$f.ngc" > "/tmp/$f.rs274.ngc"
-    rs274 -g "/tmp/$f.rs274.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
+    rs274 -t /tmp/make_canon.tbl -g "/tmp/$f.rs274.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
     grep -o 'STRAIGHT_[A-Z]*(.*)' "/tmp/$f.canon" > "$f.canon"
     rm "/tmp/$f.rs274.ngc" "/tmp/$f.canon"
 done
+# Axis offsets (G92, G52 and their cancels) and polar coordinates: arcs and units too, so these keep
+# ARC_FEED(first_end, second_end, first_centre, second_centre, turn, axis_end, a, b, c) and
+# USE_LENGTH_UNITS (rs274 prints positions in the program's unit).
+for f in offsets_g92 polar; do
+    rs274 -t /tmp/make_canon.tbl -g "$f.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
+    grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)' "/tmp/$f.canon" > "$f.canon"
+    rm "/tmp/$f.canon"
+done
+rm /tmp/make_canon.tbl
 # LinuxCNC's bridgemill demo (../shared/outside/programs, not committed here) drills a hemisphere in
 # nested O-word loops. Standalone rs274 has no W axis (its axis mask is XYZABC), so the W (quill)
 # words are taken out of rs274's copy, as tests/readers.rs takes them out of ours; its tool 100 is
