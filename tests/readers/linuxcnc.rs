@@ -523,12 +523,13 @@ fn linuxcnc_moves(name: &str) -> Vec<(Motion, [f64; 6])> {
 /// point the block's coordinates in every work offset system, G52 sets the offset itself, G92.2 takes
 /// it away keeping its parameters for G92.3, G92.1 zeroes them; G10 L20 counts it, G53 does not.
 /// `@` is the distance from the origin and `^` the angle from +X, each kept from the current point
-/// when left out under G90, added about the origin under G91 (an arc's end too). Then LinuxCNC's own
+/// when left out under G90, added about the origin under G91 (an arc's end too, and canned cycles'
+/// holes on each repeat: `polar_cycles.ngc`, after LinuxCNC's own polar demos). Then LinuxCNC's own
 /// refusals of polar coordinates and G92's rotary words that this model does not hold.
 #[test]
 fn rs274_reads_axis_offsets_and_polar_coordinates_as_linuxcnc_does() {
     let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
-    for name in ["offsets_g92", "polar"] {
+    for name in ["offsets_g92", "polar", "polar_cycles"] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
         let p = read(&text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
         assert!(errors(&p).is_empty(), "{name}: {:?}", errors(&p));
@@ -558,3 +559,4 @@ fn rs274_reads_axis_offsets_and_polar_coordinates_as_linuxcnc_does() {
         has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
     }
 }
+

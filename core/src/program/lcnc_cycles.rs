@@ -40,17 +40,13 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
         return None;
     }
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
-    if let Some(w) = words.iter().find(|w| matches!(w.letter, '@' | '^')) {
-        diags.error(line, w.column, format!("{}{}: polar coordinates in a canned cycle block are not read", w.letter, w.raw));
-        return Some(false);
-    }
     // G76 is LinuxCNC's threading cycle, not a drilling one: the interpreter refuses it elsewhere.
     if let Some((kind, w)) = g.iter().find_map(|(k, w)| Kind::from_code(k).filter(|k| *k != Kind::G76).map(|kind| (kind, *w))) {
         if let Some((k, other)) = g.iter().find(|(k, o)| !std::ptr::eq(*o, w) && (MOTION_GROUP.contains(&k.as_str()) || Kind::from_code(k).is_some())) {
             diags.error(line, other.column, format!("G{k} with G{}: two codes of the motion group in one block (LinuxCNC: \"Two G-codes used from same modal group\")", code(w)));
             return Some(false);
         }
-        if !words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z')) {
+        if !words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | '@' | '^')) {
             diags.error(line, w.column, format!("G{}: a canned cycle block without X, Y or Z (LinuxCNC: \"All axes missing with motion code\")", code(w)));
             return Some(false);
         }
@@ -68,7 +64,7 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     }
     // "The canned cycle will attempt to repeat itself using the next block of code that contains an
     // X, Y, or Z word" (G80 section).
-    if it.cycles.active.is_some() && words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C')) {
+    if it.cycles.active.is_some() && words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | '@' | '^')) {
         return Some(drill(it, None, words, line, column, number, diags, out));
     }
     None
@@ -78,7 +74,7 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
 #[allow(clippy::too_many_arguments)]
 fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
     let find = |l: char| words.iter().find(|w| w.letter == l);
-    let taken = ['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', 'L'];
+    let taken = ['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', 'L', '@', '^'];
     let before = it.cycles.active;
     let (kind, at) = match (named, before) {
         (Some((k, w)), _) => (k, w.column),
@@ -191,12 +187,36 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     }
     let clear = if it.cycles.to_r { r } else { old };
     let (x_word, y_word) = (find('X').map(|w| w.value * unit), find('Y').map(|w| w.value * unit));
+    // Polar hole positions (interp_cycles.cc convert_cycle_xy and CYCLE_MACRO): under G90 the point
+    // of `@` and `^` (each kept from the current point when left out), under G91 added about the
+    // origin on each repeat, the distance first.
+    let (radius, theta) = (find('@').map(|w| w.value * unit), find('^').map(|w| w.value.to_radians()));
+    let polar = radius.is_some() || theta.is_some();
+    if let (true, Some(w)) = (polar, find('X').or(find('Y'))) {
+        diags.error(line, w.column, format!("{}{}: polar coordinates and X or Y in one block (LinuxCNC: \"Cannot specify both polar coordinate and X word\")", w.letter, w.raw));
+        return false;
+    }
+    let about = |r: f64, t: f64| [r * t.cos(), r * t.sin()];
     let (mut x, mut y) = (here[0], here[1]);
     for k in 0..repeats {
-        if it.absolute() {
+        if it.absolute() && polar {
+            let r = radius.unwrap_or(x.hypot(y));
+            let t = theta.unwrap_or(y.atan2(x));
+            [x, y] = about(r, t);
+        } else if it.absolute() {
             (x, y) = (x_word.unwrap_or(x), y_word.unwrap_or(y));
         } else {
             (x, y) = (x + x_word.unwrap_or(0.0), y + y_word.unwrap_or(0.0));
+            for (dr, dt) in [(radius, None), (None, theta)] {
+                if dr.is_none() && dt.is_none() {
+                    continue;
+                }
+                if x == 0.0 && y == 0.0 {
+                    diags.error(line, column, format!("{name}: polar increments at the origin (LinuxCNC: \"Incremental motion with polar coordinates is indeterminate when at the origin\")"));
+                    return false;
+                }
+                [x, y] = about(x.hypot(y) + dr.unwrap_or(0.0), y.atan2(x) + dt.unwrap_or(0.0));
+            }
         }
         let xy = [word('X', x / unit, column), word('Y', y / unit, column)];
         let ok = if k == 0 && here[2] > r {
