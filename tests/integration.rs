@@ -17,6 +17,7 @@ mod dds;
 mod dialects;
 mod docs;
 mod dwell;
+mod exact_stop;
 mod exit_codes;
 mod fleet;
 mod kinematics;

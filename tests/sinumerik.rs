@@ -6,7 +6,7 @@
 use crate::common;
 
 use fiveaxis::machine::Machine;
-use fiveaxis::program::{read, Block, Dialect, Motion, Program, ReadOptions, Severity};
+use fiveaxis::program::{read, Block, Dialect, Exact, Motion, Program, ReadOptions, Severity};
 use fiveaxis::units::MM;
 
 fn errors(p: &Program) -> Vec<(usize, usize, String)> {
@@ -90,15 +90,16 @@ fn mcall_drills_at_each_position() {
 }
 
 /// CYCLE832(_TOL, _TOLM, _OTOL): the tolerance for the blocks after it, and a continuous-path mode
-/// that ends G60; CYCLE832() deselects it. G60 on a feed move is refused; on a rapid it is what the
-/// planner does anyway.
+/// that ends G60; CYCLE832() deselects it. G60 makes the blocks after it end in an exact stop
+/// (tests/exact_stop.rs has the simulated machine stop there).
 #[test]
-fn cycle832_sets_the_tolerance_and_g60_stops_feed_moves() {
-    let p = on_umc("G90 G71 G94 G60 G601\nG0 X1\nCYCLE832(.02,1,1)\nG1 X2 F100\nCYCLE832()\nG1 X3\nG60\nG1 X4\n");
-    let e = errors(&p);
-    assert!(e.len() == 1 && e[0].0 == 8 && e[0].2.contains("G60"), "{e:#?}");
+fn cycle832_sets_the_tolerance_and_ends_g60() {
+    let p = on_umc("G90 G71 G94 G60 G601\nG0 X1\nCYCLE832(.02,1,1)\nG1 X2 F100\nCYCLE832()\nG1 X3\nG60\nG1 X4\nM30\n");
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
     assert!(close(blocks_of(&p, 4)[0].tolerance.linear_m, 0.02));
     assert_eq!(blocks_of(&p, 6)[0].tolerance.linear_m, None);
+    let exact = |line: usize| blocks_of(&p, line)[0].exact;
+    assert_eq!([exact(2), exact(4), exact(6), exact(8)], [Exact::Stop, Exact::Blend, Exact::Blend, Exact::Stop]);
 }
 
 /// Alarm 14040's rule: the radii to an arc's start and end may differ by max(0.01 mm, 0.001 R).

@@ -86,7 +86,8 @@ pub fn semi_cylinder() -> Program {
                 events: Vec::new(),
                 dwell_s: None,
                 tolerance: Default::default(),
-            offset_assumed: false,
+                offset_assumed: false,
+                exact: crate::program::Exact::Blend,
             }
         })
         .collect();

@@ -82,6 +82,7 @@ impl BuiltinPath {
                     dwell_s: None,
                     tolerance: Default::default(),
             offset_assumed: false,
+            exact: crate::program::Exact::Blend,
                 }
             })
             .collect();
@@ -140,6 +141,7 @@ impl BuiltinPath {
                 arc: None,
                 tolerance: machine.contour_tolerance,
                 path: true,
+                exact: crate::program::Exact::Blend,
             });
             q0 = q1;
         }

@@ -16,7 +16,7 @@ mod window;
 pub use builtin::{builtin_names, paper_orientation, BuiltinPath};
 pub use passes::Passes;
 pub use shared::{SharedRead, SharedReader};
-pub use segment::{plan, GreatCircle, Segment, SegmentKind, SegmentPlanner, ORIENT_PIECE_RAD};
+pub use segment::{plan, GreatCircle, Segment, SegmentKind, SegmentPlanner, EXACT_PATH_RAD, ORIENT_PIECE_RAD};
 pub use window::{GridSampler, SegmentStream, SegmentWindow};
 
 use crate::kinematics::Joints;
@@ -153,5 +153,6 @@ pub(crate) fn stream_test_segment(k: usize) -> Segment {
         orient: None,
         tolerance: Default::default(),
         path: true,
+        exact: crate::program::Exact::Blend,
     }
 }

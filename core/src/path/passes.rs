@@ -112,6 +112,7 @@ fn joining_rapid(q0: Joints, first: &Segment, t0: f64, s0: f64, machine: &Machin
         orient: None,
         tolerance: first.tolerance,
         path: false,
+        exact: crate::program::Exact::Blend,
     };
     seg.length = tip_length(&seg, machine);
     seg.feed = seg.length / duration;

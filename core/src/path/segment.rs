@@ -57,6 +57,8 @@ pub struct Segment {
     /// linear axes without, at least [`MIN_PATH`]): decided per block, so that a piece beside the
     /// pole, short because the rotaries turn fast there, is part of the path as its block is.
     pub path: bool,
+    /// Whether the machine stops at the end of the segment's block ([`crate::program::Exact`]).
+    pub exact: crate::program::Exact,
 }
 
 /// The tool axis turning on the great circle from `o0` to `o1` at a constant angular rate (slerp),
@@ -213,7 +215,24 @@ impl ArcPath {
     }
 }
 
+/// Under exact path (LinuxCNC G61), the largest turn between blocks that runs on without a stop:
+/// colinear to rounding (LinuxCNC's TP_ANGLE_EPSILON, 1e-6 rad).
+pub const EXACT_PATH_RAD: f64 = 1e-6;
+
 impl Segment {
+    /// Whether the machine stops between this segment and `next` because this one's block ends in
+    /// an exact stop, or under exact path turns by more than [`EXACT_PATH_RAD`] into `next`'s
+    /// direction (`turn`, rad) ([`crate::program::Exact`]).
+    pub fn stops_before(&self, next: &Segment, turn: f64) -> bool {
+        use crate::program::Exact;
+        self.block != next.block
+            && match self.exact {
+                Exact::Blend => false,
+                Exact::Path => turn > EXACT_PATH_RAD,
+                Exact::Stop => true,
+            }
+    }
+
     /// What the control interpolates along the segment, at its start or end: the tool tip (m) and
     /// the rotaries (rad) under TCPM, else the machine axes. Spline knots are thinned on it.
     pub fn interpolated(&self, end: bool) -> Joints {
@@ -410,7 +429,7 @@ impl SegmentPlanner {
                 }
                 let datum = Vector3::from(b.datum);
                 let tip = machine.forward(&q).tip - datum;
-                segments.push(Segment { kind: SegmentKind::Dwell, block: bi, line: b.line, number: b.number, t0: t, duration: d, s0: s, length: 0.0, q0: q, q1: q, tip0: tip, tip1: tip, datum, feed: 0.0, arc: None, orient: None, tolerance, path: false });
+                segments.push(Segment { kind: SegmentKind::Dwell, block: bi, line: b.line, number: b.number, t0: t, duration: d, s0: s, length: 0.0, q0: q, q1: q, tip0: tip, tip1: tip, datum, feed: 0.0, arc: None, orient: None, tolerance, path: false, exact: b.exact });
                 t += d;
             }
             if b.targets.is_empty() {
@@ -531,7 +550,7 @@ impl SegmentPlanner {
                 (Some(arc), None) => {
                     // The whole move as one segment gives each piece end its axes (the arc's point, the
                     // rotaries linear in the fraction), the same as sampling it would.
-                    let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)), orient: None, tolerance, path: false };
+                    let whole = Segment { kind, block: bi, line: b.line, number: b.number, t0: 0.0, duration: 0.0, s0: 0.0, length: 0.0, q0: q, q1, tip0, tip1, datum, feed: 0.0, arc: Some(Box::new(arc)), orient: None, tolerance, path: false, exact: b.exact };
                     let n = arc.pieces();
                     let end = |k: usize| -> (Joints, Vector3<f64>) {
                         let u = k as f64 / n as f64;
@@ -575,6 +594,7 @@ impl SegmentPlanner {
                     orient: porient,
                     tolerance,
                     path: false,
+                    exact: b.exact,
                 };
                 seg.length = tip_length(&seg, machine);
                 segs.push(seg);

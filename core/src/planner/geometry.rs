@@ -335,11 +335,16 @@ impl<I: Iterator<Item = Segment>> Iterator for RunScout<I> {
         };
         let mut prev = first;
         for seg in self.source.by_ref() {
+            let angle = direction(&prev, kind).angle(&direction(&seg, kind));
+            // Where a block ends in an exact stop the run ends (under exact path, where the next
+            // block turns away).
+            let stops = prev.stops_before(&seg, angle);
             let joins = kind != RunKind::Linear
                 && run_kind(&seg) == kind
                 && prev.kind == seg.kind
                 && prev.datum == seg.datum
-                && direction(&prev, kind).angle(&direction(&seg, kind)) <= CORNER_DEG.to_radians();
+                && angle <= CORNER_DEG.to_radians()
+                && !stops;
             if !joins {
                 self.pending = Some(seg);
                 break;

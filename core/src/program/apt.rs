@@ -232,6 +232,7 @@ impl AptReader {
             // CL data are in the part's frame; where the part lies on the machine is the operator's
             // set-up (a work offset or preset), which the file never states.
             offset_assumed: true,
+            exact: crate::program::Exact::Blend,
         }
     }
 

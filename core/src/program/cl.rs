@@ -198,6 +198,7 @@ impl super::stream::LineReader for ClReader {
             dwell_s: None,
             tolerance: Default::default(),
             offset_assumed: false,
+            exact: crate::program::Exact::Blend,
         });
     }
 

@@ -408,6 +408,26 @@ impl Targets {
     }
 }
 
+/// Whether the machine stops at the end of a block: blending into the next block (G64, every
+/// control's default), exact path (LinuxCNC G61: it stops wherever the next block does not go on in
+/// the same direction) or exact stop (LinuxCNC G61.1; Fanuc and Haas G61, one block G09; Sinumerik
+/// G60, one block G9: it stops at the end of every block).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Exact {
+    #[default]
+    Blend,
+    Path,
+    Stop,
+}
+
+impl Exact {
+    /// Blending, the default (left out of a block's JSON).
+    pub fn is_blend(&self) -> bool {
+        *self == Exact::Blend
+    }
+}
+
 /// One block, with the modal state in effect for it.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Block {
@@ -441,6 +461,9 @@ pub struct Block {
     /// is known only up to it, and a linear axis' range cannot be judged.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub offset_assumed: bool,
+    /// Whether the machine stops at the block's end ([`Exact`]).
+    #[serde(skip_serializing_if = "Exact::is_blend")]
+    pub exact: Exact,
 }
 
 /// A contour tolerance as a program sets it (Heidenhain `CYCL DEF 32.1 T` and `32.2 TA`, LinuxCNC

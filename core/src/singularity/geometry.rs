@@ -323,9 +323,10 @@ fn in_run(seg: &Segment) -> bool {
 }
 
 /// True if segment `b` continues the run of segment `a` just before it: the same kind of move, its
-/// direction turned by at most [`CORNER_DEG`].
+/// direction turned by at most [`CORNER_DEG`], and no exact stop between them.
 fn joined(a: &Segment, b: &Segment) -> bool {
-    in_run(a) && in_run(b) && a.kind == b.kind && (a.tip1 - a.tip0).angle(&(b.tip1 - b.tip0)) <= CORNER_DEG.to_radians()
+    let turn = (a.tip1 - a.tip0).angle(&(b.tip1 - b.tip0));
+    in_run(a) && in_run(b) && a.kind == b.kind && turn <= CORNER_DEG.to_radians() && !a.stops_before(b, turn)
 }
 
 /// The per-axis spline geometry of the runs of a segment stream, fitted window by window as the

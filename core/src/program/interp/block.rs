@@ -5,7 +5,7 @@ use super::arc::resolve_arc;
 use super::codes::{maker_m_function, tnc_m_code, tool_vector};
 use super::{Dimension, Interpreter, Word, AXIS_LETTERS};
 use crate::program::lex::Diags;
-use crate::program::{ArcSpec, Block, Dialect, FeedMode, MCodeAction, Motion, Plane, Targets};
+use crate::program::{ArcSpec, Block, Dialect, Exact, FeedMode, MCodeAction, Motion, Plane, Targets};
 use crate::units::{INCH, MM};
 
 impl Interpreter {
@@ -54,6 +54,8 @@ impl Interpreter {
         let mut g10 = false;
         // LinuxCNC's G92, G92.1-G92.3 and G52: the code, applied once the block's modal codes are.
         let mut g92: Option<String> = None;
+        // Fanuc's and Haas' G09 (Sinumerik's G9, set by its reader): this block ends in a stop.
+        let mut exact_stop_here = std::mem::take(&mut next.exact_once);
         // The TNC's DIN/ISO blank form (G30 MIN point, G31 MAX point) and tool definition (G99 T L R):
         // their words define, they do not move (as Klartext's BLK FORM and TOOL DEF).
         let defines = self.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'G' && matches!(w.value, 30.0 | 31.0 | 99.0));
@@ -267,7 +269,25 @@ impl Interpreter {
                         ("64", false) => {
                             uses.extend(['P', 'Q']);
                             blend_word = true;
+                            next.exact = Exact::Blend;
                         }
+                        // LinuxCNC: G61 exact path, G61.1 exact stop (G-code reference §G61, G61.1;
+                        // the planner's TC_TERM_COND_EXACT and _STOP). Fanuc and Haas: G61 exact stop
+                        // mode, G09 exact stop for one block ("the tool is decelerated at the end
+                        // point of a block, then an in-position check is made": FANUC B-64484EN,
+                        // "Exact stop (G09, G61)"; Haas Mill Operator's Manual, G09 and G61).
+                        ("61", false) if self.dialect == Dialect::Rs274 => {
+                            next.exact = Exact::Path;
+                            diags.warning(
+                                line,
+                                w.column,
+                                "G61 (exact path): the machine stops wherever the next block does not go on in the same direction; \
+                                 LinuxCNC passes a kink of little acceleration at a reduced speed instead, here a stop",
+                            );
+                        }
+                        ("61.1", false) if self.dialect == Dialect::Rs274 => next.exact = Exact::Stop,
+                        ("61", false) if fanuc => next.exact = Exact::Stop,
+                        ("9", false) if fanuc => exact_stop_here = true,
                         ("4", _) => {
                             uses.push('P');
                             dwell_word = Some(w);
@@ -681,6 +701,7 @@ impl Interpreter {
             tolerance: self.tolerance,
             // A move of the machine's axes (machine coordinates) is where it is, whatever the datum.
             offset_assumed: self.offset_assumed() && !shot.is_some_and(|s| s.axes.is_some() && !s.own),
+            exact: if exact_stop_here { Exact::Stop } else { self.exact },
         })
     }
 }

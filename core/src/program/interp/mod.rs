@@ -82,6 +82,10 @@ pub struct Interpreter {
     /// system, and the copy parameters 5211-5213 keep for G92.3 (G92.2 leaves it, G92.1 zeroes it).
     axis_offset: [f64; 3],
     axis_offset_kept: [f64; 3],
+    /// Whether blocks end in a stop (G61, G61.1, G60; G64 blends): the modal mode.
+    pub(crate) exact: crate::program::Exact,
+    /// Sinumerik's G9 (its reader's): the next block stops at its end.
+    pub(crate) exact_once: bool,
     /// Fanuc `G43.5`: tool-centre point with the tool axis written as a vector `I J K`.
     tool_vector: bool,
     /// How the tool orientation is interpolated under TCPM.
@@ -189,6 +193,8 @@ impl Interpreter {
             system: 0,
             axis_offset: [0.0; 3],
             axis_offset_kept: [0.0; 3],
+            exact: crate::program::Exact::Blend,
+            exact_once: false,
             tool_vector: false,
             orientation: dialect.default_orientation(),
             centre: [None; 3],
@@ -599,6 +605,7 @@ impl Interpreter {
             dwell_s: None,
             tolerance: self.tolerance,
             offset_assumed: self.offset_assumed(),
+            exact: self.exact,
         }
     }
 

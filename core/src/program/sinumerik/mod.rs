@@ -54,8 +54,6 @@ pub(crate) struct SinumerikReader {
     frame: Frame,
     /// The tool's offsets are on (a `D` edge other than D0 selected; the reset state's D1).
     tool_offsets: bool,
-    /// `G60` (exact stop) in effect, rather than a continuous-path mode.
-    exact_stop: bool,
     /// The drilling cycle `MCALL` made modal, and its line.
     mcall: Option<(cycles::Hole, usize)>,
     /// The swivelled plane `CYCLE800` set (its frame before the programmable one).
@@ -71,7 +69,6 @@ impl SinumerikReader {
             vars: Vars::default(),
             frame: Frame::default(),
             tool_offsets: true,
-            exact_stop: false,
             mcall: None,
             swivel: None,
             machine: setup.machine.clone(),
@@ -131,10 +128,10 @@ impl super::stream::LineReader for SinumerikReader {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             return;
         }
-        let saved = (self.interp.clone(), self.frame, self.tool_offsets, self.exact_stop, self.mcall.clone(), self.swivel);
+        let saved = (self.interp.clone(), self.frame, self.tool_offsets, self.mcall.clone(), self.swivel);
         let blocks_before = out.len();
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
-            (self.interp, self.frame, self.tool_offsets, self.exact_stop, self.mcall, self.swivel) = saved;
+            (self.interp, self.frame, self.tool_offsets, self.mcall, self.swivel) = saved;
             out.truncate(blocks_before);
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used"));
@@ -197,19 +194,17 @@ impl SinumerikReader {
             self.tool_offsets = e != 0.0;
             let _ = col;
         }
-        // Reader-level G codes: exact stop and continuous path (G group 10), machine coordinates.
-        let mut moves_feed = false;
-        let mut g60_col = None;
+        // Reader-level G codes: exact stop (G60, modal; G9, this block) and continuous path (G64,
+        // G641-G645: G group 10; Programming Manual Fundamentals, "Exact stop (G60, G9, G601, G602,
+        // G603)": the block's motion decelerates to a stop at its end), machine coordinates.
         words.retain(|w| {
             if w.letter != 'G' {
                 return true;
             }
             match w.raw.as_ref() {
-                "60" => {
-                    self.exact_stop = true;
-                    g60_col = Some(w.column);
-                }
-                "64" => self.exact_stop = false,
+                "60" => self.interp.exact = crate::program::Exact::Stop,
+                "64" => self.interp.exact = crate::program::Exact::Blend,
+                "9" => self.interp.exact_once = true,
                 "53" => machine_coords = Some((w.column, "G53")),
                 _ => return true,
             }
@@ -239,13 +234,6 @@ impl SinumerikReader {
             None => modal_motion,
         };
         let positions = words.iter().any(|w| "XYZABC".contains(w.letter)) || vector.is_some();
-        if positions && motion.is_some_and(|m| m != Motion::Rapid) {
-            moves_feed = true;
-        }
-        if self.exact_stop && moves_feed {
-            diags.error(line, g60_col.unwrap_or(first_col), "a feed move under G60 (exact stop): the stop at each block's end is not modelled (the planner blends blocks as G64 does)");
-            return false;
-        }
         if let Some((col, what)) = machine_coords {
             if !self.machine_move(what, col, motion, &words, line, diags) {
                 return false;
@@ -522,7 +510,7 @@ impl SinumerikReader {
         // `FFWOF UPATH SOFT COMPOF G64` as its equivalent where the control has no CYCLE832).
         if (tolm as u64) % 10 == 0 {
             self.interp.set_tolerance(super::ProgrammedTolerance::default());
-            self.exact_stop = false;
+            self.interp.exact = crate::program::Exact::Blend;
             return;
         }
         let t = tol * self.interp.unit();
@@ -534,7 +522,7 @@ impl SinumerikReader {
             return;
         }
         self.interp.set_tolerance(super::ProgrammedTolerance { linear_m: Some(t), rotary_rad: None });
-        self.exact_stop = false;
+        self.interp.exact = crate::program::Exact::Blend;
     }
 }
 
@@ -595,7 +583,7 @@ fn sinumerik_g(code: &str) -> Result<Option<&'static str>, &'static str> {
         "601" | "602" | "603" => return Ok(None),
         // Corner deceleration at inside corners: only with cutter radius compensation (refused).
         "62" | "621" => return Ok(None),
-        "9" => return Err("non-modal exact stop is not modelled: the planner blends blocks as G64 does"),
+        "9" => "9",
         "4" => "4",
         "41" | "42" => return Err("cutter radius compensation is not supported"),
         // Frames suppressed for the block: machine coordinates (the reader's, as SUPA).
