@@ -3,7 +3,8 @@
 //! lives here, above the core's plain options.
 
 use crate::machine::{Machine, MachineError, DEFAULT_MACHINE};
-use crate::program::{AngleUnit, LengthUnit, MCodeRule, Orientation, ReadOptions};
+use crate::program::{AngleUnit, LengthUnit, MCodeRule, Orientation, ReadOptions, ToolTable};
+use std::sync::Arc;
 use clap::builder::TypedValueParser;
 
 /// How the control is set up, for every command and node that reads a program: `--m-code`,
@@ -30,6 +31,20 @@ pub struct ControlArgs {
     /// table turn that contradicts the file's `TLAXIS/` is refused, naming the unit that agrees.
     #[arg(long = "cl-angles", value_name = "UNIT", default_value = "deg", value_parser = clap::builder::PossibleValuesParser::new(AngleUnit::NAMES).map(|s| s.parse::<AngleUnit>().expect("a listed name parses")))]
     pub cl_angles: AngleUnit,
+    /// The machine's tool table, as LinuxCNC keeps it (`tool.tbl`: `T1 P1 D6 Z0 ;comment`): the
+    /// diameters an RS274NGC program's cutter radius compensation `G41`/`G42` takes by its `D` word,
+    /// or for the tool in the spindle (`G41.1`/`G42.1` write the diameter themselves).
+    #[arg(long = "tool-table", value_name = "FILE", value_parser = tool_table_parser)]
+    pub tool_table: Option<ToolTable>,
+    /// The length unit of the tool table's numbers: the machine's (LinuxCNC's `[TRAJ] LINEAR_UNITS`).
+    #[arg(long = "tool-table-units", value_name = "UNIT", default_value = "mm", value_parser = clap::builder::PossibleValuesParser::new(LengthUnit::NAMES).map(|s| s.parse::<LengthUnit>().expect("a listed name parses")))]
+    pub tool_table_units: LengthUnit,
+}
+
+/// `--tool-table`'s parser: the file read and checked now, its faults named by line.
+fn tool_table_parser(path: &str) -> Result<ToolTable, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+    ToolTable::parse(&text).map_err(|e| format!("{path}: {e}"))
 }
 
 /// `--orientation`'s parser: the modes' names listed as clap's possible values.
@@ -40,7 +55,7 @@ fn orientation_parser() -> impl clap::builder::TypedValueParser<Value = Orientat
 impl ControlArgs {
     /// The readers' options these flags ask for (other options at their defaults).
     pub fn read_options(&self) -> ReadOptions {
-        ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, units: self.units, cl_angles: self.cl_angles, ..Default::default() }
+        ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, units: self.units, cl_angles: self.cl_angles, tool_table: self.tool_table.clone().map(|t| Arc::new(t.in_unit(self.tool_table_units))), ..Default::default() }
     }
 }
 

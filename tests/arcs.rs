@@ -272,7 +272,8 @@ fn words_that_change_the_motion_are_refused() {
     let _ = std::fs::remove_file(&file);
     // Each of these changes the motion and is not modelled: an error at its column, the block unused.
     for (text, col, needle) in [
-        ("G1 X1 F100\nG41 D1 X2\n", 1, "cutter radius compensation"),
+        // Compensation by a tool table the reader was not given.
+        ("G1 X1 F100\nG41 D1 X2\n", 1, "give it with --tool-table"),
         ("G1 X1 F100\nG33 X2 K1\n", 1, "threading or probing"),
         ("G1 X1 F100\nG68.2 X0 Y0 Z0 I0 J45 K0\n", 1, "tilted working plane"),
         ("G1 X1 F100\nG87 X2 Z-1 R1\n", 1, "G87: LinuxCNC accepts it but its behaviour is undefined"),

@@ -493,10 +493,11 @@ fn nothing_runs_after_the_programs_end() {
 }
 
 
-/// The end points of LinuxCNC's canonical moves with their kind (STRAIGHT_TRAVERSE, STRAIGHT_FEED,
-/// ARC_FEED in its plane's axis order), in mm and deg: rs274 prints positions in the program's unit
-/// (USE_LENGTH_UNITS), in the current coordinate frame (make_canon.sh's second list).
-fn linuxcnc_moves(name: &str) -> Vec<(Motion, [f64; 6])> {
+/// LinuxCNC's canonical moves with their kind (STRAIGHT_TRAVERSE, STRAIGHT_FEED, ARC_FEED in its
+/// plane's axis order): end points in mm and deg, an arc's centre in its plane (mm). rs274 prints
+/// positions in the program's unit (USE_LENGTH_UNITS), in the current coordinate frame (make_canon.sh's
+/// second list).
+fn linuxcnc_moves(name: &str) -> Vec<(Motion, [f64; 6], Option<[f64; 2]>)> {
     let path = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters").join(name);
     let (mut inch, mut plane) = (false, "XY");
     let mut out = Vec::new();
@@ -510,12 +511,31 @@ fn linuxcnc_moves(name: &str) -> Vec<(Motion, [f64; 6])> {
             "ARC_FEED" => {
                 let turn = v[4];
                 let (x, y, z) = match plane { "XY" => (v[0], v[1], v[5]), "XZ" => (v[1], v[5], v[0]), _ => (v[5], v[0], v[1]) };
-                out.push((if turn < 0.0 { Motion::ArcCw } else { Motion::ArcCcw }, [mm(x), mm(y), mm(z), v[6], v[7], v[8]]));
+                let centre = (plane == "XY").then(|| [mm(v[2]), mm(v[3])]);
+                out.push((if turn < 0.0 { Motion::ArcCw } else { Motion::ArcCcw }, [mm(x), mm(y), mm(z), v[6], v[7], v[8]], centre));
             }
-            kind => out.push((if kind == "STRAIGHT_FEED" { Motion::Linear } else { Motion::Rapid }, [mm(v[0]), mm(v[1]), mm(v[2]), v[3], v[4], v[5]])),
+            kind => out.push((if kind == "STRAIGHT_FEED" { Motion::Linear } else { Motion::Rapid }, [mm(v[0]), mm(v[1]), mm(v[2]), v[3], v[4], v[5]], None)),
         }
     }
     out
+}
+
+/// Our moves against `name.canon`: the same kinds, end points and arc centres to rs274's 4 decimals
+/// (of an inch, under G20).
+fn same_moves_as_linuxcnc(name: &str, p: &Program) {
+    assert!(errors(p).is_empty(), "{name}: {:?}", errors(p));
+    let ours = end_points(p);
+    let centres: Vec<Option<[f64; 2]>> = p.blocks.iter().filter(|b| !b.targets.is_empty()).map(|b| b.arc.as_ref().map(|a| [a.centre[0] / MM, a.centre[1] / MM])).collect();
+    let theirs = linuxcnc_moves(&format!("{name}.canon"));
+    assert_eq!(ours.len(), theirs.len(), "{name}: moves\nours {ours:?}\ntheirs {theirs:?}");
+    let close = |a: f64, b: f64| (a - b).abs() <= 0.5e-4 * 25.4 + 1e-9;
+    for (k, (((m, a), c), (n, b, d))) in ours.iter().zip(&centres).zip(&theirs).enumerate() {
+        assert_eq!(m, n, "{name}: move {k}: ours {a:?}, LinuxCNC {b:?}");
+        assert!((0..6).all(|i| close(a[i], b[i])), "{name}: move {k}: ours {a:?}, LinuxCNC {b:?}");
+        if let (Some(c), Some(d)) = (c, d) {
+            assert!(close(c[0], d[0]) && close(c[1], d[1]), "{name}: move {k}'s centre: ours {c:?}, LinuxCNC {d:?}");
+        }
+    }
 }
 
 /// LinuxCNC's axis offsets and polar coordinates are read to the moves its own interpreter makes of
@@ -531,18 +551,7 @@ fn rs274_reads_axis_offsets_and_polar_coordinates_as_linuxcnc_does() {
     let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
     for name in ["offsets_g92", "polar", "polar_cycles"] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
-        let p = read(&text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
-        assert!(errors(&p).is_empty(), "{name}: {:?}", errors(&p));
-        let ours = end_points(&p);
-        let theirs = linuxcnc_moves(&format!("{name}.canon"));
-        assert_eq!(ours.len(), theirs.len(), "{name}: moves\nours {ours:?}\ntheirs {theirs:?}");
-        for (k, ((m, a), (n, b))) in ours.iter().zip(&theirs).enumerate() {
-            assert_eq!(m, n, "{name}: move {k}");
-            for i in 0..6 {
-                // rs274 prints 4 decimals (of an inch, under G20).
-                assert!((a[i] - b[i]).abs() <= 0.5e-4 * 25.4 + 1e-9, "{name}: move {k} axis {i}: ours {a:?}, LinuxCNC {b:?}");
-            }
-        }
+        same_moves_as_linuxcnc(name, &read(&text, Dialect::Rs274, "t.ngc", &ReadOptions::default()));
     }
     for (text, at, needle) in [
         ("G21 G90 G18\nG1 @10 ^30 F100\nM2\n", "2:4:", "except in G17 plane"),
@@ -560,3 +569,71 @@ fn rs274_reads_axis_offsets_and_polar_coordinates_as_linuxcnc_does() {
     }
 }
 
+
+
+/// LinuxCNC's cutter radius compensation is read to the moves its own interpreter makes
+/// (`comp_lines.ngc`, `comp_arcs.ngc`, `comp_table.ngc`; rs274's canonical output by make_canon.sh):
+/// entry moves ending perpendicular to themselves (an entry arc on its end's radius), arcs about
+/// convex corners (a rapid straight), moves cut back where the offset paths meet in concave corners
+/// (line-line, line-arc, arc-line, arc-arc), a move with no XY motion, a negative diameter on the
+/// other side, the exit move, and after `G40` a move without X or Y back over the programmed point
+/// (after a tool change, from where the tool stands); `G41.1 D` the diameter, `G41 D` and `G42` (the
+/// tool in the spindle, `T2 M6`) the tool table's. Then LinuxCNC's own refusals. (LinuxCNC's own
+/// compensation programs, nc_files/comp-g1, comp311, comp311_2, gmoccapy_2_tools…, useful-subroutines
+/// and tests/interp cam-nisley, crazy-paths and inverse-time-with-comp, 1,148 moves, read to the same
+/// moves as rs274 makes of them; they are not copied here.)
+#[test]
+fn rs274_compensates_the_cutter_radius_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let table = fiveaxis::program::ToolTable::parse(&std::fs::read_to_string(dir.join("comp.tbl")).unwrap()).unwrap().in_unit(fiveaxis::program::LengthUnit::Inch);
+    let options = ReadOptions { tool_table: Some(std::sync::Arc::new(table)), ..ReadOptions::default() };
+    for name in ["comp_lines", "comp_arcs", "comp_table"] {
+        let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
+        same_moves_as_linuxcnc(name, &read(&text, Dialect::Rs274, "t.ngc", &options));
+    }
+    for (text, at, needle) in [
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X3 F100\nM2\n", "4:1:", "Length of cutter compensation entry move is not greater than the tool radius"),
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG41.1 D4\nM2\n", "5:1:", "Cannot turn cutter radius comp on when on"),
+        ("G21 G90\nG0 X0 Y0\nG41.1\nM2\n", "3:1:", "G41.1 with no D word"),
+        ("G21 G90\nG0 X0 Y0\nG41 D1\nM2\n", "3:1:", "give it with --tool-table"),
+        ("G21 G90\nG0 X0 Y0\nG41\nM2\n", "3:1:", "no T ... M6"),
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG92 X0\nM2\n", "5:1:", "Cannot change axis offsets with cutter radius comp"),
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nT1 M6\nM2\n", "5:1:", "Cannot change tools with cutter radius compensation on"),
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG40\nG2 X40 Y0 R5\nM2\n", "6:1:", "must be straight, not an arc"),
+        // A slot 1 mm wide for a 10 mm tool, a step of 1 mm on the tool's side (rs274 refuses both at that line).
+        ("G21 G90\nG0 X0 Y0\nG42.1 D10\nG1 X30 F100\nY30\nX31\nY0\nM2\n", "7:1:", "Straight feed in concave corner cannot be reached by the tool without gouging"),
+        ("G21 G90\nG0 X0 Y0\nG42.1 D10\nG1 X30 F100\nY1\nX60\nM2\n", "6:1:", "Straight feed in concave corner cannot be reached by the tool without gouging"),
+        ("G21 G90 G18\nG0 X0 Y0\nG41.1 D10\nM2\n", "3:1:", "XY plane (G17) only"),
+    ] {
+        let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
+        has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
+    }
+}
+
+
+/// `--tool-table` through the CLI: a program compensating by the table's tool reads clean, a table
+/// with a fault is refused at its line (exit 2), and without a table the G41 block is.
+#[test]
+fn the_tool_table_flag_reads_a_linuxcnc_table() {
+    let dir = crate::common::scratch_root().join("tool_table");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (prog, good, bad) = (dir.join("slot.ngc"), dir.join("tool.tbl"), dir.join("bad.tbl"));
+    std::fs::write(&prog, "G21 G90 G17\nG0 X-20 Y0 Z5\nG1 Z-1 F300\nG41 D4\nG1 X0 Y0\nX50\nG40 G1 X70 Y-20\nG0 Z5\nM2\n").unwrap();
+    std::fs::write(&good, "T4 P4 D12 Z0 ;a 12 mm end mill\n").unwrap();
+    std::fs::write(&bad, "T4 P4 D12 Z0\nT5 P5 R3\n").unwrap();
+    let run = |table: &std::path::Path| {
+        std::process::Command::new(env!("FIVEAXIS_EXE")).args(["program", "analyze"]).arg(&prog).arg("--tool-table").arg(table).args(["--machine", "linuxcnc-xyzac-trt", "--json"]).output().unwrap()
+    };
+    let out = run(&good);
+    assert_eq!(out.status.code(), Some(0), "{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let out = run(&bad);
+    let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert_eq!(out.status.code(), Some(2), "{all}");
+    assert!(all.contains("bad.tbl: line 2: 'R3'"), "{all}");
+    // The same program without the table: the radius is unknown, refused where G41 stands.
+    let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(["program", "analyze"]).arg(&prog).args(["--machine", "linuxcnc-xyzac-trt"]).output().unwrap();
+    let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert_eq!(out.status.code(), Some(2), "{all}");
+    assert!(all.contains("slot.ngc:4:1: error: G41: the radius is tool 4's"), "{all}");
+}

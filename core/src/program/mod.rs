@@ -6,6 +6,7 @@
 
 mod apt;
 mod cl;
+mod cutter_comp;
 mod cycles;
 mod fanuc;
 mod feature;
@@ -612,14 +613,19 @@ pub struct ReadOptions {
     /// (RS274NGC O-words, Klartext's `CALL LBL … REP`): an endless loop is refused there, at the
     /// line it had reached (default [`MAX_RUN_LINES`]).
     pub max_run_lines: usize,
+    /// The machine's tool table (LinuxCNC's `tool.tbl`, `--tool-table`): the diameters `G41`/`G42` with
+    /// a `D` word compensate by.
+    pub tool_table: Option<std::sync::Arc<ToolTable>>,
 }
+
+pub use cutter_comp::ToolTable;
 
 /// The default of [`ReadOptions::max_run_lines`].
 pub const MAX_RUN_LINES: usize = 4_000_000;
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None, units: None, cl_angles: AngleUnit::Deg, max_run_lines: MAX_RUN_LINES }
+        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None, units: None, cl_angles: AngleUnit::Deg, max_run_lines: MAX_RUN_LINES, tool_table: None }
     }
 }
 

@@ -8,9 +8,10 @@ use crate::machine::Machine;
 use std::sync::Arc;
 
 /// A length unit a program's numbers are read in (`--units`), overriding what the program says.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum LengthUnit {
+    #[default]
     Mm,
     Inch,
 }
@@ -107,6 +108,8 @@ pub struct Setup {
     pub cl_angles: AngleUnit,
     /// Lines loops, repeats and calls may run beyond the program's own ([`ReadOptions::max_run_lines`]).
     pub max_run_lines: usize,
+    /// The machine's tool table ([`ReadOptions::tool_table`]).
+    pub tool_table: Option<Arc<super::ToolTable>>,
 }
 
 impl Setup {
@@ -117,7 +120,7 @@ impl Setup {
 
     /// The G-code interpreter this setup starts.
     pub fn interpreter(&self) -> Interpreter {
-        Interpreter::new(self.dialect).with_m_codes(&self.m_codes).with_orientation(self.orientation).with_units(self.units).with_machine(self.machine.as_ref())
+        Interpreter::new(self.dialect).with_m_codes(&self.m_codes).with_orientation(self.orientation).with_units(self.units).with_machine(self.machine.as_ref()).with_tool_table(self.tool_table.clone())
     }
 }
 
@@ -133,6 +136,7 @@ impl ReadOptions {
             cl_feed_mm_per_min: self.cl_feed_mm_per_min,
             cl_angles: self.cl_angles,
             max_run_lines: self.max_run_lines,
+            tool_table: self.tool_table.clone(),
         }
     }
 }

@@ -82,6 +82,10 @@ pub struct Interpreter {
     /// system, and the copy parameters 5211-5213 keep for G92.3 (G92.2 leaves it, G92.1 zeroes it).
     axis_offset: [f64; 3],
     axis_offset_kept: [f64; 3],
+    /// LinuxCNC's cutter radius compensation and the moves it holds ([`super::cutter_comp`]), and the
+    /// tool table its `G41`/`G42` take the radius from.
+    pub(crate) comp: super::cutter_comp::CompState,
+    tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
     /// Whether blocks end in a stop (G61, G61.1, G60; G64 blends): the modal mode.
     pub(crate) exact: crate::program::Exact,
     /// Sinumerik's G9 (its reader's): the next block stops at its end.
@@ -195,6 +199,8 @@ impl Interpreter {
             axis_offset_kept: [0.0; 3],
             exact: crate::program::Exact::Blend,
             exact_once: false,
+            comp: Default::default(),
+            tool_table: None,
             tool_vector: false,
             orientation: dialect.default_orientation(),
             centre: [None; 3],
@@ -368,6 +374,13 @@ impl Interpreter {
     /// The last programmed position, absolute program coordinates (m, rad): X Y Z A B C.
     pub fn position(&self) -> [f64; 6] {
         self.last
+    }
+
+    /// Put the current point's X and Y at `xy` (program coordinates, m): where the machine stands when
+    /// the control takes its position from it (LinuxCNC after a tool change).
+    pub(crate) fn set_position_xy(&mut self, xy: [f64; 2]) {
+        self.last[0] = xy[0];
+        self.last[1] = xy[1];
     }
 
     /// True while tool-centre-point management is on.
@@ -554,6 +567,14 @@ impl Interpreter {
     /// cycle makes several, a block of settings one without targets). Defects go to `diags` and
     /// make nothing, with the state unchanged; false then.
     pub fn block(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+        if let Some(done) = super::cutter_comp::block(self, words, line, column, number, diags, out) {
+            return done;
+        }
+        self.block_plain(words, line, column, number, diags, out)
+    }
+
+    /// [`Interpreter::block`] without cutter radius compensation.
+    pub(crate) fn block_plain(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
         if self.dialect.is_fanuc() {
             if let Some(done) = super::fanuc::expand(self, words, line, column, number, diags, out) {
                 return done;
@@ -571,6 +592,17 @@ impl Interpreter {
             }
             None => false,
         }
+    }
+
+    /// The tool table `G41`/`G42` take their radius from (`--tool-table`), if given.
+    pub(crate) fn tool_table(&self) -> Option<&super::cutter_comp::ToolTable> {
+        self.tool_table.as_deref()
+    }
+
+    /// The program ends with this tool table (its reader's set-up).
+    pub(crate) fn with_tool_table(mut self, table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>) -> Self {
+        self.tool_table = table;
+        self
     }
 
     /// The machine the program runs on, if the reader knows it.

@@ -22,8 +22,11 @@ done
 # Axis offsets (G92, G52 and their cancels) and polar coordinates: arcs and units too, so these keep
 # ARC_FEED(first_end, second_end, first_centre, second_centre, turn, axis_end, a, b, c) and
 # USE_LENGTH_UNITS (rs274 prints positions in the program's unit).
-for f in offsets_g92 polar polar_cycles; do
-    rs274 -t /tmp/make_canon.tbl -g "$f.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
+# Cutter radius compensation too (comp_table.ngc takes its diameters from comp.tbl).
+for f in offsets_g92 polar polar_cycles comp_lines comp_arcs comp_table; do
+    table=/tmp/make_canon.tbl
+    [ "$f" = comp_table ] && table=comp.tbl
+    rs274 -t "$table" -g "$f.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
     grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)' "/tmp/$f.canon" > "$f.canon"
     rm "/tmp/$f.canon"
 done

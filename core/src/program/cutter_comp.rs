@@ -1,0 +1,691 @@
+//! LinuxCNC's cutter radius compensation in the XY plane (`G41`/`G42` with a tool table's diameter,
+//! `G41.1`/`G42.1` with the diameter in the block, `G40`), as its interpreter makes it: the tool
+//! centre offset by the radius to the left or right of the programmed contour (interp_convert.cc
+//! `convert_cutter_compensation_on/off`, `convert_straight_comp1/2`, `convert_arc_comp1/2`;
+//! interp_queue.cc `move_endpoint_and_flush`). The first move after `G41` ends perpendicular to its
+//! own direction (an arc: to its end's radius); at each later corner an arc about the programmed
+//! corner goes round a convex one, and the move before is cut back to where the offset paths meet in a
+//! concave one, which is why the last compensated move is held until the next one comes. Errors are
+//! LinuxCNC's own (an entry move no longer than the radius, a corner the tool cannot reach without
+//! gouging, an arc smaller than the tool); what LinuxCNC refuses with compensation on is refused.
+
+use super::interp::{Interpreter, Word};
+use super::lex::Diags;
+use super::{ArcSpec, Block, Dialect, Motion, Plane};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// Corners within this angle are neither convex nor concave (interp_internal.hh
+/// `TOLERANCE_CONCAVE_CORNER`), rad.
+const SMALL: f64 = 0.05;
+
+/// Which side of the contour the tool runs on, looking along the motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Side {
+    Left,
+    Right,
+}
+
+/// A tool table as LinuxCNC keeps it (`tool.tbl`: `T1 P1 D10 Z0 ;comment`), its diameters: what
+/// `G41`/`G42` with a `D` (or the tool in the spindle) compensate by. Its lengths are in the
+/// machine's unit (LinuxCNC's `[TRAJ] LINEAR_UNITS`): mm unless [`ToolTable::in_unit`] says inches.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ToolTable {
+    tools: Vec<(u32, f64)>,
+    /// Metres per unit of the table's numbers.
+    unit: f64,
+}
+
+/// The most tools a table may hold (LinuxCNC's CANON_POCKETS_MAX is 1000).
+pub const MAX_TOOLS: usize = 100_000;
+
+impl ToolTable {
+    /// Read a LinuxCNC tool table: each line `T<n>` with the words `P X Y Z A B C U V W D I J Q`, a
+    /// `;` comment. Errors name the line and the word.
+    pub fn parse(text: &str) -> Result<ToolTable, String> {
+        let mut tools: Vec<(u32, f64)> = Vec::new();
+        for (k, raw) in text.lines().enumerate() {
+            let line = k + 1;
+            let body = raw.split(';').next().unwrap_or("").trim();
+            if body.is_empty() {
+                continue;
+            }
+            let (mut tool, mut diameter) = (None, 0.0);
+            for word in body.split_whitespace() {
+                let mut chars = word.chars();
+                let letter = chars.next().map(|c| c.to_ascii_uppercase()).unwrap_or(' ');
+                let value: f64 = chars.as_str().parse().map_err(|_| format!("line {line}: '{word}': expected a letter and a number"))?;
+                if !value.is_finite() {
+                    return Err(format!("line {line}: '{word}': not a finite number"));
+                }
+                match letter {
+                    'T' if value >= 0.0 && value.fract() == 0.0 && value <= u32::MAX as f64 => tool = Some(value as u32),
+                    'T' => return Err(format!("line {line}: '{word}': a tool number is a whole number 0 or more")),
+                    'D' => diameter = value,
+                    'P' | 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' | 'I' | 'J' | 'Q' => {}
+                    _ => return Err(format!("line {line}: '{word}': not a word of a LinuxCNC tool table (T P X Y Z A B C U V W D I J Q)")),
+                }
+            }
+            let Some(tool) = tool else { return Err(format!("line {line}: no T word (the tool's number)")) };
+            if tools.len() >= MAX_TOOLS {
+                return Err(format!("line {line}: more than {MAX_TOOLS} tools"));
+            }
+            match tools.iter_mut().find(|(t, _)| *t == tool) {
+                Some(entry) => entry.1 = diameter,
+                None => tools.push((tool, diameter)),
+            }
+        }
+        Ok(ToolTable { tools, unit: crate::units::MM })
+    }
+
+    /// The table with its numbers in `unit` (an inch machine's table).
+    pub fn in_unit(mut self, unit: super::LengthUnit) -> ToolTable {
+        self.unit = unit.metres();
+        self
+    }
+
+    /// A tool's diameter, m.
+    pub fn diameter(&self, tool: u32) -> Option<f64> {
+        self.tools.iter().find(|(t, _)| *t == tool).map(|(_, d)| *d * self.unit)
+    }
+}
+
+/// A move or another block held while compensation decides the corner after it.
+#[derive(Debug, Clone)]
+enum Held {
+    /// A straight move and the direction it was programmed in (the gouge check's).
+    Straight { block: Block, dir: [f64; 2], rapid: bool },
+    /// An arc: its centre, turns (counter-clockwise positive, LinuxCNC's `turn`) and sweep as queued.
+    Arc { block: Block, centre: [f64; 2], turn: i32, original: f64 },
+    Other(Block),
+}
+
+/// Compensation in effect (`G41`, `G42`, `G41.1`, `G42.1` until `G40`).
+#[derive(Debug, Clone)]
+pub(crate) struct Comp {
+    side: Side,
+    /// The tool's radius, m (0: the moves run as programmed).
+    radius: f64,
+    /// No move has been compensated yet (the next is the entry move).
+    first: bool,
+    /// Where the tool centre is (program coordinates, m).
+    current: [f64; 3],
+}
+
+/// Compensation's state beside the interpreter's: the mode, the held moves, LinuxCNC's `endpoint`
+/// (where the held moves start, for the gouge checks), the tool in the spindle.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct CompState {
+    pub(crate) on: Option<Comp>,
+    queue: Vec<Held>,
+    endpoint: Option<[f64; 2]>,
+    /// The move after G40 must be straight (LinuxCNC's `arc_not_allowed`), and starts from the
+    /// programmed point: LinuxCNC puts its current point there (`current = program`), so a move
+    /// without X or Y goes back to the programmed X and Y; where the tool stands (X, Y) until then. A
+    /// tool change before that move takes the point from where the tool stands instead (LinuxCNC
+    /// resynchronises its position from the machine after `M6`).
+    arc_not_allowed: bool,
+    resync: Option<[f64; 2]>,
+    /// The tool selected (`T`) and the one in the spindle (`M6`, `M61 Q`).
+    selected: Option<u32>,
+    spindle: Option<u32>,
+}
+
+impl CompState {
+    /// Nothing to do for a block without compensation codes.
+    fn idle(&self) -> bool {
+        self.on.is_none() && self.queue.is_empty() && !self.arc_not_allowed && self.resync.is_none()
+    }
+}
+
+/// An error of compensation: its message (LinuxCNC's where it has one).
+type Fail = String;
+
+fn inside(side: Side, turn: i32) -> bool {
+    (side == Side::Left && turn > 0) || (side == Side::Right && turn < 0)
+}
+
+/// The counter-clockwise sweep from `p1` to `p2` about `c` in `turn` turns (interp_find.cc find_turn).
+fn find_turn(p1: [f64; 2], c: [f64; 2], turn: i32, p2: [f64; 2]) -> f64 {
+    if turn == 0 {
+        return 0.0;
+    }
+    let mut alpha = (p1[1] - c[1]).atan2(p1[0] - c[0]);
+    let mut beta = (p2[1] - c[1]).atan2(p2[0] - c[0]);
+    if turn > 0 {
+        if beta <= alpha {
+            beta += TAU;
+        }
+        beta - alpha + (turn - 1) as f64 * TAU
+    } else {
+        if alpha <= beta {
+            alpha += TAU;
+        }
+        beta - alpha + (turn + 1) as f64 * TAU
+    }
+}
+
+fn polar(c: [f64; 2], r: f64, angle: f64) -> [f64; 2] {
+    [c[0] + r * angle.cos(), c[1] + r * angle.sin()]
+}
+
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+fn atan2(to: [f64; 2], from: [f64; 2]) -> f64 {
+    (to[1] - from[1]).atan2(to[0] - from[0])
+}
+
+/// A block moved to `end` (x, y; z and the rotaries as the block has them).
+fn ended(mut b: Block, end: [f64; 2], z: Option<f64>) -> Block {
+    b.targets.x = Some(end[0]);
+    b.targets.y = Some(end[1]);
+    if z.is_some() {
+        b.targets.z = z;
+    }
+    b
+}
+
+/// A compensated arc block: `b` ending at `end`, about `centre`, `turn` turns.
+fn arc_block(b: &Block, end: [f64; 2], z: Option<f64>, centre: [f64; 2], turn: i32) -> Block {
+    let mut a = ended(b.clone(), end, z);
+    a.motion = if turn < 0 { Motion::ArcCw } else { Motion::ArcCcw };
+    a.arc = Some(ArcSpec { plane: Plane::Xy, centre: [centre[0], centre[1], 0.0], extra_turns: turn.unsigned_abs().saturating_sub(1), frame: None });
+    a
+}
+
+impl CompState {
+    /// Emit every held block (interp_queue.cc dequeue_canons): the endpoint is then unknown.
+    fn dequeue(&mut self, out: &mut Vec<Block>) {
+        self.endpoint = None;
+        out.extend(self.queue.drain(..).map(|h| match h {
+            Held::Straight { block, .. } | Held::Arc { block, .. } | Held::Other(block) => block,
+        }));
+    }
+
+    /// Move the held moves' end to `p` and emit them (move_endpoint_and_flush): a move that would
+    /// then run backwards, or an arc that would sweep further, gouges.
+    fn move_endpoint_and_flush(&mut self, p: [f64; 2], metric: bool, unit: f64, out: &mut Vec<Block>) -> Result<(), Fail> {
+        if self.queue.is_empty() {
+            return Ok(());
+        }
+        let endpoint = self.endpoint;
+        for h in &mut self.queue {
+            match h {
+                Held::Arc { block, centre, turn, original } => {
+                    let r1 = dist([block.targets.x.unwrap_or(0.0), block.targets.y.unwrap_or(0.0)], *centre);
+                    let r2 = dist(p, *centre);
+                    if (r1 - r2).abs() > 0.01 * unit {
+                        return Err(format!("cutter compensation made an arc with mismatched radii {:.4} and {:.4} (LinuxCNC: a bug)", r1 / unit, r2 / unit));
+                    }
+                    if let Some(e) = endpoint {
+                        let l2 = find_turn(e, *centre, *turn, p);
+                        if *original != 0.0 && l2.abs() > original.abs() + if metric { 0.0254 } else { 0.001 } {
+                            return Err("Arc move in concave corner cannot be reached by the tool without gouging".into());
+                        }
+                    }
+                    block.targets.x = Some(p[0]);
+                    block.targets.y = Some(p[1]);
+                }
+                Held::Straight { block, dir, rapid } => {
+                    if let Some(e) = endpoint {
+                        if dir[0] * (p[0] - e[0]) + dir[1] * (p[1] - e[1]) < 0.0 {
+                            let kind = if *rapid { "Straight traverse" } else { "Straight feed" };
+                            return Err(format!("{kind} in concave corner cannot be reached by the tool without gouging"));
+                        }
+                    }
+                    block.targets.x = Some(p[0]);
+                    block.targets.y = Some(p[1]);
+                }
+                Held::Other(_) => {}
+            }
+        }
+        self.dequeue(out);
+        self.endpoint = Some(p);
+        Ok(())
+    }
+
+    /// The first held arc, if the queue starts with one (LinuxCNC looks at `qc().front()`).
+    fn front_arc(&self) -> Option<([f64; 2], [f64; 2], i32)> {
+        match self.queue.first() {
+            Some(Held::Arc { block, centre, turn, .. }) => Some(([block.targets.x.unwrap_or(0.0), block.targets.y.unwrap_or(0.0)], *centre, *turn)),
+            _ => None,
+        }
+    }
+}
+
+/// A straight move under compensation: `b` programmed from `op` to `p` (x, y, z).
+fn straight(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3], metric: bool, unit: f64, out: &mut Vec<Block>) -> Result<(), Fail> {
+    let comp = st.on.clone().expect("compensation on");
+    let (r, side) = (comp.radius, comp.side);
+    let rapid = b.motion == Motion::Rapid;
+    let c = comp.current;
+    let (cxy, pxy, opxy) = ([c[0], c[1]], [p[0], p[1]], [op[0], op[1]]);
+    let end;
+    if comp.first {
+        // convert_straight_comp1: the entry move ends perpendicular to its own direction.
+        if dist(pxy, cxy) <= r {
+            return Err("Length of cutter compensation entry move is not greater than the tool radius".into());
+        }
+        let alpha = atan2(pxy, cxy) + if side == Side::Left { FRAC_PI_2 } else { -FRAC_PI_2 };
+        end = polar(pxy, r, alpha);
+        st.endpoint = Some(cxy);
+        st.queue.push(Held::Straight { block: ended(b.clone(), end, Some(p[2])), dir: [alpha.cos(), alpha.sin()], rapid });
+    } else if pxy == opxy {
+        // No XY motion: the tool stays where it is in XY.
+        end = cxy;
+        st.queue.push(Held::Straight { block: ended(b.clone(), end, Some(p[2])), dir: [0.0, 0.0], rapid });
+    } else {
+        // convert_straight_comp2.
+        let mut theta = atan2(cxy, opxy);
+        let mut alpha = atan2(pxy, opxy);
+        let (beta, gamma) = match side {
+            Side::Left => {
+                if theta < alpha {
+                    theta += TAU;
+                }
+                (theta - alpha - FRAC_PI_2, FRAC_PI_2)
+            }
+            Side::Right => {
+                if alpha < theta {
+                    alpha += TAU;
+                }
+                (alpha - theta - FRAC_PI_2, -FRAC_PI_2)
+            }
+        };
+        end = polar(pxy, r, alpha + gamma);
+        let mut mid = polar(opxy, r, alpha + gamma);
+        let front = st.front_arc();
+        let concave = beta < -SMALL
+            || beta > PI + SMALL
+            || (beta > PI - SMALL && front.is_some_and(|(_, _, turn)| (side == Side::Right && turn > 0) || (side == Side::Left && turn < 0)));
+        if !concave && beta > SMALL {
+            // A convex corner: an arc about the programmed corner (a rapid goes straight).
+            st.move_endpoint_and_flush(cxy, metric, unit, out)?;
+            let corner = if rapid {
+                ended(b.clone(), mid, Some(c[2]))
+            } else {
+                arc_block(b, mid, Some(c[2]), opxy, if side == Side::Left { -1 } else { 1 })
+            };
+            st.queue.push(Held::Other(corner));
+            st.dequeue(out);
+            st.endpoint = Some(mid);
+        } else if concave {
+            match front {
+                None => {
+                    // Line to line: back along the compensated path to where the offset lines meet.
+                    let halfcorner = (beta + PI) / 2.0;
+                    if halfcorner == 0.0 {
+                        return Err("Zero degree inside corner is invalid for cutter compensation".into());
+                    }
+                    let retreat = r / halfcorner.tan();
+                    mid = polar(cxy, retreat, theta + gamma);
+                    st.move_endpoint_and_flush(mid, metric, unit, out)?;
+                }
+                Some((prev_end, prev_centre, prev_turn)) => {
+                    // Arc to line: where the offset line meets the offset arc before it.
+                    let oldrad = dist(prev_end, prev_centre);
+                    let base_dir = atan2(pxy, opxy);
+                    let theta = if prev_turn > 0 { base_dir + FRAC_PI_2 } else { base_dir - FRAC_PI_2 };
+                    let phi = atan2(prev_centre, opxy);
+                    let inside_prev = inside(side, prev_turn);
+                    let oldrad_uncomp = if inside_prev { oldrad + r } else { oldrad - r };
+                    let d = oldrad_uncomp * (theta - phi).cos();
+                    let l = if inside_prev { (d - r) / oldrad } else { (d + r) / oldrad };
+                    if !(-1.0..=1.0).contains(&l) {
+                        return Err("Arc to straight motion makes a corner the compensated tool can't fit in without gouging".into());
+                    }
+                    let angle = match (inside_prev, prev_turn > 0) {
+                        (true, true) | (false, false) => -l.acos() + theta + PI,
+                        (true, false) | (false, true) => l.acos() + theta + PI,
+                    };
+                    mid = polar(prev_centre, oldrad, angle);
+                    st.move_endpoint_and_flush(mid, metric, unit, out)?;
+                }
+            }
+        } else {
+            // Colinear, or an arc going on tangentially: nothing between.
+            st.dequeue(out);
+            st.endpoint = Some(cxy);
+        }
+        st.queue.push(Held::Straight { block: ended(b.clone(), end, Some(p[2])), dir: [pxy[0] - opxy[0], pxy[1] - opxy[1]], rapid });
+    }
+    if let Some(on) = &mut st.on {
+        on.first = false;
+        on.current = [end[0], end[1], p[2]];
+    }
+    Ok(())
+}
+
+/// An arc under compensation: `b` programmed from `op` to `p` about `centre`, `turn` turns.
+#[allow(clippy::too_many_arguments)]
+fn arc(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3], centre: [f64; 2], turn: i32, metric: bool, unit: f64, out: &mut Vec<Block>) -> Result<(), Fail> {
+    let comp = st.on.clone().expect("compensation on");
+    let (r, side) = (comp.radius, comp.side);
+    let c = comp.current;
+    let (cxy, pxy, opxy) = ([c[0], c[1]], [p[0], p[1]], [op[0], op[1]]);
+    let ccw = turn > 0;
+    let arc_radius = dist(pxy, centre);
+    let tool_inside = (side == Side::Left && ccw) || (side == Side::Right && !ccw);
+    let too_small = || Err("Tool radius not less than arc radius with comp".to_string());
+    let new_end;
+    if comp.first {
+        // convert_arc_comp1: the entry arc ends on its end's radius, its centre moved to keep it an arc.
+        if dist(pxy, cxy) <= r {
+            return Err("Radius of cutter compensation entry arc is not greater than the tool radius".into());
+        }
+        if tool_inside && dist(cxy, centre) <= r {
+            return too_small();
+        }
+        let gamma = if inside(side, turn) { atan2(centre, pxy) } else { atan2(pxy, centre) };
+        let end = polar(pxy, r, gamma);
+        let b_len = dist(cxy, end) / 2.0;
+        let ab_ang = atan2(centre, end);
+        let a_ang = atan2(cxy, end) - ab_ang;
+        if a_ang.cos().abs() < 1e-6 {
+            return Err("Tool radius not less than arc radius with comp".into());
+        }
+        let new_centre = polar(end, b_len / a_ang.cos(), ab_ang);
+        st.queue.push(Held::Arc { block: arc_block(b, end, Some(p[2]), new_centre, turn), centre: new_centre, turn, original: find_turn(cxy, new_centre, turn, end) });
+        new_end = end;
+    } else {
+        // convert_arc_comp2.
+        let theta = atan2(cxy, opxy) + if side == Side::Left { -FRAC_PI_2 } else { FRAC_PI_2 };
+        let mut delta = atan2(centre, opxy);
+        let alpha = if ccw { delta - FRAC_PI_2 } else { delta + FRAC_PI_2 };
+        let mut beta = if side == Side::Left { theta - alpha } else { alpha - theta };
+        beta = if beta > 1.5 * PI { beta - TAU } else if beta < -FRAC_PI_2 { beta + TAU } else { beta };
+        let gamma = if tool_inside {
+            if arc_radius <= r {
+                return too_small();
+            }
+            atan2(centre, pxy)
+        } else {
+            delta += PI;
+            atan2(pxy, centre)
+        };
+        let end = polar(pxy, r, gamma);
+        if beta < -SMALL || beta > PI + SMALL || ((beta - PI).abs() < SMALL && !inside(side, turn)) {
+            match st.front_arc() {
+                None => {
+                    // Line to arc: where the offset line meets the offset arc.
+                    let cy = arc_radius * (beta - FRAC_PI_2).sin();
+                    let (dist_from_centre, l, angle);
+                    if inside(side, turn) {
+                        dist_from_centre = arc_radius - r;
+                        l = (cy + r) / dist_from_centre;
+                        if !(-1.0..=1.0).contains(&l) {
+                            return Err("Arc move in concave corner cannot be reached by the tool without gouging".into());
+                        }
+                        angle = if turn > 0 { theta + l.asin() } else { theta - l.asin() };
+                    } else {
+                        dist_from_centre = arc_radius + r;
+                        l = (cy - r) / dist_from_centre;
+                        if !(-1.0..=1.0).contains(&l) {
+                            return Err("Arc move in concave corner cannot be reached by the tool without gouging".into());
+                        }
+                        angle = if turn > 0 { theta + PI - l.asin() } else { theta + PI + l.asin() };
+                    }
+                    st.move_endpoint_and_flush(polar(centre, dist_from_centre, angle), metric, unit, out)?;
+                }
+                Some((prev_end, prev_centre, prev_turn)) => {
+                    // Arc to arc: where the two offset circles meet.
+                    let oldrad = dist(prev_end, prev_centre);
+                    let newrad = if inside(side, turn) { arc_radius - r } else { arc_radius + r };
+                    let arc_cc = dist(prev_centre, centre);
+                    if oldrad == 0.0 || arc_cc == 0.0 {
+                        return Err("Arc to arc motion is invalid because the arcs have the same center".into());
+                    }
+                    let a = (oldrad * oldrad + arc_cc * arc_cc - newrad * newrad) / (2.0 * oldrad * arc_cc);
+                    if !(-1.0..=1.0).contains(&a) {
+                        return Err("Arc to arc motion makes a corner the compensated tool can't fit in without gouging".into());
+                    }
+                    let pullback = a.acos();
+                    let cc_dir = atan2(centre, prev_centre);
+                    let dir = match (inside(side, prev_turn), turn > 0) {
+                        (true, true) | (false, false) => cc_dir + pullback,
+                        (true, false) | (false, true) => cc_dir - pullback,
+                    };
+                    st.move_endpoint_and_flush(polar(prev_centre, oldrad, dir), metric, unit, out)?;
+                }
+            }
+        } else if beta > SMALL {
+            // A convex corner: an arc about the programmed corner first.
+            let mid = polar(opxy, r, delta);
+            st.dequeue(out);
+            st.queue.push(Held::Other(arc_block(b, mid, Some(c[2]), opxy, if side == Side::Left { -1 } else { 1 })));
+            st.dequeue(out);
+            st.endpoint = Some(mid);
+        } else {
+            st.dequeue(out);
+            st.endpoint = Some(cxy);
+        }
+        st.queue.push(Held::Arc { block: arc_block(b, end, Some(p[2]), centre, turn), centre, turn, original: find_turn(opxy, centre, turn, pxy) });
+        new_end = end;
+    }
+    if let Some(on) = &mut st.on {
+        on.first = false;
+        on.current = [new_end[0], new_end[1], p[2]];
+    }
+    Ok(())
+}
+
+/// What compensation refuses in a block while it is on (LinuxCNC's own checks, and what this model
+/// does not hold under it).
+fn refused_under_comp(code: &str) -> Option<&'static str> {
+    Some(match code {
+        "10" => "G10 with cutter radius compensation on (LinuxCNC refuses changing the active system's offset under it)",
+        "52" | "92" | "92.1" | "92.2" | "92.3" => "Cannot change axis offsets with cutter radius comp",
+        "53" => "Cannot use g53 with cutter radius comp",
+        "18" | "19" => "cutter radius compensation is read in the XY plane only (LinuxCNC's XZ compensation is for lathes)",
+        "28" | "30" | "28.1" | "30.1" => "a move to a stored position with cutter radius compensation on",
+        "43.4" | "43.5" => "tool-centre-point control with cutter radius compensation on is not read",
+        "73" | "74" | "76" | "81" | "82" | "83" | "84" | "85" | "86" | "87" | "88" | "89" => "a canned cycle with cutter radius compensation on",
+        "5" | "5.1" | "5.2" | "5.3" => "Cannot convert spline with cutter radius compensation",
+        _ => return None,
+    })
+}
+
+/// A block of an RS274NGC program (LinuxCNC): compensation's codes and moves, or `None` where
+/// compensation has nothing to do with it (off, nothing held, no code of its own).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
+    if it.dialect() != Dialect::Rs274 {
+        return None;
+    }
+    let code = |w: &Word| super::fanuc::code(w);
+    let comp_word = words.iter().find(|w| w.letter == 'G' && matches!(code(w).as_str(), "40" | "41" | "42" | "41.1" | "42.1"));
+    let stops = words.iter().any(|w| w.letter == 'M' && matches!(w.value, 0.0 | 1.0 | 2.0 | 30.0 | 60.0));
+    // The tool: T selects, M6 loads it, M61 Q sets the one in the spindle.
+    let tool_change = words.iter().any(|w| w.letter == 'M' && w.value == 6.0);
+    let selected = words.iter().find(|w| w.letter == 'T').filter(|w| w.value >= 0.0 && w.value.fract() == 0.0 && w.value <= u32::MAX as f64).map(|w| w.value as u32);
+    let m61 = words.iter().any(|w| w.letter == 'M' && w.value == 61.0).then(|| words.iter().find(|w| w.letter == 'Q')).flatten().filter(|w| w.value >= 0.0 && w.value.fract() == 0.0 && w.value <= u32::MAX as f64).map(|w| w.value as u32);
+    let track = |st: &mut CompState| {
+        if let Some(t) = selected {
+            st.selected = Some(t);
+        }
+        if tool_change {
+            st.spindle = st.selected;
+        }
+        if m61.is_some() {
+            st.spindle = m61;
+        }
+    };
+    if comp_word.is_none() && it.comp.idle() {
+        track(&mut it.comp);
+        return None;
+    }
+    let saved = it.clone();
+    let unit = it.unit();
+    let metric = unit == crate::units::MM;
+    let fail = |it: &mut Interpreter, diags: &mut Diags, col: usize, why: &str| {
+        *it = saved.clone();
+        diags.error(line, col, why.to_string());
+        Some(false)
+    };
+    let mut emit: Vec<Block> = Vec::new();
+    let on_before = it.comp.on.is_some();
+    // What LinuxCNC refuses while compensation is on.
+    if on_before {
+        if let Some((w, why)) = words.iter().filter(|w| w.letter == 'G').find_map(|w| refused_under_comp(&code(w)).map(|why| (w, why))) {
+            return fail(it, diags, w.column, &format!("G{}: {why}", w.raw));
+        }
+        if tool_change {
+            return fail(it, diags, column, "Cannot change tools with cutter radius compensation on");
+        }
+    }
+    // G40/G41/G42 (modal group 7) act before the block's motion.
+    let mut stripped: Vec<Word> = words.to_vec();
+    if let Some(w) = comp_word {
+        let c = code(w);
+        stripped.retain(|x| !(x.letter == 'G' && x.column == w.column) && !(x.letter == 'D' && c != "40") && !(x.letter == 'L' && c.ends_with(".1")));
+        if c == "40" {
+            if let Some(comp) = it.comp.on.take() {
+                if comp.radius > 0.0 && !comp.first {
+                    if let Err(why) = it.comp.move_endpoint_and_flush([comp.current[0], comp.current[1]], metric, unit, &mut emit) {
+                        return fail(it, diags, w.column, &why);
+                    }
+                    it.comp.dequeue(&mut emit);
+                    it.comp.arc_not_allowed = true;
+                    it.comp.resync = Some([comp.current[0], comp.current[1]]);
+                }
+            }
+        } else {
+            if on_before {
+                return fail(it, diags, w.column, "Cannot turn cutter radius comp on when on");
+            }
+            let plane_word = words.iter().filter(|x| x.letter == 'G').map(code).find(|k| matches!(k.as_str(), "17" | "18" | "19"));
+            if plane_word.as_deref().map_or(it.plane() != Plane::Xy, |k| k != "17") {
+                return fail(it, diags, w.column, &format!("G{}: cutter radius compensation is read in the XY plane (G17) only (LinuxCNC's XZ compensation is for lathes)", w.raw));
+            }
+            let d = words.iter().find(|x| x.letter == 'D');
+            let mut side = if c.starts_with("41") { Side::Left } else { Side::Right };
+            let radius = if c.ends_with(".1") {
+                if let Some(l) = words.iter().find(|x| x.letter == 'L') {
+                    return fail(it, diags, l.column, &format!("L{}: a lathe tool's orientation with G{} is for the XZ plane, not read", l.raw, w.raw));
+                }
+                match d {
+                    Some(d) => d.value * unit / 2.0,
+                    None => return fail(it, diags, w.column, &format!("G{} with no D word (LinuxCNC: the D word is the tool's diameter)", w.raw)),
+                }
+            } else {
+                let tool = match d {
+                    Some(d) if d.value >= 0.0 && (d.value - d.value.round()).abs() < 1e-4 && d.value <= u32::MAX as f64 => d.value.round() as u32,
+                    Some(d) if d.value < 0.0 => return fail(it, diags, d.column, &format!("D{}: Negative D word tool radius index used", d.raw)),
+                    Some(d) => return fail(it, diags, d.column, &format!("D{}: G{} requires D word to be a whole number", d.raw, w.raw)),
+                    None => match it.comp.spindle {
+                        Some(t) => t,
+                        None => return fail(it, diags, w.column, &format!("G{} without D: the radius is the tool in the spindle's, and no T ... M6 (or M61 Q) before it says which", w.raw)),
+                    },
+                };
+                let Some(table) = it.tool_table() else {
+                    return fail(it, diags, w.column, &format!("G{}: the radius is tool {tool}'s in the machine's tool table: give it with --tool-table (LinuxCNC's tool.tbl), or write G{}.1 D<diameter>", w.raw, &c));
+                };
+                match table.diameter(tool) {
+                    Some(dia) => dia / 2.0,
+                    None => return fail(it, diags, d.map_or(w.column, |d| d.column), &format!("Requested tool {tool} not found in the tool table")),
+                }
+            };
+            // A negative radius (a diameter below the nominal one) runs on the other side.
+            let radius = if radius < 0.0 {
+                side = if side == Side::Left { Side::Right } else { Side::Left };
+                -radius
+            } else {
+                radius
+            };
+            let p = it.position();
+            it.comp.on = Some(Comp { side, radius, first: true, current: [p[0], p[1], p[2]] });
+        }
+    }
+    let op = it.position();
+    let mut made = Vec::new();
+    if !it.block_plain(&stripped, line, column, number, diags, &mut made) {
+        *it = saved.clone();
+        return Some(false);
+    }
+    let p = it.position();
+    let moves: Vec<usize> = (0..made.len()).filter(|&k| !made[k].targets.is_empty()).collect();
+    // The move after G40 is straight (LinuxCNC: "The move just after exiting cutter compensation mode
+    // must be straight, not an arc").
+    if it.comp.arc_not_allowed {
+        if let Some(&k) = moves.first() {
+            if made[k].motion.is_arc() {
+                return fail(it, diags, column, "The move just after exiting cutter compensation mode must be straight, not an arc");
+            }
+            it.comp.arc_not_allowed = false;
+        }
+    }
+    if it.comp.resync.is_some() {
+        if let Some(&k) = moves.first() {
+            let t = &mut made[k].targets;
+            t.x = t.x.or(Some(p[0]));
+            t.y = t.y.or(Some(p[1]));
+            it.comp.resync = None;
+        } else if tool_change || m61.is_some() {
+            if let Some(xy) = it.comp.resync.take() {
+                it.set_position_xy(xy);
+            }
+        }
+    }
+    let active = it.comp.on.as_ref().is_some_and(|c| c.radius > 0.0);
+    if active && moves.len() > 1 {
+        return fail(it, diags, column, "a block of several moves with cutter radius compensation on");
+    }
+    for b in made {
+        if !active {
+            if it.comp.queue.is_empty() {
+                emit.push(b);
+            } else {
+                it.comp.queue.push(Held::Other(b));
+            }
+            continue;
+        }
+        if b.targets.is_empty() {
+            if it.comp.queue.is_empty() {
+                emit.push(b);
+            } else {
+                it.comp.queue.push(Held::Other(b));
+            }
+            continue;
+        }
+        let result = match (&b.arc, b.motion) {
+            (Some(spec), m) if m.is_arc() => {
+                if spec.plane != Plane::Xy || spec.frame.is_some() {
+                    return fail(it, diags, column, "an arc outside the XY plane with cutter radius compensation on");
+                }
+                let turns = spec.extra_turns as i32 + 1;
+                let turn = if m == Motion::ArcCw { -turns } else { turns };
+                arc(&mut it.comp, &b, xyz(op), xyz(p), [spec.centre[0], spec.centre[1]], turn, metric, unit, &mut emit)
+            }
+            (_, Motion::Rapid | Motion::Linear) => straight(&mut it.comp, &b, xyz(op), xyz(p), metric, unit, &mut emit),
+            _ => Err("a move other than G0, G1, G2 or G3 with cutter radius compensation on".into()),
+        };
+        if let Err(why) = result {
+            return fail(it, diags, column, &why);
+        }
+    }
+    // A stop (M0, M1, M2, M30, M60) sends every held move (convert_stop); M2 and M30 end compensation.
+    if stops {
+        if let Some(comp) = it.comp.on.clone() {
+            if let Err(why) = it.comp.move_endpoint_and_flush([comp.current[0], comp.current[1]], metric, unit, &mut emit) {
+                return fail(it, diags, column, &why);
+            }
+        }
+        it.comp.dequeue(&mut emit);
+        if words.iter().any(|w| w.letter == 'M' && matches!(w.value, 2.0 | 30.0)) {
+            it.comp.on = None;
+        }
+    }
+    track(&mut it.comp);
+    out.extend(emit);
+    Some(true)
+}
+
+fn xyz(p: [f64; 6]) -> [f64; 3] {
+    [p[0], p[1], p[2]]
+}
+
+/// The end of the program's text: every held move goes out as it stands.
+pub(crate) fn finish(it: &mut Interpreter, out: &mut Vec<Block>) {
+    it.comp.dequeue(out);
+}
