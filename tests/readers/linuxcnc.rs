@@ -192,7 +192,7 @@ fn linuxcnc_cycles_differ_from_fanucs_as_its_interpreter_says() {
         ("G83 X1 Z-5 R2 Q0.0001", 15, "more than 10000 pecks"),
         ("G87 X1 Z-5 R2", 1, "behaviour is undefined"),
         ("G93 G81 X1 Z-5 R2", 5, "inverse time"),
-        ("G81 G0 X1 Z-5 R2", 5, "two codes of the motion group"),
+        ("G81 G0 X1 Z-5 R2", 5, "two G codes of modal group 1"),
         ("G81 X1 Z-5 R2 P1", 15, "G81 takes no P"),
         ("G82 X1 Z-5 R2 P1 Q1", 18, "G82 takes no Q"),
         ("G81 R2", 1, "without X, Y or Z"),
@@ -561,7 +561,7 @@ fn rs274_reads_axis_offsets_and_polar_coordinates_as_linuxcnc_does() {
         ("G21 G90\nG53 G0 @10 ^0\nM2\n", "2:8:", "with G53"),
         ("G21 G90\nG92 @10 ^0\nM2\n", "2:1:", "polar coordinates (@, ^) in a block whose axis words set an offset"),
         ("G21 G90\nG0 A10\nG92 A0\nM2\n", "3:5:", "G92 A0: rotary-axis offsets are not modelled (this one would be 10.000000 deg)"),
-        ("G21 G90\nG10 L2 P1 X1 G92 X0\nM2\n", "2:14:", "two codes of modal group 0"),
+        ("G21 G90\nG10 L2 P1 X1 G92 X0\nM2\n", "2:14:", "two G codes of modal group 0"),
     ] {
         let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
         let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
@@ -591,6 +591,11 @@ fn rs274_compensates_the_cutter_radius_as_linuxcnc_does() {
         let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
         same_moves_as_linuxcnc(name, &read(&text, Dialect::Rs274, "t.ngc", &options));
     }
+    // A file that ends while a compensated move is held: LinuxCNC never sends it (rs274 makes 4 moves
+    // of this, the last X20 Y20 not among them), and that is said.
+    let p = read("G21 G17 G90 F100\nG0 X-10 Y-10\nG42.1 D6.35\nG1 X0 Y0\nG1 X20 Y0\nG1 X20 Y20\n", Dialect::Rs274, "t.ngc", &options);
+    assert_eq!(end_points(&p).len(), 4, "{:#?}", p.blocks);
+    assert!(p.diagnostics.iter().any(|d| d.line == 6 && d.message.contains("is never run")), "{:#?}", p.diagnostics);
     for (text, at, needle) in [
         ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X3 F100\nM2\n", "4:1:", "Length of cutter compensation entry move is not greater than the tool radius"),
         ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG41.1 D4\nM2\n", "5:1:", "Cannot turn cutter radius comp on when on"),
@@ -598,12 +603,21 @@ fn rs274_compensates_the_cutter_radius_as_linuxcnc_does() {
         ("G21 G90\nG0 X0 Y0\nG41 D1\nM2\n", "3:1:", "give it with --tool-table"),
         ("G21 G90\nG0 X0 Y0\nG41\nM2\n", "3:1:", "no T ... M6"),
         ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG92 X0\nM2\n", "5:1:", "Cannot change axis offsets with cutter radius comp"),
-        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nT1 M6\nM2\n", "5:1:", "Cannot change tools with cutter radius compensation on"),
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nT1 M6\nM2\n", "5:4:", "Cannot change tools with cutter radius compensation on"),
         ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG40\nG2 X40 Y0 R5\nM2\n", "6:1:", "must be straight, not an arc"),
         // A slot 1 mm wide for a 10 mm tool, a step of 1 mm on the tool's side (rs274 refuses both at that line).
         ("G21 G90\nG0 X0 Y0\nG42.1 D10\nG1 X30 F100\nY30\nX31\nY0\nM2\n", "7:1:", "Straight feed in concave corner cannot be reached by the tool without gouging"),
         ("G21 G90\nG0 X0 Y0\nG42.1 D10\nG1 X30 F100\nY1\nX60\nM2\n", "6:1:", "Straight feed in concave corner cannot be reached by the tool without gouging"),
         ("G21 G90 G18\nG0 X0 Y0\nG41.1 D10\nM2\n", "3:1:", "XY plane (G17) only"),
+        // LinuxCNC's order of execution: a plane change and M codes act before G40 in the block,
+        // coordinate systems, control modes and tool offsets after G41 (each refused so by rs274).
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG40 G18\nM2\n", "5:5:", "Cannot change planes with cutter radius compensation on"),
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10 G54\nG1 X30 F100\nM2\n", "3:11:", "Cannot change coordinate systems with cutter radius compensation on"),
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG64\nM2\n", "5:1:", "Cannot change control mode with cutter radius compensation on"),
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG43\nM2\n", "5:1:", "Cannot change tool offset with cutter radius compensation on"),
+        ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nM62 P0\nM2\n", "5:1:", "Cannot set motion output with cutter radius compensation on"),
+        ("G21 G90\nG0 X0 Y0\nT1 M6\nG41 D-1\nM2\n", "4:5:", "G41 requires D word to be a whole number"),
+        ("G21 G90\nG0 X0 Y0\nG42.1 D5 L3\nM2\n", "3:10:", "G42.1 with L word, but plane is not G18"),
     ] {
         let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
         let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
@@ -636,4 +650,23 @@ fn the_tool_table_flag_reads_a_linuxcnc_table() {
     let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
     assert_eq!(out.status.code(), Some(2), "{all}");
     assert!(all.contains("slot.ngc:4:1: error: G41: the radius is tool 4's"), "{all}");
+}
+
+/// LinuxCNC's canned cycles in the XZ and YZ planes (interp_cycles.cc convert_cycle_zx and _yz: the
+/// hole at Z X drilled along Y, at Y Z along X; R and the bottom on the drilling axis) read to the
+/// moves rs274 makes of them (`cycles_planes.ngc`: G81, G83, G82, G73, G98/G99, G91 with L repeats).
+/// Polar coordinates there are LinuxCNC's error.
+#[test]
+fn rs274_drills_in_the_xz_and_yz_planes_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join("cycles_planes.ngc")).unwrap();
+    same_moves_as_linuxcnc("cycles_planes", &read(&text, Dialect::Rs274, "t.ngc", &ReadOptions::default()));
+    let p = read("G21 G90 G18 F100\nG0 X0 Y20 Z0\nG81 @5 ^30 R15 Y2\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    has(&p, 3, 1, "Cannot use polar coordinate except in G17 plane");
+    let p = read("G21 G90 G19 F100\nG0 X20 Y0 Z0\nG81 Y5 Z5 R25\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    has(&p, 3, 1, "X value unspecified in YZ plane canned cycle");
+    // LinuxCNC's tapping there moves to axes exchanged (its tests/interp/g84/g18 and g19 programs:
+    // the feed of the first hole goes to X-1 Y1 Z1 in, not X1 Y-1 Z1): refused, not copied.
+    let p = read("G20 G90 G18 F10 S100 M3\nG0 X1 Y2 Z1\nG84 Z1 X1 R1.5 Y-1\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    has(&p, 3, 1, "G84 in the XZ plane: LinuxCNC 2.9 feeds the tap with its axes exchanged");
 }

@@ -470,17 +470,41 @@ fn arc(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3], centre: [f64; 2
     Ok(())
 }
 
-/// What compensation refuses in a block while it is on (LinuxCNC's own checks, and what this model
-/// does not hold under it).
-fn refused_under_comp(code: &str) -> Option<&'static str> {
+/// What LinuxCNC refuses while compensation is on, in its order of execution (G-code reference,
+/// "Order of Execution"): the M codes that act before the block's `G40`/`G41`/`G42` (so they are
+/// judged by the state before it), then the G codes that act after it (judged by the state after). The
+/// messages are LinuxCNC's (interp_convert.cc), or say what is not modelled under it.
+fn refused_m_under_comp(m: f64) -> Option<&'static str> {
+    Some(match m {
+        6.0 => "Cannot change tools with cutter radius compensation on",
+        // LinuxCNC takes M61 but then takes its position from the last move it issued, which cuts
+        // the held move short.
+        61.0 => "M61 with cutter radius compensation on: LinuxCNC then takes its position from the machine, short of the held move (not read)",
+        62.0 => "Cannot set motion output with cutter radius compensation on",
+        63.0 => "Cannot set motion digital output with cutter radius compensation on",
+        64.0 | 65.0 => "Cannot set auxiliary digital output with cutter radius compensation on",
+        66.0 => "Cannot wait for digital input with cutter radius compensation on",
+        67.0 => "Cannot set motion analog output with cutter radius compensation on",
+        68.0 => "Cannot set auxiliary analog output with cutter radius compensation on",
+        48.0 | 50.0 | 51.0 | 52.0 | 53.0 => "Cannot enable overrides with cutter radius compensation on",
+        49.0 => "Cannot disable overrides with cutter radius compensation on",
+        _ => return None,
+    })
+}
+
+fn refused_g_under_comp(code: &str, radius: f64) -> Option<&'static str> {
     Some(match code {
-        "10" => "G10 with cutter radius compensation on (LinuxCNC refuses changing the active system's offset under it)",
-        "52" | "92" | "92.1" | "92.2" | "92.3" => "Cannot change axis offsets with cutter radius comp",
-        "53" => "Cannot use g53 with cutter radius comp",
-        "18" | "19" => "cutter radius compensation is read in the XY plane only (LinuxCNC's XZ compensation is for lathes)",
+        "43" | "43.1" | "43.2" | "49" => "Cannot change tool offset with cutter radius compensation on",
+        "54" | "55" | "56" | "57" | "58" | "59" | "59.1" | "59.2" | "59.3" => "Cannot change coordinate systems with cutter radius compensation on",
+        "61" | "61.1" | "64" => "Cannot change control mode with cutter radius compensation on",
+        "98" | "99" => "Cannot change retract mode with cutter radius compensation on",
+        "52" | "92" => "Cannot change axis offsets with cutter radius comp",
+        "92.1" | "92.2" | "92.3" => "axis offsets taken away or restored with cutter radius compensation on are not read",
+        "53" if radius > 0.0 => "Cannot use g53 with cutter radius comp",
         "28" | "30" | "28.1" | "30.1" => "a move to a stored position with cutter radius compensation on",
         "43.4" | "43.5" => "tool-centre-point control with cutter radius compensation on is not read",
-        "73" | "74" | "76" | "81" | "82" | "83" | "84" | "85" | "86" | "87" | "88" | "89" => "a canned cycle with cutter radius compensation on",
+        "93" if radius > 0.0 => "inverse time with cutter radius compensation: how LinuxCNC times an inserted corner is not read",
+        "73" | "74" | "76" | "81" | "82" | "83" | "84" | "85" | "86" | "87" | "88" | "89" => "Cannot use canned cycles with cutter compensation on",
         "5" | "5.1" | "5.2" | "5.3" => "Cannot convert spline with cutter radius compensation",
         _ => return None,
     })
@@ -524,14 +548,20 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
         Some(false)
     };
     let mut emit: Vec<Block> = Vec::new();
-    let on_before = it.comp.on.is_some();
-    // What LinuxCNC refuses while compensation is on.
-    if on_before {
-        if let Some((w, why)) = words.iter().filter(|w| w.letter == 'G').find_map(|w| refused_under_comp(&code(w)).map(|why| (w, why))) {
-            return fail(it, diags, w.column, &format!("G{}: {why}", w.raw));
+    // The M codes and the plane, which act before G40/G41/G42 in the block, judged by the state
+    // before it (interp_convert.cc convert_set_plane: "Cannot change planes with cutter radius
+    // compensation on").
+    if it.comp.on.is_some() {
+        if let Some((w, why)) = words.iter().filter(|w| w.letter == 'M').find_map(|w| refused_m_under_comp(w.value).map(|why| (w, why))) {
+            return fail(it, diags, w.column, &format!("M{}: {why}", w.raw));
         }
-        if tool_change {
-            return fail(it, diags, column, "Cannot change tools with cutter radius compensation on");
+        if let Some(w) = words.iter().find(|w| w.letter == 'G' && matches!(code(w).as_str(), "18" | "19")) {
+            return fail(it, diags, w.column, &format!("G{}: Cannot change planes with cutter radius compensation on", w.raw));
+        }
+    }
+    if let (Some(w), true) = (comp_word, tool_change) {
+        if code(w) != "40" {
+            return fail(it, diags, w.column, &format!("G{} with a tool change in its block: LinuxCNC takes the radius of the tool before the change (write M6 in a block before it)", w.raw));
         }
     }
     // G40/G41/G42 (modal group 7) act before the block's motion.
@@ -551,32 +581,40 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
                 }
             }
         } else {
-            if on_before {
-                return fail(it, diags, w.column, "Cannot turn cutter radius comp on when on");
-            }
             let plane_word = words.iter().filter(|x| x.letter == 'G').map(code).find(|k| matches!(k.as_str(), "17" | "18" | "19"));
             if plane_word.as_deref().map_or(it.plane() != Plane::Xy, |k| k != "17") {
                 return fail(it, diags, w.column, &format!("G{}: cutter radius compensation is read in the XY plane (G17) only (LinuxCNC's XZ compensation is for lathes)", w.raw));
+            }
+            if it.comp.on.is_some() {
+                return fail(it, diags, w.column, "Cannot turn cutter radius comp on when on");
             }
             let d = words.iter().find(|x| x.letter == 'D');
             let mut side = if c.starts_with("41") { Side::Left } else { Side::Right };
             let radius = if c.ends_with(".1") {
                 if let Some(l) = words.iter().find(|x| x.letter == 'L') {
-                    return fail(it, diags, l.column, &format!("L{}: a lathe tool's orientation with G{} is for the XZ plane, not read", l.raw, w.raw));
+                    return fail(it, diags, l.column, &format!("G{} with L word, but plane is not G18 (L{}: a lathe tool's orientation)", w.raw, l.raw));
                 }
                 match d {
                     Some(d) => d.value * unit / 2.0,
                     None => return fail(it, diags, w.column, &format!("G{} with no D word (LinuxCNC: the D word is the tool's diameter)", w.raw)),
                 }
             } else {
+                // LinuxCNC's is_near_int: the integer `(int)(D + 0.5)` within 0.0001 of D (so a negative
+                // D fails it); D0 or no D is the tool in the spindle.
                 let tool = match d {
-                    Some(d) if d.value >= 0.0 && (d.value - d.value.round()).abs() < 1e-4 && d.value <= u32::MAX as f64 => d.value.round() as u32,
-                    Some(d) if d.value < 0.0 => return fail(it, diags, d.column, &format!("D{}: Negative D word tool radius index used", d.raw)),
-                    Some(d) => return fail(it, diags, d.column, &format!("D{}: G{} requires D word to be a whole number", d.raw, w.raw)),
-                    None => match it.comp.spindle {
-                        Some(t) => t,
-                        None => return fail(it, diags, w.column, &format!("G{} without D: the radius is the tool in the spindle's, and no T ... M6 (or M61 Q) before it says which", w.raw)),
-                    },
+                    Some(d) => {
+                        let near = (d.value + 0.5).trunc();
+                        if !((near - d.value).abs() < 1e-4) || !(0.0..=u32::MAX as f64).contains(&near) {
+                            return fail(it, diags, d.column, &format!("D{}: G{} requires D word to be a whole number", d.raw, w.raw));
+                        }
+                        near as u32
+                    }
+                    None => 0,
+                };
+                let tool = match (tool, it.comp.spindle) {
+                    (0, Some(t)) => t,
+                    (0, None) => return fail(it, diags, d.map_or(w.column, |d| d.column), &format!("G{}: the radius is the tool in the spindle's, and no T ... M6 (or M61 Q) before it says which (the one left in the spindle is not known here)", w.raw)),
+                    (t, _) => t,
                 };
                 let Some(table) = it.tool_table() else {
                     return fail(it, diags, w.column, &format!("G{}: the radius is tool {tool}'s in the machine's tool table: give it with --tool-table (LinuxCNC's tool.tbl), or write G{}.1 D<diameter>", w.raw, &c));
@@ -597,6 +635,24 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
             it.comp.on = Some(Comp { side, radius, first: true, current: [p[0], p[1], p[2]] });
         }
     }
+    // The G codes that act after G40/G41/G42 in the block, judged by the state after it.
+    if let Some(radius) = it.comp.on.as_ref().map(|c| c.radius) {
+        for w in words.iter().filter(|w| w.letter == 'G') {
+            let c = code(w);
+            let why = match c.as_str() {
+                // LinuxCNC refuses a change of the active system's offsets only (interp_convert.cc convert_setup).
+                "10" => {
+                    let p = words.iter().find(|x| x.letter == 'P').map_or(0.0, |x| x.value);
+                    let l = words.iter().find(|x| x.letter == 'L').map_or(0.0, |x| x.value);
+                    ((l == 2.0 || l == 20.0) && (p == 0.0 || p as usize == it.system() + 1)).then_some("Cannot change the active coordinate system with cutter radius compensation on")
+                }
+                _ => refused_g_under_comp(&c, radius),
+            };
+            if let Some(why) = why {
+                return fail(it, diags, w.column, &format!("G{}: {why}", w.raw));
+            }
+        }
+    }
     let op = it.position();
     let mut made = Vec::new();
     if !it.block_plain(&stripped, line, column, number, diags, &mut made) {
@@ -615,11 +671,28 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
             it.comp.arc_not_allowed = false;
         }
     }
+    let straight_code = words.iter().any(|w| w.letter == 'G' && matches!(code(w).as_str(), "0" | "1"));
+    if it.comp.resync.is_some() && moves.is_empty() && straight_code && it.comp.on.is_none() {
+        // `G1` alone after G40: LinuxCNC's straight move from its current point, which G40 put at
+        // the programmed one (interp_convert.cc convert_straight): the tool goes back there.
+        let mut b = match made.iter().position(|b| b.targets.is_empty()) {
+            Some(k) => made.remove(k),
+            None => it.still_block(line, column, number),
+        };
+        b.motion = it.feed_state().0.unwrap_or(Motion::Linear);
+        b.targets.x = Some(op[0]);
+        b.targets.y = Some(op[1]);
+        made.insert(0, b);
+        it.comp.arc_not_allowed = false;
+        it.comp.resync = None;
+    }
+    let moves: Vec<usize> = (0..made.len()).filter(|&k| !made[k].targets.is_empty()).collect();
     if it.comp.resync.is_some() {
         if let Some(&k) = moves.first() {
+            // From the programmed point before the block (a canned cycle's first move too).
             let t = &mut made[k].targets;
-            t.x = t.x.or(Some(p[0]));
-            t.y = t.y.or(Some(p[1]));
+            t.x = t.x.or(Some(op[0]));
+            t.y = t.y.or(Some(op[1]));
             it.comp.resync = None;
         } else if tool_change || m61.is_some() {
             if let Some(xy) = it.comp.resync.take() {
@@ -685,7 +758,16 @@ fn xyz(p: [f64; 6]) -> [f64; 3] {
     [p[0], p[1], p[2]]
 }
 
-/// The end of the program's text: every held move goes out as it stands.
-pub(crate) fn finish(it: &mut Interpreter, out: &mut Vec<Block>) {
-    it.comp.dequeue(out);
+/// The end of the program's text with moves still held: LinuxCNC never sends them (only the next
+/// move, `G40` or a stop does; at the end of the file its queue is dropped), so neither is any here,
+/// and that is said.
+pub(crate) fn finish(it: &mut Interpreter, diags: &mut Diags) {
+    let held = it.comp.queue.iter().find_map(|h| match h {
+        Held::Straight { block, .. } | Held::Arc { block, .. } => Some(block.line),
+        Held::Other(_) => None,
+    });
+    if let Some(line) = held {
+        diags.warning(line, 1, format!("the compensated move of line {line} is never run: LinuxCNC sends a move it holds for cutter radius compensation only at the next move, G40 or a stop (M0, M1, M2, M30, M60), and the program ends before any"));
+    }
+    it.comp.queue.clear();
 }

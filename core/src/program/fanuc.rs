@@ -189,7 +189,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     let find = |l: char| words.iter().find(|w| w.letter == l);
     let taken = ['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', repeat_letter];
     let before = it.cycles.active;
-    let Some(start) = cycle_settings(it, words, &taken, line, column, number, diags, out) else {
+    let Some(start) = cycle_settings(it, words, &taken, false, line, column, number, diags, out) else {
         return false;
     };
     let unit = it.unit();
@@ -285,7 +285,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         if it.position()[2] != r && !shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None, own: false }, &z(r), line, column, number, diags, out) {
             return false;
         }
-        if !hole_moves(it, cycles::hole(&active, it.cycles.to_r, clearance), line, column, number, diags, out) {
+        if !hole_moves(it, cycles::hole(&active, it.cycles.to_r, clearance), 'Z', line, column, number, diags, out) {
             return false;
         }
     }
@@ -296,22 +296,27 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
 /// `taken` ones), read first; then where the tool stands, with them in effect (a work offset), if
 /// the plane is G17. `None` on a defect.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn cycle_settings(it: &mut Interpreter, words: &[Word], taken: &[char], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<[f64; 6]> {
+/// `any_plane`: the cycle drills along the plane's normal (LinuxCNC's G18 and G19 cycles), else only
+/// in G17.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn cycle_settings(it: &mut Interpreter, words: &[Word], taken: &[char], any_plane: bool, line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<[f64; 6]> {
     if !apply(it, &settings(words, taken, &cycles::CODES), line, column, number, diags, out) {
         return None;
     }
-    if it.plane() != super::Plane::Xy {
+    if !any_plane && it.plane() != super::Plane::Xy {
         diags.error(line, column, "a canned cycle outside the G17 plane (drilling along X or Y) is not modelled");
         return None;
     }
     Some(it.position())
 }
 
-/// A hole's steps as blocks: each Z move a one-shot rapid or feed to that level (absolute, program
-/// units), each dwell a block of its own; false if a defect stopped it.
-pub(crate) fn hole_moves(it: &mut Interpreter, steps: Vec<Step>, line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+/// A hole's steps as blocks: each move along the drilling axis (`depth`: Z, or Y and X in LinuxCNC's
+/// G18 and G19 planes) a one-shot rapid or feed to that level (absolute, program units), each dwell a
+/// block of its own; false if a defect stopped it.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn hole_moves(it: &mut Interpreter, steps: Vec<Step>, depth: char, line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
     let unit = it.unit();
-    let z = |v: f64| [word('Z', v / unit, column)];
+    let z = |v: f64| [word(depth, v / unit, column)];
     for step in steps {
         let ok = match step {
             Step::Rapid(v) => shot(it, OneShot { motion: Motion::Rapid, absolute: true, axes: None, own: false }, &z(v), line, column, number, diags, out),

@@ -90,9 +90,22 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         diags.error(line, w.column, format!("{}{}: rotary axis words are not allowed in a canned cycle (LinuxCNC: \"Cannot put an {} in canned cycle\")", w.letter, w.raw, w.letter));
         return false;
     }
-    let Some(start) = cycle_settings(it, words, &taken, line, column, number, diags, out) else {
+    let Some(start) = cycle_settings(it, words, &taken, true, line, column, number, diags, out) else {
         return false;
     };
+    // The hole's position axes and its drilling axis (interp_cycles.cc: convert_cycle_xy with X Y and
+    // Z, convert_cycle_zx with Z X and Y, convert_cycle_yz with Y Z and X).
+    let [ia, ib, id] = match it.plane() {
+        super::Plane::Xy => [0, 1, 2],
+        super::Plane::Zx => [2, 0, 1],
+        super::Plane::Yz => [1, 2, 0],
+    };
+    let letter = |k: usize| ['X', 'Y', 'Z'][k];
+    let (depth, plane_name) = (letter(id), ["YZ", "XZ", "XY"][id]);
+    if id != 2 && matches!(kind, Kind::G74 | Kind::G84) {
+        diags.error(line, at, format!("{name} in the {plane_name} plane: LinuxCNC 2.9 feeds the tap with its axes exchanged (interp_cycles.cc convert_cycle_g74_g84 hands cycle_feed the axes already in the plane's order), not read"));
+        return false;
+    }
     if it.inverse_time() {
         diags.error(line, at, format!("{name}: LinuxCNC cannot use inverse time feed with canned cycles"));
         return false;
@@ -108,8 +121,8 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         diags.error(line, at, format!("{name}: a cycle after another motion needs its R plane (R)"));
         return false;
     };
-    let Some(z_word) = find('Z').map(|w| w.value).or(same.then_some(sticky.z)) else {
-        diags.error(line, at, format!("{name}: a cycle after another motion needs its Z (the hole's bottom)"));
+    let Some(z_word) = find(depth).map(|w| w.value).or(same.then_some(sticky.z)) else {
+        diags.error(line, at, format!("{name}: a cycle after another motion needs its {depth} (the hole's bottom; LinuxCNC: \"{depth} value unspecified in {plane_name} plane canned cycle\")"));
         return false;
     };
     let repeats = match find('L') {
@@ -157,10 +170,10 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     }
     let unit = it.unit();
     // The level the series began at (`cycle_il`), reset where another motion ran.
-    let initial = before.map_or(start[2], |a| a.initial);
+    let initial = before.map_or(start[id], |a| a.initial);
     let (r, bottom) = if it.absolute() { (r_word * unit, z_word * unit) } else { (r_word * unit + initial, r_word * unit + initial + z_word * unit) };
     if r < bottom {
-        diags.error(line, at, format!("{name}: R {} is below Z {}: LinuxCNC refuses it (\"R less than Z in cycle in XY plane\")", r / unit, bottom / unit));
+        diags.error(line, at, format!("{name}: R {} is below {depth} {}: LinuxCNC refuses it (\"R less than {depth} in cycle in {plane_name} plane\")", r / unit, bottom / unit));
         return false;
     }
     if kind.pecks() && (r - bottom) / (q * unit) > super::cycles::MAX_PECKS as f64 {
@@ -174,7 +187,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     it.cycles.linuxcnc = Sticky { r: r_word, z: z_word, p, q };
     it.cycles.active = Some(Active { kind, bottom, r, peck: kind.pecks().then_some(q * unit), dwell_s: Some(p), initial });
     let rapid = |absolute| OneShot { motion: Motion::Rapid, absolute, axes: None, own: false };
-    let z = |v: f64| [word('Z', v / unit, column)];
+    let z = |v: f64| [word(depth, v / unit, column)];
     // Below the R plane: straight up to it first, once, and the return level is then R.
     let mut here = start;
     let mut old = initial;
@@ -183,21 +196,25 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
             return false;
         }
         old = r;
-        here[2] = r;
+        here[id] = r;
     }
     let clear = if it.cycles.to_r { r } else { old };
-    let (x_word, y_word) = (find('X').map(|w| w.value * unit), find('Y').map(|w| w.value * unit));
+    let (x_word, y_word) = (find(letter(ia)).map(|w| w.value * unit), find(letter(ib)).map(|w| w.value * unit));
     // Polar hole positions (interp_cycles.cc convert_cycle_xy and CYCLE_MACRO): under G90 the point
     // of `@` and `^` (each kept from the current point when left out), under G91 added about the
     // origin on each repeat, the distance first.
     let (radius, theta) = (find('@').map(|w| w.value * unit), find('^').map(|w| w.value.to_radians()));
     let polar = radius.is_some() || theta.is_some();
+    if let (true, false) = (polar, id == 2) {
+        diags.error(line, column, format!("{name}: polar coordinates outside the G17 plane (LinuxCNC: \"Cannot use polar coordinate except in G17 plane\")"));
+        return false;
+    }
     if let (true, Some(w)) = (polar, find('X').or(find('Y'))) {
         diags.error(line, w.column, format!("{}{}: polar coordinates and X or Y in one block (LinuxCNC: \"Cannot specify both polar coordinate and X word\")", w.letter, w.raw));
         return false;
     }
     let about = |r: f64, t: f64| [r * t.cos(), r * t.sin()];
-    let (mut x, mut y) = (here[0], here[1]);
+    let (mut x, mut y) = (here[ia], here[ib]);
     for k in 0..repeats {
         if it.absolute() && polar {
             let r = radius.unwrap_or(x.hypot(y));
@@ -218,8 +235,8 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
                 [x, y] = about(x.hypot(y) + dr.unwrap_or(0.0), y.atan2(x) + dt.unwrap_or(0.0));
             }
         }
-        let xy = [word('X', x / unit, column), word('Y', y / unit, column)];
-        let ok = if k == 0 && here[2] > r {
+        let xy = [word(letter(ia), x / unit, column), word(letter(ib), y / unit, column)];
+        let ok = if k == 0 && here[id] > r {
             shot(it, rapid(true), &xy, line, column, number, diags, out) && shot(it, rapid(true), &z(r), line, column, number, diags, out)
         } else {
             let to_clear = [xy[0].clone(), xy[1].clone(), z(clear)[0].clone()];
@@ -228,7 +245,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         if !ok {
             return false;
         }
-        if !hole_moves(it, super::cycles::lcnc_hole(kind, r, bottom, clear, q * unit, p, clearance), line, column, number, diags, out) {
+        if !hole_moves(it, super::cycles::lcnc_hole(kind, r, bottom, clear, q * unit, p, clearance), depth, line, column, number, diags, out) {
             return false;
         }
     }

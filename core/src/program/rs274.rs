@@ -151,8 +151,8 @@ impl super::stream::LineReader for Rs274Reader {
     fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, out: &mut Vec<Block>, diags: &mut Diags) {
         self.release_leader(out, diags);
         self.flow_finish(diags);
-        // Moves cutter radius compensation still holds go out as they stand.
-        super::cutter_comp::finish(&mut self.interp, out);
+        // Moves cutter radius compensation still holds are never run.
+        super::cutter_comp::finish(&mut self.interp, diags);
         // LinuxCNC: a file must end its program (interp_read.cc, read_text: "if the file started with a
         // percent line, it must end with a percent line ... if [not], it must have a program ending
         // command (M2 or M30) in it"); at the end of the file it stops with an error, after the moves

@@ -655,7 +655,8 @@ impl Interpreter {
                 let start = [self.last[0], self.last[1], self.last[2]];
                 let end = [next.last[0], next.last[1], next.last[2]];
                 arc = resolve_arc(words, &next, start, end, line, column, diags);
-            } else if words.iter().any(|w| "IJKRP".contains(w.letter)) {
+            } else if words.iter().any(|w| "IJKR".contains(w.letter) || (w.letter == 'P' && !uses.contains(&'P'))) {
+                // (A P that another code of the block takes, G4's or G64's, is not the arc's.)
                 diags.error(line, column, "arc words without an end point: expected X, Y or Z with them");
             }
         }

@@ -49,3 +49,26 @@ pub(super) fn tnc_m_code(code: i64) -> Result<(), &'static str> {
                   say what it does with --m-code CODE=tcp-on|tcp-off|event"),
     }
 }
+
+/// LinuxCNC's modal group of a G code (interp_array.cc `_gees`, after [NCMS] and [Fanuc]): "only one
+/// g_code from any one group may appear on a line". Group 0 is the non-modal codes, 1 the motions and
+/// canned cycles; `None` for a code outside the table (the interpreter refuses it by itself).
+pub(crate) fn lcnc_group(code: &str) -> Option<u8> {
+    Some(match code {
+        "4" | "10" | "28" | "28.1" | "30" | "30.1" | "52" | "53" | "92" | "92.1" | "92.2" | "92.3" => 0,
+        "0" | "1" | "2" | "3" | "5" | "5.1" | "5.2" | "5.3" | "33" | "33.1" | "38.2" | "38.3" | "38.4" | "38.5" | "70" | "71" | "71.1" | "71.2" | "72" | "72.1" | "72.2" | "73" | "74" | "76" | "80" | "81" | "82" | "83" | "84" | "85" | "86" | "87" | "88" | "89" => 1,
+        "17" | "17.1" | "18" | "18.1" | "19" | "19.1" => 2,
+        "90" | "91" => 3,
+        "90.1" | "91.1" => 4,
+        "93" | "94" | "95" => 5,
+        "20" | "21" => 6,
+        "40" | "41" | "41.1" | "42" | "42.1" => 7,
+        "43" | "43.1" | "43.2" | "49" => 8,
+        "98" | "99" => 10,
+        "54" | "55" | "56" | "57" | "58" | "59" | "59.1" | "59.2" | "59.3" => 12,
+        "61" | "61.1" | "64" => 13,
+        "96" | "97" => 14,
+        "7" | "8" => 15,
+        _ => return None,
+    })
+}

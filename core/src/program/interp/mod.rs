@@ -567,6 +567,19 @@ impl Interpreter {
     /// cycle makes several, a block of settings one without targets). Defects go to `diags` and
     /// make nothing, with the state unchanged; false then.
     pub fn block(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+        // LinuxCNC: one G code of each modal group in a block (Fanuc takes the last one).
+        if self.dialect == Dialect::Rs274 {
+            let mut seen: [Option<&Word>; 16] = [None; 16];
+            for w in words.iter().filter(|w| w.letter == 'G') {
+                let c = super::fanuc::code(w);
+                let Some(g) = codes::lcnc_group(&c) else { continue };
+                if let Some(first) = seen[g as usize] {
+                    diags.error(line, w.column, format!("G{} with G{}: two G codes of modal group {g} in one block (LinuxCNC: \"Two G-codes used from same modal group\")", w.raw, first.raw));
+                    return false;
+                }
+                seen[g as usize] = Some(w);
+            }
+        }
         if let Some(done) = super::cutter_comp::block(self, words, line, column, number, diags, out) {
             return done;
         }
@@ -592,6 +605,11 @@ impl Interpreter {
             }
             None => false,
         }
+    }
+
+    /// The active work offset system (`G54`..`G59.3` = 0..8).
+    pub(crate) fn system(&self) -> usize {
+        self.system
     }
 
     /// The tool table `G41`/`G42` take their radius from (`--tool-table`), if given.

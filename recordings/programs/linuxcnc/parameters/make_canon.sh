@@ -23,7 +23,7 @@ done
 # ARC_FEED(first_end, second_end, first_centre, second_centre, turn, axis_end, a, b, c) and
 # USE_LENGTH_UNITS (rs274 prints positions in the program's unit).
 # Cutter radius compensation too (comp_table.ngc takes its diameters from comp.tbl).
-for f in offsets_g92 polar polar_cycles comp_lines comp_arcs comp_table; do
+for f in offsets_g92 polar polar_cycles comp_lines comp_arcs comp_table cycles_planes; do
     table=/tmp/make_canon.tbl
     [ "$f" = comp_table ] && table=comp.tbl
     rs274 -t "$table" -g "$f.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
