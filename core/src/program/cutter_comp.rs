@@ -125,15 +125,44 @@ pub(crate) struct CompState {
     /// resynchronises its position from the machine after `M6`).
     arc_not_allowed: bool,
     resync: Option<[f64; 2]>,
-    /// The tool selected (`T`) and the one in the spindle (`M6`, `M61 Q`).
+}
+
+/// The tool selected (`T`) and the one in the spindle (`M6`, `M61 Q`): what `G41`/`G42` without a
+/// `D` (or with `D0`) compensate by.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Tools {
     selected: Option<u32>,
     spindle: Option<u32>,
 }
 
+impl Tools {
+    /// A block's `T`, `M6` and `M61 Q`.
+    fn track(&mut self, words: &[Word]) {
+        let whole = |w: &&Word| w.value >= 0.0 && w.value.fract() == 0.0 && w.value <= u32::MAX as f64;
+        if let Some(t) = words.iter().find(|w| w.letter == 'T').filter(whole) {
+            self.selected = Some(t.value as u32);
+        }
+        if words.iter().any(|w| w.letter == 'M' && w.value == 6.0) {
+            self.spindle = self.selected;
+        }
+        if words.iter().any(|w| w.letter == 'M' && w.value == 61.0) {
+            if let Some(q) = words.iter().find(|w| w.letter == 'Q').filter(whole) {
+                self.spindle = Some(q.value as u32);
+            }
+        }
+    }
+}
+
+/// A G word's code times ten, as LinuxCNC numbers them (G41.1 is 411): no text to compare.
+pub(crate) fn x10(w: &Word) -> i64 {
+    (w.value * 10.0).round() as i64
+}
+
 impl CompState {
-    /// Nothing to do for a block without compensation codes.
+    /// Nothing to do for a block without compensation codes, and nothing to keep (LinuxCNC's
+    /// `endpoint` outlives a compensation: a later one's first arc leaves it as it was).
     fn idle(&self) -> bool {
-        self.on.is_none() && self.queue.is_empty() && !self.arc_not_allowed && self.resync.is_none()
+        self.on.is_none() && self.queue.is_empty() && !self.arc_not_allowed && self.resync.is_none() && self.endpoint.is_none()
     }
 }
 
@@ -518,28 +547,28 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
         return None;
     }
     let code = |w: &Word| super::fanuc::code(w);
-    let comp_word = words.iter().find(|w| w.letter == 'G' && matches!(code(w).as_str(), "40" | "41" | "42" | "41.1" | "42.1"));
-    let stops = words.iter().any(|w| w.letter == 'M' && matches!(w.value, 0.0 | 1.0 | 2.0 | 30.0 | 60.0));
-    // The tool: T selects, M6 loads it, M61 Q sets the one in the spindle.
-    let tool_change = words.iter().any(|w| w.letter == 'M' && w.value == 6.0);
-    let selected = words.iter().find(|w| w.letter == 'T').filter(|w| w.value >= 0.0 && w.value.fract() == 0.0 && w.value <= u32::MAX as f64).map(|w| w.value as u32);
-    let m61 = words.iter().any(|w| w.letter == 'M' && w.value == 61.0).then(|| words.iter().find(|w| w.letter == 'Q')).flatten().filter(|w| w.value >= 0.0 && w.value.fract() == 0.0 && w.value <= u32::MAX as f64).map(|w| w.value as u32);
-    let track = |st: &mut CompState| {
-        if let Some(t) = selected {
-            st.selected = Some(t);
+    // Most blocks: no compensation code, none in effect; only the tool is followed.
+    let mut comp_word = None;
+    let mut tool_words = false;
+    for w in words {
+        match w.letter {
+            'G' if comp_word.is_none() && matches!(x10(w), 400 | 410 | 411 | 420 | 421) => comp_word = Some(w),
+            'T' | 'M' => tool_words = true,
+            _ => {}
         }
-        if tool_change {
-            st.spindle = st.selected;
+    }
+    if comp_word.is_none() && it.comp.is_none() {
+        if tool_words {
+            it.tools.track(words);
         }
-        if m61.is_some() {
-            st.spindle = m61;
-        }
-    };
-    if comp_word.is_none() && it.comp.idle() {
-        track(&mut it.comp);
         return None;
     }
+    let stops = words.iter().any(|w| w.letter == 'M' && matches!(w.value, 0.0 | 1.0 | 2.0 | 30.0 | 60.0));
+    let tool_change = words.iter().any(|w| w.letter == 'M' && w.value == 6.0);
+    let m61 = words.iter().any(|w| w.letter == 'M' && w.value == 61.0);
     let saved = it.clone();
+    // The state, out of the interpreter while the block is read (back at the end; `saved` has it too).
+    let mut st: Box<CompState> = it.comp.take().unwrap_or_default();
     let unit = it.unit();
     let metric = unit == crate::units::MM;
     let fail = |it: &mut Interpreter, diags: &mut Diags, col: usize, why: &str| {
@@ -551,7 +580,7 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
     // The M codes and the plane, which act before G40/G41/G42 in the block, judged by the state
     // before it (interp_convert.cc convert_set_plane: "Cannot change planes with cutter radius
     // compensation on").
-    if it.comp.on.is_some() {
+    if st.on.is_some() {
         if let Some((w, why)) = words.iter().filter(|w| w.letter == 'M').find_map(|w| refused_m_under_comp(w.value).map(|why| (w, why))) {
             return fail(it, diags, w.column, &format!("M{}: {why}", w.raw));
         }
@@ -570,14 +599,14 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
         let c = code(w);
         stripped.retain(|x| !(x.letter == 'G' && x.column == w.column) && !(x.letter == 'D' && c != "40") && !(x.letter == 'L' && c.ends_with(".1")));
         if c == "40" {
-            if let Some(comp) = it.comp.on.take() {
+            if let Some(comp) = st.on.take() {
                 if comp.radius > 0.0 && !comp.first {
-                    if let Err(why) = it.comp.move_endpoint_and_flush([comp.current[0], comp.current[1]], metric, unit, &mut emit) {
+                    if let Err(why) = st.move_endpoint_and_flush([comp.current[0], comp.current[1]], metric, unit, &mut emit) {
                         return fail(it, diags, w.column, &why);
                     }
-                    it.comp.dequeue(&mut emit);
-                    it.comp.arc_not_allowed = true;
-                    it.comp.resync = Some([comp.current[0], comp.current[1]]);
+                    st.dequeue(&mut emit);
+                    st.arc_not_allowed = true;
+                    st.resync = Some([comp.current[0], comp.current[1]]);
                 }
             }
         } else {
@@ -585,7 +614,7 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
             if plane_word.as_deref().map_or(it.plane() != Plane::Xy, |k| k != "17") {
                 return fail(it, diags, w.column, &format!("G{}: cutter radius compensation is read in the XY plane (G17) only (LinuxCNC's XZ compensation is for lathes)", w.raw));
             }
-            if it.comp.on.is_some() {
+            if st.on.is_some() {
                 return fail(it, diags, w.column, "Cannot turn cutter radius comp on when on");
             }
             let d = words.iter().find(|x| x.letter == 'D');
@@ -611,7 +640,7 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
                     }
                     None => 0,
                 };
-                let tool = match (tool, it.comp.spindle) {
+                let tool = match (tool, it.tools.spindle) {
                     (0, Some(t)) => t,
                     (0, None) => return fail(it, diags, d.map_or(w.column, |d| d.column), &format!("G{}: the radius is the tool in the spindle's, and no T ... M6 (or M61 Q) before it says which (the one left in the spindle is not known here)", w.raw)),
                     (t, _) => t,
@@ -632,11 +661,11 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
                 radius
             };
             let p = it.position();
-            it.comp.on = Some(Comp { side, radius, first: true, current: [p[0], p[1], p[2]] });
+            st.on = Some(Comp { side, radius, first: true, current: [p[0], p[1], p[2]] });
         }
     }
     // The G codes that act after G40/G41/G42 in the block, judged by the state after it.
-    if let Some(radius) = it.comp.on.as_ref().map(|c| c.radius) {
+    if let Some(radius) = st.on.as_ref().map(|c| c.radius) {
         for w in words.iter().filter(|w| w.letter == 'G') {
             let c = code(w);
             let why = match c.as_str() {
@@ -663,16 +692,16 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
     let moves: Vec<usize> = (0..made.len()).filter(|&k| !made[k].targets.is_empty()).collect();
     // The move after G40 is straight (LinuxCNC: "The move just after exiting cutter compensation mode
     // must be straight, not an arc").
-    if it.comp.arc_not_allowed {
+    if st.arc_not_allowed {
         if let Some(&k) = moves.first() {
             if made[k].motion.is_arc() {
                 return fail(it, diags, column, "The move just after exiting cutter compensation mode must be straight, not an arc");
             }
-            it.comp.arc_not_allowed = false;
+            st.arc_not_allowed = false;
         }
     }
     let straight_code = words.iter().any(|w| w.letter == 'G' && matches!(code(w).as_str(), "0" | "1"));
-    if it.comp.resync.is_some() && moves.is_empty() && straight_code && it.comp.on.is_none() {
+    if st.resync.is_some() && moves.is_empty() && straight_code && st.on.is_none() {
         // `G1` alone after G40: LinuxCNC's straight move from its current point, which G40 put at
         // the programmed one (interp_convert.cc convert_straight): the tool goes back there.
         let mut b = match made.iter().position(|b| b.targets.is_empty()) {
@@ -683,41 +712,41 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
         b.targets.x = Some(op[0]);
         b.targets.y = Some(op[1]);
         made.insert(0, b);
-        it.comp.arc_not_allowed = false;
-        it.comp.resync = None;
+        st.arc_not_allowed = false;
+        st.resync = None;
     }
     let moves: Vec<usize> = (0..made.len()).filter(|&k| !made[k].targets.is_empty()).collect();
-    if it.comp.resync.is_some() {
+    if st.resync.is_some() {
         if let Some(&k) = moves.first() {
             // From the programmed point before the block (a canned cycle's first move too).
             let t = &mut made[k].targets;
             t.x = t.x.or(Some(op[0]));
             t.y = t.y.or(Some(op[1]));
-            it.comp.resync = None;
-        } else if tool_change || m61.is_some() {
-            if let Some(xy) = it.comp.resync.take() {
+            st.resync = None;
+        } else if tool_change || m61 {
+            if let Some(xy) = st.resync.take() {
                 it.set_position_xy(xy);
             }
         }
     }
-    let active = it.comp.on.as_ref().is_some_and(|c| c.radius > 0.0);
+    let active = st.on.as_ref().is_some_and(|c| c.radius > 0.0);
     if active && moves.len() > 1 {
         return fail(it, diags, column, "a block of several moves with cutter radius compensation on");
     }
     for b in made {
         if !active {
-            if it.comp.queue.is_empty() {
+            if st.queue.is_empty() {
                 emit.push(b);
             } else {
-                it.comp.queue.push(Held::Other(b));
+                st.queue.push(Held::Other(b));
             }
             continue;
         }
         if b.targets.is_empty() {
-            if it.comp.queue.is_empty() {
+            if st.queue.is_empty() {
                 emit.push(b);
             } else {
-                it.comp.queue.push(Held::Other(b));
+                st.queue.push(Held::Other(b));
             }
             continue;
         }
@@ -728,9 +757,9 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
                 }
                 let turns = spec.extra_turns as i32 + 1;
                 let turn = if m == Motion::ArcCw { -turns } else { turns };
-                arc(&mut it.comp, &b, xyz(op), xyz(p), [spec.centre[0], spec.centre[1]], turn, metric, unit, &mut emit)
+                arc(&mut st, &b, xyz(op), xyz(p), [spec.centre[0], spec.centre[1]], turn, metric, unit, &mut emit)
             }
-            (_, Motion::Rapid | Motion::Linear) => straight(&mut it.comp, &b, xyz(op), xyz(p), metric, unit, &mut emit),
+            (_, Motion::Rapid | Motion::Linear) => straight(&mut st, &b, xyz(op), xyz(p), metric, unit, &mut emit),
             _ => Err("a move other than G0, G1, G2 or G3 with cutter radius compensation on".into()),
         };
         if let Err(why) = result {
@@ -739,17 +768,18 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
     }
     // A stop (M0, M1, M2, M30, M60) sends every held move (convert_stop); M2 and M30 end compensation.
     if stops {
-        if let Some(comp) = it.comp.on.clone() {
-            if let Err(why) = it.comp.move_endpoint_and_flush([comp.current[0], comp.current[1]], metric, unit, &mut emit) {
+        if let Some(comp) = st.on.clone() {
+            if let Err(why) = st.move_endpoint_and_flush([comp.current[0], comp.current[1]], metric, unit, &mut emit) {
                 return fail(it, diags, column, &why);
             }
         }
-        it.comp.dequeue(&mut emit);
+        st.dequeue(&mut emit);
         if words.iter().any(|w| w.letter == 'M' && matches!(w.value, 2.0 | 30.0)) {
-            it.comp.on = None;
+            st.on = None;
         }
     }
-    track(&mut it.comp);
+    it.tools.track(words);
+    it.comp = if st.idle() { None } else { Some(st) };
     out.extend(emit);
     Some(true)
 }
@@ -762,12 +792,12 @@ fn xyz(p: [f64; 6]) -> [f64; 3] {
 /// move, `G40` or a stop does; at the end of the file its queue is dropped), so neither is any here,
 /// and that is said.
 pub(crate) fn finish(it: &mut Interpreter, diags: &mut Diags) {
-    let held = it.comp.queue.iter().find_map(|h| match h {
+    let Some(st) = it.comp.take() else { return };
+    let held = st.queue.iter().find_map(|h| match h {
         Held::Straight { block, .. } | Held::Arc { block, .. } => Some(block.line),
         Held::Other(_) => None,
     });
     if let Some(line) = held {
         diags.warning(line, 1, format!("the compensated move of line {line} is never run: LinuxCNC sends a move it holds for cutter radius compensation only at the next move, G40 or a stop (M0, M1, M2, M30, M60), and the program ends before any"));
     }
-    it.comp.queue.clear();
 }

@@ -501,7 +501,7 @@ impl Interpreter {
             }
         }
 
-        let polar_end = match words.iter().any(|w| matches!(w.letter, '@' | '^')) {
+        let polar_end = match self.dialect == Dialect::Rs274 && words.iter().any(|w| matches!(w.letter, '@' | '^')) {
             true if g10 || g92.is_some() => {
                 diags.error(line, column, "polar coordinates (@, ^) in a block whose axis words set an offset (G10, G52, G92) are not read");
                 None

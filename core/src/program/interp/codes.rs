@@ -50,25 +50,26 @@ pub(super) fn tnc_m_code(code: i64) -> Result<(), &'static str> {
     }
 }
 
-/// LinuxCNC's modal group of a G code (interp_array.cc `_gees`, after [NCMS] and [Fanuc]): "only one
-/// g_code from any one group may appear on a line". Group 0 is the non-modal codes, 1 the motions and
-/// canned cycles; `None` for a code outside the table (the interpreter refuses it by itself).
-pub(crate) fn lcnc_group(code: &str) -> Option<u8> {
-    Some(match code {
-        "4" | "10" | "28" | "28.1" | "30" | "30.1" | "52" | "53" | "92" | "92.1" | "92.2" | "92.3" => 0,
-        "0" | "1" | "2" | "3" | "5" | "5.1" | "5.2" | "5.3" | "33" | "33.1" | "38.2" | "38.3" | "38.4" | "38.5" | "70" | "71" | "71.1" | "71.2" | "72" | "72.1" | "72.2" | "73" | "74" | "76" | "80" | "81" | "82" | "83" | "84" | "85" | "86" | "87" | "88" | "89" => 1,
-        "17" | "17.1" | "18" | "18.1" | "19" | "19.1" => 2,
-        "90" | "91" => 3,
-        "90.1" | "91.1" => 4,
-        "93" | "94" | "95" => 5,
-        "20" | "21" => 6,
-        "40" | "41" | "41.1" | "42" | "42.1" => 7,
-        "43" | "43.1" | "43.2" | "49" => 8,
-        "98" | "99" => 10,
-        "54" | "55" | "56" | "57" | "58" | "59" | "59.1" | "59.2" | "59.3" => 12,
-        "61" | "61.1" | "64" => 13,
-        "96" | "97" => 14,
-        "7" | "8" => 15,
+/// LinuxCNC's modal group of a G code, given as its number times ten (interp_array.cc `_gees`,
+/// after [NCMS] and [Fanuc]): "only one g_code from any one group may appear on a line". Group 0 is
+/// the non-modal codes, 1 the motions and canned cycles; `None` for a code outside the table (the
+/// interpreter refuses it by itself).
+pub(crate) fn lcnc_group(code_x10: i64) -> Option<u8> {
+    Some(match code_x10 {
+        40 | 100 | 280 | 281 | 300 | 301 | 520 | 530 | 920 | 921 | 922 | 923 => 0,
+        0 | 10 | 20 | 30 | 50 | 51 | 52 | 53 | 330 | 331 | 382 | 383 | 384 | 385 | 700 | 710 | 711 | 712 | 720 | 721 | 722 | 730 | 740 | 760 | 800 | 810 | 820 | 830 | 840 | 850 | 860 | 870 | 880 | 890 => 1,
+        170 | 171 | 180 | 181 | 190 | 191 => 2,
+        900 | 910 => 3,
+        901 | 911 => 4,
+        930 | 940 | 950 => 5,
+        200 | 210 => 6,
+        400 | 410 | 411 | 420 | 421 => 7,
+        430 | 431 | 432 | 490 => 8,
+        980 | 990 => 10,
+        540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => 12,
+        610 | 611 | 640 => 13,
+        960 | 970 => 14,
+        70 | 80 => 15,
         _ => return None,
     })
 }

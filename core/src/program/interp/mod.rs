@@ -84,7 +84,8 @@ pub struct Interpreter {
     axis_offset_kept: [f64; 3],
     /// LinuxCNC's cutter radius compensation and the moves it holds ([`super::cutter_comp`]), and the
     /// tool table its `G41`/`G42` take the radius from.
-    pub(crate) comp: super::cutter_comp::CompState,
+    pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
+    pub(crate) tools: super::cutter_comp::Tools,
     tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
     /// Whether blocks end in a stop (G61, G61.1, G60; G64 blends): the modal mode.
     pub(crate) exact: crate::program::Exact,
@@ -199,7 +200,8 @@ impl Interpreter {
             axis_offset_kept: [0.0; 3],
             exact: crate::program::Exact::Blend,
             exact_once: false,
-            comp: Default::default(),
+            comp: None,
+            tools: Default::default(),
             tool_table: None,
             tool_vector: false,
             orientation: dialect.default_orientation(),
@@ -571,8 +573,7 @@ impl Interpreter {
         if self.dialect == Dialect::Rs274 {
             let mut seen: [Option<&Word>; 16] = [None; 16];
             for w in words.iter().filter(|w| w.letter == 'G') {
-                let c = super::fanuc::code(w);
-                let Some(g) = codes::lcnc_group(&c) else { continue };
+                let Some(g) = codes::lcnc_group(super::cutter_comp::x10(w)) else { continue };
                 if let Some(first) = seen[g as usize] {
                     diags.error(line, w.column, format!("G{} with G{}: two G codes of modal group {g} in one block (LinuxCNC: \"Two G-codes used from same modal group\")", w.raw, first.raw));
                     return false;
