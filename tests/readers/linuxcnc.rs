@@ -580,8 +580,8 @@ fn rs274_reads_axis_offsets_and_polar_coordinates_as_linuxcnc_does() {
 /// (after a tool change, from where the tool stands); `G41.1 D` the diameter, `G41 D` and `G42` (the
 /// tool in the spindle, `T2 M6`) the tool table's. Then LinuxCNC's own refusals. (LinuxCNC's own
 /// compensation programs, nc_files/comp-g1, comp311, comp311_2, gmoccapy_2_tools…, useful-subroutines
-/// and tests/interp cam-nisley, crazy-paths and inverse-time-with-comp, 1,148 moves, read to the same
-/// moves as rs274 makes of them; they are not copied here.)
+/// and tests/interp cam-nisley and crazy-paths, 1,087 moves, read to the same moves as rs274 makes of
+/// them; they are not copied here. Its inverse-time-with-comp is refused: G93 under compensation.)
 #[test]
 fn rs274_compensates_the_cutter_radius_as_linuxcnc_does() {
     let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");

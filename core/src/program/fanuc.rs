@@ -294,10 +294,8 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
 
 /// A cycle block's settings (its modal codes, F, S, M: every word but the cycle's G code and the
 /// `taken` ones), read first; then where the tool stands, with them in effect (a work offset), if
-/// the plane is G17. `None` on a defect.
-#[allow(clippy::too_many_arguments)]
-/// `any_plane`: the cycle drills along the plane's normal (LinuxCNC's G18 and G19 cycles), else only
-/// in G17.
+/// the plane is G17 (`any_plane`: in any plane, the cycle drilling along its normal, as LinuxCNC's
+/// G18 and G19 cycles do). `None` on a defect.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn cycle_settings(it: &mut Interpreter, words: &[Word], taken: &[char], any_plane: bool, line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<[f64; 6]> {
     if !apply(it, &settings(words, taken, &cycles::CODES), line, column, number, diags, out) {

@@ -545,9 +545,9 @@ impl Interpreter {
             targets.set_axis(k, abs);
         }
         if let Some(xy) = polar_end {
-            for k in 0..2 {
-                next.last[k] = xy[k];
-                targets.set_axis(k, xy[k]);
+            for (k, v) in xy.into_iter().enumerate() {
+                next.last[k] = v;
+                targets.set_axis(k, v);
             }
         }
         next.datum = datum;
