@@ -39,6 +39,10 @@ pub struct ControlArgs {
     /// The length unit of the tool table's numbers: the machine's (LinuxCNC's `[TRAJ] LINEAR_UNITS`).
     #[arg(long = "tool-table-units", value_name = "UNIT", default_value = "mm", value_parser = clap::builder::PossibleValuesParser::new(LengthUnit::NAMES).map(|s| s.parse::<LengthUnit>().expect("a listed name parses")))]
     pub tool_table_units: LengthUnit,
+    /// A directory where an RS274NGC program's `o<name> call` of a subroutine it does not define finds
+    /// `name.ngc` (LinuxCNC's `[RS274NGC] SUBROUTINE_PATH`; repeatable, searched in order).
+    #[arg(long = "subroutine-path", value_name = "DIR")]
+    pub subroutine_path: Vec<std::path::PathBuf>,
 }
 
 /// `--tool-table`'s parser: the file read and checked now, its faults named by line.
@@ -55,7 +59,7 @@ fn orientation_parser() -> impl clap::builder::TypedValueParser<Value = Orientat
 impl ControlArgs {
     /// The readers' options these flags ask for (other options at their defaults).
     pub fn read_options(&self) -> ReadOptions {
-        ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, units: self.units, cl_angles: self.cl_angles, tool_table: self.tool_table.clone().map(|t| Arc::new(t.in_unit(self.tool_table_units))), ..Default::default() }
+        ReadOptions { m_codes: self.m_codes.clone(), orientation: self.orientation, units: self.units, cl_angles: self.cl_angles, tool_table: self.tool_table.clone().map(|t| Arc::new(t.in_unit(self.tool_table_units))), subroutine_files: (!self.subroutine_path.is_empty()).then(|| Arc::new(crate::program::SubroutineDirs(self.subroutine_path.clone())) as Arc<dyn crate::program::SubroutineFiles>), ..Default::default() }
     }
 }
 

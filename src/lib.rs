@@ -40,7 +40,7 @@ pub mod machine {
 pub mod program {
     mod files;
     pub use crate::args::ControlArgs;
-    pub use files::{load, open, ProgramFile, MAX_SPOOL_BYTES, STDIN};
+    pub use files::{load, open, ProgramFile, SubroutineDirs, MAX_SPOOL_BYTES, STDIN};
     pub use fiveaxis_core::program::*;
 }
 

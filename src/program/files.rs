@@ -196,3 +196,30 @@ impl Seek for AtOffset {
         Ok(at)
     }
 }
+
+/// LinuxCNC's SUBROUTINE_PATH: directories searched in order for a subroutine's file `NAME.ngc`
+/// (`--subroutine-path`), each file read whole but no larger than the readers hold a block.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SubroutineDirs(pub Vec<PathBuf>);
+
+impl fiveaxis_core::program::SubroutineFiles for SubroutineDirs {
+    fn find(&self, stem: &str) -> Result<Option<(String, Vec<u8>)>, String> {
+        // A name is a file name, not a path (LinuxCNC's find_ngc_file also expands one; not here).
+        if stem.is_empty() || stem.contains(['/', '\\']) || stem == ".." {
+            return Err(format!("o<{stem}>: not a file name"));
+        }
+        for dir in &self.0 {
+            let path = dir.join(format!("{stem}.ngc"));
+            let shown = path.display().to_string();
+            let Ok(file) = File::open(&path) else { continue };
+            let limit = fiveaxis_core::program::MAX_HELD_BYTES as u64;
+            let mut bytes = Vec::new();
+            file.take(limit + 1).read_to_end(&mut bytes).map_err(|e| format!("{shown}: {e}"))?;
+            if bytes.len() as u64 > limit {
+                return Err(format!("{shown} is larger than {limit} bytes"));
+            }
+            return Ok(Some((shown, bytes)));
+        }
+        Ok(None)
+    }
+}

@@ -670,3 +670,43 @@ fn rs274_drills_in_the_xz_and_yz_planes_as_linuxcnc_does() {
     let p = read("G20 G90 G18 F10 S100 M3\nG0 X1 Y2 Z1\nG84 Z1 X1 R1.5 Y-1\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
     has(&p, 3, 1, "G84 in the XZ plane: LinuxCNC 2.9 feeds the tap with its axes exchanged");
 }
+
+/// Subroutines in files of the subroutine path (`--subroutine-path`, LinuxCNC's SUBROUTINE_PATH): `o<name>
+/// call` reads `name.ngc` there, from its `sub` to its `endsub`, a subroutine of one file calling
+/// another's; `calls_files.ngc` reads to the moves rs274 makes of it with an INI naming `subs/`. A
+/// defect inside such a file is said at the call, naming the file and its own line; without the path,
+/// or where no file has the subroutine, the call is refused.
+#[test]
+fn rs274_calls_subroutines_of_other_files_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join("calls_files.ngc")).unwrap();
+    let options = ReadOptions { subroutine_files: Some(std::sync::Arc::new(fiveaxis::program::SubroutineDirs(vec![dir.join("subs")]))), ..ReadOptions::default() };
+    same_moves_as_linuxcnc("calls_files", &read(&text, Dialect::Rs274, "t.ngc", &options));
+    let p = read(&text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    has(&p, 4, 1, "give it with --subroutine-path");
+    let p = read("G21 G90\no<nowhere> call\nM2\n", Dialect::Rs274, "t.ngc", &options);
+    has(&p, 2, 1, "nor in a file of --subroutine-path");
+    // A defect inside the file (a peck of 0 loops for ever): at the call, naming the file's line.
+    let p = read("G21 G90\nG0 X0 Y0 Z5\no<peck_hole> call [1] [1] [3] [0]\nM2\n", Dialect::Rs274, "t.ngc", &options);
+    let e = errors(&p);
+    assert!(e.iter().any(|(l, c, m)| (*l, *c) == (3, 1) && m.contains("peck_hole.ngc:")), "{e:#?}");
+}
+
+/// `--subroutine-path` through the CLI: the program that calls the files' subroutines reads clean
+/// with it, and is refused at its first call without it.
+#[test]
+fn the_subroutine_path_flag_finds_the_files() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let run = |extra: &[&std::ffi::OsStr]| {
+        let mut c = std::process::Command::new(env!("FIVEAXIS_EXE"));
+        c.args(["program", "analyze"]).arg(dir.join("calls_files.ngc")).args(["--machine", "linuxcnc-xyzac-trt"]).args(extra);
+        let out = c.output().unwrap();
+        (out.status.code(), format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)))
+    };
+    let subs = dir.join("subs");
+    let (code, all) = run(&[std::ffi::OsStr::new("--subroutine-path"), subs.as_os_str()]);
+    assert_eq!(code, Some(0), "{all}");
+    let (code, all) = run(&[]);
+    assert_eq!(code, Some(2), "{all}");
+    assert!(all.contains("calls_files.ngc:4:1: error: o<peck_hole> call"), "{all}");
+}

@@ -616,7 +616,12 @@ pub struct ReadOptions {
     /// The machine's tool table (LinuxCNC's `tool.tbl`, `--tool-table`): the diameters `G41`/`G42` with
     /// a `D` word compensate by.
     pub tool_table: Option<std::sync::Arc<ToolTable>>,
+    /// Where an RS274NGC program's `o<name> call` of a subroutine it does not define finds
+    /// `name.ngc` (LinuxCNC's `[RS274NGC] SUBROUTINE_PATH`, `--subroutine-path`).
+    pub subroutine_files: Option<std::sync::Arc<dyn SubroutineFiles>>,
 }
+
+pub use oword::{SubroutineFiles, MAX_HELD_BYTES};
 
 pub use cutter_comp::ToolTable;
 
@@ -625,7 +630,7 @@ pub const MAX_RUN_LINES: usize = 4_000_000;
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None, units: None, cl_angles: AngleUnit::Deg, max_run_lines: MAX_RUN_LINES, tool_table: None }
+        ReadOptions { cl_feed_mm_per_min: 1000.0, m_codes: Vec::new(), orientation: None, machine: None, units: None, cl_angles: AngleUnit::Deg, max_run_lines: MAX_RUN_LINES, tool_table: None, subroutine_files: None }
     }
 }
 

@@ -8,8 +8,9 @@
 //! budget of lines run (an endless loop is an error at its line, not a hang). A subroutine is held
 //! until called; its arguments are `#1`-`#30`, and its numbered `#1`-`#30` and named parameters
 //! without a leading `_` are its own (LinuxCNC's scoping), restored when it returns. A call of a
-//! subroutine not defined before it (later in the file, or in another file on LinuxCNC's
-//! SUBROUTINE_PATH) is refused: the motion would depend on a program not read.
+//! subroutine not defined before it is read from its own file `name.ngc` where the reader was given
+//! LinuxCNC's SUBROUTINE_PATH ([`SubroutineFiles`]), and refused otherwise: the motion would depend
+//! on a program not read.
 
 use super::lex::{excerpt, Diags};
 use super::params::skip_blanks;
@@ -19,6 +20,14 @@ use super::rs274::{ReadLine, Rs274Reader};
 use super::Block;
 use std::collections::HashMap;
 use std::sync::Arc;
+
+/// Where an RS274NGC program's subroutines of other files come from (LinuxCNC's SUBROUTINE_PATH):
+/// the core reads no file, whoever does (the command line's `--subroutine-path`) finds them.
+pub trait SubroutineFiles: Send + Sync + std::fmt::Debug {
+    /// The file `STEM.ngc`: where it was found (for messages) and its bytes, at most
+    /// [`MAX_HELD_BYTES`]; `Ok(None)` where there is none; an error names the file and why.
+    fn find(&self, stem: &str) -> Result<Option<(String, Vec<u8>)>, String>;
+}
 
 /// The most lines one held block (a loop, a condition, a subroutine) may have, and bytes.
 pub const MAX_HELD_LINES: usize = 100_000;
@@ -171,12 +180,52 @@ pub struct Flow {
     said: std::collections::HashSet<(usize, usize, String)>,
     /// The run was stopped (budget, a defect in the flow): what is left of the block is not read.
     stopped: bool,
+    /// Where subroutines not defined in the program are looked for (`--subroutine-path`, LinuxCNC's
+    /// SUBROUTINE_PATH), and the file each one loaded from there came from.
+    dirs: Option<Arc<dyn SubroutineFiles>>,
+    files: HashMap<String, String>,
 }
 
 impl Flow {
-    /// The flow of a read whose control blocks may run `budget` lines.
-    pub fn new(budget: usize) -> Flow {
-        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false }
+    /// The flow of a read whose control blocks may run `budget` lines, its subroutines not defined
+    /// in the program looked for in `dirs`.
+    pub fn new(budget: usize, dirs: Option<Arc<dyn SubroutineFiles>>) -> Flow {
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, dirs, files: HashMap::new() }
+    }
+
+    /// The subroutine `name` from its own file on the search path (LinuxCNC's find_ngc_file: `NAME.ngc`
+    /// in each directory, the file then skipped to its `o<name> sub` and run to its `endsub`): its
+    /// lines, numbered in that file, and the file's path; `Ok(None)` where no directory has it.
+    fn load(&self, name: &str) -> Result<Option<(Vec<Line>, String)>, String> {
+        let stem = name.trim_start_matches('<').trim_end_matches('>');
+        let Some(files) = &self.dirs else { return Ok(None) };
+        if let Some((shown, bytes)) = files.find(stem)? {
+            if bytes.len() > MAX_HELD_BYTES {
+                return Err(format!("{shown} is larger than {MAX_HELD_BYTES} bytes"));
+            }
+            let text = String::from_utf8_lossy(&bytes);
+            let mut lines: Vec<Line> = Vec::new();
+            for (k, raw) in text.lines().enumerate() {
+                let raw = raw.trim_end_matches('\r');
+                let o = parse(&raw.trim_start().chars().collect::<Vec<_>>()).filter(|o| o.name.eq_ignore_ascii_case(name));
+                match (lines.is_empty(), o.map(|o| o.keyword)) {
+                    (true, Some(Keyword::Sub)) => lines.push((k + 1, raw.to_string())),
+                    (true, _) => {}
+                    (false, Some(Keyword::EndSub)) => {
+                        lines.push((k + 1, raw.to_string()));
+                        return Ok(Some((lines, shown)));
+                    }
+                    (false, _) => {
+                        if lines.len() >= MAX_HELD_LINES {
+                            return Err(format!("{shown}: o{name} sub holds more than {MAX_HELD_LINES} lines"));
+                        }
+                        lines.push((k + 1, raw.to_string()));
+                    }
+                }
+            }
+            return Err(format!("{shown} has no o{name} sub ... o{name} endsub"));
+        }
+        Ok(None)
     }
 }
 
@@ -510,8 +559,22 @@ impl Rs274Reader {
     /// `oN call [a] [b] ...`: the subroutine's body with `#1`.. set to the arguments, in its own scope
     /// (`chars` from the O word on, which stands at 0-based column `col`).
     fn call(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> End {
-        let Some(body) = self.flow.subs.get(&o.name).cloned() else {
-            return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined before it in this file (LinuxCNC would look on its SUBROUTINE_PATH): the motion depends on a program not read", o.name, o.name), diags);
+        let body = match self.flow.subs.get(&o.name).cloned() {
+            Some(body) => body,
+            None => match self.flow.load(&o.name) {
+                Ok(Some((lines, file))) if self.flow.subs.len() < MAX_SUBS => {
+                    let body = Arc::new(lines);
+                    self.flow.subs.insert(o.name.clone(), body.clone());
+                    self.flow.files.insert(o.name.clone(), file);
+                    body
+                }
+                Ok(Some(_)) => return self.stop(line, col + 1, format!("more than {MAX_SUBS} subroutines"), diags),
+                Ok(None) if self.flow.dirs.is_none() => {
+                    return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined before it in this file (LinuxCNC would look on its SUBROUTINE_PATH: give it with --subroutine-path): the motion depends on a program not read", o.name, o.name), diags)
+                }
+                Ok(None) => return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined before it in this file, nor in a file of --subroutine-path", o.name, o.name), diags),
+                Err(why) => return self.stop(line, col + 1, format!("o{} call: {why}", o.name), diags),
+            },
         };
         if self.flow.depth >= MAX_CALL_DEPTH {
             return self.stop(line, col + 1, format!("o{} call: calls nested more than {MAX_CALL_DEPTH} deep", o.name), diags);
@@ -537,8 +600,27 @@ impl Rs274Reader {
         }
         let scope = self.params.enter_call(&args);
         self.flow.depth += 1;
-        // The body, without its `sub` and `endsub` lines.
-        let end = self.run(body.get(1..body.len().saturating_sub(1)).unwrap_or(&[]), out, diags);
+        // The body, without its `sub` and `endsub` lines. A subroutine of another file runs at the
+        // call: its blocks and diagnostics stand at the call's line, a diagnostic naming its own.
+        let body_lines = body.get(1..body.len().saturating_sub(1)).unwrap_or(&[]);
+        let end = match self.flow.files.get(&o.name).cloned() {
+            None => self.run(body_lines, out, diags),
+            Some(file) => {
+                let (before, mut inner) = (out.len(), Diags::default());
+                let end = self.run(body_lines, out, &mut inner);
+                for b in &mut out[before..] {
+                    (b.line, b.column) = (line, col + 1);
+                }
+                for d in inner.0 {
+                    let message = format!("in {file}:{}:{}: {}", d.line, d.column, d.message);
+                    match d.severity {
+                        super::Severity::Error => diags.error(line, col + 1, message),
+                        _ => diags.warning(line, col + 1, message),
+                    }
+                }
+                end
+            }
+        };
         self.flow.depth -= 1;
         self.params.leave_call(scope);
         match end {

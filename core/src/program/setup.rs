@@ -110,6 +110,8 @@ pub struct Setup {
     pub max_run_lines: usize,
     /// The machine's tool table ([`ReadOptions::tool_table`]).
     pub tool_table: Option<Arc<super::ToolTable>>,
+    /// Where LinuxCNC subroutines of other files come from ([`ReadOptions::subroutine_files`]).
+    pub subroutine_files: Option<Arc<dyn super::SubroutineFiles>>,
 }
 
 impl Setup {
@@ -137,6 +139,7 @@ impl ReadOptions {
             cl_angles: self.cl_angles,
             max_run_lines: self.max_run_lines,
             tool_table: self.tool_table.clone(),
+            subroutine_files: self.subroutine_files.clone(),
         }
     }
 }

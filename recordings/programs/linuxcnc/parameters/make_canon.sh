@@ -30,6 +30,11 @@ for f in offsets_g92 polar polar_cycles comp_lines comp_arcs comp_table cycles_p
     grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)' "/tmp/$f.canon" > "$f.canon"
     rm "/tmp/$f.canon"
 done
+# Subroutines in files of the subroutine path (subs/, LinuxCNC's [RS274NGC] SUBROUTINE_PATH in an INI).
+printf '[RS274NGC]\nSUBROUTINE_PATH = %s/subs\n' "$(pwd)" > /tmp/make_canon.ini
+rs274 -i /tmp/make_canon.ini -t /tmp/make_canon.tbl -g calls_files.ngc /tmp/calls_files.canon < /dev/null > /dev/null
+grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)' /tmp/calls_files.canon > calls_files.canon
+rm /tmp/calls_files.canon /tmp/make_canon.ini
 rm /tmp/make_canon.tbl
 # LinuxCNC's bridgemill demo (../shared/outside/programs, not committed here) drills a hemisphere in
 # nested O-word loops. Standalone rs274 has no W axis (its axis mask is XYZABC), so the W (quill)
