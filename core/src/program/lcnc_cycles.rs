@@ -9,7 +9,7 @@
 
 use super::cycles::{Active, Kind};
 use super::fanuc::{code, cycle_settings, hole_moves, shot, word};
-use super::interp::{Interpreter, OneShot, Word};
+use super::interp::{lcnc_group, polar_step, x10, Interpreter, OneShot, Word};
 use super::lex::Diags;
 use super::{Block, Motion};
 use crate::units::MM;
@@ -29,9 +29,6 @@ pub(crate) struct Sticky {
     pub q: f64,
 }
 
-/// The other codes of LinuxCNC's motion group (modal group 1): each ends a cycle.
-const MOTION_GROUP: [&str; 19] = ["80", "0", "1", "2", "3", "33", "33.1", "38.2", "38.3", "38.4", "38.5", "5", "5.1", "5.2", "5.3", "70", "71", "72", "76"];
-
 /// Make the block's cycle moves: `Some(made)`, or `None` for a block that is no cycle's (a motion
 /// code or G80 ends the cycle here).
 pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
@@ -42,10 +39,6 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
     // G76 is LinuxCNC's threading cycle, not a drilling one: the interpreter refuses it elsewhere.
     if let Some((kind, w)) = g.iter().find_map(|(k, w)| Kind::from_code(k).filter(|k| *k != Kind::G76).map(|kind| (kind, *w))) {
-        if let Some((k, other)) = g.iter().find(|(k, o)| !std::ptr::eq(*o, w) && (MOTION_GROUP.contains(&k.as_str()) || Kind::from_code(k).is_some())) {
-            diags.error(line, other.column, format!("G{k} with G{}: two codes of the motion group in one block (LinuxCNC: \"Two G-codes used from same modal group\")", code(w)));
-            return Some(false);
-        }
         if !words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | '@' | '^')) {
             diags.error(line, w.column, format!("G{}: a canned cycle block without X, Y or Z (LinuxCNC: \"All axes missing with motion code\")", code(w)));
             return Some(false);
@@ -53,7 +46,8 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
         return Some(drill(it, Some((kind, w)), words, line, column, number, diags, out));
     }
     // Another code of the motion group ends the cycle (and is read, or refused, as itself).
-    if g.iter().any(|(k, _)| MOTION_GROUP.contains(&k.as_str())) {
+    // (A block has one code of the group: Interpreter::block refuses two.)
+    if g.iter().any(|(_, w)| lcnc_group(x10(w)) == Some(1)) {
         it.cycles.active = None;
         return None;
     }
@@ -213,26 +207,23 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         diags.error(line, w.column, format!("{}{}: polar coordinates and X or Y in one block (LinuxCNC: \"Cannot specify both polar coordinate and X word\")", w.letter, w.raw));
         return false;
     }
-    let about = |r: f64, t: f64| [r * t.cos(), r * t.sin()];
     let (mut x, mut y) = (here[ia], here[ib]);
     for k in 0..repeats {
         if it.absolute() && polar {
             let r = radius.unwrap_or(x.hypot(y));
             let t = theta.unwrap_or(y.atan2(x));
-            [x, y] = about(r, t);
+            [x, y] = [r * t.cos(), r * t.sin()];
         } else if it.absolute() {
             (x, y) = (x_word.unwrap_or(x), y_word.unwrap_or(y));
         } else {
             (x, y) = (x + x_word.unwrap_or(0.0), y + y_word.unwrap_or(0.0));
-            for (dr, dt) in [(radius, None), (None, theta)] {
-                if dr.is_none() && dt.is_none() {
-                    continue;
-                }
-                if x == 0.0 && y == 0.0 {
+            // CYCLE_MACRO: the distance, then the angle, each refused at the origin.
+            for (dr, dt) in [(radius, None), (None, theta)].into_iter().filter(|(dr, dt)| dr.is_some() || dt.is_some()) {
+                let Some(p) = polar_step([x, y], dr.unwrap_or(0.0), dt.unwrap_or(0.0)) else {
                     diags.error(line, column, format!("{name}: polar increments at the origin (LinuxCNC: \"Incremental motion with polar coordinates is indeterminate when at the origin\")"));
                     return false;
-                }
-                [x, y] = about(x.hypot(y) + dr.unwrap_or(0.0), y.atan2(x) + dt.unwrap_or(0.0));
+                };
+                [x, y] = p;
             }
         }
         let xy = [word(letter(ia), x / unit, column), word(letter(ib), y / unit, column)];

@@ -182,15 +182,15 @@ pub struct Flow {
     stopped: bool,
     /// Where subroutines not defined in the program are looked for (`--subroutine-path`, LinuxCNC's
     /// SUBROUTINE_PATH), and the file each one loaded from there came from.
-    dirs: Option<Arc<dyn SubroutineFiles>>,
+    sub_files: Option<Arc<dyn SubroutineFiles>>,
     files: HashMap<String, String>,
 }
 
 impl Flow {
     /// The flow of a read whose control blocks may run `budget` lines, its subroutines not defined
-    /// in the program looked for in `dirs`.
-    pub fn new(budget: usize, dirs: Option<Arc<dyn SubroutineFiles>>) -> Flow {
-        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, dirs, files: HashMap::new() }
+    /// in the program looked for in `sub_files`.
+    pub fn new(budget: usize, sub_files: Option<Arc<dyn SubroutineFiles>>) -> Flow {
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new() }
     }
 
     /// The subroutine `name` from its own file on the search path (LinuxCNC's find_ngc_file: `NAME.ngc`
@@ -198,7 +198,7 @@ impl Flow {
     /// lines, numbered in that file, and the file's path; `Ok(None)` where no directory has it.
     fn load(&self, name: &str) -> Result<Option<(Vec<Line>, String)>, String> {
         let stem = name.trim_start_matches('<').trim_end_matches('>');
-        let Some(files) = &self.dirs else { return Ok(None) };
+        let Some(files) = &self.sub_files else { return Ok(None) };
         if let Some((shown, bytes)) = files.find(stem)? {
             if bytes.len() > MAX_HELD_BYTES {
                 return Err(format!("{shown} is larger than {MAX_HELD_BYTES} bytes"));
@@ -569,7 +569,7 @@ impl Rs274Reader {
                     body
                 }
                 Ok(Some(_)) => return self.stop(line, col + 1, format!("more than {MAX_SUBS} subroutines"), diags),
-                Ok(None) if self.flow.dirs.is_none() => {
+                Ok(None) if self.flow.sub_files.is_none() => {
                     return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined before it in this file (LinuxCNC would look on its SUBROUTINE_PATH: give it with --subroutine-path): the motion depends on a program not read", o.name, o.name), diags)
                 }
                 Ok(None) => return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined before it in this file, nor in a file of --subroutine-path", o.name, o.name), diags),

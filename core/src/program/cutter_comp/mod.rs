@@ -15,9 +15,9 @@ mod geometry;
 mod tools;
 
 pub use tools::ToolTable;
-pub(crate) use tools::{x10, Tools};
+pub(crate) use tools::Tools;
 
-use super::interp::{Interpreter, Word};
+use super::interp::{x10, Interpreter, Word};
 use super::lex::Diags;
 use super::{Block, Dialect, Motion, Plane};
 use geometry::{arc, straight};
@@ -29,7 +29,6 @@ pub(crate) enum Side {
     Right,
 }
 
-
 /// A move or another block held while compensation decides the corner after it.
 #[derive(Debug, Clone)]
 enum Held {
@@ -39,7 +38,6 @@ enum Held {
     Arc { block: Block, centre: [f64; 2], turn: i32, original: f64 },
     Other(Block),
 }
-
 
 /// Compensation in effect (`G41`, `G42`, `G41.1`, `G42.1` until `G40`).
 #[derive(Debug, Clone)]
@@ -68,7 +66,6 @@ pub(crate) struct CompState {
     arc_not_allowed: bool,
     resync: Option<[f64; 2]>,
 }
-
 
 impl CompState {
     /// Nothing to do for a block without compensation codes, and nothing to keep (LinuxCNC's
@@ -270,6 +267,18 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
         return Some(false);
     }
     let p = it.position();
+    let straight_code = words.iter().any(|w| w.letter == 'G' && matches!(x10(w), 0 | 10));
+    if st.resync.is_some() && st.on.is_none() && straight_code && made.iter().all(|b| b.targets.is_empty()) {
+        // `G1` alone after G40: LinuxCNC's straight move from its current point, which G40 put at
+        // the programmed one (interp_convert.cc convert_straight): the tool goes back there (below).
+        let mut b = match made.iter().position(|b| b.targets.is_empty()) {
+            Some(k) => made.remove(k),
+            None => it.still_block(line, column, number),
+        };
+        b.motion = it.feed_state().0.unwrap_or(Motion::Linear);
+        (b.targets.x, b.targets.y) = (Some(op[0]), Some(op[1]));
+        made.insert(0, b);
+    }
     let moves: Vec<usize> = (0..made.len()).filter(|&k| !made[k].targets.is_empty()).collect();
     // The move after G40 is straight (LinuxCNC: "The move just after exiting cutter compensation mode
     // must be straight, not an arc").
@@ -281,22 +290,6 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
             st.arc_not_allowed = false;
         }
     }
-    let straight_code = words.iter().any(|w| w.letter == 'G' && matches!(code(w).as_str(), "0" | "1"));
-    if st.resync.is_some() && moves.is_empty() && straight_code && st.on.is_none() {
-        // `G1` alone after G40: LinuxCNC's straight move from its current point, which G40 put at
-        // the programmed one (interp_convert.cc convert_straight): the tool goes back there.
-        let mut b = match made.iter().position(|b| b.targets.is_empty()) {
-            Some(k) => made.remove(k),
-            None => it.still_block(line, column, number),
-        };
-        b.motion = it.feed_state().0.unwrap_or(Motion::Linear);
-        b.targets.x = Some(op[0]);
-        b.targets.y = Some(op[1]);
-        made.insert(0, b);
-        st.arc_not_allowed = false;
-        st.resync = None;
-    }
-    let moves: Vec<usize> = (0..made.len()).filter(|&k| !made[k].targets.is_empty()).collect();
     if st.resync.is_some() {
         if let Some(&k) = moves.first() {
             // From the programmed point before the block (a canned cycle's first move too).
@@ -315,15 +308,8 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
         return fail(it, diags, column, "a block of several moves with cutter radius compensation on");
     }
     for b in made {
-        if !active {
-            if st.queue.is_empty() {
-                emit.push(b);
-            } else {
-                st.queue.push(Held::Other(b));
-            }
-            continue;
-        }
-        if b.targets.is_empty() {
+        // Without compensation, and blocks that move nothing: out, after any held move.
+        if !active || b.targets.is_empty() {
             if st.queue.is_empty() {
                 emit.push(b);
             } else {

@@ -66,7 +66,6 @@ impl ToolTable {
     }
 }
 
-
 /// The tool selected (`T`) and the one in the spindle (`M6`, `M61 Q`): what `G41`/`G42` without a
 /// `D` (or with `D0`) compensate by.
 #[derive(Debug, Clone, Copy, Default)]
@@ -91,10 +90,5 @@ impl Tools {
             }
         }
     }
-}
-
-/// A G word's code times ten, as LinuxCNC numbers them (G41.1 is 411): no text to compare.
-pub(crate) fn x10(w: &Word) -> i64 {
-    (w.value * 10.0).round() as i64
 }
 

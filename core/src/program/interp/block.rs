@@ -222,12 +222,8 @@ impl Interpreter {
                             g10 = true;
                             uses.extend(['L', 'P']);
                         }
-                        ("92" | "92.1" | "92.2" | "92.3" | "52", false) if self.dialect == Dialect::Rs274 => {
-                            if g10 || g92.is_some() {
-                                diags.error(line, w.column, format!("G{}: two codes of modal group 0 (G10, G52, G92) in one block", w.raw));
-                            }
-                            g92 = Some(code.clone());
-                        }
+                        // (Two codes of group 0 in one block: Interpreter::block refuses them.)
+                        ("92" | "92.1" | "92.2" | "92.3" | "52", false) if self.dialect == Dialect::Rs274 => g92 = Some(code.clone()),
                         ("92.1" | "92.2", false) => {} // cancel G92 offsets: none are modelled
                         // A change of feed mode leaves no feed: Siemens, "In the event of switching
                         // between G93, G94 and G95, the path feedrate value has to be reprogrammed"
@@ -759,17 +755,28 @@ fn polar(words: &[Word], next: &Interpreter, g53: bool, line: usize, diags: &mut
         // The distance first, then the angle, each about the origin (find_ends, MODE_INCREMENTAL).
         let mut p = [x, y];
         if let Some(r) = r {
-            if at_origin {
+            let Some(q) = polar_step(p, r, 0.0) else {
                 return refuse(diags, "\"Incremental motion with polar coordinates is indeterminate when at the origin\"");
-            }
-            p = end(p[0].hypot(p[1]) + r, p[1].atan2(p[0]));
+            };
+            p = q;
         }
         if let Some(t) = t {
-            if p == [0.0, 0.0] {
+            let Some(q) = polar_step(p, 0.0, t) else {
                 return refuse(diags, "\"G91 motion with polar coordinates is indeterminate when at the origin\"");
-            }
-            p = end(p[0].hypot(p[1]), p[1].atan2(p[0]) + t);
+            };
+            p = q;
         }
         Some(p)
     }
+}
+
+/// LinuxCNC's incremental polar step (interp_find.cc find_ends under G91, interp_cycles.cc
+/// CYCLE_MACRO): the point `p` (m) `dr` further from the program origin and turned `dt` (rad) about
+/// it; `None` at the origin, where its direction is not defined.
+pub(crate) fn polar_step(p: [f64; 2], dr: f64, dt: f64) -> Option<[f64; 2]> {
+    if p == [0.0, 0.0] {
+        return None;
+    }
+    let (r, t) = (p[0].hypot(p[1]) + dr, p[1].atan2(p[0]) + dt);
+    Some([r * t.cos(), r * t.sin()])
 }

@@ -50,6 +50,11 @@ pub(super) fn tnc_m_code(code: i64) -> Result<(), &'static str> {
     }
 }
 
+/// A G word's code times ten, as LinuxCNC numbers them (G41.1 is 411): no text to compare.
+pub(crate) fn x10(w: &Word) -> i64 {
+    (w.value * 10.0).round() as i64
+}
+
 /// LinuxCNC's modal group of a G code, given as its number times ten (interp_array.cc `_gees`,
 /// after [NCMS] and [Fanuc]): "only one g_code from any one group may appear on a line". Group 0 is
 /// the non-modal codes, 1 the motions and canned cycles; `None` for a code outside the table (the

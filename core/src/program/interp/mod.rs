@@ -10,6 +10,8 @@ use crate::units::{DEG, INCH, MM};
 mod arc;
 mod block;
 mod codes;
+pub(crate) use block::polar_step;
+pub(crate) use codes::{lcnc_group, x10};
 
 pub use arc::{ARC_RADIUS_TOLERANCE, SINUMERIK_CIRCLE_ERROR_CONST, SINUMERIK_CIRCLE_ERROR_FACTOR, TNC_CIRCLE_TOLERANCE};
 
@@ -573,7 +575,7 @@ impl Interpreter {
         if self.dialect == Dialect::Rs274 {
             let mut seen: [Option<&Word>; 16] = [None; 16];
             for w in words.iter().filter(|w| w.letter == 'G') {
-                let Some(g) = codes::lcnc_group(super::cutter_comp::x10(w)) else { continue };
+                let Some(g) = lcnc_group(x10(w)) else { continue };
                 if let Some(first) = seen[g as usize] {
                     diags.error(line, w.column, format!("G{} with G{}: two G codes of modal group {g} in one block (LinuxCNC: \"Two G-codes used from same modal group\")", w.raw, first.raw));
                     return false;
