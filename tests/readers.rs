@@ -203,10 +203,10 @@ fn sinumerik_reads_traori_vectors_frames_and_arcs() {
     assert_eq!(b.targets.a, Some(10.0 * DEG));
     assert!(!by(105).tcp, "TRAFOOF");
     assert!((by(105).datum[0] - 11.0 * MM).abs() < 1e-15, "ATRANS adds to the frame: {:?}", by(105).datum);
-    let arc = by(110).arc.expect("G2 with I J from the start");
+    let arc = by(110).arc.as_deref().copied().expect("G2 with I J from the start");
     assert_eq!(by(110).motion, Motion::ArcCw);
     assert!((arc.centre[0] - 5.0 * MM).abs() < 1e-15 && arc.centre[1].abs() < 1e-15, "{:?}", arc.centre);
-    let arc = by(120).arc.expect("G3 with CR=");
+    let arc = by(120).arc.as_deref().copied().expect("G3 with CR=");
     assert_eq!(arc.extra_turns, 1, "TURN=1: one full turn more");
     // --orientation sets the control's start state.
     let told = ReadOptions { orientation: Some(Orientation::AxisLinear), ..Default::default() };

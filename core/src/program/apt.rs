@@ -379,7 +379,7 @@ impl AptReader {
                 out.push(Block {
                     motion,
                     targets: Targets { x: Some(tip[0] * MM), y: Some(tip[1] * MM), z: Some(tip[2] * MM), tool_axis: Some(self.tool_axis), ..Targets::default() },
-                    arc,
+                    arc: arc.map(Box::new),
                     feed: Some(Feed { value_per_min: self.feed, rotary_per_min: self.feed, mode: FeedMode::PerMinute }),
                     ..self.block(line, col)
                 });

@@ -439,8 +439,9 @@ pub struct Block {
     pub number: Option<u64>,
     pub motion: Motion,
     pub targets: Targets,
-    /// The circle of a G02/G03 block (`None` for every other motion).
-    pub arc: Option<ArcSpec>,
+    /// The circle of a G02/G03 block (`None` for every other motion); boxed, as most blocks of
+    /// five-axis work are lines and a block list of millions holds one per block.
+    pub arc: Option<Box<ArcSpec>>,
     pub feed: Option<Feed>,
     /// Tool-centre-point management (M128 / G43.4; always on for CL data): X Y Z are the tool tip
     /// in workpiece coordinates and the control keeps it on the programmed line.

@@ -63,7 +63,7 @@ fn ended(mut b: Block, end: [f64; 2], z: Option<f64>) -> Block {
 fn arc_block(b: &Block, end: [f64; 2], z: Option<f64>, centre: [f64; 2], turn: i32) -> Block {
     let mut a = ended(b.clone(), end, z);
     a.motion = if turn < 0 { Motion::ArcCw } else { Motion::ArcCcw };
-    a.arc = Some(ArcSpec { plane: Plane::Xy, centre: [centre[0], centre[1], 0.0], extra_turns: turn.unsigned_abs().saturating_sub(1), frame: None });
+    a.arc = Some(Box::new(ArcSpec { plane: Plane::Xy, centre: [centre[0], centre[1], 0.0], extra_turns: turn.unsigned_abs().saturating_sub(1), frame: None }));
     a
 }
 

@@ -688,7 +688,7 @@ impl Interpreter {
             number,
             motion: block_motion.unwrap_or(Motion::Linear),
             targets,
-            arc,
+            arc: arc.map(Box::new),
             feed: self.feed_now(),
             tcp: (self.tcp || self.tilt.is_some() && (targets.x.is_some() || targets.y.is_some() || targets.z.is_some())) && !shot.is_some_and(|s| s.axes.is_some()),
             datum: self.datum,

@@ -329,7 +329,9 @@ impl Exec {
             Kind::Move { m, .. } | Kind::Misc(m) => (m.iter().any(|w| w.val == Val::Num(99.0)), m.iter().any(|w| w.val == Val::Num(89.0))),
             _ => (false, false),
         };
-        let words: Vec<Word<'a>> = words.into_iter().filter(|w| !(w.letter == 'M' && (w.value == 99.0 || w.value == 89.0))).collect();
+        if m99 || m89 {
+            words.retain(|w| !(w.letter == 'M' && (w.value == 99.0 || w.value == 89.0)));
+        }
         let start = interp.position();
         let result = interp.block_one(&words, s.line, s.col, s.number, diags);
         match result {

@@ -183,13 +183,9 @@ fn tokens(line: &str) -> Vec<(&str, usize)> {
             }
             i = (i + 1).min(b.len());
         } else {
-            while i < b.len() && !b[i].is_ascii_whitespace() && b[i] != b';' {
-                i += 1;
-            }
+            i += b[i..].iter().position(|&c| c.is_ascii_whitespace() || c == b';').unwrap_or(b.len() - i);
         }
-        while i < b.len() && !line.is_char_boundary(i) {
-            i += 1;
-        }
+        // Ends fall on ASCII bytes (a blank, `;`, `"`) or the line's end, so on char boundaries.
         out.push((&line[start..i], cols.col(start)));
     }
     out
