@@ -571,6 +571,111 @@ fn rs274_reads_axis_offsets_and_polar_coordinates_as_linuxcnc_does() {
 
 
 
+/// `v` turned by `deg` about Z (rs274ngc's `rotate`).
+fn turned(v: [f64; 2], deg: f64) -> [f64; 2] {
+    let (s, c) = deg.to_radians().sin_cos();
+    [v[0] * c - v[1] * s, v[0] * s + v[1] * c]
+}
+
+/// LinuxCNC's moves placed where its canonical layer puts the axes (emccanon.cc
+/// rotate_and_offset_pos: XY = rot(p + G92 offset, R) + G5x offset, Z = p + both offsets), from
+/// rs274's positions in the program frame and the offsets and rotation it sets (mm, deg); an XY
+/// arc's centre placed alike.
+fn linuxcnc_world(path: &Path) -> Vec<(Motion, [f64; 6], Option<[f64; 2]>)> {
+    let (mut inch, mut plane, mut g5x, mut g92, mut r) = (false, "XY", [0.0; 3], [0.0; 3], 0.0);
+    let mut out = Vec::new();
+    for l in std::fs::read_to_string(path).unwrap().lines() {
+        let inner = &l[l.find('(').unwrap() + 1..l.rfind(')').unwrap()];
+        let v: Vec<f64> = inner.split(',').filter_map(|x| x.trim().parse().ok()).collect();
+        let mm = |x: f64| if inch { x * 25.4 } else { x };
+        let place = |p: [f64; 3]| {
+            let xy = turned([p[0] + g92[0], p[1] + g92[1]], r);
+            [mm(xy[0] + g5x[0]), mm(xy[1] + g5x[1]), mm(p[2] + g92[2] + g5x[2])]
+        };
+        match &l[..l.find('(').unwrap()] {
+            "USE_LENGTH_UNITS" => inch = inner.contains("INCHES"),
+            "SELECT_PLANE" => plane = if inner.contains("XZ") { "XZ" } else if inner.contains("YZ") { "YZ" } else { "XY" },
+            "SET_G5X_OFFSET" => g5x = [v[1], v[2], v[3]],
+            "SET_G92_OFFSET" => g92 = [v[0], v[1], v[2]],
+            "SET_XY_ROTATION" => r = v[0],
+            "ARC_FEED" => {
+                let (x, y, z) = match plane { "XY" => (v[0], v[1], v[5]), "XZ" => (v[1], v[5], v[0]), _ => (v[5], v[0], v[1]) };
+                let e = place([x, y, z]);
+                let centre = (plane == "XY").then(|| place([v[2], v[3], z])).map(|c| [c[0], c[1]]);
+                out.push((if v[4] < 0.0 { Motion::ArcCw } else { Motion::ArcCcw }, [e[0], e[1], e[2], v[6], v[7], v[8]], centre));
+            }
+            kind => {
+                let e = place([v[0], v[1], v[2]]);
+                out.push((if kind == "STRAIGHT_FEED" { Motion::Linear } else { Motion::Rapid }, [e[0], e[1], e[2], v[3], v[4], v[5]], None));
+            }
+        }
+    }
+    out
+}
+
+/// Our moves placed in the workpiece (targets plus datum, mm and deg; XY arcs' centres too), against
+/// [`linuxcnc_world`] of `canon`: the same kinds and points to rs274's 4 decimals. Ours returned.
+fn same_places_as_linuxcnc(p: &Program, canon: &Path) -> Vec<(Motion, [f64; 6], Option<[f64; 2]>)> {
+    assert!(errors(p).is_empty(), "{}: {:?}", canon.display(), errors(p));
+    let theirs = linuxcnc_world(canon);
+    let mut at = [0.0; 6];
+    let ours: Vec<(Motion, [f64; 6], Option<[f64; 2]>)> = p
+        .blocks
+        .iter()
+        .filter(|b| !b.targets.is_empty())
+        .map(|b| {
+            let t = &b.targets;
+            for (k, v) in [t.x, t.y, t.z, t.a, t.b, t.c].into_iter().enumerate() {
+                if let Some(v) = v {
+                    at[k] = if k < 3 { (v + b.datum[k]) / MM } else { v / DEG };
+                }
+            }
+            let centre = b.arc.as_ref().filter(|a| a.plane == fiveaxis::program::Plane::Xy).map(|a| [(a.centre[0] + b.datum[0]) / MM, (a.centre[1] + b.datum[1]) / MM]);
+            (b.motion, at, centre)
+        })
+        .collect();
+    let name = canon.display();
+    assert_eq!(ours.len(), theirs.len(), "{name}: moves\nours {ours:?}\ntheirs {theirs:?}");
+    // rs274's 4 decimals (of an inch, under G20), turned: a coordinate off by up to 1.5 of them.
+    let close = |a: f64, b: f64| (a - b).abs() <= 0.75e-4 * 25.4;
+    for (k, ((m, a, c), (n, b, d))) in ours.iter().zip(&theirs).enumerate() {
+        assert_eq!(m, n, "{name}: move {k}: ours {a:?}, LinuxCNC {b:?}");
+        assert!((0..6).all(|i| close(a[i], b[i])), "{name}: move {k}: ours {a:?}, LinuxCNC {b:?}");
+        if let (Some(c), Some(d)) = (c, d) {
+            assert!(close(c[0], d[0]) && close(c[1], d[1]), "{name}: move {k}'s centre: ours {c:?}, LinuxCNC {d:?}");
+        }
+    }
+    ours
+}
+
+/// Rotated coordinate systems (`G10 L2 Pn R`) are read to where LinuxCNC places the axes
+/// (`rotation.ngc`, rs274's output by make_canon.sh placed as its canonical layer does): moves,
+/// arcs in XY and XZ, polar coordinates and a canned cycle's holes in a rotated frame; the rotation
+/// of a system not in use, then selected; G92 and G10 L20 in a rotated system; the rotation changed
+/// while in use under a G92 offset (which LinuxCNC does not turn in as it re-reads the current
+/// point); G53's machine X in it; back to an unrotated system; cutter radius compensation in a
+/// rotated system (offset in the program frame, then turned). Each move's end point and each XY
+/// arc's centre in the workpiece, to rs274's 4 decimals; then LinuxCNC's refusals.
+#[test]
+fn rs274_reads_rotated_coordinate_systems_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join("rotation.ngc")).unwrap();
+    let p = read(&text, Dialect::Rs274, "rotation.ngc", &ReadOptions::default());
+    let ours = same_places_as_linuxcnc(&p, &dir.join("rotation.canon"));
+    let close = |a: f64, b: f64| (a - b).abs() <= 2e-4;
+    // The rotation turns the frame: a move along the program's X at R30 goes 30 deg off the machine's.
+    let b = &ours[1].1;
+    assert!(close(b[0], 10.0 + 20.0 * 30f64.to_radians().cos()) && close(b[1], 5.0 + 20.0 * 30f64.to_radians().sin()), "{b:?}");
+    for (text, at, needle) in [
+        ("G21 G90\nG10 L20 P1 X0 R10\nM2\n", "2:15:", "R not allowed in G10 L20"),
+        ("G21 G90\nG10 L2 P1 R10\nG54 G0 X0 Y0\nG41.1 D0\nG53 G1 X5 F100\nM2\n", "5:1:", "machine coordinates (G53) with cutter radius compensation on in a rotated"),
+    ] {
+        let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
+        has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
+    }
+}
+
 /// LinuxCNC's cutter radius compensation is read to the moves its own interpreter makes
 /// (`comp_lines.ngc`, `comp_arcs.ngc`, `comp_table.ngc`; rs274's canonical output by make_canon.sh):
 /// entry moves ending perpendicular to themselves (an entry arc on its end's radius), arcs about

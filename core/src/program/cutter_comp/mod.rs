@@ -253,6 +253,9 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
                     let l = words.iter().find(|x| x.letter == 'L').map_or(0.0, |x| x.value);
                     ((l == 2.0 || l == 20.0) && (p == 0.0 || p as usize == it.system() + 1)).then_some("Cannot change the active coordinate system with cutter radius compensation on")
                 }
+                // Machine coordinates are turned back into the rotated frame before compensation
+                // sees them; this reader does not hold that case.
+                "53" if it.rotation_now() != 0.0 => Some("machine coordinates (G53) with cutter radius compensation on in a rotated coordinate system are not read"),
                 _ => refused_g_under_comp(&c, radius),
             };
             if let Some(why) = why {
@@ -262,7 +265,12 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
     }
     let op = it.position();
     let mut made = Vec::new();
-    if !it.block_plain(&stripped, line, column, number, diags, &mut made) {
+    // Compensation offsets the moves in the program frame: they are placed in the workpiece's as
+    // they go out (a rotated system, which cannot change while it is on).
+    it.hold_frame = true;
+    let ok = it.block_plain(&stripped, line, column, number, diags, &mut made);
+    it.hold_frame = false;
+    if !ok {
         *it = saved.clone();
         return Some(false);
     }
@@ -347,6 +355,9 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
     }
     it.tools.track(words);
     it.comp = if st.idle() { None } else { Some(st) };
+    for b in &mut emit {
+        it.to_world(b);
+    }
     out.extend(emit);
     Some(true)
 }

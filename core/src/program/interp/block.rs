@@ -221,6 +221,9 @@ impl Interpreter {
                         ("10", false) => {
                             g10 = true;
                             uses.extend(['L', 'P']);
+                            if self.dialect == Dialect::Rs274 {
+                                uses.push('R'); // G10 L2 R: the system's rotation
+                            }
                         }
                         // (Two codes of group 0 in one block: Interpreter::block refuses them.)
                         ("92" | "92.1" | "92.2" | "92.3" | "52", false) if self.dialect == Dialect::Rs274 => g92 = Some(code.clone()),
@@ -385,7 +388,7 @@ impl Interpreter {
             for w in words {
                 let ok = match w.letter {
                     'I' | 'J' | 'K' => arc_motion || vector_words,
-                    'R' => arc_motion,
+                    'R' => arc_motion || uses.contains(&'R'),
                     'P' => arc_motion || uses.contains(&'P'),
                     'Q' | 'H' | 'L' | 'E' => uses.contains(&w.letter),
                     _ => true,
@@ -420,8 +423,12 @@ impl Interpreter {
         // program: the datum is the programmable frame's, which its reader keeps. LinuxCNC's axis
         // offsets (G92, G52) apply in every system.
         if !heid && self.dialect != Dialect::Sinumerik && next.system != self.system {
-            let axis = next.axis_offset;
-            next.move_origin(std::array::from_fn(|k| next.offsets[next.system][k] + axis[k]));
+            if next.rotation[self.system] != 0.0 || next.rotation_now() != 0.0 {
+                next.current_into_system(self.system, next.system);
+            } else {
+                let axis = next.axis_offset;
+                next.move_origin(std::array::from_fn(|k| next.offsets[next.system][k] + axis[k]));
+            }
         }
         if let Some(code) = &g92 {
             // Its axis words set the offset; they are not a move (skipped below).
@@ -525,6 +532,8 @@ impl Interpreter {
             let abs = if let (Some(origin), true) = (shot.and_then(|s| s.axes), k < 3) {
                 // Axis positions (machine coordinates): the axes there, read in program coordinates.
                 v + origin[k] - next.datum[k]
+            } else if g53 && k < 2 && next.rotation_now() != 0.0 {
+                continue; // both together, below
             } else if g53 && k < 3 {
                 v - next.datum[k]
             } else if w.dimension.absolute(next.absolute || shot.is_some_and(|s| s.absolute)) {
@@ -539,6 +548,22 @@ impl Interpreter {
             };
             next.last[k] = abs;
             targets.set_axis(k, abs);
+        }
+        if g53 && next.rotation_now() != 0.0 {
+            // Machine X and Y in a rotated system (interp_find.cc find_ends, G53): the point the
+            // block leaves out stays where it is, and the program frame's point is turned back.
+            let given = |l: char| words.iter().find(|w| w.letter == l).map(|w| w.value * next.unit);
+            let (x, y) = (given('X'), given('Y'));
+            if x.is_some() || y.is_some() {
+                let (g5x, g92, r) = (next.offsets[next.system], next.axis_offset, next.rotation_now());
+                let here = super::rotation::rot([next.last[0] + g92[0], next.last[1] + g92[1]], r);
+                let m = [x.map_or(here[0], |x| x - g5x[0]), y.map_or(here[1], |y| y - g5x[1])];
+                let p = super::rotation::rot(m, -r);
+                for k in 0..2 {
+                    next.last[k] = p[k] - g92[k];
+                    targets.set_axis(k, next.last[k]);
+                }
+            }
         }
         if let Some(xy) = polar_end {
             for (k, v) in xy.into_iter().enumerate() {
@@ -682,7 +707,7 @@ impl Interpreter {
         if let Some(axes) = axes_before {
             self.read_axes(axes);
         }
-        Some(Block {
+        let mut b = Block {
             line,
             column,
             number,
@@ -699,7 +724,9 @@ impl Interpreter {
             // A move of the machine's axes (machine coordinates) is where it is, whatever the datum.
             offset_assumed: self.offset_assumed() && !shot.is_some_and(|s| s.axes.is_some() && !s.own),
             exact: if exact_stop_here { Exact::Stop } else { self.exact },
-        })
+        };
+        self.fill_xy(&mut b);
+        Some(b)
     }
 }
 

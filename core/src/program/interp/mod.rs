@@ -10,6 +10,7 @@ use crate::units::{DEG, INCH, MM};
 mod arc;
 mod block;
 mod codes;
+mod rotation;
 pub(crate) use block::polar_step;
 pub(crate) use codes::{lcnc_group, x10};
 
@@ -84,6 +85,11 @@ pub struct Interpreter {
     /// system, and the copy parameters 5211-5213 keep for G92.3 (G92.2 leaves it, G92.1 zeroes it).
     axis_offset: [f64; 3],
     axis_offset_kept: [f64; 3],
+    /// LinuxCNC: each system's rotation about Z (`G10 L2 Pn R`, rad; parameter 5210 + 20n).
+    rotation: [f64; 9],
+    /// Blocks stay in the program frame when made (cutter compensation, which offsets them there,
+    /// places them in the workpiece when it lets them go): [`Interpreter::to_world`].
+    pub(crate) hold_frame: bool,
     /// LinuxCNC's cutter radius compensation and the moves it holds ([`super::cutter_comp`]), and the
     /// tool table its `G41`/`G42` take the radius from.
     pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
@@ -200,6 +206,8 @@ impl Interpreter {
             system: 0,
             axis_offset: [0.0; 3],
             axis_offset_kept: [0.0; 3],
+            rotation: [0.0; 9],
+            hold_frame: false,
             exact: crate::program::Exact::Blend,
             exact_once: false,
             comp: None,
@@ -311,9 +319,32 @@ impl Interpreter {
             return diags.error(line, column, format!("G10 {l} under G91 (offsets relative to the current ones) is not supported: write it under G90"));
         }
         let mut offsets = next.offsets[k_system];
+        // LinuxCNC's R: the system's rotation about Z, deg (not in L20, which keeps it).
+        let mut r = next.rotation[k_system];
+        if let Some(w) = word('R').filter(|_| self.dialect == Dialect::Rs274) {
+            if l20 {
+                return diags.error(line, w.column, "G10 L20 R: R not allowed in G10 L20 (LinuxCNC)");
+            }
+            r = w.value * DEG;
+        }
+        if l20 && (r != 0.0 || next.rotation_now() != 0.0) {
+            // interp_convert.cc convert_setup, L20 in a rotated system: the current point read in
+            // system n, and the offset that puts it at the values given, both turned by its R.
+            let mut here = next.clone();
+            here.current_into_system(next.system, k_system);
+            let c = [here.last[0], here.last[1]];
+            let given = |l: char| word(l).map(|w| w.value * next.unit);
+            let old = rotation::rot(c, r);
+            let want = rotation::rot([given('X').unwrap_or(c[0]), given('Y').unwrap_or(c[1])], r);
+            offsets[0] = old[0] + offsets[0] - want[0];
+            offsets[1] = old[1] + offsets[1] - want[1];
+        }
+        let turned = l20 && (r != 0.0 || next.rotation_now() != 0.0);
         for w in words {
             let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
-            if k < 3 {
+            if k < 2 && turned {
+                continue; // above
+            } else if k < 3 {
                 // L20: the current point, in the offset-free (G53) frame, less the value it is to read.
                 offsets[k] = if l20 { next.last[k] + next.datum[k] - next.axis_offset[k] - w.value * next.unit } else { w.value * next.unit };
             } else {
@@ -324,10 +355,13 @@ impl Interpreter {
                 }
             }
         }
-        if k_system == next.system {
+        if k_system == next.system && (r != 0.0 || next.rotation_now() != 0.0) {
+            next.reframe_active(offsets, r);
+        } else if k_system == next.system {
             next.move_origin(std::array::from_fn(|k| offsets[k] + next.axis_offset[k]));
         }
         next.offsets[k_system] = offsets;
+        next.rotation[k_system] = r;
         next.offsets_given[k_system] = true;
     }
 
@@ -596,11 +630,25 @@ impl Interpreter {
                 return done;
             }
         }
-        if self.dialect == Dialect::Rs274 {
-            if let Some(done) = super::lcnc_cycles::expand(self, words, line, column, number, diags, out) {
-                return done;
+        if self.dialect != Dialect::Rs274 {
+            return self.block_made(words, line, column, number, diags, out);
+        }
+        // LinuxCNC: made in the program frame, then placed in the workpiece's (a rotated system).
+        let start = out.len();
+        let done = match super::lcnc_cycles::expand(self, words, line, column, number, diags, out) {
+            Some(done) => done,
+            None => self.block_made(words, line, column, number, diags, out),
+        };
+        if !self.hold_frame && self.rotation_now() != 0.0 {
+            for b in &mut out[start..] {
+                self.to_world(b);
             }
         }
+        done
+    }
+
+    /// The block [`Interpreter::block_one`] makes, to `out`; false if a defect.
+    fn block_made(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
         match self.block_one(words, line, column, number, diags) {
             Some(b) => {
                 out.push(b);

@@ -30,6 +30,14 @@ for f in offsets_g92 polar polar_cycles comp_lines comp_arcs comp_table cycles_p
     grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)' "/tmp/$f.canon" > "$f.canon"
     rm "/tmp/$f.canon"
 done
+# Rotated coordinate systems (G10 L2 R): rs274 prints positions in the rotated program frame, so these
+# keep the offsets and the rotation it sets too, from which the test places the moves as LinuxCNC's
+# canonical layer does (emccanon.cc rotate_and_offset_pos).
+for f in rotation; do
+    rs274 -t /tmp/make_canon.tbl -g "$f.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
+    grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)\|SET_G5X_OFFSET(.*)\|SET_G92_OFFSET(.*)\|SET_XY_ROTATION(.*)' "/tmp/$f.canon" > "$f.canon"
+    rm "/tmp/$f.canon"
+done
 # Subroutines in files of the subroutine path (subs/, LinuxCNC's [RS274NGC] SUBROUTINE_PATH in an INI).
 printf '[RS274NGC]\nSUBROUTINE_PATH = %s/subs\n' "$(pwd)" > /tmp/make_canon.ini
 rs274 -i /tmp/make_canon.ini -t /tmp/make_canon.tbl -g calls_files.ngc /tmp/calls_files.canon < /dev/null > /dev/null
