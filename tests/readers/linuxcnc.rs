@@ -580,9 +580,11 @@ fn turned(v: [f64; 2], deg: f64) -> [f64; 2] {
 /// LinuxCNC's moves placed where its canonical layer puts the axes (emccanon.cc
 /// rotate_and_offset_pos: XY = rot(p + G92 offset, R) + G5x offset, Z = p + both offsets), from
 /// rs274's positions in the program frame and the offsets and rotation it sets (mm, deg); an XY
-/// arc's centre placed alike.
-fn linuxcnc_world(path: &Path) -> Vec<(Motion, [f64; 6], Option<[f64; 2]>)> {
+/// arc's centre placed alike; a feed move's feed, mm/min (in inverse time too: LinuxCNC's
+/// interpreter gives the canonical layer the feed it works out, interp_inverse.cc).
+fn linuxcnc_world(path: &Path) -> Vec<Placed> {
     let (mut inch, mut plane, mut g5x, mut g92, mut r) = (false, "XY", [0.0; 3], [0.0; 3], 0.0);
+    let mut feed = 0.0;
     let mut out = Vec::new();
     for l in std::fs::read_to_string(path).unwrap().lines() {
         let inner = &l[l.find('(').unwrap() + 1..l.rfind(')').unwrap()];
@@ -598,48 +600,62 @@ fn linuxcnc_world(path: &Path) -> Vec<(Motion, [f64; 6], Option<[f64; 2]>)> {
             "SET_G5X_OFFSET" => g5x = [v[1], v[2], v[3]],
             "SET_G92_OFFSET" => g92 = [v[0], v[1], v[2]],
             "SET_XY_ROTATION" => r = v[0],
+            "SET_FEED_RATE" => feed = v[0],
             "ARC_FEED" => {
                 let (x, y, z) = match plane { "XY" => (v[0], v[1], v[5]), "XZ" => (v[1], v[5], v[0]), _ => (v[5], v[0], v[1]) };
                 let e = place([x, y, z]);
                 let centre = (plane == "XY").then(|| place([v[2], v[3], z])).map(|c| [c[0], c[1]]);
-                out.push((if v[4] < 0.0 { Motion::ArcCw } else { Motion::ArcCcw }, [e[0], e[1], e[2], v[6], v[7], v[8]], centre));
+                let f = mm(feed);
+                out.push((if v[4] < 0.0 { Motion::ArcCw } else { Motion::ArcCcw }, [e[0], e[1], e[2], v[6], v[7], v[8]], centre, Some(f)));
             }
-            kind => {
+            kind @ ("STRAIGHT_FEED" | "STRAIGHT_TRAVERSE") => {
                 let e = place([v[0], v[1], v[2]]);
-                out.push((if kind == "STRAIGHT_FEED" { Motion::Linear } else { Motion::Rapid }, [e[0], e[1], e[2], v[3], v[4], v[5]], None));
+                let f = (kind == "STRAIGHT_FEED").then_some(mm(feed));
+                out.push((if kind == "STRAIGHT_FEED" { Motion::Linear } else { Motion::Rapid }, [e[0], e[1], e[2], v[3], v[4], v[5]], None, f));
             }
+            // The states this comparison does not place (the path control mode).
+            _ => {}
         }
     }
     out
 }
 
+/// A move placed in the workpiece: its kind, end (mm, deg), an XY arc's centre (mm) and a feed
+/// move's feed (mm/min).
+type Placed = (Motion, [f64; 6], Option<[f64; 2]>, Option<f64>);
+
 /// Our moves placed in the workpiece (targets plus datum, mm and deg; XY arcs' centres too), against
 /// [`linuxcnc_world`] of `canon`: the same kinds and points to rs274's 4 decimals. Ours returned.
-fn same_places_as_linuxcnc(p: &Program, canon: &Path) -> Vec<(Motion, [f64; 6], Option<[f64; 2]>)> {
+fn same_places_as_linuxcnc(p: &Program, canon: &Path) -> Vec<Placed> {
     assert!(errors(p).is_empty(), "{}: {:?}", canon.display(), errors(p));
     let theirs = linuxcnc_world(canon);
     let mut at = [0.0; 6];
-    let ours: Vec<(Motion, [f64; 6], Option<[f64; 2]>)> = p
+    let ours: Vec<Placed> = p
         .blocks
         .iter()
         .filter(|b| !b.targets.is_empty())
         .map(|b| {
             let t = &b.targets;
+            let from = at;
             for (k, v) in [t.x, t.y, t.z, t.a, t.b, t.c].into_iter().enumerate() {
                 if let Some(v) = v {
                     at[k] = if k < 3 { (v + b.datum[k]) / MM } else { v / DEG };
                 }
             }
             let centre = b.arc.as_ref().filter(|a| a.plane == fiveaxis::program::Plane::Xy).map(|a| [(a.centre[0] + b.datum[0]) / MM, (a.centre[1] + b.datum[1]) / MM]);
-            (b.motion, at, centre)
+            // Inverse time (a straight move): the move's length over its time.
+            let length = ((at[0] - from[0]).powi(2) + (at[1] - from[1]).powi(2) + (at[2] - from[2]).powi(2)).sqrt();
+            let feed = b.feed.filter(|_| b.motion != Motion::Rapid).map(|f| if f.mode == FeedMode::InverseTime { f.value_per_min * length } else { f.value_per_min });
+            (b.motion, at, centre, feed)
         })
         .collect();
     let name = canon.display();
     assert_eq!(ours.len(), theirs.len(), "{name}: moves\nours {ours:?}\ntheirs {theirs:?}");
     // rs274's 4 decimals (of an inch, under G20), turned: a coordinate off by up to 1.5 of them.
     let close = |a: f64, b: f64| (a - b).abs() <= 0.75e-4 * 25.4;
-    for (k, ((m, a, c), (n, b, d))) in ours.iter().zip(&theirs).enumerate() {
+    for (k, ((m, a, c, f), (n, b, d, g))) in ours.iter().zip(&theirs).enumerate() {
         assert_eq!(m, n, "{name}: move {k}: ours {a:?}, LinuxCNC {b:?}");
+        assert!(f.zip(*g).is_none_or(|(f, g)| (f - g).abs() <= 1e-4 * 25.4) && f.is_some() == g.is_some(), "{name}: move {k}'s feed: ours {f:?}, LinuxCNC {g:?}");
         assert!((0..6).all(|i| close(a[i], b[i])), "{name}: move {k}: ours {a:?}, LinuxCNC {b:?}");
         if let (Some(c), Some(d)) = (c, d) {
             assert!(close(c[0], d[0]) && close(c[1], d[1]), "{name}: move {k}'s centre: ours {c:?}, LinuxCNC {d:?}");
@@ -674,6 +690,39 @@ fn rs274_reads_rotated_coordinate_systems_as_linuxcnc_does() {
         let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
         has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
     }
+}
+
+/// LinuxCNC's saved modal state (`M70`-`M73`) is restored as its interpreter restores it
+/// (`modal_state.ngc`, rs274's output by make_canon.sh): after an M73 subroutine's endsub and its
+/// `return`, and after M72 in the main program, the moves go in the units, distance mode,
+/// coordinate system (a rotated one), plane, feed mode and feed (F to 0.1, as LinuxCNC writes it
+/// back) and G92 offsets saved; each move's end, XY centre and feed against rs274's. Then the
+/// refusals: M72 with nothing saved (or after M71), two codes of its modal group, F in its block.
+#[test]
+fn rs274_restores_the_modal_state_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join("modal_state.ngc")).unwrap();
+    let p = read(&text, Dialect::Rs274, "modal_state.ngc", &ReadOptions::default());
+    let ours = same_places_as_linuxcnc(&p, &dir.join("modal_state.canon"));
+    // The restores are seen: F123.456 comes back as 123.5 mm/min; the inch subroutine's X0.5 is
+    // 12.7 mm in G55 (rotated 30 deg), and the next move is in mm again, in G54.
+    assert!(ours.iter().any(|m| m.3 == Some(123.5)), "{ours:?}");
+    assert!(ours.iter().any(|m| m.0 == Motion::Linear && m.1[0] == 10.0 && m.1[1] == 10.0 && m.3 == Some(500.0)), "{ours:?}");
+    for (text, at, needle) in [
+        ("G21 G90\nM72\nM2\n", "2:1:", "missing M70/M73"),
+        ("G21 G90\nM70\nM71\nM72\nM2\n", "4:1:", "missing M70/M73"),
+        ("G21 G90\nM70 M3\nM2\n", "2:5:", "two M codes of modal group 7"),
+        ("G21 G90\nM72 F100\nM2\n", "2:5:", "F100 with M72 in one block"),
+    ] {
+        let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
+        has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
+    }
+    // M73 in the main program saves as M70 does, and says so (LinuxCNC's warning).
+    let p = read("G21 G90\nG0 X5\nM73\nG91\nM72\nG1 X1 F100\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    assert!(p.diagnostics.iter().any(|d| d.line == 3 && d.message.contains("M73 in the main program")), "{:?}", p.diagnostics);
+    assert_eq!(p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect::<Vec<_>>(), vec![5.0, 1.0]);
 }
 
 /// LinuxCNC's cutter radius compensation is read to the moves its own interpreter makes

@@ -16,6 +16,7 @@ mod klartext;
 mod lcnc_cycles;
 mod lex;
 mod macro_b;
+mod modal_context;
 mod oword;
 mod params;
 pub mod plane;

@@ -196,6 +196,11 @@ impl Flow {
     /// The subroutine `name` from its own file on the search path (LinuxCNC's find_ngc_file: `NAME.ngc`
     /// in each directory, the file then skipped to its `o<name> sub` and run to its `endsub`): its
     /// lines, numbered in that file, and the file's path; `Ok(None)` where no directory has it.
+    /// How deep in subroutine calls the run stands (0: the main program).
+    pub(crate) fn depth(&self) -> usize {
+        self.depth
+    }
+
     fn load(&self, name: &str) -> Result<Option<(Vec<Line>, String)>, String> {
         let stem = name.trim_start_matches('<').trim_end_matches('>');
         let Some(files) = &self.sub_files else { return Ok(None) };
@@ -600,6 +605,7 @@ impl Rs274Reader {
         }
         let scope = self.params.enter_call(&args);
         self.flow.depth += 1;
+        self.contexts.enter(self.flow.depth);
         // The body, without its `sub` and `endsub` lines. A subroutine of another file runs at the
         // call: its blocks and diagnostics stand at the call's line, a diagnostic naming its own.
         let body_lines = body.get(1..body.len().saturating_sub(1)).unwrap_or(&[]);
@@ -621,8 +627,15 @@ impl Rs274Reader {
                 end
             }
         };
+        let restore = self.contexts.leave(self.flow.depth);
         self.flow.depth -= 1;
         self.params.leave_call(scope);
+        // M73 in the subroutine: its caller's state comes back as it returns.
+        if let (Some(state), false) = (restore, matches!(end, End::Stopped)) {
+            if !self.interp.restore_modal(&state, line, col + 1, None, diags, out) {
+                return self.stop(line, col + 1, format!("o{} return: the modal state M73 saved could not be restored", o.name), diags);
+            }
+        }
         match end {
             End::Stopped => End::Stopped,
             _ => End::Done,

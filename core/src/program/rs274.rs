@@ -62,6 +62,8 @@ pub(crate) struct Rs274Reader {
     pub(super) quill: Option<super::quill::QuillState>,
     /// The memory the lines kept as read hold ([`Rs274Reader::loop_line`]), at most [`MAX_KEPT_BYTES`].
     kept_bytes: usize,
+    /// LinuxCNC: the modal state M70/M73 saved in each call frame ([`super::modal_context`]).
+    pub(super) contexts: super::modal_context::Contexts,
 }
 
 /// The most memory lines kept as read may hold, over every loop and call that keeps them: a line as
@@ -80,7 +82,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0 }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default() }
     }
 }
 
@@ -485,7 +487,12 @@ impl Rs274Reader {
             return;
         }
         let before = out.len();
-        if !self.interp.block(&words, line, col, read.number, diags, out) {
+        // LinuxCNC's M70-M73 act before the block's G codes (its order of execution).
+        if self.dialect == Dialect::Rs274 && !self.modal_context(&mut words, line, read.number, diags, out) {
+            diags.warning(line, first + 1, format!("line {line} not used"));
+            return;
+        }
+        if !words.is_empty() && !self.interp.block(&words, line, col, read.number, diags, out) {
             diags.warning(line, first + 1, format!("line {line} not used"));
         }
         // LinuxCNC: "Lines of a file that occur after the end of a program are not to be executed"

@@ -10,7 +10,10 @@ use crate::units::{DEG, INCH, MM};
 mod arc;
 mod block;
 mod codes;
+mod modal;
 mod rotation;
+
+pub(crate) use modal::ModalState;
 pub(crate) use block::polar_step;
 pub(crate) use codes::{lcnc_group, x10};
 

@@ -32,10 +32,11 @@ for f in offsets_g92 polar polar_cycles comp_lines comp_arcs comp_table cycles_p
 done
 # Rotated coordinate systems (G10 L2 R): rs274 prints positions in the rotated program frame, so these
 # keep the offsets and the rotation it sets too, from which the test places the moves as LinuxCNC's
-# canonical layer does (emccanon.cc rotate_and_offset_pos).
-for f in rotation; do
+# canonical layer does (emccanon.cc rotate_and_offset_pos), and the feed (the saved modal state of
+# modal_state.ngc's M70-M73 is seen in the moves and feeds after each restore).
+for f in rotation modal_state; do
     rs274 -t /tmp/make_canon.tbl -g "$f.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
-    grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)\|SET_G5X_OFFSET(.*)\|SET_G92_OFFSET(.*)\|SET_XY_ROTATION(.*)' "/tmp/$f.canon" > "$f.canon"
+    grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)\|SET_G5X_OFFSET(.*)\|SET_G92_OFFSET(.*)\|SET_XY_ROTATION(.*)\|SET_FEED_RATE(.*)\|SET_FEED_MODE(.*)' "/tmp/$f.canon" > "$f.canon"
     rm "/tmp/$f.canon"
 done
 # Subroutines in files of the subroutine path (subs/, LinuxCNC's [RS274NGC] SUBROUTINE_PATH in an INI).

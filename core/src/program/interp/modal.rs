@@ -1,0 +1,108 @@
+//! LinuxCNC's saved modal state (`M70` save, `M71` invalidate, `M72` restore, `M73` save and
+//! restore on return; M-code reference §M70-M73): what is saved, and the restore, which LinuxCNC
+//! makes by running the G code of what differs (interp_convert.cc `restore_settings`: `G20`/`G21`
+//! first, then one block of ` F%.1f` and the G codes of each group that changed, `gen_settings`).
+
+use std::borrow::Cow;
+
+use super::{Dimension, Interpreter, Word};
+use crate::program::lex::Diags;
+use crate::program::{Block, Exact, FeedMode, Plane, ProgrammedTolerance};
+use crate::units::INCH;
+
+/// The modal state M70 saves, of what this reader models: units, plane, distance and arc distance
+/// mode, feed mode and feed, the coordinate system, retract mode, whether G92 offsets apply, the
+/// path control mode and its tolerance, and whether cutter compensation is on. (The spindle,
+/// coolant and override M codes it restores move nothing; tool length offsets and lathe diameter
+/// mode are not modelled.)
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ModalState {
+    inch: bool,
+    plane: Plane,
+    absolute: bool,
+    arc_absolute: bool,
+    feed_mode: FeedMode,
+    /// F as the program wrote it (program unit per minute, or inverse time), if set.
+    feed: Option<f64>,
+    system: usize,
+    to_r: bool,
+    g92_applied: bool,
+    exact: Exact,
+    tolerance: ProgrammedTolerance,
+    comp: bool,
+}
+
+impl Interpreter {
+    /// The modal state now (M70, M73).
+    pub(crate) fn modal_state(&self) -> ModalState {
+        ModalState {
+            inch: self.unit == INCH,
+            plane: self.plane,
+            absolute: self.absolute,
+            arc_absolute: self.arc_absolute,
+            feed_mode: self.feed_mode,
+            feed: self.feed.map(|(_, raw)| raw),
+            system: self.system,
+            to_r: self.cycles.to_r,
+            g92_applied: self.axis_offset != [0.0; 3],
+            exact: self.exact,
+            tolerance: self.tolerance,
+            comp: self.comp.as_ref().is_some_and(|c| c.on.is_some()),
+        }
+    }
+
+    /// Restore `saved` as LinuxCNC does (M72, or a subroutine's return after M73): the units by
+    /// their code, then one block of F (to 0.1, as `gen_settings` writes it) and the codes of the
+    /// groups that differ, read as any block (a system change re-reads the current point; under
+    /// cutter compensation the same refusals). Its blocks go to `out`; false if one is refused.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn restore_modal(&mut self, saved: &ModalState, line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
+        let now = self.modal_state();
+        let word = |letter: char, raw: String| Word { letter, value: raw.parse().unwrap_or(0.0), raw: Cow::Owned(raw), column, dimension: Dimension::Modal };
+        if saved.inch != now.inch && !self.block(&[word('G', if saved.inch { "20" } else { "21" }.into())], line, column, number, diags, out) {
+            return false;
+        }
+        if saved.comp && !now.comp {
+            diags.error(line, column, "the restored modal state has cutter radius compensation on, which this one turned off: turning it on again (with the tool's radius) is not read");
+            return false;
+        }
+        let mut words = Vec::new();
+        // LinuxCNC writes F0.0 for a feed never set; here the feed is left unset.
+        if let Some(f) = saved.feed.filter(|f| *f > 0.0) {
+            words.push(word('F', format!("{f:.1}")));
+        }
+        let mut code = |differs: bool, g: &str| {
+            if differs {
+                words.push(word('G', g.to_string()));
+            }
+        };
+        code(saved.plane != now.plane, match saved.plane {
+            Plane::Xy => "17",
+            Plane::Zx => "18",
+            Plane::Yz => "19",
+        });
+        code(saved.comp != now.comp, "40");
+        code(saved.absolute != now.absolute, if saved.absolute { "90" } else { "91" });
+        code(saved.feed_mode != now.feed_mode, match saved.feed_mode {
+            FeedMode::PerMinute => "94",
+            FeedMode::InverseTime => "93",
+        });
+        code(saved.system != now.system, ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"][saved.system]);
+        code(saved.to_r != now.to_r, if saved.to_r { "99" } else { "98" });
+        code(saved.arc_absolute != now.arc_absolute, if saved.arc_absolute { "90.1" } else { "91.1" });
+        code(saved.g92_applied != now.g92_applied, if saved.g92_applied { "92.3" } else { "92.2" });
+        code(saved.exact != now.exact, match saved.exact {
+            Exact::Blend => "64",
+            Exact::Path => "61",
+            Exact::Stop => "61.1",
+        });
+        if !words.is_empty() && !self.block(&words, line, column, number, diags, out) {
+            return false;
+        }
+        if saved.feed.is_none_or(|f| f <= 0.0) {
+            self.feed = None;
+        }
+        self.tolerance = saved.tolerance;
+        true
+    }
+}
