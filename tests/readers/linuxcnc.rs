@@ -625,10 +625,22 @@ fn linuxcnc_world(path: &Path) -> Vec<Placed> {
 type Placed = (Motion, [f64; 6], Option<[f64; 2]>, Option<f64>);
 
 /// Our moves placed in the workpiece (targets plus datum, mm and deg; XY arcs' centres too), against
-/// [`linuxcnc_world`] of `canon`: the same kinds and points to rs274's 4 decimals. Ours returned.
+/// [`linuxcnc_world`] of `canon`: the same kinds and points to rs274's 4 decimals. Rapid moves that
+/// go nowhere are left out on both sides (rs274 makes one of G28's intermediate point where the
+/// tool stands; this reader none). Ours returned.
 fn same_places_as_linuxcnc(p: &Program, canon: &Path) -> Vec<Placed> {
     assert!(errors(p).is_empty(), "{}: {:?}", canon.display(), errors(p));
-    let theirs = linuxcnc_world(canon);
+    let moving = |v: Vec<Placed>| -> Vec<Placed> {
+        let mut at = [0.0; 6];
+        v.into_iter()
+            .filter(|m| {
+                let still = m.0 == Motion::Rapid && (0..6).all(|i| (m.1[i] - at[i]).abs() < 1e-9);
+                at = m.1;
+                !still
+            })
+            .collect()
+    };
+    let theirs = moving(linuxcnc_world(canon));
     let mut at = [0.0; 6];
     let ours: Vec<Placed> = p
         .blocks
@@ -649,6 +661,7 @@ fn same_places_as_linuxcnc(p: &Program, canon: &Path) -> Vec<Placed> {
             (b.motion, at, centre, feed)
         })
         .collect();
+    let ours = moving(ours);
     let name = canon.display();
     assert_eq!(ours.len(), theirs.len(), "{name}: moves\nours {ours:?}\ntheirs {theirs:?}");
     // rs274's 4 decimals (of an inch, under G20), turned: a coordinate off by up to 1.5 of them.
@@ -687,6 +700,33 @@ fn rs274_reads_rotated_coordinate_systems_as_linuxcnc_does() {
         ("G21 G90\nG10 L2 P1 R10\nG54 G0 X0 Y0\nG41.1 D0\nG53 G1 X5 F100\nM2\n", "5:1:", "machine coordinates (G53) with cutter radius compensation on in a rotated"),
     ] {
         let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
+        has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
+    }
+}
+
+/// LinuxCNC's moves to a stored position (`home.ngc`, rs274's output by make_canon.sh) on its xyzac-trt
+/// sim, whose parameter file starts empty (stored positions 0): `G28 G91 Z0` (the retract CAM posts
+/// write), G28 through an absolute intermediate point in a rotated system, under a G92 offset, after
+/// `G28.1` stored a position, `G30`, and `G28` alone moving every axis (A and C too); each move's end
+/// in the workpiece against rs274's. Then the refusals: a machine file without machine coordinates,
+/// G28 with a motion code, axis words with G28.1.
+#[test]
+fn rs274_moves_to_stored_positions_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let machine = fiveaxis::machine::Machine::builtin("linuxcnc-xyzac-trt").unwrap();
+    let on = ReadOptions::default().on(&machine);
+    let text = std::fs::read_to_string(dir.join("home.ngc")).unwrap();
+    let p = read(&text, Dialect::Rs274, "home.ngc", &on);
+    let ours = same_places_as_linuxcnc(&p, &dir.join("home.canon"));
+    // G28 G91 Z0 takes Z to the machine's 0, X Y staying: from Z10 in G54 (Z offset -5), Z 0.
+    assert!(ours.iter().any(|m| m.0 == Motion::Rapid && m.1[2].abs() < 1e-9 && m.1[3] == 10.0), "{ours:?}");
+    for (text, machine, at, needle) in [
+        ("G21 G90\nG28 G91 Z0\nM2\n", "hermle-c600u", "2:1:", "places no machine coordinates"),
+        ("G21 G90\nG28 G0 Z0\nM2\n", "linuxcnc-xyzac-trt", "2:5:", "two G codes that both use axis words"),
+        ("G21 G90\nG28.1 X0\nM2\n", "linuxcnc-xyzac-trt", "2:7:", "axis words are not read with them"),
+    ] {
+        let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default().on(&fiveaxis::machine::Machine::builtin(machine).unwrap()));
         let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
         has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
     }

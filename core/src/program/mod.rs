@@ -14,6 +14,7 @@ mod heidenhain;
 mod interp;
 mod klartext;
 mod lcnc_cycles;
+mod lcnc_home;
 mod lex;
 mod macro_b;
 mod modal_context;

@@ -93,6 +93,9 @@ pub struct Interpreter {
     /// Blocks stay in the program frame when made (cutter compensation, which offsets them there,
     /// places them in the workpiece when it lets them go): [`Interpreter::to_world`].
     pub(crate) hold_frame: bool,
+    /// LinuxCNC: the positions `G28.1` and `G30.1` stored (parameters 5161-5166, 5181-5186), in the
+    /// workpiece frame (m, rad), where the program set them; else the machine file's.
+    pub(crate) stored_home: [Option<[f64; 6]>; 2],
     /// LinuxCNC's cutter radius compensation and the moves it holds ([`super::cutter_comp`]), and the
     /// tool table its `G41`/`G42` take the radius from.
     pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
@@ -211,6 +214,7 @@ impl Interpreter {
             axis_offset_kept: [0.0; 3],
             rotation: [0.0; 9],
             hold_frame: false,
+            stored_home: [None; 2],
             exact: crate::program::Exact::Blend,
             exact_once: false,
             comp: None,
@@ -638,9 +642,12 @@ impl Interpreter {
         }
         // LinuxCNC: made in the program frame, then placed in the workpiece's (a rotated system).
         let start = out.len();
-        let done = match super::lcnc_cycles::expand(self, words, line, column, number, diags, out) {
+        let done = match super::lcnc_home::expand(self, words, line, column, number, diags, out) {
             Some(done) => done,
-            None => self.block_made(words, line, column, number, diags, out),
+            None => match super::lcnc_cycles::expand(self, words, line, column, number, diags, out) {
+                Some(done) => done,
+                None => self.block_made(words, line, column, number, diags, out),
+            },
         };
         if !self.hold_frame && self.rotation_now() != 0.0 {
             for b in &mut out[start..] {
@@ -752,6 +759,12 @@ impl Interpreter {
     /// The dialect read.
     pub(crate) fn dialect(&self) -> Dialect {
         self.dialect
+    }
+
+    /// The program's unit of rotary axis `k` (0 = A), rad per unit (deg, or rad on machines whose
+    /// control reads radians).
+    pub(crate) fn rotary_unit(&self, k: usize) -> f64 {
+        self.rotary_unit[k]
     }
 
     /// Whether the machine has axis `letter` (X Y Z always; a rotary one if the machine names it).

@@ -81,6 +81,21 @@ impl Interpreter {
         }
     }
 
+    /// Where the current point stands in the workpiece (LinuxCNC's machine coordinates, the G53
+    /// frame), m: X Y as the canonical layer places them, Z with both offsets.
+    pub(crate) fn world_now(&self) -> [f64; 3] {
+        let xy = self.machine_xy(self.system);
+        [xy[0], xy[1], self.last[2] + self.offsets[self.system][2] + self.axis_offset[2]]
+    }
+
+    /// A point of the workpiece frame read in the program's (interp_find.cc find_relative):
+    /// p = rot(w - offset, -R) - G92 offset, m.
+    pub(crate) fn program_of_world(&self, w: [f64; 3]) -> [f64; 3] {
+        let (g5x, g92) = (self.offsets[self.system], self.axis_offset);
+        let p = rot([w[0] - g5x[0], w[1] - g5x[1]], -self.rotation_now());
+        [p[0] - g92[0], p[1] - g92[1], w[2] - g5x[2] - g92[2]]
+    }
+
     /// Under a rotation a move of X or Y alone is one of both in the workpiece: the other, where
     /// the block leaves it, written into `b` (its program-frame targets) so that [`to_world`] turns
     /// the point.
