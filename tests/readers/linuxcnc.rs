@@ -634,7 +634,8 @@ fn same_places_as_linuxcnc(p: &Program, canon: &Path) -> Vec<Placed> {
         let mut at = [0.0; 6];
         v.into_iter()
             .filter(|m| {
-                let still = m.0 == Motion::Rapid && (0..6).all(|i| (m.1[i] - at[i]).abs() < 1e-9);
+                // Within rs274's rounding (its 4 decimals, turned): no move.
+                let still = m.0 == Motion::Rapid && (0..6).all(|i| (m.1[i] - at[i]).abs() <= 0.75e-4 * 25.4);
                 at = m.1;
                 !still
             })
