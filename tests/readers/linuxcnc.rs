@@ -706,6 +706,25 @@ fn rs274_reads_rotated_coordinate_systems_as_linuxcnc_does() {
     }
 }
 
+/// A move cutter compensation cannot make is where LinuxCNC stops (rs274 on this program: "Straight
+/// feed in concave corner cannot be reached by the tool without gouging" at line 7, and nothing
+/// after): one error there, and the lines after it not read, so neither the G40 and M2 that would
+/// meet the held move again nor the file's end say anything more.
+#[test]
+fn a_move_compensation_cannot_make_ends_the_reading_as_linuxcnc_stops() {
+    let text = "G21 G90 G17 F500\nG0 X-10 Y-10\nG41.1 D10\nG1 X0 Y0\nG1 X20\nG1 X20.5 Y2\nG1 X40 Y2\nG40 G1 X50 Y-10\nM2\n";
+    let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert_eq!(p.diagnostics.len(), 1, "{:?}", p.diagnostics);
+    has(&p, 7, 1, "cannot be reached by the tool without gouging (LinuxCNC stops here: the rest of the program is not read)");
+    // The moves before it were made, as rs274 makes them (the traverse, the entry, the arc round the
+    // convex corner, line 5's move cut back at the concave one with line 6: X16.0961 Y5), and the
+    // held move of line 6 was not.
+    let ends: Vec<[f64; 2]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1]]).collect();
+    let rs274 = [[-10.0, -10.0], [-3.5355, 3.5355], [0.0, 5.0], [16.0961, 5.0]];
+    assert_eq!(ends.len(), 4, "{ends:?}");
+    assert!(ends.iter().zip(rs274).all(|(a, b)| (a[0] - b[0]).abs() < 1e-4 && (a[1] - b[1]).abs() < 1e-4), "{ends:?}");
+}
+
 /// LinuxCNC's moves to a stored position (`home.ngc`, rs274's output by make_canon.sh) on its xyzac-trt
 /// sim, whose parameter file starts empty (stored positions 0): `G28 G91 Z0` (the retract CAM posts
 /// write), G28 through an absolute intermediate point in a rotated system, under a G92 offset, after

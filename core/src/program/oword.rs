@@ -179,7 +179,7 @@ pub struct Flow {
     /// The diagnostics said by lines run so far: a loop's second pass over a defect says it once.
     said: std::collections::HashSet<(usize, usize, String)>,
     /// The run was stopped (budget, a defect in the flow): what is left of the block is not read.
-    stopped: bool,
+    pub(crate) stopped: bool,
     /// Where subroutines not defined in the program are looked for (`--subroutine-path`, LinuxCNC's
     /// SUBROUTINE_PATH), and the file each one loaded from there came from.
     sub_files: Option<Arc<dyn SubroutineFiles>>,

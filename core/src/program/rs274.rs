@@ -159,7 +159,8 @@ impl super::stream::LineReader for Rs274Reader {
         // percent line, it must end with a percent line ... if [not], it must have a program ending
         // command (M2 or M30) in it"); at the end of the file it stops with an error, after the moves
         // before it. A file cut short ends so too.
-        if self.dialect == Dialect::Rs274 && self.ended.is_none() && self.started {
+        // (Not where reading stopped early: what follows was not read.)
+        if self.dialect == Dialect::Rs274 && self.ended.is_none() && self.started && !self.flow.stopped {
             let what = if self.percent { "File ended with no percent sign" } else { "File ended with no percent sign or program end" };
             diags.warning(self.last_line, 1, format!("the file ends without {}: LinuxCNC stops here with \"{what}\" after running the moves before it; was the file cut short?", if self.percent { "the % closing the one that opens it" } else { "M2, M30 or a closing %" }));
         }
@@ -493,6 +494,10 @@ impl Rs274Reader {
             return;
         }
         if !words.is_empty() && !self.interp.block(&words, line, col, read.number, diags, out) {
+            if self.interp.halted {
+                self.flow.stopped = true;
+                return;
+            }
             diags.warning(line, first + 1, format!("line {line} not used"));
         }
         // LinuxCNC: "Lines of a file that occur after the end of a program are not to be executed"

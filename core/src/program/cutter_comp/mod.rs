@@ -152,6 +152,16 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
         diags.error(line, col, why.to_string());
         Some(false)
     };
+    // A move the compensation cannot make (a gouge, a radius too small for an arc or an entry):
+    // LinuxCNC stops there, and the move it held stays unresolved, so every later move would
+    // meet it again. Reading ends at it, as the control does.
+    let halt = |it: &mut Interpreter, diags: &mut Diags, col: usize, why: &str| {
+        *it = saved.clone();
+        it.comp = None;
+        it.halted = true;
+        diags.error(line, col, format!("{why} (LinuxCNC stops here: the rest of the program is not read)"));
+        Some(false)
+    };
     let mut emit: Vec<Block> = Vec::new();
     // The M codes and the plane, which act before G40/G41/G42 in the block, judged by the state
     // before it (interp_convert.cc convert_set_plane: "Cannot change planes with cutter radius
@@ -180,7 +190,7 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
             if let Some(comp) = st.on.take() {
                 if comp.radius > 0.0 && !comp.first {
                     if let Err(why) = st.move_endpoint_and_flush([comp.current[0], comp.current[1]], metric, unit, &mut emit) {
-                        return fail(it, diags, w.column, &why);
+                        return halt(it, diags, w.column, &why);
                     }
                     st.dequeue(&mut emit);
                     st.arc_not_allowed = true;
@@ -338,14 +348,14 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
             _ => Err("a move other than G0, G1, G2 or G3 with cutter radius compensation on".into()),
         };
         if let Err(why) = result {
-            return fail(it, diags, column, &why);
+            return halt(it, diags, column, &why);
         }
     }
     // A stop (M0, M1, M2, M30, M60) sends every held move (convert_stop); M2 and M30 end compensation.
     if stops {
         if let Some(comp) = st.on.clone() {
             if let Err(why) = st.move_endpoint_and_flush([comp.current[0], comp.current[1]], metric, unit, &mut emit) {
-                return fail(it, diags, column, &why);
+                return halt(it, diags, column, &why);
             }
         }
         st.dequeue(&mut emit);

@@ -96,6 +96,9 @@ pub struct Interpreter {
     /// LinuxCNC: the positions `G28.1` and `G30.1` stored (parameters 5161-5166, 5181-5186), in the
     /// workpiece frame (m, rad), where the program set them; else the machine file's.
     pub(crate) stored_home: [Option<[f64; 6]>; 2],
+    /// The control stops at a block it refused (LinuxCNC at a move cutter compensation cannot
+    /// make): its reader reads no further.
+    pub(crate) halted: bool,
     /// LinuxCNC's cutter radius compensation and the moves it holds ([`super::cutter_comp`]), and the
     /// tool table its `G41`/`G42` take the radius from.
     pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
@@ -215,6 +218,7 @@ impl Interpreter {
             rotation: [0.0; 9],
             hold_frame: false,
             stored_home: [None; 2],
+            halted: false,
             exact: crate::program::Exact::Blend,
             exact_once: false,
             comp: None,
