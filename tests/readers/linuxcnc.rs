@@ -282,7 +282,8 @@ fn linuxcnc_reads_a_full_circle_without_axis_words() {
 
 /// What the reader cannot know is refused where it stands, and a damaged line sets nothing: a named
 /// parameter read before it is set (LinuxCNC's error too), a numbered one (LinuxCNC reads 0, Fanuc
-/// vacant), the machine's state (`#5221`, `#<_x>`), a division by zero, an unclosed bracket.
+/// vacant), the machine's state this reader does not hold (`#5221`, `#<_spindle_on>`), a division by
+/// zero, an unclosed bracket.
 #[test]
 fn rs274_refuses_parameters_it_cannot_know() {
     let body = |line: &str| format!("G21 G90 G94 F1000\n#<a> = 2\n{line}\nG1 X#<a>\nM2\n");
@@ -290,7 +291,7 @@ fn rs274_refuses_parameters_it_cannot_know() {
         ("G1 X#<b>", 5, "named parameter #<b> is not defined"),
         ("G1 X#7", 5, "#7 is read before the program sets it"),
         ("G1 X#5221", 5, "#5221 is a system parameter"),
-        ("G1 X#<_X>", 5, "#<_x> is the interpreter's or the machine's state"),
+        ("G1 X#<_Spindle_On>", 5, "#<_spindle_on> is the interpreter's or the machine's state"),
         ("G1 X#<_hal[kins.x-offset]>", 5, "the machine file gives no HAL pin 'kins.x-offset'"),
         ("G1 X[1/[#<a>-2]]", 7, "division by zero"),
         ("G1 X[#<a> + 1", 5, "'[' is not closed"),
@@ -590,15 +591,17 @@ fn linuxcnc_world(path: &Path) -> Vec<Placed> {
         let inner = &l[l.find('(').unwrap() + 1..l.rfind(')').unwrap()];
         let v: Vec<f64> = inner.split(',').filter_map(|x| x.trim().parse().ok()).collect();
         let mm = |x: f64| if inch { x * 25.4 } else { x };
+        // Offsets in mm as set (the canonical layer keeps them in its own units), positions in
+        // the program's unit as it moves.
         let place = |p: [f64; 3]| {
-            let xy = turned([p[0] + g92[0], p[1] + g92[1]], r);
-            [mm(xy[0] + g5x[0]), mm(xy[1] + g5x[1]), mm(p[2] + g92[2] + g5x[2])]
+            let xy = turned([mm(p[0]) + g92[0], mm(p[1]) + g92[1]], r);
+            [xy[0] + g5x[0], xy[1] + g5x[1], mm(p[2]) + g92[2] + g5x[2]]
         };
         match &l[..l.find('(').unwrap()] {
             "USE_LENGTH_UNITS" => inch = inner.contains("INCHES"),
             "SELECT_PLANE" => plane = if inner.contains("XZ") { "XZ" } else if inner.contains("YZ") { "YZ" } else { "XY" },
-            "SET_G5X_OFFSET" => g5x = [v[1], v[2], v[3]],
-            "SET_G92_OFFSET" => g92 = [v[0], v[1], v[2]],
+            "SET_G5X_OFFSET" => g5x = [mm(v[1]), mm(v[2]), mm(v[3])],
+            "SET_G92_OFFSET" => g92 = [mm(v[0]), mm(v[1]), mm(v[2])],
             "SET_XY_ROTATION" => r = v[0],
             "SET_FEED_RATE" => feed = v[0],
             "ARC_FEED" => {
@@ -747,6 +750,32 @@ fn rs274_moves_to_stored_positions_as_linuxcnc_does() {
         ("G21 G90\nG28.1 X0\nM2\n", "linuxcnc-xyzac-trt", "2:7:", "axis words are not read with them"),
     ] {
         let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default().on(&fiveaxis::machine::Machine::builtin(machine).unwrap()));
+        let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
+        has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
+    }
+}
+
+/// LinuxCNC's predefined parameters of the interpreter's state and subroutines' return values read
+/// as its interpreter reads them (`state_parameters.ngc`, rs274's output by make_canon.sh): each
+/// value is seen in the move it makes, so every move's end and feed is checked against rs274's. The
+/// values are those before the line runs (LinuxCNC reads a line whole, then runs it: `G91
+/// X[#<_incremental>]` reads 0). Then the state this reader does not hold stays refused.
+#[test]
+fn rs274_reads_the_interpreters_state_parameters_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join("state_parameters.ngc")).unwrap();
+    let p = read(&text, Dialect::Rs274, "state_parameters.ngc", &ReadOptions::default());
+    let ours = same_places_as_linuxcnc(&p, &dir.join("state_parameters.canon"));
+    // `o<twice> call [5]` returns 10 by `return [#1 * 2]`, in G55 (offset X10 Y5, rotated 30 deg).
+    let (s, c) = 30f64.to_radians().sin_cos();
+    let at = |x: f64, y: f64| [10.0 + x * c - y * s, 5.0 + x * s + y * c];
+    assert!(ours.iter().any(|m| { let w = at(10.0, 1.0); (m.1[0] - w[0]).abs() < 1e-9 && (m.1[1] - w[1]).abs() < 1e-9 }), "{ours:?}");
+    for (text, at, needle) in [
+        ("G21 G90\nG1 X[#<_spindle_on>] F100\nM2\n", "2:6:", "#<_spindle_on> is the interpreter's or the machine's state"),
+        ("G21 G90\nG1 X[#5400] F100\nM2\n", "2:6:", "#5400 is a system parameter"),
+        ("G21 G90\nG0 X0 Y0\nG41.1 D2\nG1 X[#<_x> + 10] F100\nM2\n", "4:6:", "#<_x> is the interpreter's or the machine's state"),
+    ] {
+        let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
         let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
         has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
     }

@@ -184,13 +184,16 @@ pub struct Flow {
     /// SUBROUTINE_PATH), and the file each one loaded from there came from.
     sub_files: Option<Arc<dyn SubroutineFiles>>,
     files: HashMap<String, String>,
+    /// The value the last subroutine returned (`return [expr]`, `endsub [expr]`; LinuxCNC's
+    /// `#<_value>`), and whether it returned one (`#<_value_returned>`).
+    pub(crate) value: (f64, bool),
 }
 
 impl Flow {
     /// The flow of a read whose control blocks may run `budget` lines, its subroutines not defined
     /// in the program looked for in `sub_files`.
     pub fn new(budget: usize, sub_files: Option<Arc<dyn SubroutineFiles>>) -> Flow {
-        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new() }
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false) }
     }
 
     /// The subroutine `name` from its own file on the search path (LinuxCNC's find_ngc_file: `NAME.ngc`
@@ -423,7 +426,12 @@ impl Rs274Reader {
                     self.flow.subs.insert(o.name.clone(), Arc::new(lines[pc..=end].to_vec()));
                     pc = end + 1;
                 }
-                Keyword::EndSub | Keyword::Return => return End::Return,
+                Keyword::EndSub | Keyword::Return => {
+                    return match self.return_value(o, chars, *line, *col, diags) {
+                        true => End::Return,
+                        false => End::Stopped,
+                    };
+                }
                 Keyword::Call => {
                     match self.call(o, chars, *line, *col, out, diags) {
                         End::Stopped => return End::Stopped,
@@ -500,6 +508,25 @@ impl Rs274Reader {
         End::Done
     }
 
+    /// `return` or `endsub` with its optional `[value]` (interp_read.cc: "optional return value
+    /// expression"): LinuxCNC's `#<_value>` and `#<_value_returned>`, 0 without one. False if the
+    /// value cannot be read (the run stopped).
+    fn return_value(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, diags: &mut Diags) -> bool {
+        let start = skip_blanks(chars, o.rest);
+        if chars.get(start) != Some(&'[') {
+            self.flow.value = (0.0, false);
+            return true;
+        }
+        let mut kept = None;
+        match self.bracket(o, chars, line, col, &mut kept, diags) {
+            Some(v) => {
+                self.flow.value = (v, true);
+                true
+            }
+            None => false,
+        }
+    }
+
     /// A defect in the flow: said at its line, and nothing more is read (what follows would run
     /// from a state the flow left unknown).
     fn stop(&mut self, line: usize, column: usize, message: String, diags: &mut Diags) -> End {
@@ -514,6 +541,7 @@ impl Rs274Reader {
     /// `chars` is the line from its O word on, which stands at 0-based column `col`; `kept` the
     /// value compiled when first run.
     fn bracket(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<f64> {
+        self.refresh_state(true);
         let fail = |this: &mut Self, e: ExprError, diags: &mut Diags| {
             this.stop(line, col + e.column, format!("o{} {}: {}", o.name, word(o.keyword), e.message), diags);
             None
@@ -584,6 +612,7 @@ impl Rs274Reader {
         if self.flow.depth >= MAX_CALL_DEPTH {
             return self.stop(line, col + 1, format!("o{} call: calls nested more than {MAX_CALL_DEPTH} deep", o.name), diags);
         }
+        self.refresh_state(true);
         let mut args = Vec::new();
         let mut i = o.rest;
         loop {
@@ -609,6 +638,8 @@ impl Rs274Reader {
         // The body, without its `sub` and `endsub` lines. A subroutine of another file runs at the
         // call: its blocks and diagnostics stand at the call's line, a diagnostic naming its own.
         let body_lines = body.get(1..body.len().saturating_sub(1)).unwrap_or(&[]);
+        // The endsub line, whose [value] is returned when the body runs to it.
+        let endsub = body.last().filter(|_| body.len() > 1).map(|(l, t)| (*l, t.clone()));
         let end = match self.flow.files.get(&o.name).cloned() {
             None => self.run(body_lines, out, diags),
             Some(file) => {
@@ -626,6 +657,17 @@ impl Rs274Reader {
                 }
                 end
             }
+        };
+        let end = match (end, endsub) {
+            (End::Done, Some((l, text))) => {
+                let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
+                let first = chars.iter().position(|c| !c.is_whitespace()).unwrap_or(chars.len());
+                match parse(&chars[first..]) {
+                    Some(e) if !self.return_value(&e, &chars[first..], l, first, diags) => End::Stopped,
+                    _ => End::Done,
+                }
+            }
+            (end, _) => end,
         };
         let restore = self.contexts.leave(self.flow.depth);
         self.flow.depth -= 1;

@@ -205,6 +205,19 @@ impl Rs274Reader {
         self.ended.is_some()
     }
 
+    /// LinuxCNC: the interpreter's state as its predefined parameters give it, for a line about to
+    /// read parameters (`reads`): as it stands after the lines before ([`Interpreter::state_parameters`],
+    /// the call level and the last subroutine's return value).
+    pub(super) fn refresh_state(&mut self, reads: bool) {
+        if !reads || self.dialect != Dialect::Rs274 {
+            return;
+        }
+        let (mut named, numbered) = self.interp.state_parameters();
+        let (value, returned) = self.flow.value;
+        named.extend([("_call_level", self.flow.depth() as f64), ("_value", value), ("_value_returned", if returned { 1.0 } else { 0.0 })]);
+        self.params.set_state(named, numbered);
+    }
+
     /// No `%` came: the lines held as leader are the program's, read now.
     fn release_leader(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
         if let Some(held) = self.leader.take() {
@@ -242,6 +255,7 @@ impl Rs274Reader {
         }
         let text = text.trim_end_matches('\r');
         if let Some(read) = kept {
+            self.refresh_state(text.contains('#'));
             return self.run_line(line, text, read, None, out, diags);
         }
         let before = diags.0.len();
@@ -267,6 +281,7 @@ impl Rs274Reader {
     /// one said; those values (`Now`) are this pass's. None when the line has nothing to run (blank,
     /// the tape's `%`, a title) or is damaged (said here).
     pub(super) fn read_line(&mut self, line: usize, text: &str, diags: &mut Diags) -> Option<(ReadLine, Vec<Now>)> {
+        self.refresh_state(text.contains('#'));
         // Room for every character at once (a char per byte at most): no regrowing as it fills.
         let mut chars: Vec<char> = Vec::with_capacity(text.len());
         chars.extend(text.chars());

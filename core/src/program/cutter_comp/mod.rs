@@ -42,7 +42,7 @@ enum Held {
 /// Compensation in effect (`G41`, `G42`, `G41.1`, `G42.1` until `G40`).
 #[derive(Debug, Clone)]
 pub(crate) struct Comp {
-    side: Side,
+    pub(crate) side: Side,
     /// The tool's radius, m (0: the moves run as programmed).
     radius: f64,
     /// No move has been compensated yet (the next is the entry move).

@@ -75,6 +75,12 @@ pub(crate) struct Tools {
 }
 
 impl Tools {
+    /// The tool a `T` word selected, and the one `M6` or `M61 Q` put in the spindle, where the
+    /// program said (LinuxCNC's `#<_selected_tool>`, `#5400`).
+    pub(crate) fn known(&self) -> (Option<u32>, Option<u32>) {
+        (self.selected, self.spindle)
+    }
+
     /// A block's `T`, `M6` and `M61 Q`.
     pub(super) fn track(&mut self, words: &[Word]) {
         let whole = |w: &&Word| w.value >= 0.0 && w.value.fract() == 0.0 && w.value <= u32::MAX as f64;

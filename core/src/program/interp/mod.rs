@@ -12,6 +12,7 @@ mod block;
 mod codes;
 mod modal;
 mod rotation;
+mod state_params;
 
 pub(crate) use modal::ModalState;
 pub(crate) use block::polar_step;

@@ -77,6 +77,9 @@ pub struct Parameters {
     /// The machine's HAL pins a program may read (`#<_hal[name]>`), by lower-case pin name, as its
     /// configuration sets them (the machine file's `hal_pins`).
     hal_pins: std::collections::BTreeMap<String, f64>,
+    /// The interpreter's state as LinuxCNC's predefined parameters give it (`#<_x>`, `#<_metric>`,
+    /// `#5420`, ...), where the reader knows it: set before each line is read ([`Parameters::set_state`]).
+    state: (Vec<(&'static str, f64)>, Vec<(u32, f64)>),
 }
 
 impl Parameters {
@@ -99,6 +102,12 @@ impl Parameters {
         let (s, end) = expr::setting(chars, i, true)?;
         let (target, v) = s.run(self)?;
         Ok((target, v, end))
+    }
+
+    /// The interpreter's state now, as its predefined named and numbered parameters (LinuxCNC
+    /// manual §11.4.3.4, §11.4.2.7): what a line reads of them. One not given stays refused.
+    pub fn set_state(&mut self, named: Vec<(&'static str, f64)>, numbered: Vec<(u32, f64)>) {
+        self.state = (named, numbered);
     }
 
     /// Set a parameter (a line's settings, after every value on the line was read).
@@ -179,6 +188,9 @@ impl Parameters {
     /// A numbered parameter's value, where the program set it (see the module's fail-closed rules).
     fn read_numbered(&self, n: u32, column: usize) -> Result<f64, ExprError> {
         if n > MAX_USER_PARAMETER {
+            if let Some(&(_, v)) = self.state.1.iter().find(|(k, _)| *k == n) {
+                return Ok(v);
+            }
             return err(column, format!("#{n} is a system parameter (offsets, tool, position): the machine's state is not modelled"));
         }
         match self.numbered.get(&n) {
@@ -202,6 +214,9 @@ impl Parameters {
             }
             if let Some(pin) = name.strip_prefix("_hal[") {
                 return err(column, format!("#<{name}>: the machine file gives no HAL pin '{pin}' (its hal_pins table)"));
+            }
+            if let Some(&(_, v)) = self.state.0.iter().find(|(k, _)| *k == name) {
+                return Ok(v);
             }
             if is_machine_state(name) {
                 return err(column, format!("#<{name}> is the interpreter's or the machine's state: not modelled"));

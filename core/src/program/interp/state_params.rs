@@ -1,0 +1,85 @@
+//! LinuxCNC's predefined parameters that read the interpreter's state (LinuxCNC manual §11.4.3.4
+//! "Predefined Named Parameters", interp_namedparams.cc `lookup_named_param`; numbered ones of
+//! §11.4.2.7: `#5220` the coordinate system, `#5400` the tool, `#5420`-`#5425` the current
+//! position): the values this reader knows. The spindle, coolant, overrides, tool length offsets
+//! and the line number are not modelled and stay refused.
+
+use super::Interpreter;
+use crate::program::{FeedMode, Motion, Plane};
+use crate::units::MM;
+
+impl Interpreter {
+    /// Named and numbered parameters of the state now, values in the program's units (deg for
+    /// the rotary axes), as LinuxCNC gives them.
+    pub(crate) fn state_parameters(&self) -> (Vec<(&'static str, f64)>, Vec<(u32, f64)>) {
+        let flag = |b: bool| if b { 1.0 } else { 0.0 };
+        let unit = self.unit;
+        let mut named: Vec<(&'static str, f64)> = vec![
+            ("_metric", flag(self.unit == MM)),
+            ("_imperial", flag(self.unit != MM)),
+            ("_absolute", flag(self.absolute)),
+            ("_incremental", flag(!self.absolute)),
+            ("_inverse_time", flag(self.feed_mode == FeedMode::InverseTime)),
+            ("_units_per_minute", flag(self.feed_mode == FeedMode::PerMinute)),
+            ("_units_per_rev", 0.0),
+            // G54..G59 as 540..590, G59.1..G59.3 as 591..593.
+            ("_coord_system", if self.system < 6 { 540.0 + 10.0 * self.system as f64 } else { 585.0 + self.system as f64 }),
+            ("_plane", match self.plane {
+                Plane::Xy => 170.0,
+                Plane::Zx => 180.0,
+                Plane::Yz => 190.0,
+            }),
+            // LinuxCNC's R_PLANE is G99's return to the R point.
+            ("_retract_r_plane", flag(self.cycles.to_r)),
+            ("_retract_old_z", flag(!self.cycles.to_r)),
+            ("_ijk_absolute_mode", flag(self.arc_absolute)),
+            ("_lathe_diameter_mode", 0.0),
+            ("_lathe_radius_mode", 1.0),
+            ("_feed", self.feed.map_or(0.0, |(_, raw)| raw)),
+            // The control runs the program (milltask), not a preview.
+            ("_task", 1.0),
+        ];
+        let comp = self.comp.as_ref().and_then(|c| c.on.as_ref());
+        named.push(("_ccomp", comp.map_or(400.0, |c| if c.side == crate::program::cutter_comp::Side::Left { 410.0 } else { 420.0 })));
+        // The motion mode as a G code times ten; G80 after a cycle's cancel and at the start.
+        let motion = match (&self.cycles.active, self.motion) {
+            (Some(a), _) => a.kind.code().parse::<f64>().ok().map(|g| g * 10.0),
+            (None, Some(Motion::Rapid)) => Some(0.0),
+            (None, Some(Motion::Linear)) => Some(10.0),
+            (None, Some(Motion::ArcCw)) => Some(20.0),
+            (None, Some(Motion::ArcCcw)) => Some(30.0),
+            (None, None) => Some(800.0),
+        };
+        if let Some(m) = motion {
+            named.push(("_motion_mode", m));
+        }
+        let mut numbered = vec![(5220, self.system as f64 + 1.0)];
+        let (selected, spindle) = self.tools.known();
+        if let Some(t) = selected {
+            named.push(("_selected_tool", t as f64));
+        }
+        if let Some(t) = spindle {
+            named.push(("_current_tool", t as f64));
+            numbered.push((5400, t as f64));
+        }
+        // Where the tool stands: LinuxCNC's is the compensated tool's under cutter compensation,
+        // which this reader holds as the programmed point: not given then.
+        if comp.is_none() {
+            let p = self.last;
+            let at = [p[0] / unit, p[1] / unit, p[2] / unit, p[3] / self.rotary_unit[0], p[4] / self.rotary_unit[1], p[5] / self.rotary_unit[2]];
+            let world = self.world_now().map(|v| v / unit);
+            for (k, name) in ["_x", "_y", "_z", "_a", "_b", "_c"].into_iter().enumerate() {
+                named.push((name, at[k]));
+                numbered.push((5420 + k as u32, at[k]));
+            }
+            for (k, name) in ["_abs_x", "_abs_y", "_abs_z"].into_iter().enumerate() {
+                named.push((name, world[k]));
+            }
+            // Rotary axes have no offsets here.
+            for (k, name) in ["_abs_a", "_abs_b", "_abs_c"].into_iter().enumerate() {
+                named.push((name, at[3 + k]));
+            }
+        }
+        (named, numbered)
+    }
+}
