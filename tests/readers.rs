@@ -6,6 +6,7 @@ use fiveaxis::program::{read, read_cl, read_heidenhain, read_rs274, Dialect, Fee
 use fiveaxis::units::{DEG, MM};
 use proptest::prelude::*;
 
+mod fanuc;
 mod klartext;
 mod linuxcnc;
 

@@ -9,6 +9,7 @@ mod cl;
 mod cutter_comp;
 mod cycles;
 mod fanuc;
+mod fanuc_rotation;
 mod feature;
 mod heidenhain;
 mod interp;

@@ -100,6 +100,10 @@ pub struct Interpreter {
     /// The control stops at a block it refused (LinuxCNC at a move cutter compensation cannot
     /// make): its reader reads no further.
     pub(crate) halted: bool,
+    /// Fanuc's and Haas' coordinate system rotation `G68` in effect, if any.
+    pub(crate) rotation2d: Option<crate::program::fanuc_rotation::Rotation>,
+    /// `G69` has cancelled it and no move has come since (the first must be absolute).
+    pub(crate) after_g69: bool,
     /// LinuxCNC's cutter radius compensation and the moves it holds ([`super::cutter_comp`]), and the
     /// tool table its `G41`/`G42` take the radius from.
     pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
@@ -220,6 +224,8 @@ impl Interpreter {
             hold_frame: false,
             stored_home: [None; 2],
             halted: false,
+            rotation2d: None,
+            after_g69: false,
             exact: crate::program::Exact::Blend,
             exact_once: false,
             comp: None,

@@ -102,7 +102,7 @@ impl Interpreter {
     ///
     /// [`to_world`]: Interpreter::to_world
     pub(crate) fn fill_xy(&self, b: &mut Block) {
-        if self.rotation_now() != 0.0 && (b.targets.x.is_some() || b.targets.y.is_some()) {
+        if (self.rotation_now() != 0.0 || self.rotation2d.is_some()) && (b.targets.x.is_some() || b.targets.y.is_some()) {
             b.targets.x = b.targets.x.or(Some(self.last[0]));
             b.targets.y = b.targets.y.or(Some(self.last[1]));
         }

@@ -1,0 +1,177 @@
+//! Fanuc's and Haas' coordinate system rotation in the XY plane, `G68 X Y R` until `G69` (FANUC
+//! Series 16/18-C Operator's Manual B-62764EN §15.10 and Series 15i-MA B-63324EN §14 "Coordinate
+//! system rotation"; Haas Mill Operator's Manual, G68 Rotation): a programmed point P goes to
+//! C + rot(P - C, R), C the centre. Its rules:
+//! - X Y are the centre (absolute, in the work coordinate system); without them the tool's
+//!   position when G68 is read. R is the angle, deg, counter-clockwise positive. "Values in the line
+//!   that contains the G68 command are not rotated" (Haas): the block moves nothing.
+//! - Fanuc: "The center of rotation for an incremental command programmed after G68 but before an
+//!   absolute command is the tool position when G68 was programmed"; Haas does not say, so there an
+//!   incremental move before the first absolute one is refused.
+//! - "G17, G18 or G19 must not be designated in the mode of coordinate system rotation"; "The first
+//!   move command after G69 must be specified as an absolute command" (B-62764EN).
+//! - Refused, their rules depending on the machine's parameters or not at hand: R under G91 (Fanuc
+//!   parameter 5400#0, Haas Setting 73), G68 without R (parameter 5410/6411, Haas Setting 72), the XZ
+//!   and YZ planes, a work offset change, G53, G28/G30, tool-centre point or a tilted plane with it.
+//!
+//! The interpreter keeps the program's point; a block leaves it placed ([`Rotation::place`]).
+
+use super::fanuc::{apply, code};
+use super::interp::{Dimension, Interpreter, Word};
+use super::lex::Diags;
+use super::{Block, Dialect, Plane};
+
+const DEG: f64 = std::f64::consts::PI / 180.0;
+
+/// A coordinate system rotation in effect (program coordinates, m; rad).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Rotation {
+    pub centre: [f64; 2],
+    pub angle: f64,
+    /// Fanuc: the tool's position when G68 was read, the centre of incremental moves until an
+    /// absolute one.
+    pub until_absolute: Option<[f64; 2]>,
+}
+
+impl Rotation {
+    /// `p` (program X Y, m) where the rotation puts it, about `centre`.
+    pub(crate) fn turn(centre: [f64; 2], angle: f64, p: [f64; 2]) -> [f64; 2] {
+        let (s, c) = angle.sin_cos();
+        let d = [p[0] - centre[0], p[1] - centre[1]];
+        [centre[0] + d[0] * c - d[1] * s, centre[1] + d[0] * s + d[1] * c]
+    }
+
+    /// A block made in the program's frame, placed: its X Y (both set) and an arc's centre turned
+    /// about the centre in use.
+    pub(crate) fn place(&self, centre: [f64; 2], b: &mut Block) {
+        if let (Some(x), Some(y)) = (b.targets.x, b.targets.y) {
+            let t = Self::turn(centre, self.angle, [x, y]);
+            (b.targets.x, b.targets.y) = (Some(t[0]), Some(t[1]));
+        }
+        if let Some(a) = b.arc.as_mut() {
+            let t = Self::turn(centre, self.angle, [a.centre[0], a.centre[1]]);
+            (a.centre[0], a.centre[1]) = (t[0], t[1]);
+        }
+    }
+}
+
+/// G90 or G91 for the block's words: its own code, else the modal one.
+fn modal_absolute(it: &Interpreter, words: &[Word]) -> bool {
+    let has = |c: &str| words.iter().any(|w| w.letter == 'G' && code(w) == c);
+    if has("91") {
+        false
+    } else {
+        has("90") || it.absolute()
+    }
+}
+
+/// A block with `G68` or `G69`, or any block under a rotation that this reader refuses there:
+/// `Some(made)`, or `None` where the block is an ordinary one.
+pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
+    let g68 = words.iter().find(|w| w.letter == 'G' && code(w) == "68");
+    let g69 = words.iter().any(|w| w.letter == 'G' && code(w) == "69");
+    let fail = |diags: &mut Diags, col: usize, why: String| {
+        diags.error(line, col, why);
+        Some(false)
+    };
+    if g68.is_none() && it.rotation2d.is_none() {
+        // "The first move command after G69 must be specified as an absolute command."
+        if it.after_g69 {
+            if let Some(w) = words.iter().find(|w| matches!(w.letter, 'X' | 'Y')) {
+                if !w.dimension.absolute(modal_absolute(it, words)) {
+                    return fail(diags, w.column, format!("{}{}: the first move command after G69 must be specified as an absolute command (FANUC)", w.letter, w.raw));
+                }
+                it.after_g69 = false;
+            }
+        }
+        // Haas' G69 with no rotation in effect cancels nothing (Fanuc's also ends G68.2, read there).
+        if g69 && it.dialect() == Dialect::Haas {
+            let rest: Vec<Word> = words.iter().filter(|w| !(w.letter == 'G' && code(w) == "69")).cloned().collect();
+            return Some(apply(it, &rest, line, column, number, diags, out));
+        }
+        return None;
+    }
+    if let (Some(r), false) = (it.rotation2d, g69) {
+        // What this reader does not read under a rotation.
+        for w in words.iter().filter(|w| w.letter == 'G') {
+            let why = match code(w).as_str() {
+                "17" | "18" | "19" => "G17, G18 or G19 must not be designated in the mode of coordinate system rotation (FANUC)",
+                "54" | "55" | "56" | "57" | "58" | "59" | "54.1" | "92" | "52" | "10" => "a work offset changed under coordinate system rotation G68: where the centre goes is not read (cancel it with G69 first)",
+                "53" | "28" | "30" => "machine coordinates or a reference return under coordinate system rotation G68 are not read (cancel it with G69 first)",
+                "43.4" | "43.5" | "68.2" => "tool-centre point or a tilted working plane under coordinate system rotation G68 is not read",
+                _ => continue,
+            };
+            return fail(diags, w.column, format!("G{}: {why}", w.raw));
+        }
+        // Haas: an incremental move before the first absolute one.
+        if r.until_absolute.is_some() && it.dialect() == Dialect::Haas && g68.is_none() {
+            if let Some(w) = words.iter().find(|w| matches!(w.letter, 'X' | 'Y') && !w.dimension.absolute(modal_absolute(it, words))) {
+                return fail(diags, w.column, format!("{}{}: an incremental move after G68 before an absolute one: about which centre Haas turns it is not in its manual (write the first move after G68 in G90)", w.letter, w.raw));
+            }
+        }
+        if g68.is_none() {
+            return None;
+        }
+    }
+    if g69 {
+        // The tool stays; its program point is where it stands. The first move must be absolute.
+        if let Some(r) = it.rotation2d.take() {
+            let p = it.position();
+            let at = match r.until_absolute {
+                Some(t) => Rotation::turn(t, r.angle, [p[0], p[1]]),
+                None => Rotation::turn(r.centre, r.angle, [p[0], p[1]]),
+            };
+            it.set_position_xy(at);
+            it.after_g69 = true;
+        }
+        if g68.is_none() {
+            let rest: Vec<Word> = words.iter().filter(|w| !(w.letter == 'G' && code(w) == "69")).cloned().collect();
+            return Some(apply(it, &rest, line, column, number, diags, out));
+        }
+    }
+    let g = g68?;
+    if it.tilt().is_some() || it.tcp() {
+        return fail(diags, g.column, format!("G{}: coordinate system rotation under tool-centre point (G43.4/G43.5) or a tilted working plane (G68.2) is not read", g.raw));
+    }
+    // Its block: the settings first (a G17 or G90 in it counts), then the rotation.
+    let taken = ['X', 'Y', 'Z', 'R', 'I', 'J', 'K'];
+    let settings = super::fanuc::settings(words, &taken, &["68"]);
+    if let Some(w) = words.iter().find(|w| matches!(w.letter, 'Z' | 'I' | 'J' | 'K')) {
+        return fail(diags, w.column, format!("G{} {}{}: only G68 X Y R (rotation in the XY plane) is read; I J K make Fanuc's three-dimensional conversion, and the XZ and YZ planes are not read", g.raw, w.letter, w.raw));
+    }
+    if !apply(it, &settings, line, column, number, diags, out) {
+        return Some(false);
+    }
+    if it.plane() != Plane::Xy {
+        return fail(diags, g.column, format!("G{}: coordinate system rotation in the XZ or YZ plane is not read (G17 only)", g.raw));
+    }
+    let Some(r) = words.iter().find(|w| w.letter == 'R') else {
+        return fail(diags, g.column, format!("G{} without R: the angle is then the machine's parameter (FANUC No. 5410, Haas Setting 72), not the program's", g.raw));
+    };
+    if !r.raw.contains('.') {
+        return fail(diags, r.column, format!("R{}: an angle without a decimal point counts least increments, 0.001 or 0.00001 deg as the machine's parameter says (FANUC No. 6400#2); write R{}.", r.raw, r.raw));
+    }
+    if !r.dimension.absolute(it.absolute()) {
+        return fail(diags, r.column, format!("R{} under G91: whether the angle adds to the last one is the machine's parameter (FANUC No. 5400#0, Haas Setting 73)", r.raw));
+    }
+    let p = it.position();
+    let unit = it.unit();
+    let word = |l: char| words.iter().find(|w| w.letter == l);
+    for w in [word('X'), word('Y')].into_iter().flatten() {
+        if w.dimension == Dimension::Incremental || !it.absolute() && w.dimension != Dimension::Absolute {
+            return fail(diags, w.column, format!("{}{}: the centre of rotation is an absolute position (write G68 under G90)", w.letter, w.raw));
+        }
+    }
+    let centre = [word('X').map_or(p[0], |w| w.value * unit), word('Y').map_or(p[1], |w| w.value * unit)];
+    // A second G68 before G69: a new centre and angle (the tool's position read as before it).
+    let here = match it.rotation2d {
+        Some(old) => Rotation::turn(old.until_absolute.unwrap_or(old.centre), old.angle, [p[0], p[1]]),
+        None => [p[0], p[1]],
+    };
+    if it.rotation2d.is_some() {
+        it.set_position_xy(here);
+    }
+    it.rotation2d = Some(Rotation { centre, angle: r.value * DEG, until_absolute: Some(here) });
+    it.after_g69 = false;
+    Some(true)
+}

@@ -1,0 +1,81 @@
+//! Fanuc's and Haas' coordinate system rotation `G68 X Y R` / `G69`, against the manuals' rule
+//! computed here: a programmed point P goes to C + rot(P - C, R); Fanuc's incremental moves before
+//! the first absolute one turn about the tool's position at G68 (B-62764EN §15.10).
+
+use super::*;
+
+/// `p` turned about `c` by `deg` counter-clockwise.
+fn about(c: [f64; 2], deg: f64, p: [f64; 2]) -> [f64; 2] {
+    let (s, k) = deg.to_radians().sin_cos();
+    [c[0] + (p[0] - c[0]) * k - (p[1] - c[1]) * s, c[1] + (p[0] - c[0]) * s + (p[1] - c[1]) * k]
+}
+
+/// The X Y each move of `p` ends at (mm), in order.
+fn xy(p: &Program) -> Vec<[f64; 2]> {
+    let mut at = [0.0; 2];
+    p.blocks
+        .iter()
+        .filter(|b| !b.targets.is_empty())
+        .map(|b| {
+            if let Some(x) = b.targets.x {
+                at[0] = (x + b.datum[0]) / MM;
+            }
+            if let Some(y) = b.targets.y {
+                at[1] = (y + b.datum[1]) / MM;
+            }
+            at
+        })
+        .collect()
+}
+
+/// Moves, an arc and a drilling cycle's hole under `G68 X10 Y5 R30`, then `G69`: each end (and
+/// the arc's centre) where the rule puts it; the tool stays where it is at G68 and G69.
+#[test]
+fn fanuc_g68_turns_the_program_about_its_centre() {
+    let text = "%\nO1000\nG21 G90 G17 G94\nG0 X10. Y0. Z5.\nG1 F500.\nG68 X10. Y5. R30.\nG91 G1 X10.\nG90 G1 X20. Y5.\nG1 Y15.\nG91 X-10.\nG90 G2 X20. Y15. I5. J0.\nG98 G81 X15. Y5. Z-2. R2.\nG80\nG69\nG90 G1 X0. Y0.\nM30\n%\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let (c, t) = ([10.0, 5.0], [10.0, 0.0]);
+    let want = [
+        [10.0, 0.0],                      // G0 X10 Y0, before the rotation
+        about(t, 30.0, [20.0, 0.0]),      // G91 X10 before any absolute move: about the tool's position
+        about(c, 30.0, [20.0, 5.0]),      // G90 X20 Y5
+        about(c, 30.0, [20.0, 15.0]),     // Y15
+        about(c, 30.0, [10.0, 15.0]),     // G91 X-10: from the programmed point
+        about(c, 30.0, [20.0, 15.0]),     // the arc's end
+        about(c, 30.0, [15.0, 5.0]),      // the hole: positioning,
+        about(c, 30.0, [15.0, 5.0]),      // to R,
+        about(c, 30.0, [15.0, 5.0]),      // to the bottom,
+        about(c, 30.0, [15.0, 5.0]),      // and back to the initial level (G98)
+        [0.0, 0.0],                       // after G69: as programmed
+    ];
+    let got = xy(&p);
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (k, (g, w)) in got.iter().zip(want).enumerate() {
+        assert!((g[0] - w[0]).abs() < 1e-9 && (g[1] - w[1]).abs() < 1e-9, "move {k}: {g:?}, the rule {w:?}");
+    }
+    let arc = p.blocks.iter().find_map(|b| b.arc.as_ref()).expect("the G2");
+    let centre = about(c, 30.0, [15.0, 15.0]);
+    assert!((arc.centre[0] / MM - centre[0]).abs() < 1e-9 && (arc.centre[1] / MM - centre[1]).abs() < 1e-9, "{arc:?}");
+}
+
+/// What the rotation refuses, each where it stands: the manuals' own errors, and what the machine's
+/// parameters or settings decide.
+#[test]
+fn g68_refuses_what_its_rules_leave_to_the_machine() {
+    let head = "%\nO1000\nG21 G90 G17 G94 G0 X0. Y0.\n";
+    for (dialect, body, at, needle) in [
+        (Dialect::Fanuc, "G68 X0. Y0. R10.\nG18\nM30\n%\n", "5:1:", "must not be designated in the mode of coordinate system rotation"),
+        (Dialect::Fanuc, "G68 X0. Y0. R10.\nG55\nM30\n%\n", "5:1:", "a work offset changed under coordinate system rotation"),
+        (Dialect::Fanuc, "G68 X0. Y0.\nM30\n%\n", "4:1:", "without R"),
+        (Dialect::Fanuc, "G68 X0. Y0. R10\nM30\n%\n", "4:13:", "without a decimal point"),
+        (Dialect::Fanuc, "G91 G68 X0. Y0. R10.\nM30\n%\n", "4:17:", "under G91"),
+        (Dialect::Fanuc, "G68 X0. Y0. R10.\nG1 X5. F100.\nG69\nG91 G1 X1.\nM30\n%\n", "7:8:", "the first move command after G69 must be specified as an absolute command"),
+        (Dialect::Haas, "G68 X0. Y0. R10.\nG91 G1 X5. F100.\nM30\n%\n", "5:8:", "an incremental move after G68 before an absolute one"),
+        (Dialect::Fanuc, "G68 X0. Y0. R10.\nG28 Z0.\nM30\n%\n", "5:1:", "reference return under coordinate system rotation"),
+    ] {
+        let p = read(&format!("{head}{body}"), dialect, "t.nc", &ReadOptions::default());
+        let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
+        has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
+    }
+}
