@@ -27,6 +27,16 @@ fn has(p: &Program, line: usize, column: usize, needle: &str) {
     );
 }
 
+/// Each program of `cases` read in `dialect` with `options` has an error at its `line:col:`
+/// containing its text.
+fn refuses_each(dialect: Dialect, options: &ReadOptions, cases: &[(&str, &str, &str)]) {
+    for (text, at, needle) in cases {
+        let p = read(text, dialect, "t", options);
+        let (l, c) = at.trim_end_matches(':').split_once(':').unwrap();
+        has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
+    }
+}
+
 #[test]
 fn sing_program_reads_clean() {
     let p = read_heidenhain(SING);

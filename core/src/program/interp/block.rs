@@ -497,8 +497,12 @@ impl Interpreter {
                 // A move of the rotary axes alone takes F in degrees per minute whatever the length
                 // unit (LinuxCNC's SET_FEED_RATE: the angular feed is FROM_PROG_ANG(rate), no inch
                 // conversion; a degree is no length).
+                // LinuxCNC sets F (its step 4) before G20/G21 (step 16) in the order of execution,
+                // and its task keeps the feed across the change (emccanon.cc SET_FEED_RATE,
+                // GET_EXTERNAL_FEED_RATE): F is in the unit before the block's.
+                let unit = if self.dialect == Dialect::Rs274 { self.feed_unit } else { next.feed_unit };
                 next.feed = Some(match next.feed_mode {
-                    FeedMode::PerMinute => (w.value * next.feed_unit / MM, w.value),
+                    FeedMode::PerMinute => (w.value * unit / MM, w.value),
                     FeedMode::InverseTime => (w.value, w.value),
                 });
             }

@@ -22,7 +22,7 @@ pub(crate) struct ModalState {
     absolute: bool,
     arc_absolute: bool,
     feed_mode: FeedMode,
-    /// F as the program wrote it (program unit per minute, or inverse time), if set.
+    /// F in the program's unit per minute (or inverse time), if set: [`Interpreter::feed_in_program_units`].
     feed: Option<f64>,
     system: usize,
     to_r: bool,
@@ -33,6 +33,15 @@ pub(crate) struct ModalState {
 }
 
 impl Interpreter {
+    /// F as LinuxCNC's interpreter holds it: the path feed in the program's unit per minute (its
+    /// task converts it when the unit changes), or the inverse time as written.
+    pub(crate) fn feed_in_program_units(&self) -> Option<f64> {
+        self.feed.map(|(per_min, raw)| match self.feed_mode {
+            FeedMode::PerMinute => per_min * crate::units::MM / self.feed_unit,
+            FeedMode::InverseTime => raw,
+        })
+    }
+
     /// The modal state now (M70, M73).
     pub(crate) fn modal_state(&self) -> ModalState {
         ModalState {
@@ -41,7 +50,7 @@ impl Interpreter {
             absolute: self.absolute,
             arc_absolute: self.arc_absolute,
             feed_mode: self.feed_mode,
-            feed: self.feed.map(|(_, raw)| raw),
+            feed: self.feed_in_program_units(),
             system: self.system,
             to_r: self.cycles.to_r,
             g92_applied: self.axis_offset != [0.0; 3],

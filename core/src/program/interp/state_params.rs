@@ -35,7 +35,7 @@ impl Interpreter {
             ("_ijk_absolute_mode", flag(self.arc_absolute)),
             ("_lathe_diameter_mode", 0.0),
             ("_lathe_radius_mode", 1.0),
-            ("_feed", self.feed.map_or(0.0, |(_, raw)| raw)),
+            ("_feed", self.feed_in_program_units().unwrap_or(0.0)),
             // The control runs the program (milltask), not a preview.
             ("_task", 1.0),
         ];
