@@ -342,7 +342,7 @@ fn rs274_refuses_parameters_it_cannot_know() {
 }
 
 /// LinuxCNC's O-word blocks fail closed: a block that never ends, an end of another name, a
-/// `break` outside its loop, a call of a subroutine not defined before it, a condition that cannot
+/// `break` outside its loop, a call of a subroutine defined nowhere, a condition that cannot
 /// be read and an endless loop are each refused at their line, and nothing after them is read.
 #[test]
 fn rs274_o_word_defects_are_refused_where_they_stand() {
@@ -352,7 +352,7 @@ fn rs274_o_word_defects_are_refused_where_they_stand() {
         ("G1 X1 F100\no1 if [1]\nG1 X2\no2 endif\n", 4, "o2 endif ends no block: o1 if is open"),
         ("G1 X1 F100\no1 if [1]\no5 break\no1 endif\n", 3, "not inside a while or do loop of that name"),
         ("G1 X1 F100\no1 repeat [2]\no1 break\no1 endrepeat\n", 3, "not inside a while or do loop of that name"),
-        ("G1 X1 F100\no<tool_change> call [3]\n", 2, "no subroutine o<tool_change> is defined before it"),
+        ("G1 X1 F100\no<tool_change> call [3]\n", 2, "no subroutine o<tool_change> is defined in this file"),
         ("G1 X1 F100\no1 while [#<undefined> LT 2]\nG1 X2\no1 endwhile\n", 2, "o1 while"),
         ("G1 X1 F100\n#<i> = 0\no1 while [#<i> LT 1]\nG1 X2\no1 endwhile\nG1 X3\n", 4, "an endless loop"),
         ("G1 X1 F100\no1 endwhile\n", 2, "no block of that name is open"),
@@ -802,6 +802,25 @@ fn a_feed_stays_across_a_unit_change_as_linuxcncs_task_keeps_it() {
     for (g, w) in moves.iter().zip(want) {
         assert!(g.0 == w.0 && (g.1 - w.1).abs() < 1e-9 && (g.2 - w.2).abs() < 1e-9 && (g.3 - w.3).abs() < 1e-9, "{g:?}, expected {w:?}");
     }
+}
+
+/// A subroutine defined after its call, in the program's own file, is found as LinuxCNC skips
+/// forward to it (`subs_after.ngc`: the main program, then its subroutines after M2, one calling
+/// another defined after it; rs274's output by make_canon.sh): read whole and streamed from its
+/// file (which is then read again for the subroutine), the same moves as rs274's. A call of a
+/// subroutine defined nowhere is still refused.
+#[test]
+fn rs274_finds_subroutines_defined_after_their_call_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let path = dir.join("subs_after.ngc");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let whole = read(&text, Dialect::Rs274, "subs_after.ngc", &ReadOptions::default());
+    same_places_as_linuxcnc(&whole, &dir.join("subs_after.canon"));
+    let mut stream = fiveaxis::program::open(&path, Some(Dialect::Rs274), &ReadOptions::default()).unwrap();
+    let streamed: Vec<_> = stream.by_ref().collect();
+    assert_eq!(streamed, whole.blocks);
+    assert_eq!(stream.diagnostics().errors(), 0, "{:?}", stream.diagnostics().to_vec());
+    refuses_each(Dialect::Rs274, &ReadOptions::default(), &[("G21 G90\no<nowhere> call\nM2\no<elsewhere> sub\no<elsewhere> endsub\n", "2:1:", "no subroutine o<nowhere> is defined in this file (before the call or after it)")]);
 }
 
 /// LinuxCNC's saved modal state (`M70`-`M73`) is restored as its interpreter restores it

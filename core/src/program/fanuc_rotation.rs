@@ -68,8 +68,9 @@ fn modal_absolute(it: &Interpreter, words: &[Word]) -> bool {
 /// A block with `G68` or `G69`, or any block under a rotation that this reader refuses there:
 /// `Some(made)`, or `None` where the block is an ordinary one.
 pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
-    let g68 = words.iter().find(|w| w.letter == 'G' && code(w) == "68");
-    let g69 = words.iter().any(|w| w.letter == 'G' && code(w) == "69");
+    // Compared by value: most blocks have neither, and their words' text is not looked at.
+    let g68 = words.iter().find(|w| w.letter == 'G' && w.value == 68.0);
+    let g69 = words.iter().any(|w| w.letter == 'G' && w.value == 69.0);
     let fail = |diags: &mut Diags, col: usize, why: String| {
         diags.error(line, col, why);
         Some(false)
@@ -86,7 +87,7 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
         }
         // Haas' G69 with no rotation in effect cancels nothing (Fanuc's also ends G68.2, read there).
         if g69 && it.dialect() == Dialect::Haas {
-            let rest: Vec<Word> = words.iter().filter(|w| !(w.letter == 'G' && code(w) == "69")).cloned().collect();
+            let rest: Vec<Word> = words.iter().filter(|w| !(w.letter == 'G' && w.value == 69.0)).cloned().collect();
             return Some(apply(it, &rest, line, column, number, diags, out));
         }
         return None;
@@ -125,7 +126,7 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
             it.after_g69 = true;
         }
         if g68.is_none() {
-            let rest: Vec<Word> = words.iter().filter(|w| !(w.letter == 'G' && code(w) == "69")).cloned().collect();
+            let rest: Vec<Word> = words.iter().filter(|w| !(w.letter == 'G' && w.value == 69.0)).cloned().collect();
             return Some(apply(it, &rest, line, column, number, diags, out));
         }
     }

@@ -16,6 +16,7 @@ mod interp;
 mod klartext;
 mod lcnc_cycles;
 mod lcnc_home;
+mod later_subs;
 mod lex;
 mod macro_b;
 mod modal_context;
@@ -663,7 +664,14 @@ impl ReadOptions {
 /// Read `text` in `dialect`; `source` names it in reports.
 pub fn read(text: &str, dialect: Dialect, source: &str, options: &ReadOptions) -> Program {
     let mut p = match stream::Reader::new(dialect, options) {
-        Some(mut reader) => stream::read_whole(reader.get(), text, dialect),
+        Some(mut reader) => {
+            // A LinuxCNC program with subroutines may call one defined after the call: its text is
+            // kept for that (most programs have none, and are not copied).
+            if later_subs::may_define_subs(text) {
+                reader.with_program_text(|| later_subs::ProgramText::Bytes(text.as_bytes().into()));
+            }
+            stream::read_whole(reader.get(), text, dialect)
+        }
         None => stream::read_jumping(text, dialect, stream::jumping(dialect, options)),
     };
     p.source = source.to_string();

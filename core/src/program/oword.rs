@@ -187,23 +187,29 @@ pub struct Flow {
     /// The value the last subroutine returned (`return [expr]`, `endsub [expr]`; LinuxCNC's
     /// `#<_value>`), and whether it returned one (`#<_value_returned>`).
     pub(crate) value: (f64, bool),
+    /// The program's own text, read again for a subroutine defined after its call
+    /// ([`super::later_subs`]), where the reader was given it.
+    pub(crate) own: Option<Arc<super::later_subs::ProgramText>>,
+    /// How many subroutines of other files are running (a call in one skips forward in that file,
+    /// which is not read here).
+    in_file: usize,
 }
 
 impl Flow {
     /// The flow of a read whose control blocks may run `budget` lines, its subroutines not defined
     /// in the program looked for in `sub_files`.
     pub fn new(budget: usize, sub_files: Option<Arc<dyn SubroutineFiles>>) -> Flow {
-        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false) }
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false), own: None, in_file: 0 }
     }
 
-    /// The subroutine `name` from its own file on the search path (LinuxCNC's find_ngc_file: `NAME.ngc`
-    /// in each directory, the file then skipped to its `o<name> sub` and run to its `endsub`): its
-    /// lines, numbered in that file, and the file's path; `Ok(None)` where no directory has it.
     /// How deep in subroutine calls the run stands (0: the main program).
     pub(crate) fn depth(&self) -> usize {
         self.depth
     }
 
+    /// The subroutine `name` from its own file on the search path (LinuxCNC's find_ngc_file: `NAME.ngc`
+    /// in each directory, the file then skipped to its `o<name> sub` and run to its `endsub`): its
+    /// lines, numbered in that file, and the file's path; `Ok(None)` where no directory has it.
     fn load(&self, name: &str) -> Result<Option<(Vec<Line>, String)>, String> {
         let stem = name.trim_start_matches('<').trim_end_matches('>');
         let Some(files) = &self.sub_files else { return Ok(None) };
@@ -212,26 +218,11 @@ impl Flow {
                 return Err(format!("{shown} is larger than {MAX_HELD_BYTES} bytes"));
             }
             let text = String::from_utf8_lossy(&bytes);
-            let mut lines: Vec<Line> = Vec::new();
-            for (k, raw) in text.lines().enumerate() {
-                let raw = raw.trim_end_matches('\r');
-                let o = parse(&raw.trim_start().chars().collect::<Vec<_>>()).filter(|o| o.name.eq_ignore_ascii_case(name));
-                match (lines.is_empty(), o.map(|o| o.keyword)) {
-                    (true, Some(Keyword::Sub)) => lines.push((k + 1, raw.to_string())),
-                    (true, _) => {}
-                    (false, Some(Keyword::EndSub)) => {
-                        lines.push((k + 1, raw.to_string()));
-                        return Ok(Some((lines, shown)));
-                    }
-                    (false, _) => {
-                        if lines.len() >= MAX_HELD_LINES {
-                            return Err(format!("{shown}: o{name} sub holds more than {MAX_HELD_LINES} lines"));
-                        }
-                        lines.push((k + 1, raw.to_string()));
-                    }
-                }
-            }
-            return Err(format!("{shown} has no o{name} sub ... o{name} endsub"));
+            let lines = text.lines().enumerate().map(|(k, l)| Ok((k + 1, l.to_string())));
+            return match super::later_subs::collect_sub(lines, name, &shown)? {
+                Some(lines) => Ok(Some((lines, shown))),
+                None => Err(format!("{shown} has no o{name} sub ... o{name} endsub")),
+            };
         }
         Ok(None)
     }
@@ -602,10 +593,25 @@ impl Rs274Reader {
                     body
                 }
                 Ok(Some(_)) => return self.stop(line, col + 1, format!("more than {MAX_SUBS} subroutines"), diags),
-                Ok(None) if self.flow.sub_files.is_none() => {
-                    return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined before it in this file (LinuxCNC would look on its SUBROUTINE_PATH: give it with --subroutine-path): the motion depends on a program not read", o.name, o.name), diags)
+                // LinuxCNC skips forward in the file to a subroutine defined after the call.
+                Ok(None) if self.flow.own.is_some() && self.flow.in_file == 0 && self.flow.subs.len() < MAX_SUBS => {
+                    match self.flow.own.as_ref().map(|t| t.sub_after(&o.name, line)) {
+                        Some(Ok(Some(lines))) => {
+                            let body = Arc::new(lines);
+                            self.flow.subs.insert(o.name.clone(), body.clone());
+                            body
+                        }
+                        Some(Err(why)) => return self.stop(line, col + 1, format!("o{} call: {why}", o.name), diags),
+                        _ if self.flow.sub_files.is_none() => {
+                            return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined in this file (before the call or after it) (LinuxCNC would look on its SUBROUTINE_PATH first: give it with --subroutine-path): the motion depends on a program not read", o.name, o.name), diags)
+                        }
+                        _ => return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined in this file, nor in a file of --subroutine-path", o.name, o.name), diags),
+                    }
                 }
-                Ok(None) => return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined before it in this file, nor in a file of --subroutine-path", o.name, o.name), diags),
+                Ok(None) if self.flow.sub_files.is_none() => {
+                    return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined in this file (LinuxCNC would look on its SUBROUTINE_PATH first: give it with --subroutine-path): the motion depends on a program not read", o.name, o.name), diags)
+                }
+                Ok(None) => return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined in this file, nor in a file of --subroutine-path", o.name, o.name), diags),
                 Err(why) => return self.stop(line, col + 1, format!("o{} call: {why}", o.name), diags),
             },
         };
@@ -644,7 +650,9 @@ impl Rs274Reader {
             None => self.run(body_lines, out, diags),
             Some(file) => {
                 let (before, mut inner) = (out.len(), Diags::default());
+                self.flow.in_file += 1;
                 let end = self.run(body_lines, out, &mut inner);
+                self.flow.in_file -= 1;
                 for b in &mut out[before..] {
                     (b.line, b.column) = (line, col + 1);
                 }

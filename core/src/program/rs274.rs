@@ -92,6 +92,14 @@ impl Rs274Reader {
         self.leader.is_none() && !self.refused
     }
 
+    /// LinuxCNC: the program's own text, for subroutines defined after their call (Fanuc and Haas
+    /// find their subprograms in their macro runner).
+    pub(super) fn set_program_text(&mut self, text: impl FnOnce() -> super::later_subs::ProgramText) {
+        if self.dialect == Dialect::Rs274 {
+            self.flow.own = Some(std::sync::Arc::new(text()));
+        }
+    }
+
     /// The tape's end `%` has been read: nothing after it is program.
     pub(super) fn at_tape_end(&self) -> bool {
         self.refused

@@ -126,6 +126,14 @@ impl Reader {
         })
     }
 
+    /// An RS274NGC reader is given the program's own text, for subroutines defined after their
+    /// call ([`super::later_subs`]); other readers need none.
+    pub(crate) fn with_program_text(&mut self, text: impl FnOnce() -> super::later_subs::ProgramText) {
+        if let Reader::Rs274(r) = self {
+            r.set_program_text(text);
+        }
+    }
+
     pub(crate) fn get(&mut self) -> &mut dyn LineReader {
         match self {
             Reader::Cl(r) => r,
@@ -220,7 +228,10 @@ impl BlockStream {
             return Ok(Self::refused(d, dialect, source));
         }
         match Reader::new(dialect, options) {
-            Some(reader) => Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source)),
+            Some(mut reader) => {
+                reader.with_program_text(|| super::later_subs::ProgramText::file(open));
+                Ok(Self::lines(Box::new(Cursor::new(head).chain(input)), reader, dialect, source))
+            }
             None => {
                 let mut k = Seeking::new(open, jumping(dialect, options));
                 match k.broken.take() {
@@ -239,7 +250,11 @@ impl BlockStream {
             return Self::refused(d, dialect, source);
         }
         match Reader::new(dialect, options) {
-            Some(reader) => Self::lines(Box::new(Cursor::new(text.as_bytes().to_vec())), reader, dialect, source),
+            Some(mut reader) => {
+                let bytes: std::sync::Arc<[u8]> = text.as_bytes().into();
+                reader.with_program_text(|| super::later_subs::ProgramText::Bytes(bytes.clone()));
+                Self::lines(Box::new(Cursor::new(bytes.to_vec())), reader, dialect, source)
+            }
             None => {
                 let text: std::sync::Arc<[u8]> = text.as_bytes().into();
                 Self::seeking(Seeking::new(in_memory(text), jumping(dialect, options)), dialect, source)

@@ -34,7 +34,7 @@ done
 # keep the offsets and the rotation it sets too, from which the test places the moves as LinuxCNC's
 # canonical layer does (emccanon.cc rotate_and_offset_pos), and the feed (the saved modal state of
 # modal_state.ngc's M70-M73 is seen in the moves and feeds after each restore).
-for f in rotation modal_state home state_parameters; do
+for f in rotation modal_state home state_parameters subs_after; do
     rs274 -t /tmp/make_canon.tbl -g "$f.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
     grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)\|SET_G5X_OFFSET(.*)\|SET_G92_OFFSET(.*)\|SET_XY_ROTATION(.*)\|SET_FEED_RATE(.*)\|SET_FEED_MODE(.*)' "/tmp/$f.canon" > "$f.canon"
     rm "/tmp/$f.canon"
