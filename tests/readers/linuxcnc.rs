@@ -823,6 +823,22 @@ fn rs274_finds_subroutines_defined_after_their_call_as_linuxcnc_does() {
     refuses_each(Dialect::Rs274, &ReadOptions::default(), &[("G21 G90\no<nowhere> call\nM2\no<elsewhere> sub\no<elsewhere> endsub\n", "2:1:", "no subroutine o<nowhere> is defined in this file (before the call or after it)")]);
 }
 
+/// Three small readings of LinuxCNC's, each as its interpreter reads it (rs274 on the same lines, as
+/// LinuxCNC 2.9's tests/interp exists and fractional-linenumbers and m19 have them): `EXISTS[#n]`
+/// of a numbered parameter is whether the number is one of its parameters (1 to 5601, the number
+/// read as a value: `##1` is `#` of #1's value), a block number's fractional part is accepted and
+/// ignored, and `M19` takes `R Q P`.
+#[test]
+fn rs274_reads_exists_of_numbered_parameters_fractional_block_numbers_and_m19_as_linuxcnc_does() {
+    let text = "#<a>=999\nG0 X EXISTS[#1] Y EXISTS[#99999] Z EXISTS[#<a>] A EXISTS[#<b>]\n#1=2\n#2=99999\nG0 X EXISTS[##1] Y EXISTS[##2] Z EXISTS[###1]\nN4567.789 S1200\nM19 R45 Q2\nM19 R90 P1\nM2\n";
+    let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    // rs274: STRAIGHT_TRAVERSE(1, 0, 1, 0, 0, 0) and (1, 0, 0, 0, 0, 0).
+    let ends: Vec<[f64; 4]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1], a[2], a[3]]).collect();
+    assert_eq!(ends, vec![[1.0, 0.0, 1.0, 0.0], [1.0, 0.0, 0.0, 0.0]]);
+    assert!(p.blocks.iter().any(|b| b.line == 6 && b.number == Some(4567)), "{:?}", p.blocks.iter().map(|b| (b.line, b.number)).collect::<Vec<_>>());
+}
+
 /// LinuxCNC's saved modal state (`M70`-`M73`) is restored as its interpreter restores it
 /// (`modal_state.ngc`, rs274's output by make_canon.sh): after an M73 subroutine's endsub and its
 /// `return`, and after M72 in the main program, the moves go in the units, distance mode,

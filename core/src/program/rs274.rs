@@ -399,8 +399,12 @@ impl Rs274Reader {
                 let number_text = &text[byte(start)..byte(i)];
                 match parse_number(number_text) {
                     Some(v) if letter == 'N' => {
-                        if v.fract() == 0.0 && v >= 0.0 {
-                            read.number = Some(v as u64);
+                        // LinuxCNC accepts and ignores a fractional part ("accept & ignore fractional
+                        // line numbers", interp_read.cc read_n_number): N4567.789 is block 4567.
+                        let digits = |s: &str| !s.is_empty() && s.bytes().all(|c| c.is_ascii_digit());
+                        let fractional = self.dialect == Dialect::Rs274 && number_text.split_once('.').is_some_and(|(a, b)| digits(a) && digits(b));
+                        if v.fract() == 0.0 && v >= 0.0 || fractional {
+                            read.number = Some(v.trunc() as u64);
                         } else {
                             diags.error(line, column, format!("expected a whole line number after 'N', found '{number_text}'"));
                         }

@@ -339,8 +339,9 @@ impl Interpreter {
                         (None, 17 | 19 | 40..=45 | 70, false) if self.dialect == Dialect::Sinumerik => {}
                         (None, _, false) if self.dialect == Dialect::Sinumerik => diags.error(line, w.column, maker_m_function(&w.raw, code)),
                         // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O,
-                        // with the words they take (G-code reference §M61 Q, §M62-M65 P, §M66 P E L Q,
-                        // §M67/M68 E Q).
+                        // with the words they take (G-code reference §M19 R Q P, §M61 Q, §M62-M65 P,
+                        // §M66 P E L Q, §M67/M68 E Q).
+                        (None, 19, false) if self.dialect == Dialect::Rs274 => uses.extend(['R', 'Q', 'P']),
                         (None, 19 | 48..=53 | 60, false) => {}
                         (None, 61, false) => uses.push('Q'),
                         (None, 62..=65, false) => uses.push('P'),

@@ -175,6 +175,9 @@ enum Step {
     Named(Box<str>, usize),
     /// `EXISTS[#<name>]`.
     Exists(Box<str>),
+    /// `EXISTS[#n]`: whether the whole number on top of the stack is one of LinuxCNC's
+    /// parameters (interp_read.cc read_parameter: 1 <= n < RS274NGC_MAX_PARAMETERS).
+    ExistsNumbered(usize),
     Negate,
     Function(Function, usize),
     /// `ATAN[y]/[x]`: the two values on top, y below x.
@@ -236,6 +239,13 @@ impl Compiled {
                 Step::Exists(name) => {
                     stack[n] = if params.has_named(name) { 1.0 } else { 0.0 };
                     n += 1;
+                }
+                Step::ExistsNumbered(col) => {
+                    let v = stack[n - 1];
+                    if (v - v.round()).abs() > INTEGER_CLOSE {
+                        return err(*col, format!("EXISTS[#{v}]: a parameter number must be a whole number"));
+                    }
+                    stack[n - 1] = if v.round() >= 1.0 && v.round() < MAX_PARAMETER as f64 { 1.0 } else { 0.0 };
                 }
                 Step::Negate => stack[n - 1] = -stack[n - 1],
                 Step::Function(f, col) => stack[n - 1] = f.apply(stack[n - 1], *col)?,
@@ -570,8 +580,18 @@ impl<'a> Compiler<'a> {
         let is = |name: &str| word.len() == name.len() && starts_with_word(word, name);
         if is("EXISTS") {
             let k = self.blank(open + 1);
-            if self.chars.get(k) != Some(&'#') || self.chars.get(self.blank(k + 1)) != Some(&'<') {
-                return err(k + 1, "EXISTS takes a named parameter: EXISTS[#<name>]");
+            if self.chars.get(k) != Some(&'#') {
+                return err(k + 1, "EXISTS takes a parameter: EXISTS[#<name>] or EXISTS[#n]");
+            }
+            if self.chars.get(self.blank(k + 1)) != Some(&'<') {
+                // A numbered one: its number read as a value (`#1`, `##1`, `#[expr]`), not its value.
+                let (Ref::Value, k2) = self.reference(k)? else { unreachable!("checked: not a named parameter") };
+                let k2 = self.blank(k2);
+                if self.chars.get(k2) != Some(&']') {
+                    return err(k2 + 1, "expected ']' after EXISTS's parameter");
+                }
+                self.emit(Step::ExistsNumbered(k + 1), 0);
+                return Ok(k2 + 1);
             }
             let (Ref::Named(a, b), k) = self.reference(k)? else { unreachable!("checked: a named parameter") };
             let k = self.blank(k);
