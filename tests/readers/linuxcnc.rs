@@ -873,7 +873,8 @@ fn rs274_restores_the_modal_state_as_linuxcnc_does() {
 }
 
 /// LinuxCNC's cutter radius compensation is read to the moves its own interpreter makes
-/// (`comp_lines.ngc`, `comp_arcs.ngc`, `comp_table.ngc`; rs274's canonical output by make_canon.sh):
+/// (`comp_lines.ngc`, `comp_arcs.ngc`, `comp_table.ngc`, `comp_g10.ngc` whose radii the program sets by
+/// `G10 L1 P R`; rs274's canonical output by make_canon.sh):
 /// entry moves ending perpendicular to themselves (an entry arc on its end's radius), arcs about
 /// convex corners (a rapid straight), moves cut back where the offset paths meet in concave corners
 /// (line-line, line-arc, arc-line, arc-arc), a move with no XY motion, a negative diameter on the
@@ -888,10 +889,12 @@ fn rs274_compensates_the_cutter_radius_as_linuxcnc_does() {
     let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
     let table = fiveaxis::program::ToolTable::parse(&std::fs::read_to_string(dir.join("comp.tbl")).unwrap()).unwrap().in_unit(fiveaxis::program::LengthUnit::Inch);
     let options = ReadOptions { tool_table: Some(std::sync::Arc::new(table)), ..ReadOptions::default() };
-    for name in ["comp_lines", "comp_arcs", "comp_table"] {
+    for name in ["comp_lines", "comp_arcs", "comp_table", "comp_g10"] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
         same_moves_as_linuxcnc(name, &read(&text, Dialect::Rs274, "t.ngc", &options));
     }
+    // G10 L1 needs something to set (LinuxCNC's error), and sets the radius of a tool of the table.
+    has(&read("G21 G90\nG10 L1 P1\nM2\n", Dialect::Rs274, "t.ngc", &options), 2, 1, "G10 L1 without offsets has no effect");
     // A file that ends while a compensated move is held: LinuxCNC never sends it (rs274 makes 4 moves
     // of this, the last X20 Y20 not among them), and that is said.
     let p = read("G21 G17 G90 F100\nG0 X-10 Y-10\nG42.1 D6.35\nG1 X0 Y0\nG1 X20 Y0\nG1 X20 Y20\n", Dialect::Rs274, "t.ngc", &options);
@@ -902,6 +905,7 @@ fn rs274_compensates_the_cutter_radius_as_linuxcnc_does() {
         ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG41.1 D4\nM2\n", "5:1:", "Cannot turn cutter radius comp on when on"),
         ("G21 G90\nG0 X0 Y0\nG41.1\nM2\n", "3:1:", "G41.1 with no D word"),
         ("G21 G90\nG0 X0 Y0\nG41 D1\nM2\n", "3:1:", "give it with --tool-table"),
+        ("G21 G90\nG10 L1 P9 R2\nM2\n", "2:1:", "Requested tool 9 not found in the tool table"),
         ("G21 G90\nG0 X0 Y0\nG41\nM2\n", "3:1:", "no T ... M6"),
         ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nG92 X0\nM2\n", "5:1:", "Cannot change axis offsets with cutter radius comp"),
         ("G21 G90\nG0 X0 Y0\nG41.1 D10\nG1 X30 F100\nT1 M6\nM2\n", "5:4:", "Cannot change tools with cutter radius compensation on"),

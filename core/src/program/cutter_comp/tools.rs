@@ -60,6 +60,17 @@ impl ToolTable {
         self
     }
 
+    /// Set a tool's diameter (m), as `G10 L1 P R` does; false where the table has no such tool.
+    pub(crate) fn set_diameter(&mut self, tool: u32, diameter: f64) -> bool {
+        match self.tools.iter_mut().find(|(t, _)| *t == tool) {
+            Some(entry) => {
+                entry.1 = diameter / self.unit;
+                true
+            }
+            None => false,
+        }
+    }
+
     /// A tool's diameter, m.
     pub fn diameter(&self, tool: u32) -> Option<f64> {
         self.tools.iter().find(|(t, _)| *t == tool).map(|(_, d)| *d * self.unit)

@@ -320,6 +320,9 @@ impl Interpreter {
     /// system. Absolute values only; rotary offsets only where they stay zero.
     fn set_offsets(&self, words: &[Word], next: &mut Interpreter, line: usize, column: usize, diags: &mut Diags) {
         let word = |l: char| words.iter().find(|w| w.letter == l);
+        if self.dialect == Dialect::Rs274 && word('L').is_some_and(|w| w.value == 1.0) {
+            return self.set_tool(words, next, line, column, diags);
+        }
         let l20 = match word('L') {
             Some(w) if w.value == 2.0 => false,
             Some(w) if w.value == 20.0 => true,
@@ -381,6 +384,35 @@ impl Interpreter {
         next.offsets[k_system] = offsets;
         next.rotation[k_system] = r;
         next.offsets_given[k_system] = true;
+    }
+
+    /// LinuxCNC's `G10 L1 P R`: tool P's radius R in the tool table, for cutter compensation to take
+    /// (G-code reference §G10 L1; interp_convert.cc convert_setup_tool: the tool must be in the
+    /// table, a block without offsets is refused). Its length and other offsets are stored by
+    /// LinuxCNC for `G43`; here the tool length is the machine file's (warned of where not zero).
+    fn set_tool(&self, words: &[Word], next: &mut Interpreter, line: usize, column: usize, diags: &mut Diags) {
+        let word = |l: char| words.iter().find(|w| w.letter == l);
+        let tool = match word('P') {
+            Some(w) if w.value >= 0.0 && (w.value - w.value.round()).abs() < 1e-4 && w.value <= u32::MAX as f64 => w.value.round() as u32,
+            Some(w) => return diags.error(line, w.column, format!("G10 L1 P{}: expected a tool number", w.raw)),
+            None => return diags.error(line, column, "G10 L1 without P: expected the tool number"),
+        };
+        if next.tool_table.as_ref().is_none_or(|t| t.diameter(tool).is_none()) {
+            return diags.error(line, column, format!("G10 L1 P{tool}: Requested tool {tool} not found in the tool table (LinuxCNC; give the machine's with --tool-table)"));
+        }
+        let offsets: Vec<&Word> = words.iter().filter(|w| AXIS_LETTERS.contains(&w.letter)).collect();
+        let r = word('R');
+        if offsets.is_empty() && r.is_none() {
+            return diags.error(line, column, "G10 L1 without offsets has no effect (LinuxCNC)");
+        }
+        if let Some(w) = offsets.iter().find(|w| w.value != 0.0) {
+            diags.warning(line, w.column, format!("G10 L1 {}{}: tool offsets are not read (a G43 tool length is the machine file's tool_tip_mm)", w.letter, w.raw));
+        }
+        if let Some(r) = r {
+            if let Some(table) = next.tool_table.as_mut() {
+                std::sync::Arc::make_mut(table).set_diameter(tool, 2.0 * r.value * next.unit);
+            }
+        }
     }
 
     /// Put the program origin at `offset` (RS274: the active work offset, m): the machine stays, so

@@ -23,9 +23,9 @@ done
 # ARC_FEED(first_end, second_end, first_centre, second_centre, turn, axis_end, a, b, c) and
 # USE_LENGTH_UNITS (rs274 prints positions in the program's unit).
 # Cutter radius compensation too (comp_table.ngc takes its diameters from comp.tbl).
-for f in offsets_g92 polar polar_cycles comp_lines comp_arcs comp_table cycles_planes; do
+for f in offsets_g92 polar polar_cycles comp_lines comp_arcs comp_table comp_g10 cycles_planes; do
     table=/tmp/make_canon.tbl
-    [ "$f" = comp_table ] && table=comp.tbl
+    case $f in comp_table|comp_g10) table=comp.tbl ;; esac
     rs274 -t "$table" -g "$f.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
     grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)' "/tmp/$f.canon" > "$f.canon"
     rm "/tmp/$f.canon"
