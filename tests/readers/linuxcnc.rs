@@ -839,6 +839,17 @@ fn rs274_reads_exists_of_numbered_parameters_fractional_block_numbers_and_m19_as
     assert!(p.blocks.iter().any(|b| b.line == 6 && b.number == Some(4567)), "{:?}", p.blocks.iter().map(|b| (b.line, b.number)).collect::<Vec<_>>());
 }
 
+/// A subroutine's arguments the call does not give are 0 in it (interp_read.cc: "zero the remaining
+/// params"), and the caller's `#1`-`#30` come back after it: rs274 makes X5 Y0 Z1, then X7, of
+/// these lines (a LinuxCNC shop's subroutine library reads arguments its callers leave out).
+#[test]
+fn rs274_reads_arguments_a_call_leaves_out_as_zero_as_linuxcnc_does() {
+    let p = read("o<s> sub\nG1 X[#1] Y[#2] Z[#30 + 1]\no<s> endsub\nG21 G90 F100\n#2 = 7\no<s> call [5]\nG1 X[#2]\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ends: Vec<[f64; 3]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1], a[2]]).collect();
+    assert_eq!(ends, vec![[5.0, 0.0, 1.0], [7.0, 0.0, 1.0]]);
+}
+
 /// LinuxCNC's saved modal state (`M70`-`M73`) is restored as its interpreter restores it
 /// (`modal_state.ngc`, rs274's output by make_canon.sh): after an M73 subroutine's endsub and its
 /// `return`, and after M72 in the main program, the moves go in the units, distance mode,

@@ -136,13 +136,14 @@ pub struct Scope {
 
 impl Parameters {
     /// Enter a subroutine (LinuxCNC manual, O codes, "Subroutines": `#1`-`#30` are its arguments and
-    /// its own, as are the named parameters it sets whose name does not begin with `_`).
+    /// its own, as are the named parameters it sets whose name does not begin with `_`). Those the
+    /// call does not give are 0 ("zero the remaining params", interp_read.cc read_o).
     pub fn enter_call(&mut self, args: &[f64]) -> Scope {
         let numbered = (1..=30).filter_map(|n| self.numbered.remove(&n).map(|v| (n, v))).collect();
         let locals: Vec<String> = self.named.keys().filter(|k| !k.starts_with('_')).cloned().collect();
         let named = locals.into_iter().filter_map(|k| self.named.remove(&k).map(|v| (k, v))).collect();
-        for (k, v) in args.iter().enumerate() {
-            self.numbered.insert(k as u32 + 1, *v);
+        for k in 0..30 {
+            self.numbered.insert(k as u32 + 1, args.get(k).copied().unwrap_or(0.0));
         }
         Scope { numbered, named }
     }
