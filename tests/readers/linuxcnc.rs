@@ -848,6 +848,10 @@ fn rs274_reads_arguments_a_call_leaves_out_as_zero_as_linuxcnc_does() {
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     let ends: Vec<[f64; 3]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1], a[2]]).collect();
     assert_eq!(ends, vec![[5.0, 0.0, 1.0], [7.0, 0.0, 1.0]]);
+    // A comment between arguments is read past (read_o; LinuxCNC's tests/interp flowsnake writes one).
+    let p = read("o<s> sub\nG1 X[#1] Y[#2]\no<s> endsub\nG21 G90 F100\no<s> call [5] (a comment) [6]\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    let ends: Vec<[f64; 2]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1]]).collect();
+    assert_eq!(ends, vec![[5.0, 6.0]], "{:?}", errors(&p));
 }
 
 /// LinuxCNC's saved modal state (`M70`-`M73`) is restored as its interpreter restores it

@@ -624,7 +624,12 @@ impl Rs274Reader {
         loop {
             i = skip_blanks(chars, i);
             match chars.get(i) {
-                None | Some(';') | Some('(') => break,
+                None | Some(';') => break,
+                // A comment between arguments is read past, as LinuxCNC's read_o reads it.
+                Some('(') => match chars[i..].iter().position(|&c| c == ')') {
+                    Some(k) => i += k + 1,
+                    None => return self.stop(line, col + i + 1, format!("o{} call: comment '(' is not closed", o.name), diags),
+                },
                 Some('[') => match self.params.real_value(chars, i, false) {
                     Ok((v, end)) => {
                         args.push(v);
