@@ -767,6 +767,10 @@ fn rs274_reads_the_interpreters_state_parameters_as_linuxcnc_does() {
     let p = read(&text, Dialect::Rs274, "state_parameters.ngc", &ReadOptions::default());
     let ours = same_places_as_linuxcnc(&p, &dir.join("state_parameters.canon"));
     // `o<twice> call [5]` returns 10 by `return [#1 * 2]`, in G55 (offset X10 Y5, rotated 30 deg).
+    // A parameter number computed (`#[5000 + 420]` is #5420, X where the tool stands) reads the state too.
+    let p = read("G21 G90\nG0 X3 Y4\nG1 X[#[5000 + 420] + 1] Y[##<n>] F100\nM2\n".replace("##<n>", "#[5421]").as_str(), Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    let ends: Vec<[f64; 2]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1]]).collect();
+    assert_eq!(ends, vec![[3.0, 4.0], [4.0, 4.0]], "{:?}", errors(&p));
     let (s, c) = 30f64.to_radians().sin_cos();
     let at = |x: f64, y: f64| [10.0 + x * c - y * s, 5.0 + x * s + y * c];
     assert!(ours.iter().any(|m| { let w = at(10.0, 1.0); (m.1[0] - w[0]).abs() < 1e-9 && (m.1[1] - w[1]).abs() < 1e-9 }), "{ours:?}");

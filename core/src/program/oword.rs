@@ -532,7 +532,7 @@ impl Rs274Reader {
     /// `chars` is the line from its O word on, which stands at 0-based column `col`; `kept` the
     /// value compiled when first run.
     fn bracket(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<f64> {
-        self.refresh_state(true);
+        self.refresh_state(super::rs274::reads_state(chars.iter().copied()));
         let fail = |this: &mut Self, e: ExprError, diags: &mut Diags| {
             this.stop(line, col + e.column, format!("o{} {}: {}", o.name, word(o.keyword), e.message), diags);
             None
@@ -618,7 +618,7 @@ impl Rs274Reader {
         if self.flow.depth >= MAX_CALL_DEPTH {
             return self.stop(line, col + 1, format!("o{} call: calls nested more than {MAX_CALL_DEPTH} deep", o.name), diags);
         }
-        self.refresh_state(true);
+        self.refresh_state(super::rs274::reads_state(chars.iter().copied()));
         let mut args = Vec::new();
         let mut i = o.rest;
         loop {

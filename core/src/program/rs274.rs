@@ -86,6 +86,26 @@ impl Rs274Reader {
     }
 }
 
+/// Whether a line's text may read a predefined parameter of the interpreter's state: a named one
+/// (`#<_...>`), a numbered one from 5000 up (`#5...`), or one whose number is computed (`##1`,
+/// `#[...]`). Most lines, a loop's own parameters among them, read none: the state is not gathered
+/// for them.
+pub(super) fn reads_state(mut text: impl Iterator<Item = char>) -> bool {
+    while text.by_ref().any(|c| c == '#') {
+        let mut rest = text.by_ref().skip_while(|c| *c == ' ' || *c == '\t');
+        match rest.next() {
+            Some('<') => {
+                if text.by_ref().find(|c| *c != ' ' && *c != '\t') == Some('_') {
+                    return true;
+                }
+            }
+            Some('5' | '#' | '[') => return true,
+            _ => {}
+        }
+    }
+    false
+}
+
 impl Rs274Reader {
     /// Fanuc, Haas: the lines read now are the program's (past the tape's leader, before its end `%`).
     pub(super) fn in_program(&self) -> bool {
@@ -263,7 +283,7 @@ impl Rs274Reader {
         }
         let text = text.trim_end_matches('\r');
         if let Some(read) = kept {
-            self.refresh_state(text.contains('#'));
+            self.refresh_state(reads_state(text.chars()));
             return self.run_line(line, text, read, None, out, diags);
         }
         let before = diags.0.len();
@@ -289,7 +309,7 @@ impl Rs274Reader {
     /// one said; those values (`Now`) are this pass's. None when the line has nothing to run (blank,
     /// the tape's `%`, a title) or is damaged (said here).
     pub(super) fn read_line(&mut self, line: usize, text: &str, diags: &mut Diags) -> Option<(ReadLine, Vec<Now>)> {
-        self.refresh_state(text.contains('#'));
+        self.refresh_state(reads_state(text.chars()));
         // Room for every character at once (a char per byte at most): no regrowing as it fills.
         let mut chars: Vec<char> = Vec::with_capacity(text.len());
         chars.extend(text.chars());
