@@ -825,6 +825,11 @@ fn rs274_finds_subroutines_defined_after_their_call_as_linuxcnc_does() {
     assert_eq!(streamed, whole.blocks);
     assert_eq!(stream.diagnostics().errors(), 0, "{:?}", stream.diagnostics().to_vec());
     refuses_each(Dialect::Rs274, &ReadOptions::default(), &[("G21 G90\no<nowhere> call\nM2\no<elsewhere> sub\no<elsewhere> endsub\n", "2:1:", "no subroutine o<nowhere> is defined in this file (before the call or after it)")]);
+    // The subroutines after the end are no program cut off; a move after them is, and is said.
+    assert!(whole.diagnostics.iter().all(|d| !d.message.contains("are not run")), "{:?}", whole.diagnostics);
+    let p = read(&format!("{text}G1 X1 F100\n"), Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    let last = text.lines().count() + 1;
+    assert!(p.diagnostics.iter().any(|d| d.line == last && d.message.contains("are not run")), "{:?}", p.diagnostics);
 }
 
 /// Three small readings of LinuxCNC's, each as its interpreter reads it (rs274 on the same lines, as

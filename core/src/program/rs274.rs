@@ -50,6 +50,8 @@ pub(crate) struct Rs274Reader {
     /// LinuxCNC: the program ended (`M2`/`M30`, or the `%` closing a file that opens with one) on
     /// this line; what follows is not run (and whether that has been said).
     ended: Option<(usize, bool)>,
+    /// LinuxCNC: a subroutine defined after the program's end is being passed over.
+    in_later_sub: bool,
     /// LinuxCNC: the file opens with `%`, so the next `%` line ends it.
     percent: bool,
     /// Fanuc, Haas: a macro alarm (`#3000`) stopped the control.
@@ -82,7 +84,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default() }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: false }
     }
 }
 
@@ -211,9 +213,18 @@ impl Rs274Reader {
         let body = text.trim();
         if let Some((end, said)) = &mut self.ended {
             // The closing `%` and comments after the end move nothing: said only for a line with words.
+            // Subroutines defined after the end are where calls skip forward to (super::later_subs):
+            // their lines are no program cut off.
             if !*said && !body.is_empty() && !body.starts_with(['%', '(', ';']) {
-                *said = true;
-                diags.warning(line, 1, format!("line {line} and after are not run: the program ended on line {end}, and LinuxCNC runs nothing after its end"));
+                match super::oword::parse(&body.chars().collect::<Vec<_>>()).map(|o| o.keyword) {
+                    Some(super::oword::Keyword::Sub) => self.in_later_sub = true,
+                    Some(super::oword::Keyword::EndSub) if self.in_later_sub => self.in_later_sub = false,
+                    _ if self.in_later_sub => {}
+                    _ => {
+                        *said = true;
+                        diags.warning(line, 1, format!("line {line} and after are not run: the program ended on line {end}, and LinuxCNC runs nothing after its end"));
+                    }
+                }
             }
             return true;
         }
