@@ -863,6 +863,19 @@ fn rs274_reads_arguments_a_call_leaves_out_as_zero_as_linuxcnc_does() {
     assert_eq!(ends, vec![[5.0, 6.0]], "{:?}", errors(&p));
 }
 
+/// A call's subroutine named by an expression (`o#<sub> call`, `O[#2 / 10] call`: LinuxCNC's tests/interp
+/// oword-bug315-p2 and o-expression-call) runs the subroutine of that number: rs274 makes X2 Y2 Z2,
+/// then X1 Y1 Z1, of these lines. A number that is not whole is refused.
+#[test]
+fn rs274_calls_a_subroutine_named_by_an_expression_as_linuxcnc_does() {
+    let text = "o1 sub\ng0 x1y1z1\no1 endsub\no2 sub\ng0 x2y2z2\no2 endsub\no<multipass> sub\n#<sub> = 2\no#<sub> call\no<multipass> endsub\no<multipass> call\n#2 = 10\nO[#2 / 10] call\nm2\n";
+    let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ends: Vec<[f64; 3]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1], a[2]]).collect();
+    assert_eq!(ends, vec![[2.0, 2.0, 2.0], [1.0, 1.0, 1.0]]);
+    refuses_each(Dialect::Rs274, &ReadOptions::default(), &[("o1 sub\no1 endsub\nG21\no[1.5] call\nM2\n", "4:2:", "an O word's number is a whole number")]);
+}
+
 /// LinuxCNC's saved modal state (`M70`-`M73`) is restored as its interpreter restores it
 /// (`modal_state.ngc`, rs274's output by make_canon.sh): after an M73 subroutine's endsub and its
 /// `return`, and after M72 in the main program, the moves go in the units, distance mode,

@@ -87,6 +87,9 @@ pub struct OLine {
     pub name: String,
     pub keyword: Keyword,
     pub rest: usize,
+    /// A call's subroutine named by an expression (`o[#2 * 10] call`, `o#<sub> call`, LinuxCNC's
+    /// tests/interp o-expression-call and oword-bug315): where it starts, evaluated when the call runs.
+    pub name_expr: Option<usize>,
 }
 
 /// The O-word control line at the start of `chars`, if it is one.
@@ -96,6 +99,14 @@ pub fn parse(chars: &[char]) -> Option<OLine> {
     }
     let mut i = skip_blanks(chars, 1);
     let start = i;
+    if matches!(chars.get(i), Some('#' | '[')) {
+        // A call's name computed: the expression, then `call`.
+        let (_, end) = expr::value(chars, i, false).ok()?;
+        let k = skip_blanks(chars, end);
+        let e = (k..chars.len()).find(|&e| !chars[e].is_ascii_alphabetic()).unwrap_or(chars.len());
+        let word: String = chars[k..e].iter().flat_map(|c| c.to_lowercase()).collect();
+        return (Keyword::of(&word)? == Keyword::Call).then_some(OLine { name: String::new(), keyword: Keyword::Call, rest: e, name_expr: Some(i) });
+    }
     if chars.get(i) == Some(&'<') {
         i += chars[i..].iter().position(|&c| c == '>')? + 1;
     } else {
@@ -111,7 +122,7 @@ pub fn parse(chars: &[char]) -> Option<OLine> {
     let k = skip_blanks(chars, i);
     let end = (k..chars.len()).find(|&e| !chars[e].is_ascii_alphabetic()).unwrap_or(chars.len());
     let word: String = chars[k..end].iter().flat_map(|c| c.to_lowercase()).collect();
-    Some(OLine { name, keyword: Keyword::of(&word)?, rest: end })
+    Some(OLine { name, keyword: Keyword::of(&word)?, rest: end, name_expr: None })
 }
 
 /// Whether `l` opens a block that must be held to its end (a subroutine, a loop, a condition);
@@ -583,6 +594,21 @@ impl Rs274Reader {
     /// `oN call [a] [b] ...`: the subroutine's body with `#1`.. set to the arguments, in its own scope
     /// (`chars` from the O word on, which stands at 0-based column `col`).
     fn call(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> End {
+        let named;
+        let o = match o.name_expr {
+            None => o,
+            Some(at) => {
+                self.refresh_state(super::rs274::reads_state(chars.iter().copied()));
+                match self.params.real_value(chars, at, false) {
+                    Ok((v, _)) if v >= 0.0 && (v - v.round()).abs() < 1e-4 && v <= u32::MAX as f64 => {
+                        named = OLine { name: format!("{}", v.round() as u64), ..o.clone() };
+                        &named
+                    }
+                    Ok((v, _)) => return self.stop(line, col + at + 1, format!("o[{v}] call: an O word's number is a whole number 0 or more"), diags),
+                    Err(e) => return self.stop(line, col + e.column, format!("o call: {}", e.message), diags),
+                }
+            }
+        };
         let body = match self.flow.subs.get(&o.name).cloned() {
             Some(body) => body,
             None => match self.flow.load(&o.name) {
