@@ -17,11 +17,10 @@
 //! The interpreter keeps the program's point; a block leaves it placed ([`Rotation::place`]).
 
 use super::fanuc::{apply, code};
-use super::interp::{Dimension, Interpreter, Word};
+use super::interp::{rot, Dimension, Interpreter, Word};
 use super::lex::Diags;
 use super::{Block, Dialect, Plane};
-
-const DEG: f64 = std::f64::consts::PI / 180.0;
+use crate::units::DEG;
 
 /// A coordinate system rotation in effect (program coordinates, m; rad).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,22 +33,26 @@ pub(crate) struct Rotation {
 }
 
 impl Rotation {
-    /// `p` (program X Y, m) where the rotation puts it, about `centre`.
-    pub(crate) fn turn(centre: [f64; 2], angle: f64, p: [f64; 2]) -> [f64; 2] {
-        let (s, c) = angle.sin_cos();
-        let d = [p[0] - centre[0], p[1] - centre[1]];
-        [centre[0] + d[0] * c - d[1] * s, centre[1] + d[0] * s + d[1] * c]
+    /// The centre the next move turns about: Fanuc's tool position at G68 until an absolute move.
+    pub(crate) fn centre_in_use(&self) -> [f64; 2] {
+        self.until_absolute.unwrap_or(self.centre)
     }
 
-    /// A block made in the program's frame, placed: its X Y (both set) and an arc's centre turned
-    /// about the centre in use.
-    pub(crate) fn place(&self, centre: [f64; 2], b: &mut Block) {
+    /// `p` (program X Y, m) where the rotation puts it, about the centre in use.
+    pub(crate) fn turn(&self, p: [f64; 2]) -> [f64; 2] {
+        let c = self.centre_in_use();
+        let t = rot([p[0] - c[0], p[1] - c[1]], self.angle);
+        [c[0] + t[0], c[1] + t[1]]
+    }
+
+    /// A block made in the program's frame, placed: its X Y (both set) and an arc's centre turned.
+    pub(crate) fn place(&self, b: &mut Block) {
         if let (Some(x), Some(y)) = (b.targets.x, b.targets.y) {
-            let t = Self::turn(centre, self.angle, [x, y]);
+            let t = self.turn([x, y]);
             (b.targets.x, b.targets.y) = (Some(t[0]), Some(t[1]));
         }
         if let Some(a) = b.arc.as_mut() {
-            let t = Self::turn(centre, self.angle, [a.centre[0], a.centre[1]]);
+            let t = self.turn([a.centre[0], a.centre[1]]);
             (a.centre[0], a.centre[1]) = (t[0], t[1]);
         }
     }
@@ -110,19 +113,13 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
                 return fail(diags, w.column, format!("{}{}: an incremental move after G68 before an absolute one: about which centre Haas turns it is not in its manual (write the first move after G68 in G90)", w.letter, w.raw));
             }
         }
-        if g68.is_none() {
-            return None;
-        }
+        g68?;
     }
     if g69 {
         // The tool stays; its program point is where it stands. The first move must be absolute.
         if let Some(r) = it.rotation2d.take() {
             let p = it.position();
-            let at = match r.until_absolute {
-                Some(t) => Rotation::turn(t, r.angle, [p[0], p[1]]),
-                None => Rotation::turn(r.centre, r.angle, [p[0], p[1]]),
-            };
-            it.set_position_xy(at);
+            it.set_position_xy(r.turn([p[0], p[1]]));
             it.after_g69 = true;
         }
         if g68.is_none() {
@@ -165,10 +162,7 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     }
     let centre = [word('X').map_or(p[0], |w| w.value * unit), word('Y').map_or(p[1], |w| w.value * unit)];
     // A second G68 before G69: a new centre and angle (the tool's position read as before it).
-    let here = match it.rotation2d {
-        Some(old) => Rotation::turn(old.until_absolute.unwrap_or(old.centre), old.angle, [p[0], p[1]]),
-        None => [p[0], p[1]],
-    };
+    let here = it.rotation2d.map_or([p[0], p[1]], |old| old.turn([p[0], p[1]]));
     if it.rotation2d.is_some() {
         it.set_position_xy(here);
     }

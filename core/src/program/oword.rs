@@ -611,35 +611,35 @@ impl Rs274Reader {
         };
         let body = match self.flow.subs.get(&o.name).cloned() {
             Some(body) => body,
-            None => match self.flow.load(&o.name) {
-                Ok(Some((lines, file))) if self.flow.subs.len() < MAX_SUBS => {
-                    let body = Arc::new(lines);
-                    self.flow.subs.insert(o.name.clone(), body.clone());
-                    self.flow.files.insert(o.name.clone(), file);
-                    body
-                }
-                Ok(Some(_)) => return self.stop(line, col + 1, format!("more than {MAX_SUBS} subroutines"), diags),
-                // LinuxCNC skips forward in the file to a subroutine defined after the call.
-                Ok(None) if self.flow.own.is_some() && self.flow.in_file == 0 && self.flow.subs.len() < MAX_SUBS => {
-                    match self.flow.own.as_ref().map(|t| t.sub_after(&o.name, line)) {
-                        Some(Ok(Some(lines))) => {
-                            let body = Arc::new(lines);
-                            self.flow.subs.insert(o.name.clone(), body.clone());
-                            body
+            // LinuxCNC's order (control_back_to): a file of the search path, else forward in this
+            // file ([`super::later_subs`]; not from a subroutine of another file).
+            None => {
+                let own = self.flow.own.clone().filter(|_| self.flow.in_file == 0);
+                let found = match self.flow.load(&o.name) {
+                    Ok(None) => own.as_ref().map_or(Ok(None), |t| t.sub_after(&o.name, line)).map(|l| l.map(|lines| (lines, None))),
+                    found => found.map(|f| f.map(|(lines, file)| (lines, Some(file)))),
+                };
+                match found {
+                    Ok(Some(_)) if self.flow.subs.len() >= MAX_SUBS => return self.stop(line, col + 1, format!("more than {MAX_SUBS} subroutines"), diags),
+                    Ok(Some((lines, file))) => {
+                        let body = Arc::new(lines);
+                        self.flow.subs.insert(o.name.clone(), body.clone());
+                        if let Some(file) = file {
+                            self.flow.files.insert(o.name.clone(), file);
                         }
-                        Some(Err(why)) => return self.stop(line, col + 1, format!("o{} call: {why}", o.name), diags),
-                        _ if self.flow.sub_files.is_none() => {
-                            return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined in this file (before the call or after it) (LinuxCNC would look on its SUBROUTINE_PATH first: give it with --subroutine-path): the motion depends on a program not read", o.name, o.name), diags)
-                        }
-                        _ => return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined in this file, nor in a file of --subroutine-path", o.name, o.name), diags),
+                        body
                     }
+                    Ok(None) => {
+                        let after = if own.is_some() { " (before the call or after it)" } else { "" };
+                        let why = match self.flow.sub_files {
+                            None => " (LinuxCNC would look on its SUBROUTINE_PATH first: give it with --subroutine-path): the motion depends on a program not read",
+                            Some(_) => ", nor in a file of --subroutine-path",
+                        };
+                        return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined in this file{after}{why}", o.name, o.name), diags);
+                    }
+                    Err(why) => return self.stop(line, col + 1, format!("o{} call: {why}", o.name), diags),
                 }
-                Ok(None) if self.flow.sub_files.is_none() => {
-                    return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined in this file (LinuxCNC would look on its SUBROUTINE_PATH first: give it with --subroutine-path): the motion depends on a program not read", o.name, o.name), diags)
-                }
-                Ok(None) => return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined in this file, nor in a file of --subroutine-path", o.name, o.name), diags),
-                Err(why) => return self.stop(line, col + 1, format!("o{} call: {why}", o.name), diags),
-            },
+            }
         };
         if self.flow.depth >= MAX_CALL_DEPTH {
             return self.stop(line, col + 1, format!("o{} call: calls nested more than {MAX_CALL_DEPTH} deep", o.name), diags);

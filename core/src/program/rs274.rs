@@ -251,10 +251,10 @@ impl Rs274Reader {
         if !reads || self.dialect != Dialect::Rs274 {
             return;
         }
-        let (mut named, numbered) = self.interp.state_parameters();
+        let mut state = self.interp.state_parameters();
         let (value, returned) = self.flow.value;
-        named.extend([("_call_level", self.flow.depth() as f64), ("_value", value), ("_value_returned", if returned { 1.0 } else { 0.0 })]);
-        self.params.set_state(named, numbered);
+        state.named.extend([("_call_level", self.flow.depth() as f64), ("_value", value), ("_value_returned", if returned { 1.0 } else { 0.0 })]);
+        self.params.set_state(state);
     }
 
     /// No `%` came: the lines held as leader are the program's, read now.

@@ -733,13 +733,12 @@ impl Interpreter {
         self.fill_xy(&mut b);
         // Fanuc's and Haas' G68: the block placed about the centre, Fanuc's tool position at G68 for
         // incremental moves until an absolute one (machine coordinates are not turned).
-        if let Some(r) = self.rotation2d.as_mut().filter(|_| !shot.is_some_and(|s| s.axes.is_some())) {
+        if let Some(r) = self.rotation2d.as_mut().filter(|_| shot.is_none_or(|s| s.axes.is_none())) {
             let modal = self.absolute || shot.is_some_and(|s| s.absolute);
             if words.iter().any(|w| matches!(w.letter, 'X' | 'Y') && w.dimension.absolute(modal)) {
                 r.until_absolute = None;
             }
-            let r = *r;
-            r.place(r.until_absolute.unwrap_or(r.centre), &mut b);
+            r.place(&mut b);
         }
         Some(b)
     }

@@ -15,6 +15,7 @@ mod rotation;
 mod state_params;
 
 pub(crate) use modal::ModalState;
+pub(crate) use rotation::rot;
 pub(crate) use block::polar_step;
 pub(crate) use codes::{lcnc_group, x10};
 
@@ -348,22 +349,21 @@ impl Interpreter {
             }
             r = w.value * DEG;
         }
-        if l20 && (r != 0.0 || next.rotation_now() != 0.0) {
+        // Either system rotated: X and Y are set together, below, or by the rotation's rules.
+        let turned = r != 0.0 || next.rotation_now() != 0.0;
+        if l20 && turned {
             // interp_convert.cc convert_setup, L20 in a rotated system: the current point read in
             // system n, and the offset that puts it at the values given, both turned by its R.
-            let mut here = next.clone();
-            here.current_into_system(next.system, k_system);
-            let c = [here.last[0], here.last[1]];
+            let c = next.point_in_system(next.system, k_system);
             let given = |l: char| word(l).map(|w| w.value * next.unit);
             let old = rotation::rot(c, r);
             let want = rotation::rot([given('X').unwrap_or(c[0]), given('Y').unwrap_or(c[1])], r);
             offsets[0] = old[0] + offsets[0] - want[0];
             offsets[1] = old[1] + offsets[1] - want[1];
         }
-        let turned = l20 && (r != 0.0 || next.rotation_now() != 0.0);
         for w in words {
             let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
-            if k < 2 && turned {
+            if k < 2 && l20 && turned {
                 continue; // above
             } else if k < 3 {
                 // L20: the current point, in the offset-free (G53) frame, less the value it is to read.
@@ -376,7 +376,7 @@ impl Interpreter {
                 }
             }
         }
-        if k_system == next.system && (r != 0.0 || next.rotation_now() != 0.0) {
+        if k_system == next.system && turned {
             next.reframe_active(offsets, r);
         } else if k_system == next.system {
             next.move_origin(std::array::from_fn(|k| offsets[k] + next.axis_offset[k]));

@@ -8,7 +8,7 @@ use super::Interpreter;
 use crate::program::{ArcSpec, Block, Plane};
 
 /// `v` turned by `angle` (rad) about Z, counter-clockwise (rs274ngc's `rotate`).
-pub(super) fn rot(v: [f64; 2], angle: f64) -> [f64; 2] {
+pub(crate) fn rot(v: [f64; 2], angle: f64) -> [f64; 2] {
     if angle == 0.0 {
         return v;
     }
@@ -30,14 +30,20 @@ impl Interpreter {
         [t[0] + g5x[0], t[1] + g5x[1]]
     }
 
-    /// The current point read in system `to` (interp_find.cc `find_current_in_system`): the machine
-    /// stays, p = rot(machine - offset, -R) - G92 offset, the active system's before being `from`.
-    pub(super) fn current_into_system(&mut self, from: usize, to: usize) {
+    /// The current point's X Y read in system `to` (interp_find.cc `find_current_in_system`): the
+    /// machine stays, p = rot(machine - offset, -R) - G92 offset, the active system's being `from`.
+    pub(super) fn point_in_system(&self, from: usize, to: usize) -> [f64; 2] {
         let m = self.machine_xy(from);
         let (g5x, g92) = (self.offsets[to], self.axis_offset);
         let p = rot([m[0] - g5x[0], m[1] - g5x[1]], -self.rotation[to]);
-        self.last[0] = p[0] - g92[0];
-        self.last[1] = p[1] - g92[1];
+        [p[0] - g92[0], p[1] - g92[1]]
+    }
+
+    /// The current point read in system `to`, which becomes the active one's ([`Self::point_in_system`]).
+    pub(super) fn current_into_system(&mut self, from: usize, to: usize) {
+        let (g5x, g92) = (self.offsets[to], self.axis_offset);
+        let p = self.point_in_system(from, to);
+        (self.last[0], self.last[1]) = (p[0], p[1]);
         self.last[2] += self.offsets[from][2] - g5x[2];
         self.datum = std::array::from_fn(|k| g5x[k] + g92[k]);
     }

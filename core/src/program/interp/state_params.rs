@@ -5,13 +5,14 @@
 //! and the line number are not modelled and stay refused.
 
 use super::Interpreter;
+use crate::program::params::StateParameters;
 use crate::program::{FeedMode, Motion, Plane};
 use crate::units::MM;
 
 impl Interpreter {
     /// Named and numbered parameters of the state now, values in the program's units (deg for
     /// the rotary axes), as LinuxCNC gives them.
-    pub(crate) fn state_parameters(&self) -> (Vec<(&'static str, f64)>, Vec<(u32, f64)>) {
+    pub(crate) fn state_parameters(&self) -> StateParameters {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let unit = self.unit;
         let mut named: Vec<(&'static str, f64)> = vec![
@@ -80,6 +81,6 @@ impl Interpreter {
                 named.push((name, at[3 + k]));
             }
         }
-        (named, numbered)
+        StateParameters { named, numbered }
     }
 }

@@ -79,7 +79,15 @@ pub struct Parameters {
     hal_pins: std::collections::BTreeMap<String, f64>,
     /// The interpreter's state as LinuxCNC's predefined parameters give it (`#<_x>`, `#<_metric>`,
     /// `#5420`, ...), where the reader knows it: set before each line is read ([`Parameters::set_state`]).
-    state: (Vec<(&'static str, f64)>, Vec<(u32, f64)>),
+    state: StateParameters,
+}
+
+/// The interpreter's state as LinuxCNC's predefined parameters give it: named ones (`_x`) and
+/// numbered ones (`5420`), with their values.
+#[derive(Debug, Clone, Default)]
+pub struct StateParameters {
+    pub named: Vec<(&'static str, f64)>,
+    pub numbered: Vec<(u32, f64)>,
 }
 
 impl Parameters {
@@ -106,8 +114,8 @@ impl Parameters {
 
     /// The interpreter's state now, as its predefined named and numbered parameters (LinuxCNC
     /// manual §11.4.3.4, §11.4.2.7): what a line reads of them. One not given stays refused.
-    pub fn set_state(&mut self, named: Vec<(&'static str, f64)>, numbered: Vec<(u32, f64)>) {
-        self.state = (named, numbered);
+    pub fn set_state(&mut self, state: StateParameters) {
+        self.state = state;
     }
 
     /// Set a parameter (a line's settings, after every value on the line was read).
@@ -189,7 +197,7 @@ impl Parameters {
     /// A numbered parameter's value, where the program set it (see the module's fail-closed rules).
     fn read_numbered(&self, n: u32, column: usize) -> Result<f64, ExprError> {
         if n > MAX_USER_PARAMETER {
-            if let Some(&(_, v)) = self.state.1.iter().find(|(k, _)| *k == n) {
+            if let Some(&(_, v)) = self.state.numbered.iter().find(|(k, _)| *k == n) {
                 return Ok(v);
             }
             return err(column, format!("#{n} is a system parameter (offsets, tool, position): the machine's state is not modelled"));
@@ -216,7 +224,7 @@ impl Parameters {
             if let Some(pin) = name.strip_prefix("_hal[") {
                 return err(column, format!("#<{name}>: the machine file gives no HAL pin '{pin}' (its hal_pins table)"));
             }
-            if let Some(&(_, v)) = self.state.0.iter().find(|(k, _)| *k == name) {
+            if let Some(&(_, v)) = self.state.named.iter().find(|(k, _)| *k == name) {
                 return Ok(v);
             }
             if is_machine_state(name) {
