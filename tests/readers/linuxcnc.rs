@@ -832,6 +832,61 @@ fn rs274_finds_subroutines_defined_after_their_call_as_linuxcnc_does() {
     assert!(p.diagnostics.iter().any(|d| d.line == last && d.message.contains("are not run")), "{:?}", p.diagnostics);
 }
 
+/// LinuxCNC's Fanuc-style subprograms (LinuxCNC manual, O codes, "Fanuc-Style Numbered Programs"):
+/// `M98 P L` runs `O<n>` ... `M99` L times with `#1`-`#30` shared (global) and named parameters its
+/// own, `P0200` is `O200`, `P` may be computed, calls nest and come from o-call subroutines, `M99` in
+/// a condition returns, `L0` runs nothing (`fanuc_subs.ngc`); an `O<n>` line the main program runs
+/// into is its title, and `M99` ends the main program in the standalone interpreter
+/// (`fanuc_main_m99.ngc`). Read whole and streamed, the same moves as rs274's (make_canon.sh). Calls
+/// and subprograms of the other kind are refused as LinuxCNC refuses them (its tests/interp
+/// m98m99/06-error-mixed-sub-styles), and so is what M98 L0's call level, which LinuxCNC 2.9 never
+/// leaves, would change.
+#[test]
+fn rs274_runs_fanuc_style_subprograms_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    for name in ["fanuc_subs", "fanuc_main_m99"] {
+        let path = dir.join(format!("{name}.ngc"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        let whole = read(&text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        same_places_as_linuxcnc(&whole, &dir.join(format!("{name}.canon")));
+        let mut stream = fiveaxis::program::open(&path, Some(Dialect::Rs274), &ReadOptions::default()).unwrap();
+        let streamed: Vec<_> = stream.by_ref().collect();
+        assert_eq!(streamed, whole.blocks, "{name}");
+        // Nothing after the end is said to be cut off: the subprograms are where calls go.
+        assert!(whole.diagnostics.iter().all(|d| !d.message.contains("are not run")), "{name}: {:?}", whole.diagnostics);
+    }
+    let text = std::fs::read_to_string(dir.join("fanuc_main_m99.ngc")).unwrap();
+    let p = read(&text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert_eq!(p.name.as_deref(), Some("O1"));
+    assert!(p.diagnostics.iter().any(|d| d.line == 5 && d.message.contains("runs the program again")), "{:?}", p.diagnostics);
+    refuses_each(
+        Dialect::Rs274,
+        &ReadOptions::default(),
+        &[
+            ("%\nO1 call\nO1\nG0 X1\nM99\n%\n", "2:1:", "must be called with 'M98'"),
+            ("%\nM98 P1\nM30\nO1\nG0 X1\nO1 endsub\n%\n", "2:1:", "O1 at line 4 has no M99"),
+            ("%\nM98 P1\nM30\nO1 sub\nG0 X1\nO1 endsub\n%\n", "2:1:", "must be called with 'O.... call'"),
+            ("%\nO1 call\nM30\nO1 sub\nG0 X1\nM99\n%\n", "2:1:", "has no o1 endsub"),
+            ("%\no1 sub\nG0 X1\nM99\no1 endsub\no1 call\nM30\n%\n", "4:1:", "must follow 'O.... sub'"),
+            ("%\nM98 P1\nM30\nO1\no1 endsub\nM99\n%\n", "5:1:", "must end with 'M99'"),
+            ("M98 L2\nM30\n", "1:1:", "no P-word"),
+            ("M98 P1 X5\nM30\nO1\nM99\n", "1:8:", "only P (the program) and L"),
+            ("M98 P1.5\nM30\nO1\nM99\n", "1:1:", "a whole number"),
+            ("M98 P1 L-2\nM30\nO1\nM99\n", "1:8:", "a whole number 0 or more"),
+            ("M98 P7\nM30\n", "1:1:", "no program O7 is defined"),
+            ("G0 X1 M98 P1\nM30\nO1\nM99\n", "1:7:", "only as the first word of its line"),
+            ("M98 P1\nM30\nO1\nG0 X1 M99\nM99\n", "4:1:", "only as the first word of its line"),
+            ("M98 P1 L0\no2 sub\no2 endsub\nM30\nO1\nM99\n", "2:1:", "after M98 L0 (line 1)"),
+            ("M98 P1 L0\nG0 X1\nM99\nO1\nM99\n", "3:1:", "after M98 L0 (line 1)"),
+        ],
+    );
+    // The same text without L0's raised level reads.
+    let p = read("M98 P1 L0\nG0 X1\nM98 P1 L1\nM30\nO1\nG0 Y1\nM99\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ends: Vec<[f64; 2]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1]]).collect();
+    assert_eq!(ends, vec![[1.0, 0.0], [1.0, 1.0]]);
+}
+
 /// Three small readings of LinuxCNC's, each as its interpreter reads it (rs274 on the same lines, as
 /// LinuxCNC 2.9's tests/interp exists and fractional-linenumbers and m19 have them): `EXISTS[#n]`
 /// of a numbered parameter is whether the number is one of its parameters (1 to 5601, the number

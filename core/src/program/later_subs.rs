@@ -9,7 +9,7 @@
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::sync::{Arc, Mutex};
 
-use super::oword::{parse, Keyword, MAX_HELD_BYTES, MAX_HELD_LINES};
+use super::oword::{closer, opens, parse, Keyword, MAX_HELD_BYTES, MAX_HELD_LINES};
 use super::stream::{OpenText, Text, MAX_LINE_BYTES};
 
 /// A line of a program: its 1-based number and text.
@@ -38,13 +38,15 @@ impl ProgramText {
         ProgramText::File(Mutex::new((Some(open), None)))
     }
 
-    /// Subroutine `name`'s lines, from its `o<name> sub` after line `after` to its `endsub`;
-    /// `Ok(None)` where the text has none there.
-    pub(crate) fn sub_after(&self, name: &str, after: usize) -> Result<Option<Vec<Line>>, String> {
+    /// Subroutine `name`'s lines, from its start after line `after` to its end, and whether it is
+    /// Fanuc-style ([`collect_sub`]); `Ok(None)` where the text has none there. In a file that opens
+    /// with `%` (`percent`), nothing after the next `%` line is looked at: "The useful contents of a
+    /// file demarcated by percents stop after the second percent line" (NIST IR 6556 §3.3.1).
+    pub(crate) fn sub_after(&self, name: &str, after: usize, percent: bool) -> Result<Option<(Vec<Line>, bool)>, String> {
         match self {
             ProgramText::Bytes(b) => {
                 let lines = b.split(|&c| c == b'\n').enumerate().skip(after).map(|(k, l)| Ok((k + 1, String::from_utf8_lossy(l).into_owned())));
-                collect_sub(lines, name, "the program")
+                collect_sub(lines.take_while(|l| !(percent && ends_tape(l))), name, "the program")
             }
             ProgramText::File(m) => {
                 let mut guard = m.lock().map_err(|_| "the program's text is not readable again".to_string())?;
@@ -69,48 +71,88 @@ impl ProgramText {
                         Err(e) => Some(Err(format!("the program cannot be read again: {e}"))),
                     }
                 })
-                .skip(after);
+                .skip(after)
+                .take_while(|l| !(percent && ends_tape(l)));
                 collect_sub(lines, name, "the program")
             }
         }
     }
 }
 
-/// Whether `text` may define a subroutine (holds `sub` in any case): only such a program's text is
-/// kept for [`ProgramText`].
-pub(crate) fn may_define_subs(text: &str) -> bool {
-    let b = text.as_bytes();
-    memchr::memchr2_iter(b'u', b'U', b).any(|i| i > 0 && b[i - 1].eq_ignore_ascii_case(&b's') && b.get(i + 1).is_some_and(|c| c.eq_ignore_ascii_case(&b'b')))
+/// Whether a line read is a `%` line.
+fn ends_tape(line: &Result<Line, String>) -> bool {
+    line.as_ref().is_ok_and(|(_, t)| t.trim_start().starts_with('%'))
 }
 
-/// The lines of subroutine `name` among `lines`: from its `o<name> sub` to its `endsub`, at most
-/// [`MAX_HELD_LINES`] lines and [`MAX_HELD_BYTES`] bytes; `Ok(None)` where there is no `sub` line,
-/// an error where it does not end. `shown` names the text in messages.
-pub(crate) fn collect_sub(lines: impl Iterator<Item = Result<Line, String>>, name: &str, shown: &str) -> Result<Option<Vec<Line>>, String> {
+/// Whether `text` may call a subroutine defined after the call (holds `call` or `M98`, in any case):
+/// only such a program's text is kept for [`ProgramText`].
+pub(crate) fn may_define_subs(text: &str) -> bool {
+    let b = text.as_bytes();
+    let ci = |at: usize, word: &[u8]| b.get(at..at + word.len()).is_some_and(|w| w.eq_ignore_ascii_case(word));
+    memchr::memchr2_iter(b'c', b'C', b).any(|i| ci(i, b"call"))
+        || memchr::memmem::find_iter(b, b"98").any(|i| b[..i].iter().rev().find(|c| !matches!(c, b' ' | b'\t' | b'0')).is_some_and(|c| c.eq_ignore_ascii_case(&b'm')))
+}
+
+/// The lines of subroutine `name` among `lines`, from the first line that starts it, `o<name> sub`
+/// or a Fanuc-style `O<name>` alone (LinuxCNC skips to whichever comes first), to its end: its
+/// `o<name> endsub`, or the first `M99` outside the O-word blocks in it. At most [`MAX_HELD_LINES`]
+/// lines and [`MAX_HELD_BYTES`] bytes; `Ok(None)` where nothing starts it, an error where it does
+/// not end; true with the lines where it is Fanuc-style. `shown` names the text in messages.
+pub(crate) fn collect_sub(lines: impl Iterator<Item = Result<Line, String>>, name: &str, shown: &str) -> Result<Option<(Vec<Line>, bool)>, String> {
     let mut held: Vec<Line> = Vec::new();
+    let mut fanuc = false;
+    // A Fanuc-style body's O-word blocks open so far (an M99 in one is not its end).
+    let mut open: Vec<(String, Keyword)> = Vec::new();
     let mut bytes = 0;
     for l in lines {
         let (k, raw) = l?;
         let raw = raw.trim_end_matches('\r');
-        let o = parse(&raw.trim_start().chars().collect::<Vec<_>>()).filter(|o| o.name.eq_ignore_ascii_case(name));
-        match (held.is_empty(), o.map(|o| o.keyword)) {
-            (true, Some(Keyword::Sub)) => held.push((k, raw.to_string())),
-            (true, _) => {}
-            (false, Some(Keyword::EndSub)) => {
-                held.push((k, raw.to_string()));
-                return Ok(Some(held));
-            }
-            (false, _) => {
-                bytes += raw.len();
-                if held.len() >= MAX_HELD_LINES || bytes > MAX_HELD_BYTES {
-                    return Err(format!("{shown}: o{name} sub holds more than {MAX_HELD_LINES} lines or {} MiB", MAX_HELD_BYTES >> 20));
+        let o = parse(&raw.trim_start().chars().collect::<Vec<_>>());
+        if held.is_empty() {
+            match o {
+                Some(o) if o.name.eq_ignore_ascii_case(name) && matches!(o.keyword, Keyword::Sub | Keyword::Title) => {
+                    fanuc = o.keyword == Keyword::Title;
+                    held.push((k, raw.to_string()));
                 }
-                held.push((k, raw.to_string()));
+                _ => {}
             }
+            continue;
         }
+        let ends = match o {
+            Some(o) if !fanuc => o.keyword == Keyword::EndSub && o.name.eq_ignore_ascii_case(name),
+            Some(o) if o.keyword == Keyword::M99 => open.is_empty(),
+            Some(o) => {
+                if opens(&o, open.last().map(|(n, k)| (n.as_str(), *k))) {
+                    open.push((o.name, o.keyword));
+                } else if open.last().is_some_and(|(n, k)| *n == o.name && closer(*k) == o.keyword) {
+                    open.pop();
+                }
+                false
+            }
+            None => false,
+        };
+        if ends {
+            held.push((k, raw.to_string()));
+            return Ok(Some((held, fanuc)));
+        }
+        bytes += raw.len();
+        if held.len() >= MAX_HELD_LINES || bytes > MAX_HELD_BYTES {
+            return Err(format!("{shown}: {} holds more than {MAX_HELD_LINES} lines or {} MiB", start(name, fanuc), MAX_HELD_BYTES >> 20));
+        }
+        held.push((k, raw.to_string()));
     }
     match held.first() {
+        Some((k, _)) if fanuc => Err(format!("{shown}: O{name} at line {k} has no M99 (a Fanuc-style subprogram ends with it)")),
         Some((k, _)) => Err(format!("{shown}: o{name} sub at line {k} has no o{name} endsub")),
         None => Ok(None),
+    }
+}
+
+/// How a subroutine's start reads in messages.
+fn start(name: &str, fanuc: bool) -> String {
+    if fanuc {
+        format!("O{name}")
+    } else {
+        format!("o{name} sub")
     }
 }

@@ -17,6 +17,7 @@ mod klartext;
 mod lcnc_cycles;
 mod lcnc_home;
 mod later_subs;
+mod lcnc_m98;
 mod lex;
 mod macro_b;
 mod modal_context;

@@ -55,6 +55,13 @@ pub enum Keyword {
     EndRepeat,
     Break,
     Continue,
+    /// An O word alone (`O1000`, `O<name>`, a comment after it): LinuxCNC's Fanuc-style program or
+    /// subprogram start ([`super::lcnc_m98`]).
+    Title,
+    /// `M98` first in its line: a Fanuc-style call.
+    M98,
+    /// `M99` first in its line: a Fanuc-style return (the program's end in the main program).
+    M99,
 }
 
 impl Keyword {
@@ -92,8 +99,12 @@ pub struct OLine {
     pub name_expr: Option<usize>,
 }
 
-/// The O-word control line at the start of `chars`, if it is one.
+/// The O-word control line at the start of `chars`, if it is one (or LinuxCNC's Fanuc-style `M98`
+/// or `M99` line, [`super::lcnc_m98::call_or_return`]).
 pub fn parse(chars: &[char]) -> Option<OLine> {
+    if let Some((keyword, rest)) = super::lcnc_m98::call_or_return(chars.iter().copied()) {
+        return Some(OLine { name: String::new(), keyword, rest, name_expr: None });
+    }
     if !matches!(chars.first(), Some('o' | 'O')) {
         return None;
     }
@@ -118,8 +129,17 @@ pub fn parse(chars: &[char]) -> Option<OLine> {
         }
     }
     let name: String = chars[start..i].iter().filter(|c| !c.is_whitespace()).flat_map(|c| c.to_lowercase()).collect();
-    let name = name.trim_start_matches('0').to_string();
+    // `o0100` is `o100` (LinuxCNC reads the number, then prints it); `o0` stays `0`.
+    let name = match name.trim_start_matches('0') {
+        "" if !name.is_empty() => "0".to_string(),
+        trimmed => trimmed.to_string(),
+    };
     let k = skip_blanks(chars, i);
+    // Nothing but a comment after it: a Fanuc-style program start (interp_read.cc read_o, "O2000" with
+    // no following args).
+    if matches!(chars.get(k), None | Some('(' | ';')) {
+        return Some(OLine { name, keyword: Keyword::Title, rest: k, name_expr: None });
+    }
     let end = (k..chars.len()).find(|&e| !chars[e].is_ascii_alphabetic()).unwrap_or(chars.len());
     let word: String = chars[k..end].iter().flat_map(|c| c.to_lowercase()).collect();
     Some(OLine { name, keyword: Keyword::of(&word)?, rest: end, name_expr: None })
@@ -127,7 +147,7 @@ pub fn parse(chars: &[char]) -> Option<OLine> {
 
 /// Whether `l` opens a block that must be held to its end (a subroutine, a loop, a condition);
 /// `innermost` is the block open around it, if any (a `while` ends the `do` of its name).
-fn opens(l: &OLine, innermost: Option<(&str, Keyword)>) -> bool {
+pub(crate) fn opens(l: &OLine, innermost: Option<(&str, Keyword)>) -> bool {
     match l.keyword {
         Keyword::Sub | Keyword::Do | Keyword::If | Keyword::Repeat => true,
         Keyword::While => innermost != Some((l.name.as_str(), Keyword::Do)),
@@ -136,7 +156,7 @@ fn opens(l: &OLine, innermost: Option<(&str, Keyword)>) -> bool {
 }
 
 /// The keyword that ends a block opened by `k`.
-fn closer(k: Keyword) -> Keyword {
+pub(crate) fn closer(k: Keyword) -> Keyword {
     match k {
         Keyword::Sub => Keyword::EndSub,
         Keyword::Do => Keyword::While,
@@ -163,7 +183,15 @@ fn word(k: Keyword) -> &'static str {
         Keyword::EndRepeat => "endrepeat",
         Keyword::Break => "break",
         Keyword::Continue => "continue",
+        Keyword::Title => "",
+        Keyword::M98 => "M98",
+        Keyword::M99 => "M99",
     }
+}
+
+/// Why `endsub` or `return` cannot end a Fanuc-style subprogram.
+fn m99_ends(o: &OLine) -> String {
+    format!("o{} {}: a Fanuc-style subprogram (called by M98) ends with M99 (LinuxCNC: \"Fanuc 'O....' subroutine definition must end with 'M99'\")", o.name, word(o.keyword))
 }
 
 /// A line as read: its number and text.
@@ -182,7 +210,9 @@ struct Held {
 #[derive(Debug, Clone)]
 pub struct Flow {
     held: Option<Held>,
-    subs: HashMap<String, Arc<Vec<Line>>>,
+    /// The subroutines known by name (LinuxCNC's one table for both kinds): their lines, with their
+    /// `sub` and `endsub` lines (a Fanuc-style one's `O` line and `M99`), and whether Fanuc-style.
+    subs: HashMap<String, (Arc<Vec<Line>>, bool)>,
     run_lines: usize,
     /// The most lines control blocks may run ([`crate::program::ReadOptions::max_run_lines`]).
     budget: usize,
@@ -204,24 +234,36 @@ pub struct Flow {
     /// How many subroutines of other files are running (a call in one skips forward in that file,
     /// which is not read here).
     in_file: usize,
+    /// For each call running, innermost last: whether it is a Fanuc-style `M98` call.
+    frames: Vec<bool>,
+    /// The lines of the `M98 ... L0` run so far: LinuxCNC 2.9 enters a call level for each and never
+    /// leaves it ([`super::lcnc_m98`]).
+    pub(crate) raised: Vec<usize>,
 }
 
 impl Flow {
     /// The flow of a read whose control blocks may run `budget` lines, its subroutines not defined
     /// in the program looked for in `sub_files`.
     pub fn new(budget: usize, sub_files: Option<Arc<dyn SubroutineFiles>>) -> Flow {
-        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false), own: None, in_file: 0 }
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false), own: None, in_file: 0, frames: Vec::new(), raised: Vec::new() }
     }
 
-    /// How deep in subroutine calls the run stands (0: the main program).
+    /// How deep in subroutine calls the run stands (0: the main program), as LinuxCNC counts it
+    /// (`#<_call_level>`: with the levels `M98 L0` left raised).
     pub(crate) fn depth(&self) -> usize {
-        self.depth
+        self.depth + self.raised.len()
+    }
+
+    /// Whether the innermost call running is a Fanuc-style `M98` call.
+    pub(crate) fn in_m98(&self) -> bool {
+        self.frames.last() == Some(&true)
     }
 
     /// The subroutine `name` from its own file on the search path (LinuxCNC's find_ngc_file: `NAME.ngc`
-    /// in each directory, the file then skipped to its `o<name> sub` and run to its `endsub`): its
-    /// lines, numbered in that file, and the file's path; `Ok(None)` where no directory has it.
-    fn load(&self, name: &str) -> Result<Option<(Vec<Line>, String)>, String> {
+    /// in each directory, the file then skipped to its `o<name> sub` or `O<name>` and run to its end):
+    /// its lines, numbered in that file, whether Fanuc-style, and the file's path; `Ok(None)` where
+    /// no directory has it.
+    fn load(&self, name: &str) -> Result<Option<((Vec<Line>, bool), String)>, String> {
         let stem = name.trim_start_matches('<').trim_end_matches('>');
         let Some(files) = &self.sub_files else { return Ok(None) };
         if let Some((shown, bytes)) = files.find(stem)? {
@@ -232,7 +274,7 @@ impl Flow {
             let lines = text.lines().enumerate().map(|(k, l)| Ok((k + 1, l.to_string())));
             return match super::later_subs::collect_sub(lines, name, &shown)? {
                 Some(lines) => Ok(Some((lines, shown))),
-                None => Err(format!("{shown} has no o{name} sub ... o{name} endsub")),
+                None => Err(format!("{shown} has no o{name} sub ... o{name} endsub, nor O{name} ... M99")),
             };
         }
         Ok(None)
@@ -240,7 +282,7 @@ impl Flow {
 }
 
 /// How a run of lines ended.
-enum End {
+pub(super) enum End {
     Done,
     Return,
     Stopped,
@@ -251,7 +293,7 @@ impl Rs274Reader {
     /// was taken here (the caller reads it otherwise).
     pub(super) fn flow_line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         // Most lines are neither held nor O words: passed on without a copy.
-        if self.flow.held.is_none() && !self.flow.stopped && !text.trim_start().starts_with(['o', 'O']) {
+        if self.flow.held.is_none() && !self.flow.stopped && !super::lcnc_m98::may_be_flow(text.trim_start()) {
             return false;
         }
         let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
@@ -291,12 +333,21 @@ impl Rs274Reader {
             return true;
         }
         let Some(o) = o else { return false };
+        match o.keyword {
+            // The main program's M99: its end, read as a line.
+            Keyword::M99 => return false,
+            Keyword::Title => {
+                self.title(&chars[first..], &o);
+                return true;
+            }
+            _ => {}
+        }
         if opens(&o, None) {
             self.flow.held = Some(Held { lines: vec![(line, text.to_string())], bytes: text.len(), open: vec![(o.name, o.keyword, line)] });
             return true;
         }
         // A lone keyword outside any block: a call runs now; anything else ends nothing.
-        if o.keyword == Keyword::Call {
+        if matches!(o.keyword, Keyword::Call | Keyword::M98) {
             let lines = [(line, text.to_string())];
             self.run(&lines, out, diags);
         } else {
@@ -317,11 +368,15 @@ impl Rs274Reader {
     fn run_held(&mut self, lines: Vec<Line>, out: &mut Vec<Block>, diags: &mut Diags) {
         let first = lines.first().and_then(|(_, t)| parse(&t.trim_start().chars().collect::<Vec<_>>()));
         if let Some(o) = first.filter(|o| o.keyword == Keyword::Sub) {
+            if let Some(&at) = self.flow.raised.first() {
+                self.stop(lines[0].0, 1, super::lcnc_m98::after_l0("a subroutine's definition", at), diags);
+                return;
+            }
             if self.flow.subs.len() >= MAX_SUBS && !self.flow.subs.contains_key(&o.name) {
                 diags.error(lines[0].0, 1, format!("more than {MAX_SUBS} subroutines"));
                 return;
             }
-            self.flow.subs.insert(o.name, Arc::new(lines));
+            self.flow.subs.insert(o.name, (Arc::new(lines), false));
             return;
         }
         self.run(&lines, out, diags);
@@ -376,6 +431,7 @@ impl Rs274Reader {
                         openers[i] = Some(at);
                     }
                     Some((n, k, _)) => return self.stop(line, col, format!("o{} {} ends no block: o{n} {} is open", o.name, word(o.keyword), word(k)), diags),
+                    None if o.keyword == Keyword::EndSub && self.flow.in_m98() => return self.stop(line, col, m99_ends(o), diags),
                     None => return self.stop(line, col, format!("o{} {}: no block of that name is open", o.name, word(o.keyword)), diags),
                 },
                 Keyword::Break | Keyword::Continue => {
@@ -402,12 +458,13 @@ impl Rs274Reader {
             if self.flow.stopped || self.program_ended() {
                 return End::Stopped;
             }
-            self.flow.run_lines += 1;
             let (line, text) = (&lines[pc].0, &lines[pc].1);
-            if self.flow.run_lines > self.flow.budget {
-                return self.stop(*line, 1, format!("more than {} lines run by O-word loops and calls: an endless loop? not read further", self.flow.budget), diags);
+            if !self.spend_line(*line, diags) {
+                return End::Stopped;
             }
-            let Some((o, col, chars)) = &parsed[pc] else {
+            // The main program's M99 is its end, read as a line.
+            let control = parsed[pc].as_ref().filter(|(o, _, _)| !(o.keyword == Keyword::M99 && self.flow.depth == 0));
+            let Some((o, col, chars)) = control else {
                 let before = diags.0.len();
                 self.loop_line(*line, text, &mut kept[pc], out, diags);
                 // Said once per line, however often the flow runs it.
@@ -424,9 +481,15 @@ impl Rs274Reader {
             match o.keyword {
                 Keyword::Sub => {
                     // A subroutine defined inside a block: kept, its body skipped.
+                    if let (0, Some(&at)) = (self.flow.depth, self.flow.raised.first()) {
+                        return self.stop(*line, col + 1, super::lcnc_m98::after_l0("a subroutine's definition", at), diags);
+                    }
                     let end = end_of(pc);
-                    self.flow.subs.insert(o.name.clone(), Arc::new(lines[pc..=end].to_vec()));
+                    self.flow.subs.insert(o.name.clone(), (Arc::new(lines[pc..=end].to_vec()), false));
                     pc = end + 1;
+                }
+                Keyword::EndSub | Keyword::Return if self.flow.in_m98() => {
+                    return self.stop(*line, col + 1, m99_ends(o), diags);
                 }
                 Keyword::EndSub | Keyword::Return => {
                     return match self.return_value(o, chars, *line, *col, diags) {
@@ -439,6 +502,28 @@ impl Rs274Reader {
                         End::Stopped => return End::Stopped,
                         _ => pc += 1,
                     }
+                }
+                Keyword::M98 => {
+                    match self.m98(chars, o.rest, *line, *col, out, diags) {
+                        End::Stopped => return End::Stopped,
+                        _ => pc += 1,
+                    }
+                }
+                Keyword::M99 => {
+                    if !self.flow.in_m98() {
+                        return self.stop(*line, col + 1, "M99 in a subroutine called by o-call: it ends with o endsub or o return (LinuxCNC: \"'O.... endsub' or 'O.... return' must follow 'O.... sub' subroutine definition\")".into(), diags);
+                    }
+                    if !super::lcnc_m98::only_comments(chars, o.rest) {
+                        return self.stop(*line, col + 1, "M99: nothing but a comment may follow it on its line (LinuxCNC: \"Unexpected character after O-word\")".into(), diags);
+                    }
+                    self.flow.value = (0.0, false);
+                    return End::Return;
+                }
+                Keyword::Title => {
+                    if self.flow.depth > 0 && !self.flow.in_m98() {
+                        return self.stop(*line, col + 1, format!("O{}: a Fanuc-style program start inside a subroutine called by o-call (LinuxCNC: \"Fanuc 'O....' subroutine must be called with 'M98'\")", o.name), diags);
+                    }
+                    pc += 1;
                 }
                 Keyword::Do => pc += 1,
                 Keyword::While if ends[pc].is_some() => {
@@ -529,9 +614,20 @@ impl Rs274Reader {
         }
     }
 
+    /// One more line run by the flow (at `line`), within the read's budget; false (said, the run
+    /// stopped) past it.
+    pub(super) fn spend_line(&mut self, line: usize, diags: &mut Diags) -> bool {
+        self.flow.run_lines += 1;
+        if self.flow.run_lines > self.flow.budget {
+            self.stop(line, 1, format!("more than {} lines run by O-word loops and calls: an endless loop? not read further", self.flow.budget), diags);
+            return false;
+        }
+        true
+    }
+
     /// A defect in the flow: said at its line, and nothing more is read (what follows would run
     /// from a state the flow left unknown).
-    fn stop(&mut self, line: usize, column: usize, message: String, diags: &mut Diags) -> End {
+    pub(super) fn stop(&mut self, line: usize, column: usize, message: String, diags: &mut Diags) -> End {
         if !self.flow.stopped {
             diags.error(line, column, format!("{message} (the rest of the program is not read)"));
         }
@@ -609,41 +705,11 @@ impl Rs274Reader {
                 }
             }
         };
-        let body = match self.flow.subs.get(&o.name).cloned() {
-            Some(body) => body,
-            // LinuxCNC's order (control_back_to): a file of the search path, else forward in this
-            // file ([`super::later_subs`]; not from a subroutine of another file).
-            None => {
-                let own = self.flow.own.clone().filter(|_| self.flow.in_file == 0);
-                let found = match self.flow.load(&o.name) {
-                    Ok(None) => own.as_ref().map_or(Ok(None), |t| t.sub_after(&o.name, line)).map(|l| l.map(|lines| (lines, None))),
-                    found => found.map(|f| f.map(|(lines, file)| (lines, Some(file)))),
-                };
-                match found {
-                    Ok(Some(_)) if self.flow.subs.len() >= MAX_SUBS => return self.stop(line, col + 1, format!("more than {MAX_SUBS} subroutines"), diags),
-                    Ok(Some((lines, file))) => {
-                        let body = Arc::new(lines);
-                        self.flow.subs.insert(o.name.clone(), body.clone());
-                        if let Some(file) = file {
-                            self.flow.files.insert(o.name.clone(), file);
-                        }
-                        body
-                    }
-                    Ok(None) => {
-                        let after = if own.is_some() { " (before the call or after it)" } else { "" };
-                        let why = match self.flow.sub_files {
-                            None => " (LinuxCNC would look on its SUBROUTINE_PATH first: give it with --subroutine-path): the motion depends on a program not read",
-                            Some(_) => ", nor in a file of --subroutine-path",
-                        };
-                        return self.stop(line, col + 1, format!("o{} call: no subroutine o{} is defined in this file{after}{why}", o.name, o.name), diags);
-                    }
-                    Err(why) => return self.stop(line, col + 1, format!("o{} call: {why}", o.name), diags),
-                }
-            }
+        let shown = format!("o{} call", o.name);
+        let body = match self.find_sub(&o.name, false, &shown, line, col, diags) {
+            Ok(body) => body,
+            Err(end) => return end,
         };
-        if self.flow.depth >= MAX_CALL_DEPTH {
-            return self.stop(line, col + 1, format!("o{} call: calls nested more than {MAX_CALL_DEPTH} deep", o.name), diags);
-        }
         self.refresh_state(super::rs274::reads_state(chars.iter().copied()));
         let mut args = Vec::new();
         let mut i = o.rest;
@@ -669,15 +735,80 @@ impl Rs274Reader {
         if args.len() > 30 {
             return self.stop(line, col + 1, format!("o{} call: {} arguments, LinuxCNC takes 30 (#1-#30)", o.name, args.len()), diags);
         }
-        let scope = self.params.enter_call(&args);
+        self.run_sub(&o.name, &shown, &body, Some(&args), line, col, out, diags)
+    }
+
+    /// The subroutine `name` a call runs (`o<name> call`, or `M98 P<name>` where `m98`; `shown` says
+    /// which in messages): as defined before, else from a file of the search path, else forward in
+    /// this file (LinuxCNC's control_back_to). The one found must be of the call's kind (LinuxCNC:
+    /// "Fanuc 'O....' subroutine must be called with 'M98'", "'O.... sub' subroutine must be called
+    /// with 'O.... call'"). Err: the run stopped, said.
+    pub(super) fn find_sub(&mut self, name: &str, m98: bool, shown: &str, line: usize, col: usize, diags: &mut Diags) -> Result<(Arc<Vec<Line>>, bool), End> {
+        let found = match self.flow.subs.get(name).cloned() {
+            Some(found) => found,
+            // LinuxCNC's order (control_back_to): a file of the search path, else forward in this
+            // file ([`super::later_subs`]; not from a subroutine of another file).
+            None => {
+                let own = self.flow.own.clone().filter(|_| self.flow.in_file == 0);
+                let found = match self.flow.load(name) {
+                    Ok(None) => own.as_ref().map_or(Ok(None), |t| t.sub_after(name, line, self.percent)).map(|l| l.map(|sub| (sub, None))),
+                    found => found.map(|f| f.map(|(sub, file)| (sub, Some(file)))),
+                };
+                match found {
+                    Ok(Some(_)) if self.flow.subs.len() >= MAX_SUBS => return Err(self.stop(line, col + 1, format!("more than {MAX_SUBS} subroutines"), diags)),
+                    Ok(Some(((lines, fanuc), file))) => {
+                        let found = (Arc::new(lines), fanuc);
+                        self.flow.subs.insert(name.to_string(), found.clone());
+                        if let Some(file) = file {
+                            self.flow.files.insert(name.to_string(), file);
+                        }
+                        found
+                    }
+                    Ok(None) => {
+                        let after = if own.is_some() { " (before the call or after it)" } else { "" };
+                        let why = match self.flow.sub_files {
+                            None => " (LinuxCNC would look on its SUBROUTINE_PATH first: give it with --subroutine-path): the motion depends on a program not read",
+                            Some(_) => ", nor in a file of --subroutine-path",
+                        };
+                        let what = if m98 { format!("program O{name}") } else { format!("subroutine o{name}") };
+                        return Err(self.stop(line, col + 1, format!("{shown}: no {what} is defined in this file{after}{why}"), diags));
+                    }
+                    Err(why) => return Err(self.stop(line, col + 1, format!("{shown}: {why}"), diags)),
+                }
+            }
+        };
+        match (found.1, m98) {
+            (true, false) => Err(self.stop(line, col + 1, format!("{shown}: O{name} is a Fanuc-style subprogram (O{name} ... M99), called by M98 P{name} (LinuxCNC: \"Fanuc 'O....' subroutine must be called with 'M98'\")"), diags)),
+            (false, true) => Err(self.stop(line, col + 1, format!("{shown}: o{name} sub is called by o{name} call (LinuxCNC: \"'O.... sub' subroutine must be called with 'O.... call'\")"), diags)),
+            _ => Ok(found),
+        }
+    }
+
+    /// Run subroutine `name` (`sub`: its lines and whether Fanuc-style) for a call at `line`:`col`
+    /// (`shown` in messages): with `args` its own `#1`-`#30`, without (`M98`) the caller's, which are
+    /// global; its named parameters its own either way, M73's state restored as it returns.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn run_sub(&mut self, name: &str, shown: &str, sub: &(Arc<Vec<Line>>, bool), args: Option<&[f64]>, line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> End {
+        let (body, fanuc) = (&sub.0, sub.1);
+        if self.flow.depth() >= MAX_CALL_DEPTH {
+            return self.stop(line, col + 1, format!("{shown}: calls nested more than {MAX_CALL_DEPTH} deep"), diags);
+        }
+        let scope = match args {
+            Some(args) => self.params.enter_call(args),
+            None => self.params.enter_m98(),
+        };
         self.flow.depth += 1;
+        self.flow.frames.push(fanuc);
         self.contexts.enter(self.flow.depth);
         // The body, without its `sub` and `endsub` lines. A subroutine of another file runs at the
         // call: its blocks and diagnostics stand at the call's line, a diagnostic naming its own.
         let body_lines = body.get(1..body.len().saturating_sub(1)).unwrap_or(&[]);
-        // The endsub line, whose [value] is returned when the body runs to it.
-        let endsub = body.last().filter(|_| body.len() > 1).map(|(l, t)| (*l, t.clone()));
-        let end = match self.flow.files.get(&o.name).cloned() {
+        // The endsub line, whose [value] is returned when the body runs to it (M99 returns none).
+        let endsub = body.last().filter(|_| body.len() > 1 && !fanuc).map(|(l, t)| (*l, t.clone()));
+        if fanuc {
+            self.flow.value = (0.0, false);
+        }
+        let end = match self.flow.files.get(name).cloned() {
             None => self.run(body_lines, out, diags),
             Some(file) => {
                 let (before, mut inner) = (out.len(), Diags::default());
@@ -710,11 +841,12 @@ impl Rs274Reader {
         };
         let restore = self.contexts.leave(self.flow.depth);
         self.flow.depth -= 1;
+        self.flow.frames.pop();
         self.params.leave_call(scope);
         // M73 in the subroutine: its caller's state comes back as it returns.
         if let (Some(state), false) = (restore, matches!(end, End::Stopped)) {
             if !self.interp.restore_modal(&state, line, col + 1, None, diags, out) {
-                return self.stop(line, col + 1, format!("o{} return: the modal state M73 saved could not be restored", o.name), diags);
+                return self.stop(line, col + 1, format!("{shown}: the modal state M73 saved could not be restored as it returns"), diags);
             }
         }
         match end {

@@ -34,9 +34,9 @@ pub fn read_rs274_setup(text: &str, m_codes: &[MCodeRule], orientation: super::O
 pub(crate) struct Rs274Reader {
     pub(super) interp: Interpreter,
     /// A line with words has been read (a program number may come only before).
-    started: bool,
+    pub(super) started: bool,
     /// The program number (`O1234`), if the program opens with one.
-    number: Option<String>,
+    pub(super) number: Option<String>,
     /// The parameters the program has set so far.
     pub(super) params: Parameters,
     /// RS274NGC, Fanuc or Haas.
@@ -50,10 +50,11 @@ pub(crate) struct Rs274Reader {
     /// LinuxCNC: the program ended (`M2`/`M30`, or the `%` closing a file that opens with one) on
     /// this line; what follows is not run (and whether that has been said).
     ended: Option<(usize, bool)>,
-    /// LinuxCNC: a subroutine defined after the program's end is being passed over.
-    in_later_sub: bool,
+    /// LinuxCNC: a subroutine defined after the program's end is being passed over (true: a
+    /// Fanuc-style one, which ends with M99 outside the O-word blocks open in it).
+    in_later_sub: Option<(bool, Vec<(String, super::oword::Keyword)>)>,
     /// LinuxCNC: the file opens with `%`, so the next `%` line ends it.
-    percent: bool,
+    pub(super) percent: bool,
     /// Fanuc, Haas: a macro alarm (`#3000`) stopped the control.
     alarmed: bool,
     /// The last line read with anything on it (where a missing program end is said).
@@ -84,7 +85,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: false }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: None }
     }
 }
 
@@ -216,10 +217,23 @@ impl Rs274Reader {
             // Subroutines defined after the end are where calls skip forward to (super::later_subs):
             // their lines are no program cut off.
             if !*said && !body.is_empty() && !body.starts_with(['%', '(', ';']) {
-                match super::oword::parse(&body.chars().collect::<Vec<_>>()).map(|o| o.keyword) {
-                    Some(super::oword::Keyword::Sub) => self.in_later_sub = true,
-                    Some(super::oword::Keyword::EndSub) if self.in_later_sub => self.in_later_sub = false,
-                    _ if self.in_later_sub => {}
+                use super::oword::{closer, opens, Keyword};
+                let o = super::oword::parse(&body.chars().collect::<Vec<_>>());
+                match (o.as_ref().map(|o| o.keyword), &mut self.in_later_sub) {
+                    (Some(Keyword::Sub), None) => self.in_later_sub = Some((false, Vec::new())),
+                    (Some(Keyword::Title), None) => self.in_later_sub = Some((true, Vec::new())),
+                    (Some(Keyword::EndSub), Some((false, _))) => self.in_later_sub = None,
+                    // A Fanuc-style one ends with the first M99 outside its O-word blocks.
+                    (Some(Keyword::M99), Some((true, open))) if open.is_empty() => self.in_later_sub = None,
+                    (Some(_), Some((true, open))) => {
+                        let o = o.expect("an O line");
+                        if opens(&o, open.last().map(|(n, k)| (n.as_str(), *k))) {
+                            open.push((o.name, o.keyword));
+                        } else if open.last().is_some_and(|(n, k)| *n == o.name && closer(*k) == o.keyword) {
+                            open.pop();
+                        }
+                    }
+                    (_, Some(_)) => {}
                     _ => {
                         *said = true;
                         diags.warning(line, 1, format!("line {line} and after are not run: the program ended on line {end}, and LinuxCNC runs nothing after its end"));
@@ -546,6 +560,19 @@ impl Rs274Reader {
             return;
         }
         let before = out.len();
+        // LinuxCNC: M99 returns from a Fanuc-style subprogram only first in its line (read by the flow,
+        // super::lcnc_m98); elsewhere in a subprogram it stops the interpreter.
+        let m99 = self.dialect == Dialect::Rs274 && words.iter().any(|w| w.letter == 'M' && w.value == 99.0);
+        if let (true, 0, Some(&at)) = (m99, self.flow.depth() - self.flow.raised.len(), self.flow.raised.first()) {
+            diags.error(line, col, super::lcnc_m98::after_l0("M99 in the main program", at));
+            self.flow.stopped = true;
+            return;
+        }
+        if m99 && self.flow.depth() > 0 {
+            diags.error(line, col, "M99 returns from a subprogram only as the first word of its line (LinuxCNC: \"Reached convert_stop() from M99 as subprogram return\")");
+            self.flow.stopped = true;
+            return;
+        }
         // LinuxCNC's M70-M73 act before the block's G codes (its order of execution).
         if self.dialect == Dialect::Rs274 && !self.modal_context(&mut words, line, read.number, diags, out) {
             diags.warning(line, first + 1, format!("line {line} not used"));
@@ -561,8 +588,13 @@ impl Rs274Reader {
         // LinuxCNC: "Lines of a file that occur after the end of a program are not to be executed"
         // (RS274/NGC Interpreter v3, NIST IR 6556, §3.3.1; M2 and M30 end it, §3.6.1). Fanuc and Haas
         // end in their macro runner, whose subprograms stand after M30.
-        if self.dialect == Dialect::Rs274 && self.ended.is_none() && super::stream::ends_program(&out[before..], &[2.0, 30.0]) {
+        if self.dialect == Dialect::Rs274 && self.ended.is_none() && super::stream::ends_program(&out[before..], &[2.0, 30.0, 99.0]) {
             self.ended = Some((line, false));
+            // M99 in the main program (interp_convert.cc convert_stop): LinuxCNC's task loops to the
+            // program's start, its standalone interpreter ends the program as M2 does.
+            if m99 {
+                diags.warning(line, col, "M99 in the main program: LinuxCNC's task runs the program again from its start, endlessly (its standalone interpreter ends it here); read once");
+            }
         }
     }
 

@@ -342,6 +342,9 @@ impl Interpreter {
                         // with the words they take (G-code reference §M19 R Q P, §M61 Q, §M62-M65 P,
                         // §M66 P E L Q, §M67/M68 E Q).
                         (None, 19, false) if self.dialect == Dialect::Rs274 => uses.extend(['R', 'Q', 'P']),
+                        // M99 in the main program: its end (the reader's; super::super::lcnc_m98).
+                        (None, 99, false) if self.dialect == Dialect::Rs274 => {}
+                        (None, 98, false) if self.dialect == Dialect::Rs274 => diags.error(line, w.column, "M98 calls a Fanuc-style subprogram only as the first word of its line (after its N number): LinuxCNC reads it there, as a block of its own"),
                         (None, 19 | 48..=53 | 60, false) => {}
                         (None, 61, false) => uses.push('Q'),
                         (None, 62..=65, false) => uses.push('P'),

@@ -140,6 +140,8 @@ impl Parameters {
 pub struct Scope {
     numbered: Vec<(u32, f64)>,
     named: Vec<(String, f64)>,
+    /// `#1`-`#30` were left to the subroutine as they stood (a Fanuc-style `M98` call).
+    kept_numbered: bool,
 }
 
 impl Parameters {
@@ -153,13 +155,24 @@ impl Parameters {
         for k in 0..30 {
             self.numbered.insert(k as u32 + 1, args.get(k).copied().unwrap_or(0.0));
         }
-        Scope { numbered, named }
+        Scope { numbered, named, kept_numbered: false }
+    }
+
+    /// Enter a Fanuc-style subprogram (`M98`; LinuxCNC's interp_o_word.cc execute_call, "M98: pass
+    /// #1..#30 from parent"): `#1`-`#30` stay as they are, shared with the caller; the named
+    /// parameters it sets whose name does not begin with `_` are its own, as a subroutine's.
+    pub fn enter_m98(&mut self) -> Scope {
+        let locals: Vec<String> = self.named.keys().filter(|k| !k.starts_with('_')).cloned().collect();
+        let named = locals.into_iter().filter_map(|k| self.named.remove(&k).map(|v| (k, v))).collect();
+        Scope { numbered: Vec::new(), named, kept_numbered: true }
     }
 
     /// Leave a subroutine: its own parameters go, the caller's come back.
     pub fn leave_call(&mut self, scope: Scope) {
-        for n in 1..=30 {
-            self.numbered.remove(&n);
+        if !scope.kept_numbered {
+            for n in 1..=30 {
+                self.numbered.remove(&n);
+            }
         }
         self.named.retain(|k, _| k.starts_with('_'));
         self.numbered.extend(scope.numbered);
@@ -173,7 +186,7 @@ impl Parameters {
     pub fn enter_locals(&mut self, args: &[(u32, f64)]) -> Scope {
         let numbered = (1..=33).filter_map(|n| self.numbered.remove(&n).map(|v| (n, v))).collect();
         self.numbered.extend(args.iter().copied());
-        Scope { numbered, named: Vec::new() }
+        Scope { numbered, named: Vec::new(), kept_numbered: false }
     }
 
     /// Leave a Fanuc macro: its locals go, the caller's come back.
