@@ -41,6 +41,13 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     if let Some(done) = super::feature::expand(it, words, line, column, number, diags, out) {
         return Some(done);
     }
+    // Most blocks run under no cycle and hold none of the codes below that act without one: passed
+    // on without a look at their words' text (each such code is one of these values; G00-G03 and
+    // G80 only end a cycle).
+    let special = |w: &Word| w.letter == 'G' && matches!(w.value, 28.0 | 30.0 | 53.0 | 73.0 | 74.0 | 76.0 | 81.0..=89.0);
+    if it.cycles.active.is_none() && !words.iter().any(special) {
+        return None;
+    }
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
     let has = |c: &str| g.iter().find(|(k, _)| k == c).map(|(_, w)| *w);
     if let Some(w) = has("28").or(has("30")) {

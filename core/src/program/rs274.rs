@@ -337,8 +337,13 @@ impl Rs274Reader {
         self.refresh_state(reads_state(text.chars()));
         // Room for every character at once (a char per byte at most): no regrowing as it fills.
         let mut chars: Vec<char> = Vec::with_capacity(text.len());
-        chars.extend(text.chars());
         let ascii = text.is_ascii();
+        if ascii {
+            // A byte per character: copied as a slice is (no decoding).
+            chars.extend(text.bytes().map(char::from));
+        } else {
+            chars.extend(text.chars());
+        }
         // Where each character starts in the text (a word's text is a byte range of it).
         let offsets: Vec<usize> = if ascii { Vec::new() } else { text.char_indices().map(|(b, _)| b).chain([text.len()]).collect() };
         let byte = |i: usize| if ascii { i } else { offsets[i] };
