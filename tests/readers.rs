@@ -9,6 +9,7 @@ use proptest::prelude::*;
 mod fanuc;
 mod klartext;
 mod linuxcnc;
+mod shop_words;
 
 const SING: &str = include_str!("../recordings/programs/SING.I");
 const NON_SING: &str = include_str!("../recordings/programs/NON_SING.I");

@@ -41,10 +41,13 @@ fn supa_moves_to_machine_coordinates_given_by_variables() {
     // With the tool's offsets on, a Z in machine coordinates would be the tip's: refused.
     let p = on_umc("G90 G71\nD1\nSUPA G0 Z-100\n");
     assert!(errors(&p).iter().any(|(l, c, m)| *l == 3 && *c == 9 && m.contains("D0")), "{:#?}", errors(&p));
-    // A variable read before it is set, or never defined, is an error at its value.
-    let p = on_umc("DEF REAL _A\nG0 X=_A Y=_B\n");
+    // A variable defined without a value is 0 (Programming Manual 12/2019 §3.1.1: the type's implicit
+    // initialization value); one never defined, or an R parameter this program has not set, is an
+    // error at its value.
+    let p = on_umc("G90 G71\nDEF REAL _A\nDEF INT _K\nG0 X=_A+5 Y=_K-2 Z100\nG0 X=_B Y=R7\n");
     let e = errors(&p);
-    assert!(e.iter().any(|(l, c, m)| *l == 2 && *c == 6 && m.contains("before it is set")) && e.iter().any(|(_, c, m)| *c == 11 && m.contains("not defined")), "{e:#?}");
+    assert!(close(blocks_of(&p, 4)[0].targets.x, 5.0) && close(blocks_of(&p, 4)[0].targets.y, -2.0), "{:?}", blocks_of(&p, 4));
+    assert!(e.iter().any(|(l, c, m)| *l == 5 && *c == 6 && m.contains("not defined")) && e.iter().any(|(l, c, m)| *l == 5 && *c == 11 && m.contains("R7 is read before this program sets it")), "{e:#?}");
 }
 
 /// `G0 B90 C0`, `TRAORI`, `AROT Y90`, `G0 X31 Y-15 Z165` (the Spinner post's 3+2 set-up): the frame

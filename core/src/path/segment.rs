@@ -488,7 +488,7 @@ impl SegmentPlanner {
                 q1 = [lin(0, b.targets.x), lin(1, b.targets.y), lin(2, b.targets.z), rot1[0], rot1[1]];
                 tip1 = machine.forward(&q1).tip - datum;
             }
-            if self.range_stops(b, machine, &q1, diags) {
+            if self.range_stops(b, machine, &q, &q1, diags) {
                 break 'blocks false;
             }
             if rotaries_set {
@@ -564,7 +564,7 @@ impl SegmentPlanner {
                     let mut pieces = Vec::with_capacity(n);
                     for k in 0..n {
                         let ((qa, ta), (qb, tb)) = (end(k), end(k + 1));
-                        if self.range_stops(b, machine, &qb, diags) {
+                        if self.range_stops(b, machine, &q, &qb, diags) {
                             break 'blocks false;
                         }
                         pieces.push((qa, qb, ta, tb, Some(Box::new(arc.piece(k as f64 / n as f64, (k + 1) as f64 / n as f64))), None));
@@ -728,10 +728,12 @@ fn great_circle_pieces(gc: &GreatCircle, arc: Option<&ArcPath>, q: Joints, tip0:
 impl SegmentPlanner {
     /// Whether an axis beyond its range stops the block (an error, in `diags`). A linear axis, where
     /// the block's datum holds a work offset the program never set ([`Block::offset_assumed`]), is
-    /// where the unknown offset puts it: warned of once per axis, and the block runs.
-    fn range_stops(&mut self, b: &Block, machine: &Machine, q: &Joints, diags: &mut Vec<Diagnostic>) -> bool {
+    /// where the unknown offset puts it: warned of once per axis, and the block runs; such an axis
+    /// a later block leaves where it was (`from`, the block's start: a machine-coordinate move of
+    /// another axis) is not blamed again.
+    fn range_stops(&mut self, b: &Block, machine: &Machine, from: &Joints, q: &Joints, diags: &mut Vec<Diagnostic>) -> bool {
         for (i, v) in q.iter().enumerate() {
-            if machine.axes[i].limits.contains(*v) {
+            if machine.axes[i].limits.contains(*v) || (i < 3 && self.warned_range[i] && (v - from[i]).abs() < 1e-9) {
                 continue;
             }
             if i < 3 && b.offset_assumed {

@@ -57,6 +57,8 @@ pub(crate) struct Rs274Reader {
     pub(super) percent: bool,
     /// Fanuc, Haas: a macro alarm (`#3000`) stopped the control.
     alarmed: bool,
+    /// Fanuc, Haas: a length or angle without a decimal point has been said (once).
+    said_no_point: bool,
     /// The last line read with anything on it (where a missing program end is said).
     last_line: usize,
     /// LinuxCNC's O-word blocks held and run ([`super::oword`]).
@@ -85,7 +87,7 @@ impl Rs274Reader {
             None => Parameters::default(),
         };
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: None }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, said_no_point: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: None }
     }
 }
 
@@ -362,7 +364,11 @@ impl Rs274Reader {
         // load the program for it.
         if self.dialect.is_fanuc() && !self.started && matches!(chars[first], 'O' | 'o') {
             let after = chars[first + 1..].iter().find(|c| !c.is_whitespace());
-            if !after.is_some_and(|c| c.is_ascii_digit()) {
+            // `O0000` (a post's placeholder, as Mastercam's): program number 0, read as a title too
+            // (it moves nothing either way; whether the control stores a program under it is its own).
+            let digits: String = chars[first + 1..].iter().skip_while(|c| c.is_whitespace()).take_while(|c| c.is_ascii_digit()).collect();
+            let zero = !digits.is_empty() && digits.bytes().all(|b| b == b'0') && chars[first + 1..].iter().skip_while(|c| c.is_whitespace()).nth(digits.len()).is_none_or(|c| c.is_whitespace() || *c == '(' || *c == ';');
+            if !after.is_some_and(|c| c.is_ascii_digit()) || zero {
                 diags.warning(line, first + 1, format!("'{}' is not a program number (O and digits): read as the program's title; the control may refuse to load the program for it", excerpt(text[byte(first)..].trim_end())));
                 self.started = true;
                 return None;
@@ -558,7 +564,13 @@ impl Rs274Reader {
         }
         let col = words.first().map_or(first + 1, |w| w.column.min(first + 1));
         if self.dialect.is_fanuc() {
-            self.decimal_points(&mut words, &computed);
+            if let Some(i) = self.decimal_points(&mut words, &computed) {
+                if !std::mem::replace(&mut self.said_no_point, true) {
+                    let w = &words[i];
+                    let unit = if matches!(w.letter, 'A' | 'B' | 'C') { "deg" } else if self.inch_words(&words) { "in" } else { "mm" };
+                    diags.warning(line, w.column, format!("{}{} has no decimal point: read as {} {unit}, in least input increments, as the control reads it unless its parameter says otherwise (FANUC DPI No. 3401#0, Haas Setting 162); said once", w.letter, w.raw, w.value));
+                }
+            }
         }
         if !self.quill_words(&mut words, line, diags) {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
@@ -607,9 +619,11 @@ impl Rs274Reader {
     /// of least input increments: `X1` is 0.001 mm, 0.0001 in or 0.001 deg (FANUC B-64484EN,
     /// "Decimal point programming", parameter DPI No. 3401#0 = 0; Haas Setting 162 "Default to
     /// float" off: "X5 means X0.0005"). A value computed from parameters has its point.
-    fn decimal_points(&self, words: &mut [Word], computed: &[usize]) {
+    /// The first word read so whose value is not 0, if any (for the warning said once).
+    fn decimal_points(&self, words: &mut [Word], computed: &[usize]) -> Option<usize> {
         let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
-        let inch = if g(20.0) { true } else if g(21.0) { false } else { self.interp.unit() == crate::units::INCH };
+        let inch = self.inch_words(words);
+        let mut first = None;
         // Q is a depth in a cycle but a mode in G05.1; K a repeat count in a cycle.
         let cycle = self.interp.cycles.active.is_some() || words.iter().any(|w| w.letter == 'G' && [73.0, 74.0, 76.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0, 88.0, 89.0].contains(&w.value));
         let mode_q = g(5.1);
@@ -632,6 +646,22 @@ impl Rs274Reader {
                 _ => continue,
             };
             w.value *= step;
+            if first.is_none() && w.value != 0.0 && !matches!(w.letter, 'F') {
+                first = Some(i);
+            }
+        }
+        first
+    }
+
+    /// Whether a block's lengths are in inches: its own G20/G21, else the modal unit.
+    fn inch_words(&self, words: &[Word]) -> bool {
+        let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
+        if g(20.0) {
+            true
+        } else if g(21.0) {
+            false
+        } else {
+            self.interp.unit() == crate::units::INCH
         }
     }
 }

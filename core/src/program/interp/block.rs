@@ -184,6 +184,11 @@ impl Interpreter {
                         // geometry (FANUC A-63512EN §2.3: "interpolation data ensures that the machining
                         // follows a specified line or curve").
                         ("5.1", false) if fanuc => uses.push('Q'),
+                        // High-precision contour control, `G05 P10000` on and `G05 P0` off (FANUC Series
+                        // 16i/18i-MB, "High-precision contour control"): look-ahead feed control as AI
+                        // contour is. G05 with another P is high-speed cycle machining (binary data).
+                        ("5", false) if fanuc && !haas && words.iter().any(|p| p.letter == 'P' && (p.value == 0.0 || p.value == 10000.0)) => uses.push('P'),
+                        ("5", false) if fanuc && !haas => unsupported(diags, "high-speed cycle machining (only G05 P10000 and G05 P0, high-precision contour control on and off, are read)"),
                         // Haas' smoothness: P the level (feed), E the most a corner may be rounded,
                         // which is the path's tolerance (Haas NGC manual, G187; Setting 85).
                         ("187", false) if haas => {
@@ -394,6 +399,12 @@ impl Interpreter {
                     'I' | 'J' | 'K' => arc_motion || vector_words,
                     'R' => arc_motion || uses.contains(&'R'),
                     'P' => arc_motion || uses.contains(&'P'),
+                    // Fanuc, Haas: H alone selects the tool length offset (the one in use, in G43 mode),
+                    // a length this model takes from the machine file, as it takes G43's.
+                    'H' if fanuc && !uses.contains(&'H') => {
+                        diags.warning(line, w.column, format!("H{}: a tool length offset number; the tool length is the machine file's (tool_tip_mm), not the offset's", w.raw));
+                        true
+                    }
                     'Q' | 'H' | 'L' | 'E' => uses.contains(&w.letter),
                     _ => true,
                 };
@@ -608,8 +619,12 @@ impl Interpreter {
         }
 
         // LinuxCNC: "No axis words and one or more offsets must be programmed for full circles" (both,
-        // under G90.1; G-code reference §G2/G3): the arc ends where it starts.
-        if self.dialect == Dialect::Rs274 && arc_motion && targets.is_empty() && !g10 && !words.iter().any(|w| w.letter == 'R') {
+        // under G90.1; G-code reference §G2/G3): the arc ends where it starts. Fanuc and Haas the same:
+        // "When X_, Y_, and Z_ are all omitted (the end point is the same as the start point) and the
+        // center is specified with I_, J_, and K_, a 360° arc (circle) is specified" (FANUC B-64484EN,
+        // "Circular interpolation"; Haas Mill Operator's Manual, G02/G03: a full circle takes I J K,
+        // not R).
+        if (self.dialect == Dialect::Rs274 || fanuc) && arc_motion && targets.is_empty() && !g10 && !words.iter().any(|w| w.letter == 'R') {
             let (a0, a1, _) = next.plane.axes();
             let offset = |k: usize| words.iter().any(|w| w.letter == ['I', 'J', 'K'][k]);
             if if next.arc_absolute { offset(a0) && offset(a1) } else { offset(a0) || offset(a1) } {
@@ -693,7 +708,12 @@ impl Interpreter {
             match next.feed_mode {
                 FeedMode::PerMinute if next.feed.is_none() => {
                     let why = if self.feed.is_some() { " (the change of feed mode left none)" } else { "" };
-                    diags.error(line, column, format!("G01 move without a feed: expected an F word before or in this block{why}"))
+                    let g = match block_motion {
+                        Some(Motion::ArcCw) => "G02",
+                        Some(Motion::ArcCcw) => "G03",
+                        _ => "G01",
+                    };
+                    diags.error(line, column, format!("{g} move without a feed: expected an F word before or in this block{why}"))
                 }
                 FeedMode::InverseTime if feed_word.is_none() => {
                     diags.error(line, column, "G93 inverse-time move without F in the block: expected F (1/min)")

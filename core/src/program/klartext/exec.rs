@@ -118,8 +118,15 @@ impl Exec {
                 self.define_cycle(*n, s, interp, diags);
                 return false;
             }
-            Kind::CycleCall => {
+            Kind::CycleCall(m) => {
                 self.modal_call = false;
+                if !m.is_empty() {
+                    // Its M functions first (they act at the block's start), as an M block would.
+                    let misc = Stmt { line: s.line, col: s.col, number: s.number, kind: Kind::Misc(m.clone()) };
+                    if self.run(&misc, interp, out, diags) {
+                        return true;
+                    }
+                }
                 self.call_cycle(s, interp, out, diags);
                 return false;
             }
@@ -297,7 +304,7 @@ impl Exec {
                     }
                 }
             }
-            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::CycleCall => {}
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::CycleCall(_) => {}
         }
         // M91 / M92: the block's coordinates are the machine's, about its machine datum or the
         // maker's second datum (TNC 426 B ISO §7.3: "M91 and M92 are effective only in the blocks in

@@ -139,7 +139,8 @@ enum Kind<'a> {
     /// `CYCL DEF n NAME`: a cycle defined (its parameters are the Q assignments that follow).
     CycleDef(u32),
     /// `CYCL CALL`: the cycle runs where the tool stands.
-    CycleCall,
+    /// `CYCL CALL`, with the M functions the block gives (those acting at its start, before the cycle).
+    CycleCall(Vec<KWord<'a>>),
     /// `STOP`: a programmed stop, as M0.
     Stop,
     End,
@@ -337,6 +338,8 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         "BLK" if key(1) == "FORM" => None, // the workpiece blank: drawing only
         "TOOL" if key(1) == "DEF" => None, // tool preselection: no motion
         "TOOL" if key(1) == "CALL" => tool_call(toks, line, diags),
+        // `L M140 MB MAX`: the retract, written in an L block (hyperMILL's posts).
+        "L" if toks.len() > 1 && split_word(toks[1].0) == (Cow::Borrowed("M"), "140") => misc(&toks[1..], line, diags),
         "L" | "LN" | "C" | "CR" | "CT" | "LP" | "CP" => motion(toks, &k0, line, diags),
         "CC" => centre(toks, line, diags),
         "STOP" => Some(Kind::Stop),
@@ -354,7 +357,20 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         }
         "FUNCTION" => function(toks, line, col, diags),
         "CYCL" if key(1) == "DEF" => cycle(toks, line, datum_defined, diags),
-        "CYCL" if key(1) == "CALL" && toks.len() == 2 => Some(Kind::CycleCall),
+        "CYCL" if key(1) == "CALL" && toks.len() == 2 => Some(Kind::CycleCall(Vec::new())),
+        // `CYCL CALL M13` (TNC 640 User's Manual, "Calling cycles": CYCL CALL takes a miscellaneous
+        // function): read where it acts at the block's start, before the cycle runs (spindle, coolant).
+        "CYCL" if key(1) == "CALL" && toks[2..].iter().all(|(t, _)| split_word(t).0 == "M" && !split_word(t).1.is_empty()) => match misc(&toks[2..], line, diags) {
+            Some(Kind::Misc(m)) => {
+                if let Some(w) = m.iter().find(|w| !matches!(w.val, Val::Num(v) if [3.0, 4.0, 8.0, 13.0, 14.0].contains(&v))) {
+                    diags.error(line, w.col, format!("CYCL CALL M{}: only M functions acting at the block's start (M3, M4, M8, M13, M14) are read with a cycle call (where another acts, before or after the cycle, is not read)", excerpt(w.raw)));
+                    None
+                } else {
+                    Some(Kind::CycleCall(m))
+                }
+            }
+            _ => None,
+        },
         "CYCL" => {
             diags.error(line, col, format!("CYCL {}: expected CYCL DEF or CYCL CALL (CYCL CALL PAT and POS are not read)", excerpt(&key(1))));
             None
@@ -705,5 +721,8 @@ fn text_from<'a>(raw: &'a str, toks: &[(&'a str, usize)], k: usize) -> &'a str {
     // Tokens borrow from `raw`: the offset of the token in it.
     let start = t.as_ptr() as usize - raw.as_ptr() as usize;
     let rest = &raw[start..];
-    rest.split(';').next().unwrap_or(rest).trim_end_matches('\r').trim_end()
+    // A `~` ending the line marks the block going on in the next (a cycle's parameters, one a line):
+    // no part of the text.
+    let text = rest.split(';').next().unwrap_or(rest).trim_end_matches('\r').trim_end();
+    text.strip_suffix('~').map_or(text, str::trim_end)
 }

@@ -77,7 +77,10 @@ impl Vars {
         self.journal.push((name.to_string(), before));
     }
 
-    /// `DEF type name[=value]`.
+    /// `DEF type name[=value]`; without a value it is 0 ("If no explicit initialization value is
+    /// defined ... the variable is set to the data type's implicit initialization value. INT: 0,
+    /// REAL: 0.0", SINUMERIK Programming Manual 12/2019 6FC5398-2EP40-0BA0 §3.1.1 "Definition (DEF)
+    /// of user variables"; BOOL's FALSE is 0).
     pub(crate) fn define(&mut self, name: &str, ty: Type, value: Option<f64>) -> Result<(), String> {
         if self.map.contains_key(name) {
             return Err(format!("{name} is defined twice"));
@@ -89,7 +92,7 @@ impl Vars {
             return Err(format!("more than {MAX_VARIABLES} variables"));
         }
         self.remember(name);
-        self.map.insert(name.to_string(), (ty, value.map(|v| keep(ty, v))));
+        self.map.insert(name.to_string(), (ty, Some(keep(ty, value.unwrap_or(0.0)))));
         Ok(())
     }
 
@@ -592,7 +595,8 @@ mod tests {
         define("INT _K=2.5", &mut vars).unwrap();
         assert_eq!(vars.get("_Y_HOME"), Ok(6.0));
         assert_eq!(vars.get("_K"), Ok(3.0), "REAL to INT rounds");
-        assert!(vars.get("_X_HOME").unwrap_err().contains("before it is set"));
+        // Defined without a value: 0, the type's implicit initialization value.
+        assert_eq!(vars.get("_X_HOME"), Ok(0.0));
         assert!(define("REAL _X_HOME", &mut vars).unwrap_err().1.contains("twice"));
         assert!(define("STRING[8] S", &mut vars).is_err());
         let src = "N120 _X_HOME=-365. R1=_X_HOME+5 G0 X=R1 Y=_Y_HOME * 2 Z=AC(1) D0 ; home";

@@ -170,6 +170,14 @@ impl SinumerikReader {
                 "COMPOF" | "COMPON" | "COMPCURV" | "COMPCAD" => {}
                 // An operator message: no motion.
                 "MSG" => {}
+                // The master spindle (Job Planning, "SETMS"): no motion.
+                "SETMS" => {}
+                // `EXTERN NAME(REAL, REAL)`: a declaration of another program's parameters for its
+                // calls (Job Planning, "EXTERN"), the name and its types its own; no motion (a call
+                // itself stays refused).
+                "EXTERN" => {
+                    keywords.next();
+                }
                 "TRANS" | "ATRANS" | "ROT" | "AROT" => {
                     if frame_statement.is_some() {
                         diags.error(line, k.col, "two frame statements in one block: each stands in a block of its own");
@@ -259,7 +267,9 @@ impl SinumerikReader {
         for w in words {
             match "XYZ".find(w.letter) {
                 Some(k) => values[k] = if statement.rotates() { w.value * DEG } else { w.value * unit },
-                None => diags.error(line, w.column, format!("{}{} in a {} block: a frame statement stands in a block of its own", w.letter, w.raw, statement.name())),
+                // A frame's offset or rotation of a rotary axis (TRANS C=10): not read.
+                None if matches!(w.letter, 'A' | 'B' | 'C') => diags.error(line, w.column, format!("{}={} in a {} block: a frame's offset of a rotary axis is not read (it changes the axis' positions)", w.letter, w.raw, statement.name())),
+                None => diags.error(line, w.column, format!("{}={} in a {} block: a frame statement stands in a block of its own", w.letter, w.raw, statement.name())),
             }
         }
         if let Some((angle, c)) = rpl {

@@ -1,0 +1,139 @@
+//! What shops' and CAM posts' programs write (found by reading public programs the corpus does not
+//! hold), read by each control's rule: Fanuc's and Haas' full circle by its centre alone, high-precision
+//! contour control, an H word alone, a program number 0 and numbers without a decimal point; the TNC's
+//! `CYCL CALL M13` and `L M140 MB MAX`; the 840D's `DEF` variables without a value, `SETMS`, `EXTERN`;
+//! and what a generic machine model now assumes so that a program's machine moves read.
+
+use super::*;
+use fiveaxis::machine::Machine;
+use fiveaxis::path::{PathOptions, Trajectory};
+
+/// Fanuc and Haas: "When X_, Y_, and Z_ are all omitted (the end point is the same as the start point)
+/// and the center is specified with I_, J_, and K_, a 360° arc (circle) is specified" (FANUC
+/// B-64484EN, "Circular interpolation"; Haas the same, with I J K only): `G3 I10. J0` from X0 Y0 is the
+/// circle of radius 10 mm about X10 Y0, 2 pi 10 mm long (by hand). An R with no end point is no
+/// circle: still refused.
+#[test]
+fn fanuc_and_haas_read_a_full_circle_by_its_centre_alone() {
+    for (dialect, machine) in [(Dialect::Fanuc, "mori-seiki-nmv5000"), (Dialect::Haas, "haas-umc-750")] {
+        let m = Machine::builtin(machine).unwrap();
+        let p = read("%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\nG3 I10. J0 F100.\nM30\n%\n", dialect, "t.nc", &ReadOptions::default().on(&m));
+        assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
+        let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+        let length: f64 = t.segments.iter().filter(|s| s.line == 5).map(|s| s.length).sum();
+        let want = std::f64::consts::TAU * 10.0 * MM;
+        assert!((length - want).abs() < 1e-6 * want, "{dialect:?}: {} mm, by hand {} mm", length / MM, want / MM);
+        let p = read("%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\nG3 R10. F100.\nM30\n%\n", dialect, "t.nc", &ReadOptions::default().on(&m));
+        assert!(errors(&p).iter().any(|(l, _, m)| *l == 5 && m.contains("without an end point")), "{dialect:?}: {:?}", errors(&p));
+    }
+}
+
+/// Fanuc's high-precision contour control `G05 P10000` / `G05 P0` (Series 16i/18i-MB) is look-ahead
+/// feed control, as AI contour `G05.1 Q1` is: the moves are those without it. G05 with another P
+/// (high-speed cycle machining, binary data) stays refused, and Haas has no G05.
+#[test]
+fn fanuc_reads_high_precision_contour_control_and_refuses_other_g05() {
+    let body = "G1 X10. Y5. F500.\nG1 X20.\n";
+    let plain = read(&format!("%\nO1000\nG21 G90 G94\n{body}M30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    let hpcc = read(&format!("%\nO1000\nG21 G90 G94\nG05 P10000\n{body}G05 P0\nM30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&hpcc).is_empty(), "{:?}", errors(&hpcc));
+    assert_eq!(end_points(&hpcc), end_points(&plain));
+    refuses_each(Dialect::Fanuc, &ReadOptions::default(), &[("%\nO1000\nG05 P3\nM30\n%\n", "3:1:", "high-speed cycle machining")]);
+    refuses_each(Dialect::Haas, &ReadOptions::default(), &[("%\nO1000\nG05 P10000\nM30\n%\n", "3:1:", "G05")]);
+}
+
+/// An H word alone (NX's Fanuc posts write `N0250 H00` after a tool change) selects a tool length
+/// offset, a length this model takes from the machine file as it takes G43's: read, and said.
+/// `O0000` opening a program (Mastercam's placeholder) is no program number: read as its title, said.
+#[test]
+fn fanuc_reads_an_h_word_alone_and_program_number_zero() {
+    let p = read("%\nO0000 (MY PART)\nG21 G90 G94\nN0250 H00\nG1 X10. F500.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    assert!(p.diagnostics.iter().any(|d| d.line == 4 && d.message.contains("tool length offset number")), "{:?}", p.diagnostics);
+    assert!(p.diagnostics.iter().any(|d| d.line == 2 && d.message.contains("read as the program's title")), "{:?}", p.diagnostics);
+    assert_eq!(end_points(&p).len(), 1);
+}
+
+/// Fanuc and Haas read a length without a decimal point in least input increments (`X160` is 0.160
+/// mm): as before, and now said once, naming the word and what it is read as (a program meant in
+/// mm otherwise fails far from its cause, on an arc's radius).
+#[test]
+fn fanuc_says_once_where_a_length_has_no_decimal_point() {
+    let p = read("%\nO1000\nG21 G90 G94\nG1 X160 Y0 F500.\nG1 X200 Y50\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    let said: Vec<_> = p.diagnostics.iter().filter(|d| d.message.contains("has no decimal point")).collect();
+    assert_eq!(said.len(), 1, "{:?}", p.diagnostics);
+    assert!(said[0].line == 4 && said[0].column == 4 && said[0].message.contains("X160 has no decimal point: read as 0.16 mm"), "{said:?}");
+    assert!((end_points(&p)[0].1[0] - 0.16).abs() < 1e-12, "{:?}", end_points(&p));
+    // Written with points: nothing said.
+    let p = read("%\nO1000\nG21 G90 G94\nG1 X160. Y0 F500.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(p.diagnostics.iter().all(|d| !d.message.contains("decimal point")), "{:?}", p.diagnostics);
+}
+
+/// The TNC's `CYCL CALL M13` ("Calling cycles": CYCL CALL takes a miscellaneous function) is the M
+/// function, then the cycle: the same moves as `L M13` and `CYCL CALL`; an M function acting at the
+/// block's end is refused there. `L M140 MB MAX` (hyperMILL's posts) is `M140 MB MAX`.
+#[test]
+fn klartext_reads_a_cycle_call_with_m_functions_and_m140_in_an_l_block() {
+    let hermle = Machine::builtin("hermle-c600u").unwrap();
+    let head = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL Z+50 R0 FMAX\nCYCL DEF 200 DRILLING ~\n Q200=+2 ~\n Q201=-10 ~\n Q206=+150 ~\n Q202=+5 ~\n Q210=+0 ~\n Q203=+0 ~\n Q204=+50 ~\n Q211=+0\nL X+10 Y+10 R0 FMAX\n";
+    let read_k = |text: String| read(&text, Dialect::Klartext, "t.h", &ReadOptions::default().on(&hermle));
+    let with_m = read_k(format!("{head}CYCL CALL M13\nEND PGM T MM\n"));
+    let apart = read_k(format!("{head}L M13\nCYCL CALL\nEND PGM T MM\n"));
+    assert!(errors(&with_m).is_empty(), "{:?}", errors(&with_m));
+    assert!(end_points(&with_m).len() > 2);
+    assert_eq!(end_points(&with_m), end_points(&apart));
+    assert!(with_m.blocks.iter().any(|b| b.events.iter().any(|e| e == "M13")), "{:?}", with_m.blocks);
+    let p = read_k(format!("{head}CYCL CALL M9\nEND PGM T MM\n"));
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 14 && m.contains("CYCL CALL M9: only M functions acting at the block's start")), "{:?}", errors(&p));
+    let l_block = read_k("0 BEGIN PGM R MM\n1 L X+10 Y+20 Z+30 FMAX\n2 L M140 MB MAX\n3 END PGM R MM\n".into());
+    let plain = read_k("0 BEGIN PGM R MM\n1 L X+10 Y+20 Z+30 FMAX\n2 M140 MB MAX\n3 END PGM R MM\n".into());
+    assert!(errors(&l_block).is_empty(), "{:?}", errors(&l_block));
+    assert_eq!(end_points(&l_block), end_points(&plain));
+}
+
+/// The 840D's user variables without a value are 0 (checked in tests/sinumerik.rs); `SETMS(1)` and
+/// `EXTERN NAME(REAL, REAL)` move nothing: read, the declared program's call still refused. A frame's
+/// offset of a rotary axis (`TRANS B=5`) is refused naming that, with its `=`.
+#[test]
+fn sinumerik_reads_setms_and_extern_and_names_a_rotary_frame_offset() {
+    let p = read("EXTERN WARMUP(REAL, REAL)\nSETMS(1)\nG90 G71 G94\nG1 X10 Y5 F500\nWARMUP(1, 2)\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let e = errors(&p);
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(e[0].0 == 5 && e[0].2.contains("WARMUP"), "{e:?}");
+    refuses_each(Dialect::Sinumerik, &ReadOptions::default(), &[("G90 G71\nTRANS X=10 B=5\nM30\n", "2:12:", "B=5 in a TRANS block: a frame's offset of a rotary axis is not read")]);
+}
+
+/// A G02/G03 without a feed is said as what it is (it used to be called a G01 move).
+#[test]
+fn an_arc_without_a_feed_is_named_as_an_arc() {
+    refuses_each(Dialect::Rs274, &ReadOptions::default(), &[("G21 G90 G94\nG0 X0 Y0\nG2 X10 Y0 R5\nM2\n", "3:1:", "G02 move without a feed")]);
+}
+
+/// A generic machine model assumes machine coordinates (its file: the machine zero 500 mm above the
+/// part zero, the reference points there), so that `G53 Z0`, `G28 G91 Z0` and Heidenhain's `M91`
+/// read on it: each retract ends 500 mm above the part zero. An axis the offset left out of range
+/// (warned once) is not blamed again by a machine move of another axis.
+#[test]
+fn generic_machines_read_machine_coordinate_moves() {
+    let m = Machine::builtin("generic-bc-table").unwrap();
+    for (dialect, text) in [
+        (Dialect::Fanuc, "%\nO1000\nG21 G90 G94 G54\nG0 X10. Y5. Z20.\nG53 Z0.\nM30\n%\n"),
+        (Dialect::Fanuc, "%\nO1000\nG21 G90 G94 G54\nG0 X10. Y5. Z20.\nG28 G91 Z0.\nM30\n%\n"),
+        (Dialect::Klartext, "0 BEGIN PGM R MM\n1 L X+10 Y+5 Z+20 R0 FMAX\n2 L Z+0 R0 FMAX M91\n3 END PGM R MM\n"),
+    ] {
+        let p = read(text, dialect, "t", &ReadOptions::default().on(&m));
+        assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
+        let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+        assert!(t.diagnostics.iter().all(|d| d.severity != Severity::Error), "{dialect:?}: {:?}", t.diagnostics);
+        // The machine's Z (its file's frame, the part zero at its origin, B and C at 0).
+        let last = t.segments.last().unwrap();
+        assert!((last.q1[2] / MM - 500.0).abs() < 1e-6, "{dialect:?}: Z {} mm", last.q1[2] / MM);
+    }
+    // X far outside a small machine's travel with the work offset unknown (warned), then G28 Z: read.
+    let nmv = Machine::builtin("mori-seiki-nmv5000").unwrap();
+    let p = read("%\nO1000\nG20 G90 G94 G54\nG0 X-39.6 Y0. Z0.6\nG28 G91 Z0.\nG90\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&nmv));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let t = Trajectory::from_program(&p, &nmv, &PathOptions::default());
+    assert!(t.diagnostics.iter().any(|d| d.severity == Severity::Warning && d.message.contains("axis X would move")), "{:?}", t.diagnostics);
+    assert!(t.diagnostics.iter().all(|d| d.severity != Severity::Error), "{:?}", t.diagnostics);
+}
