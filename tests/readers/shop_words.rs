@@ -137,3 +137,19 @@ fn generic_machines_read_machine_coordinate_moves() {
     assert!(t.diagnostics.iter().any(|d| d.severity == Severity::Warning && d.message.contains("axis X would move")), "{:?}", t.diagnostics);
     assert!(t.diagnostics.iter().all(|d| d.severity != Severity::Error), "{:?}", t.diagnostics);
 }
+
+/// The TNC's `LP` with its radius or angle left out keeps the start's: the TNC 410 User's Manual's
+/// example ("Straight line LP": `CC X+45 Y+25`, `LP PR+30 PA+0`, `LP PA+60`, `LP IPA+60`, `LP PA+180`;
+/// its RR left out) ends at the pole plus 30 mm at 0, 60, 120 and 180 deg, computed here.
+#[test]
+fn klartext_lp_keeps_the_polar_radius_left_out() {
+    let p = read("0 BEGIN PGM P MM\n1 TOOL CALL 1 Z S1000\n2 CC X+45 Y+25\n3 LP PR+30 PA+0 R0 F300 M3\n4 LP PA+60\n5 LP IPA+60\n6 LP PA+180\n7 LP PR+10\n8 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ends: Vec<[f64; 2]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1]]).collect();
+    let want: Vec<[f64; 2]> = [(30.0, 0.0), (30.0, 60.0), (30.0, 120.0), (30.0, 180.0), (10.0, 180.0)].iter().map(|(r, deg): &(f64, f64)| [45.0 + r * deg.to_radians().cos(), 25.0 + r * deg.to_radians().sin()]).collect();
+    assert_eq!(ends.len(), want.len(), "{ends:?}");
+    for (e, w) in ends.iter().zip(&want) {
+        assert!((e[0] - w[0]).abs() < 1e-9 && (e[1] - w[1]).abs() < 1e-9, "{ends:?}, computed {want:?}");
+    }
+    refuses_each(Dialect::Klartext, &ReadOptions::default(), &[("0 BEGIN PGM P MM\n1 CC X+45 Y+25\n2 LP R0 F300\n3 END PGM P MM\n", "3:3:", "LP: expected the polar radius PR (or IPR) or angle PA")]);
+}

@@ -367,7 +367,7 @@ impl Exec {
     /// `LP` and `CP` (iTNC 530 user's manual §6.5 "Path contours—Polar coordinates"): the end point in
     /// the working plane from the pole CC, the polar radius PR (CP: the start's distance to the pole)
     /// and angle PA from the plane's reference axis (X in XY, Y in YZ, Z in ZX), IPR and IPA from
-    /// the start's; and a CP's turns (P of its arc: `IPA+720` is two). A plane axis written beside
+    /// the start's, an LP's radius or angle left out the start's; and a CP's turns (P of its arc: `IPA+720` is two). A plane axis written beside
     /// them, a pole of another plane, a CP whose IPA and DR differ in sign ("Define the same algebraic
     /// sign for the direction of rotation DR and the incremental total angle IPA. The tool may
     /// otherwise move on a wrong path", TNC7 user's manual, Programming a helix) are refused.
@@ -405,6 +405,8 @@ impl Exec {
                 // Whole turns beyond the first (the arc's P), the end where the total angle ends.
                 (pa_start + v, ((v.abs() - 1e-9) / 360.0).floor().max(0.0) as u64 + 1)
             }
+            // LP without an angle: the start's (a CP has one, checked where it is read).
+            _ if shape == Shape::LinePolar => (pa_start, 1),
             _ => return None,
         };
         if !(r >= 0.0 && r.is_finite()) {

@@ -508,7 +508,9 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
     let at = toks[0].1;
     match shape {
         Shape::Circle | Shape::CircleRadius | Shape::CirclePolar if ccw.is_none() => diags.error(line, at, format!("{key}: expected the direction DR+ or DR-")),
-        Shape::LinePolar if seen & (3 << 12) != 3 << 12 => diags.error(line, at, "LP: expected the polar radius PR (or IPR) and angle PA (or IPA)"),
+        // One of them may be left out: the start's stays ("14 LP PA+60" after "13 LP PR+30 PA+0", TNC
+        // 410 User's Manual, "Straight line LP").
+        Shape::LinePolar if seen & (3 << 12) == 0 => diags.error(line, at, "LP: expected the polar radius PR (or IPR) or angle PA (or IPA)"),
         Shape::CirclePolar if seen & (1 << 13) == 0 => diags.error(line, at, "CP: expected the polar angle PA (or IPA) of the arc's end"),
         Shape::CircleRadius if radius.is_none() => diags.error(line, at, "CR: expected the radius R+.. (R- for an arc over 180 deg)"),
         Shape::LineNormal => {
