@@ -153,3 +153,18 @@ fn klartext_lp_keeps_the_polar_radius_left_out() {
     }
     refuses_each(Dialect::Klartext, &ReadOptions::default(), &[("0 BEGIN PGM P MM\n1 CC X+45 Y+25\n2 LP R0 F300\n3 END PGM P MM\n", "3:3:", "LP: expected the polar radius PR (or IPR) or angle PA")]);
 }
+
+/// Fanuc's modal information (custom macro B, system variables #4001-#4030 the G code groups,
+/// #4109 F, #4120 T) as the blocks before left it, so that a macro saving and restoring a mode reads:
+/// `#10 = #4003` under G90 is 90 (`G#10` then restores absolute: X5 is X5, not 10 + 5), `#11 = #4006`
+/// under G21 is 21, `#12 = #4001` after a G01 is 1, `#13 = #4109` the feed 100. A system variable
+/// this reader does not hold (`#4119`, the S code) is refused as the control's.
+#[test]
+fn fanuc_macros_read_the_modal_information() {
+    let p = read("%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\n#10 = #4003\n#11 = #4006\nG91 G1 X10. F100.\nG#10 G1 X5. Y#11\n#12 = #4001\n#13 = #4109\nG1 Z#12 X#13\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ends: Vec<[f64; 3]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1], a[2]]).collect();
+    assert_eq!(ends, vec![[0.0, 0.0, 10.0], [10.0, 0.0, 10.0], [5.0, 21.0, 10.0], [100.0, 21.0, 1.0]]);
+    let p = read("%\nO1000\nG21 G90 G94\nS1000 M3\n#13 = #4119\nG1 X#13 F100.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 5 && m.contains("#4119 is a system variable")), "{:?}", errors(&p));
+}

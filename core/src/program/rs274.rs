@@ -82,10 +82,13 @@ pub(super) const MAX_LEADER_BYTES: usize = 16 * 1024;
 impl Rs274Reader {
     /// A reader for this setup; a machine's HAL pins can be read (`#<_hal[...]>`).
     pub(crate) fn new(setup: &super::Setup) -> Self {
-        let params = match &setup.machine {
+        let mut params = match &setup.machine {
             Some(m) => Parameters::with_hal_pins(m.hal_pins.clone()),
             None => Parameters::default(),
         };
+        if setup.dialect.is_fanuc() {
+            params.fanuc_system_variables();
+        }
         let leader = setup.dialect.is_fanuc().then(Vec::new);
         Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, said_no_point: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: None }
     }
@@ -104,7 +107,8 @@ pub(super) fn reads_state(mut text: impl Iterator<Item = char>) -> bool {
                     return true;
                 }
             }
-            Some('5' | '#' | '[') => return true,
+            // (`#4003`: Fanuc's modal information.)
+            Some('4' | '5' | '#' | '[') => return true,
             _ => {}
         }
     }
@@ -264,7 +268,14 @@ impl Rs274Reader {
     /// read parameters (`reads`): as it stands after the lines before ([`Interpreter::state_parameters`],
     /// the call level and the last subroutine's return value).
     pub(super) fn refresh_state(&mut self, reads: bool) {
-        if !reads || self.dialect != Dialect::Rs274 {
+        if !reads {
+            return;
+        }
+        if self.dialect.is_fanuc() {
+            self.params.set_state(self.interp.fanuc_modal_information());
+            return;
+        }
+        if self.dialect != Dialect::Rs274 {
             return;
         }
         let mut state = self.interp.state_parameters();

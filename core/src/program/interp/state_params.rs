@@ -83,4 +83,48 @@ impl Interpreter {
         }
         StateParameters { named, numbered }
     }
+
+    /// Fanuc's and Haas' modal information of the blocks run so far, the G code groups this reader
+    /// holds (FANUC custom macro B, system variables "#4001-#4030: G codes of groups 01-30", #4109 F,
+    /// #4120 T; Haas' macro variables #4001-#4021, the group codes, numbered as Fanuc's for these):
+    /// 01 motion (not under a canned cycle, whose group is 09), 02 plane, 03 G90/G91, 05 G93/G94, 06
+    /// G20/G21, 07 G40 (compensation is refused, so always off), 09 the cycle or G80, 10 G98/G99;
+    /// Fanuc's 14 the work offset G54-G59, F in the program's unit and the T selected.
+    pub(crate) fn fanuc_modal_information(&self) -> StateParameters {
+        let mut numbered: Vec<(u32, f64)> = Vec::with_capacity(12);
+        if self.cycles.active.is_none() {
+            if let Some(g) = match self.motion {
+                Some(Motion::Rapid) => Some(0.0),
+                Some(Motion::Linear) => Some(1.0),
+                Some(Motion::ArcCw) => Some(2.0),
+                Some(Motion::ArcCcw) => Some(3.0),
+                _ => None,
+            } {
+                numbered.push((4001, g));
+            }
+        }
+        numbered.push((4002, match self.plane {
+            Plane::Xy => 17.0,
+            Plane::Zx => 18.0,
+            Plane::Yz => 19.0,
+        }));
+        numbered.push((4003, if self.absolute { 90.0 } else { 91.0 }));
+        numbered.push((4005, if self.feed_mode == FeedMode::InverseTime { 93.0 } else { 94.0 }));
+        numbered.push((4006, if self.unit == MM { 21.0 } else { 20.0 }));
+        numbered.push((4007, 40.0));
+        numbered.push((4009, self.cycles.active.as_ref().and_then(|a| a.kind.code().parse::<f64>().ok()).unwrap_or(80.0)));
+        numbered.push((4010, if self.cycles.to_r { 99.0 } else { 98.0 }));
+        if self.dialect == crate::program::Dialect::Fanuc {
+            if self.system < 6 && !self.extra_offset {
+                numbered.push((4014, 54.0 + self.system as f64));
+            }
+            if let Some(f) = self.feed_in_program_units() {
+                numbered.push((4109, f));
+            }
+            if let (Some(t), _) = self.tools.known() {
+                numbered.push((4120, t as f64));
+            }
+        }
+        StateParameters { named: Vec::new(), numbered }
+    }
 }

@@ -362,6 +362,8 @@ impl Jumping for MacroRunner {
             return if again { self.again(line, text, here, out, diags) } else { self.plain(line, text, out, diags) };
         }
         let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
+        // The modal information a statement may read (#4001-#4130), as the blocks before left it.
+        self.reader.refresh_state(super::rs274::reads_state(chars.iter().copied()));
         let stmt = match self.statement(&chars) {
             Ok(Some(s)) => s,
             Ok(None) => return self.plain(line, text, out, diags),

@@ -80,6 +80,8 @@ pub struct Parameters {
     /// The interpreter's state as LinuxCNC's predefined parameters give it (`#<_x>`, `#<_metric>`,
     /// `#5420`, ...), where the reader knows it: set before each line is read ([`Parameters::set_state`]).
     state: StateParameters,
+    /// Fanuc and Haas: #1000 and up are the control's system variables, not the program's.
+    fanuc: bool,
 }
 
 /// The interpreter's state as LinuxCNC's predefined parameters give it: named ones (`_x`) and
@@ -116,6 +118,12 @@ impl Parameters {
     /// manual §11.4.3.4, §11.4.2.7): what a line reads of them. One not given stays refused.
     pub fn set_state(&mut self, state: StateParameters) {
         self.state = state;
+    }
+
+    /// Read `#1000` and up as Fanuc's and Haas' system variables (those of the state given by
+    /// [`Parameters::set_state`]; any other is refused as the control's).
+    pub fn fanuc_system_variables(&mut self) {
+        self.fanuc = true;
     }
 
     /// Set a parameter (a line's settings, after every value on the line was read).
@@ -209,6 +217,12 @@ pub fn skip_blanks(chars: &[char], mut i: usize) -> usize {
 impl Parameters {
     /// A numbered parameter's value, where the program set it (see the module's fail-closed rules).
     fn read_numbered(&self, n: u32, column: usize) -> Result<f64, ExprError> {
+        if self.fanuc && n >= 1000 {
+            if let Some(&(_, v)) = self.state.numbered.iter().find(|(k, _)| *k == n) {
+                return Ok(v);
+            }
+            return err(column, format!("#{n} is a system variable of the control (#1000 and up: signals, offsets, clocks, positions, modal information beyond the G code groups, F and T this reader holds): not read"));
+        }
         if n > MAX_USER_PARAMETER {
             if let Some(&(_, v)) = self.state.numbered.iter().find(|(k, _)| *k == n) {
                 return Ok(v);
