@@ -1,6 +1,7 @@
-//! Fanuc's and Haas' coordinate system rotation `G68 X Y R` / `G69`, against the manuals' rule
-//! computed here: a programmed point P goes to C + rot(P - C, R); Fanuc's incremental moves before
-//! the first absolute one turn about the tool's position at G68 (B-62764EN §15.10).
+//! Fanuc's and Haas' coordinate system rotation `G68 X Y R` / `G69` (and in the XZ and YZ planes),
+//! against the manuals' rule computed here: a programmed point P goes to C + rot(P - C, R); Fanuc's
+//! incremental moves before the first absolute one turn about the tool's position at G68
+//! (B-62764EN §15.10).
 
 use super::*;
 
@@ -57,6 +58,60 @@ fn fanuc_g68_turns_the_program_about_its_centre() {
     let arc = p.blocks.iter().find_map(|b| b.arc.as_ref()).expect("the G2");
     let centre = about(c, 30.0, [15.0, 15.0]);
     assert!((arc.centre[0] / MM - centre[0]).abs() < 1e-9 && (arc.centre[1] / MM - centre[1]).abs() < 1e-9, "{arc:?}");
+}
+
+/// In the XZ and YZ planes (`G18 G68 Z X R`, `G19 G68 Y Z R`: "G17 (G18 or G19): Select the plane
+/// that contains the figure to be rotated", the centre "two of the X_, Y_, and Z_ axes that correspond
+/// to the current plane selected"; Haas: "Only the values in the plane of rotation are rotated"), the
+/// rule computed here in the plane's own coordinates (first axis, second axis: Z X in G18, Y Z in
+/// G19), counter-clockwise from the first towards the second; the third axis as programmed. An axis
+/// word off the plane in the G68 block is refused.
+#[test]
+fn fanuc_g68_turns_in_the_xz_and_yz_planes() {
+    // G18: (Z, X) about (Z5, X10) by 30 deg; Y untouched.
+    let p = read("%
+O1000
+G21 G90 G18 G94
+G0 X10. Y3. Z0.
+G1 F500.
+G68 Z5. X10. R30.
+G1 Z20. X10. Y7.
+G1 X15.
+G69
+G1 X0. Z0.
+M30
+%
+", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ends: Vec<[f64; 3]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1], a[2]]).collect();
+    let zx = |z: f64, x: f64| about([5.0, 10.0], 30.0, [z, x]);
+    let (a, b) = (zx(20.0, 10.0), zx(20.0, 15.0));
+    let want = [[10.0, 3.0, 0.0], [a[1], 7.0, a[0]], [b[1], 7.0, b[0]], [0.0, 7.0, 0.0]];
+    assert_eq!(ends.len(), want.len(), "{ends:?}");
+    for (k, (g, w)) in ends.iter().zip(&want).enumerate() {
+        assert!((0..3).all(|i| (g[i] - w[i]).abs() < 1e-9), "G18 move {k}: {g:?}, the rule {w:?}");
+    }
+    // G19: (Y, Z) about the tool's position (no centre words: Y0 Z0) by -90 deg: Y10 goes to Z-10.
+    let p = read("%
+O1000
+G21 G90 G19 G94
+G0 X1. Y0. Z0.
+G68 R-90.
+G1 Y10. F500.
+M30
+%
+", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let last = end_points(&p).last().unwrap().1;
+    let yz = about([0.0, 0.0], -90.0, [10.0, 0.0]);
+    assert!((last[0] - 1.0).abs() < 1e-9 && (last[1] - yz[0]).abs() < 1e-9 && (last[2] - yz[1]).abs() < 1e-9, "{last:?}, the rule {yz:?}");
+    refuses_each(Dialect::Fanuc, &ReadOptions::default(), &[("%
+O1000
+G21 G90 G18 G94
+G68 X0. Y0. R10.
+M30
+%
+", "4:9:", "Y is not one of them")]);
 }
 
 /// What the rotation refuses, each where it stands: the manuals' own errors, and what the machine's

@@ -393,6 +393,15 @@ impl Targets {
         }
     }
     /// Set axis `k` of the machine's order: 0-2 X Y Z, 3-5 A B C.
+    /// The target of linear axis `k` (0 X, 1 Y, 2 Z), if the block has one.
+    pub fn axis(&self, k: usize) -> Option<f64> {
+        match k {
+            0 => self.x,
+            1 => self.y,
+            _ => self.z,
+        }
+    }
+
     pub fn set_axis(&mut self, k: usize, value: f64) {
         match k {
             0 => self.x = Some(value),

@@ -753,15 +753,19 @@ impl Interpreter {
             offset_assumed: self.offset_assumed() && !shot.is_some_and(|s| s.axes.is_some() && !s.own),
             exact: if exact_stop_here { Exact::Stop } else { self.exact },
         };
-        self.fill_xy(&mut b);
+        if self.rotation2d.is_none() {
+            self.fill_xy(&mut b);
+        }
         // Fanuc's and Haas' G68: the block placed about the centre, Fanuc's tool position at G68 for
         // incremental moves until an absolute one (machine coordinates are not turned).
+        let last = self.last;
         if let Some(r) = self.rotation2d.as_mut().filter(|_| shot.is_none_or(|s| s.axes.is_none())) {
             let modal = self.absolute || shot.is_some_and(|s| s.absolute);
-            if words.iter().any(|w| matches!(w.letter, 'X' | 'Y') && w.dimension.absolute(modal)) {
+            let letters = r.letters();
+            if words.iter().any(|w| letters.contains(&w.letter) && w.dimension.absolute(modal)) {
                 r.until_absolute = None;
             }
-            r.place(&mut b);
+            r.place(&mut b, &last);
         }
         Some(b)
     }

@@ -103,8 +103,9 @@ pub struct Interpreter {
     pub(crate) halted: bool,
     /// Fanuc's and Haas' coordinate system rotation `G68` in effect, if any.
     pub(crate) rotation2d: Option<crate::program::fanuc_rotation::Rotation>,
-    /// `G69` has cancelled it and no move has come since (the first must be absolute).
-    pub(crate) after_g69: bool,
+    /// `G69` has cancelled it and no move of its plane's axes (these letters) has come since (the
+    /// first must be absolute).
+    pub(crate) after_g69: Option<[char; 2]>,
     /// LinuxCNC's cutter radius compensation and the moves it holds ([`super::cutter_comp`]), and the
     /// tool table its `G41`/`G42` take the radius from.
     pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
@@ -226,7 +227,7 @@ impl Interpreter {
             stored_home: [None; 2],
             halted: false,
             rotation2d: None,
-            after_g69: false,
+            after_g69: None,
             exact: crate::program::Exact::Blend,
             exact_once: false,
             comp: None,
@@ -467,8 +468,13 @@ impl Interpreter {
     /// Put the current point's X and Y at `xy` (program coordinates, m): where the machine stands when
     /// the control takes its position from it (LinuxCNC after a tool change).
     pub(crate) fn set_position_xy(&mut self, xy: [f64; 2]) {
-        self.last[0] = xy[0];
-        self.last[1] = xy[1];
+        self.set_position_pair([0, 1], xy);
+    }
+
+    /// Put the current point's coordinates `axes` (0 X, 1 Y, 2 Z) at `v` (program coordinates, m).
+    pub(crate) fn set_position_pair(&mut self, axes: [usize; 2], v: [f64; 2]) {
+        self.last[axes[0]] = v[0];
+        self.last[axes[1]] = v[1];
     }
 
     /// True while tool-centre-point management is on.
