@@ -60,7 +60,7 @@ fn fanuc_g68_turns_the_program_about_its_centre() {
     assert!((arc.centre[0] / MM - centre[0]).abs() < 1e-9 && (arc.centre[1] / MM - centre[1]).abs() < 1e-9, "{arc:?}");
 }
 
-/// In the XZ and YZ planes (`G18 G68 Z X R`, `G19 G68 Y Z R`: "G17 (G18 or G19): Select the plane
+/// In the XZ and YZ planes (`G18 G68 Z X R`, `G19 G68 Y Z R`; FANUC B-64113EN §11.12: "G17 (G18 or G19): Select the plane
 /// that contains the figure to be rotated", the centre "two of the X_, Y_, and Z_ axes that correspond
 /// to the current plane selected"; Haas: "Only the values in the plane of rotation are rotated"), the
 /// rule computed here in the plane's own coordinates (first axis, second axis: Z X in G18, Y Z in

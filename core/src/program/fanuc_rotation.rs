@@ -1,10 +1,10 @@
 //! Fanuc's and Haas' coordinate system rotation in the selected plane, `G17 G68 X Y R` (`G18 G68 Z X
 //! R`, `G19 G68 Y Z R`) until `G69` (FANUC Series 16/18-C Operator's Manual B-62764EN §15.10 and
-//! Series 15i-MA B-63324EN §14 "Coordinate system rotation": "G17 (G18 or G19): Select the plane that
-//! contains the figure to be rotated", the centre "two of the X_, Y_ and Z_ axes that correspond to
-//! the current plane selected"; Haas Mill Operator's Manual, G68 Rotation: "Only the values in the
-//! plane of rotation are rotated"): a programmed point P of the plane goes to C + rot(P - C, R), C the
-//! centre. Its rules:
+//! Series 15i-MA B-63324EN §14 "Coordinate system rotation"; Series 0i-C B-64113EN §11.12: "G17 (G18
+//! or G19): Select the plane that contains the figure to be rotated", the centre "two of the X_, Y_
+//! and Z_ axes that correspond to the current plane selected"; Haas Mill Operator's Manual, G68
+//! Rotation: "Only the values in the plane of rotation are rotated"): a programmed point P of the
+//! plane goes to C + rot(P - C, R), C the centre. Its rules:
 //! - The plane's two axis words are the centre (absolute, in the work coordinate system); without
 //!   them the tool's position when G68 is read. R is the angle, deg, counter-clockwise positive (from
 //!   the plane's first axis to its second, as G03 turns: about +Z in G17, +Y in G18, +X in G19).
