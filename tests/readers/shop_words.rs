@@ -168,3 +168,14 @@ fn fanuc_macros_read_the_modal_information() {
     let p = read("%\nO1000\nG21 G90 G94\nS1000 M3\n#13 = #4119\nG1 X#13 F100.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert!(errors(&p).iter().any(|(l, _, m)| *l == 5 && m.contains("#4119 is a system variable")), "{:?}", errors(&p));
 }
+
+/// A refused block sets none of its codes (fail closed), so a later block may be refused for a
+/// code the refused one would have set: that defect names the refused line, so the first cause is
+/// found (a real program's `G18 G2 ... Q5` refused for its Q, then `G2 ... K0.` read in the XY plane).
+#[test]
+fn a_defect_after_a_refused_block_names_it() {
+    let p = read("%\nO1000\nG21 G90 G17 G94 F100.\nG0 X10. Y0. Z0.\nG18 G2 X12. Z0. I1. K0. Q5.\nG2 X14. Z0. I1. K0.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    let e = errors(&p);
+    assert!(e.iter().any(|(l, _, m)| *l == 5 && m.contains("Q5.")), "{e:?}");
+    assert!(e.iter().any(|(l, _, m)| *l == 6 && m.contains("not an arc-centre word") && m.contains("line 5 was refused before it")), "{e:?}");
+}

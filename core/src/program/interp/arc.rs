@@ -39,7 +39,7 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
     let offset_letter = ['I', 'J', 'K'];
     let word = |l: char| words.iter().find(|w| w.letter == l);
     if let Some(w) = word(offset_letter[an]) {
-        diags.error(line, w.column, format!("{}{}: not an arc-centre word in the {:?} plane (G17/G18/G19)", w.letter, w.raw, st.plane));
+        diags.error(line, w.column, format!("{}{}: not an arc-centre word in the {:?} plane (G17/G18/G19){}", w.letter, w.raw, st.plane, st.after_refused()));
         return None;
     }
     let extra_turns = match word('P') {

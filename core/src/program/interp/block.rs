@@ -409,7 +409,7 @@ impl Interpreter {
                     _ => true,
                 };
                 if !ok {
-                    diags.error(line, w.column, format!("word {}{} without a G code that takes it: not read", w.letter, w.raw));
+                    diags.error(line, w.column, format!("word {}{} without a G code that takes it: not read{}", w.letter, w.raw, self.after_refused()));
                 }
             }
             if next.tool_vector && arc_motion {

@@ -103,6 +103,9 @@ pub struct Interpreter {
     pub(crate) halted: bool,
     /// Fanuc's and Haas' coordinate system rotation `G68` in effect, if any.
     pub(crate) rotation2d: Option<crate::program::fanuc_rotation::Rotation>,
+    /// The last block refused (its line): none of its codes took effect, which a later block's
+    /// defect may stem from (said with it).
+    pub(crate) refused_line: Option<usize>,
     /// `G69` has cancelled it and no move of its plane's axes (these letters) has come since (the
     /// first must be absolute).
     pub(crate) after_g69: Option<[char; 2]>,
@@ -228,6 +231,7 @@ impl Interpreter {
             halted: false,
             rotation2d: None,
             after_g69: None,
+            refused_line: None,
             exact: crate::program::Exact::Blend,
             exact_once: false,
             comp: None,
@@ -673,10 +677,20 @@ impl Interpreter {
                 seen[g as usize] = Some(w);
             }
         }
-        if let Some(done) = super::cutter_comp::block(self, words, line, column, number, diags, out) {
-            return done;
+        let done = match super::cutter_comp::block(self, words, line, column, number, diags, out) {
+            Some(done) => done,
+            None => self.block_plain(words, line, column, number, diags, out),
+        };
+        if !done {
+            self.refused_line = Some(line);
         }
-        self.block_plain(words, line, column, number, diags, out)
+        done
+    }
+
+    /// What to add to a defect that a refused block's codes, had they taken effect, might have
+    /// avoided (a word its modal code would take, a centre word of its plane).
+    pub(crate) fn after_refused(&self) -> String {
+        self.refused_line.map_or(String::new(), |l| format!(" (line {l} was refused before it, and none of its codes took effect)"))
     }
 
     /// [`Interpreter::block`] without cutter radius compensation.
