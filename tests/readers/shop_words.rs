@@ -50,7 +50,7 @@ fn fanuc_reads_an_h_word_alone_and_program_number_zero() {
     let p = read("%\nO0000 (MY PART)\nG21 G90 G94\nN0250 H00\nG1 X10. F500.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     assert!(p.diagnostics.iter().any(|d| d.line == 4 && d.message.contains("tool length offset number")), "{:?}", p.diagnostics);
-    assert!(p.diagnostics.iter().any(|d| d.line == 2 && d.message.contains("read as the program's title")), "{:?}", p.diagnostics);
+    assert!(p.diagnostics.iter().any(|d| d.line == 2 && d.message.contains("is program number 0: read as the program's title")), "{:?}", p.diagnostics);
     assert_eq!(end_points(&p).len(), 1);
 }
 

@@ -380,7 +380,8 @@ impl Rs274Reader {
             let digits: String = chars[first + 1..].iter().skip_while(|c| c.is_whitespace()).take_while(|c| c.is_ascii_digit()).collect();
             let zero = !digits.is_empty() && digits.bytes().all(|b| b == b'0') && chars[first + 1..].iter().skip_while(|c| c.is_whitespace()).nth(digits.len()).is_none_or(|c| c.is_whitespace() || *c == '(' || *c == ';');
             if !after.is_some_and(|c| c.is_ascii_digit()) || zero {
-                diags.warning(line, first + 1, format!("'{}' is not a program number (O and digits): read as the program's title; the control may refuse to load the program for it", excerpt(text[byte(first)..].trim_end())));
+                let what = if zero { "program number 0" } else { "not a program number (O and digits)" };
+                diags.warning(line, first + 1, format!("'{}' is {what}: read as the program's title; the control may refuse to load the program for it", excerpt(text[byte(first)..].trim_end())));
                 self.started = true;
                 return None;
             }
