@@ -9,11 +9,15 @@
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::sync::{Arc, Mutex};
 
-use super::oword::{closer, opens, parse, Keyword, MAX_HELD_BYTES, MAX_HELD_LINES};
+use super::oword::{parse, Keyword, OpenBlocks, MAX_HELD_BYTES, MAX_HELD_LINES};
 use super::stream::{OpenText, Text, MAX_LINE_BYTES};
 
 /// A line of a program: its 1-based number and text.
 pub(crate) type Line = (usize, String);
+
+/// A subroutine's lines, from the one that starts it to its end, and whether it is Fanuc-style
+/// (`O<name>` ... `M99`) rather than `o<name> sub` ... `endsub`.
+pub(crate) type SubLines = (Vec<Line>, bool);
 
 /// The program's own text, read again for a subroutine defined after its call.
 pub(crate) enum ProgramText {
@@ -42,7 +46,7 @@ impl ProgramText {
     /// Fanuc-style ([`collect_sub`]); `Ok(None)` where the text has none there. In a file that opens
     /// with `%` (`percent`), nothing after the next `%` line is looked at: "The useful contents of a
     /// file demarcated by percents stop after the second percent line" (NIST IR 6556 §3.3.1).
-    pub(crate) fn sub_after(&self, name: &str, after: usize, percent: bool) -> Result<Option<(Vec<Line>, bool)>, String> {
+    pub(crate) fn sub_after(&self, name: &str, after: usize, percent: bool) -> Result<Option<SubLines>, String> {
         match self {
             ProgramText::Bytes(b) => {
                 let lines = b.split(|&c| c == b'\n').enumerate().skip(after).map(|(k, l)| Ok((k + 1, String::from_utf8_lossy(l).into_owned())));
@@ -98,11 +102,11 @@ pub(crate) fn may_define_subs(text: &str) -> bool {
 /// `o<name> endsub`, or the first `M99` outside the O-word blocks in it. At most [`MAX_HELD_LINES`]
 /// lines and [`MAX_HELD_BYTES`] bytes; `Ok(None)` where nothing starts it, an error where it does
 /// not end; true with the lines where it is Fanuc-style. `shown` names the text in messages.
-pub(crate) fn collect_sub(lines: impl Iterator<Item = Result<Line, String>>, name: &str, shown: &str) -> Result<Option<(Vec<Line>, bool)>, String> {
+pub(crate) fn collect_sub(lines: impl Iterator<Item = Result<Line, String>>, name: &str, shown: &str) -> Result<Option<SubLines>, String> {
     let mut held: Vec<Line> = Vec::new();
     let mut fanuc = false;
     // A Fanuc-style body's O-word blocks open so far (an M99 in one is not its end).
-    let mut open: Vec<(String, Keyword)> = Vec::new();
+    let mut open = OpenBlocks::default();
     let mut bytes = 0;
     for l in lines {
         let (k, raw) = l?;
@@ -122,11 +126,7 @@ pub(crate) fn collect_sub(lines: impl Iterator<Item = Result<Line, String>>, nam
             Some(o) if !fanuc => o.keyword == Keyword::EndSub && o.name.eq_ignore_ascii_case(name),
             Some(o) if o.keyword == Keyword::M99 => open.is_empty(),
             Some(o) => {
-                if opens(&o, open.last().map(|(n, k)| (n.as_str(), *k))) {
-                    open.push((o.name, o.keyword));
-                } else if open.last().is_some_and(|(n, k)| *n == o.name && closer(*k) == o.keyword) {
-                    open.pop();
-                }
+                open.pass(o);
                 false
             }
             None => false,

@@ -13,6 +13,7 @@
 //! on a program not read.
 
 use super::lex::{excerpt, Diags};
+use super::later_subs::Line;
 use super::params::skip_blanks;
 use super::params::expr::{self, Compiled};
 use super::params::ExprError;
@@ -145,9 +146,30 @@ pub fn parse(chars: &[char]) -> Option<OLine> {
     Some(OLine { name, keyword: Keyword::of(&word)?, rest: end, name_expr: None })
 }
 
+/// The O-word blocks open so far in lines passed over without running them (a Fanuc-style
+/// subprogram's body, found or skipped): an `M99` inside one is not the body's end.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct OpenBlocks(Vec<(String, Keyword)>);
+
+impl OpenBlocks {
+    /// Line `o` passed: a block it opens, or the innermost one it closes.
+    pub(crate) fn pass(&mut self, o: OLine) {
+        if opens(&o, self.0.last().map(|(n, k)| (n.as_str(), *k))) {
+            self.0.push((o.name, o.keyword));
+        } else if self.0.last().is_some_and(|(n, k)| *n == o.name && closer(*k) == o.keyword) {
+            self.0.pop();
+        }
+    }
+
+    /// Whether no block is open.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+}
+
 /// Whether `l` opens a block that must be held to its end (a subroutine, a loop, a condition);
 /// `innermost` is the block open around it, if any (a `while` ends the `do` of its name).
-pub(crate) fn opens(l: &OLine, innermost: Option<(&str, Keyword)>) -> bool {
+fn opens(l: &OLine, innermost: Option<(&str, Keyword)>) -> bool {
     match l.keyword {
         Keyword::Sub | Keyword::Do | Keyword::If | Keyword::Repeat => true,
         Keyword::While => innermost != Some((l.name.as_str(), Keyword::Do)),
@@ -156,7 +178,7 @@ pub(crate) fn opens(l: &OLine, innermost: Option<(&str, Keyword)>) -> bool {
 }
 
 /// The keyword that ends a block opened by `k`.
-pub(crate) fn closer(k: Keyword) -> Keyword {
+fn closer(k: Keyword) -> Keyword {
     match k {
         Keyword::Sub => Keyword::EndSub,
         Keyword::Do => Keyword::While,
@@ -194,8 +216,6 @@ fn m99_ends(o: &OLine) -> String {
     format!("o{} {}: a Fanuc-style subprogram (called by M98) ends with M99 (LinuxCNC: \"Fanuc 'O....' subroutine definition must end with 'M99'\")", o.name, word(o.keyword))
 }
 
-/// A line as read: its number and text.
-type Line = (usize, String);
 
 /// A block being held: its lines so far and the blocks open in it.
 #[derive(Debug, Clone, Default)]
@@ -263,7 +283,7 @@ impl Flow {
     /// in each directory, the file then skipped to its `o<name> sub` or `O<name>` and run to its end):
     /// its lines, numbered in that file, whether Fanuc-style, and the file's path; `Ok(None)` where
     /// no directory has it.
-    fn load(&self, name: &str) -> Result<Option<((Vec<Line>, bool), String)>, String> {
+    fn load(&self, name: &str) -> Result<Option<(super::later_subs::SubLines, String)>, String> {
         let stem = name.trim_start_matches('<').trim_end_matches('>');
         let Some(files) = &self.sub_files else { return Ok(None) };
         if let Some((shown, bytes)) = files.find(stem)? {

@@ -52,7 +52,7 @@ pub(crate) struct Rs274Reader {
     ended: Option<(usize, bool)>,
     /// LinuxCNC: a subroutine defined after the program's end is being passed over (true: a
     /// Fanuc-style one, which ends with M99 outside the O-word blocks open in it).
-    in_later_sub: Option<(bool, Vec<(String, super::oword::Keyword)>)>,
+    in_later_sub: Option<(bool, super::oword::OpenBlocks)>,
     /// LinuxCNC: the file opens with `%`, so the next `%` line ends it.
     pub(super) percent: bool,
     /// Fanuc, Haas: a macro alarm (`#3000`) stopped the control.
@@ -95,8 +95,8 @@ impl Rs274Reader {
 }
 
 /// Whether a line's text may read a predefined parameter of the interpreter's state: a named one
-/// (`#<_...>`), a numbered one from 5000 up (`#5...`), or one whose number is computed (`##1`,
-/// `#[...]`). Most lines, a loop's own parameters among them, read none: the state is not gathered
+/// (`#<_...>`), a numbered one from 5000 up (`#5...`) or Fanuc's modal information (`#4...`), or one
+/// whose number is computed (`##1`, `#[...]`). Most lines, a loop's own parameters among them, read none: the state is not gathered
 /// for them.
 pub(super) fn reads_state(mut text: impl Iterator<Item = char>) -> bool {
     while text.by_ref().any(|c| c == '#') {
@@ -223,22 +223,15 @@ impl Rs274Reader {
             // Subroutines defined after the end are where calls skip forward to (super::later_subs):
             // their lines are no program cut off.
             if !*said && !body.is_empty() && !body.starts_with(['%', '(', ';']) {
-                use super::oword::{closer, opens, Keyword};
+                use super::oword::{Keyword, OpenBlocks};
                 let o = super::oword::parse(&body.chars().collect::<Vec<_>>());
-                match (o.as_ref().map(|o| o.keyword), &mut self.in_later_sub) {
-                    (Some(Keyword::Sub), None) => self.in_later_sub = Some((false, Vec::new())),
-                    (Some(Keyword::Title), None) => self.in_later_sub = Some((true, Vec::new())),
-                    (Some(Keyword::EndSub), Some((false, _))) => self.in_later_sub = None,
+                match (o, &mut self.in_later_sub) {
+                    (Some(o), None) if o.keyword == Keyword::Sub => self.in_later_sub = Some((false, OpenBlocks::default())),
+                    (Some(o), None) if o.keyword == Keyword::Title => self.in_later_sub = Some((true, OpenBlocks::default())),
+                    (Some(o), Some((false, _))) if o.keyword == Keyword::EndSub => self.in_later_sub = None,
                     // A Fanuc-style one ends with the first M99 outside its O-word blocks.
-                    (Some(Keyword::M99), Some((true, open))) if open.is_empty() => self.in_later_sub = None,
-                    (Some(_), Some((true, open))) => {
-                        let o = o.expect("an O line");
-                        if opens(&o, open.last().map(|(n, k)| (n.as_str(), *k))) {
-                            open.push((o.name, o.keyword));
-                        } else if open.last().is_some_and(|(n, k)| *n == o.name && closer(*k) == o.keyword) {
-                            open.pop();
-                        }
-                    }
+                    (Some(o), Some((true, open))) if o.keyword == Keyword::M99 && open.is_empty() => self.in_later_sub = None,
+                    (Some(o), Some((true, open))) => open.pass(o),
                     (_, Some(_)) => {}
                     _ => {
                         *said = true;
@@ -374,12 +367,14 @@ impl Rs274Reader {
         // is the program's title line, which moves nothing: noted, and the control may refuse to
         // load the program for it.
         if self.dialect.is_fanuc() && !self.started && matches!(chars[first], 'O' | 'o') {
-            let after = chars[first + 1..].iter().find(|c| !c.is_whitespace());
+            // What follows the O: its digits, and what stands after them.
+            let rest = &chars[first + 1..];
+            let rest = &rest[rest.iter().position(|c| !c.is_whitespace()).unwrap_or(rest.len())..];
+            let digits = rest.iter().take_while(|c| c.is_ascii_digit()).count();
             // `O0000` (a post's placeholder, as Mastercam's): program number 0, read as a title too
             // (it moves nothing either way; whether the control stores a program under it is its own).
-            let digits: String = chars[first + 1..].iter().skip_while(|c| c.is_whitespace()).take_while(|c| c.is_ascii_digit()).collect();
-            let zero = !digits.is_empty() && digits.bytes().all(|b| b == b'0') && chars[first + 1..].iter().skip_while(|c| c.is_whitespace()).nth(digits.len()).is_none_or(|c| c.is_whitespace() || *c == '(' || *c == ';');
-            if !after.is_some_and(|c| c.is_ascii_digit()) || zero {
+            let zero = digits > 0 && rest[..digits].iter().all(|c| *c == '0') && rest.get(digits).is_none_or(|c| c.is_whitespace() || *c == '(' || *c == ';');
+            if digits == 0 || zero {
                 let what = if zero { "program number 0" } else { "not a program number (O and digits)" };
                 diags.warning(line, first + 1, format!("'{}' is {what}: read as the program's title; the control may refuse to load the program for it", excerpt(text[byte(first)..].trim_end())));
                 self.started = true;

@@ -753,9 +753,7 @@ impl Interpreter {
             offset_assumed: self.offset_assumed() && !shot.is_some_and(|s| s.axes.is_some() && !s.own),
             exact: if exact_stop_here { Exact::Stop } else { self.exact },
         };
-        if self.rotation2d.is_none() {
-            self.fill_xy(&mut b);
-        }
+        self.fill_xy(&mut b);
         // Fanuc's and Haas' G68: the block placed about the centre, Fanuc's tool position at G68 for
         // incremental moves until an absolute one (machine coordinates are not turned).
         let last = self.last;

@@ -102,13 +102,14 @@ impl Interpreter {
         [p[0] - g92[0], p[1] - g92[1], w[2] - g5x[2] - g92[2]]
     }
 
-    /// Under a rotation a move of X or Y alone is one of both in the workpiece: the other, where
-    /// the block leaves it, written into `b` (its program-frame targets) so that [`to_world`] turns
-    /// the point.
+    /// Under a rotated coordinate system (LinuxCNC's `G10 L2 R`) a move of X or Y alone is one of
+    /// both in the workpiece: the other, where the block leaves it, written into `b` (its
+    /// program-frame targets) so that [`to_world`] turns the point. (Fanuc's `G68` fills its own
+    /// plane's pair where it places the block.)
     ///
     /// [`to_world`]: Interpreter::to_world
     pub(crate) fn fill_xy(&self, b: &mut Block) {
-        if (self.rotation_now() != 0.0 || self.rotation2d.is_some()) && (b.targets.x.is_some() || b.targets.y.is_some()) {
+        if self.rotation_now() != 0.0 && (b.targets.x.is_some() || b.targets.y.is_some()) {
             b.targets.x = b.targets.x.or(Some(self.last[0]));
             b.targets.y = b.targets.y.or(Some(self.last[1]));
         }

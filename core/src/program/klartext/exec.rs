@@ -367,8 +367,8 @@ impl Exec {
     /// `LP` and `CP` (iTNC 530 user's manual §6.5 "Path contours—Polar coordinates"): the end point in
     /// the working plane from the pole CC, the polar radius PR (CP: the start's distance to the pole)
     /// and angle PA from the plane's reference axis (X in XY, Y in YZ, Z in ZX), IPR and IPA from
-    /// the start's, an LP's radius or angle left out the start's; and a CP's turns (P of its arc: `IPA+720` is two). A plane axis written beside
-    /// them, a pole of another plane, a CP whose IPA and DR differ in sign ("Define the same algebraic
+    /// the start's, an LP's radius or angle left out the start's; and a CP's turns (P of its arc:
+    /// `IPA+720` is two). A plane axis written beside them, a pole of another plane, a CP whose IPA and DR differ in sign ("Define the same algebraic
     /// sign for the direction of rotation DR and the incremental total angle IPA. The tool may
     /// otherwise move on a wrong path", TNC7 user's manual, Programming a helix) are refused.
     pub(super) fn polar(&self, shape: Shape, axes: &[KWord<'_>], ccw: Option<bool>, interp: &Interpreter, s: &Stmt<'_>, diags: &mut Diags) -> Option<([f64; 2], u64)> {

@@ -158,8 +158,7 @@ impl Parameters {
     /// call does not give are 0 ("zero the remaining params", interp_read.cc read_o).
     pub fn enter_call(&mut self, args: &[f64]) -> Scope {
         let numbered = (1..=30).filter_map(|n| self.numbered.remove(&n).map(|v| (n, v))).collect();
-        let locals: Vec<String> = self.named.keys().filter(|k| !k.starts_with('_')).cloned().collect();
-        let named = locals.into_iter().filter_map(|k| self.named.remove(&k).map(|v| (k, v))).collect();
+        let named = self.take_named_locals();
         for k in 0..30 {
             self.numbered.insert(k as u32 + 1, args.get(k).copied().unwrap_or(0.0));
         }
@@ -170,9 +169,13 @@ impl Parameters {
     /// #1..#30 from parent"): `#1`-`#30` stay as they are, shared with the caller; the named
     /// parameters it sets whose name does not begin with `_` are its own, as a subroutine's.
     pub fn enter_m98(&mut self) -> Scope {
+        Scope { numbered: Vec::new(), named: self.take_named_locals(), kept_numbered: true }
+    }
+
+    /// The caller's named parameters without a leading `_` (its own), set aside for a call.
+    fn take_named_locals(&mut self) -> Vec<(String, f64)> {
         let locals: Vec<String> = self.named.keys().filter(|k| !k.starts_with('_')).cloned().collect();
-        let named = locals.into_iter().filter_map(|k| self.named.remove(&k).map(|v| (k, v))).collect();
-        Scope { numbered: Vec::new(), named, kept_numbered: true }
+        locals.into_iter().filter_map(|k| self.named.remove(&k).map(|v| (k, v))).collect()
     }
 
     /// Leave a subroutine: its own parameters go, the caller's come back.
@@ -217,17 +220,16 @@ pub fn skip_blanks(chars: &[char], mut i: usize) -> usize {
 impl Parameters {
     /// A numbered parameter's value, where the program set it (see the module's fail-closed rules).
     fn read_numbered(&self, n: u32, column: usize) -> Result<f64, ExprError> {
-        if self.fanuc && n >= 1000 {
+        // The control's own (Fanuc's and Haas' from #1000, LinuxCNC's above #5000): the state given,
+        // or refused.
+        if if self.fanuc { n >= 1000 } else { n > MAX_USER_PARAMETER } {
             if let Some(&(_, v)) = self.state.numbered.iter().find(|(k, _)| *k == n) {
                 return Ok(v);
             }
-            return err(column, format!("#{n} is a system variable of the control (#1000 and up: signals, offsets, clocks, positions, modal information beyond the G code groups, F and T this reader holds): not read"));
-        }
-        if n > MAX_USER_PARAMETER {
-            if let Some(&(_, v)) = self.state.numbered.iter().find(|(k, _)| *k == n) {
-                return Ok(v);
-            }
-            return err(column, format!("#{n} is a system parameter (offsets, tool, position): the machine's state is not modelled"));
+            return err(column, match self.fanuc {
+                true => format!("#{n} is a system variable of the control (#1000 and up: signals, offsets, clocks, positions, modal information beyond the G code groups, F and T this reader holds): not read"),
+                false => format!("#{n} is a system parameter (offsets, tool, position): the machine's state is not modelled"),
+            });
         }
         match self.numbered.get(&n) {
             Some(&v) => Ok(v),
