@@ -178,4 +178,20 @@ fn a_defect_after_a_refused_block_names_it() {
     let e = errors(&p);
     assert!(e.iter().any(|(l, _, m)| *l == 5 && m.contains("Q5.")), "{e:?}");
     assert!(e.iter().any(|(l, _, m)| *l == 6 && m.contains("not an arc-centre word") && m.contains("line 5 was refused before it")), "{e:?}");
+    // A chain names its first block (the one whose G code did not take effect), and a block refused
+    // for a code of its own names no other.
+    let p = read("G21 G90 G94
+G0 X0 Y0
+G2 X10 Y0 R5
+X20 R5
+X30 R5
+G33 Z-1 K1
+G33 Z-2 K1
+M2
+", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    let e = errors(&p);
+    for l in [4, 5] {
+        assert!(e.iter().any(|(k, _, m)| *k == l && m.contains("R5 without a G code") && m.contains("line 3 was refused before it")), "{e:?}");
+    }
+    assert!(e.iter().any(|(l, _, m)| *l == 7 && m.contains("K1 without a G code") && !m.contains("was refused before it")), "{e:?}");
 }

@@ -409,7 +409,10 @@ impl Interpreter {
                     _ => true,
                 };
                 if !ok {
-                    diags.error(line, w.column, format!("word {}{} without a G code that takes it: not read{}", w.letter, w.raw, self.after_refused()));
+                    // The earlier refused block is said only where this block has no defect of its
+                    // own before the word (a code of its own refused is the cause then).
+                    let earlier = if diags.errors() == errors_before { self.after_refused() } else { String::new() };
+                    diags.error(line, w.column, format!("word {}{} without a G code that takes it: not read{earlier}", w.letter, w.raw));
                 }
             }
             if next.tool_vector && arc_motion {

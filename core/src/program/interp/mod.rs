@@ -103,8 +103,8 @@ pub struct Interpreter {
     pub(crate) halted: bool,
     /// Fanuc's and Haas' coordinate system rotation `G68` in effect, if any.
     pub(crate) rotation2d: Option<crate::program::fanuc_rotation::Rotation>,
-    /// The last block refused (its line): none of its codes took effect, which a later block's
-    /// defect may stem from (said with it).
+    /// The last block refused that held G codes (its line): none of them took effect, which a later
+    /// block's defect may stem from (said with it).
     pub(crate) refused_line: Option<usize>,
     /// `G69` has cancelled it and no move of its plane's axes (these letters) has come since (the
     /// first must be absolute).
@@ -681,7 +681,7 @@ impl Interpreter {
             Some(done) => done,
             None => self.block_plain(words, line, column, number, diags, out),
         };
-        if !done {
+        if !done && words.iter().any(|w| w.letter == 'G') {
             self.refused_line = Some(line);
         }
         done
