@@ -4,6 +4,9 @@
 //! (one block) ("the tool is decelerated at the end point of a block, then an in-position check is
 //! made", FANUC B-64484EN "Exact stop"), Sinumerik's G60 (modal) and G9 (one block: "the motion
 //! decelerates to a stop at the end of the block", Programming Manual Fundamentals); G64 blends again.
+//! A dwell of 0 s (`G4 P0`, `G04 P0`) stops the machine as any dwell does (LinuxCNC's task drains
+//! the motion queue before a dwell), and so does Sinumerik's preprocessing stop `STOPRE` (the
+//! blocks after it are prepared only once it is executed: the motion before it runs out to a stop).
 
 use fiveaxis::machine::Machine;
 use fiveaxis::path::{PathOptions, Trajectory};
@@ -33,7 +36,7 @@ fn slowest_near(text: &str, dialect: Dialect, at_mm: f64) -> f64 {
 /// the one-block forms only their block.
 #[test]
 fn exact_stop_codes_stop_the_machine_at_the_block_end() {
-    let cases: [(Dialect, &str, (bool, bool)); 12] = [
+    let cases: [(Dialect, &str, (bool, bool)); 16] = [
         (Dialect::Rs274, "G21 G90 G94\nG0 X0 Y0 Z10\nG1 X10 F600\nX20\nX30\nM2\n", (false, false)),
         (Dialect::Rs274, "G21 G90 G94\nG0 X0 Y0 Z10\nG61.1\nG1 X10 F600\nX20\nX30\nM2\n", (true, true)),
         (Dialect::Rs274, "G21 G90 G94\nG0 X0 Y0 Z10\nG61.1\nG1 X10 F600\nG64\nX20\nX30\nM2\n", (true, false)),
@@ -46,6 +49,11 @@ fn exact_stop_codes_stop_the_machine_at_the_block_end() {
         (Dialect::Sinumerik, "G90 G71\nG0 X0 Y0 Z10\nG60\nG1 X10 F600\nX20\nX30\nM30\n", (true, true)),
         (Dialect::Sinumerik, "G90 G71\nG0 X0 Y0 Z10\nG1 G9 X10 F600\nX20\nX30\nM30\n", (true, false)),
         (Dialect::Sinumerik, "G90 G71\nG0 X0 Y0 Z10\nG60\nG64\nG1 X10 F600\nX20\nX30\nM30\n", (false, false)),
+        // Zero dwells and the preprocessing stop: a stop at X10 only.
+        (Dialect::Rs274, "G21 G90 G94\nG0 X0 Y0 Z10\nG1 X10 F600\nG4 P0\nX20\nX30\nM2\n", (true, false)),
+        (Dialect::Fanuc, "%\nO0001\nG21 G90 G94\nG0 X0 Y0 Z10.\nG1 X10. F600.\nG04 P0\nX20.\nX30.\nM30\n%\n", (true, false)),
+        (Dialect::Sinumerik, "G90 G71\nG0 X0 Y0 Z10\nG1 X10 F600\nG4 F0\nX20\nX30\nM30\n", (true, false)),
+        (Dialect::Sinumerik, "G90 G71\nG0 X0 Y0 Z10\nG1 X10 F600\nSTOPRE\nX20\nX30\nM30\n", (true, false)),
     ];
     for (dialect, text, (at_10, at_20)) in cases {
         for (x, stops) in [(10.0, at_10), (20.0, at_20)] {
@@ -71,4 +79,12 @@ fn exact_path_stops_only_where_the_path_turns() {
     // The reader says how its exact path differs from LinuxCNC's planner.
     let p = read(turned, Dialect::Rs274, "t", &ReadOptions::default());
     assert!(p.diagnostics.iter().any(|d| d.line == 3 && d.severity == Severity::Warning && d.message.contains("G61 (exact path)")), "{:#?}", p.diagnostics);
+}
+
+/// `STOPRE` stands in a block of its own: with anything else it is refused where it stands.
+#[test]
+fn stopre_with_other_words_is_refused_where_it_stands() {
+    let p = read("G90 G71\nG0 X0 Y0 Z10\nG1 X10 F600 STOPRE\nX20\nM30\n", Dialect::Sinumerik, "t", &ReadOptions::default());
+    let errors: Vec<_> = p.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| (d.line, d.column, d.message.as_str())).collect();
+    assert_eq!(errors, [(3, 13, "STOPRE: the preprocessing stop stands in a block of its own")], "{:#?}", p.diagnostics);
 }

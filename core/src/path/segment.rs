@@ -336,13 +336,15 @@ impl Segment {
 
     fn sample_turns(&self, index: usize, u: f64, t: f64, machine: &Machine, rot: [f64; 2], turns: [Turn; 2]) -> Sample {
         let q = self.joints_with(u, rot, || turns, machine);
-        let rate = [(self.q1[3] - self.q0[3]) / self.duration, (self.q1[4] - self.q0[4]) / self.duration];
+        // A dwell of 0 s has no rate (it moves nothing in no time).
+        let per_s = if self.duration > 0.0 { 1.0 / self.duration } else { 0.0 };
+        let rate = [(self.q1[3] - self.q0[3]) * per_s, (self.q1[4] - self.q0[4]) * per_s];
         let tip = match self.kind {
             SegmentKind::Tcp => self.linear_at(u),
             _ => machine.chain.forward_turns(&q, &turns).tip - self.datum,
         };
         let (axis, axis_rate) = match (&self.orient, self.kind) {
-            (Some(gc), SegmentKind::Tcp) => (gc.axis(u), gc.axis_rate(u) / self.duration),
+            (Some(gc), SegmentKind::Tcp) => (gc.axis(u), gc.axis_rate(u) * per_s),
             _ => (machine.chain.orientation_of(&turns), machine.chain.orientation_rate_of(&turns, &rate)),
         };
         Sample { t, s: self.s0 + self.length * u, segment: index, q, tip, axis, axis_rate, feed: self.feed }
@@ -422,7 +424,11 @@ impl SegmentPlanner {
         let tolerance = b.tolerance.on(machine.contour_tolerance);
         let stopped = 'blocks: {
             // A dwell comes before the block's motion. Before CL data's first pose nothing has started.
-            if let Some(d) = b.dwell_s.filter(|d| *d > 0.0 && !at_start) {
+            // A dwell of 0 s is a segment too: the machine stops for it all the same, as LinuxCNC's
+            // task waits for the motion queue to drain before any dwell (emctask.cc: EMC_TRAJ_DELAY
+            // waits for motion and IO) and controls document `G4 P0` as a stop (Yaskawa iCube G04: "a
+            // negative or zero length dwell results in a stop in motion"); the planner ends its run there.
+            if let Some(d) = b.dwell_s.filter(|d| *d >= 0.0 && !at_start) {
                 if t + d > options.max_duration_s {
                     diags.push(diag(b, beyond_bound(&format!("this dwell ({d} s)"), "", t + d, options.max_duration_s)));
                     break 'blocks true;

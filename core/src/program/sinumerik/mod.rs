@@ -146,6 +146,18 @@ impl SinumerikReader {
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
         let Lexed { mut words, number, keywords, vector, edge, rpl } = lexed;
+        // STOPRE, the preprocessing stop (Programming Manual Job Planning, "Preprocessing stop"), in a
+        // block of its own: the blocks after it are prepared only once it is executed, so the motion
+        // before it has nothing to blend into and ends in a stop. A stop before the next block, as a
+        // dwell of 0 s makes it.
+        if let Some(k) = keywords.iter().find(|k| k.name == "STOPRE") {
+            if keywords.len() > 1 || !words.is_empty() || k.args.is_some() || vector.is_some() || edge.is_some() || rpl.is_some() {
+                diags.error(line, k.col, "STOPRE: the preprocessing stop stands in a block of its own");
+                return false;
+            }
+            out.push(Block { dwell_s: Some(0.0), ..self.interp.still_block(line, first_col, number) });
+            return true;
+        }
         let mut frame_statement: Option<(Statement, usize)> = None;
         let mut machine_coords: Option<(usize, &str)> = None;
         let mut keywords = keywords.into_iter();
