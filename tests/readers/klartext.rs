@@ -301,18 +301,99 @@ fn klartext_a_circle_without_its_pole_names_cc() {
 }
 
 /// A cycle not read says what it is, and a call of it names it: the older numbered form (`CYCL DEF
-/// 1.0 PECKING`, NX's TNC posts' drilling) is named as such, not "expected a cycle number", and
+/// 2.0 TAPPING`, NX's TNC posts' tapping) is named as such, not "expected a cycle number", and
 /// `M99` after a refused `CYCL DEF 205` names the cycle it would run (had been "a cycle call with no
 /// cycle defined before it").
 #[test]
 fn cycles_not_read_are_named_where_they_are_called() {
-    let old = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL Z+100 R0 FMAX\nCYCL DEF 1.0 PECKING\nCYCL DEF 1.1 SET UP 2\nL X+10 Y+10 R0 FMAX M99\nEND PGM T MM\n";
+    let old = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL Z+100 R0 FMAX\nCYCL DEF 2.0 TAPPING\nCYCL DEF 2.1 SET UP 2\nL X+10 Y+10 R0 FMAX M99\nEND PGM T MM\n";
     let p = read(old, Dialect::Klartext, "t.h", &ReadOptions::default());
     let e = errors(&p);
-    assert!(e.iter().any(|(l, c, m)| (*l, *c) == (4, 1) && m.contains("cycle 1 in the older numbered form")), "{e:?}");
-    assert!(e.iter().any(|(l, _, m)| *l == 5 && m.contains("cycle 1 in the older numbered form")), "{e:?}");
+    assert!(e.iter().any(|(l, c, m)| (*l, *c) == (4, 1) && m.contains("cycle 2 in the older numbered form")), "{e:?}");
+    assert!(e.iter().any(|(l, _, m)| *l == 5 && m.contains("cycle 2 in the older numbered form")), "{e:?}");
     let called = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL Z+100 R0 FMAX\nCYCL DEF 205 UNIVERSAL PECKING ~\n Q200=+2 ;SET-UP CLEARANCE\nL X+10 Y+10 R0 FMAX M99\nEND PGM T MM\n";
     let p = read(called, Dialect::Klartext, "t.h", &ReadOptions::default());
     let e = errors(&p);
     assert!(e.iter().any(|(l, c, m)| (*l, *c) == (6, 1) && m.contains("a call of CYCL DEF 205 (line 4), which is not read")), "{e:?}");
+}
+
+/// The older cycle 1 PECKING (`CYCL DEF 1.0` to `1.5`, as NX's TNC posts and older shop programs
+/// write it) runs as the TNC 426/425/415 B/407 manual's PECKING process says (ISO Programming 280
+/// 580, §8.2, the same cycle): from where the tool stands, feed to the first pecking depth below
+/// the surface (the set-up clearance below the start), back to the start at rapid, down at rapid to
+/// the advanced stop distance t above the depth reached (0.6 mm up to a 30 mm hole, else depth/50,
+/// at most 7 mm), the next infeed at feed, ... to the total depth, the dwell, back to the start at
+/// rapid. The expected moves are computed here from those rules. German labels (`ABST`, `TIEFE`,
+/// `ZUSTLG`, `V.ZEIT`, joined to their values) and mixed signs read the same; a decimal comma, a
+/// part without its value, a call before `1.5` and pecks too small to be meant are refused where
+/// they stand.
+#[test]
+fn klartext_cycle_1_pecking_runs_as_the_manuals_process() {
+    // The manual's rules, for a start z0, set-up a, depth d, peck c (mm): (motion, z) per move.
+    let rules = |z0: f64, a: f64, d: f64, c: f64, dwell: bool| -> Vec<(&'static str, f64)> {
+        let t = if d <= 30.0 { 0.6 } else { (d / 50.0).min(7.0) };
+        let (surface, bottom) = (z0 - a, z0 - a - d);
+        let mut moves = Vec::new();
+        let mut k = 1.0;
+        while surface - k * c > bottom + 1e-9 {
+            moves.extend([("feed", surface - k * c), ("rapid", z0), ("rapid", surface - k * c + t)]);
+            k += 1.0;
+        }
+        moves.push(("feed", bottom));
+        if dwell {
+            moves.push(("dwell", bottom));
+        }
+        moves.push(("rapid", z0));
+        moves
+    };
+    let head = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL Z+100 R0 FMAX\nL X+10 Y+10 Z+2 R0 FMAX\n";
+    let moves = |p: &Program| -> Vec<(&'static str, f64)> {
+        p.blocks
+            .iter()
+            .filter(|b| b.line == 11 && (b.dwell_s.is_some() || b.targets.z.is_some()))
+            .map(|b| match (b.dwell_s, b.targets.z, b.motion) {
+                (Some(_), _, _) => ("dwell", f64::NAN),
+                (None, Some(z), Motion::Rapid) => ("rapid", z / MM),
+                (None, Some(z), _) => ("feed", z / MM),
+                _ => ("other", f64::NAN),
+            })
+            .collect()
+    };
+    let same = |got: &[(&str, f64)], want: &[(&str, f64)]| {
+        got.len() == want.len() && got.iter().zip(want).all(|(g, w)| g.0 == w.0 && (g.0 == "dwell" || (g.1 - w.1).abs() < 1e-9))
+    };
+    let cases = [
+        // English labels, a 40 mm hole (t = 0.8 mm), pecks of 15 and a dwell.
+        ("CYCL DEF 1.0 PECKING\nCYCL DEF 1.1 SET UP -2\nCYCL DEF 1.2 DEPTH -40\nCYCL DEF 1.3 PECKG -15\nCYCL DEF 1.4 DWELL 0.5\nCYCL DEF 1.5 F100\n", rules(2.0, 2.0, 40.0, 15.0, true)),
+        // German labels joined to their values, signs mixed as lk_BewegBlv.h writes them (t = 0.6 mm).
+        ("CYCL DEF 1.0 TIEFBOHREN\nCYCL DEF 1.1 ABST+1\nCYCL DEF 1.2 TIEFE-21\nCYCL DEF 1.3 ZUSTLG+3\nCYCL DEF 1.4 V.ZEIT0\nCYCL DEF 1.5 F150\n", rules(2.0, 1.0, 21.0, 3.0, false)),
+        // A peck deeper than the hole: one pass.
+        ("CYCL DEF 1.0 PECKING\nCYCL DEF 1.1 DIST2.000\nCYCL DEF 1.2 DEPTH-10.000\nCYCL DEF 1.3 PLNGNG12.0\nCYCL DEF 1.4 DWELL0\nCYCL DEF 1.5 F229\n", rules(2.0, 2.0, 10.0, 12.0, false)),
+    ];
+    for (cycle, want) in &cases {
+        let text = format!("{head}{cycle}L X+20 R0 FMAX M99\nEND PGM T MM\n");
+        let p = read(&text, Dialect::Klartext, "t.h", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{cycle}: {:?}", errors(&p));
+        let got = moves(&p);
+        assert!(same(&got, want), "{cycle}\n got {got:?}\nwant {want:?}");
+        // The cycle's feed drills; the program's modal feed (FMAX here) is back after it.
+        let feed = p.blocks.iter().filter(|b| b.line == 11 && b.targets.z.is_some() && b.motion != Motion::Rapid && b.dwell_s.is_none()).map(|b| b.feed.map(|f| f.value_per_min)).next().flatten();
+        assert!(feed.is_some_and(|f| f > 0.0), "{feed:?}");
+    }
+    // Refused where they stand: a decimal comma, a part without its value, a call before 1.5.
+    let refused = [
+        ("CYCL DEF 1.0 TIEFBOHREN\nCYCL DEF 1.1 ABST+1\nCYCL DEF 1.2 TIEFE-11,5\n", 7, 14, "CYCL DEF 1.2: expected the DEPTH"),
+        ("CYCL DEF 1.0 PECKING\nCYCL DEF 1.1 SET UP 2\nCYCL DEF 1.2 DEPTH -10\nCYCL DEF 1.3 PECKG 5\nCYCL DEF 1.4 DWELL\n", 9, 14, "CYCL DEF 1.4: expected the DWELL"),
+        ("CYCL DEF 1.0 PECKING\nCYCL DEF 1.1 SET UP 2\n", 7, 1, "a call of cycle 1 PECKING (line 5), whose definition is not complete"),
+        // Pecks a thousand times too small are a typo, not ten million blocks (cycle 200's Q202
+        // took memory without bound before).
+        ("CYCL DEF 1.0 PECKING\nCYCL DEF 1.1 SET UP 2\nCYCL DEF 1.2 DEPTH -100\nCYCL DEF 1.3 PECKG 0.00001\nCYCL DEF 1.4 DWELL 0\nCYCL DEF 1.5 F100\n", 11, 1, "makes more than 10000 pecks"),
+        ("CYCL DEF 200 DRILLING ~\n Q200=2 ~\n Q201=-100 ~\n Q206=150 ~\n Q202=+0.00001 ~\n Q210=0 ~\n Q203=+0 ~\n Q204=50 ~\n Q211=0\n", 14, 1, "makes more than 10000 plunges"),
+    ];
+    for (cycle, line, col, message) in refused {
+        let text = format!("{head}{cycle}L X+20 R0 FMAX M99\nEND PGM T MM\n");
+        let p = read(&text, Dialect::Klartext, "t.h", &ReadOptions::default());
+        let e = errors(&p);
+        assert!(e.iter().any(|(l, c, m)| (*l, *c) == (line, col) && m.contains(message)), "{cycle}: {e:?}");
+    }
 }

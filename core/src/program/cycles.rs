@@ -200,6 +200,18 @@ pub(crate) fn lcnc_hole(kind: Kind, r: f64, bottom: f64, clear: f64, peck: f64, 
     steps
 }
 
+/// The depth of the `k`-th infeed of `step` down from `from` (absolute, m), or `bottom` once it is
+/// reached: counted, not summed, so that rounding leaves no sliver of a last infeed (20 mm in
+/// pecks of 3 summed to 19.999999999999996 mm, and a 4e-15 mm peck followed).
+fn infeed(from: f64, step: f64, k: u32, bottom: f64) -> f64 {
+    let next = from - f64::from(k) * step;
+    if next <= bottom + 1e-9 {
+        bottom
+    } else {
+        next
+    }
+}
+
 /// A Heidenhain drilling cycle's parameters, absolute along the tool axis of the working plane (m,
 /// s): the surface Q203, the set-up clearance Q200 and 2nd set-up clearance Q204 above it, the
 /// depth Q201 (negative: below the surface), the plunging depth Q202 (0: at once), the dwells at the
@@ -230,9 +242,8 @@ pub(crate) fn tnc_hole(h: &TncHole) -> Vec<Step> {
     }
     let mut steps = vec![Step::Rapid(top)];
     let q = if h.plunge > 0.0 { h.plunge } else { f64::INFINITY };
-    let mut reached = h.surface;
-    loop {
-        let next = (reached - q).max(bottom);
+    for k in 1.. {
+        let next = infeed(h.surface, q, k, bottom);
         steps.push(Step::Feed(next));
         if next <= bottom {
             break;
@@ -242,7 +253,6 @@ pub(crate) fn tnc_hole(h: &TncHole) -> Vec<Step> {
             steps.push(Step::Dwell(h.dwell_top_s));
         }
         steps.push(Step::Rapid(next + h.clearance));
-        reached = next;
     }
     if h.dwell_bottom_s > 0.0 {
         steps.push(Step::Dwell(h.dwell_bottom_s));
@@ -251,6 +261,64 @@ pub(crate) fn tnc_hole(h: &TncHole) -> Vec<Step> {
         steps.push(Step::Feed(top));
     }
     steps.push(Step::Rapid(h.surface + h.clearance.max(h.clearance2)));
+    steps
+}
+
+/// The older TNC cycle 1 PECKING (`CYCL DEF 1.0` to `1.5`): its set-up clearance, total hole depth
+/// and pecking depth (magnitudes, program length unit converted to m; the working direction is
+/// negative), dwell at the bottom (s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct TncPecking {
+    pub setup: f64,
+    pub depth: f64,
+    pub peck: f64,
+    pub dwell_s: f64,
+}
+
+impl TncPecking {
+    /// How many infeeds the hole takes.
+    pub(crate) fn pecks(&self) -> f64 {
+        (self.depth / self.peck).ceil()
+    }
+
+    /// The advanced stop distance t the control computes, m: 0.6 mm for a total hole depth up to
+    /// 30 mm, else the depth / 50, at most 7 mm.
+    pub(crate) fn advanced_stop(&self) -> f64 {
+        let mm = crate::units::MM;
+        if self.depth <= 30.0 * mm {
+            0.6 * mm
+        } else {
+            (self.depth / 50.0).min(7.0 * mm)
+        }
+    }
+}
+
+/// Cycle 1 PECKING's moves from the tool's position `start` (absolute along the tool axis, m), as
+/// the TNC 426/425/415 B/407 manual (ISO Programming, 280 580, §8.2 "PECKING (G83)", the same cycle
+/// with the same five inputs) gives its process: the tool drills from the starting point to the
+/// first pecking depth at feed, retracts at rapid to the starting position and advances again to
+/// the depth reached less the advanced stop distance t, drills the next infeed at feed, and so on
+/// to the total hole depth (measured from the surface, the set-up clearance below the start); after
+/// the dwell at the bottom it retracts at rapid to the starting position. A pecking depth at least
+/// the total depth drills it in one pass.
+pub(crate) fn tnc_pecking(start: f64, c: &TncPecking) -> Vec<Step> {
+    let surface = start - c.setup;
+    let bottom = surface - c.depth;
+    let t = c.advanced_stop();
+    let mut steps = Vec::new();
+    for k in 1.. {
+        let next = infeed(surface, c.peck, k, bottom);
+        steps.push(Step::Feed(next));
+        if next <= bottom {
+            break;
+        }
+        steps.push(Step::Rapid(start));
+        steps.push(Step::Rapid(next + t));
+    }
+    if c.dwell_s > 0.0 {
+        steps.push(Step::Dwell(c.dwell_s));
+    }
+    steps.push(Step::Rapid(start));
     steps
 }
 
@@ -305,5 +373,34 @@ mod tests {
         assert_eq!(tnc_hole(&TncHole { plunge: 6.5, dwell_top_s: 0.0, dwell_bottom_s: 0.0, ..h }), vec![Rapid(2.0), Feed(-6.5), Rapid(50.0)]);
         assert_eq!(tnc_hole(&TncHole { plunge: 0.0, feed_out: true, dwell_top_s: 0.0, dwell_bottom_s: 0.0, clearance2: 0.0, ..h }), vec![Rapid(2.0), Feed(-6.5), Feed(2.0), Rapid(2.0)]);
         assert!(tnc_hole(&TncHole { depth: 0.0, ..h }).is_empty());
+    }
+
+    /// Cycle 1 PECKING as the manual's process runs it, by hand: from Z2 with a set-up clearance of
+    /// 2 (surface at 0), a total depth of 10 and pecks of 4, t = 0.6 mm (depth up to 30 mm): feed to
+    /// -4, rapid to 2 and down to -3.4, feed to -8, rapid to 2 and down to -7.4, feed to -10, dwell,
+    /// rapid to 2. A 40 mm hole's t is 40/50 = 0.8 mm; a 500 mm hole's is capped at 7 mm.
+    #[test]
+    fn tnc_pecking_moves_as_the_manual_describes() {
+        use Step::*;
+        let mm = crate::units::MM;
+        let c = TncPecking { setup: 2.0 * mm, depth: 10.0 * mm, peck: 4.0 * mm, dwell_s: 0.5 };
+        let got: Vec<Step> = tnc_pecking(2.0 * mm, &c);
+        let want = [Feed(-4.0), Rapid(2.0), Rapid(-3.4), Feed(-8.0), Rapid(2.0), Rapid(-7.4), Feed(-10.0), Dwell(0.5), Rapid(2.0)];
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(want) {
+            match (*g, w) {
+                (Feed(a), Feed(b)) | (Rapid(a), Rapid(b)) => assert!((a / mm - b).abs() < 1e-9, "{got:?}"),
+                (Dwell(a), Dwell(b)) => assert_eq!(a, b),
+                _ => panic!("{got:?}"),
+            }
+        }
+        assert_eq!(c.pecks(), 3.0);
+        // One pass where the peck reaches the bottom; no dwell step for 0 s.
+        let once = tnc_pecking(0.0, &TncPecking { peck: 10.0 * mm, dwell_s: 0.0, ..c });
+        assert_eq!(once.len(), 2, "{once:?}");
+        assert!(matches!(once[0], Feed(z) if (z / mm + 12.0).abs() < 1e-9) && matches!(once[1], Rapid(z) if z == 0.0), "{once:?}");
+        assert!((TncPecking { depth: 40.0 * mm, ..c }.advanced_stop() / mm - 0.8).abs() < 1e-9);
+        assert!((TncPecking { depth: 30.0 * mm, ..c }.advanced_stop() / mm - 0.6).abs() < 1e-9);
+        assert!((TncPecking { depth: 500.0 * mm, ..c }.advanced_stop() / mm - 7.0).abs() < 1e-9);
     }
 }

@@ -77,6 +77,9 @@ pub(super) fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bo
     if cycle == "32" {
         return tolerance_cycle(toks, part, line, diags);
     }
+    if cycle == "1" && !part.is_empty() {
+        return pecking_part(toks, part, line, diags);
+    }
     if cycle == "19" {
         return cycle19(toks, part, line, diags);
     }
@@ -132,6 +135,57 @@ pub(super) fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bo
     value_word(a, rest, tok, wcol, line, diags).map(|w| Kind::Datum(k, w, incremental))
 }
 
+/// The parts of the older cycle 1 PECKING after its name, in order: what each gives (as the
+/// manuals name them; the block's label is in the control's language: `SET UP`, `ABST`, `DIST`).
+const PECKING_PARTS: [&str; 5] = ["SET UP", "DEPTH", "PECKG", "DWELL", "F"];
+
+/// One block of the older cycle 1 PECKING (TNC 426/425/415 B/407: `CYCL DEF 1.0 PECKING`, `1.1 SET
+/// UP -2`, `1.2 DEPTH -20`, `1.3 PECKG -5`, `1.4 DWELL 0`, `1.5 F80`; German `ABST`, `TIEFE`,
+/// `ZUSTLG`, `V.ZEIT`): the part's value is the number or Q parameter that ends the block, its
+/// label joined to it or not (`DIST25.000`, `SET UP .1181`); part 5 is the feed, `F`.
+fn pecking_part<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let col = toks[0].1;
+    let n = match part.parse::<u32>() {
+        Ok(0) => return Some(Kind::Pecking { part: 0, value: None }),
+        Ok(n @ 1..=5) => n,
+        _ => {
+            diags.error(line, col, format!("CYCL DEF 1.{part}: cycle 1 PECKING has the parts 1.0 to 1.5"));
+            return None;
+        }
+    };
+    let what = PECKING_PARTS[n as usize - 1];
+    let Some(&(last, last_col)) = toks.get(3..).and_then(|r| r.last()) else {
+        diags.error(line, col, format!("CYCL DEF 1.{n}: expected the {what} value"));
+        return None;
+    };
+    // The value: digits and a point at the end, a Q before them, a sign before that.
+    let b = last.as_bytes();
+    let mut i = b.len();
+    while i > 0 && (b[i - 1].is_ascii_digit() || b[i - 1] == b'.') {
+        i -= 1;
+    }
+    if i > 0 && i < b.len() && b[i - 1].eq_ignore_ascii_case(&b'Q') && b[i..].iter().all(u8::is_ascii_digit) {
+        i -= 1;
+    }
+    if i > 0 && matches!(b[i - 1], b'+' | b'-') {
+        i -= 1;
+    }
+    let (label, value) = last.split_at(i);
+    let label_ok = label.is_empty() || label.as_bytes()[label.len() - 1].is_ascii_alphabetic();
+    let words_before = toks.len() > 4;
+    if value.is_empty() || !value.bytes().any(|c| c.is_ascii_digit()) || !label_ok || (label.is_empty() && !words_before) {
+        diags.error(line, last_col, format!("CYCL DEF 1.{n}: expected the {what} (a label, then a number or a Q parameter), found '{}'", excerpt(last)));
+        return None;
+    }
+    // The feed's label is F; the others are in the control's language.
+    let feed_label = if label.is_empty() { toks[3..toks.len() - 1].iter().map(|t| t.0).collect::<Vec<_>>().join(" ") } else { label.to_string() };
+    if n == 5 && !feed_label.eq_ignore_ascii_case("F") {
+        diags.error(line, toks[3].1, format!("CYCL DEF 1.5: expected the feed, F, found '{}'", excerpt(&feed_label)));
+        return None;
+    }
+    value_word(what, value, last, last_col + label.chars().count(), line, diags).map(|w| Kind::Pecking { part: n, value: Some(w) })
+}
+
 impl Exec {
     /// `CYCL DEF n`: the drilling cycles 200, 207, 240 are kept for the next call; cycle 247 selects
     /// a preset of the machine's table (its values are the operator's: the datum is taken as the
@@ -155,66 +209,138 @@ impl Exec {
         self.q.get(name).map(|v| v * scale).ok_or_else(|| format!("{name} is not set"))
     }
 
+    /// A block of the older cycle 1 PECKING: `1.0` begins it (and replaces the cycle defined
+    /// before), each part after it must follow the one before, and `1.5` completes it.
+    pub(super) fn define_pecking(&mut self, part: u32, value: Option<&KWord<'_>>, s: &Stmt<'_>, diags: &mut Diags) {
+        if part == 0 {
+            self.pecking = Some(super::exec::Pecking { line: s.line, ..Default::default() });
+            (self.cycle, self.refused_cycle) = (None, None);
+            return;
+        }
+        let Some(p) = self.pecking.as_ref() else {
+            diags.error(s.line, s.col, format!("CYCL DEF 1.{part} without CYCL DEF 1.0 before it"));
+            return;
+        };
+        if let Some(at) = p.refused {
+            diags.error(s.line, s.col, format!("CYCL DEF 1.{part}: the cycle's definition was refused at line {at}"));
+            return;
+        }
+        let expected = p.values.len() + 1;
+        let v = if expected != part as usize {
+            diags.error(s.line, s.col, format!("CYCL DEF 1.{part}: expected CYCL DEF 1.{expected} next"));
+            None
+        } else {
+            value.and_then(|w| self.value(w, s.line, diags))
+        };
+        let Some(p) = self.pecking.as_mut() else { return };
+        match v {
+            Some(v) => p.values.push(v),
+            None => p.refused = Some(s.line),
+        }
+        if p.values.len() == 5 {
+            self.cycle = Some((1, p.line));
+        }
+    }
+
+    /// A drilling cycle's moves (200, 207, 240) from its Q parameters and its feed, or why it
+    /// cannot run.
+    fn drilling_moves(&self, n: u32, unit: f64) -> Result<(Vec<crate::program::cycles::Step>, f64), String> {
+        let q = |name: &str| self.cycle_q(name, unit);
+        let mut h = crate::program::cycles::TncHole {
+            surface: q("Q203")?,
+            clearance: q("Q200")?.abs(),
+            clearance2: q("Q204")?.abs(),
+            depth: q("Q201")?,
+            plunge: 0.0,
+            dwell_top_s: 0.0,
+            dwell_bottom_s: 0.0,
+            feed_out: false,
+        };
+        let feed = match n {
+            200 => {
+                // Q395 DEPTH REFERENCE 1: the depth is to the tool's full diameter, deeper by its
+                // point's length, which the program does not give.
+                if self.q.get("Q395").is_some_and(|v| *v != 0.0) {
+                    return Err("Q395=1: a depth to the tool's full diameter (deeper by its point's length) is not read".into());
+                }
+                h.plunge = q("Q202")?.abs();
+                h.dwell_top_s = self.cycle_q("Q210", 1.0)?;
+                h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
+                self.cycle_q("Q206", 1.0)?
+            }
+            240 => {
+                if self.cycle_q("Q343", 1.0)? != 0.0 {
+                    return Err("Q343=1: a depth from the centering diameter (the tool's point angle) is not read".into());
+                }
+                h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
+                self.cycle_q("Q206", 1.0)?
+            }
+            _ => {
+                // 207 RIGID TAPPING: the feed is the pitch Q239 at the spindle speed.
+                h.feed_out = true;
+                let pitch = self.cycle_q("Q239", 1.0)?.abs();
+                let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
+                pitch * speed.abs()
+            }
+        };
+        if h.depth > 0.0 {
+            return Err(format!("Q201={}: a positive depth (drilling up) is not read", h.depth / unit));
+        }
+        if !(feed > 0.0) {
+            return Err("the cycle's feed is not positive".into());
+        }
+        // Each plunge makes blocks: a plunging depth a thousand times too small is a typo (and
+        // would take memory without bound).
+        if h.plunge > 0.0 && (h.depth / h.plunge).abs() > crate::program::cycles::MAX_PECKS as f64 {
+            return Err(format!("Q202={} makes more than {} plunges of a {} deep hole: a typo?", h.plunge / unit, crate::program::cycles::MAX_PECKS, -h.depth / unit));
+        }
+        Ok((crate::program::cycles::tnc_hole(&h), feed))
+    }
+
+    /// Cycle 1 PECKING's moves from where the tool stands along the tool axis (m) and its feed, or
+    /// why it cannot run.
+    fn pecking_moves(&self, unit: f64, start: f64) -> Result<(Vec<crate::program::cycles::Step>, f64), String> {
+        let v = match &self.pecking {
+            Some(p) if p.values.len() == 5 => &p.values,
+            _ => return Err("its definition is not complete".into()),
+        };
+        let (setup, depth, peck, dwell_s, feed) = (v[0], v[1], v[2], v[3], v[4]);
+        // "The algebraic sign [of the total hole depth] determines the working direction"; the
+        // set-up clearance and the pecking depth are distances.
+        if depth >= 0.0 {
+            return Err(format!("DEPTH {depth}: only a negative total hole depth (drilling towards -Z) is read"));
+        }
+        if peck == 0.0 {
+            return Err("PECKG 0: a pecking depth of 0 never reaches the depth".into());
+        }
+        if !(dwell_s >= 0.0) {
+            return Err(format!("DWELL {dwell_s}: a dwell must be 0 s or more"));
+        }
+        if !(feed > 0.0) {
+            return Err(format!("F{feed}: the cycle's feed is not positive"));
+        }
+        let c = crate::program::cycles::TncPecking { setup: setup.abs() * unit, depth: -depth * unit, peck: peck.abs() * unit, dwell_s };
+        if c.pecks() > crate::program::cycles::MAX_PECKS as f64 {
+            return Err(format!("PECKG {peck} makes more than {} pecks of a {} deep hole: a typo?", crate::program::cycles::MAX_PECKS, -depth));
+        }
+        Ok((crate::program::cycles::tnc_pecking(start, &c), feed))
+    }
+
     /// Run the cycle defined last where the tool stands, along the working plane's Z: its moves as
     /// blocks of this statement (the modal feed stays the program's).
     pub(super) fn call_cycle(&mut self, s: &Stmt<'_>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) {
         let Some((n, _)) = self.cycle else {
-            match self.refused_cycle {
-                Some((n, line)) => diags.error(s.line, s.col, format!("a call of CYCL DEF {n} (line {line}), which is not read")),
-                None => diags.error(s.line, s.col, "a cycle call with no cycle defined before it (CYCL DEF)"),
+            match (self.refused_cycle, &self.pecking) {
+                (Some((n, line)), _) => diags.error(s.line, s.col, format!("a call of CYCL DEF {n} (line {line}), which is not read")),
+                (None, Some(p)) => diags.error(s.line, s.col, format!("a call of cycle 1 PECKING (line {}), whose definition is not complete", p.line)),
+                (None, None) => diags.error(s.line, s.col, "a cycle call with no cycle defined before it (CYCL DEF)"),
             }
             return;
         };
         let unit = interp.unit();
-        let hole = (|| -> Result<(crate::program::cycles::TncHole, f64), String> {
-            let q = |name: &str| self.cycle_q(name, unit);
-            let mut h = crate::program::cycles::TncHole {
-                surface: q("Q203")?,
-                clearance: q("Q200")?.abs(),
-                clearance2: q("Q204")?.abs(),
-                depth: q("Q201")?,
-                plunge: 0.0,
-                dwell_top_s: 0.0,
-                dwell_bottom_s: 0.0,
-                feed_out: false,
-            };
-            let feed = match n {
-                200 => {
-                    // Q395 DEPTH REFERENCE 1: the depth is to the tool's full diameter, deeper by its
-                    // point's length, which the program does not give.
-                    if self.q.get("Q395").is_some_and(|v| *v != 0.0) {
-                        return Err("Q395=1: a depth to the tool's full diameter (deeper by its point's length) is not read".into());
-                    }
-                    h.plunge = q("Q202")?.abs();
-                    h.dwell_top_s = self.cycle_q("Q210", 1.0)?;
-                    h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
-                    self.cycle_q("Q206", 1.0)?
-                }
-                240 => {
-                    if self.cycle_q("Q343", 1.0)? != 0.0 {
-                        return Err("Q343=1: a depth from the centering diameter (the tool's point angle) is not read".into());
-                    }
-                    h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
-                    self.cycle_q("Q206", 1.0)?
-                }
-                _ => {
-                    // 207 RIGID TAPPING: the feed is the pitch Q239 at the spindle speed.
-                    h.feed_out = true;
-                    let pitch = self.cycle_q("Q239", 1.0)?.abs();
-                    let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
-                    pitch * speed.abs()
-                }
-            };
-            if h.depth > 0.0 {
-                return Err(format!("Q201={}: a positive depth (drilling up) is not read", h.depth / unit));
-            }
-            if !(feed > 0.0) {
-                return Err("the cycle's feed is not positive".into());
-            }
-            Ok((h, feed))
-        })();
-        let (h, feed) = match hole {
-            Ok(h) => h,
+        let moves = if n == 1 { self.pecking_moves(unit, interp.position()[2]) } else { self.drilling_moves(n, unit) };
+        let (steps, feed) = match moves {
+            Ok(m) => m,
             Err(why) => {
                 diags.error(s.line, s.col, format!("cycle {n} called: {why}"));
                 return;
@@ -231,7 +357,7 @@ impl Exec {
             }
             w
         };
-        for step in crate::program::cycles::tnc_hole(&h) {
+        for step in steps {
             let block = match step {
                 crate::program::cycles::Step::Rapid(v) => interp.block_one(&z(v, "0"), s.line, s.col, s.number, diags),
                 crate::program::cycles::Step::Feed(v) => interp.block_one(&z(v, "1"), s.line, s.col, s.number, diags),

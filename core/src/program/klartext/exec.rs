@@ -22,6 +22,8 @@ pub(super) struct Exec {
     pub(super) cycle: Option<(u32, usize)>,
     /// The cycle defined last when it is one not read (its number, line): what a call would run.
     pub(super) refused_cycle: Option<(u32, usize)>,
+    /// The older cycle 1 PECKING being defined or defined last ([`super::cycles`]).
+    pub(super) pecking: Option<Pecking>,
     /// M89: the cycle runs after every positioning block until M99 or CYCL CALL.
     pub(super) modal_call: bool,
     /// The spindle speed of the last TOOL CALL (1/min), for tapping.
@@ -32,6 +34,16 @@ pub(super) struct Exec {
     pub(super) tangent: Option<[f64; 2]>,
     /// The pole CC in the working plane (its two axes and coordinates, m), for LP and CP.
     pub(super) pole: Option<([usize; 2], [f64; 2])>,
+}
+
+/// The older cycle 1 PECKING as its blocks `CYCL DEF 1.0` to `1.5` give it: where it begins, its
+/// values so far (program unit, s, per minute), and the line of a part refused, which leaves it
+/// undefined.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Pecking {
+    pub(super) line: usize,
+    pub(super) values: Vec<f64>,
+    pub(super) refused: Option<usize>,
 }
 
 impl Exec {
@@ -116,6 +128,10 @@ impl Exec {
             }
             Kind::CycleDef(n) => {
                 self.define_cycle(*n, s, interp, diags);
+                return false;
+            }
+            Kind::Pecking { part, value } => {
+                self.define_pecking(*part, value.as_ref(), s, diags);
                 return false;
             }
             Kind::CycleCall(m) => {
@@ -304,7 +320,7 @@ impl Exec {
                     }
                 }
             }
-            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::CycleCall(_) => {}
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::Pecking { .. } | Kind::CycleCall(_) => {}
         }
         // M91 / M92: the block's coordinates are the machine's, about its machine datum or the
         // maker's second datum (TNC 426 B ISO §7.3: "M91 and M92 are effective only in the blocks in

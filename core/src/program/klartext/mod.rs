@@ -138,6 +138,9 @@ enum Kind<'a> {
     Plane(PlaneStmt<'a>),
     /// `CYCL DEF n NAME`: a cycle defined (its parameters are the Q assignments that follow).
     CycleDef(u32),
+    /// `CYCL DEF 1.0 PECKING` (part 0, no value) and `1.1 SET UP 2` ... `1.5 F80`: the older cycle
+    /// 1, one part per block.
+    Pecking { part: u32, value: Option<KWord<'a>> },
     /// `CYCL CALL`: the cycle runs where the tool stands.
     /// `CYCL CALL`, with the M functions the block gives (those acting at its start, before the cycle).
     CycleCall(Vec<KWord<'a>>),
