@@ -289,6 +289,10 @@ fn klartext_polar_lines_circles_and_helices_are_where_the_tnc_puts_them() {
     assert!(errors(&bad).iter().all(|(l, _, _)| *l != 6), "{:?}", errors(&bad));
     let no_pole = read("0 BEGIN PGM P MM\n1 L X+10 Y+0 R0 F600\n2 LP PR+5 PA+0\n3 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
     has(&no_pole, 3, 3, "no pole CC");
+    // A helix of ten million turns is a typo, said at its IPA (it was blamed on a P word the program
+    // does not have).
+    let typo = read("0 BEGIN PGM P MM\n1 CC X+0 Y+0\n2 L X+10 Y+0 Z+0 R0 F600\n3 CP IPA+3600000000 IZ-1 DR+\n4 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
+    has(&typo, 4, 6, "IPA+3600000000: a helix of 10000001 turns, more than the 1000 read");
 }
 
 /// A circle `C` with no pole before it is refused once, naming the TNC's `CC` (not DIN/ISO's I and J).

@@ -419,7 +419,13 @@ impl Exec {
                     return None;
                 }
                 // Whole turns beyond the first (the arc's P), the end where the total angle ends.
-                (pa_start + v, ((v.abs() - 1e-9) / 360.0).floor().max(0.0) as u64 + 1)
+                let turns = ((v.abs() - 1e-9) / 360.0).floor().max(0.0) + 1.0;
+                if turns > 1000.0 {
+                    let col = axes.iter().find(|w| w.addr == "IPA").map_or(s.col, |w| w.col);
+                    diags.error(s.line, col, format!("IPA{v:+}: a helix of {turns} turns, more than the 1000 read (a typo?)"));
+                    return None;
+                }
+                (pa_start + v, turns as u64)
             }
             // LP without an angle: the start's (a CP has one, checked where it is read).
             _ if shape == Shape::LinePolar => (pa_start, 1),
