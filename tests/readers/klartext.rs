@@ -289,10 +289,12 @@ fn klartext_polar_lines_circles_and_helices_are_where_the_tnc_puts_them() {
     assert!(errors(&bad).iter().all(|(l, _, _)| *l != 6), "{:?}", errors(&bad));
     let no_pole = read("0 BEGIN PGM P MM\n1 L X+10 Y+0 R0 F600\n2 LP PR+5 PA+0\n3 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
     has(&no_pole, 3, 3, "no pole CC");
-    // A helix of ten million turns is a typo, said at its IPA (it was blamed on a P word the program
-    // does not have).
-    let typo = read("0 BEGIN PGM P MM\n1 CC X+0 Y+0\n2 L X+10 Y+0 Z+0 R0 F600\n3 CP IPA+3600000000 IZ-1 DR+\n4 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
-    has(&typo, 4, 6, "IPA+3600000000: a helix of 10000001 turns, more than the 1000 read");
+    // A helix's angle beyond the TNC's input range, 5400 deg (TNC 640 DIN/ISO manual §19.3), is said
+    // at its IPA (ten million turns were blamed on a P word the program does not have); 5400 reads.
+    let typo = read("0 BEGIN PGM P MM\n1 CC X+0 Y+0\n2 L X+10 Y+0 Z+0 R0 F600\n3 CP IPA+3600000000 IZ-1 DR+\n4 CP IPA-5400.001 IZ-1 DR-\n5 CP IPA+5400 IZ-1 DR+\n6 END PGM P MM\n", Dialect::Klartext, "p.h", &ReadOptions::default());
+    has(&typo, 4, 6, "IPA+3600000000: beyond the TNC's input range of a helix's angle, -5400 to +5400 deg");
+    has(&typo, 5, 6, "IPA-5400.001: beyond the TNC's input range");
+    assert!(errors(&typo).iter().all(|(l, _, _)| *l != 6), "{:?}", errors(&typo));
 }
 
 /// A circle `C` with no pole before it is refused once, naming the TNC's `CC` (not DIN/ISO's I and J).

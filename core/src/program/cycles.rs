@@ -155,6 +155,24 @@ pub(crate) fn hole(a: &Active, to_r: bool, clearance: f64) -> Vec<Step> {
 /// peck makes blocks).
 pub(crate) const MAX_PECKS: usize = 10_000;
 
+/// The most moves one cycle block may make, its repeats (Fanuc's K, LinuxCNC's L) times each
+/// hole's: a block's moves are held until it has run, and K9999 holes of 9,091 pecks each (27
+/// million moves, gigabytes) are a typo, as is a peck too small ([`MAX_PECKS`]).
+pub(crate) const MAX_CYCLE_MOVES: usize = 200_000;
+
+/// About how many moves `repeats` holes make, each `depth` deep (m) in pecks of `peck` (None: one
+/// plunge): three per peck and four more per hole at most; an error giving that count where it
+/// exceeds [`MAX_CYCLE_MOVES`].
+pub(crate) fn check_cycle_moves(repeats: usize, depth: f64, peck: Option<f64>) -> Result<(), f64> {
+    let pecks = peck.filter(|q| *q > 0.0).map_or(1.0, |q| (depth.abs() / q).ceil().max(1.0));
+    let moves = repeats as f64 * (3.0 * pecks + 4.0);
+    if moves > MAX_CYCLE_MOVES as f64 {
+        Err(moves)
+    } else {
+        Ok(())
+    }
+}
+
 /// The moves of one hole of a LinuxCNC canned cycle, from the R point `r` (the tool stands there)
 /// down to `bottom` and out to `clear` (G99: `r`; G98: the level before the cycles, or `r` if that
 /// was below it): LinuxCNC 2.9's interp_cycles.cc, `convert_cycle_g73` ... `g89`. G73 backs off

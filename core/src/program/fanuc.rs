@@ -272,6 +272,11 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
             return false;
         }
     };
+    if let Err(moves) = cycles::check_cycle_moves(repeats, r - bottom, peck.filter(|_| kind.pecks())) {
+        let at = find(repeat_letter).map_or(at, |w| w.column);
+        diags.error(line, at, format!("G{}: {repeats} holes of this cycle make about {moves} moves, more than the {} read from one block: a typo?", kind.code(), cycles::MAX_CYCLE_MOVES));
+        return false;
+    }
     let active = Active { kind, bottom, r, peck, dwell_s, initial };
     it.cycles.active = Some(active);
     let clearance = if kind.pecks() {

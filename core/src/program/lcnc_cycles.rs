@@ -174,6 +174,10 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         diags.error(line, find('Q').map_or(at, |w| w.column), format!("{name}: Q{q} makes more than {} pecks of a {} deep hole: a typo?", super::cycles::MAX_PECKS, (r - bottom) / unit));
         return false;
     }
+    if let Err(moves) = super::cycles::check_cycle_moves(repeats, r - bottom, kind.pecks().then_some(q * unit)) {
+        diags.error(line, find('L').map_or(at, |w| w.column), format!("{name}: {repeats} holes of this cycle make about {moves} moves, more than the {} read from one block: a typo?", super::cycles::MAX_CYCLE_MOVES));
+        return false;
+    }
     let clearance = match kind {
         Kind::G73 | Kind::G83 => it.peck_clearance(kind).unwrap_or(RAPID_DELTA),
         _ => 0.0,

@@ -33,6 +33,12 @@ pub trait SubroutineFiles: Send + Sync + std::fmt::Debug {
 /// The most lines one held block (a loop, a condition, a subroutine) may have, and bytes.
 pub const MAX_HELD_LINES: usize = 100_000;
 pub const MAX_HELD_BYTES: usize = 16 << 20;
+/// The most moves one run of a control block (a loop, a condition, a call, with the calls in it)
+/// may make: its moves are held until the run ends (a loop is run whole, not line by line as the
+/// other dialects' jumps are), so a loop of 34 passes over a 10,000-peck cycle (a million moves,
+/// 600 MB) is as far as it goes; beyond it the run stops with an error rather than take memory
+/// without bound.
+pub const MAX_HELD_BLOCKS: usize = 1_000_000;
 /// Deepest nesting of subroutine calls (LinuxCNC's `MAX_NESTED_CALLS`... its stack is 10 deep).
 pub const MAX_CALL_DEPTH: usize = 10;
 /// Most subroutines one program may define.
@@ -484,6 +490,9 @@ impl Rs274Reader {
             }
             // The main program's M99 is its end, read as a line.
             let control = parsed[pc].as_ref().filter(|(o, _, _)| !(o.keyword == Keyword::M99 && self.flow.depth == 0));
+            if out.len() > MAX_HELD_BLOCKS {
+                return self.stop(*line, 1, format!("more than {MAX_HELD_BLOCKS} moves from one run of an O-word block (an endless loop?), which are held until it ends: not read further (split the loop, or run fewer passes)"), diags);
+            }
             let Some((o, col, chars)) = control else {
                 let before = diags.0.len();
                 self.loop_line(*line, text, &mut kept[pc], out, diags);

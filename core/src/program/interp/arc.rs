@@ -32,14 +32,17 @@ pub const TNC_CIRCLE_TOLERANCE: f64 = 0.016 * MM;
 pub const SINUMERIK_CIRCLE_ERROR_FACTOR: f64 = 0.001;
 
 /// The circle of a G02/G03 block from its I J K (centre) or R (radius) words (RS274/NGC 3 §3.5.3),
-/// `start`/`end` the block's start and end point (program coordinates, m). Defects go to `diags`.
-pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3], line: usize, column: usize, diags: &mut Diags) -> Option<ArcSpec> {
+/// `start`/`end` the block's start and end point (program coordinates, m). Defects go to `diags`;
+/// `own_defect`: the block has a defect of its own already, which an earlier refused block is then
+/// not named as the cause of.
+pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3], line: usize, column: usize, own_defect: bool, diags: &mut Diags) -> Option<ArcSpec> {
     let (a0, a1, an) = st.plane.axes();
     let g = if st.motion == Some(Motion::ArcCw) { "G02" } else { "G03" };
     let offset_letter = ['I', 'J', 'K'];
     let word = |l: char| words.iter().find(|w| w.letter == l);
     if let Some(w) = word(offset_letter[an]) {
-        diags.error(line, w.column, format!("{}{}: not an arc-centre word in the {:?} plane (G17/G18/G19){}", w.letter, w.raw, st.plane, st.after_refused()));
+        let earlier = if own_defect { String::new() } else { st.after_refused() };
+        diags.error(line, w.column, format!("{}{}: not an arc-centre word in the {:?} plane (G17/G18/G19){earlier}", w.letter, w.raw, st.plane));
         return None;
     }
     let extra_turns = match word('P') {

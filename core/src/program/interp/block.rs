@@ -684,7 +684,7 @@ impl Interpreter {
                 if as_rs274.len() == 2 || as_rs274.iter().any(|w| w.letter == 'R') {
                     // A polar circle's turns (P), as RS274's.
                     as_rs274.extend(words.iter().filter(|w| w.letter == 'P').cloned());
-                    arc = resolve_arc(&as_rs274, &st, start, end, line, column, diags);
+                    arc = resolve_arc(&as_rs274, &st, start, end, line, column, diags.errors() > errors_before, diags);
                     // An arc in a tilted plane: its centre in the workpiece, its axes the plane's.
                     if let (Some(r), Some(a)) = (next.tilt, arc.as_mut()) {
                         let c = r * nalgebra::Vector3::from(a.centre);
@@ -701,7 +701,7 @@ impl Interpreter {
             if moves {
                 let start = [self.last[0], self.last[1], self.last[2]];
                 let end = [next.last[0], next.last[1], next.last[2]];
-                arc = resolve_arc(words, &next, start, end, line, column, diags);
+                arc = resolve_arc(words, &next, start, end, line, column, diags.errors() > errors_before, diags);
             } else if words.iter().any(|w| "IJKR".contains(w.letter) || (w.letter == 'P' && !uses.contains(&'P'))) {
                 // (A P that another code of the block takes, G4's or G64's, is not the arc's.)
                 diags.error(line, column, "arc words without an end point: expected X, Y or Z with them");

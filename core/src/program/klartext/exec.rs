@@ -418,14 +418,16 @@ impl Exec {
                     diags.error(s.line, s.col, format!("CP IPA{v:+} with DR{}: the TNC wants the same sign for both, or the tool may move on a wrong path", if ccw == Some(true) { "+" } else { "-" }));
                     return None;
                 }
-                // Whole turns beyond the first (the arc's P), the end where the total angle ends.
-                let turns = ((v.abs() - 1e-9) / 360.0).floor().max(0.0) + 1.0;
-                if turns > 1000.0 {
+                // The TNC's input range of a helix's total angle (TNC 640 User's Manual DIN/ISO 1/2015
+                // §19.3 "Input format and unit of TNC functions": "Polar coordinate angle for helical
+                // interpolation (CP) -5 400.0000 to 5 400.0000" deg, 15 turns).
+                if shape == Shape::CirclePolar && v.abs() > 5400.0 {
                     let col = axes.iter().find(|w| w.addr == "IPA").map_or(s.col, |w| w.col);
-                    diags.error(s.line, col, format!("IPA{v:+}: a helix of {turns} turns, more than the 1000 read (a typo?)"));
+                    diags.error(s.line, col, format!("IPA{v:+}: beyond the TNC's input range of a helix's angle, -5400 to +5400 deg"));
                     return None;
                 }
-                (pa_start + v, turns as u64)
+                // Whole turns beyond the first (the arc's P), the end where the total angle ends.
+                (pa_start + v, ((v.abs() - 1e-9) / 360.0).floor().max(0.0) as u64 + 1)
             }
             // LP without an angle: the start's (a CP has one, checked where it is read).
             _ if shape == Shape::LinePolar => (pa_start, 1),
