@@ -17,7 +17,6 @@ use super::lex::{excerpt, Diags};
 use super::oword::{End, Keyword, OLine};
 use super::params::skip_blanks;
 use super::rs274::Rs274Reader;
-use super::Block;
 
 /// `M98` or `M99` first in a line (after an optional `N` number; blanks anywhere, as LinuxCNC reads
 /// a line without them): which, and the index after its number. LinuxCNC takes the M code's value
@@ -101,7 +100,7 @@ impl Rs274Reader {
 
     /// `M98 P<n> [L<count>]` (`chars` from the line's first character, which stands at 0-based column
     /// `col`; its words from `rest`): subprogram `O<n>` run `L` times.
-    pub(super) fn m98(&mut self, chars: &[char], rest: usize, line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> End {
+    pub(super) fn m98(&mut self, chars: &[char], rest: usize, line: usize, col: usize, diags: &mut Diags) -> Result<Option<super::oword_run::SubRun>, End> {
         self.refresh_state(super::rs274::reads_state(chars.iter().copied()));
         let (mut p, mut l): (Option<f64>, Option<(f64, usize)>) = (None, None);
         let mut i = rest;
@@ -114,16 +113,16 @@ impl Rs274Reader {
                         i += k + 1;
                         continue;
                     }
-                    None => return self.stop(line, col + i + 1, "M98: comment '(' is not closed".into(), diags),
+                    None => return Err(self.stop(line, col + i + 1, "M98: comment '(' is not closed".into(), diags)),
                 },
                 Some(c) => c.to_ascii_uppercase(),
             };
             if !matches!(letter, 'P' | 'L') {
                 let found = excerpt(&chars[i..].iter().collect::<String>());
-                return self.stop(line, col + i + 1, format!("M98: only P (the program) and L (how many times) are read in its block, found '{found}': LinuxCNC runs nothing else of an M98 block"), diags);
+                return Err(self.stop(line, col + i + 1, format!("M98: only P (the program) and L (how many times) are read in its block, found '{found}': LinuxCNC runs nothing else of an M98 block"), diags));
             }
             if (letter == 'P' && p.is_some()) || (letter == 'L' && l.is_some()) {
-                return self.stop(line, col + i + 1, format!("M98: two {letter} words"), diags);
+                return Err(self.stop(line, col + i + 1, format!("M98: two {letter} words"), diags));
             }
             match self.params.real_value(chars, skip_blanks(chars, i + 1), false) {
                 Ok((v, end)) => {
@@ -134,54 +133,42 @@ impl Rs274Reader {
                     }
                     i = end;
                 }
-                Err(e) => return self.stop(line, col + e.column, format!("M98 {letter}: {}", e.message), diags),
+                Err(e) => return Err(self.stop(line, col + e.column, format!("M98 {letter}: {}", e.message), diags)),
             }
         }
         let Some(p) = p else {
-            return self.stop(line, col + 1, "M98 without P: expected the number of the program to run (LinuxCNC: \"Found 'm98' code with no P-word\")".into(), diags);
+            return Err(self.stop(line, col + 1, "M98 without P: expected the number of the program to run (LinuxCNC: \"Found 'm98' code with no P-word\")".into(), diags));
         };
         // P made whole as LinuxCNC's read_o makes it: within 0.0001 below or above a whole number.
         let n = if p - p.floor() > 0.9999 { p.ceil() } else { p.floor() };
         if (p - n).abs() > 1e-4 || !(0.0..=99_999_999.0).contains(&n) {
-            return self.stop(line, col + 1, format!("M98 P{p}: expected a program number, a whole number 0 or more"), diags);
+            return Err(self.stop(line, col + 1, format!("M98 P{p}: expected a program number, a whole number 0 or more"), diags));
         }
         let name = format!("{}", n as u64);
         let count = match l {
             None => 1.0,
             Some((v, _)) if v >= -0.5 && (v - v.round()).abs() <= 1e-4 && v.round() <= MAX_M98_COUNT => v.round(),
-            Some((v, at)) => return self.stop(line, col + at + 1, format!("M98 L{v}: expected how many times to run O{name}, a whole number 0 or more"), diags),
+            Some((v, at)) => return Err(self.stop(line, col + at + 1, format!("M98 L{v}: expected how many times to run O{name}, a whole number 0 or more"), diags)),
         };
         if count == 0.0 {
             // "M98 L0 instruction; skipping call" (interp_o_word.cc execute_call), after entering a
             // call level it does not leave: what follows runs one level down.
             if self.flow.depth() >= super::oword::MAX_CALL_DEPTH {
-                return self.stop(line, col + 1, format!("M98 P{name} L0: calls nested more than {} deep", super::oword::MAX_CALL_DEPTH), diags);
+                return Err(self.stop(line, col + 1, format!("M98 P{name} L0: calls nested more than {} deep", super::oword::MAX_CALL_DEPTH), diags));
             }
             if self.flow.raised.is_empty() {
                 diags.warning(line, col + 1, format!("M98 P{name} L0: O{name} is not run; LinuxCNC 2.9 enters a call level for it and stays there (#<_call_level> reads one more after it), which only a later subroutine definition or M99 in the main program would show (refused)"));
             }
             self.flow.raised.push(line);
-            return End::Done;
+            return Ok(None);
         }
         let shown = format!("M98 P{name}");
-        let sub = match self.find_sub(&name, true, &shown, line, col, diags) {
-            Ok(sub) => sub,
-            Err(end) => return end,
-        };
-        // LinuxCNC runs the M98 block again for each pass: each counts as a line run.
-        let mut pass = 0.0;
-        while pass < count {
-            if !self.spend_line(line, diags) {
-                return End::Stopped;
-            }
-            if let End::Stopped = self.run_sub(&name, &shown, &sub, None, line, col, out, diags) {
-                return End::Stopped;
-            }
-            if self.program_ended() {
-                break;
-            }
-            pass += 1.0;
+        let sub = self.find_sub(&name, true, &shown, line, col, diags)?;
+        // LinuxCNC runs the M98 block again for each pass: each counts as a line run (the first
+        // here, the others as each pass ends: [`super::oword_run`]).
+        if !self.spend_line(line, diags) {
+            return Err(End::Stopped);
         }
-        End::Done
+        Ok(Some(super::oword_run::SubRun::new(&name, &shown, sub, None, line, col, count)))
     }
 }

@@ -65,7 +65,7 @@ pub fn number_prefix_len(s: &str) -> usize {
 }
 
 /// Diagnostics being collected for one program.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct Diags(pub Vec<Diagnostic>);
 
 impl Diags {

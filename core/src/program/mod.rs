@@ -22,6 +22,7 @@ mod lex;
 mod macro_b;
 mod modal_context;
 mod oword;
+mod oword_run;
 mod params;
 pub mod plane;
 mod quill;

@@ -17,7 +17,7 @@ use super::later_subs::Line;
 use super::params::skip_blanks;
 use super::params::expr::{self, Compiled};
 use super::params::ExprError;
-use super::rs274::{ReadLine, Rs274Reader};
+use super::rs274::Rs274Reader;
 use super::Block;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -33,12 +33,6 @@ pub trait SubroutineFiles: Send + Sync + std::fmt::Debug {
 /// The most lines one held block (a loop, a condition, a subroutine) may have, and bytes.
 pub const MAX_HELD_LINES: usize = 100_000;
 pub const MAX_HELD_BYTES: usize = 16 << 20;
-/// The most moves one run of a control block (a loop, a condition, a call, with the calls in it)
-/// may make: its moves are held until the run ends (a loop is run whole, not line by line as the
-/// other dialects' jumps are), so a loop of 34 passes over a 10,000-peck cycle (a million moves,
-/// 600 MB) is as far as it goes; beyond it the run stops with an error rather than take memory
-/// without bound.
-pub const MAX_HELD_BLOCKS: usize = 1_000_000;
 /// Deepest nesting of subroutine calls (LinuxCNC's `MAX_NESTED_CALLS`... its stack is 10 deep).
 pub const MAX_CALL_DEPTH: usize = 10;
 /// Most subroutines one program may define.
@@ -175,7 +169,7 @@ impl OpenBlocks {
 
 /// Whether `l` opens a block that must be held to its end (a subroutine, a loop, a condition);
 /// `innermost` is the block open around it, if any (a `while` ends the `do` of its name).
-fn opens(l: &OLine, innermost: Option<(&str, Keyword)>) -> bool {
+pub(super) fn opens(l: &OLine, innermost: Option<(&str, Keyword)>) -> bool {
     match l.keyword {
         Keyword::Sub | Keyword::Do | Keyword::If | Keyword::Repeat => true,
         Keyword::While => innermost != Some((l.name.as_str(), Keyword::Do)),
@@ -184,7 +178,7 @@ fn opens(l: &OLine, innermost: Option<(&str, Keyword)>) -> bool {
 }
 
 /// The keyword that ends a block opened by `k`.
-fn closer(k: Keyword) -> Keyword {
+pub(super) fn closer(k: Keyword) -> Keyword {
     match k {
         Keyword::Sub => Keyword::EndSub,
         Keyword::Do => Keyword::While,
@@ -194,7 +188,7 @@ fn closer(k: Keyword) -> Keyword {
     }
 }
 
-fn word(k: Keyword) -> &'static str {
+pub(super) fn word(k: Keyword) -> &'static str {
     match k {
         Keyword::Sub => "sub",
         Keyword::EndSub => "endsub",
@@ -218,7 +212,7 @@ fn word(k: Keyword) -> &'static str {
 }
 
 /// Why `endsub` or `return` cannot end a Fanuc-style subprogram.
-fn m99_ends(o: &OLine) -> String {
+pub(super) fn m99_ends(o: &OLine) -> String {
     format!("o{} {}: a Fanuc-style subprogram (called by M98) ends with M99 (LinuxCNC: \"Fanuc 'O....' subroutine definition must end with 'M99'\")", o.name, word(o.keyword))
 }
 
@@ -238,19 +232,19 @@ pub struct Flow {
     held: Option<Held>,
     /// The subroutines known by name (LinuxCNC's one table for both kinds): their lines, with their
     /// `sub` and `endsub` lines (a Fanuc-style one's `O` line and `M99`), and whether Fanuc-style.
-    subs: HashMap<String, (Arc<Vec<Line>>, bool)>,
+    pub(super) subs: HashMap<String, (Arc<Vec<Line>>, bool)>,
     run_lines: usize,
     /// The most lines control blocks may run ([`crate::program::ReadOptions::max_run_lines`]).
     budget: usize,
-    depth: usize,
+    pub(super) depth: usize,
     /// The diagnostics said by lines run so far: a loop's second pass over a defect says it once.
-    said: std::collections::HashSet<(usize, usize, String)>,
+    pub(super) said: std::collections::HashSet<(usize, usize, String)>,
     /// The run was stopped (budget, a defect in the flow): what is left of the block is not read.
     pub(crate) stopped: bool,
     /// Where subroutines not defined in the program are looked for (`--subroutine-path`, LinuxCNC's
     /// SUBROUTINE_PATH), and the file each one loaded from there came from.
     sub_files: Option<Arc<dyn SubroutineFiles>>,
-    files: HashMap<String, String>,
+    pub(super) files: HashMap<String, String>,
     /// The value the last subroutine returned (`return [expr]`, `endsub [expr]`; LinuxCNC's
     /// `#<_value>`), and whether it returned one (`#<_value_returned>`).
     pub(crate) value: (f64, bool),
@@ -259,19 +253,25 @@ pub struct Flow {
     pub(crate) own: Option<Arc<super::later_subs::ProgramText>>,
     /// How many subroutines of other files are running (a call in one skips forward in that file,
     /// which is not read here).
-    in_file: usize,
+    pub(super) in_file: usize,
     /// For each call running, innermost last: whether it is a Fanuc-style `M98` call.
-    frames: Vec<bool>,
+    pub(super) frames: Vec<bool>,
     /// The lines of the `M98 ... L0` run so far: LinuxCNC 2.9 enters a call level for each and never
     /// leaves it ([`super::lcnc_m98`]).
     pub(crate) raised: Vec<usize>,
+    /// The runs under way, innermost last ([`super::oword_run`]).
+    pub(super) stack: Vec<super::oword_run::Frame>,
+    /// For each subroutine of another file running, outermost first: what its lines said (said at
+    /// its call when it returns), and where its call stands (line, 1-based column).
+    pub(super) file_diags: Vec<Diags>,
+    pub(super) file_calls: Vec<(usize, usize)>,
 }
 
 impl Flow {
     /// The flow of a read whose control blocks may run `budget` lines, its subroutines not defined
     /// in the program looked for in `sub_files`.
     pub fn new(budget: usize, sub_files: Option<Arc<dyn SubroutineFiles>>) -> Flow {
-        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false), own: None, in_file: 0, frames: Vec::new(), raised: Vec::new() }
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false), own: None, in_file: 0, frames: Vec::new(), raised: Vec::new(), stack: Vec::new(), file_diags: Vec::new(), file_calls: Vec::new() }
     }
 
     /// How deep in subroutine calls the run stands (0: the main program), as LinuxCNC counts it
@@ -374,8 +374,7 @@ impl Rs274Reader {
         }
         // A lone keyword outside any block: a call runs now; anything else ends nothing.
         if matches!(o.keyword, Keyword::Call | Keyword::M98) {
-            let lines = [(line, text.to_string())];
-            self.run(&lines, out, diags);
+            self.run_block(vec![(line, text.to_string())], out, diags);
         } else {
             diags.error(line, first + 1, format!("o{} {}: no block of that name is open", o.name, word(o.keyword)));
         }
@@ -405,229 +404,13 @@ impl Rs274Reader {
             self.flow.subs.insert(o.name, (Arc::new(lines), false));
             return;
         }
-        self.run(&lines, out, diags);
-    }
-
-    /// Run `lines` (a whole block, or a subroutine's body with its `sub` and `endsub` lines) as the
-    /// flow says. Every control block in them is matched first: a name closed by another's end,
-    /// or a `break` outside its loop, stops the run before anything moves.
-    fn run(&mut self, lines: &[Line], out: &mut Vec<Block>, diags: &mut Diags) -> End {
-        // Each plain line read once, when first run (a loop's passes evaluate it with the
-        // parameters as they stand), let go when the run ends.
-        let mut kept: Vec<Option<ReadLine>> = vec![None; lines.len()];
-        let end = self.run_keeping(lines, &mut kept, out, diags);
-        self.let_go(kept.iter().flatten());
-        end
-    }
-
-    fn run_keeping(&mut self, lines: &[Line], kept: &mut [Option<ReadLine>], out: &mut Vec<Block>, diags: &mut Diags) -> End {
-        // Each control line once: its O word, the column it stands at, and its characters from there
-        // (a loop's test is evaluated from them on every pass).
-        let parsed: Vec<Option<(OLine, usize, Vec<char>)>> = lines
-            .iter()
-            .map(|(_, t)| {
-                let chars: Vec<char> = t.trim_end_matches('\r').chars().collect();
-                let first = chars.iter().position(|c| !c.is_whitespace()).unwrap_or(chars.len());
-                parse(&chars[first..]).map(|o| (o, first, chars[first..].to_vec()))
-            })
-            .collect();
-        // Match the blocks: for each opening line its end, and for an if its branches.
-        let mut ends: Vec<Option<usize>> = vec![None; lines.len()];
-        let mut openers: Vec<Option<usize>> = vec![None; lines.len()];
-        let mut branches: HashMap<usize, Vec<usize>> = HashMap::new();
-        let mut open: Vec<(String, Keyword, usize)> = Vec::new();
-        for (i, p) in parsed.iter().enumerate() {
-            let Some((o, col, _)) = p else { continue };
-            if opens(o, open.last().map(|(n, k, _)| (n.as_str(), *k))) {
-                open.push((o.name.clone(), o.keyword, i));
-                continue;
-            }
-            let (line, col) = (lines[i].0, col + 1);
-            match o.keyword {
-                Keyword::ElseIf | Keyword::Else => match open.last() {
-                    Some((n, Keyword::If, at)) if *n == o.name => {
-                        branches.entry(*at).or_default().push(i);
-                        openers[i] = Some(*at);
-                    }
-                    _ => return self.stop(line, col, format!("o{} {}: not inside o{} if", o.name, word(o.keyword), o.name), diags),
-                },
-                Keyword::EndSub | Keyword::While | Keyword::EndWhile | Keyword::EndIf | Keyword::EndRepeat => match open.pop() {
-                    Some((n, k, at)) if n == o.name && closer(k) == o.keyword => {
-                        ends[at] = Some(i);
-                        openers[i] = Some(at);
-                    }
-                    Some((n, k, _)) => return self.stop(line, col, format!("o{} {} ends no block: o{n} {} is open", o.name, word(o.keyword), word(k)), diags),
-                    None if o.keyword == Keyword::EndSub && self.flow.in_m98() => return self.stop(line, col, m99_ends(o), diags),
-                    None => return self.stop(line, col, format!("o{} {}: no block of that name is open", o.name, word(o.keyword)), diags),
-                },
-                Keyword::Break | Keyword::Continue => {
-                    // LinuxCNC's: of a while or do loop only ("no matching while/do label" for a repeat).
-                    if !open.iter().any(|(n, k, _)| *n == o.name && matches!(k, Keyword::While | Keyword::Do)) {
-                        return self.stop(line, col, format!("o{} {}: not inside a while or do loop of that name", o.name, word(o.keyword)), diags);
-                    }
-                }
-                _ => {}
-            }
-        }
-        if let Some((n, k, at)) = open.first() {
-            return self.stop(lines[*at].0, 1, format!("o{n} {}: its block does not end (no o{n} {})", word(*k), word(closer(*k))), diags);
-        }
-        let end_of = |k: usize| ends[k].expect("matched above");
-        let opener_of = |k: usize| openers[k].expect("matched above");
-        // Each test compiled once, when first run.
-        let mut tests: Vec<Option<Compiled>> = vec![None; lines.len()];
-        // Run.
-        let mut repeats: HashMap<usize, f64> = HashMap::new();
-        let mut pc = 0;
-        while pc < lines.len() {
-            // A defect stopped the flow, or the program ended (M2/M30) inside the block.
-            if self.flow.stopped || self.program_ended() {
-                return End::Stopped;
-            }
-            let (line, text) = (&lines[pc].0, &lines[pc].1);
-            if !self.spend_line(*line, diags) {
-                return End::Stopped;
-            }
-            // The main program's M99 is its end, read as a line.
-            let control = parsed[pc].as_ref().filter(|(o, _, _)| !(o.keyword == Keyword::M99 && self.flow.depth == 0));
-            if out.len() > MAX_HELD_BLOCKS {
-                return self.stop(*line, 1, format!("more than {MAX_HELD_BLOCKS} moves from one run of an O-word block (an endless loop?), which are held until it ends: not read further (split the loop, or run fewer passes)"), diags);
-            }
-            let Some((o, col, chars)) = control else {
-                let before = diags.0.len();
-                self.loop_line(*line, text, &mut kept[pc], out, diags);
-                // Said once per line, however often the flow runs it.
-                let fresh: Vec<_> = diags.0.drain(before..).collect();
-                for d in fresh {
-                    // A full memory of what was said (bounded) says everything again.
-                    if self.flow.said.len() >= MAX_HELD_LINES || self.flow.said.insert((d.line, d.column, d.message.clone())) {
-                        diags.0.push(d);
-                    }
-                }
-                pc += 1;
-                continue;
-            };
-            match o.keyword {
-                Keyword::Sub => {
-                    // A subroutine defined inside a block: kept, its body skipped.
-                    if let (0, Some(&at)) = (self.flow.depth, self.flow.raised.first()) {
-                        return self.stop(*line, col + 1, super::lcnc_m98::after_l0("a subroutine's definition", at), diags);
-                    }
-                    let end = end_of(pc);
-                    self.flow.subs.insert(o.name.clone(), (Arc::new(lines[pc..=end].to_vec()), false));
-                    pc = end + 1;
-                }
-                Keyword::EndSub | Keyword::Return if self.flow.in_m98() => {
-                    return self.stop(*line, col + 1, m99_ends(o), diags);
-                }
-                Keyword::EndSub | Keyword::Return => {
-                    return match self.return_value(o, chars, *line, *col, diags) {
-                        true => End::Return,
-                        false => End::Stopped,
-                    };
-                }
-                Keyword::Call => {
-                    match self.call(o, chars, *line, *col, out, diags) {
-                        End::Stopped => return End::Stopped,
-                        _ => pc += 1,
-                    }
-                }
-                Keyword::M98 => {
-                    match self.m98(chars, o.rest, *line, *col, out, diags) {
-                        End::Stopped => return End::Stopped,
-                        _ => pc += 1,
-                    }
-                }
-                Keyword::M99 => {
-                    if !self.flow.in_m98() {
-                        return self.stop(*line, col + 1, "M99 in a subroutine called by o-call: it ends with o endsub or o return (LinuxCNC: \"'O.... endsub' or 'O.... return' must follow 'O.... sub' subroutine definition\")".into(), diags);
-                    }
-                    if !super::lcnc_m98::only_comments(chars, o.rest) {
-                        return self.stop(*line, col + 1, "M99: nothing but a comment may follow it on its line (LinuxCNC: \"Unexpected character after O-word\")".into(), diags);
-                    }
-                    self.flow.value = (0.0, false);
-                    return End::Return;
-                }
-                Keyword::Title => {
-                    if self.flow.depth > 0 && !self.flow.in_m98() {
-                        return self.stop(*line, col + 1, format!("O{}: a Fanuc-style program start inside a subroutine called by o-call (LinuxCNC: \"Fanuc 'O....' subroutine must be called with 'M98'\")", o.name), diags);
-                    }
-                    pc += 1;
-                }
-                Keyword::Do => pc += 1,
-                Keyword::While if ends[pc].is_some() => {
-                    // A while loop: its condition, here.
-                    let Some(c) = self.condition(o, chars, *line, *col, &mut tests[pc], diags) else { return End::Stopped };
-                    pc = if c { pc + 1 } else { end_of(pc) + 1 };
-                }
-                Keyword::While => {
-                    // The end of a do loop: again while its condition holds.
-                    let Some(c) = self.condition(o, chars, *line, *col, &mut tests[pc], diags) else { return End::Stopped };
-                    pc = if c { opener_of(pc) + 1 } else { pc + 1 };
-                }
-                Keyword::EndWhile => pc = opener_of(pc),
-                Keyword::Repeat => {
-                    let Some(n) = self.count(o, chars, *line, *col, &mut tests[pc], diags) else { return End::Stopped };
-                    if n >= 1.0 {
-                        repeats.insert(pc, n);
-                        pc += 1;
-                    } else {
-                        pc = end_of(pc) + 1;
-                    }
-                }
-                Keyword::EndRepeat => {
-                    let start = opener_of(pc);
-                    let left = repeats.get(&start).copied().unwrap_or(0.0) - 1.0;
-                    repeats.insert(start, left);
-                    pc = if left >= 1.0 { start + 1 } else { pc + 1 };
-                }
-                Keyword::If => {
-                    let Some(c) = self.condition(o, chars, *line, *col, &mut tests[pc], diags) else { return End::Stopped };
-                    if c {
-                        pc += 1;
-                        continue;
-                    }
-                    let mut next = end_of(pc) + 1;
-                    for &b in branches.get(&pc).map_or(&[][..], |v| &v[..]) {
-                        let (bo, bcol, bchars) = parsed[b].as_ref().expect("a branch is an O line");
-                        if bo.keyword == Keyword::Else {
-                            next = b + 1;
-                            break;
-                        }
-                        let Some(c) = self.condition(bo, bchars, lines[b].0, *bcol, &mut tests[b], diags) else { return End::Stopped };
-                        if c {
-                            next = b + 1;
-                            break;
-                        }
-                    }
-                    pc = next;
-                }
-                // The branch taken has ended: past the if's end.
-                Keyword::ElseIf | Keyword::Else => pc = end_of(opener_of(pc)) + 1,
-                Keyword::EndIf => pc += 1,
-                Keyword::Break | Keyword::Continue => {
-                    // The innermost open loop of that name around this line.
-                    let opener = (0..pc)
-                        .rev()
-                        .find(|&k| parsed[k].as_ref().is_some_and(|(l, _, _)| l.name == o.name && matches!(l.keyword, Keyword::While | Keyword::Do) && ends.get(k).copied().flatten().is_some_and(|e| e > pc)))
-                        .expect("matched above");
-                    let end = end_of(opener);
-                    pc = match (o.keyword, parsed[opener].as_ref().map(|(l, _, _)| l.keyword)) {
-                        (Keyword::Break, _) => end + 1,
-                        // Continue: to the loop's test (a while's head, a do's tail).
-                        (_, Some(Keyword::While)) => opener,
-                        _ => end,
-                    };
-                }
-            }
-        }
-        End::Done
+        self.run_block(lines, out, diags);
     }
 
     /// `return` or `endsub` with its optional `[value]` (interp_read.cc: "optional return value
     /// expression"): LinuxCNC's `#<_value>` and `#<_value_returned>`, 0 without one. False if the
     /// value cannot be read (the run stopped).
-    fn return_value(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, diags: &mut Diags) -> bool {
+    pub(super) fn return_value(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, diags: &mut Diags) -> bool {
         let start = skip_blanks(chars, o.rest);
         if chars.get(start) != Some(&'[') {
             self.flow.value = (0.0, false);
@@ -703,11 +486,11 @@ impl Rs274Reader {
         Some(v)
     }
 
-    fn condition(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<bool> {
+    pub(super) fn condition(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<bool> {
         self.bracket(o, chars, line, col, kept, diags).map(|v| v != 0.0)
     }
 
-    fn count(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<f64> {
+    pub(super) fn count(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, kept: &mut Option<Compiled>, diags: &mut Diags) -> Option<f64> {
         let n = self.bracket(o, chars, line, col, kept, diags)?;
         if n.fract().abs() > 1e-4 && (1.0 - n.fract()).abs() > 1e-4 {
             self.stop(line, col + 1, format!("o{} repeat [{n}]: expected a whole count", o.name), diags);
@@ -716,9 +499,10 @@ impl Rs274Reader {
         Some(n.round())
     }
 
-    /// `oN call [a] [b] ...`: the subroutine's body with `#1`.. set to the arguments, in its own scope
-    /// (`chars` from the O word on, which stands at 0-based column `col`).
-    fn call(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> End {
+    /// `oN call [a] [b] ...`: the subroutine to run with `#1`.. set to the arguments, in its own
+    /// scope (`chars` from the O word on, which stands at 0-based column `col`), or why not (said,
+    /// the run stopped).
+    pub(super) fn call(&mut self, o: &OLine, chars: &[char], line: usize, col: usize, diags: &mut Diags) -> Result<Option<super::oword_run::SubRun>, End> {
         let named;
         let o = match o.name_expr {
             None => o,
@@ -729,16 +513,13 @@ impl Rs274Reader {
                         named = OLine { name: format!("{}", v.round() as u64), ..o.clone() };
                         &named
                     }
-                    Ok((v, _)) => return self.stop(line, col + at + 1, format!("o[{v}] call: an O word's number is a whole number 0 or more"), diags),
-                    Err(e) => return self.stop(line, col + e.column, format!("o call: {}", e.message), diags),
+                    Ok((v, _)) => return Err(self.stop(line, col + at + 1, format!("o[{v}] call: an O word's number is a whole number 0 or more"), diags)),
+                    Err(e) => return Err(self.stop(line, col + e.column, format!("o call: {}", e.message), diags)),
                 }
             }
         };
         let shown = format!("o{} call", o.name);
-        let body = match self.find_sub(&o.name, false, &shown, line, col, diags) {
-            Ok(body) => body,
-            Err(end) => return end,
-        };
+        let body = self.find_sub(&o.name, false, &shown, line, col, diags)?;
         self.refresh_state(super::rs274::reads_state(chars.iter().copied()));
         let mut args = Vec::new();
         let mut i = o.rest;
@@ -749,22 +530,22 @@ impl Rs274Reader {
                 // A comment between arguments is read past, as LinuxCNC's read_o reads it.
                 Some('(') => match chars[i..].iter().position(|&c| c == ')') {
                     Some(k) => i += k + 1,
-                    None => return self.stop(line, col + i + 1, format!("o{} call: comment '(' is not closed", o.name), diags),
+                    None => return Err(self.stop(line, col + i + 1, format!("o{} call: comment '(' is not closed", o.name), diags)),
                 },
                 Some('[') => match self.params.real_value(chars, i, false) {
                     Ok((v, end)) => {
                         args.push(v);
                         i = end;
                     }
-                    Err(e) => return self.stop(line, col + e.column, format!("o{} call: {}", o.name, e.message), diags),
+                    Err(e) => return Err(self.stop(line, col + e.column, format!("o{} call: {}", o.name, e.message), diags)),
                 },
-                Some(_) => return self.stop(line, col + i + 1, format!("o{} call: expected arguments in [...], found '{}'", o.name, excerpt(&chars[i..].iter().collect::<String>())), diags),
+                Some(_) => return Err(self.stop(line, col + i + 1, format!("o{} call: expected arguments in [...], found '{}'", o.name, excerpt(&chars[i..].iter().collect::<String>())), diags)),
             }
         }
         if args.len() > 30 {
-            return self.stop(line, col + 1, format!("o{} call: {} arguments, LinuxCNC takes 30 (#1-#30)", o.name, args.len()), diags);
+            return Err(self.stop(line, col + 1, format!("o{} call: {} arguments, LinuxCNC takes 30 (#1-#30)", o.name, args.len()), diags));
         }
-        self.run_sub(&o.name, &shown, &body, Some(&args), line, col, out, diags)
+        Ok(Some(super::oword_run::SubRun::new(&o.name, &shown, body, Some(args), line, col, 1.0)))
     }
 
     /// The subroutine `name` a call runs (`o<name> call`, or `M98 P<name>` where `m98`; `shown` says
@@ -810,77 +591,6 @@ impl Rs274Reader {
             (true, false) => Err(self.stop(line, col + 1, format!("{shown}: O{name} is a Fanuc-style subprogram (O{name} ... M99), called by M98 P{name} (LinuxCNC: \"Fanuc 'O....' subroutine must be called with 'M98'\")"), diags)),
             (false, true) => Err(self.stop(line, col + 1, format!("{shown}: o{name} sub is called by o{name} call (LinuxCNC: \"'O.... sub' subroutine must be called with 'O.... call'\")"), diags)),
             _ => Ok(found),
-        }
-    }
-
-    /// Run subroutine `name` (`sub`: its lines and whether Fanuc-style) for a call at `line`:`col`
-    /// (`shown` in messages): with `args` its own `#1`-`#30`, without (`M98`) the caller's, which are
-    /// global; its named parameters its own either way, M73's state restored as it returns.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn run_sub(&mut self, name: &str, shown: &str, sub: &(Arc<Vec<Line>>, bool), args: Option<&[f64]>, line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> End {
-        let (body, fanuc) = (&sub.0, sub.1);
-        if self.flow.depth() >= MAX_CALL_DEPTH {
-            return self.stop(line, col + 1, format!("{shown}: calls nested more than {MAX_CALL_DEPTH} deep"), diags);
-        }
-        let scope = match args {
-            Some(args) => self.params.enter_call(args),
-            None => self.params.enter_m98(),
-        };
-        self.flow.depth += 1;
-        self.flow.frames.push(fanuc);
-        self.contexts.enter(self.flow.depth);
-        // The body, without its `sub` and `endsub` lines. A subroutine of another file runs at the
-        // call: its blocks and diagnostics stand at the call's line, a diagnostic naming its own.
-        let body_lines = body.get(1..body.len().saturating_sub(1)).unwrap_or(&[]);
-        // The endsub line, whose [value] is returned when the body runs to it (M99 returns none).
-        let endsub = body.last().filter(|_| body.len() > 1 && !fanuc).map(|(l, t)| (*l, t.clone()));
-        if fanuc {
-            self.flow.value = (0.0, false);
-        }
-        let end = match self.flow.files.get(name).cloned() {
-            None => self.run(body_lines, out, diags),
-            Some(file) => {
-                let (before, mut inner) = (out.len(), Diags::default());
-                self.flow.in_file += 1;
-                let end = self.run(body_lines, out, &mut inner);
-                self.flow.in_file -= 1;
-                for b in &mut out[before..] {
-                    (b.line, b.column) = (line, col + 1);
-                }
-                for d in inner.0 {
-                    let message = format!("in {file}:{}:{}: {}", d.line, d.column, d.message);
-                    match d.severity {
-                        super::Severity::Error => diags.error(line, col + 1, message),
-                        _ => diags.warning(line, col + 1, message),
-                    }
-                }
-                end
-            }
-        };
-        let end = match (end, endsub) {
-            (End::Done, Some((l, text))) => {
-                let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
-                let first = chars.iter().position(|c| !c.is_whitespace()).unwrap_or(chars.len());
-                match parse(&chars[first..]) {
-                    Some(e) if !self.return_value(&e, &chars[first..], l, first, diags) => End::Stopped,
-                    _ => End::Done,
-                }
-            }
-            (end, _) => end,
-        };
-        let restore = self.contexts.leave(self.flow.depth);
-        self.flow.depth -= 1;
-        self.flow.frames.pop();
-        self.params.leave_call(scope);
-        // M73 in the subroutine: its caller's state comes back as it returns.
-        if let (Some(state), false) = (restore, matches!(end, End::Stopped)) {
-            if !self.interp.restore_modal(&state, line, col + 1, None, diags, out) {
-                return self.stop(line, col + 1, format!("{shown}: the modal state M73 saved could not be restored as it returns"), diags);
-            }
-        }
-        match end {
-            End::Stopped => End::Stopped,
-            _ => End::Done,
         }
     }
 }

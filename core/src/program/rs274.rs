@@ -157,6 +157,9 @@ impl Rs274Reader {
 
 impl super::stream::LineReader for Rs274Reader {
     fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        // A run under way ends before the next line is read (the stream asks for it part by part
+        // with `more`; a caller that does not, gets it here whole).
+        while self.flow_more(out, diags) {}
         // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
         let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
         if !text.trim().is_empty() {
@@ -187,7 +190,12 @@ impl super::stream::LineReader for Rs274Reader {
         self.program_line(line, text, out, diags);
     }
 
+    fn more(&mut self, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        self.flow_more(out, diags)
+    }
+
     fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, out: &mut Vec<Block>, diags: &mut Diags) {
+        while self.flow_more(out, diags) {}
         self.release_leader(out, diags);
         self.flow_finish(diags);
         // Moves cutter radius compensation still holds are never run.

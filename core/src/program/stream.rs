@@ -24,6 +24,11 @@ use std::path::Path;
 pub(crate) trait LineReader {
     /// Read line `line` (1-based; `text` without its newline): blocks go to `out`, defects to `diags`.
     fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags);
+    /// A run a line began (a LinuxCNC O-word loop) gives its blocks a part at a time: the next part
+    /// to `out`; true while more is to come (the next line waits until then).
+    fn more(&mut self, _out: &mut Vec<Block>, _diags: &mut Diags) -> bool {
+        false
+    }
     /// The input has ended: checks that need all of it (a missing header), and blocks only the end
     /// completes go to `out`. `blocks` holds every block when the program was read whole; a stream
     /// has handed them out already (`None`).
@@ -40,6 +45,7 @@ pub(crate) fn read_whole(reader: &mut dyn LineReader, text: &str, dialect: Diale
     let mut diags = Diags::default();
     for (idx, raw) in text.lines().enumerate() {
         reader.line(idx + 1, raw, &mut blocks, &mut diags);
+        while reader.more(&mut blocks, &mut diags) {}
     }
     let mut tail = Vec::new();
     reader.finish(Some(&mut blocks), &mut tail, &mut diags);
@@ -346,6 +352,14 @@ impl BlockStream {
                     self.pending.extend(self.out.drain(..));
                 }
                 Source::Lines { input, reader, line, buf } => {
+                    // A run the last line began gives its blocks before the next line is read.
+                    if reader.get().more(&mut self.out, &mut self.diags) {
+                        self.pending.extend(self.out.drain(..));
+                        for d in self.diags.0.drain(..) {
+                            self.log.push(d);
+                        }
+                        continue;
+                    }
                     *line += 1;
                     let (n, out, diags) = (*line, &mut self.out, &mut self.diags);
                     match with_line(input.as_mut(), buf, |bytes| reader.get().line(n, &line_text(bytes), out, diags)) {
