@@ -96,19 +96,28 @@ impl Rs274Reader {
     pub(super) fn flow_more(&mut self, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let goal = out.len() + RUN_CHUNK;
         while let Some(mut f) = self.flow.stack.pop() {
-            if out.len() >= goal {
-                self.flow.stack.push(f);
-                return true;
-            }
             let before = out.len();
-            let step = self.in_target(diags, |this, target| this.step(&mut f, out, target));
+            // The frame runs on until it calls, ends, or the chunk is full.
+            let step = loop {
+                if out.len() >= goal {
+                    break None;
+                }
+                match self.in_target(diags, |this, target| this.step(&mut f, out, target)) {
+                    Step::Next => {}
+                    other => break Some(other),
+                }
+            };
+            // A subroutine of another file runs at its call: its blocks stand at the outermost
+            // such call's line (what its end gives back, as a caller's, below).
+            self.at_file_call(&mut out[before..]);
+            let mid = out.len();
             match step {
-                Step::Next => self.flow.stack.push(f),
-                Step::Call(child) => {
+                None | Some(Step::Next) => self.flow.stack.push(f),
+                Some(Step::Call(child)) => {
                     self.flow.stack.push(f);
                     self.flow.stack.push(*child);
                 }
-                Step::Done(end) => {
+                Some(Step::Done(end)) => {
                     if self.end_frame(f, end, out, diags) {
                         // A stop ends every run under it, each subroutine leaving its scope.
                         while let Some(parent) = self.flow.stack.pop() {
@@ -117,15 +126,21 @@ impl Rs274Reader {
                     }
                 }
             }
-            // A subroutine of another file runs at its call: its blocks stand at the outermost
-            // such call's line.
-            if let Some(&(line, col)) = self.flow.file_calls.first() {
-                for b in &mut out[before..] {
-                    (b.line, b.column) = (line, col);
-                }
+            self.at_file_call(&mut out[mid..]);
+            if out.len() >= goal && !self.flow.stack.is_empty() {
+                return true;
             }
         }
         false
+    }
+
+    /// Blocks made inside a subroutine of another file stand at the outermost such call.
+    fn at_file_call(&self, blocks: &mut [Block]) {
+        if let Some(&(line, col)) = self.flow.file_calls.first() {
+            for b in blocks {
+                (b.line, b.column) = (line, col);
+            }
+        }
     }
 
     /// Run `f` with the diagnostics of the innermost subroutine of another file running (said at
@@ -217,23 +232,23 @@ impl Rs274Reader {
         if f.broken || self.flow.stopped || self.program_ended() {
             return Step::Done(End::Stopped);
         }
-        let pc = f.pc;
-        if pc >= f.parsed.len() {
+        let Frame { lines, start, parsed, ends, openers, branches, tests, kept, repeats, pc, .. } = f;
+        let (start, here) = (*start, *pc);
+        if here >= parsed.len() {
             return Step::Done(End::Done);
         }
-        let lines = Arc::clone(&f.lines);
-        let (line, text) = (&lines[f.start + pc].0, &lines[f.start + pc].1);
-        if !self.spend_line(*line, diags) {
+        let (line, text) = (lines[start + here].0, &lines[start + here].1);
+        if !self.spend_line(line, diags) {
             return Step::Done(End::Stopped);
         }
-        let end_of = |f: &Frame, k: usize| f.ends[k].expect("matched above");
-        let opener_of = |f: &Frame, k: usize| f.openers[k].expect("matched above");
+        let end_of = |k: usize| ends[k].expect("matched above");
+        let opener_of = |k: usize| openers[k].expect("matched above");
         // The main program's M99 is its end, read as a line.
         let depth = self.flow.depth;
-        let control = f.parsed[pc].as_ref().filter(|(o, _, _)| !(o.keyword == Keyword::M99 && depth == 0)).cloned();
+        let control = parsed[here].as_ref().filter(|(o, _, _)| !(o.keyword == Keyword::M99 && depth == 0));
         let Some((o, col, chars)) = control else {
             let before = diags.0.len();
-            self.loop_line(*line, text, &mut f.kept[pc], out, diags);
+            self.loop_line(line, text, &mut kept[here], out, diags);
             // Said once per line, however often the flow runs it.
             let fresh: Vec<_> = diags.0.drain(before..).collect();
             for d in fresh {
@@ -242,32 +257,32 @@ impl Rs274Reader {
                     diags.0.push(d);
                 }
             }
-            f.pc += 1;
+            *pc += 1;
             return Step::Next;
         };
-        let (line, col) = (*line, col);
+        let col = *col;
         match o.keyword {
             Keyword::Sub => {
                 // A subroutine defined inside a block: kept, its body skipped.
                 if let (0, Some(&at)) = (self.flow.depth, self.flow.raised.first()) {
                     return Step::Done(self.stop(line, col + 1, super::lcnc_m98::after_l0("a subroutine's definition", at), diags));
                 }
-                let end = end_of(f, pc);
-                self.flow.subs.insert(o.name.clone(), (Arc::new(lines[f.start + pc..=f.start + end].to_vec()), false));
-                f.pc = end + 1;
+                let end = end_of(here);
+                self.flow.subs.insert(o.name.clone(), (Arc::new(lines[start + here..=start + end].to_vec()), false));
+                *pc = end + 1;
             }
             Keyword::EndSub | Keyword::Return if self.flow.in_m98() => {
-                return Step::Done(self.stop(line, col + 1, super::oword::m99_ends(&o), diags));
+                return Step::Done(self.stop(line, col + 1, super::oword::m99_ends(o), diags));
             }
             Keyword::EndSub | Keyword::Return => {
-                return match self.return_value(&o, &chars, line, col, diags) {
+                return match self.return_value(o, chars, line, col, diags) {
                     true => Step::Done(End::Return),
                     false => Step::Done(End::Stopped),
                 };
             }
             Keyword::Call | Keyword::M98 => {
-                let call = if o.keyword == Keyword::Call { self.call(&o, &chars, line, col, diags) } else { self.m98(&chars, o.rest, line, col, diags) };
-                f.pc += 1;
+                let call = if o.keyword == Keyword::Call { self.call(o, chars, line, col, diags) } else { self.m98(chars, o.rest, line, col, diags) };
+                *pc += 1;
                 return match call {
                     Ok(Some(sub)) => match self.enter_sub(sub, diags) {
                         Ok(child) => Step::Call(Box::new(child)),
@@ -281,7 +296,7 @@ impl Rs274Reader {
                 if !self.flow.in_m98() {
                     return Step::Done(self.stop(line, col + 1, "M99 in a subroutine called by o-call: it ends with o endsub or o return (LinuxCNC: \"'O.... endsub' or 'O.... return' must follow 'O.... sub' subroutine definition\")".into(), diags));
                 }
-                if !super::lcnc_m98::only_comments(&chars, o.rest) {
+                if !super::lcnc_m98::only_comments(chars, o.rest) {
                     return Step::Done(self.stop(line, col + 1, "M99: nothing but a comment may follow it on its line (LinuxCNC: \"Unexpected character after O-word\")".into(), diags));
                 }
                 self.flow.value = (0.0, false);
@@ -291,67 +306,67 @@ impl Rs274Reader {
                 if self.flow.depth > 0 && !self.flow.in_m98() {
                     return Step::Done(self.stop(line, col + 1, format!("O{}: a Fanuc-style program start inside a subroutine called by o-call (LinuxCNC: \"Fanuc 'O....' subroutine must be called with 'M98'\")", o.name), diags));
                 }
-                f.pc += 1;
+                *pc += 1;
             }
-            Keyword::Do => f.pc += 1,
-            Keyword::While if f.ends[pc].is_some() => {
+            Keyword::Do => *pc += 1,
+            Keyword::While if ends[here].is_some() => {
                 // A while loop: its condition, here.
-                let Some(c) = self.condition(&o, &chars, line, col, &mut f.tests[pc], diags) else { return Step::Done(End::Stopped) };
-                f.pc = if c { pc + 1 } else { end_of(f, pc) + 1 };
+                let Some(c) = self.condition(o, chars, line, col, &mut tests[here], diags) else { return Step::Done(End::Stopped) };
+                *pc = if c { here + 1 } else { end_of(here) + 1 };
             }
             Keyword::While => {
                 // The end of a do loop: again while its condition holds.
-                let Some(c) = self.condition(&o, &chars, line, col, &mut f.tests[pc], diags) else { return Step::Done(End::Stopped) };
-                f.pc = if c { opener_of(f, pc) + 1 } else { pc + 1 };
+                let Some(c) = self.condition(o, chars, line, col, &mut tests[here], diags) else { return Step::Done(End::Stopped) };
+                *pc = if c { opener_of(here) + 1 } else { here + 1 };
             }
-            Keyword::EndWhile => f.pc = opener_of(f, pc),
+            Keyword::EndWhile => *pc = opener_of(here),
             Keyword::Repeat => {
-                let Some(n) = self.count(&o, &chars, line, col, &mut f.tests[pc], diags) else { return Step::Done(End::Stopped) };
+                let Some(n) = self.count(o, chars, line, col, &mut tests[here], diags) else { return Step::Done(End::Stopped) };
                 if n >= 1.0 {
-                    f.repeats.insert(pc, n);
-                    f.pc += 1;
+                    repeats.insert(here, n);
+                    *pc += 1;
                 } else {
-                    f.pc = end_of(f, pc) + 1;
+                    *pc = end_of(here) + 1;
                 }
             }
             Keyword::EndRepeat => {
-                let start = opener_of(f, pc);
-                let left = f.repeats.get(&start).copied().unwrap_or(0.0) - 1.0;
-                f.repeats.insert(start, left);
-                f.pc = if left >= 1.0 { start + 1 } else { pc + 1 };
+                let opener = opener_of(here);
+                let left = repeats.get(&opener).copied().unwrap_or(0.0) - 1.0;
+                repeats.insert(opener, left);
+                *pc = if left >= 1.0 { opener + 1 } else { here + 1 };
             }
             Keyword::If => {
-                let Some(c) = self.condition(&o, &chars, line, col, &mut f.tests[pc], diags) else { return Step::Done(End::Stopped) };
+                let Some(c) = self.condition(o, chars, line, col, &mut tests[here], diags) else { return Step::Done(End::Stopped) };
                 if c {
-                    f.pc += 1;
+                    *pc += 1;
                     return Step::Next;
                 }
-                let mut next = end_of(f, pc) + 1;
-                for b in f.branches.get(&pc).cloned().unwrap_or_default() {
-                    let Some((bo, bcol, bchars)) = f.parsed[b].clone() else { continue };
+                let mut next = end_of(here) + 1;
+                for &b in branches.get(&here).map_or(&[][..], |v| &v[..]) {
+                    let (bo, bcol, bchars) = parsed[b].as_ref().expect("a branch is an O line");
                     if bo.keyword == Keyword::Else {
                         next = b + 1;
                         break;
                     }
-                    let Some(c) = self.condition(&bo, &bchars, lines[f.start + b].0, bcol, &mut f.tests[b], diags) else { return Step::Done(End::Stopped) };
+                    let Some(c) = self.condition(bo, bchars, lines[start + b].0, *bcol, &mut tests[b], diags) else { return Step::Done(End::Stopped) };
                     if c {
                         next = b + 1;
                         break;
                     }
                 }
-                f.pc = next;
+                *pc = next;
             }
             // The branch taken has ended: past the if's end.
-            Keyword::ElseIf | Keyword::Else => f.pc = end_of(f, opener_of(f, pc)) + 1,
-            Keyword::EndIf => f.pc += 1,
+            Keyword::ElseIf | Keyword::Else => *pc = end_of(opener_of(here)) + 1,
+            Keyword::EndIf => *pc += 1,
             Keyword::Break | Keyword::Continue => {
                 // The innermost open loop of that name around this line.
-                let opener = (0..pc)
+                let opener = (0..here)
                     .rev()
-                    .find(|&k| f.parsed[k].as_ref().is_some_and(|(l, _, _)| l.name == o.name && matches!(l.keyword, Keyword::While | Keyword::Do) && f.ends.get(k).copied().flatten().is_some_and(|e| e > pc)))
+                    .find(|&k| parsed[k].as_ref().is_some_and(|(l, _, _)| l.name == o.name && matches!(l.keyword, Keyword::While | Keyword::Do) && ends.get(k).copied().flatten().is_some_and(|e| e > here)))
                     .expect("matched above");
-                let end = end_of(f, opener);
-                f.pc = match (o.keyword, f.parsed[opener].as_ref().map(|(l, _, _)| l.keyword)) {
+                let end = end_of(opener);
+                *pc = match (o.keyword, parsed[opener].as_ref().map(|(l, _, _)| l.keyword)) {
                     (Keyword::Break, _) => end + 1,
                     // Continue: to the loop's test (a while's head, a do's tail).
                     (_, Some(Keyword::While)) => opener,
