@@ -1136,3 +1136,18 @@ fn what_one_block_makes_is_bounded_and_a_loop_streams() {
     assert!(after, "the line after the loop");
     assert!((last_x / MM - passes as f64 * 0.001).abs() < 1e-6, "{last_x}");
 }
+
+/// LinuxCNC's `#<_rpm>` is the S last set ("Return the current value of S, not the actual spindle
+/// speed"), 0 before any: LinuxCNC 2.9.8's rs274 runs this program to X0, then X12 after S1200,
+/// and `S[#<_rpm>+300]` sets 1500 (Y15), as here.
+#[test]
+fn linuxcnc_rpm_is_the_s_last_set() {
+    let p = read("G21 G90 G17\nG0 X[#<_rpm>] Y0\nS1200 M3\nG1 X[#<_rpm>/100] F100\nS[#<_rpm>+300]\nG1 Y[#<_rpm>/100]\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ends: Vec<[f64; 2]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1]]).collect();
+    let rs274 = [[0.0, 0.0], [12.0, 0.0], [12.0, 15.0]];
+    assert_eq!(ends.len(), rs274.len(), "{ends:?}");
+    for (e, w) in ends.iter().zip(rs274) {
+        assert!((e[0] - w[0]).abs() < 1e-9 && (e[1] - w[1]).abs() < 1e-9, "{ends:?}");
+    }
+}

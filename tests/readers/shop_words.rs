@@ -157,16 +157,23 @@ fn klartext_lp_keeps_the_polar_radius_left_out() {
 /// Fanuc's modal information (custom macro B, system variables #4001-#4030 the G code groups,
 /// #4109 F, #4120 T) as the blocks before left it, so that a macro saving and restoring a mode reads:
 /// `#10 = #4003` under G90 is 90 (`G#10` then restores absolute: X5 is X5, not 10 + 5), `#11 = #4006`
-/// under G21 is 21, `#12 = #4001` after a G01 is 1, `#13 = #4109` the feed 100. A system variable
-/// this reader does not hold (`#4119`, the S code) is refused as the control's.
+/// under G21 is 21, `#12 = #4001` after a G01 is 1, `#13 = #4109` the feed 100, `#4119` the S last
+/// set (1200). A system variable this reader does not hold (`#4111`, the H code), or `#4119` before
+/// any S (the control's from before the program), is refused as the control's.
 #[test]
 fn fanuc_macros_read_the_modal_information() {
     let p = read("%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\n#10 = #4003\n#11 = #4006\nG91 G1 X10. F100.\nG#10 G1 X5. Y#11\n#12 = #4001\n#13 = #4109\nG1 Z#12 X#13\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     let ends: Vec<[f64; 3]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1], a[2]]).collect();
     assert_eq!(ends, vec![[0.0, 0.0, 10.0], [10.0, 0.0, 10.0], [5.0, 21.0, 10.0], [100.0, 21.0, 1.0]]);
-    let p = read("%\nO1000\nG21 G90 G94\nS1000 M3\n#13 = #4119\nG1 X#13 F100.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
-    assert!(errors(&p).iter().any(|(l, _, m)| *l == 5 && m.contains("#4119 is a system variable")), "{:?}", errors(&p));
+    let p = read("%\nO1000\nG21 G90 G94\nS1200 M3\n#13 = #4119\nG1 X[#13/100] F100.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let x = end_points(&p).last().map_or(f64::NAN, |(_, a)| a[0]);
+    assert!((x - 12.0).abs() < 1e-9, "X{x}: #4119 after S1200 is 1200");
+    for (text, var) in [("%\nO1000\nG21 G90 G94\n#13 = #4119\nG1 X#13 F100.\nM30\n%\n", "#4119"), ("%\nO1000\nG21 G90 G94\n#13 = #4111\nG1 X#13 F100.\nM30\n%\n", "#4111")] {
+        let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+        assert!(errors(&p).iter().any(|(_, _, m)| m.contains(&format!("{var} is a system variable"))), "{text}: {:?}", errors(&p));
+    }
 }
 
 /// A refused block sets none of its codes (fail closed), so a later block may be refused for a

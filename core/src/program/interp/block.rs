@@ -371,7 +371,12 @@ impl Interpreter {
                 }
                 // A tool definition's T (G99) calls no tool.
                 'T' | 'S' if defines => {}
-                'T' | 'S' => events.push(format!("{}{}", w.letter, w.raw)),
+                'T' | 'S' => {
+                    if w.letter == 'S' {
+                        next.spindle_speed = Some(w.value);
+                    }
+                    events.push(format!("{}{}", w.letter, w.raw));
+                }
                 // Fanuc, Haas: D selects a cutter radius register, used only under G41/G42 (refused).
                 'D' if fanuc => events.push(format!("D{}", w.raw)),
                 'F' => feed_word = Some(w),

@@ -113,6 +113,9 @@ pub struct Interpreter {
     /// tool table its `G41`/`G42` take the radius from.
     pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
     pub(crate) tools: super::cutter_comp::Tools,
+    /// The spindle speed the last `S` word set (as written, 1/min), for the macros that read it
+    /// (LinuxCNC's `#<_rpm>`, Fanuc's `#4119`); None before any.
+    pub(crate) spindle_speed: Option<f64>,
     tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
     /// Whether blocks end in a stop (G61, G61.1, G60; G64 blends): the modal mode.
     pub(crate) exact: crate::program::Exact,
@@ -236,6 +239,7 @@ impl Interpreter {
             exact_once: false,
             comp: None,
             tools: Default::default(),
+            spindle_speed: None,
             tool_table: None,
             tool_vector: false,
             orientation: dialect.default_orientation(),

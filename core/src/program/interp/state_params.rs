@@ -1,8 +1,8 @@
 //! LinuxCNC's predefined parameters that read the interpreter's state (LinuxCNC manual §11.4.3.4
 //! "Predefined Named Parameters", interp_namedparams.cc `lookup_named_param`; numbered ones of
 //! §11.4.2.7: `#5220` the coordinate system, `#5400` the tool, `#5420`-`#5425` the current
-//! position): the values this reader knows. The spindle, coolant, overrides, tool length offsets
-//! and the line number are not modelled and stay refused.
+//! position): the values this reader knows. The spindle's state (but the speed S last set),
+//! coolant, overrides, tool length offsets and the line number are not modelled and stay refused.
 
 use super::Interpreter;
 use crate::program::params::StateParameters;
@@ -37,6 +37,8 @@ impl Interpreter {
             ("_lathe_diameter_mode", 0.0),
             ("_lathe_radius_mode", 1.0),
             ("_feed", self.feed_in_program_units().unwrap_or(0.0)),
+            // "Return the current value of S, not the actual spindle speed" (0 before any S).
+            ("_rpm", self.spindle_speed.unwrap_or(0.0)),
             // The control runs the program (milltask), not a preview.
             ("_task", 1.0),
         ];
@@ -86,7 +88,7 @@ impl Interpreter {
 
     /// Fanuc's and Haas' modal information of the blocks run so far, the G code groups this reader
     /// holds (FANUC custom macro B, system variables "#4001-#4030: G codes of groups 01-30", #4109 F,
-    /// #4120 T; Haas' macro variables #4001-#4021, the group codes, numbered as Fanuc's for these):
+    /// #4119 S, #4120 T; Haas' macro variables #4001-#4021, the group codes, numbered as Fanuc's for these):
     /// 01 motion (not under a canned cycle, whose group is 09), 02 plane, 03 G90/G91, 05 G93/G94, 06
     /// G20/G21, 07 G40 (compensation is refused, so always off), 09 the cycle or G80, 10 G98/G99;
     /// Fanuc's 14 the work offset G54-G59, F in the program's unit and the T selected.
@@ -120,6 +122,10 @@ impl Interpreter {
             }
             if let Some(f) = self.feed_in_program_units() {
                 numbered.push((4109, f));
+            }
+            // #4119 S: the speed the program last set (the control's own before it is not known).
+            if let Some(s) = self.spindle_speed {
+                numbered.push((4119, s));
             }
             if let (Some(t), _) = self.tools.known() {
                 numbered.push((4120, t as f64));

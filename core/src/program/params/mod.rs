@@ -227,7 +227,7 @@ impl Parameters {
                 return Ok(v);
             }
             return err(column, match self.fanuc {
-                true => format!("#{n} is a system variable of the control (#1000 and up: signals, offsets, clocks, positions, modal information beyond the G code groups, F and T this reader holds): not read"),
+                true => format!("#{n} is a system variable of the control (#1000 and up: signals, offsets, clocks, positions, modal information beyond the G code groups, F, S and T this reader holds): not read"),
                 false => format!("#{n} is a system parameter (offsets, tool, position): the machine's state is not modelled"),
             });
         }
