@@ -3,7 +3,8 @@
 //! wherever the next block turns away, G-code reference §G61), Fanuc's and Haas' G61 (modal) and G09
 //! (one block) ("the tool is decelerated at the end point of a block, then an in-position check is
 //! made", FANUC B-64484EN "Exact stop"), Sinumerik's G60 (modal) and G9 (one block: "the motion
-//! decelerates to a stop at the end of the block", Programming Manual Fundamentals); G64 blends again.
+//! decelerates to a stop at the end of the block", Programming Manual Fundamentals); G64 blends again,
+//! and so does Fanuc's G62 (inner-corner override, which acts under cutter compensation only).
 //! A dwell of 0 s (`G4 P0`, `G04 P0`) stops the machine as any dwell does (LinuxCNC's task drains
 //! the motion queue before a dwell), and so does Sinumerik's preprocessing stop `STOPRE` (the
 //! blocks after it are prepared only once it is executed: the motion before it runs out to a stop).
@@ -36,7 +37,7 @@ fn slowest_near(text: &str, dialect: Dialect, at_mm: f64) -> f64 {
 /// the one-block forms only their block.
 #[test]
 fn exact_stop_codes_stop_the_machine_at_the_block_end() {
-    let cases: [(Dialect, &str, (bool, bool)); 16] = [
+    let cases: [(Dialect, &str, (bool, bool)); 17] = [
         (Dialect::Rs274, "G21 G90 G94\nG0 X0 Y0 Z10\nG1 X10 F600\nX20\nX30\nM2\n", (false, false)),
         (Dialect::Rs274, "G21 G90 G94\nG0 X0 Y0 Z10\nG61.1\nG1 X10 F600\nX20\nX30\nM2\n", (true, true)),
         (Dialect::Rs274, "G21 G90 G94\nG0 X0 Y0 Z10\nG61.1\nG1 X10 F600\nG64\nX20\nX30\nM2\n", (true, false)),
@@ -44,6 +45,8 @@ fn exact_stop_codes_stop_the_machine_at_the_block_end() {
         (Dialect::Fanuc, "%\nO0001\nG21 G90 G94\nG0 X0 Y0 Z10.\nG61\nG1 X10. F600.\nX20.\nX30.\nM30\n%\n", (true, true)),
         (Dialect::Fanuc, "%\nO0001\nG21 G90 G94\nG0 X0 Y0 Z10.\nG09 G1 X10. F600.\nX20.\nX30.\nM30\n%\n", (true, false)),
         (Dialect::Fanuc, "%\nO0001\nG21 G90 G94\nG0 X0 Y0 Z10.\nG1 X10. F600.\nX20.\nX30.\nM30\n%\n", (false, false)),
+        // G62 (inner-corner override, of G61's group) ends G61: without cutter compensation, as G64.
+        (Dialect::Fanuc, "%\nO0001\nG21 G90 G94\nG0 X0 Y0 Z10.\nG61\nG1 X10. F600.\nG62 X20.\nX30.\nM30\n%\n", (true, false)),
         (Dialect::Haas, "%\nO0001\nG21 G90 G94\nG0 X0 Y0 Z10.\nG61\nG1 X10. F600.\nX20.\nX30.\nM30\n%\n", (true, true)),
         (Dialect::Haas, "%\nO0001\nG21 G90 G94\nG0 X0 Y0 Z10.\nG61\nG64\nG1 X10. F600.\nX20.\nX30.\nM30\n%\n", (false, false)),
         (Dialect::Sinumerik, "G90 G71\nG0 X0 Y0 Z10\nG60\nG1 X10 F600\nX20\nX30\nM30\n", (true, true)),

@@ -291,6 +291,12 @@ impl Interpreter {
                         }
                         ("61.1", false) if self.dialect == Dialect::Rs274 => next.exact = Exact::Stop,
                         ("61", false) if fanuc => next.exact = Exact::Stop,
+                        // Fanuc's automatic override for inner corners, G62, of G61's and G64's group:
+                        // "valid until G61 or G64 is specified", the feed overridden "when the tool
+                        // moves along an inner corner during cutter compensation" (FANUC Series 0i
+                        // Operator's Manual B-64154EN §5.4, Table 5.4): without compensation (which
+                        // is refused) it runs as G64 does.
+                        ("62", false) if self.dialect == Dialect::Fanuc => next.exact = Exact::Blend,
                         ("9", false) if fanuc => exact_stop_here = true,
                         ("4", _) => {
                             uses.push('P');
