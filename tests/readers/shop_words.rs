@@ -186,9 +186,9 @@ fn a_defect_after_a_refused_block_names_it() {
     assert!(e.iter().any(|(l, _, m)| *l == 5 && m.contains("Q5.")), "{e:?}");
     assert!(e.iter().any(|(l, _, m)| *l == 6 && m.contains("not an arc-centre word") && m.contains("line 5 was refused before it")), "{e:?}");
     // A block with a defect of its own (an unknown G code) is not told of the earlier one.
-    let p = read("%\nO1000\nG21 G90 G17 G94 F100.\nG0 X10. Y0. Z0.\nG18 G2 X12. Z0. I1. K0. Q5.\nG2 G62 X14. Z0. I1. K0.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    let p = read("%\nO1000\nG21 G90 G17 G94 F100.\nG0 X10. Y0. Z0.\nG18 G2 X12. Z0. I1. K0. Q5.\nG2 G39 X14. Z0. I1. K0.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
     let e = errors(&p);
-    assert!(e.iter().any(|(l, _, m)| *l == 6 && m.contains("G62")), "{e:?}");
+    assert!(e.iter().any(|(l, _, m)| *l == 6 && m.contains("G39")), "{e:?}");
     assert!(e.iter().any(|(l, _, m)| *l == 6 && m.contains("not an arc-centre word") && !m.contains("was refused before it")), "{e:?}");
     // A chain names its first block (the one whose G code did not take effect), and a block refused
     // for a code of its own names no other.
