@@ -1089,6 +1089,30 @@ fn rs274_calls_subroutines_of_other_files_as_linuxcnc_does() {
     assert!(e.iter().any(|(l, c, m)| (*l, *c) == (3, 1) && m.contains("peck_hole.ngc:")), "{e:#?}");
 }
 
+/// Subroutines of other files inside a run: a move before such a call stands at its own line (only
+/// the file's moves stand at the call), and what a file's line says is said at the call naming that
+/// file, a file's call of another file's subroutine naming both in turn (a review of the streamed
+/// runs found the first move moved to the call's line and a's warning named as b's).
+#[test]
+fn moves_and_warnings_of_other_files_stand_where_linuxcnc_says() {
+    let dir = std::env::temp_dir().join(format!("fiveaxis-files-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("a2.ngc"), "o<a2> sub\nG1 X5\no<a2> endsub\n").unwrap();
+    std::fs::write(dir.join("a.ngc"), "o<a> sub\nG4 P100\no<b> call\no<a> endsub\n").unwrap();
+    std::fs::write(dir.join("b.ngc"), "o<b> sub\nG4 P200\nG1 X2\no<b> endsub\n").unwrap();
+    let options = ReadOptions { subroutine_files: Some(std::sync::Arc::new(fiveaxis::program::SubroutineDirs(vec![dir.clone()]))), ..ReadOptions::default() };
+    let p = read("G21 G90 F100\no1 if [1]\nG0 X1\no<a2> call\no1 endif\nM2\n", Dialect::Rs274, "t.ngc", &options);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let at: Vec<(usize, Option<f64>)> = p.blocks.iter().filter(|b| b.targets.x.is_some()).map(|b| (b.line, b.targets.x.map(|x| x / MM))).collect();
+    assert_eq!(at, [(3, Some(1.0)), (4, Some(5.0))]);
+    let p = read("G21 G90 F100\no<a> call\nM2\n", Dialect::Rs274, "t.ngc", &options);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let said: Vec<&str> = p.diagnostics.iter().filter(|d| d.severity == Severity::Warning && d.line == 2).map(|d| d.message.as_str()).collect();
+    assert!(said.iter().any(|m| m.contains("a.ngc:2:") && m.contains("P100") && !m.contains("b.ngc")), "{said:#?}");
+    assert!(said.iter().any(|m| m.contains("a.ngc:3:") && m.contains("b.ngc:2:") && m.contains("P200")), "{said:#?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `--subroutine-path` through the CLI: the program that calls the files' subroutines reads clean
 /// with it, and is refused at its first call without it.
 #[test]

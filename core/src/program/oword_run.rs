@@ -73,6 +73,16 @@ impl SubRun {
     }
 }
 
+/// Blocks made inside a subroutine of another file stand at the outermost such call (`call`: its
+/// line and 1-based column, None outside any).
+fn at_file_call(call: Option<(usize, usize)>, blocks: &mut [Block]) {
+    if let Some((line, col)) = call {
+        for b in blocks {
+            (b.line, b.column) = (line, col);
+        }
+    }
+}
+
 /// What one step of a frame came to.
 enum Step {
     Next,
@@ -97,6 +107,8 @@ impl Rs274Reader {
         let goal = out.len() + RUN_CHUNK;
         while let Some(mut f) = self.flow.stack.pop() {
             let before = out.len();
+            // Where the blocks of these steps stand: taken before a call among them enters another.
+            let file_call = self.flow.file_calls.first().copied();
             // The frame runs on until it calls, ends, or the chunk is full.
             let step = loop {
                 if out.len() >= goal {
@@ -109,7 +121,7 @@ impl Rs274Reader {
             };
             // A subroutine of another file runs at its call: its blocks stand at the outermost
             // such call's line (what its end gives back, as a caller's, below).
-            self.at_file_call(&mut out[before..]);
+            at_file_call(file_call, &mut out[before..]);
             let mid = out.len();
             match step {
                 None | Some(Step::Next) => self.flow.stack.push(f),
@@ -126,7 +138,7 @@ impl Rs274Reader {
                     }
                 }
             }
-            self.at_file_call(&mut out[mid..]);
+            at_file_call(self.flow.file_calls.first().copied(), &mut out[mid..]);
             if out.len() >= goal && !self.flow.stack.is_empty() {
                 return true;
             }
@@ -134,22 +146,15 @@ impl Rs274Reader {
         false
     }
 
-    /// Blocks made inside a subroutine of another file stand at the outermost such call.
-    fn at_file_call(&self, blocks: &mut [Block]) {
-        if let Some(&(line, col)) = self.flow.file_calls.first() {
-            for b in blocks {
-                (b.line, b.column) = (line, col);
-            }
-        }
-    }
-
     /// Run `f` with the diagnostics of the innermost subroutine of another file running (said at
-    /// its call when it ends), else `diags`.
+    /// its call when it ends), else `diags`. Taken from its place and put back there: `f` may
+    /// enter another file's subroutine, whose own come after it.
     fn in_target<R>(&mut self, diags: &mut Diags, f: impl FnOnce(&mut Self, &mut Diags) -> R) -> R {
-        match self.flow.file_diags.pop() {
-            Some(mut inner) => {
+        match self.flow.file_diags.len().checked_sub(1) {
+            Some(k) => {
+                let mut inner = std::mem::take(&mut self.flow.file_diags[k]);
                 let r = f(self, &mut inner);
-                self.flow.file_diags.push(inner);
+                self.flow.file_diags[k] = inner;
                 r
             }
             None => f(self, diags),
@@ -407,7 +412,11 @@ impl Rs274Reader {
             self.flow.file_calls.push((sub.line, sub.col + 1));
         }
         let start = 1.min(body.len());
-        let frame = self.in_target(diags, |this, target| this.frame(body, start, len, Some(sub), target));
+        // Its lines' defects: in its own file's diagnostics (just pushed), else the caller's.
+        let frame = match sub.file.is_some() {
+            true => self.in_target(diags, |this, target| this.frame(body, start, len, Some(sub), target)),
+            false => self.frame(body, start, len, Some(sub), diags),
+        };
         Ok(frame)
     }
 

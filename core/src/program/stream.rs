@@ -352,12 +352,14 @@ impl BlockStream {
                     self.pending.extend(self.out.drain(..));
                 }
                 Source::Lines { input, reader, line, buf } => {
-                    // A run the last line began gives its blocks before the next line is read.
-                    if reader.get().more(&mut self.out, &mut self.diags) {
-                        self.pending.extend(self.out.drain(..));
-                        for d in self.diags.0.drain(..) {
-                            self.log.push(d);
-                        }
+                    // A run the last line began gives its blocks before the next line is read
+                    // (its last part too, handed out before the next line's).
+                    let running = reader.get().more(&mut self.out, &mut self.diags);
+                    self.pending.extend(self.out.drain(..));
+                    for d in self.diags.0.drain(..) {
+                        self.log.push(d);
+                    }
+                    if running || !self.pending.is_empty() {
                         continue;
                     }
                     *line += 1;
