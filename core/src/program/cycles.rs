@@ -155,6 +155,11 @@ pub(crate) fn hole(a: &Active, to_r: bool, clearance: f64) -> Vec<Step> {
 /// peck makes blocks).
 pub(crate) const MAX_PECKS: usize = 10_000;
 
+/// Whether a hole `depth` deep in pecks (or plunges) of `peck` takes more than [`MAX_PECKS`].
+pub(crate) fn too_many_pecks(depth: f64, peck: f64) -> bool {
+    (depth / peck).abs() > MAX_PECKS as f64
+}
+
 /// The most moves one cycle block may make, its repeats (Fanuc's K, LinuxCNC's L) times each
 /// hole's: a block's moves are held until it has run, and K9999 holes of 9,091 pecks each (27
 /// million moves, gigabytes) are a typo, as is a peck too small ([`MAX_PECKS`]).

@@ -242,7 +242,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q)", kind.code()));
         return false;
     }
-    if let Some(q) = peck.filter(|q| kind.pecks() && (r - bottom).abs() / q > cycles::MAX_PECKS as f64) {
+    if let Some(q) = peck.filter(|q| kind.pecks() && cycles::too_many_pecks(r - bottom, *q)) {
         diags.error(line, find('Q').map_or(at, |w| w.column), format!("G{}: Q{} makes more than {} pecks of a {} deep hole: a typo?", kind.code(), q / unit, cycles::MAX_PECKS, (r - bottom).abs() / unit));
         return false;
     }

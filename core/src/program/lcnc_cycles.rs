@@ -170,7 +170,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         diags.error(line, at, format!("{name}: R {} is below {depth} {}: LinuxCNC refuses it (\"R less than {depth} in cycle in {plane_name} plane\")", r / unit, bottom / unit));
         return false;
     }
-    if kind.pecks() && (r - bottom) / (q * unit) > super::cycles::MAX_PECKS as f64 {
+    if kind.pecks() && super::cycles::too_many_pecks(r - bottom, q * unit) {
         diags.error(line, find('Q').map_or(at, |w| w.column), format!("{name}: Q{q} makes more than {} pecks of a {} deep hole: a typo?", super::cycles::MAX_PECKS, (r - bottom) / unit));
         return false;
     }

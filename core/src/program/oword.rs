@@ -251,9 +251,6 @@ pub struct Flow {
     /// The program's own text, read again for a subroutine defined after its call
     /// ([`super::later_subs`]), where the reader was given it.
     pub(crate) own: Option<Arc<super::later_subs::ProgramText>>,
-    /// How many subroutines of other files are running (a call in one skips forward in that file,
-    /// which is not read here).
-    pub(super) in_file: usize,
     /// For each call running, innermost last: whether it is a Fanuc-style `M98` call.
     pub(super) frames: Vec<bool>,
     /// The lines of the `M98 ... L0` run so far: LinuxCNC 2.9 enters a call level for each and never
@@ -261,17 +258,16 @@ pub struct Flow {
     pub(crate) raised: Vec<usize>,
     /// The runs under way, innermost last ([`super::oword_run`]).
     pub(super) stack: Vec<super::oword_run::Frame>,
-    /// For each subroutine of another file running, outermost first: what its lines said (said at
-    /// its call when it returns), and where its call stands (line, 1-based column).
-    pub(super) file_diags: Vec<Diags>,
-    pub(super) file_calls: Vec<(usize, usize)>,
+    /// The subroutines of other files running, outermost first (a call in one skips forward in
+    /// that file, which is not read here).
+    pub(super) file_runs: Vec<super::oword_run::FileRun>,
 }
 
 impl Flow {
     /// The flow of a read whose control blocks may run `budget` lines, its subroutines not defined
     /// in the program looked for in `sub_files`.
     pub fn new(budget: usize, sub_files: Option<Arc<dyn SubroutineFiles>>) -> Flow {
-        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false), own: None, in_file: 0, frames: Vec::new(), raised: Vec::new(), stack: Vec::new(), file_diags: Vec::new(), file_calls: Vec::new() }
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false), own: None, frames: Vec::new(), raised: Vec::new(), stack: Vec::new(), file_runs: Vec::new() }
     }
 
     /// How deep in subroutine calls the run stands (0: the main program), as LinuxCNC counts it
@@ -559,7 +555,7 @@ impl Rs274Reader {
             // LinuxCNC's order (control_back_to): a file of the search path, else forward in this
             // file ([`super::later_subs`]; not from a subroutine of another file).
             None => {
-                let own = self.flow.own.clone().filter(|_| self.flow.in_file == 0);
+                let own = self.flow.own.clone().filter(|_| self.flow.file_runs.is_empty());
                 let found = match self.flow.load(name) {
                     Ok(None) => own.as_ref().map_or(Ok(None), |t| t.sub_after(name, line, self.percent)).map(|l| l.map(|sub| (sub, None))),
                     found => found.map(|f| f.map(|(sub, file)| (sub, Some(file)))),

@@ -21,6 +21,13 @@ pub const RUN_CHUNK: usize = 1024;
 /// A line's O word, the column it stands at and its characters from there, if it is a control line.
 type Control = Option<(OLine, usize, Vec<char>)>;
 
+/// Line `text` read as a control line, if it is one.
+fn control(text: &str) -> Control {
+    let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
+    let first = chars.iter().position(|c| !c.is_whitespace()).unwrap_or(chars.len());
+    parse(&chars[first..]).map(|o| (o, first, chars[first..].to_vec()))
+}
+
 /// One run of lines in progress: a held block (the program's level) or a subroutine's body.
 #[derive(Debug, Clone)]
 pub(super) struct Frame {
@@ -73,6 +80,14 @@ impl SubRun {
     }
 }
 
+/// A subroutine of another file running: where its call stands (line, 1-based column) and what its
+/// lines said (said at the call, naming the file, when it returns).
+#[derive(Debug, Clone)]
+pub(super) struct FileRun {
+    call: (usize, usize),
+    diags: Diags,
+}
+
 /// Blocks made inside a subroutine of another file stand at the outermost such call (`call`: its
 /// line and 1-based column, None outside any).
 fn at_file_call(call: Option<(usize, usize)>, blocks: &mut [Block]) {
@@ -108,7 +123,7 @@ impl Rs274Reader {
         while let Some(mut f) = self.flow.stack.pop() {
             let before = out.len();
             // Where the blocks of these steps stand: taken before a call among them enters another.
-            let file_call = self.flow.file_calls.first().copied();
+            let file_call = self.flow.file_runs.first().map(|r| r.call);
             // The frame runs on until it calls, ends, or the chunk is full.
             let step = loop {
                 if out.len() >= goal {
@@ -138,7 +153,7 @@ impl Rs274Reader {
                     }
                 }
             }
-            at_file_call(self.flow.file_calls.first().copied(), &mut out[mid..]);
+            at_file_call(self.flow.file_runs.first().map(|r| r.call), &mut out[mid..]);
             if out.len() >= goal && !self.flow.stack.is_empty() {
                 return true;
             }
@@ -150,11 +165,11 @@ impl Rs274Reader {
     /// its call when it ends), else `diags`. Taken from its place and put back there: `f` may
     /// enter another file's subroutine, whose own come after it.
     fn in_target<R>(&mut self, diags: &mut Diags, f: impl FnOnce(&mut Self, &mut Diags) -> R) -> R {
-        match self.flow.file_diags.len().checked_sub(1) {
+        match self.flow.file_runs.len().checked_sub(1) {
             Some(k) => {
-                let mut inner = std::mem::take(&mut self.flow.file_diags[k]);
+                let mut inner = std::mem::take(&mut self.flow.file_runs[k].diags);
                 let r = f(self, &mut inner);
-                self.flow.file_diags[k] = inner;
+                self.flow.file_runs[k].diags = inner;
                 r
             }
             None => f(self, diags),
@@ -165,14 +180,7 @@ impl Rs274Reader {
     /// name closed by another's end, or a `break` outside its loop, stops the run before anything
     /// moves (the frame is then broken).
     fn frame(&mut self, lines: Arc<Vec<Line>>, start: usize, len: usize, sub: Option<SubRun>, diags: &mut Diags) -> Frame {
-        let parsed: Vec<Control> = lines[start..start + len]
-            .iter()
-            .map(|(_, t)| {
-                let chars: Vec<char> = t.trim_end_matches('\r').chars().collect();
-                let first = chars.iter().position(|c| !c.is_whitespace()).unwrap_or(chars.len());
-                parse(&chars[first..]).map(|o| (o, first, chars[first..].to_vec()))
-            })
-            .collect();
+        let parsed: Vec<Control> = lines[start..start + len].iter().map(|(_, t)| control(t)).collect();
         let mut f = Frame {
             ends: vec![None; len],
             openers: vec![None; len],
@@ -407,9 +415,7 @@ impl Rs274Reader {
         // call's line, a diagnostic naming its own.
         sub.file = self.flow.files.get(&sub.name).cloned();
         if sub.file.is_some() {
-            self.flow.in_file += 1;
-            self.flow.file_diags.push(Diags::default());
-            self.flow.file_calls.push((sub.line, sub.col + 1));
+            self.flow.file_runs.push(FileRun { call: (sub.line, sub.col + 1), diags: Diags::default() });
         }
         let start = 1.min(body.len());
         // Its lines' defects: in its own file's diagnostics (just pushed), else the caller's.
@@ -425,15 +431,13 @@ impl Rs274Reader {
     /// stopped (every frame under it ends too).
     fn end_frame(&mut self, f: Frame, end: End, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         self.let_go(f.kept.iter().flatten());
-        let Some(sub) = f.sub else {
+        let Some(mut sub) = f.sub else {
             // A held block at the program's level: a return in it ends it.
             return matches!(end, End::Stopped);
         };
         let (line, col) = (sub.line, sub.col);
         if let Some(file) = &sub.file {
-            self.flow.in_file -= 1;
-            self.flow.file_calls.pop();
-            let inner = self.flow.file_diags.pop().unwrap_or_default();
+            let inner = self.flow.file_runs.pop().map_or_else(Diags::default, |r| r.diags);
             self.in_target(diags, |_, target| {
                 for d in inner.0 {
                     let message = format!("in {file}:{}:{}: {}", d.line, d.column, d.message);
@@ -445,20 +449,16 @@ impl Rs274Reader {
             });
         }
         let end = match (end, &sub.endsub) {
-            (End::Done, Some((l, text))) => {
-                let chars: Vec<char> = text.trim_end_matches('\r').chars().collect();
-                let first = chars.iter().position(|c| !c.is_whitespace()).unwrap_or(chars.len());
-                match parse(&chars[first..]) {
-                    Some(e) if !self.in_target(diags, |this, target| this.return_value(&e, &chars[first..], *l, first, target)) => End::Stopped,
-                    _ => End::Done,
-                }
-            }
+            (End::Done, Some((l, text))) => match control(text) {
+                Some((e, first, chars)) if !self.in_target(diags, |this, target| this.return_value(&e, &chars, *l, first, target)) => End::Stopped,
+                _ => End::Done,
+            },
             (end, _) => end,
         };
         let restore = self.contexts.leave(self.flow.depth);
         self.flow.depth -= 1;
         self.flow.frames.pop();
-        if let Some(scope) = sub.scope.clone() {
+        if let Some(scope) = sub.scope.take() {
             self.params.leave_call(scope);
         }
         if matches!(end, End::Stopped) {

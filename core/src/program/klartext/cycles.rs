@@ -178,10 +178,12 @@ fn pecking_part<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags: &
         return None;
     }
     // The feed's label is F; the others are in the control's language.
-    let feed_label = if label.is_empty() { toks[3..toks.len() - 1].iter().map(|t| t.0).collect::<Vec<_>>().join(" ") } else { label.to_string() };
-    if n == 5 && !feed_label.eq_ignore_ascii_case("F") {
-        diags.error(line, toks[3].1, format!("CYCL DEF 1.5: expected the feed, F, found '{}'", excerpt(&feed_label)));
-        return None;
+    if n == 5 {
+        let feed_label = if label.is_empty() { toks[3..toks.len() - 1].iter().map(|t| t.0).collect::<Vec<_>>().join(" ") } else { label.to_string() };
+        if !feed_label.eq_ignore_ascii_case("F") {
+            diags.error(line, toks[3].1, format!("CYCL DEF 1.5: expected the feed, F, found '{}'", excerpt(&feed_label)));
+            return None;
+        }
     }
     value_word(what, value, last, last_col + label.chars().count(), line, diags).map(|w| Kind::Pecking { part: n, value: Some(w) })
 }
@@ -291,7 +293,7 @@ impl Exec {
         }
         // Each plunge makes blocks: a plunging depth a thousand times too small is a typo (and
         // would take memory without bound).
-        if h.plunge > 0.0 && (h.depth / h.plunge).abs() > crate::program::cycles::MAX_PECKS as f64 {
+        if h.plunge > 0.0 && crate::program::cycles::too_many_pecks(h.depth, h.plunge) {
             return Err(format!("Q202={} makes more than {} plunges of a {} deep hole: a typo?", h.plunge / unit, crate::program::cycles::MAX_PECKS, -h.depth / unit));
         }
         Ok((crate::program::cycles::tnc_hole(&h), feed))

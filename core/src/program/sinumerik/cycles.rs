@@ -73,8 +73,8 @@ pub(crate) struct Hole {
     pub tapping: Option<(f64, f64, f64)>,
 }
 
-/// Most infeeds one CYCLE83 hole makes (bounds the moves a degression can ask).
-const MAX_PECKS: usize = 10_000;
+// Most infeeds one CYCLE83 hole makes (bounds the moves a degression can ask): every dialect's.
+use crate::program::cycles::MAX_PECKS;
 
 fn get(args: &[Arg], k: usize) -> &Arg {
     args.get(k).unwrap_or(&Arg::Empty)
