@@ -40,7 +40,9 @@ pub struct ControlArgs {
     #[arg(long = "tool-table-units", value_name = "UNIT", default_value = "mm", value_parser = clap::builder::PossibleValuesParser::new(LengthUnit::NAMES).map(|s| s.parse::<LengthUnit>().expect("a listed name parses")))]
     pub tool_table_units: LengthUnit,
     /// A directory where an RS274NGC program's `o<name> call` of a subroutine it does not define finds
-    /// `name.ngc` (LinuxCNC's `[RS274NGC] SUBROUTINE_PATH`; repeatable, searched in order).
+    /// `name.ngc` (LinuxCNC's `[RS274NGC] SUBROUTINE_PATH`), and an 840D program's call of `NAME`
+    /// finds `NAME.SPF` when it is not beside the program (the control's subprogram and cycle
+    /// directories); repeatable, searched in order.
     #[arg(long = "subroutine-path", value_name = "DIR")]
     pub subroutine_path: Vec<std::path::PathBuf>,
 }

@@ -393,7 +393,7 @@ fn the_ftv5_programs_defects_are_refused_as_the_840d_refuses_them() {
             let why = if l.contains("M202(") {
                 "not 840D syntax"
             } else if l.trim() == "TRAOOF" {
-                "TRAOOF: not an instruction read here; alone it calls the subprogram TRAOOF"
+                "TRAOOF: a call of the subprogram TRAOOF, whose file (TRAOOF.SPF) is neither beside the program"
             } else if l.contains("G503") {
                 "G503: unknown G code"
             } else if cycle84_without_pitch {

@@ -164,9 +164,9 @@ fn ac_and_ic_dimension_their_word_only() {
     assert!((arc.centre[0] - 23.0 * MM).abs() < 1e-12 && (arc.centre[1] - 17.0 * MM).abs() < 1e-12, "{:?}", arc.centre);
 }
 
-/// The 840D's subprogram calls, each of another program not given with this one (Fundamentals,
-/// "Subprogram call": a name alone in its block, `L47`; Job Planning, `CALL "NAME"`), are refused at
-/// their column, saying what they call: the motion would depend on that program.
+/// The 840D's subprogram calls of programs not given with this one (NC programming 12/2019 §3.2.1.2:
+/// a name alone in its block, `L47`; `CALL "NAME"`, an indirect call, is not read) are refused at
+/// their column, saying what they call and where it was looked for: the motion would depend on it.
 #[test]
 fn subprogram_calls_name_the_program_they_call() {
     let p = read("G90 G71\nG0 X0 Y0 Z50\nCALL \"SUB1\"\nSUB1\nL100\nG1 X10 F100\nM30\n", Dialect::Sinumerik, "calls.mpf", &ReadOptions::default());
@@ -175,7 +175,34 @@ fn subprogram_calls_name_the_program_they_call() {
     assert_eq!((e[0].0, e[0].1), (3, 6));
     assert!(e[0].2.contains("CALL \"NAME\" calls another program"), "{e:?}");
     assert_eq!((e[1].0, e[1].1), (4, 1));
-    assert!(e[1].2.contains("alone it calls the subprogram SUB1"), "{e:?}");
+    assert!(e[1].2.contains("a call of the subprogram SUB1, whose file (SUB1.SPF) is neither beside the program nor in a directory of --subroutine-path"), "{e:?}");
     assert_eq!((e[2].0, e[2].1), (5, 1));
     assert!(e[2].2.contains("a call of the subprogram L100"), "{e:?}");
+}
+
+/// Subprogram files through the CLI, as the 840D's search path finds them (NC programming 12/2019
+/// §3.4.1.4): first beside the calling program (`pocket_a.spf` for `POCKET_A`: the language does
+/// not tell capitals from small letters), then in the subprogram directories (`--subroutine-path`,
+/// here the control's own file name `_N_L20_SPF`). Without the directory the call of `L20` is
+/// refused at its line, naming the program.
+#[test]
+fn subprograms_are_found_beside_the_program_and_on_the_subroutine_path() {
+    let dir = std::env::temp_dir().join(format!("fiveaxis-spf-{}", std::process::id()));
+    let (here, subs) = (dir.join("job"), dir.join("spf"));
+    std::fs::create_dir_all(&here).unwrap();
+    std::fs::create_dir_all(&subs).unwrap();
+    std::fs::write(here.join("MAIN.MPF"), "N10 G90 G71 G94 F800\nN20 G0 X0 Y0 Z20\nN30 POCKET_A(12.5, -3)\nN40 L20\nN50 G0 Z50\nN60 M30\n").unwrap();
+    std::fs::write(here.join("pocket_a.spf"), "PROC POCKET_A(REAL EDGE, REAL DEPTH)\nG1 Z=DEPTH\nG1 X=EDGE Y=EDGE\nG1 X0 Y0\nRET\n").unwrap();
+    std::fs::write(subs.join("_N_L20_SPF"), "G0 Z5\nM17\n").unwrap();
+    let run = |extra: &[&std::ffi::OsStr]| {
+        let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(["program", "analyze"]).arg(here.join("MAIN.MPF")).args(["--machine", "generic-bc-table"]).args(extra).output().unwrap();
+        (out.status.code(), format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)))
+    };
+    let (code, all) = run(&[std::ffi::OsStr::new("--subroutine-path"), subs.as_os_str()]);
+    assert_eq!(code, Some(0), "{all}");
+    let (code, all) = run(&[]);
+    assert_eq!(code, Some(2), "{all}");
+    assert!(all.contains("MAIN.MPF:4:5: error: L20: a call of the subprogram L20"), "{all}");
+    assert_eq!(all.matches(": error:").count(), 1, "{all}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

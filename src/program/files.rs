@@ -139,7 +139,18 @@ impl ProgramFile {
     /// Open the program as a stream of blocks (memory flat in its length), detecting its dialect
     /// from its name and first lines unless given.
     pub fn open(&self, dialect: Option<Dialect>, options: &ReadOptions) -> Result<BlockStream, LoadError> {
-        BlockStream::from_reader(self.reader()?, self.open_text(), self.path().as_deref(), &self.name(), dialect, options)
+        BlockStream::from_reader(self.reader()?, self.open_text(), self.path().as_deref(), &self.name(), dialect, &self.own_dir_first(options))
+    }
+
+    /// `options` with the program's own directory searched first where a control does so for the
+    /// programs it calls (the 840D's subprograms).
+    fn own_dir_first(&self, options: &ReadOptions) -> ReadOptions {
+        let Some(path) = self.path() else { return options.clone() };
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        ReadOptions { subroutine_files: Some(Arc::new(OwnDirFirst { dir, then: options.subroutine_files.clone() })), ..options.clone() }
     }
 
     /// Read the program whole, detecting its dialect unless given. Bytes that are not UTF-8 are
@@ -153,7 +164,7 @@ impl ProgramFile {
         if let Some(d) = Dialect::unread(given, dialect, &text) {
             return Ok(fiveaxis_core::program::Program { source: self.name(), dialect, name: None, blocks: Vec::new(), diagnostics: vec![d] });
         }
-        Ok(read(&text, dialect, &self.name(), options))
+        Ok(read(&text, dialect, &self.name(), &self.own_dir_first(options)))
     }
 }
 
@@ -197,29 +208,74 @@ impl Seek for AtOffset {
     }
 }
 
-/// LinuxCNC's SUBROUTINE_PATH: directories searched in order for a subroutine's file `NAME.ngc`
-/// (`--subroutine-path`), each file read whole but no larger than the readers hold a block.
+/// Subprogram directories searched in order (`--subroutine-path`): LinuxCNC's SUBROUTINE_PATH for
+/// `NAME.ngc`, the 840D's search path after the program's own directory for `NAME.SPF`; each file
+/// read whole but no larger than the readers hold a block.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SubroutineDirs(pub Vec<PathBuf>);
 
 impl fiveaxis_core::program::SubroutineFiles for SubroutineDirs {
-    fn find(&self, stem: &str) -> Result<Option<(String, Vec<u8>)>, String> {
-        // A name is a file name, not a path (LinuxCNC's find_ngc_file also expands one; not here).
-        if stem.is_empty() || stem.contains(['/', '\\']) || stem == ".." {
-            return Err(format!("o<{stem}>: not a file name"));
+    fn find_file(&self, names: &[String], any_case: bool, own_dir: bool) -> Result<Option<(String, Vec<u8>)>, String> {
+        if own_dir {
+            return Ok(None);
         }
         for dir in &self.0 {
-            let path = dir.join(format!("{stem}.ngc"));
-            let shown = path.display().to_string();
-            let Ok(file) = File::open(&path) else { continue };
-            let limit = fiveaxis_core::program::MAX_HELD_BYTES as u64;
-            let mut bytes = Vec::new();
-            file.take(limit + 1).read_to_end(&mut bytes).map_err(|e| format!("{shown}: {e}"))?;
-            if bytes.len() as u64 > limit {
-                return Err(format!("{shown} is larger than {limit} bytes"));
+            if let Some(found) = find_in(dir, names, any_case)? {
+                return Ok(Some(found));
             }
-            return Ok(Some((shown, bytes)));
         }
         Ok(None)
     }
+}
+
+/// The program's own directory beside the directories given (the 840D's search path begins in the
+/// calling program's directory).
+#[derive(Debug)]
+struct OwnDirFirst {
+    dir: PathBuf,
+    then: Option<Arc<dyn fiveaxis_core::program::SubroutineFiles>>,
+}
+
+impl fiveaxis_core::program::SubroutineFiles for OwnDirFirst {
+    fn find_file(&self, names: &[String], any_case: bool, own_dir: bool) -> Result<Option<(String, Vec<u8>)>, String> {
+        match (own_dir, &self.then) {
+            (true, _) => find_in(&self.dir, names, any_case),
+            (false, Some(then)) => then.find_file(names, any_case, false),
+            (false, None) => Ok(None),
+        }
+    }
+
+    fn has_dirs(&self) -> bool {
+        self.then.is_some()
+    }
+}
+
+/// The first of `names` in `dir` (letters' case aside where `any_case`), read whole up to the
+/// readers' bound.
+fn find_in(dir: &Path, names: &[String], any_case: bool) -> Result<Option<(String, Vec<u8>)>, String> {
+    for name in names {
+        // A name is a file name, not a path (LinuxCNC's find_ngc_file also expands one; not here).
+        if name.is_empty() || name.contains(['/', '\\']) || name.starts_with("..") {
+            return Err(format!("{name}: not a file name"));
+        }
+        let path = if any_case {
+            let Ok(entries) = std::fs::read_dir(dir) else { continue };
+            match entries.flatten().find(|e| e.file_name().to_str().is_some_and(|f| f.eq_ignore_ascii_case(name))) {
+                Some(e) => e.path(),
+                None => continue,
+            }
+        } else {
+            dir.join(name)
+        };
+        let shown = path.display().to_string();
+        let Ok(file) = File::open(&path) else { continue };
+        let limit = fiveaxis_core::program::MAX_HELD_BYTES as u64;
+        let mut bytes = Vec::new();
+        file.take(limit + 1).read_to_end(&mut bytes).map_err(|e| format!("{shown}: {e}"))?;
+        if bytes.len() as u64 > limit {
+            return Err(format!("{shown} is larger than {limit} bytes"));
+        }
+        return Ok(Some((shown, bytes)));
+    }
+    Ok(None)
 }

@@ -25,9 +25,22 @@ use std::sync::Arc;
 /// Where an RS274NGC program's subroutines of other files come from (LinuxCNC's SUBROUTINE_PATH):
 /// the core reads no file, whoever does (the command line's `--subroutine-path`) finds them.
 pub trait SubroutineFiles: Send + Sync + std::fmt::Debug {
-    /// The file `STEM.ngc`: where it was found (for messages) and its bytes, at most
-    /// [`MAX_HELD_BYTES`]; `Ok(None)` where there is none; an error names the file and why.
-    fn find(&self, stem: &str) -> Result<Option<(String, Vec<u8>)>, String>;
+    /// The first file named as one of `names` (in that order; `any_case`: letters' case aside, as
+    /// the 840D's names are), in the program's own directory where `own_dir` (the 840D's search path
+    /// starts there), else in the directories given: where it was found (for messages) and its
+    /// bytes, at most [`MAX_HELD_BYTES`]; `Ok(None)` where there is none; an error names the file
+    /// and why.
+    fn find_file(&self, names: &[String], any_case: bool, own_dir: bool) -> Result<Option<(String, Vec<u8>)>, String>;
+
+    /// LinuxCNC's subroutine file `STEM.ngc`, on the directories given.
+    fn find(&self, stem: &str) -> Result<Option<(String, Vec<u8>)>, String> {
+        self.find_file(&[format!("{stem}.ngc")], false, false)
+    }
+
+    /// Whether directories were given to search (not only the program's own).
+    fn has_dirs(&self) -> bool {
+        true
+    }
 }
 
 /// The most lines one held block (a loop, a condition, a subroutine) may have, and bytes.
@@ -267,6 +280,7 @@ impl Flow {
     /// The flow of a read whose control blocks may run `budget` lines, its subroutines not defined
     /// in the program looked for in `sub_files`.
     pub fn new(budget: usize, sub_files: Option<Arc<dyn SubroutineFiles>>) -> Flow {
+        let sub_files = sub_files.filter(|f| f.has_dirs());
         Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false), own: None, frames: Vec::new(), raised: Vec::new(), stack: Vec::new(), file_runs: Vec::new() }
     }
 

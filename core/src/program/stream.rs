@@ -584,6 +584,12 @@ pub(crate) trait Jumping: Send {
     fn found(&mut self, _find: Find, _hits: &[At], _read: usize, _diags: &mut Diags) -> Next {
         Next::Ended
     }
+    /// A run a line began (an 840D subprogram call) gives its blocks a part at a time, before the
+    /// next line is read: `None` when none is running, else the next part to `out` and whether the
+    /// program goes on ([`Next::On`]: ask again) or ended in it ([`Next::Ended`]).
+    fn more(&mut self, _out: &mut Vec<Block>, _diags: &mut Diags) -> Option<Next> {
+        None
+    }
 }
 
 /// A defect in a program's flow: said at its place, and the run ends (what follows would run from a
@@ -604,11 +610,11 @@ pub(crate) fn ends_program(blocks: &[Block], codes: &[f64]) -> bool {
 /// offset for each jump (within the read buffer when the target is in it: a short repeated section
 /// is not read again from the file). Memory holds one line, the read buffer and what the reader
 /// keeps (a label table, a call stack), whatever the program's length.
-pub(crate) struct Seeking<'a> {
+pub(crate) struct Seeking<'a, R: Jumping + ?Sized + 'a = dyn Jumping + 'a> {
     input: BufReader<Box<dyn Text + 'a>>,
     /// The line to read next.
     at: At,
-    runner: Box<dyn Jumping + 'a>,
+    pub(crate) runner: Box<R>,
     /// False once the program has ended: the lines after it are only checked.
     running: bool,
     buf: Vec<u8>,
@@ -621,11 +627,11 @@ pub(crate) struct Seeking<'a> {
     broken: Option<std::io::Error>,
 }
 
-impl<'a> Seeking<'a> {
+impl<'a, R: Jumping + ?Sized + 'a> Seeking<'a, R> {
     /// Read `open()` for `runner`'s first pass; run it from its start. A failure is kept in
     /// `broken` (a file's reader turns it into a [`LoadError`]; otherwise the first
     /// [`Seeking::fill`] reports it).
-    pub(crate) fn new(open: OpenText<'a>, mut runner: Box<dyn Jumping + 'a>) -> Self {
+    pub(crate) fn new(open: OpenText<'a>, mut runner: Box<R>) -> Self {
         let mut early = Diags::default();
         let (mut buf, mut at) = (Vec::with_capacity(256), At { line: 1, offset: 0 });
         let (text, mut broken) = match open() {
@@ -660,6 +666,16 @@ impl<'a> Seeking<'a> {
     pub(crate) fn fill(&mut self, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let mut d = std::mem::take(&mut self.early);
         let Seeking { input, at, runner, running, buf, broken, .. } = self;
+        // A run the last line began gives its part before the next line is read.
+        if *running && broken.is_none() {
+            if let Some(next) = runner.more(out, &mut d) {
+                if next == Next::Ended {
+                    *running = false;
+                }
+                self.give(d, diags);
+                return false;
+            }
+        }
         let line = at.line;
         let here = *at;
         let read = match broken.take() {
@@ -731,6 +747,12 @@ impl<'a> Seeking<'a> {
                 true
             }
         };
+        self.give(d, diags);
+        ended
+    }
+
+    /// Pass on the diagnostics `d` not given before.
+    fn give(&mut self, d: Diags, diags: &mut Diags) {
         for x in d.0 {
             let key = (x.line, x.column, x.message);
             if self.given.contains(&key) {
@@ -742,13 +764,12 @@ impl<'a> Seeking<'a> {
             }
             diags.0.push(x);
         }
-        ended
     }
 }
 
 /// The lines from `find.from` up to `find.to` that `runner` takes for `find.key`, and how many lines
 /// were read, the reader standing at byte `stands` (moved to where the search stopped).
-fn search(input: &mut BufReader<Box<dyn Text + '_>>, buf: &mut Vec<u8>, stands: &mut u64, find: Find, runner: &dyn Jumping) -> std::io::Result<(Vec<At>, usize)> {
+fn search<R: Jumping + ?Sized>(input: &mut BufReader<Box<dyn Text + '_>>, buf: &mut Vec<u8>, stands: &mut u64, find: Find, runner: &R) -> std::io::Result<(Vec<At>, usize)> {
     seek(input, *stands, find.from.offset)?;
     *stands = find.from.offset;
     let mut at = find.from;
@@ -784,7 +805,7 @@ fn seek(input: &mut BufReader<Box<dyn Text + '_>>, from: u64, to: u64) -> std::i
 }
 
 /// A text in memory (borrowed or shared).
-fn in_memory<'a, T: AsRef<[u8]> + Send + 'a>(text: T) -> OpenText<'a> {
+pub(crate) fn in_memory<'a, T: AsRef<[u8]> + Send + 'a>(text: T) -> OpenText<'a> {
     Box::new(move || Ok(Box::new(Cursor::new(text)) as Box<dyn Text + 'a>))
 }
 

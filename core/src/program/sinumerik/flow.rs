@@ -15,8 +15,10 @@
 //!   `ENDFOR` (the variable counts up by 1), `LOOP` ... `ENDLOOP`, `REPEAT` ... `UNTIL`. A jump leaves
 //!   the structures open around it (a jump into one, or within one, is refused at its end).
 //! - The program ends at `M30`, `M2` or `M17`; loops and jumps run at most the program's lines and
-//!   `max_run_lines` more (an endless loop is refused at the line it had reached). Section repeats
-//!   (`REPEAT marker P=n`, `REPEATB`) and subprogram calls are refused.
+//!   `max_run_lines` more (an endless loop is refused at the line it had reached; a subprogram's
+//!   lines all count). Section repeats (`REPEAT marker P=n`, `REPEATB`) are refused.
+//! - Subprograms: a name alone in its block calls the program of that name, which runs a level
+//!   below in a runner of its own ([`super::subprogram`]); `PROC` and `RET` are its lines.
 
 use super::expr;
 use super::SinumerikReader;
@@ -71,13 +73,35 @@ enum Way {
     Quiet,
 }
 
-/// A Sinumerik program run as the control runs it, line by line.
+/// How a program level's run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum End {
+    /// At a defect, or at the program's end (`M30`): its caller ends too.
+    Stopped,
+    /// `RET` or `M17`, or its file's end: its caller goes on.
+    Returned,
+}
+
+/// A Sinumerik program run as the control runs it, line by line; a subprogram it calls runs in a
+/// runner of its own, a level below ([`super::subprogram`]).
 pub(crate) struct FlowRunner {
-    reader: SinumerikReader,
+    pub(super) reader: SinumerikReader,
     /// The furthest line reached: a line at or before it runs again, and counts against `budget`.
     reached: usize,
     budget: usize,
-    again: usize,
+    /// Lines run beyond the program's own (at a subprogram's level, every line run).
+    pub(super) again: usize,
+    /// The program level (the main program's 0).
+    pub(super) level: usize,
+    pub(super) setup: crate::program::Setup,
+    /// The subprogram a call of this level runs.
+    pub(super) sub: Option<Box<super::subprogram::SubRun>>,
+    /// The name this level was called by, and its call's values for its PROC's parameters.
+    pub(super) called: Option<String>,
+    pub(super) args: Option<Vec<f64>>,
+    /// A statement has run (a PROC comes first).
+    pub(super) begun: bool,
+    pub(super) end: End,
     open: Vec<Open>,
     skipping: Option<Skip>,
     /// The jump being looked for: its marker (capitals, or `N` and digits), way, line and column, and
@@ -89,7 +113,36 @@ pub(crate) struct FlowRunner {
 
 impl FlowRunner {
     pub(crate) fn new(setup: &crate::program::Setup) -> Self {
-        FlowRunner { reader: SinumerikReader::new(setup), reached: 0, budget: setup.max_run_lines, again: 0, open: Vec::new(), skipping: None, wanted: None, places: Places::new() }
+        FlowRunner {
+            reader: SinumerikReader::new(setup),
+            reached: 0,
+            budget: setup.max_run_lines,
+            again: 0,
+            level: 0,
+            setup: setup.clone(),
+            sub: None,
+            called: None,
+            args: None,
+            begun: false,
+            end: End::Stopped,
+            open: Vec::new(),
+            skipping: None,
+            wanted: None,
+            places: Places::new(),
+        }
+    }
+
+    /// The runner of a subprogram `parent` calls by `name` with `args`, on the caller's `reader`:
+    /// the lines it may run are what `parent` has left.
+    pub(super) fn below(parent: &FlowRunner, reader: SinumerikReader, name: &str, args: Vec<f64>) -> FlowRunner {
+        FlowRunner {
+            reader,
+            budget: parent.budget.saturating_sub(parent.again),
+            level: parent.level + 1,
+            called: Some(name.to_string()),
+            args: Some(args),
+            ..FlowRunner::new(&parent.setup)
+        }
     }
 
     fn condition(&self, text: &str) -> Result<bool, String> {
@@ -136,6 +189,13 @@ fn first_word(text: &str, at: usize) -> (&str, usize) {
     (&text[at..end], end)
 }
 
+/// Whether the line is a statement (not blank, a comment or a transfer header `%_N_..`), from its
+/// block's start `body`.
+fn statement(text: &str, body: usize) -> bool {
+    let t = text[body.min(text.len())..].trim_start();
+    !(t.is_empty() || t.starts_with(';') || text.trim_start().starts_with('%'))
+}
+
 /// A jump keyword's way.
 fn way(word: &str) -> Option<Way> {
     Some(match word {
@@ -148,7 +208,7 @@ fn way(word: &str) -> Option<Way> {
 }
 
 /// The words that open a line of program control.
-const CONTROL: [&str; 16] = ["IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "LOOP", "ENDLOOP", "REPEAT", "REPEATB", "UNTIL", "GOTOF", "GOTOB", "GOTO", "GOTOC"];
+const CONTROL: [&str; 18] = ["IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "LOOP", "ENDLOOP", "REPEAT", "REPEATB", "UNTIL", "GOTOF", "GOTOB", "GOTO", "GOTOC", "RET", "PROC"];
 
 /// Whether a line's first word is program control: most lines are moves, passed on after a look
 /// at it (any case, no copy).
@@ -291,6 +351,13 @@ impl FlowRunner {
                 Next::On
             }
             "REPEAT" | "REPEATB" => stop(line, col, format!("{word} with a marker: a section repeat is not read yet"), diags),
+            // RET ends a subprogram (its caller goes on); in the main program, the program.
+            "RET" if rest.split(';').next().unwrap_or("").trim().is_empty() => {
+                self.end = End::Returned;
+                Next::Ended
+            }
+            "RET" => stop(line, col, "RET with a destination or levels is not read".into(), diags),
+            "PROC" => self.proc_line(text, after, line, col, diags),
             "UNTIL" => match (self.open.last().cloned(), self.condition(rest)) {
                 (Some(Open::Repeat(body)), Ok(false)) => Next::Jump(body),
                 (Some(Open::Repeat(_)), Ok(true)) => {
@@ -320,7 +387,14 @@ impl FlowRunner {
             }
             None => self.reader.line(line, text, out, diags),
         }
-        if ends_program(&out[before..], &[2.0, 30.0, 17.0]) { Next::Ended } else { Next::On }
+        if self.level > 0 && ends_program(&out[before..], &[2.0, 30.0]) {
+            return stop(line, 1, "M2 or M30 in a subprogram: whether it returns or ends the program is not read (the manual's page is not in reach)".into(), diags);
+        }
+        if ends_program(&out[before..], &[17.0]) {
+            self.end = End::Returned;
+            return Next::Ended;
+        }
+        if ends_program(&out[before..], &[2.0, 30.0]) { Next::Ended } else { Next::On }
     }
 }
 
@@ -334,7 +408,7 @@ impl Jumping for FlowRunner {
     fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
         // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
         let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
-        if line <= self.reached {
+        if line <= self.reached || self.level > 0 {
             self.again += 1;
         }
         self.reached = self.reached.max(line);
@@ -344,7 +418,25 @@ impl Jumping for FlowRunner {
         let text = text.trim_end_matches('\r');
         let (start, marker, body) = split(text);
         let (word, after) = first_word(text, body);
+        if self.skipping.is_none() && !self.begun && statement(text, body) && !word.eq_ignore_ascii_case("PROC") {
+            self.begun = true;
+            // A program called with parameters has a PROC line first.
+            if let (Some(args), Some(name)) = (&self.args, &self.called) {
+                if !args.is_empty() {
+                    return stop(line, 1, format!("{name} is called with parameters, but its program has no PROC line first"), diags);
+                }
+            }
+        }
         if self.skipping.is_none() && !control_word(word) {
+            if let Some(site) = super::subprogram::call_site(text, body) {
+                return match site {
+                    Ok(site) => self.call(site, text, line, diags),
+                    Err((k, why)) => {
+                        diags.error(line, crate::program::lex::Columns::new(text).col(k), why);
+                        Next::On
+                    }
+                };
+            }
             let blank = marker.as_ref().map(|(_, end)| (start, *end));
             return self.plain(line, text, blank, out, diags);
         }
@@ -378,8 +470,13 @@ impl Jumping for FlowRunner {
         }
         // A program ends with M2 or M30 (M17 a subprogram: SINUMERIK 840D sl Programming Manual
         // Fundamentals, "M functions"): a file without one was cut short, or is not all of the program.
-        if self.reached > 0 {
+        if self.reached > 0 && self.level > 0 {
+            diags.warning(self.reached, 1, "the file ends before the subprogram's end (RET or M17); was the file cut short?");
+        } else if self.reached > 0 {
             diags.warning(self.reached, 1, "the file ends before the program's end (M30, M2 or M17); was the file cut short?");
+        }
+        if self.skipping.is_none() && self.open.is_empty() {
+            self.end = End::Returned;
         }
         // The input ended while the program ran: what it left open.
         if let Some(s) = self.skipping {
@@ -399,6 +496,10 @@ impl Jumping for FlowRunner {
             return block_number(bytes, MAX_N_DIGITS).is_some_and(|n| target[1..].parse::<u64>().ok() == Some(n));
         }
         split(&String::from_utf8_lossy(bytes)).1.is_some_and(|(m, _)| m == *target)
+    }
+
+    fn more(&mut self, out: &mut Vec<Block>, diags: &mut Diags) -> Option<Next> {
+        self.sub_more(out, diags)
     }
 
     fn found(&mut self, _find: Find, hits: &[At], read: usize, diags: &mut Diags) -> Next {

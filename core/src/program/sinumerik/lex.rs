@@ -33,7 +33,13 @@ pub(crate) struct Vars {
     map: HashMap<String, (Type, Option<f64>)>,
     /// What the current block changed (each name's entry before it), to undo if the block is refused.
     journal: Vec<(String, Option<(Type, Option<f64>)>)>,
+    /// The names of the calling levels' own variables, while a subprogram runs (for messages).
+    outer: Vec<Vec<String>>,
 }
+
+/// A program level's own variables, set aside while a subprogram runs.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Level(HashMap<String, (Type, Option<f64>)>);
 
 /// `R12`: an R parameter's name (R, then its number).
 fn r_number(name: &str) -> Option<u32> {
@@ -48,6 +54,9 @@ impl Vars {
             Some((_, Some(v))) => Ok(*v),
             Some((_, None)) => Err(format!("{name} is read before it is set")),
             None if r_number(name).is_some() => Err(format!("{name} is read before this program sets it (R parameters keep what earlier programs left)")),
+            None if self.outer.iter().any(|l| l.iter().any(|n| n == name)) => Err(format!(
+                "{name} is not defined (DEF) in this subprogram: a calling program's variable, which a subprogram sees only where the main program's are program-global (PUD, by machine datum MD11120)"
+            )),
             None => Err(format!("{name} is not defined (DEF) in this program")),
         }
     }
@@ -55,6 +64,36 @@ impl Vars {
     /// Whether `name` is a variable an assignment may set.
     pub(crate) fn is_variable(&self, name: &str) -> bool {
         self.map.contains_key(name) || r_number(name).is_some_and(|n| n <= MAX_R)
+    }
+
+    /// A subprogram's level begins: the caller's own variables (DEF: each program level's, its LUD)
+    /// are set aside and given back; R parameters stay (the channel's, every level sees them).
+    pub(crate) fn enter_level(&mut self) -> Level {
+        self.journal.clear();
+        let (r, own): (HashMap<_, _>, HashMap<_, _>) = std::mem::take(&mut self.map).into_iter().partition(|(name, _)| r_number(name).is_some());
+        self.map = r;
+        self.outer.push(own.keys().cloned().collect());
+        Level(own)
+    }
+
+    /// The subprogram's level ends: its own variables go (given back: a `VAR` parameter's value
+    /// returns to its caller), the caller's come back.
+    pub(crate) fn leave_level(&mut self, caller: Level) -> Level {
+        self.journal.clear();
+        let (r, own): (HashMap<_, _>, HashMap<_, _>) = std::mem::take(&mut self.map).into_iter().partition(|(name, _)| r_number(name).is_some());
+        self.map = r;
+        self.map.extend(caller.0);
+        self.outer.pop();
+        Level(own)
+    }
+
+    /// A PROC's parameter, defined with its caller's value (`None`: not given, so read before set).
+    pub(crate) fn parameter(&mut self, name: &str, ty: Type, value: Option<f64>) -> Result<(), String> {
+        self.define(name, ty, Some(0.0))?;
+        if let Some(entry) = self.map.get_mut(name) {
+            entry.1 = value.map(|v| keep(ty, v));
+        }
+        Ok(())
     }
 
     /// The block read well: keep what it set.
@@ -215,7 +254,7 @@ fn expression_end(b: &[u8], start: usize) -> usize {
 
 /// The end of the bracketed arguments that open at byte `open` (`(`), past the `)`, outside strings;
 /// `None` if the line ends first.
-fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
+pub(super) fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
     let (mut depth, mut in_str) = (0usize, false);
     for (k, &c) in b.iter().enumerate().skip(open) {
         match c {

@@ -11,11 +11,12 @@
 //! machine coordinates (`SUPA`, `G53`, `G153`), variables (`DEF REAL`, R parameters) and
 //! expressions ([`expr`], [`lex`]), `MCALL` of the drilling cycles ([`cycles`]), `CYCLE832` (the
 //! contour tolerance), the swivel cycle `CYCLE800` on the machine file's data set ([`swivel`]), `T`,
-//! `D`, `S`, `M`, `F`, `MSG`, `M30`; jumps and control structures as they run ([`flow`]).
+//! `D`, `S`, `M`, `F`, `MSG`, `M30`; jumps and control structures as they run ([`flow`]), and
+//! subprograms called by name, found beside the program or on `--subroutine-path` ([`subprogram`]).
 //!
 //! What changes the motion and is not modelled is an error at its line and column, never skipped:
 //! `SCALE`/`MIRROR` frames, a rotated frame without `TRAORI`, `CYCLE800` beyond what [`swivel`]
-//! reads, other cycles and subprogram calls, cutter compensation, orientation by angles
+//! reads, other cycles, indirect calls (`CALL`), cutter compensation, orientation by angles
 //! (`A2=`) or cone/polynomial orientation, exact stop on a feed move.
 //!
 //! Orientation interpolation: which of ORIWKS/ORIMKS and ORIVECT/ORIAXES governs depends on machine
@@ -27,6 +28,7 @@ mod expr;
 mod flow;
 mod frame;
 mod lex;
+mod subprogram;
 mod swivel;
 
 use super::interp::{Dimension, Interpreter, OneShot, Word};
@@ -548,6 +550,16 @@ impl SinumerikReader {
     }
 }
 
+/// Whether `name` (capitals) is an instruction the reader knows, read or refused ([`SinumerikReader::block`]'s
+/// keywords, the cycles): any other name alone in a block calls the program of that name.
+pub(super) fn is_instruction(name: &str) -> bool {
+    matches!(
+        name,
+        "STOPRE" | "TRAORI" | "TRAFOOF" | "ORIWKS" | "ORIVECT" | "ORIPLANE" | "ORIMKS" | "ORIAXES" | "ORIEULER" | "ORIRPY" | "SOFT" | "BRISK" | "FFWON" | "FFWOF" | "FNORM" | "COMPOF" | "COMPON" | "COMPCURV" | "COMPCAD" | "MSG" | "SETMS" | "EXTERN" | "TRANS" | "ATRANS" | "ROT" | "AROT" | "SUPA" | "MCALL"
+    ) || name.starts_with("CYCLE")
+        || unsupported_keyword(name).is_some()
+}
+
 /// Why a keyword the reader knows is refused (`None`: a name it does not know).
 fn unsupported_keyword(k: &str) -> Option<&'static str> {
     Some(match k {
@@ -562,7 +574,8 @@ fn unsupported_keyword(k: &str) -> Option<&'static str> {
         "GOTOF" | "GOTOB" | "GOTO" | "GOTOC" | "REPEAT" | "REPEATB" | "UNTIL" | "IF" | "ELSE" | "ENDIF" | "WHILE" | "ENDWHILE" | "FOR" | "ENDFOR" | "LOOP" | "ENDLOOP" => {
             "program control after other words of a block is not read (a jump or a control structure stands at the block's start)"
         }
-        "CALL" | "PCALL" | "PROC" | "RET" => "program control by subprogram calls is not modelled (the motion would depend on a program not read)",
+        "CALL" | "PCALL" | "EXTCALL" => "an indirect call of another program is not read (a program called by its name alone in its block is)",
+        "PROC" | "RET" => "a PROC or RET stands at its block's start",
         "DEF" => "a definition stands at the start of its line, in the definitions part",
         _ => return None,
     })

@@ -1,0 +1,437 @@
+//! The 840D's subprograms as they run: a call by the program's name alone in its block (`NAME`,
+//! `NAME(1.5, R2, , 4)`, `L123`), the called program's `PROC` line with its parameters, and its end
+//! (`RET`, `M17`). The called program runs at its call, a level below (each level a [`FlowRunner`]
+//! over its own file: its jumps find their markers in it), its blocks standing at the call's line
+//! and its defects said there, naming its file and place. Rules, from the SINUMERIK NC programming
+//! manual 12/2019 (6FC5398-2EP40-0BA0, "NCP19"), the 828D Job Planning 07/2010 (6FC5398-2BP40-0BA0)
+//! and the 828D NC-Programmierung 01/2023 (A5E48764001A AE):
+//! - A program whose name starts with two letters, or `_` and a letter, is called by its name alone;
+//!   `L` and digits is a name too (NCP19 §3.2.1.2, §3.4.1.3). The language does not tell capitals
+//!   from small letters (NCP19 §2.2.1). A name written with `_N_` or `_SPF`/`_MPF` is the same name.
+//! - Search path (NCP19 §3.4.1.4): the calling program's directory (`name`, `name_SPF`, `name_MPF`:
+//!   on a PC `NAME`, `NAME.SPF`, `NAME.MPF`, `_N_NAME_SPF`, `_N_NAME_MPF`, any case), then the
+//!   subprogram and cycle directories (`--subroutine-path`: `NAME.SPF`, `_N_NAME_SPF`), searched
+//!   anew for each call.
+//! - Parameters: `PROC NAME(REAL X, INT N)` "and a complete list of all the parameters"; "if a
+//!   parameter is omitted, the default value 0 is transferred" (NCP19 §3.2.1.5-3.2.1.6). REAL, INT
+//!   and BOOL by value are read; `VAR` (by reference) and other types are refused.
+//! - Variables: a program's own (`DEF`, its parameters) are its level's; R parameters are the
+//!   channel's (their number is channel datum MD28050 `$MC_MM_NUM_R_PARAM`), the same at every
+//!   level. The main program's `DEF` variables reach its subprograms only where machine datum
+//!   MD11120 makes them program-global (PUD: Job Planning §1.1.5; HMI Advanced manual §5.7.1): a
+//!   subprogram reading one is refused, naming that.
+//! - Modal state (G codes, frames, feed) carries over both ways: only `SAVE` restores it, and what
+//!   it restores depends on machine data (Function Manual K2 §10.5.9: MD10617): `SAVE` is refused.
+//! - 16 program levels, the main program's level 0 (NC-Programmierung 01/2023 §4.2.1.3).
+//! - The end: `RET` or `M17` returns. `M2`/`M30` in a subprogram, a repetition `P`, `CALL`, `PCALL`,
+//!   `EXTCALL` and `MCALL` of a subprogram are refused: their pages were not in reach.
+
+use super::flow::{End, FlowRunner};
+use super::lex::{call_arguments, Arg, Level, Type};
+use crate::program::lex::{excerpt, Diags};
+use crate::program::stream::{in_memory, Next, Seeking};
+use crate::program::Block;
+
+/// The most program levels: the main program's (0) and 15 below it.
+pub(super) const PROGRAM_LEVELS: usize = 16;
+
+/// Blocks a running subprogram hands out at a time before the caller's stream asks again.
+const RUN_CHUNK: usize = 1024;
+
+/// The longest program name (NCP19 §3.2.1.2: 24 characters).
+const MAX_NAME: usize = 24;
+
+/// A call as written alone in its block: the program's name (capitals), its arguments' text and
+/// where both stand (bytes of the line).
+#[derive(Debug)]
+pub(super) struct CallSite<'a> {
+    pub name: String,
+    pub at: usize,
+    pub args: Option<(&'a str, usize)>,
+}
+
+/// Whether `name` (capitals) is a program's name: two letters or `_` and a letter first, or `L` and
+/// digits; letters, digits and `_`; at most 24 characters.
+fn program_name(name: &str) -> bool {
+    let b = name.as_bytes();
+    let l_number = b.len() >= 2 && b[0] == b'L' && b[1..].iter().all(u8::is_ascii_digit);
+    let named = b.len() >= 2 && (b[0].is_ascii_alphabetic() || b[0] == b'_') && b[1].is_ascii_alphabetic();
+    b.len() <= MAX_NAME && (l_number || named) && b.iter().all(|c| c.is_ascii_alphanumeric() || *c == b'_')
+}
+
+/// A name alone in its block from byte `body` on (`NAME`, `NAME(args)`, a comment after it): a
+/// call's shape, or `None`. `Some(Err)` where it is one with what is not read (a repetition `P`).
+pub(super) fn call_site(text: &str, body: usize) -> Option<Result<CallSite<'_>, (usize, String)>> {
+    let b = text.as_bytes();
+    let end = (body..b.len()).find(|&k| !(b[k].is_ascii_alphanumeric() || b[k] == b'_')).unwrap_or(b.len());
+    let name = text[body..end].to_ascii_uppercase();
+    if !program_name(&name) || super::is_instruction(&name) {
+        return None;
+    }
+    let mut i = end + b[end..].iter().take_while(|c| c.is_ascii_whitespace()).count();
+    let mut args = None;
+    if b.get(i) == Some(&b'(') {
+        let close = super::lex::arguments_end(text.as_bytes(), i)?;
+        args = Some((&text[i + 1..close - 1], i + 1));
+        i = close + b[close..].iter().take_while(|c| c.is_ascii_whitespace()).count();
+    }
+    match b.get(i) {
+        None | Some(b';') => Some(Ok(CallSite { name, at: body, args })),
+        Some(b'P' | b'p') if b.get(i + 1).is_some_and(|c| c.is_ascii_digit() || *c == b'=' || c.is_ascii_whitespace()) => {
+            Some(Err((i, format!("{name} P: a repeated call is not read (the manual's page on P is not in reach)"))))
+        }
+        _ => None,
+    }
+}
+
+/// A subprogram running below its caller: its own flow over its file, where its call stands, and
+/// the caller's variables set aside.
+pub(super) struct SubRun {
+    run: Seeking<'static, FlowRunner>,
+    /// The call's line and 1-based column.
+    call: (usize, usize),
+    /// Its file, as found (for messages).
+    shown: String,
+    caller: Level,
+}
+
+/// The file names a call of `name` looks for: in the calling program's directory, then in the
+/// subprogram directories (NCP19 §3.4.1.4).
+fn file_names(name: &str) -> (Vec<String>, Vec<String>) {
+    let base = name.strip_prefix("_N_").unwrap_or(name);
+    let (base, kind) = match (base.strip_suffix("_SPF"), base.strip_suffix("_MPF")) {
+        (Some(b), _) => (b, Some("SPF")),
+        (_, Some(b)) => (b, Some("MPF")),
+        _ => (base, None),
+    };
+    let typed = |k: &str| [format!("{base}.{k}"), format!("_N_{base}_{k}")];
+    let own = match kind {
+        Some(k) => typed(k).to_vec(),
+        None => std::iter::once(base.to_string()).chain(typed("SPF")).chain(typed("MPF")).collect(),
+    };
+    let dirs = if kind == Some("MPF") { Vec::new() } else { typed("SPF").to_vec() };
+    (own, dirs)
+}
+
+impl FlowRunner {
+    /// Call the subprogram `site` names at `line`: found, its first part run now; the rest as the
+    /// stream asks ([`FlowRunner::sub_more`]).
+    pub(super) fn call(&mut self, site: CallSite<'_>, text: &str, line: usize, diags: &mut Diags) -> Next {
+        let cols = crate::program::lex::Columns::new(text);
+        let col = cols.col(site.at);
+        let name = &site.name;
+        if self.level + 1 >= PROGRAM_LEVELS {
+            return crate::program::stream::stop(line, col, format!("{name}: calls nested deeper than the control's {PROGRAM_LEVELS} program levels"), diags);
+        }
+        // The actual parameters, in the caller's variables: an empty one is 0.
+        let args = match site.args.map(|(t, at)| call_arguments(t, &self.reader.vars).map_err(|(k, why)| (at + k, why))).transpose() {
+            Ok(a) => a.unwrap_or_default(),
+            Err((k, why)) => {
+                diags.error(line, cols.col(k), format!("{name}: {why}"));
+                return Next::On;
+            }
+        };
+        let mut values = Vec::with_capacity(args.len());
+        for a in &args {
+            match a {
+                Arg::Empty => values.push(0.0),
+                Arg::Value(v) => values.push(*v),
+                Arg::Text(t) => {
+                    diags.error(line, col, format!("{name}: the text parameter \"{}\" is not read", excerpt(t)));
+                    return Next::On;
+                }
+            }
+        }
+        let found = match &self.setup.subroutine_files {
+            None => Ok(None),
+            Some(files) => {
+                let (own, dirs) = file_names(name);
+                files.find_file(&own, true, true).and_then(|f| match f {
+                    Some(f) => Ok(Some(f)),
+                    None if dirs.is_empty() => Ok(None),
+                    None => files.find_file(&dirs, true, false),
+                })
+            }
+        };
+        let (shown, bytes) = match found {
+            Ok(Some(f)) => f,
+            Ok(None) => {
+                diags.error(line, col, format!("{name}: a call of the subprogram {name}, whose file ({name}.SPF) is neither beside the program nor in a directory of --subroutine-path: the motion depends on it"));
+                return Next::On;
+            }
+            Err(why) => {
+                diags.error(line, col, format!("{name}: {why}"));
+                return Next::On;
+            }
+        };
+        let reader = std::mem::replace(&mut self.reader, super::SinumerikReader::new(&self.setup));
+        let mut child = FlowRunner::below(self, reader, name, values);
+        let caller = child.reader.vars.enter_level();
+        self.sub = Some(Box::new(SubRun { run: Seeking::new(in_memory(bytes), Box::new(child)), call: (line, col), shown, caller }));
+        Next::On
+    }
+
+    /// The running subprogram's next part: its blocks at the call's line, its diagnostics said
+    /// there; `None` when none runs. As it ends the caller's reader and variables come back, and
+    /// the caller goes on (`Next::On`) or ends with it (`Next::Ended`: it stopped at a defect).
+    pub(super) fn sub_more(&mut self, out: &mut Vec<Block>, diags: &mut Diags) -> Option<Next> {
+        let sub = self.sub.as_mut()?;
+        let goal = out.len() + RUN_CHUNK;
+        let (line, col) = sub.call;
+        loop {
+            let before = out.len();
+            let mut d = Diags::default();
+            let done = sub.run.fill(out, &mut d);
+            for b in &mut out[before..] {
+                (b.line, b.column) = (line, col);
+            }
+            for x in d.0 {
+                let message = format!("in {}:{}:{}: {}", sub.shown, x.line, x.column, x.message);
+                match x.severity {
+                    crate::program::Severity::Error => diags.error(line, col, message),
+                    _ => diags.warning(line, col, message),
+                }
+            }
+            if done {
+                break;
+            }
+            if out.len() >= goal {
+                return Some(Next::On);
+            }
+        }
+        let sub = self.sub.take()?;
+        let SubRun { run, caller, .. } = *sub;
+        let mut child = run.runner;
+        self.again = self.again.saturating_add(child.again);
+        let mut reader = std::mem::replace(&mut child.reader, super::SinumerikReader::new(&self.setup));
+        reader.vars.leave_level(caller);
+        self.reader = reader;
+        Some(if child.end == End::Returned { Next::On } else { Next::Ended })
+    }
+
+    /// A `PROC` line (`text[after..]` past the keyword): the program's parameters, given the
+    /// caller's values (at the main level, none: a parameter read is refused as read before set).
+    pub(super) fn proc_line(&mut self, text: &str, after: usize, line: usize, col: usize, diags: &mut Diags) -> Next {
+        if self.begun {
+            return crate::program::stream::stop(line, col, "PROC stands in the program's first line".into(), diags);
+        }
+        self.begun = true;
+        let cols = crate::program::lex::Columns::new(text);
+        let body = text[after..].split(';').next().unwrap_or("");
+        let start = after + body.len() - body.trim_start().len();
+        let b = text.as_bytes();
+        let end = (start..after + body.len()).find(|&k| !(b[k].is_ascii_alphanumeric() || b[k] == b'_')).unwrap_or(after + body.len());
+        let name = text[start..end].to_ascii_uppercase();
+        if !program_name(&name) {
+            return crate::program::stream::stop(line, cols.col(start), format!("PROC: expected the program's name, found '{}'", excerpt(&text[start..after + body.len()])), diags);
+        }
+        if let Some(called) = &self.called {
+            let base = |n: &str| n.strip_prefix("_N_").unwrap_or(n).trim_end_matches("_SPF").trim_end_matches("_MPF").to_string();
+            if base(called) != base(&name) {
+                return crate::program::stream::stop(line, cols.col(start), format!("PROC {name} in the file of {called}: a file's name and its program's are the same (NC-Programmierung 01/2023 §4.2.1.2)"), diags);
+            }
+        }
+        let mut rest = end + b[end..after + body.len()].iter().take_while(|c| c.is_ascii_whitespace()).count();
+        let mut formals: Vec<(String, Type, usize)> = Vec::new();
+        if b.get(rest) == Some(&b'(') {
+            let Some(close) = super::lex::arguments_end(text.as_bytes(), rest) else {
+                return crate::program::stream::stop(line, cols.col(rest), "PROC: '(' is not closed".into(), diags);
+            };
+            let mut at = rest + 1;
+            for piece in text[rest + 1..close - 1].split(',') {
+                let here = at + piece.len() - piece.trim_start().len();
+                at += piece.len() + 1;
+                if piece.trim().is_empty() && formals.is_empty() && text[rest + 1..close - 1].trim().is_empty() {
+                    break;
+                }
+                match formal(piece.trim()) {
+                    Ok((n, ty)) => formals.push((n, ty, here)),
+                    Err(why) => return crate::program::stream::stop(line, cols.col(here), format!("PROC {name}: {why}"), diags),
+                }
+            }
+            rest = close;
+        }
+        for word in text[rest..after + body.len()].split_whitespace() {
+            match word.to_ascii_uppercase().as_str() {
+                // Display and single-block attributes: what the HMI shows, not the motion.
+                "DISPLOF" | "DISPLON" | "SBLOF" | "SBLON" => {}
+                "SAVE" => return crate::program::stream::stop(line, col, format!("PROC {name} SAVE: what the return restores (modal G codes, frames) depends on machine data (MD10617), not read"), diags),
+                other => return crate::program::stream::stop(line, col, format!("PROC {name}: unexpected '{}' after the parameters", excerpt(other)), diags),
+            }
+        }
+        let args = self.args.take();
+        if let Some(a) = &args {
+            if a.len() > formals.len() {
+                return crate::program::stream::stop(line, col, format!("PROC {name} has {} parameter(s); its call gives {}", formals.len(), a.len()), diags);
+            }
+        }
+        for (k, (n, ty, here)) in formals.iter().enumerate() {
+            // Not given: 0 (NCP19 §3.2.1.6); at the main level none has a value.
+            let value = args.as_ref().map(|a| a.get(k).copied().unwrap_or(0.0));
+            if let Err(why) = self.reader.vars.parameter(n, *ty, value) {
+                self.reader.vars.rollback();
+                return crate::program::stream::stop(line, cols.col(*here), format!("PROC {name}: {why}"), diags);
+            }
+        }
+        self.reader.vars.commit();
+        Next::On
+    }
+}
+
+/// A formal parameter `REAL X`: its name (capitals) and type, or why it is not read.
+fn formal(text: &str) -> Result<(String, Type), String> {
+    let mut words = text.split_whitespace();
+    let (first, second, more) = (words.next().unwrap_or(""), words.next(), words.next());
+    if first.eq_ignore_ascii_case("VAR") {
+        return Err(format!("'{}': a parameter by reference (VAR) is not read", excerpt(text)));
+    }
+    let ty = match first.to_ascii_uppercase().as_str() {
+        "REAL" => Type::Real,
+        "INT" => Type::Int,
+        "BOOL" => Type::Bool,
+        _ => return Err(format!("'{}': only REAL, INT and BOOL parameters are read", excerpt(text))),
+    };
+    match (second, more) {
+        (Some(n), None) if n.len() >= 2 && n.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_') && !n.as_bytes()[0].is_ascii_digit() => Ok((n.to_ascii_uppercase(), ty)),
+        _ => Err(format!("'{}': expected a type and a name (arrays are not read)", excerpt(text))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::program::{read, Dialect, Program, ReadOptions, Severity, SubroutineFiles};
+    use std::sync::Arc;
+
+    /// Programs beside the calling one (the program's own directory), by file name, any case.
+    #[derive(Debug)]
+    struct Beside(Vec<(&'static str, String)>);
+
+    impl SubroutineFiles for Beside {
+        fn find_file(&self, names: &[String], any_case: bool, own_dir: bool) -> Result<Option<(String, Vec<u8>)>, String> {
+            assert!(any_case);
+            if !own_dir {
+                return Ok(None);
+            }
+            Ok(names.iter().find_map(|n| self.0.iter().find(|(f, _)| f.eq_ignore_ascii_case(n))).map(|(f, t)| (f.to_string(), t.as_bytes().to_vec())))
+        }
+    }
+
+    fn run(main: &str, files: &[(&'static str, &str)]) -> Program {
+        let files = Beside(files.iter().map(|(f, t)| (*f, t.to_string())).collect());
+        read(main, Dialect::Sinumerik, "MAIN.MPF", &ReadOptions { subroutine_files: Some(Arc::new(files)), ..ReadOptions::default() })
+    }
+
+    /// Each block that moves: its line and X Y Z (mm, NaN where not named).
+    fn moves(p: &Program) -> Vec<(usize, [f64; 3])> {
+        p.blocks.iter().filter(|b| b.targets.x.is_some() || b.targets.y.is_some() || b.targets.z.is_some()).map(|b| (b.line, [b.targets.x, b.targets.y, b.targets.z].map(|v| v.map_or(f64::NAN, |v| (v * 1e3 * 1e9).round() / 1e9)))).collect()
+    }
+
+    fn errors(p: &Program) -> Vec<String> {
+        p.messages(Severity::Error)
+    }
+
+    /// NCP19 §3.2.1.5-3.2.1.6's calls: `CONTOUR(5.5, WIDTH)` passes a value and a variable; a
+    /// parameter left out (`SUB_PROG(1, , 3)`) is 0; `L12` is a program without parameters. Its
+    /// moves stand at the call's line; an R parameter it sets is the caller's after it returns.
+    #[test]
+    fn calls_pass_their_values_and_return() {
+        let main = "N10 DEF REAL WIDTH=3\nN20 G90 G71 G94 F500\nN30 CONTOUR(5.5, WIDTH) ; comment\nN40 G1 X=R1\nN50 SUB_PROG(1, , 3)\nN60 L12\nN70 M30\n";
+        let contour = "PROC CONTOUR(REAL LENGTH, REAL BREADTH) DISPLOF\nDEF REAL HALF\nHALF = BREADTH/2\nG1 X=LENGTH Y=HALF\nR1 = LENGTH*2\nN100 RET\n";
+        let sub = "%_N_SUB_PROG_SPF\n; three values\nPROC SUB_PROG (REAL XA, REAL YA, REAL ZA)\nG1 X=XA Y=YA Z=ZA\nM17\n";
+        let p = run(main, &[("contour.spf", contour.into()), ("SUB_PROG.SPF", sub.into()), ("L12.SPF", "G1 X7 Y7\nM17\n".into())]);
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let nan = f64::NAN;
+        let m = moves(&p);
+        let want = [(3, [5.5, 1.5, nan]), (4, [11.0, nan, nan]), (5, [1.0, 0.0, 3.0]), (6, [7.0, 7.0, nan])];
+        assert_eq!(m.len(), want.len(), "{m:?}");
+        for ((l, xyz), (wl, wxyz)) in m.iter().zip(want) {
+            assert_eq!(*l, wl);
+            for (a, b) in xyz.iter().zip(wxyz) {
+                assert!(a == &b || (a.is_nan() && b.is_nan()), "line {l}: {xyz:?}, expected {wxyz:?}");
+            }
+        }
+    }
+
+    /// A subprogram's own flow: its loop, its jump to a marker that the main program has too (each
+    /// program's jumps find their own), a variable of the same name as the caller's (each level has
+    /// its own), and a call of another subprogram inside it.
+    #[test]
+    fn each_level_has_its_own_variables_and_markers() {
+        let main = "DEF INT COUNT=7\nG90 G71 F500\nHOLES(3)\nG1 Z=COUNT\nGOTOF DONE\nG1 Z99\nDONE:\nM30\n";
+        let holes = "PROC HOLES(INT NUMBER)\nDEF INT COUNT\nFOR COUNT=1 TO NUMBER\nG1 X=COUNT*10\nENDFOR\nGOTOF DONE\nG1 X99\nDONE: PECK\nRET\n";
+        let p = run(main, &[("HOLES.SPF", holes.into()), ("PECK.SPF", "G1 Z-5\nG1 Z1\nRET\n".into())]);
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let xz: Vec<(usize, f64, f64)> = moves(&p).iter().map(|(l, v)| (*l, v[0], v[2])).collect();
+        let got: Vec<String> = xz.iter().map(|(l, x, z)| format!("{l}:{x}:{z}")).collect();
+        assert_eq!(got, ["3:10:NaN", "3:20:NaN", "3:30:NaN", "3:NaN:-5", "3:NaN:1", "4:NaN:7"]);
+    }
+
+    /// What is not read is refused where it stands: a repeated call, a VAR parameter, SAVE, M30 in a
+    /// subprogram, parameters given to a program without PROC, more values than parameters, a PROC
+    /// naming another program, a program not found, a defect inside the called file (said at the
+    /// call, naming the file and its place), and a main program's variable read in a subprogram.
+    #[test]
+    fn what_is_not_read_is_refused_at_its_place() {
+        let files: Vec<(&'static str, String)> = vec![
+            ("BYREF.SPF", "PROC BYREF(VAR REAL LENGTH)\nRET\n".into()),
+            ("SAVED.SPF", "PROC SAVED(REAL LENGTH) SAVE\nRET\n".into()),
+            ("ENDS.SPF", "G1 X1\nM30\n".into()),
+            ("PLAIN.SPF", "G1 X1\nM17\n".into()),
+            ("TWO.SPF", "PROC TWO(REAL AA, REAL BB)\nRET\n".into()),
+            ("OTHER.SPF", "PROC ANOTHER\nRET\n".into()),
+            ("BAD.SPF", "G1 X1\nG1 X=NOPE\nRET\n".into()),
+            ("SEES.SPF", "G1 X=WIDTH\nRET\n".into()),
+        ];
+        let cases = [
+            ("PLAIN P3", "PLAIN P: a repeated call is not read"),
+            ("BYREF(1)", "by reference (VAR) is not read"),
+            ("SAVED(1)", "SAVE: what the return restores"),
+            ("ENDS", "M2 or M30 in a subprogram"),
+            ("PLAIN(1)", "PLAIN is called with parameters, but its program has no PROC line first"),
+            ("TWO(1, 2, 3)", "PROC TWO has 2 parameter(s); its call gives 3"),
+            ("OTHER", "PROC ANOTHER in the file of OTHER"),
+            ("NOWHERE", "NOWHERE: a call of the subprogram NOWHERE, whose file (NOWHERE.SPF) is neither beside the program"),
+            ("BAD", "in BAD.SPF:2:6: X=NOPE: NOPE is not defined"),
+            ("SEES", "WIDTH is not defined (DEF) in this subprogram: a calling program's variable"),
+        ];
+        for (call, why) in cases {
+            let p = run(&format!("DEF REAL WIDTH=2\nG90 G71 F100\n{call}\nM30\n"), &files.iter().map(|(f, t)| (*f, t.as_str())).collect::<Vec<_>>());
+            let e = errors(&p);
+            assert!(e.iter().any(|m| m.starts_with(if call.contains(" P") { "3:7: " } else { "3:1: " }) && m.contains(why)), "{call}: {e:#?}");
+        }
+    }
+
+    /// A program calling itself stops at the control's 16 program levels, the main program's the
+    /// first: the 15th call's own call is refused, said inside each of the 15.
+    #[test]
+    fn calls_nest_no_deeper_than_sixteen_levels() {
+        let p = run("G90 G71 F100\nDEEPER\nM30\n", &[("DEEPER.SPF", "G91 G1 X1\nDEEPER\nRET\n")]);
+        let e = errors(&p);
+        assert_eq!(e.len(), 1, "{e:#?}");
+        assert_eq!(e[0].matches("in DEEPER.SPF:2:1: ").count(), 15, "{e:#?}");
+        assert!(e[0].ends_with("DEEPER: calls nested deeper than the control's 16 program levels (the rest of the program is not read)"), "{e:#?}");
+        assert_eq!(moves(&p).len(), 15);
+    }
+
+    /// A subprogram's long loop reaches the caller's stream a part at a time, all of its moves and
+    /// then the caller's next line.
+    #[test]
+    fn a_long_subprogram_streams_its_moves() {
+        let text = "G90 G71 F1000\nZIGZAG(30000)\nG1 Z5\nM30\n";
+        let zigzag = "PROC ZIGZAG(INT PASSES)\nDEF INT PASS_NO\nFOR PASS_NO=1 TO PASSES\nG1 X=PASS_NO\nENDFOR\nRET\n";
+        let files = Beside(vec![("ZIGZAG.SPF", zigzag.into())]);
+        let options = ReadOptions { subroutine_files: Some(Arc::new(files)), ..ReadOptions::default() };
+        let mut s = crate::program::BlockStream::from_text(text, Some(Dialect::Sinumerik), "t.mpf", &options);
+        let (mut n, mut last_x, mut z_after) = (0usize, 0.0, false);
+        for b in s.by_ref() {
+            if let Some(x) = b.targets.x {
+                assert!(!z_after);
+                n += 1;
+                last_x = x;
+            }
+            z_after |= b.targets.z.is_some();
+        }
+        assert_eq!(s.diagnostics().errors(), 0, "{:?}", s.diagnostics().to_vec());
+        assert_eq!((n, (last_x * 1e3).round(), z_after), (30000, 30000.0, true));
+    }
+}
