@@ -52,7 +52,8 @@ impl Vars {
     pub(crate) fn get(&self, name: &str) -> Result<f64, String> {
         match self.map.get(name) {
             Some((_, Some(v))) => Ok(*v),
-            Some((_, None)) => Err(format!("{name} is read before it is set")),
+            // Only a PROC's parameter has no value: the main program's, which no call gave one.
+            Some((_, None)) => Err(format!("{name} is a parameter of the program's PROC, which its call gives: this program is a subprogram (read the program that calls it)")),
             None if r_number(name).is_some() => Err(format!("{name} is read before this program sets it (R parameters keep what earlier programs left)")),
             None if self.outer.iter().any(|l| l.iter().any(|n| n == name)) => Err(format!(
                 "{name} is not defined (DEF) in this subprogram: a calling program's variable, which a subprogram sees only where the main program's are program-global (PUD, by machine datum MD11120)"

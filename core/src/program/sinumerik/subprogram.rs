@@ -401,6 +401,13 @@ mod tests {
         }
     }
 
+    /// A subprogram read alone: its PROC's parameters have no value, and a read of one says so.
+    #[test]
+    fn a_subprogram_read_alone_asks_for_its_caller() {
+        let p = run("PROC EDGE(REAL LENGTH)\nG90 G71 G1 X=LENGTH F100\nRET\n", &[]);
+        assert_eq!(errors(&p), ["2:14: X=LENGTH: LENGTH is a parameter of the program's PROC, which its call gives: this program is a subprogram (read the program that calls it) (at 'LENGTH')"]);
+    }
+
     /// A program calling itself stops at the control's 16 program levels, the main program's the
     /// first: the 15th call's own call is refused, said inside each of the 15.
     #[test]
