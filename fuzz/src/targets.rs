@@ -20,6 +20,7 @@ use fiveaxis::roughness::{read_csv, CsvUnits};
 use fiveaxis_msgs::{AxisState, Clock, DiagnosticArray, JointState, SingularityStatus};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// This process's scratch directory (created once).
 pub fn scratch_dir() -> &'static Path {
@@ -140,9 +141,22 @@ pub fn nc_program(data: &[u8]) {
     let Some((&pick, body)) = data.split_first() else { return };
     let text = String::from_utf8_lossy(body);
     let _ = Dialect::detect(None, &text);
-    let options = ReadOptions { max_run_lines: 20_000, ..ReadOptions::default() };
+    // Every other program a call asks for (an 840D subprogram, a LinuxCNC subroutine's file) is
+    // this one again: calls run, nest and recurse on the same mutated text.
+    let again = Arc::new(SelfAgain(body.to_vec())) as Arc<dyn fiveaxis::program::SubroutineFiles>;
+    let options = ReadOptions { max_run_lines: 20_000, subroutine_files: Some(again), ..ReadOptions::default() };
     let program = read(&text, DIALECTS[pick as usize % DIALECTS.len()], "fuzz", &options);
     let _ = program.report();
+}
+
+/// A file search that finds the program under test under any name asked for.
+#[derive(Debug)]
+struct SelfAgain(Vec<u8>);
+
+impl fiveaxis::program::SubroutineFiles for SelfAgain {
+    fn find_file(&self, names: &[String], _any_case: bool, _own_dir: bool) -> Result<Option<(String, Vec<u8>)>, String> {
+        Ok(names.first().map(|n| (n.clone(), self.0.clone())))
+    }
 }
 
 /// rosbag2 directories: the input is the bag's `metadata.yaml`, beside one small valid MCAP file
