@@ -183,7 +183,7 @@ fn subprogram_calls_name_the_program_they_call() {
 /// Subprogram files through the CLI, as the 840D's search path finds them (NC programming 12/2019
 /// §3.4.1.4): first beside the calling program (`pocket_a.spf` for `POCKET_A`: the language does
 /// not tell capitals from small letters), then in the subprogram directories (`--subroutine-path`,
-/// here the control's own file name `_N_L20_SPF`). Without the directory the call of `L20` is
+/// here the control's own file name `_N_L20_SPF`); a directory `POCKET_A` is passed over. Without the directory the call of `L20` is
 /// refused at its line, naming the program.
 #[test]
 fn subprograms_are_found_beside_the_program_and_on_the_subroutine_path() {
@@ -194,6 +194,8 @@ fn subprograms_are_found_beside_the_program_and_on_the_subroutine_path() {
     std::fs::write(here.join("MAIN.MPF"), "N10 G90 G71 G94 F800\nN20 G0 X0 Y0 Z20\nN30 POCKET_A(12.5, -3)\nN40 L20\nN50 G0 Z50\nN60 M30\n").unwrap();
     std::fs::write(here.join("pocket_a.spf"), "PROC POCKET_A(REAL EDGE, REAL DEPTH)\nG1 Z=DEPTH\nG1 X=EDGE Y=EDGE\nG1 X0 Y0\nRET\n").unwrap();
     std::fs::write(subs.join("_N_L20_SPF"), "G0 Z5\nM17\n").unwrap();
+    // A directory of the program's name is no program: the next name is tried.
+    std::fs::create_dir_all(here.join("POCKET_A")).unwrap();
     let run = |extra: &[&std::ffi::OsStr]| {
         let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(["program", "analyze"]).arg(here.join("MAIN.MPF")).args(["--machine", "generic-bc-table"]).args(extra).output().unwrap();
         (out.status.code(), format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)))

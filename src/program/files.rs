@@ -255,7 +255,7 @@ impl fiveaxis_core::program::SubroutineFiles for OwnDirFirst {
 fn find_in(dir: &Path, names: &[String], any_case: bool) -> Result<Option<(String, Vec<u8>)>, String> {
     for name in names {
         // A name is a file name, not a path (LinuxCNC's find_ngc_file also expands one; not here).
-        if name.is_empty() || name.contains(['/', '\\']) || name.starts_with("..") {
+        if name.is_empty() || name.contains(['/', '\\']) || name == ".." {
             return Err(format!("{name}: not a file name"));
         }
         let path = if any_case {
@@ -268,6 +268,10 @@ fn find_in(dir: &Path, names: &[String], any_case: bool) -> Result<Option<(Strin
             dir.join(name)
         };
         let shown = path.display().to_string();
+        // A directory of that name is no program: the next name is tried.
+        if !path.is_file() {
+            continue;
+        }
         let Ok(file) = File::open(&path) else { continue };
         let limit = fiveaxis_core::program::MAX_HELD_BYTES as u64;
         let mut bytes = Vec::new();

@@ -34,6 +34,10 @@ pub trait SubroutineFiles: Send + Sync + std::fmt::Debug {
 
     /// LinuxCNC's subroutine file `STEM.ngc`, on the directories given.
     fn find(&self, stem: &str) -> Result<Option<(String, Vec<u8>)>, String> {
+        // A name is a file name, not a path (LinuxCNC's find_ngc_file also expands one; not here).
+        if stem.is_empty() || stem.contains(['/', '\\']) || stem == ".." {
+            return Err(format!("o<{stem}>: not a file name"));
+        }
         self.find_file(&[format!("{stem}.ngc")], false, false)
     }
 

@@ -751,6 +751,11 @@ impl<'a, R: Jumping + ?Sized + 'a> Seeking<'a, R> {
         ended
     }
 
+    /// Whether the program still runs (its lines after its end are only checked).
+    pub(crate) fn running(&self) -> bool {
+        self.running
+    }
+
     /// Pass on the diagnostics `d` not given before.
     fn give(&mut self, d: Diags, diags: &mut Diags) {
         for x in d.0 {

@@ -101,6 +101,12 @@ pub(crate) struct FlowRunner {
     pub(super) args: Option<Vec<f64>>,
     /// A statement has run (a PROC comes first).
     pub(super) begun: bool,
+    /// Every line run counts against the budget (a program called before: its lines are not the
+    /// program's own again).
+    count_all: bool,
+    /// The programs called so far (their files kept for the next calls), handed down to the level
+    /// that runs and back.
+    pub(super) called_files: super::subprogram::Called,
     pub(super) end: End,
     open: Vec<Open>,
     skipping: Option<Skip>,
@@ -124,6 +130,8 @@ impl FlowRunner {
             called: None,
             args: None,
             begun: false,
+            count_all: false,
+            called_files: Default::default(),
             end: End::Stopped,
             open: Vec::new(),
             skipping: None,
@@ -133,11 +141,12 @@ impl FlowRunner {
     }
 
     /// The runner of a subprogram `parent` calls by `name` with `args`, on the caller's `reader`:
-    /// the lines it may run are what `parent` has left.
-    pub(super) fn below(parent: &FlowRunner, reader: SinumerikReader, name: &str, args: Vec<f64>) -> FlowRunner {
+    /// the lines it may run are what `parent` has left, its every line counting where `count_all`.
+    pub(super) fn below(parent: &FlowRunner, reader: SinumerikReader, name: &str, args: Vec<f64>, count_all: bool) -> FlowRunner {
         FlowRunner {
             reader,
             budget: parent.budget.saturating_sub(parent.again),
+            count_all,
             level: parent.level + 1,
             called: Some(name.to_string()),
             args: Some(args),
@@ -388,6 +397,7 @@ impl FlowRunner {
             None => self.reader.line(line, text, out, diags),
         }
         if self.level > 0 && ends_program(&out[before..], &[2.0, 30.0]) {
+            out.truncate(before);
             return stop(line, 1, "M2 or M30 in a subprogram: whether it returns or ends the program is not read (the manual's page is not in reach)".into(), diags);
         }
         if ends_program(&out[before..], &[17.0]) {
@@ -408,12 +418,12 @@ impl Jumping for FlowRunner {
     fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
         // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
         let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
-        if line <= self.reached || self.level > 0 {
+        if line <= self.reached || self.count_all {
             self.again += 1;
         }
         self.reached = self.reached.max(line);
         if self.again > self.budget {
-            return stop(line, 1, format!("more than {} lines run by loops and jumps beyond the program's own: an endless loop?", self.budget), diags);
+            return stop(line, 1, format!("more than {} lines run by loops, jumps and calls beyond the programs' own: an endless loop?", self.setup.max_run_lines), diags);
         }
         let text = text.trim_end_matches('\r');
         let (start, marker, body) = split(text);
@@ -429,6 +439,9 @@ impl Jumping for FlowRunner {
         }
         if self.skipping.is_none() && !control_word(word) {
             if let Some(site) = super::subprogram::call_site(text, body) {
+                if past_skip(text.as_bytes()).1 {
+                    diags.warning(line, text.find('/').map_or(1, |c| c + 1), "block skip '/' is not modelled: the block is run");
+                }
                 return match site {
                     Ok(site) => self.call(site, text, line, diags),
                     Err((k, why)) => {
@@ -474,6 +487,12 @@ impl Jumping for FlowRunner {
             diags.warning(self.reached, 1, "the file ends before the subprogram's end (RET or M17); was the file cut short?");
         } else if self.reached > 0 {
             diags.warning(self.reached, 1, "the file ends before the program's end (M30, M2 or M17); was the file cut short?");
+        }
+        if let (Some(args), Some(name), false) = (&self.args, &self.called, self.begun) {
+            if !args.is_empty() {
+                diags.error(1, 1, format!("{name} is called with parameters, but its program has no PROC line first"));
+                return;
+            }
         }
         if self.skipping.is_none() && self.open.is_empty() {
             self.end = End::Returned;

@@ -55,9 +55,10 @@ impl Vars {
             // Only a PROC's parameter has no value: the main program's, which no call gave one.
             Some((_, None)) => Err(format!("{name} is a parameter of the program's PROC, which its call gives: this program is a subprogram (read the program that calls it)")),
             None if r_number(name).is_some() => Err(format!("{name} is read before this program sets it (R parameters keep what earlier programs left)")),
-            None if self.outer.iter().any(|l| l.iter().any(|n| n == name)) => Err(format!(
-                "{name} is not defined (DEF) in this subprogram: a calling program's variable, which a subprogram sees only where the main program's are program-global (PUD, by machine datum MD11120)"
+            None if self.outer.first().is_some_and(|l| l.iter().any(|n| n == name)) => Err(format!(
+                "{name} is not defined (DEF) in this subprogram: the main program's variable, which a subprogram sees only where the main program's are program-global (PUD, by machine datum MD11120)"
             )),
+            None if self.outer.iter().any(|l| l.iter().any(|n| n == name)) => Err(format!("{name} is not defined (DEF) in this subprogram: a calling subprogram's own variable (each program level's are its own)")),
             None => Err(format!("{name} is not defined (DEF) in this program")),
         }
     }

@@ -50,10 +50,21 @@ pub(super) struct CallSite<'a> {
     pub args: Option<(&'a str, usize)>,
 }
 
-/// Whether `name` (capitals) is a program's name: two letters or `_` and a letter first, or `L` and
-/// digits; letters, digits and `_`; at most 24 characters.
+/// A name as called (capitals) without the control's `_N_` prefix and `_SPF`/`_MPF` suffix, and
+/// the type the suffix names.
+fn base_name(name: &str) -> (&str, Option<&'static str>) {
+    let base = name.strip_prefix("_N_").unwrap_or(name);
+    match (base.strip_suffix("_SPF"), base.strip_suffix("_MPF")) {
+        (Some(b), _) => (b, Some("SPF")),
+        (_, Some(b)) => (b, Some("MPF")),
+        _ => (base, None),
+    }
+}
+
+/// Whether `name` (capitals, as called) names a program: without its prefix and suffix, two letters
+/// or `_` and a letter first, or `L` and digits; letters, digits and `_`; at most 24 characters.
 fn program_name(name: &str) -> bool {
-    let b = name.as_bytes();
+    let b = base_name(name).0.as_bytes();
     let l_number = b.len() >= 2 && b[0] == b'L' && b[1..].iter().all(u8::is_ascii_digit);
     let named = b.len() >= 2 && (b[0].is_ascii_alphabetic() || b[0] == b'_') && b[1].is_ascii_alphabetic();
     b.len() <= MAX_NAME && (l_number || named) && b.iter().all(|c| c.is_ascii_alphanumeric() || *c == b'_')
@@ -84,6 +95,23 @@ pub(super) fn call_site(text: &str, body: usize) -> Option<Result<CallSite<'_>, 
     }
 }
 
+/// The most bytes of called programs kept between their calls (each file at most the readers'
+/// [`crate::program::MAX_HELD_BYTES`]); beyond, a file is read again for each call.
+const MAX_KEPT_BYTES: usize = 64 << 20;
+
+/// The most distinct programs whose first call is remembered (beyond, every call's lines count as
+/// run again).
+const MAX_KNOWN: usize = 10_000;
+
+/// The programs called so far: each file's text, kept for its next calls (the files do not change
+/// while the program is read), and which were called before.
+#[derive(Debug, Default)]
+pub(super) struct Called {
+    files: std::collections::HashMap<String, (String, std::sync::Arc<[u8]>)>,
+    bytes: usize,
+    known: std::collections::HashSet<String>,
+}
+
 /// A subprogram running below its caller: its own flow over its file, where its call stands, and
 /// the caller's variables set aside.
 pub(super) struct SubRun {
@@ -98,12 +126,7 @@ pub(super) struct SubRun {
 /// The file names a call of `name` looks for: in the calling program's directory, then in the
 /// subprogram directories (NCP19 §3.4.1.4).
 fn file_names(name: &str) -> (Vec<String>, Vec<String>) {
-    let base = name.strip_prefix("_N_").unwrap_or(name);
-    let (base, kind) = match (base.strip_suffix("_SPF"), base.strip_suffix("_MPF")) {
-        (Some(b), _) => (b, Some("SPF")),
-        (_, Some(b)) => (b, Some("MPF")),
-        _ => (base, None),
-    };
+    let (base, kind) = base_name(name);
     let typed = |k: &str| [format!("{base}.{k}"), format!("_N_{base}_{k}")];
     let own = match kind {
         Some(k) => typed(k).to_vec(),
@@ -124,7 +147,7 @@ impl FlowRunner {
             return crate::program::stream::stop(line, col, format!("{name}: calls nested deeper than the control's {PROGRAM_LEVELS} program levels"), diags);
         }
         // The actual parameters, in the caller's variables: an empty one is 0.
-        let args = match site.args.map(|(t, at)| call_arguments(t, &self.reader.vars).map_err(|(k, why)| (at + k, why))).transpose() {
+        let args = match site.args.filter(|(t, _)| !t.trim().is_empty()).map(|(t, at)| call_arguments(t, &self.reader.vars).map_err(|(k, why)| (at + k, why))).transpose() {
             Ok(a) => a.unwrap_or_default(),
             Err((k, why)) => {
                 diags.error(line, cols.col(k), format!("{name}: {why}"));
@@ -142,21 +165,11 @@ impl FlowRunner {
                 }
             }
         }
-        let found = match &self.setup.subroutine_files {
-            None => Ok(None),
-            Some(files) => {
-                let (own, dirs) = file_names(name);
-                files.find_file(&own, true, true).and_then(|f| match f {
-                    Some(f) => Ok(Some(f)),
-                    None if dirs.is_empty() => Ok(None),
-                    None => files.find_file(&dirs, true, false),
-                })
-            }
-        };
-        let (shown, bytes) = match found {
+        let (shown, bytes) = match self.find(name) {
             Ok(Some(f)) => f,
             Ok(None) => {
-                diags.error(line, col, format!("{name}: a call of the subprogram {name}, whose file ({name}.SPF) is neither beside the program nor in a directory of --subroutine-path: the motion depends on it"));
+                let (base, kind) = base_name(name);
+                diags.error(line, col, format!("{name}: a call of the subprogram {base}, whose file ({base}.{}) is neither beside the program nor in a directory of --subroutine-path: the motion depends on it", kind.unwrap_or("SPF")));
                 return Next::On;
             }
             Err(why) => {
@@ -164,11 +177,43 @@ impl FlowRunner {
                 return Next::On;
             }
         };
+        // A program's lines count as the program's own at its first call, as run again after.
+        let base = base_name(name).0.to_string();
+        let first = !self.called_files.known.contains(&base) && self.called_files.known.len() < MAX_KNOWN;
+        if first {
+            self.called_files.known.insert(base);
+        }
         let reader = std::mem::replace(&mut self.reader, super::SinumerikReader::new(&self.setup));
-        let mut child = FlowRunner::below(self, reader, name, values);
+        let mut child = FlowRunner::below(self, reader, name, values, !first);
+        child.called_files = std::mem::take(&mut self.called_files);
+        child.reader.interp.refused_line = None;
         let caller = child.reader.vars.enter_level();
         self.sub = Some(Box::new(SubRun { run: Seeking::new(in_memory(bytes), Box::new(child)), call: (line, col), shown, caller }));
         Next::On
+    }
+
+    /// The file of the program `name`: kept from an earlier call, else looked for as the search
+    /// path says (and kept, within [`MAX_KEPT_BYTES`]).
+    fn find(&mut self, name: &str) -> Result<Option<(String, std::sync::Arc<[u8]>)>, String> {
+        let base = base_name(name).0.to_string();
+        if let Some((shown, bytes)) = self.called_files.files.get(&base) {
+            return Ok(Some((shown.clone(), bytes.clone())));
+        }
+        let Some(files) = &self.setup.subroutine_files else { return Ok(None) };
+        let (own, dirs) = file_names(name);
+        let found = match files.find_file(&own, true, true)? {
+            Some(f) => Some(f),
+            None if dirs.is_empty() => None,
+            None => files.find_file(&dirs, true, false)?,
+        };
+        Ok(found.map(|(shown, bytes)| {
+            let bytes: std::sync::Arc<[u8]> = bytes.into();
+            if self.called_files.bytes + bytes.len() <= MAX_KEPT_BYTES {
+                self.called_files.bytes += bytes.len();
+                self.called_files.files.insert(base, (shown.clone(), bytes.clone()));
+            }
+            (shown, bytes)
+        }))
     }
 
     /// The running subprogram's next part: its blocks at the call's line, its diagnostics said
@@ -192,7 +237,8 @@ impl FlowRunner {
                     _ => diags.warning(line, col, message),
                 }
             }
-            if done {
+            // Its run over (RET, M17, a stop), the rest of its file is not read.
+            if done || !sub.run.running() {
                 break;
             }
             if out.len() >= goal {
@@ -203,8 +249,10 @@ impl FlowRunner {
         let SubRun { run, caller, .. } = *sub;
         let mut child = run.runner;
         self.again = self.again.saturating_add(child.again);
+        self.called_files = std::mem::take(&mut child.called_files);
         let mut reader = std::mem::replace(&mut child.reader, super::SinumerikReader::new(&self.setup));
         reader.vars.leave_level(caller);
+        reader.interp.refused_line = None;
         self.reader = reader;
         Some(if child.end == End::Returned { Next::On } else { Next::Ended })
     }
@@ -293,6 +341,7 @@ fn formal(text: &str) -> Result<(String, Type), String> {
     };
     match (second, more) {
         (Some(n), None) if n.len() >= 2 && n.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_') && !n.as_bytes()[0].is_ascii_digit() => Ok((n.to_ascii_uppercase(), ty)),
+        (Some(n), None) if n.len() == 1 => Err(format!("'{}': a variable's name has two characters or more here (a letter alone is an address)", excerpt(text))),
         _ => Err(format!("'{}': expected a type and a name (arrays are not read)", excerpt(text))),
     }
 }
@@ -335,7 +384,7 @@ mod tests {
     /// moves stand at the call's line; an R parameter it sets is the caller's after it returns.
     #[test]
     fn calls_pass_their_values_and_return() {
-        let main = "N10 DEF REAL WIDTH=3\nN20 G90 G71 G94 F500\nN30 CONTOUR(5.5, WIDTH) ; comment\nN40 G1 X=R1\nN50 SUB_PROG(1, , 3)\nN60 L12\nN70 M30\n";
+        let main = "N10 DEF REAL WIDTH=3\nN20 G90 G71 G94 F500\nN30 CONTOUR(5.5, WIDTH) ; comment\nN40 G1 X=R1\nN50 SUB_PROG(1, , 3)\nN60 L12()\nN70 M30\n";
         let contour = "PROC CONTOUR(REAL LENGTH, REAL BREADTH) DISPLOF\nDEF REAL HALF\nHALF = BREADTH/2\nG1 X=LENGTH Y=HALF\nR1 = LENGTH*2\nN100 RET\n";
         let sub = "%_N_SUB_PROG_SPF\n; three values\nPROC SUB_PROG (REAL XA, REAL YA, REAL ZA)\nG1 X=XA Y=YA Z=ZA\nM17\n";
         let p = run(main, &[("contour.spf", contour.into()), ("SUB_PROG.SPF", sub.into()), ("L12.SPF", "G1 X7 Y7\nM17\n".into())]);
@@ -381,6 +430,11 @@ mod tests {
             ("OTHER.SPF", "PROC ANOTHER\nRET\n".into()),
             ("BAD.SPF", "G1 X1\nG1 X=NOPE\nRET\n".into()),
             ("SEES.SPF", "G1 X=WIDTH\nRET\n".into()),
+            ("MIDDLE.SPF", "DEF REAL DEPTH=1\nSEES_MIDDLE\nRET\n".into()),
+            ("SEES_MIDDLE.SPF", "G1 Z=DEPTH\nRET\n".into()),
+            ("SHORT.SPF", "PROC SHORT(REAL X)\nRET\n".into()),
+            ("MAIN_TWO.MPF", "G0 Z100 M30\n".into()),
+            ("EMPTY.SPF", "; nothing\n".into()),
         ];
         let cases = [
             ("PLAIN P3", "PLAIN P: a repeated call is not read"),
@@ -392,12 +446,18 @@ mod tests {
             ("OTHER", "PROC ANOTHER in the file of OTHER"),
             ("NOWHERE", "NOWHERE: a call of the subprogram NOWHERE, whose file (NOWHERE.SPF) is neither beside the program"),
             ("BAD", "in BAD.SPF:2:6: X=NOPE: NOPE is not defined"),
-            ("SEES", "WIDTH is not defined (DEF) in this subprogram: a calling program's variable"),
+            ("SEES", "WIDTH is not defined (DEF) in this subprogram: the main program's variable"),
+            ("MIDDLE", "DEPTH is not defined (DEF) in this subprogram: a calling subprogram's own variable"),
+            ("SHORT(1)", "'REAL X': a variable's name has two characters or more here"),
+            ("MAIN_TWO", "M2 or M30 in a subprogram"),
+            ("EMPTY(1)", "EMPTY is called with parameters, but its program has no PROC line first"),
         ];
         for (call, why) in cases {
             let p = run(&format!("DEF REAL WIDTH=2\nG90 G71 F100\n{call}\nM30\n"), &files.iter().map(|(f, t)| (*f, t.as_str())).collect::<Vec<_>>());
             let e = errors(&p);
             assert!(e.iter().any(|m| m.starts_with(if call.contains(" P") { "3:7: " } else { "3:1: " }) && m.contains(why)), "{call}: {e:#?}");
+            // A refused line's moves are not used (the main program's M30 block called).
+            assert!(p.blocks.iter().all(|b| b.targets.z.is_none()), "{call}");
         }
     }
 
@@ -418,6 +478,27 @@ mod tests {
         assert_eq!(e[0].matches("in DEEPER.SPF:2:1: ").count(), 15, "{e:#?}");
         assert!(e[0].ends_with("DEEPER: calls nested deeper than the control's 16 program levels (the rest of the program is not read)"), "{e:#?}");
         assert_eq!(moves(&p).len(), 15);
+    }
+
+    /// A program's lines count as the program's own at its first call, as run again at the next:
+    /// a subprogram of 300 moves called once reads within a budget of 100 lines run again, called
+    /// twice it does not. After its RET the rest of its file is not read (200,000 comment lines, 500
+    /// calls: quick).
+    #[test]
+    fn a_programs_first_call_is_its_own_lines() {
+        let long: String = (1..=300).map(|k| format!("G1 X{k}\n")).chain(std::iter::once("RET\n".to_string())).collect();
+        let files = |text: &str| Beside(vec![("LONG.SPF", text.to_string())]);
+        let options = |text: &str| ReadOptions { subroutine_files: Some(Arc::new(files(text))), max_run_lines: 100, ..ReadOptions::default() };
+        let once = read("G90 G71 F100\nLONG\nM30\n", Dialect::Sinumerik, "t.mpf", &options(&long));
+        assert!(errors(&once).is_empty(), "{:?}", errors(&once));
+        assert_eq!(moves(&once).len(), 300);
+        let twice = read("G90 G71 F100\nLONG\nLONG\nM30\n", Dialect::Sinumerik, "t.mpf", &options(&long));
+        assert!(errors(&twice).iter().any(|e| e.contains("more than 100 lines run by loops, jumps and calls")), "{:?}", errors(&twice));
+        let after: String = std::iter::once("G91 G1 X1\nRET\n".to_string()).chain((0..200_000).map(|_| "; after\n".to_string())).collect();
+        let options = ReadOptions { subroutine_files: Some(Arc::new(files(&after))), ..ReadOptions::default() };
+        let p = read("G90 G71 F100\nDEF INT KK\nFOR KK=1 TO 500\nLONG\nENDFOR\nM30\n", Dialect::Sinumerik, "t.mpf", &options);
+        assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+        assert_eq!(moves(&p).len(), 500);
     }
 
     /// A subprogram's long loop reaches the caller's stream a part at a time, all of its moves and
