@@ -240,7 +240,7 @@ fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
     has(&p, 4, 7, "R1 is read before this program sets it");
     has(&p, 5, 5, "cutter radius compensation");
     has(&p, 6, 1, "without TRAORI");
-    has(&p, 7, 5, "an indirect call of another program is not read");
+    has(&p, 7, 5, "this call of another program is not read");
     has(&p, 8, 7, "DC");
     has(&p, 10, 6, "zero length");
     has(&p, 11, 1, "both a tool vector");

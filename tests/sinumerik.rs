@@ -165,15 +165,15 @@ fn ac_and_ic_dimension_their_word_only() {
 }
 
 /// The 840D's subprogram calls of programs not given with this one (NC programming 12/2019 §3.2.1.2:
-/// a name alone in its block, `L47`; `CALL "NAME"`, an indirect call, is not read) are refused at
+/// a name alone in its block, `L47`, `CALL "NAME"`) are refused at
 /// their column, saying what they call and where it was looked for: the motion would depend on it.
 #[test]
 fn subprogram_calls_name_the_program_they_call() {
     let p = read("G90 G71\nG0 X0 Y0 Z50\nCALL \"SUB1\"\nSUB1\nL100\nG1 X10 F100\nM30\n", Dialect::Sinumerik, "calls.mpf", &ReadOptions::default());
     let e = errors(&p);
     assert_eq!(e.len(), 3, "{e:?}");
-    assert_eq!((e[0].0, e[0].1), (3, 6));
-    assert!(e[0].2.contains("CALL \"NAME\" calls another program"), "{e:?}");
+    assert_eq!((e[0].0, e[0].1), (3, 1));
+    assert!(e[0].2.contains("a call of the subprogram SUB1, whose file (SUB1.SPF)"), "{e:?}");
     assert_eq!((e[1].0, e[1].1), (4, 1));
     assert!(e[1].2.contains("a call of the subprogram SUB1, whose file (SUB1.SPF) is neither beside the program nor in a directory of --subroutine-path"), "{e:?}");
     assert_eq!((e[2].0, e[2].1), (5, 1));

@@ -574,7 +574,7 @@ fn unsupported_keyword(k: &str) -> Option<&'static str> {
         "GOTOF" | "GOTOB" | "GOTO" | "GOTOC" | "REPEAT" | "REPEATB" | "UNTIL" | "IF" | "ELSE" | "ENDIF" | "WHILE" | "ENDWHILE" | "FOR" | "ENDFOR" | "LOOP" | "ENDLOOP" => {
             "program control after other words of a block is not read (a jump or a control structure stands at the block's start)"
         }
-        "CALL" | "PCALL" | "EXTCALL" => "an indirect call of another program is not read (a program called by its name alone in its block is)",
+        "CALL" | "PCALL" | "EXTCALL" => "this call of another program is not read (a program called by its name alone in its block is, and CALL \"NAME\" alone)",
         "PROC" | "RET" => "a PROC or RET stands at its block's start",
         "DEF" => "a definition stands at the start of its line, in the definitions part",
         _ => return None,

@@ -23,8 +23,10 @@
 //! - Modal state (G codes, frames, feed) carries over both ways: only `SAVE` restores it, and what
 //!   it restores depends on machine data (Function Manual K2 §10.5.9: MD10617): `SAVE` is refused.
 //! - 16 program levels, the main program's level 0 (NC-Programmierung 01/2023 §4.2.1.3).
-//! - The end: `RET` or `M17` returns. `M2`/`M30` in a subprogram, a repetition `P`, `CALL`, `PCALL`,
-//!   `EXTCALL` and `MCALL` of a subprogram are refused: their pages were not in reach.
+//! - `CALL "NAME"` calls a program by its name in quotes, which may start with digits (§3.2.1.2).
+//! - The end: `RET` or `M17` returns. `M2`/`M30` in a subprogram, a repetition `P`, `CALL` of a
+//!   string variable, `PCALL`, `EXTCALL` and `MCALL` of a subprogram are refused: their pages were
+//!   not in reach.
 
 use super::flow::{End, FlowRunner};
 use super::lex::{call_arguments, Arg, Level, Type};
@@ -74,6 +76,9 @@ fn program_name(name: &str) -> bool {
 /// call's shape, or `None`. `Some(Err)` where it is one with what is not read (a repetition `P`).
 pub(super) fn call_site(text: &str, body: usize) -> Option<Result<CallSite<'_>, (usize, String)>> {
     let b = text.as_bytes();
+    if let Some(site) = indirect_call(text, body) {
+        return Some(Ok(site));
+    }
     let end = (body..b.len()).find(|&k| !(b[k].is_ascii_alphanumeric() || b[k] == b'_')).unwrap_or(b.len());
     let name = text[body..end].to_ascii_uppercase();
     if !program_name(&name) || super::is_instruction(&name) {
@@ -110,6 +115,24 @@ pub(super) struct Called {
     files: std::collections::HashMap<String, (String, std::sync::Arc<[u8]>)>,
     bytes: usize,
     known: std::collections::HashSet<String>,
+}
+
+/// `CALL "NAME"` alone in its block: the program named by the text, whose name may start with
+/// digits ("if the program name starts with digits, the subprogram call is then only possible via
+/// the CALL statement", NCP19 §3.2.1.2). A string variable's name, `CALL BLOCK` and the like are
+/// not this.
+fn indirect_call(text: &str, body: usize) -> Option<CallSite<'_>> {
+    let rest = text.get(body..)?;
+    if !rest.get(..4).is_some_and(|k| k.eq_ignore_ascii_case("CALL")) || !rest[4..].starts_with(|c: char| c.is_ascii_whitespace()) {
+        return None;
+    }
+    let quoted = rest[4..].trim_start().strip_prefix('"')?;
+    let close = quoted.find('"')?;
+    let after = quoted[close + 1..].trim_start();
+    let name = quoted[..close].to_ascii_uppercase();
+    let base = base_name(&name).0;
+    let named = !base.is_empty() && base.len() <= MAX_NAME && base.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_');
+    (named && (after.is_empty() || after.starts_with(';'))).then_some(CallSite { name, at: body, args: None })
 }
 
 /// A subprogram running below its caller: its own flow over its file, where its call stands, and
@@ -380,18 +403,19 @@ mod tests {
     }
 
     /// NCP19 §3.2.1.5-3.2.1.6's calls: `CONTOUR(5.5, WIDTH)` passes a value and a variable; a
-    /// parameter left out (`SUB_PROG(1, , 3)`) is 0; `L12` is a program without parameters. Its
+    /// parameter left out (`SUB_PROG(1, , 3)`) is 0; `L12` is a program without parameters, and
+    /// `CALL "12_HOLE"` one whose name starts with digits (§3.2.1.2). Its
     /// moves stand at the call's line; an R parameter it sets is the caller's after it returns.
     #[test]
     fn calls_pass_their_values_and_return() {
-        let main = "N10 DEF REAL WIDTH=3\nN20 G90 G71 G94 F500\nN30 CONTOUR(5.5, WIDTH) ; comment\nN40 G1 X=R1\nN50 SUB_PROG(1, , 3)\nN60 L12()\nN70 M30\n";
+        let main = "N10 DEF REAL WIDTH=3\nN20 G90 G71 G94 F500\nN30 CONTOUR(5.5, WIDTH) ; comment\nN40 G1 X=R1\nN50 SUB_PROG(1, , 3)\nN60 L12()\nN65 CALL \"12_HOLE\" ; digits first\nN70 M30\n";
         let contour = "PROC CONTOUR(REAL LENGTH, REAL BREADTH) DISPLOF\nDEF REAL HALF\nHALF = BREADTH/2\nG1 X=LENGTH Y=HALF\nR1 = LENGTH*2\nN100 RET\n";
         let sub = "%_N_SUB_PROG_SPF\n; three values\nPROC SUB_PROG (REAL XA, REAL YA, REAL ZA)\nG1 X=XA Y=YA Z=ZA\nM17\n";
-        let p = run(main, &[("contour.spf", contour.into()), ("SUB_PROG.SPF", sub.into()), ("L12.SPF", "G1 X7 Y7\nM17\n".into())]);
+        let p = run(main, &[("contour.spf", contour.into()), ("SUB_PROG.SPF", sub.into()), ("L12.SPF", "G1 X7 Y7\nM17\n".into()), ("12_hole.spf", "G1 Z-2\nM17\n".into())]);
         assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
         let nan = f64::NAN;
         let m = moves(&p);
-        let want = [(3, [5.5, 1.5, nan]), (4, [11.0, nan, nan]), (5, [1.0, 0.0, 3.0]), (6, [7.0, 7.0, nan])];
+        let want = [(3, [5.5, 1.5, nan]), (4, [11.0, nan, nan]), (5, [1.0, 0.0, 3.0]), (6, [7.0, 7.0, nan]), (7, [nan, nan, -2.0])];
         assert_eq!(m.len(), want.len(), "{m:?}");
         for ((l, xyz), (wl, wxyz)) in m.iter().zip(want) {
             assert_eq!(*l, wl);
