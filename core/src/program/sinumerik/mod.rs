@@ -553,12 +553,13 @@ impl SinumerikReader {
 /// Whether `name` (capitals) is an instruction the reader knows, read or refused ([`SinumerikReader::block`]'s
 /// keywords, the cycles): any other name alone in a block calls the program of that name.
 pub(super) fn is_instruction(name: &str) -> bool {
-    matches!(
-        name,
-        "STOPRE" | "TRAORI" | "TRAFOOF" | "ORIWKS" | "ORIVECT" | "ORIPLANE" | "ORIMKS" | "ORIAXES" | "ORIEULER" | "ORIRPY" | "SOFT" | "BRISK" | "FFWON" | "FFWOF" | "FNORM" | "COMPOF" | "COMPON" | "COMPCURV" | "COMPCAD" | "MSG" | "SETMS" | "EXTERN" | "TRANS" | "ATRANS" | "ROT" | "AROT" | "SUPA" | "MCALL"
-    ) || name.starts_with("CYCLE")
-        || unsupported_keyword(name).is_some()
+    READ_KEYWORDS.contains(&name) || name.starts_with("CYCLE") || unsupported_keyword(name).is_some()
 }
+
+/// The keywords [`SinumerikReader::block`] reads.
+pub(super) const READ_KEYWORDS: [&str; 28] = [
+    "STOPRE", "TRAORI", "TRAFOOF", "ORIWKS", "ORIVECT", "ORIPLANE", "ORIMKS", "ORIAXES", "ORIEULER", "ORIRPY", "SOFT", "BRISK", "FFWON", "FFWOF", "FNORM", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "MSG", "SETMS", "EXTERN", "TRANS", "ATRANS", "ROT", "AROT", "SUPA", "MCALL",
+];
 
 /// Why a keyword the reader knows is refused (`None`: a name it does not know).
 fn unsupported_keyword(k: &str) -> Option<&'static str> {

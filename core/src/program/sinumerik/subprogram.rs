@@ -117,6 +117,22 @@ pub(super) struct Called {
     known: std::collections::HashSet<String>,
 }
 
+/// Whether `a` and `b` differ by one letter left out, added or changed.
+fn one_edit(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    let (short, long) = if a.len() <= b.len() { (a, b) } else { (b, a) };
+    if a == b || long.len() - short.len() > 1 {
+        return false;
+    }
+    // Past the common start (shorter than `short` where the lengths agree, as they differ).
+    let head = short.iter().zip(long).take_while(|(x, y)| x == y).count();
+    if short.len() == long.len() {
+        short[head + 1..] == long[head + 1..]
+    } else {
+        short[head..] == long[head + 1..]
+    }
+}
+
 /// `CALL "NAME"` alone in its block: the program named by the text, whose name may start with
 /// digits ("if the program name starts with digits, the subprogram call is then only possible via
 /// the CALL statement", NCP19 §3.2.1.2). A string variable's name, `CALL BLOCK` and the like are
@@ -192,7 +208,9 @@ impl FlowRunner {
             Ok(Some(f)) => f,
             Ok(None) => {
                 let (base, kind) = base_name(name);
-                diags.error(line, col, format!("{name}: a call of the subprogram {base}, whose file ({base}.{}) is neither beside the program nor in a directory of --subroutine-path: the motion depends on it", kind.unwrap_or("SPF")));
+                // A keyword mistyped is read as a call too: say which one it is a letter from.
+                let like = super::READ_KEYWORDS.iter().find(|k| one_edit(k, base)).map_or(String::new(), |k| format!(" (or is it {k}, mistyped?)"));
+                diags.error(line, col, format!("{name}: a call of the subprogram {base}, whose file ({base}.{}) is neither beside the program nor in a directory of --subroutine-path: the motion depends on it{like}", kind.unwrap_or("SPF")));
                 return Next::On;
             }
             Err(why) => {
@@ -483,6 +501,17 @@ mod tests {
             // A refused line's moves are not used (the main program's M30 block called).
             assert!(p.blocks.iter().all(|b| b.targets.z.is_none()), "{call}");
         }
+    }
+
+    /// A keyword a letter from one the reader knows is still a call (the control's rule), and its
+    /// refusal asks whether it is that keyword mistyped (NX's Cincinnati post writes TRAOOF).
+    #[test]
+    fn a_mistyped_keyword_is_named() {
+        let e = errors(&run("G90 G71\nTRAOOF\nTRAORIX\nTRAFO\nM30\n", &[]));
+        assert!(e[0].starts_with("2:1: TRAOOF: a call of the subprogram TRAOOF") && e[0].ends_with("(or is it TRAFOOF, mistyped?)"), "{e:#?}");
+        assert!(e[1].ends_with("(or is it TRAORI, mistyped?)"), "{e:#?}");
+        assert!(e[2].ends_with("the motion depends on it"), "{e:#?}");
+        assert!(super::one_edit("ROT", "AROT") && super::one_edit("SUPA", "SUPB") && !super::one_edit("SUPA", "SUPA") && !super::one_edit("ROT", "TRANS"));
     }
 
     /// A subprogram read alone: its PROC's parameters have no value, and a read of one says so.
