@@ -200,6 +200,13 @@ impl SinumerikReader {
                 }
                 "SUPA" => machine_coords = Some((k.col, "SUPA")),
                 "MCALL" => self.modal_call(keywords.next(), line, diags),
+                // A call's other words are its own (`CALL BLOCK LABEL1 TO LABEL0`, Autodesk's posts'
+                // program section call): one refusal for the block.
+                "CALL" | "PCALL" | "EXTCALL" => {
+                    let section = if keywords.as_slice().first().is_some_and(|n| n.name == "BLOCK") { "a program section call (CALL BLOCK .. TO ..) is not read: its manual page is not in reach" } else { "this call of another program is not read (a program called by its name alone in its block is, and CALL \"NAME\" alone)" };
+                    diags.error(line, k.col, format!("{}: {section}", k.name));
+                    break;
+                }
                 "CYCLE800" => self.swivel(&k, line, number, out, diags),
                 "CYCLE832" => self.high_speed_settings(&k, line, diags),
                 name if name.starts_with("CYCLE") && k.args.is_some() => {

@@ -503,6 +503,20 @@ mod tests {
         }
     }
 
+    /// What Autodesk's SINUMERIK 840D post writes with "Use files for subroutines" (siemens-840d.cps,
+    /// `subprogramCall`/`subprogramEnd`): `N15 subPART1 ; SPF CALL` in the main program, and a file
+    /// `subPART1.spf` whose first line is `; %_N_SUBPART1_SPF` and last `M17`. Without that option it
+    /// writes `CALL BLOCK LABEL1 TO LABEL0`, refused once for its block.
+    #[test]
+    fn autodesk_posts_subprogram_files_read() {
+        let main = "; %_N_PART_MPF\nN10 G90 G71 G94 F600\nN15 subPART1 ; SPF CALL\nN20 CALL BLOCK LABEL1 TO LABEL0\nN25 M30\n";
+        let sub = "; %_N_SUBPART1_SPF\nG0 X10 Y20\nG1 Z-1\nG0 Z5\nM17\n";
+        let p = run(main, &[("subPART1.spf", sub)]);
+        assert_eq!(errors(&p), ["4:5: CALL: a program section call (CALL BLOCK .. TO ..) is not read: its manual page is not in reach"]);
+        let got: Vec<String> = moves(&p).iter().map(|(l, v)| format!("{l}:{:?}", v.map(|c| if c.is_nan() { None } else { Some(c) }))).collect();
+        assert_eq!(got, ["3:[Some(10.0), Some(20.0), None]", "3:[None, None, Some(-1.0)]", "3:[None, None, Some(5.0)]"]);
+    }
+
     /// A keyword a letter from one the reader knows is still a call (the control's rule), and its
     /// refusal asks whether it is that keyword mistyped (NX's Cincinnati post writes TRAOOF).
     #[test]
