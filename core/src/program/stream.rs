@@ -506,6 +506,9 @@ pub(crate) struct At {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Next {
     On,
+    /// On, once the run this line began (an 840D subprogram call) has given its blocks
+    /// ([`Jumping::more`], asked before each line until it answers `None`).
+    Run,
     Jump(At),
     Find(Find),
     Ended,
@@ -584,9 +587,9 @@ pub(crate) trait Jumping: Send {
     fn found(&mut self, _find: Find, _hits: &[At], _read: usize, _diags: &mut Diags) -> Next {
         Next::Ended
     }
-    /// A run a line began (an 840D subprogram call) gives its blocks a part at a time, before the
-    /// next line is read: `None` when none is running, else the next part to `out` and whether the
-    /// program goes on ([`Next::On`]: ask again) or ended in it ([`Next::Ended`]).
+    /// A run a line began ([`Next::Run`]: an 840D subprogram call) gives its blocks a part at a
+    /// time, before the next line is read: `None` when none is running, else the next part to `out`
+    /// and whether the program goes on ([`Next::On`]: ask again) or ended in it ([`Next::Ended`]).
     fn more(&mut self, _out: &mut Vec<Block>, _diags: &mut Diags) -> Option<Next> {
         None
     }
@@ -625,6 +628,8 @@ pub(crate) struct Seeking<'a, R: Jumping + ?Sized + 'a = dyn Jumping + 'a> {
     given: HashSet<(usize, usize, String)>,
     /// An opening, a read of the label pass or the seek back to the start that failed.
     broken: Option<std::io::Error>,
+    /// A run a line began gives its blocks before the next line ([`Next::Run`]).
+    run: bool,
 }
 
 impl<'a, R: Jumping + ?Sized + 'a> Seeking<'a, R> {
@@ -658,22 +663,25 @@ impl<'a, R: Jumping + ?Sized + 'a> Seeking<'a, R> {
         if broken.is_none() && scan {
             broken = input.rewind().err();
         }
-        Seeking { input, at: At { line: 1, offset: 0 }, runner, running: true, buf, early, given: HashSet::new(), broken }
+        Seeking { input, at: At { line: 1, offset: 0 }, runner, running: true, buf, early, given: HashSet::new(), broken, run: false }
     }
 
     /// Read one line and run (or check) it: its blocks to `out`, its diagnostics not given before to
     /// `diags`. True once the input has ended.
     pub(crate) fn fill(&mut self, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let mut d = std::mem::take(&mut self.early);
-        let Seeking { input, at, runner, running, buf, broken, .. } = self;
+        let Seeking { input, at, runner, running, buf, broken, run, .. } = self;
         // A run the last line began gives its part before the next line is read.
-        if *running && broken.is_none() {
-            if let Some(next) = runner.more(out, &mut d) {
-                if next == Next::Ended {
-                    *running = false;
+        if *run && *running && broken.is_none() {
+            match runner.more(out, &mut d) {
+                Some(next) => {
+                    if next == Next::Ended {
+                        *running = false;
+                    }
+                    self.give(d, diags);
+                    return false;
                 }
-                self.give(d, diags);
-                return false;
+                None => *run = false,
             }
         }
         let line = at.line;
@@ -711,7 +719,7 @@ impl<'a, R: Jumping + ?Sized + 'a> Seeking<'a, R> {
                     result = search(input, buf, &mut stands, find, runner.as_ref()).map(|(hits, read)| {
                         next = runner.found(find, &hits, read, &mut d);
                         // A search answers with a place, not another search.
-                        if matches!(next, Next::On | Next::Find(_)) {
+                        if matches!(next, Next::On | Next::Run | Next::Find(_)) {
                             next = Next::Jump(*at);
                         }
                     });
@@ -723,6 +731,10 @@ impl<'a, R: Jumping + ?Sized + 'a> Seeking<'a, R> {
                         true
                     }
                     (Ok(()), Next::On) => false,
+                    (Ok(()), Next::Run) => {
+                        *run = true;
+                        false
+                    }
                     (Ok(()), next) => {
                         // Read on from the jump's line, or (the program has ended: its lines after the
                         // end are only checked) from the next.

@@ -651,6 +651,16 @@ impl Interpreter {
         self.pending_vector = Some(v);
     }
 
+    /// The tool vector a block set for its move, not yet taken (to put back when it is refused).
+    pub(crate) fn pending_vector(&self) -> Option<[f64; 3]> {
+        self.pending_vector
+    }
+
+    /// Put back what [`Interpreter::pending_vector`] gave.
+    pub(crate) fn restore_pending_vector(&mut self, v: Option<[f64; 3]>) {
+        self.pending_vector = v;
+    }
+
     /// Set the program's length unit (Heidenhain header G70/G71, Klartext `BEGIN PGM ... INCH`),
     /// unless the user imposed one: then `Err` names the unit the program's numbers are read in.
     pub fn set_inch(&mut self, inch: bool) -> Result<(), super::LengthUnit> {

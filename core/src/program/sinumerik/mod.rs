@@ -130,10 +130,24 @@ impl super::stream::LineReader for SinumerikReader {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             return;
         }
-        let saved = (self.interp.clone(), self.frame, self.tool_offsets, self.mcall.clone(), self.swivel);
+        // The state a refused block must leave as it was. A block of plain words (a tool vector among
+        // them) changes only what the interpreter's own block takes back on a refusal, its vector
+        // and its tool edge (most lines: no copy of the interpreter here).
+        let plain = lexed.keywords.is_empty()
+            && lexed.rpl.is_none()
+            && self.mcall.is_none()
+            && !lexed.words.iter().any(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "60" | "64" | "9" | "53"));
+        let saved = (!plain).then(|| (self.interp.clone(), self.frame, self.mcall.clone(), self.swivel));
+        let (tool_offsets, vector) = (self.tool_offsets, self.interp.pending_vector());
         let blocks_before = out.len();
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
-            (self.interp, self.frame, self.tool_offsets, self.mcall, self.swivel) = saved;
+            if let Some(saved) = saved {
+                (self.interp, self.frame, self.mcall, self.swivel) = saved;
+            }
+            self.tool_offsets = tool_offsets;
+            if plain {
+                self.interp.restore_pending_vector(vector);
+            }
             out.truncate(blocks_before);
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used"));

@@ -80,6 +80,11 @@ pub(super) fn call_site(text: &str, body: usize) -> Option<Result<CallSite<'_>, 
         return Some(Ok(site));
     }
     let end = (body..b.len()).find(|&k| !(b[k].is_ascii_alphanumeric() || b[k] == b'_')).unwrap_or(b.len());
+    // Most lines start with an address and its number (`G1`, `X5`): not a name, seen without a copy.
+    let second_letter = b.get(body + 1).is_some_and(|c| c.is_ascii_alphabetic() || *c == b'_');
+    if end < body + 2 || !(second_letter || b[body].eq_ignore_ascii_case(&b'L')) {
+        return None;
+    }
     let name = text[body..end].to_ascii_uppercase();
     if !program_name(&name) || super::is_instruction(&name) {
         return None;
@@ -230,7 +235,7 @@ impl FlowRunner {
         child.reader.interp.refused_line = None;
         let caller = child.reader.vars.enter_level();
         self.sub = Some(Box::new(SubRun { run: Seeking::new(in_memory(bytes), Box::new(child)), call: (line, col), shown, caller }));
-        Next::On
+        Next::Run
     }
 
     /// The file of the program `name`: kept from an earlier call, else looked for as the search
