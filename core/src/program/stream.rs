@@ -718,7 +718,9 @@ impl<'a, R: Jumping + ?Sized + 'a> Seeking<'a, R> {
                 if let Next::Find(find) = next {
                     result = search(input, buf, &mut stands, find, runner.as_ref()).map(|(hits, read)| {
                         next = runner.found(find, &hits, read, &mut d);
-                        // A search answers with a place, not another search.
+                        // A search answers with a place, not another search; a run its answer began
+                        // gives its blocks before the line after.
+                        *run |= next == Next::Run;
                         if matches!(next, Next::On | Next::Run | Next::Find(_)) {
                             next = Next::Jump(*at);
                         }

@@ -572,6 +572,20 @@ mod tests {
 
     /// A bolt circle by `WHILE` ... `ENDWHILE`: six holes 60 deg apart on a 50 mm radius, computed
     /// here from the circle; then `FOR` counting 1 to 3.
+    /// A refused block leaves the reader as it was, a block of plain words as any other (the 840D
+    /// reader says nothing of an earlier refused line in a later defect, as before).
+    #[test]
+    fn a_refused_plain_block_leaves_the_state_as_it_was() {
+        let p = run("N1 G90 G71 G94 G17 F500 TRAORI\nN2 G1 X0 Y0 Z0 A3=0 B3=0 C3=1\nN3 G1 X10 X11 A3=0 B3=1 C3=1\nN4 G1 X20 I5\nN5 G1 X30\nM30\n", &ReadOptions::default());
+        let e = p.messages(Severity::Error);
+        assert_eq!(e.len(), 2, "{e:#?}");
+        assert!(e.iter().all(|m| !m.contains("was refused before it")), "{e:#?}");
+        // Line 3's tool vector did not carry over to line 5's move.
+        let last = p.blocks.iter().rev().find(|b| b.targets.x.is_some()).unwrap();
+        assert_eq!(last.line, 5);
+        assert!(last.targets.tool_axis.is_none(), "{:?}", last.targets.tool_axis);
+    }
+
     #[test]
     fn while_and_for_loops_run_as_their_conditions_say() {
         let text = "DEF INT COUNT\nR1=0\nWHILE R1<6\nG1 X=50*COS(R1*60) Y=50*SIN(R1*60) F500\nR1=R1+1\nENDWHILE\nFOR COUNT=1 TO 3\nG1 Z=COUNT*10\nENDFOR\nM30\n";

@@ -320,8 +320,8 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             let end = token_end(i).max(i + 1);
             let end = (end..=n).find(|&e| src.is_char_boundary(e)).unwrap_or(n);
             if c == b'"' {
-                // `CALL "NAME"` (Job Planning, "Indirect subprogram call"): another program.
-                diags.error(line, col, format!("{}: a program name in quotes (CALL \"NAME\" calls another program, which is not read; the motion would depend on it)", excerpt(&src[i..end])));
+                // A text where no word takes one: `CALL "NAME"` calls a program only alone in its block.
+                diags.error(line, col, format!("{}: a text where no word takes one (CALL \"NAME\" calls a program alone in its block, a blank after CALL)", excerpt(&src[i..end])));
             } else {
                 diags.error(line, col, format!("unexpected '{}': expected a word such as G1 or X=10.5", excerpt(&src[i..end])));
             }

@@ -16,7 +16,7 @@
 //!
 //! What changes the motion and is not modelled is an error at its line and column, never skipped:
 //! `SCALE`/`MIRROR` frames, a rotated frame without `TRAORI`, `CYCLE800` beyond what [`swivel`]
-//! reads, other cycles, indirect calls (`CALL`), cutter compensation, orientation by angles
+//! reads, other cycles, `CALL` other than `CALL "NAME"` alone, cutter compensation, orientation by angles
 //! (`A2=`) or cone/polynomial orientation, exact stop on a feed move.
 //!
 //! Orientation interpolation: which of ORIWKS/ORIMKS and ORIVECT/ORIAXES governs depends on machine
@@ -138,7 +138,7 @@ impl super::stream::LineReader for SinumerikReader {
             && self.mcall.is_none()
             && !lexed.words.iter().any(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "60" | "64" | "9" | "53"));
         let saved = (!plain).then(|| (self.interp.clone(), self.frame, self.mcall.clone(), self.swivel));
-        let (tool_offsets, vector) = (self.tool_offsets, self.interp.pending_vector());
+        let (tool_offsets, vector, refused_line) = (self.tool_offsets, self.interp.pending_vector(), self.interp.refused_line);
         let blocks_before = out.len();
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             if let Some(saved) = saved {
@@ -147,6 +147,7 @@ impl super::stream::LineReader for SinumerikReader {
             self.tool_offsets = tool_offsets;
             if plain {
                 self.interp.restore_pending_vector(vector);
+                self.interp.refused_line = refused_line;
             }
             out.truncate(blocks_before);
             self.vars.rollback();

@@ -214,7 +214,7 @@ impl FlowRunner {
             Ok(None) => {
                 let (base, kind) = base_name(name);
                 // A keyword mistyped is read as a call too: say which one it is a letter from.
-                let like = super::READ_KEYWORDS.iter().find(|k| one_edit(k, base)).map_or(String::new(), |k| format!(" (or is it {k}, mistyped?)"));
+                let like = super::READ_KEYWORDS.iter().filter(|k| k.len() >= 5).find(|k| one_edit(k, base)).map_or(String::new(), |k| format!(" (or is it {k}, mistyped?)"));
                 diags.error(line, col, format!("{name}: a call of the subprogram {base}, whose file ({base}.{}) is neither beside the program nor in a directory of --subroutine-path: the motion depends on it{like}", kind.unwrap_or("SPF")));
                 return Next::On;
             }
@@ -316,7 +316,9 @@ impl FlowRunner {
         let b = text.as_bytes();
         let end = (start..after + body.len()).find(|&k| !(b[k].is_ascii_alphanumeric() || b[k] == b'_')).unwrap_or(after + body.len());
         let name = text[start..end].to_ascii_uppercase();
-        if !program_name(&name) {
+        // A name may start with digits where CALL "NAME" calls it (NCP19 §3.2.1.2).
+        let base = base_name(&name).0;
+        if base.is_empty() || base.len() > MAX_NAME {
             return crate::program::stream::stop(line, cols.col(start), format!("PROC: expected the program's name, found '{}'", excerpt(&text[start..after + body.len()])), diags);
         }
         if let Some(called) = &self.called {
@@ -434,7 +436,7 @@ mod tests {
         let main = "N10 DEF REAL WIDTH=3\nN20 G90 G71 G94 F500\nN30 CONTOUR(5.5, WIDTH) ; comment\nN40 G1 X=R1\nN50 SUB_PROG(1, , 3)\nN60 L12()\nN65 CALL \"12_HOLE\" ; digits first\nN70 M30\n";
         let contour = "PROC CONTOUR(REAL LENGTH, REAL BREADTH) DISPLOF\nDEF REAL HALF\nHALF = BREADTH/2\nG1 X=LENGTH Y=HALF\nR1 = LENGTH*2\nN100 RET\n";
         let sub = "%_N_SUB_PROG_SPF\n; three values\nPROC SUB_PROG (REAL XA, REAL YA, REAL ZA)\nG1 X=XA Y=YA Z=ZA\nM17\n";
-        let p = run(main, &[("contour.spf", contour.into()), ("SUB_PROG.SPF", sub.into()), ("L12.SPF", "G1 X7 Y7\nM17\n".into()), ("12_hole.spf", "G1 Z-2\nM17\n".into())]);
+        let p = run(main, &[("contour.spf", contour.into()), ("SUB_PROG.SPF", sub.into()), ("L12.SPF", "G1 X7 Y7\nM17\n".into()), ("12_hole.spf", "PROC 12_HOLE\nG1 Z-2\nM17\n".into())]);
         assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
         let nan = f64::NAN;
         let m = moves(&p);
