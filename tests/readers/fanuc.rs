@@ -134,3 +134,15 @@ fn g68_refuses_what_its_rules_leave_to_the_machine() {
         has(&p, l.parse().unwrap(), c.parse().unwrap(), needle);
     }
 }
+
+/// A cycle's first block without R: Fanuc's format has it; Haas marks R optional ("*R - Position of
+/// the R plane", its G82 page) without saying where the plane then lies, so both refuse it, Haas
+/// saying so (a student program of the probe set writes `G82 Z-0.12 F10.`).
+#[test]
+fn a_first_cycle_block_without_r_is_refused_as_each_control_says() {
+    let head = "%\nO1000\nG20 G90 G17 G94 G0 X0. Y0. Z1.\n";
+    let p = read(&format!("{head}G82 Z-0.12 F10.\nM30\n%\n"), Dialect::Haas, "t.nc", &ReadOptions::default());
+    has(&p, 4, 1, "G82 without R: Haas marks the R plane optional");
+    let p = read(&format!("{head}G82 Z-0.12 F10.\nM30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    has(&p, 4, 1, "G82: a new cycle needs its R point (R)");
+}

@@ -215,6 +215,12 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         (Some(w), _) if it.absolute() => w.value * unit,
         (Some(w), _) => initial + w.value * unit,
         (None, Some(a)) => a.r,
+        // Fanuc's format has R in a cycle's first block; Haas marks it optional ("*R - Position of the
+        // R plane", its G81-G89 pages) without saying where the plane then lies.
+        (None, None) if it.dialect() == crate::program::Dialect::Haas => {
+            diags.error(line, at, format!("G{} without R: Haas marks the R plane optional, but where it lies without one is not in its pages (write R)", kind.code()));
+            return false;
+        }
         (None, None) => {
             diags.error(line, at, format!("G{}: a new cycle needs its R point (R)", kind.code()));
             return false;
