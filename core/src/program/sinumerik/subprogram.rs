@@ -113,11 +113,14 @@ const MAX_KEPT_BYTES: usize = 64 << 20;
 /// run again).
 const MAX_KNOWN: usize = 10_000;
 
+/// A called program's file: where it was found (for messages) and its bytes.
+type ProgramFile = (String, std::sync::Arc<[u8]>);
+
 /// The programs called so far: each file's text, kept for its next calls (the files do not change
 /// while the program is read), and which were called before.
 #[derive(Debug, Default)]
 pub(super) struct Called {
-    files: std::collections::HashMap<String, (String, std::sync::Arc<[u8]>)>,
+    files: std::collections::HashMap<String, ProgramFile>,
     bytes: usize,
     known: std::collections::HashSet<String>,
 }
@@ -240,7 +243,7 @@ impl FlowRunner {
 
     /// The file of the program `name`: kept from an earlier call, else looked for as the search
     /// path says (and kept, within [`MAX_KEPT_BYTES`]).
-    fn find(&mut self, name: &str) -> Result<Option<(String, std::sync::Arc<[u8]>)>, String> {
+    fn find(&mut self, name: &str) -> Result<Option<ProgramFile>, String> {
         let base = base_name(name).0.to_string();
         if let Some((shown, bytes)) = self.called_files.files.get(&base) {
             return Ok(Some((shown.clone(), bytes.clone())));
@@ -436,7 +439,7 @@ mod tests {
         let main = "N10 DEF REAL WIDTH=3\nN20 G90 G71 G94 F500\nN30 CONTOUR(5.5, WIDTH) ; comment\nN40 G1 X=R1\nN50 SUB_PROG(1, , 3)\nN60 L12()\nN65 CALL \"12_HOLE\" ; digits first\nN70 M30\n";
         let contour = "PROC CONTOUR(REAL LENGTH, REAL BREADTH) DISPLOF\nDEF REAL HALF\nHALF = BREADTH/2\nG1 X=LENGTH Y=HALF\nR1 = LENGTH*2\nN100 RET\n";
         let sub = "%_N_SUB_PROG_SPF\n; three values\nPROC SUB_PROG (REAL XA, REAL YA, REAL ZA)\nG1 X=XA Y=YA Z=ZA\nM17\n";
-        let p = run(main, &[("contour.spf", contour.into()), ("SUB_PROG.SPF", sub.into()), ("L12.SPF", "G1 X7 Y7\nM17\n".into()), ("12_hole.spf", "PROC 12_HOLE\nG1 Z-2\nM17\n".into())]);
+        let p = run(main, &[("contour.spf", contour), ("SUB_PROG.SPF", sub), ("L12.SPF", "G1 X7 Y7\nM17\n"), ("12_hole.spf", "PROC 12_HOLE\nG1 Z-2\nM17\n")]);
         assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
         let nan = f64::NAN;
         let m = moves(&p);
@@ -457,7 +460,7 @@ mod tests {
     fn each_level_has_its_own_variables_and_markers() {
         let main = "DEF INT COUNT=7\nG90 G71 F500\nHOLES(3)\nG1 Z=COUNT\nGOTOF DONE\nG1 Z99\nDONE:\nM30\n";
         let holes = "PROC HOLES(INT NUMBER)\nDEF INT COUNT\nFOR COUNT=1 TO NUMBER\nG1 X=COUNT*10\nENDFOR\nGOTOF DONE\nG1 X99\nDONE: PECK\nRET\n";
-        let p = run(main, &[("HOLES.SPF", holes.into()), ("PECK.SPF", "G1 Z-5\nG1 Z1\nRET\n".into())]);
+        let p = run(main, &[("HOLES.SPF", holes), ("PECK.SPF", "G1 Z-5\nG1 Z1\nRET\n")]);
         assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
         let xz: Vec<(usize, f64, f64)> = moves(&p).iter().map(|(l, v)| (*l, v[0], v[2])).collect();
         let got: Vec<String> = xz.iter().map(|(l, x, z)| format!("{l}:{x}:{z}")).collect();
