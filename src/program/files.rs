@@ -253,19 +253,19 @@ impl fiveaxis_core::program::SubroutineFiles for OwnDirFirst {
 /// The first of `names` in `dir` (letters' case aside where `any_case`), read whole up to the
 /// readers' bound.
 fn find_in(dir: &Path, names: &[String], any_case: bool) -> Result<Option<(String, Vec<u8>)>, String> {
+    // The directory's files, listed once for all the names (letters' case aside).
+    let listed: Option<Vec<PathBuf>> = any_case.then(|| std::fs::read_dir(dir).map(|entries| entries.flatten().map(|e| e.path()).filter(|p| p.is_file()).collect()).unwrap_or_default());
     for name in names {
         // A name is a file name, not a path (LinuxCNC's find_ngc_file also expands one; not here).
         if name.is_empty() || name.contains(['/', '\\']) || name == ".." {
             return Err(format!("{name}: not a file name"));
         }
-        let path = if any_case {
-            let Ok(entries) = std::fs::read_dir(dir) else { continue };
-            match entries.flatten().find(|e| e.file_name().to_str().is_some_and(|f| f.eq_ignore_ascii_case(name))) {
-                Some(e) => e.path(),
+        let path = match &listed {
+            Some(files) => match files.iter().find(|p| p.file_name().and_then(|f| f.to_str()).is_some_and(|f| f.eq_ignore_ascii_case(name))) {
+                Some(p) => p.clone(),
                 None => continue,
-            }
-        } else {
-            dir.join(name)
+            },
+            None => dir.join(name),
         };
         let shown = path.display().to_string();
         // A directory of that name is no program: the next name is tried.

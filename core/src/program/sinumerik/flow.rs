@@ -396,7 +396,8 @@ impl FlowRunner {
             }
             None => self.reader.line(line, text, out, diags),
         }
-        if self.level > 0 && ends_program(&out[before..], &[2.0, 30.0]) {
+        let program_end = ends_program(&out[before..], &[2.0, 30.0]);
+        if self.level > 0 && program_end {
             out.truncate(before);
             return stop(line, 1, "M2 or M30 in a subprogram: whether it returns or ends the program is not read (the manual's page is not in reach)".into(), diags);
         }
@@ -404,7 +405,7 @@ impl FlowRunner {
             self.end = End::Returned;
             return Next::Ended;
         }
-        if ends_program(&out[before..], &[2.0, 30.0]) { Next::Ended } else { Next::On }
+        if program_end { Next::Ended } else { Next::On }
     }
 }
 

@@ -71,22 +71,24 @@ impl Vars {
     /// A subprogram's level begins: the caller's own variables (DEF: each program level's, its LUD)
     /// are set aside and given back; R parameters stay (the channel's, every level sees them).
     pub(crate) fn enter_level(&mut self) -> Level {
-        self.journal.clear();
-        let (r, own): (HashMap<_, _>, HashMap<_, _>) = std::mem::take(&mut self.map).into_iter().partition(|(name, _)| r_number(name).is_some());
-        self.map = r;
+        let own = self.take_own();
         self.outer.push(own.keys().cloned().collect());
         Level(own)
     }
 
-    /// The subprogram's level ends: its own variables go (given back: a `VAR` parameter's value
-    /// returns to its caller), the caller's come back.
-    pub(crate) fn leave_level(&mut self, caller: Level) -> Level {
-        self.journal.clear();
-        let (r, own): (HashMap<_, _>, HashMap<_, _>) = std::mem::take(&mut self.map).into_iter().partition(|(name, _)| r_number(name).is_some());
-        self.map = r;
+    /// The subprogram's level ends: its own variables go, the caller's come back.
+    pub(crate) fn leave_level(&mut self, caller: Level) {
+        self.take_own();
         self.map.extend(caller.0);
         self.outer.pop();
-        Level(own)
+    }
+
+    /// This level's own variables, taken out; the R parameters stay.
+    fn take_own(&mut self) -> HashMap<String, (Type, Option<f64>)> {
+        self.journal.clear();
+        let (r, own) = std::mem::take(&mut self.map).into_iter().partition(|(name, _)| r_number(name).is_some());
+        self.map = r;
+        own
     }
 
     /// A PROC's parameter, defined with its caller's value (`None`: not given, so read before set).
