@@ -31,12 +31,15 @@ pub struct ControlArgs {
     /// table turn that contradicts the file's `TLAXIS/` is refused, naming the unit that agrees.
     #[arg(long = "cl-angles", value_name = "UNIT", default_value = "deg", value_parser = clap::builder::PossibleValuesParser::new(AngleUnit::NAMES).map(|s| s.parse::<AngleUnit>().expect("a listed name parses")))]
     pub cl_angles: AngleUnit,
-    /// The machine's tool table, as LinuxCNC keeps it (`tool.tbl`: `T1 P1 D6 Z0 ;comment`): the
-    /// diameters an RS274NGC program's cutter radius compensation `G41`/`G42` takes by its `D` word,
-    /// or for the tool in the spindle (`G41.1`/`G42.1` write the diameter themselves).
+    /// The machine's tool table, as LinuxCNC keeps it (`tool.tbl`: `T1 P1 D6 Z0 ;comment`) or as a
+    /// Heidenhain TNC does (`TOOL.T`: `BEGIN TOOL.T MM`, a line of column names, a row per tool):
+    /// the diameters an RS274NGC program's cutter radius compensation `G41`/`G42` takes by its `D`
+    /// word or for the tool in the spindle (`G41.1`/`G42.1` write the diameter themselves), and the
+    /// radii (R + DR) a Klartext program's `RL`/`RR` take for the tool it called.
     #[arg(long = "tool-table", value_name = "FILE", value_parser = tool_table_parser)]
     pub tool_table: Option<ToolTable>,
-    /// The length unit of the tool table's numbers: the machine's (LinuxCNC's `[TRAJ] LINEAR_UNITS`).
+    /// The length unit of the tool table's numbers: the machine's (LinuxCNC's `[TRAJ] LINEAR_UNITS`);
+    /// a TNC table's header names its own, which stands.
     #[arg(long = "tool-table-units", value_name = "UNIT", default_value = "mm", value_parser = clap::builder::PossibleValuesParser::new(LengthUnit::NAMES).map(|s| s.parse::<LengthUnit>().expect("a listed name parses")))]
     pub tool_table_units: LengthUnit,
     /// A directory where an RS274NGC program's `o<name> call` of a subroutine it does not define finds
@@ -49,8 +52,13 @@ pub struct ControlArgs {
 
 /// `--tool-table`'s parser: the file read and checked now, its faults named by line.
 fn tool_table_parser(path: &str) -> Result<ToolTable, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
-    ToolTable::parse(&text).map_err(|e| format!("{path}: {e}"))
+    let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
+    // A TNC writes its tables in ISO 8859-1 (umlauts in a tool's name): read as such where not UTF-8.
+    let text = match String::from_utf8(bytes) {
+        Ok(t) => t,
+        Err(e) => e.into_bytes().into_iter().map(char::from).collect(),
+    };
+    ToolTable::parse(text.strip_prefix('\u{feff}').unwrap_or(&text)).map_err(|e| format!("{path}: {e}"))
 }
 
 /// `--orientation`'s parser: the modes' names listed as clap's possible values.

@@ -10,6 +10,7 @@ mod fanuc;
 mod klartext;
 mod linuxcnc;
 mod shop_words;
+mod tnc_comp;
 
 const SING: &str = include_str!("../recordings/programs/SING.I");
 const NON_SING: &str = include_str!("../recordings/programs/NON_SING.I");

@@ -2,7 +2,7 @@
 //! `convert_straight_comp1/2`, `convert_arc_comp1/2`), and its queue of held moves (interp_queue.cc
 //! `dequeue_canons`, `move_endpoint_and_flush`): pure geometry on the program's coordinates.
 
-use super::{CompState, Held, Side};
+use super::{CompState, Held, Rule, Side};
 use crate::program::{ArcSpec, Block, Motion, Plane};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -118,6 +118,24 @@ impl CompState {
         Ok(())
     }
 
+    /// TNC: the block that started compensation, held at its programmed point, ends where the
+    /// contour's first element puts the tool (`at`, perpendicular to it at its start: "the TNC
+    /// always positions the tool perpendicular to the programmed starting or end position", TNC 620
+    /// ISO user's manual p. 146); the moves held after it (in the tool axis only) go there too.
+    pub(super) fn place_entry(&mut self, at: [f64; 2], out: &mut Vec<Block>) {
+        let Some(on) = self.on.as_mut().filter(|c| c.entry_held) else { return };
+        on.entry_held = false;
+        on.current = [at[0], at[1], on.current[2]];
+        for h in &mut self.queue {
+            if let Held::Straight { block, .. } = h {
+                block.targets.x = Some(at[0]);
+                block.targets.y = Some(at[1]);
+            }
+        }
+        self.dequeue(out);
+        self.endpoint = Some(at);
+    }
+
     /// The first held arc, if the queue starts with one (LinuxCNC looks at `qc().front()`).
     fn front_arc(&self) -> Option<([f64; 2], [f64; 2], i32)> {
         match self.queue.first() {
@@ -129,13 +147,33 @@ impl CompState {
 
 /// A straight move under compensation: `b` programmed from `op` to `p` (x, y, z).
 pub(super) fn straight(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3], metric: bool, unit: f64, out: &mut Vec<Block>) -> Result<(), Fail> {
+    let (pxy, opxy) = ([p[0], p[1]], [op[0], op[1]]);
+    if pxy != opxy {
+        let normal = {
+            let on = st.on.as_ref().expect("compensation on");
+            atan2(pxy, opxy) + if on.side == Side::Left { FRAC_PI_2 } else { -FRAC_PI_2 }
+        };
+        st.place_entry(polar(opxy, st.on.as_ref().map_or(0.0, |c| c.radius), normal), out);
+    }
     let comp = st.on.clone().expect("compensation on");
     let (r, side) = (comp.radius, comp.side);
     let rapid = b.motion == Motion::Rapid;
     let c = comp.current;
-    let (cxy, pxy, opxy) = ([c[0], c[1]], [p[0], p[1]], [op[0], op[1]]);
+    let cxy = [c[0], c[1]];
     let end;
-    if comp.first {
+    if comp.first && comp.rule == Rule::Tnc {
+        // The block that starts compensation: held at its programmed point until the contour's
+        // first element places it ([`CompState::place_entry`]).
+        if pxy == cxy {
+            return Err("radius compensation starts in a straight line in the working plane (TNC user's manual: \"The radius compensation must be in the block in which you move to the first contour element\"); this block does not move in it".into());
+        }
+        end = pxy;
+        st.endpoint = None;
+        st.queue.push(Held::Straight { block: ended(b.clone(), end, Some(p[2])), dir: [pxy[0] - cxy[0], pxy[1] - cxy[1]], rapid });
+        if let Some(on) = &mut st.on {
+            on.entry_held = true;
+        }
+    } else if comp.first {
         // convert_straight_comp1: the entry move ends perpendicular to its own direction.
         if dist(pxy, cxy) <= r {
             return Err("Length of cutter compensation entry move is not greater than the tool radius".into());
@@ -174,7 +212,7 @@ pub(super) fn straight(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3],
         if !concave && beta > SMALL {
             // A convex corner: an arc about the programmed corner (a rapid goes straight).
             st.move_endpoint_and_flush(cxy, metric, unit, out)?;
-            let corner = if rapid {
+            let corner = if rapid && comp.rule == Rule::LinuxCnc {
                 ended(b.clone(), mid, Some(c[2]))
             } else {
                 arc_block(b, mid, Some(c[2]), opxy, if side == Side::Left { -1 } else { 1 })
@@ -232,16 +270,28 @@ pub(super) fn straight(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3],
 /// An arc under compensation: `b` programmed from `op` to `p` about `centre`, `turn` turns.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn arc(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3], centre: [f64; 2], turn: i32, metric: bool, unit: f64, out: &mut Vec<Block>) -> Result<(), Fail> {
-    let comp = st.on.clone().expect("compensation on");
-    let (r, side) = (comp.radius, comp.side);
-    let c = comp.current;
-    let (cxy, pxy, opxy) = ([c[0], c[1]], [p[0], p[1]], [op[0], op[1]]);
+    let (pxy, opxy) = ([p[0], p[1]], [op[0], op[1]]);
     let ccw = turn > 0;
-    let arc_radius = dist(pxy, centre);
+    let (side, r) = st.on.as_ref().map(|c| (c.side, c.radius)).expect("compensation on");
     let tool_inside = (side == Side::Left && ccw) || (side == Side::Right && !ccw);
     let too_small = || Err("Tool radius not less than arc radius with comp".to_string());
+    if st.on.as_ref().is_some_and(|c| c.entry_held) {
+        // The tool stands on the arc's offset at its start: towards the centre when inside it.
+        let start_radius = dist(opxy, centre);
+        if tool_inside && start_radius <= r {
+            return too_small();
+        }
+        let toward = atan2(opxy, centre);
+        st.place_entry(polar(centre, if tool_inside { start_radius - r } else { start_radius + r }, toward), out);
+    }
+    let comp = st.on.clone().expect("compensation on");
+    let c = comp.current;
+    let cxy = [c[0], c[1]];
+    let arc_radius = dist(pxy, centre);
     let new_end;
-    if comp.first {
+    if comp.first && comp.rule == Rule::Tnc {
+        return Err("radius compensation cannot start in a circle block (TNC user's manual: \"You cannot activate radius compensation in a circle block. Activate it beforehand in a straight-line block\")".into());
+    } else if comp.first {
         // convert_arc_comp1: the entry arc ends on its end's radius, its centre moved to keep it an arc.
         if dist(pxy, cxy) <= r {
             return Err("Radius of cutter compensation entry arc is not greater than the tool radius".into());

@@ -12,7 +12,10 @@
 //! [`geometry`] has LinuxCNC's corner rules, [`tools`] the tool table and the tool in the spindle.
 
 mod geometry;
+mod tnc;
 mod tools;
+
+pub(crate) use tnc::TncComp;
 
 pub use tools::ToolTable;
 pub(crate) use tools::Tools;
@@ -39,9 +42,24 @@ enum Held {
     Other(Block),
 }
 
-/// Compensation in effect (`G41`, `G42`, `G41.1`, `G42.1` until `G40`).
+/// Whose rules place the tool where compensation starts and at outside corners.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Rule {
+    /// LinuxCNC: the entry move ends perpendicular to its own direction; a rapid goes straight
+    /// round a convex corner.
+    LinuxCnc,
+    /// A Heidenhain TNC: the block that starts compensation ends perpendicular to the contour's
+    /// first element at its start, and every outside corner gets a transitional arc ([`tnc`]).
+    Tnc,
+}
+
+/// Compensation in effect (`G41`, `G42`, `G41.1`, `G42.1` until `G40`; a TNC's `RL`/`RR` until `R0`).
 #[derive(Debug, Clone)]
 pub(crate) struct Comp {
+    pub(crate) rule: Rule,
+    /// TNC: the block that started compensation is held ending at its programmed point, until the
+    /// contour's first element says where the tool stands there.
+    entry_held: bool,
     pub(crate) side: Side,
     /// The tool's radius, m (0: the moves run as programmed).
     radius: f64,
@@ -249,7 +267,7 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
                 radius
             };
             let p = it.position();
-            st.on = Some(Comp { side, radius, first: true, current: [p[0], p[1], p[2]] });
+            st.on = Some(Comp { rule: Rule::LinuxCnc, entry_held: false, side, radius, first: true, current: [p[0], p[1], p[2]] });
         }
     }
     // The G codes that act after G40/G41/G42 in the block, judged by the state after it.

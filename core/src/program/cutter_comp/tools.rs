@@ -1,24 +1,35 @@
-//! The tool table LinuxCNC's `G41`/`G42` take their radius from, and the tool in the spindle.
+//! The tool table LinuxCNC's `G41`/`G42` and a TNC's `RL`/`RR` take their radius from (LinuxCNC's
+//! `tool.tbl` or the TNC's `TOOL.T`), and the tool in the spindle.
 
 use crate::program::interp::Word;
 
-/// A tool table as LinuxCNC keeps it (`tool.tbl`: `T1 P1 D10 Z0 ;comment`), its diameters: what
-/// `G41`/`G42` with a `D` (or the tool in the spindle) compensate by. Its lengths are in the
-/// machine's unit (LinuxCNC's `[TRAJ] LINEAR_UNITS`): mm unless [`ToolTable::in_unit`] says inches.
+/// A tool table, its diameters: what `G41`/`G42` with a `D` (or the tool in the spindle) and a
+/// Klartext `RL`/`RR` (the called tool) compensate by. Read from LinuxCNC's `tool.tbl`
+/// (`T1 P1 D10 Z0 ;comment`), whose lengths are in the machine's unit (LinuxCNC's
+/// `[TRAJ] LINEAR_UNITS`): mm unless [`ToolTable::in_unit`] says inches; or from a Heidenhain TNC's
+/// `TOOL.T`, whose first line names its unit (`BEGIN TOOL.T MM`), which then stands.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ToolTable {
     tools: Vec<(u32, f64)>,
     /// Metres per unit of the table's numbers.
     unit: f64,
+    /// The unit is the table's own (a TNC table's header), which [`ToolTable::in_unit`] leaves.
+    unit_from_header: bool,
 }
 
 /// The most tools a table may hold (LinuxCNC's CANON_POCKETS_MAX is 1000).
 pub const MAX_TOOLS: usize = 100_000;
 
 impl ToolTable {
-    /// Read a LinuxCNC tool table: each line `T<n>` with the words `P X Y Z A B C U V W D I J Q`, a
-    /// `;` comment. Errors name the line and the word.
+    /// Read a tool table: a Heidenhain TNC's `TOOL.T` where the first line that is not blank starts
+    /// with `BEGIN` (its rows' T, R and DR, by the columns its second line names), else LinuxCNC's
+    /// `tool.tbl` (each line `T<n>` with the words `P X Y Z A B C U V W D I J Q`, a `;` comment).
+    /// Errors name the line and the word or column. A tool listed twice takes its last line's.
     pub fn parse(text: &str) -> Result<ToolTable, String> {
+        let first = text.lines().map(str::trim_start).find(|l| !l.is_empty()).unwrap_or("");
+        if first.get(..5).is_some_and(|w| w.eq_ignore_ascii_case("BEGIN")) {
+            return ToolTable::tnc(text);
+        }
         let mut tools: Vec<(u32, f64)> = Vec::new();
         for (k, raw) in text.lines().enumerate() {
             let line = k + 1;
@@ -43,20 +54,92 @@ impl ToolTable {
                 }
             }
             let Some(tool) = tool else { return Err(format!("line {line}: no T word (the tool's number)")) };
-            if tools.len() >= MAX_TOOLS {
-                return Err(format!("line {line}: more than {MAX_TOOLS} tools"));
-            }
-            match tools.iter_mut().find(|(t, _)| *t == tool) {
-                Some(entry) => entry.1 = diameter,
-                None => tools.push((tool, diameter)),
-            }
+            add(&mut tools, line, tool, diameter)?;
         }
-        Ok(ToolTable { tools, unit: crate::units::MM })
+        Ok(ToolTable { tools, unit: crate::units::MM, unit_from_header: false })
     }
 
-    /// The table with its numbers in `unit` (an inch machine's table).
+    /// Read a Heidenhain TNC tool table (`TOOL.T`, as the control writes it and pyLSV2's
+    /// table_reader reads it): `BEGIN <name>.T MM` (or `INCH`, perhaps `Version: '...'` after),
+    /// perhaps a `#STRUCTBEGIN`..`#STRUCTEND` or `TableDescription (`..`)` block, a line of column
+    /// names, one line per tool with each value under its column's name, and `[END]`. A column's
+    /// text runs from its name's first character to the next name's. Each tool's diameter is
+    /// 2 (R + DR), the table's part of the TNC's compensation value R + DR_TAB + DR_PROG (TNC 620
+    /// user's manual 01/2022 p. 134); an empty DR is 0, an empty T or R an error. A header without
+    /// a unit leaves it to [`ToolTable::in_unit`].
+    fn tnc(text: &str) -> Result<ToolTable, String> {
+        let mut lines = text.lines().enumerate().map(|(k, raw)| (k + 1, raw)).filter(|(_, raw)| !raw.trim().is_empty());
+        let Some((begin, header)) = lines.next() else { return Err("no BEGIN line".into()) };
+        // The words after the table's name, up to a `Version:`: MM or INCH where the header names one.
+        let unit = header
+            .split_whitespace()
+            .skip(2)
+            .take_while(|w| !w.get(..7).is_some_and(|v| v.eq_ignore_ascii_case("VERSION")))
+            .find_map(|w| match w.to_ascii_uppercase().as_str() {
+                "MM" => Some(crate::units::MM),
+                "INCH" => Some(crate::units::INCH),
+                _ => None,
+            });
+        let no_names = || format!("line {begin}: no line of column names after BEGIN");
+        let (mut at, mut names) = lines.next().ok_or_else(no_names)?;
+        // A description of the columns (pyLSV2's table types 2 and 3), which the names' line follows.
+        let structure = names.trim_start().starts_with("#STRUCTBEGIN");
+        if structure || names.trim_start().starts_with("TableDescription") {
+            let (open, closing) = (at, if structure { "#STRUCTEND" } else { ")" });
+            let closes = |raw: &str| if structure { raw.trim_start().starts_with(closing) } else { raw.starts_with(closing) };
+            loop {
+                let (_, raw) = lines.next().ok_or_else(|| format!("line {open}: the description of the columns has no end ('{closing}' at a line's start)"))?;
+                if closes(raw) {
+                    break;
+                }
+            }
+            (at, names) = lines.next().ok_or_else(no_names)?;
+        }
+        let cols = columns(names);
+        let span = |name: &str| cols.iter().position(|c| c.0 == name).map(|k| (cols[k].1, cols.get(k + 1).map(|c| c.1)));
+        let Some(t_span) = span("T") else { return Err(format!("line {at}: no column T (the tool's number) among the column names")) };
+        let Some(r_span) = span("R") else { return Err(format!("line {at}: no column R (the tool's radius) among the column names")) };
+        let dr_span = span("DR");
+        let mut tools: Vec<(u32, f64)> = Vec::new();
+        let mut ended = false;
+        for (line, raw) in lines {
+            if ended {
+                return Err(format!("line {line}: text after [END]"));
+            }
+            if raw.trim().eq_ignore_ascii_case("[END]") {
+                ended = true;
+                continue;
+            }
+            let t = cell(raw, t_span);
+            if t.is_empty() {
+                return Err(format!("line {line}: column T is empty (the tool's number)"));
+            }
+            let tool: u32 = t.parse().map_err(|_| format!("line {line}: column T: '{t}': a tool number is a whole number 0 or more"))?;
+            let r = cell(raw, r_span);
+            if r.is_empty() {
+                return Err(format!("line {line}: column R is empty (the tool's radius)"));
+            }
+            let radius = number(line, "R", r)?;
+            let delta = match dr_span.map(|s| cell(raw, s)).filter(|d| !d.is_empty()) {
+                Some(d) => number(line, "DR", d)?,
+                None => 0.0,
+            };
+            let diameter = 2.0 * (radius + delta);
+            if !diameter.is_finite() {
+                return Err(format!("line {line}: columns R and DR: 2 (R + DR) is not a finite number"));
+            }
+            add(&mut tools, line, tool, diameter)?;
+        }
+        Ok(ToolTable { tools, unit: unit.unwrap_or(crate::units::MM), unit_from_header: unit.is_some() })
+    }
+
+    /// The table with its numbers in `unit` (an inch machine's LinuxCNC table). A TNC table whose
+    /// header names its unit (`BEGIN TOOL.T INCH`) keeps that one, as the control reads it by its
+    /// header whatever `--tool-table-units` says.
     pub fn in_unit(mut self, unit: crate::program::LengthUnit) -> ToolTable {
-        self.unit = unit.metres();
+        if !self.unit_from_header {
+            self.unit = unit.metres();
+        }
         self
     }
 
@@ -74,6 +157,56 @@ impl ToolTable {
     /// A tool's diameter, m.
     pub fn diameter(&self, tool: u32) -> Option<f64> {
         self.tools.iter().find(|(t, _)| *t == tool).map(|(_, d)| *d * self.unit)
+    }
+}
+
+/// Put a tool's diameter in the table, a later line's replacing an earlier one's; past
+/// [`MAX_TOOLS`] lines of tools, an error.
+fn add(tools: &mut Vec<(u32, f64)>, line: usize, tool: u32, diameter: f64) -> Result<(), String> {
+    if tools.len() >= MAX_TOOLS {
+        return Err(format!("line {line}: more than {MAX_TOOLS} tools"));
+    }
+    match tools.iter_mut().find(|(t, _)| *t == tool) {
+        Some(entry) => entry.1 = diameter,
+        None => tools.push((tool, diameter)),
+    }
+    Ok(())
+}
+
+/// A TNC table's column names and the character each starts at.
+fn columns(names: &str) -> Vec<(&str, usize)> {
+    let mut out = Vec::new();
+    let mut word: Option<(usize, usize)> = None; // (byte, character) where the name starts
+    for (n, (b, c)) in names.char_indices().enumerate() {
+        match (c.is_whitespace(), word) {
+            (false, None) => word = Some((b, n)),
+            (true, Some((start, first))) => {
+                out.push((&names[start..b], first));
+                word = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some((start, first)) = word {
+        out.push((&names[start..], first));
+    }
+    out
+}
+
+/// A row's text from character `from` to before `to` (to its end without), trimmed: a TNC
+/// table's value under its column's name; empty where the row is shorter.
+fn cell(row: &str, (from, to): (usize, Option<usize>)) -> &str {
+    let byte = |n: usize| row.char_indices().nth(n).map_or(row.len(), |(b, _)| b);
+    let start = byte(from);
+    let end = to.map_or(row.len(), byte).max(start);
+    row[start..end].trim()
+}
+
+/// A TNC table's value, a finite number (`+5`, `-0.02`).
+fn number(line: usize, column: &str, text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("line {line}: column {column}: '{text}': not a number")),
     }
 }
 
@@ -109,3 +242,86 @@ impl Tools {
     }
 }
 
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::program::LengthUnit;
+
+    /// A TNC 640's TOOL.T (its first columns, laid out as pyLSV2's test table from a programming
+    /// station is): tool 1 R+1, tool 5 R+5 with DR-0.02, tool 12 R+3.4 with DR empty.
+    const TOOL_T: &str = "\
+BEGIN TOOL.T MM Version: 'Update:110.24'
+T       NAME                            L           R           R2          DL        DR        DR2       TL RT      TIME1 TIME2 CUR_TIME TYP      DOC
+1       MILL_D2_ROUGH                   +30         +1          +0          +0        +0        +0                   0     0     0        0        roughing
+5       MILL_D10                        +60         +5          +0          +0        -0.02     +0                   0     0     0        0        worn 0.02
+12      DRILL_D6.8                      +85.5       +3.4        +0          +0                  +0                   0     0     0        0
+[END]
+";
+
+    fn close(got: Option<f64>, want: f64) -> bool {
+        got.is_some_and(|d| (d - want).abs() < 1e-12)
+    }
+
+    /// Each tool's diameter is 2 (R + DR) in the header's mm: tool 1 2 (1 + 0) = 2 mm = 0.002 m;
+    /// tool 5 2 (5 - 0.02) = 9.96 mm = 0.00996 m; tool 12 2 (3.4 + 0) = 6.8 mm = 0.0068 m (an
+    /// empty DR is 0). `--tool-table-units inch` leaves the header's mm.
+    #[test]
+    fn a_tnc_table_gives_r_plus_dr() {
+        let table = ToolTable::parse(TOOL_T).unwrap();
+        assert!(close(table.diameter(1), 0.002), "{table:?}");
+        assert!(close(table.diameter(5), 0.00996), "{table:?}");
+        assert!(close(table.diameter(12), 0.0068), "{table:?}");
+        assert_eq!(table.diameter(2), None);
+        let inch = table.clone().in_unit(LengthUnit::Inch);
+        assert_eq!(inch, table);
+        // Without [END], and with blank lines before BEGIN and after the rows, the same.
+        let open = format!("\n  \n{}\n\n", TOOL_T.trim_end().strip_suffix("[END]").unwrap());
+        assert_eq!(ToolTable::parse(&open), Ok(table));
+    }
+
+    /// An inch table (the name spaced from `.T`, as some controls write it): tool 3 R+0.25 DR+0.01
+    /// is 2 (0.25 + 0.01) = 0.52 in = 0.52 x 25.4 mm = 13.208 mm = 0.013208 m, whatever
+    /// `--tool-table-units` says; a header without a unit leaves it to that (0.52 mm).
+    #[test]
+    fn a_tnc_tables_header_names_its_unit() {
+        let text = "BEGIN TOOL    .T INCH\nT    NAME   R       DR\n3    BALL   +0.25   +0.01\n[END]\n";
+        let table = ToolTable::parse(text).unwrap();
+        assert!(close(table.diameter(3), 0.013208), "{table:?}");
+        assert!(close(table.in_unit(LengthUnit::Mm).diameter(3), 0.013208));
+        let bare = ToolTable::parse(&text.replace(" INCH", "")).unwrap();
+        assert!(close(bare.diameter(3), 0.00052));
+        assert!(close(bare.in_unit(LengthUnit::Inch).diameter(3), 0.013208));
+    }
+
+    /// Faults name the line and the column: no R among the names (line 2), a comma for the point
+    /// (line 4, R), an empty T or R, text after [END], a description of the columns without end.
+    #[test]
+    fn a_tnc_tables_faults_name_line_and_column() {
+        let err = |text: &str| ToolTable::parse(text).unwrap_err();
+        assert_eq!(err("BEGIN TOOL.T MM\nT    NAME   L       DR\n1    A      +30     +0\n[END]\n"), "line 2: no column R (the tool's radius) among the column names");
+        assert_eq!(err("BEGIN TOOL.T MM\nNAME   R\nA      +1\n"), "line 2: no column T (the tool's number) among the column names");
+        let bad = TOOL_T.replace("+5          +0", "+2,5        +0");
+        assert_eq!(err(&bad), "line 4: column R: '+2,5': not a number");
+        assert_eq!(err(&TOOL_T.replace("-0.02", "-O.02")), "line 4: column DR: '-O.02': not a number");
+        assert_eq!(err(&TOOL_T.replace("\n12 ", "\n   ")), "line 5: column T is empty (the tool's number)");
+        assert_eq!(err(&TOOL_T.replace("\n5  ", "\n5.1")), "line 4: column T: '5.1': a tool number is a whole number 0 or more");
+        assert_eq!(err(&TOOL_T.replace("+3.4", "    ")), "line 5: column R is empty (the tool's radius)");
+        assert_eq!(err(&format!("{TOOL_T}\nT99\n")), "line 8: text after [END]");
+        assert_eq!(err("BEGIN TOOL.T MM\n"), "line 1: no line of column names after BEGIN");
+        assert_eq!(err("BEGIN TOOL.T MM\n#STRUCTBEGIN\n   NAME = T\n"), "line 2: the description of the columns has no end ('#STRUCTEND' at a line's start)");
+        // A description of the columns before their names is passed over.
+        let described = "BEGIN TOOL.T MM\nTableDescription (\n  columns:= [\n    CfgColumnDescription (\n      key:=\"T\"\n    )\n  ]\n)\nT    R\n7    +2\n[END]\n";
+        assert!(close(ToolTable::parse(described).unwrap().diameter(7), 0.004));
+    }
+
+    /// A LinuxCNC table reads as before: D is the diameter in the machine's unit, `in_unit` sets
+    /// it (T2 D0.25 in inches is 0.25 x 25.4 = 6.35 mm), a tool listed twice takes its last line.
+    #[test]
+    fn a_linuxcnc_table_still_reads() {
+        let table = ToolTable::parse("; tools\nT1 P1 D10 Z0 ;end mill\nT2 P2 D0.25\nT1 P1 D8\n").unwrap();
+        assert!(close(table.diameter(1), 0.008));
+        assert!(close(table.clone().in_unit(LengthUnit::Inch).diameter(2), 0.00635));
+        assert_eq!(ToolTable::parse("T1 D10\nX1\n").unwrap_err(), "line 2: no T word (the tool's number)");
+    }
+}

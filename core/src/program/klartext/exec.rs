@@ -8,6 +8,7 @@ use std::collections::HashMap;
 use super::{axis_index, label, FeedWord, KWord, Kind, Shape, Stmt, Val};
 use crate::machine::ContourTolerance;
 use crate::program::interp::{Dimension, Interpreter, OneShot, Word};
+use crate::program::cutter_comp::{Side, TncComp};
 use crate::program::lex::Diags;
 use crate::program::{Block, ProgrammedTolerance};
 use crate::units::{DEG, MM};
@@ -34,6 +35,10 @@ pub(super) struct Exec {
     pub(super) tangent: Option<[f64; 2]>,
     /// The pole CC in the working plane (its two axes and coordinates, m), for LP and CP.
     pub(super) pole: Option<([usize; 2], [f64; 2])>,
+    /// The tool of the last TOOL CALL by number, whose radius `RL`/`RR` compensates by.
+    pub(super) tool: Option<u32>,
+    /// Radius compensation `RL`/`RR` ([`TncComp`]).
+    pub(super) comp: TncComp,
 }
 
 /// The older cycle 1 PECKING as its blocks `CYCL DEF 1.0` to `1.5` give it: where it begins, its
@@ -74,6 +79,28 @@ impl Exec {
     /// Run one statement, its block to `out`; true if it ends the program (M2, M30).
     pub(super) fn run<'a>(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let unit = interp.unit();
+        if self.comp.busy() {
+            let what = match &s.kind {
+                Kind::Plane(_) => Some("a working plane (PLANE, cycle 19)"),
+                Kind::Datum(..) => Some("a datum shift (cycle 7)"),
+                Kind::Tool { .. } => Some("TOOL CALL"),
+                Kind::Retract { .. } => Some("M140"),
+                Kind::CycleCall(_) => Some("a cycle call"),
+                Kind::Tcp { .. } => Some("FUNCTION TCPM"),
+                Kind::Move { m, .. } | Kind::Misc(m) => m.iter().find_map(|w| match w.val {
+                    Val::Num(v) if v == 91.0 || v == 92.0 => Some("M91/M92 machine coordinates"),
+                    Val::Num(v) if v == 99.0 || v == 89.0 => Some("a cycle call (M99/M89)"),
+                    Val::Num(v) if v == 128.0 => Some("M128"),
+                    _ => None,
+                }),
+                _ => None,
+            };
+            if let Some(what) = what {
+                diags.error(s.line, s.col, format!("{what} with radius compensation RL/RR on is not read: end the compensation with an R0 block before it"));
+                diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+                return false;
+            }
+        }
         // Statements that set state and run no block.
         match &s.kind {
             Kind::Assign { name, formula } => {
@@ -164,6 +191,8 @@ impl Exec {
                 }
             }
             Kind::Tool { events, feed } => {
+                // The tool by number (`TOOL CALL 5`); one called by name is not looked up.
+                self.tool = events.iter().find_map(|e| e.strip_prefix('T')).and_then(|t| t.parse::<u32>().ok());
                 if let Some(sp) = events.iter().find_map(|e| e.strip_prefix('S')) {
                     self.spindle = super::parse_val(sp).and_then(|v| match v {
                         Val::Num(n) => Some(n),
@@ -236,7 +265,7 @@ impl Exec {
                 }
                 self.pole = Some(([a0, a1], c));
             }
-            Kind::Move { shape, axes, ccw, radius, feed, m } => {
+            Kind::Move { shape, axes, ccw, radius, feed, m, .. } => {
                 let mut tool = [None; 3];
                 let mut normal = [None; 3];
                 if matches!(shape, Shape::LinePolar | Shape::CirclePolar) {
@@ -355,13 +384,62 @@ impl Exec {
         if m99 || m89 {
             words.retain(|w| !(w.letter == 'M' && (w.value == 99.0 || w.value == 89.0)));
         }
+        // RL/RR from R0: the radius is the called tool's, known before the block runs.
+        let comp_word = match &s.kind {
+            Kind::Move { comp: Some((side, col)), shape, .. } => Some((*side, *col, *shape)),
+            _ => None,
+        };
+        let mut starting = None;
+        if let Some((Some(left), col, shape)) = comp_word {
+            let side = if left { Side::Left } else { Side::Right };
+            match self.comp.side() {
+                Some(now) if now != side => {
+                    diags.error(s.line, col, "RL and RR without a block between them: \"Between two program blocks with different radius compensations you must program at least one traversing block in the working plane without radius compensation\" (TNC 620 ISO user's manual, p. 146), an R0 block");
+                    diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+                    return false;
+                }
+                Some(_) => {}
+                None => match self.comp_radius(shape, interp) {
+                    Ok(r) => starting = Some((side, r)),
+                    Err(why) => {
+                        diags.error(s.line, col, format!("{}: {why}", if left { "RL" } else { "RR" }));
+                        diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+                        return false;
+                    }
+                },
+            }
+        }
         let start = interp.position();
         let result = interp.block_one(&words, s.line, s.col, s.number, diags);
         match result {
             Some(b) => {
-                self.follow(&b, start, interp.position(), interp);
+                let end = interp.position();
+                self.follow(&b, start, end, interp);
                 let moved = !b.targets.is_empty();
-                out.push(b);
+                if let Some((side, r)) = starting {
+                    self.comp.start(side, r, [start[0], start[1], start[2]]);
+                }
+                let r0 = matches!(comp_word, Some((None, _, _))) && self.comp.side().is_some();
+                let placed = if r0 {
+                    // R0: the tool leaves the last element perpendicular to it, for the programmed point.
+                    let mut b = b;
+                    self.comp.stop(unit, out).map(|()| {
+                        b.targets.x.get_or_insert(end[0]);
+                        b.targets.y.get_or_insert(end[1]);
+                        out.push(b);
+                    })
+                } else if self.comp.busy() {
+                    self.comp.feed(b, start, end, unit, out)
+                } else {
+                    out.push(b);
+                    Ok(())
+                };
+                if let Err(why) = placed {
+                    diags.error(s.line, s.col, format!("radius compensation: {why}; the TNC stops here (\"Tool radius too large\"), and so does this reader"));
+                    self.comp = TncComp::default();
+                    interp.halted = true;
+                    return true;
+                }
                 if m89 {
                     self.modal_call = true;
                 }
@@ -377,6 +455,28 @@ impl Exec {
                 diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
                 false
             }
+        }
+    }
+
+    /// The compensation value `RL`/`RR` start with: the radius of the tool called last, from the
+    /// tool table (the TNC's "R + DR_TAB + DR_Prog", TNC 620 Klartext user's manual 01/2022 p. 134;
+    /// a program delta other than 0 is refused where TOOL CALL is read), m.
+    fn comp_radius(&self, shape: Shape, interp: &Interpreter) -> Result<f64, String> {
+        if !matches!(shape, Shape::Line | Shape::LinePolar) {
+            return Err("\"You cannot activate radius compensation in a circle block. Activate it beforehand in a straight-line block\" (TNC 620 ISO user's manual, p. 154)".into());
+        }
+        if interp.tilt().is_some_and(|r| (r - nalgebra::Matrix3::identity()).abs().max() > 1e-12) {
+            return Err("radius compensation in a tilted working plane is not read".into());
+        }
+        let Some(tool) = self.tool else {
+            return Err("the radius is the called tool's, and no TOOL CALL by number comes before this block".into());
+        };
+        let Some(table) = interp.tool_table() else {
+            return Err(format!("the radius is tool {tool}'s in the tool table: give it with --tool-table (the TNC's TOOL.T, or LinuxCNC's tool.tbl)"));
+        };
+        match table.diameter(tool) {
+            Some(d) => Ok(d / 2.0),
+            None => Err(format!("tool {tool} is not in the tool table")),
         }
     }
 

@@ -28,7 +28,11 @@
 //! "TCPM FUNCTION" and cycle 7 DATUM SHIFT (absolute from the workpiece datum, incremental from the
 //! last shift).
 //!
-//! Refused at line:col, never guessed: radius compensation `RL`/`RR`, `CTP` and free contours
+//! Tool radius compensation `RL`/`RR` until `R0` runs by the TNC's rules
+//! ([`crate::program::cutter_comp::TncComp`]) in an untilted plane, by the called tool's radius in
+//! the tool table.
+//!
+//! Refused at line:col, never guessed: radius compensation in a tilted plane, `CTP` and free contours
 //! (`FK`), rounding and chamfers, approach/departure, `PLANE PROJECTED` and
 //! `MOVE`, machining cycles other than those above and touch probes, tool deltas `DL`/`DR`, and
 //! `FUNCTION TCPM` options that read the program differently (`F CONT`, `AXIS SPAT`, a reference
@@ -111,6 +115,8 @@ enum Kind<'a> {
         radius: Option<KWord<'a>>,
         feed: FeedWord<'a>,
         m: Vec<KWord<'a>>,
+        /// `RL`/`RR` (the side, left true) or `R0`, and its column; `None`: as before.
+        comp: Option<(Option<bool>, usize)>,
     },
     /// `CC`: the pole.
     Centre(Vec<KWord<'a>>),
@@ -446,6 +452,7 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
     let polar = matches!(shape, Shape::LinePolar | Shape::CirclePolar);
     let mut axes: Vec<KWord<'a>> = Vec::with_capacity(if shape == Shape::LineNormal { 9 } else { 5 });
     let (mut ccw, mut radius, mut feed, mut m) = (None, None, FeedWord::None, Vec::new());
+    let mut comp = None;
     let mut seen = 0u32;
     let mut words = toks[1..].iter().copied().peekable();
     while let Some((tok, col)) = words.next() {
@@ -501,9 +508,12 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
                     m.push(w);
                 }
             }
-            (None, "R") if rest == "0" => {} // radius compensation off
+            (None, "R") if rest == "0" => comp = Some((None, col)),
             (None, "R") if shape == Shape::CircleRadius && rest.starts_with(['+', '-']) => radius = value_word("R", rest, tok, col, line, diags),
-            (None, "RL" | "RR") if rest.is_empty() => diags.error(line, col, format!("{tok}: tool radius compensation is not read: the radius is the tool table's, which the program does not give (expected R0)")),
+            (None, "RL" | "RR") if rest.is_empty() && shape == Shape::LineNormal => {
+                diags.error(line, col, format!("{tok} in an LN block: three-dimensional tool compensation is not read"))
+            }
+            (None, "RL" | "RR") if rest.is_empty() => comp = Some((Some(addr == "RL"), col)),
             (None, "DR") if arc && (rest == "+" || rest == "-") && shape != Shape::CircleTangent => ccw = Some(rest == "+"),
             _ => diags.error(line, col, format!("unexpected word '{}' in an {key} block", excerpt(tok))),
         }
@@ -530,7 +540,7 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
         }
         _ => {}
     }
-    Some(Kind::Move { shape, axes, ccw, radius, feed, m })
+    Some(Kind::Move { shape, axes, ccw, radius, feed, m, comp })
 }
 
 /// `CC X.. Y..`: the pole (circle centre) in the working plane.

@@ -129,8 +129,9 @@ impl Runner {
                 _ => Next::On,
             },
             _ => {
-                if self.ex.run(&s, &mut self.interp, out, diags) && self.stack.is_empty() {
-                    Next::Ended // M2 / M30: the program ends (subprograms follow it)
+                let ends = self.ex.run(&s, &mut self.interp, out, diags);
+                if self.interp.halted || ends && self.stack.is_empty() {
+                    Next::Ended // M2 / M30: the program ends (subprograms follow it); or the TNC stopped
                 } else {
                     Next::On
                 }
@@ -213,7 +214,11 @@ impl Jumping for Runner {
         Runner::check(self, line, text, diags);
     }
 
-    fn finish(&mut self, _ended: bool, _out: &mut Vec<Block>, diags: &mut Diags) {
+    fn finish(&mut self, _ended: bool, out: &mut Vec<Block>, diags: &mut Diags) {
+        // Moves held for radius compensation go out at the program's end.
+        if let Err(why) = self.ex.comp.stop(self.interp.unit(), out) {
+            diags.error(self.labels.lines.max(1), 1, format!("radius compensation: {why}"));
+        }
         Runner::finish(self, diags);
     }
 

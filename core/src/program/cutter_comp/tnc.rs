@@ -1,0 +1,104 @@
+//! A Heidenhain TNC's tool radius compensation (`RL`/`RR` until `R0`) over the blocks a Klartext
+//! program makes, by the TNC user's manuals' rules:
+//! - "The TNC does not put radius compensation into effect until the end of the block in which it is
+//!   first programmed"; in that block and in the `R0` block that ends it "the TNC always positions
+//!   the tool perpendicular to the programmed starting or end position" (TNC 620 ISO user's manual,
+//!   340 56x-02, p. 146; TNC 370 p. 4-17): the tool ends the first block perpendicular to the
+//!   contour's first element at its start, and leaves the last element perpendicular to it at its
+//!   end, for the `R0` block's programmed point ("The tool center moves ... to the programmed
+//!   coordinates", TNC 620 Klartext 01/2022 p. 134);
+//! - it starts in a straight line only ("You cannot activate radius compensation in a circle
+//!   block", p. 154), and a change of side needs an `R0` block between (p. 146);
+//! - outside corners: "a transitional arc" (TNC 640 ISO 34059x-05 p. 201; the iTNC 530's spline
+//!   option, MP7680, is not read), here about the programmed corner with the tool's radius, the
+//!   only arc that meets both offset elements tangentially at the radius from the corner;
+//! - inside corners: "the intersection of the tool center paths" (iTNC 530 60642x-04 p. 219); a
+//!   contour the tool cannot follow stops the program ("Tool radius too large", p. 379).
+//!
+//! The offsets themselves are LinuxCNC's geometry ([`super::geometry`]), which makes the same
+//! corners; what differs is where compensation starts ([`super::Rule::Tnc`]).
+
+use super::{CompState, Comp, Rule, Side};
+use crate::program::Block;
+
+/// Compensation beside a Klartext program's reader: off, or on with the moves it holds.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct TncComp {
+    st: CompState,
+}
+
+impl TncComp {
+    /// Compensation on (a side and a radius), or moves still held.
+    pub(crate) fn busy(&self) -> bool {
+        self.st.on.is_some() || !self.st.queue.is_empty()
+    }
+
+    /// The side in effect, if any.
+    pub(crate) fn side(&self) -> Option<Side> {
+        self.st.on.as_ref().map(|c| c.side)
+    }
+
+    /// `RL`/`RR` from `R0`: the tool's compensation value `radius` (m; a negative one runs on the
+    /// other side), the tool centre now at `at` (program coordinates, m).
+    pub(crate) fn start(&mut self, side: Side, radius: f64, at: [f64; 3]) {
+        let (side, radius) = if radius < 0.0 { (if side == Side::Left { Side::Right } else { Side::Left }, -radius) } else { (side, radius) };
+        self.st.on = Some(Comp { rule: Rule::Tnc, entry_held: false, side, radius, first: true, current: at });
+        self.st.endpoint = None;
+    }
+
+    /// A block the program made while compensation is on: `op` and `p` its programmed start and end
+    /// (program coordinates, m). What is settled goes to `out`; the last move is held for the corner
+    /// after it. An error: the TNC stops there.
+    pub(crate) fn feed(&mut self, b: Block, op: [f64; 6], p: [f64; 6], unit: f64, out: &mut Vec<Block>) -> Result<(), String> {
+        let metric = unit == crate::units::MM;
+        let Some(radius) = self.st.on.as_ref().map(|c| c.radius) else {
+            self.st.dequeue(out);
+            out.push(b);
+            return Ok(());
+        };
+        let moves = !b.targets.is_empty();
+        if !moves || radius == 0.0 {
+            if self.st.queue.is_empty() {
+                out.push(b);
+            } else {
+                self.st.queue.push(super::Held::Other(b));
+            }
+            return Ok(());
+        }
+        let (op, p) = ([op[0], op[1], op[2]], [p[0], p[1], p[2]]);
+        match (&b.arc, b.motion) {
+            (Some(spec), m) if m.is_arc() => {
+                // A plane tilted by nothing (cycle 19 with A+0) keeps the workpiece's axes.
+                let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+                let tilted = spec.frame.is_some_and(|f| f.iter().flatten().zip(identity.iter().flatten()).any(|(a, b)| (a - b).abs() > 1e-12));
+                if tilted || spec.plane != crate::program::Plane::Xy {
+                    return Err("an arc outside the working plane (XY) with radius compensation on is not read".into());
+                }
+                let turns = spec.extra_turns as i32 + 1;
+                let turn = if m == crate::program::Motion::ArcCw { -turns } else { turns };
+                super::geometry::arc(&mut self.st, &b, op, p, [spec.centre[0], spec.centre[1]], turn, metric, unit, out)
+            }
+            _ => super::geometry::straight(&mut self.st, &b, op, p, metric, unit, out),
+        }
+    }
+
+    /// `R0` (or the program's end): the last element's move ends perpendicular to it at its end, and
+    /// everything held goes out. An error where the block that started compensation is still held:
+    /// no contour element followed it to say where the tool stands.
+    pub(crate) fn stop(&mut self, unit: f64, out: &mut Vec<Block>) -> Result<(), String> {
+        let Some(comp) = self.st.on.take() else {
+            self.st.dequeue(out);
+            return Ok(());
+        };
+        if comp.entry_held {
+            self.st.dequeue(out);
+            return Err("RL/RR ended before any contour element: the TNC places the tool perpendicular to the first element after the block that starts compensation, and there is none".into());
+        }
+        if !comp.first {
+            self.st.move_endpoint_and_flush([comp.current[0], comp.current[1]], unit == crate::units::MM, unit, out)?;
+        }
+        self.st.dequeue(out);
+        self.st.endpoint = None;
+        Ok(())
+    }
+}

@@ -1,0 +1,184 @@
+//! Heidenhain radius compensation `RL`/`RR`: the tool-centre path against shapely's offset curve of
+//! the programmed contour (tests/peer/offset_reference.py), where it starts and ends against the
+//! TNC's rule worked by hand, and what the reader refuses.
+
+use super::*;
+use std::sync::Arc;
+
+/// A path element in the working plane, mm: a line, or an arc with its centre and direction.
+#[derive(Debug, Clone, Copy)]
+struct El {
+    kind: &'static str,
+    from: [f64; 2],
+    to: [f64; 2],
+    centre: Option<[f64; 2]>,
+    ccw: bool,
+}
+
+impl El {
+    fn json(&self) -> serde_json::Value {
+        serde_json::json!({ "kind": self.kind, "from": self.from, "to": self.to, "centre": self.centre, "ccw": self.ccw })
+    }
+}
+
+fn line(from: [f64; 2], to: [f64; 2]) -> El {
+    El { kind: "line", from, to, centre: None, ccw: false }
+}
+
+fn arc(from: [f64; 2], to: [f64; 2], centre: [f64; 2], ccw: bool) -> El {
+    El { kind: "arc", from, to, centre: Some(centre), ccw }
+}
+
+/// The moves of the blocks numbered `numbers`, from `start` (mm), as path elements.
+fn path(p: &Program, numbers: std::ops::RangeInclusive<u64>, start: [f64; 2]) -> Vec<El> {
+    let mut at = start;
+    let mut out = Vec::new();
+    for b in p.blocks.iter().filter(|b| b.number.is_some_and(|n| numbers.contains(&n))) {
+        let (Some(x), Some(y)) = (b.targets.x, b.targets.y) else { continue };
+        let to = [x / MM, y / MM];
+        if (to[0] - at[0]).hypot(to[1] - at[1]) < 1e-9 {
+            continue;
+        }
+        out.push(match (&b.arc, b.motion) {
+            (Some(a), Motion::ArcCw | Motion::ArcCcw) => arc(at, to, [a.centre[0] / MM, a.centre[1] / MM], b.motion == Motion::ArcCcw),
+            _ => line(at, to),
+        });
+        at = to;
+    }
+    out
+}
+
+fn reference(radius: f64, side: &str, contour: &[El], path: &[El]) -> serde_json::Value {
+    use std::io::Write;
+    let [contour, path]: [Vec<serde_json::Value>; 2] = [contour, path].map(|els| els.iter().map(El::json).collect());
+    let input = serde_json::json!({ "radius": radius, "side": side, "contour": contour, "path": path });
+    let mut child = std::process::Command::new("python3")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("peer/offset_reference.py"))
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("python3");
+    child.stdin.take().unwrap().write_all(input.to_string().as_bytes()).unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "offset_reference.py failed");
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// How far shapely's offset curve may stray, per mm of radius: GEOS simplifies the line it offsets
+/// by a hundredth of the distance (BufferParameters' DEFAULT_SIMPLIFY_FACTOR, 0.01), so its elements
+/// lean and its arcs flatten by about that (0.014 mm at an inside corner of a 3 mm offset, 0.061 mm
+/// on a 5 mm corner arc). The exact check is each path point's distance to the contour.
+const TOLERANCE: f64 = 0.015;
+
+fn table(text: &str) -> ReadOptions {
+    ReadOptions { tool_table: Some(Arc::new(fiveaxis::program::ToolTable::parse(text).unwrap())), ..Default::default() }
+}
+
+/// An outside contour, counter-clockwise with RR (the tool outside the part): convex corners, a
+/// tangential and a concave arc, a notch whose inside corner the offset elements meet at.
+const OUTSIDE: &str = "0 BEGIN PGM RC MM\n1 TOOL CALL 3 Z S3000\n2 L X-20 Y-20 Z+5 R0 FMAX\n3 L Z-2 F200\n\
+4 L X+0 Y+0 RR F500\n5 L X+60\n6 CR X+70 Y+10 R+10 DR+\n7 L Y+40\n8 L X+50\n9 CR X+40 Y+30 R+10 DR-\n\
+10 L Y+20\n11 L X+0\n12 L Y+5\n13 L X-20 Y-10 R0\n14 L Z+50 FMAX\n15 END PGM RC MM\n";
+
+#[test]
+fn rr_outside_contour_is_shapelys_offset_curve_and_starts_and_ends_perpendicular() {
+    let r = 3.0; // tool 3: diameter 6 mm
+    let p = read(OUTSIDE, Dialect::Klartext, "rc.h", &table("T3 P3 D6\n"));
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let contour = [
+        line([0.0, 0.0], [60.0, 0.0]),
+        arc([60.0, 0.0], [70.0, 10.0], [60.0, 10.0], true),
+        line([70.0, 10.0], [70.0, 40.0]),
+        line([70.0, 40.0], [50.0, 40.0]),
+        arc([50.0, 40.0], [40.0, 30.0], [40.0, 40.0], false),
+        line([40.0, 30.0], [40.0, 20.0]),
+        line([40.0, 20.0], [0.0, 20.0]),
+        line([0.0, 20.0], [0.0, 5.0]),
+    ];
+    // Block 4 starts compensation: the tool ends it perpendicular to the first element (+X) at
+    // its start, on its right: (0, -r). Block 13 (R0) leaves the last element (-Y) perpendicular at
+    // its end (0, 5), on its right: (-r, 5), and goes to the programmed (-20, -10). (The contour is
+    // left open: shapely offsets a closed line as a ring.)
+    let entry = p.blocks.iter().find(|b| b.number == Some(4)).expect("block 4");
+    assert!((entry.targets.x.unwrap() / MM).abs() < 1e-9 && (entry.targets.y.unwrap() / MM + r).abs() < 1e-9, "{:?}", entry.targets);
+    let exit: Vec<_> = p.blocks.iter().filter(|b| b.number == Some(13)).collect();
+    assert_eq!(exit.len(), 1);
+    assert!((exit[0].targets.x.unwrap() / MM + 20.0).abs() < 1e-9 && (exit[0].targets.y.unwrap() / MM + 10.0).abs() < 1e-9);
+    let ours = path(&p, 5..=12, [0.0, -r]);
+    assert!((ours.last().unwrap().to[0] + r).abs() < 1e-9 && (ours.last().unwrap().to[1] - 5.0).abs() < 1e-9, "{:?}", ours.last());
+    let got = reference(r, "right", &contour, &ours);
+    let e = got["radius_error_mm"].as_f64().unwrap();
+    assert!(e < 1e-4, "a point of the path stands {e} mm off the radius from the contour; {got}");
+    let h = got["hausdorff_mm"].as_f64().unwrap();
+    assert!(h < TOLERANCE * r, "Hausdorff distance to shapely's offset curve {h} mm; {got}");
+    // The inside corner of the notch: where the offset elements meet, (40 - r, 20 + r).
+    assert!(ours.iter().any(|e| (e.to[0] - 37.0).abs() < 1e-9 && (e.to[1] - 23.0).abs() < 1e-9), "{ours:?}");
+    // shapely's curve starts and ends where the TNC's rule puts the tool.
+    assert!((got["first"][0].as_f64().unwrap()).abs() < 1e-6 && (got["first"][1].as_f64().unwrap() + r).abs() < 1e-6, "{got}");
+    // A sharp corner of the part gets a transitional arc about it (block 8's: (70, 40), radius r).
+    let corner = p.blocks.iter().find(|b| b.number == Some(8) && b.motion.is_arc()).expect("a corner arc before block 8");
+    let c = corner.arc.as_ref().unwrap().centre;
+    assert!((c[0] / MM - 70.0).abs() < 1e-9 && (c[1] / MM - 40.0).abs() < 1e-9, "{c:?}");
+}
+
+#[test]
+fn rl_clockwise_contour_with_a_plunge_between_entry_and_contour() {
+    // A clockwise contour has its inside on the right of travel: RL runs the tool outside it. L Z-5
+    // between the block that starts compensation and the contour's first element stands where that
+    // element puts the tool: its first element goes +Y from (0, 20), whose left is -X, so (-r, 20).
+    let text = "0 BEGIN PGM RC MM\n1 TOOL CALL 4 Z S3000\n2 L X+30 Y+20 Z+5 R0 FMAX\n3 L X+0 Y+20 RL F500\n4 L Z-5\n\
+                5 L Y+40\n6 L X+60\n7 L Y+0\n8 L X+0\n9 L Y+5\n10 L X+30 R0\n11 END PGM RC MM\n";
+    let r = 5.0;
+    let p = read(text, Dialect::Klartext, "rc.h", &table("T4 P4 D10\n"));
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    for line in [3, 4] {
+        let b = p.blocks.iter().find(|b| b.number == Some(line)).unwrap();
+        assert!((b.targets.x.unwrap() / MM + r).abs() < 1e-9 && (b.targets.y.unwrap() / MM - 20.0).abs() < 1e-9, "block {line}: {:?}", b.targets);
+    }
+    let contour = [
+        line([0.0, 20.0], [0.0, 40.0]),
+        line([0.0, 40.0], [60.0, 40.0]),
+        line([60.0, 40.0], [60.0, 0.0]),
+        line([60.0, 0.0], [0.0, 0.0]),
+        line([0.0, 0.0], [0.0, 5.0]),
+    ];
+    let ours = path(&p, 5..=9, [-r, 20.0]);
+    let got = reference(r, "left", &contour, &ours);
+    let e = got["radius_error_mm"].as_f64().unwrap();
+    assert!(e < 1e-4, "a point of the path stands {e} mm off the radius from the contour; {got}");
+    let h = got["hausdorff_mm"].as_f64().unwrap();
+    assert!(h < TOLERANCE * r, "Hausdorff distance to shapely's offset curve {h} mm; {got}");
+}
+
+#[test]
+fn rl_rr_refusals_name_the_rule() {
+    let t = table("T3 P3 D6\n");
+    // (Lines of the file: the body's first line is line 2.)
+    let cases: &[(&str, &str, &str)] = &[
+        // A change of side without R0 between.
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 L Y+10\n5 L X+20 RR\n6 L X+0 R0\n", "6:", "at least one traversing block"),
+        // Compensation starting in a circle.
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 CC X+5 Y+0\n4 C X+10 Y+0 DR+ RL F100\n", "5:", "circle block"),
+        // A tool not in the table, no TOOL CALL.
+        ("1 TOOL CALL 7 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n", "4:", "tool 7 is not in the tool table"),
+        ("1 L X+0 Y+0 R0 FMAX\n2 L X+10 RL F100\n", "3:", "no TOOL CALL by number"),
+        // A tool change under compensation.
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 L Y+10\n5 TOOL CALL 3 Z\n", "6:", "TOOL CALL with radius compensation"),
+        // A slot 2 mm wide into the part, which a 6 mm tool cannot enter.
+        ("1 TOOL CALL 3 Z\n2 L X-10 Y+10 R0 FMAX\n3 L X+0 Y+10 RR F100\n4 L X+20\n5 L Y+12\n6 L X+22\n7 L Y+10\n8 L X+40\n9 L Y+30 R0\n", "", "Tool radius too large"),
+        // R0 right after the block that starts compensation.
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 L X+20 R0\n", "5:", "before any contour element"),
+    ];
+    for (body, at, needle) in cases {
+        let text = format!("0 BEGIN PGM T MM\n{body}99 END PGM T MM\n");
+        let p = read(&text, Dialect::Klartext, "t.h", &t);
+        let errs = errors(&p);
+        assert!(
+            errs.iter().any(|(l, c, m)| format!("{l}:{c}").starts_with(at) && m.contains(needle)),
+            "{body}: no error at {at} with {needle:?}: {errs:#?}"
+        );
+    }
+    // Without --tool-table: said so.
+    let p = read("0 BEGIN PGM T MM\n1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 END PGM T MM\n", Dialect::Klartext, "t.h", &ReadOptions::default());
+    has(&p, 4, 10, "--tool-table");
+}
