@@ -132,7 +132,7 @@ fn klartext_refuses_what_changes_the_motion_at_line_and_column() {
                 8 FUNCTION TCPM F TCP AXIS SPAT PATHCTRL AXIS\n9 L X+1 M91\n10 L X+Q5\n11 CT X+9 Y+9\n12 LN X+1 Y+1 NX+0 NY+0 NZ+1\n\
                 13 L X+7\n14 END PGM BAD MM\n";
     let p = read(text, Dialect::Klartext, "bad.h", &ReadOptions::default());
-    has(&p, 3, 9, "RL: tool radius compensation");
+    has(&p, 3, 9, "RL: the radius is the called tool's, and no TOOL CALL");
     has(&p, 4, 3, "APPR");
     // Without a machine, a tilted plane cannot be solved (the machine's kinematics pick the axes).
     has(&p, 6, 3, "PLANE: a tilted working plane needs the machine's kinematics");

@@ -80,12 +80,9 @@ const OUTSIDE: &str = "0 BEGIN PGM RC MM\n1 TOOL CALL 3 Z S3000\n2 L X-20 Y-20 Z
 4 L X+0 Y+0 RR F500\n5 L X+60\n6 CR X+70 Y+10 R+10 DR+\n7 L Y+40\n8 L X+50\n9 CR X+40 Y+30 R+10 DR-\n\
 10 L Y+20\n11 L X+0\n12 L Y+5\n13 L X-20 Y-10 R0\n14 L Z+50 FMAX\n15 END PGM RC MM\n";
 
-#[test]
-fn rr_outside_contour_is_shapelys_offset_curve_and_starts_and_ends_perpendicular() {
-    let r = 3.0; // tool 3: diameter 6 mm
-    let p = read(OUTSIDE, Dialect::Klartext, "rc.h", &table("T3 P3 D6\n"));
-    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
-    let contour = [
+/// [`OUTSIDE`]'s contour, blocks 4 to 12, as elements (mm).
+fn outside_contour() -> Vec<El> {
+    vec![
         line([0.0, 0.0], [60.0, 0.0]),
         arc([60.0, 0.0], [70.0, 10.0], [60.0, 10.0], true),
         line([70.0, 10.0], [70.0, 40.0]),
@@ -94,7 +91,15 @@ fn rr_outside_contour_is_shapelys_offset_curve_and_starts_and_ends_perpendicular
         line([40.0, 30.0], [40.0, 20.0]),
         line([40.0, 20.0], [0.0, 20.0]),
         line([0.0, 20.0], [0.0, 5.0]),
-    ];
+    ]
+}
+
+#[test]
+fn rr_outside_contour_is_shapelys_offset_curve_and_starts_and_ends_perpendicular() {
+    let r = 3.0; // tool 3: diameter 6 mm
+    let p = read(OUTSIDE, Dialect::Klartext, "rc.h", &table("T3 P3 D6\n"));
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let contour = outside_contour();
     // Block 4 starts compensation: the tool ends it perpendicular to the first element (+X) at
     // its start, on its right: (0, -r). Block 13 (R0) leaves the last element (-Y) perpendicular at
     // its end (0, 5), on its right: (-r, 5), and goes to the programmed (-20, -10). (The contour is
@@ -119,6 +124,48 @@ fn rr_outside_contour_is_shapelys_offset_curve_and_starts_and_ends_perpendicular
     let corner = p.blocks.iter().find(|b| b.number == Some(8) && b.motion.is_arc()).expect("a corner arc before block 8");
     let c = corner.arc.as_ref().unwrap().centre;
     assert!((c[0] / MM - 70.0).abs() < 1e-9 && (c[1] / MM - 40.0).abs() < 1e-9, "{c:?}");
+}
+
+/// The outside contour in a plane tilted 30 deg (PLANE SPATIAL SPB+30 on the Hermle): the same
+/// offsets in the plane's coordinates (the blocks come out in the workpiece's).
+#[test]
+fn rr_in_a_tilted_plane_offsets_in_the_planes_coordinates() {
+    let r = 3.0;
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let mut options = table("T3 P3 D6\n").on(&hermle);
+    options.tool_table = table("T3 P3 D6\n").tool_table;
+    let text = OUTSIDE.replace("2 L X-20 Y-20 Z+5 R0 FMAX\n", "2 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n2 L X-20 Y-20 Z+5 R0 FMAX\n");
+    let mut p = read(&text, Dialect::Klartext, "rc.h", &options);
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    // The plane's rotation: about Y by 30 deg, its sign from where block 2's plane point (-20, -20, 5)
+    // lies in the workpiece.
+    let b2 = p.blocks.iter().find(|b| b.number == Some(2) && b.targets.x.is_some()).expect("block 2");
+    let w = [b2.targets.x.unwrap() / MM, b2.targets.y.unwrap() / MM, b2.targets.z.unwrap() / MM];
+    let ry = |t: f64| [[t.cos(), 0.0, t.sin()], [0.0, 1.0, 0.0], [-t.sin(), 0.0, t.cos()]];
+    let apply = |m: [[f64; 3]; 3], v: [f64; 3]| [0, 1, 2].map(|i| m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2]);
+    let rot = [30f64, -30.0].map(|d| ry(d.to_radians())).into_iter().find(|m| {
+        let e = apply(*m, [-20.0, -20.0, 5.0]);
+        (0..3).all(|i| (e[i] - w[i]).abs() < 1e-9)
+    });
+    let rot = rot.unwrap_or_else(|| panic!("block 2 at {w:?} is not (-20, -20, 5) turned 30 deg about Y"));
+    let back = [0, 1, 2].map(|i| [0, 1, 2].map(|j| rot[j][i]));
+    assert!(w[2] > 5.0 + 1.0 || w[2] < 5.0 - 1.0, "the plane is tilted: {w:?}");
+    for b in &mut p.blocks {
+        if let (Some(x), Some(y), Some(z)) = (b.targets.x, b.targets.y, b.targets.z) {
+            let v = apply(back, [x, y, z]);
+            (b.targets.x, b.targets.y, b.targets.z) = (Some(v[0]), Some(v[1]), Some(v[2]));
+        }
+        if let Some(a) = b.arc.as_mut() {
+            a.centre = apply(back, a.centre);
+        }
+    }
+    let entry = p.blocks.iter().find(|b| b.number == Some(4)).expect("block 4");
+    assert!((entry.targets.x.unwrap() / MM).abs() < 1e-9 && (entry.targets.y.unwrap() / MM + r).abs() < 1e-9, "{:?}", entry.targets);
+    let ours = path(&p, 5..=12, [0.0, -r]);
+    let got = reference(r, "right", &outside_contour(), &ours);
+    let e = got["radius_error_mm"].as_f64().unwrap();
+    assert!(e < 1e-4, "a point of the path stands {e} mm off the radius from the contour; {got}");
+    assert!(got["hausdorff_mm"].as_f64().unwrap() < TOLERANCE * r, "{got}");
 }
 
 #[test]

@@ -15,11 +15,15 @@
 //! - inside corners: "the intersection of the tool center paths" (iTNC 530 60642x-04 p. 219); a
 //!   contour the tool cannot follow stops the program ("Tool radius too large", p. 379).
 //!
+//! In a tilted working plane the contour is the plane's ("the TNC ... positions the tool in the
+//! working plane", the offsets in its coordinates): each block is taken into them and back.
+//!
 //! The offsets themselves are LinuxCNC's geometry ([`super::geometry`]), which makes the same
 //! corners; what differs is where compensation starts ([`super::Rule::Tnc`]).
 
-use super::{CompState, Comp, Rule, Side};
-use crate::program::Block;
+use super::{Comp, CompState, Rule, Side};
+use crate::program::{ArcSpec, Block};
+use nalgebra::{Matrix3, Vector3};
 
 /// Compensation beside a Klartext program's reader: off, or on with the moves it holds.
 #[derive(Debug, Clone, Default)]
@@ -49,7 +53,26 @@ impl TncComp {
     /// A block the program made while compensation is on: `op` and `p` its programmed start and end
     /// (program coordinates, m). What is settled goes to `out`; the last move is held for the corner
     /// after it. An error: the TNC stops there.
-    pub(crate) fn feed(&mut self, b: Block, op: [f64; 6], p: [f64; 6], unit: f64, out: &mut Vec<Block>) -> Result<(), String> {
+    ///
+    /// In a tilted working plane (`tilt`, its axes' columns in the workpiece) the contour is the
+    /// plane's: the block is offset in the plane's coordinates and placed back in the workpiece's.
+    pub(crate) fn feed(&mut self, mut b: Block, op: [f64; 6], p: [f64; 6], unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), String> {
+        let tilt = tilted(tilt);
+        if let Some(r) = &tilt {
+            if b.targets.a.is_some() || b.targets.b.is_some() || b.targets.c.is_some() {
+                return Err("rotary axes moving with radius compensation on in a tilted working plane are not read".into());
+            }
+            to_plane(&mut b, r);
+        }
+        let from = out.len();
+        let done = self.offset(b, op, p, unit, out);
+        if let Some(r) = &tilt {
+            out[from..].iter_mut().for_each(|b| to_workpiece(b, r));
+        }
+        done
+    }
+
+    fn offset(&mut self, b: Block, op: [f64; 6], p: [f64; 6], unit: f64, out: &mut Vec<Block>) -> Result<(), String> {
         let metric = unit == crate::units::MM;
         let Some(radius) = self.st.on.as_ref().map(|c| c.radius) else {
             self.st.dequeue(out);
@@ -85,7 +108,16 @@ impl TncComp {
     /// `R0` (or the program's end): the last element's move ends perpendicular to it at its end, and
     /// everything held goes out. An error where the block that started compensation is still held:
     /// no contour element followed it to say where the tool stands.
-    pub(crate) fn stop(&mut self, unit: f64, out: &mut Vec<Block>) -> Result<(), String> {
+    pub(crate) fn stop(&mut self, unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), String> {
+        let from = out.len();
+        let done = self.release(unit, out);
+        if let Some(r) = &tilted(tilt) {
+            out[from..].iter_mut().for_each(|b| to_workpiece(b, r));
+        }
+        done
+    }
+
+    fn release(&mut self, unit: f64, out: &mut Vec<Block>) -> Result<(), String> {
         let Some(comp) = self.st.on.take() else {
             self.st.dequeue(out);
             return Ok(());
@@ -100,5 +132,37 @@ impl TncComp {
         self.st.dequeue(out);
         self.st.endpoint = None;
         Ok(())
+    }
+}
+
+/// A tilt that turns something (cycle 19 with every angle 0 leaves the workpiece's axes).
+fn tilted(tilt: Option<Matrix3<f64>>) -> Option<Matrix3<f64>> {
+    tilt.filter(|r| (r - Matrix3::identity()).abs().max() > 1e-12)
+}
+
+/// A block of a tilted plane (its X Y Z, an arc's centre, in the workpiece) in the plane's coordinates.
+fn to_plane(b: &mut Block, r: &Matrix3<f64>) {
+    let back = r.transpose();
+    if let (Some(x), Some(y), Some(z)) = (b.targets.x, b.targets.y, b.targets.z) {
+        let v = back * Vector3::new(x, y, z);
+        (b.targets.x, b.targets.y, b.targets.z) = (Some(v.x), Some(v.y), Some(v.z));
+    }
+    if let Some(a) = b.arc.as_mut() {
+        let c = back * Vector3::from(a.centre);
+        a.centre = [c.x, c.y, c.z];
+        a.frame = None;
+    }
+}
+
+/// A block offset in a tilted plane's coordinates placed back in the workpiece's.
+fn to_workpiece(b: &mut Block, r: &Matrix3<f64>) {
+    if let (Some(x), Some(y), Some(z)) = (b.targets.x, b.targets.y, b.targets.z) {
+        let v = r * Vector3::new(x, y, z);
+        (b.targets.x, b.targets.y, b.targets.z) = (Some(v.x), Some(v.y), Some(v.z));
+    }
+    if let Some(a) = b.arc.as_mut() {
+        let c = r * Vector3::from(a.centre);
+        a.centre = [c.x, c.y, c.z];
+        a.frame = Some(ArcSpec::frame_of(r));
     }
 }

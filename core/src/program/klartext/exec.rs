@@ -423,13 +423,13 @@ impl Exec {
                 let placed = if r0 {
                     // R0: the tool leaves the last element perpendicular to it, for the programmed point.
                     let mut b = b;
-                    self.comp.stop(unit, out).map(|()| {
+                    self.comp.stop(unit, interp.tilt(), out).map(|()| {
                         b.targets.x.get_or_insert(end[0]);
                         b.targets.y.get_or_insert(end[1]);
                         out.push(b);
                     })
                 } else if self.comp.busy() {
-                    self.comp.feed(b, start, end, unit, out)
+                    self.comp.feed(b, start, end, unit, interp.tilt(), out)
                 } else {
                     out.push(b);
                     Ok(())
@@ -464,9 +464,6 @@ impl Exec {
     fn comp_radius(&self, shape: Shape, interp: &Interpreter) -> Result<f64, String> {
         if !matches!(shape, Shape::Line | Shape::LinePolar) {
             return Err("\"You cannot activate radius compensation in a circle block. Activate it beforehand in a straight-line block\" (TNC 620 ISO user's manual, p. 154)".into());
-        }
-        if interp.tilt().is_some_and(|r| (r - nalgebra::Matrix3::identity()).abs().max() > 1e-12) {
-            return Err("radius compensation in a tilted working plane is not read".into());
         }
         let Some(tool) = self.tool else {
             return Err("the radius is the called tool's, and no TOOL CALL by number comes before this block".into());
