@@ -76,7 +76,7 @@ const DEFECTIVE: &[(&str, &str, &str)] = &[
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect: no MillPlus manual in reach for G7's angle order, G141, G74 L1, G174 (only NX's and Autodesk's posts); the same part as the DMC 100 U's, its G141 operations at 200-334 in under G70. Refused once, naming MillPlus (the_millplus_program_is_refused_once_naming_its_language)"),
-    ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); RL/RR (the radii are its tool table's); cycles 202 and 203; CP IPA+360 with DR- (the TNC wants one sign); a four-axis machine (A only)"),
+    ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); its RL/RR contours read with a TOOL.T written from its `;DIA OUTIL` comments, and the first one stops as the TNC would (\"Tool radius too large\"): an approach arc R3 inside the contour for tool 3 of 10 mm; M91 in a tilted plane; cycles 202 and 203; CP IPA+360 with DR- (the TNC wants one sign); a four-axis machine (A only)"),
 ];
 
 fn fiveaxis(args: &[&str]) -> std::process::Output {

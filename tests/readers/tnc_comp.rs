@@ -229,3 +229,48 @@ fn rl_rr_refusals_name_the_rule() {
     let p = read("0 BEGIN PGM T MM\n1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 END PGM T MM\n", Dialect::Klartext, "t.h", &ReadOptions::default());
     has(&p, 4, 10, "--tool-table");
 }
+
+/// Through the command line, as a TNC shop would run it: the program with its machine's TOOL.T
+/// (the TNC's format, ISO 8859-1 with an umlaut in a tool's name) reads with no defect and its
+/// block 4 ends where the TNC's rule puts it; without the table, exit 2 naming `--tool-table`; a
+/// table with a bad radius, exit 2 naming its line and column.
+#[test]
+fn a_tnc_tool_table_through_the_command_line() {
+    let dir = crate::common::scratch_dir("tnc-comp-cli");
+    std::fs::write(dir.join("rc.h"), OUTSIDE).unwrap();
+    // Each value under its column's name (T at 0, NAME at 5, L at 26, R at 38, DR at 50).
+    let row = |t: &str, name: &[u8], l: &str, r: &str, dr: &str| {
+        let mut v = format!("{t:<5}").into_bytes();
+        v.extend(name);
+        v.extend(" ".repeat(21 - name.len()).into_bytes());
+        v.extend(format!("{l:<12}{r:<12}{dr}\n").into_bytes());
+        v
+    };
+    let mut table = b"BEGIN TOOL.T MM\n".to_vec();
+    table.extend(row("T", b"NAME", "L", "R", "DR"));
+    table.extend(row("1", b"FR\xc4SER_D20", "+60", "+10", "+0"));
+    table.extend(row("3", b"MILL_D6.04", "+55", "+3.02", "-0.02"));
+    table.extend(b"[END]\n");
+    std::fs::write(dir.join("TOOL.T"), &table).unwrap();
+    let analyze = |extra: &[&str]| {
+        std::process::Command::new(env!("FIVEAXIS_EXE"))
+            .args(["program", "analyze"])
+            .arg(dir.join("rc.h"))
+            .args(["--machine", "generic-ac-table", "--json"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let table_path = dir.join("TOOL.T");
+    let out = analyze(&["--tool-table", table_path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let out = analyze(&[]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("--tool-table"), "{}", String::from_utf8_lossy(&out.stdout));
+    std::fs::write(dir.join("BAD.T"), "BEGIN TOOL.T MM\nT    NAME     R\n3    M        +3,02\n[END]\n").unwrap();
+    let bad = dir.join("BAD.T");
+    let out = analyze(&["--tool-table", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("line 3: column R: '+3,02'"), "{err}");
+}
