@@ -137,17 +137,16 @@ fn rr_in_a_tilted_plane_offsets_in_the_planes_coordinates() {
     let text = OUTSIDE.replace("2 L X-20 Y-20 Z+5 R0 FMAX\n", "2 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n2 L X-20 Y-20 Z+5 R0 FMAX\n");
     let mut p = read(&text, Dialect::Klartext, "rc.h", &options);
     assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
-    // The plane's rotation: about Y by 30 deg, its sign from where block 2's plane point (-20, -20, 5)
-    // lies in the workpiece.
+    // The plane's rotation: SPB+30 turns the coordinate system about Y by +30 deg (right-handed:
+    // the plane's X axis is (cos 30, 0, -sin 30) in the workpiece), so block 2's plane point
+    // (-20, -20, 5) lies at Ry(30) (-20, -20, 5).
     let b2 = p.blocks.iter().find(|b| b.number == Some(2) && b.targets.x.is_some()).expect("block 2");
     let w = [b2.targets.x.unwrap() / MM, b2.targets.y.unwrap() / MM, b2.targets.z.unwrap() / MM];
     let ry = |t: f64| [[t.cos(), 0.0, t.sin()], [0.0, 1.0, 0.0], [-t.sin(), 0.0, t.cos()]];
     let apply = |m: [[f64; 3]; 3], v: [f64; 3]| [0, 1, 2].map(|i| m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2]);
-    let rot = [30f64, -30.0].map(|d| ry(d.to_radians())).into_iter().find(|m| {
-        let e = apply(*m, [-20.0, -20.0, 5.0]);
-        (0..3).all(|i| (e[i] - w[i]).abs() < 1e-9)
-    });
-    let rot = rot.unwrap_or_else(|| panic!("block 2 at {w:?} is not (-20, -20, 5) turned 30 deg about Y"));
+    let rot = ry(30f64.to_radians());
+    let e = apply(rot, [-20.0, -20.0, 5.0]);
+    assert!((0..3).all(|i| (e[i] - w[i]).abs() < 1e-9), "block 2 at {w:?}, not at {e:?}: (-20, -20, 5) turned +30 deg about Y");
     let back = [0, 1, 2].map(|i| [0, 1, 2].map(|j| rot[j][i]));
     assert!(w[2] > 5.0 + 1.0 || w[2] < 5.0 - 1.0, "the plane is tilted: {w:?}");
     for b in &mut p.blocks {
@@ -211,10 +210,21 @@ fn rl_rr_refusals_name_the_rule() {
         ("1 L X+0 Y+0 R0 FMAX\n2 L X+10 RL F100\n", "3:", "no TOOL CALL by number"),
         // A tool change under compensation.
         ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 L Y+10\n5 TOOL CALL 3 Z\n", "6:", "TOOL CALL with radius compensation"),
-        // A slot 2 mm wide into the part, which a 6 mm tool cannot enter.
-        ("1 TOOL CALL 3 Z\n2 L X-10 Y+10 R0 FMAX\n3 L X+0 Y+10 RR F100\n4 L X+20\n5 L Y+12\n6 L X+22\n7 L Y+10\n8 L X+40\n9 L Y+30 R0\n", "", "Tool radius too large"),
+        // A slot 2 mm wide into the part, which a 6 mm tool cannot enter: block 6, the slot's
+        // bottom, is where the offset elements no longer meet.
+        ("1 TOOL CALL 3 Z\n2 L X-10 Y+10 R0 FMAX\n3 L X+0 Y+10 RR F100\n4 L X+20\n5 L Y+12\n6 L X+22\n7 L Y+10\n8 L X+40\n9 L Y+30 R0\n", "7:", "cannot be reached by the tool without gouging"),
         // R0 right after the block that starts compensation.
         ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 L X+20 R0\n", "5:", "before any contour element"),
+        // A cycle called after every move (M89) would drill before the held blocks run; M99 in the
+        // block that starts compensation likewise.
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX M89\n3 L X+10 RL F100\n", "4:", "M89 in force"),
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100 M99\n", "4:", "cycle call (M99/M89)"),
+        // Compensation ends in a straight line: an arc from the compensated point is no circle.
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 L X+20\n5 CC X+20 Y+10\n6 C X+30 Y+10 DR+ R0\n", "7:", "R0 in a circle block"),
+        // Two compensation words in one block.
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL R0 F100\n", "4:", "a second radius compensation word"),
+        // Under M128 / TCPM the rotary axes move the contour: not read with RL/RR.
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX M128\n3 L X+10 RL F100\n", "4:", "under M128 / FUNCTION TCPM"),
     ];
     for (body, at, needle) in cases {
         let text = format!("0 BEGIN PGM T MM\n{body}99 END PGM T MM\n");
@@ -228,6 +238,77 @@ fn rl_rr_refusals_name_the_rule() {
     // Without --tool-table: said so.
     let p = read("0 BEGIN PGM T MM\n1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 END PGM T MM\n", Dialect::Klartext, "t.h", &ReadOptions::default());
     has(&p, 4, 10, "--tool-table");
+}
+
+/// Corners of less than LinuxCNC's 0.05 rad: the TNC intersects every inside corner and rounds every
+/// outside one (a corner of 2.75 deg left uncompensated would cut 11.5 um into the part with a 10 mm
+/// tool, or leave the corner's arc out), so the path stays at the radius from the contour, as
+/// shapely's offset curve has it, on both sides.
+#[test]
+fn shallow_corners_are_intersected_or_rounded() {
+    let r = 10.0;
+    let contour = [line([0.0, 0.0], [50.0, 0.0]), line([50.0, 0.0], [100.0, 2.4])];
+    for (word, side, start) in [("RL", "left", [0.0, r]), ("RR", "right", [0.0, -r])] {
+        let text = format!(
+            "0 BEGIN PGM RC MM\n1 TOOL CALL 5 Z S3000\n2 L X-20 Y+0 Z-2 R0 FMAX\n3 L X+0 Y+0 {word} F500\n4 L X+50\n5 L X+100 Y+2.4\n6 L X+120 Y+20 R0\n7 END PGM RC MM\n"
+        );
+        let p = read(&text, Dialect::Klartext, "rc.h", &table("T5 P5 D20\n"));
+        assert!(errors(&p).is_empty(), "{word}: {:#?}", p.diagnostics);
+        let ours = path(&p, 4..=5, start);
+        let got = reference(r, side, &contour, &ours);
+        let e = got["radius_error_mm"].as_f64().unwrap();
+        assert!(e < 1e-4, "{word}: a point of the path stands {e} mm off the radius from the contour; {ours:?} {got}");
+        assert!(got["hausdorff_mm"].as_f64().unwrap() < TOLERANCE * r, "{word}: {got}");
+    }
+}
+
+/// `TOOL CALL Z S5000` (a new speed, no tool) keeps the tool in the spindle, whose radius RL takes.
+#[test]
+fn a_speed_change_keeps_the_tool() {
+    let text = "0 BEGIN PGM RC MM\n1 TOOL CALL 3 Z S3000\n2 TOOL CALL Z S5000\n3 L X-10 Y+0 R0 FMAX\n4 L X+0 Y+0 RL F100\n5 L X+20\n6 L X+30 Y+10 R0\n7 END PGM RC MM\n";
+    let p = read(text, Dialect::Klartext, "rc.h", &table("T3 P3 D6\n"));
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    // Block 4 ends on the left of the first element (+X) at its start: (0, 3).
+    let b = p.blocks.iter().find(|b| b.number == Some(4)).unwrap();
+    assert!((b.targets.x.unwrap() / MM).abs() < 1e-9 && (b.targets.y.unwrap() / MM - 3.0).abs() < 1e-9, "{:?}", b.targets);
+}
+
+/// A negative radius (R + DR below 0), and millions of blocks held under compensation without a
+/// move in the plane, are refused at the block, not guessed or held without bound.
+#[test]
+fn a_negative_radius_and_endless_held_blocks_are_refused() {
+    let p = read("0 BEGIN PGM T MM\n1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 END PGM T MM\n", Dialect::Klartext, "t.h", &table("T3 P3 D-6\n"));
+    has(&p, 4, 10, "negative");
+    let mut text = String::from("0 BEGIN PGM T MM\n1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 L Y+10\n");
+    for k in 0..10_001 {
+        text.push_str(&format!("{} L Z{}\n", k + 5, if k % 2 == 0 { "+1" } else { "-1" }));
+    }
+    text.push_str("99999 END PGM T MM\n");
+    let p = read(&text, Dialect::Klartext, "t.h", &table("T3 P3 D6\n"));
+    let errs = errors(&p);
+    // Held: block 4 (the last contour element) and the Z moves after it; the 10,000th Z move (file
+    // line 5 + 10,000) would be the 10,001st.
+    assert!(errs.iter().any(|(l, _, m)| *l == 10_005 && m.contains("more than 10000 blocks")), "{errs:#?}");
+}
+
+/// `R0` without coordinates in a tilted plane: the tool goes to the contour's last programmed point,
+/// which the plane's rotation places in the workpiece (SPB+30: Ry(30) of it).
+#[test]
+fn r0_without_coordinates_in_a_tilted_plane_goes_to_the_programmed_point() {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let mut options = table("T3 P3 D6\n").on(&hermle);
+    options.tool_table = table("T3 P3 D6\n").tool_table;
+    let text = OUTSIDE
+        .replace("2 L X-20 Y-20 Z+5 R0 FMAX\n", "2 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n2 L X-20 Y-20 Z+5 R0 FMAX\n")
+        .replace("13 L X-20 Y-10 R0\n", "13 L R0 F200\n");
+    let p = read(&text, Dialect::Klartext, "rc.h", &options);
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let b = p.blocks.iter().filter(|b| b.number == Some(13)).last().expect("block 13");
+    let w = [b.targets.x.unwrap() / MM, b.targets.y.unwrap() / MM, b.targets.z.unwrap() / MM];
+    // The last programmed point, (0, 5) at Z-2, turned +30 deg about Y.
+    let t = 30f64.to_radians();
+    let want = [0.0 * t.cos() + -2.0 * t.sin(), 5.0, -0.0 * t.sin() + -2.0 * t.cos()];
+    assert!((0..3).all(|i| (w[i] - want[i]).abs() < 1e-9), "block 13 at {w:?}, not {want:?}");
 }
 
 /// Through the command line, as a TNC shop would run it: the program with its machine's TOOL.T
@@ -264,6 +345,22 @@ fn a_tnc_tool_table_through_the_command_line() {
     let table_path = dir.join("TOOL.T");
     let out = analyze(&["--tool-table", table_path.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(0), "{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    // R + DR = 3.02 - 0.02: the path, and so the cycle time, of a radius of 3 (LinuxCNC's table, D6);
+    // without the delta (3.02) another path.
+    let cycle_time = |out: &std::process::Output| serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()["cycle_time_s"].as_f64().unwrap();
+    let with_delta = cycle_time(&out);
+    std::fs::write(dir.join("tool.tbl"), "T3 P3 D6\n").unwrap();
+    let plain = analyze(&["--tool-table", dir.join("tool.tbl").to_str().unwrap()]);
+    assert_eq!(plain.status.code(), Some(0));
+    assert!((with_delta - cycle_time(&plain)).abs() < 1e-9, "{with_delta} s with R+DR, {} s with D6", cycle_time(&plain));
+    let mut no_delta = b"BEGIN TOOL.T MM\n".to_vec();
+    no_delta.extend(row("T", b"NAME", "L", "R", "DR"));
+    no_delta.extend(row("3", b"MILL_D6.04", "+55", "+3.02", "+0"));
+    no_delta.extend(b"[END]\n");
+    std::fs::write(dir.join("NODELTA.T"), &no_delta).unwrap();
+    let other = analyze(&["--tool-table", dir.join("NODELTA.T").to_str().unwrap()]);
+    assert_eq!(other.status.code(), Some(0));
+    assert!((with_delta - cycle_time(&other)).abs() > 1e-6, "R 3.02 without its delta runs as R 3: {with_delta} s");
     let out = analyze(&[]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stdout).contains("--tool-table"), "{}", String::from_utf8_lossy(&out.stdout));

@@ -6,10 +6,6 @@ use super::{CompState, Held, Rule, Side};
 use crate::program::{ArcSpec, Block, Motion, Plane};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-/// Corners within this angle are neither convex nor concave (interp_internal.hh
-/// `TOLERANCE_CONCAVE_CORNER`), rad.
-const SMALL: f64 = 0.05;
-
 /// An error of compensation: its message (LinuxCNC's where it has one).
 pub(super) type Fail = String;
 
@@ -156,6 +152,7 @@ pub(super) fn straight(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3],
         st.place_entry(polar(opxy, st.on.as_ref().map_or(0.0, |c| c.radius), normal), out);
     }
     let comp = st.on.clone().expect("compensation on");
+    let small = comp.rule.small_corner();
     let (r, side) = (comp.radius, comp.side);
     let rapid = b.motion == Motion::Rapid;
     let c = comp.current;
@@ -207,9 +204,9 @@ pub(super) fn straight(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3],
         end = polar(pxy, r, alpha + gamma);
         let mut mid = polar(opxy, r, alpha + gamma);
         let front = st.front_arc();
-        let concave = !(-SMALL..=PI + SMALL).contains(&beta)
-            || (beta > PI - SMALL && front.is_some_and(|(_, _, turn)| (side == Side::Right && turn > 0) || (side == Side::Left && turn < 0)));
-        if !concave && beta > SMALL {
+        let concave = !(-small..=PI + small).contains(&beta)
+            || (beta > PI - small && front.is_some_and(|(_, _, turn)| (side == Side::Right && turn > 0) || (side == Side::Left && turn < 0)));
+        if !concave && beta > small {
             // A convex corner: an arc about the programmed corner (a rapid goes straight).
             st.move_endpoint_and_flush(cxy, metric, unit, out)?;
             let corner = if rapid && comp.rule == Rule::LinuxCnc {
@@ -285,6 +282,7 @@ pub(super) fn arc(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3], cent
         st.place_entry(polar(centre, if tool_inside { start_radius - r } else { start_radius + r }, toward), out);
     }
     let comp = st.on.clone().expect("compensation on");
+    let small = comp.rule.small_corner();
     let c = comp.current;
     let cxy = [c[0], c[1]];
     let arc_radius = dist(pxy, centre);
@@ -327,7 +325,7 @@ pub(super) fn arc(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3], cent
             atan2(pxy, centre)
         };
         let end = polar(pxy, r, gamma);
-        if !(-SMALL..=PI + SMALL).contains(&beta) || ((beta - PI).abs() < SMALL && !inside(side, turn)) {
+        if !(-small..=PI + small).contains(&beta) || ((beta - PI).abs() < small && !inside(side, turn)) {
             match st.front_arc() {
                 None => {
                     // Line to arc: where the offset line meets the offset arc.
@@ -371,7 +369,7 @@ pub(super) fn arc(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3], cent
                     st.move_endpoint_and_flush(polar(prev_centre, oldrad, dir), metric, unit, out)?;
                 }
             }
-        } else if beta > SMALL {
+        } else if beta > small {
             // A convex corner: an arc about the programmed corner first.
             let mid = polar(opxy, r, delta);
             st.dequeue(out);

@@ -53,6 +53,21 @@ pub(crate) enum Rule {
     Tnc,
 }
 
+impl Rule {
+    /// Corners within this angle (rad) are taken as none: LinuxCNC's `TOLERANCE_CONCAVE_CORNER`
+    /// (interp_internal.hh, 0.05 rad), under which it neither rounds nor intersects (a concave
+    /// corner of 2.8 deg is cut in by up to r(1 - cos 0.05)); the TNC rounds every outside corner
+    /// and intersects every inside one: only a corner below 0.001 rad is none, where the straight
+    /// way is within r(1 - cos 0.001) = 5e-7 r of both (CAM output's rounded tangent transitions
+    /// make no arcs of a micrometre).
+    pub(super) fn small_corner(self) -> f64 {
+        match self {
+            Rule::LinuxCnc => 0.05,
+            Rule::Tnc => 1e-3,
+        }
+    }
+}
+
 /// Compensation in effect (`G41`, `G42`, `G41.1`, `G42.1` until `G40`; a TNC's `RL`/`RR` until `R0`).
 #[derive(Debug, Clone)]
 pub(crate) struct Comp {
@@ -85,7 +100,17 @@ pub(crate) struct CompState {
     resync: Option<[f64; 2]>,
 }
 
+/// The most blocks compensation holds while it waits for the next move in the plane: the blocks
+/// between two contour elements (Z moves, M functions) are held so the corner can be settled first,
+/// and a program of millions of them without a move in the plane would hold them all.
+pub(crate) const MAX_HELD: usize = 10_000;
+
 impl CompState {
+    /// Whether no more blocks may be held ([`MAX_HELD`]); why, for the error.
+    pub(crate) fn full(&self) -> Option<String> {
+        (self.queue.len() >= MAX_HELD).then(|| format!("more than {MAX_HELD} blocks without a move in the working plane while radius compensation is on are not read (each is held until the next contour element settles the corner before it)"))
+    }
+
     /// Nothing to do for a block without compensation codes, and nothing to keep (LinuxCNC's
     /// `endpoint` outlives a compensation: a later one's first arc leaves it as it was).
     fn idle(&self) -> bool {
@@ -344,6 +369,9 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
         return fail(it, diags, column, "a block of several moves with cutter radius compensation on");
     }
     for b in made {
+        if let Some(why) = st.full() {
+            return fail(it, diags, column, &why);
+        }
         // Without compensation, and blocks that move nothing: out, after any held move.
         if !active || b.targets.is_empty() {
             if st.queue.is_empty() {

@@ -73,6 +73,9 @@ impl TncComp {
     }
 
     fn offset(&mut self, b: Block, op: [f64; 6], p: [f64; 6], unit: f64, out: &mut Vec<Block>) -> Result<(), String> {
+        if let Some(why) = self.st.full() {
+            return Err(why);
+        }
         let metric = unit == crate::units::MM;
         let Some(radius) = self.st.on.as_ref().map(|c| c.radius) else {
             self.st.dequeue(out);

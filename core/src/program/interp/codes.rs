@@ -37,7 +37,8 @@ pub(super) fn tool_vector(words: &[Word], targets: &Targets, line: usize, column
 pub(super) fn tnc_m_code(code: i64) -> Result<(), &'static str> {
     match code {
         // Tool life, handwheel superposition (no motion of its own), look-ahead for radius
-        // compensation (none is read), rotary shortest path off (the reset state), touch probe
+        // compensation (M120: its blocks LA, how many, is refused as a word), rotary shortest path
+        // off (the reset state), touch probe
         // monitoring, lift-off at NC stop.
         101 | 102 | 118 | 120 | 127 | 141 | 148 | 149 => Ok(()),
         91 | 92 | 130 => Err("positions in the machine coordinate system are not modelled (it changes the motion)"),

@@ -79,8 +79,19 @@ impl Exec {
     /// Run one statement, its block to `out`; true if it ends the program (M2, M30).
     pub(super) fn run<'a>(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let unit = interp.unit();
-        if self.comp.busy() {
+        // The block that starts RL/RR is held with the compensated ones: what cannot run among them
+        // cannot run in it either.
+        let starts_comp = matches!(&s.kind, Kind::Move { comp: Some((Some(_), _)), .. }) && self.comp.side().is_none();
+        if starts_comp && interp.tcp() {
+            diags.error(s.line, s.col, "radius compensation RL/RR under M128 / FUNCTION TCPM is not read: reset it first (M129, FUNCTION RESET TCPM)");
+            diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+            return false;
+        }
+        if self.comp.busy() || starts_comp {
             let what = match &s.kind {
+                // A cycle called after each move (M89) would drill before the held moves run (the R0
+                // block lets them all out first).
+                Kind::Move { comp, .. } if self.modal_call && !matches!(comp, Some((None, _))) => Some("a move with the modal cycle call M89 in force"),
                 Kind::Plane(_) => Some("a working plane (PLANE, cycle 19)"),
                 Kind::Datum(..) => Some("a datum shift (cycle 7)"),
                 Kind::Tool { .. } => Some("TOOL CALL"),
@@ -191,8 +202,11 @@ impl Exec {
                 }
             }
             Kind::Tool { events, feed } => {
-                // The tool by number (`TOOL CALL 5`); one called by name is not looked up.
-                self.tool = events.iter().find_map(|e| e.strip_prefix('T')).and_then(|t| t.parse::<u32>().ok());
+                // The tool by number (`TOOL CALL 5`); one called by name is not looked up. A call
+                // without a tool (`TOOL CALL Z S5000`: a new speed) keeps the one in the spindle.
+                if let Some(t) = events.iter().find_map(|e| e.strip_prefix('T')) {
+                    self.tool = t.parse::<u32>().ok();
+                }
                 if let Some(sp) = events.iter().find_map(|e| e.strip_prefix('S')) {
                     self.spindle = super::parse_val(sp).and_then(|v| match v {
                         Val::Num(n) => Some(n),
@@ -389,6 +403,13 @@ impl Exec {
             Kind::Move { comp: Some((side, col)), shape, .. } => Some((*side, *col, *shape)),
             _ => None,
         };
+        if let Some((None, col, shape)) = comp_word {
+            if self.comp.side().is_some() && !matches!(shape, Shape::Line | Shape::LinePolar) {
+                diags.error(s.line, col, "R0 in a circle block: compensation ends here in a straight-line block (L) only (an arc from the compensated point to the programmed one is no circle)");
+                diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+                return false;
+            }
+        }
         let mut starting = None;
         if let Some((Some(left), col, shape)) = comp_word {
             let side = if left { Side::Left } else { Side::Right };
@@ -423,9 +444,19 @@ impl Exec {
                 let placed = if r0 {
                     // R0: the tool leaves the last element perpendicular to it, for the programmed point.
                     let mut b = b;
-                    self.comp.stop(unit, interp.tilt(), out).map(|()| {
-                        b.targets.x.get_or_insert(end[0]);
-                        b.targets.y.get_or_insert(end[1]);
+                    let tilt = interp.tilt();
+                    self.comp.stop(unit, tilt, out).map(|()| {
+                        match tilt {
+                            // The programmed point, in the plane's coordinates, placed in the workpiece's.
+                            Some(r) => {
+                                let w = r * nalgebra::Vector3::new(end[0], end[1], end[2]);
+                                (b.targets.x, b.targets.y, b.targets.z) = (Some(w.x), Some(w.y), Some(w.z));
+                            }
+                            None => {
+                                b.targets.x.get_or_insert(end[0]);
+                                b.targets.y.get_or_insert(end[1]);
+                            }
+                        }
                         out.push(b);
                     })
                 } else if self.comp.busy() {
@@ -435,7 +466,12 @@ impl Exec {
                     Ok(())
                 };
                 if let Err(why) = placed {
-                    diags.error(s.line, s.col, format!("radius compensation: {why}; the TNC stops here (\"Tool radius too large\"), and so does this reader"));
+                    // A contour the tool cannot follow stops the TNC; what this reader does not read stops it too.
+                    if why.contains("not read") {
+                        diags.error(s.line, s.col, format!("radius compensation: {why}"));
+                    } else {
+                        diags.error(s.line, s.col, format!("radius compensation: {why}; the TNC stops here (\"Tool radius too large\"), and so does this reader"));
+                    }
                     self.comp = TncComp::default();
                     interp.halted = true;
                     return true;
@@ -472,6 +508,8 @@ impl Exec {
             return Err(format!("the radius is tool {tool}'s in the tool table: give it with --tool-table (the TNC's TOOL.T, or LinuxCNC's tool.tbl)"));
         };
         match table.diameter(tool) {
+            // What the TNC makes of a negative R + DR under RL/RR is not in the manuals read here.
+            Some(d) if d < 0.0 => Err(format!("tool {tool}'s radius in the tool table (R + DR) is negative ({} mm): not read", d / 2.0 / MM)),
             Some(d) => Ok(d / 2.0),
             None => Err(format!("tool {tool} is not in the tool table")),
         }

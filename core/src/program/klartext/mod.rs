@@ -29,10 +29,11 @@
 //! last shift).
 //!
 //! Tool radius compensation `RL`/`RR` until `R0` runs by the TNC's rules
-//! ([`crate::program::cutter_comp::TncComp`]) in an untilted plane, by the called tool's radius in
-//! the tool table.
+//! ([`crate::program::cutter_comp::TncComp`]), in a tilted plane in the plane's coordinates, by the
+//! called tool's radius in the tool table; refused under it: `R0` in a circle, TCPM (M128), a cycle
+//! called among the held blocks (M89 in force, M99), a negative radius.
 //!
-//! Refused at line:col, never guessed: radius compensation in a tilted plane, `CTP` and free contours
+//! Refused at line:col, never guessed: `CTP` and free contours
 //! (`FK`), rounding and chamfers, approach/departure, `PLANE PROJECTED` and
 //! `MOVE`, machining cycles other than those above and touch probes, tool deltas `DL`/`DR`, and
 //! `FUNCTION TCPM` options that read the program differently (`F CONT`, `AXIS SPAT`, a reference
@@ -507,6 +508,9 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
                 if let Some(w) = value_word("M", rest, tok, col, line, diags) {
                     m.push(w);
                 }
+            }
+            (None, "R" | "RL" | "RR") if comp.is_some() && (rest == "0" || (addr != "R" && rest.is_empty())) => {
+                diags.error(line, col, format!("{tok}: a second radius compensation word in one block (one of R0, RL, RR)"))
             }
             (None, "R") if rest == "0" => comp = Some((None, col)),
             (None, "R") if shape == Shape::CircleRadius && rest.starts_with(['+', '-']) => radius = value_word("R", rest, tok, col, line, diags),
