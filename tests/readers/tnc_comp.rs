@@ -262,6 +262,34 @@ fn shallow_corners_are_intersected_or_rounded() {
     }
 }
 
+/// Inside corners between a line and an arc, an arc and a line, and two arcs (a pocket run
+/// counter-clockwise with RL, the tool inside it; arcs bulging out, and a boss's arc bulging in): the
+/// offset elements meet at the one of their two intersections the TNC's path takes, so every point
+/// stays at the radius from the contour and the path is shapely's offset curve.
+#[test]
+fn inside_corners_with_arcs_meet_where_the_offset_elements_do() {
+    let r = 3.0;
+    let text = "0 BEGIN PGM RC MM\n1 TOOL CALL 3 Z S3000\n2 L X+20 Y+20 Z+5 R0 FMAX\n3 L Z-2 F200\n4 L X+20 Y+0 RL F500\n\
+                5 L X+60\n6 CC X+50 Y+20\n7 C X+60 Y+40 DR+\n8 L X+0\n9 CC X+10 Y+25\n10 C X+0 Y+10 DR+\n11 CC X+0 Y+0\n\
+                12 C X+10 Y+0 DR-\n13 L X+20 Y+20 R0\n14 END PGM RC MM\n";
+    let p = read(text, Dialect::Klartext, "rc.h", &table("T3 P3 D6\n"));
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let contour = [
+        line([20.0, 0.0], [60.0, 0.0]),
+        arc([60.0, 0.0], [60.0, 40.0], [50.0, 20.0], true),
+        line([60.0, 40.0], [0.0, 40.0]),
+        arc([0.0, 40.0], [0.0, 10.0], [10.0, 25.0], true),
+        arc([0.0, 10.0], [10.0, 0.0], [0.0, 0.0], false),
+    ];
+    let ours = path(&p, 5..=12, [20.0, r]);
+    // Five elements, no transitional arc: every corner is inside.
+    assert_eq!(ours.len(), 5, "{ours:?}");
+    let got = reference(r, "left", &contour, &ours);
+    let e = got["radius_error_mm"].as_f64().unwrap();
+    assert!(e < 1e-4, "a point of the path stands {e} mm off the radius from the contour; {ours:?} {got}");
+    assert!(got["hausdorff_mm"].as_f64().unwrap() < TOLERANCE * r, "{got}");
+}
+
 /// `TOOL CALL Z S5000` (a new speed, no tool) keeps the tool in the spindle, whose radius RL takes.
 #[test]
 fn a_speed_change_keeps_the_tool() {
