@@ -25,6 +25,32 @@ use super::{Comp, CompState, Rule, Side};
 use crate::program::{ArcSpec, Block};
 use nalgebra::{Matrix3, Vector3};
 
+/// Why compensation stops reading: a contour the tool cannot follow (where the TNC stops, "Tool
+/// radius too large"), or what this reader does not read.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Stop {
+    Contour(String),
+    NotRead(String),
+}
+
+impl Stop {
+    /// The reason alone.
+    pub(crate) fn why(&self) -> &str {
+        match self {
+            Stop::Contour(why) | Stop::NotRead(why) => why,
+        }
+    }
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stop::Contour(why) => write!(f, "{why}; the TNC stops here (\"Tool radius too large\"), and so does this reader"),
+            Stop::NotRead(why) => f.write_str(why),
+        }
+    }
+}
+
 /// Compensation beside a Klartext program's reader: off, or on with the moves it holds.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct TncComp {
@@ -56,11 +82,11 @@ impl TncComp {
     ///
     /// In a tilted working plane (`tilt`, its axes' columns in the workpiece) the contour is the
     /// plane's: the block is offset in the plane's coordinates and placed back in the workpiece's.
-    pub(crate) fn feed(&mut self, mut b: Block, op: [f64; 6], p: [f64; 6], unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), String> {
+    pub(crate) fn feed(&mut self, mut b: Block, op: [f64; 6], p: [f64; 6], unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), Stop> {
         let tilt = tilted(tilt);
         if let Some(r) = &tilt {
             if b.targets.a.is_some() || b.targets.b.is_some() || b.targets.c.is_some() {
-                return Err("rotary axes moving with radius compensation on in a tilted working plane are not read".into());
+                return Err(Stop::NotRead("rotary axes moving with radius compensation on in a tilted working plane are not read".into()));
             }
             to_plane(&mut b, r);
         }
@@ -72,9 +98,9 @@ impl TncComp {
         done
     }
 
-    fn offset(&mut self, b: Block, op: [f64; 6], p: [f64; 6], unit: f64, out: &mut Vec<Block>) -> Result<(), String> {
+    fn offset(&mut self, b: Block, op: [f64; 6], p: [f64; 6], unit: f64, out: &mut Vec<Block>) -> Result<(), Stop> {
         if let Some(why) = self.st.full() {
-            return Err(why);
+            return Err(Stop::NotRead(why));
         }
         let metric = unit == crate::units::MM;
         let Some(radius) = self.st.on.as_ref().map(|c| c.radius) else {
@@ -98,20 +124,20 @@ impl TncComp {
                 let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
                 let tilted = spec.frame.is_some_and(|f| f.iter().flatten().zip(identity.iter().flatten()).any(|(a, b)| (a - b).abs() > 1e-12));
                 if tilted || spec.plane != crate::program::Plane::Xy {
-                    return Err("an arc outside the working plane (XY) with radius compensation on is not read".into());
+                    return Err(Stop::NotRead("an arc outside the working plane (XY) with radius compensation on is not read".into()));
                 }
                 let turns = spec.extra_turns as i32 + 1;
                 let turn = if m == crate::program::Motion::ArcCw { -turns } else { turns };
-                super::geometry::arc(&mut self.st, &b, op, p, [spec.centre[0], spec.centre[1]], turn, metric, unit, out)
+                super::geometry::arc(&mut self.st, &b, op, p, [spec.centre[0], spec.centre[1]], turn, metric, unit, out).map_err(Stop::Contour)
             }
-            _ => super::geometry::straight(&mut self.st, &b, op, p, metric, unit, out),
+            _ => super::geometry::straight(&mut self.st, &b, op, p, metric, unit, out).map_err(Stop::Contour),
         }
     }
 
     /// `R0` (or the program's end): the last element's move ends perpendicular to it at its end, and
     /// everything held goes out. An error where the block that started compensation is still held:
     /// no contour element followed it to say where the tool stands.
-    pub(crate) fn stop(&mut self, unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), String> {
+    pub(crate) fn stop(&mut self, unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), Stop> {
         let from = out.len();
         let done = self.release(unit, out);
         if let Some(r) = &tilted(tilt) {
@@ -120,17 +146,17 @@ impl TncComp {
         done
     }
 
-    fn release(&mut self, unit: f64, out: &mut Vec<Block>) -> Result<(), String> {
+    fn release(&mut self, unit: f64, out: &mut Vec<Block>) -> Result<(), Stop> {
         let Some(comp) = self.st.on.take() else {
             self.st.dequeue(out);
             return Ok(());
         };
         if comp.entry_held {
             self.st.dequeue(out);
-            return Err("RL/RR ended before any contour element: the TNC places the tool perpendicular to the first element after the block that starts compensation, and there is none".into());
+            return Err(Stop::Contour("RL/RR ended before any contour element: the TNC places the tool perpendicular to the first element after the block that starts compensation, and there is none".into()));
         }
         if !comp.first {
-            self.st.move_endpoint_and_flush([comp.current[0], comp.current[1]], unit == crate::units::MM, unit, out)?;
+            self.st.move_endpoint_and_flush([comp.current[0], comp.current[1]], unit == crate::units::MM, unit, out).map_err(Stop::Contour)?;
         }
         self.st.dequeue(out);
         self.st.endpoint = None;

@@ -466,12 +466,7 @@ impl Exec {
                     Ok(())
                 };
                 if let Err(why) = placed {
-                    // A contour the tool cannot follow stops the TNC; what this reader does not read stops it too.
-                    if why.contains("not read") {
-                        diags.error(s.line, s.col, format!("radius compensation: {why}"));
-                    } else {
-                        diags.error(s.line, s.col, format!("radius compensation: {why}; the TNC stops here (\"Tool radius too large\"), and so does this reader"));
-                    }
+                    diags.error(s.line, s.col, format!("radius compensation: {why}"));
                     self.comp = TncComp::default();
                     interp.halted = true;
                     return true;

@@ -217,7 +217,7 @@ impl Jumping for Runner {
     fn finish(&mut self, _ended: bool, out: &mut Vec<Block>, diags: &mut Diags) {
         // Moves held for radius compensation go out at the program's end.
         if let Err(why) = self.ex.comp.stop(self.interp.unit(), self.interp.tilt(), out) {
-            diags.error(self.labels.lines.max(1), 1, format!("radius compensation: {why}"));
+            diags.error(self.labels.lines.max(1), 1, format!("radius compensation: {}", why.why()));
         }
         Runner::finish(self, diags);
     }
