@@ -126,17 +126,24 @@ fn rr_outside_contour_is_shapelys_offset_curve_and_starts_and_ends_perpendicular
     assert!((c[0] / MM - 70.0).abs() < 1e-9 && (c[1] / MM - 40.0).abs() < 1e-9, "{c:?}");
 }
 
+/// `text` (an [`OUTSIDE`] contour) read on the Hermle with its block 2 in a plane tilted by PLANE
+/// SPATIAL SPB+30, tool 3 of 6 mm; no errors.
+fn read_tilted_30(text: &str) -> Program {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let mut options = table("T3 P3 D6\n").on(&hermle);
+    options.tool_table = table("T3 P3 D6\n").tool_table;
+    let text = text.replace("2 L X-20 Y-20 Z+5 R0 FMAX\n", "2 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n2 L X-20 Y-20 Z+5 R0 FMAX\n");
+    let p = read(&text, Dialect::Klartext, "rc.h", &options);
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    p
+}
+
 /// The outside contour in a plane tilted 30 deg (PLANE SPATIAL SPB+30 on the Hermle): the same
 /// offsets in the plane's coordinates (the blocks come out in the workpiece's).
 #[test]
 fn rr_in_a_tilted_plane_offsets_in_the_planes_coordinates() {
     let r = 3.0;
-    let hermle = fiveaxis::machine::Machine::hermle_c600u();
-    let mut options = table("T3 P3 D6\n").on(&hermle);
-    options.tool_table = table("T3 P3 D6\n").tool_table;
-    let text = OUTSIDE.replace("2 L X-20 Y-20 Z+5 R0 FMAX\n", "2 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n2 L X-20 Y-20 Z+5 R0 FMAX\n");
-    let mut p = read(&text, Dialect::Klartext, "rc.h", &options);
-    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let mut p = read_tilted_30(OUTSIDE);
     // The plane's rotation: SPB+30 turns the coordinate system about Y by +30 deg (right-handed:
     // the plane's X axis is (cos 30, 0, -sin 30) in the workpiece), so block 2's plane point
     // (-20, -20, 5) lies at Ry(30) (-20, -20, 5).
@@ -323,14 +330,7 @@ fn a_negative_radius_and_endless_held_blocks_are_refused() {
 /// which the plane's rotation places in the workpiece (SPB+30: Ry(30) of it).
 #[test]
 fn r0_without_coordinates_in_a_tilted_plane_goes_to_the_programmed_point() {
-    let hermle = fiveaxis::machine::Machine::hermle_c600u();
-    let mut options = table("T3 P3 D6\n").on(&hermle);
-    options.tool_table = table("T3 P3 D6\n").tool_table;
-    let text = OUTSIDE
-        .replace("2 L X-20 Y-20 Z+5 R0 FMAX\n", "2 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n2 L X-20 Y-20 Z+5 R0 FMAX\n")
-        .replace("13 L X-20 Y-10 R0\n", "13 L R0 F200\n");
-    let p = read(&text, Dialect::Klartext, "rc.h", &options);
-    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let p = read_tilted_30(&OUTSIDE.replace("13 L X-20 Y-10 R0\n", "13 L R0 F200\n"));
     let b = p.blocks.iter().filter(|b| b.number == Some(13)).last().expect("block 13");
     let w = [b.targets.x.unwrap() / MM, b.targets.y.unwrap() / MM, b.targets.z.unwrap() / MM];
     // The last programmed point, (0, 5) at Z-2, turned +30 deg about Y.
