@@ -459,8 +459,12 @@ B="{b}"; D="{d}"
 date +%s%N > "$D/start_ns"
 "$B/fiveaxis-recorder" --all {flag} --output "{bag}" > "$D/recorder.log" 2>&1 &
 R=$!
-python3 "{peer}" endpoints --topic /clock --duration-s 8 > "$D/clock.json" &
+python3 "{peer}" endpoints --topic /clock --duration-s 120 --ready "$D/peer_ready" --until "$D/nodes_done" > "$D/clock.json" &
 P=$!
+# The nodes start once the peer's discovery readers exist: a first import of Cyclone DDS (compiling
+# its modules on a fresh machine) took longer than the commander's whole run, which went unseen.
+for i in $(seq 600); do [ -f "$D/peer_ready" ] || sleep 0.1; done
+[ -f "$D/peer_ready" ]
 "$B/fiveaxis-monitor" {flag} --exit-when-idle-s 2 > "$D/monitor.log" 2>&1 &
 M=$!
 "$B/fiveaxis-simulator" {flag} builtin:paper-sing --min-subscribers 2 > "$D/simulator.log" 2>&1 &
@@ -472,6 +476,7 @@ sleep 0.5
 kill -INT $R
 wait $R
 date +%s%N > "$D/end_ns"
+touch "$D/nodes_done"
 wait $P
 "#,
             b = b.display(),

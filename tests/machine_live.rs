@@ -213,7 +213,9 @@ fn a_bridge_down_for_seconds_is_stale_not_lost_everywhere() {
 /// long a loaded machine took to start the bridge), restarts 1.2 s before the cut and is down for 1 s
 /// (a new session, its nodes browsed again); the bridge waits for it as long as it takes (node-opcua
 /// loading the CNC nodeset again took over 4 s on a loaded CI machine) and is stopped (SIGINT) once
-/// the server has finished. `server`: the peer's command before its options;
+/// the server has finished, the monitor after it: an idle exit of 3 s ended the monitor inside the
+/// restart (down 1 s, the bridge back 3.5 s after the session died on a loaded machine, session 72),
+/// so its idle exit only bounds a run gone wrong. `server`: the peer's command before its options;
 /// `bridge`: the bridge's options beyond the server and machine.
 fn opcua_live(tag: &str, server: &str, bridge: &str) {
     static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
@@ -227,7 +229,7 @@ fn opcua_live(tag: &str, server: &str, bridge: &str) {
     // session 61: the asyncua server's first try ran until nextest stopped it, the retry passed).
     let script = format!(
         "timeout 90 '{bin}/fiveaxis-monitor' --joint-state-input /fiveaxis/machine/joint_states --machine hermle-c600u --feed 2000 --lookahead '' \
-            --summary-json {d}/summary.json --exit-when-idle-s 3 > {d}/monitor.log 2>&1 &
+            --summary-json {d}/summary.json --exit-when-idle-s 30 > {d}/monitor.log 2>&1 &
         M=$!
         timeout 120 {server} --port 4840 --start 8.0 --end 17.5 --restart-at 0.8 --down-s 1.0 --linger 2 --wait-subscription 60 > {d}/peer.json 2> {d}/peer.err &
         P=$!
@@ -235,7 +237,7 @@ fn opcua_live(tag: &str, server: &str, bridge: &str) {
         FIVEAXIS_OPCUA_PKI={d}/pki FIVEAXIS_OPCUA_PASSWORD=s3cret '{bin}/fiveaxis-bridge' --opcua-server opc.tcp://127.0.0.1:4840/fiveaxis --machine hermle-c600u --exit-when-down-s 30 \
             --wait-for-subscriber-s 10 --summary-json {d}/bridge.json {bridge} > {d}/bridge.log 2>&1 &
         B=$!
-        wait $P; kill -INT $B 2>/dev/null; wait $B; wait $M",
+        wait $P; kill -INT $B 2>/dev/null; wait $B; kill -INT $M 2>/dev/null; wait $M",
         bin = bin.display(),
     );
     let out = Command::new(root().join("launch-free-scripts/netns-run")).args(["bash", "-c", &script]).env("RUST_LOG", "info").output().expect("netns-run runs");
@@ -256,7 +258,7 @@ fn opcua_live(tag: &str, server: &str, bridge: &str) {
     assert_eq!(input["rejected"]["missing_joint"], 0, "{input:#}");
     assert_eq!(input["rejected"]["out_of_order"], 0, "{input:#}");
     // A pose per sample the server took while the bridge was subscribed (less the outage's).
-    assert!(input["samples"].as_u64().unwrap() >= 60, "{input:#}\n{peer}");
+    assert!(input["samples"].as_u64().unwrap() >= 60, "{input:#}\n{peer}\n{logs}");
     let regions = input["regions"].as_array().unwrap();
     assert_eq!(regions.len(), 1, "{regions:#?}\n{logs}");
     let r = &regions[0];

@@ -9,10 +9,12 @@ usage:
       {"/topic": {"type", "count", "stamped", "min_ns", "max_ns", "log_min_ns", "log_max_ns"}}, the
       stamps being each message's header.stamp, stamp (rcl_interfaces/Log, ParameterEvent) or clock
       (rosgraph_msgs/Clock), the log times the bag's receive times.
-  stamps.py endpoints --topic /clock --duration-s S [--domain-id N]  (inside netns-run)
-      Watch DDS discovery (Cyclone DDS's DCPSPublication / DCPSSubscription built-in topics) for S
-      seconds and print every writer and reader of the ROS topic with its type:
-      {"publications": [[topic, type], ...], "subscriptions": [...]}, types in ROS form.
+  stamps.py endpoints --topic /clock --duration-s S [--ready FILE] [--until FILE] [--domain-id N]
+      (inside netns-run) Watch DDS discovery (Cyclone DDS's DCPSPublication / DCPSSubscription
+      built-in topics) for S seconds and print every writer and reader of the ROS topic with its type:
+      {"publications": [[topic, type], ...], "subscriptions": [...]}, types in ROS form. --ready: FILE
+      is created once the readers exist (a caller starts the nodes after it, so that none comes and
+      goes unseen while Python starts); --until: stop once FILE exists (S is then the limit).
 """
 import argparse
 import json
@@ -75,12 +77,17 @@ def endpoints(args):
                "subscriptions": BuiltinDataReader(dp, BuiltinTopicDcpsSubscription)}
     seen = {k: {} for k in readers}
     want = "rt" + args.topic
+    if args.ready:
+        open(args.ready, "w").close()
     end = time.monotonic() + args.duration_s
     while time.monotonic() < end:
+        done = bool(args.until) and os.path.exists(args.until)
         for kind, r in readers.items():
             for s in r.take(N=100):
                 if s.topic_name == want:
                     seen[kind][s.key.bytes.hex()] = [args.topic, ros_type(s.type_name)]
+        if done:
+            break
         time.sleep(0.05)
     print(json.dumps({k: sorted(v.values()) for k, v in seen.items()}))
 
@@ -93,6 +100,8 @@ def main():
     e = sub.add_parser("endpoints")
     e.add_argument("--topic", required=True)
     e.add_argument("--duration-s", type=float, required=True)
+    e.add_argument("--ready")
+    e.add_argument("--until")
     e.add_argument("--domain-id", type=int, default=int(os.environ.get("ROS_DOMAIN_ID", "0") or 0))
     a = ap.parse_args()
     (bag if a.cmd == "bag" else endpoints)(a)
