@@ -73,10 +73,23 @@ impl OpcUa {
         let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().map_err(|e| e.to_string())?;
         let mut retry = Retry::new();
         while keep_going() {
-            match runtime.block_on(self.session(keep_going, on)) {
+            // A session that got as far as its subscription: the next wait is the first again (the
+            // waits of a start before the server listened, kept, held a restarted server's first
+            // 2 s from the bridge).
+            let connected = std::cell::Cell::new(false);
+            let mut relay = |e: Event| {
+                if matches!(e, Event::Connected(_)) {
+                    connected.set(true);
+                }
+                on(e)
+            };
+            match runtime.block_on(self.session(keep_going, &mut relay)) {
                 Ok(()) => return Ok(()),
                 Err(Failure::Refused(why)) => return Err(why),
-                Err(Failure::Down(why)) => on(Event::Down(format!("OPC UA {}: {why}", self.url))),
+                Err(Failure::Down(why)) => relay(Event::Down(format!("OPC UA {}: {why}", self.url))),
+            }
+            if connected.get() {
+                retry.reset();
             }
             if !retry.back_off(keep_going) {
                 break;
@@ -144,7 +157,11 @@ impl OpcUa {
             });
         }
         let result = self.subscribed(&session, &handle, keep_going, on).await;
-        let _ = tokio::time::timeout(Duration::from_secs(2), session.disconnect()).await;
+        // Close the session while its event loop runs; once the loop has ended (the connection
+        // lost) nothing can carry the request, and waiting for it delayed every reconnection by 2 s.
+        if !handle.is_finished() {
+            let _ = tokio::time::timeout(Duration::from_secs(2), session.disconnect()).await;
+        }
         handle.abort();
         result
     }
