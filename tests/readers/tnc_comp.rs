@@ -232,6 +232,11 @@ fn rl_rr_refusals_name_the_rule() {
         ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL R0 F100\n", "4:", "a second radius compensation word"),
         // Under M128 / TCPM the rotary axes move the contour: not read with RL/RR.
         ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX M128\n3 L X+10 RL F100\n", "4:", "under M128 / FUNCTION TCPM"),
+        // An outside corner before a rapid (RL, turning right): the TNC's arc there has no feed in
+        // its manuals. Before, the arc ran at the last F, or stopped at "feed move without a feed"
+        // with none given.
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL F100\n4 L X+20\n5 L Y-10 FMAX\n6 L X+0 R0\n", "6:", "outside corner before a rapid (FMAX)"),
+        ("1 TOOL CALL 3 Z\n2 L X+0 Y+0 R0 FMAX\n3 L X+10 RL FMAX\n4 L X+20 FMAX\n5 L Y-10 FMAX\n6 L X+0 R0\n", "6:", "outside corner before a rapid (FMAX)"),
     ];
     for (body, at, needle) in cases {
         let text = format!("0 BEGIN PGM T MM\n{body}99 END PGM T MM\n");

@@ -6,8 +6,33 @@ use super::{CompState, Held, Rule, Side};
 use crate::program::{ArcSpec, Block, Motion, Plane};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-/// An error of compensation: its message (LinuxCNC's where it has one).
-pub(super) type Fail = String;
+/// Why compensation cannot go on: a contour the tool cannot follow (its message LinuxCNC's where it
+/// has one), or a move whose compensated motion no control rule at hand gives.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Fail {
+    Contour(String),
+    NotRead(String),
+}
+
+impl From<&str> for Fail {
+    fn from(why: &str) -> Fail {
+        Fail::Contour(why.to_string())
+    }
+}
+
+impl From<String> for Fail {
+    fn from(why: String) -> Fail {
+        Fail::Contour(why)
+    }
+}
+
+impl std::fmt::Display for Fail {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Fail::Contour(why) | Fail::NotRead(why) => f.write_str(why),
+        }
+    }
+}
 
 fn inside(side: Side, turn: i32) -> bool {
     (side == Side::Left && turn > 0) || (side == Side::Right && turn < 0)
@@ -85,7 +110,7 @@ impl CompState {
                     let r1 = dist([block.targets.x.unwrap_or(0.0), block.targets.y.unwrap_or(0.0)], *centre);
                     let r2 = dist(p, *centre);
                     if (r1 - r2).abs() > 0.01 * unit {
-                        return Err(format!("cutter compensation made an arc with mismatched radii {:.4} and {:.4} (LinuxCNC: a bug)", r1 / unit, r2 / unit));
+                        return Err(format!("cutter compensation made an arc with mismatched radii {:.4} and {:.4} (LinuxCNC: a bug)", r1 / unit, r2 / unit).into());
                     }
                     if let Some(e) = endpoint {
                         let l2 = find_turn(e, *centre, *turn, p);
@@ -100,7 +125,7 @@ impl CompState {
                     if let Some(e) = endpoint {
                         if dir[0] * (p[0] - e[0]) + dir[1] * (p[1] - e[1]) < 0.0 {
                             let kind = if *rapid { "Straight traverse" } else { "Straight feed" };
-                            return Err(format!("{kind} in concave corner cannot be reached by the tool without gouging"));
+                            return Err(format!("{kind} in concave corner cannot be reached by the tool without gouging").into());
                         }
                     }
                     block.targets.x = Some(p[0]);
@@ -208,6 +233,15 @@ pub(super) fn straight(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3],
             || (beta > PI - small && front.is_some_and(|(_, _, turn)| (side == Side::Right && turn > 0) || (side == Side::Left && turn < 0)));
         if !concave && beta > small {
             // A convex corner: an arc about the programmed corner (a rapid goes straight).
+            if rapid && comp.rule == Rule::Tnc {
+                // The TNC rounds every outside corner with a transitional arc ("If necessary, the TNC
+                // reduces the feed rate at outside corners", TNC 640 ISO user's manual 1/2015 p. 201);
+                // at what feed it runs the arc before a rapid, or whether it goes straight as LinuxCNC
+                // does, no manual at hand says.
+                return Err(Fail::NotRead(
+                    "an outside corner before a rapid (FMAX) with radius compensation on: the TNC rounds it with a transitional arc (TNC 640 ISO user's manual 1/2015 p. 201) at a feed its manuals do not give; not read (program the block with a feed F)".into(),
+                ));
+            }
             st.move_endpoint_and_flush(cxy, metric, unit, out)?;
             let corner = if rapid && comp.rule == Rule::LinuxCnc {
                 ended(b.clone(), mid, Some(c[2]))
@@ -271,7 +305,7 @@ pub(super) fn arc(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3], cent
     let ccw = turn > 0;
     let (side, r) = st.on.as_ref().map(|c| (c.side, c.radius)).expect("compensation on");
     let tool_inside = (side == Side::Left && ccw) || (side == Side::Right && !ccw);
-    let too_small = || Err("Tool radius not less than arc radius with comp".to_string());
+    let too_small = || Err(Fail::from("Tool radius not less than arc radius with comp"));
     if st.on.as_ref().is_some_and(|c| c.entry_held) {
         // The tool stands on the arc's offset at its start: towards the centre when inside it.
         let start_radius = dist(opxy, centre);

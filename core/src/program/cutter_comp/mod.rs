@@ -233,7 +233,7 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
             if let Some(comp) = st.on.take() {
                 if comp.radius > 0.0 && !comp.first {
                     if let Err(why) = st.move_endpoint_and_flush([comp.current[0], comp.current[1]], metric, unit, &mut emit) {
-                        return halt(it, diags, w.column, &why);
+                        return halt(it, diags, w.column, &why.to_string());
                     }
                     st.dequeue(&mut emit);
                     st.arc_not_allowed = true;
@@ -394,14 +394,14 @@ pub(crate) fn block(it: &mut Interpreter, words: &[Word], line: usize, column: u
             _ => Err("a move other than G0, G1, G2 or G3 with cutter radius compensation on".into()),
         };
         if let Err(why) = result {
-            return halt(it, diags, column, &why);
+            return halt(it, diags, column, &why.to_string());
         }
     }
     // A stop (M0, M1, M2, M30, M60) sends every held move (convert_stop); M2 and M30 end compensation.
     if stops {
         if let Some(comp) = st.on.clone() {
             if let Err(why) = st.move_endpoint_and_flush([comp.current[0], comp.current[1]], metric, unit, &mut emit) {
-                return halt(it, diags, column, &why);
+                return halt(it, diags, column, &why.to_string());
             }
         }
         st.dequeue(&mut emit);

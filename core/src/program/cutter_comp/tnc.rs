@@ -42,6 +42,15 @@ impl Stop {
     }
 }
 
+impl From<super::geometry::Fail> for Stop {
+    fn from(f: super::geometry::Fail) -> Stop {
+        match f {
+            super::geometry::Fail::Contour(why) => Stop::Contour(why),
+            super::geometry::Fail::NotRead(why) => Stop::NotRead(why),
+        }
+    }
+}
+
 impl std::fmt::Display for Stop {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -128,9 +137,9 @@ impl TncComp {
                 }
                 let turns = spec.extra_turns as i32 + 1;
                 let turn = if m == crate::program::Motion::ArcCw { -turns } else { turns };
-                super::geometry::arc(&mut self.st, &b, op, p, [spec.centre[0], spec.centre[1]], turn, metric, unit, out).map_err(Stop::Contour)
+                super::geometry::arc(&mut self.st, &b, op, p, [spec.centre[0], spec.centre[1]], turn, metric, unit, out).map_err(Stop::from)
             }
-            _ => super::geometry::straight(&mut self.st, &b, op, p, metric, unit, out).map_err(Stop::Contour),
+            _ => super::geometry::straight(&mut self.st, &b, op, p, metric, unit, out).map_err(Stop::from),
         }
     }
 
@@ -156,7 +165,7 @@ impl TncComp {
             return Err(Stop::Contour("RL/RR ended before any contour element: the TNC places the tool perpendicular to the first element after the block that starts compensation, and there is none".into()));
         }
         if !comp.first {
-            self.st.move_endpoint_and_flush([comp.current[0], comp.current[1]], unit == crate::units::MM, unit, out).map_err(Stop::Contour)?;
+            self.st.move_endpoint_and_flush([comp.current[0], comp.current[1]], unit == crate::units::MM, unit, out).map_err(Stop::from)?;
         }
         self.st.dequeue(out);
         self.st.endpoint = None;
