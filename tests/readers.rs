@@ -11,6 +11,7 @@ mod klartext;
 mod linuxcnc;
 mod shop_words;
 mod tnc_comp;
+mod tnc_corners;
 
 const SING: &str = include_str!("../recordings/programs/SING.I");
 const NON_SING: &str = include_str!("../recordings/programs/NON_SING.I");

@@ -7,12 +7,12 @@ use std::sync::Arc;
 
 /// A path element in the working plane, mm: a line, or an arc with its centre and direction.
 #[derive(Debug, Clone, Copy)]
-struct El {
-    kind: &'static str,
-    from: [f64; 2],
-    to: [f64; 2],
-    centre: Option<[f64; 2]>,
-    ccw: bool,
+pub(super) struct El {
+    pub(super) kind: &'static str,
+    pub(super) from: [f64; 2],
+    pub(super) to: [f64; 2],
+    pub(super) centre: Option<[f64; 2]>,
+    pub(super) ccw: bool,
 }
 
 impl El {
@@ -21,16 +21,16 @@ impl El {
     }
 }
 
-fn line(from: [f64; 2], to: [f64; 2]) -> El {
+pub(super) fn line(from: [f64; 2], to: [f64; 2]) -> El {
     El { kind: "line", from, to, centre: None, ccw: false }
 }
 
-fn arc(from: [f64; 2], to: [f64; 2], centre: [f64; 2], ccw: bool) -> El {
+pub(super) fn arc(from: [f64; 2], to: [f64; 2], centre: [f64; 2], ccw: bool) -> El {
     El { kind: "arc", from, to, centre: Some(centre), ccw }
 }
 
 /// The moves of the blocks numbered `numbers`, from `start` (mm), as path elements.
-fn path(p: &Program, numbers: std::ops::RangeInclusive<u64>, start: [f64; 2]) -> Vec<El> {
+pub(super) fn path(p: &Program, numbers: std::ops::RangeInclusive<u64>, start: [f64; 2]) -> Vec<El> {
     let mut at = start;
     let mut out = Vec::new();
     for b in p.blocks.iter().filter(|b| b.number.is_some_and(|n| numbers.contains(&n))) {
@@ -48,7 +48,7 @@ fn path(p: &Program, numbers: std::ops::RangeInclusive<u64>, start: [f64; 2]) ->
     out
 }
 
-fn reference(radius: f64, side: &str, contour: &[El], path: &[El]) -> serde_json::Value {
+pub(super) fn reference(radius: f64, side: &str, contour: &[El], path: &[El]) -> serde_json::Value {
     use std::io::Write;
     let [contour, path]: [Vec<serde_json::Value>; 2] = [contour, path].map(|els| els.iter().map(El::json).collect());
     let input = serde_json::json!({ "radius": radius, "side": side, "contour": contour, "path": path });
@@ -68,9 +68,9 @@ fn reference(radius: f64, side: &str, contour: &[El], path: &[El]) -> serde_json
 /// by a hundredth of the distance (BufferParameters' DEFAULT_SIMPLIFY_FACTOR, 0.01), so its elements
 /// lean and its arcs flatten by about that (0.014 mm at an inside corner of a 3 mm offset, 0.061 mm
 /// on a 5 mm corner arc). The exact check is each path point's distance to the contour.
-const TOLERANCE: f64 = 0.015;
+pub(super) const TOLERANCE: f64 = 0.015;
 
-fn table(text: &str) -> ReadOptions {
+pub(super) fn table(text: &str) -> ReadOptions {
     ReadOptions { tool_table: Some(Arc::new(fiveaxis::program::ToolTable::parse(text).unwrap())), ..Default::default() }
 }
 

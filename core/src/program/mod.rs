@@ -6,6 +6,7 @@
 
 mod apt;
 mod cl;
+mod corner;
 mod cutter_comp;
 mod cycles;
 mod fanuc;

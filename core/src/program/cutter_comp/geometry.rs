@@ -2,37 +2,9 @@
 //! `convert_straight_comp1/2`, `convert_arc_comp1/2`), and its queue of held moves (interp_queue.cc
 //! `dequeue_canons`, `move_endpoint_and_flush`): pure geometry on the program's coordinates.
 
-use super::{CompState, Held, Rule, Side};
+use super::{CompState, Fail, Held, Rule, Side};
 use crate::program::{ArcSpec, Block, Motion, Plane};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
-
-/// Why compensation cannot go on: a contour the tool cannot follow (its message LinuxCNC's where it
-/// has one), or a move whose compensated motion no control rule at hand gives.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) enum Fail {
-    Contour(String),
-    NotRead(String),
-}
-
-impl From<&str> for Fail {
-    fn from(why: &str) -> Fail {
-        Fail::Contour(why.to_string())
-    }
-}
-
-impl From<String> for Fail {
-    fn from(why: String) -> Fail {
-        Fail::Contour(why)
-    }
-}
-
-impl std::fmt::Display for Fail {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Fail::Contour(why) | Fail::NotRead(why) => f.write_str(why),
-        }
-    }
-}
 
 fn inside(side: Side, turn: i32) -> bool {
     (side == Side::Left && turn > 0) || (side == Side::Right && turn < 0)

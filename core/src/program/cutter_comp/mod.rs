@@ -15,7 +15,7 @@ mod geometry;
 mod tnc;
 mod tools;
 
-pub(crate) use tnc::TncComp;
+pub(crate) use tnc::{said as tnc_said, TncComp};
 
 pub use tools::ToolTable;
 pub(crate) use tools::Tools;
@@ -24,6 +24,42 @@ use super::interp::{x10, Interpreter, Word};
 use super::lex::Diags;
 use super::{Block, Dialect, Motion, Plane};
 use geometry::{arc, straight};
+
+/// Why compensation cannot go on: a contour the tool cannot follow (its message LinuxCNC's where it
+/// has one; the TNC stops there too, [`tnc::said`]), or a move whose compensated motion no control
+/// rule at hand gives.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Fail {
+    Contour(String),
+    NotRead(String),
+}
+
+impl Fail {
+    /// The reason alone.
+    pub(crate) fn why(&self) -> &str {
+        match self {
+            Fail::Contour(why) | Fail::NotRead(why) => why,
+        }
+    }
+}
+
+impl From<&str> for Fail {
+    fn from(why: &str) -> Fail {
+        Fail::Contour(why.to_string())
+    }
+}
+
+impl From<String> for Fail {
+    fn from(why: String) -> Fail {
+        Fail::Contour(why)
+    }
+}
+
+impl std::fmt::Display for Fail {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.why())
+    }
+}
 
 /// Which side of the contour the tool runs on, looking along the motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -21,42 +21,16 @@
 //! The offsets themselves are LinuxCNC's geometry ([`super::geometry`]), which makes the same
 //! corners; what differs is where compensation starts ([`super::Rule::Tnc`]).
 
-use super::{Comp, CompState, Rule, Side};
+use super::{Comp, CompState, Fail, Rule, Side};
 use crate::program::{ArcSpec, Block};
 use nalgebra::{Matrix3, Vector3};
 
-/// Why compensation stops reading: a contour the tool cannot follow (where the TNC stops, "Tool
-/// radius too large"), or what this reader does not read.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) enum Stop {
-    Contour(String),
-    NotRead(String),
-}
-
-impl Stop {
-    /// The reason alone.
-    pub(crate) fn why(&self) -> &str {
-        match self {
-            Stop::Contour(why) | Stop::NotRead(why) => why,
-        }
-    }
-}
-
-impl From<super::geometry::Fail> for Stop {
-    fn from(f: super::geometry::Fail) -> Stop {
-        match f {
-            super::geometry::Fail::Contour(why) => Stop::Contour(why),
-            super::geometry::Fail::NotRead(why) => Stop::NotRead(why),
-        }
-    }
-}
-
-impl std::fmt::Display for Stop {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Stop::Contour(why) => write!(f, "{why}; the TNC stops here (\"Tool radius too large\"), and so does this reader"),
-            Stop::NotRead(why) => f.write_str(why),
-        }
+/// A failure as the TNC reports it: a contour the tool cannot follow stops the program there ("Tool
+/// radius too large"), what this reader does not read is said as it is.
+pub(crate) fn said(f: &Fail) -> String {
+    match f {
+        Fail::Contour(why) => format!("{why}; the TNC stops here (\"Tool radius too large\"), and so does this reader"),
+        Fail::NotRead(why) => why.clone(),
     }
 }
 
@@ -91,11 +65,11 @@ impl TncComp {
     ///
     /// In a tilted working plane (`tilt`, its axes' columns in the workpiece) the contour is the
     /// plane's: the block is offset in the plane's coordinates and placed back in the workpiece's.
-    pub(crate) fn feed(&mut self, mut b: Block, op: [f64; 6], p: [f64; 6], unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), Stop> {
+    pub(crate) fn feed(&mut self, mut b: Block, op: [f64; 6], p: [f64; 6], unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), Fail> {
         let tilt = tilted(tilt);
         if let Some(r) = &tilt {
             if b.targets.a.is_some() || b.targets.b.is_some() || b.targets.c.is_some() {
-                return Err(Stop::NotRead("rotary axes moving with radius compensation on in a tilted working plane are not read".into()));
+                return Err(Fail::NotRead("rotary axes moving with radius compensation on in a tilted working plane are not read".into()));
             }
             to_plane(&mut b, r);
         }
@@ -107,9 +81,9 @@ impl TncComp {
         done
     }
 
-    fn offset(&mut self, b: Block, op: [f64; 6], p: [f64; 6], unit: f64, out: &mut Vec<Block>) -> Result<(), Stop> {
+    fn offset(&mut self, b: Block, op: [f64; 6], p: [f64; 6], unit: f64, out: &mut Vec<Block>) -> Result<(), Fail> {
         if let Some(why) = self.st.full() {
-            return Err(Stop::NotRead(why));
+            return Err(Fail::NotRead(why));
         }
         let metric = unit == crate::units::MM;
         let Some(radius) = self.st.on.as_ref().map(|c| c.radius) else {
@@ -133,20 +107,20 @@ impl TncComp {
                 let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
                 let tilted = spec.frame.is_some_and(|f| f.iter().flatten().zip(identity.iter().flatten()).any(|(a, b)| (a - b).abs() > 1e-12));
                 if tilted || spec.plane != crate::program::Plane::Xy {
-                    return Err(Stop::NotRead("an arc outside the working plane (XY) with radius compensation on is not read".into()));
+                    return Err(Fail::NotRead("an arc outside the working plane (XY) with radius compensation on is not read".into()));
                 }
                 let turns = spec.extra_turns as i32 + 1;
                 let turn = if m == crate::program::Motion::ArcCw { -turns } else { turns };
-                super::geometry::arc(&mut self.st, &b, op, p, [spec.centre[0], spec.centre[1]], turn, metric, unit, out).map_err(Stop::from)
+                super::geometry::arc(&mut self.st, &b, op, p, [spec.centre[0], spec.centre[1]], turn, metric, unit, out)
             }
-            _ => super::geometry::straight(&mut self.st, &b, op, p, metric, unit, out).map_err(Stop::from),
+            _ => super::geometry::straight(&mut self.st, &b, op, p, metric, unit, out),
         }
     }
 
     /// `R0` (or the program's end): the last element's move ends perpendicular to it at its end, and
     /// everything held goes out. An error where the block that started compensation is still held:
     /// no contour element followed it to say where the tool stands.
-    pub(crate) fn stop(&mut self, unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), Stop> {
+    pub(crate) fn stop(&mut self, unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), Fail> {
         let from = out.len();
         let done = self.release(unit, out);
         if let Some(r) = &tilted(tilt) {
@@ -155,17 +129,17 @@ impl TncComp {
         done
     }
 
-    fn release(&mut self, unit: f64, out: &mut Vec<Block>) -> Result<(), Stop> {
+    fn release(&mut self, unit: f64, out: &mut Vec<Block>) -> Result<(), Fail> {
         let Some(comp) = self.st.on.take() else {
             self.st.dequeue(out);
             return Ok(());
         };
         if comp.entry_held {
             self.st.dequeue(out);
-            return Err(Stop::Contour("RL/RR ended before any contour element: the TNC places the tool perpendicular to the first element after the block that starts compensation, and there is none".into()));
+            return Err(Fail::Contour("RL/RR ended before any contour element: the TNC places the tool perpendicular to the first element after the block that starts compensation, and there is none".into()));
         }
         if !comp.first {
-            self.st.move_endpoint_and_flush([comp.current[0], comp.current[1]], unit == crate::units::MM, unit, out).map_err(Stop::from)?;
+            self.st.move_endpoint_and_flush([comp.current[0], comp.current[1]], unit == crate::units::MM, unit, out)?;
         }
         self.st.dequeue(out);
         self.st.endpoint = None;

@@ -5,6 +5,7 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
+use super::corners::{Held, Pending};
 use super::{axis_index, label, FeedWord, KWord, Kind, Shape, Stmt, Val};
 use crate::machine::ContourTolerance;
 use crate::program::interp::{Dimension, Interpreter, OneShot, Word};
@@ -39,6 +40,11 @@ pub(super) struct Exec {
     pub(super) tool: Option<u32>,
     /// Radius compensation `RL`/`RR` ([`TncComp`]).
     pub(super) comp: TncComp,
+    /// The last contour element, placed once the statement after it shows it is no corner's
+    /// ([`super::corners`]).
+    pub(super) held: Option<Held>,
+    /// An `RND` or `CHF` waiting for the element after it.
+    pub(super) pending: Option<Pending>,
 }
 
 /// The older cycle 1 PECKING as its blocks `CYCL DEF 1.0` to `1.5` give it: where it begins, its
@@ -76,8 +82,9 @@ impl Exec {
         }
     }
 
-    /// Run one statement, its block to `out`; true if it ends the program (M2, M30).
-    pub(super) fn run<'a>(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+    /// Run one statement, its block to `out`; true if it ends the program (M2, M30). Called through
+    /// [`Exec::run`], which holds contour elements for the corners between them.
+    pub(super) fn step<'a>(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let unit = interp.unit();
         // The block that starts RL/RR is held with the compensated ones: what cannot run among them
         // cannot run in it either.
@@ -184,7 +191,7 @@ impl Exec {
                 self.call_cycle(s, interp, out, diags);
                 return false;
             }
-            Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } => return false,
+            Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Corner { .. } => return false,
             _ => {}
         }
         let before = diags.errors();
@@ -363,7 +370,7 @@ impl Exec {
                     }
                 }
             }
-            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::Pecking { .. } | Kind::CycleCall(_) => {}
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::Pecking { .. } | Kind::CycleCall(_) | Kind::Corner { .. } => {}
         }
         // M91 / M92: the block's coordinates are the machine's, about its machine datum or the
         // maker's second datum (TNC 426 B ISO §7.3: "M91 and M92 are effective only in the blocks in
@@ -459,16 +466,19 @@ impl Exec {
                         }
                         out.push(b);
                     })
-                } else if self.comp.busy() {
-                    self.comp.feed(b, start, end, unit, interp.tilt(), out)
                 } else {
-                    out.push(b);
-                    Ok(())
+                    // A contour element at a feed is held while the statement after it may be an
+                    // RND or CHF that cuts its end ([`super::corners`]).
+                    let element = matches!(b.motion, crate::program::Motion::Linear | crate::program::Motion::ArcCw | crate::program::Motion::ArcCcw)
+                        && moved
+                        && starting.is_none()
+                        && super::corners::not_an_element(&s.kind, true).is_none()
+                        && !(self.modal_call || ends);
+                    let h = Held { b, start, end, unit, tilt: interp.tilt() };
+                    self.join(h, element, interp, out, diags)
                 };
                 if let Err(why) = placed {
-                    diags.error(s.line, s.col, format!("radius compensation: {why}"));
-                    self.comp = TncComp::default();
-                    interp.halted = true;
+                    self.stopped(s.line, s.col, &why, diags, interp);
                     return true;
                 }
                 if m89 {

@@ -40,6 +40,7 @@
 //! point other than the tool tip). The surface normal of an `LN` line moves the tool only by the
 //! tool deltas, which are refused, so it is read only as the tool axis when `T` is missing.
 
+mod corners;
 mod cycles;
 mod formula;
 mod params;
@@ -151,6 +152,10 @@ enum Kind<'a> {
     /// `CYCL CALL`: the cycle runs where the tool stands.
     /// `CYCL CALL`, with the M functions the block gives (those acting at its start, before the cycle).
     CycleCall(Vec<KWord<'a>>),
+    /// `RND R5 [F100]` (`round`) or `CHF 12 [F250]`: the corner between the contour elements before
+    /// and after it rounded by an arc of radius R or cut by a chamfer of that side length, at the
+    /// feed F in this block only ([`super::corner`]).
+    Corner { round: bool, size: KWord<'a>, feed: Option<KWord<'a>> },
     /// `STOP`: a programmed stop, as M0.
     Stop,
     End,
@@ -389,7 +394,8 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         "FN" => fn_statement(raw, toks, line, col, diags),
         k if k.starts_with('Q') => assign(raw, toks, line, col, diags),
         k if k.starts_with('M') && split_word(k).0 == "M" => misc(toks, line, diags),
-        k @ ("APPR" | "DEP" | "RND" | "CHF" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH") => {
+        "RND" | "CHF" => corner(toks, &k0, line, diags),
+        k @ ("APPR" | "DEP" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH") => {
             diags.error(line, col, format!("{}: {} is not read (it changes the motion)", toks[0].0, unsupported(k)));
             None
         }
@@ -408,7 +414,6 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
 fn unsupported(k: &str) -> &'static str {
     match k {
         "APPR" | "DEP" => "approach or departure on a contour",
-        "RND" | "CHF" => "rounding or chamfer between contour elements",
         "LP" | "CP" | "CTP" => "a contour in polar coordinates",
         "TCH" => "a touch probe cycle",
         _ => "a free contour (FK)",
@@ -545,6 +550,33 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
         _ => {}
     }
     Some(Kind::Move { shape, axes, ccw, radius, feed, m, comp })
+}
+
+/// `RND R5 F100` and `CHF 12 F250` (iTNC 530 user's manual §6.4: "RND R" the rounding radius, "CHF"
+/// the chamfer's side length, each with an optional feed for the corner alone).
+fn corner<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let round = key == "RND";
+    let before = diags.errors();
+    let (mut size, mut feed) = (None, None);
+    for &(tok, col) in &toks[1..] {
+        let (addr, rest) = split_word(tok);
+        match addr.as_ref() {
+            "R" if round && size.is_none() => size = value_word("R", rest, tok, col, line, diags),
+            // The chamfer's length stands alone, as a number or a Q parameter (`CHF 12`, `CHF Q5`).
+            "" | "Q" | "QL" | "QR" if !round && size.is_none() => size = value_word("CHF", tok, tok, col, line, diags),
+            "F" if feed.is_none() => feed = value_word("F", rest, tok, col, line, diags),
+            _ => diags.error(line, col, format!("unexpected word '{}' in a {key} block (expected {} and an optional feed F)", excerpt(tok), if round { "the radius R" } else { "the side length" })),
+        }
+    }
+    match size {
+        Some(size) => Some(Kind::Corner { round, size, feed }),
+        None => {
+            if diags.errors() == before {
+                diags.error(line, toks[0].1, format!("{key}: expected {}", if round { "the rounding radius R" } else { "the chamfer's side length" }));
+            }
+            None
+        }
+    }
 }
 
 /// `CC X.. Y..`: the pole (circle centre) in the working plane.

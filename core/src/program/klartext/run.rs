@@ -215,7 +215,10 @@ impl Jumping for Runner {
     }
 
     fn finish(&mut self, _ended: bool, out: &mut Vec<Block>, diags: &mut Diags) {
-        // Moves held for radius compensation go out at the program's end.
+        // The element held for a corner, then the moves held for radius compensation, go out at the
+        // program's end; a corner with no element after it is not made.
+        self.ex.end_corner(diags);
+        self.ex.flush(out, diags, &mut self.interp);
         if let Err(why) = self.ex.comp.stop(self.interp.unit(), self.interp.tilt(), out) {
             diags.error(self.labels.lines.max(1), 1, format!("radius compensation: {}", why.why()));
         }
