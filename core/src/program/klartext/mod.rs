@@ -33,8 +33,11 @@
 //! called tool's radius in the tool table; refused under it: `R0` in a circle, TCPM (M128), a cycle
 //! called among the held blocks (M89 in force, M99), a negative radius.
 //!
+//! Corners `RND R` and `CHF` between two contour elements ([`corners`]) are cut before compensation
+//! offsets the contour.
+//!
 //! Refused at line:col, never guessed: `CTP` and free contours
-//! (`FK`), rounding and chamfers, approach/departure, `PLANE PROJECTED` and
+//! (`FK`), approach/departure, `PLANE PROJECTED` and
 //! `MOVE`, machining cycles other than those above and touch probes, tool deltas `DL`/`DR`, and
 //! `FUNCTION TCPM` options that read the program differently (`F CONT`, `AXIS SPAT`, a reference
 //! point other than the tool tip). The surface normal of an `LN` line moves the tool only by the
