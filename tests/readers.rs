@@ -12,6 +12,7 @@ mod linuxcnc;
 mod shop_words;
 mod tnc_comp;
 mod tnc_corners;
+mod tnc_words;
 
 const SING: &str = include_str!("../recordings/programs/SING.I");
 const NON_SING: &str = include_str!("../recordings/programs/NON_SING.I");

@@ -188,3 +188,35 @@ fn corners_that_cannot_be_made_are_refused_at_their_block() {
     let (b3, b5) = (numbered(&p, 3)[0], numbered(&p, 5)[0]);
     assert!(b3.targets.x == Some(3.0 * MM) && b3.targets.y.is_none() && b5.targets.x.is_none() && b5.targets.y == Some(3.0 * MM) && numbered(&p, 4).is_empty(), "{:?} {:?}", b3.targets, b5.targets);
 }
+
+/// The manual's example with `RL` in a plane tilted 30 deg (PLANE SPATIAL SPB+30 on the Hermle):
+/// rounded and offset in the plane's coordinates; its blocks, turned back by the plane's rotation,
+/// are the untilted reading's, the rounding arc written in the plane's frame.
+#[test]
+fn rnd_in_a_tilted_plane_rounds_in_the_planes_coordinates() {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let mut options = table("T3 P3 D6\n").on(&hermle);
+    options.tool_table = table("T3 P3 D6\n").tool_table;
+    let body = "2 L X-10 Y+40 Z+5 R0 FMAX\n3 L X+10 Y+40 RL F300\n4 L X+40 Y+25\n5 RND R5 F100\n6 L X+10 Y+5\n7 L X-10 Y+5 R0\n8 END PGM RND MM\n";
+    let flat = read(&format!("0 BEGIN PGM RND MM\n1 TOOL CALL 3 Z S3000\n{body}"), Dialect::Klartext, "rnd.h", &options);
+    let tilted = read(&format!("0 BEGIN PGM RND MM\n1 TOOL CALL 3 Z S3000\n1 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n{body}"), Dialect::Klartext, "rnd.h", &options);
+    assert!(errors(&flat).is_empty() && errors(&tilted).is_empty(), "{:#?} {:#?}", flat.diagnostics, tilted.diagnostics);
+    let t = 30f64.to_radians();
+    // Ry(30)^T: the workpiece's coordinates into the plane's.
+    let back = |v: [f64; 3]| [t.cos() * v[0] - t.sin() * v[2], v[1], t.sin() * v[0] + t.cos() * v[2]];
+    let moves = |p: &Program| -> Vec<(u64, fiveaxis::program::Motion, [f64; 3], Option<[f64; 3]>)> {
+        p.blocks.iter().filter(|b| b.number.is_some_and(|n| (3..=7).contains(&n)) && b.targets.x.is_some() && b.targets.y.is_some()).map(|b| (b.number.unwrap(), b.motion, [b.targets.x.unwrap(), b.targets.y.unwrap(), b.targets.z.unwrap_or(0.0)], b.arc.as_ref().map(|a| a.centre))).collect()
+    };
+    let (f, k) = (moves(&flat), moves(&tilted));
+    assert_eq!(f.len(), k.len(), "{f:?}\n{k:?}");
+    assert!(f.iter().any(|m| m.0 == 5 && m.1 == Motion::ArcCw), "the rounding arc: {f:?}");
+    for (a, b) in f.iter().zip(&k) {
+        let (pb, cb) = (back(b.2), b.3.map(back));
+        assert!(a.0 == b.0 && a.1 == b.1 && (0..2).all(|i| (a.2[i] - pb[i]).abs() < 1e-9), "{a:?} vs {b:?} turned back {pb:?}");
+        if let (Some(ca), Some(cb)) = (a.3, cb) {
+            assert!((0..2).all(|i| (ca[i] - cb[i]).abs() < 1e-9), "{a:?} vs {b:?}: centre {cb:?}");
+        }
+    }
+    let arc = tilted.blocks.iter().find(|b| b.number == Some(5)).unwrap().arc.as_ref().unwrap();
+    assert!(arc.frame.is_some(), "the rounding arc is written in the tilted plane");
+}

@@ -6,7 +6,7 @@ use super::{CompState, Fail, Held, Rule, Side};
 use crate::program::{ArcSpec, Block, Motion, Plane};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-fn inside(side: Side, turn: i32) -> bool {
+pub(super) fn inside(side: Side, turn: i32) -> bool {
     (side == Side::Left && turn > 0) || (side == Side::Right && turn < 0)
 }
 

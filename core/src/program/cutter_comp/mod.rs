@@ -61,6 +61,18 @@ impl std::fmt::Display for Fail {
     }
 }
 
+/// How a TNC reads the feed on arcs (M109/M110/M111, iTNC 530 ISO user's manual 340 49x-02 §7.4):
+/// the programmed feed "to the path of the tool center" (M111, the standard), or kept at the tool's
+/// cutting edge on arcs of inside and outside contours (M109) or of inside ones only (M110). The
+/// contours' insides are radius compensation's: without it the tool centre runs on the contour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) enum ArcFeed {
+    #[default]
+    Centre,
+    Edge,
+    EdgeInside,
+}
+
 /// Which side of the contour the tool runs on, looking along the motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Side {

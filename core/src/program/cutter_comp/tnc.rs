@@ -21,7 +21,7 @@
 //! The offsets themselves are LinuxCNC's geometry ([`super::geometry`]), which makes the same
 //! corners; what differs is where compensation starts ([`super::Rule::Tnc`]).
 
-use super::{Comp, CompState, Fail, Rule, Side};
+use super::{ArcFeed, Comp, CompState, Fail, Rule, Side};
 use crate::program::{ArcSpec, Block};
 use nalgebra::{Matrix3, Vector3};
 
@@ -65,7 +65,19 @@ impl TncComp {
     ///
     /// In a tilted working plane (`tilt`, its axes' columns in the workpiece) the contour is the
     /// plane's: the block is offset in the plane's coordinates and placed back in the workpiece's.
-    pub(crate) fn feed(&mut self, mut b: Block, op: [f64; 6], p: [f64; 6], unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), Fail> {
+    ///
+    /// `arc_feed` is how the block's feed on an arc is read (M109/M110/M111): M110 slows an arc
+    /// whose inside the tool runs on so that its cutting edge keeps the programmed feed, the tool
+    /// centre at F (rho - r) / rho on an arc of radius rho.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn feed(&mut self, mut b: Block, op: [f64; 6], p: [f64; 6], unit: f64, tilt: Option<Matrix3<f64>>, arc_feed: ArcFeed, out: &mut Vec<Block>) -> Result<(), Fail> {
+        if arc_feed == ArcFeed::Edge && self.st.on.is_some() && !b.targets.is_empty() {
+            // At an outside corner the TNC inserts an arc about the corner, a contour of no radius:
+            // M109's feed on it ("On very small outside corners the TNC may increase the feed rate so
+            // much that the tool or workpiece can be damaged", TNC 640 ISO user's manual
+            // 34059x-01 §9.4) is in no manual at hand.
+            return Err(Fail::NotRead("M109 (the feed kept at the cutting edge on outside arcs too) with radius compensation on is not read: the TNC's feed on its transitional arcs at outside corners is in no manual at hand (M110 is read)".into()));
+        }
         let tilt = tilted(tilt);
         if let Some(r) = &tilt {
             if b.targets.a.is_some() || b.targets.b.is_some() || b.targets.c.is_some() {
@@ -74,14 +86,14 @@ impl TncComp {
             to_plane(&mut b, r);
         }
         let from = out.len();
-        let done = self.offset(b, op, p, unit, out);
+        let done = self.offset(b, op, p, unit, arc_feed, out);
         if let Some(r) = &tilt {
             out[from..].iter_mut().for_each(|b| to_workpiece(b, r));
         }
         done
     }
 
-    fn offset(&mut self, b: Block, op: [f64; 6], p: [f64; 6], unit: f64, out: &mut Vec<Block>) -> Result<(), Fail> {
+    fn offset(&mut self, b: Block, op: [f64; 6], p: [f64; 6], unit: f64, arc_feed: ArcFeed, out: &mut Vec<Block>) -> Result<(), Fail> {
         if let Some(why) = self.st.full() {
             return Err(Fail::NotRead(why));
         }
@@ -111,10 +123,32 @@ impl TncComp {
                 }
                 let turns = spec.extra_turns as i32 + 1;
                 let turn = if m == crate::program::Motion::ArcCw { -turns } else { turns };
-                super::geometry::arc(&mut self.st, &b, op, p, [spec.centre[0], spec.centre[1]], turn, metric, unit, out)
+                let centre = [spec.centre[0], spec.centre[1]];
+                super::geometry::arc(&mut self.st, &b, op, p, centre, turn, metric, unit, out)?;
+                let side = self.st.on.as_ref().map_or(Side::Left, |c| c.side);
+                if arc_feed == ArcFeed::EdgeInside && super::geometry::inside(side, turn) {
+                    self.slow_inside_arc(centre, [p[0], p[1]], radius)?;
+                }
+                Ok(())
             }
             _ => super::geometry::straight(&mut self.st, &b, op, p, metric, unit, out),
         }
+    }
+
+    /// M110 on the arc just queued, offset inside the programmed one of radius |end - centre|: its
+    /// feed times (rho - r) / rho, the cutting edge on the contour at the programmed feed.
+    fn slow_inside_arc(&mut self, centre: [f64; 2], end: [f64; 2], r: f64) -> Result<(), Fail> {
+        let rho = (end[0] - centre[0]).hypot(end[1] - centre[1]);
+        let Some(super::Held::Arc { block, centre: c, .. }) = self.st.queue.last_mut() else {
+            return Err(Fail::NotRead("M110 on an arc radius compensation did not offset about its centre is not read".into()));
+        };
+        if (c[0] - centre[0]).hypot(c[1] - centre[1]) > 1e-9 * (1.0 + rho) || !(rho > r) {
+            return Err(Fail::NotRead("M110 on an arc radius compensation did not offset about its centre is not read".into()));
+        }
+        if let Some(f) = block.feed.as_mut() {
+            f.value_per_min *= (rho - r) / rho;
+        }
+        Ok(())
     }
 
     /// `R0` (or the program's end): the last element's move ends perpendicular to it at its end, and

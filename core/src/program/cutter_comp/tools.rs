@@ -11,6 +11,8 @@ use crate::program::interp::Word;
 #[derive(Debug, Clone, PartialEq)]
 pub struct ToolTable {
     tools: Vec<(u32, f64)>,
+    /// A TNC table's tool names (its NAME column, in capitals as the control keeps them) and numbers.
+    names: Vec<(String, u32)>,
     /// Metres per unit of the table's numbers.
     unit: f64,
     /// The unit is the table's own (a TNC table's header), which [`ToolTable::in_unit`] leaves.
@@ -56,7 +58,7 @@ impl ToolTable {
             let Some(tool) = tool else { return Err(format!("line {line}: no T word (the tool's number)")) };
             add(&mut tools, line, tool, diameter)?;
         }
-        Ok(ToolTable { tools, unit: crate::units::MM, unit_from_header: false })
+        Ok(ToolTable { tools, names: Vec::new(), unit: crate::units::MM, unit_from_header: false })
     }
 
     /// Read a Heidenhain TNC tool table (`TOOL.T`, as the control writes it and pyLSV2's
@@ -100,7 +102,9 @@ impl ToolTable {
         let Some(t_span) = span("T") else { return Err(format!("line {at}: no column T (the tool's number) among the column names")) };
         let Some(r_span) = span("R") else { return Err(format!("line {at}: no column R (the tool's radius) among the column names")) };
         let dr_span = span("DR");
+        let name_span = span("NAME");
         let mut tools: Vec<(u32, f64)> = Vec::new();
+        let mut named: Vec<(String, u32)> = Vec::new();
         let mut ended = false;
         for (line, raw) in lines {
             if ended {
@@ -129,8 +133,12 @@ impl ToolTable {
                 return Err(format!("line {line}: columns R and DR: 2 (R + DR) is not a finite number"));
             }
             add(&mut tools, line, tool, diameter)?;
+            if let Some(name) = name_span.map(|s| cell(raw, s)).filter(|n| !n.is_empty()) {
+                named.retain(|(_, t)| *t != tool);
+                named.push((name.to_ascii_uppercase(), tool));
+            }
         }
-        Ok(ToolTable { tools, unit: unit.unwrap_or(crate::units::MM), unit_from_header: unit.is_some() })
+        Ok(ToolTable { tools, names: named, unit: unit.unwrap_or(crate::units::MM), unit_from_header: unit.is_some() })
     }
 
     /// The table with its numbers in `unit` (an inch machine's LinuxCNC table). A TNC table whose
@@ -157,6 +165,29 @@ impl ToolTable {
     /// A tool's diameter, m.
     pub fn diameter(&self, tool: u32) -> Option<f64> {
         self.tools.iter().find(|(t, _)| *t == tool).map(|(_, d)| *d * self.unit)
+    }
+
+    /// The diameter (m) of the tool a TNC's `TOOL CALL "name"` calls, by the table's NAME column
+    /// (capitals and small letters alike: the control keeps names in capitals). A name is not
+    /// unique: "If you define identical tool names for multiple tools, the control looks for the
+    /// tool" in the spindle, then the magazine, then the table, the one "with least remaining tool
+    /// life" among several (TNC7 user's manual 81762x-16, "Tool name"), so tools sharing the name
+    /// must share the diameter for it to be known here; why not, else.
+    pub fn diameter_by_name(&self, name: &str) -> Result<f64, String> {
+        let raw = |tool: u32| self.tools.iter().find(|(t, _)| *t == tool).map(|(_, d)| *d);
+        let mut found = self.names.iter().filter(|(n, _)| n.eq_ignore_ascii_case(name)).map(|&(_, t)| (t, raw(t)));
+        let Some((first, Some(d))) = found.next() else {
+            return Err(format!("no tool named \"{name}\" in the tool table (its NAME column)"));
+        };
+        if let Some((other, od)) = found.find(|(_, od)| *od != Some(d)) {
+            let shown = |d: Option<f64>| d.map_or("none".to_string(), |d| format!("{}", d * self.unit / 2.0 / crate::units::MM));
+            return Err(format!(
+                "tools {first} and {other} are both named \"{name}\" with radii (R + DR) {} and {} mm: which one the TNC calls depends on the magazine and the tools' lives (TNC7 user's manual, \"Tool name\")",
+                shown(Some(d)),
+                shown(od)
+            ));
+        }
+        Ok(d * self.unit)
     }
 }
 

@@ -3,6 +3,7 @@
 
 use super::arc::resolve_arc;
 use super::codes::{maker_m_function, tnc_m_code, tool_vector};
+use crate::program::cutter_comp::ArcFeed;
 use super::{Dimension, Interpreter, Word, AXIS_LETTERS};
 use crate::program::lex::Diags;
 use crate::program::{ArcSpec, Block, Dialect, Exact, FeedMode, MCodeAction, Motion, Plane, Targets};
@@ -336,6 +337,16 @@ impl Interpreter {
                         (None, 126, true) => next.shortest = true,
                         (None, 127, true) => next.shortest = false,
                         (None, 129, true) => next.tcp = false,
+                        // M109/M110/M111: the feed on arcs at the tool's cutting edge, inside and
+                        // outside contours / inside only / reset (iTNC 530 ISO user's manual 340 49x-02
+                        // §7.4 "Feed rate for circular arcs"): what radius compensation makes of it.
+                        (None, 109, true) => next.arc_feed = ArcFeed::Edge,
+                        (None, 110, true) => next.arc_feed = ArcFeed::EdgeInside,
+                        (None, 111, true) => next.arc_feed = ArcFeed::Centre,
+                        // M116/M117: a rotary axis' feed in mm/min, on / off (iTNC 530 user's manual
+                        // 60642x-03 §12.5), checked below where it acts.
+                        (None, 116, true) => next.m116 = true,
+                        (None, 117, true) => next.m116 = false,
                         (None, 0..=9 | 13 | 14 | 30, _) => {}
                         // M91/M92: the Klartext reader made this block a move of the axes (its oneshot).
                         (None, 91 | 92, true) if shot.is_some_and(|s| s.axes.is_some()) => {}
@@ -734,6 +745,14 @@ impl Interpreter {
                 }
                 _ => {}
             }
+        }
+        // M116: "The TNC interprets the programmed feed rate in a rotary axis in mm/min", computed at
+        // the block's start from the tool's distance to the rotary axis' centre, on rotary tables;
+        // "in combination with M128 [only] if you used the M138 function" (iTNC 530 user's manual
+        // 60642x-03 §12.5): under TCPM the feed is the tool tip's as always. Without TCPM, a feed move of
+        // a rotary axis would run at a speed this model does not compute.
+        if heid && next.m116 && !next.tcp && moves && block_motion.is_some_and(|m| m != Motion::Rapid) && (3..6).any(|k| next.last[k] != self.last[k]) {
+            diags.error(line, column, "a rotary axis moving at a feed with M116 in force and neither M128 nor FUNCTION TCPM: the TNC reads its F in mm/min at the tool's distance from the rotary axis, which is not modelled (M117 resets M116)");
         }
         let errors_after = diags.errors();
         if errors_after > errors_before {

@@ -43,7 +43,7 @@ pub(super) fn tnc_m_code(code: i64) -> Result<(), &'static str> {
         101 | 102 | 118 | 120 | 127 | 141 | 148 | 149 => Ok(()),
         91 | 92 | 130 => Err("positions in the machine coordinate system are not modelled (it changes the motion)"),
         89 | 99 => Err("cycle call: machining cycles are not read (they cut)"),
-        103 | 109 | 110 | 116 | 136 => Err("changes how the feed is read: not modelled"),
+        103 | 136 => Err("changes how the feed is read: not modelled"),
         94 => Err("reducing the rotary axis display below 360 deg is not modelled (it changes later absolute positions)"),
         114 | 134 | 138 | 140 | 143 | 144 => Err("not modelled (it changes the motion)"),
         _ => Err("not a TNC M function that leaves the motion alone: a machine maker's own, whose effect is unknown; \

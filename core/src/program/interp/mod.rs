@@ -167,6 +167,10 @@ pub struct Interpreter {
     /// Heidenhain M126: rotary axes whose display is reduced below 360 deg take the shorter way;
     /// which letters name such (multi-turn) axes on the machine.
     shortest: bool,
+    /// Heidenhain M109/M110 (M111 resets): the feed on arcs kept at the tool's cutting edge.
+    arc_feed: crate::program::cutter_comp::ArcFeed,
+    /// Heidenhain M116 (M117 resets): a rotary axis' F read in mm/min.
+    m116: bool,
     modulo: [bool; 3],
     /// The machine, whose kinematics place the tool where the program's coordinates change meaning
     /// (a plane tilted or reset, rotary axes moved without TCPM in a tilted plane).
@@ -267,6 +271,8 @@ impl Interpreter {
             dwo: false,
             tilt: None,
             shortest: false,
+            arc_feed: crate::program::cutter_comp::ArcFeed::Centre,
+            m116: false,
             modulo: [false; 3],
             machine: None,
             offsets_given: [false; 9],
@@ -511,6 +517,11 @@ impl Interpreter {
     /// Switch the orientation interpolation (Sinumerik `ORIVECT`/`ORIAXES`, `ORIWKS`/`ORIMKS`).
     pub fn set_orientation(&mut self, orientation: Orientation) {
         self.orientation = orientation;
+    }
+
+    /// How the feed on arcs is read (Heidenhain M109/M110/M111).
+    pub(crate) fn arc_feed(&self) -> crate::program::cutter_comp::ArcFeed {
+        self.arc_feed
     }
 
     /// The tilted working plane in effect, if any (columns: its X Y Z in the workpiece).

@@ -13,7 +13,7 @@ use nalgebra::{Matrix3, Vector3};
 use super::exec::Exec;
 use super::{label, FeedWord, KWord, Kind, Shape, Stmt, Val};
 use crate::program::corner::{chamfer, round, Element};
-use crate::program::cutter_comp::{tnc_said, Fail, TncComp};
+use crate::program::cutter_comp::{tnc_said, ArcFeed, Fail, TncComp};
 use crate::program::interp::Interpreter;
 use crate::program::lex::Diags;
 use crate::program::{ArcSpec, Block, Feed, FeedMode, Motion, Plane};
@@ -29,6 +29,8 @@ pub(super) struct Held {
     pub(super) end: [f64; 6],
     pub(super) unit: f64,
     pub(super) tilt: Option<Matrix3<f64>>,
+    /// How its feed on an arc is read (M109/M110/M111 in force).
+    pub(super) arc_feed: ArcFeed,
 }
 
 /// An `RND` or `CHF` read, waiting for the element after it: its size (m), its own feed (program
@@ -168,7 +170,7 @@ impl Exec {
     /// A block out: through radius compensation while it is on.
     pub(super) fn place(&mut self, h: Held, out: &mut Vec<Block>) -> Result<(), Fail> {
         if self.comp.busy() {
-            self.comp.feed(h.b, h.start, h.end, h.unit, h.tilt, out)
+            self.comp.feed(h.b, h.start, h.end, h.unit, h.tilt, h.arc_feed, out)
         } else {
             out.push(h.b);
             Ok(())
@@ -299,7 +301,7 @@ fn make(c: &Pending, p: &Held, n: &Held, plane: Plane, mode: FeedMode) -> Result
     if let Some(f) = c.feed {
         k.feed = Some(Feed { value_per_min: f * p.unit / MM, rotary_per_min: f, mode });
     }
-    let corner = Held { b: k, start: v1, end: v2, unit: p.unit, tilt: p.tilt };
+    let corner = Held { b: k, start: v1, end: v2, unit: p.unit, tilt: p.tilt, arc_feed: p.arc_feed };
     let mut n2 = n.clone();
     aim(&mut n2.b, n.end, axes, n.tilt);
     n2.start = v2;

@@ -38,6 +38,8 @@ pub(super) struct Exec {
     pub(super) pole: Option<([usize; 2], [f64; 2])>,
     /// The tool of the last TOOL CALL by number, whose radius `RL`/`RR` compensates by.
     pub(super) tool: Option<u32>,
+    /// The tool of the last TOOL CALL by name (`TOOL CALL "MILL_D10"`), looked up by the table's NAME.
+    pub(super) tool_name: Option<String>,
     /// Radius compensation `RL`/`RR` ([`TncComp`]).
     pub(super) comp: TncComp,
     /// The last contour element, placed once the statement after it shows it is no corner's
@@ -213,6 +215,8 @@ impl Exec {
                 // without a tool (`TOOL CALL Z S5000`: a new speed) keeps the one in the spindle.
                 if let Some(t) = events.iter().find_map(|e| e.strip_prefix('T')) {
                     self.tool = t.parse::<u32>().ok();
+                    // `TOOL CALL "NAME"`: the tool the table's NAME column names.
+                    self.tool_name = t.strip_prefix('"').map(|n| n.trim_end_matches('"').to_string());
                 }
                 if let Some(sp) = events.iter().find_map(|e| e.strip_prefix('S')) {
                     self.spindle = super::parse_val(sp).and_then(|v| match v {
@@ -474,7 +478,7 @@ impl Exec {
                         && starting.is_none()
                         && super::corners::not_an_element(&s.kind, true).is_none()
                         && !(self.modal_call || ends);
-                    let h = Held { b, start, end, unit, tilt: interp.tilt() };
+                    let h = Held { b, start, end, unit, tilt: interp.tilt(), arc_feed: interp.arc_feed() };
                     self.join(h, element, interp, out, diags)
                 };
                 if let Err(why) = placed {
@@ -506,8 +510,18 @@ impl Exec {
         if !matches!(shape, Shape::Line | Shape::LinePolar) {
             return Err("\"You cannot activate radius compensation in a circle block. Activate it beforehand in a straight-line block\" (TNC 620 ISO user's manual, p. 154)".into());
         }
+        let named = self.tool.is_none().then_some(self.tool_name.as_deref()).flatten();
+        if let Some(name) = named {
+            let Some(table) = interp.tool_table() else {
+                return Err(format!("the radius is tool \"{name}\"'s in the tool table: give it with --tool-table (the TNC's TOOL.T, with its NAME column)"));
+            };
+            return match table.diameter_by_name(name)? {
+                d if d < 0.0 => Err(format!("tool \"{name}\"'s radius in the tool table (R + DR) is negative ({} mm): not read", d / 2.0 / MM)),
+                d => Ok(d / 2.0),
+            };
+        }
         let Some(tool) = self.tool else {
-            return Err("the radius is the called tool's, and no TOOL CALL by number comes before this block".into());
+            return Err("the radius is the called tool's, and no TOOL CALL by number or name comes before this block".into());
         };
         let Some(table) = interp.tool_table() else {
             return Err(format!("the radius is tool {tool}'s in the tool table: give it with --tool-table (the TNC's TOOL.T, or LinuxCNC's tool.tbl)"));

@@ -278,13 +278,15 @@ struct ParseState {
     began: bool,
     ended: bool,
     datum_defined: bool,
+    /// `DR+F2777` (a direction and the next word written together) has been said once.
+    joined_said: bool,
 }
 
 /// Parse one line (1-based `line`) into its statement; defects go to `diags` and drop it. Lines are
 /// parsed as they run, so a repeated section is parsed again rather than held: memory stays that of
 /// the blocks.
 fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Diags) -> Option<Stmt<'a>> {
-    let ParseState { name, inch, began, ended, datum_defined } = st;
+    let ParseState { name, inch, began, ended, datum_defined, joined_said } = st;
     let all = tokens(raw.trim_end_matches('\r'));
     let &(first, first_col) = all.first()?;
     // The block number, then the block.
@@ -358,7 +360,16 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         "TOOL" if key(1) == "CALL" => tool_call(toks, line, diags),
         // `L M140 MB MAX`: the retract, written in an L block (hyperMILL's posts).
         "L" if toks.len() > 1 && split_word(toks[1].0) == (Cow::Borrowed("M"), "140") => misc(&toks[1..], line, diags),
-        "L" | "LN" | "C" | "CR" | "CT" | "LP" | "CP" => motion(toks, &k0, line, diags),
+        "L" | "LN" | "C" | "CR" | "CT" | "LP" | "CP" => match joined_direction(toks) {
+            Some((split, col)) => {
+                if !*joined_said {
+                    *joined_said = true;
+                    diags.warning(line, col, "DR+ or DR- written together with the word after it (as hyperMILL's TNC posts write `DR+F2777`): read as two words, the direction ending at its sign (said once)");
+                }
+                motion(&split, &k0, line, diags)
+            }
+            None => motion(toks, &k0, line, diags),
+        },
         "CC" => centre(toks, line, diags),
         "STOP" => Some(Kind::Stop),
         "LBL" => match toks.get(1) {
@@ -553,6 +564,27 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
         _ => {}
     }
     Some(Kind::Move { shape, axes, ccw, radius, feed, m, comp })
+}
+
+/// A block's tokens with `DR+` or `DR-` parted from a word written right after it (`DR+F2777`): a
+/// direction's value is its sign alone, so the next word starts after it. None where there is none.
+fn joined_direction<'a>(toks: &[(&'a str, usize)]) -> Option<(Vec<(&'a str, usize)>, usize)> {
+    // Bytes: the first four are ASCII where it matches, so the split falls on a character's start.
+    let joined = |t: &str| {
+        let b = t.as_bytes();
+        b.len() > 3 && b[..2].eq_ignore_ascii_case(b"DR") && matches!(b[2], b'+' | b'-') && b[3].is_ascii_alphabetic()
+    };
+    let first = toks.iter().find(|(t, _)| joined(t))?.1;
+    let mut out = Vec::with_capacity(toks.len() + 1);
+    for &(t, col) in toks {
+        if joined(t) {
+            out.push((&t[..3], col));
+            out.push((&t[3..], col + 3));
+        } else {
+            out.push((t, col));
+        }
+    }
+    Some((out, first))
 }
 
 /// `RND R5 F100` and `CHF 12 F250` (iTNC 530 user's manual §6.4: "RND R" the rounding radius, "CHF"

@@ -1,0 +1,103 @@
+//! Klartext words that change how a TNC reads the feed or the tool, as hyperMILL's and NX's posts
+//! write them: M109/M110/M111 (the feed on arcs at the cutting edge, iTNC 530 ISO user's manual
+//! §7.4), M116/M117 (a rotary axis' feed in mm/min, iTNC 530 user's manual §12.5), `TOOL CALL
+//! "NAME"` with the tool table's NAME column (TNC7 user's manual, "Tool name"), and `DR+F2777`.
+
+use super::tnc_comp::table;
+use super::*;
+
+fn feed(b: &fiveaxis::program::Block) -> f64 {
+    b.feed.unwrap().value_per_min
+}
+
+/// A pocket corner run with RL counter-clockwise (the tool inside): block 5 a quarter circle of
+/// radius 20 about (20, 20) whose inside the tool runs on, block 7 one about (60, 20) bulging into
+/// the pocket (the tool on its outside). `{m}` stands before the contour.
+fn pocket(m: &str) -> String {
+    format!(
+        "0 BEGIN PGM M110 MM\n1 TOOL CALL 3 Z S3000\n2 L X+20 Y+20 Z-2 R0 FMAX\n3 {m}\n4 L X+20 Y+0 RL F400\n\
+         5 CC X+20 Y+20\n6 C X+40 Y+20 DR+\n7 CC X+60 Y+20\n8 C X+80 Y+20 DR-\n9 L X+80 Y+40\n10 L X+60 Y+40 R0\n11 END PGM M110 MM\n"
+    )
+}
+
+/// M110 slows the tool centre on an arc whose inside it runs on so that the cutting edge keeps F:
+/// F (rho - r) / rho, rho the programmed radius (20 mm), r the tool's (3 mm); an arc whose outside
+/// it runs on keeps F, and so does every arc under M111 or without compensation. M109 would also
+/// speed up the outside arcs and the TNC's transitional arcs, whose feed no manual gives: refused.
+#[test]
+fn m110_keeps_the_feed_at_the_cutting_edge_on_inside_arcs() {
+    let t = table("T3 P3 D6\n");
+    let p = read(&pocket("M110"), Dialect::Klartext, "m.h", &t);
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let arcs: Vec<_> = p.blocks.iter().filter(|b| b.motion.is_arc() && matches!(b.number, Some(6 | 8))).collect();
+    assert_eq!(arcs.len(), 2, "{arcs:#?}");
+    let (inside, outside) = (arcs[0], arcs[1]);
+    // The inside arc's tool-centre radius is 20 - 3: the cutting edge on 20 mm at 400 mm/min.
+    let c = inside.arc.as_ref().unwrap().centre;
+    let rc = (inside.targets.x.unwrap() - c[0]).hypot(inside.targets.y.unwrap() - c[1]) / MM;
+    assert!((rc - 17.0).abs() < 1e-9, "{rc}");
+    assert!((feed(inside) - 400.0 * 17.0 / 20.0).abs() < 1e-9, "{}", feed(inside));
+    assert_eq!(feed(outside), 400.0);
+    for m in ["M111", "M5"] {
+        let p = read(&pocket(m), Dialect::Klartext, "m.h", &t);
+        assert!(errors(&p).is_empty(), "{m}: {:#?}", p.diagnostics);
+        assert!(p.blocks.iter().filter(|b| b.motion.is_arc()).all(|b| feed(b) == 400.0), "{m}");
+    }
+    // Without compensation the tool centre is on the contour: nothing to adjust.
+    let plain = pocket("M110").replace(" RL F400", " F400").replace(" R0\n", "\n");
+    let p = read(&plain, Dialect::Klartext, "m.h", &t);
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    assert!(p.blocks.iter().filter(|b| b.motion.is_arc()).all(|b| feed(b) == 400.0));
+    let p = read(&pocket("M109"), Dialect::Klartext, "m.h", &t);
+    assert!(errors(&p).iter().any(|(_, _, m)| m.contains("M109")), "{:#?}", errors(&p));
+}
+
+/// M116 reads a rotary axis' F in mm/min at the tool's distance from the axis, which is not
+/// modelled: a feed move of a rotary axis under it is refused, unless TCPM is on (M116 acts with
+/// M128 only on axes M138 leaves out) or M117 has reset it; a rapid is not a feed move.
+#[test]
+fn m116_is_refused_only_where_it_sets_a_rotary_feed() {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let options = ReadOptions::default().on(&hermle);
+    let run = |body: &str| read(&format!("0 BEGIN PGM M MM\n1 TOOL CALL 1 Z S3000\n{body}9 END PGM M MM\n"), Dialect::Klartext, "m.h", &options);
+    let p = run("2 L M116\n3 L C+90 F1000\n");
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 4 && m.contains("M116")), "{:#?}", errors(&p));
+    for ok in ["2 L M116\n3 L M128\n4 L C+90 F1000\n", "2 L M116\n3 L M117\n4 L C+90 F1000\n", "2 L M116\n3 L C+90 FMAX\n", "2 L M116\n3 L X+10 F1000\n"] {
+        let p = run(ok);
+        assert!(errors(&p).is_empty(), "{ok}: {:#?}", p.diagnostics);
+    }
+}
+
+/// `TOOL CALL "NAME"`: RL/RR take the radius of the tool the table's NAME column names (in
+/// capitals or not); tools sharing a name must share the radius, as which one the TNC calls depends
+/// on the magazine.
+#[test]
+fn a_tool_called_by_name_compensates_by_its_row() {
+    let text = "0 BEGIN PGM N MM\n1 TOOL CALL \"mill_d8\" Z S3000\n2 L X-10 Y+0 Z-2 R0 FMAX\n3 L X+0 Y+0 RL F300\n4 L X+20\n5 L X+30 Y+10 R0\n6 END PGM N MM\n";
+    let tnc = |rows: &str| table(&format!("BEGIN TOOL.T MM\nT    NAME        L        R      DR\n{rows}[END]\n"));
+    let p = read(text, Dialect::Klartext, "n.h", &tnc("1    MILL_D6     +50      +3     +0\n2    MILL_D8     +60      +4     -0.1\n"));
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    // Block 3 ends left of the first element (+X) at its start: (0, R + DR) = (0, 3.9).
+    let b = p.blocks.iter().find(|b| b.number == Some(3)).unwrap();
+    assert!((b.targets.y.unwrap() / MM - 3.9).abs() < 1e-12, "{:?}", b.targets);
+    let p = read(text, Dialect::Klartext, "n.h", &tnc("2    MILL_D8     +60      +4     +0\n7    MILL_D8     +61      +4     +0\n"));
+    assert!(errors(&p).is_empty(), "sister tools of one radius: {:#?}", p.diagnostics);
+    let p = read(text, Dialect::Klartext, "n.h", &tnc("2    MILL_D8     +60      +4     +0\n7    MILL_D8     +61      +4.5   +0\n"));
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 4 && m.contains("tools 2 and 7")), "{:#?}", errors(&p));
+    let p = read(text, Dialect::Klartext, "n.h", &tnc("1    MILL_D6     +50      +3     +0\n"));
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 4 && m.contains("no tool named \"mill_d8\"")), "{:#?}", errors(&p));
+}
+
+/// `CP IPA+90 IZ-1 DR+F200`, as hyperMILL writes it: the same blocks as with a space, said once.
+#[test]
+fn a_direction_written_together_with_the_next_word() {
+    let body = |sep: &str| format!("0 BEGIN PGM H MM\n1 L X+10 Y+0 Z+0 F500\n2 CC X+0 Y+0\n3 CP IPA+90 IZ-1 DR+{sep}F200\n4 CP IPA-90 IZ-1 DR-{sep}F300\n5 END PGM H MM\n");
+    let (spaced, joined) = (read(&body(" "), Dialect::Klartext, "h.h", &ReadOptions::default()), read(&body(""), Dialect::Klartext, "h.h", &ReadOptions::default()));
+    assert!(errors(&spaced).is_empty() && errors(&joined).is_empty(), "{:#?}", joined.diagnostics);
+    assert_eq!(spaced.blocks.len(), joined.blocks.len());
+    for (a, b) in spaced.blocks.iter().zip(&joined.blocks) {
+        assert_eq!((a.motion, a.targets, a.feed), (b.motion, b.targets, b.feed));
+    }
+    let said = joined.diagnostics.iter().filter(|d| d.message.contains("written together")).count();
+    assert_eq!(said, 1, "{:#?}", joined.diagnostics);
+}
