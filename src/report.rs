@@ -54,6 +54,14 @@ pub struct RegionReport {
 }
 
 /// The analysis of one program, in people's units. "C" is the machine's secondary rotary axis.
+/// The fastest the secondary axis turned on a rapid, by finite differences, and where.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct RapidPeak {
+    pub rpm: f64,
+    pub line: usize,
+    pub block: Option<u64>,
+}
+
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct AnalysisReport {
     pub program: String,
@@ -71,6 +79,11 @@ pub struct AnalysisReport {
     pub peak_c_speed_line: usize,
     pub peak_c_speed_block: Option<u64>,
     pub peak_c_speed_fd_rpm: f64,
+    /// The finite-difference peak over feed moves alone, and over rapids (the axes at their own
+    /// speeds, not along a path) with where it is: a 3+2 program's positioning turns the axis.
+    pub peak_c_speed_fd_feed_rpm: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_c_speed_fd_rapid: Option<RapidPeak>,
     pub singular_samples: usize,
     pub min_singularity_distance_deg: Option<f64>,
     pub min_singularity_distance_x_mm: Option<f64>,
@@ -183,6 +196,8 @@ impl AnalysisReport {
             peak_c_speed_line: s.peak_line,
             peak_c_speed_block: s.peak_block,
             peak_c_speed_fd_rpm: rpm(s.peak_fd_rate),
+            peak_c_speed_fd_feed_rpm: rpm(s.peak_fd_feed_rate),
+            peak_c_speed_fd_rapid: s.peak_fd_rapid.map(|(r, line, block)| RapidPeak { rpm: rpm(r), line, block }),
             singular_samples: s.singular_samples,
             min_singularity_distance_deg: s.min_distance.map(f64::to_degrees),
             min_singularity_distance_x_mm: s.min_distance_tip.map(|t| mm(t.x)),
@@ -210,7 +225,7 @@ impl AnalysisReport {
         let block = |b: Option<u64>| b.map_or(String::new(), |n| format!("N{n}, "));
         // A peak that rounds to 0.0 rpm has no place worth naming (every sample ties).
         if self.peak_c_speed_rpm < 0.05 {
-            let _ = writeln!(o, "peak {c} speed (eq. 5)    {:8.1} rpm ({c} asked to turn nowhere)", self.peak_c_speed_rpm);
+            let _ = writeln!(o, "peak {c} speed (eq. 5)    {:8.1} rpm (no feed move along the path turns {c})", self.peak_c_speed_rpm);
         } else {
             let _ = writeln!(
                 o,
@@ -219,7 +234,22 @@ impl AnalysisReport {
                 block(self.peak_c_speed_block), self.peak_c_speed_line
             );
         }
-        let _ = writeln!(o, "peak {c} speed (fin. diff) {:8.1} rpm", self.peak_c_speed_fd_rpm);
+        match &self.peak_c_speed_fd_rapid {
+            // A rapid turned the axis faster than any feed move (a 3+2 program's positioning).
+            Some(r) if r.rpm > self.peak_c_speed_fd_feed_rpm + 0.05 => {
+                let _ = writeln!(
+                    o,
+                    "peak {c} speed (fin. diff) {:8.1} rpm on feed moves; {:.1} rpm on a rapid ({}line {})",
+                    self.peak_c_speed_fd_feed_rpm,
+                    r.rpm,
+                    block(r.block),
+                    r.line
+                );
+            }
+            _ => {
+                let _ = writeln!(o, "peak {c} speed (fin. diff) {:8.1} rpm", self.peak_c_speed_fd_rpm);
+            }
+        }
         match (self.min_singularity_distance_deg, self.min_singularity_distance_x_mm) {
             (Some(d), Some(x)) => {
                 let _ = writeln!(o, "closest approach          {d:8.3} deg on five-axis moves, at x {x:.3} mm ({:.3} deg overall)", self.min_singularity_distance_all_deg);

@@ -141,3 +141,23 @@ fn a_closed_stdout_ends_the_cli_quietly() {
     assert!(!stderr.contains("panicked") && !stderr.contains("Broken pipe"), "{stderr}");
     assert_eq!(out.status.signal(), Some(13), "{:?}: {stderr}", out.status);
 }
+
+/// A 3+2 program turns C only in its positioning rapid, at the Hermle's C limit (25 rpm, its
+/// machine file): the finite-difference peak says so apart from the feed moves', which turn nothing,
+/// and where; eq. (5) asks nothing of C on the path.
+#[test]
+fn a_rapid_turning_the_axis_is_told_apart_from_the_feed_moves() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("r.h");
+    std::fs::write(&path, "0 BEGIN PGM R MM\n1 L X+0 Y+0 Z+50 A+0 C+0 FMAX\n2 L A+30 C+180 FMAX\n3 L X+10 F500\n4 L Y+10\n5 END PGM R MM\n").unwrap();
+    let p = path.to_str().unwrap();
+    let (code, v) = json(&["program", "analyze", p, "--json"]);
+    assert_eq!(code, 0, "{v}");
+    assert!(v["peak_c_speed_rpm"].as_f64().unwrap() < 0.05, "{v}");
+    assert!(v["peak_c_speed_fd_feed_rpm"].as_f64().unwrap() < 0.05, "{v}");
+    let rapid = &v["peak_c_speed_fd_rapid"];
+    assert!((rapid["rpm"].as_f64().unwrap() - 25.0).abs() < 0.25, "{rapid}");
+    assert_eq!(rapid["line"], 3);
+    let (_, out, _) = fiveaxis(&["program", "analyze", p]);
+    assert!(out.contains("0.0 rpm on feed moves; 25.0 rpm on a rapid (N2, line 3)"), "{out}");
+}

@@ -37,6 +37,8 @@ pub struct Status {
     pub on_pole: bool,
     /// True on a rapid (G00) move: the axes run at their limits by definition, not along a path.
     pub rapid: bool,
+    /// The finite difference spans a rapid (this sample's, the one before's or after's).
+    pub fd_rapid: bool,
 }
 
 /// Why a region was opened.
@@ -86,8 +88,11 @@ pub struct Summary {
     pub peak_tip: Vector3<f64>,
     pub peak_line: usize,
     pub peak_block: Option<u64>,
-    /// Largest |finite-difference rate|, rad/s.
+    /// Largest |finite-difference rate|, rad/s: over every sample, over the feed moves alone, and over
+    /// the rapids (where the axes run at their own speeds, not along a path) with its line and block.
     pub peak_fd_rate: f64,
+    pub peak_fd_feed_rate: f64,
+    pub peak_fd_rapid: Option<(f64, usize, Option<u64>)>,
     /// Samples exactly on the singular direction with the tool axis moving (eq. 5 undefined there).
     pub singular_samples: usize,
     /// Closest approach on simultaneous five-axis moves (rad; None if there are none) and overall.
@@ -127,7 +132,8 @@ pub struct SegmentInfo {
 
 /// What sample `sm` of segment `seg` says on `machine` (singular direction `sd`): the singularity's
 /// figures at it, with its finite difference and feed limit as the caller has them.
-fn status(machine: &Machine, sd: &Vector3<f64>, sm: &Sample, seg: &Segment, fd_rate: f64, feed_limit: Option<FeedLimit>) -> Status {
+fn status(machine: &Machine, sd: &Vector3<f64>, sm: &Sample, seg: &Segment, fd: (f64, bool), feed_limit: Option<FeedLimit>) -> Status {
+    let (fd_rate, fd_rapid) = fd;
     Status {
         distance: distance(&sm.axis, sd),
         predicted_rate: machine.chain.secondary_rate(&sm.axis, &sm.axis_rate, &[sm.q[3], sm.q[4]]),
@@ -136,6 +142,7 @@ fn status(machine: &Machine, sd: &Vector3<f64>, sm: &Sample, seg: &Segment, fd_r
         five_axis: seg.is_five_axis(),
         on_pole: on_pole(&sm.axis, &sm.axis_rate, sd),
         rapid: seg.kind == crate::path::SegmentKind::Rapid,
+        fd_rapid: fd_rapid || seg.kind == crate::path::SegmentKind::Rapid,
     }
 }
 
@@ -208,7 +215,7 @@ impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
         }
         let sm = seg.sample(j, 0.5, seg.t0 + 0.5 * seg.duration, self.machine);
         let info = SegmentInfo::of(seg);
-        let status = status(self.machine, &self.sd, &sm, seg, 0.0, None);
+        let status = status(self.machine, &self.sd, &sm, seg, (0.0, false), None);
         Some((sm, status, info))
     }
 
@@ -256,7 +263,7 @@ impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
         }
         let seg = window.get(j)?;
         let info = SegmentInfo::of(seg);
-        Some((sm, status(machine, &sd, &sm, seg, 0.0, None), info))
+        Some((sm, status(machine, &sd, &sm, seg, (0.0, false), None), info))
     }
 
     fn pull(&mut self) -> Option<Sample> {
@@ -293,9 +300,11 @@ impl<I: Iterator<Item = Segment>> Iterator for Statuses<'_, I> {
         let (a, b) = (self.prev.unwrap_or(sm), self.next.unwrap_or(sm));
         let dt = b.t - a.t;
         let fd_rate = if dt > 0.0 { (b.q[self.sec] - a.q[self.sec]) / dt } else { 0.0 };
+        let mut rapid = |x: &Sample| self.window.get(x.segment).is_some_and(|g| g.kind == crate::path::SegmentKind::Rapid);
+        let fd_rapid = rapid(&a) || rapid(&b);
         let feed_limit = self.geometry.derivatives(sm.segment, sm.s, &mut self.window).map(|(d1, d2, d3)| self.limiter.limit(sm.feed, &d1, &d2, &d3));
         let seg = self.window.get(sm.segment).expect("a sample's segment is in the window");
-        let (info, status) = (SegmentInfo::of(seg), status(self.machine, &self.sd, &sm, seg, fd_rate, feed_limit));
+        let (info, status) = (SegmentInfo::of(seg), status(self.machine, &self.sd, &sm, seg, (fd_rate, fd_rapid), feed_limit));
         // Keep what the geometry's overlap reaches back to.
         self.window.release_before(sm.segment.saturating_sub(SPLINE_OVERLAP_BLOCKS + 1));
         self.prev = Some(sm);
@@ -409,6 +418,8 @@ fn analyze_stream(
     let mut peak = PeakTracker::default();
     let mut singular_samples = 0;
     let mut peak_fd: f64 = 0.0;
+    let mut peak_fd_feed: f64 = 0.0;
+    let mut peak_fd_rapid: Option<(f64, usize, Option<u64>)> = None;
     let mut min_d: Option<(f64, Vector3<f64>)> = None;
     let mut min_all = f64::INFINITY;
     let mut min_fl: Option<(FeedLimit, Vector3<f64>)> = None;
@@ -460,6 +471,11 @@ fn analyze_stream(
                 singular_samples += 1;
             }
             peak_fd = peak_fd.max(st.fd_rate.abs());
+            if !st.fd_rapid {
+                peak_fd_feed = peak_fd_feed.max(st.fd_rate.abs());
+            } else if st.fd_rate.abs() > peak_fd_rapid.map_or(0.0, |p| p.0) {
+                peak_fd_rapid = Some((st.fd_rate.abs(), info.line, info.number));
+            }
             min_all = min_all.min(st.distance);
             if st.five_axis && min_d.is_none_or(|(d, _)| st.distance < d) {
                 min_d = Some((st.distance, sm.tip));
@@ -497,6 +513,8 @@ fn analyze_stream(
         peak_line,
         peak_block,
         peak_fd_rate: peak_fd,
+        peak_fd_feed_rate: peak_fd_feed,
+        peak_fd_rapid,
         singular_samples,
         min_distance: min_d.map(|(d, _)| d),
         min_distance_tip: min_d.map(|(_, t)| t),
