@@ -101,3 +101,17 @@ fn a_direction_written_together_with_the_next_word() {
     let said = joined.diagnostics.iter().filter(|d| d.message.contains("written together")).count();
     assert_eq!(said, 1, "{:#?}", joined.diagnostics);
 }
+
+/// `M128 F1000`: the F after M128 is the feed of the linear axes' compensating movements (iTNC 530
+/// ISO user's manual §7.5, "L X+0 Y+38.5 IB-15 RL F125 M128 F1000"), not the path's: the path keeps
+/// its own F (NX's posts write `L M128 F10000.` before cutting at F500), with a warning.
+#[test]
+fn the_feed_after_m128_is_not_the_paths() {
+    let text = "0 BEGIN PGM T MM\n1 L X+0 Y+0 Z+10 F500\n2 L M128 F10000.\n3 L X+10\n4 L Y+10 F125 M128 F1000\n5 M128 F25000\n6 L X+0\n7 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let at = |n: u64| p.blocks.iter().find(|b| b.number == Some(n) && !b.targets.is_empty()).unwrap();
+    assert_eq!([3, 4, 6].map(|n| feed(at(n))), [500.0, 125.0, 125.0]);
+    let said: Vec<_> = p.diagnostics.iter().filter(|d| d.message.contains("compensating movements")).map(|d| d.line).collect();
+    assert_eq!(said, [3, 5, 6], "{:#?}", p.diagnostics);
+}

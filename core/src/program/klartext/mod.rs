@@ -518,6 +518,7 @@ fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diags: &mut Dia
                     axes.push(w);
                 }
             }
+            (None, "F") if m.last().is_some_and(|w: &KWord<'_>| w.val == Val::Num(128.0)) => m128_feed(tok, rest, col, line, diags),
             (None, "F") => feed = value_word("F", rest, tok, col, line, diags).map_or(FeedWord::None, FeedWord::Value),
             (None, "FMAX") if rest.is_empty() && !arc => feed = FeedWord::Max,
             (None, "FMAX") if rest.is_empty() => diags.error(line, col, "FMAX on a circle: expected a feed F"),
@@ -585,6 +586,21 @@ fn joined_direction<'a>(toks: &[(&'a str, usize)]) -> Option<(Vec<(&'a str, usiz
         }
     }
     Some((out, first))
+}
+
+/// `M128 F1000`: the feed of the linear axes' compensating movements while M128 keeps the tool tip
+/// (iTNC 530 ISO user's manual 340 49x-04 §7.5: "After M128 you can program another feed rate, at
+/// which the TNC will carry out the compensation movements in the linear axes", bounded by MP7471;
+/// "L X+0 Y+38.5 IB-15 RL F125 M128 F1000"), not the path's feed: said, as neither it nor MP7471 is
+/// modelled (the machine file's axis limits bound those movements).
+fn m128_feed(tok: &str, rest: &str, col: usize, line: usize, diags: &mut Diags) {
+    if value_word("F", rest, tok, col, line, diags).is_some() {
+        diags.warning(
+            line,
+            col,
+            format!("{}: the feed of the linear axes' compensating movements under M128, not the path's feed; not modelled (the machine file's axis limits bound them, as the TNC's MP7471 does)", excerpt(tok)),
+        );
+    }
 }
 
 /// `RND R5 F100` and `CHF 12 F250` (iTNC 530 user's manual §6.4: "RND R" the rounding radius, "CHF"
@@ -670,13 +686,15 @@ fn misc<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> Option
             return Some(Kind::Retract { distance, feed, col });
         }
     }
-    let mut m = Vec::new();
+    let mut m: Vec<KWord<'a>> = Vec::new();
     for &(tok, col) in toks {
         let (addr, rest) = split_word(tok);
         if addr == "M" {
             if let Some(w) = value_word("M", rest, tok, col, line, diags) {
                 m.push(w);
             }
+        } else if addr == "F" && m.last().is_some_and(|w| w.val == Val::Num(128.0)) {
+            m128_feed(tok, rest, col, line, diags);
         } else {
             diags.error(line, col, format!("unexpected word '{}' after an M function", excerpt(tok)));
         }
