@@ -120,6 +120,7 @@ fn generic_machines_read_machine_coordinate_moves() {
         (Dialect::Fanuc, "%\nO1000\nG21 G90 G94 G54\nG0 X10. Y5. Z20.\nG53 Z0.\nM30\n%\n"),
         (Dialect::Fanuc, "%\nO1000\nG21 G90 G94 G54\nG0 X10. Y5. Z20.\nG28 G91 Z0.\nM30\n%\n"),
         (Dialect::Klartext, "0 BEGIN PGM R MM\n1 L X+10 Y+5 Z+20 R0 FMAX\n2 L Z+0 R0 FMAX M91\n3 END PGM R MM\n"),
+        (Dialect::Heidenhain, "%R G71 *\nN10 G00 G90 X+10 Y+5 Z+20 *\nN20 G00 Z+0 M91 *\nN99999999 %R G71 *\n"),
     ] {
         let p = read(text, dialect, "t", &ReadOptions::default().on(&m));
         assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
@@ -129,6 +130,16 @@ fn generic_machines_read_machine_coordinate_moves() {
         let last = t.segments.last().unwrap();
         assert!((last.q1[2] / MM - 500.0).abs() < 1e-6, "{dialect:?}: Z {} mm", last.q1[2] / MM);
     }
+    // Heidenhain DIN/ISO's M91 as Klartext's: an absolute straight line only.
+    refuses_each(
+        Dialect::Heidenhain,
+        &ReadOptions::default().on(&m),
+        &[
+            ("%R G71 *\nN10 G00 G90 X+10 Y+5 Z+20 *\nN20 G91 G00 Z+0 M91 *\nN99999999 %R G71 *\n", "3:17:", "absolute positions of a straight-line block"),
+            ("%R G71 *\nN10 G01 G90 X+10 Y+5 Z+20 F100 *\nN20 I+0 J+0 G02 X+10 Y+5 M91 *\nN99999999 %R G71 *\n", "3:26:", "straight-line block"),
+            ("%R G71 *\nN10 G00 G90 X+10 Y+5 Z+20 M128 *\nN20 G00 Z+0 M91 *\nN99999999 %R G71 *\n", "3:13:", "under M128"),
+        ],
+    );
     // X far outside a small machine's travel with the work offset unknown (warned), then G28 Z: read.
     let nmv = Machine::builtin("mori-seiki-nmv5000").unwrap();
     let p = read("%\nO1000\nG20 G90 G94 G54\nG0 X-39.6 Y0. Z0.6\nG28 G91 Z0.\nG90\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&nmv));

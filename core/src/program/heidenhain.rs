@@ -176,6 +176,35 @@ impl DinReader {
     }
 }
 
+impl DinReader {
+    /// `M91`/`M92` in a block: its coordinates are the machine's, about the machine datum or the
+    /// maker's second one, in this block only (TNC 426 B ISO §7.3), as the Klartext reader reads
+    /// them: an absolute straight line (`G00`/`G01`, or that motion in force) whose axes the
+    /// interpreter then places. Why not (its column), for a block that cannot take them.
+    fn machine_coordinates(&mut self, words: &[Word]) -> Result<(), (usize, String)> {
+        let Some(m) = words.iter().find(|w| w.letter == 'M' && (w.value == 91.0 || w.value == 92.0)) else { return Ok(()) };
+        let code = m.value as u32;
+        let said = |why: String| (m.column, format!("M{}: {why}", m.raw));
+        let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
+        let motion = if g(0.0) {
+            Some(crate::program::Motion::Rapid)
+        } else if g(1.0) {
+            Some(crate::program::Motion::Linear)
+        } else if words.iter().any(|w| w.letter == 'G' && matches!(w.value as i64, 2 | 3 | 5 | 6 | 10..=16)) {
+            None
+        } else {
+            self.interp.feed_state().0.filter(|m| matches!(m, crate::program::Motion::Rapid | crate::program::Motion::Linear))
+        };
+        let incremental = g(91.0) || (!g(90.0) && !self.interp.absolute()) || words.iter().any(|w| w.dimension == Dimension::Incremental);
+        let Some(motion) = motion.filter(|_| !incremental) else {
+            return Err(said("machine coordinates are absolute positions of a straight-line block (G00 or G01, with G90)".into()));
+        };
+        let origin = self.interp.tnc_machine_origin(code).map_err(said)?;
+        self.interp.oneshot = Some(super::interp::OneShot { motion, absolute: true, axes: Some(origin), own: false });
+        Ok(())
+    }
+}
+
 impl super::stream::LineReader for DinReader {
     fn line(&mut self, line: usize, text: &str, out: &mut Vec<Block>, diags: &mut Diags) {
         let trimmed = text.trim_end_matches('\r');
@@ -346,6 +375,11 @@ impl super::stream::LineReader for DinReader {
             }
             if damaged {
                 diags.warning(line, first_col, format!("block {} not used: it is damaged", label(number, line)));
+                continue;
+            }
+            if let Err((col, why)) = self.machine_coordinates(&words) {
+                diags.error(line, col, why);
+                diags.warning(line, first_col, format!("block {} not used", label(number, line)));
                 continue;
             }
             let before = out.len();

@@ -519,6 +519,23 @@ impl Interpreter {
         self.orientation = orientation;
     }
 
+    /// Where a TNC's M91 (machine datum) or M92 (the maker's datum) coordinates start, in the
+    /// model's frame; why not, if TCPM is on or the machine file does not place them. (TNC 426 B ISO
+    /// §7.3: "M91 and M92 are effective only in the blocks in which they are programmed"; the tool
+    /// length is not compensated, so they place the axes.)
+    pub(crate) fn tnc_machine_origin(&self, code: u32) -> Result<[f64; 3], String> {
+        if self.tcp {
+            return Err("machine coordinates under M128 / FUNCTION TCPM: the TNC wants it reset first (M129, FUNCTION RESET TCPM)".into());
+        }
+        let machine = self.machine_coords().ok_or("the machine file places no machine coordinates ([machine_coordinates] zero_mm)")?;
+        let datum = match code {
+            92 => machine.m92_datum.ok_or("the machine file gives no M92 datum (machine_coordinates.m92_datum_mm)")?,
+            _ => nalgebra::Vector3::zeros(),
+        };
+        let o = machine.to_axes(datum);
+        Ok([o.x, o.y, o.z])
+    }
+
     /// How the feed on arcs is read (Heidenhain M109/M110/M111).
     pub(crate) fn arc_feed(&self) -> crate::program::cutter_comp::ArcFeed {
         self.arc_feed

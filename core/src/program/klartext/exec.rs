@@ -599,22 +599,13 @@ impl Exec {
         Some(([pole[0] + r * cos, pole[1] + r * sin], turns))
     }
 
-    /// Where M91's (machine datum) or M92's (the maker's datum) coordinates start, in the model's
-    /// frame; why not, if the machine file does not place them or the block cannot take them.
+    /// Where M91's or M92's coordinates start ([`Interpreter::tnc_machine_origin`]), for an
+    /// absolute `L` block.
     pub(super) fn machine_axes(&self, code: u32, interp: &Interpreter, shape: Shape, incremental: bool) -> Result<[f64; 3], String> {
-        if interp.tcp() {
-            return Err("machine coordinates under M128 / FUNCTION TCPM: the TNC wants it reset first (M129, FUNCTION RESET TCPM)".into());
-        }
         if shape != Shape::Line || incremental {
             return Err("machine coordinates are absolute positions of an L block".into());
         }
-        let machine = interp.machine_coords().ok_or("the machine file places no machine coordinates ([machine_coordinates] zero_mm)")?;
-        let datum = match code {
-            92 => machine.m92_datum.ok_or("the machine file gives no M92 datum (machine_coordinates.m92_datum_mm)")?,
-            _ => nalgebra::Vector3::zeros(),
-        };
-        let o = machine.to_axes(datum);
-        Ok([o.x, o.y, o.z])
+        interp.tnc_machine_origin(code)
     }
 
     /// The block's M functions as words; true if one ends the program (M2, M30).
