@@ -30,6 +30,13 @@ SINUMERIK_FLOW = (b"DEF INT COUNT\nR1=0\nWHILE R1<3\nG1 X=R1*10 F100\nR1=R1+1\nE
                   b"IF COUNT==1\nG1 Y1\nELSE\nG1 Y2\nENDIF\nENDFOR\nMARK1: R2=R1\nREPEAT\nR2=R2-1\nUNTIL R2<=0\n"
                   b"IF R1<2 GOTOB MARK1\nGOTOF DONE\nLOOP\nENDLOOP\nDONE: M30\n")
 
+# A Klartext contour: corners (RND, CHF) under RL with M110, a tool called by name and by number,
+# M128's compensating feed, a helix with DR+ written against its F.
+KLARTEXT_CONTOUR = (b"0 BEGIN PGM C MM\n1 TOOL CALL \"MILL_D6\" Z S3000\n2 TOOL CALL 3 Z S3000\n3 L X-10 Y+40 Z-2 R0 FMAX\n"
+                    b"4 M110\n5 L X+10 Y+40 RL F300\n6 L X+40 Y+25\n7 RND R5 F100\n8 L X+10 Y+5\n9 CHF 2\n10 L X+0 Y+0\n"
+                    b"11 CC X+0 Y+10\n12 C X-10 Y+10 DR-\n13 L X-20 Y+10 R0\n14 L M128 F10000\n15 CC X+0 Y+0\n"
+                    b"16 CP IPA+90 IZ-1 DR+F200\n17 M111 M116\n18 M117\n19 END PGM C MM\n")
+
 
 def put(corpus: pathlib.Path, target: str, name: str, data: bytes) -> None:
     d = corpus / target
@@ -71,7 +78,8 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "flow.fanuc", bytes([PICK["fanuc"]]) + FANUC_FLOW)
     put(corpus, "nc_program", "flow.haas", bytes([PICK["haas"]]) + FANUC_FLOW)
     put(corpus, "nc_program", "flow.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_FLOW)
-    n += 3
+    put(corpus, "nc_program", "contour.h", bytes([PICK["klartext"]]) + KLARTEXT_CONTOUR)
+    n += 4
     # CL data: the SING cut's first moves as x y z i j k [feed] lines, with a header, comma and space separated.
     cl = b"x,y,z,i,j,k,f\n0,0,-8,0,0,1,2000\n10,0,-8,0,0.0174,0.9998,2000\n25,0,-8,0,0.0003,1,2000\n50 0 -8 0 0 1\n"
     put(corpus, "nc_program", "sing.cl", bytes([PICK["cl"]]) + cl)

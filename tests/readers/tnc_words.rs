@@ -115,3 +115,24 @@ fn the_feed_after_m128_is_not_the_paths() {
     let said: Vec<_> = p.diagnostics.iter().filter(|d| d.message.contains("compensating movements")).map(|d| d.line).collect();
     assert_eq!(said, [3, 5, 6], "{:#?}", p.diagnostics);
 }
+
+/// The TNC's preassigned parameters (iTNC 530 user's manual §11.11): Q108 the called tool's radius
+/// R + DR from the tool table, in the program's unit; Q109 the tool axis (Z: 2); Q113 the main
+/// program's unit (0 mm, 1 inch). Q108 without a tool table is refused, saying what it is.
+#[test]
+fn preassigned_q_parameters_hold_the_tool_and_the_unit() {
+    let t = table("BEGIN TOOL.T MM\nT    NAME     L      R      DR\n2    D8       +60    +4     -0.1\n[END]\n");
+    let text = |unit: &str| format!("0 BEGIN PGM Q {unit}\n1 TOOL CALL 2 Z S3000\n2 Q1 = Q108 * 2 + Q109 * 10 + Q113 * 100\n3 L X+Q1 Y+0 Z+0 F100\n4 END PGM Q {unit}\n");
+    let x = |p: &Program| p.blocks.iter().find(|b| b.number == Some(3)).and_then(|b| b.targets.x);
+    let p = read(&text("MM"), Dialect::Klartext, "q.h", &t);
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    // 2 x 3.9 + 2 x 10 + 0: 27.8 mm.
+    assert!((x(&p).unwrap() / MM - 27.8).abs() < 1e-9, "{:?}", x(&p));
+    let p = read(&text("INCH"), Dialect::Klartext, "q.h", &t);
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    // 2 x 3.9 mm in inches + 20 + 100, in inches.
+    let want = (2.0 * 3.9 / 25.4 + 120.0) * 25.4;
+    assert!((x(&p).unwrap() / MM - want).abs() < 1e-9, "{:?} {want}", x(&p).map(|v| v / MM));
+    let p = read(&text("MM"), Dialect::Klartext, "q.h", &ReadOptions::default());
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 3 && m.contains("Q108 is the TNC's")), "{:#?}", errors(&p));
+}

@@ -14,6 +14,18 @@ use crate::program::lex::Diags;
 use crate::program::{Block, ProgrammedTolerance};
 use crate::units::{DEG, MM};
 
+/// What a preassigned Q parameter the program reads unset holds on the TNC (iTNC 530 user's manual
+/// 340 49x-03 §11.11 "Preassigned Q Parameters"), said after the error.
+fn preassigned(name: &str) -> &'static str {
+    match name {
+        "Q108" => " (Q108 is the TNC's: the active tool's radius R + DR, known here from --tool-table after a TOOL CALL of a tool in it)",
+        "Q100" | "Q101" | "Q102" | "Q103" | "Q104" | "Q105" | "Q106" | "Q107" => " (the TNC's: a value from the machine's PLC, not known here)",
+        "Q110" | "Q111" | "Q112" | "Q114" => " (the TNC's: the spindle, coolant, overlap factor or tool length, not known here)",
+        "Q115" | "Q116" | "Q117" | "Q118" | "Q119" => " (the TNC's: a measurement of a touch probe cycle, not known here)",
+        _ => "",
+    }
+}
+
 /// Run-time state besides the interpreter's.
 #[derive(Debug, Default)]
 pub(super) struct Exec {
@@ -65,10 +77,29 @@ impl Exec {
         match super::formula::eval(text, &|n| self.q.get(n).copied()) {
             Ok(v) => Some(v),
             Err(e) => {
-                diags.error(line, col, format!("'{}': {}", crate::program::lex::excerpt(text), e.message));
+                let hint = e.unset.as_deref().map_or("", preassigned);
+                diags.error(line, col, format!("'{}': {}{hint}", crate::program::lex::excerpt(text), e.message));
                 None
             }
         }
+    }
+
+    /// `TOOL CALL`: the preassigned Q108, the active tool's radius "calculated from: Tool radius R
+    /// (Tool table ...), Delta value DR from the tool table, Delta value DR from the TOOL CALL block"
+    /// (a delta there other than 0 is refused where it is read), in the program's unit; Q109, the
+    /// tool axis, 2 for Z (iTNC 530 user's manual 340 49x-03 §11.11). Without the radius in a
+    /// `--tool-table`, Q108 is left unset, and a use of it says why.
+    fn preassign_tool(&mut self, interp: &Interpreter) {
+        self.q.insert("Q109".into(), 2.0);
+        let radius = match (self.tool, self.tool_name.as_deref(), interp.tool_table()) {
+            (Some(t), _, Some(table)) => table.diameter(t).map(|d| d / 2.0),
+            (None, Some(name), Some(table)) => table.diameter_by_name(name).ok().map(|d| d / 2.0),
+            _ => None,
+        };
+        match radius {
+            Some(r) => self.q.insert("Q108".into(), r / interp.unit()),
+            None => self.q.remove("Q108"),
+        };
     }
 
     pub(super) fn value(&self, w: &KWord<'_>, line: usize, diags: &mut Diags) -> Option<f64> {
@@ -77,7 +108,7 @@ impl Exec {
             Val::Q { name, negative } => match self.q.get(*name) {
                 Some(v) => Some(if *negative { -v } else { *v }),
                 None => {
-                    diags.error(line, w.col, format!("{}: {name} is used before it is set", w.addr));
+                    diags.error(line, w.col, format!("{}: {name} is used before it is set{}", w.addr, preassigned(name)));
                     None
                 }
             },
@@ -230,6 +261,9 @@ impl Exec {
                 }
                 if let Some(f) = feed {
                     self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw.to_string()));
+                }
+                if events.iter().any(|e| e.starts_with('T')) {
+                    self.preassign_tool(interp);
                 }
             }
             Kind::Misc(m) => ends = self.m_words(m, &mut words, s.line, diags),

@@ -95,8 +95,14 @@ impl Runner {
     /// Run line `line` (without its newline), the line after it starting at `next`: its block
     /// goes to `out`, its defects to `diags`.
     pub(crate) fn line(&mut self, line: usize, raw: &str, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        let was_inch = self.st.inch;
-        let Some(s) = parse_line(line, raw, &mut self.st, diags) else {
+        let (was_inch, was_begun) = (self.st.inch, self.st.began);
+        let parsed = parse_line(line, raw, &mut self.st, diags);
+        if self.st.began && !was_begun {
+            // Q113: the main program's unit, 0 mm or 1 inch (iTNC 530 user's manual 340 49x-03 §11.11
+            // "Preassigned Q parameters").
+            self.ex.q.insert("Q113".into(), if self.st.inch { 1.0 } else { 0.0 });
+        }
+        let Some(s) = parsed else {
             if self.st.inch != was_inch {
                 if let Err(u) = self.interp.set_inch(self.st.inch) {
                     diags.warning(line, 1, format!("the program header says {}; its numbers are read in {} (--units)", if self.st.inch { "INCH" } else { "MM" }, u.name()));
