@@ -161,6 +161,7 @@ fn corners_that_cannot_be_made_are_refused_at_their_block() {
         ("3 RND R2\n4 L X+10 F100\n", "4:3:", "not a contour element it joins"),
         // Something other than an element after it.
         ("3 L X+10 F100\n4 RND R2\n5 M5\n6 L Y+10\n", "5:3:", "not a contour element"),
+        ("3 L X+10 F100\n4 RND R2\n5 L F200\n6 L Y+10\n", "5:3:", "moves nothing"),
         ("3 L X+10 F100\n4 RND R2\n5 L Y+10 R0\n", "5:3:", "R0"),
         ("3 L X+10 F100\n4 RND R2\n", "5:3:", "before the program ends"),
         // Too large for the elements: 3 mm lines at a right angle take R3 at most.

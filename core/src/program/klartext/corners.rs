@@ -66,6 +66,7 @@ pub(super) fn not_an_element(kind: &Kind<'_>, comp_on: bool) -> Option<&'static 
         Kind::Move { m, .. } if m.iter().any(|w| matches!(w.val, Val::Num(v) if [89.0, 91.0, 92.0, 99.0].contains(&v))) => {
             Some("a block with M91/M92 machine coordinates or a cycle call (M89, M99) is not a contour element it joins")
         }
+        Kind::Move { axes, .. } if axes.is_empty() => Some("a block without coordinates moves nothing: it is no contour element it joins"),
         Kind::Move { .. } => None,
         _ => Some("the block after it is not a contour element (a line or circle in the working plane)"),
     }
