@@ -53,7 +53,6 @@ pub struct RegionReport {
     pub limit_kind: Option<LimitKind>,
 }
 
-/// The analysis of one program, in people's units. "C" is the machine's secondary rotary axis.
 /// The fastest the secondary axis turned on a rapid, by finite differences, and where.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct RapidPeak {
@@ -62,6 +61,7 @@ pub struct RapidPeak {
     pub block: Option<u64>,
 }
 
+/// The analysis of one program, in people's units. "C" is the machine's secondary rotary axis.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct AnalysisReport {
     pub program: String,

@@ -162,6 +162,13 @@ fn corners_that_cannot_be_made_are_refused_at_their_block() {
         // Something other than an element after it.
         ("3 L X+10 F100\n4 RND R2\n5 M5\n6 L Y+10\n", "5:3:", "not a contour element"),
         ("3 L X+10 F100\n4 RND R2\n5 L F200\n6 L Y+10\n", "5:3:", "moves nothing"),
+        // The flow leaving the statement after it (a block refused where it stands, a call): the
+        // corner joins two elements one after the other in the program.
+        ("3 L X+10 F100\n4 RND R2\n5 FL X+10 Y+20\n6 L X+0 Y+20\n", "5:3:", "was not read"),
+        ("3 L X+10 F100\n4 RND R2\n5 CALL LBL 9\n6 M30\n7 LBL 9\n8 L Y+10\n9 LBL 0\n", "5:3:", "a call after it"),
+        // A rounding that ends where the arc after it ends (worked by hand: the fillet of R7.5 about
+        // (5, -7.5) meets the circle about (15, 0) at (11, -3), the arc's end): no arc is left.
+        ("3 CC X+15 Y+0\n4 L X+10 Y+0 F200\n5 RND R7.5\n6 C X+11 Y-3 DR+\n", "6:3:", "whole arc after it"),
         ("3 L X+10 F100\n4 RND R2\n5 L Y+10 R0\n", "5:3:", "R0"),
         ("3 L X+10 F100\n4 RND R2\n", "5:3:", "before the program ends"),
         // Too large for the elements: 3 mm lines at a right angle take R3 at most.
@@ -220,4 +227,19 @@ fn rnd_in_a_tilted_plane_rounds_in_the_planes_coordinates() {
     }
     let arc = tilted.blocks.iter().find(|b| b.number == Some(5)).unwrap().arc.as_ref().unwrap();
     assert!(arc.frame.is_some(), "the rounding arc is written in the tilted plane");
+}
+
+/// A pole (CC) read after the held element goes out behind it, in the program's order, with
+/// and without a corner.
+#[test]
+fn a_pole_after_the_held_element_keeps_its_place() {
+    for corner in ["", "4 RND R1\n"] {
+        let text = format!("0 BEGIN PGM O MM\n1 L X+0 Y+0 Z-2 FMAX\n2 L X+10 Y+0 F100\n3 CC X+20 Y+10\n{corner}5 C X+10 Y+20 DR+\n6 END PGM O MM\n");
+        let p = read(&text, Dialect::Klartext, "o.h", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+        let order: Vec<u64> = p.blocks.iter().filter_map(|b| b.number).collect();
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert_eq!(order, sorted, "{corner:?}");
+    }
 }

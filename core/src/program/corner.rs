@@ -23,8 +23,9 @@ pub(crate) struct Rounding {
     pub ccw: bool,
 }
 
-/// Elements meeting within this angle (rad) have no corner to cut.
-const STRAIGHT: f64 = 1e-9;
+/// Elements meeting within this angle (rad) have no corner to cut: a rounding arc sweeps the turn,
+/// and one of 1e-9 rad would read as a full circle (`path::segment`'s threshold).
+const STRAIGHT: f64 = 1e-7;
 
 fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]

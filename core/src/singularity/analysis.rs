@@ -37,8 +37,9 @@ pub struct Status {
     pub on_pole: bool,
     /// True on a rapid (G00) move: the axes run at their limits by definition, not along a path.
     pub rapid: bool,
-    /// The finite difference spans a rapid (this sample's, the one before's or after's).
-    pub fd_rapid: bool,
+    /// The rapid the finite difference spans (this sample's, else the one before's or after's): its
+    /// line and block number.
+    pub fd_rapid: Option<(usize, Option<u64>)>,
 }
 
 /// Why a region was opened.
@@ -132,7 +133,7 @@ pub struct SegmentInfo {
 
 /// What sample `sm` of segment `seg` says on `machine` (singular direction `sd`): the singularity's
 /// figures at it, with its finite difference and feed limit as the caller has them.
-fn status(machine: &Machine, sd: &Vector3<f64>, sm: &Sample, seg: &Segment, fd: (f64, bool), feed_limit: Option<FeedLimit>) -> Status {
+fn status(machine: &Machine, sd: &Vector3<f64>, sm: &Sample, seg: &Segment, fd: (f64, Option<(usize, Option<u64>)>), feed_limit: Option<FeedLimit>) -> Status {
     let (fd_rate, fd_rapid) = fd;
     Status {
         distance: distance(&sm.axis, sd),
@@ -142,7 +143,7 @@ fn status(machine: &Machine, sd: &Vector3<f64>, sm: &Sample, seg: &Segment, fd: 
         five_axis: seg.is_five_axis(),
         on_pole: on_pole(&sm.axis, &sm.axis_rate, sd),
         rapid: seg.kind == crate::path::SegmentKind::Rapid,
-        fd_rapid: fd_rapid || seg.kind == crate::path::SegmentKind::Rapid,
+        fd_rapid: if seg.kind == crate::path::SegmentKind::Rapid { Some((seg.line, seg.number)) } else { fd_rapid },
     }
 }
 
@@ -215,7 +216,7 @@ impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
         }
         let sm = seg.sample(j, 0.5, seg.t0 + 0.5 * seg.duration, self.machine);
         let info = SegmentInfo::of(seg);
-        let status = status(self.machine, &self.sd, &sm, seg, (0.0, false), None);
+        let status = status(self.machine, &self.sd, &sm, seg, (0.0, None), None);
         Some((sm, status, info))
     }
 
@@ -263,7 +264,7 @@ impl<'a, I: Iterator<Item = Segment>> Statuses<'a, I> {
         }
         let seg = window.get(j)?;
         let info = SegmentInfo::of(seg);
-        Some((sm, status(machine, &sd, &sm, seg, (0.0, false), None), info))
+        Some((sm, status(machine, &sd, &sm, seg, (0.0, None), None), info))
     }
 
     fn pull(&mut self) -> Option<Sample> {
@@ -300,8 +301,8 @@ impl<I: Iterator<Item = Segment>> Iterator for Statuses<'_, I> {
         let (a, b) = (self.prev.unwrap_or(sm), self.next.unwrap_or(sm));
         let dt = b.t - a.t;
         let fd_rate = if dt > 0.0 { (b.q[self.sec] - a.q[self.sec]) / dt } else { 0.0 };
-        let mut rapid = |x: &Sample| self.window.get(x.segment).is_some_and(|g| g.kind == crate::path::SegmentKind::Rapid);
-        let fd_rapid = rapid(&a) || rapid(&b);
+        let mut rapid = |x: &Sample| self.window.get(x.segment).filter(|g| g.kind == crate::path::SegmentKind::Rapid).map(|g| (g.line, g.number));
+        let fd_rapid = rapid(&a).or_else(|| rapid(&b));
         let feed_limit = self.geometry.derivatives(sm.segment, sm.s, &mut self.window).map(|(d1, d2, d3)| self.limiter.limit(sm.feed, &d1, &d2, &d3));
         let seg = self.window.get(sm.segment).expect("a sample's segment is in the window");
         let (info, status) = (SegmentInfo::of(seg), status(self.machine, &self.sd, &sm, seg, (fd_rate, fd_rapid), feed_limit));
@@ -471,10 +472,10 @@ fn analyze_stream(
                 singular_samples += 1;
             }
             peak_fd = peak_fd.max(st.fd_rate.abs());
-            if !st.fd_rapid {
-                peak_fd_feed = peak_fd_feed.max(st.fd_rate.abs());
-            } else if st.fd_rate.abs() > peak_fd_rapid.map_or(0.0, |p| p.0) {
-                peak_fd_rapid = Some((st.fd_rate.abs(), info.line, info.number));
+            match st.fd_rapid {
+                None => peak_fd_feed = peak_fd_feed.max(st.fd_rate.abs()),
+                Some((line, number)) if st.fd_rate.abs() > peak_fd_rapid.map_or(0.0, |p| p.0) => peak_fd_rapid = Some((st.fd_rate.abs(), line, number)),
+                Some(_) => {}
             }
             min_all = min_all.min(st.distance);
             if st.five_axis && min_d.is_none_or(|(d, _)| st.distance < d) {

@@ -133,8 +133,9 @@ impl ToolTable {
                 return Err(format!("line {line}: columns R and DR: 2 (R + DR) is not a finite number"));
             }
             add(&mut tools, line, tool, diameter)?;
+            // A tool listed again takes its last line's name, or none.
+            named.retain(|(_, t)| *t != tool);
             if let Some(name) = name_span.map(|s| cell(raw, s)).filter(|n| !n.is_empty()) {
-                named.retain(|(_, t)| *t != tool);
                 named.push((name.to_ascii_uppercase(), tool));
             }
         }

@@ -33,6 +33,18 @@ pub(super) struct Held {
     pub(super) arc_feed: ArcFeed,
 }
 
+/// Compensation stopped placing a block: at its line and column, and why.
+#[derive(Debug)]
+pub(super) struct Stop {
+    pub(super) line: usize,
+    pub(super) col: usize,
+    pub(super) why: Fail,
+}
+
+/// The most blocks that move nothing (a pole `CC`) kept behind a held element, in their order: past
+/// it the element and they go out, a corner waiting for the next element refused.
+const MAX_TRAILING: usize = 1000;
+
 /// An `RND` or `CHF` read, waiting for the element after it: its size (m), its own feed (program
 /// unit per minute), and where it stands.
 #[derive(Debug, Clone)]
@@ -145,71 +157,106 @@ impl Exec {
         self.pending = None;
     }
 
-    /// Place the element held for a corner, if any, as it was programmed. True if compensation
-    /// stopped the program there.
+    /// Place the element held for a corner, if any, as it was programmed, and what stands behind
+    /// it. True if compensation stopped the program there.
     pub(super) fn flush(&mut self, out: &mut Vec<Block>, diags: &mut Diags, interp: &mut Interpreter) -> bool {
         let Some(h) = self.held.take() else { return false };
-        let (line, col) = (h.b.line, h.b.column);
-        match self.place(h, out) {
+        match self.place_held(h, out) {
             Ok(()) => false,
-            Err(why) => {
-                self.stopped(line, col, &why, diags, interp);
+            Err(stop) => {
+                self.stopped(&stop, diags, interp);
                 true
             }
         }
     }
 
-    /// Compensation could not go on at `line`: the TNC stops there.
-    pub(super) fn stopped(&mut self, line: usize, col: usize, why: &Fail, diags: &mut Diags, interp: &mut Interpreter) {
-        diags.error(line, col, format!("radius compensation: {}", tnc_said(why)));
+    /// The flow leaves the statement after a pending corner (a call, a jump, a return, a block not
+    /// read): the corner joins two elements one after the other in the program, so it is refused
+    /// there, and the held element goes out. True if compensation stopped the program.
+    pub(super) fn interrupt(&mut self, why: &str, out: &mut Vec<Block>, diags: &mut Diags, interp: &mut Interpreter) -> bool {
+        let Some(c) = self.pending.clone() else { return false };
+        self.refuse(&c, why, diags);
+        self.flush(out, diags, interp)
+    }
+
+    /// Compensation could not go on: the TNC stops at the block.
+    pub(super) fn stopped(&mut self, stop: &Stop, diags: &mut Diags, interp: &mut Interpreter) {
+        diags.error(stop.line, stop.col, format!("radius compensation: {}", tnc_said(&stop.why)));
         self.comp = TncComp::default();
         self.held = None;
+        self.trailing.clear();
         self.pending = None;
         interp.halted = true;
     }
 
     /// A block out: through radius compensation while it is on.
-    pub(super) fn place(&mut self, h: Held, out: &mut Vec<Block>) -> Result<(), Fail> {
+    pub(super) fn place(&mut self, h: Held, out: &mut Vec<Block>) -> Result<(), Stop> {
         if self.comp.busy() {
-            self.comp.feed(h.b, h.start, h.end, h.unit, h.tilt, h.arc_feed, out)
+            let (line, col) = (h.b.line, h.b.column);
+            self.comp.feed(h.b, h.start, h.end, h.unit, h.tilt, h.arc_feed, out).map_err(|why| Stop { line, col, why })
         } else {
             out.push(h.b);
             Ok(())
         }
     }
 
+    /// The held element out, then the blocks kept behind it.
+    fn place_held(&mut self, h: Held, out: &mut Vec<Block>) -> Result<(), Stop> {
+        self.place(h, out)?;
+        self.place_trailing(out)
+    }
+
+    fn place_trailing(&mut self, out: &mut Vec<Block>) -> Result<(), Stop> {
+        for t in std::mem::take(&mut self.trailing) {
+            self.place(t, out)?;
+        }
+        Ok(())
+    }
+
     /// The element `n` after a pending corner: the element held before it and `n` cut back to the
     /// corner's ends, the corner between them; `n` held in turn if `hold` (another corner may
     /// follow it). A corner that cannot be made is an error at its block, both elements placed as
     /// programmed.
-    pub(super) fn join(&mut self, n: Held, hold: bool, interp: &Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> Result<(), Fail> {
-        if n.b.targets.is_empty() {
-            // A block that moves nothing (a pole) goes out beside the held element.
-            return self.next(n, hold, out);
+    pub(super) fn join(&mut self, n: Held, hold: bool, interp: &Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> Result<(), Stop> {
+        if n.b.targets.is_empty() && self.held.is_some() {
+            // A block that moves nothing (a pole) waits behind the held element, in its order.
+            if self.trailing.len() < MAX_TRAILING {
+                self.trailing.push(n);
+                return Ok(());
+            }
+            if let Some(c) = self.pending.take() {
+                self.refuse(&c, &format!("more than {MAX_TRAILING} blocks stand between it and the next contour element"), diags);
+            }
         }
         let (Some(c), Some(p)) = (self.pending.take(), self.held.take()) else {
             // No corner between (a corner is read only after a held element): what is held goes first.
             if let Some(p) = self.held.take() {
-                self.place(p, out)?;
+                self.place_held(p, out)?;
             }
             return self.next(n, hold, out);
         };
         match make(&c, &p, &n, interp.plane(), interp.feed_state().2) {
             Ok((p2, corner, n2)) => {
+                // The blocks kept behind the element go out in the program's order about the corner.
                 self.place(p2, out)?;
+                let after = self.trailing.iter().position(|t| t.b.line > c.line).unwrap_or(self.trailing.len());
+                let later = self.trailing.split_off(after);
+                self.place_trailing(out)?;
                 self.place(corner, out)?;
+                self.trailing = later;
+                self.place_trailing(out)?;
                 self.next(n2, hold, out)
             }
             Err(why) => {
                 self.refuse(&c, &why, diags);
-                self.place(p, out)?;
+                self.place_held(p, out)?;
                 self.next(n, hold, out)
             }
         }
     }
 
     /// A contour element placed, or held for a corner after it.
-    pub(super) fn next(&mut self, n: Held, hold: bool, out: &mut Vec<Block>) -> Result<(), Fail> {
+    pub(super) fn next(&mut self, n: Held, hold: bool, out: &mut Vec<Block>) -> Result<(), Stop> {
         if hold {
             self.held = Some(n);
             Ok(())
@@ -278,6 +325,14 @@ fn make(c: &Pending, p: &Held, n: &Held, plane: Plane, mode: FeedMode) -> Result
         let (t1, t2) = chamfer(&before, &after, size).map_err(|why| format!("{}: {why}", size / p.unit))?;
         (t1, t2, None)
     };
+    // A corner that uses up a whole arc leaves a rest of no length, which reads as a full circle.
+    let short = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-9 * (1.0 + size / p.unit);
+    if matches!(before, Element::Arc { .. }) && short([p.start[axes.0], p.start[axes.1]], t1) {
+        return Err(format!("the corner takes up the whole arc before it: {}", if c.round { "the radius is too large for it" } else { "the chamfer is too long for it" }));
+    }
+    if matches!(after, Element::Arc { .. }) && short(t2, [n.end[axes.0], n.end[axes.1]]) {
+        return Err(format!("the corner takes up the whole arc after it: {}", if c.round { "the radius is too large for it" } else { "the chamfer is too long for it" }));
+    }
     let (v1, v2) = (at(p.end, axes, t1), at(p.end, axes, t2));
     let mut p2 = p.clone();
     aim(&mut p2.b, v1, axes, p.tilt);

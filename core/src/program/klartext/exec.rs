@@ -5,7 +5,7 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
-use super::corners::{Held, Pending};
+use super::corners::{Held, Pending, Stop};
 use super::{axis_index, label, FeedWord, KWord, Kind, Shape, Stmt, Val};
 use crate::machine::ContourTolerance;
 use crate::program::interp::{Dimension, Interpreter, OneShot, Word};
@@ -59,6 +59,8 @@ pub(super) struct Exec {
     pub(super) held: Option<Held>,
     /// An `RND` or `CHF` waiting for the element after it.
     pub(super) pending: Option<Pending>,
+    /// Blocks that move nothing (a pole) read after the held element, to go out behind it.
+    pub(super) trailing: Vec<Held>,
 }
 
 /// The older cycle 1 PECKING as its blocks `CYCL DEF 1.0` to `1.5` give it: where it begins, its
@@ -490,7 +492,7 @@ impl Exec {
                     // R0: the tool leaves the last element perpendicular to it, for the programmed point.
                     let mut b = b;
                     let tilt = interp.tilt();
-                    self.comp.stop(unit, tilt, out).map(|()| {
+                    self.comp.stop(unit, tilt, out).map_err(|why| Stop { line: s.line, col: s.col, why }).map(|()| {
                         match tilt {
                             // The programmed point, in the plane's coordinates, placed in the workpiece's.
                             Some(r) => {
@@ -515,8 +517,8 @@ impl Exec {
                     let h = Held { b, start, end, unit, tilt: interp.tilt(), arc_feed: interp.arc_feed() };
                     self.join(h, element, interp, out, diags)
                 };
-                if let Err(why) = placed {
-                    self.stopped(s.line, s.col, &why, diags, interp);
+                if let Err(stop) = placed {
+                    self.stopped(&stop, diags, interp);
                     return true;
                 }
                 if m89 {
@@ -687,7 +689,10 @@ impl Exec {
     pub(super) fn follow(&mut self, b: &Block, start: [f64; 6], end: [f64; 6], interp: &Interpreter) {
         let (a0, a1, _) = interp.plane().axes();
         if let Some(arc) = &b.arc {
-            let r = [end[a0] - arc.centre[a0], end[a1] - arc.centre[a1]];
+            // The centre is the workpiece's; in a tilted plane `end` is the plane's.
+            let c = nalgebra::Vector3::from(arc.centre);
+            let c = interp.tilt().map_or(c, |r| r.transpose() * c);
+            let r = [end[a0] - c[a0], end[a1] - c[a1]];
             let n = r[0].hypot(r[1]);
             if n > 0.0 {
                 let ccw = b.motion == crate::program::Motion::ArcCcw;

@@ -95,18 +95,21 @@ impl Runner {
     /// Run line `line` (without its newline), the line after it starting at `next`: its block
     /// goes to `out`, its defects to `diags`.
     pub(crate) fn line(&mut self, line: usize, raw: &str, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        let (was_inch, was_begun) = (self.st.inch, self.st.began);
-        let parsed = parse_line(line, raw, &mut self.st, diags);
-        if self.st.began && !was_begun {
-            // Q113: the main program's unit, 0 mm or 1 inch (iTNC 530 user's manual 340 49x-03 §11.11
-            // "Preassigned Q parameters").
-            self.ex.q.insert("Q113".into(), if self.st.inch { 1.0 } else { 0.0 });
-        }
-        let Some(s) = parsed else {
+        let (was_inch, was_begun, errors) = (self.st.inch, self.st.began, diags.errors());
+        let Some(s) = parse_line(line, raw, &mut self.st, diags) else {
             if self.st.inch != was_inch {
                 if let Err(u) = self.interp.set_inch(self.st.inch) {
                     diags.warning(line, 1, format!("the program header says {}; its numbers are read in {} (--units)", if self.st.inch { "INCH" } else { "MM" }, u.name()));
                 }
+            }
+            if self.st.began && !was_begun {
+                // Q113: the main program's unit as it is read, 0 mm or 1 inch (iTNC 530 user's manual
+                // 340 49x-03 §11.11 "Preassigned Q parameters").
+                self.ex.q.insert("Q113".into(), if self.interp.unit() == crate::units::INCH { 1.0 } else { 0.0 });
+            }
+            // A statement refused where it stands, after an RND or CHF: the corner is not made.
+            if diags.errors() > errors && self.ex.interrupt("the block after it was not read", out, diags, &mut self.interp) {
+                return Next::Ended;
             }
             return Next::On;
         };
@@ -118,13 +121,24 @@ impl Runner {
         match &s.kind {
             Kind::End => Next::Ended,
             Kind::Label("0") => match self.stack.pop() {
-                Some((back, _, _)) => Next::Jump(back),
+                Some((back, _, _)) => {
+                    if self.ex.interrupt("the subprogram returns after it (LBL 0): it joins two elements one after the other", out, diags, &mut self.interp) {
+                        return Next::Ended;
+                    }
+                    Next::Jump(back)
+                }
                 None => Next::On,
             },
             Kind::Label(_) => Next::On,
-            Kind::Call { label, rep } => self.call(&s, label, rep.as_ref(), next, diags),
+            Kind::Call { label, rep } => {
+                if self.ex.interrupt("a call after it (CALL LBL): it joins two elements one after the other", out, diags, &mut self.interp) {
+                    return Next::Ended;
+                }
+                self.call(&s, label, rep.as_ref(), next, diags)
+            }
             // A conditional jump (FN 9-12): on to the line after the label when it holds.
             Kind::Jump { a, cmp, b, label } => match (self.ex.formula(a, s.line, s.col, diags), self.ex.formula(b, s.line, s.col, diags)) {
+                (Some(x), Some(y)) if cmp.holds(x, y) && self.ex.interrupt("a jump after it (FN 9-12): it joins two elements one after the other", out, diags, &mut self.interp) => Next::Ended,
                 (Some(x), Some(y)) if cmp.holds(x, y) => match self.labels.at.get(*label) {
                     Some(&(_, target)) => Next::Jump(target),
                     None => {
