@@ -243,3 +243,23 @@ fn a_pole_after_the_held_element_keeps_its_place() {
         assert_eq!(order, sorted, "{corner:?}");
     }
 }
+
+/// `CT` after an arc in a tilted plane (SPB+30 on the Hermle) is tangent to that arc as in the flat
+/// plane: the arc's centre is taken back into the plane's coordinates (it had been mixed with the
+/// plane's end point in the workpiece's).
+#[test]
+fn ct_after_an_arc_in_a_tilted_plane() {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let options = ReadOptions::default().on(&hermle);
+    let body = "2 L X+10 Y+0 Z+5 FMAX\n3 CC X+0 Y+0\n4 C X+0 Y+10 DR+ F300\n5 CT X-10 Y+0\n6 END PGM T MM\n";
+    let flat = read(&format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S3000\n{body}"), Dialect::Klartext, "t.h", &options);
+    let tilted = read(&format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S3000\n1 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n{body}"), Dialect::Klartext, "t.h", &options);
+    assert!(errors(&flat).is_empty() && errors(&tilted).is_empty(), "{:#?} {:#?}", flat.diagnostics, tilted.diagnostics);
+    let t = 30f64.to_radians();
+    let back = |v: [f64; 3]| [t.cos() * v[0] - t.sin() * v[2], v[1], t.sin() * v[0] + t.cos() * v[2]];
+    let ct = |p: &Program| p.blocks.iter().find(|b| b.number == Some(5)).and_then(|b| b.arc.as_ref().map(|a| a.centre)).expect("block 5 an arc");
+    // Tangent to the circle about the origin at (0, 10), on to (-10, 0): the same circle.
+    let (c_flat, c_tilted) = (ct(&flat), back(ct(&tilted)));
+    assert!(c_flat[0].abs() < 1e-9 && c_flat[1].abs() < 1e-9, "{c_flat:?}");
+    assert!(c_tilted[0].abs() < 1e-9 && c_tilted[1].abs() < 1e-9, "{c_tilted:?}");
+}
