@@ -114,6 +114,12 @@ fn the_feed_after_m128_is_not_the_paths() {
     assert_eq!([3, 4, 6].map(|n| feed(at(n))), [500.0, 125.0, 125.0]);
     let said: Vec<_> = p.diagnostics.iter().filter(|d| d.message.contains("compensating movements")).map(|d| d.line).collect();
     assert_eq!(said, [3, 5, 6], "{:#?}", p.diagnostics);
+    // Heidenhain DIN/ISO alike (the manual quoted is its ISO one).
+    let p = read("%T G71 *\nN10 G01 G90 X+0 Y+0 Z+10 F500 *\nN20 G01 X+10 F125 M128 F1000 *\nN30 X+20 *\nN99999999 %T G71 *\n", Dialect::Heidenhain, "t.i", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let at = |n: u64| p.blocks.iter().find(|b| b.number == Some(n) && !b.targets.is_empty()).unwrap();
+    assert_eq!([20, 30].map(|n| feed(at(n))), [125.0, 125.0]);
+    assert_eq!(p.diagnostics.iter().filter(|d| d.message.contains("compensating movements")).count(), 1, "{:#?}", p.diagnostics);
 }
 
 /// The TNC's preassigned parameters (iTNC 530 user's manual §11.11): Q108 the called tool's radius
