@@ -185,16 +185,32 @@ fn corners_that_cannot_be_made_are_refused_at_their_block() {
         ("3 L X+10 F100\n4 CHF\n5 L Y+10\n", "5:3:", "side length"),
         ("3 L X+10 F100\n4 RND R2\n5 RND R2\n6 L Y+10\n", "6:3:", "right after another"),
     ];
-    for (body, at, needle) in cases {
-        let text = format!("{head}{body}99 END PGM T MM\n");
-        let p = read(&text, Dialect::Klartext, "t.h", &ReadOptions::default());
-        let errs = errors(&p);
-        assert!(errs.iter().any(|(l, c, m)| format!("{l}:{c}:").starts_with(at) && m.contains(needle)), "{body}: no error at {at} with {needle:?}: {errs:#?}");
-    }
+    let texts: Vec<(String, &str, &str)> = cases.iter().map(|(body, at, needle)| (format!("{head}{body}99 END PGM T MM\n"), *at, *needle)).collect();
+    let texts: Vec<(&str, &str, &str)> = texts.iter().map(|(text, at, needle)| (text.as_str(), *at, *needle)).collect();
+    refuses_each(Dialect::Klartext, &ReadOptions::default(), &texts);
     // Refused for its size: both lines are kept whole.
     let p = read(&format!("{head}3 L X+3 F100\n4 RND R3.5\n5 L Y+3\n99 END PGM T MM\n"), Dialect::Klartext, "t.h", &ReadOptions::default());
     let (b3, b5) = (numbered(&p, 3)[0], numbered(&p, 5)[0]);
     assert!(b3.targets.x == Some(3.0 * MM) && b3.targets.y.is_none() && b5.targets.x.is_none() && b5.targets.y == Some(3.0 * MM) && numbered(&p, 4).is_empty(), "{:?} {:?}", b3.targets, b5.targets);
+}
+
+/// `call` (a TOOL CALL block) then `body` (to `END PGM T MM`) read on the Hermle with tool 3 of
+/// 6 mm in the table, flat and in a plane tilted 30 deg by PLANE SPATIAL SPB+30 after the call; no
+/// errors in either.
+fn flat_and_tilted(call: &str, body: &str) -> (Program, Program) {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let mut options = table("T3 P3 D6\n").on(&hermle);
+    options.tool_table = table("T3 P3 D6\n").tool_table;
+    let [flat, tilted] = ["", "1 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n"].map(|plane| read(&format!("0 BEGIN PGM T MM\n{call}{plane}{body}"), Dialect::Klartext, "t.h", &options));
+    assert!(errors(&flat).is_empty() && errors(&tilted).is_empty(), "{:#?} {:#?}", flat.diagnostics, tilted.diagnostics);
+    (flat, tilted)
+}
+
+/// A point of the plane tilted by SPB+30, given in the workpiece's coordinates, in the plane's:
+/// Ry(30)^T of it.
+fn back_from_spb30(v: [f64; 3]) -> [f64; 3] {
+    let t = 30f64.to_radians();
+    [t.cos() * v[0] - t.sin() * v[2], v[1], t.sin() * v[0] + t.cos() * v[2]]
 }
 
 /// The manual's example with `RL` in a plane tilted 30 deg (PLANE SPATIAL SPB+30 on the Hermle):
@@ -202,16 +218,8 @@ fn corners_that_cannot_be_made_are_refused_at_their_block() {
 /// are the untilted reading's, the rounding arc written in the plane's frame.
 #[test]
 fn rnd_in_a_tilted_plane_rounds_in_the_planes_coordinates() {
-    let hermle = fiveaxis::machine::Machine::hermle_c600u();
-    let mut options = table("T3 P3 D6\n").on(&hermle);
-    options.tool_table = table("T3 P3 D6\n").tool_table;
-    let body = "2 L X-10 Y+40 Z+5 R0 FMAX\n3 L X+10 Y+40 RL F300\n4 L X+40 Y+25\n5 RND R5 F100\n6 L X+10 Y+5\n7 L X-10 Y+5 R0\n8 END PGM RND MM\n";
-    let flat = read(&format!("0 BEGIN PGM RND MM\n1 TOOL CALL 3 Z S3000\n{body}"), Dialect::Klartext, "rnd.h", &options);
-    let tilted = read(&format!("0 BEGIN PGM RND MM\n1 TOOL CALL 3 Z S3000\n1 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n{body}"), Dialect::Klartext, "rnd.h", &options);
-    assert!(errors(&flat).is_empty() && errors(&tilted).is_empty(), "{:#?} {:#?}", flat.diagnostics, tilted.diagnostics);
-    let t = 30f64.to_radians();
-    // Ry(30)^T: the workpiece's coordinates into the plane's.
-    let back = |v: [f64; 3]| [t.cos() * v[0] - t.sin() * v[2], v[1], t.sin() * v[0] + t.cos() * v[2]];
+    let body = "2 L X-10 Y+40 Z+5 R0 FMAX\n3 L X+10 Y+40 RL F300\n4 L X+40 Y+25\n5 RND R5 F100\n6 L X+10 Y+5\n7 L X-10 Y+5 R0\n8 END PGM T MM\n";
+    let (flat, tilted) = flat_and_tilted("1 TOOL CALL 3 Z S3000\n", body);
     let moves = |p: &Program| -> Vec<(u64, fiveaxis::program::Motion, [f64; 3], Option<[f64; 3]>)> {
         p.blocks.iter().filter(|b| b.number.is_some_and(|n| (3..=7).contains(&n)) && b.targets.x.is_some() && b.targets.y.is_some()).map(|b| (b.number.unwrap(), b.motion, [b.targets.x.unwrap(), b.targets.y.unwrap(), b.targets.z.unwrap_or(0.0)], b.arc.as_ref().map(|a| a.centre))).collect()
     };
@@ -219,7 +227,7 @@ fn rnd_in_a_tilted_plane_rounds_in_the_planes_coordinates() {
     assert_eq!(f.len(), k.len(), "{f:?}\n{k:?}");
     assert!(f.iter().any(|m| m.0 == 5 && m.1 == Motion::ArcCw), "the rounding arc: {f:?}");
     for (a, b) in f.iter().zip(&k) {
-        let (pb, cb) = (back(b.2), b.3.map(back));
+        let (pb, cb) = (back_from_spb30(b.2), b.3.map(back_from_spb30));
         assert!(a.0 == b.0 && a.1 == b.1 && (0..2).all(|i| (a.2[i] - pb[i]).abs() < 1e-9), "{a:?} vs {b:?} turned back {pb:?}");
         if let (Some(ca), Some(cb)) = (a.3, cb) {
             assert!((0..2).all(|i| (ca[i] - cb[i]).abs() < 1e-9), "{a:?} vs {b:?}: centre {cb:?}");
@@ -249,17 +257,11 @@ fn a_pole_after_the_held_element_keeps_its_place() {
 /// plane's end point in the workpiece's).
 #[test]
 fn ct_after_an_arc_in_a_tilted_plane() {
-    let hermle = fiveaxis::machine::Machine::hermle_c600u();
-    let options = ReadOptions::default().on(&hermle);
     let body = "2 L X+10 Y+0 Z+5 FMAX\n3 CC X+0 Y+0\n4 C X+0 Y+10 DR+ F300\n5 CT X-10 Y+0\n6 END PGM T MM\n";
-    let flat = read(&format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S3000\n{body}"), Dialect::Klartext, "t.h", &options);
-    let tilted = read(&format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S3000\n1 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN FMAX\n{body}"), Dialect::Klartext, "t.h", &options);
-    assert!(errors(&flat).is_empty() && errors(&tilted).is_empty(), "{:#?} {:#?}", flat.diagnostics, tilted.diagnostics);
-    let t = 30f64.to_radians();
-    let back = |v: [f64; 3]| [t.cos() * v[0] - t.sin() * v[2], v[1], t.sin() * v[0] + t.cos() * v[2]];
+    let (flat, tilted) = flat_and_tilted("1 TOOL CALL 1 Z S3000\n", body);
     let ct = |p: &Program| p.blocks.iter().find(|b| b.number == Some(5)).and_then(|b| b.arc.as_ref().map(|a| a.centre)).expect("block 5 an arc");
     // Tangent to the circle about the origin at (0, 10), on to (-10, 0): the same circle.
-    let (c_flat, c_tilted) = (ct(&flat), back(ct(&tilted)));
+    let (c_flat, c_tilted) = (ct(&flat), back_from_spb30(ct(&tilted)));
     assert!(c_flat[0].abs() < 1e-9 && c_flat[1].abs() < 1e-9, "{c_flat:?}");
     assert!(c_tilted[0].abs() < 1e-9 && c_tilted[1].abs() < 1e-9, "{c_tilted:?}");
 }

@@ -378,12 +378,11 @@ impl super::stream::LineReader for DinReader {
                 continue;
             }
             // `M128 F1000`: the feed of the linear axes' compensating movements, not the path's
-            // (iTNC 530 ISO user's manual 340 49x-04 §7.5: "After M128 you can program another feed
-            // rate, at which the TNC will carry out the compensation movements in the linear axes").
+            // ([`super::interp::m128_feed_said`]).
             if let Some(k) = words.iter().position(|w| w.letter == 'M' && w.value == 128.0) {
                 if let Some(f) = words[k + 1..].iter().position(|w| w.letter == 'F').map(|j| k + 1 + j) {
                     let w = words.remove(f);
-                    diags.warning(line, w.column, format!("F{}: the feed of the linear axes' compensating movements under M128, not the path's feed; not modelled (the machine file's axis limits bound them, as the TNC's MP7471 does)", w.raw));
+                    diags.warning(line, w.column, super::interp::m128_feed_said(&format!("F{}", w.raw)));
                 }
             }
             if let Err((col, why)) = self.machine_coordinates(&words) {

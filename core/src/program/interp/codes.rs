@@ -51,6 +51,15 @@ pub(super) fn tnc_m_code(code: i64) -> Result<(), &'static str> {
     }
 }
 
+/// What a TNC program's `F` after `M128` in its block is (`M128 F1000`, iTNC 530 ISO user's manual
+/// 340 49x-04 §7.5: "After M128 you can program another feed rate, at which the TNC will carry out
+/// the compensation movements in the linear axes", bounded by MP7471; "L X+0 Y+38.5 IB-15 RL F125
+/// M128 F1000"): the warning that says so, as neither it nor MP7471 is modelled (the machine file's
+/// axis limits bound those movements). `written`: the word as the program has it.
+pub(crate) fn m128_feed_said(written: &str) -> String {
+    format!("{written}: the feed of the linear axes' compensating movements under M128, not the path's feed; not modelled (the machine file's axis limits bound them, as the TNC's MP7471 does)")
+}
+
 /// A G word's code times ten, as LinuxCNC numbers them (G41.1 is 411): no text to compare.
 pub(crate) fn x10(w: &Word) -> i64 {
     (w.value * 10.0).round() as i64

@@ -17,7 +17,7 @@ mod state_params;
 pub(crate) use modal::ModalState;
 pub(crate) use rotation::rot;
 pub(crate) use block::polar_step;
-pub(crate) use codes::{lcnc_group, x10};
+pub(crate) use codes::{lcnc_group, m128_feed_said, x10};
 
 pub use arc::{ARC_RADIUS_TOLERANCE, SINUMERIK_CIRCLE_ERROR_CONST, SINUMERIK_CIRCLE_ERROR_FACTOR, TNC_CIRCLE_TOLERANCE};
 

@@ -93,14 +93,9 @@ impl Exec {
     /// `--tool-table`, Q108 is left unset, and a use of it says why.
     fn preassign_tool(&mut self, interp: &Interpreter) {
         self.q.insert("Q109".into(), 2.0);
-        let radius = match (self.tool, self.tool_name.as_deref(), interp.tool_table()) {
-            (Some(t), _, Some(table)) => table.diameter(t).map(|d| d / 2.0),
-            (None, Some(name), Some(table)) => table.diameter_by_name(name).ok().map(|d| d / 2.0),
-            _ => None,
-        };
-        match radius {
-            Some(r) => self.q.insert("Q108".into(), r / interp.unit()),
-            None => self.q.remove("Q108"),
+        match self.called_tool(interp) {
+            Ok((_, d)) => self.q.insert("Q108".into(), d / 2.0 / interp.unit()),
+            Err(_) => self.q.remove("Q108"),
         };
     }
 
@@ -244,12 +239,13 @@ impl Exec {
                 }
             }
             Kind::Tool { events, feed } => {
-                // The tool by number (`TOOL CALL 5`); one called by name is not looked up. A call
-                // without a tool (`TOOL CALL Z S5000`: a new speed) keeps the one in the spindle.
+                // The tool by number (`TOOL CALL 5`) or by name (`TOOL CALL "NAME"`, the table's NAME
+                // column). A call without a tool (`TOOL CALL Z S5000`: a new speed) keeps the one in
+                // the spindle.
                 if let Some(t) = events.iter().find_map(|e| e.strip_prefix('T')) {
                     self.tool = t.parse::<u32>().ok();
-                    // `TOOL CALL "NAME"`: the tool the table's NAME column names.
                     self.tool_name = t.strip_prefix('"').map(|n| n.trim_end_matches('"').to_string());
+                    self.preassign_tool(interp);
                 }
                 if let Some(sp) = events.iter().find_map(|e| e.strip_prefix('S')) {
                     self.spindle = super::parse_val(sp).and_then(|v| match v {
@@ -263,9 +259,6 @@ impl Exec {
                 }
                 if let Some(f) = feed {
                     self.tool_feed = self.value(f, s.line, diags).map(|v| (v, f.raw.to_string()));
-                }
-                if events.iter().any(|e| e.starts_with('T')) {
-                    self.preassign_tool(interp);
                 }
             }
             Kind::Misc(m) => ends = self.m_words(m, &mut words, s.line, diags),
@@ -546,27 +539,28 @@ impl Exec {
         if !matches!(shape, Shape::Line | Shape::LinePolar) {
             return Err("\"You cannot activate radius compensation in a circle block. Activate it beforehand in a straight-line block\" (TNC 620 ISO user's manual, p. 154)".into());
         }
-        let named = self.tool.is_none().then_some(self.tool_name.as_deref()).flatten();
-        if let Some(name) = named {
-            let Some(table) = interp.tool_table() else {
-                return Err(format!("the radius is tool \"{name}\"'s in the tool table: give it with --tool-table (the TNC's TOOL.T, with its NAME column)"));
-            };
-            return match table.diameter_by_name(name)? {
-                d if d < 0.0 => Err(format!("tool \"{name}\"'s radius in the tool table (R + DR) is negative ({} mm): not read", d / 2.0 / MM)),
-                d => Ok(d / 2.0),
-            };
+        let (who, d) = self.called_tool(interp)?;
+        // What the TNC makes of a negative R + DR under RL/RR is not in the manuals read here.
+        if d < 0.0 {
+            return Err(format!("{who}'s radius in the tool table (R + DR) is negative ({} mm): not read", d / 2.0 / MM));
         }
-        let Some(tool) = self.tool else {
-            return Err("the radius is the called tool's, and no TOOL CALL by number or name comes before this block".into());
-        };
-        let Some(table) = interp.tool_table() else {
-            return Err(format!("the radius is tool {tool}'s in the tool table: give it with --tool-table (the TNC's TOOL.T, or LinuxCNC's tool.tbl)"));
-        };
-        match table.diameter(tool) {
-            // What the TNC makes of a negative R + DR under RL/RR is not in the manuals read here.
-            Some(d) if d < 0.0 => Err(format!("tool {tool}'s radius in the tool table (R + DR) is negative ({} mm): not read", d / 2.0 / MM)),
-            Some(d) => Ok(d / 2.0),
-            None => Err(format!("tool {tool} is not in the tool table")),
+        Ok(d / 2.0)
+    }
+
+    /// The tool of the last TOOL CALL, by number or by name (`TOOL CALL "MILL_D10"`, the table's
+    /// NAME column), as messages name it, and its diameter 2 (R + DR) in the tool table, m; why not.
+    fn called_tool(&self, interp: &Interpreter) -> Result<(String, f64), String> {
+        match (self.tool, self.tool_name.as_deref()) {
+            (Some(tool), _) => {
+                let table = interp.tool_table().ok_or_else(|| format!("the radius is tool {tool}'s in the tool table: give it with --tool-table (the TNC's TOOL.T, or LinuxCNC's tool.tbl)"))?;
+                let d = table.diameter(tool).ok_or_else(|| format!("tool {tool} is not in the tool table"))?;
+                Ok((format!("tool {tool}"), d))
+            }
+            (None, Some(name)) => {
+                let table = interp.tool_table().ok_or_else(|| format!("the radius is tool \"{name}\"'s in the tool table: give it with --tool-table (the TNC's TOOL.T, with its NAME column)"))?;
+                Ok((format!("tool \"{name}\""), table.diameter_by_name(name)?))
+            }
+            (None, None) => Err("the radius is the called tool's, and no TOOL CALL by number or name comes before this block".into()),
         }
     }
 

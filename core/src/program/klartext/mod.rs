@@ -588,18 +588,11 @@ fn joined_direction<'a>(toks: &[(&'a str, usize)]) -> Option<(Vec<(&'a str, usiz
     Some((out, first))
 }
 
-/// `M128 F1000`: the feed of the linear axes' compensating movements while M128 keeps the tool tip
-/// (iTNC 530 ISO user's manual 340 49x-04 §7.5: "After M128 you can program another feed rate, at
-/// which the TNC will carry out the compensation movements in the linear axes", bounded by MP7471;
-/// "L X+0 Y+38.5 IB-15 RL F125 M128 F1000"), not the path's feed: said, as neither it nor MP7471 is
-/// modelled (the machine file's axis limits bound those movements).
+/// `M128 F1000`: the feed of the linear axes' compensating movements, not the path's
+/// ([`crate::program::interp::m128_feed_said`]).
 fn m128_feed(tok: &str, rest: &str, col: usize, line: usize, diags: &mut Diags) {
     if value_word("F", rest, tok, col, line, diags).is_some() {
-        diags.warning(
-            line,
-            col,
-            format!("{}: the feed of the linear axes' compensating movements under M128, not the path's feed; not modelled (the machine file's axis limits bound them, as the TNC's MP7471 does)", excerpt(tok)),
-        );
+        diags.warning(line, col, crate::program::interp::m128_feed_said(&excerpt(tok)));
     }
 }
 
