@@ -10,6 +10,7 @@ mod fanuc;
 mod klartext;
 mod linuxcnc;
 mod shop_words;
+mod sinumerik_trc;
 mod tnc_comp;
 mod tnc_corners;
 mod tnc_words;
@@ -241,7 +242,7 @@ fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
     has(&p, 2, 5, "ROT");
     has(&p, 3, 5, "CYCLE800");
     has(&p, 4, 7, "R1 is read before this program sets it");
-    has(&p, 5, 5, "cutter radius compensation");
+    has(&p, 5, 5, "no tool was loaded");
     has(&p, 6, 1, "without TRAORI");
     has(&p, 7, 5, "this call of another program is not read");
     has(&p, 8, 7, "DC");

@@ -22,8 +22,9 @@ fn pocket(m: &str) -> String {
 
 /// M110 slows the tool centre on an arc whose inside it runs on so that the cutting edge keeps F:
 /// F (rho - r) / rho, rho the programmed radius (20 mm), r the tool's (3 mm); an arc whose outside
-/// it runs on keeps F, and so does every arc under M111 or without compensation. M109 would also
-/// speed up the outside arcs and the TNC's transitional arcs, whose feed no manual gives: refused.
+/// it runs on keeps F, and so does every arc under M111 or without compensation. M109 also speeds
+/// up the outside arcs, F (rho + r) / rho; the TNC's transitional arcs at outside corners, whose
+/// feed under it no manual gives, are refused.
 #[test]
 fn m110_keeps_the_feed_at_the_cutting_edge_on_inside_arcs() {
     let t = table("T3 P3 D6\n");
@@ -48,8 +49,16 @@ fn m110_keeps_the_feed_at_the_cutting_edge_on_inside_arcs() {
     let p = read(&plain, Dialect::Klartext, "m.h", &t);
     assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
     assert!(p.blocks.iter().filter(|b| b.motion.is_arc()).all(|b| feed(b) == 400.0));
+    // M109 speeds up the outside arc too: 400 x 23/20 = 460.
     let p = read(&pocket("M109"), Dialect::Klartext, "m.h", &t);
-    assert!(errors(&p).iter().any(|(_, _, m)| m.contains("M109")), "{:#?}", errors(&p));
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let arcs: Vec<f64> = p.blocks.iter().filter(|b| b.motion.is_arc() && matches!(b.number, Some(6 | 8))).map(feed).collect();
+    assert!((arcs[0] - 340.0).abs() < 1e-9 && (arcs[1] - 460.0).abs() < 1e-9, "{arcs:?}");
+    // At an outside corner the TNC's transitional arc has no radius on the contour: its feed under
+    // M109 is in no manual, refused there (block 6, after the corner at (40, 0) turning right).
+    let corner = "0 BEGIN PGM M MM\n1 TOOL CALL 3 Z S3000\n2 L X-20 Y+20 Z-2 R0 FMAX\n3 M109\n4 L X+0 Y+0 RL F400\n5 L X+40\n6 L Y-40\n7 L X+60 Y-60 R0\n8 END PGM M MM\n";
+    let p = read(corner, Dialect::Klartext, "m.h", &t);
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 7 && m.contains("M109")), "{:#?}", errors(&p));
 }
 
 /// M116 reads a rotary axis' F in mm/min at the tool's distance from the axis, which is not

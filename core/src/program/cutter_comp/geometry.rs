@@ -221,6 +221,7 @@ pub(super) fn straight(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3],
                 arc_block(b, mid, Some(c[2]), opxy, if side == Side::Left { -1 } else { 1 })
             };
             st.queue.push(Held::Other(corner));
+            st.corner_arcs += 1;
             st.dequeue(out);
             st.endpoint = Some(mid);
         } else if concave {
@@ -380,6 +381,7 @@ pub(super) fn arc(st: &mut CompState, b: &Block, op: [f64; 3], p: [f64; 3], cent
             let mid = polar(opxy, r, delta);
             st.dequeue(out);
             st.queue.push(Held::Other(arc_block(b, mid, Some(c[2]), opxy, if side == Side::Left { -1 } else { 1 })));
+            st.corner_arcs += 1;
             st.dequeue(out);
             st.endpoint = Some(mid);
         } else {

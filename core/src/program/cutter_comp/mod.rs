@@ -146,6 +146,9 @@ pub(crate) struct CompState {
     /// resynchronises its position from the machine after `M6`).
     arc_not_allowed: bool,
     resync: Option<[f64; 2]>,
+    /// Arcs inserted about outside corners so far (a rapid's straight way round counts too): where
+    /// a feed rule on arcs meets one, its feed there is in no manual ([`tnc::TncComp::feed`]).
+    corner_arcs: usize,
 }
 
 /// The most blocks compensation holds while it waits for the next move in the plane: the blocks

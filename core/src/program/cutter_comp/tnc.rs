@@ -46,6 +46,11 @@ impl TncComp {
         self.st.on.is_some() || !self.st.queue.is_empty()
     }
 
+    /// Compensation was started and no contour element has followed the block that started it.
+    pub(crate) fn entry_only(&self) -> bool {
+        self.st.on.as_ref().is_some_and(|c| c.radius > 0.0 && (c.entry_held || c.first))
+    }
+
     /// The side in effect, if any.
     pub(crate) fn side(&self) -> Option<Side> {
         self.st.on.as_ref().map(|c| c.side)
@@ -71,13 +76,6 @@ impl TncComp {
     /// centre at F (rho - r) / rho on an arc of radius rho.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn feed(&mut self, mut b: Block, op: [f64; 6], p: [f64; 6], unit: f64, tilt: Option<Matrix3<f64>>, arc_feed: ArcFeed, out: &mut Vec<Block>) -> Result<(), Fail> {
-        if arc_feed == ArcFeed::Edge && self.st.on.is_some() && !b.targets.is_empty() {
-            // At an outside corner the TNC inserts an arc about the corner, a contour of no radius:
-            // M109's feed on it ("On very small outside corners the TNC may increase the feed rate so
-            // much that the tool or workpiece can be damaged", TNC 640 ISO user's manual
-            // 34059x-01 §9.4) is in no manual at hand.
-            return Err(Fail::NotRead("M109 (the feed kept at the cutting edge on outside arcs too) with radius compensation on is not read: the TNC's feed on its transitional arcs at outside corners is in no manual at hand (M110 is read)".into()));
-        }
         let tilt = tilted(tilt);
         if let Some(r) = &tilt {
             if b.targets.a.is_some() || b.targets.b.is_some() || b.targets.c.is_some() {
@@ -86,9 +84,17 @@ impl TncComp {
             to_plane(&mut b, r);
         }
         let from = out.len();
+        let corners = self.st.corner_arcs;
         let done = self.offset(b, op, p, unit, arc_feed, out);
         if let Some(r) = &tilt {
             out[from..].iter_mut().for_each(|b| to_workpiece(b, r));
+        }
+        if done.is_ok() && arc_feed == ArcFeed::Edge && self.st.corner_arcs > corners {
+            // At an outside corner the control inserts an arc about the corner, a contour of no
+            // radius: the feed kept at the cutting edge there ("On very small outside corners the TNC
+            // may increase the feed rate so much that the tool or workpiece can be damaged", TNC 640
+            // ISO user's manual 34059x-01 §9.4) is in no manual at hand.
+            return Err(Fail::NotRead("the feed kept at the cutting edge on outside arcs too (a TNC's M109, the 840D's CFC, its reset state) at an outside corner with radius compensation on: the control's feed on the arc it inserts about the corner is in no manual at hand (M110 or M111, CFIN or CFTCP, are read)".into()));
         }
         done
     }
@@ -126,8 +132,9 @@ impl TncComp {
                 let centre = [spec.centre[0], spec.centre[1]];
                 super::geometry::arc(&mut self.st, &b, op, p, centre, turn, metric, unit, out)?;
                 let side = self.st.on.as_ref().map_or(Side::Left, |c| c.side);
-                if arc_feed == ArcFeed::EdgeInside && super::geometry::inside(side, turn) {
-                    self.slow_inside_arc(centre, [p[0], p[1]], radius)?;
+                let inside = super::geometry::inside(side, turn);
+                if arc_feed == ArcFeed::Edge || (arc_feed == ArcFeed::EdgeInside && inside) {
+                    self.edge_feed(centre, [p[0], p[1]], if inside { -radius } else { radius })?;
                 }
                 Ok(())
             }
@@ -135,18 +142,22 @@ impl TncComp {
         }
     }
 
-    /// M110 on the arc just queued, offset inside the programmed one of radius |end - centre|: its
-    /// feed times (rho - r) / rho, the cutting edge on the contour at the programmed feed.
-    fn slow_inside_arc(&mut self, centre: [f64; 2], end: [f64; 2], r: f64) -> Result<(), Fail> {
+    /// M109/M110 (the 840D's CFC/CFIN) on the arc just queued, offset by `r` from the programmed
+    /// one of radius rho = |end - centre| (negative: inside it): its feed times (rho + r) / rho, the
+    /// cutting edge on the contour at the programmed feed (SINUMERIK 808D Programming and Operating
+    /// Manual (Milling) 01/2014 p. 79: F (r_cont + r_tool) / r_cont outside, (r_cont - r_tool) / r_cont
+    /// inside).
+    fn edge_feed(&mut self, centre: [f64; 2], end: [f64; 2], r: f64) -> Result<(), Fail> {
         let rho = (end[0] - centre[0]).hypot(end[1] - centre[1]);
+        let not_read = || Fail::NotRead("the feed at the cutting edge on an arc radius compensation did not offset about its centre is not read".into());
         let Some(super::Held::Arc { block, centre: c, .. }) = self.st.queue.last_mut() else {
-            return Err(Fail::NotRead("M110 on an arc radius compensation did not offset about its centre is not read".into()));
+            return Err(not_read());
         };
-        if (c[0] - centre[0]).hypot(c[1] - centre[1]) > 1e-9 * (1.0 + rho) || !(rho > r) {
-            return Err(Fail::NotRead("M110 on an arc radius compensation did not offset about its centre is not read".into()));
+        if (c[0] - centre[0]).hypot(c[1] - centre[1]) > 1e-9 * (1.0 + rho) || !(rho + r > 0.0) {
+            return Err(not_read());
         }
         if let Some(f) = block.feed.as_mut() {
-            f.value_per_min *= (rho - r) / rho;
+            f.value_per_min *= (rho + r) / rho;
         }
         Ok(())
     }
@@ -161,6 +172,26 @@ impl TncComp {
             out[from..].iter_mut().for_each(|b| to_workpiece(b, r));
         }
         done
+    }
+
+    /// The block that ends compensation (`R0`, the 840D's `G40`), programmed to `end` (program
+    /// coordinates, m): the last element's move ends perpendicular to it at its end, everything held
+    /// goes out, then this block runs from there to its programmed point (in a tilted plane, placed
+    /// in the workpiece's coordinates).
+    pub(crate) fn leave(&mut self, mut b: Block, end: [f64; 6], unit: f64, tilt: Option<Matrix3<f64>>, out: &mut Vec<Block>) -> Result<(), Fail> {
+        self.stop(unit, tilt, out)?;
+        match tilt {
+            Some(r) => {
+                let w = r * Vector3::new(end[0], end[1], end[2]);
+                (b.targets.x, b.targets.y, b.targets.z) = (Some(w.x), Some(w.y), Some(w.z));
+            }
+            None => {
+                b.targets.x.get_or_insert(end[0]);
+                b.targets.y.get_or_insert(end[1]);
+            }
+        }
+        out.push(b);
+        Ok(())
     }
 
     fn release(&mut self, unit: f64, out: &mut Vec<Block>) -> Result<(), Fail> {

@@ -483,22 +483,7 @@ impl Exec {
                 let r0 = matches!(comp_word, Some((None, _, _))) && self.comp.side().is_some();
                 let placed = if r0 {
                     // R0: the tool leaves the last element perpendicular to it, for the programmed point.
-                    let mut b = b;
-                    let tilt = interp.tilt();
-                    self.comp.stop(unit, tilt, out).map_err(|why| Stop { line: s.line, col: s.col, why }).map(|()| {
-                        match tilt {
-                            // The programmed point, in the plane's coordinates, placed in the workpiece's.
-                            Some(r) => {
-                                let w = r * nalgebra::Vector3::new(end[0], end[1], end[2]);
-                                (b.targets.x, b.targets.y, b.targets.z) = (Some(w.x), Some(w.y), Some(w.z));
-                            }
-                            None => {
-                                b.targets.x.get_or_insert(end[0]);
-                                b.targets.y.get_or_insert(end[1]);
-                            }
-                        }
-                        out.push(b);
-                    })
+                    self.comp.leave(b, end, unit, interp.tilt(), out).map_err(|why| Stop { line: s.line, col: s.col, why })
                 } else {
                     // A contour element at a feed is held while the statement after it may be an
                     // RND or CHF that cuts its end ([`super::corners`]).

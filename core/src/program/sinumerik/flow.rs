@@ -396,12 +396,17 @@ impl FlowRunner {
             }
             None => self.reader.line(line, text, out, diags),
         }
+        // Tool radius compensation could not go on: the program stops there.
+        if self.reader.interp.halted {
+            return Next::Ended;
+        }
         let program_end = ends_program(&out[before..], &[2.0, 30.0]);
         if self.level > 0 && program_end {
             out.truncate(before);
             return stop(line, 1, "M2 or M30 in a subprogram: whether it returns or ends the program is not read (the manual's page is not in reach)".into(), diags);
         }
-        if ends_program(&out[before..], &[17.0]) {
+        // M17 held by tool radius compensation with the move before it returns all the same.
+        if ends_program(&out[before..], &[17.0]) || std::mem::take(&mut self.reader.returned) {
             self.end = End::Returned;
             return Next::Ended;
         }
@@ -479,6 +484,10 @@ impl Jumping for FlowRunner {
 
     fn finish(&mut self, ended: bool, out: &mut Vec<Block>, diags: &mut Diags) {
         self.reader.finish(None, out, diags);
+        // The main program's end: compensation still on lets its held blocks out.
+        if self.level == 0 {
+            self.reader.trc_end(self.reached.max(1), out, diags);
+        }
         if ended {
             return;
         }

@@ -192,6 +192,10 @@ pub(crate) struct Lexed<'a> {
     pub edge: Option<(f64, usize)>,
     /// `RPL=`: a frame's rotation in the working plane, degrees, and its column.
     pub rpl: Option<(f64, usize)>,
+    /// `DISC=` (the transition circle's distortion, 0 to 100) and `OFFN=` (the contour's offset),
+    /// tool radius compensation's settings ([`super::trc`]), with their columns.
+    pub disc: Option<(f64, usize)>,
+    pub offn: Option<(f64, usize)>,
 }
 
 /// Where the expression that starts at byte `start` ends: at a blank or `;` outside brackets and
@@ -282,7 +286,7 @@ pub(super) fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
 pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: &mut Vars, diags: &mut Diags) -> Lexed<'a> {
     let b = src.as_bytes();
     let n = b.len();
-    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None };
+    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None };
     let mut vec3: [Option<f64>; 3] = [None; 3];
     let mut vec_col = 0;
     let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
@@ -473,6 +477,8 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             "TURN" if value.fract() == 0.0 && (0.0..1000.0).contains(&value) => out.words.push(word('P', value + 1.0, format!("{}", value + 1.0).into())),
             "TURN" => diags.error(line, col, format!("TURN={text}: expected a whole number of turns, 0 to 999")),
             "RPL" => out.rpl = Some((value, col)),
+            "DISC" if with_eq => out.disc = Some((value, col)),
+            "OFFN" if with_eq => out.offn = Some((value, col)),
             name if with_eq && vars.is_variable(name) => {
                 if let Err(why) = vars.assign(name, value) {
                     diags.error(line, col, why);

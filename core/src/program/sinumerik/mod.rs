@@ -30,6 +30,7 @@ mod frame;
 mod lex;
 mod subprogram;
 mod swivel;
+mod trc;
 
 use super::interp::{Dimension, Interpreter, OneShot, Word};
 use super::lex::{Columns, Diags};
@@ -62,6 +63,10 @@ pub(crate) struct SinumerikReader {
     swivel: Option<Frame>,
     /// The machine, for the swivel's kinematics.
     machine: Option<std::sync::Arc<crate::machine::Machine>>,
+    /// Tool radius compensation ([`trc`]).
+    trc: trc::Trc,
+    /// A block with M17 went into compensation's held blocks: the subprogram returns there.
+    pub(super) returned: bool,
 }
 
 impl SinumerikReader {
@@ -74,6 +79,8 @@ impl SinumerikReader {
             mcall: None,
             swivel: None,
             machine: setup.machine.clone(),
+            trc: trc::Trc::default(),
+            returned: false,
         }
     }
 
@@ -139,12 +146,16 @@ impl super::stream::LineReader for SinumerikReader {
             && !lexed.words.iter().any(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "60" | "64" | "9" | "53"));
         let saved = (!plain).then(|| (self.interp.clone(), self.frame, self.mcall.clone(), self.swivel));
         let (tool_offsets, vector, refused_line) = (self.tool_offsets, self.interp.pending_vector(), self.interp.refused_line);
+        // Compensation's settings, a few words, taken back too (its held path is fed last, once
+        // the block is read).
+        let trc_settings = self.trc.set.clone();
         let blocks_before = out.len();
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             if let Some(saved) = saved {
                 (self.interp, self.frame, self.mcall, self.swivel) = saved;
             }
             self.tool_offsets = tool_offsets;
+            self.trc.set = trc_settings;
             if plain {
                 self.interp.restore_pending_vector(vector);
                 self.interp.refused_line = refused_line;
@@ -162,7 +173,19 @@ impl SinumerikReader {
     /// Run one block's words; false (or an error in `diags`) if it is refused.
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
-        let Lexed { mut words, number, keywords, vector, edge, rpl } = lexed;
+        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn } = lexed;
+        // Tool radius compensation's codes and keywords, taken out of the block; while it is on (or
+        // selected here) what would move its frame, tool or machine is refused.
+        let mut codes = trc::Codes::default();
+        keywords.retain(|k| !codes.keyword(&k.name, k.col));
+        words.retain(|w| !(w.letter == 'G' && codes.g(w)));
+        let selecting = matches!(codes.select, Some((Some(_), _)));
+        if self.trc.busy() || selecting {
+            if let Some(k) = keywords.iter().find(|k| !trc::harmless(&k.name)) {
+                diags.error(line, k.col, format!("{} with tool radius compensation (G41/G42) on is not read: deselect it with G40 before", k.name));
+                return false;
+            }
+        }
         // STOPRE, the preprocessing stop (Programming Manual Job Planning, "Preprocessing stop"), in a
         // block of its own: the blocks after it are prepared only once it is executed, so the motion
         // before it has nothing to blend into and ends in a stop. A stop before the next block, as a
@@ -214,6 +237,8 @@ impl SinumerikReader {
                     frame_statement = Statement::from_name(&k.name).map(|s| (s, k.col));
                 }
                 "SUPA" => machine_coords = Some((k.col, "SUPA")),
+                // 2D compensation in the plane G17-G19 sets (the reset state), collision detection off.
+                "CUT2D" | "CDOF" => {}
                 "MCALL" => self.modal_call(keywords.next(), line, diags),
                 // A call's other words are its own (`CALL BLOCK LABEL1 TO LABEL0`, Autodesk's posts'
                 // program section call): one refusal for the block.
@@ -266,10 +291,12 @@ impl SinumerikReader {
         if diags.errors() > errors_before {
             return false;
         }
+        self.trc.set.settle(&codes, disc.map(|d| d.0), offn.map(|o| o.0));
+        self.trc.set.track(&words, edge.map(|e| e.0.min(u32::MAX as f64) as u32));
         // A block of only a tool vector still moves.
         match vector {
             Some(v) => self.interp.set_pending_vector(v),
-            None if words.is_empty() => return true,
+            None if words.is_empty() && codes.select.is_none() => return self.trc.side().is_none() || self.dummy(line, first_col, diags),
             None => {}
         }
         let (modal_motion, _, _) = self.interp.feed_state();
@@ -287,6 +314,10 @@ impl SinumerikReader {
             }
         }
         let col = words.iter().map(|w| w.column).min().unwrap_or(first_col).min(first_col);
+        if self.trc.busy() || selecting {
+            let positions = positions || vector.is_some();
+            return self.compensated(&words, &codes, motion, machine_coords.is_some(), positions, line, col, number, out, diags);
+        }
         if !self.interp.block(&words, line, col, number, diags, out) {
             return false;
         }
@@ -578,12 +609,12 @@ impl SinumerikReader {
 /// Whether `name` (capitals) is an instruction the reader knows, read or refused ([`SinumerikReader::block`]'s
 /// keywords, the cycles): any other name alone in a block calls the program of that name.
 pub(super) fn is_instruction(name: &str) -> bool {
-    READ_KEYWORDS.contains(&name) || name.starts_with("CYCLE") || unsupported_keyword(name).is_some()
+    READ_KEYWORDS.contains(&name) || trc::KEYWORDS.contains(&name) || name.starts_with("CYCLE") || unsupported_keyword(name).is_some()
 }
 
 /// The keywords [`SinumerikReader::block`] reads.
-pub(super) const READ_KEYWORDS: [&str; 28] = [
-    "STOPRE", "TRAORI", "TRAFOOF", "ORIWKS", "ORIVECT", "ORIPLANE", "ORIMKS", "ORIAXES", "ORIEULER", "ORIRPY", "SOFT", "BRISK", "FFWON", "FFWOF", "FNORM", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "MSG", "SETMS", "EXTERN", "TRANS", "ATRANS", "ROT", "AROT", "SUPA", "MCALL",
+pub(super) const READ_KEYWORDS: [&str; 30] = [
+    "STOPRE", "TRAORI", "TRAFOOF", "ORIWKS", "ORIVECT", "ORIPLANE", "ORIMKS", "ORIAXES", "ORIEULER", "ORIRPY", "SOFT", "BRISK", "FFWON", "FFWOF", "FNORM", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "MSG", "SETMS", "EXTERN", "TRANS", "ATRANS", "ROT", "AROT", "SUPA", "MCALL", "CUT2D", "CDOF",
 ];
 
 /// Why a keyword the reader knows is refused (`None`: a name it does not know).
@@ -594,7 +625,9 @@ fn unsupported_keyword(k: &str) -> Option<&'static str> {
         "ORICONCW" | "ORICONCCW" | "ORICONTO" | "ORICONIO" | "ORICURVE" | "ORIPATH" | "ORIPATHS" | "ORIROTA" | "ORIROTR" | "ORIROTT" | "ORIROTC" => {
             "this orientation interpolation (cone, curve or path-relative) is not modelled"
         }
-        "OFFN" | "CUT2D" | "CUT3DC" | "CUT3DF" => "cutter compensation is not modelled",
+        "OFFN" => "OFFN is written OFFN=<value>",
+        "CUT2DF" | "CUT3DC" | "CUT3DF" | "CUT3DFS" | "CUT3DFF" | "CUT3DCC" | "CUT3DCCD" => "3D tool radius compensation (or 2D in a frame's plane) is not modelled",
+        "CDON" | "CDOF2" => "collision detection (bottleneck detection over several blocks) with tool radius compensation is not read; CDOF is",
         "FGROUP" | "FGREF" => "feed reference axes are not modelled (they change how F is read)",
         "FLIN" | "FCUB" | "FPO" => "a feed profile over the block is not modelled (it changes the speed along it)",
         "GOTOF" | "GOTOB" | "GOTO" | "GOTOC" | "REPEAT" | "REPEATB" | "UNTIL" | "IF" | "ELSE" | "ENDIF" | "WHILE" | "ENDWHILE" | "FOR" | "ENDFOR" | "LOOP" | "ENDLOOP" => {
@@ -642,16 +675,21 @@ fn sinumerik_g(code: &str) -> Result<Option<&'static str>, &'static str> {
         // Exact stop (G group 10) and its window (G group 12, which only G60 reads).
         "60" => "60",
         "601" | "602" | "603" => return Ok(None),
-        // Corner deceleration at inside corners: only with cutter radius compensation (refused).
-        "62" | "621" => return Ok(None),
+        // Corner deceleration (G group 57), which acts only under tool radius compensation ([`trc`]).
+        "62" | "621" => return Ok(Some(if n == "62" { "62" } else { "621" })),
         "9" => "9",
         "4" => "4",
-        "41" | "42" => return Err("cutter radius compensation is not supported"),
+        // Tool radius compensation and its corners ([`trc`]).
+        "41" => "41",
+        "42" => "42",
+        "450" => "450",
+        "451" => "451",
         // Frames suppressed for the block: machine coordinates (the reader's, as SUPA).
         "53" | "153" => "53",
         "95" | "96" | "97" => return Err("feed per revolution or constant cutting speed is not supported"),
         "110" | "111" | "112" => return Err("polar coordinates are not supported"),
         "25" | "26" | "74" | "75" => return Err("working-area limits and reference-point moves are not supported"),
+        "140" | "141" | "142" | "143" | "147" | "148" | "247" | "248" | "347" | "348" | "340" | "341" => return Err("smooth approach and retraction (SAR) is not read"),
         "33" | "331" | "332" | "63" => return Err("threading and tapping are not supported"),
         _ => return Err("unknown G code: not read (it may change the motion)"),
     }))
