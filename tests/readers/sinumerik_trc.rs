@@ -167,3 +167,46 @@ fn a_named_tool_and_a_contour_open_at_the_end() {
     let last_move = p.blocks.iter().rposition(|b| b.number == Some(6)).unwrap();
     assert!(end > last_move);
 }
+
+/// In a plane swivelled by CYCLE800 (the FTV5's data set, mode 57 axis by axis: _A 30, a turn of
+/// 30 deg about X) the contour is the plane's: each compensated point of the tilted reading is the
+/// flat reading's turned by Rx(30 deg), as the TNC's are in its tilted working plane.
+#[test]
+fn in_a_swivelled_plane_the_offsets_are_the_planes() {
+    let ftv5 = fiveaxis::machine::Machine::builtin("cincinnati-ftv5").unwrap();
+    let mut options = ReadOptions::default().on(&ftv5);
+    options.tool_table = table("T3 P3 D6\n").tool_table;
+    let flat = read(&outside("CFTCP"), Dialect::Sinumerik, "c.mpf", &options);
+    let swivelled = outside("CFTCP").replace("N4 G0", "N35 CYCLE800(0,\"R_DATA\",0,57,0,0,0,30,0,0,0,0,0,1)\nN4 G0");
+    let tilted = read(&swivelled, Dialect::Sinumerik, "c.mpf", &options);
+    assert!(errors(&flat).is_empty(), "{:#?}", flat.diagnostics);
+    assert!(errors(&tilted).is_empty(), "{:#?}", tilted.diagnostics);
+    let (s, c) = (30f64.to_radians().sin(), 30f64.to_radians().cos());
+    let points = |p: &Program| -> Vec<[f64; 3]> {
+        p.blocks.iter().filter(|b| b.number.is_some_and(|n| (6..=15).contains(&n))).map(|b| [b.targets.x.unwrap(), b.targets.y.unwrap(), b.targets.z.unwrap_or(f64::NAN)]).collect()
+    };
+    // An arc in the swivelled plane has its centre in the workpiece, as its end point: N8's centre
+    // is (60, 10) in the plane (this was the plane's own coordinates, unturned, before), 10 mm in
+    // the plane from the programmed arc's end without compensation and 13 mm from the tool centre's
+    // with it.
+    let turn = |p: [f64; 3]| [p[0], c * p[1] - s * p[2], s * p[1] + c * p[2]];
+    let back = |p: [f64; 3]| [p[0], c * p[1] + s * p[2], -s * p[1] + c * p[2]];
+    let plain = read(&swivelled.replace("G42 ", "").replace("G40 ", ""), Dialect::Sinumerik, "c.mpf", &options);
+    for (p, rho) in [(&plain, 10.0), (&tilted, 13.0)] {
+        let b = p.blocks.iter().find(|b| b.number == Some(8) && b.motion.is_arc()).expect("N8");
+        let a = b.arc.as_ref().unwrap();
+        let centre = back(a.centre);
+        assert!((centre[0] / MM - 60.0).abs() < 1e-9 && (centre[1] / MM - 10.0).abs() < 1e-9 && a.frame.is_some(), "{a:?}");
+        let end = back([b.targets.x.unwrap(), b.targets.y.unwrap(), b.targets.z.unwrap()]);
+        let d = (end[0] - centre[0]).hypot(end[1] - centre[1]) / MM;
+        assert!((d - rho).abs() < 1e-9, "{d}");
+    }
+    let (f, t) = (points(&flat), points(&tilted));
+    assert_eq!(f.len(), t.len());
+    assert!(f.len() > 10, "{f:?}");
+    for (a, b) in f.iter().zip(&t) {
+        // Z is the plunge's -2 where a block leaves it out.
+        let want = turn([a[0], a[1], if a[2].is_nan() { -2.0 * MM } else { a[2] }]);
+        assert!((0..3).all(|k| (b[k] - want[k]).abs() < 1e-9), "flat {a:?} turned {want:?}, tilted {b:?}");
+    }
+}

@@ -707,12 +707,6 @@ impl Interpreter {
                     // A polar circle's turns (P), as RS274's.
                     as_rs274.extend(words.iter().filter(|w| w.letter == 'P').cloned());
                     arc = resolve_arc(&as_rs274, &st, start, end, line, column, diags.errors() > errors_before, diags);
-                    // An arc in a tilted plane: its centre in the workpiece, its axes the plane's.
-                    if let (Some(r), Some(a)) = (next.tilt, arc.as_mut()) {
-                        let c = r * nalgebra::Vector3::from(a.centre);
-                        a.centre = [c.x, c.y, c.z];
-                        a.frame = Some(ArcSpec::frame_of(&r));
-                    }
                 }
             }
             if arc_motion {
@@ -728,6 +722,13 @@ impl Interpreter {
                 // (A P that another code of the block takes, G4's or G64's, is not the arc's.)
                 diags.error(line, column, "arc words without an end point: expected X, Y or Z with them");
             }
+        }
+        // An arc in a tilted plane (a TNC's PLANE, a Sinumerik frame or CYCLE800, Fanuc's G68.2): its
+        // centre in the workpiece, as its end point is, its axes the plane's.
+        if let (Some(r), Some(a)) = (next.tilt, arc.as_mut()) {
+            let c = r * nalgebra::Vector3::from(a.centre);
+            a.centre = [c.x, c.y, c.z];
+            a.frame = Some(ArcSpec::frame_of(&r));
         }
         if moves && block_motion.is_some_and(|m| m == Motion::Linear || m.is_arc()) {
             match next.feed_mode {
