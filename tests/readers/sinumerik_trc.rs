@@ -135,6 +135,10 @@ fn trc_refusals_name_the_rule() {
         ("T3 D1\nG0 X-20 Y-20\nG41 G1 X0 Y0\nX40\nG40 X60\nM30\n".into(), "3:1:", "without M6"),
         ("G0 X-20 Y-20\nG41 G1 X0 Y0\nX40\nG40 X60\nM30\n".into(), "2:1:", "no tool was loaded"),
         (body("TRAORI\nG41 G1 X0 Y0"), "5:1:", "TRAORI on"),
+        (body("G41 G1 X0 Y0\nG55 X10"), "5:1:", "settable frame"),
+        (body("G41 G1 X0 Y0\nX10 D0"), "5:5:", "tool edge D"),
+        (body("G41 G1 X0 Y0\nG93 X10 F2"), "5:1:", "inverse-time"),
+        (body("G93\nG41 G1 X0 Y0 F2"), "5:1:", "inverse-time"),
     ];
     let cases: Vec<(&str, &str, &str)> = cases.iter().map(|(t, a, n)| (t.as_str(), *a, *n)).collect();
     refuses_each(Dialect::Sinumerik, &t, &cases);
@@ -208,5 +212,50 @@ fn in_a_swivelled_plane_the_offsets_are_the_planes() {
         // Z is the plunge's -2 where a block leaves it out.
         let want = turn([a[0], a[1], if a[2].is_nan() { -2.0 * MM } else { a[2] }]);
         assert!((0..3).all(|k| (b[k] - want[k]).abs() < 1e-9), "flat {a:?} turned {want:?}, tilted {b:?}");
+    }
+}
+
+/// Programs in files beside the main one, by name (as the control finds a subprogram).
+#[derive(Debug)]
+struct Beside(Vec<(&'static str, &'static str)>);
+
+impl fiveaxis::program::SubroutineFiles for Beside {
+    fn find_file(&self, names: &[String], _any_case: bool, own_dir: bool) -> Result<Option<(String, Vec<u8>)>, String> {
+        if !own_dir {
+            return Ok(None);
+        }
+        Ok(names.iter().find_map(|n| self.0.iter().find(|(f, _)| f.eq_ignore_ascii_case(n))).map(|(f, t)| (f.to_string(), t.as_bytes().to_vec())))
+    }
+}
+
+/// Where compensation stops the program nothing after it runs, whatever else the line holds; an
+/// empty block too many is taken back whole (its Z too); a contour in a subprogram returns with
+/// its M17 held and the caller runs on to its end.
+#[test]
+fn a_stop_ends_the_program_a_refused_block_leaves_nothing_and_m17_returns() {
+    let t = table("T3 P3 D6\n");
+    // CFC (the reset state) at the outside corner of line 6, which also says G64.
+    let text = "T3 D1\nM6\nG0 X0 Y10 F500\nG41 G1 X0 Y0\nG1 X20 Y0\nG1 X20 Y-10 G64\nG1 X0 Y-10\nG40 G1 X0 Y-20\nM30\n";
+    let p = read(text, Dialect::Sinumerik, "c.mpf", &t);
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 6 && m.contains("CFC")), "{:#?}", errors(&p));
+    assert!(p.blocks.iter().all(|b| b.line < 7), "{:#?}", p.blocks.iter().map(|b| b.line).collect::<Vec<_>>());
+    // The fourth empty block (line 8, Z-2) is refused: X40 after it runs at the Z before, -1.
+    let text = "T3 D1\nM6\nG0 X-20 Y-20 Z5 F500 CFTCP\nG41 G1 X0 Y0\nZ-1\nM8\nF300\nZ-2\nX40\nG40 G1 X60 Y-20\nM30\n";
+    let p = read(text, Dialect::Sinumerik, "c.mpf", &t);
+    has(&p, 8, 1, "alarm 10762");
+    let x40 = p.blocks.iter().find(|b| b.line == 9).expect("line 9");
+    assert!((x40.targets.z.unwrap() / MM + 1.0).abs() < 1e-12, "{:?}", x40.targets);
+    // The contour's two elements in CONT1, the corner between them rounded, M17 held with the last.
+    let main = "N1 T3 D1\nN2 M6\nN3 G0 X-20 Y-20 Z5 F500 CFTCP\nN4 G1 G41 X0 Y0\nN5 CONT1\nN6 G40 G1 X-20 Y60\nN7 G0 Z50\nN8 M30\n";
+    let options = ReadOptions { subroutine_files: Some(std::sync::Arc::new(Beside(vec![("CONT1.SPF", "G1 Y40\nX40\nM17\n")]))), ..t };
+    let p = read(main, Dialect::Sinumerik, "MAIN.MPF", &options);
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    assert!(p.blocks.iter().any(|b| b.number == Some(7) && b.targets.z.is_some_and(|z| (z / MM - 50.0).abs() < 1e-12)), "N7 ran");
+    assert!(p.blocks.iter().any(|b| b.events.iter().any(|e| e == "M30")), "M30 ran");
+    // N4 ends perpendicular to CONT1's first element (+Y) on its left, (-3, 0); the corner at (0, 40)
+    // is rounded about it to (0, 43), and X40 ends at (40, 43).
+    let ends: Vec<(f64, f64)> = p.blocks.iter().filter_map(|b| Some((b.targets.x? / MM, b.targets.y? / MM))).collect();
+    for want in [(-3.0, 0.0), (-3.0, 40.0), (0.0, 43.0), (40.0, 43.0), (-20.0, 60.0)] {
+        assert!(ends.iter().any(|e| (e.0 - want.0).abs() < 1e-9 && (e.1 - want.1).abs() < 1e-9), "{want:?} in {ends:?}");
     }
 }

@@ -397,7 +397,7 @@ impl FlowRunner {
             None => self.reader.line(line, text, out, diags),
         }
         // Tool radius compensation could not go on: the program stops there.
-        if self.reader.interp.halted {
+        if self.reader.stopped {
             return Next::Ended;
         }
         let program_end = ends_program(&out[before..], &[2.0, 30.0]);
@@ -405,8 +405,9 @@ impl FlowRunner {
             out.truncate(before);
             return stop(line, 1, "M2 or M30 in a subprogram: whether it returns or ends the program is not read (the manual's page is not in reach)".into(), diags);
         }
-        // M17 held by tool radius compensation with the move before it returns all the same.
-        if ends_program(&out[before..], &[17.0]) || std::mem::take(&mut self.reader.returned) {
+        // M17 read in this line (a block tool radius compensation holds comes out later, maybe in
+        // the caller's line: its events do not end that one).
+        if std::mem::take(&mut self.reader.returned) {
             self.end = End::Returned;
             return Next::Ended;
         }

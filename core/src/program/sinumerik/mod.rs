@@ -65,8 +65,11 @@ pub(crate) struct SinumerikReader {
     machine: Option<std::sync::Arc<crate::machine::Machine>>,
     /// Tool radius compensation ([`trc`]).
     trc: trc::Trc,
-    /// A block with M17 went into compensation's held blocks: the subprogram returns there.
+    /// The line just read had M17 (held by compensation or not): the subprogram returns there.
     pub(super) returned: bool,
+    /// Tool radius compensation could not go on: the program stops (kept apart from the
+    /// interpreter, which a refused line takes back).
+    pub(super) stopped: bool,
 }
 
 impl SinumerikReader {
@@ -81,6 +84,7 @@ impl SinumerikReader {
             machine: setup.machine.clone(),
             trc: trc::Trc::default(),
             returned: false,
+            stopped: false,
         }
     }
 
@@ -156,6 +160,7 @@ impl super::stream::LineReader for SinumerikReader {
             }
             self.tool_offsets = tool_offsets;
             self.trc.set = trc_settings;
+            self.returned = false;
             if plain {
                 self.interp.restore_pending_vector(vector);
                 self.interp.refused_line = refused_line;
@@ -174,6 +179,9 @@ impl SinumerikReader {
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
         let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn } = lexed;
+        // A line of a comment alone is no block compensation counts as empty.
+        let written = number.is_some() || !words.is_empty() || !keywords.is_empty() || vector.is_some() || edge.is_some() || disc.is_some() || offn.is_some();
+        let m17 = words.iter().any(|w| w.letter == 'M' && w.value == 17.0);
         // Tool radius compensation's codes and keywords, taken out of the block; while it is on (or
         // selected here) what would move its frame, tool or machine is refused.
         let mut codes = trc::Codes::default();
@@ -183,6 +191,10 @@ impl SinumerikReader {
         if self.trc.busy() || selecting {
             if let Some(k) = keywords.iter().find(|k| !trc::harmless(&k.name)) {
                 diags.error(line, k.col, format!("{} with tool radius compensation (G41/G42) on is not read: deselect it with G40 before", k.name));
+                return false;
+            }
+            if let Some(why) = trc::refused_while_on(&words, edge.map(|e| e.1), self.trc.side().is_some()) {
+                diags.error(line, why.0, why.1);
                 return false;
             }
         }
@@ -296,7 +308,7 @@ impl SinumerikReader {
         // A block of only a tool vector still moves.
         match vector {
             Some(v) => self.interp.set_pending_vector(v),
-            None if words.is_empty() && codes.select.is_none() => return self.trc.side().is_none() || self.dummy(line, first_col, diags),
+            None if words.is_empty() && codes.select.is_none() => return self.trc.side().is_none() || !written || self.dummy(line, first_col, diags),
             None => {}
         }
         let (modal_motion, _, _) = self.interp.feed_state();
@@ -321,6 +333,7 @@ impl SinumerikReader {
         if !self.interp.block(&words, line, col, number, diags, out) {
             return false;
         }
+        self.returned = m17;
         // MCALL: a block that moves the tool calls the cycle where it leaves it.
         if positions && self.mcall.is_some() && machine_coords.is_none() {
             return self.call_cycle(line, col, number, out, diags);

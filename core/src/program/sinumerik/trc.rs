@@ -90,6 +90,23 @@ impl Codes {
     }
 }
 
+/// What a block may not change while compensation is on (or in the block that selects it, `on`
+/// false): the work offset (G54-G57, G500, G505-G599, which the reader writes G54), the edge `D`
+/// (the radius then changes over the block, which is not read), inverse-time feed; its column and
+/// why.
+pub(super) fn refused_while_on(words: &[Word<'_>], edge: Option<usize>, on: bool) -> Option<(usize, String)> {
+    if let Some(w) = words.iter().find(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "54" | "55" | "56" | "57")) {
+        return Some((w.column, "a settable frame (G54-G57, G500, G505-G599) with tool radius compensation (G41/G42) on is not read: deselect it with G40 before".into()));
+    }
+    if let Some(w) = words.iter().find(|w| w.letter == 'G' && w.raw == "93") {
+        return Some((w.column, "inverse-time feed (G93) with tool radius compensation (G41/G42) is not read (the transition circles' time is not given)".into()));
+    }
+    match edge {
+        Some(c) if on => Some((c, "a tool edge D while tool radius compensation (G41/G42) is on is not read: the radius would change over the block (840Di sl Programming Manual 11/2006 p. 353)".into())),
+        _ => None,
+    }
+}
+
 /// The keywords [`Codes::keyword`] reads.
 pub(super) const KEYWORDS: [&str; 8] = ["NORM", "KONT", "KONTC", "KONTT", "FENDNORM", "CFC", "CFTCP", "CFIN"];
 
@@ -354,6 +371,9 @@ impl super::SinumerikReader {
                 if let Some(why) = self.trc.set.unread_setting() {
                     return refuse(diags, c, why);
                 }
+                if self.interp.inverse_time() {
+                    return refuse(diags, c, "with inverse-time feed (G93) it is not read (the transition circles' time is not given)".into());
+                }
                 let r = match self.trc.set.radius(self.interp.tool_table()) {
                     Ok(r) => r,
                     Err(why) => return refuse(diags, c, why),
@@ -411,11 +431,17 @@ impl super::SinumerikReader {
                     }
                 }
                 let start = self.interp.position();
+                // The block that may be one empty block too many: the interpreter as it was, to take back.
+                let before = (on.is_some() && self.trc.set.dummies >= MAX_DUMMY_BLOCKS).then(|| self.interp.clone());
                 let Some(b) = self.interp.block_one(words, line, col, number, diags) else {
                     return false;
                 };
                 let end = self.interp.position();
                 if on.is_some() && (end[0] - start[0]).hypot(end[1] - start[1]) == 0.0 && !self.dummy(line, col, diags) {
+                    // Refused: the block's own state (its Z, its F) goes back too.
+                    if let Some(before) = before {
+                        self.interp = before;
+                    }
                     return false;
                 } else if on.is_some() && (end[0] - start[0]).hypot(end[1] - start[1]) != 0.0 {
                     self.trc.set.dummies = 0;
@@ -457,7 +483,7 @@ impl super::SinumerikReader {
             Err(why) => {
                 diags.error(line, col, stop_message(&why));
                 self.trc.engine = TncComp::default();
-                self.interp.halted = true;
+                self.stopped = true;
                 false
             }
         }
