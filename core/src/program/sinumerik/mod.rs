@@ -11,12 +11,13 @@
 //! machine coordinates (`SUPA`, `G53`, `G153`), variables (`DEF REAL`, R parameters) and
 //! expressions ([`expr`], [`lex`]), `MCALL` of the drilling cycles ([`cycles`]), `CYCLE832` (the
 //! contour tolerance), the swivel cycle `CYCLE800` on the machine file's data set ([`swivel`]), `T`,
-//! `D`, `S`, `M`, `F`, `MSG`, `M30`; jumps and control structures as they run ([`flow`]), and
-//! subprograms called by name, found beside the program or on `--subroutine-path` ([`subprogram`]).
+//! `D`, `S`, `M`, `F`, `MSG`, `M30`; tool radius compensation `G41`/`G42` to `G40` ([`trc`]); jumps
+//! and control structures as they run ([`flow`]), and subprograms called by name, found beside the
+//! program or on `--subroutine-path` ([`subprogram`]).
 //!
 //! What changes the motion and is not modelled is an error at its line and column, never skipped:
 //! `SCALE`/`MIRROR` frames, a rotated frame without `TRAORI`, `CYCLE800` beyond what [`swivel`]
-//! reads, other cycles, `CALL` other than `CALL "NAME"` alone, cutter compensation, orientation by angles
+//! reads, other cycles, `CALL` other than `CALL "NAME"` alone, 3D cutter compensation, orientation by angles
 //! (`A2=`) or cone/polynomial orientation, exact stop on a feed move.
 //!
 //! Orientation interpolation: which of ORIWKS/ORIMKS and ORIVECT/ORIAXES governs depends on machine
