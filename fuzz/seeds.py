@@ -29,6 +29,11 @@ FANUC_FLOW = (b"%\nO0001\n#1=0\nWHILE [#1 LT 3] DO1\nG1 X[#1*10] F100.\n#1=#1+1\
 SINUMERIK_FLOW = (b"DEF INT COUNT\nR1=0\nWHILE R1<3\nG1 X=R1*10 F100\nR1=R1+1\nENDWHILE\nFOR COUNT=1 TO 2\n"
                   b"IF COUNT==1\nG1 Y1\nELSE\nG1 Y2\nENDIF\nENDFOR\nMARK1: R2=R1\nREPEAT\nR2=R2-1\nUNTIL R2<=0\n"
                   b"IF R1<2 GOTOB MARK1\nGOTOF DONE\nLOOP\nENDLOOP\nDONE: M30\n")
+# An 840D contour under tool radius compensation: a tool by name, CFTCP and CFC, arcs by CR, a
+# subprogram-free M17 left out, a stop at a CFC outside corner, D0, refusals (KONT, OFFN, G451).
+SINUMERIK_TRC = (b"T=\"MILL_D6\" D1\nM6\nG17 G90 G71 G94 CFTCP\nG0 X-20 Y-20 Z5\nG1 Z-2 F500\nG1 G42 X0 Y0\n"
+                 b"X60\nG3 X70 Y10 CR=10\nG1 Y40\nZ-3\nM8\nX50\nG2 X40 Y30 CR=10\nCFC\nG1 Y20\nX0\nG40 X-20 Y-10\n"
+                 b"T3 D0\nM6\nG41 G1 X0 Y0 KONT\nOFFN=1\nG451\nG41 X5\nX10\nG42 X20\nG40 X30\nM30\n")
 
 # A Klartext contour: corners (RND, CHF) under RL with M110, a tool called by name and by number,
 # M128's compensating feed, a helix with DR+ written against its F.
@@ -79,7 +84,8 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "flow.haas", bytes([PICK["haas"]]) + FANUC_FLOW)
     put(corpus, "nc_program", "flow.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_FLOW)
     put(corpus, "nc_program", "contour.h", bytes([PICK["klartext"]]) + KLARTEXT_CONTOUR)
-    n += 4
+    put(corpus, "nc_program", "trc.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_TRC)
+    n += 5
     # CL data: the SING cut's first moves as x y z i j k [feed] lines, with a header, comma and space separated.
     cl = b"x,y,z,i,j,k,f\n0,0,-8,0,0,1,2000\n10,0,-8,0,0.0174,0.9998,2000\n25,0,-8,0,0.0003,1,2000\n50 0 -8 0 0 1\n"
     put(corpus, "nc_program", "sing.cl", bytes([PICK["cl"]]) + cl)

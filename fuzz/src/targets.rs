@@ -144,7 +144,13 @@ pub fn nc_program(data: &[u8]) {
     // Every other program a call asks for (an 840D subprogram, a LinuxCNC subroutine's file) is
     // this one again: calls run, nest and recurse on the same mutated text.
     let again = Arc::new(SelfAgain(body.to_vec())) as Arc<dyn fiveaxis::program::SubroutineFiles>;
-    let options = ReadOptions { max_run_lines: 20_000, subroutine_files: Some(again), ..ReadOptions::default() };
+    // A tool table, so that radius compensation (RL/RR, G41/G42) runs rather than stops at the radius.
+    static TOOLS: std::sync::OnceLock<Arc<fiveaxis::program::ToolTable>> = std::sync::OnceLock::new();
+    let tools = TOOLS.get_or_init(|| {
+        let text = "BEGIN TOOL.T MM\nT    NAME       R      DR\n1    MILL_D2    +1     +0\n3    MILL_D6    +3     +0\n4    MILL_D8    +4     -0.01\n5    BIG        +25    +0\n[END]\n";
+        Arc::new(fiveaxis::program::ToolTable::parse(text).expect("the fuzz tool table"))
+    });
+    let options = ReadOptions { max_run_lines: 20_000, subroutine_files: Some(again), tool_table: Some(tools.clone()), ..ReadOptions::default() };
     let program = read(&text, DIALECTS[pick as usize % DIALECTS.len()], "fuzz", &options);
     let _ = program.report();
 }
