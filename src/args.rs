@@ -35,7 +35,7 @@ pub struct ControlArgs {
     /// Heidenhain TNC does (`TOOL.T`: `BEGIN TOOL.T MM`, a line of column names, a row per tool):
     /// the diameters an RS274NGC program's cutter radius compensation `G41`/`G42` takes by its `D`
     /// word or for the tool in the spindle (`G41.1`/`G42.1` write the diameter themselves), and the
-    /// radii (R + DR) a Klartext program's `RL`/`RR` take for the tool it called and a Sinumerik
+    /// radii (R + DR) a Heidenhain program's `RL`/`RR` (DIN/ISO: `G41`/`G42`) take for the tool it called and a Sinumerik
     /// program's `G41`/`G42` for the tool `M6` loaded (`T5`, or `T="NAME"` by a TNC table's NAME).
     #[arg(long = "tool-table", value_name = "FILE", value_parser = tool_table_parser)]
     pub tool_table: Option<ToolTable>,

@@ -404,3 +404,50 @@ fn a_tnc_tool_table_through_the_command_line() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("line 3: column R: '+3,02'"), "{err}");
 }
+
+/// [`OUTSIDE`] in the TNC's DIN/ISO words: `G42` in a `G01` block for `RR`, `G40` for `R0`, the
+/// tool called by `T3 G17`, the arcs by their centre `I J`.
+const OUTSIDE_ISO: &str = "%RC G71 *\nN10 T3 G17 S3000 *\nN20 G00 X-20 Y-20 Z+5 *\nN30 G01 Z-2 F200 *\n\
+N40 G42 G01 X+0 Y+0 F500 *\nN50 X+60 *\nN60 I+60 J+10 G03 X+70 Y+10 *\nN70 G01 Y+40 *\nN80 X+50 *\n\
+N90 I+40 J+40 G02 X+40 Y+30 *\nN100 G01 Y+20 *\nN110 X+0 *\nN120 Y+5 *\nN130 G40 X-20 Y-10 *\nN140 G00 Z+50 *\n\
+N99999999 %RC G71 *\n";
+
+/// The TNC's DIN/ISO programs compensate as its Klartext ones (the same manual pages): the same
+/// contour, the same tool-centre path, against shapely's offset curve; and the same refusals.
+#[test]
+fn din_iso_g41_g42_compensate_as_rl_rr() {
+    let r = 3.0;
+    let t = table("T3 P3 D6\n");
+    let p = read(OUTSIDE_ISO, Dialect::Heidenhain, "rc.i", &t);
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let entry = p.blocks.iter().find(|b| b.number == Some(40)).expect("N40");
+    assert!((entry.targets.x.unwrap() / MM).abs() < 1e-9 && (entry.targets.y.unwrap() / MM + r).abs() < 1e-9, "{:?}", entry.targets);
+    let ours = path(&p, 50..=120, [0.0, -r]);
+    let got = reference(r, "right", &outside_contour(), &ours);
+    assert!(got["radius_error_mm"].as_f64().unwrap() < 1e-4 && got["hausdorff_mm"].as_f64().unwrap() < TOLERANCE * r, "{got}");
+    // The Klartext reading's tool-centre path, point for point.
+    let k = read(OUTSIDE, Dialect::Klartext, "rc.h", &t);
+    let theirs = path(&k, 5..=12, [0.0, -r]);
+    assert_eq!(ours.len(), theirs.len());
+    for (a, b) in ours.iter().zip(&theirs) {
+        assert!((a.to[0] - b.to[0]).abs() < 1e-9 && (a.to[1] - b.to[1]).abs() < 1e-9, "{a:?} {b:?}");
+    }
+    let exit = p.blocks.iter().filter(|b| b.number == Some(130)).last().unwrap();
+    assert!((exit.targets.x.unwrap() / MM + 20.0).abs() < 1e-9 && (exit.targets.y.unwrap() / MM + 10.0).abs() < 1e-9);
+    let cases = [
+        (OUTSIDE_ISO.replace("N40 G42 G01 X+0 Y+0", "N40 G42 I+0 J+10 G02 X+0 Y+0"), "5:5:", "circle block"),
+        (OUTSIDE_ISO.replace("N50 X+60", "N50 G41 X+60"), "6:5:", "G41 and G42"),
+        (OUTSIDE_ISO.replace("N80 X+50", "N80 G54 X+50"), "9:5:", "datum shift"),
+        (OUTSIDE_ISO.replace("N80 X+50", "N80 T4 G17"), "9:5:", "tool call"),
+        (OUTSIDE_ISO.replace("N130 G40 X-20 Y-10", "N130 G40 I+0 J+0 G02 X-20 Y-10"), "14:6:", "G40 in a circle block"),
+        (OUTSIDE_ISO.replace("N10 T3", "N10 T7"), "5:5:", "tool 7 is not in the tool table"),
+    ];
+    let cases: Vec<(&str, &str, &str)> = cases.iter().map(|(t, a, n)| (t.as_str(), *a, *n)).collect();
+    refuses_each(Dialect::Heidenhain, &t, &cases);
+    // A tool too large for the notch stops the program there; nothing after it runs.
+    let p = read(OUTSIDE_ISO, Dialect::Heidenhain, "rc.i", &table("T3 P3 D24\n"));
+    let errs = errors(&p);
+    assert!(errs.iter().any(|(_, _, m)| m.contains("Tool radius too large")), "{errs:#?}");
+    let at = errs.iter().find(|(_, _, m)| m.contains("Tool radius too large")).unwrap().0;
+    assert!(p.blocks.iter().all(|b| b.line <= at), "blocks after line {at} ran");
+}

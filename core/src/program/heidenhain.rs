@@ -147,18 +147,20 @@ pub fn read_heidenhain_with(text: &str, m_codes: &[super::MCodeRule], orientatio
 /// The DIN/ISO reader, fed one line at a time.
 #[derive(Debug, Clone)]
 pub(crate) struct DinReader {
-    interp: Interpreter,
+    pub(super) interp: Interpreter,
     name: Option<String>,
     seen: SeenNumbers,
     last_number: Option<(u64, usize)>,
     /// Block numbers went backwards somewhere: a damaged copy whose order may be recovered.
-    out_of_order: bool,
+    pub(super) out_of_order: bool,
     ended: bool,
     /// The program stopped at `M02`/`M30` (its line and block number; whether the blocks after it
     /// have been said not to run): the TNC goes back to its first block there.
     stopped: Option<(usize, Option<u64>, bool)>,
     /// The last line with anything on it (where a missing program end is said).
-    last_line: usize,
+    pub(super) last_line: usize,
+    /// Tool radius compensation G41/G42 ([`super::heidenhain_comp`]).
+    pub(super) comp: super::heidenhain_comp::DinComp,
 }
 
 impl DinReader {
@@ -172,6 +174,7 @@ impl DinReader {
             ended: false,
             stopped: None,
             last_line: 0,
+            comp: Default::default(),
         }
     }
 }
@@ -373,6 +376,13 @@ impl super::stream::LineReader for DinReader {
                     continue;
                 }
             }
+            // Radius compensation stopped the program ("Tool radius too large"): nothing after runs.
+            if let Some(at) = self.comp.stopped {
+                if !std::mem::replace(&mut self.comp.said, true) {
+                    diags.warning(line, first_col, format!("block {} and after are not run: radius compensation stopped the program on line {at}", label(number, line)));
+                }
+                continue;
+            }
             if damaged {
                 diags.warning(line, first_col, format!("block {} not used: it is damaged", label(number, line)));
                 continue;
@@ -391,7 +401,15 @@ impl super::stream::LineReader for DinReader {
                 continue;
             }
             let before = out.len();
-            if !self.interp.block(&words, line, first_col, number, diags, out) {
+            let code = super::heidenhain_comp::take_codes(&mut words);
+            let read = if self.comp.busy() || matches!(code, Some((Some(_), _))) {
+                self.compensated(&words, code, line, first_col, number, out, diags)
+            } else {
+                self.interp.block(&words, line, first_col, number, diags, out)
+            };
+            if read {
+                self.comp.track(&words);
+            } else {
                 diags.warning(line, first_col, format!("block {} not used", label(number, line)));
             }
             if self.stopped.is_none() && super::stream::ends_program(&out[before..], &[2.0, 30.0]) {
@@ -400,7 +418,8 @@ impl super::stream::LineReader for DinReader {
         }
     }
 
-    fn finish(&mut self, blocks: Option<&mut Vec<Block>>, _out: &mut Vec<Block>, diags: &mut Diags) {
+    fn finish(&mut self, blocks: Option<&mut Vec<Block>>, out: &mut Vec<Block>, diags: &mut Diags) {
+        self.comp_end(out, diags);
         if self.name.is_none() {
             diags.error(1, 1, "missing program header: expected %NAME G71 * on the first line");
         } else if !self.ended {

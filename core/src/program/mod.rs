@@ -13,6 +13,7 @@ mod fanuc;
 mod fanuc_rotation;
 mod feature;
 mod heidenhain;
+mod heidenhain_comp;
 mod interp;
 mod klartext;
 mod lcnc_cycles;
