@@ -146,3 +146,33 @@ fn a_first_cycle_block_without_r_is_refused_as_each_control_says() {
     let p = read(&format!("{head}G82 Z-0.12 F10.\nM30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
     has(&p, 4, 1, "G82: a new cycle needs its R point (R)");
 }
+
+/// An arc in a plane tilted by `G68.2` (FANUC B-63944EN/02 "Tilted working plane command": the
+/// feature frame at X Y Z, turned by the Euler angles I about Z, J about X', K about Z''): its end
+/// and its centre are the feature frame's points in the workpiece, origin + R p, with R = Rx(30 deg)
+/// for I0 J30 K0, as computed here; the arc lies in the feature frame's XY plane, of radius 10.
+#[test]
+fn an_arc_in_a_g68_2_plane_has_its_centre_in_the_workpiece() {
+    let text = "%\nO1001\nG21 G90 G17 G94\nG0 X0 Y0 Z50.\nG68.2 X10. Y5. Z2. I0 J30. K0\nG0 X30. Y0 Z0\nG1 F500.\nG3 X40. Y10. I0 J10.\nG2 X50. Y20. R10.\nG69\nM30\n%\n";
+    let nmv = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&nmv));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let (s, c) = (30f64.to_radians().sin(), 30f64.to_radians().cos());
+    let place = |q: [f64; 3]| [10.0 + q[0], 5.0 + c * q[1] - s * q[2], 2.0 + s * q[1] + c * q[2]];
+    // (block's line, end and centre in the feature frame, mm): G2 R10 from (40, 10) to (50, 20)
+    // clockwise, the shorter arc, has its centre at (50, 10).
+    for (line, end, centre) in [(8, [40.0, 10.0, 0.0], [30.0, 10.0, 0.0]), (9, [50.0, 20.0, 0.0], [50.0, 10.0, 0.0])] {
+        let b = p.blocks.iter().find(|b| b.line == line && b.motion.is_arc()).unwrap_or_else(|| panic!("the arc on line {line}"));
+        let a = b.arc.as_ref().unwrap();
+        let at: Vec<f64> = [b.targets.x, b.targets.y, b.targets.z].iter().zip(b.datum).map(|(t, d)| (t.unwrap() + d) / MM).collect();
+        let cw: Vec<f64> = a.centre.iter().zip(b.datum).map(|(t, d)| (t + d) / MM).collect();
+        let (want_end, want_centre) = (place(end), place(centre));
+        for k in 0..3 {
+            assert!((at[k] - want_end[k]).abs() < 1e-9, "line {line}: end {at:?}, want {want_end:?}");
+            assert!((cw[k] - want_centre[k]).abs() < 1e-9, "line {line}: centre {cw:?}, want {want_centre:?}");
+        }
+        // The arc's plane is the feature frame's XY: its normal (0, -sin 30, cos 30).
+        let f = a.frame.expect("the tilted plane's frame");
+        assert!(f[2][0].abs() < 1e-12 && (f[2][1] + s).abs() < 1e-12 && (f[2][2] - c).abs() < 1e-12, "{f:?}");
+    }
+}
