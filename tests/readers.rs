@@ -10,6 +10,7 @@ mod fanuc;
 mod klartext;
 mod linuxcnc;
 mod shop_words;
+mod sinumerik_corners;
 mod sinumerik_trc;
 mod tnc_comp;
 mod tnc_corners;

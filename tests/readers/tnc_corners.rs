@@ -11,7 +11,7 @@ fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
 }
 
-fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+pub(super) fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     let d = sub(a, b);
     d[0].hypot(d[1])
 }
@@ -24,7 +24,7 @@ fn unit(v: [f64; 2]) -> [f64; 2] {
 /// The fillet of radius `r` in the corner `k` between the lines from `p` and to `q`: its tangent
 /// points `r / tan(theta / 2)` from the corner along each line and its centre on the bisector
 /// `r / sin(theta / 2)` from it, theta the angle between the lines (mm).
-fn fillet(p: [f64; 2], k: [f64; 2], q: [f64; 2], r: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
+pub(super) fn fillet(p: [f64; 2], k: [f64; 2], q: [f64; 2], r: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
     let (u, v) = (unit(sub(p, k)), unit(sub(q, k)));
     let theta = (u[0] * v[0] + u[1] * v[1]).acos();
     let d = r / (theta / 2.0).tan();

@@ -7,6 +7,7 @@
 mod apt;
 mod cl;
 mod corner;
+mod corner_cut;
 mod cutter_comp;
 mod cycles;
 mod fanuc;

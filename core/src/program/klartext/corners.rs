@@ -8,30 +8,14 @@
 //! by the rounding arc and is not part of the contour"; TNC 620 Klartext 01/2022 §5.4 "Chamfer": "a
 //! chamfer ... between two straight lines", "You cannot start a contour with a CHF block".
 
-use nalgebra::{Matrix3, Vector3};
-
 use super::exec::Exec;
 use super::{label, FeedWord, KWord, Kind, Shape, Stmt, Val};
-use crate::program::corner::{chamfer, round, Element};
-use crate::program::cutter_comp::{tnc_said, ArcFeed, Fail, TncComp};
+pub(super) use crate::program::corner_cut::{Cut, Held};
+use crate::program::corner_cut::make;
+use crate::program::cutter_comp::{tnc_said, Fail, TncComp};
 use crate::program::interp::Interpreter;
 use crate::program::lex::Diags;
-use crate::program::{ArcSpec, Block, Feed, FeedMode, Motion, Plane};
-use crate::units::MM;
-
-/// A contour element placed one statement late, in case an `RND` or `CHF` follows it: its block
-/// and its programmed start and end (program coordinates, m, rad), with the unit and tilted plane
-/// it was read in.
-#[derive(Debug, Clone)]
-pub(super) struct Held {
-    pub(super) b: Block,
-    pub(super) start: [f64; 6],
-    pub(super) end: [f64; 6],
-    pub(super) unit: f64,
-    pub(super) tilt: Option<Matrix3<f64>>,
-    /// How its feed on an arc is read (M109/M110/M111 in force).
-    pub(super) arc_feed: ArcFeed,
-}
+use crate::program::Block;
 
 /// Compensation stopped placing a block: at its line and column, and why.
 #[derive(Debug)]
@@ -45,25 +29,15 @@ pub(super) struct Stop {
 /// it the element and they go out, a corner waiting for the next element refused.
 const MAX_TRAILING: usize = 1000;
 
-/// An `RND` or `CHF` read, waiting for the element after it: its size (m), its own feed (program
-/// unit per minute), and where it stands.
-#[derive(Debug, Clone)]
-pub(super) struct Pending {
-    round: bool,
-    size: f64,
-    feed: Option<f64>,
-    line: usize,
-    col: usize,
-    number: Option<u64>,
-}
+/// An `RND` or `CHF` read, waiting for the element after it.
+pub(super) type Pending = Cut;
 
-impl Pending {
-    fn name(&self) -> &'static str {
-        if self.round {
-            "RND"
-        } else {
-            "CHF"
-        }
+/// The word a pending corner was written with.
+fn name(c: &Pending) -> &'static str {
+    if c.round {
+        "RND"
+    } else {
+        "CHF"
     }
 }
 
@@ -140,7 +114,7 @@ impl Exec {
             },
             None => None,
         };
-        self.pending = Some(Pending { round, size: v * unit, feed, line: s.line, col: s.col, number: s.number });
+        self.pending = Some(Cut { round, size: v * unit, feed, line: s.line, col: s.col, number: s.number });
     }
 
     /// The program ends: a corner still waiting has no element after it.
@@ -152,7 +126,7 @@ impl Exec {
 
     /// The corner `c` is not made: why, at its block.
     fn refuse(&mut self, c: &Pending, why: &str, diags: &mut Diags) {
-        diags.error(c.line, c.col, format!("{}: {why}", c.name()));
+        diags.error(c.line, c.col, format!("{}: {why}", name(c)));
         diags.warning(c.line, c.col, format!("block {} not used", label(c.number, c.line)));
         self.pending = None;
     }
@@ -264,102 +238,4 @@ impl Exec {
             self.place(n, out)
         }
     }
-}
-
-/// The element a held block is in the working plane's coordinates (`axes`: its two axes and the
-/// tool axis), or why it cannot be one a corner joins.
-fn element(h: &Held, axes: (usize, usize, usize), which: &str) -> Result<Element, String> {
-    let (a0, a1, a2) = axes;
-    let still = |k: usize| (h.end[k] - h.start[k]).abs() <= 1e-12 * (1.0 + h.end[k].abs());
-    if !still(a2) || !(3..6).all(still) {
-        return Err(format!("the element {which} it moves along the tool axis or a rotary axis: \"both coordinates must lie in the plane of the rounding arc\" (iTNC 530 user's manual §6.4)"));
-    }
-    let (from, to) = ([h.start[a0], h.start[a1]], [h.end[a0], h.end[a1]]);
-    match (&h.b.arc, h.b.motion) {
-        (Some(spec), Motion::ArcCw | Motion::ArcCcw) => {
-            if spec.extra_turns > 0 {
-                return Err(format!("the element {which} it is a helix of more than one turn"));
-            }
-            let c = Vector3::from(spec.centre);
-            let c = h.tilt.map_or(c, |r| r.transpose() * c);
-            Ok(Element::Arc { from, to, centre: [c[a0], c[a1]], ccw: h.b.motion == Motion::ArcCcw })
-        }
-        (_, Motion::Linear) => Ok(Element::Line { from, to }),
-        _ => Err(format!("the element {which} it is not a line or circle at a feed")),
-    }
-}
-
-/// `v` with its working-plane coordinates (`axes`) at `p`.
-fn at(v: [f64; 6], axes: (usize, usize, usize), p: [f64; 2]) -> [f64; 6] {
-    let mut v = v;
-    (v[axes.0], v[axes.1]) = (p[0], p[1]);
-    v
-}
-
-/// A block's targets ending at `v` (program coordinates, in a tilted plane the plane's): its two
-/// plane axes written, so that it ends there wherever it starts (all three in a tilted plane, whose
-/// axes are not the workpiece's).
-fn aim(b: &mut Block, v: [f64; 6], axes: (usize, usize, usize), tilt: Option<Matrix3<f64>>) {
-    match tilt {
-        Some(r) => {
-            let w = r * Vector3::new(v[0], v[1], v[2]);
-            (b.targets.x, b.targets.y, b.targets.z) = (Some(w.x), Some(w.y), Some(w.z));
-        }
-        None => {
-            for k in [axes.0, axes.1] {
-                *[&mut b.targets.x, &mut b.targets.y, &mut b.targets.z][k] = Some(v[k]);
-            }
-        }
-    }
-}
-
-/// The element before cut back, the corner, the element after cut back; why not.
-fn make(c: &Pending, p: &Held, n: &Held, plane: Plane, mode: FeedMode) -> Result<(Held, Held, Held), String> {
-    let axes = plane.axes();
-    let (before, after) = (element(p, axes, "before")?, element(n, axes, "after")?);
-    let size = c.size;
-    let (t1, t2, arc) = if c.round {
-        let r = round(&before, &after, size).map_err(|why| format!("R{}: {why}", size / p.unit))?;
-        (r.from, r.to, Some((r.centre, r.ccw)))
-    } else {
-        let (t1, t2) = chamfer(&before, &after, size).map_err(|why| format!("{}: {why}", size / p.unit))?;
-        (t1, t2, None)
-    };
-    // A corner that uses up a whole arc leaves a rest of no length, which reads as a full circle.
-    let short = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-9 * (1.0 + size / p.unit);
-    if matches!(before, Element::Arc { .. }) && short([p.start[axes.0], p.start[axes.1]], t1) {
-        return Err(format!("the corner takes up the whole arc before it: {}", if c.round { "the radius is too large for it" } else { "the chamfer is too long for it" }));
-    }
-    if matches!(after, Element::Arc { .. }) && short(t2, [n.end[axes.0], n.end[axes.1]]) {
-        return Err(format!("the corner takes up the whole arc after it: {}", if c.round { "the radius is too large for it" } else { "the chamfer is too long for it" }));
-    }
-    let (v1, v2) = (at(p.end, axes, t1), at(p.end, axes, t2));
-    let mut p2 = p.clone();
-    aim(&mut p2.b, v1, axes, p.tilt);
-    p2.end = v1;
-    let mut k = p.b.clone();
-    (k.line, k.column, k.number) = (c.line, c.col, c.number);
-    (k.events, k.dwell_s) = (Vec::new(), None);
-    aim(&mut k, v2, axes, p.tilt);
-    k.motion = Motion::Linear;
-    k.arc = None;
-    if let Some((centre, ccw)) = arc {
-        k.motion = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
-        let v = at(p.end, axes, centre);
-        let v = Vector3::new(v[0], v[1], v[2]);
-        let (centre, frame) = match p.tilt {
-            Some(r) => (r * v, Some(ArcSpec::frame_of(&r))),
-            None => (v, None),
-        };
-        k.arc = Some(Box::new(ArcSpec { plane, centre: [centre.x, centre.y, centre.z], extra_turns: 0, frame }));
-    }
-    // The corner's own F, for it alone (in the program's unit per minute); else the feed in effect.
-    if let Some(f) = c.feed {
-        k.feed = Some(Feed { value_per_min: f * p.unit / MM, rotary_per_min: f, mode });
-    }
-    let corner = Held { b: k, start: v1, end: v2, unit: p.unit, tilt: p.tilt, arc_feed: p.arc_feed };
-    let mut n2 = n.clone();
-    aim(&mut n2.b, n.end, axes, n.tilt);
-    n2.start = v2;
-    Ok((p2, corner, n2))
 }

@@ -485,6 +485,10 @@ impl Jumping for FlowRunner {
 
     fn finish(&mut self, ended: bool, out: &mut Vec<Block>, diags: &mut Diags) {
         self.reader.finish(None, out, diags);
+        // A corner still waiting has no element after it.
+        if self.level == 0 {
+            self.reader.corners.end(out, diags);
+        }
         // The main program's end: compensation still on lets its held blocks out.
         if self.level == 0 {
             self.reader.trc_end(self.reached.max(1), out, diags);

@@ -196,6 +196,9 @@ pub(crate) struct Lexed<'a> {
     /// tool radius compensation's settings ([`super::trc`]), with their columns.
     pub disc: Option<(f64, usize)>,
     pub offn: Option<(f64, usize)>,
+    /// `CHF=`, `CHR=`, `RND=`, `RNDM=`, `FRC=`, `FRCM=`: the corner at the block's end
+    /// ([`super::corners`]).
+    pub corner: super::corners::Words,
 }
 
 /// Where the expression that starts at byte `start` ends: at a blank or `;` outside brackets and
@@ -286,7 +289,7 @@ pub(super) fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
 pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: &mut Vars, diags: &mut Diags) -> Lexed<'a> {
     let b = src.as_bytes();
     let n = b.len();
-    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None };
+    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default() };
     let mut vec3: [Option<f64>; 3] = [None; 3];
     let mut vec_col = 0;
     let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
@@ -479,6 +482,11 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             "RPL" => out.rpl = Some((value, col)),
             "DISC" if with_eq => out.disc = Some((value, col)),
             "OFFN" if with_eq => out.offn = Some((value, col)),
+            "CHF" | "CHR" | "RND" | "RNDM" | "FRC" | "FRCM" if with_eq => {
+                if let Err(why) = out.corner.set(address.as_ref(), value, col) {
+                    diags.error(line, col, why);
+                }
+            }
             name if with_eq && vars.is_variable(name) => {
                 if let Err(why) = vars.assign(name, value) {
                     diags.error(line, col, why);

@@ -11,7 +11,8 @@
 //! machine coordinates (`SUPA`, `G53`, `G153`), variables (`DEF REAL`, R parameters) and
 //! expressions ([`expr`], [`lex`]), `MCALL` of the drilling cycles ([`cycles`]), `CYCLE832` (the
 //! contour tolerance), the swivel cycle `CYCLE800` on the machine file's data set ([`swivel`]), `T`,
-//! `D`, `S`, `M`, `F`, `MSG`, `M30`; tool radius compensation `G41`/`G42` to `G40` ([`trc`]); jumps
+//! `D`, `S`, `M`, `F`, `MSG`, `M30`; tool radius compensation `G41`/`G42` to `G40` ([`trc`]); chamfers
+//! and roundings at contour corners (`CHF=`, `CHR=`, `RND=`, `RNDM=`, [`corners`]); jumps
 //! and control structures as they run ([`flow`]), and subprograms called by name, found beside the
 //! program or on `--subroutine-path` ([`subprogram`]).
 //!
@@ -24,6 +25,7 @@
 //! datum MD21104 `ORI_IPO_WITH_G_CODE`; here the one programmed last governs (at reset ORIWKS and
 //! ORIVECT agree: the great circle).
 
+mod corners;
 mod cycles;
 mod expr;
 mod flow;
@@ -66,6 +68,8 @@ pub(crate) struct SinumerikReader {
     machine: Option<std::sync::Arc<crate::machine::Machine>>,
     /// Tool radius compensation ([`trc`]).
     trc: trc::Trc,
+    /// Chamfers and roundings at contour corners ([`corners`]).
+    pub(super) corners: corners::Corners,
     /// The line just read had M17 (held by compensation or not): the subprogram returns there.
     pub(super) returned: bool,
     /// Tool radius compensation could not go on: the program stops (kept apart from the
@@ -84,6 +88,7 @@ impl SinumerikReader {
             swivel: None,
             machine: setup.machine.clone(),
             trc: trc::Trc::default(),
+            corners: corners::Corners::default(),
             returned: false,
             stopped: false,
         }
@@ -155,7 +160,11 @@ impl super::stream::LineReader for SinumerikReader {
         // the block is read).
         let trc_settings = self.trc.set.clone();
         let blocks_before = out.len();
+        // A comment line alone is no block between two elements a corner joins.
+        let written = lexed.number.is_some() || !lexed.words.is_empty() || !lexed.keywords.is_empty() || lexed.vector.is_some() || lexed.edge.is_some() || lexed.corner.any();
+        let (start, corners) = (self.interp.position(), self.corners.busy() || lexed.corner.any());
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
+            self.corners.drop_words();
             if let Some(saved) = saved {
                 (self.interp, self.frame, self.mcall, self.swivel) = saved;
             }
@@ -172,6 +181,10 @@ impl super::stream::LineReader for SinumerikReader {
             return;
         }
         self.vars.commit();
+        if corners && (written || out.len() > blocks_before) {
+            let ends = self.returned || self.stopped || super::stream::ends_program(&out[blocks_before..], &[2.0, 30.0]);
+            self.corners.after_line(start, blocks_before, &self.interp, ends, out, diags);
+        }
     }
 }
 
@@ -179,7 +192,15 @@ impl SinumerikReader {
     /// Run one block's words; false (or an error in `diags`) if it is refused.
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
-        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn } = lexed;
+        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner } = lexed;
+        if corner.any() || self.corners.busy() {
+            if self.trc.busy() || words.iter().any(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "41" | "42")) {
+                let col = if corner.any() { corner.col() } else { first_col };
+                diags.error(line, col, "a chamfer or rounding (CHF, CHR, RND, RNDM) with tool radius compensation (G41/G42) is not read yet: the control rounds the contour, then offsets it");
+                return false;
+            }
+            self.corners.take(corner, line, first_col, number);
+        }
         // A line of a comment alone is no block compensation counts as empty.
         let written = number.is_some() || !words.is_empty() || !keywords.is_empty() || vector.is_some() || edge.is_some() || disc.is_some() || offn.is_some();
         let m17 = words.iter().any(|w| w.letter == 'M' && w.value == 17.0);
