@@ -35,6 +35,12 @@ SINUMERIK_TRC = (b"T=\"MILL_D6\" D1\nM6\nG17 G90 G71 G94 CFTCP\nG0 X-20 Y-20 Z5\
                  b"X60\nG3 X70 Y10 CR=10\nG1 Y40\nZ-3\nM8\nX50\nG2 X40 Y30 CR=10\nCFC\nG1 Y20\nX0\nG40 X-20 Y-10\n"
                  b"T3 D0\nM6\nG41 G1 X0 Y0 KONT\nOFFN=1\nG451\nG41 X5\nX10\nG42 X20\nG40 X30\nM30\n")
 
+# 840D corners: RND, RNDM with FRCM and FRC, CHR and CHF, blocks between, a corner too large, one
+# beside an arc, one under G41, the program's end after one.
+SINUMERIK_CORNERS = (b"G17 G90 G71 G94\nG0 X0 Y0 Z5\nG1 Z-1 F500\nG1 X50 Y0 RND=5\nM8\nG1 Y30 RNDM=2 FRCM=100\n"
+                     b"G1 X0 FRC=50\nG1 Y0 RNDM=0\nG1 X20 CHR=3\nG1 Y10 CHF=2\nG3 X30 Y20 CR=10 RND=60\nG1 X40 CHF=1\n"
+                     b"G2 X50 Y10 CR=10\nT1 D1\nM6\nG1 G41 X60 RND=1\nG40 X70\nG1 X80 RND=2\nM30\n")
+
 # A Klartext contour: corners (RND, CHF) under RL with M110, a tool called by name and by number,
 # M128's compensating feed, a helix with DR+ written against its F.
 KLARTEXT_CONTOUR = (b"0 BEGIN PGM C MM\n1 TOOL CALL \"MILL_D6\" Z S3000\n2 TOOL CALL 3 Z S3000\n3 L X-10 Y+40 Z-2 R0 FMAX\n"
@@ -85,7 +91,8 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "flow.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_FLOW)
     put(corpus, "nc_program", "contour.h", bytes([PICK["klartext"]]) + KLARTEXT_CONTOUR)
     put(corpus, "nc_program", "trc.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_TRC)
-    n += 5
+    put(corpus, "nc_program", "corners.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_CORNERS)
+    n += 6
     # CL data: the SING cut's first moves as x y z i j k [feed] lines, with a header, comma and space separated.
     cl = b"x,y,z,i,j,k,f\n0,0,-8,0,0,1,2000\n10,0,-8,0,0.0174,0.9998,2000\n25,0,-8,0,0.0003,1,2000\n50 0 -8 0 0 1\n"
     put(corpus, "nc_program", "sing.cl", bytes([PICK["cl"]]) + cl)

@@ -202,14 +202,14 @@ pub(crate) fn round(before: &Element, after: &Element, r: f64) -> Result<Roundin
     let side = turn(before, after)?;
     let k = before.to();
     let (Some(a), Some(b)) = (before.offset(side * r), after.offset(side * r)) else {
-        return Err(format!("the radius {} is larger than an arc it joins", r));
+        return Err("the radius is larger than an arc it joins".into());
     };
     let eps = 1e-9 * (1.0 + r + norm(k));
     let centre = meet(a, b)
         .into_iter()
         .filter(|c| before.holds(before.foot(*c), eps) && after.holds(after.foot(*c), eps))
         .min_by(|p, q| norm(sub(*p, k)).total_cmp(&norm(sub(*q, k))))
-        .ok_or_else(|| format!("no arc of radius {r} fits on both elements: the radius is too large for them"))?;
+        .ok_or("no arc of this radius fits on both elements: the radius is too large for them")?;
     Ok(Rounding { from: before.foot(centre), to: after.foot(centre), centre, ccw: side > 0.0 })
 }
 
@@ -226,7 +226,7 @@ pub(crate) fn chamfer(before: &Element, after: &Element, length: f64) -> Result<
     let (l1, l2) = (norm(sub(k, a)), norm(sub(c, k)));
     let eps = 1e-9 * (1.0 + length);
     if length > l1 + eps || length > l2 + eps {
-        return Err(format!("the side length {length} is longer than a line it joins ({} and {})", l1, l2));
+        return Err("the side length is longer than a line it joins".into());
     }
     Ok((at(k, sub(a, k), length / l1), at(k, sub(c, k), length / l2)))
 }

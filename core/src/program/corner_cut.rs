@@ -91,10 +91,10 @@ pub(crate) fn make(c: &Cut, p: &Held, n: &Held, plane: Plane, mode: FeedMode) ->
     let (before, after) = (element(p, axes, "before")?, element(n, axes, "after")?);
     let size = c.size;
     let (t1, t2, arc) = if c.round {
-        let r = round(&before, &after, size).map_err(|why| format!("R{}: {why}", size / p.unit))?;
+        let r = round(&before, &after, size)?;
         (r.from, r.to, Some((r.centre, r.ccw)))
     } else {
-        let (t1, t2) = chamfer(&before, &after, size).map_err(|why| format!("{}: {why}", size / p.unit))?;
+        let (t1, t2) = chamfer(&before, &after, size)?;
         (t1, t2, None)
     };
     // A corner that uses up a whole arc leaves a rest of no length, which reads as a full circle.
