@@ -132,3 +132,56 @@ fn corners_refused_name_the_word() {
     let m = moves(&p);
     assert!(m.len() == 2 && dist(m[0].1, [50.0, 0.0]) < 1e-9 && dist(m[1].1, [50.0, 30.0]) < 1e-9, "{m:?}");
 }
+
+/// `FRC=` is in the feed's unit: under G70 (inch geometry) F stays in the basic system's mm/min
+/// (Fundamentals, "G70/G71": "feedrate F ... in the basic system"), so FRC=100 is 100 mm/min
+/// while the rounding's size is inches; under G93 a corner's feed is refused.
+#[test]
+fn corner_feeds_are_in_fs_unit_and_not_read_under_g93() {
+    let p = sinumerik("G17 G90 G71 G94\nG0 X0 Y0 Z5\nG1 Z-1 F500\nG70\nG1 X2 Y0 RND=0.1 FRC=100\nG1 Y1\nM30\n");
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let arc = p.blocks.iter().find(|b| b.motion.is_arc()).expect("the rounding");
+    assert!((arc.feed.unwrap().value_per_min - 100.0).abs() < 1e-9, "{:?}", arc.feed);
+    let r = arc.arc.as_ref().unwrap().centre;
+    // The rounding of radius 0.1 in (2.54 mm) at the corner (2 in, 0): its centre 0.1 in below and
+    // left of the corner.
+    assert!(dist([r[0] / MM, r[1] / MM], [1.9 * 25.4, 0.1 * 25.4]) < 1e-9, "{r:?}");
+    let p = sinumerik("G17 G90 G71 G93\nG0 X0 Y0 Z5\nG1 Z-1 F10\nG1 X50 Y0 RND=2 F10\nG1 Y30 F10\nM30\n");
+    has(&p, 4, 11, "G93");
+}
+
+/// A corner word in a block between the elements, a subprogram called or a line refused before the
+/// next element: each refused at its word; RNDM's last element before the program's end has no
+/// corner and no fault.
+#[test]
+fn corners_interrupted_and_modal_ends() {
+    let p = sinumerik(&format!("{HEAD}G1 X50 Y0 RND=2\nF300 CHF=1\nG1 Y30\nM30\n"));
+    has(&p, 5, 6, "moves nothing in the plane");
+    assert_eq!(p.blocks.iter().filter(|b| b.motion.is_arc()).count(), 1, "the corner of line 4 is still cut");
+    let p = sinumerik(&format!("{HEAD}G1 X50 Y0 RND=2\nG1 Y30 Q7\nG1 X0\nM30\n"));
+    has(&p, 4, 11, "the block after it was not read");
+    let m = moves(&p);
+    assert!(dist(m[0].1, [50.0, 0.0]) < 1e-9 && p.blocks.iter().all(|b| !b.motion.is_arc()), "{m:?}");
+    let p = sinumerik(&format!("{HEAD}G1 X50 Y0 RNDM=2\nG1 Y30\nG1 X0 M30\n"));
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    assert_eq!(p.blocks.iter().filter(|b| b.motion.is_arc()).count(), 2);
+}
+
+/// A corner waiting when a subprogram is called: refused at its word, its element out as
+/// programmed before the subprogram's blocks; one waiting in the subprogram at its RET likewise.
+#[test]
+fn a_call_or_return_leaves_the_corner() {
+    #[derive(Debug)]
+    struct Dir;
+    impl fiveaxis::program::SubroutineFiles for Dir {
+        fn find_file(&self, names: &[String], _any_case: bool, _own_dir: bool) -> Result<Option<(String, Vec<u8>)>, String> {
+            Ok(names.iter().any(|n| n.to_ascii_uppercase().starts_with("SIDE")).then(|| ("SIDE.SPF".to_string(), b"G1 Y30 RND=2\nRET\n".to_vec())))
+        }
+    }
+    let options = ReadOptions { subroutine_files: Some(std::sync::Arc::new(Dir)), ..ReadOptions::default() };
+    let p = read(&format!("{HEAD}G1 X50 Y0 RND=2\nSIDE\nG1 X0\nM30\n"), Dialect::Sinumerik, "c.mpf", &options);
+    has(&p, 4, 11, "a subprogram is called");
+    has(&p, 5, 1, "its subprogram returns");
+    let m = moves(&p);
+    assert!(m.len() == 3 && dist(m[0].1, [50.0, 0.0]) < 1e-9 && dist(m[1].1, [50.0, 30.0]) < 1e-9 && dist(m[2].1, [0.0, 30.0]) < 1e-9, "{m:?}");
+}

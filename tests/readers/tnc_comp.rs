@@ -428,10 +428,13 @@ fn din_iso_g41_g42_compensate_as_rl_rr() {
     // The Klartext reading's tool-centre path, point for point.
     let k = read(OUTSIDE, Dialect::Klartext, "rc.h", &t);
     let theirs = path(&k, 5..=12, [0.0, -r]);
-    assert_eq!(ours.len(), theirs.len());
+    assert!(ours.len() >= 8 && ours.len() == theirs.len(), "{} {}", ours.len(), theirs.len());
     for (a, b) in ours.iter().zip(&theirs) {
         assert!((a.to[0] - b.to[0]).abs() < 1e-9 && (a.to[1] - b.to[1]).abs() < 1e-9, "{a:?} {b:?}");
     }
+    // N120's element left perpendicular at its end, (0, 5) with the tool right of -Y: (-3, 5).
+    let left = p.blocks.iter().filter(|b| b.number == Some(120)).last().unwrap();
+    assert!((left.targets.x.unwrap() / MM + r).abs() < 1e-9 && (left.targets.y.unwrap() / MM - 5.0).abs() < 1e-9, "{:?}", left.targets);
     let exit = p.blocks.iter().filter(|b| b.number == Some(130)).last().unwrap();
     assert!((exit.targets.x.unwrap() / MM + 20.0).abs() < 1e-9 && (exit.targets.y.unwrap() / MM + 10.0).abs() < 1e-9);
     let cases = [
@@ -441,6 +444,8 @@ fn din_iso_g41_g42_compensate_as_rl_rr() {
         (OUTSIDE_ISO.replace("N80 X+50", "N80 T4 G17"), "9:5:", "tool call"),
         (OUTSIDE_ISO.replace("N130 G40 X-20 Y-10", "N130 G40 I+0 J+0 G02 X-20 Y-10"), "14:6:", "G40 in a circle block"),
         (OUTSIDE_ISO.replace("N10 T3", "N10 T7"), "5:5:", "tool 7 is not in the tool table"),
+        (OUTSIDE_ISO.replace("N130 G40 X-20", "N130 G40 G+41 X-20"), "14:10:", "two of G40, G41 and G42"),
+        (OUTSIDE_ISO.replace("N40 G42 G01 X+0 Y+0 F500", "N40 G42 G01 X+0 Y+0 F500 M30"), "5:5:", "ends the program"),
     ];
     let cases: Vec<(&str, &str, &str)> = cases.iter().map(|(t, a, n)| (t.as_str(), *a, *n)).collect();
     refuses_each(Dialect::Heidenhain, &t, &cases);

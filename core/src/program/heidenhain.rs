@@ -401,7 +401,14 @@ impl super::stream::LineReader for DinReader {
                 continue;
             }
             let before = out.len();
-            let code = super::heidenhain_comp::take_codes(&mut words);
+            let code = match super::heidenhain_comp::take_codes(&mut words) {
+                Ok(code) => code,
+                Err(col) => {
+                    diags.error(line, col, "two of G40, G41 and G42 in one block: which one the TNC takes is not read");
+                    diags.warning(line, first_col, format!("block {} not used", label(number, line)));
+                    continue;
+                }
+            };
             let read = if self.comp.busy() || matches!(code, Some((Some(_), _))) {
                 self.compensated(&words, code, line, first_col, number, out, diags)
             } else {

@@ -28,20 +28,28 @@ pub(crate) struct DinComp {
     pub(crate) said: bool,
 }
 
-/// `G40` (`None`), `G41`, `G42` taken out of a block's words, and the column.
-pub(crate) fn take_codes(words: &mut Vec<Word<'_>>) -> Option<(Option<Side>, usize)> {
+/// `G40` (`None`), `G41`, `G42` taken out of a block's words, and the column; two of them in one
+/// block are refused (which one the TNC takes is not read).
+pub(crate) fn take_codes(words: &mut Vec<Word<'_>>) -> Result<Option<(Option<Side>, usize)>, usize> {
     let mut code = None;
+    let mut second = None;
     words.retain(|w| {
-        let side = match (w.letter, w.raw.trim_start_matches('0')) {
-            ('G', "40") => None,
-            ('G', "41") => Some(Side::Left),
-            ('G', "42") => Some(Side::Right),
+        let side = match (w.letter, w.value) {
+            ('G', g) if g == 40.0 => None,
+            ('G', g) if g == 41.0 => Some(Side::Left),
+            ('G', g) if g == 42.0 => Some(Side::Right),
             _ => return true,
         };
+        if code.is_some() {
+            second = second.or(Some(w.column));
+        }
         code = Some((side, w.column));
         false
     });
-    code
+    match second {
+        Some(col) => Err(col),
+        None => Ok(code),
+    }
 }
 
 impl DinComp {
@@ -110,6 +118,9 @@ impl DinReader {
                 }
                 if !straight {
                     return refuse(diags, c, "G41/G42 in a circle block: \"You cannot activate radius compensation in a circle block. Activate it beforehand in a straight-line block\" (TNC 620 ISO user's manual, p. 154)".into());
+                }
+                if words.iter().any(|w| w.letter == 'M' && (w.value == 2.0 || w.value == 30.0)) {
+                    return refuse(diags, c, "G41/G42 in the block that ends the program (M02/M30): no contour follows".into());
                 }
                 let r = match self.comp_radius() {
                     Ok(r) => r,

@@ -24,7 +24,8 @@
 use super::super::corner_cut::{make, Cut, Held};
 use super::super::cutter_comp::ArcFeed;
 use super::super::lex::Diags;
-use super::super::{Block, Motion};
+use super::super::{Block, Feed, FeedMode, Motion};
+use crate::units::MM;
 use crate::program::interp::Interpreter;
 
 /// The most blocks without a move in the plane between the two elements ("more than three blocks
@@ -215,11 +216,16 @@ impl Corners {
                     release(w, out);
                 }
                 Made::Still if w.lines < MAX_BETWEEN && !ends => {
+                    if let Some(a) = ask.filter(|a| !a.modal) {
+                        diags.error(a.line, a.col, format!("{}: the block it is in moves nothing in the plane: it ends no contour element", a.word));
+                    }
                     w.lines += 1;
                     w.between.extend(new);
                     self.waiting = Some(w);
                     return;
                 }
+                // RNDM's last element has no corner after it.
+                Made::Still if ends && w.ask.modal => release(w, out),
                 Made::Still if ends => refuse(w, "its program ends (M30, M2 or M17) before a contour element follows it", diags, out),
                 Made::Still => {
                     diags.warning(w.ask.line, w.ask.col, format!("{}: no corner is inserted: more than {MAX_BETWEEN} blocks without a move in the plane follow it (\"No chamfer/rounding is inserted if more than three blocks in the connection are programmed that do not contain any information for traversing in the plane\")", w.ask.word));
@@ -275,17 +281,24 @@ impl Corners {
                 Kind::Round | Kind::Sides => Ok(a.value * p.unit),
                 Kind::Length => sides_of(p, &n, interp, a.value * p.unit),
             };
+            let mode = interp.feed_state().2;
             size.and_then(|size| {
-                let cut = Cut { round: a.kind == Kind::Round, size, feed: a.feed, line: a.line, col: a.col, number: a.number };
-                make(&cut, p, &n, interp.plane(), interp.feed_state().2)
+                if mode == FeedMode::InverseTime {
+                    return Err("under G93 (inverse time) the corner's feed is not in the manuals read here".to_string());
+                }
+                // FRC's feed is set below, in the feed's unit (G70/G71 leave F in the basic system's).
+                let cut = Cut { round: a.kind == Kind::Round, size, feed: None, line: a.line, col: a.col, number: a.number };
+                make(&cut, p, &n, interp.plane(), mode)
             })
         };
         match why {
             Ok((p2, mut corner, n2)) => {
-                // The technology of the block leading away from the corner (MD20201 bit 0 = 0).
-                if a.feed.is_none() {
-                    corner.b.feed = n.b.feed;
-                }
+                // FRC/FRCM in the feed's unit per minute; else the technology of the block leading
+                // away from the corner (MD20201 bit 0 = 0).
+                corner.b.feed = match a.feed {
+                    Some(f) => Some(Feed { value_per_min: f * interp.feed_unit() / MM, rotary_per_min: f, mode: FeedMode::PerMinute }),
+                    None => n.b.feed,
+                };
                 corner.b.exact = n.b.exact;
                 out.push(p2.b);
                 out.push(corner.b);
@@ -296,12 +309,21 @@ impl Corners {
                 if a.modal && why.contains("tangentially") {
                     // RNDM: elements that meet tangentially have no corner to round.
                 } else {
+                    let why = if a.modal { format!("{why} (modal rounding from RNDM)") } else { why };
                     let col = a.col;
                     diags.error(a.line, col, format!("{}={}: {why}", a.word, a.value));
                 }
                 release(w, out);
                 n
             }
+        }
+    }
+
+    /// The block sequence is left (a call, a return, a block not read): a corner waiting is refused
+    /// there, its element out as programmed.
+    pub(crate) fn interrupt(&mut self, why: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        if let Some(w) = self.waiting.take() {
+            refuse(w, why, diags, out);
         }
     }
 
@@ -321,9 +343,7 @@ fn release(w: Waiting, out: &mut Vec<Block>) {
 
 /// The corner cannot be made: an error at its word, the elements as programmed.
 fn refuse(w: Waiting, why: &str, diags: &mut Diags, out: &mut Vec<Block>) {
-    if !w.ask.modal {
-        diags.error(w.ask.line, w.ask.col, format!("{}={}: {why}", w.ask.word, w.ask.value));
-    }
+    diags.error(w.ask.line, w.ask.col, format!("{}={}: {why}", w.ask.word, w.ask.value));
     release(w, out);
 }
 

@@ -145,6 +145,7 @@ impl super::stream::LineReader for SinumerikReader {
         if diags.errors() > errors_before {
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+            self.corners.interrupt("the block after it was not read", out, diags);
             return;
         }
         // The state a refused block must leave as it was. A block of plain words (a tool vector among
@@ -178,6 +179,8 @@ impl super::stream::LineReader for SinumerikReader {
             out.truncate(blocks_before);
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used"));
+            // A corner waiting: the block after it was not read, so it joins nothing.
+            self.corners.interrupt("the block after it was not read", out, diags);
             return;
         }
         self.vars.commit();

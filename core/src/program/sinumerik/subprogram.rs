@@ -168,6 +168,8 @@ pub(super) struct SubRun {
     /// Its file, as found (for messages).
     shown: String,
     caller: Level,
+    /// The caller's element a corner waited on, out as programmed before the subprogram's blocks.
+    released: Vec<Block>,
 }
 
 /// The file names a call of `name` looks for: in the calling program's directory, then in the
@@ -232,12 +234,15 @@ impl FlowRunner {
         if first {
             self.called_files.known.insert(base);
         }
+        // A corner waiting for the element after it: the call leaves the caller's block sequence.
+        let mut released = Vec::new();
+        self.reader.corners.interrupt("a subprogram is called before the element after it", &mut released, diags);
         let reader = std::mem::replace(&mut self.reader, super::SinumerikReader::new(&self.setup));
         let mut child = FlowRunner::below(self, reader, name, values, !first);
         child.called_files = std::mem::take(&mut self.called_files);
         child.reader.interp.refused_line = None;
         let caller = child.reader.vars.enter_level();
-        self.sub = Some(Box::new(SubRun { run: Seeking::new(in_memory(bytes), Box::new(child)), call: (line, col), shown, caller }));
+        self.sub = Some(Box::new(SubRun { run: Seeking::new(in_memory(bytes), Box::new(child)), call: (line, col), shown, caller, released }));
         Next::Run
     }
 
@@ -272,6 +277,7 @@ impl FlowRunner {
         let sub = self.sub.as_mut()?;
         let goal = out.len() + RUN_CHUNK;
         let (line, col) = sub.call;
+        out.append(&mut sub.released);
         loop {
             let before = out.len();
             let mut d = Diags::default();
@@ -295,8 +301,17 @@ impl FlowRunner {
             }
         }
         let sub = self.sub.take()?;
-        let SubRun { run, caller, .. } = *sub;
+        let SubRun { run, caller, shown, .. } = *sub;
         let mut child = run.runner;
+        // RET with a corner waiting in the subprogram: its element out, at the call's line.
+        let (before, mut d) = (out.len(), Diags::default());
+        child.reader.corners.interrupt("its subprogram returns before the element after it", out, &mut d);
+        for b in &mut out[before..] {
+            (b.line, b.column) = (line, col);
+        }
+        for x in d.0 {
+            diags.error(line, col, format!("in {}:{}:{}: {}", shown, x.line, x.column, x.message));
+        }
         self.again = self.again.saturating_add(child.again);
         self.called_files = std::mem::take(&mut child.called_files);
         let mut reader = std::mem::replace(&mut child.reader, super::SinumerikReader::new(&self.setup));
