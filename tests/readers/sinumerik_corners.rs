@@ -123,7 +123,6 @@ fn corners_refused_name_the_word() {
         (format!("{HEAD}G1 X50 Y0 RND=2 CHF=1\nG1 Y30\nM30\n"), "4:17:", "one corner"),
         (format!("{HEAD}G1 X50 Y0 RND=-2\nG1 Y30\nM30\n"), "4:11:", "positive"),
         (format!("{HEAD}G0 X50 Y0 RND=2\nG1 Y30\nM30\n"), "4:11:", "not a contour element a corner ends"),
-        (format!("T1 D1\nM6\n{HEAD}G1 G41 X50 Y0 RND=2\nG1 Y30\nG40 X60\nM30\n"), "6:15:", "tool radius compensation"),
     ];
     let cases: Vec<(&str, &str, &str)> = cases.iter().map(|(t, a, n)| (t.as_str(), *a, *n)).collect();
     refuses_each(Dialect::Sinumerik, &t, &cases);
@@ -184,4 +183,37 @@ fn a_call_or_return_leaves_the_corner() {
     has(&p, 5, 1, "its subprogram returns");
     let m = moves(&p);
     assert!(m.len() == 3 && dist(m[0].1, [50.0, 0.0]) < 1e-9 && dist(m[1].1, [50.0, 30.0]) < 1e-9 && dist(m[2].1, [0.0, 30.0]) < 1e-9, "{m:?}");
+}
+
+/// Under G41/G42 the 840D offsets the rounded contour (the corner is the contour's, compensation
+/// follows it): the iTNC example's contour in 840D words, the tool centre against shapely's offset
+/// curve of the rounded contour, the rounding arc's offset about the fillet's centre at R ± r; a
+/// corner at the selection or deselection block is refused there.
+#[test]
+fn rnd_under_g41_g42_offsets_the_rounded_contour() {
+    use super::tnc_comp::{path, reference, table, TOLERANCE};
+    use super::tnc_corners::{near, rounded_example, unit};
+    let r = 3.0;
+    let options = table("T3 P3 D6\n");
+    let program = |g: &str| format!("N1 T3 D1\nN2 M6\nN3 G17 G90 G71 G94\nN4 G0 X-10 Y40 Z-2\nN5 G1 {g} X10 Y40 F300\nN6 X40 Y25 RND=5\nN7 X10 Y5\nN8 G40 X-10 Y5\nN9 G0 Z50\nN10 M30\n");
+    for (g, side) in [("G41", "left"), ("G42", "right")] {
+        let p = read(&program(g), Dialect::Sinumerik, "c.mpf", &options);
+        assert!(errors(&p).is_empty(), "{g}: {:#?}", p.diagnostics);
+        let d = unit([30.0, -15.0]);
+        let s = if g == "G41" { 1.0 } else { -1.0 };
+        let ours = path(&p, 6..=7, [10.0 - s * d[1] * r, 40.0 + s * d[0] * r]);
+        assert!(ours.len() >= 3, "{g}: {ours:?}");
+        let got = reference(r, side, &rounded_example(5.0), &ours);
+        assert!(got["radius_error_mm"].as_f64().unwrap() < 1e-4 && got["hausdorff_mm"].as_f64().unwrap() < TOLERANCE * r, "{g}: {got}");
+        let (_, _, c) = fillet([10.0, 40.0], [40.0, 25.0], [10.0, 5.0], 5.0);
+        let k = ours.iter().find(|e| e.centre.is_some_and(|m| near(m, c))).unwrap_or_else(|| panic!("{g}: no arc about {c:?}: {ours:?}"));
+        let want = if g == "G41" { 5.0 + r } else { 5.0 - r };
+        assert!((dist(k.from, c) - want).abs() < 1e-9 && (dist(k.to, c) - want).abs() < 1e-9, "{g}: {k:?}");
+    }
+    let cases = [
+        (program("G41").replace("N5 G1 G41 X10 Y40 F300", "N5 G1 G41 X10 Y40 F300 RND=2"), "5:24:", "selects compensation"),
+        (program("G41").replace("N7 X10 Y5", "N7 X10 Y5 RND=2"), "7:11:", "deselects compensation"),
+    ];
+    let cases: Vec<(&str, &str, &str)> = cases.iter().map(|(t, a, n)| (t.as_str(), *a, *n)).collect();
+    refuses_each(Dialect::Sinumerik, &options, &cases);
 }

@@ -16,7 +16,7 @@ pub(super) fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     d[0].hypot(d[1])
 }
 
-fn unit(v: [f64; 2]) -> [f64; 2] {
+pub(super) fn unit(v: [f64; 2]) -> [f64; 2] {
     let n = v[0].hypot(v[1]);
     [v[0] / n, v[1] / n]
 }
@@ -41,7 +41,7 @@ fn numbered(p: &Program, n: u64) -> Vec<&fiveaxis::program::Block> {
     p.blocks.iter().filter(|b| b.number == Some(n)).collect()
 }
 
-fn near(a: [f64; 2], b: [f64; 2]) -> bool {
+pub(super) fn near(a: [f64; 2], b: [f64; 2]) -> bool {
     dist(a, b) < 1e-9
 }
 
@@ -72,7 +72,7 @@ fn rnd_is_the_bisector_fillet_at_its_own_feed() {
 }
 
 /// The rounded contour of the manual's example, as elements (mm): the arc the fillet's.
-fn rounded_example(r: f64) -> Vec<El> {
+pub(super) fn rounded_example(r: f64) -> Vec<El> {
     let (t1, t2, c) = fillet([10.0, 40.0], [40.0, 25.0], [10.0, 5.0], r);
     vec![line([10.0, 40.0], t1), arc(t1, t2, c, false), line(t2, [10.0, 5.0])]
 }

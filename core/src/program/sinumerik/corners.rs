@@ -19,7 +19,9 @@
 //! for ("automatically reduced", by an amount the manuals do not give), a chamfer beside an arc
 //! (where its ends lie on the arc is not said), an element that is not a line or circle at a feed in
 //! the plane (G0, a helix, a move along the tool axis), a move between the elements, a frame or
-//! tilted plane changed between them, and a corner with tool radius compensation on.
+//! tilted plane changed between them, a corner at the block that selects or deselects tool radius
+//! compensation. Under G41/G42 the corner is the contour's: compensation offsets the rounded or
+//! chamfered contour ([`super::trc`] takes the elements from here).
 
 use super::super::corner_cut::{make, Cut, Held};
 use super::super::cutter_comp::ArcFeed;
@@ -81,11 +83,6 @@ impl Words {
     pub(crate) fn any(&self) -> bool {
         self.cut.is_some() || self.rndm.is_some() || self.frc.is_some() || self.frcm.is_some()
     }
-
-    /// The column of the first one.
-    pub(crate) fn col(&self) -> usize {
-        [self.cut.map(|c| c.3), self.rndm.map(|c| c.1), self.frc.map(|c| c.1), self.frcm.map(|c| c.1)].into_iter().flatten().min().unwrap_or(1)
-    }
 }
 
 /// The corner a block asks for at its end: its word's name, kind and value (program unit), feed,
@@ -111,7 +108,7 @@ struct Waiting {
     ask: Ask,
     plane: crate::program::Plane,
     lines: usize,
-    between: Vec<Block>,
+    between: Vec<Held>,
 }
 
 /// The corner state beside the reader: modal rounding and feed, the element waiting, this block's
@@ -138,7 +135,7 @@ enum Made {
     Other,
 }
 
-fn made(blocks: &[Block]) -> Made {
+fn made(blocks: &[&Block]) -> Made {
     if blocks.iter().all(|b| b.targets.is_empty()) {
         Made::Still
     } else if let [b] = blocks {
@@ -162,6 +159,14 @@ impl Corners {
     pub(crate) fn take(&mut self, words: Words, line: usize, col: usize, number: Option<u64>) {
         self.words = words;
         self.line_col = (line, col, number);
+    }
+
+    /// A block read whose corner words no path took (one that moves nothing under compensation):
+    /// its modal ones set, a corner it asks for refused.
+    pub(crate) fn leftover(&mut self, diags: &mut Diags) {
+        if let Some(a) = self.ask().filter(|a| !a.modal) {
+            diags.error(a.line, a.col, format!("{}: the block it is in moves nothing in the plane: it ends no contour element", a.word));
+        }
     }
 
     /// The block was refused: its words go.
@@ -188,16 +193,52 @@ impl Corners {
         }
     }
 
-    /// The blocks a line made (`out[before..]`, from `start` to where the interpreter is now): held
-    /// if its end is a corner, or joined to the element waiting before them by its corner; what can
-    /// go out goes out in order. A program end (M2, M30, M17) lets everything out.
+    /// The blocks a line made (`out[before..]`, from `start` to where the interpreter is now), without
+    /// tool radius compensation: held if its end is a corner, or joined to the element waiting
+    /// before them by its corner; what can go out goes out in order. A program end (M2, M30, M17)
+    /// lets everything out.
     pub(crate) fn after_line(&mut self, start: [f64; 6], before: usize, interp: &Interpreter, ends: bool, out: &mut Vec<Block>, diags: &mut Diags) {
         let ask = self.ask();
         if self.waiting.is_none() && ask.is_none() {
             return;
         }
-        let new: Vec<Block> = out.drain(before..).collect();
-        let mut kind = made(&new);
+        let new: Vec<Held> = out.drain(before..).map(|b| held(&b, start, interp)).collect();
+        let mut emit = Vec::new();
+        self.step(new, start, ask, interp, ends, &mut emit, diags);
+        out.extend(emit.into_iter().map(|h| h.b));
+    }
+
+    /// The block `h` made under tool radius compensation (from `start`), before compensation: what
+    /// goes on to it, in order.
+    pub(crate) fn compensated(&mut self, h: Held, start: [f64; 6], interp: &Interpreter, ends: bool, diags: &mut Diags) -> Vec<Held> {
+        let ask = self.ask();
+        let mut emit = Vec::new();
+        if self.waiting.is_none() && ask.is_none() {
+            emit.push(h);
+        } else {
+            self.step(vec![h], start, ask, interp, ends, &mut emit, diags);
+        }
+        emit
+    }
+
+    /// The words of a block that selects or deselects compensation, or that compensation refuses
+    /// corners around: a corner waiting or asked for here is refused (`why`), what is held out.
+    pub(crate) fn refuse_here(&mut self, why: &str, diags: &mut Diags) -> Vec<Held> {
+        let mut emit = Vec::new();
+        if let Some(a) = self.ask() {
+            diags.error(a.line, a.col, format!("{}: {why}", a.word));
+        }
+        if let Some(w) = self.waiting.take() {
+            refuse(w, why, diags, &mut emit);
+        }
+        emit
+    }
+
+    /// The step itself: `new` the blocks of one line.
+    #[allow(clippy::too_many_arguments)]
+    fn step(&mut self, mut new: Vec<Held>, start: [f64; 6], ask: Option<Ask>, interp: &Interpreter, ends: bool, emit: &mut Vec<Held>, diags: &mut Diags) {
+        let blocks: Vec<&Block> = new.iter().map(|h| &h.b).collect();
+        let mut kind = made(&blocks);
         // A line or circle that also moves along the tool axis or a rotary axis is no element of
         // the plane.
         let (_, _, tool_axis) = interp.plane().axes();
@@ -213,7 +254,7 @@ impl Corners {
                         w.ask.col,
                         format!("{}: no corner is inserted: the plane changes before the next element (\"No chamfer/rounding is inserted if ... a plane change is carried out\")", w.ask.word),
                     );
-                    release(w, out);
+                    release(w, emit);
                 }
                 Made::Still if w.lines < MAX_BETWEEN && !ends => {
                     if let Some(a) = ask.filter(|a| !a.modal) {
@@ -225,52 +266,55 @@ impl Corners {
                     return;
                 }
                 // RNDM's last element has no corner after it.
-                Made::Still if ends && w.ask.modal => release(w, out),
-                Made::Still if ends => refuse(w, "its program ends (M30, M2 or M17) before a contour element follows it", diags, out),
+                Made::Still if ends && w.ask.modal => release(w, emit),
+                Made::Still if ends => refuse(w, "its program ends (M30, M2 or M17) before a contour element follows it", diags, emit),
                 Made::Still => {
                     diags.warning(w.ask.line, w.ask.col, format!("{}: no corner is inserted: more than {MAX_BETWEEN} blocks without a move in the plane follow it (\"No chamfer/rounding is inserted if more than three blocks in the connection are programmed that do not contain any information for traversing in the plane\")", w.ask.word));
-                    release(w, out);
+                    release(w, emit);
                 }
-                Made::Other => refuse(w, "the block after it is not a contour element it joins: one line or circle at a feed (G1, G2, G3) in the plane", diags, out),
+                Made::Other => refuse(w, "the block after it is not a contour element it joins: one line or circle at a feed (G1, G2, G3) in the plane", diags, emit),
                 Made::Element => {
-                    let n = held(&new[0], start, interp);
-                    let n = self.join(w, n, interp, diags, out);
-                    return self.next(n, ask, &new[1..], interp, ends, out, diags);
+                    let rest = new.split_off(1.min(new.len()));
+                    let Some(n) = new.pop() else { return release(w, emit) };
+                    let n = self.join(w, n, interp, diags, emit);
+                    return self.next(n, ask, rest, interp, ends, emit, diags);
                 }
             }
         }
         if matches!(kind, Made::Element) {
-            let n = held(&new[0], start, interp);
-            return self.next(n, ask, &new[1..], interp, ends, out, diags);
+            let rest = new.split_off(1.min(new.len()));
+            if let Some(n) = new.pop() {
+                return self.next(n, ask, rest, interp, ends, emit, diags);
+            }
         }
         if let Some(a) = ask.filter(|a| !a.modal) {
             diags.error(a.line, a.col, format!("{}: the block it is in is not a contour element a corner ends: one line or circle at a feed (G1, G2, G3) in the plane", a.word));
         }
-        out.extend(new);
+        emit.extend(new);
     }
 
     /// The element `n` out, or held for its own corner.
     #[allow(clippy::too_many_arguments)]
-    fn next(&mut self, n: Held, ask: Option<Ask>, rest: &[Block], interp: &Interpreter, ends: bool, out: &mut Vec<Block>, diags: &mut Diags) {
+    fn next(&mut self, n: Held, ask: Option<Ask>, rest: Vec<Held>, interp: &Interpreter, ends: bool, emit: &mut Vec<Held>, diags: &mut Diags) {
         match ask {
-            Some(a) if !ends => self.waiting = Some(Waiting { element: n, ask: a, plane: interp.plane(), lines: 0, between: rest.to_vec() }),
+            Some(a) if !ends => self.waiting = Some(Waiting { element: n, ask: a, plane: interp.plane(), lines: 0, between: rest }),
             Some(a) => {
                 if !a.modal {
                     diags.error(a.line, a.col, format!("{}: the program ends in its block: no contour element follows it", a.word));
                 }
-                out.push(n.b);
-                out.extend_from_slice(rest);
+                emit.push(n);
+                emit.extend(rest);
             }
             None => {
-                out.push(n.b);
-                out.extend_from_slice(rest);
+                emit.push(n);
+                emit.extend(rest);
             }
         }
     }
 
     /// The element waiting (`w`) and the one after it (`n`): `w`'s element cut back and out with
     /// its corner and the blocks between; `n` cut back, returned.
-    fn join(&mut self, w: Waiting, n: Held, interp: &Interpreter, diags: &mut Diags, out: &mut Vec<Block>) -> Held {
+    fn join(&mut self, w: Waiting, n: Held, interp: &Interpreter, diags: &mut Diags, emit: &mut Vec<Held>) -> Held {
         let a = &w.ask;
         let p = &w.element;
         let moved = (0..6).any(|k| (n.start[k] - p.end[k]).abs() > 1e-9 * (1.0 + p.end[k].abs()));
@@ -300,9 +344,9 @@ impl Corners {
                     None => n.b.feed,
                 };
                 corner.b.exact = n.b.exact;
-                out.push(p2.b);
-                out.push(corner.b);
-                out.extend(w.between);
+                emit.push(p2);
+                emit.push(corner);
+                emit.extend(w.between);
                 n2
             }
             Err(why) => {
@@ -313,42 +357,42 @@ impl Corners {
                     let col = a.col;
                     diags.error(a.line, col, format!("{}={}: {why}", a.word, a.value));
                 }
-                release(w, out);
+                release(w, emit);
                 n
             }
         }
     }
 
     /// The block sequence is left (a call, a return, a block not read): a corner waiting is refused
-    /// there, its element out as programmed.
-    pub(crate) fn interrupt(&mut self, why: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+    /// there, what it holds returned in order.
+    pub(crate) fn interrupt(&mut self, why: &str, diags: &mut Diags) -> Vec<Held> {
+        let mut emit = Vec::new();
         if let Some(w) = self.waiting.take() {
-            refuse(w, why, diags, out);
+            refuse(w, why, diags, &mut emit);
         }
+        emit
     }
 
     /// The program's input has ended: a corner still waiting has no element after it.
-    pub(crate) fn end(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
-        if let Some(w) = self.waiting.take() {
-            refuse(w, "its program ends (M30, M2 or M17) before a contour element follows it", diags, out);
-        }
+    pub(crate) fn end(&mut self, diags: &mut Diags) -> Vec<Held> {
+        self.interrupt("its program ends (M30, M2 or M17) before a contour element follows it", diags)
     }
 }
 
 /// The element waiting and the blocks after it out as programmed.
-fn release(w: Waiting, out: &mut Vec<Block>) {
-    out.push(w.element.b);
-    out.extend(w.between);
+fn release(w: Waiting, emit: &mut Vec<Held>) {
+    emit.push(w.element);
+    emit.extend(w.between);
 }
 
 /// The corner cannot be made: an error at its word, the elements as programmed.
-fn refuse(w: Waiting, why: &str, diags: &mut Diags, out: &mut Vec<Block>) {
+fn refuse(w: Waiting, why: &str, diags: &mut Diags, emit: &mut Vec<Held>) {
     diags.error(w.ask.line, w.ask.col, format!("{}={}: {why}", w.ask.word, w.ask.value));
-    release(w, out);
+    release(w, emit);
 }
 
 /// A block the interpreter made, from `start` to where it is now, as an element.
-fn held(b: &Block, start: [f64; 6], interp: &Interpreter) -> Held {
+pub(crate) fn held(b: &Block, start: [f64; 6], interp: &Interpreter) -> Held {
     Held { b: b.clone(), start, end: interp.position(), unit: interp.unit(), tilt: interp.tilt(), arc_feed: ArcFeed::default() }
 }
 

@@ -87,7 +87,7 @@ pub(super) enum End {
 pub(crate) struct FlowRunner {
     pub(super) reader: SinumerikReader,
     /// The furthest line reached: a line at or before it runs again, and counts against `budget`.
-    reached: usize,
+    pub(super) reached: usize,
     budget: usize,
     /// Lines run beyond the program's own (at a subprogram's level, every line run).
     pub(super) again: usize,
@@ -487,7 +487,7 @@ impl Jumping for FlowRunner {
         self.reader.finish(None, out, diags);
         // A corner still waiting has no element after it.
         if self.level == 0 {
-            self.reader.corners.end(out, diags);
+            self.reader.corner_end(self.reached.max(1), out, diags);
         }
         // The main program's end: compensation still on lets its held blocks out.
         if self.level == 0 {

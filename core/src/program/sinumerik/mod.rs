@@ -145,7 +145,8 @@ impl super::stream::LineReader for SinumerikReader {
         if diags.errors() > errors_before {
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
-            self.corners.interrupt("the block after it was not read", out, diags);
+            let held = self.corners.interrupt("the block after it was not read", diags);
+            self.emit_held(held, line, first + 1, out, diags);
             return;
         }
         // The state a refused block must leave as it was. A block of plain words (a tool vector among
@@ -164,6 +165,8 @@ impl super::stream::LineReader for SinumerikReader {
         // A comment line alone is no block between two elements a corner joins.
         let written = lexed.number.is_some() || !lexed.words.is_empty() || !lexed.keywords.is_empty() || lexed.vector.is_some() || lexed.edge.is_some() || lexed.corner.any();
         let (start, corners) = (self.interp.position(), self.corners.busy() || lexed.corner.any());
+        // Under tool radius compensation its own path takes the corners ([`trc`]).
+        let trc_before = self.trc.busy();
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             self.corners.drop_words();
             if let Some(saved) = saved {
@@ -180,28 +183,54 @@ impl super::stream::LineReader for SinumerikReader {
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used"));
             // A corner waiting: the block after it was not read, so it joins nothing.
-            self.corners.interrupt("the block after it was not read", out, diags);
+            self.corners.drop_words();
+            let held = self.corners.interrupt("the block after it was not read", diags);
+            self.emit_held(held, line, first + 1, out, diags);
             return;
         }
         self.vars.commit();
-        if corners && (written || out.len() > blocks_before) {
+        if corners && !trc_before && !self.trc.busy() && (written || out.len() > blocks_before) {
             let ends = self.returned || self.stopped || super::stream::ends_program(&out[blocks_before..], &[2.0, 30.0]);
             self.corners.after_line(start, blocks_before, &self.interp, ends, out, diags);
         }
+        self.corners.leftover(diags);
     }
 }
 
 impl SinumerikReader {
+    /// The block sequence is left (a call, a return): a corner waiting is refused, its blocks out.
+    pub(super) fn corner_interrupt(&mut self, why: &str, line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        let held = self.corners.interrupt(why, diags);
+        self.emit_held(held, line, col, out, diags);
+    }
+
+    /// The program's input has ended: a corner waiting has no element after it.
+    pub(super) fn corner_end(&mut self, line: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        let held = self.corners.end(diags);
+        self.emit_held(held, line, 1, out, diags);
+    }
+
+    /// Blocks a corner held, out in order: through tool radius compensation while it is on (a
+    /// failure there stops the program, [`trc`]).
+    pub(super) fn emit_held(&mut self, held: Vec<crate::program::corner_cut::Held>, line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        for h in held {
+            if self.trc.busy() {
+                let fed = self.trc.engine.feed(h.b, h.start, h.end, h.unit, h.tilt, h.arc_feed, out);
+                if !self.trc_result(fed, line, col, diags) {
+                    return false;
+                }
+            } else {
+                out.push(h.b);
+            }
+        }
+        true
+    }
+
     /// Run one block's words; false (or an error in `diags`) if it is refused.
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
         let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner } = lexed;
         if corner.any() || self.corners.busy() {
-            if self.trc.busy() || words.iter().any(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "41" | "42")) {
-                let col = if corner.any() { corner.col() } else { first_col };
-                diags.error(line, col, "a chamfer or rounding (CHF, CHR, RND, RNDM) with tool radius compensation (G41/G42) is not read yet: the control rounds the contour, then offsets it");
-                return false;
-            }
             self.corners.take(corner, line, first_col, number);
         }
         // A line of a comment alone is no block compensation counts as empty.

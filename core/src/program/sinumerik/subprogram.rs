@@ -236,7 +236,7 @@ impl FlowRunner {
         }
         // A corner waiting for the element after it: the call leaves the caller's block sequence.
         let mut released = Vec::new();
-        self.reader.corners.interrupt("a subprogram is called before the element after it", &mut released, diags);
+        self.reader.corner_interrupt("a subprogram is called before the element after it", line, col, &mut released, diags);
         let reader = std::mem::replace(&mut self.reader, super::SinumerikReader::new(&self.setup));
         let mut child = FlowRunner::below(self, reader, name, values, !first);
         child.called_files = std::mem::take(&mut self.called_files);
@@ -305,7 +305,7 @@ impl FlowRunner {
         let mut child = run.runner;
         // RET with a corner waiting in the subprogram: its element out, at the call's line.
         let (before, mut d) = (out.len(), Diags::default());
-        child.reader.corners.interrupt("its subprogram returns before the element after it", out, &mut d);
+        child.reader.corner_interrupt("its subprogram returns before the element after it", child.reached.max(1), 1, out, &mut d);
         for b in &mut out[before..] {
             (b.line, b.column) = (line, col);
         }

@@ -378,6 +378,10 @@ impl super::SinumerikReader {
                     Ok(r) => r,
                     Err(why) => return refuse(diags, c, why),
                 };
+                // A corner before the selection, or asked for in it: the approach is no contour
+                // element a corner joins (the element before it out as programmed).
+                let held = self.corners.refuse_here("the block that selects compensation (G41/G42) is no contour element a corner joins", diags);
+                self.emit_held(held, line, col, out, diags);
                 let start = self.interp.position();
                 let Some(b) = self.interp.block_one(words, line, col, number, diags) else {
                     return false;
@@ -413,6 +417,12 @@ impl super::SinumerikReader {
                     return false;
                 };
                 let end = self.interp.position();
+                // A corner before the deselection, or asked for in it: the retraction is no contour
+                // element a corner joins.
+                let held = self.corners.refuse_here("the block that deselects compensation (G40) is no contour element a corner joins", diags);
+                if !self.emit_held(held, line, col, out, diags) {
+                    return true;
+                }
                 let left = self.trc.engine.leave(b, end, unit, tilt, out);
                 self.trc.set.dummies = 0;
                 self.trc_result(left, line, col, diags)
@@ -448,8 +458,10 @@ impl super::SinumerikReader {
                 }
                 let returns = words.iter().any(|w| w.letter == 'M' && w.value == 17.0);
                 let ends = words.iter().any(|w| w.letter == 'M' && (w.value == 2.0 || w.value == 30.0));
-                let fed = self.trc.engine.feed(b, start, end, unit, tilt, self.trc.set.arc_feed, out);
-                if !self.trc_result(fed, line, col, diags) {
+                // Chamfers and roundings of the contour before it is offset ([`super::corners`]).
+                let h = crate::program::corner_cut::Held { b, start, end, unit, tilt, arc_feed: self.trc.set.arc_feed };
+                let held = self.corners.compensated(h, start, &self.interp, ends || returns, diags);
+                if !self.emit_held(held, line, col, out, diags) {
                     return true;
                 }
                 if ends {
@@ -477,7 +489,7 @@ impl super::SinumerikReader {
     }
 
     /// Compensation's outcome: a failure stops the program there (true: it went on).
-    fn trc_result(&mut self, r: Result<(), Fail>, line: usize, col: usize, diags: &mut Diags) -> bool {
+    pub(super) fn trc_result(&mut self, r: Result<(), Fail>, line: usize, col: usize, diags: &mut Diags) -> bool {
         match r {
             Ok(()) => true,
             Err(why) => {
