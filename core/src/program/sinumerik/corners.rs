@@ -27,8 +27,8 @@ use super::super::corner_cut::{make, Cut, Held};
 use super::super::cutter_comp::ArcFeed;
 use super::super::lex::Diags;
 use super::super::{Block, Feed, FeedMode, Motion};
-use crate::units::MM;
 use crate::program::interp::Interpreter;
+use crate::units::MM;
 
 /// The most blocks without a move in the plane between the two elements ("more than three blocks
 /// ... no chamfer/rounding is inserted").
