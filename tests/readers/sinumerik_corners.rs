@@ -217,3 +217,18 @@ fn rnd_under_g41_g42_offsets_the_rounded_contour() {
     let cases: Vec<(&str, &str, &str)> = cases.iter().map(|(t, a, n)| (t.as_str(), *a, *n)).collect();
     refuses_each(Dialect::Sinumerik, &options, &cases);
 }
+
+/// A rounding under G42 smaller than the tool (R5 inside, a 12 mm tool): compensation cannot
+/// follow it and the program stops there; nothing held or after it runs.
+#[test]
+fn a_rounding_the_tool_cannot_follow_stops_the_program() {
+    use super::tnc_comp::table;
+    let text = "N1 T3 D1\nN2 M6\nN3 G17 G90 G71 G94\nN4 G0 X-10 Y40 Z-2\nN5 G1 G42 X10 Y40 F300\nN6 X40 Y25 RND=5\nN7 X10 Y5 RND=1\nN8 X0 Y5\nN9 G40 X-10 Y5\nN10 G0 Z50\nN11 M30\n";
+    let p = read(text, Dialect::Sinumerik, "c.mpf", &table("T3 P3 D12\n"));
+    // One fault: the stop (N7's corner, held when it came, never runs, and is not another).
+    assert_eq!(errors(&p).len(), 1, "{:#?}", errors(&p));
+    let e = errors(&p);
+    let at = e.iter().find(|(_, _, m)| m.contains("tool radius compensation")).unwrap_or_else(|| panic!("{e:#?}")).0;
+    assert!(at <= 7, "{e:#?}");
+    assert!(p.blocks.iter().all(|b| b.line <= at), "blocks after line {at} ran: {:#?}", p.blocks.iter().map(|b| b.line).collect::<Vec<_>>());
+}

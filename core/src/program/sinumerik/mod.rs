@@ -184,8 +184,13 @@ impl super::stream::LineReader for SinumerikReader {
             diags.warning(line, first + 1, format!("line {line} not used"));
             // A corner waiting: the block after it was not read, so it joins nothing.
             self.corners.drop_words();
-            let held = self.corners.interrupt("the block after it was not read", diags);
-            self.emit_held(held, line, first + 1, out, diags);
+            if self.stopped {
+                // Compensation stopped the program here: what a corner held never runs.
+                self.corners = corners::Corners::default();
+            } else {
+                let held = self.corners.interrupt("the block after it was not read", diags);
+                self.emit_held(held, line, first + 1, out, diags);
+            }
             return;
         }
         self.vars.commit();
@@ -206,6 +211,11 @@ impl SinumerikReader {
 
     /// The program's input has ended: a corner waiting has no element after it.
     pub(super) fn corner_end(&mut self, line: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        // Compensation stopped the program: what a corner held there never runs.
+        if self.stopped {
+            self.corners = corners::Corners::default();
+            return;
+        }
         let held = self.corners.end(diags);
         self.emit_held(held, line, 1, out, diags);
     }
@@ -213,6 +223,10 @@ impl SinumerikReader {
     /// Blocks a corner held, out in order: through tool radius compensation while it is on (a
     /// failure there stops the program, [`trc`]).
     pub(super) fn emit_held(&mut self, held: Vec<crate::program::corner_cut::Held>, line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        // Compensation stopped the program: what was held after the stop does not run.
+        if self.stopped {
+            return false;
+        }
         for h in held {
             if self.trc.busy() {
                 let fed = self.trc.engine.feed(h.b, h.start, h.end, h.unit, h.tilt, h.arc_feed, out);
