@@ -3,7 +3,7 @@
 //! programmed contour (tests/peer/offset_reference.py), where NORM starts and ends it worked by hand,
 //! the feed on arcs under CFC/CFIN/CFTCP by the manual's formula, and what the reader refuses.
 
-use super::tnc_comp::{arc, line, path, reference, table, El, TOLERANCE};
+use super::tnc_comp::{outside_contour, path, reference, table, El, TOLERANCE};
 use super::*;
 
 /// The TNC compensation test's outside contour in 840D words, counter-clockwise with G42 (the tool
@@ -15,20 +15,6 @@ fn outside(head: &str) -> String {
          N7 X60\nN8 G3 X70 Y10 CR=10\nN9 G1 Y40\nN10 X50\nN11 G2 X40 Y30 CR=10\nN12 G1 Y20\nN13 X0\nN14 Y5\n\
          N15 G40 X-20 Y-10\nN16 G0 Z50\nN17 M30\n"
     )
-}
-
-/// [`outside`]'s contour, blocks N7 to N14 (mm).
-fn outside_contour() -> Vec<El> {
-    vec![
-        line([0.0, 0.0], [60.0, 0.0]),
-        arc([60.0, 0.0], [70.0, 10.0], [60.0, 10.0], true),
-        line([70.0, 10.0], [70.0, 40.0]),
-        line([70.0, 40.0], [50.0, 40.0]),
-        arc([50.0, 40.0], [40.0, 30.0], [40.0, 40.0], false),
-        line([40.0, 30.0], [40.0, 20.0]),
-        line([40.0, 20.0], [0.0, 20.0]),
-        line([0.0, 20.0], [0.0, 5.0]),
-    ]
 }
 
 fn feed(b: &fiveaxis::program::Block) -> f64 {

@@ -80,8 +80,8 @@ const OUTSIDE: &str = "0 BEGIN PGM RC MM\n1 TOOL CALL 3 Z S3000\n2 L X-20 Y-20 Z
 4 L X+0 Y+0 RR F500\n5 L X+60\n6 CR X+70 Y+10 R+10 DR+\n7 L Y+40\n8 L X+50\n9 CR X+40 Y+30 R+10 DR-\n\
 10 L Y+20\n11 L X+0\n12 L Y+5\n13 L X-20 Y-10 R0\n14 L Z+50 FMAX\n15 END PGM RC MM\n";
 
-/// [`OUTSIDE`]'s contour, blocks 4 to 12, as elements (mm).
-fn outside_contour() -> Vec<El> {
+/// [`OUTSIDE`]'s contour, blocks 4 to 12, as elements (mm); the 840D test's N7 to N14 too.
+pub(super) fn outside_contour() -> Vec<El> {
     vec![
         line([0.0, 0.0], [60.0, 0.0]),
         arc([60.0, 0.0], [70.0, 10.0], [60.0, 10.0], true),
