@@ -216,6 +216,20 @@ fn rnd_under_g41_g42_offsets_the_rounded_contour() {
     ];
     let cases: Vec<(&str, &str, &str)> = cases.iter().map(|(t, a, n)| (t.as_str(), *a, *n)).collect();
     refuses_each(Dialect::Sinumerik, &options, &cases);
+    // A corner refused there is the only fault: the selection and the deselection still run (their
+    // lines are not taken back after compensation placed them), and the program ends at N10.
+    for (text, n) in cases.iter().map(|c| c.0).zip([5, 8]) {
+        let p = read(text, Dialect::Sinumerik, "c.mpf", &options);
+        assert_eq!(errors(&p).len(), 1, "{:#?}", p.diagnostics);
+        assert!(!p.diagnostics.iter().any(|d| d.message.contains("not used")), "{:#?}", p.diagnostics);
+        assert!(p.blocks.iter().any(|b| b.number == Some(n)) && p.blocks.iter().any(|b| b.number == Some(10)), "N{n}");
+    }
+    // Under RNDM the selection block ends no corner (a modal rounding rounds no approach, and says
+    // nothing); N6's corner is rounded, N7 (RNDM=0) ends the contour with none.
+    let p = read(&program("G42").replace("N4 G0", "N35 RNDM=2\nN4 G0").replace("N7 X10 Y5", "N7 X10 Y5 RNDM=0"), Dialect::Sinumerik, "c.mpf", &options);
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let arcs: Vec<_> = p.blocks.iter().filter(|b| b.motion.is_arc()).map(|b| b.number).collect();
+    assert_eq!(arcs, vec![Some(6)], "{:#?}", p.blocks);
 }
 
 /// A rounding under G42 smaller than the tool (R5 inside, a 12 mm tool): compensation cannot

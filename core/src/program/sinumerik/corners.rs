@@ -225,7 +225,7 @@ impl Corners {
     /// corners around: a corner waiting or asked for here is refused (`why`), what is held out.
     pub(crate) fn refuse_here(&mut self, why: &str, diags: &mut Diags) -> Vec<Held> {
         let mut emit = Vec::new();
-        if let Some(a) = self.ask() {
+        if let Some(a) = self.ask().filter(|a| !a.modal) {
             diags.error(a.line, a.col, format!("{}: {why}", a.word));
         }
         if let Some(w) = self.waiting.take() {

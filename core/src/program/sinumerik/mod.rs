@@ -70,6 +70,9 @@ pub(crate) struct SinumerikReader {
     trc: trc::Trc,
     /// Chamfers and roundings at contour corners ([`corners`]).
     pub(super) corners: corners::Corners,
+    /// What the corners said of a line under compensation: added once the line is taken, so that a
+    /// corner refused does not refuse the line compensation has already placed.
+    pub(super) corner_diags: Diags,
     /// The line just read had M17 (held by compensation or not): the subprogram returns there.
     pub(super) returned: bool,
     /// Tool radius compensation could not go on: the program stops (kept apart from the
@@ -89,6 +92,7 @@ impl SinumerikReader {
             machine: setup.machine.clone(),
             trc: trc::Trc::default(),
             corners: corners::Corners::default(),
+            corner_diags: Diags::default(),
             returned: false,
             stopped: false,
         }
@@ -184,6 +188,7 @@ impl super::stream::LineReader for SinumerikReader {
             diags.warning(line, first + 1, format!("line {line} not used"));
             // A corner waiting: the block after it was not read, so it joins nothing.
             self.corners.drop_words();
+            diags.0.append(&mut self.corner_diags.0);
             if self.stopped {
                 // Compensation stopped the program here: what a corner held never runs.
                 self.corners = corners::Corners::default();
@@ -194,6 +199,7 @@ impl super::stream::LineReader for SinumerikReader {
             return;
         }
         self.vars.commit();
+        diags.0.append(&mut self.corner_diags.0);
         if corners && !trc_before && !self.trc.busy() && (written || out.len() > blocks_before) {
             let ends = self.returned || self.stopped || super::stream::ends_program(&out[blocks_before..], &[2.0, 30.0]);
             self.corners.after_line(start, blocks_before, &self.interp, ends, out, diags);
@@ -205,6 +211,10 @@ impl super::stream::LineReader for SinumerikReader {
 impl SinumerikReader {
     /// The block sequence is left (a call, a return): a corner waiting is refused, its blocks out.
     pub(super) fn corner_interrupt(&mut self, why: &str, line: usize, col: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        if self.stopped {
+            self.corners = corners::Corners::default();
+            return;
+        }
         let held = self.corners.interrupt(why, diags);
         self.emit_held(held, line, col, out, diags);
     }

@@ -237,6 +237,11 @@ impl FlowRunner {
         // A corner waiting for the element after it: the call leaves the caller's block sequence.
         let mut released = Vec::new();
         self.reader.corner_interrupt("a subprogram is called before the element after it", line, col, &mut released, diags);
+        if self.reader.stopped {
+            // Compensation stopped the program as the held blocks went out: the call does not run
+            // (the blocks it placed before the stop are the stop's, dropped with it).
+            return Next::Ended;
+        }
         let reader = std::mem::replace(&mut self.reader, super::SinumerikReader::new(&self.setup));
         let mut child = FlowRunner::below(self, reader, name, values, !first);
         child.called_files = std::mem::take(&mut self.called_files);
@@ -312,13 +317,15 @@ impl FlowRunner {
         for x in d.0 {
             diags.error(line, col, format!("in {}:{}:{}: {}", shown, x.line, x.column, x.message));
         }
+        // Compensation stopped the program as the held blocks went out: nothing after runs.
+        let stopped = child.reader.stopped;
         self.again = self.again.saturating_add(child.again);
         self.called_files = std::mem::take(&mut child.called_files);
         let mut reader = std::mem::replace(&mut child.reader, super::SinumerikReader::new(&self.setup));
         reader.vars.leave_level(caller);
         reader.interp.refused_line = None;
         self.reader = reader;
-        Some(if child.end == End::Returned { Next::On } else { Next::Ended })
+        Some(if child.end == End::Returned && !stopped { Next::On } else { Next::Ended })
     }
 
     /// A `PROC` line (`text[after..]` past the keyword): the program's parameters, given the

@@ -378,15 +378,15 @@ impl super::SinumerikReader {
                     Ok(r) => r,
                     Err(why) => return refuse(diags, c, why),
                 };
-                // A corner before the selection, or asked for in it: the approach is no contour
-                // element a corner joins (the element before it out as programmed).
-                let held = self.corners.refuse_here("the block that selects compensation (G41/G42) is no contour element a corner joins", diags);
-                self.emit_held(held, line, col, out, diags);
                 let start = self.interp.position();
                 let Some(b) = self.interp.block_one(words, line, col, number, diags) else {
                     return false;
                 };
                 let end = self.interp.position();
+                // A corner before the selection, or asked for in it: the approach is no contour
+                // element a corner joins (the element before it out as programmed).
+                let held = self.corners.refuse_here("the block that selects compensation (G41/G42) is no contour element a corner joins", &mut self.corner_diags);
+                self.emit_held(held, line, col, out, diags);
                 self.trc.engine.start(side, r, [start[0], start[1], start[2]]);
                 self.trc.set.dummies = 0;
                 let fed = self.trc.engine.feed(b, start, end, unit, tilt, self.trc.set.arc_feed, out);
@@ -419,7 +419,7 @@ impl super::SinumerikReader {
                 let end = self.interp.position();
                 // A corner before the deselection, or asked for in it: the retraction is no contour
                 // element a corner joins.
-                let held = self.corners.refuse_here("the block that deselects compensation (G40) is no contour element a corner joins", diags);
+                let held = self.corners.refuse_here("the block that deselects compensation (G40) is no contour element a corner joins", &mut self.corner_diags);
                 if !self.emit_held(held, line, col, out, diags) {
                     return true;
                 }
@@ -460,7 +460,7 @@ impl super::SinumerikReader {
                 let ends = words.iter().any(|w| w.letter == 'M' && (w.value == 2.0 || w.value == 30.0));
                 // Chamfers and roundings of the contour before it is offset ([`super::corners`]).
                 let h = crate::program::corner_cut::Held { b, start, end, unit, tilt, arc_feed: self.trc.set.arc_feed };
-                let held = self.corners.compensated(h, start, &self.interp, ends || returns, diags);
+                let held = self.corners.compensated(h, start, &self.interp, ends || returns, &mut self.corner_diags);
                 if !self.emit_held(held, line, col, out, diags) {
                     return true;
                 }
