@@ -181,8 +181,7 @@ fn meet(a: Offset, b: Offset) -> Vec<[f64; 2]> {
 /// The corner between `before` and `after` (which starts where `before` ends): the sign of the turn
 /// (positive to the left), or why there is none to cut.
 fn turn(before: &Element, after: &Element) -> Result<f64, String> {
-    let k = before.to();
-    let (Some(t1), Some(t2)) = (before.direction(k), after.direction(after.from())) else {
+    let (Some(t1), Some(t2)) = joint(before, after) else {
         return Err("an element of no length beside it".into());
     };
     let s = cross(t1, t2);
@@ -190,6 +189,18 @@ fn turn(before: &Element, after: &Element) -> Result<f64, String> {
         return Err(if dot(t1, t2) > 0.0 { "the elements meet tangentially: there is no corner to cut off".into() } else { "the contour turns back on itself here".into() });
     }
     Ok(s.signum())
+}
+
+/// The directions of travel where `before` ends and `after` starts (None for an element of no
+/// length).
+fn joint(before: &Element, after: &Element) -> (Option<[f64; 2]>, Option<[f64; 2]>) {
+    (before.direction(before.to()), after.direction(after.from()))
+}
+
+/// `after` leaves where `before` ends in the same direction: there is no corner to cut ([`turn`]'s
+/// "meet tangentially").
+pub(crate) fn tangential(before: &Element, after: &Element) -> bool {
+    matches!(joint(before, after), (Some(t1), Some(t2)) if cross(t1, t2).abs() < STRAIGHT && dot(t1, t2) > 0.0)
 }
 
 /// The arc of radius `r` tangent to `before` and `after` inside their corner, nearest the corner;

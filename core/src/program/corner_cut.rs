@@ -6,7 +6,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::corner::{chamfer, round, Element};
+use super::corner::{chamfer, round, tangential, Element};
 use super::cutter_comp::ArcFeed;
 use super::{ArcSpec, Block, Feed, FeedMode, Motion, Plane};
 use crate::units::MM;
@@ -83,6 +83,13 @@ fn aim(b: &mut Block, v: [f64; 6], axes: (usize, usize, usize), tilt: Option<Mat
             }
         }
     }
+}
+
+/// The held elements `p` and `n` (which starts where `p` ends) meet tangentially in the working
+/// plane: there is no corner between them (false where either is no element of the plane).
+pub(crate) fn meet_tangentially(p: &Held, n: &Held, plane: Plane) -> bool {
+    let axes = plane.axes();
+    matches!((element(p, axes, "before"), element(n, axes, "after")), (Ok(a), Ok(b)) if tangential(&a, &b))
 }
 
 /// The element before cut back, the corner, the element after cut back; why not.

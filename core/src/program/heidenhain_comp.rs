@@ -11,7 +11,7 @@
 //! coordinates (`M91`/`M92`), M128, cycle calls (`G79`, `M99`, `M89`); a contour the tool cannot
 //! follow stops the program there ("Tool radius too large").
 
-use super::cutter_comp::{tnc_said, Fail, Side, TncComp};
+use super::cutter_comp::{tnc_diameter, tnc_radius, tnc_said, Fail, Side, TncComp};
 use super::heidenhain::DinReader;
 use super::interp::Word;
 use super::lex::Diags;
@@ -169,12 +169,7 @@ impl DinReader {
     /// The called tool's radius, R + DR in the tool table (m).
     fn comp_radius(&self) -> Result<f64, String> {
         let tool = self.comp.tool.ok_or("the radius is the called tool's, and no tool call (T.. G17) comes before this block")?;
-        let table = self.interp.tool_table().ok_or_else(|| format!("the radius is tool {tool}'s in the tool table: give it with --tool-table (the TNC's TOOL.T, or LinuxCNC's tool.tbl)"))?;
-        let d = table.diameter(tool).ok_or_else(|| format!("tool {tool} is not in the tool table"))?;
-        if d < 0.0 {
-            return Err(format!("tool {tool}'s radius in the tool table (R + DR) is negative ({} mm): not read", d / 2.0 / crate::units::MM));
-        }
-        Ok(d / 2.0)
+        tnc_radius(&format!("tool {tool}"), tnc_diameter(self.interp.tool_table(), tool)?)
     }
 
     /// Compensation's outcome: a failure stops the program there (true: it went on).

@@ -18,7 +18,7 @@ mod tools;
 pub(crate) use tnc::{said as tnc_said, TncComp};
 
 pub use tools::ToolTable;
-pub(crate) use tools::Tools;
+pub(crate) use tools::{tnc_diameter, tnc_radius, Tools};
 
 use super::interp::{x10, Interpreter, Word};
 use super::lex::Diags;

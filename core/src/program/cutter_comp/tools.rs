@@ -22,6 +22,22 @@ pub struct ToolTable {
 /// The most tools a table may hold (LinuxCNC's CANON_POCKETS_MAX is 1000).
 pub const MAX_TOOLS: usize = 100_000;
 
+/// A TNC's numbered tool call's diameter 2 (R + DR) in the tool table (`--tool-table`), m; why not
+/// (no table given, the tool not in it). Klartext's `TOOL CALL 5` and DIN/ISO's `T5 G17` alike.
+pub(crate) fn tnc_diameter(table: Option<&ToolTable>, tool: u32) -> Result<f64, String> {
+    let table = table.ok_or_else(|| format!("the radius is tool {tool}'s in the tool table: give it with --tool-table (the TNC's TOOL.T, or LinuxCNC's tool.tbl)"))?;
+    table.diameter(tool).ok_or_else(|| format!("tool {tool} is not in the tool table"))
+}
+
+/// The radius a TNC's `RL`/`RR` (DIN/ISO `G41`/`G42`) compensate by for the tool `who` of diameter
+/// `d` (m): what the TNC makes of a negative R + DR is not in the manuals read here.
+pub(crate) fn tnc_radius(who: &str, d: f64) -> Result<f64, String> {
+    if d < 0.0 {
+        return Err(format!("{who}'s radius in the tool table (R + DR) is negative ({} mm): not read", d / 2.0 / crate::units::MM));
+    }
+    Ok(d / 2.0)
+}
+
 impl ToolTable {
     /// Read a tool table: a Heidenhain TNC's `TOOL.T` where the first line that is not blank starts
     /// with `BEGIN` (its rows' T, R and DR, by the columns its second line names), else LinuxCNC's

@@ -525,22 +525,14 @@ impl Exec {
             return Err("\"You cannot activate radius compensation in a circle block. Activate it beforehand in a straight-line block\" (TNC 620 ISO user's manual, p. 154)".into());
         }
         let (who, d) = self.called_tool(interp)?;
-        // What the TNC makes of a negative R + DR under RL/RR is not in the manuals read here.
-        if d < 0.0 {
-            return Err(format!("{who}'s radius in the tool table (R + DR) is negative ({} mm): not read", d / 2.0 / MM));
-        }
-        Ok(d / 2.0)
+        crate::program::cutter_comp::tnc_radius(&who, d)
     }
 
     /// The tool of the last TOOL CALL, by number or by name (`TOOL CALL "MILL_D10"`, the table's
     /// NAME column), as messages name it, and its diameter 2 (R + DR) in the tool table, m; why not.
     fn called_tool(&self, interp: &Interpreter) -> Result<(String, f64), String> {
         match (self.tool, self.tool_name.as_deref()) {
-            (Some(tool), _) => {
-                let table = interp.tool_table().ok_or_else(|| format!("the radius is tool {tool}'s in the tool table: give it with --tool-table (the TNC's TOOL.T, or LinuxCNC's tool.tbl)"))?;
-                let d = table.diameter(tool).ok_or_else(|| format!("tool {tool} is not in the tool table"))?;
-                Ok((format!("tool {tool}"), d))
-            }
+            (Some(tool), _) => Ok((format!("tool {tool}"), crate::program::cutter_comp::tnc_diameter(interp.tool_table(), tool)?)),
             (None, Some(name)) => {
                 let table = interp.tool_table().ok_or_else(|| format!("the radius is tool \"{name}\"'s in the tool table: give it with --tool-table (the TNC's TOOL.T, with its NAME column)"))?;
                 Ok((format!("tool \"{name}\""), table.diameter_by_name(name)?))

@@ -23,7 +23,7 @@
 //! compensation. Under G41/G42 the corner is the contour's: compensation offsets the rounded or
 //! chamfered contour ([`super::trc`] takes the elements from here).
 
-use super::super::corner_cut::{make, Cut, Held};
+use super::super::corner_cut::{make, meet_tangentially, Cut, Held};
 use super::super::cutter_comp::ArcFeed;
 use super::super::lex::Diags;
 use super::super::{Block, Feed, FeedMode, Motion};
@@ -202,7 +202,7 @@ impl Corners {
         if self.waiting.is_none() && ask.is_none() {
             return;
         }
-        let new: Vec<Held> = out.drain(before..).map(|b| held(&b, start, interp)).collect();
+        let new: Vec<Held> = out.drain(before..).map(|b| held(b, start, interp)).collect();
         let mut emit = Vec::new();
         self.step(new, start, ask, interp, ends, &mut emit, diags);
         out.extend(emit.into_iter().map(|h| h.b));
@@ -318,6 +318,11 @@ impl Corners {
         let a = &w.ask;
         let p = &w.element;
         let moved = (0..6).any(|k| (n.start[k] - p.end[k]).abs() > 1e-9 * (1.0 + p.end[k].abs()));
+        if a.modal && !moved && n.tilt == p.tilt && meet_tangentially(p, &n, interp.plane()) {
+            // RNDM: elements that meet tangentially have no corner to round.
+            release(w, emit);
+            return n;
+        }
         let why = if moved || n.tilt != p.tilt {
             Err("the next element does not start where the one before it ends in the same frame (a frame or the plane's position changed between them)".to_string())
         } else {
@@ -350,13 +355,8 @@ impl Corners {
                 n2
             }
             Err(why) => {
-                if a.modal && why.contains("tangentially") {
-                    // RNDM: elements that meet tangentially have no corner to round.
-                } else {
-                    let why = if a.modal { format!("{why} (modal rounding from RNDM)") } else { why };
-                    let col = a.col;
-                    diags.error(a.line, col, format!("{}={}: {why}", a.word, a.value));
-                }
+                let why = if a.modal { format!("{why} (modal rounding from RNDM)") } else { why };
+                diags.error(a.line, a.col, format!("{}={}: {why}", a.word, a.value));
                 release(w, emit);
                 n
             }
@@ -392,8 +392,8 @@ fn refuse(w: Waiting, why: &str, diags: &mut Diags, emit: &mut Vec<Held>) {
 }
 
 /// A block the interpreter made, from `start` to where it is now, as an element.
-pub(crate) fn held(b: &Block, start: [f64; 6], interp: &Interpreter) -> Held {
-    Held { b: b.clone(), start, end: interp.position(), unit: interp.unit(), tilt: interp.tilt(), arc_feed: ArcFeed::default() }
+fn held(b: Block, start: [f64; 6], interp: &Interpreter) -> Held {
+    Held { b, start, end: interp.position(), unit: interp.unit(), tilt: interp.tilt(), arc_feed: ArcFeed::default() }
 }
 
 /// `CHF=`'s chamfer length as the length of its sides along two lines: the chamfer joins the points
