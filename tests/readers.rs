@@ -7,6 +7,7 @@ use fiveaxis::units::{DEG, MM};
 use proptest::prelude::*;
 
 mod fanuc;
+mod fanuc_corners;
 mod klartext;
 mod linuxcnc;
 mod shop_words;

@@ -242,6 +242,47 @@ pub(crate) fn chamfer(before: &Element, after: &Element, length: f64) -> Result<
     Ok((at(k, sub(a, k), length / l1), at(k, sub(c, k), length / l2)))
 }
 
+/// The point of `e` whose chord from the corner `k` (its end if `at_end`, else its start) is `c`
+/// long, nearest `k` along it; None where `e` is too short for it.
+fn chord_point(e: &Element, k: [f64; 2], at_end: bool, c: f64, eps: f64) -> Option<[f64; 2]> {
+    match *e {
+        Element::Line { from, to } => {
+            let l = norm(sub(to, from));
+            (c <= l + eps).then(|| if at_end { at(k, sub(from, k), c / l) } else { at(k, sub(to, k), c / l) })
+        }
+        Element::Arc { from, to, centre, ccw } => {
+            let rho = norm(sub(k, centre));
+            if c > 2.0 * rho {
+                return None;
+            }
+            // The chord c = 2 rho sin(phi / 2) turns phi about the centre, back from the end or on
+            // from the start, in the arc's direction.
+            let phi = 2.0 * (c / (2.0 * rho)).min(1.0).asin();
+            let turn = if ccw == at_end { -phi } else { phi };
+            let (s, cs) = turn.sin_cos();
+            let v = sub(k, centre);
+            let p = [centre[0] + v[0] * cs - v[1] * s, centre[1] + v[0] * s + v[1] * cs];
+            let probe = Element::Arc { from, to, centre, ccw };
+            probe.holds(p, eps).then_some(p)
+        }
+    }
+}
+
+/// The chamfer whose ends lie `length` from the corner as the chord, on lines or arcs (Fanuc's
+/// `,C`: "the length of the chord drawn from [the] intersection" where a circle is beside it, NCT
+/// 2000M §16.1, a Fanuc-compatible control): where it leaves the first element and meets the second.
+pub(crate) fn chamfer_chord(before: &Element, after: &Element, length: f64) -> Result<([f64; 2], [f64; 2]), String> {
+    if !(length > 0.0 && length.is_finite()) {
+        return Err(format!("a chamfer's length must be positive, found {length}"));
+    }
+    turn(before, after)?;
+    let k = before.to();
+    let eps = 1e-9 * (1.0 + length + norm(k));
+    let p = chord_point(before, k, true, length, eps).ok_or("the chamfer is longer than the element before it")?;
+    let q = chord_point(after, k, false, length, eps).ok_or("the chamfer is longer than the element after it")?;
+    Ok((p, q))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,16 +6,19 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::corner::{chamfer, round, tangential, Element};
+use super::corner::{chamfer, chamfer_chord, round, tangential, Element};
 use super::cutter_comp::ArcFeed;
 use super::{ArcSpec, Block, Feed, FeedMode, Motion, Plane};
 use crate::units::MM;
 
-/// A corner to cut: a rounding of radius `size` or a chamfer whose sides are `size` long (m), its
+/// A corner to cut: a rounding of radius `size` or a chamfer whose sides (or chords) are `size` long (m), its
 /// own feed if it has one (program unit per minute), and the block it was written in.
 #[derive(Debug, Clone)]
 pub(crate) struct Cut {
     pub(crate) round: bool,
+    /// A chamfer's ends lie `size` from the corner as the chord, on lines or arcs (Fanuc's `,C`);
+    /// else along two lines.
+    pub(crate) chord: bool,
     pub(crate) size: f64,
     pub(crate) feed: Option<f64>,
     pub(crate) line: usize,
@@ -101,7 +104,7 @@ pub(crate) fn make(c: &Cut, p: &Held, n: &Held, plane: Plane, mode: FeedMode) ->
         let r = round(&before, &after, size)?;
         (r.from, r.to, Some((r.centre, r.ccw)))
     } else {
-        let (t1, t2) = chamfer(&before, &after, size)?;
+        let (t1, t2) = if c.chord { chamfer_chord(&before, &after, size)? } else { chamfer(&before, &after, size)? };
         (t1, t2, None)
     };
     // A corner that uses up a whole arc leaves a rest of no length, which reads as a full circle.

@@ -11,6 +11,7 @@ mod corner_cut;
 mod cutter_comp;
 mod cycles;
 mod fanuc;
+mod fanuc_corners;
 mod fanuc_rotation;
 mod feature;
 mod heidenhain;

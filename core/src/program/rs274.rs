@@ -7,6 +7,7 @@
 //! `--m-code` says. LinuxCNC's parameters and expressions (`#<feed>=1000`, `F#<feed>`, `X[#1*2]`,
 //! `XSIN[30]`) are evaluated as its interpreter does ([`super::params`]).
 
+use super::fanuc_corners::Ran;
 use super::interp::{Dimension, Interpreter, Word};
 use super::lex::{excerpt, parse_number, Diags};
 use super::params::expr::{self, Compiled, Setting};
@@ -40,7 +41,7 @@ pub(crate) struct Rs274Reader {
     /// The parameters the program has set so far.
     pub(super) params: Parameters,
     /// RS274NGC, Fanuc or Haas.
-    dialect: Dialect,
+    pub(super) dialect: Dialect,
     /// Fanuc and Haas: the lines before the program's first `%`, held until it comes (they are the
     /// tape's leader, which the control skips: an NX listing's header) or until it cannot (then
     /// read as program). `None` once decided.
@@ -69,6 +70,8 @@ pub(crate) struct Rs274Reader {
     kept_bytes: usize,
     /// LinuxCNC: the modal state M70/M73 saved in each call frame ([`super::modal_context`]).
     pub(super) contexts: super::modal_context::Contexts,
+    /// Fanuc, Haas: chamfering and corner R (`,C`, `,R`) waiting for the block after theirs.
+    pub(super) corners: super::fanuc_corners::Corners,
 }
 
 /// The most memory lines kept as read may hold, over every loop and call that keeps them: a line as
@@ -90,7 +93,7 @@ impl Rs274Reader {
             params.fanuc_system_variables();
         }
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, said_no_point: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: None }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, said_no_point: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: None, corners: Default::default() }
     }
 }
 
@@ -197,6 +200,9 @@ impl super::stream::LineReader for Rs274Reader {
     fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, out: &mut Vec<Block>, diags: &mut Diags) {
         while self.flow_more(out, diags) {}
         self.release_leader(out, diags);
+        if let Some(b) = self.corners.interrupt("the program ends before the block after it", diags) {
+            out.push(b);
+        }
         self.flow_finish(diags);
         // Moves cutter radius compensation still holds are never run.
         super::cutter_comp::finish(&mut self.interp, diags);
@@ -407,12 +413,19 @@ impl Rs274Reader {
             diags.warning(line, i + 1, "block delete '/' is not modelled: the block is run");
             i += 1;
         }
+        // Fanuc, Haas: the column of a `,` that makes the next word a comma word (`,C`, `,R`).
+        let mut comma: Option<usize> = None;
         while i < chars.len() {
             let c = chars[i];
             if c.is_whitespace() {
                 i += 1;
             } else if c == ';' {
                 break;
+            } else if c == ',' && self.dialect.is_fanuc() && comma.is_none() && chars.get(skip_blanks(&chars, i + 1)).is_some_and(char::is_ascii_alphabetic) {
+                // Chamfering and corner R (`,C`, `,R`, [`super::fanuc_corners`]): `,A` (a line's
+                // angle) and the rest are refused with the word.
+                comma = Some(i + 1);
+                i = skip_blanks(&chars, i + 1);
             } else if c == '(' {
                 match chars[i..].iter().position(|&ch| ch == ')') {
                     Some(close) => i += close + 1,
@@ -440,7 +453,16 @@ impl Rs274Reader {
                     break;
                 }
                 let letter = c.to_ascii_uppercase();
-                let column = i + 1;
+                // A comma word stands at its comma.
+                let (comma, column) = match comma.take() {
+                    Some(at) if matches!(letter, 'C' | 'R') => (true, at),
+                    Some(at) => {
+                        let what = if letter == 'A' { "a line's angle (,A) is not read: give the line's end point" } else { "only ,C (chamfer) and ,R (corner R) are read after a comma" };
+                        diags.error(line, at, format!(",{letter}: {what}"));
+                        break;
+                    }
+                    None => (false, i + 1),
+                };
                 i += 1;
                 while i < chars.len() && (chars[i] == ' ' || chars[i] == '\t') {
                     i += 1;
@@ -453,7 +475,7 @@ impl Rs274Reader {
                             i = end;
                         }
                         Ok((v, value, end)) => {
-                            read.items.push(Item::Word { letter, column, raw: (byte(start), byte(end)), value: Value::Computed(value) });
+                            read.items.push(Item::Word { letter, comma, column, raw: (byte(start), byte(end)), value: Value::Computed(value) });
                             now.push(Now::Value(v));
                             i = end;
                         }
@@ -480,7 +502,7 @@ impl Rs274Reader {
                             diags.error(line, column, format!("expected a whole line number after 'N', found '{number_text}'"));
                         }
                     }
-                    Some(v) => read.items.push(Item::Word { letter, column, raw: (byte(start), byte(i)), value: Value::Written(v) }),
+                    Some(v) => read.items.push(Item::Word { letter, comma, column, raw: (byte(start), byte(i)), value: Value::Written(v) }),
                     None => {
                         let mut end = i;
                         while end < chars.len() && !chars[end].is_whitespace() {
@@ -516,16 +538,42 @@ impl Rs274Reader {
     /// settings made after every value is read (`#3=6 G1 X#3` moves to the old `#3`); then its words
     /// interpreted.
     pub(super) fn run_line(&mut self, line: usize, text: &str, read: &ReadLine, now: Option<Vec<Now>>, out: &mut Vec<Block>, diags: &mut Diags) {
+        let (start, before) = (self.interp.position(), out.len());
+        let mut ask = None;
+        let ran = self.run_words(line, text, read, now, &mut ask, out, diags);
+        if ask.is_some() || self.corners.busy() {
+            self.corners_after(ran, ask, start, before, out, diags);
+        }
+    }
+
+    /// [`Rs274Reader::run_line`]'s words run; the corner its comma words ask for in `ask`.
+    #[allow(clippy::too_many_arguments)]
+    fn run_words(&mut self, line: usize, text: &str, read: &ReadLine, now: Option<Vec<Now>>, ask: &mut Option<super::fanuc_corners::Ask>, out: &mut Vec<Block>, diags: &mut Diags) -> Ran {
         let errors_before = diags.errors();
         let mut now = now.map(Vec::into_iter);
         let mut words: Vec<Word> = Vec::with_capacity(read.items.len());
         // Words whose value was computed (parameters, expressions): they carry their decimal point.
         let mut computed: Vec<usize> = Vec::new();
         let mut settings: Vec<(Target, f64, usize)> = Vec::new();
+        // Fanuc's comma words (`,C`, `,R`), and whether each was computed.
+        let mut commas: Vec<(Word, bool)> = Vec::new();
         for item in &read.items {
             match item {
-                Item::Word { letter, column, raw, value: Value::Written(v) } => words.push(Word { letter: *letter, value: *v, raw: text[raw.0..raw.1].into(), column: *column, dimension: Dimension::Modal }),
-                Item::Word { letter, column, raw, value: Value::Computed(c) } => match now.as_mut().and_then(Iterator::next).map_or_else(|| c.eval(&self.params), Now::value) {
+                Item::Word { letter, comma: true, column, raw, value } => {
+                    let value = match value {
+                        Value::Written(v) => Ok((*v, false)),
+                        Value::Computed(c) => now.as_mut().and_then(Iterator::next).map_or_else(|| c.eval(&self.params), Now::value).map(|v| (v, true)),
+                    };
+                    match value {
+                        Ok((value, computed)) => commas.push((Word { letter: *letter, value, raw: text[raw.0..raw.1].trim_end().into(), column: *column, dimension: Dimension::Modal }, computed)),
+                        Err(e) => {
+                            diags.error(line, e.column, format!(",{letter}: {}", e.message));
+                            break;
+                        }
+                    }
+                }
+                Item::Word { letter, column, raw, value: Value::Written(v), .. } => words.push(Word { letter: *letter, value: *v, raw: text[raw.0..raw.1].into(), column: *column, dimension: Dimension::Modal }),
+                Item::Word { letter, column, raw, value: Value::Computed(c), .. } => match now.as_mut().and_then(Iterator::next).map_or_else(|| c.eval(&self.params), Now::value) {
                     Ok(value) => {
                         computed.push(words.len());
                         // A coordinate's, feed's or arc's computed value: its text is the expression
@@ -562,10 +610,10 @@ impl Rs274Reader {
         let damaged = diags.errors() > errors_before;
         if damaged {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
-            return;
+            return Ran::NotUsed;
         }
-        if words.is_empty() {
-            return;
+        if words.is_empty() && commas.is_empty() {
+            return Ran::Nothing;
         }
         // Fanuc's program number: `O` and a whole number alone in the program's first block (with its
         // name as a comment, `O1001 (DWG. A-124D)`), naming the program in memory; it moves nothing.
@@ -574,7 +622,7 @@ impl Rs274Reader {
         if let [w] = &words[..] {
             if !started && read.number.is_none() && w.letter == 'O' && w.value.fract() == 0.0 && w.value >= 1.0 && !w.raw.contains(['.', '+', '-']) {
                 self.number = Some(format!("O{}", w.raw));
-                return;
+                return Ran::Nothing;
             }
         }
         let col = words.first().map_or(first + 1, |w| w.column.min(first + 1));
@@ -587,9 +635,16 @@ impl Rs274Reader {
                 }
             }
         }
+        match self.corner_words(&mut commas, &words, line, read.number, diags) {
+            Ok(a) => *ask = a,
+            Err(()) => {
+                diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+                return Ran::NotUsed;
+            }
+        }
         if !self.quill_words(&mut words, line, diags) {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
-            return;
+            return Ran::NotUsed;
         }
         let before = out.len();
         // LinuxCNC: M99 returns from a Fanuc-style subprogram only first in its line (read by the flow,
@@ -598,24 +653,25 @@ impl Rs274Reader {
         if let (true, 0, Some(&at)) = (m99, self.flow.depth() - self.flow.raised.len(), self.flow.raised.first()) {
             diags.error(line, col, super::lcnc_m98::after_l0("M99 in the main program", at));
             self.flow.stopped = true;
-            return;
+            return Ran::NotUsed;
         }
         if m99 && self.flow.depth() > 0 {
             diags.error(line, col, "M99 returns from a subprogram only as the first word of its line (LinuxCNC: \"Reached convert_stop() from M99 as subprogram return\")");
             self.flow.stopped = true;
-            return;
+            return Ran::NotUsed;
         }
         // LinuxCNC's M70-M73 act before the block's G codes (its order of execution).
         if self.dialect == Dialect::Rs274 && !self.modal_context(&mut words, line, read.number, diags, out) {
             diags.warning(line, first + 1, format!("line {line} not used"));
-            return;
+            return Ran::NotUsed;
         }
         if !words.is_empty() && !self.interp.block(&words, line, col, read.number, diags, out) {
             if self.interp.halted {
                 self.flow.stopped = true;
-                return;
+                return Ran::NotUsed;
             }
             diags.warning(line, first + 1, format!("line {line} not used"));
+            return Ran::NotUsed;
         }
         // LinuxCNC: "Lines of a file that occur after the end of a program are not to be executed"
         // (RS274/NGC Interpreter v3, NIST IR 6556, §3.3.1; M2 and M30 end it, §3.6.1). Fanuc and Haas
@@ -628,6 +684,7 @@ impl Rs274Reader {
                 diags.warning(line, col, "M99 in the main program: LinuxCNC's task runs the program again from its start, endlessly (its standalone interpreter ends it here); read once");
             }
         }
+        Ran::Taken
     }
 
     /// Fanuc and Haas read a number without a decimal point in a length or angle address as a count
@@ -669,7 +726,7 @@ impl Rs274Reader {
     }
 
     /// Whether a block's lengths are in inches: its own G20/G21, else the modal unit.
-    fn inch_words(&self, words: &[Word]) -> bool {
+    pub(super) fn inch_words(&self, words: &[Word]) -> bool {
         let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
         if g(20.0) {
             true
@@ -695,7 +752,8 @@ pub(super) struct ReadLine {
 /// A word or a parameter setting of a line; a word's text is a byte range of the line.
 #[derive(Debug, Clone)]
 enum Item {
-    Word { letter: char, column: usize, raw: (usize, usize), value: Value },
+    /// `comma`: Fanuc's `,C` or `,R` (its column the comma's).
+    Word { letter: char, comma: bool, column: usize, raw: (usize, usize), value: Value },
     Setting { setting: Setting, column: usize },
 }
 

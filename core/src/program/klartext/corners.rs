@@ -114,7 +114,7 @@ impl Exec {
             },
             None => None,
         };
-        self.pending = Some(Cut { round, size: v * unit, feed, line: s.line, col: s.col, number: s.number });
+        self.pending = Some(Cut { round, chord: false, size: v * unit, feed, line: s.line, col: s.col, number: s.number });
     }
 
     /// The program ends: a corner still waiting has no element after it.

@@ -369,6 +369,8 @@ impl Jumping for MacroRunner {
             Ok(None) => return self.plain(line, text, out, diags),
             Err((col, why)) => return stop(line, col, why, diags),
         };
+        // A chamfer or corner R waiting for its next block does not reach past a statement.
+        self.reader.corner_interrupt(out, diags);
         let params = &self.reader.params;
         let cond = |at: usize| params.real_value(&chars, at, true).map(|(v, _)| v != 0.0).map_err(|e| (e.column, e.message));
         match stmt {

@@ -336,7 +336,7 @@ impl Corners {
                     return Err("under G93 (inverse time) the corner's feed is not in the manuals read here".to_string());
                 }
                 // FRC's feed is set below, in the feed's unit (G70/G71 leave F in the basic system's).
-                let cut = Cut { round: a.kind == Kind::Round, size, feed: None, line: a.line, col: a.col, number: a.number };
+                let cut = Cut { round: a.kind == Kind::Round, chord: false, size, feed: None, line: a.line, col: a.col, number: a.number };
                 make(&cut, p, &n, interp.plane(), mode)
             })
         };

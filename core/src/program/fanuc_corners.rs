@@ -1,0 +1,235 @@
+//! Chamfering and corner R on Fanuc and Haas mills: `,C` or `,R` at the end of a G01, G02 or G03
+//! block inserts, between that block and the next, a chamfer whose ends lie `,C` from the virtual
+//! corner or an arc of radius `,R` tangent to both.
+//!
+//! Rules, from the Fanuc 16i-M text ("Chamfering and corner R ... can be inserted automatically
+//! between linear interpolation and linear interpolation, linear and circular, circular and linear,
+//! circular and circular interpolation blocks"; "specified at the end of a block that specifies
+//! linear interpolation (G01) or circular interpolation (G02 or G03)"; blocks with it "can be
+//! specified consecutively") and the Fanuc-compatible NCT 2000M manual §16.1: `,C` "shows the
+//! distance between the start/end point of chamfer and the supposed intersection of the two
+//! successive blocks", "the length of the chord drawn from [the] intersection" where a circle is
+//! beside it; the two blocks in the selected plane (G17-G19), else error 3081; a value too large
+//! for the blocks, error 3084 (Fanuc alarm 0055); `,C` and `,R` in one block, error 3017. Haas:
+//! `,C` and `,R` at the end of a G01 (its manual's rule for arcs is not at hand: only two lines
+//! are read).
+//!
+//! Refused, as an error at the word with the blocks kept as written (where the manuals at hand do
+//! not say what the control does): a block between the two that moves nothing (M08, G04), the next
+//! element's feed differing (which one the inserted element takes), G93, a move along the tool axis
+//! or a rotary axis in either block, the program's end or a macro statement before the next block.
+
+use super::corner_cut::{make, Cut, Held};
+use super::cutter_comp::ArcFeed;
+use super::interp::{Interpreter, Word};
+use super::lex::Diags;
+use super::rs274::Rs274Reader;
+use super::{Block, Dialect, FeedMode, Motion, Plane};
+
+/// A block's chamfer or corner R: which, its value (program unit) and word, and where it stands.
+#[derive(Debug, Clone)]
+pub(crate) struct Ask {
+    round: bool,
+    value: f64,
+    word: String,
+    line: usize,
+    col: usize,
+    number: Option<u64>,
+}
+
+impl Ask {
+    /// The corner a line's comma words ask for (values in program units), or why not (where, what).
+    fn of(words: &[Word], line: usize, number: Option<u64>) -> Result<Option<Ask>, (usize, String)> {
+        let mut ask: Option<Ask> = None;
+        for w in words {
+            let word = format!(",{}{}", w.letter, w.raw);
+            if let Some(a) = &ask {
+                return Err((w.column, format!("{word} after {} in one block: one chamfer or corner R ends a block (\",C AND ,R IN ONE BLOCK\", NCT 2000M error 3017)", a.word)));
+            }
+            if !(w.value > 0.0 && w.value.is_finite()) {
+                return Err((w.column, format!("{word}: expected a positive {}", if w.letter == 'R' { "radius" } else { "chamfer length" })));
+            }
+            ask = Some(Ask { round: w.letter == 'R', value: w.value, word, line, col: w.column, number });
+        }
+        Ok(ask)
+    }
+}
+
+/// The element held for the corner at its end, what it asked and the plane it was in.
+#[derive(Debug, Clone)]
+struct Waiting {
+    element: Held,
+    ask: Ask,
+    plane: Plane,
+}
+
+/// The corner state beside the reader: the element waiting for the block after it.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Corners {
+    waiting: Option<Waiting>,
+}
+
+/// How a line went, for the corners: it had nothing to run (a comment), it was taken, or not.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Ran {
+    Nothing,
+    Taken,
+    NotUsed,
+}
+
+/// Whether a line's blocks are one line or circle at a feed in the plane, moving no tool axis and
+/// no rotary axis (from `start` to where the interpreter is now).
+fn is_element(blocks: &[Block], start: [f64; 6], interp: &Interpreter) -> bool {
+    let [b] = blocks else { return false };
+    if !matches!(b.motion, Motion::Linear | Motion::ArcCw | Motion::ArcCcw) || b.targets.is_empty() {
+        return false;
+    }
+    let (_, _, tool_axis) = interp.plane().axes();
+    let end = interp.position();
+    [tool_axis, 3, 4, 5].into_iter().all(|k| (end[k] - start[k]).abs() <= 1e-12 * (1.0 + end[k].abs()))
+}
+
+/// A block the interpreter made, from `start` to where it is now, as an element.
+fn held(b: Block, start: [f64; 6], interp: &Interpreter) -> Held {
+    Held { b, start, end: interp.position(), unit: interp.unit(), tilt: interp.tilt(), arc_feed: ArcFeed::default() }
+}
+
+impl Corners {
+    /// A corner waits for the block after it.
+    pub(crate) fn busy(&self) -> bool {
+        self.waiting.is_some()
+    }
+
+    /// The blocks a line made (`out[before..]`, from `start`; `ask` its own corner; `ends`: it ends
+    /// the program): joined to the element waiting before them by its corner, and held if they end
+    /// at a corner; what can go out goes out in order.
+    #[allow(clippy::too_many_arguments)]
+    fn after_line(&mut self, dialect: Dialect, ask: Option<Ask>, start: [f64; 6], before: usize, interp: &Interpreter, ends: bool, out: &mut Vec<Block>, diags: &mut Diags) {
+        let element = is_element(&out[before..], start, interp);
+        let still = out[before..].iter().all(|b| b.targets.is_empty());
+        if let Some(w) = self.waiting.take() {
+            let mut emit = Vec::new();
+            if interp.plane() != w.plane {
+                refuse(w, "the plane changes (G17, G18, G19) before the block after it (\"DEFINITION ERROR ,C ,R\")", diags, &mut emit);
+            } else if !element {
+                let why = match (still, ends) {
+                    (true, true) => "the program ends before the block after it",
+                    (true, false) => "the block after it moves nothing: what the control does with a block between the two (M, G04) is not in the manuals at hand",
+                    _ => "the block after it is not a line or circle at a feed (G01, G02, G03) in the plane (\"DEFINITION ERROR ,C ,R\")",
+                };
+                refuse(w, why, diags, &mut emit);
+            } else if let Some(n) = out.pop() {
+                let n = held(n, start, interp);
+                match join(dialect, &w, &n, interp) {
+                    Ok((p2, corner, n2)) => {
+                        emit.extend([p2.b, corner.b]);
+                        out.push(n2.b);
+                    }
+                    Err(why) => {
+                        refuse(w, &why, diags, &mut emit);
+                        out.push(n.b);
+                    }
+                }
+            }
+            out.splice(before..before, emit);
+        }
+        let Some(ask) = ask else { return };
+        let why = if still {
+            "the block it is in moves nothing"
+        } else if !element {
+            "the block it is in is not a line or circle at a feed (G01, G02, G03) in the plane"
+        } else if ends {
+            "the program ends in its block: no block follows it"
+        } else {
+            // Held until the next block says where the corner is.
+            if let Some(b) = out.pop() {
+                self.waiting = Some(Waiting { element: held(b, start, interp), ask, plane: interp.plane() });
+            }
+            return;
+        };
+        diags.error(ask.line, ask.col, format!("{}: {why}", ask.word));
+    }
+
+    /// The blocks' sequence is left (a line not read, a macro statement, a call or return): a corner
+    /// waiting is refused there, its element returned.
+    pub(crate) fn interrupt(&mut self, why: &str, diags: &mut Diags) -> Option<Block> {
+        let w = self.waiting.take()?;
+        diags.error(w.ask.line, w.ask.col, format!("{}: {why}", w.ask.word));
+        Some(w.element.b)
+    }
+}
+
+/// The corner cannot be made: an error at its word, the element as programmed.
+fn refuse(w: Waiting, why: &str, diags: &mut Diags, emit: &mut Vec<Block>) {
+    diags.error(w.ask.line, w.ask.col, format!("{}: {why}", w.ask.word));
+    emit.push(w.element.b);
+}
+
+/// The element waiting cut back, the corner, the element after cut back; why not.
+fn join(dialect: Dialect, w: &Waiting, n: &Held, interp: &Interpreter) -> Result<(Held, Held, Held), String> {
+    let p = &w.element;
+    let moved = (0..6).any(|k| (n.start[k] - p.end[k]).abs() > 1e-9 * (1.0 + p.end[k].abs()));
+    if moved || n.tilt != p.tilt {
+        return Err("the block after it does not start where its own ends (a coordinate system changed between them)".into());
+    }
+    if dialect == Dialect::Haas && (p.b.motion != Motion::Linear || n.b.motion != Motion::Linear) {
+        return Err("an arc beside the corner: Haas's rule for arcs is not in the manuals at hand (between two G01 lines it is read)".into());
+    }
+    let mode = interp.feed_state().2;
+    if mode == FeedMode::InverseTime {
+        return Err("under G93 (inverse time) the corner's feed is not in the manuals at hand".into());
+    }
+    let same = match (p.b.feed, n.b.feed) {
+        (Some(a), Some(b)) => (a.value_per_min - b.value_per_min).abs() <= 1e-9 * a.value_per_min.abs().max(1e-12) && a.mode == b.mode,
+        (a, b) => a.is_none() && b.is_none(),
+    };
+    if !same {
+        return Err("the block after it changes the feed: which feed the inserted element takes is not in the manuals at hand (give both blocks the same F)".into());
+    }
+    let a = &w.ask;
+    let cut = Cut { round: a.round, chord: true, size: a.value * p.unit, feed: None, line: a.line, col: a.col, number: a.number };
+    let (p2, mut corner, n2) = make(&cut, p, n, interp.plane(), mode).map_err(|e| format!("{e} (\",C ,R TOO HIGH\", Fanuc alarm 0055)"))?;
+    corner.b.exact = n.b.exact;
+    Ok((p2, corner, n2))
+}
+
+impl Rs274Reader {
+    /// A line's comma words (`,C`, `,R`): their values in program units (without a decimal point,
+    /// in least input increments as every length is), the corner they ask for; false if a defect.
+    pub(super) fn corner_words(&mut self, commas: &mut [(Word, bool)], words: &[Word], line: usize, number: Option<u64>, diags: &mut Diags) -> Result<Option<Ask>, ()> {
+        if commas.is_empty() {
+            return Ok(None);
+        }
+        let step = if self.inch_words(words) { 1e-4 } else { 1e-3 };
+        for (w, computed) in commas.iter_mut() {
+            if !*computed && !w.raw.contains('.') {
+                w.value *= step;
+            }
+        }
+        let words: Vec<Word> = commas.iter().map(|(w, _)| w.clone()).collect();
+        Ask::of(&words, line, number).map_err(|(col, why)| diags.error(line, col, why))
+    }
+
+    /// After a line ran (`ran`; its blocks `out[before..]`, from `start`): the corners take them.
+    pub(super) fn corners_after(&mut self, ran: Ran, ask: Option<Ask>, start: [f64; 6], before: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        match ran {
+            Ran::Nothing => {}
+            Ran::NotUsed => {
+                if let Some(b) = self.corners.interrupt("the block after it is not read", diags) {
+                    out.insert(before, b);
+                }
+            }
+            Ran::Taken => {
+                let ends = super::stream::ends_program(&out[before..], &[2.0, 30.0]);
+                self.corners.after_line(self.dialect, ask, start, before, &self.interp, ends, out, diags);
+            }
+        }
+    }
+
+    /// A macro statement, call or return runs while a corner waits: the corner is refused there.
+    pub(super) fn corner_interrupt(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
+        if let Some(b) = self.corners.interrupt("a macro statement, call or return (IF, GOTO, WHILE, M98, M99, G65) stands before the block after it", diags) {
+            out.push(b);
+        }
+    }
+}
