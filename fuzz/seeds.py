@@ -41,6 +41,12 @@ SINUMERIK_CORNERS = (b"G17 G90 G71 G94\nG0 X0 Y0 Z5\nG1 Z-1 F500\nG1 X50 Y0 RND=
                      b"G1 X0 FRC=50\nG1 Y0 RNDM=0\nG1 X20 CHR=3\nG1 Y10 CHF=2\nG3 X30 Y20 CR=10 RND=60\nG1 X40 CHF=1\n"
                      b"G2 X50 Y10 CR=10\nT1 D1\nM6\nG1 G41 X60 RND=1\nG40 X70\nG1 X80 RND=2\nM30\n")
 
+# Fanuc chamfering and corner R: ,C and ,R between lines and arcs, in a loop, one refused for a block
+# between, one too large, ,A, the program's end after one.
+FANUC_CORNERS = (b"%\nO0001\nG90 G17 G21 G94\nG00 X10. Y10.\nG01 X50. F100. ,C5.\nY25. ,R8.\nG03 X80. Y55. R30. ,R8.\n"
+                 b"G01 X50. ,R8.\nY70. ,C5.\nX10. ,C5\nM08\nY10. ,R90.\n#1=0\nWHILE [#1 LT 2] DO1\nG01 X[20+#1] ,R1.\n"
+                 b"Y20.\n#1=#1+1\nEND1\nG01 X0 ,A30.\nG01 Y0 ,C1.\nM30\n%\n")
+
 # A Klartext contour: corners (RND, CHF) under RL with M110, a tool called by name and by number,
 # M128's compensating feed, a helix with DR+ written against its F.
 KLARTEXT_CONTOUR = (b"0 BEGIN PGM C MM\n1 TOOL CALL \"MILL_D6\" Z S3000\n2 TOOL CALL 3 Z S3000\n3 L X-10 Y+40 Z-2 R0 FMAX\n"
@@ -92,7 +98,8 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "contour.h", bytes([PICK["klartext"]]) + KLARTEXT_CONTOUR)
     put(corpus, "nc_program", "trc.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_TRC)
     put(corpus, "nc_program", "corners.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_CORNERS)
-    n += 6
+    put(corpus, "nc_program", "corners.nc", bytes([PICK["fanuc"]]) + FANUC_CORNERS)
+    n += 7
     # CL data: the SING cut's first moves as x y z i j k [feed] lines, with a header, comma and space separated.
     cl = b"x,y,z,i,j,k,f\n0,0,-8,0,0,1,2000\n10,0,-8,0,0.0174,0.9998,2000\n25,0,-8,0,0.0003,1,2000\n50 0 -8 0 0 1\n"
     put(corpus, "nc_program", "sing.cl", bytes([PICK["cl"]]) + cl)

@@ -124,7 +124,7 @@ fn chamfers_and_corner_r_are_refused_where_not_read() {
             (&format!("{head}G01 X10. F100. ,C1. ,R1.\nY10.\nM30\n%\n"), "5:21:", "in one block"),
             (&format!("{head}G01 X10. F100. ,C1.\nM08\nY10.\nM30\n%\n"), "5:16:", "moves nothing"),
             (&format!("{head}G01 X10. F100. ,R1.\nY10. F200.\nM30\n%\n"), "5:16:", "changes the feed"),
-            (&format!("{head}G01 X10. F100. ,R20.\nY10.\nM30\n%\n"), "5:16:", "TOO HIGH"),
+            (&format!("{head}G01 X10. F100. ,R20.\nY10.\nM30\n%\n"), "5:16:", "too large"),
             (&format!("{head}G01 X10. F100. ,A30.\nM30\n%\n"), "5:16:", "angle (,A) is not read"),
             (&format!("{head}G00 X10. ,C1.\nG01 Y10. F100.\nM30\n%\n"), "5:10:", "not a line or circle at a feed"),
             (&format!("{head}G01 X10. F100. ,C1.\nG00 Y10.\nM30\n%\n"), "5:16:", "not a line or circle at a feed"),

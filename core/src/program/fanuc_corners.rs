@@ -188,7 +188,7 @@ fn join(dialect: Dialect, w: &Waiting, n: &Held, interp: &Interpreter) -> Result
     }
     let a = &w.ask;
     let cut = Cut { round: a.round, chord: true, size: a.value * p.unit, feed: None, line: a.line, col: a.col, number: a.number };
-    let (p2, mut corner, n2) = make(&cut, p, n, interp.plane(), mode).map_err(|e| format!("{e} (\",C ,R TOO HIGH\", Fanuc alarm 0055)"))?;
+    let (p2, mut corner, n2) = make(&cut, p, n, interp.plane(), mode)?;
     corner.b.exact = n.b.exact;
     Ok((p2, corner, n2))
 }
@@ -223,6 +223,13 @@ impl Rs274Reader {
                 let ends = super::stream::ends_program(&out[before..], &[2.0, 30.0]);
                 self.corners.after_line(self.dialect, ask, start, before, &self.interp, ends, out, diags);
             }
+        }
+    }
+
+    /// A line was not read (`errors`: the error count before it; a blank line or comment says none).
+    pub(super) fn corners_after_damaged(&mut self, errors: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        if diags.errors() > errors {
+            self.corners_after(Ran::NotUsed, None, [0.0; 6], out.len(), out, diags);
         }
     }
 

@@ -314,8 +314,10 @@ impl Rs274Reader {
             return;
         }
         let text = text.trim_end_matches('\r');
-        if let Some((read, now)) = self.read_line(line, text, diags) {
-            self.run_line(line, text, &read, Some(now), out, diags);
+        let errors = diags.errors();
+        match self.read_line(line, text, diags) {
+            Some((read, now)) => self.run_line(line, text, &read, Some(now), out, diags),
+            None => self.corners_after_damaged(errors, out, diags),
         }
     }
 
@@ -332,7 +334,12 @@ impl Rs274Reader {
             return self.run_line(line, text, read, None, out, diags);
         }
         let before = diags.0.len();
-        if let Some((read, now)) = self.read_line(line, text, diags) {
+        let errors = diags.errors();
+        let read = self.read_line(line, text, diags);
+        if read.is_none() {
+            self.corners_after_damaged(errors, out, diags);
+        }
+        if let Some((read, now)) = read {
             let quiet = diags.0.len() == before;
             self.run_line(line, text, &read, Some(now), out, diags);
             let size = read.size();
