@@ -133,6 +133,8 @@ fn chamfers_and_corner_r_are_refused_where_not_read() {
             (&format!("{head}G01 X10. Z-1. F100. ,C1.\nY10.\nM30\n%\n"), "5:21:", "not a line or circle at a feed"),
             (&format!("{head}G01 X10. F100. ,C-1.\nY10.\nM30\n%\n"), "5:16:", "positive"),
             (&format!("{head}G01 X10. F100. ,C1.\nM98 P1000\nM30\n%\n"), "5:16:", "macro statement, call or return"),
+            // Two chamfers of 4 on a line of 6: the second finds 2 left after the first.
+            (&format!("{head}G01 X10. F100. ,C4.\nY6. ,C4.\nX0.\nM30\n%\n"), "6:5:", "longer than the element before it"),
         ],
     );
     // Haas: between two G01 lines only.

@@ -107,6 +107,8 @@ impl Corners {
     fn after_line(&mut self, dialect: Dialect, ask: Option<Ask>, start: [f64; 6], before: usize, interp: &Interpreter, ends: bool, out: &mut Vec<Block>, diags: &mut Diags) {
         let element = is_element(&out[before..], start, interp);
         let still = out[before..].iter().all(|b| b.targets.is_empty());
+        // The line's element, as it stands after a corner cut at its start.
+        let mut next: Option<Held> = None;
         if let Some(w) = self.waiting.take() {
             let mut emit = Vec::new();
             if interp.plane() != w.plane {
@@ -118,36 +120,46 @@ impl Corners {
                     _ => "the block after it is not a line or circle at a feed (G01, G02, G03) in the plane (\"DEFINITION ERROR ,C ,R\")",
                 };
                 refuse(w, why, diags, &mut emit);
-            } else if let Some(n) = out.pop() {
-                let n = held(n, start, interp);
+            } else if let Some(b) = out.pop() {
+                let n = held(b, start, interp);
                 match join(dialect, &w, &n, interp) {
                     Ok((p2, corner, n2)) => {
                         emit.extend([p2.b, corner.b]);
-                        out.push(n2.b);
+                        next = Some(n2);
                     }
                     Err(why) => {
                         refuse(w, &why, diags, &mut emit);
-                        out.push(n.b);
+                        next = Some(n);
                     }
                 }
             }
             out.splice(before..before, emit);
         }
-        let Some(ask) = ask else { return };
-        let why = if still {
-            "the block it is in moves nothing"
-        } else if !element {
-            "the block it is in is not a line or circle at a feed (G01, G02, G03) in the plane"
-        } else if ends {
-            "the program ends in its block: no block follows it"
-        } else {
-            // Held until the next block says where the corner is.
-            if let Some(b) = out.pop() {
-                self.waiting = Some(Waiting { element: held(b, start, interp), ask, plane: interp.plane() });
-            }
-            return;
+        let why = match ask {
+            None => None,
+            Some(_) if still => Some("the block it is in moves nothing"),
+            Some(_) if !element => Some("the block it is in is not a line or circle at a feed (G01, G02, G03) in the plane"),
+            Some(_) if ends => Some("the program ends in its block: no block follows it"),
+            Some(_) => None,
         };
-        diags.error(ask.line, ask.col, format!("{}: {why}", ask.word));
+        match (ask, why) {
+            (Some(ask), None) => {
+                // Held until the next block says where the corner is.
+                let element = match next {
+                    Some(n) => Some(n),
+                    None => out.pop().map(|b| held(b, start, interp)),
+                };
+                if let Some(element) = element {
+                    self.waiting = Some(Waiting { element, ask, plane: interp.plane() });
+                }
+            }
+            (ask, why) => {
+                if let (Some(ask), Some(why)) = (ask, why) {
+                    diags.error(ask.line, ask.col, format!("{}: {why}", ask.word));
+                }
+                out.extend(next.map(|n| n.b));
+            }
+        }
     }
 
     /// The blocks' sequence is left (a line not read, a macro statement, a call or return): a corner
