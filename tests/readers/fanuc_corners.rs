@@ -139,7 +139,19 @@ fn chamfers_and_corner_r_are_refused_where_not_read() {
     );
     // Haas: between two G01 lines only.
     let p = read("%\nO0005\nG90 G17 G20 G94\nG00 X0. Y0.\nG01 X1. F10. ,R.1\nG03 X2. Y1. R1.\nM30\n%\n", Dialect::Haas, "h.nc", &ReadOptions::default());
-    has(&p, 5, 14, "Haas's rule for arcs");
+    has(&p, 5, 14, "between two linear interpolation blocks");
+    // Haas: "a G04 pause may intervene" (one; dwelling after the inserted element), and a chamfer
+    // 0.1 from the corner on both lines.
+    let p = read("%\nO0006\nG90 G17 G20 G94\nG00 X0. Y0.\nG01 X1. F10. ,C.1\nG04 P0.5\nY1.\nM30\n%\n", Dialect::Haas, "h.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let m = moves(&p);
+    assert!(near(m[1].1, [0.9 * 25.4, 0.0]) && near(m[2].1, [25.4, 0.1 * 25.4]) && near(m[3].1, [25.4, 25.4]), "{m:#?}");
+    let dwell = p.blocks.iter().position(|b| b.dwell_s == Some(0.5)).expect("the pause");
+    let chamfer = p.blocks.iter().position(|b| b.targets.y.is_some_and(|y| (y / MM - 2.54).abs() < 1e-9)).unwrap();
+    assert!(dwell == chamfer + 1, "{:#?}", p.blocks);
+    // A second pause, or anything else between, is refused.
+    let p = read("%\nO0007\nG90 G17 G20 G94\nG00 X0. Y0.\nG01 X1. F10. ,C.1\nG04 P0.5\nG04 P0.5\nY1.\nM30\n%\n", Dialect::Haas, "h.nc", &ReadOptions::default());
+    has(&p, 5, 14, "moves nothing");
     // A refused corner keeps both blocks as written.
     let p = fanuc(&format!("{head}G01 X10. F100. ,R1.\nY10. F200.\nM30\n%\n"));
     let m = moves(&p);

@@ -10,12 +10,15 @@
 //! distance between the start/end point of chamfer and the supposed intersection of the two
 //! successive blocks", "the length of the chord drawn from [the] intersection" where a circle is
 //! beside it; the two blocks in the selected plane (G17-G19), else error 3081; a value too large
-//! for the blocks, error 3084 (Fanuc alarm 0055); `,C` and `,R` in one block, error 3017. Haas:
-//! `,C` and `,R` at the end of a G01 (its manual's rule for arcs is not at hand: only two lines
-//! are read).
+//! for the blocks, error 3084 (Fanuc alarm 0055); `,C` and `,R` in one block, error 3017. Haas
+//! (Operator's Manual, "Corner Rounding and Chamfering"): "between two linear interpolation
+//! blocks", `,C` the distance from the corner of intersection to where the chamfer begins and to
+//! where it ends; "a terminating linear interpolation block must follow", and "a G04 pause may
+//! intervene" (it dwells after the inserted element here, said as a warning).
 //!
 //! Refused, as an error at the word with the blocks kept as written (where the manuals at hand do
-//! not say what the control does): a block between the two that moves nothing (M08, G04), the next
+//! not say what the control does): a block between the two that moves nothing (M08, G04; on Haas
+//! anything but one G04), the next
 //! element's feed differing (which one the inserted element takes), G93, a move along the tool axis
 //! or a rotary axis in either block, the program's end or a macro statement before the next block.
 
@@ -61,6 +64,8 @@ struct Waiting {
     element: Held,
     ask: Ask,
     plane: Plane,
+    /// Haas: the `G04` pause read after it ("a G04 pause may intervene").
+    pause: Vec<Block>,
 }
 
 /// The corner state beside the reader: the element waiting for the block after it.
@@ -109,8 +114,20 @@ impl Corners {
         let still = out[before..].iter().all(|b| b.targets.is_empty());
         // The line's element, as it stands after a corner cut at its start.
         let mut next: Option<Held> = None;
-        if let Some(w) = self.waiting.take() {
+        if let Some(mut w) = self.waiting.take() {
             let mut emit = Vec::new();
+            if dialect == Dialect::Haas && w.pause.is_empty() && !ends && pause(&out[before..]) {
+                // Haas: "a G04 pause may intervene"; where it dwells, before or after the inserted
+                // element, is not said: after it, as the pause follows the block that asks.
+                diags.warning(
+                    w.ask.line,
+                    w.ask.col,
+                    format!("{}: the G04 between the two blocks dwells after the inserted element here (Haas's manual says a pause may intervene, not on which side of it)", w.ask.word),
+                );
+                w.pause = out.drain(before..).collect();
+                self.waiting = Some(w);
+                return;
+            }
             if interp.plane() != w.plane {
                 refuse(w, "the plane changes (G17, G18, G19) before the block after it (\"DEFINITION ERROR ,C ,R\")", diags, &mut emit);
             } else if !element {
@@ -125,6 +142,7 @@ impl Corners {
                 match join(dialect, &w, &n, interp) {
                     Ok((p2, corner, n2)) => {
                         emit.extend([p2.b, corner.b]);
+                        emit.extend(w.pause);
                         next = Some(n2);
                     }
                     Err(why) => {
@@ -150,7 +168,7 @@ impl Corners {
                     None => out.pop().map(|b| held(b, start, interp)),
                 };
                 if let Some(element) = element {
-                    self.waiting = Some(Waiting { element, ask, plane: interp.plane() });
+                    self.waiting = Some(Waiting { element, ask, plane: interp.plane(), pause: Vec::new() });
                 }
             }
             (ask, why) => {
@@ -164,10 +182,12 @@ impl Corners {
 
     /// The blocks' sequence is left (a line not read, a macro statement, a call or return): a corner
     /// waiting is refused there, its element returned.
-    pub(crate) fn interrupt(&mut self, why: &str, diags: &mut Diags) -> Option<Block> {
-        let w = self.waiting.take()?;
-        diags.error(w.ask.line, w.ask.col, format!("{}: {why}", w.ask.word));
-        Some(w.element.b)
+    pub(crate) fn interrupt(&mut self, why: &str, diags: &mut Diags) -> Vec<Block> {
+        let mut emit = Vec::new();
+        if let Some(w) = self.waiting.take() {
+            refuse(w, why, diags, &mut emit);
+        }
+        emit
     }
 }
 
@@ -175,6 +195,12 @@ impl Corners {
 fn refuse(w: Waiting, why: &str, diags: &mut Diags, emit: &mut Vec<Block>) {
     diags.error(w.ask.line, w.ask.col, format!("{}: {why}", w.ask.word));
     emit.push(w.element.b);
+    emit.extend(w.pause);
+}
+
+/// A line's blocks are a pause and nothing else: a `G04` dwell that moves nothing and sets nothing.
+fn pause(blocks: &[Block]) -> bool {
+    !blocks.is_empty() && blocks.iter().all(|b| b.targets.is_empty() && b.events.is_empty() && b.dwell_s.is_some())
 }
 
 /// The element waiting cut back, the corner, the element after cut back; why not.
@@ -185,7 +211,7 @@ fn join(dialect: Dialect, w: &Waiting, n: &Held, interp: &Interpreter) -> Result
         return Err("the block after it does not start where its own ends (a coordinate system changed between them)".into());
     }
     if dialect == Dialect::Haas && (p.b.motion != Motion::Linear || n.b.motion != Motion::Linear) {
-        return Err("an arc beside the corner: Haas's rule for arcs is not in the manuals at hand (between two G01 lines it is read)".into());
+        return Err("an arc beside the corner: Haas inserts one \"between two linear interpolation blocks\" (G01)".into());
     }
     let mode = interp.feed_state().2;
     if mode == FeedMode::InverseTime {
@@ -227,9 +253,8 @@ impl Rs274Reader {
         match ran {
             Ran::Nothing => {}
             Ran::NotUsed => {
-                if let Some(b) = self.corners.interrupt("the block after it is not read", diags) {
-                    out.insert(before, b);
-                }
+                let held = self.corners.interrupt("the block after it is not read", diags);
+                out.splice(before..before, held);
             }
             Ran::Taken => {
                 let ends = super::stream::ends_program(&out[before..], &[2.0, 30.0]);
@@ -247,8 +272,6 @@ impl Rs274Reader {
 
     /// A macro statement, call or return runs while a corner waits: the corner is refused there.
     pub(super) fn corner_interrupt(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
-        if let Some(b) = self.corners.interrupt("a macro statement, call or return (IF, GOTO, WHILE, M98, M99, G65) stands before the block after it", diags) {
-            out.push(b);
-        }
+        out.extend(self.corners.interrupt("a macro statement, call or return (IF, GOTO, WHILE, M98, M99, G65) stands before the block after it", diags));
     }
 }

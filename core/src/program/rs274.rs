@@ -200,9 +200,7 @@ impl super::stream::LineReader for Rs274Reader {
     fn finish(&mut self, _blocks: Option<&mut Vec<Block>>, out: &mut Vec<Block>, diags: &mut Diags) {
         while self.flow_more(out, diags) {}
         self.release_leader(out, diags);
-        if let Some(b) = self.corners.interrupt("the program ends before the block after it", diags) {
-            out.push(b);
-        }
+        out.extend(self.corners.interrupt("the program ends before the block after it", diags));
         self.flow_finish(diags);
         // Moves cutter radius compensation still holds are never run.
         super::cutter_comp::finish(&mut self.interp, diags);
