@@ -300,6 +300,11 @@ proptest! {
     }
 }
 
+/// Fanuc chamfers and corner R between lines and arcs, for the mutation test.
+const FANUC_CORNERS: &str = "%\nO0001\nG90 G17 G21 G94\nG00 X10. Y10.\nG01 X50. F100. ,C5.\nY25. ,R8.\nG03 X80. Y55. R30. ,R8.\nG01 X50. ,R8.\nY70. ,C5.\nX10. ,C5.\nG04 P1.\nY10. ,R2.\nG02 X0. Y0. R10. ,C1.\nG01 Y-10.\nM30\n%\n";
+/// Characters of chamfers and corner R, for the mutation test.
+const CORNER_NOISE: &str = ",CRAXYGF.-0123456789 #[]\n";
+
 /// A Fanuc program of every flow statement the reader runs, for the mutation test.
 const FANUC_FLOW: &str = "%\nO0001\n#1=0\nWHILE [#1 LT 3] DO1\nG1 X[#1*10] F100.\n#1=#1+1\nEND1\nN10 #2=#1*2\nIF [#2 GT 100] GOTO 20\n#2=#2+50\nGOTO10\nN20 M98 P1000 L2\nG65 P1000 X1. Y2.\nIF [#1 EQ 3] THEN #3=1\nM97 P30\nM30\nN30 G1 Y1.\nM99\nO1000\nG91 G1 X1.\nM99 P40\nN40 G90\nM99\n%\n";
 /// An 840D program of every jump and control structure the reader runs, for the mutation test.
@@ -343,6 +348,22 @@ proptest! {
         // A mutated feed (F2 for F2000) stretches the program: keep the sample count bounded.
         let (_, samples) = plan_sample_analyze(&p);
         prop_assert!(samples <= 3100);
+    }
+
+    /// Chamfer- and corner-shaped noise in a Fanuc and a Haas contour: never a panic, a column on
+    /// the defect's line, and the plan and samples bounded.
+    #[test]
+    fn mutated_fanuc_corners_never_panic(cuts in proptest::collection::vec((0usize..3000, proptest::sample::select(CORNER_NOISE.chars().collect::<Vec<_>>())), 0..12)) {
+        let text = mutate(FANUC_CORNERS, cuts);
+        for d in [Dialect::Fanuc, Dialect::Haas] {
+            let p = read(&text, d, "t", &ReadOptions { max_run_lines: 20_000, ..Default::default() });
+            for e in p.diagnostics.iter() {
+                let line = text.lines().nth(e.line - 1).unwrap_or("");
+                prop_assert!(e.column >= 1 && e.column <= line.chars().count() + 1, "{d:?} {e:?} on {line:?}");
+            }
+            prop_assert!(p.blocks.len() <= 40);
+            let _ = plan_sample_analyze(&p);
+        }
     }
 
     /// The same for the Sinumerik twin, whose tool vectors run on great circles (pieces refined near
