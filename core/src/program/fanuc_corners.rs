@@ -263,9 +263,10 @@ impl Rs274Reader {
         }
     }
 
-    /// A line was not read (`errors`: the error count before it; a blank line or comment says none).
-    pub(super) fn corners_after_damaged(&mut self, errors: usize, out: &mut Vec<Block>, diags: &mut Diags) {
-        if diags.errors() > errors {
+    /// A line was not read (`said`: how many diagnostics there were before it; a blank line or a
+    /// comment adds no error).
+    pub(super) fn corners_after_damaged(&mut self, said: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        if self.corners.busy() && diags.0.get(said..).is_some_and(|new| new.iter().any(|d| d.severity == super::Severity::Error)) {
             self.corners_after(Ran::NotUsed, None, [0.0; 6], out.len(), out, diags);
         }
     }

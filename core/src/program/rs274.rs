@@ -312,10 +312,10 @@ impl Rs274Reader {
             return;
         }
         let text = text.trim_end_matches('\r');
-        let errors = diags.errors();
+        let said = diags.0.len();
         match self.read_line(line, text, diags) {
             Some((read, now)) => self.run_line(line, text, &read, Some(now), out, diags),
-            None => self.corners_after_damaged(errors, out, diags),
+            None => self.corners_after_damaged(said, out, diags),
         }
     }
 
@@ -332,10 +332,9 @@ impl Rs274Reader {
             return self.run_line(line, text, read, None, out, diags);
         }
         let before = diags.0.len();
-        let errors = diags.errors();
         let read = self.read_line(line, text, diags);
         if read.is_none() {
-            self.corners_after_damaged(errors, out, diags);
+            self.corners_after_damaged(before, out, diags);
         }
         if let Some((read, now)) = read {
             let quiet = diags.0.len() == before;
