@@ -132,11 +132,27 @@ fn chamfers_and_corner_r_are_refused_where_not_read() {
             (&format!("{head}G01 X10. F100. ,C1.\nG18 Y10.\nM30\n%\n"), "5:16:", "plane changes"),
             (&format!("{head}G01 X10. Z-1. F100. ,C1.\nY10.\nM30\n%\n"), "5:21:", "not a line or circle at a feed"),
             (&format!("{head}G01 X10. F100. ,C-1.\nY10.\nM30\n%\n"), "5:16:", "positive"),
-            (&format!("{head}G01 X10. F100. ,C1.\nM98 P1000\nM30\n%\n"), "5:16:", "macro statement, call or return"),
+            (&format!("{head}G01 X10. F100. ,C1.\nM98 P1000\nM30\n%\n"), "5:16:", "branch, loop, call or return"),
             // Two chamfers of 4 on a line of 6: the second finds 2 left after the first.
             (&format!("{head}G01 X10. F100. ,C4.\nY6. ,C4.\nX0.\nM30\n%\n"), "6:5:", "longer than the element before it"),
         ],
     );
+    // Under G68 the corner is refused; a work offset changed between the two blocks too.
+    let p = fanuc(&format!("{head}G68 X0. Y0. R90.\nG01 X10. F100. ,C2.\nY10.\nM30\n%\n"));
+    has(&p, 6, 16, "G68");
+    let p = fanuc(&format!("{head}G10 L2 P2 X5. Y0.\nG54 G01 X10. F100. ,C1.\nG55 Y10.\nM30\n%\n"));
+    has(&p, 6, 20, "work coordinate system changes");
+    // A refused corner word leaves its block as written: X10, then Y10 from there.
+    let p = fanuc(&format!("{head}G01 X10. F100. ,C1. ,R1.\nY10.\nM30\n%\n"));
+    has(&p, 5, 21, "in one block");
+    let m = moves(&p);
+    assert!(m.len() == 3 && near(m[1].1, [10.0, 0.0]) && near(m[2].1, [10.0, 10.0]), "{m:#?}");
+    // A line the stream cannot read (longer than it holds) between the two: the corner is refused.
+    let long = format!("({})", "x".repeat(1 << 21));
+    let p = fanuc(&format!("{head}G01 X10. F100. ,C1.\n{long}\nY10.\nM30\n%\n"));
+    has(&p, 5, 16, "not read");
+    let m = moves(&p);
+    assert!(m.len() == 3 && near(m[1].1, [10.0, 0.0]) && near(m[2].1, [10.0, 10.0]), "{m:#?}");
     // Haas: between two G01 lines only.
     let p = read("%\nO0005\nG90 G17 G20 G94\nG00 X0. Y0.\nG01 X1. F10. ,R.1\nG03 X2. Y1. R1.\nM30\n%\n", Dialect::Haas, "h.nc", &ReadOptions::default());
     has(&p, 5, 14, "between two linear interpolation blocks");
@@ -152,8 +168,22 @@ fn chamfers_and_corner_r_are_refused_where_not_read() {
     // A second pause, or anything else between, is refused.
     let p = read("%\nO0007\nG90 G17 G20 G94\nG00 X0. Y0.\nG01 X1. F10. ,C.1\nG04 P0.5\nG04 P0.5\nY1.\nM30\n%\n", Dialect::Haas, "h.nc", &ReadOptions::default());
     has(&p, 5, 14, "moves nothing");
+    // A corner word on the pause is its own error (the pause moves nothing).
+    let p = read("%\nO0008\nG90 G17 G20 G94\nG00 X0. Y0.\nG01 X1. F10. ,C.1\nG04 P0.5 ,R.1\nY1.\nM30\n%\n", Dialect::Haas, "h.nc", &ReadOptions::default());
+    has(&p, 6, 10, "moves nothing");
     // A refused corner keeps both blocks as written.
     let p = fanuc(&format!("{head}G01 X10. F100. ,R1.\nY10. F200.\nM30\n%\n"));
     let m = moves(&p);
     assert!(m.len() == 3 && near(m[1].1, [10.0, 0.0]) && near(m[2].1, [10.0, 10.0]), "{m:#?}");
+}
+
+/// LinuxCNC reads no comma words, and a line whose settings block ends the program before its
+/// defect (`G28` without the machine's reference point) still ends it: nothing after runs.
+#[test]
+fn linuxcnc_ends_at_an_m2_before_a_defect() {
+    let p = read("G21 G1 X10 F100\nG28 M2\nG1 X50\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(!errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    assert!(p.blocks.iter().all(|b| b.targets.x.is_none_or(|x| (x / MM - 50.0).abs() > 1e-9)), "{:#?}", p.blocks);
+    let p = read("G21 G1 X10 F100 ,C1\nY10\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    has(&p, 1, 17, "unexpected ',C1'");
 }

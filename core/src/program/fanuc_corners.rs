@@ -20,7 +20,10 @@
 //! not say what the control does): a block between the two that moves nothing (M08, G04; on Haas
 //! anything but one G04), the next
 //! element's feed differing (which one the inserted element takes), G93, a move along the tool axis
-//! or a rotary axis in either block, the program's end or a macro statement before the next block.
+//! or a rotary axis in either block, a work coordinate system or `G68` rotation in force or changed
+//! between them, the program's end, a line not read, or a branch, loop, call or return (`IF`,
+//! `GOTO`, `WHILE`, `END`, `M98`, `M99`, `G65`, `M97`) before the next block. A line that only sets
+//! a macro variable (`#1=5.`) moves nothing and is no block between them.
 
 use super::corner_cut::{make, Cut, Held};
 use super::cutter_comp::ArcFeed;
@@ -116,7 +119,7 @@ impl Corners {
         let mut next: Option<Held> = None;
         if let Some(mut w) = self.waiting.take() {
             let mut emit = Vec::new();
-            if dialect == Dialect::Haas && w.pause.is_empty() && !ends && pause(&out[before..]) {
+            if dialect == Dialect::Haas && w.pause.is_empty() && !ends && ask.is_none() && pause(&out[before..]) {
                 // Haas: "a G04 pause may intervene"; where it dwells, before or after the inserted
                 // element, is not said: after it, as the pause follows the block that asks.
                 diags.warning(
@@ -155,6 +158,7 @@ impl Corners {
         }
         let why = match ask {
             None => None,
+            Some(_) if interp.rotation2d.is_some() => Some(ROTATED),
             Some(_) if still => Some("the block it is in moves nothing"),
             Some(_) if !element => Some("the block it is in is not a line or circle at a feed (G01, G02, G03) in the plane"),
             Some(_) if ends => Some("the program ends in its block: no block follows it"),
@@ -203,12 +207,19 @@ fn pause(blocks: &[Block]) -> bool {
     !blocks.is_empty() && blocks.iter().all(|b| b.targets.is_empty() && b.events.is_empty() && b.dwell_s.is_some())
 }
 
+/// Why a corner under G68 is refused: the reader keeps the program's points unrotated and turns
+/// each block's, so the corner would be cut in the wrong frame.
+const ROTATED: &str = "under G68 coordinate rotation a chamfer or corner R is not read (cancel it with G69 first)";
+
 /// The element waiting cut back, the corner, the element after cut back; why not.
 fn join(dialect: Dialect, w: &Waiting, n: &Held, interp: &Interpreter) -> Result<(Held, Held, Held), String> {
     let p = &w.element;
     let moved = (0..6).any(|k| (n.start[k] - p.end[k]).abs() > 1e-9 * (1.0 + p.end[k].abs()));
-    if moved || n.tilt != p.tilt {
-        return Err("the block after it does not start where its own ends (a coordinate system changed between them)".into());
+    if moved || n.tilt != p.tilt || n.b.datum != p.b.datum {
+        return Err("the work coordinate system changes between the two blocks (G54-G59, G92, G52, a tilted plane)".into());
+    }
+    if interp.rotation2d.is_some() {
+        return Err(ROTATED.into());
     }
     if dialect == Dialect::Haas && (p.b.motion != Motion::Linear || n.b.motion != Motion::Linear) {
         return Err("an arc beside the corner: Haas inserts one \"between two linear interpolation blocks\" (G01)".into());
@@ -233,19 +244,26 @@ fn join(dialect: Dialect, w: &Waiting, n: &Held, interp: &Interpreter) -> Result
 
 impl Rs274Reader {
     /// A line's comma words (`,C`, `,R`): their values in program units (without a decimal point,
-    /// in least input increments as every length is), the corner they ask for; false if a defect.
-    pub(super) fn corner_words(&mut self, commas: &mut [(Word, bool)], words: &[Word], line: usize, number: Option<u64>, diags: &mut Diags) -> Result<Option<Ask>, ()> {
+    /// in least input increments as every length is, said once), the corner they ask for; a word
+    /// refused is said at it and asks for nothing (its block runs as written).
+    pub(super) fn corner_words(&mut self, commas: &mut [(Word, bool)], words: &[Word], line: usize, number: Option<u64>, diags: &mut Diags) -> Option<Ask> {
         if commas.is_empty() {
-            return Ok(None);
+            return None;
         }
-        let step = if self.inch_words(words) { 1e-4 } else { 1e-3 };
+        let (step, unit) = if self.inch_words(words) { (1e-4, "in") } else { (1e-3, "mm") };
         for (w, computed) in commas.iter_mut() {
             if !*computed && !w.raw.contains('.') {
                 w.value *= step;
+                if w.value != 0.0 && !std::mem::replace(&mut self.said_no_point, true) {
+                    diags.warning(line, w.column, format!(",{}{} has no decimal point: read as {} {unit}, in least input increments, as the control reads it unless its parameter says otherwise (FANUC DPI No. 3401#0, Haas Setting 162); said once", w.letter, w.raw, w.value));
+                }
             }
         }
         let words: Vec<Word> = commas.iter().map(|(w, _)| w.clone()).collect();
-        Ask::of(&words, line, number).map_err(|(col, why)| diags.error(line, col, why))
+        Ask::of(&words, line, number).unwrap_or_else(|(col, why)| {
+            diags.error(line, col, why);
+            None
+        })
     }
 
     /// After a line ran (`ran`; its blocks `out[before..]`, from `start`): the corners take them.
@@ -273,6 +291,6 @@ impl Rs274Reader {
 
     /// A macro statement, call or return runs while a corner waits: the corner is refused there.
     pub(super) fn corner_interrupt(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
-        out.extend(self.corners.interrupt("a macro statement, call or return (IF, GOTO, WHILE, M98, M99, G65) stands before the block after it", diags));
+        out.extend(self.corners.interrupt("a branch, loop, call or return (IF, GOTO, WHILE, END, M98, M99, G65, M97) stands before the block after it", diags));
     }
 }

@@ -59,7 +59,7 @@ pub(crate) struct Rs274Reader {
     /// Fanuc, Haas: a macro alarm (`#3000`) stopped the control.
     alarmed: bool,
     /// Fanuc, Haas: a length or angle without a decimal point has been said (once).
-    said_no_point: bool,
+    pub(super) said_no_point: bool,
     /// The last line read with anything on it (where a missing program end is said).
     last_line: usize,
     /// LinuxCNC's O-word blocks held and run ([`super::oword`]).
@@ -217,6 +217,10 @@ impl super::stream::LineReader for Rs274Reader {
 
     fn name(&self) -> Option<String> {
         self.number.clone()
+    }
+
+    fn not_read(&mut self, _line: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        self.corners_after(Ran::NotUsed, None, [0.0; 6], out.len(), out, diags);
     }
 }
 
@@ -639,13 +643,8 @@ impl Rs274Reader {
                 }
             }
         }
-        match self.corner_words(&mut commas, &words, line, read.number, diags) {
-            Ok(a) => *ask = a,
-            Err(()) => {
-                diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
-                return Ran::NotUsed;
-            }
-        }
+        // A corner word refused (said at it) leaves the block as written.
+        *ask = self.corner_words(&mut commas, &words, line, read.number, diags);
         if !self.quill_words(&mut words, line, diags) {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             return Ran::NotUsed;
@@ -669,13 +668,15 @@ impl Rs274Reader {
             diags.warning(line, first + 1, format!("line {line} not used"));
             return Ran::NotUsed;
         }
+        let mut ran = Ran::Taken;
         if !words.is_empty() && !self.interp.block(&words, line, col, read.number, diags, out) {
             if self.interp.halted {
                 self.flow.stopped = true;
                 return Ran::NotUsed;
             }
             diags.warning(line, first + 1, format!("line {line} not used"));
-            return Ran::NotUsed;
+            // What the line made before its defect (a settings block with M2) still ends the program.
+            ran = Ran::NotUsed;
         }
         // LinuxCNC: "Lines of a file that occur after the end of a program are not to be executed"
         // (RS274/NGC Interpreter v3, NIST IR 6556, §3.3.1; M2 and M30 end it, §3.6.1). Fanuc and Haas
@@ -688,7 +689,7 @@ impl Rs274Reader {
                 diags.warning(line, col, "M99 in the main program: LinuxCNC's task runs the program again from its start, endlessly (its standalone interpreter ends it here); read once");
             }
         }
-        Ran::Taken
+        ran
     }
 
     /// Fanuc and Haas read a number without a decimal point in a length or angle address as a count

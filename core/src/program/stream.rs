@@ -37,6 +37,9 @@ pub(crate) trait LineReader {
     fn name(&self) -> Option<String> {
         None
     }
+    /// Line `line` could not be read (too long, said by the stream): what waits for the line after
+    /// it (a chamfer or rounding) is refused there, and what it holds goes to `out`.
+    fn not_read(&mut self, _line: usize, _out: &mut Vec<Block>, _diags: &mut Diags) {}
 }
 
 /// Read the whole of `text` in `dialect` with `reader`: its blocks, and its diagnostics in line order.
@@ -376,7 +379,11 @@ impl BlockStream {
                             }
                             self.pending.extend(self.out.drain(..));
                         }
-                        Ok(Got::TooLong(_)) => self.diags.error(*line, 1, too_long(*line)),
+                        Ok(Got::TooLong(_)) => {
+                            self.diags.error(*line, 1, too_long(*line));
+                            reader.get().not_read(*line, &mut self.out, &mut self.diags);
+                            self.pending.extend(self.out.drain(..));
+                        }
                         Err(e) => {
                             self.diags.error(*line, 1, cannot_read(*line, e));
                             self.ended = true;
@@ -593,6 +600,8 @@ pub(crate) trait Jumping: Send {
     fn more(&mut self, _out: &mut Vec<Block>, _diags: &mut Diags) -> Option<Next> {
         None
     }
+    /// Line `line` could not be read (too long, said by the stream): as [`LineReader::not_read`].
+    fn not_read(&mut self, _line: usize, _out: &mut Vec<Block>, _diags: &mut Diags) {}
 }
 
 /// A defect in a program's flow: said at its place, and the run ends (what follows would run from a
@@ -706,6 +715,7 @@ impl<'a, R: Jumping + ?Sized + 'a> Seeking<'a, R> {
             }
             Ok(Got::TooLong(n)) => {
                 d.error(line, 1, too_long(line));
+                runner.not_read(line, out, &mut d);
                 *at = At { line: line + 1, offset: at.offset + n };
                 false
             }

@@ -248,4 +248,9 @@ impl Jumping for Runner {
     fn name(&self) -> Option<String> {
         Runner::name(self).map(String::from)
     }
+
+    fn not_read(&mut self, _line: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        // A stop of compensation there halts the interpreter, which ends the run.
+        self.ex.interrupt("the block after it was not read", out, diags, &mut self.interp);
+    }
 }

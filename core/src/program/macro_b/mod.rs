@@ -478,6 +478,10 @@ impl Jumping for MacroRunner {
         LineReader::name(&self.reader)
     }
 
+    fn not_read(&mut self, line: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        LineReader::not_read(&mut self.reader, line, out, diags);
+    }
+
     fn matches(&self, key: u64, bytes: &[u8]) -> bool {
         block_number(bytes, MAX_N_DIGITS) == Some(key)
     }

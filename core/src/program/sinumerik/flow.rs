@@ -524,6 +524,10 @@ impl Jumping for FlowRunner {
         None
     }
 
+    fn not_read(&mut self, line: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        self.reader.corner_interrupt("the block after it was not read", line, 1, out, diags);
+    }
+
     fn matches(&self, _key: u64, bytes: &[u8]) -> bool {
         let Some((target, ..)) = &self.wanted else { return false };
         if target.starts_with('N') && target[1..].bytes().all(|c| c.is_ascii_digit()) {

@@ -206,6 +206,10 @@ impl super::stream::LineReader for SinumerikReader {
         }
         self.corners.leftover(diags);
     }
+
+    fn not_read(&mut self, line: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        self.corner_interrupt("the block after it was not read", line, 1, out, diags);
+    }
 }
 
 impl SinumerikReader {
