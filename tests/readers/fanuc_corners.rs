@@ -187,3 +187,14 @@ fn linuxcnc_ends_at_an_m2_before_a_defect() {
     let p = read("G21 G1 X10 F100 ,C1\nY10\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
     has(&p, 1, 17, "unexpected ',C1'");
 }
+
+/// A line too long for the stream to read, between a corner and the element after it, refuses the
+/// corner in every reader that cuts corners (the 840D's `RND=`, the TNC's `RND`), as in Fanuc's.
+#[test]
+fn a_line_not_read_refuses_a_waiting_corner_in_every_dialect() {
+    let long = format!(";{}", "x".repeat(1 << 21));
+    let p = read(&format!("G17 G90 G71 G94\nG0 X0 Y0 Z5\nG1 Z-1 F500\nG1 X50 Y0 RND=5\n{long}\nG1 Y30\nM30\n"), Dialect::Sinumerik, "c.mpf", &ReadOptions::default());
+    has(&p, 4, 11, "not read");
+    let p = read(&format!("0 BEGIN PGM C MM\n1 L X+0 Y+0 Z-1 R0 F500\n2 L X+50 Y+0\n3 RND R5\n{long}\n4 L X+50 Y+30\n5 END PGM C MM\n"), Dialect::Klartext, "c.h", &ReadOptions::default());
+    has(&p, 4, 3, "not read");
+}
