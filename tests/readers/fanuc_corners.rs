@@ -198,3 +198,19 @@ fn a_line_not_read_refuses_a_waiting_corner_in_every_dialect() {
     let p = read(&format!("0 BEGIN PGM C MM\n1 L X+0 Y+0 Z-1 R0 F500\n2 L X+50 Y+0\n3 RND R5\n{long}\n4 L X+50 Y+30\n5 END PGM C MM\n"), Dialect::Klartext, "c.h", &ReadOptions::default());
     has(&p, 4, 3, "not read");
 }
+
+/// In the Z-X plane (G18): down Z to -10, then along +X; `,R2` the fillet 2 from both lines,
+/// centre (X2, Z-8), turning clockwise seen from +Y (a G02 in G18).
+#[test]
+fn a_corner_r_in_the_zx_plane() {
+    let p = fanuc("%\nO0009\nG90 G18 G21 G94\nG00 X0. Y0. Z0.\nG01 Z-10. F100. ,R2.\nX10.\nM30\n%\n");
+    assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
+    let feed: Vec<_> = p.blocks.iter().filter(|b| b.motion != Motion::Rapid && !b.targets.is_empty()).collect();
+    assert_eq!(feed.len(), 3, "{feed:#?}");
+    let xz = |b: &fiveaxis::program::Block| [b.targets.x.map_or(f64::NAN, |x| x / MM), b.targets.z.map_or(f64::NAN, |z| z / MM)];
+    assert!(feed[0].motion == Motion::Linear && (feed[0].targets.z.unwrap() / MM + 8.0).abs() < 1e-9, "{feed:#?}");
+    assert!(feed[1].motion == Motion::ArcCw && near(xz(feed[1]), [2.0, -10.0]), "{feed:#?}");
+    let c = feed[1].arc.as_ref().unwrap().centre;
+    assert!(near([c[0] / MM, c[2] / MM], [2.0, -8.0]), "{c:?}");
+    assert!(feed[2].motion == Motion::Linear && (feed[2].targets.x.unwrap() / MM - 10.0).abs() < 1e-9, "{feed:#?}");
+}
