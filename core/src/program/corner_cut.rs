@@ -41,12 +41,25 @@ pub(crate) struct Held {
     pub(crate) arc_feed: ArcFeed,
 }
 
+impl Held {
+    /// A block the interpreter made, from `start` to where it stands now, as an element (its arc
+    /// feed the default: compensation's readers give their own).
+    pub(crate) fn made(b: Block, start: [f64; 6], interp: &crate::program::interp::Interpreter) -> Held {
+        Held { b, start, end: interp.position(), unit: interp.unit(), tilt: interp.tilt(), arc_feed: ArcFeed::default() }
+    }
+}
+
+/// A move from `start` to `end` (program coordinates) stays in the working plane whose tool axis
+/// is `tool_axis`: that axis and the rotary axes stand still, as a corner's elements must.
+pub(crate) fn in_plane(start: [f64; 6], end: [f64; 6], tool_axis: usize) -> bool {
+    [tool_axis, 3, 4, 5].into_iter().all(|k| (end[k] - start[k]).abs() <= 1e-12 * (1.0 + end[k].abs()))
+}
+
 /// The element a held block is in the working plane's coordinates (`axes`: its two axes and the
 /// tool axis), or why it cannot be one a corner joins.
 fn element(h: &Held, axes: (usize, usize, usize), which: &str) -> Result<Element, String> {
     let (a0, a1, a2) = axes;
-    let still = |k: usize| (h.end[k] - h.start[k]).abs() <= 1e-12 * (1.0 + h.end[k].abs());
-    if !still(a2) || !(3..6).all(still) {
+    if !in_plane(h.start, h.end, a2) {
         return Err(format!("the element {which} it moves along the tool axis or a rotary axis: \"both coordinates must lie in the plane of the rounding arc\" (iTNC 530 user's manual §6.4)"));
     }
     let (from, to) = ([h.start[a0], h.start[a1]], [h.end[a0], h.end[a1]]);

@@ -25,8 +25,7 @@
 //! `GOTO`, `WHILE`, `END`, `M98`, `M99`, `G65`, `M97`) before the next block. A line that only sets
 //! a macro variable (`#1=5.`) moves nothing and is no block between them.
 
-use super::corner_cut::{make, Cut, Held};
-use super::cutter_comp::ArcFeed;
+use super::corner_cut::{in_plane, make, Cut, Held};
 use super::interp::{Interpreter, Word};
 use super::lex::Diags;
 use super::rs274::Rs274Reader;
@@ -45,9 +44,9 @@ pub(crate) struct Ask {
 
 impl Ask {
     /// The corner a line's comma words ask for (values in program units), or why not (where, what).
-    fn of(words: &[Word], line: usize, number: Option<u64>) -> Result<Option<Ask>, (usize, String)> {
+    fn of(words: &[(Word, bool)], line: usize, number: Option<u64>) -> Result<Option<Ask>, (usize, String)> {
         let mut ask: Option<Ask> = None;
-        for w in words {
+        for (w, _) in words {
             let word = format!(",{}{}", w.letter, w.raw);
             if let Some(a) = &ask {
                 return Err((w.column, format!("{word} after {} in one block: one chamfer or corner R ends a block (\",C AND ,R IN ONE BLOCK\", NCT 2000M error 3017)", a.word)));
@@ -92,14 +91,7 @@ fn is_element(blocks: &[Block], start: [f64; 6], interp: &Interpreter) -> bool {
     if !matches!(b.motion, Motion::Linear | Motion::ArcCw | Motion::ArcCcw) || b.targets.is_empty() {
         return false;
     }
-    let (_, _, tool_axis) = interp.plane().axes();
-    let end = interp.position();
-    [tool_axis, 3, 4, 5].into_iter().all(|k| (end[k] - start[k]).abs() <= 1e-12 * (1.0 + end[k].abs()))
-}
-
-/// A block the interpreter made, from `start` to where it is now, as an element.
-fn held(b: Block, start: [f64; 6], interp: &Interpreter) -> Held {
-    Held { b, start, end: interp.position(), unit: interp.unit(), tilt: interp.tilt(), arc_feed: ArcFeed::default() }
+    in_plane(start, interp.position(), interp.plane().axes().2)
 }
 
 impl Corners {
@@ -141,7 +133,7 @@ impl Corners {
                 };
                 refuse(w, why, diags, &mut emit);
             } else if let Some(b) = out.pop() {
-                let n = held(b, start, interp);
+                let n = Held::made(b, start, interp);
                 match join(dialect, &w, &n, interp) {
                     Ok((p2, corner, n2)) => {
                         emit.extend([p2.b, corner.b]);
@@ -169,7 +161,7 @@ impl Corners {
                 // Held until the next block says where the corner is.
                 let element = match next {
                     Some(n) => Some(n),
-                    None => out.pop().map(|b| held(b, start, interp)),
+                    None => out.pop().map(|b| Held::made(b, start, interp)),
                 };
                 if let Some(element) = element {
                     self.waiting = Some(Waiting { element, ask, plane: interp.plane(), pause: Vec::new() });
@@ -206,6 +198,9 @@ fn refuse(w: Waiting, why: &str, diags: &mut Diags, emit: &mut Vec<Block>) {
 fn pause(blocks: &[Block]) -> bool {
     !blocks.is_empty() && blocks.iter().all(|b| b.targets.is_empty() && b.events.is_empty() && b.dwell_s.is_some())
 }
+
+/// Why a corner is refused when the line after it was not read.
+const NOT_READ: &str = "the block after it is not read";
 
 /// Why a corner under G68 is refused: the reader keeps the program's points unrotated and turns
 /// each block's, so the corner would be cut in the wrong frame.
@@ -259,8 +254,7 @@ impl Rs274Reader {
                 }
             }
         }
-        let words: Vec<Word> = commas.iter().map(|(w, _)| w.clone()).collect();
-        Ask::of(&words, line, number).unwrap_or_else(|(col, why)| {
+        Ask::of(commas, line, number).unwrap_or_else(|(col, why)| {
             diags.error(line, col, why);
             None
         })
@@ -271,7 +265,7 @@ impl Rs274Reader {
         match ran {
             Ran::Nothing => {}
             Ran::NotUsed => {
-                let held = self.corners.interrupt("the block after it is not read", diags);
+                let held = self.corners.interrupt(NOT_READ, diags);
                 out.splice(before..before, held);
             }
             Ran::Taken => {
@@ -285,8 +279,13 @@ impl Rs274Reader {
     /// comment adds no error).
     pub(super) fn corners_after_damaged(&mut self, said: usize, out: &mut Vec<Block>, diags: &mut Diags) {
         if self.corners.busy() && diags.0.get(said..).is_some_and(|new| new.iter().any(|d| d.severity == super::Severity::Error)) {
-            self.corners_after(Ran::NotUsed, None, [0.0; 6], out.len(), out, diags);
+            self.corners_not_read(out, diags);
         }
+    }
+
+    /// The line after a waiting corner was not read: the corner is refused, its element out.
+    pub(super) fn corners_not_read(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
+        out.extend(self.corners.interrupt(NOT_READ, diags));
     }
 
     /// A macro statement, call or return runs while a corner waits: the corner is refused there.

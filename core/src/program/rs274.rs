@@ -220,7 +220,7 @@ impl super::stream::LineReader for Rs274Reader {
     }
 
     fn not_read(&mut self, _line: usize, out: &mut Vec<Block>, diags: &mut Diags) {
-        self.corners_after(Ran::NotUsed, None, [0.0; 6], out.len(), out, diags);
+        self.corners_not_read(out, diags);
     }
 }
 

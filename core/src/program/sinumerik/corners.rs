@@ -23,8 +23,7 @@
 //! compensation. Under G41/G42 the corner is the contour's: compensation offsets the rounded or
 //! chamfered contour ([`super::trc`] takes the elements from here).
 
-use super::super::corner_cut::{make, meet_tangentially, Cut, Held};
-use super::super::cutter_comp::ArcFeed;
+use super::super::corner_cut::{in_plane, make, meet_tangentially, Cut, Held};
 use super::super::lex::Diags;
 use super::super::{Block, Feed, FeedMode, Motion};
 use crate::program::interp::Interpreter;
@@ -202,7 +201,7 @@ impl Corners {
         if self.waiting.is_none() && ask.is_none() {
             return;
         }
-        let new: Vec<Held> = out.drain(before..).map(|b| held(b, start, interp)).collect();
+        let new: Vec<Held> = out.drain(before..).map(|b| Held::made(b, start, interp)).collect();
         let mut emit = Vec::new();
         self.step(new, start, ask, interp, ends, &mut emit, diags);
         out.extend(emit.into_iter().map(|h| h.b));
@@ -241,9 +240,7 @@ impl Corners {
         let mut kind = made(&blocks);
         // A line or circle that also moves along the tool axis or a rotary axis is no element of
         // the plane.
-        let (_, _, tool_axis) = interp.plane().axes();
-        let end = interp.position();
-        if matches!(kind, Made::Element) && [tool_axis, 3, 4, 5].iter().any(|&k| (end[k] - start[k]).abs() > 1e-12 * (1.0 + end[k].abs())) {
+        if matches!(kind, Made::Element) && !in_plane(start, interp.position(), interp.plane().axes().2) {
             kind = Made::Other;
         }
         if let Some(mut w) = self.waiting.take() {
@@ -391,10 +388,6 @@ fn refuse(w: Waiting, why: &str, diags: &mut Diags, emit: &mut Vec<Held>) {
     release(w, emit);
 }
 
-/// A block the interpreter made, from `start` to where it is now, as an element.
-fn held(b: Block, start: [f64; 6], interp: &Interpreter) -> Held {
-    Held { b, start, end: interp.position(), unit: interp.unit(), tilt: interp.tilt(), arc_feed: ArcFeed::default() }
-}
 
 /// `CHF=`'s chamfer length as the length of its sides along two lines: the chamfer joins the points
 /// `s` from the corner on each, its length 2 s cos(θ/2), θ the turn between their directions.
