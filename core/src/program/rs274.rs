@@ -97,6 +97,12 @@ impl Rs274Reader {
     }
 }
 
+/// [`reads_state`] of a line's text: a line without `#` (most of a program) found so by a byte
+/// search, without decoding its characters.
+pub(super) fn text_reads_state(text: &str) -> bool {
+    text.contains('#') && reads_state(text.chars())
+}
+
 /// Whether a line's text may read a predefined parameter of the interpreter's state: a named one
 /// (`#<_...>`), a numbered one from 5000 up (`#5...`) or Fanuc's modal information (`#4...`), or one
 /// whose number is computed (`##1`, `#[...]`). Most lines, a loop's own parameters among them, read none: the state is not gathered
@@ -332,7 +338,7 @@ impl Rs274Reader {
         }
         let text = text.trim_end_matches('\r');
         if let Some(read) = kept {
-            self.refresh_state(reads_state(text.chars()));
+            self.refresh_state(text_reads_state(text));
             return self.run_line(line, text, read, None, out, diags);
         }
         let before = diags.0.len();
@@ -362,7 +368,7 @@ impl Rs274Reader {
     /// one said; those values (`Now`) are this pass's. None when the line has nothing to run (blank,
     /// the tape's `%`, a title) or is damaged (said here).
     pub(super) fn read_line(&mut self, line: usize, text: &str, diags: &mut Diags) -> Option<(ReadLine, Vec<Now>)> {
-        self.refresh_state(reads_state(text.chars()));
+        self.refresh_state(text_reads_state(text));
         // Room for every character at once (a char per byte at most): no regrowing as it fills.
         let mut chars: Vec<char> = Vec::with_capacity(text.len());
         let ascii = text.is_ascii();

@@ -68,11 +68,12 @@ impl Interpreter {
                 'G' => {
                     let code = w.raw.trim_start_matches('+');
                     let code = code.trim_start_matches('0');
-                    let code = if code.is_empty() || code.starts_with('.') { format!("0{code}") } else { code.to_string() };
+                    // Borrowed as written but for a code of zeros (`G0`, `G00`, `G0.1`): no allocation per G word.
+                    let code: std::borrow::Cow<str> = if code.is_empty() || code.starts_with('.') { format!("0{code}").into() } else { code.into() };
                     let unsupported = |diags: &mut Diags, what: &str| {
                         diags.error(line, w.column, format!("G{} ({what}) is not supported: it changes the motion", w.raw))
                     };
-                    match (code.as_str(), heid) {
+                    match (code.as_ref(), heid) {
                         ("0", _) => next.motion = Some(Motion::Rapid),
                         ("1", _) => next.motion = Some(Motion::Linear),
                         ("2", false) => next.motion = Some(Motion::ArcCw),
@@ -97,7 +98,7 @@ impl Interpreter {
                         ("18" | "19" | "20", true) if tool_call => diags.error(
                             line,
                             w.column,
-                            format!("T with G{}: a tool call along tool axis {} (only tool axis Z, G17, is modelled: the machine file's)", w.raw, ["Y", "X", "IV"][code.as_str().parse::<usize>().unwrap_or(18) - 18]),
+                            format!("T with G{}: a tool call along tool axis {} (only tool axis Z, G17, is modelled: the machine file's)", w.raw, ["Y", "X", "IV"][code.parse::<usize>().unwrap_or(18) - 18]),
                         ),
                         ("18", _) => next.plane = Plane::Zx,
                         ("19", _) => next.plane = Plane::Yz,
@@ -146,7 +147,7 @@ impl Interpreter {
                         }
                         ("54", true) => datum_block = true,
                         ("54" | "55" | "56" | "57" | "58" | "59" | "59.1" | "59.2" | "59.3", false) => {
-                            let k = ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"].iter().position(|c| *c == code).unwrap_or(0);
+                            let k = ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"].iter().position(|c| *c == code.as_ref()).unwrap_or(0);
                             next.system = k;
                             next.extra_offset = false;
                             if k > 0 && !self.offsets_set(k) && !fanuc && self.dialect != Dialect::Sinumerik {
@@ -232,7 +233,7 @@ impl Interpreter {
                             }
                         }
                         // (Two codes of group 0 in one block: Interpreter::block refuses them.)
-                        ("92" | "92.1" | "92.2" | "92.3" | "52", false) if self.dialect == Dialect::Rs274 => g92 = Some(code.clone()),
+                        ("92" | "92.1" | "92.2" | "92.3" | "52", false) if self.dialect == Dialect::Rs274 => g92 = Some(code.to_string()),
                         ("92.1" | "92.2", false) => {} // cancel G92 offsets: none are modelled
                         // A change of feed mode leaves no feed: Siemens, "In the event of switching
                         // between G93, G94 and G95, the path feedrate value has to be reprogrammed"

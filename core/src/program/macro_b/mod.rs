@@ -102,8 +102,10 @@ pub(crate) struct MacroRunner {
     /// from what was read ([`Rs274Reader::loop_line`]).
     kept: std::collections::HashMap<u64, ReadLine>,
     /// The furthest offset run so far in each program of the file (by where it starts): a line of it
-    /// before that runs again.
+    /// before that runs again. The program running keeps its own in `furthest_now` (unit, offset),
+    /// not looked up for every line.
     furthest: std::collections::HashMap<u64, u64>,
+    furthest_now: (u64, u64),
     executed: usize,
     budget: usize,
     /// The main program has ended (M30, M02, or M99 in it, or the next program of the file).
@@ -129,6 +131,7 @@ impl MacroRunner {
             places: Places::new(),
             kept: std::collections::HashMap::new(),
             furthest: std::collections::HashMap::new(),
+            furthest_now: (0, 0),
             executed: 0,
             budget: setup.max_run_lines,
         }
@@ -355,9 +358,13 @@ impl Jumping for MacroRunner {
         // Within the program running (a line of the main program after a subprogram's return has
         // not run before, though the subprogram stands after it).
         let unit = self.frames.last().map_or(0, |f| f.unit.offset);
-        let furthest = self.furthest.entry(unit).or_insert(0);
-        let again = here.offset < *furthest;
-        *furthest = (*furthest).max(here.offset);
+        if self.furthest_now.0 != unit {
+            let (was, offset) = self.furthest_now;
+            self.furthest.insert(was, offset);
+            self.furthest_now = (unit, self.furthest.get(&unit).copied().unwrap_or(0));
+        }
+        let again = here.offset < self.furthest_now.1;
+        self.furthest_now.1 = self.furthest_now.1.max(here.offset);
         if !maybe_flow(text) {
             return if again { self.again(line, text, here, out, diags) } else { self.plain(line, text, out, diags) };
         }

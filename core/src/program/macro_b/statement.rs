@@ -52,12 +52,22 @@ pub(super) fn program_number(bytes: &[u8]) -> Option<u64> {
 /// Whether a line may hold a flow statement or a call (`IF`, `GOTO`, `WHILE`, `DO`, `END`, `M9x`,
 /// `M0..`, `G6x`): most lines are moves, passed on unparsed after a look at each byte.
 pub(super) fn maybe_flow(text: &str) -> bool {
+    /// The bytes that may begin one of them (a table: one look per byte of a move's line).
+    const STARTS: [bool; 256] = {
+        let mut t = [false; 256];
+        let mut c = 0;
+        while c < 256 {
+            t[c] = matches!(c as u8 | 0x20, b'i' | b'g' | b'w' | b'd' | b'e' | b'm');
+            c += 1;
+        }
+        t
+    };
     let b = text.as_bytes();
     (0..b.len().saturating_sub(1)).any(|i| {
-        let letter = b[i] | 0x20;
-        if !matches!(letter, b'i' | b'g' | b'w' | b'd' | b'e' | b'm') {
+        if !STARTS[usize::from(b[i])] {
             return false;
         }
+        let letter = b[i] | 0x20;
         // The letter's next character, past blanks (`M 98`).
         let next = b[i + 1..].iter().find(|c| **c != b' ' && **c != b'\t').map_or(0, u8::to_ascii_uppercase);
         match letter {
