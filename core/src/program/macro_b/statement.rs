@@ -63,14 +63,13 @@ pub(super) fn maybe_flow(text: &str) -> bool {
         t
     };
     let b = text.as_bytes();
-    (0..b.len().saturating_sub(1)).any(|i| {
-        if !STARTS[usize::from(b[i])] {
-            return false;
-        }
-        let letter = b[i] | 0x20;
+    let Some(last) = b.len().checked_sub(1) else { return false };
+    let mut from = 0;
+    while let Some(k) = b[from..last].iter().position(|&c| STARTS[usize::from(c)]) {
+        let i = from + k;
         // The letter's next character, past blanks (`M 98`).
         let next = b[i + 1..].iter().find(|c| **c != b' ' && **c != b'\t').map_or(0, u8::to_ascii_uppercase);
-        match letter {
+        let flow = match b[i] | 0x20 {
             b'i' => next == b'F',
             b'g' => next == b'O' || next == b'6',
             b'w' => next == b'H',
@@ -78,8 +77,13 @@ pub(super) fn maybe_flow(text: &str) -> bool {
             b'e' => next == b'N',
             b'm' => next == b'9' || next == b'0',
             _ => false,
+        };
+        if flow {
+            return true;
         }
-    })
+        from = i + 1;
+    }
+    false
 }
 
 /// Whether `chars[i..]` starts with the keyword `kw` (any case).
@@ -229,5 +233,46 @@ impl MacroRunner {
             return Err((at + 1, format!("{what} {v}: expected a block number 1 to 99999999")));
         }
         Ok((v as u64, end, at + 1))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::maybe_flow;
+
+    /// The pre-scan passes on a line exactly when one of its letters is followed, past blanks, by a
+    /// character that continues a statement or call: checked against that rule written out plainly,
+    /// on 100,000 lines drawn from the letters and digits of statements and moves.
+    #[test]
+    fn the_prescan_finds_every_statement_start() {
+        let plain = |text: &str| {
+            let b: Vec<char> = text.chars().collect();
+            (0..b.len()).any(|i| {
+                let next = b[i + 1..].iter().find(|c| **c != ' ' && **c != '\t').map_or('\0', char::to_ascii_uppercase);
+                match b[i].to_ascii_lowercase() {
+                    'i' => next == 'F',
+                    'g' => next == 'O' || next == '6',
+                    'w' => next == 'H',
+                    'd' => next == 'O',
+                    'e' => next == 'N',
+                    'm' => next == '9' || next == '0',
+                    _ => false,
+                }
+            })
+        };
+        let alphabet: Vec<char> = "IiFfGgOo6WwHhDdEeNnMm9801X. \t-#[]".chars().collect();
+        let mut state: u64 = 0x2545_F491_4F6C_DD1D;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..100_000 {
+            let len = (next() % 12) as usize;
+            let text: String = (0..len).map(|_| alphabet[(next() % alphabet.len() as u64) as usize]).collect();
+            assert_eq!(maybe_flow(&text), plain(&text), "{text:?}");
+        }
+        assert!(maybe_flow("N10 WHILE [#1 LT 5] DO1") && maybe_flow("M 98 P100") && !maybe_flow("N10 G1 X-50.0000 Y-50.0000 Z-10.4409 A12.2101 C-144.3218"));
     }
 }
