@@ -67,7 +67,7 @@ pub(crate) fn upper(s: &str) -> std::borrow::Cow<'_, str> {
 /// How many lines `text` has: the readers reserve a block per line, so that a million-block
 /// program is not copied as its block list grows.
 pub fn line_count(text: &str) -> usize {
-    text.bytes().filter(|&b| b == b'\n').count() + 1
+    memchr::memchr_iter(b'\n', text.as_bytes()).count() + 1
 }
 
 /// Length of the longest prefix of `s` made of number characters (`+-.0-9`).

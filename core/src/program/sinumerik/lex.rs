@@ -208,13 +208,19 @@ fn expression_end(b: &[u8], start: usize) -> usize {
     let ident = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
     // A word operator (DIV, AND ...) starting at `j`.
     let word_op_at = |j: usize| {
-        ["DIV", "MOD", "AND", "OR", "XOR", "NOT"].iter().any(|op| {
+        // (Their first letters first: the next word's address is seldom one of them.)
+        b.get(j).is_some_and(|c| matches!(c.to_ascii_uppercase(), b'D' | b'M' | b'A' | b'O' | b'X' | b'N'))
+            && ["DIV", "MOD", "AND", "OR", "XOR", "NOT"].iter().any(|op| {
             let e = j + op.len();
             b.get(j..e).is_some_and(|w| w.eq_ignore_ascii_case(op.as_bytes())) && !b.get(e).copied().is_some_and(ident)
         })
     };
     // A word operator ending just before `j`.
     let word_op_before = |j: usize| {
+        // Each ends in a letter: a value's last digit ends none.
+        if j == start || !b[j - 1].is_ascii_alphabetic() {
+            return false;
+        }
         let mut k = j;
         while k > start && ident(b[k - 1]) {
             k -= 1;
@@ -644,6 +650,24 @@ pub(crate) fn define(text: &str, vars: &mut Vars) -> Result<(), (usize, String)>
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A value's expression runs on past a blank only beside an operator (Programming Manual
+    /// Job Planning, "Arithmetic operators": DIV, MOD and the logical ones are words): each value
+    /// worked here from the rule, blanks before and after the word operators.
+    #[test]
+    fn word_operators_join_an_expression_across_blanks() {
+        let mut vars = Vars::default();
+        let src = "N10 R1=7 MOD 4 X=R1 DIV 2 Y=R1 AND 0 Z=10 MOD 4 A=R1 B=ANDY C=2 F=R1 XOR 1";
+        let mut diags = Diags::default();
+        let l = lex_line(src, &Columns::new(src), 1, &mut vars, &mut diags);
+        // `B=ANDY`: a name beginning as AND does, not the operator (no such variable: an error at it).
+        assert_eq!(diags.0.len(), 1, "{:?}", diags.0);
+        assert!(diags.0[0].message.starts_with("B=ANDY"), "{:?}", diags.0);
+        assert_eq!(vars.get("R1"), Ok(3.0));
+        let got: Vec<(char, f64)> = l.words.iter().map(|w| (w.letter, w.value)).collect();
+        // 3 DIV 2 = 1; 3 AND 0 = 0; 10 MOD 4 = 2; A=R1 ends at its blank (A begins no operator here).
+        assert_eq!(got, vec![('X', 1.0), ('Y', 0.0), ('Z', 2.0), ('A', 3.0), ('C', 2.0), ('F', 0.0)]);
+    }
 
     #[test]
     fn blocks_read_their_variables_in_order() {
