@@ -72,7 +72,14 @@ pub(crate) struct Rs274Reader {
     pub(super) contexts: super::modal_context::Contexts,
     /// Fanuc, Haas: chamfering and corner R (`,C`, `,R`) waiting for the block after theirs.
     pub(super) corners: super::fanuc_corners::Corners,
+    /// A line's characters and items are read into these, kept from line to line (no two
+    /// allocations per line); let go past [`KEEP_BUFFER`] entries, so a long line's room is not held.
+    chars_buf: Vec<char>,
+    items_buf: Vec<Item>,
 }
+
+/// The most entries a line's buffers keep from one line to the next.
+const KEEP_BUFFER: usize = 4096;
 
 /// The most memory lines kept as read may hold, over every loop and call that keeps them: a line as
 /// read holds several times its text; beyond this, lines are read again on each pass.
@@ -93,7 +100,7 @@ impl Rs274Reader {
             params.fanuc_system_variables();
         }
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, said_no_point: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: None, corners: Default::default() }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, said_no_point: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: None, corners: Default::default(), chars_buf: Vec::new(), items_buf: Vec::new() }
     }
 }
 
@@ -324,7 +331,10 @@ impl Rs274Reader {
         let text = text.trim_end_matches('\r');
         let said = diags.0.len();
         match self.read_line(line, text, diags) {
-            Some((read, now)) => self.run_line(line, text, &read, Some(now), out, diags),
+            Some((read, now)) => {
+                self.run_line(line, text, &read, Some(now), out, diags);
+                self.recycle(read);
+            }
             None => self.corners_after_damaged(said, out, diags),
         }
     }
@@ -346,13 +356,17 @@ impl Rs274Reader {
         if read.is_none() {
             self.corners_after_damaged(before, out, diags);
         }
-        if let Some((read, now)) = read {
+        if let Some((mut read, now)) = read {
             let quiet = diags.0.len() == before;
             self.run_line(line, text, &read, Some(now), out, diags);
+            // Kept at its own size, not the room a longer line left in the buffer.
+            read.items.shrink_to_fit();
             let size = read.size();
             if quiet && self.kept_bytes + size <= MAX_KEPT_BYTES {
                 self.kept_bytes += size;
                 *kept = Some(read);
+            } else {
+                self.recycle(read);
             }
         }
     }
@@ -368,16 +382,37 @@ impl Rs274Reader {
     /// one said; those values (`Now`) are this pass's. None when the line has nothing to run (blank,
     /// the tape's `%`, a title) or is damaged (said here).
     pub(super) fn read_line(&mut self, line: usize, text: &str, diags: &mut Diags) -> Option<(ReadLine, Vec<Now>)> {
+        let mut buf = std::mem::take(&mut self.chars_buf);
+        let read = self.read_line_into(line, text, &mut buf, diags);
+        if buf.capacity() <= KEEP_BUFFER {
+            self.chars_buf = buf;
+        }
+        read
+    }
+
+    /// A line read and run: its items' room kept for the next line's.
+    fn recycle(&mut self, read: ReadLine) {
+        let mut items = read.items;
+        if items.capacity() <= KEEP_BUFFER && items.capacity() > self.items_buf.capacity() {
+            items.clear();
+            self.items_buf = items;
+        }
+    }
+
+    /// [`Rs274Reader::read_line`] with its characters in `buf`.
+    fn read_line_into(&mut self, line: usize, text: &str, buf: &mut Vec<char>, diags: &mut Diags) -> Option<(ReadLine, Vec<Now>)> {
         self.refresh_state(text_reads_state(text));
         // Room for every character at once (a char per byte at most): no regrowing as it fills.
-        let mut chars: Vec<char> = Vec::with_capacity(text.len());
+        buf.clear();
+        buf.reserve(text.len());
         let ascii = text.is_ascii();
         if ascii {
             // A byte per character: copied as a slice is (no decoding).
-            chars.extend(text.bytes().map(char::from));
+            buf.extend(text.bytes().map(char::from));
         } else {
-            chars.extend(text.chars());
+            buf.extend(text.chars());
         }
+        let chars: &[char] = buf;
         // Where each character starts in the text (a word's text is a byte range of it).
         let offsets: Vec<usize> = if ascii { Vec::new() } else { text.char_indices().map(|(b, _)| b).chain([text.len()]).collect() };
         let byte = |i: usize| if ascii { i } else { offsets[i] };
@@ -414,7 +449,9 @@ impl Rs274Reader {
             return None;
         }
         // A five-axis move has about eight words (N G X Y Z A C F), held without regrowing.
-        let mut read = ReadLine { first, number: None, items: Vec::with_capacity(10) };
+        let mut items = std::mem::take(&mut self.items_buf);
+        items.reserve(10);
+        let mut read = ReadLine { first, number: None, items };
         let mut now = Vec::new();
         let mut i = first;
         if chars[i] == '/' {
