@@ -16,28 +16,12 @@ pub fn parse_number(s: &str) -> Option<f64> {
     // The digits before the point, then after it, into one integer (a digit is a byte 0-9 from '0').
     let n = body.len();
     let mut mantissa: u64 = 0;
-    let mut i = 0;
-    while i < n {
-        let d = body[i].wrapping_sub(b'0');
-        if d > 9 {
-            break;
-        }
-        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
-        i += 1;
-    }
+    let mut i = digits_into(body, 0, &mut mantissa);
     let whole = i;
     let mut after = i;
     if i < n && body[i] == b'.' {
-        i += 1;
-        after = i;
-        while i < n {
-            let d = body[i].wrapping_sub(b'0');
-            if d > 9 {
-                break;
-            }
-            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
-            i += 1;
-        }
+        after = i + 1;
+        i = digits_into(body, after, &mut mantissa);
     }
     let fraction = i - after;
     let digits = whole + fraction;
@@ -52,6 +36,32 @@ pub fn parse_number(s: &str) -> Option<f64> {
         return Some(if negative { -v } else { v });
     }
     s.parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+/// The digits of `body` from `i` on appended to `mantissa` (wrapping: only the first 19 can
+/// count); where they end.
+#[inline(always)]
+fn digits_into(body: &[u8], mut i: usize, mantissa: &mut u64) -> usize {
+    while i < body.len() {
+        let d = body[i].wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        *mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
+        i += 1;
+    }
+    i
+}
+
+/// A fixed sequence of pseudo-random numbers (xorshift64) for tests that draw many inputs.
+#[cfg(test)]
+pub(crate) fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    }
 }
 
 /// `s` in capitals, borrowed when it already is (the readers' addresses and keywords: no
@@ -172,13 +182,7 @@ mod tests {
     #[test]
     fn numbers_match_the_grammar_and_the_standard_parse() {
         let alphabet = b"0000000123456789..+-x";
-        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x9E37_79B9_7F4A_7C15);
         for _ in 0..200_000 {
             // Half of them long numbers (14 to 24 digits, a point among them): where a fast path's
             // rounding would first go wrong.

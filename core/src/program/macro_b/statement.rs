@@ -261,13 +261,7 @@ mod tests {
             })
         };
         let alphabet: Vec<char> = "IiFfGgOo6WwHhDdEeNnMm9801X. \t-#[]".chars().collect();
-        let mut state: u64 = 0x2545_F491_4F6C_DD1D;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = crate::program::lex::xorshift(0x2545_F491_4F6C_DD1D);
         for _ in 0..100_000 {
             let len = (next() % 12) as usize;
             let text: String = (0..len).map(|_| alphabet[(next() % alphabet.len() as u64) as usize]).collect();
