@@ -177,8 +177,9 @@ mod tests {
     }
 
     /// Texts of up to 24 characters of a number's alphabet (200,000 drawn by a fixed generator, long
-    /// runs of zeros and long numbers among them): a number exactly where the grammar says (a sign, digits, at
-    /// most one point, a digit at least), and then the standard library's correctly rounded value.
+    /// runs of zeros and long numbers among them): a number exactly where the grammar says (a sign,
+    /// digits, at most one point, a digit at least), and then the standard library's correctly
+    /// rounded value.
     #[test]
     fn numbers_match_the_grammar_and_the_standard_parse() {
         let alphabet = b"0000000123456789..+-x";

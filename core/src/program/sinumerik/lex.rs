@@ -211,9 +211,9 @@ fn expression_end(b: &[u8], start: usize) -> usize {
         // (Their first letters first: the next word's address is seldom one of them.)
         b.get(j).is_some_and(|c| matches!(c.to_ascii_uppercase(), b'D' | b'M' | b'A' | b'O' | b'X' | b'N'))
             && ["DIV", "MOD", "AND", "OR", "XOR", "NOT"].iter().any(|op| {
-            let e = j + op.len();
-            b.get(j..e).is_some_and(|w| w.eq_ignore_ascii_case(op.as_bytes())) && !b.get(e).copied().is_some_and(ident)
-        })
+                let e = j + op.len();
+                b.get(j..e).is_some_and(|w| w.eq_ignore_ascii_case(op.as_bytes())) && !b.get(e).copied().is_some_and(ident)
+            })
     };
     // A word operator ending just before `j`.
     let word_op_before = |j: usize| {
