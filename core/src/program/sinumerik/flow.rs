@@ -20,7 +20,6 @@
 //! - Subprograms: a name alone in its block calls the program of that name, which runs a level
 //!   below in a runner of its own ([`super::subprogram`]); `PROC` and `RET` are its lines.
 
-use super::expr;
 use super::SinumerikReader;
 use crate::program::lex::{block_number, past_skip, Diags};
 use crate::program::stream::{ends_program, stop, At, Find, Jumping, LineReader, Next, Places};
@@ -154,12 +153,12 @@ impl FlowRunner {
         }
     }
 
-    fn condition(&self, text: &str) -> Result<bool, String> {
+    fn condition(&mut self, text: &str) -> Result<bool, String> {
         let text = text.split(';').next().unwrap_or("").trim();
         if text.is_empty() {
             return Err("expected a condition".into());
         }
-        expr::eval(text, &|name| self.reader.vars.get(name)).map(|v| v != 0.0).map_err(|e| e.message)
+        self.reader.vars.eval(text).map(|v| v != 0.0).map_err(|e| e.message)
     }
 }
 
@@ -315,7 +314,7 @@ impl FlowRunner {
                 if eq > to || !self.reader.vars.is_variable(&var) {
                     return stop(line, col, format!("FOR: '{}' is not a variable of this program (DEF, or an R parameter)", crate::program::lex::excerpt(r[..eq.min(r.len())].trim())), diags);
                 }
-                let eval = |t: &str| expr::eval(t.trim(), &|name| self.reader.vars.get(name)).map_err(|e| e.message);
+                let mut eval = |t: &str| self.reader.vars.eval(t.trim()).map_err(|e| e.message);
                 let (start, end) = match (eval(&r[eq + 1..to]), eval(&r[to + 4..])) {
                     (Ok(a), Ok(b)) => (a, b),
                     (Err(why), _) | (_, Err(why)) => return stop(line, col, format!("FOR: {why}"), diags),
@@ -425,9 +424,11 @@ impl Jumping for FlowRunner {
     fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
         // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
         let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
-        if line <= self.reached || self.count_all {
+        let again = line <= self.reached || self.count_all;
+        if again {
             self.again += 1;
         }
+        self.reader.vars.again = again;
         self.reached = self.reached.max(line);
         if self.again > self.budget {
             return stop(line, 1, format!("more than {} lines run by loops, jumps and calls beyond the programs' own: an endless loop?", self.setup.max_run_lines), diags);

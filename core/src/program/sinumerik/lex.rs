@@ -35,6 +35,11 @@ pub(crate) struct Vars {
     journal: Vec<(String, Option<(Type, Option<f64>)>)>,
     /// The names of the calling levels' own variables, while a subprogram runs (for messages).
     outer: Vec<Vec<String>>,
+    /// The expressions of lines run again, compiled once ([`Vars::eval`]).
+    compiled: expr::Cache,
+    /// The line being read runs again (a loop's pass, a jump back, a subprogram called again): its
+    /// expressions are kept compiled.
+    pub(crate) again: bool,
 }
 
 /// A program level's own variables, set aside while a subprogram runs.
@@ -50,17 +55,15 @@ fn r_number(name: &str) -> Option<u32> {
 impl Vars {
     /// The value of `name` (capitals), or why it has none.
     pub(crate) fn get(&self, name: &str) -> Result<f64, String> {
-        match self.map.get(name) {
-            Some((_, Some(v))) => Ok(*v),
-            // Only a PROC's parameter has no value: the main program's, which no call gave one.
-            Some((_, None)) => Err(format!("{name} is a parameter of the program's PROC, which its call gives: this program is a subprogram (read the program that calls it)")),
-            None if r_number(name).is_some() => Err(format!("{name} is read before this program sets it (R parameters keep what earlier programs left)")),
-            None if self.outer.first().is_some_and(|l| l.iter().any(|n| n == name)) => Err(format!(
-                "{name} is not defined (DEF) in this subprogram: the main program's variable, which a subprogram sees only where the main program's are program-global (PUD, by machine datum MD11120)"
-            )),
-            None if self.outer.iter().any(|l| l.iter().any(|n| n == name)) => Err(format!("{name} is not defined (DEF) in this subprogram: a calling subprogram's own variable (each program level's are its own)")),
-            None => Err(format!("{name} is not defined (DEF) in this program")),
-        }
+        value(&self.map, &self.outer, name)
+    }
+
+    /// The value of the expression `text` with these variables; compiled once for a line that runs
+    /// again.
+    pub(crate) fn eval(&mut self, text: &str) -> Result<f64, expr::ExprError> {
+        let Vars { map, outer, compiled, again, .. } = self;
+        let var = |name: &str| value(map, outer, name);
+        if *again { compiled.eval(text, &var) } else { expr::eval(text, &var) }
     }
 
     /// Whether `name` is a variable an assignment may set.
@@ -160,6 +163,22 @@ impl Vars {
             Some(n) => Err(format!("R{n}: R parameters are read up to R{MAX_R}")),
             None => Err(format!("{name} is not defined (DEF) in this program")),
         }
+    }
+}
+
+/// The value of the variable `name` (capitals) in `map`, or why it has none (`outer`: the calling
+/// levels' own names, for the message).
+fn value(map: &HashMap<String, (Type, Option<f64>)>, outer: &[Vec<String>], name: &str) -> Result<f64, String> {
+    match map.get(name) {
+        Some((_, Some(v))) => Ok(*v),
+        // Only a PROC's parameter has no value: the main program's, which no call gave one.
+        Some((_, None)) => Err(format!("{name} is a parameter of the program's PROC, which its call gives: this program is a subprogram (read the program that calls it)")),
+        None if r_number(name).is_some() => Err(format!("{name} is read before this program sets it (R parameters keep what earlier programs left)")),
+        None if outer.first().is_some_and(|l| l.iter().any(|n| n == name)) => Err(format!(
+            "{name} is not defined (DEF) in this subprogram: the main program's variable, which a subprogram sees only where the main program's are program-global (PUD, by machine datum MD11120)"
+        )),
+        None if outer.iter().any(|l| l.iter().any(|n| n == name)) => Err(format!("{name} is not defined (DEF) in this subprogram: a calling subprogram's own variable (each program level's are its own)")),
+        None => Err(format!("{name} is not defined (DEF) in this program")),
     }
 }
 
@@ -527,7 +546,7 @@ fn unknown_address(name: &str) -> &'static str {
 
 /// The value of an expression (`R1+5`, `_X_HOME`), where no dimension may be given (`AC(5)` reads
 /// as its value in brackets, as before; an `IC()` is refused).
-fn value_of(text: &str, vars: &Vars) -> Result<f64, String> {
+fn value_of(text: &str, vars: &mut Vars) -> Result<f64, String> {
     match dimensioned(text, vars)? {
         (_, Dimension::Incremental) => Err("IC(): an incremental value is written on an axis or a circle centre (X=IC(5), I=IC(2))".into()),
         (v, _) => Ok(v),
@@ -538,21 +557,21 @@ fn value_of(text: &str, vars: &Vars) -> Result<f64, String> {
 /// incremental whatever G90/G91 say (Programming Manual Fundamentals, "Absolute dimensions (G90,
 /// AC)": "With preset incremental dimensions (G91), the AC command can be used to set non-modal
 /// absolute dimensions for individual axes"; "Incremental dimensions (G91, IC)").
-fn dimensioned(text: &str, vars: &Vars) -> Result<(f64, Dimension), String> {
+fn dimensioned(text: &str, vars: &mut Vars) -> Result<(f64, Dimension), String> {
     let t = text.trim();
-    let upper = t.to_ascii_uppercase();
-    let (inner, dimension) = match upper.get(..3) {
-        Some("AC(") if t.ends_with(')') => (&t[3..t.len() - 1], Dimension::Absolute),
-        Some("IC(") if t.ends_with(')') => (&t[3..t.len() - 1], Dimension::Incremental),
+    let head = t.as_bytes().get(..3);
+    let (inner, dimension) = match head {
+        Some(h) if h.eq_ignore_ascii_case(b"AC(") && t.ends_with(')') => (&t[3..t.len() - 1], Dimension::Absolute),
+        Some(h) if h.eq_ignore_ascii_case(b"IC(") && t.ends_with(')') => (&t[3..t.len() - 1], Dimension::Incremental),
         _ => (t, Dimension::Modal),
     };
-    let v = expr::eval(inner, &|name| vars.get(name)).map_err(|e| format!("{} (at '{}')", e.message, excerpt(&inner[e.at.min(inner.len())..])))?;
+    let v = vars.eval(inner).map_err(|e| format!("{} (at '{}')", e.message, excerpt(&inner[e.at.min(inner.len())..])))?;
     Ok((v, dimension))
 }
 
 /// The arguments of a call (`CYCLE81(2.5,0,,-10)`): each a value, a string, or empty; `vars` give the
 /// expressions' values. Why not, with the byte offset in `text` where it fails.
-pub(crate) fn call_arguments(text: &str, vars: &Vars) -> Result<Vec<Arg>, (usize, String)> {
+pub(crate) fn call_arguments(text: &str, vars: &mut Vars) -> Result<Vec<Arg>, (usize, String)> {
     let b = text.as_bytes();
     let mut args = Vec::new();
     let (mut start, mut depth, mut in_str) = (0usize, 0i32, false);
@@ -703,6 +722,6 @@ mod tests {
         assert!(l.words.iter().all(|w| w.letter == 'G'));
         let cols: Vec<usize> = diags.0.iter().map(|d| d.column).collect();
         assert_eq!(cols, vec![6, 11, 19], "{:?}", diags.0);
-        assert_eq!(call_arguments(" 1, \" R_DATA\", ,2*R1, ", &vars), Ok(vec![Arg::Value(1.0), Arg::Text(" R_DATA".into()), Arg::Empty, Arg::Value(-720.0), Arg::Empty]));
+        assert_eq!(call_arguments(" 1, \" R_DATA\", ,2*R1, ", &mut vars), Ok(vec![Arg::Value(1.0), Arg::Text(" R_DATA".into()), Arg::Empty, Arg::Value(-720.0), Arg::Empty]));
     }
 }

@@ -502,7 +502,7 @@ impl SinumerikReader {
             diags.error(line, call.col, format!("MCALL {}: only the drilling cycles CYCLE81-CYCLE89 are read as modal calls{why}", call.name));
             return;
         };
-        let args = match lex::call_arguments(call.args.unwrap_or(""), &self.vars) {
+        let args = match lex::call_arguments(call.args.unwrap_or(""), &mut self.vars) {
             Ok(a) => a,
             Err((_, why)) => return diags.error(line, call.col, format!("{}: {why}", call.name)),
         };
@@ -567,7 +567,7 @@ impl SinumerikReader {
     /// line; `CYCLE800()` deselects it (the axes stay).
     fn swivel(&mut self, k: &Keyword<'_>, line: usize, number: Option<u64>, out: &mut Vec<Block>, diags: &mut Diags) {
         let col = k.col;
-        let args = match lex::call_arguments(k.args.unwrap_or(""), &self.vars) {
+        let args = match lex::call_arguments(k.args.unwrap_or(""), &mut self.vars) {
             Ok(a) => a,
             Err((_, why)) => return diags.error(line, col, format!("CYCLE800: {why}")),
         };
@@ -669,7 +669,7 @@ impl SinumerikReader {
     /// contour tolerance `_TOL` for the blocks that follow, a continuous-path mode; `_TOLM`'s
     /// units digit 0 (or no arguments) deselects it: the machine's tolerance again.
     fn high_speed_settings(&mut self, k: &Keyword<'_>, line: usize, diags: &mut Diags) {
-        let args = match lex::call_arguments(k.args.unwrap_or(""), &self.vars) {
+        let args = match lex::call_arguments(k.args.unwrap_or(""), &mut self.vars) {
             Ok(a) => a,
             Err((_, why)) => return diags.error(line, k.col, format!("CYCLE832: {why}")),
         };

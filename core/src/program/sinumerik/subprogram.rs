@@ -196,7 +196,7 @@ impl FlowRunner {
             return crate::program::stream::stop(line, col, format!("{name}: calls nested deeper than the control's {PROGRAM_LEVELS} program levels"), diags);
         }
         // The actual parameters, in the caller's variables: an empty one is 0.
-        let args = match site.args.filter(|(t, _)| !t.trim().is_empty()).map(|(t, at)| call_arguments(t, &self.reader.vars).map_err(|(k, why)| (at + k, why))).transpose() {
+        let args = match site.args.filter(|(t, _)| !t.trim().is_empty()).map(|(t, at)| call_arguments(t, &mut self.reader.vars).map_err(|(k, why)| (at + k, why))).transpose() {
             Ok(a) => a.unwrap_or_default(),
             Err((k, why)) => {
                 diags.error(line, cols.col(k), format!("{name}: {why}"));
