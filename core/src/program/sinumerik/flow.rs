@@ -622,6 +622,23 @@ mod tests {
         }
     }
 
+    /// A loop's expressions, compiled on the first pass run again (a cache keyed by their text), take
+    /// each pass's values: the pass that divides by zero (CNT = 3) is a defect at its line and
+    /// column, and the passes before and after it move where 10 / (3 - CNT) says.
+    #[test]
+    fn a_loops_expressions_take_each_passs_values() {
+        let text = "DEF INT CNT\nCNT=0\nWHILE CNT<5\nG1 X=10/(3-CNT) Y=CNT F100\nCNT=CNT+1\nENDWHILE\nM30\n";
+        let p = run(text, &ReadOptions::default());
+        let e = p.messages(Severity::Error);
+        assert!(e.len() == 1 && e[0].starts_with("4:6: X=10/(3-CNT): division by zero"), "{e:#?}");
+        let m = moves(&p);
+        let want = [0.0, 1.0, 2.0, 4.0].map(|n: f64| (10.0 / (3.0 - n), n));
+        assert_eq!(m.len(), want.len(), "{m:?}");
+        for ((line, at), (x, y)) in m.iter().zip(want) {
+            assert!(*line == 4 && (at[0] - x).abs() < 1e-9 && (at[1] - y).abs() < 1e-9, "{m:?}");
+        }
+    }
+
     /// `IF` ... `ELSE` ... `ENDIF` takes one branch; `REPEAT` ... `UNTIL` runs until its condition.
     #[test]
     fn branches_and_repeats_take_their_way() {
