@@ -39,10 +39,11 @@ const CLEAN: &[Case] = &[
 /// Programs refused on their machine with one clear message each: a defect of the program as its
 /// control reads it (the file, machine, flags and the message's telling part).
 const REFUSED: &[(&str, &str, &[&str], &str)] = &[
-    // NX's sample posts write G83 with Q0.0: a peck of nothing never reaches the hole's bottom.
+    // NX's sample posts write G83 with Q0.0: a peck of nothing never reaches the hole's bottom (a
+    // FANUC control alarms, PS0045).
     ("haas-fanuc-style_nx-post_vf2-trunnion-ab_Haas_5T.nc", "haas-vf2-tr", &[], "977:41: error: Q0.0: a peck depth must be positive"),
-    ("fanuc-G43.4_nx-post_mori-nmv5000-bc_near-B0_MS_NMV_sample_output.nc", "mori-seiki-nmv5000", &[], "862:29: error: Q0.0: a peck depth must be positive"),
-    ("fanuc-G43.4_nx-post_mori-nmv5000-bc_mm_MS_NMV_sample_mm.nc", "mori-seiki-nmv5000", &[], "630:24: error: Q0.0: a peck depth must be positive"),
+    ("fanuc-G43.4_nx-post_mori-nmv5000-bc_near-B0_MS_NMV_sample_output.nc", "mori-seiki-nmv5000", &[], "862:29: error: Q0.0: a peck depth must be positive (FANUC alarm PS0045"),
+    ("fanuc-G43.4_nx-post_mori-nmv5000-bc_mm_MS_NMV_sample_mm.nc", "mori-seiki-nmv5000", &[], "630:24: error: Q0.0: a peck depth must be positive (FANUC alarm PS0045"),
     // SOLIDWORKS CAM's .clt turns an A table (no machine named: the generic A/C table-table) by ROTABL
     // in radians; its one drilling cycle lacks a comma between two numbers.
     (

@@ -235,17 +235,21 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
             return false;
         }
     };
+    // FANUC's alarm PS0045 ADDRESS Q NOT FOUND (G73/G83): "the amount of each-time cutting is not
+    // specified by address Q, or Q0 is specified" (its alarm list); Haas' pages say no more than Q's
+    // meaning, so the same rule is said there without the alarm.
+    let ps0045 = if it.dialect() == crate::program::Dialect::Fanuc { " (FANUC alarm PS0045: Q missing or Q0 in G73/G83)" } else { "" };
     let peck = match (find('Q'), before) {
         (Some(w), _) if w.value > 0.0 => Some(w.value.abs() * unit),
         (Some(w), _) => {
-            diags.error(line, w.column, format!("Q{}: a peck depth must be positive", w.raw));
+            diags.error(line, w.column, format!("Q{}: a peck depth must be positive{ps0045}", w.raw));
             return false;
         }
         (None, Some(a)) => a.peck,
         (None, None) => None,
     };
     if kind.pecks() && peck.is_none() {
-        diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q)", kind.code()));
+        diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q){ps0045}", kind.code()));
         return false;
     }
     if let Some(q) = peck.filter(|q| kind.pecks() && cycles::too_many_pecks(r - bottom, *q)) {

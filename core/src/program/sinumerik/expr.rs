@@ -249,10 +249,17 @@ const MAX_CACHE_BYTES: usize = 16 << 20;
 
 /// Expressions compiled once, by their text, for the lines a program runs again (a loop's passes, a
 /// subprogram called again): each pass then only runs them. Bounded by [`MAX_CACHE_BYTES`].
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub(crate) struct Cache {
     compiled: std::collections::HashMap<Box<str>, Compiled>,
     bytes: usize,
+    limit: usize,
+}
+
+impl Default for Cache {
+    fn default() -> Self {
+        Cache { compiled: Default::default(), bytes: 0, limit: MAX_CACHE_BYTES }
+    }
 }
 
 impl Cache {
@@ -264,7 +271,7 @@ impl Cache {
         let c = compile(text)?;
         let v = c.run(var);
         let size = c.size() + text.len();
-        if self.bytes + size <= MAX_CACHE_BYTES {
+        if self.bytes + size <= self.limit {
             self.bytes += size;
             self.compiled.insert(text.into(), c);
         }
@@ -587,5 +594,22 @@ mod tests {
             assert_eq!(cache.eval("R1+*2", &var).unwrap_err().at, 3);
         }
         assert_eq!(cache.compiled.len(), before);
+    }
+
+    /// The cache holds no more than its bound: past it an expression is compiled each time it runs,
+    /// with the same value.
+    #[test]
+    fn the_cache_stays_within_its_bound() {
+        let mut cache = Cache { limit: 64 << 10, ..Cache::default() };
+        for k in 0..5000 {
+            let text = format!("R1*{k}+SIN({k})");
+            for _ in 0..2 {
+                let want = 2.0 * k as f64 + (k as f64).to_radians().sin();
+                assert_eq!(cache.eval(&text, &v), Ok(want), "{text}");
+            }
+        }
+        let held: usize = cache.compiled.iter().map(|(t, c)| t.len() + c.size()).sum();
+        assert!(held == cache.bytes && cache.bytes <= 64 << 10, "{} bytes held", cache.bytes);
+        assert!(cache.compiled.len() > 100 && cache.compiled.len() < 5000, "{} kept", cache.compiled.len());
     }
 }
