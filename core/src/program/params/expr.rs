@@ -15,6 +15,16 @@ const TOLERANCE_EQUAL: f64 = 1e-4;
 /// Values an evaluation holds on the stack before it takes the heap.
 const STACK: usize = 16;
 
+/// Run `f` with room for `most` values: on the stack up to [`STACK`], else on the heap (a compiled
+/// expression's evaluation, here and in the 840D's).
+pub(crate) fn with_stack<R>(most: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
+    if most <= STACK {
+        f(&mut [0.0; STACK])
+    } else {
+        f(&mut vec![0.0; most])
+    }
+}
+
 /// The binary operators by precedence group (LinuxCNC manual table 11.5), lowest first.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Op {
@@ -212,14 +222,11 @@ pub struct Setting {
 impl Compiled {
     /// The value, with the parameters as they stand.
     pub fn eval(&self, params: &Parameters) -> Result<f64, ExprError> {
-        let mut small = [0.0f64; STACK];
-        let mut large = Vec::new();
-        let stack: &mut [f64] = if self.stack <= STACK {
-            &mut small
-        } else {
-            large.resize(self.stack, 0.0);
-            &mut large
-        };
+        with_stack(self.stack, |stack| self.eval_in(params, stack))
+    }
+
+    /// [`Compiled::eval`] with its values in `stack`.
+    fn eval_in(&self, params: &Parameters, stack: &mut [f64]) -> Result<f64, ExprError> {
         let mut n = 0;
         for step in &self.steps {
             match step {

@@ -160,20 +160,14 @@ impl Function {
     }
 }
 
-/// Values held on the stack without a heap allocation.
-const STACK: usize = 32;
-
 impl Compiled {
     /// The expression's value, its variables' values from `var`.
     pub(crate) fn run(&self, var: Lookup<'_>) -> Result<f64, ExprError> {
-        let mut small = [0.0; STACK];
-        let mut large;
-        let stack: &mut [f64] = if self.most <= STACK {
-            &mut small
-        } else {
-            large = vec![0.0; self.most];
-            &mut large
-        };
+        crate::program::params::expr::with_stack(self.most, |stack| self.run_in(var, stack))
+    }
+
+    /// [`Compiled::run`] with its values in `stack`.
+    fn run_in(&self, var: Lookup<'_>, stack: &mut [f64]) -> Result<f64, ExprError> {
         let mut n = 0;
         for step in &self.steps {
             match step {
