@@ -450,6 +450,27 @@ fn fanuc_reference_returns_and_decimal_points() {
     assert!(errors(&p).iter().any(|(l, _, m)| *l == 2 && m.contains("machine_coordinates")), "{:?}", errors(&p));
 }
 
+/// FANUC's alarm PS0045 ADDRESS Q NOT FOUND (G73/G83) is "not specified by address Q, or Q0 is
+/// specified" (its alarm list): named for a peck cycle without Q or with Q0, not for a negative Q or
+/// a cycle that does not peck, nor on Haas (whose pages say no alarm). Each is refused either way.
+#[test]
+fn fanuc_names_ps0045_where_its_alarm_list_says() {
+    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    let head = "%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\n";
+    for (dialect, cycle, named) in [
+        (Dialect::Fanuc, "G83 X0. Y0. Z-5. R1. Q0. F100.", true),
+        (Dialect::Fanuc, "G73 X0. Y0. Z-5. R1. F100.", true),
+        (Dialect::Fanuc, "G83 X0. Y0. Z-5. R1. Q-2. F100.", false),
+        (Dialect::Fanuc, "G81 X0. Y0. Z-5. R1. Q0. F100.", false),
+        (Dialect::Haas, "G83 X0. Y0. Z-5. R1. Q0. F100.", false),
+    ] {
+        let p = read(&format!("{head}{cycle}\nG80\nM30\n%\n"), dialect, "t.nc", &ReadOptions::default().on(&machine));
+        let e = errors(&p);
+        assert!(e.len() == 1 && e[0].0 == 5, "{dialect:?} {cycle}: {e:?}");
+        assert_eq!(e[0].2.contains("PS0045"), named, "{dialect:?} {cycle}: {e:?}");
+    }
+}
+
 /// Scratch: print the blocks of a program (development aid).
 #[test]
 #[ignore]

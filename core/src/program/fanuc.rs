@@ -242,7 +242,8 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     let peck = match (find('Q'), before) {
         (Some(w), _) if w.value > 0.0 => Some(w.value.abs() * unit),
         (Some(w), _) => {
-            diags.error(line, w.column, format!("Q{}: a peck depth must be positive{ps0045}", w.raw));
+            let alarm = if kind.pecks() && w.value == 0.0 { ps0045 } else { "" };
+            diags.error(line, w.column, format!("Q{}: a peck depth must be positive{alarm}", w.raw));
             return false;
         }
         (None, Some(a)) => a.peck,

@@ -237,8 +237,10 @@ fn truth(b: bool) -> f64 {
     f64::from(u8::from(b))
 }
 
-/// The most memory (bytes) the expressions a reader keeps compiled may take: past it, an
-/// expression is compiled each time it runs, as on its first pass.
+/// The most memory (bytes) the expressions a reader keeps compiled may take, as counted (each one's
+/// steps and text, and twice its slot in the table for the table's spare room; the allocator's
+/// rounding is not counted): past it, an expression is compiled each time it runs, as on its first
+/// pass.
 const MAX_CACHE_BYTES: usize = 16 << 20;
 
 /// Expressions compiled once, by their text, for the lines a program runs again (a loop's passes, a
@@ -262,9 +264,11 @@ impl Cache {
         if let Some(c) = self.compiled.get(text) {
             return c.run(var);
         }
-        let c = compile(text)?;
+        let mut c = compile(text)?;
         let v = c.run(var);
-        let size = c.size() + text.len();
+        c.steps.shrink_to_fit();
+        // The entry's own room in the table, twice over for the table's spare slots.
+        let size = c.size() + text.len() + 2 * std::mem::size_of::<(Box<str>, Compiled)>();
         if self.bytes + size <= self.limit {
             self.bytes += size;
             self.compiled.insert(text.into(), c);
@@ -602,7 +606,7 @@ mod tests {
                 assert_eq!(cache.eval(&text, &v), Ok(want), "{text}");
             }
         }
-        let held: usize = cache.compiled.iter().map(|(t, c)| t.len() + c.size()).sum();
+        let held: usize = cache.compiled.iter().map(|(t, c)| t.len() + c.size() + 2 * std::mem::size_of::<(Box<str>, Compiled)>()).sum();
         assert!(held == cache.bytes && cache.bytes <= 64 << 10, "{} bytes held", cache.bytes);
         assert!(cache.compiled.len() > 100 && cache.compiled.len() < 5000, "{} kept", cache.compiled.len());
     }
