@@ -267,13 +267,18 @@ impl Cache {
         let mut c = compile(text)?;
         let v = c.run(var);
         c.steps.shrink_to_fit();
-        // The entry's own room in the table, twice over for the table's spare slots.
-        let size = c.size() + text.len() + 2 * std::mem::size_of::<(Box<str>, Compiled)>();
+        let size = Self::entry_size(text, &c);
         if self.bytes + size <= self.limit {
             self.bytes += size;
             self.compiled.insert(text.into(), c);
         }
         v
+    }
+
+    /// The memory an entry counts: its steps and text, and its slot in the table twice over for the
+    /// table's spare slots.
+    fn entry_size(text: &str, c: &Compiled) -> usize {
+        c.size() + text.len() + 2 * std::mem::size_of::<(Box<str>, Compiled)>()
     }
 }
 
@@ -606,7 +611,7 @@ mod tests {
                 assert_eq!(cache.eval(&text, &v), Ok(want), "{text}");
             }
         }
-        let held: usize = cache.compiled.iter().map(|(t, c)| t.len() + c.size() + 2 * std::mem::size_of::<(Box<str>, Compiled)>()).sum();
+        let held: usize = cache.compiled.iter().map(|(t, c)| Cache::entry_size(t, c)).sum();
         assert!(held == cache.bytes && cache.bytes <= 64 << 10, "{} bytes held", cache.bytes);
         assert!(cache.compiled.len() > 100 && cache.compiled.len() < 5000, "{} kept", cache.compiled.len());
     }
