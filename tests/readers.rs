@@ -457,17 +457,38 @@ fn fanuc_reference_returns_and_decimal_points() {
 fn fanuc_names_ps0045_where_its_alarm_list_says() {
     let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
     let head = "%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\n";
-    for (dialect, cycle, named) in [
-        (Dialect::Fanuc, "G83 X0. Y0. Z-5. R1. Q0. F100.", true),
-        (Dialect::Fanuc, "G73 X0. Y0. Z-5. R1. F100.", true),
-        (Dialect::Fanuc, "G83 X0. Y0. Z-5. R1. Q-2. F100.", false),
-        (Dialect::Fanuc, "G81 X0. Y0. Z-5. R1. Q0. F100.", false),
-        (Dialect::Haas, "G83 X0. Y0. Z-5. R1. Q0. F100.", false),
+    // (dialect, cycle blocks, the line refused, PS0045 named)
+    for (dialect, cycle, at, named) in [
+        (Dialect::Fanuc, "G83 X0. Y0. Z-5. R1. Q0. F100.", 5, true),
+        (Dialect::Fanuc, "G73 X0. Y0. Z-5. R1. F100.", 5, true),
+        (Dialect::Fanuc, "G83 X0. Y0. Z-5. R1. Q-2. F100.", 5, false),
+        // Q is modal cycle data a G81 keeps without using: the G83 after it takes its Q0.
+        (Dialect::Fanuc, "G81 X0. Y0. Z-5. R1. Q0. F100.\nG83 X1.", 6, true),
+        (Dialect::Haas, "G83 X0. Y0. Z-5. R1. Q0. F100.", 5, false),
     ] {
         let p = read(&format!("{head}{cycle}\nG80\nM30\n%\n"), dialect, "t.nc", &ReadOptions::default().on(&machine));
         let e = errors(&p);
-        assert!(e.len() == 1 && e[0].0 == 5, "{dialect:?} {cycle}: {e:?}");
+        assert!(e.len() == 1 && e[0].0 == at, "{dialect:?} {cycle}: {e:?}");
         assert_eq!(e[0].2.contains("PS0045"), named, "{dialect:?} {cycle}: {e:?}");
+        if dialect == Dialect::Fanuc && cycle.contains("Q-2") {
+            assert!(e[0].2.contains("Negative values are ignored"), "{e:?}");
+        }
+    }
+}
+
+/// A G81 (or G82, G85, G86, G89) does not use Q: FANUC keeps it as modal cycle data ("Q ... is modal
+/// information in a canned cycle, and is also used to specify a depth of cut with G73 and G83",
+/// Series 15i-MA Operator's Manual), so a post's `Q0.` on a G81 drills the one plunge G81 makes:
+/// to R at rapid, to Z at the feed, back to the initial level (G98) at rapid.
+#[test]
+fn a_fanuc_g81_keeps_q_without_using_it() {
+    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    for (dialect, q) in [(Dialect::Fanuc, "Q0."), (Dialect::Fanuc, "Q-2."), (Dialect::Haas, "Q0.")] {
+        let text = format!("%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\nG98 G81 X3. Y4. Z-5. R1. {q} F100.\nG80\nM30\n%\n");
+        let p = read(&text, dialect, "t.nc", &ReadOptions::default().on(&machine));
+        assert!(errors(&p).is_empty(), "{dialect:?} {q}: {:?}", errors(&p));
+        let z: Vec<(f64, bool)> = p.blocks.iter().filter(|b| b.line == 5).filter_map(|b| b.targets.z.map(|z| ((z / MM * 1e6).round() / 1e6, b.motion == Motion::Rapid))).collect();
+        assert_eq!(z, [(1.0, true), (-5.0, false), (10.0, true)], "{dialect:?} {q}: {:#?}", p.blocks);
     }
 }
 

@@ -235,23 +235,44 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
             return false;
         }
     };
-    // FANUC's alarm PS0045 ADDRESS Q NOT FOUND (G73/G83): "the amount of each-time cutting is not
-    // specified by address Q, or Q0 is specified" (its alarm list); Haas' pages say no more than Q's
-    // meaning, so the same rule is said there without the alarm.
+    // Q is modal cycle data, read by the peck cycles alone: "Q (shift at the bottom of a hole) is
+    // modal information in a canned cycle, and is also used to specify a depth of cut with G73 and
+    // G83" (Series 15i-MA Operator's Manual, G76); a G81-G89 keeps it without using it, so it is
+    // checked where a G73 or G83 takes it. FANUC's alarm PS0045 ADDRESS Q NOT FOUND (G73/G83):
+    // "the amount of each-time cutting is not specified by address Q, or Q0 is specified" (its
+    // alarm list); Haas' pages say no more than Q's meaning, so the same rule is said there without
+    // the alarm.
     let ps0045 = if it.dialect() == crate::program::Dialect::Fanuc { " (FANUC alarm PS0045: Q missing or Q0 in G73/G83)" } else { "" };
     let peck = match (find('Q'), before) {
-        (Some(w), _) if w.value > 0.0 => Some(w.value.abs() * unit),
-        (Some(w), _) => {
-            let alarm = if kind.pecks() && w.value == 0.0 { ps0045 } else { "" };
-            diags.error(line, w.column, format!("Q{}: a peck depth must be positive{alarm}", w.raw));
-            return false;
-        }
+        (Some(w), _) => Some(w.value * unit),
         (None, Some(a)) => a.peck,
         (None, None) => None,
     };
-    if kind.pecks() && peck.is_none() {
-        diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q){ps0045}", kind.code()));
-        return false;
+    if kind.pecks() {
+        // The word as written, or the value an earlier cycle block left.
+        let (q_at, q_said) = match find('Q') {
+            Some(w) => (w.column, format!("Q{}", w.raw)),
+            None => (at, format!("G{}: Q{} (kept from an earlier cycle block)", kind.code(), peck.unwrap_or(0.0) / unit)),
+        };
+        match peck {
+            None => {
+                diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q){ps0045}", kind.code()));
+                return false;
+            }
+            Some(q) if q == 0.0 => {
+                diags.error(line, q_at, format!("{q_said}: a peck depth must be positive{ps0045}"));
+                return false;
+            }
+            // "Be sure to specify a positive value in Q. Negative values are ignored." (Series
+            // 30i-MA User's Manual B-63944EN §5.1.6): whether the sign or the value is ignored is
+            // not said, so it is not guessed.
+            Some(q) if q < 0.0 => {
+                let fanuc = if ps0045.is_empty() { "" } else { " (FANUC: \"Be sure to specify a positive value in Q. Negative values are ignored\"; what the control then drills is not said)" };
+                diags.error(line, q_at, format!("{q_said}: a peck depth must be positive{fanuc}"));
+                return false;
+            }
+            Some(_) => {}
+        }
     }
     if let Some(q) = peck.filter(|q| kind.pecks() && cycles::too_many_pecks(r - bottom, *q)) {
         diags.error(line, find('Q').map_or(at, |w| w.column), format!("G{}: Q{} makes more than {} pecks of a {} deep hole: a typo?", kind.code(), q / unit, cycles::MAX_PECKS, (r - bottom).abs() / unit));
