@@ -9,11 +9,24 @@
 //! usage: cargo bench --bench readers [-- BLOCKS] [DIALECT]     (default 1000000, every dialect;
 //! DIALECT one of rs274 heidenhain sinumerik klartext fanuc haas cl apt, or a loop: rs274loop
 //! fanucloop sinumerikloop klartextloop make a quarter of BLOCKS moves in a loop of the dialect's
-//! parameter language, each computed from expressions, and print the blocks they run per second)
+//! parameter language, each computed from expressions, and print the blocks they run per second;
+//! corpus: only the real programs below)
+//!
+//! Then the real programs of `../shared/outside/programs` that read with no defect (issue 64's
+//! corpus, tests/corpus_cases.rs), each streamed from its file on its built-in machine as `program
+//! analyze` reads it: lines per second per program and per dialect, against the same target. Their
+//! lines are 15-65 bytes where the written programs' blocks above are 59-117 (Klartext's LN blocks
+//! the longest), so these rows say what shops' programs cost. Skipped where `../shared` is not
+//! beside the clone.
 
-use fiveaxis::program::{read, BlockStream, Dialect, ReadOptions};
+use fiveaxis::program::{read, BlockStream, Dialect, ProgramFile, ReadOptions};
+use std::collections::BTreeMap;
 use std::fmt::Write;
+use std::path::Path;
 use std::time::Instant;
+
+#[path = "../tests/corpus_cases.rs"]
+mod corpus_cases;
 
 /// Pose k of the raster: tip (mm), unit tool axis, and its A/C angles (deg) on the Hermle (seed 001
 /// eq. 2: O_W = (sin C sin A, cos C sin A, cos A)).
@@ -172,6 +185,59 @@ fn main() {
         assert!(read_blocks >= moves, "{name}: {read_blocks} blocks of {moves} moves");
         let rate = run as f64 / best / 1e6;
         println!("{:<14} {:>8} {:>16.2} {:>12.2} {:>8}", name, moves, rate, moves as f64 / best / 1e6, if rate >= 1.0 { "met" } else { "MISSED" });
+    }
+    if only.as_ref().is_none_or(|o| o.eq_ignore_ascii_case("corpus")) {
+        real_programs();
+    }
+}
+
+/// The corpus programs that read clean, each streamed from its file on its built-in machine (the
+/// flags its file cannot say given as `program analyze` takes them), best of [`ROUNDS`]: lines per
+/// second per program, then per dialect (all its programs' lines over their summed times).
+fn real_programs() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/outside/programs");
+    if !dir.is_dir() {
+        println!("real programs: {} not found, skipped", dir.display());
+        return;
+    }
+    println!("real programs ({}), streamed on their machines, best of {ROUNDS}", dir.display());
+    println!("{:<44} {:<10} {:>8} {:>8} {:>12} {:>8} {:>8}", "program", "dialect", "lines", "B/line", "M lines/s", "MB/s", "target");
+    let mut dialects: BTreeMap<String, (usize, usize, f64)> = BTreeMap::new();
+    for case in corpus_cases::CLEAN.iter().filter(|c| std::env::var("CORPUS_ONLY").map_or(true, |o| c.file.contains(&o))) { // HACK
+        let path = dir.join(case.file);
+        let machine = fiveaxis::machine::Machine::builtin(case.machine).unwrap_or_else(|e| panic!("{}: {e}", case.machine));
+        let mut options = ReadOptions::default();
+        for flag in case.args.chunks(2) {
+            match flag {
+                ["--units", u] => options.units = Some(u.parse().unwrap()),
+                ["--cl-angles", a] => options.cl_angles = a.parse().unwrap(),
+                _ => panic!("{}: flag {flag:?} is not one the bench gives", case.file),
+            }
+        }
+        let options = options.on(&machine);
+        let text = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let lines = text.iter().filter(|&&b| b == b'\n').count().max(1);
+        let mut best = f64::INFINITY;
+        let mut dialect = String::new();
+        for _ in 0..ROUNDS {
+            let t = Instant::now();
+            let mut stream = ProgramFile::Path(path.clone()).open(None, &options).unwrap_or_else(|e| panic!("{}: {e}", case.file));
+            let blocks = stream.by_ref().count();
+            best = best.min(t.elapsed().as_secs_f64());
+            assert_eq!(stream.diagnostics().errors(), 0, "{}: read with errors", case.file);
+            assert!(blocks > 0, "{}: no blocks", case.file);
+            dialect = format!("{:?}", stream.dialect());
+        }
+        let rate = lines as f64 / best / 1e6;
+        let name: String = case.file.chars().take(44).collect();
+        println!("{:<44} {:<10} {:>8} {:>8.1} {:>12.2} {:>8.0} {:>8}", name, dialect, lines, text.len() as f64 / lines as f64, rate, text.len() as f64 / best / 1e6, if rate >= 1.0 { "met" } else { "MISSED" });
+        let d = dialects.entry(dialect).or_default();
+        *d = (d.0 + lines, d.1 + text.len(), d.2 + best);
+    }
+    println!("{:<10} {:>8} {:>8} {:>12} {:>8} {:>8}", "dialect", "lines", "B/line", "M lines/s", "MB/s", "target");
+    for (dialect, (lines, bytes, s)) in dialects {
+        let rate = lines as f64 / s / 1e6;
+        println!("{:<10} {:>8} {:>8.1} {:>12.2} {:>8.0} {:>8}", dialect, lines, bytes as f64 / lines as f64, rate, bytes as f64 / s / 1e6, if rate >= 1.0 { "met" } else { "MISSED" });
     }
 }
 

@@ -161,6 +161,11 @@ impl Dialect {
     /// nearly every block: refused once instead, at that block (within the first [`DETECT_LINES`]).
     pub fn unread_language(text: &str) -> Option<Diagnostic> {
         text.lines().take(DETECT_LINES).enumerate().find_map(|(i, raw)| {
+            // A line without `=` or `7` holds neither the angle words nor `G7`: passed over without
+            // the copy below (most lines of most programs).
+            if !raw.contains('=') || !raw.contains('7') {
+                return None;
+            }
             // The code of the line: no `( )` comment, nothing after `;`.
             let mut code = String::with_capacity(raw.len());
             let mut depth = 0usize;
@@ -211,12 +216,7 @@ impl Dialect {
         if apt::is_apt_line(first) || text.lines().take(DETECT_LINES).any(apt::is_goto) {
             return Dialect::Cl;
         }
-        let sinumerik_words = ["TRAORI", "TRAFOOF", "ORIWKS", "ORIMKS", "ORIVECT", "ORIAXES", "CYCLE800", "A3=", "B3=", "C3=", "G642", "G500"];
-        let sinumerik = text.lines().take(DETECT_LINES).any(|l| {
-            let u = upper(l);
-            let code = u.split(';').next().unwrap_or("");
-            sinumerik_words.iter().any(|w| code.contains(w))
-        });
+        let sinumerik = text.lines().take(DETECT_LINES).any(|l| sinumerik_word(l.split(';').next().unwrap_or("").as_bytes()));
         match ext.as_str() {
             "i" | "iso" => return Dialect::Heidenhain,
             "mpf" | "spf" => return Dialect::Sinumerik,
@@ -240,6 +240,19 @@ impl Dialect {
             Dialect::Rs274
         }
     }
+}
+
+/// Words only the 840D writes among the dialects read here (its transformations, orientation modes,
+/// swivel cycle, tool-vector words, and G codes of its own), in capitals.
+const SINUMERIK_WORDS: [&[u8]; 12] = [b"TRAORI", b"TRAFOOF", b"ORIWKS", b"ORIMKS", b"ORIVECT", b"ORIAXES", b"CYCLE800", b"A3=", b"B3=", b"C3=", b"G642", b"G500"];
+
+/// Whether `code` holds one of [`SINUMERIK_WORDS`] in any case: a pass over its bytes, comparing
+/// only where one of their first letters stands (no copy of the line in capitals).
+fn sinumerik_word(code: &[u8]) -> bool {
+    (0..code.len()).any(|i| {
+        matches!(code[i].to_ascii_uppercase(), b'T' | b'O' | b'C' | b'A' | b'B' | b'G')
+            && SINUMERIK_WORDS.iter().any(|w| code[i..].get(..w.len()).is_some_and(|s| s.eq_ignore_ascii_case(w)))
+    })
 }
 
 /// Modal motion mode of a block.
@@ -750,6 +763,27 @@ mod tests {
         assert_eq!(text, b"0 BEGIN PGM T MM\n");
         let mut text = b"0 BEGIN".to_vec();
         assert!(read_whole_within(&b" PGM T MM\n"[..], &mut text, "t.h", 16).is_err());
+    }
+
+    /// The 840D's words are found in any case, anywhere in a line's code, as the line copied in
+    /// capitals and searched word by word finds them (the definition the scanner replaces), over
+    /// 200,000 lines drawn from pieces of the words, in either case, with `=`, `;`, blanks and a
+    /// non-ASCII letter.
+    #[test]
+    fn sinumerik_words_are_found_as_in_the_line_in_capitals() {
+        let mut next = lex::xorshift(0x1234_5678_9ABC_DEF1);
+        let pieces = ["TRA", "tra", "ORI", "oRi", "FOOF", "WKS", "mks", "VECT", "AXES", "CYCLE", "cycle", "800", "A3", "b3", "C", "=", "G6", "g5", "42", "00", " ", ";", "Ä", "X1"];
+        let mut found = 0;
+        for _ in 0..200_000 {
+            let len = (next() % 10) as usize;
+            let line: String = (0..len).map(|_| pieces[(next() % pieces.len() as u64) as usize]).collect();
+            let code = line.split(';').next().unwrap_or("");
+            let reference = SINUMERIK_WORDS.iter().any(|w| code.to_ascii_uppercase().contains(std::str::from_utf8(w).unwrap()));
+            assert_eq!(sinumerik_word(code.as_bytes()), reference, "{line:?}");
+            found += usize::from(reference);
+        }
+        // Both answers drawn often enough to tell them apart.
+        assert!((1_000..199_000).contains(&found), "{found} lines with a word");
     }
 
     /// MillPlus is recognised by G7 with its angle words in code, at the G7; never in a comment,
