@@ -203,20 +203,29 @@ impl Dialect {
         // Content that only one dialect writes decides before the extension (`.h` is both
         // Heidenhain's DIN/ISO and conversational; `.nc` is used by every control).
         let upper = |l: &str| l.to_ascii_uppercase();
-        let klartext = text.lines().take(50).any(|l| {
-            let u = upper(l);
-            let body = u.trim_start().trim_start_matches(|c: char| c.is_ascii_digit()).trim_start();
-            body.starts_with("BEGIN PGM")
-        });
+        // One pass over the first lines: Klartext's `BEGIN PGM` in the first 50, APT's `GOTO/` and
+        // the 840D's words in all of them (each looked for until found).
+        let (mut klartext, mut goto, mut sinumerik) = (false, false, false);
+        for (i, l) in text.lines().take(DETECT_LINES).enumerate() {
+            if i < 50 && !klartext {
+                let u = upper(l);
+                let body = u.trim_start().trim_start_matches(|c: char| c.is_ascii_digit()).trim_start();
+                klartext = body.starts_with("BEGIN PGM");
+            }
+            goto = goto || apt::is_goto(l);
+            sinumerik = sinumerik || sinumerik_word(&l.as_bytes()[..memchr::memchr(b';', l.as_bytes()).unwrap_or(l.len())]);
+            if klartext || goto && sinumerik {
+                break;
+            }
+        }
         if klartext {
             return Dialect::Klartext;
         }
         // APT CLDATA: a motion statement (`GOTO/`) no NC dialect writes, or a first statement that is
         // APT's (`PARTNO`, `$$`, `MACHIN/`, ...), as the CL reader itself takes it.
-        if apt::is_apt_line(first) || text.lines().take(DETECT_LINES).any(apt::is_goto) {
+        if apt::is_apt_line(first) || goto {
             return Dialect::Cl;
         }
-        let sinumerik = text.lines().take(DETECT_LINES).any(|l| sinumerik_word(l.split(';').next().unwrap_or("").as_bytes()));
         match ext.as_str() {
             "i" | "iso" => return Dialect::Heidenhain,
             "mpf" | "spf" => return Dialect::Sinumerik,
@@ -247,11 +256,30 @@ impl Dialect {
 const SINUMERIK_WORDS: [&[u8]; 12] = [b"TRAORI", b"TRAFOOF", b"ORIWKS", b"ORIMKS", b"ORIVECT", b"ORIAXES", b"CYCLE800", b"A3=", b"B3=", b"C3=", b"G642", b"G500"];
 
 /// Whether `code` holds one of [`SINUMERIK_WORDS`] in any case: a pass over its bytes, comparing
-/// only where one of their first letters stands (no copy of the line in capitals).
+/// where one of them starts, the words of that first letter only (no copy of the line in capitals).
 fn sinumerik_word(code: &[u8]) -> bool {
-    (0..code.len()).any(|i| {
-        matches!(code[i].to_ascii_uppercase(), b'T' | b'O' | b'C' | b'A' | b'B' | b'G')
-            && SINUMERIK_WORDS.iter().any(|w| code[i..].get(..w.len()).is_some_and(|s| s.eq_ignore_ascii_case(w)))
+    // Each byte's words, by a table: 0 none, else 1 + the index of its range in WORDS_OF.
+    const WORDS_OF: [(usize, usize); 6] = [(0, 2), (2, 6), (6, 7), (7, 8), (8, 9), (10, 12)];
+    const FIRST: [u8; 256] = {
+        let mut t = [0u8; 256];
+        let letters = [b'T', b'O', b'C', b'A', b'B', b'G'];
+        let mut k = 0;
+        while k < letters.len() {
+            t[letters[k] as usize] = k as u8 + 1;
+            t[letters[k].to_ascii_lowercase() as usize] = k as u8 + 1;
+            k += 1;
+        }
+        t
+    };
+    let at = |i: usize, w: &[u8]| code[i..].get(..w.len()).is_some_and(|s| s.eq_ignore_ascii_case(w));
+    code.iter().enumerate().any(|(i, &c)| match FIRST[usize::from(c)] {
+        0 => false,
+        // C: CYCLE800, and C3= (the tool-vector words, after A3= and B3=).
+        3 => at(i, SINUMERIK_WORDS[6]) || at(i, SINUMERIK_WORDS[9]),
+        g => {
+            let (from, to) = WORDS_OF[usize::from(g) - 1];
+            SINUMERIK_WORDS[from..to].iter().any(|w| at(i, w))
+        }
     })
 }
 
@@ -772,7 +800,7 @@ mod tests {
     #[test]
     fn sinumerik_words_are_found_as_in_the_line_in_capitals() {
         let mut next = lex::xorshift(0x1234_5678_9ABC_DEF1);
-        let pieces = ["TRA", "tra", "ORI", "oRi", "FOOF", "WKS", "mks", "VECT", "AXES", "CYCLE", "cycle", "800", "A3", "b3", "C", "=", "G6", "g5", "42", "00", " ", ";", "Ä", "X1"];
+        let pieces = ["TRA", "tra", "ORI", "oRi", "FOOF", "WKS", "mks", "VECT", "AXES", "CYCLE", "cycle", "800", "A3", "b3", "C", "3=", "=", "G6", "g5", "42", "00", " ", ";", "Ä", "X1"];
         let mut found = 0;
         for _ in 0..200_000 {
             let len = (next() % 10) as usize;

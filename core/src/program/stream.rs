@@ -231,7 +231,8 @@ impl BlockStream {
         }
         let control = options.machine.as_ref().and_then(|m| m.dialect);
         let given = dialect.is_some();
-        let text = String::from_utf8_lossy(&head);
+        // UTF-8 checked first (word-at-a-time over ASCII), replaced only where it is not.
+        let text = std::str::from_utf8(&head).map_or_else(|_| String::from_utf8_lossy(&head), std::borrow::Cow::Borrowed);
         let dialect = dialect.unwrap_or_else(|| Dialect::detect_for(path, &text, control));
         if let Some(d) = Dialect::unread(given, dialect, &text) {
             return Ok(Self::refused(d, dialect, source));
