@@ -492,6 +492,20 @@ fn a_fanuc_g81_keeps_q_without_using_it() {
     }
 }
 
+/// G76's shift at the bottom is Q, and Q is modal cycle data: a G76 after a G83 Q2. without G80
+/// between takes that shift, which is not modelled, so it is refused; after G80 (which cancels the
+/// cycle and its data) the same G76 has no shift and reads.
+#[test]
+fn a_fanuc_g76_refuses_the_shift_an_earlier_q_left() {
+    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    let head = "%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\nG98 G83 X0. Y0. Z-5. R1. Q2. F100.\n";
+    let kept = read(&format!("{head}G76 X5. Z-5. R1.\nG80\nM30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&machine));
+    let e = errors(&kept);
+    assert!(e.len() == 1 && e[0].0 == 6 && e[0].2.contains("Q2 kept from an earlier cycle block"), "{e:?}");
+    let cancelled = read(&format!("{head}G80\nG76 X5. Z-5. R1.\nG80\nM30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&machine));
+    assert!(errors(&cancelled).is_empty(), "{:?}", errors(&cancelled));
+}
+
 /// Scratch: print the blocks of a program (development aid).
 #[test]
 #[ignore]

@@ -281,8 +281,12 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     if kind == Kind::G87 && it.cycles.to_r {
         diags.warning(line, at, "G87 under G99: back boring returns to the initial level whatever G99 says (its R point is below the part)");
     }
-    if matches!(kind, Kind::G76 | Kind::G87) && find('Q').is_some() {
-        diags.error(line, at, format!("G{} with Q: the shift at the bottom goes the way the machine's parameter says (Fanuc No. 5101 RD1/RD2): not modelled", kind.code()));
+    // G76's and G87's shift at the bottom is Q, written in the block or kept from an earlier cycle
+    // block ("Q (shift at the bottom of a hole) is modal information in a canned cycle", 15i-MA).
+    let kept_shift = find('Q').is_none() && peck.is_some_and(|q| q != 0.0);
+    if matches!(kind, Kind::G76 | Kind::G87) && (find('Q').is_some() || kept_shift) {
+        let q = if kept_shift { format!("the Q{} kept from an earlier cycle block", peck.unwrap_or(0.0) / unit) } else { "Q".to_string() };
+        diags.error(line, at, format!("G{} with {q}: the shift at the bottom goes the way the machine's parameter says (Fanuc No. 5101 RD1/RD2): not modelled", kind.code()));
         return false;
     }
     let dwell_s = match (find('P'), before) {
