@@ -13,7 +13,7 @@
 //! corpus: only the real programs below)
 //!
 //! Then the real programs of `../shared/outside/programs` that read with no defect (issue 64's
-//! corpus, tests/corpus_cases.rs), each streamed from its file on its built-in machine as `program
+//! corpus, tests/corpus/cases.rs), each streamed from its file on its built-in machine as `program
 //! analyze` reads it: lines per second per program and per dialect, against the same target. Their
 //! lines are 15-65 bytes where the written programs' blocks above are 59-117 (Klartext's LN blocks
 //! the longest), so these rows say what shops' programs cost. Skipped where `../shared` is not
@@ -25,7 +25,7 @@ use std::fmt::Write;
 use std::path::Path;
 use std::time::Instant;
 
-#[path = "../tests/corpus_cases.rs"]
+#[path = "../tests/corpus/cases.rs"]
 mod corpus_cases;
 
 /// Pose k of the raster: tip (mm), unit tool axis, and its A/C angles (deg) on the Hermle (seed 001

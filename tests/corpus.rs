@@ -7,7 +7,6 @@ use crate::common;
 
 use std::process::Command;
 
-#[path = "corpus_cases.rs"]
 mod cases;
 use cases::{Case, CLEAN};
 
