@@ -19,6 +19,7 @@
 //! the longest), so these rows say what shops' programs cost. Skipped where `../shared` is not
 //! beside the clone.
 
+use clap::Parser;
 use fiveaxis::program::{read, BlockStream, Dialect, ProgramFile, ReadOptions};
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -183,7 +184,6 @@ fn main() {
             b.read();
         }
     }
-    let mark = |r: f64| if r >= 1.0 { "met" } else { "MISSED" };
     if !written.is_empty() {
         println!("{:<12} {:>8} {:>14} {:>8} {:>8} {:>16} {:>8}", "dialect", "MB", "M blocks/s", "MB/s", "target", "streamed M b/s", "target");
     }
@@ -232,14 +232,9 @@ fn real_programs() {
         .map(|case| {
             let path = dir.join(case.file);
             let machine = fiveaxis::machine::Machine::builtin(case.machine).unwrap_or_else(|e| panic!("{}: {e}", case.machine));
-            let mut options = ReadOptions::default();
-            for flag in case.args.chunks(2) {
-                match flag {
-                    ["--units", u] => options.units = Some(u.parse().unwrap()),
-                    ["--cl-angles", a] => options.cl_angles = a.parse().unwrap(),
-                    _ => panic!("{}: flag {flag:?} is not one the bench gives", case.file),
-                }
-            }
+            // The flags as `program analyze` parses them.
+            let flags = Flags::try_parse_from(std::iter::once("bench").chain(case.args.iter().copied())).unwrap_or_else(|e| panic!("{}: {e}", case.file));
+            let options = flags.control.read_options();
             let text = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             let file_lines = text.iter().filter(|&&b| b == b'\n').count().max(1);
             Timed { name: case.file.to_string(), path, options: options.on(&machine), bytes: text.len(), file_lines, blocks: 0, dialect: String::new(), best: f64::INFINITY }
@@ -268,15 +263,27 @@ fn real_programs() {
         let lines = p.file_lines.max(p.blocks);
         let rate = lines as f64 / p.best / 1e6;
         let name: String = p.name.chars().take(44).collect();
-        println!("{:<44} {:<10} {:>8} {:>8.1} {:>12.2} {:>8.0} {:>8}", name, p.dialect, lines, p.bytes as f64 / p.file_lines as f64, rate, p.bytes as f64 / p.best / 1e6, if rate >= 1.0 { "met" } else { "MISSED" });
+        println!("{:<44} {:<10} {:>8} {:>8.1} {:>12.2} {:>8.0} {:>8}", name, p.dialect, lines, p.bytes as f64 / p.file_lines as f64, rate, p.bytes as f64 / p.best / 1e6, mark(rate));
         let d = dialects.entry(&p.dialect).or_default();
         *d = (d.0 + lines, d.1 + p.bytes, d.2 + p.best, d.3 + p.file_lines);
     }
     println!("{:<10} {:>8} {:>8} {:>12} {:>8} {:>8}", "dialect", "lines", "B/line", "M lines/s", "MB/s", "target");
     for (dialect, (lines, bytes, s, file_lines)) in dialects {
         let rate = lines as f64 / s / 1e6;
-        println!("{:<10} {:>8} {:>8.1} {:>12.2} {:>8.0} {:>8}", dialect, lines, bytes as f64 / file_lines as f64, rate, bytes as f64 / s / 1e6, if rate >= 1.0 { "met" } else { "MISSED" });
+        println!("{:<10} {:>8} {:>8.1} {:>12.2} {:>8.0} {:>8}", dialect, lines, bytes as f64 / file_lines as f64, rate, bytes as f64 / s / 1e6, mark(rate));
     }
+}
+
+/// The control's flags a corpus program is read with (`--units`, `--cl-angles` ...).
+#[derive(clap::Parser)]
+struct Flags {
+    #[command(flatten)]
+    control: fiveaxis::program::ControlArgs,
+}
+
+/// "met" where `rate` (M blocks or lines a second) reaches the 1 M target.
+fn mark(rate: f64) -> &'static str {
+    if rate >= 1.0 { "met" } else { "MISSED" }
 }
 
 /// How many times the real programs are read in turn.

@@ -242,40 +242,41 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     // "the amount of each-time cutting is not specified by address Q, or Q0 is specified" (its
     // alarm list); Haas' pages say no more than Q's meaning, so the same rule is said there without
     // the alarm.
-    let ps0045 = if it.dialect() == crate::program::Dialect::Fanuc { " (FANUC alarm PS0045: Q missing or Q0 in G73/G83)" } else { "" };
-    let peck = match (find('Q'), before) {
+    let fanuc = it.dialect() == crate::program::Dialect::Fanuc;
+    let ps0045 = if fanuc { " (FANUC alarm PS0045: Q missing or Q0 in G73/G83)" } else { "" };
+    let q_word = find('Q');
+    let peck = match (q_word, before) {
         (Some(w), _) => Some(w.value * unit),
         (None, Some(a)) => a.peck,
         (None, None) => None,
     };
+    let q_at = q_word.map_or(at, |w| w.column);
+    // A Q the block does not write, as its messages name it.
+    let kept = || format!("the Q{} kept from an earlier cycle block", peck.unwrap_or(0.0) / unit);
     if kind.pecks() {
-        // The word as written, or the value an earlier cycle block left.
-        let (q_at, q_said) = match find('Q') {
-            Some(w) => (w.column, format!("Q{}", w.raw)),
-            None => (at, format!("G{}: Q{} (kept from an earlier cycle block)", kind.code(), peck.unwrap_or(0.0) / unit)),
-        };
+        let q_said = || q_word.map_or_else(|| format!("G{}: {}", kind.code(), kept()), |w| format!("Q{}", w.raw));
         match peck {
             None => {
                 diags.error(line, at, format!("G{}: a peck cycle needs its depth (Q){ps0045}", kind.code()));
                 return false;
             }
-            Some(q) if q == 0.0 => {
-                diags.error(line, q_at, format!("{q_said}: a peck depth must be positive{ps0045}"));
+            Some(0.0) => {
+                diags.error(line, q_at, format!("{}: a peck depth must be positive{ps0045}", q_said()));
                 return false;
             }
             // "Be sure to specify a positive value in Q. Negative values are ignored." (Series
             // 30i-MA User's Manual B-63944EN §5.1.6): whether the sign or the value is ignored is
             // not said, so it is not guessed.
             Some(q) if q < 0.0 => {
-                let fanuc = if ps0045.is_empty() { "" } else { " (FANUC: \"Be sure to specify a positive value in Q. Negative values are ignored\"; what the control then drills is not said)" };
-                diags.error(line, q_at, format!("{q_said}: a peck depth must be positive{fanuc}"));
+                let manual = if fanuc { " (FANUC: \"Be sure to specify a positive value in Q. Negative values are ignored\"; what the control then drills is not said)" } else { "" };
+                diags.error(line, q_at, format!("{}: a peck depth must be positive{manual}", q_said()));
                 return false;
             }
             Some(_) => {}
         }
     }
     if let Some(q) = peck.filter(|q| kind.pecks() && cycles::too_many_pecks(r - bottom, *q)) {
-        diags.error(line, find('Q').map_or(at, |w| w.column), format!("G{}: Q{} makes more than {} pecks of a {} deep hole: a typo?", kind.code(), q / unit, cycles::MAX_PECKS, (r - bottom).abs() / unit));
+        diags.error(line, q_at, format!("G{}: Q{} makes more than {} pecks of a {} deep hole: a typo?", kind.code(), q / unit, cycles::MAX_PECKS, (r - bottom).abs() / unit));
         return false;
     }
     if kind == Kind::G87 && it.cycles.to_r {
@@ -283,9 +284,8 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     }
     // G76's and G87's shift at the bottom is Q, written in the block or kept from an earlier cycle
     // block ("Q (shift at the bottom of a hole) is modal information in a canned cycle", 15i-MA).
-    let kept_shift = find('Q').is_none() && peck.is_some_and(|q| q != 0.0);
-    if matches!(kind, Kind::G76 | Kind::G87) && (find('Q').is_some() || kept_shift) {
-        let q = if kept_shift { format!("the Q{} kept from an earlier cycle block", peck.unwrap_or(0.0) / unit) } else { "Q".to_string() };
+    if matches!(kind, Kind::G76 | Kind::G87) && (q_word.is_some() || peck.is_some_and(|q| q != 0.0)) {
+        let q = if q_word.is_some() { "Q".to_string() } else { kept() };
         diags.error(line, at, format!("G{} with {q}: the shift at the bottom goes the way the machine's parameter says (Fanuc No. 5101 RD1/RD2): not modelled", kind.code()));
         return false;
     }

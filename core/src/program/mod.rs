@@ -256,30 +256,31 @@ impl Dialect {
 const SINUMERIK_WORDS: [&[u8]; 12] = [b"TRAORI", b"TRAFOOF", b"ORIWKS", b"ORIMKS", b"ORIVECT", b"ORIAXES", b"CYCLE800", b"A3=", b"B3=", b"C3=", b"G642", b"G500"];
 
 /// Whether `code` holds one of [`SINUMERIK_WORDS`] in any case: a pass over its bytes, comparing
-/// where one of them starts, the words of that first letter only (no copy of the line in capitals).
+/// only where a word's first letter stands, and only the words it starts (no copy of the line in
+/// capitals).
 fn sinumerik_word(code: &[u8]) -> bool {
-    // Each byte's words, by a table: 0 none, else 1 + the index of its range in WORDS_OF.
-    const WORDS_OF: [(usize, usize); 6] = [(0, 2), (2, 6), (6, 7), (7, 8), (8, 9), (10, 12)];
-    const FIRST: [u8; 256] = {
-        let mut t = [0u8; 256];
-        let letters = [b'T', b'O', b'C', b'A', b'B', b'G'];
+    // For each byte, the words it starts (bit k: word k), in either case: from the words themselves.
+    const STARTS: [u16; 256] = {
+        let mut t = [0u16; 256];
         let mut k = 0;
-        while k < letters.len() {
-            t[letters[k] as usize] = k as u8 + 1;
-            t[letters[k].to_ascii_lowercase() as usize] = k as u8 + 1;
+        while k < SINUMERIK_WORDS.len() {
+            let c = SINUMERIK_WORDS[k][0];
+            t[c as usize] |= 1 << k;
+            t[c.to_ascii_lowercase() as usize] |= 1 << k;
             k += 1;
         }
         t
     };
-    let at = |i: usize, w: &[u8]| code[i..].get(..w.len()).is_some_and(|s| s.eq_ignore_ascii_case(w));
-    code.iter().enumerate().any(|(i, &c)| match FIRST[usize::from(c)] {
-        0 => false,
-        // C: CYCLE800, and C3= (the tool-vector words, after A3= and B3=).
-        3 => at(i, SINUMERIK_WORDS[6]) || at(i, SINUMERIK_WORDS[9]),
-        g => {
-            let (from, to) = WORDS_OF[usize::from(g) - 1];
-            SINUMERIK_WORDS[from..to].iter().any(|w| at(i, w))
+    code.iter().enumerate().any(|(i, c)| {
+        let mut words = STARTS[usize::from(*c)];
+        while words != 0 {
+            let w = SINUMERIK_WORDS[words.trailing_zeros() as usize];
+            if code[i..].get(..w.len()).is_some_and(|s| s.eq_ignore_ascii_case(w)) {
+                return true;
+            }
+            words &= words - 1;
         }
+        false
     })
 }
 
