@@ -8,6 +8,7 @@ use proptest::prelude::*;
 
 mod fanuc;
 mod fanuc_corners;
+mod feed_per_rev;
 mod klartext;
 mod linuxcnc;
 mod shop_words;

@@ -678,6 +678,15 @@ impl Rs274Reader {
         }
         let col = words.first().map_or(first + 1, |w| w.column.min(first + 1));
         if self.dialect.is_fanuc() {
+            // Under G95 an F without a decimal point may count least increments per revolution, as a
+            // length word does (F300 as 0.300 mm/rev); which one this control takes is not at hand.
+            let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
+            let per_rev = g(95.0) || !g(94.0) && !g(93.0) && self.interp.per_revolution();
+            if let Some((_, w)) = words.iter().enumerate().find(|(i, w)| per_rev && w.letter == 'F' && computed.binary_search(i).is_err() && !w.raw.contains('.')) {
+                diags.error(line, w.column, format!("F{} without a decimal point under G95 (feed per revolution): whether the control reads it in mm (in) per revolution or in least input increments is not read; write it with a decimal point", w.raw));
+                diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+                return Ran::NotUsed;
+            }
             if let Some(i) = self.decimal_points(&mut words, &computed) {
                 if !std::mem::replace(&mut self.said_no_point, true) {
                     let w = &words[i];

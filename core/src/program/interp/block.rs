@@ -243,14 +243,25 @@ impl Interpreter {
                             if next.feed_mode != FeedMode::InverseTime {
                                 next.feed = None;
                             }
-                            next.feed_mode = FeedMode::InverseTime;
+                            (next.feed_mode, next.per_revolution) = (FeedMode::InverseTime, false);
                         }
                         ("94", false) => {
-                            if next.feed_mode != FeedMode::PerMinute || self.dialect == Dialect::Rs274 {
+                            if next.feed_mode != FeedMode::PerMinute || next.per_revolution || self.dialect == Dialect::Rs274 {
                                 next.feed = None;
                             }
-                            next.feed_mode = FeedMode::PerMinute;
+                            (next.feed_mode, next.per_revolution) = (FeedMode::PerMinute, false);
                         }
+                        // G95, feed per revolution: LinuxCNC sets the feed to 0 on every G95 as on G94
+                        // (Interp::convert_feed_mode); Siemens deletes F on a change of G93/G94/G95 (as
+                        // above); for Fanuc and Haas whether F is kept is not at hand, so it is not kept
+                        // either (a feed move then wants an F written under G95).
+                        ("95", false) if !heid && !haas => {
+                            if !next.per_revolution || self.dialect == Dialect::Rs274 {
+                                next.feed = None;
+                            }
+                            (next.feed_mode, next.per_revolution) = (FeedMode::PerMinute, true);
+                        }
+                        ("95", false) if haas => diags.error(line, w.column, "G95 (feed per revolution): not in the Haas mill manual pages at hand, so not read: expected G93 or G94"),
                         ("95", false) => diags.error(line, w.column, "G95 (feed per revolution) is not supported: expected G93 or G94"),
                         ("43.4", false) => {
                             (next.tcp, next.tool_vector) = (true, false);
@@ -348,6 +359,16 @@ impl Interpreter {
                         // 60642x-03 §12.5), checked below where it acts.
                         (None, 116, true) => next.m116 = true,
                         (None, 117, true) => next.m116 = false,
+                        // The spindle: M3/M4 turn it, M5 stops it (LinuxCNC: M19 orients it, stopped);
+                        // the TNC's M13/M14 turn it with the coolant on.
+                        (None, 3 | 4, _) | (None, 13 | 14, true) => next.spindle_turning = Some(true),
+                        (None, 5, _) => next.spindle_turning = Some(false),
+                        (None, 19, false) => {
+                            next.spindle_turning = Some(false);
+                            if self.dialect == Dialect::Rs274 {
+                                uses.extend(['R', 'Q', 'P']);
+                            }
+                        }
                         (None, 0..=9 | 13 | 14 | 30, _) => {}
                         // M91/M92: the Klartext reader made this block a move of the axes (its oneshot).
                         (None, 91 | 92, true) if shot.is_some_and(|s| s.axes.is_some()) => {}
@@ -357,18 +378,17 @@ impl Interpreter {
                             }
                         }
                         // Sinumerik's own M functions (Fundamentals §"Miscellaneous functions (M)": M17
-                        // end of subprogram, M19 spindle positioning, M40-M45 gear stages, M70 spindle
+                        // end of subprogram, M19 spindle positioning (above: it stops the spindle), M40-M45 gear stages, M70 spindle
                         // to axis mode); any other is the machine maker's.
-                        (None, 17 | 19 | 40..=45 | 70, false) if self.dialect == Dialect::Sinumerik => {}
+                        (None, 17 | 40..=45 | 70, false) if self.dialect == Dialect::Sinumerik => {}
                         (None, _, false) if self.dialect == Dialect::Sinumerik => diags.error(line, w.column, maker_m_function(&w.raw, code)),
                         // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O,
                         // with the words they take (G-code reference §M19 R Q P, §M61 Q, §M62-M65 P,
                         // §M66 P E L Q, §M67/M68 E Q).
-                        (None, 19, false) if self.dialect == Dialect::Rs274 => uses.extend(['R', 'Q', 'P']),
                         // M99 in the main program: its end (the reader's; super::super::lcnc_m98).
                         (None, 99, false) if self.dialect == Dialect::Rs274 => {}
                         (None, 98, false) if self.dialect == Dialect::Rs274 => diags.error(line, w.column, "M98 calls a Fanuc-style subprogram only as the first word of its line (after its N number): LinuxCNC reads it there, as a block of its own"),
-                        (None, 19 | 48..=53 | 60, false) => {}
+                        (None, 48..=53 | 60, false) => {}
                         (None, 61, false) => uses.push('Q'),
                         (None, 62..=65, false) => uses.push('P'),
                         (None, 66, false) => uses.extend(['P', 'E', 'L', 'Q']),
@@ -744,6 +764,17 @@ impl Interpreter {
                 }
                 FeedMode::InverseTime if feed_word.is_none() => {
                     diags.error(line, column, "G93 inverse-time move without F in the block: expected F (1/min)")
+                }
+                // LinuxCNC refuses a G95 feed move at S0 ("Cannot feed with zero spindle speed in feed
+                // per rev mode", Interp::convert_straight, convert_arc); with the spindle stopped its
+                // axes wait on the spindle's turns, as any control's do: a time not modelled.
+                FeedMode::PerMinute if next.per_revolution && next.feed.is_some() => {
+                    if !next.spindle_speed.is_some_and(|s| s > 0.0) {
+                        diags.error(line, column, "G95 feed move without a spindle speed: Cannot feed with zero spindle speed in feed per rev mode (expected S before or in this block)");
+                    } else if next.spindle_turning != Some(true) {
+                        let why = if next.spindle_turning.is_none() { "no M3 or M4 has started it in this program" } else { "M5 stopped it" };
+                        diags.error(line, column, format!("G95 feed move with the spindle not turning ({why}): the axes would wait on its turns, which is not modelled"));
+                    }
                 }
                 _ => {}
             }

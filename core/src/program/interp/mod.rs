@@ -68,9 +68,16 @@ pub struct Interpreter {
     feed_unit: f64,
     absolute: bool,
     motion: Option<Motion>,
-    /// F (mm/min, or 1/min in inverse time) and F for a move of the rotary axes alone (deg/min).
+    /// F (mm/min, or 1/min in inverse time) and F for a move of the rotary axes alone (deg/min);
+    /// per spindle revolution (mm, deg) under G95.
     feed: Option<(f64, f64)>,
     feed_mode: FeedMode,
+    /// G95: F is a feed per spindle revolution, the path feed F times the spindle speed S
+    /// ([`Interpreter::feed_now`]); `feed_mode` is then [`FeedMode::PerMinute`], as its blocks are.
+    per_revolution: bool,
+    /// The spindle as the program last commanded it: turning (M3, M4), stopped (M5, M19), or not
+    /// commanded yet (None: whatever the machine was doing). A G95 feed move needs it turning.
+    pub(crate) spindle_turning: Option<bool>,
     tcp: bool,
     /// Tool-centre-point kinematics switched on by the machine's own M code or at start (LinuxCNC's
     /// 5axiskins), which G49 (a tool length cancel) leaves on.
@@ -222,6 +229,8 @@ impl Interpreter {
             motion: None,
             feed: None,
             feed_mode: FeedMode::PerMinute,
+            per_revolution: false,
+            spindle_turning: None,
             tcp: false,
             kins_tcp: false,
             datum: [0.0; 3],
@@ -836,8 +845,18 @@ impl Interpreter {
     }
 
     /// The feed in effect, as a block carries it.
+    /// Under G95 the feed per minute is F times the spindle speed S, "V = n * F" (SINUMERIK
+    /// Function Manual Basic Functions, Feeds (V1) §2.1 "Revolutional feedrate (G95)"; LinuxCNC:
+    /// "the controlled point should move a certain number of inches per revolution of the spindle"):
+    /// none while no S is set.
     pub(crate) fn feed_now(&self) -> Option<Feed> {
-        self.feed.map(|(value_per_min, rotary_per_min)| Feed { value_per_min, rotary_per_min, mode: self.feed_mode })
+        let per_rev = if self.per_revolution { self.spindle_speed.filter(|s| *s > 0.0)? } else { 1.0 };
+        self.feed.map(|(value, rotary)| Feed { value_per_min: value * per_rev, rotary_per_min: rotary * per_rev, mode: self.feed_mode })
+    }
+
+    /// G95 (feed per revolution) is in effect.
+    pub(crate) fn per_revolution(&self) -> bool {
+        self.per_revolution
     }
 
     /// The modal motion and feed, to restore after a cycle's own moves.

@@ -11,10 +11,10 @@ use crate::program::{Block, Exact, FeedMode, Plane, ProgrammedTolerance};
 use crate::units::INCH;
 
 /// The modal state M70 saves, of what this reader models: units, plane, distance and arc distance
-/// mode, feed mode and feed, the coordinate system, retract mode, whether G92 offsets apply, the
-/// path control mode and its tolerance, and whether cutter compensation is on. (The spindle,
-/// coolant and override M codes it restores move nothing; tool length offsets and lathe diameter
-/// mode are not modelled.)
+/// mode, feed mode and feed, the spindle's speed and whether it turns (which a G95 feed needs), the
+/// coordinate system, retract mode, whether G92 offsets apply, the path control mode and its
+/// tolerance, and whether cutter compensation is on. (The coolant and override M codes it restores
+/// move nothing; tool length offsets and lathe diameter mode are not modelled.)
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct ModalState {
     inch: bool,
@@ -22,6 +22,12 @@ pub(crate) struct ModalState {
     absolute: bool,
     arc_absolute: bool,
     feed_mode: FeedMode,
+    /// G95 rather than G94.
+    per_revolution: bool,
+    /// S, and the spindle turning (M3/M4) or stopped (M5): `gen_settings` writes ` S%.0f`,
+    /// `gen_m_codes` the spindle's M code.
+    speed: Option<f64>,
+    spindle_turning: Option<bool>,
     /// F in the program's unit per minute (or inverse time), if set: [`Interpreter::feed_in_program_units`].
     feed: Option<f64>,
     system: usize,
@@ -50,6 +56,9 @@ impl Interpreter {
             absolute: self.absolute,
             arc_absolute: self.arc_absolute,
             feed_mode: self.feed_mode,
+            per_revolution: self.per_revolution,
+            speed: self.spindle_speed,
+            spindle_turning: self.spindle_turning,
             feed: self.feed_in_program_units(),
             system: self.system,
             to_r: self.cycles.to_r,
@@ -92,9 +101,10 @@ impl Interpreter {
         });
         code(saved.comp != now.comp, "40");
         code(saved.absolute != now.absolute, if saved.absolute { "90" } else { "91" });
-        code(saved.feed_mode != now.feed_mode, match saved.feed_mode {
-            FeedMode::PerMinute => "94",
-            FeedMode::InverseTime => "93",
+        code(saved.feed_mode != now.feed_mode || saved.per_revolution != now.per_revolution, match (saved.feed_mode, saved.per_revolution) {
+            (FeedMode::InverseTime, _) => "93",
+            (FeedMode::PerMinute, true) => "95",
+            (FeedMode::PerMinute, false) => "94",
         });
         code(saved.system != now.system, ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"][saved.system]);
         code(saved.to_r != now.to_r, if saved.to_r { "99" } else { "98" });
@@ -105,6 +115,8 @@ impl Interpreter {
             Exact::Path => "61",
             Exact::Stop => "61.1",
         });
+        // S%.0f: the speed as LinuxCNC writes it back, a whole number.
+        (self.spindle_speed, self.spindle_turning) = (saved.speed.map(f64::round), saved.spindle_turning);
         if !words.is_empty() && !self.block(&words, line, column, number, diags, out) {
             return false;
         }

@@ -21,8 +21,8 @@ impl Interpreter {
             ("_absolute", flag(self.absolute)),
             ("_incremental", flag(!self.absolute)),
             ("_inverse_time", flag(self.feed_mode == FeedMode::InverseTime)),
-            ("_units_per_minute", flag(self.feed_mode == FeedMode::PerMinute)),
-            ("_units_per_rev", 0.0),
+            ("_units_per_minute", flag(self.feed_mode == FeedMode::PerMinute && !self.per_revolution())),
+            ("_units_per_rev", flag(self.per_revolution())),
             // G54..G59 as 540..590, G59.1..G59.3 as 591..593.
             ("_coord_system", if self.system < 6 { 540.0 + 10.0 * self.system as f64 } else { 585.0 + self.system as f64 }),
             ("_plane", match self.plane {
@@ -111,7 +111,7 @@ impl Interpreter {
             Plane::Yz => 19.0,
         }));
         numbered.push((4003, if self.absolute { 90.0 } else { 91.0 }));
-        numbered.push((4005, if self.feed_mode == FeedMode::InverseTime { 93.0 } else { 94.0 }));
+        numbered.push((4005, if self.feed_mode == FeedMode::InverseTime { 93.0 } else if self.per_revolution() { 95.0 } else { 94.0 }));
         numbered.push((4006, if self.unit == MM { 21.0 } else { 20.0 }));
         numbered.push((4007, 40.0));
         numbered.push((4009, self.cycles.active.as_ref().and_then(|a| a.kind.code().parse::<f64>().ok()).unwrap_or(80.0)));

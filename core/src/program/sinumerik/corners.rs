@@ -332,6 +332,9 @@ impl Corners {
                 if mode == FeedMode::InverseTime {
                     return Err("under G93 (inverse time) the corner's feed is not in the manuals read here".to_string());
                 }
+                if a.feed.is_some() && interp.per_revolution() {
+                    return Err("FRC/FRCM under G95 (feed per revolution): the corner's own feed per revolution is not read".to_string());
+                }
                 // FRC's feed is set below, in the feed's unit (G70/G71 leave F in the basic system's).
                 let cut = Cut { round: a.kind == Kind::Round, chord: false, size, feed: None, line: a.line, col: a.col, number: a.number };
                 make(&cut, p, &n, interp.plane(), mode)

@@ -781,7 +781,9 @@ fn sinumerik_g(code: &str) -> Result<Option<&'static str>, &'static str> {
         "451" => "451",
         // Frames suppressed for the block: machine coordinates (the reader's, as SUPA).
         "53" | "153" => "53",
-        "95" | "96" | "97" => return Err("feed per revolution or constant cutting speed is not supported"),
+        // Revolutional feed (the interpreter's G95: F times the master spindle's speed).
+        "95" => "95",
+        "96" | "97" => return Err("constant cutting speed is not supported"),
         "110" | "111" | "112" => return Err("polar coordinates are not supported"),
         "25" | "26" | "74" | "75" => return Err("working-area limits and reference-point moves are not supported"),
         "140" | "141" | "142" | "143" | "147" | "148" | "247" | "248" | "347" | "348" | "340" | "341" => return Err("smooth approach and retraction (SAR) is not read"),
