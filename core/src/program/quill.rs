@@ -94,11 +94,13 @@ impl Rs274Reader {
         // The tip lies the quill's machine position along the tool from the program point.
         let along = q.quill.sense * to;
         let tip: [f64; 3] = std::array::from_fn(|i| base[i] + along * axis[i]);
-        // The tip's program coordinates, absolute whatever G90/G91 say: the block's own words.
+        // The tip's program coordinates, absolute whatever G90/G91 say: the block's own words, each
+        // with the quill word's text and column for a message (what was written there; formatting
+        // the numbers cost an O-word loop's read an eighth of its time).
         let absolute = self.interp.absolute();
         for (i, l) in ['X', 'Y', 'Z'].into_iter().enumerate() {
             let value = if absolute { tip[i] } else { tip[i] - p[i] } / unit;
-            words.push(Word { letter: l, value, raw: format!("{value}").into(), column: w.column, dimension: Dimension::Modal });
+            words.push(Word { letter: l, value, raw: w.raw.clone(), column: w.column, dimension: Dimension::Modal });
         }
         q.machine = to;
         q.base = if to == 0.0 { None } else { Some(base) };
