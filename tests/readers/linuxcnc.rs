@@ -582,10 +582,11 @@ fn turned(v: [f64; 2], deg: f64) -> [f64; 2] {
 /// rotate_and_offset_pos: XY = rot(p + G92 offset, R) + G5x offset, Z = p + both offsets), from
 /// rs274's positions in the program frame and the offsets and rotation it sets (mm, deg); an XY
 /// arc's centre placed alike; a feed move's feed, mm/min (in inverse time too: LinuxCNC's
-/// interpreter gives the canonical layer the feed it works out, interp_inverse.cc).
+/// interpreter gives the canonical layer the feed it works out, interp_inverse.cc; in units per
+/// revolution, SET_FEED_MODE(spindle, 1), the feed times the spindle speed SET_SPINDLE_SPEED set).
 fn linuxcnc_world(path: &Path) -> Vec<Placed> {
     let (mut inch, mut plane, mut g5x, mut g92, mut r) = (false, "XY", [0.0; 3], [0.0; 3], 0.0);
-    let mut feed = 0.0;
+    let (mut feed, mut per_rev, mut speed) = (0.0, false, 0.0);
     let mut out = Vec::new();
     for l in std::fs::read_to_string(path).unwrap().lines() {
         let inner = &l[l.find('(').unwrap() + 1..l.rfind(')').unwrap()];
@@ -603,17 +604,21 @@ fn linuxcnc_world(path: &Path) -> Vec<Placed> {
             "SET_G5X_OFFSET" => g5x = [mm(v[1]), mm(v[2]), mm(v[3])],
             "SET_G92_OFFSET" => g92 = [mm(v[0]), mm(v[1]), mm(v[2])],
             "SET_XY_ROTATION" => r = v[0],
-            "SET_FEED_RATE" => feed = v[0],
+            // In the program's unit when it is set, as emccanon.cc SET_FEED_RATE converts it
+            // (FROM_PROG_LEN), per minute or, in feed per revolution, per turn.
+            "SET_FEED_RATE" => feed = mm(v[0]),
+            "SET_FEED_MODE" => per_rev = v[1] == 1.0,
+            "SET_SPINDLE_SPEED" => speed = v[1],
             "ARC_FEED" => {
                 let (x, y, z) = match plane { "XY" => (v[0], v[1], v[5]), "XZ" => (v[1], v[5], v[0]), _ => (v[5], v[0], v[1]) };
                 let e = place([x, y, z]);
                 let centre = (plane == "XY").then(|| place([v[2], v[3], z])).map(|c| [c[0], c[1]]);
-                let f = mm(feed);
+                let f = feed * if per_rev { speed } else { 1.0 };
                 out.push((if v[4] < 0.0 { Motion::ArcCw } else { Motion::ArcCcw }, [e[0], e[1], e[2], v[6], v[7], v[8]], centre, Some(f)));
             }
             kind @ ("STRAIGHT_FEED" | "STRAIGHT_TRAVERSE") => {
                 let e = place([v[0], v[1], v[2]]);
-                let f = (kind == "STRAIGHT_FEED").then_some(mm(feed));
+                let f = (kind == "STRAIGHT_FEED").then_some(feed * if per_rev { speed } else { 1.0 });
                 out.push((if kind == "STRAIGHT_FEED" { Motion::Linear } else { Motion::Rapid }, [e[0], e[1], e[2], v[3], v[4], v[5]], None, f));
             }
             // The states this comparison does not place (the path control mode).
@@ -1174,4 +1179,29 @@ fn linuxcnc_rpm_is_the_s_last_set() {
     for (e, w) in ends.iter().zip(rs274) {
         assert!((e[0] - w[0]).abs() < 1e-9 && (e[1] - w[1]).abs() < 1e-9, "{ends:?}");
     }
+}
+
+/// Feed per revolution as LinuxCNC's interpreter reads it (`feed_per_rev.ngc`, rs274's output by
+/// make_canon.sh, each feed move's feed times the spindle speed in force): `G95` with F per turn,
+/// S changing the feed, an arc and a move of C alone under it, M70/M72 restoring G95, its F and
+/// its S, F per turn in inches, and back to G94. The errors rs274 stops at are ours too.
+#[test]
+fn rs274_feeds_per_revolution_as_linuxcnc_does() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join("feed_per_rev.ngc")).unwrap();
+    let p = read(&text, Dialect::Rs274, "feed_per_rev.ngc", &ReadOptions::default());
+    let ours = same_places_as_linuxcnc(&p, &dir.join("feed_per_rev.canon"));
+    // 0.2 mm/rev at S300; the move of C alone at 0.5 deg/rev at S600; after M72, 0.5 at S250.
+    let feeds: Vec<f64> = ours.iter().filter_map(|m| m.3).collect();
+    assert!(feeds.contains(&60.0) && feeds.contains(&300.0) && feeds.contains(&125.0), "{feeds:?}");
+    // rs274: "Cannot do g1 with zero feed rate" after G94, "Cannot feed with zero spindle speed in
+    // feed per rev mode" without S.
+    refuses_each(
+        Dialect::Rs274,
+        &ReadOptions::default(),
+        &[
+            ("G21 G90\nS300 M3\nG95\nG1 X10 F0.2\nG94\nG1 X30\nM2\n", "6:1:", "without a feed"),
+            ("G21 G90\nM3\nG95\nG1 X10 F0.2\nM2\n", "4:1:", "Cannot feed with zero spindle speed in feed per rev mode"),
+        ],
+    );
 }

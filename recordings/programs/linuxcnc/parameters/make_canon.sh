@@ -40,6 +40,12 @@ for f in rotation modal_state home state_parameters subs_after fanuc_subs fanuc_
     grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)\|SET_G5X_OFFSET(.*)\|SET_G92_OFFSET(.*)\|SET_XY_ROTATION(.*)\|SET_FEED_RATE(.*)\|SET_FEED_MODE(.*)' "/tmp/$f.canon" > "$f.canon"
     rm "/tmp/$f.canon"
 done
+# Feed per revolution (G95): the spindle speeds too, by which the test multiplies a feed per turn.
+for f in feed_per_rev; do
+    rs274 -t /tmp/make_canon.tbl -g "$f.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
+    grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)\|SET_G5X_OFFSET(.*)\|SET_G92_OFFSET(.*)\|SET_XY_ROTATION(.*)\|SET_FEED_RATE(.*)\|SET_FEED_MODE(.*)\|SET_SPINDLE_SPEED(.*)' "/tmp/$f.canon" > "$f.canon"
+    rm "/tmp/$f.canon"
+done
 # Subroutines in files of the subroutine path (subs/, LinuxCNC's [RS274NGC] SUBROUTINE_PATH in an INI).
 printf '[RS274NGC]\nSUBROUTINE_PATH = %s/subs\n' "$(pwd)" > /tmp/make_canon.ini
 rs274 -i /tmp/make_canon.ini -t /tmp/make_canon.tbl -g calls_files.ngc /tmp/calls_files.canon < /dev/null > /dev/null
