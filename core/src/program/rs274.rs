@@ -760,7 +760,7 @@ impl Rs274Reader {
         let angles_ijk = g(68.2);
         // An inverse-time F (G93) counts thousandths: "F1 -> 0.001" (FANUC Series 16/18-C MC
         // Operator's Manual, Feed functions, inverse time feed: F code specification value FRN).
-        let inverse_time = g(93.0) || !g(94.0) && self.interp.inverse_time();
+        let inverse_time = g(93.0) || !g(94.0) && !g(95.0) && self.interp.inverse_time();
         for (i, w) in words.iter_mut().enumerate() {
             if computed.binary_search(&i).is_ok() || w.raw.contains('.') {
                 continue;
