@@ -592,6 +592,8 @@ fn linuxcnc_world(path: &Path) -> Vec<Placed> {
         let inner = &l[l.find('(').unwrap() + 1..l.rfind(')').unwrap()];
         let v: Vec<f64> = inner.split(',').filter_map(|x| x.trim().parse().ok()).collect();
         let mm = |x: f64| if inch { x * 25.4 } else { x };
+        // A feed move's feed, mm/min.
+        let path_feed = feed * if per_rev { speed } else { 1.0 };
         // Offsets in mm as set (the canonical layer keeps them in its own units), positions in
         // the program's unit as it moves.
         let place = |p: [f64; 3]| {
@@ -613,12 +615,11 @@ fn linuxcnc_world(path: &Path) -> Vec<Placed> {
                 let (x, y, z) = match plane { "XY" => (v[0], v[1], v[5]), "XZ" => (v[1], v[5], v[0]), _ => (v[5], v[0], v[1]) };
                 let e = place([x, y, z]);
                 let centre = (plane == "XY").then(|| place([v[2], v[3], z])).map(|c| [c[0], c[1]]);
-                let f = feed * if per_rev { speed } else { 1.0 };
-                out.push((if v[4] < 0.0 { Motion::ArcCw } else { Motion::ArcCcw }, [e[0], e[1], e[2], v[6], v[7], v[8]], centre, Some(f)));
+                out.push((if v[4] < 0.0 { Motion::ArcCw } else { Motion::ArcCcw }, [e[0], e[1], e[2], v[6], v[7], v[8]], centre, Some(path_feed)));
             }
             kind @ ("STRAIGHT_FEED" | "STRAIGHT_TRAVERSE") => {
                 let e = place([v[0], v[1], v[2]]);
-                let f = (kind == "STRAIGHT_FEED").then_some(feed * if per_rev { speed } else { 1.0 });
+                let f = (kind == "STRAIGHT_FEED").then_some(path_feed);
                 out.push((if kind == "STRAIGHT_FEED" { Motion::Linear } else { Motion::Rapid }, [e[0], e[1], e[2], v[3], v[4], v[5]], None, f));
             }
             // The states this comparison does not place (the path control mode).

@@ -680,8 +680,7 @@ impl Rs274Reader {
         if self.dialect.is_fanuc() {
             // Under G95 an F without a decimal point may count least increments per revolution, as a
             // length word does (F300 as 0.300 mm/rev); which one this control takes is not at hand.
-            let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
-            let per_rev = g(95.0) || !g(94.0) && !g(93.0) && self.interp.per_revolution();
+            let per_rev = self.block_feed_mode(&words).1;
             if let Some((_, w)) = words.iter().enumerate().find(|(i, w)| per_rev && w.letter == 'F' && computed.binary_search(i).is_err() && !w.raw.contains('.')) {
                 diags.error(line, w.column, format!("F{} without a decimal point under G95 (feed per revolution): whether the control reads it in mm (in) per revolution or in least input increments is not read; write it with a decimal point", w.raw));
                 diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
@@ -760,7 +759,7 @@ impl Rs274Reader {
         let angles_ijk = g(68.2);
         // An inverse-time F (G93) counts thousandths: "F1 -> 0.001" (FANUC Series 16/18-C MC
         // Operator's Manual, Feed functions, inverse time feed: F code specification value FRN).
-        let inverse_time = g(93.0) || !g(94.0) && !g(95.0) && self.interp.inverse_time();
+        let inverse_time = self.block_feed_mode(words).0;
         for (i, w) in words.iter_mut().enumerate() {
             if computed.binary_search(&i).is_ok() || w.raw.contains('.') {
                 continue;
@@ -780,6 +779,14 @@ impl Rs274Reader {
             }
         }
         first
+    }
+
+    /// The feed mode a block's F is read in, (inverse time G93, per revolution G95): its own G93,
+    /// G94 or G95, else the modal one.
+    fn block_feed_mode(&self, words: &[Word]) -> (bool, bool) {
+        let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
+        let (g93, g94, g95) = (g(93.0), g(94.0), g(95.0));
+        (g93 || !g94 && !g95 && self.interp.inverse_time(), g95 || !g94 && !g93 && self.interp.per_revolution())
     }
 
     /// Whether a block's lengths are in inches: its own G20/G21, else the modal unit.
