@@ -60,7 +60,7 @@ pub use run::MAX_LABELS;
 
 use std::borrow::Cow;
 
-use super::lex::{excerpt, parse_number, upper, Columns, Diags};
+use super::lex::{excerpt, parse_number, upper, word_end, Columns, Diags};
 use super::{Dialect, MCodeRule, Orientation, Program};
 
 /// Subprogram nesting depth of the TNC (iTNC 530: "up to 19 levels").
@@ -202,17 +202,8 @@ fn tokens(line: &str) -> Vec<(&str, usize)> {
             }
             i = (i + 1).min(b.len());
         } else {
-            // A blank or `;` ends it (looked up in a table: one load per byte of a long line).
-            const ENDS: [bool; 256] = {
-                let mut t = [false; 256];
-                let mut c = 0;
-                while c < 256 {
-                    t[c] = (c as u8).is_ascii_whitespace() || c as u8 == b';';
-                    c += 1;
-                }
-                t
-            };
-            i += b[i..].iter().position(|&c| ENDS[usize::from(c)]).unwrap_or(b.len() - i);
+            // A blank or `;` ends it.
+            i = word_end(b, i);
         }
         // Ends fall on ASCII bytes (a blank, `;`, `"`) or the line's end, so on char boundaries.
         out.push((&line[start..i], cols.col(start)));
