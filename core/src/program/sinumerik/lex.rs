@@ -246,11 +246,26 @@ fn expression_end(b: &[u8], start: usize) -> usize {
         }
         k < j && word_op_at(k) && (k == start || !ident(b[k - 1]))
     };
+    // The bytes that end an expression or change its nesting: blanks, `;`, brackets and quotes (a
+    // value's digits, signs, letters and operators pass by one table look-up each).
+    const SPECIAL: [bool; 256] = {
+        let mut t = [false; 256];
+        let mut c = 0;
+        while c < 256 {
+            t[c] = matches!(c as u8, b'"' | b'(' | b'[' | b')' | b']' | b';') || (c as u8).is_ascii_whitespace();
+            c += 1;
+        }
+        t
+    };
     let (mut i, mut depth, mut in_str) = (start, 0i32, false);
     while i < n {
         let c = b[i];
         if in_str {
             in_str = c != b'"';
+            i += 1;
+            continue;
+        }
+        if !SPECIAL[usize::from(c)] {
             i += 1;
             continue;
         }
@@ -436,12 +451,13 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             }
             // AC()/IC() dimension an axis or a circle centre's word; anywhere else they are refused.
             let dimensioned_word = matches!(address.as_ref(), "X" | "Y" | "Z" | "A" | "B" | "C" | "I" | "J" | "K");
-            match parse_number(text.trim()) {
-                Some(x) => (x, text.trim()),
+            let trimmed = text.trim();
+            match parse_number(trimmed) {
+                Some(x) => (x, trimmed),
                 None => match if dimensioned_word { dimensioned(text, vars) } else { value_of(text, vars).map(|x| (x, Dimension::Modal)) } {
                     Ok((x, d)) => {
                         dimension = d;
-                        (x, text.trim())
+                        (x, trimmed)
                     }
                     Err(why) => {
                         diags.error(line, cols.col(v), format!("{address}={}: {why}", excerpt(text)));
@@ -451,8 +467,9 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             }
         } else {
             let start = v;
-            let mut end = v;
-            while end < n && (b[end].is_ascii_digit() || b[end] == b'.' || ((b[end] == b'+' || b[end] == b'-') && end == start)) {
+            // A sign first, then digits and points.
+            let mut end = v + usize::from(v < n && matches!(b[v], b'+' | b'-'));
+            while end < n && (b[end].is_ascii_digit() || b[end] == b'.') {
                 end += 1;
             }
             let text = &src[start..end];
