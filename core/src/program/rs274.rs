@@ -537,7 +537,9 @@ impl Rs274Reader {
                     }
                     continue;
                 }
-                while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.' || ((chars[i] == '+' || chars[i] == '-') && i == start)) {
+                // A sign first, then digits and points.
+                i += usize::from(i < chars.len() && matches!(chars[i], '+' | '-'));
+                while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
                     i += 1;
                 }
                 let number_text = &text[byte(start)..byte(i)];
@@ -749,6 +751,11 @@ impl Rs274Reader {
     /// float" off: "X5 means X0.0005"). A value computed from parameters has its point.
     /// The first word read so whose value is not 0, if any (for the warning said once).
     fn decimal_points(&self, words: &mut [Word], computed: &[usize]) -> Option<usize> {
+        // Most CAM blocks write every such value with its point: then the block's codes need no look.
+        let bare = |i: usize, w: &Word| computed.binary_search(&i).is_err() && !w.raw.contains('.');
+        if !words.iter().enumerate().any(|(i, w)| matches!(w.letter, 'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'Q' | 'U' | 'V' | 'W' | 'A' | 'B' | 'C' | 'F') && bare(i, w)) {
+            return None;
+        }
         let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
         let inch = self.inch_words(words);
         let mut first = None;
@@ -761,7 +768,7 @@ impl Rs274Reader {
         // Operator's Manual, Feed functions, inverse time feed: F code specification value FRN).
         let inverse_time = self.block_feed_mode(words).0;
         for (i, w) in words.iter_mut().enumerate() {
-            if computed.binary_search(&i).is_ok() || w.raw.contains('.') {
+            if !bare(i, w) {
                 continue;
             }
             let step = match w.letter {
