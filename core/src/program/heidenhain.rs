@@ -31,11 +31,27 @@ fn is_sep(c: char) -> bool {
     c.is_whitespace() || c == '*' || c == ';' || c == '%'
 }
 
+/// ASCII bytes that are no separator ([`is_sep`]: `char::is_whitespace` takes 0x09-0x0D and the
+/// blank among them): a word's bytes, passed by one look-up each.
+const WORD_BYTE: [bool; 256] = {
+    let mut t = [false; 256];
+    let mut c = 0;
+    while c < 128 {
+        t[c] = !matches!(c as u8, 0x09..=0x0D | b' ' | b'*' | b';' | b'%');
+        c += 1;
+    }
+    t
+};
+
 fn tokenize(line: &str) -> Vec<Tok<'_>> {
     let mut toks = Vec::with_capacity(8);
     // Byte offset `i` and 1-based column `col` (characters) as the scan goes.
     let (mut i, mut col) = (0, 1);
-    let char_at = |i: usize| line[i..].chars().next().unwrap_or(' ');
+    // The character at byte `i` (a boundary, within the line): an ASCII byte is its own character.
+    let char_at = |i: usize| match line.as_bytes()[i] {
+        b if b.is_ascii() => char::from(b),
+        _ => line[i..].chars().next().unwrap_or(' '),
+    };
     while i < line.len() {
         let c = char_at(i);
         if c.is_whitespace() {
@@ -53,6 +69,13 @@ fn tokenize(line: &str) -> Vec<Tok<'_>> {
         } else {
             let (start, start_col) = (i, col);
             while i < line.len() {
+                // ASCII bytes that separate nothing first: a byte and a column each.
+                let plain = line.as_bytes()[i..].iter().take_while(|&&b| WORD_BYTE[usize::from(b)]).count();
+                i += plain;
+                col += plain;
+                if i >= line.len() {
+                    break;
+                }
                 let cc = char_at(i);
                 if is_sep(cc) {
                     break;
@@ -516,5 +539,19 @@ fn label(number: Option<u64>, line: usize) -> String {
     match number {
         Some(n) => format!("N{n} (line {line})"),
         None => format!("on line {line}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The table of a word's bytes says what the separator rule says of every ASCII character, and
+    /// leaves the bytes of other characters to it.
+    #[test]
+    fn word_bytes_are_the_ascii_non_separators() {
+        for b in 0..=255u8 {
+            assert_eq!(WORD_BYTE[usize::from(b)], b.is_ascii() && !is_sep(char::from(b)), "byte {b:#04x}");
+        }
     }
 }
