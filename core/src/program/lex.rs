@@ -73,6 +73,10 @@ pub(crate) fn word_end(b: &[u8], from: usize) -> usize {
     const ONES: u64 = 0x0101_0101_0101_0101;
     const HIGH: u64 = 0x8080_8080_8080_8080;
     let mut i = from;
+    // A word that ends where it starts (the 840D's reader asks after each number) costs one look.
+    if b.get(i).is_none_or(|&c| WORD_ENDS[usize::from(c)]) {
+        return i.min(b.len());
+    }
     while let Some(chunk) = b.get(i..i + 8) {
         let x = u64::from_le_bytes(chunk.try_into().unwrap_or_default());
         let below = x.wrapping_sub(ONES * 0x21) & !x & HIGH;
@@ -122,12 +126,12 @@ pub fn line_count(text: &str) -> usize {
     memchr::memchr_iter(b'\n', text.as_bytes()).count() + 1
 }
 
-/// Length of the longest prefix of `s` made of number characters (`+-.0-9`).
+/// Length of the longest prefix of `s` a number could be: a sign, then digits and points.
 pub fn number_prefix_len(s: &str) -> usize {
-    s.char_indices()
-        .find(|&(i, c)| !(c.is_ascii_digit() || c == '.' || ((c == '+' || c == '-') && i == 0)))
-        .map(|(i, _)| i)
-        .unwrap_or(s.len())
+    // By bytes: every byte it takes is ASCII, so where it stops is a character's start.
+    let b = s.as_bytes();
+    let sign = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    sign + b[sign..].iter().take_while(|&&c| c.is_ascii_digit() || c == b'.').count()
 }
 
 /// Diagnostics being collected for one program.
@@ -215,6 +219,14 @@ mod tests {
         // The fast path gives what the standard library's correctly rounded parse gives.
         for good in ["0.1", "-0.3", "+14.825", "123456789012345", "0.000000000000001", "1.0000000000000002", "99999999999999999999.5", "-0.0", "7.", "00000000000000000000012.5"] {
             assert_eq!(parse_number(good).map(f64::to_bits), good.parse::<f64>().ok().map(f64::to_bits), "{good}");
+        }
+    }
+
+    /// A number's prefix: a sign only first, then digits and points, ending on a character's start.
+    #[test]
+    fn number_prefixes() {
+        for (text, len) in [("+1.5X", 4), ("-", 1), ("1+2", 1), ("--1", 1), (".5.5;", 4), ("\u{e9}1", 0), ("12\u{e9}", 2), ("", 0), ("X1", 0)] {
+            assert_eq!(number_prefix_len(text), len, "{text:?}");
         }
     }
 

@@ -7,7 +7,7 @@
 
 use super::expr;
 use crate::program::interp::{Dimension, Word};
-use crate::program::lex::{excerpt, parse_number, upper, Columns, Diags};
+use crate::program::lex::{excerpt, number_prefix_len, parse_number, upper, word_end, Columns, Diags};
 use std::borrow::Cow;
 use std::collections::HashMap;
 
@@ -343,17 +343,9 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
         diags.warning(line, cols.col(i), "block skip '/' is not modelled: the block is run");
         i += 1;
     }
-    // The end of a token from byte `from`: the next whitespace or ';', on a character boundary.
-    let token_end = |from: usize| {
-        let mut e = from;
-        while e < n && !b[e].is_ascii_whitespace() && b[e] != b';' {
-            e += 1;
-        }
-        while e < n && !src.is_char_boundary(e) {
-            e += 1;
-        }
-        e
-    };
+    // The end of a token from byte `from`: the next whitespace or ';' (an ASCII byte, so on a
+    // character boundary), or the line's end.
+    let token_end = |from: usize| word_end(b, from);
     while i < n {
         let c = b[i];
         if c.is_ascii_whitespace() || !src.is_char_boundary(i) {
@@ -467,11 +459,7 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             }
         } else {
             let start = v;
-            // A sign first, then digits and points.
-            let mut end = v + usize::from(v < n && matches!(b[v], b'+' | b'-'));
-            while end < n && (b[end].is_ascii_digit() || b[end] == b'.') {
-                end += 1;
-            }
+            let end = v + number_prefix_len(&src[v..]);
             let text = &src[start..end];
             let stop = token_end(end);
             i = stop.max(i + 1);
