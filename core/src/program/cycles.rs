@@ -77,7 +77,7 @@ pub(crate) struct Active {
 
 /// Cycle state of the interpreter: the active cycle, the return level, the intermediate point
 /// Fanuc's G28 stored (per axis, program coordinates).
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct CycleState {
     pub active: Option<Active>,
     /// G99 (back to the R point) rather than G98 (back to the initial level, the reset state).

@@ -22,18 +22,21 @@ impl Interpreter {
             diags.error(line, column, why);
             return None;
         }
-        let mut next = self.clone();
+        // The state before the block, put back if the block has a defect (the state changes only when
+        // it has none); the block changes the state in place.
+        let mut before = self.clone();
+        let next = &mut *self;
         let errors_before = diags.errors();
         let mut datum_block = false;
         let mut events = Vec::new();
         let mut feed_word: Option<&Word> = None;
         // Heidenhain DIN/ISO and conversational share the TNC's words: modal circle centre I J K,
         // M128/M129, and the TNC's M functions.
-        let heid = matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext);
+        let heid = matches!(before.dialect, Dialect::Heidenhain | Dialect::Klartext);
         // Fanuc-style controls (Fanuc, Haas) and Haas alone.
-        let (fanuc, haas) = (self.dialect.is_fanuc(), self.dialect == Dialect::Haas);
+        let (fanuc, haas) = (before.dialect.is_fanuc(), before.dialect == Dialect::Haas);
         // The TNC's DIN/ISO tool call `T1 G17`: the block's plane code is the tool axis.
-        let tool_call = self.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'T');
+        let tool_call = before.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'T');
         // An axis, centre, radius or feed written twice: LinuxCNC refuses it ("Multiple X words on one
         // line", NIST IR 6556 §3.3.2: "a line may have only one word with a given letter" but G and
         // M), as the TNC does; which one another control takes is not read, so refused too.
@@ -59,7 +62,7 @@ impl Interpreter {
         let mut exact_stop_here = std::mem::take(&mut next.exact_once);
         // The TNC's DIN/ISO blank form (G30 MIN point, G31 MAX point) and tool definition (G99 T L R):
         // their words define, they do not move (as Klartext's BLK FORM and TOOL DEF).
-        let defines = self.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'G' && matches!(w.value, 30.0 | 31.0 | 99.0));
+        let defines = before.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'G' && matches!(w.value, 30.0 | 31.0 | 99.0));
         let mut g53 = false;
         let mut dwell_word: Option<&Word> = None;
         let mut blend_word = false;
@@ -81,7 +84,7 @@ impl Interpreter {
                         ("2", true) => next.motion = Some(Motion::ArcCw),
                         ("3", true) => next.motion = Some(Motion::ArcCcw),
                         // G05: a circle in the direction of the last G02/G03.
-                        ("5", true) => match self.last_arc {
+                        ("5", true) => match before.last_arc {
                             Some(m) => next.motion = Some(m),
                             None => diags.error(line, w.column, format!("G{}: a circle without its own direction needs a G02 or G03 before it", w.raw)),
                         },
@@ -106,23 +109,23 @@ impl Interpreter {
                         // LinuxCNC's G80 is of the motion group: no motion mode after it, so axis
                         // words need a G0/G1 again (LinuxCNC: "Cannot use axis values with G80",
                         // "without a G code that uses them"). Fanuc's cycles are a group of their own.
-                        ("80", _) if self.dialect == Dialect::Rs274 => next.motion = None,
+                        ("80", _) if before.dialect == Dialect::Rs274 => next.motion = None,
                         ("40" | "80", _) => {}
                         ("90", _) => next.absolute = true,
                         ("91", _) => next.absolute = false,
                         ("90.1", false) => next.arc_absolute = true,
                         ("91.1", false) => next.arc_absolute = false,
-                        ("70", true) | ("20", false) | ("71", true) | ("21", false) | ("70" | "71", false) if heid || self.dialect == Dialect::Sinumerik || code.starts_with('2') => {
+                        ("70", true) | ("20", false) | ("71", true) | ("21", false) | ("70" | "71", false) if heid || before.dialect == Dialect::Sinumerik || code.starts_with('2') => {
                             let inch = code == "70" || code == "20";
                             next.unit_stated = true;
                             // Sinumerik's G70/G71 are the geometry's unit only: "Feedrate functions are
                             // not affected by G70/G71" (840Di sl Programming Manual 6FC5398-1BP10,
                             // "Inch/metric dimensions"), F stays in the basic system's; G700/G710
                             // (read as G20/G21) set both.
-                            let feed_too = !(self.dialect == Dialect::Sinumerik && code.starts_with('7'));
+                            let feed_too = !(before.dialect == Dialect::Sinumerik && code.starts_with('7'));
                             // The TNC's DIN/ISO unit is the program's, set in its header (`%NAME G71 *`)
                             // and end lines; a block that says another is refused, not obeyed.
-                            let header_only = self.dialect == Dialect::Heidenhain && next.forced_unit.is_none() && (next.unit == INCH) != inch;
+                            let header_only = before.dialect == Dialect::Heidenhain && next.forced_unit.is_none() && (next.unit == INCH) != inch;
                             if header_only {
                                 diags.error(line, w.column, format!("G{} in a block: the TNC takes the program's unit from its header (%NAME G70 or G71), which says otherwise", w.raw));
                             }
@@ -150,7 +153,7 @@ impl Interpreter {
                             let k = ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"].iter().position(|c| *c == code.as_ref()).unwrap_or(0);
                             next.system = k;
                             next.extra_offset = false;
-                            if k > 0 && !self.offsets_set(k) && !fanuc && self.dialect != Dialect::Sinumerik {
+                            if k > 0 && !before.offsets_set(k) && !fanuc && before.dialect != Dialect::Sinumerik {
                                 diags.warning(
                                     line,
                                     w.column,
@@ -161,7 +164,7 @@ impl Interpreter {
                         // LinuxCNC: the block's coordinates are absolute ones without the work offsets
                         // (G-code reference §G53: "machine coordinates", LinuxCNC's world frame, in
                         // which the machine files place the kinematics).
-                        ("53", false) if self.dialect == Dialect::Rs274 => {
+                        ("53", false) if before.dialect == Dialect::Rs274 => {
                             g53 = true;
                             if !next.absolute {
                                 diags.error(line, w.column, "G53 under G91: LinuxCNC refuses incremental machine coordinates (write G90 first)");
@@ -173,7 +176,7 @@ impl Interpreter {
                             "G53: work offsets are not modelled (G54 is taken as zero), so machine coordinates are read as program coordinates",
                         ),
                         // G98/G99: a canned cycle returns to the initial level or to the R point.
-                        ("98" | "99", false) if fanuc || self.dialect == Dialect::Rs274 => next.cycles.to_r = code == "99",
+                        ("98" | "99", false) if fanuc || before.dialect == Dialect::Rs274 => next.cycles.to_r = code == "99",
                         // Additional work offsets (Fanuc G54.1 P1-P48), which the program never sets here.
                         ("54.1", false) if fanuc => {
                             uses.push('P');
@@ -228,12 +231,12 @@ impl Interpreter {
                         ("10", false) => {
                             g10 = true;
                             uses.extend(['L', 'P']);
-                            if self.dialect == Dialect::Rs274 {
+                            if before.dialect == Dialect::Rs274 {
                                 uses.push('R'); // G10 L2 R: the system's rotation
                             }
                         }
                         // (Two codes of group 0 in one block: Interpreter::block refuses them.)
-                        ("92" | "92.1" | "92.2" | "92.3" | "52", false) if self.dialect == Dialect::Rs274 => g92 = Some(code.to_string()),
+                        ("92" | "92.1" | "92.2" | "92.3" | "52", false) if before.dialect == Dialect::Rs274 => g92 = Some(code.to_string()),
                         ("92.1" | "92.2", false) => {} // cancel G92 offsets: none are modelled
                         // A change of feed mode leaves no feed: Siemens, "In the event of switching
                         // between G93, G94 and G95, the path feedrate value has to be reprogrammed"
@@ -246,7 +249,7 @@ impl Interpreter {
                             (next.feed_mode, next.per_revolution) = (FeedMode::InverseTime, false);
                         }
                         ("94", false) => {
-                            if next.feed_mode != FeedMode::PerMinute || next.per_revolution || self.dialect == Dialect::Rs274 {
+                            if next.feed_mode != FeedMode::PerMinute || next.per_revolution || before.dialect == Dialect::Rs274 {
                                 next.feed = None;
                             }
                             (next.feed_mode, next.per_revolution) = (FeedMode::PerMinute, false);
@@ -256,7 +259,7 @@ impl Interpreter {
                         // above); for Fanuc and Haas whether F is kept is not at hand, so it is not kept
                         // either (a feed move then wants an F written under G95).
                         ("95", false) if !heid && !haas => {
-                            if !next.per_revolution || self.dialect == Dialect::Rs274 {
+                            if !next.per_revolution || before.dialect == Dialect::Rs274 {
                                 next.feed = None;
                             }
                             (next.feed_mode, next.per_revolution) = (FeedMode::PerMinute, true);
@@ -293,7 +296,7 @@ impl Interpreter {
                         // mode, G09 exact stop for one block ("the tool is decelerated at the end
                         // point of a block, then an in-position check is made": FANUC B-64484EN,
                         // "Exact stop (G09, G61)"; Haas Mill Operator's Manual, G09 and G61).
-                        ("61", false) if self.dialect == Dialect::Rs274 => {
+                        ("61", false) if before.dialect == Dialect::Rs274 => {
                             next.exact = Exact::Path;
                             diags.warning(
                                 line,
@@ -302,14 +305,14 @@ impl Interpreter {
                                  LinuxCNC passes a kink of little acceleration at a reduced speed instead, here a stop",
                             );
                         }
-                        ("61.1", false) if self.dialect == Dialect::Rs274 => next.exact = Exact::Stop,
+                        ("61.1", false) if before.dialect == Dialect::Rs274 => next.exact = Exact::Stop,
                         ("61", false) if fanuc => next.exact = Exact::Stop,
                         // Fanuc's automatic override for inner corners, G62, of G61's and G64's group:
                         // "valid until G61 or G64 is specified", the feed overridden "when the tool
                         // moves along an inner corner during cutter compensation" (FANUC Series 0i
                         // Operator's Manual B-64154EN §5.4, Table 5.4): without compensation (which
                         // is refused) it runs as G64 does.
-                        ("62", false) if self.dialect == Dialect::Fanuc => next.exact = Exact::Blend,
+                        ("62", false) if before.dialect == Dialect::Fanuc => next.exact = Exact::Blend,
                         ("9", false) if fanuc => exact_stop_here = true,
                         ("4", _) => {
                             uses.push('P');
@@ -338,7 +341,7 @@ impl Interpreter {
                         diags.error(line, w.column, format!("M{}: expected a whole M code number", w.raw));
                         continue;
                     }
-                    let rule = self.m_codes.iter().find(|r| i64::from(r.code) == code).map(|r| r.action);
+                    let rule = before.m_codes.iter().find(|r| i64::from(r.code) == code).map(|r| r.action);
                     match (rule, code, heid) {
                         (Some(MCodeAction::TcpOn), _, _) => (next.tcp, next.kins_tcp) = (true, true),
                         (Some(MCodeAction::TcpOff), _, _) => (next.tcp, next.kins_tcp) = (false, false),
@@ -365,7 +368,7 @@ impl Interpreter {
                         (None, 5, _) => next.spindle_turning = Some(false),
                         (None, 19, false) => {
                             next.spindle_turning = Some(false);
-                            if self.dialect == Dialect::Rs274 {
+                            if before.dialect == Dialect::Rs274 {
                                 uses.extend(['R', 'Q', 'P']);
                             }
                         }
@@ -380,14 +383,14 @@ impl Interpreter {
                         // Sinumerik's own M functions (Fundamentals §"Miscellaneous functions (M)": M17
                         // end of subprogram, M19 spindle positioning (above: it stops the spindle), M40-M45 gear stages, M70 spindle
                         // to axis mode); any other is the machine maker's.
-                        (None, 17 | 40..=45 | 70, false) if self.dialect == Dialect::Sinumerik => {}
-                        (None, _, false) if self.dialect == Dialect::Sinumerik => diags.error(line, w.column, maker_m_function(&w.raw, code)),
+                        (None, 17 | 40..=45 | 70, false) if before.dialect == Dialect::Sinumerik => {}
+                        (None, _, false) if before.dialect == Dialect::Sinumerik => diags.error(line, w.column, maker_m_function(&w.raw, code)),
                         // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O,
                         // with the words they take (G-code reference §M19 R Q P, §M61 Q, §M62-M65 P,
                         // §M66 P E L Q, §M67/M68 E Q).
                         // M99 in the main program: its end (the reader's; super::super::lcnc_m98).
-                        (None, 99, false) if self.dialect == Dialect::Rs274 => {}
-                        (None, 98, false) if self.dialect == Dialect::Rs274 => diags.error(line, w.column, "M98 calls a Fanuc-style subprogram only as the first word of its line (after its N number): LinuxCNC reads it there, as a block of its own"),
+                        (None, 99, false) if before.dialect == Dialect::Rs274 => {}
+                        (None, 98, false) if before.dialect == Dialect::Rs274 => diags.error(line, w.column, "M98 calls a Fanuc-style subprogram only as the first word of its line (after its N number): LinuxCNC reads it there, as a block of its own"),
                         (None, 48..=53 | 60, false) => {}
                         (None, 61, false) => uses.push('Q'),
                         (None, 62..=65, false) => uses.push('P'),
@@ -420,7 +423,7 @@ impl Interpreter {
                 'F' => feed_word = Some(w),
                 'N' => {}
                 c if AXIS_LETTERS.contains(&c) => {}
-                '@' | '^' if self.dialect == Dialect::Rs274 => {} // polar coordinates, read below
+                '@' | '^' if before.dialect == Dialect::Rs274 => {} // polar coordinates, read below
                 'I' | 'J' | 'K' | 'R' | 'P' | 'Q' | 'H' | 'L' | 'E' if !heid => {} // checked below, with the codes that take them
                 'L' | 'R' if defines => {} // a tool definition's length and radius
                 'I' | 'J' | 'K' | 'R' if heid => {} // circle centre and radius, read below
@@ -454,7 +457,7 @@ impl Interpreter {
                 if !ok {
                     // The earlier refused block is said only where this block has no defect of its
                     // own before the word (a code of its own refused is the cause then).
-                    let earlier = if diags.errors() == errors_before { self.after_refused() } else { String::new() };
+                    let earlier = if diags.errors() == errors_before { before.after_refused() } else { String::new() };
                     diags.error(line, w.column, format!("word {}{} without a G code that takes it: not read{earlier}", w.letter, w.raw));
                 }
             }
@@ -465,8 +468,8 @@ impl Interpreter {
         // LinuxCNC, Fanuc and Haas start in the unit their setting says (LinuxCNC's startup code or
         // LINEAR_UNITS, Fanuc parameter No. 0000 INI, Haas Setting 9): a program that moves before
         // it says G20 or G21 is read in mm, and that is said once.
-        if self.dialect.is_rs274_family() && !next.unit_stated && next.forced_unit.is_none() && !g10 && words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z')) {
-            (self.unit_stated, next.unit_stated) = (true, true);
+        if before.dialect.is_rs274_family() && !next.unit_stated && next.forced_unit.is_none() && !g10 && words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z')) {
+            (before.unit_stated, next.unit_stated) = (true, true);
             diags.warning(
                 line,
                 column,
@@ -478,14 +481,14 @@ impl Interpreter {
         }
         if g10 {
             // The axis words of a G10 block set an offset; they are not a move (skipped below).
-            self.set_offsets(words, &mut next, line, column, diags);
+            before.set_offsets(words, next, line, column, diags);
         }
         // Sinumerik's settable frames (G54-G57, G505-G599) are the operator's, never set by the
         // program: the datum is the programmable frame's, which its reader keeps. LinuxCNC's axis
         // offsets (G92, G52) apply in every system.
-        if !heid && self.dialect != Dialect::Sinumerik && next.system != self.system {
-            if next.rotation[self.system] != 0.0 || next.rotation_now() != 0.0 {
-                next.current_into_system(self.system, next.system);
+        if !heid && before.dialect != Dialect::Sinumerik && next.system != before.system {
+            if next.rotation[before.system] != 0.0 || next.rotation_now() != 0.0 {
+                next.current_into_system(before.system, next.system);
             } else {
                 let axis = next.axis_offset;
                 next.move_origin(std::array::from_fn(|k| next.offsets[next.system][k] + axis[k]));
@@ -493,14 +496,14 @@ impl Interpreter {
         }
         if let Some(code) = &g92 {
             // Its axis words set the offset; they are not a move (skipped below).
-            self.axis_offsets(code, words, &mut next, line, diags);
+            before.axis_offsets(code, words, next, line, diags);
         }
 
         // LinuxCNC's `G64 P- <Q->`: Q (the naive-CAM tolerance: near-collinear points within it merge
         // into one move; it is P when Q is not given) is how far the path may leave the programmed
         // points, the contour tolerance on the linear axes, program unit; `G64` alone leaves the
         // machine's. (gcodes §G64; interp_convert.cc `convert_control_mode`.)
-        if blend_word && self.dialect == Dialect::Rs274 {
+        if blend_word && before.dialect == Dialect::Rs274 {
             let merge = words.iter().find(|w| w.letter == 'Q').or_else(|| words.iter().find(|w| w.letter == 'P'));
             next.tolerance = match merge {
                 None => crate::program::ProgrammedTolerance::default(),
@@ -521,20 +524,20 @@ impl Interpreter {
         // feed. Sinumerik's G4 S (spindle revolutions, a time that depends on the speed) is not read.
         let mut dwell_s = None;
         if let Some(g) = dwell_word {
-            let letter = if self.dialect.is_rs274_family() { 'P' } else { 'F' };
+            let letter = if before.dialect.is_rs274_family() { 'P' } else { 'F' };
             let time = if letter == 'F' { feed_word.take() } else { words.iter().find(|w| w.letter == 'P') };
-            if let Some(s) = words.iter().find(|w| w.letter == 'S').filter(|_| self.dialect == Dialect::Sinumerik) {
+            if let Some(s) = words.iter().find(|w| w.letter == 'S').filter(|_| before.dialect == Dialect::Sinumerik) {
                 diags.error(line, s.column, format!("G4 S{}: a dwell in spindle revolutions is not read (expected G4 F, seconds)", s.raw));
             }
             match time {
                 // Fanuc and Haas: P in milliseconds (Haas: seconds with a decimal point).
-                Some(t) if self.dialect.is_fanuc() => match crate::program::fanuc::dwell(self.dialect, t) {
+                Some(t) if before.dialect.is_fanuc() => match crate::program::fanuc::dwell(before.dialect, t) {
                     Ok(s) => dwell_s = Some(s),
                     Err(why) => diags.error(line, t.column, format!("G{} {why}", g.raw)),
                 },
                 Some(t) if t.value >= 0.0 && t.value.is_finite() => {
                     dwell_s = Some(t.value);
-                    if self.dialect == Dialect::Rs274 && !t.raw.contains('.') && t.value >= 100.0 {
+                    if before.dialect == Dialect::Rs274 && !t.raw.contains('.') && t.value >= 100.0 {
                         diags.warning(
                             line,
                             t.column,
@@ -544,7 +547,7 @@ impl Interpreter {
                 }
                 Some(t) => diags.error(line, t.column, format!("G{} {letter}{}: expected a dwell time of 0 s or more", g.raw, t.raw)),
                 // Fanuc and Haas also take the time as X (seconds); that form is not read here.
-                None if self.dialect.is_fanuc() => match words.iter().find(|w| w.letter == 'X') {
+                None if before.dialect.is_fanuc() => match words.iter().find(|w| w.letter == 'X') {
                     Some(x) => diags.error(line, x.column, format!("G{} X{}: a dwell written with X is not read (write P, in milliseconds on Fanuc)", g.raw, x.raw)),
                     None => diags.error(line, g.column, format!("G{} without P: expected the dwell time (P, milliseconds on Fanuc; seconds with a decimal point on Haas)", g.raw)),
                 },
@@ -561,7 +564,7 @@ impl Interpreter {
                 // LinuxCNC sets F (its step 4) before G20/G21 (step 16) in the order of execution,
                 // and its task keeps the feed across the change (emccanon.cc SET_FEED_RATE,
                 // GET_EXTERNAL_FEED_RATE): F is in the unit before the block's.
-                let unit = if self.dialect == Dialect::Rs274 { self.feed_unit } else { next.feed_unit };
+                let unit = if before.dialect == Dialect::Rs274 { before.feed_unit } else { next.feed_unit };
                 next.feed = Some(match next.feed_mode {
                     FeedMode::PerMinute => (w.value * unit / MM, w.value),
                     FeedMode::InverseTime => (w.value, w.value),
@@ -569,12 +572,12 @@ impl Interpreter {
             }
         }
 
-        let polar_end = match self.dialect == Dialect::Rs274 && words.iter().any(|w| matches!(w.letter, '@' | '^')) {
+        let polar_end = match before.dialect == Dialect::Rs274 && words.iter().any(|w| matches!(w.letter, '@' | '^')) {
             true if g10 || g92.is_some() => {
                 diags.error(line, column, "polar coordinates (@, ^) in a block whose axis words set an offset (G10, G52, G92) are not read");
                 None
             }
-            true => polar(words, &next, g53, line, diags),
+            true => polar(words, next, g53, line, diags),
             false => None,
         };
         let mut targets = Targets::default();
@@ -651,7 +654,7 @@ impl Interpreter {
             targets.tool_axis = tool_vector(words, &targets, line, column, diags);
         }
         if let Some(v) = next.pending_vector.take() {
-            let (words, mode) = match self.dialect {
+            let (words, mode) = match before.dialect {
                 Dialect::Klartext => ("TX TY TZ", "M128 or FUNCTION TCPM"),
                 _ => ("A3 B3 C3", "TRAORI"),
             };
@@ -670,7 +673,7 @@ impl Interpreter {
         // center is specified with I_, J_, and K_, a 360° arc (circle) is specified" (FANUC B-64484EN,
         // "Circular interpolation"; Haas Mill Operator's Manual, G02/G03: a full circle takes I J K,
         // not R).
-        if (self.dialect == Dialect::Rs274 || fanuc) && arc_motion && targets.is_empty() && !g10 && !words.iter().any(|w| w.letter == 'R') {
+        if (before.dialect == Dialect::Rs274 || fanuc) && arc_motion && targets.is_empty() && !g10 && !words.iter().any(|w| w.letter == 'R') {
             let (a0, a1, _) = next.plane.axes();
             let offset = |k: usize| words.iter().any(|w| w.letter == ['I', 'J', 'K'][k]);
             if if next.arc_absolute { offset(a0) && offset(a1) } else { offset(a0) || offset(a1) } {
@@ -686,7 +689,7 @@ impl Interpreter {
         }
         // Sinumerik: "G4 must be programmed in a separate NC block" (Fundamentals, G4): a dwell with a
         // move is an alarm on the control, not a dwell and then a move as LinuxCNC reads it.
-        if let (Some(g), true, Dialect::Sinumerik) = (dwell_word, moves, self.dialect) {
+        if let (Some(g), true, Dialect::Sinumerik) = (dwell_word, moves, before.dialect) {
             diags.error(line, g.column, "G4 with axis words: Sinumerik runs a dwell only in a block of its own (G4 F, seconds)");
         }
         if moves && block_motion.is_none() {
@@ -699,13 +702,13 @@ impl Interpreter {
             for w in words.iter().filter(|w| "IJK".contains(w.letter)) {
                 let k = "IJK".find(w.letter).unwrap_or(0);
                 let v = w.value * next.unit;
-                next.centre[k] = Some(if next.absolute { v } else { self.last[k] + v });
+                next.centre[k] = Some(if next.absolute { v } else { before.last[k] + v });
             }
             if let Some(w) = words.iter().find(|w| w.letter == 'R').filter(|_| !arc_motion && !defines) {
                 diags.error(line, w.column, format!("R{}: a radius without G02/G03", w.raw));
             }
             if arc_motion && moves {
-                let start = [self.last[0], self.last[1], self.last[2]];
+                let start = [before.last[0], before.last[1], before.last[2]];
                 let end = [next.last[0], next.last[1], next.last[2]];
                 let (a0, a1, _) = next.plane.axes();
                 // The arc as an RS274 arc with an absolute centre: the modal I J K, or the block's R.
@@ -719,11 +722,12 @@ impl Interpreter {
                     // Said once, in the dialect's words (Klartext's centre is its CC pole).
                     if as_rs274.len() < 2 {
                         let (i, j) = (['I', 'J', 'K'][a0], ['I', 'J', 'K'][a1]);
-                        let want = if self.dialect == Dialect::Klartext { "a circle centre CC before this block".to_string() } else { format!("{i} and {j} before or in this block, or R") };
+                        let want = if before.dialect == Dialect::Klartext { "a circle centre CC before this block".to_string() } else { format!("{i} and {j} before or in this block, or R") };
                         diags.error(line, column, format!("arc without a circle centre: expected {want}"));
                     }
                 }
-                let st = Interpreter { arc_absolute: true, ..next.clone() };
+                let mut st = next.clone();
+                st.arc_absolute = true;
                 if as_rs274.len() == 2 || as_rs274.iter().any(|w| w.letter == 'R') {
                     // A polar circle's turns (P), as RS274's.
                     as_rs274.extend(words.iter().filter(|w| w.letter == 'P').cloned());
@@ -736,9 +740,9 @@ impl Interpreter {
         }
         if arc_motion && !heid && !g10 {
             if moves {
-                let start = [self.last[0], self.last[1], self.last[2]];
+                let start = [before.last[0], before.last[1], before.last[2]];
                 let end = [next.last[0], next.last[1], next.last[2]];
-                arc = resolve_arc(words, &next, start, end, line, column, diags.errors() > errors_before, diags);
+                arc = resolve_arc(words, next, start, end, line, column, diags.errors() > errors_before, diags);
             } else if words.iter().any(|w| "IJKR".contains(w.letter) || (w.letter == 'P' && !uses.contains(&'P'))) {
                 // (A P that another code of the block takes, G4's or G64's, is not the arc's.)
                 diags.error(line, column, "arc words without an end point: expected X, Y or Z with them");
@@ -754,7 +758,7 @@ impl Interpreter {
         if moves && block_motion.is_some_and(|m| m == Motion::Linear || m.is_arc()) {
             match next.feed_mode {
                 FeedMode::PerMinute if next.feed.is_none() => {
-                    let why = if self.feed.is_some() { " (the change of feed mode left none)" } else { "" };
+                    let why = if before.feed.is_some() { " (the change of feed mode left none)" } else { "" };
                     let g = match block_motion {
                         Some(Motion::ArcCw) => "G02",
                         Some(Motion::ArcCcw) => "G03",
@@ -784,11 +788,12 @@ impl Interpreter {
         // "in combination with M128 [only] if you used the M138 function" (iTNC 530 user's manual
         // 60642x-03 §12.5): under TCPM the feed is the tool tip's as always. Without TCPM, a feed move of
         // a rotary axis would run at a speed this model does not compute.
-        if heid && next.m116 && !next.tcp && moves && block_motion.is_some_and(|m| m != Motion::Rapid) && (3..6).any(|k| next.last[k] != self.last[k]) {
+        if heid && next.m116 && !next.tcp && moves && block_motion.is_some_and(|m| m != Motion::Rapid) && (3..6).any(|k| next.last[k] != before.last[k]) {
             diags.error(line, column, "a rotary axis moving at a feed with M116 in force and neither M128 nor FUNCTION TCPM: the TNC reads its F in mm/min at the tool's distance from the rotary axis, which is not modelled (M117 resets M116)");
         }
         let errors_after = diags.errors();
         if errors_after > errors_before {
+            *self = before;
             // The tool vector belonged to this block: it does not carry over to the next one.
             self.pending_vector = None;
             return None;
@@ -796,8 +801,7 @@ impl Interpreter {
         // In a tilted plane without TCPM a move of the rotary axes alone leaves the linear axes where
         // they stand, so the tool tip moves in the plane: read it anew.
         let rotary_only = !linear_words && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some());
-        let axes_before = (self.tilt.is_some() && !self.tcp && rotary_only).then(|| self.axes_now());
-        *self = next;
+        let axes_before = (before.tilt.is_some() && !before.tcp && rotary_only).then(|| before.axes_now());
         if let Some(axes) = axes_before {
             self.read_axes(axes);
         }
@@ -823,8 +827,9 @@ impl Interpreter {
         // Fanuc's and Haas' G68: the block placed about the centre, Fanuc's tool position at G68 for
         // incremental moves until an absolute one (machine coordinates are not turned).
         let last = self.last;
+        let absolute = self.absolute;
         if let Some(r) = self.rotation2d.as_mut().filter(|_| shot.is_none_or(|s| s.axes.is_none())) {
-            let modal = self.absolute || shot.is_some_and(|s| s.absolute);
+            let modal = absolute || shot.is_some_and(|s| s.absolute);
             let letters = r.letters();
             if words.iter().any(|w| letters.contains(&w.letter) && w.dimension.absolute(modal)) {
                 r.until_absolute = None;

@@ -58,9 +58,31 @@ impl Dimension {
     }
 }
 
-/// Modal state of a G-code program.
+/// Modal state of a G-code program: what a block may change, copied whole ([`State`]), and what it
+/// shares or keeps on the heap. Its fields read as the state's (`Deref`).
 #[derive(Debug, Clone)]
 pub struct Interpreter {
+    /// The state a block changes in place and a refused block puts back (a copy of bytes, no
+    /// allocation or reference count per block).
+    st: State,
+    /// Machine-specific M codes and what they do (`--m-code`; shared: a reader clones the
+    /// interpreter to roll a refused block back).
+    m_codes: std::sync::Arc<[MCodeRule]>,
+    /// LinuxCNC's cutter radius compensation and the moves it holds ([`super::cutter_comp`]), and the
+    /// tool table its `G41`/`G42` take the radius from.
+    pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
+    tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
+    /// The machine's coordinates (`G53`, `G28`), if its file places them.
+    machine_coords: Option<std::sync::Arc<crate::machine::MachineCoordinates>>,
+    /// The machine, whose kinematics place the tool where the program's coordinates change meaning
+    /// (a plane tilted or reset, rotary axes moved without TCPM in a tilted plane).
+    machine: Option<std::sync::Arc<crate::machine::Machine>>,
+}
+
+/// The part of the modal state that is plain values: copied before each block, so a block with a
+/// defect changes nothing.
+#[derive(Debug, Clone, Copy)]
+pub struct State {
     dialect: Dialect,
     unit: f64,
     /// The length unit of F (m per program unit): the geometry's, but for Sinumerik's G70/G71, which
@@ -86,9 +108,6 @@ pub struct Interpreter {
     /// Arc plane (G17/G18/G19) and whether I J K are absolute (G90.1) or from the start (G91.1).
     plane: Plane,
     arc_absolute: bool,
-    /// Machine-specific M codes and what they do (`--m-code`; shared: a reader clones the
-    /// interpreter to roll a refused block back).
-    m_codes: std::sync::Arc<[MCodeRule]>,
     /// RS274: the work offsets the program set (`G10 L2 P1..P9`, m; a system it never set is taken as
     /// zero) and the active one (`G54`..`G59.3` = 0..8).
     offsets: [[f64; 3]; 9],
@@ -116,14 +135,10 @@ pub struct Interpreter {
     /// `G69` has cancelled it and no move of its plane's axes (these letters) has come since (the
     /// first must be absolute).
     pub(crate) after_g69: Option<[char; 2]>,
-    /// LinuxCNC's cutter radius compensation and the moves it holds ([`super::cutter_comp`]), and the
-    /// tool table its `G41`/`G42` take the radius from.
-    pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
     pub(crate) tools: super::cutter_comp::Tools,
     /// The spindle speed the last `S` word set (as written, 1/min), for the macros that read it
     /// (LinuxCNC's `#<_rpm>`, Fanuc's `#4119`); None before any.
     pub(crate) spindle_speed: Option<f64>,
-    tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
     /// Whether blocks end in a stop (G61, G61.1, G60; G64 blends): the modal mode.
     pub(crate) exact: crate::program::Exact,
     /// Sinumerik's G9 (its reader's): the next block stops at its end.
@@ -147,8 +162,6 @@ pub struct Interpreter {
     /// Radians per program unit of the A, B and C words (degrees, unless the machine's control
     /// reads an axis in radians).
     rotary_unit: [f64; 3],
-    /// The machine's coordinates (`G53`, `G28`), if its file places them.
-    machine_coords: Option<std::sync::Arc<crate::machine::MachineCoordinates>>,
     /// How the next block is made, overriding the modal state for it alone (a reference return's
     /// legs, a canned cycle's moves).
     pub(crate) oneshot: Option<OneShot>,
@@ -179,9 +192,6 @@ pub struct Interpreter {
     /// Heidenhain M116 (M117 resets): a rotary axis' F read in mm/min.
     m116: bool,
     modulo: [bool; 3],
-    /// The machine, whose kinematics place the tool where the program's coordinates change meaning
-    /// (a plane tilted or reset, rotary axes moved without TCPM in a tilted plane).
-    machine: Option<std::sync::Arc<crate::machine::Machine>>,
     /// Which work offsets (G54-G59.3) the program set (G10 L2, L20).
     offsets_given: [bool; 9],
     /// An additional work offset (Fanuc G54.1 P) is in effect.
@@ -191,6 +201,19 @@ pub struct Interpreter {
     /// Fanuc `G68.2`'s feature coordinate system in effect: its origin (m, in the workpiece
     /// coordinates), which the datum holds on top of the work offset until `G69`.
     pub(crate) feature: Option<[f64; 3]>,
+}
+
+impl std::ops::Deref for Interpreter {
+    type Target = State;
+    fn deref(&self) -> &State {
+        &self.st
+    }
+}
+
+impl std::ops::DerefMut for Interpreter {
+    fn deref_mut(&mut self) -> &mut State {
+        &mut self.st
+    }
 }
 
 /// How one block is made whatever the modal state says.
@@ -222,72 +245,74 @@ const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
 impl Interpreter {
     pub fn new(dialect: Dialect) -> Self {
         Interpreter {
-            dialect,
-            unit: MM,
-            feed_unit: MM,
-            absolute: true,
-            motion: None,
-            feed: None,
-            feed_mode: FeedMode::PerMinute,
-            per_revolution: false,
-            spindle_turning: None,
-            tcp: false,
-            kins_tcp: false,
-            datum: [0.0; 3],
-            plane: Plane::Xy,
-            arc_absolute: false,
-            m_codes: std::sync::Arc::from([]),
-            offsets: [[0.0; 3]; 9],
-            system: 0,
-            axis_offset: [0.0; 3],
-            axis_offset_kept: [0.0; 3],
-            rotation: [0.0; 9],
-            hold_frame: false,
-            stored_home: [None; 2],
-            halted: false,
-            rotation2d: None,
-            after_g69: None,
-            refused_line: None,
-            exact: crate::program::Exact::Blend,
-            exact_once: false,
-            comp: None,
-            tools: Default::default(),
-            spindle_speed: None,
-            tool_table: None,
-            tool_vector: false,
-            orientation: dialect.default_orientation(),
-            centre: [None; 3],
-            last_arc: None,
-            pending_vector: None,
-            last: [0.0; 6],
-            tolerance: Default::default(),
-            forced_unit: None,
-            rotary_unit: [DEG; 3],
-            machine_coords: None,
-            oneshot: None,
-            // LinuxCNC's interpreter starts in G99 (interp_setup.cc: `retract_mode(R_PLANE)`); Fanuc's
-            // and Haas' reset state is G98.
-            cycles: super::cycles::CycleState { to_r: dialect == Dialect::Rs274, ..Default::default() },
-            rotary_letters: [None; 2],
-            peck: [None; 2],
-            arc_tolerance: match dialect {
-                Dialect::Sinumerik => SINUMERIK_CIRCLE_ERROR_CONST,
-                Dialect::Klartext | Dialect::Heidenhain => TNC_CIRCLE_TOLERANCE,
-                _ => ARC_RADIUS_TOLERANCE,
+            st: State {
+                dialect,
+                unit: MM,
+                feed_unit: MM,
+                absolute: true,
+                motion: None,
+                feed: None,
+                feed_mode: FeedMode::PerMinute,
+                per_revolution: false,
+                spindle_turning: None,
+                tcp: false,
+                kins_tcp: false,
+                datum: [0.0; 3],
+                plane: Plane::Xy,
+                arc_absolute: false,
+                offsets: [[0.0; 3]; 9],
+                system: 0,
+                axis_offset: [0.0; 3],
+                axis_offset_kept: [0.0; 3],
+                rotation: [0.0; 9],
+                hold_frame: false,
+                stored_home: [None; 2],
+                halted: false,
+                rotation2d: None,
+                after_g69: None,
+                refused_line: None,
+                exact: crate::program::Exact::Blend,
+                exact_once: false,
+                tools: Default::default(),
+                spindle_speed: None,
+                tool_vector: false,
+                orientation: dialect.default_orientation(),
+                centre: [None; 3],
+                last_arc: None,
+                pending_vector: None,
+                last: [0.0; 6],
+                tolerance: Default::default(),
+                forced_unit: None,
+                rotary_unit: [DEG; 3],
+                oneshot: None,
+                // LinuxCNC's interpreter starts in G99 (interp_setup.cc: `retract_mode(R_PLANE)`); Fanuc's
+                // and Haas' reset state is G98.
+                cycles: super::cycles::CycleState { to_r: dialect == Dialect::Rs274, ..Default::default() },
+                rotary_letters: [None; 2],
+                peck: [None; 2],
+                arc_tolerance: match dialect {
+                    Dialect::Sinumerik => SINUMERIK_CIRCLE_ERROR_CONST,
+                    Dialect::Klartext | Dialect::Heidenhain => TNC_CIRCLE_TOLERANCE,
+                    _ => ARC_RADIUS_TOLERANCE,
+                },
+                arc_tolerance_factor: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_FACTOR } else { 0.0 },
+                unit_stated: false,
+                dwo: false,
+                tilt: None,
+                shortest: false,
+                arc_feed: crate::program::cutter_comp::ArcFeed::Centre,
+                m116: false,
+                modulo: [false; 3],
+                offsets_given: [false; 9],
+                extra_offset: false,
+                preset_assumed: false,
+                feature: None,
             },
-            arc_tolerance_factor: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_FACTOR } else { 0.0 },
-            unit_stated: false,
-            dwo: false,
-            tilt: None,
-            shortest: false,
-            arc_feed: crate::program::cutter_comp::ArcFeed::Centre,
-            m116: false,
-            modulo: [false; 3],
+            m_codes: std::sync::Arc::from([]),
+            comp: None,
+            tool_table: None,
+            machine_coords: None,
             machine: None,
-            offsets_given: [false; 9],
-            extra_offset: false,
-            preset_assumed: false,
-            feature: None,
         }
     }
 
@@ -433,8 +458,9 @@ impl Interpreter {
             diags.warning(line, w.column, format!("G10 L1 {}{}: tool offsets are not read (a G43 tool length is the machine file's tool_tip_mm)", w.letter, w.raw));
         }
         if let Some(r) = r {
+            let unit = next.unit;
             if let Some(table) = next.tool_table.as_mut() {
-                std::sync::Arc::make_mut(table).set_diameter(tool, 2.0 * r.value * next.unit);
+                std::sync::Arc::make_mut(table).set_diameter(tool, 2.0 * r.value * unit);
             }
         }
     }
