@@ -187,6 +187,29 @@ fn fanuc_macros_read_the_modal_information() {
     }
 }
 
+/// A refused block changes none of the state (fail closed): its incremental mode, inch unit, feed,
+/// work offset and plane do not reach the next block. LinuxCNC's G10 L2 P2 X100. sets G55's offset
+/// to X 100 mm; a refused `G91 G20 G55 G18 G1 X1. F50. Q5.` (Q without a cycle) leaves G90, G21,
+/// F100, G54 and G17, so `G1 X20.` ends at X 20 mm at 100 mm/min and `G2 X40. I10.` (I: an XY-plane
+/// centre) is an arc (by hand; a state left from the refused block would end it at 30 inch, at
+/// 50 in/min, 100 mm further, or in the XZ plane, where I J is refused).
+#[test]
+fn a_refused_block_leaves_every_part_of_the_state() {
+    let text = "G21 G90 G17 G94 F100.\nG10 L2 P2 X100.\nG0 X10. Y0. Z0.\nG91 G20 G55 G18 G1 X1. F50. Q5.\nG1 X20.\nG2 X40. I10. J0.\nM2\n";
+    let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    let e = errors(&p);
+    assert_eq!(e.len(), 1, "only the Q5 block is refused: {e:?}");
+    assert_eq!(e[0].0, 4, "{e:?}");
+    let b: Vec<_> = p.blocks.iter().filter(|b| b.line >= 5 && !b.targets.is_empty()).collect();
+    assert_eq!(b.len(), 2, "{b:?}");
+    let x = b[0].targets.x.unwrap() + b[0].datum[0];
+    assert!((x - 20.0 * MM).abs() < 1e-12, "X {x} m: G90, G21 and G54 stay");
+    assert_eq!(b[0].feed.map(|f| f.value_per_min), Some(100.0), "F100 mm/min stays");
+    assert_eq!(b[1].motion, Motion::ArcCw);
+    let x = b[1].targets.x.unwrap() + b[1].datum[0];
+    assert!((x - 40.0 * MM).abs() < 1e-12, "X {x} m");
+}
+
 /// A refused block sets none of its codes (fail closed), so a later block may be refused for a
 /// code the refused one would have set: that defect names the refused line, so the first cause is
 /// found (a real program's `G18 G2 ... Q5` refused for its Q, then `G2 ... K0.` read in the XY plane).
