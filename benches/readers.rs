@@ -10,7 +10,7 @@
 //! DIALECT one of rs274 heidenhain sinumerik klartext fanuc haas cl apt, or a loop: rs274loop
 //! fanucloop sinumerikloop klartextloop make a quarter of BLOCKS moves in a loop of the dialect's
 //! parameter language, each computed from expressions, and print the blocks they run per second;
-//! corpus: only the real programs below)
+//! corpus: only the real programs below; corpus:TEXT those whose file name holds TEXT, to profile one)
 //!
 //! Then the real programs of `../shared/outside/programs` that read with no defect (issue 64's
 //! corpus, tests/corpus/cases.rs), each streamed from its file on its built-in machine as `program
@@ -143,8 +143,8 @@ const ROUNDS: usize = 5;
 fn main() {
     let blocks: usize = std::env::args().skip(1).find_map(|a| a.parse().ok()).unwrap_or(1_000_000);
     let only = std::env::args().skip(1).find(|a| a.parse::<usize>().is_err() && !a.starts_with('-'));
-    if only.as_ref().is_some_and(|o| o.eq_ignore_ascii_case("corpus")) {
-        real_programs();
+    if let Some(o) = only.as_ref().filter(|o| o.to_ascii_lowercase().starts_with("corpus")) {
+        real_programs(o.split_once(':').map_or("", |(_, name)| name));
         return;
     }
     println!("reading a {blocks}-block five-axis program, one core, best of {ROUNDS} (target >= 1 M blocks/s)");
@@ -200,7 +200,7 @@ fn main() {
         println!("{:<14} {:>8} {:>16.2} {:>12.2} {:>8}", b.name, moves, rate, moves as f64 / b.best / 1e6, mark(rate));
     }
     if only.is_none() {
-        real_programs();
+        real_programs("");
     }
 }
 
@@ -211,7 +211,7 @@ fn main() {
 /// its blocks. The programs are read in turn, [`PASSES`] times over, each program's best read
 /// kept: a slow spell of this machine's neighbours (they took a third off one program's rate for
 /// seconds at a time) then falls on some passes of every program rather than on all of one.
-fn real_programs() {
+fn real_programs(named: &str) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/outside/programs");
     if !dir.is_dir() {
         println!("real programs: {} not found, skipped", dir.display());
@@ -229,6 +229,7 @@ fn real_programs() {
     }
     let mut programs: Vec<Timed> = corpus_cases::CLEAN
         .iter()
+        .filter(|case| case.file.contains(named))
         .map(|case| {
             let path = dir.join(case.file);
             let machine = fiveaxis::machine::Machine::builtin(case.machine).unwrap_or_else(|e| panic!("{}: {e}", case.machine));
