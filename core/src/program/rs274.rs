@@ -537,11 +537,8 @@ impl Rs274Reader {
                     }
                     continue;
                 }
-                // A sign first, then digits and points.
-                i += usize::from(i < chars.len() && matches!(chars[i], '+' | '-'));
-                while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
-                    i += 1;
-                }
+                // A sign first, then digits and points: ASCII, a character a byte.
+                i += super::lex::number_prefix_len(&text[byte(start)..]);
                 let number_text = &text[byte(start)..byte(i)];
                 match parse_number(number_text) {
                     Some(v) if letter == 'N' => {
@@ -753,7 +750,7 @@ impl Rs274Reader {
     fn decimal_points(&self, words: &mut [Word], computed: &[usize]) -> Option<usize> {
         // Most CAM blocks write every such value with its point: then the block's codes need no look.
         let bare = |i: usize, w: &Word| computed.binary_search(&i).is_err() && !w.raw.contains('.');
-        if !words.iter().enumerate().any(|(i, w)| matches!(w.letter, 'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'Q' | 'U' | 'V' | 'W' | 'A' | 'B' | 'C' | 'F') && bare(i, w)) {
+        if !words.iter().enumerate().any(|(i, w)| Increment::of(w.letter).is_some() && bare(i, w)) {
             return None;
         }
         let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
@@ -768,20 +765,20 @@ impl Rs274Reader {
         // Operator's Manual, Feed functions, inverse time feed: F code specification value FRN).
         let inverse_time = self.block_feed_mode(words).0;
         for (i, w) in words.iter_mut().enumerate() {
-            if !bare(i, w) {
+            let Some(kind) = Increment::of(w.letter).filter(|_| bare(i, w)) else {
                 continue;
-            }
-            let step = match w.letter {
-                'Q' if mode_q => continue,
-                'K' if cycle => continue,
-                'I' | 'J' | 'K' if angles_ijk => 1e-3,
-                'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'Q' | 'U' | 'V' | 'W' => if inch { 1e-4 } else { 1e-3 },
-                'A' | 'B' | 'C' => 1e-3,
-                'F' if inverse_time && self.dialect == Dialect::Fanuc => 1e-3,
-                _ => continue,
+            };
+            let step = match (w.letter, kind) {
+                ('Q', _) if mode_q => continue,
+                ('K', _) if cycle => continue,
+                ('I' | 'J' | 'K', _) if angles_ijk => 1e-3,
+                (_, Increment::Length) => if inch { 1e-4 } else { 1e-3 },
+                (_, Increment::Angle) => 1e-3,
+                (_, Increment::Feed) if inverse_time && self.dialect == Dialect::Fanuc => 1e-3,
+                (_, Increment::Feed) => continue,
             };
             w.value *= step;
-            if first.is_none() && w.value != 0.0 && !matches!(w.letter, 'F') {
+            if first.is_none() && w.value != 0.0 && kind != Increment::Feed {
                 first = Some(i);
             }
         }
@@ -805,6 +802,26 @@ impl Rs274Reader {
             false
         } else {
             self.interp.unit() == crate::units::INCH
+        }
+    }
+}
+
+/// What a Fanuc or Haas address written without its decimal point counts in least input
+/// increments ([`Rs274Reader::decimal_points`]): the one list of the addresses it steps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Increment {
+    Length,
+    Angle,
+    Feed,
+}
+
+impl Increment {
+    fn of(letter: char) -> Option<Increment> {
+        match letter {
+            'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'Q' | 'U' | 'V' | 'W' => Some(Increment::Length),
+            'A' | 'B' | 'C' => Some(Increment::Angle),
+            'F' => Some(Increment::Feed),
+            _ => None,
         }
     }
 }
