@@ -6,7 +6,7 @@ use super::{Diagnostic, Severity};
 /// (no exponents, no embedded spaces, no `C.L..`), so a damaged value is never read as one.
 /// Up to 15 significant digits take Clinger's fast path (an exact integer divided by an exact power
 /// of ten: one correctly rounded operation, the same value `str::parse` gives); up to 19 digits (a
-/// float printed to round-trip has 17) an exact integer division ([`exact_ratio`]); longer ones go
+/// float printed to round-trip has 17) Eisel-Lemire ([`exact_ratio`]); longer ones go
 /// to `str::parse`.
 pub fn parse_number(s: &str) -> Option<f64> {
     let bytes = s.as_bytes();
