@@ -143,8 +143,10 @@ const ROUNDS: usize = 5;
 fn main() {
     let blocks: usize = std::env::args().skip(1).find_map(|a| a.parse().ok()).unwrap_or(1_000_000);
     let only = std::env::args().skip(1).find(|a| a.parse::<usize>().is_err() && !a.starts_with('-'));
-    if let Some(o) = only.as_ref().filter(|o| o.to_ascii_lowercase().starts_with("corpus")) {
-        real_programs(o.split_once(':').map_or("", |(_, name)| name));
+    // `corpus`, or `corpus:TEXT` for the real programs whose name holds TEXT.
+    let corpus = only.as_ref().and_then(|o| if o.eq_ignore_ascii_case("corpus") { Some("") } else { o.get(..7).filter(|p| p.eq_ignore_ascii_case("corpus:")).map(|_| &o[7..]) });
+    if let Some(named) = corpus {
+        real_programs(named);
         return;
     }
     println!("reading a {blocks}-block five-axis program, one core, best of {ROUNDS} (target >= 1 M blocks/s)");

@@ -6,7 +6,7 @@ use super::{Diagnostic, Severity};
 /// (no exponents, no embedded spaces, no `C.L..`), so a damaged value is never read as one.
 /// Up to 15 significant digits take Clinger's fast path (an exact integer divided by an exact power
 /// of ten: one correctly rounded operation, the same value `str::parse` gives); up to 19 digits (a
-/// float printed to round-trip has 17) Eisel-Lemire ([`exact_ratio`]); longer ones go
+/// float printed to round-trip has 17) Eisel-Lemire ([`eisel_lemire`]); longer ones go
 /// to `str::parse`.
 pub fn parse_number(s: &str) -> Option<f64> {
     let bytes = s.as_bytes();
@@ -37,7 +37,7 @@ pub fn parse_number(s: &str) -> Option<f64> {
         mantissa as f64 / POW10[fraction]
     } else if digits <= 19 {
         // At most 19 digits: the integer did not wrap (10^19 < 2^64).
-        exact_ratio(mantissa, fraction)
+        eisel_lemire(mantissa, fraction)
     } else {
         return s.parse::<f64>().ok().filter(|v| v.is_finite());
     };
@@ -50,7 +50,7 @@ pub fn parse_number(s: &str) -> Option<f64> {
 /// exponents the product always decides the rounding (§9.1: it fails only outside -27..=55) and
 /// the mantissa is exact, so no fallback is needed; the table's entries are the paper's (5^-q
 /// rounded up to 128 bits, 5^0 exact).
-fn exact_ratio(w: u64, f: usize) -> f64 {
+fn eisel_lemire(w: u64, f: usize) -> f64 {
     const POW5: [(u64, u64); 20] = [
         (0xec1e4a7db69561a5, 0x2b31e9e3d06c32e6), // 5^-19
         (0x9392ee8e921d5d07, 0x3aff322e62439fd0),

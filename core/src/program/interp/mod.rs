@@ -62,8 +62,9 @@ impl Dimension {
 /// shares or keeps on the heap. Its fields read as the state's (`Deref`).
 #[derive(Debug, Clone)]
 pub struct Interpreter {
-    /// The state a block changes in place and a refused block puts back (a copy of bytes, no
-    /// allocation or reference count per block).
+    /// The state a block changes in place and a refused block puts back: one copy of bytes. The
+    /// fields below are cloned with it (a reference count each; compensation's moves, when on, a
+    /// copy), though only `tool_table` and `comp` ever change in a block.
     st: State,
     /// Machine-specific M codes and what they do (`--m-code`; shared: a reader clones the
     /// interpreter to roll a refused block back).
