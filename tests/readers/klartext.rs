@@ -403,3 +403,19 @@ fn klartext_cycle_1_pecking_runs_as_the_manuals_process() {
         assert!(e.iter().any(|(l, c, m)| (*l, *c) == (line, col) && m.contains(message)), "{cycle}: {e:?}");
     }
 }
+
+/// A comment the TNC broke over lines with `~` (a block longer than a line goes on in the next, as
+/// its cycles' parameters do): the lines after it are its text, however they begin, up to the line
+/// that ends without `~`. The block after the comment is read; a stray line after a comment that
+/// does not go on is still refused.
+#[test]
+fn klartext_reads_a_comment_going_on_over_lines() {
+    let text = "0 BEGIN PGM C MM\n1 ;This program is free software: you can redistribute it~\n under the terms of the GNU License~\n version 3.\n\
+                2 L X+1 Y+2 Z+3 R0 F100\n3 ;one line ~ in the middle\n4 L X+4\n5 END PGM C MM\n";
+    let p = read(text, Dialect::Klartext, "c.h", &ReadOptions::default());
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    assert_eq!(p.blocks.iter().filter_map(|b| b.targets.x).collect::<Vec<_>>(), vec![1.0 * MM, 4.0 * MM]);
+    let stray = "0 BEGIN PGM C MM\n1 ;a comment that ends here\n under the terms\n2 L X+1 Y+2 Z+3 R0 F100\n3 END PGM C MM\n";
+    let p = read(stray, Dialect::Klartext, "c.h", &ReadOptions::default());
+    assert!(p.diagnostics.iter().any(|d| d.line == 3 && d.message.contains("unknown block 'under'")), "{:#?}", p.diagnostics);
+}

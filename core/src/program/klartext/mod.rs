@@ -282,18 +282,35 @@ struct ParseState {
     datum_defined: bool,
     /// `DR+F2777` (a direction and the next word written together) has been said once.
     joined_said: bool,
+    /// The line before was a comment ending in `~`: this line goes on with its text.
+    comment_goes_on: bool,
 }
 
 /// Parse one line (1-based `line`) into its statement; defects go to `diags` and drop it. Lines are
 /// parsed as they run, so a repeated section is parsed again rather than held: memory stays that of
 /// the blocks.
 fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Diags) -> Option<Stmt<'a>> {
-    let ParseState { name, inch, began, ended, datum_defined, joined_said } = st;
-    let all = tokens(raw.trim_end_matches('\r'));
-    let &(first, first_col) = all.first()?;
+    let ParseState { name, inch, began, ended, datum_defined, joined_said, comment_goes_on } = st;
+    let text = raw.trim_end_matches('\r');
+    // A `~` ending a line carries its block on to the next (as the TNC writes a cycle's parameters,
+    // [`text_from`]): a comment's next line is more of its text, however it begins.
+    let tilde = text.trim_end().ends_with('~');
+    if std::mem::take(comment_goes_on) {
+        *comment_goes_on = tilde;
+        return None;
+    }
+    let all = tokens(text);
+    let comment_only = |toks: &[(&str, usize)]| toks.is_empty() && tilde && text.contains(';');
+    let Some(&(first, first_col)) = all.first() else {
+        *comment_goes_on = comment_only(&all);
+        return None;
+    };
     // The block number, then the block.
     let (number, toks) = if first.bytes().all(|c| c.is_ascii_digit()) { (first.parse::<u64>().ok(), &all[1..]) } else { (None, &all[..]) };
-    let &(head, head_col) = toks.first()?;
+    let Some(&(head, head_col)) = toks.first() else {
+        *comment_goes_on = comment_only(toks);
+        return None;
+    };
     if head.starts_with('*') {
         return None; // `* - SECTION`: a structure line
     }
