@@ -208,3 +208,24 @@ fn subprograms_are_found_beside_the_program_and_on_the_subroutine_path() {
     assert_eq!(all.matches(": error:").count(), 1, "{all}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Words written without blanks between them (`N20 T1D1M6`, `G1X10.5Y-20F300`, as shop programs
+/// hand-written at the control do): a word is an address letter and its digits, blanks only
+/// separate (Programming Manual Fundamentals 12/2019 §2.2.2.1 and its table of characters), so they
+/// read as the same program written with blanks. A letter run on after a number that is no word
+/// (`X10ABC`) is still refused.
+#[test]
+fn words_written_without_blanks_read_as_with_them() {
+    let joined = "N10 G90 G71 G94\nN20 T1D1M6\nN30 S1000M3\nN40 G0X10Y20Z5\nN50 G1X10.5Y-20F300\nN60 G2X20.5Y-10I10J0\nN70 M30\n";
+    let spaced = "N10 G90 G71 G94\nN20 T1 D1 M6\nN30 S1000 M3\nN40 G0 X10 Y20 Z5\nN50 G1 X10.5 Y-20 F300\nN60 G2 X20.5 Y-10 I10 J0\nN70 M30\n";
+    let (a, b) = (on_umc(joined), on_umc(spaced));
+    assert!(errors(&a).is_empty() && errors(&b).is_empty(), "{:#?}", errors(&a));
+    assert_eq!(a.blocks.len(), b.blocks.len());
+    for (x, y) in a.blocks.iter().zip(&b.blocks) {
+        assert_eq!((x.line, x.motion, x.targets.x, x.targets.y, x.targets.z, &x.events), (y.line, y.motion, y.targets.x, y.targets.y, y.targets.z, &y.events));
+        assert_eq!(x.feed.map(|f| f.value_per_min), y.feed.map(|f| f.value_per_min));
+    }
+    assert!(close(blocks_of(&a, 5)[0].targets.y, -20.0) && blocks_of(&a, 6).iter().all(|b| b.motion == Motion::ArcCw));
+    let p = on_umc("G90 G71\nG0 X10ABC Y5\n");
+    assert!(errors(&p).iter().any(|(l, c, _)| *l == 2 && *c == 7), "{:#?}", errors(&p));
+}

@@ -463,8 +463,18 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             let text = &src[start..end];
             let stop = token_end(end);
             i = stop.max(i + 1);
-            match parse_number(text).filter(|_| stop == end) {
-                Some(x) => (x, text),
+            // A word is an address letter and a sequence of digits (Programming Manual
+            // Fundamentals 12/2019 §2.2.2.1 "Blocks and block components"); blanks and tabs only
+            // separate words (its table of characters, p. 52): a letter after the digits starts the next
+            // word, as in `T1D1M6` and `G1X10Y20`.
+            let next_word = end < n && b[end].is_ascii_alphabetic();
+            match parse_number(text).filter(|_| stop == end || next_word) {
+                Some(x) => {
+                    if next_word {
+                        i = end;
+                    }
+                    (x, text)
+                }
                 None if end < n && b[end] == b'(' => {
                     // M202(0.0059): a bracket after an address' number is no 840D word (an M value is
                     // a whole number; a subprogram's name starts with two letters).
