@@ -63,9 +63,30 @@ fn arot_turns_the_frame_under_traori() {
     assert!(close(b.targets.x, 2.0) && close(b.targets.y, -15.001) && close(b.targets.z, -31.0), "{:?}", b.targets);
     let b = blocks_of(&p, 8)[0];
     assert!(close(b.targets.x, 1.0) && close(b.targets.z, 3.0), "{:?}", b.targets);
-    // Without TRAORI a rotated frame would turn the linear axes only: refused.
-    let p = on_umc("G90 G71\nAROT Y90\nG0 X1\n");
-    assert!(errors(&p).iter().any(|(l, _, m)| *l == 2 && m.contains("without TRAORI")), "{:#?}", errors(&p));
+}
+
+/// Without TRAORI (or CYCLE800's swivel data) a rotated frame turns the linear axes' coordinates
+/// alone: the frame maps the workpiece coordinates onto the basic system, which without a
+/// transformation is the axes' (Fundamentals 12/2019 §"Frames"), so axes = R p + datum however the
+/// rotary axes stand (here the UMC's table at B90). `AROT Y90`: (x, y, z) -> (z, y, -x); `ROT Z90`
+/// replaces it: (x, y, z) -> (-y, x, z); after TRAORI and TRAFOOF the frame turns the axes again.
+#[test]
+fn a_rotated_frame_without_traori_turns_the_linear_axes() {
+    let p = on_umc("G90 G71 G94\nG0 B90 C0\nAROT Y90\nG0 X1 Y2 Z3\nROT Z90\nG1 X10 Y0 Z-5 F100\nTRAORI\nTRAFOOF\nG0 X1 Y2 Z3\n");
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let at = |line: usize, want: [f64; 3]| {
+        let b = blocks_of(&p, line)[0];
+        assert!(!b.tcp && close(b.targets.x, want[0]) && close(b.targets.y, want[1]) && close(b.targets.z, want[2]), "line {line}: {:?}", b.targets);
+    };
+    at(4, [3.0, 2.0, -1.0]);
+    at(6, [0.0, 10.0, -5.0]);
+    at(9, [-2.0, 1.0, 3.0]);
+    // A rotary axis may move in the same block: nothing places the tool through it.
+    let p = on_umc("G90 G71\nROT Z30\nG0 X10 Y0 Z0 B5\n");
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let b = blocks_of(&p, 3)[0];
+    let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    assert!(close(b.targets.x, 10.0 * c) && close(b.targets.y, 10.0 * s) && !b.tcp, "{:?}", b.targets);
 }
 
 /// `MCALL CYCLE81(10, 0, 2, -5)` (RTP 10, RFP 0, SDIS 2, DP -5): each later positioning block, then

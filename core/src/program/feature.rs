@@ -64,7 +64,7 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     if let Some(w) = has("69") {
         if let Some(origin) = it.feature.take() {
             let datum = it.datum();
-            it.set_frame(std::array::from_fn(|k| datum[k] - origin[k]), None);
+            it.set_frame(std::array::from_fn(|k| datum[k] - origin[k]), None, false);
         }
         let rest: Vec<Word> = words.iter().filter(|x| !std::ptr::eq(*x, w)).cloned().collect();
         return Some(super::fanuc::apply(it, &rest, line, column, number, diags, out));
@@ -114,7 +114,7 @@ fn set_plane(it: &mut Interpreter, g: &Word, absolute: bool, words: &[Word], lin
     let origin = [v('X') * unit, v('Y') * unit, v('Z') * unit];
     let datum = it.datum();
     it.feature = Some(origin);
-    it.set_frame(std::array::from_fn(|k| datum[k] + origin[k]), Some(r));
+    it.set_frame(std::array::from_fn(|k| datum[k] + origin[k]), Some(r), false);
     true
 }
 

@@ -646,7 +646,7 @@ impl Interpreter {
         if let (Some(r), true) = (next.tilt, linear_words) {
             let w = r * nalgebra::Vector3::new(next.last[0], next.last[1], next.last[2]);
             (targets.x, targets.y, targets.z) = (Some(w.x), Some(w.y), Some(w.z));
-            if !next.tcp && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some()) {
+            if !next.tcp && next.axes_frame().is_none() && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some()) {
                 diags.error(line, column, "linear and rotary axis words in one block in a tilted working plane without M128 / FUNCTION TCPM: position the rotary axes in a block of their own");
             }
         }
@@ -801,7 +801,7 @@ impl Interpreter {
         // In a tilted plane without TCPM a move of the rotary axes alone leaves the linear axes where
         // they stand, so the tool tip moves in the plane: read it anew.
         let rotary_only = !linear_words && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some());
-        let axes_before = (before.tilt.is_some() && !before.tcp && rotary_only).then(|| before.axes_now());
+        let axes_before = (before.tilt.is_some() && !before.tcp && before.axes_frame().is_none() && rotary_only).then(|| before.axes_now());
         if let Some(axes) = axes_before {
             self.read_axes(axes);
         }
@@ -813,7 +813,7 @@ impl Interpreter {
             targets,
             arc: arc.map(Box::new),
             feed: self.feed_now(),
-            tcp: (self.tcp || self.tilt.is_some() && (targets.x.is_some() || targets.y.is_some() || targets.z.is_some())) && !shot.is_some_and(|s| s.axes.is_some()),
+            tcp: (self.tcp || self.tilt.is_some() && self.axes_frame().is_none() && (targets.x.is_some() || targets.y.is_some() || targets.z.is_some())) && !shot.is_some_and(|s| s.axes.is_some()),
             datum: self.datum,
             orientation: self.orientation,
             events,

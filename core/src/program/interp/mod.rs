@@ -182,6 +182,10 @@ pub struct State {
     unit_stated: bool,
     /// Haas G254 (dynamic work offset) in effect: no rotary axis may move until G255.
     dwo: bool,
+    /// The frame's rotation (`tilt`) turns the linear axes' coordinates only, with no transformation
+    /// placing the tool (Sinumerik `ROT`/`AROT` without TRAORI or CYCLE800): axes = R p + datum,
+    /// whatever the rotary axes; under TCPM it is a tilted plane as any other.
+    frame_axes_only: bool,
     /// A tilted working plane in effect (Heidenhain PLANE, cycle 19): its frame in the workpiece
     /// (columns: the plane's X Y Z). X Y Z words, `last` and the arcs are in it.
     tilt: Option<nalgebra::Matrix3<f64>>,
@@ -299,6 +303,7 @@ impl Interpreter {
                 arc_tolerance_factor: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_FACTOR } else { 0.0 },
                 unit_stated: false,
                 dwo: false,
+                frame_axes_only: false,
                 tilt: None,
                 shortest: false,
                 arc_feed: crate::program::cutter_comp::ArcFeed::Centre,
@@ -606,6 +611,9 @@ impl Interpreter {
     fn axes_now(&self) -> nalgebra::Vector3<f64> {
         let p = nalgebra::Vector3::new(self.last[0], self.last[1], self.last[2]);
         let d = nalgebra::Vector3::from(self.datum);
+        if let Some(r) = self.axes_frame() {
+            return r * p + d;
+        }
         match (&self.machine, self.tilt, self.tcp) {
             (_, None, false) | (None, _, _) => p + d,
             (Some(m), tilt, _) => m.chain.linear_for(&(tilt.map_or(p, |r| r * p) + d), &self.rot_now()),
@@ -644,6 +652,7 @@ impl Interpreter {
     fn read_axes(&mut self, axes: nalgebra::Vector3<f64>) {
         let d = nalgebra::Vector3::from(self.datum);
         let p = match (&self.machine, self.tilt, self.tcp) {
+            _ if self.axes_frame().is_some() => self.tilt.map_or(axes - d, |r| r.transpose() * (axes - d)),
             (_, None, false) | (None, _, _) => axes - d,
             (Some(m), tilt, _) => {
                 let rot = self.rot_now();
@@ -665,12 +674,21 @@ impl Interpreter {
 
     /// Set the frame in effect: `datum` (m) and a rotation (`None`: none), as the Sinumerik frames
     /// `TRANS`, `ROT` and their additive forms make them; the current point is read anew in it (the
-    /// axes stay).
-    pub fn set_frame(&mut self, datum: [f64; 3], tilt: Option<nalgebra::Matrix3<f64>>) {
+    /// axes stay). `axes_only`: without TCPM the rotation turns the linear axes' coordinates alone
+    /// ([`Interpreter::axes_frame`]), rather than placing the tool tip through the kinematics.
+    pub fn set_frame(&mut self, datum: [f64; 3], tilt: Option<nalgebra::Matrix3<f64>>, axes_only: bool) {
         let axes = self.axes_now();
         self.datum = datum;
         self.tilt = tilt;
+        self.frame_axes_only = axes_only;
         self.read_axes(axes);
+    }
+
+    /// The rotation in effect turns only the linear axes' coordinates (a Sinumerik frame without
+    /// TRAORI or CYCLE800; Fundamentals 12/2019 §"Frames": a frame maps the workpiece coordinate
+    /// system onto the basic one, which without a transformation is the axes').
+    pub(crate) fn axes_frame(&self) -> Option<nalgebra::Matrix3<f64>> {
+        self.tilt.filter(|_| self.frame_axes_only && !self.tcp)
     }
 
     /// The datum shift in effect, m.

@@ -108,7 +108,9 @@ impl SinumerikReader {
             None => frame,
         };
         let t = whole.t;
-        self.interp.set_frame([t.x, t.y, t.z], whole.rotated().then_some(whole.r));
+        // Without CYCLE800's swivel data (TCARR) the frame turns the axes' coordinates alone until
+        // TRAORI places the tool through the kinematics.
+        self.interp.set_frame([t.x, t.y, t.z], whole.rotated().then_some(whole.r), self.swivel.is_none());
     }
 }
 
@@ -301,7 +303,6 @@ impl SinumerikReader {
                     None | Some("1") | Some("") => self.interp.switch_tcp(true),
                     Some(a) => diags.error(line, k.col, format!("TRAORI({a}): only the first orientation transformation, without a basic orientation or offsets, is read")),
                 },
-                "TRAFOOF" if self.frame.rotated() && self.swivel.is_none() => diags.error(line, k.col, "TRAFOOF with a rotated frame in effect: the frame would then turn the linear axes only, which is not modelled (reset it first: ROT, TRANS)"),
                 "TRAFOOF" => self.interp.switch_tcp(false),
                 "ORIWKS" | "ORIVECT" | "ORIPLANE" => self.interp.set_orientation(Orientation::GreatCircle),
                 "ORIMKS" | "ORIAXES" => self.interp.set_orientation(Orientation::AxisLinear),
@@ -376,8 +377,8 @@ impl SinumerikReader {
             }
             false
         });
-        if let Some((statement, col)) = frame_statement {
-            return self.frame_block(statement, col, &words, rpl, line, diags) && diags.errors() == errors_before;
+        if let Some((statement, _)) = frame_statement {
+            return self.frame_block(statement, &words, rpl, line, diags) && diags.errors() == errors_before;
         }
         if let Some((_, col)) = rpl {
             diags.error(line, col, "RPL= outside a frame statement (ROT, AROT)");
@@ -426,7 +427,7 @@ impl SinumerikReader {
     /// `TRANS`/`ATRANS`/`ROT`/`AROT` with X Y Z (offsets or angles, degrees) or `RPL=` (a rotation in
     /// the working plane): a block of its own ("Frame statements must be programmed in a separate
     /// NC block", NC programming 12/2019 §2.12).
-    fn frame_block(&mut self, statement: Statement, col: usize, words: &[Word], rpl: Option<(f64, usize)>, line: usize, diags: &mut Diags) -> bool {
+    fn frame_block(&mut self, statement: Statement, words: &[Word], rpl: Option<(f64, usize)>, line: usize, diags: &mut Diags) -> bool {
         let unit = self.interp.unit();
         let mut values = [0.0; 3];
         for w in words {
@@ -448,9 +449,6 @@ impl SinumerikReader {
             }
         }
         let next = self.frame.apply(statement, values);
-        if next.rotated() && !self.interp.tcp() && self.swivel.is_none() {
-            diags.error(line, col, format!("{}: a rotated frame without TRAORI turns the linear axes only, which is not modelled (switch TRAORI on first)", statement.name()));
-        }
         self.set_frame(next);
         true
     }
