@@ -87,6 +87,10 @@ fn a_rotated_frame_without_traori_turns_the_linear_axes() {
     let b = blocks_of(&p, 3)[0];
     let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
     assert!(close(b.targets.x, 10.0 * c) && close(b.targets.y, 10.0 * s) && !b.tcp, "{:?}", b.targets);
+    // A swivel after such a frame: how CYCLE800 meets the programmed rotation is not read.
+    let ftv5 = Machine::builtin("cincinnati-ftv5").unwrap();
+    let p = read("G90 G71\nROT Z30\nCYCLE800(0,\"R_DATA\",0,57,0,0,0,30,0,0,0,0,0,1)\nG0 X1\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&ftv5));
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 3 && m.contains("after a rotated frame")), "{:#?}", errors(&p));
 }
 
 /// `MCALL CYCLE81(10, 0, 2, -5)` (RTP 10, RFP 0, SDIS 2, DP -5): each later positioning block, then
@@ -230,15 +234,15 @@ fn subprograms_are_found_beside_the_program_and_on_the_subroutine_path() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Words written without blanks between them (`N20 T1D1M6`, `G1X10.5Y-20F300`, as shop programs
+/// Words written without blanks between them (`N20 T1D1M6`, `G1X10.5Y-20F300`, `G3X10.5Y-20CR=10`, as shop programs
 /// hand-written at the control do): a word is an address letter and its digits, blanks only
 /// separate (Programming Manual Fundamentals 12/2019 §2.2.2.1 and its table of characters), so they
 /// read as the same program written with blanks. A letter run on after a number that is no word
 /// (`X10ABC`) is still refused.
 #[test]
 fn words_written_without_blanks_read_as_with_them() {
-    let joined = "N10 G90 G71 G94\nN20 T1D1M6\nN30 S1000M3\nN40 G0X10Y20Z5\nN50 G1X10.5Y-20F300\nN60 G2X20.5Y-10I10J0\nN70 M30\n";
-    let spaced = "N10 G90 G71 G94\nN20 T1 D1 M6\nN30 S1000 M3\nN40 G0 X10 Y20 Z5\nN50 G1 X10.5 Y-20 F300\nN60 G2 X20.5 Y-10 I10 J0\nN70 M30\n";
+    let joined = "N10 G90 G71 G94 R1=3\nN20 T1D1M6\nN30 S1000M3\nN40 G0X10Y20Z5\nN50 G1X10.5Y-20F300\nN60 G2X20.5Y-10I10J0\nN65 G3X10.5Y-20CR=10\nN66 G1X=R1+2\nN70 M30\n";
+    let spaced = "N10 G90 G71 G94 R1=3\nN20 T1 D1 M6\nN30 S1000 M3\nN40 G0 X10 Y20 Z5\nN50 G1 X10.5 Y-20 F300\nN60 G2 X20.5 Y-10 I10 J0\nN65 G3 X10.5 Y-20 CR=10\nN66 G1 X=R1+2\nN70 M30\n";
     let (a, b) = (on_umc(joined), on_umc(spaced));
     assert!(errors(&a).is_empty() && errors(&b).is_empty(), "{:#?}", errors(&a));
     assert_eq!(a.blocks.len(), b.blocks.len());
@@ -247,6 +251,7 @@ fn words_written_without_blanks_read_as_with_them() {
         assert_eq!(x.feed.map(|f| f.value_per_min), y.feed.map(|f| f.value_per_min));
     }
     assert!(close(blocks_of(&a, 5)[0].targets.y, -20.0) && blocks_of(&a, 6).iter().all(|b| b.motion == Motion::ArcCw));
+    assert!(blocks_of(&a, 7).iter().all(|b| b.motion == Motion::ArcCcw) && close(blocks_of(&a, 8)[0].targets.x, 5.0));
     let p = on_umc("G90 G71\nG0 X10ABC Y5\n");
     assert!(errors(&p).iter().any(|(l, c, _)| *l == 2 && *c == 7), "{:#?}", errors(&p));
 }

@@ -418,4 +418,11 @@ fn klartext_reads_a_comment_going_on_over_lines() {
     let stray = "0 BEGIN PGM C MM\n1 ;a comment that ends here\n under the terms\n2 L X+1 Y+2 Z+3 R0 F100\n3 END PGM C MM\n";
     let p = read(stray, Dialect::Klartext, "c.h", &ReadOptions::default());
     assert!(p.diagnostics.iter().any(|d| d.line == 3 && d.message.contains("unknown block 'under'")), "{:#?}", p.diagnostics);
+    // A continuation begins with a blank: a numbered block after a comment of tildes is read, with a
+    // warning; a continuation that reads `LBL 5` is no label (the call finds none).
+    let tildes = "0 BEGIN PGM C MM\n1 ;~~~~~~~~\n2 L Z+100 R0 FMAX\n3 L X+0 Y+0 FMAX\n4 ;see~\n LBL 5\n5 CALL LBL 5\n6 END PGM C MM\n";
+    let p = read(tildes, Dialect::Klartext, "c.h", &ReadOptions::default());
+    assert!(p.blocks.iter().any(|b| b.line == 3 && b.targets.z == Some(100.0 * MM)), "{:#?}", p.blocks);
+    assert!(p.diagnostics.iter().any(|d| d.line == 3 && d.severity == Severity::Warning && d.message.contains("does not begin with a blank")), "{:#?}", p.diagnostics);
+    assert!(p.diagnostics.iter().any(|d| d.line == 7 && d.severity == Severity::Error), "{:#?}", p.diagnostics);
 }

@@ -245,3 +245,27 @@ fn a_stop_ends_the_program_a_refused_block_leaves_nothing_and_m17_returns() {
         assert!(ends.iter().any(|e| (e.0 - want.0).abs() < 1e-9 && (e.1 - want.1).abs() < 1e-9), "{want:?} in {ends:?}");
     }
 }
+
+/// Under a frame turned about the tool axis without TRAORI (`ROT Z30`: a frame that turns the axes'
+/// coordinates alone) the compensated contour is the flat one turned by Rz(30 deg), point for point;
+/// a frame that tilts the plane without TRAORI (`AROT Y30`) leaves compensation in the basic
+/// system's G17 plane (CUT2D), which is not read: refused at the selection.
+#[test]
+fn under_a_frame_turning_the_axes_the_offsets_turn_with_it() {
+    let mut options = ReadOptions::default();
+    options.tool_table = table("T3 P3 D6\n").tool_table;
+    let flat = read(&outside("CFTCP"), Dialect::Sinumerik, "c.mpf", &options);
+    let turned = read(&outside("CFTCP").replace("N4 G0", "N35 ROT Z30\nN4 G0"), Dialect::Sinumerik, "c.mpf", &options);
+    assert!(errors(&flat).is_empty() && errors(&turned).is_empty(), "{:#?}", turned.diagnostics);
+    let (s, c) = (30f64.to_radians().sin(), 30f64.to_radians().cos());
+    let xy = |p: &Program| -> Vec<[f64; 2]> { p.blocks.iter().filter(|b| b.number.is_some_and(|n| (6..=15).contains(&n))).map(|b| [b.targets.x.unwrap(), b.targets.y.unwrap()]).collect() };
+    let (f, t) = (xy(&flat), xy(&turned));
+    assert!(f.len() > 10 && f.len() == t.len(), "{f:?} {t:?}");
+    for (a, b) in f.iter().zip(&t) {
+        let want = [c * a[0] - s * a[1], s * a[0] + c * a[1]];
+        assert!((b[0] - want[0]).abs() < 1e-9 && (b[1] - want[1]).abs() < 1e-9, "flat {a:?} turned {want:?}, read {b:?}");
+    }
+    assert!(turned.blocks.iter().all(|b| !b.tcp));
+    let tilted = read(&outside("CFTCP").replace("N4 G0", "N35 AROT Y30\nN4 G0"), Dialect::Sinumerik, "c.mpf", &options);
+    assert!(errors(&tilted).iter().any(|(l, _, m)| *l == 7 && m.contains("tilts the plane")), "{:#?}", errors(&tilted));
+}

@@ -607,7 +607,8 @@ impl Interpreter {
     }
 
     /// Where the machine's linear axes stand (model frame, m): X Y Z themselves without TCPM or a
-    /// tilted plane, else the tool tip placed through the kinematics.
+    /// tilted plane, turned by a frame that turns the axes alone ([`Interpreter::axes_frame`]), else
+    /// the tool tip placed through the kinematics.
     fn axes_now(&self) -> nalgebra::Vector3<f64> {
         let p = nalgebra::Vector3::new(self.last[0], self.last[1], self.last[2]);
         let d = nalgebra::Vector3::from(self.datum);
@@ -648,13 +649,14 @@ impl Interpreter {
     }
 
     /// Read the axes standing at `axes` (model frame) in the current coordinates: X Y Z are the axes
-    /// without TCPM or a tilted plane, else the tool tip (in the plane where tilted).
+    /// without TCPM or a tilted plane (turned back by a frame that turns the axes alone), else the
+    /// tool tip (in the plane where tilted).
     fn read_axes(&mut self, axes: nalgebra::Vector3<f64>) {
         let d = nalgebra::Vector3::from(self.datum);
-        let p = match (&self.machine, self.tilt, self.tcp) {
-            _ if self.axes_frame().is_some() => self.tilt.map_or(axes - d, |r| r.transpose() * (axes - d)),
-            (_, None, false) | (None, _, _) => axes - d,
-            (Some(m), tilt, _) => {
+        let p = match (&self.machine, self.tilt, self.tcp, self.axes_frame()) {
+            (_, _, _, Some(r)) => r.transpose() * (axes - d),
+            (_, None, false, _) | (None, _, _, _) => axes - d,
+            (Some(m), tilt, _, None) => {
                 let rot = self.rot_now();
                 let tip = m.chain.forward(&[axes.x, axes.y, axes.z, rot[0], rot[1]]).tip - d;
                 tilt.map_or(tip, |r| r.transpose() * tip)

@@ -291,26 +291,19 @@ struct ParseState {
 /// the blocks.
 fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Diags) -> Option<Stmt<'a>> {
     let ParseState { name, inch, began, ended, datum_defined, joined_said, comment_goes_on } = st;
-    let text = raw.trim_end_matches('\r');
-    // A `~` ending a line carries its block on to the next (as the TNC writes a cycle's parameters,
-    // [`text_from`]): a comment's next line is more of its text, however it begins.
-    let tilde = text.trim_end().ends_with('~');
-    if std::mem::take(comment_goes_on) {
-        *comment_goes_on = tilde;
+    let (goes_on, open) = comment_line(*comment_goes_on, raw.as_bytes());
+    if goes_on {
+        *comment_goes_on = open;
         return None;
     }
-    let all = tokens(text);
-    let comment_only = |toks: &[(&str, usize)]| toks.is_empty() && tilde && text.contains(';');
-    let Some(&(first, first_col)) = all.first() else {
-        *comment_goes_on = comment_only(&all);
-        return None;
-    };
+    if std::mem::replace(comment_goes_on, open) {
+        diags.warning(line, 1, "the comment before ends in '~' (it goes on in the next line), but this line does not begin with a blank as its continuation would: read as a block of its own");
+    }
+    let all = tokens(raw.trim_end_matches('\r'));
+    let &(first, first_col) = all.first()?;
     // The block number, then the block.
     let (number, toks) = if first.bytes().all(|c| c.is_ascii_digit()) { (first.parse::<u64>().ok(), &all[1..]) } else { (None, &all[..]) };
-    let Some(&(head, head_col)) = toks.first() else {
-        *comment_goes_on = comment_only(toks);
-        return None;
-    };
+    let &(head, head_col) = toks.first()?;
     if head.starts_with('*') {
         return None; // `* - SECTION`: a structure line
     }
@@ -442,6 +435,33 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         return None;
     }
     kind.map(|kind| Stmt { line, col, number, kind })
+}
+
+/// The TNC writes a block longer than a line over several: a `~` ends each line but the last, and
+/// the next begins with a blank (as its cycles' parameters stand, [`text_from`]). For a comment block
+/// (`12 ;text ~`): whether line `b` goes on with the comment the line before left open (`open`), and
+/// whether it leaves one open itself. A line that does not begin with a blank is a block of its own.
+pub(super) fn comment_line(open: bool, b: &[u8]) -> (bool, bool) {
+    let mut end = b.len();
+    while end > 0 && b[end - 1].is_ascii_whitespace() {
+        end -= 1;
+    }
+    let tilde = end > 0 && b[end - 1] == b'~';
+    if open && b.first().is_some_and(|c| *c == b' ' || *c == b'\t') {
+        return (true, tilde);
+    }
+    if !tilde {
+        return (false, false);
+    }
+    // Its number, if any, then `;`.
+    let mut i = b.iter().position(|c| !c.is_ascii_whitespace()).unwrap_or(end);
+    while i < end && b[i].is_ascii_digit() {
+        i += 1;
+    }
+    while i < end && b[i].is_ascii_whitespace() {
+        i += 1;
+    }
+    (false, i < end && b[i] == b';')
 }
 
 fn unsupported(k: &str) -> &'static str {

@@ -19,12 +19,20 @@ pub const MAX_LABELS: usize = 100_000;
 pub(crate) struct Labels {
     at: HashMap<String, (usize, At)>,
     lines: usize,
+    /// The line before was a comment ending in `~` ([`super::comment_line`]).
+    comment_open: bool,
 }
 
 impl Labels {
     /// Take line `line` (its bytes, without the newline), the line after it starting at `next`.
     pub(crate) fn line(&mut self, line: usize, bytes: &[u8], next: At, diags: &mut Diags) {
         self.lines = line;
+        // A comment's continuation is no label, however it reads.
+        let (goes_on, open) = super::comment_line(self.comment_open, bytes);
+        self.comment_open = open;
+        if goes_on {
+            return;
+        }
         // Most lines are moves: find a `B` before anything else.
         let mut rest = bytes;
         let has_lbl = loop {

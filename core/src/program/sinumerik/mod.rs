@@ -17,8 +17,7 @@
 //! program or on `--subroutine-path` ([`subprogram`]).
 //!
 //! What changes the motion and is not modelled is an error at its line and column, never skipped:
-//! `SCALE`/`MIRROR` frames, a rotated frame without `TRAORI`, `CYCLE800` beyond what [`swivel`]
-//! reads, other cycles, `CALL` other than `CALL "NAME"` alone, 3D cutter compensation, orientation by angles
+//! `SCALE`/`MIRROR` frames, `CYCLE800` after a rotated frame or beyond what [`swivel`] reads, other cycles, `CALL` other than `CALL "NAME"` alone, 3D cutter compensation, orientation by angles
 //! (`A2=`) or cone/polynomial orientation, exact stop on a feed move.
 //!
 //! Orientation interpolation: which of ORIWKS/ORIMKS and ORIVECT/ORIAXES governs depends on machine
@@ -588,6 +587,11 @@ impl SinumerikReader {
         }
         if self.interp.tcp() {
             return diags.error(line, col, "CYCLE800 under TRAORI: a swivel with the transformation on (tool-tip follow-up) is not read; TRAFOOF first");
+        }
+        if self.swivel.is_none() && self.frame.rotated() {
+            // How a new or additive swivel meets the programmable frame's rotation (which frames it
+            // keeps, where its retraction in machine coordinates goes) is not in the pages at hand.
+            return diags.error(line, col, "CYCLE800 after a rotated frame (ROT, AROT, RPL) without a swivel before it: how the swivel meets the programmed rotation is not read; reset the frame first (ROT)");
         }
         let unit = self.interp.unit();
         let letters: [char; 2] = [3, 4].map(|i| machine.axes[i].name.chars().next().unwrap_or('?').to_ascii_uppercase());

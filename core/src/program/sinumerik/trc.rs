@@ -352,6 +352,11 @@ impl super::SinumerikReader {
         let xy = words.iter().any(|w| w.letter == 'X' || w.letter == 'Y');
         let unit = self.interp.unit();
         let tilt = self.interp.tilt();
+        // Without TRAORI a frame that tilts the plane leaves compensation in the G17 plane of the
+        // basic system (CUT2D, the reset state; CUT2DF, the frame's plane, is refused): not read.
+        if self.interp.axes_frame().is_some_and(|r| (r * nalgebra::Vector3::z() - nalgebra::Vector3::z()).norm() > 1e-12) {
+            return refuse(diags, col, "under a frame that tilts the plane without TRAORI (ROT/AROT about X or Y) it is not read (compensation stays in the basic system's G17 plane, CUT2D)".into());
+        }
         match (on, codes.select) {
             (None, Some((Some(side), c))) => {
                 if !matches!(motion, Some(Motion::Rapid | Motion::Linear)) {
