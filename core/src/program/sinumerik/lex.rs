@@ -376,15 +376,19 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             j += 1;
         }
         let mut k = j;
-        while k < n && (b[k].is_ascii_alphanumeric() || b[k] == b'_') {
-            k += 1;
-        }
         // One letter, digits, then a letter: a word and the next written without a blank (`G2X10`,
         // `X10CR=5`, `G1X=10`), not one name (a name starts with two letters or `_`).
         if j == i + 1 {
-            let digits = j + b[j..k].iter().take_while(|c| c.is_ascii_digit()).count();
-            if digits > j && digits < k && b[digits].is_ascii_alphabetic() {
+            while k < n && b[k].is_ascii_digit() {
+                k += 1;
+            }
+            if k > j && k < n && b[k].is_ascii_alphabetic() {
                 k = j;
+            }
+        }
+        if k > j || j != i + 1 {
+            while k < n && (b[k].is_ascii_alphanumeric() || b[k] == b'_') {
+                k += 1;
             }
         }
         let mut e = k;
