@@ -378,15 +378,16 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
         let mut k = j;
         // One letter, digits, then a letter: a word and the next written without a blank (`G2X10`,
         // `X10CR=5`, `G1X=10`), not one name (a name starts with two letters or `_`).
+        let mut glued = false;
         if j == i + 1 {
             while k < n && b[k].is_ascii_digit() {
                 k += 1;
             }
-            if k > j && k < n && b[k].is_ascii_alphabetic() {
-                k = j;
-            }
+            glued = k > j && k < n && b[k].is_ascii_alphabetic();
         }
-        if k > j || j != i + 1 {
+        if glued {
+            k = j;
+        } else {
             while k < n && (b[k].is_ascii_alphanumeric() || b[k] == b'_') {
                 k += 1;
             }

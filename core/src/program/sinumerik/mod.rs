@@ -17,7 +17,8 @@
 //! program or on `--subroutine-path` ([`subprogram`]).
 //!
 //! What changes the motion and is not modelled is an error at its line and column, never skipped:
-//! `SCALE`/`MIRROR` frames, `CYCLE800` after a rotated frame or beyond what [`swivel`] reads, other cycles, `CALL` other than `CALL "NAME"` alone, 3D cutter compensation, orientation by angles
+//! `SCALE`/`MIRROR` frames, `CYCLE800` after a rotated frame or beyond what [`swivel`] reads, other
+//! cycles, `CALL` other than `CALL "NAME"` alone, 3D cutter compensation, orientation by angles
 //! (`A2=`) or cone/polynomial orientation, exact stop on a feed move.
 //!
 //! Orientation interpolation: which of ORIWKS/ORIMKS and ORIVECT/ORIAXES governs depends on machine
