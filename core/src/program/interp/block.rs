@@ -2,12 +2,50 @@
 //! [`Block`] (the [`Interpreter`]'s state changes only when the block has no defect).
 
 use super::arc::resolve_arc;
-use super::codes::{maker_m_function, tnc_m_code, tool_vector};
-use crate::program::cutter_comp::ArcFeed;
+use super::codes::{m_code, tool_vector};
+use super::g_codes::g_code;
 use super::{Dimension, Interpreter, Word, AXIS_LETTERS};
 use crate::program::lex::Diags;
-use crate::program::{ArcSpec, Block, Dialect, Exact, FeedMode, MCodeAction, Motion, Plane, Targets};
-use crate::units::{INCH, MM};
+use crate::program::{ArcSpec, Block, Dialect, Exact, FeedMode, Motion, Plane, Targets};
+use crate::units::MM;
+
+/// Which reader a block is read for, as the codes' rules ask it.
+#[derive(Clone, Copy)]
+pub(super) struct Reader {
+    /// Heidenhain DIN/ISO and conversational share the TNC's words: modal circle centre I J K,
+    /// M128/M129, and the TNC's M functions.
+    pub heid: bool,
+    /// Fanuc-style controls (Fanuc, Haas).
+    pub fanuc: bool,
+    pub haas: bool,
+    /// The TNC's DIN/ISO tool call `T1 G17`: the block's plane code is the tool axis.
+    pub tool_call: bool,
+    /// The TNC's DIN/ISO blank form or tool definition: the block's words define, they do not move.
+    pub defines: bool,
+}
+
+/// What a block's G and M codes said beyond the modal state they set.
+#[derive(Default)]
+pub(super) struct BlockCodes<'w, 't> {
+    /// Letters besides the axes that a code of this block takes.
+    pub uses: Vec<char>,
+    /// `G10`: the block's axis words set an offset.
+    pub g10: bool,
+    /// LinuxCNC's G92, G92.1-G92.3 and G52: the code, applied once the block's modal codes are.
+    pub g92: Option<String>,
+    /// This block ends in a stop (Fanuc's and Haas' G09, Sinumerik's G9).
+    pub exact_stop_here: bool,
+    /// LinuxCNC's `G53`: the block's coordinates are machine coordinates.
+    pub g53: bool,
+    /// The dwell's `G4`.
+    pub dwell_word: Option<&'w Word<'t>>,
+    /// `G64`: blending within a tolerance.
+    pub blend_word: bool,
+    /// The TNC's DIN/ISO datum shift `G54`.
+    pub datum_block: bool,
+    /// The block's M, S, T and D words, said as events.
+    pub events: Vec<String>,
+}
 
 impl Interpreter {
     /// Interpret one block's words into one block (see [`Interpreter::block`]).
@@ -27,8 +65,6 @@ impl Interpreter {
         let mut before = self.clone();
         let next = &mut *self;
         let errors_before = diags.errors();
-        let mut datum_block = false;
-        let mut events = Vec::new();
         let mut feed_word: Option<&Word> = None;
         // Heidenhain DIN/ISO and conversational share the TNC's words: modal circle centre I J K,
         // M128/M129, and the TNC's M functions.
@@ -54,372 +90,26 @@ impl Interpreter {
 
         // Modal G codes and M codes first: they govern how the axis words of this block are read.
         // A code that changes the motion and is not modelled is an error (fail closed), never skipped.
-        let mut uses: Vec<char> = Vec::new(); // letters besides axes that a code of this block takes
-        let mut g10 = false;
-        // LinuxCNC's G92, G92.1-G92.3 and G52: the code, applied once the block's modal codes are.
-        let mut g92: Option<String> = None;
-        // Fanuc's and Haas' G09 (Sinumerik's G9, set by its reader): this block ends in a stop.
-        let mut exact_stop_here = std::mem::take(&mut next.exact_once);
         // The TNC's DIN/ISO blank form (G30 MIN point, G31 MAX point) and tool definition (G99 T L R):
         // their words define, they do not move (as Klartext's BLK FORM and TOOL DEF).
         let defines = before.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'G' && matches!(w.value, 30.0 | 31.0 | 99.0));
-        let mut g53 = false;
-        let mut dwell_word: Option<&Word> = None;
-        let mut blend_word = false;
+        let reader = Reader { heid, fanuc, haas, tool_call, defines };
+        // Fanuc's and Haas' G09 (Sinumerik's G9, set by its reader): this block ends in a stop.
+        let mut c = BlockCodes { exact_stop_here: std::mem::take(&mut next.exact_once), ..BlockCodes::default() };
         for w in words {
             match w.letter {
-                'G' => {
-                    let code = w.raw.trim_start_matches('+');
-                    let code = code.trim_start_matches('0');
-                    // Borrowed as written but for a code of zeros (`G0`, `G00`, `G0.1`): no allocation per G word.
-                    let code: std::borrow::Cow<str> = if code.is_empty() || code.starts_with('.') { format!("0{code}").into() } else { code.into() };
-                    let unsupported = |diags: &mut Diags, what: &str| {
-                        diags.error(line, w.column, format!("G{} ({what}) is not supported: it changes the motion", w.raw))
-                    };
-                    match (code.as_ref(), heid) {
-                        ("0", _) => next.motion = Some(Motion::Rapid),
-                        ("1", _) => next.motion = Some(Motion::Linear),
-                        ("2", false) => next.motion = Some(Motion::ArcCw),
-                        ("3", false) => next.motion = Some(Motion::ArcCcw),
-                        ("2", true) => next.motion = Some(Motion::ArcCw),
-                        ("3", true) => next.motion = Some(Motion::ArcCcw),
-                        // G05: a circle in the direction of the last G02/G03.
-                        ("5", true) => match before.last_arc {
-                            Some(m) => next.motion = Some(m),
-                            None => diags.error(line, w.column, format!("G{}: a circle without its own direction needs a G02 or G03 before it", w.raw)),
-                        },
-                        ("6" | "12" | "13" | "15" | "16" | "25" | "26" | "27", true) => diags.error(
-                            line,
-                            w.column,
-                            format!("G{} (tangential, polar or rounding arcs) is not supported in Heidenhain DIN/ISO yet: expected G00-G03 or G05", w.raw),
-                        ),
-                        // TNC 360 ISO Programming, cycle example: "N10 G30 G17 X+0 Y+0 Z-20 *",
-                        // "N20 G31 X+100 Y+100 Z+0 *" (Define workpiece blank), "N30 G99 T1 L+0 R+4 *"
-                        // (Tool definition): drawing and tool data, no motion.
-                        ("30" | "31" | "99", true) if defines => {}
-                        ("17", _) => next.plane = Plane::Xy,
-                        ("18" | "19" | "20", true) if tool_call => diags.error(
-                            line,
-                            w.column,
-                            format!("T with G{}: a tool call along tool axis {} (only tool axis Z, G17, is modelled: the machine file's)", w.raw, ["Y", "X", "IV"][code.parse::<usize>().unwrap_or(18) - 18]),
-                        ),
-                        ("18", _) => next.plane = Plane::Zx,
-                        ("19", _) => next.plane = Plane::Yz,
-                        // Cutter compensation off, canned cycle cancel: no motion of their own.
-                        // LinuxCNC's G80 is of the motion group: no motion mode after it, so axis
-                        // words need a G0/G1 again (LinuxCNC: "Cannot use axis values with G80",
-                        // "without a G code that uses them"). Fanuc's cycles are a group of their own.
-                        ("80", _) if before.dialect == Dialect::Rs274 => next.motion = None,
-                        ("40" | "80", _) => {}
-                        ("90", _) => next.absolute = true,
-                        ("91", _) => next.absolute = false,
-                        ("90.1", false) => next.arc_absolute = true,
-                        ("91.1", false) => next.arc_absolute = false,
-                        ("70", true) | ("20", false) | ("71", true) | ("21", false) | ("70" | "71", false) if heid || before.dialect == Dialect::Sinumerik || code.starts_with('2') => {
-                            let inch = code == "70" || code == "20";
-                            next.unit_stated = true;
-                            // Sinumerik's G70/G71 are the geometry's unit only: "Feedrate functions are
-                            // not affected by G70/G71" (840Di sl Programming Manual 6FC5398-1BP10,
-                            // "Inch/metric dimensions"), F stays in the basic system's; G700/G710
-                            // (read as G20/G21) set both.
-                            let feed_too = !(before.dialect == Dialect::Sinumerik && code.starts_with('7'));
-                            // The TNC's DIN/ISO unit is the program's, set in its header (`%NAME G71 *`)
-                            // and end lines; a block that says another is refused, not obeyed.
-                            let header_only = before.dialect == Dialect::Heidenhain && next.forced_unit.is_none() && (next.unit == INCH) != inch;
-                            if header_only {
-                                diags.error(line, w.column, format!("G{} in a block: the TNC takes the program's unit from its header (%NAME G70 or G71), which says otherwise", w.raw));
-                            }
-                            match next.forced_unit {
-                                None if header_only => {}
-                                None => {
-                                    next.unit = if inch { INCH } else { MM };
-                                    if feed_too {
-                                        next.feed_unit = next.unit;
-                                    } else if next.feed_unit != next.unit {
-                                        let (f, g7) = if next.feed_unit == MM { ("mm/min", "G700") } else { ("inch/min", "G710") };
-                                        diags.warning(line, w.column, format!("G{}: F stays in {f}, the basic system's (the machine file's inch_basic_system); {g7} would read it in the program's unit", w.raw));
-                                    }
-                                }
-                                Some(u) if (u == crate::program::LengthUnit::Inch) != inch => diags.warning(
-                                    line,
-                                    w.column,
-                                    format!("G{}: the program says {}; its numbers are read in {} (--units)", w.raw, if inch { "inches" } else { "millimetres" }, u.name()),
-                                ),
-                                Some(_) => {}
-                            }
-                        }
-                        ("54", true) => datum_block = true,
-                        ("54" | "55" | "56" | "57" | "58" | "59" | "59.1" | "59.2" | "59.3", false) => {
-                            let k = ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"].iter().position(|c| *c == code.as_ref()).unwrap_or(0);
-                            next.system = k;
-                            next.extra_offset = false;
-                            if k > 0 && !before.offsets_set(k) && !fanuc && before.dialect != Dialect::Sinumerik {
-                                diags.warning(
-                                    line,
-                                    w.column,
-                                    format!("G{}: this program never sets its offsets (G10 L2 P{}): taken as zero", w.raw, k + 1),
-                                );
-                            }
-                        }
-                        // LinuxCNC: the block's coordinates are absolute ones without the work offsets
-                        // (G-code reference §G53: "machine coordinates", LinuxCNC's world frame, in
-                        // which the machine files place the kinematics).
-                        ("53", false) if before.dialect == Dialect::Rs274 => {
-                            g53 = true;
-                            if !next.absolute {
-                                diags.error(line, w.column, "G53 under G91: LinuxCNC refuses incremental machine coordinates (write G90 first)");
-                            }
-                        }
-                        ("53", false) => diags.warning(
-                            line,
-                            w.column,
-                            "G53: work offsets are not modelled (G54 is taken as zero), so machine coordinates are read as program coordinates",
-                        ),
-                        // G98/G99: a canned cycle returns to the initial level or to the R point.
-                        ("98" | "99", false) if fanuc || before.dialect == Dialect::Rs274 => next.cycles.to_r = code == "99",
-                        // Additional work offsets (Fanuc G54.1 P1-P48), which the program never sets here.
-                        ("54.1", false) if fanuc => {
-                            uses.push('P');
-                            diags.warning(line, w.column, format!("G{}: additional work offsets are not set by the program: taken as zero", w.raw));
-                            next.system = 0;
-                            next.extra_offset = true;
-                            next.move_origin([0.0; 3]);
-                        }
-                        // AI contour control (Q1 on, Q0 off): look-ahead feed control, not the path's
-                        // geometry (FANUC A-63512EN §2.3: "interpolation data ensures that the machining
-                        // follows a specified line or curve").
-                        ("5.1", false) if fanuc => uses.push('Q'),
-                        // High-precision contour control, `G05 P10000` on and `G05 P0` off (FANUC Series
-                        // 16i/18i-MB, "High-precision contour control"): look-ahead feed control as AI
-                        // contour is. G05 with another P is high-speed cycle machining (binary data).
-                        ("5", false) if fanuc && !haas && words.iter().any(|p| p.letter == 'P' && (p.value == 0.0 || p.value == 10000.0)) => uses.push('P'),
-                        ("5", false) if fanuc && !haas => unsupported(diags, "high-speed cycle machining (only G05 P10000 and G05 P0, high-precision contour control on and off, are read)"),
-                        // Haas' smoothness: P the level (feed), E the most a corner may be rounded,
-                        // which is the path's tolerance (Haas NGC manual, G187; Setting 85).
-                        ("187", false) if haas => {
-                            uses.extend(['P', 'E']);
-                            next.tolerance = match words.iter().find(|w| w.letter == 'E') {
-                                Some(e) if e.value >= 0.0 && crate::machine::ContourTolerance::linear_ok(e.value * next.unit) => {
-                                    crate::program::ProgrammedTolerance { linear_m: Some(e.value * next.unit), rotary_rad: None }
-                                }
-                                Some(e) => {
-                                    diags.error(line, e.column, format!("G187 E{}: a corner rounding of 0 to 10 mm", e.raw));
-                                    next.tolerance
-                                }
-                                None => crate::program::ProgrammedTolerance::default(),
-                            };
-                        }
-                        // Haas TCPC: X Y Z are the tool tip on the table (as Fanuc's G43.4), H the length.
-                        ("234", false) if haas => {
-                            (next.tcp, next.tool_vector) = (true, false);
-                            uses.push('H');
-                        }
-                        // Haas DWO: the work offset turns with the rotary table (3+2 positioning only):
-                        // "machine = MRZP + Rot(B,C) (G54 - MRZP) + program". With the offsets taken
-                        // as zero (the part's origin on the rotary axes, this model's frame) the turned
-                        // offset is the offset itself; an offset the program set is not turned here.
-                        ("254", false) if haas => {
-                            if next.datum != [0.0; 3] {
-                                diags.error(line, w.column, "G254 (dynamic work offset) with a work offset the program set: turning it with the table is not modelled");
-                            }
-                            next.dwo = true;
-                        }
-                        ("255", false) if haas => next.dwo = false,
-                        ("10", false) if fanuc && words.iter().any(|w| w.letter == 'L' && w.value == 20.0) => {
-                            diags.error(line, w.column, "G10 L20: Fanuc's additional work offsets (G54.1 Pn) are not modelled");
-                        }
-                        ("10", false) => {
-                            g10 = true;
-                            uses.extend(['L', 'P']);
-                            if before.dialect == Dialect::Rs274 {
-                                uses.push('R'); // G10 L2 R: the system's rotation
-                            }
-                        }
-                        // (Two codes of group 0 in one block: Interpreter::block refuses them.)
-                        ("92" | "92.1" | "92.2" | "92.3" | "52", false) if before.dialect == Dialect::Rs274 => g92 = Some(code.to_string()),
-                        ("92.1" | "92.2", false) => {} // cancel G92 offsets: none are modelled
-                        // A change of feed mode leaves no feed: Siemens, "In the event of switching
-                        // between G93, G94 and G95, the path feedrate value has to be reprogrammed"
-                        // (Programming Manual Fundamentals, "Feedrate (G93, G94, G95, F ...)");
-                        // LinuxCNC sets the feed to 0 on every G94 (Interp::convert_feed_mode).
-                        ("93", false) => {
-                            if next.feed_mode != FeedMode::InverseTime {
-                                next.feed = None;
-                            }
-                            (next.feed_mode, next.per_revolution) = (FeedMode::InverseTime, false);
-                        }
-                        ("94", false) => {
-                            if next.feed_mode != FeedMode::PerMinute || next.per_revolution || before.dialect == Dialect::Rs274 {
-                                next.feed = None;
-                            }
-                            (next.feed_mode, next.per_revolution) = (FeedMode::PerMinute, false);
-                        }
-                        // G95, feed per revolution: LinuxCNC sets the feed to 0 on every G95 as on G94
-                        // (Interp::convert_feed_mode); Siemens deletes F on a change of G93/G94/G95 (as
-                        // above); for Fanuc and Haas whether F is kept is not at hand, so it is not kept
-                        // either (a feed move then wants an F written under G95).
-                        ("95", false) if !heid && !haas => {
-                            if !next.per_revolution || before.dialect == Dialect::Rs274 {
-                                next.feed = None;
-                            }
-                            (next.feed_mode, next.per_revolution) = (FeedMode::PerMinute, true);
-                        }
-                        ("95", false) if haas => diags.error(line, w.column, "G95 (feed per revolution): not in the Haas mill manual pages at hand, so not read: expected G93 or G94"),
-                        ("95", false) => diags.error(line, w.column, "G95 (feed per revolution) is not supported: expected G93 or G94"),
-                        ("43.4", false) => {
-                            (next.tcp, next.tool_vector) = (true, false);
-                            uses.push('H');
-                        }
-                        ("43.5", false) => {
-                            (next.tcp, next.tool_vector) = (true, true);
-                            uses.push('H');
-                        }
-                        // The TCP G43.4/G43.5 turned on; the kinematics' own stays.
-                        ("49", false) => (next.tcp, next.tool_vector) = (next.kins_tcp, false),
-                        ("43", false) => {
-                            uses.push('H');
-                            diags.warning(
-                                line,
-                                w.column,
-                                "G43 tool length offset: the tool length is the machine file's (tool_tip_mm), not the tool table's; \
-                                 on a table-table machine it only shifts Z by a constant",
-                            )
-                        }
-                        // Blending within a tolerance: what the planner does (P and Q: below).
-                        ("64", false) => {
-                            uses.extend(['P', 'Q']);
-                            blend_word = true;
-                            next.exact = Exact::Blend;
-                        }
-                        // LinuxCNC: G61 exact path, G61.1 exact stop (G-code reference §G61, G61.1;
-                        // the planner's TC_TERM_COND_EXACT and _STOP). Fanuc and Haas: G61 exact stop
-                        // mode, G09 exact stop for one block ("the tool is decelerated at the end
-                        // point of a block, then an in-position check is made": FANUC B-64484EN,
-                        // "Exact stop (G09, G61)"; Haas Mill Operator's Manual, G09 and G61).
-                        ("61", false) if before.dialect == Dialect::Rs274 => {
-                            next.exact = Exact::Path;
-                            diags.warning(
-                                line,
-                                w.column,
-                                "G61 (exact path): the machine stops wherever the next block does not go on in the same direction; \
-                                 LinuxCNC passes a kink of little acceleration at a reduced speed instead, here a stop",
-                            );
-                        }
-                        ("61.1", false) if before.dialect == Dialect::Rs274 => next.exact = Exact::Stop,
-                        ("61", false) if fanuc => next.exact = Exact::Stop,
-                        // Fanuc's automatic override for inner corners, G62, of G61's and G64's group:
-                        // "valid until G61 or G64 is specified", the feed overridden "when the tool
-                        // moves along an inner corner during cutter compensation" (FANUC Series 0i
-                        // Operator's Manual B-64154EN §5.4, Table 5.4): without compensation (which
-                        // is refused) it runs as G64 does.
-                        ("62", false) if before.dialect == Dialect::Fanuc => next.exact = Exact::Blend,
-                        ("9", false) if fanuc => exact_stop_here = true,
-                        ("4", _) => {
-                            uses.push('P');
-                            dwell_word = Some(w);
-                        }
-                        ("61" | "61.1", false) => unsupported(diags, "exact stop mode: the planner blends blocks as G64 does"),
-                        ("41" | "42" | "41.1" | "42.1", false) => unsupported(diags, "cutter radius compensation"),
-                        ("43.1" | "43.2", false) => unsupported(diags, "dynamic tool length offset"),
-                        ("68" | "68.2" | "68.3" | "68.4" | "69" | "53.1" | "53.6", false) => unsupported(diags, "coordinate rotation or tilted working plane"),
-                        ("5" | "5.1" | "5.2" | "5.3" | "6.2", false) => unsupported(diags, "spline or NURBS motion"),
-                        ("28" | "28.1" | "30" | "30.1", false) => unsupported(diags, "move to a stored position"),
-                        ("33" | "33.1" | "76" | "38.2" | "38.3" | "38.4" | "38.5", false) => unsupported(diags, "threading or probing"),
-                        ("73" | "74" | "81" | "82" | "83" | "84" | "85" | "86" | "87" | "88" | "89", false) => unsupported(diags, "canned cycle"),
-                        ("92" | "92.3", false) => unsupported(diags, "coordinate system offset"),
-                        ("7" | "8" | "50" | "51" | "52", false) => unsupported(diags, "diameter mode, scaling or local offset"),
-                        _ => diags.error(
-                            line,
-                            w.column,
-                            format!("unknown G code G{}: not read (it may change the motion)", w.raw),
-                        ),
-                    }
-                }
-                'M' => {
-                    let code = w.value as i64;
-                    if w.value.fract() != 0.0 || w.value < 0.0 {
-                        diags.error(line, w.column, format!("M{}: expected a whole M code number", w.raw));
-                        continue;
-                    }
-                    let rule = before.m_codes.iter().find(|r| i64::from(r.code) == code).map(|r| r.action);
-                    match (rule, code, heid) {
-                        (Some(MCodeAction::TcpOn), _, _) => (next.tcp, next.kins_tcp) = (true, true),
-                        (Some(MCodeAction::TcpOff), _, _) => (next.tcp, next.kins_tcp) = (false, false),
-                        (Some(MCodeAction::Event), _, _) => {}
-                        (None, 128, true) => next.tcp = true,
-                        // M126 / M127: the shorter way for rotary axes shown modulo 360 deg, on / off
-                        // (TNC 620 10/2017 §13 "Shorter-path traverse of rotary axes: M126").
-                        (None, 126, true) => next.shortest = true,
-                        (None, 127, true) => next.shortest = false,
-                        (None, 129, true) => next.tcp = false,
-                        // M109/M110/M111: the feed on arcs at the tool's cutting edge, inside and
-                        // outside contours / inside only / reset (iTNC 530 ISO user's manual 340 49x-02
-                        // §7.4 "Feed rate for circular arcs"): what radius compensation makes of it.
-                        (None, 109, true) => next.arc_feed = ArcFeed::Edge,
-                        (None, 110, true) => next.arc_feed = ArcFeed::EdgeInside,
-                        (None, 111, true) => next.arc_feed = ArcFeed::Centre,
-                        // M116/M117: a rotary axis' feed in mm/min, on / off (iTNC 530 user's manual
-                        // 60642x-03 §12.5), checked below where it acts.
-                        (None, 116, true) => next.m116 = true,
-                        (None, 117, true) => next.m116 = false,
-                        // The spindle: M3/M4 turn it, M5 stops it (LinuxCNC: M19 orients it, stopped);
-                        // the TNC's M13/M14 turn it with the coolant on.
-                        (None, 3 | 4, _) | (None, 13 | 14, true) => next.spindle_turning = Some(true),
-                        (None, 5, _) => next.spindle_turning = Some(false),
-                        (None, 19, false) => {
-                            next.spindle_turning = Some(false);
-                            if before.dialect == Dialect::Rs274 {
-                                uses.extend(['R', 'Q', 'P']);
-                            }
-                        }
-                        (None, 0..=9 | 13 | 14 | 30, _) => {}
-                        // M91/M92: the Klartext reader made this block a move of the axes (its oneshot).
-                        (None, 91 | 92, true) if shot.is_some_and(|s| s.axes.is_some()) => {}
-                        (None, _, true) => {
-                            if let Err(why) = tnc_m_code(code) {
-                                diags.error(line, w.column, format!("M{}: {why}", w.raw));
-                            }
-                        }
-                        // Sinumerik's own M functions (Fundamentals §"Miscellaneous functions (M)": M17
-                        // end of subprogram, M19 spindle positioning (above: it stops the spindle), M40-M45 gear stages, M70 spindle
-                        // to axis mode); any other is the machine maker's.
-                        (None, 17 | 40..=45 | 70, false) if before.dialect == Dialect::Sinumerik => {}
-                        (None, _, false) if before.dialect == Dialect::Sinumerik => diags.error(line, w.column, maker_m_function(&w.raw, code)),
-                        // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O,
-                        // with the words they take (G-code reference §M19 R Q P, §M61 Q, §M62-M65 P,
-                        // §M66 P E L Q, §M67/M68 E Q).
-                        // M99 in the main program: its end (the reader's; super::super::lcnc_m98).
-                        (None, 99, false) if before.dialect == Dialect::Rs274 => {}
-                        (None, 98, false) if before.dialect == Dialect::Rs274 => diags.error(line, w.column, "M98 calls a Fanuc-style subprogram only as the first word of its line (after its N number): LinuxCNC reads it there, as a block of its own"),
-                        (None, 48..=53 | 60, false) => {}
-                        (None, 61, false) => uses.push('Q'),
-                        (None, 62..=65, false) => uses.push('P'),
-                        (None, 66, false) => uses.extend(['P', 'E', 'L', 'Q']),
-                        (None, 67 | 68, false) => uses.extend(['E', 'Q']),
-                        (None, _, false) if fanuc => diags.error(line, w.column, maker_m_function(&w.raw, code)),
-                        (None, _, false) => diags.error(
-                            line,
-                            w.column,
-                            format!(
-                                "M{} is not an RS274NGC M code: a machine-specific one (LinuxCNC user M100-M199 or a remap) \
-                                 whose effect is unknown; say what it does with --m-code {}=tcp-on|tcp-off|event \
-                                 (LinuxCNC's vismach five-axis demos: 428=tcp-on, 429=tcp-off)",
-                                w.raw, code
-                            ),
-                        ),
-                    }
-                    events.push(format!("M{}", w.raw));
-                }
+                'G' => g_code(next, &before, w, words, line, reader, &mut c, diags),
+                'M' => m_code(next, &before, w, shot, line, reader, &mut c, diags),
                 // A tool definition's T (G99) calls no tool.
                 'T' | 'S' if defines => {}
                 'T' | 'S' => {
                     if w.letter == 'S' {
                         next.spindle_speed = Some(w.value);
                     }
-                    events.push(format!("{}{}", w.letter, w.raw));
+                    c.events.push(format!("{}{}", w.letter, w.raw));
                 }
                 // Fanuc, Haas: D selects a cutter radius register, used only under G41/G42 (refused).
-                'D' if fanuc => events.push(format!("D{}", w.raw)),
+                'D' if fanuc => c.events.push(format!("D{}", w.raw)),
                 'F' => feed_word = Some(w),
                 'N' => {}
                 c if AXIS_LETTERS.contains(&c) => {}
@@ -435,6 +125,7 @@ impl Interpreter {
                 ),
             }
         }
+        let BlockCodes { uses, g10, g92, exact_stop_here, g53, dwell_word, blend_word, datum_block, events } = c;
         // The block's own motion: a one-shot's, else the modal one.
         let block_motion = shot.map(|s| s.motion).or(next.motion);
         let arc_motion = block_motion.is_some_and(Motion::is_arc);
@@ -646,7 +337,7 @@ impl Interpreter {
         if let (Some(r), true) = (next.tilt, linear_words) {
             let w = r * nalgebra::Vector3::new(next.last[0], next.last[1], next.last[2]);
             (targets.x, targets.y, targets.z) = (Some(w.x), Some(w.y), Some(w.z));
-            if !next.tcp && next.axes_frame().is_none() && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some()) {
+            if !next.tcp && next.tilt_places_tip() && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some()) {
                 diags.error(line, column, "linear and rotary axis words in one block in a tilted working plane without M128 / FUNCTION TCPM: position the rotary axes in a block of their own");
             }
         }
@@ -801,7 +492,7 @@ impl Interpreter {
         // In a tilted plane without TCPM a move of the rotary axes alone leaves the linear axes where
         // they stand, so the tool tip moves in the plane: read it anew.
         let rotary_only = !linear_words && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some());
-        let axes_before = (before.tilt.is_some() && !before.tcp && before.axes_frame().is_none() && rotary_only).then(|| before.axes_now());
+        let axes_before = (!before.tcp && before.tilt_places_tip() && rotary_only).then(|| before.axes_now());
         if let Some(axes) = axes_before {
             self.read_axes(axes);
         }
@@ -813,7 +504,7 @@ impl Interpreter {
             targets,
             arc: arc.map(Box::new),
             feed: self.feed_now(),
-            tcp: (self.tcp || self.tilt.is_some() && self.axes_frame().is_none() && (targets.x.is_some() || targets.y.is_some() || targets.z.is_some())) && !shot.is_some_and(|s| s.axes.is_some()),
+            tcp: (self.tcp || self.tilt_places_tip() && (targets.x.is_some() || targets.y.is_some() || targets.z.is_some())) && !shot.is_some_and(|s| s.axes.is_some()),
             datum: self.datum,
             orientation: self.orientation,
             events,

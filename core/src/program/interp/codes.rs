@@ -1,7 +1,10 @@
 //! Codes a block's words may carry whose reading is a rule of its own: makers' M functions, the
 //! TNC's M functions, Fanuc's G43.5 tool vector.
 
-use super::Word;
+use super::block::{BlockCodes, Reader};
+use super::{Interpreter, OneShot, Word};
+use crate::program::cutter_comp::ArcFeed;
+use crate::program::{Dialect, MCodeAction};
 use crate::program::lex::Diags;
 use crate::program::Targets;
 
@@ -87,4 +90,84 @@ pub(crate) fn lcnc_group(code_x10: i64) -> Option<u8> {
         70 | 80 => 15,
         _ => return None,
     })
+}
+
+/// One M word of a block: `next` is the state the block changes, `before` the state before it, `shot`
+/// the block's one-shot move (the Klartext reader's M91/M92). Part of [`Interpreter::block_one`].
+#[allow(clippy::too_many_arguments)]
+pub(super) fn m_code(next: &mut Interpreter, before: &Interpreter, w: &Word, shot: Option<OneShot>, line: usize, r: Reader, c: &mut BlockCodes<'_, '_>, diags: &mut Diags) {
+    let Reader { heid, fanuc, .. } = r;
+    let code = w.value as i64;
+    if w.value.fract() != 0.0 || w.value < 0.0 {
+        diags.error(line, w.column, format!("M{}: expected a whole M code number", w.raw));
+        return;
+    }
+    let rule = before.m_codes.iter().find(|r| i64::from(r.code) == code).map(|r| r.action);
+    match (rule, code, heid) {
+        (Some(MCodeAction::TcpOn), _, _) => (next.tcp, next.kins_tcp) = (true, true),
+        (Some(MCodeAction::TcpOff), _, _) => (next.tcp, next.kins_tcp) = (false, false),
+        (Some(MCodeAction::Event), _, _) => {}
+        (None, 128, true) => next.tcp = true,
+        // M126 / M127: the shorter way for rotary axes shown modulo 360 deg, on / off
+        // (TNC 620 10/2017 §13 "Shorter-path traverse of rotary axes: M126").
+        (None, 126, true) => next.shortest = true,
+        (None, 127, true) => next.shortest = false,
+        (None, 129, true) => next.tcp = false,
+        // M109/M110/M111: the feed on arcs at the tool's cutting edge, inside and
+        // outside contours / inside only / reset (iTNC 530 ISO user's manual 340 49x-02
+        // §7.4 "Feed rate for circular arcs"): what radius compensation makes of it.
+        (None, 109, true) => next.arc_feed = ArcFeed::Edge,
+        (None, 110, true) => next.arc_feed = ArcFeed::EdgeInside,
+        (None, 111, true) => next.arc_feed = ArcFeed::Centre,
+        // M116/M117: a rotary axis' feed in mm/min, on / off (iTNC 530 user's manual
+        // 60642x-03 §12.5), checked below where it acts.
+        (None, 116, true) => next.m116 = true,
+        (None, 117, true) => next.m116 = false,
+        // The spindle: M3/M4 turn it, M5 stops it (LinuxCNC: M19 orients it, stopped);
+        // the TNC's M13/M14 turn it with the coolant on.
+        (None, 3 | 4, _) | (None, 13 | 14, true) => next.spindle_turning = Some(true),
+        (None, 5, _) => next.spindle_turning = Some(false),
+        (None, 19, false) => {
+            next.spindle_turning = Some(false);
+            if before.dialect == Dialect::Rs274 {
+                c.uses.extend(['R', 'Q', 'P']);
+            }
+        }
+        (None, 0..=9 | 13 | 14 | 30, _) => {}
+        // M91/M92: the Klartext reader made this block a move of the axes (its oneshot).
+        (None, 91 | 92, true) if shot.is_some_and(|s| s.axes.is_some()) => {}
+        (None, _, true) => {
+            if let Err(why) = tnc_m_code(code) {
+                diags.error(line, w.column, format!("M{}: {why}", w.raw));
+            }
+        }
+        // Sinumerik's own M functions (Fundamentals §"Miscellaneous functions (M)": M17
+        // end of subprogram, M19 spindle positioning (above: it stops the spindle), M40-M45 gear stages, M70 spindle
+        // to axis mode); any other is the machine maker's.
+        (None, 17 | 40..=45 | 70, false) if before.dialect == Dialect::Sinumerik => {}
+        (None, _, false) if before.dialect == Dialect::Sinumerik => diags.error(line, w.column, maker_m_function(&w.raw, code)),
+        // LinuxCNC's own M codes that move nothing: spindle orient, overrides, tool, I/O,
+        // with the words they take (G-code reference §M19 R Q P, §M61 Q, §M62-M65 P,
+        // §M66 P E L Q, §M67/M68 E Q).
+        // M99 in the main program: its end (the reader's; super::super::lcnc_m98).
+        (None, 99, false) if before.dialect == Dialect::Rs274 => {}
+        (None, 98, false) if before.dialect == Dialect::Rs274 => diags.error(line, w.column, "M98 calls a Fanuc-style subprogram only as the first word of its line (after its N number): LinuxCNC reads it there, as a block of its own"),
+        (None, 48..=53 | 60, false) => {}
+        (None, 61, false) => c.uses.push('Q'),
+        (None, 62..=65, false) => c.uses.push('P'),
+        (None, 66, false) => c.uses.extend(['P', 'E', 'L', 'Q']),
+        (None, 67 | 68, false) => c.uses.extend(['E', 'Q']),
+        (None, _, false) if fanuc => diags.error(line, w.column, maker_m_function(&w.raw, code)),
+        (None, _, false) => diags.error(
+            line,
+            w.column,
+            format!(
+                "M{} is not an RS274NGC M code: a machine-specific one (LinuxCNC user M100-M199 or a remap) \
+                 whose effect is unknown; say what it does with --m-code {}=tcp-on|tcp-off|event \
+                 (LinuxCNC's vismach five-axis demos: 428=tcp-on, 429=tcp-off)",
+                w.raw, code
+            ),
+        ),
+    }
+    c.events.push(format!("M{}", w.raw));
 }

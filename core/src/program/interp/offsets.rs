@@ -1,0 +1,158 @@
+//! Work offsets and tool data a program sets: `G10 L2`/`L20` (work offsets), LinuxCNC's `G10 L1`
+//! (a tool's radius), `G92`/`G52` (axis offsets), and the program origin they move.
+
+use super::{rotation, Interpreter, Word, AXIS_LETTERS};
+use crate::program::lex::Diags;
+use crate::program::Dialect;
+use crate::units::DEG;
+
+impl Interpreter {
+    /// True if the program set work offset `k` (0 = G54) to anything but zero.
+    pub(super) fn offsets_set(&self, k: usize) -> bool {
+        self.offsets[k] != [0.0; 3]
+    }
+
+    /// `G10 L2 Pn X Y Z`: set work offset n to the values; `G10 L20 Pn X Y Z`: set it so that the
+    /// current point reads the values (LinuxCNC G-code reference §G10 L2, §G10 L20); P0 is the active
+    /// system. Absolute values only; rotary offsets only where they stay zero.
+    pub(super) fn set_offsets(&self, words: &[Word], next: &mut Interpreter, line: usize, column: usize, diags: &mut Diags) {
+        let word = |l: char| words.iter().find(|w| w.letter == l);
+        if self.dialect == Dialect::Rs274 && word('L').is_some_and(|w| w.value == 1.0) {
+            return self.set_tool(words, next, line, column, diags);
+        }
+        let l20 = match word('L') {
+            Some(w) if w.value == 2.0 => false,
+            Some(w) if w.value == 20.0 => true,
+            Some(w) => return diags.error(line, w.column, format!("G10 L{}: only L2 and L20 (set a work offset) are supported", w.raw)),
+            None => return diags.error(line, column, "G10 without L: expected G10 L2 Pn or G10 L20 Pn (set a work offset)"),
+        };
+        let l = if l20 { "L20" } else { "L2" };
+        let p = match word('P') {
+            Some(w) if w.value.fract() == 0.0 && (0.0..=9.0).contains(&w.value) => w.value as usize,
+            Some(w) => return diags.error(line, w.column, format!("G10 {l} P{}: expected a coordinate system 1 to 9, or 0 for the active one", w.raw)),
+            None => return diags.error(line, column, format!("G10 {l} without P: expected the coordinate system (P1 = G54, P0 the active one)")),
+        };
+        let k_system = if p == 0 { next.system } else { p - 1 };
+        if !next.absolute {
+            return diags.error(line, column, format!("G10 {l} under G91 (offsets relative to the current ones) is not supported: write it under G90"));
+        }
+        let mut offsets = next.offsets[k_system];
+        // LinuxCNC's R: the system's rotation about Z, deg (not in L20, which keeps it).
+        let mut r = next.rotation[k_system];
+        if let Some(w) = word('R').filter(|_| self.dialect == Dialect::Rs274) {
+            if l20 {
+                return diags.error(line, w.column, "G10 L20 R: R not allowed in G10 L20 (LinuxCNC)");
+            }
+            r = w.value * DEG;
+        }
+        // Either system rotated: X and Y are set together, below, or by the rotation's rules.
+        let turned = r != 0.0 || next.rotation_now() != 0.0;
+        if l20 && turned {
+            // interp_convert.cc convert_setup, L20 in a rotated system: the current point read in
+            // system n, and the offset that puts it at the values given, both turned by its R.
+            let c = next.point_in_system(next.system, k_system);
+            let given = |l: char| word(l).map(|w| w.value * next.unit);
+            let old = rotation::rot(c, r);
+            let want = rotation::rot([given('X').unwrap_or(c[0]), given('Y').unwrap_or(c[1])], r);
+            offsets[0] = old[0] + offsets[0] - want[0];
+            offsets[1] = old[1] + offsets[1] - want[1];
+        }
+        for w in words {
+            let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
+            if k < 2 && l20 && turned {
+                continue; // above
+            } else if k < 3 {
+                // L20: the current point, in the offset-free (G53) frame, less the value it is to read.
+                offsets[k] = if l20 { next.last[k] + next.datum[k] - next.axis_offset[k] - w.value * next.unit } else { w.value * next.unit };
+            } else {
+                let u = next.rotary_unit[k - 3];
+                let offset = if l20 { next.last[k] - w.value * u } else { w.value * u };
+                if offset.abs() > 1e-12 {
+                    diags.error(line, w.column, format!("G10 {l} {}{}: rotary-axis work offsets are not modelled (this one would be {:.6} deg)", w.letter, w.raw, offset / DEG));
+                }
+            }
+        }
+        if k_system == next.system && turned {
+            next.reframe_active(offsets, r);
+        } else if k_system == next.system {
+            next.move_origin(std::array::from_fn(|k| offsets[k] + next.axis_offset[k]));
+        }
+        next.offsets[k_system] = offsets;
+        next.rotation[k_system] = r;
+        next.offsets_given[k_system] = true;
+    }
+
+    /// LinuxCNC's `G10 L1 P R`: tool P's radius R in the tool table, for cutter compensation to take
+    /// (G-code reference §G10 L1; interp_convert.cc convert_setup_tool: the tool must be in the
+    /// table, a block without offsets is refused). Its length and other offsets are stored by
+    /// LinuxCNC for `G43`; here the tool length is the machine file's (warned of where not zero).
+    fn set_tool(&self, words: &[Word], next: &mut Interpreter, line: usize, column: usize, diags: &mut Diags) {
+        let word = |l: char| words.iter().find(|w| w.letter == l);
+        let tool = match word('P') {
+            Some(w) if w.value >= 0.0 && (w.value - w.value.round()).abs() < 1e-4 && w.value <= u32::MAX as f64 => w.value.round() as u32,
+            Some(w) => return diags.error(line, w.column, format!("G10 L1 P{}: expected a tool number", w.raw)),
+            None => return diags.error(line, column, "G10 L1 without P: expected the tool number"),
+        };
+        if next.tool_table.as_ref().is_none_or(|t| t.diameter(tool).is_none()) {
+            return diags.error(line, column, format!("G10 L1 P{tool}: Requested tool {tool} not found in the tool table (LinuxCNC; give the machine's with --tool-table)"));
+        }
+        let offsets: Vec<&Word> = words.iter().filter(|w| AXIS_LETTERS.contains(&w.letter)).collect();
+        let r = word('R');
+        if offsets.is_empty() && r.is_none() {
+            return diags.error(line, column, "G10 L1 without offsets has no effect (LinuxCNC)");
+        }
+        if let Some(w) = offsets.iter().find(|w| w.value != 0.0) {
+            diags.warning(line, w.column, format!("G10 L1 {}{}: tool offsets are not read (a G43 tool length is the machine file's tool_tip_mm)", w.letter, w.raw));
+        }
+        if let Some(r) = r {
+            let unit = next.unit;
+            if let Some(table) = next.tool_table.as_mut() {
+                std::sync::Arc::make_mut(table).set_diameter(tool, 2.0 * r.value * unit);
+            }
+        }
+    }
+
+    /// Put the program origin at `offset` (RS274: the active work offset, m): the machine stays, so
+    /// the current point's program coordinates change by the difference.
+    pub(super) fn move_origin(&mut self, offset: [f64; 3]) {
+        for k in 0..3 {
+            self.last[k] += self.datum[k] - offset[k];
+        }
+        self.datum = offset;
+    }
+
+    /// LinuxCNC's axis offsets (G-code reference §G92, §G52; interp_convert.cc convert_axis_offsets):
+    /// `G92` moves the origin so that the current point has the block's coordinates, `G52` sets the
+    /// offset itself, `G92.1`/`G92.2` take it away (G92.1 zeroes the copy G92.3 restores). Incremental
+    /// mode has no effect on them. Rotary-axis offsets are not modelled: a word that would make one
+    /// is an error.
+    pub(super) fn axis_offsets(&self, code: &str, words: &[Word], next: &mut Interpreter, line: usize, diags: &mut Diags) {
+        let work = next.offsets[next.system];
+        let mut offset = next.axis_offset;
+        match code {
+            "92" | "52" => {
+                for w in words {
+                    let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
+                    if k >= 3 {
+                        let turned = if code == "92" { next.last[k] - w.value * next.rotary_unit[k - 3] } else { w.value * next.rotary_unit[k - 3] };
+                        if turned.abs() > 1e-12 {
+                            diags.error(line, w.column, format!("G{code} {}{}: rotary-axis offsets are not modelled (this one would be {:.6} deg)", w.letter, w.raw, turned / DEG));
+                        }
+                        continue;
+                    }
+                    let v = w.value * next.unit;
+                    offset[k] = if code == "92" { next.last[k] + next.datum[k] - work[k] - v } else { v };
+                }
+                next.axis_offset_kept = offset;
+            }
+            "92.1" => {
+                offset = [0.0; 3];
+                next.axis_offset_kept = offset;
+            }
+            "92.2" => offset = [0.0; 3],
+            _ => offset = next.axis_offset_kept, // 92.3
+        }
+        next.axis_offset = offset;
+        next.move_origin(std::array::from_fn(|k| work[k] + offset[k]));
+    }
+}
