@@ -1,0 +1,276 @@
+//! The dialects the readers understand, their names, and how a program's own words tell which it is
+//! written in.
+
+use super::{apt, Diagnostic, Orientation, Severity};
+use std::path::Path;
+
+/// The dialects the readers understand.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Dialect {
+    /// Heidenhain DIN/ISO (`%NAME G71 *`, `N10 G01 X+0 *`).
+    Heidenhain,
+    /// RS274NGC (LinuxCNC, Fanuc style).
+    Rs274,
+    /// Cutter-location data: one `x y z i j k` pose per line, or APT CLDATA (`GOTO/x,y,z,i,j,k`).
+    Cl,
+    /// Siemens Sinumerik 840D (`.MPF`, `TRAORI`, tool vectors `A3= B3= C3=`).
+    Sinumerik,
+    /// Heidenhain conversational (Klartext, `.H`: `BEGIN PGM NAME MM`, `L X+0 Y+0 R0 F1000`).
+    Klartext,
+    /// Fanuc Series 30i/31i and the controls that follow it (Mori Seiki's MAPPS): G-code as
+    /// RS274NGC, with Fanuc's own reference returns, canned cycles, dwell in ms and codes.
+    Fanuc,
+    /// Haas NGC mills: Fanuc-style G-code with Haas' own rules (G28 with no axis homes every axis,
+    /// G234 TCPC, G254 DWO, G187, dwell in seconds, L as the repeat count).
+    Haas,
+}
+
+/// How many of a program's first lines its dialect is judged from.
+pub const DETECT_LINES: usize = 2000;
+
+/// A dialect by the names people call it (`--dialect`): heidenhain (din, iso), rs274 (ngc, gcode,
+/// linuxcnc), cl, sinumerik (840d, siemens), klartext (conversational), fanuc, haas; case-insensitive.
+impl std::str::FromStr for Dialect {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "heidenhain" | "din" | "iso" => Ok(Dialect::Heidenhain),
+            "rs274" | "ngc" | "gcode" | "linuxcnc" => Ok(Dialect::Rs274),
+            "cl" => Ok(Dialect::Cl),
+            "sinumerik" | "840d" | "siemens" => Ok(Dialect::Sinumerik),
+            "klartext" | "conversational" => Ok(Dialect::Klartext),
+            "fanuc" => Ok(Dialect::Fanuc),
+            "haas" => Ok(Dialect::Haas),
+            _ => Err(format!("unknown dialect '{s}': expected heidenhain, rs274, cl, sinumerik, klartext, fanuc or haas")),
+        }
+    }
+}
+
+impl Dialect {
+    /// True if a program in this dialect starts at its first pose (CL data: the first line is where
+    /// the tool is), false if its first move starts from the machine's home (NC programs).
+    pub fn starts_at_first_pose(self) -> bool {
+        self == Dialect::Cl
+    }
+
+    /// True if, without tool-centre-point control, a move of linear and rotary axes together takes F
+    /// along a path whose rotary part counts degrees as the program's length unit: Fanuc's (FANUC
+    /// B-63174EN §4.2, "G91 G01 X20.0 C40.0 F300.0 ... time = sqrt(20^2 + 40^2) / 300"). LinuxCNC and
+    /// Siemens give F to the linear axes, the rotary ones following.
+    pub fn counts_degrees_in_feed_path(self) -> bool {
+        self == Dialect::Fanuc
+    }
+
+    /// How a control of this dialect interpolates the tool orientation under tool-centre-point
+    /// management unless told otherwise. Heidenhain: `M128` moves the rotary axes linearly (as
+    /// FUNCTION TCPM's `PATHCTRL AXIS`, with which "the tool circumference does not describe a defined
+    /// path"). RS274NGC: LinuxCNC interpolates the joints linearly (src/emc/tp/tc.c; its TCP
+    /// kinematics map the axes only), and Fanuc's G43.4/G43.5 by default move "the two rotary axes
+    /// independently" (30i Tool Posture Control, A-79294E: the great circle is an option). CL data:
+    /// the control that runs it decides; axis-linear, as the post-processed program runs on a TNC.
+    pub fn default_orientation(self) -> Orientation {
+        match self {
+            Dialect::Heidenhain | Dialect::Rs274 | Dialect::Cl | Dialect::Klartext | Dialect::Fanuc | Dialect::Haas => Orientation::AxisLinear,
+            // ORIWKS and ORIVECT are the reset state (840D sl Programming Manual Job Planning
+            // 03/2006 §7.1.2: "The default setting is ORIWKS"; G group 51 default ORIVECT, large-circle
+            // interpolation, Fundamentals 10/2004 §12.3).
+            Dialect::Sinumerik => Orientation::GreatCircle,
+        }
+    }
+
+    /// True for the Fanuc-style dialects (Fanuc, Haas): reference returns, canned cycles and work
+    /// offsets as Fanuc reads them.
+    pub fn is_fanuc(self) -> bool {
+        matches!(self, Dialect::Fanuc | Dialect::Haas)
+    }
+
+    /// True for the dialects read by the RS274 reader (LinuxCNC, Fanuc, Haas).
+    pub fn is_rs274_family(self) -> bool {
+        matches!(self, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas)
+    }
+
+    /// The dialect of a program for a machine whose control reads `control`: a file whose content
+    /// or name says nothing beyond generic G-code (what [`Dialect::detect`] calls RS274NGC) is read
+    /// in the control's own G-code dialect.
+    pub fn detect_for(path: Option<&Path>, text: &str, control: Option<Dialect>) -> Dialect {
+        match (Dialect::detect(path, text), control) {
+            (Dialect::Rs274, Some(c)) if c.is_rs274_family() => c,
+            (d, _) => d,
+        }
+    }
+
+    /// The refusal of a program whose dialect was detected (`given` false) as the RS274 family but
+    /// whose first lines are in a language no reader follows ([`Dialect::unread_language`]).
+    pub fn unread(given: bool, detected: Dialect, text: &str) -> Option<Diagnostic> {
+        (!given && detected.is_rs274_family()).then(|| Dialect::unread_language(text)).flatten()
+    }
+
+    /// A program that its name or first lines send to the RS274 family but that is written in a
+    /// language no reader here follows: Heidenhain MillPlus's ISO dialect, recognised by a `G7` block
+    /// with MillPlus's angle words `A5=` `B5=` `C5=` (its tilted working plane, as NX's and Autodesk's
+    /// MillPlus posts write it; no RS274 word holds `=`). Read as G-code it would give an error on
+    /// nearly every block: refused once instead, at that block (within the first [`DETECT_LINES`]).
+    pub fn unread_language(text: &str) -> Option<Diagnostic> {
+        text.lines().take(DETECT_LINES).enumerate().find_map(|(i, raw)| {
+            // A line without `=` or `7` holds neither the angle words nor `G7`: passed over without
+            // the copy below (most lines of most programs).
+            if !raw.contains('=') || !raw.contains('7') {
+                return None;
+            }
+            // The code of the line: no `( )` comment, nothing after `;`.
+            let mut code = String::with_capacity(raw.len());
+            let mut depth = 0usize;
+            for c in raw.chars().take_while(|&c| c != ';') {
+                match c {
+                    '(' => depth += 1,
+                    ')' => depth = depth.saturating_sub(1),
+                    _ if depth == 0 => code.push(c.to_ascii_uppercase()),
+                    _ => code.push(' '),
+                }
+            }
+            let words: Vec<&str> = code.split_whitespace().collect();
+            let g7 = words.iter().position(|w| *w == "G7" || *w == "G07")?;
+            words.iter().any(|w| ["A5=", "B5=", "C5="].iter().any(|a| w.starts_with(a))).then(|| Diagnostic {
+                line: i + 1,
+                column: code.find(words[g7]).map_or(1, |b| code[..b].chars().count() + 1),
+                severity: Severity::Error,
+                message: format!(
+                    "{}: a Heidenhain MillPlus program (its tilted plane G7 with A5= B5= C5=): fiveaxis does not read MillPlus ISO (its G7, G141 and G74 follow no manual within reach); nothing was read",
+                    words.join(" ")
+                ),
+            })
+        })
+    }
+
+    /// Guess the dialect from the file name, then from the text.
+    pub fn detect(path: Option<&Path>, text: &str) -> Dialect {
+        let ext = path
+            .and_then(|p| p.extension())
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        // The first line that is not a comment (`;` in every dialect, `#` in CL data, `(` in RS274NGC):
+        // a comment's words say nothing of the dialect (a `; ...` header of six words is not CL data).
+        let first = text.lines().map(str::trim).find(|l| !l.is_empty() && !l.starts_with([';', '#', '('])).unwrap_or("");
+        // Content that only one dialect writes decides before the extension (`.h` is both
+        // Heidenhain's DIN/ISO and conversational; `.nc` is used by every control).
+        let upper = |l: &str| l.to_ascii_uppercase();
+        // One pass over the first lines: Klartext's `BEGIN PGM` in the first 50, APT's `GOTO/` and
+        // the 840D's words in all of them (each looked for until found).
+        let (mut klartext, mut goto, mut sinumerik) = (false, false, false);
+        for (i, l) in text.lines().take(DETECT_LINES).enumerate() {
+            if i < 50 && !klartext {
+                let u = upper(l);
+                let body = u.trim_start().trim_start_matches(|c: char| c.is_ascii_digit()).trim_start();
+                klartext = body.starts_with("BEGIN PGM");
+            }
+            goto = goto || apt::is_goto(l);
+            sinumerik = sinumerik || sinumerik_word(&l.as_bytes()[..memchr::memchr(b';', l.as_bytes()).unwrap_or(l.len())]);
+            if klartext || goto && sinumerik {
+                break;
+            }
+        }
+        if klartext {
+            return Dialect::Klartext;
+        }
+        // APT CLDATA: a motion statement (`GOTO/`) no NC dialect writes, or a first statement that is
+        // APT's (`PARTNO`, `$$`, `MACHIN/`, ...), as the CL reader itself takes it.
+        if apt::is_apt_line(first) || goto {
+            return Dialect::Cl;
+        }
+        match ext.as_str() {
+            "i" | "iso" => return Dialect::Heidenhain,
+            "mpf" | "spf" => return Dialect::Sinumerik,
+            _ if sinumerik => return Dialect::Sinumerik,
+            "h" => return Dialect::Heidenhain,
+            "ngc" | "nc" | "gcode" | "tap" | "cnc" => return Dialect::Rs274,
+            "cl" | "csv" | "cls" | "apt" | "clsf" | "aptsource" => return Dialect::Cl,
+            _ => {}
+        }
+        if first.starts_with('%') && first.ends_with('*') || text.contains(" *\n") {
+            Dialect::Heidenhain
+        } else if first
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|t| !t.is_empty())
+            .count()
+            >= 6
+            && !first.chars().next().is_some_and(|c| c.is_ascii_alphabetic() && "GMNXYZgmnxyz".contains(c))
+        {
+            Dialect::Cl
+        } else {
+            Dialect::Rs274
+        }
+    }
+}
+
+/// Words only the 840D writes among the dialects read here (its transformations, orientation modes,
+/// swivel cycle, tool-vector words, and G codes of its own), in capitals.
+const SINUMERIK_WORDS: [&[u8]; 12] = [b"TRAORI", b"TRAFOOF", b"ORIWKS", b"ORIMKS", b"ORIVECT", b"ORIAXES", b"CYCLE800", b"A3=", b"B3=", b"C3=", b"G642", b"G500"];
+
+/// Whether `code` holds one of [`SINUMERIK_WORDS`] in any case: a pass over its bytes, comparing
+/// only where a word's first letter stands, and only the words it starts (no copy of the line in
+/// capitals).
+fn sinumerik_word(code: &[u8]) -> bool {
+    // For each byte, the words it starts (bit k: word k), in either case: from the words themselves.
+    const STARTS: [u16; 256] = {
+        let mut t = [0u16; 256];
+        let mut k = 0;
+        while k < SINUMERIK_WORDS.len() {
+            let c = SINUMERIK_WORDS[k][0];
+            t[c as usize] |= 1 << k;
+            t[c.to_ascii_lowercase() as usize] |= 1 << k;
+            k += 1;
+        }
+        t
+    };
+    code.iter().enumerate().any(|(i, c)| {
+        let mut words = STARTS[usize::from(*c)];
+        while words != 0 {
+            let w = SINUMERIK_WORDS[words.trailing_zeros() as usize];
+            if code[i..].get(..w.len()).is_some_and(|s| s.eq_ignore_ascii_case(w)) {
+                return true;
+            }
+            words &= words - 1;
+        }
+        false
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::program::lex;
+
+    /// The 840D's words are found in any case, anywhere in a line's code, as the line copied in
+    /// capitals and searched word by word finds them (the definition the scanner replaces), over
+    /// 200,000 lines drawn from pieces of the words, in either case, with `=`, `;`, blanks and a
+    /// non-ASCII letter.
+    #[test]
+    fn sinumerik_words_are_found_as_in_the_line_in_capitals() {
+        let mut next = lex::xorshift(0x1234_5678_9ABC_DEF1);
+        let pieces = ["TRA", "tra", "ORI", "oRi", "FOOF", "WKS", "mks", "VECT", "AXES", "CYCLE", "cycle", "800", "A3", "b3", "C", "3=", "=", "G6", "g5", "42", "00", " ", ";", "Ä", "X1"];
+        let mut found = 0;
+        for _ in 0..200_000 {
+            let len = (next() % 10) as usize;
+            let line: String = (0..len).map(|_| pieces[(next() % pieces.len() as u64) as usize]).collect();
+            let code = line.split(';').next().unwrap_or("");
+            let reference = SINUMERIK_WORDS.iter().any(|w| code.to_ascii_uppercase().contains(std::str::from_utf8(w).unwrap()));
+            assert_eq!(sinumerik_word(code.as_bytes()), reference, "{line:?}");
+            found += usize::from(reference);
+        }
+        // Both answers drawn often enough to tell them apart.
+        assert!((1_000..199_000).contains(&found), "{found} lines with a word");
+    }
+
+    /// MillPlus is recognised by G7 with its angle words in code, at the G7; never in a comment,
+    /// and never by G7 or an `A5` alone.
+    #[test]
+    fn millplus_is_recognised_by_its_tilted_plane() {
+        let d = Dialect::unread_language("%\nN10 G17\nN20 G7 A5=15. B5=0.0 C5=210. B7=254 C7=255\n").unwrap();
+        assert_eq!((d.line, d.column, d.severity), (3, 5, Severity::Error));
+        assert!(d.message.contains("MillPlus"), "{}", d.message);
+        for text in ["N20 (G7 A5=15.) G1 X1\n", "N20 G1 X1 ; G7 A5=15.\n", "N20 G7 X1\n", "N20 G1 A5 X1\n", "G17 G7\nG1 A5.0\n"] {
+            assert_eq!(Dialect::unread_language(text), None, "{text:?}");
+        }
+    }
+}
