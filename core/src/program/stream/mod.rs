@@ -295,25 +295,19 @@ impl BlockStream {
     }
 
     fn seeking(k: Seeking<'static>, dialect: Dialect, source: &str) -> BlockStream {
-        BlockStream {
-            source: source.into(),
-            dialect,
-            input: Source::Seeking(Box::new(k)),
-            pending: VecDeque::new(),
-            out: Vec::new(),
-            diags: Diags::default(),
-            log: DiagnosticLog::default(),
-            name: None,
-            blocks: 0,
-            ended: false,
-        }
+        Self::on(Source::Seeking(Box::new(k)), dialect, source)
     }
 
     fn lines(input: Box<dyn BufRead + Send>, reader: Reader, dialect: Dialect, source: &str) -> BlockStream {
+        Self::on(Source::Lines { input, reader, line: 0, buf: Vec::with_capacity(256) }, dialect, source)
+    }
+
+    /// A stream of `input` with nothing read yet.
+    fn on(input: Source, dialect: Dialect, source: &str) -> BlockStream {
         BlockStream {
             source: source.into(),
             dialect,
-            input: Source::Lines { input, reader, line: 0, buf: Vec::with_capacity(256) },
+            input,
             pending: VecDeque::new(),
             out: Vec::new(),
             diags: Diags::default(),
