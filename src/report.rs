@@ -66,7 +66,12 @@ pub struct RapidPeak {
 pub struct AnalysisReport {
     pub program: String,
     pub machine: String,
+    /// The axis whose speed diverges at the singularity (C on the Hermle); empty on a four-axis machine.
     pub secondary_axis: String,
+    /// A four-axis machine's only rotary axis (its name): such a machine has no singular orientation
+    /// (the tool keeps its angle to the axis), so the singularity figures are 0 and no region opens.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub four_axis: Option<String>,
     pub blocks: usize,
     pub samples: usize,
     pub sample_period_s: f64,
@@ -184,6 +189,7 @@ impl AnalysisReport {
             program: read.source.to_string(),
             machine: machine.name.clone(),
             secondary_axis: machine.axes[machine.secondary_axis()].name.clone(),
+            four_axis: machine.chain.is_four_axis().then(|| machine.axes[3].name.clone()),
             blocks: read.blocks,
             samples: read.samples,
             sample_period_s: read.period,
@@ -220,6 +226,13 @@ impl AnalysisReport {
         let c = &self.secondary_axis;
         let mut o = String::new();
         let _ = writeln!(o, "program    {} ({} blocks, {} samples at {} ms)", self.program, self.blocks, self.samples, self.sample_period_s * 1e3);
+        if let Some(a) = &self.four_axis {
+            let _ = writeln!(o, "machine    {} (four-axis: one rotary axis, {a}; no singular orientation)", self.machine);
+            let _ = writeln!(o, "cycle time {:.2} s at the programmed feed", self.cycle_time_s);
+            self.feed_limit_line(&mut o);
+            self.diagnostics_lines(&mut o);
+            return o;
+        }
         let _ = writeln!(o, "machine    {} (singular axis {c}, limit {:.1} rpm)", self.machine, self.c_max_rpm);
         let _ = writeln!(o, "cycle time {:.2} s at the programmed feed", self.cycle_time_s);
         let block = |b: Option<u64>| b.map_or(String::new(), |n| format!("N{n}, "));
@@ -258,13 +271,7 @@ impl AnalysisReport {
                 let _ = writeln!(o, "closest approach          no five-axis moves ({:.3} deg overall)", self.min_singularity_distance_all_deg);
             }
         }
-        if let (Some(f), Some(x)) = (self.min_feed_limit_mm_per_min, self.min_feed_limit_x_mm) {
-            let by = match (&self.feed_limiting_axis, self.feed_limit_kind) {
-                (Some(a), Some(k)) => format!("{a} {k:?}").to_lowercase(),
-                _ => "programmed".into(),
-            };
-            let _ = writeln!(o, "lowest feed limit         {f:8.0} mm/min ({by}) at x {x:.3} mm (seed 002 eq. 5)");
-        }
+        self.feed_limit_line(&mut o);
         if self.singular_samples > 0 {
             let _ = writeln!(o, "on the singularity        {} samples exactly on the singular direction while moving (eq. 5 undefined there)", self.singular_samples);
         }
@@ -299,6 +306,23 @@ impl AnalysisReport {
                 let _ = writeln!(o, "     {more}");
             }
         }
+        self.diagnostics_lines(&mut o);
+        o
+    }
+
+    /// The table's line of the lowest feed limit and the axis that sets it.
+    fn feed_limit_line(&self, o: &mut String) {
+        if let (Some(f), Some(x)) = (self.min_feed_limit_mm_per_min, self.min_feed_limit_x_mm) {
+            let by = match (&self.feed_limiting_axis, self.feed_limit_kind) {
+                (Some(a), Some(k)) => format!("{a} {k:?}").to_lowercase(),
+                _ => "programmed".into(),
+            };
+            let _ = writeln!(o, "lowest feed limit         {f:8.0} mm/min ({by}) at x {x:.3} mm (seed 002 eq. 5)");
+        }
+    }
+
+    /// The table's diagnostics, one a line.
+    fn diagnostics_lines(&self, o: &mut String) {
         if self.diagnostics.is_empty() {
             let _ = writeln!(o, "diagnostics none");
         } else {
@@ -307,7 +331,6 @@ impl AnalysisReport {
                 let _ = writeln!(o, "  {d}");
             }
         }
-        o
     }
 }
 

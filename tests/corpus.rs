@@ -46,12 +46,16 @@ const DEFECTIVE: &[(&str, &str, &str)] = &[
         "cincinnati-ftv5",
         "NX's post writes M202(tolerance) (no 840D syntax), TRAOOF for TRAFOOF, G503 (no 840D G code) and a CYCLE84 without a pitch (alarm 61001)",
     ),
+    (
+        "heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h",
+        "deckel-dmc-75v",
+        "M91 in a tilted working plane (TNC 426 B ISO §7.3); with the tool table its `;DIA OUTIL` comments give, the TNC stops at its first pocket (\"Tool radius too large\": an approach arc R3 inside the contour for tool 3 of 10 mm); CALL PGM TNC:\\FIN calls a program not given. After that stop lie its cycles 202 and 203 (not read) and CP IPA+360 with DR- (the TNC wants one sign)",
+    ),
 ];
 
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect: no MillPlus manual in reach for G7's angle order, G141, G74 L1, G174 (only NX's and Autodesk's posts); the same part as the DMC 100 U's, its G141 operations at 200-334 in under G70. Refused once, naming MillPlus (the_millplus_program_is_refused_once_naming_its_language)"),
-    ("heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h", "CALL PGM TNC:\\FIN (another program, not given); its RL/RR contours read with a TOOL.T written from its `;DIA OUTIL` comments, and the first one stops as the TNC would (\"Tool radius too large\"): an approach arc R3 inside the contour for tool 3 of 10 mm; M91 in a tilted plane; cycles 202 and 203; CP IPA+360 with DR- (the TNC wants one sign); a four-axis machine (A only)"),
 ];
 
 fn fiveaxis(args: &[&str]) -> std::process::Output {
@@ -477,6 +481,72 @@ fn the_dmc100u_programs_defects_are_refused_as_the_tnc_reads_them() {
         }
     }
     assert_eq!(centres, cc_xyz);
+}
+
+/// The Deckel DMC 75V program (on its four-axis model), as the TNC reads it with the tool table its
+/// `;DIA OUTIL = d` comments give (each after its `TOOL CALL n`: tool n of radius d / 2, written here):
+/// an error at each M91 in a tilted working plane (after a `CYCL DEF 19.1` with angles, until one
+/// without), found here by scanning the file, up to the first contour the tool cannot follow, where
+/// the TNC stops ("Tool radius too large": found here as the first `CR .. R+r DR+` with r below the
+/// tool's radius after an RL block, the tool inside the arc), and its `CALL PGM` of a program not given. Nothing else; the report
+/// names the machine four-axis.
+#[test]
+fn the_deckel_programs_defects_are_refused_as_the_tnc_reads_them() {
+    let file = common::outside("programs/heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h");
+    let text: String = std::fs::read(&file).unwrap().iter().map(|&b| b as char).collect();
+    let lines: Vec<&str> = text.lines().collect();
+    let dir = common::scratch_dir("deckel");
+    // The tool table, and the expected errors, from the file's own lines.
+    let (mut table, mut tool, mut radius) = (String::from("BEGIN TOOL.T MM\nT       NAME       L           R\n"), 0u32, std::collections::BTreeMap::new());
+    let (mut tilted, mut rl, mut m91, mut stop, mut call) = (false, false, Vec::new(), None, Vec::new());
+    for (i, l) in lines.iter().enumerate() {
+        let w: Vec<&str> = l.split_whitespace().collect();
+        if let Some(k) = w.iter().position(|t| *t == "CALL") {
+            if w.get(k + 1) == Some(&"PGM") {
+                call.push(i + 1);
+            } else if k > 0 && w[k - 1] == "TOOL" {
+                tool = w[k + 1].parse().unwrap();
+            }
+        }
+        if let Some(d) = l.strip_prefix(";DIA OUTIL = ") {
+            let d: f64 = d.split_whitespace().next().unwrap().parse().unwrap();
+            if radius.insert(tool, d / 2.0).is_none() {
+                table += &format!("{tool:<8}T{tool:<9} +100        +{}\n", d / 2.0);
+            }
+        }
+        if l.contains("CYCL DEF 19.1") {
+            tilted = w.len() > 4;
+        }
+        if tilted && w.contains(&"M91") && stop.is_none() {
+            m91.push(i + 1);
+        }
+        if w.get(1) == Some(&"L") {
+            rl = w.contains(&"RL") || (rl && !w.contains(&"R0"));
+        }
+        // Left of a counter-clockwise arc: the tool is inside it.
+        if rl && w.get(1) == Some(&"CR") && w.contains(&"DR+") && stop.is_none() {
+            let r: f64 = w.iter().find_map(|t| t.strip_prefix("R+")).unwrap().parse().unwrap();
+            if r < radius[&tool] {
+                stop = Some(i + 1);
+            }
+        }
+    }
+    table += "[END]\n";
+    let tools = dir.join("TOOL.T");
+    std::fs::write(&tools, table).unwrap();
+    let stop = stop.expect("a contour the tool cannot follow");
+    assert!(!m91.is_empty() && call.len() == 1, "{m91:?} {call:?}");
+    let out = fiveaxis(&["program", "analyze", file.to_str().unwrap(), "--machine", "deckel-dmc-75v", "--tool-table", tools.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("four-axis: one rotary axis, A; no singular orientation"), "{stdout}");
+    let errors: Vec<(usize, &str)> = stdout.lines().filter(|l| l.contains(": error:")).map(|e| (e.split(".h:").nth(1).unwrap().split(':').next().unwrap().parse().unwrap(), e)).collect();
+    let at = |what: &str| errors.iter().filter(|(_, e)| e.contains(what)).map(|(l, _)| *l).collect::<Vec<_>>();
+    assert_eq!(at("machine coordinates in a tilted working plane"), m91, "{errors:#?}");
+    assert_eq!(at("Tool radius too large"), [stop], "{errors:#?}");
+    assert_eq!(at("CALL PGM"), call, "{errors:#?}");
+    assert_eq!(errors.len(), m91.len() + 1 + call.len(), "{errors:#?}");
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// The MillPlus program is not read as G-code (its `.nc` name says RS274, where nearly every block

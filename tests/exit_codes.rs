@@ -212,3 +212,33 @@ fn nodes_and_the_bridge_refuse_an_unknown_machine_with_exit_2() {
         assert!(err.contains("unknown machine 'no-such-machine'"), "{exe} {args:?}: {err}");
     }
 }
+
+/// A four-axis machine (the Deckel DMC 75V, one rotary axis): `program analyze` and `run` read its
+/// program (exit 0); what names five axes is refused, exit 2 saying so, before it reads or joins
+/// anything: a recording (`run --mcap`, `analyze`), `avoid`, the nodes and the Rerun bridge.
+#[test]
+fn a_four_axis_machine_is_read_and_refused_where_five_axes_are_named() {
+    let program = tmp("four-axis.h");
+    std::fs::write(&program, "0 BEGIN PGM F MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+100 A+0 R0 FMAX M3\n3 L A-90 FMAX\n4 L X+10 Y-20 Z+50 FMAX\n5 L X+60 F500\n6 L A-60 F2000\n7 L Z+100 FMAX\n8 END PGM F MM\n").unwrap();
+    let m = ["--machine", "deckel-dmc-75v"];
+    let out = Command::new(env!("FIVEAXIS_EXE")).args(["program", "analyze", s(&program)]).args(m).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("(four-axis: one rotary axis, A; no singular orientation)"));
+    expect(&["run", s(&program), m[0], m[1]], 0, "");
+    let refused = "is a four-axis machine (one rotary axis, no singular orientation)";
+    expect(&["run", s(&program), m[0], m[1], "--mcap", s(&tmp("four-axis.mcap"))], 2, refused);
+    expect(&["analyze", "recordings/no.mcap", m[0], m[1]], 2, refused);
+    expect(&["avoid", "refine", "builtin:semi-cylinder", m[0], m[1]], 2, refused);
+    let dir = Path::new(env!("FIVEAXIS_EXE")).parent().unwrap();
+    let cases: [(&str, &[&str]); 4] = [
+        ("fiveaxis-commander", &["bundled:SING.I", m[0], m[1]]),
+        ("fiveaxis-simulator", &["bundled:SING.I", m[0], m[1]]),
+        ("fiveaxis-monitor", &m),
+        ("fiveaxis-rerun", &["live", m[0], m[1]]),
+    ];
+    for (exe, args) in cases {
+        let (code, err) = run_exe(&dir.join(exe), args);
+        assert_eq!(code, 2, "{exe} {args:?}: {err}");
+        assert!(err.contains(refused), "{exe} {args:?}: {err}");
+    }
+}

@@ -52,9 +52,11 @@ fn yourdfpy_fk_many(jobs: &[(PathBuf, Vec<String>, Vec<[f64; 5]>)], dir: &Path) 
     let mut args = Vec::new();
     for (k, (file, names, rows)) in jobs.iter().enumerate() {
         let (joints, out) = (dir.join(format!("joints-{k}.csv")), dir.join(format!("fk-{k}.csv")));
-        let mut csv = names.join(",") + "\n";
+        // A four-axis machine's locked axis (unnamed, always 0) is no joint of its URDF.
+        let named: Vec<usize> = (0..names.len()).filter(|&i| !names[i].is_empty()).collect();
+        let mut csv = named.iter().map(|&i| names[i].as_str()).collect::<Vec<_>>().join(",") + "\n";
         for r in rows {
-            csv += &r.iter().map(|v| format!("{v:?}")).collect::<Vec<_>>().join(",");
+            csv += &named.iter().map(|&i| format!("{:?}", r[i])).collect::<Vec<_>>().join(",");
             csv += "\n";
         }
         std::fs::write(&joints, csv).unwrap();

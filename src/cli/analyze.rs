@@ -63,7 +63,7 @@ pub fn main(a: &OfflineArgs) -> Outcome {
     positive("--max-c-speed-rpm", a.max_c_speed_rpm)?;
     positive("--min-distance-deg", a.min_distance_deg)?;
     positive("--feed", a.feed_mm_per_min)?;
-    let machine = a.machine.load().map_err(bad_input)?;
+    let machine = a.machine.load().and_then(|m| m.five_axis("`fiveaxis analyze` of recordings")).map_err(bad_input)?;
     let selection = a.streams.selection(&machine).map_err(bad_input)?;
     let feed_source = fiveaxis::job::feed_source(a.program.as_deref(), a.feed_mm_per_min, &machine, &a.control.read_options()).map_err(bad_input)?;
     if !(a.max_rejected_percent >= 0.0 && a.max_rejected_percent <= 100.0) {

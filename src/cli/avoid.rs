@@ -99,7 +99,7 @@ fn options(control: &ControlArgs) -> JobOptions {
 /// The machine and program of an `avoid` command (files, bundled:, builtin: paths as CL every 0.1 mm,
 /// builtin:semi-cylinder); programs with defects are bad input.
 fn avoid_input(program: &str, machine: &MachineArgs, what: &str, options: &JobOptions, out: Option<&std::path::Path>) -> Result<(Machine, fiveaxis::program::Program), Stop> {
-    let machine = machine.load().map_err(bad_input)?;
+    let machine = machine.load().and_then(|m| m.five_axis("`fiveaxis avoid`")).map_err(bad_input)?;
     let prog = if program == "builtin:semi-cylinder" {
         fiveaxis::avoid::refine::semi_cylinder()
     } else if let Some(name) = program.strip_prefix("builtin:") {

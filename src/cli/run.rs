@@ -32,7 +32,11 @@ pub fn main(a: &RunArgs) -> Outcome {
     if a.mcap.is_none() && a.rrd.is_none() {
         crate::keep_freed_memory();
     }
-    let machine = a.src.machine()?;
+    let mut machine = a.src.machine()?;
+    // A recording names the five axes of its JointStates.
+    if a.mcap.is_some() || a.rrd.is_some() {
+        machine = machine.five_axis("a recording (--mcap, --rrd)").map_err(bad_input)?;
+    }
     // An .rrd is made from the recording: record to a temporary MCAP when none was asked for.
     let tmp_mcap = (a.rrd.is_some() && a.mcap.is_none()).then(|| std::env::temp_dir().join(format!("fiveaxis-run-{}.mcap", std::process::id())));
     let mcap = a.mcap.clone().or_else(|| tmp_mcap.clone());

@@ -13,10 +13,15 @@ pub struct Pose {
     pub axis: Vector3<f64>,
 }
 
-/// The chain of a machine with two rotary axes, in the file's slot order (slot 0 = axis index 3).
+/// The chain of a machine with two rotary axes, in the file's slot order (slot 0 = axis index 3); or
+/// of a four-axis machine ([`TwoRotaryChain::four_axis`]), whose slot 1 is a locked joint that never
+/// turns.
 #[derive(Debug, Clone)]
 pub struct TwoRotaryChain {
     joints: [RotaryJoint; 2],
+    /// A four-axis machine: slot 1 is locked at 0 (coaxial with slot 0, so the tool keeps a fixed
+    /// angle to it and nothing diverges); every orientation is slot 0's turn alone.
+    locked: bool,
     tool_axis: Vector3<f64>,
     tool_tip: Vector3<f64>,
     /// Slot of r2 (fixed in the workpiece frame) and of r1.
@@ -55,7 +60,29 @@ impl TwoRotaryChain {
             Some(&i) => i,
             None => head[0],
         };
-        Ok(TwoRotaryChain { joints, tool_axis, tool_tip, r2, r1: 1 - r2, table, head })
+        Ok(TwoRotaryChain { joints, tool_axis, tool_tip, locked: false, r2, r1: 1 - r2, table, head })
+    }
+
+    /// The chain of a four-axis machine (three linear axes and `joint`): a second joint, locked at 0,
+    /// fills slot 1 so that the five-axis transforms serve it unchanged. The locked joint lies on
+    /// `joint`'s line: the tool's angle to it is fixed (the angle between the tool and the rotary
+    /// axis), so such a machine has no singular orientation, and its secondary rate is 0.
+    pub fn four_axis(joint: RotaryJoint, tool_axis: Vector3<f64>, tool_tip: Vector3<f64>) -> Result<Self, KinematicsError> {
+        if joint.axis.cross(&tool_axis).norm() < 1e-9 {
+            return Err(KinematicsError::ToolAlongRotary);
+        }
+        let locked = RotaryJoint { name: String::new(), ..joint.clone() };
+        let side = vec![0, 1];
+        let (table, head) = match joint.carrier {
+            Carrier::Table => (side, Vec::new()),
+            Carrier::Head => (Vec::new(), side),
+        };
+        Ok(TwoRotaryChain { joints: [joint, locked], tool_axis, tool_tip, locked: true, r2: 1, r1: 0, table, head })
+    }
+
+    /// True for a four-axis machine's chain: slot 1 is locked at 0 ([`Self::four_axis`]).
+    pub fn is_four_axis(&self) -> bool {
+        self.locked
     }
 
     /// The joints in slot order.
@@ -173,6 +200,10 @@ impl TwoRotaryChain {
     /// the others (a 45 deg nutating head). Undefined on the pole (|a2 x o| below [`POLE`]) and at the rim
     /// of a non-orthogonal machine's reachable cone (gamma = 0, where r1 folds back): 0 is returned there.
     pub fn secondary_rate(&self, axis: &Vector3<f64>, axis_rate: &Vector3<f64>, rot: &[f64; 2]) -> f64 {
+        if self.locked {
+            // A four-axis machine's locked joint never turns, whatever the path.
+            return 0.0;
+        }
         let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
         let (a1, a2, o) = (j1.axis, j2.axis, *axis);
         let w = a2.cross(&o);
@@ -256,6 +287,9 @@ impl TwoRotaryChain {
             return Err(KinematicsError::ZeroToolAxis);
         }
         let q = axis / n;
+        if self.locked {
+            return self.four_axis_solution(&q);
+        }
         let (j1, j2) = (&self.joints[self.r1], &self.joints[self.r2]);
         let (a1, a2, o) = (j1.axis, j2.axis, self.tool_axis);
         // Subproblem 2: c with a1.c = a1.o, a2.c = a2.q, |c| = 1; then R(a1,phi1) o = c, R(a2,phi2) c = q.
@@ -281,5 +315,21 @@ impl TwoRotaryChain {
             out[k][self.r2] = wrap_pi(sign(j2.carrier) * phi2);
         }
         Ok(OrientationSolutions { solutions: out, singular })
+    }
+
+    /// A four-axis machine's one solution for the unit tool axis `q` (both entries alike): the turn
+    /// of the free joint that takes the tool onto `q` (Paden-Kahan subproblem 1), the locked one at 0.
+    /// The tool reaches only the cone about the joint's axis on which it lies: elsewhere, unreachable.
+    fn four_axis_solution(&self, q: &Vector3<f64>) -> Result<OrientationSolutions, KinematicsError> {
+        let j = &self.joints[0];
+        let (a, o) = (j.axis, self.tool_axis);
+        // The same angle to the axis: within 1e-9 rad of the cone (as the two-rotary solution's g2 >= -1e-9).
+        if (a.dot(&o) - a.dot(q)).abs() > 1e-9 {
+            return Err(KinematicsError::Unreachable);
+        }
+        // Off the axis (four_axis refuses a tool along it), so the angle is defined.
+        let phi = subproblem1(&a, &o, q).ok_or(KinematicsError::Unreachable)?;
+        let sol = [wrap_pi(sign(j.carrier) * phi), 0.0];
+        Ok(OrientationSolutions { solutions: [sol, sol], singular: false })
     }
 }

@@ -115,6 +115,8 @@ pub enum KinematicsError {
     OutOfRange { axis: String, value: f64, min: f64, max: f64, unit: &'static str },
     #[error("the rotary axes are parallel: not a five-axis machine")]
     ParallelAxes,
+    #[error("the tool lies along the only rotary axis: turning it does not tilt the tool")]
+    ToolAlongRotary,
 }
 
 /// Rotate `p` about unit `axis` onto the direction of `q` (Paden-Kahan subproblem 1): the angle, or

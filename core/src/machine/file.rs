@@ -41,7 +41,8 @@ pub struct MachineFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contour_tolerance_deg: Option<f64>,
     pub linear: Vec<LinearAxisFile>,
-    /// Exactly two rotary axes, in chain order from the machine base outwards on each side.
+    /// Two rotary axes, in chain order from the machine base outwards on each side; or one (a four-axis
+    /// machine, which has no singular orientation).
     pub rotary: Vec<RotaryAxisFile>,
     /// Where the control's machine coordinates lie (`G53`, `M91`, `SUPA`, `G28`); without it a
     /// program's machine-coordinate moves are refused.
@@ -253,12 +254,35 @@ impl MachineFile {
         self.build_checked().map_err(|message| MachineError::Invalid { name: self.name.clone(), origin: origin.to_string(), message })
     }
 
+    /// The chain of a five-axis machine's two rotary joints (file order), checked: not parallel, and
+    /// the primary axis tilts the tool.
+    fn five_axis_chain(&self, joints: &[crate::kinematics::RotaryJoint], tool_axis: Vector3<f64>, tool_tip: Vector3<f64>) -> Result<TwoRotaryChain, String> {
+        let between = line_angle_deg(&joints[0].axis, &joints[1].axis);
+        if between < MIN_CHAIN_ANGLE_DEG {
+            return Err(format!(
+                "`rotary[0].axis` ({}) and `rotary[1].axis` ({}) are {between:.3} deg from parallel: two parallel rotary axes turn the tool about one line, not a five-axis machine",
+                self.rotary[0].name, self.rotary[1].name
+            ));
+        }
+        let chain = TwoRotaryChain::new([joints[0].clone(), joints[1].clone()], tool_axis, tool_tip * MM).map_err(|e| e.to_string())?;
+        let r1 = 1 - chain.secondary_slot();
+        let tilt = line_angle_deg(&tool_axis, &joints[r1].axis);
+        if tilt < MIN_CHAIN_ANGLE_DEG {
+            return Err(format!(
+                "`tool_axis` is {tilt:.3} deg from `rotary[{r1}].axis` ({}), the primary rotary axis: turning it does not tilt the tool, so the tool axis cannot leave a cone about `rotary[{}].axis`",
+                self.rotary[r1].name,
+                1 - r1
+            ));
+        }
+        Ok(chain)
+    }
+
     fn build_checked(&self) -> Result<Machine, String> {
         if self.linear.len() != 3 {
             return Err(format!("needs exactly 3 [[linear]] axes, found {}", self.linear.len()));
         }
-        if self.rotary.len() != 2 {
-            return Err(format!("needs exactly 2 [[rotary]] axes, found {}", self.rotary.len()));
+        if !(1..=2).contains(&self.rotary.len()) {
+            return Err(format!("needs 2 [[rotary]] axes (a five-axis machine) or 1 (a four-axis machine), found {}", self.rotary.len()));
         }
         let positive = |v: f64| v.is_finite() && v > 0.0;
         let mut axes: Vec<Axis> = Vec::with_capacity(5);
@@ -318,6 +342,13 @@ impl MachineFile {
                 Some(other) => return Err(format!("`{f}.program_unit` = \"{other}\" ({}): expected \"deg\" or \"rad\"", r.name)),
             });
         }
+        if self.rotary.len() == 1 {
+            // A four-axis machine: its fifth axis is the chain's locked joint, unnamed (no program
+            // word reaches it) and held at 0 (range 0..0); its dynamics are the rotary axis' own.
+            let limits = AxisLimits { min: 0.0, max: 0.0, ..axes[3].limits };
+            axes.push(Axis { name: String::new(), kind: AxisKind::Rotary, limits });
+            word_units.push(DEG);
+        }
         let mut names: Vec<String> = axes.iter().map(|a| a.name.to_ascii_uppercase()).collect();
         names.sort();
         names.dedup();
@@ -326,23 +357,16 @@ impl MachineFile {
         }
         let tool_axis = direction("tool_axis", self.tool_axis)?;
         let tool_tip = finite("tool_tip_mm", self.tool_tip_mm)?;
-        let between = line_angle_deg(&joints[0].axis, &joints[1].axis);
-        if between < MIN_CHAIN_ANGLE_DEG {
-            return Err(format!(
-                "`rotary[0].axis` ({}) and `rotary[1].axis` ({}) are {between:.3} deg from parallel: two parallel rotary axes turn the tool about one line, not a five-axis machine",
-                self.rotary[0].name, self.rotary[1].name
-            ));
+        if joints.len() == 1 {
+            let tilt = line_angle_deg(&tool_axis, &joints[0].axis);
+            if tilt < MIN_CHAIN_ANGLE_DEG {
+                return Err(format!("`tool_axis` is {tilt:.3} deg from `rotary[0].axis` ({}), the only rotary axis: turning it does not tilt the tool", self.rotary[0].name));
+            }
         }
-        let chain = TwoRotaryChain::new([joints[0].clone(), joints[1].clone()], tool_axis, tool_tip * MM).map_err(|e| e.to_string())?;
-        let r1 = 1 - chain.secondary_slot();
-        let tilt = line_angle_deg(&tool_axis, &joints[r1].axis);
-        if tilt < MIN_CHAIN_ANGLE_DEG {
-            return Err(format!(
-                "`tool_axis` is {tilt:.3} deg from `rotary[{r1}].axis` ({}), the primary rotary axis: turning it does not tilt the tool, so the tool axis cannot leave a cone about `rotary[{}].axis`",
-                self.rotary[r1].name,
-                1 - r1
-            ));
-        }
+        let chain = match joints.len() {
+            1 => TwoRotaryChain::four_axis(joints[0].clone(), tool_axis, tool_tip * MM).map_err(|e| e.to_string())?,
+            _ => self.five_axis_chain(&joints, tool_axis, tool_tip)?,
+        };
         let axes: [Axis; 5] = axes.try_into().map_err(|_| "five axes".to_string())?;
         let tolerance = |field: &str, value: Option<f64>, unit: f64, default: f64, max: f64, ok: fn(f64) -> bool| match value {
             None => Ok(default),

@@ -1,5 +1,6 @@
 //! Machine model: three linear and two rotary axes with their limits, and the kinematic chain that
-//! links the machine axes to the tool pose in the workpiece frame.
+//! links the machine axes to the tool pose in the workpiece frame. A four-axis machine (one rotary
+//! axis) fills the second rotary slot with a locked, unnamed axis held at 0 (`TwoRotaryChain::four_axis`).
 //!
 //! Machines are described in TOML (the built-in ones live in `machines/*.toml` and are compiled in).
 //! File fields carry people's units in their names (mm, deg, mm/min); the model itself is SI
@@ -55,7 +56,8 @@ pub struct Axis {
     pub limits: AxisLimits,
 }
 
-/// A five-axis machine: axes `[X, Y, Z, R1st, R2nd]` (rotaries in the file's order) and its chain.
+/// A five-axis machine: axes `[X, Y, Z, R1st, R2nd]` (rotaries in the file's order) and its chain; a
+/// four-axis machine's `R2nd` is the chain's locked joint: unnamed, range 0..0.
 #[derive(Debug, Clone)]
 pub struct Machine {
     pub name: String,
@@ -187,12 +189,15 @@ pub enum MachineError {
     Parse { path: String, message: String },
     #[error("machine '{name}' ({origin}): {message}")]
     Invalid { name: String, origin: String, message: String },
+    #[error("machine '{name}' is a four-axis machine (one rotary axis, no singular orientation): {what} takes a machine with two rotary axes; `fiveaxis program analyze` and `fiveaxis run` read its programs")]
+    FourAxis { name: String, what: &'static str },
 }
 
 /// The built-in machines and their files: the papers' (seed 001-003), the LinuxCNC sample configs' (one
 /// of each family: table-table, table-head, head-head), a 45 deg nutating head, the corpus machines of
-/// issue 64 and a generic model of each kinematic class (`generic-*`, wide ranges).
-const BUILTIN_FILES: [(&str, &str); 28] = [
+/// issue 64 (the Deckel DMC 75V a four-axis one) and a generic model of each kinematic class
+/// (`generic-*`, wide ranges).
+const BUILTIN_FILES: [(&str, &str); 29] = [
     ("hermle-c600u", include_str!("../../../machines/hermle-c600u.toml")),
     ("mikron-ucp710", include_str!("../../../machines/mikron-ucp710.toml")),
     ("seed003-ttttr", include_str!("../../../machines/seed003-ttttr.toml")),
@@ -214,6 +219,7 @@ const BUILTIN_FILES: [(&str, &str); 28] = [
     ("cincinnati-ftv5", include_str!("../../../machines/cincinnati-ftv5.toml")),
     ("dmg-dmu-50", include_str!("../../../machines/dmg-dmu-50.toml")),
     ("dmg-dmc-100u", include_str!("../../../machines/dmg-dmc-100u.toml")),
+    ("deckel-dmc-75v", include_str!("../../../machines/deckel-dmc-75v.toml")),
     ("generic-ac-table", include_str!("../../../machines/generic-ac-table.toml")),
     ("generic-bc-table", include_str!("../../../machines/generic-bc-table.toml")),
     ("generic-ab-table", include_str!("../../../machines/generic-ab-table.toml")),
@@ -254,6 +260,15 @@ impl Machine {
         let file: MachineFile = toml::from_str(text)
             .map_err(|e| MachineError::Parse { path: origin.to_string(), message: e.to_string() })?;
         file.build(origin)
+    }
+
+    /// This machine, if it has two rotary axes; a four-axis machine is refused for `what` (a command
+    /// or node whose streams, recordings or remedies name five axes).
+    pub fn five_axis(self, what: &'static str) -> Result<Machine, MachineError> {
+        if self.chain.is_four_axis() {
+            return Err(MachineError::FourAxis { name: self.name, what });
+        }
+        Ok(self)
     }
 
     /// Index of the axis called `name` (case-insensitive).

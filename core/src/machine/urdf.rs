@@ -310,9 +310,9 @@ impl<'a> Urdf<'a> {
         let movable: Vec<String> = path.iter().map(|p| format!("'{}' ({})", self.joints[p.index].name, self.joints[p.index].kind)).collect();
         let prismatic: Vec<&PathJoint> = path.iter().filter(|p| self.joints[p.index].kind == "prismatic").collect();
         let rotary: Vec<&PathJoint> = path.iter().filter(|p| self.joints[p.index].kind != "prismatic").collect();
-        if prismatic.len() != 3 || rotary.len() != 2 {
+        if prismatic.len() != 3 || !(1..=2).contains(&rotary.len()) {
             return Err(format!(
-                "between links '{workpiece}' and '{tool}' there are {} prismatic and {} rotary joints ({}); a five-axis machine has 3 and 2",
+                "between links '{workpiece}' and '{tool}' there are {} prismatic and {} rotary joints ({}); a five-axis machine has 3 and 2, a four-axis one 3 and 1",
                 prismatic.len(),
                 rotary.len(),
                 if movable.is_empty() { "none".to_string() } else { movable.join(", ") }
@@ -369,7 +369,7 @@ impl<'a> Urdf<'a> {
         // Rotary slots: document order, but two on one side base outwards (as a machine file lists them).
         let mut rot: Vec<&PathJoint> = rotary.clone();
         rot.sort_by_key(|r| r.index);
-        if rot[0].table_side == rot[1].table_side && rot[0].depth > rot[1].depth {
+        if rot.len() == 2 && rot[0].table_side == rot[1].table_side && rot[0].depth > rot[1].depth {
             rot.swap(0, 1);
         }
         let mut rotary_files = Vec::with_capacity(2);
@@ -484,7 +484,9 @@ pub fn write(machine: &Machine) -> String {
     let mut links = String::new();
     // Workpiece side: the table joints, base outwards.
     let (mut parent, mut at) = ("base".to_string(), Vector3::zeros());
-    for (slot, j) in chain.joints().iter().enumerate().filter(|(_, j)| j.carrier == Carrier::Table) {
+    // A four-axis machine's locked joint (slot 1, unnamed) is not written: its URDF has one rotary joint.
+    let written = |slot: usize| !(chain.is_four_axis() && slot == 1);
+    for (slot, j) in chain.joints().iter().enumerate().filter(|&(slot, j)| j.carrier == Carrier::Table && written(slot)) {
         let child = link_name(3 + slot, "table");
         joints[3 + slot] = axis_joint(3 + slot, &parent, &child, &(j.center - at), &j.axis);
         let _ = writeln!(links, "  <link name=\"{}\">\n    <visual><origin xyz=\"0 0 -0.03\"/><geometry><cylinder radius=\"0.12\" length=\"0.02\"/></geometry></visual>\n  </link>", escape(&child));
@@ -501,7 +503,7 @@ pub fn write(machine: &Machine) -> String {
         parent = child;
     }
     at = Vector3::zeros();
-    for (slot, j) in chain.joints().iter().enumerate().filter(|(_, j)| j.carrier == Carrier::Head) {
+    for (slot, j) in chain.joints().iter().enumerate().filter(|&(slot, j)| j.carrier == Carrier::Head && written(slot)) {
         let child = link_name(3 + slot, "head");
         joints[3 + slot] = axis_joint(3 + slot, &parent, &child, &(j.center - at), &j.axis);
         let _ = writeln!(links, "  <link name=\"{}\">\n    <visual><geometry><sphere radius=\"0.04\"/></geometry></visual>\n  </link>", escape(&child));
@@ -516,7 +518,7 @@ pub fn write(machine: &Machine) -> String {
         out.push_str(j);
     }
     out.push_str(&mounts);
-    for a in &machine.axes {
+    for a in machine.axes.iter().filter(|a| !a.name.is_empty()) {
         let _ = writeln!(out, "  <fiveaxis:limits joint=\"{}\" acceleration=\"{}\" jerk=\"{}\"/>", escape(&a.name), f(a.limits.acceleration), f(a.limits.jerk));
     }
     let _ = writeln!(out, "</robot>");

@@ -136,7 +136,7 @@ impl CommonArgs {
     /// The machine `--machine` names; an unknown name or an invalid file is bad input: the reason
     /// (naming the field) on stderr, exit 2, before the node joins the graph.
     pub fn machine_or_exit(&self) -> fiveaxis::machine::Machine {
-        self.machine.load().unwrap_or_else(|e| {
+        self.machine.load().and_then(|m| m.five_axis("the node set")).unwrap_or_else(|e| {
             eprintln!("error: loading the machine: {e}");
             std::process::exit(EXIT_INPUT)
         })

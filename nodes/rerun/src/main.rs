@@ -135,7 +135,7 @@ fn bad_input(e: impl std::fmt::Display) -> ExitCode {
 /// The machine, the roughness profile and the view both commands take; any of them bad is bad
 /// input (exit 2, said).
 fn settings(machine: &fiveaxis::args::MachineArgs, roughness: &RoughnessArgs, view: &ViewArgs) -> Result<(fiveaxis::machine::Machine, Option<(fiveaxis::roughness::Profile, f64)>, BridgeOptions), ExitCode> {
-    let machine = machine.load().map_err(bad_input)?;
+    let machine = machine.load().and_then(|m| m.five_axis("the Rerun bridge")).map_err(bad_input)?;
     let roughness = roughness.load().map_err(bad_input)?;
     let options = view.options().map_err(bad_input)?;
     Ok((machine, roughness, options))
