@@ -226,15 +226,18 @@ impl AnalysisReport {
         let c = &self.secondary_axis;
         let mut o = String::new();
         let _ = writeln!(o, "program    {} ({} blocks, {} samples at {} ms)", self.program, self.blocks, self.samples, self.sample_period_s * 1e3);
-        if let Some(a) = &self.four_axis {
-            let _ = writeln!(o, "machine    {} (four-axis: one rotary axis, {a}; no singular orientation)", self.machine);
-            let _ = writeln!(o, "cycle time {:.2} s at the programmed feed", self.cycle_time_s);
+        match &self.four_axis {
+            Some(a) => writeln!(o, "machine    {} (four-axis: one rotary axis, {a}; no singular orientation)", self.machine),
+            None => writeln!(o, "machine    {} (singular axis {c}, limit {:.1} rpm)", self.machine, self.c_max_rpm),
+        }
+        .ok();
+        let _ = writeln!(o, "cycle time {:.2} s at the programmed feed", self.cycle_time_s);
+        // A four-axis machine has no singularity figures: its feed limit and diagnostics only.
+        if self.four_axis.is_some() {
             self.feed_limit_line(&mut o);
             self.diagnostics_lines(&mut o);
             return o;
         }
-        let _ = writeln!(o, "machine    {} (singular axis {c}, limit {:.1} rpm)", self.machine, self.c_max_rpm);
-        let _ = writeln!(o, "cycle time {:.2} s at the programmed feed", self.cycle_time_s);
         let block = |b: Option<u64>| b.map_or(String::new(), |n| format!("N{n}, "));
         // A peak that rounds to 0.0 rpm has no place worth naming (every sample ties).
         if self.peak_c_speed_rpm < 0.05 {

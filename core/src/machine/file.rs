@@ -277,6 +277,15 @@ impl MachineFile {
         Ok(chain)
     }
 
+    /// The chain of a four-axis machine's one rotary joint, checked: it tilts the tool.
+    fn four_axis_chain(&self, joint: &crate::kinematics::RotaryJoint, tool_axis: Vector3<f64>, tool_tip: Vector3<f64>) -> Result<TwoRotaryChain, String> {
+        let tilt = line_angle_deg(&tool_axis, &joint.axis);
+        if tilt < MIN_CHAIN_ANGLE_DEG {
+            return Err(format!("`tool_axis` is {tilt:.3} deg from `rotary[0].axis` ({}), the only rotary axis: turning it does not tilt the tool", self.rotary[0].name));
+        }
+        TwoRotaryChain::four_axis(joint.clone(), tool_axis, tool_tip * MM).map_err(|e| e.to_string())
+    }
+
     fn build_checked(&self) -> Result<Machine, String> {
         if self.linear.len() != 3 {
             return Err(format!("needs exactly 3 [[linear]] axes, found {}", self.linear.len()));
@@ -357,14 +366,8 @@ impl MachineFile {
         }
         let tool_axis = direction("tool_axis", self.tool_axis)?;
         let tool_tip = finite("tool_tip_mm", self.tool_tip_mm)?;
-        if joints.len() == 1 {
-            let tilt = line_angle_deg(&tool_axis, &joints[0].axis);
-            if tilt < MIN_CHAIN_ANGLE_DEG {
-                return Err(format!("`tool_axis` is {tilt:.3} deg from `rotary[0].axis` ({}), the only rotary axis: turning it does not tilt the tool", self.rotary[0].name));
-            }
-        }
         let chain = match joints.len() {
-            1 => TwoRotaryChain::four_axis(joints[0].clone(), tool_axis, tool_tip * MM).map_err(|e| e.to_string())?,
+            1 => self.four_axis_chain(&joints[0], tool_axis, tool_tip)?,
             _ => self.five_axis_chain(&joints, tool_axis, tool_tip)?,
         };
         let axes: [Axis; 5] = axes.try_into().map_err(|_| "five axes".to_string())?;
