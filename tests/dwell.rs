@@ -90,7 +90,7 @@ fn the_simulated_machine_stops_then_dwells() {
 
 #[test]
 fn dwells_that_cannot_be_timed_are_refused_where_they_stand() {
-    let cases: [(Dialect, &str, usize, usize, &str); 7] = [
+    let cases: [(Dialect, &str, usize, usize, &str); 8] = [
         (Dialect::Rs274, "G21 G90\nG1 X1 F100\nG4\n", 3, 1, "without P"),
         (Dialect::Rs274, "G21 G90\nG1 X1 F100\nG4 P-1\n", 3, 4, "0 s or more"),
         (Dialect::Sinumerik, "G90 G71\nG1 X1 F100\nG4 S30\n", 3, 4, "spindle revolutions"),
@@ -98,6 +98,8 @@ fn dwells_that_cannot_be_timed_are_refused_where_they_stand() {
         (Dialect::Sinumerik, "G90 G71\nG1 X1 F100\nG4 F2 X2\n", 3, 1, "block of its own"),
         (Dialect::Heidenhain, "%DW G71 *\nN10 G01 X+1 F100 *\nN20 G04 *\nN999999 %DW G71 *\n", 3, 5, "without F"),
         (Dialect::Klartext, "BEGIN PGM DW MM\nL X+1 F100\nCYCL DEF 9.1 DWELL\nEND PGM DW MM\n", 3, 1, "CYCL DEF 9.1"),
+        // A shop's dwell written without the blank the TNC's editor puts before the cycle's number.
+        (Dialect::Klartext, "BEGIN PGM DW MM\nL X+1 F100\nCYCL DEF9.0 VARAKOZASI IDO\nCYCL DEF9.1 V.IDO2\nEND PGM DW MM\n", 3, 6, "blank between CYCL DEF and the cycle's number (CYCL DEF 9.0)"),
         (Dialect::Cl, "GOTO/0,0,10\nFEDRAT/100\nGOTO/1,0,10\nDELAY/10,REV\nGOTO/2,0,10\n", 4, 1, "spindle turns"),
     ];
     for (dialect, text, line, col, why) in cases {

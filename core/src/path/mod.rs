@@ -8,6 +8,7 @@
 
 pub mod align;
 mod builtin;
+mod geometry;
 mod passes;
 mod segment;
 mod shared;
@@ -16,7 +17,8 @@ mod window;
 pub use builtin::{builtin_names, paper_orientation, BuiltinPath};
 pub use passes::Passes;
 pub use shared::{SharedRead, SharedReader};
-pub use segment::{plan, GreatCircle, Segment, SegmentKind, SegmentPlanner, EXACT_PATH_RAD, ORIENT_PIECE_RAD};
+pub use geometry::GreatCircle;
+pub use segment::{plan, Segment, SegmentKind, SegmentPlanner, EXACT_PATH_RAD, ORIENT_PIECE_RAD};
 pub use window::{GridSampler, SegmentStream, SegmentWindow};
 
 use crate::kinematics::Joints;

@@ -414,6 +414,13 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
             }
             _ => None,
         },
+        // `CYCL DEF9.0` (a shop's hand-made dwell): the TNC's editor writes every cycle block with a
+        // blank before the number (`CYCL DEF 9.0 DWELL TIME`), and no manual read here says a block
+        // without it is read: refused, naming the blank rather than "expected CYCL DEF".
+        "CYCL" if key(1).strip_prefix("DEF").is_some_and(|n| n.starts_with(|c: char| c.is_ascii_digit())) => {
+            diags.error(line, toks[1].1, format!("CYCL {}: expected a blank between CYCL DEF and the cycle's number (CYCL DEF {}), as the TNC writes it", excerpt(toks[1].0), excerpt(toks[1].0.get(3..).unwrap_or(""))));
+            None
+        }
         "CYCL" => {
             diags.error(line, col, format!("CYCL {}: expected CYCL DEF or CYCL CALL (CYCL CALL PAT and POS are not read)", excerpt(&key(1))));
             None
