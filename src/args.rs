@@ -13,7 +13,8 @@ use clap::builder::TypedValueParser;
 pub struct ControlArgs {
     /// What a machine-specific M code does, `CODE=ACTION` with ACTION tcp-on, tcp-off or event
     /// (repeatable; LinuxCNC's vismach five-axis demos: `--m-code 428=tcp-on --m-code 429=tcp-off`).
-    /// An RS274NGC program with any other non-standard M code is refused.
+    /// Beside the machine file's own (`[[m_function]]`); a program with any other M code outside its
+    /// control's list (a machine maker's) is refused.
     #[arg(long = "m-code", value_name = "CODE=ACTION")]
     pub m_codes: Vec<MCodeRule>,
     /// How the control interpolates the tool orientation under tool-centre-point management at

@@ -241,3 +241,40 @@ M2
     }
     assert!(e.iter().any(|(l, _, m)| *l == 7 && m.contains("K1 without a G code") && !m.contains("was refused before it")), "{e:?}");
 }
+
+/// A machine maker's M function (the TNC's, the 840D's, Fanuc's and LinuxCNC's alike: outside the
+/// control's own list its effect is the machine's) is refused where it stands, the message naming both ways to say
+/// what it does: its machine file's `[[m_function]]` and `--m-code`. Said either way as an event, the
+/// program reads clean (exit 0). The shop archive's DMGs and Trimill write such M functions (M25,
+/// M54, M55, M58) beside the coolant.
+#[test]
+fn a_makers_m_function_is_refused_until_the_machine_file_or_a_flag_says_what_it_does() {
+    let dir = crate::common::scratch_dir("maker_m");
+    let hermle = fiveaxis::machine::builtin_file("hermle-c600u").unwrap();
+    let declared = dir.join("hermle-m55.toml");
+    std::fs::write(&declared, format!("{hermle}\n[[m_function]]\ncode = 55\naction = \"event\"\nwhat = \"the maker's, moving nothing (this test's)\"\n")).unwrap();
+    let programs = [
+        ("t.h", "BEGIN PGM T MM\nL X+0 Y+0 Z+10 R0 FMAX\nL X+10 F600 M55\nEND PGM T MM\n", "3:13"),
+        ("t.mpf", "G90 G71\nG0 X0 Y0 Z10\nG1 X10 F600 M55\nM30\n", "3:13"),
+        ("t.nc", "%\nO1000\nG21 G90 G94\nG0 X0. Y0. Z10.\nG1 X10. F600. M55\nM30\n%\n", "5:15"),
+        ("t.ngc", "G21 G90\nG0 X0 Y0 Z10\nG1 X10 F600 M55\nM2\n", "3:13"),
+    ];
+    for (name, text, at) in programs {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let run = |extra: &[&str]| {
+            let dialect: &[&str] = if name.ends_with(".nc") { &["--dialect", "fanuc"] } else { &[] };
+            let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(["program", "analyze"]).arg(&path).args(dialect).args(extra).output().unwrap();
+            (out.status.code(), format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)))
+        };
+        let (code, said) = run(&["--machine", "hermle-c600u"]);
+        assert_eq!(code, Some(2), "{name}: {said}");
+        let line = said.lines().find(|l| l.contains("error: M55")).unwrap_or_else(|| panic!("{name}: no M55 error: {said}"));
+        assert!(line.contains(&format!("{name}:{at}: error: M55")), "{name}: {line}");
+        assert!(line.contains("[[m_function]]") && line.contains("--m-code 55=tcp-on|tcp-off|event"), "{name}: {line}");
+        let (code, said) = run(&["--machine", "hermle-c600u", "--m-code", "55=event"]);
+        assert_eq!(code, Some(0), "{name} with --m-code: {said}");
+        let (code, said) = run(&["--machine", declared.to_str().unwrap()]);
+        assert_eq!(code, Some(0), "{name} on a machine file that names M55: {said}");
+    }
+}

@@ -36,21 +36,21 @@ pub(super) fn tool_vector(words: &[Word], targets: &Targets, line: usize, column
 
 /// Whether a Heidenhain TNC M function (besides M0-M9, M13, M14, M30, M128, M129) leaves the
 /// programmed motion as this model runs it (iTNC 530 / TNC 640 User's Manual, "Miscellaneous
-/// functions"); `Err` says why not. A machine's own M functions are refused until `--m-code` says.
-pub(super) fn tnc_m_code(code: i64) -> Result<(), &'static str> {
+/// functions"); `Err` says why not, `Err(None)` where it is not the TNC's but the machine maker's
+/// own, refused until the machine file or `--m-code` says what it does.
+pub(super) fn tnc_m_code(code: i64) -> Result<(), Option<&'static str>> {
     match code {
         // Tool life, handwheel superposition (no motion of its own), look-ahead for radius
         // compensation (M120: its blocks LA, how many, is refused as a word), rotary shortest path
         // off (the reset state), touch probe
         // monitoring, lift-off at NC stop.
         101 | 102 | 118 | 120 | 127 | 141 | 148 | 149 => Ok(()),
-        91 | 92 | 130 => Err("positions in the machine coordinate system are not modelled (it changes the motion)"),
-        89 | 99 => Err("cycle call: machining cycles are not read (they cut)"),
-        103 | 136 => Err("changes how the feed is read: not modelled"),
-        94 => Err("reducing the rotary axis display below 360 deg is not modelled (it changes later absolute positions)"),
-        114 | 134 | 138 | 140 | 143 | 144 => Err("not modelled (it changes the motion)"),
-        _ => Err("not a TNC M function that leaves the motion alone: a machine maker's own, whose effect is unknown; \
-                  say what it does with --m-code CODE=tcp-on|tcp-off|event"),
+        91 | 92 | 130 => Err(Some("positions in the machine coordinate system are not modelled (it changes the motion)")),
+        89 | 99 => Err(Some("cycle call: machining cycles are not read (they cut)")),
+        103 | 136 => Err(Some("changes how the feed is read: not modelled")),
+        94 => Err(Some("reducing the rotary axis display below 360 deg is not modelled (it changes later absolute positions)")),
+        114 | 134 | 138 | 140 | 143 | 144 => Err(Some("not modelled (it changes the motion)")),
+        _ => Err(None),
     }
 }
 
@@ -137,8 +137,10 @@ pub(super) fn m_code(next: &mut Interpreter, before: &Interpreter, w: &Word, sho
         // M91/M92: the Klartext reader made this block a move of the axes (its oneshot).
         (None, 91 | 92, true) if shot.is_some_and(|s| s.axes.is_some()) => {}
         (None, _, true) => {
-            if let Err(why) = tnc_m_code(code) {
-                diags.error(line, w.column, format!("M{}: {why}", w.raw));
+            match tnc_m_code(code) {
+                Ok(()) => {}
+                Err(Some(why)) => diags.error(line, w.column, format!("M{}: {why}", w.raw)),
+                Err(None) => diags.error(line, w.column, maker_m_function(&w.raw, code)),
             }
         }
         // Sinumerik's own M functions (Fundamentals §"Miscellaneous functions (M)": M17
@@ -163,7 +165,8 @@ pub(super) fn m_code(next: &mut Interpreter, before: &Interpreter, w: &Word, sho
             w.column,
             format!(
                 "M{} is not an RS274NGC M code: a machine-specific one (LinuxCNC user M100-M199 or a remap) \
-                 whose effect is unknown; say what it does with --m-code {}=tcp-on|tcp-off|event \
+                 whose effect is unknown: its machine file names it ([[m_function]]), or say what it does \
+                 with --m-code {}=tcp-on|tcp-off|event \
                  (LinuxCNC's vismach five-axis demos: 428=tcp-on, 429=tcp-off)",
                 w.raw, code
             ),
