@@ -270,3 +270,69 @@ fn a_tilt_through_the_pole_between_samples_is_its_closest_approach() {
         assert!(a.regions[0].min_distance < 1e-9, "C {c1}: {:?}", a.regions[0]);
     }
 }
+
+/// A C axis that runs out of travel: the tool axis 10 deg off the pole winds twice about it (5 deg a
+/// block), so C, following the azimuth, reaches the end of the generic fork head's -360..360 deg.
+/// The block where it would leave its range (found here by unwrapping the + solution's C block by
+/// block) takes the other solution: the planner says so there, naming C and its range. With the
+/// rotaries linear in the block (ORIAXES) A swings through 0, so the tool passes the pole there
+/// although the path keeps 10 deg from it (the analysis finds 0 deg, in that block only); on the
+/// great circle (ORIVECT) the axes cannot follow without a jump: the block is refused for C's range,
+/// not for a pole the circle never comes near.
+#[test]
+fn a_rotary_range_that_forces_the_other_solution_is_named() {
+    use fiveaxis::program::{read, Dialect, ReadOptions, Severity};
+    let m = Machine::builtin("generic-ac-head").unwrap();
+    let (a, c) = (m.primary_axis(), m.secondary_axis());
+    let tilt = 10.0f64.to_radians();
+    let pose = |k: usize| {
+        let phi = (5.0 * k as f64).to_radians();
+        let axis = nalgebra::Vector3::new(tilt.sin() * phi.cos(), tilt.sin() * phi.sin(), tilt.cos());
+        (nalgebra::Vector3::new(20.0 * phi.cos(), 20.0 * phi.sin(), 0.0), axis)
+    };
+    let blocks = 145;
+    // The block (index k) where the + solution's C, unwrapped, first leaves its range.
+    let limits = &m.axes[c].limits;
+    let mut cs = Vec::new();
+    for k in 0..blocks {
+        let (tip, axis) = pose(k);
+        let all = m.inverse_all(&fiveaxis::kinematics::Pose { tip: tip * MM, axis }).unwrap();
+        let plus = if all[0][a] >= 0.0 { all[0] } else { all[1] };
+        let raw = plus[c];
+        let v = cs.last().map_or(raw, |p: &f64| raw + (std::f64::consts::TAU * ((p - raw) / std::f64::consts::TAU).round()));
+        cs.push(v);
+    }
+    let k_out = cs.iter().position(|v| !limits.contains(*v)).expect("C leaves its range within two turns");
+    let header = 2;
+    let program = |orientation: &str| {
+        let mut text = format!("N10 TRAORI\nN20 {orientation}\n");
+        for k in 0..blocks {
+            let (tip, axis) = pose(k);
+            text += &format!("N{} G1 X{:.6} Y{:.6} Z{:.6} A3={:.12} B3={:.12} C3={:.12} F2000\n", 30 + 10 * k, tip.x, tip.y, tip.z, axis.x, axis.y, axis.z);
+        }
+        text + "M30\n"
+    };
+    let line = header + k_out + 1;
+
+    let p = read(&program("ORIAXES"), Dialect::Sinumerik, "wind.mpf", &ReadOptions::default().on(&m));
+    assert!(p.diagnostics.iter().all(|d| d.severity != Severity::Error), "{:#?}", p.diagnostics);
+    let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+    assert!(t.diagnostics.iter().all(|d| d.severity != Severity::Error), "{:#?}", t.diagnostics);
+    let first = t.diagnostics.iter().find(|d| d.message.contains("on the solution nearest the last block's")).expect("the forced solution is said");
+    assert_eq!(first.line, line, "{first:?}");
+    assert!(first.severity == Severity::Warning && first.message.starts_with(&format!("{} would reach", m.axes[c].name)) && first.message.contains("outside its range -360.000..360.000 deg"), "{first:?}");
+    // Between the first block (from the start, A 0) and the forced one the tool keeps its 10 deg;
+    // in the forced one A swings from one side of the pole to the other, through 0.
+    let forced: Vec<f64> = t.samples(&m).filter(|s| t.segments[s.segment].line == line).map(|s| s.q[a]).collect();
+    let (first_a, last_a) = (forced[0], forced[forced.len() - 1]);
+    assert!(first_a * last_a < 0.0 && close(first_a.abs(), tilt, 0.6f64.to_radians()) && close(last_a.abs(), tilt, 0.6f64.to_radians()), "A {} -> {} deg", first_a.to_degrees(), last_a.to_degrees());
+    assert!(forced.iter().map(|q| q.abs()).fold(f64::INFINITY, f64::min) < 0.5f64.to_radians());
+    let before = t.samples(&m).filter(|s| (header + 2..line).contains(&t.segments[s.segment].line)).map(|s| s.q[a].abs()).fold(f64::INFINITY, f64::min);
+    assert!(close(before, tilt, 1e-6), "A before the forced block: {} deg", before.to_degrees());
+
+    let p = read(&program("ORIVECT"), Dialect::Sinumerik, "wind.mpf", &ReadOptions::default().on(&m));
+    let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+    let refused = t.diagnostics.iter().find(|d| d.severity == Severity::Error).expect("the great circle cannot be followed");
+    assert_eq!(refused.line, line, "{refused:?}");
+    assert!(refused.message.contains("would leave its range -360.000..360.000 deg") && !refused.message.contains("singular direction"), "{refused:?}");
+}

@@ -351,6 +351,19 @@ impl Machine {
         self.nearest_rotaries(axis, seed, |_, target, prev| Ok(unwrap_near(target, prev))).ok()
     }
 
+    /// Where the rotary ranges rather than the geometry chose `chosen`: the solution nearest
+    /// `previous` with no range applied ([`Machine::rotaries_near`]) puts a rotary axis outside its
+    /// range, and `chosen` turns the axes further from `previous`. The axis' slot (0, 1) and the
+    /// angle it would have reached, rad.
+    pub fn range_forced(&self, axis: &Vector3<f64>, previous: &[f64; 2], chosen: &[f64; 2]) -> Option<(usize, f64)> {
+        let free = self.rotaries_near(axis, previous)?;
+        let cost = |r: &[f64; 2]| (r[0] - previous[0]).abs() + (r[1] - previous[1]).abs();
+        if cost(chosen) <= cost(&free) + 1e-9 {
+            return None;
+        }
+        (0..2).find(|&k| !self.axes[3 + k].limits.contains(free[k])).map(|k| (k, free[k]))
+    }
+
     /// Of the two rotary solutions for `axis`, the one closest to `previous` with each angle placed
     /// by `place(slot, angle, previous angle)` (a placement error rules the solution out; the first
     /// such error is returned if both are). At the singularity the secondary axis keeps its previous

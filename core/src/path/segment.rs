@@ -325,6 +325,8 @@ impl SegmentPlanner {
             let rotaries_set = letters.iter().any(|l| b.targets.rotary(*l).is_some()) && machine.chain.singular_direction().cross(&machine.chain.orientation(&rot1)).norm() > 1e-9;
             let q1: Joints;
             let tip1: Vector3<f64>;
+            // Said once the block's pieces are planned (a great circle the range breaks is an error).
+            let mut range_note: Option<String> = None;
             if tcp {
                 let tip = Vector3::new(b.targets.x.unwrap_or(tip0.x), b.targets.y.unwrap_or(tip0.y), b.targets.z.unwrap_or(tip0.z));
                 if let Some(axis) = b.targets.tool_axis {
@@ -342,7 +344,12 @@ impl SegmentPlanner {
                     // An unknown work offset leaves the linear ranges to the range check, which warns.
                     let solved = if b.offset_assumed { machine.inverse_in_rotary_ranges(&pose, &previous) } else { machine.inverse(&pose, &previous) };
                     match solved {
-                        Ok(sol) => rot1 = [sol[3], sol[4]],
+                        Ok(sol) => {
+                            rot1 = [sol[3], sol[4]];
+                            // The range, not the path, turned the axes onto the other solution (or
+                            // another turn of C): said, as the motion it makes is the machine's choice.
+                            range_note = range_forced_warning(machine, &pose.axis, &[previous[3], previous[4]], &rot1).filter(|_| !first_orientation);
+                        }
                         Err(e) => {
                             diags.push(diag(b, format!("tool pose cannot be reached: {e}; block skipped")));
                             break 'blocks false;
@@ -409,7 +416,7 @@ impl SegmentPlanner {
                 _ => None,
             };
             let pieces = match (arc, great_circle) {
-                (arc, Some(gc)) => match great_circle_pieces(&gc, arc.as_ref(), q, tip0, tip1, datum, machine) {
+                (arc, Some(gc)) => match great_circle_pieces(&gc, arc.as_ref(), q, tip0, tip1, datum, machine, b.offset_assumed) {
                     Ok(p) => p,
                     Err(e) => {
                         diags.push(diag(b, e));
@@ -442,6 +449,9 @@ impl SegmentPlanner {
                     pieces
                 }
             };
+            if let Some(w) = range_note {
+                diags.push(Diagnostic { severity: Severity::Warning, ..diag(b, w) });
+            }
             let n = pieces.len() as f64;
             let mut segs: Vec<Segment> = Vec::with_capacity(pieces.len());
             for (pq0, pq1, ptip0, ptip1, parc, porient) in pieces {
@@ -559,7 +569,29 @@ type Piece = (Joints, Joints, Vector3<f64>, Vector3<f64>, Option<Box<ArcPath>>, 
 /// [`ORIENT_PIECE_RAD`] over a piece. Each end's rotaries are the inverse solution nearest the
 /// previous end's, so the axes follow the circle continuously; a circle too close to the pole for
 /// that (C would have to jump), or an end outside an axis range, is an error.
-fn great_circle_pieces(gc: &GreatCircle, arc: Option<&ArcPath>, q: Joints, tip0: Vector3<f64>, tip1: Vector3<f64>, datum: Vector3<f64>, machine: &Machine) -> Result<Vec<Piece>, String> {
+/// What a move does where the ranges chose its rotaries ([`Machine::range_forced`]): the axis that
+/// would leave its range, and the turn the machine makes instead.
+fn range_forced_warning(machine: &Machine, axis: &Vector3<f64>, previous: &[f64; 2], chosen: &[f64; 2]) -> Option<String> {
+    let (k, v) = machine.range_forced(axis, previous, chosen)?;
+    let (a, names) = (&machine.axes[3 + k], [&machine.axes[3].name, &machine.axes[4].name]);
+    Some(format!(
+        "{} would reach {:.3} deg on the solution nearest the last block's, outside its range {:.3}..{:.3} deg: \
+         the axes turn to {} {:.3} deg, {} {:.3} deg instead ({:.1} and {:.1} deg in this block, the tool \
+         axis' path between them the machine's)",
+        a.name,
+        v.to_degrees(),
+        a.limits.min.to_degrees(),
+        a.limits.max.to_degrees(),
+        names[0],
+        chosen[0].to_degrees(),
+        names[1],
+        chosen[1].to_degrees(),
+        (chosen[0] - previous[0]).abs().to_degrees(),
+        (chosen[1] - previous[1]).abs().to_degrees(),
+    ))
+}
+
+fn great_circle_pieces(gc: &GreatCircle, arc: Option<&ArcPath>, q: Joints, tip0: Vector3<f64>, tip1: Vector3<f64>, datum: Vector3<f64>, machine: &Machine, offset_assumed: bool) -> Result<Vec<Piece>, String> {
     let tip_at = |u: f64| arc.map_or_else(|| tip0 + (tip1 - tip0) * u, |a| a.point(u));
     let steps = ((gc.angle / ORIENT_STEP_RAD).ceil() as usize).max(arc.map_or(1, ArcPath::pieces)).max(1);
     // Fractions still to reach, the next on top.
@@ -568,10 +600,27 @@ fn great_circle_pieces(gc: &GreatCircle, arc: Option<&ArcPath>, q: Joints, tip0:
     while let Some(ub) = todo.pop() {
         let &(ua, qa) = ends.last().expect("starts with the move's start");
         let pose = Pose { tip: tip_at(ub) + datum, axis: gc.axis(ub) };
-        let qb = machine.inverse(&pose, &qa).map_err(|e| format!("the tool axis cannot follow its great circle {:.1} % into the move: {e}; block skipped", ub * 100.0))?;
+        // An unknown work offset leaves the linear ranges to the range check, which warns.
+        let solved = if offset_assumed { machine.inverse_in_rotary_ranges(&pose, &qa) } else { machine.inverse(&pose, &qa) };
+        let qb = solved.map_err(|e| format!("the tool axis cannot follow its great circle {:.1} % into the move: {e}; block skipped", ub * 100.0))?;
         let turn = (qb[3] - qa[3]).abs().max((qb[4] - qa[4]).abs());
         if turn > ORIENT_PIECE_RAD {
             if ends.len() + todo.len() >= MAX_ORIENT_PIECES || ub - ua < 1e-9 {
+                // The circle stays off the pole, but a rotary axis' range sends the axes to the other
+                // solution (or another turn of C): a jump of the axes, not of the geometry.
+                if let Some((k, v)) = machine.range_forced(&pose.axis, &[qa[3], qa[4]], &[qb[3], qb[4]]) {
+                    let a = &machine.axes[3 + k];
+                    return Err(format!(
+                        "{} would leave its range {:.3}..{:.3} deg {:.1} % into the move (at {:.3} deg): the rotary axes \
+                         cannot follow the tool axis' great circle on the other solution without a jump of {:.1} deg; block skipped",
+                        a.name,
+                        a.limits.min.to_degrees(),
+                        a.limits.max.to_degrees(),
+                        ua * 100.0,
+                        v.to_degrees(),
+                        turn.to_degrees()
+                    ));
+                }
                 return Err(format!(
                     "the tool axis' great circle passes through the singular direction {:.1} % into the move: \
                      the rotary axes cannot follow it (C would jump by {:.1} deg); block skipped",
