@@ -90,6 +90,8 @@ pub(crate) struct MacroRunner {
     percent: bool,
     /// Lines and bytes before the first `%` (the tape's leader, if the reader can hold it).
     leader: (usize, usize),
+    /// A line with words came after the first `%`: it started the tape rather than ended it.
+    after_percent: bool,
     content: bool,
     main_numbered: bool,
     frames: Vec<Frame>,
@@ -122,6 +124,7 @@ impl MacroRunner {
             scanned: 0,
             percent: false,
             leader: (0, 0),
+            after_percent: false,
             content: false,
             main_numbered: false,
             frames: vec![Frame { unit: At { line: 1, offset: 0 }, end: None, start: At { line: 1, offset: 0 }, back: At { line: 1, offset: 0 }, repeats: 0, loops: Vec::new(), locals: None, call: (0, 0) }],
@@ -278,6 +281,9 @@ impl Jumping for MacroRunner {
         if !self.percent && text.first() != Some(&b'%') {
             self.leader = (self.leader.0 + 1, self.leader.1 + bytes.len());
         }
+        if self.percent && !text.is_empty() && text.first() != Some(&b'%') {
+            self.after_percent = true;
+        }
         if text.first() == Some(&b'%') {
             self.percent = true;
             if self.programs.is_empty() {
@@ -314,10 +320,12 @@ impl Jumping for MacroRunner {
     }
 
     fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        // The tape's leader is decided by the first pass: no `%`, or one too far for the reader to
-        // hold what comes before it, and every line is program, run as such.
+        // The tape's leader is decided by the first pass: no `%`, one with nothing after it (the
+        // file's end: "a file starts with % or LF ... always ends with %", FANUC 16i/18i Operator's
+        // Manual B-63524EN, "File format"), or one too far for the reader to hold what comes before
+        // it, and every line is program, run as such.
         let (lead_lines, lead_bytes) = self.leader;
-        if line == 1 && (!self.percent || lead_lines >= super::rs274::MAX_LEADER_LINES || lead_bytes > super::rs274::MAX_LEADER_BYTES) {
+        if line == 1 && (!self.percent || !self.after_percent || lead_lines >= super::rs274::MAX_LEADER_LINES || lead_bytes > super::rs274::MAX_LEADER_BYTES) {
             self.reader.no_leader();
         }
         self.executed += 1;
@@ -763,6 +771,25 @@ mod tests {
         let pts = points(&p);
         assert_eq!(pts.len(), 81);
         assert!(pts[0].0 == 84 && near(pts[0].2, 5.0), "{:?}", pts[0]);
+    }
+
+    /// A short program whose only `%` is the file's last line: the `%` ends the tape, and the lines
+    /// before it are the program, not a leader (a leader is skipped only when a program follows).
+    #[test]
+    fn a_lone_percent_at_the_end_is_the_tape_end_not_a_leaders() {
+        for dialect in [Dialect::Fanuc, Dialect::Haas] {
+            let p = run("O1001\n(FACE)\nG0 X10. Y5.\nG1 X20. F200.\nM30\n%\n\n", dialect, &ReadOptions::default());
+            assert!(p.messages(Severity::Error).is_empty(), "{:#?}", p.messages(Severity::Error));
+            assert!(p.diagnostics.iter().all(|d| !d.message.contains("leader")), "{:#?}", p.diagnostics);
+            let pts = points(&p);
+            assert_eq!(pts.len(), 2, "{pts:?}");
+            assert!(pts[0].0 == 3 && near(pts[1].1, 20.0), "{pts:?}");
+            // With a program after it, the same `%` opens the tape: what came before is skipped.
+            let p = run("NX LISTING\nG1 X99.\n%\nO1001\nG1 X20. F200.\nM30\n%\n", dialect, &ReadOptions::default());
+            let pts = points(&p);
+            assert!(pts.len() == 1 && near(pts[0].1, 20.0), "{pts:?}");
+            assert!(p.diagnostics.iter().any(|d| d.message.contains("tape's leader")), "{:#?}", p.diagnostics);
+        }
     }
 
     /// The program ends at M30: what follows it runs only when called.
