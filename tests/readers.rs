@@ -647,6 +647,12 @@ fn fanuc_forms_not_read_are_named_as_the_control_names_them() {
     has(&fanuc("G21 G90\nG04 X1.\nM30\n"), 2, 5, "a dwell written with X is not read (write P, in milliseconds on Fanuc)");
     has(&fanuc("#4=#0+1\nM30\n"), 1, 4, "Fanuc's #0 is its vacant variable");
     has(&fanuc("G65 P2 I1. J2. K3. I4.\nM30\nO0002\nM99\n"), 1, 20, "I given twice in a G65 call (argument specification II)");
+    // A variable number past LinuxCNC's 5602 is a Fanuc control's (its addresses take eight
+    // digits): refused as the control's variable, set or read, not as a number out of range.
+    has(&fanuc("#901200=1.\nM30\n"), 1, 1, "#901200 is a system variable of the control");
+    has(&fanuc("#1=900000\nG1 X#[#1+1200] F100.\nM30\n"), 2, 5, "#901200 is a system variable of the control");
+    has(&fanuc("#1=100000000\nG1 X#[#1] F100.\nM30\n"), 2, 5, "a variable number must be a whole number 1 to 99999999");
+    has(&read_rs274("G21\n#6000=1\nM2\n"), 2, 1, "a parameter number must be a whole number 1 to 5602");
 }
 
 /// Fanuc without tool-centre-point control: a move of linear and rotary axes together takes F along a

@@ -238,7 +238,7 @@ impl Compiled {
                     stack[n] = params.read_numbered(*k, *col)?;
                     n += 1;
                 }
-                Step::Indirect(col) => stack[n - 1] = params.read_numbered(parameter_number(stack[n - 1], *col)?, *col)?,
+                Step::Indirect(col) => stack[n - 1] = params.read_numbered(parameter_number(stack[n - 1], *col, params.fanuc)?, *col)?,
                 Step::Named(name, col) => {
                     stack[n] = params.read_named(name, *col)?;
                     n += 1;
@@ -320,7 +320,7 @@ impl CompiledTarget {
     pub fn eval(&self, params: &Parameters) -> Result<Target, ExprError> {
         match self {
             CompiledTarget::Fixed(t) => Ok(t.clone()),
-            CompiledTarget::Indirect(c, column) => Ok(Target::Numbered(parameter_number(c.eval(params)?, *column)?)),
+            CompiledTarget::Indirect(c, column) => Ok(Target::Numbered(parameter_number(c.eval(params)?, *column, params.fanuc)?)),
         }
     }
 }
@@ -341,12 +341,20 @@ fn fanuc_system(n: u32, column: usize) -> ExprError {
     ExprError { column, message, stops: n == 3000 }
 }
 
-/// A value meant as a parameter's number: a whole number 1 to [`MAX_PARAMETER`].
-fn parameter_number(v: f64, column: usize) -> Result<u32, ExprError> {
+/// The highest variable number a Fanuc macro may name: its addresses take up to eight digits (the
+/// 30i's system variables and optional common variables run past #100000); past #999 each is the
+/// control's ([`FANUC_SYSTEM`]), refused as such when read or set.
+const FANUC_MAX_VARIABLE: u32 = 99_999_999;
+
+/// A value meant as a parameter's number: a whole number 1 to [`MAX_PARAMETER`] (LinuxCNC's), or
+/// to [`FANUC_MAX_VARIABLE`] with `fanuc`.
+fn parameter_number(v: f64, column: usize, fanuc: bool) -> Result<u32, ExprError> {
     let n = v.round();
-    if (v - n).abs() > INTEGER_CLOSE || !(1.0..=MAX_PARAMETER as f64).contains(&n) {
+    let max = if fanuc { FANUC_MAX_VARIABLE } else { MAX_PARAMETER };
+    if (v - n).abs() > INTEGER_CLOSE || !(1.0..=max as f64).contains(&n) {
+        let what = if fanuc { "a variable number must be a whole number 1 to" } else { "a parameter number must be a whole number 1 to" };
         let vacant = if n == 0.0 { " (Fanuc's #0 is its vacant variable, whose empty value is not read)" } else { "" };
-        return err(column, format!("#{v}: a parameter number must be a whole number 1 to {MAX_PARAMETER}{vacant}"));
+        return err(column, format!("#{v}: {what} {max}{vacant}"));
     }
     Ok(n as u32)
 }
@@ -467,7 +475,7 @@ impl<'a> Compiler<'a> {
     /// The value just compiled names a parameter (`#3`, `#[#1 + 1]`): read it, at `column`.
     fn parameter_of_value(&mut self, column: usize) -> Result<(), ExprError> {
         if let Some(Step::Number(v)) = self.steps.last() {
-            let k = parameter_number(*v, column)?;
+            let k = parameter_number(*v, column, self.fanuc)?;
             self.steps.pop();
             self.emit(Step::Numbered(k, column), 0);
         } else {
@@ -661,7 +669,7 @@ impl<'a> Compiler<'a> {
                 let index = Compiled { steps: std::mem::take(&mut self.steps), stack: self.most };
                 (self.held, self.most) = (0, 0);
                 match index.constant() {
-                    Some(v) => Ok((CompiledTarget::Fixed(Target::Numbered(parameter_number(v, i + 1)?)), j)),
+                    Some(v) => Ok((CompiledTarget::Fixed(Target::Numbered(parameter_number(v, i + 1, self.fanuc)?)), j)),
                     None => Ok((CompiledTarget::Indirect(index, i + 1), j)),
                 }
             }
