@@ -451,6 +451,34 @@ fn fanuc_reference_returns_and_decimal_points() {
     assert!(errors(&p).iter().any(|(l, _, m)| *l == 2 && m.contains("machine_coordinates")), "{:?}", errors(&p));
 }
 
+/// `G80 G91 G28 Z0.`, as NX's posts end a drilling operation: G80 (the motion group) ends the cycle
+/// and G28 (group 0) takes the axis words, in one block (LinuxCNC's enhance_block refuses axis words
+/// with G80 unless a group 0 code takes them; FANUC puts G80 in group 09 and G28 in group 00). The
+/// moves after it are rapids, not holes, on Fanuc, Haas and LinuxCNC, and with G53 as with G28.
+#[test]
+fn g80_with_a_reference_return_ends_the_cycle() {
+    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    // On Fanuc and Haas the motion group keeps its G00 under the cycle (group 09): `G90 Z30.` after
+    // G80 is a rapid. LinuxCNC's G80 is of the motion group itself: its next move names G0.
+    let body = "G21 G90 G17\nG0 X10. Y10. Z20.\nG98 G81 X10. Y10. Z-2. R2. F100.\nX20.\nG80 G91 G28 Z0.\nG90 Z30.\nX40. Y40.\n";
+    for (dialect, text) in [
+        (Dialect::Fanuc, format!("%\nO1000\n{body}M30\n%\n")),
+        (Dialect::Haas, format!("%\nO1000\n{body}M30\n%\n")),
+        (Dialect::Rs274, format!("%\n{}M2\n%\n", body.replace("G90 Z30.", "G90 G0 Z30."))),
+        (Dialect::Fanuc, format!("%\nO1000\n{}M30\n%\n", body.replace("G80 G91 G28 Z0.", "G80 G53 Z0."))),
+    ] {
+        let p = read(&text, dialect, "t.nc", &ReadOptions::default().on(&machine));
+        assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
+        let pts = end_points(&p);
+        // Two holes: one feed move each, to Z-2 at X10 and X20.
+        let feeds: Vec<[f64; 6]> = pts.iter().filter(|(m, _)| *m == Motion::Linear).map(|(_, at)| *at).collect();
+        assert!(feeds.len() == 2 && feeds.iter().all(|at| (at[2] + 2.0).abs() < 1e-9) && (feeds[1][0] - 20.0).abs() < 1e-9, "{dialect:?}: {pts:?}");
+        // Then up to the reference (or machine zero), to Z30, and to X40 Y40 by rapids only.
+        let (m, last) = pts.last().unwrap();
+        assert!(*m == Motion::Rapid && (last[0] - 40.0).abs() < 1e-9 && (last[1] - 40.0).abs() < 1e-9 && (last[2] - 30.0).abs() < 1e-9, "{dialect:?}: {pts:?}");
+    }
+}
+
 /// FANUC's alarm PS0045 ADDRESS Q NOT FOUND (G73/G83) is "not specified by address Q, or Q0 is
 /// specified" (its alarm list): named for a peck cycle without Q or with Q0, not for a negative Q or
 /// a cycle that does not peck, nor on Haas (whose pages say no alarm). Each is refused either way.

@@ -50,6 +50,12 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     }
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
     let has = |c: &str| g.iter().find(|(k, _)| k == c).map(|(_, w)| *w);
+    // G80, or a motion code (group 01), ends the cycle, in a block of G28, G30 or G53 too
+    // (`G80 G91 G28 Z0.`: group 09 and group 00 codes in one block each act).
+    let ends_cycle = g.iter().any(|(k, _)| matches!(k.as_str(), "80" | "0" | "1" | "2" | "3"));
+    if ends_cycle {
+        it.cycles.active = None;
+    }
     if let Some(w) = has("28").or(has("30")) {
         return Some(reference_return(it, w, words, line, column, number, diags, out));
     }
@@ -59,9 +65,7 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     if let Some((kind, w)) = g.iter().find_map(|(k, w)| Kind::from_code(k).map(|kind| (kind, *w))) {
         return Some(drill(it, Some((kind, w)), words, line, column, number, diags, out));
     }
-    // G80, or a motion code (group 01), ends the cycle.
-    if g.iter().any(|(k, _)| matches!(k.as_str(), "80" | "0" | "1" | "2" | "3")) {
-        it.cycles.active = None;
+    if ends_cycle {
         return None;
     }
     let positions = words.iter().any(|w| matches!(w.letter, 'X' | 'Y'));
