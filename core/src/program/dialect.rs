@@ -149,6 +149,7 @@ impl Dialect {
             .and_then(|p| p.extension())
             .map(|e| e.to_string_lossy().to_ascii_lowercase())
             .unwrap_or_default();
+        let text = text.strip_prefix(super::stream::BOM).unwrap_or(text);
         // The first line that is not a comment (`;` in every dialect, `#` in CL data, `(` in RS274NGC):
         // a comment's words say nothing of the dialect (a `; ...` header of six words is not CL data).
         let first = text.lines().map(str::trim).find(|l| !l.is_empty() && !l.starts_with([';', '#', '('])).unwrap_or("");

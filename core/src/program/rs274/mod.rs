@@ -181,8 +181,6 @@ impl super::stream::LineReader for Rs274Reader {
         // A run under way ends before the next line is read (the stream asks for it part by part
         // with `more`; a caller that does not, gets it here whole).
         while self.flow_more(out, diags) {}
-        // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
-        let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
         if !text.trim().is_empty() {
             self.last_line = line;
         }

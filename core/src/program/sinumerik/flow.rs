@@ -422,8 +422,6 @@ impl Jumping for FlowRunner {
     fn scan(&mut self, _line: usize, _bytes: &[u8], _next: At, _diags: &mut Diags) {}
 
     fn line(&mut self, line: usize, text: &str, here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        // A UTF-8 byte-order mark before the first line is the file's encoding, not its text.
-        let text = if line == 1 { text.strip_prefix('\u{feff}').unwrap_or(text) } else { text };
         let again = line <= self.reached || self.count_all;
         if again {
             self.again += 1;

@@ -4,7 +4,7 @@
 
 use super::super::lex::Diags;
 use super::super::{Block, Diagnostic, Dialect, Program};
-use super::{cannot_read, line_text, too_long, with_line, without_eol, Got, OpenText, Text, MAX_DIAGNOSTICS};
+use super::{cannot_read, line_bytes, line_text, too_long, with_line, without_eol, Got, OpenText, Text, MAX_DIAGNOSTICS};
 use std::collections::HashSet;
 use std::io::{BufReader, Cursor, Seek, SeekFrom};
 
@@ -165,7 +165,7 @@ impl<'a, R: Jumping + ?Sized + 'a> Seeking<'a, R> {
         while broken.is_none() && scan {
             let read = with_line(&mut input, &mut buf, |bytes| {
                 let next = At { line: at.line + 1, offset: at.offset + bytes.len() as u64 };
-                runner.scan(at.line, without_eol(bytes), next, &mut early);
+                runner.scan(at.line, line_bytes(bytes, at.line), next, &mut early);
             });
             let len = match read {
                 Ok(Got::End) => break,
@@ -207,7 +207,7 @@ impl<'a, R: Jumping + ?Sized + 'a> Seeking<'a, R> {
             Some(e) => Err(e),
             None => with_line(input, buf, |bytes| {
                 let next = At { line: line + 1, offset: at.offset + bytes.len() as u64 };
-                let text = line_text(bytes);
+                let text = line_text(bytes, line);
                 if *running {
                     runner.line(line, &text, here, next, out, &mut d)
                 } else {

@@ -50,7 +50,7 @@ pub(crate) trait LineReader {
 pub(crate) fn read_whole(reader: &mut dyn LineReader, text: &str, dialect: Dialect) -> Program {
     let mut blocks = Vec::with_capacity(super::lex::line_count(text));
     let mut diags = Diags::default();
-    for (idx, raw) in text.lines().enumerate() {
+    for (idx, raw) in text.strip_prefix(BOM).unwrap_or(text).lines().enumerate() {
         reader.line(idx + 1, raw, &mut blocks, &mut diags);
         while reader.more(&mut blocks, &mut diags) {}
     }
@@ -366,7 +366,7 @@ impl BlockStream {
                     }
                     *line += 1;
                     let (n, out, diags) = (*line, &mut self.out, &mut self.diags);
-                    match with_line(input.as_mut(), buf, |bytes| reader.get().line(n, &line_text(bytes), out, diags)) {
+                    match with_line(input.as_mut(), buf, |bytes| reader.get().line(n, &line_text(bytes, n), out, diags)) {
                         Ok(Got::End) => {
                             reader.get().finish(None, &mut self.out, &mut self.diags);
                             self.pending.extend(self.out.drain(..));
@@ -489,9 +489,24 @@ fn without_eol(line: &[u8]) -> &[u8] {
     b.strip_suffix(b"\r").unwrap_or(b)
 }
 
-/// The text of a line read into `buf`, without its line end (bytes that are not UTF-8 replaced).
-fn line_text(buf: &[u8]) -> std::borrow::Cow<'_, str> {
+/// The UTF-8 byte-order mark some editors write before a file's first line: the file's encoding,
+/// not its text (no control's language has a word U+FEFF).
+pub(crate) const BOM: &str = "\u{feff}";
+
+/// Line `line`'s bytes without its line end, and on the first line without a byte-order mark.
+fn line_bytes(buf: &[u8], line: usize) -> &[u8] {
     let b = without_eol(buf);
+    if line == 1 {
+        b.strip_prefix(BOM.as_bytes()).unwrap_or(b)
+    } else {
+        b
+    }
+}
+
+/// The text of line `line`, read into `buf`: without its line end or a byte-order mark before the
+/// file's first line (bytes that are not UTF-8 replaced).
+fn line_text(buf: &[u8], line: usize) -> std::borrow::Cow<'_, str> {
+    let b = line_bytes(buf, line);
     // The check alone is faster than the lossy conversion's, and almost every line passes it.
     match std::str::from_utf8(b) {
         Ok(s) => std::borrow::Cow::Borrowed(s),
