@@ -278,3 +278,25 @@ fn a_makers_m_function_is_refused_until_the_machine_file_or_a_flag_says_what_it_
         assert_eq!(code, Some(0), "{name} on a machine file that names M55: {said}");
     }
 }
+
+/// The TNC's own M functions are not a machine maker's: M107/M108 (a replacement tool's radius
+/// check, TNC7 basic user's manual 81762x-18) move nothing and read clean; M97/M98 (radius
+/// compensation at contour steps and open corners, TNC 620 user's manual §10.4) and M112/M124
+/// (rounding between lines, TNC 426/430) change the tool path and are refused under their own name,
+/// not as the maker's.
+#[test]
+fn the_tncs_own_m_functions_are_named_as_the_tncs() {
+    use fiveaxis::program::{read, Dialect, ReadOptions, Severity};
+    let program = |m: &str| format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S5000\n2 L X+0 Y+0 Z+10 R0 FMAX\n3 L X+10 F600 {m}\n4 END PGM T MM\n");
+    let errors = |m: &str| -> Vec<(usize, usize, String)> {
+        let p = read(&program(m), Dialect::Klartext, "t.h", &ReadOptions::default());
+        p.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| (d.line, d.column, d.message.clone())).collect()
+    };
+    for m in ["M107", "M108", "M101 M108"] {
+        assert!(errors(m).is_empty(), "{m}: {:?}", errors(m));
+    }
+    for (m, what) in [("M97", "contour steps"), ("M98", "open contour corners"), ("M112", "rounding"), ("M124", "rounding")] {
+        let e = errors(m);
+        assert!(e.len() == 1 && e[0].0 == 4 && e[0].1 == 15 && e[0].2.starts_with(&format!("{m}: the TNC's")) && e[0].2.contains(what) && !e[0].2.contains("maker"), "{m}: {e:?}");
+    }
+}

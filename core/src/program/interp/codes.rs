@@ -45,6 +45,16 @@ pub(super) fn tnc_m_code(code: i64) -> Result<(), Option<&'static str>> {
         // off (the reset state), touch probe
         // monitoring, lift-off at NC stop.
         101 | 102 | 118 | 120 | 127 | 141 | 148 | 149 => Ok(()),
+        // A replacement tool's radius: its check off / on (M108 also resets M107; TNC7 basic user's
+        // manual 81762x-18, "Checking the radius of the replacement tool with M108"): no motion.
+        107 | 108 => Ok(()),
+        // Radius compensation at contour steps and open corners (TNC 620 user's manual 81760x-02
+        // §10.4, "Machining small contour steps: M97", "Machining open contour corners: M98").
+        97 | 98 => Err(Some("the TNC's M function for radius compensation at small contour steps (M97) or open contour corners (M98): not modelled (it changes the tool path)")),
+        // Rounding arcs the TNC inserts between straight lines within a tolerance, and the points
+        // it leaves out for them (TNC 426/430 user's manual, "Insert rounding arc between straight
+        // lines: M112", M124).
+        112 | 124 => Err(Some("the TNC's rounding of the path between straight lines within a tolerance (M112, M124): not modelled (it changes the tool path)")),
         91 | 92 | 130 => Err(Some("positions in the machine coordinate system are not modelled (it changes the motion)")),
         89 | 99 => Err(Some("cycle call: machining cycles are not read (they cut)")),
         103 | 136 => Err(Some("changes how the feed is read: not modelled")),
