@@ -300,3 +300,17 @@ fn the_tncs_own_m_functions_are_named_as_the_tncs() {
         assert!(e.len() == 1 && e[0].0 == 4 && e[0].1 == 15 && e[0].2.starts_with(&format!("{m}: the TNC's")) && e[0].2.contains(what) && !e[0].2.contains("maker"), "{m}: {e:?}");
     }
 }
+
+/// A Klartext circle's defect names the circle as the program writes it (`C ... DR+`), not as the
+/// ISO G code the reader makes of it: the radius to the end (12 mm) is not the radius to the start
+/// (10 mm) about CC X0 Y0.
+#[test]
+fn a_klartext_circles_defect_names_its_direction_as_written() {
+    use fiveaxis::program::{read, Dialect, ReadOptions, Severity};
+    for (dr, want) in [("DR+", "the circle DR+: the radius to the end (12.0000 mm) differs from the radius to the start (10.0000 mm)"), ("DR-", "the circle DR-: the radius to the end")] {
+        let text = format!("0 BEGIN PGM ARC MM\n1 L X+10 Y+0 Z+0 R0 F500\n2 CC X+0 Y+0\n3 C X+0 Y+12 {dr}\n4 END PGM ARC MM\n");
+        let p = read(&text, Dialect::Klartext, "t.h", &ReadOptions::default());
+        let e: Vec<_> = p.diagnostics.iter().filter(|d| d.severity == Severity::Error).collect();
+        assert!(e.len() == 1 && e[0].line == 4 && e[0].message.starts_with(want) && !e[0].message.contains("G0"), "{dr}: {e:?}");
+    }
+}

@@ -37,7 +37,14 @@ pub const SINUMERIK_CIRCLE_ERROR_FACTOR: f64 = 0.001;
 /// not named as the cause of.
 pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end: [f64; 3], line: usize, column: usize, own_defect: bool, diags: &mut Diags) -> Option<ArcSpec> {
     let (a0, a1, an) = st.plane.axes();
-    let g = if st.motion == Some(Motion::ArcCw) { "G02" } else { "G03" };
+    let cw = st.motion == Some(Motion::ArcCw);
+    // Named as the program writes it: Klartext's circle turns by DR- (clockwise) or DR+.
+    let g = match (st.dialect, cw) {
+        (crate::program::Dialect::Klartext, true) => "the circle DR-",
+        (crate::program::Dialect::Klartext, false) => "the circle DR+",
+        (_, true) => "G02",
+        (_, false) => "G03",
+    };
     let offset_letter = ['I', 'J', 'K'];
     let word = |l: char| words.iter().find(|w| w.letter == l);
     if let Some(w) = word(offset_letter[an]) {
