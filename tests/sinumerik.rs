@@ -255,3 +255,34 @@ fn words_written_without_blanks_read_as_with_them() {
     let p = on_umc("G90 G71\nG0 X10ABC Y5\n");
     assert!(errors(&p).iter().any(|(l, c, _)| *l == 2 && *c == 7), "{:#?}", errors(&p));
 }
+
+/// `C=DC(..)`, `C=ACP(..)`, `C=ACN(..)`: a modulo rotary axis to an absolute position (0-360 deg) the
+/// shorter way, in the positive or the negative direction (840Di sl Programming Manual 11/2006,
+/// "Absolute dimensions for rotary axes (DC, ACP, ACN)"), worked by hand from C at 20 deg on the
+/// Spinner U5-620, whose C is a modulo axis (no end stops). On an axis with end stops, on a linear
+/// axis and past a turn they are refused.
+#[test]
+fn dc_acp_and_acn_turn_a_modulo_axis_the_way_they_say() {
+    let m = Machine::builtin("spinner-u5-620").unwrap();
+    let c_after = |word: &str| -> Result<f64, Vec<(usize, usize, String)>> {
+        let text = format!("G90 G71\nG0 X0 Y0 Z200 B0 C20\nG0 {word}\nM30\n");
+        let p = read(&text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&m));
+        match errors(&p).is_empty() {
+            true => Ok(blocks_of(&p, 3).last().and_then(|b| b.targets.c).map_or(20.0, f64::to_degrees)),
+            false => Err(errors(&p)),
+        }
+    };
+    // (word, C after it, deg): 350 is 30 deg back from 20 (-10); 10 ahead is 350 on; 30 back is 350
+    // back; DC to where C stands, no move; G91 does not make them incremental.
+    for (word, want) in [("C=DC(350)", -10.0), ("C=ACP(10)", 370.0), ("C=ACN(10)", 10.0), ("C=ACN(30)", -330.0), ("C=ACP(200)", 200.0), ("C=DC(20)", 20.0), ("G91 C=DC(30)", 30.0)] {
+        let c = c_after(word).unwrap_or_else(|e| panic!("{word}: {e:?}"));
+        assert!((c - want).abs() < 1e-9, "{word}: C {c} deg, want {want}");
+    }
+    for (word, why) in [("C=DC(400)", "0 to 360 deg"), ("C=ACP(-10)", "0 to 360 deg"), ("X=DC(5)", "positions a modulo rotary axis (A, B, C), not X")] {
+        let e = c_after(word).expect_err(word);
+        assert!(e.iter().any(|(l, _, msg)| *l == 3 && msg.contains(why)), "{word}: {e:?}");
+    }
+    let limited = Machine::builtin("generic-bc-table").unwrap();
+    let p = read("G90 G71\nG0 X0 Y0 Z200 B0 C20\nG0 B=DC(10)\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&limited));
+    assert!(errors(&p).iter().any(|(l, c, msg)| *l == 3 && *c == 4 && msg.contains("B=DC(10): DC positions a modulo rotary axis, and B is a rotary axis with end stops")), "{:?}", errors(&p));
+}

@@ -47,6 +47,43 @@ pub enum Dimension {
     Modal,
     Incremental,
     Absolute,
+    /// A modulo rotary axis' absolute position (0..360 deg) reached by the way said: Sinumerik's
+    /// `DC()`, `ACP()`, `ACN()` (840Di sl Programming Manual 11/2006, "Absolute dimensions for
+    /// rotary axes (DC, ACP, ACN)"; Function Manual Axes and Spindles R2 §7.2, "Modulo 360 degrees").
+    Modulo(Turn),
+}
+
+/// The way a modulo rotary axis turns to an absolute position.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Turn {
+    /// `DC`: the shorter way (at most half a turn).
+    Shortest,
+    /// `ACP`: in the positive direction.
+    Positive,
+    /// `ACN`: in the negative direction.
+    Negative,
+}
+
+impl Turn {
+    /// Where an axis at `from` ends turned this way to the position `to` (both rad; `to` taken
+    /// modulo a turn): less than a turn away, no move where it stands there already.
+    pub fn place(self, to: f64, from: f64) -> f64 {
+        let tau = std::f64::consts::TAU;
+        match self {
+            Turn::Shortest => crate::kinematics::unwrap_near(to, from),
+            Turn::Positive => from + (to - from).rem_euclid(tau),
+            Turn::Negative => from - (from - to).rem_euclid(tau),
+        }
+    }
+
+    /// The word as the program writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Turn::Shortest => "DC",
+            Turn::Positive => "ACP",
+            Turn::Negative => "ACN",
+        }
+    }
 }
 
 impl Dimension {
@@ -54,7 +91,7 @@ impl Dimension {
     /// centres) being `modal_absolute`.
     pub fn absolute(self, modal_absolute: bool) -> bool {
         match self {
-            Dimension::Absolute => true,
+            Dimension::Absolute | Dimension::Modulo(_) => true,
             Dimension::Incremental => false,
             Dimension::Modal => modal_absolute,
         }

@@ -6,7 +6,7 @@
 //! assignment is in effect for the words after it.
 
 use super::expr;
-use crate::program::interp::{Dimension, Word};
+use crate::program::interp::{Dimension, Turn, Word};
 use crate::program::lex::{excerpt, number_prefix_len, parse_number, upper, word_end, Columns, Diags};
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -460,6 +460,10 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             match parse_number(trimmed) {
                 Some(x) => (x, trimmed),
                 None => match if dimensioned_word { dimensioned(text, vars) } else { value_of(text, vars).map(|x| (x, Dimension::Modal)) } {
+                    Ok((_, Dimension::Modulo(t))) if !matches!(address.as_ref(), "A" | "B" | "C") => {
+                        diags.error(line, cols.col(v), format!("{address}={}: {}() positions a modulo rotary axis (A, B, C), not {address}", excerpt(text), t.name()));
+                        continue;
+                    }
                     Ok((x, d)) => {
                         dimension = d;
                         (x, trimmed)
@@ -577,6 +581,7 @@ fn unknown_address(name: &str) -> &'static str {
 fn value_of(text: &str, vars: &mut Vars) -> Result<f64, String> {
     match dimensioned(text, vars)? {
         (_, Dimension::Incremental) => Err("IC(): an incremental value is written on an axis or a circle centre (X=IC(5), I=IC(2))".into()),
+        (_, Dimension::Modulo(t)) => Err(format!("{}(): a modulo rotary axis' position, written on a rotary axis (C={}(90))", t.name(), t.name())),
         (v, _) => Ok(v),
     }
 }
@@ -587,11 +592,19 @@ fn value_of(text: &str, vars: &mut Vars) -> Result<f64, String> {
 /// absolute dimensions for individual axes"; "Incremental dimensions (G91, IC)").
 fn dimensioned(text: &str, vars: &mut Vars) -> Result<(f64, Dimension), String> {
     let t = text.trim();
-    let head = t.as_bytes().get(..3);
-    let (inner, dimension) = match head {
-        Some(h) if h.eq_ignore_ascii_case(b"AC(") && t.ends_with(')') => (&t[3..t.len() - 1], Dimension::Absolute),
-        Some(h) if h.eq_ignore_ascii_case(b"IC(") && t.ends_with(')') => (&t[3..t.len() - 1], Dimension::Incremental),
-        _ => (t, Dimension::Modal),
+    let head = |h: &[u8]| t.len() > h.len() && t.as_bytes()[..h.len()].eq_ignore_ascii_case(h) && t.ends_with(')');
+    let (inner, dimension) = if head(b"AC(") {
+        (&t[3..t.len() - 1], Dimension::Absolute)
+    } else if head(b"IC(") {
+        (&t[3..t.len() - 1], Dimension::Incremental)
+    } else if head(b"DC(") {
+        (&t[3..t.len() - 1], Dimension::Modulo(Turn::Shortest))
+    } else if head(b"ACP(") {
+        (&t[4..t.len() - 1], Dimension::Modulo(Turn::Positive))
+    } else if head(b"ACN(") {
+        (&t[4..t.len() - 1], Dimension::Modulo(Turn::Negative))
+    } else {
+        (t, Dimension::Modal)
     };
     let v = vars.eval(inner).map_err(|e| format!("{} (at '{}')", e.message, excerpt(&inner[e.at.min(inner.len())..])))?;
     Ok((v, dimension))
