@@ -705,6 +705,10 @@ fn fanuc_forms_not_read_are_named_as_the_control_names_them() {
     has(&fanuc("#1=900000\nG1 X#[#1+1200] F100.\nM30\n"), 2, 5, "#901200 is a system variable of the control");
     has(&fanuc("#1=100000000\nG1 X#[#1] F100.\nM30\n"), 2, 5, "a variable number must be a whole number 1 to 99999999");
     has(&read_rs274("G21\n#6000=1\nM2\n"), 2, 1, "a parameter number must be a whole number 1 to 5602");
+    // Axis words before any G00/G01: the power-on mode is the machine's parameter; after a refused
+    // G00, its G00 did not take effect, and the message says so.
+    has(&fanuc("G21 G90\nX10. Y10.\nM30\n"), 2, 1, "by its parameter 3402 bit 0");
+    has(&fanuc("G21 G90\nG00 W0.0\nX10. Y10.\nM30\n"), 3, 1, "(line 2 was refused before it, and none of its codes took effect)");
 }
 
 /// Fanuc without tool-centre-point control: a move of linear and rotary axes together takes F along a
