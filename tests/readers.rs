@@ -707,7 +707,20 @@ fn fanuc_forms_not_read_are_named_as_the_control_names_them() {
     has(&read_rs274("G21\n#6000=1\nM2\n"), 2, 1, "a parameter number must be a whole number 1 to 5602");
     // Axis words before any G00/G01: the power-on mode is the machine's parameter; after a refused
     // G00, its G00 did not take effect, and the message says so.
-    has(&fanuc("G21 G90\nX10. Y10.\nM30\n"), 2, 1, "by its parameter 3402 bit 0");
+    has(&fanuc("G21 G90\nX10. Y10.\nM30\n"), 2, 1, "by its parameter 3402 bit 0, is the machine's setting: its machine file's power_on_motion");
+    // Said by the machine file, the power-on mode moves them: a rapid under G00, a feed under G01.
+    let nmv = fiveaxis::machine::builtin_file("mori-seiki-nmv5000").unwrap();
+    for (mode, motion) in [("G00", Motion::Rapid), ("G01", Motion::Linear)] {
+        let m = fiveaxis::machine::Machine::from_toml_str(&format!("power_on_motion = \"{mode}\"\n{nmv}"), "t").unwrap();
+        for dialect in [Dialect::Fanuc, Dialect::Haas] {
+            let p = read("G21 G90\nX10. Y10. F100.\nM30\n", dialect, "t.nc", &ReadOptions::default().on(&m));
+            assert!(errors(&p).is_empty(), "{mode} {dialect:?}: {:?}", errors(&p));
+            let pts = end_points(&p);
+            assert!(pts.len() == 1 && pts[0].0 == motion && pts[0].1[0] == 10.0 && pts[0].1[1] == 10.0, "{mode} {dialect:?}: {pts:?}");
+        }
+    }
+    let bad = fiveaxis::machine::Machine::from_toml_str(&format!("power_on_motion = \"G02\"\n{nmv}"), "t").unwrap_err().to_string();
+    assert!(bad.contains("power_on_motion") && bad.contains("expected \"G00\" or \"G01\""), "{bad}");
     has(&fanuc("G21 G90\nG00 W0.0\nX10. Y10.\nM30\n"), 3, 1, "(line 2 was refused before it, and none of its codes took effect)");
 }
 

@@ -69,6 +69,11 @@ pub struct MachineFile {
     /// without G70/G71 is in inches, and F is in inch/min under G70 and G71 alike (G700/G710 set it).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub inch_basic_system: bool,
+    /// Fanuc, Haas: the motion mode the control is in at power-on and reset, `G00` or `G01` (FANUC
+    /// parameter No. 3402 bit 0, G01): what axis words before a program's first G00/G01 do. Without
+    /// it they are refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub power_on_motion: Option<String>,
     /// The control's canned-cycle settings that shape their motion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub canned_cycles: Option<CannedCyclesFile>,
@@ -416,6 +421,12 @@ impl MachineFile {
             Some(t) if t.is_finite() && t > 0.0 && t <= 1.0 => Some(t * MM),
             Some(t) => return Err(format!("`arc_radius_tolerance_mm` = {t}: expected more than 0 and at most 1 mm")),
         };
+        let power_on_motion = match self.power_on_motion.as_deref().map(str::trim) {
+            None => None,
+            Some(g) if g.eq_ignore_ascii_case("G00") || g.eq_ignore_ascii_case("G0") => Some(crate::program::Motion::Rapid),
+            Some(g) if g.eq_ignore_ascii_case("G01") || g.eq_ignore_ascii_case("G1") => Some(crate::program::Motion::Linear),
+            Some(g) => return Err(format!("`power_on_motion` = \"{g}\": expected \"G00\" or \"G01\" (FANUC parameter No. 3402 bit 0)")),
+        };
         let mut peck = [None, None];
         if let Some(c) = &self.canned_cycles {
             for (k, (field, v)) in [("canned_cycles.g73_retract_mm", c.g73_retract_mm), ("canned_cycles.g83_clearance_mm", c.g83_clearance_mm)].into_iter().enumerate() {
@@ -483,6 +494,7 @@ impl MachineFile {
             cycle19_spatial: self.cycle19_spatial,
             tcp_at_start: self.tcp_at_start,
             inch_basic_system: self.inch_basic_system,
+            power_on_motion,
             state_cycles: self.cycles.iter().map(|c| c.number).collect(),
             swivel,
             quill,

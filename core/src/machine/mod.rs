@@ -93,6 +93,9 @@ pub struct Machine {
     pub tcp_at_start: bool,
     /// Siemens: the basic system is inch (MD10240 = 0), the unit of F under G70/G71.
     pub inch_basic_system: bool,
+    /// Fanuc, Haas: the motion mode at power-on and reset (FANUC parameter No. 3402 bit 0), if the
+    /// file gives it.
+    pub power_on_motion: Option<crate::program::Motion>,
     /// The machine maker's cycles that move nothing (they set the control's dynamics), by number.
     pub state_cycles: Vec<u32>,
     /// The Sinumerik swivel data set (`CYCLE800`), if the file gives it.

@@ -412,6 +412,7 @@ impl<'a> Urdf<'a> {
             cycle19_spatial: false,
             tcp_at_start: false,
             inch_basic_system: false,
+            power_on_motion: None,
             cycles: Vec::new(),
             swivel: None,
             quill: None,

@@ -376,6 +376,10 @@ impl Interpreter {
             if let Some(t) = m.arc_radius_tolerance {
                 self.arc_tolerance = t;
             }
+            // Fanuc, Haas: the motion mode the control starts in, as the machine's parameter sets it.
+            if self.dialect.is_fanuc() && self.motion.is_none() {
+                self.motion = m.power_on_motion;
+            }
             // The 840D's basic system: the unit a program starts in, and F's under G70/G71.
             if m.inch_basic_system && self.dialect == Dialect::Sinumerik && self.forced_unit.is_none() {
                 (self.unit, self.feed_unit) = (INCH, INCH);
