@@ -466,6 +466,7 @@ fn g80_with_a_reference_return_ends_the_cycle() {
         (Dialect::Haas, format!("%\nO1000\n{body}M30\n%\n")),
         (Dialect::Rs274, format!("%\n{}M2\n%\n", body.replace("G90 Z30.", "G90 G0 Z30."))),
         (Dialect::Fanuc, format!("%\nO1000\n{}M30\n%\n", body.replace("G80 G91 G28 Z0.", "G80 G53 Z0."))),
+        (Dialect::Haas, format!("%\nO1000\n{}M30\n%\n", body.replace("G80 G91 G28 Z0.", "G80 G53 Z0."))),
     ] {
         let p = read(&text, dialect, "t.nc", &ReadOptions::default().on(&machine));
         assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
@@ -620,6 +621,11 @@ fn a_byte_order_mark_is_the_files_encoding_in_every_dialect() {
         let (with, without) = (cycle_time_s(&marked, ext, machine), cycle_time_s(text, ext, machine));
         assert!(with == without && with >= 1.0, "{ext}: {with} s with the mark, {without} s without");
     }
+    // A jump back to the first line finds its N number behind the mark: X10, then (G91) X20, 10 mm
+    // each at F600, 2 s (the G91 tells the second pass from the first: #4003, group 03).
+    let text = "N1 G1 X10. F600.\nIF [#4003 EQ 91] GOTO 9\nG91\nGOTO 1\nN9 M30\n";
+    let (with, without) = (cycle_time_s(&format!("\u{feff}{text}"), "nc", "mori-seiki-nmv5000"), cycle_time_s(text, "nc", "mori-seiki-nmv5000"));
+    assert!((with - 2.0).abs() < 1e-9 && with == without, "{with} s with the mark, {without} s without");
 }
 
 /// A block shorter than the 1 ms sample period is seen: C turns 170 deg in a block of 0.005 mm at

@@ -268,10 +268,19 @@ fn dc_acp_and_acn_turn_a_modulo_axis_the_way_they_say() {
         let text = format!("G90 G71\nG0 X0 Y0 Z200 B0 C20\nG0 {word}\nM30\n");
         let p = read(&text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&m));
         match errors(&p).is_empty() {
-            true => Ok(blocks_of(&p, 3).last().and_then(|b| b.targets.c).map_or(20.0, f64::to_degrees)),
+            true => Ok(blocks_of(&p, 3).last().and_then(|b| b.targets.c).map(f64::to_degrees).unwrap_or_else(|| panic!("{word}: no C target"))),
             false => Err(errors(&p)),
         }
     };
+    // A word repeated (as posts write them on each block) leaves the axis where it stands: no turn
+    // from a position reached by arithmetic that falls a rounding short of the target.
+    for word in ["C=ACP(50)", "C=ACN(30)", "C=ACP(0.1)", "C=ACN(359.7)", "C=DC(123.4)"] {
+        let text = format!("G90 G71\nG0 X0 Y0 Z200 B0 C20\nG0 {word}\nG0 {word}\nG0 {word}\nM30\n");
+        let p = read(&text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&m));
+        assert!(errors(&p).is_empty(), "{word}: {:?}", errors(&p));
+        let c: Vec<f64> = (3..=5).map(|l| blocks_of(&p, l).last().and_then(|b| b.targets.c).unwrap().to_degrees()).collect();
+        assert!((c[1] - c[0]).abs() < 1e-9 && (c[2] - c[0]).abs() < 1e-9, "{word}: C {c:?} deg");
+    }
     // (word, C after it, deg): 350 is 30 deg back from 20 (-10); 10 ahead is 350 on; 30 back is 350
     // back; DC to where C stands, no move; G91 does not make them incremental.
     for (word, want) in [("C=DC(350)", -10.0), ("C=ACP(10)", 370.0), ("C=ACN(10)", 10.0), ("C=ACN(30)", -330.0), ("C=ACP(200)", 200.0), ("C=DC(20)", 20.0), ("G91 C=DC(30)", 30.0)] {

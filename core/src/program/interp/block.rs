@@ -399,7 +399,11 @@ impl Interpreter {
         if moves && block_motion.is_none() {
             // Fanuc's and Haas' power-on motion mode is a setting of the machine (FANUC parameter
             // 3402 bit 0: G00 or G01), not the program's: not assumed.
-            let start = if before.dialect.is_fanuc() { " (the control's power-on mode, G00 or G01 by its parameter 3402 bit 0, is the machine's setting: its machine file's power_on_motion)" } else { "" };
+            let start = match before.dialect {
+                Dialect::Fanuc => " (the control's power-on mode, G00 or G01 by its parameter 3402 bit 0, is the machine's setting: its machine file's power_on_motion)",
+                Dialect::Haas => " (the control's power-on mode is the machine's setting: its machine file's power_on_motion)",
+                _ => "",
+            };
             diags.error(line, column, format!("axis words without a motion mode: expected G00 or G01 first{start}{}", before.after_refused()));
         }
         let mut arc = None;

@@ -69,10 +69,13 @@ impl Turn {
     /// modulo a turn): less than a turn away, no move where it stands there already.
     pub fn place(self, to: f64, from: f64) -> f64 {
         let tau = std::f64::consts::TAU;
+        // Less than a turn: a remainder a rounding short of a whole turn (an axis that stands at
+        // the position, reached by arithmetic) is none.
+        let within = |d: f64| if d > tau - 1e-9 { 0.0 } else { d };
         match self {
             Turn::Shortest => crate::kinematics::unwrap_near(to, from),
-            Turn::Positive => from + (to - from).rem_euclid(tau),
-            Turn::Negative => from - (from - to).rem_euclid(tau),
+            Turn::Positive => from + within((to - from).rem_euclid(tau)),
+            Turn::Negative => from - within((from - to).rem_euclid(tau)),
         }
     }
 

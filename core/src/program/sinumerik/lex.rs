@@ -581,7 +581,7 @@ fn unknown_address(name: &str) -> &'static str {
 fn value_of(text: &str, vars: &mut Vars) -> Result<f64, String> {
     match dimensioned(text, vars)? {
         (_, Dimension::Incremental) => Err("IC(): an incremental value is written on an axis or a circle centre (X=IC(5), I=IC(2))".into()),
-        (_, Dimension::Modulo(t)) => Err(format!("{}(): a modulo rotary axis' position, written on a rotary axis (C={}(90))", t.name(), t.name())),
+        (_, Dimension::Modulo(t)) => Err(format!("{}(): not read here (it is read on a rotary axis' word, as in C={}(90))", t.name(), t.name())),
         (v, _) => Ok(v),
     }
 }

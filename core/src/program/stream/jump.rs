@@ -4,7 +4,7 @@
 
 use super::super::lex::Diags;
 use super::super::{Block, Diagnostic, Dialect, Program};
-use super::{cannot_read, line_bytes, line_text, too_long, with_line, without_eol, Got, OpenText, Text, MAX_DIAGNOSTICS};
+use super::{cannot_read, line_bytes, line_text, too_long, with_line, Got, OpenText, Text, MAX_DIAGNOSTICS};
 use std::collections::HashSet;
 use std::io::{BufReader, Cursor, Seek, SeekFrom};
 
@@ -313,7 +313,8 @@ fn search<R: Jumping + ?Sized>(input: &mut BufReader<Box<dyn Text + '_>>, buf: &
     let mut hits = Vec::new();
     let first = at.line;
     while find.to.is_none_or(|to| at.offset < to) && hits.len() < MAX_HITS {
-        let hit = match with_line(input, buf, |bytes| runner.matches(find.key, without_eol(bytes)))? {
+        let line = at.line;
+        let hit = match with_line(input, buf, |bytes| runner.matches(find.key, line_bytes(bytes, line)))? {
             Got::End => break,
             Got::TooLong(n) => {
                 at = At { line: at.line + 1, offset: at.offset + n };
