@@ -314,3 +314,21 @@ fn a_klartext_circles_defect_names_its_direction_as_written() {
         assert!(e.len() == 1 && e[0].line == 4 && e[0].message.starts_with(want) && !e[0].message.contains("G0"), "{dr}: {e:?}");
     }
 }
+
+/// A TNC string parameter set to a text (`QS330="T1"`, as hyperMILL writes it in a touch probe
+/// cycle's list; iTNC 530 user's manual, "String parameters") moves nothing: read without a defect
+/// of its own, where it had been refused as a malformed Q parameter. A string formula is refused.
+#[test]
+fn a_tnc_string_parameter_set_to_a_text_moves_nothing() {
+    use fiveaxis::program::{read, Dialect, ReadOptions, Severity};
+    let errors = |body: &str| -> Vec<(usize, usize, String)> {
+        let text = format!("0 BEGIN PGM QS MM\n1 TOOL CALL 1 Z S5000\n{body}\n3 L X+0 Y+0 Z+50 R0 FMAX\n4 END PGM QS MM\n");
+        let p = read(&text, Dialect::Klartext, "t.h", &ReadOptions::default());
+        p.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| (d.line, d.column, d.message.clone())).collect()
+    };
+    assert!(errors("2 QS1 = \"T1\"").is_empty(), "{:?}", errors("2 QS1 = \"T1\""));
+    let e = errors("2 TCH PROBE 421 MEASURE HOLE~\n Q273=0 ;CENTER IN 1ST AXIS~\n QS330=\"T1\" ;TOOL~\n Q423=4 ;NO. OF MEAS. POINTS");
+    assert!(e.len() == 1 && e[0].2.contains("touch probe cycle"), "{e:?}");
+    let e = errors("2 QS2 = QS1 || \"X\"");
+    assert!(e.len() == 1 && e[0].0 == 3 && e[0].2.contains("a string formula is not read"), "{e:?}");
+}

@@ -36,6 +36,17 @@ pub(super) fn assign<'a>(raw: &'a str, toks: &[(&'a str, usize)], line: usize, c
         diags.error(line, col, format!("'{}': expected Qn = a value or formula", excerpt(text)));
         return None;
     };
+    // A string parameter set to a text (`QS330="T1"` in a touch probe cycle's list; iTNC 530
+    // user's manual §10, "String parameters"): no number of the motion's; a string formula is not
+    // read.
+    let upper = lhs.trim().to_ascii_uppercase();
+    if upper.strip_prefix("QS").is_some_and(|d| !d.is_empty() && d.bytes().all(|c| c.is_ascii_digit())) {
+        let value = rhs.trim();
+        if !(value.len() >= 2 && value.starts_with('"') && value.ends_with('"') && !value[1..value.len() - 1].contains('"')) {
+            diags.error(line, col, format!("{upper} = {}: a string formula is not read (a text in quotes is)", excerpt(value)));
+        }
+        return None;
+    }
     let Some(name) = q_name(lhs) else {
         diags.error(line, col, format!("'{}': expected a Q parameter name such as Q1", excerpt(lhs.trim())));
         return None;
