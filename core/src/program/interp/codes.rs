@@ -48,6 +48,9 @@ pub(super) fn tnc_m_code(code: i64) -> Result<(), Option<&'static str>> {
         // A replacement tool's radius: its check off / on (M108 also resets M107; TNC7 basic user's
         // manual 81762x-18, "Checking the radius of the replacement tool with M108"): no motion.
         107 | 108 => Ok(()),
+        // Resets to the state this model runs: M137 of M136 (the feed in mm/min again, iTNC 530
+        // user's manual, "Feed rate in millimeters per spindle revolution: M136"), M113 of M112.
+        113 | 137 => Ok(()),
         // Radius compensation at contour steps and open corners (TNC 620 user's manual 81760x-02
         // §10.4, "Machining small contour steps: M97", "Machining open contour corners: M98").
         97 | 98 => Err(Some("the TNC's M function for radius compensation at small contour steps (M97) or open contour corners (M98): not modelled (it changes the tool path)")),
