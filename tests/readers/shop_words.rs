@@ -332,3 +332,20 @@ fn a_tnc_string_parameter_set_to_a_text_moves_nothing() {
     let e = errors("2 QS2 = QS1 || \"X\"");
     assert!(e.len() == 1 && e[0].0 == 3 && e[0].2.contains("a string formula is not read"), "{e:?}");
 }
+
+/// LinuxCNC's own M codes M48-M53, M60-M68 (overrides, pallet, tool number, I/O) are LinuxCNC's:
+/// on a Fanuc or Haas control the same numbers are the machine maker's, refused as such (they had
+/// been read as LinuxCNC's, a P or Q word taken with them).
+#[test]
+fn linuxcncs_own_m_codes_are_linuxcncs_only() {
+    use fiveaxis::program::{read, Dialect, ReadOptions, Severity};
+    for (code, more) in [("M50", ""), ("M62", " P1"), ("M66", " P0 L0"), ("M48", "")] {
+        let rs = read(&format!("G21 G90\nG0 X0 Y0 Z10\n{code}{more}\nG1 X10 F600\nM2\n"), Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        assert!(rs.diagnostics.iter().all(|d| d.severity != Severity::Error), "{code} RS274: {:?}", rs.diagnostics);
+        for dialect in [Dialect::Fanuc, Dialect::Haas] {
+            let p = read(&format!("%\nO1000\nG21 G90\nG0 X0. Y0. Z10.\n{code}{more}\nG1 X10. F600.\nM30\n%\n"), dialect, "t.nc", &ReadOptions::default());
+            let e: Vec<_> = p.diagnostics.iter().filter(|d| d.severity == Severity::Error).collect();
+            assert!(e.iter().any(|d| d.line == 5 && d.message.starts_with(&format!("{code}: the machine maker's M function"))), "{code} {dialect:?}: {e:?}");
+        }
+    }
+}

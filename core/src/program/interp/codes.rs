@@ -167,11 +167,11 @@ pub(super) fn m_code(next: &mut Interpreter, before: &Interpreter, w: &Word, sho
         // M99 in the main program: its end (the reader's; super::super::lcnc_m98).
         (None, 99, false) if before.dialect == Dialect::Rs274 => {}
         (None, 98, false) if before.dialect == Dialect::Rs274 => diags.error(line, w.column, "M98 calls a Fanuc-style subprogram only as the first word of its line (after its N number): LinuxCNC reads it there, as a block of its own"),
-        (None, 48..=53 | 60, false) => {}
-        (None, 61, false) => c.uses.push('Q'),
-        (None, 62..=65, false) => c.uses.push('P'),
-        (None, 66, false) => c.uses.extend(['P', 'E', 'L', 'Q']),
-        (None, 67 | 68, false) => c.uses.extend(['E', 'Q']),
+        (None, 48..=53 | 60, false) if before.dialect == Dialect::Rs274 => {}
+        (None, 61, false) if before.dialect == Dialect::Rs274 => c.uses.push('Q'),
+        (None, 62..=65, false) if before.dialect == Dialect::Rs274 => c.uses.push('P'),
+        (None, 66, false) if before.dialect == Dialect::Rs274 => c.uses.extend(['P', 'E', 'L', 'Q']),
+        (None, 67 | 68, false) if before.dialect == Dialect::Rs274 => c.uses.extend(['E', 'Q']),
         (None, _, false) if fanuc => diags.error(line, w.column, maker_m_function(&w.raw, code)),
         (None, _, false) => diags.error(
             line,
