@@ -341,8 +341,7 @@ impl SegmentPlanner {
                             previous[4] = pick[4];
                         }
                     }
-                    // An unknown work offset leaves the linear ranges to the range check, which warns.
-                    let solved = if b.offset_assumed { machine.inverse_in_rotary_ranges(&pose, &previous) } else { machine.inverse(&pose, &previous) };
+                    let solved = inverse(machine, &pose, &previous, b.offset_assumed);
                     match solved {
                         Ok(sol) => {
                             rot1 = [sol[3], sol[4]];
@@ -569,6 +568,16 @@ type Piece = (Joints, Joints, Vector3<f64>, Vector3<f64>, Option<Box<ArcPath>>, 
 /// [`ORIENT_PIECE_RAD`] over a piece. Each end's rotaries are the inverse solution nearest the
 /// previous end's, so the axes follow the circle continuously; a circle too close to the pole for
 /// that (C would have to jump), or an end outside an axis range, is an error.
+/// The joints for `pose` nearest `previous`: within every range, or within the rotary ranges only
+/// where the work offset is assumed (the linear ranges are then the range check's, which warns).
+fn inverse(machine: &Machine, pose: &Pose, previous: &Joints, offset_assumed: bool) -> Result<Joints, crate::kinematics::KinematicsError> {
+    if offset_assumed {
+        machine.inverse_in_rotary_ranges(pose, previous)
+    } else {
+        machine.inverse(pose, previous)
+    }
+}
+
 /// What a move does where the ranges chose its rotaries ([`Machine::range_forced`]): the axis that
 /// would leave its range, and the turn the machine makes instead.
 fn range_forced_warning(machine: &Machine, axis: &Vector3<f64>, previous: &[f64; 2], chosen: &[f64; 2]) -> Option<String> {
@@ -600,9 +609,7 @@ fn great_circle_pieces(gc: &GreatCircle, arc: Option<&ArcPath>, q: Joints, tip0:
     while let Some(ub) = todo.pop() {
         let &(ua, qa) = ends.last().expect("starts with the move's start");
         let pose = Pose { tip: tip_at(ub) + datum, axis: gc.axis(ub) };
-        // An unknown work offset leaves the linear ranges to the range check, which warns.
-        let solved = if offset_assumed { machine.inverse_in_rotary_ranges(&pose, &qa) } else { machine.inverse(&pose, &qa) };
-        let qb = solved.map_err(|e| format!("the tool axis cannot follow its great circle {:.1} % into the move: {e}; block skipped", ub * 100.0))?;
+        let qb = inverse(machine, &pose, &qa, offset_assumed).map_err(|e| format!("the tool axis cannot follow its great circle {:.1} % into the move: {e}; block skipped", ub * 100.0))?;
         let turn = (qb[3] - qa[3]).abs().max((qb[4] - qa[4]).abs());
         if turn > ORIENT_PIECE_RAD {
             if ends.len() + todo.len() >= MAX_ORIENT_PIECES || ub - ua < 1e-9 {

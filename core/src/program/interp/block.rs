@@ -297,13 +297,12 @@ impl Interpreter {
                 v - next.datum[k]
             } else if let super::Dimension::Modulo(turn) = w.dimension {
                 // DC, ACP, ACN: a position of a modulo rotary axis, 0 to 360 deg, and the way to it.
-                let deg = w.value * next.rotary_unit[k.max(3) - 3] / crate::units::DEG;
                 if k < 3 || !next.modulo[k - 3] {
-                    let why = if k < 3 { "a linear axis".to_string() } else { "a rotary axis with end stops in the machine file (a modulo axis has none)".to_string() };
+                    let why = if k < 3 { "a linear axis" } else { "a rotary axis with end stops in the machine file (a modulo axis has none)" };
                     diags.error(line, w.column, format!("{}={}: {} positions a modulo rotary axis, and {} is {why}", w.letter, w.raw, turn.name(), w.letter));
                     continue;
                 }
-                if !(0.0..360.0).contains(&deg) {
+                if !(0.0..360.0).contains(&(v / crate::units::DEG)) {
                     diags.error(line, w.column, format!("{}={}: a modulo axis' position is 0 to 360 deg (less than a turn)", w.letter, w.raw));
                     continue;
                 }

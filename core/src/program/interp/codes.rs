@@ -110,6 +110,7 @@ pub(crate) fn lcnc_group(code_x10: i64) -> Option<u8> {
 #[allow(clippy::too_many_arguments)]
 pub(super) fn m_code(next: &mut Interpreter, before: &Interpreter, w: &Word, shot: Option<OneShot>, line: usize, r: Reader, c: &mut BlockCodes<'_, '_>, diags: &mut Diags) {
     let Reader { heid, fanuc, .. } = r;
+    let rs274 = before.dialect == Dialect::Rs274;
     let code = w.value as i64;
     if w.value.fract() != 0.0 || w.value < 0.0 {
         diags.error(line, w.column, format!("M{}: expected a whole M code number", w.raw));
@@ -142,7 +143,7 @@ pub(super) fn m_code(next: &mut Interpreter, before: &Interpreter, w: &Word, sho
         (None, 5, _) => next.spindle_turning = Some(false),
         (None, 19, false) => {
             next.spindle_turning = Some(false);
-            if before.dialect == Dialect::Rs274 {
+            if rs274 {
                 c.uses.extend(['R', 'Q', 'P']);
             }
         }
@@ -165,13 +166,13 @@ pub(super) fn m_code(next: &mut Interpreter, before: &Interpreter, w: &Word, sho
         // with the words they take (G-code reference §M19 R Q P, §M61 Q, §M62-M65 P,
         // §M66 P E L Q, §M67/M68 E Q).
         // M99 in the main program: its end (the reader's; super::super::lcnc_m98).
-        (None, 99, false) if before.dialect == Dialect::Rs274 => {}
-        (None, 98, false) if before.dialect == Dialect::Rs274 => diags.error(line, w.column, "M98 calls a Fanuc-style subprogram only as the first word of its line (after its N number): LinuxCNC reads it there, as a block of its own"),
-        (None, 48..=53 | 60, false) if before.dialect == Dialect::Rs274 => {}
-        (None, 61, false) if before.dialect == Dialect::Rs274 => c.uses.push('Q'),
-        (None, 62..=65, false) if before.dialect == Dialect::Rs274 => c.uses.push('P'),
-        (None, 66, false) if before.dialect == Dialect::Rs274 => c.uses.extend(['P', 'E', 'L', 'Q']),
-        (None, 67 | 68, false) if before.dialect == Dialect::Rs274 => c.uses.extend(['E', 'Q']),
+        (None, 99, false) if rs274 => {}
+        (None, 98, false) if rs274 => diags.error(line, w.column, "M98 calls a Fanuc-style subprogram only as the first word of its line (after its N number): LinuxCNC reads it there, as a block of its own"),
+        (None, 48..=53 | 60, false) if rs274 => {}
+        (None, 61, false) if rs274 => c.uses.push('Q'),
+        (None, 62..=65, false) if rs274 => c.uses.push('P'),
+        (None, 66, false) if rs274 => c.uses.extend(['P', 'E', 'L', 'Q']),
+        (None, 67 | 68, false) if rs274 => c.uses.extend(['E', 'Q']),
         (None, _, false) if fanuc => diags.error(line, w.column, maker_m_function(&w.raw, code)),
         (None, _, false) => diags.error(
             line,

@@ -23,10 +23,15 @@ impl Cmp {
     }
 }
 
+/// Whether `u` (in capitals) is `prefix` followed by a number (`Q1`, `QS330`).
+fn numbered(u: &str, prefix: &str) -> bool {
+    u.strip_prefix(prefix).is_some_and(|d| !d.is_empty() && d.bytes().all(|c| c.is_ascii_digit()))
+}
+
 /// A Q parameter's name in capitals (`Q1`, `QL3`, `QR20`), if `s` is one.
 pub(super) fn q_name(s: &str) -> Option<String> {
     let u = s.trim().to_ascii_uppercase();
-    ["QL", "QR", "Q"].iter().any(|p| u.strip_prefix(p).is_some_and(|d| !d.is_empty() && d.bytes().all(|c| c.is_ascii_digit()))).then_some(u)
+    ["QL", "QR", "Q"].iter().any(|p| numbered(&u, p)).then_some(u)
 }
 
 /// `Q1 = formula` (TNC 320 DIN/ISO 3/2014 §9.9, "Entering formulas directly").
@@ -40,7 +45,7 @@ pub(super) fn assign<'a>(raw: &'a str, toks: &[(&'a str, usize)], line: usize, c
     // user's manual §10, "String parameters"): no number of the motion's; a string formula is not
     // read.
     let upper = lhs.trim().to_ascii_uppercase();
-    if upper.strip_prefix("QS").is_some_and(|d| !d.is_empty() && d.bytes().all(|c| c.is_ascii_digit())) {
+    if numbered(&upper, "QS") {
         let value = rhs.trim();
         if !(value.len() >= 2 && value.starts_with('"') && value.ends_with('"') && !value[1..value.len() - 1].contains('"')) {
             diags.error(line, col, format!("{upper} = {}: a string formula is not read (a text in quotes is)", excerpt(value)));
