@@ -112,6 +112,8 @@ impl Dialect {
     /// MillPlus posts write it; no RS274 word holds `=`). Read as G-code it would give an error on
     /// nearly every block: refused once instead, at that block (within the first [`DETECT_LINES`]).
     pub fn unread_language(text: &str) -> Option<Diagnostic> {
+        // Columns count from the line's first character, not from a byte-order mark before it.
+        let text = text.strip_prefix(super::stream::BOM).unwrap_or(text);
         text.lines().take(DETECT_LINES).enumerate().find_map(|(i, raw)| {
             // A line without `=` or `7` holds neither the angle words nor `G7`: passed over without
             // the copy below (most lines of most programs).
@@ -270,6 +272,9 @@ mod tests {
         let d = Dialect::unread_language("%\nN10 G17\nN20 G7 A5=15. B5=0.0 C5=210. B7=254 C7=255\n").unwrap();
         assert_eq!((d.line, d.column, d.severity), (3, 5, Severity::Error));
         assert!(d.message.contains("MillPlus"), "{}", d.message);
+        // A byte-order mark before the G7 on line 1 is not a column of it.
+        let d = Dialect::unread_language("\u{feff}G7 A5=15. B5=0.0 C5=210.\n").unwrap();
+        assert_eq!((d.line, d.column), (1, 1));
         for text in ["N20 (G7 A5=15.) G1 X1\n", "N20 G1 X1 ; G7 A5=15.\n", "N20 G7 X1\n", "N20 G1 A5 X1\n", "G17 G7\nG1 A5.0\n"] {
             assert_eq!(Dialect::unread_language(text), None, "{text:?}");
         }
