@@ -349,3 +349,24 @@ fn linuxcncs_own_m_codes_are_linuxcncs_only() {
         }
     }
 }
+
+/// The Haas control's own M codes that move no axis (chip auger M31/M33, coolant spigot M34/M35, gear
+/// override M41/M42, display M76/M77, air jet M83/M84, through-spindle coolant M88/M89: the Haas
+/// mill M-code list) are named in the built-in Haas machines' files: a program writing them reads
+/// without a defect there. On a machine whose file does not name them they stay the maker's,
+/// refused; and a Haas code that moves something (M50, a pallet change) stays refused on the Haas.
+#[test]
+fn the_haas_machines_name_their_controls_own_m_codes() {
+    let text = |codes: &str| format!("%\nO1000\nG20 G90 G17\nG0 X0. Y0. Z1.\n{codes}\nG1 X1. F10.\nM30\n%\n");
+    let listed = "M31\nM88\nM34\nM35\nM83\nM84\nM41\nM42\nM76\nM77\nM89\nM33";
+    for machine in ["haas-umc-750", "haas-vf2-tr"] {
+        let m = Machine::builtin(machine).unwrap();
+        let p = read(&text(listed), Dialect::Haas, "t.nc", &ReadOptions::default().on(&m));
+        assert!(errors(&p).is_empty(), "{machine}: {:?}", errors(&p));
+        let p = read(&text("M50"), Dialect::Haas, "t.nc", &ReadOptions::default().on(&m));
+        assert!(errors(&p).iter().any(|(l, _, msg)| *l == 5 && msg.starts_with("M50: the machine maker's M function")), "{machine}: {:?}", errors(&p));
+    }
+    let generic = Machine::builtin("generic-bc-table").unwrap();
+    let p = read(&text("M31"), Dialect::Haas, "t.nc", &ReadOptions::default().on(&generic));
+    assert!(errors(&p).iter().any(|(l, _, msg)| *l == 5 && msg.starts_with("M31: the machine maker's M function")), "{:?}", errors(&p));
+}
