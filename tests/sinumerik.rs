@@ -234,6 +234,32 @@ fn subprograms_are_found_beside_the_program_and_on_the_subroutine_path() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A program named with a letter and an underscore first (`F_TEST`, `E_TEST`: Siemens reserves the
+/// prefixes `E_`, `F_` and `S_` for its own cycles, and "the first two characters should be letters or
+/// underscores", NC programming 12/2019 §2.15 "Names") is called by its name alone, as a production
+/// 840D sl grinding program calls `F_TP_GRINDING_PARAMETERS(..)` (its moves: the core's unit tests).
+/// Two underscores first (`__TEST`) stay no name.
+#[test]
+fn a_program_named_with_a_letter_and_an_underscore_is_called() {
+    let dir = std::env::temp_dir().join(format!("fiveaxis-fname-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("F_TEST.SPF"), "PROC F_TEST\nG1 X20 Y5 F200\nRET\n").unwrap();
+    std::fs::write(dir.join("E_TEST.SPF"), "PROC E_TEST(REAL DEPTH)\nG1 Z=DEPTH F200\nRET\n").unwrap();
+    std::fs::write(dir.join("__TEST.SPF"), "PROC __TEST\nG1 X1 F200\nRET\n").unwrap();
+    let run = |main: &str| {
+        let path = dir.join("CALL.MPF");
+        std::fs::write(&path, main).unwrap();
+        let out = std::process::Command::new(env!("FIVEAXIS_EXE")).args(["program", "analyze"]).arg(&path).args(["--machine", "generic-ac-table", "--json"]).output().unwrap();
+        (out.status.code(), String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr))
+    };
+    let (code, all) = run("G90 G71\nG0 X0 Y0 Z10\nF_TEST\nE_TEST(-2.5)\nG1 X10 F100\nM30\n");
+    assert_eq!(code, Some(0), "{all}");
+    let (code, all) = run("G90 G71\nG0 X0 Y0 Z10\n__TEST\nM30\n");
+    assert_eq!(code, Some(2), "{all}");
+    assert!(all.contains("__TEST: not an instruction read here"), "{all}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Words written without blanks between them (`N20 T1D1M6`, `G1X10.5Y-20F300`, `G3X10.5Y-20CR=10`, as shop programs
 /// hand-written at the control do): a word is an address letter and its digits, blanks only
 /// separate (Programming Manual Fundamentals 12/2019 §2.2.2.1 and its table of characters), so they

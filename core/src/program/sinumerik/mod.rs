@@ -351,9 +351,9 @@ impl SinumerikReader {
                     Some(why) => diags.error(line, k.col, format!("{other}: {why}")),
                     // A name of its own is a subprogram call on the 840D (Fundamentals, "Subprogram call").
                     // A name the flow did not take for a call: with other words in its block, or not
-                    // a name a program is called by (NC programming 12/2019 §3.2.1.2: "the first two
-                    // characters should either be two letters or an underscore followed by a letter").
-                    None => diags.error(line, k.col, format!("{other}: not an instruction read here, nor a call of a program: a program is called by a name of two letters (or _ and a letter) first, alone in its block (either may change the motion)")),
+                    // a name a program is called by (NC programming 12/2019 §2.15 "Names": "the first two
+                    // characters should be letters or underscores").
+                    None => diags.error(line, k.col, format!("{other}: not an instruction read here, nor a call of a program: a program is called by a name whose first two characters are letters or underscores, alone in its block (either may change the motion)")),
                 },
             }
         }

@@ -5,7 +5,8 @@
 //! and its defects said there, naming its file and place. Rules, from the SINUMERIK NC programming
 //! manual 12/2019 (6FC5398-2EP40-0BA0, "NCP19"), the 828D Job Planning 07/2010 (6FC5398-2BP40-0BA0)
 //! and the 828D NC-Programmierung 01/2023 (A5E48764001A AE):
-//! - A program whose name starts with two letters, or `_` and a letter, is called by its name alone;
+//! - A program whose name starts with two letters, `_` and a letter, or a letter and `_` (Siemens'
+//!   own cycles' `E_`, `F_`, `S_`), is called by its name alone;
 //!   `L` and digits is a name too (NCP19 §3.2.1.2, §3.4.1.3). The language does not tell capitals
 //!   from small letters (NCP19 §2.2.1). A name written with `_N_` or `_SPF`/`_MPF` is the same name.
 //! - Search path (NCP19 §3.4.1.4): the calling program's directory (`name`, `name_SPF`, `name_MPF`:
@@ -63,12 +64,17 @@ fn base_name(name: &str) -> (&str, Option<&'static str>) {
     }
 }
 
-/// Whether `name` (capitals, as called) names a program: without its prefix and suffix, two letters
-/// or `_` and a letter first, or `L` and digits; letters, digits and `_`; at most 24 characters.
+/// Whether `name` (capitals, as called) names a program: without its prefix and suffix, two letters,
+/// `_` and a letter, or a letter and `_` first (NCP19 §2.15 "Names": "the first two characters
+/// should be letters or underscores", the prefixes `S_`, `E_` and `F_` reserved there for Siemens'
+/// own cycles, which are called by name; §3.2.1.2's "two letters or an underscore followed by a
+/// letter" would refuse those), or `L` and digits; letters, digits and `_`; at most 24 characters.
 fn program_name(name: &str) -> bool {
     let b = base_name(name).0.as_bytes();
     let l_number = b.len() >= 2 && b[0] == b'L' && b[1..].iter().all(u8::is_ascii_digit);
-    let named = b.len() >= 2 && (b[0].is_ascii_alphabetic() || b[0] == b'_') && b[1].is_ascii_alphabetic();
+    let letter_or_underscore = |c: u8| c.is_ascii_alphabetic() || c == b'_';
+    // Two underscores first is the control's own file name prefix (`_N_`), not a name.
+    let named = b.len() >= 2 && letter_or_underscore(b[0]) && letter_or_underscore(b[1]) && !(b[0] == b'_' && b[1] == b'_');
     b.len() <= MAX_NAME && (l_number || named) && b.iter().all(|c| c.is_ascii_alphanumeric() || *c == b'_')
 }
 
@@ -473,6 +479,19 @@ mod tests {
                 assert!(a == &b || (a.is_nan() && b.is_nan()), "line {l}: {xyz:?}, expected {wxyz:?}");
             }
         }
+    }
+
+    /// Names with a letter and an underscore first (`F_TEST`, `E_TEST(..)`: the prefixes NCP19 §2.15
+    /// reserves for Siemens' cycles) are calls: their moves stand at the call's line, X20 Y5 from
+    /// F_TEST and Z-2.5 from E_TEST's parameter.
+    #[test]
+    fn a_letter_and_an_underscore_first_name_a_program() {
+        let main = "G90 G71 F500\nF_TEST\nE_TEST(-2.5)\nM30\n";
+        let p = run(main, &[("F_TEST.SPF", "PROC F_TEST\nG1 X20 Y5\nRET\n"), ("E_TEST.SPF", "PROC E_TEST(REAL DEPTH)\nG1 Z=DEPTH\nRET\n")]);
+        assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+        let got: Vec<String> = moves(&p).iter().map(|(l, v)| format!("{l}:{:?}", v.map(|c| if c.is_nan() { None } else { Some(c) }))).collect();
+        assert_eq!(got, ["2:[Some(20.0), Some(5.0), None]", "3:[None, None, Some(-2.5)]"]);
+        assert!(super::program_name("S_CYCLE") && super::program_name("_AB") && !super::program_name("__AB") && !super::program_name("1A"));
     }
 
     /// A subprogram's own flow: its loop, its jump to a marker that the main program has too (each
