@@ -110,13 +110,15 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
         }
         (Some(r), None) => {
             let radius = r.value * st.unit;
+            // The radius word as the program wrote it: the 840D's is CR=.
+            let r_word = if st.dialect == crate::program::Dialect::Sinumerik { format!("CR={}", r.raw) } else { format!("R{}", r.raw) };
             let half = 0.5 * (u1 - u0).hypot(v1 - v0);
             if half == 0.0 {
-                diags.error(line, r.column, format!("{g} R{}: the end point is the start point, so R gives no centre (a full circle needs I J K)", r.raw));
+                diags.error(line, r.column, format!("{g} {r_word}: the end point is the start point, so R gives no centre (a full circle needs I J K)"));
                 return None;
             }
             if !(radius.abs() > 0.0) || half - radius.abs() > st.arc_tolerance {
-                diags.error(line, r.column, format!("{g} R{}: the radius is too small to reach the end point ({:.4} mm away)", r.raw, 2.0 * half / MM));
+                diags.error(line, r.column, format!("{g} {r_word}: the radius is too small to reach the end point ({:.4} mm away)", 2.0 * half / MM));
                 return None;
             }
             let h = (radius * radius - half * half).max(0.0).sqrt();

@@ -474,7 +474,8 @@ impl Interpreter {
                         Some(Motion::ArcCcw) => "G03",
                         _ => "G01",
                     };
-                    diags.error(line, column, format!("{g} move without a feed: expected an F word before or in this block{why}"))
+                    // A refused block before may have carried the F word.
+                    diags.error(line, column, format!("{g} move without a feed: expected an F word before or in this block{why}{}", before.after_refused()))
                 }
                 FeedMode::InverseTime if feed_word.is_none() => {
                     diags.error(line, column, "G93 inverse-time move without F in the block: expected F (1/min)")

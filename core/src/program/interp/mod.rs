@@ -525,7 +525,7 @@ impl Interpreter {
             Some(done) => done,
             None => self.block_plain(words, line, column, number, diags, out),
         };
-        if !done && words.iter().any(|w| w.letter == 'G') {
+        if !done && words.iter().any(|w| matches!(w.letter, 'G' | 'F')) {
             self.refused_line = Some(line);
         }
         done

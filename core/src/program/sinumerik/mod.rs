@@ -173,6 +173,9 @@ impl super::stream::LineReader for SinumerikReader {
         let (start, corners) = (self.interp.position(), self.corners.busy() || lexed.corner.any());
         // Under tool radius compensation its own path takes the corners ([`trc`]).
         let trc_before = self.trc.busy();
+        // A refused block's feed does not take effect: a later move without one names it
+        // ([`Interpreter::after_refused`]; of a refused block's other words the 840D reader says nothing).
+        let feed_word = lexed.words.iter().any(|w| w.letter == 'F');
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             self.corners.drop_words();
             if let Some(saved) = saved {
@@ -184,6 +187,9 @@ impl super::stream::LineReader for SinumerikReader {
             if plain {
                 self.interp.restore_pending_vector(vector);
                 self.interp.refused_line = refused_line;
+            }
+            if feed_word {
+                self.interp.refused_line = Some(line);
             }
             out.truncate(blocks_before);
             self.vars.rollback();
