@@ -730,6 +730,37 @@ fn fanuc_forms_not_read_are_named_as_the_control_names_them() {
     has(&fanuc("G21 G90\nG00 W0.0\nX10. Y10.\nM30\n"), 3, 1, "(line 2 was refused before it, and none of its codes took effect)");
 }
 
+/// Fanuc and Haas read a number without a decimal point in least input increments (`X5` is 0.005
+/// mm, FANUC B-64484EN "Decimal point programming", parameter DPI No. 3401#0 = 0); a machine whose
+/// file says `decimal_point_input = "calculator"` (DPI = 1, Haas Setting 162 "Default to float" on)
+/// reads it in the program's unit: `X5` is 5 mm, `B30` 30 deg, a corner `,R2` 2 mm, and an F under
+/// G95 (refused in increments, where its meaning is not read) is mm per revolution.
+#[test]
+fn a_calculator_type_machine_reads_numbers_without_a_point_in_units() {
+    let nmv = fiveaxis::machine::builtin_file("mori-seiki-nmv5000").unwrap();
+    let text = "%\nO1000\nG21 G90 G17\nG0 X5 Y10 Z20 B30\nG1 X20 F100\nM30\n%\n";
+    let increments = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    let calculator = fiveaxis::machine::Machine::from_toml_str(&format!("decimal_point_input = \"calculator\"\n{nmv}"), "t").unwrap();
+    for dialect in [Dialect::Fanuc, Dialect::Haas] {
+        let p = read(text, dialect, "t.nc", &ReadOptions::default().on(&increments));
+        let pts = end_points(&p);
+        assert!((pts[0].1[0] - 0.005).abs() < 1e-12 && (pts[0].1[1] - 0.010).abs() < 1e-12, "{dialect:?} increments: {pts:?}");
+        let p = read(text, dialect, "t.nc", &ReadOptions::default().on(&calculator));
+        assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
+        assert!(p.diagnostics.iter().all(|d| !d.message.contains("has no decimal point")), "{dialect:?}: {:?}", p.diagnostics);
+        let pts = end_points(&p);
+        assert!(pts[0].1[0] == 5.0 && pts[0].1[1] == 10.0 && pts[0].1[2] == 20.0 && pts[1].1[0] == 20.0, "{dialect:?} calculator: {pts:?}");
+        let b = p.blocks.iter().find_map(|b| b.targets.b).unwrap();
+        assert!((b.to_degrees() - 30.0).abs() < 1e-9, "{dialect:?}: B {}", b.to_degrees());
+    }
+    // G95 F without a point: refused in increments, mm/rev in calculator mode.
+    let g95 = "%\nO1000\nG21 G90 G17\nG0 X0 Y0 Z0\nS1000 M3\nG95 G1 X10 F1\nM30\n%\n";
+    assert!(errors(&read(g95, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&increments))).iter().any(|(l, _, m)| *l == 6 && m.contains("F1 without a decimal point under G95")));
+    assert!(errors(&read(g95, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&calculator))).is_empty());
+    let bad = fiveaxis::machine::Machine::from_toml_str(&format!("decimal_point_input = \"float\"\n{nmv}"), "t").unwrap_err().to_string();
+    assert!(bad.contains("decimal_point_input") && bad.contains("expected \"increments\" or \"calculator\""), "{bad}");
+}
+
 /// Fanuc without tool-centre-point control: a move of linear and rotary axes together takes F along a
 /// path whose rotary part counts degrees as millimetres (FANUC B-63174EN §4.2, "G91 G01 X20.0 C40.0
 /// F300.0 ... time = sqrt(20^2 + 40^2) / 300 = 0.14907 min"): `G1 X10. B30.` at F60 takes

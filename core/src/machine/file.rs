@@ -74,6 +74,11 @@ pub struct MachineFile {
     /// it they are refused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub power_on_motion: Option<String>,
+    /// Fanuc, Haas: what a length, angle or time written without a decimal point counts, `"increments"`
+    /// (least input increments, `X5` is 0.005 mm: FANUC parameter No. 3401 bit 0 DPI = 0, Haas Setting
+    /// 162 "Default to float" off; the default) or `"calculator"` (`X5` is 5 mm: DPI = 1, Setting 162 on).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub decimal_point_input: Option<String>,
     /// The control's canned-cycle settings that shape their motion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub canned_cycles: Option<CannedCyclesFile>,
@@ -427,6 +432,11 @@ impl MachineFile {
             Some(g) if g.eq_ignore_ascii_case("G01") || g.eq_ignore_ascii_case("G1") => Some(crate::program::Motion::Linear),
             Some(g) => return Err(format!("`power_on_motion` = \"{g}\": expected \"G00\" or \"G01\" (FANUC parameter No. 3402 bit 0)")),
         };
+        let calculator_input = match self.decimal_point_input.as_deref().map(str::trim) {
+            None | Some("increments") => false,
+            Some("calculator") => true,
+            Some(v) => return Err(format!("`decimal_point_input` = \"{v}\": expected \"increments\" or \"calculator\" (FANUC parameter No. 3401 bit 0 DPI, Haas Setting 162)")),
+        };
         let mut peck = [None, None];
         if let Some(c) = &self.canned_cycles {
             for (k, (field, v)) in [("canned_cycles.g73_retract_mm", c.g73_retract_mm), ("canned_cycles.g83_clearance_mm", c.g83_clearance_mm)].into_iter().enumerate() {
@@ -495,6 +505,7 @@ impl MachineFile {
             tcp_at_start: self.tcp_at_start,
             inch_basic_system: self.inch_basic_system,
             power_on_motion,
+            calculator_input,
             state_cycles: self.cycles.iter().map(|c| c.number).collect(),
             swivel,
             quill,

@@ -96,6 +96,10 @@ pub struct Machine {
     /// Fanuc, Haas: the motion mode at power-on and reset (FANUC parameter No. 3402 bit 0), if the
     /// file gives it.
     pub power_on_motion: Option<crate::program::Motion>,
+    /// Fanuc, Haas: a number without a decimal point is in the program's unit, `X5` 5 mm
+    /// (calculator-type input: FANUC parameter No. 3401 bit 0 DPI = 1, Haas Setting 162 on), not in
+    /// least input increments.
+    pub calculator_input: bool,
     /// The machine maker's cycles that move nothing (they set the control's dynamics), by number.
     pub state_cycles: Vec<u32>,
     /// The Sinumerik swivel data set (`CYCLE800`), if the file gives it.

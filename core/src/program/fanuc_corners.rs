@@ -247,10 +247,10 @@ impl Rs274Reader {
         }
         let (step, unit) = if self.inch_words(words) { (1e-4, "in") } else { (1e-3, "mm") };
         for (w, computed) in commas.iter_mut() {
-            if !*computed && !w.raw.contains('.') {
+            if !*computed && !w.raw.contains('.') && !self.calculator_input {
                 w.value *= step;
                 if w.value != 0.0 && !std::mem::replace(&mut self.said_no_point, true) {
-                    diags.warning(line, w.column, format!(",{}{} has no decimal point: read as {} {unit}, in least input increments, as the control reads it unless its parameter says otherwise (FANUC DPI No. 3401#0, Haas Setting 162); said once", w.letter, w.raw, w.value));
+                    diags.warning(line, w.column, format!(",{}{} has no decimal point: read as {} {unit}, in least input increments, as the control reads it unless its parameter says otherwise (FANUC DPI No. 3401#0, Haas Setting 162: the machine file's decimal_point_input); said once", w.letter, w.raw, w.value));
                 }
             }
         }

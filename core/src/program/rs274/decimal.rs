@@ -9,7 +9,8 @@ impl Rs274Reader {
     /// Fanuc and Haas read a number without a decimal point in a length or angle address as a count
     /// of least input increments: `X1` is 0.001 mm, 0.0001 in or 0.001 deg (FANUC B-64484EN,
     /// "Decimal point programming", parameter DPI No. 3401#0 = 0; Haas Setting 162 "Default to
-    /// float" off: "X5 means X0.0005"). A value computed from parameters has its point.
+    /// float" off: "X5 means X0.0005"). A value computed from parameters has its point. A machine
+    /// whose file says `decimal_point_input = "calculator"` (DPI = 1) is not asked: the caller skips this.
     /// The first word read so whose value is not 0, if any (for the warning said once).
     pub(super) fn decimal_points(&self, words: &mut [Word], computed: &[usize]) -> Option<usize> {
         // Most CAM blocks write every such value with its point: then the block's codes need no look.

@@ -65,6 +65,9 @@ pub(crate) struct Rs274Reader {
     alarmed: bool,
     /// Fanuc, Haas: a length or angle without a decimal point has been said (once).
     pub(super) said_no_point: bool,
+    /// Fanuc, Haas: the machine reads a number without a decimal point in the program's unit
+    /// (calculator-type input, its file's `decimal_point_input`), not in least input increments.
+    pub(super) calculator_input: bool,
     /// The last line read with anything on it (where a missing program end is said).
     last_line: usize,
     /// LinuxCNC's O-word blocks held and run ([`super::oword`]).
@@ -105,7 +108,7 @@ impl Rs274Reader {
             params.fanuc_system_variables();
         }
         let leader = setup.dialect.is_fanuc().then(Vec::new);
-        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, said_no_point: false, last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: None, corners: Default::default(), chars_buf: Vec::new(), items_buf: Vec::new() }
+        Rs274Reader { interp: setup.interpreter(), started: false, number: None, params, dialect: setup.dialect, leader, refused: false, ended: None, percent: false, alarmed: false, said_no_point: false, calculator_input: setup.machine.as_ref().is_some_and(|m| m.calculator_input), last_line: 0, flow: super::oword::Flow::new(setup.max_run_lines, setup.subroutine_files.clone()), quill: setup.machine.as_ref().and_then(|m| m.quill).map(super::quill::QuillState::new), kept_bytes: 0, contexts: Default::default(), in_later_sub: None, corners: Default::default(), chars_buf: Vec::new(), items_buf: Vec::new() }
     }
 }
 
@@ -472,7 +475,7 @@ impl Rs274Reader {
             }
         }
         let col = words.first().map_or(first + 1, |w| w.column.min(first + 1));
-        if self.dialect.is_fanuc() {
+        if self.dialect.is_fanuc() && !self.calculator_input {
             // Under G95 an F without a decimal point may count least increments per revolution, as a
             // length word does (F300 as 0.300 mm/rev); which one this control takes is not at hand.
             let per_rev = self.block_feed_mode(&words).1;
@@ -485,7 +488,7 @@ impl Rs274Reader {
                 if !std::mem::replace(&mut self.said_no_point, true) {
                     let w = &words[i];
                     let unit = if matches!(w.letter, 'A' | 'B' | 'C') { "deg" } else if self.inch_words(&words) { "in" } else { "mm" };
-                    diags.warning(line, w.column, format!("{}{} has no decimal point: read as {} {unit}, in least input increments, as the control reads it unless its parameter says otherwise (FANUC DPI No. 3401#0, Haas Setting 162); said once", w.letter, w.raw, w.value));
+                    diags.warning(line, w.column, format!("{}{} has no decimal point: read as {} {unit}, in least input increments, as the control reads it unless its parameter says otherwise (FANUC DPI No. 3401#0, Haas Setting 162: the machine file's decimal_point_input); said once", w.letter, w.raw, w.value));
                 }
             }
         }
