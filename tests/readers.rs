@@ -753,6 +753,20 @@ fn a_calculator_type_machine_reads_numbers_without_a_point_in_units() {
         let b = p.blocks.iter().find_map(|b| b.targets.b).unwrap();
         assert!((b.to_degrees() - 30.0).abs() < 1e-9, "{dialect:?}: B {}", b.to_degrees());
     }
+    // A G65 argument without a point is in units too (#24 = 50 mm, #2 = 30 deg), and G68's R30 is 30 deg.
+    let g65 = "%\nO1000\nG21 G90 G17\nG0 X0 Y0 Z20 B0\nG65 P9010 X50 B30\nM30\nO9010\nG1 X#24 F1000\nG0 B#2\nM99\n%\n";
+    for dialect in [Dialect::Fanuc, Dialect::Haas] {
+        let p = read(g65, dialect, "t.nc", &ReadOptions::default().on(&calculator));
+        assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
+        let pts = end_points(&p);
+        assert!(pts.iter().any(|(_, at)| at[0] == 50.0) && pts.iter().any(|(_, at)| (at[4] - 30.0).abs() < 1e-9), "{dialect:?} G65: {pts:?}");
+    }
+    let g68 = "%\nO1000\nG21 G90 G17\nG0 X0 Y0 Z20\nG68 X0 Y0 R90\nG1 X10 F100\nG69\nM30\n%\n";
+    assert!(errors(&read(g68, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&increments))).iter().any(|(l, _, m)| *l == 5 && m.starts_with("R90: an angle without a decimal point")));
+    let p = read(g68, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&calculator));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let last = *end_points(&p).last().unwrap();
+    assert!(last.1[0].abs() < 1e-9 && (last.1[1] - 10.0).abs() < 1e-9, "G68 R90: X10 turned to Y10: {last:?}");
     // G95 F without a point: refused in increments, mm/rev in calculator mode.
     let g95 = "%\nO1000\nG21 G90 G17\nG0 X0 Y0 Z0\nS1000 M3\nG95 G1 X10 F1\nM30\n%\n";
     assert!(errors(&read(g95, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&increments))).iter().any(|(l, _, m)| *l == 6 && m.contains("F1 without a decimal point under G95")));

@@ -384,9 +384,21 @@ fn a_move_without_a_feed_names_the_refused_block_that_had_it() {
         let p = read(text, dialect, "t", &ReadOptions::default().on(&m));
         let e = errors(&p);
         assert!(e.iter().any(|(l, _, _)| *l == refused), "{dialect:?}: {e:?}");
-        let note = format!("line {refused} was refused before it");
+        let note = format!("line {refused}, refused before it, gave one");
         assert!(e.iter().any(|(l, _, m)| *l == moved && m.starts_with("G01 move without a feed") && m.contains(&note)), "{dialect:?}: {e:?}");
     }
+    // Not named: a refused block without F; one followed by a block that set a feed (the later
+    // change of feed mode is the cause, said as such).
+    let fanuc = |body: &str| errors(&read(&format!("%\nO1000\nG21 G90 G17 G94\nG0 X0 Y0 Z5.\n{body}M30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default()));
+    let e = fanuc("G1 X10. Q5\nG1 X20.\n");
+    assert!(e.iter().any(|(l, _, m)| *l == 6 && m.starts_with("G01 move without a feed") && !m.contains("refused")), "{e:?}");
+    let e = fanuc("G1 X1. F100. Q5\nG93 G1 X2. F10.\nG94 G1 X3.\n");
+    assert!(e.iter().any(|(l, _, m)| *l == 7 && m.contains("the change of feed mode left none") && !m.contains("line 5")), "{e:?}");
+    let e = fanuc("G1 X1. F100. Q5\nG1 X2. F10.\nG94\nG93\nG94\nG1 X3.\n");
+    assert!(e.iter().all(|(_, _, m)| !m.contains("line 5, refused")), "{e:?}");
+    // The motion-mode note still names the refused G00, not a later refused F block.
+    let e = errors(&read("%\nO1000\nG21 G90\nG00 W0.0\nF100. Q5.\nX10. Y10.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default()));
+    assert!(e.iter().any(|(l, _, m)| *l == 6 && m.contains("(line 4 was refused before it")), "{e:?}");
 }
 
 /// An 840D arc's radius is named as the program wrote it, `CR=` (it had been shown as `R5`, and
@@ -395,6 +407,9 @@ fn a_move_without_a_feed_names_the_refused_block_that_had_it() {
 fn an_840d_radius_is_named_cr_in_its_defects() {
     let sin = read("DEF REAL BR=5\nG90 G71 F100\nG0 X0 Y0 Z0\nG2 X0 Y0 CR=BR\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
     assert!(errors(&sin).iter().any(|(l, _, m)| *l == 4 && m.starts_with("G02 CR=BR: the end point is the start point")), "{:?}", errors(&sin));
+    let sin = read("G90 G71 F100\nG0 X0 Y0 Z0\nG1 X30 CR=5\nG2 X10 Y0\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert!(errors(&sin).iter().any(|(l, _, m)| *l == 3 && m.starts_with("word CR=5 without a G code")), "{:?}", errors(&sin));
+    assert!(errors(&sin).iter().any(|(l, _, m)| *l == 4 && m.ends_with("or a radius (CR=)")), "{:?}", errors(&sin));
     let fanuc = read("%\nO1000\nG21 G90 F100.\nG0 X0. Y0. Z0.\nG2 X0. Y0. R5.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert!(errors(&fanuc).iter().any(|(l, _, m)| *l == 5 && m.starts_with("G02 R5.: the end point is the start point")), "{:?}", errors(&fanuc));
 }

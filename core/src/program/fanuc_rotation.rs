@@ -169,7 +169,8 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     let Some(r) = words.iter().find(|w| w.letter == 'R') else {
         return fail(diags, g.column, format!("G{} without R: the angle is then the machine's parameter (FANUC No. 5410, Haas Setting 72), not the program's", g.raw));
     };
-    if !r.raw.contains('.') {
+    // On a calculator-type machine (FANUC DPI No. 3401#0 = 1) it is in degrees.
+    if !r.raw.contains('.') && !it.machine().is_some_and(|m| m.calculator_input) {
         return fail(diags, r.column, format!("R{}: an angle without a decimal point counts least increments, 0.001 or 0.00001 deg as the machine's parameter says (FANUC No. 6400#2); write R{}.", r.raw, r.raw));
     }
     if !r.dimension.absolute(it.absolute()) {

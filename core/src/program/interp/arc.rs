@@ -62,13 +62,15 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
     };
     let (u0, v0, u1, v1) = (start[a0], start[a1], end[a0], end[a1]);
     let mut centre = start;
+    // The radius' address as the program writes it: the 840D's is CR=.
+    let r_addr = if st.dialect == crate::program::Dialect::Sinumerik { "CR=" } else { "R" };
     match (word('R'), word(offset_letter[a0]).or(word(offset_letter[a1]))) {
         (Some(r), Some(_)) => {
-            diags.error(line, r.column, format!("{g} with both R and a centre (I J K): expected one of them"));
+            diags.error(line, r.column, format!("{g} with both {r_addr} and a centre (I J K): expected one of them"));
             return None;
         }
         (None, None) => {
-            diags.error(line, column, format!("{g} without a centre (I J K) or a radius (R)"));
+            diags.error(line, column, format!("{g} without a centre (I J K) or a radius ({r_addr})"));
             return None;
         }
         (None, Some(_)) => {
@@ -110,11 +112,10 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
         }
         (Some(r), None) => {
             let radius = r.value * st.unit;
-            // The radius word as the program wrote it: the 840D's is CR=.
-            let r_word = if st.dialect == crate::program::Dialect::Sinumerik { format!("CR={}", r.raw) } else { format!("R{}", r.raw) };
+            let r_word = format!("{r_addr}{}", r.raw);
             let half = 0.5 * (u1 - u0).hypot(v1 - v0);
             if half == 0.0 {
-                diags.error(line, r.column, format!("{g} {r_word}: the end point is the start point, so R gives no centre (a full circle needs I J K)"));
+                diags.error(line, r.column, format!("{g} {r_word}: the end point is the start point, so {r_addr} gives no centre (a full circle needs I J K)"));
                 return None;
             }
             if !(radius.abs() > 0.0) || half - radius.abs() > st.arc_tolerance {

@@ -149,7 +149,9 @@ impl Interpreter {
                     // The earlier refused block is said only where this block has no defect of its
                     // own before the word (a code of its own refused is the cause then).
                     let earlier = if diags.errors() == errors_before { before.after_refused() } else { String::new() };
-                    diags.error(line, w.column, format!("word {}{} without a G code that takes it: not read{earlier}", w.letter, w.raw));
+                    // The 840D's radius is written CR=.
+                    let address = if w.letter == 'R' && before.dialect == Dialect::Sinumerik { "CR=".to_string() } else { w.letter.to_string() };
+                    diags.error(line, w.column, format!("word {address}{} without a G code that takes it: not read{earlier}", w.raw));
                 }
             }
             if next.tool_vector && arc_motion {
@@ -474,8 +476,10 @@ impl Interpreter {
                         Some(Motion::ArcCcw) => "G03",
                         _ => "G01",
                     };
-                    // A refused block before may have carried the F word.
-                    diags.error(line, column, format!("{g} move without a feed: expected an F word before or in this block{why}{}", before.after_refused()))
+                    // A refused block before may have carried the F word (not said where this block's
+                    // own change of feed mode left none).
+                    let refused = if why.is_empty() { before.after_refused_feed() } else { String::new() };
+                    diags.error(line, column, format!("{g} move without a feed: expected an F word before or in this block{why}{refused}"))
                 }
                 FeedMode::InverseTime if feed_word.is_none() => {
                     diags.error(line, column, "G93 inverse-time move without F in the block: expected F (1/min)")

@@ -176,6 +176,9 @@ pub struct State {
     /// The last block refused that held G codes (its line): none of them took effect, which a later
     /// block's defect may stem from (said with it).
     pub(crate) refused_line: Option<usize>,
+    /// The last refused block that carried an F word, while no block read since has set a feed:
+    /// what a move without a feed names ([`Interpreter::after_refused_feed`]).
+    pub(crate) refused_feed_line: Option<usize>,
     /// `G69` has cancelled it and no move of its plane's axes (these letters) has come since (the
     /// first must be absolute).
     pub(crate) after_g69: Option<[char; 2]>,
@@ -319,6 +322,7 @@ impl Interpreter {
                 rotation2d: None,
                 after_g69: None,
                 refused_line: None,
+                refused_feed_line: None,
                 exact: crate::program::Exact::Blend,
                 exact_once: false,
                 tools: Default::default(),
@@ -525,9 +529,10 @@ impl Interpreter {
             Some(done) => done,
             None => self.block_plain(words, line, column, number, diags, out),
         };
-        if !done && words.iter().any(|w| matches!(w.letter, 'G' | 'F')) {
+        if !done && words.iter().any(|w| w.letter == 'G') {
             self.refused_line = Some(line);
         }
+        self.note_feed(done, words.iter().any(|w| w.letter == 'F'), line);
         done
     }
 
@@ -535,6 +540,21 @@ impl Interpreter {
     /// avoided (a word its modal code would take, a centre word of its plane).
     pub(crate) fn after_refused(&self) -> String {
         self.refused_line.map_or(String::new(), |l| format!(" (line {l} was refused before it, and none of its codes took effect)"))
+    }
+
+    /// After a block is read (`done`) or refused: a refused block with an F word is the one a later
+    /// move without a feed names, until a block sets a feed.
+    pub(crate) fn note_feed(&mut self, done: bool, has_f: bool, line: usize) {
+        if !done && has_f {
+            self.refused_feed_line = Some(line);
+        } else if done && self.feed.is_some() {
+            self.refused_feed_line = None;
+        }
+    }
+
+    /// What to add to "move without a feed" where a refused block since the last feed carried one.
+    pub(crate) fn after_refused_feed(&self) -> String {
+        self.refused_feed_line.map_or(String::new(), |l| format!(" (line {l}, refused before it, gave one, and none of its words took effect)"))
     }
 
     /// [`Interpreter::block`] without cutter radius compensation.

@@ -252,8 +252,9 @@ impl MacroRunner {
                 }
                 let locals = (c == "65").then(|| {
                     let increments = |l: char, v: f64, raw: &str| {
-                        // A value without a decimal point counts the address' least increments.
-                        let step = if raw.contains('.') || raw.contains('#') || raw.contains('[') {
+                        // A value without a decimal point counts the address' least increments
+                        // (on a calculator-type machine it is in the program's unit).
+                        let step = if self.reader.calculator_input || raw.contains('.') || raw.contains('#') || raw.contains('[') {
                             1.0
                         } else if "XYZIJKRQUVW".contains(l) {
                             if self.reader.interp.unit() == crate::units::INCH { 1e-4 } else { 1e-3 }

@@ -174,7 +174,7 @@ impl super::stream::LineReader for SinumerikReader {
         // Under tool radius compensation its own path takes the corners ([`trc`]).
         let trc_before = self.trc.busy();
         // A refused block's feed does not take effect: a later move without one names it
-        // ([`Interpreter::after_refused`]; of a refused block's other words the 840D reader says nothing).
+        // ([`Interpreter::after_refused_feed`]; of a refused block's other words the 840D reader says nothing).
         let feed_word = lexed.words.iter().any(|w| w.letter == 'F');
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             self.corners.drop_words();
@@ -188,9 +188,7 @@ impl super::stream::LineReader for SinumerikReader {
                 self.interp.restore_pending_vector(vector);
                 self.interp.refused_line = refused_line;
             }
-            if feed_word {
-                self.interp.refused_line = Some(line);
-            }
+            self.interp.note_feed(false, feed_word, line);
             out.truncate(blocks_before);
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used"));
@@ -359,7 +357,7 @@ impl SinumerikReader {
                     // A name the flow did not take for a call: with other words in its block, or not
                     // a name a program is called by (NC programming 12/2019 §2.15 "Names": "the first two
                     // characters should be letters or underscores").
-                    None => diags.error(line, k.col, format!("{other}: not an instruction read here, nor a call of a program: a program is called by a name whose first two characters are letters or underscores, alone in its block (either may change the motion)")),
+                    None => diags.error(line, k.col, format!("{other}: not an instruction read here, nor a call of a program: a program is called by a name whose first two characters are letters or underscores (not two underscores), alone in its block (either may change the motion)")),
                 },
             }
         }

@@ -252,6 +252,7 @@ impl FlowRunner {
         let mut child = FlowRunner::below(self, reader, name, values, !first);
         child.called_files = std::mem::take(&mut self.called_files);
         child.reader.interp.refused_line = None;
+        child.reader.interp.refused_feed_line = None;
         let caller = child.reader.vars.enter_level();
         self.sub = Some(Box::new(SubRun { run: Seeking::new(in_memory(bytes), Box::new(child)), call: (line, col), shown, caller, released }));
         Next::Run
@@ -330,6 +331,7 @@ impl FlowRunner {
         let mut reader = std::mem::replace(&mut child.reader, super::SinumerikReader::new(&self.setup));
         reader.vars.leave_level(caller);
         reader.interp.refused_line = None;
+        reader.interp.refused_feed_line = None;
         self.reader = reader;
         Some(if child.end == End::Returned && !stopped { Next::On } else { Next::Ended })
     }
