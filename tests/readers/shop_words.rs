@@ -413,3 +413,13 @@ fn an_840d_radius_is_named_cr_in_its_defects() {
     let fanuc = read("%\nO1000\nG21 G90 F100.\nG0 X0. Y0. Z0.\nG2 X0. Y0. R5.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert!(errors(&fanuc).iter().any(|(l, _, m)| *l == 5 && m.starts_with("G02 R5.: the end point is the start point")), "{:?}", errors(&fanuc));
 }
+
+/// An arc without a centre after a refused block that held the motion code the program meant
+/// (`G01 X10. R10` refused, so the modal G03 stays) names that block, as the other follow-on
+/// defects do.
+#[test]
+fn an_arc_without_a_centre_names_a_refused_block_before_it() {
+    let p = read("%\nO1000\nG21 G90 G17 F100.\nG0 X0. Y0. Z0.\nG3 X5. Y5. R5.\nG01 X10. R10\nX20. Y5.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    let e = errors(&p);
+    assert!(e.iter().any(|(l, _, m)| *l == 7 && m.starts_with("G03 without a centre") && m.contains("(line 6 was refused before it")), "{e:?}");
+}

@@ -70,7 +70,9 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
             return None;
         }
         (None, None) => {
-            diags.error(line, column, format!("{g} without a centre (I J K) or a radius ({r_addr})"));
+            // The modal G02/G03 may be a refused block's motion code's to replace (G01 R10 refused).
+            let earlier = if own_defect { String::new() } else { st.after_refused() };
+            diags.error(line, column, format!("{g} without a centre (I J K) or a radius ({r_addr}){earlier}"));
             return None;
         }
         (None, Some(_)) => {
