@@ -103,7 +103,36 @@ impl Dialect {
     /// The refusal of a program whose dialect was detected (`given` false) as the RS274 family but
     /// whose first lines are in a language no reader follows ([`Dialect::unread_language`]).
     pub fn unread(given: bool, detected: Dialect, text: &str) -> Option<Diagnostic> {
-        (!given && detected.is_rs274_family()).then(|| Dialect::unread_language(text)).flatten()
+        Dialect::listing_header(text, detected).or_else(|| (!given && detected.is_rs274_family()).then(|| Dialect::unread_language(text)).flatten())
+    }
+
+    /// Siemens NX's "Information listing" header before a program (`====`, `Information listing
+    /// created by : user`, `Date : ..`, `Current work part : ..`, `Node name : ..`, `====`): what NX's
+    /// listing window writes when a post's output is sent there and saved with it. It is no NC code
+    /// in any dialect and no control reads it: refused once, at its line, rather than as one defect
+    /// per line. Before a Fanuc or Haas tape's first `%` it is the tape's leader, skipped as such.
+    pub fn listing_header(text: &str, dialect: Dialect) -> Option<Diagnostic> {
+        let text = text.strip_prefix(super::stream::BOM).unwrap_or(text);
+        let lines: Vec<&str> = text.lines().take(DETECT_LINES).collect();
+        const HEAD: &str = "information listing created by";
+        let at = lines.iter().position(|l| l.trim_start().get(..HEAD.len()).is_some_and(|h| h.eq_ignore_ascii_case(HEAD)))?;
+        // Before a Fanuc or Haas tape's first %, it is the leader, skipped as such; after it, code.
+        if dialect.is_fanuc() && lines[at..].iter().any(|l| l.trim() == "%") {
+            return None;
+        }
+        let rule = |l: &&str| l.trim().len() >= 10 && l.trim().bytes().all(|b| b == b'=');
+        let first = if at > 0 && rule(&lines[at - 1]) { at - 1 } else { at };
+        let last = lines[at + 1..].iter().take(12).position(rule).map_or(at, |k| at + 1 + k);
+        Some(Diagnostic {
+            line: at + 1,
+            column: lines[at].len() - lines[at].trim_start().len() + 1,
+            severity: Severity::Error,
+            message: format!(
+                "lines {}-{}: NX's \"Information listing\" header, which NX's listing window writes before a post's output: no NC code, and no control reads it; delete it from the file (nothing was read)",
+                first + 1,
+                last + 1
+            ),
+        })
     }
 
     /// A program that its name or first lines send to the RS274 family but that is written in a
@@ -263,6 +292,25 @@ mod tests {
         }
         // Both answers drawn often enough to tell them apart.
         assert!((1_000..199_000).contains(&found), "{found} lines with a word");
+    }
+
+    /// NX's listing header is refused once at its line, naming its lines, in any dialect; never in a
+    /// comment, nor in a Fanuc tape's leader before its first `%` (skipped with the leader).
+    #[test]
+    fn an_nx_listing_header_is_refused_once() {
+        let head = "==============================================================\nInformation listing created by : user\nDate                           : 12/6/2026\nCurrent work part              : C:\\part.prt\nNode name                      : pc1\n==============================================================\n";
+        for (given, dialect, body) in [(false, Dialect::Fanuc, "N10 G0 X1.\n"), (true, Dialect::Klartext, "0 BEGIN PGM P MM\n"), (true, Dialect::Sinumerik, "G0 X1\n")] {
+            let d = Dialect::unread(given, dialect, &format!("{head}{body}")).unwrap();
+            assert_eq!((d.line, d.column, d.severity), (2, 1, Severity::Error));
+            assert!(d.message.starts_with("lines 1-6: NX's \"Information listing\" header"), "{}", d.message);
+        }
+        for text in [format!("({})\nG0 X1\n", "Information listing created by : user"), format!("; Information listing created by : x\nG0 X1\n")] {
+            assert_eq!(Dialect::listing_header(&text, Dialect::Fanuc), None, "{text:?}");
+        }
+        // In a Fanuc or Haas tape's leader, before its first %: skipped with it. Elsewhere, refused.
+        let tape = format!("{head}%\nO1\nG0 X1.\n%\n");
+        assert_eq!(Dialect::listing_header(&tape, Dialect::Haas), None);
+        assert_eq!(Dialect::listing_header(&tape, Dialect::Rs274).map(|d| d.line), Some(2));
     }
 
     /// MillPlus is recognised by G7 with its angle words in code, at the G7; never in a comment,
