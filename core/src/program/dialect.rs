@@ -90,6 +90,13 @@ impl Dialect {
         matches!(self, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas)
     }
 
+    /// An arc's radius address as programs in this dialect write it, for messages: the 840D's is
+    /// `CR=` (Programming Manual Fundamentals, "Circular interpolation with radius and end point"),
+    /// every other dialect's `R`. The readers take both as the word R.
+    pub fn radius_address(self) -> &'static str {
+        if self == Dialect::Sinumerik { "CR=" } else { "R" }
+    }
+
     /// The dialect of a program for a machine whose control reads `control`: a file whose content
     /// or name says nothing beyond generic G-code (what [`Dialect::detect`] calls RS274NGC) is read
     /// in the control's own G-code dialect.

@@ -62,8 +62,7 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
     };
     let (u0, v0, u1, v1) = (start[a0], start[a1], end[a0], end[a1]);
     let mut centre = start;
-    // The radius' address as the program writes it: the 840D's is CR=.
-    let r_addr = if st.dialect == crate::program::Dialect::Sinumerik { "CR=" } else { "R" };
+    let r_addr = st.dialect.radius_address();
     match (word('R'), word(offset_letter[a0]).or(word(offset_letter[a1]))) {
         (Some(r), Some(_)) => {
             diags.error(line, r.column, format!("{g} with both {r_addr} and a centre (I J K): expected one of them"));

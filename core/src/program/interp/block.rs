@@ -149,8 +149,7 @@ impl Interpreter {
                     // The earlier refused block is said only where this block has no defect of its
                     // own before the word (a code of its own refused is the cause then).
                     let earlier = if diags.errors() == errors_before { before.after_refused() } else { String::new() };
-                    // The 840D's radius is written CR=.
-                    let address = if w.letter == 'R' && before.dialect == Dialect::Sinumerik { "CR=".to_string() } else { w.letter.to_string() };
+                    let address = if w.letter == 'R' { before.dialect.radius_address().to_string() } else { w.letter.to_string() };
                     diags.error(line, w.column, format!("word {address}{} without a G code that takes it: not read{earlier}", w.raw));
                 }
             }
