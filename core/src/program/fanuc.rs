@@ -59,6 +59,12 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     if let Some(w) = has("28").or(has("30")) {
         return Some(reference_return(it, w, words, line, column, number, diags, out));
     }
+    // G92 and G52 take the block's X and Y for the coordinate system: no hole there, and what the
+    // control makes of them under a cycle is not read.
+    if let Some(w) = has("92").or(has("52")).filter(|_| it.cycles.active.is_some()) {
+        diags.error(line, w.column, format!("G{} under a canned cycle: not read (cancel the cycle with G80 first)", w.raw));
+        return Some(false);
+    }
     if let Some(w) = has("53") {
         return Some(machine_move(it, w, words, line, column, number, diags, out));
     }
@@ -126,6 +132,12 @@ const AXES: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
 #[allow(clippy::too_many_arguments)]
 fn reference_return(it: &mut Interpreter, g: &Word, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
     let g30 = code(g) == "30";
+    // A reference return clears the local system on some controls ("cleared by ... reference (zero)
+    // position return", Mitsubishi M700V §14.11) and by a parameter's choice on others: not read.
+    if it.local_offset != [0.0; 3] {
+        diags.error(line, g.column, format!("G{} with a local coordinate system (G52) set: whether the reference return cancels it depends on the control and its parameters, so the moves after it are not read (cancel it with G52 X0 Y0 Z0 first)", g.raw));
+        return false;
+    }
     let n = match words.iter().find(|w| w.letter == 'P') {
         None => if g30 { 2 } else { 1 },
         Some(p) if g30 && p.value.fract() == 0.0 && (2.0..=4.0).contains(&p.value) => p.value as usize,

@@ -178,7 +178,8 @@ impl Interpreter {
         // Sinumerik's settable frames (G54-G57, G505-G599) are the operator's, never set by the
         // program: the datum is the programmable frame's, which its reader keeps. LinuxCNC's axis
         // offsets (G92, G52) apply in every system.
-        if !heid && before.dialect != Dialect::Sinumerik && next.system != before.system {
+        // (Fanuc's G54 after G54.1 Pn: the same system number, the program's offset again.)
+        if !heid && before.dialect != Dialect::Sinumerik && (next.system != before.system || before.extra_offset && !next.extra_offset) {
             if next.rotation[before.system] != 0.0 || next.rotation_now() != 0.0 {
                 next.current_into_system(before.system, next.system);
             } else {

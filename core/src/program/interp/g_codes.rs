@@ -126,7 +126,8 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
             diags.warning(line, w.column, format!("G{}: additional work offsets are not set by the program: taken as zero", w.raw));
             next.system = 0;
             next.extra_offset = true;
-            next.move_origin([0.0; 3]);
+            // G92 shifts these systems too (Haas: "all work coordinate systems (G54-59, G110-129)").
+            next.move_origin(next.axis_offset);
         }
         // AI contour control (Q1 on, Q0 off): look-ahead feed control, not the path's
         // geometry (FANUC A-63512EN §2.3: "interpolation data ensures that the machining
@@ -180,7 +181,16 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         }
         // (Two codes of group 0 in one block: Interpreter::block refuses them.)
         ("92" | "92.1" | "92.2" | "92.3" | "52", false) if before.dialect == Dialect::Rs274 => c.g92 = Some(code.to_string()),
-        ("92.1" | "92.2", false) => {} // cancel G92 offsets: none are modelled
+        // Fanuc and Haas: G92 shifts every work system; Fanuc's G52 sets the local system
+        // ([`Interpreter::fanuc_offsets`]).
+        ("92", false) if fanuc => c.g92 = Some(code.to_string()),
+        ("52", false) if before.dialect == Dialect::Fanuc => c.g92 = Some(code.to_string()),
+        // Fanuc's G92.1 (workpiece coordinate system preset) takes back what G92 and G52 shifted:
+        // with nothing shifted it has nothing to do; its rule for a shift is in no manual in reach.
+        ("92.1" | "92.2", false) if before.axis_offset != [0.0; 3] => {
+            diags.error(line, w.column, format!("G{} with a G92 or G52 offset set: how the control presets the work coordinate system is not read (cancel the offset with G92 or G52 first)", w.raw))
+        }
+        ("92.1" | "92.2", false) => {} // nothing shifted: nothing to preset
         // A change of feed mode leaves no feed: Siemens, "In the event of switching
         // between G93, G94 and G95, the path feedrate value has to be reprogrammed"
         // (Programming Manual Fundamentals, "Feedrate (G93, G94, G95, F ...)");

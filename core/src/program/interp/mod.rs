@@ -160,6 +160,9 @@ pub struct State {
     /// system, and the copy parameters 5211-5213 keep for G92.3 (G92.2 leaves it, G92.1 zeroes it).
     axis_offset: [f64; 3],
     axis_offset_kept: [f64; 3],
+    /// Fanuc: the local coordinate system G52 sets (m), the part of `axis_offset` that G92 cancels
+    /// axis by axis ([`Interpreter::fanuc_offsets`]).
+    pub(crate) local_offset: [f64; 3],
     /// LinuxCNC: each system's rotation about Z (`G10 L2 Pn R`, rad; parameter 5210 + 20n).
     rotation: [f64; 9],
     /// Blocks stay in the program frame when made (cutter compensation, which offsets them there,
@@ -314,6 +317,7 @@ impl Interpreter {
                 offsets: [[0.0; 3]; 9],
                 system: 0,
                 axis_offset: [0.0; 3],
+                local_offset: [0.0; 3],
                 axis_offset_kept: [0.0; 3],
                 rotation: [0.0; 9],
                 hold_frame: false,

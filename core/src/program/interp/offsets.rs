@@ -127,6 +127,9 @@ impl Interpreter {
     /// mode has no effect on them. Rotary-axis offsets are not modelled: a word that would make one
     /// is an error.
     pub(super) fn axis_offsets(&self, code: &str, words: &[Word], next: &mut Interpreter, line: usize, diags: &mut Diags) {
+        if self.dialect.is_fanuc() {
+            return self.fanuc_offsets(code, words, next, line, diags);
+        }
         let work = next.offsets[next.system];
         let mut offset = next.axis_offset;
         match code {
@@ -151,6 +154,59 @@ impl Interpreter {
             }
             "92.2" => offset = [0.0; 3],
             _ => offset = next.axis_offset_kept, // 92.3
+        }
+        next.axis_offset = offset;
+        next.move_origin(std::array::from_fn(|k| work[k] + offset[k]));
+    }
+    /// Fanuc's `G92 IP` and `G52 IP` (Haas: G92 only). G92 sets the work coordinate system "so that
+    /// the present position of the tool ... become the commanded coordinates", and "the other
+    /// workpiece coordinate systems ... move in parallel" (Mitsubishi M700V Programming Manual §14.10,
+    /// a FANUC-compatible control; Haas Mill Operator's Manual 96-8000, G92, Setting 33 FANUC: it
+    /// "shifts all work coordinate systems (G54-59, G110-129)"); it "cancels any G52 in effect for
+    /// the commanded axes" (Haas, ibid.). G52 sets "a local coordinate system ... in all the workpiece
+    /// coordinate systems (G54 to G59)", its origin at the position given in the workpiece system,
+    /// `G52 X0 Y0 Z0` cancelling it (SINUMERIK ISO Milling 04.07 §3.1, the FANUC dialect; GSK 980MDc
+    /// §3.19). Axes not named keep theirs. Both are kept in `axis_offset`, the G52 part also in
+    /// `local_offset`. Refused where no manual in reach says what the control does: under G91, under
+    /// tool centre point control, under Haas DWO (G254); rotary-axis offsets are not modelled.
+    fn fanuc_offsets(&self, code: &str, words: &[Word], next: &mut Interpreter, line: usize, diags: &mut Diags) {
+        let column = words.iter().find(|w| w.letter == 'G' && w.value == if code == "92" { 92.0 } else { 52.0 }).map_or(1, |w| w.column);
+        if !words.iter().any(|w| AXIS_LETTERS.contains(&w.letter)) {
+            return diags.error(line, column, format!("G{code} without an axis word: expected G{code} X.. Y.. Z.."));
+        }
+        let why = if !next.absolute {
+            "under G91 (incremental)"
+        } else if next.tcp {
+            "under tool centre point control"
+        } else if next.dwo {
+            "under dynamic work offsets (G254)"
+        } else {
+            ""
+        };
+        if !why.is_empty() {
+            return diags.error(line, column, format!("G{code} {why}: how the control sets the coordinate system there is not read (write it under G90, with the mode off)"));
+        }
+        // G54.1 Pn's offset is taken as zero (g_codes).
+        let work = if next.extra_offset { [0.0; 3] } else { next.offsets[next.system] };
+        let mut offset = next.axis_offset;
+        for w in words {
+            let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
+            if k >= 3 {
+                let turned = if code == "92" { next.last[k] - w.value * next.rotary_unit[k - 3] } else { w.value * next.rotary_unit[k - 3] };
+                if turned.abs() > 1e-12 {
+                    diags.error(line, w.column, format!("G{code} {}{}: rotary-axis offsets are not modelled (this one would be {:.6} deg)", w.letter, w.raw, turned / DEG));
+                }
+                continue;
+            }
+            let v = w.value * next.unit;
+            if code == "92" {
+                // The current point, in the frame without G92 and G52, less the value it is to read.
+                offset[k] = next.last[k] + next.datum[k] - work[k] - v;
+                next.local_offset[k] = 0.0;
+            } else {
+                offset[k] += v - next.local_offset[k];
+                next.local_offset[k] = v;
+            }
         }
         next.axis_offset = offset;
         next.move_origin(std::array::from_fn(|k| work[k] + offset[k]));

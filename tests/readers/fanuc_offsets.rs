@@ -1,0 +1,93 @@
+//! Fanuc's G92 (the work coordinate system set where the tool stands, every system shifted alike)
+//! and G52 (a local coordinate system in every work system), and Haas' G92, against their rules
+//! worked by hand: the current point reads the G92 block's values; G52's origin is the point it
+//! names in the work system; G92 cancels G52 on the axes it names (Haas Mill Operator's Manual,
+//! G92; SINUMERIK ISO Milling 04.07 §3.1 and Mitsubishi M700V §14.10-14.11 for the FANUC dialect).
+
+use super::*;
+
+/// Where each move ends in the frame without work offsets, G92 or G52 (mm): the block's target plus
+/// its datum, an axis not written staying where it was.
+fn ends(p: &Program) -> Vec<[f64; 3]> {
+    let mut at = [0.0; 3];
+    p.blocks
+        .iter()
+        .filter(|b| !b.targets.is_empty())
+        .map(|b| {
+            for (k, v) in [b.targets.x, b.targets.y, b.targets.z].into_iter().enumerate() {
+                if let Some(v) = v {
+                    at[k] = (v + b.datum[k]) / MM;
+                }
+            }
+            at
+        })
+        .collect()
+}
+
+fn close(got: &[[f64; 3]], want: &[[f64; 3]]) {
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (k, (g, w)) in got.iter().zip(want).enumerate() {
+        assert!((0..3).all(|i| (g[i] - w[i]).abs() < 1e-9), "move {k}: {g:?}, the rule {w:?}; all {got:?}");
+    }
+}
+
+/// G54 at X100 Y50 (G10 L2 P1), G55 at X300: `G92 X0 Y0` where the tool stands at G54 X10 Y20
+/// (offset-free X110 Y70) puts the new zero there, in G55 too (all systems move in parallel);
+/// `G52 X5` adds a local origin 5 mm on; `G92 X1` cancels G52 on X only; `G52 X0 Y0` ends it.
+#[test]
+fn fanuc_g92_and_g52_move_every_work_system() {
+    let text = "%\nO1000\nG21 G90 G17 G94\nG10 L2 P1 X100. Y50. Z0.\nG10 L2 P2 X300. Y0. Z0.\nG54 G0 X10. Y20. Z5.\nG92 X0. Y0.\nG1 X2. Y3. F500.\nG55 G1 X0. Y0.\nG54 G52 X5. Y-4.\nG1 X0. Y0.\nG92 X1.\nG1 X2. Y1.\nG52 X0. Y0.\nG1 X0. Y0.\nM30\n%\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    // The shift G92 makes: the point (110, 70) reads (0, 0) in G54 (100, 50): (10, 20) in every system.
+    let shift = [10.0, 20.0];
+    let want = [
+        [110.0, 70.0, 5.0],                           // G54 X10 Y20
+        [100.0 + shift[0] + 2.0, 50.0 + shift[1] + 3.0, 5.0], // X2 Y3 after G92
+        [300.0 + shift[0], 0.0 + shift[1], 5.0],      // G55 X0 Y0: G55 shifted alike
+        [100.0 + shift[0] + 5.0, 50.0 + shift[1] - 4.0, 5.0], // G54 G52 X5 Y-4, X0 Y0: the local origin
+        // G92 X1 at (115, 66): X reads 1 there, G52 gone on X (shift X 14); Y keeps G52's -4.
+        [115.0 + 1.0, 50.0 + shift[1] - 4.0 + 1.0, 5.0],
+        // G52 X0 Y0: X's local is already gone; Y's -4 ends.
+        [100.0 + 14.0, 50.0 + shift[1], 5.0],
+    ];
+    close(&ends(&p), &want);
+}
+
+/// Haas: G92 shifts every system alike (Setting 33 FANUC, the default); G52 is Haas' own code with
+/// no manual page in reach and stays refused.
+#[test]
+fn haas_g92_shifts_and_its_g52_is_refused() {
+    let text = "%\nO1000\nG20 G90 G17 G94\nG54 G0 X1. Y2. Z0.5\nG92 X0. Y0.\nG1 X0.5 Y0.5 F20.\nM30\n%\n";
+    let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let inch = 25.4;
+    close(&ends(&p), &[[1.0 * inch, 2.0 * inch, 0.5 * inch], [1.5 * inch, 2.5 * inch, 0.5 * inch]]);
+    let p = read("%\nG21 G90 G0 X1. Y2. Z3.\nG52 X5.\nM30\n%\n", Dialect::Haas, "t.nc", &ReadOptions::default());
+    has(&p, 3, 1, "G52");
+}
+
+/// What no manual in reach settles is refused at the word: G92 or G52 under G91, under G43.4, under
+/// a canned cycle; a rotary-axis shift; G92.1 with a shift set; G28 with a local system set.
+#[test]
+fn fanuc_offsets_refuse_what_their_rules_leave_open() {
+    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    let on = ReadOptions::default().on(&machine);
+    refuses_each(
+        Dialect::Fanuc,
+        &on,
+        &[
+            ("%\nG21 G91 G0 X1.\nG92 X0.\n", "3:1:", "G92 under G91"),
+            ("%\nG21 G90 G0 X1.\nG91 G52 X5.\n", "3:5:", "G52 under G91"),
+            ("%\nG21 G90 G0 X1. Y1. Z50.\nG43.4 H1\nG92 X0.\n", "4:1:", "under tool centre point control"),
+            ("%\nG21 G90 G0 X1. Y1. Z50.\nG99 G81 X0. Y0. Z-5. R2. F100.\nG92 X0. Y0.\n", "4:1:", "G92 under a canned cycle"),
+            ("%\nG21 G90 G0 X1. B10.\nG92 B0.\n", "3:5:", "rotary-axis offsets are not modelled"),
+            ("%\nG21 G90 G0 X1.\nG92 X0.\nG92.1 X0.\n", "4:1:", "G92.1 with a G92 or G52 offset set"),
+            ("%\nG21 G90 G0 X1.\nG52 X5.\nG91 G28 Z0.\n", "4:5:", "local coordinate system (G52) set"),
+            ("%\nG21 G90 G0 X1.\nG92\n", "3:1:", "G92 without an axis word"),
+        ],
+    );
+    // With nothing shifted, G92.1 has nothing to preset; a G28 after G52 X0 Y0 Z0 is read.
+    let p = read("%\nG21 G90 G0 X1.\nG92.1 X0.\nG52 X5.\nG52 X0.\nG91 G28 Z0.\nM30\n%\n", Dialect::Fanuc, "t.nc", &on);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+}
