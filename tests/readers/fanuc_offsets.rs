@@ -91,3 +91,15 @@ fn fanuc_offsets_refuse_what_their_rules_leave_open() {
     let p = read("%\nG21 G90 G0 X1.\nG92.1 X0.\nG52 X5.\nG52 X0.\nG91 G28 Z0.\nM30\n%\n", Dialect::Fanuc, "t.nc", &on);
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
 }
+
+/// `G54.1 P1` (its offset the operator's, taken as zero) and back to `G54`: the same system number
+/// as before, but the program's own G54 offset (G10 L2 P1 X100) applies again; a G92 shift set
+/// under G54.1 stays in G54 (every system shifts alike).
+#[test]
+fn fanuc_g54_after_g54_1_takes_its_offset_again() {
+    let text = "%\nG21 G90 G17 G94\nG10 L2 P1 X100. Y0. Z0.\nG54.1 P1\nG0 X0. Y0. Z10.\nG92 X-5.\nG54 G0 X0.\nM30\n%\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    // Under G54.1 X0 is at 0; G92 X-5 there shifts X by 5; G54 X0 is at 100 + 5.
+    close(&ends(&p), &[[0.0, 0.0, 10.0], [105.0, 0.0, 10.0]]);
+}
