@@ -87,9 +87,36 @@ fn fanuc_offsets_refuse_what_their_rules_leave_open() {
             ("%\nG21 G90 G0 X1.\nG92\n", "3:1:", "G92 without an axis word"),
         ],
     );
-    // With nothing shifted, G92.1 has nothing to preset; a G28 after G52 X0 Y0 Z0 is read.
+    // With nothing shifted, G92.1 has nothing to preset and its X0 is no move; a G28 after
+    // G52 X0 Y0 Z0 is read: X stays at 1 through both.
     let p = read("%\nG21 G90 G0 X1.\nG92.1 X0.\nG52 X5.\nG52 X0.\nG91 G28 Z0.\nM30\n%\n", Dialect::Fanuc, "t.nc", &on);
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let moves = ends(&p);
+    assert_eq!(moves.len(), 2, "G0 X1. and G28's move to the reference point only: {moves:?}");
+    assert!(moves.iter().all(|m| (m[0] - 1.0).abs() < 1e-9), "{moves:?}");
+    // G92 takes where the tool stands: before any move has placed an axis, the program does not
+    // say where that is (the classic opening G92 X200. Y100. Z50. assumes the operator's position).
+    refuses_each(
+        Dialect::Fanuc,
+        &on,
+        &[
+            ("%\nG21 G90\nG92 X200. Y100. Z50.\n", "3:5:", "no move before it placed X"),
+            ("%\nG21 G90 G0 Z50.\nG92 X0. Z0.\n", "3:5:", "no move before it placed X"),
+            ("%\nG21 G91 G0 X10.\nG90\nG92 X0.\n", "4:5:", "no move before it placed X"),
+            ("%\nG21 G90 G0 X1.\nG10 L2 P0 X5.\n", "3:8:", "external workpiece zero offset"),
+            ("%\nG21 G90 G0 X1.\nG92.2 X3.\n", "3:7:", "expected IP0"),
+        ],
+    );
+}
+
+/// Fanuc's `G54.1 Pn` offsets are the operator's, taken as zero, whichever system was active before
+/// (`G55` here), and a `G10 L2 P1` under `G54.1` sets G54 without moving the origin in use.
+#[test]
+fn fanuc_g54_1_stays_at_zero_after_g55_and_g10() {
+    let text = "%\nG21 G90 G17 G94\nG10 L2 P1 X100. Y0. Z0.\nG10 L2 P2 X300. Y0. Z0.\nG55 G0 X0. Y0. Z10.\nG54.1 P1\nG0 X0.\nG10 L2 P1 X50.\nG0 X1.\nG54 G0 X0.\nM30\n%\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    close(&ends(&p), &[[300.0, 0.0, 10.0], [0.0, 0.0, 10.0], [1.0, 0.0, 10.0], [50.0, 0.0, 10.0]]);
 }
 
 /// `G54.1 P1` (its offset the operator's, taken as zero) and back to `G54`: the same system number

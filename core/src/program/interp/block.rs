@@ -178,13 +178,14 @@ impl Interpreter {
         // Sinumerik's settable frames (G54-G57, G505-G599) are the operator's, never set by the
         // program: the datum is the programmable frame's, which its reader keeps. LinuxCNC's axis
         // offsets (G92, G52) apply in every system.
-        // (Fanuc's G54 after G54.1 Pn: the same system number, the program's offset again.)
-        if !heid && before.dialect != Dialect::Sinumerik && (next.system != before.system || before.extra_offset && !next.extra_offset) {
+        // Fanuc's G54.1 Pn counts as system 0 with an offset of zero (the operator's), G92's shift
+        // on top ("all work coordinate systems (G54-59, G110-129)", Haas G92).
+        if !heid && before.dialect != Dialect::Sinumerik && (next.system != before.system || before.extra_offset != next.extra_offset) {
             if next.rotation[before.system] != 0.0 || next.rotation_now() != 0.0 {
                 next.current_into_system(before.system, next.system);
             } else {
-                let axis = next.axis_offset;
-                next.move_origin(std::array::from_fn(|k| next.offsets[next.system][k] + axis[k]));
+                let (axis, base) = (next.axis_offset, next.work_offset());
+                next.move_origin(std::array::from_fn(|k| base[k] + axis[k]));
             }
         }
         if let Some(code) = &g92 {
@@ -290,6 +291,10 @@ impl Interpreter {
                 }
                 continue;
             }
+            // An increment from a position no move has placed places nothing.
+            let relative = !(k < 3 && (g53 || shot.is_some_and(|s| s.axes.is_some())))
+                && !matches!(w.dimension, super::Dimension::Modulo(_))
+                && !w.dimension.absolute(next.absolute || shot.is_some_and(|s| s.absolute));
             let abs = if let (Some(origin), true) = (shot.and_then(|s| s.axes), k < 3) {
                 // Axis positions (machine coordinates): the axes there, read in program coordinates.
                 v + origin[k] - next.datum[k]
@@ -320,6 +325,7 @@ impl Interpreter {
                 next.last[k] + v
             };
             next.last[k] = abs;
+            next.placed[k] |= !relative;
             targets.set_axis(k, abs);
         }
         if g53 && next.rotation_now() != 0.0 {
@@ -334,6 +340,7 @@ impl Interpreter {
                 let p = super::rotation::rot(m, -r);
                 for k in 0..2 {
                     next.last[k] = p[k] - g92[k];
+                    next.placed[k] = true;
                     targets.set_axis(k, next.last[k]);
                 }
             }
@@ -341,6 +348,7 @@ impl Interpreter {
         if let Some(xy) = polar_end {
             for (k, v) in xy.into_iter().enumerate() {
                 next.last[k] = v;
+                next.placed[k] = true;
                 targets.set_axis(k, v);
             }
         }

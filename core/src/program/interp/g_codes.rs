@@ -126,8 +126,6 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
             diags.warning(line, w.column, format!("G{}: additional work offsets are not set by the program: taken as zero", w.raw));
             next.system = 0;
             next.extra_offset = true;
-            // G92 shifts these systems too (Haas: "all work coordinate systems (G54-59, G110-129)").
-            next.move_origin(next.axis_offset);
         }
         // AI contour control (Q1 on, Q0 off): look-ahead feed control, not the path's
         // geometry (FANUC A-63512EN §2.3: "interpolation data ensures that the machining
@@ -187,10 +185,11 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         ("52", false) if before.dialect == Dialect::Fanuc => c.g92 = Some(code.to_string()),
         // Fanuc's G92.1 (workpiece coordinate system preset) takes back what G92 and G52 shifted:
         // with nothing shifted it has nothing to do; its rule for a shift is in no manual in reach.
-        ("92.1" | "92.2", false) if before.axis_offset != [0.0; 3] => {
+        ("92.1" | "92.2", false) if fanuc && before.axis_offset != [0.0; 3] => {
             diags.error(line, w.column, format!("G{} with a G92 or G52 offset set: how the control presets the work coordinate system is not read (cancel the offset with G92 or G52 first)", w.raw))
         }
-        ("92.1" | "92.2", false) => {} // nothing shifted: nothing to preset
+        // Nothing shifted: nothing to preset; its axis words (IP0) are its own, no move.
+        ("92.1" | "92.2", false) if fanuc => c.g92 = Some(code.to_string()),
         // A change of feed mode leaves no feed: Siemens, "In the event of switching
         // between G93, G94 and G95, the path feedrate value has to be reprogrammed"
         // (Programming Manual Fundamentals, "Feedrate (G93, G94, G95, F ...)");

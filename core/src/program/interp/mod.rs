@@ -205,6 +205,9 @@ pub struct State {
     pending_vector: Option<[f64; 3]>,
     /// Last programmed absolute value of X Y Z A B C (SI).
     last: [f64; 6],
+    /// Whether a move has placed each axis (an absolute position, or an increment from one): before
+    /// that, `last` is a zero the program never said. Fanuc's G92 takes the tool's position.
+    pub(crate) placed: [bool; 6],
     /// The contour tolerance the program set (Heidenhain cycle 32, LinuxCNC G64 P/Q).
     tolerance: super::ProgrammedTolerance,
     /// A length unit imposed by the user (`--units`): the program's unit codes are noted, not obeyed.
@@ -337,6 +340,7 @@ impl Interpreter {
                 last_arc: None,
                 pending_vector: None,
                 last: [0.0; 6],
+                placed: [false; 6],
                 tolerance: Default::default(),
                 forced_unit: None,
                 rotary_unit: [DEG; 3],

@@ -7,6 +7,12 @@ use crate::program::Dialect;
 use crate::units::DEG;
 
 impl Interpreter {
+    /// The active work offset (m): the program's for G54-G59.3, zero under Fanuc's G54.1 Pn (the
+    /// operator's, which the program never sets).
+    pub(super) fn work_offset(&self) -> [f64; 3] {
+        if self.extra_offset { [0.0; 3] } else { self.offsets[self.system] }
+    }
+
     /// True if the program set work offset `k` (0 = G54) to anything but zero.
     pub(super) fn offsets_set(&self, k: usize) -> bool {
         self.offsets[k] != [0.0; 3]
@@ -32,6 +38,10 @@ impl Interpreter {
             Some(w) => return diags.error(line, w.column, format!("G10 {l} P{}: expected a coordinate system 1 to 9, or 0 for the active one", w.raw)),
             None => return diags.error(line, column, format!("G10 {l} without P: expected the coordinate system (P1 = G54, P0 the active one)")),
         };
+        // Fanuc's P0 is the external workpiece zero offset, under every system: not modelled.
+        if p == 0 && self.dialect.is_fanuc() {
+            return diags.error(line, word('P').map_or(column, |w| w.column), format!("G10 {l} P0: the external workpiece zero offset (every work system's) is not modelled"));
+        }
         let k_system = if p == 0 { next.system } else { p - 1 };
         if !next.absolute {
             return diags.error(line, column, format!("G10 {l} under G91 (offsets relative to the current ones) is not supported: write it under G90"));
@@ -72,9 +82,11 @@ impl Interpreter {
                 }
             }
         }
-        if k_system == next.system && turned {
+        // Under G54.1 Pn the system set is not the one in use.
+        let active = k_system == next.system && !next.extra_offset;
+        if active && turned {
             next.reframe_active(offsets, r);
-        } else if k_system == next.system {
+        } else if active {
             next.move_origin(std::array::from_fn(|k| offsets[k] + next.axis_offset[k]));
         }
         next.offsets[k_system] = offsets;
@@ -170,6 +182,13 @@ impl Interpreter {
     /// `local_offset`. Refused where no manual in reach says what the control does: under G91, under
     /// tool centre point control, under Haas DWO (G254); rotary-axis offsets are not modelled.
     fn fanuc_offsets(&self, code: &str, words: &[Word], next: &mut Interpreter, line: usize, diags: &mut Diags) {
+        if code == "92.1" || code == "92.2" {
+            // Nothing is shifted (g_codes refuses it otherwise): `G92.1 IP0` presets nothing.
+            for w in words.iter().filter(|w| AXIS_LETTERS.contains(&w.letter) && w.value != 0.0) {
+                diags.error(line, w.column, format!("G{code} {}{}: expected IP0 (the axes to preset, each with 0)", w.letter, w.raw));
+            }
+            return;
+        }
         let column = words.iter().find(|w| w.letter == 'G' && w.value == if code == "92" { 92.0 } else { 52.0 }).map_or(1, |w| w.column);
         if !words.iter().any(|w| AXIS_LETTERS.contains(&w.letter)) {
             return diags.error(line, column, format!("G{code} without an axis word: expected G{code} X.. Y.. Z.."));
@@ -186,11 +205,16 @@ impl Interpreter {
         if !why.is_empty() {
             return diags.error(line, column, format!("G{code} {why}: how the control sets the coordinate system there is not read (write it under G90, with the mode off)"));
         }
-        // G54.1 Pn's offset is taken as zero (g_codes).
-        let work = if next.extra_offset { [0.0; 3] } else { next.offsets[next.system] };
+        let work = next.work_offset();
         let mut offset = next.axis_offset;
         for w in words {
             let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
+            // G92 takes where the tool stands: an axis no move has placed stands where the operator
+            // left it, which the program does not say.
+            if code == "92" && !next.placed[k] {
+                diags.error(line, w.column, format!("G92 {}{}: no move before it placed {} (the control takes where the tool stands, which the program does not say): position the axis first (an absolute move, G28 or G53)", w.letter, w.raw, w.letter));
+                continue;
+            }
             if k >= 3 {
                 let turned = if code == "92" { next.last[k] - w.value * next.rotary_unit[k - 3] } else { w.value * next.rotary_unit[k - 3] };
                 if turned.abs() > 1e-12 {
