@@ -35,6 +35,9 @@ pub(crate) fn word(letter: char, value: f64, column: usize) -> Word<'static> {
 /// Make the block's special moves, if it has any: `Some(made)` (false if a defect stopped it), or
 /// `None` for an ordinary block (a cycle cancelled by it is cancelled here).
 pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
+    if let Some(done) = super::fanuc_nurbs::expand(it, words, line, column, number, diags, out) {
+        return Some(done);
+    }
     if let Some(done) = super::fanuc_rotation::expand(it, words, line, column, number, diags, out) {
         return Some(done);
     }

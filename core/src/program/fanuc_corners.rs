@@ -87,7 +87,11 @@ pub(crate) enum Ran {
 /// Whether a line's blocks are one line or circle at a feed in the plane, moving no tool axis and
 /// no rotary axis (from `start` to where the interpreter is now).
 fn is_element(blocks: &[Block], start: [f64; 6], interp: &Interpreter) -> bool {
+    // A NURBS curve's chords are no G01 of the program's (and its mode takes no other block).
     let [b] = blocks else { return false };
+    if interp.nurbs.is_some() {
+        return false;
+    }
     if !matches!(b.motion, Motion::Linear | Motion::ArcCw | Motion::ArcCcw) || b.targets.is_empty() {
         return false;
     }

@@ -13,6 +13,7 @@ mod cycles;
 mod dialect;
 mod fanuc;
 mod fanuc_corners;
+mod fanuc_nurbs;
 mod fanuc_rotation;
 mod feature;
 mod heidenhain;

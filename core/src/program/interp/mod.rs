@@ -115,6 +115,8 @@ pub struct Interpreter {
     /// LinuxCNC's cutter radius compensation and the moves it holds ([`super::cutter_comp`]), and the
     /// tool table its `G41`/`G42` take the radius from.
     pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
+    /// Fanuc's NURBS mode (`G06.2`) and the curve it is reading ([`super::fanuc_nurbs`]).
+    pub(crate) nurbs: Option<Box<super::fanuc_nurbs::Mode>>,
     tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
     /// The machine's coordinates (`G53`, `G28`), if its file places them.
     machine_coords: Option<std::sync::Arc<crate::machine::MachineCoordinates>>,
@@ -371,6 +373,7 @@ impl Interpreter {
             },
             m_codes: std::sync::Arc::from([]),
             comp: None,
+            nurbs: None,
             tool_table: None,
             machine_coords: None,
             machine: None,
@@ -710,6 +713,11 @@ impl Interpreter {
     /// control reads radians).
     pub(crate) fn rotary_unit(&self, k: usize) -> f64 {
         self.rotary_unit[k]
+    }
+
+    /// Whether rotary axis `k` (0 = A) turns without end (its positions modulo a turn).
+    pub(crate) fn modulo(&self, k: usize) -> bool {
+        self.modulo[k]
     }
 
     /// Whether the machine has axis `letter` (X Y Z always; a rotary one if the machine names it).

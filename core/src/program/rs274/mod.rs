@@ -223,6 +223,8 @@ impl super::stream::LineReader for Rs274Reader {
         self.flow_finish(diags);
         // Moves cutter radius compensation still holds are never run.
         super::cutter_comp::finish(&mut self.interp, diags);
+        // A NURBS curve whose knots have not all come is never run.
+        super::fanuc_nurbs::finish(&mut self.interp, self.last_line, diags);
         // LinuxCNC: a file must end its program (interp_read.cc, read_text: "if the file started with a
         // percent line, it must end with a percent line ... if [not], it must have a program ending
         // command (M2 or M30) in it"); at the end of the file it stops with an error, after the moves
