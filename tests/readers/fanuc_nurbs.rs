@@ -247,3 +247,47 @@ fn nurbs_alarms_are_said_at_their_words() {
     let p = read(&at(ok), Dialect::Haas, "t.nc", &ReadOptions::default());
     has(&p, 6, 1, "G06.2 (spline or NURBS motion) is not supported");
 }
+
+/// A curve of X and B (the NMV5000's tilting axis) is one of the machine's axes, as the manual
+/// allows any axes: a quadratic Bézier X 0, 10, 20 and B 0, 20, 0 is B = 2 X - X^2 / 10 (deg, mm),
+/// and each chord's B, linear in X, strays from that parabola by at most 0.001 deg (its B'' = -1/5
+/// per mm^2: a chord of dX strays dX^2 / 40). On C, which turns without end there, and under
+/// tool-centre point, a curve is refused.
+#[test]
+fn a_rotary_axis_follows_its_curve_within_a_thousandth_of_a_degree() {
+    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    let on = ReadOptions::default().on(&machine);
+    let text = "%\nO1000\nG21 G17 G90 G94\nG00 X0. Y0. Z150. B0. C0.\nG01 F500.\nG06.2 P3 K0. X0. B0. F1000.\nK0. X10. B20.\nK0. X20. B0.\nK1.\nK1.\nK1.\nG01 X30.\nG00 Z200.\nM30\n%\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &on);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let mut at = [0.0, 0.0];
+    let mut chords = Vec::new();
+    for b in p.blocks.iter().filter(|b| !b.targets.is_empty()).skip(1) {
+        if let Some(x) = b.targets.x {
+            at[0] = (x + b.datum[0]) / MM;
+        }
+        if let Some(v) = b.targets.b {
+            at[1] = v / DEG;
+        }
+        if b.line >= 7 && b.line <= 11 {
+            chords.push(at);
+        }
+    }
+    assert!(chords.len() >= 100, "a chord of at most 0.2 mm in X: {} of them", chords.len());
+    let mut prev = [0.0, 0.0];
+    for c in &chords {
+        assert!((c[1] - (2.0 * c[0] - c[0] * c[0] / 10.0)).abs() < 1e-9, "{c:?} is off the parabola");
+        let dx = c[0] - prev[0];
+        assert!(dx * dx / 40.0 <= 1e-3 + 1e-9, "a chord of {dx} mm strays {} deg", dx * dx / 40.0);
+        prev = *c;
+    }
+    assert_eq!(chords.last().unwrap(), &[20.0, 0.0]);
+    refuses_each(
+        Dialect::Fanuc,
+        &on,
+        &[
+            ("%\nG21 G90 G94\nG00 X0. Y0. Z150. B0. C0.\nG01 F500.\nG06.2 P3 K0. X0. C0. F1000.\n", "5:18:", "turns without end"),
+            ("%\nG21 G90 G94\nG00 X0. Y0. Z150. B0. C0.\nG43.4 H1\nG01 F500.\nG06.2 P3 K0. X0. Y0. F1000.\n", "6:1:", "tool-centre point"),
+        ],
+    );
+}
