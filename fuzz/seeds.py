@@ -29,6 +29,13 @@ FANUC_FLOW = (b"%\nO0001\n#1=0\nWHILE [#1 LT 3] DO1\nG1 X[#1*10] F100.\n#1=#1+1\
 SINUMERIK_FLOW = (b"DEF INT COUNT\nR1=0\nWHILE R1<3\nG1 X=R1*10 F100\nR1=R1+1\nENDWHILE\nFOR COUNT=1 TO 2\n"
                   b"IF COUNT==1\nG1 Y1\nELSE\nG1 Y2\nENDIF\nENDFOR\nMARK1: R2=R1\nREPEAT\nR2=R2-1\nUNTIL R2<=0\n"
                   b"IF R1<2 GOTOB MARK1\nGOTOF DONE\nLOOP\nENDLOOP\nDONE: M30\n")
+# Fanuc NURBS curves (G06.2): a rational quarter circle, a cubic with interior knots in least
+# increments, an incremental rank-2 polygon, and alarms (a knot missing, knots decreasing).
+FANUC_NURBS = (b"%\nO0001\nG21 G17 G90 G94\nG00 X0. Y0. Z0.\nG01 F500.\nG06.2 P3 K0. X0. Y0. Z0. R1. F1000.\n"
+               b"K0. X10. Y0. R0.70710678\nK0. X10. Y10. R1.\nK1.\nK1.\nK1.\nG01 X0. Y0.\n"
+               b"G06.2 K0 X0. Y0. Z0.\nK0 X10. Y12. Z1. R0.8\nK0 X25. Y-3.\nK0 X32. Y18. R2.5\nK2500 X48.\nK4000 X55. Y2.\n"
+               b"K4000 X70. Y9. Z3.\nK10000\nK10000\nK10000\nK10000\nG91 G06.2 P2 K0. X0. Y0.\nK0. X10.\nK1. Y5. R0.5\nK2.\nK2.\n"
+               b"G90 G01 X0. Y0.\nG06.2 P3 K0. X0. Y0.\nX5.\nK1.\nK0.5 X1.\nK2.\nK2.\nK2.\nG01 X1.\nM30\n%\n")
 # An 840D contour under tool radius compensation: a tool by name, CFTCP and CFC, arcs by CR, a
 # subprogram-free M17 left out, a stop at a CFC outside corner, D0, refusals (KONT, OFFN, G451).
 SINUMERIK_TRC = (b"T=\"MILL_D6\" D1\nM6\nG17 G90 G71 G94 CFTCP\nG0 X-20 Y-20 Z5\nG1 Z-2 F500\nG1 G42 X0 Y0\n"
@@ -99,6 +106,7 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "trc.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_TRC)
     put(corpus, "nc_program", "corners.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_CORNERS)
     put(corpus, "nc_program", "corners.nc", bytes([PICK["fanuc"]]) + FANUC_CORNERS)
+    put(corpus, "nc_program", "nurbs.nc", bytes([PICK["fanuc"]]) + FANUC_NURBS)
     n += 7
     # CL data: the SING cut's first moves as x y z i j k [feed] lines, with a header, comma and space separated.
     cl = b"x,y,z,i,j,k,f\n0,0,-8,0,0,1,2000\n10,0,-8,0,0.0174,0.9998,2000\n25,0,-8,0,0.0003,1,2000\n50 0 -8 0 0 1\n"
