@@ -38,6 +38,11 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     if let Some(done) = super::fanuc_nurbs::expand(it, words, line, column, number, diags, out) {
         return Some(done);
     }
+    expand_plain(it, words, line, column, number, diags, out)
+}
+
+/// [`expand`] outside NURBS mode.
+pub(crate) fn expand_plain(it: &mut Interpreter, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> Option<bool> {
     if let Some(done) = super::fanuc_rotation::expand(it, words, line, column, number, diags, out) {
         return Some(done);
     }

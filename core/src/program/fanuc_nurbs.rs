@@ -29,6 +29,9 @@ const MAX_RANK: usize = 4;
 /// The points and knots a span's evaluation reaches back to from the newest (`2k - 1` points,
 /// `2k - 2` knots), kept in rings of this size.
 const RING: usize = 8;
+/// The largest knot or weight: "a 9-digit absolute value of the minimum data unit" (±999999.999
+/// at IS-B millimetre input).
+const MAX_WORD: f64 = 999_999.999;
 /// How far a chord may stray from the curve: 1 µm on the linear axes.
 pub const CHORD_TOLERANCE_M: f64 = 1e-6;
 /// How far a chord may stray from the curve on a rotary axis: 0.001 deg.
@@ -61,8 +64,9 @@ struct Curve {
     closing: usize,
     /// Control point `i` at `i % RING`: `w x` per axis (program units), then `w`.
     ring: [[f64; 7]; RING],
-    /// Knot `i` at `i % RING`.
+    /// Knot `i` at `i % RING`, and where it was written (line, column).
     knot: [f64; RING],
+    knot_at: [(usize, usize); RING],
     /// The newest control point as written (absolute, program units), for increments and the axes a
     /// block leaves out.
     point: [f64; 6],
@@ -89,10 +93,25 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     // Out of the interpreter while the curve's moves are made (each copies the interpreter).
     let mut mode = it.nurbs.take().map_or_else(Mode::default, |m| *m);
     if let Some(g) = words.iter().find(|w| w.letter == 'G' && matches!(code(w).as_str(), "0" | "1" | "2" | "3")) {
-        if let Some(c) = mode.curve.as_ref().filter(|c| !c.failed) {
+        if let Some(c) = mode.curve.as_mut().filter(|c| !c.failed) {
             c.unfinished(&format!("G{}", g.raw), line, g.column, diags);
+            c.failed = true;
         }
-        return None;
+        // The block ends the mode if it is read; a refused one leaves the mode as it was.
+        let done = match super::fanuc::expand_plain(it, words, line, column, number, diags, out) {
+            Some(done) => done,
+            None => match it.block_one(words, line, column, number, diags) {
+                Some(b) => {
+                    out.push(b);
+                    true
+                }
+                None => false,
+            },
+        };
+        if !done {
+            it.nurbs = Some(Box::new(mode));
+        }
+        return Some(done);
     }
     let done = match starts {
         Some(g) => {
@@ -160,6 +179,11 @@ fn start(it: &mut Interpreter, mode: &mut Mode, g: &Word, words: &[Word], line: 
             _ => return refuse_word(w, line, diags, "nothing but the curve's words, G90/G91 and F, with G06.2 (FANUC 15i-MA §4.17: \"commands other than NURBS interpolation cannot be specified\")"),
         }
     }
+    // The block's own G90/G91, else the modal one: how its control point is read.
+    let absolute = match words.iter().rev().find(|w| w.letter == 'G' && matches!(code(w).as_str(), "90" | "91")) {
+        Some(w) => code(w) == "90",
+        None => it.absolute(),
+    };
     // PS1006, and what these pages leave open.
     let why = if it.inverse_time() || it.per_revolution() {
         Some("under G93 or G95 (FANUC alarm PS1006: a mode incompatible with NURBS interpolation)")
@@ -172,11 +196,6 @@ fn start(it: &mut Interpreter, mode: &mut Mode, g: &Word, words: &[Word], line: 
     };
     if let Some(why) = why {
         diags.error(line, g.column, format!("G{} {why}", g.raw));
-        return false;
-    }
-    // A G06.2 is of group 01: it ends a canned cycle, as G01 does.
-    it.cycles.active = None;
-    if !super::fanuc::apply(it, &settings, line, column, number, diags, out) {
         return false;
     }
     if !words.iter().any(|w| w.letter == 'K') {
@@ -215,18 +234,23 @@ fn start(it: &mut Interpreter, mode: &mut Mode, g: &Word, words: &[Word], line: 
         // interpolation starts"; under G91, "the amount of travel is 0". Half the least input
         // increment apart is the same place.
         let least = if k < 3 { if unit == crate::units::INCH { 1e-4 } else { 1e-3 } } else { 1e-3 };
-        let off = if it.absolute() { w.value - here[k] } else { w.value };
+        let off = if absolute { w.value - here[k] } else { w.value };
         if off.abs() > least / 2.0 {
-            let said = if it.absolute() { format!("the tool stands at {}{}", w.letter, fmt(here[k])) } else { "under G91 it must be 0 (no travel)".to_string() };
+            let said = if absolute { format!("the tool stands at {}{}", w.letter, fmt(here[k])) } else { "under G91 it must be 0 (no travel)".to_string() };
             diags.error(line, w.column, format!("{}{}: the first control point is where the curve starts, and {said} (FANUC alarm PS1009)", w.letter, w.raw));
             return false;
         }
     }
-    let mut c = Curve { rank, axes, incremental: !it.absolute(), points: 0, knots: 0, closing: 0, ring: [[0.0; 7]; RING], knot: [0.0; RING], point: here, run: 0, failed: false, at: here, tolerance };
-    let w = match weight(words, line, diags) {
-        Some(w) => w,
-        None => return false,
+    let Some(w) = weight(words, line, diags) else {
+        return false;
     };
+    // Checked: the block's settings take effect. A G06.2 is of group 01: it ends a canned cycle, as
+    // G01 does.
+    it.cycles.active = None;
+    if !super::fanuc::apply(it, &settings, line, column, number, diags, out) {
+        return false;
+    }
+    let mut c = Curve { rank, axes, incremental: !absolute, points: 0, knots: 0, closing: 0, ring: [[0.0; 7]; RING], knot: [0.0; RING], knot_at: [(0, 0); RING], point: here, run: 0, failed: false, at: here, tolerance };
     c.push_point(here, w);
     let ok = c.push_knot(it, words, line, column, number, diags, out);
     mode.curve = Some(c);
@@ -237,7 +261,7 @@ fn start(it: &mut Interpreter, mode: &mut Mode, g: &Word, words: &[Word], line: 
 fn weight(words: &[Word], line: usize, diags: &mut Diags) -> Option<f64> {
     match words.iter().find(|w| w.letter == 'R') {
         None => Some(1.0),
-        Some(r) if r.value > 0.0 && r.value.is_finite() => Some(r.value),
+        Some(r) if r.value > 0.0 && r.value <= MAX_WORD => Some(r.value),
         Some(r) => {
             diags.error(line, r.column, format!("R{}: a control point's weight must be more than 0 (a curve with one of 0 or less is not read)", r.raw));
             None
@@ -255,7 +279,7 @@ fn fmt(v: f64) -> String {
 impl Curve {
     /// A curve refused in its first block: its blocks are read to its end.
     fn failed(rank: usize) -> Curve {
-        Curve { rank, axes: [false; 6], incremental: false, points: 0, knots: 0, closing: 0, ring: [[0.0; 7]; RING], knot: [0.0; RING], point: [0.0; 6], run: 0, failed: true, at: [0.0; 6], tolerance: [0.0; 6] }
+        Curve { rank, axes: [false; 6], incremental: false, points: 0, knots: 0, closing: 0, ring: [[0.0; 7]; RING], knot: [0.0; RING], knot_at: [(0, 0); RING], point: [0.0; 6], run: 0, failed: true, at: [0.0; 6], tolerance: [0.0; 6] }
     }
 
     /// The curve is cut short by `what` (PS1004, PS1005).
@@ -356,9 +380,9 @@ impl Curve {
         let Some(kw) = words.iter().find(|w| w.letter == 'K') else { return false };
         let x = kw.value;
         let i = self.knots;
-        if !x.is_finite() {
+        if !(x.abs() <= MAX_WORD) {
             self.failed = true;
-            return refuse_word(kw, line, diags, "a knot must be a number");
+            return refuse_word(kw, line, diags, "a knot is at most 9 digits of the least increment (999999.999; FANUC 15i-MA §4.17)");
         }
         if i > 0 {
             let before = self.knot[(i - 1) % RING];
@@ -375,6 +399,7 @@ impl Curve {
             return refuse_word(kw, line, diags, &format!("a knot repeated more than the rank ({}) times (FANUC alarm PS1008)", self.rank));
         }
         self.knot[i % RING] = x;
+        self.knot_at[i % RING] = (line, kw.column);
         self.knots += 1;
         // PS1007: the first k knots equal (the curve starts at its first control point).
         if i < self.rank && i > 0 && x != self.knot[0] {
@@ -435,28 +460,43 @@ impl Curve {
         out
     }
 
-    /// Whether the chord from `a` to `b` lies within the tolerance of the curve's point `m` between
-    /// them: the linear axes' distance from the chord, and each rotary axis' from its value there.
+    /// Whether the curve's point `m` lies within the tolerance of the chord from `a` to `b`: some
+    /// point of the chord (the axes move together along it) within 1 µm of it on the linear axes
+    /// and within 0.001 deg on each rotary axis. Each axis, scaled by its tolerance, allows an
+    /// interval of the chord's parameter; the point exists where they meet.
     fn within(&self, a: &[f64; 6], m: &[f64; 6], b: &[f64; 6]) -> bool {
-        // The linear axes, in metres-like units scaled per axis by their tolerance.
-        let (mut ab, mut am, mut ab2) = ([0.0; 3], [0.0; 3], 0.0);
-        for k in 0..3 {
-            if self.axes[k] {
-                ab[k] = (b[k] - a[k]) / self.tolerance[k];
-                am[k] = (m[k] - a[k]) / self.tolerance[k];
-                ab2 += ab[k] * ab[k];
+        let (mut ab, mut am) = ([0.0; 6], [0.0; 6]);
+        for k in (0..6).filter(|k| self.axes[*k]) {
+            ab[k] = (b[k] - a[k]) / self.tolerance[k];
+            am[k] = (m[k] - a[k]) / self.tolerance[k];
+        }
+        let (mut lo, mut hi) = (0.0f64, 1.0f64);
+        // The linear axes: |am - s ab|^2 <= 1, a quadratic in s.
+        let ab2: f64 = ab[..3].iter().map(|v| v * v).sum();
+        let am2: f64 = am[..3].iter().map(|v| v * v).sum();
+        let dot: f64 = (0..3).map(|k| am[k] * ab[k]).sum();
+        if ab2 > 0.0 {
+            let d = dot * dot - ab2 * (am2 - 1.0);
+            if !(d >= 0.0) {
+                return false;
             }
-        }
-        let s = if ab2 > 0.0 { ((am[0] * ab[0] + am[1] * ab[1] + am[2] * ab[2]) / ab2).clamp(0.0, 1.0) } else { 0.5 };
-        let mut d2 = 0.0;
-        for k in 0..3 {
-            let e = am[k] - s * ab[k];
-            d2 += e * e;
-        }
-        if d2 > 1.0 {
+            lo = lo.max((dot - d.sqrt()) / ab2);
+            hi = hi.min((dot + d.sqrt()) / ab2);
+        } else if !(am2 <= 1.0) {
             return false;
         }
-        (3..6).filter(|k| self.axes[*k]).all(|k| (m[k] - (a[k] + s * (b[k] - a[k]))).abs() <= self.tolerance[k])
+        // Each rotary axis: |am - s ab| <= 1.
+        for k in 3..6 {
+            if ab[k] != 0.0 {
+                let (s0, s1) = ((am[k] - 1.0) / ab[k], (am[k] + 1.0) / ab[k]);
+                lo = lo.max(s0.min(s1));
+                hi = hi.min(s0.max(s1));
+            } else if !(am[k].abs() <= 1.0) {
+                return false;
+            }
+        }
+        // NaN fails here too.
+        lo <= hi
     }
 
     /// Span `j`'s chords, each a one-shot G01 to its end.
@@ -466,9 +506,15 @@ impl Curve {
         // Where the span starts is where the last one ended: a knot repeated k times inside the
         // curve breaks it there.
         let start = self.eval(j, x0);
-        if (0..6).any(|k| self.axes[k] && (start[k] - self.at[k]).abs() > self.tolerance[k]) {
+        if (0..6).any(|k| self.axes[k] && !((start[k] - self.at[k]).abs() <= self.tolerance[k])) {
             self.failed = true;
-            diags.error(line, at, format!("the NURBS curve breaks at knot {} (a knot repeated {} times inside it): the path between its two ends is not read", fmt(x0), self.rank));
+            // Said at the first of the repeated knots.
+            let mut first = j;
+            while first > 0 && j - first < self.rank - 1 && self.knot[(first - 1) % RING] == x0 {
+                first -= 1;
+            }
+            let (l, c) = self.knot_at[first % RING];
+            diags.error(l, c, format!("the NURBS curve breaks at knot {} (a knot repeated {} times inside it): the path between its two ends is not read", fmt(x0), self.rank));
             return false;
         }
         let mut ends: Vec<[f64; 6]> = Vec::new();
@@ -481,14 +527,16 @@ impl Curve {
                 let b = self.eval(j, t1);
                 if !self.chords(j, t0, &a, t1, &b, 0, &mut ends) {
                     self.failed = true;
-                    diags.error(line, at, format!("a span of the NURBS curve needs more than {} chords within {} µm of it: a typo?", FIRST_PIECES << MAX_HALVINGS, CHORD_TOLERANCE_M * 1e6));
+                    diags.error(line, at, format!("a span of the NURBS curve needs chords shorter than 1/{} of it to stay within {} µm (0.001 deg on a rotary axis), or its points are not numbers: a typo?", FIRST_PIECES << MAX_HALVINGS, CHORD_TOLERANCE_M * 1e6));
                     return false;
                 }
                 a = b;
             }
         }
-        // The curve's last span ends at its last control point (its last k knots equal): as written.
-        if self.closing > 0 && j + 1 == self.points {
+        // The curve's last span ends at its last control point where the knots after it are all
+        // equal (the last, which comes later, does not shape the curve): as written.
+        let p = self.rank - 1;
+        if self.closing > 0 && j + 1 == self.points && self.knot[(j + 1) % RING] == self.knot[(j + p) % RING] {
             if let Some(e) = ends.last_mut() {
                 for k in (0..6).filter(|k| self.axes[*k]) {
                     e[k] = self.point[k];
@@ -512,7 +560,12 @@ impl Curve {
     fn chords(&self, j: usize, t0: f64, a: &[f64; 6], t1: f64, b: &[f64; 6], depth: u32, ends: &mut Vec<[f64; 6]>) -> bool {
         let tm = 0.5 * (t0 + t1);
         let m = self.eval(j, tm);
-        if self.within(a, &m, b) {
+        if !m.iter().all(|v| v.is_finite()) {
+            return false;
+        }
+        // The midpoint and the quarter points: an inflection at the middle leaves the midpoint on
+        // the chord while the curve strays on either side of it.
+        if self.within(a, &m, b) && [0.25, 0.75].iter().all(|f| self.within(a, &self.eval(j, t0 + f * (t1 - t0)), b)) {
             ends.push(*b);
             return true;
         }

@@ -204,6 +204,11 @@ impl MacroRunner {
         let Some(call) = call else { return Next::On };
         let (letter, c) = code(call);
         let name = format!("{letter}{c}");
+        // FANUC 15i-MA §4.17: "In NURBS interpolation mode, commands (such as auxiliary functions)
+        // other than NURBS interpolation cannot be specified."
+        if self.reader.interp.nurbs.is_some() {
+            return stop(line, call.column, format!("{name} in NURBS mode (G06.2): commands other than NURBS interpolation cannot be specified (FANUC 15i-MA §4.17); a G00-G03 ends the mode"), diags);
+        }
         let get = |l: char| words.iter().find(|w| w.letter == l);
         let whole = |w: &Word| w.value.fract() == 0.0 && w.value >= 0.0 && w.value <= 99_999_999.0;
         if letter == 'G' && c != "65" {

@@ -22,7 +22,8 @@ impl Rs274Reader {
         let inch = self.inch_words(words);
         let mut first = None;
         // Q is a depth in a cycle but a mode in G05.1; K a repeat count in a cycle.
-        let cycle = self.interp.cycles.active.is_some() || words.iter().any(|w| w.letter == 'G' && [73.0, 74.0, 76.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0, 88.0, 89.0].contains(&w.value));
+        // G06.2 (NURBS) ends a cycle: its K is a knot.
+        let cycle = !g(6.2) && self.interp.cycles.active.is_some() || words.iter().any(|w| w.letter == 'G' && [73.0, 74.0, 76.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0, 88.0, 89.0].contains(&w.value));
         let mode_q = g(5.1);
         // G68.2's I J K are angles (Euler's), in degrees' increments whatever the length unit.
         let angles_ijk = g(68.2);
