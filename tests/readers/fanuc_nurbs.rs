@@ -387,3 +387,38 @@ fn a_refused_curve_changes_nothing_and_calls_are_refused_in_the_mode() {
     // Knots 0 0 0 1 1 1 (x 0.001): the curve's last chord ends at X10 Y10.
     assert!(ends(&p).contains(&[10.0, 10.0, 1.0]), "{:?}", ends(&p));
 }
+
+/// Under `G68` (set before the mode, as the manual says) the curve turns with its chords: the
+/// quarter circle about (0, 10), turned 90 deg about the origin, lies on the circle of radius 10
+/// about (-10, 0) and ends at (-10, 10). Under G91 before an absolute move after G68 (whose centre
+/// is then the tool's position) and under G68.2, a curve is refused.
+#[test]
+fn a_curve_under_g68_turns_with_its_chords() {
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let curve = nurbs(3, &[[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [10.0, 10.0, 0.0]], &[1.0, w, 1.0], &[0.0, 0.0, 0.0, 1.0, 1.0, 1.0]);
+    let p = read(&program([0.0, 0.0, 0.0], &format!("G68 X0. Y0. R90.\n{curve}"), "G01 X20.\nG69\nG00 X0. Y0.\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let lines: Vec<usize> = p.blocks.iter().filter(|b| !b.targets.is_empty()).map(|b| b.line).collect();
+    let e = ends(&p);
+    let chords: Vec<[f64; 3]> = e.iter().zip(&lines).filter(|(_, l)| (7..=12).contains(*l)).map(|(p, _)| *p).collect();
+    assert!(chords.len() > 50, "{chords:?}");
+    for c in &chords {
+        let r = ((c[0] + 10.0).powi(2) + c[1].powi(2)).sqrt();
+        assert!((r - 10.0).abs() < 1e-7, "{c:?} is {r} from the turned centre");
+    }
+    let end = chords.last().unwrap();
+    assert!((end[0] + 10.0).abs() < 1e-9 && (end[1] - 10.0).abs() < 1e-9, "{end:?}");
+    refuses_each(
+        Dialect::Fanuc,
+        &ReadOptions::default(),
+        &[
+            ("%\nG21 G17 G90 G94\nG00 X0. Y0. Z0.\nG68 X5. Y5. R30.\nG91 G06.2 P2 K0. X0. Y0. F500.\n", "5:5:", "after G68 before an absolute move"),
+        ],
+    );
+    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    refuses_each(
+        Dialect::Fanuc,
+        &ReadOptions::default().on(&machine),
+        &[("%\nG21 G17 G90 G94\nG00 X0. Y0. Z150. B0. C0.\nG68.2 X0. Y0. Z0. I0. J10. K0.\nG06.2 P2 K0. X0. Y0. F500.\n", "5:1:", "tilted working plane")],
+    );
+}

@@ -13,8 +13,12 @@
 //! with the de Boor-Cox basis, evaluated here span by span (de Boor's algorithm on the homogeneous
 //! points) as soon as its knots are read, so a curve of any length holds `2k` points.
 //!
-//! Not read (refused, naming the block): tool-centre point or a rotated or tilted system in effect
-//! (how the control combines them with the curve is not in these pages), a rotary control point on
+//! "When using a function such as tool length compensation, coordinate rotation, and scaling
+//! together with NURBS interpolation, specify the function before setting NURBS interpolation mode":
+//! under `G68` the chords are placed as any block is (a rotation turns the curve with its chords).
+//!
+//! Not read (refused, naming the block): tool-centre point or a tilted working plane `G68.2` in
+//! effect (how the control combines them with the curve is not in these pages), a rotary control point on
 //! an axis that turns without end (which way the control turns it), the 15i's additional function
 //! that leaves out the first control point or knot, an F, M, S or T inside the curve, a knot
 //! repeated `k` times inside the curve where the curve breaks, a weight of 0 or less.
@@ -189,8 +193,10 @@ fn start(it: &mut Interpreter, mode: &mut Mode, g: &Word, words: &[Word], line: 
         Some("under G93 or G95 (FANUC alarm PS1006: a mode incompatible with NURBS interpolation)")
     } else if it.tcp() {
         Some("under tool-centre point control: how the control runs a curve then is not in the pages at hand (cancel it with G49 first)")
-    } else if it.rotation2d.is_some() || it.feature.is_some() {
-        Some("under a rotated or tilted coordinate system (G68, G68.2): how the control applies it to the curve is not read (cancel it with G69 first)")
+    } else if it.feature.is_some() {
+        Some("under a tilted working plane (G68.2): the manual names coordinate rotation, tool length compensation and scaling as what a curve runs under, not the three-dimensional conversion (cancel it with G69 first)")
+    } else if !absolute && it.rotation2d.is_some_and(|r| r.until_absolute.is_some()) {
+        Some("under G91 after G68 before an absolute move: the rotation's centre is then the tool's position at G68 (B-62764EN §15.10), which these moves, made absolute, would leave; write the curve under G90")
     } else {
         None
     };
