@@ -36,14 +36,7 @@ const RING: usize = 8;
 /// The largest knot or weight: "a 9-digit absolute value of the minimum data unit" (±999999.999
 /// at IS-B millimetre input).
 const MAX_WORD: f64 = 999_999.999;
-/// How far a chord may stray from the curve: 1 µm on the linear axes.
-pub const CHORD_TOLERANCE_M: f64 = 1e-6;
-/// How far a chord may stray from the curve on a rotary axis: 0.001 deg.
-pub const CHORD_TOLERANCE_RAD: f64 = 0.001 * std::f64::consts::PI / 180.0;
-/// Each span is first cut in this many pieces (an S within one span has its chords then), each
-/// halved until its chord lies within the tolerance, at most [`MAX_HALVINGS`] times.
-const FIRST_PIECES: usize = 4;
-const MAX_HALVINGS: u32 = 10;
+use super::chords::{Chording, CHORD_TOLERANCE_M, CHORD_TOLERANCE_RAD};
 
 const AXES: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
 
@@ -466,45 +459,6 @@ impl Curve {
         out
     }
 
-    /// Whether the curve's point `m` lies within the tolerance of the chord from `a` to `b`: some
-    /// point of the chord (the axes move together along it) within 1 µm of it on the linear axes
-    /// and within 0.001 deg on each rotary axis. Each axis, scaled by its tolerance, allows an
-    /// interval of the chord's parameter; the point exists where they meet.
-    fn within(&self, a: &[f64; 6], m: &[f64; 6], b: &[f64; 6]) -> bool {
-        let (mut ab, mut am) = ([0.0; 6], [0.0; 6]);
-        for k in (0..6).filter(|k| self.axes[*k]) {
-            ab[k] = (b[k] - a[k]) / self.tolerance[k];
-            am[k] = (m[k] - a[k]) / self.tolerance[k];
-        }
-        let (mut lo, mut hi) = (0.0f64, 1.0f64);
-        // The linear axes: |am - s ab|^2 <= 1, a quadratic in s.
-        let ab2: f64 = ab[..3].iter().map(|v| v * v).sum();
-        let am2: f64 = am[..3].iter().map(|v| v * v).sum();
-        let dot: f64 = (0..3).map(|k| am[k] * ab[k]).sum();
-        if ab2 > 0.0 {
-            let d = dot * dot - ab2 * (am2 - 1.0);
-            if !(d >= 0.0) {
-                return false;
-            }
-            lo = lo.max((dot - d.sqrt()) / ab2);
-            hi = hi.min((dot + d.sqrt()) / ab2);
-        } else if !(am2 <= 1.0) {
-            return false;
-        }
-        // Each rotary axis: |am - s ab| <= 1.
-        for k in 3..6 {
-            if ab[k] != 0.0 {
-                let (s0, s1) = ((am[k] - 1.0) / ab[k], (am[k] + 1.0) / ab[k]);
-                lo = lo.max(s0.min(s1));
-                hi = hi.min(s0.max(s1));
-            } else if !(am[k].abs() <= 1.0) {
-                return false;
-            }
-        }
-        // NaN fails here too.
-        lo <= hi
-    }
-
     /// Span `j`'s chords, each a one-shot G01 to its end.
     #[allow(clippy::too_many_arguments)]
     fn span(&mut self, it: &mut Interpreter, j: usize, line: usize, at: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
@@ -526,18 +480,10 @@ impl Curve {
         let mut ends: Vec<[f64; 6]> = Vec::new();
         if self.rank == 2 {
             ends.push(self.eval(j, x1));
-        } else {
-            let mut a = start;
-            for n in 0..FIRST_PIECES {
-                let (t0, t1) = (x0 + (x1 - x0) * n as f64 / FIRST_PIECES as f64, if n + 1 == FIRST_PIECES { x1 } else { x0 + (x1 - x0) * (n + 1) as f64 / FIRST_PIECES as f64 });
-                let b = self.eval(j, t1);
-                if !self.chords(j, t0, &a, t1, &b, 0, &mut ends) {
-                    self.failed = true;
-                    diags.error(line, at, format!("a span of the NURBS curve needs chords shorter than 1/{} of it to stay within {} µm (0.001 deg on a rotary axis), or its points are not numbers: a typo?", FIRST_PIECES << MAX_HALVINGS, CHORD_TOLERANCE_M * 1e6));
-                    return false;
-                }
-                a = b;
-            }
+        } else if !(Chording { axes: self.axes, tolerance: self.tolerance }).chords(&|t| self.eval(j, t), x0, x1, &mut ends) {
+            self.failed = true;
+            diags.error(line, at, format!("a span of the NURBS curve {}: a typo?", Chording::TOO_MANY));
+            return false;
         }
         // The curve's last span ends at its last control point where the knots after it are all
         // equal (the last, which comes later, does not shape the curve): as written.
@@ -558,26 +504,5 @@ impl Curve {
             self.at = e;
         }
         true
-    }
-
-    /// The chords from `a` (at `t0`) to `b` (at `t1`), halved until each lies within the tolerance:
-    /// their ends pushed in order; false past [`MAX_HALVINGS`].
-    #[allow(clippy::too_many_arguments)]
-    fn chords(&self, j: usize, t0: f64, a: &[f64; 6], t1: f64, b: &[f64; 6], depth: u32, ends: &mut Vec<[f64; 6]>) -> bool {
-        let tm = 0.5 * (t0 + t1);
-        let m = self.eval(j, tm);
-        if !m.iter().all(|v| v.is_finite()) {
-            return false;
-        }
-        // The midpoint and the quarter points: an inflection at the middle leaves the midpoint on
-        // the chord while the curve strays on either side of it.
-        if self.within(a, &m, b) && [0.25, 0.75].iter().all(|f| self.within(a, &self.eval(j, t0 + f * (t1 - t0)), b)) {
-            ends.push(*b);
-            return true;
-        }
-        if depth == MAX_HALVINGS {
-            return false;
-        }
-        self.chords(j, t0, a, tm, &m, depth + 1, ends) && self.chords(j, tm, &m, t1, b, depth + 1, ends)
     }
 }

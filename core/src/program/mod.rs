@@ -5,6 +5,7 @@
 //! never read as a number); every good block is kept.
 
 mod apt;
+mod chords;
 mod cl;
 mod corner;
 mod corner_cut;
