@@ -18,6 +18,7 @@ mod sinumerik_corners;
 mod sinumerik_trc;
 mod tnc_comp;
 mod tnc_corners;
+mod tnc_spline;
 mod tnc_words;
 
 const SING: &str = include_str!("../recordings/programs/SING.I");

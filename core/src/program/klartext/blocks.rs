@@ -390,3 +390,97 @@ pub(super) fn text_from<'a>(raw: &'a str, toks: &[(&'a str, usize)], k: usize) -
     let text = rest.split(';').next().unwrap_or(rest).trim_end_matches('\r').trim_end();
     text.strip_suffix('~').map_or(text, str::trim_end)
 }
+
+/// `SPL X.. Y.. Z.. [A.. B.. C..] K3X.. K2X.. K1X.. ... [F..]`: the TNC's spline block (iTNC 530
+/// User's Manual, "Contour movements – Spline interpolation (software option 2)"): each end-point
+/// coordinate with its coefficients K3, K2, K1 in that order; a coefficient is -9.99999999 to
+/// +9.99999999 with an exponent -255 to +255, written on it (`K3X-4.688E-002`) or after it
+/// (`K2B-0.413 E+2`).
+pub(super) fn spline<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+    let mut ends: Vec<KWord<'a>> = Vec::new();
+    let mut coefficients: [[Option<f64>; 3]; 6] = [[None; 3]; 6];
+    let mut feed = FeedWord::None;
+    let mut seen = 0u32;
+    let mut i = 1;
+    while i < toks.len() {
+        let (tok, col) = toks[i];
+        i += 1;
+        let b = tok.as_bytes();
+        if b.len() > 3 && b[0].eq_ignore_ascii_case(&b'K') && matches!(b[1], b'1'..=b'3') && b[2].is_ascii_alphabetic() {
+            let Some(k) = "XYZABC".find(b[2].to_ascii_uppercase() as char) else {
+                diags.error(line, col, format!("{}: a spline coefficient of an axis this reader does not move (X Y Z A B C)", excerpt(tok)));
+                continue;
+            };
+            // The exponent written on the value, else in the next word.
+            let body = &tok[3..];
+            let (mantissa, attached) = match body.find(['E', 'e']) {
+                Some(e) => (&body[..e], Some(&body[e + 1..])),
+                None => (body, None),
+            };
+            let exponent = match attached {
+                Some(e) => Some(e),
+                None => match toks.get(i) {
+                    Some((next, _)) if next.len() > 1 && next.as_bytes()[0].eq_ignore_ascii_case(&b'E') && next[1..].bytes().all(|c| c.is_ascii_digit() || c == b'+' || c == b'-') => {
+                        i += 1;
+                        Some(&next[1..])
+                    }
+                    _ => None,
+                },
+            };
+            let m = parse_number(mantissa).filter(|m| m.abs() <= 9.99999999 + 1e-12);
+            let e = match exponent {
+                None => Some(0),
+                Some(e) => e.trim_start_matches('+').parse::<i32>().ok().filter(|e| e.abs() <= 255),
+            };
+            let (Some(m), Some(e)) = (m, e) else {
+                diags.error(line, col, format!("{}: expected a spline coefficient -9.99999999 to +9.99999999, its exponent -255 to +255 (iTNC 530 User's Manual, spline interpolation)", excerpt(tok)));
+                continue;
+            };
+            let order = usize::from(b'3' - b[1]);
+            let axis = &mut coefficients[k];
+            // "The TNC always expects the spline parameters K for each axis in the sequence K3, K2, K1."
+            if axis[order].is_some() || axis[order..].iter().skip(1).any(Option::is_some) || !axis[..order].iter().all(Option::is_some) {
+                diags.error(line, col, format!("{}: the coefficients of an axis come once each, as K3, K2, K1 in that order", excerpt(tok)));
+                continue;
+            }
+            axis[order] = Some(m * 10f64.powi(e));
+            continue;
+        }
+        let (addr, rest) = split_word(tok);
+        match (motion_address(&addr), addr.as_ref()) {
+            (Some((a, bit)), _) if bit < 6 && a.len() == 1 => {
+                if seen & (1 << bit) != 0 {
+                    diags.error(line, col, format!("{a} written twice in one block"));
+                }
+                seen |= 1 << bit;
+                if let Some(w) = value_word(a, rest, tok, col, line, diags) {
+                    ends.push(w);
+                }
+            }
+            (Some((a, bit)), _) if bit < 6 => diags.error(line, col, format!("{a}: a spline's end point is absolute (the manual gives no incremental form)")),
+            (None, "F") => feed = value_word("F", rest, tok, col, line, diags).map_or(FeedWord::None, FeedWord::Value),
+            (None, "FAUTO") if rest.is_empty() => feed = FeedWord::Auto(col),
+            (None, "M") => diags.error(line, col, format!("{}: an M function in a spline block is not read (where it acts along the curve)", excerpt(tok))),
+            _ => diags.error(line, col, format!("unexpected word '{}' in an SPL block", excerpt(tok))),
+        }
+    }
+    // "For every end-point coordinate in the spline block, the spline parameters K3 to K1 must be
+    // programmed"; a coefficient without its coordinate has no end point to start from.
+    let at = toks[0].1;
+    for k in 0..6 {
+        let has_end = seen & (1 << k) != 0;
+        let full = coefficients[k].iter().all(Option::is_some);
+        let any = coefficients[k].iter().any(Option::is_some);
+        let name = ["X", "Y", "Z", "A", "B", "C"][k];
+        if has_end && !full {
+            diags.error(line, at, format!("SPL: the end point's {name} needs its coefficients K3{name}, K2{name} and K1{name}"));
+        } else if !has_end && any {
+            diags.error(line, at, format!("SPL: coefficients of {name} without an end point {name}"));
+        }
+    }
+    if ends.is_empty() {
+        diags.error(line, at, "SPL: expected the spline's end point and its coefficients");
+    }
+    let coefficients = coefficients.map(|c| Some([c[0]?, c[1]?, c[2]?]));
+    Some(Kind::Spline { ends, coefficients, feed })
+}

@@ -135,6 +135,7 @@ impl Exec {
                 Kind::Retract { .. } => Some("M140"),
                 Kind::CycleCall(_) => Some("a cycle call"),
                 Kind::Tcp { .. } => Some("FUNCTION TCPM"),
+                Kind::Spline { .. } => Some("a spline (SPL)"),
                 Kind::Move { m, .. } | Kind::Misc(m) => m.iter().find_map(|w| match w.val {
                     Val::Num(v) if v == 91.0 || v == 92.0 => Some("M91/M92 machine coordinates"),
                     Val::Num(v) if v == 99.0 || v == 89.0 => Some("a cycle call (M99/M89)"),
@@ -222,6 +223,7 @@ impl Exec {
                 return false;
             }
             Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Corner { .. } => return false,
+            Kind::Spline { .. } => return self.spline(s, interp, out, diags),
             _ => {}
         }
         let before = diags.errors();
@@ -403,7 +405,7 @@ impl Exec {
                     }
                 }
             }
-            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::Pecking { .. } | Kind::CycleCall(_) | Kind::Corner { .. } => {}
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::Pecking { .. } | Kind::CycleCall(_) | Kind::Corner { .. } | Kind::Spline { .. } => {}
         }
         // M91 / M92: the block's coordinates are the machine's, about its machine datum or the
         // maker's second datum (TNC 426 B ISO §7.3: "M91 and M92 are effective only in the blocks in

@@ -50,6 +50,7 @@ mod formula;
 mod params;
 mod exec;
 mod run;
+mod spline;
 mod tilt;
 
 use blocks::{call, centre, corner, function, joined_direction, misc, motion, text_from, tool_call, value_word};
@@ -161,6 +162,10 @@ enum Kind<'a> {
     /// and after it rounded by an arc of radius R or cut by a chamfer of that side length, at the
     /// feed F in this block only ([`super::corner`]).
     Corner { round: bool, size: KWord<'a>, feed: Option<KWord<'a>> },
+    /// `SPL X.. Y.. Z.. K3X.. K2X.. K1X.. ...`: the TNC's spline, a cubic per axis from the tool's
+    /// position to the end point ([`exec::Exec`]'s `spline`): the end points, then each axis'
+    /// coefficients K3, K2, K1 (X Y Z A B C), and the feed.
+    Spline { ends: Vec<KWord<'a>>, coefficients: [Option<[f64; 3]>; 6], feed: FeedWord<'a> },
     /// `STOP`: a programmed stop, as M0.
     Stop,
     End,
@@ -385,6 +390,7 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
             None => motion(toks, &k0, line, diags),
         },
         "CC" => centre(toks, line, diags),
+        "SPL" => blocks::spline(toks, line, diags),
         "STOP" => Some(Kind::Stop),
         "LBL" => match toks.get(1) {
             Some((l, _)) if toks.len() == 2 => Some(Kind::Label(l.trim_matches('"'))),
