@@ -36,6 +36,10 @@ FANUC_NURBS = (b"%\nO0001\nG21 G17 G90 G94\nG00 X0. Y0. Z0.\nG01 F500.\nG06.2 P3
                b"G06.2 K0 X0. Y0. Z0.\nK0 X10. Y12. Z1. R0.8\nK0 X25. Y-3.\nK0 X32. Y18. R2.5\nK2500 X48.\nK4000 X55. Y2.\n"
                b"K4000 X70. Y9. Z3.\nK10000\nK10000\nK10000\nK10000\nG91 G06.2 P2 K0. X0. Y0.\nK0. X10.\nK1. Y5. R0.5\nK2.\nK2.\n"
                b"G90 G01 X0. Y0.\nG06.2 P3 K0. X0. Y0.\nX5.\nK1.\nK0.5 X1.\nK2.\nK2.\nK2.\nG01 X1.\nM30\n%\n")
+# TNC splines (SPL): the iTNC 530 manual's example, a rotary axis with an exponent apart, refusals.
+KLARTEXT_SPLINE = (b"0 BEGIN PGM SPL MM\n1 TOOL CALL 1 Z S5000\n2 L X+28.338 Y+19.385 Z-0.5 A+0 FMAX\n"
+                   b"3 SPL X24.875 Y15.924 Z-0.5 K3X-4.688E-002 K2X2.459E-002 K1X3.486E+000 K3Y-4.563E-002 K2Y2.155E-002 K1Y3.486E+000 K3Z0.000E+000 K2Z0.000E+000 K1Z0.000E+000 F10000\n"
+                   b"4 SPL X+34.875 A+5 K3X+0 K2X+0 K1X-1 E+1 K3A+0 K2A+0 K1A-5\n5 SPL X+40 K2X+0 K3X+0 K1X-5.125\n6 L Z+50 FMAX\n7 END PGM SPL MM\n")
 # An 840D contour under tool radius compensation: a tool by name, CFTCP and CFC, arcs by CR, a
 # subprogram-free M17 left out, a stop at a CFC outside corner, D0, refusals (KONT, OFFN, G451).
 SINUMERIK_TRC = (b"T=\"MILL_D6\" D1\nM6\nG17 G90 G71 G94 CFTCP\nG0 X-20 Y-20 Z5\nG1 Z-2 F500\nG1 G42 X0 Y0\n"
@@ -103,6 +107,7 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "flow.haas", bytes([PICK["haas"]]) + FANUC_FLOW)
     put(corpus, "nc_program", "flow.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_FLOW)
     put(corpus, "nc_program", "contour.h", bytes([PICK["klartext"]]) + KLARTEXT_CONTOUR)
+    put(corpus, "nc_program", "spline.h", bytes([PICK["klartext"]]) + KLARTEXT_SPLINE)
     put(corpus, "nc_program", "trc.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_TRC)
     put(corpus, "nc_program", "corners.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_CORNERS)
     put(corpus, "nc_program", "corners.nc", bytes([PICK["fanuc"]]) + FANUC_CORNERS)
