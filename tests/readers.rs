@@ -26,6 +26,24 @@ const NON_SING: &str = include_str!("../recordings/programs/NON_SING.I");
 const SING_OCR: &str = include_str!("../recordings/programs/damaged/SING_ocr.I");
 const NON_SING_OCR: &str = include_str!("../recordings/programs/damaged/NON_SING_ocr.I");
 
+/// Where each move ends in the frame without work offsets (mm, X Y Z): the block's target plus its
+/// datum, an axis not written staying where it was.
+fn ends(p: &Program) -> Vec<[f64; 3]> {
+    let mut at = [0.0; 3];
+    p.blocks
+        .iter()
+        .filter(|b| !b.targets.is_empty())
+        .map(|b| {
+            for (k, v) in [b.targets.x, b.targets.y, b.targets.z].into_iter().enumerate() {
+                if let Some(v) = v {
+                    at[k] = (v + b.datum[k]) / MM;
+                }
+            }
+            at
+        })
+        .collect()
+}
+
 fn errors(p: &Program) -> Vec<(usize, usize, String)> {
     p.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| (d.line, d.column, d.message.clone())).collect()
 }

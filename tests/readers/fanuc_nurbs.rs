@@ -6,23 +6,6 @@
 
 use super::*;
 
-/// Where each feed move of the program ends (mm, X Y Z), an axis not written staying where it was.
-fn ends(p: &Program) -> Vec<[f64; 3]> {
-    let mut at = [0.0; 3];
-    p.blocks
-        .iter()
-        .filter(|b| !b.targets.is_empty())
-        .map(|b| {
-            for (k, v) in [b.targets.x, b.targets.y, b.targets.z].into_iter().enumerate() {
-                if let Some(v) = v {
-                    at[k] = (v + b.datum[k]) / MM;
-                }
-            }
-            at
-        })
-        .collect()
-}
-
 /// A program that places the tool at `start` (mm), then runs `curve` (its lines), then a G01.
 fn program(start: [f64; 3], curve: &str, after: &str) -> String {
     format!("%\nO1000\nG21 G17 G90 G94\nG00 X{:.4} Y{:.4} Z{:.4}\nG01 F500.\n{curve}{after}M30\n%\n", start[0], start[1], start[2])
@@ -134,6 +117,18 @@ fn a_rational_quadratic_is_a_quarter_circle() {
     assert!(moves[1..moves.len() - 1].iter().all(|b| b.motion == Motion::Linear && b.feed.unwrap().value_per_min == 1000.0));
 }
 
+/// The cubic Bézier of four points at `t`, by its Bernstein polynomials.
+fn bernstein(pts: &[[f64; 3]; 4], t: f64) -> [f64; 3] {
+    let b = [(1.0 - t).powi(3), 3.0 * t * (1.0 - t).powi(2), 3.0 * t * t * (1.0 - t), t.powi(3)];
+    let mut q = [0.0; 3];
+    for (k, pk) in pts.iter().enumerate() {
+        for i in 0..3 {
+            q[i] += b[k] * pk[i];
+        }
+    }
+    q
+}
+
 /// A cubic Bézier (P4, four points, knots 0 0 0 0 1 1 1 1) against its Bernstein form, in 3D.
 #[test]
 fn a_cubic_with_four_points_is_a_bezier() {
@@ -142,16 +137,7 @@ fn a_cubic_with_four_points_is_a_bezier() {
     let p = read(&program(pts[0], &curve, "G01 Z10.\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     let e = ends(&p);
-    let bezier = |t: f64| {
-        let b = [(1.0 - t).powi(3), 3.0 * t * (1.0 - t).powi(2), 3.0 * t * t * (1.0 - t), t.powi(3)];
-        let mut q = [0.0; 3];
-        for (k, pk) in pts.iter().enumerate() {
-            for i in 0..3 {
-                q[i] += b[k] * pk[i];
-            }
-        }
-        q
-    };
+    let bezier = |t: f64| bernstein(&pts, t);
     follows(&e[1..e.len() - 1], pts[0], bezier, 0.0, 1.0, 1e-6, 1e-3 + 1e-6);
 }
 
@@ -327,16 +313,7 @@ fn chords_hold_the_tolerance_at_an_inflection_and_a_reversal() {
     let p = read(&program(pts[0], &curve, "G01 Z10.\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     let e = ends(&p);
-    let bezier = |t: f64| {
-        let b = [(1.0 - t).powi(3), 3.0 * t * (1.0 - t).powi(2), 3.0 * t * t * (1.0 - t), t.powi(3)];
-        let mut q = [0.0; 3];
-        for (k, pk) in pts.iter().enumerate() {
-            for i in 0..3 {
-                q[i] += b[k] * pk[i];
-            }
-        }
-        q
-    };
+    let bezier = |t: f64| bernstein(&pts, t);
     follows(&e[1..e.len() - 1], pts[0], bezier, 0.0, 1.0, 1e-6, 1e-3 + 1e-6);
     // X 0, 10, 0 and B 0, 20, 40: X = 20 t (1 - t), B = 40 t (deg): out and back in X while B turns.
     let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();

@@ -6,24 +6,6 @@
 
 use super::*;
 
-/// Where each move ends in the frame without work offsets, G92 or G52 (mm): the block's target plus
-/// its datum, an axis not written staying where it was.
-fn ends(p: &Program) -> Vec<[f64; 3]> {
-    let mut at = [0.0; 3];
-    p.blocks
-        .iter()
-        .filter(|b| !b.targets.is_empty())
-        .map(|b| {
-            for (k, v) in [b.targets.x, b.targets.y, b.targets.z].into_iter().enumerate() {
-                if let Some(v) = v {
-                    at[k] = (v + b.datum[k]) / MM;
-                }
-            }
-            at
-        })
-        .collect()
-}
-
 fn close(got: &[[f64; 3]], want: &[[f64; 3]]) {
     assert_eq!(got.len(), want.len(), "{got:?}");
     for (k, (g, w)) in got.iter().zip(want).enumerate() {
