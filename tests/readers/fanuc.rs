@@ -13,20 +13,7 @@ fn about(c: [f64; 2], deg: f64, p: [f64; 2]) -> [f64; 2] {
 
 /// The X Y each move of `p` ends at (mm), in order.
 fn xy(p: &Program) -> Vec<[f64; 2]> {
-    let mut at = [0.0; 2];
-    p.blocks
-        .iter()
-        .filter(|b| !b.targets.is_empty())
-        .map(|b| {
-            if let Some(x) = b.targets.x {
-                at[0] = (x + b.datum[0]) / MM;
-            }
-            if let Some(y) = b.targets.y {
-                at[1] = (y + b.datum[1]) / MM;
-            }
-            at
-        })
-        .collect()
+    ends(p).into_iter().map(|e| [e[0], e[1]]).collect()
 }
 
 /// Moves, an arc and a drilling cycle's hole under `G68 X10 Y5 R30`, then `G69`: each end (and
