@@ -65,10 +65,10 @@ fn spline_blocks_refuse_what_the_tnc_refuses() {
         &ReadOptions::default(),
         &[
             (&case("SPL X+10 Y+0 Z+0 K3X+0 K2X+0 K1X-9.998 K3Y+0 K2Y+0 K1Y+0 K3Z+0 K2Z+0 K1Z+0"), "4:3:", "more than 1 µm"),
-            (&case("SPL X+10 Y+0 K2X+0 K3X+0 K1X-10 K3Y+0 K2Y+0 K1Y+0"), "4:16:", "K3, K2, K1 in that order"),
-            (&case("SPL X+10 Y+0 K3X+0 K2X+0 K1X-10"), "4:3:", "needs its coefficients K3Y"),
-            (&case("SPL X+10 K3X+0 K2X+0 K1X-10 M8"), "4:31:", "M function"),
-            (&case("SPL IX+10 K3X+0 K2X+0 K1X-10"), "4:7:", "absolute"),
+            (&case("SPL X+10 Y+0 K2X+0 K3X+0 K1X-1 E+1 K3Y+0 K2Y+0 K1Y+0"), "4:16:", "K3, K2, K1 in that order"),
+            (&case("SPL X+10 Y+0 K3X+0 K2X+0 K1X-1 E+1"), "4:3:", "needs its coefficients K3Y"),
+            (&case("SPL X+10 K3X+0 K2X+0 K1X-1 E+1 M8"), "4:34:", "M function"),
+            (&case("SPL IX+10 K3X+0 K2X+0 K1X-1 E+1"), "4:7:", "absolute"),
             (&case("SPL X+10 K3X+0 K2X+0 K1X-1.0E+300"), "4:24:", "exponent"),
         ],
     );
@@ -93,4 +93,34 @@ fn spline_exponents_stand_apart_and_rotary_axes_move() {
     assert_eq!((last.targets.x, last.targets.a), (Some(10.0 * MM), Some(5.0 * DEG)));
     // Along a straight line X and A keep their ratio 2 mm per degree.
     assert!(b.iter().all(|b| (b.targets.x.unwrap() / MM - 2.0 * b.targets.a.unwrap() / DEG).abs() < 1e-9));
+}
+
+/// A spline is read whole or not at all: with M116 a chord that turns A is refused, and the chord
+/// before it (X alone: A(t) is 0 down to t = 0.75) is not left out either. A `CT` after a spline is
+/// tangent to the curve's end, -K1: from (10, -5) heading +X to (20, 0), its centre (10, 7.5) (radius
+/// 12.5: 10^2 + (12.5 - 5)^2 = 12.5^2). A spline on the endless C, one before any move placed its
+/// axis, and an exponent with two signs are refused.
+#[test]
+fn a_spline_runs_whole_and_ct_follows_its_end() {
+    let machine = fiveaxis::machine::Machine::builtin("hermle-c600u").unwrap();
+    let on = ReadOptions::default().on(&machine);
+    let text = "0 BEGIN PGM S MM\n1 TOOL CALL 1 Z S5000\n2 L X+0 Y+0 Z+0 A+0 R0 F500\n3 M116\n4 SPL X+10 A+0.046875 K3X+0 K2X+0 K1X-1 E+1 K3A+0 K2A+0.0625 K1A-0.109375\n5 L X+20\n6 END PGM S MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &on);
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 5 && m.contains("M116")), "{:?}", errors(&p));
+    assert!(p.blocks.iter().all(|b| b.number != Some(4)), "a chord of the refused spline went out");
+    let text = "0 BEGIN PGM S MM\n1 TOOL CALL 1 Z S5000\n2 L X+5 Y-10 Z+0 R0 F500\n3 SPL X+10 Y-5 K3X+0 K2X+5 K1X-1 E+1 K3Y+0 K2Y-5 K1Y+0\n4 CT X+20 Y+0\n5 END PGM S MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ct = p.blocks.iter().find(|b| b.number == Some(4)).unwrap();
+    let c = ct.arc.as_ref().unwrap().centre;
+    assert!((c[0] / MM - 10.0).abs() < 1e-9 && (c[1] / MM - 7.5).abs() < 1e-9, "{c:?}");
+    refuses_each(
+        Dialect::Klartext,
+        &on,
+        &[
+            ("0 BEGIN PGM S MM\n1 L X+0 Y+0 Z+0 C+0 R0 F500\n2 SPL C+10 K3C+0 K2C+0 K1C-1 E+1\n", "3:7:", "turns without end"),
+            ("0 BEGIN PGM S MM\n1 SPL X+10 K3X+0 K2X+0 K1X-1 E+1 F500\n", "2:7:", "no move has placed X"),
+            ("0 BEGIN PGM S MM\n1 L X+0 R0 F500\n2 SPL X+10 K3X+0 K2X+0 K1X-1 E++1\n", "3:24:", "exponent"),
+        ],
+    );
 }

@@ -20,7 +20,9 @@ pub(crate) struct Chording {
 
 impl Chording {
     /// What a curve that [`Chording::chords`] refuses needs (for its message).
-    pub const TOO_MANY: &'static str = "needs chords shorter than 1/4096 of it to stay within 1 µm (0.001 deg on a rotary axis), or its points are not numbers";
+    pub fn too_many() -> String {
+        format!("needs chords shorter than 1/{} of it to stay within 1 µm (0.001 deg on a rotary axis), or its points are not numbers", FIRST_PIECES << MAX_HALVINGS)
+    }
 
     /// The chords of `f` from `t0` to `t1` (either way): their ends pushed in order (not `f(t0)`);
     /// false past 4096 chords, or where `f` is not a number.
@@ -43,12 +45,13 @@ impl Chording {
     fn halve(&self, f: &dyn Fn(f64) -> [f64; 6], t0: f64, a: &[f64; 6], t1: f64, b: &[f64; 6], depth: u32, ends: &mut Vec<[f64; 6]>) -> bool {
         let tm = 0.5 * (t0 + t1);
         let m = f(tm);
-        if !m.iter().all(|v| v.is_finite()) {
+        let quarters = [f(t0 + 0.25 * (t1 - t0)), f(t0 + 0.75 * (t1 - t0))];
+        if !m.iter().chain(quarters.iter().flatten()).all(|v| v.is_finite()) {
             return false;
         }
         // The midpoint and the quarter points: an inflection at the middle leaves the midpoint on
         // the chord while the curve strays on either side of it.
-        if self.within(a, &m, b) && [0.25, 0.75].iter().all(|q| self.within(a, &f(t0 + q * (t1 - t0)), b)) {
+        if self.within(a, &m, b) && quarters.iter().all(|q| self.within(a, q, b)) {
             ends.push(*b);
             return true;
         }
@@ -63,6 +66,10 @@ impl Chording {
     /// axis. Each axis, scaled by its tolerance, allows an interval of the chord's parameter; the
     /// point exists where they meet.
     pub fn within(&self, a: &[f64; 6], m: &[f64; 6], b: &[f64; 6]) -> bool {
+        // f64::max and min pass a NaN by: none may reach them.
+        if !a.iter().chain(m).chain(b).all(|v| v.is_finite()) {
+            return false;
+        }
         let (mut ab, mut am) = ([0.0; 6], [0.0; 6]);
         for k in (0..6).filter(|k| self.axes[*k]) {
             ab[k] = (b[k] - a[k]) / self.tolerance[k];
@@ -93,7 +100,6 @@ impl Chording {
                 return false;
             }
         }
-        // NaN fails here too.
         lo <= hi
     }
 }

@@ -482,7 +482,7 @@ impl Curve {
             ends.push(self.eval(j, x1));
         } else if !(Chording { axes: self.axes, tolerance: self.tolerance }).chords(&|t| self.eval(j, t), x0, x1, &mut ends) {
             self.failed = true;
-            diags.error(line, at, format!("a span of the NURBS curve {}: a typo?", Chording::TOO_MANY));
+            diags.error(line, at, format!("a span of the NURBS curve {}: a typo?", Chording::too_many()));
             return false;
         }
         // The curve's last span ends at its last control point where the knots after it are all

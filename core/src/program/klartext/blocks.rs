@@ -401,6 +401,8 @@ pub(super) fn spline<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Dia
     let mut coefficients: [[Option<f64>; 3]; 6] = [[None; 3]; 6];
     let mut feed = FeedWord::None;
     let mut seen = 0u32;
+    // Axes whose coefficients were refused (said once).
+    let mut bad = [false; 6];
     let mut i = 1;
     while i < toks.len() {
         let (tok, col) = toks[i];
@@ -428,25 +430,45 @@ pub(super) fn spline<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Dia
                 },
             };
             let m = parse_number(mantissa).filter(|m| m.abs() <= 9.99999999 + 1e-12);
+            // One sign at most, then digits.
             let e = match exponent {
                 None => Some(0),
-                Some(e) => e.trim_start_matches('+').parse::<i32>().ok().filter(|e| e.abs() <= 255),
+                Some(e) => {
+                    let digits = e.strip_prefix(['+', '-']).unwrap_or(e);
+                    let ok = !digits.is_empty() && digits.bytes().all(|c| c.is_ascii_digit()) && digits.len() <= 3;
+                    ok.then(|| digits.parse::<i32>().ok()).flatten().map(|v| if e.starts_with('-') { -v } else { v }).filter(|v| v.abs() <= 255)
+                }
             };
+            if mantissa.contains(['Q', 'q']) {
+                diags.error(line, col, format!("{}: a spline coefficient is a number (a Q parameter there is not read)", excerpt(tok)));
+                bad[k] = true;
+                continue;
+            }
             let (Some(m), Some(e)) = (m, e) else {
                 diags.error(line, col, format!("{}: expected a spline coefficient -9.99999999 to +9.99999999, its exponent -255 to +255 (iTNC 530 User's Manual, spline interpolation)", excerpt(tok)));
+                bad[k] = true;
                 continue;
             };
             let order = usize::from(b'3' - b[1]);
             let axis = &mut coefficients[k];
             // "The TNC always expects the spline parameters K for each axis in the sequence K3, K2, K1."
             if axis[order].is_some() || axis[order..].iter().skip(1).any(Option::is_some) || !axis[..order].iter().all(Option::is_some) {
-                diags.error(line, col, format!("{}: the coefficients of an axis come once each, as K3, K2, K1 in that order", excerpt(tok)));
+                if !bad[k] {
+                    diags.error(line, col, format!("{}: the coefficients of an axis come once each, as K3, K2, K1 in that order", excerpt(tok)));
+                }
+                bad[k] = true;
                 continue;
             }
             axis[order] = Some(m * 10f64.powi(e));
             continue;
         }
         let (addr, rest) = split_word(tok);
+        // `F AUTO` as two words, as `L` blocks take it.
+        if addr == "F" && rest.is_empty() && toks.get(i).is_some_and(|(n, _)| upper(n) == "AUTO") {
+            i += 1;
+            feed = FeedWord::Auto(col);
+            continue;
+        }
         match (motion_address(&addr), addr.as_ref()) {
             (Some((a, bit)), _) if bit < 6 && a.len() == 1 => {
                 if seen & (1 << bit) != 0 {
@@ -458,6 +480,8 @@ pub(super) fn spline<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Dia
                 }
             }
             (Some((a, bit)), _) if bit < 6 => diags.error(line, col, format!("{a}: a spline's end point is absolute (the manual gives no incremental form)")),
+            (None, "FMAX") if rest.is_empty() => diags.error(line, col, "FMAX in a spline block: expected a feed F (a spline at rapid traverse is not in the manual's pages)"),
+            (None, "F") if rest.is_empty() => diags.error(line, col, "F without a value in a spline block (F MAX is no spline's feed)"),
             (None, "F") => feed = value_word("F", rest, tok, col, line, diags).map_or(FeedWord::None, FeedWord::Value),
             (None, "FAUTO") if rest.is_empty() => feed = FeedWord::Auto(col),
             (None, "M") => diags.error(line, col, format!("{}: an M function in a spline block is not read (where it acts along the curve)", excerpt(tok))),
@@ -472,6 +496,9 @@ pub(super) fn spline<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Dia
         let full = coefficients[k].iter().all(Option::is_some);
         let any = coefficients[k].iter().any(Option::is_some);
         let name = ["X", "Y", "Z", "A", "B", "C"][k];
+        if bad[k] {
+            continue;
+        }
         if has_end && !full {
             diags.error(line, at, format!("SPL: the end point's {name} needs its coefficients K3{name}, K2{name} and K1{name}"));
         } else if !has_end && any {
