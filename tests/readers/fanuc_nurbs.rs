@@ -363,6 +363,20 @@ fn a_refused_curve_changes_nothing_and_calls_are_refused_in_the_mode() {
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     // Knots 0 0 0 1 1 1 (x 0.001): the curve's last chord ends at X10 Y10.
     assert!(ends(&p).contains(&[10.0, 10.0, 1.0]), "{:?}", ends(&p));
+    // Said as a knot, which has no unit (the manual: the reference axis' least increments).
+    let w = p.diagnostics.iter().find(|d| d.message.contains("no decimal point")).expect("the decimal-point warning");
+    assert!(w.line == 8 && w.message.contains("K1000") && w.message.contains("read as 1 (a knot)"), "{w:?}");
+}
+
+/// A macro statement in the mode reads group 01 as G06.2 (`#4001` = 6.2, B-63324EN §4.17 puts G06.2
+/// in group 01), and as G01 once a `G01` has ended the curve.
+#[test]
+fn group_01_reads_6_2_in_the_mode() {
+    let text = "%\nG21 G17 G90 G94\nG00 X0. Y0. Z0.\nG01 F500.\nG06.2 P3 K0. X0. Y0. F1000.\nK0. X10. Y0.\n#100=#4001\nK0. X10. Y10.\nK1.\nK1.\nK1.\nG01 X#100\n#101=#4001\nG01 Y#101\nM30\n%\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let e = ends(&p);
+    assert!((e[e.len() - 2][0] - 6.2).abs() < 1e-12 && (e[e.len() - 1][1] - 1.0).abs() < 1e-12, "{:?}", &e[e.len() - 2..]);
 }
 
 /// Under `G68` (set before the mode, as the manual says) the curve turns with its chords: the

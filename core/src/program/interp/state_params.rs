@@ -89,12 +89,15 @@ impl Interpreter {
     /// Fanuc's and Haas' modal information of the blocks run so far, the G code groups this reader
     /// holds (FANUC custom macro B, system variables "#4001-#4030: G codes of groups 01-30", #4109 F,
     /// #4119 S, #4120 T; Haas' macro variables #4001-#4021, the group codes, numbered as Fanuc's for these):
-    /// 01 motion (not under a canned cycle, whose group is 09), 02 plane, 03 G90/G91, 05 G93/G94, 06
+    /// 01 motion (6.2 in NURBS mode; not under a canned cycle, whose group is 09), 02 plane, 03 G90/G91, 05 G93/G94, 06
     /// G20/G21, 07 G40 (compensation is refused, so always off), 09 the cycle or G80, 10 G98/G99;
     /// Fanuc's 14 the work offset G54-G59, F in the program's unit and the T selected.
     pub(crate) fn fanuc_modal_information(&self) -> StateParameters {
         let mut numbered: Vec<(u32, f64)> = Vec::with_capacity(12);
-        if self.cycles.active.is_none() {
+        if self.nurbs.is_some() {
+            // NURBS interpolation is group 01's G06.2 (B-63324EN §4.17, "G06.2: NURBS interpolation mode").
+            numbered.push((4001, 6.2));
+        } else if self.cycles.active.is_none() {
             if let Some(g) = match self.motion {
                 Some(Motion::Rapid) => Some(0.0),
                 Some(Motion::Linear) => Some(1.0),

@@ -489,7 +489,15 @@ impl Rs274Reader {
             if let Some(i) = self.decimal_points(&mut words, &computed) {
                 if !std::mem::replace(&mut self.said_no_point, true) {
                     let w = &words[i];
-                    let unit = if matches!(w.letter, 'A' | 'B' | 'C') { "deg" } else if self.inch_words(&words) { "in" } else { "mm" };
+                    // A knot and a weight count the reference axis' increments and have no unit (B-63324EN §4.17).
+                    let nurbs = self.interp.nurbs.is_some() || words.iter().any(|w| w.letter == 'G' && w.value == 6.2);
+                    let unit = match w.letter {
+                        'K' if nurbs => "(a knot)",
+                        'R' if nurbs => "(a weight)",
+                        'A' | 'B' | 'C' => "deg",
+                        _ if self.inch_words(&words) => "in",
+                        _ => "mm",
+                    };
                     diags.warning(line, w.column, format!("{}{} has no decimal point: read as {} {unit}, in least input increments, as the control reads it unless its parameter says otherwise (FANUC DPI No. 3401#0, Haas Setting 162: the machine file's decimal_point_input); said once", w.letter, w.raw, w.value));
                 }
             }
