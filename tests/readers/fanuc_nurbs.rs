@@ -129,16 +129,20 @@ fn bernstein(pts: &[[f64; 3]; 4], t: f64) -> [f64; 3] {
     q
 }
 
+/// The cubic Bézier of `pts` as a P4 curve (knots 0 0 0 0 1 1 1 1): its chords against the Bernstein form.
+fn bezier_follows(pts: &[[f64; 3]; 4]) {
+    let curve = nurbs(4, pts, &[1.0; 4], &[0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
+    let p = read(&program(pts[0], &curve, "G01 Z10.\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let e = ends(&p);
+    follows(&e[1..e.len() - 1], pts[0], |t| bernstein(pts, t), 0.0, 1.0, 1e-6, 1e-3 + 1e-6);
+}
+
 /// A cubic Bézier (P4, four points, knots 0 0 0 0 1 1 1 1) against its Bernstein form, in 3D.
 #[test]
 fn a_cubic_with_four_points_is_a_bezier() {
     let pts = [[5.0, 2.0, 1.0], [15.0, 30.0, -4.0], [40.0, -20.0, 6.0], [50.0, 8.0, 0.0]];
-    let curve = nurbs(4, &pts, &[1.0; 4], &[0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
-    let p = read(&program(pts[0], &curve, "G01 Z10.\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
-    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
-    let e = ends(&p);
-    let bezier = |t: f64| bernstein(&pts, t);
-    follows(&e[1..e.len() - 1], pts[0], bezier, 0.0, 1.0, 1e-6, 1e-3 + 1e-6);
+    bezier_follows(&pts);
 }
 
 /// The manual's basis: N_i,1 = 1 on [x_i, x_i+1), N_i,k = (t - x_i) N_i,k-1 / (x_i+k-1 - x_i) +
@@ -309,12 +313,7 @@ fn a_rotary_axis_follows_its_curve_within_a_thousandth_of_a_degree() {
 #[test]
 fn chords_hold_the_tolerance_at_an_inflection_and_a_reversal() {
     let pts = [[0.0, 0.0, 0.0], [3.333, 0.156, 0.0], [6.667, -0.938, 0.0], [10.0, 6.719, 0.0]];
-    let curve = nurbs(4, &pts, &[1.0; 4], &[0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
-    let p = read(&program(pts[0], &curve, "G01 Z10.\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
-    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
-    let e = ends(&p);
-    let bezier = |t: f64| bernstein(&pts, t);
-    follows(&e[1..e.len() - 1], pts[0], bezier, 0.0, 1.0, 1e-6, 1e-3 + 1e-6);
+    bezier_follows(&pts);
     // X 0, 10, 0 and B 0, 20, 40: X = 20 t (1 - t), B = 40 t (deg): out and back in X while B turns.
     let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
     let on = ReadOptions::default().on(&machine);
