@@ -48,7 +48,7 @@ impl Exec {
             }
             let Some(v) = self.value(w, s.line, diags) else { continue };
             // "Spline end point: -99 999.9999 to +99 999.9999".
-            if !(v.abs() <= 99_999.9999) {
+            if !(v.abs() <= 99_999.999_9) {
                 diags.error(s.line, w.col, format!("{}: a spline's end point is -99999.9999 to +99999.9999", w.addr));
                 continue;
             }
