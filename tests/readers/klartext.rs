@@ -247,6 +247,42 @@ fn klartext_m140_backs_off_along_the_tool_axis() {
     has(&p, 2, 3, "M140: ");
 }
 
+/// `PLANE ... TURN MB n|MAX` (TNC 620 User's Manual 10/2017, "The PLANE function", positioning: the
+/// retraction MB "is effective incrementally from the current tool position in the active tool axis
+/// direction that the control approaches before tilting. MB MAX positions the tool just before the
+/// software limit switch"). On the Hermle, untilted, the tool axis is Z: from Z+30, MB+20 at F2000
+/// retracts to Z 50 at that feed, MB MAX at rapid to the top of Z's range; then the rotary axes turn
+/// to the manual's A+45 C+90 with X, Y and Z where the retract left them. MB with STAY (nothing
+/// moves) and MB without a distance are refused at the word.
+#[test]
+fn klartext_plane_mb_retracts_along_the_tool_axis_before_tilting() {
+    use fiveaxis::program::Motion;
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let options = ReadOptions::default().on(&hermle);
+    let zmax = hermle.axes[2].limits.max;
+    for (mb, z, motion) in [("MB+20 F2000", 0.050, Motion::Linear), ("MB MAX FMAX", zmax, Motion::Rapid)] {
+        let text = format!("0 BEGIN PGM P MM\n1 L X+10 Y+20 Z+30 A+0 C+0 R0 FMAX\n2 PLANE SPATIAL SPA+0 SPB+45 SPC+0 TURN {mb}\n3 END PGM P MM\n");
+        let p = read(&text, Dialect::Klartext, "p.h", &options);
+        assert!(errors(&p).is_empty(), "{mb}: {:?}", errors(&p));
+        let moves: Vec<_> = p.blocks.iter().filter(|b| b.line == 3 && !b.targets.is_empty()).collect();
+        assert!(moves.len() >= 2, "{mb}: a retract, then the rotary axes: {moves:#?}");
+        let (r, t) = (moves[0], moves.last().unwrap());
+        let at = |b: &fiveaxis::program::Block, k: usize| [b.targets.x, b.targets.y, b.targets.z][k].unwrap() + b.datum[k];
+        assert!((at(r, 2) - z).abs() < 1e-9 && (at(r, 0) - 0.010).abs() < 1e-9 && (at(r, 1) - 0.020).abs() < 1e-9, "{mb}: {r:?}");
+        assert!(r.targets.a.is_none_or(|a| a.abs() < 1e-12) && r.motion == motion, "{mb}: the retract moves no rotary axis: {r:?}");
+        if motion == Motion::Linear {
+            assert!((r.feed.unwrap().value_per_min - 2000.0).abs() < 1e-9, "{r:?}");
+        }
+        assert!((t.targets.a.unwrap().to_degrees() - 45.0).abs() < 1e-3 && (t.targets.c.unwrap().to_degrees() - 90.0).abs() < 1e-3, "{mb}: {t:?}");
+    }
+    let refused = |plane: &str, col: usize, needle: &str| {
+        let text = format!("0 BEGIN PGM P MM\n1 L X+10 Y+20 Z+30 A+0 C+0 R0 FMAX\n2 {plane}\n3 END PGM P MM\n");
+        has(&read(&text, Dialect::Klartext, "p.h", &options), 3, col, needle);
+    };
+    refused("PLANE SPATIAL SPA+0 SPB+45 SPC+0 STAY MB MAX", 41, "STAY MB");
+    refused("PLANE SPATIAL SPA+0 SPB+45 SPC+0 TURN MB FMAX", 41, "MB: expected a retract distance or MAX");
+}
+
 /// Klartext polar contours (iTNC 530 user's manual §6.5): LP to a radius and angle about the pole,
 /// CP about it to an angle (its radius the start's), IPA beyond 360 deg as turns of a helix with the
 /// tool axis' coordinate, IPR and IPA from the start's polar coordinates. By hand, pole (0, 0) from

@@ -199,6 +199,16 @@ impl Exec {
                 return false;
             }
             Kind::Plane(p) => {
+                if let Some((distance, col)) = &p.retract {
+                    // MB: M140's retract at the plane's feed, then the plane; a refused retract tilts nothing.
+                    let before = diags.errors();
+                    let retract = Stmt { line: s.line, col: s.col, number: s.number, kind: Kind::Retract { distance: distance.clone(), feed: p.feed.clone(), col: *col } };
+                    self.run(&retract, interp, out, diags);
+                    if diags.errors() > before {
+                        diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+                        return false;
+                    }
+                }
                 self.plane(p, s, interp, out, diags);
                 return false;
             }

@@ -50,6 +50,9 @@ pub(super) struct PlaneStmt<'a> {
     pub(super) choice: crate::program::plane::Choice,
     /// Cycle 19's spatial angles (a machine setting decides between them and axis angles).
     pub(super) cycle: bool,
+    /// `MB n|MAX` with `TURN`: the retract along the tool axis before tilting, as `M140 MB` (its
+    /// distance, `None` for MAX; and the word's column).
+    pub(super) retract: Option<(Option<KWord<'a>>, usize)>,
 }
 
 /// `PLANE SPATIAL SPA.. SPB.. SPC.. | EULER EULPR.. EULNU.. EULROT.. | VECTOR BX.. BY.. BZ.. NX.. NY..
@@ -61,7 +64,7 @@ pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diag
     let form_name = upper(toks.get(1).map_or("", |t| t.0));
     let mut rest = toks[2.min(toks.len())..].iter().copied().peekable();
     let mut values: Vec<(String, KWord<'a>)> = Vec::new();
-    let (mut mode, mut feed, mut choice) = (None, FeedWord::None, crate::program::plane::Choice::default());
+    let (mut mode, mut feed, mut choice, mut retract) = (None, FeedWord::None, crate::program::plane::Choice::default(), None);
     let addresses: &[&str] = match form_name.as_ref() {
         "SPATIAL" => &["SPA", "SPB", "SPC"],
         "EULER" => &["EULPR", "EULNU", "EULROT"],
@@ -101,13 +104,32 @@ pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diag
             "SEQ-" => choice.seq = Some(false),
             "COORD" if next_is(&mut rest, "ROT") => choice.table_rot = Some(false),
             "TABLE" if next_is(&mut rest, "ROT") => choice.table_rot = Some(true),
-            "MB" | "DIST" => {
-                diags.error(line, c, format!("PLANE ... {u}: a retract or a distance before tilting is not modelled"));
+            // TNC 620 User's Manual 10/2017, "The PLANE function", positioning: "The retraction path
+            // MB is effective incrementally from the current tool position in the active tool axis
+            // direction that the control approaches before tilting. MB MAX positions the tool just
+            // before the software limit switch": M140 MB's rule.
+            "MB" if retract.is_none() => match rest.peek().copied() {
+                Some((v, _)) if v.eq_ignore_ascii_case("MAX") => {
+                    rest.next();
+                    retract = Some((None, c));
+                }
+                Some((v, vc)) if v.starts_with(|ch: char| ch.is_ascii_digit() || "+-.Q".contains(ch)) => {
+                    rest.next();
+                    retract = Some((Some(value_word("MB", v, v, vc, line, diags)?), c));
+                }
+                _ => {
+                    diags.error(line, c, "PLANE ... MB: expected a retract distance or MAX");
+                    return None;
+                }
+            },
+            "DIST" => {
+                diags.error(line, c, "PLANE ... DIST: the distance of MOVE's centre of rotation is not modelled (MOVE is not)");
                 return None;
             }
             _ => {
                 let (addr, v) = point_word(tok).unwrap_or_else(|| split_word(tok));
                 match (addresses.iter().find(|a| **a == addr.as_ref()), addr.as_ref()) {
+                    (None, "MB") if retract.is_none() && !v.is_empty() => retract = Some((Some(value_word("MB", v, tok, c, line, diags)?), c)),
                     (Some(a), _) => {
                         if values.iter().any(|(n, _)| n == a) {
                             diags.error(line, c, format!("PLANE: {a} written twice"));
@@ -129,6 +151,10 @@ pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diag
         diags.error(line, col, format!("PLANE {form_name}: expected TURN or STAY (how the rotary axes are positioned)"));
         return None;
     };
+    if let (Some((_, c)), PlaneMode::Stay) = (&retract, mode) {
+        diags.error(line, *c, format!("PLANE {form_name} ... STAY MB: a retract before tilting goes with TURN (STAY moves nothing)"));
+        return None;
+    }
     let take = |name: &str| values.iter().find(|(n, _)| n == name).map(|(_, w)| w.clone());
     let all = |names: &[&str], diags: &mut Diags| -> Option<Vec<KWord<'a>>> {
         let v: Vec<Option<KWord<'a>>> = names.iter().map(|n| take(n)).collect();
@@ -159,7 +185,7 @@ pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diag
         }
         _ => PlaneForm::Reset,
     };
-    Some(Kind::Plane(PlaneStmt { form, mode, feed, choice, cycle: false }))
+    Some(Kind::Plane(PlaneStmt { form, mode, feed, choice, cycle: false, retract }))
 }
 
 /// A `PLANE POINTS` coordinate word (`P1X+0`, `P3Z-12.5`): its address (a digit inside, which
@@ -202,7 +228,7 @@ pub(super) fn cycle19<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, di
                 }
             }
             let form = if values.is_empty() { PlaneForm::Reset } else { PlaneForm::Axial(values) };
-            Some(Kind::Plane(PlaneStmt { form, mode: PlaneMode::Cycle, feed, choice: Default::default(), cycle: true }))
+            Some(Kind::Plane(PlaneStmt { form, mode: PlaneMode::Cycle, feed, choice: Default::default(), cycle: true, retract: None }))
         }
         _ => {
             diags.error(line, col, "CYCL DEF 19: expected CYCL DEF 19.0 and its name, or CYCL DEF 19.1 with the angles A, B, C");
