@@ -112,3 +112,20 @@ fn fanuc_g54_after_g54_1_takes_its_offset_again() {
     // Under G54.1 X0 is at 0; G92 X-5 there shifts X by 5; G54 X0 is at 100 + 5.
     close(&ends(&p), &[[0.0, 0.0, 10.0], [105.0, 0.0, 10.0]]);
 }
+
+/// Haas' additional work offsets (Haas, "Programmable Offsets": G10 L20 P1-P20 set G110-G129, P1-P99
+/// G154 P1-P99), which the program does not set here: `G154 P5` and `G110` put the origin at zero
+/// (the operator's offset, said once each as a warning), `G55` takes the program's G10 L2 P2 offset
+/// again. `G154` without P, or P0 or P100, is refused at its word.
+#[test]
+fn haas_g154_and_g110_g129_are_additional_work_offsets() {
+    let text = "%\nG21 G90 G17 G94\nG10 L2 P2 X300. Y0. Z0.\nG55 G0 X0. Y0. Z10.\nG154 P5\nG0 X1.\nG55 G0 X2.\nG110 G0 X3.\nG129 X4.\nG55 X5.\nM30\n%\n";
+    let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    close(&ends(&p), &[[300.0, 0.0, 10.0], [1.0, 0.0, 10.0], [302.0, 0.0, 10.0], [3.0, 0.0, 10.0], [4.0, 0.0, 10.0], [305.0, 0.0, 10.0]]);
+    assert!(p.diagnostics.iter().any(|d| d.line == 5 && d.message.contains("G154: additional work offsets")), "{:?}", p.diagnostics);
+    for (block, col, needle) in [("G154", 1, "G154 without P"), ("G154 P0", 6, "G154 P0: expected P1 to P99"), ("G154 P100", 6, "expected P1 to P99")] {
+        let p = read(&format!("%\nG21 G90 G0 X0. Y0. Z10.\n{block}\nG0 X1.\nM30\n%\n"), Dialect::Haas, "t.nc", &ReadOptions::default());
+        has(&p, 3, col, needle);
+    }
+}

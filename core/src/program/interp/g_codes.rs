@@ -127,6 +127,21 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
             next.system = 0;
             next.extra_offset = true;
         }
+        // Haas' additional work offsets G154 P1-P99, and G110-G129 the same as G154 P1-P20 (Haas,
+        // "Programmable Offsets": G10 L20 P1-P20 set G110-G129, P1-P99 G154 P1-P99): as G54.1 Pn.
+        (code, false) if haas && haas_extra_offset(code) => {
+            if code == "154" {
+                c.uses.push('P');
+                match words.iter().find(|p| p.letter == 'P') {
+                    Some(p) if p.value.fract() == 0.0 && (1.0..=99.0).contains(&p.value) => {}
+                    Some(p) => return diags.error(line, p.column, format!("G154 P{}: expected P1 to P99 (an additional work offset)", p.raw)),
+                    None => return diags.error(line, w.column, "G154 without P: expected P1 to P99 (an additional work offset)"),
+                }
+            }
+            diags.warning(line, w.column, format!("G{}: additional work offsets are not set by the program: taken as zero", w.raw));
+            next.system = 0;
+            next.extra_offset = true;
+        }
         // AI contour control (Q1 on, Q0 off): look-ahead feed control, not the path's
         // geometry (FANUC A-63512EN §2.3: "interpolation data ensures that the machining
         // follows a specified line or curve").
@@ -286,4 +301,9 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
             format!("unknown G code G{}: not read (it may change the motion)", w.raw),
         ),
     }
+}
+
+/// Haas' additional work offsets: `G154` (with P1-P99) and `G110`-`G129`.
+pub(crate) fn haas_extra_offset(code: &str) -> bool {
+    code == "154" || code.parse::<u32>().is_ok_and(|n| (110..=129).contains(&n))
 }

@@ -12,6 +12,7 @@ mod block;
 mod codes;
 mod frame;
 mod g_codes;
+pub(crate) use g_codes::haas_extra_offset;
 mod modal;
 mod offsets;
 mod rotation;
