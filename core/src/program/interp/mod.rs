@@ -564,6 +564,14 @@ impl Interpreter {
         }
     }
 
+    /// A refused block set a modal motion this reader does not read (an 840D spline, `CIP`, `CT`):
+    /// the motion mode is unknown until a block gives one, so a later move without its own is
+    /// refused, naming the block.
+    pub(crate) fn forget_motion(&mut self, line: usize) {
+        self.motion = None;
+        self.refused_line = Some(line);
+    }
+
     /// What to add to "move without a feed" where a refused block since the last feed carried one.
     pub(crate) fn after_refused_feed(&self) -> String {
         self.refused_feed_line.map_or(String::new(), |l| format!(" (line {l}, refused before it, gave one, and none of its words took effect)"))

@@ -569,6 +569,10 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
 fn unknown_address(name: &str) -> &'static str {
     if name.starts_with('$') {
         "a system variable, not set here"
+    } else if matches!(name, "SD" | "PL") {
+        "a spline's degree or parameter interval (BSPLINE), which is not read"
+    } else if matches!(name, "I1" | "J1" | "K1") {
+        "an intermediate point of a circle (CIP), which is not read"
     } else if name.len() == 2 && name.as_bytes()[1].is_ascii_digit() {
         "an extended address (a further axis or spindle), not read"
     } else {

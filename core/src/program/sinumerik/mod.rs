@@ -148,7 +148,11 @@ impl super::stream::LineReader for SinumerikReader {
         let errors_before = diags.errors();
         let first = cols.col(first) - 1;
         let lexed = lex::lex_line(text_line, &cols, line, &mut self.vars, diags);
+        let unread_motion = lexed.keywords.iter().any(|k| UNREAD_MOTION.contains(&k.name.as_str()));
         if diags.errors() > errors_before {
+            if unread_motion {
+                self.interp.forget_motion(line);
+            }
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             let held = self.corners.interrupt("the block after it was not read", diags);
@@ -187,6 +191,9 @@ impl super::stream::LineReader for SinumerikReader {
             if plain {
                 self.interp.restore_pending_vector(vector);
                 self.interp.refused_line = refused_line;
+            }
+            if unread_motion {
+                self.interp.forget_motion(line);
             }
             self.interp.note_feed(false, feed_word, line);
             out.truncate(blocks_before);
@@ -719,6 +726,10 @@ pub(super) const READ_KEYWORDS: [&str; 30] = [
     "STOPRE", "TRAORI", "TRAFOOF", "ORIWKS", "ORIVECT", "ORIPLANE", "ORIMKS", "ORIAXES", "ORIEULER", "ORIRPY", "SOFT", "BRISK", "FFWON", "FFWOF", "FNORM", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "MSG", "SETMS", "EXTERN", "TRANS", "ATRANS", "ROT", "AROT", "SUPA", "MCALL", "CUT2D", "CDOF",
 ];
 
+/// The modal motions of G group 1 that are not read (splines, polynomials, `CIP`, `CT`): after one
+/// is refused, a move must give its own G0-G3 ([`Interpreter::forget_motion`]).
+const UNREAD_MOTION: [&str; 6] = ["BSPLINE", "ASPLINE", "CSPLINE", "POLY", "CIP", "CT"];
+
 /// Why a keyword the reader knows is refused (`None`: a name it does not know).
 fn unsupported_keyword(k: &str) -> Option<&'static str> {
     Some(match k {
@@ -727,6 +738,14 @@ fn unsupported_keyword(k: &str) -> Option<&'static str> {
         "ORICONCW" | "ORICONCCW" | "ORICONTO" | "ORICONIO" | "ORICURVE" | "ORIPATH" | "ORIPATHS" | "ORIROTA" | "ORIROTR" | "ORIROTT" | "ORIROTC" => {
             "this orientation interpolation (cone, curve or path-relative) is not modelled"
         }
+        // Job Planning, "Spline interpolation" and "Polynomial interpolation": the path between the
+        // points is a curve whose knots and end conditions are the control's (BSPLINE without PL).
+        "BSPLINE" | "ASPLINE" | "CSPLINE" | "BAUTO" | "BNAT" | "BTAN" | "EAUTO" | "ENAT" | "ETAN" | "POLY" | "POLYPATH" => {
+            "spline or polynomial interpolation is not read (the path between the points is a curve the control makes)"
+        }
+        // Fundamentals, "Circular interpolation with intermediate point (CIP)" and "Circular
+        // interpolation with tangential transition (CT)".
+        "CIP" | "CT" => "a circle through an intermediate point (CIP) or with a tangential transition (CT) is not read (G2/G3 with a centre or CR= are)",
         "OFFN" => "OFFN is written OFFN=<value>",
         "CUT2DF" | "CUT3DC" | "CUT3DF" | "CUT3DFS" | "CUT3DFF" | "CUT3DCC" | "CUT3DCCD" => "3D tool radius compensation (or 2D in a frame's plane) is not modelled",
         "CDON" | "CDOF2" => "collision detection (bottleneck detection over several blocks) with tool radius compensation is not read; CDOF is",
