@@ -301,6 +301,24 @@ fn sinumerik_splines_and_cip_are_refused_with_the_moves_they_govern() {
     has(&p, 5, 1, "without a feed");
 }
 
+/// LinuxCNC's splines `G5`, `G5.1`, `G5.2` (and Fanuc's 3D circle `G02.4`) are motions of modal group
+/// 1: refused, they leave the motion mode unknown, so the move after one that gives no G code of
+/// its own is refused naming it, not read as a line of the mode before (`G1`).
+#[test]
+fn refused_spline_modes_govern_the_moves_after_them() {
+    let text = "G21 G90 G17\nG0 X0 Y0 Z10\nG1 F500 X1\nG5 X10 Y10 I5 J0 P5 Q0\nX20 Y0\nG1 X2\nX3\nM2\n";
+    let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    has(&p, 4, 1, "G5 (spline or NURBS motion) is not supported");
+    has(&p, 5, 1, "without a motion mode");
+    has(&p, 5, 1, "line 4 was refused");
+    let xs: Vec<f64> = p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect();
+    assert_eq!(xs, [0.0, 1.0, 2.0, 3.0], "X20 is not a line; G1 X2 sets the mode again");
+    let text = "%\nG21 G90 G17 G0 X0. Y0. Z10.\nG1 F500. X1.\nG02.4 X10. Y10. Z0.\nX5. Y2. Z1.\nM30\n%\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    has(&p, 5, 1, "line 4 was refused");
+    assert!(!errors(&p).iter().any(|(_, _, m)| m.contains("power-on")), "{:?}", errors(&p));
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
     /// Arbitrary bytes never panic any reader, nor the sampler and analysis behind them.

@@ -409,6 +409,7 @@ impl Interpreter {
             // Fanuc's and Haas' power-on motion mode is a setting of the machine (FANUC parameter
             // 3402 bit 0: G00 or G01), not the program's: not assumed.
             let start = match before.dialect {
+                _ if before.refused_line.is_some() => "",
                 Dialect::Fanuc => " (the control's power-on mode, G00 or G01 by its parameter 3402 bit 0, is the machine's setting: its machine file's power_on_motion)",
                 Dialect::Haas => " (the control's power-on mode is the machine's setting: its machine file's power_on_motion)",
                 _ => "",
