@@ -130,6 +130,21 @@ fn cycle832_sets_the_tolerance_and_ends_g60() {
     assert_eq!([exact(2), exact(4), exact(6), exact(8)], [Exact::Stop, Exact::Blend, Exact::Blend, Exact::Stop]);
 }
 
+/// CYCLE832's machining types by name (SINUMERIK Operate's plain text for `_TOLM`'s units digit:
+/// `_FINISH` 1, `_SEMIFIN` 2, `_ROUGH` 3, `_OFF` 0), as Fusion's and other posts write them; the
+/// `_ORI_` types carry an orientation tolerance, which is not read, and are refused at the call.
+#[test]
+fn cycle832_reads_its_machining_types_by_name() {
+    for ty in ["_FINISH", "_SEMIFIN", "_rough"] {
+        let p = on_umc(&format!("G90 G71 G94\nG0 X1\nCYCLE832(0.015,{ty},1)\nG1 X2 F100\nCYCLE832(0,_OFF,1)\nG1 X3\nM30\n"));
+        assert!(errors(&p).is_empty(), "{ty}: {:#?}", errors(&p));
+        assert!(close(blocks_of(&p, 4)[0].tolerance.linear_m, 0.015), "{ty}");
+        assert_eq!(blocks_of(&p, 6)[0].tolerance.linear_m, None, "{ty}: _OFF deselects");
+    }
+    let p = on_umc("G90 G71 G94\nG0 X1\nCYCLE832(0.01,_ORI_FINISH,1)\nM30\n");
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 3 && m.contains("_ORI_FINISH: a machining type with an orientation tolerance")), "{:#?}", errors(&p));
+}
+
 /// Alarm 14040's rule: the radii to an arc's start and end may differ by max(0.01 mm, 0.001 R).
 #[test]
 fn circle_end_points_within_the_840ds_tolerance() {

@@ -683,7 +683,11 @@ impl SinumerikReader {
     /// contour tolerance `_TOL` for the blocks that follow, a continuous-path mode; `_TOLM`'s
     /// units digit 0 (or no arguments) deselects it: the machine's tolerance again.
     fn high_speed_settings(&mut self, k: &Keyword<'_>, line: usize, diags: &mut Diags) {
-        let args = match lex::call_arguments(k.args.unwrap_or(""), &mut self.vars) {
+        let text = match machining_types(k.args.unwrap_or("")) {
+            Ok(t) => t,
+            Err(name) => return diags.error(line, k.col, format!("CYCLE832: {name}: a machining type with an orientation tolerance (_TOLM tens digit 1, _OTOL) is not read")),
+        };
+        let args = match lex::call_arguments(&text, &mut self.vars) {
             Ok(a) => a,
             Err((_, why)) => return diags.error(line, k.col, format!("CYCLE832: {why}")),
         };
@@ -713,6 +717,42 @@ impl SinumerikReader {
         self.interp.set_tolerance(super::ProgrammedTolerance { linear_m: Some(t), rotary_rad: None });
         self.interp.exact = crate::program::Exact::Blend;
     }
+}
+
+/// CYCLE832's machining types by their plain-text names, as the cycle defines them (SINUMERIK
+/// Operate, "High-speed settings": deselection `_OFF`, roughing `_ROUGH`, rough-finishing `_SEMIFIN`,
+/// finishing `_FINISH`; Programming Manual 12/2019 §3.25, `_TOLM` units digit 0 deselection, 1
+/// finishing, 2 rough-finishing, 3 roughing) put in as their numbers; `Err` names an `_ORI_` type
+/// (with an orientation tolerance, which is not read).
+fn machining_types(args: &str) -> Result<Cow<'_, str>, String> {
+    const TYPES: [(&str, &str); 4] = [("_OFF", "0"), ("_FINISH", "1"), ("_SEMIFIN", "2"), ("_ROUGH", "3")];
+    if !args.contains('_') {
+        return Ok(Cow::Borrowed(args));
+    }
+    let mut out = String::with_capacity(args.len());
+    let b = args.as_bytes();
+    let mut i = 0;
+    while i < b.len() {
+        let ident = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+        if ident(b[i]) {
+            let start = i;
+            while i < b.len() && ident(b[i]) {
+                i += 1;
+            }
+            let word = &args[start..i];
+            let upper = word.to_ascii_uppercase();
+            match TYPES.iter().find(|(n, _)| *n == upper) {
+                Some((_, v)) => out.push_str(v),
+                None if matches!(upper.as_str(), "_ORI_FINISH" | "_ORI_SEMIFIN" | "_ORI_ROUGH") => return Err(word.to_string()),
+                None => out.push_str(word),
+            }
+        } else {
+            let ch = args[i..].chars().next().unwrap_or(' ');
+            out.push(ch);
+            i += ch.len_utf8();
+        }
+    }
+    Ok(Cow::Owned(out))
 }
 
 /// Whether `name` (capitals) is an instruction the reader knows, read or refused ([`SinumerikReader::block`]'s
