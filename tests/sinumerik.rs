@@ -117,6 +117,24 @@ fn mcall_drills_at_each_position() {
     assert!(errors(&p).iter().any(|(l, c, m)| *l == 2 && *c == 7 && m.contains("61101")), "{:#?}", errors(&p));
 }
 
+/// `CYCLE81(10, 0, 2, -5)` called without MCALL drills once where the tool stands (Cycles Programming
+/// Guide 11.02 §2.1, "the cycle can also be called modally", §2.2): G0 to RFP + SDIS = 2, G1 to -5 at
+/// the modal F, G0 to RTP 10; the next positioning block drills nothing. A call beside other words,
+/// or under MCALL's cycle, is refused.
+#[test]
+fn a_drilling_cycle_without_mcall_drills_once_where_the_tool_stands() {
+    let p = on_umc("G90 G71 G94 F200\nG0 X10 Y20 Z50\nCYCLE81(10, 0, 2, -5)\nX30\nM30\n");
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let hole = |line: usize| blocks_of(&p, line).iter().map(|b| (b.motion, b.targets.x.map(|v| (v / MM).round()), b.targets.z.map(|v| (v / MM * 1e6).round() / 1e6))).collect::<Vec<_>>();
+    use Motion::{Linear, Rapid};
+    assert_eq!(hole(3), vec![(Rapid, None, Some(2.0)), (Linear, None, Some(-5.0)), (Rapid, None, Some(10.0))]);
+    assert_eq!(hole(4), vec![(Rapid, Some(30.0), None)]);
+    assert_eq!(blocks_of(&p, 3)[1].feed.unwrap().value_per_min, 200.0);
+    let p = on_umc("G90 G71 G94 F200\nG0 X10 Y20 Z50\nX5 CYCLE81(10, 0, 2, -5)\nMCALL CYCLE81(10, 0, 2, -5)\nCYCLE82(10, 0, 2, -5, , 1)\n");
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 3 && m.contains("stands alone in its block")), "{:#?}", errors(&p));
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 5 && m.contains("while MCALL's cycle is in force")), "{:#?}", errors(&p));
+}
+
 /// CYCLE832(_TOL, _TOLM, _OTOL): the tolerance for the blocks after it, and a continuous-path mode
 /// that ends G60; CYCLE832() deselects it. G60 makes the blocks after it end in an exact stop
 /// (tests/exact_stop.rs has the simulated machine stop there).

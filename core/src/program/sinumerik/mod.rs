@@ -355,8 +355,27 @@ impl SinumerikReader {
                 }
                 "CYCLE800" => self.swivel(&k, line, number, out, diags),
                 "CYCLE832" => self.high_speed_settings(&k, line, diags),
+                // A drilling cycle called without MCALL drills once where the tool stands (Cycles
+                // Programming Guide 11.02 §2.1: the drilling position is approached before the call;
+                // "the cycle can also be called modally", §2.2).
+                name if cycles::Cycle::from_name(name).is_some() && k.args.is_some() => {
+                    let col = k.col;
+                    if !words.is_empty() || keywords.len() > 0 {
+                        diags.error(line, col, format!("{name}: a cycle called without MCALL stands alone in its block"));
+                    } else if self.mcall.is_some() {
+                        diags.error(line, col, format!("{name}: a cycle called while MCALL's cycle is in force is not read"));
+                    } else {
+                        let errors = diags.errors();
+                        self.modal_call(Some(k), line, diags);
+                        if diags.errors() == errors {
+                            self.call_cycle(line, col, number, out, diags);
+                        }
+                        self.mcall = None;
+                    }
+                    break;
+                }
                 name if name.starts_with("CYCLE") && k.args.is_some() => {
-                    diags.error(line, k.col, format!("{name}: this cycle is not read (it may move the tool; the drilling cycles CYCLE81-CYCLE89 are, under MCALL)"))
+                    diags.error(line, k.col, format!("{name}: this cycle is not read (it may move the tool; the drilling cycles CYCLE81-CYCLE89 are)"))
                 }
                 other => match unsupported_keyword(other) {
                     Some(why) => diags.error(line, k.col, format!("{other}: {why}")),
