@@ -42,6 +42,30 @@ fn fanuc_reads_high_precision_contour_control_and_refuses_other_g05() {
     refuses_each(Dialect::Haas, &ReadOptions::default(), &[("%\nO1000\nG05 P10000\nM30\n%\n", "3:1:", "G05")]);
 }
 
+/// AI contour control `G05.1 Q1` with its machining condition `R1`-`R10` (feed control: the moves are
+/// those without it, R a level, not a length in increments) and `G05.1 Q0`; smooth interpolation
+/// `G05.1 Q2 X0 Y0 Z0` and nano smoothing `Q3` make a curve through the points and are refused (their
+/// block's axis words name axes, they are not a move), as are R0, R11 and a G05.1 without Q.
+#[test]
+fn fanuc_g05_1_reads_ai_contour_and_refuses_smoothing() {
+    let body = "G1 X10. Y5. F500.\nG1 X20.\n";
+    let plain = read(&format!("%\nO1000\nG21 G90 G94\n{body}M30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    let ai = read(&format!("%\nO1000\nG21 G90 G94\nG05.1 Q1 R5\n{body}G05.1 Q0\nM30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&ai).is_empty(), "{:?}", errors(&ai));
+    assert_eq!(end_points(&ai), end_points(&plain));
+    refuses_each(
+        Dialect::Fanuc,
+        &ReadOptions::default(),
+        &[
+            ("%\nO1000\nG21 G90\nG05.1 Q2 X0 Y0 Z0\nM30\n%\n", "4:1:", "smooth or nano smoothing interpolation"),
+            ("%\nO1000\nG21 G90\nG05.1 Q3 X0 Y0 Z0\nM30\n%\n", "4:1:", "smooth or nano smoothing interpolation"),
+            ("%\nO1000\nG21 G90\nG05.1 Q1 R11\nM30\n%\n", "4:10:", "machining condition R1 to R10"),
+            ("%\nO1000\nG21 G90\nG05.1 Q1 R0\nM30\n%\n", "4:10:", "machining condition R1 to R10"),
+            ("%\nO1000\nG21 G90\nG05.1\nM30\n%\n", "4:1:", "expected Q1"),
+        ],
+    );
+}
+
 /// An H word alone (NX's Fanuc posts write `N0250 H00` after a tool change) selects a tool length
 /// offset, a length this model takes from the machine file as it takes G43's: read, and said.
 /// `O0000` opening a program (Mastercam's placeholder) is no program number: read as its title, said.

@@ -145,7 +145,24 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         // AI contour control (Q1 on, Q0 off): look-ahead feed control, not the path's
         // geometry (FANUC A-63512EN §2.3: "interpolation data ensures that the machining
         // follows a specified line or curve").
-        ("5.1", false) if fanuc => c.uses.push('Q'),
+        // Q1 with R1-R10, the machining condition (precision level), feed control as well; Q2
+        // (smooth interpolation) and Q3 (nano smoothing) make a curve through the points (FANUC's
+        // G05.1 formats, "G05.1 Q1 R1; AI contour control, Machining condition selecting function").
+        ("5.1", false) if fanuc => {
+            c.uses.push('Q');
+            let q = words.iter().find(|q| q.letter == 'Q');
+            match q.map(|q| q.value) {
+                Some(v) if v == 0.0 => {}
+                Some(v) if v == 1.0 => {
+                    c.uses.push('R');
+                    if let Some(r) = words.iter().find(|r| r.letter == 'R').filter(|r| !(r.value.fract() == 0.0 && (1.0..=10.0).contains(&r.value))) {
+                        diags.error(line, r.column, format!("G05.1 Q1 R{}: expected a machining condition R1 to R10", r.raw));
+                    }
+                }
+                Some(v) if v == 2.0 || v == 3.0 => unsupported(diags, "smooth or nano smoothing interpolation: the control makes a curve through the points"),
+                _ => diags.error(line, q.map_or(w.column, |q| q.column), "G05.1: expected Q1 (AI contour control on, R1-R10 its machining condition) or Q0 (off)"),
+            }
+        }
         // High-precision contour control, `G05 P10000` on and `G05 P0` off (FANUC Series
         // 16i/18i-MB, "High-precision contour control"): look-ahead feed control as AI
         // contour is. G05 with another P is high-speed cycle machining (binary data).

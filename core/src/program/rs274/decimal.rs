@@ -35,7 +35,8 @@ impl Rs274Reader {
                 continue;
             };
             let step = match (w.letter, kind) {
-                ('Q', _) if mode_q => continue,
+                // G05.1's Q (a mode) and R (a machining condition, 1-10) are numbers, not lengths.
+                ('Q' | 'R', _) if mode_q => continue,
                 ('K', _) if cycle => continue,
                 ('I' | 'J' | 'K', _) if angles_ijk => 1e-3,
                 (_, Increment::Length) => if inch { 1e-4 } else { 1e-3 },
