@@ -247,6 +247,22 @@ fn klartext_m140_backs_off_along_the_tool_axis() {
     has(&p, 2, 3, "M140: ");
 }
 
+/// `M89`, the modal cycle call, calls the cycle at the end of its own block and then after every
+/// positioning block until `M99` (which calls it once more) or `CYCL CALL` (TNC 306/406 Technical
+/// Manual §7.4: MP7440 bit 1 "Modal cycle-call M89 at end of block"; "for every following
+/// positioning block there will be a call of the last-programmed machining-cycle. M89 is canceled
+/// by M99 or a CYCL CALL-block"): cycle 200 at X10 (M89), X20, X30 (M99), none at X40. Each hole
+/// feeds to its depth Z-10 in two plunges of 5 mm.
+#[test]
+fn klartext_m89_drills_at_its_own_block_and_each_after_it() {
+    let text = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL Z+50 R0 FMAX\nCYCL DEF 200 DRILLING ~\n Q200=+2 ~\n Q201=-10 ~\n Q206=+150 ~\n Q202=+5 ~\n Q210=+0 ~\n Q203=+0 ~\n Q204=+50 ~\n Q211=+0\n\
+                L X+10 Y+10 R0 FMAX M89\nL X+20 R0 FMAX\nL X+30 R0 FMAX M99\nL X+40 R0 FMAX\nEND PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let bottoms = |line: usize| p.blocks.iter().filter(|b| b.line == line && b.motion != Motion::Rapid && b.targets.z.is_some_and(|z| (z / MM + 10.0).abs() < 1e-9)).count();
+    assert_eq!([bottoms(13), bottoms(14), bottoms(15), bottoms(16)], [1, 1, 1, 0], "{:#?}", p.blocks);
+}
+
 /// `PLANE ... TURN MB n|MAX` (TNC 620 User's Manual 10/2017, "The PLANE function", positioning: the
 /// retraction MB "is effective incrementally from the current tool position in the active tool axis
 /// direction that the control approaches before tilting. MB MAX positions the tool just before the

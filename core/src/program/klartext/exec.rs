@@ -442,7 +442,9 @@ impl Exec {
         if let Some(v) = vector {
             interp.set_pending_vector(v);
         }
-        // M99 runs the cycle at the block's end point, M89 from here on after every positioning.
+        // M99 runs the cycle at the block's end point; M89 too, and from there on after every
+        // positioning block (TNC 306/406 Technical Manual §7.4, MP7440 bit 1: "Modal cycle-call M89
+        // at end of block"; TNC 155: "effective at the end of the appropriate block as a modal" call).
         let (m99, m89) = match &s.kind {
             Kind::Move { m, .. } | Kind::Misc(m) => (m.iter().any(|w| w.val == Val::Num(99.0)), m.iter().any(|w| w.val == Val::Num(89.0))),
             _ => (false, false),
@@ -517,7 +519,7 @@ impl Exec {
                 if m99 {
                     self.modal_call = false;
                 }
-                if m99 || (self.modal_call && moved && !m89) {
+                if m99 || m89 || (self.modal_call && moved) {
                     self.call_cycle(s, interp, out, diags);
                 }
                 ends
