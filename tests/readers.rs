@@ -568,6 +568,31 @@ fn fanuc_names_ps0045_where_its_alarm_list_says() {
     }
 }
 
+/// Haas' G83 with I J K (Mill Operator's Manual 96-8000, G83: "The first pass will cut in by I, each
+/// succeeding cut will be reduced by amount J, and the minimum cutting depth is K"): from R1 to Z-10
+/// with I3 J1 K1.5 the pecks are 3, 2, 1.5, 1.5, 1.5 and the last 0.5, so the feeds end at -2, -4,
+/// -5.5, -7, -8.5 and -10 (worked by hand); the next hole of the cycle pecks alike. I, J and K go
+/// together, not with Q, I and K positive.
+#[test]
+fn a_haas_g83_with_i_j_k_pecks_less_each_pass() {
+    let machine = fiveaxis::machine::Machine::builtin("haas-umc-750").unwrap();
+    let text = "%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\nG98 G83 X0. Y0. Z-10. R1. I3. J1. K1.5 F100.\nX5.\nG80\nM30\n%\n";
+    let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default().on(&machine));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    for line in [5, 6] {
+        let feeds: Vec<f64> = p.blocks.iter().filter(|b| b.line == line && b.motion == Motion::Linear).filter_map(|b| b.targets.z.map(|z| (z / MM * 1e6).round() / 1e6)).collect();
+        assert_eq!(feeds, [-2.0, -4.0, -5.5, -7.0, -8.5, -10.0], "line {line}: {:#?}", p.blocks);
+    }
+    for (cycle, col, needle) in [
+        ("G83 X0. Y0. Z-10. R1. I3. J1. F100.", 23, "I, J and K go together"),
+        ("G83 X0. Y0. Z-10. R1. Q2. I3. J1. K1. F100.", 23, "either a fixed peck Q or a shrinking one"),
+        ("G83 X0. Y0. Z-10. R1. I0. J1. K1. F100.", 23, "must be positive"),
+    ] {
+        let p = read(&format!("%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\n{cycle}\nG80\nM30\n%\n"), Dialect::Haas, "t.nc", &ReadOptions::default().on(&machine));
+        has(&p, 5, col, needle);
+    }
+}
+
 /// A G81 (or G82, G85, G86, G89) does not use Q: FANUC keeps it as modal cycle data ("Q ... is modal
 /// information in a canned cycle, and is also used to specify a depth of cut with G73 and G83",
 /// Series 15i-MA Operator's Manual), so a post's `Q0.` on a G81 drills the one plunge G81 makes:

@@ -67,8 +67,11 @@ pub(crate) struct Active {
     pub bottom: f64,
     /// The R point.
     pub r: f64,
-    /// The peck depth (G73, G83), positive.
+    /// The peck depth (G73, G83), positive; under `reduce` the first peck.
     pub peck: Option<f64>,
+    /// Haas' G83 with I J K: each peck after the first `peck` (I) less by the first of these (J),
+    /// never under the second (K) (Haas Mill Operator's Manual 96-8000, G83).
+    pub reduce: Option<(f64, f64)>,
     /// The dwell at the bottom, s.
     pub dwell_s: Option<f64>,
     /// The level the tool stood at when the cycle was first commanded (G98 returns to it).
@@ -115,10 +118,15 @@ pub(crate) fn hole(a: &Active, to_r: bool, clearance: f64) -> Vec<Step> {
             dwell(&mut steps);
         }
         Kind::G73 | Kind::G83 => {
-            let q = a.peck.unwrap_or(f64::INFINITY).abs();
-            let past = |depth: f64| (depth - a.bottom) * down >= 0.0;
+            let first = a.peck.unwrap_or(f64::INFINITY).abs();
+            // Within a nanometre of the bottom is the bottom: pecks summed in floating point leave a
+            // sliver otherwise (-8.5 - 1.5 mm is -9.999999999999998 mm).
+            let past = |depth: f64| (depth - a.bottom) * down >= -1e-9;
             let mut depth = a.r;
+            let mut n = 0.0;
             loop {
+                let q = a.reduce.map_or(first, |(less, least)| (first - n * less).max(least));
+                n += 1.0;
                 let next = if past(depth + down * q) { a.bottom } else { depth + down * q };
                 if depth != a.r {
                     // G83: back down at rapid to d short of the last depth; G73 is already there.
@@ -361,7 +369,7 @@ mod tests {
     }
 
     fn cycle(kind: Kind, peck: Option<f64>) -> Active {
-        Active { kind, bottom: -10.0, r: 2.0, peck, dwell_s: Some(0.5), initial: 50.0 }
+        Active { kind, bottom: -10.0, r: 2.0, peck, reduce: None, dwell_s: Some(0.5), initial: 50.0 }
     }
 
     /// Each cycle's moves as the Fanuc manual draws them (B-63944EN §5.1.x figures): G81 feed and

@@ -221,9 +221,11 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     let haas = it.dialect() == Dialect::Haas;
     let repeat_letter = if haas { 'L' } else { 'K' };
     let find = |l: char| words.iter().find(|w| w.letter == l);
-    let taken = ['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', repeat_letter];
     let before = it.cycles.active;
-    let Some(start) = cycle_settings(it, words, &taken, false, line, column, number, diags, out) else {
+    // Haas' G83 takes I J K, a peck that shrinks (its L counts the holes).
+    let shrinking = haas && named.map(|(k, _)| k).or(before.map(|a| a.kind)) == Some(Kind::G83);
+    let taken: &[char] = if shrinking { &['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', 'L', 'I', 'J', 'K'] } else { &['X', 'Y', 'Z', 'A', 'B', 'C', 'R', 'Q', 'P', repeat_letter] };
+    let Some(start) = cycle_settings(it, words, taken, false, line, column, number, diags, out) else {
         return false;
     };
     let unit = it.unit();
@@ -269,10 +271,30 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     let fanuc = it.dialect() == crate::program::Dialect::Fanuc;
     let ps0045 = if fanuc { " (FANUC alarm PS0045: Q missing or Q0 in G73/G83)" } else { "" };
     let q_word = find('Q');
-    let peck = match (q_word, before) {
-        (Some(w), _) => Some(w.value * unit),
-        (None, Some(a)) => a.peck,
-        (None, None) => None,
+    // Haas G83 I J K: "If I, J, and K are specified, a different operating mode is selected. The
+    // first pass will cut in by I, each succeeding cut will be reduced by amount J, and the minimum
+    // cutting depth is K" (Mill Operator's Manual 96-8000, G83); kept for later holes as Q is.
+    let ijk = if shrinking { [find('I'), find('J'), find('K')] } else { [None; 3] };
+    let (peck, reduce) = match (ijk, q_word, before) {
+        ([None, None, None], Some(w), _) => (Some(w.value * unit), None),
+        ([None, None, None], None, Some(a)) => (a.peck, a.reduce),
+        ([None, None, None], None, None) => (None, None),
+        ([Some(i), Some(j), Some(k)], None, _) => {
+            if !(i.value > 0.0) || !(j.value >= 0.0) || !(k.value > 0.0) {
+                diags.error(line, i.column, format!("G83 I{} J{} K{}: the first peck I and the least one K must be positive, the reduction J not negative", i.raw, j.raw, k.raw));
+                return false;
+            }
+            (Some(i.value * unit), Some((j.value * unit, k.value * unit)))
+        }
+        ([Some(_), Some(_), Some(_)], Some(w), _) => {
+            diags.error(line, w.column, "G83 with Q and with I J K: either a fixed peck Q or a shrinking one I J K (Haas' two modes)");
+            return false;
+        }
+        (w, _, _) => {
+            let at = w.iter().flatten().map(|w| w.column).min().unwrap_or(at);
+            diags.error(line, at, "G83: I, J and K go together (the first peck, its reduction each pass, the least peck: Haas' G83)");
+            return false;
+        }
     };
     let q_at = q_word.map_or(at, |w| w.column);
     // A Q the block does not write, as its messages name it.
@@ -299,8 +321,14 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
             Some(_) => {}
         }
     }
-    if let Some(q) = peck.filter(|q| kind.pecks() && cycles::too_many_pecks(r - bottom, *q)) {
-        diags.error(line, q_at, format!("G{}: Q{} makes more than {} pecks of a {} deep hole: a typo?", kind.code(), q / unit, cycles::MAX_PECKS, (r - bottom).abs() / unit));
+    // With a shrinking peck, at most as many as the least one makes.
+    let least = reduce.map_or(peck, |(_, k)| Some(k));
+    if let Some(q) = least.filter(|q| kind.pecks() && cycles::too_many_pecks(r - bottom, *q)) {
+        let (letter, at) = match reduce {
+            Some(_) => ('K', find('K').map_or(at, |w| w.column)),
+            None => ('Q', q_at),
+        };
+        diags.error(line, at, format!("G{}: {letter}{} makes more than {} pecks of a {} deep hole: a typo?", kind.code(), q / unit, cycles::MAX_PECKS, (r - bottom).abs() / unit));
         return false;
     }
     if kind == Kind::G87 && it.cycles.to_r {
@@ -332,12 +360,12 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
             return false;
         }
     };
-    if let Err(moves) = cycles::check_cycle_moves(repeats, r - bottom, peck.filter(|_| kind.pecks())) {
+    if let Err(moves) = cycles::check_cycle_moves(repeats, r - bottom, least.filter(|_| kind.pecks())) {
         let at = find(repeat_letter).map_or(at, |w| w.column);
         diags.error(line, at, format!("G{}: {repeats} holes of this cycle make about {moves} moves, more than the {} read from one block: a typo?", kind.code(), cycles::MAX_CYCLE_MOVES));
         return false;
     }
-    let active = Active { kind, bottom, r, peck, dwell_s, initial };
+    let active = Active { kind, bottom, r, peck, reduce, dwell_s, initial };
     it.cycles.active = Some(active);
     let clearance = if kind.pecks() {
         match it.peck_clearance(kind) {

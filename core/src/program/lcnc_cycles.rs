@@ -183,7 +183,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         _ => 0.0,
     };
     it.cycles.linuxcnc = Sticky { r: r_word, z: z_word, p, q };
-    it.cycles.active = Some(Active { kind, bottom, r, peck: kind.pecks().then_some(q * unit), dwell_s: Some(p), initial });
+    it.cycles.active = Some(Active { kind, bottom, r, peck: kind.pecks().then_some(q * unit), reduce: None, dwell_s: Some(p), initial });
     let rapid = |absolute| OneShot { motion: Motion::Rapid, absolute, axes: None, own: false };
     let z = |v: f64| [word(depth, v / unit, column)];
     // Below the R plane: straight up to it first, once, and the return level is then R.

@@ -37,7 +37,8 @@ impl Rs274Reader {
             let step = match (w.letter, kind) {
                 // G05.1's Q (a mode) and R (a machining condition, 1-10) are numbers, not lengths.
                 ('Q' | 'R', _) if mode_q => continue,
-                ('K', _) if cycle => continue,
+                // (Haas counts holes with L; its G83's K is the least peck, a length.)
+                ('K', _) if cycle && self.dialect != Dialect::Haas => continue,
                 ('I' | 'J' | 'K', _) if angles_ijk => 1e-3,
                 (_, Increment::Length) => if inch { 1e-4 } else { 1e-3 },
                 (_, Increment::Angle) => 1e-3,
