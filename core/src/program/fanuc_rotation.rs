@@ -120,8 +120,9 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
         for w in words.iter().filter(|w| w.letter == 'G') {
             let why = match code(w).as_str() {
                 "17" | "18" | "19" => "G17, G18 or G19 must not be designated in the mode of coordinate system rotation (FANUC)",
-                "54" | "55" | "56" | "57" | "58" | "59" | "54.1" | "92" | "52" | "10" => "a work offset changed under coordinate system rotation G68: where the centre goes is not read (cancel it with G69 first)",
-                c if crate::program::interp::haas_extra_offset(c) => "a work offset changed under coordinate system rotation G68: where the centre goes is not read (cancel it with G69 first)",
+                c if matches!(c, "54" | "55" | "56" | "57" | "58" | "59" | "54.1" | "92" | "52" | "10") || crate::program::interp::haas_extra_offset(c) => {
+                    "a work offset changed under coordinate system rotation G68: where the centre goes is not read (cancel it with G69 first)"
+                }
                 "53" | "28" | "30" => "machine coordinates or a reference return under coordinate system rotation G68 are not read (cancel it with G69 first)",
                 "43.4" | "43.5" | "68.2" => "tool-centre point or a tilted working plane under coordinate system rotation G68 is not read",
                 _ => continue,

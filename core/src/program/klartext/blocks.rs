@@ -207,6 +207,17 @@ pub(super) fn centre<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Dia
     Some(Kind::Centre(axes))
 }
 
+/// The word after a bare `MB` (`M140 MB`, `PLANE ... MB`): `Ok(None)` for MAX, `Ok(Some(w))` for a
+/// distance, `Err(())` for a distance whose value is refused (said); `None` where it is neither.
+#[allow(clippy::result_unit_err)]
+pub(super) fn mb_value<'a>(next: Option<(&'a str, usize)>, line: usize, diags: &mut Diags) -> Option<Result<Option<KWord<'a>>, ()>> {
+    match next {
+        Some((v, _)) if v.eq_ignore_ascii_case("MAX") => Some(Ok(None)),
+        Some((v, vc)) if v.starts_with(|ch: char| ch.is_ascii_digit() || "+-.Q".contains(ch)) => Some(value_word("MB", v, v, vc, line, diags).map(Some).ok_or(())),
+        _ => None,
+    }
+}
+
 /// A block of M functions only (`M128`, `M3 M8`), or `M140 MB MAX F..` (iTNC 530 user's manual,
 /// "Miscellaneous functions for contouring behavior", "Retraction from the contour in the tool-axis
 /// direction: M140": MB the distance, MAX to the end of the traverse range, F its feed, rapid
@@ -221,13 +232,13 @@ pub(super) fn misc<'a>(toks: &[(&'a str, usize)], line: usize, diags: &mut Diags
                 match (addr.as_ref(), rest) {
                     ("MB", "") if !mb => {
                         mb = true;
-                        match toks.get(k + 1) {
-                            Some(&(v, _)) if v.eq_ignore_ascii_case("MAX") => k += 1,
-                            Some(&(v, vc)) if v.starts_with(|ch: char| ch.is_ascii_digit() || "+-.Q".contains(ch)) => {
-                                distance = value_word("MB", v, v, vc, line, diags);
+                        match mb_value(toks.get(k + 1).copied(), line, diags) {
+                            Some(d) => {
+                                // A refused distance was said; the block is not used.
+                                distance = d.unwrap_or(None);
                                 k += 1;
                             }
-                            _ => diags.error(line, c, "M140 MB: expected a distance or MAX"),
+                            None => diags.error(line, c, "M140 MB: expected a distance or MAX"),
                         }
                     }
                     ("MB", v) if !mb => {

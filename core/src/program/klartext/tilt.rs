@@ -108,16 +108,12 @@ pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diag
             // MB is effective incrementally from the current tool position in the active tool axis
             // direction that the control approaches before tilting. MB MAX positions the tool just
             // before the software limit switch": M140 MB's rule.
-            "MB" if retract.is_none() => match rest.peek().copied() {
-                Some((v, _)) if v.eq_ignore_ascii_case("MAX") => {
+            "MB" if retract.is_none() => match super::blocks::mb_value(rest.peek().copied(), line, diags) {
+                Some(d) => {
                     rest.next();
-                    retract = Some((None, c));
+                    retract = Some((d.ok()?, c));
                 }
-                Some((v, vc)) if v.starts_with(|ch: char| ch.is_ascii_digit() || "+-.Q".contains(ch)) => {
-                    rest.next();
-                    retract = Some((Some(value_word("MB", v, v, vc, line, diags)?), c));
-                }
-                _ => {
+                None => {
                     diags.error(line, c, "PLANE ... MB: expected a retract distance or MAX");
                     return None;
                 }
