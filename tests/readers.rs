@@ -12,6 +12,7 @@ mod fanuc_nurbs;
 mod fanuc_offsets;
 mod feed_per_rev;
 mod klartext;
+mod lasting;
 mod linuxcnc;
 mod shop_words;
 mod sinumerik_corners;

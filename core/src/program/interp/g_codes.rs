@@ -302,6 +302,10 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
             c.uses.push('P');
             c.dwell_word = Some(w);
         }
+        // Scaling and mirror image cancel (FANUC B-64484EN "Scaling", "Programmable mirror image";
+        // Haas G50/G50.1): G51 and G51.1 are refused, so none is in effect here and the cancel changes
+        // nothing (after a refused one, [`super::lasting`] ends its hold).
+        ("50" | "50.1", false) if fanuc => {}
         ("61" | "61.1", false) => unsupported(diags, "exact stop mode: the planner blends blocks as G64 does"),
         ("41" | "42" | "41.1" | "42.1", false) => unsupported(diags, "cutter radius compensation"),
         ("43.1" | "43.2", false) => unsupported(diags, "dynamic tool length offset"),

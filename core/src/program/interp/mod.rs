@@ -12,6 +12,7 @@ mod block;
 mod codes;
 mod frame;
 mod g_codes;
+mod lasting;
 pub(crate) use g_codes::haas_extra_offset;
 mod modal;
 mod offsets;
@@ -118,6 +119,8 @@ pub struct Interpreter {
     pub(crate) comp: Option<Box<super::cutter_comp::CompState>>,
     /// Fanuc's NURBS mode (`G06.2`) and the curve it is reading ([`super::fanuc_nurbs`]).
     pub(crate) nurbs: Option<Box<super::fanuc_nurbs::Mode>>,
+    /// Modal codes of refused blocks in effect on the control until their cancel ([`lasting`]).
+    pub(crate) lasting: Vec<lasting::Lasting>,
     tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
     /// The machine's coordinates (`G53`, `G28`), if its file places them.
     machine_coords: Option<std::sync::Arc<crate::machine::MachineCoordinates>>,
@@ -375,6 +378,7 @@ impl Interpreter {
             m_codes: std::sync::Arc::from([]),
             comp: None,
             nurbs: None,
+            lasting: Vec::new(),
             tool_table: None,
             machine_coords: None,
             machine: None,
@@ -537,6 +541,10 @@ impl Interpreter {
                 seen[g as usize] = Some(w);
             }
         }
+        if !self.check_lasting(words, line, diags) {
+            self.note_feed(false, words.iter().any(|w| w.letter == 'F'), line);
+            return false;
+        }
         let done = match super::cutter_comp::block(self, words, line, column, number, diags, out) {
             Some(done) => done,
             None => self.block_plain(words, line, column, number, diags, out),
@@ -549,6 +557,7 @@ impl Interpreter {
             if matches!(self.dialect, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas) && words.iter().any(unread_motion) {
                 self.forget_motion(line);
             }
+            self.note_lasting(words, line);
         }
         self.note_feed(done, words.iter().any(|w| w.letter == 'F'), line);
         done

@@ -1,0 +1,114 @@
+//! Modal codes a refused block leaves in effect on the control: a block refused here changes
+//! nothing, but the control runs it, and its cutter compensation, scaling, mirroring, tilted plane
+//! or feed mode then shapes every move until the code that cancels it. Such moves are refused,
+//! naming the block, instead of being read as if the code had not been written.
+
+use super::{Interpreter, Word};
+use crate::program::lex::Diags;
+use crate::program::{Dialect, Motion};
+
+/// A modal code of a refused block, in effect on the control until one of its cancel codes.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Lasting {
+    /// The refused block's line and its code as written (`41`, `51.1`).
+    line: usize,
+    code: String,
+    rule: &'static Rule,
+}
+
+/// A modal group's codes that shape the path, and the codes that cancel them (G code × 10).
+#[derive(Debug, PartialEq)]
+struct Rule {
+    what: &'static str,
+    codes: &'static [i64],
+    cancels: &'static [i64],
+    /// Only feed moves change under it (a feed mode: rapids run as written).
+    feed_only: bool,
+}
+
+/// Cutter radius compensation, G40 its cancel (FANUC B-64484EN "Cutter compensation C"; Haas Mill
+/// Operator's Manual, G40-G42).
+const COMP: Rule = Rule { what: "cutter radius compensation", codes: &[410, 420, 411, 421], cancels: &[400], feed_only: false };
+/// Tool length offset along the tool axis or added (Fanuc G43.1; LinuxCNC G43.1 dynamic, G43.2
+/// additional), cancelled by G49 or replaced by G43.
+const LENGTH: Rule = Rule { what: "dynamic or additional tool length offset", codes: &[431, 432], cancels: &[490, 430], feed_only: false };
+/// Tilted working planes, G69 their cancel (FANUC B-64484EN "Tilted working plane indexing").
+/// G68 itself is read for Fanuc and Haas ([`crate::program::fanuc_rotation`]).
+const TILT: Rule = Rule { what: "tilted working plane", codes: &[682, 683, 684], cancels: &[690], feed_only: false };
+/// Scaling G51, cancelled by G50; programmable mirror image G51.1, cancelled by G50.1 (FANUC
+/// B-64484EN "Scaling", "Programmable mirror image"; Haas G50-G51, G50.1-G51.1).
+const SCALING: Rule = Rule { what: "scaling", codes: &[510], cancels: &[500], feed_only: false };
+const MIRROR: Rule = Rule { what: "mirror image", codes: &[511], cancels: &[501], feed_only: false };
+/// Feed per revolution, cancelled by G94 or G93.
+const PER_REV: Rule = Rule { what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true };
+
+/// The rules of a dialect: the modal codes its control runs and this reader never reads (a code it
+/// reads is refused only where the block has a defect, at which the control stops too). LinuxCNC
+/// has no scaling, mirror or tilted plane codes (it stops at them as at any unknown code); the
+/// 840D's and the TNC's cutter compensation are read.
+fn rules(dialect: Dialect) -> &'static [&'static Rule] {
+    match dialect {
+        Dialect::Fanuc => &[&COMP, &LENGTH, &TILT, &SCALING, &MIRROR],
+        Dialect::Haas => &[&COMP, &LENGTH, &TILT, &SCALING, &MIRROR, &PER_REV],
+        Dialect::Rs274 => &[&LENGTH],
+        _ => &[],
+    }
+}
+
+/// A word that moves an axis.
+fn axis_word(w: &Word) -> bool {
+    matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W')
+}
+
+impl Interpreter {
+    /// Before a block is read: a move while a refused block's code is in effect on the control is
+    /// refused (false), naming that block; a cancel code ends it (and cutter compensation's cancel
+    /// with a move is refused once: the control starts that move at the compensated point).
+    pub(crate) fn check_lasting(&mut self, words: &[Word], line: usize, diags: &mut Diags) -> bool {
+        if self.lasting.is_empty() {
+            return true;
+        }
+        let g: Vec<i64> = words.iter().filter(|w| w.letter == 'G').map(super::x10).collect();
+        let Some(axis) = words.iter().find(|w| axis_word(w)) else {
+            self.lasting.retain(|l| !l.rule.cancels.iter().any(|c| g.contains(c)));
+            return true;
+        };
+        let motion = words.iter().filter(|w| w.letter == 'G').find_map(|w| match super::x10(w) {
+            0 => Some(Motion::Rapid),
+            10 | 20 | 30 => Some(Motion::Linear),
+            _ => None,
+        });
+        let rapid = motion.or(self.motion) == Some(Motion::Rapid);
+        let mut ok = true;
+        for l in &self.lasting {
+            let cancelled = l.rule.cancels.iter().any(|c| g.contains(c));
+            if (cancelled && l.rule.what != COMP.what) || (l.rule.feed_only && rapid) {
+                continue;
+            }
+            let cancel = format!("G{}", l.rule.cancels[0] as f64 / 10.0);
+            let why = if cancelled {
+                format!("{cancel} with a move after line {}'s G{} ({}), which was refused: the control starts this move at the point its compensation made, which is not known", l.line, l.code, l.rule.what)
+            } else {
+                format!("a move while line {}'s G{} ({}) is in effect on the control until {cancel}: that block was refused, so this move is not read as the control runs it", l.line, l.code, l.rule.what)
+            };
+            diags.error(line, axis.column, why);
+            ok = false;
+            break;
+        }
+        self.lasting.retain(|l| !l.rule.cancels.iter().any(|c| g.contains(c)));
+        ok
+    }
+
+    /// After a block is refused: its codes that the control keeps in effect (until their cancel).
+    pub(crate) fn note_lasting(&mut self, words: &[Word], line: usize) {
+        for w in words.iter().filter(|w| w.letter == 'G') {
+            let c = super::x10(w);
+            // A cancel code in the refused block takes effect on the control all the same.
+            self.lasting.retain(|l| !l.rule.cancels.contains(&c));
+            if let Some(rule) = rules(self.dialect).iter().find(|r| r.codes.contains(&c)) {
+                self.lasting.retain(|l| l.rule.what != rule.what);
+                self.lasting.push(Lasting { line, code: w.raw.trim_start_matches('0').to_string(), rule });
+            }
+        }
+    }
+}

@@ -1,0 +1,99 @@
+//! A modal code the control runs and the reader refuses (Fanuc's and Haas' cutter compensation,
+//! scaling, mirror image, tilted plane, Haas' feed per revolution, LinuxCNC's dynamic tool length)
+//! stays in effect on the control until its cancel: the moves under it are refused, naming the
+//! refused block, and read again after the cancel.
+
+use super::*;
+
+/// The lines of a program's errors, in order.
+fn error_lines(p: &Program) -> Vec<usize> {
+    errors(p).iter().map(|(l, _, _)| *l).collect()
+}
+
+/// The X a line's move ends at (mm, workpiece), if the line made one.
+fn x_at(p: &Program, line: usize) -> Option<f64> {
+    p.blocks.iter().filter(|b| b.line == line).filter_map(|b| b.targets.x.map(|x| (x + b.datum[0]) / MM)).last()
+}
+
+/// FANUC B-64484EN "Cutter compensation C": G41/G42 offset every move until G40, and the move with
+/// G40 starts from the offset point. Each move from G41 to G40's block is refused naming line 5;
+/// the moves before and after are read, at the X they write.
+#[test]
+fn moves_under_a_refused_cutter_compensation_are_refused_until_g40() {
+    for dialect in [Dialect::Fanuc, Dialect::Haas] {
+        let text = "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG41 D1 G1 X10. Y10. F500.\nG1 X20.\nG0 Z20.\nG40 X30. Y0.\nG1 X40. F500.\nM30\n%\n";
+        let p = read(text, dialect, "t.nc", &ReadOptions::default());
+        assert_eq!(error_lines(&p), [5, 6, 7, 8], "{dialect:?}: {:?}", errors(&p));
+        for l in [6, 7] {
+            has(&p, l, 4, "line 5's G41 (cutter radius compensation) is in effect on the control until G40");
+        }
+        has(&p, 8, 5, "G40 with a move after line 5's G41");
+        assert_eq!(x_at(&p, 4), Some(0.0), "{dialect:?}");
+        assert_eq!(x_at(&p, 9), Some(40.0), "{dialect:?}: the move after G40 is read");
+        for l in 5..=8 {
+            assert_eq!(x_at(&p, l), None, "{dialect:?}: line {l} made no move");
+        }
+    }
+}
+
+/// A G40 without a move ends the hold; a G40 in a refused block too (the control runs it).
+#[test]
+fn a_cancel_ends_the_hold_in_a_block_of_its_own_or_a_refused_one() {
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG42 D1\nG40\nG1 X5. F100.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [5], "{:?}", errors(&p));
+    assert_eq!(x_at(&p, 7), Some(5.0));
+    // Line 6 is refused for its G39 (unknown), but its G40 acts on the control.
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG42 D1\nG40 G39\nG1 X5. F100.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [5, 6], "{:?}", errors(&p));
+    assert_eq!(x_at(&p, 7), Some(5.0));
+}
+
+/// FANUC B-64484EN "Scaling" and "Programmable mirror image": G51 scales and G51.1 mirrors every
+/// move until G50 and G50.1. Under each, a move is refused naming it; after the cancel the move is
+/// read. G50 and G50.1 with nothing in effect change nothing: read without a word.
+#[test]
+fn scaling_and_mirror_image_hold_until_g50_and_g50_1() {
+    for (on, off, what) in [("G51 X0. Y0. P2", "G50", "scaling"), ("G51.1 X0.", "G50.1", "mirror image")] {
+        let text = format!("%\nO1000\nG21 G90 G17 G94 F100.\n{off}\nG0 X1. Y0. Z10.\n{on}\nG1 X2.\n{off}\nG1 X3.\nM30\n%\n");
+        let p = read(&text, Dialect::Haas, "t.nc", &ReadOptions::default());
+        let e = errors(&p);
+        assert!(e.iter().all(|(l, _, _)| *l == 6 || *l == 7), "{on}: {e:?}");
+        has(&p, 7, 4, &format!("line 6's G{} ({what}) is in effect on the control until {off}", &on[1..on.find(' ').unwrap()]));
+        assert_eq!(x_at(&p, 5), Some(1.0), "{on}");
+        assert_eq!(x_at(&p, 9), Some(3.0), "{on}");
+    }
+}
+
+/// Haas' G95 is refused: under it a feed move is refused (its feed is per revolution on the
+/// control), a rapid is read (it does not take the feed), and G94 ends it.
+#[test]
+fn a_refused_feed_per_revolution_holds_feed_moves_only() {
+    let text = "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG95 G1 X1. F0.1\nG0 X2.\nG1 X3.\nG94 G1 X4. F200.\nM30\n%\n";
+    let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [5, 7], "{:?}", errors(&p));
+    has(&p, 7, 4, "line 5's G95 (feed per revolution)");
+    assert_eq!(x_at(&p, 6), Some(2.0));
+    assert_eq!(x_at(&p, 8), Some(4.0));
+}
+
+/// A code the reader reads, refused for a defect of its block (a G83 with a peck of 0), leaves
+/// nothing held: the control stops at that block's alarm, and the next move is read as written.
+/// LinuxCNC's G43.1 (dynamic tool length, not read) holds until G49.
+#[test]
+fn a_defect_in_a_read_code_holds_nothing_and_g43_1_holds_until_g49() {
+    let text = "%\nO1000\nG20 G90 G17 G94\nG0 X0. Y0. Z1.\nG83 X1. Y0. Z-.5 R.1 F10. Q0.\nX2. Y0.\nG80\nM30\n%\n";
+    let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [5], "{:?}", errors(&p));
+    let p = read("G21 G90 G94\nG0 X0 Y0 Z10\nG43.1 Z1\nG0 X5\nG49\nG0 X6\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [3, 4], "{:?}", errors(&p));
+    has(&p, 4, 4, "line 3's G43.1 (dynamic or additional tool length offset) is in effect on the control until G49");
+    assert_eq!(x_at(&p, 6), Some(6.0));
+}
+
+/// A move refused under a held code that carries an F: a later move without one names it.
+#[test]
+fn a_held_moves_feed_is_named_by_the_next_move_without_one() {
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG41 D1\nG1 X1. F100.\nG40\nG1 X2.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [5, 6, 8], "{:?}", errors(&p));
+    has(&p, 8, 1, "line 6, refused before it, gave one");
+}
