@@ -32,9 +32,10 @@ const COMP: Rule = Rule { what: "cutter radius compensation", codes: &[410, 420,
 /// Tool length offset along the tool axis or added (Fanuc G43.1; LinuxCNC G43.1 dynamic, G43.2
 /// additional), cancelled by G49 or replaced by G43.
 const LENGTH: Rule = Rule { what: "dynamic or additional tool length offset", codes: &[431, 432], cancels: &[490, 430], feed_only: false };
-/// Tilted working planes, G69 their cancel (FANUC B-64484EN "Tilted working plane indexing").
-/// G68 itself is read for Fanuc and Haas ([`crate::program::fanuc_rotation`]).
-const TILT: Rule = Rule { what: "tilted working plane", codes: &[682, 683, 684], cancels: &[690], feed_only: false };
+/// Tilted working planes by tool axis or incremental angles, G69 their cancel (FANUC B-64484EN
+/// "Tilted working plane indexing"). G68 and G68.2 are read for Fanuc and Haas
+/// ([`crate::program::fanuc_rotation`], [`crate::program::feature`]).
+const TILT: Rule = Rule { what: "tilted working plane", codes: &[683, 684], cancels: &[690], feed_only: false };
 /// Scaling G51, cancelled by G50; programmable mirror image G51.1, cancelled by G50.1 (FANUC
 /// B-64484EN "Scaling", "Programmable mirror image"; Haas G50-G51, G50.1-G51.1).
 const SCALING: Rule = Rule { what: "scaling", codes: &[510], cancels: &[500], feed_only: false };
