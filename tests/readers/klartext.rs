@@ -478,3 +478,56 @@ fn klartext_reads_a_comment_going_on_over_lines() {
     assert!(p.diagnostics.iter().any(|d| d.line == 3 && d.severity == Severity::Warning && d.message.contains("does not begin with a blank")), "{:#?}", p.diagnostics);
     assert!(p.diagnostics.iter().any(|d| d.line == 7 && d.severity == Severity::Error), "{:#?}", p.diagnostics);
 }
+
+/// `PLANE ... MOVE DIST.. F..` (TNC 620 User's Manual 10/2017, "The PLANE function": "The control
+/// tilts the tool (or table) relative to the tool tip"; DIST "shifts the center of rotation of the
+/// movement relative to the current position of the tool tip"; a tool at that distance from the
+/// workpiece before is at the same relative position after). On the Hermle from the tip at (10, 20,
+/// 30) with the tool along Z, SPB+45 MOVE DIST+30: the centre is (10, 20, 0); every chord end lies
+/// 30 mm from it, every chord's middle within 1 µm of that sphere, and the last is 30 mm along the
+/// plane's Z, (sin 45°, 0, cos 45°) (the manual's SPB, by hand): (31.2132, 20, 21.2132), with the
+/// axes at the plane's A+45 C+90. DIST+0 keeps the tip where it stands; FMAX makes rapids.
+#[test]
+fn klartext_plane_move_turns_about_the_point_dist_below_the_tip() {
+    use fiveaxis::program::Motion;
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let options = ReadOptions::default().on(&hermle);
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    for (dist, feed, motion) in [(30.0, "F1000", Motion::Linear), (0.0, "FMAX", Motion::Rapid)] {
+        let text = format!("0 BEGIN PGM P MM\n1 L X+10 Y+20 Z+30 A+0 C+0 R0 FMAX\n2 PLANE SPATIAL SPA+0 SPB+45 SPC+0 MOVE DIST+{dist} {feed}\n3 L Z+50 R0 FMAX\n4 END PGM P MM\n");
+        let p = read(&text, Dialect::Klartext, "p.h", &options);
+        assert!(errors(&p).is_empty(), "DIST {dist}: {:?}", errors(&p));
+        let moves: Vec<_> = p.blocks.iter().filter(|b| b.line == 3 && !b.targets.is_empty()).collect();
+        assert!(moves.len() >= if dist > 0.0 { 16 } else { 1 } && moves.iter().all(|b| b.tcp && b.motion == motion), "DIST {dist}: {} chords", moves.len());
+        let tip = |b: &fiveaxis::program::Block| [0, 1, 2].map(|k| ([b.targets.x, b.targets.y, b.targets.z][k].unwrap() + b.datum[k]) / MM);
+        let centre = [10.0, 20.0, 30.0 - dist];
+        let from = |t: [f64; 3]| ((t[0] - centre[0]).powi(2) + (t[1] - centre[1]).powi(2) + (t[2] - centre[2]).powi(2)).sqrt();
+        let mut last = [10.0, 20.0, 30.0];
+        for b in &moves {
+            let t = tip(b);
+            assert!((from(t) - dist).abs() < 1e-9, "DIST {dist}: a chord end {t:?} is {} mm from the centre", from(t));
+            let mid = [0, 1, 2].map(|k| 0.5 * (t[k] + last[k]));
+            assert!(from(mid) > dist - 1e-3, "DIST {dist}: a chord's middle {mid:?} is {} mm from the centre", from(mid));
+            last = t;
+        }
+        let want = [centre[0] + dist * s, 20.0, centre[2] + dist * s];
+        assert!((0..3).all(|k| (last[k] - want[k]).abs() < 1e-9), "DIST {dist}: ends at {last:?}, by hand {want:?}");
+        let end = moves.last().unwrap();
+        assert!((end.targets.a.unwrap().to_degrees() - 45.0).abs() < 1e-9 && (end.targets.c.unwrap().to_degrees() - 90.0).abs() < 1e-9, "{end:?}");
+        if motion == Motion::Linear {
+            assert!((moves[0].feed.unwrap().value_per_min - 1000.0).abs() < 1e-9, "{:?}", moves[0]);
+        }
+        // In the plane, Z+50 goes along its Z from where the MOVE left the tip: (x, y) stay.
+        let after = p.blocks.iter().find(|b| b.line == 4).unwrap();
+        let t = tip(after);
+        let z_plane = 50.0 - (want[0] * s + want[2] * s); // how far along the plane's Z the tip goes
+        assert!((0..3).all(|k| (t[k] - (want[k] + z_plane * [s, 0.0, s][k])).abs() < 1e-9), "DIST {dist}: {t:?}");
+    }
+    let refused = |plane: &str, col: usize, needle: &str| {
+        let text = format!("0 BEGIN PGM P MM\n1 L X+10 Y+20 Z+30 A+0 C+0 R0 FMAX\n2 {plane}\n3 END PGM P MM\n");
+        has(&read(&text, Dialect::Klartext, "p.h", &options), 3, col, needle);
+    };
+    refused("PLANE SPATIAL SPA+0 SPB+45 SPC+0 MOVE F1000", 3, "MOVE without DIST");
+    refused("PLANE SPATIAL SPA+0 SPB+45 SPC+0 TURN DIST+5 FMAX", 41, "DIST goes with MOVE");
+    refused("PLANE SPATIAL SPA+0 SPB+45 SPC+0 MOVE DIST FMAX", 41, "DIST: expected the distance");
+}

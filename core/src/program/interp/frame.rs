@@ -55,7 +55,7 @@ impl Interpreter {
     }
 
     /// The machine's axes as they stand: [`Interpreter::axes_now`] and [`Interpreter::rot_now`].
-    pub(super) fn joints_now(&self) -> crate::kinematics::Joints {
+    pub(crate) fn joints_now(&self) -> crate::kinematics::Joints {
         let (axes, rot) = (self.axes_now(), self.rot_now());
         [axes.x, axes.y, axes.z, rot[0], rot[1]]
     }

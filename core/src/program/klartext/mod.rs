@@ -48,6 +48,7 @@ mod corners;
 mod cycles;
 mod formula;
 mod params;
+mod plane_move;
 mod exec;
 mod run;
 mod spline;

@@ -37,6 +37,9 @@ pub(super) enum PlaneMode {
     Turn,
     /// `STAY`: nothing moves; the angles go to Q120 (A), Q121 (B), Q122 (C).
     Stay,
+    /// `MOVE DIST`: the rotary axes turn about a point DIST below the tool tip along the tool axis,
+    /// which the linear axes keep where it is on the workpiece.
+    Move,
     /// Cycle 19: nothing moves (the program positions the axes itself), no Q parameters.
     Cycle,
 }
@@ -53,18 +56,19 @@ pub(super) struct PlaneStmt<'a> {
     /// `MB n|MAX` with `TURN`: the retract along the tool axis before tilting, as `M140 MB` (its
     /// distance, `None` for MAX; and the word's column).
     pub(super) retract: Option<(Option<KWord<'a>>, usize)>,
+    /// `DIST` with `MOVE`: the centre of rotation's distance from the tool tip, along the tool axis.
+    pub(super) dist: Option<KWord<'a>>,
 }
 
 /// `PLANE SPATIAL SPA.. SPB.. SPC.. | EULER EULPR.. EULNU.. EULROT.. | VECTOR BX.. BY.. BZ.. NX.. NY..
-/// NZ.. | RELATIV SPA..|SPB..|SPC.. | AXIAL A.. B.. C.. | RESET`, then `TURN` or `STAY` (`MOVE`, the
-/// compensating move about DIST, is refused), `F`/`FMAX`/`F MAX`, `SEQ+`/`SEQ-`, `COORD ROT`/`TABLE
-/// ROT`, in any order (iTNC 530 User's Manual 340 422 §9.2-9.8; PLANE RESET without positioning is
-/// hyperMILL's `PLANE RESET STAY`).
+/// NZ.. | RELATIV SPA..|SPB..|SPC.. | AXIAL A.. B.. C.. | RESET`, then `TURN`, `STAY` or `MOVE DIST..`,
+/// `F`/`FMAX`/`F MAX`, `SEQ+`/`SEQ-`, `COORD ROT`/`TABLE ROT`, in any order (iTNC 530 User's Manual
+/// 340 422 §9.2-9.8; PLANE RESET without positioning is hyperMILL's `PLANE RESET STAY`).
 pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
     let form_name = upper(toks.get(1).map_or("", |t| t.0));
     let mut rest = toks[2.min(toks.len())..].iter().copied().peekable();
     let mut values: Vec<(String, KWord<'a>)> = Vec::new();
-    let (mut mode, mut feed, mut choice, mut retract) = (None, FeedWord::None, crate::program::plane::Choice::default(), None);
+    let (mut mode, mut feed, mut choice, mut retract, mut dist) = (None, FeedWord::None, crate::program::plane::Choice::default(), None, None);
     let addresses: &[&str] = match form_name.as_ref() {
         "SPATIAL" => &["SPA", "SPB", "SPC"],
         "EULER" => &["EULPR", "EULNU", "EULROT"],
@@ -94,10 +98,7 @@ pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diag
         match u.as_ref() {
             "TURN" => mode = Some(PlaneMode::Turn),
             "STAY" => mode = Some(PlaneMode::Stay),
-            "MOVE" => {
-                diags.error(line, c, "PLANE ... MOVE: the compensating move about DIST is not modelled (TURN and STAY are)");
-                return None;
-            }
+            "MOVE" => mode = Some(PlaneMode::Move),
             "FMAX" => feed = FeedWord::Max,
             "F" if next_is(&mut rest, "MAX") => feed = FeedWord::Max,
             "SEQ+" => choice.seq = Some(true),
@@ -118,14 +119,21 @@ pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diag
                     return None;
                 }
             },
-            "DIST" => {
-                diags.error(line, c, "PLANE ... DIST: the distance of MOVE's centre of rotation is not modelled (MOVE is not)");
-                return None;
-            }
+            "DIST" if dist.is_none() => match rest.peek().copied().filter(|(v, _)| v.starts_with(|ch: char| ch.is_ascii_digit() || "+-.Q".contains(ch))) {
+                Some((v, vc)) => {
+                    rest.next();
+                    dist = Some(value_word("DIST", v, v, vc, line, diags)?);
+                }
+                None => {
+                    diags.error(line, c, "PLANE ... DIST: expected the distance of the centre of rotation from the tool tip");
+                    return None;
+                }
+            },
             _ => {
                 let (addr, v) = point_word(tok).unwrap_or_else(|| split_word(tok));
                 match (addresses.iter().find(|a| **a == addr.as_ref()), addr.as_ref()) {
                     (None, "MB") if retract.is_none() && !v.is_empty() => retract = Some((Some(value_word("MB", v, tok, c, line, diags)?), c)),
+                    (None, "DIST") if dist.is_none() && !v.is_empty() => dist = Some(value_word("DIST", v, tok, c, line, diags)?),
                     (Some(a), _) => {
                         if values.iter().any(|(n, _)| n == a) {
                             diags.error(line, c, format!("PLANE: {a} written twice"));
@@ -144,9 +152,22 @@ pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diag
         }
     }
     let Some(mode) = mode else {
-        diags.error(line, col, format!("PLANE {form_name}: expected TURN or STAY (how the rotary axes are positioned)"));
+        diags.error(line, col, format!("PLANE {form_name}: expected TURN, MOVE or STAY (how the rotary axes are positioned)"));
         return None;
     };
+    // TNC 620 User's Manual 10/2017, "The PLANE function", automatic positioning: DIST is MOVE's
+    // ("Dist. tool tip - center of rot."); what the TNC takes without it is not at hand.
+    match (&dist, mode) {
+        (None, PlaneMode::Move) => {
+            diags.error(line, col, format!("PLANE {form_name} ... MOVE without DIST: the distance of the centre of rotation from the tool tip is needed (what the TNC takes without it is not at hand)"));
+            return None;
+        }
+        (Some(d), PlaneMode::Turn | PlaneMode::Stay) => {
+            diags.error(line, d.col, format!("PLANE {form_name}: DIST goes with MOVE (the centre of rotation of its compensating move)"));
+            return None;
+        }
+        _ => {}
+    }
     if let (Some((_, c)), PlaneMode::Stay) = (&retract, mode) {
         diags.error(line, *c, format!("PLANE {form_name} ... STAY MB: a retract before tilting goes with TURN (STAY moves nothing)"));
         return None;
@@ -181,7 +202,7 @@ pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diag
         }
         _ => PlaneForm::Reset,
     };
-    Some(Kind::Plane(PlaneStmt { form, mode, feed, choice, cycle: false, retract }))
+    Some(Kind::Plane(PlaneStmt { form, mode, feed, choice, cycle: false, retract, dist }))
 }
 
 /// A `PLANE POINTS` coordinate word (`P1X+0`, `P3Z-12.5`): its address (a digit inside, which
@@ -224,7 +245,7 @@ pub(super) fn cycle19<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, di
                 }
             }
             let form = if values.is_empty() { PlaneForm::Reset } else { PlaneForm::Axial(values) };
-            Some(Kind::Plane(PlaneStmt { form, mode: PlaneMode::Cycle, feed, choice: Default::default(), cycle: true, retract: None }))
+            Some(Kind::Plane(PlaneStmt { form, mode: PlaneMode::Cycle, feed, choice: Default::default(), cycle: true, retract: None, dist: None }))
         }
         _ => {
             diags.error(line, col, "CYCL DEF 19: expected CYCL DEF 19.0 and its name, or CYCL DEF 19.1 with the angles A, B, C");
@@ -355,7 +376,14 @@ impl Exec {
                 }
             }
         };
-        // STAY (and TURN): the angles the control computed, in Q120 (A), Q121 (B), Q122 (C).
+        // MOVE: the compensating move, in the frame before the plane; refused, it tilts nothing.
+        if p.mode == PlaneMode::Move {
+            let Some(d) = p.dist.as_ref() else { return };
+            if !self.plane_move(d, &p.feed, rot, &letters, &machine, s, interp, out, diags) {
+                return;
+            }
+        }
+        // STAY, TURN and MOVE: the angles the control computed, in Q120 (A), Q121 (B), Q122 (C).
         if p.mode != PlaneMode::Cycle {
             for (k, l) in letters.iter().enumerate() {
                 if let Some(i) = "ABC".find(*l) {
