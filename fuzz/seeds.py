@@ -40,6 +40,16 @@ FANUC_NURBS = (b"%\nO0001\nG21 G17 G90 G94\nG00 X0. Y0. Z0.\nG01 F500.\nG06.2 P3
 KLARTEXT_SPLINE = (b"0 BEGIN PGM SPL MM\n1 TOOL CALL 1 Z S5000\n2 L X+28.338 Y+19.385 Z-0.5 A+0 FMAX\n"
                    b"3 SPL X24.875 Y15.924 Z-0.5 K3X-4.688E-002 K2X2.459E-002 K1X3.486E+000 K3Y-4.563E-002 K2Y2.155E-002 K1Y3.486E+000 K3Z0.000E+000 K2Z0.000E+000 K1Z0.000E+000 F10000\n"
                    b"4 SPL X+34.875 A+5 K3X+0 K2X+0 K1X-1 E+1 K3A+0 K2A+0 K1A-5\n5 SPL X+40 K2X+0 K3X+0 K1X-5.125\n6 L Z+50 FMAX\n7 END PGM SPL MM\n")
+# TNC tilted planes on a machine (the first byte + 7: read on the Hermle): MOVE DIST about the
+# point below the tip, TURN MB, STAY with Q120-Q122, RESET.
+KLARTEXT_PLANES = (b"0 BEGIN PGM PL MM\n1 TOOL CALL 1 Z S5000\n2 L X+10 Y+20 Z+30 A+0 C+0 R0 FMAX\n"
+                   b"3 PLANE SPATIAL SPA+0 SPB+45 SPC+0 MOVE DIST+30 F1000\n4 L Z+50 R0 FMAX\n"
+                   b"5 PLANE SPATIAL SPA+30 SPB+0 SPC+0 TURN MB+20 FMAX SEQ- TABLE ROT\n"
+                   b"6 PLANE SPATIAL SPA+0 SPB+0 SPC+0 STAY SEQ+\n7 L A+Q120 C+Q122 R0 FMAX\n"
+                   b"8 PLANE RESET MOVE DIST+0 FMAX\n9 END PGM PL MM\n")
+# Fanuc's refused modal codes held until their cancel: G41 to G40, G51 to G50, G51.1 to G50.1.
+FANUC_HELD = (b"%\nO1000\nG21 G90 G17 G94 F100.\nG0 X0. Y0. Z10.\nG41 D1 G1 X10. Y10.\nG1 X20.\nG40 X30. Y0.\n"
+              b"G51 X0. Y0. P2\nG1 X2.\nG50\nG51.1 X0.\nX3.\nG50.1\nG1 X4.\nM30\n%\n")
 # An 840D contour under tool radius compensation: a tool by name, CFTCP and CFC, arcs by CR, a
 # subprogram-free M17 left out, a stop at a CFC outside corner, D0, refusals (KONT, OFFN, G451).
 SINUMERIK_TRC = (b"T=\"MILL_D6\" D1\nM6\nG17 G90 G71 G94 CFTCP\nG0 X-20 Y-20 Z5\nG1 Z-2 F500\nG1 G42 X0 Y0\n"
@@ -108,6 +118,8 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "flow.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_FLOW)
     put(corpus, "nc_program", "contour.h", bytes([PICK["klartext"]]) + KLARTEXT_CONTOUR)
     put(corpus, "nc_program", "spline.h", bytes([PICK["klartext"]]) + KLARTEXT_SPLINE)
+    put(corpus, "nc_program", "planes.h", bytes([PICK["klartext"] + len(PICK)]) + KLARTEXT_PLANES)
+    put(corpus, "nc_program", "held.nc", bytes([PICK["fanuc"]]) + FANUC_HELD)
     put(corpus, "nc_program", "trc.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_TRC)
     put(corpus, "nc_program", "corners.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_CORNERS)
     put(corpus, "nc_program", "corners.nc", bytes([PICK["fanuc"]]) + FANUC_CORNERS)

@@ -1,5 +1,6 @@
 //! NC and CL program readers: the first byte picks the dialect (Heidenhain DIN/ISO, RS274NGC, CL,
-//! Sinumerik, Klartext), the rest is the program text (not UTF-8: replaced, as `program::load` does).
+//! Sinumerik, Klartext, Fanuc, Haas; every other round of seven on the Hermle's kinematics), the rest
+//! is the program text (not UTF-8: replaced, as `program::load` does).
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 

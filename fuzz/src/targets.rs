@@ -151,6 +151,10 @@ pub fn nc_program(data: &[u8]) {
         Arc::new(fiveaxis::program::ToolTable::parse(text).expect("the fuzz tool table"))
     });
     let options = ReadOptions { max_run_lines: 20_000, subroutine_files: Some(again), tool_table: Some(tools.clone()), ..ReadOptions::default() };
+    // Every other round of dialects reads on the Hermle, whose kinematics the tilted planes
+    // (PLANE, CYCLE800, G68.2), machine moves and TCPM need.
+    static HERMLE: std::sync::OnceLock<Machine> = std::sync::OnceLock::new();
+    let options = if (pick as usize / DIALECTS.len()) % 2 == 1 { options.on(HERMLE.get_or_init(Machine::hermle_c600u)) } else { options };
     let program = read(&text, DIALECTS[pick as usize % DIALECTS.len()], "fuzz", &options);
     let _ = program.report();
 }
