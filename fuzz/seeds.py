@@ -46,7 +46,7 @@ KLARTEXT_PLANES = (b"0 BEGIN PGM PL MM\n1 TOOL CALL 1 Z S5000\n2 L X+10 Y+20 Z+3
                    b"3 PLANE SPATIAL SPA+0 SPB+45 SPC+0 MOVE DIST+30 F1000\n4 L Z+50 R0 FMAX\n"
                    b"5 PLANE SPATIAL SPA+30 SPB+0 SPC+0 TURN MB+20 FMAX SEQ- TABLE ROT\n"
                    b"6 PLANE SPATIAL SPA+0 SPB+0 SPC+0 STAY SEQ+\n7 L A+Q120 C+Q122 R0 FMAX\n"
-                   b"8 PLANE RESET MOVE DIST+0 FMAX\n9 END PGM PL MM\n")
+                   b"8 PLANE RESET STAY\n9 END PGM PL MM\n")
 # Fanuc's refused modal codes held until their cancel: G41 to G40, G51 to G50, G51.1 to G50.1.
 FANUC_HELD = (b"%\nO1000\nG21 G90 G17 G94 F100.\nG0 X0. Y0. Z10.\nG41 D1 G1 X10. Y10.\nG1 X20.\nG40 X30. Y0.\n"
               b"G51 X0. Y0. P2\nG1 X2.\nG50\nG51.1 X0.\nX3.\nG50.1\nG1 X4.\nM30\n%\n")

@@ -531,3 +531,20 @@ fn klartext_plane_move_turns_about_the_point_dist_below_the_tip() {
     refused("PLANE SPATIAL SPA+0 SPB+45 SPC+0 TURN DIST+5 FMAX", 41, "DIST goes with MOVE");
     refused("PLANE SPATIAL SPA+0 SPB+45 SPC+0 MOVE DIST FMAX", 41, "DIST: expected the distance");
 }
+
+/// MOVE turns a modulo axis as TURN does: under M126 the shorter way, under M127 as written. From
+/// C+350 to the plane's C+90 on the Hermle (A+30 to A+45): the last chord's C is 450 (100° on)
+/// under M126, 90 (260° back) under M127, both by hand.
+#[test]
+fn klartext_plane_move_turns_a_modulo_axis_the_way_turn_does() {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let options = ReadOptions::default().on(&hermle);
+    for (m, c) in [("M126", 450.0), ("M127", 90.0)] {
+        let text = format!("0 BEGIN PGM P MM\n1 L X+10 Y+20 Z+30 A+30 C+350 R0 FMAX\n2 L {m}\n3 PLANE SPATIAL SPA+0 SPB+45 SPC+0 MOVE DIST+0 F1000\n4 END PGM P MM\n");
+        let p = read(&text, Dialect::Klartext, "p.h", &options);
+        assert!(errors(&p).is_empty(), "{m}: {:?}", errors(&p));
+        let last = p.blocks.iter().filter(|b| b.line == 4).last().unwrap();
+        assert!((last.targets.c.unwrap().to_degrees() - c).abs() < 1e-9, "{m}: {last:?}");
+    }
+    has(&read("0 BEGIN PGM P MM\n1 L X+10 Y+20 Z+30 A+0 C+0 R0 FMAX\n2 PLANE RESET MOVE DIST+0 FMAX\n3 END PGM P MM\n", Dialect::Klartext, "p.h", &options), 3, 3, "PLANE RESET ... MOVE");
+}

@@ -97,3 +97,37 @@ fn a_held_moves_feed_is_named_by_the_next_move_without_one() {
     assert_eq!(error_lines(&p), [5, 6, 8], "{:?}", errors(&p));
     has(&p, 8, 1, "line 6, refused before it, gave one");
 }
+
+/// A block refused under a hold keeps its own held code (G41 under G51 holds after G50); a line
+/// damaged before its words are read (a vacant `#100`) holds its G41 too; under a hold a full circle
+/// by its centre alone is a move, G10's and G04's words are not; a drilling cycle under G95 is a
+/// feed move; Fanuc's G68.2 refused in a form not read (P1) holds until G69; normal direction
+/// control G41.1 holds until G40.1 (not G40); G43.4 ends G43.1's hold (one group).
+#[test]
+fn holds_reach_every_way_a_block_is_refused_and_end_at_their_groups_codes() {
+    let fanuc = |body: &str| read(&format!("%\nO1000\nG21 G90 G17 G94 F100.\nG0 X0. Y0. Z10.\n{body}M30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    let p = fanuc("G51 X0. Y0. P2\nG41 D1 G1 X10. Y10.\nG50\nG1 X20.\nG40\nG1 X30.\n");
+    assert_eq!(error_lines(&p), [5, 5, 6, 8], "{:?}", errors(&p));
+    has(&p, 8, 4, "line 6's G41");
+    assert_eq!(x_at(&p, 10), Some(30.0));
+    let p = fanuc("G41 D1 G1 X#100 Y10.\nG1 X20.\nG40\nG1 X30.\n");
+    assert_eq!(error_lines(&p), [5, 6], "{:?}", errors(&p));
+    has(&p, 6, 4, "line 5's G41");
+    let p = fanuc("G41 D1\nG10 L2 P2 X100. Y0. Z0.\nG3 I-10.\nG40\n");
+    assert_eq!(error_lines(&p), [5, 7], "{:?}", errors(&p));
+    has(&p, 7, 4, "line 5's G41");
+    let p = fanuc("G41.1\nG40\nG1 X5.\nG40.1\nG1 X6.\n");
+    assert_eq!(error_lines(&p), [5, 7], "{:?}", errors(&p));
+    has(&p, 7, 4, "line 5's G41.1 (normal direction control) is in effect on the control until G40.1");
+    assert_eq!(x_at(&p, 9), Some(6.0));
+    let p = fanuc("G43.1 H1\nG1 X5.\nG43.4 H1\nG1 X6.\n");
+    assert_eq!(error_lines(&p), [5, 6], "{:?}", errors(&p));
+    has(&p, 6, 4, "until G49 or G43 or G44 or G43.4 or G43.5");
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG68.2 P1 X0. Y0. Z0. I0. J30. K0.\nG0 X10.\nG69\nG0 X5.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&hermle));
+    assert_eq!(error_lines(&p), [5, 6], "{:?}", errors(&p));
+    has(&p, 6, 4, "line 5's G68.2 (tilted working plane)");
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG95\nG0 X10. Y10.\nG81 X20. Y10. Z-5. R1. F0.1\nG80\nG94\nM30\n%\n", Dialect::Haas, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [5, 7], "{:?}", errors(&p));
+    has(&p, 7, 5, "line 5's G95");
+}

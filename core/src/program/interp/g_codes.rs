@@ -306,8 +306,13 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         // Haas G50/G50.1): G51 and G51.1 are refused, so none is in effect here and the cancel changes
         // nothing (after a refused one, [`super::lasting`] ends its hold).
         ("50" | "50.1", false) if fanuc => {}
+        // Normal direction control cancel (FANUC B-64484EN "Normal direction control"): G41.1/G42.1
+        // are refused, so none is in effect here.
+        ("40.1", false) if before.dialect == Dialect::Fanuc => {}
         ("61" | "61.1", false) => unsupported(diags, "exact stop mode: the planner blends blocks as G64 does"),
+        ("41.1" | "42.1", false) if before.dialect == Dialect::Fanuc => unsupported(diags, "normal direction control"),
         ("41" | "42" | "41.1" | "42.1", false) => unsupported(diags, "cutter radius compensation"),
+        ("51.1", false) if fanuc => unsupported(diags, "programmable mirror image"),
         ("43.1" | "43.2", false) => unsupported(diags, "dynamic tool length offset"),
         ("68" | "68.2" | "68.3" | "68.4" | "69" | "53.1" | "53.6", false) => unsupported(diags, "coordinate rotation or tilted working plane"),
         ("5" | "5.1" | "5.2" | "5.3" | "6.2", false) => unsupported(diags, "spline or NURBS motion"),

@@ -28,14 +28,17 @@ struct Rule {
 
 /// Cutter radius compensation, G40 its cancel (FANUC B-64484EN "Cutter compensation C"; Haas Mill
 /// Operator's Manual, G40-G42).
-const COMP: Rule = Rule { what: "cutter radius compensation", codes: &[410, 420, 411, 421], cancels: &[400], feed_only: false };
+const COMP: Rule = Rule { what: "cutter radius compensation", codes: &[410, 420], cancels: &[400], feed_only: false };
+/// Fanuc's normal direction control G41.1/G42.1, cancelled by G40.1 (FANUC B-64484EN "Normal
+/// direction control").
+const NORMAL: Rule = Rule { what: "normal direction control", codes: &[411, 421], cancels: &[401], feed_only: false };
 /// Tool length offset along the tool axis or added (Fanuc G43.1; LinuxCNC G43.1 dynamic, G43.2
-/// additional), cancelled by G49 or replaced by G43.
-const LENGTH: Rule = Rule { what: "dynamic or additional tool length offset", codes: &[431, 432], cancels: &[490, 430], feed_only: false };
-/// Tilted working planes by tool axis or incremental angles, G69 their cancel (FANUC B-64484EN
-/// "Tilted working plane indexing"). G68 and G68.2 are read for Fanuc and Haas
-/// ([`crate::program::fanuc_rotation`], [`crate::program::feature`]).
-const TILT: Rule = Rule { what: "tilted working plane", codes: &[683, 684], cancels: &[690], feed_only: false };
+/// additional), cancelled by G49 or replaced by another code of its group (G43, G44, G43.4, G43.5).
+const LENGTH: Rule = Rule { what: "dynamic or additional tool length offset", codes: &[431, 432], cancels: &[490, 430, 440, 434, 435], feed_only: false };
+/// Tilted working planes, G69 their cancel (FANUC B-64484EN "Tilted working plane indexing"). Fanuc's
+/// G68.2 with Euler angles is read ([`crate::program::feature`]); refused (its other forms, under
+/// G91, a second one; any on Haas), the control runs it all the same.
+const TILT: Rule = Rule { what: "tilted working plane", codes: &[682, 683, 684], cancels: &[690], feed_only: false };
 /// Scaling G51, cancelled by G50; programmable mirror image G51.1, cancelled by G50.1 (FANUC
 /// B-64484EN "Scaling", "Programmable mirror image"; Haas G50-G51, G50.1-G51.1).
 const SCALING: Rule = Rule { what: "scaling", codes: &[510], cancels: &[500], feed_only: false };
@@ -43,22 +46,23 @@ const MIRROR: Rule = Rule { what: "mirror image", codes: &[511], cancels: &[501]
 /// Feed per revolution, cancelled by G94 or G93.
 const PER_REV: Rule = Rule { what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true };
 
-/// The rules of a dialect: the modal codes its control runs and this reader never reads (a code it
-/// reads is refused only where the block has a defect, at which the control stops too). LinuxCNC
-/// has no scaling, mirror or tilted plane codes (it stops at them as at any unknown code); the
-/// 840D's and the TNC's cutter compensation are read.
+/// The rules of a dialect: the modal codes its control runs and this reader refuses (always, or in
+/// some forms: G68.2). Codes it reads (canned cycles, G68, LinuxCNC's G41/G42) hold nothing when
+/// refused: that is for a defect of the block, at which the control stops too. LinuxCNC has no
+/// scaling, mirror or tilted plane codes (it stops at them as at any unknown code); the 840D's and
+/// the TNC's cutter compensation are read.
 fn rules(dialect: Dialect) -> &'static [&'static Rule] {
     match dialect {
-        Dialect::Fanuc => &[&COMP, &LENGTH, &TILT, &SCALING, &MIRROR],
+        Dialect::Fanuc => &[&COMP, &NORMAL, &LENGTH, &TILT, &SCALING, &MIRROR],
         Dialect::Haas => &[&COMP, &LENGTH, &TILT, &SCALING, &MIRROR, &PER_REV],
         Dialect::Rs274 => &[&LENGTH],
         _ => &[],
     }
 }
 
-/// A word that moves an axis.
-fn axis_word(w: &Word) -> bool {
-    matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W')
+/// A word that moves an axis; `arc`: an arc's centre or radius too (a full circle has no end point).
+fn axis_word(w: &Word, arc: bool) -> bool {
+    matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W') || arc && matches!(w.letter, 'I' | 'J' | 'K' | 'R')
 }
 
 impl Interpreter {
@@ -70,23 +74,31 @@ impl Interpreter {
             return true;
         }
         let g: Vec<i64> = words.iter().filter(|w| w.letter == 'G').map(super::x10).collect();
-        let Some(axis) = words.iter().find(|w| axis_word(w)) else {
+        // The block's motion: its own group-01 code or canned cycle, else the modal one.
+        let own = g.iter().find_map(|&c| match c {
+            0 => Some(Some(Motion::Rapid)),
+            10 => Some(Some(Motion::Linear)),
+            20 => Some(Some(Motion::ArcCw)),
+            30 => Some(Some(Motion::ArcCcw)),
+            730..=890 if c != 800 => Some(None),
+            _ => None,
+        });
+        let motion = own.unwrap_or(self.motion);
+        let arc = matches!(motion, Some(Motion::ArcCw | Motion::ArcCcw));
+        // Words of G10 (offsets) and G04 (the dwell) move nothing.
+        let moves = !g.iter().any(|c| matches!(c, 100 | 40));
+        let Some(axis) = words.iter().find(|w| moves && axis_word(w, arc)) else {
             self.lasting.retain(|l| !l.rule.cancels.iter().any(|c| g.contains(c)));
             return true;
         };
-        let motion = words.iter().filter(|w| w.letter == 'G').find_map(|w| match super::x10(w) {
-            0 => Some(Motion::Rapid),
-            10 | 20 | 30 => Some(Motion::Linear),
-            _ => None,
-        });
-        let rapid = motion.or(self.motion) == Some(Motion::Rapid);
+        let rapid = motion == Some(Motion::Rapid);
         let mut ok = true;
         for l in &self.lasting {
             let cancelled = l.rule.cancels.iter().any(|c| g.contains(c));
             if (cancelled && l.rule.what != COMP.what) || (l.rule.feed_only && rapid) {
                 continue;
             }
-            let cancel = format!("G{}", l.rule.cancels[0] as f64 / 10.0);
+            let cancel = l.rule.cancels.iter().map(|c| format!("G{}", *c as f64 / 10.0)).collect::<Vec<_>>().join(" or ");
             let why = if cancelled {
                 format!("{cancel} with a move after line {}'s G{} ({}), which was refused: the control starts this move at the point its compensation made, which is not known", l.line, l.code, l.rule.what)
             } else {

@@ -542,6 +542,8 @@ impl Interpreter {
             }
         }
         if !self.check_lasting(words, line, diags) {
+            // Refused, but run on the control: its own codes hold as any refused block's do.
+            self.refused(words, line);
             self.note_feed(false, words.iter().any(|w| w.letter == 'F'), line);
             return false;
         }
@@ -549,18 +551,27 @@ impl Interpreter {
             Some(done) => done,
             None => self.block_plain(words, line, column, number, diags, out),
         };
-        if !done && words.iter().any(|w| w.letter == 'G') {
-            self.refused_line = Some(line);
-            // A refused spline, NURBS or 3D circle mode (G group 01, modal): the moves after it on the
-            // control are its points, not lines of the mode before.
-            let unread_motion = |w: &Word| w.letter == 'G' && matches!(codes::x10(w), 24 | 34 | 50 | 51 | 52 | 53 | 61 | 62);
-            if matches!(self.dialect, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas) && words.iter().any(unread_motion) {
-                self.forget_motion(line);
-            }
-            self.note_lasting(words, line);
+        if !done {
+            self.refused(words, line);
         }
         self.note_feed(done, words.iter().any(|w| w.letter == 'F'), line);
         done
+    }
+
+    /// A block with G codes was refused: none of them took effect here, which later defects name;
+    /// a spline mode leaves the motion unknown, and the codes the control keeps hold later moves.
+    pub(crate) fn refused(&mut self, words: &[Word], line: usize) {
+        if !words.iter().any(|w| w.letter == 'G') {
+            return;
+        }
+        self.refused_line = Some(line);
+        // A refused spline, NURBS or 3D circle mode (G group 01, modal): the moves after it on the
+        // control are its points, not lines of the mode before.
+        let unread_motion = |w: &Word| w.letter == 'G' && matches!(codes::x10(w), 24 | 34 | 50 | 51 | 52 | 53 | 61 | 62);
+        if matches!(self.dialect, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas) && words.iter().any(unread_motion) {
+            self.forget_motion(line);
+        }
+        self.note_lasting(words, line);
     }
 
     /// What to add to a defect that a refused block's codes, had they taken effect, might have
@@ -726,6 +737,12 @@ impl Interpreter {
     /// Whether G90 is in effect.
     pub(crate) fn absolute(&self) -> bool {
         self.absolute
+    }
+
+    /// M126 is in effect and rotary axis `k` (0 = A) is a modulo one: an absolute position goes the
+    /// shorter way.
+    pub(crate) fn shortest_way(&self, k: usize) -> bool {
+        self.shortest && self.modulo[k]
     }
 
     /// The dialect read.

@@ -35,6 +35,8 @@ impl Exec {
         let d = d * unit;
         let q0 = interp.joints_now();
         let rot0 = [q0[3], q0[4]];
+        // M126: a modulo axis goes the shorter way, as the TURN block's words do.
+        let rot = [0, 1].map(|j| if interp.shortest_way(k[j]) { crate::kinematics::unwrap_near(rot[j], rot0[j]) } else { rot[j] });
         let pose0 = machine.chain.forward(&q0);
         let centre = pose0.tip - pose0.axis * d;
         let datum = nalgebra::Vector3::from(interp.datum());

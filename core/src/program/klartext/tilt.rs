@@ -1,5 +1,5 @@
 //! Tilted working planes as a block states them: `PLANE SPATIAL/EULER/VECTOR/POINTS/RELATIV/AXIAL/
-//! RESET` with `TURN`/`STAY`, `SEQ`, `COORD ROT`/`TABLE ROT`, and cycle 19 (iTNC 530 User's Manual,
+//! RESET` with `TURN`/`STAY`/`MOVE`, `SEQ`, `COORD ROT`/`TABLE ROT`, and cycle 19 (iTNC 530 User's Manual,
 //! "Tilting the working plane"): parsed, then run (the axes the control picks, its Q120-Q122, the
 //! frame it sets); the plane's geometry is [`crate::program::plane`]'s.
 
@@ -53,8 +53,8 @@ pub(super) struct PlaneStmt<'a> {
     pub(super) choice: crate::program::plane::Choice,
     /// Cycle 19's spatial angles (a machine setting decides between them and axis angles).
     pub(super) cycle: bool,
-    /// `MB n|MAX` with `TURN`: the retract along the tool axis before tilting, as `M140 MB` (its
-    /// distance, `None` for MAX; and the word's column).
+    /// `MB n|MAX` with `TURN` or `MOVE`: the retract along the tool axis before tilting, as `M140 MB`
+    /// (its distance, `None` for MAX; and the word's column).
     pub(super) retract: Option<(Option<KWord<'a>>, usize)>,
     /// `DIST` with `MOVE`: the centre of rotation's distance from the tool tip, along the tool axis.
     pub(super) dist: Option<KWord<'a>>,
@@ -169,7 +169,7 @@ pub(super) fn plane<'a>(toks: &[(&'a str, usize)], line: usize, col: usize, diag
         _ => {}
     }
     if let (Some((_, c)), PlaneMode::Stay) = (&retract, mode) {
-        diags.error(line, *c, format!("PLANE {form_name} ... STAY MB: a retract before tilting goes with TURN (STAY moves nothing)"));
+        diags.error(line, *c, format!("PLANE {form_name} ... STAY MB: a retract before tilting goes with TURN or MOVE (STAY moves nothing)"));
         return None;
     }
     let take = |name: &str| values.iter().find(|(n, _)| n == name).map(|(_, w)| w.clone());
@@ -331,6 +331,11 @@ impl Exec {
             return;
         }
         let Some(r) = frame else {
+            // RESET with MOVE: where the TNC turns the axes back to is not read (TURN moves nothing here).
+            if p.mode == PlaneMode::Move {
+                diags.error(s.line, s.col, "PLANE RESET ... MOVE: the compensating move back to the axes' basic position is not read (write PLANE RESET STAY and position the axes)");
+                return;
+            }
             interp.set_tilt(None);
             return;
         };

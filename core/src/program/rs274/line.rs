@@ -211,6 +211,18 @@ impl Rs274Reader {
         }
         if diags.errors() > errors_before {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+            // Its G codes as written: the control runs the line, and those it keeps hold later moves.
+            let g: Vec<crate::program::interp::Word> = read
+                .items
+                .iter()
+                .filter_map(|item| match item {
+                    Item::Word { letter: 'G', comma: false, column, raw, value: Value::Written(v) } => {
+                        Some(crate::program::interp::Word { letter: 'G', value: *v, raw: text[raw.0..raw.1].into(), column: *column, dimension: crate::program::interp::Dimension::Modal })
+                    }
+                    _ => None,
+                })
+                .collect();
+            self.interp.refused(&g, line);
             return None;
         }
         Some((read, now))

@@ -461,6 +461,7 @@ impl Rs274Reader {
         let damaged = diags.errors() > errors_before;
         if damaged {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+            self.interp.refused(&words, line);
             return Ran::NotUsed;
         }
         if words.is_empty() && commas.is_empty() {
@@ -484,6 +485,7 @@ impl Rs274Reader {
             if let Some((_, w)) = words.iter().enumerate().find(|(i, w)| per_rev && w.letter == 'F' && computed.binary_search(i).is_err() && !w.raw.contains('.')) {
                 diags.error(line, w.column, format!("F{} without a decimal point under G95 (feed per revolution): whether the control reads it in mm (in) per revolution or in least input increments is not read; write it with a decimal point", w.raw));
                 diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+                self.interp.refused(&words, line);
                 return Ran::NotUsed;
             }
             if let Some(i) = self.decimal_points(&mut words, &computed) {
@@ -506,6 +508,7 @@ impl Rs274Reader {
         *ask = self.corner_words(&mut commas, &words, line, read.number, diags);
         if !self.quill_words(&mut words, line, diags) {
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
+            self.interp.refused(&words, line);
             return Ran::NotUsed;
         }
         let before = out.len();
