@@ -1,7 +1,9 @@
 //! A modal code the control runs and the reader refuses (Fanuc's and Haas' cutter compensation,
 //! scaling, mirror image, tilted plane, Haas' feed per revolution, LinuxCNC's dynamic tool length)
 //! stays in effect on the control until its cancel: the moves under it are refused, naming the
-//! refused block, and read again after the cancel.
+//! refused block (read for the program's state only), and so are the moves after the cancel until
+//! the axes the held moves placed are written absolute (the control left them where the held code
+//! put them).
 
 use super::*;
 
@@ -23,7 +25,8 @@ fn moves_under_a_refused_cutter_compensation_are_refused_until_g40() {
     for dialect in [Dialect::Fanuc, Dialect::Haas] {
         let text = "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG41 D1 G1 X10. Y10. F500.\nG1 X20.\nG0 Z20.\nG40 X30. Y0.\nG1 X40. F500.\nM30\n%\n";
         let p = read(text, dialect, "t.nc", &ReadOptions::default());
-        assert_eq!(error_lines(&p), [5, 6, 7, 8], "{dialect:?}: {:?}", errors(&p));
+        // Line 6 also lacks the feed line 5 gave (refused, its F took no effect here).
+        assert_eq!(error_lines(&p), [5, 6, 6, 7, 8], "{dialect:?}: {:?}", errors(&p));
         for l in [6, 7] {
             has(&p, l, 4, "line 5's G41 (cutter radius compensation) is in effect on the control until G40");
         }
@@ -36,16 +39,22 @@ fn moves_under_a_refused_cutter_compensation_are_refused_until_g40() {
     }
 }
 
-/// A G40 without a move ends the hold; a G40 in a refused block too (the control runs it).
+/// A G40 without a move ends the hold; a G40 in a refused block too (the control runs it). The
+/// first move after it starts where the compensation left the tool in X and Y (G17): refused until
+/// both are written absolute; Z is not compensated, so a move of Z alone before it is refused too
+/// (it starts at the unknown X Y) and the move that writes X and Y is the last refused.
 #[test]
 fn a_cancel_ends_the_hold_in_a_block_of_its_own_or_a_refused_one() {
-    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG42 D1\nG40\nG1 X5. F100.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
-    assert_eq!(error_lines(&p), [5], "{:?}", errors(&p));
-    assert_eq!(x_at(&p, 7), Some(5.0));
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG42 D1\nG40\nG0 Z20.\nG1 X5. Y0. F100.\nG91 G1 Z1.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [5, 7, 8], "{:?}", errors(&p));
+    has(&p, 7, 4, "once X and Y are written absolute");
+    has(&p, 8, 4, "once X and Y are written absolute");
+    let z = p.blocks.iter().filter(|b| b.line == 9).filter_map(|b| b.targets.z.map(|z| (z + b.datum[2]) / MM)).last();
+    assert_eq!(z, Some(21.0), "the refused Z move was read for the position: Z20, then 1 more");
     // Line 6 is refused for its G39 (unknown), but its G40 acts on the control.
-    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG42 D1\nG40 G39\nG1 X5. F100.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
-    assert_eq!(error_lines(&p), [5, 6], "{:?}", errors(&p));
-    assert_eq!(x_at(&p, 7), Some(5.0));
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG42 D1\nG40 G39\nG1 X5. Y0. F100.\nG1 X6.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [5, 6, 7], "{:?}", errors(&p));
+    assert_eq!(x_at(&p, 8), Some(6.0));
 }
 
 /// FANUC B-64484EN "Scaling" and "Programmable mirror image": G51 scales and G51.1 mirrors every
@@ -54,13 +63,14 @@ fn a_cancel_ends_the_hold_in_a_block_of_its_own_or_a_refused_one() {
 #[test]
 fn scaling_and_mirror_image_hold_until_g50_and_g50_1() {
     for (on, off, what) in [("G51 X0. Y0. P2", "G50", "scaling"), ("G51.1 X0.", "G50.1", "mirror image")] {
-        let text = format!("%\nO1000\nG21 G90 G17 G94 F100.\n{off}\nG0 X1. Y0. Z10.\n{on}\nG1 X2.\n{off}\nG1 X3.\nM30\n%\n");
+        let text = format!("%\nO1000\nG21 G90 G17 G94 F100.\n{off}\nG0 X1. Y0. Z10.\n{on}\nG1 X2.\n{off}\nG1 X3. Y0. Z10.\nG1 X4.\nM30\n%\n");
         let p = read(&text, Dialect::Haas, "t.nc", &ReadOptions::default());
         let e = errors(&p);
-        assert!(e.iter().all(|(l, _, _)| *l == 6 || *l == 7), "{on}: {e:?}");
+        assert!(e.iter().all(|(l, _, _)| [6, 7, 9].contains(l)), "{on}: {e:?}");
         has(&p, 7, 4, &format!("line 6's G{} ({what}) is in effect on the control until {off}", &on[1..on.find(' ').unwrap()]));
+        has(&p, 9, 4, "once X, Y and Z are written absolute");
         assert_eq!(x_at(&p, 5), Some(1.0), "{on}");
-        assert_eq!(x_at(&p, 9), Some(3.0), "{on}");
+        assert_eq!(x_at(&p, 10), Some(4.0), "{on}");
     }
 }
 
@@ -70,7 +80,8 @@ fn scaling_and_mirror_image_hold_until_g50_and_g50_1() {
 fn a_refused_feed_per_revolution_holds_feed_moves_only() {
     let text = "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG95 G1 X1. F0.1\nG0 X2.\nG1 X3.\nG94 G1 X4. F200.\nM30\n%\n";
     let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default());
-    assert_eq!(error_lines(&p), [5, 7], "{:?}", errors(&p));
+    // Line 7 also lacks the feed line 5 gave (refused, its F took no effect here).
+    assert_eq!(error_lines(&p), [5, 7, 7], "{:?}", errors(&p));
     has(&p, 7, 4, "line 5's G95 (feed per revolution)");
     assert_eq!(x_at(&p, 6), Some(2.0));
     assert_eq!(x_at(&p, 8), Some(4.0));
@@ -84,18 +95,19 @@ fn a_defect_in_a_read_code_holds_nothing_and_g43_1_holds_until_g49() {
     let text = "%\nO1000\nG20 G90 G17 G94\nG0 X0. Y0. Z1.\nG83 X1. Y0. Z-.5 R.1 F10. Q0.\nX2. Y0.\nG80\nM30\n%\n";
     let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default());
     assert_eq!(error_lines(&p), [5], "{:?}", errors(&p));
-    let p = read("G21 G90 G94\nG0 X0 Y0 Z10\nG43.1 Z1\nG0 X5\nG49\nG0 X6\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
-    assert_eq!(error_lines(&p), [3, 4], "{:?}", errors(&p));
+    let p = read("G21 G90 G94\nG0 X0 Y0 Z10\nG43.1 Z1\nG0 X5\nG49\nG0 X6 Y0 Z10\nG0 X7\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [3, 4, 6], "{:?}", errors(&p));
     has(&p, 4, 4, "line 3's G43.1 (dynamic or additional tool length offset) is in effect on the control until G49");
-    assert_eq!(x_at(&p, 6), Some(6.0));
+    assert_eq!(x_at(&p, 7), Some(7.0));
 }
 
-/// A move refused under a held code that carries an F: a later move without one names it.
+/// A held move is read for the program's state: its F is the modal feed after it (as on the control).
 #[test]
-fn a_held_moves_feed_is_named_by_the_next_move_without_one() {
-    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG41 D1\nG1 X1. F100.\nG40\nG1 X2.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+fn a_held_moves_feed_stays_in_effect() {
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG41 D1\nG1 X1. F100.\nG40\nG1 X2. Y0.\nG1 X3.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert_eq!(error_lines(&p), [5, 6, 8], "{:?}", errors(&p));
-    has(&p, 8, 1, "line 6, refused before it, gave one");
+    let b = p.blocks.iter().find(|b| b.line == 9).expect("line 9 is read");
+    assert_eq!(b.feed.map(|f| f.value_per_min), Some(100.0));
 }
 
 /// A block refused under a hold keeps its own held code (G41 under G51 holds after G50); a line
@@ -106,26 +118,27 @@ fn a_held_moves_feed_is_named_by_the_next_move_without_one() {
 #[test]
 fn holds_reach_every_way_a_block_is_refused_and_end_at_their_groups_codes() {
     let fanuc = |body: &str| read(&format!("%\nO1000\nG21 G90 G17 G94 F100.\nG0 X0. Y0. Z10.\n{body}M30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default());
-    let p = fanuc("G51 X0. Y0. P2\nG41 D1 G1 X10. Y10.\nG50\nG1 X20.\nG40\nG1 X30.\n");
-    assert_eq!(error_lines(&p), [5, 5, 6, 8], "{:?}", errors(&p));
+    let p = fanuc("G51 X0. Y0. P2\nG41 D1 G1 X10. Y10.\nG50\nG1 X20.\nG40\nG1 X30. Y0. Z10.\nG1 X31.\n");
+    assert_eq!(error_lines(&p), [5, 5, 6, 6, 8, 10], "{:?}", errors(&p));
     has(&p, 8, 4, "line 6's G41");
-    assert_eq!(x_at(&p, 10), Some(30.0));
+    assert_eq!(x_at(&p, 11), Some(31.0));
     let p = fanuc("G41 D1 G1 X#100 Y10.\nG1 X20.\nG40\nG1 X30.\n");
-    assert_eq!(error_lines(&p), [5, 6], "{:?}", errors(&p));
+    assert_eq!(error_lines(&p), [5, 6, 8], "{:?}", errors(&p));
     has(&p, 6, 4, "line 5's G41");
     let p = fanuc("G41 D1\nG10 L2 P2 X100. Y0. Z0.\nG3 I-10.\nG40\n");
     assert_eq!(error_lines(&p), [5, 7], "{:?}", errors(&p));
     has(&p, 7, 4, "line 5's G41");
-    let p = fanuc("G41.1\nG40\nG1 X5.\nG40.1\nG1 X6.\n");
-    assert_eq!(error_lines(&p), [5, 7], "{:?}", errors(&p));
+    let p = fanuc("G41.1\nG40\nG1 X5.\nG40.1\nG1 X6. Y0. Z10.\nG1 X7.\n");
+    assert_eq!(error_lines(&p), [5, 7, 9], "{:?}", errors(&p));
     has(&p, 7, 4, "line 5's G41.1 (normal direction control) is in effect on the control until G40.1");
-    assert_eq!(x_at(&p, 9), Some(6.0));
+    assert_eq!(x_at(&p, 10), Some(7.0));
     let p = fanuc("G43.1 H1\nG1 X5.\nG43.4 H1\nG1 X6.\n");
-    assert_eq!(error_lines(&p), [5, 6], "{:?}", errors(&p));
+    assert_eq!(error_lines(&p), [5, 6, 8], "{:?}", errors(&p));
     has(&p, 6, 4, "until G49 or G43 or G44 or G43.4 or G43.5");
     let hermle = fiveaxis::machine::Machine::hermle_c600u();
-    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG68.2 P1 X0. Y0. Z0. I0. J30. K0.\nG0 X10.\nG69\nG0 X5.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&hermle));
-    assert_eq!(error_lines(&p), [5, 6], "{:?}", errors(&p));
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG68.2 P1 X0. Y0. Z0. I0. J30. K0.\nG0 X10.\nG69\nG0 X5. Y0. Z10.\nG0 X6.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&hermle));
+    assert_eq!(error_lines(&p), [5, 6, 8], "{:?}", errors(&p));
+    assert_eq!(x_at(&p, 9), Some(6.0));
     has(&p, 6, 4, "line 5's G68.2 (tilted working plane)");
     let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG95\nG0 X10. Y10.\nG81 X20. Y10. Z-5. R1. F0.1\nG80\nG94\nM30\n%\n", Dialect::Haas, "t.nc", &ReadOptions::default());
     assert_eq!(error_lines(&p), [5, 7], "{:?}", errors(&p));

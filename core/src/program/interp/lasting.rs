@@ -4,7 +4,6 @@
 //! naming the block, instead of being read as if the code had not been written.
 
 use super::{Interpreter, Word};
-use crate::program::lex::Diags;
 use crate::program::{Dialect, Motion};
 
 /// A modal code of a refused block, in effect on the control until one of its cancel codes.
@@ -65,14 +64,25 @@ fn axis_word(w: &Word, arc: bool) -> bool {
     matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W') || arc && matches!(w.letter, 'I' | 'J' | 'K' | 'R')
 }
 
+/// Where the moves under a hold left the tool, after its cancel: the axes not yet written absolute
+/// since (0 X, 1 Y, 2 Z), and the hold's line, code and what it was.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Stale {
+    axes: [bool; 3],
+    line: usize,
+    code: String,
+    what: &'static str,
+}
+
+/// What a block does under the holds: its G codes (× 10), the word a move is said at.
+struct Look {
+    g: Vec<i64>,
+    axis: Option<(usize, bool)>,
+}
+
 impl Interpreter {
-    /// Before a block is read: a move while a refused block's code is in effect on the control is
-    /// refused (false), naming that block; a cancel code ends it (and cutter compensation's cancel
-    /// with a move is refused once: the control starts that move at the compensated point).
-    pub(crate) fn check_lasting(&mut self, words: &[Word], line: usize, diags: &mut Diags) -> bool {
-        if self.lasting.is_empty() {
-            return true;
-        }
+    /// The block's G codes, and its first word that moves an axis (with whether it moves at rapid).
+    fn look(&self, words: &[Word]) -> Look {
         let g: Vec<i64> = words.iter().filter(|w| w.letter == 'G').map(super::x10).collect();
         // The block's motion: its own group-01 code or canned cycle, else the modal one.
         let own = g.iter().find_map(|&c| match c {
@@ -87,37 +97,89 @@ impl Interpreter {
         let arc = matches!(motion, Some(Motion::ArcCw | Motion::ArcCcw));
         // Words of G10 (offsets) and G04 (the dwell) move nothing.
         let moves = !g.iter().any(|c| matches!(c, 100 | 40));
-        let Some(axis) = words.iter().find(|w| moves && axis_word(w, arc)) else {
-            self.lasting.retain(|l| !l.rule.cancels.iter().any(|c| g.contains(c)));
-            return true;
-        };
-        let rapid = motion == Some(Motion::Rapid);
-        let mut ok = true;
+        let axis = words.iter().find(|w| moves && axis_word(w, arc)).map(|w| (w.column, motion == Some(Motion::Rapid)));
+        Look { g, axis }
+    }
+
+    /// Before a block is read: why it is refused if it moves while a refused block's code is in
+    /// effect on the control, or from where such moves left the tool (its column and the message).
+    /// The block is read all the same, so that the program's state (position, feed, modes) follows
+    /// the program as the control's does; only its moves are not made.
+    pub(crate) fn held(&self, words: &[Word]) -> Option<(usize, String)> {
+        if self.lasting.is_empty() && self.stale.is_none() {
+            return None;
+        }
+        let look = self.look(words);
+        let (column, rapid) = look.axis?;
         for l in &self.lasting {
-            let cancelled = l.rule.cancels.iter().any(|c| g.contains(c));
+            let cancelled = l.rule.cancels.iter().any(|c| look.g.contains(c));
             if (cancelled && l.rule.what != COMP.what) || (l.rule.feed_only && rapid) {
                 continue;
             }
             let cancel = l.rule.cancels.iter().map(|c| format!("G{}", *c as f64 / 10.0)).collect::<Vec<_>>().join(" or ");
-            let why = if cancelled {
+            return Some((column, if cancelled {
                 format!("{cancel} with a move after line {}'s G{} ({}), which was refused: the control starts this move at the point its compensation made, which is not known", l.line, l.code, l.rule.what)
             } else {
                 format!("a move while line {}'s G{} ({}) is in effect on the control until {cancel}: that block was refused, so this move is not read as the control runs it", l.line, l.code, l.rule.what)
-            };
-            diags.error(line, axis.column, why);
-            ok = false;
-            break;
+            }));
         }
-        self.lasting.retain(|l| !l.rule.cancels.iter().any(|c| g.contains(c)));
-        ok
+        let s = self.stale.as_ref()?;
+        let axes: Vec<&str> = (0..3).filter(|&k| s.axes[k]).map(|k| ["X", "Y", "Z"][k]).collect();
+        let axes = match axes.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} and {last} are", rest.join(", ")),
+            _ => format!("{} is", axes.concat()),
+        };
+        Some((column, format!("a move from where the moves under line {}'s G{} ({}) left the tool, which is not known (the control ran them, this reader did not): moves are read again once {axes} written absolute", s.line, s.code, s.what)))
+    }
+
+    /// After a block is read or refused: its cancel codes end their holds (the axes the held moves
+    /// placed stay unknown until written absolute), and a block read clears the axes it writes absolute.
+    pub(crate) fn after_held(&mut self, words: &[Word], done: bool) {
+        if self.lasting.is_empty() && self.stale.is_none() {
+            return;
+        }
+        let look = self.look(words);
+        let plane = self.plane.axes();
+        let mut ended = Vec::new();
+        self.lasting.retain(|l| {
+            let cancelled = l.rule.cancels.iter().any(|c| look.g.contains(c));
+            if cancelled && !l.rule.feed_only {
+                ended.push(l.clone());
+            }
+            !cancelled
+        });
+        for l in ended {
+            // Cutter compensation offsets the plane's two axes; the other holds place all three.
+            let mut axes = if l.rule.what == COMP.what { [false; 3] } else { [true; 3] };
+            if l.rule.what == COMP.what {
+                axes[plane.0] = true;
+                axes[plane.1] = true;
+            }
+            let before = self.stale.take().map_or([false; 3], |s| s.axes);
+            self.stale = Some(Stale { axes: [0, 1, 2].map(|k| axes[k] || before[k]), line: l.line, code: l.code, what: l.rule.what });
+        }
+        if !done || look.axis.is_none() {
+            return;
+        }
+        let absolute = self.absolute;
+        if let Some(s) = self.stale.as_mut() {
+            for w in words {
+                if let Some(k) = "XYZ".find(w.letter) {
+                    if w.dimension.absolute(absolute) {
+                        s.axes[k] = false;
+                    }
+                }
+            }
+            if s.axes == [false; 3] {
+                self.stale = None;
+            }
+        }
     }
 
     /// After a block is refused: its codes that the control keeps in effect (until their cancel).
     pub(crate) fn note_lasting(&mut self, words: &[Word], line: usize) {
         for w in words.iter().filter(|w| w.letter == 'G') {
             let c = super::x10(w);
-            // A cancel code in the refused block takes effect on the control all the same.
-            self.lasting.retain(|l| !l.rule.cancels.contains(&c));
             if let Some(rule) = rules(self.dialect).iter().find(|r| r.codes.contains(&c)) {
                 self.lasting.retain(|l| l.rule.what != rule.what);
                 self.lasting.push(Lasting { line, code: w.raw.trim_start_matches('0').to_string(), rule });

@@ -121,6 +121,8 @@ pub struct Interpreter {
     pub(crate) nurbs: Option<Box<super::fanuc_nurbs::Mode>>,
     /// Modal codes of refused blocks in effect on the control until their cancel ([`lasting`]).
     pub(crate) lasting: Vec<lasting::Lasting>,
+    /// After such a code's cancel: the axes whose position its moves left unknown.
+    pub(crate) stale: Option<lasting::Stale>,
     tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
     /// The machine's coordinates (`G53`, `G28`), if its file places them.
     machine_coords: Option<std::sync::Arc<crate::machine::MachineCoordinates>>,
@@ -379,6 +381,7 @@ impl Interpreter {
             comp: None,
             nurbs: None,
             lasting: Vec::new(),
+            stale: None,
             tool_table: None,
             machine_coords: None,
             machine: None,
@@ -541,20 +544,24 @@ impl Interpreter {
                 seen[g as usize] = Some(w);
             }
         }
-        if !self.check_lasting(words, line, diags) {
-            // Refused, but run on the control: its own codes hold as any refused block's do.
-            self.refused(words, line);
-            self.note_feed(false, words.iter().any(|w| w.letter == 'F'), line);
-            return false;
-        }
+        let held = self.held(words);
+        let start = out.len();
         let done = match super::cutter_comp::block(self, words, line, column, number, diags, out) {
             Some(done) => done,
             None => self.block_plain(words, line, column, number, diags, out),
         };
-        if !done {
+        if done {
+            self.after_held(words, true);
+        } else {
             self.refused(words, line);
         }
         self.note_feed(done, words.iter().any(|w| w.letter == 'F'), line);
+        // A move under a held code: read for the state, its moves not made.
+        if let Some((col, why)) = held {
+            out.truncate(start);
+            diags.error(line, col, why);
+            return false;
+        }
         done
     }
 
@@ -572,6 +579,8 @@ impl Interpreter {
             self.forget_motion(line);
         }
         self.note_lasting(words, line);
+        // Its cancel codes act on the control all the same.
+        self.after_held(words, false);
     }
 
     /// What to add to a defect that a refused block's codes, had they taken effect, might have
