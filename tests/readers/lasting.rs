@@ -136,9 +136,13 @@ fn holds_reach_every_way_a_block_is_refused_and_end_at_their_groups_codes() {
     assert_eq!(error_lines(&p), [5, 6, 8], "{:?}", errors(&p));
     has(&p, 6, 4, "until G49 or G43 or G44 or G43.4 or G43.5");
     let hermle = fiveaxis::machine::Machine::hermle_c600u();
-    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG68.2 P1 X0. Y0. Z0. I0. J30. K0.\nG0 X10.\nG69\nG0 X5. Y0. Z10.\nG0 X6.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&hermle));
-    assert_eq!(error_lines(&p), [5, 6, 8], "{:?}", errors(&p));
-    assert_eq!(x_at(&p, 9), Some(6.0));
+    // After G69 the linear axes and the machine's rotary axes (A, C on the Hermle: G53.1 under the
+    // plane turns them) are unknown until written.
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG68.2 P1 X0. Y0. Z0. I0. J30. K0.\nG0 X10.\nG69\nG0 X5. Y0. Z10.\nG0 A0. C0.\nG0 X6.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&hermle));
+    assert_eq!(error_lines(&p), [5, 6, 8, 9], "{:?}", errors(&p));
+    has(&p, 8, 4, "once X, Y, Z, A and C are written absolute");
+    has(&p, 9, 4, "once A and C are written absolute");
+    assert_eq!(x_at(&p, 10), Some(6.0));
     has(&p, 6, 4, "line 5's G68.2 (tilted working plane)");
     let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG95\nG0 X10. Y10.\nG81 X20. Y10. Z-5. R1. F0.1\nG80\nG94\nM30\n%\n", Dialect::Haas, "t.nc", &ReadOptions::default());
     assert_eq!(error_lines(&p), [5, 7], "{:?}", errors(&p));

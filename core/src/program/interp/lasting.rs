@@ -65,10 +65,10 @@ fn axis_word(w: &Word, arc: bool) -> bool {
 }
 
 /// Where the moves under a hold left the tool, after its cancel: the axes not yet written absolute
-/// since (0 X, 1 Y, 2 Z), and the hold's line, code and what it was.
+/// since (X Y Z A B C), and the hold's line, code and what it was.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Stale {
-    axes: [bool; 3],
+    axes: [bool; 6],
     line: usize,
     code: String,
     what: &'static str,
@@ -124,7 +124,7 @@ impl Interpreter {
             }));
         }
         let s = self.stale.as_ref()?;
-        let axes: Vec<&str> = (0..3).filter(|&k| s.axes[k]).map(|k| ["X", "Y", "Z"][k]).collect();
+        let axes: Vec<&str> = (0..6).filter(|&k| s.axes[k]).map(|k| ["X", "Y", "Z", "A", "B", "C"][k]).collect();
         let axes = match axes.split_last() {
             Some((last, rest)) if !rest.is_empty() => format!("{} and {last} are", rest.join(", ")),
             _ => format!("{} is", axes.concat()),
@@ -149,14 +149,22 @@ impl Interpreter {
             !cancelled
         });
         for l in ended {
-            // Cutter compensation offsets the plane's two axes; the other holds place all three.
-            let mut axes = if l.rule.what == COMP.what { [false; 3] } else { [true; 3] };
+            // Cutter compensation offsets the plane's two axes; the other holds place all three, and a
+            // tilted plane the machine's rotary axes too (G53.1 under it turned them).
+            let mut axes = [false; 6];
             if l.rule.what == COMP.what {
                 axes[plane.0] = true;
                 axes[plane.1] = true;
+            } else {
+                axes[..3].fill(true);
             }
-            let before = self.stale.take().map_or([false; 3], |s| s.axes);
-            self.stale = Some(Stale { axes: [0, 1, 2].map(|k| axes[k] || before[k]), line: l.line, code: l.code, what: l.rule.what });
+            if l.rule.what == TILT.what {
+                for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
+                    axes[3 + k] = true;
+                }
+            }
+            let before = self.stale.take().map_or([false; 6], |s| s.axes);
+            self.stale = Some(Stale { axes: [0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line: l.line, code: l.code, what: l.rule.what });
         }
         if !done || look.axis.is_none() {
             return;
@@ -164,13 +172,13 @@ impl Interpreter {
         let absolute = self.absolute;
         if let Some(s) = self.stale.as_mut() {
             for w in words {
-                if let Some(k) = "XYZ".find(w.letter) {
+                if let Some(k) = "XYZABC".find(w.letter) {
                     if w.dimension.absolute(absolute) {
                         s.axes[k] = false;
                     }
                 }
             }
-            if s.axes == [false; 3] {
+            if s.axes == [false; 6] {
                 self.stale = None;
             }
         }
