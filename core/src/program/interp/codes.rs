@@ -76,6 +76,21 @@ pub(crate) fn m128_feed_said(written: &str) -> String {
     format!("{written}: the feed of the linear axes' compensating movements under M128, not the path's feed; not modelled (the machine file's axis limits bound them, as the TNC's MP7471 does)")
 }
 
+/// The modal motions of G group 01 that the G-code readers (LinuxCNC, Fanuc, Haas) do not read, by
+/// code times ten: LinuxCNC's splines G5, G5.1, G5.2 and NURBS G5.3 (G-code reference), Fanuc's
+/// NURBS G06.2 (read by [`crate::program::fanuc_nurbs`] on Fanuc, not Haas), G06.1 (spline) and the
+/// 3D circles G02.4/G03.4 (FANUC B-64484EN). Refused, and the moves after them without a G0-G3 of
+/// their own with them ([`Interpreter::forget_motion`]). Fanuc's G05 is no motion (high-speed
+/// machining, group 00).
+pub(crate) fn unread_motion(dialect: crate::program::Dialect, code_x10: i64) -> Option<&'static str> {
+    match code_x10 {
+        50 if dialect == crate::program::Dialect::Fanuc => None,
+        50 | 51 | 52 | 53 | 61 | 62 => Some("spline or NURBS motion"),
+        24 | 34 => Some("3D circular interpolation"),
+        _ => None,
+    }
+}
+
 /// A G word's code times ten, as LinuxCNC numbers them (G41.1 is 411): no text to compare.
 pub(crate) fn x10(w: &Word) -> i64 {
     (w.value * 10.0).round() as i64

@@ -19,6 +19,9 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
     let unsupported = |diags: &mut Diags, what: &str| {
         diags.error(line, w.column, format!("G{} ({what}) is not supported: it changes the motion", w.raw))
     };
+    // A modal motion of group 01 not read (splines, NURBS, 3D circles): one list for the code and for
+    // the moves after it ([`super::codes::unread_motion`]).
+    let unread = if heid { None } else { super::codes::unread_motion(before.dialect, super::x10(w)) };
     match (code.as_ref(), heid) {
         ("0", _) => next.motion = Some(Motion::Rapid),
         ("1", _) => next.motion = Some(Motion::Linear),
@@ -315,7 +318,7 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         ("51.1", false) if fanuc => unsupported(diags, "programmable mirror image"),
         ("43.1" | "43.2", false) => unsupported(diags, "dynamic tool length offset"),
         ("68" | "68.2" | "68.3" | "68.4" | "69" | "53.1" | "53.6", false) => unsupported(diags, "coordinate rotation or tilted working plane"),
-        ("5" | "5.1" | "5.2" | "5.3" | "6.2", false) => unsupported(diags, "spline or NURBS motion"),
+        _ if unread.is_some() => unsupported(diags, unread.unwrap_or_default()),
         ("28" | "28.1" | "30" | "30.1", false) => unsupported(diags, "move to a stored position"),
         ("33" | "33.1" | "76" | "38.2" | "38.3" | "38.4" | "38.5", false) => unsupported(diags, "threading or probing"),
         ("73" | "74" | "81" | "82" | "83" | "84" | "85" | "86" | "87" | "88" | "89", false) => unsupported(diags, "canned cycle"),

@@ -574,7 +574,7 @@ impl Interpreter {
         self.refused_line = Some(line);
         // A refused spline, NURBS or 3D circle mode (G group 01, modal): the moves after it on the
         // control are its points, not lines of the mode before.
-        let unread_motion = |w: &Word| w.letter == 'G' && matches!(codes::x10(w), 24 | 34 | 50 | 51 | 52 | 53 | 61 | 62);
+        let unread_motion = |w: &Word| w.letter == 'G' && codes::unread_motion(self.dialect, codes::x10(w)).is_some();
         if matches!(self.dialect, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas) && words.iter().any(unread_motion) {
             self.forget_motion(line);
         }
