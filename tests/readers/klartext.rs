@@ -547,4 +547,9 @@ fn klartext_plane_move_turns_a_modulo_axis_the_way_turn_does() {
         assert!((last.targets.c.unwrap().to_degrees() - c).abs() < 1e-9, "{m}: {last:?}");
     }
     has(&read("0 BEGIN PGM P MM\n1 L X+10 Y+20 Z+30 A+0 C+0 R0 FMAX\n2 PLANE RESET MOVE DIST+0 FMAX\n3 END PGM P MM\n", Dialect::Klartext, "p.h", &options), 3, 3, "PLANE RESET ... MOVE");
+    // A plane refused (a DIST whose chords would exceed 4096) leaves no MB retract before it: the TNC
+    // refuses the block before it moves.
+    let p = read("0 BEGIN PGM P MM\n1 L X+10 Y+20 Z+30 A+0 C+0 R0 FMAX\n2 PLANE SPATIAL SPA+0 SPB+45 SPC+0 MOVE DIST+99999 MB+20 F1000\n3 END PGM P MM\n", Dialect::Klartext, "p.h", &options);
+    has(&p, 3, 3, "PLANE ... MOVE: the compensating move needs chords");
+    assert!(p.blocks.iter().all(|b| b.line != 3), "{:?}", p.blocks);
 }

@@ -199,9 +199,11 @@ impl Exec {
                 return false;
             }
             Kind::Plane(p) => {
+                // The TNC refuses a plane before it moves: a refused plane leaves no retract either.
+                let (start, before) = (out.len(), diags.errors());
+                let saved = p.retract.is_some().then(|| interp.clone());
                 if let Some((distance, col)) = &p.retract {
                     // MB: M140's retract at the plane's feed, then the plane; a refused retract tilts nothing.
-                    let before = diags.errors();
                     let retract = Stmt { line: s.line, col: s.col, number: s.number, kind: Kind::Retract { distance: distance.clone(), feed: p.feed.clone(), col: *col } };
                     self.run(&retract, interp, out, diags);
                     if diags.errors() > before {
@@ -210,6 +212,11 @@ impl Exec {
                     }
                 }
                 self.plane(p, s, interp, out, diags);
+                if let (Some(saved), true) = (saved, diags.errors() > before) {
+                    out.truncate(start);
+                    *interp = saved;
+                    diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line)));
+                }
                 return false;
             }
             Kind::CycleDef(n) => {
