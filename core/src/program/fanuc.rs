@@ -339,6 +339,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     if matches!(kind, Kind::G76 | Kind::G87) && (q_word.is_some() || peck.is_some_and(|q| q != 0.0)) {
         let q = if q_word.is_some() { "Q".to_string() } else { kept() };
         diags.error(line, at, format!("G{} with {q}: the shift at the bottom goes the way the machine's parameter says (Fanuc No. 5101 RD1/RD2): not modelled", kind.code()));
+        it.hold_cycle(line, kind.code());
         return false;
     }
     let dwell_s = match (find('P'), before) {

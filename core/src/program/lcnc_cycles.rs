@@ -78,6 +78,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     let name = format!("G{}", kind.code());
     if matches!(kind, Kind::G87 | Kind::G88) {
         diags.error(line, at, format!("{name}: LinuxCNC accepts it but its behaviour is undefined (G-code reference, \"currently unimplemented\"): not read"));
+        it.hold_cycle(line, kind.code());
         return false;
     }
     if let Some(w) = words.iter().find(|w| matches!(w.letter, 'A' | 'B' | 'C')) {
@@ -98,6 +99,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
     let (depth, plane_name) = (letter(id), ["YZ", "XZ", "XY"][id]);
     if id != 2 && matches!(kind, Kind::G74 | Kind::G84) {
         diags.error(line, at, format!("{name} in the {plane_name} plane: LinuxCNC 2.9 feeds the tap with its axes exchanged (interp_cycles.cc convert_cycle_g74_g84 hands cycle_feed the axes already in the plane's order), not read"));
+        it.hold_cycle(line, kind.code());
         return false;
     }
     if it.inverse_time() {

@@ -42,6 +42,12 @@ const TILT: Rule = Rule { what: "tilted working plane", codes: &[682, 683, 684],
 /// B-64484EN "Scaling", "Programmable mirror image"; Haas G50-G51, G50.1-G51.1).
 const SCALING: Rule = Rule { what: "scaling", codes: &[510], cancels: &[500], feed_only: false };
 const MIRROR: Rule = Rule { what: "mirror image", codes: &[511], cancels: &[501], feed_only: false };
+/// A canned cycle the reader refuses but the control runs (Fanuc's G76/G87 with a shift, LinuxCNC's
+/// G87/G88 and its taps outside G17, [`Interpreter::hold_cycle`]): it drills at every later position
+/// until "G80 or a G code of group 01" (FANUC B-64484EN "Canned cycle cancel"; LinuxCNC: any other
+/// motion code). Its codes are the cycles the reader reads in other forms, so it is held where it is
+/// refused for what is not read, never for a defect.
+const CYCLE: Rule = Rule { what: "canned cycle: the control drills at every later position", codes: &[], cancels: &[800, 0, 10, 20, 30], feed_only: false };
 /// Feed per revolution, cancelled by G94 or G93.
 const PER_REV: Rule = Rule { what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true };
 
@@ -149,12 +155,15 @@ impl Interpreter {
             !cancelled
         });
         for l in ended {
-            // Cutter compensation offsets the plane's two axes; the other holds place all three, and a
-            // tilted plane the machine's rotary axes too (G53.1 under it turned them).
+            // Cutter compensation offsets the plane's two axes, a canned cycle leaves the drilling axis
+            // at its initial or R level; the other holds place all three, and a tilted plane the
+            // machine's rotary axes too (G53.1 under it turned them).
             let mut axes = [false; 6];
             if l.rule.what == COMP.what {
                 axes[plane.0] = true;
                 axes[plane.1] = true;
+            } else if l.rule.what == CYCLE.what {
+                axes[plane.2] = true;
             } else {
                 axes[..3].fill(true);
             }
@@ -182,6 +191,13 @@ impl Interpreter {
                 self.stale = None;
             }
         }
+    }
+
+    /// A canned cycle refused for what is not read (`code` as the control names it, `87`): the
+    /// control runs it at every later position until its cancel.
+    pub(crate) fn hold_cycle(&mut self, line: usize, code: &str) {
+        self.lasting.retain(|l| l.rule.what != CYCLE.what);
+        self.lasting.push(Lasting { line, code: code.to_string(), rule: &CYCLE });
     }
 
     /// After a block is refused: its codes that the control keeps in effect (until their cancel).
