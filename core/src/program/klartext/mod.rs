@@ -47,6 +47,7 @@ mod blocks;
 mod corners;
 mod cycles;
 mod formula;
+mod held;
 mod params;
 mod plane_move;
 mod exec;

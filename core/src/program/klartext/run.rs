@@ -84,6 +84,8 @@ pub(crate) struct Runner {
     /// bound on memory for a program such as `LBL 1` / `CALL LBL 1 REP65534` nested).
     budget: usize,
     executed: usize,
+    /// Refused statements whose effect lasts on the TNC ([`super::held`]).
+    holds: super::held::Holds,
 }
 
 impl Runner {
@@ -97,6 +99,7 @@ impl Runner {
             stack: Vec::new(),
             repeats: HashMap::new(),
             executed: 0,
+            holds: super::held::Holds::new(setup.machine.iter().flat_map(|m| [3, 4].map(|k| m.axes[k].name.chars().next().unwrap_or('?')))),
         }
     }
 
@@ -114,6 +117,14 @@ impl Runner {
                 // Q113: the main program's unit as it is read, 0 mm or 1 inch (iTNC 530 user's manual
                 // 340 49x-03 §11.11 "Preassigned Q parameters").
                 self.ex.q.insert("Q113".into(), if self.interp.unit() == crate::units::INCH { 1.0 } else { 0.0 });
+            }
+            if diags.errors() > errors {
+                self.holds.refused(line, raw);
+            }
+            // Under a hold each statement's element goes out as it runs (see below): the one held
+            // for a corner before the hold began goes out now, read.
+            if self.holds.active() && self.ex.flush(out, diags, &mut self.interp) {
+                return Next::Ended;
             }
             // A statement refused where it stands, after an RND or CHF: the corner is not made.
             if diags.errors() > errors && self.ex.interrupt("the block after it was not read", out, diags, &mut self.interp) {
@@ -157,7 +168,18 @@ impl Runner {
                 _ => Next::On,
             },
             _ => {
+                self.holds.ends(&s);
+                let (start, errors) = (out.len(), diags.errors());
                 let ends = self.ex.run(&s, &mut self.interp, out, diags);
+                if self.holds.active() {
+                    // Its element out now (not held for a corner), so that its moves are judged here.
+                    let stopped = self.ex.flush(out, diags, &mut self.interp);
+                    let ok = diags.errors() == errors;
+                    self.holds.after(&s, start, ok, out, diags);
+                    if stopped {
+                        return Next::Ended;
+                    }
+                }
                 if self.interp.halted || ends && self.stack.is_empty() {
                     Next::Ended // M2 / M30: the program ends (subprograms follow it); or the TNC stopped
                 } else {
