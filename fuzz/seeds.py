@@ -47,6 +47,12 @@ KLARTEXT_PLANES = (b"0 BEGIN PGM PL MM\n1 TOOL CALL 1 Z S5000\n2 L X+10 Y+20 Z+3
                    b"5 PLANE SPATIAL SPA+30 SPB+0 SPC+0 TURN MB+20 FMAX SEQ- TABLE ROT\n"
                    b"6 PLANE SPATIAL SPA+0 SPB+0 SPC+0 STAY SEQ+\n7 L A+Q120 C+Q122 R0 FMAX\n"
                    b"8 PLANE RESET STAY\n9 END PGM PL MM\n")
+# TNC statements refused whose effect lasts: a rotation cycle and its reset, scaling by a Q parameter,
+# PLANE PROJECTED to PLANE RESET, a TCPM form not read to M129.
+KLARTEXT_HELD = (b"0 BEGIN PGM HE MM\n1 L X+0 Y+0 Z+10 A+0 C+0 R0 F500\n2 CYCL DEF 10.0 ROTATION\n3 CYCL DEF 10.1 ROT+30\n"
+                 b"4 L X+10 RND R2\n5 L Y+10\n6 CYCL DEF 10.1 ROT+0\n7 L Z+20\n8 L X+0 Y+0\n9 CYCL DEF 11.1 SCL+Q5\n"
+                 b"10 PLANE PROJECTED PROPR+20 PROMIN+0 ROT+0 TURN FMAX\n11 L X+1 M99\n12 PLANE RESET STAY\n"
+                 b"13 FUNCTION TCPM F CONT AXIS POS PATHCTRL AXIS\n14 L X+2 A+5\n15 L M129\n16 L X+0 Y+0 Z+0 A+0 C+0\n17 END PGM HE MM\n")
 # Fanuc's refused modal codes held until their cancel: G41 to G40, G51 to G50, G51.1 to G50.1.
 FANUC_HELD = (b"%\nO1000\nG21 G90 G17 G94 F100.\nG0 X0. Y0. Z10.\nG41 D1 G1 X10. Y10.\nG1 X20.\nG40 X30. Y0.\n"
               b"G51 X0. Y0. P2\nG1 X2.\nG50\nG51.1 X0.\nX3.\nG50.1\nG1 X4.\nM30\n%\n")
@@ -120,6 +126,7 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "spline.h", bytes([PICK["klartext"]]) + KLARTEXT_SPLINE)
     put(corpus, "nc_program", "planes.h", bytes([PICK["klartext"] + len(PICK)]) + KLARTEXT_PLANES)
     put(corpus, "nc_program", "held.nc", bytes([PICK["fanuc"]]) + FANUC_HELD)
+    put(corpus, "nc_program", "held.h", bytes([PICK["klartext"] + len(PICK)]) + KLARTEXT_HELD)
     put(corpus, "nc_program", "trc.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_TRC)
     put(corpus, "nc_program", "corners.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_CORNERS)
     put(corpus, "nc_program", "corners.nc", bytes([PICK["fanuc"]]) + FANUC_CORNERS)

@@ -158,9 +158,13 @@ fn holds_reach_every_way_a_block_is_refused_and_end_at_their_groups_codes() {
 fn a_canned_cycle_refused_for_what_is_not_read_holds_until_g80() {
     let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG98 G87 X0. Y0. Z-5. R2. Q1. F100.\nX10. Y10.\nG80\nG0 X0. Y0.\nG0 Z20.\nG0 X5.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert_eq!(error_lines(&p), [5, 6, 8, 9], "{:?}", errors(&p));
-    has(&p, 6, 1, "line 5's G87 (canned cycle: the control drills at every later position) is in effect on the control until G80 or G0");
+    has(&p, 6, 1, "line 5's G87 (canned cycle: the control drills at every later position) is in effect on the control until G80, a G00-G03 or another canned cycle");
     has(&p, 8, 4, "once Z is written absolute");
     assert_eq!(x_at(&p, 10), Some(5.0));
+    // Another cycle replaces it on the control: read from there.
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG98 G87 X0. Y0. Z-5. R2. Q1. F100.\nG81 X5. Y5. Z-2. R2. F100.\nX6.\nG80\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [5], "{:?}", errors(&p));
+    assert_eq!(x_at(&p, 7), Some(6.0));
     let p = read("G21 G90 G94 G17\nG0 X0 Y0 Z10\nG88 X1 Y1 Z-2 R1 F100\nX2 Y2\nG80\nG0 Z10\nG0 X5\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
     assert_eq!(error_lines(&p), [3, 4, 6], "{:?}", errors(&p));
     has(&p, 4, 1, "line 3's G88 (canned cycle");

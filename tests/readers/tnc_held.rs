@@ -17,11 +17,11 @@ fn moved(p: &Program) -> Vec<usize> {
     l
 }
 
-/// Cycle 10 ROTATION turns the working plane's X and Y about the datum until `CYCL DEF 10.1 ROT+0`
+/// Cycle 10 ROTATION turns the working plane's axes about the datum until `CYCL DEF 10.1 ROT+0`
 /// (TNC 320 Cycle Programming, "ROTATION (Cycle 10)": reset with a rotation angle of 0). The moves
-/// under it are refused; after the reset, those until X and Y are written (Z is not turned: Z alone
-/// is refused as it starts at the unknown X Y, then X Y read, then all). The move before the cycle,
-/// held for a corner when the cycle came, is kept.
+/// under it are refused; after the reset, those until X, Y and Z are written absolute (the move that
+/// writes the last of them starts at the unknown point too). The move before the cycle, held for a
+/// corner when the cycle came, is kept.
 #[test]
 fn a_rotation_cycle_holds_the_moves_until_rot_0_and_x_y_are_written() {
     let text = "0 BEGIN PGM H MM\n1 L X+0 Y+0 Z+10 R0 FMAX\n2 L X+5 R0 F500\n3 CYCL DEF 10.0 ROTATION\n4 CYCL DEF 10.1 ROT+30\n5 L X+10\n6 L Y+20\n\
@@ -31,12 +31,46 @@ fn a_rotation_cycle_holds_the_moves_until_rot_0_and_x_y_are_written() {
     assert!(e.iter().all(|l| [4, 5, 6, 7, 8, 9, 10, 11].contains(l)), "{:?}", errors(&p));
     has(&p, 6, 3, "line 5's CYCL DEF 10 (rotation) is in effect on the TNC until its reset (CYCL DEF 10 with ROT+0)");
     has(&p, 7, 3, "line 5's CYCL DEF 10 (rotation)");
-    has(&p, 10, 3, "once X and Y are written absolute");
+    has(&p, 10, 3, "once X, Y and Z are written absolute");
     has(&p, 11, 4, "once X and Y are written absolute");
     assert_eq!(moved(&p), [2, 3, 12], "{:?}", errors(&p));
-    // Read for the position: Z 20 from the refused line 10, so the last move stays at Z 20.
+    // Read for the position: Z 20 from the refused line 10; an incremental IZ after it goes on from there.
+    let p = read(&text.replace("11 L X+5\n", "11 L X+5 IZ+1\n"), Dialect::Klartext, "h.h", &ReadOptions::default());
     let z = p.blocks.iter().filter(|b| b.line == 12).find_map(|b| b.targets.z);
-    assert!(z.is_none_or(|z| (z - 20.0 * MM).abs() < 1e-12), "{z:?}");
+    assert_eq!(z.map(|z| z / MM), Some(21.0), "{:?}", errors(&p));
+}
+
+/// Under radius compensation (RL) the TNC's moves come out a block late: a move held under a
+/// rotation still is dropped where it comes out, and the move before the rotation is kept. A block
+/// skip `/` before the cycle's number holds all the same (the TNC runs the block); an incremental
+/// datum shift (`IX`) or `PLANE RELATIV` does not end a hold (both are relative to what is not known);
+/// `ROT+0.000` is a reset; a `PLANE` refused while it runs (its angle from an unset Q parameter) holds.
+#[test]
+fn holds_survive_radius_compensation_block_skip_and_relative_statements() {
+    let tools = fiveaxis::program::ToolTable::parse("BEGIN TOOL.T MM\nT       NAME       L           R\n1       MILL       +0          +2\n[END]\n").unwrap();
+    let options = ReadOptions { tool_table: Some(std::sync::Arc::new(tools)), ..ReadOptions::default() };
+    let text = "0 BEGIN PGM H MM\n1 TOOL CALL 1 Z S1000\n2 L X-20 Y-20 Z-5 R0 FMAX\n3 L X+0 Y+0 RL F500\n4 L X+50\n5 CYCL DEF 10.0 ROTATION\n\
+                6 CYCL DEF 10.1 ROT+30\n7 L Y+5000\n8 L X+0\n9 END PGM H MM\n";
+    let p = read(text, Dialect::Klartext, "h.h", &options);
+    has(&p, 8, 3, "line 7's CYCL DEF 10 (rotation)");
+    assert!(p.blocks.iter().all(|b| b.line != 8 && b.line != 9), "{:?}", p.blocks.iter().map(|b| b.line).collect::<Vec<_>>());
+    assert!(p.blocks.iter().any(|b| b.line == 5), "the move before the rotation is kept");
+    for (cycle, end, line) in [("/6 CYCL DEF 10.1 ROT+30", "7 L X+1 F500", 8), ("6 CYCL DEF 7.1 #5", "7 CYCL DEF 7.0 DATUM SHIFT\n8 CYCL DEF 7.1 IX+5", 9)] {
+        let text = format!("0 BEGIN PGM H MM\n1 L X+0 Y+0 Z+10 R0 F500\n2 CYCL DEF 7.0 DATUM SHIFT\n3 CYCL DEF 7.1 X+0\n4 CYCL DEF 10.0 ROTATION\n5 L X+1\n{cycle}\n{end}\n9 L X+2\n10 END PGM H MM\n");
+        let p = read(&text, Dialect::Klartext, "h.h", &ReadOptions::default());
+        has(&p, line + 1, 3, "is in effect on the TNC until");
+    }
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let on = ReadOptions::default().on(&hermle);
+    for (plane, ends) in [("PLANE RELATIV SPA+10 STAY", false), ("PLANE RESET STAY", true)] {
+        let text = format!("0 BEGIN PGM H MM\n1 L X+0 Y+0 Z+100 A+0 C+0 R0 F500\n2 PLANE PROJECTED PROPR+20 PROMIN+0 ROT+0 TURN FMAX\n3 {plane}\n4 L X+0 Y+0 Z+50 A+0 C+0\n5 L X+5\n6 END PGM H MM\n");
+        let p = read(&text, Dialect::Klartext, "h.h", &on);
+        assert_eq!(p.blocks.iter().any(|b| b.line == 6), ends, "{plane}: {:?}", errors(&p));
+    }
+    let p = read("0 BEGIN PGM H MM\n1 L X+0 Y+0 Z+100 A+0 C+0 R0 F500\n2 PLANE SPATIAL SPA+Q5 SPB+0 SPC+0 STAY\n3 L X+5\n4 END PGM H MM\n", Dialect::Klartext, "h.h", &on);
+    has(&p, 4, 3, "line 3's PLANE (tilted working plane)");
+    let p = read("0 BEGIN PGM H MM\n1 L X+0 Y+0 Z+10 R0 F500\n2 CYCL DEF 10.0 ROTATION\n3 CYCL DEF 10.1 ROT+30\n4 CYCL DEF 10.1 ROT+0.000\n5 L X+1 Y+0 Z+10\n6 L X+2\n7 END PGM H MM\n", Dialect::Klartext, "h.h", &ReadOptions::default());
+    assert!(p.blocks.iter().any(|b| b.line == 7), "{:?}", errors(&p));
 }
 
 /// Scaling (cycle 11) ends at SCL 1, written joined or apart; a factor from a Q parameter is not
@@ -61,7 +95,7 @@ fn a_scaling_cycle_ends_at_scl_1_and_not_at_a_q_parameter() {
 /// `PLANE PROJECTED` (refused: the sign of its angles is not at hand) tilts the plane on the TNC:
 /// the moves are refused until a PLANE that is read (`PLANE RESET STAY`), then until X, Y, Z and the
 /// machine's rotary axes (A, C on the Hermle) are written. A refused `FUNCTION TCPM` form holds until
-/// `FUNCTION RESET TCPM` or M129, then X, Y and Z.
+/// `FUNCTION RESET TCPM` or M129, then the same axes (a form such as AXIS SPAT turns the rotary ones).
 #[test]
 fn plane_projected_and_a_tcpm_form_not_read_hold_until_what_ends_them() {
     let hermle = fiveaxis::machine::Machine::hermle_c600u();
@@ -74,10 +108,10 @@ fn plane_projected_and_a_tcpm_form_not_read_hold_until_what_ends_them() {
     has(&p, 7, 3, "once A and C are written absolute");
     assert_eq!(moved(&p), [2, 8], "{:?}", errors(&p));
     for end in ["FUNCTION RESET TCPM", "L M129"] {
-        let text = format!("0 BEGIN PGM H MM\n1 L X+0 Y+0 Z+100 A+0 C+0 R0 FMAX\n2 FUNCTION TCPM F CONT AXIS POS PATHCTRL AXIS\n3 L X+10 A+10 F500\n4 {end}\n5 L X+0 Y+0 Z+100 FMAX\n6 L X+5\n7 END PGM H MM\n");
+        let text = format!("0 BEGIN PGM H MM\n1 L X+0 Y+0 Z+100 A+0 C+0 R0 FMAX\n2 FUNCTION TCPM F CONT AXIS POS PATHCTRL AXIS\n3 L X+10 A+10 F500\n4 {end}\n5 L X+0 Y+0 Z+100 A+0 C+0 FMAX\n6 L X+5\n7 END PGM H MM\n");
         let p = read(&text, Dialect::Klartext, "h.h", &options);
         has(&p, 4, 3, "line 3's FUNCTION TCPM is in effect on the TNC until FUNCTION RESET TCPM or M129");
-        has(&p, 6, 3, "once X, Y and Z are written absolute");
+        has(&p, 6, 3, "once X, Y, Z, A and C are written absolute");
         assert_eq!(moved(&p), [2, 7], "{end}: {:?}", errors(&p));
     }
 }

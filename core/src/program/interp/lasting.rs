@@ -23,33 +23,42 @@ struct Rule {
     cancels: &'static [i64],
     /// Only feed moves change under it (a feed mode: rapids run as written).
     feed_only: bool,
+    /// How messages name its cancels, where not by listing them.
+    until: Option<&'static str>,
 }
 
 /// Cutter radius compensation, G40 its cancel (FANUC B-64484EN "Cutter compensation C"; Haas Mill
 /// Operator's Manual, G40-G42).
-const COMP: Rule = Rule { what: "cutter radius compensation", codes: &[410, 420], cancels: &[400], feed_only: false };
+const COMP: Rule = Rule { what: "cutter radius compensation", codes: &[410, 420], cancels: &[400], feed_only: false, until: None };
 /// Fanuc's normal direction control G41.1/G42.1, cancelled by G40.1 (FANUC B-64484EN "Normal
 /// direction control").
-const NORMAL: Rule = Rule { what: "normal direction control", codes: &[411, 421], cancels: &[401], feed_only: false };
+const NORMAL: Rule = Rule { what: "normal direction control", codes: &[411, 421], cancels: &[401], feed_only: false, until: None };
 /// Tool length offset along the tool axis or added (Fanuc G43.1; LinuxCNC G43.1 dynamic, G43.2
 /// additional), cancelled by G49 or replaced by another code of its group (G43, G44, G43.4, G43.5).
-const LENGTH: Rule = Rule { what: "dynamic or additional tool length offset", codes: &[431, 432], cancels: &[490, 430, 440, 434, 435], feed_only: false };
+const LENGTH: Rule = Rule { what: "dynamic or additional tool length offset", codes: &[431, 432], cancels: &[490, 430, 440, 434, 435], feed_only: false, until: None };
 /// Tilted working planes, G69 their cancel (FANUC B-64484EN "Tilted working plane indexing"). Fanuc's
 /// G68.2 with Euler angles is read ([`crate::program::feature`]); refused (its other forms, under
 /// G91, a second one; any on Haas), the control runs it all the same.
-const TILT: Rule = Rule { what: "tilted working plane", codes: &[682, 683, 684], cancels: &[690], feed_only: false };
+const TILT: Rule = Rule { what: "tilted working plane", codes: &[682, 683, 684], cancels: &[690], feed_only: false, until: None };
 /// Scaling G51, cancelled by G50; programmable mirror image G51.1, cancelled by G50.1 (FANUC
 /// B-64484EN "Scaling", "Programmable mirror image"; Haas G50-G51, G50.1-G51.1).
-const SCALING: Rule = Rule { what: "scaling", codes: &[510], cancels: &[500], feed_only: false };
-const MIRROR: Rule = Rule { what: "mirror image", codes: &[511], cancels: &[501], feed_only: false };
+const SCALING: Rule = Rule { what: "scaling", codes: &[510], cancels: &[500], feed_only: false, until: None };
+const MIRROR: Rule = Rule { what: "mirror image", codes: &[511], cancels: &[501], feed_only: false, until: None };
 /// A canned cycle the reader refuses but the control runs (Fanuc's G76/G87 with a shift, LinuxCNC's
 /// G87/G88 and its taps outside G17, [`Interpreter::hold_cycle`]): it drills at every later position
 /// until "G80 or a G code of group 01" (FANUC B-64484EN "Canned cycle cancel"; LinuxCNC: any other
 /// motion code). Its codes are the cycles the reader reads in other forms, so it is held where it is
 /// refused for what is not read, never for a defect.
-const CYCLE: Rule = Rule { what: "canned cycle: the control drills at every later position", codes: &[], cancels: &[800, 0, 10, 20, 30], feed_only: false };
+/// Another cycle replaces it (one of its group 09), as a group-01 code ends it.
+const CYCLE: Rule = Rule {
+    what: "canned cycle: the control drills at every later position",
+    codes: &[],
+    cancels: &[800, 0, 10, 20, 30, 730, 740, 760, 810, 820, 830, 840, 850, 860, 870, 880, 890],
+    feed_only: false,
+    until: Some("G80, a G00-G03 or another canned cycle"),
+};
 /// Feed per revolution, cancelled by G94 or G93.
-const PER_REV: Rule = Rule { what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true };
+const PER_REV: Rule = Rule { what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None };
 
 /// The rules of a dialect: the modal codes its control runs and this reader refuses (always, or in
 /// some forms: G68.2). Codes it reads (canned cycles, G68, LinuxCNC's G41/G42) hold nothing when
@@ -101,8 +110,8 @@ impl Interpreter {
         });
         let motion = own.unwrap_or(self.motion);
         let arc = matches!(motion, Some(Motion::ArcCw | Motion::ArcCcw));
-        // Words of G10 (offsets) and G04 (the dwell) move nothing.
-        let moves = !g.iter().any(|c| matches!(c, 100 | 40));
+        // Words of G10 (offsets), G04 (the dwell), G92 and G52 (coordinate systems) move nothing.
+        let moves = !g.iter().any(|c| matches!(c, 100 | 40 | 920 | 921 | 922 | 923 | 520));
         let axis = words.iter().find(|w| moves && axis_word(w, arc)).map(|w| (w.column, motion == Some(Motion::Rapid)));
         Look { g, axis }
     }
@@ -122,7 +131,7 @@ impl Interpreter {
             if (cancelled && l.rule.what != COMP.what) || (l.rule.feed_only && rapid) {
                 continue;
             }
-            let cancel = l.rule.cancels.iter().map(|c| format!("G{}", *c as f64 / 10.0)).collect::<Vec<_>>().join(" or ");
+            let cancel = l.rule.until.map_or_else(|| l.rule.cancels.iter().map(|c| format!("G{}", *c as f64 / 10.0)).collect::<Vec<_>>().join(" or "), String::from);
             return Some((column, if cancelled {
                 format!("{cancel} with a move after line {}'s G{} ({}), which was refused: the control starts this move at the point its compensation made, which is not known", l.line, l.code, l.rule.what)
             } else {
@@ -140,7 +149,7 @@ impl Interpreter {
 
     /// After a block is read or refused: its cancel codes end their holds (the axes the held moves
     /// placed stay unknown until written absolute), and a block read clears the axes it writes absolute.
-    pub(crate) fn after_held(&mut self, words: &[Word], done: bool) {
+    pub(crate) fn after_held(&mut self, words: &[Word], line: usize, done: bool) {
         if self.lasting.is_empty() && self.stale.is_none() {
             return;
         }
@@ -148,7 +157,8 @@ impl Interpreter {
         let plane = self.plane.axes();
         let mut ended = Vec::new();
         self.lasting.retain(|l| {
-            let cancelled = l.rule.cancels.iter().any(|c| look.g.contains(c));
+            // A hold its own block set (a refused G87) is not ended by its own code.
+            let cancelled = l.line != line && l.rule.cancels.iter().any(|c| look.g.contains(c));
             if cancelled && !l.rule.feed_only {
                 ended.push(l.clone());
             }

@@ -551,7 +551,7 @@ impl Interpreter {
             None => self.block_plain(words, line, column, number, diags, out),
         };
         if done {
-            self.after_held(words, true);
+            self.after_held(words, line, true);
         } else {
             self.refused(words, line);
         }
@@ -580,7 +580,7 @@ impl Interpreter {
         }
         self.note_lasting(words, line);
         // Its cancel codes act on the control all the same.
-        self.after_held(words, false);
+        self.after_held(words, line, false);
     }
 
     /// What to add to a defect that a refused block's codes, had they taken effect, might have

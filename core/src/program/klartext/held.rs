@@ -1,11 +1,13 @@
 //! Statements the TNC runs and this reader refuses, whose effect lasts: a mirroring, rotation or
 //! scaling cycle (`CYCL DEF 8`, `10`, `11`, `26`), a datum shift it does not read (`CYCL DEF 7` from
-//! a table or on a rotary axis), `PLANE PROJECTED`, a `FUNCTION TCPM` of a form not read. Until the
+//! a table, on a rotary axis, of a value not known), a tilted plane it does not read (`PLANE
+//! PROJECTED`, any `PLANE` or `CYCL DEF 19` refused), a `FUNCTION TCPM` of a form not read. Until the
 //! statement that ends it, every statement that moves is refused, naming the refused one (it is run
 //! for the program's state, its moves not made); after it, moves are refused until the axes the held
 //! moves displaced are written absolute, as the TNC's tool stands where its held moves left it. The
 //! G-code readers' rule ([`crate::program::interp`]'s `lasting`), for the TNC's statements.
 
+use super::tilt::PlaneForm;
 use super::{Kind, Stmt, Val};
 use crate::program::lex::{upper, Diags};
 use crate::program::Block;
@@ -15,11 +17,11 @@ use crate::program::Block;
 enum What {
     /// A coordinate transformation cycle (8 mirroring, 10 rotation, 11 scaling, 26 axis-specific
     /// scaling), until its own reset (TNC 320 Cycle Programming, "Coordinate transformation cycles":
-    /// ROT 0, SCL 1, mirroring no axis, all factors 1).
+    /// ROT 0, SCL 1, mirroring no axis, the factors 1).
     Transform(u32),
-    /// A datum shift not read (a datum table, a rotary axis), until a `CYCL DEF 7` that is read.
+    /// A datum shift not read, until a `CYCL DEF 7` that is read sets each linear axis absolute.
     Datum,
-    /// A tilted working plane not read, until a `PLANE` that is read (RESET among them).
+    /// A tilted working plane not read, until a `PLANE` that is read (RESET among them; not RELATIV).
     Plane,
     /// Tool-centre-point management of a form not read, until `FUNCTION RESET TCPM`, `M129` or a
     /// `FUNCTION TCPM` that is read.
@@ -43,33 +45,48 @@ impl What {
             What::Transform(8) => "its reset (CYCL DEF 8 with no axis)",
             What::Transform(10) => "its reset (CYCL DEF 10 with ROT+0)",
             What::Transform(11) => "its reset (CYCL DEF 11 with SCL 1)",
-            What::Transform(_) => "its reset (CYCL DEF 26 with all factors 1)",
-            What::Datum => "a CYCL DEF 7 that is read",
+            What::Transform(_) => "its reset (CYCL DEF 26 with the factors 1)",
+            What::Datum => "a CYCL DEF 7 that is read sets X, Y and Z",
             What::Plane => "a PLANE that is read (PLANE RESET)",
             What::Tcpm => "FUNCTION RESET TCPM or M129",
         }
     }
 }
 
+/// A hold in effect: what, its line, and the axes (X Y Z) a datum shift or cycle 26 left unknown.
+#[derive(Debug, Clone, Copy)]
+struct On {
+    what: What,
+    line: usize,
+    axes: [bool; 3],
+}
+
+/// How many statements' lines are remembered as held: radius compensation places a block a few
+/// statements after it runs, so a held one is dropped where it comes out.
+const RECENT: usize = 16;
+
 /// The holds in effect and, after the last ended, the axes (X Y Z A B C) not yet written absolute.
 #[derive(Debug, Clone, Default)]
 pub(super) struct Holds {
-    on: Vec<(What, usize)>,
+    on: Vec<On>,
     stale: Option<([bool; 6], usize, What)>,
-    /// The machine's rotary axes among A B C (a plane turns them).
+    /// The machine's rotary axes among A B C (a plane or a TCPM form turns them).
     rotary: [bool; 3],
+    /// The lines of the last statements refused under a hold: their blocks, wherever they come out.
+    recent: Vec<usize>,
 }
 
-/// A refused line's tokens in capitals, past its block number.
+/// A refused line's tokens in capitals, past a block skip `/` and its block number.
 fn tokens(raw: &str) -> Vec<std::borrow::Cow<'_, str>> {
-    let mut t: Vec<_> = raw.split(';').next().unwrap_or("").split_whitespace().map(upper).collect();
-    if t.first().is_some_and(|w| w.bytes().all(|b| b.is_ascii_digit())) {
+    let mut t: Vec<_> = raw.split(';').next().unwrap_or("").split_whitespace().map(|w| upper(w.trim_start_matches('/'))).filter(|w| !w.is_empty()).collect();
+    // `/3 L ..`, `3 /L ..`: the skip and the number (a digit after `/` is its level, then the number).
+    while t.first().is_some_and(|w| w.bytes().all(|b| b.is_ascii_digit())) {
         t.remove(0);
     }
     t
 }
 
-/// A number as a transformation cycle's reset writes it (`ROT+0`, `SCL1`, `SCL 1`), its letters off.
+/// A number as a transformation cycle's reset writes it (`ROT+0`, `SCL1`, `X1`), its letters off.
 fn number(s: &str) -> Option<f64> {
     s.trim_start_matches(|c: char| c.is_ascii_alphabetic()).parse().ok()
 }
@@ -84,93 +101,144 @@ impl Holds {
         Holds { rotary, ..Holds::default() }
     }
 
-    /// A line the reader refused (its `raw` text): what it holds, or which hold its reset ends.
+    /// A line the parser refused (its `raw` text): what it holds, or which hold its reset ends.
     pub(super) fn refused(&mut self, line: usize, raw: &str) {
         let t = tokens(raw);
         let at = |k: usize| t.get(k).map_or("", |s| s.as_ref());
-        if at(0) == "PLANE" && at(1) == "PROJECTED" {
-            return self.hold(What::Plane, line);
+        if at(0) == "PLANE" {
+            return self.hold(What::Plane, line, [true; 3]);
         }
         if at(0) == "FUNCTION" && at(1) == "TCPM" {
-            return self.hold(What::Tcpm, line);
+            return self.hold(What::Tcpm, line, [true; 3]);
         }
         if at(0) != "CYCL" || at(1) != "DEF" {
             return;
         }
         let (cycle, part) = at(2).split_once('.').unwrap_or((at(2), ""));
-        let rest: Vec<&str> = t.iter().skip(3).map(|s| s.as_ref()).collect();
+        // The words after the number: values (`ROT+0`, `SCL 1`, `X1`), not the centre (`CCX+15`).
+        let rest: Vec<&str> = t.iter().skip(3).map(|s| s.as_ref()).filter(|w| !w.starts_with("CC")).collect();
         match (cycle, part) {
-            ("7", _) => self.hold(What::Datum, line),
+            ("7", _) => self.hold(What::Datum, line, [true; 3]),
+            ("19", _) => self.hold(What::Plane, line, [true; 3]),
             ("8" | "10" | "11" | "26", "0" | "") => {}
-            ("8" | "10" | "11" | "26", _) => {
-                let n: u32 = cycle.parse().unwrap_or(0);
-                // The reset as the manual writes it; a value from a Q parameter is not known, so held.
-                let reset = match n {
-                    8 => rest.is_empty(),
-                    10 => matches!(rest.as_slice(), ["ROT+0" | "ROT0" | "ROT-0"] | ["ROT", "0" | "+0"]),
-                    _ => {
-                        let values: Vec<Option<f64>> = rest.iter().filter(|w| w.bytes().any(|b| b.is_ascii_digit())).map(|w| number(w)).collect();
-                        !values.is_empty() && values.iter().all(|v| *v == Some(1.0))
-                    }
+            ("10", _) => {
+                // `ROT+0`, `ROT 0`, `ROT+0.000`; a Q parameter or an increment is not known: held.
+                let v = match rest.as_slice() {
+                    [w] if w.starts_with("ROT") => number(w),
+                    ["ROT", v] => number(v),
+                    _ => None,
                 };
-                if reset {
-                    self.end(What::Transform(n));
+                if v == Some(0.0) {
+                    self.end(What::Transform(10));
                 } else {
-                    self.hold(What::Transform(n), line);
+                    self.hold(What::Transform(10), line, [true; 3]);
+                }
+            }
+            ("8", _) if rest.is_empty() => self.end(What::Transform(8)),
+            ("8", _) => self.hold(What::Transform(8), line, [true; 3]),
+            ("11", _) => {
+                let values: Vec<Option<f64>> = rest.iter().filter(|w| w.bytes().any(|b| b.is_ascii_digit()) || w.contains('Q')).map(|w| number(w)).collect();
+                if !values.is_empty() && values.iter().all(|v| *v == Some(1.0)) {
+                    self.end(What::Transform(11));
+                } else {
+                    self.hold(What::Transform(11), line, [true; 3]);
+                }
+            }
+            ("26", _) => {
+                // Per axis: a factor 1 resets its axis, another (or a Q parameter) scales it.
+                let mut axes = self.on.iter().find(|o| o.what == What::Transform(26)).map_or([false; 3], |o| o.axes);
+                for w in &rest {
+                    if let Some(k) = "XYZ".find(w.chars().next().unwrap_or(' ')) {
+                        axes[k] = number(w) != Some(1.0);
+                    }
+                }
+                if axes == [false; 3] {
+                    self.end(What::Transform(26));
+                } else {
+                    self.hold(What::Transform(26), line, axes);
                 }
             }
             _ => {}
         }
     }
 
-    fn hold(&mut self, what: What, line: usize) {
-        self.on.retain(|(w, _)| *w != what);
-        self.on.push((what, line));
+    fn hold(&mut self, what: What, line: usize, axes: [bool; 3]) {
+        self.on.retain(|o| o.what != what);
+        self.on.push(On { what, line, axes });
     }
 
     /// End a hold: the axes its moves displaced stay unknown until written absolute.
     fn end(&mut self, what: What) {
-        let Some(k) = self.on.iter().position(|(w, _)| *w == what) else { return };
-        let (_, line) = self.on.remove(k);
-        // A rotation turns the working plane's X and Y (tool axis Z); a plane the rotary axes too;
-        // the others displace the linear axes.
+        let Some(k) = self.on.iter().position(|o| o.what == what) else { return };
+        let On { line, .. } = self.on.remove(k);
+        // A plane and a TCPM form (AXIS SPAT) turned the rotary axes too; the others displaced the
+        // linear axes (all three: the reader's tool axis may be any).
         let r = self.rotary;
         let axes = match what {
-            What::Transform(10) => [true, true, false, false, false, false],
-            What::Plane => [true, true, true, r[0], r[1], r[2]],
+            What::Plane | What::Tcpm => [true, true, true, r[0], r[1], r[2]],
             _ => [true, true, true, false, false, false],
         };
         let before = self.stale.map_or([false; 6], |s| s.0);
         self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, what));
     }
 
-    /// Before a statement that was read runs: the holds it ends.
-    pub(super) fn ends(&mut self, s: &Stmt<'_>) {
+    /// A statement ran without a defect of its own (`ok`): the holds it ends. One the reader
+    /// refused while running (a PLANE, a datum shift, a TCPM form with a value not known) holds.
+    pub(super) fn ran(&mut self, s: &Stmt<'_>, ok: bool) {
+        if !ok {
+            match &s.kind {
+                Kind::Plane(_) => self.hold(What::Plane, s.line, [true; 3]),
+                Kind::Datum(..) => self.hold(What::Datum, s.line, [true; 3]),
+                Kind::Tcp { on: true, .. } => self.hold(What::Tcpm, s.line, [true; 3]),
+                _ => {}
+            }
+            return;
+        }
         if self.on.is_empty() {
             return;
         }
         match &s.kind {
-            Kind::Plane(_) => self.end(What::Plane),
+            Kind::Plane(p) if !matches!(p.form, PlaneForm::Relativ(..)) => self.end(What::Plane),
             Kind::Tcp { .. } => self.end(What::Tcpm),
             Kind::Move { m, .. } | Kind::Misc(m) if m.iter().any(|w| matches!(w.val, Val::Num(v) if v == 129.0)) => self.end(What::Tcpm),
-            Kind::Datum(..) => self.end(What::Datum),
+            // An absolute shift of one axis sets it; the hold ends when every axis is set again.
+            Kind::Datum(k, _, false) => {
+                if let Some(o) = self.on.iter_mut().find(|o| o.what == What::Datum) {
+                    if let Some(a) = o.axes.get_mut(*k) {
+                        *a = false;
+                    }
+                    if o.axes == [false; 3] {
+                        self.end(What::Datum);
+                    }
+                }
+            }
             _ => {}
         }
     }
 
-    /// Whether a statement's moves must be checked: a hold in effect, or axes unknown since one.
+    /// Whether a statement's moves must be checked: a hold in effect, axes unknown since one, or
+    /// blocks of held statements not yet out.
     pub(super) fn active(&self) -> bool {
-        !self.on.is_empty() || self.stale.is_some()
+        !self.on.is_empty() || self.stale.is_some() || !self.recent.is_empty()
     }
 
-    /// After a statement ran under a hold (its blocks from `start` on): refused if it moved (its
-    /// blocks dropped, said at the statement); the axes it wrote absolute are known again.
-    pub(super) fn after(&mut self, s: &Stmt<'_>, start: usize, ok: bool, out: &mut Vec<Block>, diags: &mut Diags) {
-        let moved = out[start.min(out.len())..].iter().any(|b| !b.targets.is_empty());
-        if moved {
-            out.truncate(start);
+    /// The blocks that came out from `start` on: those of held statements are dropped.
+    pub(super) fn drop_held(&mut self, out: &mut Vec<Block>, start: usize) {
+        if self.recent.is_empty() || start >= out.len() {
+            return;
+        }
+        let recent = &self.recent;
+        let tail = out.split_off(start);
+        out.extend(tail.into_iter().filter(|b| b.targets.is_empty() || !recent.contains(&b.line)));
+    }
+
+    /// After a statement ran under a hold (`moves`: it moves the tool; `ok`: without a defect of its
+    /// own): refused if it moves (said at the statement; its blocks dropped wherever they come out);
+    /// the axes it wrote absolute are known again.
+    pub(super) fn after(&mut self, s: &Stmt<'_>, moves: bool, ok: bool, diags: &mut Diags) {
+        if moves && (!self.on.is_empty() || self.stale.is_some()) {
             let why = match (self.on.first(), &self.stale) {
-                (Some((what, line)), _) => format!("a move while line {line}'s {} is in effect on the TNC until {}: that block was refused, so this move is not read as the TNC runs it", what.said(), what.until()),
+                (Some(o), _) => format!("a move while line {}'s {} is in effect on the TNC until {}: that block was refused, so this move is not read as the TNC runs it", o.line, o.what.said(), o.what.until()),
                 (None, Some((axes, line, what))) => {
                     let names: Vec<&str> = (0..6).filter(|&k| axes[k]).map(|k| ["X", "Y", "Z", "A", "B", "C"][k]).collect();
                     let names = match names.split_last() {
@@ -182,6 +250,10 @@ impl Holds {
                 (None, None) => return,
             };
             diags.error(s.line, s.col, why);
+            if self.recent.len() == RECENT {
+                self.recent.remove(0);
+            }
+            self.recent.push(s.line);
         }
         if let (true, Some(stale), Kind::Move { axes, .. }) = (ok && self.on.is_empty(), self.stale.as_mut(), &s.kind) {
             for w in axes {

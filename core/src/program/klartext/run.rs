@@ -121,11 +121,6 @@ impl Runner {
             if diags.errors() > errors {
                 self.holds.refused(line, raw);
             }
-            // Under a hold each statement's element goes out as it runs (see below): the one held
-            // for a corner before the hold began goes out now, read.
-            if self.holds.active() && self.ex.flush(out, diags, &mut self.interp) {
-                return Next::Ended;
-            }
             // A statement refused where it stands, after an RND or CHF: the corner is not made.
             if diags.errors() > errors && self.ex.interrupt("the block after it was not read", out, diags, &mut self.interp) {
                 return Next::Ended;
@@ -168,18 +163,20 @@ impl Runner {
                 _ => Next::On,
             },
             _ => {
-                self.holds.ends(&s);
                 let (start, errors) = (out.len(), diags.errors());
                 let ends = self.ex.run(&s, &mut self.interp, out, diags);
+                let ok = diags.errors() == errors;
                 if self.holds.active() {
-                    // Its element out now (not held for a corner), so that its moves are judged here.
-                    let stopped = self.ex.flush(out, diags, &mut self.interp);
-                    let ok = diags.errors() == errors;
-                    self.holds.after(&s, start, ok, out, diags);
-                    if stopped {
-                        return Next::Ended;
-                    }
+                    // It moves: by its words, or by what it made (a cycle call, a PLANE's turn); what
+                    // it made may come out later (held for a corner or by radius compensation).
+                    let moves = match &s.kind {
+                        Kind::Move { axes, .. } => !axes.is_empty(),
+                        Kind::Spline { .. } | Kind::CycleCall(_) | Kind::Retract { .. } => true,
+                        _ => false,
+                    } || out[start.min(out.len())..].iter().any(|b| b.line == s.line && !b.targets.is_empty());
+                    self.holds.after(&s, moves, ok, diags);
                 }
+                self.holds.ran(&s, ok);
                 if self.interp.halted || ends && self.stack.is_empty() {
                     Next::Ended // M2 / M30: the program ends (subprograms follow it); or the TNC stopped
                 } else {
@@ -257,7 +254,11 @@ impl Jumping for Runner {
     }
 
     fn line(&mut self, line: usize, text: &str, _here: At, next: At, out: &mut Vec<Block>, diags: &mut Diags) -> Next {
-        Runner::line(self, line, text, next, out, diags)
+        let start = out.len();
+        let next = Runner::line(self, line, text, next, out, diags);
+        // Blocks of statements refused under a hold, wherever they come out.
+        self.holds.drop_held(out, start);
+        next
     }
 
     fn check(&mut self, line: usize, text: &str, diags: &mut Diags) {
@@ -267,11 +268,13 @@ impl Jumping for Runner {
     fn finish(&mut self, _ended: bool, out: &mut Vec<Block>, diags: &mut Diags) {
         // The element held for a corner, then the moves held for radius compensation, go out at the
         // program's end; a corner with no element after it is not made.
+        let start = out.len();
         self.ex.end_corner(diags);
         self.ex.flush(out, diags, &mut self.interp);
         if let Err(why) = self.ex.comp.stop(self.interp.unit(), self.interp.tilt(), out) {
             diags.error(self.labels.lines.max(1), 1, format!("radius compensation: {}", why.why()));
         }
+        self.holds.drop_held(out, start);
         Runner::finish(self, diags);
     }
 
@@ -281,6 +284,8 @@ impl Jumping for Runner {
 
     fn not_read(&mut self, _line: usize, out: &mut Vec<Block>, diags: &mut Diags) {
         // A stop of compensation there halts the interpreter, which ends the run.
+        let start = out.len();
         self.ex.interrupt("the block after it was not read", out, diags, &mut self.interp);
+        self.holds.drop_held(out, start);
     }
 }
