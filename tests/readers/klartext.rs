@@ -143,9 +143,10 @@ fn klartext_refuses_what_changes_the_motion_at_line_and_column() {
     has(&p, 11, 6, "Q5 is used before it is set");
     has(&p, 12, 4, "CT: no contour element before it");
     has(&p, 13, 4, "LN: expected X Y Z and NX NY NZ");
-    // Every good block is kept; none of the refused ones is. Block 13 is refused too: the plane of
-    // block 5 (refused: no machine) and the FUNCTION TCPM of block 8 are in effect on the TNC.
-    has(&p, 14, 4, "line 6's PLANE (tilted working plane) is in effect on the TNC");
+    // Every good block is kept; none of the refused ones is. Block 13 is refused too: the radius
+    // compensation of block 3's APPR, the plane of block 5 (refused: no machine) and the FUNCTION
+    // TCPM of block 8 are in effect on the TNC.
+    has(&p, 14, 4, "line 4's APPR (radius compensation RL/RR) is in effect on the TNC");
     let numbers: Vec<u64> = p.blocks.iter().filter_map(|b| b.number).collect();
     assert_eq!(numbers, vec![1]);
     // A file without BEGIN PGM says so.

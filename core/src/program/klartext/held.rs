@@ -26,6 +26,10 @@ enum What {
     /// Tool-centre-point management of a form not read, until `FUNCTION RESET TCPM`, `M129` or a
     /// `FUNCTION TCPM` that is read.
     Tcpm,
+    /// Radius compensation an `APPR ... RL|RR` turned on, until a `DEP` or an `R0` block.
+    Comp,
+    /// A move not read (`APPR`, `DEP`, `CTP`, FK, a touch probe): where it left the tool is not known.
+    Moved(&'static str),
 }
 
 impl What {
@@ -37,6 +41,16 @@ impl What {
             What::Datum => "CYCL DEF 7 (datum shift)".into(),
             What::Plane => "PLANE (tilted working plane)".into(),
             What::Tcpm => "FUNCTION TCPM".into(),
+            What::Comp => "APPR (radius compensation RL/RR)".into(),
+            What::Moved(name) => name.into(),
+        }
+    }
+
+    /// Where the tool stands after it, for the message of a move that starts there.
+    fn left(self, line: usize) -> String {
+        match self {
+            What::Moved(_) => format!("line {line}'s {}", self.said()),
+            _ => format!("the moves under line {line}'s {}", self.said()),
         }
     }
 
@@ -49,6 +63,8 @@ impl What {
             What::Datum => "a CYCL DEF 7 that is read sets X, Y and Z",
             What::Plane => "a PLANE that is read (PLANE RESET)",
             What::Tcpm => "FUNCTION RESET TCPM or M129",
+            What::Comp => "a DEP or an R0 block",
+            What::Moved(_) => "",
         }
     }
 }
@@ -110,6 +126,27 @@ impl Holds {
         }
         if at(0) == "FUNCTION" && at(1) == "TCPM" {
             return self.hold(What::Tcpm, line, [true; 3]);
+        }
+        // A move the TNC makes and this reader does not read: the tool's position after it is not
+        // known. APPR with RL/RR turns on radius compensation; DEP turns it off.
+        let moved = match at(0) {
+            "APPR" => Some("APPR (approach on a contour)"),
+            "DEP" => Some("DEP (departure from a contour)"),
+            "CTP" => Some("CTP (a polar tangential arc)"),
+            "FL" | "FLT" | "FC" | "FCT" => Some("FK (a free contour element)"),
+            "TCH" => Some("TCH PROBE (a touch probe cycle)"),
+            _ => None,
+        };
+        if let Some(name) = moved {
+            if at(0) == "DEP" {
+                self.on.retain(|o| o.what != What::Comp);
+            }
+            if at(0) == "APPR" && t.iter().any(|w| w == "RL" || w == "RR") {
+                self.hold(What::Comp, line, [true; 3]);
+            }
+            let before = self.stale.map_or([false; 6], |s| s.0);
+            self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| k < 3 || before[k]), line, What::Moved(name)));
+            return;
         }
         if at(0) != "CYCL" || at(1) != "DEF" {
             return;
@@ -200,6 +237,7 @@ impl Holds {
         match &s.kind {
             Kind::Plane(p) if !matches!(p.form, PlaneForm::Relativ(..)) => self.end(What::Plane),
             Kind::Tcp { .. } => self.end(What::Tcpm),
+            Kind::Move { comp: Some((None, _)), .. } => self.end(What::Comp),
             Kind::Move { m, .. } | Kind::Misc(m) if m.iter().any(|w| matches!(w.val, Val::Num(v) if v == 129.0)) => self.end(What::Tcpm),
             // An absolute shift of one axis sets it; the hold ends when every axis is set again.
             Kind::Datum(k, _, false) => {
@@ -245,7 +283,7 @@ impl Holds {
                         Some((last, rest)) if !rest.is_empty() => format!("{} and {last} are", rest.join(", ")),
                         _ => format!("{} is", names.concat()),
                     };
-                    format!("a move from where the moves under line {line}'s {} left the tool, which is not known (the TNC ran them, this reader did not): moves are read again once {names} written absolute", what.said())
+                    format!("a move from where {} left the tool, which is not known (the TNC ran it, this reader did not): moves are read again once {names} written absolute", what.left(*line))
                 }
                 (None, None) => return,
             };
