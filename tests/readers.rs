@@ -305,16 +305,19 @@ fn sinumerik_splines_and_cip_are_refused_with_the_moves_they_govern() {
 
 /// LinuxCNC's splines `G5`, `G5.1`, `G5.2` (and Fanuc's 3D circle `G02.4`) are motions of modal group
 /// 1: refused, they leave the motion mode unknown, so the move after one that gives no G code of
-/// its own is refused naming it, not read as a line of the mode before (`G1`).
+/// its own is refused naming it, not read as a line of the mode before (`G1`). The control made the
+/// spline: the moves after it are refused until the axes it names (X Y) are written absolute.
 #[test]
 fn refused_spline_modes_govern_the_moves_after_them() {
-    let text = "G21 G90 G17\nG0 X0 Y0 Z10\nG1 F500 X1\nG5 X10 Y10 I5 J0 P5 Q0\nX20 Y0\nG1 X2\nX3\nM2\n";
+    let text = "G21 G90 G17\nG0 X0 Y0 Z10\nG1 F500 X1\nG5 X10 Y10 I5 J0 P5 Q0\nX20 Y0\nG1 X2\nG1 X2 Y0\nX3\nM2\n";
     let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
     has(&p, 4, 1, "G5 (spline or NURBS motion) is not supported");
     has(&p, 5, 1, "without a motion mode");
     has(&p, 5, 1, "line 4 was refused");
+    has(&p, 6, 4, "once X and Y are written absolute");
+    has(&p, 7, 4, "once Y is written absolute");
     let xs: Vec<f64> = p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect();
-    assert_eq!(xs, [0.0, 1.0, 2.0, 3.0], "X20 is not a line; G1 X2 sets the mode again");
+    assert_eq!(xs, [0.0, 1.0, 3.0], "X20 is not a line; G1 X2 sets the mode again, from where the spline left the tool");
     let text = "%\nG21 G90 G17 G0 X0. Y0. Z10.\nG1 F500. X1.\nG02.4 X10. Y10. Z0.\nX5. Y2. Z1.\nM30\n%\n";
     let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
     has(&p, 5, 1, "line 4 was refused");

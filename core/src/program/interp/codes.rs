@@ -84,7 +84,8 @@ pub(crate) fn m128_feed_said(written: &str) -> String {
 /// machining, group 00).
 pub(crate) fn unread_motion(dialect: crate::program::Dialect, code_x10: i64) -> Option<&'static str> {
     match code_x10 {
-        50 if dialect == crate::program::Dialect::Fanuc => None,
+        // Fanuc's G05 is no motion; its G06.2 is read (a refusal is the curve's defect, an alarm).
+        50 | 62 if dialect == crate::program::Dialect::Fanuc => None,
         50 | 51 | 52 | 53 | 61 | 62 => Some("spline or NURBS motion"),
         24 | 34 => Some("3D circular interpolation"),
         _ => None,

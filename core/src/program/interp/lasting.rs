@@ -203,6 +203,14 @@ impl Interpreter {
         }
     }
 
+    /// A move the control makes and the reader does not read (a spline, a 3D circle: `what`, at
+    /// `code`): where it leaves the axes it names (`axes`, X Y Z A B C) is not known until they are
+    /// written absolute.
+    pub(crate) fn moved_unread(&mut self, line: usize, code: &str, what: &'static str, axes: [bool; 6]) {
+        let before = self.stale.take().map_or([false; 6], |s| s.axes);
+        self.stale = Some(Stale { axes: [0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, code: code.to_string(), what });
+    }
+
     /// A canned cycle refused for what is not read (`code` as the control names it, `87`): the
     /// control runs it at every later position until its cancel.
     pub(crate) fn hold_cycle(&mut self, line: usize, code: &str) {

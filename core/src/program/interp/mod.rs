@@ -574,9 +574,15 @@ impl Interpreter {
         self.refused_line = Some(line);
         // A refused spline, NURBS or 3D circle mode (G group 01, modal): the moves after it on the
         // control are its points, not lines of the mode before.
-        let unread_motion = |w: &Word| w.letter == 'G' && codes::unread_motion(self.dialect, codes::x10(w)).is_some();
-        if matches!(self.dialect, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas) && words.iter().any(unread_motion) {
+        let unread = words.iter().filter(|w| w.letter == 'G').find_map(|w| codes::unread_motion(self.dialect, codes::x10(w)).map(|what| (w, what)));
+        if let (true, Some((w, what))) = (matches!(self.dialect, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas), unread) {
             self.forget_motion(line);
+            // Its move (the control makes it) leaves the tool where this reader does not know.
+            let axes = ['X', 'Y', 'Z', 'A', 'B', 'C'].map(|l| words.iter().any(|w| w.letter == l));
+            if axes.contains(&true) {
+                let code = w.raw.trim_start_matches('0').to_string();
+                self.moved_unread(line, &code, what, axes);
+            }
         }
         self.note_lasting(words, line);
         // Its cancel codes act on the control all the same.

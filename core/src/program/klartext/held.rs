@@ -144,8 +144,10 @@ impl Holds {
             if at(0) == "APPR" && t.iter().any(|w| w == "RL" || w == "RR") {
                 self.hold(What::Comp, line, [true; 3]);
             }
+            // In the working plane (X Y); a probe cycle along any axis.
+            let axes = if at(0) == "TCH" { 3 } else { 2 };
             let before = self.stale.map_or([false; 6], |s| s.0);
-            self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| k < 3 || before[k]), line, What::Moved(name)));
+            self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| k < axes || before[k]), line, What::Moved(name)));
             return;
         }
         if at(0) != "CYCL" || at(1) != "DEF" {
