@@ -287,7 +287,7 @@ fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
 /// give no G0-G3 of their own are refused, naming it, instead of being read as straight lines.
 #[test]
 fn sinumerik_splines_and_cip_are_refused_with_the_moves_they_govern() {
-    let text = "G71 G90 G94\nG0 X0 Y0 Z100\nBSPLINE\nX10 Y5 F1000\nG1 X20 Y0\nCIP X30 Y15 I1=25 J1=10\nX40\nG1 X0\nCT X40 Y0\nX50\nG0 X60\nM30\n";
+    let text = "G71 G90 G94\nG0 X0 Y0 Z100\nBSPLINE\nX10 Y5 F1000\nG1 X20 Y0\nCIP X30 Y15 I1=25 J1=10\nX40\nG1 X0\nCT X40 Y0\nX50\nG0 X60 Y0\nG0 X70\nM30\n";
     let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
     has(&p, 3, 1, "BSPLINE: spline or polynomial interpolation is not read");
     has(&p, 4, 1, "without a motion mode");
@@ -297,9 +297,12 @@ fn sinumerik_splines_and_cip_are_refused_with_the_moves_they_govern() {
     has(&p, 9, 1, "CT: a circle through an intermediate point (CIP) or with a tangential transition (CT) is not read");
     has(&p, 10, 1, "line 9 was refused");
     assert!(!p.diagnostics.iter().any(|d| d.message.contains("subprogram")), "{:?}", p.diagnostics);
-    // Only the blocks with their own G0 or G1 (and a feed) move: X0 Y0 Z100, G1 X20 (F1000 came from a refused line: refused too), G0 X60.
+    // Only the blocks with their own G0 or G1 (and a feed) move, once X and Y (which the control's
+    // spline and circles moved) are written absolute again: X0 Y0 Z100; G1 X20 Y0 (F1000 came from a
+    // refused line), G1 X0 and G0 X60 Y0 start where the curves left the tool, refused; G0 X70.
     let xs: Vec<f64> = p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect();
-    assert_eq!(xs, [0.0, 60.0], "{:?}", errors(&p));
+    assert_eq!(xs, [0.0, 70.0], "{:?}", errors(&p));
+    has(&p, 11, 4, "from where the moves under line 9's CT");
     has(&p, 5, 1, "without a feed");
 }
 

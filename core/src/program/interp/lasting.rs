@@ -80,12 +80,12 @@ fn axis_word(w: &Word, arc: bool) -> bool {
 }
 
 /// Where the moves under a hold left the tool, after its cancel: the axes not yet written absolute
-/// since (X Y Z A B C), and the hold's line, code and what it was.
+/// since (X Y Z A B C), and the hold's line, name (`G41`, `BSPLINE`) and what it was.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Stale {
     axes: [bool; 6],
     line: usize,
-    code: String,
+    name: String,
     what: &'static str,
 }
 
@@ -144,7 +144,7 @@ impl Interpreter {
             Some((last, rest)) if !rest.is_empty() => format!("{} and {last} are", rest.join(", ")),
             _ => format!("{} is", axes.concat()),
         };
-        Some((column, format!("a move from where the moves under line {}'s G{} ({}) left the tool, which is not known (the control ran them, this reader did not): moves are read again once {axes} written absolute", s.line, s.code, s.what)))
+        Some((column, format!("a move from where the moves under line {}'s {} ({}) left the tool, which is not known (the control ran them, this reader did not): moves are read again once {axes} written absolute", s.line, s.name, s.what)))
     }
 
     /// After a block is read or refused: its cancel codes end their holds (the axes the held moves
@@ -183,7 +183,7 @@ impl Interpreter {
                 }
             }
             let before = self.stale.take().map_or([false; 6], |s| s.axes);
-            self.stale = Some(Stale { axes: [0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line: l.line, code: l.code, what: l.rule.what });
+            self.stale = Some(Stale { axes: [0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line: l.line, name: format!("G{}", l.code), what: l.rule.what });
         }
         if !done || look.axis.is_none() {
             return;
@@ -203,12 +203,15 @@ impl Interpreter {
         }
     }
 
-    /// A move the control makes and the reader does not read (a spline, a 3D circle: `what`, at
-    /// `code`): where it leaves the axes it names (`axes`, X Y Z A B C) is not known until they are
+    /// A move the control makes and the reader does not read (a spline, a 3D circle: `what`, by
+    /// `name`): where it leaves the axes it names (`axes`, X Y Z A B C) is not known until they are
     /// written absolute.
-    pub(crate) fn moved_unread(&mut self, line: usize, code: &str, what: &'static str, axes: [bool; 6]) {
+    pub(crate) fn moved_unread(&mut self, line: usize, name: &str, what: &'static str, axes: [bool; 6]) {
+        if !axes.contains(&true) {
+            return;
+        }
         let before = self.stale.take().map_or([false; 6], |s| s.axes);
-        self.stale = Some(Stale { axes: [0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, code: code.to_string(), what });
+        self.stale = Some(Stale { axes: [0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, name: name.to_string(), what });
     }
 
     /// A canned cycle refused for what is not read (`code` as the control names it, `87`): the

@@ -121,6 +121,9 @@ pub struct Interpreter {
     pub(crate) nurbs: Option<Box<super::fanuc_nurbs::Mode>>,
     /// Modal codes of refused blocks in effect on the control until their cancel ([`lasting`]).
     pub(crate) lasting: Vec<lasting::Lasting>,
+    /// The last motion mode not read (its line, name and what it is): moves refused while the mode is
+    /// unknown leave their axes unknown.
+    pub(crate) forgotten: Option<(usize, String, &'static str)>,
     /// After such a code's cancel: the axes whose position its moves left unknown.
     pub(crate) stale: Option<lasting::Stale>,
     tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
@@ -381,6 +384,7 @@ impl Interpreter {
             comp: None,
             nurbs: None,
             lasting: Vec::new(),
+            forgotten: None,
             stale: None,
             tool_table: None,
             machine_coords: None,
@@ -552,7 +556,14 @@ impl Interpreter {
         };
         if done {
             self.after_held(words, line, true);
+            if self.motion.is_some() {
+                self.forgotten = None;
+            }
         } else {
+            // A move refused in a motion mode not read: the control made it.
+            if let (None, Some((l, name, what))) = (self.motion, self.forgotten.clone()) {
+                self.moved_unread(l, &name, what, axes_named(words));
+            }
             self.refused(words, line);
         }
         self.note_feed(done, words.iter().any(|w| w.letter == 'F'), line);
@@ -576,13 +587,8 @@ impl Interpreter {
         // control are its points, not lines of the mode before.
         let unread = words.iter().filter(|w| w.letter == 'G').find_map(|w| codes::unread_motion(self.dialect, codes::x10(w)).map(|what| (w, what)));
         if let (true, Some((w, what))) = (matches!(self.dialect, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas), unread) {
-            self.forget_motion(line);
             // Its move (the control makes it) leaves the tool where this reader does not know.
-            let axes = ['X', 'Y', 'Z', 'A', 'B', 'C'].map(|l| words.iter().any(|w| w.letter == l));
-            if axes.contains(&true) {
-                let code = w.raw.trim_start_matches('0').to_string();
-                self.moved_unread(line, &code, what, axes);
-            }
+            self.forget_motion(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes_named(words));
         }
         self.note_lasting(words, line);
         // Its cancel codes act on the control all the same.
@@ -605,12 +611,15 @@ impl Interpreter {
         }
     }
 
-    /// A refused block set a modal motion this reader does not read (an 840D spline, `CIP`, `CT`):
-    /// the motion mode is unknown until a block gives one, so a later move without its own is
-    /// refused, naming the block.
-    pub(crate) fn forget_motion(&mut self, line: usize) {
+    /// A refused block set a modal motion this reader does not read (an 840D spline, `CIP`, `CT`;
+    /// `name` and `what` it is): the motion mode is unknown until a block gives one, so a later move
+    /// without its own is refused, naming the block; the axes it moved (`axes`, X Y Z A B C), and
+    /// those of the moves refused in the mode after it, are unknown until written absolute.
+    pub(crate) fn forget_motion(&mut self, line: usize, name: &str, what: &'static str, axes: [bool; 6]) {
         self.motion = None;
         self.refused_line = Some(line);
+        self.forgotten = Some((line, name.to_string(), what));
+        self.moved_unread(line, name, what, axes);
     }
 
     /// What to add to "move without a feed" where a refused block since the last feed carried one.
@@ -788,4 +797,9 @@ impl Interpreter {
             _ => self.peck[1].ok_or("the machine file gives no G83 clearance (canned_cycles.g83_clearance_mm: Fanuc parameter No. 5115)"),
         }
     }
+}
+
+/// The axes a block's words name (X Y Z A B C).
+pub(crate) fn axes_named(words: &[Word]) -> [bool; 6] {
+    ['X', 'Y', 'Z', 'A', 'B', 'C'].map(|l| words.iter().any(|w| w.letter == l))
 }

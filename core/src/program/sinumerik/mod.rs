@@ -148,10 +148,11 @@ impl super::stream::LineReader for SinumerikReader {
         let errors_before = diags.errors();
         let first = cols.col(first) - 1;
         let lexed = lex::lex_line(text_line, &cols, line, &mut self.vars, diags);
-        let unread_motion = lexed.keywords.iter().any(|k| UNREAD_MOTION.contains(&k.name.as_str()));
+        let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
         if diags.errors() > errors_before {
-            if unread_motion {
-                self.interp.forget_motion(line);
+            if let Some(k) = unread_motion {
+                let axes = crate::program::interp::axes_named(&lexed.words);
+                self.interp.forget_motion(line, k, "a motion not read", axes);
             }
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
@@ -180,6 +181,7 @@ impl super::stream::LineReader for SinumerikReader {
         // A refused block's feed does not take effect: a later move without one names it
         // ([`Interpreter::after_refused_feed`]; of a refused block's other words the 840D reader says nothing).
         let feed_word = lexed.words.iter().any(|w| w.letter == 'F');
+        let axes = crate::program::interp::axes_named(&lexed.words);
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             self.corners.drop_words();
             if let Some(saved) = saved {
@@ -192,8 +194,8 @@ impl super::stream::LineReader for SinumerikReader {
                 self.interp.restore_pending_vector(vector);
                 self.interp.refused_line = refused_line;
             }
-            if unread_motion {
-                self.interp.forget_motion(line);
+            if let Some(k) = unread_motion {
+                self.interp.forget_motion(line, k, "a motion not read", axes);
             }
             self.interp.note_feed(false, feed_word, line);
             out.truncate(blocks_before);
