@@ -170,3 +170,17 @@ fn a_canned_cycle_refused_for_what_is_not_read_holds_until_g80() {
     has(&p, 4, 1, "line 3's G88 (canned cycle");
     assert_eq!(x_at(&p, 7), Some(5.0));
 }
+
+/// LinuxCNC's G80 ends a refused spline's mode too (no motion mode after it, as after any G80): a
+/// later block refused for its own defect is not blamed on the spline. The 840D: a point refused in
+/// a `BSPLINE` mode on a line the reader restores (a `G64` with it) still leaves its axes unknown.
+#[test]
+fn g80_ends_a_mode_not_read_and_an_840d_point_leaves_its_axes_unknown() {
+    let p = read("G21 G90 G94 G17\nG0 X0 Y0 Z10\nG5.2 X1 Y2 P1 L3\nG80\nG0 X0 Y0 Z10\nG80\nZ-5\nG0 X1 Y1\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).iter().all(|(l, _, m)| *l != 8 && !(*l == 7 && m.contains("G5.2"))), "{:?}", errors(&p));
+    assert_eq!(x_at(&p, 8), Some(1.0));
+    let p = read("G71 G90 G94\nG0 X0 Y0 Z10\nBSPLINE X10 Y10\nX20 Y20 Z-5 G64\nG0 X0 Y0\nG1 X50 F100\nG1 X1 Y1 Z1\nG1 X2\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    has(&p, 5, 4, "once X, Y and Z are written absolute");
+    has(&p, 6, 4, "once Z is written absolute");
+    assert_eq!(x_at(&p, 8), Some(2.0), "{:?}", errors(&p));
+}

@@ -136,3 +136,22 @@ fn approach_departure_and_fk_leave_the_position_unknown() {
     has(&p, 4, 3, "from where line 3's FK (a free contour element) left the tool");
     assert_eq!(moved(&p), [2, 6], "{:?}", errors(&p));
 }
+
+/// A subprogram whose moves were held under a rotation is read when it is called again after the
+/// rotation's reset (and X, Y, Z written): the held lines are forgotten once nothing is pending. An
+/// `APPR` that names Z leaves Z unknown too; a program called (`CALL PGM`) leaves every axis unknown.
+#[test]
+fn held_lines_are_forgotten_and_named_axes_go_stale() {
+    let text = "0 BEGIN PGM L MM\n1 L X+0 Y+0 Z+50 R0 F500\n2 CYCL DEF 10.0 ROTATION\n3 CYCL DEF 10.1 ROT+30\n4 CALL LBL 1\n5 CYCL DEF 10.0 ROTATION\n\
+                6 CYCL DEF 10.1 ROT+0\n7 L X+0 Y+0 Z+50 R0 FMAX\n8 CALL LBL 1\n9 L Z+100 R0 FMAX M30\n10 LBL 1\n11 L X+10 Y+0 R0 F500\n12 L X+10 Y+10\n13 LBL 0\n14 END PGM L MM\n";
+    let p = read(text, Dialect::Klartext, "l.h", &ReadOptions::default());
+    // The subprogram's two moves: refused in the first call, read in the second.
+    assert_eq!(p.blocks.iter().filter(|b| b.line == 12 || b.line == 13).count(), 2, "{:?}", errors(&p));
+    assert_eq!(errors(&p).iter().filter(|(l, _, _)| *l == 12 || *l == 13).count(), 2, "{:?}", errors(&p));
+    let p = read("0 BEGIN PGM A MM\n1 L X+0 Y+0 Z+50 R0 F500\n2 APPR CT X+10 Y+20 Z-10 CCA180 R+10 R0 F100\n3 L X+30 Y+20\n4 L Z+5\n5 L X+1\n6 END PGM A MM\n", Dialect::Klartext, "a.h", &ReadOptions::default());
+    has(&p, 4, 3, "once X, Y and Z are written absolute");
+    assert_eq!(moved(&p), [2, 6], "{:?}", errors(&p));
+    let p = read("0 BEGIN PGM A MM\n1 L X+0 Y+0 Z+50 R0 F500\n2 CALL PGM SUB.H\n3 L IX+10\n4 L X+1 Y+2 Z+3\n5 L X+4\n6 END PGM A MM\n", Dialect::Klartext, "a.h", &ReadOptions::default());
+    has(&p, 4, 3, "from where line 3's CALL PGM (a program called) left the tool");
+    assert_eq!(moved(&p), [2, 6], "{:?}", errors(&p));
+}

@@ -214,6 +214,14 @@ impl Interpreter {
         self.stale = Some(Stale { axes: [0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, name: name.to_string(), what });
     }
 
+    /// A move refused while the motion mode is one not read ([`Interpreter::forget_motion`]): the
+    /// control made it, so the axes it names (`axes`, X Y Z A B C) are unknown until written absolute.
+    pub(crate) fn moved_in_unread_mode(&mut self, axes: [bool; 6]) {
+        if let (None, Some((l, name, what))) = (self.motion, self.forgotten.clone()) {
+            self.moved_unread(l, &name, what, axes);
+        }
+    }
+
     /// A canned cycle refused for what is not read (`code` as the control names it, `87`): the
     /// control runs it at every later position until its cancel.
     pub(crate) fn hold_cycle(&mut self, line: usize, code: &str) {

@@ -556,14 +556,12 @@ impl Interpreter {
         };
         if done {
             self.after_held(words, line, true);
-            if self.motion.is_some() {
+            // A mode is known again (a G0-G3), or none is (LinuxCNC's G80): the mode not read has ended.
+            if self.motion.is_some() || words.iter().any(|w| w.letter == 'G' && codes::x10(w) == 800) {
                 self.forgotten = None;
             }
         } else {
-            // A move refused in a motion mode not read: the control made it.
-            if let (None, Some((l, name, what))) = (self.motion, self.forgotten.clone()) {
-                self.moved_unread(l, &name, what, axes_named(words));
-            }
+            self.moved_in_unread_mode(axes_named(words));
             self.refused(words, line);
         }
         self.note_feed(done, words.iter().any(|w| w.letter == 'F'), line);
@@ -799,7 +797,11 @@ impl Interpreter {
     }
 }
 
-/// The axes a block's words name (X Y Z A B C).
+/// The axes a block's words move (X Y Z A B C): none in a block of G10, G04, G92 or G52, whose
+/// words are offsets or a time.
 pub(crate) fn axes_named(words: &[Word]) -> [bool; 6] {
+    if words.iter().any(|w| w.letter == 'G' && matches!(codes::x10(w), 100 | 40 | 920 | 921 | 922 | 923 | 520)) {
+        return [false; 6];
+    }
     ['X', 'Y', 'Z', 'A', 'B', 'C'].map(|l| words.iter().any(|w| w.letter == l))
 }

@@ -130,6 +130,7 @@ impl Holds {
         // A move the TNC makes and this reader does not read: the tool's position after it is not
         // known. APPR with RL/RR turns on radius compensation; DEP turns it off.
         let moved = match at(0) {
+            "CALL" if at(1) == "PGM" => Some("CALL PGM (a program called)"),
             "APPR" => Some("APPR (approach on a contour)"),
             "DEP" => Some("DEP (departure from a contour)"),
             "CTP" => Some("CTP (a polar tangential arc)"),
@@ -144,10 +145,20 @@ impl Holds {
             if at(0) == "APPR" && t.iter().any(|w| w == "RL" || w == "RR") {
                 self.hold(What::Comp, line, [true; 3]);
             }
-            // In the working plane (X Y); a probe cycle along any axis.
-            let axes = if at(0) == "TCH" { 3 } else { 2 };
+            // In the working plane (X Y) and any axis it names; a probe cycle or a called program any.
+            let all = matches!(at(0), "TCH" | "CALL");
+            let r = self.rotary;
+            let mut axes = if all { [true, true, true, r[0], r[1], r[2]] } else { [true, true, false, false, false, false] };
+            for w in t.iter().skip(1) {
+                let mut c = w.chars();
+                if let (Some(l), Some(n)) = (c.next(), c.next()) {
+                    if let Some(k) = "XYZABC".find(l).filter(|_| n.is_ascii_digit() || n == '+' || n == '-') {
+                        axes[k] = true;
+                    }
+                }
+            }
             let before = self.stale.map_or([false; 6], |s| s.0);
-            self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| k < axes || before[k]), line, What::Moved(name)));
+            self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, What::Moved(name)));
             return;
         }
         if at(0) != "CYCL" || at(1) != "DEF" {
@@ -215,6 +226,8 @@ impl Holds {
         let r = self.rotary;
         let axes = match what {
             What::Plane | What::Tcpm => [true, true, true, r[0], r[1], r[2]],
+            // Radius compensation offsets the working plane's X and Y.
+            What::Comp => [true, true, false, false, false, false],
             _ => [true, true, true, false, false, false],
         };
         let before = self.stale.map_or([false; 6], |s| s.0);
@@ -260,6 +273,15 @@ impl Holds {
     /// blocks of held statements not yet out.
     pub(super) fn active(&self) -> bool {
         !self.on.is_empty() || self.stale.is_some() || !self.recent.is_empty()
+    }
+
+    /// Nothing is held, nor unknown, nor waiting to come out (no radius compensation, no element held
+    /// for a corner): the lines of the held statements are forgotten, so that a later run of them (a
+    /// subprogram called again) is read.
+    pub(super) fn settled(&mut self) {
+        if self.on.is_empty() && self.stale.is_none() {
+            self.recent.clear();
+        }
     }
 
     /// The blocks that came out from `start` on: those of held statements are dropped.

@@ -166,6 +166,9 @@ impl Runner {
                 let (start, errors) = (out.len(), diags.errors());
                 let ends = self.ex.run(&s, &mut self.interp, out, diags);
                 let ok = diags.errors() == errors;
+                // What it ends or starts first: the statement that ends a hold moves from where the
+                // held moves left the tool.
+                self.holds.ran(&s, ok);
                 if self.holds.active() {
                     // It moves: by its words, or by what it made (a cycle call, a PLANE's turn); what
                     // it made may come out later (held for a corner or by radius compensation).
@@ -175,8 +178,12 @@ impl Runner {
                         _ => false,
                     } || out[start.min(out.len())..].iter().any(|b| b.line == s.line && !b.targets.is_empty());
                     self.holds.after(&s, moves, ok, diags);
+                    // Its blocks judged, then, if nothing is held anywhere, the held lines forgotten.
+                    self.holds.drop_held(out, start);
+                    if !self.ex.comp.busy() && self.ex.held.is_none() {
+                        self.holds.settled();
+                    }
                 }
-                self.holds.ran(&s, ok);
                 if self.interp.halted || ends && self.stack.is_empty() {
                     Next::Ended // M2 / M30: the program ends (subprograms follow it); or the TNC stopped
                 } else {

@@ -152,7 +152,7 @@ impl super::stream::LineReader for SinumerikReader {
         if diags.errors() > errors_before {
             if let Some(k) = unread_motion {
                 let axes = crate::program::interp::axes_named(&lexed.words);
-                self.interp.forget_motion(line, k, "a motion not read", axes);
+                self.interp.forget_motion(line, k, unread_what(k), axes);
             }
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
@@ -194,8 +194,10 @@ impl super::stream::LineReader for SinumerikReader {
                 self.interp.restore_pending_vector(vector);
                 self.interp.refused_line = refused_line;
             }
+            // The restore took back what the interpreter noted of a move in a mode not read.
+            self.interp.moved_in_unread_mode(axes);
             if let Some(k) = unread_motion {
-                self.interp.forget_motion(line, k, "a motion not read", axes);
+                self.interp.forget_motion(line, k, unread_what(k), axes);
             }
             self.interp.note_feed(false, feed_word, line);
             out.truncate(blocks_before);
@@ -790,6 +792,16 @@ pub(super) const READ_KEYWORDS: [&str; 30] = [
 /// The modal motions of G group 1 that are not read (splines, polynomials, `CIP`, `CT`): after one
 /// is refused, a move must give its own G0-G3 ([`Interpreter::forget_motion`]).
 const UNREAD_MOTION: [&str; 6] = ["BSPLINE", "ASPLINE", "CSPLINE", "POLY", "CIP", "CT"];
+
+/// What an [`UNREAD_MOTION`] keyword is, for the messages of the moves after it.
+fn unread_what(k: &str) -> &'static str {
+    match k {
+        "POLY" => "polynomial interpolation",
+        "CIP" => "a circle through an intermediate point",
+        "CT" => "a circle with a tangential transition",
+        _ => "spline interpolation",
+    }
+}
 
 /// Why a keyword the reader knows is refused (`None`: a name it does not know).
 fn unsupported_keyword(k: &str) -> Option<&'static str> {
