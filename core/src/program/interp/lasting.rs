@@ -1,9 +1,10 @@
-//! Modal codes a refused block leaves in effect on the control: a block refused here changes
-//! nothing, but the control runs it, and its cutter compensation, scaling, mirroring, tilted plane
-//! or feed mode then shapes every move until the code that cancels it. Such moves are refused,
-//! naming the block, instead of being read as if the code had not been written.
+//! What a refused block leaves: none of its codes take effect here (later defects name it), but the
+//! control runs it, so its cutter compensation, scaling, mirroring, tilted plane, canned cycle or
+//! feed mode then shapes every move until the code that cancels it, and a move it made (a spline)
+//! leaves its axes where this reader does not know. Such moves are refused, naming the block,
+//! instead of being read as if it had not been written.
 
-use super::{Interpreter, Word};
+use super::{codes, Interpreter, Word};
 use crate::program::{Dialect, Motion};
 
 /// A modal code of a refused block, in effect on the control until one of its cancel codes.
@@ -239,4 +240,64 @@ impl Interpreter {
             }
         }
     }
+
+    /// A block with G codes was refused: none of them took effect here, which later defects name;
+    /// a spline mode leaves the motion unknown, and the codes the control keeps hold later moves.
+    pub(crate) fn refused(&mut self, words: &[Word], line: usize) {
+        if !words.iter().any(|w| w.letter == 'G') {
+            return;
+        }
+        self.refused_line = Some(line);
+        // A refused spline, NURBS or 3D circle mode (G group 01, modal): the moves after it on the
+        // control are its points, not lines of the mode before.
+        let unread = words.iter().filter(|w| w.letter == 'G').find_map(|w| codes::unread_motion(self.dialect, codes::x10(w)).map(|what| (w, what)));
+        if let (true, Some((w, what))) = (matches!(self.dialect, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas), unread) {
+            // Its move (the control makes it) leaves the tool where this reader does not know.
+            self.forget_motion(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes_named(words));
+        }
+        self.note_lasting(words, line);
+        // Its cancel codes act on the control all the same.
+        self.after_held(words, line, false);
+    }
+
+    /// What to add to a defect that a refused block's codes, had they taken effect, might have
+    /// avoided (a word its modal code would take, a centre word of its plane).
+    pub(crate) fn after_refused(&self) -> String {
+        self.refused_line.map_or(String::new(), |l| format!(" (line {l} was refused before it, and none of its codes took effect)"))
+    }
+
+    /// After a block is read (`done`) or refused: a refused block with an F word is the one a later
+    /// move without a feed names, until a block sets a feed.
+    pub(crate) fn note_feed(&mut self, done: bool, has_f: bool, line: usize) {
+        if !done && has_f {
+            self.refused_feed_line = Some(line);
+        } else if done && self.feed.is_some() {
+            self.refused_feed_line = None;
+        }
+    }
+
+    /// A refused block set a modal motion this reader does not read (an 840D spline, `CIP`, `CT`;
+    /// `name` and `what` it is): the motion mode is unknown until a block gives one, so a later move
+    /// without its own is refused, naming the block; the axes it moved (`axes`, X Y Z A B C), and
+    /// those of the moves refused in the mode after it, are unknown until written absolute.
+    pub(crate) fn forget_motion(&mut self, line: usize, name: &str, what: &'static str, axes: [bool; 6]) {
+        self.motion = None;
+        self.refused_line = Some(line);
+        self.forgotten = Some((line, name.to_string(), what));
+        self.moved_unread(line, name, what, axes);
+    }
+
+    /// What to add to "move without a feed" where a refused block since the last feed carried one.
+    pub(crate) fn after_refused_feed(&self) -> String {
+        self.refused_feed_line.map_or(String::new(), |l| format!(" (line {l}, refused before it, gave one, and none of its words took effect)"))
+    }
+}
+
+/// The axes a block's words move (X Y Z A B C): none in a block of G10, G04, G92 or G52, whose
+/// words are offsets or a time.
+pub(crate) fn axes_named(words: &[Word]) -> [bool; 6] {
+    if words.iter().any(|w| w.letter == 'G' && matches!(codes::x10(w), 100 | 40 | 920 | 921 | 922 | 923 | 520)) {
+        return [false; 6];
+    }
+    ['X', 'Y', 'Z', 'A', 'B', 'C'].map(|l| words.iter().any(|w| w.letter == l))
 }

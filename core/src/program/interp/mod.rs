@@ -13,6 +13,7 @@ mod codes;
 mod frame;
 mod g_codes;
 mod lasting;
+pub(crate) use lasting::axes_named;
 pub(crate) use g_codes::haas_extra_offset;
 mod modal;
 mod offsets;
@@ -574,57 +575,6 @@ impl Interpreter {
         done
     }
 
-    /// A block with G codes was refused: none of them took effect here, which later defects name;
-    /// a spline mode leaves the motion unknown, and the codes the control keeps hold later moves.
-    pub(crate) fn refused(&mut self, words: &[Word], line: usize) {
-        if !words.iter().any(|w| w.letter == 'G') {
-            return;
-        }
-        self.refused_line = Some(line);
-        // A refused spline, NURBS or 3D circle mode (G group 01, modal): the moves after it on the
-        // control are its points, not lines of the mode before.
-        let unread = words.iter().filter(|w| w.letter == 'G').find_map(|w| codes::unread_motion(self.dialect, codes::x10(w)).map(|what| (w, what)));
-        if let (true, Some((w, what))) = (matches!(self.dialect, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas), unread) {
-            // Its move (the control makes it) leaves the tool where this reader does not know.
-            self.forget_motion(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes_named(words));
-        }
-        self.note_lasting(words, line);
-        // Its cancel codes act on the control all the same.
-        self.after_held(words, line, false);
-    }
-
-    /// What to add to a defect that a refused block's codes, had they taken effect, might have
-    /// avoided (a word its modal code would take, a centre word of its plane).
-    pub(crate) fn after_refused(&self) -> String {
-        self.refused_line.map_or(String::new(), |l| format!(" (line {l} was refused before it, and none of its codes took effect)"))
-    }
-
-    /// After a block is read (`done`) or refused: a refused block with an F word is the one a later
-    /// move without a feed names, until a block sets a feed.
-    pub(crate) fn note_feed(&mut self, done: bool, has_f: bool, line: usize) {
-        if !done && has_f {
-            self.refused_feed_line = Some(line);
-        } else if done && self.feed.is_some() {
-            self.refused_feed_line = None;
-        }
-    }
-
-    /// A refused block set a modal motion this reader does not read (an 840D spline, `CIP`, `CT`;
-    /// `name` and `what` it is): the motion mode is unknown until a block gives one, so a later move
-    /// without its own is refused, naming the block; the axes it moved (`axes`, X Y Z A B C), and
-    /// those of the moves refused in the mode after it, are unknown until written absolute.
-    pub(crate) fn forget_motion(&mut self, line: usize, name: &str, what: &'static str, axes: [bool; 6]) {
-        self.motion = None;
-        self.refused_line = Some(line);
-        self.forgotten = Some((line, name.to_string(), what));
-        self.moved_unread(line, name, what, axes);
-    }
-
-    /// What to add to "move without a feed" where a refused block since the last feed carried one.
-    pub(crate) fn after_refused_feed(&self) -> String {
-        self.refused_feed_line.map_or(String::new(), |l| format!(" (line {l}, refused before it, gave one, and none of its words took effect)"))
-    }
-
     /// [`Interpreter::block`] without cutter radius compensation.
     pub(crate) fn block_plain(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
         if self.dialect.is_fanuc() {
@@ -795,13 +745,4 @@ impl Interpreter {
             _ => self.peck[1].ok_or("the machine file gives no G83 clearance (canned_cycles.g83_clearance_mm: Fanuc parameter No. 5115)"),
         }
     }
-}
-
-/// The axes a block's words move (X Y Z A B C): none in a block of G10, G04, G92 or G52, whose
-/// words are offsets or a time.
-pub(crate) fn axes_named(words: &[Word]) -> [bool; 6] {
-    if words.iter().any(|w| w.letter == 'G' && matches!(codes::x10(w), 100 | 40 | 920 | 921 | 922 | 923 | 520)) {
-        return [false; 6];
-    }
-    ['X', 'Y', 'Z', 'A', 'B', 'C'].map(|l| words.iter().any(|w| w.letter == l))
 }
