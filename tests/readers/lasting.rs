@@ -184,3 +184,17 @@ fn g80_ends_a_mode_not_read_and_an_840d_point_leaves_its_axes_unknown() {
     has(&p, 6, 4, "once Z is written absolute");
     assert_eq!(x_at(&p, 8), Some(2.0), "{:?}", errors(&p));
 }
+
+/// Fanuc's `G10 L20 P1` (additional work offsets, not read) is refused; the control sets the offset,
+/// so selecting it (`G54.1 P1`) is refused too, and the moves in it are held until G54-G59, after
+/// which X, Y and Z are unknown until written. A `G54.1 P2` the program never set is read (zero).
+#[test]
+fn an_offset_set_by_a_refused_g10_l20_is_not_selected_silently() {
+    let text = "%\nO1000\nG21 G90 G17 G94\nG10 L20 P1 X50. Y0. Z0.\nG0 X0. Y0. Z10.\nG54.1 P1\nG0 X10. Y0.\nG54\nG0 X1. Y1. Z1.\nG0 X2.\nG54.1 P2\nG0 X3.\nM30\n%\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [4, 6, 7, 9], "{:?}", errors(&p));
+    has(&p, 6, 7, "G54.1 P1: line 4's G10 L20 P1 set this offset");
+    has(&p, 7, 4, "is in effect on the control until G54-G59");
+    assert_eq!(x_at(&p, 10), Some(2.0));
+    assert_eq!(x_at(&p, 12), Some(3.0));
+}

@@ -126,6 +126,10 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         // Additional work offsets (Fanuc G54.1 P1-P48), which the program never sets here.
         ("54.1", false) if fanuc => {
             c.uses.push('P');
+            let p = words.iter().find(|p| p.letter == 'P');
+            if let Some((p, at)) = p.and_then(|p| before.offset_refused(p.value).map(|at| (p, at))) {
+                return diags.error(line, p.column, format!("G{} P{}: line {at}'s G10 L20 P{} set this offset, and was refused (not read): the moves in it are not read either", w.raw, p.raw, p.raw));
+            }
             diags.warning(line, w.column, format!("G{}: additional work offsets are not set by the program: taken as zero", w.raw));
             next.system = 0;
             next.extra_offset = true;
@@ -203,7 +207,10 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         }
         ("255", false) if haas => next.dwo = false,
         ("10", false) if fanuc && words.iter().any(|w| w.letter == 'L' && w.value == 20.0) => {
-            diags.error(line, w.column, "G10 L20: Fanuc's additional work offsets (G54.1 Pn) are not modelled");
+            // Its words are the offset's (said once, here).
+            c.g10 = true;
+            c.uses.extend(['L', 'P']);
+            diags.error(line, w.column, "G10 L20: Fanuc's additional work offsets (G54.1 Pn) are not modelled (selecting the offset it sets, G54.1 Pn, is refused too)");
         }
         ("10", false) => {
             c.g10 = true;

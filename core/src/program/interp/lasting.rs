@@ -58,6 +58,15 @@ const CYCLE: Rule = Rule {
     feed_only: false,
     until: Some("G80, a G00-G03 or another canned cycle"),
 };
+/// Fanuc's additional work offset `G54.1 Pn` selected after a refused `G10 L20 Pn` set it: the
+/// control's offset is the program's, not read here, until another work offset is selected.
+const WORK: Rule = Rule {
+    what: "an additional work offset its refused G10 L20 set",
+    codes: &[],
+    cancels: &[540, 550, 560, 570, 580, 590, 591, 592, 593],
+    feed_only: false,
+    until: Some("G54-G59"),
+};
 /// Feed per revolution, cancelled by G94 or G93.
 const PER_REV: Rule = Rule { what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None };
 
@@ -223,6 +232,30 @@ impl Interpreter {
         }
     }
 
+    /// A `G10 L20 Pn` refused: the additional work offset it sets on the control (its P and line),
+    /// which a later `G54.1 Pn` would select. At most as many as the control has (300).
+    fn note_offset_set(&mut self, words: &[Word], line: usize) {
+        let value = |l: char| words.iter().find(|w| w.letter == l).map(|w| w.value);
+        let g10 = words.iter().any(|w| w.letter == 'G' && codes::x10(w) == 100);
+        if let (true, Some(20.0), Some(p)) = (g10, value('L'), value('P')) {
+            if p.fract() == 0.0 && (1.0..=300.0).contains(&p) && !self.refused_offsets.iter().any(|(q, _)| *q == p as u32) {
+                self.refused_offsets.push((p as u32, line));
+            }
+        }
+        // Its G54.1 Pn refused in turn (its offset not read): the control runs in that offset.
+        if words.iter().any(|w| w.letter == 'G' && codes::x10(w) == 541) {
+            if let Some(&(_, at)) = value('P').and_then(|p| self.refused_offsets.iter().find(|(q, _)| f64::from(*q) == p)) {
+                self.lasting.retain(|l| l.rule.what != WORK.what);
+                self.lasting.push(Lasting { line: at.max(line), code: "54.1".into(), rule: &WORK });
+            }
+        }
+    }
+
+    /// The refused `G10 L20` that set the additional work offset `p`, if any (its line).
+    pub(crate) fn offset_refused(&self, p: f64) -> Option<usize> {
+        self.refused_offsets.iter().find(|(q, _)| f64::from(*q) == p).map(|(_, l)| *l)
+    }
+
     /// A canned cycle refused for what is not read (`code` as the control names it, `87`): the
     /// control runs it at every later position until its cancel.
     pub(crate) fn hold_cycle(&mut self, line: usize, code: &str) {
@@ -256,6 +289,9 @@ impl Interpreter {
             self.forget_motion(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes_named(words));
         }
         self.note_lasting(words, line);
+        if self.dialect == Dialect::Fanuc {
+            self.note_offset_set(words, line);
+        }
         // Its cancel codes act on the control all the same.
         self.after_held(words, line, false);
     }

@@ -125,6 +125,8 @@ pub struct Interpreter {
     /// The last motion mode not read (its line, name and what it is): moves refused while the mode is
     /// unknown leave their axes unknown.
     pub(crate) forgotten: Option<(usize, String, &'static str)>,
+    /// Fanuc's additional work offsets a refused `G10 L20` set (P, line): selecting one is refused.
+    pub(crate) refused_offsets: Vec<(u32, usize)>,
     /// After such a code's cancel: the axes whose position its moves left unknown.
     pub(crate) stale: Option<lasting::Stale>,
     tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
@@ -386,6 +388,7 @@ impl Interpreter {
             nurbs: None,
             lasting: Vec::new(),
             forgotten: None,
+            refused_offsets: Vec::new(),
             stale: None,
             tool_table: None,
             machine_coords: None,
