@@ -84,6 +84,10 @@ fn rules(dialect: Dialect) -> &'static [&'static Rule] {
     }
 }
 
+/// Codes whose block's axis words are offsets or a time, not a move: G10, G04, G92 (and its .1-.3),
+/// G52.
+const NO_MOVE: [i64; 7] = [100, 40, 920, 921, 922, 923, 520];
+
 /// A word that moves an axis; `arc`: an arc's centre or radius too (a full circle has no end point).
 fn axis_word(w: &Word, arc: bool) -> bool {
     matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W') || arc && matches!(w.letter, 'I' | 'J' | 'K' | 'R')
@@ -120,8 +124,7 @@ impl Interpreter {
         });
         let motion = own.unwrap_or(self.motion);
         let arc = matches!(motion, Some(Motion::ArcCw | Motion::ArcCcw));
-        // Words of G10 (offsets), G04 (the dwell), G92 and G52 (coordinate systems) move nothing.
-        let moves = !g.iter().any(|c| matches!(c, 100 | 40 | 920 | 921 | 922 | 923 | 520));
+        let moves = !g.iter().any(|c| NO_MOVE.contains(c));
         let axis = words.iter().find(|w| moves && axis_word(w, arc)).map(|w| (w.column, motion == Some(Motion::Rapid)));
         Look { g, axis }
     }
@@ -149,12 +152,7 @@ impl Interpreter {
             }));
         }
         let s = self.stale.as_ref()?;
-        let axes: Vec<&str> = (0..6).filter(|&k| s.axes[k]).map(|k| ["X", "Y", "Z", "A", "B", "C"][k]).collect();
-        let axes = match axes.split_last() {
-            Some((last, rest)) if !rest.is_empty() => format!("{} and {last} are", rest.join(", ")),
-            _ => format!("{} is", axes.concat()),
-        };
-        Some((column, format!("a move from where the moves under line {}'s {} ({}) left the tool, which is not known (the control ran them, this reader did not): moves are read again once {axes} written absolute", s.line, s.name, s.what)))
+        Some((column, format!("a move from where the moves under line {}'s {} ({}) left the tool, which is not known (the control ran them, this reader did not): moves are read again once {} written absolute", s.line, s.name, s.what, axes_said(s.axes))))
     }
 
     /// After a block is read or refused: its cancel codes end their holds (the axes the held moves
@@ -192,8 +190,7 @@ impl Interpreter {
                     axes[3 + k] = true;
                 }
             }
-            let before = self.stale.take().map_or([false; 6], |s| s.axes);
-            self.stale = Some(Stale { axes: [0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line: l.line, name: format!("G{}", l.code), what: l.rule.what });
+            self.moved_unread(l.line, &format!("G{}", l.code), l.rule.what, axes);
         }
         if !done || look.axis.is_none() {
             return;
@@ -213,9 +210,9 @@ impl Interpreter {
         }
     }
 
-    /// A move the control makes and the reader does not read (a spline, a 3D circle: `what`, by
-    /// `name`): where it leaves the axes it names (`axes`, X Y Z A B C) is not known until they are
-    /// written absolute.
+    /// A move the control makes and the reader does not read (a spline, a 3D circle, the moves under a
+    /// hold just ended: `what`, by `name`): where it leaves the axes it names (`axes`, X Y Z A B C),
+    /// beside those already unknown, is not known until they are written absolute.
     pub(crate) fn moved_unread(&mut self, line: usize, name: &str, what: &'static str, axes: [bool; 6]) {
         if !axes.contains(&true) {
             return;
@@ -238,13 +235,13 @@ impl Interpreter {
         let value = |l: char| words.iter().find(|w| w.letter == l).map(|w| w.value);
         let g10 = words.iter().any(|w| w.letter == 'G' && codes::x10(w) == 100);
         if let (true, Some(20.0), Some(p)) = (g10, value('L'), value('P')) {
-            if p.fract() == 0.0 && (1.0..=300.0).contains(&p) && !self.refused_offsets.iter().any(|(q, _)| *q == p as u32) {
+            if p.fract() == 0.0 && (1.0..=300.0).contains(&p) && self.offset_refused(p).is_none() {
                 self.refused_offsets.push((p as u32, line));
             }
         }
         // Its G54.1 Pn refused in turn (its offset not read): the control runs in that offset.
         if words.iter().any(|w| w.letter == 'G' && codes::x10(w) == 541) {
-            if let Some(&(_, at)) = value('P').and_then(|p| self.refused_offsets.iter().find(|(q, _)| f64::from(*q) == p)) {
+            if let Some(at) = value('P').and_then(|p| self.offset_refused(p)) {
                 self.lasting.retain(|l| l.rule.what != WORK.what);
                 self.lasting.push(Lasting { line: at.max(line), code: "54.1".into(), rule: &WORK });
             }
@@ -332,8 +329,17 @@ impl Interpreter {
 /// The axes a block's words move (X Y Z A B C): none in a block of G10, G04, G92 or G52, whose
 /// words are offsets or a time.
 pub(crate) fn axes_named(words: &[Word]) -> [bool; 6] {
-    if words.iter().any(|w| w.letter == 'G' && matches!(codes::x10(w), 100 | 40 | 920 | 921 | 922 | 923 | 520)) {
+    if words.iter().any(|w| w.letter == 'G' && NO_MOVE.contains(&codes::x10(w))) {
         return [false; 6];
     }
     ['X', 'Y', 'Z', 'A', 'B', 'C'].map(|l| words.iter().any(|w| w.letter == l))
+}
+
+/// Axes not yet known (X Y Z A B C) as a message names them: `Z is`, `X, Y and Z are`.
+pub(crate) fn axes_said(axes: [bool; 6]) -> String {
+    let names: Vec<&str> = (0..6).filter(|&k| axes[k]).map(|k| ["X", "Y", "Z", "A", "B", "C"][k]).collect();
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last} are", rest.join(", ")),
+        _ => format!("{} is", names.concat()),
+    }
 }

@@ -386,17 +386,8 @@ impl Exec {
                         words.push(word('R', v, r.raw.into(), r.col, false));
                     }
                 }
-                match feed {
-                    FeedWord::Value(f) => {
-                        if let Some(v) = self.value(f, s.line, diags) {
-                            words.push(word('F', v, f.raw.into(), f.col, false));
-                        }
-                    }
-                    FeedWord::Auto(col) => match &self.tool_feed {
-                        Some((v, raw)) => words.push(word('F', *v, raw.clone().into(), *col, false)),
-                        None => diags.error(s.line, *col, "FAUTO without a feed in the TOOL CALL before it"),
-                    },
-                    FeedWord::Max | FeedWord::None => {}
+                if let Ok(Some((v, raw, col))) = self.feed_word(feed, s.line, diags) {
+                    words.push(word('F', v, raw, col, false));
                 }
                 if *shape == Shape::LineNormal {
                     let full = |v: [Option<f64>; 3]| -> Option<[f64; 3]> { Some([v[0]?, v[1]?, v[2]?]) };
@@ -675,6 +666,23 @@ impl Exec {
         let over_half = d[0] * t[0] + d[1] * t[1] < 0.0;
         let r = signed.abs() / unit * if over_half { -1.0 } else { 1.0 };
         Some((if signed > 0.0 { "3" } else { "2" }, r))
+    }
+
+    /// A block's feed as the interpreter takes it (value, text as written, column): `F` (a number or a
+    /// Q parameter), `FAUTO` (the TOOL CALL's feed); `Ok(None)` for `FMAX` or none; `Err` where it
+    /// cannot be read (said).
+    pub(super) fn feed_word<'a>(&self, feed: &FeedWord<'a>, line: usize, diags: &mut Diags) -> Result<Option<(f64, Cow<'a, str>, usize)>, ()> {
+        match feed {
+            FeedWord::Value(f) => self.value(f, line, diags).map(|v| Some((v, Cow::Borrowed(f.raw), f.col))).ok_or(()),
+            FeedWord::Auto(col) => match &self.tool_feed {
+                Some((v, raw)) => Ok(Some((*v, Cow::Owned(raw.clone()), *col))),
+                None => {
+                    diags.error(line, *col, "FAUTO without a feed in the TOOL CALL before it");
+                    Err(())
+                }
+            },
+            FeedWord::Max | FeedWord::None => Ok(None),
+        }
     }
 
     /// Keep the contour's end direction for a later CT.

@@ -9,6 +9,7 @@
 
 use super::tilt::PlaneForm;
 use super::{Kind, Stmt, Val};
+use crate::program::interp::axes_said;
 use crate::program::lex::{upper, Diags};
 use crate::program::Block;
 
@@ -157,9 +158,7 @@ impl Holds {
                     }
                 }
             }
-            let before = self.stale.map_or([false; 6], |s| s.0);
-            self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, What::Moved(name)));
-            return;
+            return self.unknown(axes, line, What::Moved(name));
         }
         if at(0) != "CYCL" || at(1) != "DEF" {
             return;
@@ -230,6 +229,12 @@ impl Holds {
             What::Comp => [true, true, false, false, false, false],
             _ => [true, true, true, false, false, false],
         };
+        self.unknown(axes, line, what);
+    }
+
+    /// The axes (X Y Z A B C) `what` at `line` left where the reader does not know, beside those
+    /// already unknown.
+    fn unknown(&mut self, axes: [bool; 6], line: usize, what: What) {
         let before = self.stale.map_or([false; 6], |s| s.0);
         self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, what));
     }
@@ -302,12 +307,7 @@ impl Holds {
             let why = match (self.on.first(), &self.stale) {
                 (Some(o), _) => format!("a move while line {}'s {} is in effect on the TNC until {}: that block was refused, so this move is not read as the TNC runs it", o.line, o.what.said(), o.what.until()),
                 (None, Some((axes, line, what))) => {
-                    let names: Vec<&str> = (0..6).filter(|&k| axes[k]).map(|k| ["X", "Y", "Z", "A", "B", "C"][k]).collect();
-                    let names = match names.split_last() {
-                        Some((last, rest)) if !rest.is_empty() => format!("{} and {last} are", rest.join(", ")),
-                        _ => format!("{} is", names.concat()),
-                    };
-                    format!("a move from where {} left the tool, which is not known (the TNC ran it, this reader did not): moves are read again once {names} written absolute", what.left(*line))
+                    format!("a move from where {} left the tool, which is not known (the TNC ran it, this reader did not): moves are read again once {} written absolute", what.left(*line), axes_said(*axes))
                 }
                 (None, None) => return,
             };

@@ -7,7 +7,6 @@
 //! axis, fixed on the workpiece while the rotary axes turn; the tip ends DIST above it along the new
 //! tool axis. Made as tool-tip chords (TCPM blocks) within 1 µm and 0.001 deg of that motion.
 
-use std::borrow::Cow;
 
 use super::exec::Exec;
 use super::*;
@@ -67,20 +66,7 @@ impl Exec {
             diags.error(s.line, s.col, format!("PLANE ... MOVE: the compensating move {}", Chording::too_many()));
             return false;
         }
-        let feed_word: Option<(f64, Cow<str>, usize)> = match feed {
-            FeedWord::Value(f) => match self.value(f, s.line, diags) {
-                Some(v) => Some((v, f.raw.into(), f.col)),
-                None => return false,
-            },
-            FeedWord::Auto(col) => match &self.tool_feed {
-                Some((v, raw)) => Some((*v, raw.clone().into(), *col)),
-                None => {
-                    diags.error(s.line, *col, "FAUTO without a feed in the TOOL CALL before it");
-                    return false;
-                }
-            },
-            FeedWord::Max | FeedWord::None => None,
-        };
+        let Ok(feed_word) = self.feed_word(feed, s.line, diags) else { return false };
         // The chords are the tool tip's (TCPM on for them); made whole or not at all.
         let saved = interp.clone();
         let tcp = interp.tcp();

@@ -6,11 +6,10 @@
 //! ([`crate::program::chords`]). Refused: under radius compensation (held there) and an M
 //! function in the block (where it acts along the curve is not said).
 
-use std::borrow::Cow;
 
 use super::corners::Held;
 use super::exec::Exec;
-use super::{label, FeedWord, Kind, Stmt};
+use super::{label, Kind, Stmt};
 use crate::program::chords::{Chording, CHORD_TOLERANCE_M, CHORD_TOLERANCE_RAD};
 use crate::program::interp::{Dimension, Interpreter, Word};
 use crate::program::lex::Diags;
@@ -92,23 +91,9 @@ impl Exec {
         if let Some(p) = points.last_mut() {
             *p = end;
         }
-        let feed_word: Option<(f64, Cow<str>, usize)> = match feed {
-            FeedWord::Value(f) => match self.value(f, s.line, diags) {
-                Some(v) => Some((v, f.raw.into(), f.col)),
-                None => {
-                    not_used(diags);
-                    return false;
-                }
-            },
-            FeedWord::Auto(col) => match &self.tool_feed {
-                Some((v, raw)) => Some((*v, raw.clone().into(), *col)),
-                None => {
-                    diags.error(s.line, *col, "FAUTO without a feed in the TOOL CALL before it");
-                    not_used(diags);
-                    return false;
-                }
-            },
-            FeedWord::Max | FeedWord::None => None,
+        let Ok(feed_word) = self.feed_word(feed, s.line, diags) else {
+            not_used(diags);
+            return false;
         };
         // All chords made first, the interpreter put back if one is refused: the block runs whole or
         // not at all.
