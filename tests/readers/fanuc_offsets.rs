@@ -129,3 +129,46 @@ fn haas_g154_and_g110_g129_are_additional_work_offsets() {
         has(&p, 3, col, needle);
     }
 }
+
+/// `G10 L20 Pn` sets additional work offset n from the machine zero, as G10 L2 sets G54-G59
+/// (Mitsubishi M700V §14.10, "G10 L20 Pn X__ Y__ Z__", for the FANUC dialect; Haas,
+/// "Programmable Offsets": "G10 L20 P2 G90 X100. Y80. Sets offset G111 to X100. Y80."): `G54.1 Pn`
+/// (Fanuc) or `G154 Pn` and `G110`-`G129` for P1-P20 (Haas) select it. Axes not named keep theirs;
+/// one set while in effect moves the origin at once (the tool stays); an offset never set is the
+/// operator's, zero, with a warning. Each end point below is the offset plus the block's words.
+#[test]
+fn g10_l20_sets_the_additional_work_offsets() {
+    let text = "%\nG21 G90 G17 G94\nG10 L20 P1 X100. Y50. Z0.\nG10 L20 P2 X-20. Z5.\nG0 X0. Y0. Z10.\nG54.1 P1\nG0 X1.\nG10 L20 P1 X200.\nG0 X1.\nG54.1 P2 G0 X0.\nG54.1 P3\nG0 X0. Y0. Z0.\nM30\n%\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    close(
+        &ends(&p),
+        &[
+            [0.0, 0.0, 10.0],    // G54 (the operator's, zero)
+            [101.0, 0.0, 10.0],  // G54.1 P1 at (100, 50, 0): X1; Y and Z stay where the tool is
+            [201.0, 0.0, 10.0],  // P1's X now 200 (its Y 50 kept)
+            [-20.0, 0.0, 10.0],  // G54.1 P2 at (-20, 0, 5): X0
+            [0.0, 0.0, 0.0],     // G54.1 P3, never set: zero
+        ],
+    );
+    let zero = |l: usize| p.diagnostics.iter().any(|d| d.line == l && d.message.contains("additional work offsets are not set by the program"));
+    assert!(!zero(6) && !zero(10) && zero(11), "{:?}", p.diagnostics);
+
+    let text = "%\nG21 G90 G17 G94\nG10 L20 P2 X100. Y80.\nG0 X0. Y0. Z10.\nG111 G0 X1.\nG154 P2 G0 Y1.\nG10 L20 P21 X-7. Y0. Z0.\nG154 P21 G0 X0. Y0.\nG110 X0. Y0.\nM30\n%\n";
+    let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    close(&ends(&p), &[[0.0, 0.0, 10.0], [101.0, 0.0, 10.0], [101.0, 81.0, 10.0], [-7.0, 0.0, 10.0], [0.0, 0.0, 10.0]]);
+
+    // What is not read is refused at its word: P out of the control's range, G91, a rotary offset.
+    refuses_each(
+        Dialect::Haas,
+        &ReadOptions::default(),
+        &[
+            ("%\nG21 G90\nG10 L20 P100 X1.\nM30\n%\n", "3:9:", "G10 L20 P100: expected P1 to P99"),
+            ("%\nG21 G90\nG10 L20 X1.\nM30\n%\n", "3:1:", "G10 L20 without P"),
+            ("%\nG21 G91\nG10 L20 P1 X1.\nM30\n%\n", "3:1:", "G10 L20 under G91"),
+            ("%\nG21 G90\nG10 L20 P1 X1. A5.\nM30\n%\n", "3:16:", "G10 L20 A5.: rotary-axis work offsets are not modelled"),
+        ],
+    );
+    refuses_each(Dialect::Fanuc, &ReadOptions::default(), &[("%\nG21 G90\nG10 L20 P301 X1.\nM30\n%\n", "3:9:", "expected P1 to P48 (P300 with the option")]);
+}

@@ -153,7 +153,8 @@ fn holds_reach_every_way_a_block_is_refused_and_end_at_their_groups_codes() {
 /// machine parameter; LinuxCNC's G88, "currently unimplemented") is run by the control at every later
 /// hole position until G80 or a group-01 code: those positions are refused, naming it; after the
 /// cancel the drilling axis stands at the cycle's initial or R level, unknown until Z is written
-/// (the move that writes it starts there too). A G83 refused for a defect (its Q0) holds nothing.
+/// (the move that writes it starts there too, as does the block that cancels it with a move: it
+/// starts where the held moves left the tool). A G83 refused for a defect (its Q0) holds nothing.
 #[test]
 fn a_canned_cycle_refused_for_what_is_not_read_holds_until_g80() {
     let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG98 G87 X0. Y0. Z-5. R2. Q1. F100.\nX10. Y10.\nG80\nG0 X0. Y0.\nG0 Z20.\nG0 X5.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
@@ -161,9 +162,11 @@ fn a_canned_cycle_refused_for_what_is_not_read_holds_until_g80() {
     has(&p, 6, 1, "line 5's G87 (canned cycle: the control drills at every later position) is in effect on the control until G80, a G00-G03 or another canned cycle");
     has(&p, 8, 4, "once Z is written absolute");
     assert_eq!(x_at(&p, 10), Some(5.0));
-    // Another cycle replaces it on the control: read from there.
+    // Another cycle replaces it on the control: its first hole starts where the held cycle left the
+    // tool (refused), the next is read.
     let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG98 G87 X0. Y0. Z-5. R2. Q1. F100.\nG81 X5. Y5. Z-2. R2. F100.\nX6.\nG80\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
-    assert_eq!(error_lines(&p), [5], "{:?}", errors(&p));
+    assert_eq!(error_lines(&p), [5, 6], "{:?}", errors(&p));
+    has(&p, 6, 5, "G80, a G00-G03 or another canned cycle with a move after line 5's G87");
     assert_eq!(x_at(&p, 7), Some(6.0));
     let p = read("G21 G90 G94 G17\nG0 X0 Y0 Z10\nG88 X1 Y1 Z-2 R1 F100\nX2 Y2\nG80\nG0 Z10\nG0 X5\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
     assert_eq!(error_lines(&p), [3, 4, 6], "{:?}", errors(&p));
@@ -185,16 +188,42 @@ fn g80_ends_a_mode_not_read_and_an_840d_point_leaves_its_axes_unknown() {
     assert_eq!(x_at(&p, 8), Some(2.0), "{:?}", errors(&p));
 }
 
-/// Fanuc's `G10 L20 P1` (additional work offsets, not read) is refused; the control sets the offset,
+/// A `G10 L20 P1` refused (a rotary-axis offset, B10., not modelled); the control sets the offset,
 /// so selecting it (`G54.1 P1`) is refused too, and the moves in it are held until G54-G59, after
 /// which X, Y and Z are unknown until written. A `G54.1 P2` the program never set is read (zero).
 #[test]
 fn an_offset_set_by_a_refused_g10_l20_is_not_selected_silently() {
-    let text = "%\nO1000\nG21 G90 G17 G94\nG10 L20 P1 X50. Y0. Z0.\nG0 X0. Y0. Z10.\nG54.1 P1\nG0 X10. Y0.\nG54\nG0 X1. Y1. Z1.\nG0 X2.\nG54.1 P2\nG0 X3.\nM30\n%\n";
+    let text = "%\nO1000\nG21 G90 G17 G94\nG10 L20 P1 X50. Y0. Z0. B10.\nG0 X0. Y0. Z10.\nG54.1 P1\nG0 X10. Y0.\nG54\nG0 X1. Y1. Z1.\nG0 X2.\nG54.1 P2\nG0 X3.\nM30\n%\n";
     let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert_eq!(error_lines(&p), [4, 6, 7, 9], "{:?}", errors(&p));
+    has(&p, 4, 25, "G10 L20 B10.: rotary-axis work offsets are not modelled");
     has(&p, 6, 7, "G54.1 P1: line 4's G10 L20 P1 set this offset");
-    has(&p, 7, 4, "is in effect on the control until G54-G59");
+    has(&p, 7, 4, "is in effect on the control until G54-G59 or another additional work offset");
     assert_eq!(x_at(&p, 10), Some(2.0));
     assert_eq!(x_at(&p, 12), Some(3.0));
+}
+
+/// Haas: `G10 L20 P3` refused sets G112 and G154 P3 on the control (Haas, "Programmable Offsets":
+/// P1-P20 are G110-G129 and G154 P1-P20); `G112` is refused, its moves held until another offset is
+/// read (`G154 P4`, the operator's, zero: its own move starts where the held moves left the tool),
+/// then Y and Z unknown until written. A `G10 L20 P4` refused while G154 P4 is in effect holds the
+/// next move at once; `G55` ends it, and X, Y, Z are unknown until written.
+#[test]
+fn haas_offsets_set_by_a_refused_g10_l20_are_held() {
+    let text = "%\nO1000\nG21 G90 G17 G94\nG10 L20 P3 X50. B10.\nG0 X0. Y0. Z10.\nG112\nG0 X10.\nG154 P3\nG154 P4 G0 X1.\nG0 X1. Y1. Z1.\nG10 L20 P4 X5. B1.\nG0 X2.\nG55\nG0 X3. Y3. Z3.\nG0 X4.\nM30\n%\n";
+    let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [4, 6, 7, 8, 9, 10, 11, 12, 14], "{:?}", errors(&p));
+    has(&p, 4, 17, "G10 L20 B10.: rotary-axis work offsets are not modelled");
+    has(&p, 6, 1, "G112: line 4's G10 L20 P3 set this offset");
+    has(&p, 7, 4, "line 6's G112 (an additional work offset its refused G10 L20 set) is in effect");
+    has(&p, 8, 6, "G154 P3: line 4's G10 L20 P3 set this offset");
+    has(&p, 9, 12, "with a move after line 8's G154");
+    has(&p, 10, 4, "a move from where the moves under line 8's G154");
+    has(&p, 12, 4, "line 11's G10 L20 (an additional work offset its refused G10 L20 set) is in effect");
+    has(&p, 14, 4, "a move from where the moves under line 11's G10 L20");
+    assert_eq!(x_at(&p, 5), Some(0.0));
+    for l in [7, 9, 10, 12, 14] {
+        assert_eq!(x_at(&p, l), None, "line {l}");
+    }
+    assert_eq!(x_at(&p, 15), Some(4.0), "{:?}", errors(&p));
 }

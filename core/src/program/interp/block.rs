@@ -178,9 +178,10 @@ impl Interpreter {
         // Sinumerik's settable frames (G54-G57, G505-G599) are the operator's, never set by the
         // program: the datum is the programmable frame's, which its reader keeps. LinuxCNC's axis
         // offsets (G92, G52) apply in every system.
-        // Fanuc's G54.1 Pn counts as system 0 with an offset of zero (the operator's), G92's shift
-        // on top ("all work coordinate systems (G54-59, G110-129)", Haas G92).
-        if !heid && before.dialect != Dialect::Sinumerik && (next.system != before.system || before.extra_offset != next.extra_offset) {
+        // Fanuc's G54.1 Pn counts as system 0 with the offset its G10 L20 Pn set (else zero, the
+        // operator's), G92's shift on top ("all work coordinate systems (G54-59, G110-129)", Haas G92).
+        let extra_changed = before.extra_offset != next.extra_offset || next.extra_offset && before.extra_p != next.extra_p;
+        if !heid && before.dialect != Dialect::Sinumerik && (next.system != before.system || extra_changed) {
             if next.rotation[before.system] != 0.0 || next.rotation_now() != 0.0 {
                 next.current_into_system(before.system, next.system);
             } else {

@@ -123,32 +123,11 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         ),
         // G98/G99: a canned cycle returns to the initial level or to the R point.
         ("98" | "99", false) if fanuc || before.dialect == Dialect::Rs274 => next.cycles.to_r = code == "99",
-        // Additional work offsets (Fanuc G54.1 P1-P48), which the program never sets here.
-        ("54.1", false) if fanuc => {
-            c.uses.push('P');
-            let p = words.iter().find(|p| p.letter == 'P');
-            if let Some((p, at)) = p.and_then(|p| before.offset_refused(p.value).map(|at| (p, at))) {
-                return diags.error(line, p.column, format!("G{} P{}: line {at}'s G10 L20 P{} set this offset, and was refused (not read): the moves in it are not read either", w.raw, p.raw, p.raw));
-            }
-            diags.warning(line, w.column, format!("G{}: additional work offsets are not set by the program: taken as zero", w.raw));
-            next.system = 0;
-            next.extra_offset = true;
-        }
-        // Haas' additional work offsets G154 P1-P99, and G110-G129 the same as G154 P1-P20 (Haas,
-        // "Programmable Offsets": G10 L20 P1-P20 set G110-G129, P1-P99 G154 P1-P99): as G54.1 Pn.
-        (code, false) if haas && haas_extra_offset(code) => {
-            if code == "154" {
-                c.uses.push('P');
-                match words.iter().find(|p| p.letter == 'P') {
-                    Some(p) if p.value.fract() == 0.0 && (1.0..=99.0).contains(&p.value) => {}
-                    Some(p) => return diags.error(line, p.column, format!("G154 P{}: expected P1 to P99 (an additional work offset)", p.raw)),
-                    None => return diags.error(line, w.column, "G154 without P: expected P1 to P99 (an additional work offset)"),
-                }
-            }
-            diags.warning(line, w.column, format!("G{}: additional work offsets are not set by the program: taken as zero", w.raw));
-            next.system = 0;
-            next.extra_offset = true;
-        }
+        // Additional work offsets: Fanuc's G54.1 P1-P48 (P300), Haas' G154 P1-P99, and G110-G129 the
+        // same as G154 P1-P20 (Haas, "Programmable Offsets": G10 L20 P1-P20 set G110-G129, P1-P99
+        // G154 P1-P99). The program's G10 L20 Pn sets one; else it is the operator's, taken as zero.
+        ("54.1", false) if fanuc => select_extra_offset(next, before, w, words, line, c, diags),
+        (code, false) if haas && haas_extra_offset(code) => select_extra_offset(next, before, w, words, line, c, diags),
         // AI contour control (Q1 on, Q0 off): look-ahead feed control, not the path's
         // geometry (FANUC A-63512EN §2.3: "interpolation data ensures that the machining
         // follows a specified line or curve").
@@ -206,12 +185,6 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
             next.dwo = true;
         }
         ("255", false) if haas => next.dwo = false,
-        ("10", false) if fanuc && words.iter().any(|w| w.letter == 'L' && w.value == 20.0) => {
-            // Its words are the offset's (said once, here).
-            c.g10 = true;
-            c.uses.extend(['L', 'P']);
-            diags.error(line, w.column, "G10 L20: Fanuc's additional work offsets (G54.1 Pn) are not modelled (selecting the offset it sets, G54.1 Pn, is refused too)");
-        }
         ("10", false) => {
             c.g10 = true;
             c.uses.extend(['L', 'P']);
@@ -337,6 +310,50 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
             format!("unknown G code G{}: not read (it may change the motion)", w.raw),
         ),
     }
+}
+
+/// Selecting an additional work offset: Fanuc's `G54.1 Pn`, Haas' `G154 Pn` and `G110`-`G129` (P1-P20).
+/// One a refused `G10 L20` set is refused (its moves are held, [`super::lasting`]).
+#[allow(clippy::too_many_arguments)]
+fn select_extra_offset<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'w Word<'t>, words: &[Word], line: usize, c: &mut BlockCodes<'w, 't>, diags: &mut Diags) {
+    let code = super::x10(w);
+    let (p, column, said) = if code == 541 || code == 1540 {
+        c.uses.push('P');
+        let most = if code == 541 { 300.0 } else { 99.0 };
+        match words.iter().find(|p| p.letter == 'P') {
+            Some(p) if p.value.fract() == 0.0 && (1.0..=most).contains(&p.value) => (p.value as u32, p.column, format!(" P{}", p.raw)),
+            Some(p) if code == 1540 => return diags.error(line, p.column, format!("G154 P{}: expected P1 to P99 (an additional work offset)", p.raw)),
+            Some(p) => return diags.error(line, p.column, format!("G{} P{}: expected P1 to P48 (P300 with the option), an additional work offset", w.raw, p.raw)),
+            None if code == 1540 => return diags.error(line, w.column, "G154 without P: expected P1 to P99 (an additional work offset)"),
+            None => return diags.error(line, w.column, format!("G{} without P: expected P1 to P48 (an additional work offset)", w.raw)),
+        }
+    } else {
+        ((code / 10 - 109) as u32, w.column, String::new())
+    };
+    if let Some(at) = before.offset_refused(f64::from(p)) {
+        return diags.error(line, column, format!("G{}{said}: line {at}'s G10 L20 P{p} set this offset, and was refused (not read): the moves in it are not read either", w.raw));
+    }
+    if before.extra_offset_value(p).is_none() {
+        diags.warning(line, w.column, format!("G{}: additional work offsets are not set by the program (G10 L20 P{p}): taken as zero", w.raw));
+    }
+    next.system = 0;
+    next.extra_offset = true;
+    next.extra_p = p;
+}
+
+/// The additional work offset a block selects (its P, and the code as a message names it: `54.1`,
+/// `154`, `110`), in the dialect's codes.
+pub(crate) fn extra_offset_selected(dialect: Dialect, words: &[Word]) -> Option<(u32, String)> {
+    let p = words.iter().find(|w| w.letter == 'P').map(|w| w.value).filter(|p| p.fract() == 0.0 && (1.0..=300.0).contains(p));
+    words.iter().filter(|w| w.letter == 'G').find_map(|w| {
+        let code = super::x10(w);
+        let named = w.raw.trim_start_matches('0').to_string();
+        match (dialect, code) {
+            (Dialect::Fanuc, 541) | (Dialect::Haas, 1540) => p.map(|p| (p as u32, named)),
+            (Dialect::Haas, 1100..=1290) if code % 10 == 0 => Some(((code / 10 - 109) as u32, named)),
+            _ => None,
+        }
+    })
 }
 
 /// Haas' additional work offsets: `G154` (with P1-P99) and `G110`-`G129`.

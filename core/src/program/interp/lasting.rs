@@ -58,14 +58,18 @@ const CYCLE: Rule = Rule {
     feed_only: false,
     until: Some("G80, a G00-G03 or another canned cycle"),
 };
-/// Fanuc's additional work offset `G54.1 Pn` selected after a refused `G10 L20 Pn` set it: the
-/// control's offset is the program's, not read here, until another work offset is selected.
+/// An additional work offset (Fanuc's `G54.1 Pn`, Haas' `G154 Pn` or `G110`-`G129`) in effect after a
+/// refused `G10 L20 Pn` set it: the control's offset is the program's, not read here, until another
+/// work offset is selected (G54-G59, or another additional one, read).
 const WORK: Rule = Rule {
     what: "an additional work offset its refused G10 L20 set",
     codes: &[],
-    cancels: &[540, 550, 560, 570, 580, 590, 591, 592, 593],
+    cancels: &[
+        540, 550, 560, 570, 580, 590, 591, 592, 593, 541, 1540, 1100, 1110, 1120, 1130, 1140, 1150, 1160, 1170, 1180, 1190, 1200, 1210, 1220, 1230, 1240, 1250, 1260,
+        1270, 1280, 1290,
+    ],
     feed_only: false,
-    until: Some("G54-G59"),
+    until: Some("G54-G59 or another additional work offset"),
 };
 /// Feed per revolution, cancelled by G94 or G93.
 const PER_REV: Rule = Rule { what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None };
@@ -141,12 +145,14 @@ impl Interpreter {
         let (column, rapid) = look.axis?;
         for l in &self.lasting {
             let cancelled = l.rule.cancels.iter().any(|c| look.g.contains(c));
-            if (cancelled && l.rule.what != COMP.what) || (l.rule.feed_only && rapid) {
+            if l.rule.feed_only && (cancelled || rapid) {
                 continue;
             }
             let cancel = l.rule.until.map_or_else(|| l.rule.cancels.iter().map(|c| format!("G{}", *c as f64 / 10.0)).collect::<Vec<_>>().join(" or "), String::from);
+            // The cancel's own move starts where the held moves left the tool.
+            let from = if l.rule.what == COMP.what { "at the point its compensation made" } else { "where the moves under it left the tool" };
             return Some((column, if cancelled {
-                format!("{cancel} with a move after line {}'s G{} ({}), which was refused: the control starts this move at the point its compensation made, which is not known", l.line, l.code, l.rule.what)
+                format!("{cancel} with a move after line {}'s G{} ({}), which was refused: the control starts this move {from}, which is not known", l.line, l.code, l.rule.what)
             } else {
                 format!("a move while line {}'s G{} ({}) is in effect on the control until {cancel}: that block was refused, so this move is not read as the control runs it", l.line, l.code, l.rule.what)
             }));
@@ -229,23 +235,33 @@ impl Interpreter {
         }
     }
 
-    /// A `G10 L20 Pn` refused: the additional work offset it sets on the control (its P and line),
-    /// which a later `G54.1 Pn` would select. At most as many as the control has (300).
+    /// A refused block's additional work offsets (Fanuc, Haas): a `G10 L20 Pn` refused leaves offset n
+    /// unknown on the control (its P and line kept, and its moves held at once where n is in
+    /// effect); selecting such an offset holds the moves in it until another is selected.
     fn note_offset_set(&mut self, words: &[Word], line: usize) {
         let value = |l: char| words.iter().find(|w| w.letter == l).map(|w| w.value);
         let g10 = words.iter().any(|w| w.letter == 'G' && codes::x10(w) == 100);
         if let (true, Some(20.0), Some(p)) = (g10, value('L'), value('P')) {
-            if p.fract() == 0.0 && (1.0..=300.0).contains(&p) && self.offset_refused(p).is_none() {
+            if p.fract() == 0.0 && (1.0..=300.0).contains(&p) {
+                self.refused_offsets.retain(|(q, _)| f64::from(*q) != p);
                 self.refused_offsets.push((p as u32, line));
+                if self.extra_offset && f64::from(self.extra_p) == p {
+                    self.hold_offset(line, "10 L20");
+                }
             }
         }
-        // Its G54.1 Pn refused in turn (its offset not read): the control runs in that offset.
-        if words.iter().any(|w| w.letter == 'G' && codes::x10(w) == 541) {
-            if let Some(at) = value('P').and_then(|p| self.offset_refused(p)) {
-                self.lasting.retain(|l| l.rule.what != WORK.what);
-                self.lasting.push(Lasting { line: at.max(line), code: "54.1".into(), rule: &WORK });
+        // Its selection refused in turn (its offset not read): the control runs in that offset.
+        if let Some((p, code)) = super::g_codes::extra_offset_selected(self.dialect, words) {
+            if let Some(at) = self.offset_refused(f64::from(p)) {
+                self.hold_offset(at.max(line), &code);
             }
         }
+    }
+
+    /// Moves held in an additional work offset a refused `G10 L20` set (`code` the refused block's).
+    fn hold_offset(&mut self, line: usize, code: &str) {
+        self.lasting.retain(|l| l.rule.what != WORK.what);
+        self.lasting.push(Lasting { line, code: code.to_string(), rule: &WORK });
     }
 
     /// The refused `G10 L20` that set the additional work offset `p`, if any (its line).
@@ -286,7 +302,7 @@ impl Interpreter {
             self.forget_motion(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes_named(words));
         }
         self.note_lasting(words, line);
-        if self.dialect == Dialect::Fanuc {
+        if self.dialect.is_fanuc() {
             self.note_offset_set(words, line);
         }
         // Its cancel codes act on the control all the same.

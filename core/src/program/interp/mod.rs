@@ -125,8 +125,12 @@ pub struct Interpreter {
     /// The last motion mode not read (its line, name and what it is): moves refused while the mode is
     /// unknown leave their axes unknown.
     pub(crate) forgotten: Option<(usize, String, &'static str)>,
-    /// Fanuc's additional work offsets a refused `G10 L20` set (P, line): selecting one is refused.
+    /// Fanuc's and Haas' additional work offsets a refused `G10 L20` set (P, line): selecting one is
+    /// refused.
     pub(crate) refused_offsets: Vec<(u32, usize)>,
+    /// The additional work offsets the program set with `G10 L20 Pn` (P, X Y Z in m); shared, as the
+    /// interpreter is cloned for each block.
+    extra_offsets: std::sync::Arc<Vec<(u32, [f64; 3])>>,
     /// After such a code's cancel: the axes whose position its moves left unknown.
     pub(crate) stale: Option<lasting::Stale>,
     tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
@@ -265,8 +269,10 @@ pub struct State {
     modulo: [bool; 3],
     /// Which work offsets (G54-G59.3) the program set (G10 L2, L20).
     offsets_given: [bool; 9],
-    /// An additional work offset (Fanuc G54.1 P) is in effect.
+    /// An additional work offset (Fanuc G54.1 P, Haas G154 P or G110-G129) is in effect.
     extra_offset: bool,
+    /// Which one: its P (Haas' G110-G129 are P1-P20).
+    extra_p: u32,
     /// A preset the program selects but cannot know (Heidenhain cycle 247) is in effect.
     preset_assumed: bool,
     /// Fanuc `G68.2`'s feature coordinate system in effect: its origin (m, in the workpiece
@@ -380,6 +386,7 @@ impl Interpreter {
                 modulo: [false; 3],
                 offsets_given: [false; 9],
                 extra_offset: false,
+                extra_p: 0,
                 preset_assumed: false,
                 feature: None,
             },
@@ -389,6 +396,7 @@ impl Interpreter {
             lasting: Vec::new(),
             forgotten: None,
             refused_offsets: Vec::new(),
+            extra_offsets: std::sync::Arc::default(),
             stale: None,
             tool_table: None,
             machine_coords: None,
@@ -670,12 +678,12 @@ impl Interpreter {
 
     /// Whether the datum in effect holds a work offset the program never set, taken as zero: on
     /// Fanuc and Haas every work offset is the operator's (G54, the reset state's, included) unless
-    /// the program sets it with G10, G54.1 P's never; on Heidenhain and Sinumerik controls the
+    /// the program sets it with G10 (L2 for G54-G59, L20 for the additional ones); on Heidenhain and Sinumerik controls the
     /// workpiece preset (datum) always is (the program's datum shifts are relative to it).
     fn offset_assumed(&self) -> bool {
         self.preset_assumed
             || matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext | Dialect::Sinumerik)
-            || self.dialect.is_fanuc() && (self.extra_offset || !self.offsets_given[self.system])
+            || self.dialect.is_fanuc() && if self.extra_offset { self.extra_offset_value(self.extra_p).is_none() } else { !self.offsets_given[self.system] }
     }
 
     /// The feed in effect, as a block carries it.

@@ -7,10 +7,15 @@ use crate::program::Dialect;
 use crate::units::DEG;
 
 impl Interpreter {
-    /// The active work offset (m): the program's for G54-G59.3, zero under Fanuc's G54.1 Pn (the
-    /// operator's, which the program never sets).
+    /// The active work offset (m): the program's for G54-G59.3; under an additional one (Fanuc's
+    /// G54.1 Pn, Haas' G154 Pn) what the program's `G10 L20 Pn` set, else zero (the operator's).
     pub(super) fn work_offset(&self) -> [f64; 3] {
-        if self.extra_offset { [0.0; 3] } else { self.offsets[self.system] }
+        if self.extra_offset { self.extra_offset_value(self.extra_p).unwrap_or([0.0; 3]) } else { self.offsets[self.system] }
+    }
+
+    /// The additional work offset `p` (m), if the program set it (`G10 L20 Pn`).
+    pub(super) fn extra_offset_value(&self, p: u32) -> Option<[f64; 3]> {
+        self.extra_offsets.iter().find(|(q, _)| *q == p).map(|(_, o)| *o)
     }
 
     /// True if the program set work offset `k` (0 = G54) to anything but zero.
@@ -32,6 +37,9 @@ impl Interpreter {
             Some(w) => return diags.error(line, w.column, format!("G10 L{}: only L2 and L20 (set a work offset) are supported", w.raw)),
             None => return diags.error(line, column, "G10 without L: expected G10 L2 Pn or G10 L20 Pn (set a work offset)"),
         };
+        if l20 && self.dialect.is_fanuc() {
+            return self.set_extra_offset(words, next, line, column, diags);
+        }
         let l = if l20 { "L20" } else { "L2" };
         let p = match word('P') {
             Some(w) if w.value.fract() == 0.0 && (0.0..=9.0).contains(&w.value) => w.value as usize,
@@ -92,6 +100,49 @@ impl Interpreter {
         next.offsets[k_system] = offsets;
         next.rotation[k_system] = r;
         next.offsets_given[k_system] = true;
+    }
+
+    /// Fanuc's `G10 L20 Pn IP` and Haas' `G10 L20 Pn X Y Z`: the additional work offset n's values
+    /// (from the machine zero, as G10 L2's), which `G54.1 Pn` (Fanuc) or `G154 Pn` and `G110`-`G129`
+    /// for P1-P20 (Haas) select: Mitsubishi M700V Programming Manual §14.10 (a FANUC-compatible
+    /// control), "G10 L20 Pn X__ Y__ Z__", extended workpiece coordinate system offset amount
+    /// setting; Haas, "Programmable Offsets": "L20 Auxiliary work coordinate origin for G110-G129",
+    /// "P1-P20 G110-G129", "P1-P99 G154 P1-P99", "G10 L20 P2 G90 X100. Y80. Sets offset G111 to
+    /// X100. Y80. from the home position". Axes not named keep theirs; absolute values only (G91 adds
+    /// to the offset, which no manual at hand says for these); rotary offsets only where zero.
+    fn set_extra_offset(&self, words: &[Word], next: &mut Interpreter, line: usize, column: usize, diags: &mut Diags) {
+        let word = |l: char| words.iter().find(|w| w.letter == l);
+        let (haas, most) = if self.dialect == Dialect::Haas { (true, 99.0) } else { (false, 300.0) };
+        let p = match word('P') {
+            Some(w) if w.value.fract() == 0.0 && (1.0..=most).contains(&w.value) => w.value as u32,
+            Some(w) => {
+                let range = if haas { "P1 to P99 (G154 P1-P99; P1-P20 also G110-G129)" } else { "P1 to P48 (P300 with the option: G54.1 P1-P300)" };
+                return diags.error(line, w.column, format!("G10 L20 P{}: expected {range}, an additional work offset", w.raw));
+            }
+            None => return diags.error(line, column, "G10 L20 without P: expected the additional work offset it sets (P1 = G54.1 P1)"),
+        };
+        if !next.absolute {
+            return diags.error(line, column, "G10 L20 under G91 (values added to the offset) is not read: write it under G90");
+        }
+        let mut offsets = self.extra_offset_value(p).unwrap_or([0.0; 3]);
+        for w in words {
+            let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
+            if k < 3 {
+                offsets[k] = w.value * next.unit;
+            } else if w.value != 0.0 {
+                return diags.error(line, w.column, format!("G10 L20 {}{}: rotary-axis work offsets are not modelled", w.letter, w.raw));
+            }
+        }
+        if next.extra_offset && next.extra_p == p {
+            next.move_origin(std::array::from_fn(|k| offsets[k] + next.axis_offset[k]));
+        }
+        // Known again, if a refused G10 L20 had set it before.
+        next.refused_offsets.retain(|(q, _)| *q != p);
+        let table = std::sync::Arc::make_mut(&mut next.extra_offsets);
+        match table.iter_mut().find(|(q, _)| *q == p) {
+            Some(slot) => slot.1 = offsets,
+            None => table.push((p, offsets)),
+        }
     }
 
     /// LinuxCNC's `G10 L1 P R`: tool P's radius R in the tool table, for cutter compensation to take
