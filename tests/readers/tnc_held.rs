@@ -155,3 +155,36 @@ fn held_lines_are_forgotten_and_named_axes_go_stale() {
     has(&p, 4, 3, "from where line 3's CALL PGM (a program called) left the tool");
     assert_eq!(moved(&p), [2, 6], "{:?}", errors(&p));
 }
+
+/// The TNC's lasting M functions this reader refuses hold the moves until their reset (iTNC 530
+/// user's manual 60642x-03 §12.5: "You can cancel M144 by programming M145"; §12.4 M136 until M137):
+/// M144 the kinematics' offsets (positions: after M145 X, Y and Z are unknown until written
+/// absolute, and the M145 block's own move starts there); M136 feed per revolution (feed moves only:
+/// an FMAX move is read; after M137 nothing is unknown). In Klartext and in DIN/ISO alike.
+#[test]
+fn lasting_m_functions_hold_the_moves_until_their_reset() {
+    let text = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+50 R0 FMAX\n3 L X+10 F500 M144\n4 L X+20 F500\n5 L X+30 M145\n6 L X+40\n\
+                7 L X+1 Y+1 Z+1\n8 L X+2 M136\n9 L X+3 FMAX\n10 L X+4 F100\n11 M137\n12 L X+5\n13 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [4, 5, 6, 7, 8, 9, 11], "{:?}", errors(&p));
+    has(&p, 4, 15, "M144: not modelled");
+    has(&p, 5, 3, "a move while line 4's M144 (the kinematics' offsets at the block end) is in effect on the TNC until M145");
+    has(&p, 6, 3, "a move from where the moves under line 4's M144 (the kinematics' offsets at the block end) left the tool");
+    has(&p, 6, 3, "once X, Y and Z are written absolute");
+    has(&p, 7, 3, "once Y and Z are written absolute");
+    has(&p, 8, 3, "once Y and Z are written absolute");
+    has(&p, 11, 4, "a move while line 9's M136 (feed per spindle revolution) is in effect on the TNC until M137");
+    assert_eq!(moved(&p), [3, 10, 13], "{:?}", errors(&p));
+
+    let din = "%T G71 *\nN10 T1 G17 S1000 *\nN20 G00 G40 G90 X+0 Y+0 Z+50 *\nN30 G01 X+10 F500 M144 *\nN40 X+20 F500 *\nN50 M145 *\nN60 X+30 *\nN70 X+1 Y+1 Z+1 *\nN80 X+2 M136 *\nN90 G00 X+3 *\nN100 G01 X+4 F100 *\nN110 M137 *\nN120 X+5 *\nN99999999 %T G71 *\n";
+    let p = read(din, Dialect::Heidenhain, "t.i", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [4, 5, 7, 8, 9, 11], "{:?}", errors(&p));
+    has(&p, 5, 5, "a move while line 4's M144 (the kinematics' offsets at the block end) is in effect on the control until M145");
+    has(&p, 7, 5, "once X, Y and Z are written absolute");
+    has(&p, 8, 5, "once Y and Z are written absolute");
+    has(&p, 11, 10, "a move while line 9's M136 (feed per spindle revolution) is in effect on the control until M137");
+    assert_eq!(moved(&p), [3, 10, 13], "{:?}", errors(&p));
+    // With none in effect, the resets change nothing and are read.
+    let p = read("%T G71 *\nN10 T1 G17 S1000 *\nN20 G00 X+0 Y+0 Z+50 M145 *\nN30 M115 *\nN40 M135 *\nN99999999 %T G71 *\n", Dialect::Heidenhain, "t.i", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+}

@@ -51,6 +51,9 @@ pub(super) fn tnc_m_code(code: i64) -> Result<(), Option<&'static str>> {
         // Resets to the state this model runs: M137 of M136 (the feed in mm/min again, iTNC 530
         // user's manual, "Feed rate in millimeters per spindle revolution: M136"), M113 of M112.
         113 | 137 => Ok(()),
+        // The resets of M114, M134 and M144 (iTNC 530 user's manual 60642x-03 §12.5-12.6), which
+        // this model refuses and holds until them ([`super::lasting`]): with none in effect, nothing.
+        115 | 135 | 145 => Ok(()),
         // Radius compensation at contour steps and open corners (TNC 620 user's manual 81760x-02
         // §10.4, "Machining small contour steps: M97", "Machining open contour corners: M98").
         97 | 98 => Err(Some("the TNC's M function for radius compensation at small contour steps (M97) or open contour corners (M98): not modelled (it changes the tool path)")),

@@ -16,9 +16,11 @@ pub(crate) struct Lasting {
     rule: &'static Rule,
 }
 
-/// A modal group's codes that shape the path, and the codes that cancel them (G code × 10).
-#[derive(Debug, PartialEq)]
-struct Rule {
+/// A modal group's codes that shape the path, and the codes that cancel them (× 10: G41 is 410).
+#[derive(Debug, PartialEq, Eq)]
+pub(crate) struct Rule {
+    /// The codes' letter: `G`, or `M` for the TNC's M functions.
+    letter: char,
     what: &'static str,
     codes: &'static [i64],
     cancels: &'static [i64],
@@ -30,21 +32,21 @@ struct Rule {
 
 /// Cutter radius compensation, G40 its cancel (FANUC B-64484EN "Cutter compensation C"; Haas Mill
 /// Operator's Manual, G40-G42).
-const COMP: Rule = Rule { what: "cutter radius compensation", codes: &[410, 420], cancels: &[400], feed_only: false, until: None };
+const COMP: Rule = Rule { letter: 'G', what: "cutter radius compensation", codes: &[410, 420], cancels: &[400], feed_only: false, until: None };
 /// Fanuc's normal direction control G41.1/G42.1, cancelled by G40.1 (FANUC B-64484EN "Normal
 /// direction control").
-const NORMAL: Rule = Rule { what: "normal direction control", codes: &[411, 421], cancels: &[401], feed_only: false, until: None };
+const NORMAL: Rule = Rule { letter: 'G', what: "normal direction control", codes: &[411, 421], cancels: &[401], feed_only: false, until: None };
 /// Tool length offset along the tool axis or added (Fanuc G43.1; LinuxCNC G43.1 dynamic, G43.2
 /// additional), cancelled by G49 or replaced by another code of its group (G43, G44, G43.4, G43.5).
-const LENGTH: Rule = Rule { what: "dynamic or additional tool length offset", codes: &[431, 432], cancels: &[490, 430, 440, 434, 435], feed_only: false, until: None };
+const LENGTH: Rule = Rule { letter: 'G', what: "dynamic or additional tool length offset", codes: &[431, 432], cancels: &[490, 430, 440, 434, 435], feed_only: false, until: None };
 /// Tilted working planes, G69 their cancel (FANUC B-64484EN "Tilted working plane indexing"). Fanuc's
 /// G68.2 with Euler angles is read ([`crate::program::feature`]); refused (its other forms, under
 /// G91, a second one; any on Haas), the control runs it all the same.
-const TILT: Rule = Rule { what: "tilted working plane", codes: &[682, 683, 684], cancels: &[690], feed_only: false, until: None };
+const TILT: Rule = Rule { letter: 'G', what: "tilted working plane", codes: &[682, 683, 684], cancels: &[690], feed_only: false, until: None };
 /// Scaling G51, cancelled by G50; programmable mirror image G51.1, cancelled by G50.1 (FANUC
 /// B-64484EN "Scaling", "Programmable mirror image"; Haas G50-G51, G50.1-G51.1).
-const SCALING: Rule = Rule { what: "scaling", codes: &[510], cancels: &[500], feed_only: false, until: None };
-const MIRROR: Rule = Rule { what: "mirror image", codes: &[511], cancels: &[501], feed_only: false, until: None };
+const SCALING: Rule = Rule { letter: 'G', what: "scaling", codes: &[510], cancels: &[500], feed_only: false, until: None };
+const MIRROR: Rule = Rule { letter: 'G', what: "mirror image", codes: &[511], cancels: &[501], feed_only: false, until: None };
 /// A canned cycle the reader refuses but the control runs (Fanuc's G76/G87 with a shift, LinuxCNC's
 /// G87/G88 and its taps outside G17, [`Interpreter::hold_cycle`]): it drills at every later position
 /// until "G80 or a G code of group 01" (FANUC B-64484EN "Canned cycle cancel"; LinuxCNC: any other
@@ -52,6 +54,7 @@ const MIRROR: Rule = Rule { what: "mirror image", codes: &[511], cancels: &[501]
 /// refused for what is not read, never for a defect.
 /// Another cycle replaces it (one of its group 09), as a group-01 code ends it.
 const CYCLE: Rule = Rule {
+    letter: 'G',
     what: "canned cycle: the control drills at every later position",
     codes: &[],
     cancels: &[800, 0, 10, 20, 30, 730, 740, 760, 810, 820, 830, 840, 850, 860, 870, 880, 890],
@@ -62,6 +65,7 @@ const CYCLE: Rule = Rule {
 /// refused `G10 L20 Pn` set it: the control's offset is the program's, not read here, until another
 /// work offset is selected (G54-G59, or another additional one, read).
 const WORK: Rule = Rule {
+    letter: 'G',
     what: "an additional work offset its refused G10 L20 set",
     codes: &[],
     cancels: &[
@@ -72,7 +76,58 @@ const WORK: Rule = Rule {
     until: Some("G54-G59 or another additional work offset"),
 };
 /// Feed per revolution, cancelled by G94 or G93.
-const PER_REV: Rule = Rule { what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None };
+const PER_REV: Rule = Rule { letter: 'G', what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None };
+
+/// The TNC's M functions this model refuses whose effect lasts until their reset (one code each):
+/// M112 rounding arcs between straight lines (and M124 under it) until M113 (TNC 407 user's manual
+/// 280 580 §5, "Insert rounding arc between straight lines: M112"; "M124 T... is cancelled by
+/// M113"); M114 automatic compensation of the machine geometry with tilted axes until M115 (iTNC
+/// 530 ISO user's manual 340 420 §7.5: "To cancel M114, enter M115"); M144 the kinematics' offsets
+/// at the block end until M145 (iTNC 530 user's manual 60642x-03 §12.5: "You can cancel M144 by
+/// programming M145"); M134 exact stop at non-tangential transitions until M135, and M136 feed per
+/// spindle revolution until M137 (ibid. §12.6, §12.4): the feed and timing only.
+const TNC_M: [Rule; 5] = [
+    Rule { letter: 'M', what: "rounding arcs between straight lines", codes: &[1120], cancels: &[1130], feed_only: false, until: None },
+    Rule { letter: 'M', what: "compensation of the machine geometry with tilted axes", codes: &[1140], cancels: &[1150], feed_only: false, until: None },
+    Rule { letter: 'M', what: "exact stop at non-tangential transitions", codes: &[1340], cancels: &[1350], feed_only: true, until: None },
+    Rule { letter: 'M', what: "feed per spindle revolution", codes: &[1360], cancels: &[1370], feed_only: true, until: None },
+    Rule { letter: 'M', what: "the kinematics' offsets at the block end", codes: &[1440], cancels: &[1450], feed_only: false, until: None },
+];
+const TNC_M_RULES: [&Rule; 5] = [&TNC_M[0], &TNC_M[1], &TNC_M[2], &TNC_M[3], &TNC_M[4]];
+
+/// The lasting TNC M function `code` (M144: 144), if it is one ([`TNC_M`]); the Klartext reader's
+/// holds use the same rules.
+pub(crate) fn tnc_m_rule(code: i64) -> Option<&'static Rule> {
+    TNC_M.iter().find(|r| r.codes.contains(&(code * 10)))
+}
+
+impl Rule {
+    /// The rule's name in a message: its code and what it does (`M144 (the kinematics' offsets at the
+    /// block end)`).
+    pub(crate) fn said(&self) -> String {
+        format!("{}{} ({})", self.letter, self.codes.first().map_or(String::new(), |c| code_said(*c)), self.what)
+    }
+
+    /// Its cancels as a message names them (`M145`; `G40`).
+    pub(crate) fn until(&self) -> String {
+        self.until.map_or_else(|| self.cancels.iter().map(|c| format!("{}{}", self.letter, code_said(*c))).collect::<Vec<_>>().join(" or "), String::from)
+    }
+
+    /// Whether only feed moves change under it (rapids run as written).
+    pub(crate) fn feed_only(&self) -> bool {
+        self.feed_only
+    }
+
+    /// Whether a code (× 10) of its letter ends it.
+    pub(crate) fn cancelled_by(&self, code: i64) -> bool {
+        self.cancels.contains(&code)
+    }
+}
+
+/// A code × 10 as written: 400 `40`, 501 `50.1`.
+fn code_said(c: i64) -> String {
+    if c % 10 == 0 { (c / 10).to_string() } else { format!("{}.{}", c / 10, c % 10) }
+}
 
 /// The rules of a dialect: the modal codes its control runs and this reader refuses (always, or in
 /// some forms: G68.2). Codes it reads (canned cycles, G68, LinuxCNC's G41/G42) hold nothing when
@@ -84,6 +139,7 @@ fn rules(dialect: Dialect) -> &'static [&'static Rule] {
         Dialect::Fanuc => &[&COMP, &NORMAL, &LENGTH, &TILT, &SCALING, &MIRROR],
         Dialect::Haas => &[&COMP, &LENGTH, &TILT, &SCALING, &MIRROR, &PER_REV],
         Dialect::Rs274 => &[&LENGTH],
+        Dialect::Heidenhain => &TNC_M_RULES,
         _ => &[],
     }
 }
@@ -107,10 +163,19 @@ pub(crate) struct Stale {
     what: &'static str,
 }
 
-/// What a block does under the holds: its G codes (× 10), the word a move is said at.
+/// What a block does under the holds: its G and M codes (× 10), the word a move is said at.
 struct Look {
     g: Vec<i64>,
+    m: Vec<i64>,
     axis: Option<(usize, bool)>,
+}
+
+impl Look {
+    /// Whether the block holds one of the rule's cancels.
+    fn cancels(&self, rule: &Rule) -> bool {
+        let codes = if rule.letter == 'M' { &self.m } else { &self.g };
+        rule.cancels.iter().any(|c| codes.contains(c))
+    }
 }
 
 impl Interpreter {
@@ -130,7 +195,8 @@ impl Interpreter {
         let arc = matches!(motion, Some(Motion::ArcCw | Motion::ArcCcw));
         let moves = !g.iter().any(|c| NO_MOVE.contains(c));
         let axis = words.iter().find(|w| moves && axis_word(w, arc)).map(|w| (w.column, motion == Some(Motion::Rapid)));
-        Look { g, axis }
+        let m = if self.dialect == Dialect::Heidenhain { words.iter().filter(|w| w.letter == 'M').map(super::x10).collect() } else { Vec::new() };
+        Look { g, m, axis }
     }
 
     /// Before a block is read: why it is refused if it moves while a refused block's code is in
@@ -144,17 +210,18 @@ impl Interpreter {
         let look = self.look(words);
         let (column, rapid) = look.axis?;
         for l in &self.lasting {
-            let cancelled = l.rule.cancels.iter().any(|c| look.g.contains(c));
+            let cancelled = look.cancels(l.rule);
             if l.rule.feed_only && (cancelled || rapid) {
                 continue;
             }
-            let cancel = l.rule.until.map_or_else(|| l.rule.cancels.iter().map(|c| format!("G{}", *c as f64 / 10.0)).collect::<Vec<_>>().join(" or "), String::from);
+            let cancel = l.rule.until();
+            let named = format!("{}{}", l.rule.letter, l.code);
             // The cancel's own move starts where the held moves left the tool.
             let from = if l.rule.what == COMP.what { "at the point its compensation made" } else { "where the moves under it left the tool" };
             return Some((column, if cancelled {
-                format!("{cancel} with a move after line {}'s G{} ({}), which was refused: the control starts this move {from}, which is not known", l.line, l.code, l.rule.what)
+                format!("{cancel} with a move after line {}'s {named} ({}), which was refused: the control starts this move {from}, which is not known", l.line, l.rule.what)
             } else {
-                format!("a move while line {}'s G{} ({}) is in effect on the control until {cancel}: that block was refused, so this move is not read as the control runs it", l.line, l.code, l.rule.what)
+                format!("a move while line {}'s {named} ({}) is in effect on the control until {cancel}: that block was refused, so this move is not read as the control runs it", l.line, l.rule.what)
             }));
         }
         let s = self.stale.as_ref()?;
@@ -172,7 +239,7 @@ impl Interpreter {
         let mut ended = Vec::new();
         self.lasting.retain(|l| {
             // A hold its own block set (a refused G87) is not ended by its own code.
-            let cancelled = l.line != line && l.rule.cancels.iter().any(|c| look.g.contains(c));
+            let cancelled = l.line != line && look.cancels(l.rule);
             if cancelled && !l.rule.feed_only {
                 ended.push(l.clone());
             }
@@ -196,7 +263,7 @@ impl Interpreter {
                     axes[3 + k] = true;
                 }
             }
-            self.moved_unread(l.line, &format!("G{}", l.code), l.rule.what, axes);
+            self.moved_unread(l.line, &format!("{}{}", l.rule.letter, l.code), l.rule.what, axes);
         }
         if !done || look.axis.is_none() {
             return;
@@ -278,9 +345,9 @@ impl Interpreter {
 
     /// After a block is refused: its codes that the control keeps in effect (until their cancel).
     pub(crate) fn note_lasting(&mut self, words: &[Word], line: usize) {
-        for w in words.iter().filter(|w| w.letter == 'G') {
+        for w in words.iter().filter(|w| matches!(w.letter, 'G' | 'M')) {
             let c = super::x10(w);
-            if let Some(rule) = rules(self.dialect).iter().find(|r| r.codes.contains(&c)) {
+            if let Some(rule) = rules(self.dialect).iter().find(|r| r.letter == w.letter && r.codes.contains(&c)) {
                 self.lasting.retain(|l| l.rule.what != rule.what);
                 self.lasting.push(Lasting { line, code: w.raw.trim_start_matches('0').to_string(), rule });
             }
@@ -291,6 +358,11 @@ impl Interpreter {
     /// a spline mode leaves the motion unknown, and the codes the control keeps hold later moves.
     pub(crate) fn refused(&mut self, words: &[Word], line: usize) {
         if !words.iter().any(|w| w.letter == 'G') {
+            // The TNC's lasting M functions (DIN/ISO) in a block without G codes.
+            if self.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'M') {
+                self.note_lasting(words, line);
+                self.after_held(words, line, false);
+            }
             return;
         }
         self.refused_line = Some(line);

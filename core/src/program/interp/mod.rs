@@ -13,7 +13,7 @@ mod codes;
 mod frame;
 mod g_codes;
 mod lasting;
-pub(crate) use lasting::{axes_named, axes_said};
+pub(crate) use lasting::{axes_named, axes_said, tnc_m_rule, Rule};
 pub(crate) use g_codes::haas_extra_offset;
 mod modal;
 mod offsets;

@@ -9,7 +9,7 @@
 
 use super::tilt::PlaneForm;
 use super::{Kind, Stmt, Val};
-use crate::program::interp::axes_said;
+use crate::program::interp::{axes_said, tnc_m_rule, Rule};
 use crate::program::lex::{upper, Diags};
 use crate::program::Block;
 
@@ -31,6 +31,9 @@ enum What {
     Comp,
     /// A move not read (`APPR`, `DEP`, `CTP`, FK, a touch probe): where it left the tool is not known.
     Moved(&'static str),
+    /// A lasting M function not read (M112, M114, M134, M136, M144), until its reset (the G-code
+    /// readers' rule, [`tnc_m_rule`]).
+    Modal(&'static Rule),
 }
 
 impl What {
@@ -44,6 +47,7 @@ impl What {
             What::Tcpm => "FUNCTION TCPM".into(),
             What::Comp => "APPR (radius compensation RL/RR)".into(),
             What::Moved(name) => name.into(),
+            What::Modal(r) => r.said(),
         }
     }
 
@@ -55,7 +59,7 @@ impl What {
         }
     }
 
-    fn until(self) -> &'static str {
+    fn until(self) -> String {
         match self {
             What::Transform(8) => "its reset (CYCL DEF 8 with no axis)",
             What::Transform(10) => "its reset (CYCL DEF 10 with ROT+0)",
@@ -66,7 +70,14 @@ impl What {
             What::Tcpm => "FUNCTION RESET TCPM or M129",
             What::Comp => "a DEP or an R0 block",
             What::Moved(_) => "",
+            What::Modal(r) => return r.until(),
         }
+        .to_string()
+    }
+
+    /// Whether only feed moves change under it (FMAX moves run as written).
+    fn feed_only(self) -> bool {
+        matches!(self, What::Modal(r) if r.feed_only())
     }
 }
 
@@ -224,6 +235,8 @@ impl Holds {
         // linear axes (all three: the reader's tool axis may be any).
         let r = self.rotary;
         let axes = match what {
+            // A feed or timing: the positions are the programmed ones.
+            What::Modal(m) if m.feed_only() => return,
             What::Plane | What::Tcpm => [true, true, true, r[0], r[1], r[2]],
             // Radius compensation offsets the working plane's X and Y.
             What::Comp => [true, true, false, false, false, false],
@@ -242,6 +255,12 @@ impl Holds {
     /// A statement ran without a defect of its own (`ok`): the holds it ends. One the reader
     /// refused while running (a PLANE, a datum shift, a TCPM form with a value not known) holds.
     pub(super) fn ran(&mut self, s: &Stmt<'_>, ok: bool) {
+        // Its M functions (as numbers: a Q parameter's is not known here).
+        let m: &[super::KWord<'_>] = match &s.kind {
+            Kind::Move { m, .. } | Kind::Misc(m) => m,
+            _ => &[],
+        };
+        let codes = || m.iter().filter_map(|w| if let Val::Num(v) = w.val { (v.fract() == 0.0 && v.abs() < 1e6).then_some(v as i64) } else { None });
         if !ok {
             match &s.kind {
                 Kind::Plane(_) => self.hold(What::Plane, s.line, [true; 3]),
@@ -249,10 +268,23 @@ impl Holds {
                 Kind::Tcp { on: true, .. } => self.hold(What::Tcpm, s.line, [true; 3]),
                 _ => {}
             }
+            // A lasting M function refused (or in a statement refused): the TNC runs it all the same.
+            for rule in codes().filter_map(tnc_m_rule) {
+                self.hold(What::Modal(rule), s.line, [true; 3]);
+            }
             return;
         }
         if self.on.is_empty() {
             return;
+        }
+        for c in codes() {
+            let ended: Vec<What> = self.on.iter().filter_map(|o| match o.what {
+                What::Modal(r) if r.cancelled_by(c * 10) => Some(o.what),
+                _ => None,
+            }).collect();
+            for what in ended {
+                self.end(what);
+            }
         }
         match &s.kind {
             Kind::Plane(p) if !matches!(p.form, PlaneForm::Relativ(..)) => self.end(What::Plane),
@@ -303,8 +335,12 @@ impl Holds {
     /// own): refused if it moves (said at the statement; its blocks dropped wherever they come out);
     /// the axes it wrote absolute are known again.
     pub(super) fn after(&mut self, s: &Stmt<'_>, moves: bool, ok: bool, diags: &mut Diags) {
-        if moves && (!self.on.is_empty() || self.stale.is_some()) {
-            let why = match (self.on.first(), &self.stale) {
+        // FMAX moves run as written under a feed's hold.
+        let rapid = matches!(&s.kind, Kind::Move { feed: super::FeedWord::Max, .. });
+        // (A hold this statement began, refused, is said at its own refusal.)
+        let holding = self.on.iter().find(|o| o.line != s.line && !(rapid && o.what.feed_only()));
+        if moves && (holding.is_some() || self.stale.is_some()) {
+            let why = match (holding, &self.stale) {
                 (Some(o), _) => format!("a move while line {}'s {} is in effect on the TNC until {}: that block was refused, so this move is not read as the TNC runs it", o.line, o.what.said(), o.what.until()),
                 (None, Some((axes, line, what))) => {
                     format!("a move from where {} left the tool, which is not known (the TNC ran it, this reader did not): moves are read again once {} written absolute", what.left(*line), axes_said(*axes))
@@ -317,7 +353,7 @@ impl Holds {
             }
             self.recent.push(s.line);
         }
-        if let (true, Some(stale), Kind::Move { axes, .. }) = (ok && self.on.is_empty(), self.stale.as_mut(), &s.kind) {
+        if let (true, Some(stale), Kind::Move { axes, .. }) = (ok && holding.is_none(), self.stale.as_mut(), &s.kind) {
             for w in axes {
                 if let Some(k) = ["X", "Y", "Z", "A", "B", "C"].iter().position(|a| *a == w.addr) {
                     stale.0[k] = false;
