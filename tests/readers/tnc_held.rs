@@ -188,3 +188,54 @@ fn lasting_m_functions_hold_the_moves_until_their_reset() {
     let p = read("%T G71 *\nN10 T1 G17 S1000 *\nN20 G00 X+0 Y+0 Z+50 M145 *\nN30 M115 *\nN40 M135 *\nN99999999 %T G71 *\n", Dialect::Heidenhain, "t.i", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
 }
+
+/// A statement refused for an M function this reader does not read (M97, the radius compensation's
+/// small contour steps; M94, the rotary display reduced) is run by the TNC: the axes it names (M94:
+/// the machine's rotary axes) are where this reader does not know, so the moves after it are
+/// refused until they are written absolute (an incremental `IX` does not place X). Klartext and
+/// DIN/ISO alike, on the Hermle's A and C.
+#[test]
+fn a_block_refused_for_an_m_function_the_tnc_runs_leaves_its_axes_unknown() {
+    let machine = fiveaxis::machine::Machine::builtin("hermle-c600u").unwrap();
+    let on = ReadOptions::default().on(&machine);
+    let text = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+50 A+0 C+0 R0 F500\n3 L X+10 F500 M97\n4 L IX+5\n5 L X+20\n6 L Y+5\n7 M94\n8 L X+1\n\
+                9 L C+10\n10 L A+5\n11 L X+2 A+0 C+0\n12 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &on);
+    assert_eq!(error_lines(&p), [4, 5, 6, 8, 9, 10, 11], "{:?}", errors(&p));
+    has(&p, 5, 3, "a move from where line 4's M97 (an M function not read, which the TNC runs) left the tool");
+    has(&p, 5, 3, "once X is written absolute");
+    has(&p, 9, 3, "line 8's M94 (an M function not read, which the TNC runs)");
+    has(&p, 9, 3, "once A and C are written absolute");
+    has(&p, 11, 4, "once A is written absolute");
+    assert_eq!(moved(&p), [3, 7, 12], "{:?}", errors(&p));
+
+    let din = "%T G71 *\nN10 T1 G17 S1000 *\nN20 G01 G90 X+0 Y+0 Z+50 A+0 C+0 F500 *\nN30 G01 X+10 F500 M97 *\nN40 G91 X+5 *\nN50 G90 X+20 *\nN60 Y+5 *\nN70 M94 *\n\
+               N80 X+1 *\nN90 C+10 *\nN100 A+5 *\nN110 X+2 A+0 C+0 *\nN99999999 %T G71 *\n";
+    let p = read(din, Dialect::Heidenhain, "t.i", &on);
+    assert_eq!(error_lines(&p), [4, 5, 6, 8, 9, 10, 11], "{:?}", errors(&p));
+    has(&p, 5, 9, "a move from where the moves under line 4's M97 (an M function not read, which the control runs) left the tool");
+    has(&p, 9, 5, "once A and C are written absolute");
+    assert_eq!(moved(&p), [3, 7, 12], "{:?}", errors(&p));
+}
+
+/// `TRANS DATUM RESET` (the TNC 640's datum shift function, as posts write it in their safe start)
+/// is read where no datum shift is in effect; `TRANS DATUM AXIS` and the other `TRANS` functions are
+/// refused and hold the moves (until `TRANS DATUM RESET`, then X, Y, Z unknown until written
+/// absolute); with cycle 7's shift in effect, `TRANS DATUM RESET` is refused (whether it resets that
+/// too is not at hand) and holds the moves until a cycle 7 that is read sets X, Y and Z.
+#[test]
+fn trans_datum_reset_is_read_where_nothing_is_shifted_and_trans_functions_hold() {
+    let text = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 TRANS DATUM RESET\n3 L X+0 Y+0 Z+50 R0 F500\n4 TRANS DATUM AXIS X+10\n5 L X+5\n6 TRANS DATUM RESET\n\
+                7 L X+1 Y+1 Z+1\n8 L X+2\n9 CYCL DEF 7.0 DATUM SHIFT\n10 CYCL DEF 7.1 X+5\n11 TRANS DATUM RESET\n12 L X+3\n13 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [5, 6, 8, 12, 13], "{:?}", errors(&p));
+    has(&p, 5, 3, "TRANS DATUM: the TNC's transformation functions are not read");
+    has(&p, 6, 3, "line 5's TRANS DATUM (a datum shift) is in effect on the TNC until TRANS DATUM RESET");
+    has(&p, 8, 3, "a move from where the moves under line 5's TRANS DATUM (a datum shift) left the tool");
+    has(&p, 12, 4, "TRANS DATUM RESET with cycle 7's datum shift in effect");
+    has(&p, 13, 4, "line 12's CYCL DEF 7 (datum shift) is in effect on the TNC until a CYCL DEF 7 that is read sets X, Y and Z");
+    assert_eq!(moved(&p), [4, 9], "{:?}", errors(&p));
+    let p = read("0 BEGIN PGM T MM\n1 L X+0 Y+0 Z+50 R0 F500\n2 TRANS MIRROR X\n3 L X+5\n4 END PGM T MM\n", Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [3, 4], "{:?}", errors(&p));
+    has(&p, 4, 3, "line 3's TRANS (a mirroring, rotation or scaling) is in effect on the TNC until its reset (not read)");
+}

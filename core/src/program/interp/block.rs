@@ -45,6 +45,9 @@ pub(super) struct BlockCodes<'w, 't> {
     pub datum_block: bool,
     /// The block's M, S, T and D words, said as events.
     pub events: Vec<String>,
+    /// A TNC M function this model refuses and the TNC runs (its code): where the block leaves the
+    /// tool is not known.
+    pub ran_unread: Option<i64>,
 }
 
 impl Interpreter {
@@ -125,7 +128,7 @@ impl Interpreter {
                 ),
             }
         }
-        let BlockCodes { uses, g10, g92, exact_stop_here, g53, dwell_word, blend_word, datum_block, events } = c;
+        let BlockCodes { uses, g10, g92, exact_stop_here, g53, dwell_word, blend_word, datum_block, events, ran_unread } = c;
         // The block's own motion: a one-shot's, else the modal one.
         let block_motion = shot.map(|s| s.motion).or(next.motion);
         let arc_motion = block_motion.is_some_and(Motion::is_arc);
@@ -521,6 +524,7 @@ impl Interpreter {
             *self = before;
             // The tool vector belonged to this block: it does not carry over to the next one.
             self.pending_vector = None;
+            self.ran_unread = ran_unread.map(|m| (line, m));
             return None;
         }
         // In a tilted plane without TCPM a move of the rotary axes alone leaves the linear axes where

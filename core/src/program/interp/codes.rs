@@ -172,8 +172,14 @@ pub(super) fn m_code(next: &mut Interpreter, before: &Interpreter, w: &Word, sho
         (None, _, true) => {
             match tnc_m_code(code) {
                 Ok(()) => {}
-                Err(Some(why)) => diags.error(line, w.column, format!("M{}: {why}", w.raw)),
-                Err(None) => diags.error(line, w.column, maker_m_function(&w.raw, code)),
+                Err(why) => {
+                    // The TNC runs it (the machine maker's too): said to the readers' holds.
+                    c.ran_unread = Some(code);
+                    match why {
+                        Some(why) => diags.error(line, w.column, format!("M{}: {why}", w.raw)),
+                        None => diags.error(line, w.column, maker_m_function(&w.raw, code)),
+                    }
+                }
             }
         }
         // Sinumerik's own M functions (Fundamentals §"Miscellaneous functions (M)": M17

@@ -133,6 +133,9 @@ pub struct Interpreter {
     extra_offsets: std::sync::Arc<Vec<(u32, [f64; 3])>>,
     /// After such a code's cancel: the axes whose position its moves left unknown.
     pub(crate) stale: Option<lasting::Stale>,
+    /// The last block refused with a TNC M function the TNC runs (its line and code), for the holds
+    /// to take: set where [`Interpreter::block_one`] refuses such a block.
+    pub(crate) ran_unread: Option<(usize, i64)>,
     tool_table: Option<std::sync::Arc<super::cutter_comp::ToolTable>>,
     /// The machine's coordinates (`G53`, `G28`), if its file places them.
     machine_coords: Option<std::sync::Arc<crate::machine::MachineCoordinates>>,
@@ -397,6 +400,7 @@ impl Interpreter {
             forgotten: None,
             refused_offsets: Vec::new(),
             extra_offsets: std::sync::Arc::default(),
+            ran_unread: None,
             stale: None,
             tool_table: None,
             machine_coords: None,
@@ -574,6 +578,24 @@ impl Interpreter {
             }
         } else {
             self.moved_in_unread_mode(axes_named(words));
+            // A TNC M function not read, which the TNC runs: the axes the block names (a cycle
+            // call's M89/M99 all three, M94 the rotary ones) are where this reader does not know.
+            // (A lasting one holds the moves instead, [`lasting`].)
+            if let Some((l, m)) = self.ran_unread.take().filter(|(_, m)| lasting::tnc_m_rule(*m).is_none()) {
+                let axes = match m {
+                    89 | 99 => [true, true, true, false, false, false],
+                    // M94 reduces the rotary axes' display: their positions are the TNC's, not these.
+                    94 => {
+                        let mut axes = [false; 6];
+                        for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
+                            axes[3 + k] = true;
+                        }
+                        axes
+                    }
+                    _ => axes_named(words),
+                };
+                self.moved_unread(l, &format!("M{m}"), "an M function not read, which the control runs", axes);
+            }
             self.refused(words, line);
         }
         self.note_feed(done, words.iter().any(|w| w.letter == 'F'), line);

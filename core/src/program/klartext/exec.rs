@@ -190,6 +190,14 @@ impl Exec {
                 }
                 return false;
             }
+            // With no datum shift in effect there is nothing to reset; with cycle 7's, whether this
+            // resets it too is not at hand.
+            Kind::TransReset => {
+                if interp.datum() != [0.0; 3] {
+                    diags.error(s.line, s.col, "TRANS DATUM RESET with cycle 7's datum shift in effect: whether it resets that shift too is not at hand (reset it with CYCL DEF 7 X+0 Y+0 Z+0 first)");
+                }
+                return false;
+            }
             Kind::Datum(k, w, incremental) => {
                 if let Some(v) = self.value(w, s.line, diags) {
                     let mut datum = interp.datum();
@@ -413,7 +421,7 @@ impl Exec {
                     }
                 }
             }
-            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::Pecking { .. } | Kind::CycleCall(_) | Kind::Corner { .. } | Kind::Spline { .. } => {}
+            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::TransReset | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::Pecking { .. } | Kind::CycleCall(_) | Kind::Corner { .. } | Kind::Spline { .. } => {}
         }
         // M91 / M92: the block's coordinates are the machine's, about its machine datum or the
         // maker's second datum (TNC 426 B ISO §7.3: "M91 and M92 are effective only in the blocks in

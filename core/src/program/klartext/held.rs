@@ -31,6 +31,11 @@ enum What {
     Comp,
     /// A move not read (`APPR`, `DEP`, `CTP`, FK, a touch probe): where it left the tool is not known.
     Moved(&'static str),
+    /// A statement refused for an M function not read (its code), which the TNC runs.
+    Ran(i64),
+    /// A `TRANS` function (TNC 640/TNC7): `TRANS DATUM` until `TRANS DATUM RESET` (true), the
+    /// others until a reset this reader does not read.
+    Trans(bool),
     /// A lasting M function not read (M112, M114, M134, M136, M144), until its reset (the G-code
     /// readers' rule, [`tnc_m_rule`]).
     Modal(&'static Rule),
@@ -48,13 +53,16 @@ impl What {
             What::Comp => "APPR (radius compensation RL/RR)".into(),
             What::Moved(name) => name.into(),
             What::Modal(r) => r.said(),
+            What::Ran(m) => format!("M{m} (an M function not read, which the TNC runs)"),
+            What::Trans(true) => "TRANS DATUM (a datum shift)".into(),
+            What::Trans(false) => "TRANS (a mirroring, rotation or scaling)".into(),
         }
     }
 
     /// Where the tool stands after it, for the message of a move that starts there.
     fn left(self, line: usize) -> String {
         match self {
-            What::Moved(_) => format!("line {line}'s {}", self.said()),
+            What::Moved(_) | What::Ran(_) => format!("line {line}'s {}", self.said()),
             _ => format!("the moves under line {line}'s {}", self.said()),
         }
     }
@@ -69,7 +77,9 @@ impl What {
             What::Plane => "a PLANE that is read (PLANE RESET)",
             What::Tcpm => "FUNCTION RESET TCPM or M129",
             What::Comp => "a DEP or an R0 block",
-            What::Moved(_) => "",
+            What::Moved(_) | What::Ran(_) => "",
+            What::Trans(true) => "TRANS DATUM RESET",
+            What::Trans(false) => "its reset (not read)",
             What::Modal(r) => return r.until(),
         }
         .to_string()
@@ -138,6 +148,9 @@ impl Holds {
         }
         if at(0) == "FUNCTION" && at(1) == "TCPM" {
             return self.hold(What::Tcpm, line, [true; 3]);
+        }
+        if at(0) == "TRANS" {
+            return self.hold(What::Trans(at(1) == "DATUM"), line, [true; 3]);
         }
         // A move the TNC makes and this reader does not read: the tool's position after it is not
         // known. APPR with RL/RR turns on radius compensation; DEP turns it off.
@@ -253,8 +266,10 @@ impl Holds {
     }
 
     /// A statement ran without a defect of its own (`ok`): the holds it ends. One the reader
-    /// refused while running (a PLANE, a datum shift, a TCPM form with a value not known) holds.
-    pub(super) fn ran(&mut self, s: &Stmt<'_>, ok: bool) {
+    /// refused while running (a PLANE, a datum shift, a TCPM form with a value not known) holds; one
+    /// refused for an M function the TNC runs (`ran_unread`: its line and code) moved the axes it
+    /// names where this reader does not know (a cycle call's M89/M99 X Y Z, M94 the rotary axes).
+    pub(super) fn ran(&mut self, s: &Stmt<'_>, ok: bool, ran_unread: Option<(usize, i64)>) {
         // Its M functions (as numbers: a Q parameter's is not known here).
         let m: &[super::KWord<'_>] = match &s.kind {
             Kind::Move { m, .. } | Kind::Misc(m) => m,
@@ -266,11 +281,32 @@ impl Holds {
                 Kind::Plane(_) => self.hold(What::Plane, s.line, [true; 3]),
                 Kind::Datum(..) => self.hold(What::Datum, s.line, [true; 3]),
                 Kind::Tcp { on: true, .. } => self.hold(What::Tcpm, s.line, [true; 3]),
+                // Cycle 7's shift reset or not: the datum is not known until cycle 7 sets it again.
+                Kind::TransReset => self.hold(What::Datum, s.line, [true; 3]),
                 _ => {}
             }
             // A lasting M function refused (or in a statement refused): the TNC runs it all the same.
             for rule in codes().filter_map(tnc_m_rule) {
                 self.hold(What::Modal(rule), s.line, [true; 3]);
+            }
+            // (A lasting one holds the moves instead, above.)
+            if let Some((line, m)) = ran_unread.filter(|(l, m)| *l == s.line && tnc_m_rule(*m).is_none()) {
+                let r = self.rotary;
+                let mut axes = match m {
+                    89 | 99 => [true, true, true, false, false, false],
+                    94 => [false, false, false, r[0], r[1], r[2]],
+                    _ => [false; 6],
+                };
+                if let Kind::Move { axes: words, .. } = &s.kind {
+                    for w in words {
+                        if let Some(k) = ["X", "Y", "Z", "A", "B", "C"].iter().position(|a| *a == w.addr.trim_start_matches('I')) {
+                            axes[k] = true;
+                        }
+                    }
+                }
+                if axes.contains(&true) {
+                    self.unknown(axes, line, What::Ran(m));
+                }
             }
             return;
         }
@@ -289,6 +325,7 @@ impl Holds {
         match &s.kind {
             Kind::Plane(p) if !matches!(p.form, PlaneForm::Relativ(..)) => self.end(What::Plane),
             Kind::Tcp { .. } => self.end(What::Tcpm),
+            Kind::TransReset => self.end(What::Trans(true)),
             Kind::Move { comp: Some((None, _)), .. } => self.end(What::Comp),
             Kind::Move { m, .. } | Kind::Misc(m) if m.iter().any(|w| matches!(w.val, Val::Num(v) if v == 129.0)) => self.end(What::Tcpm),
             // An absolute shift of one axis sets it; the hold ends when every axis is set again.
@@ -339,8 +376,9 @@ impl Holds {
         let rapid = matches!(&s.kind, Kind::Move { feed: super::FeedWord::Max, .. });
         // (A hold this statement began, refused, is said at its own refusal.)
         let holding = self.on.iter().find(|o| o.line != s.line && !(rapid && o.what.feed_only()));
-        if moves && (holding.is_some() || self.stale.is_some()) {
-            let why = match (holding, &self.stale) {
+        let stale = self.stale.filter(|st| st.1 != s.line);
+        if moves && (holding.is_some() || stale.is_some()) {
+            let why = match (holding, &stale) {
                 (Some(o), _) => format!("a move while line {}'s {} is in effect on the TNC until {}: that block was refused, so this move is not read as the TNC runs it", o.line, o.what.said(), o.what.until()),
                 (None, Some((axes, line, what))) => {
                     format!("a move from where {} left the tool, which is not known (the TNC ran it, this reader did not): moves are read again once {} written absolute", what.left(*line), axes_said(*axes))

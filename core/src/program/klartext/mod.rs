@@ -170,6 +170,9 @@ enum Kind<'a> {
     Spline { ends: Vec<KWord<'a>>, coefficients: [Option<[f64; 3]>; 6], feed: FeedWord<'a> },
     /// `STOP`: a programmed stop, as M0.
     Stop,
+    /// `TRANS DATUM RESET` (TNC 640/TNC7, the NC function's datum shift reset), read where no datum
+    /// shift is in effect; the other `TRANS` functions are refused (their rules are not at hand).
+    TransReset,
     End,
 }
 
@@ -394,6 +397,13 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         "CC" => centre(toks, line, diags),
         "SPL" => blocks::spline(toks, line, diags),
         "STOP" => Some(Kind::Stop),
+        // TRANS DATUM RESET (as posts write it in their safe start, beside PLANE RESET and FUNCTION
+        // RESET TCPM); TRANS DATUM AXIS|TABLE, MIRROR, ROTATION, SCALE not read.
+        "TRANS" if toks.len() == 3 && key(1) == "DATUM" && key(2) == "RESET" => Some(Kind::TransReset),
+        "TRANS" => {
+            diags.error(line, col, format!("TRANS {}: the TNC's transformation functions are not read (their rules are not at hand): write cycle 7, 8, 10 or 11", excerpt(toks.get(1).map_or("", |t| t.0))));
+            None
+        }
         "LBL" => match toks.get(1) {
             Some((l, _)) if toks.len() == 2 => Some(Kind::Label(l.trim_matches('"'))),
             _ => {

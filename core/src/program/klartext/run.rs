@@ -168,7 +168,7 @@ impl Runner {
                 let ok = diags.errors() == errors;
                 // What it ends or starts first: the statement that ends a hold moves from where the
                 // held moves left the tool.
-                self.holds.ran(&s, ok);
+                self.holds.ran(&s, ok, self.interp.ran_unread.take());
                 if self.holds.active() {
                     // It moves: by its words, or by what it made (a cycle call, a PLANE's turn); what
                     // it made may come out later (held for a corner or by radius compensation).
