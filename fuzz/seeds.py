@@ -56,6 +56,13 @@ KLARTEXT_HELD = (b"0 BEGIN PGM HE MM\n1 L X+0 Y+0 Z+10 A+0 C+0 R0 F500\n2 CYCL D
 # Fanuc's refused modal codes held until their cancel: G41 to G40, G51 to G50, G51.1 to G50.1.
 FANUC_HELD = (b"%\nO1000\nG21 G90 G17 G94 F100.\nG0 X0. Y0. Z10.\nG41 D1 G1 X10. Y10.\nG1 X20.\nG40 X30. Y0.\n"
               b"G51 X0. Y0. P2\nG1 X2.\nG50\nG51.1 X0.\nX3.\nG50.1\nG1 X4.\nM30\n%\n")
+# Additional work offsets set and selected (G10 L20, G54.1 P / G154 P / G110), one refused and held.
+FANUC_OFFSETS = (b"%\nG21 G90 G17 G94 F100.\nG10 L20 P1 X100. Y50. Z0.\nG10 L20 P2 X-20. B10.\nG0 X0. Y0. Z10.\n"
+                 b"G54.1 P1\nG0 X1.\nG10 L20 P1 X200.\nG54.1 P2 G0 X0.\nG154 P3\nG110 X1.\nG54\nG0 X0. Y0. Z0.\nM30\n%\n")
+# The TNC's lasting M functions, an M function not read that the TNC runs, TRANS DATUM.
+KLARTEXT_M = (b"0 BEGIN PGM M MM\n1 L X+0 Y+0 Z+50 A+0 C+0 R0 F500\n2 L X+10 M144\n3 L X+20 M145\n4 L X+1 Y+1 Z+1\n"
+              b"5 L X+2 M136\n6 L X+3 FMAX\n7 M137\n8 L X+4 M97\n9 M94\n10 L X+0 A+0 C+0\n11 TRANS DATUM RESET\n"
+              b"12 TRANS DATUM AXIS X+1\n13 L X+5\n14 TRANS DATUM RESET\n15 L X+0 Y+0 Z+0\n16 END PGM M MM\n")
 # An 840D contour under tool radius compensation: a tool by name, CFTCP and CFC, arcs by CR, a
 # subprogram-free M17 left out, a stop at a CFC outside corner, D0, refusals (KONT, OFFN, G451).
 SINUMERIK_TRC = (b"T=\"MILL_D6\" D1\nM6\nG17 G90 G71 G94 CFTCP\nG0 X-20 Y-20 Z5\nG1 Z-2 F500\nG1 G42 X0 Y0\n"
@@ -131,7 +138,9 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "corners.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_CORNERS)
     put(corpus, "nc_program", "corners.nc", bytes([PICK["fanuc"]]) + FANUC_CORNERS)
     put(corpus, "nc_program", "nurbs.nc", bytes([PICK["fanuc"]]) + FANUC_NURBS)
-    n += 7
+    put(corpus, "nc_program", "offsets.nc", bytes([PICK["haas"]]) + FANUC_OFFSETS)
+    put(corpus, "nc_program", "mfunctions.h", bytes([PICK["klartext"] + len(PICK)]) + KLARTEXT_M)
+    n += 9
     # CL data: the SING cut's first moves as x y z i j k [feed] lines, with a header, comma and space separated.
     cl = b"x,y,z,i,j,k,f\n0,0,-8,0,0,1,2000\n10,0,-8,0,0.0174,0.9998,2000\n25,0,-8,0,0.0003,1,2000\n50 0 -8 0 0 1\n"
     put(corpus, "nc_program", "sing.cl", bytes([PICK["cl"]]) + cl)

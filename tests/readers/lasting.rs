@@ -75,16 +75,19 @@ fn scaling_and_mirror_image_hold_until_g50_and_g50_1() {
 }
 
 /// Haas' G95 is refused: under it a feed move is refused (its feed is per revolution on the
-/// control), a rapid is read (it does not take the feed), and G94 ends it.
+/// control), a rapid is read (it does not take the feed), and G94 ends it. G95's own block moved X
+/// to where this reader did not go: the rapid that writes X next is refused once, the next read.
 #[test]
 fn a_refused_feed_per_revolution_holds_feed_moves_only() {
-    let text = "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG95 G1 X1. F0.1\nG0 X2.\nG1 X3.\nG94 G1 X4. F200.\nM30\n%\n";
+    let text = "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG95 G1 X1. F0.1\nG0 X2.\nG0 X2.5\nG1 X3.\nG94 G1 X4. F200.\nM30\n%\n";
     let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default());
-    // Line 7 also lacks the feed line 5 gave (refused, its F took no effect here).
-    assert_eq!(error_lines(&p), [5, 7, 7], "{:?}", errors(&p));
-    has(&p, 7, 4, "line 5's G95 (feed per revolution)");
-    assert_eq!(x_at(&p, 6), Some(2.0));
-    assert_eq!(x_at(&p, 8), Some(4.0));
+    // Line 8 also lacks the feed line 5 gave (refused, its F took no effect here).
+    assert_eq!(error_lines(&p), [5, 6, 8, 8], "{:?}", errors(&p));
+    has(&p, 6, 4, "a move from where the moves under line 5's G95 (feed per revolution) left the tool");
+    has(&p, 8, 4, "line 5's G95 (feed per revolution)");
+    assert_eq!(x_at(&p, 6), None);
+    assert_eq!(x_at(&p, 7), Some(2.5));
+    assert_eq!(x_at(&p, 9), Some(4.0));
 }
 
 /// A code the reader reads, refused for a defect of its block (a G83 with a peck of 0), leaves
@@ -226,4 +229,8 @@ fn haas_offsets_set_by_a_refused_g10_l20_are_held() {
         assert_eq!(x_at(&p, l), None, "line {l}");
     }
     assert_eq!(x_at(&p, 15), Some(4.0), "{:?}", errors(&p));
+    // Haas' G54.1 Pn names the same offsets as G154 Pn.
+    let p = read("%\nG21 G90 G17 G94\nG10 L20 P2 X1. B1.\nG0 X0. Y0. Z10.\nG54.1 P2\nG0 X1.\nM30\n%\n", Dialect::Haas, "t.nc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [3, 5, 6], "{:?}", errors(&p));
+    has(&p, 6, 4, "line 5's G54.1 (an additional work offset its refused G10 L20 set) is in effect");
 }

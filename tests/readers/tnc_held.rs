@@ -159,31 +159,34 @@ fn held_lines_are_forgotten_and_named_axes_go_stale() {
 /// The TNC's lasting M functions this reader refuses hold the moves until their reset (iTNC 530
 /// user's manual 60642x-03 §12.5: "You can cancel M144 by programming M145"; §12.4 M136 until M137):
 /// M144 the kinematics' offsets (positions: after M145 X, Y and Z are unknown until written
-/// absolute, and the M145 block's own move starts there); M136 feed per revolution (feed moves only:
-/// an FMAX move is read; after M137 nothing is unknown). In Klartext and in DIN/ISO alike.
+/// absolute, and the M145 block's own move starts there); M136 feed per revolution (feed moves only,
+/// but its own block's move went where this reader did not: the FMAX move after it writes X and is
+/// refused once; after M137 nothing is unknown). In Klartext and in DIN/ISO alike.
 #[test]
 fn lasting_m_functions_hold_the_moves_until_their_reset() {
     let text = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+50 R0 FMAX\n3 L X+10 F500 M144\n4 L X+20 F500\n5 L X+30 M145\n6 L X+40\n\
                 7 L X+1 Y+1 Z+1\n8 L X+2 M136\n9 L X+3 FMAX\n10 L X+4 F100\n11 M137\n12 L X+5\n13 END PGM T MM\n";
     let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
-    assert_eq!(error_lines(&p), [4, 5, 6, 7, 8, 9, 11], "{:?}", errors(&p));
+    assert_eq!(error_lines(&p), [4, 5, 6, 7, 8, 9, 10, 11], "{:?}", errors(&p));
     has(&p, 4, 15, "M144: not modelled");
     has(&p, 5, 3, "a move while line 4's M144 (the kinematics' offsets at the block end) is in effect on the TNC until M145");
     has(&p, 6, 3, "a move from where the moves under line 4's M144 (the kinematics' offsets at the block end) left the tool");
     has(&p, 6, 3, "once X, Y and Z are written absolute");
     has(&p, 7, 3, "once Y and Z are written absolute");
     has(&p, 8, 3, "once Y and Z are written absolute");
+    has(&p, 10, 3, "a move from where line 9's M136");
     has(&p, 11, 4, "a move while line 9's M136 (feed per spindle revolution) is in effect on the TNC until M137");
-    assert_eq!(moved(&p), [3, 10, 13], "{:?}", errors(&p));
+    assert_eq!(moved(&p), [3, 13], "{:?}", errors(&p));
 
     let din = "%T G71 *\nN10 T1 G17 S1000 *\nN20 G00 G40 G90 X+0 Y+0 Z+50 *\nN30 G01 X+10 F500 M144 *\nN40 X+20 F500 *\nN50 M145 *\nN60 X+30 *\nN70 X+1 Y+1 Z+1 *\nN80 X+2 M136 *\nN90 G00 X+3 *\nN100 G01 X+4 F100 *\nN110 M137 *\nN120 X+5 *\nN99999999 %T G71 *\n";
     let p = read(din, Dialect::Heidenhain, "t.i", &ReadOptions::default());
-    assert_eq!(error_lines(&p), [4, 5, 7, 8, 9, 11], "{:?}", errors(&p));
+    assert_eq!(error_lines(&p), [4, 5, 7, 8, 9, 10, 11], "{:?}", errors(&p));
     has(&p, 5, 5, "a move while line 4's M144 (the kinematics' offsets at the block end) is in effect on the control until M145");
     has(&p, 7, 5, "once X, Y and Z are written absolute");
     has(&p, 8, 5, "once Y and Z are written absolute");
+    has(&p, 10, 9, "a move from where the moves under line 9's M136 (feed per spindle revolution) left the tool");
     has(&p, 11, 10, "a move while line 9's M136 (feed per spindle revolution) is in effect on the control until M137");
-    assert_eq!(moved(&p), [3, 10, 13], "{:?}", errors(&p));
+    assert_eq!(moved(&p), [3, 13], "{:?}", errors(&p));
     // With none in effect, the resets change nothing and are read.
     let p = read("%T G71 *\nN10 T1 G17 S1000 *\nN20 G00 X+0 Y+0 Z+50 M145 *\nN30 M115 *\nN40 M135 *\nN99999999 %T G71 *\n", Dialect::Heidenhain, "t.i", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
@@ -213,7 +216,7 @@ fn a_block_refused_for_an_m_function_the_tnc_runs_leaves_its_axes_unknown() {
                N80 X+1 *\nN90 C+10 *\nN100 A+5 *\nN110 X+2 A+0 C+0 *\nN99999999 %T G71 *\n";
     let p = read(din, Dialect::Heidenhain, "t.i", &on);
     assert_eq!(error_lines(&p), [4, 5, 6, 8, 9, 10, 11], "{:?}", errors(&p));
-    has(&p, 5, 9, "a move from where the moves under line 4's M97 (an M function not read, which the control runs) left the tool");
+    has(&p, 5, 9, "a move from where line 4's M97 (an M function not read, which the control runs) left the tool");
     has(&p, 9, 5, "once A and C are written absolute");
     assert_eq!(moved(&p), [3, 7, 12], "{:?}", errors(&p));
 }
@@ -233,9 +236,48 @@ fn trans_datum_reset_is_read_where_nothing_is_shifted_and_trans_functions_hold()
     has(&p, 6, 3, "line 5's TRANS DATUM (a datum shift) is in effect on the TNC until TRANS DATUM RESET");
     has(&p, 8, 3, "a move from where the moves under line 5's TRANS DATUM (a datum shift) left the tool");
     has(&p, 12, 4, "TRANS DATUM RESET with cycle 7's datum shift in effect");
-    has(&p, 13, 4, "line 12's CYCL DEF 7 (datum shift) is in effect on the TNC until a CYCL DEF 7 that is read sets X, Y and Z");
+    has(&p, 13, 4, "line 12's TRANS DATUM RESET (with cycle 7's datum shift in effect) is in effect on the TNC until a CYCL DEF 7 that is read sets X, Y and Z");
     assert_eq!(moved(&p), [4, 9], "{:?}", errors(&p));
     let p = read("0 BEGIN PGM T MM\n1 L X+0 Y+0 Z+50 R0 F500\n2 TRANS MIRROR X\n3 L X+5\n4 END PGM T MM\n", Dialect::Klartext, "t.h", &ReadOptions::default());
     assert_eq!(error_lines(&p), [3, 4], "{:?}", errors(&p));
     has(&p, 4, 3, "line 3's TRANS (a mirroring, rotation or scaling) is in effect on the TNC until its reset (not read)");
+}
+
+/// DIN/ISO: a datum shift `G54 X Y Z` moves nothing, so a hold does not refuse it (nor does it place
+/// the axes the hold left unknown); a lasting M function refused under radius compensation (M144 in
+/// a G42 contour) stops the reading at the next block, whose compensated path is not known, once;
+/// M89 (the modal cycle call, refused) holds until M99.
+#[test]
+fn din_iso_holds_under_compensation_and_datum_shifts() {
+    let t = super::tnc_comp::table("T3 P3 D6\n");
+    let text = "%T G71 *\nN10 T3 G17 S1000 *\nN20 G00 G90 X-20 Y-20 Z+5 *\nN30 G01 Z-2 F200 M144 *\nN40 G54 X+10 Y+0 Z+0 *\nN50 X+1 *\nN60 M145 *\nN70 G54 X+0 Y+0 Z+0 *\n\
+                N80 X+2 *\nN90 X+0 Y+0 Z+5 *\nN95 X-20 Y-20 *\nN100 G42 X+0 Y+0 F500 *\nN110 X+60 M144 *\nN120 Y+40 *\nN130 X+0 *\nN140 G40 X-20 Y-20 *\nN99999999 %T G71 *\n";
+    let p = read(text, Dialect::Heidenhain, "t.i", &t);
+    assert_eq!(error_lines(&p), [4, 6, 9, 10, 13, 14], "{:?}", errors(&p));
+    has(&p, 6, 5, "a move while line 4's M144");
+    has(&p, 9, 5, "a move from where the moves under line 4's M144");
+    has(&p, 10, 5, "once Y and Z are written absolute");
+    has(&p, 14, 6, "line 13's M144 (the kinematics' offsets at the block end) is in effect on the control until M145");
+    has(&p, 14, 6, "the rest of the program is not read");
+    assert!(p.diagnostics.iter().any(|d| d.line == 15 && d.message.contains("are not run")), "{:?}", p.diagnostics);
+    let m = moved(&p);
+    assert!(m.starts_with(&[3, 11]) && m.iter().all(|l| [3, 11, 12].contains(l)), "{m:?} {:?}", errors(&p));
+
+    let text = "%T G71 *\nN10 T3 G17 S1000 *\nN20 G00 G90 X+0 Y+0 Z+5 *\nN30 G01 X+10 F200 M89 *\nN40 X+20 *\nN50 M99 *\nN60 X+30 *\nN70 X+0 Y+0 Z+5 *\nN80 X+1 *\nN99999999 %T G71 *\n";
+    let p = read(text, Dialect::Heidenhain, "t.i", &t);
+    assert_eq!(error_lines(&p), [4, 5, 6, 7, 8], "{:?}", errors(&p));
+    has(&p, 5, 5, "line 4's M89 (the modal cycle call: the TNC drills at every later position) is in effect on the control until M99 or a cycle call");
+    has(&p, 7, 5, "once X, Y and Z are written absolute");
+    assert_eq!(moved(&p), [3, 9], "{:?}", errors(&p));
+}
+
+/// A Klartext line the parser refuses keeps its lasting M functions (`M112 T0.05 A10`, whose words
+/// are not read): the TNC runs them, so the moves after it are held until M113.
+#[test]
+fn a_refused_line_keeps_its_lasting_m_functions() {
+    let text = "0 BEGIN PGM T MM\n1 L X+0 Y+0 Z+50 R0 F500\n2 L X+5 M112 T0.05 A10\n3 L X+6\n4 L M113\n5 L X+0 Y+0 Z+0\n6 L X+1\n7 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [3, 4, 6], "{:?}", errors(&p));
+    has(&p, 4, 3, "line 3's M112 (rounding arcs between straight lines) is in effect on the TNC until M113");
+    assert_eq!(moved(&p), [2, 7], "{:?}", errors(&p));
 }

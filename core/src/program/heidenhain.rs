@@ -433,7 +433,23 @@ impl super::stream::LineReader for DinReader {
                 }
             };
             let read = if self.comp.busy() || matches!(code, Some((Some(_), _))) {
-                self.compensated(&words, code, line, first_col, number, out, diags)
+                // The holds apply under compensation too ([`super::interp::Interpreter::block`]'s): a
+                // held block's compensated path is not known, nor are the corners after it, so the
+                // reading stops there (said once); a refused one tells the holds what the TNC runs.
+                if let Some((c, why)) = self.interp.held(&words) {
+                    diags.error(line, c, format!("{why}; under radius compensation (G41/G42) the compensated path from here is not known, so the rest of the program is not read"));
+                    self.interp.refused_block(&words, line);
+                    self.comp.stopped = Some(line);
+                    false
+                } else {
+                    let done = self.compensated(&words, code, line, first_col, number, out, diags);
+                    if done {
+                        self.interp.after_held(&words, line, true);
+                    } else {
+                        self.interp.refused_block(&words, line);
+                    }
+                    done
+                }
             } else {
                 self.interp.block(&words, line, first_col, number, diags, out)
             };

@@ -188,7 +188,8 @@ impl DinReader {
     /// The input has ended with compensation on: the last element left perpendicular at its end
     /// point, what is held out.
     pub(crate) fn comp_end(&mut self, out: &mut Vec<Block>, diags: &mut Diags) {
-        if self.comp.busy() {
+        // (Where the reading stopped, nothing after it runs: the end's compensation neither.)
+        if self.comp.busy() && self.comp.stopped.is_none() {
             let stopped = self.comp.engine.stop(self.interp.unit(), self.interp.tilt(), out);
             self.comp_result(stopped, self.last_line.max(1), 1, diags);
         }

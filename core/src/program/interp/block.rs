@@ -54,6 +54,8 @@ impl Interpreter {
     /// Interpret one block's words into one block (see [`Interpreter::block`]).
     pub(crate) fn block_one(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags) -> Option<Block> {
         let shot = self.oneshot.take();
+        // Said by this block only, where it is refused ([`Interpreter::refused_block`]).
+        self.ran_unread = None;
         if shot.is_some_and(|s| s.axes.is_some() && !s.own) && self.tilt.is_some() {
             let why = if self.dialect.is_fanuc() {
                 "machine coordinates under a tilted working plane (G68.2): not read (what the control does with them there is not at hand); cancel the plane with G69 first"

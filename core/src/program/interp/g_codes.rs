@@ -319,10 +319,11 @@ fn select_extra_offset<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: 
     let code = super::x10(w);
     let (p, column, said) = if code == 541 || code == 1540 {
         c.uses.push('P');
-        let most = if code == 541 { 300.0 } else { 99.0 };
+        // Fanuc's P1-P48 (P300 with the option); Haas' G154 (and G54.1) P1-P99.
+        let most = if before.dialect == Dialect::Fanuc { 300.0 } else { 99.0 };
         match words.iter().find(|p| p.letter == 'P') {
             Some(p) if p.value.fract() == 0.0 && (1.0..=most).contains(&p.value) => (p.value as u32, p.column, format!(" P{}", p.raw)),
-            Some(p) if code == 1540 => return diags.error(line, p.column, format!("G154 P{}: expected P1 to P99 (an additional work offset)", p.raw)),
+            Some(p) if before.dialect == Dialect::Haas => return diags.error(line, p.column, format!("G{} P{}: expected P1 to P99 (an additional work offset)", w.raw, p.raw)),
             Some(p) => return diags.error(line, p.column, format!("G{} P{}: expected P1 to P48 (P300 with the option), an additional work offset", w.raw, p.raw)),
             None if code == 1540 => return diags.error(line, w.column, "G154 without P: expected P1 to P99 (an additional work offset)"),
             None => return diags.error(line, w.column, format!("G{} without P: expected P1 to P48 (an additional work offset)", w.raw)),
@@ -349,7 +350,7 @@ pub(crate) fn extra_offset_selected(dialect: Dialect, words: &[Word]) -> Option<
         let code = super::x10(w);
         let named = w.raw.trim_start_matches('0').to_string();
         match (dialect, code) {
-            (Dialect::Fanuc, 541) | (Dialect::Haas, 1540) => p.map(|p| (p as u32, named)),
+            (Dialect::Fanuc | Dialect::Haas, 541) | (Dialect::Haas, 1540) => p.map(|p| (p as u32, named)),
             (Dialect::Haas, 1100..=1290) if code % 10 == 0 => Some(((code / 10 - 109) as u32, named)),
             _ => None,
         }

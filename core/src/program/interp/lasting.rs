@@ -63,17 +63,21 @@ const CYCLE: Rule = Rule {
 };
 /// An additional work offset (Fanuc's `G54.1 Pn`, Haas' `G154 Pn` or `G110`-`G129`) in effect after a
 /// refused `G10 L20 Pn` set it: the control's offset is the program's, not read here, until another
-/// work offset is selected (G54-G59, or another additional one, read).
+/// work offset is selected (G54-G59, or another additional one, read), in the dialect's codes.
 const WORK: Rule = Rule {
     letter: 'G',
     what: "an additional work offset its refused G10 L20 set",
     codes: &[],
+    cancels: &[540, 550, 560, 570, 580, 590, 591, 592, 593, 541],
+    feed_only: false,
+    until: Some("G54-G59 or another additional work offset"),
+};
+const WORK_HAAS: Rule = Rule {
     cancels: &[
         540, 550, 560, 570, 580, 590, 591, 592, 593, 541, 1540, 1100, 1110, 1120, 1130, 1140, 1150, 1160, 1170, 1180, 1190, 1200, 1210, 1220, 1230, 1240, 1250, 1260,
         1270, 1280, 1290,
     ],
-    feed_only: false,
-    until: Some("G54-G59 or another additional work offset"),
+    ..WORK
 };
 /// Feed per revolution, cancelled by G94 or G93.
 const PER_REV: Rule = Rule { letter: 'G', what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None };
@@ -85,15 +89,18 @@ const PER_REV: Rule = Rule { letter: 'G', what: "feed per revolution", codes: &[
 /// 530 ISO user's manual 340 420 §7.5: "To cancel M114, enter M115"); M144 the kinematics' offsets
 /// at the block end until M145 (iTNC 530 user's manual 60642x-03 §12.5: "You can cancel M144 by
 /// programming M145"); M134 exact stop at non-tangential transitions until M135, and M136 feed per
-/// spindle revolution until M137 (ibid. §12.6, §12.4): the feed and timing only.
-const TNC_M: [Rule; 5] = [
-    Rule { letter: 'M', what: "rounding arcs between straight lines", codes: &[1120], cancels: &[1130], feed_only: false, until: None },
+/// spindle revolution until M137 (ibid. §12.6, §12.4): the feed and timing only; M89, the modal
+/// cycle call, until M99 or a cycle call (TNC 306/406 technical manual §7.4: "M89 as a cycle-call
+/// is modally effective ... M89 is canceled by M99 or a CYCL CALL-block").
+const TNC_M: [Rule; 6] = [
+    Rule { letter: 'M', what: "rounding arcs between straight lines", codes: &[1120, 1240], cancels: &[1130], feed_only: false, until: None },
     Rule { letter: 'M', what: "compensation of the machine geometry with tilted axes", codes: &[1140], cancels: &[1150], feed_only: false, until: None },
     Rule { letter: 'M', what: "exact stop at non-tangential transitions", codes: &[1340], cancels: &[1350], feed_only: true, until: None },
     Rule { letter: 'M', what: "feed per spindle revolution", codes: &[1360], cancels: &[1370], feed_only: true, until: None },
     Rule { letter: 'M', what: "the kinematics' offsets at the block end", codes: &[1440], cancels: &[1450], feed_only: false, until: None },
+    Rule { letter: 'M', what: "the modal cycle call: the TNC drills at every later position", codes: &[890], cancels: &[990], feed_only: false, until: Some("M99 or a cycle call") },
 ];
-const TNC_M_RULES: [&Rule; 5] = [&TNC_M[0], &TNC_M[1], &TNC_M[2], &TNC_M[3], &TNC_M[4]];
+const TNC_M_RULES: [&Rule; 6] = [&TNC_M[0], &TNC_M[1], &TNC_M[2], &TNC_M[3], &TNC_M[4], &TNC_M[5]];
 
 /// The lasting TNC M function `code` (M144: 144), if it is one ([`TNC_M`]); the Klartext reader's
 /// holds use the same rules.
@@ -147,6 +154,15 @@ fn rules(dialect: Dialect) -> &'static [&'static Rule] {
 /// Codes whose block's axis words are offsets or a time, not a move: G10, G04, G92 (and its .1-.3),
 /// G52.
 const NO_MOVE: [i64; 7] = [100, 40, 920, 921, 922, 923, 520];
+/// The TNC's DIN/ISO codes whose axis words move nothing: G54 (a datum shift), G30/G31 (the blank),
+/// G99 (a tool definition), G04 (a dwell).
+const NO_MOVE_TNC: [i64; 5] = [540, 300, 310, 990, 40];
+
+/// Whether a block's axis words move nothing, by its G codes (× 10) in the dialect.
+fn moves_nothing(dialect: Dialect, mut g: impl Iterator<Item = i64>) -> bool {
+    let list: &[i64] = if dialect == Dialect::Heidenhain { &NO_MOVE_TNC } else { &NO_MOVE };
+    g.any(|c| list.contains(&c))
+}
 
 /// A word that moves an axis; `arc`: an arc's centre or radius too (a full circle has no end point).
 fn axis_word(w: &Word, arc: bool) -> bool {
@@ -162,6 +178,9 @@ pub(crate) struct Stale {
     name: String,
     what: &'static str,
 }
+
+/// What a block refused for a TNC M function not read that the control runs did ([`Interpreter::block`]).
+pub(crate) const RAN_UNREAD: &str = "an M function not read, which the control runs";
 
 /// What a block does under the holds: its G and M codes (× 10), the word a move is said at.
 struct Look {
@@ -193,7 +212,7 @@ impl Interpreter {
         });
         let motion = own.unwrap_or(self.motion);
         let arc = matches!(motion, Some(Motion::ArcCw | Motion::ArcCcw));
-        let moves = !g.iter().any(|c| NO_MOVE.contains(c));
+        let moves = !moves_nothing(self.dialect, g.iter().copied());
         let axis = words.iter().find(|w| moves && axis_word(w, arc)).map(|w| (w.column, motion == Some(Motion::Rapid)));
         let m = if self.dialect == Dialect::Heidenhain { words.iter().filter(|w| w.letter == 'M').map(super::x10).collect() } else { Vec::new() };
         Look { g, m, axis }
@@ -225,7 +244,9 @@ impl Interpreter {
             }));
         }
         let s = self.stale.as_ref()?;
-        Some((column, format!("a move from where the moves under line {}'s {} ({}) left the tool, which is not known (the control ran them, this reader did not): moves are read again once {} written absolute", s.line, s.name, s.what, axes_said(s.axes))))
+        // A single block's move (an M function not read) or the moves under a mode.
+        let under = if s.what == RAN_UNREAD { "" } else { "the moves under " };
+        Some((column, format!("a move from where {under}line {}'s {} ({}) left the tool, which is not known (the control ran them, this reader did not): moves are read again once {} written absolute", s.line, s.name, s.what, axes_said(s.axes))))
     }
 
     /// After a block is read or refused: its cancel codes end their holds (the axes the held moves
@@ -328,7 +349,8 @@ impl Interpreter {
     /// Moves held in an additional work offset a refused `G10 L20` set (`code` the refused block's).
     fn hold_offset(&mut self, line: usize, code: &str) {
         self.lasting.retain(|l| l.rule.what != WORK.what);
-        self.lasting.push(Lasting { line, code: code.to_string(), rule: &WORK });
+        let rule = if self.dialect == Dialect::Haas { &WORK_HAAS } else { &WORK };
+        self.lasting.push(Lasting { line, code: code.to_string(), rule });
     }
 
     /// The refused `G10 L20` that set the additional work offset `p`, if any (its line).
@@ -344,12 +366,18 @@ impl Interpreter {
     }
 
     /// After a block is refused: its codes that the control keeps in effect (until their cancel).
+    /// A feed mode's own block moved at the feed it sets, to where this reader did not go: the axes
+    /// it names are unknown (the other holds' own moves are their moves, held).
     pub(crate) fn note_lasting(&mut self, words: &[Word], line: usize) {
         for w in words.iter().filter(|w| matches!(w.letter, 'G' | 'M')) {
             let c = super::x10(w);
             if let Some(rule) = rules(self.dialect).iter().find(|r| r.letter == w.letter && r.codes.contains(&c)) {
                 self.lasting.retain(|l| l.rule.what != rule.what);
-                self.lasting.push(Lasting { line, code: w.raw.trim_start_matches('0').to_string(), rule });
+                let code = w.raw.trim_start_matches('0').to_string();
+                if rule.feed_only {
+                    self.moved_unread(line, &format!("{}{code}", rule.letter), rule.what, axes_named(self.dialect, words));
+                }
+                self.lasting.push(Lasting { line, code, rule });
             }
         }
     }
@@ -371,7 +399,7 @@ impl Interpreter {
         let unread = words.iter().filter(|w| w.letter == 'G').find_map(|w| codes::unread_motion(self.dialect, codes::x10(w)).map(|what| (w, what)));
         if let (true, Some((w, what))) = (matches!(self.dialect, Dialect::Rs274 | Dialect::Fanuc | Dialect::Haas), unread) {
             // Its move (the control makes it) leaves the tool where this reader does not know.
-            self.forget_motion(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes_named(words));
+            self.forget_motion(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes_named(self.dialect, words));
         }
         self.note_lasting(words, line);
         if self.dialect.is_fanuc() {
@@ -415,9 +443,9 @@ impl Interpreter {
 }
 
 /// The axes a block's words move (X Y Z A B C): none in a block of G10, G04, G92 or G52, whose
-/// words are offsets or a time.
-pub(crate) fn axes_named(words: &[Word]) -> [bool; 6] {
-    if words.iter().any(|w| w.letter == 'G' && NO_MOVE.contains(&codes::x10(w))) {
+/// words are offsets or a time (the TNC's DIN/ISO: G54, G30/G31, G99, G04).
+pub(crate) fn axes_named(dialect: Dialect, words: &[Word]) -> [bool; 6] {
+    if moves_nothing(dialect, words.iter().filter(|w| w.letter == 'G').map(codes::x10)) {
         return [false; 6];
     }
     ['X', 'Y', 'Z', 'A', 'B', 'C'].map(|l| words.iter().any(|w| w.letter == l))

@@ -577,26 +577,7 @@ impl Interpreter {
                 self.forgotten = None;
             }
         } else {
-            self.moved_in_unread_mode(axes_named(words));
-            // A TNC M function not read, which the TNC runs: the axes the block names (a cycle
-            // call's M89/M99 all three, M94 the rotary ones) are where this reader does not know.
-            // (A lasting one holds the moves instead, [`lasting`].)
-            if let Some((l, m)) = self.ran_unread.take().filter(|(_, m)| lasting::tnc_m_rule(*m).is_none()) {
-                let axes = match m {
-                    89 | 99 => [true, true, true, false, false, false],
-                    // M94 reduces the rotary axes' display: their positions are the TNC's, not these.
-                    94 => {
-                        let mut axes = [false; 6];
-                        for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
-                            axes[3 + k] = true;
-                        }
-                        axes
-                    }
-                    _ => axes_named(words),
-                };
-                self.moved_unread(l, &format!("M{m}"), "an M function not read, which the control runs", axes);
-            }
-            self.refused(words, line);
+            self.refused_block(words, line);
         }
         self.note_feed(done, words.iter().any(|w| w.letter == 'F'), line);
         // A move under a held code: read for the state, its moves not made.
@@ -606,6 +587,30 @@ impl Interpreter {
             return false;
         }
         done
+    }
+
+    /// After a block is refused (here or by the TNC's DIN/ISO reader under radius compensation): a
+    /// move in a motion mode not read, a TNC M function not read that the control runs (the axes
+    /// the block names unknown; a cycle call's M89/M99 X Y Z, M94 the rotary axes too), the codes
+    /// the control keeps ([`lasting`]).
+    pub(crate) fn refused_block(&mut self, words: &[Word], line: usize) {
+        self.moved_in_unread_mode(axes_named(self.dialect, words));
+        // (A lasting one holds the moves instead, [`lasting`].)
+        if let Some((l, m)) = self.ran_unread.take().filter(|&(l, m)| l == line && lasting::tnc_m_rule(m).is_none()) {
+            let mut axes = axes_named(self.dialect, words);
+            match m {
+                89 | 99 => axes[..3].fill(true),
+                // M94 reduces the rotary axes' display: their positions are the TNC's, not these.
+                94 => {
+                    for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
+                        axes[3 + k] = true;
+                    }
+                }
+                _ => {}
+            }
+            self.moved_unread(l, &format!("M{m}"), lasting::RAN_UNREAD, axes);
+        }
+        self.refused(words, line);
     }
 
     /// [`Interpreter::block`] without cutter radius compensation.

@@ -36,6 +36,9 @@ enum What {
     /// A `TRANS` function (TNC 640/TNC7): `TRANS DATUM` until `TRANS DATUM RESET` (true), the
     /// others until a reset this reader does not read.
     Trans(bool),
+    /// A `TRANS DATUM RESET` refused with cycle 7's shift in effect: the datum, reset or not, is not
+    /// known until a `CYCL DEF 7` that is read sets each linear axis absolute (as [`What::Datum`]).
+    TransReset,
     /// A lasting M function not read (M112, M114, M134, M136, M144), until its reset (the G-code
     /// readers' rule, [`tnc_m_rule`]).
     Modal(&'static Rule),
@@ -56,6 +59,7 @@ impl What {
             What::Ran(m) => format!("M{m} (an M function not read, which the TNC runs)"),
             What::Trans(true) => "TRANS DATUM (a datum shift)".into(),
             What::Trans(false) => "TRANS (a mirroring, rotation or scaling)".into(),
+            What::TransReset => "TRANS DATUM RESET (with cycle 7's datum shift in effect)".into(),
         }
     }
 
@@ -73,7 +77,7 @@ impl What {
             What::Transform(10) => "its reset (CYCL DEF 10 with ROT+0)",
             What::Transform(11) => "its reset (CYCL DEF 11 with SCL 1)",
             What::Transform(_) => "its reset (CYCL DEF 26 with the factors 1)",
-            What::Datum => "a CYCL DEF 7 that is read sets X, Y and Z",
+            What::Datum | What::TransReset => "a CYCL DEF 7 that is read sets X, Y and Z",
             What::Plane => "a PLANE that is read (PLANE RESET)",
             What::Tcpm => "FUNCTION RESET TCPM or M129",
             What::Comp => "a DEP or an R0 block",
@@ -151,6 +155,10 @@ impl Holds {
         }
         if at(0) == "TRANS" {
             return self.hold(What::Trans(at(1) == "DATUM"), line, [true; 3]);
+        }
+        // Its lasting M functions (`L X+5 M112 T0.05 A10`): the TNC runs them all the same.
+        for rule in t.iter().filter_map(|w| w.strip_prefix('M')?.parse::<i64>().ok()).filter_map(tnc_m_rule) {
+            self.hold(What::Modal(rule), line, [true; 3]);
         }
         // A move the TNC makes and this reader does not read: the tool's position after it is not
         // known. APPR with RL/RR turns on radius compensation; DEP turns it off.
@@ -282,7 +290,7 @@ impl Holds {
                 Kind::Datum(..) => self.hold(What::Datum, s.line, [true; 3]),
                 Kind::Tcp { on: true, .. } => self.hold(What::Tcpm, s.line, [true; 3]),
                 // Cycle 7's shift reset or not: the datum is not known until cycle 7 sets it again.
-                Kind::TransReset => self.hold(What::Datum, s.line, [true; 3]),
+                Kind::TransReset => self.hold(What::TransReset, s.line, [true; 3]),
                 _ => {}
             }
             // A lasting M function refused (or in a statement refused): the TNC runs it all the same.
@@ -290,7 +298,9 @@ impl Holds {
                 self.hold(What::Modal(rule), s.line, [true; 3]);
             }
             // (A lasting one holds the moves instead, above.)
-            if let Some((line, m)) = ran_unread.filter(|(l, m)| *l == s.line && tnc_m_rule(*m).is_none()) {
+            // (A lasting one holds the moves instead, above; a feed mode's own move went where the
+            // reader did not.)
+            if let Some((line, m)) = ran_unread.filter(|(l, m)| *l == s.line && tnc_m_rule(*m).is_none_or(|r| r.feed_only())) {
                 let r = self.rotary;
                 let mut axes = match m {
                     89 | 99 => [true, true, true, false, false, false],
@@ -326,16 +336,24 @@ impl Holds {
             Kind::Plane(p) if !matches!(p.form, PlaneForm::Relativ(..)) => self.end(What::Plane),
             Kind::Tcp { .. } => self.end(What::Tcpm),
             Kind::TransReset => self.end(What::Trans(true)),
+            // A cycle call ends the modal one (M89).
+            Kind::CycleCall(_) => {
+                if let Some(r) = tnc_m_rule(89) {
+                    self.end(What::Modal(r));
+                }
+            }
             Kind::Move { comp: Some((None, _)), .. } => self.end(What::Comp),
             Kind::Move { m, .. } | Kind::Misc(m) if m.iter().any(|w| matches!(w.val, Val::Num(v) if v == 129.0)) => self.end(What::Tcpm),
             // An absolute shift of one axis sets it; the hold ends when every axis is set again.
             Kind::Datum(k, _, false) => {
-                if let Some(o) = self.on.iter_mut().find(|o| o.what == What::Datum) {
-                    if let Some(a) = o.axes.get_mut(*k) {
-                        *a = false;
-                    }
-                    if o.axes == [false; 3] {
-                        self.end(What::Datum);
+                for what in [What::Datum, What::TransReset] {
+                    if let Some(o) = self.on.iter_mut().find(|o| o.what == what) {
+                        if let Some(a) = o.axes.get_mut(*k) {
+                            *a = false;
+                        }
+                        if o.axes == [false; 3] {
+                            self.end(what);
+                        }
                     }
                 }
             }

@@ -153,7 +153,7 @@ impl super::stream::LineReader for SinumerikReader {
         let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
         if diags.errors() > errors_before {
             if let Some(k) = unread_motion {
-                let axes = crate::program::interp::axes_named(&lexed.words);
+                let axes = crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words);
                 self.interp.forget_motion(line, k, unread_what(k), axes);
             }
             self.vars.rollback();
@@ -183,7 +183,7 @@ impl super::stream::LineReader for SinumerikReader {
         // A refused block's feed does not take effect: a later move without one names it
         // ([`Interpreter::after_refused_feed`]; of a refused block's other words the 840D reader says nothing).
         let feed_word = lexed.words.iter().any(|w| w.letter == 'F');
-        let axes = crate::program::interp::axes_named(&lexed.words);
+        let axes = crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words);
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             self.corners.drop_words();
             if let Some(saved) = saved {
