@@ -234,3 +234,28 @@ fn haas_offsets_set_by_a_refused_g10_l20_are_held() {
     assert_eq!(error_lines(&p), [3, 5, 6], "{:?}", errors(&p));
     has(&p, 6, 4, "line 5's G54.1 (an additional work offset its refused G10 L20 set) is in effect");
 }
+
+/// The 840D's frame statements not read (`MIRROR`, `SCALE`, `ROTS` and their additive forms, `CROTS`)
+/// change the programmable frame the control runs every later move in, until a `TRANS` or `ROT`
+/// replaces it (NC programming 6FC5398-2EP40 12/2019 §2.12: "old instructions for offsetting,
+/// rotation, scaling factor, mirroring" cleared): the moves, a drilling cycle and a swivel under it are
+/// refused naming it; after `TRANS`, X, Y and Z are unknown until written absolute.
+#[test]
+fn an_840d_frame_not_read_holds_the_moves_until_trans_or_rot() {
+    let text = "G71 G90 G94\nG0 X0 Y0 Z10\nMIRROR X0\nG1 X10 F100\nCYCLE81(10,0,2,-5)\nAMIRROR Y0\nG1 Y5\nTRANS\nG1 X1\nG1 X1 Y1 Z1\nG1 X2\n\
+                SCALE X2\nG0 X3\nROT Z0\nG0 X0 Y0 Z5\nG0 X4\nM30\n";
+    let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [3, 4, 5, 6, 7, 9, 10, 12, 13, 15], "{:?}", errors(&p));
+    has(&p, 4, 4, "a move while line 3's MIRROR (a programmable frame not read: scaling, mirroring or a solid-angle rotation) is in effect on the control until a TRANS or ROT that is read");
+    has(&p, 5, 1, "CYCLE81: line 3's MIRROR");
+    has(&p, 7, 4, "line 6's AMIRROR");
+    has(&p, 9, 4, "a move from where the moves under line 6's AMIRROR");
+    has(&p, 10, 4, "once Y and Z are written absolute");
+    has(&p, 13, 4, "line 12's SCALE");
+    assert_eq!(x_at(&p, 2), Some(0.0));
+    assert_eq!(x_at(&p, 11), Some(2.0), "{:?}", errors(&p));
+    assert_eq!(x_at(&p, 16), Some(4.0), "{:?}", errors(&p));
+    for l in [4, 7, 9, 10, 13, 15] {
+        assert_eq!(x_at(&p, l), None, "line {l}");
+    }
+}

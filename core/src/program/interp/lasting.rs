@@ -79,6 +79,18 @@ const WORK_HAAS: Rule = Rule {
     ],
     ..WORK
 };
+/// The 840D's programmable frame refused (`SCALE`, `MIRROR`, `ROTS` and their additive forms,
+/// `CROTS`): the control's frame is not the reader's until a `TRANS` or `ROT` that is read replaces it
+/// ("old instructions for offsetting, rotation, scaling factor, mirroring" cleared: NC programming
+/// 6FC5398-2EP40 12/2019 §2.12). Its code is the statement's name (letter `_`).
+const FRAME: Rule = Rule {
+    letter: '_',
+    what: "a programmable frame not read: scaling, mirroring or a solid-angle rotation",
+    codes: &[],
+    cancels: &[],
+    feed_only: false,
+    until: Some("a TRANS or ROT that is read, which replaces the programmable frame"),
+};
 /// Feed per revolution, cancelled by G94 or G93.
 const PER_REV: Rule = Rule { letter: 'G', what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None };
 
@@ -106,6 +118,13 @@ const TNC_M_RULES: [&Rule; 6] = [&TNC_M[0], &TNC_M[1], &TNC_M[2], &TNC_M[3], &TN
 /// holds use the same rules.
 pub(crate) fn tnc_m_rule(code: i64) -> Option<&'static Rule> {
     TNC_M.iter().find(|r| r.codes.contains(&(code * 10)))
+}
+
+impl Lasting {
+    /// How a message names the refused code: `G41`, `M144`, `MIRROR`.
+    fn named(&self) -> String {
+        if self.rule.letter == '_' { self.code.clone() } else { format!("{}{}", self.rule.letter, self.code) }
+    }
 }
 
 impl Rule {
@@ -234,7 +253,7 @@ impl Interpreter {
                 continue;
             }
             let cancel = l.rule.until();
-            let named = format!("{}{}", l.rule.letter, l.code);
+            let named = l.named();
             // The cancel's own move starts where the held moves left the tool.
             let from = if l.rule.what == COMP.what { "at the point its compensation made" } else { "where the moves under it left the tool" };
             return Some((column, if cancelled {
@@ -284,7 +303,7 @@ impl Interpreter {
                     axes[3 + k] = true;
                 }
             }
-            self.moved_unread(l.line, &format!("{}{}", l.rule.letter, l.code), l.rule.what, axes);
+            self.moved_unread(l.line, &l.named(), l.rule.what, axes);
         }
         if !done || look.axis.is_none() {
             return;
@@ -344,6 +363,31 @@ impl Interpreter {
                 self.hold_offset(at.max(line), &code);
             }
         }
+    }
+
+    /// The 840D's frame statement `name` refused at `line` ([`FRAME`]): every move is held until a
+    /// `TRANS` or `ROT` is read.
+    pub(crate) fn hold_frame(&mut self, line: usize, name: &str) {
+        self.lasting.retain(|l| l.rule.what != FRAME.what);
+        self.lasting.push(Lasting { line, code: name.to_string(), rule: &FRAME });
+    }
+
+    /// A `TRANS` or `ROT` read: a refused frame's hold ends, X, Y and Z where its moves left the tool.
+    pub(crate) fn end_frame_hold(&mut self) {
+        if let Some(k) = self.lasting.iter().position(|l| l.rule.what == FRAME.what) {
+            let l = self.lasting.remove(k);
+            self.moved_unread(l.line, &l.named(), l.rule.what, [true, true, true, false, false, false]);
+        }
+    }
+
+    /// The first hold in effect, or the axes left unknown, as a message says it, whatever the block
+    /// moves (for statements that move by what they call: a cycle, a swivel).
+    pub(crate) fn holding(&self) -> Option<String> {
+        if let Some(l) = self.lasting.iter().find(|l| !l.rule.feed_only) {
+            return Some(format!("line {}'s {} ({}) is in effect on the control until {}: that block was refused, so what this one moves is not read as the control runs it", l.line, l.named(), l.rule.what, l.rule.until()));
+        }
+        let s = self.stale.as_ref()?;
+        Some(format!("the moves under line {}'s {} ({}) left the tool where this reader does not know, until {} written absolute", s.line, s.name, s.what, axes_said(s.axes)))
     }
 
     /// Moves held in an additional work offset a refused `G10 L20` set (`code` the refused block's).

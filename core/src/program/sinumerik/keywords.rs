@@ -29,6 +29,9 @@ pub(super) fn unread_what(k: &str) -> &'static str {
     }
 }
 
+/// The frame statements not read: scaling, mirroring, solid-angle rotation (their hold: [`super::Interpreter::hold_frame`]).
+pub(super) const UNREAD_FRAME: [&str; 7] = ["SCALE", "ASCALE", "MIRROR", "AMIRROR", "ROTS", "AROTS", "CROTS"];
+
 /// Why a keyword the reader knows is refused (`None`: a name it does not know).
 pub(super) fn unsupported_keyword(k: &str) -> Option<&'static str> {
     Some(match k {

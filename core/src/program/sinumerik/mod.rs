@@ -41,7 +41,7 @@ use super::lex::{Columns, Diags};
 use super::{Block, Dialect, MCodeRule, Motion, Orientation, Program};
 use crate::units::{DEG, MM};
 use frame::{Frame, Statement};
-use keywords::{is_instruction, sinumerik_g, unread_what, unsupported_keyword, READ_KEYWORDS, UNREAD_MOTION};
+use keywords::{is_instruction, sinumerik_g, unread_what, unsupported_keyword, READ_KEYWORDS, UNREAD_FRAME, UNREAD_MOTION};
 use lex::{Keyword, Lexed, Vars};
 use std::borrow::Cow;
 
@@ -151,10 +151,15 @@ impl super::stream::LineReader for SinumerikReader {
         let first = cols.col(first) - 1;
         let lexed = lex::lex_line(text_line, &cols, line, &mut self.vars, diags);
         let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
+        // A frame statement refused: the control's frame holds the moves after it until TRANS or ROT.
+        let frame_refused = lexed.keywords.iter().find(|k| UNREAD_FRAME.contains(&k.name.as_str())).map(|k| k.name.to_string());
         if diags.errors() > errors_before {
             if let Some(k) = unread_motion {
                 let axes = crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words);
                 self.interp.forget_motion(line, k, unread_what(k), axes);
+            }
+            if let Some(name) = &frame_refused {
+                self.interp.hold_frame(line, name);
             }
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
@@ -198,6 +203,9 @@ impl super::stream::LineReader for SinumerikReader {
             }
             // The restore took back what the interpreter noted of a move in a mode not read.
             self.interp.moved_in_unread_mode(axes);
+            if let Some(name) = &frame_refused {
+                self.interp.hold_frame(line, name);
+            }
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
             }
@@ -359,6 +367,12 @@ impl SinumerikReader {
                     diags.error(line, k.col, format!("{}: {section}", k.name));
                     break;
                 }
+                // What a swivel or a cycle moves is held as a move is ([`Interpreter::holding`]).
+                name if (name == "CYCLE800" || cycles::Cycle::from_name(name).is_some()) && self.interp.holding().is_some() => {
+                    let why = self.interp.holding().unwrap_or_default();
+                    diags.error(line, k.col, format!("{}: {why}", k.name));
+                    break;
+                }
                 "CYCLE800" => self.swivel(&k, line, number, out, diags),
                 "CYCLE832" => self.high_speed_settings(&k, line, diags),
                 // A drilling cycle called without MCALL drills once where the tool stands (Cycles
@@ -446,6 +460,11 @@ impl SinumerikReader {
         }
         let col = words.iter().map(|w| w.column).min().unwrap_or(first_col).min(first_col);
         if self.trc.busy() || selecting {
+            // The holds: under compensation a held block is refused (its path is compensation's).
+            if let Some((c, why)) = self.interp.held(&words) {
+                diags.error(line, c, why);
+                return false;
+            }
             let positions = positions || vector.is_some();
             return self.compensated(&words, &codes, motion, machine_coords.is_some(), positions, line, col, number, out, diags);
         }
@@ -486,6 +505,10 @@ impl SinumerikReader {
         }
         let next = self.frame.apply(statement, values);
         self.set_frame(next);
+        // TRANS and ROT replace the programmable frame: a refused frame statement's hold ends.
+        if matches!(statement, Statement::Trans | Statement::Rot) {
+            self.interp.end_frame_hold();
+        }
         true
     }
 
