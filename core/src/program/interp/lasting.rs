@@ -79,11 +79,12 @@ const WORK_HAAS: Rule = Rule {
     ],
     ..WORK
 };
-/// The 840D's programmable frame refused (`SCALE`, `MIRROR`, `ROTS` and their additive forms,
-/// `CROTS`): the control's frame is not the reader's until a `TRANS` or `ROT` that is read replaces it
-/// ("old instructions for offsetting, rotation, scaling factor, mirroring" cleared: NC programming
-/// 6FC5398-2EP40 12/2019 §2.12). Its code is the statement's name (letter `_`).
-const FRAME: Rule = Rule {
+/// The 840D's statements this reader refuses whose effect lasts until another that it reads (letter
+/// `_`: the code is the statement's name; which statements end each: the Sinumerik reader's table).
+/// A programmable frame (`SCALE`, `MIRROR`, `ROTS` and their additive forms, `CROTS`) until a `TRANS`
+/// or `ROT` replaces it ("old instructions for offsetting, rotation, scaling factor, mirroring"
+/// cleared: NC programming 6FC5398-2EP40 12/2019 §2.12).
+pub(crate) const SIN_FRAME: Rule = Rule {
     letter: '_',
     what: "a programmable frame not read: scaling, mirroring or a solid-angle rotation",
     codes: &[],
@@ -91,6 +92,16 @@ const FRAME: Rule = Rule {
     feed_only: false,
     until: Some("a TRANS or ROT that is read, which replaces the programmable frame"),
 };
+/// A kinematic transformation not read (`TRANSMIT`, `TRACYL`, `TRAANG`, `TRAORI` with arguments) until
+/// `TRAFOOF`.
+pub(crate) const SIN_TRANSFORM: Rule = Rule { what: "a kinematic transformation not read", until: Some("TRAFOOF"), ..SIN_FRAME };
+/// An orientation interpolation not read (a cone, `ORICON..`, or a curve, `ORICURVE`: G group 51)
+/// until another of its group that is read (`ORIVECT`, `ORIPLANE`, `ORIAXES`).
+pub(crate) const SIN_ORIENT: Rule = Rule { what: "an orientation interpolation not read", until: Some("ORIVECT, ORIPLANE or ORIAXES"), ..SIN_FRAME };
+/// 3D tool radius compensation (`CUT3DC` ..., `CUT2DF`) until `CUT2D`.
+pub(crate) const SIN_COMP3D: Rule = Rule { what: "3D tool radius compensation not read", until: Some("CUT2D"), ..SIN_FRAME };
+/// A feed profile over the block (`FLIN`, `FCUB`, `FPO`) until `FNORM`: feed moves only.
+pub(crate) const SIN_FEED: Rule = Rule { what: "a feed profile over the block not read", until: Some("FNORM"), feed_only: true, ..SIN_FRAME };
 /// Feed per revolution, cancelled by G94 or G93.
 const PER_REV: Rule = Rule { letter: 'G', what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None };
 
@@ -365,18 +376,25 @@ impl Interpreter {
         }
     }
 
-    /// The 840D's frame statement `name` refused at `line` ([`FRAME`]): every move is held until a
-    /// `TRANS` or `ROT` is read.
-    pub(crate) fn hold_frame(&mut self, line: usize, name: &str) {
-        self.lasting.retain(|l| l.rule.what != FRAME.what);
-        self.lasting.push(Lasting { line, code: name.to_string(), rule: &FRAME });
+    /// The 840D's statement `name` refused at `line`, whose effect lasts ([`SIN_FRAME`] and the
+    /// like): the moves are held until a statement the reader reads ends it ([`Interpreter::end_keyword_hold`]).
+    pub(crate) fn hold_keyword(&mut self, line: usize, name: &str, rule: &'static Rule) {
+        self.lasting.retain(|l| l.rule.what != rule.what);
+        self.lasting.push(Lasting { line, code: name.to_string(), rule });
     }
 
-    /// A `TRANS` or `ROT` read: a refused frame's hold ends, X, Y and Z where its moves left the tool.
-    pub(crate) fn end_frame_hold(&mut self) {
-        if let Some(k) = self.lasting.iter().position(|l| l.rule.what == FRAME.what) {
+    /// A statement read ends the hold of `rule`: the axes its held moves displaced (`axes`, X Y Z A B C;
+    /// the machine's rotary axes where `rotary`) are unknown until written absolute.
+    pub(crate) fn end_keyword_hold(&mut self, rule: &'static Rule, axes: [bool; 3], rotary: bool) {
+        if let Some(k) = self.lasting.iter().position(|l| l.rule.what == rule.what) {
             let l = self.lasting.remove(k);
-            self.moved_unread(l.line, &l.named(), l.rule.what, [true, true, true, false, false, false]);
+            let mut all = [axes[0], axes[1], axes[2], false, false, false];
+            if rotary {
+                for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
+                    all[3 + k] = true;
+                }
+            }
+            self.moved_unread(l.line, &l.named(), l.rule.what, all);
         }
     }
 

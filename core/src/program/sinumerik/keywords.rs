@@ -29,8 +29,34 @@ pub(super) fn unread_what(k: &str) -> &'static str {
     }
 }
 
-/// The frame statements not read: scaling, mirroring, solid-angle rotation (their hold: [`super::Interpreter::hold_frame`]).
-pub(super) const UNREAD_FRAME: [&str; 7] = ["SCALE", "ASCALE", "MIRROR", "AMIRROR", "ROTS", "AROTS", "CROTS"];
+/// A statement refused whose effect lasts on the control ([`super::Interpreter::hold_keyword`]):
+/// the statements it is one of, its hold, the statements read that end it, and what its held moves
+/// leave unknown then (X Y Z; the rotary axes).
+pub(super) struct Lasting {
+    pub names: &'static [&'static str],
+    pub rule: &'static crate::program::interp::Rule,
+    pub ends: &'static [&'static str],
+    pub linear: bool,
+    pub rotary: bool,
+}
+
+/// The 840D's lasting statements not read (Fundamentals and Job Planning: frames until TRANS/ROT,
+/// transformations until TRAFOOF, the orientation interpolation's G group 51 until another of it,
+/// 3D compensation until CUT2D, the feed profile until FNORM). An orientation interpolation reaches
+/// the programmed orientation at each block's end (its path between differs), a feed profile only
+/// times the path: neither leaves a position unknown.
+pub(super) const LASTING: [Lasting; 5] = [
+    Lasting { names: &["SCALE", "ASCALE", "MIRROR", "AMIRROR", "ROTS", "AROTS", "CROTS"], rule: &crate::program::interp::SIN_FRAME, ends: &["TRANS", "ROT"], linear: true, rotary: false },
+    Lasting { names: &["TRANSMIT", "TRACYL", "TRAANG", "TRAORI"], rule: &crate::program::interp::SIN_TRANSFORM, ends: &["TRAFOOF"], linear: true, rotary: true },
+    Lasting { names: &["ORICONCW", "ORICONCCW", "ORICONTO", "ORICONIO", "ORICURVE"], rule: &crate::program::interp::SIN_ORIENT, ends: &["ORIVECT", "ORIPLANE", "ORIAXES"], linear: false, rotary: false },
+    Lasting { names: &["CUT3DC", "CUT3DF", "CUT3DFS", "CUT3DFF", "CUT3DCC", "CUT3DCCD", "CUT2DF"], rule: &crate::program::interp::SIN_COMP3D, ends: &["CUT2D"], linear: true, rotary: false },
+    Lasting { names: &["FLIN", "FCUB", "FPO"], rule: &crate::program::interp::SIN_FEED, ends: &["FNORM"], linear: false, rotary: false },
+];
+
+/// The lasting statement `name` is one of, if any.
+pub(super) fn lasting(name: &str) -> Option<&'static Lasting> {
+    LASTING.iter().find(|l| l.names.contains(&name))
+}
 
 /// Why a keyword the reader knows is refused (`None`: a name it does not know).
 pub(super) fn unsupported_keyword(k: &str) -> Option<&'static str> {

@@ -41,7 +41,7 @@ use super::lex::{Columns, Diags};
 use super::{Block, Dialect, MCodeRule, Motion, Orientation, Program};
 use crate::units::{DEG, MM};
 use frame::{Frame, Statement};
-use keywords::{is_instruction, sinumerik_g, unread_what, unsupported_keyword, READ_KEYWORDS, UNREAD_FRAME, UNREAD_MOTION};
+use keywords::{is_instruction, sinumerik_g, unread_what, unsupported_keyword, READ_KEYWORDS, LASTING, UNREAD_MOTION};
 use lex::{Keyword, Lexed, Vars};
 use std::borrow::Cow;
 
@@ -151,15 +151,16 @@ impl super::stream::LineReader for SinumerikReader {
         let first = cols.col(first) - 1;
         let lexed = lex::lex_line(text_line, &cols, line, &mut self.vars, diags);
         let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
-        // A frame statement refused: the control's frame holds the moves after it until TRANS or ROT.
-        let frame_refused = lexed.keywords.iter().find(|k| UNREAD_FRAME.contains(&k.name.as_str())).map(|k| k.name.to_string());
+        // A lasting statement (a frame, a transformation ...): if refused, the control's holds the
+        // moves after it until a statement that ends it is read ([`keywords::LASTING`]).
+        let lasting: Vec<(String, &'static keywords::Lasting)> = lexed.keywords.iter().filter_map(|k| keywords::lasting(&k.name).map(|l| (k.name.to_string(), l))).collect();
         if diags.errors() > errors_before {
             if let Some(k) = unread_motion {
                 let axes = crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words);
                 self.interp.forget_motion(line, k, unread_what(k), axes);
             }
-            if let Some(name) = &frame_refused {
-                self.interp.hold_frame(line, name);
+            for (name, l) in &lasting {
+                self.interp.hold_keyword(line, name, l.rule);
             }
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
@@ -203,8 +204,8 @@ impl super::stream::LineReader for SinumerikReader {
             }
             // The restore took back what the interpreter noted of a move in a mode not read.
             self.interp.moved_in_unread_mode(axes);
-            if let Some(name) = &frame_refused {
-                self.interp.hold_frame(line, name);
+            for (name, l) in &lasting {
+                self.interp.hold_keyword(line, name, l.rule);
             }
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
@@ -328,15 +329,21 @@ impl SinumerikReader {
                     None | Some("1") | Some("") => self.interp.switch_tcp(true),
                     Some(a) => diags.error(line, k.col, format!("TRAORI({a}): only the first orientation transformation, without a basic orientation or offsets, is read")),
                 },
-                "TRAFOOF" => self.interp.switch_tcp(false),
-                "ORIWKS" | "ORIVECT" | "ORIPLANE" => self.interp.set_orientation(Orientation::GreatCircle),
-                "ORIMKS" | "ORIAXES" => self.interp.set_orientation(Orientation::AxisLinear),
+                "TRAFOOF" => {
+                    self.interp.switch_tcp(false);
+                    self.end_holds("TRAFOOF");
+                }
+                "ORIWKS" | "ORIVECT" | "ORIPLANE" | "ORIMKS" | "ORIAXES" => {
+                    let axes = matches!(k.name.as_str(), "ORIMKS" | "ORIAXES");
+                    self.interp.set_orientation(if axes { Orientation::AxisLinear } else { Orientation::GreatCircle });
+                    self.end_holds(&k.name);
+                }
                 // Angle conventions for A2 B2 C2, which are not read: no effect on these programs.
                 "ORIEULER" | "ORIRPY" => {}
                 // Acceleration modes and feed-forward: the planner always limits jerk.
                 "SOFT" | "BRISK" | "FFWON" | "FFWOF" => {}
                 // The feed profile over the block: FNORM (the reset state) is the programmed F throughout.
-                "FNORM" => {}
+                "FNORM" => self.end_holds("FNORM"),
                 // The compressors (Job Planning §"Compressor"): they join short blocks into a curve
                 // within the contour tolerance, as the planner's own smoothing does; COMPOF is off.
                 "COMPOF" | "COMPON" | "COMPCURV" | "COMPCAD" => {}
@@ -358,7 +365,8 @@ impl SinumerikReader {
                 }
                 "SUPA" => machine_coords = Some((k.col, "SUPA")),
                 // 2D compensation in the plane G17-G19 sets (the reset state), collision detection off.
-                "CUT2D" | "CDOF" => {}
+                "CUT2D" => self.end_holds("CUT2D"),
+                "CDOF" => {}
                 "MCALL" => self.modal_call(keywords.next(), line, diags),
                 // A call's other words are its own (`CALL BLOCK LABEL1 TO LABEL0`, Autodesk's posts'
                 // program section call): one refusal for the block.
@@ -482,6 +490,13 @@ impl SinumerikReader {
     /// `TRANS`/`ATRANS`/`ROT`/`AROT` with X Y Z (offsets or angles, degrees) or `RPL=` (a rotation in
     /// the working plane): a block of its own ("Frame statements must be programmed in a separate
     /// NC block", NC programming 12/2019 §2.12).
+    /// A statement read (`name`): the holds of the refused statements it ends ([`keywords::LASTING`]).
+    fn end_holds(&mut self, name: &str) {
+        for l in LASTING.iter().filter(|l| l.ends.contains(&name)) {
+            self.interp.end_keyword_hold(l.rule, [l.linear; 3], l.rotary);
+        }
+    }
+
     fn frame_block(&mut self, statement: Statement, words: &[Word], rpl: Option<(f64, usize)>, line: usize, diags: &mut Diags) -> bool {
         let unit = self.interp.unit();
         let mut values = [0.0; 3];
@@ -507,7 +522,7 @@ impl SinumerikReader {
         self.set_frame(next);
         // TRANS and ROT replace the programmable frame: a refused frame statement's hold ends.
         if matches!(statement, Statement::Trans | Statement::Rot) {
-            self.interp.end_frame_hold();
+            self.end_holds(statement.name());
         }
         true
     }
