@@ -280,3 +280,44 @@ fn the_840ds_lasting_statements_hold_until_their_end() {
         assert_eq!(x_at(&p, l), Some(x), "line {l}: {:?}", errors(&p));
     }
 }
+
+/// A refused block whose move the control makes leaves the axes it moves unknown until written
+/// absolute: Fanuc's G31 skip (it stops where the signal comes) and G60; G33 thread cutting, a motion
+/// of group 01, also makes the later moves without a G00-G03 of their own refused; LinuxCNC's G38.2
+/// probe (group 1) and G28 alone (every axis, to the stored position, with no machine coordinates
+/// in the machine file); the 840D's G74 reference approach (every axis), G331 tapping (modal) and
+/// G147 smooth approach (X, Y, Z).
+#[test]
+fn a_refused_move_the_control_makes_leaves_its_axes_unknown() {
+    let text = "%\nO1000\nG21 G90 G17 G94 F100.\nG0 X0. Y0. Z10.\nG31 X50. F100.\nG1 Y5.\nG1 X1. Y1.\nG60 Z5.\nG1 Z4.\nG1 X3. Z3.\nG33 Z-10. F1.5\nZ-20.\nG0 Z10.\nG0 X2.\nM30\n%\n";
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    let mut lines = error_lines(&p);
+    lines.dedup();
+    assert_eq!(lines, [5, 6, 7, 8, 9, 11, 12, 13], "{:?}", errors(&p));
+    has(&p, 6, 4, "a move from where the moves under line 5's G31 (a move this reader does not read)");
+    has(&p, 6, 4, "once X is written absolute");
+    has(&p, 9, 4, "line 8's G60");
+    has(&p, 13, 4, "line 11's G33 (threading or probing)");
+    has(&p, 13, 4, "once Z is written absolute");
+    for (l, x) in [(4, Some(0.0)), (7, None), (10, Some(3.0)), (14, Some(2.0))] {
+        assert_eq!(x_at(&p, l), x, "line {l}: {:?}", errors(&p));
+    }
+
+    let text = "G21 G90 G94 G17\nG0 X0 Y0 Z10\nG38.2 Z-5 F50\nG0 Z10\nX5\nG28\nG0 X1 Y1 Z1\nG0 X2\nM2\n";
+    let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [3, 4, 6, 7], "{:?}", errors(&p));
+    has(&p, 4, 4, "line 3's G38.2 (threading or probing)");
+    has(&p, 7, 4, "a move from where the moves under line 6's G28 (a move to a stored position)");
+    assert_eq!(x_at(&p, 5), Some(5.0), "{:?}", errors(&p));
+    assert_eq!(x_at(&p, 8), Some(2.0), "{:?}", errors(&p));
+
+    let text = "G71 G90 G94\nG0 X0 Y0 Z10\nG74 X1=0 Z1=0\nG1 X10 F100\nG0 X0 Y0 Z10\nG331 Z-10 K1\nG1 X11\nG1 Z10\nG147 G41 DISR=5 X20 Y20\nG1 X12\nG0 X0 Y0 Z10\nG0 X3\nM30\n";
+    let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    for l in [4, 5, 7, 8, 10, 11] {
+        assert!(error_lines(&p).contains(&l), "line {l}: {:?}", errors(&p));
+    }
+    has(&p, 4, 4, "line 3's G74 (a reference or fixed point approach)");
+    has(&p, 7, 4, "line 6's G331 (threading or tapping)");
+    has(&p, 10, 4, "line 9's G147 (smooth approach or retraction)");
+    assert_eq!(x_at(&p, 12), Some(3.0), "{:?}", errors(&p));
+}

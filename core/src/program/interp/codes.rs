@@ -84,13 +84,31 @@ pub(crate) fn m128_feed_said(written: &str) -> String {
 /// NURBS G06.2 (read by [`crate::program::fanuc_nurbs`] on Fanuc, not Haas), G06.1 (spline) and the
 /// 3D circles G02.4/G03.4 (FANUC B-64484EN). Refused, and the moves after them without a G0-G3 of
 /// their own with them ([`Interpreter::forget_motion`]). Fanuc's G05 is no motion (high-speed
-/// machining, group 00).
+/// machining, group 00). Threading and probing are motions of that group too: G33 (FANUC B-64484EN
+/// "Thread cutting", group 01), LinuxCNC's G33.1, G38.2-G38.5 and G76 (its modal group 1, whose G76
+/// is a threading cycle; Fanuc's is a canned cycle, held as one).
 pub(crate) fn unread_motion(dialect: crate::program::Dialect, code_x10: i64) -> Option<&'static str> {
+    use crate::program::Dialect;
     match code_x10 {
         // Fanuc's G05 is no motion; its G06.2 is read (a refusal is the curve's defect, an alarm).
-        50 | 62 if dialect == crate::program::Dialect::Fanuc => None,
+        50 | 62 if dialect == Dialect::Fanuc => None,
         50 | 51 | 52 | 53 | 61 | 62 => Some("spline or NURBS motion"),
         24 | 34 => Some("3D circular interpolation"),
+        330 => Some("threading or probing"),
+        331 | 382 | 383 | 384 | 385 | 760 if dialect == Dialect::Rs274 => Some("threading or probing"),
+        _ => None,
+    }
+}
+
+/// A move of one block the G-code readers do not read and the control makes (code × 10), where it
+/// leaves the axes it names being what this reader does not know: Fanuc's and Haas' G27 (reference
+/// position return check), G29 (return from the reference position), G31 (skip: it stops where the
+/// signal comes), G60 (single-direction positioning), and G28/G30 where they are refused (no
+/// machine coordinates in the machine file); LinuxCNC's G28/G30 without axis words move every axis.
+pub(crate) fn unread_move(dialect: crate::program::Dialect, code_x10: i64) -> Option<&'static str> {
+    match code_x10 {
+        270 | 290 | 310 | 600 if dialect.is_fanuc() => Some("a move this reader does not read"),
+        280 | 300 => Some("a move to a stored position"),
         _ => None,
     }
 }

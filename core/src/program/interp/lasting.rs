@@ -463,6 +463,19 @@ impl Interpreter {
             // Its move (the control makes it) leaves the tool where this reader does not know.
             self.forget_motion(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes_named(self.dialect, words));
         }
+        // A move of its own the control makes (a reference return, a skip): the axes it names, or
+        // every axis for LinuxCNC's G28/G30 alone, where this reader does not know.
+        let moved = words.iter().filter(|w| w.letter == 'G').find_map(|w| codes::unread_move(self.dialect, codes::x10(w)).map(|what| (w, what)));
+        if let (true, Some((w, what))) = (self.dialect.is_rs274_family(), moved) {
+            let mut axes = axes_named(self.dialect, words);
+            if !axes.contains(&true) && self.dialect == Dialect::Rs274 {
+                axes[..3].fill(true);
+                for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
+                    axes[3 + k] = true;
+                }
+            }
+            self.moved_unread(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes);
+        }
         self.note_lasting(words, line);
         if self.dialect.is_fanuc() {
             self.note_offset_set(words, line);

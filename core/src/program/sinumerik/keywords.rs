@@ -89,6 +89,21 @@ pub(super) fn unsupported_keyword(k: &str) -> Option<&'static str> {
     })
 }
 
+/// A Sinumerik G code this reader refuses that moves the tool (its code as written): what it is, and
+/// whether it moves every axis (a reference or fixed point approach, G74/G75; smooth approach and
+/// retraction, G140-G348, the plane's axes and the tool's) rather than the axes it names, and
+/// whether it is a motion of G group 1 (threading G33-G35, tapping G331/G332), which later blocks
+/// without a G0-G3 of their own keep (Fundamentals, "Thread cutting"; G63 is one block's).
+pub(super) fn refused_move(code: &str) -> Option<(&'static str, bool, bool)> {
+    Some(match code.trim_start_matches('0') {
+        "74" | "75" => ("a reference or fixed point approach", true, false),
+        "33" | "34" | "35" | "331" | "332" => ("threading or tapping", false, true),
+        "63" => ("tapping", false, false),
+        "140" | "141" | "142" | "143" | "147" | "148" | "247" | "248" | "347" | "348" | "340" | "341" => ("smooth approach or retraction", true, false),
+        _ => return None,
+    })
+}
+
 /// A Sinumerik G code as the shared interpreter reads it (`Ok(None)`: no effect on the path), or why
 /// it is refused.
 pub(super) fn sinumerik_g(code: &str) -> Result<Option<&'static str>, &'static str> {

@@ -218,6 +218,9 @@ pub(crate) struct Lexed<'a> {
     /// `CHF=`, `CHR=`, `RND=`, `RNDM=`, `FRC=`, `FRCM=`: the corner at the block's end
     /// ([`super::corners`]).
     pub corner: super::corners::Words,
+    /// The first G code refused, as written (`74`): a move of its own it may make is said to the
+    /// holds ([`super::keywords::refused_move`]).
+    pub refused_g: Option<&'a str>,
 }
 
 /// Where the expression that starts at byte `start` ends: at a blank or `;` outside brackets and
@@ -329,7 +332,7 @@ pub(super) fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
 pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: &mut Vars, diags: &mut Diags) -> Lexed<'a> {
     let b = src.as_bytes();
     let n = b.len();
-    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default() };
+    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None };
     let mut vec3: [Option<f64>; 3] = [None; 3];
     let mut vec_col = 0;
     let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
@@ -515,7 +518,10 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             "G" => match super::sinumerik_g(text) {
                 Ok(Some(g)) => out.words.push(word('G', parse_number(g).unwrap_or(0.0), g.into())),
                 Ok(None) => {}
-                Err(why) => diags.error(line, col, format!("G{text}: {why}")),
+                Err(why) => {
+                    out.refused_g = out.refused_g.or(Some(text));
+                    diags.error(line, col, format!("G{text}: {why}"));
+                }
             },
             "X" | "Y" | "Z" | "A" | "B" | "C" | "I" | "J" | "K" | "F" | "M" | "S" | "T" => {
                 // A computed coordinate's or feed's text is its expression as written (for messages;

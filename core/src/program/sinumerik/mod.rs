@@ -151,6 +151,8 @@ impl super::stream::LineReader for SinumerikReader {
         let first = cols.col(first) - 1;
         let lexed = lex::lex_line(text_line, &cols, line, &mut self.vars, diags);
         let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
+        // A move of its own the control makes, refused here ([`keywords::refused_move`]).
+        let refused_move = lexed.refused_g.and_then(|g| keywords::refused_move(g).map(|m| (format!("G{g}"), m)));
         // A lasting statement (a frame, a transformation ...): if refused, the control's holds the
         // moves after it until a statement that ends it is read ([`keywords::LASTING`]).
         let lasting: Vec<(String, &'static keywords::Lasting)> = lexed.keywords.iter().filter_map(|k| keywords::lasting(&k.name).map(|l| (k.name.to_string(), l))).collect();
@@ -162,6 +164,7 @@ impl super::stream::LineReader for SinumerikReader {
             for (name, l) in &lasting {
                 self.interp.hold_keyword(line, name, l.rule);
             }
+            self.moved_unread_g(refused_move, crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words), line);
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             let held = self.corners.interrupt("the block after it was not read", diags);
@@ -204,6 +207,7 @@ impl super::stream::LineReader for SinumerikReader {
             }
             // The restore took back what the interpreter noted of a move in a mode not read.
             self.interp.moved_in_unread_mode(axes);
+            self.moved_unread_g(refused_move, axes, line);
             for (name, l) in &lasting {
                 self.interp.hold_keyword(line, name, l.rule);
             }
@@ -285,7 +289,7 @@ impl SinumerikReader {
     /// Run one block's words; false (or an error in `diags`) if it is refused.
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
-        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner } = lexed;
+        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, .. } = lexed;
         if corner.any() || self.corners.busy() {
             self.corners.take(corner, line, first_col, number);
         }
@@ -490,6 +494,19 @@ impl SinumerikReader {
     /// `TRANS`/`ATRANS`/`ROT`/`AROT` with X Y Z (offsets or angles, degrees) or `RPL=` (a rotation in
     /// the working plane): a block of its own ("Frame statements must be programmed in a separate
     /// NC block", NC programming 12/2019 §2.12).
+    /// A refused block's G code that moves the tool ([`keywords::refused_move`]: its name, what, all
+    /// axes, modal): the axes it moves (`axes`: those the block names) are unknown until written
+    /// absolute; a modal one's later moves too.
+    fn moved_unread_g(&mut self, refused: Option<(String, (&'static str, bool, bool))>, axes: [bool; 6], line: usize) {
+        let Some((name, (what, all, modal))) = refused else { return };
+        let axes = if all { [true, true, true, false, false, false] } else { axes };
+        if modal {
+            self.interp.forget_motion(line, &name, what, axes);
+        } else {
+            self.interp.moved_unread(line, &name, what, axes);
+        }
+    }
+
     /// A statement read (`name`): the holds of the refused statements it ends ([`keywords::LASTING`]).
     fn end_holds(&mut self, name: &str) {
         for l in LASTING.iter().filter(|l| l.ends.contains(&name)) {
