@@ -281,3 +281,24 @@ fn a_refused_line_keeps_its_lasting_m_functions() {
     has(&p, 4, 3, "line 3's M112 (rounding arcs between straight lines) is in effect on the TNC until M113");
     assert_eq!(moved(&p), [2, 7], "{:?}", errors(&p));
 }
+
+/// DIN/ISO's coordinate transformations, the cycles 8, 10 and 11 in G codes, refused here, hold the
+/// moves until their reset as the cycles' (TNC 320 Cycle Programming, "Coordinate transformation
+/// cycles": mirroring no axis, a rotation angle of 0, the factor 1): `G28 X` (damaged: its axis
+/// without a value) until `G28`, `G72 F2` until `G72 F1`, `G73 H+10` until `G73 H+0`; then X, Y and
+/// Z are unknown until written absolute.
+#[test]
+fn din_iso_transformations_hold_until_their_reset() {
+    let text = "%T G71 *\nN10 T1 G17 S1000 *\nN20 G00 G90 X+0 Y+0 Z+50 *\nN30 G28 X *\nN40 G01 X+10 F500 *\nN50 G28 *\nN60 X+1 Y+1 Z+1 *\nN70 X+2 *\n\
+                N80 G72 F2 *\nN90 X+3 *\nN100 G72 F1 *\nN110 X+0 Y+0 Z+0 *\nN120 G73 H+10 *\nN130 X+4 *\nN140 G73 H+0 *\nN150 X+0 Y+0 Z+50 *\nN160 X+5 *\nN99999999 %T G71 *\n";
+    let p = read(text, Dialect::Heidenhain, "t.i", &ReadOptions::default());
+    let mut lines = error_lines(&p);
+    lines.dedup();
+    assert_eq!(lines, [4, 5, 6, 7, 9, 10, 11, 12, 13, 14, 15, 16], "{:?}", errors(&p));
+    has(&p, 5, 9, "line 4's G28 (mirroring (cycle 8)) is in effect on the control until its reset (G28 with no axis)");
+    has(&p, 7, 5, "a move from where the moves under line 4's G28");
+    has(&p, 10, 5, "line 9's G72 (scaling (cycle 11)) is in effect on the control until its reset (G72 F1)");
+    has(&p, 14, 6, "line 13's G73 (rotation (cycle 10)) is in effect on the control until its reset (G73 H+0)");
+    has(&p, 16, 6, "a move from where the moves under line 13's G73");
+    assert_eq!(moved(&p), [3, 8, 17], "{:?}", errors(&p));
+}

@@ -408,6 +408,8 @@ impl super::stream::LineReader for DinReader {
             }
             if damaged {
                 diags.warning(line, first_col, format!("block {} not used: it is damaged", label(number, line)));
+                // Its codes the TNC runs all the same (a mirroring `G28 X`): the holds take them.
+                self.interp.refused_damaged(&words, line);
                 continue;
             }
             // `M128 F1000`: the feed of the linear axes' compensating movements, not the path's

@@ -17,7 +17,7 @@ pub(crate) struct Lasting {
 }
 
 /// A modal group's codes that shape the path, and the codes that cancel them (× 10: G41 is 410).
-#[derive(Debug, PartialEq, Eq)]
+#[derive(Debug)]
 pub(crate) struct Rule {
     /// The codes' letter: `G`, or `M` for the TNC's M functions.
     letter: char,
@@ -28,25 +28,27 @@ pub(crate) struct Rule {
     feed_only: bool,
     /// How messages name its cancels, where not by listing them.
     until: Option<&'static str>,
+    /// Its own code with these words ends it too (the TNC's DIN/ISO cycles: `G73 H+0`).
+    reset: Option<fn(&[Word]) -> bool>,
 }
 
 /// Cutter radius compensation, G40 its cancel (FANUC B-64484EN "Cutter compensation C"; Haas Mill
 /// Operator's Manual, G40-G42).
-const COMP: Rule = Rule { letter: 'G', what: "cutter radius compensation", codes: &[410, 420], cancels: &[400], feed_only: false, until: None };
+const COMP: Rule = Rule { letter: 'G', what: "cutter radius compensation", codes: &[410, 420], cancels: &[400], feed_only: false, until: None, reset: None };
 /// Fanuc's normal direction control G41.1/G42.1, cancelled by G40.1 (FANUC B-64484EN "Normal
 /// direction control").
-const NORMAL: Rule = Rule { letter: 'G', what: "normal direction control", codes: &[411, 421], cancels: &[401], feed_only: false, until: None };
+const NORMAL: Rule = Rule { letter: 'G', what: "normal direction control", codes: &[411, 421], cancels: &[401], feed_only: false, until: None, reset: None };
 /// Tool length offset along the tool axis or added (Fanuc G43.1; LinuxCNC G43.1 dynamic, G43.2
 /// additional), cancelled by G49 or replaced by another code of its group (G43, G44, G43.4, G43.5).
-const LENGTH: Rule = Rule { letter: 'G', what: "dynamic or additional tool length offset", codes: &[431, 432], cancels: &[490, 430, 440, 434, 435], feed_only: false, until: None };
+const LENGTH: Rule = Rule { letter: 'G', what: "dynamic or additional tool length offset", codes: &[431, 432], cancels: &[490, 430, 440, 434, 435], feed_only: false, until: None, reset: None };
 /// Tilted working planes, G69 their cancel (FANUC B-64484EN "Tilted working plane indexing"). Fanuc's
 /// G68.2 with Euler angles is read ([`crate::program::feature`]); refused (its other forms, under
 /// G91, a second one; any on Haas), the control runs it all the same.
-const TILT: Rule = Rule { letter: 'G', what: "tilted working plane", codes: &[682, 683, 684], cancels: &[690], feed_only: false, until: None };
+const TILT: Rule = Rule { letter: 'G', what: "tilted working plane", codes: &[682, 683, 684], cancels: &[690], feed_only: false, until: None, reset: None };
 /// Scaling G51, cancelled by G50; programmable mirror image G51.1, cancelled by G50.1 (FANUC
 /// B-64484EN "Scaling", "Programmable mirror image"; Haas G50-G51, G50.1-G51.1).
-const SCALING: Rule = Rule { letter: 'G', what: "scaling", codes: &[510], cancels: &[500], feed_only: false, until: None };
-const MIRROR: Rule = Rule { letter: 'G', what: "mirror image", codes: &[511], cancels: &[501], feed_only: false, until: None };
+const SCALING: Rule = Rule { letter: 'G', what: "scaling", codes: &[510], cancels: &[500], feed_only: false, until: None, reset: None };
+const MIRROR: Rule = Rule { letter: 'G', what: "mirror image", codes: &[511], cancels: &[501], feed_only: false, until: None, reset: None };
 /// A canned cycle the reader refuses but the control runs (Fanuc's G76/G87 with a shift, LinuxCNC's
 /// G87/G88 and its taps outside G17, [`Interpreter::hold_cycle`]): it drills at every later position
 /// until "G80 or a G code of group 01" (FANUC B-64484EN "Canned cycle cancel"; LinuxCNC: any other
@@ -60,6 +62,7 @@ const CYCLE: Rule = Rule {
     cancels: &[800, 0, 10, 20, 30, 730, 740, 760, 810, 820, 830, 840, 850, 860, 870, 880, 890],
     feed_only: false,
     until: Some("G80, a G00-G03 or another canned cycle"),
+    reset: None,
 };
 /// An additional work offset (Fanuc's `G54.1 Pn`, Haas' `G154 Pn` or `G110`-`G129`) in effect after a
 /// refused `G10 L20 Pn` set it: the control's offset is the program's, not read here, until another
@@ -71,6 +74,7 @@ const WORK: Rule = Rule {
     cancels: &[540, 550, 560, 570, 580, 590, 591, 592, 593, 541],
     feed_only: false,
     until: Some("G54-G59 or another additional work offset"),
+    reset: None,
 };
 const WORK_HAAS: Rule = Rule {
     cancels: &[
@@ -91,6 +95,7 @@ pub(crate) const SIN_FRAME: Rule = Rule {
     cancels: &[],
     feed_only: false,
     until: Some("a TRANS or ROT that is read, which replaces the programmable frame"),
+    reset: None,
 };
 /// A kinematic transformation not read (`TRANSMIT`, `TRACYL`, `TRAANG`, `TRAORI` with arguments) until
 /// `TRAFOOF`.
@@ -103,7 +108,7 @@ pub(crate) const SIN_COMP3D: Rule = Rule { what: "3D tool radius compensation no
 /// A feed profile over the block (`FLIN`, `FCUB`, `FPO`) until `FNORM`: feed moves only.
 pub(crate) const SIN_FEED: Rule = Rule { what: "a feed profile over the block not read", until: Some("FNORM"), feed_only: true, ..SIN_FRAME };
 /// Feed per revolution, cancelled by G94 or G93.
-const PER_REV: Rule = Rule { letter: 'G', what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None };
+const PER_REV: Rule = Rule { letter: 'G', what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None, reset: None };
 
 /// The TNC's M functions this model refuses whose effect lasts until their reset (one code each):
 /// M112 rounding arcs between straight lines (and M124 under it) until M113 (TNC 407 user's manual
@@ -116,14 +121,24 @@ const PER_REV: Rule = Rule { letter: 'G', what: "feed per revolution", codes: &[
 /// cycle call, until M99 or a cycle call (TNC 306/406 technical manual §7.4: "M89 as a cycle-call
 /// is modally effective ... M89 is canceled by M99 or a CYCL CALL-block").
 const TNC_M: [Rule; 6] = [
-    Rule { letter: 'M', what: "rounding arcs between straight lines", codes: &[1120, 1240], cancels: &[1130], feed_only: false, until: None },
-    Rule { letter: 'M', what: "compensation of the machine geometry with tilted axes", codes: &[1140], cancels: &[1150], feed_only: false, until: None },
-    Rule { letter: 'M', what: "exact stop at non-tangential transitions", codes: &[1340], cancels: &[1350], feed_only: true, until: None },
-    Rule { letter: 'M', what: "feed per spindle revolution", codes: &[1360], cancels: &[1370], feed_only: true, until: None },
-    Rule { letter: 'M', what: "the kinematics' offsets at the block end", codes: &[1440], cancels: &[1450], feed_only: false, until: None },
-    Rule { letter: 'M', what: "the modal cycle call: the TNC drills at every later position", codes: &[890], cancels: &[990], feed_only: false, until: Some("M99 or a cycle call") },
+    Rule { letter: 'M', what: "rounding arcs between straight lines", codes: &[1120, 1240], cancels: &[1130], feed_only: false, until: None, reset: None },
+    Rule { letter: 'M', what: "compensation of the machine geometry with tilted axes", codes: &[1140], cancels: &[1150], feed_only: false, until: None, reset: None },
+    Rule { letter: 'M', what: "exact stop at non-tangential transitions", codes: &[1340], cancels: &[1350], feed_only: true, until: None, reset: None },
+    Rule { letter: 'M', what: "feed per spindle revolution", codes: &[1360], cancels: &[1370], feed_only: true, until: None, reset: None },
+    Rule { letter: 'M', what: "the kinematics' offsets at the block end", codes: &[1440], cancels: &[1450], feed_only: false, until: None, reset: None },
+    Rule { letter: 'M', what: "the modal cycle call: the TNC drills at every later position", codes: &[890], cancels: &[990], feed_only: false, until: Some("M99 or a cycle call"), reset: None },
 ];
-const TNC_M_RULES: [&Rule; 6] = [&TNC_M[0], &TNC_M[1], &TNC_M[2], &TNC_M[3], &TNC_M[4], &TNC_M[5]];
+/// The TNC's DIN/ISO coordinate transformations, its cycles 8, 10, 11 and 19 in G codes, refused
+/// here: mirroring `G28` until a `G28` without axes, rotation `G73` until `G73 H+0`, scaling `G72`
+/// until `G72 F1` (the cycles' resets, TNC 320 Cycle Programming "Coordinate transformation cycles":
+/// mirroring no axis, a rotation angle of 0, the factor 1), a tilted plane `G80` until another `G80`.
+const TNC_G: [Rule; 4] = [
+    Rule { letter: 'G', what: "mirroring (cycle 8)", codes: &[280], cancels: &[], feed_only: false, until: Some("its reset (G28 with no axis)"), reset: Some(|w| !w.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W'))) },
+    Rule { letter: 'G', what: "rotation (cycle 10)", codes: &[730], cancels: &[], feed_only: false, until: Some("its reset (G73 H+0)"), reset: Some(|w| w.iter().any(|w| w.letter == 'H' && w.value == 0.0)) },
+    Rule { letter: 'G', what: "scaling (cycle 11)", codes: &[720], cancels: &[], feed_only: false, until: Some("its reset (G72 F1)"), reset: Some(|w| w.iter().any(|w| w.letter == 'F' && w.value == 1.0)) },
+    Rule { letter: 'G', what: "tilted working plane (cycle 19)", codes: &[800], cancels: &[800], feed_only: false, until: Some("another G80"), reset: None },
+];
+const TNC_RULES: [&Rule; 10] = [&TNC_M[0], &TNC_M[1], &TNC_M[2], &TNC_M[3], &TNC_M[4], &TNC_M[5], &TNC_G[0], &TNC_G[1], &TNC_G[2], &TNC_G[3]];
 
 /// The lasting TNC M function `code` (M144: 144), if it is one ([`TNC_M`]); the Klartext reader's
 /// holds use the same rules.
@@ -137,6 +152,14 @@ impl Lasting {
         if self.rule.letter == '_' { self.code.clone() } else { format!("{}{}", self.rule.letter, self.code) }
     }
 }
+
+/// Rules are one by what they are and their codes (the reset's function is no identity).
+impl PartialEq for Rule {
+    fn eq(&self, other: &Rule) -> bool {
+        self.letter == other.letter && self.what == other.what && self.codes == other.codes
+    }
+}
+impl Eq for Rule {}
 
 impl Rule {
     /// The rule's name in a message: its code and what it does (`M144 (the kinematics' offsets at the
@@ -176,7 +199,7 @@ fn rules(dialect: Dialect) -> &'static [&'static Rule] {
         Dialect::Fanuc => &[&COMP, &NORMAL, &LENGTH, &TILT, &SCALING, &MIRROR],
         Dialect::Haas => &[&COMP, &LENGTH, &TILT, &SCALING, &MIRROR, &PER_REV],
         Dialect::Rs274 => &[&LENGTH],
-        Dialect::Heidenhain => &TNC_M_RULES,
+        Dialect::Heidenhain => &TNC_RULES,
         _ => &[],
     }
 }
@@ -220,10 +243,10 @@ struct Look {
 }
 
 impl Look {
-    /// Whether the block holds one of the rule's cancels.
-    fn cancels(&self, rule: &Rule) -> bool {
+    /// Whether the block holds one of the rule's cancels, or its own code with its reset's words.
+    fn cancels(&self, rule: &Rule, words: &[Word]) -> bool {
         let codes = if rule.letter == 'M' { &self.m } else { &self.g };
-        rule.cancels.iter().any(|c| codes.contains(c))
+        rule.cancels.iter().any(|c| codes.contains(c)) || rule.reset.is_some_and(|reset| rule.codes.iter().any(|c| codes.contains(c)) && reset(words))
     }
 }
 
@@ -259,7 +282,7 @@ impl Interpreter {
         let look = self.look(words);
         let (column, rapid) = look.axis?;
         for l in &self.lasting {
-            let cancelled = look.cancels(l.rule);
+            let cancelled = look.cancels(l.rule, words);
             if l.rule.feed_only && (cancelled || rapid) {
                 continue;
             }
@@ -290,7 +313,7 @@ impl Interpreter {
         let mut ended = Vec::new();
         self.lasting.retain(|l| {
             // A hold its own block set (a refused G87) is not ended by its own code.
-            let cancelled = l.line != line && look.cancels(l.rule);
+            let cancelled = l.line != line && look.cancels(l.rule, words);
             if cancelled && !l.rule.feed_only {
                 ended.push(l.clone());
             }
@@ -431,9 +454,19 @@ impl Interpreter {
     /// A feed mode's own block moved at the feed it sets, to where this reader did not go: the axes
     /// it names are unknown (the other holds' own moves are their moves, held).
     pub(crate) fn note_lasting(&mut self, words: &[Word], line: usize) {
+        self.note_lasting_of(words, line, false);
+    }
+
+    /// [`Interpreter::note_lasting`]; `damaged`: the block's words are not all read, so a reset
+    /// (`G28` without axes) is not told from its code (`G28 X` damaged).
+    fn note_lasting_of(&mut self, words: &[Word], line: usize, damaged: bool) {
         for w in words.iter().filter(|w| matches!(w.letter, 'G' | 'M')) {
             let c = super::x10(w);
             if let Some(rule) = rules(self.dialect).iter().find(|r| r.letter == w.letter && r.codes.contains(&c)) {
+                // Its reset holds nothing (a refused `G73 H+0` the control runs all the same).
+                if !damaged && rule.reset.is_some_and(|reset| reset(words)) {
+                    continue;
+                }
                 self.lasting.retain(|l| l.rule.what != rule.what);
                 let code = w.raw.trim_start_matches('0').to_string();
                 if rule.feed_only {
@@ -442,6 +475,13 @@ impl Interpreter {
                 self.lasting.push(Lasting { line, code, rule });
             }
         }
+    }
+
+    /// A damaged block (its words not all read) of the TNC's DIN/ISO: its codes the TNC runs all the
+    /// same hold the moves after it ([`Interpreter::refused`]), a reset among them not told.
+    pub(crate) fn refused_damaged(&mut self, words: &[Word], line: usize) {
+        self.note_lasting_of(words, line, true);
+        self.refused(words, line);
     }
 
     /// A block with G codes was refused: none of them took effect here, which later defects name;
