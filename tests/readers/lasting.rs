@@ -321,3 +321,24 @@ fn a_refused_move_the_control_makes_leaves_its_axes_unknown() {
     has(&p, 10, 4, "line 9's G147 (smooth approach or retraction)");
     assert_eq!(x_at(&p, 12), Some(3.0), "{:?}", errors(&p));
 }
+
+/// Fanuc's coordinate modes refused here change what the axis words mean until their cancel (FANUC
+/// B-64484EN "Polar coordinate command (G15, G16)", "Polar coordinate interpolation (G12.1, G13.1)",
+/// "Cylindrical interpolation (G07.1)"): G16 until G15, G12.1 until G13.1, G07.1 C10. until G07.1 C0
+/// (its C the radius, no move); the moves under them refused, then X, Y, Z unknown until written.
+/// G15 and G13.1 with nothing in effect are read.
+#[test]
+fn fanucs_coordinate_modes_hold_until_their_cancel() {
+    for (on, off) in [("G16", "G15"), ("G12.1", "G13.1"), ("G07.1 C10.", "G07.1 C0")] {
+        let text = format!("%\nO1000\nG21 G90 G17 G94 F100.\nG0 X0. Y0. Z10.\n{on}\nG1 X10. Y45.\n{off}\nG1 X1. Y1. Z1.\nG1 X2.\nM30\n%\n");
+        let p = read(&text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
+        let mut lines = error_lines(&p);
+        lines.retain(|l| *l != 7); // G07.1 C0 is refused as G07.1 is (not read), G15/G13.1 are read
+        assert_eq!(lines, [5, 6, 8], "{on}: {:?}", errors(&p));
+        has(&p, 6, 4, &format!("line 5's G{}", on.split(' ').next().unwrap().trim_start_matches("G").trim_start_matches('0')));
+        has(&p, 8, 4, "once X, Y and Z are written absolute");
+        assert_eq!(x_at(&p, 9), Some(2.0), "{on}: {:?}", errors(&p));
+    }
+    let p = read("%\nO1000\nG21 G90 G17 G94 F100.\nG15 G13.1\nG0 X3. Y0. Z10.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+}

@@ -292,6 +292,11 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         // Normal direction control cancel (FANUC B-64484EN "Normal direction control"): G41.1/G42.1
         // are refused, so none is in effect here.
         ("40.1", false) if before.dialect == Dialect::Fanuc => {}
+        // The cancels of the polar coordinate command and polar coordinate interpolation (FANUC
+        // B-64484EN "Polar coordinate command (G15, G16)", "Polar coordinate interpolation (G12.1,
+        // G13.1)"): G16 and G12.1 are refused, so neither is in effect here (after a refused one,
+        // [`super::lasting`] ends its hold).
+        ("15" | "13.1", false) if before.dialect == Dialect::Fanuc => {}
         ("61" | "61.1", false) => unsupported(diags, "exact stop mode: the planner blends blocks as G64 does"),
         ("41.1" | "42.1", false) if before.dialect == Dialect::Fanuc => unsupported(diags, "normal direction control"),
         ("41" | "42" | "41.1" | "42.1", false) => unsupported(diags, "cutter radius compensation"),

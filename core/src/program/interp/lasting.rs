@@ -107,6 +107,21 @@ pub(crate) const SIN_ORIENT: Rule = Rule { what: "an orientation interpolation n
 pub(crate) const SIN_COMP3D: Rule = Rule { what: "3D tool radius compensation not read", until: Some("CUT2D"), ..SIN_FRAME };
 /// A feed profile over the block (`FLIN`, `FCUB`, `FPO`) until `FNORM`: feed moves only.
 pub(crate) const SIN_FEED: Rule = Rule { what: "a feed profile over the block not read", until: Some("FNORM"), feed_only: true, ..SIN_FRAME };
+/// Fanuc's coordinate modes refused here, whose axis words mean other things until their cancel
+/// (FANUC B-64484EN "Polar coordinate command (G15, G16)": X Y a radius and an angle until G15;
+/// "Polar coordinate interpolation (G12.1, G13.1)"; "Cylindrical interpolation (G07.1)": on until
+/// `G07.1` with the rotary axis' radius 0).
+const POLAR: Rule = Rule { letter: 'G', what: "polar coordinate command", codes: &[160], cancels: &[150], feed_only: false, until: None, reset: None };
+const POLAR_INTERP: Rule = Rule { letter: 'G', what: "polar coordinate interpolation", codes: &[121], cancels: &[131], feed_only: false, until: None, reset: None };
+const CYLINDRICAL: Rule = Rule {
+    letter: 'G',
+    what: "cylindrical interpolation",
+    codes: &[71],
+    cancels: &[],
+    feed_only: false,
+    until: Some("its cancel (G07.1 with the rotary axis' radius 0)"),
+    reset: Some(|w| w.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C') && w.value == 0.0)),
+};
 /// Feed per revolution, cancelled by G94 or G93.
 const PER_REV: Rule = Rule { letter: 'G', what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None, reset: None };
 
@@ -196,7 +211,7 @@ fn code_said(c: i64) -> String {
 /// the TNC's cutter compensation are read.
 fn rules(dialect: Dialect) -> &'static [&'static Rule] {
     match dialect {
-        Dialect::Fanuc => &[&COMP, &NORMAL, &LENGTH, &TILT, &SCALING, &MIRROR],
+        Dialect::Fanuc => &[&COMP, &NORMAL, &LENGTH, &TILT, &SCALING, &MIRROR, &POLAR, &POLAR_INTERP, &CYLINDRICAL],
         Dialect::Haas => &[&COMP, &LENGTH, &TILT, &SCALING, &MIRROR, &PER_REV],
         Dialect::Rs274 => &[&LENGTH],
         Dialect::Heidenhain => &TNC_RULES,
@@ -204,9 +219,9 @@ fn rules(dialect: Dialect) -> &'static [&'static Rule] {
     }
 }
 
-/// Codes whose block's axis words are offsets or a time, not a move: G10, G04, G92 (and its .1-.3),
-/// G52.
-const NO_MOVE: [i64; 7] = [100, 40, 920, 921, 922, 923, 520];
+/// Codes whose block's axis words are offsets, a time or a radius, not a move: G10, G04, G92 (and its
+/// .1-.3), G52, Fanuc's G07.1 (the rotary axis' radius).
+const NO_MOVE: [i64; 8] = [100, 40, 920, 921, 922, 923, 520, 71];
 /// The TNC's DIN/ISO codes whose axis words move nothing: G54 (a datum shift), G30/G31 (the blank),
 /// G99 (a tool definition), G04 (a dwell).
 const NO_MOVE_TNC: [i64; 5] = [540, 300, 310, 990, 40];
