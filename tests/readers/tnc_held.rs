@@ -302,3 +302,19 @@ fn din_iso_transformations_hold_until_their_reset() {
     has(&p, 16, 6, "a move from where the moves under line 13's G73");
     assert_eq!(moved(&p), [3, 8, 17], "{:?}", errors(&p));
 }
+
+/// A statement run again (a section repeated) is judged by what was in effect when it runs: a PLANE
+/// refused on the first pass (its angle from an unset Q parameter) holds until PLANE RESET, and on
+/// the second pass, read (Q5 now set), its turn starts where the held moves left the rotary axes,
+/// so it is refused, naming the first pass' plane.
+#[test]
+fn a_statement_run_again_is_judged_by_the_holds_of_its_earlier_run() {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let on = ReadOptions::default().on(&hermle);
+    let text = "0 BEGIN PGM H MM\n1 L X+0 Y+0 Z+100 A+0 C+0 R0 F500\n2 LBL 1\n3 PLANE SPATIAL SPA+Q5 SPB+0 SPC+0 TURN FMAX\n4 PLANE RESET STAY\n5 Q5 = 10\n\
+                6 CALL LBL 1 REP1\n7 END PGM H MM\n";
+    let p = read(text, Dialect::Klartext, "h.h", &on);
+    // Line 4 on the first pass: Q5 unset. On the second: the move from the unknown rotary axes.
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 4 && m.contains("Q5")), "{:?}", errors(&p));
+    has(&p, 4, 3, "a move from where the moves under line 4's PLANE (tilted working plane) left the tool");
+}

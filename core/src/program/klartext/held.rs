@@ -101,6 +101,8 @@ struct On {
     what: What,
     line: usize,
     axes: [bool; 3],
+    /// The statement (its run's serial) whose own refusal began it, 0 for any other.
+    made: u64,
 }
 
 /// How many statements' lines are remembered as held: radius compensation places a block a few
@@ -111,11 +113,16 @@ const RECENT: usize = 16;
 #[derive(Debug, Clone, Default)]
 pub(super) struct Holds {
     on: Vec<On>,
-    stale: Option<([bool; 6], usize, What)>,
+    /// The axes, the line and what left them, and the statement whose own refusal did (as `On`'s).
+    stale: Option<([bool; 6], usize, What, u64)>,
     /// The machine's rotary axes among A B C (a plane or a TCPM form turns them).
     rotary: [bool; 3],
     /// The lines of the last statements refused under a hold: their blocks, wherever they come out.
     recent: Vec<usize>,
+    /// The statement running (counted), and the one whose refusal is being noted (0: none): what it
+    /// begins is said at its own refusal, not again as a hold on it (a loop runs a line again).
+    serial: u64,
+    making: u64,
 }
 
 /// A refused line's tokens in capitals, past a block skip `/` and its block number.
@@ -245,7 +252,7 @@ impl Holds {
 
     fn hold(&mut self, what: What, line: usize, axes: [bool; 3]) {
         self.on.retain(|o| o.what != what);
-        self.on.push(On { what, line, axes });
+        self.on.push(On { what, line, axes, made: self.making });
     }
 
     /// End a hold: the axes its moves displaced stay unknown until written absolute.
@@ -269,8 +276,8 @@ impl Holds {
     /// The axes (X Y Z A B C) `what` at `line` left where the reader does not know, beside those
     /// already unknown.
     fn unknown(&mut self, axes: [bool; 6], line: usize, what: What) {
-        let before = self.stale.map_or([false; 6], |s| s.0);
-        self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, what));
+        let (before, made) = self.stale.map_or(([false; 6], self.making), |s| (s.0, s.3));
+        self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, what, made));
     }
 
     /// A statement ran without a defect of its own (`ok`): the holds it ends. One the reader
@@ -278,6 +285,7 @@ impl Holds {
     /// refused for an M function the TNC runs (`ran_unread`: its line and code) moved the axes it
     /// names where this reader does not know (a cycle call's M89/M99 X Y Z, M94 the rotary axes).
     pub(super) fn ran(&mut self, s: &Stmt<'_>, ok: bool, ran_unread: Option<(usize, i64)>) {
+        self.serial += 1;
         // Its M functions (as numbers: a Q parameter's is not known here).
         let m: &[super::KWord<'_>] = match &s.kind {
             Kind::Move { m, .. } | Kind::Misc(m) => m,
@@ -285,6 +293,7 @@ impl Holds {
         };
         let codes = || m.iter().filter_map(|w| if let Val::Num(v) = w.val { (v.fract() == 0.0 && v.abs() < 1e6).then_some(v as i64) } else { None });
         if !ok {
+            self.making = self.serial;
             match &s.kind {
                 Kind::Plane(_) => self.hold(What::Plane, s.line, [true; 3]),
                 Kind::Datum(..) => self.hold(What::Datum, s.line, [true; 3]),
@@ -318,6 +327,7 @@ impl Holds {
                     self.unknown(axes, line, What::Ran(m));
                 }
             }
+            self.making = 0;
             return;
         }
         if self.on.is_empty() {
@@ -393,12 +403,13 @@ impl Holds {
         // FMAX moves run as written under a feed's hold.
         let rapid = matches!(&s.kind, Kind::Move { feed: super::FeedWord::Max, .. });
         // (A hold this statement began, refused, is said at its own refusal.)
-        let holding = self.on.iter().find(|o| o.line != s.line && !(rapid && o.what.feed_only()));
-        let stale = self.stale.filter(|st| st.1 != s.line);
+        let serial = self.serial;
+        let holding = self.on.iter().find(|o| o.made != serial && !(rapid && o.what.feed_only()));
+        let stale = self.stale.filter(|st| st.3 != serial);
         if moves && (holding.is_some() || stale.is_some()) {
             let why = match (holding, &stale) {
                 (Some(o), _) => format!("a move while line {}'s {} is in effect on the TNC until {}: that block was refused, so this move is not read as the TNC runs it", o.line, o.what.said(), o.what.until()),
-                (None, Some((axes, line, what))) => {
+                (None, Some((axes, line, what, _))) => {
                     format!("a move from where {} left the tool, which is not known (the TNC ran it, this reader did not): moves are read again once {} written absolute", what.left(*line), axes_said(*axes))
                 }
                 (None, None) => return,
