@@ -63,6 +63,14 @@ FANUC_OFFSETS = (b"%\nG21 G90 G17 G94 F100.\nG10 L20 P1 X100. Y50. Z0.\nG10 L20 
 KLARTEXT_M = (b"0 BEGIN PGM M MM\n1 L X+0 Y+0 Z+50 A+0 C+0 R0 F500\n2 L X+10 M144\n3 L X+20 M145\n4 L X+1 Y+1 Z+1\n"
               b"5 L X+2 M136\n6 L X+3 FMAX\n7 M137\n8 L X+4 M97\n9 M94\n10 L X+0 A+0 C+0\n11 TRANS DATUM RESET\n"
               b"12 TRANS DATUM AXIS X+1\n13 L X+5\n14 TRANS DATUM RESET\n15 L X+0 Y+0 Z+0\n16 END PGM M MM\n")
+# The 840D's lasting statements not read and the refused moves the control makes.
+SINUMERIK_HELD = (b"G71 G90 G94\nG0 X0 Y0 Z10\nMIRROR X0\nG1 X10 F100\nCYCLE81(10,0,2,-5)\nTRANS\nG1 X1 Y1 Z1\nTRANSMIT\nG1 X2\n"
+                  b"TRAFOOF\nORICONCW\nG1 X3\nORIVECT\nFLIN\nG1 X4\nFNORM\nG74 X1=0 Z1=0\nG331 Z-10 K1\nG1 X0 Y0 Z10\nM30\n")
+# DIN/ISO transformations and Fanuc's coordinate modes held until their reset.
+DIN_HELD = (b"%T G71 *\nN10 T1 G17 S1000 *\nN20 G00 G90 X+0 Y+0 Z+50 *\nN30 G28 X *\nN40 G01 X+10 F500 *\nN50 G28 *\n"
+            b"N60 G72 F2 *\nN70 X+3 *\nN80 G72 F1 *\nN90 G73 H+10 *\nN100 X+4 *\nN110 G73 H+0 *\nN120 X+0 Y+0 Z+50 M144 *\nN99999999 %T G71 *\n")
+FANUC_MODES = (b"%\nO1\nG21 G90 G17 G94 F100.\nG0 X0. Y0. Z10.\nG16\nG1 X10. Y45.\nG15\nG07.1 C10.\nG1 X1. C5.\nG07.1 C0\n"
+               b"G12.1\nG1 X2.\nG13.1\nG31 X5.\nG33 Z-1. F1.\nG0 X0. Y0. Z10.\nM30\n%\n")
 # An 840D contour under tool radius compensation: a tool by name, CFTCP and CFC, arcs by CR, a
 # subprogram-free M17 left out, a stop at a CFC outside corner, D0, refusals (KONT, OFFN, G451).
 SINUMERIK_TRC = (b"T=\"MILL_D6\" D1\nM6\nG17 G90 G71 G94 CFTCP\nG0 X-20 Y-20 Z5\nG1 Z-2 F500\nG1 G42 X0 Y0\n"
@@ -140,7 +148,10 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "nurbs.nc", bytes([PICK["fanuc"]]) + FANUC_NURBS)
     put(corpus, "nc_program", "offsets.nc", bytes([PICK["haas"]]) + FANUC_OFFSETS)
     put(corpus, "nc_program", "mfunctions.h", bytes([PICK["klartext"] + len(PICK)]) + KLARTEXT_M)
-    n += 9
+    put(corpus, "nc_program", "held.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_HELD)
+    put(corpus, "nc_program", "held.i", bytes([PICK["heidenhain"]]) + DIN_HELD)
+    put(corpus, "nc_program", "modes.nc", bytes([PICK["fanuc"]]) + FANUC_MODES)
+    n += 12
     # CL data: the SING cut's first moves as x y z i j k [feed] lines, with a header, comma and space separated.
     cl = b"x,y,z,i,j,k,f\n0,0,-8,0,0,1,2000\n10,0,-8,0,0.0174,0.9998,2000\n25,0,-8,0,0.0003,1,2000\n50 0 -8 0 0 1\n"
     put(corpus, "nc_program", "sing.cl", bytes([PICK["cl"]]) + cl)

@@ -342,3 +342,40 @@ fn fanucs_coordinate_modes_hold_until_their_cancel() {
     let p = read("%\nO1000\nG21 G90 G17 G94 F100.\nG15 G13.1\nG0 X3. Y0. Z10.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
 }
+
+/// The second review's cases: the 840D's `TRAFOOF` in a line that also moves ends its hold all the
+/// same (its own move starts at the unknown point: refused once); a bare `MIRROR` resets the
+/// programmable frame as `TRANS` does (read, ending a frame's hold); `G58` (an axial programmable
+/// offset, refused) holds as a frame; a call not read leaves every axis unknown; Haas' `G28` alone,
+/// refused, every axis; Fanuc's `G53`, refused, the axes it names.
+#[test]
+fn ends_in_moving_lines_bare_mirror_g58_calls_and_reference_moves() {
+    let text = "G71 G90 G94\nG0 X0 Y0 Z10\nTRANSMIT\nG1 X10 F100\nTRAFOOF G0 X0 Y0 Z100\nG0 X1 Y1 Z1\nG0 X1\nMIRROR X0\nG0 X2\nMIRROR\nG0 X0 Y0 Z10\nG0 X3\n\
+                G58 X5\nG0 X4\nTRANS\nG0 X0 Y0 Z10\nCALL BLOCK A1 TO A2\nG0 X0 Y0 Z10\nG0 X5\nM30\n";
+    let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let mut lines = error_lines(&p);
+    lines.dedup();
+    assert_eq!(lines, [3, 4, 5, 6, 8, 9, 11, 13, 14, 16, 17, 18], "{:?}", errors(&p));
+    // TRAFOOF ended the hold though its line was refused: line 6 is refused for the unknown axes
+    // only (as a move that writes them), and the line after it is read.
+    has(&p, 5, 12, "a move from where the moves under line 3's TRANSMIT");
+    has(&p, 6, 4, "a move from where the moves under line 3's TRANSMIT");
+    has(&p, 11, 4, "a move from where the moves under line 8's MIRROR");
+    has(&p, 14, 4, "line 13's G58 (a programmable frame not read");
+    has(&p, 18, 4, "a move from where the moves under line 17's CALL (a call not read, which the control runs)");
+    for (l, x) in [(7, Some(1.0)), (12, Some(3.0)), (19, Some(5.0))] {
+        assert_eq!(x_at(&p, l), x, "line {l}: {:?}", errors(&p));
+    }
+
+    let p = read("%\nO1000\nG20 G90 G17 G94\nG0 X0. Y0. Z1.\nG28\nG0 X1.\nG0 X1. Y1. Z1.\nG0 X2.\nM30\n%\n", Dialect::Haas, "t.nc", &ReadOptions::default());
+    let mut lines = error_lines(&p);
+    lines.dedup();
+    assert_eq!(lines, [5, 6, 7], "{:?}", errors(&p));
+    has(&p, 7, 4, "once Y and Z are written absolute");
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z10.\nG53 G0 Z0.\nG0 X1.\nG0 Z5.\nG0 X2.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    let mut lines = error_lines(&p);
+    lines.dedup();
+    assert_eq!(lines, [5, 6, 7], "{:?}", errors(&p));
+    has(&p, 6, 4, "line 5's G53 (a move in machine coordinates)");
+    assert_eq!(x_at(&p, 8), Some(2.0), "{:?}", errors(&p));
+}

@@ -318,3 +318,19 @@ fn a_statement_run_again_is_judged_by_the_holds_of_its_earlier_run() {
     assert!(errors(&p).iter().any(|(l, _, m)| *l == 4 && m.contains("Q5")), "{:?}", errors(&p));
     has(&p, 4, 3, "a move from where the moves under line 4's PLANE (tilted working plane) left the tool");
 }
+
+/// DIN/ISO's `G80` is the working plane, cycle 19 (iTNC 530 ISO user's manual, "WORKING PLANE (Cycle
+/// G80)"), not read: refused, its A B C no move, and held until `G80` with its angles 0 (cycle 19's
+/// reset), after which X, Y, Z are unknown until written.
+#[test]
+fn din_iso_g80_is_the_working_plane_refused_and_held() {
+    let text = "%T G71 *\nN10 T1 G17 S1000 *\nN20 G00 G90 X+0 Y+0 Z+50 *\nN30 G80 A+10 B+0 C+0 *\nN40 X+10 *\nN50 G80 A+0 B+0 C+0 *\nN60 X+0 Y+0 Z+50 *\nN70 X+5 *\nN99999999 %T G71 *\n";
+    let p = read(text, Dialect::Heidenhain, "t.i", &ReadOptions::default());
+    let mut lines = error_lines(&p);
+    lines.dedup();
+    assert_eq!(lines, [4, 5, 6, 7], "{:?}", errors(&p));
+    has(&p, 4, 5, "G80 (the working plane, cycle 19) is not supported");
+    has(&p, 5, 5, "line 4's G80 (tilted working plane (cycle 19)) is in effect on the control until its reset (G80 with the angles 0)");
+    has(&p, 7, 5, "a move from where the moves under line 4's G80");
+    assert_eq!(moved(&p), [3, 8], "{:?}", errors(&p));
+}

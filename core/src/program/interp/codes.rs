@@ -103,11 +103,13 @@ pub(crate) fn unread_motion(dialect: crate::program::Dialect, code_x10: i64) -> 
 /// A move of one block the G-code readers do not read and the control makes (code × 10), where it
 /// leaves the axes it names being what this reader does not know: Fanuc's and Haas' G27 (reference
 /// position return check), G29 (return from the reference position), G31 (skip: it stops where the
-/// signal comes), G60 (single-direction positioning), and G28/G30 where they are refused (no
-/// machine coordinates in the machine file); LinuxCNC's G28/G30 without axis words move every axis.
+/// signal comes), G60 (single-direction positioning), and G28/G30/G53 where they are refused (no
+/// machine coordinates in the machine file); LinuxCNC's G28/G30 and Haas' G28 without axis words
+/// move every axis.
 pub(crate) fn unread_move(dialect: crate::program::Dialect, code_x10: i64) -> Option<&'static str> {
     match code_x10 {
         270 | 290 | 310 | 600 if dialect.is_fanuc() => Some("a move this reader does not read"),
+        530 if dialect.is_fanuc() => Some("a move in machine coordinates"),
         280 | 300 => Some("a move to a stored position"),
         _ => None,
     }

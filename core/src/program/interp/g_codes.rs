@@ -56,6 +56,9 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         // words need a G0/G1 again (LinuxCNC: "Cannot use axis values with G80",
         // "without a G code that uses them"). Fanuc's cycles are a group of their own.
         ("80", _) if before.dialect == Dialect::Rs274 => next.motion = None,
+        // The TNC's DIN/ISO G80 is the working plane, cycle 19 (iTNC 530 ISO user's manual, "WORKING
+        // PLANE (Cycle G80)"): not read ([`super::lasting`] holds the moves after it).
+        ("80", true) => unsupported(diags, "the working plane, cycle 19"),
         ("40" | "80", _) => {}
         ("90", _) => next.absolute = true,
         ("91", _) => next.absolute = false,

@@ -146,12 +146,21 @@ const TNC_M: [Rule; 6] = [
 /// The TNC's DIN/ISO coordinate transformations, its cycles 8, 10, 11 and 19 in G codes, refused
 /// here: mirroring `G28` until a `G28` without axes, rotation `G73` until `G73 H+0`, scaling `G72`
 /// until `G72 F1` (the cycles' resets, TNC 320 Cycle Programming "Coordinate transformation cycles":
-/// mirroring no axis, a rotation angle of 0, the factor 1), a tilted plane `G80` until another `G80`.
+/// mirroring no axis, a rotation angle of 0, the factor 1), the working plane `G80` until `G80` with
+/// its angles 0 (cycle 19's reset).
 const TNC_G: [Rule; 4] = [
     Rule { letter: 'G', what: "mirroring (cycle 8)", codes: &[280], cancels: &[], feed_only: false, until: Some("its reset (G28 with no axis)"), reset: Some(|w| !w.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W'))) },
     Rule { letter: 'G', what: "rotation (cycle 10)", codes: &[730], cancels: &[], feed_only: false, until: Some("its reset (G73 H+0)"), reset: Some(|w| w.iter().any(|w| w.letter == 'H' && w.value == 0.0)) },
     Rule { letter: 'G', what: "scaling (cycle 11)", codes: &[720], cancels: &[], feed_only: false, until: Some("its reset (G72 F1)"), reset: Some(|w| w.iter().any(|w| w.letter == 'F' && w.value == 1.0)) },
-    Rule { letter: 'G', what: "tilted working plane (cycle 19)", codes: &[800], cancels: &[800], feed_only: false, until: Some("another G80"), reset: None },
+    Rule {
+        letter: 'G',
+        what: "tilted working plane (cycle 19)",
+        codes: &[800],
+        cancels: &[],
+        feed_only: false,
+        until: Some("its reset (G80 with the angles 0)"),
+        reset: Some(|w| w.iter().filter(|w| matches!(w.letter, 'A' | 'B' | 'C')).all(|w| w.value == 0.0)),
+    },
 ];
 const TNC_RULES: [&Rule; 10] = [&TNC_M[0], &TNC_M[1], &TNC_M[2], &TNC_M[3], &TNC_M[4], &TNC_M[5], &TNC_G[0], &TNC_G[1], &TNC_G[2], &TNC_G[3]];
 
@@ -223,8 +232,8 @@ fn rules(dialect: Dialect) -> &'static [&'static Rule] {
 /// .1-.3), G52, Fanuc's G07.1 (the rotary axis' radius).
 const NO_MOVE: [i64; 8] = [100, 40, 920, 921, 922, 923, 520, 71];
 /// The TNC's DIN/ISO codes whose axis words move nothing: G54 (a datum shift), G30/G31 (the blank),
-/// G99 (a tool definition), G04 (a dwell).
-const NO_MOVE_TNC: [i64; 5] = [540, 300, 310, 990, 40];
+/// G99 (a tool definition), G04 (a dwell), G80 (the working plane's angles).
+const NO_MOVE_TNC: [i64; 6] = [540, 300, 310, 990, 40, 800];
 
 /// Whether a block's axis words move nothing, by its G codes (× 10) in the dialect.
 fn moves_nothing(dialect: Dialect, mut g: impl Iterator<Item = i64>) -> bool {
@@ -347,7 +356,7 @@ impl Interpreter {
             } else {
                 axes[..3].fill(true);
             }
-            if l.rule.what == TILT.what {
+            if [TILT.what, TNC_G[3].what, POLAR_INTERP.what].contains(&l.rule.what) {
                 for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
                     axes[3 + k] = true;
                 }
@@ -436,10 +445,20 @@ impl Interpreter {
         }
     }
 
+    /// A call the control runs and this reader does not (`name`, `what`): every axis (X Y Z and the
+    /// machine's rotary axes) is where this reader does not know.
+    pub(crate) fn moved_everywhere(&mut self, line: usize, name: &str, what: &'static str) {
+        let mut axes = [true, true, true, false, false, false];
+        for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
+            axes[3 + k] = true;
+        }
+        self.moved_unread(line, name, what, axes);
+    }
+
     /// The first hold in effect, or the axes left unknown, as a message says it, whatever the block
     /// moves (for statements that move by what they call: a cycle, a swivel).
     pub(crate) fn holding(&self) -> Option<String> {
-        if let Some(l) = self.lasting.iter().find(|l| !l.rule.feed_only) {
+        if let Some(l) = self.lasting.first() {
             return Some(format!("line {}'s {} ({}) is in effect on the control until {}: that block was refused, so what this one moves is not read as the control runs it", l.line, l.named(), l.rule.what, l.rule.until()));
         }
         let s = self.stale.as_ref()?;
@@ -519,11 +538,11 @@ impl Interpreter {
             self.forget_motion(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes_named(self.dialect, words));
         }
         // A move of its own the control makes (a reference return, a skip): the axes it names, or
-        // every axis for LinuxCNC's G28/G30 alone, where this reader does not know.
+        // every axis for LinuxCNC's G28/G30 and Haas' G28 alone, where this reader does not know.
         let moved = words.iter().filter(|w| w.letter == 'G').find_map(|w| codes::unread_move(self.dialect, codes::x10(w)).map(|what| (w, what)));
         if let (true, Some((w, what))) = (self.dialect.is_rs274_family(), moved) {
             let mut axes = axes_named(self.dialect, words);
-            if !axes.contains(&true) && self.dialect == Dialect::Rs274 {
+            if !axes.contains(&true) && (self.dialect == Dialect::Rs274 || self.dialect == Dialect::Haas && codes::x10(w) == 280) {
                 axes[..3].fill(true);
                 for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
                     axes[3 + k] = true;

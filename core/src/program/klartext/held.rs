@@ -276,7 +276,8 @@ impl Holds {
     /// The axes (X Y Z A B C) `what` at `line` left where the reader does not know, beside those
     /// already unknown.
     fn unknown(&mut self, axes: [bool; 6], line: usize, what: What) {
-        let (before, made) = self.stale.map_or(([false; 6], self.making), |s| (s.0, s.3));
+        // (A refused statement that adds to them is said at its own refusal, not again.)
+        let (before, made) = self.stale.map_or(([false; 6], self.making), |s| (s.0, if self.making != 0 { self.making } else { s.3 }));
         self.stale = Some(([0, 1, 2, 3, 4, 5].map(|k| axes[k] || before[k]), line, what, made));
     }
 

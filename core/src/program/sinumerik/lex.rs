@@ -218,9 +218,11 @@ pub(crate) struct Lexed<'a> {
     /// `CHF=`, `CHR=`, `RND=`, `RNDM=`, `FRC=`, `FRCM=`: the corner at the block's end
     /// ([`super::corners`]).
     pub corner: super::corners::Words,
-    /// The first G code refused, as written (`74`): a move of its own it may make is said to the
-    /// holds ([`super::keywords::refused_move`]).
+    /// The first G code refused that moves the tool, as written (`74`): the holds take its move
+    /// ([`super::keywords::refused_move`]).
     pub refused_g: Option<&'a str>,
+    /// `G58`/`G59` (axial programmable offsets, refused): the frame they change holds the moves.
+    pub frame_g: Option<&'a str>,
 }
 
 /// Where the expression that starts at byte `start` ends: at a blank or `;` outside brackets and
@@ -332,7 +334,7 @@ pub(super) fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
 pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: &mut Vars, diags: &mut Diags) -> Lexed<'a> {
     let b = src.as_bytes();
     let n = b.len();
-    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None };
+    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None, frame_g: None };
     let mut vec3: [Option<f64>; 3] = [None; 3];
     let mut vec_col = 0;
     let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
@@ -519,7 +521,12 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
                 Ok(Some(g)) => out.words.push(word('G', parse_number(g).unwrap_or(0.0), g.into())),
                 Ok(None) => {}
                 Err(why) => {
-                    out.refused_g = out.refused_g.or(Some(text));
+                    if out.refused_g.is_none() && super::keywords::refused_move(text).is_some() {
+                        out.refused_g = Some(text);
+                    }
+                    if matches!(text.trim_start_matches('0'), "58" | "59") {
+                        out.frame_g = Some(text);
+                    }
                     diags.error(line, col, format!("G{text}: {why}"));
                 }
             },
