@@ -301,6 +301,9 @@ fn din_iso_transformations_hold_until_their_reset() {
     has(&p, 14, 6, "line 13's G73 (rotation (cycle 10)) is in effect on the control until its reset (G73 H+0)");
     has(&p, 16, 6, "a move from where the moves under line 13's G73");
     assert_eq!(moved(&p), [3, 8, 17], "{:?}", errors(&p));
+    // An increment of 0 (G91 in its block) keeps the rotation: no reset.
+    let p = read(&text.replace("N140 G73 H+0 *", "N140 G73 G91 H+0 *"), Dialect::Heidenhain, "t.i", &ReadOptions::default());
+    has(&p, 16, 6, "line 15's G73 (rotation (cycle 10)) is in effect on the control");
 }
 
 /// A statement run again (a section repeated) is judged by what was in effect when it runs: a PLANE

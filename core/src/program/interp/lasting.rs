@@ -144,13 +144,16 @@ const TNC_M: [Rule; 6] = [
     Rule { letter: 'M', what: "the modal cycle call: the TNC drills at every later position", codes: &[890], cancels: &[990], feed_only: false, until: Some("M99 or a cycle call"), reset: None },
 ];
 /// The TNC's DIN/ISO coordinate transformations, its cycles 8, 10, 11 and 19 in G codes, refused
-/// here: mirroring `G28` until a `G28` without axes, rotation `G73` until `G73 H+0`, scaling `G72`
-/// until `G72 F1` (the cycles' resets, TNC 320 Cycle Programming "Coordinate transformation cycles":
-/// mirroring no axis, a rotation angle of 0, the factor 1), the working plane `G80` until `G80` with
-/// its angles 0 (cycle 19's reset).
+/// here: mirroring `G28` until a `G28` without axes, rotation `G73` until `G73 H+0` (not under a
+/// `G91` in its block: an increment of 0 keeps the rotation; TNC 360 ISO manual's example "N100 G73
+/// G90 H+0 * Cancel rotation"), scaling `G72` until `G72 F1` (iTNC 530 ISO user's manual 340 422
+/// §8.10: "Cancellation: Program the SCALING FACTOR cycle once again with a scaling factor of 1"),
+/// the working plane `G80` until `G80` with its angles 0 (the cycles' resets, TNC 320 Cycle
+/// Programming "Coordinate transformation cycles": mirroring no axis, a rotation angle of 0, the
+/// factor 1, cycle 19's angles 0).
 const TNC_G: [Rule; 4] = [
     Rule { letter: 'G', what: "mirroring (cycle 8)", codes: &[280], cancels: &[], feed_only: false, until: Some("its reset (G28 with no axis)"), reset: Some(|w| !w.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W'))) },
-    Rule { letter: 'G', what: "rotation (cycle 10)", codes: &[730], cancels: &[], feed_only: false, until: Some("its reset (G73 H+0)"), reset: Some(|w| w.iter().any(|w| w.letter == 'H' && w.value == 0.0)) },
+    Rule { letter: 'G', what: "rotation (cycle 10)", codes: &[730], cancels: &[], feed_only: false, until: Some("its reset (G73 H+0)"), reset: Some(|w| w.iter().any(|w| w.letter == 'H' && w.value == 0.0) && !w.iter().any(|w| w.letter == 'G' && w.value == 91.0)) },
     Rule { letter: 'G', what: "scaling (cycle 11)", codes: &[720], cancels: &[], feed_only: false, until: Some("its reset (G72 F1)"), reset: Some(|w| w.iter().any(|w| w.letter == 'F' && w.value == 1.0)) },
     Rule {
         letter: 'G',
