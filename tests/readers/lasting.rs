@@ -263,22 +263,26 @@ fn an_840d_frame_not_read_holds_the_moves_until_trans_or_rot() {
 /// The 840D's other lasting statements not read hold until the statement that ends them is read:
 /// `TRANSMIT` until `TRAFOOF` (then X, Y, Z unknown until written); `ORICONCW` (G group 51) until
 /// `ORIVECT` (the orientation is the programmed one at each block's end: nothing unknown after);
-/// `FLIN` until `FNORM` (feed moves only); `CUT3DC` until `CUT2D`.
+/// `FLIN` until `FNORM` (feed moves only); `CUT3DC` until `CUT2D`, which acts only with G41/G42: a
+/// move without compensation is read, a compensated one stops the reading (its path not known).
 #[test]
 fn the_840ds_lasting_statements_hold_until_their_end() {
     let text = "G71 G90 G94\nG0 X0 Y0 Z10\nTRANSMIT\nG1 X10 F100\nTRAFOOF\nG1 X1 Y1 Z1\nG1 X2\nORICONCW\nG1 X3\nORIVECT\nG1 X4\n\
                 FLIN\nG0 X5\nG1 X6\nFNORM\nG1 X7\nCUT3DC\nG1 X8\nCUT2D\nG1 X0 Y0 Z0\nG1 X9\nM30\n";
     let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
-    assert_eq!(error_lines(&p), [3, 4, 6, 8, 9, 12, 14, 17, 18, 20], "{:?}", errors(&p));
+    assert_eq!(error_lines(&p), [3, 4, 6, 8, 9, 12, 14, 17], "{:?}", errors(&p));
     has(&p, 4, 4, "line 3's TRANSMIT (a kinematic transformation not read) is in effect on the control until TRAFOOF");
     has(&p, 6, 4, "a move from where the moves under line 3's TRANSMIT");
     has(&p, 9, 4, "line 8's ORICONCW (an orientation interpolation not read) is in effect on the control until ORIVECT, ORIPLANE or ORIAXES");
     has(&p, 14, 4, "line 12's FLIN (a feed profile over the block not read) is in effect on the control until FNORM");
-    has(&p, 18, 4, "line 17's CUT3DC (3D tool radius compensation not read) is in effect on the control until CUT2D");
-    has(&p, 20, 4, "a move from where the moves under line 17's CUT3DC");
-    for (l, x) in [(7, 2.0), (11, 4.0), (13, 5.0), (16, 7.0), (21, 9.0)] {
+    for (l, x) in [(7, 2.0), (11, 4.0), (13, 5.0), (16, 7.0), (18, 8.0), (21, 9.0)] {
         assert_eq!(x_at(&p, l), Some(x), "line {l}: {:?}", errors(&p));
     }
+    let tools = ReadOptions { tool_table: Some(std::sync::Arc::new(fiveaxis::program::ToolTable::parse("T1 P1 D6\n").unwrap())), ..Default::default() };
+    let p = read("G71 G90 G94\nT1 D1\nG0 X-20 Y-20 Z10\nCUT3DC\nG1 G41 X0 Y0 F100\nG1 X10\nM30\n", Dialect::Sinumerik, "t.mpf", &tools);
+    assert_eq!(error_lines(&p), [4, 5], "{:?}", errors(&p));
+    has(&p, 5, 1, "a compensated move while line 4's CUT3DC (3D tool radius compensation, not read) is in force on the control until CUT2D");
+    has(&p, 5, 1, "the rest of the program is not read");
 }
 
 /// A refused block whose move the control makes leaves the axes it moves unknown until written

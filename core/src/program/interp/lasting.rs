@@ -103,8 +103,6 @@ pub(crate) const SIN_TRANSFORM: Rule = Rule { what: "a kinematic transformation 
 /// An orientation interpolation not read (a cone, `ORICON..`, or a curve, `ORICURVE`: G group 51)
 /// until another of its group that is read (`ORIVECT`, `ORIPLANE`, `ORIAXES`).
 pub(crate) const SIN_ORIENT: Rule = Rule { what: "an orientation interpolation not read", until: Some("ORIVECT, ORIPLANE or ORIAXES"), ..SIN_FRAME };
-/// 3D tool radius compensation (`CUT3DC` ..., `CUT2DF`) until `CUT2D`.
-pub(crate) const SIN_COMP3D: Rule = Rule { what: "3D tool radius compensation not read", until: Some("CUT2D"), ..SIN_FRAME };
 /// A feed profile over the block (`FLIN`, `FCUB`, `FPO`) until `FNORM`: feed moves only.
 pub(crate) const SIN_FEED: Rule = Rule { what: "a feed profile over the block not read", until: Some("FNORM"), feed_only: true, ..SIN_FRAME };
 /// Fanuc's coordinate modes refused here, whose axis words mean other things until their cancel

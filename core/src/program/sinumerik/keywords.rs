@@ -42,16 +42,20 @@ pub(super) struct Lasting {
 
 /// The 840D's lasting statements not read (Fundamentals and Job Planning: frames until TRANS/ROT,
 /// transformations until TRAFOOF, the orientation interpolation's G group 51 until another of it,
-/// 3D compensation until CUT2D, the feed profile until FNORM). An orientation interpolation reaches
+/// the feed profile until FNORM; 3D compensation, which acts only under G41/G42, is the reader's
+/// [`COMP3D`]). An orientation interpolation reaches
 /// the programmed orientation at each block's end (its path between differs), a feed profile only
 /// times the path: neither leaves a position unknown.
-pub(super) const LASTING: [Lasting; 5] = [
+pub(super) const LASTING: [Lasting; 4] = [
     Lasting { names: &["SCALE", "ASCALE", "MIRROR", "AMIRROR", "ROTS", "AROTS", "CROTS"], rule: &crate::program::interp::SIN_FRAME, ends: &["TRANS", "ROT"], linear: true, rotary: false },
     Lasting { names: &["TRANSMIT", "TRACYL", "TRAANG", "TRAORI"], rule: &crate::program::interp::SIN_TRANSFORM, ends: &["TRAFOOF"], linear: true, rotary: true },
     Lasting { names: &["ORICONCW", "ORICONCCW", "ORICONTO", "ORICONIO", "ORICURVE"], rule: &crate::program::interp::SIN_ORIENT, ends: &["ORIVECT", "ORIPLANE", "ORIAXES"], linear: false, rotary: false },
-    Lasting { names: &["CUT3DC", "CUT3DF", "CUT3DFS", "CUT3DFF", "CUT3DCC", "CUT3DCCD", "CUT2DF"], rule: &crate::program::interp::SIN_COMP3D, ends: &["CUT2D"], linear: true, rotary: false },
     Lasting { names: &["FLIN", "FCUB", "FPO"], rule: &crate::program::interp::SIN_FEED, ends: &["FNORM"], linear: false, rotary: false },
 ];
+
+/// 3D tool radius compensation's statements (`CUT3DC` ..., `CUT2DF`), not read, in force until `CUT2D`:
+/// they act only with tool radius compensation on (G41/G42), so only compensated blocks are refused.
+pub(super) const COMP3D: [&str; 7] = ["CUT3DC", "CUT3DF", "CUT3DFS", "CUT3DFF", "CUT3DCC", "CUT3DCCD", "CUT2DF"];
 
 /// The lasting statement `name` is one of, if any.
 pub(super) fn lasting(name: &str) -> Option<&'static Lasting> {

@@ -82,6 +82,9 @@ pub(crate) struct SinumerikReader {
     pub(super) stopped: bool,
     /// The line refused a call the control runs (a program, a cycle not read): its name.
     called_unread: Option<String>,
+    /// 3D tool radius compensation (`CUT3DC` ..., refused) in force on the control until `CUT2D`: its
+    /// line and name ([`keywords::COMP3D`]).
+    comp3d: Option<(usize, String)>,
 }
 
 impl SinumerikReader {
@@ -100,6 +103,7 @@ impl SinumerikReader {
             returned: false,
             stopped: false,
             called_unread: None,
+            comp3d: None,
         }
     }
 
@@ -160,6 +164,7 @@ impl super::stream::LineReader for SinumerikReader {
         // G58/G59 (the programmable frame's translation, refused: held as a frame).
         let ends: Vec<String> = lexed.keywords.iter().filter(|k| !matches!(k.name.as_str(), "TRANS" | "ROT") && LASTING.iter().any(|l| l.ends.contains(&k.name.as_str()))).map(|k| k.name.to_string()).collect();
         let frame_g = lexed.frame_g;
+        let comp3d = lexed.keywords.iter().find(|k| keywords::COMP3D.contains(&k.name.as_str())).map(|k| k.name.to_string());
         // A lasting statement (a frame, a transformation ...): if refused, the control's holds the
         // moves after it until a statement that ends it is read ([`keywords::LASTING`]).
         let lasting: Vec<(String, &'static keywords::Lasting)> = lexed.keywords.iter().filter_map(|k| keywords::lasting(&k.name).map(|l| (k.name.to_string(), l))).collect();
@@ -228,6 +233,9 @@ impl super::stream::LineReader for SinumerikReader {
             }
             if let Some(g) = frame_g {
                 self.interp.hold_keyword(line, &format!("G{g}"), &crate::program::interp::SIN_FRAME);
+            }
+            if let Some(k) = comp3d.clone() {
+                self.comp3d = Some((line, k));
             }
             if let Some(name) = self.called_unread.take() {
                 self.interp.moved_everywhere(line, &name, "a call not read, which the control runs");
@@ -390,7 +398,7 @@ impl SinumerikReader {
                 }
                 "SUPA" => machine_coords = Some((k.col, "SUPA")),
                 // 2D compensation in the plane G17-G19 sets (the reset state), collision detection off.
-                "CUT2D" => self.end_holds("CUT2D"),
+                "CUT2D" => self.comp3d = None,
                 "CDOF" => {}
                 "MCALL" => self.modal_call(keywords.next(), line, diags),
                 // A call's other words are its own (`CALL BLOCK LABEL1 TO LABEL0`, Autodesk's posts'
@@ -504,8 +512,10 @@ impl SinumerikReader {
         let col = words.iter().map(|w| w.column).min().unwrap_or(first_col).min(first_col);
         if self.trc.busy() || selecting {
             // The holds: under compensation a held block's path and the corners after it are not
-            // known, so the reading stops there, once (as compensation that cannot go on does).
-            if let Some((c, why)) = self.interp.held(&words) {
+            // known, so the reading stops there, once (as compensation that cannot go on does); so
+            // under 3D compensation, which is not read.
+            let comp3d = self.comp3d.as_ref().map(|(l, k)| (col, format!("a compensated move while line {l}'s {k} (3D tool radius compensation, not read) is in force on the control until CUT2D")));
+            if let Some((c, why)) = self.interp.held(&words).or(comp3d) {
                 diags.error(line, c, format!("{why}; under tool radius compensation (G41/G42) the compensated path from here is not known, so the rest of the program is not read"));
                 self.trc.engine = crate::program::cutter_comp::TncComp::default();
                 self.stopped = true;
