@@ -262,11 +262,14 @@ fn sinumerik_reads_traori_vectors_frames_and_arcs() {
 
 #[test]
 fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
-    let text = "N10 G1 X1 F100\nN20 ROT C45\nN30 CYCLE800(1,\"TC1\",0,57,0,0,0,0,0,0,0,0,0,1)\nN40 X=R1+5\nN50 G42 X2\n\
-                N60 A3=0 B3=0 C3=1\nN70 EXTCALL(\"SUB\")\nN80 X=DC(5)\nN90 TRAORI\nN100 A3=0 B3=0 C3=0\nN110 X3 A3=0 B3=0 C3=1 C=5\nN120 ORICONCW\n/1 N130 X4\n";
+    // (A refused CYCLE800 holds every later move: it comes last.)
+    let text = "N10 G1 X1 F100\nN20 ROT C45\nN30 G1 Y=R9\nN40 X=R1+5\nN50 G42 X2\n\
+                N60 A3=0 B3=0 C3=1\nN70 EXTCALL(\"SUB\")\nN80 X=DC(5)\nN90 TRAORI\nN100 A3=0 B3=0 C3=0\nN110 X3 A3=0 B3=0 C3=1 C=5\nN120 ORICONCW\n/1 N130 X4\n\
+                N140 CYCLE800(1,\"TC1\",0,57,0,0,0,0,0,0,0,0,0,1)\n";
     let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
     has(&p, 2, 9, "ROT block");
-    has(&p, 3, 5, "CYCLE800");
+    has(&p, 3, 10, "R9 is read before this program sets it");
+    has(&p, 14, 6, "CYCLE800");
     has(&p, 4, 7, "R1 is read before this program sets it");
     has(&p, 5, 5, "no tool was loaded");
     has(&p, 6, 1, "without TRAORI");

@@ -383,3 +383,24 @@ fn ends_in_moving_lines_bare_mirror_g58_calls_and_reference_moves() {
     has(&p, 6, 4, "line 5's G53 (a move in machine coordinates)");
     assert_eq!(x_at(&p, 8), Some(2.0), "{:?}", errors(&p));
 }
+
+/// A refused `CYCLE800` swivels the control all the same: the moves after it are held until a
+/// `CYCLE800` is read, whose plane is taken but whose own moves (from where the control's swivel
+/// left the tool) are not made, said once; then X, Y, Z and the rotary axes are unknown until
+/// written absolute. On the Cincinnati FTV5 (its swivel data set R_DATA).
+#[test]
+fn a_refused_swivel_holds_until_a_swivel_is_read() {
+    let ftv5 = fiveaxis::machine::Machine::builtin("cincinnati-ftv5").unwrap();
+    let on = ReadOptions::default().on(&ftv5);
+    let text = "G90 G71 G94\nG0 X0 Y0 Z100\nCYCLE800(0,\"WRONG\",0,57,0,0,0,30,0,0,0,0,0,1)\nG1 X10 F100\nCYCLE800(0,\"R_DATA\",0,57,0,0,0,0,0,0,0,0,0,1)\nG0 X1\n\
+                G0 X0 Y0 Z100 A0 C0\nG0 X2\nM30\n";
+    let p = read(text, Dialect::Sinumerik, "t.mpf", &on);
+    let mut lines = error_lines(&p);
+    lines.dedup();
+    assert_eq!(lines, [3, 4, 5, 6, 7], "{:?}", errors(&p));
+    has(&p, 4, 4, "line 3's CYCLE800 (a swivel (CYCLE800) not read) is in effect on the control until a CYCLE800 that is read");
+    has(&p, 5, 1, "CYCLE800 after a refused CYCLE800: the plane it sets is read");
+    has(&p, 6, 4, "a move from where the moves under line 3's CYCLE800");
+    assert!(p.blocks.iter().all(|b| b.line != 5 || b.targets.is_empty()), "line 5 made no move");
+    assert_eq!(x_at(&p, 8), Some(2.0), "{:?}", errors(&p));
+}

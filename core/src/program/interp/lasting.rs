@@ -103,6 +103,8 @@ pub(crate) const SIN_TRANSFORM: Rule = Rule { what: "a kinematic transformation 
 /// An orientation interpolation not read (a cone, `ORICON..`, or a curve, `ORICURVE`: G group 51)
 /// until another of its group that is read (`ORIVECT`, `ORIPLANE`, `ORIAXES`).
 pub(crate) const SIN_ORIENT: Rule = Rule { what: "an orientation interpolation not read", until: Some("ORIVECT, ORIPLANE or ORIAXES"), ..SIN_FRAME };
+/// A swivel `CYCLE800` refused (the control swivels all the same) until a `CYCLE800` that is read.
+pub(crate) const SIN_SWIVEL: Rule = Rule { what: "a swivel (CYCLE800) not read", until: Some("a CYCLE800 that is read"), ..SIN_FRAME };
 /// A feed profile over the block (`FLIN`, `FCUB`, `FPO`) until `FNORM`: feed moves only.
 pub(crate) const SIN_FEED: Rule = Rule { what: "a feed profile over the block not read", until: Some("FNORM"), feed_only: true, ..SIN_FRAME };
 /// Fanuc's coordinate modes refused here, whose axis words mean other things until their cancel
@@ -444,6 +446,11 @@ impl Interpreter {
             }
             self.moved_unread(l.line, &l.named(), l.rule.what, all);
         }
+    }
+
+    /// Whether a hold of `rule` is in effect.
+    pub(crate) fn held_by(&self, rule: &Rule) -> bool {
+        self.lasting.iter().any(|l| l.rule.what == rule.what)
     }
 
     /// A call the control runs and this reader does not (`name`, `what`): every axis (X Y Z and the

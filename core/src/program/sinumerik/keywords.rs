@@ -46,10 +46,12 @@ pub(super) struct Lasting {
 /// [`COMP3D`]). An orientation interpolation reaches
 /// the programmed orientation at each block's end (its path between differs), a feed profile only
 /// times the path: neither leaves a position unknown.
-pub(super) const LASTING: [Lasting; 4] = [
+pub(super) const LASTING: [Lasting; 5] = [
     Lasting { names: &["SCALE", "ASCALE", "MIRROR", "AMIRROR", "ROTS", "AROTS", "CROTS"], rule: &crate::program::interp::SIN_FRAME, ends: &["TRANS", "ROT"], linear: true, rotary: false },
     Lasting { names: &["TRANSMIT", "TRACYL", "TRAANG", "TRAORI"], rule: &crate::program::interp::SIN_TRANSFORM, ends: &["TRAFOOF"], linear: true, rotary: true },
     Lasting { names: &["ORICONCW", "ORICONCCW", "ORICONTO", "ORICONIO", "ORICURVE"], rule: &crate::program::interp::SIN_ORIENT, ends: &["ORIVECT", "ORIPLANE", "ORIAXES"], linear: false, rotary: false },
+    // A swivel refused: ended by a CYCLE800 that is read ([`super::SinumerikReader`]'s), not by a name.
+    Lasting { names: &["CYCLE800"], rule: &crate::program::interp::SIN_SWIVEL, ends: &[], linear: true, rotary: true },
     Lasting { names: &["FLIN", "FCUB", "FPO"], rule: &crate::program::interp::SIN_FEED, ends: &["FNORM"], linear: false, rotary: false },
 ];
 

@@ -410,10 +410,27 @@ impl SinumerikReader {
                     break;
                 }
                 // What a swivel or a cycle moves is held as a move is ([`Interpreter::holding`]).
-                name if (name == "CYCLE800" || cycles::Cycle::from_name(name).is_some()) && self.interp.holding().is_some() => {
+                // (A swivel after a refused one is read for the plane it sets: below.)
+                name if (name == "CYCLE800" || cycles::Cycle::from_name(name).is_some())
+                    && self.interp.holding().is_some()
+                    && !(name == "CYCLE800" && self.interp.held_by(&crate::program::interp::SIN_SWIVEL)) =>
+                {
                     let why = self.interp.holding().unwrap_or_default();
                     diags.error(line, k.col, format!("{}: {why}", k.name));
                     break;
+                }
+                // After a refused swivel: this one sets the plane the control has from here (read),
+                // but its moves start where the control's swivel left the tool, so they are not made
+                // (said without refusing the line, whose plane stands), and the axes stay unknown
+                // until written absolute.
+                "CYCLE800" if self.interp.held_by(&crate::program::interp::SIN_SWIVEL) => {
+                    let (start, errors) = (out.len(), diags.errors());
+                    self.swivel(&k, line, number, out, diags);
+                    if diags.errors() == errors {
+                        out.truncate(start);
+                        self.corner_diags.error(line, k.col, "CYCLE800 after a refused CYCLE800: the plane it sets is read, but its moves start where the control's swivel left the tool, which is not known, so they are not read");
+                        self.interp.end_keyword_hold(&crate::program::interp::SIN_SWIVEL, [true; 3], true);
+                    }
                 }
                 "CYCLE800" => self.swivel(&k, line, number, out, diags),
                 "CYCLE832" => self.high_speed_settings(&k, line, diags),
