@@ -328,7 +328,7 @@ fn select_extra_offset<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: 
     let (p, column, said) = if code == 541 || code == 1540 {
         c.uses.push('P');
         // Fanuc's P1-P48 (P300 with the option); Haas' G154 (and G54.1) P1-P99.
-        let most = if before.dialect == Dialect::Fanuc { 300.0 } else { 99.0 };
+        let most = extra_offsets_most(before.dialect);
         match words.iter().find(|p| p.letter == 'P') {
             Some(p) if p.value.fract() == 0.0 && (1.0..=most).contains(&p.value) => (p.value as u32, p.column, format!(" P{}", p.raw)),
             Some(p) if before.dialect == Dialect::Haas => return diags.error(line, p.column, format!("G{} P{}: expected P1 to P99 (an additional work offset)", w.raw, p.raw)),
@@ -337,7 +337,7 @@ fn select_extra_offset<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: 
             None => return diags.error(line, w.column, format!("G{} without P: expected P1 to P48 (an additional work offset)", w.raw)),
         }
     } else {
-        ((code / 10 - 109) as u32, w.column, String::new())
+        (haas_offset_p(code), w.column, String::new())
     };
     if let Some(at) = before.offset_refused(f64::from(p)) {
         return diags.error(line, column, format!("G{}{said}: line {at}'s G10 L20 P{p} set this offset, and was refused (not read): the moves in it are not read either", w.raw));
@@ -359,10 +359,21 @@ pub(crate) fn extra_offset_selected(dialect: Dialect, words: &[Word]) -> Option<
         let named = w.raw.trim_start_matches('0').to_string();
         match (dialect, code) {
             (Dialect::Fanuc | Dialect::Haas, 541) | (Dialect::Haas, 1540) => p.map(|p| (p as u32, named)),
-            (Dialect::Haas, 1100..=1290) if code % 10 == 0 => Some(((code / 10 - 109) as u32, named)),
+            (Dialect::Haas, 1100..=1290) if code % 10 == 0 => Some((haas_offset_p(code), named)),
             _ => None,
         }
     })
+}
+
+/// The additional offset Haas' `G110`-`G129` (code × 10) name: P1-P20, as `G154 P1`-`P20` (Haas,
+/// "Programmable Offsets").
+fn haas_offset_p(code_x10: i64) -> u32 {
+    (code_x10 / 10 - 109) as u32
+}
+
+/// The highest additional work offset P: Fanuc's P300 (P1-P48 without the option), Haas' P99.
+pub(super) fn extra_offsets_most(dialect: Dialect) -> f64 {
+    if dialect == Dialect::Haas { 99.0 } else { 300.0 }
 }
 
 /// Haas' additional work offsets: `G154` (with P1-P99) and `G110`-`G129`.

@@ -178,6 +178,12 @@ impl Lasting {
     fn named(&self) -> String {
         if self.rule.letter == '_' { self.code.clone() } else { format!("{}{}", self.rule.letter, self.code) }
     }
+
+    /// The hold as messages say it: `line 5's G41 (cutter radius compensation) is in effect on the
+    /// control until G40`.
+    fn in_effect(&self) -> String {
+        format!("line {}'s {} ({}) is in effect on the control until {}", self.line, self.named(), self.rule.what, self.rule.until())
+    }
 }
 
 /// Rules are one by what they are and their codes (the reset's function is no identity).
@@ -262,6 +268,19 @@ pub(crate) struct Stale {
 /// What a block refused for a TNC M function not read that the control runs did ([`Interpreter::block`]).
 pub(crate) const RAN_UNREAD: &str = "an M function not read, which the control runs";
 
+/// The axes (X Y Z A B C) a block refused for the TNC's M function `m`, which the TNC runs, leaves
+/// unknown: those it names (`named`), X Y Z too for a cycle call (M89/M99), and the machine's rotary
+/// axes (`rotary`, A B C) for M94, which reduces their display. Both TNC readers' rule.
+pub(crate) fn ran_unread_axes(m: i64, named: [bool; 6], rotary: [bool; 3]) -> [bool; 6] {
+    let mut axes = named;
+    match m {
+        89 | 99 => axes[..3].fill(true),
+        94 => (0..3).for_each(|k| axes[3 + k] |= rotary[k]),
+        _ => {}
+    }
+    axes
+}
+
 /// What a block does under the holds: its G and M codes (× 10), the word a move is said at.
 struct Look {
     g: Vec<i64>,
@@ -320,7 +339,7 @@ impl Interpreter {
             return Some((column, if cancelled {
                 format!("{cancel} with a move after line {}'s {named} ({}), which was refused: the control starts this move {from}, which is not known", l.line, l.rule.what)
             } else {
-                format!("a move while line {}'s {named} ({}) is in effect on the control until {cancel}: that block was refused, so this move is not read as the control runs it", l.line, l.rule.what)
+                format!("a move while {}: that block was refused, so this move is not read as the control runs it", l.in_effect())
             }));
         }
         let s = self.stale.as_ref()?;
@@ -360,9 +379,7 @@ impl Interpreter {
                 axes[..3].fill(true);
             }
             if [TILT.what, TNC_G[3].what, POLAR_INTERP.what].contains(&l.rule.what) {
-                for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
-                    axes[3 + k] = true;
-                }
+                axes = self.with_rotary(axes);
             }
             self.moved_unread(l.line, &l.named(), l.rule.what, axes);
         }
@@ -429,8 +446,13 @@ impl Interpreter {
     /// The 840D's statement `name` refused at `line`, whose effect lasts ([`SIN_FRAME`] and the
     /// like): the moves are held until a statement the reader reads ends it ([`Interpreter::end_keyword_hold`]).
     pub(crate) fn hold_keyword(&mut self, line: usize, name: &str, rule: &'static Rule) {
+        self.hold(line, name.to_string(), rule);
+    }
+
+    /// A hold of `rule` from `line`'s `code`, in place of one of the same rule.
+    fn hold(&mut self, line: usize, code: String, rule: &'static Rule) {
         self.lasting.retain(|l| l.rule.what != rule.what);
-        self.lasting.push(Lasting { line, code: name.to_string(), rule });
+        self.lasting.push(Lasting { line, code, rule });
     }
 
     /// A statement read ends the hold of `rule`: the axes its held moves displaced (`axes`, X Y Z A B C;
@@ -438,12 +460,8 @@ impl Interpreter {
     pub(crate) fn end_keyword_hold(&mut self, rule: &'static Rule, axes: [bool; 3], rotary: bool) {
         if let Some(k) = self.lasting.iter().position(|l| l.rule.what == rule.what) {
             let l = self.lasting.remove(k);
-            let mut all = [axes[0], axes[1], axes[2], false, false, false];
-            if rotary {
-                for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
-                    all[3 + k] = true;
-                }
-            }
+            let linear = [axes[0], axes[1], axes[2], false, false, false];
+            let all = if rotary { self.with_rotary(linear) } else { linear };
             self.moved_unread(l.line, &l.named(), l.rule.what, all);
         }
     }
@@ -456,18 +474,30 @@ impl Interpreter {
     /// A call the control runs and this reader does not (`name`, `what`): every axis (X Y Z and the
     /// machine's rotary axes) is where this reader does not know.
     pub(crate) fn moved_everywhere(&mut self, line: usize, name: &str, what: &'static str) {
-        let mut axes = [true, true, true, false, false, false];
-        for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
-            axes[3 + k] = true;
-        }
+        let axes = self.with_rotary([true, true, true, false, false, false]);
         self.moved_unread(line, name, what, axes);
+    }
+
+    /// The machine's rotary axes among A B C.
+    pub(crate) fn rotary_axes(&self) -> [bool; 3] {
+        let mut r = [false; 3];
+        for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
+            r[k] = true;
+        }
+        r
+    }
+
+    /// `axes` (X Y Z A B C) with the machine's rotary axes too.
+    fn with_rotary(&self, axes: [bool; 6]) -> [bool; 6] {
+        let r = self.rotary_axes();
+        [axes[0], axes[1], axes[2], axes[3] || r[0], axes[4] || r[1], axes[5] || r[2]]
     }
 
     /// The first hold in effect, or the axes left unknown, as a message says it, whatever the block
     /// moves (for statements that move by what they call: a cycle, a swivel).
     pub(crate) fn holding(&self) -> Option<String> {
         if let Some(l) = self.lasting.first() {
-            return Some(format!("line {}'s {} ({}) is in effect on the control until {}: that block was refused, so what this one moves is not read as the control runs it", l.line, l.named(), l.rule.what, l.rule.until()));
+            return Some(format!("{}: that block was refused, so what this one moves is not read as the control runs it", l.in_effect()));
         }
         let s = self.stale.as_ref()?;
         Some(format!("the moves under line {}'s {} ({}) left the tool where this reader does not know, until {} written absolute", s.line, s.name, s.what, axes_said(s.axes)))
@@ -475,9 +505,8 @@ impl Interpreter {
 
     /// Moves held in an additional work offset a refused `G10 L20` set (`code` the refused block's).
     fn hold_offset(&mut self, line: usize, code: &str) {
-        self.lasting.retain(|l| l.rule.what != WORK.what);
         let rule = if self.dialect == Dialect::Haas { &WORK_HAAS } else { &WORK };
-        self.lasting.push(Lasting { line, code: code.to_string(), rule });
+        self.hold(line, code.to_string(), rule);
     }
 
     /// The refused `G10 L20` that set the additional work offset `p`, if any (its line).
@@ -488,8 +517,7 @@ impl Interpreter {
     /// A canned cycle refused for what is not read (`code` as the control names it, `87`): the
     /// control runs it at every later position until its cancel.
     pub(crate) fn hold_cycle(&mut self, line: usize, code: &str) {
-        self.lasting.retain(|l| l.rule.what != CYCLE.what);
-        self.lasting.push(Lasting { line, code: code.to_string(), rule: &CYCLE });
+        self.hold(line, code.to_string(), &CYCLE);
     }
 
     /// After a block is refused: its codes that the control keeps in effect (until their cancel).
@@ -509,12 +537,11 @@ impl Interpreter {
                 if !damaged && rule.reset.is_some_and(|reset| reset(words)) {
                     continue;
                 }
-                self.lasting.retain(|l| l.rule.what != rule.what);
                 let code = w.raw.trim_start_matches('0').to_string();
                 if rule.feed_only {
                     self.moved_unread(line, &format!("{}{code}", rule.letter), rule.what, axes_named(self.dialect, words));
                 }
-                self.lasting.push(Lasting { line, code, rule });
+                self.hold(line, code, rule);
             }
         }
     }
@@ -551,10 +578,7 @@ impl Interpreter {
         if let (true, Some((w, what))) = (self.dialect.is_rs274_family(), moved) {
             let mut axes = axes_named(self.dialect, words);
             if !axes.contains(&true) && (self.dialect == Dialect::Rs274 || self.dialect == Dialect::Haas && codes::x10(w) == 280) {
-                axes[..3].fill(true);
-                for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
-                    axes[3 + k] = true;
-                }
+                axes = self.with_rotary([true, true, true, false, false, false]);
             }
             self.moved_unread(line, &format!("G{}", w.raw.trim_start_matches('0')), what, axes);
         }

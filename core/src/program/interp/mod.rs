@@ -13,7 +13,7 @@ mod codes;
 mod frame;
 mod g_codes;
 mod lasting;
-pub(crate) use lasting::{axes_named, axes_said, tnc_m_rule, Rule, SIN_FEED, SIN_SWIVEL, SIN_FRAME, SIN_ORIENT, SIN_TRANSFORM};
+pub(crate) use lasting::{axes_named, axes_said, ran_unread_axes, tnc_m_rule, Rule, SIN_FEED, SIN_SWIVEL, SIN_FRAME, SIN_ORIENT, SIN_TRANSFORM};
 pub(crate) use g_codes::haas_extra_offset;
 mod modal;
 mod offsets;
@@ -597,17 +597,7 @@ impl Interpreter {
         self.moved_in_unread_mode(axes_named(self.dialect, words));
         // (A lasting one holds the moves instead, [`lasting`].)
         if let Some((l, m)) = self.ran_unread.take().filter(|&(l, m)| l == line && lasting::tnc_m_rule(m).is_none()) {
-            let mut axes = axes_named(self.dialect, words);
-            match m {
-                89 | 99 => axes[..3].fill(true),
-                // M94 reduces the rotary axes' display: their positions are the TNC's, not these.
-                94 => {
-                    for k in self.rotary_letters.iter().flatten().filter_map(|c| "ABC".find(*c)) {
-                        axes[3 + k] = true;
-                    }
-                }
-                _ => {}
-            }
+            let axes = lasting::ran_unread_axes(m, axes_named(self.dialect, words), self.rotary_axes());
             self.moved_unread(l, &format!("M{m}"), lasting::RAN_UNREAD, axes);
         }
         self.refused(words, line);

@@ -112,7 +112,7 @@ impl Interpreter {
     /// to the offset, which no manual at hand says for these); rotary offsets only where zero.
     fn set_extra_offset(&self, words: &[Word], next: &mut Interpreter, line: usize, column: usize, diags: &mut Diags) {
         let word = |l: char| words.iter().find(|w| w.letter == l);
-        let (haas, most) = if self.dialect == Dialect::Haas { (true, 99.0) } else { (false, 300.0) };
+        let (haas, most) = (self.dialect == Dialect::Haas, super::g_codes::extra_offsets_most(self.dialect));
         let p = match word('P') {
             Some(w) if w.value.fract() == 0.0 && (1.0..=most).contains(&w.value) => w.value as u32,
             Some(w) => {

@@ -9,7 +9,7 @@
 
 use super::tilt::PlaneForm;
 use super::{Kind, Stmt, Val};
-use crate::program::interp::{axes_said, tnc_m_rule, Rule};
+use crate::program::interp::{axes_said, ran_unread_axes, tnc_m_rule, Rule};
 use crate::program::lex::{upper, Diags};
 use crate::program::Block;
 
@@ -307,23 +307,18 @@ impl Holds {
             for rule in codes().filter_map(tnc_m_rule) {
                 self.hold(What::Modal(rule), s.line, [true; 3]);
             }
-            // (A lasting one holds the moves instead, above.)
             // (A lasting one holds the moves instead, above; a feed mode's own move went where the
             // reader did not.)
             if let Some((line, m)) = ran_unread.filter(|(l, m)| *l == s.line && tnc_m_rule(*m).is_none_or(|r| r.feed_only())) {
-                let r = self.rotary;
-                let mut axes = match m {
-                    89 | 99 => [true, true, true, false, false, false],
-                    94 => [false, false, false, r[0], r[1], r[2]],
-                    _ => [false; 6],
-                };
+                let mut named = [false; 6];
                 if let Kind::Move { axes: words, .. } = &s.kind {
                     for w in words {
                         if let Some(k) = ["X", "Y", "Z", "A", "B", "C"].iter().position(|a| *a == w.addr.trim_start_matches('I')) {
-                            axes[k] = true;
+                            named[k] = true;
                         }
                     }
                 }
+                let axes = ran_unread_axes(m, named, self.rotary);
                 if axes.contains(&true) {
                     self.unknown(axes, line, What::Ran(m));
                 }

@@ -168,18 +168,13 @@ impl super::stream::LineReader for SinumerikReader {
         // A lasting statement (a frame, a transformation ...): if refused, the control's holds the
         // moves after it until a statement that ends it is read ([`keywords::LASTING`]).
         let lasting: Vec<(String, &'static keywords::Lasting)> = lexed.keywords.iter().filter_map(|k| keywords::lasting(&k.name).map(|l| (k.name.to_string(), l))).collect();
+        let axes = crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words);
         if diags.errors() > errors_before {
             if let Some(k) = unread_motion {
-                let axes = crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words);
                 self.interp.forget_motion(line, k, unread_what(k), axes);
             }
-            for (name, l) in &lasting {
-                self.interp.hold_keyword(line, name, l.rule);
-            }
-            if let Some(g) = lexed.frame_g {
-                self.interp.hold_keyword(line, &format!("G{g}"), &crate::program::interp::SIN_FRAME);
-            }
-            self.moved_unread_g(refused_move, crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words), line);
+            self.hold_refused(&lasting, frame_g, line);
+            self.moved_unread_g(refused_move, axes, line);
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             let held = self.corners.interrupt("the block after it was not read", diags);
@@ -207,7 +202,6 @@ impl super::stream::LineReader for SinumerikReader {
         // A refused block's feed does not take effect: a later move without one names it
         // ([`Interpreter::after_refused_feed`]; of a refused block's other words the 840D reader says nothing).
         let feed_word = lexed.words.iter().any(|w| w.letter == 'F');
-        let axes = crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words);
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             self.corners.drop_words();
             if let Some(saved) = saved {
@@ -228,13 +222,8 @@ impl super::stream::LineReader for SinumerikReader {
             for name in &ends {
                 self.end_holds(name);
             }
-            for (name, l) in &lasting {
-                self.interp.hold_keyword(line, name, l.rule);
-            }
-            if let Some(g) = frame_g {
-                self.interp.hold_keyword(line, &format!("G{g}"), &crate::program::interp::SIN_FRAME);
-            }
-            if let Some(k) = comp3d.clone() {
+            self.hold_refused(&lasting, frame_g, line);
+            if let Some(k) = comp3d {
                 self.comp3d = Some((line, k));
             }
             if let Some(name) = self.called_unread.take() {
@@ -562,6 +551,17 @@ impl SinumerikReader {
             self.interp.forget_motion(line, &name, what, axes);
         } else {
             self.interp.moved_unread(line, &name, what, axes);
+        }
+    }
+
+    /// A refused line's lasting statements (`lasting`, [`keywords::LASTING`]) and axial offset
+    /// (`frame_g`, G58/G59): the control runs them, so they hold the moves after it.
+    fn hold_refused(&mut self, lasting: &[(String, &'static keywords::Lasting)], frame_g: Option<&str>, line: usize) {
+        for (name, l) in lasting {
+            self.interp.hold_keyword(line, name, l.rule);
+        }
+        if let Some(g) = frame_g {
+            self.interp.hold_keyword(line, &format!("G{g}"), &crate::program::interp::SIN_FRAME);
         }
     }
 
