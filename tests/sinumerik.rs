@@ -180,13 +180,15 @@ fn circle_end_points_within_the_840ds_tolerance() {
 /// Z'' 150 at A 54.736, C 45. NX's post for the DMU 70 eVo writes the same part's operations with the
 /// table at B54.19 C1825.111 and B81.101 C103.826: on that machine's kinematics the tool in the part
 /// points the same way, to 0.001 deg (the DMU's turning senses were read off these two planes, so the
-/// agreement of both tilts and azimuths is the check).
+/// agreement of both tilts and azimuths is the check). NX's `TRAOOF` before each swivel, a call of a
+/// program not given (whose moves would leave the swivel's start unknown), is read as the `TRAFOOF`
+/// it stands for.
 #[test]
 fn cycle800_swivels_the_ftv5_as_the_dmu70_program_tilts_the_same_part() {
     let ftv5 = Machine::builtin("cincinnati-ftv5").unwrap();
     let dmu = Machine::builtin("dmg-dmu-70-evo").unwrap();
     let file = common::outside("programs/sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf");
-    let text = std::fs::read_to_string(&file).unwrap();
+    let text = std::fs::read_to_string(&file).unwrap().replace("\nTRAOOF", "\nTRAFOOF");
     let p = read(&text, Dialect::Sinumerik, "ftv5.mpf", &ReadOptions::default().on(&ftv5));
     let deg = fiveaxis::units::DEG;
     for (line, a, c, dmu_b, dmu_c) in [(363, 37.576, -45.0, 54.19, 1825.111), (389, 54.736, 45.0, 81.101, 103.826)] {
@@ -225,17 +227,65 @@ fn ac_and_ic_dimension_their_word_only() {
 /// The 840D's subprogram calls of programs not given with this one (NC programming 12/2019 §3.2.1.2:
 /// a name alone in its block, `L47`, `CALL "NAME"`) are refused at
 /// their column, saying what they call and where it was looked for: the motion would depend on it.
+/// The control runs them, so every axis is unknown after them: the move after them is refused (it
+/// starts where the calls left the tool), and one writing every axis absolute is read again.
 #[test]
 fn subprogram_calls_name_the_program_they_call() {
-    let p = read("G90 G71\nG0 X0 Y0 Z50\nCALL \"SUB1\"\nSUB1\nL100\nG1 X10 F100\nM30\n", Dialect::Sinumerik, "calls.mpf", &ReadOptions::default());
+    let p = read("G90 G71\nG0 X0 Y0 Z50\nCALL \"SUB1\"\nSUB1\nL100\nG1 X10 F100\nG0 X0 Y0 Z50\nG1 X20\nM30\n", Dialect::Sinumerik, "calls.mpf", &ReadOptions::default());
     let e = errors(&p);
-    assert_eq!(e.len(), 3, "{e:?}");
+    assert_eq!(e.len(), 5, "{e:?}");
     assert_eq!((e[0].0, e[0].1), (3, 1));
     assert!(e[0].2.contains("a call of the subprogram SUB1, whose file (SUB1.SPF)"), "{e:?}");
     assert_eq!((e[1].0, e[1].1), (4, 1));
     assert!(e[1].2.contains("a call of the subprogram SUB1, whose file (SUB1.SPF) is neither beside the program nor in a directory of --subroutine-path"), "{e:?}");
     assert_eq!((e[2].0, e[2].1), (5, 1));
     assert!(e[2].2.contains("a call of the subprogram L100"), "{e:?}");
+    assert_eq!((e[3].0, e[3].1), (6, 4));
+    assert!(e[3].2.contains("a move from where the moves under line 5's L100") && e[3].2.ends_with("once X, Y and Z are written absolute"), "{e:?}");
+    assert_eq!((e[4].0, e[4].1), (7, 4));
+    assert!(e[4].2.contains("once Y and Z are written absolute"), "{e:?}");
+    let after = blocks_of(&p, 8);
+    assert!(after.len() == 1 && close(after[0].targets.x, 20.0), "{after:?}");
+}
+
+/// A swivel after a call not read, which leaves every axis unknown: the plane it sets is read, its
+/// own moves are not (they start where the call left the tool). With `_FR` 1 and `_DIR` +1 it
+/// retracts Z to the data set's position and turns the rotary axes to the plane's, which are known
+/// after it, so the first move waits for X and Y only; with `_DIR` 0 it turns nothing (Operating
+/// Manual §10.6: "no rotary axis positioning"), so A and C stay unknown.
+#[test]
+fn a_swivel_after_a_call_not_read_sets_its_plane_and_places_what_it_moves() {
+    let ftv5 = Machine::builtin("cincinnati-ftv5").unwrap();
+    let run = |dir: i32| {
+        let text = format!("G90 G71\nG0 X0 Y0 Z50\nSUB1\nCYCLE800(1,\"R_DATA\",0,57,0,0,0,30,0,0,0,0,0,{dir},)\nG0 X1 Y2 Z3\nG1 X2 F100\nM30\n");
+        let p = read(&text, Dialect::Sinumerik, "swivel.mpf", &ReadOptions::default().on(&ftv5));
+        let e: Vec<(usize, String)> = errors(&p).into_iter().map(|(l, _, m)| (l, m)).collect();
+        (p, e)
+    };
+    let (p, e) = run(1);
+    assert_eq!(e.iter().map(|e| e.0).collect::<Vec<_>>(), [3, 4, 5], "{e:#?}");
+    assert!(e[1].1.contains("line 3's SUB1") && e[1].1.ends_with("the plane it sets is read, but its own moves, which start there, are not"), "{e:#?}");
+    assert!(e[2].1.ends_with("once X and Y are written absolute"), "{e:#?}");
+    assert!(blocks_of(&p, 4).is_empty(), "the swivel's moves are not made");
+    // The plane is read: the move after is in it (30 deg about X), through the head's kinematics.
+    let b = blocks_of(&p, 6);
+    assert!(b.len() == 1 && b[0].tcp && close(b[0].targets.x, 2.0), "{b:?}");
+    let (_, e) = run(0);
+    assert_eq!(e.iter().map(|e| e.0).collect::<Vec<_>>(), [3, 4, 5, 6], "{e:#?}");
+    assert!(e[2].1.ends_with("once X, Y, Z, A and C are written absolute"), "{e:#?}");
+    assert!(e[3].1.ends_with("once A and C are written absolute"), "{e:#?}");
+}
+
+/// `L47` among other words is refused with its line (the call stands alone in its block), and the
+/// call it makes leaves every axis unknown all the same.
+#[test]
+fn an_l_call_among_other_words_leaves_the_axes_unknown() {
+    let p = read("G90 G71\nG0 X0 Y0 Z50\nG0 X5 L47\nG1 Z10 F100\nG0 X1 Y2 Z3\nG1 Z4\nM30\n", Dialect::Sinumerik, "l.mpf", &ReadOptions::default());
+    let e = errors(&p);
+    assert_eq!(e.iter().map(|e| (e.0, e.1)).collect::<Vec<_>>(), [(3, 7), (4, 4), (5, 4)], "{e:?}");
+    assert!(e[0].2.contains("L47: a call of the subprogram L47"), "{e:?}");
+    assert!(e[1].2.contains("line 3's L47 (a call not read, which the control runs)"), "{e:?}");
+    assert!(close(blocks_of(&p, 6)[0].targets.z, 4.0), "{:?}", blocks_of(&p, 6));
 }
 
 /// Subprogram files through the CLI, as the 840D's search path finds them (NC programming 12/2019
@@ -263,7 +313,9 @@ fn subprograms_are_found_beside_the_program_and_on_the_subroutine_path() {
     let (code, all) = run(&[]);
     assert_eq!(code, Some(2), "{all}");
     assert!(all.contains("MAIN.MPF:4:5: error: L20: a call of the subprogram L20"), "{all}");
-    assert_eq!(all.matches(": error:").count(), 1, "{all}");
+    // The call the control makes leaves every axis unknown: N50 moves from an unknown point.
+    assert!(all.contains("MAIN.MPF:5:8: error: a move from where the moves under line 4's L20 (a subprogram not found, which the control runs)"), "{all}");
+    assert_eq!(all.matches(": error:").count(), 2, "{all}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

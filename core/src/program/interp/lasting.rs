@@ -471,6 +471,35 @@ impl Interpreter {
         self.lasting.iter().any(|l| l.rule.what == rule.what)
     }
 
+    /// The axes left unknown, set aside while a statement that places axes itself is read (a
+    /// swivel), to come back with [`Interpreter::restore_stale`].
+    pub(crate) fn take_stale(&mut self) -> Option<Stale> {
+        self.stale.take()
+    }
+
+    /// The axes set aside by [`Interpreter::take_stale`] unknown again, beside any left unknown since.
+    pub(crate) fn restore_stale(&mut self, stale: Option<Stale>) {
+        if let Some(s) = stale {
+            self.moved_unread(s.line, &s.name, s.what, s.axes);
+        }
+    }
+
+    /// A statement moved `placed` (X Y Z A B C) to positions this reader knows (absolute, or in
+    /// machine coordinates): they are no longer unknown.
+    pub(crate) fn placed(&mut self, placed: [bool; 6]) {
+        if let Some(s) = self.stale.as_mut() {
+            (0..6).filter(|&k| placed[k]).for_each(|k| s.axes[k] = false);
+            if s.axes == [false; 6] {
+                self.stale = None;
+            }
+        }
+    }
+
+    /// Whether the only thing holding the moves is axes left unknown (no hold in effect).
+    pub(crate) fn only_stale(&self) -> bool {
+        self.lasting.is_empty() && self.stale.is_some()
+    }
+
     /// A call the control runs and this reader does not (`name`, `what`): every axis (X Y Z and the
     /// machine's rotary axes) is where this reader does not know.
     pub(crate) fn moved_everywhere(&mut self, line: usize, name: &str, what: &'static str) {

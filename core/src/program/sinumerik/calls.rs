@@ -83,37 +83,39 @@ impl super::SinumerikReader {
 
     /// `CYCLE800` ([`swivel`]): the swivelled plane's frame, the retraction and the rotary axes
     /// turned to it as the data set's kinematics (the machine file's) give them, as blocks of this
-    /// line; `CYCLE800()` deselects it (the axes stay).
-    pub(super) fn swivel(&mut self, k: &Keyword<'_>, line: usize, number: Option<u64>, out: &mut Vec<Block>, diags: &mut Diags) {
+    /// line; `CYCLE800()` deselects it (the axes stay). Returns the axes (X Y Z A B C) it moved to
+    /// known positions: the retraction's, the rotary axes turned.
+    pub(super) fn swivel(&mut self, k: &Keyword<'_>, line: usize, number: Option<u64>, out: &mut Vec<Block>, diags: &mut Diags) -> [bool; 6] {
         let col = k.col;
         let args = match lex::call_arguments(k.args.unwrap_or(""), &mut self.vars) {
             Ok(a) => a,
-            Err((_, why)) => return diags.error(line, col, format!("CYCLE800: {why}")),
+            Err((_, why)) => return refused(diags.error(line, col, format!("CYCLE800: {why}"))),
         };
         let call = match swivel::decode(&args) {
             Ok(Some(c)) => c,
             Ok(None) => {
                 self.swivel = None;
-                return self.set_frame(self.frame);
+                self.set_frame(self.frame);
+                return [false; 6];
             }
-            Err(why) => return diags.error(line, col, format!("CYCLE800: {why}")),
+            Err(why) => return refused(diags.error(line, col, format!("CYCLE800: {why}"))),
         };
         let Some(machine) = self.machine.clone() else {
-            return diags.error(line, col, "CYCLE800: a swivel needs the machine's kinematics (--machine)");
+            return refused(diags.error(line, col, "CYCLE800: a swivel needs the machine's kinematics (--machine)"));
         };
         let Some(data) = machine.swivel.clone() else {
-            return diags.error(line, col, format!("CYCLE800: the machine file gives no swivel data set ([swivel]) for \"{}\"", call.data_set));
+            return refused(diags.error(line, col, format!("CYCLE800: the machine file gives no swivel data set ([swivel]) for \"{}\"", call.data_set)));
         };
         if !data.names.contains(&call.data_set) {
-            return diags.error(line, col, format!("CYCLE800: _TC \"{}\": the machine's swivel data set is {:?}", call.data_set, data.names));
+            return refused(diags.error(line, col, format!("CYCLE800: _TC \"{}\": the machine's swivel data set is {:?}", call.data_set, data.names)));
         }
         if self.interp.tcp() {
-            return diags.error(line, col, "CYCLE800 under TRAORI: a swivel with the transformation on (tool-tip follow-up) is not read; TRAFOOF first");
+            return refused(diags.error(line, col, "CYCLE800 under TRAORI: a swivel with the transformation on (tool-tip follow-up) is not read; TRAFOOF first"));
         }
         if self.swivel.is_none() && self.frame.rotated() {
             // How a new or additive swivel meets the programmable frame's rotation (which frames it
             // keeps, where its retraction in machine coordinates goes) is not in the pages at hand.
-            return diags.error(line, col, "CYCLE800 after a rotated frame (ROT, AROT, RPL) without a swivel before it: how the swivel meets the programmed rotation is not read; reset the frame first (ROT)");
+            return refused(diags.error(line, col, "CYCLE800 after a rotated frame (ROT, AROT, RPL) without a swivel before it: how the swivel meets the programmed rotation is not read; reset the frame first (ROT)"));
         }
         let unit = self.interp.unit();
         let letters: [char; 2] = [3, 4].map(|i| machine.axes[i].name.chars().next().unwrap_or('?').to_ascii_uppercase());
@@ -129,13 +131,14 @@ impl super::SinumerikReader {
             _ => plane,
         };
         // The axes' positions for the plane (its Z, with the programmable frame's rotation, along the tool).
+        let mut free = None;
         let rot = match call.turn {
             swivel::Turn::Direct(d) => Some(d.map(|v| v * DEG)),
             _ if call.direction == 0 => None,
             _ => {
                 let tilting = 3 + (1 - machine.chain.secondary_slot());
                 if data.direction_axis.is_some_and(|a| a != tilting) {
-                    return diags.error(line, col, "CYCLE800: _DIR referred to the swivel's other axis (swivel.direction_axis) is not modelled; the tilting axis is");
+                    return refused(diags.error(line, col, "CYCLE800: _DIR referred to the swivel's other axis (swivel.direction_axis) is not modelled; the tilting axis is"));
                 }
                 let plus = call.direction > 0;
                 let solve = |seq: bool| crate::program::plane::solve(&machine, &(plane.r * self.frame.r), current, crate::program::plane::Choice { seq: Some(seq), table_rot: None });
@@ -146,10 +149,11 @@ impl super::SinumerikReader {
                             diags.warning(line, col, format!("CYCLE800 _DIR={}: {why}; the control takes the other solution (Operating Manual §10.6: \"the alternative position is automatically selected\")", call.direction));
                             s
                         }
-                        Err(_) => return diags.error(line, col, format!("CYCLE800: {why}")),
+                        Err(_) => return refused(diags.error(line, col, format!("CYCLE800: {why}"))),
                     },
                 };
                 if let Some(pole) = sol.pole {
+                    free = Some(pole.free_axis);
                     let name = &machine.axes[pole.free_axis].name;
                     diags.warning(line, col, format!("CYCLE800 at the pole: the tool lies along {name}'s axis, which leaves {name} free (\"the NC calculates two solutions\"); read as staying at {:.3} deg: the program depends on the control here", pole.coord_rot.to_degrees()));
                 }
@@ -159,20 +163,22 @@ impl super::SinumerikReader {
         // The swivel before this one goes; the retraction, the axes turned, then the new plane.
         self.swivel = None;
         self.set_frame(self.frame);
+        let mut placed = [false; 6];
         let word = |letter: char, v: f64| Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, dimension: Dimension::Modal };
         if let Some(rot) = rot {
             if call.retract > 0 {
                 let (Some(to), Some(origin)) = (data.retract, OneShot::machine_origin(&self.interp)) else {
-                    return diags.error(line, col, format!("CYCLE800 _FR={}: the data set's retract position (swivel.retract_mm) or the machine coordinates are not in the machine file", call.retract));
+                    return refused(diags.error(line, col, format!("CYCLE800 _FR={}: the data set's retract position (swivel.retract_mm) or the machine coordinates are not in the machine file", call.retract)));
                 };
                 let legs: &[&[usize]] = if call.retract == 1 { &[&[2]] } else { &[&[2], &[0, 1]] };
                 for leg in legs {
+                    leg.iter().for_each(|&k| placed[k] = true);
                     let mut w = vec![word('G', 0.0)];
                     w.extend(leg.iter().map(|&k| word(['X', 'Y', 'Z'][k], to[k] / unit)));
                     self.interp.oneshot = Some(OneShot { motion: Motion::Rapid, absolute: true, axes: Some(origin), own: false });
                     match self.interp.block_one(&w, line, col, number, diags) {
                         Some(b) => out.push(b),
-                        None => return,
+                        None => return [false; 6],
                     }
                 }
             }
@@ -181,12 +187,20 @@ impl super::SinumerikReader {
             let saved = self.interp.feed_state();
             match self.interp.block_one(&w, line, col, number, diags) {
                 Some(b) => out.push(b),
-                None => return,
+                None => return [false; 6],
             }
             self.interp.restore_feed(saved);
+            // The rotary axes turned to the plane's positions, but one left free at the pole, which
+            // stays where it was.
+            for (i, l) in letters.iter().enumerate() {
+                if let Some(k) = "ABC".find(*l).filter(|_| free != Some(3 + i)) {
+                    placed[3 + k] = true;
+                }
+            }
         }
         self.swivel = Some(plane);
         self.set_frame(self.frame);
+        placed
     }
 
     /// `CYCLE832(_TOL, _TOLM, _OTOL)` (NC programming 12/2019 §3.25, "High Speed Settings"): the
@@ -235,6 +249,11 @@ impl super::SinumerikReader {
 /// finishing `_FINISH`; Programming Manual 12/2019 §3.25, `_TOLM` units digit 0 deselection, 1
 /// finishing, 2 rough-finishing, 3 roughing) put in as their numbers; `Err` names an `_ORI_` type
 /// (with an orientation tolerance, which is not read).
+/// A swivel refused (its error said): it placed no axis.
+fn refused(_: ()) -> [bool; 6] {
+    [false; 6]
+}
+
 fn machining_types(args: &str) -> Result<Cow<'_, str>, String> {
     const TYPES: [(&str, &str); 4] = [("_OFF", "0"), ("_FINISH", "1"), ("_SEMIFIN", "2"), ("_ROUGH", "3")];
     if !args.contains('_') {

@@ -223,6 +223,8 @@ pub(crate) struct Lexed<'a> {
     pub refused_g: Option<&'a str>,
     /// `G58`/`G59` (axial programmable offsets, refused): the frame they change holds the moves.
     pub frame_g: Option<&'a str>,
+    /// `L47` among other words (refused): the program it calls, which the control runs.
+    pub call_l: Option<&'a str>,
 }
 
 /// Where the expression that starts at byte `start` ends: at a blank or `;` outside brackets and
@@ -334,7 +336,7 @@ pub(super) fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
 pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: &mut Vars, diags: &mut Diags) -> Lexed<'a> {
     let b = src.as_bytes();
     let n = b.len();
-    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None, frame_g: None };
+    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None, frame_g: None, call_l: None };
     let mut vec3: [Option<f64>; 3] = [None; 3];
     let mut vec_col = 0;
     let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
@@ -541,7 +543,10 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             "D" => diags.error(line, col, format!("D{text}: expected a tool edge number (D0 switches the offsets off)")),
             "H" => diags.error(line, col, format!("H{text}: auxiliary function not read")),
             // `L47` calls the subprogram L47 (Fundamentals, "Subprogram call"): another program.
-            "L" if !with_eq => diags.error(line, col, format!("L{text}: a call of the subprogram L{text} (another program, not read; the motion would depend on it)")),
+            "L" if !with_eq => {
+                diags.error(line, col, format!("L{text}: a call of the subprogram L{text} (another program, not read; the motion would depend on it)"));
+                out.call_l = out.call_l.or(Some(text));
+            }
             "A3" | "B3" | "C3" => {
                 vec3[usize::from(address.as_bytes()[0] - b'A')] = Some(value);
                 vec_col = if vec_col == 0 { col } else { vec_col };

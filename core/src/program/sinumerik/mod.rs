@@ -175,6 +175,9 @@ impl super::stream::LineReader for SinumerikReader {
             }
             self.hold_refused(&lasting, frame_g, line);
             self.moved_unread_g(refused_move, axes, line);
+            if let Some(l) = lexed.call_l {
+                self.interp.moved_everywhere(line, &format!("L{l}"), "a call not read, which the control runs");
+            }
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
             let held = self.corners.interrupt("the block after it was not read", diags);
@@ -399,29 +402,40 @@ impl SinumerikReader {
                     break;
                 }
                 // What a swivel or a cycle moves is held as a move is ([`Interpreter::holding`]).
-                // (A swivel after a refused one is read for the plane it sets: below.)
+                // (A swivel after a refused one, or where the axes are unknown, is read for the
+                // plane it sets: below.)
                 name if (name == "CYCLE800" || cycles::Cycle::from_name(name).is_some())
                     && self.interp.holding().is_some()
-                    && !(name == "CYCLE800" && self.interp.held_by(&crate::program::interp::SIN_SWIVEL)) =>
+                    && !(name == "CYCLE800" && (self.interp.held_by(&crate::program::interp::SIN_SWIVEL) || self.interp.only_stale())) =>
                 {
                     let why = self.interp.holding().unwrap_or_default();
                     diags.error(line, k.col, format!("{}: {why}", k.name));
                     break;
                 }
-                // After a refused swivel: this one sets the plane the control has from here (read),
-                // but its moves start where the control's swivel left the tool, so they are not made
-                // (said without refusing the line, whose plane stands), and the axes stay unknown
-                // until written absolute.
-                "CYCLE800" if self.interp.held_by(&crate::program::interp::SIN_SWIVEL) => {
+                // After a refused swivel, or where the axes are unknown (after a call not read):
+                // this one sets the plane the control has from here (read), but its moves start
+                // where the tool is not known, so they are not made (said without refusing the
+                // line, whose plane stands). The axes it places (the retraction, the rotary axes
+                // turned) are known after it; the others stay unknown until written absolute.
+                "CYCLE800" if self.interp.held_by(&crate::program::interp::SIN_SWIVEL) || self.interp.only_stale() => {
                     let (start, errors) = (out.len(), diags.errors());
-                    self.swivel(&k, line, number, out, diags);
+                    let why = match self.interp.holding() {
+                        Some(w) if !self.interp.held_by(&crate::program::interp::SIN_SWIVEL) => format!("CYCLE800: {w}; the plane it sets is read, but its own moves, which start there, are not"),
+                        _ => "CYCLE800 after a refused CYCLE800: the plane it sets is read, but its moves start where the control's swivel left the tool, which is not known, so they are not read".to_string(),
+                    };
+                    let stale = self.interp.take_stale();
+                    let placed = self.swivel(&k, line, number, out, diags);
+                    self.interp.restore_stale(stale);
                     if diags.errors() == errors {
                         out.truncate(start);
-                        self.corner_diags.error(line, k.col, "CYCLE800 after a refused CYCLE800: the plane it sets is read, but its moves start where the control's swivel left the tool, which is not known, so they are not read");
+                        self.corner_diags.error(line, k.col, why);
                         self.interp.end_keyword_hold(&crate::program::interp::SIN_SWIVEL, [true; 3], true);
+                        self.interp.placed(placed);
                     }
                 }
-                "CYCLE800" => self.swivel(&k, line, number, out, diags),
+                "CYCLE800" => {
+                    self.swivel(&k, line, number, out, diags);
+                }
                 "CYCLE832" => self.high_speed_settings(&k, line, diags),
                 // A drilling cycle called without MCALL drills once where the tool stands (Cycles
                 // Programming Guide 11.02 §2.1: the drilling position is approached before the call;

@@ -206,6 +206,7 @@ impl FlowRunner {
             Ok(a) => a.unwrap_or_default(),
             Err((k, why)) => {
                 diags.error(line, cols.col(k), format!("{name}: {why}"));
+                self.reader.interp.moved_everywhere(line, name, "a subprogram call not read, which the control runs");
                 return Next::On;
             }
         };
@@ -216,6 +217,7 @@ impl FlowRunner {
                 Arg::Value(v) => values.push(*v),
                 Arg::Text(t) => {
                     diags.error(line, col, format!("{name}: the text parameter \"{}\" is not read", excerpt(t)));
+                    self.reader.interp.moved_everywhere(line, name, "a subprogram call not read, which the control runs");
                     return Next::On;
                 }
             }
@@ -227,10 +229,12 @@ impl FlowRunner {
                 // A keyword mistyped is read as a call too: say which one it is a letter from.
                 let like = super::READ_KEYWORDS.iter().filter(|k| k.len() >= 5).find(|k| one_edit(k, base)).map_or(String::new(), |k| format!(" (or is it {k}, mistyped?)"));
                 diags.error(line, col, format!("{name}: a call of the subprogram {base}, whose file ({base}.{}) is neither beside the program nor in a directory of --subroutine-path: the motion depends on it{like}", kind.unwrap_or("SPF")));
+                self.reader.interp.moved_everywhere(line, name, "a subprogram not found, which the control runs");
                 return Next::On;
             }
             Err(why) => {
                 diags.error(line, col, format!("{name}: {why}"));
+                self.reader.interp.moved_everywhere(line, name, "a subprogram not read, which the control runs");
                 return Next::On;
             }
         };
