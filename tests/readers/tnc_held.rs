@@ -304,6 +304,13 @@ fn din_iso_transformations_hold_until_their_reset() {
     // An increment of 0 (G91 in its block) keeps the rotation: no reset.
     let p = read(&text.replace("N140 G73 H+0 *", "N140 G73 G91 H+0 *"), Dialect::Heidenhain, "t.i", &ReadOptions::default());
     has(&p, 16, 6, "line 15's G73 (rotation (cycle 10)) is in effect on the control");
+    // Nor does one under a modal G91 (set in a held block, whose state the program keeps); the
+    // block's own G90 makes it the reset (TNC 360 ISO: "N100 G73 G90 H+0 * Cancel rotation").
+    let modal = text.replace("N130 X+4 *", "N130 G91 X+4 *");
+    let p = read(&modal, Dialect::Heidenhain, "t.i", &ReadOptions::default());
+    has(&p, 16, 6, "line 15's G73 (rotation (cycle 10)) is in effect on the control");
+    let p = read(&modal.replace("N140 G73 H+0 *", "N140 G73 G90 H+0 *"), Dialect::Heidenhain, "t.i", &ReadOptions::default());
+    has(&p, 16, 6, "a move from where the moves under line 13's G73");
 }
 
 /// A statement run again (a section repeated) is judged by what was in effect when it runs: a PLANE

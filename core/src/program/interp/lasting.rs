@@ -28,8 +28,9 @@ pub(crate) struct Rule {
     feed_only: bool,
     /// How messages name its cancels, where not by listing them.
     until: Option<&'static str>,
-    /// Its own code with these words ends it too (the TNC's DIN/ISO cycles: `G73 H+0`).
-    reset: Option<fn(&[Word]) -> bool>,
+    /// Its own code with these words ends it too (the TNC's DIN/ISO cycles: `G73 H+0`), the
+    /// program's dimensions absolute or not (G90/G91, the block's own first).
+    reset: Option<fn(&[Word], bool) -> bool>,
 }
 
 /// Cutter radius compensation, G40 its cancel (FANUC B-64484EN "Cutter compensation C"; Haas Mill
@@ -120,7 +121,7 @@ const CYLINDRICAL: Rule = Rule {
     cancels: &[],
     feed_only: false,
     until: Some("its cancel (G07.1 with the rotary axis' radius 0)"),
-    reset: Some(|w| w.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C') && w.value == 0.0)),
+    reset: Some(|w, _| w.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C') && w.value == 0.0)),
 };
 /// Feed per revolution, cancelled by G94 or G93.
 const PER_REV: Rule = Rule { letter: 'G', what: "feed per revolution", codes: &[950], cancels: &[940, 930], feed_only: true, until: None, reset: None };
@@ -152,9 +153,9 @@ const TNC_M: [Rule; 6] = [
 /// Programming "Coordinate transformation cycles": mirroring no axis, a rotation angle of 0, the
 /// factor 1, cycle 19's angles 0).
 const TNC_G: [Rule; 4] = [
-    Rule { letter: 'G', what: "mirroring (cycle 8)", codes: &[280], cancels: &[], feed_only: false, until: Some("its reset (G28 with no axis)"), reset: Some(|w| !w.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W'))) },
-    Rule { letter: 'G', what: "rotation (cycle 10)", codes: &[730], cancels: &[], feed_only: false, until: Some("its reset (G73 H+0)"), reset: Some(|w| w.iter().any(|w| w.letter == 'H' && w.value == 0.0) && !w.iter().any(|w| w.letter == 'G' && w.value == 91.0)) },
-    Rule { letter: 'G', what: "scaling (cycle 11)", codes: &[720], cancels: &[], feed_only: false, until: Some("its reset (G72 F1)"), reset: Some(|w| w.iter().any(|w| w.letter == 'F' && w.value == 1.0)) },
+    Rule { letter: 'G', what: "mirroring (cycle 8)", codes: &[280], cancels: &[], feed_only: false, until: Some("its reset (G28 with no axis)"), reset: Some(|w, _| !w.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W'))) },
+    Rule { letter: 'G', what: "rotation (cycle 10)", codes: &[730], cancels: &[], feed_only: false, until: Some("its reset (G73 H+0)"), reset: Some(|w, absolute| w.iter().any(|w| w.letter == 'H' && w.value == 0.0) && absolute_in(w, absolute)) },
+    Rule { letter: 'G', what: "scaling (cycle 11)", codes: &[720], cancels: &[], feed_only: false, until: Some("its reset (G72 F1)"), reset: Some(|w, _| w.iter().any(|w| w.letter == 'F' && w.value == 1.0)) },
     Rule {
         letter: 'G',
         what: "tilted working plane (cycle 19)",
@@ -162,7 +163,7 @@ const TNC_G: [Rule; 4] = [
         cancels: &[],
         feed_only: false,
         until: Some("its reset (G80 with the angles 0)"),
-        reset: Some(|w| w.iter().filter(|w| matches!(w.letter, 'A' | 'B' | 'C')).all(|w| w.value == 0.0)),
+        reset: Some(|w, _| w.iter().filter(|w| matches!(w.letter, 'A' | 'B' | 'C')).all(|w| w.value == 0.0)),
     },
 ];
 const TNC_RULES: [&Rule; 10] = [&TNC_M[0], &TNC_M[1], &TNC_M[2], &TNC_M[3], &TNC_M[4], &TNC_M[5], &TNC_G[0], &TNC_G[1], &TNC_G[2], &TNC_G[3]];
@@ -281,6 +282,17 @@ pub(crate) fn ran_unread_axes(m: i64, named: [bool; 6], rotary: [bool; 3]) -> [b
     axes
 }
 
+/// Whether a block's dimensions are absolute: its own G90 or G91, else the program's (`absolute`).
+/// `G73 G91 H+0` turns by nothing, and so does `G73 H+0` under a modal G91 (TNC 360 ISO: "N100 G73
+/// G90 H+0 * Cancel rotation").
+fn absolute_in(words: &[Word], absolute: bool) -> bool {
+    words.iter().rev().filter(|w| w.letter == 'G').find_map(|w| match super::x10(w) {
+        900 => Some(true),
+        910 => Some(false),
+        _ => None,
+    }).unwrap_or(absolute)
+}
+
 /// What a block does under the holds: its G and M codes (× 10), the word a move is said at.
 struct Look {
     g: Vec<i64>,
@@ -290,9 +302,9 @@ struct Look {
 
 impl Look {
     /// Whether the block holds one of the rule's cancels, or its own code with its reset's words.
-    fn cancels(&self, rule: &Rule, words: &[Word]) -> bool {
+    fn cancels(&self, rule: &Rule, words: &[Word], absolute: bool) -> bool {
         let codes = if rule.letter == 'M' { &self.m } else { &self.g };
-        rule.cancels.iter().any(|c| codes.contains(c)) || rule.reset.is_some_and(|reset| rule.codes.iter().any(|c| codes.contains(c)) && reset(words))
+        rule.cancels.iter().any(|c| codes.contains(c)) || rule.reset.is_some_and(|reset| rule.codes.iter().any(|c| codes.contains(c)) && reset(words, absolute))
     }
 }
 
@@ -328,7 +340,7 @@ impl Interpreter {
         let look = self.look(words);
         let (column, rapid) = look.axis?;
         for l in &self.lasting {
-            let cancelled = look.cancels(l.rule, words);
+            let cancelled = look.cancels(l.rule, words, self.absolute);
             if l.rule.feed_only && (cancelled || rapid) {
                 continue;
             }
@@ -355,11 +367,11 @@ impl Interpreter {
             return;
         }
         let look = self.look(words);
-        let plane = self.plane.axes();
+        let (plane, absolute) = (self.plane.axes(), self.absolute);
         let mut ended = Vec::new();
         self.lasting.retain(|l| {
             // A hold its own block set (a refused G87) is not ended by its own code.
-            let cancelled = l.line != line && look.cancels(l.rule, words);
+            let cancelled = l.line != line && look.cancels(l.rule, words, absolute);
             if cancelled && !l.rule.feed_only {
                 ended.push(l.clone());
             }
@@ -563,7 +575,7 @@ impl Interpreter {
             let c = super::x10(w);
             if let Some(rule) = rules(self.dialect).iter().find(|r| r.letter == w.letter && r.codes.contains(&c)) {
                 // Its reset holds nothing (a refused `G73 H+0` the control runs all the same).
-                if !damaged && rule.reset.is_some_and(|reset| reset(words)) {
+                if !damaged && rule.reset.is_some_and(|reset| reset(words, self.absolute)) {
                     continue;
                 }
                 let code = w.raw.trim_start_matches('0').to_string();
