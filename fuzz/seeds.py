@@ -65,7 +65,8 @@ KLARTEXT_M = (b"0 BEGIN PGM M MM\n1 L X+0 Y+0 Z+50 A+0 C+0 R0 F500\n2 L X+10 M14
               b"12 TRANS DATUM AXIS X+1\n13 L X+5\n14 TRANS DATUM RESET\n15 L X+0 Y+0 Z+0\n16 END PGM M MM\n")
 # The 840D's lasting statements not read and the refused moves the control makes.
 SINUMERIK_HELD = (b"G71 G90 G94\nG0 X0 Y0 Z10\nMIRROR X0\nG1 X10 F100\nCYCLE81(10,0,2,-5)\nTRANS\nG1 X1 Y1 Z1\nTRANSMIT\nG1 X2\n"
-                  b"TRAFOOF\nORICONCW\nG1 X3\nORIVECT\nFLIN\nG1 X4\nFNORM\nG74 X1=0 Z1=0\nG331 Z-10 K1\nG1 X0 Y0 Z10\nM30\n")
+                  b"TRAFOOF\nORICONCW\nG1 X3\nORIVECT\nFLIN\nG1 X4\nFNORM\nG74 X1=0 Z1=0\nG331 Z-10 K1\nG1 X0 Y0 Z10\n"
+                  b"ORIPATH\nORIROTT\nG1 X5\nORIROTA\nORIAXES\nNOSUCH\nCYCLE800(1,\"R_DATA\",0,57,0,0,0,30,0,0,0,0,0,1,)\nG0 X1 Y2 Z3\nM30\n")
 # DIN/ISO transformations and Fanuc's coordinate modes held until their reset.
 DIN_HELD = (b"%T G71 *\nN10 T1 G17 S1000 *\nN20 G00 G90 X+0 Y+0 Z+50 *\nN30 G28 X *\nN40 G01 X+10 F500 *\nN50 G28 *\n"
             b"N60 G72 F2 *\nN70 X+3 *\nN80 G72 F1 *\nN90 G73 H+10 *\nN100 X+4 *\nN110 G73 H+0 *\nN120 X+0 Y+0 Z+50 M144 *\nN99999999 %T G71 *\n")

@@ -285,6 +285,23 @@ fn the_840ds_lasting_statements_hold_until_their_end() {
     has(&p, 5, 1, "the rest of the program is not read");
 }
 
+/// The orientation relative to the path, `ORIPATH`/`ORIPATHS`, is of G group 51 as the cones are
+/// (NC programming 12/2019 §4.3.51): held until `ORIAXES`. `ORIROTR`/`ORIROTT`/`ORIROTC` (G group 54,
+/// the rotation vector's interpolation; Fundamentals 10.2004 §12.3) hold until `ORIROTA`, the group's
+/// default, which is read (alone: nothing held, nothing refused).
+#[test]
+fn the_840ds_path_relative_orientation_and_rotation_vector_modes_hold_until_their_group_default() {
+    let text = "G71 G90 G94\nG0 X0 Y0 Z10\nORIPATH\nG1 X1 F100\nORIAXES\nG1 X2\nORIROTT\nG1 X3\nORIROTA\nG1 X4\nORIROTA\nORIPATHS\nG0 X5\nORIVECT\nG1 X6\nM30\n";
+    let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert_eq!(error_lines(&p), [3, 4, 7, 8, 12, 13], "{:?}", errors(&p));
+    has(&p, 4, 4, "line 3's ORIPATH (an orientation interpolation not read) is in effect on the control until ORIVECT, ORIPLANE or ORIAXES");
+    has(&p, 8, 4, "line 7's ORIROTT (an interpolation of the tool's rotation vector not read) is in effect on the control until ORIROTA");
+    has(&p, 13, 4, "line 12's ORIPATHS (an orientation interpolation not read)");
+    for (l, x) in [(6, 2.0), (10, 4.0), (15, 6.0)] {
+        assert_eq!(x_at(&p, l), Some(x), "line {l}: {:?}", errors(&p));
+    }
+}
+
 /// A refused block whose move the control makes leaves the axes it moves unknown until written
 /// absolute: Fanuc's G31 skip (it stops where the signal comes) and G60; G33 thread cutting, a motion
 /// of group 01, also makes the later moves without a G00-G03 of their own refused; LinuxCNC's G38.2

@@ -101,9 +101,13 @@ pub(crate) const SIN_FRAME: Rule = Rule {
 /// A kinematic transformation not read (`TRANSMIT`, `TRACYL`, `TRAANG`, `TRAORI` with arguments) until
 /// `TRAFOOF`.
 pub(crate) const SIN_TRANSFORM: Rule = Rule { what: "a kinematic transformation not read", until: Some("TRAFOOF"), ..SIN_FRAME };
-/// An orientation interpolation not read (a cone, `ORICON..`, or a curve, `ORICURVE`: G group 51)
-/// until another of its group that is read (`ORIVECT`, `ORIPLANE`, `ORIAXES`).
+/// An orientation interpolation not read (a cone, `ORICON..`, a curve, `ORICURVE`, or relative to the
+/// path, `ORIPATH`/`ORIPATHS`: G group 51, NC programming 12/2019 §4.3.51) until another of its group
+/// that is read (`ORIVECT`, `ORIPLANE`, `ORIAXES`).
 pub(crate) const SIN_ORIENT: Rule = Rule { what: "an orientation interpolation not read", until: Some("ORIVECT, ORIPLANE or ORIAXES"), ..SIN_FRAME };
+/// The rotation vector's interpolation not read (`ORIROTR`, `ORIROTT`, `ORIROTC`: G group 54,
+/// Fundamentals 10.2004 §12.3; Job Planning 03/2006 §7.4) until `ORIROTA`, the group's default.
+pub(crate) const SIN_ROTATE: Rule = Rule { what: "an interpolation of the tool's rotation vector not read", until: Some("ORIROTA"), ..SIN_FRAME };
 /// A swivel `CYCLE800` refused (the control swivels all the same) until a `CYCLE800` that is read.
 pub(crate) const SIN_SWIVEL: Rule = Rule { what: "a swivel (CYCLE800) not read", until: Some("a CYCLE800 that is read"), ..SIN_FRAME };
 /// A feed profile over the block (`FLIN`, `FCUB`, `FPO`) until `FNORM`: feed moves only.

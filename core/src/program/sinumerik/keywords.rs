@@ -11,8 +11,8 @@ pub(super) fn is_instruction(name: &str) -> bool {
 }
 
 /// The keywords [`super::SinumerikReader::block`] reads.
-pub(super) const READ_KEYWORDS: [&str; 30] = [
-    "STOPRE", "TRAORI", "TRAFOOF", "ORIWKS", "ORIVECT", "ORIPLANE", "ORIMKS", "ORIAXES", "ORIEULER", "ORIRPY", "SOFT", "BRISK", "FFWON", "FFWOF", "FNORM", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "MSG", "SETMS", "EXTERN", "TRANS", "ATRANS", "ROT", "AROT", "SUPA", "MCALL", "CUT2D", "CDOF",
+pub(super) const READ_KEYWORDS: [&str; 31] = [
+    "STOPRE", "TRAORI", "TRAFOOF", "ORIWKS", "ORIVECT", "ORIPLANE", "ORIMKS", "ORIAXES", "ORIROTA", "ORIEULER", "ORIRPY", "SOFT", "BRISK", "FFWON", "FFWOF", "FNORM", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "MSG", "SETMS", "EXTERN", "TRANS", "ATRANS", "ROT", "AROT", "SUPA", "MCALL", "CUT2D", "CDOF",
 ];
 
 /// The modal motions of G group 1 that are not read (splines, polynomials, `CIP`, `CT`): after one
@@ -42,14 +42,15 @@ pub(super) struct Lasting {
 
 /// The 840D's lasting statements not read (Fundamentals and Job Planning: frames until TRANS/ROT,
 /// transformations until TRAFOOF, the orientation interpolation's G group 51 until another of it,
-/// the feed profile until FNORM; 3D compensation, which acts only under G41/G42, is the reader's
+/// the rotation vector's interpolation (G group 54) until ORIROTA, the feed profile until FNORM; 3D compensation, which acts only under G41/G42, is the reader's
 /// [`COMP3D`]). An orientation interpolation reaches
 /// the programmed orientation at each block's end (its path between differs), a feed profile only
 /// times the path: neither leaves a position unknown.
-pub(super) const LASTING: [Lasting; 5] = [
+pub(super) const LASTING: [Lasting; 6] = [
     Lasting { names: &["SCALE", "ASCALE", "MIRROR", "AMIRROR", "ROTS", "AROTS", "CROTS"], rule: &crate::program::interp::SIN_FRAME, ends: &["TRANS", "ROT"], linear: true, rotary: false },
     Lasting { names: &["TRANSMIT", "TRACYL", "TRAANG", "TRAORI"], rule: &crate::program::interp::SIN_TRANSFORM, ends: &["TRAFOOF"], linear: true, rotary: true },
-    Lasting { names: &["ORICONCW", "ORICONCCW", "ORICONTO", "ORICONIO", "ORICURVE"], rule: &crate::program::interp::SIN_ORIENT, ends: &["ORIVECT", "ORIPLANE", "ORIAXES"], linear: false, rotary: false },
+    Lasting { names: &["ORICONCW", "ORICONCCW", "ORICONTO", "ORICONIO", "ORICURVE", "ORIPATH", "ORIPATHS"], rule: &crate::program::interp::SIN_ORIENT, ends: &["ORIVECT", "ORIPLANE", "ORIAXES"], linear: false, rotary: false },
+    Lasting { names: &["ORIROTR", "ORIROTT", "ORIROTC"], rule: &crate::program::interp::SIN_ROTATE, ends: &["ORIROTA"], linear: false, rotary: false },
     // A swivel refused: ended by a CYCLE800 that is read ([`super::SinumerikReader`]'s), not by a name.
     Lasting { names: &["CYCLE800"], rule: &crate::program::interp::SIN_SWIVEL, ends: &[], linear: true, rotary: true },
     Lasting { names: &["FLIN", "FCUB", "FPO"], rule: &crate::program::interp::SIN_FEED, ends: &["FNORM"], linear: false, rotary: false },
@@ -69,9 +70,10 @@ pub(super) fn unsupported_keyword(k: &str) -> Option<&'static str> {
     Some(match k {
         "SCALE" | "ASCALE" | "MIRROR" | "AMIRROR" | "ROTS" | "AROTS" | "CROTS" => "frame scaling, mirroring or solid-angle rotation is not modelled (it changes the motion)",
         "TRAFOOF_" | "TRANSMIT" | "TRACYL" | "TRAANG" => "this transformation is not modelled",
-        "ORICONCW" | "ORICONCCW" | "ORICONTO" | "ORICONIO" | "ORICURVE" | "ORIPATH" | "ORIPATHS" | "ORIROTA" | "ORIROTR" | "ORIROTT" | "ORIROTC" => {
+        "ORICONCW" | "ORICONCCW" | "ORICONTO" | "ORICONIO" | "ORICURVE" | "ORIPATH" | "ORIPATHS" => {
             "this orientation interpolation (cone, curve or path-relative) is not modelled"
         }
+        "ORIROTR" | "ORIROTT" | "ORIROTC" => "this interpolation of the tool's rotation vector (relative, tangential or to the path) is not modelled (ORIROTA, the absolute one, is read)",
         // Job Planning, "Spline interpolation" and "Polynomial interpolation": the path between the
         // points is a curve whose knots and end conditions are the control's (BSPLINE without PL).
         "BSPLINE" | "ASPLINE" | "CSPLINE" | "BAUTO" | "BNAT" | "BTAN" | "EAUTO" | "ENAT" | "ETAN" | "POLY" | "POLYPATH" => {

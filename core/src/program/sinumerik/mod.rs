@@ -363,6 +363,9 @@ impl SinumerikReader {
                     self.interp.set_orientation(if axes { Orientation::AxisLinear } else { Orientation::GreatCircle });
                     self.end_holds(&k.name);
                 }
+                // The rotation vector's absolute interpolation, G group 54's default (Fundamentals
+                // 10.2004 §12.3): it governs THETA, not read; it ends ORIROTR/ORIROTT/ORIROTC's hold.
+                "ORIROTA" => self.end_holds("ORIROTA"),
                 // Angle conventions for A2 B2 C2, which are not read: no effect on these programs.
                 "ORIEULER" | "ORIRPY" => {}
                 // Acceleration modes and feed-forward: the planner always limits jerk.
