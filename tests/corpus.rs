@@ -355,88 +355,118 @@ fn the_umc750_variable_axis_operation_is_found_as_computed_independently() {
 
 /// The FTV5 program's defects, as the 840D reads them: an error on each line NX's post wrote
 /// `M202(...)` (a bracket after an M number), `TRAOOF`, `G503`, and on the `MCALL CYCLE84` whose MPIT
-/// and PIT are both empty (alarm 61001), none elsewhere: its CYCLE800 swivels, TRAORI(1) operations and
-/// the rest read (the swivels' angles: tests/sinumerik.rs). `TRAOOF`, a program not found, which the
-/// control would run, leaves every axis unknown: the `CYCLE800` after it sets its plane (read) from
-/// there but its moves are not read, and the first move after that starts from an unknown X and Y
-/// (the swivel retracts Z and turns the rotary axes to known positions).
+/// and PIT are both empty (alarm 61001): its CYCLE800 swivels, TRAORI(1) operations and the rest read
+/// (the swivels' angles: tests/sinumerik.rs). And what they leave: `TRAOOF`, a program not found,
+/// which the control would run, leaves every axis unknown (X, Y, Z, and the FTV5's A and C); the
+/// `CYCLE800` after it sets its plane (read) but its moves are not read, and it turns A and C to
+/// known positions but retracts machine Z only (`_FR` 1), so the first move after it starts from an
+/// unknown X, Y and Z. A move from unknown axes is refused and makes those it writes known; a
+/// deselection `CYCLE800()` moves nothing. The refused `MCALL CYCLE84` is an alarm, at which the
+/// control stops: said once, the moves after it read as the rest of the program.
 #[test]
 fn the_ftv5_programs_defects_are_refused_as_the_840d_refuses_them() {
     let file = common::outside("programs/sinumerik-840d_nx-post_cincinnati-ftv5_CYCLE800-TRAORI1_sample.mpf");
     let text = std::fs::read_to_string(&file).unwrap();
-    // After a TRAOOF: 1 at the CYCLE800 (if one comes before a move), 2 at the first move.
-    let mut after_call = 0;
-    let expected: Vec<(usize, &str)> = text
-        .lines()
-        .enumerate()
-        .filter_map(|(i, l)| {
-            let l = l.trim();
-            if after_call > 0 && !l.starts_with(';') {
-                if after_call == 1 && l.starts_with("CYCLE800(") {
-                    after_call = 2;
-                    return Some((i + 1, "(a subprogram not found, which the control runs) left the tool where this reader does not know, until X, Y, Z, A and C are written absolute; the plane it sets is read, but its own moves, which start there, are not"));
-                }
-                if l.starts_with(['G', 'X', 'Y', 'Z']) {
-                    let why = if after_call == 2 { "moves are read again once X and Y are written absolute" } else { "moves are read again once X, Y, Z, A and C are written absolute" };
-                    after_call = 0;
-                    return Some((i + 1, why));
-                }
-            }
-            let cycle84_without_pitch = l.split_once("MCALL CYCLE84(").is_some_and(|(_, a)| {
-                let a: Vec<&str> = a.split(',').map(str::trim).collect();
-                a.get(7).is_none_or(|m| m.is_empty()) && a.get(8).is_none_or(|p| p.is_empty())
-            });
-            let why = if l.contains("M202(") {
-                "not 840D syntax"
-            } else if l == "TRAOOF" {
-                after_call = 1;
-                "TRAOOF: a call of the subprogram TRAOOF, whose file (TRAOOF.SPF) is neither beside the program"
-            } else if l.contains("G503") {
-                "G503: unknown G code"
-            } else if cycle84_without_pitch {
-                "alarm 61001"
-            } else {
-                return None;
+    let every = || "XYZAC".chars().collect::<Vec<char>>();
+    let mut unknown = Vec::<char>::new();
+    let mut expected: Vec<(usize, String)> = Vec::new();
+    for (i, l) in text.lines().enumerate() {
+        let (line, l) = (i + 1, l.trim());
+        let cycle84_without_pitch = l.split_once("MCALL CYCLE84(").is_some_and(|(_, a)| {
+            let a: Vec<&str> = a.split(',').map(str::trim).collect();
+            a.get(7).is_none_or(|m| m.is_empty()) && a.get(8).is_none_or(|p| p.is_empty())
+        });
+        // A block of words, an address and its number first (not CYCLE800, MCALL ...).
+        let moves = l.starts_with(['G', 'X', 'Y', 'Z', 'A', 'C']) && l[1..].starts_with(|c: char| c.is_ascii_digit() || "-.+".contains(c)) && !l.contains("G503");
+        let why = if l.contains("M202(") {
+            "not 840D syntax".to_string()
+        } else if l == "TRAOOF" {
+            unknown = every();
+            "TRAOOF: a call of the subprogram TRAOOF, whose file (TRAOOF.SPF) is neither beside the program".to_string()
+        } else if l.contains("G503") {
+            "G503: unknown G code".to_string()
+        } else if cycle84_without_pitch {
+            "alarm 61001".to_string()
+        } else if l.starts_with("CYCLE800(") && l != "CYCLE800()" && !unknown.is_empty() {
+            unknown.retain(|c| !"AC".contains(*c));
+            "the plane it sets is read, but its own moves, which start there, are not".to_string()
+        } else if moves && !unknown.is_empty() {
+            let said = match unknown.len() {
+                1 => unknown[0].to_string(),
+                n => format!("{} and {}", unknown[..n - 1].iter().map(|c| c.to_string()).collect::<Vec<_>>().join(", "), unknown[n - 1]),
             };
-            Some((i + 1, why))
-        })
-        .collect();
+            let once = format!("once {said} {} written absolute", if unknown.len() == 1 { "is" } else { "are" });
+            unknown.retain(|c| !l.split_whitespace().any(|w| w.starts_with(*c)));
+            expected.push((line, "a move from where the moves under line".to_string()));
+            once
+        } else {
+            continue;
+        };
+        expected.push((line, why));
+    }
     let out = fiveaxis(&["program", "analyze", file.to_str().unwrap(), "--machine", "cincinnati-ftv5"]);
     assert_eq!(out.status.code(), Some(2));
     let stdout = String::from_utf8_lossy(&out.stdout);
     let errors: Vec<(usize, &str)> = stdout.lines().filter(|l| l.contains(": error:")).map(|e| (e.split(".mpf:").nth(1).unwrap().split(':').next().unwrap().parse().unwrap(), e)).collect();
-    assert_eq!(errors.iter().map(|e| e.0).collect::<Vec<_>>(), expected.iter().map(|e| e.0).collect::<Vec<_>>(), "{errors:#?}");
-    for ((line, e), (_, why)) in errors.iter().zip(&expected) {
-        assert!(e.contains(why), "line {line}: {e}, expected {why:?}");
+    let mut lines: Vec<usize> = expected.iter().map(|e| e.0).collect();
+    lines.dedup();
+    assert_eq!(errors.iter().map(|e| e.0).collect::<Vec<_>>(), lines, "{errors:#?}");
+    for (line, why) in &expected {
+        let e = errors.iter().find(|e| e.0 == *line).map_or("", |e| e.1);
+        assert!(e.contains(why.as_str()), "line {line}: {e}, expected {why:?}");
     }
     eprintln!("{} lines refused: {:?}", errors.len(), expected);
 }
 
 /// The DMU 70 eVo program's defects, as the 840D reads them: an error on each `MCALL CYCLE..` line
-/// whose cycle would move (RFP != DP), none elsewhere; each names the alarm (61101: RTP on the depth's
-/// side of RFP), the empty FRF of CYCLE83 (its first infeed at F0) or CYCLE76 (spigot milling).
+/// whose cycle would move (RFP != DP); each names the alarm (61101: RTP on the depth's side of RFP),
+/// the empty FRF of CYCLE83 (its first infeed at F0) or CYCLE76 (spigot milling). An alarm is said
+/// once (the control stops there). CYCLE76, not read, the control runs after every move: those
+/// moves are held until `MCALL` alone, after which X, Y, Z, B and C are unknown; a move from unknown
+/// axes is refused and makes those it writes known. No error elsewhere.
 #[test]
 fn the_dmu70_evo_programs_drilling_cycles_are_refused_as_the_840d_refuses_them() {
     let file = common::outside("programs/sinumerik-840d_nx-post_dmu70evo-bc_TRAORI-C-unwound_Sample_part.mpf");
     let text = std::fs::read_to_string(&file).unwrap();
-    let expected: Vec<usize> = text
-        .lines()
-        .enumerate()
-        .filter_map(|(i, l)| {
-            let args = l.split_once("MCALL CYCLE")?.1.split_once('(')?.1.trim_end().trim_end_matches(')');
+    let (mut unknown, mut held) = (Vec::<char>::new(), None::<usize>);
+    let mut expected: Vec<(usize, String)> = Vec::new();
+    for (i, l) in text.lines().enumerate() {
+        let line = i + 1;
+        let words: Vec<&str> = l.split_whitespace().filter(|w| !w.starts_with('N')).collect();
+        let written = |c: char| words.iter().any(|w| w.starts_with(c) && w[1..].starts_with(|d: char| d.is_ascii_digit() || "-.+".contains(d)));
+        let moves = "XYZBC".chars().any(written);
+        if let Some((_, call)) = l.split_once("MCALL CYCLE") {
+            let args = call.split_once('(').unwrap().1.trim_end().trim_end_matches(')');
             let a: Vec<&str> = args.split(',').collect();
-            // RFP = DP (and no DPR): the cycle returns at once (CYCLE81-84.SPF).
-            (a.get(1) != a.get(3) || a.get(4).is_some_and(|d| !d.is_empty())).then_some(i + 1)
-        })
-        .collect();
+            if call.starts_with("76") {
+                held = Some(line);
+                expected.push((line, "CYCLE76".into()));
+            } else if a.get(1) != a.get(3) || a.get(4).is_some_and(|d| !d.is_empty()) {
+                // RFP = DP (and no DPR): the cycle returns at once (CYCLE81-84.SPF).
+                expected.push((line, String::new()));
+            }
+        } else if l.trim_start_matches(|c: char| c == 'N' || c.is_ascii_digit()).trim() == "MCALL" {
+            if held.take().is_some() {
+                unknown = "XYZBC".chars().collect();
+            }
+        } else if let (Some(at), true) = (held, moves) {
+            expected.push((line, format!("a move while line {at}'s MCALL (a modal call (MCALL) refused) is in effect")));
+        } else if moves && !unknown.is_empty() {
+            expected.push((line, "a move from where the moves under line".into()));
+            unknown.retain(|c| !written(*c));
+        }
+    }
     let out = fiveaxis(&["program", "analyze", file.to_str().unwrap(), "--machine", "dmg-dmu-70-evo"]);
     assert_eq!(out.status.code(), Some(2));
     let stdout = String::from_utf8_lossy(&out.stdout);
     let errors: Vec<&str> = stdout.lines().filter(|l| l.contains(": error:")).collect();
     let lines: Vec<usize> = errors.iter().map(|e| e.split(".mpf:").nth(1).unwrap().split(':').next().unwrap().parse().unwrap()).collect();
-    assert_eq!(lines, expected, "{errors:#?}");
-    assert!(errors.iter().all(|e| e.contains("alarm 61101") || e.contains("FRF=0") || e.contains("CYCLE76")), "{errors:#?}");
-    eprintln!("{} drilling calls refused: {:?}", lines.len(), lines);
+    assert_eq!(lines, expected.iter().map(|e| e.0).collect::<Vec<_>>(), "{errors:#?}");
+    for (e, (line, why)) in errors.iter().zip(&expected) {
+        let cause = why.is_empty() && (e.contains("alarm 61101") || e.contains("FRF=0"));
+        assert!(cause || !why.is_empty() && e.contains(why.as_str()), "line {line}: {e}, expected {why:?}");
+    }
+    eprintln!("{} lines refused: {:?}", lines.len(), lines);
 }
 
 /// SOLIDWORKS CAM's boss for a DMU 50: its second set-up (`CSYS/0,0,1.,0,1.,0,0,0,0,1.,0,0`, every

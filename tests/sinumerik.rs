@@ -249,31 +249,76 @@ fn subprogram_calls_name_the_program_they_call() {
 }
 
 /// A swivel after a call not read, which leaves every axis unknown: the plane it sets is read, its
-/// own moves are not (they start where the call left the tool). With `_FR` 1 and `_DIR` +1 it
-/// retracts Z to the data set's position and turns the rotary axes to the plane's, which are known
-/// after it, so the first move waits for X and Y only; with `_DIR` 0 it turns nothing (Operating
-/// Manual §10.6: "no rotary axis positioning"), so A and C stay unknown.
+/// own moves are not (they start where the call left the tool). What it places is known after it:
+/// with `_FR` 2 the machine's X Y Z (its retraction, then X and Y to the data set's position) and so
+/// the program's in the new plane, with `_FR` 1 only the machine's Z, which the plane's rotation
+/// mixes with X and Y, so none of them; the rotary axes it turns, where their travel holds no other
+/// turn of the position (the FTV5's A and its C at -45 deg in -200..200). `_DIR` 0 turns nothing
+/// (Operating Manual §10.6), so A and C stay unknown, and no move of its own is refused. An additive
+/// one (`_ST` 1) builds on a plane not known: refused, and the moves after it held.
 #[test]
 fn a_swivel_after_a_call_not_read_sets_its_plane_and_places_what_it_moves() {
     let ftv5 = Machine::builtin("cincinnati-ftv5").unwrap();
-    let run = |dir: i32| {
-        let text = format!("G90 G71\nG0 X0 Y0 Z50\nSUB1\nCYCLE800(1,\"R_DATA\",0,57,0,0,0,30,0,0,0,0,0,{dir},)\nG0 X1 Y2 Z3\nG1 X2 F100\nM30\n");
+    let run = |swivel: &str| {
+        let text = format!("G90 G71\nG0 X0 Y0 Z50\nSUB1\n{swivel}\nG0 X1 Y2 Z3\nG1 X2 F100\nM30\n");
         let p = read(&text, Dialect::Sinumerik, "swivel.mpf", &ReadOptions::default().on(&ftv5));
         let e: Vec<(usize, String)> = errors(&p).into_iter().map(|(l, _, m)| (l, m)).collect();
         (p, e)
     };
-    let (p, e) = run(1);
-    assert_eq!(e.iter().map(|e| e.0).collect::<Vec<_>>(), [3, 4, 5], "{e:#?}");
+    let lines = |e: &[(usize, String)]| e.iter().map(|e| e.0).collect::<Vec<_>>();
+    let (p, e) = run("CYCLE800(1,\"R_DATA\",0,57,0,0,0,30,0,0,0,0,0,1,)");
+    assert_eq!(lines(&e), [3, 4, 5], "{e:#?}");
     assert!(e[1].1.contains("line 3's SUB1") && e[1].1.ends_with("the plane it sets is read, but its own moves, which start there, are not"), "{e:#?}");
-    assert!(e[2].1.ends_with("once X and Y are written absolute"), "{e:#?}");
+    assert!(e[2].1.ends_with("once X, Y and Z are written absolute"), "{e:#?}");
     assert!(blocks_of(&p, 4).is_empty(), "the swivel's moves are not made");
-    // The plane is read: the move after is in it (30 deg about X), through the head's kinematics.
+    // The plane, 30 deg about X, is read: the program's (2, 2, 3) is the workpiece's
+    // (2, 2 cos 30 - 3 sin 30, 2 sin 30 + 3 cos 30) = (2, 0.232051, 3.598076), through the head.
+    let (p, e) = run("CYCLE800(2,\"R_DATA\",0,57,0,0,0,30,0,0,0,0,0,1,)");
+    assert_eq!(lines(&e), [3, 4], "{e:#?}");
     let b = blocks_of(&p, 6);
-    assert!(b.len() == 1 && b[0].tcp && close(b[0].targets.x, 2.0), "{b:?}");
-    let (_, e) = run(0);
-    assert_eq!(e.iter().map(|e| e.0).collect::<Vec<_>>(), [3, 4, 5, 6], "{e:#?}");
-    assert!(e[2].1.ends_with("once X, Y, Z, A and C are written absolute"), "{e:#?}");
-    assert!(e[3].1.ends_with("once A and C are written absolute"), "{e:#?}");
+    assert!(b.len() == 1 && b[0].tcp, "{b:?}");
+    assert!(close(b[0].targets.x, 2.0) && close(b[0].targets.y, 0.232051) && close(b[0].targets.z, 3.598076), "{:?}", b[0].targets);
+    let (_, e) = run("CYCLE800(1,\"R_DATA\",0,57,0,0,0,30,0,0,0,0,0,0,)");
+    assert_eq!(lines(&e), [3, 5, 6], "{e:#?}");
+    assert!(e[1].1.ends_with("once X, Y, Z, A and C are written absolute"), "{e:#?}");
+    assert!(e[2].1.ends_with("once A and C are written absolute"), "{e:#?}");
+    let (_, e) = run("CYCLE800(2,\"R_DATA\",1,57,0,0,0,30,0,0,0,0,0,1,)");
+    assert_eq!(lines(&e), [3, 4, 5, 6], "{e:#?}");
+    assert!(e[1].1.contains("_ST=1 (additive) builds on the swivelled plane before it, which is not known here"), "{e:#?}");
+    assert!(e[2].1.contains("line 4's CYCLE800 (a swivel (CYCLE800) not read) is in effect"), "{e:#?}");
+}
+
+/// What the control runs and this reader does not leaves the tool where it is not known: a repeated
+/// call (`SUB1 P3`); a cycle called once with a parameter not read (`CYCLE82` with a dwell in
+/// revolutions), which drills all the same; `MCALL` of a program, which the control runs after every
+/// later move, so those moves are held until `MCALL` alone, then every axis is unknown. A drilling
+/// cycle refused for an alarm (RTP on the depth's side of RFP, 61101: the control stops there) is
+/// said once, as the readers' other alarms are. A held block in machine coordinates (`SUPA`) makes
+/// the axes it writes known (the DMU 70 eVo's machine zero), line by line.
+#[test]
+fn calls_not_read_leave_the_tool_unknown_and_an_alarm_is_said_once() {
+    let lines = |p: &Program| errors(p).iter().map(|e| e.0).collect::<Vec<_>>();
+    let p = read("G90 G71\nG0 X0 Y0 Z50\nSUB1 P3\nG1 X10 F100\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert_eq!(lines(&p), [3, 4], "{:#?}", errors(&p));
+    assert!(errors(&p)[1].2.contains("line 3's SUB1 (a subprogram call not read, which the control runs)"), "{:#?}", errors(&p));
+    let p = read("G90 G71\nG0 X0 Y0 Z50\nCYCLE82(10,0,2,-5,,-2)\nG1 X10 F100\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert_eq!(lines(&p), [3, 4], "{:#?}", errors(&p));
+    assert!(errors(&p)[0].2.contains("is not read") && errors(&p)[1].2.contains("line 3's CYCLE82"), "{:#?}", errors(&p));
+    let p = read("G90 G71\nG0 X0 Y0 Z50\nMCALL SUB1\nG0 X10\nMCALL\nG0 X1 Y2 Z3\nG1 X5 F100\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert_eq!(lines(&p), [3, 4, 6], "{:#?}", errors(&p));
+    assert!(errors(&p)[1].2.contains("a move while line 3's MCALL (a modal call (MCALL) refused) is in effect on the control until MCALL alone"), "{:#?}", errors(&p));
+    assert!(errors(&p)[2].2.contains("a move from where the moves under line 3's MCALL"), "{:#?}", errors(&p));
+    assert!(close(blocks_of(&p, 7)[0].targets.x, 5.0), "{:?}", blocks_of(&p, 7));
+    let p = read("G90 G71\nG0 X0 Y0 Z50\nMCALL CYCLE81(0,10,2,5)\nG0 X10\nMCALL\nG0 X1 Y2 Z3\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert_eq!(lines(&p), [3], "{:#?}", errors(&p));
+    assert!(errors(&p)[0].2.contains("alarm 61101"), "{:#?}", errors(&p));
+    let dmu = Machine::builtin("dmg-dmu-70-evo").unwrap();
+    let p = read("G90 G710\nG0 X0 Y0 Z50 D0\nSUB1\nSUPA G0 Z-10 D0\nSUPA Y-10\nSUPA X10\nG0 X1 Y2 Z3\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&dmu));
+    let e = errors(&p);
+    assert_eq!(lines(&p), [3, 4, 5, 6, 7], "{e:#?}");
+    for (k, left) in [(1, "X, Y, Z, B and C"), (2, "X, Y, B and C"), (3, "X, B and C"), (4, "B and C")] {
+        assert!(e[k].2.ends_with(&format!("once {left} are written absolute")), "{e:#?}");
+    }
 }
 
 /// `L47` among other words is refused with its line (the call stands alone in its block), and the

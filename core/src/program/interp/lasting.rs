@@ -108,6 +108,10 @@ pub(crate) const SIN_ORIENT: Rule = Rule { what: "an orientation interpolation n
 /// The rotation vector's interpolation not read (`ORIROTR`, `ORIROTT`, `ORIROTC`: G group 54,
 /// Fundamentals 10.2004 §12.3; Job Planning 03/2006 §7.4) until `ORIROTA`, the group's default.
 pub(crate) const SIN_ROTATE: Rule = Rule { what: "an interpolation of the tool's rotation vector not read", until: Some("ORIROTA"), ..SIN_FRAME };
+/// A modal call refused (`MCALL` of a cycle or program not read, or of a drilling cycle whose
+/// parameters are refused): the control calls it after every later move until `MCALL` alone ends it
+/// or another `MCALL` replaces it (NC programming 12/2019, "Modal subprogram call (MCALL)").
+pub(crate) const SIN_MCALL: Rule = Rule { what: "a modal call (MCALL) refused", until: Some("MCALL alone or a modal call that is read"), ..SIN_FRAME };
 /// A swivel `CYCLE800` refused (the control swivels all the same) until a `CYCLE800` that is read.
 pub(crate) const SIN_SWIVEL: Rule = Rule { what: "a swivel (CYCLE800) not read", until: Some("a CYCLE800 that is read"), ..SIN_FRAME };
 /// A feed profile over the block (`FLIN`, `FCUB`, `FPO`) until `FNORM`: feed moves only.

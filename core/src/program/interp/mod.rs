@@ -13,7 +13,7 @@ mod codes;
 mod frame;
 mod g_codes;
 mod lasting;
-pub(crate) use lasting::{axes_named, axes_said, ran_unread_axes, tnc_m_rule, Rule, SIN_FEED, SIN_SWIVEL, SIN_FRAME, SIN_ORIENT, SIN_ROTATE, SIN_TRANSFORM};
+pub(crate) use lasting::{axes_named, axes_said, ran_unread_axes, tnc_m_rule, Rule, SIN_FEED, SIN_SWIVEL, SIN_FRAME, SIN_MCALL, SIN_ORIENT, SIN_ROTATE, SIN_TRANSFORM};
 pub(crate) use g_codes::haas_extra_offset;
 mod modal;
 mod offsets;

@@ -10,24 +10,46 @@ use std::borrow::Cow;
 
 impl super::SinumerikReader {
     /// `MCALL CYCLE8x(...)`: the cycle is called after each later block that moves (its
-    /// parameters read once, here); `MCALL` alone ends it.
+    /// parameters read once, here); `MCALL` alone ends it. One refused for what this reader does
+    /// not read, which the control runs after every later move, holds those moves until an `MCALL`
+    /// that is read ([`crate::program::interp::SIN_MCALL`]); one refused for a defect the control
+    /// stops at (an alarm) is said once, as the readers' other alarms are.
     pub(super) fn modal_call(&mut self, call: Option<Keyword<'_>>, line: usize, diags: &mut Diags) {
+        match self.read_call(call, line, diags) {
+            None => self.interp.end_keyword_hold(&crate::program::interp::SIN_MCALL, [true; 3], true),
+            Some(false) => self.hold_mcall = true,
+            Some(true) => {}
+        }
+    }
+
+    /// A cycle called (with `MCALL`, or once: `call`), read into the modal call; `None` if read,
+    /// else whether it was refused for an alarm of the control (not for what is not read here).
+    pub(super) fn read_call(&mut self, call: Option<Keyword<'_>>, line: usize, diags: &mut Diags) -> Option<bool> {
         let Some(call) = call else {
             self.mcall = None;
-            return;
+            return None;
         };
         let Some(cycle) = cycles::Cycle::from_name(&call.name) else {
             let why = if call.name == "CYCLE76" { " (CYCLE76 is rectangular spigot milling, not boring: Milling Operating Manual 03/2010 §8.2.4)" } else { "" };
             diags.error(line, call.col, format!("MCALL {}: only the drilling cycles CYCLE81-CYCLE89 are read as modal calls{why}", call.name));
-            return;
+            return Some(false);
         };
         let args = match lex::call_arguments(call.args.unwrap_or(""), &mut self.vars) {
             Ok(a) => a,
-            Err((_, why)) => return diags.error(line, call.col, format!("{}: {why}", call.name)),
+            Err((_, why)) => {
+                diags.error(line, call.col, format!("{}: {why}", call.name));
+                return Some(false);
+            }
         };
         match cycles::decode(cycle, &args, self.interp.unit() / MM) {
-            Ok(hole) => self.mcall = Some((hole, line)),
-            Err(why) => diags.error(line, call.col, format!("{}: {why}", call.name)),
+            Ok(hole) => {
+                self.mcall = Some((hole, line));
+                None
+            }
+            Err(why) => {
+                diags.error(line, call.col, format!("{}: {why}", call.name));
+                Some(cycles::is_alarm(&why))
+            }
         }
     }
 
@@ -85,7 +107,8 @@ impl super::SinumerikReader {
     /// turned to it as the data set's kinematics (the machine file's) give them, as blocks of this
     /// line; `CYCLE800()` deselects it (the axes stay). Returns the axes (X Y Z A B C) it moved to
     /// known positions: the retraction's, the rotary axes turned.
-    pub(super) fn swivel(&mut self, k: &Keyword<'_>, line: usize, number: Option<u64>, out: &mut Vec<Block>, diags: &mut Diags) -> [bool; 6] {
+    /// `unknown`: where the axes are is not known (after a refused swivel or a call not read).
+    pub(super) fn swivel(&mut self, k: &Keyword<'_>, line: usize, number: Option<u64>, unknown: bool, out: &mut Vec<Block>, diags: &mut Diags) -> [bool; 6] {
         let col = k.col;
         let args = match lex::call_arguments(k.args.unwrap_or(""), &mut self.vars) {
             Ok(a) => a,
@@ -116,6 +139,9 @@ impl super::SinumerikReader {
             // How a new or additive swivel meets the programmable frame's rotation (which frames it
             // keeps, where its retraction in machine coordinates goes) is not in the pages at hand.
             return refused(diags.error(line, col, "CYCLE800 after a rotated frame (ROT, AROT, RPL) without a swivel before it: how the swivel meets the programmed rotation is not read; reset the frame first (ROT)"));
+        }
+        if unknown && call.additive {
+            return refused(diags.error(line, col, "CYCLE800 _ST=1 (additive) builds on the swivelled plane before it, which is not known here (a refused CYCLE800 or a call not read came before): the plane it sets is not known"));
         }
         let unit = self.interp.unit();
         let letters: [char; 2] = [3, 4].map(|i| machine.axes[i].name.chars().next().unwrap_or('?').to_ascii_uppercase());
@@ -155,7 +181,8 @@ impl super::SinumerikReader {
                 if let Some(pole) = sol.pole {
                     free = Some(pole.free_axis);
                     let name = &machine.axes[pole.free_axis].name;
-                    diags.warning(line, col, format!("CYCLE800 at the pole: the tool lies along {name}'s axis, which leaves {name} free (\"the NC calculates two solutions\"); read as staying at {:.3} deg: the program depends on the control here", pole.coord_rot.to_degrees()));
+                    let was = if unknown { " (where this reader last knew it: it is not known here)" } else { "" };
+                    diags.warning(line, col, format!("CYCLE800 at the pole: the tool lies along {name}'s axis, which leaves {name} free (\"the NC calculates two solutions\"); read as staying at {:.3} deg{was}: the program depends on the control here", pole.coord_rot.to_degrees()));
                 }
                 Some(sol.rot)
             }
@@ -171,8 +198,13 @@ impl super::SinumerikReader {
                     return refused(diags.error(line, col, format!("CYCLE800 _FR={}: the data set's retract position (swivel.retract_mm) or the machine coordinates are not in the machine file", call.retract)));
                 };
                 let legs: &[&[usize]] = if call.retract == 1 { &[&[2]] } else { &[&[2], &[0, 1]] };
+                // After the whole retraction (`_FR` 2) the machine's X Y Z are known, and so the
+                // program's in the new plane; after Z alone (`_FR` 1) its X and Y are not, and a
+                // plane's rotation mixes them into every program axis.
+                if call.retract == 2 {
+                    placed[..3].fill(true);
+                }
                 for leg in legs {
-                    leg.iter().for_each(|&k| placed[k] = true);
                     let mut w = vec![word('G', 0.0)];
                     w.extend(leg.iter().map(|&k| word(['X', 'Y', 'Z'][k], to[k] / unit)));
                     self.interp.oneshot = Some(OneShot { motion: Motion::Rapid, absolute: true, axes: Some(origin), own: false });
@@ -191,9 +223,12 @@ impl super::SinumerikReader {
             }
             self.interp.restore_feed(saved);
             // The rotary axes turned to the plane's positions, but one left free at the pole, which
-            // stays where it was.
+            // stays where it was, and one whose travel holds the position a turn either way too,
+            // which takes the turn nearest where it was.
             for (i, l) in letters.iter().enumerate() {
-                if let Some(k) = "ABC".find(*l).filter(|_| free != Some(3 + i)) {
+                let limits = &machine.axes[3 + i].limits;
+                let one_turn = ![rot[i] + std::f64::consts::TAU, rot[i] - std::f64::consts::TAU].iter().any(|v| limits.contains(*v));
+                if let Some(k) = "ABC".find(*l).filter(|_| free != Some(3 + i) && one_turn) {
                     placed[3 + k] = true;
                 }
             }

@@ -103,6 +103,13 @@ fn sign(x: f64) -> f64 {
 
 /// The moves `cycle` makes with `args`; `mm_per_unit` is the program's length unit. Why not: the
 /// parameter the control refuses, with its alarm.
+/// Whether a reason [`decode`] gives is a defect of the program that the control stops at (each
+/// such reason names the alarm, or says "an alarm"), rather than something this reader does not
+/// read and the control runs.
+pub(crate) fn is_alarm(why: &str) -> bool {
+    why.contains("alarm")
+}
+
 pub(crate) fn decode(cycle: Cycle, args: &[Arg], mm_per_unit: f64) -> Result<Hole, String> {
     let (rtp, rfp) = (value(args, 0, "RTP")?, value(args, 1, "RFP")?);
     let sdis = value(args, 2, "SDIS")?.abs();

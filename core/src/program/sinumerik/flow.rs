@@ -452,6 +452,9 @@ impl Jumping for FlowRunner {
                     Ok(site) => self.call(site, text, line, diags),
                     Err((k, why)) => {
                         diags.error(line, crate::program::lex::Columns::new(text).col(k), why);
+                        // The control runs the call all the same: where it leaves the tool is not known.
+                        let name: String = text[body..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+                        self.reader.interp.moved_everywhere(line, &name, "a subprogram call not read, which the control runs");
                         Next::On
                     }
                 };

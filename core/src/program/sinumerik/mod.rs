@@ -82,6 +82,9 @@ pub(crate) struct SinumerikReader {
     pub(super) stopped: bool,
     /// The line refused a call the control runs (a program, a cycle not read): its name.
     called_unread: Option<String>,
+    /// The line's `MCALL` was refused for what this reader does not read: it holds the moves after
+    /// it (set where it is refused, held once the line's state is restored).
+    hold_mcall: bool,
     /// 3D tool radius compensation (`CUT3DC` ..., refused) in force on the control until `CUT2D`: its
     /// line and name ([`keywords::COMP3D`]).
     comp3d: Option<(usize, String)>,
@@ -103,6 +106,7 @@ impl SinumerikReader {
             returned: false,
             stopped: false,
             called_unread: None,
+            hold_mcall: false,
             comp3d: None,
         }
     }
@@ -205,10 +209,17 @@ impl super::stream::LineReader for SinumerikReader {
         // A refused block's feed does not take effect: a later move without one names it
         // ([`Interpreter::after_refused_feed`]; of a refused block's other words the 840D reader says nothing).
         let feed_word = lexed.words.iter().any(|w| w.letter == 'F');
+        // A block held (refused for a hold, read all the same): the axes it writes are known after
+        // it, whatever else of its line's state is taken back.
+        let held = !plain && self.interp.held(&lexed.words).is_some();
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             self.corners.drop_words();
             if let Some(saved) = saved {
+                let stale = held.then(|| self.interp.stale.clone());
                 (self.interp, self.frame, self.mcall, self.swivel) = saved;
+                if let Some(stale) = stale {
+                    self.interp.stale = stale;
+                }
             }
             self.tool_offsets = tool_offsets;
             self.trc.set = trc_settings;
@@ -231,6 +242,9 @@ impl super::stream::LineReader for SinumerikReader {
             }
             if let Some(name) = self.called_unread.take() {
                 self.interp.moved_everywhere(line, &name, "a call not read, which the control runs");
+            }
+            if std::mem::take(&mut self.hold_mcall) {
+                self.interp.hold_keyword(line, "MCALL", &crate::program::interp::SIN_MCALL);
             }
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
@@ -427,17 +441,20 @@ impl SinumerikReader {
                         _ => "CYCLE800 after a refused CYCLE800: the plane it sets is read, but its moves start where the control's swivel left the tool, which is not known, so they are not read".to_string(),
                     };
                     let stale = self.interp.take_stale();
-                    let placed = self.swivel(&k, line, number, out, diags);
+                    let placed = self.swivel(&k, line, number, true, out, diags);
                     self.interp.restore_stale(stale);
                     if diags.errors() == errors {
+                        // (A deselection, or one that turns nothing, makes no move to refuse.)
+                        if out.len() > start {
+                            self.corner_diags.error(line, k.col, why);
+                        }
                         out.truncate(start);
-                        self.corner_diags.error(line, k.col, why);
                         self.interp.end_keyword_hold(&crate::program::interp::SIN_SWIVEL, [true; 3], true);
                         self.interp.placed(placed);
                     }
                 }
                 "CYCLE800" => {
-                    self.swivel(&k, line, number, out, diags);
+                    self.swivel(&k, line, number, false, out, diags);
                 }
                 "CYCLE832" => self.high_speed_settings(&k, line, diags),
                 // A drilling cycle called without MCALL drills once where the tool stands (Cycles
@@ -450,10 +467,15 @@ impl SinumerikReader {
                     } else if self.mcall.is_some() {
                         diags.error(line, col, format!("{name}: a cycle called while MCALL's cycle is in force is not read"));
                     } else {
-                        let errors = diags.errors();
-                        self.modal_call(Some(k), line, diags);
-                        if diags.errors() == errors {
-                            self.call_cycle(line, col, number, out, diags);
+                        let cycle_name = name.to_string();
+                        match self.read_call(Some(k), line, diags) {
+                            None => {
+                                self.call_cycle(line, col, number, out, diags);
+                            }
+                            // Not read: the control drills all the same, and leaves the tool at
+                            // its retraction plane, which is not known here.
+                            Some(false) => self.called_unread = Some(cycle_name),
+                            Some(true) => {}
                         }
                         self.mcall = None;
                     }
