@@ -321,6 +321,21 @@ fn calls_not_read_leave_the_tool_unknown_and_an_alarm_is_said_once() {
     }
 }
 
+/// A second swivel with its retraction (`_FR` 1) while a `ROT` turns the programmable frame is
+/// refused in the 840D's terms (before: a TNC manual's rule about M91/M92 was cited); with a tilted
+/// plane in effect, linear and rotary words in one block name TRAORI, the 840D's tool-tip follow-up.
+#[test]
+fn swivel_refusals_speak_the_840ds_terms() {
+    let ftv5 = Machine::builtin("cincinnati-ftv5").unwrap();
+    let p = read("G90 G710\nG0 X0 Y0 Z50 A0 C0\nCYCLE800(1,\"R_DATA\",0,57,0,0,0,10,0,0,0,0,0,1,)\nROT Z30\nCYCLE800(1,\"R_DATA\",0,57,0,0,0,20,0,0,0,0,0,1,)\nG0 X1 Y2 Z3 A5\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&ftv5));
+    let e = errors(&p);
+    let mut lines: Vec<usize> = e.iter().map(|e| e.0).collect();
+    lines.dedup();
+    assert_eq!(lines, [5, 6], "{e:#?}");
+    assert!(e[0].2.contains("CYCLE800 _FR=1 with a rotated frame (ROT, AROT, RPL) in effect") && !e[0].2.contains("TNC"), "{e:#?}");
+    assert!(e.iter().any(|e| e.2.contains("without TRAORI")), "{e:#?}");
+}
+
 /// `L47` among other words is refused with its line (the call stands alone in its block), and the
 /// call it makes leaves every axis unknown all the same.
 #[test]

@@ -366,7 +366,12 @@ impl Interpreter {
             let w = r * nalgebra::Vector3::new(next.last[0], next.last[1], next.last[2]);
             (targets.x, targets.y, targets.z) = (Some(w.x), Some(w.y), Some(w.z));
             if !next.tcp && next.tilt_places_tip() && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some()) {
-                diags.error(line, column, "linear and rotary axis words in one block in a tilted working plane without M128 / FUNCTION TCPM: position the rotary axes in a block of their own");
+                let tcp = match next.dialect {
+                    Dialect::Sinumerik => "TRAORI",
+                    d if d.is_fanuc() => "G43.4",
+                    _ => "M128 / FUNCTION TCPM",
+                };
+                diags.error(line, column, format!("linear and rotary axis words in one block in a tilted working plane without {tcp}: position the rotary axes in a block of their own"));
             }
         }
         if vector_words && words.iter().any(|w| "IJK".contains(w.letter)) {

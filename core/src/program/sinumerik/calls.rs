@@ -194,6 +194,9 @@ impl super::SinumerikReader {
         let word = |letter: char, v: f64| Word { letter, value: v, raw: Cow::Owned(format!("{v}")), column: col, dimension: Dimension::Modal };
         if let Some(rot) = rot {
             if call.retract > 0 {
+                if self.frame.rotated() {
+                    return refused(diags.error(line, col, format!("CYCLE800 _FR={} with a rotated frame (ROT, AROT, RPL) in effect: where its retraction in machine coordinates goes under the programmed rotation is not read; reset the frame first (ROT)", call.retract)));
+                }
                 let (Some(to), Some(origin)) = (data.retract, OneShot::machine_origin(&self.interp)) else {
                     return refused(diags.error(line, col, format!("CYCLE800 _FR={}: the data set's retract position (swivel.retract_mm) or the machine coordinates are not in the machine file", call.retract)));
                 };
