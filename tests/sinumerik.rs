@@ -130,9 +130,10 @@ fn a_drilling_cycle_without_mcall_drills_once_where_the_tool_stands() {
     assert_eq!(hole(3), vec![(Rapid, None, Some(2.0)), (Linear, None, Some(-5.0)), (Rapid, None, Some(10.0))]);
     assert_eq!(hole(4), vec![(Rapid, Some(30.0), None)]);
     assert_eq!(blocks_of(&p, 3)[1].feed.unwrap().value_per_min, 200.0);
-    let p = on_umc("G90 G71 G94 F200\nG0 X10 Y20 Z50\nX5 CYCLE81(10, 0, 2, -5)\nMCALL CYCLE81(10, 0, 2, -5)\nCYCLE82(10, 0, 2, -5, , 1)\n");
+    let p = on_umc("G90 G71 G94 F200\nG0 X10 Y20 Z50\nX5 CYCLE81(10, 0, 2, -5)\nM30\n");
     assert!(errors(&p).iter().any(|(l, _, m)| *l == 3 && m.contains("stands alone in its block")), "{:#?}", errors(&p));
-    assert!(errors(&p).iter().any(|(l, _, m)| *l == 5 && m.contains("while MCALL's cycle is in force")), "{:#?}", errors(&p));
+    let p = on_umc("G90 G71 G94 F200\nG0 X10 Y20 Z50\nMCALL CYCLE81(10, 0, 2, -5)\nCYCLE82(10, 0, 2, -5, , 1)\nM30\n");
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 4 && m.contains("while MCALL's cycle is in force")), "{:#?}", errors(&p));
 }
 
 /// CYCLE832(_TOL, _TOLM, _OTOL): the tolerance for the blocks after it, and a continuous-path mode
@@ -334,6 +335,29 @@ fn swivel_refusals_speak_the_840ds_terms() {
     assert_eq!(lines, [5, 6], "{e:#?}");
     assert!(e[0].2.contains("CYCLE800 _FR=1 with a rotated frame (ROT, AROT, RPL) in effect") && !e[0].2.contains("TNC"), "{e:#?}");
     assert!(e.iter().any(|e| e.2.contains("without TRAORI")), "{e:#?}");
+}
+
+/// A held line with a statement (`SOFT`) is read for where it leaves the tool, as a plain one is:
+/// the arc after it starts there (from X100 Y100 its end X20 Y0 lies 134.536 mm from the centre
+/// X10 Y0, not 10: refused as the control would, where read from the old point it passed). A cycle
+/// called once while a hold is in effect, and an `MCALL` in a line refused for another statement
+/// (`FGROUP`) or under radius compensation, are made by the control all the same: the tool is not
+/// known after the one, the moves are held after the other. A text where a number is expected is
+/// no alarm the reader knows of: held, whatever the text says.
+#[test]
+fn held_lines_and_refused_calls_leave_the_tool_where_the_control_has_it() {
+    let first = |text: &str| -> Vec<(usize, String)> {
+        let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+        errors(&p).into_iter().map(|(l, _, m)| (l, m)).collect()
+    };
+    let e = first("G0 G90 X0 Y0 Z50 F100\nFLIN\nG1 X100 Y100 SOFT\nFNORM\nG2 X20 Y0 I10 J0\nM30\n");
+    assert!(e.iter().any(|(l, m)| *l == 5 && m.contains("the radius to the end (134.5362 mm) differs from the radius to the start (10.0000 mm)")), "{e:#?}");
+    let e = first("G0 G90 X0 Y0 Z50\nG1 F100\nFLIN\nCYCLE81(10,0,2,-5)\nFNORM\nG18 G2 X20 Z50 I10 K0\nM30\n");
+    assert!(e.iter().any(|(l, m)| *l == 6 && m.contains("a move from where the moves under line 4's CYCLE81 (a cycle not read, which the control runs)")), "{e:#?}");
+    let e = first("G0 G90 X0 Y0 Z50 F100\nMCALL CYCLE81(10,0,2,-5) FGROUP(X,Y,Z)\nG0 X20 Y20\nM30\n");
+    assert!(e.iter().any(|(l, m)| *l == 3 && m.contains("a move while line 2's MCALL (a modal call (MCALL) refused) is in effect")), "{e:#?}");
+    let e = first("G0 G90 X0 Y0 Z50\nMCALL CYCLE81(\"alarm 61101\",0,2,-5)\nG0 X10\nM30\n");
+    assert!(e.iter().any(|(l, m)| *l == 3 && m.contains("a move while line 2's MCALL")), "{e:#?}");
 }
 
 /// `L47` among other words is refused with its line (the call stands alone in its block), and the

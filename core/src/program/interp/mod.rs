@@ -104,6 +104,13 @@ impl Dimension {
     }
 }
 
+/// Where a block left the tool ([`Interpreter::placement`]).
+pub(crate) struct Placement {
+    last: [f64; 6],
+    placed: [bool; 6],
+    stale: Option<lasting::Stale>,
+}
+
 /// Modal state of a G-code program: what a block may change, copied whole ([`State`]), and what it
 /// shares or keeps on the heap. Its fields read as the state's (`Deref`).
 #[derive(Debug, Clone)]
@@ -459,6 +466,18 @@ impl Interpreter {
     /// The last programmed position, absolute program coordinates (m, rad): X Y Z A B C.
     pub fn position(&self) -> [f64; 6] {
         self.last
+    }
+
+    /// Where a held block left the tool: its position, the axes placed and those still unknown, to
+    /// keep when its reader takes the rest of its line's state back ([`Interpreter::set_placement`]).
+    pub(crate) fn placement(&self) -> Placement {
+        Placement { last: self.last, placed: self.placed, stale: self.stale.clone() }
+    }
+
+    /// Put back a [`Placement`]: the control made the held block's move, so its end is where the
+    /// tool is (the axes it did not write absolute stay unknown).
+    pub(crate) fn set_placement(&mut self, p: Placement) {
+        (self.last, self.placed, self.stale) = (p.last, p.placed, p.stale);
     }
 
     /// Put the current point's X and Y at `xy` (program coordinates, m): where the machine stands when

@@ -10,15 +10,11 @@ use std::borrow::Cow;
 
 impl super::SinumerikReader {
     /// `MCALL CYCLE8x(...)`: the cycle is called after each later block that moves (its
-    /// parameters read once, here); `MCALL` alone ends it. One refused for what this reader does
-    /// not read, which the control runs after every later move, holds those moves until an `MCALL`
-    /// that is read ([`crate::program::interp::SIN_MCALL`]); one refused for a defect the control
-    /// stops at (an alarm) is said once, as the readers' other alarms are.
+    /// parameters read once, here); `MCALL` alone ends it, and one read ends the hold of one refused
+    /// (the line's refusal places it: [`super::SinumerikReader::calls_refused`]).
     pub(super) fn modal_call(&mut self, call: Option<Keyword<'_>>, line: usize, diags: &mut Diags) {
-        match self.read_call(call, line, diags) {
-            None => self.interp.end_keyword_hold(&crate::program::interp::SIN_MCALL, [true; 3], true),
-            Some(false) => self.hold_mcall = true,
-            Some(true) => {}
+        if self.read_call(call, line, diags).is_none() {
+            self.interp.end_keyword_hold(&crate::program::interp::SIN_MCALL, [true; 3], true);
         }
     }
 
@@ -46,9 +42,10 @@ impl super::SinumerikReader {
                 self.mcall = Some((hole, line));
                 None
             }
-            Err(why) => {
-                diags.error(line, call.col, format!("{}: {why}", call.name));
-                Some(cycles::is_alarm(&why))
+            Err(r) => {
+                diags.error(line, call.col, format!("{}: {}", call.name, r.why));
+                self.call_refused = Some(r.alarm);
+                Some(r.alarm)
             }
         }
     }

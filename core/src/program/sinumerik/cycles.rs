@@ -101,23 +101,35 @@ fn sign(x: f64) -> f64 {
     }
 }
 
-/// The moves `cycle` makes with `args`; `mm_per_unit` is the program's length unit. Why not: the
-/// parameter the control refuses, with its alarm.
-/// Whether a reason [`decode`] gives is a defect of the program that the control stops at (each
-/// such reason names the alarm, or says "an alarm"), rather than something this reader does not
-/// read and the control runs.
-pub(crate) fn is_alarm(why: &str) -> bool {
-    why.contains("alarm")
+/// Why a cycle's call is refused: `alarm` where the control stops at it (a defect of the program
+/// that the cycle alarms at), else what this reader does not read, which the control runs.
+#[derive(Debug)]
+pub(crate) struct Refusal {
+    pub why: String,
+    pub alarm: bool,
 }
 
-pub(crate) fn decode(cycle: Cycle, args: &[Arg], mm_per_unit: f64) -> Result<Hole, String> {
+impl From<String> for Refusal {
+    fn from(why: String) -> Refusal {
+        Refusal { why, alarm: false }
+    }
+}
+
+/// A defect the control stops at, with its alarm.
+fn alarm(why: impl Into<String>) -> Refusal {
+    Refusal { why: why.into(), alarm: true }
+}
+
+/// The moves `cycle` makes with `args`; `mm_per_unit` is the program's length unit. Why not: the
+/// parameter the control refuses, with its alarm, or what is not read.
+pub(crate) fn decode(cycle: Cycle, args: &[Arg], mm_per_unit: f64) -> Result<Hole, Refusal> {
     let (rtp, rfp) = (value(args, 0, "RTP")?, value(args, 1, "RFP")?);
     let sdis = value(args, 2, "SDIS")?.abs();
     let dpr = value(args, 4, "DPR")?.abs();
     let mut dp = value(args, 3, "DP")?;
     if dpr != 0.0 {
         if rtp == rfp {
-            return Err("a relative depth DPR with the retraction plane RTP on the reference plane RFP (alarm 61101)".into());
+            return Err(alarm("a relative depth DPR with the retraction plane RTP on the reference plane RFP (alarm 61101)"));
         }
         dp = rfp - sign(rtp - rfp) * dpr;
     }
@@ -128,15 +140,15 @@ pub(crate) fn decode(cycle: Cycle, args: &[Arg], mm_per_unit: f64) -> Result<Hol
     let down = sign(rfp - dp);
     // CYCLE83's source has no such check; the others' have it (CYCLE85-89 ASSUMED).
     if cycle != Cycle::C83 && rtp != rfp && sign(rtp - rfp) != down {
-        return Err(format!("RTP={rtp} lies on the depth's side of RFP={rfp} (DP {dp}): reference plane defined incorrectly (alarm 61101)"));
+        return Err(alarm(format!("RTP={rtp} lies on the depth's side of RFP={rfp} (DP {dp}): reference plane defined incorrectly (alarm 61101)")));
     }
     let start = rfp + sdis * down;
     let s = &mut hole.steps;
     s.push(Step::Rapid(start));
-    let spindle_direction = |k: usize| -> Result<(), String> {
+    let spindle_direction = |k: usize| -> Result<(), Refusal> {
         match value(args, k, "SDIR")? {
             d if d == 3.0 || d == 4.0 => Ok(()),
-            d => Err(format!("SDIR={d}: the spindle direction must be 3 (M3) or 4 (M4) (alarm 61102)")),
+            d => Err(alarm(format!("SDIR={d}: the spindle direction must be 3 (M3) or 4 (M4) (alarm 61102)"))),
         }
     };
     match cycle {
@@ -148,7 +160,7 @@ pub(crate) fn decode(cycle: Cycle, args: &[Arg], mm_per_unit: f64) -> Result<Hol
         Cycle::C85 => {
             let (ffr, rff) = (value(args, 6, "FFR")?, value(args, 7, "RFF")?);
             if !(ffr > 0.0) || !(rff > 0.0) {
-                return Err(format!("FFR={ffr}, RFF={rff}: boring 1 feeds in at FFR and out at RFF, both must be positive (a feed of 0 is an alarm)"));
+                return Err(alarm(format!("FFR={ffr}, RFF={rff}: boring 1 feeds in at FFR and out at RFF, both must be positive (a feed of 0 is an alarm)")));
             }
             s.push(Step::Feed(dp, Some(ffr)));
             s.push(Step::Dwell(dwell(args, 5, "DTB")?));
@@ -159,7 +171,7 @@ pub(crate) fn decode(cycle: Cycle, args: &[Arg], mm_per_unit: f64) -> Result<Hol
             for (k, name) in [(7, "RPA"), (8, "RPO"), (9, "RPAP")] {
                 let v = value(args, k, name)?;
                 if v != 0.0 {
-                    return Err(format!("{name}={v}: the lift-off after the oriented spindle stop is not modelled"));
+                    return Err(format!("{name}={v}: the lift-off after the oriented spindle stop is not modelled").into());
                 }
             }
             s.push(Step::Feed(dp, None));
@@ -202,29 +214,29 @@ pub(crate) fn decode(cycle: Cycle, args: &[Arg], mm_per_unit: f64) -> Result<Hol
 
 /// CYCLE84's pitch and spindle speeds (`_PTAB` 0: the program's unit; MPIT a metric size M3 to
 /// M48, PIT a pitch; both empty, or disagreeing, alarm 61001), SST in and SST1 out (SST1 empty: SST).
-fn tapping(args: &[Arg], mm_per_unit: f64) -> Result<(f64, f64, f64), String> {
+fn tapping(args: &[Arg], mm_per_unit: f64) -> Result<(f64, f64, f64), Refusal> {
     for (k, name) in [(13, "_PTAB"), (15, "_VARI")] {
         let v = value(args, k, name)?;
         if v != 0.0 {
-            return Err(format!("{name}={v}: only a pitch in the program's unit and tapping in one pass are read"));
+            return Err(format!("{name}={v}: only a pitch in the program's unit and tapping in one pass are read").into());
         }
     }
     let (mpit, pit) = (value(args, 7, "MPIT")?, value(args, 8, "PIT")?.abs());
     let by_size = if mpit != 0.0 {
-        let p = metric_pitch(mpit.abs()).ok_or_else(|| format!("MPIT={mpit}: not a metric thread M3 to M48 (alarm 61001)"))?;
+        let p = metric_pitch(mpit.abs()).ok_or_else(|| alarm(format!("MPIT={mpit}: not a metric thread M3 to M48 (alarm 61001)")))?;
         Some(p / mm_per_unit)
     } else {
         None
     };
     let pitch = match (by_size, pit) {
-        (None, p) if p == 0.0 => return Err("rigid tapping without a pitch: MPIT and PIT are both empty (alarm 61001)".into()),
+        (None, p) if p == 0.0 => return Err(alarm("rigid tapping without a pitch: MPIT and PIT are both empty (alarm 61001)")),
         (None, p) => p,
-        (Some(m), p) if p != 0.0 && (m - p).abs() > 1e-9 => return Err(format!("MPIT={mpit} and PIT={p} disagree (alarm 61001)")),
+        (Some(m), p) if p != 0.0 && (m - p).abs() > 1e-9 => return Err(alarm(format!("MPIT={mpit} and PIT={p} disagree (alarm 61001)"))),
         (Some(m), _) => m,
     };
     let sst = value(args, 10, "SST")?;
     if !(sst > 0.0) {
-        return Err(format!("SST={sst}: tapping needs its spindle speed"));
+        return Err(format!("SST={sst}: tapping needs its spindle speed").into());
     }
     let sst1 = value(args, 11, "SST1")?;
     Ok((pitch, sst, if sst1 > 0.0 { sst1 } else { sst }))
@@ -244,14 +256,14 @@ fn metric_pitch(size: f64) -> Option<f64> {
 /// chip breaking (VARI 0) backs off _VRT (default 1 mm) at rapid, swarf removal (VARI 1) goes back to
 /// RFP + SDIS, dwells DTS and comes down at rapid to 0.6 mm above the depth reached (or 1/50 of it from
 /// RFP, up to 7 mm; _DIS1 if given). DTB dwells at each intermediate depth, _DTD (default DTB) at DP.
-fn deep_hole(args: &[Arg], rfp: f64, dp: f64, start: f64, down: f64, mm_per_unit: f64) -> Result<(f64, Vec<Step>), String> {
+fn deep_hole(args: &[Arg], rfp: f64, dp: f64, start: f64, down: f64, mm_per_unit: f64) -> Result<(f64, Vec<Step>), Refusal> {
     let frf = value(args, 10, "FRF")?;
     if !(frf > 0.0) {
-        return Err(format!("FRF={frf}: the first infeed runs at FRF times the feed, a feed of 0 (an alarm); expected 0.001 to 1"));
+        return Err(alarm(format!("FRF={frf}: the first infeed runs at FRF times the feed, a feed of 0 (an alarm); expected 0.001 to 1")));
     }
     let axn = value(args, 12, "_AXN")?;
     if axn != 0.0 && axn != 3.0 {
-        return Err(format!("_AXN={axn}: drilling along another axis than the plane's tool axis is not modelled"));
+        return Err(format!("_AXN={axn}: drilling along another axis than the plane's tool axis is not modelled").into());
     }
     let mut fdep = value(args, 5, "FDEP")?;
     let fdpr_given = value(args, 6, "FDPR")?.abs();
@@ -260,7 +272,7 @@ fn deep_hole(args: &[Arg], rfp: f64, dp: f64, start: f64, down: f64, mm_per_unit
     }
     let mut fdpr = (rfp - fdep).abs();
     if fdpr != 0.0 && sign(rfp - fdep) != down {
-        return Err(format!("the first depth {fdep} lies on the wrong side of RFP={rfp} (alarm 61107)"));
+        return Err(alarm(format!("the first depth {fdep} lies on the wrong side of RFP={rfp} (alarm 61107)")));
     }
     if (fdep - dp) * down < 0.0 {
         fdep = dp;
@@ -271,7 +283,7 @@ fn deep_hole(args: &[Arg], rfp: f64, dp: f64, start: f64, down: f64, mm_per_unit
     let swarf_removal = match value(args, 11, "VARI")? {
         v if v == 0.0 => false,
         v if v == 1.0 => true,
-        v => return Err(format!("VARI={v}: expected 0 (chip breaking) or 1 (swarf removal)")),
+        v => return Err(format!("VARI={v}: expected 0 (chip breaking) or 1 (swarf removal)").into()),
     };
     let mut mdep = value(args, 13, "_MDEP")?;
     let vrt = match value(args, 14, "_VRT")? {
@@ -287,7 +299,7 @@ fn deep_hole(args: &[Arg], rfp: f64, dp: f64, start: f64, down: f64, mm_per_unit
     let (mut z, mut inc, mut inc9) = (fdep, fdpr, fdpr);
     for n in 0.. {
         if n > MAX_PECKS {
-            return Err(format!("more than {MAX_PECKS} infeeds"));
+            return Err(format!("more than {MAX_PECKS} infeeds").into());
         }
         steps.push(Step::Feed(z, None));
         steps.push(Step::Dwell(if z == dp { dtd } else { dtb }));
@@ -330,7 +342,7 @@ fn deep_hole(args: &[Arg], rfp: f64, dp: f64, start: f64, down: f64, mm_per_unit
             }
         };
         if next == z {
-            return Err(format!("the infeed from {z} is 0 (RFP, FDEP, FDPR and DAM give no depth to go by): the cycle never advances"));
+            return Err(format!("the infeed from {z} is 0 (RFP, FDEP, FDPR and DAM give no depth to go by): the cycle never advances").into());
         }
         if swarf_removal {
             steps.push(Step::Rapid(start));
@@ -370,16 +382,16 @@ mod tests {
         assert!(decode(Cycle::C81, &args(&[Some(10.0), Some(3.0), Some(2.0), Some(3.0)]), 1.0).unwrap().steps.is_empty());
         // The DMU 70 eVo post's calls: the clearance as RTP, below RFP.
         let e = decode(Cycle::C81, &args(&[Some(0.2362), Some(2.728), Some(0.2362), Some(2.5311), None]), 25.4).unwrap_err();
-        assert!(e.contains("61101"), "{e}");
+        assert!(e.alarm && e.why.contains("61101"), "{e:?}");
         let c89 = decode(Cycle::C89, &args(&[Some(10.0), Some(0.0), Some(2.0), Some(-5.0), None, Some(0.5)]), 1.0).unwrap();
         assert_eq!(c89.steps, vec![Rapid(2.0), Feed(-5.0, None), Dwell(0.5), Feed(2.0, None), Rapid(10.0)]);
         let c85 = decode(Cycle::C85, &args(&[Some(10.0), Some(0.0), Some(2.0), Some(-5.0), None, None, Some(100.0), Some(250.0)]), 1.0).unwrap();
         assert_eq!(c85.steps, vec![Rapid(2.0), Feed(-5.0, Some(100.0)), Feed(2.0, Some(250.0)), Rapid(10.0)]);
         assert!(decode(Cycle::C85, &args(&[Some(10.0), Some(0.0), Some(2.0), Some(-5.0), None, Some(9.8), Some(0.0)]), 1.0).is_err());
-        assert!(decode(Cycle::C86, &args(&[Some(10.0), Some(0.0), Some(2.0), Some(-5.0), None, Some(3.0)]), 1.0).unwrap_err().contains("61102"));
+        assert!(decode(Cycle::C86, &args(&[Some(10.0), Some(0.0), Some(2.0), Some(-5.0), None, Some(3.0)]), 1.0).unwrap_err().why.contains("61102"));
         let c88 = decode(Cycle::C88, &args(&[Some(10.0), Some(0.0), Some(2.0), Some(-5.0), None, Some(1.0), Some(3.0)]), 1.0).unwrap();
         assert_eq!(c88.steps, vec![Rapid(2.0), Feed(-5.0, None), Dwell(1.0), Stop, Rapid(10.0)]);
-        assert!(decode(Cycle::C84, &args(&[Some(10.0), Some(0.0), Some(2.0), Some(-5.0)]), 1.0).unwrap_err().contains("61001"));
+        assert!(decode(Cycle::C84, &args(&[Some(10.0), Some(0.0), Some(2.0), Some(-5.0)]), 1.0).unwrap_err().why.contains("61001"));
         let tap = decode(Cycle::C84, &args(&[Some(10.0), Some(0.0), Some(2.0), Some(-5.0), None, None, None, Some(8.0), None, None, Some(500.0)]), 1.0).unwrap();
         assert_eq!(tap.tapping, Some((1.25, 500.0, 500.0)), "M8: 1.25 mm pitch");
     }
@@ -405,8 +417,8 @@ mod tests {
         // FDEP beyond DP: one infeed; FRF empty: the first infeed at F0, refused.
         let one = decode(Cycle::C83, &args(&[Some(5.0), Some(0.0), Some(1.0), Some(-10.0), None, Some(-20.0), None, None, None, None, Some(1.0)]), 1.0).unwrap();
         assert_eq!(one.steps, vec![Rapid(1.0), Feed(-10.0, None), Rapid(5.0)]);
-        assert!(decode(Cycle::C83, &args(&[Some(5.0), Some(0.0), Some(1.0), Some(-10.0), None, Some(-20.0)]), 1.0).unwrap_err().contains("FRF"));
+        assert!(decode(Cycle::C83, &args(&[Some(5.0), Some(0.0), Some(1.0), Some(-10.0), None, Some(-20.0)]), 1.0).unwrap_err().why.contains("FRF"));
         // No first depth to go by: RFP 0, FDEP and FDPR empty, DAM 0.
-        assert!(decode(Cycle::C83, &args(&[Some(5.0), Some(0.0), Some(1.0), Some(-10.0), None, None, None, None, None, None, Some(1.0)]), 1.0).unwrap_err().contains("never advances"));
+        assert!(decode(Cycle::C83, &args(&[Some(5.0), Some(0.0), Some(1.0), Some(-10.0), None, None, None, None, None, None, Some(1.0)]), 1.0).unwrap_err().why.contains("never advances"));
     }
 }

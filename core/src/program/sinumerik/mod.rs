@@ -82,9 +82,9 @@ pub(crate) struct SinumerikReader {
     pub(super) stopped: bool,
     /// The line refused a call the control runs (a program, a cycle not read): its name.
     called_unread: Option<String>,
-    /// The line's `MCALL` was refused for what this reader does not read: it holds the moves after
-    /// it (set where it is refused, held once the line's state is restored).
-    hold_mcall: bool,
+    /// The line's cycle call (`MCALL` or once) was refused: `true` for an alarm of the control,
+    /// which stops there; `false` for what this reader does not read ([`SinumerikReader::calls_refused`]).
+    call_refused: Option<bool>,
     /// 3D tool radius compensation (`CUT3DC` ..., refused) in force on the control until `CUT2D`: its
     /// line and name ([`keywords::COMP3D`]).
     comp3d: Option<(usize, String)>,
@@ -106,7 +106,7 @@ impl SinumerikReader {
             returned: false,
             stopped: false,
             called_unread: None,
-            hold_mcall: false,
+            call_refused: None,
             comp3d: None,
         }
     }
@@ -124,6 +124,20 @@ impl SinumerikReader {
         // Without CYCLE800's swivel data (TCARR) the frame turns the axes' coordinates alone until
         // TRAORI places the tool through the kinematics.
         self.interp.set_frame([t.x, t.y, t.z], whole.rotated().then_some(whole.r), self.swivel.is_none());
+    }
+}
+
+/// The cycle calls of a line: an `MCALL` (of a cycle, a program, or alone), a cycle called once.
+struct Calls {
+    mcall: bool,
+    once: Option<String>,
+}
+
+impl Calls {
+    fn of(keywords: &[lex::Keyword<'_>]) -> Calls {
+        let mcall = keywords.iter().any(|k| k.name == "MCALL");
+        let once = keywords.iter().find(|k| k.args.is_some() && cycles::Cycle::from_name(&k.name).is_some()).map(|k| k.name.to_string());
+        Calls { mcall, once }
     }
 }
 
@@ -173,7 +187,10 @@ impl super::stream::LineReader for SinumerikReader {
         // moves after it until a statement that ends it is read ([`keywords::LASTING`]).
         let lasting: Vec<(String, &'static keywords::Lasting)> = lexed.keywords.iter().filter_map(|k| keywords::lasting(&k.name).map(|l| (k.name.to_string(), l))).collect();
         let axes = crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words);
+        let calls = Calls::of(&lexed.keywords);
+        self.call_refused = None;
         if diags.errors() > errors_before {
+            self.calls_refused(&calls, line);
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
             }
@@ -209,16 +226,17 @@ impl super::stream::LineReader for SinumerikReader {
         // A refused block's feed does not take effect: a later move without one names it
         // ([`Interpreter::after_refused_feed`]; of a refused block's other words the 840D reader says nothing).
         let feed_word = lexed.words.iter().any(|w| w.letter == 'F');
-        // A block held (refused for a hold, read all the same): the axes it writes are known after
-        // it, whatever else of its line's state is taken back.
+        // A block held (refused for a hold, read all the same): the control made its move, so the
+        // tool is where it ends and the axes it writes are known after it, whatever else of its
+        // line's state is taken back.
         let held = !plain && self.interp.held(&lexed.words).is_some();
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             self.corners.drop_words();
             if let Some(saved) = saved {
-                let stale = held.then(|| self.interp.stale.clone());
+                let placement = held.then(|| self.interp.placement());
                 (self.interp, self.frame, self.mcall, self.swivel) = saved;
-                if let Some(stale) = stale {
-                    self.interp.stale = stale;
+                if let Some(p) = placement {
+                    self.interp.set_placement(p);
                 }
             }
             self.tool_offsets = tool_offsets;
@@ -243,9 +261,7 @@ impl super::stream::LineReader for SinumerikReader {
             if let Some(name) = self.called_unread.take() {
                 self.interp.moved_everywhere(line, &name, "a call not read, which the control runs");
             }
-            if std::mem::take(&mut self.hold_mcall) {
-                self.interp.hold_keyword(line, "MCALL", &crate::program::interp::SIN_MCALL);
-            }
+            self.calls_refused(&calls, line);
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
             }
@@ -467,15 +483,9 @@ impl SinumerikReader {
                     } else if self.mcall.is_some() {
                         diags.error(line, col, format!("{name}: a cycle called while MCALL's cycle is in force is not read"));
                     } else {
-                        let cycle_name = name.to_string();
-                        match self.read_call(Some(k), line, diags) {
-                            None => {
-                                self.call_cycle(line, col, number, out, diags);
-                            }
-                            // Not read: the control drills all the same, and leaves the tool at
-                            // its retraction plane, which is not known here.
-                            Some(false) => self.called_unread = Some(cycle_name),
-                            Some(true) => {}
+                        // (Refused, the line's refusal says what the control does: calls_refused.)
+                        if self.read_call(Some(k), line, diags).is_none() {
+                            self.call_cycle(line, col, number, out, diags);
                         }
                         self.mcall = None;
                     }
@@ -601,6 +611,23 @@ impl SinumerikReader {
         }
         if let Some(g) = frame_g {
             self.interp.hold_keyword(line, &format!("G{g}"), &crate::program::interp::SIN_FRAME);
+        }
+    }
+
+    /// A line refused with a cycle call in it (`calls`), which the control makes all the same unless
+    /// it stops at an alarm of the call's own ([`Self::call_refused`]): an `MCALL`, whichever it was,
+    /// holds the moves after it until an `MCALL` that is read (the modal call in force is not known);
+    /// a cycle called once leaves every axis unknown (it drills where the tool stands, and leaves it
+    /// at its retraction plane).
+    fn calls_refused(&mut self, calls: &Calls, line: usize) {
+        if self.call_refused.take() == Some(true) {
+            return;
+        }
+        if calls.mcall {
+            self.mcall = None;
+            self.interp.hold_keyword(line, "MCALL", &crate::program::interp::SIN_MCALL);
+        } else if let Some(name) = &calls.once {
+            self.interp.moved_everywhere(line, name, "a cycle not read, which the control runs");
         }
     }
 
