@@ -40,6 +40,10 @@ fn fanuc_reads_high_precision_contour_control_and_refuses_other_g05() {
     assert_eq!(end_points(&hpcc), end_points(&plain));
     refuses_each(Dialect::Fanuc, &ReadOptions::default(), &[("%\nO1000\nG05 P3\nM30\n%\n", "3:1:", "high-speed cycle machining")]);
     refuses_each(Dialect::Haas, &ReadOptions::default(), &[("%\nO1000\nG05 P10000\nM30\n%\n", "3:1:", "G05")]);
+    // FANUC's G08 (as NX's posts write `G08 P1`) is no lathe diameter mode, LinuxCNC's G8: refused
+    // as a code not read, not named as that.
+    refuses_each(Dialect::Fanuc, &ReadOptions::default(), &[("%\nO1000\nG08 P1\nM30\n%\n", "3:1:", "unknown G code G08")]);
+    refuses_each(Dialect::Rs274, &ReadOptions::default(), &[("G7\nM2\n", "1:1:", "lathe diameter or radius mode")]);
 }
 
 /// AI contour control `G05.1 Q1` with its machining condition `R1`-`R10` (feed control: the moves are

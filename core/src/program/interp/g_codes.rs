@@ -311,7 +311,10 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         ("33" | "33.1" | "76" | "38.2" | "38.3" | "38.4" | "38.5", false) => unsupported(diags, "threading or probing"),
         ("73" | "74" | "81" | "82" | "83" | "84" | "85" | "86" | "87" | "88" | "89", false) => unsupported(diags, "canned cycle"),
         ("92" | "92.3", false) => unsupported(diags, "coordinate system offset"),
-        ("7" | "8" | "50" | "51" | "52", false) => unsupported(diags, "diameter mode, scaling or local offset"),
+        // LinuxCNC's lathe modes; FANUC's G07/G08 are other functions, not read (the unknown code's
+        // message below).
+        ("7" | "8", false) if before.dialect == Dialect::Rs274 => unsupported(diags, "lathe diameter or radius mode"),
+        ("50" | "51" | "52", false) => unsupported(diags, "scaling or local offset"),
         _ => diags.error(
             line,
             w.column,
