@@ -406,18 +406,12 @@ impl Interpreter {
         if !done || look.axis.is_none() {
             return;
         }
-        let absolute = self.absolute;
-        if let Some(s) = self.stale.as_mut() {
-            for w in words {
-                if let Some(k) = "XYZABC".find(w.letter) {
-                    if w.dimension.absolute(absolute) {
-                        s.axes[k] = false;
-                    }
-                }
+        if self.stale.is_some() {
+            let mut written = [false; 6];
+            for k in words.iter().filter(|w| w.dimension.absolute(absolute)).filter_map(|w| "XYZABC".find(w.letter)) {
+                written[k] = true;
             }
-            if s.axes == [false; 6] {
-                self.stale = None;
-            }
+            self.placed(written);
         }
     }
 

@@ -454,7 +454,7 @@ impl Jumping for FlowRunner {
                         diags.error(line, crate::program::lex::Columns::new(text).col(k), why);
                         // The control runs the call all the same: where it leaves the tool is not known.
                         let name: String = text[body..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
-                        self.reader.interp.moved_everywhere(line, &name, "a subprogram call not read, which the control runs");
+                        self.reader.interp.moved_everywhere(line, &name, super::subprogram::CALL_NOT_READ);
                         Next::On
                     }
                 };

@@ -127,6 +127,10 @@ impl SinumerikReader {
     }
 }
 
+/// What a call refused is, which the control runs (a program, a cycle not read): every axis is
+/// unknown after it.
+const UNREAD_CALL: &str = "a call not read, which the control runs";
+
 /// The cycle calls of a line: an `MCALL` (of a cycle, a program, or alone), a cycle called once.
 struct Calls {
     mcall: bool,
@@ -197,7 +201,7 @@ impl super::stream::LineReader for SinumerikReader {
             self.hold_refused(&lasting, frame_g, line);
             self.moved_unread_g(refused_move, axes, line);
             if let Some(l) = lexed.call_l {
-                self.interp.moved_everywhere(line, &format!("L{l}"), "a call not read, which the control runs");
+                self.interp.moved_everywhere(line, &format!("L{l}"), UNREAD_CALL);
             }
             self.vars.rollback();
             diags.warning(line, first + 1, format!("line {line} not used: it is damaged"));
@@ -259,7 +263,7 @@ impl super::stream::LineReader for SinumerikReader {
                 self.comp3d = Some((line, k));
             }
             if let Some(name) = self.called_unread.take() {
-                self.interp.moved_everywhere(line, &name, "a call not read, which the control runs");
+                self.interp.moved_everywhere(line, &name, UNREAD_CALL);
             }
             self.calls_refused(&calls, line);
             if let Some(k) = unread_motion {

@@ -191,6 +191,9 @@ fn file_names(name: &str) -> (Vec<String>, Vec<String>) {
     (own, dirs)
 }
 
+/// What a subprogram call refused for what is not read in it is, which leaves every axis unknown.
+pub(super) const CALL_NOT_READ: &str = "a subprogram call not read, which the control runs";
+
 impl FlowRunner {
     /// Call the subprogram `site` names at `line`: found, its first part run now; the rest as the
     /// stream asks ([`FlowRunner::sub_more`]).
@@ -206,7 +209,7 @@ impl FlowRunner {
             Ok(a) => a.unwrap_or_default(),
             Err((k, why)) => {
                 diags.error(line, cols.col(k), format!("{name}: {why}"));
-                self.reader.interp.moved_everywhere(line, name, "a subprogram call not read, which the control runs");
+                self.reader.interp.moved_everywhere(line, name, CALL_NOT_READ);
                 return Next::On;
             }
         };
@@ -217,7 +220,7 @@ impl FlowRunner {
                 Arg::Value(v) => values.push(*v),
                 Arg::Text(t) => {
                     diags.error(line, col, format!("{name}: the text parameter \"{}\" is not read", excerpt(t)));
-                    self.reader.interp.moved_everywhere(line, name, "a subprogram call not read, which the control runs");
+                    self.reader.interp.moved_everywhere(line, name, CALL_NOT_READ);
                     return Next::On;
                 }
             }
