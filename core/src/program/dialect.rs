@@ -120,9 +120,10 @@ impl Dialect {
     /// per line. Before a Fanuc or Haas tape's first `%` it is the tape's leader, skipped as such.
     pub fn listing_header(text: &str, dialect: Dialect) -> Option<Diagnostic> {
         let text = text.strip_prefix(super::stream::BOM).unwrap_or(text);
-        let lines: Vec<&str> = text.lines().take(DETECT_LINES).collect();
         const HEAD: &str = "information listing created by";
-        let at = lines.iter().position(|l| l.trim_start().get(..HEAD.len()).is_some_and(|h| h.eq_ignore_ascii_case(HEAD)))?;
+        // Looked for line by line first: the lines are gathered only where it stands (rarely).
+        let at = head_lines(text).position(|l| l.trim_start().get(..HEAD.len()).is_some_and(|h| h.eq_ignore_ascii_case(HEAD)))?;
+        let lines: Vec<&str> = head_lines(text).collect();
         // Before a Fanuc or Haas tape's first %, it is the leader, skipped as such; after it, code.
         if dialect.is_fanuc() && lines[at..].iter().any(|l| l.trim() == "%") {
             return None;
@@ -150,7 +151,7 @@ impl Dialect {
     pub fn unread_language(text: &str) -> Option<Diagnostic> {
         // Columns count from the line's first character, not from a byte-order mark before it.
         let text = text.strip_prefix(super::stream::BOM).unwrap_or(text);
-        text.lines().take(DETECT_LINES).enumerate().find_map(|(i, raw)| {
+        head_lines(text).enumerate().find_map(|(i, raw)| {
             // A line without `=` or `7` holds neither the angle words nor `G7`: passed over without
             // the copy below (most lines of most programs).
             if !raw.contains('=') || !raw.contains('7') {
@@ -190,14 +191,14 @@ impl Dialect {
         let text = text.strip_prefix(super::stream::BOM).unwrap_or(text);
         // The first line that is not a comment (`;` in every dialect, `#` in CL data, `(` in RS274NGC):
         // a comment's words say nothing of the dialect (a `; ...` header of six words is not CL data).
-        let first = text.lines().map(str::trim).find(|l| !l.is_empty() && !l.starts_with([';', '#', '('])).unwrap_or("");
+        let first = lines(text).map(str::trim).find(|l| !l.is_empty() && !l.starts_with([';', '#', '('])).unwrap_or("");
         // Content that only one dialect writes decides before the extension (`.h` is both
         // Heidenhain's DIN/ISO and conversational; `.nc` is used by every control).
         let upper = |l: &str| l.to_ascii_uppercase();
         // One pass over the first lines: Klartext's `BEGIN PGM` in the first 50, APT's `GOTO/` and
         // the 840D's words in all of them (each looked for until found).
         let (mut klartext, mut goto, mut sinumerik) = (false, false, false);
-        for (i, l) in text.lines().take(DETECT_LINES).enumerate() {
+        for (i, l) in head_lines(text).enumerate() {
             if i < 50 && !klartext {
                 let u = upper(l);
                 let body = u.trim_start().trim_start_matches(|c: char| c.is_ascii_digit()).trim_start();
@@ -242,13 +243,38 @@ impl Dialect {
     }
 }
 
+/// The lines of `text` as `str::lines` splits them (at `\n`, a `\r` before it dropped), found with
+/// the memchr crate's vector search: the dialect's tests pass over the first lines three times.
+fn lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut rest = Some(text).filter(|t| !t.is_empty());
+    std::iter::from_fn(move || {
+        let t = rest?;
+        Some(match memchr::memchr(b'\n', t.as_bytes()) {
+            Some(k) => {
+                rest = Some(&t[k + 1..]).filter(|n| !n.is_empty());
+                t[..k].strip_suffix('\r').unwrap_or(&t[..k])
+            }
+            None => {
+                rest = None;
+                t
+            }
+        })
+    })
+}
+
+/// The first [`DETECT_LINES`] lines of `text`, those the dialect is told from.
+fn head_lines(text: &str) -> impl Iterator<Item = &str> {
+    lines(text).take(DETECT_LINES)
+}
+
 /// Words only the 840D writes among the dialects read here (its transformations, orientation modes,
 /// swivel cycle, tool-vector words, and G codes of its own), in capitals.
 const SINUMERIK_WORDS: [&[u8]; 12] = [b"TRAORI", b"TRAFOOF", b"ORIWKS", b"ORIMKS", b"ORIVECT", b"ORIAXES", b"CYCLE800", b"A3=", b"B3=", b"C3=", b"G642", b"G500"];
 
 /// Whether `code` holds one of [`SINUMERIK_WORDS`] in any case: a pass over its bytes, comparing
 /// only where a word's first letter stands, and only the words it starts (no copy of the line in
-/// capitals).
+/// capitals). Eight bytes at a time are passed over where none is a letter (bit 0x40 clear: the
+/// digits, blanks, signs and points that most of a G-code line is), as no word starts there.
 fn sinumerik_word(code: &[u8]) -> bool {
     // For each byte, the words it starts (bit k: word k), in either case: from the words themselves.
     const STARTS: [u16; 256] = {
@@ -262,8 +288,17 @@ fn sinumerik_word(code: &[u8]) -> bool {
         }
         t
     };
-    code.iter().enumerate().any(|(i, c)| {
-        let mut words = STARTS[usize::from(*c)];
+    // Every word starts with a letter, whose byte has bit 0x40 set in either case.
+    const _: () = {
+        let mut k = 0;
+        while k < SINUMERIK_WORDS.len() {
+            assert!(SINUMERIK_WORDS[k][0].is_ascii_alphabetic());
+            k += 1;
+        }
+    };
+    const LETTER_BITS: u64 = 0x4040_4040_4040_4040;
+    let starts_at = |i: usize| {
+        let mut words = STARTS[usize::from(code[i])];
         while words != 0 {
             let w = SINUMERIK_WORDS[words.trailing_zeros() as usize];
             if code[i..].get(..w.len()).is_some_and(|s| s.eq_ignore_ascii_case(w)) {
@@ -272,7 +307,16 @@ fn sinumerik_word(code: &[u8]) -> bool {
             words &= words - 1;
         }
         false
-    })
+    };
+    let mut chunks = code.chunks_exact(8);
+    for (k, chunk) in chunks.by_ref().enumerate() {
+        let bytes = u64::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3], chunk[4], chunk[5], chunk[6], chunk[7]]);
+        if bytes & LETTER_BITS != 0 && (8 * k..8 * k + 8).any(starts_at) {
+            return true;
+        }
+    }
+    let tail = code.len() - chunks.remainder().len();
+    (tail..code.len()).any(starts_at)
 }
 
 #[cfg(test)]
@@ -299,6 +343,19 @@ mod tests {
         }
         // Both answers drawn often enough to tell them apart.
         assert!((1_000..199_000).contains(&found), "{found} lines with a word");
+    }
+
+    /// The lines are those `str::lines` gives, with `\r\n`, a lone `\r`, empty lines and no final
+    /// line end, over texts drawn from those pieces.
+    #[test]
+    fn lines_are_those_str_lines_gives() {
+        let mut next = lex::xorshift(0x0BAD_5EED_1234_5678);
+        let pieces = ["G1", "\n", "\r\n", "\r", " ", "Ä", "\n\n", "X1"];
+        for _ in 0..20_000 {
+            let len = (next() % 8) as usize;
+            let text: String = (0..len).map(|_| pieces[(next() % pieces.len() as u64) as usize]).collect();
+            assert_eq!(lines(&text).collect::<Vec<_>>(), text.lines().collect::<Vec<_>>(), "{text:?}");
+        }
     }
 
     /// NX's listing header is refused once at its line, naming its lines, in any dialect; never in a
