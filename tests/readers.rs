@@ -8,6 +8,7 @@ use proptest::prelude::*;
 
 mod fanuc;
 mod fanuc_corners;
+mod fanuc_macro;
 mod fanuc_nurbs;
 mod fanuc_offsets;
 mod feed_per_rev;

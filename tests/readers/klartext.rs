@@ -556,3 +556,48 @@ fn klartext_plane_move_turns_a_modulo_axis_the_way_turn_does() {
     has(&p, 3, 3, "PLANE ... MOVE: the compensating move needs chords");
     assert!(p.blocks.iter().all(|b| b.line != 3), "{:?}", p.blocks);
 }
+
+/// What the TNC does and this reader does not read is refused at its block, never read as
+/// something else: `PLANE RESET TURN` (the rotary axes turn back to their basic position, MOVE or
+/// TURN; STAY leaves them), a datum shift programmed in a tilted plane (it acts in the tilted system,
+/// TNC 320 user's manual 9/2016 p.108), an arc with no end point, and an LN block whose tool has
+/// radius deltas in the tool table (the TNC moves it along the normal by them). The forms whose
+/// rule is at hand read: STAY, a shift before the plane or to 0 in it, C with its start's X.
+#[test]
+fn klartext_refuses_what_moves_the_tool_unread() {
+    let hermle = fiveaxis::machine::Machine::hermle_c600u();
+    let options = ReadOptions::default().on(&hermle);
+    let pgm = |body: &str| format!("0 BEGIN PGM P MM\n1 TOOL CALL 3 Z S5000\n2 L X+0 Y+0 Z+100 A+0 C+0 R0 FMAX\n{body}99 END PGM P MM\n");
+    let tilt = "3 PLANE SPATIAL SPA+30 SPB+0 SPC+40 TURN MB MAX FMAX\n";
+    for reset in ["PLANE RESET TURN MB MAX FMAX", "PLANE RESET TURN FMAX"] {
+        has(&read(&pgm(&format!("{tilt}4 {reset}\n5 L X+10 F1000\n")), Dialect::Klartext, "p.h", &options), 5, 3, "PLANE RESET ... TURN");
+    }
+    let stay = read(&pgm(&format!("{tilt}4 PLANE RESET STAY\n5 L X+10 F1000\n")), Dialect::Klartext, "p.h", &options);
+    assert!(errors(&stay).is_empty(), "{:?}", errors(&stay));
+    // Cycle 7 after the plane: refused at its word; before it, or a shift to 0 after it, read.
+    let shift = |at: &str| format!("{at}.0 CYCL DEF 7.0 DATUM SHIFT\n{at}.1 CYCL DEF 7.2 Y+50\n");
+    let text = pgm(&format!("{tilt}{}6 L X+0 Y+0 Z+0 F1000\n", shift("4").replace("4.0", "4").replace("4.1", "5")));
+    has(&read(&text, Dialect::Klartext, "p.h", &options), 6, 16, "acts in the tilted system");
+    let before = pgm(&format!("3 CYCL DEF 7.0 DATUM SHIFT\n4 CYCL DEF 7.2 Y+50\n{}6 L X+0 Y+0 Z+0 F1000\n", tilt.replace("3 ", "5 ")));
+    assert!(errors(&read(&before, Dialect::Klartext, "p.h", &options)).is_empty());
+    let zero = pgm(&format!("{tilt}4 CYCL DEF 7.0 DATUM SHIFT\n5 CYCL DEF 7.1 X+0\n6 CYCL DEF 7.2 Y+0\n7 L X+0 Y+0 Z+0 F1000\n"));
+    assert!(errors(&read(&zero, Dialect::Klartext, "p.h", &options)).is_empty());
+    // Arcs without an end point; C with its start's X is the full circle about CC.
+    for (arc, needle) in [("C DR+", "C: expected the arc's end point"), ("CR R+10 DR+", "CR: expected the arc's end point"), ("C DR+ F1000", "C: expected")] {
+        has(&read(&pgm(&format!("3 L X+10 Y+0 F1000\n4 CC X+0 Y+0\n5 {arc}\n")), Dialect::Klartext, "p.h", &options), 6, 3, needle);
+    }
+    let full = read(&pgm("3 L X+10 Y+0 F1000\n4 CC X+0 Y+0\n5 C X+10 DR+\n"), Dialect::Klartext, "p.h", &options);
+    assert!(errors(&full).is_empty(), "{:?}", errors(&full));
+    // LN with tool 3's DR -0.5 in the table: refused; with DR 0, read at the point written.
+    let table = |dr: &str| {
+        let text = format!("BEGIN TOOL.T MM\nT    NAME                 L           R           DR          DR2\n3    MILL                 +55         +3          {dr:<12}+0\n[END]\n");
+        std::sync::Arc::new(fiveaxis::program::ToolTable::parse(&text).unwrap())
+    };
+    let ln = pgm("3 LN X+10 Y+0 Z+100 NX+0 NY+0 NZ+1 F1000\n");
+    let with = ReadOptions { tool_table: Some(table("-0.5")), ..options.clone() };
+    has(&read(&ln, Dialect::Klartext, "p.h", &with), 4, 3, "LN with tool 3's deltas DR -0.5000");
+    let without = ReadOptions { tool_table: Some(table("+0")), ..options.clone() };
+    let p = read(&ln, Dialect::Klartext, "p.h", &without);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    assert_eq!(ends(&p).last().copied(), Some([10.0, 0.0, 100.0]));
+}

@@ -13,6 +13,9 @@ pub struct ToolTable {
     tools: Vec<(u32, f64)>,
     /// A TNC table's tool names (its NAME column, in capitals as the control keeps them) and numbers.
     names: Vec<(String, u32)>,
+    /// A TNC table's tools whose radius deltas DR or DR2 are not 0: (tool, DR, DR2), in its unit.
+    /// Three-dimensional compensation (LN blocks) moves the tool along the normal by them.
+    deltas: Vec<(u32, f64, f64)>,
     /// Metres per unit of the table's numbers.
     unit: f64,
     /// The unit is the table's own (a TNC table's header), which [`ToolTable::in_unit`] leaves.
@@ -74,7 +77,7 @@ impl ToolTable {
             let Some(tool) = tool else { return Err(format!("line {line}: no T word (the tool's number)")) };
             add(&mut tools, line, tool, diameter)?;
         }
-        Ok(ToolTable { tools, names: Vec::new(), unit: crate::units::MM, unit_from_header: false })
+        Ok(ToolTable { tools, names: Vec::new(), deltas: Vec::new(), unit: crate::units::MM, unit_from_header: false })
     }
 
     /// Read a Heidenhain TNC tool table (`TOOL.T`, as the control writes it and pyLSV2's
@@ -118,6 +121,8 @@ impl ToolTable {
         let Some(t_span) = span("T") else { return Err(format!("line {at}: no column T (the tool's number) among the column names")) };
         let Some(r_span) = span("R") else { return Err(format!("line {at}: no column R (the tool's radius) among the column names")) };
         let dr_span = span("DR");
+        let dr2_span = span("DR2");
+        let mut deltas: Vec<(u32, f64, f64)> = Vec::new();
         let name_span = span("NAME");
         let mut tools: Vec<(u32, f64)> = Vec::new();
         let mut named: Vec<(String, u32)> = Vec::new();
@@ -149,13 +154,22 @@ impl ToolTable {
                 return Err(format!("line {line}: columns R and DR: 2 (R + DR) is not a finite number"));
             }
             add(&mut tools, line, tool, diameter)?;
+            let delta2 = match dr2_span.map(|s| cell(raw, s)).filter(|d| !d.is_empty()) {
+                Some(d) => number(line, "DR2", d)?,
+                None => 0.0,
+            };
+            // A tool listed again takes its last line's deltas.
+            deltas.retain(|(t, _, _)| *t != tool);
+            if delta != 0.0 || delta2 != 0.0 {
+                deltas.push((tool, delta, delta2));
+            }
             // A tool listed again takes its last line's name, or none.
             named.retain(|(_, t)| *t != tool);
             if let Some(name) = name_span.map(|s| cell(raw, s)).filter(|n| !n.is_empty()) {
                 named.push((name.to_ascii_uppercase(), tool));
             }
         }
-        Ok(ToolTable { tools, names: named, unit: unit.unwrap_or(crate::units::MM), unit_from_header: unit.is_some() })
+        Ok(ToolTable { tools, names: named, deltas, unit: unit.unwrap_or(crate::units::MM), unit_from_header: unit.is_some() })
     }
 
     /// The table with its numbers in `unit` (an inch machine's LinuxCNC table). A TNC table whose
@@ -177,6 +191,16 @@ impl ToolTable {
             }
             None => false,
         }
+    }
+
+    /// The radius deltas DR and DR2 (m) of a TNC table's tool where either is not 0.
+    pub fn radius_deltas(&self, tool: u32) -> Option<(f64, f64)> {
+        self.deltas.iter().find(|(t, _, _)| *t == tool).map(|&(_, dr, dr2)| (dr * self.unit, dr2 * self.unit))
+    }
+
+    /// The numbers of a TNC table's tools named `name` (capitals and small letters alike).
+    pub fn numbers_named<'a>(&'a self, name: &'a str) -> impl Iterator<Item = u32> + 'a {
+        self.names.iter().filter(move |(n, _)| n.eq_ignore_ascii_case(name)).map(|&(_, t)| t)
     }
 
     /// A tool's diameter, m.

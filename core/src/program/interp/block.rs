@@ -229,6 +229,13 @@ impl Interpreter {
             if let Some(s) = words.iter().find(|w| w.letter == 'S').filter(|_| before.dialect == Dialect::Sinumerik) {
                 diags.error(line, s.column, format!("G4 S{}: a dwell in spindle revolutions is not read (expected G4 F, seconds)", s.raw));
             }
+            // Fanuc and Haas: a G04 block's X is the dwell's time ("G04 X_ ;" or "G04 P_ ;", FANUC
+            // B-64484EN "Dwell (G04)"), never a move; beside P, or any other axis word with G04, what
+            // the control does is not read here.
+            let axis = words.iter().find(|w| AXIS_LETTERS.contains(&w.letter) && (w.letter != 'X' || time.is_some()));
+            if let Some(a) = axis.filter(|_| before.dialect.is_fanuc()) {
+                diags.error(line, a.column, format!("G{} with {}{}: in a G04 block X is the dwell's time (FANUC \"G04 X_ ; or G04 P_ ;\"), not a move; a G04 block with axis words is not read (write the move in a block of its own)", g.raw, a.letter, a.raw));
+            }
             match time {
                 // Fanuc and Haas: P in milliseconds (Haas: seconds with a decimal point).
                 Some(t) if before.dialect.is_fanuc() => match crate::program::fanuc::dwell(before.dialect, t) {

@@ -117,6 +117,11 @@ pub(super) fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diag
         Shape::LinePolar if seen & (3 << 12) == 0 => diags.error(line, at, "LP: expected the polar radius PR (or IPR) or angle PA (or IPA)"),
         Shape::CirclePolar if seen & (1 << 13) == 0 => diags.error(line, at, "CP: expected the polar angle PA (or IPA) of the arc's end"),
         Shape::CircleRadius if radius.is_none() => diags.error(line, at, "CR: expected the radius R+.. (R- for an arc over 180 deg)"),
+        // An arc with no end-point coordinate: a full circle about CC for C, an undefined one for CR
+        // and CT; which the TNC makes of it is not at hand.
+        Shape::Circle | Shape::CircleRadius | Shape::CircleTangent if seen & 0o7 == 0 => {
+            diags.error(line, at, format!("{key}: expected the arc's end point (X, Y or Z; for a full circle about CC, its start's coordinates)"))
+        }
         Shape::LineNormal => {
             // Bits: X Y Z 0-2, A B C 3-5, NX NY NZ 6-8, TX TY TZ 9-11.
             if seen & 0o707 != 0o707 {

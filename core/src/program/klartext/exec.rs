@@ -200,6 +200,15 @@ impl Exec {
             }
             Kind::Datum(k, w, incremental) => {
                 if let Some(v) = self.value(w, s.line, diags) {
+                    // Programmed in a tilted plane, a datum shift acts in the tilted system (TNC 320
+                    // Conversational User's Manual 9/2016 p.108, "Transformations in the working plane
+                    // coordinate system": cycle 7 among them): shifts here are in the workpiece's. A
+                    // shift to 0 is the same in either.
+                    let tilted = interp.tilt().is_some_and(|r| (r - nalgebra::Matrix3::identity()).abs().max() > 1e-12);
+                    if tilted && v != 0.0 {
+                        diags.error(s.line, w.col, format!("CYCL DEF 7 {}{}: a datum shift programmed in a tilted working plane acts in the tilted system, which is not read (shift the datum before the PLANE or cycle 19)", w.addr, w.raw));
+                        return false;
+                    }
                     let mut datum = interp.datum();
                     datum[*k] = if *incremental { datum[*k] + v * unit } else { v * unit };
                     interp.set_datum(datum);
@@ -398,6 +407,28 @@ impl Exec {
                     words.push(word('F', v, raw, col, false));
                 }
                 if *shape == Shape::LineNormal {
+                    // The TNC moves an LN block's tool along the surface normal by the sum of its
+                    // delta values (TNC 640 User's Manual 34059x-02, "3-D compensation without TCPM"):
+                    // the tool table's DR or DR2 not 0 for the called tool is an offset not read.
+                    if let Some(table) = interp.tool_table() {
+                        let numbers: Vec<u32> = match (self.tool, self.tool_name.as_deref()) {
+                            (Some(t), _) => vec![t],
+                            (None, Some(name)) => table.numbers_named(name).collect(),
+                            (None, None) => Vec::new(),
+                        };
+                        if let Some((t, (dr, dr2))) = numbers.iter().find_map(|&t| table.radius_deltas(t).map(|d| (t, d))) {
+                            diags.error(
+                                s.line,
+                                s.col,
+                                format!(
+                                    "LN with tool {t}'s deltas DR {:.4} and DR2 {:.4} mm in the tool table: the TNC moves the tool along the surface normal by its delta values (3-D compensation), which is not read",
+                                    dr / crate::units::MM,
+                                    dr2 / crate::units::MM
+                                ),
+                            );
+                            return false;
+                        }
+                    }
                     let full = |v: [Option<f64>; 3]| -> Option<[f64; 3]> { Some([v[0]?, v[1]?, v[2]?]) };
                     let m128 = m.iter().any(|w| w.val == Val::Num(128.0));
                     let t = full(tool);

@@ -331,9 +331,12 @@ impl Exec {
             return;
         }
         let Some(r) = frame else {
-            // RESET with MOVE: where the TNC turns the axes back to is not read (TURN moves nothing here).
-            if p.mode == PlaneMode::Move {
-                diags.error(s.line, s.col, "PLANE RESET ... MOVE: the compensating move back to the axes' basic position is not read (write PLANE RESET STAY and position the axes)");
+            // RESET with MOVE or TURN: the TNC turns the rotary axes back to their basic position
+            // (STAY leaves them where they are); where that is, and MOVE's compensating move, are
+            // not read.
+            if matches!(p.mode, PlaneMode::Move | PlaneMode::Turn) {
+                let (mode, what) = if p.mode == PlaneMode::Move { ("MOVE", "the rotary axes' turn back to their basic position, with its compensating move,") } else { ("TURN", "the rotary axes' turn back to their basic position") };
+                diags.error(s.line, s.col, format!("PLANE RESET ... {mode}: {what} is not read (write PLANE RESET STAY and position the axes)"));
                 return;
             }
             interp.set_tilt(None);

@@ -176,6 +176,12 @@ impl MacroRunner {
 
     /// `M99`: the end of a subprogram's run (again, if repeats are left), back to the caller.
     fn ret(&mut self, to: Option<u64>, line: usize, column: usize, diags: &mut Diags) -> Next {
+        // Haas: "M99 P" in a subprogram branches to that block of the subprogram itself, "It does not
+        // return control to the calling" program (Haas mill manual 96-8000, Macros); FANUC returns
+        // to the caller's block. Which the Haas controls of today do is not at hand.
+        if let (Some(n), true) = (to, self.dialect == Dialect::Haas && self.frames.len() > 1) {
+            return stop(line, column, format!("M99 P{n} in a subprogram: Haas' manual has it branch to N{n} of the subprogram itself, FANUC's return to N{n} of the caller; which this control does is not read"), diags);
+        }
         if self.frames.len() == 1 {
             self.program_end = true;
             diags.warning(line, column, "M99 in the main program: the control runs it again from its start, endlessly; read once");

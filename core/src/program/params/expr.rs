@@ -47,6 +47,8 @@ enum Op {
     Mul,
     Div,
     Mod,
+    /// Fanuc's MOD: of whole numbers 0 or more only (the sign and rounding of others are not at hand).
+    ModWhole,
     Pow,
 }
 
@@ -56,7 +58,7 @@ impl Op {
             Op::And | Op::Or | Op::Xor | Op::BitAnd | Op::BitOr | Op::BitXor => 0,
             Op::Eq | Op::Ne | Op::Gt | Op::Ge | Op::Lt | Op::Le => 1,
             Op::Add | Op::Sub => 2,
-            Op::Mul | Op::Div | Op::Mod => 3,
+            Op::Mul | Op::Div | Op::Mod | Op::ModWhole => 3,
             Op::Pow => 4,
         }
     }
@@ -96,6 +98,11 @@ impl Op {
                 let r = a % b;
                 if r < 0.0 { r + b.abs() } else { r }
             }
+            Op::ModWhole if b == 0.0 => return err(column, "MOD by zero"),
+            Op::ModWhole if a < 0.0 || b < 0.0 || a.fract() != 0.0 || b.fract() != 0.0 => {
+                return err(column, format!("{a} MOD {b}: FANUC's MOD of a negative or fractional number (how it rounds and signs it) is not read; it is read for whole numbers 0 or more"))
+            }
+            Op::ModWhole => a % b,
             Op::Pow if a < 0.0 && b.fract() != 0.0 => return err(column, format!("{a} ** {b}: a negative number to a non-integer power")),
             Op::Pow => a.powf(b),
         };
@@ -122,6 +129,13 @@ enum Function {
     /// -1.0", FANUC custom macro B, rounding up and down), where LinuxCNC's are floor and ceiling.
     FixTowardZero,
     FupAwayFromZero,
+    /// Fanuc's ASIN: -90 to 90 deg or 270 to 90 deg by parameter 6004#0 (NAT); a negative one refused.
+    AsinByParameter,
+}
+
+/// Why Fanuc's ATAN or ASIN of a negative angle is refused: the range is the control's parameter.
+fn by_nat(name: &str, v: f64) -> String {
+    format!("{name} is {v} deg, or {} deg, as FANUC's parameter 6004#0 (NAT) gives the range (-180 to 180 and -90 to 90, or 0 to 360 and 270 to 90), which is not read here", v + 360.0)
 }
 
 impl Function {
@@ -144,6 +158,7 @@ impl Function {
         match self {
             Function::FixTowardZero => "FIX",
             Function::FupAwayFromZero => "FUP",
+            Function::AsinByParameter => "ASIN",
             _ => Function::ALL.iter().find(|(_, f)| *f == self).map_or("?", |(n, _)| n),
         }
     }
@@ -152,7 +167,9 @@ impl Function {
         let name = self.name();
         let v = match self {
             Function::Abs => x.abs(),
-            Function::Acos | Function::Asin if !(-1.0..=1.0).contains(&x) => return err(column, format!("{name}[{x}]: the argument must be -1 to 1")),
+            Function::Acos | Function::Asin | Function::AsinByParameter if !(-1.0..=1.0).contains(&x) => return err(column, format!("{name}[{x}]: the argument must be -1 to 1")),
+            Function::AsinByParameter if x < 0.0 => return err(column, by_nat(&format!("ASIN[{x}]"), x.asin().to_degrees())),
+            Function::AsinByParameter => x.asin().to_degrees(),
             Function::Acos => x.acos().to_degrees(),
             Function::Asin => x.asin().to_degrees(),
             Function::Cos => x.to_radians().cos(),
@@ -192,6 +209,8 @@ enum Step {
     Function(Function, usize),
     /// `ATAN[y]/[x]`: the two values on top, y below x.
     Atan,
+    /// Fanuc's `ATAN[y]/[x]`, a negative angle refused (its range is parameter 6004#0's), at a column.
+    AtanByParameter(usize),
     Binary(Op, usize),
 }
 
@@ -259,6 +278,14 @@ impl Compiled {
                 Step::Atan => {
                     n -= 1;
                     stack[n - 1] = stack[n - 1].atan2(stack[n]).to_degrees();
+                }
+                Step::AtanByParameter(col) => {
+                    n -= 1;
+                    let v = stack[n - 1].atan2(stack[n]).to_degrees();
+                    if v < 0.0 {
+                        return err(*col, by_nat(&format!("ATAN[{}]/[{}]", stack[n - 1], stack[n]), v));
+                    }
+                    stack[n - 1] = v;
                 }
                 Step::Binary(op, col) => {
                     n -= 1;
@@ -367,6 +394,14 @@ pub fn value(chars: &[char], i: usize, fanuc: bool) -> Result<(Compiled, usize),
     Ok((c.finish(), end))
 }
 
+/// [`value`] as an address's (`X[..]`): with `fanuc`, its ROUND rounds to the address's increment.
+pub fn address_value(chars: &[char], i: usize, fanuc: bool) -> Result<(Compiled, usize), ExprError> {
+    let mut c = Compiler::new(chars, fanuc);
+    c.address = true;
+    let end = c.value(i)?;
+    Ok((c.finish(), end))
+}
+
 /// The setting `#ref = value` at `chars[i] == '#'`, compiled. `bare`: Fanuc's macro statement,
 /// whose expression runs on without brackets (FANUC B-64484EN, "Custom macro": "#i = <expression>").
 /// A system parameter or the machine's state is refused: this reader does not model them.
@@ -399,11 +434,24 @@ enum Ref {
     Named(usize, usize),
 }
 
+/// The operators met at one level of an expression (between brackets).
+#[derive(Debug, Default)]
+struct Level {
+    /// The first of Fanuc's AND, OR, XOR and its column.
+    bitwise: Option<(&'static str, usize)>,
+    /// Any other operator.
+    other: bool,
+}
+
 /// Compiles one value from a line's characters (recursive descent, bounded by [`MAX_DEPTH`]).
 struct Compiler<'a> {
+    /// The operators of each level open now, innermost last.
+    levels: Vec<Level>,
     chars: &'a [char],
     /// Fanuc's rules (FIX, FUP, AND, OR, XOR), else LinuxCNC's.
     fanuc: bool,
+    /// An address's value (`X[..]`), not a macro statement's.
+    address: bool,
     steps: Vec<Step>,
     depth: usize,
     /// Values held now, and the most held at once.
@@ -413,7 +461,7 @@ struct Compiler<'a> {
 
 impl<'a> Compiler<'a> {
     fn new(chars: &'a [char], fanuc: bool) -> Compiler<'a> {
-        Compiler { chars, fanuc, steps: Vec::new(), depth: 0, held: 0, most: 0 }
+        Compiler { levels: Vec::new(), address: false, chars, fanuc, steps: Vec::new(), depth: 0, held: 0, most: 0 }
     }
 
     fn finish(self) -> Compiled {
@@ -535,15 +583,45 @@ impl<'a> Compiler<'a> {
         }
     }
 
-    /// Precedence climbing: operands joined by operators of group `min` or higher.
+    /// Precedence climbing: operands joined by operators of group `min` or higher. Group 0 starts a
+    /// level (inside brackets, or a Fanuc statement's expression), whose operators are checked at its end.
     fn binary(&mut self, i: usize, min: u8) -> Result<usize, ExprError> {
+        if min == 0 {
+            self.levels.push(Level::default());
+            let out = self.binary_in(i, 0);
+            let level = self.levels.pop().unwrap_or_default();
+            let j = out?;
+            // Fanuc's AND, OR and XOR beside arithmetic or a comparison at one level: where FANUC puts
+            // them among the others (LinuxCNC's table puts them last) is not in the manuals at hand.
+            if let (Some((name, column)), true) = (level.bitwise, level.other) {
+                return err(column, format!("{name} beside arithmetic or a comparison without brackets: where FANUC's custom macro puts {name} among the other operators is not read here (bracket its operands, as [4 + 3] {name} 1 or [#1 GT 1] {name} [#2 LT 4])"));
+            }
+            return Ok(j);
+        }
+        self.binary_in(i, min)
+    }
+
+    fn binary_in(&mut self, i: usize, min: u8) -> Result<usize, ExprError> {
         let mut j = self.value(i)?;
         loop {
             let Some((op, len, at)) = self.operator(j) else { return Ok(j) };
             if op.precedence() < min {
                 return Ok(j);
             }
-            j = self.binary(at + len, op.precedence() + 1)?;
+            if let Some(level) = self.levels.last_mut() {
+                match op {
+                    Op::BitAnd | Op::BitOr | Op::BitXor => {
+                        let name = match op {
+                            Op::BitAnd => "AND",
+                            Op::BitOr => "OR",
+                            _ => "XOR",
+                        };
+                        level.bitwise.get_or_insert((name, at + 1));
+                    }
+                    _ => level.other = true,
+                }
+            }
+            j = self.binary_in(at + len, op.precedence() + 1)?;
             self.emit(Step::Binary(op, at + 1), -1);
         }
     }
@@ -569,6 +647,7 @@ impl<'a> Compiler<'a> {
         for (name, op) in [("MOD", Op::Mod), ("AND", Op::And), ("XOR", Op::Xor), ("OR", Op::Or), ("EQ", Op::Eq), ("NE", Op::Ne), ("GT", Op::Gt), ("GE", Op::Ge), ("LT", Op::Lt), ("LE", Op::Le)] {
             if starts_with_word(&self.chars[i..], name) {
                 let op = match op {
+                    Op::Mod if self.fanuc => Op::ModWhole,
                     Op::And if self.fanuc => Op::BitAnd,
                     Op::Or if self.fanuc => Op::BitOr,
                     Op::Xor if self.fanuc => Op::BitXor,
@@ -628,7 +707,7 @@ impl<'a> Compiler<'a> {
             }
             // ATAN[y]/[x]: the first argument is the numerator.
             let k2 = self.expression(self.blank(slash + 1))?;
-            self.emit(Step::Atan, -1);
+            self.emit(if self.fanuc { Step::AtanByParameter(i + 1) } else { Step::Atan }, -1);
             return Ok(k2);
         }
         let Some(&(_, f)) = Function::ALL.iter().find(|(name, _)| is(name)) else {
@@ -638,6 +717,13 @@ impl<'a> Compiler<'a> {
         let f = match f {
             Function::Fix if self.fanuc => Function::FixTowardZero,
             Function::Fup if self.fanuc => Function::FupAwayFromZero,
+            Function::Asin if self.fanuc => Function::AsinByParameter,
+            // "When the ROUND function is used in an NC statement address, [it] rounds off the
+            // specified value according to the least input increment of the address" (FANUC custom
+            // macro B; Haas: "ROUND is rounded to the significant precision" of the address).
+            Function::Round if self.fanuc && self.address => {
+                return err(i + 1, "ROUND in an address: FANUC and Haas round it to the address's least input increment, not to a whole number; that is not read here (round in a macro statement: #1=ROUND[..])");
+            }
             _ => f,
         };
         let k = self.expression(open)?;

@@ -153,7 +153,7 @@ impl Rs274Reader {
                 }
                 let start = i;
                 if computed_value_at(&chars, start) {
-                    match expr::value(&chars, start, self.dialect.is_fanuc()).and_then(|(c, end)| Ok((c.eval(&self.params)?, c, end))) {
+                    match expr::address_value(&chars, start, self.dialect.is_fanuc()).and_then(|(c, end)| Ok((c.eval(&self.params)?, c, end))) {
                         Ok((_, _, end)) if letter == 'N' => {
                             diags.error(line, column, "a line number 'N' must be written as a number");
                             i = end;

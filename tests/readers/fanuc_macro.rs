@@ -1,0 +1,94 @@
+//! Fanuc's and Haas' custom macro and dwell where their rules leave the value to the control (a
+//! parameter, an increment) or to a manual not at hand: refused at the word, never read by
+//! LinuxCNC's rule; the forms whose rule is plain read, with values worked by hand.
+
+use super::*;
+
+/// The X (mm) of each move of a metric Fanuc program `body`, refused nowhere.
+fn xs(dialect: Dialect, body: &str) -> Vec<f64> {
+    let p = read(&format!("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z5.\n{body}M30\n%\n"), dialect, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{body}: {:?}", errors(&p));
+    ends(&p).into_iter().skip(1).map(|e| e[0]).collect()
+}
+
+/// Line 5 (the body's first) of a metric Fanuc program `body` has an error at `column` holding `needle`.
+fn refused(dialect: Dialect, body: &str, line: usize, column: usize, needle: &str) {
+    let p = read(&format!("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z5.\n{body}M30\n%\n"), dialect, "t.nc", &ReadOptions::default());
+    has(&p, line, column, needle);
+}
+
+/// In a G04 block X is the dwell's time ("G04 X_ ; or G04 P_ ;"): an X beside P, or another axis
+/// word with G04, is no move the reader may make; G04 P alone dwells and moves nothing.
+#[test]
+fn a_g04_block_with_axis_words_is_refused_not_moved() {
+    for dialect in [Dialect::Fanuc, Dialect::Haas] {
+        refused(dialect, "G01 X10. F600.\nG04 P1000 X30.\n", 6, 11, "in a G04 block X is the dwell's time");
+        refused(dialect, "G01 X40. G04 P500\n", 5, 5, "in a G04 block X is the dwell's time");
+        refused(dialect, "G04 P500 Z-1.\n", 5, 10, "not a move");
+        assert_eq!(xs(dialect, "G01 X10. F600.\nG04 P500\nG01 X20.\n"), vec![10.0, 20.0], "{dialect:?}");
+    }
+}
+
+/// ATAN and ASIN give a negative angle in -180..180 and -90..90, or the same angle plus 360, as
+/// parameter 6004#0 (NAT) says: refused where the two differ; read where they agree (45 and 30 deg).
+#[test]
+fn atan_and_asin_of_a_negative_angle_are_the_parameters_and_refused() {
+    refused(Dialect::Fanuc, "#1=ATAN[-1]/[-1]\n", 5, 4, "6004#0 (NAT)");
+    refused(Dialect::Fanuc, "#1=ASIN[-1]\n", 5, 4, "6004#0 (NAT)");
+    refused(Dialect::Haas, "G01 X[ATAN[-1]/[1]] F100.\n", 5, 7, "-45 deg, or 315 deg");
+    let want = [1.0f64.atan2(1.0).to_degrees() / 10.0, 0.5f64.asin().to_degrees() / 10.0];
+    let got = xs(Dialect::Fanuc, "#1=ATAN[1]/[1]\n#2=ASIN[0.5]\nG01 X[#1/10] F100.\nG01 X[#2/10]\n");
+    assert!(got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-9), "{got:?} against {want:?}");
+}
+
+/// AND, OR and XOR beside arithmetic or a comparison at one bracket level: where FANUC ranks them
+/// is not at hand, so refused at the operator; bracketed, read bit by bit ([4+3] AND 1 = 7 AND 1 = 1,
+/// [4+3] OR 8 = 15).
+#[test]
+fn bitwise_operators_beside_others_need_brackets() {
+    refused(Dialect::Fanuc, "#1=4+3 AND 1\n", 5, 8, "AND beside arithmetic");
+    refused(Dialect::Haas, "#2=2.\nIF [#2 GT 1 AND #2 LT 4] GOTO 10\nN10 G01 X1. F100.\n", 6, 13, "AND beside arithmetic or a comparison");
+    refused(Dialect::Fanuc, "G01 X[1 OR 2 * 4] F100.\n", 5, 9, "OR beside");
+    assert_eq!(xs(Dialect::Fanuc, "#1=[4+3] AND 1\n#2=[4+3] OR 8\nG01 X#1 F100.\nG01 X#2\n"), vec![1.0, 15.0]);
+    // Comparisons each in brackets, joined by AND: both true, the jump is taken past X99.
+    assert_eq!(xs(Dialect::Fanuc, "#2=2.\nIF [[#2 GT 1] AND [#2 LT 4]] GOTO 10\nG01 X99. F100.\nN10 G01 X3. F100.\n"), vec![3.0]);
+}
+
+/// ROUND in an address rounds to the address's least input increment (FANUC; Haas: X[ROUND[#1] +
+/// ROUND[#1]] with #1 = 1.00333 moves to 2.0066), not to a whole number: refused there; in a macro
+/// statement it rounds to a whole number (1.5 to 2).
+#[test]
+fn round_in_an_address_is_refused_and_read_in_a_statement() {
+    refused(Dialect::Haas, "#1=1.00333\nG01 X[ROUND[#1]+ROUND[#1]] F100.\n", 6, 7, "ROUND in an address");
+    refused(Dialect::Fanuc, "#1=1.2345\nG01 X[ROUND[#1]] F100.\n", 6, 7, "least input increment");
+    assert_eq!(xs(Dialect::Fanuc, "#1=1.5\n#2=ROUND[#1]\nG01 X#2 F100.\n"), vec![2.0]);
+}
+
+/// MOD of whole numbers 0 or more is the remainder (10 MOD 3 = 1, 27 MOD 20 = 7, Haas' example); a
+/// negative or fractional operand, whose rounding and sign the manuals at hand do not give, is refused.
+#[test]
+fn mod_is_read_for_whole_numbers_only() {
+    assert_eq!(xs(Dialect::Haas, "#1=10 MOD 3\n#2=27 MOD 20\nG01 X#1 F100.\nG01 X#2\n"), vec![1.0, 7.0]);
+    refused(Dialect::Fanuc, "#1=-10 MOD 3\n", 5, 8, "negative or fractional");
+    refused(Dialect::Fanuc, "#1=10.7 MOD 3\n", 5, 9, "negative or fractional");
+}
+
+/// Haas' M99 P in a subprogram branches within it (its manual) where FANUC returns to the caller's
+/// block: refused on Haas; FANUC's return to N10 of the caller is read (Y1 in the subprogram, then X3).
+#[test]
+fn m99_p_in_a_subprogram_is_read_on_fanuc_and_refused_on_haas() {
+    let text = |dialect: Dialect| {
+        let p = read(
+            "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z5.\nG01 F100.\nM98 P2000\nG01 X9.\nN10 G01 X3.\nM30\nO2000\nG01 Y1.\nM99 P10\n%\n",
+            dialect,
+            "t.nc",
+            &ReadOptions::default(),
+        );
+        p
+    };
+    let fanuc = text(Dialect::Fanuc);
+    assert!(errors(&fanuc).is_empty(), "{:?}", errors(&fanuc));
+    let e = ends(&fanuc);
+    assert_eq!(e[1..].iter().map(|p| [p[0], p[1]]).collect::<Vec<_>>(), vec![[0.0, 1.0], [3.0, 1.0]]);
+    has(&text(Dialect::Haas), 12, 1, "M99 P10 in a subprogram");
+}
