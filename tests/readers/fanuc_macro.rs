@@ -92,3 +92,12 @@ fn m99_p_in_a_subprogram_is_read_on_fanuc_and_refused_on_haas() {
     assert_eq!(e[1..].iter().map(|p| [p[0], p[1]]).collect::<Vec<_>>(), vec![[0.0, 1.0], [3.0, 1.0]]);
     has(&text(Dialect::Haas), 12, 1, "M99 P10 in a subprogram");
 }
+
+/// P on an arc is LinuxCNC's count of turns; FANUC's and Haas' G02/G03 take none: refused there, not
+/// run as three circles.
+#[test]
+fn p_on_a_fanuc_or_haas_arc_is_refused() {
+    for dialect in [Dialect::Fanuc, Dialect::Haas] {
+        refused(dialect, "G01 X10. F100.\nG03 X10. Y0. I-10. J0. P3\n", 6, 24, "word P3 without a G code that takes it");
+    }
+}

@@ -140,7 +140,8 @@ impl Interpreter {
                 let ok = match w.letter {
                     'I' | 'J' | 'K' => arc_motion || vector_words,
                     'R' => arc_motion || uses.contains(&'R'),
-                    'P' => arc_motion || uses.contains(&'P'),
+                    // P on an arc: LinuxCNC's count of turns; FANUC's and Haas' arcs take no P.
+                    'P' => arc_motion && !fanuc || uses.contains(&'P'),
                     // Fanuc, Haas: H alone selects the tool length offset (the one in use, in G43 mode),
                     // a length this model takes from the machine file, as it takes G43's.
                     'H' if fanuc && !uses.contains(&'H') => {
