@@ -605,3 +605,35 @@ fn rs274_drills_in_the_xz_and_yz_planes_as_linuxcnc_does() {
     let p = read("G20 G90 G18 F10 S100 M3\nG0 X1 Y2 Z1\nG84 Z1 X1 R1.5 Y-1\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
     has(&p, 3, 1, "G84 in the XZ plane: LinuxCNC 2.9 feeds the tap with its axes exchanged");
 }
+
+/// What LinuxCNC 2.9's interpreter refuses is refused here too, never run (each message its own,
+/// from its source): an absolute-centre arc (G90.1) missing a centre word ("J word missing in
+/// absolute center arc"), G53 with an arc or a cycle ("Must use G0 or G1 with G53"), a tap with the
+/// spindle the wrong way or stopped (check_g74_g84_spindle), a comment inside a comment ("Nested
+/// comment found"), N after other words ("Bad character 'n' used"), and a label opening a second
+/// block ("duplicate O-word label").
+#[test]
+fn what_linuxcnc_refuses_is_refused() {
+    let head = "G21 G90 G94 G17 F600 S1000 M3\nG0 X10 Y0 Z0\n";
+    refuses_each(
+        Dialect::Rs274,
+        &ReadOptions::default(),
+        &[
+            (&format!("{head}G90.1\nG3 X-10 Y0 I0\nM2\n"), "4:1:", "J word missing in an absolute-centre arc"),
+            (&format!("{head}G53 G2 X10 Y0 R5\nM2\n"), "3:1:", "Must use G0 or G1 with G53"),
+            (&format!("{head}G53 G81 X5 Y0 Z-1 R2\nM2\n"), "3:1:", "Must use G0 or G1 with G53"),
+            (&format!("{head}G81 X5 Y0 Z-1 R2\nG53 X20\nM2\n"), "4:1:", "Must use G0 or G1 with G53"),
+            (&format!("{head}M4\nG84 X5 Y0 Z-1 R2\nM2\n"), "4:1:", "Spindle turning counterclockwise in G84"),
+            (&format!("{head}G74 X5 Y0 Z-1 R2\nM2\n"), "3:1:", "Spindle turning clockwise in G74"),
+            (&format!("{head}M5\nG84 X8 Z-1 R2\nM2\n"), "4:1:", "Spindle not turning in G84"),
+            (&format!("{head}G1 X10 (a (b) Y5\nM2\n"), "3:11:", "Nested comment found"),
+            (&format!("{head}G1 X10 N20 Y5\nM2\n"), "3:8:", "Bad character 'n' used"),
+            (&format!("{head}#1=1\no100 if [#1 GT 0]\nG1 X20\no100 endif\no100 if [#1 GT 0]\nG1 Y10\no100 endif\nM2\n"), "7:1:", "duplicate O-word label"),
+        ],
+    );
+    // Their lawful forms read: both centre words under G90.1 (a half circle about X0 Y0), G53 G1, G84
+    // under M3 and G74 under M4, N first (after a block delete), labels each opening one block.
+    let p = read(&format!("{head}G90.1\nG3 X-10 Y0 I0 J0\nG91.1\nG53 G1 X20\nM4\nG74 X5 Y0 Z-1 R2\nG80\nN30 G1 X1\no1 if [1 GT 0]\nG1 X2\no1 endif\no2 if [1 GT 0]\nG1 X3\no2 endif\nM2\n"), Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+}
+

@@ -37,6 +37,13 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
         return None;
     }
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
+    // A cycle's motion with G53 (named here or modal): "Must use G0 or G1 with G53" (interp_check.cc).
+    if let Some((_, w)) = g.iter().find(|(k, _)| k == "53") {
+        if !g.iter().any(|(_, w)| lcnc_group(x10(w)) == Some(1) && !(73.0..90.0).contains(&w.value)) {
+            diags.error(line, w.column, "G53 with a canned cycle's motion: LinuxCNC refuses it (\"Must use G0 or G1 with G53\")");
+            return Some(false);
+        }
+    }
     // G76 is LinuxCNC's threading cycle, not a drilling one: the interpreter refuses it elsewhere.
     if let Some((kind, w)) = g.iter().find_map(|(k, w)| Kind::from_code(k).filter(|k| *k != Kind::G76).map(|kind| (kind, *w))) {
         if !words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | '@' | '^')) {
@@ -101,6 +108,20 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         diags.error(line, at, format!("{name} in the {plane_name} plane: LinuxCNC 2.9 feeds the tap with its axes exchanged (interp_cycles.cc convert_cycle_g74_g84 hands cycle_feed the axes already in the plane's order), not read"));
         it.hold_cycle(line, kind.code());
         return false;
+    }
+    // The tap's spindle: turning, clockwise for G84, counter-clockwise for G74 (interp_cycles.cc
+    // check_g74_g84_spindle; a program starts with it stopped).
+    if matches!(kind, Kind::G74 | Kind::G84) {
+        let why = match (it.spindle_turning, it.spindle_ccw, kind) {
+            (Some(true), true, Kind::G84) => Some("Spindle turning counterclockwise in G84"),
+            (Some(true), false, Kind::G74) => Some("Spindle turning clockwise in G74"),
+            (Some(true), _, _) => None,
+            _ => Some(if kind == Kind::G84 { "Spindle not turning in G84" } else { "Spindle not turning in G74" }),
+        };
+        if let Some(why) = why {
+            diags.error(line, at, format!("{name}: LinuxCNC refuses the tap: \"{why}\" (G84 taps with M3, G74 with M4)"));
+            return false;
+        }
     }
     if it.inverse_time() {
         diags.error(line, at, format!("{name}: LinuxCNC cannot use inverse time feed with canned cycles"));

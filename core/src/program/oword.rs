@@ -256,6 +256,10 @@ pub struct Flow {
     pub(super) depth: usize,
     /// The diagnostics said by lines run so far: a loop's second pass over a defect says it once.
     pub(super) said: std::collections::HashSet<(usize, usize, String)>,
+    /// Each label's first `if`, `while` or `repeat` run and its line: LinuxCNC keeps one table of
+    /// labels for the run and refuses another block opening with one ("duplicate O-word label",
+    /// interp_o_word.cc, by line number).
+    pub(super) labels: HashMap<String, usize>,
     /// The run was stopped (budget, a defect in the flow): what is left of the block is not read.
     pub(crate) stopped: bool,
     /// Where subroutines not defined in the program are looked for (`--subroutine-path`, LinuxCNC's
@@ -285,7 +289,7 @@ impl Flow {
     /// in the program looked for in `sub_files`.
     pub fn new(budget: usize, sub_files: Option<Arc<dyn SubroutineFiles>>) -> Flow {
         let sub_files = sub_files.filter(|f| f.has_dirs());
-        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false), own: None, frames: Vec::new(), raised: Vec::new(), stack: Vec::new(), file_runs: Vec::new() }
+        Flow { held: None, subs: HashMap::new(), run_lines: 0, budget, depth: 0, said: Default::default(), labels: HashMap::new(), stopped: false, sub_files, files: HashMap::new(), value: (0.0, false), own: None, frames: Vec::new(), raised: Vec::new(), stack: Vec::new(), file_runs: Vec::new() }
     }
 
     /// How deep in subroutine calls the run stands (0: the main program), as LinuxCNC counts it

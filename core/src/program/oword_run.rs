@@ -28,6 +28,10 @@ fn control(text: &str) -> Control {
     parse(&chars[first..]).map(|o| (o, first, chars[first..].to_vec()))
 }
 
+/// The most distinct labels of `if`, `while` and `repeat` blocks a run keeps (for LinuxCNC's
+/// duplicate-label check): memory bounded whatever the program's length.
+const MAX_LABELS: usize = 100_000;
+
 /// One run of lines in progress: a held block (the program's level) or a subroutine's body.
 #[derive(Debug, Clone)]
 pub(super) struct Frame {
@@ -274,6 +278,17 @@ impl Rs274Reader {
             return Step::Next;
         };
         let col = *col;
+        if matches!(o.keyword, Keyword::If | Keyword::Repeat) || o.keyword == Keyword::While && ends[here].is_some() {
+            let labels = &mut self.flow.labels;
+            let first = match labels.get(&o.name) {
+                Some(&at) => at,
+                None if labels.len() >= MAX_LABELS => return Step::Done(self.stop(line, col + 1, format!("o{}: more than {MAX_LABELS} labels opening blocks", o.name), diags)),
+                None => *labels.entry(o.name.clone()).or_insert(line),
+            };
+            if first != line {
+                return Step::Done(self.stop(line, col + 1, format!("o{} {}: the label opens another block on line {first}; LinuxCNC refuses it (\"duplicate O-word label\")", o.name, word(o.keyword)), diags));
+            }
+        }
         match o.keyword {
             Keyword::Sub => {
                 // A subroutine defined inside a block: kept, its body skipped.

@@ -75,6 +75,12 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
             return None;
         }
         (None, Some(_)) => {
+            // Absolute centres (G90.1): both words, as LinuxCNC wants them ("J word missing in
+            // absolute center arc", interp_convert.cc convert_arc); a word left out is no offset of 0.
+            if let Some(k) = [a0, a1].into_iter().find(|&k| st.arc_absolute && word(offset_letter[k]).is_none()) {
+                diags.error(line, column, format!("{g}: {} word missing in an absolute-centre arc (G90.1: both centre words, as LinuxCNC wants them)", offset_letter[k]));
+                return None;
+            }
             for k in [a0, a1] {
                 if let Some(w) = word(offset_letter[k]) {
                     let v = w.value * st.unit;

@@ -134,6 +134,10 @@ impl Interpreter {
         // The block's own motion: a one-shot's, else the modal one.
         let block_motion = shot.map(|s| s.motion).or(next.motion);
         let arc_motion = block_motion.is_some_and(Motion::is_arc);
+        // LinuxCNC: "Must use G0 or G1 with G53" (interp_check.cc check_g_codes, the block's motion).
+        if g53 && before.dialect == Dialect::Rs274 && !matches!(block_motion, Some(Motion::Rapid | Motion::Linear)) {
+            diags.error(line, column, "G53 with a motion other than G0 or G1: LinuxCNC refuses it (\"Must use G0 or G1 with G53\")");
+        }
         let vector_words = next.tool_vector && !arc_motion && !g10;
         if !heid {
             for w in words {

@@ -178,7 +178,7 @@ pub(super) fn m_code(next: &mut Interpreter, before: &Interpreter, w: &Word, sho
         (None, 117, true) => next.m116 = false,
         // The spindle: M3/M4 turn it, M5 stops it (LinuxCNC: M19 orients it, stopped);
         // the TNC's M13/M14 turn it with the coolant on.
-        (None, 3 | 4, _) | (None, 13 | 14, true) => next.spindle_turning = Some(true),
+        (None, 3 | 4, _) | (None, 13 | 14, true) => (next.spindle_turning, next.spindle_ccw) = (Some(true), matches!(code, 4 | 14)),
         (None, 5, _) => next.spindle_turning = Some(false),
         (None, 19, false) => {
             next.spindle_turning = Some(false);

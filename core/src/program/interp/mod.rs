@@ -172,6 +172,9 @@ pub struct State {
     /// The spindle as the program last commanded it: turning (M3, M4), stopped (M5, M19), or not
     /// commanded yet (None: whatever the machine was doing). A G95 feed move needs it turning.
     pub(crate) spindle_turning: Option<bool>,
+    /// The way the last M3/M4 (M13/M14) turned it: counter-clockwise (M4), what LinuxCNC's G74 and
+    /// G84 check.
+    pub(crate) spindle_ccw: bool,
     tcp: bool,
     /// Tool-centre-point kinematics switched on by the machine's own M code or at start (LinuxCNC's
     /// 5axiskins), which G49 (a tool length cancel) leaves on.
@@ -342,6 +345,7 @@ impl Interpreter {
                 feed_mode: FeedMode::PerMinute,
                 per_revolution: false,
                 spindle_turning: None,
+                spindle_ccw: false,
                 tcp: false,
                 kins_tcp: false,
                 datum: [0.0; 3],

@@ -28,6 +28,7 @@ pub(crate) struct ModalState {
     /// `gen_m_codes` the spindle's M code.
     speed: Option<f64>,
     spindle_turning: Option<bool>,
+    spindle_ccw: bool,
     /// F in the program's unit per minute (or inverse time), if set: [`Interpreter::feed_in_program_units`].
     feed: Option<f64>,
     system: usize,
@@ -59,6 +60,7 @@ impl Interpreter {
             per_revolution: self.per_revolution,
             speed: self.spindle_speed,
             spindle_turning: self.spindle_turning,
+            spindle_ccw: self.spindle_ccw,
             feed: self.feed_in_program_units(),
             system: self.system,
             to_r: self.cycles.to_r,
@@ -116,7 +118,7 @@ impl Interpreter {
             Exact::Stop => "61.1",
         });
         // S%.0f: the speed as LinuxCNC writes it back, a whole number.
-        (self.spindle_speed, self.spindle_turning) = (saved.speed.map(f64::round), saved.spindle_turning);
+        (self.spindle_speed, self.spindle_turning, self.spindle_ccw) = (saved.speed.map(f64::round), saved.spindle_turning, saved.spindle_ccw);
         if !words.is_empty() && !self.block(&words, line, column, number, diags, out) {
             return false;
         }

@@ -10,7 +10,10 @@ use super::{err, is_machine_state, ExprError, Parameters, Target, INTEGER_CLOSE,
 
 /// Deepest nesting of brackets, functions and `#` in one value (the compiler's recursion stays bounded).
 const MAX_DEPTH: usize = 64;
-/// LinuxCNC's `TOLERANCE_EQUAL`: EQ and NE compare within it; the other comparisons are strict.
+/// LinuxCNC's `TOLERANCE_EQUAL` as Debian 12's 2.9.0~pre1 has it (the reference control here, whose
+/// `rs274` made the tests' canon files): EQ and NE compare within 0.0001, the other comparisons are
+/// strict. LinuxCNC's releases from June 2023 (commit 014777a8, in 2.9.0) compare within 1e-6 and
+/// make LE and GE true within it too.
 const TOLERANCE_EQUAL: f64 = 1e-4;
 /// Values an evaluation holds on the stack before it takes the heap.
 const STACK: usize = 16;

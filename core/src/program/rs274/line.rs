@@ -97,6 +97,8 @@ impl Rs274Reader {
             diags.warning(line, i + 1, "block delete '/' is not modelled: the block is run");
             i += 1;
         }
+        // Where the line's words start (after a block delete): LinuxCNC reads N only there.
+        let words_start = skip_blanks(&chars, i);
         // Fanuc, Haas: the column of a `,` that makes the next word a comma word (`,C`, `,R`).
         let mut comma: Option<usize> = None;
         while i < chars.len() {
@@ -112,6 +114,12 @@ impl Rs274Reader {
                 i = skip_blanks(&chars, i + 1);
             } else if c == '(' {
                 match chars[i..].iter().position(|&ch| ch == ')') {
+                    // LinuxCNC: "Nested comment found" (interp_internal.cc close_and_downcase).
+                    Some(close) if self.dialect == Dialect::Rs274 && chars[i + 1..i + close].contains(&'(') => {
+                        let at = i + 2 + chars[i + 1..i + close].iter().position(|&ch| ch == '(').unwrap_or(0);
+                        diags.error(line, at, "'(' inside a comment: LinuxCNC refuses the line (\"Nested comment found\")");
+                        break;
+                    }
                     Some(close) => i += close + 1,
                     None => {
                         diags.error(line, i + 1, "comment '(' is not closed: expected ')' on the same line");
@@ -174,6 +182,9 @@ impl Rs274Reader {
                 i += crate::program::lex::number_prefix_len(&text[byte(start)..]);
                 let number_text = &text[byte(start)..byte(i)];
                 match parse_number(number_text) {
+                    Some(_) if letter == 'N' && self.dialect == Dialect::Rs274 && column - 1 != words_start => {
+                        diags.error(line, column, format!("N{number_text} after other words: LinuxCNC reads a line number only at the line's start (\"Bad character 'n' used\")"));
+                    }
                     Some(v) if letter == 'N' => {
                         // LinuxCNC accepts and ignores a fractional part ("accept & ignore fractional
                         // line numbers", interp_read.cc read_n_number): N4567.789 is block 4567.
