@@ -178,6 +178,13 @@ impl Interpreter {
                 "no G20/G21 before the first move: lengths are read in millimetres, which the control's setting decides (LinuxCNC's startup code, Fanuc parameter No. 0000 INI, Haas Setting 9); --units inch if it is set to inches",
             );
         }
+        // The TNC's M118: the axis values after it are the handwheel's most travel ("M118 X1 Y1"),
+        // not a move; which of a block's words are its is not read.
+        if let Some(m) = words.iter().find(|w| heid && w.letter == 'M' && w.value == 118.0) {
+            if let Some(a) = words.iter().find(|w| w.column > m.column && AXIS_LETTERS.contains(&w.letter)) {
+                diags.error(line, a.column, format!("{}{} after M118: the handwheel's travel, not a move; a block with M118 and axis values is not read (write M118 in a block of its own, its values a handwheel limit)", a.letter, a.raw));
+            }
+        }
         if let Some(w) = words.iter().find(|w| heid && w.letter == 'P' && !arc_motion) {
             diags.error(line, w.column, format!("word P{} without a circle: not read", w.raw));
         }
@@ -302,10 +309,13 @@ impl Interpreter {
             let scale = if k < 3 { next.unit } else { next.rotary_unit[k - 3] };
             let v = w.value * scale;
             if datum_block {
-                if k < 3 {
-                    datum[k] = v;
+                if k >= 3 {
+                    diags.error(line, w.column, format!("{}{} in a datum shift (G54): a rotary axis' shift is not read", w.letter, w.raw));
+                } else if !w.dimension.absolute(next.absolute) {
+                    // As cycle 7's IX, it would shift from the last shift; not read in DIN/ISO.
+                    diags.error(line, w.column, format!("{}{} in a datum shift (G54) under G91: an incremental shift is not read (write it absolute, from the workpiece datum)", w.letter, w.raw));
                 } else {
-                    diags.warning(line, w.column, format!("{}{} in a datum shift (G54) is not modelled", w.letter, w.raw));
+                    datum[k] = v;
                 }
                 continue;
             }
@@ -370,7 +380,11 @@ impl Interpreter {
                 targets.set_axis(k, v);
             }
         }
-        next.datum = datum;
+        // A datum shift leaves the tool where it is: its position is the new origin's from here on
+        // (an incremental move after it goes from where the tool stands).
+        if datum_block {
+            next.move_origin(datum);
+        }
         // In a tilted plane the linear words are the plane's: the point, every coordinate of it,
         // in the workpiece; the control places the axes through the kinematics, as under TCPM.
         let linear_words = targets.x.is_some() || targets.y.is_some() || targets.z.is_some();

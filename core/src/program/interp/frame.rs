@@ -159,9 +159,16 @@ impl Interpreter {
         self.datum
     }
 
-    /// Shift the program origin (Sinumerik `TRANS`/`ATRANS` frames), m: program coordinates + datum =
-    /// coordinates about the rotary axes. The machine stays; axes a later block does not name stay.
+    /// Shift the program origin (the TNC's cycle 7), m: program coordinates + datum = coordinates
+    /// about the rotary axes. The machine stays: the tool's position is the new origin's from here on
+    /// (in a tilted plane, the plane's coordinates of it), so an incremental move goes from where it
+    /// stands, and axes a later block does not name stay.
     pub fn set_datum(&mut self, datum: [f64; 3]) {
+        let moved = nalgebra::Vector3::from(self.datum) - nalgebra::Vector3::from(datum);
+        let moved = self.tilt.map_or(moved, |r| r.transpose() * moved);
+        for k in 0..3 {
+            self.last[k] += moved[k];
+        }
         self.datum = datum;
     }
 }
