@@ -279,3 +279,46 @@ ROTABL/ 0,AAXIS,TABLE,CCLW\nCSYS/0,0,1.,0,1.,0,0,0,0,1.,0,0\nGOTO/ 30,0,0\nFINI\
     assert!(early.z < -1.0, "clockwise about the turned Z takes +x towards -z first: {early:?}");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// What a review found read as something else, now refused where it stands: a statement after a `$$`
+/// comment or PPRINT text ending in `$` (swallowed as its continuation before), NC code in capitals
+/// passed by INSERT/ (a control's words: `L Z+100 R0 FMAX M91`, `TRAORI`), RAPID before CIRCLE (an
+/// arc at rapid), CUTCOM under Pro/NC's OUTPUT_ON_PROFILE (the part's profile, which the control
+/// offsets), an empty field (before: the fields after it shifted). The forms still read: Pro/CLfile's
+/// comment continued with numbers, notes in small letters or brackets, CUTTER/'s trailing comma,
+/// CUTCOM under OUTPUT_ON_CENTER.
+#[test]
+fn apt_continuations_inserts_and_fields_fail_closed() {
+    let opts = ReadOptions::default();
+    let cases: [(&str, usize, usize, &str); 8] = [
+        ("GOTO/0,0,50\n$$ cost 5 $\nGOTO/10,20,50,0,0,1\n", 3, 1, "after a `$$` comment ending in `$`"),
+        ("GOTO/0,0,50\nPPRINT COST IN $\n  GOTO/10,0,50\n", 3, 3, "after PPRINT text ending in `$`"),
+        ("GOTO/0,0,50\nINSERT/L Z+100 R0 FMAX M91\n", 2, 1, "INSERT/ passes NC code"),
+        ("GOTO/0,0,50\nINSERT/TRAORI\n", 2, 1, "INSERT/ passes NC code"),
+        ("GOTO/10,0,50\nRAPID\nCIRCLE/0,0,50,0,0,1,10\nGOTO/-10,0,50\n", 4, 1, "RAPID before the CIRCLE of line 3"),
+        ("$$-> CUTCOM_GEOMETRY_TYPE / OUTPUT_ON_PROFILE\nGOTO/0,0,50\nCUTCOM/LEFT\nGOTO/10,0,50\n", 3, 1, "OUTPUT_ON_PROFILE"),
+        ("GOTO/0,0,50\nGOTO/1,2,,3,0,0,1\n", 2, 1, "field 3 is empty"),
+        ("x,y,z,a,c,f\n0,0,50,0,0,1000\n", 1, 7, "names 'a' where column 4"),
+    ];
+    for (text, line, column, needle) in cases {
+        let p = read(text, Dialect::Cl, "t.cls", &opts);
+        assert!(
+            errors(&p).iter().any(|(l, c, m)| *l == line && *c == column && m.contains(needle)),
+            "{text:?}: no error at {line}:{column} containing {needle:?}: {:#?}",
+            errors(&p)
+        );
+    }
+    let fine = "$$-> CSYS / 1.0, 0.0, 0.0, 0.0,  $\n  0.0, 1.0, 0.0, 0.0,  $\n  0.0, 0.0, 1.0, 0.0\n$$-> CUTCOM_GEOMETRY_TYPE / OUTPUT_ON_CENTER\n\
+                INSERT/[HOLDER=C40-M06EM2] 6MM CRB 2FL 19 LOC\nINSERT/Stock Size X95. Y150. Z120.\nCUTTER/ 6.000000,0.000000,3.000000,\n\
+                GOTO/0,0,50\nCUTCOM/LEFT\nFEDRAT/MMPM,500\nGOTO/10,0,50\nCUTCOM/OFF\n";
+    let p = read(fine, Dialect::Cl, "t.cls", &opts);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    assert_eq!(p.blocks.iter().filter(|b| b.targets.x.is_some()).count(), 2);
+    // Plain CL data in inches (--units inch): 1 in is 25.4 mm, the feed column in/min.
+    let inch = ReadOptions { units: Some(fiveaxis::program::LengthUnit::Inch), ..ReadOptions::default() };
+    let p = read("x,y,z,i,j,k,f\n1,0,2,0,0,1,10\n", Dialect::Cl, "t.cl", &inch);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let b = &p.blocks[0];
+    assert!((b.targets.x.unwrap() - 0.0254).abs() < 1e-12 && (b.targets.z.unwrap() - 0.0508).abs() < 1e-12, "{b:?}");
+    assert!((b.feed.unwrap().value_per_min - 254.0).abs() < 1e-9, "{b:?}");
+}

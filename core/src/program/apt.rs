@@ -68,6 +68,13 @@ fn major_word(s: &str) -> (&str, &str) {
     (&s[..end], s[end..].trim_start())
 }
 
+/// Whether a line reads as an APT statement of its own: a major word (a letter first) and its `/`,
+/// or one of the major words written without one.
+fn looks_like_statement(l: &str) -> bool {
+    let (word, rest) = major_word(l.trim_start());
+    word.starts_with(|c: char| c.is_ascii_alphabetic()) && (rest.starts_with('/') || BARE.iter().any(|b| word.eq_ignore_ascii_case(b)))
+}
+
 /// Major words written without a slash, as the first statement of a file may be.
 const BARE: [&str; 13] = ["RAPID", "FINI", "END", "STOP", "OPSTOP", "PARTNO", "PPRINT", "REMARK", "INSERT", "MULTAX", "GOHOME", "END-OF-PATH", "TOOL"];
 
@@ -130,6 +137,8 @@ pub(crate) struct AptReader {
     frame_checked: bool,
     /// `CYCLE/` state: the GOTOs of a cycle that is not read are the holes it drills, not motion.
     cycle: CycleState,
+    /// Pro/NC's contour points under CUTCOM are the part's profile, not the tool centre.
+    on_profile: bool,
     /// CUTCOM's note has been given.
     cutcom_noted: bool,
     /// Where the latest event was read.
@@ -162,6 +171,7 @@ impl AptReader {
             frame_checked: false,
             cycle: CycleState::Off,
             cutcom_noted: false,
+            on_profile: false,
             event_at: (0, 0),
             finished: false,
         }
@@ -169,11 +179,33 @@ impl AptReader {
 
     /// Read one line: a statement, its start, its continuation or a comment.
     pub(crate) fn line(&mut self, line: usize, l: &str, out: &mut Vec<Block>, diags: &mut Diags) {
+        // Pro/NC says where its contour points lie under CUTCOM, in a comment (`$$->`) or a REMARK:
+        // `CUTCOM_GEOMETRY_TYPE / OUTPUT_ON_CENTER` (the tool centre) or `OUTPUT_ON_PROFILE` ("the
+        // output switches from the center to the edge of the tool", Creo's CL data output help).
+        if let Some(k) = memchr::memchr(b'_', l.as_bytes()).and_then(|_| l.find("CUTCOM_GEOMETRY_TYPE")) {
+            self.on_profile = l[k..].contains("OUTPUT_ON_PROFILE");
+        }
         // A `$$` comment whose line ends in `$` goes on over the next line (Pro/CLfile writes its
         // `$$-> CSYS / ...` record over three such lines); a statement continued stays continued.
         if std::mem::take(&mut self.comment_continues) {
+            // Pro/CLfile's go on with numbers; a statement there was meant as one (APT: `$$` makes the
+            // rest of the line a comment, its `$` too), and which it is is not read.
+            if looks_like_statement(l) {
+                diags.error(line, l.len() - l.trim_start().len() + 1, "a statement after a `$$` comment ending in `$`: whether the comment goes on over it (as Pro/CLfile's records do) or it is a statement is not read");
+                return;
+            }
             self.comment_continues = l.trim_end().ends_with('$');
             return;
+        }
+        // Literal text (PPRINT, PARTNO, INSERT, REMARK) ending in `$` before a statement: the same.
+        if let Some((text, _, _)) = &self.pending {
+            let (word, _) = major_word(text.trim_start());
+            if ["PPRINT", "PARTNO", "INSERT", "REMARK"].iter().any(|w| word.eq_ignore_ascii_case(w)) && looks_like_statement(l) {
+                let word = word.to_ascii_uppercase();
+                self.pending = None;
+                diags.error(line, l.len() - l.trim_start().len() + 1, format!("a statement after {word} text ending in `$`: whether the text goes on over it or it is a statement is not read"));
+                return;
+            }
         }
         let code = match l.find("$$") {
             Some(k) => {
@@ -273,8 +305,14 @@ impl AptReader {
         }
         let values = |diags: &mut Diags| -> Option<(Vec<f64>, Vec<String>)> {
             let (mut nums, mut minors) = (Vec::new(), Vec::new());
-            for f in args.unwrap_or("").split(',') {
-                let f = f.trim();
+            let fields: Vec<&str> = args.unwrap_or("").split(',').map(str::trim).collect();
+            for (k, &f) in fields.iter().enumerate() {
+                // A trailing comma ends the list (SOLIDWORKS CAM's `CUTTER/ 6.0,...,102.0,`); an
+                // empty field between two is a value missing, which is not read as a shift of the rest.
+                if f.is_empty() && fields[k + 1..].iter().any(|g| !g.is_empty()) {
+                    diags.error(line, col, format!("{word}: field {} is empty (two commas with nothing between): not read", k + 1));
+                    return None;
+                }
                 if f.is_empty() {
                     continue;
                 }
@@ -343,7 +381,14 @@ impl AptReader {
                     diags.error(line, col, format!("{word} after CIRCLE: the circle's end must be a GOTO"));
                     return;
                 }
-                let (mut motion, mut arc) = (if std::mem::take(&mut self.rapid) || word == "FROM" { Motion::Rapid } else { Motion::Linear }, None);
+                let rapid = std::mem::take(&mut self.rapid);
+                let (mut motion, mut arc) = (if rapid || word == "FROM" { Motion::Rapid } else { Motion::Linear }, None);
+                if let (Some(c), true) = (&circle, rapid) {
+                    // Pro/NC: with ARC_FEED 0 "the RAPID statement is output before the CIRCLE
+                    // statement": an arc at rapid, which no control's G00 makes.
+                    diags.error(line, col, format!("RAPID before the CIRCLE of line {}: an arc at rapid is not read", c.line));
+                    return;
+                }
                 if let Some(c) = circle {
                     let Some(start) = self.at else {
                         diags.error(c.line, c.column, "CIRCLE before any position: the arc has no start");
@@ -608,6 +653,9 @@ impl AptReader {
                 let Some((v, minors)) = values(diags) else { return };
                 match (v.as_slice(), minors.as_slice()) {
                     ([], [w]) if w == "OFF" || w == "ON" => {}
+                    ([] | [_], [w]) if (w == "LEFT" || w == "RIGHT") && self.on_profile => {
+                        diags.error(line, col, format!("CUTCOM/{w} with Pro/NC's CUTCOM_GEOMETRY_TYPE OUTPUT_ON_PROFILE: the GOTOs are the part's profile, which the control offsets by the tool's radius; not read"));
+                    }
                     ([] | [_], [w]) if w == "LEFT" || w == "RIGHT" => {
                         if !std::mem::replace(&mut self.cutcom_noted, true) {
                             diags.warning(line, col, format!("CUTCOM/{w}: the GOTOs are the tool centre's path; the control's compensation adds only its register's wear, not modelled"));
@@ -640,11 +688,16 @@ impl AptReader {
                 }
             }
             // Text handed to the post: a note (a holder, the stock's size) is kept as an event; NC
-            // code the post would pass to the control (G01 ..., M6, X10.) is not read.
+            // code the post would pass to the control (G01 ..., M6, X10., and a control's words in
+            // capitals, `L Z+100 R0 FMAX M91`, `TRAORI`, `CYCL DEF 7.0`) is not read. A note is text
+            // in brackets or a comment's, or text with small letters (SOLIDWORKS CAM's
+            // `[HOLDER=...] 6MM CRB`, `Stock Size X95. Y150.`).
             "INSERT" => {
                 let text = args.unwrap_or(rest).trim();
                 let b = text.as_bytes();
-                let code = b.first().is_some_and(|c| c.is_ascii_alphabetic()) && b.get(1).is_some_and(|c| c.is_ascii_digit() || b"+-.".contains(c)) || text.starts_with('%');
+                let word = b.first().is_some_and(|c| c.is_ascii_alphabetic()) && b.get(1).is_some_and(|c| c.is_ascii_digit() || b"+-.".contains(c)) || text.starts_with('%');
+                let note = text.starts_with(['[', '(', ';']) || text.bytes().any(|c| c.is_ascii_lowercase());
+                let code = word || !note && text.bytes().any(|c| c.is_ascii_alphabetic());
                 if code {
                     diags.error(line, col, format!("INSERT/ passes NC code to the control ('{}'): not read", excerpt(text)));
                 } else {

@@ -152,7 +152,17 @@ impl super::stream::LineReader for ClReader {
             }
         }
         if !self.seen_data && numbers == 0 && split_fields(l).all(|(_, f)| parse_field(f).is_none()) {
-            return; // header line such as `x,y,z,i,j,k`
+            // A header line such as `x,y,z,i,j,k`: its names must be these columns' (a header that
+            // names others, `x,y,z,a,c,f`, says the numbers are not these).
+            let names: Vec<(usize, String)> = split_fields(l).map(|(c, f)| (c, f.to_ascii_lowercase())).collect();
+            let want: [&[&str]; 7] = [&["x"], &["y"], &["z"], &["i", "nx", "u", "tx"], &["j", "ny", "v", "ty"], &["k", "nz", "w", "tz"], &["f", "feed"]];
+            let bad = names.iter().enumerate().find(|(k, (_, n))| want.get(*k).is_none_or(|w| !w.contains(&n.as_str())));
+            if let Some((k, (col, n))) = bad.filter(|_| names.len() >= 2) {
+                let what = if k >= 7 { "more columns than x y z i j k feed".to_string() } else { format!("column {} is {}", k + 1, want[k].join(" or ")) };
+                diags.error(line, *col, format!("header '{}' names '{n}' where {what}: CL data here are x y z i j k [feed] (commas, spaces or tabs)", excerpt(t)));
+                self.seen_data = true;
+            }
+            return;
         }
         self.seen_data = true;
         if !(6..=7).contains(&count) {
@@ -168,12 +178,14 @@ impl super::stream::LineReader for ClReader {
             return;
         }
         let Some(axis) = unit_tool_axis([v[3], v[4], v[5]], line, fields[3].0, diags) else { return };
+        // `--units`: the numbers' length unit (millimetres unless said), the feed's per minute.
+        let unit = self.units.map_or(MM, |u| u.metres());
         let feed = if count == 7 {
             if !(v[6] > 0.0) {
                 diags.error(line, fields[6].0, "expected a positive feed (mm/min)");
                 return;
             }
-            v[6]
+            v[6] * unit / MM
         } else {
             feed_mm_per_min
         };
@@ -183,9 +195,9 @@ impl super::stream::LineReader for ClReader {
             number: None,
             motion: Motion::Linear,
             targets: Targets {
-                x: Some(v[0] * MM),
-                y: Some(v[1] * MM),
-                z: Some(v[2] * MM),
+                x: Some(v[0] * unit),
+                y: Some(v[1] * unit),
+                z: Some(v[2] * unit),
                 tool_axis: Some(axis),
                 ..Targets::default()
             },
