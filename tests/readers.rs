@@ -801,7 +801,7 @@ fn a_change_of_feed_mode_leaves_no_feed() {
 #[test]
 fn fanuc_forms_not_read_are_named_as_the_control_names_them() {
     let fanuc = |text: &str| read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default());
-    has(&fanuc("G21 G90\nG04 X1.\nM30\n"), 2, 5, "a dwell written with X is not read (write P, in milliseconds on Fanuc)");
+    has(&fanuc("G21 G90\nG04 X1\nM30\n"), 2, 5, "a dwell written with X is read on FANUC only in seconds with a decimal point");
     has(&fanuc("#4=#0+1\nM30\n"), 1, 4, "Fanuc's #0 is its vacant variable");
     has(&fanuc("G65 P2 I1. J2. K3. I4.\nM30\nO0002\nM99\n"), 1, 20, "I given twice in a G65 call (argument specification II)");
     // A variable number past LinuxCNC's 5602 is a Fanuc control's (its addresses take eight

@@ -490,3 +490,35 @@ fn dc_acp_and_acn_turn_a_modulo_axis_the_way_they_say() {
     let p = read("G90 G71\nG0 X0 Y0 Z200 B0 C20\nG0 B=DC(10)\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&limited));
     assert!(errors(&p).iter().any(|(l, c, msg)| *l == 3 && *c == 4 && msg.contains("B=DC(10): DC positions a modulo rotary axis, and B is a rotary axis with end stops")), "{:?}", errors(&p));
 }
+
+/// Under ORIWKS a tool vector is the frame's: after `ROT Z90` the vector (1, 0, 1) is the
+/// workpiece's (0, 1, 1) and (0, 1, 1) its (-1, 0, 1) (Job Planning 03/2006 §7.2: vectors "relate to
+/// the active frame and rotate when the frame rotates"); under ORIMKS there it is refused (the
+/// machine's or the frame's, as MD21104 says). A plain G90 position of an axis DC/ACP/ACN made modulo
+/// is refused where it stands beyond 0-360 deg (MD30455 decides the way); CYCLE84 with `_AXN` 1
+/// (tapping along X) is refused.
+#[test]
+fn vectors_turn_with_the_frame_and_modulo_and_tapping_axes_fail_closed() {
+    let m = Machine::builtin("generic-bc-table").unwrap();
+    let opts = ReadOptions::default().on(&m);
+    let text = "G90 G71 G17 G94\nG0 X0 Y0 Z100 B0 C0\nTRAORI\nG1 X0 Y0 Z100 A3=1 B3=0 C3=1 F1000\nROT Z90\nG1 X10 Y0 Z100 A3=1 B3=0 C3=1\nG1 X10 Y0 Z100 A3=0 B3=1 C3=1\nM30\n";
+    let p = read(text, Dialect::Sinumerik, "t.mpf", &opts);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    for (line, want) in [(4, [s, 0.0, s]), (6, [0.0, s, s]), (7, [-s, 0.0, s])] {
+        let v = blocks_of(&p, line).last().and_then(|b| b.targets.tool_axis).unwrap_or_else(|| panic!("line {line}: no vector"));
+        assert!((0..3).all(|k| (v[k] - want[k]).abs() < 1e-9), "line {line}: {v:?}, want {want:?}");
+    }
+    let mks = read(&text.replace("TRAORI\n", "TRAORI\nORIMKS\n"), Dialect::Sinumerik, "t.mpf", &opts);
+    assert!(errors(&mks).iter().any(|(l, _, m)| *l == 7 && m.contains("under ORIMKS in a rotated frame")), "{:?}", errors(&mks));
+    // From 350 ACP(10) turns on to 370: G90 C20 is +10 as AC, -350 on an endless axis.
+    let modulo = read("G90 G71 G17 G94\nG0 X0 Y0 Z0 B0 C350\nG0 C=ACP(10)\nG0 C20\nM30\n", Dialect::Sinumerik, "t.mpf", &opts);
+    let e = errors(&modulo);
+    assert!(e.iter().any(|(l, c, m)| (*l, *c) == (4, 4) && m.contains("MD30455")), "{e:?}");
+    // From 0, DC(30) stands at 30: G90 C40 is +10 either way, read.
+    let agree = read("G90 G71 G17 G94\nG0 X0 Y0 Z0 B0 C0\nG0 C=DC(30)\nG0 C40\nM30\n", Dialect::Sinumerik, "t.mpf", &opts);
+    assert!(errors(&agree).is_empty(), "{:?}", errors(&agree));
+    assert!((agree.blocks.iter().filter_map(|b| b.targets.c).last().unwrap().to_degrees() - 40.0).abs() < 1e-9);
+    let tap = read("G90 G71 G17 G94\nT1 D1 M6\nS1000 M3\nG0 X0 Y0 Z50 B0 C0\nF100\nCYCLE84(10,0,2,-5,,,3,,1.0,,500,500,1,0,0,0)\nM30\n", Dialect::Sinumerik, "t.mpf", &opts);
+    assert!(errors(&tap).iter().any(|(l, _, m)| *l == 6 && m.contains("_AXN=1")), "{:?}", errors(&tap));
+}

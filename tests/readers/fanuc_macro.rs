@@ -27,6 +27,12 @@ fn a_g04_block_with_axis_words_is_refused_not_moved() {
         refused(dialect, "G04 P500 Z-1.\n", 5, 10, "not a move");
         assert_eq!(xs(dialect, "G01 X10. F600.\nG04 P500\nG01 X20.\n"), vec![10.0, 20.0], "{dialect:?}");
     }
+    // FANUC's G04 X with a decimal point: seconds, and no move (X stays at 10).
+    let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z5.\nG01 X10. F600.\nG04 X2.5\nG01 X20.\nM30\n%\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    assert_eq!(p.blocks.iter().filter_map(|b| b.dwell_s.map(|d| (b.line, d))).collect::<Vec<_>>(), vec![(6, 2.5)]);
+    assert_eq!(ends(&p).iter().map(|e| e[0]).collect::<Vec<_>>(), vec![0.0, 10.0, 20.0]);
+    refused(Dialect::Fanuc, "G04 X25\n", 5, 5, "seconds with a decimal point");
 }
 
 /// ATAN and ASIN give a negative angle in -180..180 and -90..90, or the same angle plus 360, as
@@ -47,8 +53,11 @@ fn atan_and_asin_of_a_negative_angle_are_the_parameters_and_refused() {
 #[test]
 fn bitwise_operators_beside_others_need_brackets() {
     refused(Dialect::Fanuc, "#1=4+3 AND 1\n", 5, 8, "AND beside arithmetic");
-    refused(Dialect::Haas, "#2=2.\nIF [#2 GT 1 AND #2 LT 4] GOTO 10\nN10 G01 X1. F100.\n", 6, 13, "AND beside arithmetic or a comparison");
+    refused(Dialect::Haas, "#2=2.\nIF [#2 GT 1 AND #2 LT 4] GOTO 10\nN10 G01 X1. F100.\n", 6, 13, "AND beside arithmetic, a comparison");
     refused(Dialect::Fanuc, "G01 X[1 OR 2 * 4] F100.\n", 5, 9, "OR beside");
+    // AND beside OR: AND ranked with * in some tables (4 OR [2 AND 1] = 4), with OR in others (0).
+    refused(Dialect::Fanuc, "#1=4 OR 2 AND 1\n", 5, 6, "OR beside arithmetic, a comparison or another");
+    assert_eq!(xs(Dialect::Fanuc, "#1=4 OR 2 XOR 1\nG01 X#1 F100.\n"), vec![7.0]);
     assert_eq!(xs(Dialect::Fanuc, "#1=[4+3] AND 1\n#2=[4+3] OR 8\nG01 X#1 F100.\nG01 X#2\n"), vec![1.0, 15.0]);
     // Comparisons each in brackets, joined by AND: both true, the jump is taken past X99.
     assert_eq!(xs(Dialect::Fanuc, "#2=2.\nIF [[#2 GT 1] AND [#2 LT 4]] GOTO 10\nG01 X99. F100.\nN10 G01 X3. F100.\n"), vec![3.0]);

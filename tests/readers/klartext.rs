@@ -582,6 +582,13 @@ fn klartext_refuses_what_moves_the_tool_unread() {
     assert!(errors(&read(&before, Dialect::Klartext, "p.h", &options)).is_empty());
     let zero = pgm(&format!("{tilt}4 CYCL DEF 7.0 DATUM SHIFT\n5 CYCL DEF 7.1 X+0\n6 CYCL DEF 7.2 Y+0\n7 L X+0 Y+0 Z+0 F1000\n"));
     assert!(errors(&read(&zero, Dialect::Klartext, "p.h", &options)).is_empty());
+    // hyperMILL's reset in the plane of a shift made before it: X, Y and Z to 0 together, read; X
+    // alone to 0 while Y's shift stands: which system's X it zeroes is not read.
+    let before_tilt = "3 CYCL DEF 7.0 DATUM SHIFT\n4 CYCL DEF 7.1 X+10\n5 CYCL DEF 7.2 Y+5\n";
+    let reset = pgm(&format!("{before_tilt}{}7 CYCL DEF 7.0 DATUM SHIFT\n8 CYCL DEF 7.1 X+0\n9 CYCL DEF 7.2 Y+0\n10 CYCL DEF 7.3 Z+0\n11 PLANE RESET STAY\n", tilt.replace("3 ", "6 ")));
+    assert!(errors(&read(&reset, Dialect::Klartext, "p.h", &options)).is_empty(), "{:?}", errors(&read(&reset, Dialect::Klartext, "p.h", &options)));
+    let partial = pgm(&format!("{before_tilt}{}7 CYCL DEF 7.0 DATUM SHIFT\n8 CYCL DEF 7.1 X+0\n9 L Z+50 F1000\n", tilt.replace("3 ", "6 ")));
+    has(&read(&partial, Dialect::Klartext, "p.h", &options), 9, 16, "CYCL DEF 7 of 0 in a tilted working plane leaving a shift");
     // Arcs without an end point; C with its start's X is the full circle about CC.
     for (arc, needle) in [("C DR+", "C: expected the arc's end point"), ("CR R+10 DR+", "CR: expected the arc's end point"), ("C DR+ F1000", "C: expected")] {
         has(&read(&pgm(&format!("3 L X+10 Y+0 F1000\n4 CC X+0 Y+0\n5 {arc}\n")), Dialect::Klartext, "p.h", &options), 6, 3, needle);

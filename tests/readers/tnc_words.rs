@@ -155,8 +155,7 @@ fn preassigned_q_parameters_hold_the_tool_and_the_unit() {
 /// A datum shift leaves the tool where it stands: after X+10 and a shift of X+5 (cycle 7, DIN/ISO
 /// G54), Y+5 keeps the tool at X 10 and the incremental X+1 takes it to X 11 ("incremental
 /// coordinates ... referenced to the last programmed nominal position of the tool", iTNC 530 ISO
-/// user's manual), X+6 of the new origin. G54 under G91, or with a rotary axis, and axis values after
-/// M118 (the handwheel's travel) are refused at the word.
+/// user's manual), X+6 of the new origin. G54 under G91, or with a rotary axis, is refused at the word.
 #[test]
 fn a_datum_shift_leaves_the_tool_where_it_stands() {
     let klartext = "0 BEGIN PGM K MM\n1 L X+10 Y+0 Z+0 R0 F1000\n2 CYCL DEF 7.0 DATUM SHIFT\n3 CYCL DEF 7.1 X+5\n4 L Y+5\n5 L IX+1\n6 L Y+6\n7 END PGM K MM\n";
@@ -173,7 +172,11 @@ fn a_datum_shift_leaves_the_tool_where_it_stands() {
         &[
             ("%D G71 *\nN10 G01 X+10 Y+0 Z+0 F1000 *\nN20 G91 G54 X+5 *\nN99999 %D G71 *\n", "3:13:", "under G91: an incremental shift is not read"),
             ("%D G71 *\nN10 G01 X+10 Y+0 Z+0 F1000 *\nN20 G54 X+0 Y+0 Z+0 C+90 *\nN99999 %D G71 *\n", "3:21:", "a rotary axis' shift is not read"),
-            ("%D G71 *\nN10 G01 X+10 Y+0 Z+0 F1000 *\nN20 G00 Z+60 M118 X+2 Y+2 *\nN99999 %D G71 *\n", "3:19:", "after M118: the handwheel's travel"),
         ],
     );
+    // M118's axis values are the handwheel's travel (iTNC 530: "L X+0 Y+38.5 RL F125 M118 X1 Y1"):
+    // the block moves Z only.
+    let p = read("%D G71 *\nN10 G01 X+10 Y+0 Z+0 F1000 *\nN20 G00 Z+60 M118 X+2 Y+2 *\nN99999 %D G71 *\n", Dialect::Heidenhain, "t", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    assert_eq!(ends(&p).last().copied(), Some([10.0, 0.0, 60.0]));
 }

@@ -51,6 +51,8 @@ pub(super) struct Frame {
     tests: Vec<Option<Compiled>>,
     kept: Vec<Option<ReadLine>>,
     repeats: HashMap<usize, f64>,
+    /// Each line whose label has been checked against the others' (the flow's `labels`): once a run.
+    labelled: Vec<bool>,
     pc: usize,
     /// Its lines' blocks did not match (said, the flow stopped): it ends at once.
     broken: bool,
@@ -192,6 +194,7 @@ impl Rs274Reader {
             tests: vec![None; len],
             kept: vec![None; len],
             repeats: HashMap::new(),
+            labelled: vec![false; len],
             pc: 0,
             broken: false,
             sub,
@@ -249,7 +252,7 @@ impl Rs274Reader {
         if f.broken || self.flow.stopped || self.program_ended() {
             return Step::Done(End::Stopped);
         }
-        let Frame { lines, start, parsed, ends, openers, branches, tests, kept, repeats, pc, .. } = f;
+        let Frame { lines, start, parsed, ends, openers, branches, tests, kept, repeats, labelled, pc, .. } = f;
         let (start, here) = (*start, *pc);
         if here >= parsed.len() {
             return Step::Done(End::Done);
@@ -278,12 +281,16 @@ impl Rs274Reader {
             return Step::Next;
         };
         let col = *col;
-        if matches!(o.keyword, Keyword::If | Keyword::Repeat) || o.keyword == Keyword::While && ends[here].is_some() {
+        let opens = matches!(o.keyword, Keyword::If | Keyword::Repeat | Keyword::Do) || o.keyword == Keyword::While && ends[here].is_some();
+        if opens && !std::mem::replace(&mut labelled[here], true) {
+            // A block's label is its subroutine's (LinuxCNC keys it "sub#label", interp_read.cc
+            // read_o): two subroutines may each open `o100 if`; the main program's are its own.
+            let key = format!("{}#{}", f.sub.as_ref().map_or("", |s| s.name.as_str()), o.name);
             let labels = &mut self.flow.labels;
-            let first = match labels.get(&o.name) {
+            let first = match labels.get(&key) {
                 Some(&at) => at,
                 None if labels.len() >= MAX_LABELS => return Step::Done(self.stop(line, col + 1, format!("o{}: more than {MAX_LABELS} labels opening blocks", o.name), diags)),
-                None => *labels.entry(o.name.clone()).or_insert(line),
+                None => *labels.entry(key).or_insert(line),
             };
             if first != line {
                 return Step::Done(self.stop(line, col + 1, format!("o{} {}: the label opens another block on line {first}; LinuxCNC refuses it (\"duplicate O-word label\")", o.name, word(o.keyword)), diags));

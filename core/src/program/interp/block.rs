@@ -53,6 +53,18 @@ pub(super) struct BlockCodes<'w, 't> {
 impl Interpreter {
     /// Interpret one block's words into one block (see [`Interpreter::block`]).
     pub(crate) fn block_one(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags) -> Option<Block> {
+        // The TNC's M118 takes the axis values after it in its block: the handwheel's most travel
+        // ("L X+0 Y+38.5 RL F125 M118 X1 Y1", iTNC 530 user's manual, "Superimposing handwheel
+        // positioning during program run: M118"), no move; the move's are before it.
+        let m118 = words.iter().position(|w| w.letter == 'M' && w.value == 118.0);
+        let handwheel: Vec<Word>;
+        let words = match m118 {
+            Some(k) if matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext) && words[k + 1..].iter().any(|w| AXIS_LETTERS.contains(&w.letter)) => {
+                handwheel = words.iter().enumerate().filter(|(i, w)| *i <= k || !AXIS_LETTERS.contains(&w.letter)).map(|(_, w)| w.clone()).collect();
+                handwheel.as_slice()
+            }
+            _ => words,
+        };
         let shot = self.oneshot.take();
         // Said by this block only, where it is refused ([`Interpreter::refused_block`]).
         self.ran_unread = None;
@@ -178,13 +190,6 @@ impl Interpreter {
                 "no G20/G21 before the first move: lengths are read in millimetres, which the control's setting decides (LinuxCNC's startup code, Fanuc parameter No. 0000 INI, Haas Setting 9); --units inch if it is set to inches",
             );
         }
-        // The TNC's M118: the axis values after it are the handwheel's most travel ("M118 X1 Y1"),
-        // not a move; which of a block's words are its is not read.
-        if let Some(m) = words.iter().find(|w| heid && w.letter == 'M' && w.value == 118.0) {
-            if let Some(a) = words.iter().find(|w| w.column > m.column && AXIS_LETTERS.contains(&w.letter)) {
-                diags.error(line, a.column, format!("{}{} after M118: the handwheel's travel, not a move; a block with M118 and axis values is not read (write M118 in a block of its own, its values a handwheel limit)", a.letter, a.raw));
-            }
-        }
         if let Some(w) = words.iter().find(|w| heid && w.letter == 'P' && !arc_motion) {
             diags.error(line, w.column, format!("word P{} without a circle: not read", w.raw));
         }
@@ -235,6 +240,8 @@ impl Interpreter {
         // the programmed feed stays) and Heidenhain ("G04 F: dwell time in seconds"): that F is not a
         // feed. Sinumerik's G4 S (spindle revolutions, a time that depends on the speed) is not read.
         let mut dwell_s = None;
+        // FANUC's `G04 X2.5`: the X is the dwell's time, no move.
+        let mut x_dwell = false;
         if let Some(g) = dwell_word {
             let letter = if before.dialect.is_rs274_family() { 'P' } else { 'F' };
             let time = if letter == 'F' { feed_word.take() } else { words.iter().find(|w| w.letter == 'P') };
@@ -265,9 +272,15 @@ impl Interpreter {
                     }
                 }
                 Some(t) => diags.error(line, t.column, format!("G{} {letter}{}: expected a dwell time of 0 s or more", g.raw, t.raw)),
-                // Fanuc and Haas also take the time as X (seconds); that form is not read here.
+                // FANUC also takes the time as X: seconds with a decimal point ("G04 X_ ;", B-64484EN
+                // "Dwell"); without one, in least increments unless the machine is calculator-type
+                // (whose unit for a dwell is not at hand: refused), and Haas' X is not in its manual.
                 None if before.dialect.is_fanuc() => match words.iter().find(|w| w.letter == 'X') {
-                    Some(x) => diags.error(line, x.column, format!("G{} X{}: a dwell written with X is not read (write P, in milliseconds on Fanuc)", g.raw, x.raw)),
+                    Some(x) if before.dialect == Dialect::Fanuc && x.raw.contains('.') && x.value >= 0.0 && x.value.is_finite() => {
+                        dwell_s = Some(x.value);
+                        x_dwell = true;
+                    }
+                    Some(x) => diags.error(line, x.column, format!("G{} X{}: a dwell written with X is read on FANUC only in seconds with a decimal point (write X{}. or P, in milliseconds)", g.raw, x.raw, x.raw)),
                     None => diags.error(line, g.column, format!("G{} without P: expected the dwell time (P, milliseconds on Fanuc; seconds with a decimal point on Haas)", g.raw)),
                 },
                 None => diags.error(line, g.column, format!("G{} without {letter}: expected the dwell time in seconds ({letter})", g.raw)),
@@ -303,7 +316,7 @@ impl Interpreter {
         let mut datum = next.datum;
         for w in words {
             let Some(k) = AXIS_LETTERS.iter().position(|&c| c == w.letter) else { continue };
-            if g10 || defines || g92.is_some() {
+            if g10 || defines || g92.is_some() || x_dwell && w.letter == 'X' {
                 continue;
             }
             let scale = if k < 3 { next.unit } else { next.rotary_unit[k - 3] };
@@ -341,7 +354,17 @@ impl Interpreter {
                     diags.error(line, w.column, format!("{}={}: a modulo axis' position is 0 to 360 deg (less than a turn)", w.letter, w.raw));
                     continue;
                 }
+                next.modulo_said[k - 3] = true;
                 turn.place(v, next.last[k])
+            } else if k >= 3 && next.modulo_said[k - 3] && w.dimension.absolute(next.absolute || shot.is_some_and(|s| s.absolute)) && !(next.shortest && next.modulo[k - 3]) && {
+                let deg = |a: f64| a / crate::units::DEG;
+                !(0.0..360.0).contains(&deg(next.last[k])) || !(0.0..360.0).contains(&deg(v))
+            } {
+                // A modulo axis (DC, ACP or ACN said so) positioned with G90: where it stands is
+                // shown 0 to 360 deg, and whether G90 goes there as AC (the sign of the difference)
+                // or as on an endless axis, machine datum MD30455 says; where the two differ, not read.
+                diags.error(line, w.column, format!("{}{}: a plain position of an axis DC/ACP/ACN made modulo, beyond 0-360 deg or from beyond it: how G90 turns it is the machine datum MD30455's (write it with DC, ACP or ACN)", w.letter, w.raw));
+                continue;
             } else if w.dimension.absolute(next.absolute || shot.is_some_and(|s| s.absolute)) {
                 // M126 (it acts in its own block): a modulo axis goes the shorter way to the position.
                 if k >= 3 && next.shortest && next.modulo[k - 3] {

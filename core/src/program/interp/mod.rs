@@ -280,6 +280,8 @@ pub struct State {
     /// Heidenhain M116 (M117 resets): a rotary axis' F read in mm/min.
     m116: bool,
     modulo: [bool; 3],
+    /// The program positioned the rotary axis with DC, ACP or ACN (the 840D's modulo positions).
+    pub(crate) modulo_said: [bool; 3],
     /// Which work offsets (G54-G59.3) the program set (G10 L2, L20).
     offsets_given: [bool; 9],
     /// An additional work offset (Fanuc G54.1 P, Haas G154 P or G110-G129) is in effect.
@@ -398,6 +400,7 @@ impl Interpreter {
                 arc_feed: crate::program::cutter_comp::ArcFeed::Centre,
                 m116: false,
                 modulo: [false; 3],
+                modulo_said: [false; 3],
                 offsets_given: [false; 9],
                 extra_offset: false,
                 extra_p: 0,

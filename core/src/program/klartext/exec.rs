@@ -61,6 +61,9 @@ pub(super) struct Exec {
     pub(super) pending: Option<Pending>,
     /// Blocks that move nothing (a pole) read after the held element, to go out behind it.
     pub(super) trailing: Vec<Held>,
+    /// A cycle 7 value of 0 read in a tilted plane while other axes' shifts stand (its line and
+    /// column): read only if the cycle ends with no shift at all (hyperMILL's reset of X, Y and Z).
+    pub(super) zeroed_tilted: Option<(usize, usize)>,
 }
 
 /// The older cycle 1 PECKING as its blocks `CYCL DEF 1.0` to `1.5` give it: where it begins, its
@@ -116,6 +119,13 @@ impl Exec {
     /// [`Exec::run`], which holds contour elements for the corners between them.
     pub(super) fn step<'a>(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let unit = interp.unit();
+        // The cycle 7 before this statement set some axes to 0 in a tilted plane and left a shift:
+        // whether the TNC zeroes those axes in the tilted system or the workpiece's is not read.
+        if !matches!(s.kind, Kind::Datum(..)) {
+            if let Some((line, col)) = self.zeroed_tilted.take().filter(|_| interp.datum() != [0.0; 3]) {
+                diags.error(line, col, "CYCL DEF 7 of 0 in a tilted working plane leaving a shift on other axes: which system's axes it zeroes is not read (reset X, Y and Z together, or before the PLANE)");
+            }
+        }
         // The block that starts RL/RR is held with the compensated ones: what cannot run among them
         // cannot run in it either.
         let starts_comp = matches!(&s.kind, Kind::Move { comp: Some((Some(_), _)), .. }) && self.comp.side().is_none();
@@ -208,6 +218,9 @@ impl Exec {
                     if tilted && v != 0.0 {
                         diags.error(s.line, w.col, format!("CYCL DEF 7 {}{}: a datum shift programmed in a tilted working plane acts in the tilted system, which is not read (shift the datum before the PLANE or cycle 19)", w.addr, w.raw));
                         return false;
+                    }
+                    if tilted && self.zeroed_tilted.is_none() {
+                        self.zeroed_tilted = Some((s.line, w.col));
                     }
                     let mut datum = interp.datum();
                     datum[*k] = if *incremental { datum[*k] + v * unit } else { v * unit };
@@ -477,6 +490,12 @@ impl Exec {
             return false;
         }
         if let Some(v) = vector {
+            // In a tilted plane, whether the TNC reads LN's vector in the plane or the workpiece is
+            // not at hand.
+            if interp.tilt().is_some_and(|r| (r - nalgebra::Matrix3::identity()).abs().max() > 1e-12) {
+                diags.error(s.line, s.col, "LN's tool vector in a tilted working plane: whether the TNC takes it in the plane's coordinates or the workpiece's is not read");
+                return false;
+            }
             interp.set_pending_vector(v);
         }
         // M99 runs the cycle at the block's end point; M89 too, and from there on after every

@@ -597,7 +597,7 @@ impl<'a> Compiler<'a> {
             // Fanuc's AND, OR and XOR beside arithmetic or a comparison at one level: where FANUC puts
             // them among the others (LinuxCNC's table puts them last) is not in the manuals at hand.
             if let (Some((name, column)), true) = (level.bitwise, level.other) {
-                return err(column, format!("{name} beside arithmetic or a comparison without brackets: where FANUC's custom macro puts {name} among the other operators is not read here (bracket its operands, as [4 + 3] {name} 1 or [#1 GT 1] {name} [#2 LT 4])"));
+                return err(column, format!("{name} beside arithmetic, a comparison or another of AND, OR and XOR without brackets: where FANUC's custom macro puts {name} among the other operators is not read here (bracket its operands, as [4 + 3] {name} 1 or [#1 GT 1] {name} [#2 LT 4])"));
             }
             return Ok(j);
         }
@@ -619,7 +619,12 @@ impl<'a> Compiler<'a> {
                             Op::BitOr => "OR",
                             _ => "XOR",
                         };
-                        level.bitwise.get_or_insert((name, at + 1));
+                        // AND beside OR or XOR: ranked apart in some tables (AND with * and /,
+                        // OR and XOR with + and -), together in others.
+                        let first = *level.bitwise.get_or_insert((name, at + 1));
+                        if (first.0 == "AND") != (name == "AND") {
+                            level.other = true;
+                        }
                     }
                     _ => level.other = true,
                 }

@@ -215,6 +215,11 @@ pub(crate) fn decode(cycle: Cycle, args: &[Arg], mm_per_unit: f64) -> Result<Hol
 /// CYCLE84's pitch and spindle speeds (`_PTAB` 0: the program's unit; MPIT a metric size M3 to
 /// M48, PIT a pitch; both empty, or disagreeing, alarm 61001), SST in and SST1 out (SST1 empty: SST).
 fn tapping(args: &[Arg], mm_per_unit: f64) -> Result<(f64, f64, f64), Refusal> {
+    // _AXN (13th): the tool axis, 1 to 3 the geometry axes, 0 the plane's (as CYCLE83's).
+    let axn = value(args, 12, "_AXN")?;
+    if axn != 0.0 && axn != 3.0 {
+        return Err(format!("_AXN={axn}: tapping along another axis than the plane's tool axis is not modelled").into());
+    }
     for (k, name) in [(13, "_PTAB"), (15, "_VARI")] {
         let v = value(args, k, name)?;
         if v != 0.0 {

@@ -84,7 +84,10 @@ pub(crate) struct SinumerikReader {
     called_unread: Option<String>,
     /// The line's cycle call (`MCALL` or once) was refused: `true` for an alarm of the control,
     /// which stops there; `false` for what this reader does not read ([`SinumerikReader::calls_refused`]).
-    call_refused: Option<bool>,
+call_refused: Option<bool>,
+    /// `ORIMKS` (tool vectors in the machine's coordinates) was programmed after `ORIWKS` (the reset
+    /// state: in the workpiece's, turned with the frame).
+    ori_mks: bool,
     /// 3D tool radius compensation (`CUT3DC` ..., refused) in force on the control until `CUT2D`: its
     /// line and name ([`keywords::COMP3D`]).
     comp3d: Option<(usize, String)>,
@@ -107,6 +110,7 @@ impl SinumerikReader {
             stopped: false,
             called_unread: None,
             call_refused: None,
+            ori_mks: false,
             comp3d: None,
         }
     }
@@ -394,6 +398,9 @@ impl SinumerikReader {
                 }
                 "ORIWKS" | "ORIVECT" | "ORIPLANE" | "ORIMKS" | "ORIAXES" => {
                     let axes = matches!(k.name.as_str(), "ORIMKS" | "ORIAXES");
+                    if matches!(k.name.as_str(), "ORIWKS" | "ORIMKS") {
+                        self.ori_mks = k.name == "ORIMKS";
+                    }
                     self.interp.set_orientation(if axes { Orientation::AxisLinear } else { Orientation::GreatCircle });
                     self.end_holds(&k.name);
                 }
@@ -549,6 +556,19 @@ impl SinumerikReader {
         self.trc.set.settle(&codes, disc.map(|d| d.0), offn.map(|o| o.0));
         self.trc.set.track(&words, edge.map(|e| e.0.min(u32::MAX as f64) as u32));
         // A block of only a tool vector still moves.
+        // Under ORIWKS the vector is the workpiece's, in the frame: it turns with a rotated frame
+        // (ROT, AROT, CYCLE800; Job Planning 03/2006 §7.2, "Reference of the orientation axes":
+        // vectors "relate to the active frame and rotate when the frame rotates"). Under ORIMKS it is
+        // the machine's, which of the two MD21104 makes govern is not read.
+        let turned = self.interp.tilt().filter(|r| (r - nalgebra::Matrix3::identity()).abs().max() > 1e-12);
+        let vector = match (vector, turned) {
+            (Some(_), Some(_)) if self.ori_mks => {
+                diags.error(line, first_col, "tool vector (A3 B3 C3) under ORIMKS in a rotated frame: the machine's coordinates or the frame's, as machine datum MD21104 says, is not read");
+                return false;
+            }
+            (Some(v), Some(r)) => Some((r * nalgebra::Vector3::from(v)).into()),
+            (v, _) => v,
+        };
         match vector {
             Some(v) => self.interp.set_pending_vector(v),
             None if words.is_empty() && codes.select.is_none() => return self.trc.side().is_none() || !written || self.dummy(line, first_col, diags),
