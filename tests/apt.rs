@@ -11,6 +11,18 @@ fn errors(p: &Program) -> Vec<(usize, usize, String)> {
     p.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| (d.line, d.column, d.message.clone())).collect()
 }
 
+/// Each CL text of `cases` read has an error at its line and column holding its text.
+fn refuses_each(cases: &[(&str, usize, usize, &str)], opts: &ReadOptions) {
+    for &(text, line, column, needle) in cases {
+        let p = read(text, Dialect::Cl, "t.cls", opts);
+        assert!(
+            errors(&p).iter().any(|(l, c, m)| *l == line && *c == column && m.contains(needle)),
+            "{text:?}: no error at {line}:{column} containing {needle:?}: {:#?}",
+            errors(&p)
+        );
+    }
+}
+
 /// A contour as a CAM system writes it before post-processing: header records, a tool change, a
 /// rapid approach, feeds in both orders of FEDRAT's words, a half circle in XY (ISO's seven-number
 /// CIRCLE/) and a quarter circle in ZX (NX's eleven), tilted tool axes, a statement continued
@@ -137,14 +149,7 @@ fn apt_statements_that_change_motion_unread_are_refused_where_they_stand() {
         ("GOTO/0,0,0\nGOTO/1,0,x1\n", 2, 1, "only numbers"),
         ("GOTO/0,0,0\nGOTO/1,0,1.2.3\n", 2, 1, "expected a number"),
     ];
-    for (text, line, column, needle) in cases {
-        let p = read(text, Dialect::Cl, "t.cls", &opts);
-        assert!(
-            errors(&p).iter().any(|(l, c, m)| *l == line && *c == column && m.contains(needle)),
-            "{text:?}: no error at {line}:{column} containing {needle:?}: {:#?}",
-            errors(&p)
-        );
-    }
+    refuses_each(&cases, &opts);
     // Inches and IPM are read as mm and mm/min; a GOTO after RAPID is a rapid, the next one is not.
     let p = read("UNITS/INCHES\nGOTO/1,2,3\nFEDRAT/IPM,10\nRAPID\nGOTO/2,2,3\nGOTO/3,2,3\n", Dialect::Cl, "t.cls", &opts);
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
@@ -300,14 +305,7 @@ fn apt_continuations_inserts_and_fields_fail_closed() {
         ("GOTO/0,0,50\nGOTO/1,2,,3,0,0,1\n", 2, 1, "field 3 is empty"),
         ("x,y,z,a,c,f\n0,0,50,0,0,1000\n", 1, 7, "names 'a' where column 4"),
     ];
-    for (text, line, column, needle) in cases {
-        let p = read(text, Dialect::Cl, "t.cls", &opts);
-        assert!(
-            errors(&p).iter().any(|(l, c, m)| *l == line && *c == column && m.contains(needle)),
-            "{text:?}: no error at {line}:{column} containing {needle:?}: {:#?}",
-            errors(&p)
-        );
-    }
+    refuses_each(&cases, &opts);
     let fine = "$$-> CSYS / 1.0, 0.0, 0.0, 0.0,  $\n  0.0, 1.0, 0.0, 0.0,  $\n  0.0, 0.0, 1.0, 0.0\n$$-> CUTCOM_GEOMETRY_TYPE / OUTPUT_ON_CENTER\n\
                 INSERT/[HOLDER=C40-M06EM2] 6MM CRB 2FL 19 LOC\nINSERT/Stock Size X95. Y150. Z120.\nCUTTER/ 6.000000,0.000000,3.000000,\n\
                 GOTO/0,0,50\nCUTCOM/LEFT\nFEDRAT/MMPM,500\nGOTO/10,0,50\nCUTCOM/OFF\n";
