@@ -110,3 +110,27 @@ fn p_on_a_fanuc_or_haas_arc_is_refused() {
         refused(dialect, "G01 X10. F100.\nG03 X10. Y0. I-10. J0. P3\n", 6, 24, "word P3 without a G code that takes it");
     }
 }
+
+/// G84 with a Q, written or kept from an earlier cycle, is the peck rigid tapping cycle under rigid
+/// tapping (FANUC 0i, "Peck rigid tapping cycle (G84 or G88)": back off by parameter No. 5213 or to
+/// R by No. 5200#5), not read: refused at the Q. Haas: G234 (TCPC) and G254 (DWO) together are
+/// refused ("Cancel G254 with G255 any time simultaneous 4- or 5-axis machining is performed"), and
+/// so is a cutting move after G254 before X, Y and Z are given ("you must specify an X, Y, and Z
+/// position prior to any cutting command"); NX's order (X Y at rapid, then Z, then cutting) reads.
+#[test]
+fn peck_tapping_and_haas_dwo_with_tcpc_fail_closed() {
+    refused(Dialect::Fanuc, "S500 M3\nG99 G84 X10. Y0. Z-10. R2. Q5. F500.\nG80\n", 6, 28, "G84 with Q5.");
+    refused(Dialect::Fanuc, "S500 M3\nG99 G83 X5. Y0. Z-10. R2. Q2. F100.\nG84 X10. Y0. Z-10. R2. F500.\nG80\n", 7, 1, "G84 with the Q2 kept");
+    for (body, line, needle) in [
+        ("G254\nG234 H1\nG0 X1. Y0. Z2.\nG49\nG255\n", 6, "G234 (TCPC) under G254"),
+        ("G234 H1\nG254\nG49\nG255\n", 6, "G254 (dynamic work offset) under G234"),
+        ("G254\nG0 X1.\nG1 Y1. F10.\nG255\n", 7, "before Z is written"),
+    ] {
+        let text = format!("%\nO1000\nG20 G90 G17 G94\nG0 X0. Y0. Z5.\n{body}M30\n%\n");
+        let p = read(&text, Dialect::Haas, "t.nc", &ReadOptions::default().on(&fiveaxis::machine::Machine::builtin("haas-umc-750").unwrap()));
+        assert!(errors(&p).iter().any(|(l, _, m)| *l == line && m.contains(needle)), "{body:?}: {:?}", errors(&p));
+    }
+    let nx = "%\nO1000\nG20 G90 G17 G94\nG0 X0. Y0. Z5.\nG254\nG54 G90 G00 X-1.9222 Y-2.3215\nG43 H01 D01 Z.2772\nG01 Y-2.5254 Z.2665 F9.8\nG255\nM30\n%\n";
+    let p = read(nx, Dialect::Haas, "t.nc", &ReadOptions::default().on(&fiveaxis::machine::Machine::builtin("haas-umc-750").unwrap()));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+}

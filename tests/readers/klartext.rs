@@ -608,3 +608,22 @@ fn klartext_refuses_what_moves_the_tool_unread() {
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     assert_eq!(ends(&p).last().copied(), Some([10.0, 0.0, 100.0]));
 }
+
+/// Cycle 19 with a feed positions the rotary axes itself on a machine so set up (MP7500 bit 2), which
+/// is not read: refused at F. On a machine whose cycle 19 takes spatial angles, the control stores
+/// Q120-Q122 by its own choice (the shorter path from zero, TNC 320 Cycle Programming §11.9), not
+/// read here: a program reading them after it stops there, not at the angles of an earlier PLANE.
+#[test]
+fn cycle_19_positioning_and_its_q_parameters_fail_closed() {
+    let a_c = fiveaxis::machine::Machine::builtin("dmg-dmu-85-monoblock").unwrap();
+    let options = ReadOptions::default().on(&a_c);
+    let text = "0 BEGIN PGM P MM\n1 L X+0 Y+0 Z+150 A+0 C+0 R0 FMAX\n2 CYCL DEF 19.0 WORKING PLANE\n3 CYCL DEF 19.1 A+30 C+90 F5000\n4 END PGM P MM\n";
+    has(&read(text, Dialect::Klartext, "p.h", &options), 4, 27, "CYCL DEF 19.1 with F5000");
+    let file = fiveaxis::machine::builtin_file("dmg-dmu-85-monoblock").unwrap().replace("tool_axis = [0.0, 0.0, 1.0]", "tool_axis = [0.0, 0.0, 1.0]\ncycle19_spatial = true");
+    let spatial = fiveaxis::machine::Machine::from_toml_str(&file, "t").unwrap();
+    let options = ReadOptions::default().on(&spatial);
+    let text = "0 BEGIN PGM P MM\n1 L X+0 Y+0 Z+150 A+0 C+0 R0 FMAX\n2 PLANE SPATIAL SPA+20 SPB+0 SPC+0 STAY\n3 PLANE RESET STAY\n\
+                4 CYCL DEF 19.0 WORKING PLANE\n5 CYCL DEF 19.1 A+30 B+0 C+0\n6 L A+Q120 C+Q122 R0 FMAX\n7 END PGM P MM\n";
+    let p = read(text, Dialect::Klartext, "p.h", &options);
+    assert!(errors(&p).iter().any(|(l, _, m)| *l == 7 && m.contains("Q120")), "{:?}", errors(&p));
+}

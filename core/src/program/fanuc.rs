@@ -297,6 +297,14 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         }
     };
     let q_at = q_word.map_or(at, |w| w.column);
+    // G84/G74 with a Q, written or kept: under rigid tapping the peck tapping cycle ("Peck rigid
+    // tapping cycle (G84 or G88)": Q the depth of each cut, back off by parameter No. 5213 or to R
+    // by No. 5200#5 PCP; FANUC 0i operator's manual), which is not read.
+    if matches!(kind, cycles::Kind::G84 | cycles::Kind::G74) && peck.is_some_and(|q| q != 0.0) {
+        let q = q_word.map_or_else(|| format!("the Q{} kept from an earlier cycle block", peck.unwrap_or(0.0) / unit), |w| format!("Q{}", w.raw));
+        diags.error(line, q_at, format!("G{} with {q}: under rigid tapping, peck tapping (its back-off is parameter No. 5213 or 5200#5's), which is not read; cancel the cycle with G80 before the tap", kind.code()));
+        return false;
+    }
     // A Q the block does not write, as its messages name it.
     let kept = || format!("the Q{} kept from an earlier cycle block", peck.unwrap_or(0.0) / unit);
     if kind.pecks() {

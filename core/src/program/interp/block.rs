@@ -460,6 +460,17 @@ impl Interpreter {
         if next.dwo && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some()) {
             diags.error(line, column, "a rotary axis moves under G254 (dynamic work offset): Haas forbids it until G255");
         }
+        // "After G254 is invoked, you must specify an X, Y, and Z position prior to any cutting
+        // command" (Haas UMC-750 operator's manual, G254): a feed move before all three are written.
+        for (k, t) in [targets.x, targets.y, targets.z].into_iter().enumerate() {
+            if t.is_some() {
+                next.dwo_unplaced[k] = false;
+            }
+        }
+        if next.dwo && block_motion.is_some_and(|m| m != Motion::Rapid) && moves && next.dwo_unplaced.iter().any(|u| *u) {
+            let missing: String = "XYZ".chars().zip(next.dwo_unplaced).filter(|(_, u)| *u).map(|(c, _)| c).collect();
+            diags.error(line, column, format!("a cutting move under G254 before {missing} is written: Haas wants X, Y and Z given after G254, before any cutting command"));
+        }
         // Sinumerik: "G4 must be programmed in a separate NC block" (Fundamentals, G4): a dwell with a
         // move is an alarm on the control, not a dwell and then a move as LinuxCNC reads it.
         if let (Some(g), true, Dialect::Sinumerik) = (dwell_word, moves, before.dialect) {

@@ -265,6 +265,8 @@ pub struct State {
     unit_stated: bool,
     /// Haas G254 (dynamic work offset) in effect: no rotary axis may move until G255.
     dwo: bool,
+    /// X, Y and Z not written since G254: Haas wants them before a cutting move.
+    dwo_unplaced: [bool; 3],
     /// The frame's rotation (`tilt`) turns the linear axes' coordinates only, with no transformation
     /// placing the tool (Sinumerik `ROT`/`AROT` without TRAORI or CYCLE800): axes = R p + datum,
     /// whatever the rotary axes; under TCPM it is a tilted plane as any other.
@@ -394,6 +396,7 @@ impl Interpreter {
                 arc_tolerance_factor: if dialect == Dialect::Sinumerik { SINUMERIK_CIRCLE_ERROR_FACTOR } else { 0.0 },
                 unit_stated: false,
                 dwo: false,
+                dwo_unplaced: [false; 3],
                 frame_axes_only: false,
                 tilt: None,
                 shortest: false,

@@ -232,12 +232,17 @@ pub(super) fn cycle19<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, di
         "0" => None,
         "1" => {
             let mut values = Vec::new();
-            let mut feed = FeedWord::None;
+            let feed = FeedWord::None;
             for &(tok, c) in &toks[3.min(toks.len())..] {
                 let (addr, v) = split_word(tok);
                 match addr.as_ref() {
                     "A" | "B" | "C" => values.push(value_word(addr_static(&addr), v, tok, c, line, diags)?),
-                    "F" => feed = FeedWord::Value(value_word("F", v, tok, c, line, diags)?),
+                    // A feed in cycle 19: the machine positions the rotary axes itself at it (the
+                    // cycle asks for one only then, MP7500 bit 2), which is not read.
+                    "F" => {
+                        diags.error(line, c, format!("CYCL DEF 19.1 with {}: on a machine set to position the rotary axes in cycle 19 (MP7500 bit 2) they turn at that feed, which is not read (position them in the program: L B.. C..)", excerpt(tok)));
+                        return None;
+                    }
                     _ => {
                         diags.error(line, c, format!("CYCL DEF 19.1: expected A, B, C (and F), found '{}'", excerpt(tok)));
                         return None;
@@ -397,6 +402,13 @@ impl Exec {
                 if let Some(i) = "ABC".find(*l) {
                     self.q.insert(format!("Q{}", 120 + i), rot[k] / DEG);
                 }
+            }
+        } else if machine.cycle19_spatial {
+            // Cycle 19 of spatial angles stores the axes' angles in Q120-Q122 too, the solution "on
+            // the shorter path from the zero position" (TNC 320 Cycle Programming 340 55x-04 §11.9),
+            // which is not the one read here: they are left unset, so a program reading them stops.
+            for i in 0..3 {
+                self.q.remove(&format!("Q{}", 120 + i));
             }
         }
         interp.set_tilt(Some(r));
