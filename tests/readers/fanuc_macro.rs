@@ -122,15 +122,33 @@ fn peck_tapping_and_haas_dwo_with_tcpc_fail_closed() {
     refused(Dialect::Fanuc, "S500 M3\nG99 G84 X10. Y0. Z-10. R2. Q5. F500.\nG80\n", 6, 28, "G84 with Q5.");
     refused(Dialect::Fanuc, "S500 M3\nG99 G83 X5. Y0. Z-10. R2. Q2. F100.\nG84 X10. Y0. Z-10. R2. F500.\nG80\n", 7, 1, "G84 with the Q2 kept");
     for (body, line, needle) in [
-        ("G254\nG234 H1\nG0 X1. Y0. Z2.\nG49\nG255\n", 6, "G234 (TCPC) under G254"),
-        ("G234 H1\nG254\nG49\nG255\n", 6, "G254 (dynamic work offset) under G234"),
+        ("G254\nG234 H1\nG0 X1. Y0. Z2.\nG49\nG255\n", 6, "G234 (TCPC) and G254 (dynamic work offset) together"),
+        ("G234 H1\nG254\nG49\nG255\n", 6, "G234 (TCPC) and G254 (dynamic work offset) together"),
         ("G254\nG0 X1.\nG1 Y1. F10.\nG255\n", 7, "before Z is written"),
     ] {
         let text = format!("%\nO1000\nG20 G90 G17 G94\nG0 X0. Y0. Z5.\n{body}M30\n%\n");
         let p = read(&text, Dialect::Haas, "t.nc", &ReadOptions::default().on(&fiveaxis::machine::Machine::builtin("haas-umc-750").unwrap()));
         assert!(errors(&p).iter().any(|(l, _, m)| *l == line && m.contains(needle)), "{body:?}: {:?}", errors(&p));
     }
-    let nx = "%\nO1000\nG20 G90 G17 G94\nG0 X0. Y0. Z5.\nG254\nG54 G90 G00 X-1.9222 Y-2.3215\nG43 H01 D01 Z.2772\nG01 Y-2.5254 Z.2665 F9.8\nG255\nM30\n%\n";
-    let p = read(nx, Dialect::Haas, "t.nc", &ReadOptions::default().on(&fiveaxis::machine::Machine::builtin("haas-umc-750").unwrap()));
-    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    // NX's order, and a cancel in the block that switches the other on, read.
+    for nx in [
+        "G254\nG54 G90 G00 X-1.9222 Y-2.3215\nG43 H01 D01 Z.2772\nG01 Y-2.5254 Z.2665 F9.8\nG255\n",
+        "G254\nG255 G234 H1\nG0 X1. Y0. Z2.\nG49\n",
+        "G234 H1\nG49 G254\nG255\n",
+    ] {
+        let text = format!("%\nO1000\nG20 G90 G17 G94\nG0 X0. Y0. Z5.\n{nx}M30\n%\n");
+        let p = read(&text, Dialect::Haas, "t.nc", &ReadOptions::default().on(&fiveaxis::machine::Machine::builtin("haas-umc-750").unwrap()));
+        assert!(errors(&p).is_empty(), "{nx:?}: {:?}", errors(&p));
+    }
+}
+
+/// FANUC times an arc by its own rules, refused here: under G93 F is the feed over the arc's radius
+/// ("FRN = feedrate / arc radius"), and on a helix (or with a rotary axis) F is along the arc or the
+/// whole path as parameter HTG says. A plain arc in its plane reads.
+#[test]
+fn fanuc_inverse_time_and_helical_arcs_are_refused() {
+    refused(Dialect::Fanuc, "G93 G02 X60. Y0. R30. F1.\n", 5, 1, "FRN = feedrate / arc radius");
+    refused(Dialect::Fanuc, "G94 G02 X60. Y0. Z-5. R30. F100.\n", 5, 1, "a helix");
+    refused(Dialect::Fanuc, "G94 G02 X60. Y0. C90. R30. F100.\n", 5, 1, "parameter HTG");
+    assert_eq!(xs(Dialect::Fanuc, "G94 G01 X0. F100.\nG02 X60. Y0. R30.\n"), vec![0.0, 60.0]);
 }

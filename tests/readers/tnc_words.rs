@@ -180,3 +180,14 @@ fn a_datum_shift_leaves_the_tool_where_it_stands() {
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     assert_eq!(ends(&p).last().copied(), Some([10.0, 0.0, 60.0]));
 }
+
+/// The TNC's M118 takes the axis values after it: the handwheel's travel ("L X+0 Y+38.5 RL F125 M118
+/// X1 Y1", iTNC 530 user's manual), no move: in Klartext `L X+5 Y+0 F125 M118 X1 Y1` goes to X 5
+/// Y 0, and `L R0 F125 M118 X1 Y1` moves nothing.
+#[test]
+fn m118_values_are_the_handwheels_in_klartext() {
+    let text = "0 BEGIN PGM K MM\n1 L X+0 Y+0 Z+0 R0 F1000\n2 L X+5 Y+0 F125 M118 X1 Y1\n3 L R0 F125 M118 X1 Y1\n4 END PGM K MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    assert_eq!(ends(&p).last().copied(), Some([5.0, 0.0, 0.0]));
+}

@@ -56,11 +56,12 @@ impl Interpreter {
         // The TNC's M118 takes the axis values after it in its block: the handwheel's most travel
         // ("L X+0 Y+38.5 RL F125 M118 X1 Y1", iTNC 530 user's manual, "Superimposing handwheel
         // positioning during program run: M118"), no move; the move's are before it.
-        let m118 = words.iter().position(|w| w.letter == 'M' && w.value == 118.0);
+        let m118 = words.iter().find(|w| w.letter == 'M' && w.value == 118.0).map(|w| w.column);
         let handwheel: Vec<Word>;
+        let after = |w: &Word, m: usize| w.column > m && AXIS_LETTERS.contains(&w.letter);
         let words = match m118 {
-            Some(k) if matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext) && words[k + 1..].iter().any(|w| AXIS_LETTERS.contains(&w.letter)) => {
-                handwheel = words.iter().enumerate().filter(|(i, w)| *i <= k || !AXIS_LETTERS.contains(&w.letter)).map(|(_, w)| w.clone()).collect();
+            Some(m) if matches!(self.dialect, Dialect::Heidenhain | Dialect::Klartext) && words.iter().any(|w| after(w, m)) => {
+                handwheel = words.iter().filter(|w| !after(w, m)).cloned().collect();
                 handwheel.as_slice()
             }
             _ => words,
@@ -280,7 +281,9 @@ impl Interpreter {
                         dwell_s = Some(x.value);
                         x_dwell = true;
                     }
-                    Some(x) => diags.error(line, x.column, format!("G{} X{}: a dwell written with X is read on FANUC only in seconds with a decimal point (write X{}. or P, in milliseconds)", g.raw, x.raw, x.raw)),
+                    Some(x) if before.dialect == Dialect::Haas => diags.error(line, x.column, format!("G{} X{}: Haas' dwell is P (seconds with a decimal point, milliseconds without); X is not read", g.raw, x.raw)),
+                    Some(x) if x.raw.contains('.') => diags.error(line, x.column, format!("G{} X{}: a dwell must be 0 s or more", g.raw, x.raw)),
+                    Some(x) => diags.error(line, x.column, format!("G{} X{}: a dwell written with X is read on FANUC only in seconds with a decimal point (write it with a point, or P in milliseconds)", g.raw, x.raw)),
                     None => diags.error(line, g.column, format!("G{} without P: expected the dwell time (P, milliseconds on Fanuc; seconds with a decimal point on Haas)", g.raw)),
                 },
                 None => diags.error(line, g.column, format!("G{} without {letter}: expected the dwell time in seconds ({letter})", g.raw)),
@@ -460,6 +463,12 @@ impl Interpreter {
         if next.dwo && (targets.a.is_some() || targets.b.is_some() || targets.c.is_some()) {
             diags.error(line, column, "a rotary axis moves under G254 (dynamic work offset): Haas forbids it until G255");
         }
+        // "G254 (DWO) is intended for 3+1 and 3+2 machining ... Cancel G254 with G255 any time
+        // simultaneous 4- or 5-axis machining is performed" (Haas UMC-750 manual, G254 rule 6): both
+        // in force after the block's codes (the block that makes it so, and every move under them).
+        if next.dwo && next.tcp && before.dialect == Dialect::Haas && (moves || !(before.dwo && before.tcp)) {
+            diags.error(line, column, "G234 (TCPC) and G254 (dynamic work offset) together: Haas wants G255 before simultaneous machining (G254 is for 3+2), so this is not read");
+        }
         // "After G254 is invoked, you must specify an X, Y, and Z position prior to any cutting
         // command" (Haas UMC-750 operator's manual, G254): a feed move before all three are written.
         for (k, t) in [targets.x, targets.y, targets.z].into_iter().enumerate() {
@@ -535,6 +544,25 @@ impl Interpreter {
                 let start = [before.last[0], before.last[1], before.last[2]];
                 let end = [next.last[0], next.last[1], next.last[2]];
                 arc = resolve_arc(words, next, start, end, line, column, diags.errors() > errors_before, diags);
+                // FANUC times an arc by its own rules: under G93 F is the feed over the arc's radius
+                // ("FRN = feedrate / arc radius", B-62764EN "Inverse time feed"), and on a helix, or with
+                // a rotary axis, F is along the arc or along the whole path as parameter HTG says
+                // (B-63783EN §6.7); neither is the time read here.
+                if before.dialect == Dialect::Fanuc && arc.is_some() {
+                    let (_, _, an) = next.plane.axes();
+                    let normal = (end[an] - start[an]).abs() > 1e-12;
+                    let rotary = (3..6).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12);
+                    let why = if next.feed_mode == FeedMode::InverseTime {
+                        Some("under G93: FANUC's F is the feed over the arc's radius (FRN = feedrate / arc radius), whose time is not read")
+                    } else if normal || rotary {
+                        Some("a helix (or an arc with a rotary axis): FANUC feeds along the arc or along the whole path as parameter HTG says, which is not read")
+                    } else {
+                        None
+                    };
+                    if let Some(why) = why {
+                        diags.error(line, column, format!("{}: {why}", if block_motion == Some(Motion::ArcCw) { "G02" } else { "G03" }));
+                    }
+                }
             } else if words.iter().any(|w| "IJKR".contains(w.letter) || (w.letter == 'P' && !uses.contains(&'P'))) {
                 // (A P that another code of the block takes, G4's or G64's, is not the arc's.)
                 diags.error(line, column, "arc words without an end point: expected X, Y or Z with them");

@@ -174,11 +174,6 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         }
         // Haas TCPC: X Y Z are the tool tip on the table (as Fanuc's G43.4), H the length.
         ("234", false) if haas => {
-            // "G254 (DWO) is intended for 3+1 and 3+2 machining ... Cancel G254 with G255 any time
-            // simultaneous 4- or 5-axis machining is performed" (Haas UMC-750 manual, G254 rule 6).
-            if before.dwo || next.dwo {
-                diags.error(line, w.column, "G234 (TCPC) under G254 (dynamic work offset): Haas wants G255 before simultaneous machining; both together are not read");
-            }
             (next.tcp, next.tool_vector) = (true, false);
             c.uses.push('H');
         }
@@ -189,9 +184,6 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         ("254", false) if haas => {
             if next.datum != [0.0; 3] {
                 diags.error(line, w.column, "G254 (dynamic work offset) with a work offset the program set: turning it with the table is not modelled");
-            }
-            if before.tcp || next.tcp {
-                diags.error(line, w.column, "G254 (dynamic work offset) under G234 (TCPC): Haas's G254 is for 3+2 machining; both together are not read (G49 first)");
             }
             next.dwo = true;
             next.dwo_unplaced = [true; 3];

@@ -56,6 +56,12 @@ pub(super) fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diag
             None => addr,
         };
         let addr = addr.as_ref();
+        // The values after M118 are its own: the handwheel's most travel per axis ("L X+0 Y+38.5 RL
+        // F125 M118 X1 Y1", iTNC 530 user's manual, "Superimposing handwheel positioning during
+        // program run: M118"), no move of the block.
+        if m.iter().any(|w: &KWord<'_>| w.val == Val::Num(118.0)) && motion_address(addr).is_some_and(|(_, bit)| bit < 6) {
+            continue;
+        }
         match (motion_address(addr), addr) {
             (Some((_, bit)), _) if bit >= 6 && shape != Shape::LineNormal => {
                 diags.error(line, col, format!("unexpected word '{}' in an {key} block (NX NY NZ, TX TY TZ belong to LN)", excerpt(tok)))
