@@ -13,9 +13,8 @@ use cases::{Case, CLEAN};
 /// Programs refused on their machine with one clear message each: a defect of the program as its
 /// control reads it (the file, machine, flags and the message's telling part).
 const REFUSED: &[(&str, &str, &[&str], &str)] = &[
-    // NX's sample posts write G83 with Q0.0: a peck of nothing never reaches the hole's bottom (a
-    // FANUC control alarms, PS0045).
-    ("haas-fanuc-style_nx-post_vf2-trunnion-ab_Haas_5T.nc", "haas-vf2-tr", &[], "977:41: error: Q0.0: a peck depth must be positive"),
+    // NX's sample posts for the NMV5000 write G83 with Q0.0: a peck of nothing never reaches the
+    // hole's bottom (a FANUC control alarms, PS0045).
     ("fanuc-G43.4_nx-post_mori-nmv5000-bc_near-B0_MS_NMV_sample_output.nc", "mori-seiki-nmv5000", &[], "862:29: error: Q0.0: a peck depth must be positive (FANUC alarm PS0045"),
     ("fanuc-G43.4_nx-post_mori-nmv5000-bc_mm_MS_NMV_sample_mm.nc", "mori-seiki-nmv5000", &[], "630:24: error: Q0.0: a peck depth must be positive (FANUC alarm PS0045"),
     // SOLIDWORKS CAM's .clt turns an A table (no machine named: the generic A/C table-table) by ROTABL
@@ -55,6 +54,7 @@ const DEFECTIVE: &[(&str, &str, &str)] = &[
 
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
+    ("haas-fanuc-style_nx-post_vf2-trunnion-ab_Haas_5T.nc", "its five-axis operation feeds A and B without TCPC (G94, line 544 on): Haas feeds a rotary axis at the part diameter of Setting 34/79, a setting of the job that is not read; and NX's G83 with Q0.0 (977:41, a peck of nothing)"),
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect: no MillPlus manual in reach for G7's angle order, G141, G74 L1, G174 (only NX's and Autodesk's posts); the same part as the DMC 100 U's, its G141 operations at 200-334 in under G70. Refused once, naming MillPlus (the_millplus_program_is_refused_once_naming_its_language)"),
 ];
 

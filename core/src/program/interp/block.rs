@@ -469,6 +469,12 @@ impl Interpreter {
         if next.dwo && next.tcp && before.dialect == Dialect::Haas && (moves || !(before.dwo && before.tcp)) {
             diags.error(line, column, "G234 (TCPC) and G254 (dynamic work offset) together: Haas wants G255 before simultaneous machining (G254 is for 3+2), so this is not read");
         }
+        // Haas: a feed move of a rotary axis without TCPC takes F in inches (mm) per minute at the part
+        // diameter Setting 34 (4th axis) or 79 (5th) gives ("the control must know the diameter of
+        // the part being machined ... to compute angular feed rate"), a setting of the job, not read.
+        if haas && !next.tcp && next.feed_mode == FeedMode::PerMinute && block_motion.is_some_and(|m| m != Motion::Rapid) && (3..6).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12) {
+            diags.error(line, column, "a feed move of a rotary axis without G234: Haas feeds it at the part diameter of Setting 34 or 79, which is not read (G93 inverse time, or G234, is read)");
+        }
         // "After G254 is invoked, you must specify an X, Y, and Z position prior to any cutting
         // command" (Haas UMC-750 operator's manual, G254): a feed move before all three are written.
         for (k, t) in [targets.x, targets.y, targets.z].into_iter().enumerate() {
