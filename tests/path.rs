@@ -149,6 +149,57 @@ fn great_circles_at_the_pole() {
     assert!(pieces.len() < 5000, "{} pieces", pieces.len());
 }
 
+/// Rotary positions written under vector interpolation (840D `ORIVECT`, the reset state; the TNC's
+/// `PATHCTRL VECTOR`) set the block's end tool axis; where the great circle from the block's start
+/// reaches that axis on the other solution (B -1 C 0 for B 1 C 180, one tool axis: worked below by
+/// rotation matrices) or on another turn of C, how the control turns the axes to the written positions
+/// is in no manual at hand: an error at the block, not a C that silently never turns. With the axes
+/// interpolated (`ORIAXES`) the same block reads, C turning the 180 deg it writes; the tool vector
+/// written instead reads as the circle's.
+#[test]
+fn written_rotaries_off_the_great_circles_solution_are_refused() {
+    use fiveaxis::program::{read, Dialect, ReadOptions};
+    use nalgebra::{Rotation3, Vector3};
+    let m = Machine::builtin("generic-bc-table").unwrap();
+    // The tool axis in the part of a B/C table at (B, C): the part turned back by C about Z, then B about Y.
+    let tool = |b: f64, c: f64| Rotation3::from_axis_angle(&Vector3::z_axis(), -c.to_radians()) * Rotation3::from_axis_angle(&Vector3::y_axis(), -b.to_radians()) * Vector3::z();
+    assert!((tool(1.0, 180.0) - tool(-1.0, 0.0)).norm() < 1e-12, "one tool axis");
+    let (a, c) = (m.primary_axis(), m.secondary_axis());
+    let sin = |mode: &str, end: &str| format!("N10 G90 G71 G54\nN20 TRAORI\nN30 {mode}\nN40 G0 X0 Y0 Z50 B30 C0\nN50 G1 F1000 X10 {end}\nN60 M30\n");
+    let errors = |src: &str, d: Dialect| {
+        let p = read(src, d, "flip", &ReadOptions::default());
+        assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+        let t = Trajectory::from_program(&p, &m, &PathOptions::default());
+        (t.diagnostics.iter().map(|d| (d.line, d.message.clone())).collect::<Vec<_>>(), t)
+    };
+    let (e, _) = errors(&sin("ORIVECT", "B1 C180"), Dialect::Sinumerik);
+    assert_eq!(e.len(), 1, "{e:#?}");
+    assert_eq!(e[0].0, 5);
+    assert!(e[0].1.contains("B -1.000 deg C 0.000 deg (the other solution") && e[0].1.contains("block skipped"), "{}", e[0].1);
+    // C10 after C350: the circle reaches it at C 370.
+    let (e, _) = errors(&sin("ORIVECT", "B30 C350\nN55 X20 B20 C10").replace("B30 C0", "B30 C350"), Dialect::Sinumerik);
+    assert_eq!(e.len(), 1, "{e:#?}");
+    assert!(e[0].0 == 6 && e[0].1.contains("C 370.000 deg (another turn"), "{e:?}");
+    // The circle's own solution, the tool vector, and the axes interpolated: read, C where written.
+    for (src, c_end) in [
+        (sin("ORIVECT", "B-1 C0"), 0.0),
+        (sin("ORIVECT", &{
+            let v = tool(1.0, 180.0);
+            format!("A3={:.12} B3={:.12} C3={:.12}", v.x, v.y, v.z)
+        }), 0.0),
+        (sin("ORIAXES", "B1 C180"), 180.0),
+    ] {
+        let (e, t) = errors(&src, Dialect::Sinumerik);
+        assert!(e.is_empty(), "{src}: {e:#?}");
+        let last = t.segments.iter().filter(|s| s.line == 5).last().unwrap();
+        assert!(close(last.q1[c].to_degrees(), c_end, 1e-9) && close(last.q1[a].to_degrees().abs(), 1.0, 1e-9), "{src}: ends at {:?}", last.q1);
+    }
+    // The TNC under PATHCTRL VECTOR: the same.
+    let tnc = "0 BEGIN PGM FLIP MM\n1 L X+0 Y+0 Z+50 B+30 C+0 R0 FMAX\n2 FUNCTION TCPM F TCP AXIS POS PATHCTRL VECTOR\n3 L X+10 B+1 C+180 F1000\n4 FUNCTION RESET TCPM\n5 END PGM FLIP MM\n";
+    let (e, _) = errors(tnc, Dialect::Klartext);
+    assert!(e.len() == 1 && e[0].0 == 4 && e[0].1.contains("the other solution"), "{e:#?}");
+}
+
 /// A TCPM move whose tool axis turns on a great circle beside the pole is timed on the whole block's
 /// tip path (840D: F is the tip's speed under TRAORI), however short the pieces near the pole are,
 /// where C turns fastest. Reference, independent of the planner: on a great circle whose closest

@@ -416,6 +416,10 @@ impl SegmentPlanner {
             };
             let pieces = match (arc, great_circle) {
                 (arc, Some(gc)) => match great_circle_pieces(&gc, arc.as_ref(), q, tip0, tip1, datum, machine, b.offset_assumed) {
+                    Ok(p) if b.targets.tool_axis.is_none() && p.last().is_some_and(|l| other_solution(&l.1, &q1)) => {
+                        diags.push(diag(b, other_solution_message(machine, &p[p.len() - 1].1, &q1)));
+                        break 'blocks false;
+                    }
                     Ok(p) => p,
                     Err(e) => {
                         diags.push(diag(b, e));
@@ -648,6 +652,36 @@ fn great_circle_pieces(gc: &GreatCircle, arc: Option<&ArcPath>, q: Joints, tip0:
             (qa, qb, tip_at(ua), tip_at(ub), arc.map(|a| Box::new(a.piece(ua, ub))), Some(Box::new(gc.piece(ua, ub))))
         })
         .collect())
+}
+
+/// Whether the rotaries `tracked` at the end of a great circle, followed from the block's start, are
+/// not the `programmed` ones: the same tool axis on the other solution, or another turn of an axis
+/// (1e-6 rad apart: the tracked end solves the programmed axes' own tool axis, far closer than that
+/// off the pole, which such a move never starts or ends on).
+fn other_solution(tracked: &Joints, programmed: &Joints) -> bool {
+    (tracked[3] - programmed[3]).abs() > 1e-6 || (tracked[4] - programmed[4]).abs() > 1e-6
+}
+
+/// A great-circle move whose programmed rotary positions are not where the great circle takes the
+/// axes from the block's start. The controls' manuals at hand say the end orientation may be given
+/// by the rotary axis positions (840D Job Planning 02/2011 §6.2.3: "the ultimate orientation of each
+/// block can be set ... by programming the rotary axis positions") but not how the axes reach the
+/// programmed solution from the circle's: the motion is not known.
+fn other_solution_message(machine: &Machine, tracked: &Joints, programmed: &Joints) -> String {
+    let (a, c) = (&machine.axes[3].name, &machine.axes[4].name);
+    let d = |v: f64| v.to_degrees();
+    let whole_turns = |x: f64| (x / std::f64::consts::TAU - (x / std::f64::consts::TAU).round()).abs() < 1e-6;
+    let how = if whole_turns(tracked[3] - programmed[3]) && whole_turns(tracked[4] - programmed[4]) { "another turn of the same axis positions" } else { "the other solution for the same tool axis" };
+    format!(
+        "the programmed {a} {:.3} deg {c} {:.3} deg set the tool axis, but on its great circle from the block's start \
+         the axes reach it at {a} {:.3} deg {c} {:.3} deg ({how}): how the control turns the axes to the programmed \
+         positions under vector interpolation is not known (program the tool vector, or interpolate the axes: \
+         ORIAXES, PATHCTRL AXIS); block skipped",
+        d(programmed[3]),
+        d(programmed[4]),
+        d(tracked[3]),
+        d(tracked[4]),
+    )
 }
 
 /// The error for a block whose end (or arc point) `q` lies outside an axis range, if it does.
