@@ -142,12 +142,30 @@ fn peck_tapping_and_haas_dwo_with_tcpc_fail_closed() {
     }
 }
 
-/// FANUC times an arc by its own rules, refused here: under G93 F is the feed over the arc's radius
-/// ("FRN = feedrate / arc radius"), and on a helix (or with a rotary axis) F is along the arc or the
-/// whole path as parameter HTG says. A plain arc in its plane reads.
+/// FANUC times an arc by its own rules. Under G93 F is the feed over the arc's radius ("FRN =
+/// feedrate / arc radius", B-62764EN §5: "calculated not from the actual amount of movement in the
+/// block but from the arc radius"), so an arc of angle th takes th / FRN minutes, where Haas' takes
+/// 60 / F seconds as any of its G93 moves ("the time (in seconds) to complete the programmed motion
+/// using G93 is, 60 (seconds) divided by the F value"). On a helix (or with a rotary axis) F is
+/// along the arc or the whole path as FANUC's parameter HTG says: refused. A plain arc in its plane
+/// reads.
 #[test]
-fn fanuc_inverse_time_and_helical_arcs_are_refused() {
-    refused(Dialect::Fanuc, "G93 G02 X60. Y0. R30. F1.\n", 5, 1, "FRN = feedrate / arc radius");
+fn fanuc_inverse_time_arcs_take_their_angle_over_frn_and_helical_arcs_are_refused() {
+    use fiveaxis::path::{PathOptions, Trajectory};
+    // A half circle of radius 30 at FRN 1, then a quarter circle at FRN 2, each block's time in s.
+    let times = |dialect: Dialect| {
+        let p = read("%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z5.\nG93 G02 X60. Y0. R30. F1.\nG03 X90. Y30. R30. F2.\nG94\nM30\n%\n", dialect, "t.nc", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+        let t = Trajectory::from_program(&p, &fiveaxis::machine::Machine::builtin("generic-bc-table").unwrap(), &PathOptions::default());
+        assert!(t.diagnostics.is_empty(), "{:?}", t.diagnostics);
+        [5, 6].map(|line| t.segments.iter().filter(|s| s.line == line).map(|s| s.duration).sum::<f64>())
+    };
+    let pi = std::f64::consts::PI;
+    let fanuc = times(Dialect::Fanuc);
+    assert!((fanuc[0] - pi / 1.0 * 60.0).abs() < 1e-9 && (fanuc[1] - pi / 2.0 / 2.0 * 60.0).abs() < 1e-9, "{fanuc:?}");
+    let haas = times(Dialect::Haas);
+    assert!((haas[0] - 60.0).abs() < 1e-9 && (haas[1] - 30.0).abs() < 1e-9, "{haas:?}");
+    refused(Dialect::Fanuc, "G93 G02 X60. Y0. Z-5. R30. F1.\n", 5, 1, "a helix");
     refused(Dialect::Fanuc, "G94 G02 X60. Y0. Z-5. R30. F100.\n", 5, 1, "a helix");
     refused(Dialect::Fanuc, "G94 G02 X60. Y0. C90. R30. F100.\n", 5, 1, "parameter HTG");
     assert_eq!(xs(Dialect::Fanuc, "G94 G01 X0. F100.\nG02 X60. Y0. R30.\n"), vec![0.0, 60.0]);

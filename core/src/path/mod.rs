@@ -17,7 +17,7 @@ mod window;
 pub use builtin::{builtin_names, paper_orientation, BuiltinPath};
 pub use passes::Passes;
 pub use shared::{SharedRead, SharedReader};
-pub use geometry::GreatCircle;
+pub use geometry::{ArcPath, GreatCircle};
 pub use segment::{plan, Segment, SegmentKind, SegmentPlanner, EXACT_PATH_RAD, ORIENT_PIECE_RAD};
 pub use window::{GridSampler, SegmentStream, SegmentWindow};
 

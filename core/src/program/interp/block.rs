@@ -503,6 +503,8 @@ impl Interpreter {
             diags.error(line, column, format!("axis words without a motion mode: expected G00 or G01 first{start}{}", before.after_refused()));
         }
         let mut arc = None;
+        // A FANUC arc under G93, timed by its angle ([`fanuc_arc_frn`]).
+        let mut fanuc_frn_arc = false;
         if heid {
             // I J K: the circle centre (the pole), absolute or, under G91, from the last position;
             // modal, and the tool does not move to it (iTNC 530 ISO programming, "Circle center I, J").
@@ -550,24 +552,21 @@ impl Interpreter {
                 let start = [before.last[0], before.last[1], before.last[2]];
                 let end = [next.last[0], next.last[1], next.last[2]];
                 arc = resolve_arc(words, next, start, end, line, column, diags.errors() > errors_before, diags);
-                // FANUC times an arc by its own rules: under G93 F is the feed over the arc's radius
-                // ("FRN = feedrate / arc radius", B-62764EN "Inverse time feed"), and on a helix, or with
-                // a rotary axis, F is along the arc or along the whole path as parameter HTG says
-                // (B-63783EN §6.7); neither is the time read here.
+                // FANUC times an arc by its own rules. On a helix, or with a rotary axis, F is along the
+                // arc or along the whole path as parameter HTG says (B-63783EN §6.7), not read here.
+                // Under G93 F is the feed over the arc's radius ("FRN = feedrate / arc radius",
+                // B-62764EN §5 "Inverse time feed": "the feedrate is calculated not from the actual amount
+                // of movement in the block but from the arc radius"), so the arc of angle th takes th / FRN
+                // minutes: read once the block is made ([`fanuc_arc_frn`]).
                 if before.dialect == Dialect::Fanuc && arc.is_some() {
                     let (_, _, an) = next.plane.axes();
                     let normal = (end[an] - start[an]).abs() > 1e-12;
                     let rotary = (3..6).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12);
-                    let why = if next.feed_mode == FeedMode::InverseTime {
-                        Some("under G93: FANUC's F is the feed over the arc's radius (FRN = feedrate / arc radius), whose time is not read")
-                    } else if normal || rotary {
-                        Some("a helix (or an arc with a rotary axis): FANUC feeds along the arc or along the whole path as parameter HTG says, which is not read")
-                    } else {
-                        None
-                    };
-                    if let Some(why) = why {
+                    if normal || rotary {
+                        let why = "a helix (or an arc with a rotary axis): FANUC feeds along the arc or along the whole path as parameter HTG says, which is not read";
                         diags.error(line, column, format!("{}: {why}", if block_motion == Some(Motion::ArcCw) { "G02" } else { "G03" }));
                     }
+                    fanuc_frn_arc = next.feed_mode == FeedMode::InverseTime;
                 }
             } else if words.iter().any(|w| "IJKR".contains(w.letter) || (w.letter == 'P' && !uses.contains(&'P'))) {
                 // (A P that another code of the block takes, G4's or G64's, is not the arc's.)
@@ -653,6 +652,9 @@ impl Interpreter {
             offset_assumed: self.offset_assumed() && !shot.is_some_and(|s| s.axes.is_some() && !s.own),
             exact: if exact_stop_here { Exact::Stop } else { self.exact },
         };
+        if fanuc_frn_arc {
+            fanuc_arc_frn(&mut b, [before.last[0], before.last[1], before.last[2]], [self.last[0], self.last[1], self.last[2]]);
+        }
         self.fill_xy(&mut b);
         // Fanuc's and Haas' G68: the block placed about the centre, Fanuc's tool position at G68 for
         // incremental moves until an absolute one (machine coordinates are not turned).
@@ -667,6 +669,17 @@ impl Interpreter {
             r.place(&mut b, &last);
         }
         Some(b)
+    }
+}
+
+/// A FANUC arc under G93 (its plane's, no helix): F is FRN = feedrate / arc radius (B-62764EN §5
+/// "Inverse time feed"), so the arc of angle th from `start` takes th / FRN minutes; the block's
+/// inverse time becomes FRN / th, the form every inverse-time block has.
+fn fanuc_arc_frn(b: &mut Block, start: [f64; 3], end: [f64; 3]) {
+    let (Some(arc), Some(feed)) = (b.arc.as_deref(), b.feed.as_mut()) else { return };
+    let sweep = crate::path::ArcPath::new(arc, b.motion == Motion::ArcCcw, nalgebra::Vector3::from(start), nalgebra::Vector3::from(end)).sweep.abs();
+    if sweep > 0.0 {
+        feed.value_per_min /= sweep;
     }
 }
 
