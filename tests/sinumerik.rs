@@ -511,6 +511,10 @@ fn vectors_turn_with_the_frame_and_modulo_and_tapping_axes_fail_closed() {
     }
     let mks = read(&text.replace("TRAORI\n", "TRAORI\nORIMKS\n"), Dialect::Sinumerik, "t.mpf", &opts);
     assert!(errors(&mks).iter().any(|(l, _, m)| *l == 7 && m.contains("under ORIMKS in a rotated frame")), "{:?}", errors(&mks));
+    // An ORIMKS in a line the control refuses (an arc with no centre) takes no effect: the vectors
+    // after it stay the frame's.
+    let refused = read(&text.replace("TRAORI\n", "TRAORI\nORIMKS G2 X5\n"), Dialect::Sinumerik, "t.mpf", &opts);
+    assert!(!errors(&refused).is_empty() && errors(&refused).iter().all(|e| e.0 == 4), "{:?}", errors(&refused));
     // From 350 ACP(10) turns on to 370: G90 C20 is +10 as AC, -350 on an endless axis.
     let modulo = read("G90 G71 G17 G94\nG0 X0 Y0 Z0 B0 C350\nG0 C=ACP(10)\nG0 C20\nM30\n", Dialect::Sinumerik, "t.mpf", &opts);
     let e = errors(&modulo);

@@ -220,7 +220,7 @@ impl super::stream::LineReader for SinumerikReader {
             && lexed.rpl.is_none()
             && self.mcall.is_none()
             && !lexed.words.iter().any(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "60" | "64" | "9" | "53"));
-        let saved = (!plain).then(|| (self.interp.clone(), self.frame, self.mcall.clone(), self.swivel));
+        let saved = (!plain).then(|| (self.interp.clone(), self.frame, self.mcall.clone(), self.swivel, self.ori_mks));
         let (tool_offsets, vector, refused_line) = (self.tool_offsets, self.interp.pending_vector(), self.interp.refused_line);
         // Compensation's settings, a few words, taken back too (its held path is fed last, once
         // the block is read).
@@ -242,7 +242,7 @@ impl super::stream::LineReader for SinumerikReader {
             self.corners.drop_words();
             if let Some(saved) = saved {
                 let placement = held.then(|| self.interp.placement());
-                (self.interp, self.frame, self.mcall, self.swivel) = saved;
+                (self.interp, self.frame, self.mcall, self.swivel, self.ori_mks) = saved;
                 if let Some(p) = placement {
                     self.interp.set_placement(p);
                 }
