@@ -874,6 +874,34 @@ fn a_calculator_type_machine_reads_numbers_without_a_point_in_units() {
     assert!(bad.contains("decimal_point_input") && bad.contains("expected \"increments\" or \"calculator\""), "{bad}");
 }
 
+/// FANUC under G43.4 feeds a move of the rotary axes alone (the tool tip standing on the workpiece) at
+/// F or at the maximum cutting feedrate, as parameter No. 19696 bit 6 RFC says (A-79348E: "0: The
+/// maximum cutting feedrate (parameter No. 1422). 1: A specified feedrate."): refused unless the
+/// machine file gives `tcp_rotary_feed = "programmed"`, which times it at F in deg/min (B30 C90 at
+/// F500: sqrt(30^2 + 90^2) / 500 min); "max-cutting" stays refused (parameter 1422 is not modelled).
+/// A move of the tip with the rotaries is read either way.
+#[test]
+fn fanuc_rotary_moves_alone_under_g43_4_follow_parameter_rfc() {
+    use fiveaxis::path::{PathOptions, Trajectory};
+    let nmv = fiveaxis::machine::builtin_file("mori-seiki-nmv5000").unwrap();
+    let text = "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z150. B0. C0.\nG43.4 H1\nG01 X0. Y0. Z120. F500.\nB30. C90.\nX10. B20. C80.\nG49\nM30\n%\n";
+    let unset = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
+    let e = errors(&read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&unset)));
+    assert!(e.len() == 1 && e[0].0 == 7 && e[0].2.contains("parameter No. 19696 bit 6 RFC"), "{e:?}");
+    let max = fiveaxis::machine::Machine::from_toml_str(&format!("tcp_rotary_feed = \"max-cutting\"\n{nmv}"), "t").unwrap();
+    let e = errors(&read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&max)));
+    assert!(e.len() == 1 && e[0].0 == 7 && e[0].2.contains("parameter No. 1422"), "{e:?}");
+    let programmed = fiveaxis::machine::Machine::from_toml_str(&format!("tcp_rotary_feed = \"programmed\"\n{nmv}"), "t").unwrap();
+    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&programmed));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let t = Trajectory::from_program(&p, &programmed, &PathOptions::default());
+    let time: f64 = t.segments.iter().filter(|s| s.line == 7).map(|s| s.duration).sum();
+    let expect = (30f64.powi(2) + 90f64.powi(2)).sqrt() / 500.0 * 60.0;
+    assert!((time - expect).abs() < 1e-9, "{time} s, not {expect} s");
+    let bad = fiveaxis::machine::Machine::from_toml_str(&format!("tcp_rotary_feed = \"fast\"\n{nmv}"), "t").unwrap_err().to_string();
+    assert!(bad.contains("tcp_rotary_feed") && bad.contains("RFC"), "{bad}");
+}
+
 /// Fanuc without tool-centre-point control: a move of linear and rotary axes together takes F along a
 /// path whose rotary part counts degrees as millimetres (FANUC B-63174EN §4.2, "G91 G01 X20.0 C40.0
 /// F300.0 ... time = sqrt(20^2 + 40^2) / 300 = 0.14907 min"): `G1 X10. B30.` at F60 takes

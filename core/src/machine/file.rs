@@ -74,6 +74,12 @@ pub struct MachineFile {
     /// it they are refused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub power_on_motion: Option<String>,
+    /// FANUC: how a feed move of the rotary axes alone under tool-centre-point control (G43.4/G43.5: the
+    /// tool tip stands on the workpiece) is fed, `"programmed"` (at F: parameter No. 19696 bit 6 RFC = 1)
+    /// or `"max-cutting"` (at the maximum cutting feedrate, parameter No. 1422: RFC = 0, not modelled).
+    /// Without it such a move is refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tcp_rotary_feed: Option<String>,
     /// Fanuc, Haas: what a length, angle or time written without a decimal point counts, `"increments"`
     /// (least input increments, `X5` is 0.005 mm: FANUC parameter No. 3401 bit 0 DPI = 0, Haas Setting
     /// 162 "Default to float" off; the default) or `"calculator"` (`X5` is 5 mm: DPI = 1, Setting 162 on).
@@ -432,6 +438,12 @@ impl MachineFile {
             Some(g) if g.eq_ignore_ascii_case("G01") || g.eq_ignore_ascii_case("G1") => Some(crate::program::Motion::Linear),
             Some(g) => return Err(format!("`power_on_motion` = \"{g}\": expected \"G00\" or \"G01\" (FANUC parameter No. 3402 bit 0)")),
         };
+        let tcp_rotary_feed = match self.tcp_rotary_feed.as_deref().map(str::trim) {
+            None => None,
+            Some("programmed") => Some(crate::machine::TcpRotaryFeed::Programmed),
+            Some("max-cutting") => Some(crate::machine::TcpRotaryFeed::MaxCutting),
+            Some(v) => return Err(format!("`tcp_rotary_feed` = \"{v}\": expected \"programmed\" or \"max-cutting\" (FANUC parameter No. 19696 bit 6 RFC)")),
+        };
         let calculator_input = match self.decimal_point_input.as_deref().map(str::trim) {
             None | Some("increments") => false,
             Some("calculator") => true,
@@ -505,6 +517,7 @@ impl MachineFile {
             tcp_at_start: self.tcp_at_start,
             inch_basic_system: self.inch_basic_system,
             power_on_motion,
+            tcp_rotary_feed,
             calculator_input,
             state_cycles: self.cycles.iter().map(|c| c.number).collect(),
             swivel,

@@ -96,6 +96,9 @@ pub struct Machine {
     /// Fanuc, Haas: the motion mode at power-on and reset (FANUC parameter No. 3402 bit 0), if the
     /// file gives it.
     pub power_on_motion: Option<crate::program::Motion>,
+    /// FANUC: how a feed move of the rotary axes alone under G43.4/G43.5 is fed (parameter No. 19696
+    /// bit 6 RFC), if the file gives it.
+    pub tcp_rotary_feed: Option<TcpRotaryFeed>,
     /// Fanuc, Haas: a number without a decimal point is in the program's unit, `X5` 5 mm
     /// (calculator-type input: FANUC parameter No. 3401 bit 0 DPI = 1, Haas Setting 162 on), not in
     /// least input increments.
@@ -106,6 +109,17 @@ pub struct Machine {
     pub swivel: Option<Swivel>,
     /// A quill along the tool, if the machine has one (LinuxCNC bridgemill's W).
     pub quill: Option<Quill>,
+}
+
+/// FANUC's feed of a move of the rotary axes alone under tool-centre-point control, where the tool
+/// tip stands on the workpiece (A-79348E, parameter No. 19696 bit 6 RFC: "the feedrate of the rotation
+/// axis is: 0: The maximum cutting feedrate (parameter No. 1422). 1: A specified feedrate.").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TcpRotaryFeed {
+    /// RFC = 1: at the programmed F (degrees per minute).
+    Programmed,
+    /// RFC = 0: at the maximum cutting feedrate, parameter No. 1422 (not modelled: refused).
+    MaxCutting,
 }
 
 /// A quill: a linear axis that moves the tool tip along the tool's own axis, SI.

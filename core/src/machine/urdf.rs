@@ -413,6 +413,7 @@ impl<'a> Urdf<'a> {
             tcp_at_start: false,
             inch_basic_system: false,
             power_on_motion: None,
+            tcp_rotary_feed: None,
             decimal_point_input: None,
             cycles: Vec::new(),
             swivel: None,

@@ -619,6 +619,27 @@ impl Interpreter {
         if heid && next.m116 && !next.tcp && moves && block_motion.is_some_and(|m| m != Motion::Rapid) && (3..6).any(|k| next.last[k] != before.last[k]) {
             diags.error(line, column, "a rotary axis moving at a feed with M116 in force and neither M128 nor FUNCTION TCPM: the TNC reads its F in mm/min at the tool's distance from the rotary axis, which is not modelled (M117 resets M116)");
         }
+        // FANUC under G43.4: a feed move of the rotary axes alone leaves the tool tip standing on the
+        // workpiece, and the control feeds them at F or at the maximum cutting feedrate (parameter
+        // No. 1422) as parameter No. 19696 bit 6 RFC says (A-79348E): the machine file's tcp_rotary_feed.
+        if before.dialect == Dialect::Fanuc
+            && next.tcp
+            && !next.kins_tcp
+            && moves
+            && block_motion.unwrap_or(next.motion.unwrap_or(Motion::Rapid)) == Motion::Linear
+            && next.feed_mode == FeedMode::PerMinute
+            && (0..3).all(|k| (next.last[k] - before.last[k]).abs() <= 1e-12)
+            && (3..6).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12)
+        {
+            let rfc = next.machine.as_ref().and_then(|m| m.tcp_rotary_feed);
+            if rfc != Some(crate::machine::TcpRotaryFeed::Programmed) {
+                let why = match rfc {
+                    Some(_) => "at the maximum cutting feedrate (parameter No. 1422, the machine file's tcp_rotary_feed = \"max-cutting\"), which is not modelled",
+                    None => "at F or at the maximum cutting feedrate (parameter No. 1422) as parameter No. 19696 bit 6 RFC says, which the machine file does not give (tcp_rotary_feed = \"programmed\" or \"max-cutting\")",
+                };
+                diags.error(line, column, format!("a feed move of the rotary axes alone under G43.4 (the tool tip stands on the workpiece): FANUC feeds them {why}"));
+            }
+        }
         let errors_after = diags.errors();
         if errors_after > errors_before {
             *self = before;
