@@ -387,3 +387,21 @@ fn a_rotary_range_that_forces_the_other_solution_is_named() {
     assert_eq!(refused.line, line, "{refused:?}");
     assert!(refused.message.contains("would leave its range -360.000..360.000 deg") && !refused.message.contains("singular direction"), "{refused:?}");
 }
+
+/// `--feed` gives the tool tip its feed on every path move, inverse-time (G93) ones too: 10 mm at
+/// 600 mm/min take 1 s whatever the block's F2 (30 s); a G93 move of the rotary axes alone has no
+/// tip path and keeps its programmed 60 / F s.
+#[test]
+fn the_feed_override_times_inverse_time_path_moves_too() {
+    let m = Machine::builtin("generic-ac-table").unwrap();
+    let p = read_rs274("G21 G90 G94\nG0 X0 Y0 Z10 A0 C0\nG93 G1 X10 F2\nA10 F6\nG94\nM2\n");
+    assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
+    let time = |o: Option<f64>, line: usize| {
+        let t = Trajectory::from_program(&p, &m, &PathOptions { feed_override_mm_per_min: o, ..PathOptions::default() });
+        assert!(t.diagnostics.is_empty(), "{:#?}", t.diagnostics);
+        t.segments.iter().filter(|s| s.line == line).map(|s| s.duration).sum::<f64>()
+    };
+    assert!(close(time(None, 3), 30.0, 1e-9) && close(time(None, 4), 10.0, 1e-9));
+    assert!(close(time(Some(600.0), 3), 1.0, 1e-9), "{}", time(Some(600.0), 3));
+    assert!(close(time(Some(600.0), 4), 10.0, 1e-9));
+}

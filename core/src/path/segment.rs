@@ -501,6 +501,14 @@ impl SegmentPlanner {
                         match feed.mode {
                             // The block's time, shared by its pieces: evenly (equal arc lengths) or by
                             // their share of the great circle (tip and axis both move evenly in it).
+                            // `--feed` gives the tool tip its feed on every path move, inverse-time
+                            // ones too (a move of the rotary axes alone keeps its programmed time).
+                            FeedMode::InverseTime if options.feed_override_mm_per_min.is_some() && !rotary_only => {
+                                let f = options.feed_override_mm_per_min.unwrap_or(0.0) * MM_PER_MIN;
+                                let path_len = path_of(&seg);
+                                seg.feed = seg.length / (path_len / f);
+                                path_len / f
+                            }
                             FeedMode::InverseTime => match &seg.orient {
                                 Some(gc) => 60.0 / feed.value_per_min * (gc.u1 - gc.u0),
                                 None => 60.0 / feed.value_per_min / n,
