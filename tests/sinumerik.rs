@@ -352,7 +352,7 @@ fn held_lines_and_refused_calls_leave_the_tool_where_the_control_has_it() {
     };
     let e = first("G0 G90 X0 Y0 Z50 F100\nFLIN\nG1 X100 Y100 SOFT\nFNORM\nG2 X20 Y0 I10 J0\nM30\n");
     assert!(e.iter().any(|(l, m)| *l == 5 && m.contains("the radius to the end (134.5362 mm) differs from the radius to the start (10.0000 mm)")), "{e:#?}");
-    let e = first("G0 G90 X0 Y0 Z50\nG1 F100\nFLIN\nCYCLE81(10,0,2,-5)\nFNORM\nG18 G2 X20 Z50 I10 K0\nM30\n");
+    let e = first("G0 G90 X0 Y0 Z50 D0\nG1 F100\nFLIN\nCYCLE81(10,0,2,-5)\nFNORM\nG18 G2 X20 Z50 I10 K0\nM30\n");
     assert!(e.iter().any(|(l, m)| *l == 6 && m.contains("a move from where the moves under line 4's CYCLE81 (a cycle not read, which the control runs)")), "{e:#?}");
     let e = first("G0 G90 X0 Y0 Z50 F100\nMCALL CYCLE81(10,0,2,-5) FGROUP(X,Y,Z)\nG0 X20 Y20\nM30\n");
     assert!(e.iter().any(|(l, m)| *l == 3 && m.contains("a move while line 2's MCALL (a modal call (MCALL) refused) is in effect")), "{e:#?}");

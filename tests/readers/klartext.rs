@@ -103,7 +103,8 @@ fn klartext_reads_the_contour_tolerance_of_cycle_32() {
     let text = "0 BEGIN PGM T INCH\n1 L X+0 Y+0 Z+0 R0 F100\n2 CYCL DEF 32.0 TOLERANCE\n3 CYCL DEF 32.1 T0.001\n\
                 4 L X+1\n5 CYCL DEF 32.2 HSC-MODE:0 TA0.5\n6 L X+2\n7 CYCL DEF 32.0 TOLERANZ\n8 CYCL DEF 32.1\n9 L X+3\n\
                 10 END PGM T INCH\n";
-    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    let tenths = fiveaxis::machine::Machine::from_toml_str(&format!("tnc_inch_feed = \"tenths\"\n{}", fiveaxis::machine::builtin_file("generic-bc-table").unwrap()), "t").unwrap();
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default().on(&tenths));
     assert!(p.diagnostics.is_empty(), "{:#?}", p.diagnostics);
     let by = |n: u64| p.blocks.iter().find(|b| b.number == Some(n)).unwrap_or_else(|| panic!("block {n}")).tolerance;
     let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() < 1e-15);
@@ -264,6 +265,36 @@ fn klartext_m89_drills_at_its_own_block_and_each_after_it() {
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     let bottoms = |line: usize| p.blocks.iter().filter(|b| b.line == line && b.motion != Motion::Rapid && b.targets.z.is_some_and(|z| (z / MM + 10.0).abs() < 1e-9)).count();
     assert_eq!([bottoms(13), bottoms(14), bottoms(15), bottoms(16)], [1, 1, 1, 0], "{:#?}", p.blocks);
+}
+
+/// A TNC inch program's F is in 1/10 inch/min (TNC7 user's manual "Cutting data"; a TNC7
+/// programming station reads `F100` in an inch program at 254 mm/min; Autodesk's Klartext post writes
+/// inch feeds tenfold), where NX's sample posts write whole inch/min: the machine file's
+/// `tnc_inch_feed` settles it. With "tenths", 1 inch at F100 (10 in/min) is 254 mm/min and cycle
+/// 200's Q206=+50 plunges at 5 in/min (127 mm/min); with "whole", F100 is 2540 mm/min; without it,
+/// tenths and one error at the header. A rotary axis' F stays degrees per minute.
+#[test]
+fn klartext_inch_feeds_are_in_tenths_of_an_inch_per_minute() {
+    let file = fiveaxis::machine::builtin_file("generic-bc-table").unwrap();
+    let on = |setting: &str| ReadOptions::default().on(&fiveaxis::machine::Machine::from_toml_str(&format!("{setting}\n{file}"), "t").unwrap());
+    let text = "0 BEGIN PGM T INCH\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+1 C+0 R0 FMAX\n3 L X+1 F100\n4 CYCL DEF 200 DRILLING ~\n Q200=+0.1 ~\n Q201=-0.5 ~\n Q206=+50 ~\n Q202=+0.5 ~\n Q210=+0 ~\n Q203=+0 ~\n Q204=+1 ~\n Q211=+0\n13 L X+2 Y+0 R0 FMAX M99\n14 L C+90 F100\n15 END PGM T INCH\n";
+    let p = read(text, Dialect::Klartext, "t.h", &on("tnc_inch_feed = \"tenths\""));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let feed = |line: usize| p.blocks.iter().filter(|b| b.line == line && b.motion == Motion::Linear).map(|b| b.feed.unwrap()).collect::<Vec<_>>();
+    let mm_per_min = |f: fiveaxis::program::Feed| f.value_per_min;
+    assert!((mm_per_min(feed(4)[0]) - 254.0).abs() < 1e-9, "{:?}", feed(4));
+    let plunge = feed(14);
+    assert!(!plunge.is_empty() && plunge.iter().all(|f| (mm_per_min(*f) - 127.0).abs() < 1e-9), "{plunge:?}");
+    assert!((feed(15)[0].rotary_per_min - 100.0).abs() < 1e-9, "{:?}", feed(15));
+    let whole = read(text, Dialect::Klartext, "t.h", &on("tnc_inch_feed = \"whole\""));
+    assert!(errors(&whole).is_empty(), "{:?}", errors(&whole));
+    let f = whole.blocks.iter().find(|b| b.line == 4).and_then(|b| b.feed).unwrap();
+    assert!((f.value_per_min - 2540.0).abs() < 1e-9, "{f:?}");
+    let unset = read(text, Dialect::Klartext, "t.h", &ReadOptions::default().on(&fiveaxis::machine::Machine::builtin("generic-bc-table").unwrap()));
+    let e = errors(&unset);
+    assert!(e.len() == 1 && e[0].0 == 1 && e[0].2.contains("tnc_inch_feed"), "{e:?}");
+    let f = unset.blocks.iter().find(|b| b.line == 4).and_then(|b| b.feed).unwrap();
+    assert!((f.value_per_min - 254.0).abs() < 1e-9, "{f:?}");
 }
 
 /// `PLANE ... TURN MB n|MAX` (TNC 620 User's Manual 10/2017, "The PLANE function", positioning: the

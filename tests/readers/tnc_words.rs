@@ -143,7 +143,8 @@ fn preassigned_q_parameters_hold_the_tool_and_the_unit() {
     assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
     // 2 x 3.9 + 2 x 10 + 0: 27.8 mm.
     assert!((x(&p).unwrap() / MM - 27.8).abs() < 1e-9, "{:?}", x(&p));
-    let p = read(&text("INCH"), Dialect::Klartext, "q.h", &t);
+    let tenths = fiveaxis::machine::Machine::from_toml_str(&format!("tnc_inch_feed = \"tenths\"\n{}", fiveaxis::machine::builtin_file("generic-bc-table").unwrap()), "t").unwrap();
+    let p = read(&text("INCH"), Dialect::Klartext, "q.h", &t.clone().on(&tenths));
     assert!(errors(&p).is_empty(), "{:#?}", p.diagnostics);
     // 2 x 3.9 mm in inches + 20 + 100, in inches.
     let want = (2.0 * 3.9 / 25.4 + 120.0) * 25.4;

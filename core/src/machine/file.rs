@@ -74,6 +74,17 @@ pub struct MachineFile {
     /// it they are refused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub power_on_motion: Option<String>,
+    /// Heidenhain TNC: the unit of F in an inch program, `"tenths"` (1/10 inch/min: the TNC7 user's
+    /// manual, "Cutting data") or `"whole"` (inch/min, as NX's sample posts write it). Without it an
+    /// inch program's F is read in tenths and the program is refused once at its header.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tnc_inch_feed: Option<String>,
+    /// Sinumerik: setting data SD42940 TOOL_LENGTH_CONST, the plane whose assignment of a milling tool's
+    /// length to the axes holds whatever G17-G19 is programmed (17: its length stays on Z); 0 (the
+    /// length goes to the axis normal to each plane) or absent: moves under G18/G19 with the tool's
+    /// offsets on are refused (the length is not known).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tool_length_const: Option<u32>,
     /// FANUC: how a feed move of the rotary axes alone under tool-centre-point control (G43.4/G43.5: the
     /// tool tip stands on the workpiece) is fed, `"programmed"` (at F: parameter No. 19696 bit 6 RFC = 1)
     /// or `"max-cutting"` (at the maximum cutting feedrate, parameter No. 1422: RFC = 0, not modelled).
@@ -438,6 +449,17 @@ impl MachineFile {
             Some(g) if g.eq_ignore_ascii_case("G01") || g.eq_ignore_ascii_case("G1") => Some(crate::program::Motion::Linear),
             Some(g) => return Err(format!("`power_on_motion` = \"{g}\": expected \"G00\" or \"G01\" (FANUC parameter No. 3402 bit 0)")),
         };
+        let tnc_inch_feed_tenths = match self.tnc_inch_feed.as_deref().map(str::trim) {
+            None => None,
+            Some("tenths") => Some(true),
+            Some("whole") => Some(false),
+            Some(v) => return Err(format!("`tnc_inch_feed` = \"{v}\": expected \"tenths\" (1/10 inch/min) or \"whole\" (inch/min)")),
+        };
+        let tool_length_const = match self.tool_length_const {
+            None | Some(0) => None,
+            Some(p @ (17 | 18 | 19)) => Some(p),
+            Some(v) => return Err(format!("`tool_length_const` = {v}: expected 0, 17, 18 or 19 (Sinumerik setting data SD42940 TOOL_LENGTH_CONST, the plane whose tool length assignment holds)")),
+        };
         let tcp_rotary_feed = match self.tcp_rotary_feed.as_deref().map(str::trim) {
             None => None,
             Some("programmed") => Some(crate::machine::TcpRotaryFeed::Programmed),
@@ -518,6 +540,8 @@ impl MachineFile {
             inch_basic_system: self.inch_basic_system,
             power_on_motion,
             tcp_rotary_feed,
+            tool_length_const,
+            tnc_inch_feed_tenths,
             calculator_input,
             state_cycles: self.cycles.iter().map(|c| c.number).collect(),
             swivel,

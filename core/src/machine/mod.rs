@@ -99,6 +99,12 @@ pub struct Machine {
     /// FANUC: how a feed move of the rotary axes alone under G43.4/G43.5 is fed (parameter No. 19696
     /// bit 6 RFC), if the file gives it.
     pub tcp_rotary_feed: Option<TcpRotaryFeed>,
+    /// Sinumerik: the plane whose tool length assignment holds in every plane (setting data SD42940
+    /// TOOL_LENGTH_CONST: 17 keeps a milling tool's length on Z), if the file gives one.
+    pub tool_length_const: Option<u32>,
+    /// Heidenhain TNC: an inch program's F is in 1/10 inch/min (true) or inch/min (false), if the file
+    /// says.
+    pub tnc_inch_feed_tenths: Option<bool>,
     /// Fanuc, Haas: a number without a decimal point is in the program's unit, `X5` 5 mm
     /// (calculator-type input: FANUC parameter No. 3401 bit 0 DPI = 1, Haas Setting 162 on), not in
     /// least input increments.

@@ -414,6 +414,8 @@ impl<'a> Urdf<'a> {
             inch_basic_system: false,
             power_on_motion: None,
             tcp_rotary_feed: None,
+            tool_length_const: None,
+            tnc_inch_feed: None,
             decimal_point_input: None,
             cycles: Vec::new(),
             swivel: None,

@@ -565,6 +565,12 @@ impl Interpreter {
 
     /// Set the program's length unit (Heidenhain header G70/G71, Klartext `BEGIN PGM ... INCH`),
     /// unless the user imposed one: then `Err` names the unit the program's numbers are read in.
+    /// The length F is in per minute (m), where the control reads it in its own unit: the TNC's inch
+    /// programs give F in 1/10 inch/min.
+    pub(crate) fn set_feed_unit(&mut self, unit: f64) {
+        self.feed_unit = unit;
+    }
+
     pub fn set_inch(&mut self, inch: bool) -> Result<(), super::LengthUnit> {
         match self.forced_unit {
             Some(u) if (u == super::LengthUnit::Inch) != inch => Err(u),

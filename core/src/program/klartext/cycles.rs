@@ -342,6 +342,8 @@ impl Exec {
         let unit = interp.unit();
         let moves = if n == 1 { self.pecking_moves(unit, interp.position()[2]) } else { self.drilling_moves(n, unit) };
         let (steps, feed) = match moves {
+            // Cycle 207's feed is the pitch (a length) per turn times the turns: in the feed's unit.
+            Ok((steps, feed)) if n == 207 => (steps, feed * unit / interp.feed_unit()),
             Ok(m) => m,
             Err(why) => {
                 diags.error(s.line, s.col, format!("cycle {n} called: {why}"));

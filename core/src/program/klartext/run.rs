@@ -121,6 +121,19 @@ impl Runner {
             if diags.errors() > errors {
                 self.holds.refused(line, raw);
             }
+            // An inch program's F is in 1/10 inch/min (the TNC7 user's manual, "Cutting data", as a
+            // TNC7 programming station reads `F100` at 254 mm/min; Autodesk's Klartext post writes its
+            // feeds tenfold in inch), where NX's sample posts write whole inch/min: the machine file
+            // says which (tnc_inch_feed); without it, tenths, and the program is refused once here.
+            if self.st.began && !was_begun && self.interp.unit() == crate::units::INCH {
+                let tenths = self.interp.machine().and_then(|m| m.tnc_inch_feed_tenths);
+                if tenths != Some(false) {
+                    self.interp.set_feed_unit(crate::units::INCH / 10.0);
+                }
+                if tenths.is_none() {
+                    diags.error(line, 1, "an inch program: its F is read in 1/10 inch/min (the TNC7 user's manual, \"Cutting data\"; Autodesk's post writes tenths), where NX's posts write inch/min; the machine file's tnc_inch_feed (\"tenths\" or \"whole\") settles it");
+                }
+            }
             // A statement refused where it stands, after an RND or CHF: the corner is not made.
             if diags.errors() > errors && self.ex.interrupt("the block after it was not read", out, diags, &mut self.interp) {
                 return Next::Ended;

@@ -603,6 +603,32 @@ impl SinumerikReader {
             let positions = positions || vector.is_some();
             return self.compensated(&words, &codes, motion, machine_coords.is_some(), positions, line, col, number, out, diags);
         }
+        // A milling tool's length goes to the axis normal to the plane (NC programming 12/2019
+        // §3.13.3.4 "Tool length and plane change": G17 Z, G18 Y, G19 X), unless setting data SD42940
+        // TOOL_LENGTH_CONST keeps it: under G18/G19 with the offsets on, the tool tip stands off the
+        // programmed point by the tool's length, which is not read.
+        let plane = match words.iter().rev().find(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "17" | "18" | "19")).map(|w| w.raw.as_ref()) {
+            Some("18") => crate::program::Plane::Zx,
+            Some("19") => crate::program::Plane::Yz,
+            Some(_) => crate::program::Plane::Xy,
+            None => self.interp.plane(),
+        };
+        let kept = match self.interp.machine().and_then(|m| m.tool_length_const) {
+            Some(18) => crate::program::Plane::Zx,
+            Some(19) => crate::program::Plane::Yz,
+            Some(_) => crate::program::Plane::Xy,
+            None => plane,
+        };
+        // The model's tool is along the spindle, its length on Z: a plane whose assignment is G17's reads.
+        if positions && self.tool_offsets && kept != crate::program::Plane::Xy && machine_coords.is_none() {
+            let (g, axis) = if plane == crate::program::Plane::Zx { ("G18", "Y") } else { ("G19", "X") };
+            diags.error(
+                line,
+                first_col,
+                format!("a move under {g} with the tool's offsets on: the 840D gives a milling tool's length to {axis}, the axis normal to the plane (NC programming 12/2019 §3.13.3.4), unless setting data SD42940 TOOL_LENGTH_CONST keeps it on Z (the machine file's tool_length_const = 17); the tool tip would stand off the programmed point by the tool's length, which is not read (D0, or G17)"),
+            );
+            return false;
+        }
         if !self.interp.block(&words, line, col, number, diags, out) {
             return false;
         }
