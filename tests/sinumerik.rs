@@ -526,3 +526,24 @@ fn vectors_turn_with_the_frame_and_modulo_and_tapping_axes_fail_closed() {
     let tap = read("G90 G71 G17 G94\nT1 D1 M6\nS1000 M3\nG0 X0 Y0 Z50 B0 C0\nF100\nCYCLE84(10,0,2,-5,,,3,,1.0,,500,500,1,0,0,0)\nM30\n", Dialect::Sinumerik, "t.mpf", &opts);
     assert!(errors(&tap).iter().any(|(l, _, m)| *l == 6 && m.contains("_AXN=1")), "{:?}", errors(&tap));
 }
+
+/// A milling tool's length goes to the axis normal to the plane (NC programming 12/2019 §3.13.3.4
+/// "Tool length and plane change": G17 Z, G18 Y, G19 X) unless setting data SD42940
+/// TOOL_LENGTH_CONST keeps it: under G18/G19 with the tool's offsets on, the tool tip stands off the
+/// programmed point by the length, which is not read: refused at each move there. With D0, or a
+/// machine file whose `tool_length_const = 17` keeps the length on Z, the same moves read.
+#[test]
+fn moves_under_g18_or_g19_with_tool_offsets_follow_sd42940() {
+    let body = |plane: &str, edge: &str| format!("G17 G90 G71 G94\nT1 {edge}\nM6\nG0 X0 Y0 Z50\n{plane}\nG1 F500 X10 Z40\nG17\nG0 Z100\nM30\n");
+    let file = fiveaxis::machine::builtin_file("generic-bc-table").unwrap();
+    let plain = ReadOptions::default().on(&Machine::builtin("generic-bc-table").unwrap());
+    for (plane, axis) in [("G18", "to Y"), ("G19", "to X")] {
+        let e = errors(&read(&body(plane, "D1"), Dialect::Sinumerik, "t.mpf", &plain));
+        assert!(e.len() == 1 && e[0].0 == 6 && e[0].2.contains(axis) && e[0].2.contains("SD42940"), "{plane}: {e:?}");
+        assert!(errors(&read(&body(plane, "D0"), Dialect::Sinumerik, "t.mpf", &plain)).is_empty(), "{plane} D0");
+    }
+    let kept = Machine::from_toml_str(&format!("tool_length_const = 17\n{file}"), "t").unwrap();
+    assert!(errors(&read(&body("G18", "D1"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&kept))).is_empty());
+    let follows = Machine::from_toml_str(&format!("tool_length_const = 0\n{file}"), "t").unwrap();
+    assert_eq!(errors(&read(&body("G18", "D1"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&follows))).len(), 1);
+}
