@@ -153,7 +153,8 @@ fn great_circles_at_the_pole() {
 /// `PATHCTRL VECTOR`) set the block's end tool axis; where the great circle from the block's start
 /// reaches that axis on the other solution (B -1 C 0 for B 1 C 180, one tool axis: worked below by
 /// rotation matrices) or on another turn of C, how the control turns the axes to the written positions
-/// is in no manual at hand: an error at the block, not a C that silently never turns. With the axes
+/// is in no manual at hand: an error at the block, not a C that silently never turns; the block is
+/// made with the rotaries linear to the written positions, so the next starts there. With the axes
 /// interpolated (`ORIAXES`) the same block reads, C turning the 180 deg it writes; the tool vector
 /// written instead reads as the circle's.
 #[test]
@@ -172,10 +173,14 @@ fn written_rotaries_off_the_great_circles_solution_are_refused() {
         let t = Trajectory::from_program(&p, &m, &PathOptions::default());
         (t.diagnostics.iter().map(|d| (d.line, d.message.clone())).collect::<Vec<_>>(), t)
     };
-    let (e, _) = errors(&sin("ORIVECT", "B1 C180"), Dialect::Sinumerik);
+    let (e, t) = errors(&sin("ORIVECT", "B1 C180\nN55 X20 B3 C180"), Dialect::Sinumerik);
     assert_eq!(e.len(), 1, "{e:#?}");
     assert_eq!(e[0].0, 5);
-    assert!(e[0].1.contains("B -1.000 deg C 0.000 deg (the other solution") && e[0].1.contains("block skipped"), "{}", e[0].1);
+    assert!(e[0].1.contains("B -1.000 deg C 0.000 deg (the other solution") && e[0].1.contains("rotary axes linear"), "{}", e[0].1);
+    // Made with the rotaries linear to the written B 1 C 180, so the next block (B 3 C 180) starts
+    // there and reads.
+    let end = t.segments.iter().filter(|s| s.line == 5).last().unwrap().q1;
+    assert!(close(end[a].to_degrees(), 1.0, 1e-9) && close(end[c].to_degrees(), 180.0, 1e-9), "{end:?}");
     // C10 after C350: the circle reaches it at C 370.
     let (e, _) = errors(&sin("ORIVECT", "B30 C350\nN55 X20 B20 C10").replace("B30 C0", "B30 C350"), Dialect::Sinumerik);
     assert_eq!(e.len(), 1, "{e:#?}");

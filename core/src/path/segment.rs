@@ -414,18 +414,25 @@ impl SegmentPlanner {
                 }
                 _ => None,
             };
-            let pieces = match (arc, great_circle) {
-                (arc, Some(gc)) => match great_circle_pieces(&gc, arc.as_ref(), q, tip0, tip1, datum, machine, b.offset_assumed) {
+            let circle = match great_circle {
+                Some(gc) => match great_circle_pieces(&gc, arc.as_ref(), q, tip0, tip1, datum, machine, b.offset_assumed) {
                     Ok(p) if b.targets.tool_axis.is_none() && p.last().is_some_and(|l| other_solution(&l.1, &q1)) => {
+                        // Said, and made with the rotaries linear to the written positions (the
+                        // CAM system's path in the axes), so the blocks after it start where the
+                        // control stands.
                         diags.push(diag(b, other_solution_message(machine, &p[p.len() - 1].1, &q1)));
-                        break 'blocks false;
+                        None
                     }
-                    Ok(p) => p,
+                    Ok(p) => Some(p),
                     Err(e) => {
                         diags.push(diag(b, e));
                         break 'blocks false;
                     }
                 },
+                None => None,
+            };
+            let pieces = match (arc, circle) {
+                (_, Some(p)) => p,
                 (None, None) => vec![(q, q1, tip0, tip1, None, None)],
                 (Some(arc), None) => {
                     // The whole move as one segment gives each piece end its axes (the arc's point, the
@@ -676,19 +683,21 @@ fn other_solution(tracked: &Joints, programmed: &Joints) -> bool {
 /// block can be set ... by programming the rotary axis positions") but not how the axes reach the
 /// programmed solution from the circle's: the motion is not known.
 fn other_solution_message(machine: &Machine, tracked: &Joints, programmed: &Joints) -> String {
-    let (a, c) = (&machine.axes[3].name, &machine.axes[4].name);
     let d = |v: f64| v.to_degrees();
+    // A four-axis machine's second slot is locked and unnamed: its axis alone.
+    let axes = |q: &Joints| match machine.chain.is_four_axis() {
+        true => format!("{} {:.3} deg", machine.axes[3].name, d(q[3])),
+        false => format!("{} {:.3} deg {} {:.3} deg", machine.axes[3].name, d(q[3]), machine.axes[4].name, d(q[4])),
+    };
     let whole_turns = |x: f64| (x / std::f64::consts::TAU - (x / std::f64::consts::TAU).round()).abs() < 1e-6;
     let how = if whole_turns(tracked[3] - programmed[3]) && whole_turns(tracked[4] - programmed[4]) { "another turn of the same axis positions" } else { "the other solution for the same tool axis" };
     format!(
-        "the programmed {a} {:.3} deg {c} {:.3} deg set the tool axis, but on its great circle from the block's start \
-         the axes reach it at {a} {:.3} deg {c} {:.3} deg ({how}): how the control turns the axes to the programmed \
-         positions under vector interpolation is not known (program the tool vector, or interpolate the axes: \
-         ORIAXES, PATHCTRL AXIS); block skipped",
-        d(programmed[3]),
-        d(programmed[4]),
-        d(tracked[3]),
-        d(tracked[4]),
+        "the programmed {} set the tool axis, but on its great circle from the block's start the axes reach it at {} \
+         ({how}): how the control turns the axes to the programmed positions under vector interpolation is not \
+         known (program the tool vector, or interpolate the axes: ORIAXES, PATHCTRL AXIS); modelled with the \
+         rotary axes linear to the programmed positions",
+        axes(programmed),
+        axes(tracked),
     )
 }
 
