@@ -542,6 +542,12 @@ fn moves_under_g18_or_g19_with_tool_offsets_follow_sd42940() {
         assert!(e.len() == 1 && e[0].0 == 6 && e[0].2.contains(axis) && e[0].2.contains("SD42940"), "{plane}: {e:?}");
         assert!(errors(&read(&body(plane, "D0"), Dialect::Sinumerik, "t.mpf", &plain)).is_empty(), "{plane} D0");
     }
+    // A refused line's G18 stays selected: the move after it is refused too; G53 Y (the length's axis
+    // under G18) with the offsets on is refused as G53 Z is under G17.
+    let e = errors(&read("T1 D1\nM6\nG0 X0 Y0 Z50\nG18 G0 X10 Z40\nG0 X20 Z30\nG17\nG0 Z100\nM30\n", Dialect::Sinumerik, "t.mpf", &plain));
+    assert_eq!(e.iter().map(|e| e.0).collect::<Vec<_>>(), vec![4, 5], "{e:?}");
+    let e = errors(&read("T1 D1\nM6\nG0 X0 Y0 Z50\nG18\nG53 G0 Y-100\nM30\n", Dialect::Sinumerik, "t.mpf", &plain));
+    assert!(e.len() == 1 && e[0].0 == 5 && e[0].2.contains("G53 Y with the tool's offsets on"), "{e:?}");
     let kept = Machine::from_toml_str(&format!("tool_length_const = 17\n{file}"), "t").unwrap();
     assert!(errors(&read(&body("G18", "D1"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&kept))).is_empty());
     let follows = Machine::from_toml_str(&format!("tool_length_const = 0\n{file}"), "t").unwrap();

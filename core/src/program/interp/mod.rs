@@ -565,6 +565,11 @@ impl Interpreter {
 
     /// Set the program's length unit (Heidenhain header G70/G71, Klartext `BEGIN PGM ... INCH`),
     /// unless the user imposed one: then `Err` names the unit the program's numbers are read in.
+    /// Select the working plane (a line refused for what its move would do leaves the plane it selects).
+    pub(crate) fn set_plane(&mut self, plane: Plane) {
+        self.plane = plane;
+    }
+
     /// The length F is in per minute (m), where the control reads it in its own unit: the TNC's inch
     /// programs give F in 1/10 inch/min.
     pub(crate) fn set_feed_unit(&mut self, unit: f64) {

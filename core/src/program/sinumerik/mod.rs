@@ -583,8 +583,29 @@ impl SinumerikReader {
             None => modal_motion,
         };
         let positions = words.iter().any(|w| "XYZABC".contains(w.letter)) || vector.is_some();
+        // A milling tool's length goes to the axis normal to the plane (NC programming 12/2019
+        // §3.13.3.4 "Tool length and plane change": G17 Z, G18 Y, G19 X), unless setting data SD42940
+        // TOOL_LENGTH_CONST keeps it: under G18/G19 with the offsets on, the tool tip stands off the
+        // programmed point by the tool's length, which is not read.
+        let plane = match words.iter().rev().find(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "17" | "18" | "19")).map(|w| w.raw.as_ref()) {
+            Some("18") => crate::program::Plane::Zx,
+            Some("19") => crate::program::Plane::Yz,
+            Some(_) => crate::program::Plane::Xy,
+            None => self.interp.plane(),
+        };
+        let kept = match self.interp.machine().and_then(|m| m.tool_length_const) {
+            Some(18) => crate::program::Plane::Zx,
+            Some(19) => crate::program::Plane::Yz,
+            Some(_) => crate::program::Plane::Xy,
+            None => plane,
+        };
+        let length_axis = match kept {
+            crate::program::Plane::Xy => 'Z',
+            crate::program::Plane::Zx => 'Y',
+            crate::program::Plane::Yz => 'X',
+        };
         if let Some((col, what)) = machine_coords {
-            if !self.machine_move(what, col, motion, &words, line, diags) {
+            if !self.machine_move(what, col, motion, &words, length_axis, line, diags) {
                 return false;
             }
         }
@@ -603,30 +624,16 @@ impl SinumerikReader {
             let positions = positions || vector.is_some();
             return self.compensated(&words, &codes, motion, machine_coords.is_some(), positions, line, col, number, out, diags);
         }
-        // A milling tool's length goes to the axis normal to the plane (NC programming 12/2019
-        // §3.13.3.4 "Tool length and plane change": G17 Z, G18 Y, G19 X), unless setting data SD42940
-        // TOOL_LENGTH_CONST keeps it: under G18/G19 with the offsets on, the tool tip stands off the
-        // programmed point by the tool's length, which is not read.
-        let plane = match words.iter().rev().find(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "17" | "18" | "19")).map(|w| w.raw.as_ref()) {
-            Some("18") => crate::program::Plane::Zx,
-            Some("19") => crate::program::Plane::Yz,
-            Some(_) => crate::program::Plane::Xy,
-            None => self.interp.plane(),
-        };
-        let kept = match self.interp.machine().and_then(|m| m.tool_length_const) {
-            Some(18) => crate::program::Plane::Zx,
-            Some(19) => crate::program::Plane::Yz,
-            Some(_) => crate::program::Plane::Xy,
-            None => plane,
-        };
         // The model's tool is along the spindle, its length on Z: a plane whose assignment is G17's reads.
-        if positions && self.tool_offsets && kept != crate::program::Plane::Xy && machine_coords.is_none() {
-            let (g, axis) = if plane == crate::program::Plane::Zx { ("G18", "Y") } else { ("G19", "X") };
-            diags.error(
-                line,
-                first_col,
-                format!("a move under {g} with the tool's offsets on: the 840D gives a milling tool's length to {axis}, the axis normal to the plane (NC programming 12/2019 §3.13.3.4), unless setting data SD42940 TOOL_LENGTH_CONST keeps it on Z (the machine file's tool_length_const = 17); the tool tip would stand off the programmed point by the tool's length, which is not read (D0, or G17)"),
-            );
+        if positions && self.tool_offsets && length_axis != 'Z' && machine_coords.is_none() {
+            let why = match (self.interp.machine().and_then(|m| m.tool_length_const), plane) {
+                (Some(k), _) => format!("the machine file's tool_length_const = {k} (SD42940) keeps a milling tool's length on {length_axis} in every plane"),
+                (None, crate::program::Plane::Zx) => format!("under G18 the 840D gives a milling tool's length to {length_axis}, the axis normal to the plane (NC programming 12/2019 §3.13.3.4), unless setting data SD42940 TOOL_LENGTH_CONST keeps it on Z (the machine file's tool_length_const = 17)"),
+                (None, _) => format!("under G19 the 840D gives a milling tool's length to {length_axis}, the axis normal to the plane (NC programming 12/2019 §3.13.3.4), unless setting data SD42940 TOOL_LENGTH_CONST keeps it on Z (the machine file's tool_length_const = 17)"),
+            };
+            diags.error(line, first_col, format!("a move with the tool's offsets on: {why}; the tool tip would stand off the programmed point by the tool's length, which is not read (D0, or G17)"));
+            // The plane the line selects stays selected (the control makes the move all the same).
+            self.interp.set_plane(plane);
             return false;
         }
         if !self.interp.block(&words, line, col, number, diags, out) {
@@ -725,7 +732,7 @@ impl SinumerikReader {
     /// "Frame suppression": non-modal, all frames off; SUPA also the handwheel and external offsets,
     /// none of which is modelled); `D0` must have switched the tool's offsets off for a Z position
     /// (with them on, the position is the tool tip's, whose length is not known here).
-    fn machine_move(&mut self, what: &str, col: usize, motion: Option<Motion>, words: &[Word], line: usize, diags: &mut Diags) -> bool {
+    fn machine_move(&mut self, what: &str, col: usize, motion: Option<Motion>, words: &[Word], length_axis: char, line: usize, diags: &mut Diags) -> bool {
         if self.interp.tcp() {
             diags.error(line, col, format!("{what} under TRAORI: machine coordinates with the transformation on are not modelled (TRAFOOF first)"));
             return false;
@@ -734,8 +741,8 @@ impl SinumerikReader {
             diags.error(line, col, format!("{what} with a rotated frame or a swivelled plane (CYCLE800) in effect is not modelled"));
             return false;
         }
-        if let Some(z) = words.iter().find(|w| w.letter == 'Z').filter(|_| self.tool_offsets) {
-            diags.error(line, z.column, format!("{what} Z with the tool's offsets on: the tool tip's machine position needs the tool's length (write D0 in the block, as posts do)"));
+        if let Some(z) = words.iter().find(|w| w.letter == length_axis).filter(|_| self.tool_offsets) {
+            diags.error(line, z.column, format!("{what} {length_axis} with the tool's offsets on: the tool tip's machine position needs the tool's length, which the 840D gives to {length_axis} here (write D0 in the block, as posts do)"));
             return false;
         }
         let motion = match motion {
