@@ -898,6 +898,10 @@ fn fanuc_rotary_moves_alone_under_g43_4_follow_parameter_rfc() {
     let time: f64 = t.segments.iter().filter(|s| s.line == 7).map(|s| s.duration).sum();
     let expect = (30f64.powi(2) + 90f64.powi(2)).sqrt() / 500.0 * 60.0;
     assert!((time - expect).abs() < 1e-9, "{time} s, not {expect} s");
+    // G43.5: a new tool vector with the tip standing is the same move; the same vector again moves nothing.
+    let g435 = "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z150. B0. C0.\nG43.5 H1\nG01 X0. Y0. Z120. I0. J0. K1. F500.\nI0. J0. K1.\nI0.5 J0. K0.866\nG49\nM30\n%\n";
+    let e = errors(&read(g435, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&unset)));
+    assert!(e.len() == 1 && e[0].0 == 8 && e[0].2.contains("RFC"), "{e:?}");
     let bad = fiveaxis::machine::Machine::from_toml_str(&format!("tcp_rotary_feed = \"fast\"\n{nmv}"), "t").unwrap_err().to_string();
     assert!(bad.contains("tcp_rotary_feed") && bad.contains("RFC"), "{bad}");
 }

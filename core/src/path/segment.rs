@@ -510,7 +510,10 @@ impl SegmentPlanner {
                             // their share of the great circle (tip and axis both move evenly in it).
                             // `--feed` gives the tool tip its feed on every path move, inverse-time
                             // ones too (a move of the rotary axes alone keeps its programmed time).
-                            FeedMode::InverseTime if options.feed_override_mm_per_min.is_some() && !rotary_only => {
+                            // (Fanuc without TCP counts degrees in the path of F: such a move of
+                            // linear and rotary axes keeps its programmed time, as the tip feed
+                            // does not give it.)
+                            FeedMode::InverseTime if options.feed_override_mm_per_min.is_some() && !rotary_only && !(self.degrees_in_path && kind != SegmentKind::Tcp && rot_len > 0.0) => {
                                 let f = options.feed_override_mm_per_min.unwrap_or(0.0) * MM_PER_MIN;
                                 let path_len = path_of(&seg);
                                 seg.feed = seg.length / (path_len / f);

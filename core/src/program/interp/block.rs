@@ -629,7 +629,11 @@ impl Interpreter {
             && block_motion.unwrap_or(next.motion.unwrap_or(Motion::Rapid)) == Motion::Linear
             && next.feed_mode == FeedMode::PerMinute
             && (0..3).all(|k| (next.last[k] - before.last[k]).abs() <= 1e-12)
-            && (3..6).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12)
+            && ((3..6).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12)
+                || targets.tool_axis.is_some_and(|v| {
+                    let unit = |v: [f64; 3]| nalgebra::Vector3::from(v).normalize();
+                    next.last_vector.is_none_or(|p| (unit(p) - unit(v)).norm() > 1e-12)
+                }))
         {
             let rfc = next.machine.as_ref().and_then(|m| m.tcp_rotary_feed);
             if rfc != Some(crate::machine::TcpRotaryFeed::Programmed) {
@@ -637,7 +641,7 @@ impl Interpreter {
                     Some(_) => "at the maximum cutting feedrate (parameter No. 1422, the machine file's tcp_rotary_feed = \"max-cutting\"), which is not modelled",
                     None => "at F or at the maximum cutting feedrate (parameter No. 1422) as parameter No. 19696 bit 6 RFC says, which the machine file does not give (tcp_rotary_feed = \"programmed\" or \"max-cutting\")",
                 };
-                diags.error(line, column, format!("a feed move of the rotary axes alone under G43.4 (the tool tip stands on the workpiece): FANUC feeds them {why}"));
+                diags.error(line, column, format!("a feed move of the rotary axes alone under G43.4/G43.5 (the tool tip stands on the workpiece): FANUC feeds them {why}"));
             }
         }
         let errors_after = diags.errors();
@@ -675,6 +679,9 @@ impl Interpreter {
         };
         if fanuc_frn_arc {
             fanuc_arc_frn(&mut b, [before.last[0], before.last[1], before.last[2]], [self.last[0], self.last[1], self.last[2]]);
+        }
+        if let Some(v) = b.targets.tool_axis {
+            self.last_vector = Some(v);
         }
         self.fill_xy(&mut b);
         // Fanuc's and Haas' G68: the block placed about the centre, Fanuc's tool position at G68 for

@@ -234,6 +234,8 @@ pub struct State {
     last_arc: Option<Motion>,
     /// A tool vector the dialect's reader found in the next block (Sinumerik `A3= B3= C3=`), unit.
     pending_vector: Option<[f64; 3]>,
+    /// The tool axis the last block with a tool vector wrote (FANUC G43.5 I J K), unit.
+    pub(crate) last_vector: Option<[f64; 3]>,
     /// Last programmed absolute value of X Y Z A B C (SI).
     last: [f64; 6],
     /// Whether a move has placed each axis (an absolute position, or an increment from one): before
@@ -377,6 +379,7 @@ impl Interpreter {
                 centre: [None; 3],
                 last_arc: None,
                 pending_vector: None,
+                last_vector: None,
                 last: [0.0; 6],
                 placed: [false; 6],
                 tolerance: Default::default(),

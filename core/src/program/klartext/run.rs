@@ -125,7 +125,7 @@ impl Runner {
             // TNC7 programming station reads `F100` at 254 mm/min; Autodesk's Klartext post writes its
             // feeds tenfold in inch), where NX's sample posts write whole inch/min: the machine file
             // says which (tnc_inch_feed); without it, tenths, and the program is refused once here.
-            if self.st.began && !was_begun && self.interp.unit() == crate::units::INCH {
+            if self.st.began && !was_begun && self.st.inch && self.interp.unit() == crate::units::INCH {
                 let tenths = self.interp.machine().and_then(|m| m.tnc_inch_feed_tenths);
                 if tenths != Some(false) {
                     self.interp.set_feed_unit(crate::units::INCH / 10.0);
