@@ -531,10 +531,11 @@ fn vectors_turn_with_the_frame_and_modulo_and_tapping_axes_fail_closed() {
 /// "Tool length and plane change": G17 Z, G18 Y, G19 X) unless setting data SD42940
 /// TOOL_LENGTH_CONST keeps it: under G18/G19 with the tool's offsets on, the tool tip stands off the
 /// programmed point by the length, which is not read: refused at each move there. With D0, or a
-/// machine file whose `tool_length_const = 17` keeps the length on Z, the same moves read.
+/// machine file whose `tool_length_const = 17` keeps the length on Z, the same moves read. A tool
+/// change without a D turns the offsets on (the new tool's D1, MD20270 CUTTING_EDGE_DEFAULT).
 #[test]
 fn moves_under_g18_or_g19_with_tool_offsets_follow_sd42940() {
-    let body = |plane: &str, edge: &str| format!("G17 G90 G71 G94\nT1 {edge}\nM6\nG0 X0 Y0 Z50\n{plane}\nG1 F500 X10 Z40\nG17\nG0 Z100\nM30\n");
+    let body = |plane: &str, edge: &str| format!("G17 G90 G71 G94\nT1\nM6 {edge}\nG0 X0 Y0 Z50\n{plane}\nG1 F500 X10 Z40\nG17\nG0 Z100\nM30\n");
     let file = fiveaxis::machine::builtin_file("generic-bc-table").unwrap();
     let plain = ReadOptions::default().on(&Machine::builtin("generic-bc-table").unwrap());
     for (plane, axis) in [("G18", "to Y"), ("G19", "to X")] {
@@ -548,6 +549,10 @@ fn moves_under_g18_or_g19_with_tool_offsets_follow_sd42940() {
     assert_eq!(e.iter().map(|e| e.0).collect::<Vec<_>>(), vec![4, 5], "{e:?}");
     let e = errors(&read("T1 D1\nM6\nG0 X0 Y0 Z50\nG18\nG53 G0 Y-100\nM30\n", Dialect::Sinumerik, "t.mpf", &plain));
     assert!(e.len() == 1 && e[0].0 == 5 && e[0].2.contains("G53 Y with the tool's offsets on"), "{e:?}");
+    // A tool change without a D makes the new tool's D1 active (MD20270's default): D0 before it
+    // does not last.
+    let e = errors(&read("T1 D0\nM6\nG0 X0 Y0 Z50\nT2\nM6\nG18\nG1 F500 X10 Z40\nM30\n", Dialect::Sinumerik, "t.mpf", &plain));
+    assert!(e.len() == 1 && e[0].0 == 7, "{e:?}");
     let kept = Machine::from_toml_str(&format!("tool_length_const = 17\n{file}"), "t").unwrap();
     assert!(errors(&read(&body("G18", "D1"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&kept))).is_empty());
     let follows = Machine::from_toml_str(&format!("tool_length_const = 0\n{file}"), "t").unwrap();

@@ -527,6 +527,10 @@ impl SinumerikReader {
         if let Some((e, col)) = edge {
             self.tool_offsets = e != 0.0;
             let _ = col;
+        } else if words.iter().any(|w| w.letter == 'T' || (w.letter == 'M' && w.value == 6.0)) {
+            // A tool change without a D makes the new tool's edge D1 active (MD20270
+            // CUTTING_EDGE_DEFAULT = 1, its default; at T or at M6 as MD22550 says): offsets on.
+            self.tool_offsets = true;
         }
         // Reader-level G codes: exact stop (G60, modal; G9, this block) and continuous path (G64,
         // G641-G645: G group 10; Programming Manual Fundamentals, "Exact stop (G60, G9, G601, G602,
