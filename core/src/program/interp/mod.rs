@@ -566,8 +566,6 @@ impl Interpreter {
         self.pending_vector = v;
     }
 
-    /// Set the program's length unit (Heidenhain header G70/G71, Klartext `BEGIN PGM ... INCH`),
-    /// unless the user imposed one: then `Err` names the unit the program's numbers are read in.
     /// Select the working plane (a line refused for what its move would do leaves the plane it selects).
     pub(crate) fn set_plane(&mut self, plane: Plane) {
         self.plane = plane;
@@ -579,6 +577,8 @@ impl Interpreter {
         self.feed_unit = unit;
     }
 
+    /// Set the program's length unit (Heidenhain header G70/G71, Klartext `BEGIN PGM ... INCH`),
+    /// unless the user imposed one: then `Err` names the unit the program's numbers are read in.
     pub fn set_inch(&mut self, inch: bool) -> Result<(), super::LengthUnit> {
         match self.forced_unit {
             Some(u) if (u == super::LengthUnit::Inch) != inch => Err(u),

@@ -591,23 +591,9 @@ impl SinumerikReader {
         // §3.13.3.4 "Tool length and plane change": G17 Z, G18 Y, G19 X), unless setting data SD42940
         // TOOL_LENGTH_CONST keeps it: under G18/G19 with the offsets on, the tool tip stands off the
         // programmed point by the tool's length, which is not read.
-        let plane = match words.iter().rev().find(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "17" | "18" | "19")).map(|w| w.raw.as_ref()) {
-            Some("18") => crate::program::Plane::Zx,
-            Some("19") => crate::program::Plane::Yz,
-            Some(_) => crate::program::Plane::Xy,
-            None => self.interp.plane(),
-        };
-        let kept = match self.interp.machine().and_then(|m| m.tool_length_const) {
-            Some(18) => crate::program::Plane::Zx,
-            Some(19) => crate::program::Plane::Yz,
-            Some(_) => crate::program::Plane::Xy,
-            None => plane,
-        };
-        let length_axis = match kept {
-            crate::program::Plane::Xy => 'Z',
-            crate::program::Plane::Zx => 'Y',
-            crate::program::Plane::Yz => 'X',
-        };
+        let plane = plane_after(&words, self.interp.plane());
+        let kept = self.interp.machine().and_then(|m| m.tool_length_const).and_then(plane_of_g).unwrap_or(plane);
+        let length_axis = ['X', 'Y', 'Z'][kept.axes().2];
         if let Some((col, what)) = machine_coords {
             if !self.machine_move(what, col, motion, &words, length_axis, line, diags) {
                 return false;
@@ -630,10 +616,12 @@ impl SinumerikReader {
         }
         // The model's tool is along the spindle, its length on Z: a plane whose assignment is G17's reads.
         if positions && self.tool_offsets && length_axis != 'Z' && machine_coords.is_none() {
-            let why = match (self.interp.machine().and_then(|m| m.tool_length_const), plane) {
-                (Some(k), _) => format!("the machine file's tool_length_const = {k} (SD42940) keeps a milling tool's length on {length_axis} in every plane"),
-                (None, crate::program::Plane::Zx) => format!("under G18 the 840D gives a milling tool's length to {length_axis}, the axis normal to the plane (NC programming 12/2019 §3.13.3.4), unless setting data SD42940 TOOL_LENGTH_CONST keeps it on Z (the machine file's tool_length_const = 17)"),
-                (None, _) => format!("under G19 the 840D gives a milling tool's length to {length_axis}, the axis normal to the plane (NC programming 12/2019 §3.13.3.4), unless setting data SD42940 TOOL_LENGTH_CONST keeps it on Z (the machine file's tool_length_const = 17)"),
+            let why = match self.interp.machine().and_then(|m| m.tool_length_const) {
+                Some(k) => format!("the machine file's tool_length_const = {k} (SD42940) keeps a milling tool's length on {length_axis} in every plane"),
+                None => format!(
+                    "under G{} the 840D gives a milling tool's length to {length_axis}, the axis normal to the plane (NC programming 12/2019 §3.13.3.4), unless setting data SD42940 TOOL_LENGTH_CONST keeps it on Z (the machine file's tool_length_const = 17)",
+                    if plane == crate::program::Plane::Zx { 18 } else { 19 }
+                ),
             };
             diags.error(line, first_col, format!("a move with the tool's offsets on: {why}; the tool tip would stand off the programmed point by the tool's length, which is not read (D0, or G17)"));
             // The plane the line selects stays selected (the control makes the move all the same).
@@ -766,4 +754,19 @@ impl SinumerikReader {
         self.interp.oneshot = Some(OneShot { motion, absolute: true, axes: origin, own: false });
         true
     }
+}
+
+/// The plane G17/G18/G19 (`n`) selects.
+fn plane_of_g(n: u32) -> Option<crate::program::Plane> {
+    match n {
+        17 => Some(crate::program::Plane::Xy),
+        18 => Some(crate::program::Plane::Zx),
+        19 => Some(crate::program::Plane::Yz),
+        _ => None,
+    }
+}
+
+/// The working plane after a line's words: its last G17/G18/G19, else `current`.
+pub(super) fn plane_after(words: &[Word], current: crate::program::Plane) -> crate::program::Plane {
+    words.iter().rev().find(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "17" | "18" | "19")).and_then(|w| w.raw.parse().ok()).and_then(plane_of_g).unwrap_or(current)
 }

@@ -334,12 +334,7 @@ impl super::SinumerikReader {
                 return refuse(diags, w.column, format!("G{}: the plane cannot change while it is on (alarm 10757): deselect it with G40 first", w.raw));
             }
         }
-        let plane_after = match words.iter().rev().find(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "17" | "18" | "19")) {
-            Some(w) if w.raw == "17" => Plane::Xy,
-            Some(_) => Plane::Zx,
-            None => self.interp.plane(),
-        };
-        if plane_after != Plane::Xy {
+        if super::plane_after(words, self.interp.plane()) != Plane::Xy {
             return refuse(diags, col, "in the plane G18 or G19 it is not read; in G17 it is".into());
         }
         if let Some(w) = words.iter().find(|w| matches!(w.letter, 'A' | 'B' | 'C')) {
