@@ -267,6 +267,103 @@ fn klartext_m89_drills_at_its_own_block_and_each_after_it() {
     assert_eq!([bottoms(13), bottoms(14), bottoms(15), bottoms(16)], [1, 1, 1, 0], "{:#?}", p.blocks);
 }
 
+/// The moves a cycle call made (its line's blocks): rapid or not, Z (mm), feed (mm/min; 0 for a rapid).
+fn cycle_moves(p: &Program, line: usize) -> Vec<(bool, f64, f64)> {
+    p.blocks
+        .iter()
+        .filter(|b| b.line == line && b.targets.z.is_some())
+        .map(|b| (b.motion == Motion::Rapid, b.targets.z.unwrap() / MM, if b.motion == Motion::Rapid { 0.0 } else { b.feed.unwrap().value_per_min }))
+        .collect()
+}
+
+fn same_moves(got: &[(bool, f64, f64)], want: &[(bool, f64, f64)]) -> bool {
+    got.len() == want.len() && got.iter().zip(want).all(|(g, w)| g.0 == w.0 && (g.1 - w.1).abs() < 1e-9 && (g.2 - w.2).abs() < 1e-9)
+}
+
+/// Cycle 203 UNIVERSAL DRILLING with a shop's hyperMILL parameters (W5246NS01007B16.h: surface
+/// 0.1, set-up clearance 1, depth -0.6 in plunges of 0.1, one chip break of 0.2 before each
+/// retraction, out at Q208=25000), its moves worked by hand from the parameters' rules (iTNC 530
+/// User's Manual, cycle 203): infeeds to 0, -0.1, ... -0.5 at Q206; after the first of each pair
+/// the tool backs off 0.2, after the second it goes out to the set-up clearance (1.1) and back at
+/// FMAX to 1 above the depth reached; at the bottom out at Q208, then the 2nd set-up clearance.
+/// `Q208= MAX` retracts at rapid traverse; `Q208=0` at Q206. A maker's cycle between the definition
+/// and its call does not change the drilling cycle's parameters.
+#[test]
+fn klartext_cycle_203_drills_with_chip_breaks_and_retractions() {
+    let params = |q208: &str| {
+        format!(
+            "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S3000\n2 L X+0 Y+0 Z+50 R0 FMAX\n3 FN 0: Q3=100\n4 CYCL DEF 203 UNIVERSAL DRILLING~\n  Q200=1 ;SET-UP CLEARANCE~\n  Q201=-0.6 ;DEPTH~\n  Q206=Q3 ;FEED RATE FOR PLUNGING~\n  Q202=0.1 ;PLUNGING DEPTH~\n  Q210=0 ;DWELL TIME AT TOP~\n  Q203=0.1 ;SURFACE COORDINATE~\n  Q204=1 ;2ND SET-UP CLEARANCE~\n  Q212=0 ;DECREMENT~\n  Q213=1 ;BREAKS~\n  Q205=0.1 ;MIN. PLUNGING DEPTH~\n  Q211=0 ;DWELL TIME AT BOTTOM~\n  Q208={q208} ;RETRACTION FEED RATE~\n  Q256=0.2 ;DIST FOR CHIP BRKNG\n5 L X+10 Y+5 R0 FMAX M99\n6 END PGM T MM\n"
+        )
+    };
+    // (rapid, Z mm, feed mm/min): P the plunging feed, R the retraction's.
+    let want = |r: f64| {
+        let out = |z: f64| if r == 0.0 { (true, z, 0.0) } else { (false, z, r) };
+        vec![
+            (true, 1.1, 0.0),
+            (false, 0.0, 100.0),
+            out(0.2),
+            (false, -0.1, 100.0),
+            out(1.1),
+            (true, 0.9, 0.0),
+            (false, -0.2, 100.0),
+            out(0.0),
+            (false, -0.3, 100.0),
+            out(1.1),
+            (true, 0.7, 0.0),
+            (false, -0.4, 100.0),
+            out(-0.2),
+            (false, -0.5, 100.0),
+            out(1.1),
+            (true, 1.1, 0.0),
+        ]
+    };
+    for (q208, r) in [("25000", 25000.0), (" MAX", 0.0), ("0", 100.0)] {
+        let p = read(&params(q208), Dialect::Klartext, "t.h", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "Q208={q208}: {:?}", errors(&p));
+        let got = cycle_moves(&p, 19);
+        assert!(same_moves(&got, &want(r)), "Q208={q208}: {got:?}");
+    }
+    // The Trimill's cycle 332 TUNING between the definition and its call sets Q395=+3, which is
+    // cycle 203's depth reference: the drilling cycle keeps the parameters its definition wrote.
+    let trimill = fiveaxis::machine::Machine::builtin("trimill-vu3019").unwrap();
+    let tuned = params("25000").replace("5 L X+10", "5 CYCL DEF 332 TUNING ~\n  Q395=+3 ;TUNING MODE\n6 L X+10");
+    let p = read(&tuned, Dialect::Klartext, "t.h", &ReadOptions::default().on(&trimill));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    assert!(same_moves(&cycle_moves(&p, 21), &want(25000.0)), "{:?}", cycle_moves(&p, 21));
+    // A fractional number of breaks, and MAX where a length is expected, are refused at the call.
+    for (from, to, message) in [("Q213=1 ", "Q213=1.5 ", "Q213=1.5"), ("Q201=-0.6 ", "Q201= MAX ", "Q201=MAX")] {
+        let p = read(&params("0").replace(from, to), Dialect::Klartext, "t.h", &ReadOptions::default());
+        let e = errors(&p);
+        assert!(e.len() == 1 && e[0].0 == 19 && e[0].2.contains(message), "{to}: {e:?}");
+    }
+}
+
+/// Cycle 241 SINGLE-LIP DEEP-HOLE DRILLING as a DMU shop's program has it (W5270NS01061A4.h: set-up
+/// clearance 3, depth -272.441, a pilot hole to Q379=16 entered at Q253=50, drilled at Q206=25, out
+/// at Q208=300, 2nd set-up clearance 30): FMAX to 3, at 50 to 3 above the pilot hole's bottom (-13),
+/// at 25 to the depth, at 300 to 3, FMAX to 30. The spindle's speeds and coolant (Q426-Q430) move no
+/// axis. A maker's cycle between the definition and its call (the Trimill's 332 TUNING, as the
+/// shop's Trimill programs write it, sets Q395=+3, which to cycles 200 and 203 is a depth reference)
+/// leaves the drilling cycle's parameters as they were. A dwell depth (Q435) is refused.
+#[test]
+fn klartext_cycle_241_enters_the_pilot_hole_then_drills() {
+    let text = |q435: &str| {
+        format!(
+            "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1790\n2 L X+0 Y+0 Z+50 R0 FMAX\n3 FN 0: Q1901=4\n4 CYCL DEF 241 SINGLE-LIP DEEP-HOLE DRILLING~\n  Q200=3 ;SET-UP CLEARANCE~\n  Q201=-272.441 ;DEPTH~\n  Q206=25 ;FEED RATE FOR PLUNGING~\n  Q211=0 ;DWELL TIME AT BOTTOM~\n  Q203=0 ;SURFACE COORDINATE~\n  Q204=30 ;2ND SET-UP CLEARANCE~\n  Q379=16 ;STARTING POINT~\n  Q253=50 ;F PRE-POSITIONING~\n  Q208=300 ;RETRACTION FEED TIME~\n  Q426=Q1901 ;DIR. OF SPINDLE ROT.~\n  Q427=50 ;ROT. SPEED INFEED/OUT~\n  Q428=1790 ;DRILLING SPEED~\n  Q429=7 ;COOLANT ON~\n  Q430=7 ;COOLANT OFF~\n  Q435={q435} ;DWELL DEPTH\n5 CYCL DEF 332 TUNING ~\n  Q395=+3 ;TUNING MODE\n6 L X-23 Y-4 R0 F MAX M99\n7 END PGM T MM\n"
+        )
+    };
+    let trimill = fiveaxis::machine::Machine::builtin("trimill-vu3019").unwrap();
+    assert!(trimill.state_cycles.contains(&332), "the Trimill's file names its maker's cycle 332");
+    let options = ReadOptions::default().on(&trimill);
+    let p = read(&text("0"), Dialect::Klartext, "t.h", &options);
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let got = cycle_moves(&p, 23);
+    let want = [(true, 3.0, 0.0), (false, -13.0, 50.0), (false, -272.441, 25.0), (false, 3.0, 300.0), (true, 30.0, 0.0)];
+    assert!(same_moves(&got, &want), "{got:?}");
+    let e = errors(&read(&text("-200"), Dialect::Klartext, "t.h", &options));
+    assert!(e.len() == 1 && e[0].0 == 23 && e[0].2.contains("Q435=-200"), "{e:?}");
+}
+
 /// A TNC inch program's F is in 1/10 inch/min (TNC7 user's manual "Cutting data"; a TNC7
 /// programming station reads `F100` in an inch program at 254 mm/min; Autodesk's Klartext post writes
 /// inch feeds tenfold), where NX's sample posts write whole inch/min: the machine file's

@@ -11,6 +11,7 @@ mod corner;
 mod corner_cut;
 mod cutter_comp;
 mod cycles;
+mod tnc_cycles;
 mod dialect;
 mod fanuc;
 mod fanuc_corners;

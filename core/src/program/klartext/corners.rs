@@ -68,7 +68,7 @@ impl Exec {
             return false;
         }
         // A pole (CC) or a parameter set between the elements moves nothing: the corner waits on.
-        let between = matches!(s.kind, Kind::Centre(_) | Kind::Assign { .. });
+        let between = matches!(s.kind, Kind::Centre(_) | Kind::Assign { .. } | Kind::AssignMax { .. });
         if let (Some(c), false) = (&self.pending, between) {
             if let Some(why) = not_an_element(&s.kind, self.comp.side().is_some()) {
                 let c = c.clone();

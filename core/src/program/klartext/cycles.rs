@@ -7,6 +7,7 @@ use std::borrow::Cow;
 
 use super::exec::Exec;
 use crate::program::interp::{Dimension, Interpreter, Word};
+use crate::program::tnc_cycles::{tnc_hole, tnc_pecking, tnc_single_lip, tnc_universal, TncFeed, TncHole, TncPecking, TncSingleLip, TncStep, TncUniversal};
 use crate::program::Block;
 
 /// `CYCL DEF 32.0 TOLERANCE` / `32.1 T0.05` / `32.2 HSC-MODE:0 TA0.5` (TNC 620 Cycle Programming, 340
@@ -188,27 +189,82 @@ fn pecking_part<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags: &
     value_word(what, value, last, last_col + label.chars().count(), line, diags).map(|w| Kind::Pecking { part: n, value: Some(w) })
 }
 
+/// A TNC cycle's feeds, in the program's feed unit as written (infinite: rapid traverse, `MAX`).
+#[derive(Debug, Clone, Copy)]
+struct Feeds {
+    plunge: f64,
+    retract: f64,
+    preposition: f64,
+}
+
+impl Feeds {
+    /// All moves at one feed (the older cycles, and cycle 200's, which has one).
+    fn one(f: f64) -> Self {
+        Self { plunge: f, retract: f, preposition: f }
+    }
+
+    fn of(&self, which: TncFeed) -> f64 {
+        match which {
+            TncFeed::Plunge => self.plunge,
+            TncFeed::Retract => self.retract,
+            TncFeed::Preposition => self.preposition,
+        }
+    }
+}
+
 impl Exec {
-    /// `CYCL DEF n`: the drilling cycles 200, 207, 240 are kept for the next call; cycle 247 selects
-    /// a preset of the machine's table (its values are the operator's: the datum is taken as the
-    /// workpiece's, and linear ranges are not judged); the machine maker's own cycles that move
-    /// nothing are in its file; any other is refused.
+    /// `CYCL DEF n`: the drilling cycles 200, 203, 207, 240 and 241 are kept for the next call;
+    /// cycle 247 selects a preset of the machine's table (its values are the operator's: the datum
+    /// is taken as the workpiece's, and linear ranges are not judged); the machine maker's own
+    /// cycles that move nothing are in its file; any other is refused. A drilling cycle's
+    /// parameters are the ones written after it (up to the next `CYCL DEF`).
     pub(super) fn define_cycle(&mut self, n: u32, s: &Stmt<'_>, interp: &mut Interpreter, diags: &mut Diags) {
+        self.collecting_params = false;
         match n {
-            200 | 207 | 240 => (self.cycle, self.refused_cycle) = (Some((n, s.line)), None),
+            200 | 203 | 207 | 240 | 241 => {
+                (self.cycle, self.refused_cycle) = (Some((n, s.line)), None);
+                self.cycle_params.clear();
+                self.collecting_params = true;
+            }
             247 => interp.set_preset_assumed(),
             _ if self.machine.as_ref().is_some_and(|m| m.state_cycles.contains(&n)) => {}
             _ => {
-                diags.error(s.line, s.col, format!("CYCL DEF {n}: this cycle is not read (it may move the tool; the drilling cycles 200, 207 and 240 are, and the machine file names its maker's cycles that move nothing)"));
+                diags.error(s.line, s.col, format!("CYCL DEF {n}: this cycle is not read (it may move the tool; the drilling cycles 200, 203, 207, 240 and 241 are, and the machine file names its maker's cycles that move nothing)"));
                 // A call runs the cycle defined last: this one.
                 (self.cycle, self.refused_cycle) = (None, Some((n, s.line)));
             }
         }
     }
 
-    /// A Q parameter a cycle needs, in SI (`scale` per program unit); why not, if unset.
+    /// A Q parameter a cycle needs, in SI (`scale` per program unit); why not, if unset or `MAX`.
+    /// The value its definition wrote, else the parameter's (a definition without `~` lines).
     pub(super) fn cycle_q(&self, name: &str, scale: f64) -> Result<f64, String> {
-        self.q.get(name).map(|v| v * scale).ok_or_else(|| format!("{name} is not set"))
+        match self.cycle_params.get(name).or_else(|| self.q.get(name)) {
+            Some(v) if v.is_finite() => Ok(v * scale),
+            Some(_) => Err(format!("{name}=MAX: rapid traverse where a number is expected")),
+            None if self.q_max.contains(name) => Err(format!("{name}=MAX: rapid traverse where a number is expected")),
+            None => Err(format!("{name} is not set")),
+        }
+    }
+
+    /// A cycle's feed parameter as written (infinite for `MAX`, rapid traverse); why not, if unset
+    /// or negative.
+    fn cycle_feed(&self, name: &str) -> Result<f64, String> {
+        let v = match self.cycle_params.get(name).or_else(|| self.q.get(name)) {
+            Some(v) => *v,
+            None if self.q_max.contains(name) => f64::INFINITY,
+            None => return Err(format!("{name} is not set")),
+        };
+        if v < 0.0 {
+            return Err(format!("{name}={v}: a feed must not be negative"));
+        }
+        Ok(v)
+    }
+
+    /// A parameter newer software added to a cycle, if its definition writes it (older programs'
+    /// definitions do not).
+    fn cycle_opt(&self, name: &str) -> Option<f64> {
+        self.cycle_params.get(name).copied()
     }
 
     /// A block of the older cycle 1 PECKING: `1.0` begins it (and replaces the cycle defined
@@ -244,64 +300,103 @@ impl Exec {
         }
     }
 
-    /// A drilling cycle's moves (200, 207, 240) from its Q parameters and its feed, or why it
-    /// cannot run.
-    fn drilling_moves(&self, n: u32, unit: f64) -> Result<(Vec<crate::program::cycles::Step>, f64), String> {
+    /// A drilling cycle's moves (200, 203, 207, 240, 241) from its Q parameters, and its feeds, or
+    /// why it cannot run.
+    fn drilling_moves(&self, n: u32, unit: f64) -> Result<(Vec<TncStep>, Feeds), String> {
         let q = |name: &str| self.cycle_q(name, unit);
-        let mut h = crate::program::cycles::TncHole {
-            surface: q("Q203")?,
-            clearance: q("Q200")?.abs(),
-            clearance2: q("Q204")?.abs(),
-            depth: q("Q201")?,
-            plunge: 0.0,
-            dwell_top_s: 0.0,
-            dwell_bottom_s: 0.0,
-            feed_out: false,
-        };
-        let feed = match n {
+        let (surface, clearance, clearance2, depth) = (q("Q203")?, q("Q200")?.abs(), q("Q204")?.abs(), q("Q201")?);
+        if depth > 0.0 {
+            return Err(format!("Q201={}: a positive depth (drilling up) is not read", depth / unit));
+        }
+        // Q395 DEPTH REFERENCE 1: the depth is to the tool's full diameter, deeper by its point's
+        // length, which the program does not give.
+        if matches!(n, 200 | 203) && self.cycle_opt("Q395").is_some_and(|v| v != 0.0) {
+            return Err("Q395=1: a depth to the tool's full diameter (deeper by its point's length) is not read".into());
+        }
+        let plunge_feed = self.cycle_feed("Q206")?;
+        // Q208 RETRACTION FEED RATE: "If you enter Q208 = 0, the TNC retracts the tool at feed rate Q206".
+        let retract_feed = || self.cycle_feed("Q208").map(|f| if f == 0.0 { plunge_feed } else { f });
+        let mut h = TncHole { surface, clearance, clearance2, depth, plunge: 0.0, dwell_top_s: 0.0, dwell_bottom_s: 0.0, feed_out: false };
+        let (steps, feeds) = match n {
             200 => {
-                // Q395 DEPTH REFERENCE 1: the depth is to the tool's full diameter, deeper by its
-                // point's length, which the program does not give.
-                if self.q.get("Q395").is_some_and(|v| *v != 0.0) {
-                    return Err("Q395=1: a depth to the tool's full diameter (deeper by its point's length) is not read".into());
-                }
                 h.plunge = q("Q202")?.abs();
                 h.dwell_top_s = self.cycle_q("Q210", 1.0)?;
                 h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
-                self.cycle_q("Q206", 1.0)?
+                (tnc_hole(&h), Feeds::one(plunge_feed))
+            }
+            203 => {
+                let breaks = self.cycle_q("Q213", 1.0)?;
+                if !(breaks >= 0.0 && breaks.fract() == 0.0 && breaks <= f64::from(u32::MAX)) {
+                    return Err(format!("Q213={breaks}: the number of chip breaks must be a whole number, 0 or more"));
+                }
+                let c = TncUniversal {
+                    surface,
+                    clearance,
+                    clearance2,
+                    depth,
+                    plunge: q("Q202")?.abs(),
+                    decrement: q("Q212")?.abs(),
+                    min_plunge: q("Q205")?.abs(),
+                    breaks: breaks as u32,
+                    break_distance: q("Q256")?.abs(),
+                    dwell_top_s: self.cycle_q("Q210", 1.0)?,
+                    dwell_bottom_s: self.cycle_q("Q211", 1.0)?,
+                };
+                (tnc_universal(&c)?, Feeds { retract: retract_feed()?, ..Feeds::one(plunge_feed) })
+            }
+            241 => {
+                // What later software added to the cycle, read only where it changes nothing: a
+                // dwell depth (Q435), infeeds (Q202 less than the depth) and the feed factor after
+                // the dwell depth (Q401) are not in the pages at hand.
+                if let Some(v) = self.cycle_opt("Q435").filter(|v| *v != 0.0) {
+                    return Err(format!("Q435={v}: a dwell depth is not read"));
+                }
+                if let Some(v) = self.cycle_opt("Q202").filter(|v| *v != 0.0 && v.abs() * unit < -depth) {
+                    return Err(format!("Q202={v}: infeeds less than the depth are not read"));
+                }
+                if let Some(v) = self.cycle_opt("Q401").filter(|v| *v != 100.0) {
+                    return Err(format!("Q401={v}: a feed factor other than 100% is not read"));
+                }
+                let start = q("Q379")?;
+                if start < 0.0 {
+                    return Err(format!("Q379={}: a deepened starting point above the surface is not read", start / unit));
+                }
+                let c = TncSingleLip { surface, clearance, clearance2, depth, start, dwell_bottom_s: self.cycle_q("Q211", 1.0)? };
+                let preposition = if start > 0.0 { self.cycle_feed("Q253")? } else { plunge_feed };
+                if preposition == 0.0 {
+                    return Err("Q253=0: the feed for pre-positioning to the deepened starting point is not positive".into());
+                }
+                (tnc_single_lip(&c)?, Feeds { retract: retract_feed()?, preposition, plunge: plunge_feed })
             }
             240 => {
                 if self.cycle_q("Q343", 1.0)? != 0.0 {
                     return Err("Q343=1: a depth from the centering diameter (the tool's point angle) is not read".into());
                 }
                 h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
-                self.cycle_q("Q206", 1.0)?
+                (tnc_hole(&h), Feeds::one(plunge_feed))
             }
             _ => {
-                // 207 RIGID TAPPING: the feed is the pitch Q239 at the spindle speed.
+                // 207 RIGID TAPPING: the feed is the pitch Q239 at the spindle speed, in and out.
                 h.feed_out = true;
                 let pitch = self.cycle_q("Q239", 1.0)?.abs();
                 let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
-                pitch * speed.abs()
+                (tnc_hole(&h), Feeds::one(pitch * speed.abs()))
             }
         };
-        if h.depth > 0.0 {
-            return Err(format!("Q201={}: a positive depth (drilling up) is not read", h.depth / unit));
-        }
-        if !(feed > 0.0) {
+        if !(feeds.plunge > 0.0 && feeds.plunge.is_finite()) {
             return Err("the cycle's feed is not positive".into());
         }
         // Each plunge makes blocks: a plunging depth a thousand times too small is a typo (and
         // would take memory without bound).
-        if h.plunge > 0.0 && crate::program::cycles::too_many_pecks(h.depth, h.plunge) {
+        if n == 200 && h.plunge > 0.0 && crate::program::cycles::too_many_pecks(h.depth, h.plunge) {
             return Err(format!("Q202={} makes more than {} plunges of a {} deep hole: a typo?", h.plunge / unit, crate::program::cycles::MAX_PECKS, -h.depth / unit));
         }
-        Ok((crate::program::cycles::tnc_hole(&h), feed))
+        Ok((steps, feeds))
     }
 
     /// Cycle 1 PECKING's moves from where the tool stands along the tool axis (m) and its feed, or
     /// why it cannot run.
-    fn pecking_moves(&self, unit: f64, start: f64) -> Result<(Vec<crate::program::cycles::Step>, f64), String> {
+    fn pecking_moves(&self, unit: f64, start: f64) -> Result<(Vec<TncStep>, Feeds), String> {
         let v = match &self.pecking {
             Some(p) if p.values.len() == 5 => &p.values,
             _ => return Err("its definition is not complete".into()),
@@ -321,11 +416,11 @@ impl Exec {
         if !(feed > 0.0) {
             return Err(format!("F{feed}: the cycle's feed is not positive"));
         }
-        let c = crate::program::cycles::TncPecking { setup: setup.abs() * unit, depth: -depth * unit, peck: peck.abs() * unit, dwell_s };
+        let c = TncPecking { setup: setup.abs() * unit, depth: -depth * unit, peck: peck.abs() * unit, dwell_s };
         if c.pecks() > crate::program::cycles::MAX_PECKS as f64 {
             return Err(format!("PECKG {peck} makes more than {} pecks of a {} deep hole: a typo?", crate::program::cycles::MAX_PECKS, -depth));
         }
-        Ok((crate::program::cycles::tnc_pecking(start, &c), feed))
+        Ok((tnc_pecking(start, &c), Feeds::one(feed)))
     }
 
     /// Run the cycle defined last where the tool stands, along the working plane's Z: its moves as
@@ -341,9 +436,9 @@ impl Exec {
         };
         let unit = interp.unit();
         let moves = if n == 1 { self.pecking_moves(unit, interp.position()[2]) } else { self.drilling_moves(n, unit) };
-        let (steps, feed) = match moves {
+        let (steps, feeds) = match moves {
             // Cycle 207's feed is the pitch (a length) per turn times the turns: in the feed's unit.
-            Ok((steps, feed)) if n == 207 => (steps, feed * unit / interp.feed_unit()),
+            Ok((steps, f)) if n == 207 => (steps, Feeds::one(f.plunge * unit / interp.feed_unit())),
             Ok(m) => m,
             Err(why) => {
                 diags.error(s.line, s.col, format!("cycle {n} called: {why}"));
@@ -351,21 +446,24 @@ impl Exec {
             }
         };
         let saved = interp.feed_state();
-        let z = |v: f64, motion: &str| -> Vec<Word<'static>> {
+        // A move along the tool axis to `v` (m): rapid, or at `feed` (program units; infinite: MAX, rapid).
+        let z = |v: f64, feed: Option<f64>| -> Vec<Word<'static>> {
+            let feed = feed.filter(|f| f.is_finite());
+            let motion = if feed.is_some() { "1" } else { "0" };
             let mut w = vec![
-                Word { letter: 'G', value: if motion == "0" { 0.0 } else { 1.0 }, raw: Cow::Owned(motion.to_string()), column: s.col, dimension: Dimension::Modal },
+                Word { letter: 'G', value: if feed.is_some() { 1.0 } else { 0.0 }, raw: Cow::Owned(motion.to_string()), column: s.col, dimension: Dimension::Modal },
                 Word { letter: 'Z', value: v / unit, raw: Cow::Owned(format!("{}", v / unit)), column: s.col, dimension: Dimension::Modal },
             ];
-            if motion == "1" {
-                w.push(Word { letter: 'F', value: feed, raw: Cow::Owned(format!("{feed}")), column: s.col, dimension: Dimension::Modal });
+            if let Some(f) = feed {
+                w.push(Word { letter: 'F', value: f, raw: Cow::Owned(format!("{f}")), column: s.col, dimension: Dimension::Modal });
             }
             w
         };
         for step in steps {
             let block = match step {
-                crate::program::cycles::Step::Rapid(v) => interp.block_one(&z(v, "0"), s.line, s.col, s.number, diags),
-                crate::program::cycles::Step::Feed(v) => interp.block_one(&z(v, "1"), s.line, s.col, s.number, diags),
-                crate::program::cycles::Step::Dwell(t) => Some(Block { dwell_s: Some(t), ..interp.still_block(s.line, s.col, s.number) }),
+                TncStep::Rapid(v) => interp.block_one(&z(v, None), s.line, s.col, s.number, diags),
+                TncStep::Feed(v, which) => interp.block_one(&z(v, Some(feeds.of(which))), s.line, s.col, s.number, diags),
+                TncStep::Dwell(t) => Some(Block { dwell_s: Some(t), ..interp.still_block(s.line, s.col, s.number) }),
             };
             match block {
                 Some(b) => out.push(b),

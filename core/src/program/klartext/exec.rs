@@ -30,6 +30,14 @@ fn preassigned(name: &str) -> &'static str {
 #[derive(Debug, Default)]
 pub(super) struct Exec {
     pub(super) q: HashMap<String, f64>,
+    /// Q parameters a cycle's parameters set to `MAX` (rapid traverse): no number, a feed only.
+    pub(super) q_max: std::collections::HashSet<String>,
+    /// The parameters written in the definition of the drilling cycle defined last, with their
+    /// values there (infinite: `MAX`): a cycle's optional parameter counts only if its definition
+    /// writes it (another cycle's value, such as a maker's cycle's Q395, is not its).
+    pub(super) cycle_params: HashMap<String, f64>,
+    /// The `CYCL DEF` read last is that drilling cycle: its parameters go to `cycle_params`.
+    pub(super) collecting_params: bool,
     /// The machine, for tilted working planes (its kinematics and limits).
     pub(super) machine: Option<std::sync::Arc<crate::machine::Machine>>,
     /// The cycle defined last (CYCL DEF), which CYCL CALL, M99 and M89 run.
@@ -77,12 +85,21 @@ pub(super) struct Pecking {
 }
 
 impl Exec {
+    /// Why a parameter read has no value, beyond its not being set: the TNC's own, or a cycle's MAX.
+    fn unset_hint(&self, name: &str) -> &'static str {
+        if self.q_max.contains(name) {
+            " (a cycle's parameters set it to MAX, rapid traverse: a feed, not a number)"
+        } else {
+            preassigned(name)
+        }
+    }
+
     /// A formula's value with the parameters set so far; a defect goes to `diags`.
     pub(super) fn formula(&self, text: &str, line: usize, col: usize, diags: &mut Diags) -> Option<f64> {
         match super::formula::eval(text, &|n| self.q.get(n).copied()) {
             Ok(v) => Some(v),
             Err(e) => {
-                let hint = e.unset.as_deref().map_or("", preassigned);
+                let hint = e.unset.as_deref().map_or("", |n| self.unset_hint(n));
                 diags.error(line, col, format!("'{}': {}{hint}", crate::program::lex::excerpt(text), e.message));
                 None
             }
@@ -108,7 +125,7 @@ impl Exec {
             Val::Q { name, negative } => match self.q.get(*name) {
                 Some(v) => Some(if *negative { -v } else { *v }),
                 None => {
-                    diags.error(line, w.col, format!("{}: {name} is used before it is set{}", w.addr, preassigned(name)));
+                    diags.error(line, w.col, format!("{}: {name} is used before it is set{}", w.addr, self.unset_hint(name)));
                     None
                 }
             },
@@ -162,12 +179,24 @@ impl Exec {
         }
         // Statements that set state and run no block.
         match &s.kind {
-            Kind::Assign { name, formula } => {
+            Kind::Assign { name, formula, cycle } => {
                 match self.formula(formula, s.line, s.col, diags) {
                     Some(v) => {
                         self.q.insert(name.clone(), v);
+                        self.q_max.remove(name);
+                        if *cycle && self.collecting_params {
+                            self.cycle_params.insert(name.clone(), v);
+                        }
                     }
                     None => diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line))),
+                }
+                return false;
+            }
+            Kind::AssignMax { name } => {
+                self.q.remove(name);
+                self.q_max.insert(name.clone());
+                if self.collecting_params {
+                    self.cycle_params.insert(name.clone(), f64::INFINITY);
                 }
                 return false;
             }
@@ -465,7 +494,7 @@ impl Exec {
                     }
                 }
             }
-            Kind::Assign { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::TransReset | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::Pecking { .. } | Kind::CycleCall(_) | Kind::Corner { .. } | Kind::Spline { .. } => {}
+            Kind::Assign { .. } | Kind::AssignMax { .. } | Kind::Tcp { .. } | Kind::Tolerance { .. } | Kind::Datum(..) | Kind::TransReset | Kind::End | Kind::Label(_) | Kind::Call { .. } | Kind::Jump { .. } | Kind::Plane(_) | Kind::CycleDef(_) | Kind::Pecking { .. } | Kind::CycleCall(_) | Kind::Corner { .. } | Kind::Spline { .. } => {}
         }
         // M91 / M92: the block's coordinates are the machine's, about its machine datum or the
         // maker's second datum (TNC 426 B ISO §7.3: "M91 and M92 are effective only in the blocks in

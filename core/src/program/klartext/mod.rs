@@ -7,7 +7,8 @@
 //! coordinates, `M126`/`M127`; `CYCL DEF 7` datum shift; `CYCL DEF 9` dwell; `CYCL DEF 32` contour
 //! tolerance; tilted working planes `PLANE SPATIAL`/`EULER`/`VECTOR`/`POINTS`/`RELATIV`/`AXIAL`/`RESET` with
 //! `TURN`/`STAY`, `SEQ`, `COORD ROT`/`TABLE ROT`, and cycle 19 ([`crate::program::plane`]); the
-//! drilling cycles 200, 207, 240 called by `CYCL CALL`, `M99`, `M89`; cycle 247 (a preset of the
+//! drilling cycles 200, 203, 207, 240 and 241 ([`crate::program::tnc_cycles`]) called by `CYCL CALL`,
+//! `M99`, `M89`; cycle 247 (a preset of the
 //! machine's table); the machine maker's cycles its file names; polar contours `LP` and `CP` about the
 //! pole `CC` (`PR`/`IPR`, `PA`/`IPA`; a helix by `CP IPA` with the tool axis' coordinate, several turns
 //! beyond 360 deg; IPA's sign and DR's must agree); `M140 MB`; `LBL` with `CALL LBL ... REP`
@@ -146,8 +147,11 @@ enum Kind<'a> {
     Tolerance { linear: Option<KWord<'a>>, rotary: Option<KWord<'a>>, reset: bool },
     Label(&'a str),
     Call { label: &'a str, rep: Option<KWord<'a>> },
-    /// `Q1 = formula`, `FN 0..8: Q1 = ...`: the parameter and the formula that sets it.
-    Assign { name: String, formula: Cow<'a, str> },
+    /// `Q1 = formula`, `FN 0..8: Q1 = ...`: the parameter and the formula that sets it; `cycle`
+    /// when it is one of the parameters a `CYCL DEF` goes on with (on its `~` lines).
+    Assign { name: String, formula: Cow<'a, str>, cycle: bool },
+    /// `Q208=MAX` in a cycle's parameters: a feed at rapid traverse (FMAX).
+    AssignMax { name: String },
     /// `FN 9..12: IF a EQU|NE|GT|LT b GOTO LBL n`.
     Jump { a: String, cmp: Cmp, b: String, label: &'a str },
     /// `PLANE ...` and cycle 19: a tilted working plane.
@@ -296,13 +300,17 @@ struct ParseState {
     joined_said: bool,
     /// The line before was a comment ending in `~`: this line goes on with its text.
     comment_goes_on: bool,
+    /// The line before was a `CYCL DEF` or one of its parameters ending in `~`: this line's Q
+    /// assignment is one of the cycle's parameters.
+    cycle_goes_on: bool,
 }
 
 /// Parse one line (1-based `line`) into its statement; defects go to `diags` and drop it. Lines are
 /// parsed as they run, so a repeated section is parsed again rather than held: memory stays that of
 /// the blocks.
 fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Diags) -> Option<Stmt<'a>> {
-    let ParseState { name, inch, began, ended, datum_defined, joined_said, comment_goes_on } = st;
+    let ParseState { name, inch, began, ended, datum_defined, joined_said, comment_goes_on, cycle_goes_on } = st;
+    let in_cycle = std::mem::take(cycle_goes_on);
     let (goes_on, open) = comment_line(*comment_goes_on, raw.as_bytes());
     if goes_on {
         *comment_goes_on = open;
@@ -417,7 +425,10 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
             None
         }
         "FUNCTION" => function(toks, line, col, diags),
-        "CYCL" if key(1) == "DEF" => cycle(toks, line, datum_defined, diags),
+        "CYCL" if key(1) == "DEF" => {
+            *cycle_goes_on = raw.trim_end().ends_with('~');
+            cycle(toks, line, datum_defined, diags)
+        }
         "CYCL" if key(1) == "CALL" && toks.len() == 2 => Some(Kind::CycleCall(Vec::new())),
         // `CYCL CALL M13` (TNC 640 User's Manual, "Calling cycles": CYCL CALL takes a miscellaneous
         // function): read where it acts at the block's start, before the cycle runs (spindle, coolant).
@@ -445,7 +456,10 @@ fn parse_line<'a>(line: usize, raw: &'a str, st: &mut ParseState, diags: &mut Di
         }
         "PLANE" => plane(toks, line, col, diags),
         "FN" => fn_statement(raw, toks, line, col, diags),
-        k if k.starts_with('Q') => assign(raw, toks, line, col, diags),
+        k if k.starts_with('Q') => {
+            *cycle_goes_on = in_cycle && raw.trim_end().ends_with('~');
+            assign(raw, toks, in_cycle, line, col, diags)
+        }
         k if k.starts_with('M') && split_word(k).0 == "M" => misc(toks, line, diags),
         "RND" | "CHF" => corner(toks, &k0, line, diags),
         k @ ("APPR" | "DEP" | "CTP" | "FL" | "FLT" | "FC" | "FCT" | "FPOL" | "FSELECT" | "TCH") => {

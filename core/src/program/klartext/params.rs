@@ -34,8 +34,10 @@ pub(super) fn q_name(s: &str) -> Option<String> {
     ["QL", "QR", "Q"].iter().any(|p| numbered(&u, p)).then_some(u)
 }
 
-/// `Q1 = formula` (TNC 320 DIN/ISO 3/2014 §9.9, "Entering formulas directly").
-pub(super) fn assign<'a>(raw: &'a str, toks: &[(&'a str, usize)], line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
+/// `Q1 = formula` (TNC 320 DIN/ISO 3/2014 §9.9, "Entering formulas directly"); `in_cycle` for a
+/// cycle's parameter (a `~` line after its `CYCL DEF`), where a feed may be `MAX`, rapid traverse
+/// (`Q208= MAX ;RETRACTION FEED RATE`, as the TNC's editor writes the FMAX soft key).
+pub(super) fn assign<'a>(raw: &'a str, toks: &[(&'a str, usize)], in_cycle: bool, line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
     let text = text_from(raw, toks, 0);
     let Some((lhs, rhs)) = text.split_once('=') else {
         diags.error(line, col, format!("'{}': expected Qn = a value or formula", excerpt(text)));
@@ -56,12 +58,19 @@ pub(super) fn assign<'a>(raw: &'a str, toks: &[(&'a str, usize)], line: usize, c
         diags.error(line, col, format!("'{}': expected a Q parameter name such as Q1", excerpt(lhs.trim())));
         return None;
     };
-    formula_kind(name, Cow::Borrowed(rhs.trim()), line, col + text.find('=').map_or(0, |k| k + 1), diags)
+    if in_cycle && rhs.trim().eq_ignore_ascii_case("MAX") {
+        return Some(Kind::AssignMax { name });
+    }
+    let kind = formula_kind(name, Cow::Borrowed(rhs.trim()), line, col + text.find('=').map_or(0, |k| k + 1), diags);
+    match kind {
+        Some(Kind::Assign { name, formula, .. }) => Some(Kind::Assign { name, formula, cycle: in_cycle }),
+        other => other,
+    }
 }
 
 pub(super) fn formula_kind<'a>(name: String, formula: Cow<'a, str>, line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
     match formula::check(&formula) {
-        Ok(()) => Some(Kind::Assign { name, formula }),
+        Ok(()) => Some(Kind::Assign { name, formula, cycle: false }),
         Err(e) => {
             diags.error(line, col + e.at, format!("{name} = {}: {}", excerpt(&formula), e.message));
             None
