@@ -558,3 +558,44 @@ fn moves_under_g18_or_g19_with_tool_offsets_follow_sd42940() {
     let follows = Machine::from_toml_str(&format!("tool_length_const = 0\n{file}"), "t").unwrap();
     assert_eq!(errors(&read(&body("G18", "D1"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&follows))).len(), 1);
 }
+
+/// `CIP` (Programming Manual Fundamentals 12/2019 §2.9): a circle through an intermediate point,
+/// modal. The SINUMERIK 808D milling manual's example `CIP X50 Y40 I1=40 J1=45` from X30 Y40: the
+/// circle through (30,40), (40,45), (50,40) has its centre on x = 40 (the chord's bisector) at
+/// y = 32.5 ((30-40)^2 + (40-y)^2 = (45-y)^2), radius 12.5, and runs over the top: clockwise (G2).
+/// The next block, CIP still in effect, from (50,40) through (60,35) to (70,40): centre (60, 47.5),
+/// counter-clockwise. G91 writes the same circle from the start. G1 ends CIP.
+#[test]
+fn cip_is_the_circle_through_its_three_points() {
+    let text = "N10 G17 G90 G71 G94\nN20 G0 X30 Y40 Z0\nN30 G1 F100\nN40 CIP X50 Y40 I1=40 J1=45\nN50 X70 Y40 I1=60 J1=35\nN60 G1 X80\nN70 G0 X30 Y40\nN80 G91 CIP X20 Y0 I1=10 J1=5\n";
+    let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let arc = |line: usize, motion: Motion, centre: [f64; 2], end: [f64; 2]| {
+        let b = blocks_of(&p, line);
+        let b = b.last().unwrap_or_else(|| panic!("line {line}"));
+        let a = b.arc.as_deref().unwrap_or_else(|| panic!("line {line}: no arc {b:?}"));
+        assert_eq!(b.motion, motion, "line {line}");
+        assert!((a.centre[0] - centre[0] * MM).abs() < 1e-9 && (a.centre[1] - centre[1] * MM).abs() < 1e-9, "line {line}: {:?}", a.centre);
+        assert!(close(b.targets.x, end[0]) && close(b.targets.y, end[1]), "line {line}: {b:?}");
+    };
+    arc(4, Motion::ArcCw, [40.0, 32.5], [50.0, 40.0]);
+    arc(5, Motion::ArcCcw, [60.0, 47.5], [70.0, 40.0]);
+    assert_eq!(blocks_of(&p, 6)[0].motion, Motion::Linear);
+    arc(8, Motion::ArcCw, [40.0, 32.5], [50.0, 40.0]);
+    // Refused: no intermediate point, a circle inclined to G17's plane, three points on a line, CIP
+    // beside G1, an intermediate point without CIP; after a refused CIP line a move gives its own G.
+    let head = "N10 G17 G90 G71 G94\nN20 G0 X30 Y40 Z0\nN30 G1 F100\n";
+    for (block, col, message) in [
+        ("CIP X50 Y40", 1, "without its intermediate point"),
+        ("CIP X50 Y40 I1=40 J1=45 K1=5", 13, "not at one Z"),
+        ("CIP X50 Y40 I1=40 J1=40", 13, "on one line"),
+        ("G1 CIP X50 Y40 I1=40 J1=45", 1, "G1 with CIP"),
+        ("G1 X50 Y40 I1=40 J1=45", 12, "without CIP in effect"),
+        ("CIP X50 I1=40 J1=45 CR=5", 21, "takes no radius"),
+    ] {
+        let e = errors(&read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+        assert!(e.len() == 1 && e[0].0 == 4 && e[0].1 == col && e[0].2.contains(message), "{block}: {e:?}");
+    }
+    let after = errors(&read(&format!("{head}CIP X50 Y40\nX60 Y50\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+    assert!(after.iter().any(|e| e.0 == 5), "{after:?}");
+}

@@ -338,6 +338,44 @@ fn klartext_cycle_203_drills_with_chip_breaks_and_retractions() {
     }
 }
 
+/// Cycle 207 RIGID TAPPING as a DMU shop's hyperMILL program writes it (W5270NS01061A7.h: no
+/// Q206, the cycle has no feed of its own: "the feed rate is the thread pitch times the spindle
+/// speed"): at S500 and Q239=+1 it feeds at 500 mm/min from the set-up clearance (27.1493 + 3) to
+/// the depth (27.1493 - 12.5296) and back, then FMAX to the 2nd set-up clearance (27.1493 + 76.8507).
+#[test]
+fn klartext_cycle_207_taps_at_the_pitch_times_the_speed() {
+    let text = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S500\n2 L X+0 Y+0 Z+150 R0 FMAX M3\n3 CYCL DEF 207 RIGID TAPPING NEW~\n   Q200=3 ;SET-UP CLEARANCE~\n   Q201=-12.5296 ;DEPTH~\n   Q239=+1 ;THREAD PITCH~\n   Q203=27.1493 ;SURFACE COORDINATE~\n   Q204=76.8507 ;2ND SET-UP CLEARANCE\n4 L X-71.1452 Y0 R0 F MAX M99\n5 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let got = cycle_moves(&p, 10);
+    let want = [(true, 30.1493, 0.0), (false, 14.6197, 500.0), (false, 30.1493, 500.0), (true, 104.0, 0.0)];
+    assert!(same_moves(&got, &want), "{got:?}");
+}
+
+/// `CR` with a radius written without a sign (a shop editor's demo: `CR X-89.9 Y-59.224 R9.45
+/// DR-`) is R+, as a number without a sign is everywhere on the TNC: the arc under 180 deg, the same
+/// circle as `R+9.45`; `R-9.45` is the other one (its centre mirrored across the chord). From
+/// X-80 Y-50 to X-89.9 Y-59.224: the chord is 13.531 long, so the centre lies sqrt(9.45^2 -
+/// 6.7655^2) = 6.598 from its middle.
+#[test]
+fn klartext_cr_reads_an_unsigned_radius_as_positive() {
+    let circle = |r: &str| {
+        let text = format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X-80 Y-50 Z+0 R0 F500\n3 CR X-89.9 Y-59.224 R{r} DR-\n4 END PGM T MM\n");
+        let p = read(&text, Dialect::Klartext, "t.h", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "R{r}: {:?}", errors(&p));
+        let b = p.blocks.iter().find(|b| b.line == 4).unwrap();
+        (b.motion, b.arc.as_deref().unwrap().centre)
+    };
+    let (plus, unsigned, minus) = (circle("+9.45"), circle("9.45"), circle("-9.45"));
+    assert_eq!(plus, unsigned);
+    assert_eq!(unsigned.0, Motion::ArcCw);
+    let (mx, my) = (-84.95 * MM, -54.612 * MM);
+    let off = |c: [f64; 3]| ((c[0] - mx).hypot(c[1] - my) / MM, c);
+    let h = (9.45f64.powi(2) - (13.531_f64 / 2.0).powi(2)).sqrt();
+    assert!((off(unsigned.1).0 - h).abs() < 2e-3 && (off(minus.1).0 - h).abs() < 2e-3, "{:?} {:?}", off(unsigned.1), off(minus.1));
+    assert!((unsigned.1[0] - minus.1[0]).abs() > 1e-3, "R- is the other circle");
+}
+
 /// Cycle 241 SINGLE-LIP DEEP-HOLE DRILLING as a DMU shop's program has it (W5270NS01061A4.h: set-up
 /// clearance 3, depth -272.441, a pilot hole to Q379=16 entered at Q253=50, drilled at Q206=25, out
 /// at Q208=300, 2nd set-up clearance 30): FMAX to 3, at 50 to 3 above the pilot hole's bottom (-13),

@@ -106,7 +106,11 @@ pub(super) fn motion<'a>(toks: &[(&'a str, usize)], key: &str, line: usize, diag
                 diags.error(line, col, format!("{tok}: a second radius compensation word in one block (one of R0, RL, RR)"))
             }
             (None, "R") if rest == "0" => comp = Some((None, col)),
-            (None, "R") if shape == Shape::CircleRadius && rest.starts_with(['+', '-']) => radius = value_word("R", rest, tok, col, line, diags),
+            // The radius, signed as a coordinate is (iTNC 530 user's manual, "Circular path CR": the
+            // sign chooses the arc under or over 180 deg; none is +, as on beside it).
+            (None, "R") if shape == Shape::CircleRadius && rest.starts_with(|c: char| matches!(c, '+' | '-' | '.' | 'Q' | 'q') || c.is_ascii_digit()) => {
+                radius = value_word("R", rest, tok, col, line, diags)
+            }
             (None, "RL" | "RR") if rest.is_empty() && shape == Shape::LineNormal => {
                 diags.error(line, col, format!("{tok} in an LN block: three-dimensional tool compensation is not read"))
             }

@@ -313,16 +313,17 @@ impl Exec {
         if matches!(n, 200 | 203) && self.cycle_opt("Q395").is_some_and(|v| v != 0.0) {
             return Err("Q395=1: a depth to the tool's full diameter (deeper by its point's length) is not read".into());
         }
-        let plunge_feed = self.cycle_feed("Q206")?;
+        // Q206 FEED RATE FOR PLUNGING (cycle 207 has none: its feed is the pitch at the speed).
+        let plunge_feed = || self.cycle_feed("Q206");
         // Q208 RETRACTION FEED RATE: "If you enter Q208 = 0, the TNC retracts the tool at feed rate Q206".
-        let retract_feed = || self.cycle_feed("Q208").map(|f| if f == 0.0 { plunge_feed } else { f });
+        let retract_feed = |plunge: f64| self.cycle_feed("Q208").map(|f| if f == 0.0 { plunge } else { f });
         let mut h = TncHole { surface, clearance, clearance2, depth, plunge: 0.0, dwell_top_s: 0.0, dwell_bottom_s: 0.0, feed_out: false };
         let (steps, feeds) = match n {
             200 => {
                 h.plunge = q("Q202")?.abs();
                 h.dwell_top_s = self.cycle_q("Q210", 1.0)?;
                 h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
-                (tnc_hole(&h), Feeds::one(plunge_feed))
+                (tnc_hole(&h), Feeds::one(plunge_feed()?))
             }
             203 => {
                 let breaks = self.cycle_q("Q213", 1.0)?;
@@ -342,7 +343,8 @@ impl Exec {
                     dwell_top_s: self.cycle_q("Q210", 1.0)?,
                     dwell_bottom_s: self.cycle_q("Q211", 1.0)?,
                 };
-                (tnc_universal(&c)?, Feeds { retract: retract_feed()?, ..Feeds::one(plunge_feed) })
+                let plunge = plunge_feed()?;
+                (tnc_universal(&c)?, Feeds { retract: retract_feed(plunge)?, ..Feeds::one(plunge) })
             }
             241 => {
                 // What later software added to the cycle, read only where it changes nothing: a
@@ -362,18 +364,19 @@ impl Exec {
                     return Err(format!("Q379={}: a deepened starting point above the surface is not read", start / unit));
                 }
                 let c = TncSingleLip { surface, clearance, clearance2, depth, start, dwell_bottom_s: self.cycle_q("Q211", 1.0)? };
-                let preposition = if start > 0.0 { self.cycle_feed("Q253")? } else { plunge_feed };
+                let plunge = plunge_feed()?;
+                let preposition = if start > 0.0 { self.cycle_feed("Q253")? } else { plunge };
                 if preposition == 0.0 {
                     return Err("Q253=0: the feed for pre-positioning to the deepened starting point is not positive".into());
                 }
-                (tnc_single_lip(&c)?, Feeds { retract: retract_feed()?, preposition, plunge: plunge_feed })
+                (tnc_single_lip(&c)?, Feeds { retract: retract_feed(plunge)?, preposition, plunge })
             }
             240 => {
                 if self.cycle_q("Q343", 1.0)? != 0.0 {
                     return Err("Q343=1: a depth from the centering diameter (the tool's point angle) is not read".into());
                 }
                 h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
-                (tnc_hole(&h), Feeds::one(plunge_feed))
+                (tnc_hole(&h), Feeds::one(plunge_feed()?))
             }
             _ => {
                 // 207 RIGID TAPPING: the feed is the pitch Q239 at the spindle speed, in and out.

@@ -26,6 +26,7 @@
 //! ORIVECT agree: the great circle).
 
 mod calls;
+mod cip;
 mod corners;
 mod cycles;
 mod expr;
@@ -91,6 +92,8 @@ call_refused: Option<bool>,
     /// 3D tool radius compensation (`CUT3DC` ..., refused) in force on the control until `CUT2D`: its
     /// line and name ([`keywords::COMP3D`]).
     comp3d: Option<(usize, String)>,
+    /// `CIP`, G group 1's circle through an intermediate point, is the modal motion ([`cip`]).
+    cip: bool,
 }
 
 impl SinumerikReader {
@@ -112,6 +115,7 @@ impl SinumerikReader {
             call_refused: None,
             ori_mks: false,
             comp3d: None,
+            cip: false,
         }
     }
 
@@ -183,6 +187,9 @@ impl super::stream::LineReader for SinumerikReader {
         let errors_before = diags.errors();
         let first = cols.col(first) - 1;
         let lexed = lex::lex_line(text_line, &cols, line, &mut self.vars, diags);
+        // A refused line's CIP does not take effect, and the motion after it is not known
+        // ([`UNREAD_MOTION`]); a refused line of a CIP already in effect leaves it so.
+        let cip_before = self.cip;
         let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
         // A move of its own the control makes, refused here ([`keywords::refused_move`]).
         let refused_move = lexed.refused_g.and_then(|g| keywords::refused_move(g).map(|m| (format!("G{g}"), m)));
@@ -201,6 +208,7 @@ impl super::stream::LineReader for SinumerikReader {
             self.calls_refused(&calls, line);
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
+                self.cip = false;
             }
             self.hold_refused(&lasting, frame_g, line);
             self.moved_unread_g(refused_move, axes, line);
@@ -270,8 +278,10 @@ impl super::stream::LineReader for SinumerikReader {
                 self.interp.moved_everywhere(line, &name, UNREAD_CALL);
             }
             self.calls_refused(&calls, line);
+            self.cip = cip_before;
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
+                self.cip = false;
             }
             self.interp.note_feed(false, feed_word, line);
             out.truncate(blocks_before);
@@ -348,7 +358,57 @@ impl SinumerikReader {
     /// Run one block's words; false (or an error in `diags`) if it is refused.
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
-        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, .. } = lexed;
+        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, through, .. } = lexed;
+        // G group 1: CIP, or a G0-G3 (or another of the group's motions) that ends it.
+        let group1 = words.iter().find(|w| w.letter == 'G' && matches!(w.raw.trim_start_matches('0'), "" | "1" | "2" | "3" | "33" | "34" | "35")).map(|w| (w.column, format!("G{}", w.raw)));
+        let group1 = group1.or_else(|| keywords.iter().find(|k| UNREAD_MOTION.contains(&k.name.as_str()) && k.name != "CIP").map(|k| (k.col, k.name.clone())));
+        if let Some(p) = keywords.iter().position(|k| k.name == "CIP") {
+            if let Some((col, other)) = &group1 {
+                diags.error(line, *col, format!("{other} with CIP in one block: G group 1 takes one motion"));
+                return false;
+            }
+            if keywords[p].args.is_some() {
+                diags.error(line, keywords[p].col, "CIP(: CIP takes no arguments");
+                return false;
+            }
+            keywords.remove(p);
+            self.cip = true;
+        } else if group1.is_some() {
+            self.cip = false;
+        }
+        if self.cip {
+            // The block's own G90/G91, G17-G19 and G70/G71 (G700/G710) hold for its circle.
+            let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
+            let absolute = if g(91.0) { false } else if g(90.0) { true } else { self.interp.absolute() };
+            let plane = if g(17.0) {
+                crate::program::Plane::Xy
+            } else if g(18.0) {
+                crate::program::Plane::Zx
+            } else if g(19.0) {
+                crate::program::Plane::Yz
+            } else {
+                self.interp.plane()
+            };
+            let unit = if g(70.0) || g(700.0) {
+                crate::units::INCH
+            } else if g(71.0) || g(710.0) {
+                MM
+            } else {
+                self.interp.unit()
+            };
+            let start = self.interp.position();
+            match cip::as_arc(&words, &through, [start[0], start[1], start[2]], plane, unit, absolute, first_col) {
+                Ok(Some(arc)) => words = arc,
+                Ok(None) => {}
+                Err((col, why)) => {
+                    diags.error(line, col, why);
+                    return false;
+                }
+            }
+        } else if let Some(c) = through.iter().flatten().next() {
+            diags.error(line, c.2, "I1= J1= K1= (an intermediate point) without CIP in effect");
+            return false;
+        }
         if corner.any() || self.corners.busy() {
             self.corners.take(corner, line, first_col, number);
         }

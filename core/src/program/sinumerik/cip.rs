@@ -1,0 +1,94 @@
+//! `CIP`: a circle through an intermediate point (SINUMERIK 840D sl Programming Manual Fundamentals
+//! 12/2019, §2.9 "Circular interpolation through intermediate point (CIP)": `CIP X… Y… Z… I1=…
+//! J1=… K1=…`, modal, "the traversing direction is determined by the order of the starting point,
+//! intermediate point and end point"; I1 J1 K1 are the intermediate point's X Y Z, dimensioned as the
+//! end point is, by G90/G91 or `AC()`/`IC()`, "with incremental dimensions ... the circle starting
+//! point is used as the reference for the intermediate point and the end point"). Read as the G2 or
+//! G3 with the centre the three points give, so that frames, compensation and corners take it as
+//! any circle; a circle inclined to the working plane is refused.
+
+use super::{Dimension, Word};
+use crate::program::Plane;
+use std::borrow::Cow;
+
+/// The intermediate point as written: its X Y Z words (`I1=`, `J1=`, `K1=`), value, dimension and
+/// column.
+pub(super) type Through = [Option<(f64, Dimension, usize)>; 3];
+
+/// The intermediate point's addresses, by axis.
+const NAMES: [&str; 3] = ["I1", "J1", "K1"];
+
+/// Points this close (m) along the plane's normal are in the plane: the program's own rounding.
+const IN_PLANE: f64 = 1e-7;
+
+/// A CIP block's words as the G2 or G3 (`arc`) with its centre (`I J K`, incremental from the
+/// start, program units) that the start (absolute program coordinates, m), the intermediate point
+/// `through` and the end point the block's X Y Z give; `None` if the block moves no linear axis and
+/// writes no intermediate point (a feed, a function: no circle). The error and its column, if the
+/// three points give no circle in the working plane.
+pub(super) fn as_arc<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3], plane: Plane, unit: f64, absolute: bool, col: usize) -> Result<Option<Vec<Word<'a>>>, (usize, String)> {
+    let written = |k: usize| words.iter().find(|w| w.letter == ['X', 'Y', 'Z'][k]);
+    let moves = (0..3).any(|k| written(k).is_some());
+    let through_col = through.iter().flatten().map(|t| t.2).min();
+    let Some(through_col) = through_col else {
+        return if moves { Err((col, "CIP: a move without its intermediate point (I1= J1= K1=): every CIP block gives one".into())) } else { Ok(None) };
+    };
+    if !moves {
+        return Err((through_col, "CIP: an intermediate point without an end point (X Y Z)".into()));
+    }
+    if let Some(w) = words.iter().find(|w| matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P')) {
+        let what = match w.letter {
+            'R' => "CR=",
+            'P' => "TURN=",
+            c => return Err((w.column, format!("CIP with {c}{}: a circle through an intermediate point takes no centre", w.raw))),
+        };
+        return Err((w.column, format!("CIP with {what}: a circle through an intermediate point takes no {}", if what == "CR=" { "radius" } else { "turns" })));
+    }
+    let end: [f64; 3] = std::array::from_fn(|k| match written(k) {
+        Some(w) if w.dimension.absolute(absolute) => w.value * unit,
+        Some(w) => start[k] + w.value * unit,
+        None => start[k],
+    });
+    let (a, b, n) = plane.axes();
+    // The plane's two coordinates of the intermediate point are written; a coordinate along the
+    // normal left out is the start's (the manual's examples write the plane's two only).
+    for k in [a, b] {
+        if through[k].is_none() {
+            return Err((through_col, format!("CIP: {} not written: both of the working plane's intermediate coordinates are expected (a left-out one's reading is not in the pages at hand)", NAMES[k])));
+        }
+    }
+    let mid: [f64; 3] = std::array::from_fn(|k| match through[k] {
+        Some((v, d, _)) if d.absolute(absolute) => v * unit,
+        Some((v, _, _)) => start[k] + v * unit,
+        None => start[k],
+    });
+    if (mid[n] - start[n]).abs() > IN_PLANE || (end[n] - start[n]).abs() > IN_PLANE {
+        return Err((through_col, format!("CIP: the start, intermediate and end points are not at one {} (a circle inclined to the working plane is not read)", ['X', 'Y', 'Z'][n])));
+    }
+    // The circle through three points of the plane: its centre is where the perpendicular
+    // bisectors of start-mid and mid-end meet.
+    let (p, q, r) = ([start[a], start[b]], [mid[a], mid[b]], [end[a], end[b]]);
+    let d = 2.0 * (p[0] * (q[1] - r[1]) + q[0] * (r[1] - p[1]) + r[0] * (p[1] - q[1]));
+    let chord = (r[0] - p[0]).hypot(r[1] - p[1]).max((q[0] - p[0]).hypot(q[1] - p[1]));
+    if !(d.abs() > 1e-12 * chord * chord) || chord == 0.0 {
+        return Err((through_col, "CIP: the start, intermediate and end points lie on one line (or two of them coincide): no circle".into()));
+    }
+    let sq = |s: [f64; 2]| s[0] * s[0] + s[1] * s[1];
+    let centre = [
+        (sq(p) * (q[1] - r[1]) + sq(q) * (r[1] - p[1]) + sq(r) * (p[1] - q[1])) / d,
+        (sq(p) * (r[0] - q[0]) + sq(q) * (p[0] - r[0]) + sq(r) * (q[0] - p[0])) / d,
+    ];
+    if (r[0] - p[0]).hypot(r[1] - p[1]) < IN_PLANE {
+        return Err((through_col, "CIP: the end point is the start point: a full circle is not given by an intermediate point".into()));
+    }
+    // Start, intermediate, end counter-clockwise in the plane (from its first axis to its second): G3.
+    let ccw = d > 0.0;
+    let mut out: Vec<Word<'a>> = words.iter().filter(|w| !(w.letter == 'G' && matches!(w.value as i64, 0..=3))).cloned().collect();
+    let g = if ccw { 3.0 } else { 2.0 };
+    out.push(Word { letter: 'G', value: g, raw: Cow::Owned(format!("{g}")), column: col, dimension: Dimension::Modal });
+    for (k, c) in [(a, centre[0]), (b, centre[1])] {
+        let v = (c - start[k]) / unit;
+        out.push(Word { letter: ['I', 'J', 'K'][k], value: v, raw: Cow::Owned(format!("{v}")), column: through_col, dimension: Dimension::Incremental });
+    }
+    Ok(Some(out))
+}
