@@ -376,6 +376,22 @@ fn klartext_cr_reads_an_unsigned_radius_as_positive() {
     assert!((unsigned.1[0] - minus.1[0]).abs() > 1e-3, "R- is the other circle");
 }
 
+/// Cycle 9's dwell as the TNC writes it in its dialog language: `DWELL 2.5`, German `V.ZEIT 2.5`,
+/// and a Hungarian shop's hyperMILL output, `V.IDO2.5` (label and time joined, as cycle 1's parts
+/// may be): each the same 2.5 s; a label without a time is refused.
+#[test]
+fn klartext_cycle_9_reads_its_time_after_a_label_in_any_language() {
+    for label in ["DWELL 2.5", "V.ZEIT 2.5", "V.IDO2.5", "DWELL +Q5"] {
+        let text = format!("0 BEGIN PGM T MM\n1 Q5 = 2.5\n2 L X+0 Y+0 Z+10 R0 F500\n3 CYCL DEF 9.0 DWELL TIME\n4 CYCL DEF 9.1 {label}\n5 END PGM T MM\n");
+        let p = read(&text, Dialect::Klartext, "t.h", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{label}: {:?}", errors(&p));
+        let dwells: Vec<f64> = p.blocks.iter().filter_map(|b| b.dwell_s).collect();
+        assert_eq!(dwells, [2.5], "{label}");
+    }
+    let p = read("0 BEGIN PGM T MM\n1 CYCL DEF 9.1 V.IDO\n2 END PGM T MM\n", Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(errors(&p).iter().any(|e| e.0 == 2 && e.2.contains("CYCL DEF 9.1")), "{:?}", errors(&p));
+}
+
 /// Cycle 241 SINGLE-LIP DEEP-HOLE DRILLING as a DMU shop's program has it (W5270NS01061A4.h: set-up
 /// clearance 3, depth -272.441, a pilot hole to Q379=16 entered at Q253=50, drilled at Q206=25, out
 /// at Q208=300, 2nd set-up clearance 30): FMAX to 3, at 50 to 3 above the pilot hole's bottom (-13),

@@ -65,12 +65,23 @@ pub(super) fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bo
     let number = toks.get(2).map_or("", |t| t.0);
     let (cycle, part) = number.split_once('.').unwrap_or((number, ""));
     if cycle == "9" {
-        return match (part, toks.len()) {
-            ("0", _) => None,
-            // 9.1, its label (in the control's language), the time.
-            ("1", 5) => value_word("DWELL", toks[4].0, toks[4].0, toks[4].1, line, diags).map(Kind::Dwell),
+        let expected = || format!("CYCL DEF {number}: expected CYCL DEF 9.0 DWELL TIME or CYCL DEF 9.1 DWELL followed by the time, s");
+        return match part {
+            "0" => None,
+            // 9.1, its label in the control's dialog language (DWELL, V.ZEIT, ...), the time, joined
+            // to it or not.
+            "1" if toks.len() >= 4 => {
+                let (last, last_col) = toks[toks.len() - 1];
+                match labelled(last, toks.len() > 4) {
+                    Some((label, value)) => value_word("DWELL", value, last, last_col + label.chars().count(), line, diags).map(Kind::Dwell),
+                    None => {
+                        diags.error(line, col, expected());
+                        None
+                    }
+                }
+            }
             _ => {
-                diags.error(line, col, format!("CYCL DEF {number}: expected CYCL DEF 9.0 DWELL TIME or CYCL DEF 9.1 DWELL followed by the time, s"));
+                diags.error(line, col, expected());
                 None
             }
         };
@@ -136,6 +147,27 @@ pub(super) fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bo
     value_word(a, rest, tok, wcol, line, diags).map(|w| Kind::Datum(k, w, incremental))
 }
 
+/// An older cycle part's last token split into its label and its value (`DIST25.000`, `V.IDO2`;
+/// `25.000` after a label of its own, `words_before`): the value is the digits and point at the end,
+/// a Q before them, a sign before that; the label, in the control's dialog language, ends in a
+/// letter. `None` if there is no value, or no label at all.
+fn labelled(last: &str, words_before: bool) -> Option<(&str, &str)> {
+    let b = last.as_bytes();
+    let mut i = b.len();
+    while i > 0 && (b[i - 1].is_ascii_digit() || b[i - 1] == b'.') {
+        i -= 1;
+    }
+    if i > 0 && i < b.len() && b[i - 1].eq_ignore_ascii_case(&b'Q') && b[i..].iter().all(u8::is_ascii_digit) {
+        i -= 1;
+    }
+    if i > 0 && matches!(b[i - 1], b'+' | b'-') {
+        i -= 1;
+    }
+    let (label, value) = last.split_at(i);
+    let label_ok = label.is_empty() || label.as_bytes()[label.len() - 1].is_ascii_alphabetic();
+    (!value.is_empty() && value.bytes().any(|c| c.is_ascii_digit()) && label_ok && !(label.is_empty() && !words_before)).then_some((label, value))
+}
+
 /// The parts of the older cycle 1 PECKING after its name, in order: what each gives (as the
 /// manuals name them; the block's label is in the control's language: `SET UP`, `ABST`, `DIST`).
 const PECKING_PARTS: [&str; 5] = ["SET UP", "DEPTH", "PECKG", "DWELL", "F"];
@@ -159,25 +191,10 @@ fn pecking_part<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags: &
         diags.error(line, col, format!("CYCL DEF 1.{n}: expected the {what} value"));
         return None;
     };
-    // The value: digits and a point at the end, a Q before them, a sign before that.
-    let b = last.as_bytes();
-    let mut i = b.len();
-    while i > 0 && (b[i - 1].is_ascii_digit() || b[i - 1] == b'.') {
-        i -= 1;
-    }
-    if i > 0 && i < b.len() && b[i - 1].eq_ignore_ascii_case(&b'Q') && b[i..].iter().all(u8::is_ascii_digit) {
-        i -= 1;
-    }
-    if i > 0 && matches!(b[i - 1], b'+' | b'-') {
-        i -= 1;
-    }
-    let (label, value) = last.split_at(i);
-    let label_ok = label.is_empty() || label.as_bytes()[label.len() - 1].is_ascii_alphabetic();
-    let words_before = toks.len() > 4;
-    if value.is_empty() || !value.bytes().any(|c| c.is_ascii_digit()) || !label_ok || (label.is_empty() && !words_before) {
+    let Some((label, value)) = labelled(last, toks.len() > 4) else {
         diags.error(line, last_col, format!("CYCL DEF 1.{n}: expected the {what} (a label, then a number or a Q parameter), found '{}'", excerpt(last)));
         return None;
-    }
+    };
     // The feed's label is F; the others are in the control's language.
     if n == 5 {
         let feed_label = if label.is_empty() { toks[3..toks.len() - 1].iter().map(|t| t.0).collect::<Vec<_>>().join(" ") } else { label.to_string() };
