@@ -599,3 +599,39 @@ fn cip_is_the_circle_through_its_three_points() {
     let after = errors(&read(&format!("{head}CIP X50 Y40\nX60 Y50\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
     assert!(after.iter().any(|e| e.0 == 5), "{after:?}");
 }
+
+/// `AR=`, the opening angle (Programming Manual Fundamentals 12/2019 §2.9.6.4), with the manual's
+/// own example: from X67.5 Y80.211, `G3 X17.203 Y38.029 AR=140.134` and `G3 I-17.5 J-30.211
+/// AR=140.134` are one arc about X50 Y50 (radius 34.913, the CR= example's), ending at X17.203
+/// Y38.029. By hand: the chord is 65.644 long, its middle (42.3515, 59.120), the centre
+/// (32.822 / tan 70.067 deg) = 11.895 from it on the chord's left; G2 puts it on the right,
+/// (34.708, 68.234), as does G3 with the larger opening 219.866 deg.
+#[test]
+fn ar_gives_the_circle_its_opening_angle_makes() {
+    let head = "N10 G17 G90 G71 G94 F500\nN20 G0 X67.5 Y80.211 Z0\n";
+    let centre_end = |block: &str| {
+        let p = read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{block}: {:#?}", errors(&p));
+        let b = *blocks_of(&p, 3).last().unwrap();
+        let a = b.arc.as_deref().unwrap();
+        (b.motion, [a.centre[0] / MM, a.centre[1] / MM], [b.targets.x.unwrap() / MM, b.targets.y.unwrap() / MM])
+    };
+    let near = |a: [f64; 2], b: [f64; 2], tol: f64| (a[0] - b[0]).abs() < tol && (a[1] - b[1]).abs() < tol;
+    let (m, c, e) = centre_end("N30 G3 X17.203 Y38.029 AR=140.134");
+    assert!(m == Motion::ArcCcw && near(c, [50.0, 50.0], 0.01) && near(e, [17.203, 38.029], 1e-9), "{m:?} {c:?} {e:?}");
+    let (m, c, e) = centre_end("N30 G3 I-17.5 J-30.211 AR=140.134");
+    assert!(m == Motion::ArcCcw && near(c, [50.0, 50.0], 1e-9) && near(e, [17.203, 38.029], 0.002), "{m:?} {c:?} {e:?}");
+    let (m, c, _) = centre_end("N30 G2 X17.203 Y38.029 AR=140.134");
+    assert!(m == Motion::ArcCw && near(c, [34.708, 68.234], 0.01), "{m:?} {c:?}");
+    let (m, c, _) = centre_end("N30 G3 X17.203 Y38.029 AR=219.866");
+    assert!(m == Motion::ArcCcw && near(c, [34.708, 68.234], 0.01), "{m:?} {c:?}");
+    for (block, message) in [
+        ("N30 G3 X17.203 Y38.029 AR=360", "less than 360"),
+        ("N30 G1 X17.203 Y38.029 AR=140", "belongs to a circle"),
+        ("N30 G3 X17.203 Y38.029 CR=34.913 AR=140", "with CR="),
+        ("N30 G3 X17.203 Y38.029 I-17.5 J-30.211 AR=140", "both an end point and a centre"),
+    ] {
+        let e = errors(&read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+        assert!(e.len() == 1 && e[0].0 == 3 && e[0].2.contains(message), "{block}: {e:?}");
+    }
+}

@@ -476,6 +476,11 @@ impl Interpreter {
         self
     }
 
+    /// The modal motion of G group 1, if one is in effect.
+    pub(crate) fn motion(&self) -> Option<Motion> {
+        self.motion
+    }
+
     /// The last programmed position, absolute program coordinates (m, rad): X Y Z A B C.
     pub fn position(&self) -> [f64; 6] {
         self.last

@@ -225,8 +225,10 @@ pub(crate) struct Lexed<'a> {
     pub frame_g: Option<&'a str>,
     /// `L47` among other words (refused): the program it calls, which the control runs.
     pub call_l: Option<&'a str>,
-    /// `I1=`, `J1=`, `K1=`: a `CIP` circle's intermediate point ([`super::cip`]).
-    pub through: super::cip::Through,
+    /// `I1=`, `J1=`, `K1=`: a `CIP` circle's intermediate point ([`super::circles`]).
+    pub through: super::circles::Through,
+    /// `AR=`: a circle's opening angle, deg ([`super::circles::opening`]).
+    pub ar: super::circles::Opening,
 }
 
 /// Where the expression that starts at byte `start` ends: at a blank or `;` outside brackets and
@@ -338,7 +340,7 @@ pub(super) fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
 pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: &mut Vars, diags: &mut Diags) -> Lexed<'a> {
     let b = src.as_bytes();
     let n = b.len();
-    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None, frame_g: None, call_l: None, through: [None; 3] };
+    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None, frame_g: None, call_l: None, through: [None; 3], ar: None };
     let mut vec3: [Option<f64>; 3] = [None; 3];
     let mut vec_col = 0;
     let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
@@ -554,6 +556,7 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
                 vec_col = if vec_col == 0 { col } else { vec_col };
             }
             "CR" => out.words.push(word('R', value, text.into())),
+            "AR" if with_eq => out.ar = Some((value, col)),
             "I1" | "J1" | "K1" if with_eq => out.through[usize::from(address.as_bytes()[0] - b'I')] = Some((value, dimension, col)),
             "TURN" if value.fract() == 0.0 && (0.0..1000.0).contains(&value) => out.words.push(word('P', value + 1.0, format!("{}", value + 1.0).into())),
             "TURN" => diags.error(line, col, format!("TURN={text}: expected a whole number of turns, 0 to 999")),

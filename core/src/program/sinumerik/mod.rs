@@ -26,7 +26,7 @@
 //! ORIVECT agree: the great circle).
 
 mod calls;
-mod cip;
+mod circles;
 mod corners;
 mod cycles;
 mod expr;
@@ -92,7 +92,7 @@ call_refused: Option<bool>,
     /// 3D tool radius compensation (`CUT3DC` ..., refused) in force on the control until `CUT2D`: its
     /// line and name ([`keywords::COMP3D`]).
     comp3d: Option<(usize, String)>,
-    /// `CIP`, G group 1's circle through an intermediate point, is the modal motion ([`cip`]).
+    /// `CIP`, G group 1's circle through an intermediate point, is the modal motion ([`circles`]).
     cip: bool,
 }
 
@@ -122,6 +122,36 @@ impl SinumerikReader {
     /// Put the programmable frame in effect, inside the swivel's if one is: the interpreter's datum
     /// and rotation follow them (the frame chain's order, K2 §2.4.5.8: `$P_PARTFRAME : ... :
     /// $P_PFRAME`).
+    /// The G90/G91, plane and length unit a circle of this block is read in: its own G90/G91,
+    /// G17-G19 and G70/G71 (G700/G710), else the modal ones.
+    fn circle_settings(&self, words: &[Word<'_>]) -> (bool, crate::program::Plane, f64) {
+        let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
+        let absolute = if g(91.0) {
+            false
+        } else if g(90.0) {
+            true
+        } else {
+            self.interp.absolute()
+        };
+        let plane = if g(17.0) {
+            crate::program::Plane::Xy
+        } else if g(18.0) {
+            crate::program::Plane::Zx
+        } else if g(19.0) {
+            crate::program::Plane::Yz
+        } else {
+            self.interp.plane()
+        };
+        let unit = if g(70.0) || g(700.0) {
+            crate::units::INCH
+        } else if g(71.0) || g(710.0) {
+            MM
+        } else {
+            self.interp.unit()
+        };
+        (absolute, plane, unit)
+    }
+
     fn set_frame(&mut self, frame: Frame) {
         self.frame = frame;
         let whole = match self.swivel {
@@ -358,7 +388,7 @@ impl SinumerikReader {
     /// Run one block's words; false (or an error in `diags`) if it is refused.
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
-        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, through, .. } = lexed;
+        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, through, ar, .. } = lexed;
         // G group 1: CIP, or a G0-G3 (or another of the group's motions) that ends it.
         let group1 = words.iter().find(|w| w.letter == 'G' && matches!(w.raw.trim_start_matches('0'), "" | "1" | "2" | "3" | "33" | "34" | "35")).map(|w| (w.column, format!("G{}", w.raw)));
         let group1 = group1.or_else(|| keywords.iter().find(|k| UNREAD_MOTION.contains(&k.name.as_str()) && k.name != "CIP").map(|k| (k.col, k.name.clone())));
@@ -377,27 +407,9 @@ impl SinumerikReader {
             self.cip = false;
         }
         if self.cip {
-            // The block's own G90/G91, G17-G19 and G70/G71 (G700/G710) hold for its circle.
-            let g = |v: f64| words.iter().any(|w| w.letter == 'G' && w.value == v);
-            let absolute = if g(91.0) { false } else if g(90.0) { true } else { self.interp.absolute() };
-            let plane = if g(17.0) {
-                crate::program::Plane::Xy
-            } else if g(18.0) {
-                crate::program::Plane::Zx
-            } else if g(19.0) {
-                crate::program::Plane::Yz
-            } else {
-                self.interp.plane()
-            };
-            let unit = if g(70.0) || g(700.0) {
-                crate::units::INCH
-            } else if g(71.0) || g(710.0) {
-                MM
-            } else {
-                self.interp.unit()
-            };
+            let (absolute, plane, unit) = self.circle_settings(&words);
             let start = self.interp.position();
-            match cip::as_arc(&words, &through, [start[0], start[1], start[2]], plane, unit, absolute, first_col) {
+            match circles::through(&words, &through, [start[0], start[1], start[2]], plane, unit, absolute, first_col) {
                 Ok(Some(arc)) => words = arc,
                 Ok(None) => {}
                 Err((col, why)) => {
@@ -408,6 +420,30 @@ impl SinumerikReader {
         } else if let Some(c) = through.iter().flatten().next() {
             diags.error(line, c.2, "I1= J1= K1= (an intermediate point) without CIP in effect");
             return false;
+        }
+        // AR=: a G2/G3 given by its opening angle, with its end point or its centre.
+        if let Some((angle, col)) = ar {
+            let g = words.iter().rev().find(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0).map(|w| w.value);
+            let ccw = match (g, self.interp.motion()) {
+                _ if self.cip => None,
+                (Some(v), _) => (v >= 2.0).then_some(v == 3.0),
+                (None, Some(Motion::ArcCw)) => Some(false),
+                (None, Some(Motion::ArcCcw)) => Some(true),
+                _ => None,
+            };
+            let Some(ccw) = ccw else {
+                diags.error(line, col, format!("AR={angle}: an opening angle belongs to a circle, G2 or G3"));
+                return false;
+            };
+            let (absolute, plane, unit) = self.circle_settings(&words);
+            let start = self.interp.position();
+            match circles::opening(&words, (angle, col), ccw, [start[0], start[1], start[2]], plane, unit, absolute) {
+                Ok(arc) => words = arc,
+                Err((col, why)) => {
+                    diags.error(line, col, why);
+                    return false;
+                }
+            }
         }
         if corner.any() || self.corners.busy() {
             self.corners.take(corner, line, first_col, number);

@@ -1,11 +1,17 @@
+//! The 840D's circles given otherwise than by a centre or a radius, read as the G2 or G3 about the
+//! centre they give, so that frames, compensation and corners take them as any circle.
+//!
 //! `CIP`: a circle through an intermediate point (SINUMERIK 840D sl Programming Manual Fundamentals
 //! 12/2019, §2.9 "Circular interpolation through intermediate point (CIP)": `CIP X… Y… Z… I1=…
 //! J1=… K1=…`, modal, "the traversing direction is determined by the order of the starting point,
 //! intermediate point and end point"; I1 J1 K1 are the intermediate point's X Y Z, dimensioned as the
 //! end point is, by G90/G91 or `AC()`/`IC()`, "with incremental dimensions ... the circle starting
-//! point is used as the reference for the intermediate point and the end point"). Read as the G2 or
-//! G3 with the centre the three points give, so that frames, compensation and corners take it as
-//! any circle; a circle inclined to the working plane is refused.
+//! point is used as the reference for the intermediate point and the end point"). A circle inclined
+//! to the working plane is refused.
+//!
+//! `AR=`: the opening angle with the end point or the centre (§2.9.6.4 "Circular interpolation with
+//! opening angle and end point / center point (G2/G3, X... Y... Z... / I... J... K..., AR)": `G2/G3
+//! X… Y… Z… AR=…` or `G2/G3 I… J… K… AR=…`, AR 0 to 360 deg, no full circle).
 
 use super::{Dimension, Word};
 use crate::program::Plane;
@@ -26,7 +32,7 @@ const IN_PLANE: f64 = 1e-7;
 /// `through` and the end point the block's X Y Z give; `None` if the block moves no linear axis and
 /// writes no intermediate point (a feed, a function: no circle). The error and its column, if the
 /// three points give no circle in the working plane.
-pub(super) fn as_arc<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3], plane: Plane, unit: f64, absolute: bool, col: usize) -> Result<Option<Vec<Word<'a>>>, (usize, String)> {
+pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3], plane: Plane, unit: f64, absolute: bool, col: usize) -> Result<Option<Vec<Word<'a>>>, (usize, String)> {
     let written = |k: usize| words.iter().find(|w| w.letter == ['X', 'Y', 'Z'][k]);
     let moves = (0..3).any(|k| written(k).is_some());
     let through_col = through.iter().flatten().map(|t| t.2).min();
@@ -91,4 +97,75 @@ pub(super) fn as_arc<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3],
         out.push(Word { letter: ['I', 'J', 'K'][k], value: v, raw: Cow::Owned(format!("{v}")), column: through_col, dimension: Dimension::Incremental });
     }
     Ok(Some(out))
+}
+
+/// A block's `AR=` (opening angle, deg) and its column.
+pub(super) type Opening = Option<(f64, usize)>;
+
+/// A `G2`/`G3` block with `AR=` (`ccw`: G3) as the G2/G3 the control makes of it: with an end point,
+/// the centre on the chord's bisector at (c/2)/tan(AR/2) from its middle (left of the chord for a
+/// counter-clockwise arc under 180 deg, right of it over 180 deg); with a centre, the end point the
+/// start turned about it by AR (absolute words). `start` absolute program coordinates (m); the
+/// words' values in program units.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn opening<'a>(words: &[Word<'a>], (ar, ar_col): (f64, usize), ccw: bool, start: [f64; 3], plane: Plane, unit: f64, absolute: bool) -> Result<Vec<Word<'a>>, (usize, String)> {
+    if !(ar > 0.0 && ar < 360.0) {
+        return Err((ar_col, format!("AR={ar}: the opening angle is more than 0 and less than 360 deg (a full circle is not programmed with AR)")));
+    }
+    if let Some(w) = words.iter().find(|w| w.letter == 'R') {
+        return Err((w.column, "AR= with CR=: the circle is given by one of them".into()));
+    }
+    let (a, b, n) = plane.axes();
+    let axis = |k: usize| words.iter().find(|w| w.letter == ['X', 'Y', 'Z'][k]);
+    let centre_word = |k: usize| words.iter().find(|w| w.letter == ['I', 'J', 'K'][k]);
+    if let Some(w) = centre_word(n) {
+        return Err((w.column, format!("{}{}: not a centre word of the working plane", w.letter, w.raw)));
+    }
+    let end_written = axis(a).is_some() || axis(b).is_some();
+    let centre_written = centre_word(a).is_some() || centre_word(b).is_some();
+    let sweep = ar.to_radians() * if ccw { 1.0 } else { -1.0 };
+    let mut out: Vec<Word<'a>> = words.to_vec();
+    match (end_written, centre_written) {
+        (true, true) => Err((ar_col, "AR= with both an end point and a centre: the circle is given by one of them".into())),
+        (false, false) => Err((ar_col, "AR= without an end point or a centre".into())),
+        (true, false) => {
+            let end: [f64; 3] = std::array::from_fn(|k| match axis(k) {
+                Some(w) if w.dimension.absolute(absolute) => w.value * unit,
+                Some(w) => start[k] + w.value * unit,
+                None => start[k],
+            });
+            let (du, dv) = (end[a] - start[a], end[b] - start[b]);
+            let chord = du.hypot(dv);
+            if !(chord > 1e-9) {
+                return Err((ar_col, "AR= with the end point on the start: no circle".into()));
+            }
+            // From the chord's middle along its left normal (-dv, du)/c, by (c/2)/tan(AR/2), mirrored
+            // for a clockwise arc; over 180 deg the tangent's sign puts the centre on the other side.
+            let h = 0.5 * chord / (0.5 * ar.to_radians()).tan() * if ccw { 1.0 } else { -1.0 };
+            let centre = [0.5 * (start[a] + end[a]) - h * dv / chord, 0.5 * (start[b] + end[b]) + h * du / chord];
+            for (k, c) in [(a, centre[0]), (b, centre[1])] {
+                let v = (c - start[k]) / unit;
+                out.push(Word { letter: ['I', 'J', 'K'][k], value: v, raw: Cow::Owned(format!("{v}")), column: ar_col, dimension: Dimension::Incremental });
+            }
+            Ok(out)
+        }
+        (false, true) => {
+            let c: [f64; 2] = [a, b].map(|k| match centre_word(k) {
+                Some(w) if w.dimension.absolute(false) => w.value * unit,
+                Some(w) => start[k] + w.value * unit,
+                None => start[k],
+            });
+            let (u, v) = (start[a] - c[0], start[b] - c[1]);
+            if !(u.hypot(v) > 1e-9) {
+                return Err((ar_col, "AR= with the centre on the start: no circle".into()));
+            }
+            let (sin, cos) = sweep.sin_cos();
+            let end = [c[0] + u * cos - v * sin, c[1] + u * sin + v * cos];
+            for (k, e) in [(a, end[0]), (b, end[1])] {
+                let v = e / unit;
+                out.push(Word { letter: ['X', 'Y', 'Z'][k], value: v, raw: Cow::Owned(format!("{v}")), column: ar_col, dimension: Dimension::Absolute });
+            }
+            Ok(out)
+        }
+    }
 }
