@@ -165,7 +165,7 @@ fn labelled(last: &str, words_before: bool) -> Option<(&str, &str)> {
     }
     let (label, value) = last.split_at(i);
     let label_ok = label.is_empty() || label.as_bytes()[label.len() - 1].is_ascii_alphabetic();
-    (!value.is_empty() && value.bytes().any(|c| c.is_ascii_digit()) && label_ok && !(label.is_empty() && !words_before)).then_some((label, value))
+    (value.bytes().any(|c| c.is_ascii_digit()) && label_ok && (words_before || !label.is_empty())).then_some((label, value))
 }
 
 /// The parts of the older cycle 1 PECKING after its name, in order: what each gives (as the
