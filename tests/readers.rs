@@ -217,6 +217,14 @@ fn dialect_detection() {
     assert_eq!(Dialect::detect(path("a.nc"), "N10 G1 X1 F100\nN20 TRAORI ; on\n"), Dialect::Sinumerik);
     assert_eq!(Dialect::detect(None, "G1 X1 A3=0 B3=0 C3=1 F100\n"), Dialect::Sinumerik);
     assert_eq!(Dialect::detect(path("a.nc"), "G1 X1 F100 ; TRAORI in a comment\n"), Dialect::Rs274);
+    // The 840D's transfer header and its variable definitions, in a shop's `.nc` file (EdytorNC's
+    // example: `%_N_SINUMERIK840D_MPF`, `DEF REAL WYSPAD`).
+    assert_eq!(Dialect::detect(path("a.nc"), "%_N_SINUMERIK840D_MPF\n;$PATH=/_N_MPF_DIR\nN10 G0 X0\n"), Dialect::Sinumerik);
+    assert_eq!(Dialect::detect(path("a.nc"), "N10 DEF REAL WYSPAD=20\nN20 G0 X0\n"), Dialect::Sinumerik);
+    assert_eq!(Dialect::detect(path("a.nc"), "def int cnt\nG0 X0\n"), Dialect::Sinumerik);
+    // Not a definition: LinuxCNC's named parameter and a comment.
+    assert_eq!(Dialect::detect(path("a.nc"), "#<def> = 1\n(DEF REAL in a comment)\nG0 X0\n"), Dialect::Rs274);
+    assert_eq!(Dialect::detect(path("a.nc"), "N10 DEFINE X\nG0 X0\n"), Dialect::Rs274);
     // Heidenhain conversational: recognised (also as .h, which DIN/ISO shares) and read as such.
     let klartext = "0 BEGIN PGM TEST MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-40\n2 L X+10 Y+5 R0 FMAX\n3 END PGM TEST MM\n";
     assert_eq!(Dialect::detect(path("test.h"), klartext), Dialect::Klartext);

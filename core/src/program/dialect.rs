@@ -205,7 +205,7 @@ impl Dialect {
                 klartext = body.starts_with("BEGIN PGM");
             }
             goto = goto || apt::is_goto(l);
-            sinumerik = sinumerik || sinumerik_word(&l.as_bytes()[..memchr::memchr(b';', l.as_bytes()).unwrap_or(l.len())]);
+            sinumerik = sinumerik || sinumerik_word(&l.as_bytes()[..memchr::memchr(b';', l.as_bytes()).unwrap_or(l.len())]) || sinumerik_line(l);
             if klartext || goto && sinumerik {
                 break;
             }
@@ -265,6 +265,24 @@ fn lines(text: &str) -> impl Iterator<Item = &str> {
 /// The first [`DETECT_LINES`] lines of `text`, those the dialect is told from.
 fn head_lines(text: &str) -> impl Iterator<Item = &str> {
     lines(text).take(DETECT_LINES)
+}
+
+/// Lines only the 840D writes: its transfer header `%_N_NAME_MPF` (or `_SPF`: Job Planning, "Program
+/// management", a program's name as the control stores it) and a definition of a variable
+/// (`DEF REAL X1`, `N10 DEF INT CNT`: Job Planning, "Variable definition"), which no other dialect
+/// read here has.
+fn sinumerik_line(l: &str) -> bool {
+    let t = l.trim_start();
+    if t.get(..4).is_some_and(|p| p.eq_ignore_ascii_case("%_N_")) {
+        return true;
+    }
+    // After a block number, `DEF` and a type.
+    let t = match t.strip_prefix(['N', 'n']) {
+        Some(r) if r.starts_with(|c: char| c.is_ascii_digit()) => r.trim_start_matches(|c: char| c.is_ascii_digit()).trim_start(),
+        _ => t,
+    };
+    let Some(rest) = t.get(..4).filter(|p| p.eq_ignore_ascii_case("DEF ")).map(|_| t[4..].trim_start()) else { return false };
+    ["REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME"].iter().any(|ty| rest.get(..ty.len()).is_some_and(|p| p.eq_ignore_ascii_case(ty)) && rest[ty.len()..].starts_with([' ', '\t', '[']))
 }
 
 /// Words only the 840D writes among the dialects read here (its transformations, orientation modes,
