@@ -635,3 +635,45 @@ fn ar_gives_the_circle_its_opening_angle_makes() {
         assert!(e.len() == 1 && e[0].0 == 3 && e[0].2.contains(message), "{block}: {e:?}");
     }
 }
+
+/// Polar coordinates (Programming Manual Fundamentals 12/2019 §2.9.3), the SINUMERIK 808D milling
+/// manual's example worked by hand: from X0 Y0, `G111 X20 Y10` sets the pole from the workpiece's
+/// zero; `G1 RP=50 AP=30` ends at (20 + 50 cos 30, 10 + 50 sin 30) = (63.301, 35); `G110 X-10 Y20`
+/// sets the pole from there, (53.301, 55); `RP=30 AP=45` ends at (74.514, 76.213); `G112 X40 Y20`
+/// from that pole, (93.301, 75); `RP=30 AP=135` ends at (72.088, 96.213); `AP=IC(-90)` turns on
+/// from 135 to 45 deg with the radius kept: (114.514, 96.213). The manual's turning example in G18,
+/// `G111 X33.33 Z-54.25`, `G3 RP=30 AP=142.326` from X40 Z-25: the circle about the pole to
+/// Z = -54.25 + 30 cos 142.326 = -77.995, X = 33.33 + 30 sin 142.326 = 51.665.
+#[test]
+fn polar_coordinates_end_where_the_pole_and_angle_say() {
+    let text = "N10 G17 G90 G71 G94\nN20 G0 X0 Y0 Z0\nN30 G111 X20 Y10\nN40 G1 RP=50 AP=30 F1000\nN50 G110 X-10 Y20\nN60 G1 RP=30 AP=45\nN70 G112 X40 Y20\nN80 G1 RP=30 AP=135\nN90 AP=IC(-90)\n";
+    let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let end = |line: usize, x: f64, y: f64| {
+        let b = *blocks_of(&p, line).last().unwrap_or_else(|| panic!("line {line}"));
+        assert!(b.targets.x.is_some_and(|v| (v / MM - x).abs() < 1e-3) && b.targets.y.is_some_and(|v| (v / MM - y).abs() < 1e-3), "line {line}: {b:?}");
+    };
+    end(4, 63.301, 35.0);
+    end(6, 74.514, 76.213);
+    end(8, 72.088, 96.213);
+    end(9, 114.514, 96.213);
+    assert!(blocks_of(&p, 3).iter().chain(blocks_of(&p, 5).iter()).all(|b| b.targets.x.is_none()), "a pole is no move");
+    let turn = read("N10 G18 G90 G71 G94 D0\nN20 G1 X40 Z-25 F200\nN30 G111 X33.33 Z-54.25\nN40 G3 RP=30 AP=142.326\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert!(errors(&turn).is_empty(), "{:#?}", errors(&turn));
+    let b = *blocks_of(&turn, 4).last().unwrap();
+    let a = b.arc.as_deref().unwrap();
+    assert_eq!(b.motion, Motion::ArcCcw);
+    assert!((a.centre[0] / MM - 33.33).abs() < 1e-9 && (a.centre[2] / MM + 54.25).abs() < 1e-9, "{:?}", a.centre);
+    assert!((b.targets.z.unwrap() / MM + 77.995).abs() < 1e-3 && (b.targets.x.unwrap() / MM - 51.665).abs() < 1e-3, "{b:?}");
+    let head = "N10 G17 G90 G71 G94\nN20 G0 X0 Y0 Z0\n";
+    for (block, message) in [
+        ("N30 G1 AP=30 F100", "no polar radius before it"),
+        ("N30 G1 RP=10 AP=IC(30) F100", "no polar angle before it"),
+        ("N30 G110 AP=30 RP=10", "G110 AP= RP="),
+        ("N30 G1 X5 RP=10 AP=30 F100", "not both"),
+        ("N30 G111 X5", "both of the plane's coordinates"),
+    ] {
+        let e = errors(&read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+        assert!(e.len() == 1 && e[0].0 == 3 && e[0].2.contains(message), "{block}: {e:?}");
+    }
+}

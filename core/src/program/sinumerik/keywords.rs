@@ -161,7 +161,10 @@ pub(super) fn sinumerik_g(code: &str) -> Result<Option<&'static str>, &'static s
         // Revolutional feed (the interpreter's G95: F times the master spindle's speed).
         "95" => "95",
         "96" | "97" => return Err("constant cutting speed is not supported"),
-        "110" | "111" | "112" => return Err("polar coordinates are not supported"),
+        // The pole of polar coordinates ([`super::polar`]), taken out of the block by the reader.
+        "110" => "110",
+        "111" => "111",
+        "112" => "112",
         "25" | "26" | "74" | "75" => return Err("working-area limits and reference-point moves are not supported"),
         "140" | "141" | "142" | "143" | "147" | "148" | "247" | "248" | "347" | "348" | "340" | "341" => return Err("smooth approach and retraction (SAR) is not read"),
         "33" | "331" | "332" | "63" => return Err("threading and tapping are not supported"),

@@ -229,6 +229,9 @@ pub(crate) struct Lexed<'a> {
     pub through: super::circles::Through,
     /// `AR=`: a circle's opening angle, deg ([`super::circles::opening`]).
     pub ar: super::circles::Opening,
+    /// `AP=` and `RP=`: polar angle (deg) and radius ([`super::polar`]).
+    pub ap: super::polar::PolarWord,
+    pub rp: super::polar::PolarWord,
 }
 
 /// Where the expression that starts at byte `start` ends: at a blank or `;` outside brackets and
@@ -340,7 +343,7 @@ pub(super) fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
 pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: &mut Vars, diags: &mut Diags) -> Lexed<'a> {
     let b = src.as_bytes();
     let n = b.len();
-    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None, frame_g: None, call_l: None, through: [None; 3], ar: None };
+    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None, frame_g: None, call_l: None, through: [None; 3], ar: None, ap: None, rp: None };
     let mut vec3: [Option<f64>; 3] = [None; 3];
     let mut vec_col = 0;
     let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
@@ -466,7 +469,7 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
                 i += 1;
             }
             // AC()/IC() dimension an axis or a circle centre's word; anywhere else they are refused.
-            let dimensioned_word = matches!(address.as_ref(), "X" | "Y" | "Z" | "A" | "B" | "C" | "I" | "J" | "K" | "I1" | "J1" | "K1");
+            let dimensioned_word = matches!(address.as_ref(), "X" | "Y" | "Z" | "A" | "B" | "C" | "I" | "J" | "K" | "I1" | "J1" | "K1" | "AP");
             let trimmed = text.trim();
             match parse_number(trimmed) {
                 Some(x) => (x, trimmed),
@@ -557,6 +560,8 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             }
             "CR" => out.words.push(word('R', value, text.into())),
             "AR" if with_eq => out.ar = Some((value, col)),
+            "AP" if with_eq => out.ap = Some((value, dimension, col)),
+            "RP" if with_eq => out.rp = Some((value, dimension, col)),
             "I1" | "J1" | "K1" if with_eq => out.through[usize::from(address.as_bytes()[0] - b'I')] = Some((value, dimension, col)),
             "TURN" if value.fract() == 0.0 && (0.0..1000.0).contains(&value) => out.words.push(word('P', value + 1.0, format!("{}", value + 1.0).into())),
             "TURN" => diags.error(line, col, format!("TURN={text}: expected a whole number of turns, 0 to 999")),

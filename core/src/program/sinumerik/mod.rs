@@ -33,6 +33,7 @@ mod expr;
 mod flow;
 mod frame;
 mod keywords;
+mod polar;
 mod lex;
 mod subprogram;
 mod swivel;
@@ -94,6 +95,8 @@ call_refused: Option<bool>,
     comp3d: Option<(usize, String)>,
     /// `CIP`, G group 1's circle through an intermediate point, is the modal motion ([`circles`]).
     cip: bool,
+    /// The pole and the polar angle and radius ([`polar`]).
+    polar: polar::Polar,
 }
 
 impl SinumerikReader {
@@ -116,6 +119,7 @@ impl SinumerikReader {
             ori_mks: false,
             comp3d: None,
             cip: false,
+            polar: polar::Polar::default(),
         }
     }
 
@@ -219,7 +223,7 @@ impl super::stream::LineReader for SinumerikReader {
         let lexed = lex::lex_line(text_line, &cols, line, &mut self.vars, diags);
         // A refused line's CIP does not take effect, and the motion after it is not known
         // ([`UNREAD_MOTION`]); a refused line of a CIP already in effect leaves it so.
-        let cip_before = self.cip;
+        let (cip_before, polar_before) = (self.cip, self.polar);
         let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
         // A move of its own the control makes, refused here ([`keywords::refused_move`]).
         let refused_move = lexed.refused_g.and_then(|g| keywords::refused_move(g).map(|m| (format!("G{g}"), m)));
@@ -240,6 +244,7 @@ impl super::stream::LineReader for SinumerikReader {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
                 self.cip = false;
             }
+            self.polar = polar_before;
             self.hold_refused(&lasting, frame_g, line);
             self.moved_unread_g(refused_move, axes, line);
             if let Some(l) = lexed.call_l {
@@ -308,7 +313,7 @@ impl super::stream::LineReader for SinumerikReader {
                 self.interp.moved_everywhere(line, &name, UNREAD_CALL);
             }
             self.calls_refused(&calls, line);
-            self.cip = cip_before;
+            (self.cip, self.polar) = (cip_before, polar_before);
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
                 self.cip = false;
@@ -388,7 +393,7 @@ impl SinumerikReader {
     /// Run one block's words; false (or an error in `diags`) if it is refused.
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
-        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, through, ar, .. } = lexed;
+        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, through, ar, ap, rp, .. } = lexed;
         // G group 1: CIP, or a G0-G3 (or another of the group's motions) that ends it.
         let group1 = words.iter().find(|w| w.letter == 'G' && matches!(w.raw.trim_start_matches('0'), "" | "1" | "2" | "3" | "33" | "34" | "35")).map(|w| (w.column, format!("G{}", w.raw)));
         let group1 = group1.or_else(|| keywords.iter().find(|k| UNREAD_MOTION.contains(&k.name.as_str()) && k.name != "CIP").map(|k| (k.col, k.name.clone())));
@@ -420,6 +425,41 @@ impl SinumerikReader {
         } else if let Some(c) = through.iter().flatten().next() {
             diags.error(line, c.2, "I1= J1= K1= (an intermediate point) without CIP in effect");
             return false;
+        }
+        // Polar coordinates: a pole (G110-G112), or a move by AP= RP=; a change of the working
+        // plane forgets the polar angle.
+        let (absolute, plane, unit) = self.circle_settings(&words);
+        if plane != self.interp.plane() {
+            self.polar.plane_changed();
+        }
+        let pole_g = words.iter().find(|w| w.letter == 'G' && matches!(w.value as i64, 110..=112) && w.value.fract() == 0.0).map(|w| (w.value as u32, w.column));
+        if let Some((g, g_col)) = pole_g {
+            let start = self.interp.position();
+            match self.polar.set_pole(g, g_col, &words, (ap, rp), [start[0], start[1], start[2]], plane, unit) {
+                Ok(rest) => words = rest,
+                Err((col, why)) => {
+                    diags.error(line, col, why);
+                    return false;
+                }
+            }
+        } else if ap.is_some() || rp.is_some() {
+            let col = ap.or(rp).map_or(first_col, |w| w.2);
+            let g = words.iter().rev().find(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0).map(|w| w.value);
+            let arc = match (g, self.interp.motion()) {
+                _ if self.cip || ar.is_some() => {
+                    diags.error(line, col, "AP=/RP= with CIP or AR=: a polar end point goes with G0-G3 about the pole");
+                    return false;
+                }
+                (Some(v), _) => v >= 2.0,
+                (None, m) => m.is_some_and(Motion::is_arc),
+            };
+            match self.polar.resolve(&words, (ap, rp), arc, plane, unit, absolute, col) {
+                Ok(w) => words = w,
+                Err((col, why)) => {
+                    diags.error(line, col, why);
+                    return false;
+                }
+            }
         }
         // AR=: a G2/G3 given by its opening angle, with its end point or its centre.
         if let Some((angle, col)) = ar {
