@@ -677,3 +677,29 @@ fn polar_coordinates_end_where_the_pole_and_angle_say() {
         assert!(e.len() == 1 && e[0].0 == 3 && e[0].2.contains(message), "{block}: {e:?}");
     }
 }
+
+/// CIP's review cases: a block's own G700 (inches, which the lexer gives as G20) holds for its
+/// circle, as for a G3 (the same arc, the same time); I1= twice is refused; in CIP a move of a
+/// rotary axis alone (no end point, no intermediate point) is refused naming CIP; a refused
+/// threading G331 (G group 1) ends CIP, so a later intermediate point is refused.
+#[test]
+fn cip_reads_its_own_blocks_unit_and_refuses_what_it_cannot() {
+    let time = |text: &str| {
+        let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{text}: {:#?}", errors(&p));
+        let arc = p.blocks.iter().rev().find(|b| b.arc.is_some()).unwrap();
+        (arc.motion, arc.arc.as_deref().unwrap().centre, arc.targets.x, arc.targets.y)
+    };
+    let cip = time("G17 G90 G71 G94 F10\nG1 X25.4 Y0 Z0\nG700 CIP X0 Y-1 I1=0 J1=1\n");
+    let g2 = time("G17 G90 G71 G94 F10\nG1 X25.4 Y0 Z0\nG700 G3 X0 Y-1 I=AC(0) J=AC(0)\n");
+    assert_eq!(cip.0, g2.0);
+    for k in 0..2 {
+        assert!((cip.1[k] - g2.1[k]).abs() < 1e-9, "{cip:?} {g2:?}");
+    }
+    assert_eq!((cip.2, cip.3), (g2.2, g2.3));
+    let head = "G17 G90 G71 G94 F600\nG0 X10 Y0 Z0\nCIP X0 Y-10 I1=0 J1=10\n";
+    for (tail, line, message) in [("X10 Y0 I1=-10 J1=0 J1=1\n", 4, "J1 written twice"), ("C90\n", 4, "rotary axes alone"), ("G331 Z-10 K1\nX10 Y0 I1=-10 J1=0\n", 5, "without CIP in effect")] {
+        let e = errors(&read(&format!("{head}{tail}"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+        assert!(e.iter().any(|e| e.0 == line && e.2.contains(message)), "{tail}: {e:?}");
+    }
+}

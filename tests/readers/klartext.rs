@@ -377,19 +377,50 @@ fn klartext_cr_reads_an_unsigned_radius_as_positive() {
 }
 
 /// Cycle 9's dwell as the TNC writes it in its dialog language: `DWELL 2.5`, German `V.ZEIT 2.5`,
-/// and a Hungarian shop's hyperMILL output, `V.IDO2.5` (label and time joined, as cycle 1's parts
-/// may be): each the same 2.5 s; a label without a time is refused.
+/// and a Hungarian shop's hyperMILL output, `V.IDO2.5` or `V.IDŐ2.5` (label and time joined, as
+/// cycle 1's parts may be): each the same 2.5 s; a label without a time, or a second number, is
+/// refused.
 #[test]
 fn klartext_cycle_9_reads_its_time_after_a_label_in_any_language() {
-    for label in ["DWELL 2.5", "V.ZEIT 2.5", "V.IDO2.5", "DWELL +Q5"] {
+    for label in ["DWELL 2.5", "V.ZEIT 2.5", "V.IDO2.5", "V.IDŐ2.5", "DWELL +Q5"] {
         let text = format!("0 BEGIN PGM T MM\n1 Q5 = 2.5\n2 L X+0 Y+0 Z+10 R0 F500\n3 CYCL DEF 9.0 DWELL TIME\n4 CYCL DEF 9.1 {label}\n5 END PGM T MM\n");
         let p = read(&text, Dialect::Klartext, "t.h", &ReadOptions::default());
         assert!(errors(&p).is_empty(), "{label}: {:?}", errors(&p));
         let dwells: Vec<f64> = p.blocks.iter().filter_map(|b| b.dwell_s).collect();
         assert_eq!(dwells, [2.5], "{label}");
     }
-    let p = read("0 BEGIN PGM T MM\n1 CYCL DEF 9.1 V.IDO\n2 END PGM T MM\n", Dialect::Klartext, "t.h", &ReadOptions::default());
-    assert!(errors(&p).iter().any(|e| e.0 == 2 && e.2.contains("CYCL DEF 9.1")), "{:?}", errors(&p));
+    // A label without a time, a second number, or words with digits before the time: refused.
+    for bad in ["V.IDO", "DWELL 2.5 3.5", "X+5 DWELL 2.5"] {
+        let p = read(&format!("0 BEGIN PGM T MM\n1 CYCL DEF 9.1 {bad}\n2 END PGM T MM\n"), Dialect::Klartext, "t.h", &ReadOptions::default());
+        assert!(errors(&p).iter().any(|e| e.0 == 2 && e.2.contains("CYCL DEF 9.1")), "{bad}: {:?}", errors(&p));
+    }
+}
+
+/// A cycle's parameters are the Q assignments right after its CYCL DEF, written with `~` or as
+/// blocks of their own, a comment line among them: cycle 200's `Q395=+1` (a depth to the tool's full
+/// diameter, not read) is refused in each layout. A parameter changed between the definition and
+/// the call (cycle parameters are Q parameters like any) is refused naming both values: which one
+/// the cycle takes is not in the pages at hand. `MAX` outside a cycle's lines is refused.
+#[test]
+fn klartext_cycle_parameters_follow_their_definition_in_any_layout() {
+    let params = ["Q200=2", "Q201=-10", "Q206=150", "Q202=5", "Q210=0", "Q203=0", "Q204=50", "Q211=0", "Q395=+1"];
+    let run = |def: String, between: &str| {
+        let text = format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+50 R0 FMAX\n{def}{between}9 L X+10 R0 FMAX M99\n10 END PGM T MM\n");
+        errors(&read(&text, Dialect::Klartext, "t.h", &ReadOptions::default()))
+    };
+    let tilde = format!("3 CYCL DEF 200 DRILLING ~\n{}\n", params.iter().map(|q| format!("  {q} ;P")).collect::<Vec<_>>().join(" ~\n"));
+    let blocks = format!("3 CYCL DEF 200 DRILLING\n{}", params.iter().enumerate().map(|(k, q)| format!("{} {q}\n", 4 + k)).collect::<String>());
+    let comment = tilde.replace("  Q211=0 ;P ~\n", "  Q211=0 ;P ~\n; a comment\n");
+    for def in [tilde.clone(), blocks, comment] {
+        let e = run(def.clone(), "");
+        assert!(e.len() == 1 && e[0].2.contains("Q395=1"), "{def}: {e:?}");
+    }
+    let ok = tilde.replace("Q395=+1", "Q395=+0");
+    assert!(run(ok.clone(), "").is_empty());
+    let e = run(ok.clone(), "8 FN 0: Q5 = 1\n8 Q201 = -40\n");
+    assert!(e.len() == 1 && e[0].2.contains("Q201 was -10 in the cycle's definition and is -40 at its call"), "{e:?}");
+    let e = run(ok, "8 Q208 = MAX\n");
+    assert!(e.iter().any(|e| e.2.contains("MAX (rapid traverse) is written among a cycle's parameters")), "{e:?}");
 }
 
 /// Cycle 241 SINGLE-LIP DEEP-HOLE DRILLING as a DMU shop's program has it (W5270NS01061A4.h: set-up

@@ -248,9 +248,8 @@ pub(crate) fn tnc_single_lip(c: &TncSingleLip) -> Result<Vec<TncStep>, String> {
         return Err("the deepened starting point Q379 is at or below the depth Q201".into());
     }
     let mut steps = vec![TncStep::Rapid(top)];
-    let pre = c.surface - c.start + c.clearance;
-    if c.start > 0.0 && pre < top {
-        steps.push(TncStep::Feed(pre, TncFeed::Preposition));
+    if c.start > 0.0 {
+        steps.push(TncStep::Feed(c.surface - c.start + c.clearance, TncFeed::Preposition));
     }
     steps.push(TncStep::Feed(bottom, TncFeed::Plunge));
     if c.dwell_bottom_s > 0.0 {

@@ -70,7 +70,7 @@ pub(super) fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bo
             "0" => None,
             // 9.1, its label in the control's dialog language (DWELL, V.ZEIT, ...), the time, joined
             // to it or not.
-            "1" if toks.len() >= 4 => {
+            "1" if toks.len() >= 4 && label_words(&toks[3..toks.len() - 1]) => {
                 let (last, last_col) = toks[toks.len() - 1];
                 match labelled(last, toks.len() > 4) {
                     Some((label, value)) => value_word("DWELL", value, last, last_col + label.chars().count(), line, diags).map(Kind::Dwell),
@@ -147,7 +147,7 @@ pub(super) fn cycle<'a>(toks: &[(&'a str, usize)], line: usize, defined: &mut bo
     value_word(a, rest, tok, wcol, line, diags).map(|w| Kind::Datum(k, w, incremental))
 }
 
-/// An older cycle part's last token split into its label and its value (`DIST25.000`, `V.IDO2`;
+/// An older cycle part's last token split into its label and its value (`DIST25.000`, `V.IDŐ2`;
 /// `25.000` after a label of its own, `words_before`): the value is the digits and point at the end,
 /// a Q before them, a sign before that; the label, in the control's dialog language, ends in a
 /// letter. `None` if there is no value, or no label at all.
@@ -164,8 +164,14 @@ fn labelled(last: &str, words_before: bool) -> Option<(&str, &str)> {
         i -= 1;
     }
     let (label, value) = last.split_at(i);
-    let label_ok = label.is_empty() || label.as_bytes()[label.len() - 1].is_ascii_alphabetic();
+    let label_ok = label.chars().last().is_none_or(char::is_alphabetic);
     (value.bytes().any(|c| c.is_ascii_digit()) && label_ok && (words_before || !label.is_empty())).then_some((label, value))
+}
+
+/// Whether the words before a cycle part's value are its label (`SET UP`, `DWELL`): words without a
+/// digit, no second value among them.
+fn label_words(words: &[(&str, usize)]) -> bool {
+    words.iter().all(|(w, _)| !w.bytes().any(|c| c.is_ascii_digit()))
 }
 
 /// The parts of the older cycle 1 PECKING after its name, in order: what each gives (as the
@@ -191,7 +197,7 @@ fn pecking_part<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags: &
         diags.error(line, col, format!("CYCL DEF 1.{n}: expected the {what} value"));
         return None;
     };
-    let Some((label, value)) = labelled(last, toks.len() > 4) else {
+    let Some((label, value)) = labelled(last, toks.len() > 4).filter(|_| label_words(&toks[3..toks.len() - 1])) else {
         diags.error(line, last_col, format!("CYCL DEF 1.{n}: expected the {what} (a label, then a number or a Q parameter), found '{}'", excerpt(last)));
         return None;
     };
@@ -204,6 +210,15 @@ fn pecking_part<'a>(toks: &[(&'a str, usize)], part: &str, line: usize, diags: &
         }
     }
     value_word(what, value, last, last_col + label.chars().count(), line, diags).map(|w| Kind::Pecking { part: n, value: Some(w) })
+}
+
+/// A parameter's value as a message shows it (`MAX` for rapid traverse).
+fn shown(v: f64) -> String {
+    if v.is_infinite() {
+        "MAX".into()
+    } else {
+        format!("{v}")
+    }
 }
 
 /// A TNC cycle's feeds, in the program's feed unit as written (infinite: rapid traverse, `MAX`).
@@ -234,7 +249,7 @@ impl Exec {
     /// cycle 247 selects a preset of the machine's table (its values are the operator's: the datum
     /// is taken as the workpiece's, and linear ranges are not judged); the machine maker's own
     /// cycles that move nothing are in its file; any other is refused. A drilling cycle's
-    /// parameters are the ones written after it (up to the next `CYCL DEF`).
+    /// parameters are the Q assignments that follow it, up to the first other statement.
     pub(super) fn define_cycle(&mut self, n: u32, s: &Stmt<'_>, interp: &mut Interpreter, diags: &mut Diags) {
         self.collecting_params = false;
         match n {
@@ -253,13 +268,25 @@ impl Exec {
         }
     }
 
+    /// A cycle's parameter as the call finds it: the parameter's value now (infinite for `MAX`), or
+    /// `None` if unset. Cycle parameters are Q parameters like any (TNC 320 User's Manual, "Q
+    /// parameters": Q200 to Q1199 the cycles'); one changed since the definition wrote it (a maker's
+    /// cycle between, a program's own assignment) is refused: whether the cycle takes the
+    /// definition's value or the new one is not in the pages at hand.
+    fn cycle_value(&self, name: &str) -> Result<Option<f64>, String> {
+        let now = if self.q_max.contains(name) { Some(f64::INFINITY) } else { self.q.get(name).copied() };
+        match (self.cycle_params.get(name), now) {
+            (Some(&defined), Some(v)) if defined != v => Err(format!("{name} was {} in the cycle's definition and is {} at its call: which one the cycle takes is not read", shown(defined), shown(v))),
+            (Some(_), None) => Err(format!("{name} was written in the cycle's definition and is unset at its call")),
+            (_, v) => Ok(v),
+        }
+    }
+
     /// A Q parameter a cycle needs, in SI (`scale` per program unit); why not, if unset or `MAX`.
-    /// The value its definition wrote, else the parameter's (a definition without `~` lines).
     pub(super) fn cycle_q(&self, name: &str, scale: f64) -> Result<f64, String> {
-        match self.cycle_params.get(name).or_else(|| self.q.get(name)) {
+        match self.cycle_value(name)? {
             Some(v) if v.is_finite() => Ok(v * scale),
             Some(_) => Err(format!("{name}=MAX: rapid traverse where a number is expected")),
-            None if self.q_max.contains(name) => Err(format!("{name}=MAX: rapid traverse where a number is expected")),
             None => Err(format!("{name} is not set")),
         }
     }
@@ -267,21 +294,20 @@ impl Exec {
     /// A cycle's feed parameter as written (infinite for `MAX`, rapid traverse); why not, if unset
     /// or negative.
     fn cycle_feed(&self, name: &str) -> Result<f64, String> {
-        let v = match self.cycle_params.get(name).or_else(|| self.q.get(name)) {
-            Some(v) => *v,
-            None if self.q_max.contains(name) => f64::INFINITY,
-            None => return Err(format!("{name} is not set")),
-        };
-        if v < 0.0 {
-            return Err(format!("{name}={v}: a feed must not be negative"));
+        match self.cycle_value(name)? {
+            Some(v) if v < 0.0 => Err(format!("{name}={v}: a feed must not be negative")),
+            Some(v) => Ok(v),
+            None => Err(format!("{name} is not set")),
         }
-        Ok(v)
     }
 
     /// A parameter newer software added to a cycle, if its definition writes it (older programs'
-    /// definitions do not).
-    fn cycle_opt(&self, name: &str) -> Option<f64> {
-        self.cycle_params.get(name).copied()
+    /// definitions do not, and another cycle's value of it is not this cycle's).
+    fn cycle_opt(&self, name: &str) -> Result<Option<f64>, String> {
+        if !self.cycle_params.contains_key(name) {
+            return Ok(None);
+        }
+        self.cycle_value(name)
     }
 
     /// A block of the older cycle 1 PECKING: `1.0` begins it (and replaces the cycle defined
@@ -327,7 +353,7 @@ impl Exec {
         }
         // Q395 DEPTH REFERENCE 1: the depth is to the tool's full diameter, deeper by its point's
         // length, which the program does not give.
-        if matches!(n, 200 | 203) && self.cycle_opt("Q395").is_some_and(|v| v != 0.0) {
+        if matches!(n, 200 | 203) && self.cycle_opt("Q395")?.is_some_and(|v| v != 0.0) {
             return Err("Q395=1: a depth to the tool's full diameter (deeper by its point's length) is not read".into());
         }
         // Q206 FEED RATE FOR PLUNGING (cycle 207 has none: its feed is the pitch at the speed).
@@ -345,7 +371,7 @@ impl Exec {
             203 => {
                 let breaks = self.cycle_q("Q213", 1.0)?;
                 if !(breaks >= 0.0 && breaks.fract() == 0.0 && breaks <= f64::from(u32::MAX)) {
-                    return Err(format!("Q213={breaks}: the number of chip breaks must be a whole number, 0 or more"));
+                    return Err(format!("Q213={breaks}: the number of chip breaks is a whole number from 0 to {}", u32::MAX));
                 }
                 let c = TncUniversal {
                     surface,
@@ -367,13 +393,13 @@ impl Exec {
                 // What later software added to the cycle, read only where it changes nothing: a
                 // dwell depth (Q435), infeeds (Q202 less than the depth) and the feed factor after
                 // the dwell depth (Q401) are not in the pages at hand.
-                if let Some(v) = self.cycle_opt("Q435").filter(|v| *v != 0.0) {
+                if let Some(v) = self.cycle_opt("Q435")?.filter(|v| *v != 0.0) {
                     return Err(format!("Q435={v}: a dwell depth is not read"));
                 }
-                if let Some(v) = self.cycle_opt("Q202").filter(|v| *v != 0.0 && v.abs() * unit < -depth) {
+                if let Some(v) = self.cycle_opt("Q202")?.filter(|v| *v != 0.0 && v.abs() * unit < -depth) {
                     return Err(format!("Q202={v}: infeeds less than the depth are not read"));
                 }
-                if let Some(v) = self.cycle_opt("Q401").filter(|v| *v != 100.0) {
+                if let Some(v) = self.cycle_opt("Q401")?.filter(|v| *v != 100.0) {
                     return Err(format!("Q401={v}: a feed factor other than 100% is not read"));
                 }
                 let start = q("Q379")?;
@@ -403,7 +429,10 @@ impl Exec {
                 (tnc_hole(&h), Feeds::one(pitch * speed.abs()))
             }
         };
-        if !(feeds.plunge > 0.0 && feeds.plunge.is_finite()) {
+        if feeds.plunge.is_infinite() {
+            return Err("its feed is MAX: drilling at rapid traverse is not read".into());
+        }
+        if !(feeds.plunge > 0.0) {
             return Err("the cycle's feed is not positive".into());
         }
         // Each plunge makes blocks: a plunging depth a thousand times too small is a typo (and

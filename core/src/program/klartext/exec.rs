@@ -32,11 +32,13 @@ pub(super) struct Exec {
     pub(super) q: HashMap<String, f64>,
     /// Q parameters a cycle's parameters set to `MAX` (rapid traverse): no number, a feed only.
     pub(super) q_max: std::collections::HashSet<String>,
-    /// The parameters written in the definition of the drilling cycle defined last, with their
-    /// values there (infinite: `MAX`): a cycle's optional parameter counts only if its definition
-    /// writes it (another cycle's value, such as a maker's cycle's Q395, is not its).
+    /// The parameters written in the definition of the drilling cycle defined last (the Q
+    /// assignments right after its `CYCL DEF`), with their values there (infinite: `MAX`): a
+    /// cycle's optional parameter counts only if its definition writes it (another cycle's value,
+    /// such as a maker's cycle's Q395, is not its), and one changed before the call is refused.
     pub(super) cycle_params: HashMap<String, f64>,
-    /// The `CYCL DEF` read last is that drilling cycle: its parameters go to `cycle_params`.
+    /// The statements read since the last `CYCL DEF`, a drilling cycle's, are Q assignments: the
+    /// next one is its parameter too.
     pub(super) collecting_params: bool,
     /// The machine, for tilted working planes (its kinematics and limits).
     pub(super) machine: Option<std::sync::Arc<crate::machine::Machine>>,
@@ -136,6 +138,10 @@ impl Exec {
     /// [`Exec::run`], which holds contour elements for the corners between them.
     pub(super) fn step<'a>(&mut self, s: &Stmt<'a>, interp: &mut Interpreter, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let unit = interp.unit();
+        // A drilling cycle's parameters are the Q assignments right after its CYCL DEF.
+        if !matches!(s.kind, Kind::Assign { .. } | Kind::AssignMax { .. } | Kind::CycleDef(_)) {
+            self.collecting_params = false;
+        }
         // The cycle 7 before this statement set some axes to 0 in a tilted plane and left a shift:
         // whether the TNC zeroes those axes in the tilted system or the workpiece's is not read.
         if !matches!(s.kind, Kind::Datum(..)) {
@@ -179,13 +185,15 @@ impl Exec {
         }
         // Statements that set state and run no block.
         match &s.kind {
-            Kind::Assign { name, formula, cycle } => {
+            Kind::Assign { name, formula } => {
                 match self.formula(formula, s.line, s.col, diags) {
                     Some(v) => {
                         self.q.insert(name.clone(), v);
                         self.q_max.remove(name);
-                        if *cycle && self.collecting_params {
-                            self.cycle_params.insert(name.clone(), v);
+                        // The first value the definition's lines give: a second assignment
+                        // after them is a change its call sees ([`Exec::cycle_value`]).
+                        if self.collecting_params {
+                            self.cycle_params.entry(name.clone()).or_insert(v);
                         }
                     }
                     None => diags.warning(s.line, s.col, format!("block {} not used", label(s.number, s.line))),
@@ -196,7 +204,7 @@ impl Exec {
                 self.q.remove(name);
                 self.q_max.insert(name.clone());
                 if self.collecting_params {
-                    self.cycle_params.insert(name.clone(), f64::INFINITY);
+                    self.cycle_params.entry(name.clone()).or_insert(f64::INFINITY);
                 }
                 return false;
             }

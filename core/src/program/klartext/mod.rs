@@ -147,9 +147,8 @@ enum Kind<'a> {
     Tolerance { linear: Option<KWord<'a>>, rotary: Option<KWord<'a>>, reset: bool },
     Label(&'a str),
     Call { label: &'a str, rep: Option<KWord<'a>> },
-    /// `Q1 = formula`, `FN 0..8: Q1 = ...`: the parameter and the formula that sets it; `cycle`
-    /// when it is one of the parameters a `CYCL DEF` goes on with (on its `~` lines).
-    Assign { name: String, formula: Cow<'a, str>, cycle: bool },
+    /// `Q1 = formula`, `FN 0..8: Q1 = ...`: the parameter and the formula that sets it.
+    Assign { name: String, formula: Cow<'a, str> },
     /// `Q208=MAX` in a cycle's parameters: a feed at rapid traverse (FMAX).
     AssignMax { name: String },
     /// `FN 9..12: IF a EQU|NE|GT|LT b GOTO LBL n`.

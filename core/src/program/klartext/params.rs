@@ -58,19 +58,19 @@ pub(super) fn assign<'a>(raw: &'a str, toks: &[(&'a str, usize)], in_cycle: bool
         diags.error(line, col, format!("'{}': expected a Q parameter name such as Q1", excerpt(lhs.trim())));
         return None;
     };
-    if in_cycle && rhs.trim().eq_ignore_ascii_case("MAX") {
-        return Some(Kind::AssignMax { name });
+    if rhs.trim().eq_ignore_ascii_case("MAX") {
+        if in_cycle {
+            return Some(Kind::AssignMax { name });
+        }
+        diags.error(line, col, format!("{name} = MAX: MAX (rapid traverse) is written among a cycle's parameters, the lines after its CYCL DEF that end in '~'"));
+        return None;
     }
-    let kind = formula_kind(name, Cow::Borrowed(rhs.trim()), line, col + text.find('=').map_or(0, |k| k + 1), diags);
-    match kind {
-        Some(Kind::Assign { name, formula, .. }) => Some(Kind::Assign { name, formula, cycle: in_cycle }),
-        other => other,
-    }
+    formula_kind(name, Cow::Borrowed(rhs.trim()), line, col + text.find('=').map_or(0, |k| k + 1), diags)
 }
 
 pub(super) fn formula_kind<'a>(name: String, formula: Cow<'a, str>, line: usize, col: usize, diags: &mut Diags) -> Option<Kind<'a>> {
     match formula::check(&formula) {
-        Ok(()) => Some(Kind::Assign { name, formula, cycle: false }),
+        Ok(()) => Some(Kind::Assign { name, formula }),
         Err(e) => {
             diags.error(line, col + e.at, format!("{name} = {}: {}", excerpt(&formula), e.message));
             None

@@ -36,19 +36,26 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
     let written = |k: usize| words.iter().find(|w| w.letter == ['X', 'Y', 'Z'][k]);
     let moves = (0..3).any(|k| written(k).is_some());
     let through_col = through.iter().flatten().map(|t| t.2).min();
+    let rotary = words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C'));
     let Some(through_col) = through_col else {
-        return if moves { Err((col, "CIP: a move without its intermediate point (I1= J1= K1=): every CIP block gives one".into())) } else { Ok(None) };
+        return if moves {
+            Err((col, "CIP: a move without its intermediate point (I1= J1= K1=): every CIP block gives one".into()))
+        } else if rotary {
+            Err((col, "CIP: a move of the rotary axes alone, without an end point (X Y Z) and intermediate point: every CIP block gives both".into()))
+        } else {
+            Ok(None)
+        };
     };
     if !moves {
         return Err((through_col, "CIP: an intermediate point without an end point (X Y Z)".into()));
     }
     if let Some(w) = words.iter().find(|w| matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P')) {
-        let what = match w.letter {
-            'R' => "CR=",
-            'P' => "TURN=",
-            c => return Err((w.column, format!("CIP with {c}{}: a circle through an intermediate point takes no centre", w.raw))),
+        let why = match w.letter {
+            'R' => "CR=: a circle through an intermediate point takes no radius".to_string(),
+            'P' => "TURN=: a circle through an intermediate point takes no turns".to_string(),
+            c => format!("{c}{}: a circle through an intermediate point takes no centre", w.raw),
         };
-        return Err((w.column, format!("CIP with {what}: a circle through an intermediate point takes no {}", if what == "CR=" { "radius" } else { "turns" })));
+        return Err((w.column, format!("CIP with {why}")));
     }
     let end: [f64; 3] = std::array::from_fn(|k| match written(k) {
         Some(w) if w.dimension.absolute(absolute) => w.value * unit,
@@ -76,7 +83,7 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
     let (p, q, r) = ([start[a], start[b]], [mid[a], mid[b]], [end[a], end[b]]);
     let d = 2.0 * (p[0] * (q[1] - r[1]) + q[0] * (r[1] - p[1]) + r[0] * (p[1] - q[1]));
     let chord = (r[0] - p[0]).hypot(r[1] - p[1]).max((q[0] - p[0]).hypot(q[1] - p[1]));
-    if !(d.abs() > 1e-12 * chord * chord) || chord == 0.0 {
+    if !(d.abs() > 1e-12 * chord * chord) {
         return Err((through_col, "CIP: the start, intermediate and end points lie on one line (or two of them coincide): no circle".into()));
     }
     let sq = |s: [f64; 2]| s[0] * s[0] + s[1] * s[1];

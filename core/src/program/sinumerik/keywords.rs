@@ -15,8 +15,8 @@ pub(super) const READ_KEYWORDS: [&str; 32] = [
     "CIP", "STOPRE", "TRAORI", "TRAFOOF", "ORIWKS", "ORIVECT", "ORIPLANE", "ORIMKS", "ORIAXES", "ORIROTA", "ORIEULER", "ORIRPY", "SOFT", "BRISK", "FFWON", "FFWOF", "FNORM", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "MSG", "SETMS", "EXTERN", "TRANS", "ATRANS", "ROT", "AROT", "SUPA", "MCALL", "CUT2D", "CDOF",
 ];
 
-/// The modal motions of G group 1 that are not read (splines, polynomials, `CT`), and `CIP` when its
-/// line is refused: after one, a move must give its own G0-G3
+/// The modal motions of G group 1 whose line is refused (splines, polynomials and `CT`, not read;
+/// `CIP`, read, on a line refused for another reason): after one, a move must give its own G0-G3
 /// ([`crate::program::interp::Interpreter::forget_motion`]).
 pub(super) const UNREAD_MOTION: [&str; 6] = ["BSPLINE", "ASPLINE", "CSPLINE", "POLY", "CIP", "CT"];
 

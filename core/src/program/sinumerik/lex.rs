@@ -562,7 +562,13 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
             "AR" if with_eq => out.ar = Some((value, col)),
             "AP" if with_eq => out.ap = Some((value, dimension, col)),
             "RP" if with_eq => out.rp = Some((value, dimension, col)),
-            "I1" | "J1" | "K1" if with_eq => out.through[usize::from(address.as_bytes()[0] - b'I')] = Some((value, dimension, col)),
+            "I1" | "J1" | "K1" if with_eq => {
+                let k = usize::from(address.as_bytes()[0] - b'I');
+                if out.through[k].is_some() {
+                    diags.error(line, col, format!("{address} written twice in one block"));
+                }
+                out.through[k] = Some((value, dimension, col));
+            }
             "TURN" if value.fract() == 0.0 && (0.0..1000.0).contains(&value) => out.words.push(word('P', value + 1.0, format!("{}", value + 1.0).into())),
             "TURN" => diags.error(line, col, format!("TURN={text}: expected a whole number of turns, 0 to 999")),
             "RPL" => out.rpl = Some((value, col)),

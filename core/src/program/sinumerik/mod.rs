@@ -146,9 +146,10 @@ impl SinumerikReader {
         } else {
             self.interp.plane()
         };
-        let unit = if g(70.0) || g(700.0) {
+        // (The lexer gives G700/G710 as G20/G21.)
+        let unit = if g(70.0) || g(20.0) {
             crate::units::INCH
-        } else if g(71.0) || g(710.0) {
+        } else if g(71.0) || g(21.0) {
             MM
         } else {
             self.interp.unit()
@@ -227,6 +228,8 @@ impl super::stream::LineReader for SinumerikReader {
         let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
         // A move of its own the control makes, refused here ([`keywords::refused_move`]).
         let refused_move = lexed.refused_g.and_then(|g| keywords::refused_move(g).map(|m| (format!("G{g}"), m)));
+        // A refused motion of G group 1 (threading G33 ...) ends CIP on the control as any of the group does.
+        let refused_group1 = lexed.refused_g.is_some_and(|g| matches!(g.trim_start_matches('0'), "33" | "331" | "332" | "34" | "35" | "63"));
         // Statements that end a hold (not TRANS and ROT, which stand alone), and the axial offsets
         // G58/G59 (the programmable frame's translation, refused: held as a frame).
         let ends: Vec<String> = lexed.keywords.iter().filter(|k| !matches!(k.name.as_str(), "TRANS" | "ROT") && LASTING.iter().any(|l| l.ends.contains(&k.name.as_str()))).map(|k| k.name.to_string()).collect();
@@ -245,6 +248,9 @@ impl super::stream::LineReader for SinumerikReader {
                 self.cip = false;
             }
             self.polar = polar_before;
+            if refused_group1 {
+                self.cip = false;
+            }
             self.hold_refused(&lasting, frame_g, line);
             self.moved_unread_g(refused_move, axes, line);
             if let Some(l) = lexed.call_l {
@@ -314,6 +320,9 @@ impl super::stream::LineReader for SinumerikReader {
             }
             self.calls_refused(&calls, line);
             (self.cip, self.polar) = (cip_before, polar_before);
+            if refused_group1 {
+                self.cip = false;
+            }
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
                 self.cip = false;
@@ -395,7 +404,7 @@ impl SinumerikReader {
         let errors_before = diags.errors();
         let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, through, ar, ap, rp, .. } = lexed;
         // G group 1: CIP, or a G0-G3 (or another of the group's motions) that ends it.
-        let group1 = words.iter().find(|w| w.letter == 'G' && matches!(w.raw.trim_start_matches('0'), "" | "1" | "2" | "3" | "33" | "34" | "35")).map(|w| (w.column, format!("G{}", w.raw)));
+        let group1 = words.iter().find(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0).map(|w| (w.column, format!("G{}", w.raw)));
         let group1 = group1.or_else(|| keywords.iter().find(|k| UNREAD_MOTION.contains(&k.name.as_str()) && k.name != "CIP").map(|k| (k.col, k.name.clone())));
         if let Some(p) = keywords.iter().position(|k| k.name == "CIP") {
             if let Some((col, other)) = &group1 {
