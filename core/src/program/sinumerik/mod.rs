@@ -403,22 +403,27 @@ impl SinumerikReader {
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
         let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, through, ar, ap, rp, .. } = lexed;
-        // G group 1: CIP, or a G0-G3 (or another of the group's motions) that ends it.
-        let group1 = words.iter().find(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0).map(|w| (w.column, format!("G{}", w.raw)));
-        let group1 = group1.or_else(|| keywords.iter().find(|k| UNREAD_MOTION.contains(&k.name.as_str()) && k.name != "CIP").map(|k| (k.col, k.name.clone())));
-        if let Some(p) = keywords.iter().position(|k| k.name == "CIP") {
-            if let Some((col, other)) = &group1 {
-                diags.error(line, *col, format!("{other} with CIP in one block: G group 1 takes one motion"));
-                return false;
+        // CIP, where one is written or in effect (most blocks: neither, and nothing here to do).
+        let cip_written = !keywords.is_empty() && keywords.iter().any(|k| k.name == "CIP");
+        if self.cip || cip_written {
+            // G group 1: a G0-G3 (or another of the group's motions) ends CIP.
+            let group1 = words.iter().position(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0);
+            let other = keywords.iter().position(|k| UNREAD_MOTION.contains(&k.name.as_str()) && k.name != "CIP");
+            if let Some(p) = keywords.iter().position(|k| k.name == "CIP") {
+                let clash = group1.map(|g| (words[g].column, format!("G{}", words[g].raw))).or_else(|| other.map(|k| (keywords[k].col, keywords[k].name.clone())));
+                if let Some((col, other)) = clash {
+                    diags.error(line, col, format!("{other} with CIP in one block: G group 1 takes one motion"));
+                    return false;
+                }
+                if keywords[p].args.is_some() {
+                    diags.error(line, keywords[p].col, "CIP(: CIP takes no arguments");
+                    return false;
+                }
+                keywords.remove(p);
+                self.cip = true;
+            } else if group1.is_some() || other.is_some() {
+                self.cip = false;
             }
-            if keywords[p].args.is_some() {
-                diags.error(line, keywords[p].col, "CIP(: CIP takes no arguments");
-                return false;
-            }
-            keywords.remove(p);
-            self.cip = true;
-        } else if group1.is_some() {
-            self.cip = false;
         }
         if self.cip {
             let (absolute, plane, unit) = self.circle_settings(&words);
@@ -437,12 +442,12 @@ impl SinumerikReader {
         }
         // Polar coordinates: a pole (G110-G112), or a move by AP= RP=; a change of the working
         // plane forgets the polar angle.
-        let (absolute, plane, unit) = self.circle_settings(&words);
-        if plane != self.interp.plane() {
+        if words.iter().any(|w| w.letter == 'G' && matches!(w.value as i64, 17..=19)) && self.circle_settings(&words).1 != self.interp.plane() {
             self.polar.plane_changed();
         }
         let pole_g = words.iter().find(|w| w.letter == 'G' && matches!(w.value as i64, 110..=112) && w.value.fract() == 0.0).map(|w| (w.value as u32, w.column));
         if let Some((g, g_col)) = pole_g {
+            let (_, plane, unit) = self.circle_settings(&words);
             let start = self.interp.position();
             match self.polar.set_pole(g, g_col, &words, (ap, rp), [start[0], start[1], start[2]], plane, unit) {
                 Ok(rest) => words = rest,
@@ -452,6 +457,7 @@ impl SinumerikReader {
                 }
             }
         } else if ap.is_some() || rp.is_some() {
+            let (absolute, plane, unit) = self.circle_settings(&words);
             let col = ap.or(rp).map_or(first_col, |w| w.2);
             let g = words.iter().rev().find(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0).map(|w| w.value);
             let arc = match (g, self.interp.motion()) {
