@@ -225,11 +225,18 @@ pub(crate) struct Lexed<'a> {
     pub frame_g: Option<&'a str>,
     /// `L47` among other words (refused): the program it calls, which the control runs.
     pub call_l: Option<&'a str>,
-    /// `I1=`, `J1=`, `K1=`: a `CIP` circle's intermediate point ([`super::circles`]).
+    /// The words of circles given otherwise and of polar coordinates, boxed: few lines have them.
+    pub circle: Option<Box<CircleWords>>,
+}
+
+/// A line's words of [`super::circles`] and [`super::polar`].
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct CircleWords {
+    /// `I1=`, `J1=`, `K1=`: a `CIP` circle's intermediate point.
     pub through: super::circles::Through,
-    /// `AR=`: a circle's opening angle, deg ([`super::circles::opening`]).
+    /// `AR=`: a circle's opening angle, deg.
     pub ar: super::circles::Opening,
-    /// `AP=` and `RP=`: polar angle (deg) and radius ([`super::polar`]).
+    /// `AP=` and `RP=`: polar angle (deg) and radius.
     pub ap: super::polar::PolarWord,
     pub rp: super::polar::PolarWord,
 }
@@ -343,7 +350,7 @@ pub(super) fn arguments_end(b: &[u8], open: usize) -> Option<usize> {
 pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: &mut Vars, diags: &mut Diags) -> Lexed<'a> {
     let b = src.as_bytes();
     let n = b.len();
-    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None, frame_g: None, call_l: None, through: [None; 3], ar: None, ap: None, rp: None };
+    let mut out = Lexed { words: Vec::with_capacity(8), number: None, keywords: Vec::new(), vector: None, edge: None, rpl: None, disc: None, offn: None, corner: Default::default(), refused_g: None, frame_g: None, call_l: None, circle: None };
     let mut vec3: [Option<f64>; 3] = [None; 3];
     let mut vec_col = 0;
     let mut i = src.find(|c: char| !c.is_whitespace()).unwrap_or(n);
@@ -559,15 +566,16 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
                 vec_col = if vec_col == 0 { col } else { vec_col };
             }
             "CR" => out.words.push(word('R', value, text.into())),
-            "AR" if with_eq => out.ar = Some((value, col)),
-            "AP" if with_eq => out.ap = Some((value, dimension, col)),
-            "RP" if with_eq => out.rp = Some((value, dimension, col)),
+            "AR" if with_eq => out.circle.get_or_insert_default().ar = Some((value, col)),
+            "AP" if with_eq => out.circle.get_or_insert_default().ap = Some((value, dimension, col)),
+            "RP" if with_eq => out.circle.get_or_insert_default().rp = Some((value, dimension, col)),
             "I1" | "J1" | "K1" if with_eq => {
                 let k = usize::from(address.as_bytes()[0] - b'I');
-                if out.through[k].is_some() {
+                let c = out.circle.get_or_insert_default();
+                if c.through[k].is_some() {
                     diags.error(line, col, format!("{address} written twice in one block"));
                 }
-                out.through[k] = Some((value, dimension, col));
+                c.through[k] = Some((value, dimension, col));
             }
             "TURN" if value.fract() == 0.0 && (0.0..1000.0).contains(&value) => out.words.push(word('P', value + 1.0, format!("{}", value + 1.0).into())),
             "TURN" => diags.error(line, col, format!("TURN={text}: expected a whole number of turns, 0 to 999")),

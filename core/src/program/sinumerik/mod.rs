@@ -399,12 +399,13 @@ impl SinumerikReader {
         true
     }
 
-    /// Run one block's words; false (or an error in `diags`) if it is refused.
-    fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
-        let errors_before = diags.errors();
-        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, through, ar, ap, rp, .. } = lexed;
+    /// A block's circle forms and polar coordinates ([`circles`], [`polar`]) turned into the G2/G3
+    /// and Cartesian words they give, in `words`; false (an error in `diags`) if refused.
+    #[inline(never)]
+    fn circle_forms(&mut self, words: &mut Vec<Word<'_>>, keywords: &mut Vec<lex::Keyword<'_>>, circle: lex::CircleWords, line: usize, first_col: usize, diags: &mut Diags) -> bool {
+        let lex::CircleWords { through, ar, ap, rp } = circle;
         // CIP, where one is written or in effect (most blocks: neither, and nothing here to do).
-        let cip_written = !keywords.is_empty() && keywords.iter().any(|k| k.name == "CIP");
+        let cip_written = keywords.iter().any(|k| k.name == "CIP");
         if self.cip || cip_written {
             // G group 1: a G0-G3 (or another of the group's motions) ends CIP.
             let group1 = words.iter().position(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0);
@@ -426,10 +427,10 @@ impl SinumerikReader {
             }
         }
         if self.cip {
-            let (absolute, plane, unit) = self.circle_settings(&words);
+            let (absolute, plane, unit) = self.circle_settings(words);
             let start = self.interp.position();
-            match circles::through(&words, &through, [start[0], start[1], start[2]], plane, unit, absolute, first_col) {
-                Ok(Some(arc)) => words = arc,
+            match circles::through(words, &through, [start[0], start[1], start[2]], plane, unit, absolute, first_col) {
+                Ok(Some(arc)) => *words = arc,
                 Ok(None) => {}
                 Err((col, why)) => {
                     diags.error(line, col, why);
@@ -442,22 +443,22 @@ impl SinumerikReader {
         }
         // Polar coordinates: a pole (G110-G112), or a move by AP= RP=; a change of the working
         // plane forgets the polar angle.
-        if words.iter().any(|w| w.letter == 'G' && matches!(w.value as i64, 17..=19)) && self.circle_settings(&words).1 != self.interp.plane() {
+        if words.iter().any(|w| w.letter == 'G' && matches!(w.value as i64, 17..=19)) && self.circle_settings(words).1 != self.interp.plane() {
             self.polar.plane_changed();
         }
         let pole_g = words.iter().find(|w| w.letter == 'G' && matches!(w.value as i64, 110..=112) && w.value.fract() == 0.0).map(|w| (w.value as u32, w.column));
         if let Some((g, g_col)) = pole_g {
-            let (_, plane, unit) = self.circle_settings(&words);
+            let (_, plane, unit) = self.circle_settings(words);
             let start = self.interp.position();
             match self.polar.set_pole(g, g_col, &words, (ap, rp), [start[0], start[1], start[2]], plane, unit) {
-                Ok(rest) => words = rest,
+                Ok(rest) => *words = rest,
                 Err((col, why)) => {
                     diags.error(line, col, why);
                     return false;
                 }
             }
         } else if ap.is_some() || rp.is_some() {
-            let (absolute, plane, unit) = self.circle_settings(&words);
+            let (absolute, plane, unit) = self.circle_settings(words);
             let col = ap.or(rp).map_or(first_col, |w| w.2);
             let g = words.iter().rev().find(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0).map(|w| w.value);
             let arc = match (g, self.interp.motion()) {
@@ -468,8 +469,8 @@ impl SinumerikReader {
                 (Some(v), _) => v >= 2.0,
                 (None, m) => m.is_some_and(Motion::is_arc),
             };
-            match self.polar.resolve(&words, (ap, rp), arc, plane, unit, absolute, col) {
-                Ok(w) => words = w,
+            match self.polar.resolve(words, (ap, rp), arc, plane, unit, absolute, col) {
+                Ok(w) => *words = w,
                 Err((col, why)) => {
                     diags.error(line, col, why);
                     return false;
@@ -490,15 +491,30 @@ impl SinumerikReader {
                 diags.error(line, col, format!("AR={angle}: an opening angle belongs to a circle, G2 or G3"));
                 return false;
             };
-            let (absolute, plane, unit) = self.circle_settings(&words);
+            let (absolute, plane, unit) = self.circle_settings(words);
             let start = self.interp.position();
-            match circles::opening(&words, (angle, col), ccw, [start[0], start[1], start[2]], plane, unit, absolute) {
-                Ok(arc) => words = arc,
+            match circles::opening(words, (angle, col), ccw, [start[0], start[1], start[2]], plane, unit, absolute) {
+                Ok(arc) => *words = arc,
                 Err((col, why)) => {
                     diags.error(line, col, why);
                     return false;
                 }
             }
+        }
+        true
+    }
+
+    /// Run one block's words; false (or an error in `diags`) if it is refused.
+    fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
+        let errors_before = diags.errors();
+        let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, circle, .. } = lexed;
+        // CIP, AR=, polar coordinates: where a block writes them or CIP is in effect (most blocks:
+        // none, and nothing to do).
+        let cip_written = !keywords.is_empty() && keywords.iter().any(|k| k.name == "CIP");
+        if (self.cip || cip_written || circle.is_some() || words.iter().any(|w| w.letter == 'G' && matches!(w.value as i64, 17..=19 | 110..=112)))
+            && !self.circle_forms(&mut words, &mut keywords, circle.map(|c| *c).unwrap_or_default(), line, first_col, diags)
+        {
+            return false;
         }
         if corner.any() || self.corners.busy() {
             self.corners.take(corner, line, first_col, number);
