@@ -21,6 +21,10 @@ use std::borrow::Cow;
 /// column.
 pub(super) type Through = [Option<(f64, Dimension, usize)>; 3];
 
+/// The axes' and the circle centre's addresses, by axis (X Y Z, I J K).
+pub(super) const AXES: [char; 3] = ['X', 'Y', 'Z'];
+pub(super) const CENTRES: [char; 3] = ['I', 'J', 'K'];
+
 /// The intermediate point's addresses, by axis.
 const NAMES: [&str; 3] = ["I1", "J1", "K1"];
 
@@ -33,7 +37,7 @@ const IN_PLANE: f64 = 1e-7;
 /// writes no intermediate point (a feed, a function: no circle). The error and its column, if the
 /// three points give no circle in the working plane.
 pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3], plane: Plane, unit: f64, absolute: bool, col: usize) -> Result<Option<Vec<Word<'a>>>, (usize, String)> {
-    let written = |k: usize| words.iter().find(|w| w.letter == ['X', 'Y', 'Z'][k]);
+    let written = |k: usize| words.iter().find(|w| w.letter == AXES[k]);
     let moves = (0..3).any(|k| written(k).is_some());
     let through_col = through.iter().flatten().map(|t| t.2).min();
     let rotary = words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C'));
@@ -76,7 +80,7 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
         None => start[k],
     });
     if (mid[n] - start[n]).abs() > IN_PLANE || (end[n] - start[n]).abs() > IN_PLANE {
-        return Err((through_col, format!("CIP: the start, intermediate and end points are not at one {} (a circle inclined to the working plane is not read)", ['X', 'Y', 'Z'][n])));
+        return Err((through_col, format!("CIP: the start, intermediate and end points are not at one {} (a circle inclined to the working plane is not read)", AXES[n])));
     }
     // The circle through three points of the plane: its centre is where the perpendicular
     // bisectors of start-mid and mid-end meet.
@@ -101,7 +105,7 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
     out.push(Word { letter: 'G', value: g, raw: Cow::Owned(format!("{g}")), column: col, dimension: Dimension::Modal });
     for (k, c) in [(a, centre[0]), (b, centre[1])] {
         let v = (c - start[k]) / unit;
-        out.push(Word { letter: ['I', 'J', 'K'][k], value: v, raw: Cow::Owned(format!("{v}")), column: through_col, dimension: Dimension::Incremental });
+        out.push(Word { letter: CENTRES[k], value: v, raw: Cow::Owned(format!("{v}")), column: through_col, dimension: Dimension::Incremental });
     }
     Ok(Some(out))
 }
@@ -123,8 +127,8 @@ pub(super) fn opening<'a>(words: &[Word<'a>], (ar, ar_col): (f64, usize), ccw: b
         return Err((w.column, "AR= with CR=: the circle is given by one of them".into()));
     }
     let (a, b, n) = plane.axes();
-    let axis = |k: usize| words.iter().find(|w| w.letter == ['X', 'Y', 'Z'][k]);
-    let centre_word = |k: usize| words.iter().find(|w| w.letter == ['I', 'J', 'K'][k]);
+    let axis = |k: usize| words.iter().find(|w| w.letter == AXES[k]);
+    let centre_word = |k: usize| words.iter().find(|w| w.letter == CENTRES[k]);
     if let Some(w) = centre_word(n) {
         return Err((w.column, format!("{}{}: not a centre word of the working plane", w.letter, w.raw)));
     }
@@ -152,7 +156,7 @@ pub(super) fn opening<'a>(words: &[Word<'a>], (ar, ar_col): (f64, usize), ccw: b
             let centre = [0.5 * (start[a] + end[a]) - h * dv / chord, 0.5 * (start[b] + end[b]) + h * du / chord];
             for (k, c) in [(a, centre[0]), (b, centre[1])] {
                 let v = (c - start[k]) / unit;
-                out.push(Word { letter: ['I', 'J', 'K'][k], value: v, raw: Cow::Owned(format!("{v}")), column: ar_col, dimension: Dimension::Incremental });
+                out.push(Word { letter: CENTRES[k], value: v, raw: Cow::Owned(format!("{v}")), column: ar_col, dimension: Dimension::Incremental });
             }
             Ok(out)
         }
@@ -170,7 +174,7 @@ pub(super) fn opening<'a>(words: &[Word<'a>], (ar, ar_col): (f64, usize), ccw: b
             let end = [c[0] + u * cos - v * sin, c[1] + u * sin + v * cos];
             for (k, e) in [(a, end[0]), (b, end[1])] {
                 let v = e / unit;
-                out.push(Word { letter: ['X', 'Y', 'Z'][k], value: v, raw: Cow::Owned(format!("{v}")), column: ar_col, dimension: Dimension::Absolute });
+                out.push(Word { letter: AXES[k], value: v, raw: Cow::Owned(format!("{v}")), column: ar_col, dimension: Dimension::Absolute });
             }
             Ok(out)
         }

@@ -123,9 +123,6 @@ impl SinumerikReader {
         }
     }
 
-    /// Put the programmable frame in effect, inside the swivel's if one is: the interpreter's datum
-    /// and rotation follow them (the frame chain's order, K2 §2.4.5.8: `$P_PARTFRAME : ... :
-    /// $P_PFRAME`).
     /// The G90/G91, plane and length unit a circle of this block is read in: its own G90/G91,
     /// G17-G19 and G70/G71 (G700/G710), else the modal ones.
     fn circle_settings(&self, words: &[Word<'_>]) -> (bool, crate::program::Plane, f64) {
@@ -137,15 +134,7 @@ impl SinumerikReader {
         } else {
             self.interp.absolute()
         };
-        let plane = if g(17.0) {
-            crate::program::Plane::Xy
-        } else if g(18.0) {
-            crate::program::Plane::Zx
-        } else if g(19.0) {
-            crate::program::Plane::Yz
-        } else {
-            self.interp.plane()
-        };
+        let plane = plane_after(words, self.interp.plane());
         // (The lexer gives G700/G710 as G20/G21.)
         let unit = if g(70.0) || g(20.0) {
             crate::units::INCH
@@ -157,6 +146,9 @@ impl SinumerikReader {
         (absolute, plane, unit)
     }
 
+    /// Put the programmable frame in effect, inside the swivel's if one is: the interpreter's datum
+    /// and rotation follow them (the frame chain's order, K2 §2.4.5.8: `$P_PARTFRAME : ... :
+    /// $P_PFRAME`).
     fn set_frame(&mut self, frame: Frame) {
         self.frame = frame;
         let whole = match self.swivel {
@@ -228,8 +220,9 @@ impl super::stream::LineReader for SinumerikReader {
         let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
         // A move of its own the control makes, refused here ([`keywords::refused_move`]).
         let refused_move = lexed.refused_g.and_then(|g| keywords::refused_move(g).map(|m| (format!("G{g}"), m)));
-        // A refused motion of G group 1 (threading G33 ...) ends CIP on the control as any of the group does.
-        let refused_group1 = lexed.refused_g.is_some_and(|g| matches!(g.trim_start_matches('0'), "33" | "331" | "332" | "34" | "35" | "63"));
+        // A refused line leaves CIP in effect unless it has a motion of G group 1 (a spline, CT, CIP
+        // itself, or a threading G33 ...), which the control ran.
+        let ends_cip = unread_motion.is_some() || refused_move.as_ref().is_some_and(|(_, (_, _, group1))| *group1);
         // Statements that end a hold (not TRANS and ROT, which stand alone), and the axial offsets
         // G58/G59 (the programmable frame's translation, refused: held as a frame).
         let ends: Vec<String> = lexed.keywords.iter().filter(|k| !matches!(k.name.as_str(), "TRANS" | "ROT") && LASTING.iter().any(|l| l.ends.contains(&k.name.as_str()))).map(|k| k.name.to_string()).collect();
@@ -245,10 +238,8 @@ impl super::stream::LineReader for SinumerikReader {
             self.calls_refused(&calls, line);
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
-                self.cip = false;
             }
-            self.polar = polar_before;
-            if refused_group1 {
+            if ends_cip {
                 self.cip = false;
             }
             self.hold_refused(&lasting, frame_g, line);
@@ -319,13 +310,9 @@ impl super::stream::LineReader for SinumerikReader {
                 self.interp.moved_everywhere(line, &name, UNREAD_CALL);
             }
             self.calls_refused(&calls, line);
-            (self.cip, self.polar) = (cip_before, polar_before);
-            if refused_group1 {
-                self.cip = false;
-            }
+            (self.cip, self.polar) = (cip_before && !ends_cip, polar_before);
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
-                self.cip = false;
             }
             self.interp.note_feed(false, feed_word, line);
             out.truncate(blocks_before);
@@ -404,14 +391,14 @@ impl SinumerikReader {
     #[inline(never)]
     fn circle_forms(&mut self, words: &mut Vec<Word<'_>>, keywords: &mut Vec<lex::Keyword<'_>>, circle: lex::CircleWords, line: usize, first_col: usize, diags: &mut Diags) -> bool {
         let lex::CircleWords { through, ar, ap, rp } = circle;
-        // CIP, where one is written or in effect (most blocks: neither, and nothing here to do).
-        let cip_written = keywords.iter().any(|k| k.name == "CIP");
-        if self.cip || cip_written {
+        // CIP, where one is written or in effect.
+        let cip_at = keywords.iter().position(|k| k.name == "CIP");
+        if self.cip || cip_at.is_some() {
             // G group 1: a G0-G3 (or another of the group's motions) ends CIP.
-            let group1 = words.iter().position(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0);
+            let group1 = motion_g(words);
             let other = keywords.iter().position(|k| UNREAD_MOTION.contains(&k.name.as_str()) && k.name != "CIP");
-            if let Some(p) = keywords.iter().position(|k| k.name == "CIP") {
-                let clash = group1.map(|g| (words[g].column, format!("G{}", words[g].raw))).or_else(|| other.map(|k| (keywords[k].col, keywords[k].name.clone())));
+            if let Some(p) = cip_at {
+                let clash = group1.map(|g| (g.column, format!("G{}", g.raw))).or_else(|| other.map(|k| (keywords[k].col, keywords[k].name.clone())));
                 if let Some((col, other)) = clash {
                     diags.error(line, col, format!("{other} with CIP in one block: G group 1 takes one motion"));
                     return false;
@@ -450,7 +437,7 @@ impl SinumerikReader {
         if let Some((g, g_col)) = pole_g {
             let (_, plane, unit) = self.circle_settings(words);
             let start = self.interp.position();
-            match self.polar.set_pole(g, g_col, &words, (ap, rp), [start[0], start[1], start[2]], plane, unit) {
+            match self.polar.set_pole(g, g_col, words, (ap, rp), [start[0], start[1], start[2]], plane, unit) {
                 Ok(rest) => *words = rest,
                 Err((col, why)) => {
                     diags.error(line, col, why);
@@ -460,7 +447,7 @@ impl SinumerikReader {
         } else if ap.is_some() || rp.is_some() {
             let (absolute, plane, unit) = self.circle_settings(words);
             let col = ap.or(rp).map_or(first_col, |w| w.2);
-            let g = words.iter().rev().find(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0).map(|w| w.value);
+            let g = motion_g(words).map(|w| w.value);
             let arc = match (g, self.interp.motion()) {
                 _ if self.cip || ar.is_some() => {
                     diags.error(line, col, "AP=/RP= with CIP or AR=: a polar end point goes with G0-G3 about the pole");
@@ -479,7 +466,7 @@ impl SinumerikReader {
         }
         // AR=: a G2/G3 given by its opening angle, with its end point or its centre.
         if let Some((angle, col)) = ar {
-            let g = words.iter().rev().find(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0).map(|w| w.value);
+            let g = motion_g(words).map(|w| w.value);
             let ccw = match (g, self.interp.motion()) {
                 _ if self.cip => None,
                 (Some(v), _) => (v >= 2.0).then_some(v == 3.0),
@@ -921,6 +908,11 @@ impl SinumerikReader {
         self.interp.oneshot = Some(OneShot { motion, absolute: true, axes: origin, own: false });
         true
     }
+}
+
+/// The block's last G0-G3 (G group 1's motion codes the interpreter reads).
+fn motion_g<'w, 'a>(words: &'w [Word<'a>]) -> Option<&'w Word<'a>> {
+    words.iter().rev().find(|w| w.letter == 'G' && matches!(w.value as i64, 0..=3) && w.value.fract() == 0.0)
 }
 
 /// The plane G17/G18/G19 (`n`) selects.

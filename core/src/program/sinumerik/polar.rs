@@ -7,6 +7,7 @@
 //! entered"), a circle's centre the pole. Read as the Cartesian words they give, so frames,
 //! compensation and corners take them as any move.
 
+use super::circles::{AXES, CENTRES};
 use super::{Dimension, Word};
 use crate::program::Plane;
 use std::borrow::Cow;
@@ -25,9 +26,6 @@ pub(super) struct Polar {
     radius: Option<f64>,
 }
 
-/// The addresses of an axis and its centre word, by axis.
-const AXES: [char; 3] = ['X', 'Y', 'Z'];
-const CENTRES: [char; 3] = ['I', 'J', 'K'];
 
 impl Polar {
     /// The working plane changed: the angle is forgotten.
