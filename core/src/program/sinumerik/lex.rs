@@ -7,7 +7,7 @@
 
 use super::expr;
 use crate::program::interp::{Dimension, Turn, Word};
-use crate::program::lex::{excerpt, number_prefix_len, parse_number, upper, word_end, Columns, Diags};
+use crate::program::lex::{excerpt, number_prefix_len, parse_number, parse_number_prefix, upper, word_end, Columns, Diags};
 use std::borrow::Cow;
 use std::collections::HashMap;
 
@@ -241,20 +241,36 @@ pub(crate) struct CircleWords {
     pub rp: super::polar::PolarWord,
 }
 
+/// Whether a word operator (DIV, AND ...) starts at byte `j` of `b`.
+fn word_op_at(b: &[u8], j: usize) -> bool {
+    let ident = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    // (Their first letters first: the next word's address is seldom one of them.)
+    b.get(j).is_some_and(|c| matches!(c.to_ascii_uppercase(), b'D' | b'M' | b'A' | b'O' | b'X' | b'N'))
+        && ["DIV", "MOD", "AND", "OR", "XOR", "NOT"].iter().any(|op| {
+            let e = j + op.len();
+            b.get(j..e).is_some_and(|w| w.eq_ignore_ascii_case(op.as_bytes())) && !b.get(e).copied().is_some_and(ident)
+        })
+}
+
+/// Whether a number that ends at byte `e` ends the expression it starts, by [`expression_end`]'s
+/// rule: at the line's end, a `;`, or blanks not followed by an operator (`X=10 + 5` goes on).
+fn number_ends_expression(b: &[u8], e: usize) -> bool {
+    match b.get(e) {
+        None | Some(b';') => true,
+        Some(c) if c.is_ascii_whitespace() => {
+            let j = e + b[e..].iter().take_while(|c| c.is_ascii_whitespace()).count();
+            j >= b.len() || b[j] == b';' || !(b"+-*/=<>)".contains(&b[j]) || word_op_at(b, j))
+        }
+        _ => false,
+    }
+}
+
 /// Where the expression that starts at byte `start` ends: at a blank or `;` outside brackets and
 /// strings, unless an operator stands before or after the blank (`X=R1 + 5`).
 fn expression_end(b: &[u8], start: usize) -> usize {
     let n = b.len();
     let ident = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
-    // A word operator (DIV, AND ...) starting at `j`.
-    let word_op_at = |j: usize| {
-        // (Their first letters first: the next word's address is seldom one of them.)
-        b.get(j).is_some_and(|c| matches!(c.to_ascii_uppercase(), b'D' | b'M' | b'A' | b'O' | b'X' | b'N'))
-            && ["DIV", "MOD", "AND", "OR", "XOR", "NOT"].iter().any(|op| {
-                let e = j + op.len();
-                b.get(j..e).is_some_and(|w| w.eq_ignore_ascii_case(op.as_bytes())) && !b.get(e).copied().is_some_and(ident)
-            })
-    };
+    let word_op_at = |j: usize| word_op_at(b, j);
     // A word operator ending just before `j`.
     let word_op_before = |j: usize| {
         // Each ends in a letter: a value's last digit ends none.
@@ -468,7 +484,16 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
         }
         // The value: an expression after '=', else a number written straight after the address.
         let mut dimension = Dimension::Modal;
-        let (value, text): (f64, &'a str) = if with_eq {
+        // Most values are a number alone (`A3=0.1234567`, `X10.5`): read in one pass, ending where
+        // the expression or the word would; anything else takes the full path below.
+        let number = parse_number_prefix(&b[v..]).filter(|&(_, len)| {
+            let e = v + len;
+            if with_eq { number_ends_expression(b, e) } else { b.get(e).is_none_or(|&c| c.is_ascii_alphabetic() || c.is_ascii_whitespace() || c == b';') }
+        });
+        let (value, text): (f64, &'a str) = if let Some((x, len)) = number {
+            i = v + len;
+            (x, &src[v..i])
+        } else if with_eq {
             let end = expression_end(b, v);
             let text = &src[v..end];
             i = end.max(v + 1).min(n);
@@ -772,6 +797,26 @@ mod tests {
         let got: Vec<(char, f64)> = l.words.iter().map(|w| (w.letter, w.value)).collect();
         // 3 DIV 2 = 1; 3 AND 0 = 0; 10 MOD 4 = 2; A=R1 ends at its blank (A begins no operator here).
         assert_eq!(got, vec![('X', 1.0), ('Y', 0.0), ('Z', 2.0), ('A', 3.0), ('C', 2.0), ('F', 0.0)]);
+    }
+
+    /// A value that starts with a number is that number only where the expression ends after it
+    /// (the one-pass read of a plain number): an operator after a blank carries it on, a letter
+    /// after an address' digits starts the next word, and a second point is no number.
+    #[test]
+    fn a_number_ends_a_value_only_where_its_expression_ends() {
+        let src = "G1X10.5Y-2 Z=10 + 5 A=2 *3 B=-.5 C=4.5;X=9";
+        let (mut vars, mut diags) = (Vars::default(), Diags::default());
+        let l = lex_line(src, &Columns::new(src), 1, &mut vars, &mut diags);
+        assert!(diags.0.is_empty(), "{:?}", diags.0);
+        let got: Vec<(char, f64, &str)> = l.words.iter().map(|w| (w.letter, w.value, w.raw.as_ref())).collect();
+        assert_eq!(got, vec![('G', 1.0, "1"), ('X', 10.5, "10.5"), ('Y', -2.0, "-2"), ('Z', 15.0, "10 + 5"), ('A', 6.0, "2 *3"), ('B', -0.5, "-.5"), ('C', 4.5, "4.5")]);
+        for (src, col) in [("X=1.2.3", 3), ("X1.2.3", 1), ("X=5)", 4)] {
+            let mut diags = Diags::default();
+            let l = lex_line(src, &Columns::new(src), 1, &mut Vars::default(), &mut diags);
+            assert!(diags.0.first().is_some_and(|d| d.column == col), "{src}: {:?}", diags.0);
+            // (`X=5)`: the value 5 ends at the bracket, the bracket is the error and refuses the line.)
+            assert!(src.ends_with(')') || l.words.iter().all(|w| w.letter != 'X'), "{src}: {:?}", l.words.iter().map(|w| w.value).collect::<Vec<_>>());
+        }
     }
 
     #[test]
