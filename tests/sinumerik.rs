@@ -600,6 +600,30 @@ fn cip_is_the_circle_through_its_three_points() {
     assert!(after.iter().any(|e| e.0 == 5), "{after:?}");
 }
 
+/// A circle with a centre and no end point is a full circle (Programming Manual Fundamentals
+/// 10.2004 §4.6: "If the circle is programmed with a center point but no end point, the result is
+/// a full circle"), its centre absolute (`I=AC() J=AC()`) or from the start: from X10 Y0 about the
+/// origin, radius 10, back at X10 Y0, a path of 2 pi 10 = 62.832 mm (at F600 mm/min, 6.283 s).
+/// With a radius and no end point there is no circle (CR= needs one), as before.
+#[test]
+fn a_centre_without_an_end_point_is_a_full_circle() {
+    let head = "N10 G17 G90 G71 G94\nN20 G0 X10 Y0 Z0\nN30 G1 F600\n";
+    for block in ["N40 G3 I=AC(0) J=AC(0)", "N40 G2 I-10 J0", "N40 G3 I-10"] {
+        let p = read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "{block}: {:#?}", errors(&p));
+        let b = *blocks_of(&p, 4).last().unwrap();
+        let a = b.arc.as_deref().unwrap_or_else(|| panic!("{block}: no arc {b:?}"));
+        assert!(a.centre[0].abs() < 1e-12 && a.centre[1].abs() < 1e-12, "{block}: {:?}", a.centre);
+        assert!(close(b.targets.x, 10.0) && close(b.targets.y, 0.0), "{block}: {b:?}");
+        let m = fiveaxis::machine::Machine::builtin("generic-bc-table").unwrap();
+        let t = fiveaxis::path::Trajectory::from_program(&p, &m, &fiveaxis::path::PathOptions::default());
+        let length: f64 = t.segments.iter().filter(|s| s.line == 4).map(|s| s.length).sum();
+        assert!((length / MM / (std::f64::consts::TAU * 10.0) - 1.0).abs() < 1e-6, "{block}: {} mm", length / MM);
+    }
+    let e = errors(&read(&format!("{head}N40 G3 CR=10\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+    assert!(e.len() == 1 && e[0].0 == 4, "{e:?}");
+}
+
 /// `AR=`, the opening angle (Programming Manual Fundamentals 12/2019 §2.9.6.4), with the manual's
 /// own example: from X67.5 Y80.211, `G3 X17.203 Y38.029 AR=140.134` and `G3 I-17.5 J-30.211
 /// AR=140.134` are one arc about X50 Y50 (radius 34.913, the CR= example's), ending at X17.203

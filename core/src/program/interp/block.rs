@@ -448,8 +448,9 @@ impl Interpreter {
         // "When X_, Y_, and Z_ are all omitted (the end point is the same as the start point) and the
         // center is specified with I_, J_, and K_, a 360° arc (circle) is specified" (FANUC B-64484EN,
         // "Circular interpolation"; Haas Mill Operator's Manual, G02/G03: a full circle takes I J K,
-        // not R).
-        if (before.dialect == Dialect::Rs274 || fanuc) && arc_motion && targets.is_empty() && !g10 && !words.iter().any(|w| w.letter == 'R') {
+        // not R). Sinumerik: "If the circle is programmed with a center point but no end point, the
+        // result is a full circle" (840D Programming Manual Fundamentals 10.2004 §4.6).
+        if (matches!(before.dialect, Dialect::Rs274 | Dialect::Sinumerik) || fanuc) && arc_motion && targets.is_empty() && !g10 && !words.iter().any(|w| w.letter == 'R') {
             let (a0, a1, _) = next.plane.axes();
             let offset = |k: usize| words.iter().any(|w| w.letter == ['I', 'J', 'K'][k]);
             if if next.arc_absolute { offset(a0) && offset(a1) } else { offset(a0) || offset(a1) } {
