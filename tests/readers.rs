@@ -292,12 +292,13 @@ fn sinumerik_refuses_what_changes_the_motion_and_is_not_modelled() {
     assert_eq!(used, vec![Some(10)], "no refused block is used");
 }
 
-/// The 840D's spline and polynomial modes (`BSPLINE`, `ASPLINE`, `CSPLINE`, `POLY`) and the circle
-/// `CT` are modal motions of G group 1 (Job Planning, "Spline interpolation"; Fundamentals,
-/// "Circular interpolation with tangential transition (CT)"): each is refused naming what it is (not
-/// as a call of a program named BSPLINE), and the moves after it that give no G0-G3 of their own are
+/// The 840D's spline and polynomial modes (`BSPLINE`, `ASPLINE`, `CSPLINE`, `POLY`) are modal motions
+/// of G group 1 (Job Planning, "Spline interpolation"): each is refused naming what it is (not as a
+/// call of a program named BSPLINE), and the moves after it that give no G0-G3 of their own are
 /// refused, naming it, instead of being read as straight lines. A `CIP` (read) from where a spline
-/// left the tool is refused as any move from there, and the moves after it are refused naming it.
+/// left the tool is refused as any move from there, and the moves after it are refused naming it;
+/// a `CT` (read) after refused lines has no tangent to leave along, and governs the moves after it
+/// as well.
 #[test]
 fn sinumerik_splines_and_cip_are_refused_with_the_moves_they_govern() {
     let text = "G71 G90 G94\nG0 X0 Y0 Z100\nBSPLINE\nX10 Y5 F1000\nG1 X20 Y0\nCIP X30 Y15 I1=25 J1=10\nX40\nG1 X0\nCT X40 Y0\nX50\nG0 X60 Y0\nG0 X70\nM30\n";
@@ -307,7 +308,7 @@ fn sinumerik_splines_and_cip_are_refused_with_the_moves_they_govern() {
     has(&p, 4, 1, "line 3 was refused");
     has(&p, 6, 5, "under line 3's BSPLINE");
     has(&p, 7, 1, "line 6 was refused");
-    has(&p, 9, 1, "CT: a circle with a tangential transition (CT) is not read");
+    has(&p, 9, 1, "CT: no contour element in the working plane before it");
     has(&p, 8, 4, "under line 6's CIP");
     has(&p, 10, 1, "line 9 was refused");
     assert!(!p.diagnostics.iter().any(|d| d.message.contains("subprogram")), "{:?}", p.diagnostics);

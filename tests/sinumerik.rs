@@ -624,6 +624,60 @@ fn a_centre_without_an_end_point_is_a_full_circle() {
     assert!(e.len() == 1 && e[0].0 == 4, "{e:?}");
 }
 
+/// `CT`, the circle with a tangential transition (840D Programming Manual Fundamentals 10.2004 p.
+/// 4-33: the tangent at its start is "the end tangent of the programmed contour of the previous
+/// block with a traversing movement"; CT is modal), worked by hand in G17: along +X to X10 Y0, `CT
+/// X20 Y10` is the quarter circle about (10, 10), counter-clockwise; from there (its end tangent +Y)
+/// `X30 Y20`, CT still in effect, is the one about (30, 10), clockwise; with Z-5 the first is a
+/// helix. The end on the tangent's line ahead is a straight line (SINUMERIK ONE 12/2019 §2.9, "a
+/// straight line is produced instead of a circle"). The manual's own example, in G18: from X23.293
+/// Z0 to X40 Z-30, `CT X58.146 Z-42` leaves along that line (its centre on the line's normal
+/// through X40 Z-30) and ends at its end point, as far from the centre as the start.
+#[test]
+fn ct_leaves_the_contour_along_its_tangent() {
+    let head = "N10 G17 G90 G71 G94\nN20 G0 X0 Y0 Z0\nN30 G1 X10 Y0 F500\n";
+    let arc = |p: &fiveaxis::program::Program, line: usize| {
+        let b = *blocks_of(p, line).last().unwrap_or_else(|| panic!("line {line}"));
+        let a = b.arc.as_deref().map(|a| [a.centre[0] / MM, a.centre[1] / MM, a.centre[2] / MM]);
+        (b.motion, a, [b.targets.x.map(|v| v / MM), b.targets.y.map(|v| v / MM), b.targets.z.map(|v| v / MM)])
+    };
+    let near = |a: [f64; 3], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9;
+    let p = read(&format!("{head}N40 CT X20 Y10\nN50 X30 Y20\nN60 G1 X40\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let (m, c, e) = arc(&p, 4);
+    assert!(m == Motion::ArcCcw && near(c.unwrap(), [10.0, 10.0]) && e[0] == Some(20.0) && e[1] == Some(10.0), "{m:?} {c:?} {e:?}");
+    let (m, c, e) = arc(&p, 5);
+    assert!(m == Motion::ArcCw && near(c.unwrap(), [30.0, 10.0]) && e[0] == Some(30.0) && e[1] == Some(20.0), "{m:?} {c:?} {e:?}");
+    assert_eq!(arc(&p, 6).0, Motion::Linear);
+    let p = read(&format!("{head}N40 CT X20 Y10 Z-5\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let (m, c, e) = arc(&p, 4);
+    assert!(m == Motion::ArcCcw && near(c.unwrap(), [10.0, 10.0]) && e[2] == Some(-5.0), "{m:?} {c:?} {e:?}");
+    let p = read(&format!("{head}N40 CT X25 Y0\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert!(errors(&p).is_empty() && arc(&p, 4).0 == Motion::Linear && arc(&p, 4).1.is_none(), "{:?}", arc(&p, 4));
+    // The manual's G18 example: the centre on the normal of N115's line at its end, equidistant.
+    let p = read("N100 G18 G90 G71 G94 D0 G0 X23.293 Y0 Z0\nN110 G1 X23.293 Z0 F10\nN115 X40 Z-30\nN120 CT X58.146 Z-42\nN125 G1 X70\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
+    let (_, c, e) = arc(&p, 4);
+    let c = c.unwrap();
+    let (line, radius) = ([40.0 - 23.293, -30.0 - 0.0], [40.0 - c[0], -30.0 - c[2]]);
+    assert!((line[0] * radius[0] + line[1] * radius[1]).abs() < 1e-9 * 40.0 * 40.0, "{c:?}");
+    let r_end = (58.146 - c[0]).hypot(-42.0 - c[2]);
+    assert!((radius[0].hypot(radius[1]) - r_end).abs() < 1e-9, "{c:?}");
+    assert!(e[0] == Some(58.146) && e[2] == Some(-42.0), "{e:?}");
+    // Refused, each where it stands: no move in the plane before it, the end behind the start on
+    // the tangent, a centre written, the plane changed since the tangent, CT with G2.
+    for (text, col, message) in [
+        ("N10 G17 G90 G71 G94\nN20 G0 X0 Y0 Z5\nN30 G1 Z0 F500\nN40 CT X10 Y10\n", 5, "no contour element"),
+        (&format!("{head}N40 CT X0 Y0\n"), 5, "behind the start"),
+        (&format!("{head}N40 CT X20 Y10 I5\n"), 16, "give the centre"),
+        (&format!("{head}N40 G18\nN50 CT X20 Z10\n"), 5, "plane or the frame"),
+        (&format!("{head}N40 G2 CT X20 Y10\n"), 5, "G2 with CT"),
+    ] {
+        let e = errors(&read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+        assert!(e.len() == 1 && e[0].1 == col && e[0].2.contains(message), "{text}: {e:?}");
+    }
+}
+
 /// `AR=`, the opening angle (Programming Manual Fundamentals 12/2019 §2.9.6.4), with the manual's
 /// own example: from X67.5 Y80.211, `G3 X17.203 Y38.029 AR=140.134` and `G3 I-17.5 J-30.211
 /// AR=140.134` are one arc about X50 Y50 (radius 34.913, the CR= example's), ending at X17.203

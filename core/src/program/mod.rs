@@ -38,6 +38,7 @@ mod rs274;
 mod setup;
 mod sinumerik;
 mod stream;
+mod tangent;
 
 pub use cl::{read_cl, read_cl_with};
 pub use dialect::{Dialect, DETECT_LINES};

@@ -750,17 +750,14 @@ impl Exec {
             end[slot] = if w.dimension == Dimension::Incremental { pos[k] + w.value * unit } else { w.value * unit };
         }
         let d = [end[0] - pos[a0], end[1] - pos[a1]];
-        let n = [-t[1], t[0]]; // left of the tangent
-        let dn = d[0] * n[0] + d[1] * n[1];
-        let dd = d[0] * d[0] + d[1] * d[1];
-        if dd == 0.0 || dn.abs() <= 1e-9 * dd.sqrt() {
+        let Some((centre, ccw)) = crate::program::tangent::tangent_circle(t, d) else {
             diags.error(s.line, s.col, "CT: the end point lies on the tangent (a straight line, not an arc)");
             return None;
-        }
-        let signed = dd / (2.0 * dn); // centre = start + signed * n
+        };
+        // Over 180 deg (the end behind the start along the tangent): a negative radius.
         let over_half = d[0] * t[0] + d[1] * t[1] < 0.0;
-        let r = signed.abs() / unit * if over_half { -1.0 } else { 1.0 };
-        Some((if signed > 0.0 { "3" } else { "2" }, r))
+        let r = centre[0].hypot(centre[1]) / unit * if over_half { -1.0 } else { 1.0 };
+        Some((if ccw { "3" } else { "2" }, r))
     }
 
     /// A block's feed as the interpreter takes it (value, text as written, column): `F` (a number or a
@@ -780,23 +777,11 @@ impl Exec {
         }
     }
 
-    /// Keep the contour's end direction for a later CT.
+    /// Keep the contour's end direction for a later CT ([`crate::program::tangent::end_tangent`]);
+    /// a block that moves nothing leaves it.
     pub(super) fn follow(&mut self, b: &Block, start: [f64; 6], end: [f64; 6], interp: &Interpreter) {
-        let (a0, a1, _) = interp.plane().axes();
-        if let Some(arc) = &b.arc {
-            // The centre is the workpiece's; in a tilted plane `end` is the plane's.
-            let c = nalgebra::Vector3::from(arc.centre);
-            let c = interp.tilt().map_or(c, |r| r.transpose() * c);
-            let r = [end[a0] - c[a0], end[a1] - c[a1]];
-            let n = r[0].hypot(r[1]);
-            if n > 0.0 {
-                let ccw = b.motion == crate::program::Motion::ArcCcw;
-                self.tangent = Some(if ccw { [-r[1] / n, r[0] / n] } else { [r[1] / n, -r[0] / n] });
-            }
-        } else if !b.targets.is_empty() {
-            let d = [end[a0] - start[a0], end[a1] - start[a1]];
-            let n = d[0].hypot(d[1]);
-            self.tangent = if n > 0.0 { Some([d[0] / n, d[1] / n]) } else { None };
+        if b.arc.is_some() || !b.targets.is_empty() {
+            self.tangent = crate::program::tangent::end_tangent(b, start, end, interp);
         }
     }
 }

@@ -9,6 +9,13 @@
 //! point is used as the reference for the intermediate point and the end point"). A circle inclined
 //! to the working plane is refused.
 //!
+//! `CT`: a circle with a tangential transition (840D Programming Manual Fundamentals 10.2004 p. 4-33:
+//! "The direction of tangent at the start point of a CT block is determined from the end tangent of
+//! the programmed contour of the previous block with a traversing movement", CT modal, `CT X… Y…
+//! Z…`; SINUMERIK ONE 12/2019 §2.9: "The position of the circle plane depends on the active plane
+//! (G17-G19)", and "If the extension of the start tangent runs through the end point, a straight
+//! line is produced instead of a circle").
+//!
 //! `AR=`: the opening angle with the end point or the centre (§2.9.6.4 "Circular interpolation with
 //! opening angle and end point / center point (G2/G3, X... Y... Z... / I... J... K..., AR)": `G2/G3
 //! X… Y… Z… AR=…` or `G2/G3 I… J… K… AR=…`, AR 0 to 360 deg, no full circle).
@@ -106,6 +113,55 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
     for (k, c) in [(a, centre[0]), (b, centre[1])] {
         let v = (c - start[k]) / unit;
         out.push(Word { letter: CENTRES[k], value: v, raw: Cow::Owned(format!("{v}")), column: through_col, dimension: Dimension::Incremental });
+    }
+    Ok(Some(out))
+}
+
+/// A CT block's words as the G2 or G3 about the centre that the tangent `t` at the start (the
+/// working plane's two coordinates, unit; why there is none, if none) and the end point give, its
+/// centre incremental from the start; G1 where the end lies ahead on the tangent's line (the
+/// manual's limit case). `None` if the block moves no linear axis (a feed, a function). A move along
+/// the plane's normal with it makes a helix, as with G2/G3. The error and its column if the end
+/// point is the start or lies behind it on the tangent's line, or if the block writes a centre, a
+/// radius or turns.
+pub(super) fn tangent<'a>(words: &[Word<'a>], t: Result<[f64; 2], String>, start: [f64; 3], plane: Plane, unit: f64, absolute: bool, col: usize) -> Result<Option<Vec<Word<'a>>>, (usize, String)> {
+    let written = |k: usize| words.iter().find(|w| w.letter == AXES[k]);
+    if !(0..3).any(|k| written(k).is_some()) {
+        return if words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C')) { Err((col, "CT: a move of the rotary axes alone, without an end point (X Y Z)".into())) } else { Ok(None) };
+    }
+    if let Some(w) = words.iter().find(|w| matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P')) {
+        let why = match w.letter {
+            'R' => "CR=: the tangent and the end point give the radius".to_string(),
+            'P' => "TURN=: turns are not read".to_string(),
+            c => format!("{c}{}: the tangent and the end point give the centre", w.raw),
+        };
+        return Err((w.column, format!("CT with {why}")));
+    }
+    let t = t.map_err(|why| (col, why))?;
+    let end: [f64; 3] = std::array::from_fn(|k| match written(k) {
+        Some(w) if w.dimension.absolute(absolute) => w.value * unit,
+        Some(w) => start[k] + w.value * unit,
+        None => start[k],
+    });
+    let (a, b, _) = plane.axes();
+    let d = [end[a] - start[a], end[b] - start[b]];
+    let mut out: Vec<Word<'a>> = words.iter().filter(|w| !(w.letter == 'G' && matches!(w.value as i64, 0..=3))).cloned().collect();
+    let Some((centre, ccw)) = crate::program::tangent::tangent_circle(t, d) else {
+        if d[0].hypot(d[1]) < IN_PLANE {
+            return Err((col, "CT: the end point is the start point in the working plane: no circle".into()));
+        }
+        if d[0] * t[0] + d[1] * t[1] < 0.0 {
+            return Err((col, "CT: the end point lies behind the start on the tangent: no circle leaves along it".into()));
+        }
+        // "If the extension of the start tangent runs through the end point, a straight line is produced."
+        out.push(Word { letter: 'G', value: 1.0, raw: Cow::Borrowed("1"), column: col, dimension: Dimension::Modal });
+        return Ok(Some(out));
+    };
+    let g = if ccw { 3.0 } else { 2.0 };
+    out.push(Word { letter: 'G', value: g, raw: Cow::Owned(format!("{g}")), column: col, dimension: Dimension::Modal });
+    for (k, c) in [(a, centre[0]), (b, centre[1])] {
+        let v = c / unit;
+        out.push(Word { letter: CENTRES[k], value: v, raw: Cow::Owned(format!("{v}")), column: col, dimension: Dimension::Incremental });
     }
     Ok(Some(out))
 }

@@ -455,6 +455,7 @@ impl Jumping for FlowRunner {
                         // The control runs the call all the same: where it leaves the tool is not known.
                         let name: String = text[body..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
                         self.reader.interp.moved_everywhere(line, &name, super::subprogram::CALL_NOT_READ);
+                        self.reader.tangent = None;
                         Next::On
                     }
                 };

@@ -11,12 +11,12 @@ pub(super) fn is_instruction(name: &str) -> bool {
 }
 
 /// The keywords [`super::SinumerikReader::block`] reads.
-pub(super) const READ_KEYWORDS: [&str; 32] = [
-    "CIP", "STOPRE", "TRAORI", "TRAFOOF", "ORIWKS", "ORIVECT", "ORIPLANE", "ORIMKS", "ORIAXES", "ORIROTA", "ORIEULER", "ORIRPY", "SOFT", "BRISK", "FFWON", "FFWOF", "FNORM", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "MSG", "SETMS", "EXTERN", "TRANS", "ATRANS", "ROT", "AROT", "SUPA", "MCALL", "CUT2D", "CDOF",
+pub(super) const READ_KEYWORDS: [&str; 33] = [
+    "CIP", "CT", "STOPRE", "TRAORI", "TRAFOOF", "ORIWKS", "ORIVECT", "ORIPLANE", "ORIMKS", "ORIAXES", "ORIROTA", "ORIEULER", "ORIRPY", "SOFT", "BRISK", "FFWON", "FFWOF", "FNORM", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "MSG", "SETMS", "EXTERN", "TRANS", "ATRANS", "ROT", "AROT", "SUPA", "MCALL", "CUT2D", "CDOF",
 ];
 
-/// The modal motions of G group 1 whose line is refused (splines, polynomials and `CT`, not read;
-/// `CIP`, read, on a line refused for another reason): after one, a move must give its own G0-G3
+/// The modal motions of G group 1 whose line is refused (splines and polynomials, not read; `CIP`
+/// and `CT`, read, on a line refused for another reason): after one, a move must give its own G0-G3
 /// ([`crate::program::interp::Interpreter::forget_motion`]).
 pub(super) const UNREAD_MOTION: [&str; 6] = ["BSPLINE", "ASPLINE", "CSPLINE", "POLY", "CIP", "CT"];
 
@@ -80,8 +80,6 @@ pub(super) fn unsupported_keyword(k: &str) -> Option<&'static str> {
         "BSPLINE" | "ASPLINE" | "CSPLINE" | "BAUTO" | "BNAT" | "BTAN" | "EAUTO" | "ENAT" | "ETAN" | "POLY" | "POLYPATH" => {
             "spline or polynomial interpolation is not read (the path between the points is a curve the control makes)"
         }
-        // Fundamentals, "Circular interpolation with tangential transition (CT)".
-        "CT" => "a circle with a tangential transition (CT) is not read (G2/G3 with a centre or CR=, and CIP, are)",
         "OFFN" => "OFFN is written OFFN=<value>",
         "CUT2DF" | "CUT3DC" | "CUT3DF" | "CUT3DFS" | "CUT3DFF" | "CUT3DCC" | "CUT3DCCD" => "3D tool radius compensation (or 2D in a frame's plane) is not modelled",
         "CDON" | "CDOF2" => "collision detection (bottleneck detection over several blocks) with tool radius compensation is not read; CDOF is",

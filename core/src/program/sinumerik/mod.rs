@@ -31,6 +31,7 @@ mod corners;
 mod cycles;
 mod expr;
 mod flow;
+mod forms;
 mod frame;
 mod keywords;
 mod polar;
@@ -93,8 +94,10 @@ call_refused: Option<bool>,
     /// 3D tool radius compensation (`CUT3DC` ..., refused) in force on the control until `CUT2D`: its
     /// line and name ([`keywords::COMP3D`]).
     comp3d: Option<(usize, String)>,
-    /// `CIP`, G group 1's circle through an intermediate point, is the modal motion ([`circles`]).
-    cip: bool,
+    /// G group 1's circle in effect, `CIP` or `CT` ([`forms`]).
+    circle_mode: Option<forms::CircleMode>,
+    /// The direction the contour ends in, for a `CT` ([`forms`]).
+    tangent: Option<forms::Tangent>,
     /// The pole and the polar angle and radius ([`polar`]).
     polar: polar::Polar,
 }
@@ -118,7 +121,8 @@ impl SinumerikReader {
             call_refused: None,
             ori_mks: false,
             comp3d: None,
-            cip: false,
+            circle_mode: None,
+            tangent: None,
             polar: polar::Polar::default(),
         }
     }
@@ -216,7 +220,7 @@ impl super::stream::LineReader for SinumerikReader {
         let lexed = lex::lex_line(text_line, &cols, line, &mut self.vars, diags);
         // A refused line's CIP does not take effect, and the motion after it is not known
         // ([`UNREAD_MOTION`]); a refused line of a CIP already in effect leaves it so.
-        let (cip_before, polar_before) = (self.cip, self.polar);
+        let (mode_before, polar_before) = (self.circle_mode, self.polar);
         let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
         // A move of its own the control makes, refused here ([`keywords::refused_move`]).
         let refused_move = lexed.refused_g.and_then(|g| keywords::refused_move(g).map(|m| (format!("G{g}"), m)));
@@ -235,12 +239,14 @@ impl super::stream::LineReader for SinumerikReader {
         let calls = Calls::of(&lexed.keywords);
         self.call_refused = None;
         if diags.errors() > errors_before {
+            // What the control did on a refused line is not known here: a CT after it has no tangent.
+            self.tangent = None;
             self.calls_refused(&calls, line);
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
             }
             if ends_cip {
-                self.cip = false;
+                self.circle_mode = None;
             }
             self.hold_refused(&lasting, frame_g, line);
             self.moved_unread_g(refused_move, axes, line);
@@ -280,6 +286,7 @@ impl super::stream::LineReader for SinumerikReader {
         let held = !plain && self.interp.held(&lexed.words).is_some();
         if !self.block(lexed, line, first + 1, out, diags) || diags.errors() > errors_before {
             self.corners.drop_words();
+            self.tangent = None;
             if let Some(saved) = saved {
                 let placement = held.then(|| self.interp.placement());
                 (self.interp, self.frame, self.mcall, self.swivel, self.ori_mks) = saved;
@@ -310,7 +317,7 @@ impl super::stream::LineReader for SinumerikReader {
                 self.interp.moved_everywhere(line, &name, UNREAD_CALL);
             }
             self.calls_refused(&calls, line);
-            (self.cip, self.polar) = (cip_before && !ends_cip, polar_before);
+            (self.circle_mode, self.polar) = (mode_before.filter(|_| !ends_cip), polar_before);
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
             }
@@ -331,6 +338,7 @@ impl super::stream::LineReader for SinumerikReader {
             return;
         }
         self.vars.commit();
+        self.follow(start, &out[blocks_before..], line);
         diags.0.append(&mut self.corner_diags.0);
         if corners && !trc_before && !self.trc.busy() && (written || out.len() > blocks_before) {
             let ends = self.returned || self.stopped || super::stream::ends_program(&out[blocks_before..], &[2.0, 30.0]);
@@ -340,6 +348,7 @@ impl super::stream::LineReader for SinumerikReader {
     }
 
     fn not_read(&mut self, line: usize, out: &mut Vec<Block>, diags: &mut Diags) {
+        self.tangent = None;
         self.corner_interrupt("the block after it was not read", line, 1, out, diags);
     }
 }
@@ -386,119 +395,14 @@ impl SinumerikReader {
         true
     }
 
-    /// A block's circle forms and polar coordinates ([`circles`], [`polar`]) turned into the G2/G3
-    /// and Cartesian words they give, in `words`; false (an error in `diags`) if refused.
-    #[inline(never)]
-    fn circle_forms(&mut self, words: &mut Vec<Word<'_>>, keywords: &mut Vec<lex::Keyword<'_>>, circle: lex::CircleWords, line: usize, first_col: usize, diags: &mut Diags) -> bool {
-        let lex::CircleWords { through, ar, ap, rp } = circle;
-        // CIP, where one is written or in effect.
-        let cip_at = keywords.iter().position(|k| k.name == "CIP");
-        if self.cip || cip_at.is_some() {
-            // G group 1: a G0-G3 (or another of the group's motions) ends CIP.
-            let group1 = motion_g(words);
-            let other = keywords.iter().position(|k| UNREAD_MOTION.contains(&k.name.as_str()) && k.name != "CIP");
-            if let Some(p) = cip_at {
-                let clash = group1.map(|g| (g.column, format!("G{}", g.raw))).or_else(|| other.map(|k| (keywords[k].col, keywords[k].name.clone())));
-                if let Some((col, other)) = clash {
-                    diags.error(line, col, format!("{other} with CIP in one block: G group 1 takes one motion"));
-                    return false;
-                }
-                if keywords[p].args.is_some() {
-                    diags.error(line, keywords[p].col, "CIP(: CIP takes no arguments");
-                    return false;
-                }
-                keywords.remove(p);
-                self.cip = true;
-            } else if group1.is_some() || other.is_some() {
-                self.cip = false;
-            }
-        }
-        if self.cip {
-            let (absolute, plane, unit) = self.circle_settings(words);
-            let start = self.interp.position();
-            match circles::through(words, &through, [start[0], start[1], start[2]], plane, unit, absolute, first_col) {
-                Ok(Some(arc)) => *words = arc,
-                Ok(None) => {}
-                Err((col, why)) => {
-                    diags.error(line, col, why);
-                    return false;
-                }
-            }
-        } else if let Some(c) = through.iter().flatten().next() {
-            diags.error(line, c.2, "I1= J1= K1= (an intermediate point) without CIP in effect");
-            return false;
-        }
-        // Polar coordinates: a pole (G110-G112), or a move by AP= RP=; a change of the working
-        // plane forgets the polar angle.
-        if words.iter().any(|w| w.letter == 'G' && matches!(w.value as i64, 17..=19)) && self.circle_settings(words).1 != self.interp.plane() {
-            self.polar.plane_changed();
-        }
-        let pole_g = words.iter().find(|w| w.letter == 'G' && matches!(w.value as i64, 110..=112) && w.value.fract() == 0.0).map(|w| (w.value as u32, w.column));
-        if let Some((g, g_col)) = pole_g {
-            let (_, plane, unit) = self.circle_settings(words);
-            let start = self.interp.position();
-            match self.polar.set_pole(g, g_col, words, (ap, rp), [start[0], start[1], start[2]], plane, unit) {
-                Ok(rest) => *words = rest,
-                Err((col, why)) => {
-                    diags.error(line, col, why);
-                    return false;
-                }
-            }
-        } else if ap.is_some() || rp.is_some() {
-            let (absolute, plane, unit) = self.circle_settings(words);
-            let col = ap.or(rp).map_or(first_col, |w| w.2);
-            let g = motion_g(words).map(|w| w.value);
-            let arc = match (g, self.interp.motion()) {
-                _ if self.cip || ar.is_some() => {
-                    diags.error(line, col, "AP=/RP= with CIP or AR=: a polar end point goes with G0-G3 about the pole");
-                    return false;
-                }
-                (Some(v), _) => v >= 2.0,
-                (None, m) => m.is_some_and(Motion::is_arc),
-            };
-            match self.polar.resolve(words, (ap, rp), arc, plane, unit, absolute, col) {
-                Ok(w) => *words = w,
-                Err((col, why)) => {
-                    diags.error(line, col, why);
-                    return false;
-                }
-            }
-        }
-        // AR=: a G2/G3 given by its opening angle, with its end point or its centre.
-        if let Some((angle, col)) = ar {
-            let g = motion_g(words).map(|w| w.value);
-            let ccw = match (g, self.interp.motion()) {
-                _ if self.cip => None,
-                (Some(v), _) => (v >= 2.0).then_some(v == 3.0),
-                (None, Some(Motion::ArcCw)) => Some(false),
-                (None, Some(Motion::ArcCcw)) => Some(true),
-                _ => None,
-            };
-            let Some(ccw) = ccw else {
-                diags.error(line, col, format!("AR={angle}: an opening angle belongs to a circle, G2 or G3"));
-                return false;
-            };
-            let (absolute, plane, unit) = self.circle_settings(words);
-            let start = self.interp.position();
-            match circles::opening(words, (angle, col), ccw, [start[0], start[1], start[2]], plane, unit, absolute) {
-                Ok(arc) => *words = arc,
-                Err((col, why)) => {
-                    diags.error(line, col, why);
-                    return false;
-                }
-            }
-        }
-        true
-    }
-
     /// Run one block's words; false (or an error in `diags`) if it is refused.
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
         let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, circle, .. } = lexed;
         // CIP, AR=, polar coordinates: where a block writes them or CIP is in effect (most blocks:
         // none, and nothing to do).
-        let cip_written = !keywords.is_empty() && keywords.iter().any(|k| k.name == "CIP");
-        if (self.cip || cip_written || circle.is_some() || words.iter().any(|w| w.letter == 'G' && matches!(w.value as i64, 17..=19 | 110..=112)))
+        let mode_written = !keywords.is_empty() && keywords.iter().any(|k| matches!(k.name.as_str(), "CIP" | "CT"));
+        if (self.circle_mode.is_some() || mode_written || circle.is_some() || words.iter().any(|w| w.letter == 'G' && matches!(w.value as i64, 17..=19 | 110..=112)))
             && !self.circle_forms(&mut words, &mut keywords, circle.map(|c| *c).unwrap_or_default(), line, first_col, diags)
         {
             return false;
@@ -801,6 +705,7 @@ impl SinumerikReader {
         let axes = if all { [true, true, true, axes[3], axes[4], axes[5]] } else { axes };
         if modal {
             self.interp.forget_motion(line, &name, what, axes);
+            self.tangent = None;
         } else {
             self.interp.moved_unread(line, &name, what, axes);
         }
@@ -831,6 +736,7 @@ impl SinumerikReader {
             self.interp.hold_keyword(line, "MCALL", &crate::program::interp::SIN_MCALL);
         } else if let Some(name) = &calls.once {
             self.interp.moved_everywhere(line, name, "a cycle not read, which the control runs");
+            self.tangent = None;
         }
     }
 

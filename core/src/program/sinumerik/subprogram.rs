@@ -210,6 +210,7 @@ impl FlowRunner {
             Err((k, why)) => {
                 diags.error(line, cols.col(k), format!("{name}: {why}"));
                 self.reader.interp.moved_everywhere(line, name, CALL_NOT_READ);
+                self.reader.tangent = None;
                 return Next::On;
             }
         };
@@ -221,6 +222,7 @@ impl FlowRunner {
                 Arg::Text(t) => {
                     diags.error(line, col, format!("{name}: the text parameter \"{}\" is not read", excerpt(t)));
                     self.reader.interp.moved_everywhere(line, name, CALL_NOT_READ);
+                    self.reader.tangent = None;
                     return Next::On;
                 }
             }
@@ -233,11 +235,13 @@ impl FlowRunner {
                 let like = super::READ_KEYWORDS.iter().filter(|k| k.len() >= 5).find(|k| one_edit(k, base)).map_or(String::new(), |k| format!(" (or is it {k}, mistyped?)"));
                 diags.error(line, col, format!("{name}: a call of the subprogram {base}, whose file ({base}.{}) is neither beside the program nor in a directory of --subroutine-path: the motion depends on it{like}", kind.unwrap_or("SPF")));
                 self.reader.interp.moved_everywhere(line, name, "a subprogram not found, which the control runs");
+                self.reader.tangent = None;
                 return Next::On;
             }
             Err(why) => {
                 diags.error(line, col, format!("{name}: {why}"));
                 self.reader.interp.moved_everywhere(line, name, "a subprogram not read, which the control runs");
+                self.reader.tangent = None;
                 return Next::On;
             }
         };
