@@ -6,37 +6,40 @@
 use super::interp::Interpreter;
 use super::{Block, Motion};
 
-/// The unit direction a block leaves the contour in, in the working plane: a line's from its start
-/// to its end, an arc's tangent at its end in its sense. `None` where it has none in the plane (a
-/// move along the plane's normal alone, of rotary axes alone, or no move). `start` and `end` are
-/// the interpreter's positions before and after the block (in a tilted plane the plane's
+/// The direction a block leaves the contour in, in the working plane (not of unit length: the
+/// readers keep one per block, and [`tangent_circle`] scales it once where a CT uses it): a line's
+/// from its start to its end, an arc's tangent at its end in its sense. `None` where it has none in
+/// the plane (a move along the plane's normal alone, of rotary axes alone, or no move). `start` and
+/// `end` are the interpreter's positions before and after the block (in a tilted plane the plane's
 /// coordinates; an arc's centre is the workpiece's, taken back into the plane).
 pub(crate) fn end_tangent(b: &Block, start: [f64; 6], end: [f64; 6], interp: &Interpreter) -> Option<[f64; 2]> {
     let (a0, a1, _) = interp.plane().axes();
-    let unit = |v: [f64; 2]| {
-        let n = v[0].hypot(v[1]);
-        (n > 0.0).then(|| [v[0] / n, v[1] / n])
-    };
-    match &b.arc {
+    let t = match &b.arc {
         Some(arc) => {
             let c = nalgebra::Vector3::from(arc.centre);
             let c = interp.tilt().map_or(c, |r| r.transpose() * c);
-            let r = unit([end[a0] - c[a0], end[a1] - c[a1]])?;
+            let r = [end[a0] - c[a0], end[a1] - c[a1]];
             // Counter-clockwise: the radius turned a quarter left; clockwise, right.
-            Some(if b.motion == Motion::ArcCcw { [-r[1], r[0]] } else { [r[1], -r[0]] })
+            if b.motion == Motion::ArcCcw { [-r[1], r[0]] } else { [r[1], -r[0]] }
         }
-        None if !b.targets.is_empty() => unit([end[a0] - start[a0], end[a1] - start[a1]]),
-        None => None,
-    }
+        None if !b.targets.is_empty() => [end[a0] - start[a0], end[a1] - start[a1]],
+        None => return None,
+    };
+    (t != [0.0, 0.0]).then_some(t)
 }
 
-/// The circle that leaves a point along the unit tangent `t` and ends `d` from it (the plane's two
-/// coordinates): its centre's offset from the point, on the normal to `t` (`|c| = |c - d|` gives
-/// `c = n |d|^2 / (2 n.d)`, `n` the tangent turned a quarter left), and whether it runs
-/// counter-clockwise (the centre left of the tangent). `None` where the end lies on the tangent's
-/// line, within `1e-9` of the chord: no circle (its radius would be infinite), or the start itself.
+/// The circle that leaves a point along the tangent `t` (any length but 0) and ends `d` from it
+/// (the plane's two coordinates): its centre's offset from the point, on the normal to `t`
+/// (`|c| = |c - d|` gives `c = n |d|^2 / (2 n.d)`, `n` the unit tangent turned a quarter left), and
+/// whether it runs counter-clockwise (the centre left of the tangent). `None` where the end lies on
+/// the tangent's line, within `1e-9` of the chord: no circle (its radius would be infinite), or the
+/// start itself.
 pub(crate) fn tangent_circle(t: [f64; 2], d: [f64; 2]) -> Option<([f64; 2], bool)> {
-    let n = [-t[1], t[0]];
+    let len = t[0].hypot(t[1]);
+    if !(len > 0.0) {
+        return None;
+    }
+    let n = [-t[1] / len, t[0] / len];
     let dn = d[0] * n[0] + d[1] * n[1];
     let dd = d[0] * d[0] + d[1] * d[1];
     if dd == 0.0 || dn.abs() <= 1e-9 * dd.sqrt() {
@@ -62,9 +65,8 @@ mod tests {
             let (r0, r1) = (got[0].hypot(got[1]), (got[0] - d[0]).hypot(got[1] - d[1]));
             assert!((r0 - r1).abs() < 1e-12, "{d:?}");
         }
-        // A tangent along 45 deg: to (0, 2) the circle about (-1, 1), counter-clockwise.
-        let s = std::f64::consts::FRAC_1_SQRT_2;
-        let (c, ccw) = tangent_circle([s, s], [0.0, 2.0]).unwrap();
+        // A tangent along 45 deg (of any length): to (0, 2) the circle about (-1, 1), counter-clockwise.
+        let (c, ccw) = tangent_circle([3.0, 3.0], [0.0, 2.0]).unwrap();
         assert!((c[0] + 1.0).abs() < 1e-12 && (c[1] - 1.0).abs() < 1e-12 && ccw, "{c:?}");
         assert!(tangent_circle([1.0, 0.0], [5.0, 0.0]).is_none());
         assert!(tangent_circle([1.0, 0.0], [-5.0, 0.0]).is_none());
