@@ -637,8 +637,8 @@ impl SinumerikReader {
             None => {}
         }
         let (modal_motion, _, _) = self.interp.feed_state();
-        let block_motion = words.iter().rev().find(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "0" | "1" | "2" | "3")).map(|w| w.raw.to_string());
-        let motion = match block_motion.as_deref() {
+        let block_motion = words.iter().rev().find(|w| w.letter == 'G' && matches!(w.raw.as_ref(), "0" | "1" | "2" | "3")).map(|w| w.raw.as_ref());
+        let motion = match block_motion {
             Some("0") => Some(Motion::Rapid),
             Some("1") => Some(Motion::Linear),
             Some(_) => Some(Motion::ArcCw),
