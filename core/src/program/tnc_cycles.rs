@@ -34,16 +34,40 @@ fn infeed(from: f64, step: f64, k: u32, bottom: f64) -> f64 {
     }
 }
 
-/// A Heidenhain drilling cycle's parameters, absolute along the tool axis of the working plane (m,
-/// s): the surface Q203, the set-up clearance Q200 and 2nd set-up clearance Q204 above it, the
-/// depth Q201 (negative: below the surface), the plunging depth Q202 (0: at once), the dwells at the
-/// top Q210 and at the bottom Q211, and whether the tool comes back at feed (tapping).
+/// The levels a TNC drilling cycle works between, absolute along the tool axis of the working plane
+/// (m): the surface Q203, the set-up clearance Q200 and 2nd set-up clearance Q204 above it, the depth
+/// Q201 (negative: below the surface).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct TncHole {
+pub(crate) struct TncLevels {
     pub surface: f64,
     pub clearance: f64,
     pub clearance2: f64,
     pub depth: f64,
+}
+
+impl TncLevels {
+    /// The set-up clearance above the surface: where the cycle starts and a retraction ends.
+    fn top(&self) -> f64 {
+        self.surface + self.clearance
+    }
+
+    /// The hole's bottom.
+    fn bottom(&self) -> f64 {
+        self.surface + self.depth
+    }
+
+    /// Where the cycle ends: at the set-up clearance or, if larger, the 2nd set-up clearance.
+    fn out(&self) -> f64 {
+        self.surface + self.clearance.max(self.clearance2)
+    }
+}
+
+/// A Heidenhain drilling cycle's parameters (m, s): its levels, the plunging depth Q202 (0: at
+/// once), the dwells at the top Q210 and at the bottom Q211, and whether the tool comes back at
+/// feed (tapping).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct TncHole {
+    pub levels: TncLevels,
     pub plunge: f64,
     pub dwell_top_s: f64,
     pub dwell_bottom_s: f64,
@@ -58,14 +82,15 @@ pub(crate) struct TncHole {
 /// set-up clearance or, if larger, the 2nd set-up clearance. Cycle 240 CENTERING is one plunge;
 /// cycle 207 RIGID TAPPING comes back at feed). A depth of 0 makes nothing.
 pub(crate) fn tnc_hole(h: &TncHole) -> Vec<TncStep> {
-    let (top, bottom) = (h.surface + h.clearance, h.surface + h.depth);
-    if h.depth == 0.0 {
+    let l = &h.levels;
+    let (top, bottom) = (l.top(), l.bottom());
+    if l.depth == 0.0 {
         return Vec::new();
     }
     let mut steps = vec![TncStep::Rapid(top)];
     let q = if h.plunge > 0.0 { h.plunge } else { f64::INFINITY };
     for k in 1.. {
-        let next = infeed(h.surface, q, k, bottom);
+        let next = infeed(l.surface, q, k, bottom);
         steps.push(TncStep::Feed(next, TncFeed::Plunge));
         if next <= bottom {
             break;
@@ -74,7 +99,7 @@ pub(crate) fn tnc_hole(h: &TncHole) -> Vec<TncStep> {
         if h.dwell_top_s > 0.0 {
             steps.push(TncStep::Dwell(h.dwell_top_s));
         }
-        steps.push(TncStep::Rapid(next + h.clearance));
+        steps.push(TncStep::Rapid(next + l.clearance));
     }
     if h.dwell_bottom_s > 0.0 {
         steps.push(TncStep::Dwell(h.dwell_bottom_s));
@@ -82,7 +107,7 @@ pub(crate) fn tnc_hole(h: &TncHole) -> Vec<TncStep> {
     if h.feed_out {
         steps.push(TncStep::Feed(top, TncFeed::Plunge));
     }
-    steps.push(TncStep::Rapid(h.surface + h.clearance.max(h.clearance2)));
+    steps.push(TncStep::Rapid(l.out()));
     steps
 }
 
@@ -144,15 +169,12 @@ pub(crate) fn tnc_pecking(start: f64, c: &TncPecking) -> Vec<TncStep> {
     steps
 }
 
-/// Cycle 203 UNIVERSAL DRILLING's parameters, absolute along the tool axis (m, s): as [`TncHole`]'s,
-/// with the decrement Q212 and the minimum plunging depth Q205, the chip breaks before each
-/// retraction Q213 and the distance the tool backs off at each Q256.
+/// Cycle 203 UNIVERSAL DRILLING's parameters (m, s): as [`TncHole`]'s, with the decrement Q212 and
+/// the minimum plunging depth Q205, the chip breaks before each retraction Q213 and the distance the
+/// tool backs off at each Q256.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct TncUniversal {
-    pub surface: f64,
-    pub clearance: f64,
-    pub clearance2: f64,
-    pub depth: f64,
+    pub levels: TncLevels,
     pub plunge: f64,
     pub decrement: f64,
     pub min_plunge: f64,
@@ -173,11 +195,12 @@ pub(crate) struct TncUniversal {
 /// no other feed for it). The decrement never makes an infeed larger than the one before. An error
 /// where the infeeds would shrink to nothing or number more than [`MAX_PECKS`].
 pub(crate) fn tnc_universal(c: &TncUniversal) -> Result<Vec<TncStep>, String> {
-    let (top, bottom) = (c.surface + c.clearance, c.surface + c.depth);
-    if c.depth == 0.0 {
+    let l = &c.levels;
+    let (top, bottom) = (l.top(), l.bottom());
+    if l.depth == 0.0 {
         return Ok(Vec::new());
     }
-    let total = -c.depth;
+    let total = -l.depth;
     let mut step = if c.plunge > 0.0 { c.plunge } else { total };
     let mut steps = vec![TncStep::Rapid(top)];
     let (mut reached, mut broken) = (0.0, 0);
@@ -187,7 +210,7 @@ pub(crate) fn tnc_universal(c: &TncUniversal) -> Result<Vec<TncStep>, String> {
         }
         reached += step;
         // Within a nanometre of the bottom is the bottom: no sliver of an infeed is left to rounding.
-        let z = if reached >= total - 1e-9 { bottom } else { c.surface - reached };
+        let z = if reached >= total - 1e-9 { bottom } else { l.surface - reached };
         steps.push(TncStep::Feed(z, TncFeed::Plunge));
         if z <= bottom {
             break;
@@ -203,7 +226,7 @@ pub(crate) fn tnc_universal(c: &TncUniversal) -> Result<Vec<TncStep>, String> {
             if c.dwell_top_s > 0.0 {
                 steps.push(TncStep::Dwell(c.dwell_top_s));
             }
-            steps.push(TncStep::Rapid(z + c.clearance));
+            steps.push(TncStep::Rapid(z + l.clearance));
         }
         if c.decrement > 0.0 {
             step = (step - c.decrement).max(c.min_plunge.min(step));
@@ -216,19 +239,15 @@ pub(crate) fn tnc_universal(c: &TncUniversal) -> Result<Vec<TncStep>, String> {
         steps.push(TncStep::Dwell(c.dwell_bottom_s));
     }
     steps.push(TncStep::Feed(top, TncFeed::Retract));
-    steps.push(TncStep::Rapid(c.surface + c.clearance.max(c.clearance2)));
+    steps.push(TncStep::Rapid(l.out()));
     Ok(steps)
 }
 
-/// Cycle 241 SINGLE-LIP DEEP-HOLE DRILLING's parameters, absolute along the tool axis (m, s): as
-/// [`TncHole`]'s, with the deepened starting point Q379 (a distance below the surface: a pilot
-/// hole's depth) and the dwell at the bottom Q211.
+/// Cycle 241 SINGLE-LIP DEEP-HOLE DRILLING's parameters (m, s): its levels, the deepened starting
+/// point Q379 (a distance below the surface: a pilot hole's depth) and the dwell at the bottom Q211.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct TncSingleLip {
-    pub surface: f64,
-    pub clearance: f64,
-    pub clearance2: f64,
-    pub depth: f64,
+    pub levels: TncLevels,
     pub start: f64,
     pub dwell_bottom_s: f64,
 }
@@ -240,23 +259,24 @@ pub(crate) struct TncSingleLip {
 /// cycle's as TNC programs (Autodesk's post, hyperMILL's) use it; the manual's page for it is not
 /// at hand. An error if the starting point is at or below the depth.
 pub(crate) fn tnc_single_lip(c: &TncSingleLip) -> Result<Vec<TncStep>, String> {
-    let (top, bottom) = (c.surface + c.clearance, c.surface + c.depth);
-    if c.depth == 0.0 {
+    let l = &c.levels;
+    let (top, bottom) = (l.top(), l.bottom());
+    if l.depth == 0.0 {
         return Ok(Vec::new());
     }
-    if c.start >= -c.depth {
+    if c.start >= -l.depth {
         return Err("the deepened starting point Q379 is at or below the depth Q201".into());
     }
     let mut steps = vec![TncStep::Rapid(top)];
     if c.start > 0.0 {
-        steps.push(TncStep::Feed(c.surface - c.start + c.clearance, TncFeed::Preposition));
+        steps.push(TncStep::Feed(l.surface - c.start + l.clearance, TncFeed::Preposition));
     }
     steps.push(TncStep::Feed(bottom, TncFeed::Plunge));
     if c.dwell_bottom_s > 0.0 {
         steps.push(TncStep::Dwell(c.dwell_bottom_s));
     }
     steps.push(TncStep::Feed(top, TncFeed::Retract));
-    steps.push(TncStep::Rapid(c.surface + c.clearance.max(c.clearance2)));
+    steps.push(TncStep::Rapid(l.out()));
     Ok(steps)
 }
 
@@ -270,14 +290,14 @@ mod tests {
     fn tnc_drilling_moves_as_the_manual_describes() {
         use TncFeed::*;
         use TncStep::*;
-        let h = TncHole { surface: 0.0, clearance: 2.0, clearance2: 50.0, depth: -6.5, plunge: 2.5, dwell_top_s: 0.5, dwell_bottom_s: 1.0, feed_out: false };
+        let h = TncHole { levels: TncLevels { surface: 0.0, clearance: 2.0, clearance2: 50.0, depth: -6.5 }, plunge: 2.5, dwell_top_s: 0.5, dwell_bottom_s: 1.0, feed_out: false };
         assert_eq!(
             tnc_hole(&h),
             vec![Rapid(2.0), Feed(-2.5, Plunge), Rapid(2.0), Dwell(0.5), Rapid(-0.5), Feed(-5.0, Plunge), Rapid(2.0), Dwell(0.5), Rapid(-3.0), Feed(-6.5, Plunge), Dwell(1.0), Rapid(50.0)]
         );
         assert_eq!(tnc_hole(&TncHole { plunge: 6.5, dwell_top_s: 0.0, dwell_bottom_s: 0.0, ..h }), vec![Rapid(2.0), Feed(-6.5, Plunge), Rapid(50.0)]);
-        assert_eq!(tnc_hole(&TncHole { plunge: 0.0, feed_out: true, dwell_top_s: 0.0, dwell_bottom_s: 0.0, clearance2: 0.0, ..h }), vec![Rapid(2.0), Feed(-6.5, Plunge), Feed(2.0, Plunge), Rapid(2.0)]);
-        assert!(tnc_hole(&TncHole { depth: 0.0, ..h }).is_empty());
+        assert_eq!(tnc_hole(&TncHole { plunge: 0.0, feed_out: true, dwell_top_s: 0.0, dwell_bottom_s: 0.0, levels: TncLevels { clearance2: 0.0, ..h.levels }, ..h }), vec![Rapid(2.0), Feed(-6.5, Plunge), Feed(2.0, Plunge), Rapid(2.0)]);
+        assert!(tnc_hole(&TncHole { levels: TncLevels { depth: 0.0, ..h.levels }, ..h }).is_empty());
     }
 
     /// Cycle 1 PECKING as the manual's process runs it, by hand: from Z2 with a set-up clearance of
@@ -328,7 +348,8 @@ mod tests {
     fn tnc_universal_drilling_moves_by_its_parameters() {
         use TncFeed::*;
         use TncStep::*;
-        let c = TncUniversal { surface: 0.0, clearance: 2.0, clearance2: 50.0, depth: -20.0, plunge: 5.0, decrement: 1.0, min_plunge: 3.0, breaks: 2, break_distance: 0.2, dwell_top_s: 0.5, dwell_bottom_s: 0.2 };
+        let deep = |depth: f64| TncLevels { surface: 0.0, clearance: 2.0, clearance2: 50.0, depth };
+        let c = TncUniversal { levels: deep(-20.0), plunge: 5.0, decrement: 1.0, min_plunge: 3.0, breaks: 2, break_distance: 0.2, dwell_top_s: 0.5, dwell_bottom_s: 0.2 };
         let want = [
             Rapid(2.0),
             Feed(-5.0, Plunge),
@@ -351,20 +372,20 @@ mod tests {
         let got = tnc_universal(&c).unwrap();
         assert!(same(&got, &want), "{got:?}");
         // No chip breaks (Q213=0): out of the hole after every infeed, as cycle 200 but at Q208.
-        let plain = TncUniversal { depth: -12.0, decrement: 0.0, breaks: 0, dwell_top_s: 0.0, dwell_bottom_s: 0.0, ..c };
+        let plain = TncUniversal { levels: deep(-12.0), decrement: 0.0, breaks: 0, dwell_top_s: 0.0, dwell_bottom_s: 0.0, ..c };
         let want = [Rapid(2.0), Feed(-5.0, Plunge), Feed(2.0, Retract), Rapid(-3.0), Feed(-10.0, Plunge), Feed(2.0, Retract), Rapid(-8.0), Feed(-12.0, Plunge), Feed(2.0, Retract), Rapid(50.0)];
         let got = tnc_universal(&plain).unwrap();
         assert!(same(&got, &want), "{got:?}");
         // A decrement without a minimum: 5 + 4 + 3 + 2 reaches 14, but 5 + 4 + 3 + 2 + 1 never 20.
         let shrinking = TncUniversal { min_plunge: 0.0, ..plain };
-        assert!(tnc_universal(&TncUniversal { depth: -14.0, decrement: 1.0, ..shrinking }).is_ok());
-        assert!(tnc_universal(&TncUniversal { depth: -20.0, decrement: 1.0, ..shrinking }).unwrap_err().contains("Q212"));
+        assert!(tnc_universal(&TncUniversal { levels: deep(-14.0), decrement: 1.0, ..shrinking }).is_ok());
+        assert!(tnc_universal(&TncUniversal { levels: deep(-20.0), decrement: 1.0, ..shrinking }).unwrap_err().contains("Q212"));
         // A minimum above the plunging depth makes no infeed larger: 5 throughout.
         let got = tnc_universal(&TncUniversal { min_plunge: 8.0, decrement: 1.0, ..plain }).unwrap();
         assert!(same(&got, &[Rapid(2.0), Feed(-5.0, Plunge), Feed(2.0, Retract), Rapid(-3.0), Feed(-10.0, Plunge), Feed(2.0, Retract), Rapid(-8.0), Feed(-12.0, Plunge), Feed(2.0, Retract), Rapid(50.0)]), "{got:?}");
         // Infeeds of a micrometre in a 100 mm hole are a typo, not 100,000 moves.
-        assert!(tnc_universal(&TncUniversal { depth: -0.1, plunge: 1e-6, ..plain }).unwrap_err().contains("infeeds"));
-        assert!(tnc_universal(&TncUniversal { depth: 0.0, ..c }).unwrap().is_empty());
+        assert!(tnc_universal(&TncUniversal { levels: deep(-0.1), plunge: 1e-6, ..plain }).unwrap_err().contains("infeeds"));
+        assert!(tnc_universal(&TncUniversal { levels: deep(0.0), ..c }).unwrap().is_empty());
     }
 
     /// Cycle 241 as the DMU program uses it: surface 0, set-up clearance 3, a pilot hole to 16
@@ -374,7 +395,7 @@ mod tests {
     fn tnc_single_lip_drilling_enters_the_pilot_hole_at_its_feed() {
         use TncFeed::*;
         use TncStep::*;
-        let c = TncSingleLip { surface: 0.0, clearance: 3.0, clearance2: 30.0, depth: -272.441, start: 16.0, dwell_bottom_s: 0.0 };
+        let c = TncSingleLip { levels: TncLevels { surface: 0.0, clearance: 3.0, clearance2: 30.0, depth: -272.441 }, start: 16.0, dwell_bottom_s: 0.0 };
         let got = tnc_single_lip(&c).unwrap();
         assert!(same(&got, &[Rapid(3.0), Feed(-13.0, Preposition), Feed(-272.441, Plunge), Feed(3.0, Retract), Rapid(30.0)]), "{got:?}");
         // No deepened start: drilling from the set-up clearance; a dwell at the bottom.

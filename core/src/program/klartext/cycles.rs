@@ -7,7 +7,7 @@ use std::borrow::Cow;
 
 use super::exec::Exec;
 use crate::program::interp::{Dimension, Interpreter, Word};
-use crate::program::tnc_cycles::{tnc_hole, tnc_pecking, tnc_single_lip, tnc_universal, TncFeed, TncHole, TncPecking, TncSingleLip, TncStep, TncUniversal};
+use crate::program::tnc_cycles::{tnc_hole, tnc_pecking, tnc_single_lip, tnc_universal, TncFeed, TncHole, TncLevels, TncPecking, TncSingleLip, TncStep, TncUniversal};
 use crate::program::Block;
 
 /// `CYCL DEF 32.0 TOLERANCE` / `32.1 T0.05` / `32.2 HSC-MODE:0 TA0.5` (TNC 620 Cycle Programming, 340
@@ -347,7 +347,8 @@ impl Exec {
     /// why it cannot run.
     fn drilling_moves(&self, n: u32, unit: f64) -> Result<(Vec<TncStep>, Feeds), String> {
         let q = |name: &str| self.cycle_q(name, unit);
-        let (surface, clearance, clearance2, depth) = (q("Q203")?, q("Q200")?.abs(), q("Q204")?.abs(), q("Q201")?);
+        let levels = TncLevels { surface: q("Q203")?, clearance: q("Q200")?.abs(), clearance2: q("Q204")?.abs(), depth: q("Q201")? };
+        let depth = levels.depth;
         if depth > 0.0 {
             return Err(format!("Q201={}: a positive depth (drilling up) is not read", depth / unit));
         }
@@ -360,7 +361,7 @@ impl Exec {
         let plunge_feed = || self.cycle_feed("Q206");
         // Q208 RETRACTION FEED RATE: "If you enter Q208 = 0, the TNC retracts the tool at feed rate Q206".
         let retract_feed = |plunge: f64| self.cycle_feed("Q208").map(|f| if f == 0.0 { plunge } else { f });
-        let mut h = TncHole { surface, clearance, clearance2, depth, plunge: 0.0, dwell_top_s: 0.0, dwell_bottom_s: 0.0, feed_out: false };
+        let mut h = TncHole { levels, plunge: 0.0, dwell_top_s: 0.0, dwell_bottom_s: 0.0, feed_out: false };
         let (steps, feeds) = match n {
             200 => {
                 h.plunge = q("Q202")?.abs();
@@ -374,10 +375,7 @@ impl Exec {
                     return Err(format!("Q213={breaks}: the number of chip breaks is a whole number from 0 to {}", u32::MAX));
                 }
                 let c = TncUniversal {
-                    surface,
-                    clearance,
-                    clearance2,
-                    depth,
+                    levels,
                     plunge: q("Q202")?.abs(),
                     decrement: q("Q212")?.abs(),
                     min_plunge: q("Q205")?.abs(),
@@ -406,7 +404,7 @@ impl Exec {
                 if start < 0.0 {
                     return Err(format!("Q379={}: a deepened starting point above the surface is not read", start / unit));
                 }
-                let c = TncSingleLip { surface, clearance, clearance2, depth, start, dwell_bottom_s: self.cycle_q("Q211", 1.0)? };
+                let c = TncSingleLip { levels, start, dwell_bottom_s: self.cycle_q("Q211", 1.0)? };
                 let plunge = plunge_feed()?;
                 let preposition = if start > 0.0 { self.cycle_feed("Q253")? } else { plunge };
                 if preposition == 0.0 {
@@ -437,8 +435,8 @@ impl Exec {
         }
         // Each plunge makes blocks: a plunging depth a thousand times too small is a typo (and
         // would take memory without bound).
-        if n == 200 && h.plunge > 0.0 && crate::program::cycles::too_many_pecks(h.depth, h.plunge) {
-            return Err(format!("Q202={} makes more than {} plunges of a {} deep hole: a typo?", h.plunge / unit, crate::program::cycles::MAX_PECKS, -h.depth / unit));
+        if n == 200 && h.plunge > 0.0 && crate::program::cycles::too_many_pecks(h.levels.depth, h.plunge) {
+            return Err(format!("Q202={} makes more than {} plunges of a {} deep hole: a typo?", h.plunge / unit, crate::program::cycles::MAX_PECKS, -h.levels.depth / unit));
         }
         Ok((steps, feeds))
     }
