@@ -72,6 +72,11 @@ DIN_HELD = (b"%T G71 *\nN10 T1 G17 S1000 *\nN20 G00 G90 X+0 Y+0 Z+50 *\nN30 G28 
             b"N60 G72 F2 *\nN70 X+3 *\nN80 G72 F1 *\nN90 G73 H+10 *\nN100 X+4 *\nN110 G73 H+0 *\nN120 X+0 Y+0 Z+50 M144 *\nN99999999 %T G71 *\n")
 FANUC_MODES = (b"%\nO1\nG21 G90 G17 G94 F100.\nG0 X0. Y0. Z10.\nG16\nG1 X10. Y45.\nG15\nG07.1 C10.\nG1 X1. C5.\nG07.1 C0\n"
                b"G12.1\nG1 X2.\nG13.1\nG31 X5.\nG33 Z-1. F1.\nG0 X0. Y0. Z10.\nM30\n%\n")
+# The 840D's circles given otherwise: CIP, AR=, polar coordinates, CT (modal, after a line and an
+# arc, a helix, the straight-line limit), a full circle by its centre, and their refusals.
+SINUMERIK_CIRCLES = (b"G17 G90 G71 G94\nG0 X30 Y40 Z0\nG1 F100\nCIP X50 Y40 I1=40 J1=45\nG3 X17.203 Y38.029 AR=140.134\n"
+                     b"G111 X20 Y10\nG1 RP=50 AP=30\nAP=IC(-90)\nG1 X10 Y0\nCT X20 Y10\nX30 Y20 Z-5\nCT X40 Y20\nCT X45 Y25\n"
+                     b"G1 Z5\nCT X0 Y0\nG3 I=AC(0) J=AC(0)\nG18 CT X10 Z5\nG91 CT X5 Y5\nM30\n")
 # An 840D contour under tool radius compensation: a tool by name, CFTCP and CFC, arcs by CR, a
 # subprogram-free M17 left out, a stop at a CFC outside corner, D0, refusals (KONT, OFFN, G451).
 SINUMERIK_TRC = (b"T=\"MILL_D6\" D1\nM6\nG17 G90 G71 G94 CFTCP\nG0 X-20 Y-20 Z5\nG1 Z-2 F500\nG1 G42 X0 Y0\n"
@@ -144,6 +149,7 @@ def programs(corpus: pathlib.Path) -> int:
     put(corpus, "nc_program", "held.nc", bytes([PICK["fanuc"]]) + FANUC_HELD)
     put(corpus, "nc_program", "held.h", bytes([PICK["klartext"] + len(PICK)]) + KLARTEXT_HELD)
     put(corpus, "nc_program", "trc.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_TRC)
+    put(corpus, "nc_program", "circles.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_CIRCLES)
     put(corpus, "nc_program", "corners.mpf", bytes([PICK["sinumerik"]]) + SINUMERIK_CORNERS)
     put(corpus, "nc_program", "corners.nc", bytes([PICK["fanuc"]]) + FANUC_CORNERS)
     put(corpus, "nc_program", "nurbs.nc", bytes([PICK["fanuc"]]) + FANUC_NURBS)
