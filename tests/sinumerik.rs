@@ -596,6 +596,9 @@ fn cip_is_the_circle_through_its_three_points() {
         let e = errors(&read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
         assert!(e.len() == 1 && e[0].0 == 4 && e[0].1 == col && e[0].2.contains(message), "{block}: {e:?}");
     }
+    // A centre alone under CIP is no full circle (that is G2/G3's): refused where it stands.
+    let e = errors(&read(&format!("{head}CIP X50 Y40 I1=40 J1=45\nJ-5\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+    assert!(e.len() == 1 && e[0].0 == 5 && e[0].1 == 1 && e[0].2.contains("CIP with J-5"), "{e:?}");
     let after = errors(&read(&format!("{head}CIP X50 Y40\nX60 Y50\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
     assert!(after.iter().any(|e| e.0 == 5), "{after:?}");
 }
@@ -672,10 +675,18 @@ fn ct_leaves_the_contour_along_its_tangent() {
         (&format!("{head}N40 CT X20 Y10 I5\n"), 16, "give the centre"),
         (&format!("{head}N40 G18\nN50 CT X20 Z10\n"), 5, "plane or the frame"),
         (&format!("{head}N40 G2 CT X20 Y10\n"), 5, "G2 with CT"),
+        // A centre alone under CT is no full circle (that is G2/G3's, with a centre): refused.
+        (&format!("{head}N40 CT X20 Y10\nN50 I5\n"), 5, "CT with I5"),
+        // The first move's start is where the tool stood, which the program does not say.
+        ("N10 G17 G90 G71 G94\nN20 G0 X10 Y5 Z0\nN30 CT X20 Y15 F600\n", 5, "no contour element"),
     ] {
         let e = errors(&read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
         assert!(e.len() == 1 && e[0].1 == col && e[0].2.contains(message), "{text}: {e:?}");
     }
+    // A line of CT in effect refused (its tangent turned by a frame, not read): the control made
+    // the circle, so the move after it starts where this reader does not know.
+    let e = errors(&read(&format!("{head}N40 CT X20 Y10\nN50 ROT RPL=10\nN60 X10 Y20\nN70 G1 X30\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+    assert!(e.len() == 2 && e[0].0 == 6 && e[1].0 == 7 && e[1].2.contains("line 6's CT"), "{e:?}");
 }
 
 /// `AR=`, the opening angle (Programming Manual Fundamentals 12/2019 §2.9.6.4), with the manual's

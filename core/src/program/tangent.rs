@@ -9,11 +9,16 @@ use super::{Block, Motion};
 /// The direction a block leaves the contour in, in the working plane (not of unit length: the
 /// readers keep one per block, and [`tangent_circle`] scales it once where a CT uses it): a line's
 /// from its start to its end, an arc's tangent at its end in its sense. `None` where it has none in
-/// the plane (a move along the plane's normal alone, of rotary axes alone, or no move). `start` and
-/// `end` are the interpreter's positions before and after the block (in a tilted plane the plane's
-/// coordinates; an arc's centre is the workpiece's, taken back into the plane).
-pub(crate) fn end_tangent(b: &Block, start: [f64; 6], end: [f64; 6], interp: &Interpreter) -> Option<[f64; 2]> {
+/// the plane (a move along the plane's normal alone, of rotary axes alone, or no move), or where it
+/// is not known: a move from where no move had placed the plane's axes (`placed` before the block)
+/// starts where the tool stood, which the program does not say. `start` and `end` are the
+/// interpreter's positions before and after the block (in a tilted plane the plane's coordinates;
+/// an arc's centre is the workpiece's, taken back into the plane).
+pub(crate) fn end_tangent(b: &Block, start: [f64; 6], placed: [bool; 6], end: [f64; 6], interp: &Interpreter) -> Option<[f64; 2]> {
     let (a0, a1, _) = interp.plane().axes();
+    if !(placed[a0] && placed[a1]) {
+        return None;
+    }
     let t = match &b.arc {
         Some(arc) => {
             let c = nalgebra::Vector3::from(arc.centre);

@@ -577,12 +577,12 @@ impl Exec {
                 },
             }
         }
-        let start = interp.position();
+        let (start, placed) = (interp.position(), interp.placed);
         let result = interp.block_one(&words, s.line, s.col, s.number, diags);
         match result {
             Some(b) => {
                 let end = interp.position();
-                self.follow(&b, start, end, interp);
+                self.follow(&b, start, placed, end, interp);
                 let moved = !b.targets.is_empty();
                 if let Some((side, r)) = starting {
                     self.comp.start(side, r, [start[0], start[1], start[2]]);
@@ -779,9 +779,9 @@ impl Exec {
 
     /// Keep the contour's end direction for a later CT ([`crate::program::tangent::end_tangent`]);
     /// a block that moves nothing leaves it.
-    pub(super) fn follow(&mut self, b: &Block, start: [f64; 6], end: [f64; 6], interp: &Interpreter) {
+    pub(super) fn follow(&mut self, b: &Block, start: [f64; 6], placed: [bool; 6], end: [f64; 6], interp: &Interpreter) {
         if b.arc.is_some() || !b.targets.is_empty() {
-            self.tangent = crate::program::tangent::end_tangent(b, start, end, interp);
+            self.tangent = crate::program::tangent::end_tangent(b, start, placed, end, interp);
         }
     }
 }

@@ -116,7 +116,8 @@ impl Exec {
             made.push((b, from, interp.position()));
         }
         for (b, from, to) in made {
-            self.follow(&b, from, to, interp);
+            // (A spline starts only where a move has placed the axes it names.)
+            self.follow(&b, from, interp.placed, to, interp);
             let h = Held { b, start: from, end: to, unit, tilt: interp.tilt(), arc_feed: interp.arc_feed() };
             if let Err(stop) = self.join(h, false, interp, out, diags) {
                 self.stopped(&stop, diags, interp);

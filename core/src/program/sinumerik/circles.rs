@@ -48,6 +48,15 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
     let moves = (0..3).any(|k| written(k).is_some());
     let through_col = through.iter().flatten().map(|t| t.2).min();
     let rotary = words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C'));
+    // A centre, radius or turns, with an end point or not (`J-5` alone is no full circle under CIP).
+    if let Some(w) = words.iter().find(|w| matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P')) {
+        let why = match w.letter {
+            'R' => "CR=: a circle through an intermediate point takes no radius".to_string(),
+            'P' => "TURN=: a circle through an intermediate point takes no turns".to_string(),
+            c => format!("{c}{}: a circle through an intermediate point takes no centre", w.raw),
+        };
+        return Err((w.column, format!("CIP with {why}")));
+    }
     let Some(through_col) = through_col else {
         return if moves {
             Err((col, "CIP: a move without its intermediate point (I1= J1= K1=): every CIP block gives one".into()))
@@ -59,14 +68,6 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
     };
     if !moves {
         return Err((through_col, "CIP: an intermediate point without an end point (X Y Z)".into()));
-    }
-    if let Some(w) = words.iter().find(|w| matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P')) {
-        let why = match w.letter {
-            'R' => "CR=: a circle through an intermediate point takes no radius".to_string(),
-            'P' => "TURN=: a circle through an intermediate point takes no turns".to_string(),
-            c => format!("{c}{}: a circle through an intermediate point takes no centre", w.raw),
-        };
-        return Err((w.column, format!("CIP with {why}")));
     }
     let end: [f64; 3] = std::array::from_fn(|k| match written(k) {
         Some(w) if w.dimension.absolute(absolute) => w.value * unit,
@@ -126,16 +127,17 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
 /// radius or turns.
 pub(super) fn tangent<'a>(words: &[Word<'a>], t: Result<[f64; 2], String>, start: [f64; 3], plane: Plane, unit: f64, absolute: bool, col: usize) -> Result<Option<Vec<Word<'a>>>, (usize, String)> {
     let written = |k: usize| words.iter().find(|w| w.letter == AXES[k]);
-    if !(0..3).any(|k| written(k).is_some()) {
-        return if words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C')) { Err((col, "CT: a move of the rotary axes alone, without an end point (X Y Z)".into())) } else { Ok(None) };
-    }
+    // A centre, radius or turns, with an end point or not (`I5` alone is no full circle under CT).
     if let Some(w) = words.iter().find(|w| matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P')) {
         let why = match w.letter {
             'R' => "CR=: the tangent and the end point give the radius".to_string(),
-            'P' => "TURN=: turns are not read".to_string(),
+            'P' => "TURN=: turns with a tangential circle are not read".to_string(),
             c => format!("{c}{}: the tangent and the end point give the centre", w.raw),
         };
         return Err((w.column, format!("CT with {why}")));
+    }
+    if !(0..3).any(|k| written(k).is_some()) {
+        return if words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C')) { Err((col, "CT: a move of the rotary axes alone, without an end point (X Y Z)".into())) } else { Ok(None) };
     }
     let t = t.map_err(|why| (col, why))?;
     let end: [f64; 3] = std::array::from_fn(|k| match written(k) {

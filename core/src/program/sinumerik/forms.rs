@@ -15,6 +15,14 @@ pub(super) enum CircleMode {
 }
 
 impl CircleMode {
+    /// Its keyword.
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            CircleMode::Cip => "CIP",
+            CircleMode::Ct => "CT",
+        }
+    }
+
     /// The mode a keyword (capitals) selects.
     fn of(name: &str) -> Option<CircleMode> {
         match name {
@@ -171,15 +179,16 @@ impl SinumerikReader {
         match &self.tangent {
             Some(t) if t.plane == plane && t.tilt == self.interp.tilt() => Ok(t.t),
             Some(t) => Err(format!("CT: the working plane or the frame's rotation changed since line {}, whose end the circle would be tangent to: a tangent carried over is not read", t.line)),
-            None => Err("CT: no contour element in the working plane before it to be tangent to (the last move left the plane, moved rotary axes alone, made a cycle's moves, ran under tool radius compensation or was refused)".into()),
+            None => Err("CT: no contour element in the working plane before it to be tangent to (the last move left the plane, moved rotary axes alone, made a cycle's moves, started where no move had placed the plane's axes, ran under tool radius compensation or was refused)".into()),
         }
     }
 
     /// Keep the end direction of a line read well for a later CT: the end tangent of its one block
     /// that moves ([`crate::program::tangent::end_tangent`]); a line that moves nothing leaves it,
-    /// one of several moves (a cycle) or under tool radius compensation (its path is the
-    /// compensation's) forgets it, as a refused line does.
-    pub(super) fn follow(&mut self, start: [f64; 6], blocks: &[Block], line: usize) {
+    /// one of several moves (a cycle), one from where no move had placed the plane's axes (`placed`
+    /// before the line), or one under tool radius compensation (its path is the compensation's)
+    /// forgets it, as a refused line does.
+    pub(super) fn follow(&mut self, start: [f64; 6], placed: [bool; 6], blocks: &[Block], line: usize) {
         if self.trc.busy() {
             self.tangent = None;
             return;
@@ -189,7 +198,7 @@ impl SinumerikReader {
             (None, _) => {}
             (Some(b), None) => {
                 let end = self.interp.position();
-                self.tangent = crate::program::tangent::end_tangent(b, start, end, &self.interp).map(|t| Tangent { t, plane: self.interp.plane(), tilt: self.interp.tilt(), line });
+                self.tangent = crate::program::tangent::end_tangent(b, start, placed, end, &self.interp).map(|t| Tangent { t, plane: self.interp.plane(), tilt: self.interp.tilt(), line });
             }
             _ => self.tangent = None,
         }

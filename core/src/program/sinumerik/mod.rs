@@ -236,6 +236,10 @@ impl super::stream::LineReader for SinumerikReader {
         // moves after it until a statement that ends it is read ([`keywords::LASTING`]).
         let lasting: Vec<(String, &'static keywords::Lasting)> = lexed.keywords.iter().filter_map(|k| keywords::lasting(&k.name).map(|l| (k.name.to_string(), l))).collect();
         let axes = crate::program::interp::axes_named(Dialect::Sinumerik, &lexed.words);
+        // A line refused that moves axes under CIP or CT in effect, with no G0-G3 of its own: the
+        // control made that circle, which is not read, as a line that writes CIP or CT.
+        let unread_motion = unread_motion.or_else(|| mode_before.filter(|_| axes.iter().any(|&a| a) && motion_g(&lexed.words).is_none()).map(forms::CircleMode::name));
+        let ends_cip = ends_cip || unread_motion.is_some();
         let calls = Calls::of(&lexed.keywords);
         self.call_refused = None;
         if diags.errors() > errors_before {
@@ -274,7 +278,7 @@ impl super::stream::LineReader for SinumerikReader {
         let blocks_before = out.len();
         // A comment line alone is no block between two elements a corner joins.
         let written = lexed.number.is_some() || !lexed.words.is_empty() || !lexed.keywords.is_empty() || lexed.vector.is_some() || lexed.edge.is_some() || lexed.corner.any();
-        let (start, corners) = (self.interp.position(), self.corners.busy() || lexed.corner.any());
+        let (start, placed, corners) = (self.interp.position(), self.interp.placed, self.corners.busy() || lexed.corner.any());
         // Under tool radius compensation its own path takes the corners ([`trc`]).
         let trc_before = self.trc.busy();
         // A refused block's feed does not take effect: a later move without one names it
@@ -338,7 +342,7 @@ impl super::stream::LineReader for SinumerikReader {
             return;
         }
         self.vars.commit();
-        self.follow(start, &out[blocks_before..], line);
+        self.follow(start, placed, &out[blocks_before..], line);
         diags.0.append(&mut self.corner_diags.0);
         if corners && !trc_before && !self.trc.busy() && (written || out.len() > blocks_before) {
             let ends = self.returned || self.stopped || super::stream::ends_program(&out[blocks_before..], &[2.0, 30.0]);
