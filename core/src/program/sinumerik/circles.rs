@@ -49,14 +49,7 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
     let through_col = through.iter().flatten().map(|t| t.2).min();
     let rotary = words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C'));
     // A centre, radius or turns, with an end point or not (`J-5` alone is no full circle under CIP).
-    if let Some(w) = words.iter().find(|w| matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P')) {
-        let why = match w.letter {
-            'R' => "CR=: a circle through an intermediate point takes no radius".to_string(),
-            'P' => "TURN=: a circle through an intermediate point takes no turns".to_string(),
-            c => format!("{c}{}: a circle through an intermediate point takes no centre", w.raw),
-        };
-        return Err((w.column, format!("CIP with {why}")));
-    }
+    no_centre(words, "CIP", ["a circle through an intermediate point takes no centre", "a circle through an intermediate point takes no radius", "a circle through an intermediate point takes no turns"])?;
     let Some(through_col) = through_col else {
         return if moves {
             Err((col, "CIP: a move without its intermediate point (I1= J1= K1=): every CIP block gives one".into()))
@@ -118,6 +111,22 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
     Ok(Some(out))
 }
 
+/// The error, at its column, of a block of `mode` (CIP, CT: circles given otherwise) that writes a
+/// centre (I J K), a radius (CR=) or turns (TURN=), each with its reason in `why`.
+fn no_centre(words: &[Word<'_>], mode: &str, why: [&str; 3]) -> Result<(), (usize, String)> {
+    match words.iter().find(|w| matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P')) {
+        Some(w) => Err((
+            w.column,
+            match w.letter {
+                'R' => format!("{mode} with CR=: {}", why[1]),
+                'P' => format!("{mode} with TURN=: {}", why[2]),
+                c => format!("{mode} with {c}{}: {}", w.raw, why[0]),
+            },
+        )),
+        None => Ok(()),
+    }
+}
+
 /// A CT block's words as the G2 or G3 about the centre that the tangent `t` at the start (the
 /// working plane's two coordinates, unit; why there is none, if none) and the end point give, its
 /// centre incremental from the start; G1 where the end lies ahead on the tangent's line (the
@@ -128,14 +137,7 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
 pub(super) fn tangent<'a>(words: &[Word<'a>], t: Result<[f64; 2], String>, start: [f64; 3], plane: Plane, unit: f64, absolute: bool, col: usize) -> Result<Option<Vec<Word<'a>>>, (usize, String)> {
     let written = |k: usize| words.iter().find(|w| w.letter == AXES[k]);
     // A centre, radius or turns, with an end point or not (`I5` alone is no full circle under CT).
-    if let Some(w) = words.iter().find(|w| matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P')) {
-        let why = match w.letter {
-            'R' => "CR=: the tangent and the end point give the radius".to_string(),
-            'P' => "TURN=: turns with a tangential circle are not read".to_string(),
-            c => format!("{c}{}: the tangent and the end point give the centre", w.raw),
-        };
-        return Err((w.column, format!("CT with {why}")));
-    }
+    no_centre(words, "CT", ["the tangent and the end point give the centre", "the tangent and the end point give the radius", "turns with a tangential circle are not read"])?;
     if !(0..3).any(|k| written(k).is_some()) {
         return if words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C')) { Err((col, "CT: a move of the rotary axes alone, without an end point (X Y Z)".into())) } else { Ok(None) };
     }
