@@ -128,7 +128,7 @@ fn no_centre(words: &[Word<'_>], mode: &str, why: [&str; 3]) -> Result<(), (usiz
 }
 
 /// A CT block's words as the G2 or G3 about the centre that the tangent `t` at the start (the
-/// working plane's two coordinates, unit; why there is none, if none) and the end point give, its
+/// working plane's two coordinates, of any length; why there is none, if none) and the end point give, its
 /// centre incremental from the start; G1 where the end lies ahead on the tangent's line (the
 /// manual's limit case). `None` if the block moves no linear axis (a feed, a function). A move along
 /// the plane's normal with it makes a helix, as with G2/G3. The error and its column if the end

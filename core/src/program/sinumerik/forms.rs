@@ -33,8 +33,9 @@ impl CircleMode {
     }
 }
 
-/// The direction the programmed contour ends in, for a `CT` after it: a unit vector in the working
-/// plane's two coordinates, the plane and frame rotation it was taken in, and its line.
+/// The direction the programmed contour ends in, for a `CT` after it: a vector in the working
+/// plane's two coordinates (unscaled, [`crate::program::tangent::end_tangent`]), the plane and frame
+/// rotation it was taken in, and its line.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Tangent {
     t: [f64; 2],
