@@ -62,11 +62,7 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
     if !moves {
         return Err((through_col, "CIP: an intermediate point without an end point (X Y Z)".into()));
     }
-    let end: [f64; 3] = std::array::from_fn(|k| match written(k) {
-        Some(w) if w.dimension.absolute(absolute) => w.value * unit,
-        Some(w) => start[k] + w.value * unit,
-        None => start[k],
-    });
+    let end = end_point(words, start, unit, absolute);
     let (a, b, n) = plane.axes();
     // The plane's two coordinates of the intermediate point are written; a coordinate along the
     // normal left out is the start's (the manual's examples write the plane's two only).
@@ -100,15 +96,36 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
         return Err((through_col, "CIP: the end point is the start point: a full circle is not given by an intermediate point".into()));
     }
     // Start, intermediate, end counter-clockwise in the plane (from its first axis to its second): G3.
-    let ccw = d > 0.0;
-    let mut out: Vec<Word<'a>> = words.iter().filter(|w| !(w.letter == 'G' && matches!(w.value as i64, 0..=3))).cloned().collect();
-    let g = if ccw { 3.0 } else { 2.0 };
-    out.push(Word { letter: 'G', value: g, raw: Cow::Owned(format!("{g}")), column: col, dimension: Dimension::Modal });
-    for (k, c) in [(a, centre[0]), (b, centre[1])] {
-        let v = (c - start[k]) / unit;
-        out.push(Word { letter: CENTRES[k], value: v, raw: Cow::Owned(format!("{v}")), column: through_col, dimension: Dimension::Incremental });
-    }
+    let mut out = with_motion(words, if d > 0.0 { 3.0 } else { 2.0 }, col);
+    push_centre(&mut out, plane, [centre[0] - start[a], centre[1] - start[b]], unit, through_col);
     Ok(Some(out))
+}
+
+/// The end point (absolute program coordinates, m) the block's X Y Z give from `start`, each as
+/// G90/G91 or its own `AC()`/`IC()` says; an axis not written stays.
+fn end_point(words: &[Word<'_>], start: [f64; 3], unit: f64, absolute: bool) -> [f64; 3] {
+    std::array::from_fn(|k| match words.iter().find(|w| w.letter == AXES[k]) {
+        Some(w) if w.dimension.absolute(absolute) => w.value * unit,
+        Some(w) => start[k] + w.value * unit,
+        None => start[k],
+    })
+}
+
+/// The block's words with its G0-G3 replaced by `g`, the motion a circle form turns into.
+fn with_motion<'a>(words: &[Word<'a>], g: f64, col: usize) -> Vec<Word<'a>> {
+    let mut out: Vec<Word<'a>> = words.iter().filter(|w| !(w.letter == 'G' && matches!(w.value as i64, 0..=3))).cloned().collect();
+    out.push(Word { letter: 'G', value: g, raw: Cow::Owned(format!("{g}")), column: col, dimension: Dimension::Modal });
+    out
+}
+
+/// The circle centre's words of the working plane, incremental from the start by `offset` (m),
+/// in program units.
+fn push_centre(out: &mut Vec<Word<'_>>, plane: Plane, offset: [f64; 2], unit: f64, col: usize) {
+    let (a, b, _) = plane.axes();
+    for (k, c) in [(a, offset[0]), (b, offset[1])] {
+        let v = c / unit;
+        out.push(Word { letter: CENTRES[k], value: v, raw: Cow::Owned(format!("{v}")), column: col, dimension: Dimension::Incremental });
+    }
 }
 
 /// The error, at its column, of a block of `mode` (CIP, CT: circles given otherwise) that writes a
@@ -142,14 +159,9 @@ pub(super) fn tangent<'a>(words: &[Word<'a>], t: Result<[f64; 2], String>, start
         return if words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C')) { Err((col, "CT: a move of the rotary axes alone, without an end point (X Y Z)".into())) } else { Ok(None) };
     }
     let t = t.map_err(|why| (col, why))?;
-    let end: [f64; 3] = std::array::from_fn(|k| match written(k) {
-        Some(w) if w.dimension.absolute(absolute) => w.value * unit,
-        Some(w) => start[k] + w.value * unit,
-        None => start[k],
-    });
+    let end = end_point(words, start, unit, absolute);
     let (a, b, _) = plane.axes();
     let d = [end[a] - start[a], end[b] - start[b]];
-    let mut out: Vec<Word<'a>> = words.iter().filter(|w| !(w.letter == 'G' && matches!(w.value as i64, 0..=3))).cloned().collect();
     let Some((centre, ccw)) = crate::program::tangent::tangent_circle(t, d) else {
         if d[0].hypot(d[1]) < IN_PLANE {
             return Err((col, "CT: the end point is the start point in the working plane: no circle".into()));
@@ -158,15 +170,10 @@ pub(super) fn tangent<'a>(words: &[Word<'a>], t: Result<[f64; 2], String>, start
             return Err((col, "CT: the end point lies behind the start on the tangent: no circle leaves along it".into()));
         }
         // "If the extension of the start tangent runs through the end point, a straight line is produced."
-        out.push(Word { letter: 'G', value: 1.0, raw: Cow::Borrowed("1"), column: col, dimension: Dimension::Modal });
-        return Ok(Some(out));
+        return Ok(Some(with_motion(words, 1.0, col)));
     };
-    let g = if ccw { 3.0 } else { 2.0 };
-    out.push(Word { letter: 'G', value: g, raw: Cow::Owned(format!("{g}")), column: col, dimension: Dimension::Modal });
-    for (k, c) in [(a, centre[0]), (b, centre[1])] {
-        let v = c / unit;
-        out.push(Word { letter: CENTRES[k], value: v, raw: Cow::Owned(format!("{v}")), column: col, dimension: Dimension::Incremental });
-    }
+    let mut out = with_motion(words, if ccw { 3.0 } else { 2.0 }, col);
+    push_centre(&mut out, plane, centre, unit, col);
     Ok(Some(out))
 }
 
@@ -200,11 +207,7 @@ pub(super) fn opening<'a>(words: &[Word<'a>], (ar, ar_col): (f64, usize), ccw: b
         (true, true) => Err((ar_col, "AR= with both an end point and a centre: the circle is given by one of them".into())),
         (false, false) => Err((ar_col, "AR= without an end point or a centre".into())),
         (true, false) => {
-            let end: [f64; 3] = std::array::from_fn(|k| match axis(k) {
-                Some(w) if w.dimension.absolute(absolute) => w.value * unit,
-                Some(w) => start[k] + w.value * unit,
-                None => start[k],
-            });
+            let end = end_point(words, start, unit, absolute);
             let (du, dv) = (end[a] - start[a], end[b] - start[b]);
             let chord = du.hypot(dv);
             if !(chord > 1e-9) {
@@ -214,10 +217,7 @@ pub(super) fn opening<'a>(words: &[Word<'a>], (ar, ar_col): (f64, usize), ccw: b
             // for a clockwise arc; over 180 deg the tangent's sign puts the centre on the other side.
             let h = 0.5 * chord / (0.5 * ar.to_radians()).tan() * if ccw { 1.0 } else { -1.0 };
             let centre = [0.5 * (start[a] + end[a]) - h * dv / chord, 0.5 * (start[b] + end[b]) + h * du / chord];
-            for (k, c) in [(a, centre[0]), (b, centre[1])] {
-                let v = (c - start[k]) / unit;
-                out.push(Word { letter: CENTRES[k], value: v, raw: Cow::Owned(format!("{v}")), column: ar_col, dimension: Dimension::Incremental });
-            }
+            push_centre(&mut out, plane, [centre[0] - start[a], centre[1] - start[b]], unit, ar_col);
             Ok(out)
         }
         (false, true) => {

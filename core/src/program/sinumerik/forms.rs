@@ -24,7 +24,7 @@ impl CircleMode {
     }
 
     /// The mode a keyword (capitals) selects.
-    fn of(name: &str) -> Option<CircleMode> {
+    pub(super) fn of(name: &str) -> Option<CircleMode> {
         match name {
             "CIP" => Some(CircleMode::Cip),
             "CT" => Some(CircleMode::Ct),
@@ -75,38 +75,28 @@ impl SinumerikReader {
                 self.circle_mode = None;
             }
         }
-        match self.circle_mode {
-            Some(CircleMode::Cip) => {
-                let (absolute, plane, unit) = self.circle_settings(words);
-                let start = self.interp.position();
-                match circles::through(words, &through, [start[0], start[1], start[2]], plane, unit, absolute, first_col) {
-                    Ok(Some(arc)) => *words = arc,
-                    Ok(None) => {}
-                    Err((col, why)) => {
-                        diags.error(line, col, why);
-                        return false;
-                    }
-                }
-            }
-            _ if through.iter().flatten().next().is_some() => {
-                let col = through.iter().flatten().map(|c| c.2).min().unwrap_or(first_col);
+        if self.circle_mode != Some(CircleMode::Cip) {
+            if let Some(col) = through.iter().flatten().map(|c| c.2).min() {
                 diags.error(line, col, "I1= J1= K1= (an intermediate point) without CIP in effect");
                 return false;
             }
-            Some(CircleMode::Ct) => {
-                let (absolute, plane, unit) = self.circle_settings(words);
-                let start = self.interp.position();
-                let tangent = self.tangent_in(plane);
-                match circles::tangent(words, tangent, [start[0], start[1], start[2]], plane, unit, absolute, mode_col) {
-                    Ok(Some(arc)) => *words = arc,
-                    Ok(None) => {}
-                    Err((col, why)) => {
-                        diags.error(line, col, why);
-                        return false;
-                    }
+        }
+        if let Some(mode) = self.circle_mode {
+            let (absolute, plane, unit) = self.circle_settings(words);
+            let start = self.interp.position();
+            let start = [start[0], start[1], start[2]];
+            let made = match mode {
+                CircleMode::Cip => circles::through(words, &through, start, plane, unit, absolute, first_col),
+                CircleMode::Ct => circles::tangent(words, self.tangent_in(plane), start, plane, unit, absolute, mode_col),
+            };
+            match made {
+                Ok(Some(arc)) => *words = arc,
+                Ok(None) => {}
+                Err((col, why)) => {
+                    diags.error(line, col, why);
+                    return false;
                 }
             }
-            None => {}
         }
         // Polar coordinates: a pole (G110-G112), or a move by AP= RP=; a change of the working
         // plane forgets the polar angle.

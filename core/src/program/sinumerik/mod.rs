@@ -218,15 +218,12 @@ impl super::stream::LineReader for SinumerikReader {
         let errors_before = diags.errors();
         let first = cols.col(first) - 1;
         let lexed = lex::lex_line(text_line, &cols, line, &mut self.vars, diags);
-        // A refused line's CIP does not take effect, and the motion after it is not known
-        // ([`UNREAD_MOTION`]); a refused line of a CIP already in effect leaves it so.
+        // A refused line's CIP or CT does not take effect, and the motion after it is not known
+        // ([`UNREAD_MOTION`]).
         let (mode_before, polar_before) = (self.circle_mode, self.polar);
         let unread_motion = lexed.keywords.iter().find_map(|k| UNREAD_MOTION.iter().copied().find(|u| *u == k.name.as_str()));
         // A move of its own the control makes, refused here ([`keywords::refused_move`]).
         let refused_move = lexed.refused_g.and_then(|g| keywords::refused_move(g).map(|m| (format!("G{g}"), m)));
-        // A refused line leaves CIP in effect unless it has a motion of G group 1 (a spline, CT, CIP
-        // itself, or a threading G33 ...), which the control ran.
-        let ends_cip = unread_motion.is_some() || refused_move.as_ref().is_some_and(|(_, (_, _, group1))| *group1);
         // Statements that end a hold (not TRANS and ROT, which stand alone), and the axial offsets
         // G58/G59 (the programmable frame's translation, refused: held as a frame).
         let ends: Vec<String> = lexed.keywords.iter().filter(|k| !matches!(k.name.as_str(), "TRANS" | "ROT") && LASTING.iter().any(|l| l.ends.contains(&k.name.as_str()))).map(|k| k.name.to_string()).collect();
@@ -239,7 +236,9 @@ impl super::stream::LineReader for SinumerikReader {
         // A line refused that moves axes under CIP or CT in effect, with no G0-G3 of its own: the
         // control made that circle, which is not read, as a line that writes CIP or CT.
         let unread_motion = unread_motion.or_else(|| mode_before.filter(|_| axes.iter().any(|&a| a) && motion_g(&lexed.words).is_none()).map(forms::CircleMode::name));
-        let ends_cip = ends_cip || unread_motion.is_some();
+        // A refused line leaves CIP or CT in effect unless it has a motion of G group 1 (a spline,
+        // CIP or CT itself, a circle of theirs, or a threading G33 ...), which the control ran.
+        let ends_circle_mode = unread_motion.is_some() || refused_move.as_ref().is_some_and(|(_, (_, _, group1))| *group1);
         let calls = Calls::of(&lexed.keywords);
         self.call_refused = None;
         if diags.errors() > errors_before {
@@ -249,7 +248,7 @@ impl super::stream::LineReader for SinumerikReader {
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
             }
-            if ends_cip {
+            if ends_circle_mode {
                 self.circle_mode = None;
             }
             self.hold_refused(&lasting, frame_g, line);
@@ -321,7 +320,7 @@ impl super::stream::LineReader for SinumerikReader {
                 self.interp.moved_everywhere(line, &name, UNREAD_CALL);
             }
             self.calls_refused(&calls, line);
-            (self.circle_mode, self.polar) = (mode_before.filter(|_| !ends_cip), polar_before);
+            (self.circle_mode, self.polar) = (mode_before.filter(|_| !ends_circle_mode), polar_before);
             if let Some(k) = unread_motion {
                 self.interp.forget_motion(line, k, unread_what(k), axes);
             }
@@ -403,9 +402,9 @@ impl SinumerikReader {
     fn block(&mut self, lexed: Lexed<'_>, line: usize, first_col: usize, out: &mut Vec<Block>, diags: &mut Diags) -> bool {
         let errors_before = diags.errors();
         let Lexed { mut words, number, mut keywords, vector, edge, rpl, disc, offn, corner, circle, .. } = lexed;
-        // CIP, AR=, polar coordinates: where a block writes them or CIP is in effect (most blocks:
-        // none, and nothing to do).
-        let mode_written = !keywords.is_empty() && keywords.iter().any(|k| matches!(k.name.as_str(), "CIP" | "CT"));
+        // CIP, CT, AR=, polar coordinates: where a block writes them or CIP or CT is in effect (most
+        // blocks: none, and nothing to do).
+        let mode_written = !keywords.is_empty() && keywords.iter().any(|k| forms::CircleMode::of(&k.name).is_some());
         if (self.circle_mode.is_some() || mode_written || circle.is_some() || words.iter().any(|w| w.letter == 'G' && matches!(w.value as i64, 17..=19 | 110..=112)))
             && !self.circle_forms(&mut words, &mut keywords, circle.map(|c| *c).unwrap_or_default(), line, first_col, diags)
         {
