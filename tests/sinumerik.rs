@@ -20,6 +20,18 @@ fn on_umc(text: &str) -> Program {
     read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default().on(&m))
 }
 
+/// A program read as an 840D program, with no machine.
+fn sin(text: &str) -> Program {
+    read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default())
+}
+
+/// Reading `text` as an 840D program gives one error, at `line` (and `col`, where given), saying
+/// `message`.
+fn refused_once(text: &str, line: usize, col: Option<usize>, message: &str) {
+    let e = errors(&sin(text));
+    assert!(e.len() == 1 && e[0].0 == line && col.is_none_or(|c| e[0].1 == c) && e[0].2.contains(message), "{text}: {e:?}");
+}
+
 fn blocks_of(p: &Program, line: usize) -> Vec<&Block> {
     p.blocks.iter().filter(|b| b.line == line).collect()
 }
@@ -215,7 +227,7 @@ fn cycle800_swivels_the_ftv5_as_the_dmu70_program_tilts_the_same_part() {
 /// absolute centre `I=AC(23) J=AC(17)` from X33 Y17 to X23 Y27 has radius 10.
 #[test]
 fn ac_and_ic_dimension_their_word_only() {
-    let p = read("N10 G71 G90 G94 G17 G1 X0 Y0 F100\nN180 G91 X40 Y20\nN190 X-12 Y=AC(17)\nN200 G90 X=IC(5)\nN210 G2 X23 Y27 I=AC(23) J=AC(17)\nN220 M30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin("N10 G71 G90 G94 G17 G1 X0 Y0 F100\nN180 G91 X40 Y20\nN190 X-12 Y=AC(17)\nN200 G90 X=IC(5)\nN210 G2 X23 Y27 I=AC(23) J=AC(17)\nN220 M30\n");
     assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
     let at = |line: usize| blocks_of(&p, line)[0];
     assert!(close(at(2).targets.x, 40.0) && close(at(2).targets.y, 20.0), "{:?}", at(2).targets);
@@ -299,18 +311,18 @@ fn a_swivel_after_a_call_not_read_sets_its_plane_and_places_what_it_moves() {
 #[test]
 fn calls_not_read_leave_the_tool_unknown_and_an_alarm_is_said_once() {
     let lines = |p: &Program| errors(p).iter().map(|e| e.0).collect::<Vec<_>>();
-    let p = read("G90 G71\nG0 X0 Y0 Z50\nSUB1 P3\nG1 X10 F100\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin("G90 G71\nG0 X0 Y0 Z50\nSUB1 P3\nG1 X10 F100\nM30\n");
     assert_eq!(lines(&p), [3, 4], "{:#?}", errors(&p));
     assert!(errors(&p)[1].2.contains("line 3's SUB1 (a subprogram call not read, which the control runs)"), "{:#?}", errors(&p));
-    let p = read("G90 G71\nG0 X0 Y0 Z50\nCYCLE82(10,0,2,-5,,-2)\nG1 X10 F100\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin("G90 G71\nG0 X0 Y0 Z50\nCYCLE82(10,0,2,-5,,-2)\nG1 X10 F100\nM30\n");
     assert_eq!(lines(&p), [3, 4], "{:#?}", errors(&p));
     assert!(errors(&p)[0].2.contains("is not read") && errors(&p)[1].2.contains("line 3's CYCLE82"), "{:#?}", errors(&p));
-    let p = read("G90 G71\nG0 X0 Y0 Z50\nMCALL SUB1\nG0 X10\nMCALL\nG0 X1 Y2 Z3\nG1 X5 F100\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin("G90 G71\nG0 X0 Y0 Z50\nMCALL SUB1\nG0 X10\nMCALL\nG0 X1 Y2 Z3\nG1 X5 F100\nM30\n");
     assert_eq!(lines(&p), [3, 4, 6], "{:#?}", errors(&p));
     assert!(errors(&p)[1].2.contains("a move while line 3's MCALL (a modal call (MCALL) refused) is in effect on the control until MCALL alone"), "{:#?}", errors(&p));
     assert!(errors(&p)[2].2.contains("a move from where the moves under line 3's MCALL"), "{:#?}", errors(&p));
     assert!(close(blocks_of(&p, 7)[0].targets.x, 5.0), "{:?}", blocks_of(&p, 7));
-    let p = read("G90 G71\nG0 X0 Y0 Z50\nMCALL CYCLE81(0,10,2,5)\nG0 X10\nMCALL\nG0 X1 Y2 Z3\nM30\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin("G90 G71\nG0 X0 Y0 Z50\nMCALL CYCLE81(0,10,2,5)\nG0 X10\nMCALL\nG0 X1 Y2 Z3\nM30\n");
     assert_eq!(lines(&p), [3], "{:#?}", errors(&p));
     assert!(errors(&p)[0].2.contains("alarm 61101"), "{:#?}", errors(&p));
     let dmu = Machine::builtin("dmg-dmu-70-evo").unwrap();
@@ -347,7 +359,7 @@ fn swivel_refusals_speak_the_840ds_terms() {
 #[test]
 fn held_lines_and_refused_calls_leave_the_tool_where_the_control_has_it() {
     let first = |text: &str| -> Vec<(usize, String)> {
-        let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+        let p = sin(text);
         errors(&p).into_iter().map(|(l, _, m)| (l, m)).collect()
     };
     let e = first("G0 G90 X0 Y0 Z50 F100\nFLIN\nG1 X100 Y100 SOFT\nFNORM\nG2 X20 Y0 I10 J0\nM30\n");
@@ -568,7 +580,7 @@ fn moves_under_g18_or_g19_with_tool_offsets_follow_sd42940() {
 #[test]
 fn cip_is_the_circle_through_its_three_points() {
     let text = "N10 G17 G90 G71 G94\nN20 G0 X30 Y40 Z0\nN30 G1 F100\nN40 CIP X50 Y40 I1=40 J1=45\nN50 X70 Y40 I1=60 J1=35\nN60 G1 X80\nN70 G0 X30 Y40\nN80 G91 CIP X20 Y0 I1=10 J1=5\n";
-    let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin(text);
     assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
     let arc = |line: usize, motion: Motion, centre: [f64; 2], end: [f64; 2]| {
         let b = blocks_of(&p, line);
@@ -593,13 +605,11 @@ fn cip_is_the_circle_through_its_three_points() {
         ("G1 X50 Y40 I1=40 J1=45", 12, "without CIP in effect"),
         ("CIP X50 I1=40 J1=45 CR=5", 21, "takes no radius"),
     ] {
-        let e = errors(&read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
-        assert!(e.len() == 1 && e[0].0 == 4 && e[0].1 == col && e[0].2.contains(message), "{block}: {e:?}");
+        refused_once(&format!("{head}{block}\n"), 4, Some(col), message);
     }
     // A centre alone under CIP is no full circle (that is G2/G3's): refused where it stands.
-    let e = errors(&read(&format!("{head}CIP X50 Y40 I1=40 J1=45\nJ-5\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
-    assert!(e.len() == 1 && e[0].0 == 5 && e[0].1 == 1 && e[0].2.contains("CIP with J-5"), "{e:?}");
-    let after = errors(&read(&format!("{head}CIP X50 Y40\nX60 Y50\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+    refused_once(&format!("{head}CIP X50 Y40 I1=40 J1=45\nJ-5\n"), 5, Some(1), "CIP with J-5");
+    let after = errors(&sin(&format!("{head}CIP X50 Y40\nX60 Y50\n")));
     assert!(after.iter().any(|e| e.0 == 5), "{after:?}");
 }
 
@@ -612,7 +622,7 @@ fn cip_is_the_circle_through_its_three_points() {
 fn a_centre_without_an_end_point_is_a_full_circle() {
     let head = "N10 G17 G90 G71 G94\nN20 G0 X10 Y0 Z0\nN30 G1 F600\n";
     for block in ["N40 G3 I=AC(0) J=AC(0)", "N40 G2 I-10 J0", "N40 G3 I-10"] {
-        let p = read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+        let p = sin(&format!("{head}{block}\n"));
         assert!(errors(&p).is_empty(), "{block}: {:#?}", errors(&p));
         let b = *blocks_of(&p, 4).last().unwrap();
         let a = b.arc.as_deref().unwrap_or_else(|| panic!("{block}: no arc {b:?}"));
@@ -623,7 +633,7 @@ fn a_centre_without_an_end_point_is_a_full_circle() {
         let length: f64 = t.segments.iter().filter(|s| s.line == 4).map(|s| s.length).sum();
         assert!((length / MM / (std::f64::consts::TAU * 10.0) - 1.0).abs() < 1e-6, "{block}: {} mm", length / MM);
     }
-    let e = errors(&read(&format!("{head}N40 G3 CR=10\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+    let e = errors(&sin(&format!("{head}N40 G3 CR=10\n")));
     assert!(e.len() == 1 && e[0].0 == 4, "{e:?}");
 }
 
@@ -645,20 +655,20 @@ fn ct_leaves_the_contour_along_its_tangent() {
         (b.motion, a, [b.targets.x.map(|v| v / MM), b.targets.y.map(|v| v / MM), b.targets.z.map(|v| v / MM)])
     };
     let near = |a: [f64; 3], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9;
-    let p = read(&format!("{head}N40 CT X20 Y10\nN50 X30 Y20\nN60 G1 X40\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin(&format!("{head}N40 CT X20 Y10\nN50 X30 Y20\nN60 G1 X40\n"));
     assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
     let (m, c, e) = arc(&p, 4);
     assert!(m == Motion::ArcCcw && near(c.unwrap(), [10.0, 10.0]) && e[0] == Some(20.0) && e[1] == Some(10.0), "{m:?} {c:?} {e:?}");
     let (m, c, e) = arc(&p, 5);
     assert!(m == Motion::ArcCw && near(c.unwrap(), [30.0, 10.0]) && e[0] == Some(30.0) && e[1] == Some(20.0), "{m:?} {c:?} {e:?}");
     assert_eq!(arc(&p, 6).0, Motion::Linear);
-    let p = read(&format!("{head}N40 CT X20 Y10 Z-5\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin(&format!("{head}N40 CT X20 Y10 Z-5\n"));
     let (m, c, e) = arc(&p, 4);
     assert!(m == Motion::ArcCcw && near(c.unwrap(), [10.0, 10.0]) && e[2] == Some(-5.0), "{m:?} {c:?} {e:?}");
-    let p = read(&format!("{head}N40 CT X25 Y0\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin(&format!("{head}N40 CT X25 Y0\n"));
     assert!(errors(&p).is_empty() && arc(&p, 4).0 == Motion::Linear && arc(&p, 4).1.is_none(), "{:?}", arc(&p, 4));
     // The manual's G18 example: the centre on the normal of N115's line at its end, equidistant.
-    let p = read("N100 G18 G90 G71 G94 D0 G0 X23.293 Y0 Z0\nN110 G1 X23.293 Z0 F10\nN115 X40 Z-30\nN120 CT X58.146 Z-42\nN125 G1 X70\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin("N100 G18 G90 G71 G94 D0 G0 X23.293 Y0 Z0\nN110 G1 X23.293 Z0 F10\nN115 X40 Z-30\nN120 CT X58.146 Z-42\nN125 G1 X70\n");
     assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
     let (_, c, e) = arc(&p, 4);
     let c = c.unwrap();
@@ -669,23 +679,22 @@ fn ct_leaves_the_contour_along_its_tangent() {
     assert!(e[0] == Some(58.146) && e[2] == Some(-42.0), "{e:?}");
     // Refused, each where it stands: no move in the plane before it, the end behind the start on
     // the tangent, a centre written, the plane changed since the tangent, CT with G2.
-    for (text, col, message) in [
-        ("N10 G17 G90 G71 G94\nN20 G0 X0 Y0 Z5\nN30 G1 Z0 F500\nN40 CT X10 Y10\n", 5, "no contour element"),
-        (&format!("{head}N40 CT X0 Y0\n"), 5, "behind the start"),
-        (&format!("{head}N40 CT X20 Y10 I5\n"), 16, "give the centre"),
-        (&format!("{head}N40 G18\nN50 CT X20 Z10\n"), 5, "plane or the frame"),
-        (&format!("{head}N40 G2 CT X20 Y10\n"), 5, "G2 with CT"),
+    for (text, line, col, message) in [
+        ("N10 G17 G90 G71 G94\nN20 G0 X0 Y0 Z5\nN30 G1 Z0 F500\nN40 CT X10 Y10\n", 4, 5, "no contour element"),
+        (&format!("{head}N40 CT X0 Y0\n"), 4, 5, "behind the start"),
+        (&format!("{head}N40 CT X20 Y10 I5\n"), 4, 16, "give the centre"),
+        (&format!("{head}N40 G18\nN50 CT X20 Z10\n"), 5, 5, "plane or the frame"),
+        (&format!("{head}N40 G2 CT X20 Y10\n"), 4, 5, "G2 with CT"),
         // A centre alone under CT is no full circle (that is G2/G3's, with a centre): refused.
-        (&format!("{head}N40 CT X20 Y10\nN50 I5\n"), 5, "CT with I5"),
+        (&format!("{head}N40 CT X20 Y10\nN50 I5\n"), 5, 5, "CT with I5"),
         // The first move's start is where the tool stood, which the program does not say.
-        ("N10 G17 G90 G71 G94\nN20 G0 X10 Y5 Z0\nN30 CT X20 Y15 F600\n", 5, "no contour element"),
+        ("N10 G17 G90 G71 G94\nN20 G0 X10 Y5 Z0\nN30 CT X20 Y15 F600\n", 3, 5, "no contour element"),
     ] {
-        let e = errors(&read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
-        assert!(e.len() == 1 && e[0].1 == col && e[0].2.contains(message), "{text}: {e:?}");
+        refused_once(text, line, Some(col), message);
     }
     // A line of CT in effect refused (its tangent turned by a frame, not read): the control made
     // the circle, so the move after it starts where this reader does not know.
-    let e = errors(&read(&format!("{head}N40 CT X20 Y10\nN50 ROT RPL=10\nN60 X10 Y20\nN70 G1 X30\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+    let e = errors(&sin(&format!("{head}N40 CT X20 Y10\nN50 ROT RPL=10\nN60 X10 Y20\nN70 G1 X30\n")));
     assert!(e.len() == 2 && e[0].0 == 6 && e[1].0 == 7 && e[1].2.contains("line 6's CT"), "{e:?}");
 }
 
@@ -699,7 +708,7 @@ fn ct_leaves_the_contour_along_its_tangent() {
 fn ar_gives_the_circle_its_opening_angle_makes() {
     let head = "N10 G17 G90 G71 G94 F500\nN20 G0 X67.5 Y80.211 Z0\n";
     let centre_end = |block: &str| {
-        let p = read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+        let p = sin(&format!("{head}{block}\n"));
         assert!(errors(&p).is_empty(), "{block}: {:#?}", errors(&p));
         let b = *blocks_of(&p, 3).last().unwrap();
         let a = b.arc.as_deref().unwrap();
@@ -720,8 +729,7 @@ fn ar_gives_the_circle_its_opening_angle_makes() {
         ("N30 G3 X17.203 Y38.029 CR=34.913 AR=140", "with CR="),
         ("N30 G3 X17.203 Y38.029 I-17.5 J-30.211 AR=140", "both an end point and a centre"),
     ] {
-        let e = errors(&read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
-        assert!(e.len() == 1 && e[0].0 == 3 && e[0].2.contains(message), "{block}: {e:?}");
+        refused_once(&format!("{head}{block}\n"), 3, None, message);
     }
 }
 
@@ -736,7 +744,7 @@ fn ar_gives_the_circle_its_opening_angle_makes() {
 #[test]
 fn polar_coordinates_end_where_the_pole_and_angle_say() {
     let text = "N10 G17 G90 G71 G94\nN20 G0 X0 Y0 Z0\nN30 G111 X20 Y10\nN40 G1 RP=50 AP=30 F1000\nN50 G110 X-10 Y20\nN60 G1 RP=30 AP=45\nN70 G112 X40 Y20\nN80 G1 RP=30 AP=135\nN90 AP=IC(-90)\n";
-    let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let p = sin(text);
     assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
     let end = |line: usize, x: f64, y: f64| {
         let b = *blocks_of(&p, line).last().unwrap_or_else(|| panic!("line {line}"));
@@ -747,7 +755,7 @@ fn polar_coordinates_end_where_the_pole_and_angle_say() {
     end(8, 72.088, 96.213);
     end(9, 114.514, 96.213);
     assert!(blocks_of(&p, 3).iter().chain(blocks_of(&p, 5).iter()).all(|b| b.targets.x.is_none()), "a pole is no move");
-    let turn = read("N10 G18 G90 G71 G94 D0\nN20 G1 X40 Z-25 F200\nN30 G111 X33.33 Z-54.25\nN40 G3 RP=30 AP=142.326\n", Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+    let turn = sin("N10 G18 G90 G71 G94 D0\nN20 G1 X40 Z-25 F200\nN30 G111 X33.33 Z-54.25\nN40 G3 RP=30 AP=142.326\n");
     assert!(errors(&turn).is_empty(), "{:#?}", errors(&turn));
     let b = *blocks_of(&turn, 4).last().unwrap();
     let a = b.arc.as_deref().unwrap();
@@ -762,8 +770,7 @@ fn polar_coordinates_end_where_the_pole_and_angle_say() {
         ("N30 G1 X5 RP=10 AP=30 F100", "not both"),
         ("N30 G111 X5", "both of the plane's coordinates"),
     ] {
-        let e = errors(&read(&format!("{head}{block}\n"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
-        assert!(e.len() == 1 && e[0].0 == 3 && e[0].2.contains(message), "{block}: {e:?}");
+        refused_once(&format!("{head}{block}\n"), 3, None, message);
     }
 }
 
@@ -774,7 +781,7 @@ fn polar_coordinates_end_where_the_pole_and_angle_say() {
 #[test]
 fn cip_reads_its_own_blocks_unit_and_refuses_what_it_cannot() {
     let time = |text: &str| {
-        let p = read(text, Dialect::Sinumerik, "t.mpf", &ReadOptions::default());
+        let p = sin(text);
         assert!(errors(&p).is_empty(), "{text}: {:#?}", errors(&p));
         let arc = p.blocks.iter().rev().find(|b| b.arc.is_some()).unwrap();
         (arc.motion, arc.arc.as_deref().unwrap().centre, arc.targets.x, arc.targets.y)
@@ -788,7 +795,7 @@ fn cip_reads_its_own_blocks_unit_and_refuses_what_it_cannot() {
     assert_eq!((cip.2, cip.3), (g2.2, g2.3));
     let head = "G17 G90 G71 G94 F600\nG0 X10 Y0 Z0\nCIP X0 Y-10 I1=0 J1=10\n";
     for (tail, line, message) in [("X10 Y0 I1=-10 J1=0 J1=1\n", 4, "J1 written twice"), ("C90\n", 4, "rotary axes alone"), ("G331 Z-10 K1\nX10 Y0 I1=-10 J1=0\n", 5, "without CIP in effect")] {
-        let e = errors(&read(&format!("{head}{tail}"), Dialect::Sinumerik, "t.mpf", &ReadOptions::default()));
+        let e = errors(&sin(&format!("{head}{tail}")));
         assert!(e.iter().any(|e| e.0 == line && e.2.contains(message)), "{tail}: {e:?}");
     }
 }
