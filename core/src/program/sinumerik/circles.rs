@@ -49,7 +49,7 @@ pub(super) fn through<'a>(words: &[Word<'a>], through: &Through, start: [f64; 3]
     let through_col = through.iter().flatten().map(|t| t.2).min();
     let rotary = words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C'));
     // A centre, radius or turns, with an end point or not (`J-5` alone is no full circle under CIP).
-    no_centre(words, "CIP", ["a circle through an intermediate point takes no centre", "a circle through an intermediate point takes no radius", "a circle through an intermediate point takes no turns"])?;
+    no_centre(words, "CIP", [Some("a circle through an intermediate point takes no centre"), Some("a circle through an intermediate point takes no radius"), Some("a circle through an intermediate point takes no turns")])?;
     let Some(through_col) = through_col else {
         return if moves {
             Err((col, "CIP: a move without its intermediate point (I1= J1= K1=): every CIP block gives one".into()))
@@ -129,15 +129,22 @@ fn push_centre(out: &mut Vec<Word<'_>>, plane: Plane, offset: [f64; 2], unit: f6
 }
 
 /// The error, at its column, of a block of `mode` (CIP, CT: circles given otherwise) that writes a
-/// centre (I J K), a radius (CR=) or turns (TURN=), each with its reason in `why`.
-fn no_centre(words: &[Word<'_>], mode: &str, why: [&str; 3]) -> Result<(), (usize, String)> {
-    match words.iter().find(|w| matches!(w.letter, 'I' | 'J' | 'K' | 'R' | 'P')) {
+/// centre (I J K), a radius (CR=) or, where `why` gives a reason for them, turns (TURN=), each with
+/// its reason in `why`.
+fn no_centre(words: &[Word<'_>], mode: &str, why: [Option<&str>; 3]) -> Result<(), (usize, String)> {
+    let refused = |w: &&Word<'_>| match w.letter {
+        'I' | 'J' | 'K' => why[0].is_some(),
+        'R' => why[1].is_some(),
+        'P' => why[2].is_some(),
+        _ => false,
+    };
+    match words.iter().find(refused) {
         Some(w) => Err((
             w.column,
             match w.letter {
-                'R' => format!("{mode} with CR=: {}", why[1]),
-                'P' => format!("{mode} with TURN=: {}", why[2]),
-                c => format!("{mode} with {c}{}: {}", w.raw, why[0]),
+                'R' => format!("{mode} with CR=: {}", why[1].unwrap_or_default()),
+                'P' => format!("{mode} with TURN=: {}", why[2].unwrap_or_default()),
+                c => format!("{mode} with {c}{}: {}", w.raw, why[0].unwrap_or_default()),
             },
         )),
         None => Ok(()),
@@ -149,12 +156,14 @@ fn no_centre(words: &[Word<'_>], mode: &str, why: [&str; 3]) -> Result<(), (usiz
 /// centre incremental from the start; G1 where the end lies ahead on the tangent's line (the
 /// manual's limit case). `None` if the block moves no linear axis (a feed, a function). A move along
 /// the plane's normal with it makes a helix, as with G2/G3. The error and its column if the end
-/// point is the start or lies behind it on the tangent's line, or if the block writes a centre, a
-/// radius or turns.
+/// point is the start or lies behind it on the tangent's line, if the block writes a centre or a
+/// radius, or turns (TURN=, which a circle takes as G2/G3 do) where it makes the straight line.
 pub(super) fn tangent<'a>(words: &[Word<'a>], t: Result<[f64; 2], String>, start: [f64; 3], plane: Plane, unit: f64, absolute: bool, col: usize) -> Result<Option<Vec<Word<'a>>>, (usize, String)> {
     let written = |k: usize| words.iter().find(|w| w.letter == AXES[k]);
-    // A centre, radius or turns, with an end point or not (`I5` alone is no full circle under CT).
-    no_centre(words, "CT", ["the tangent and the end point give the centre", "the tangent and the end point give the radius", "turns with a tangential circle are not read"])?;
+    // A centre or a radius, with an end point or not (`I5` alone is no full circle under CT). Full
+    // turns (TURN=) go with the circle, as with G2/G3 (ONE 12/2019 §2.9 allows them but on the
+    // straight line).
+    no_centre(words, "CT", [Some("the tangent and the end point give the centre"), Some("the tangent and the end point give the radius"), None])?;
     if !(0..3).any(|k| written(k).is_some()) {
         return if words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C')) { Err((col, "CT: a move of the rotary axes alone, without an end point (X Y Z)".into())) } else { Ok(None) };
     }
@@ -169,8 +178,14 @@ pub(super) fn tangent<'a>(words: &[Word<'a>], t: Result<[f64; 2], String>, start
         if d[0] * t[0] + d[1] * t[1] < 0.0 {
             return Err((col, "CT: the end point lies behind the start on the tangent: no circle leaves along it".into()));
         }
-        // "If the extension of the start tangent runs through the end point, a straight line is produced."
-        return Ok(Some(with_motion(words, 1.0, col)));
+        // "If the extension of the start tangent runs through the end point, a straight line is
+        // produced instead of a circle ... In this special case, TURN must either not be programmed
+        // or the value must be TURN=0." (TURN=n is read as P n+1.)
+        if let Some(w) = words.iter().find(|w| w.letter == 'P' && w.value != 1.0) {
+            return Err((w.column, format!("CT with TURN={}: the end point lies on the start tangent, where the control makes a straight line and TURN must be left out or 0", w.value - 1.0)));
+        }
+        let line: Vec<Word<'a>> = words.iter().filter(|w| w.letter != 'P').cloned().collect();
+        return Ok(Some(with_motion(&line, 1.0, col)));
     };
     let mut out = with_motion(words, if ccw { 3.0 } else { 2.0 }, col);
     push_centre(&mut out, plane, centre, unit, col);
