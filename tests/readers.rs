@@ -8,10 +8,12 @@ use proptest::prelude::*;
 
 mod fanuc;
 mod fanuc_corners;
+mod fanuc_cycles;
 mod fanuc_macro;
 mod fanuc_nurbs;
 mod fanuc_offsets;
 mod feed_per_rev;
+mod feed_units;
 mod klartext;
 mod lasting;
 mod linuxcnc;
@@ -501,151 +503,6 @@ fn end_points(p: &Program) -> Vec<(Motion, [f64; 6])> {
     out
 }
 
-/// Fanuc's reference returns and machine coordinates on a machine whose file places them: `G91 G28
-/// Z0` goes straight up to the reference point, `G28 X10 Y0` (G90) through the intermediate point,
-/// `G53 G0 Z-5` to 5 mm below the machine zero; a number without a decimal point is in thousandths
-/// of a mm (`X1500` is 1.5 mm); the leader before `%` is skipped; Fanuc's G04 P is milliseconds.
-#[test]
-fn fanuc_reference_returns_and_decimal_points() {
-    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
-    let text = "NX listing header\nDate : today\n%\nO0001\nG21 G90 G17 G40\nG91 G28 Z0.\nG90 G0 X1500 Y2. Z3.\nG28 X10. Y0.\nG53 G0 Z-5.\nG04 P250\nM30\n%\ntrailer text\n";
-    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&machine));
-    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
-    let zero = machine.machine_coordinates.as_ref().unwrap().zero;
-    let pts = end_points(&p);
-    let mm = |v: f64| v * 1e3;
-    // Z to the machine zero (program = machine point + zero, G54 taken as zero).
-    assert_eq!(pts[0].0, Motion::Rapid);
-    assert!((pts[0].1[2] - mm(zero.z)).abs() < 1e-9, "{pts:?}");
-    assert!((pts[1].1[0] - 1.5).abs() < 1e-12 && (pts[1].1[1] - 2.0).abs() < 1e-12);
-    // G28 X10 Y0: the intermediate point, then X and Y to the reference (Z stays).
-    assert_eq!(&pts[2].1[..3], &[10.0, 0.0, 3.0]);
-    assert!((pts[3].1[0] - mm(zero.x)).abs() < 1e-9 && (pts[3].1[1] - mm(zero.y)).abs() < 1e-9 && (pts[3].1[2] - 3.0).abs() < 1e-9, "{pts:?}");
-    assert!((pts[4].1[2] - (mm(zero.z) - 5.0)).abs() < 1e-9);
-    assert_eq!(p.blocks.iter().filter_map(|b| b.dwell_s).collect::<Vec<_>>(), [0.25]);
-    assert!(p.diagnostics.iter().any(|d| d.line == 1 && d.message.contains("leader")));
-    // Fanuc's P takes no decimal point; a peck cycle needs the machine's d.
-    let p = read("%\nG21 G90\nG04 P1.5\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&machine));
-    assert!(errors(&p).iter().any(|(l, _, m)| *l == 3 && m.contains("milliseconds")), "{:?}", errors(&p));
-    let bare = fiveaxis::machine::builtin_file("mori-seiki-nmv5000").unwrap().replace("g83_clearance_mm = 0.1\n", "");
-    let bare = fiveaxis::machine::Machine::from_toml_str(&bare, "t").unwrap();
-    let p = read("%\nG21 G90 F100\nG0 Z10.\nG83 X0 Y0 Z-5. R1. Q2.\n", Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&bare));
-    assert!(errors(&p).iter().any(|(l, _, m)| *l == 4 && m.contains("No. 5115")), "{:?}", errors(&p));
-    // Without machine coordinates, G28 cannot be placed.
-    let p = read("%\nG21 G91 G28 Z0.\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
-    assert!(errors(&p).iter().any(|(l, _, m)| *l == 2 && m.contains("machine_coordinates")), "{:?}", errors(&p));
-}
-
-/// `G80 G91 G28 Z0.`, as NX's posts end a drilling operation: G80 (the motion group) ends the cycle
-/// and G28 (group 0) takes the axis words, in one block (LinuxCNC's enhance_block refuses axis words
-/// with G80 unless a group 0 code takes them; FANUC puts G80 in group 09 and G28 in group 00). The
-/// moves after it are rapids, not holes, on Fanuc, Haas and LinuxCNC, and with G53 as with G28.
-#[test]
-fn g80_with_a_reference_return_ends_the_cycle() {
-    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
-    // On Fanuc and Haas the motion group keeps its G00 under the cycle (group 09): `G90 Z30.` after
-    // G80 is a rapid. LinuxCNC's G80 is of the motion group itself: its next move names G0.
-    let body = "G21 G90 G17\nG0 X10. Y10. Z20.\nG98 G81 X10. Y10. Z-2. R2. F100.\nX20.\nG80 G91 G28 Z0.\nG90 Z30.\nX40. Y40.\n";
-    for (dialect, text) in [
-        (Dialect::Fanuc, format!("%\nO1000\n{body}M30\n%\n")),
-        (Dialect::Haas, format!("%\nO1000\n{body}M30\n%\n")),
-        (Dialect::Rs274, format!("%\n{}M2\n%\n", body.replace("G90 Z30.", "G90 G0 Z30."))),
-        (Dialect::Fanuc, format!("%\nO1000\n{}M30\n%\n", body.replace("G80 G91 G28 Z0.", "G80 G53 Z0."))),
-        (Dialect::Haas, format!("%\nO1000\n{}M30\n%\n", body.replace("G80 G91 G28 Z0.", "G80 G53 Z0."))),
-    ] {
-        let p = read(&text, dialect, "t.nc", &ReadOptions::default().on(&machine));
-        assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
-        let pts = end_points(&p);
-        // Two holes: one feed move each, to Z-2 at X10 and X20.
-        let feeds: Vec<[f64; 6]> = pts.iter().filter(|(m, _)| *m == Motion::Linear).map(|(_, at)| *at).collect();
-        assert!(feeds.len() == 2 && feeds.iter().all(|at| (at[2] + 2.0).abs() < 1e-9) && (feeds[1][0] - 20.0).abs() < 1e-9, "{dialect:?}: {pts:?}");
-        // Then up to the reference (or machine zero), to Z30, and to X40 Y40 by rapids only.
-        let (m, last) = pts.last().unwrap();
-        assert!(*m == Motion::Rapid && (last[0] - 40.0).abs() < 1e-9 && (last[1] - 40.0).abs() < 1e-9 && (last[2] - 30.0).abs() < 1e-9, "{dialect:?}: {pts:?}");
-    }
-}
-
-/// FANUC's alarm PS0045 ADDRESS Q NOT FOUND (G73/G83) is "not specified by address Q, or Q0 is
-/// specified" (its alarm list): named for a peck cycle without Q or with Q0, not for a negative Q or
-/// a cycle that does not peck, nor on Haas (whose pages say no alarm). Each is refused either way.
-#[test]
-fn fanuc_names_ps0045_where_its_alarm_list_says() {
-    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
-    let head = "%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\n";
-    // (dialect, cycle blocks, the line refused, PS0045 named)
-    for (dialect, cycle, at, named) in [
-        (Dialect::Fanuc, "G83 X0. Y0. Z-5. R1. Q0. F100.", 5, true),
-        (Dialect::Fanuc, "G73 X0. Y0. Z-5. R1. F100.", 5, true),
-        (Dialect::Fanuc, "G83 X0. Y0. Z-5. R1. Q-2. F100.", 5, false),
-        // Q is modal cycle data a G81 keeps without using: the G83 after it takes its Q0.
-        (Dialect::Fanuc, "G81 X0. Y0. Z-5. R1. Q0. F100.\nG83 X1.", 6, true),
-        (Dialect::Haas, "G83 X0. Y0. Z-5. R1. Q0. F100.", 5, false),
-    ] {
-        let p = read(&format!("{head}{cycle}\nG80\nM30\n%\n"), dialect, "t.nc", &ReadOptions::default().on(&machine));
-        let e = errors(&p);
-        assert!(e.len() == 1 && e[0].0 == at, "{dialect:?} {cycle}: {e:?}");
-        assert_eq!(e[0].2.contains("PS0045"), named, "{dialect:?} {cycle}: {e:?}");
-        if dialect == Dialect::Fanuc && cycle.contains("Q-2") {
-            assert!(e[0].2.contains("Negative values are ignored"), "{e:?}");
-        }
-    }
-}
-
-/// Haas' G83 with I J K (Mill Operator's Manual 96-8000, G83: "The first pass will cut in by I, each
-/// succeeding cut will be reduced by amount J, and the minimum cutting depth is K"): from R1 to Z-10
-/// with I3 J1 K1.5 the pecks are 3, 2, 1.5, 1.5, 1.5 and the last 0.5, so the feeds end at -2, -4,
-/// -5.5, -7, -8.5 and -10 (worked by hand); the next hole of the cycle pecks alike. I, J and K go
-/// together, not with Q, I and K positive.
-#[test]
-fn a_haas_g83_with_i_j_k_pecks_less_each_pass() {
-    let machine = fiveaxis::machine::Machine::builtin("haas-umc-750").unwrap();
-    let text = "%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\nG98 G83 X0. Y0. Z-10. R1. I3. J1. K1.5 F100.\nX5.\nG80\nM30\n%\n";
-    let p = read(text, Dialect::Haas, "t.nc", &ReadOptions::default().on(&machine));
-    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
-    for line in [5, 6] {
-        let feeds: Vec<f64> = p.blocks.iter().filter(|b| b.line == line && b.motion == Motion::Linear).filter_map(|b| b.targets.z.map(|z| (z / MM * 1e6).round() / 1e6)).collect();
-        assert_eq!(feeds, [-2.0, -4.0, -5.5, -7.0, -8.5, -10.0], "line {line}: {:#?}", p.blocks);
-    }
-    for (cycle, col, needle) in [
-        ("G83 X0. Y0. Z-10. R1. I3. J1. F100.", 23, "I, J and K go together"),
-        ("G83 X0. Y0. Z-10. R1. Q2. I3. J1. K1. F100.", 23, "either a fixed peck Q or a shrinking one"),
-        ("G83 X0. Y0. Z-10. R1. I0. J1. K1. F100.", 23, "must be positive"),
-    ] {
-        let p = read(&format!("%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\n{cycle}\nG80\nM30\n%\n"), Dialect::Haas, "t.nc", &ReadOptions::default().on(&machine));
-        has(&p, 5, col, needle);
-    }
-}
-
-/// A G81 (or G82, G85, G86, G89) does not use Q: FANUC keeps it as modal cycle data ("Q ... is modal
-/// information in a canned cycle, and is also used to specify a depth of cut with G73 and G83",
-/// Series 15i-MA Operator's Manual), so a post's `Q0.` on a G81 drills the one plunge G81 makes:
-/// to R at rapid, to Z at the feed, back to the initial level (G98) at rapid.
-#[test]
-fn a_fanuc_g81_keeps_q_without_using_it() {
-    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
-    for (dialect, q) in [(Dialect::Fanuc, "Q0."), (Dialect::Fanuc, "Q-2."), (Dialect::Haas, "Q0.")] {
-        let text = format!("%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\nG98 G81 X3. Y4. Z-5. R1. {q} F100.\nG80\nM30\n%\n");
-        let p = read(&text, dialect, "t.nc", &ReadOptions::default().on(&machine));
-        assert!(errors(&p).is_empty(), "{dialect:?} {q}: {:?}", errors(&p));
-        let z: Vec<(f64, bool)> = p.blocks.iter().filter(|b| b.line == 5).filter_map(|b| b.targets.z.map(|z| ((z / MM * 1e6).round() / 1e6, b.motion == Motion::Rapid))).collect();
-        assert_eq!(z, [(1.0, true), (-5.0, false), (10.0, true)], "{dialect:?} {q}: {:#?}", p.blocks);
-    }
-}
-
-/// G76's shift at the bottom is Q, and Q is modal cycle data: a G76 after a G83 Q2. without G80
-/// between takes that shift, which is not modelled, so it is refused; after G80 (which cancels the
-/// cycle and its data) the same G76 has no shift and reads.
-#[test]
-fn a_fanuc_g76_refuses_the_shift_an_earlier_q_left() {
-    let machine = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
-    let head = "%\nO1000\nG21 G90 G94 G17\nG0 X0. Y0. Z10.\nG98 G83 X0. Y0. Z-5. R1. Q2. F100.\n";
-    let kept = read(&format!("{head}G76 X5. Z-5. R1.\nG80\nM30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&machine));
-    let e = errors(&kept);
-    assert!(e.len() == 1 && e[0].0 == 6 && e[0].2.contains("Q2 kept from an earlier cycle block"), "{e:?}");
-    let cancelled = read(&format!("{head}G80\nG76 X5. Z-5. R1.\nG80\nM30\n%\n"), Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&machine));
-    assert!(errors(&cancelled).is_empty(), "{:?}", errors(&cancelled));
-}
-
 /// Scratch: print the blocks of a program (development aid).
 #[test]
 #[ignore]
@@ -756,56 +613,6 @@ fn a_block_between_two_samples_is_still_seen() {
     }
 }
 
-/// F on a move of the rotary axes alone is in degrees per minute whatever the length unit (LinuxCNC's
-/// SET_FEED_RATE: the angular feed is FROM_PROG_ANG(rate), no inch conversion): `G1 B45` at F60 takes
-/// 45 s under G20 as under G21, where the inch feed had been read as 1524 deg/min (1.77 s). A linear
-/// move at F60 under G20 covers 60 in a minute: X1 (1 in) in 1 s. Sinumerik's G70 is the geometry's
-/// unit only ("Feedrate functions are not affected by G70/G71", 840Di sl Programming Manual
-/// 6FC5398-1BP10): X1 at F60 is 25.4 mm at 60 mm/min, 25.4 s, on a metric basic system; G700 makes F
-/// inch/min (1 s), as G70 does on an inch basic system (the machine file's `inch_basic_system`).
-#[test]
-fn a_rotary_feed_is_in_degrees_and_sinumeriks_g70_leaves_f_alone() {
-    for (unit, want) in [("G21", 45.0), ("G20", 45.0)] {
-        let t = cycle_time_s(&format!("{unit} G90 G94 G17\nG1 X0 F60\nG1 B45\nM2\n"), "ngc", "generic-bc-table");
-        assert!((t - want).abs() < 0.05, "{unit}: {t} s");
-    }
-    let t = cycle_time_s("G20 G90 G94 G17\nG1 X0 Y0 Z0 F60\nG1 X1\nM2\n", "ngc", "generic-bc-table");
-    assert!((t - 1.0).abs() < 0.05, "G20 X1 at F60: {t} s");
-    for (code, want) in [("G70", 25.4), ("G700", 1.0), ("G71", 1.0)] {
-        let t = cycle_time_s(&format!("{code} G90 G94 G17\nG1 X0 Y0 Z0 F60\nG1 X1\nM30\n"), "mpf", "generic-bc-table");
-        assert!((t - want).abs() < 0.05 * want.max(1.0), "{code}: {t} s, want {want}");
-    }
-    // On an inch basic system G70 reads F in inch/min.
-    let machine = format!("inch_basic_system = true\n{}", fiveaxis::machine::builtin_file("generic-bc-table").unwrap());
-    let path = std::env::temp_dir().join(format!("fiveaxis-inch-basic-{}.toml", std::process::id()));
-    std::fs::write(&path, machine).unwrap();
-    let t = cycle_time_s("G70 G90 G94 G17\nG1 X0 Y0 Z0 F60\nG1 X1\nM30\n", "mpf", path.to_str().unwrap());
-    std::fs::remove_file(&path).ok();
-    assert!((t - 1.0).abs() < 0.05, "G70 on an inch basic system: {t} s");
-}
-
-/// A change of feed mode leaves no feed (Siemens: "In the event of switching between G93, G94 and
-/// G95, the path feedrate value has to be reprogrammed"; LinuxCNC sets it to 0 on every G94): a G1
-/// after `G93 ... F6` and `G94` without a new F is refused, not run at "6 mm/min".
-#[test]
-fn a_change_of_feed_mode_leaves_no_feed() {
-    for (dialect, name, metric) in [(Dialect::Rs274, "t.ngc", "G21"), (Dialect::Fanuc, "t.nc", "G21"), (Dialect::Sinumerik, "t.mpf", "G71")] {
-        let p = read(&format!("{metric} G90 G94 G17\nG1 X10. F60.\nG93 G1 X20. F6.\nG94 G1 X30.\nM30\n"), dialect, name, &ReadOptions::default());
-        has(&p, 4, 1, "without a feed");
-        let p = read(&format!("{metric} G90 G94 G17\nG1 X10. F60.\nG93 G1 X20. F6.\nG94 G1 X30. F60.\nM30\n"), dialect, name, &ReadOptions::default());
-        assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
-    }
-    // Fanuc's inverse-time F without a decimal point counts thousandths ("F1 -> 0.001", FANUC 16/18-C
-    // MC Operator's Manual, inverse time feed), as its lengths do; with one it is the number.
-    let p = read("G21 G90 G94 G17\nG1 X10. F60.\nG93 G1 X20. F6\nG1 X30. F6.\nM30\n", Dialect::Fanuc, "t.nc", &ReadOptions::default());
-    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
-    let frn: Vec<f64> = p.blocks.iter().filter(|b| (3..=4).contains(&b.line)).filter_map(|b| b.feed).map(|f| f.value_per_min).collect();
-    assert_eq!(frn, vec![0.006, 6.0]);
-    // LinuxCNC: even a G94 in G94 mode leaves the feed 0.
-    has(&read_rs274("G21 G90 G94\nG1 X10 F60\nG94 G1 X20\nM2\n"), 3, 1, "without a feed");
-    assert!(errors(&read("G21 G90 G94\nG1 X10. F60.\nG94 G1 X20.\nM30\n", Dialect::Fanuc, "t.nc", &ReadOptions::default())).is_empty());
-}
-
 /// What a Fanuc control reads and this reader does not is refused with the control's own name for
 /// it: a dwell written `G04 X` (seconds on Fanuc, where P is milliseconds), the vacant variable
 /// `#0`, a G65 argument given twice (argument specification II).
@@ -883,51 +690,6 @@ fn a_calculator_type_machine_reads_numbers_without_a_point_in_units() {
     assert!(errors(&read(g95, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&calculator))).is_empty());
     let bad = fiveaxis::machine::Machine::from_toml_str(&format!("decimal_point_input = \"float\"\n{nmv}"), "t").unwrap_err().to_string();
     assert!(bad.contains("decimal_point_input") && bad.contains("expected \"increments\" or \"calculator\""), "{bad}");
-}
-
-/// FANUC under G43.4 feeds a move of the rotary axes alone (the tool tip standing on the workpiece) at
-/// F or at the maximum cutting feedrate, as parameter No. 19696 bit 6 RFC says (A-79348E: "0: The
-/// maximum cutting feedrate (parameter No. 1422). 1: A specified feedrate."): refused unless the
-/// machine file gives `tcp_rotary_feed = "programmed"`, which times it at F in deg/min (B30 C90 at
-/// F500: sqrt(30^2 + 90^2) / 500 min); "max-cutting" stays refused (parameter 1422 is not modelled).
-/// A move of the tip with the rotaries is read either way.
-#[test]
-fn fanuc_rotary_moves_alone_under_g43_4_follow_parameter_rfc() {
-    use fiveaxis::path::{PathOptions, Trajectory};
-    let nmv = fiveaxis::machine::builtin_file("mori-seiki-nmv5000").unwrap();
-    let text = "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z150. B0. C0.\nG43.4 H1\nG01 X0. Y0. Z120. F500.\nB30. C90.\nX10. B20. C80.\nG49\nM30\n%\n";
-    let unset = fiveaxis::machine::Machine::builtin("mori-seiki-nmv5000").unwrap();
-    let e = errors(&read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&unset)));
-    assert!(e.len() == 1 && e[0].0 == 7 && e[0].2.contains("parameter No. 19696 bit 6 RFC"), "{e:?}");
-    let max = fiveaxis::machine::Machine::from_toml_str(&format!("tcp_rotary_feed = \"max-cutting\"\n{nmv}"), "t").unwrap();
-    let e = errors(&read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&max)));
-    assert!(e.len() == 1 && e[0].0 == 7 && e[0].2.contains("parameter No. 1422"), "{e:?}");
-    let programmed = fiveaxis::machine::Machine::from_toml_str(&format!("tcp_rotary_feed = \"programmed\"\n{nmv}"), "t").unwrap();
-    let p = read(text, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&programmed));
-    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
-    let t = Trajectory::from_program(&p, &programmed, &PathOptions::default());
-    let time: f64 = t.segments.iter().filter(|s| s.line == 7).map(|s| s.duration).sum();
-    let expect = (30f64.powi(2) + 90f64.powi(2)).sqrt() / 500.0 * 60.0;
-    assert!((time - expect).abs() < 1e-9, "{time} s, not {expect} s");
-    // G43.5: a new tool vector with the tip standing is the same move; the same vector again moves nothing.
-    let g435 = "%\nO1000\nG21 G90 G17 G94\nG0 X0. Y0. Z150. B0. C0.\nG43.5 H1\nG01 X0. Y0. Z120. I0. J0. K1. F500.\nI0. J0. K1.\nI0.5 J0. K0.866\nG49\nM30\n%\n";
-    let e = errors(&read(g435, Dialect::Fanuc, "t.nc", &ReadOptions::default().on(&unset)));
-    assert!(e.len() == 1 && e[0].0 == 8 && e[0].2.contains("RFC"), "{e:?}");
-    let bad = fiveaxis::machine::Machine::from_toml_str(&format!("tcp_rotary_feed = \"fast\"\n{nmv}"), "t").unwrap_err().to_string();
-    assert!(bad.contains("tcp_rotary_feed") && bad.contains("RFC"), "{bad}");
-}
-
-/// Fanuc without tool-centre-point control: a move of linear and rotary axes together takes F along a
-/// path whose rotary part counts degrees as millimetres (FANUC B-63174EN §4.2, "G91 G01 X20.0 C40.0
-/// F300.0 ... time = sqrt(20^2 + 40^2) / 300 = 0.14907 min"): `G1 X10. B30.` at F60 takes
-/// sqrt(10^2 + 30^2) s = 31.62 s, where LinuxCNC and Siemens give F to X (10 s, B following).
-#[test]
-fn fanuc_counts_degrees_in_the_path_of_a_combined_move() {
-    let fanuc = cycle_time_s("%\nO1000\nG21 G90 G94 G17\nG1 X0. Y0. Z0. B0. F60.\nG1 X10. B30.\nM30\n%\n", "nc", "mori-seiki-nmv5000");
-    let want = (10.0f64.powi(2) + 30.0f64.powi(2)).sqrt();
-    assert!((fanuc - want).abs() < 0.1, "Fanuc: {fanuc} s, want {want}");
-    let linuxcnc = cycle_time_s("G21 G90 G94 G17\nG1 X0 Y0 Z0 B0 F60\nG1 X10 B30\nM2\n", "ngc", "generic-bc-table");
-    assert!((linuxcnc - 10.0).abs() < 0.1, "LinuxCNC: {linuxcnc} s");
 }
 
 /// A block that moves only Z under a Fanuc canned cycle is no G01 move (the cycle stays the modal
