@@ -8,7 +8,7 @@
 //! it points from the tip to the tool holder), rotary axes `A= B= C=`, `ORIWKS`/`ORIVECT`/`ORIPLANE`
 //! (the tool axis on a great circle in the workpiece, the reset state) and `ORIMKS`/`ORIAXES` (the
 //! rotary axes linear), the programmable frame (`TRANS`/`ATRANS`/`ROT`/`AROT`, [`frame`]),
-//! machine coordinates (`SUPA`, `G53`, `G153`), variables (`DEF REAL`, R parameters) and
+//! machine coordinates (`SUPA`, `G53`, `G153`), variables (`DEF REAL`, R parameters: [`vars`]) and
 //! expressions ([`expr`], [`lex`]), `MCALL` of the drilling cycles ([`cycles`]), `CYCLE832` (the
 //! contour tolerance), the swivel cycle `CYCLE800` on the machine file's data set ([`swivel`]), `T`,
 //! `D`, `S`, `M`, `F`, `MSG`, `M30`; tool radius compensation `G41`/`G42` to `G40` ([`trc`]); chamfers
@@ -39,6 +39,7 @@ mod lex;
 mod subprogram;
 mod swivel;
 mod trc;
+mod vars;
 
 use super::interp::{Dimension, Interpreter, OneShot, Word};
 use super::lex::{Columns, Diags};
@@ -46,7 +47,8 @@ use super::{Block, Dialect, MCodeRule, Motion, Orientation, Program};
 use crate::units::{DEG, MM};
 use frame::{Frame, Statement};
 use keywords::{is_instruction, sinumerik_g, unread_what, unsupported_keyword, READ_KEYWORDS, LASTING, UNREAD_MOTION};
-use lex::{Lexed, Vars};
+use lex::Lexed;
+use vars::Vars;
 
 pub(crate) use flow::FlowRunner;
 

@@ -30,7 +30,8 @@
 //!   not in reach.
 
 use super::flow::{End, FlowRunner};
-use super::lex::{call_arguments, Arg, Level, Type};
+use super::lex::{call_arguments, Arg};
+use super::vars::{Level, Type};
 use crate::program::lex::{excerpt, Diags};
 use crate::program::stream::{in_memory, Next, Seeking};
 use crate::program::Block;
