@@ -22,6 +22,7 @@ mod sinumerik_corners;
 mod sinumerik_trc;
 mod tnc_comp;
 mod tnc_corners;
+mod tnc_cycles;
 mod tnc_held;
 mod tnc_spline;
 mod tnc_words;
