@@ -111,18 +111,22 @@ fn ct_leaves_the_contour_along_its_tangent() {
     assert!((radius[0].hypot(radius[1]) - r_end).abs() < 1e-9, "{c:?}");
     assert!(e[0] == Some(58.146) && e[2] == Some(-42.0), "{e:?}");
     // TURN= with CT (ONE 12/2019 §2.9): the same circle about (10, 10) with one full turn more; on
-    // the limit case's straight line TURN=0 is the line, TURN=1 refused ("TURN must either not be programmed or the value must be TURN=0").
-    let p = sin(&format!("{head}N40 CT X20 Y10 TURN=1
-"));
+    // the limit case's straight line TURN=0 is the line, TURN=1 refused ("TURN must either not be
+    // programmed or the value must be TURN=0").
+    let p = sin(&format!("{head}N40 CT X20 Y10 TURN=1\n"));
     assert!(errors(&p).is_empty(), "{:#?}", errors(&p));
     let b = *blocks_of(&p, 4).last().unwrap();
     let a = b.arc.as_deref().unwrap();
     assert!(b.motion == Motion::ArcCcw && a.extra_turns == 1 && near([a.centre[0] / MM, a.centre[1] / MM, 0.0], [10.0, 10.0]), "{b:?}");
-    let p = sin(&format!("{head}N40 CT X25 Y0 TURN=0
-"));
+    let p = sin(&format!("{head}N40 CT X25 Y0 TURN=0\n"));
     assert!(errors(&p).is_empty() && arc(&p, 4).0 == Motion::Linear && arc(&p, 4).2[0] == Some(25.0), "{:?} {:?}", errors(&p), arc(&p, 4));
-    refused_once(&format!("{head}N40 CT X25 Y0 TURN=1
-"), 4, Some(15), "TURN must be left out or 0");
+    refused_once(&format!("{head}N40 CT X25 Y0 TURN=1\n"), 4, Some(15), "TURN must be left out or 0");
+    // Turns without an end point, written or under modal CT, and TURN twice, are refused naming
+    // TURN (it is read as a P word); so is a TURN on a line, as written.
+    refused_once(&format!("{head}N40 CT TURN=1\nN50 G1 X20\n"), 4, Some(8), "CT with TURN=1: full turns without an end point");
+    refused_once(&format!("{head}N40 CT X20 Y10\nN50 TURN=2\nN60 G1 X30\n"), 5, Some(5), "CT with TURN=2: full turns without an end point");
+    refused_once(&format!("{head}N40 CT X20 Y10 TURN=0 TURN=1\n"), 4, Some(23), "TURN written twice in one block");
+    refused_once(&format!("{head}N40 G1 X20 TURN=0\n"), 4, Some(12), "word TURN=0 without a G code that takes it");
     // Refused, each where it stands: no move in the plane before it, the end behind the start on
     // the tangent, a centre written, the plane changed since the tangent, CT with G2.
     for (text, line, col, message) in [

@@ -172,8 +172,13 @@ impl Interpreter {
                     // The earlier refused block is said only where this block has no defect of its
                     // own before the word (a code of its own refused is the cause then).
                     let earlier = if diags.errors() == errors_before { before.after_refused() } else { String::new() };
-                    let address = if w.letter == 'R' { before.dialect.radius_address().to_string() } else { w.letter.to_string() };
-                    diags.error(line, w.column, format!("word {address}{} without a G code that takes it: not read{earlier}", w.raw));
+                    // The 840D's TURN=n is read as P n+1: named as written.
+                    let word = match w.letter {
+                        'R' => format!("{}{}", before.dialect.radius_address(), w.raw),
+                        'P' if before.dialect == Dialect::Sinumerik => format!("TURN={}", w.value - 1.0),
+                        _ => format!("{}{}", w.letter, w.raw),
+                    };
+                    diags.error(line, w.column, format!("word {word} without a G code that takes it: not read{earlier}"));
                 }
             }
             if next.tool_vector && arc_motion {

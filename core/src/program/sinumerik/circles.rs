@@ -165,6 +165,9 @@ pub(super) fn tangent<'a>(words: &[Word<'a>], t: Result<[f64; 2], String>, start
     // straight line).
     no_centre(words, "CT", [Some("the tangent and the end point give the centre"), Some("the tangent and the end point give the radius"), None])?;
     if !(0..3).any(|k| written(k).is_some()) {
+        if let Some(w) = words.iter().find(|w| w.letter == 'P') {
+            return Err((w.column, format!("CT with TURN={}: full turns without an end point (X Y Z): no circle", w.value - 1.0)));
+        }
         return if words.iter().any(|w| matches!(w.letter, 'A' | 'B' | 'C')) { Err((col, "CT: a move of the rotary axes alone, without an end point (X Y Z)".into())) } else { Ok(None) };
     }
     let t = t.map_err(|why| (col, why))?;
