@@ -17,6 +17,7 @@ mod feed_units;
 mod klartext;
 mod lasting;
 mod linuxcnc;
+mod linuxcnc_words;
 mod shop_words;
 mod sinumerik_corners;
 mod sinumerik_trc;

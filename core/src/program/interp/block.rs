@@ -91,15 +91,19 @@ impl Interpreter {
         let (fanuc, haas) = (before.dialect.is_fanuc(), before.dialect == Dialect::Haas);
         // The TNC's DIN/ISO tool call `T1 G17`: the block's plane code is the tool axis.
         let tool_call = before.dialect == Dialect::Heidenhain && words.iter().any(|w| w.letter == 'T');
-        // An axis, centre, radius or feed written twice: LinuxCNC refuses it ("Multiple X words on one
-        // line", NIST IR 6556 §3.3.2: "a line may have only one word with a given letter" but G and
-        // M), as the TNC does; which one another control takes is not read, so refused too.
-        // The first one said: a block of thousands of words says one thing.
-        const ONCE: u32 = letters_mask("XYZABCIJKRF");
+        // An axis, centre, radius, feed, dwell or turns (P), peck (Q) or spindle speed written twice:
+        // LinuxCNC refuses every letter but G and M twice ("Multiple X words on one line", NIST IR
+        // 6556 §3.3.2: "a line may have only one word with a given letter" but G and M; Debian's
+        // rs274 2.9 says so for A-F, H-L, P-T, X-Z), as the TNC does; which one another control
+        // takes is not read, so those that change the motion are refused too. The first one said:
+        // a block of thousands of words says one thing.
+        const ONCE: u32 = letters_mask("XYZABCIJKRFPQS");
+        const ONCE_LINUXCNC: u32 = !letters_mask("GM") & letters_mask("ABCDEFGHIJKLMNOPQRSTUVWXYZ");
+        let once = if before.dialect == Dialect::Rs274 { ONCE_LINUXCNC } else { ONCE };
         let mut seen = 0u32;
         for w in words {
             let bit = if w.letter.is_ascii_uppercase() { 1u32 << (w.letter as u32 - 'A' as u32) } else { 0 };
-            if bit & ONCE & seen != 0 {
+            if bit & once & seen != 0 {
                 diags.error(line, w.column, format!("{}{}: {} written twice in one block (which one counts is not read)", w.letter, w.raw, w.letter));
                 break;
             }

@@ -144,6 +144,27 @@ pub(crate) fn lcnc_group(code_x10: i64) -> Option<u8> {
     })
 }
 
+/// LinuxCNC's modal group of an M code (`None` for a code outside the table, which the interpreter
+/// refuses by itself): one of each group in a block (interp_array.cc `_ems`, after [NCMS]; as
+/// Debian's rs274 2.9 refuses each pair, recordings/programs/linuxcnc/words): 4 stopping, 5 I/O, 6
+/// tool change, 7 spindle and modal state (M70-M73), 8 coolant, 9 override switches, 10
+/// user-defined.
+pub(crate) fn lcnc_m_group(code: f64) -> Option<u8> {
+    if code.fract() != 0.0 {
+        return None;
+    }
+    Some(match code as i64 {
+        0 | 1 | 2 | 30 | 60 => 4,
+        62..=68 => 5,
+        6 | 61 => 6,
+        3 | 4 | 5 | 19 | 70..=73 => 7,
+        7..=9 => 8,
+        48..=53 => 9,
+        100..=199 => 10,
+        _ => return None,
+    })
+}
+
 /// One M word of a block: `next` is the state the block changes, `before` the state before it, `shot`
 /// the block's one-shot move (the Klartext reader's M91/M92). Part of [`Interpreter::block_one`].
 #[allow(clippy::too_many_arguments)]

@@ -22,7 +22,7 @@ mod word;
 pub(crate) use modal::ModalState;
 pub(crate) use rotation::rot;
 pub(crate) use block::polar_step;
-pub(crate) use codes::{lcnc_group, m128_feed_said, x10};
+pub(crate) use codes::{lcnc_group, lcnc_m_group, m128_feed_said, x10};
 
 pub use word::{Dimension, Turn, Word};
 pub use arc::{ARC_RADIUS_TOLERANCE, SINUMERIK_CIRCLE_ERROR_CONST, SINUMERIK_CIRCLE_ERROR_FACTOR, TNC_CIRCLE_TOLERANCE};
@@ -523,13 +523,22 @@ impl Interpreter {
     /// cycle makes several, a block of settings one without targets). Defects go to `diags` and
     /// make nothing, with the state unchanged; false then.
     pub fn block(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
-        // LinuxCNC: one G code of each modal group in a block (Fanuc takes the last one).
+        // LinuxCNC: one G code and one M code of each modal group in a block (Fanuc takes the last G).
         if self.dialect == Dialect::Rs274 {
             let mut seen: [Option<&Word>; 16] = [None; 16];
             for w in words.iter().filter(|w| w.letter == 'G') {
                 let Some(g) = lcnc_group(x10(w)) else { continue };
                 if let Some(first) = seen[g as usize] {
                     diags.error(line, w.column, format!("G{} with G{}: two G codes of modal group {g} in one block (LinuxCNC: \"Two G-codes used from same modal group\")", w.raw, first.raw));
+                    return false;
+                }
+                seen[g as usize] = Some(w);
+            }
+            let mut seen: [Option<&Word>; 11] = [None; 11];
+            for w in words.iter().filter(|w| w.letter == 'M') {
+                let Some(g) = lcnc_m_group(w.value) else { continue };
+                if let Some(first) = seen[g as usize] {
+                    diags.error(line, w.column, format!("M{} with M{}: two M codes of modal group {g} in one block (LinuxCNC: \"Two M codes used from same modal group\")", w.raw, first.raw));
                     return false;
                 }
                 seen[g as usize] = Some(w);

@@ -1,0 +1,36 @@
+//! LinuxCNC's rules of one word of each letter and one M code of each modal group in a block,
+//! against what its own interpreter says of each case: Debian 12's `rs274` (linuxcnc-uspace
+//! 2.9.0~pre1) on every letter written twice and every pair of the M codes it reads, recorded in
+//! recordings/programs/linuxcnc/words/verdicts.tsv by make_verdicts.sh there.
+
+use super::*;
+
+const VERDICTS: &str = include_str!("../../recordings/programs/linuxcnc/words/verdicts.tsv");
+
+/// Where rs274 says "Multiple X words on one line" this reader refuses the word written twice, and
+/// where it says "Two m codes used from same modal group" the second M code; where rs274 says
+/// anything else or nothing, this reader names no two M codes of one group (it may refuse the block
+/// for a code it does not read, as it refuses M62-M68).
+#[test]
+fn words_twice_and_m_codes_of_one_group_are_refused_where_linuxcnc_refuses_them() {
+    let (mut twice, mut grouped, mut others) = (0, 0, 0);
+    for row in VERDICTS.lines() {
+        let (case, verdict) = row.split_once('\t').unwrap();
+        let p = read_rs274(&format!("G21 G90\nT1 M6\n{case}\nM2\n"));
+        let said: Vec<String> = errors(&p).into_iter().filter(|e| e.0 == 3).map(|e| e.2).collect();
+        let grouped_said = said.iter().any(|m| m.contains("two M codes of modal group"));
+        if verdict.starts_with("Multiple ") {
+            let letter = case.split_whitespace().last().unwrap().chars().next().unwrap();
+            assert!(said.iter().any(|m| m.contains(&format!("{letter} written twice in one block"))), "{case}: {said:?}");
+            twice += 1;
+        } else if verdict == "Two m codes used from same modal group" {
+            assert!(grouped_said, "{case}: rs274 says {verdict}; here {said:?}");
+            grouped += 1;
+        } else {
+            assert!(!grouped_said, "{case}: rs274 says {verdict}; here {said:?}");
+            others += 1;
+        }
+    }
+    // 19 letters, 115 pairs of one group (each code with itself among them), the rest of the 595 pairs.
+    assert_eq!((twice, grouped, others), (19, 115, 480));
+}
