@@ -6,6 +6,7 @@
 use super::*;
 
 const VERDICTS: &str = include_str!("../../recordings/programs/linuxcnc/words/verdicts.tsv");
+const BLOCKS: &str = include_str!("../../recordings/programs/linuxcnc/words/blocks.tsv");
 
 /// Where rs274 says "Multiple X words on one line" this reader refuses the word written twice, and
 /// where it says "Two m codes used from same modal group" the second M code; where rs274 says
@@ -33,4 +34,27 @@ fn words_twice_and_m_codes_of_one_group_are_refused_where_linuxcnc_refuses_them(
     }
     // 19 letters, 115 pairs of one group (each code with itself among them), the rest of the 595 pairs.
     assert_eq!((twice, grouped, others), (19, 115, 480));
+}
+
+/// Blocks whose words alone LinuxCNC refuses (a G53 or a G52/G92 without axes, an arc code without R
+/// I J K, a negative S, a T not a whole number of 0 or more, M61 without Q, a motion code beside a
+/// group 0 code that takes the axes, G1-G3 without F in inverse time, G1 with no feed) and their
+/// neighbours it reads: refused here where rs274 refuses them, with its message quoted, and read
+/// where it reads them.
+#[test]
+fn blocks_linuxcnc_refuses_for_their_words_alone_are_refused_and_their_neighbours_read() {
+    let (mut refused, mut read) = (0, 0);
+    for row in BLOCKS.lines() {
+        let (case, verdict) = row.split_once('\t').unwrap();
+        let p = read_rs274(&format!("G21 G90\nT1 M6\n{case}\nM2\n"));
+        let said: Vec<String> = errors(&p).into_iter().map(|e| format!("{}: {}", e.0, e.2)).collect();
+        if verdict == "ok" {
+            assert!(said.is_empty(), "{case}: rs274 reads it; here {said:?}");
+            read += 1;
+        } else {
+            assert!(said.iter().any(|m| m.starts_with("3: ") && m.contains(&format!("\"{verdict}\""))), "{case}: rs274 says {verdict}; here {said:?}");
+            refused += 1;
+        }
+    }
+    assert_eq!((refused, read), (23, 19));
 }

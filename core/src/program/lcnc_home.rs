@@ -21,13 +21,10 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
     let code = x10(g);
     let k = usize::from(code >= 300);
     let axes: Vec<Word> = words.iter().filter(|w| AXES.contains(&w.letter)).cloned().collect();
-    // Axis words belong to G28/G30 here: a motion code in the block would take them too. G80 takes
-    // none: it ends the canned cycle and leaves them to G28/G30 (interp_internal.cc, enhance_block:
-    // "cannot use axis values with G80" unless a group 0 code covets them).
-    if let Some(m) = words.iter().find(|w| w.letter == 'G' && matches!(x10(w), 0 | 10 | 20 | 30 | 50..=53 | 733 | 740 | 760 | 810..=890)) {
-        diags.error(line, m.column, format!("G{} with G{}: two G codes that both use axis words in one block (LinuxCNC)", m.raw, g.raw));
-        return Some(false);
-    }
+    // Axis words belong to G28/G30 here: a motion code with them is refused before
+    // ([`super::interp::lcnc_refusal`]). G80 takes none: it ends the canned cycle and leaves them to
+    // G28/G30 (interp_internal.cc, enhance_block: "cannot use axis values with G80" unless a group 0
+    // code covets them).
     if words.iter().any(|w| w.letter == 'G' && x10(w) == 800) {
         it.cycles.active = None;
     }

@@ -165,6 +165,63 @@ pub(crate) fn lcnc_m_group(code: f64) -> Option<u8> {
     })
 }
 
+/// What LinuxCNC refuses in a block's words alone, where this reader would run it or leave it be: its
+/// column and why, with LinuxCNC's own message (rs274ngc_errors.cc, as Debian's rs274 2.9 prints
+/// it). A code of group 0 that takes the axis words (G10, G28, G30, G52, G92: interp_array.cc,
+/// "those in group 0 which require coordinate values may not be on the same line as those in group
+/// 1 (except g80)") with a motion code, a G53 or a G52/G92 without an axis word, an arc code without
+/// R, I, J or K, a negative S, a T that is negative or not whole (within 0.0001, the "close enough"
+/// of NIST IR 6556 §3.3.2), an M61 without a tool number Q of 0 or more; in a block that moves no
+/// axis, a G1, G2 or G3 without F in inverse time, and a G1 with no feed (none set yet, or a
+/// G93/G94/G95 since, which zero it). The state before the block: inverse time (`inverse_time`), and
+/// a feed set (`feed_set`).
+pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool) -> Option<(usize, String)> {
+    // Polar coordinates (`@`, `^`) are X and Y.
+    let axes = words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' | '@' | '^'));
+    let g = |code_x10: i64| words.iter().find(|w| w.letter == 'G' && x10(w) == code_x10);
+    let takes_axes = words.iter().find(|w| w.letter == 'G' && matches!(x10(w), 100 | 280 | 300 | 520 | 920));
+    let motion = words.iter().find(|w| w.letter == 'G' && lcnc_group(x10(w)) == Some(1) && x10(w) != 800);
+    if let (Some(a), Some(m)) = (takes_axes, motion) {
+        return Some((m.column, format!("G{} with G{}: two G codes that both use axis words in one block (LinuxCNC: \"Cannot use two g codes that both use axis values\")", m.raw, a.raw)));
+    }
+    if let Some(w) = g(530).filter(|_| !axes) {
+        return Some((w.column, format!("G{} without an axis word: no move (LinuxCNC: \"Must use g0 or g1 with g53\", G53 standing with G0 or G1 and the axes to move)", w.raw)));
+    }
+    if let Some(w) = g(520).or_else(|| g(920)).filter(|_| !axes) {
+        return Some((w.column, format!("G{} without an axis word (LinuxCNC: \"All axes missing with g52 or g92\")", w.raw)));
+    }
+    if let Some(w) = g(20).or_else(|| g(30)).filter(|_| !words.iter().any(|w| matches!(w.letter, 'R' | 'I' | 'J' | 'K'))) {
+        return Some((w.column, format!("G{} without its radius R or centre I J K (LinuxCNC: \"R i j k words all missing for arc\")", w.raw)));
+    }
+    if let Some(w) = words.iter().find(|w| w.letter == 'S' && w.value < 0.0) {
+        return Some((w.column, format!("S{}: a negative spindle speed (LinuxCNC: \"Negative spindle speed used\")", w.raw)));
+    }
+    if let Some(w) = words.iter().find(|w| w.letter == 'T' && (w.value < 0.0 || (w.value - w.value.round()).abs() > 1e-4)) {
+        let why = if w.value < 0.0 { "Negative tool id (tool not found)" } else { "Non integer value for integer" };
+        return Some((w.column, format!("T{}: a tool number is a whole number of 0 or more (LinuxCNC: \"{why}\")", w.raw)));
+    }
+    // The feed: F in the block, else none where the block or an earlier one changed the feed mode.
+    let mode = words.iter().rev().find(|w| w.letter == 'G' && matches!(x10(w), 930 | 940 | 950));
+    let has_f = words.iter().any(|w| w.letter == 'F');
+    let inverse = mode.map_or(inverse_time, |w| x10(w) == 930);
+    // (A block that moves is refused so by the feed's own checks, which say more.)
+    if let Some(w) = words.iter().find(|w| w.letter == 'G' && matches!(x10(w), 10 | 20 | 30)).filter(|_| !has_f && !axes) {
+        if inverse {
+            let what = if x10(w) == 10 { "g1" } else { "arc" };
+            return Some((w.column, format!("G{} in inverse time (G93) without F, the block's time (LinuxCNC: \"F word missing with inverse time {what} move\")", w.raw)));
+        }
+        if x10(w) == 10 && (mode.is_some() || !feed_set) {
+            return Some((w.column, format!("G{} with no feed: none set yet, or none since a G93, G94 or G95 (LinuxCNC: \"Cannot do g1 with zero feed rate\")", w.raw)));
+        }
+    }
+    if let Some(w) = words.iter().find(|w| w.letter == 'M' && w.value == 61.0) {
+        if !words.iter().any(|q| q.letter == 'Q' && q.value >= 0.0) {
+            return Some((w.column, "M61 without the tool number Q, 0 or more (LinuxCNC: \"Need non-negative Q-word to specify tool number with M61\")".to_string()));
+        }
+    }
+    None
+}
+
 /// One M word of a block: `next` is the state the block changes, `before` the state before it, `shot`
 /// the block's one-shot move (the Klartext reader's M91/M92). Part of [`Interpreter::block_one`].
 #[allow(clippy::too_many_arguments)]

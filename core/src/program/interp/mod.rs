@@ -22,7 +22,7 @@ mod word;
 pub(crate) use modal::ModalState;
 pub(crate) use rotation::rot;
 pub(crate) use block::polar_step;
-pub(crate) use codes::{lcnc_group, lcnc_m_group, m128_feed_said, x10};
+pub(crate) use codes::{lcnc_group, lcnc_m_group, lcnc_refusal, m128_feed_said, x10};
 
 pub use word::{Dimension, Turn, Word};
 pub use arc::{ARC_RADIUS_TOLERANCE, SINUMERIK_CIRCLE_ERROR_CONST, SINUMERIK_CIRCLE_ERROR_FACTOR, TNC_CIRCLE_TOLERANCE};
@@ -542,6 +542,11 @@ impl Interpreter {
                     return false;
                 }
                 seen[g as usize] = Some(w);
+            }
+            // Then what the words alone make wrong, as LinuxCNC checks them after the groups.
+            if let Some((col, why)) = lcnc_refusal(words, self.inverse_time(), self.feed.is_some()) {
+                diags.error(line, col, why);
+                return false;
             }
         }
         let held = self.held(words);
