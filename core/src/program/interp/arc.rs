@@ -89,8 +89,12 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
             }
             let r0 = (u0 - centre[a0]).hypot(v0 - centre[a1]);
             let r1 = (u1 - centre[a0]).hypot(v1 - centre[a1]);
-            if r0 < 0.1 * ARC_RADIUS_TOLERANCE || r1 < 0.1 * ARC_RADIUS_TOLERANCE {
-                diags.error(line, column, format!("{g}: zero-radius arc (the centre is on its start or end point)"));
+            // LinuxCNC refuses a radius under its RADIUS_TOLERANCE, 0.00005 in (0.00127 mm in a G21
+            // program: Debian's rs274 2.9 refuses 0.00101 mm and 0.00004 in, reads 0.0015 mm and
+            // 0.00005 in); elsewhere a centre on the start or end point, a tenth of it.
+            let least = if st.dialect == crate::program::Dialect::Rs274 { ARC_RADIUS_TOLERANCE } else { 0.1 * ARC_RADIUS_TOLERANCE };
+            if r0 < least || r1 < least {
+                diags.error(line, column, format!("{g}: zero-radius arc, a radius under {:.5} mm (the centre on its start or end point; LinuxCNC: \"Zero-radius arc\")", least / MM));
                 return None;
             }
             let error = (r0 - r1).abs();
