@@ -171,7 +171,8 @@ pub(crate) fn lcnc_m_group(code: f64) -> Option<u8> {
 /// "those in group 0 which require coordinate values may not be on the same line as those in group
 /// 1 (except g80)") with a motion code, a G53 or a G52/G92 without an axis word, an arc code without
 /// R, I, J or K, a negative S, a T that is negative or not whole (within 0.0001, the "close enough"
-/// of NIST IR 6556 §3.3.2), an M61 without a tool number Q of 0 or more; in a block that moves no
+/// of NIST IR 6556 §3.3.2), an M61 without a tool number Q of 0 or more, an M19 whose R, P or Q is
+/// out of its range; in a block that moves no
 /// axis, a G1, G2 or G3 without F in inverse time, and a G1 with no feed (none set yet, or a
 /// G93/G94/G95 since, which zero it). The state before the block: inverse time (`inverse_time`), and
 /// a feed set (`feed_set`).
@@ -212,6 +213,24 @@ pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool) -
         }
         if x10(w) == 10 && (mode.is_some() || !feed_set) {
             return Some((w.column, format!("G{} with no feed: none set yet, or none since a G93, G94 or G95 (LinuxCNC: \"Cannot do g1 with zero feed rate\")", w.raw)));
+        }
+    }
+    // M19, the spindle's orientation: R its angle 0-360 deg, P its way 0, 1 or 2, Q a time > 0.
+    if words.iter().any(|w| w.letter == 'M' && w.value == 19.0) {
+        let word = |l: char| words.iter().find(|w| w.letter == l);
+        if let Some(r) = word('R').filter(|r| !(0.0..=360.0).contains(&r.value)) {
+            return Some((r.column, format!("M19 R{}: the orientation is 0 to 360 deg (LinuxCNC: \"R value must be within 0..360 with M19\")", r.raw)));
+        }
+        if let Some(p) = word('P') {
+            if (p.value - p.value.round()).abs() > 1e-4 {
+                return Some((p.column, format!("M19 P{}: the way to turn is a whole number (LinuxCNC: \"P value not an integer with M19 G2 or G3\")", p.raw)));
+            }
+            if !(0.0..=2.0).contains(&p.value.round()) {
+                return Some((p.column, format!("M19 P{}: the way to turn is 0, 1 or 2 (LinuxCNC: \"P value must be 0,1,or 2 with M19\")", p.raw)));
+            }
+        }
+        if let Some(q) = word('Q').filter(|q| q.value <= 0.0) {
+            return Some((q.column, format!("M19 Q{}: the time to orient is more than 0 s (LinuxCNC: \"Q word with M19 requires a value > 0\")", q.raw)));
         }
     }
     if let Some(w) = words.iter().find(|w| w.letter == 'M' && w.value == 61.0) {
