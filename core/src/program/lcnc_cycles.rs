@@ -123,6 +123,12 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
             return false;
         }
     }
+    // G86 stops the spindle at the bottom and starts it again: it wants it turning
+    // (convert_cycle_g86: "Spindle not turning in g86").
+    if kind == Kind::G86 && it.spindle_turning != Some(true) {
+        diags.error(line, at, format!("{name}: LinuxCNC refuses it with the spindle stopped: \"Spindle not turning in g86\" (M3 or M4 first; a tool change M6 stops it)"));
+        return false;
+    }
     if it.inverse_time() {
         diags.error(line, at, format!("{name}: LinuxCNC cannot use inverse time feed with canned cycles"));
         return false;

@@ -614,7 +614,7 @@ impl Interpreter {
                     if !next.spindle_speed.is_some_and(|s| s > 0.0) {
                         diags.error(line, column, "G95 feed move without a spindle speed: Cannot feed with zero spindle speed in feed per rev mode (expected S before or in this block)");
                     } else if next.spindle_turning != Some(true) {
-                        let why = if next.spindle_turning.is_none() { "no M3 or M4 has started it in this program" } else { "M5 stopped it" };
+                        let why = if next.spindle_turning.is_none() { "no M3 or M4 has started it in this program" } else { "M5 stopped it (or M19, or on LinuxCNC a tool change M6)" };
                         diags.error(line, column, format!("G95 feed move with the spindle not turning ({why}): the axes would wait on its turns, which is not modelled"));
                     }
                 }

@@ -283,6 +283,9 @@ pub(super) fn m_code(next: &mut Interpreter, before: &Interpreter, w: &Word, sho
                 c.uses.extend(['R', 'Q', 'P']);
             }
         }
+        // LinuxCNC's tool change stops the spindle (Debian's rs274 2.9 gives STOP_SPINDLE_TURNING
+        // before CHANGE_TOOL; a G86 after it is "Spindle not turning in g86").
+        (None, 6, false) if rs274 => next.spindle_turning = Some(false),
         (None, 0..=9 | 13 | 14 | 30, _) => {}
         // M91/M92: the Klartext reader made this block a move of the axes (its oneshot).
         (None, 91 | 92, true) if shot.is_some_and(|s| s.axes.is_some()) => {}
