@@ -548,6 +548,15 @@ impl Interpreter {
                 diags.error(line, col, why);
                 return false;
             }
+            // With the machine's tool table at hand (--tool-table), a tool it does not list (T0 is
+            // none): LinuxCNC refuses the T word itself.
+            if let Some(table) = self.tool_table() {
+                if let Some(t) = words.iter().find(|w| w.letter == 'T' && w.value >= 1.0 && table.diameter(w.value.round() as u32).is_none()) {
+                    let n = t.value.round();
+                    diags.error(line, t.column, format!("T{}: tool {n} is not in the tool table (LinuxCNC: \"Requested tool {n} not found in the tool table\")", t.raw));
+                    return false;
+                }
+            }
         }
         let held = self.held(words);
         let start = out.len();

@@ -34,8 +34,8 @@ verdict() {
 # R I J K, a negative S, a T not a whole number of 0 or more, M61 without Q, a motion code with a
 # group 0 code that takes the axes, G1-G3 without F in inverse time, G1 with the feed a G93-G95 zeroed
 # or none set yet: the program sets none before; an arc's radius about LinuxCNC's least; M19's R, P
-# and Q about their ranges; G86 after the tool change, which stops the spindle), as the cases of the
-# third line.
+# and Q about their ranges; G86 after the tool change, which stops the spindle; a tool the table,
+# which lists T1 alone, has or has not), as the cases of the third line.
 {
     for c in "G53" "G0 G53 X1" "G1 G53 X1 F100" "G92" "G92 X0" "G52" "G52 X0" "G92.1" "G2" "G2 F100" \
         "G3 F100" "G2 X10 Y0 I5 F100" "G3 X0 Y10 R10 F100" "S-100" "S0" "S2000" "T-1" "T0.5" "T0" \
@@ -44,7 +44,7 @@ verdict() {
         "G1" "G1 F100" "G93 G1" "G93 G1 F10" "G93 G3 R5" "G93 G0" "G94 G1" "G94 G1 F100" "G95 G1" \
         "G3 X0 Y0 I0.001 F100" "G3 X0 Y0 I0.0015 F100" "G20 G3 X0 Y0 I0.00004 F10" "G20 G3 X0 Y0 I0.00005 F10" \
         "M19" "M19 R360" "M19 R360.001" "M19 R-10" "M19 P2" "M19 P3" "M19 P1.5" "M19 Q0.001" "M19 Q0" \
-        "G98 G86 X1 Y1 Z-1 R2 P0.5 F100" "M3 S1000 G98 G86 X1 Y1 Z-1 R2 P0.5 F100"; do
+        "G98 G86 X1 Y1 Z-1 R2 P0.5 F100" "M3 S1000 G98 G86 X1 Y1 Z-1 R2 P0.5 F100" "T1" "T2"; do
         verdict "$c"
     done
 } > blocks.tsv
