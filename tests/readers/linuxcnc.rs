@@ -608,7 +608,7 @@ fn rs274_drills_in_the_xz_and_yz_planes_as_linuxcnc_does() {
 
 /// What LinuxCNC 2.9's interpreter refuses is refused here too, never run (each message its own,
 /// from its source): an absolute-centre arc (G90.1) missing a centre word ("J word missing in
-/// absolute center arc"), G53 with an arc or a cycle ("Must use G0 or G1 with G53"), a tap with the
+/// absolute center arc"), G53 with an arc or a cycle ("Must use g0 or g1 with g53", as rs274 prints it), a tap with the
 /// spindle the wrong way or stopped (check_g74_g84_spindle), a comment inside a comment ("Nested
 /// comment found"), N after other words ("Bad character 'n' used"), and a label opening a second
 /// block ("duplicate O-word label").
@@ -620,9 +620,9 @@ fn what_linuxcnc_refuses_is_refused() {
         &ReadOptions::default(),
         &[
             (&format!("{head}G90.1\nG3 X-10 Y0 I0\nM2\n"), "4:1:", "J word missing in an absolute-centre arc"),
-            (&format!("{head}G53 G2 X10 Y0 R5\nM2\n"), "3:1:", "Must use G0 or G1 with G53"),
-            (&format!("{head}G53 G81 X5 Y0 Z-1 R2\nM2\n"), "3:1:", "Must use G0 or G1 with G53"),
-            (&format!("{head}G81 X5 Y0 Z-1 R2\nG53 X20\nM2\n"), "4:1:", "Must use G0 or G1 with G53"),
+            (&format!("{head}G53 G2 X10 Y0 R5\nM2\n"), "3:1:", "Must use g0 or g1 with g53"),
+            (&format!("{head}G53 G81 X5 Y0 Z-1 R2\nM2\n"), "3:1:", "Must use g0 or g1 with g53"),
+            (&format!("{head}G81 X5 Y0 Z-1 R2\nG53 X20\nM2\n"), "4:1:", "Must use g0 or g1 with g53"),
             (&format!("{head}M4\nG84 X5 Y0 Z-1 R2\nM2\n"), "4:1:", "Spindle turning counterclockwise in G84"),
             (&format!("{head}G74 X5 Y0 Z-1 R2\nM2\n"), "3:1:", "Spindle turning clockwise in G74"),
             (&format!("{head}M5\nG84 X8 Z-1 R2\nM2\n"), "4:1:", "Spindle not turning in G84"),

@@ -37,10 +37,10 @@ pub(crate) fn expand(it: &mut Interpreter, words: &[Word], line: usize, column: 
         return None;
     }
     let g: Vec<(String, &Word)> = words.iter().filter(|w| w.letter == 'G').map(|w| (code(w), w)).collect();
-    // A cycle's motion with G53 (named here or modal): "Must use G0 or G1 with G53" (interp_check.cc).
+    // A cycle's motion with G53 (named here or modal): "Must use g0 or g1 with g53" (interp_check.cc).
     if let Some((_, w)) = g.iter().find(|(k, _)| k == "53") {
         if !g.iter().any(|(_, w)| lcnc_group(x10(w)) == Some(1) && !(73.0..90.0).contains(&w.value)) {
-            diags.error(line, w.column, "G53 with a canned cycle's motion: LinuxCNC refuses it (\"Must use G0 or G1 with G53\")");
+            diags.error(line, w.column, "G53 with a canned cycle's motion: LinuxCNC refuses it (\"Must use g0 or g1 with g53\")");
             return Some(false);
         }
     }

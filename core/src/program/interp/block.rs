@@ -151,9 +151,14 @@ impl Interpreter {
         // The block's own motion: a one-shot's, else the modal one.
         let block_motion = shot.map(|s| s.motion).or(next.motion);
         let arc_motion = block_motion.is_some_and(Motion::is_arc);
-        // LinuxCNC: "Must use G0 or G1 with G53" (interp_check.cc check_g_codes, the block's motion).
-        if g53 && before.dialect == Dialect::Rs274 && !matches!(block_motion, Some(Motion::Rapid | Motion::Linear)) {
-            diags.error(line, column, "G53 with a motion other than G0 or G1: LinuxCNC refuses it (\"Must use G0 or G1 with G53\")");
+        // LinuxCNC: "Must use g0 or g1 with g53" (interp_check.cc check_g_codes): the block's motion,
+        // which it has only where it writes axis words (polar `@` `^` are X and Y), G0 or G1.
+        if g53 && before.dialect == Dialect::Rs274 {
+            let axes = words.iter().any(|w| AXIS_LETTERS.contains(&w.letter) || matches!(w.letter, '@' | '^'));
+            if !axes || !matches!(block_motion, Some(Motion::Rapid | Motion::Linear)) {
+                let what = if axes { "G53 with a motion other than G0 or G1" } else { "G53 without an axis word: no move" };
+                diags.error(line, column, format!("{what}: LinuxCNC refuses it (\"Must use g0 or g1 with g53\")"));
+            }
         }
         let vector_words = next.tool_vector && !arc_motion && !g10;
         if !heid {

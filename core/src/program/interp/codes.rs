@@ -6,6 +6,7 @@ use super::{Interpreter, OneShot, Word};
 use crate::program::cutter_comp::ArcFeed;
 use crate::program::{Dialect, MCodeAction};
 use crate::program::lex::Diags;
+use crate::program::params::INTEGER_CLOSE;
 use crate::program::Targets;
 
 /// Why a machine maker's M function (on a Sinumerik, Fanuc or Haas control) is refused: what it does
@@ -149,7 +150,7 @@ pub(crate) fn lcnc_group(code_x10: i64) -> Option<u8> {
 /// Debian's rs274 2.9 refuses each pair, recordings/programs/linuxcnc/words): 4 stopping, 5 I/O, 6
 /// tool change, 7 spindle and modal state (M70-M73), 8 coolant, 9 override switches, 10
 /// user-defined.
-pub(crate) fn lcnc_m_group(code: f64) -> Option<u8> {
+fn lcnc_m_group(code: f64) -> Option<u8> {
     if code.fract() != 0.0 {
         return None;
     }
@@ -165,18 +166,39 @@ pub(crate) fn lcnc_m_group(code: f64) -> Option<u8> {
     })
 }
 
-/// What LinuxCNC refuses in a block's words alone, where this reader would run it or leave it be: its
+/// The second code of one modal group in a block, the first, and the group (`group` of a `letter`
+/// word; LinuxCNC reads one of each).
+fn second_of_group<'w, 'a>(words: &'w [Word<'a>], letter: char, group: impl Fn(&Word) -> Option<u8>) -> Option<(&'w Word<'a>, &'w Word<'a>, u8)> {
+    let mut seen: [Option<&Word>; 16] = [None; 16];
+    for w in words.iter().filter(|w| w.letter == letter) {
+        let Some(g) = group(w).filter(|&g| g < 16) else { continue };
+        if let Some(first) = seen[g as usize] {
+            return Some((w, first, g));
+        }
+        seen[g as usize] = Some(w);
+    }
+    None
+}
+
+/// What LinuxCNC refuses in a block's words, where this reader would run it or leave it be: its
 /// column and why, with LinuxCNC's own message (rs274ngc_errors.cc, as Debian's rs274 2.9 prints
-/// it). A code of group 0 that takes the axis words (G10, G28, G30, G52, G92: interp_array.cc,
-/// "those in group 0 which require coordinate values may not be on the same line as those in group
-/// 1 (except g80)") with a motion code, a G53 or a G52/G92 without an axis word, an arc code without
-/// R, I, J or K, a negative S, a T that is negative or not whole (within 0.0001, the "close enough"
-/// of NIST IR 6556 §3.3.2), an M61 without a tool number Q of 0 or more, an M19 whose R, P or Q is
-/// out of its range; in a block that moves no
-/// axis, a G1, G2 or G3 without F in inverse time, and a G1 with no feed (none set yet, or a
-/// G93/G94/G95 since, which zero it). The state before the block: inverse time (`inverse_time`), and
-/// a feed set (`feed_set`).
-pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool) -> Option<(usize, String)> {
+/// it), in the order it checks them. Two G codes or two M codes of one modal group; a code of group
+/// 0 that takes the axis words (G10, G28, G30, G52, G92: interp_array.cc, "those in group 0 which
+/// require coordinate values may not be on the same line as those in group 1 (except g80)") with a
+/// motion code, a G52/G92 without an axis word, an arc code without R, I, J or K, a negative S, a T
+/// that is negative or not whole (within [`INTEGER_CLOSE`], NIST IR 6556 §3.3.2's "close enough"),
+/// an M61 without a tool number Q of 0 or more, an M19 whose R, P or Q is out of its range; in a
+/// block that moves no axis, a G1, G2 or G3 without F in inverse time, and a G1 with no feed (none
+/// set yet, or a G93/G94/G95 since, which zero it); a tool the machine's tool table (`tools`, where
+/// given) does not list. The state before the block: inverse time (`inverse_time`), and a feed set
+/// (`feed_set`). (G53 without axes is [`super::Interpreter::block_one`]'s, with its motion.)
+pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool, tools: Option<&crate::program::cutter_comp::ToolTable>) -> Option<(usize, String)> {
+    if let Some((w, first, g)) = second_of_group(words, 'G', |w| lcnc_group(x10(w))) {
+        return Some((w.column, format!("G{} with G{}: two G codes of modal group {g} in one block (LinuxCNC: \"Two G-codes used from same modal group\")", w.raw, first.raw)));
+    }
+    if let Some((w, first, g)) = second_of_group(words, 'M', |w| lcnc_m_group(w.value)) {
+        return Some((w.column, format!("M{} with M{}: two M codes of modal group {g} in one block (LinuxCNC: \"Two M codes used from same modal group\")", w.raw, first.raw)));
+    }
     // Polar coordinates (`@`, `^`) are X and Y.
     let axes = words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' | '@' | '^'));
     let g = |code_x10: i64| words.iter().find(|w| w.letter == 'G' && x10(w) == code_x10);
@@ -184,9 +206,6 @@ pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool) -
     let motion = words.iter().find(|w| w.letter == 'G' && lcnc_group(x10(w)) == Some(1) && x10(w) != 800);
     if let (Some(a), Some(m)) = (takes_axes, motion) {
         return Some((m.column, format!("G{} with G{}: two G codes that both use axis words in one block (LinuxCNC: \"Cannot use two g codes that both use axis values\")", m.raw, a.raw)));
-    }
-    if let Some(w) = g(530).filter(|_| !axes) {
-        return Some((w.column, format!("G{} without an axis word: no move (LinuxCNC: \"Must use g0 or g1 with g53\", G53 standing with G0 or G1 and the axes to move)", w.raw)));
     }
     if let Some(w) = g(520).or_else(|| g(920)).filter(|_| !axes) {
         return Some((w.column, format!("G{} without an axis word (LinuxCNC: \"All axes missing with g52 or g92\")", w.raw)));
@@ -197,7 +216,7 @@ pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool) -
     if let Some(w) = words.iter().find(|w| w.letter == 'S' && w.value < 0.0) {
         return Some((w.column, format!("S{}: a negative spindle speed (LinuxCNC: \"Negative spindle speed used\")", w.raw)));
     }
-    if let Some(w) = words.iter().find(|w| w.letter == 'T' && (w.value < 0.0 || (w.value - w.value.round()).abs() > 1e-4)) {
+    if let Some(w) = words.iter().find(|w| w.letter == 'T' && (w.value < 0.0 || (w.value - w.value.round()).abs() > INTEGER_CLOSE)) {
         let why = if w.value < 0.0 { "Negative tool id (tool not found)" } else { "Non integer value for integer" };
         return Some((w.column, format!("T{}: a tool number is a whole number of 0 or more (LinuxCNC: \"{why}\")", w.raw)));
     }
@@ -222,7 +241,7 @@ pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool) -
             return Some((r.column, format!("M19 R{}: the orientation is 0 to 360 deg (LinuxCNC: \"R value must be within 0..360 with M19\")", r.raw)));
         }
         if let Some(p) = word('P') {
-            if (p.value - p.value.round()).abs() > 1e-4 {
+            if (p.value - p.value.round()).abs() > INTEGER_CLOSE {
                 return Some((p.column, format!("M19 P{}: the way to turn is a whole number (LinuxCNC: \"P value not an integer with M19 G2 or G3\")", p.raw)));
             }
             if !(0.0..=2.0).contains(&p.value.round()) {
@@ -237,6 +256,12 @@ pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool) -
         if !words.iter().any(|q| q.letter == 'Q' && q.value >= 0.0) {
             return Some((w.column, "M61 without the tool number Q, 0 or more (LinuxCNC: \"Need non-negative Q-word to specify tool number with M61\")".to_string()));
         }
+    }
+    // T0 is no tool.
+    let listed = |t: &Word| tools.is_none_or(|table| table.diameter(t.value.round() as u32).is_some());
+    if let Some(t) = words.iter().find(|w| w.letter == 'T' && w.value >= 1.0 && !listed(w)) {
+        let n = t.value.round();
+        return Some((t.column, format!("T{}: tool {n} is not in the tool table (LinuxCNC: \"Requested tool {n} not found in the tool table\")", t.raw)));
     }
     None
 }

@@ -22,7 +22,7 @@ mod word;
 pub(crate) use modal::ModalState;
 pub(crate) use rotation::rot;
 pub(crate) use block::polar_step;
-pub(crate) use codes::{lcnc_group, lcnc_m_group, lcnc_refusal, m128_feed_said, x10};
+pub(crate) use codes::{lcnc_group, lcnc_refusal, m128_feed_said, x10};
 
 pub use word::{Dimension, Turn, Word};
 pub use arc::{ARC_RADIUS_TOLERANCE, SINUMERIK_CIRCLE_ERROR_CONST, SINUMERIK_CIRCLE_ERROR_FACTOR, TNC_CIRCLE_TOLERANCE};
@@ -523,39 +523,11 @@ impl Interpreter {
     /// cycle makes several, a block of settings one without targets). Defects go to `diags` and
     /// make nothing, with the state unchanged; false then.
     pub fn block(&mut self, words: &[Word], line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
-        // LinuxCNC: one G code and one M code of each modal group in a block (Fanuc takes the last G).
+        // LinuxCNC: what its interpreter refuses in the block's words (Fanuc takes the last G of a group).
         if self.dialect == Dialect::Rs274 {
-            let mut seen: [Option<&Word>; 16] = [None; 16];
-            for w in words.iter().filter(|w| w.letter == 'G') {
-                let Some(g) = lcnc_group(x10(w)) else { continue };
-                if let Some(first) = seen[g as usize] {
-                    diags.error(line, w.column, format!("G{} with G{}: two G codes of modal group {g} in one block (LinuxCNC: \"Two G-codes used from same modal group\")", w.raw, first.raw));
-                    return false;
-                }
-                seen[g as usize] = Some(w);
-            }
-            let mut seen: [Option<&Word>; 11] = [None; 11];
-            for w in words.iter().filter(|w| w.letter == 'M') {
-                let Some(g) = lcnc_m_group(w.value) else { continue };
-                if let Some(first) = seen[g as usize] {
-                    diags.error(line, w.column, format!("M{} with M{}: two M codes of modal group {g} in one block (LinuxCNC: \"Two M codes used from same modal group\")", w.raw, first.raw));
-                    return false;
-                }
-                seen[g as usize] = Some(w);
-            }
-            // Then what the words alone make wrong, as LinuxCNC checks them after the groups.
-            if let Some((col, why)) = lcnc_refusal(words, self.inverse_time(), self.feed.is_some()) {
+            if let Some((col, why)) = lcnc_refusal(words, self.inverse_time(), self.feed.is_some(), self.tool_table()) {
                 diags.error(line, col, why);
                 return false;
-            }
-            // With the machine's tool table at hand (--tool-table), a tool it does not list (T0 is
-            // none): LinuxCNC refuses the T word itself.
-            if let Some(table) = self.tool_table() {
-                if let Some(t) = words.iter().find(|w| w.letter == 'T' && w.value >= 1.0 && table.diameter(w.value.round() as u32).is_none()) {
-                    let n = t.value.round();
-                    diags.error(line, t.column, format!("T{}: tool {n} is not in the tool table (LinuxCNC: \"Requested tool {n} not found in the tool table\")", t.raw));
-                    return false;
-                }
             }
         }
         let held = self.held(words);

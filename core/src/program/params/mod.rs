@@ -24,8 +24,9 @@ const MAX_PARAMETER: u32 = 5602;
 pub const MAX_NAMED_PARAMETERS: usize = 100_000;
 /// Longest parameter name, characters (LinuxCNC's whole line is 256): with the count above, the store's bound.
 pub const MAX_NAME_CHARS: usize = 256;
-/// A decimal meant as an integer (a parameter index) may be this far from it (LinuxCNC manual §11.4.2.4).
-const INTEGER_CLOSE: f64 = 1e-4;
+/// A decimal meant as an integer (a parameter index, a tool number) may be this far from it (LinuxCNC
+/// manual §11.4.2.4).
+pub(crate) const INTEGER_CLOSE: f64 = 1e-4;
 
 /// LinuxCNC's predefined read-only named parameters (manual §11.4.3.4-11.4.3.5): the interpreter's
 /// and the machine's state, which this reader does not model.
