@@ -423,6 +423,8 @@ pub(crate) fn lex_line<'a>(src: &'a str, cols: &Columns<'_>, line: usize, vars: 
                 c.through[k] = Some((value, dimension, col));
             }
             // Read as P, the turns count G2/G3 take (P n+1); written twice, which one counts is not read.
+            // Refused here, not by the interpreter's check of a letter written twice: CT's and CIP's
+            // forms rewrite the block's words before it (sinumerik/circles.rs), a straight CT dropping P.
             "TURN" if out.words.iter().any(|w| w.letter == 'P') => diags.error(line, col, "TURN written twice in one block (which one counts is not read)"),
             "TURN" if value.fract() == 0.0 && (0.0..1000.0).contains(&value) => out.words.push(word('P', value + 1.0, format!("{}", value + 1.0).into())),
             "TURN" => diags.error(line, col, format!("TURN={text}: expected a whole number of turns, 0 to 999")),
