@@ -103,7 +103,10 @@ fn canned_cycles_move_as_linuxcnc_runs_them() {
     let file = fiveaxis::machine::builtin_file("haas-umc-750").unwrap().replace("g73_retract_mm = 2.54", "g73_retract_mm = 0.254").replace("g83_clearance_mm = 0.76", "g83_clearance_mm = 0.254");
     let haas = fiveaxis::machine::Machine::from_toml_str(&file, "t").unwrap();
     let linuxcnc = fiveaxis::machine::Machine::builtin("linuxcnc-xyzac-trt").unwrap();
-    for (dialect, machine) in [(Dialect::Rs274, &linuxcnc), (Dialect::Haas, &haas)] {
+    // A generic machine's file gives Fanuc's peck parameters (0.1 mm): not LinuxCNC's settings.
+    let generic = fiveaxis::machine::Machine::builtin("generic-ac-table").unwrap();
+    assert_eq!(generic.peck_distances, [Some(0.1e-3), Some(0.1e-3)]);
+    for (dialect, machine) in [(Dialect::Rs274, &linuxcnc), (Dialect::Rs274, &generic), (Dialect::Haas, &haas)] {
         let p = read(&text, dialect, "cycles.nc", &ReadOptions::default().on(machine));
         assert!(errors(&p).is_empty(), "{dialect:?}: {:?}", errors(&p));
         let ours = end_points(&p);
@@ -116,6 +119,45 @@ fn canned_cycles_move_as_linuxcnc_runs_them() {
         let dwells: Vec<f64> = p.blocks.iter().filter_map(|b| b.dwell_s).collect();
         assert_eq!(dwells, [0.5, 0.2, 0.25], "{dialect:?}");
     }
+}
+
+/// LinuxCNC 2.10's peck clearances (`[RS274NGC]G73_PECK_CLEARANCE`, `G83_PECK_CLEARANCE`), set in
+/// the machine file, replace 2.9's 0.254 mm; the moves worked by hand from `convert_cycle_g73` and
+/// `convert_cycle_g83` (interp_cycles.cc): G73 feeds a peck and backs off by its clearance, G83
+/// feeds a peck, rapids to R and back down to its clearance above the depth reached.
+#[test]
+fn linuxcnc_peck_clearances_come_from_the_machine_files_linuxcnc_settings() {
+    let file = fiveaxis::machine::builtin_file("linuxcnc-xyzac-trt").unwrap().to_owned() + "\n[canned_cycles]\ng73_peck_clearance_mm = 1.0\ng83_peck_clearance_mm = 0.5\n";
+    let machine = fiveaxis::machine::Machine::from_toml_str(&file, "t").unwrap();
+    let text = "G21 G90 G94 G17 F300 S1000 M3\nG0 X0 Y0 Z20\nG98 G83 X1 Z-12 R1 Q5\nG80\nG98 G73 X2 Z-9 R1 Q4\nG80\nM2\n";
+    let p = read(text, Dialect::Rs274, "t.ngc", &ReadOptions::default().on(&machine));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let mut moves: Vec<(Motion, f64, f64)> = Vec::new();
+    for (m, at) in end_points(&p) {
+        if moves.last().is_none_or(|&(_, x, z)| (x, z) != (at[0], at[2])) {
+            moves.push((m, at[0], at[2]));
+        }
+    }
+    use Motion::{Linear as F, Rapid as R};
+    #[rustfmt::skip]
+    let want = [
+        (R, 0.0, 20.0), (R, 1.0, 20.0), (R, 1.0, 1.0),
+        (F, 1.0, -4.0), (R, 1.0, 1.0), (R, 1.0, -3.5), // G83: 0.5 above the depth reached
+        (F, 1.0, -9.0), (R, 1.0, 1.0), (R, 1.0, -8.5),
+        (F, 1.0, -12.0), (R, 1.0, 20.0),
+        (R, 2.0, 20.0), (R, 2.0, 1.0),
+        (F, 2.0, -3.0), (R, 2.0, -2.0), // G73: back off 1 mm
+        (F, 2.0, -7.0), (R, 2.0, -6.0),
+        (F, 2.0, -9.0), (R, 2.0, 20.0),
+    ];
+    assert_eq!(moves.len(), want.len(), "{moves:?}");
+    for (k, (a, b)) in moves.iter().zip(&want).enumerate() {
+        assert!(a.0 == b.0 && (a.1 - b.1).abs() < 1e-9 && (a.2 - b.2).abs() < 1e-9, "move {k}: ours {a:?}, want {b:?}");
+    }
+    // Out of range, named by its key.
+    let bad = fiveaxis::machine::builtin_file("linuxcnc-xyzac-trt").unwrap().to_owned() + "\n[canned_cycles]\ng83_peck_clearance_mm = -1\n";
+    let e = fiveaxis::machine::Machine::from_toml_str(&bad, "t").unwrap_err().to_string();
+    assert!(e.contains("canned_cycles.g83_peck_clearance_mm"), "{e}");
 }
 
 /// Where LinuxCNC's cycles differ from Fanuc's, the moves its interpreter makes (interp_cycles.cc of

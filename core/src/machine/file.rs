@@ -143,6 +143,15 @@ pub struct CannedCyclesFile {
     /// G83's stop short of the last depth on the way back down, mm (Fanuc parameter No. 5115).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub g83_clearance_mm: Option<f64>,
+    /// LinuxCNC's G73 back-off after each peck, mm (LinuxCNC 2.10's `[RS274NGC]G73_PECK_CLEARANCE`;
+    /// 2.9 has none and backs off 0.010 in, `G83_RAPID_DELTA`). Programs read as LinuxCNC's take
+    /// only these two keys: the Fanuc ones above are another control's parameters.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub g73_peck_clearance_mm: Option<f64>,
+    /// LinuxCNC's G83 stop short of the last depth, mm (2.10's `[RS274NGC]G83_PECK_CLEARANCE`; 2.9:
+    /// 0.010 in).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub g83_peck_clearance_mm: Option<f64>,
 }
 
 /// `[swivel]`: the Sinumerik swivel data set `CYCLE800` turns the working plane with ($TC_CARR1-65,
@@ -471,9 +480,15 @@ impl MachineFile {
             Some("calculator") => true,
             Some(v) => return Err(format!("`decimal_point_input` = \"{v}\": expected \"increments\" or \"calculator\" (FANUC parameter No. 3401 bit 0 DPI, Haas Setting 162)")),
         };
-        let mut peck = [None, None];
+        let mut peck = [None; 4];
         if let Some(c) = &self.canned_cycles {
-            for (k, (field, v)) in [("canned_cycles.g73_retract_mm", c.g73_retract_mm), ("canned_cycles.g83_clearance_mm", c.g83_clearance_mm)].into_iter().enumerate() {
+            let keys = [
+                ("canned_cycles.g73_retract_mm", c.g73_retract_mm),
+                ("canned_cycles.g83_clearance_mm", c.g83_clearance_mm),
+                ("canned_cycles.g73_peck_clearance_mm", c.g73_peck_clearance_mm),
+                ("canned_cycles.g83_peck_clearance_mm", c.g83_peck_clearance_mm),
+            ];
+            for (k, (field, v)) in keys.into_iter().enumerate() {
                 match v {
                     None => {}
                     Some(d) if d.is_finite() && (0.0..=100.0).contains(&d) => peck[k] = Some(d * MM),
@@ -533,7 +548,8 @@ impl MachineFile {
             m_functions,
             hal_pins,
             rotary_word_units: [word_units[0], word_units[1]],
-            peck_distances: peck,
+            peck_distances: [peck[0], peck[1]],
+            linuxcnc_peck_clearances: [peck[2], peck[3]],
             arc_radius_tolerance,
             cycle19_spatial: self.cycle19_spatial,
             tcp_at_start: self.tcp_at_start,

@@ -85,6 +85,9 @@ pub struct Machine {
     pub rotary_word_units: [f64; 2],
     /// The peck cycles' distances, m: G73's retract and G83's clearance (Fanuc No. 5114, 5115).
     pub peck_distances: [Option<f64>; 2],
+    /// LinuxCNC's G73 and G83 peck clearances, m (2.10's `G73_PECK_CLEARANCE`, `G83_PECK_CLEARANCE`):
+    /// what programs read as LinuxCNC's take, 2.9's 0.254 mm where unset.
+    pub linuxcnc_peck_clearances: [Option<f64>; 2],
     /// How far an arc's end radius may differ from its start radius, m (the control's setting).
     pub arc_radius_tolerance: Option<f64>,
     /// Heidenhain cycle 19's angles are spatial angles (MP7500 bit 1), not axis positions.

@@ -16,7 +16,8 @@ use crate::units::MM;
 
 /// The peck clearance of LinuxCNC 2.9 (`G83_RAPID_DELTA`, 0.010 in, times 25.4 in mm programs:
 /// the same length either way), m: G73 backs off by it, G83 comes back down to it above the last
-/// depth. A machine file's `[canned_cycles]` keys replace it (LinuxCNC 2.10's INI settings).
+/// depth. A machine file's `canned_cycles.g73_peck_clearance_mm` and `g83_peck_clearance_mm`
+/// replace it (LinuxCNC 2.10's INI settings); its Fanuc parameters (`g73_retract_mm`...) do not.
 const RAPID_DELTA: f64 = 0.254 * MM;
 
 /// What stays from one cycle block to the next (`settings->cycle_*`): the words as written (program
@@ -208,7 +209,7 @@ fn drill(it: &mut Interpreter, named: Option<(Kind, &Word)>, words: &[Word], lin
         return false;
     }
     let clearance = match kind {
-        Kind::G73 | Kind::G83 => it.peck_clearance(kind).unwrap_or(RAPID_DELTA),
+        Kind::G73 | Kind::G83 => it.lcnc_peck_clearance(kind).unwrap_or(RAPID_DELTA),
         _ => 0.0,
     };
     it.cycles.linuxcnc = Sticky { r: r_word, z: z_word, p, q };

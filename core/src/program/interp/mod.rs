@@ -179,8 +179,10 @@ pub struct State {
     pub(crate) cycles: super::cycles::CycleState,
     /// The machine's rotary axis letters (for Haas' G28 with no axis: every axis).
     rotary_letters: [Option<char>; 2],
-    /// The machine's peck distances (G73's retract, G83's clearance), m.
+    /// The machine's peck distances (G73's retract, G83's clearance), m: Fanuc's parameters, then
+    /// LinuxCNC's settings.
     peck: [Option<f64>; 2],
+    lcnc_peck: [Option<f64>; 2],
     /// How far an arc's end radius may differ from its start radius, m (the machine's control
     /// setting), and, where the control scales it with the radius, the fraction of the radius it may
     /// reach instead (Sinumerik MD21010 `CIRCLE_ERROR_FACTOR`; 0 elsewhere).
@@ -314,6 +316,7 @@ impl Interpreter {
                 cycles: super::cycles::CycleState { to_r: dialect == Dialect::Rs274, ..Default::default() },
                 rotary_letters: [None; 2],
                 peck: [None; 2],
+                lcnc_peck: [None; 2],
                 arc_tolerance: match dialect {
                     Dialect::Sinumerik => SINUMERIK_CIRCLE_ERROR_CONST,
                     Dialect::Klartext | Dialect::Heidenhain => TNC_CIRCLE_TOLERANCE,
@@ -361,6 +364,7 @@ impl Interpreter {
             self.machine_coords = m.machine_coordinates.clone().map(std::sync::Arc::new);
             self.rotary_letters = [3, 4].map(|k| m.axes[k].name.chars().next().map(|c| c.to_ascii_uppercase()));
             self.peck = m.peck_distances;
+            self.lcnc_peck = m.linuxcnc_peck_clearances;
             self.modulo = ['A', 'B', 'C'].map(|l| m.axis_index(&l.to_string()).is_some_and(|i| i >= 3 && m.axes[i].limits.is_unlimited()));
             if let Some(t) = m.arc_radius_tolerance {
                 self.arc_tolerance = t;
@@ -738,5 +742,11 @@ impl Interpreter {
             super::cycles::Kind::G73 => self.peck[0].ok_or("the machine file gives no G73 retract (canned_cycles.g73_retract_mm: Fanuc parameter No. 5114, Haas Setting 22)"),
             _ => self.peck[1].ok_or("the machine file gives no G83 clearance (canned_cycles.g83_clearance_mm: Fanuc parameter No. 5115)"),
         }
+    }
+
+    /// LinuxCNC's peck clearance of G73 or G83, m, where the machine file sets it (LinuxCNC 2.10's
+    /// INI settings, `canned_cycles.g73_peck_clearance_mm` and `g83_peck_clearance_mm`).
+    pub(crate) fn lcnc_peck_clearance(&self, kind: super::cycles::Kind) -> Option<f64> {
+        self.lcnc_peck[usize::from(kind != super::cycles::Kind::G73)]
     }
 }
