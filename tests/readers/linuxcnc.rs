@@ -6,6 +6,7 @@
 use super::*;
 
 mod canon;
+mod differential;
 mod state;
 mod subroutines;
 

@@ -157,8 +157,29 @@ pub(super) fn same_places_as_linuxcnc(p: &Program, canon: &Path) -> Vec<Placed> 
                 }
             }
             let centre = b.arc.as_ref().filter(|a| a.plane == fiveaxis::program::Plane::Xy).map(|a| [(a.centre[0] + b.datum[0]) / MM, (a.centre[1] + b.datum[1]) / MM]);
-            // Inverse time (a straight move): the move's length over its time.
-            let length = ((at[0] - from[0]).powi(2) + (at[1] - from[1]).powi(2) + (at[2] - from[2]).powi(2)).sqrt();
+            // Inverse time: the move's length over its time (an arc's: its helix, as LinuxCNC's
+            // interp_inverse.cc find_arc_length takes it).
+            let length = match b.arc.as_deref() {
+                // find_straight_length: X Y Z's, or where they stay, A B C's (deg).
+                None => {
+                    let d = |r: std::ops::Range<usize>| r.map(|k| (at[k] - from[k]).powi(2)).sum::<f64>().sqrt();
+                    if d(0..3) > 1e-9 { d(0..3) } else { d(3..6) }
+                }
+                Some(a) => {
+                    let (i, j, k) = match a.plane { fiveaxis::program::Plane::Xy => (0, 1, 2), fiveaxis::program::Plane::Zx => (2, 0, 1), _ => (1, 2, 0) };
+                    let c = [(a.centre[0] + b.datum[0]) / MM, (a.centre[1] + b.datum[1]) / MM, (a.centre[2] + b.datum[2]) / MM];
+                    let (s, e) = ((from[j] - c[j]).atan2(from[i] - c[i]), (at[j] - c[j]).atan2(at[i] - c[i]));
+                    let radius = (from[i] - c[i]).hypot(from[j] - c[j]);
+                    // G3 turns counter-clockwise seen from the plane's normal, from the first axis to the second.
+                    let mut sweep = if b.motion == Motion::ArcCcw { e - s } else { s - e };
+                    sweep = sweep.rem_euclid(std::f64::consts::TAU);
+                    if sweep < 1e-9 {
+                        sweep = std::f64::consts::TAU;
+                    }
+                    let sweep = sweep + std::f64::consts::TAU * f64::from(a.extra_turns);
+                    (radius * sweep).hypot(at[k] - from[k])
+                }
+            };
             let feed = b.feed.filter(|_| b.motion != Motion::Rapid).map(|f| if f.mode == FeedMode::InverseTime { f.value_per_min * length } else { f.value_per_min });
             (b.motion, at, centre, feed)
         })

@@ -63,6 +63,22 @@ fn rs274_reads_rotated_coordinate_systems_as_linuxcnc_does() {
     );
 }
 
+/// `G10 L2` and `L20` under G91 set what they would under G90, as LinuxCNC does ("Being in
+/// incremental distance mode has no effect on the action of G10", interp_convert.cc convert_setup):
+/// `offsets_g91.ngc` in the system in use, one not in use and rotated, P0, and under a G92 offset,
+/// read to where rs274 places the moves (make_canon.sh). Other dialects still refuse it.
+#[test]
+fn rs274_sets_offsets_under_g91_as_under_g90() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join("offsets_g91.ngc")).unwrap();
+    let p = read(&text, Dialect::Rs274, "offsets_g91.ngc", &ReadOptions::default());
+    let ours = same_places_as_linuxcnc(&p, &dir.join("offsets_g91.canon"));
+    // G91 G10 L2 P1 X10 Y2 Z-1, then G90 G1 X0 Y0: the tool at the offset itself, at its Z 3 (-1 + 3).
+    let b = &ours[1].1;
+    assert!((b[0] - 10.0).abs() < 1e-9 && (b[1] - 2.0).abs() < 1e-9 && (b[2] - 2.0).abs() < 1e-9, "{b:?}");
+    refuses_each(Dialect::Fanuc, &ReadOptions::default(), &[("G21 G91\nG10 L2 P1 X5\nM30\n", "2:1:", "G10 L2 under G91")]);
+}
+
 /// LinuxCNC's moves to a stored position (`home.ngc`, rs274's output by make_canon.sh) on its xyzac-trt
 /// sim, whose parameter file starts empty (stored positions 0): `G28 G91 Z0` (the retract CAM posts
 /// write), G28 through an absolute intermediate point in a rotated system, under a G92 offset, after

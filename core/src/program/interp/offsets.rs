@@ -25,7 +25,7 @@ impl Interpreter {
 
     /// `G10 L2 Pn X Y Z`: set work offset n to the values; `G10 L20 Pn X Y Z`: set it so that the
     /// current point reads the values (LinuxCNC G-code reference §G10 L2, §G10 L20); P0 is the active
-    /// system. Absolute values only; rotary offsets only where they stay zero.
+    /// system. Absolute values only (LinuxCNC: under G91 too); rotary offsets only where they stay zero.
     pub(super) fn set_offsets(&self, words: &[Word], next: &mut Interpreter, line: usize, column: usize, diags: &mut Diags) {
         let word = |l: char| words.iter().find(|w| w.letter == l);
         if self.dialect == Dialect::Rs274 && word('L').is_some_and(|w| w.value == 1.0) {
@@ -51,7 +51,9 @@ impl Interpreter {
             return diags.error(line, word('P').map_or(column, |w| w.column), format!("G10 {l} P0: the external workpiece zero offset (every work system's) is not modelled"));
         }
         let k_system = if p == 0 { next.system } else { p - 1 };
-        if !next.absolute {
+        // LinuxCNC: "Being in incremental distance mode has no effect on the action of G10"
+        // (interp_convert.cc convert_setup; rs274 2.9 sets L2's and L20's values alike under G91).
+        if !next.absolute && self.dialect != Dialect::Rs274 {
             return diags.error(line, column, format!("G10 {l} under G91 (offsets relative to the current ones) is not supported: write it under G90"));
         }
         let mut offsets = next.offsets[k_system];

@@ -1,0 +1,173 @@
+#!/usr/bin/env python3
+"""Generated programs for the differential test against LinuxCNC's own interpreter (a development aid,
+run by hand; tests/readers/linuxcnc/differential.rs reads what this writes).
+
+    RS274=/path/to/rs274 python3 generate.py OUT_DIR SEED COUNT
+
+writes OUT_DIR/NNNN.ngc, runs rs274 (Debian 12's linuxcnc-uspace 2.9; see ../parameters/make_canon.sh
+for running it unpacked) on each with OUT_DIR/tools.tbl, and keeps its canonical moves and the states
+that place them (NNNN.canon) or, where it refuses the program, its message (NNNN.err). Then:
+
+    FIVEAXIS_DIFF_DIR=OUT_DIR cargo test -p fiveaxis-tests --test integration differential -- --ignored --nocapture
+
+They are read on linuxcnc-xyzac-trt (its machine zero and stored points are rs274's: 0), so rotary
+words are A and C. The programs mix what moves the tool: straight and arc moves (R and centre forms, G90.1/G91.1, the three
+planes, P turns), rotary axes, G90/G91, G20/G21, coordinate systems with rotation (G10 L2/L20 R), G92 and
+its cancels, G52, G53, G28/G30 with their stored points, feeds in G93/G94/G95, and cutter radius
+compensation (G41.1/G42.1). Nothing here is a reference: rs274's output is.
+"""
+import os, random, subprocess, sys
+
+KEEP = ("STRAIGHT_", "ARC_FEED", "USE_LENGTH_UNITS", "SELECT_PLANE", "SET_G5X_OFFSET", "SET_G92_OFFSET",
+        "SET_XY_ROTATION", "SET_FEED_RATE", "SET_FEED_MODE", "SET_SPINDLE_SPEED")
+
+
+def num(r, lo, hi, places=3):
+    return f"{r.uniform(lo, hi):.{places}f}".rstrip("0").rstrip(".") or "0"
+
+
+class Gen:
+    def __init__(self, r):
+        self.r = r
+        self.lines = []
+        self.inch = r.random() < 0.25
+        self.rel = False
+        self.plane = 17
+        self.feedmode = 94
+        self.comp = False
+
+    def unit(self):
+        return 1 / 25.4 if self.inch else 1.0
+
+    def v(self, lo=-40, hi=40):
+        u = self.unit()
+        return num(self.r, lo * u, hi * u, 4 if self.inch else 3)
+
+    def axes(self, letters="XYZ", least=1):
+        r = self.r
+        picked = [l for l in letters if r.random() < 0.6] or list(r.sample(letters, least))
+        return " ".join(f"{l}{self.v() if l in 'XYZ' else num(r, -90, 90, 2)}" for l in picked)
+
+    def feed(self):
+        r = self.r
+        if self.feedmode == 93:
+            return f" F{num(r, 0.5, 20, 2)}"
+        if self.feedmode == 95:
+            return f" F{num(r, 0.01, 0.3, 3)}" if r.random() < 0.5 else ""
+        return f" F{num(r, 50, 2000, 1)}" if r.random() < 0.3 else ""
+
+    def arc(self):
+        r = self.r
+        g = r.choice(["G2", "G3"])
+        a, b, c = {17: "XYZ", 18: "ZXY", 19: "YZX"}[self.plane]
+        ij = {17: "IJ", 18: "KI", 19: "JK"}[self.plane]
+        if r.random() < 0.5:
+            # R form: an end within the diameter's reach.
+            rad = r.uniform(5, 30)
+            return f"{g} {a}{self.v(-20, 20)} {b}{self.v(-20, 20)} R{num(r, rad * self.unit(), rad * self.unit(), 4)}" + (f" {c}{self.v()}" if r.random() < 0.3 else "")
+        # Centre form: the end on the circle about the centre from wherever the tool is is not known
+        # here (G91, offsets); a full circle (no end) or a centre offset with an end the same distance.
+        off = [float(self.v(-15, 15)), float(self.v(-15, 15))]
+        words = f"{g} {ij[0]}{off[0]:g} {ij[1]}{off[1]:g}"
+        if r.random() < 0.3:
+            words += f" P{r.randint(1, 3)}"
+        if r.random() < 0.3:
+            words += f" {c}{self.v()}"
+        return words
+
+    def statement(self):
+        r = self.r
+        k = r.random()
+        L = self.lines
+        if k < 0.22:
+            L.append(f"G0 {self.axes('XYZAC' if r.random() < 0.3 else 'XYZ')}")
+        elif k < 0.42:
+            L.append(f"G1 {self.axes('XYZAC' if r.random() < 0.3 else 'XYZ')}{self.feed()}")
+        elif k < 0.55 and not self.comp:
+            L.append(self.arc() + self.feed())
+        elif k < 0.60:
+            p = r.randint(1, 9)
+            rot = f" R{num(r, -90, 90, 2)}" if r.random() < 0.5 else ""
+            L.append(f"G10 L{r.choice([2, 20])} P{p} {self.axes('XYZ')}{rot}")
+        elif k < 0.64 and not self.comp:
+            L.append(r.choice(["G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"]))
+        elif k < 0.68 and not self.comp:
+            L.append(r.choice([f"G92 {self.axes('XYZ')}", "G92.1", "G92.2", "G92.3", f"G52 {self.axes('XYZ')}"]))
+        elif k < 0.72:
+            self.rel = not self.rel
+            L.append("G91" if self.rel else "G90")
+        elif k < 0.74 and not self.comp:
+            self.inch = not self.inch
+            L.append("G20" if self.inch else "G21")
+        elif k < 0.77 and not self.comp:
+            self.plane = r.choice([17, 18, 19])
+            L.append(f"G{self.plane}")
+        elif k < 0.80:
+            L.append(r.choice(["G90.1", "G91.1"]))
+        elif k < 0.84:
+            self.feedmode = r.choice([93, 94, 95])
+            L.append(f"G{self.feedmode}" + (f" F{num(r, 100, 1500, 1)}" if self.feedmode == 94 else (" F0.1" if self.feedmode == 95 else "")))
+        elif k < 0.86 and not self.comp:
+            L.append(f"G53 G{r.choice([0, 1])} {self.axes('XYZ')}" + (self.feed() if self.feedmode == 93 else ""))
+        elif k < 0.89 and not self.comp:
+            L.append(r.choice(["G28", "G30", "G28.1", "G30.1", f"G28 {self.axes('XYZ')}", f"G30 {self.axes('XYZ')}"]))
+        elif k < 0.93 and self.plane == 17 and self.feedmode != 93:
+            if self.comp:
+                L.append(f"G40 G1 {self.axes('XY', 2)}")
+            else:
+                L.append(f"{r.choice(['G41.1', 'G42.1'])} D{num(r, 1, 6, 2)}")
+                L.append(f"G1 {self.axes('XY', 2)}")
+            self.comp = not self.comp
+        else:
+            L.append(f"S{r.randint(500, 3000)} M3")
+
+    def program(self, n):
+        r = self.r
+        head = ["G20" if self.inch else "G21", "G17 G90 G94 G40 G49 G54 G92.1", f"F{num(r, 100, 1000, 1)} S1000 M3"]
+        # Stored points for G28 and G30 (#5161-5166, #5181-5186), where G28.1 and G30.1 store them.
+        head.append(f"G0 X{self.v()} Y{self.v()} Z{self.v()}")
+        head.append("G28.1")
+        head.append(f"G0 X{self.v()} Y{self.v()} Z{self.v()}")
+        head.append("G30.1")
+        self.lines = head
+        for _ in range(n):
+            self.statement()
+        if self.comp:
+            self.lines.append(f"G40 G1 {self.axes('XY', 2)}")
+        self.lines.append("M2")
+        return "\n".join(self.lines) + "\n"
+
+
+def main():
+    out, seed, count = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+    rs274 = os.environ.get("RS274", "rs274")
+    os.makedirs(out, exist_ok=True)
+    table = os.path.join(out, "tools.tbl")
+    with open(table, "w") as f:
+        f.write("T1 P1 Z0 D10 ;\nT2 P2 Z5 D6 ;\n")
+    r = random.Random(seed)
+    refused = 0
+    for i in range(count):
+        text = Gen(r).program(r.randint(3, 10))
+        base = os.path.join(out, f"{seed:04d}-{i:04d}")
+        with open(base + ".ngc", "w") as f:
+            f.write(text)
+        run = subprocess.run([rs274, "-t", table, "-g", base + ".ngc", base + ".full"], stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=30)
+        if run.returncode != 0:
+            refused += 1
+            msg = [l for l in run.stderr.splitlines() if l.strip() and l.strip() != "executing"]
+            with open(base + ".err", "w") as f:
+                f.write((" / ".join(msg) or f"exit {run.returncode}") + "\n")
+        else:
+            with open(base + ".full") as f, open(base + ".canon", "w") as g:
+                for line in f:
+                    i0 = min((line.find(k) for k in KEEP if k in line), default=-1)
+                    if i0 >= 0:
+                        g.write(line[i0:].rstrip() + "\n")
+        if os.path.exists(base + ".full"):
+            os.remove(base + ".full")
+    print(f"{count} programs, rs274 refused {refused}")
+
+
+if __name__ == "__main__":
+    main()
