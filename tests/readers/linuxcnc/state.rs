@@ -79,6 +79,24 @@ fn rs274_sets_offsets_under_g91_as_under_g90() {
     refuses_each(Dialect::Fanuc, &ReadOptions::default(), &[("G21 G91\nG10 L2 P1 X5\nM30\n", "2:1:", "G10 L2 under G91")]);
 }
 
+/// A rotated system changed in use under a G92 offset leaves LinuxCNC's current X Y apart from where
+/// the machine stands (convert_setup reads the point again without the G92 offset turned in), and its
+/// next move goes to them whatever axes it names (`rotation_apart.ngc`, against rs274): an X move
+/// after a change to an unrotated system moves Y too, and so do a Z move and a move of A alone.
+#[test]
+fn rs274_moves_to_its_current_point_after_a_rotated_system_changes_under_g92() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join("rotation_apart.ngc")).unwrap();
+    let p = read(&text, Dialect::Rs274, "rotation_apart.ngc", &ReadOptions::default());
+    let ours = same_places_as_linuxcnc(&p, &dir.join("rotation_apart.canon"));
+    // G91 G1 X-10 from the machine's Y -5 (10 - 15): Y goes to 0.5806 (rs274's 15.5806 - 15).
+    assert!((ours[0].1[1] - -5.0).abs() < 1e-9 && (ours[1].1[1] - 0.5806).abs() < 1e-3, "{ours:?}");
+    // G1 Z2 and G1 A15: X and Y move as well.
+    for k in [3, 4] {
+        assert!((ours[k].1[0] - ours[k - 1].1[0]).abs() > 1.0 && (ours[k].1[1] - ours[k - 1].1[1]).abs() > 1.0, "move {k}: {ours:?}");
+    }
+}
+
 /// LinuxCNC's moves to a stored position (`home.ngc`, rs274's output by make_canon.sh) on its xyzac-trt
 /// sim, whose parameter file starts empty (stored positions 0): `G28 G91 Z0` (the retract CAM posts
 /// write), G28 through an absolute intermediate point in a rotated system, under a G92 offset, after

@@ -119,6 +119,10 @@ pub struct State {
     pub(crate) local_offset: [f64; 3],
     /// LinuxCNC: each system's rotation about Z (`G10 L2 Pn R`, rad; parameter 5210 + 20n).
     rotation: [f64; 9],
+    /// LinuxCNC: the interpreter's current X Y no longer where the machine stands (a rotated system's
+    /// offset or rotation changed in use under a G92 offset, [`Interpreter::reframe_active`]): its
+    /// next move names X and Y, and the machine goes there, whichever axes the block writes.
+    xy_apart: bool,
     /// Blocks stay in the program frame when made (cutter compensation, which offsets them there,
     /// places them in the workpiece when it lets them go): [`Interpreter::to_world`].
     pub(crate) hold_frame: bool,
@@ -288,6 +292,7 @@ impl Interpreter {
                 local_offset: [0.0; 3],
                 axis_offset_kept: [0.0; 3],
                 rotation: [0.0; 9],
+                xy_apart: false,
                 hold_frame: false,
                 stored_home: [None; 2],
                 halted: false,

@@ -54,6 +54,7 @@ impl Interpreter {
     pub(super) fn reframe_active(&mut self, g5x: [f64; 3], r: f64) {
         let k = self.system;
         let (old, r_old) = (self.offsets[k], self.rotation[k]);
+        let machine = self.machine_xy(k);
         let t = rot([self.last[0], self.last[1]], r_old);
         let p = rot([t[0] + old[0] - g5x[0], t[1] + old[1] - g5x[1]], -r);
         (self.last[0], self.last[1]) = (p[0], p[1]);
@@ -61,6 +62,9 @@ impl Interpreter {
         self.offsets[k] = g5x;
         self.rotation[k] = r;
         self.datum = std::array::from_fn(|k| g5x[k] + self.axis_offset[k]);
+        // Under a G92 offset the point read so is not where the machine stands: its next move goes there.
+        let now = self.machine_xy(k);
+        self.xy_apart |= (now[0] - machine[0]).abs() > 1e-12 || (now[1] - machine[1]).abs() > 1e-12;
     }
 
     /// A block made in the rotated program frame, placed in the workpiece's: X Y turned by the
@@ -108,10 +112,15 @@ impl Interpreter {
     /// plane's pair where it places the block.)
     ///
     /// [`to_world`]: Interpreter::to_world
-    pub(crate) fn fill_xy(&self, b: &mut Block) {
-        if self.rotation_now() != 0.0 && (b.targets.x.is_some() || b.targets.y.is_some()) {
+    /// Where the interpreter's X Y are not the machine's (`xy_apart`), any move names both: LinuxCNC's
+    /// canonical moves carry every axis (interp_convert.cc convert_straight), so the machine goes to
+    /// the interpreter's point, in a Z move too.
+    pub(crate) fn fill_xy(&mut self, b: &mut Block) {
+        let apart = self.xy_apart && !b.targets.is_empty();
+        if apart || self.rotation_now() != 0.0 && (b.targets.x.is_some() || b.targets.y.is_some()) {
             b.targets.x = b.targets.x.or(Some(self.last[0]));
             b.targets.y = b.targets.y.or(Some(self.last[1]));
+            self.xy_apart = false;
         }
     }
 }

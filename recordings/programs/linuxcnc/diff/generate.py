@@ -14,7 +14,8 @@ They are read on linuxcnc-xyzac-trt (its machine zero and stored points are rs27
 words are A and C. The programs mix what moves the tool: straight and arc moves (R and centre forms, G90.1/G91.1, the three
 planes, P turns), rotary axes, G90/G91, G20/G21, coordinate systems with rotation (G10 L2/L20 R), G92 and
 its cancels, G52, G53, G28/G30 with their stored points, feeds in G93/G94/G95, and cutter radius
-compensation (G41.1/G42.1). Nothing here is a reference: rs274's output is.
+compensation (G41.1/G42.1), canned cycles in each plane (G73, G81-G83, G85, G86, G89 with
+G98/G99, P, Q, L) and polar coordinates. Nothing here is a reference: rs274's output is.
 """
 import os, random, subprocess, sys
 
@@ -83,7 +84,7 @@ class Gen:
             L.append(f"G0 {self.axes('XYZAC' if r.random() < 0.3 else 'XYZ')}")
         elif k < 0.42:
             L.append(f"G1 {self.axes('XYZAC' if r.random() < 0.3 else 'XYZ')}{self.feed()}")
-        elif k < 0.55 and not self.comp:
+        elif k < 0.55 and (not self.comp or self.plane == 17):
             L.append(self.arc() + self.feed())
         elif k < 0.60:
             p = r.randint(1, 9)
@@ -118,6 +119,25 @@ class Gen:
                 L.append(f"{r.choice(['G41.1', 'G42.1'])} D{num(r, 1, 6, 2)}")
                 L.append(f"G1 {self.axes('XY', 2)}")
             self.comp = not self.comp
+        elif k < 0.96 and not self.comp and self.feedmode != 93:
+            # A canned cycle (its plane's), holes after it, then G80 or not.
+            g = r.choice(["G81", "G82", "G83", "G73", "G85", "G86", "G89"])
+            a, b, c = {17: "XYZ", 18: "ZXY", 19: "YZX"}[self.plane]
+            words = f"{r.choice(['G98', 'G99'])} {g} {a}{self.v()} {b}{self.v()} {c}{self.v(-20, 0)} R{self.v(0, 10)}"
+            if g in ("G83", "G73"):
+                words += f" Q{self.v(0.5, 8)}"
+            if g in ("G82", "G86", "G89") or r.random() < 0.2:
+                words += f" P{num(r, 0, 1, 2)}"
+            if r.random() < 0.2:
+                words += f" L{r.randint(1, 3)}"
+            L.append(words)
+            for _ in range(r.randint(0, 2)):
+                L.append(self.axes(a + b + c))
+            if r.random() < 0.7:
+                L.append("G80")
+        elif k < 0.98 and self.plane == 17:
+            # Polar coordinates: a radius and an angle (deg) in the XY plane.
+            L.append(f"G{r.choice([0, 1])} @{self.v(0, 30)} ^{num(r, -180, 180, 2)}{self.feed()}")
         else:
             L.append(f"S{r.randint(500, 3000)} M3")
 
