@@ -172,15 +172,19 @@ fn fanuc_inverse_time_arcs_take_their_angle_over_frn_and_helical_arcs_are_refuse
 }
 
 /// Haas feeds a rotary axis at the part diameter Setting 34 or 79 gives ("the control must know the
-/// diameter of the part being machined ... to compute angular feed rate"), a setting of the job not
-/// read: a feed move of A or B without G234 is refused; under G234 (F along the tool tip) or as a
-/// rapid it reads.
+/// diameter of the part being machined ... to compute angular feedrate"), a setting of the job not
+/// read, and asks for G93 for simultaneous 4- or 5-axis motion (G94 only under G234; Mill NGC
+/// Operator's Manual, 2017): a feed move of A or B without G234 is refused, with linear axes too
+/// by that rule; under G234 (F along the tool tip) or as a rapid it reads.
 #[test]
 fn haas_rotary_feed_without_tcpc_is_refused() {
     let vf2 = ReadOptions::default().on(&fiveaxis::machine::Machine::builtin("haas-vf2-tr").unwrap());
     let run = |body: &str| read(&format!("%\nO1000\nG20 G90 G17 G94\nG0 X0. Y0. Z5. A0. B0.\n{body}M30\n%\n"), Dialect::Haas, "t.nc", &vf2);
     let p = run("G01 X1. A-5. B30. F9.8\n");
-    assert!(errors(&p).iter().any(|(l, c, m)| (*l, *c) == (5, 1) && m.contains("Setting 34 or 79")), "{:?}", errors(&p));
+    assert!(errors(&p).iter().any(|(l, c, m)| (*l, *c) == (5, 1) && m.contains("Setting 34 or 79") && m.contains("G93 inverse time for simultaneous")), "{:?}", errors(&p));
+    // A rotary axis alone: the diameter, not the simultaneous-motion rule.
+    let p = run("G01 B30. F9.8\n");
+    assert!(errors(&p).iter().any(|(l, c, m)| (*l, *c) == (5, 1) && m.contains("Setting 34 or 79") && !m.contains("simultaneous")), "{:?}", errors(&p));
     let p = run("G00 A-5. B30.\nG01 X1. F9.8\n");
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
 }

@@ -486,9 +486,15 @@ impl Interpreter {
         }
         // Haas: a feed move of a rotary axis without TCPC takes F in inches (mm) per minute at the part
         // diameter Setting 34 (4th axis) or 79 (5th) gives ("the control must know the diameter of
-        // the part being machined ... to compute angular feed rate"), a setting of the job, not read.
+        // the part being machined ... to compute angular feedrate"), a setting of the job, not read;
+        // how a move with linear axes too shares F is not stated, and the manual asks for G93 there:
+        // "G93 inverse time feed mode must be in effect for simultaneous 4- or 5-axis motion; however,
+        // if your mill supports Tool Center Point Control (G234), you may use G94" (Haas Mill NGC
+        // Operator's Manual, 2017, Five-Axis Programming Notes; Settings 34 and 79).
         if haas && !next.tcp && next.feed_mode == FeedMode::PerMinute && block_motion.is_some_and(|m| m != Motion::Rapid) && (3..6).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12) {
-            diags.error(line, column, "a feed move of a rotary axis without G234: Haas feeds it at the part diameter of Setting 34 or 79, which is not read (G93 inverse time, or G234, is read)");
+            let simultaneous = (0..3).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12);
+            let rule = if simultaneous { "Haas asks for G93 inverse time for simultaneous 4- or 5-axis motion, or G234 (TCPC) for G94 (Mill NGC Operator's Manual, Five-Axis Programming Notes); " } else { "" };
+            diags.error(line, column, format!("a feed move of a rotary axis in G94 without G234: {rule}Haas feeds the rotary axis at the part diameter of Setting 34 or 79, which is not read (G93 inverse time, or G234, is read)"));
         }
         // "After G254 is invoked, you must specify an X, Y, and Z position prior to any cutting
         // command" (Haas UMC-750 operator's manual, G254): a feed move before all three are written.
