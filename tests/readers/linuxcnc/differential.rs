@@ -16,7 +16,8 @@ fn differential_against_rs274() {
     let machine = fiveaxis::machine::Machine::builtin("linuxcnc-xyzac-trt").unwrap();
     let mut options = ReadOptions::default().on(&machine);
     if let Ok(t) = std::fs::read_to_string(dir.join("tools.tbl")) {
-        options.tool_table = Some(std::sync::Arc::new(fiveaxis::program::ToolTable::parse(&t).unwrap()));
+        // rs274 alone reads a tool table in inches (its machine units without an INI).
+        options.tool_table = Some(std::sync::Arc::new(fiveaxis::program::ToolTable::parse(&t).unwrap().in_unit(fiveaxis::program::LengthUnit::Inch)));
     }
     let mut names: Vec<_> = std::fs::read_dir(dir).unwrap().filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.extension().is_some_and(|x| x == "ngc")).collect();
     names.sort();

@@ -14,7 +14,7 @@ They are read on linuxcnc-xyzac-trt (its machine zero and stored points are rs27
 words are A and C. The programs mix what moves the tool: straight and arc moves (R and centre forms, G90.1/G91.1, the three
 planes, P turns), rotary axes, G90/G91, G20/G21, coordinate systems with rotation (G10 L2/L20 R), G92 and
 its cancels, G52, G53, G28/G30 with their stored points, feeds in G93/G94/G95, and cutter radius
-compensation (G41.1/G42.1), canned cycles in each plane (G73, G81-G83, G85, G86, G89 with
+compensation (G41.1/G42.1), tool changes and G43/G49 (of a tool 0 long), canned cycles in each plane (G73, G81-G83, G85, G86, G89 with
 G98/G99, P, Q, L) and polar coordinates. Nothing here is a reference: rs274's output is.
 """
 import os, random, subprocess, sys
@@ -135,6 +135,11 @@ class Gen:
                 L.append(self.axes(a + b + c))
             if r.random() < 0.7:
                 L.append("G80")
+        elif k < 0.965 and not self.comp:
+            # Tool changes and a tool length of 0 (T1): the reader takes a tool's length from the
+            # machine file, where LinuxCNC's current point drops by the table's at G43 (so T2's
+            # 5 in would differ by design), and refuses G43.1.
+            L.append(r.choice(["T1 M6 G43", "G43 H1", "G49", "T2 M6 G43 H1"]))
         elif k < 0.98 and self.plane == 17:
             # Polar coordinates: a radius and an angle (deg) in the XY plane.
             L.append(f"G{r.choice([0, 1])} @{self.v(0, 30)} ^{num(r, -180, 180, 2)}{self.feed()}")
