@@ -516,7 +516,7 @@ fn scratch_print_blocks() {
     for b in &p.blocks {
         let t = &b.targets;
         let f = |v: Option<f64>, u: f64| v.map_or("-".to_string(), |v| format!("{:.3}", v / u));
-        eprintln!("{:>4} tcp={} x={} y={} z={} a={} b={} c={} datum={:?}", b.line, b.tcp, f(t.x, MM), f(t.y, MM), f(t.z, MM), f(t.a, DEG), f(t.b, DEG), f(t.c, DEG), b.datum.map(|d| d / MM));
+        eprintln!("{:>4} tcp={} x={} y={} z={} a={} b={} c={} datum={:?}", b.line, b.tcp, f(t.x, MM), f(t.y, MM), f(t.z, MM), f(t.a, DEG), f(t.b, DEG), f(t.c, DEG), b.datum.map(|d| d / MM)); eprintln!("      feed={:?} arc={:?}", b.feed, b.arc);
     }
     for d in &p.diagnostics {
         eprintln!("{d}");
