@@ -97,20 +97,6 @@ fn rs274_moves_to_its_current_point_after_a_rotated_system_changes_under_g92() {
     }
 }
 
-/// LinuxCNC's inverse time never sets a feed under 0.1 program units (or degrees) a minute
-/// (interp_inverse.cc, `MAX(0.1, length * F)`): `inverse_floor.ngc`'s moves below it (a line, a
-/// helix, A alone, in mm and inches) take length / 0.1 minutes, as rs274's feeds say; above it, 1 / F.
-#[test]
-fn rs274_floors_an_inverse_time_feed_at_a_tenth_of_a_unit_a_minute() {
-    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
-    let text = std::fs::read_to_string(dir.join("inverse_floor.ngc")).unwrap();
-    let p = read(&text, Dialect::Rs274, "inverse_floor.ngc", &ReadOptions::default());
-    same_places_as_linuxcnc(&p, &dir.join("inverse_floor.canon"));
-    // G1 X1 F0.01 from X0: 10 minutes at 0.1 mm/min (F0.01 alone would say 100); G1 X2 F5: 1/5 min.
-    let feeds: Vec<f64> = p.blocks.iter().filter(|b| b.motion == Motion::Linear && !b.targets.is_empty()).filter_map(|b| b.feed.map(|f| f.value_per_min)).collect();
-    assert!((1.0 / feeds[0] - 10.0).abs() < 1e-9 && (1.0 / feeds[1] - 0.2).abs() < 1e-9, "{feeds:?}");
-}
-
 /// LinuxCNC's moves to a stored position (`home.ngc`, rs274's output by make_canon.sh) on its xyzac-trt
 /// sim, whose parameter file starts empty (stored positions 0): `G28 G91 Z0` (the retract CAM posts
 /// write), G28 through an absolute intermediate point in a rotated system, under a G92 offset, after

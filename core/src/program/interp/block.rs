@@ -701,9 +701,6 @@ impl Interpreter {
         if fanuc_frn_arc {
             fanuc_arc_frn(&mut b, [before.last[0], before.last[1], before.last[2]], [self.last[0], self.last[1], self.last[2]]);
         }
-        if before.dialect == Dialect::Rs274 && b.motion != Motion::Rapid && b.feed.is_some_and(|f| f.mode == FeedMode::InverseTime) {
-            lcnc_inverse_time_floor(&mut b, &before.last, &self.last, self.unit, self.rotary_unit);
-        }
         if let Some(v) = b.targets.tool_axis {
             self.last_vector = Some(v);
         }
@@ -732,31 +729,6 @@ fn fanuc_arc_frn(b: &mut Block, start: [f64; 3], end: [f64; 3]) {
     let sweep = crate::path::ArcPath::new(arc, b.motion == Motion::ArcCcw, nalgebra::Vector3::from(start), nalgebra::Vector3::from(end)).sweep.abs();
     if sweep > 0.0 {
         feed.value_per_min /= sweep;
-    }
-}
-
-/// LinuxCNC's inverse time: the feed it sets is the move's length times F, but never under 0.1
-/// program units (or degrees) a minute (interp_inverse.cc: `rate = MAX(0.1, length * F)`, "so that
-/// the feed rate is never set to zero"), the length as `find_straight_length` (X Y Z, or where they
-/// stay, A B C in degrees) and `find_arc_length` (the start radius times the turn, with the helix's
-/// rise) take it: below that floor the move takes length / 0.1 minutes, not 1 / F.
-fn lcnc_inverse_time_floor(b: &mut Block, start: &[f64; 6], end: &[f64; 6], unit: f64, rotary_unit: [f64; 3]) {
-    let length = match b.arc.as_deref() {
-        Some(arc) => {
-            let path = crate::path::ArcPath::new(arc, b.motion == Motion::ArcCcw, nalgebra::Vector3::new(start[0], start[1], start[2]), nalgebra::Vector3::new(end[0], end[1], end[2]));
-            (path.r0 * path.sweep).hypot(path.h1 - path.h0) / unit
-        }
-        None => {
-            let d = |r: std::ops::Range<usize>, u: &dyn Fn(usize) -> f64| r.map(|k| ((end[k] - start[k]) / u(k)).powi(2)).sum::<f64>().sqrt();
-            let linear = d(0..3, &|_| unit);
-            // rs274ngc's `tiny`, 1e-7 of a program unit, per axis.
-            if (0..3).any(|k| (end[k] - start[k]).abs() / unit > 1e-7) { linear } else { d(3..6, &|k| rotary_unit[k - 3]) }
-        }
-    };
-    if let Some(feed) = b.feed.as_mut() {
-        if length > 0.0 && length * feed.value_per_min < 0.1 {
-            (feed.value_per_min, feed.rotary_per_min) = (0.1 / length, 0.1 / length);
-        }
     }
 }
 

@@ -75,6 +75,10 @@ impl Interpreter {
     /// their code, then one block of F (to 0.1, as `gen_settings` writes it) and the codes of the
     /// groups that differ, read as any block (a system change re-reads the current point; under
     /// cutter compensation the same refusals). Its blocks go to `out`; false if one is refused.
+    /// F and S are written back whether they differ or not, as LinuxCNC 2.9.0 and later do
+    /// (interp_convert.cc gen_settings, its comparison masked for issue 1987); the Debian 12
+    /// snapshot's rs274 (2.9.0~pre1, before that change) writes them only where they differ, so
+    /// its feed after M72 can keep more decimals than 2.9's, rounded to 0.1.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn restore_modal(&mut self, saved: &ModalState, line: usize, column: usize, number: Option<u64>, diags: &mut Diags, out: &mut Vec<Block>) -> bool {
         let now = self.modal_state();

@@ -15,7 +15,8 @@ words are A and C. The programs mix what moves the tool: straight and arc moves 
 planes, P turns), rotary axes, G90/G91, G20/G21, coordinate systems with rotation (G10 L2/L20 R), G92 and
 its cancels, G52, G53, G28/G30 with their stored points, feeds in G93/G94/G95, and cutter radius
 compensation (G41.1/G42.1), tool changes and G43/G49 (of a tool 0 long), canned cycles in each plane (G73, G81-G83, G85, G86, G89 with
-G98/G99, P, Q, L) and polar coordinates. Nothing here is a reference: rs274's output is.
+G98/G99, P, Q, L), polar coordinates, and O-word flow (repeat, while, sub and call, if) and
+M70/M72 around some of them. Nothing here is a reference: rs274's output is.
 """
 import os, random, subprocess, sys
 
@@ -76,9 +77,9 @@ class Gen:
             words += f" {c}{self.v()}"
         return words
 
-    def statement(self):
+    def statement(self, k=None):
         r = self.r
-        k = r.random()
+        k = r.random() if k is None else k
         L = self.lines
         if k < 0.22:
             L.append(f"G0 {self.axes('XYZAC' if r.random() < 0.3 else 'XYZ')}")
@@ -146,6 +147,53 @@ class Gen:
         else:
             L.append(f"S{r.randint(500, 3000)} M3")
 
+    def inner(self):
+        """A statement that a loop or a subroutine may repeat: moves, arcs, G90/G91, offsets, polar."""
+        r = self.r
+        self.statement(r.choice([0.1, 0.3, 0.5, 0.57, 0.66, 0.70, 0.97]) if not self.comp else r.choice([0.1, 0.3]))
+
+    def structure(self):
+        """O-word flow around a few statements (a repeat, a while on a parameter, a subroutine called
+        with an argument, an if) or M70/M72 around them: LinuxCNC's own, run as rs274 runs them."""
+        r = self.r
+        L = self.lines
+        label = f"o{r.randint(100, 999)}"
+        kind = r.choice(["repeat", "while", "sub", "if", "m70"])
+        if kind == "repeat":
+            L.append(f"{label} repeat [{r.randint(0, 3)}]")
+            for _ in range(r.randint(1, 3)):
+                self.inner()
+            L.append(f"{label} endrepeat")
+        elif kind == "while":
+            L.append("#<n> = 0")
+            L.append(f"{label} while [#<n> LT {r.randint(1, 3)}]")
+            L.append(f"G1 X[#<n> * {self.v(1, 5)} + {self.v()}] Y[{self.v()} - #<n>]")
+            self.inner()
+            L.append("#<n> = [#<n> + 1]")
+            L.append(f"{label} endwhile")
+        elif kind == "sub":
+            # Defined before its calls: LinuxCNC skips the definition in normal flow.
+            L.append(f"{label} sub")
+            L.append(f"G1 X[#1 + {self.v()}] Y[#1 * 0.5]")
+            self.inner()
+            L.append(f"{label} endsub")
+            for _ in range(r.randint(1, 2)):
+                L.append(f"{label} call [{self.v()}]")
+        elif kind == "if":
+            L.append(f"#<c> = {r.randint(0, 2)}")
+            L.append(f"{label} if [#<c> EQ 1]")
+            self.inner()
+            L.append(f"{label} elseif [#<c> GT 1]")
+            self.inner()
+            L.append(f"{label} else")
+            self.inner()
+            L.append(f"{label} endif")
+        else:
+            L.append("M70")
+            for _ in range(r.randint(1, 3)):
+                self.inner()
+            L.append("M72")
+
     def program(self, n):
         r = self.r
         head = ["G20" if self.inch else "G21", "G17 G90 G94 G40 G49 G54 G92.1", f"F{num(r, 100, 1000, 1)} S1000 M3"]
@@ -156,7 +204,10 @@ class Gen:
         head.append("G30.1")
         self.lines = head
         for _ in range(n):
-            self.statement()
+            if not self.comp and self.r.random() < 0.12:
+                self.structure()
+            else:
+                self.statement()
         if self.comp:
             self.lines.append(f"G40 G1 {self.axes('XY', 2)}")
         self.lines.append("M2")

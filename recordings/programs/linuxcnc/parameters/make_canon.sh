@@ -35,7 +35,7 @@ done
 # canonical layer does (emccanon.cc rotate_and_offset_pos), and the feed (the saved modal state of
 # modal_state.ngc's M70-M73 is seen in the moves and feeds after each restore). fanuc_subs and
 # fanuc_main_m99 are Fanuc-style subprograms (M98 P L, O<n> ... M99, M99 ending the main program).
-for f in rotation offsets_g91 rotation_apart inverse_floor modal_state home state_parameters subs_after fanuc_subs fanuc_main_m99; do
+for f in rotation offsets_g91 rotation_apart modal_state home state_parameters subs_after fanuc_subs fanuc_main_m99; do
     rs274 -t /tmp/make_canon.tbl -g "$f.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
     grep -o 'STRAIGHT_[A-Z]*(.*)\|ARC_FEED(.*)\|USE_LENGTH_UNITS(.*)\|SELECT_PLANE(.*)\|SET_G5X_OFFSET(.*)\|SET_G92_OFFSET(.*)\|SET_XY_ROTATION(.*)\|SET_FEED_RATE(.*)\|SET_FEED_MODE(.*)' "/tmp/$f.canon" > "$f.canon"
     rm "/tmp/$f.canon"
