@@ -158,9 +158,35 @@ pub fn parse(chars: &[char]) -> Option<OLine> {
     if matches!(chars.get(k), None | Some('(' | ';')) {
         return Some(OLine { name, keyword: Keyword::Title, rest: k, name_expr: None });
     }
+    let (word, end) = keyword_at(chars, k)?;
+    Some(OLine { name, keyword: Keyword::of(&word)?, rest: end, name_expr: None })
+}
+
+/// The O word's keyword at `k`, lower case, and where it ends. LinuxCNC takes the blanks out of a
+/// line before reading it ("Spaces and tabs are allowed anywhere on a line of code and do not change
+/// the meaning of the line, except inside comments", G-code reference, "Format of a Line"), so
+/// `end sub`, `end while` and `else if` are its `endsub`, `endwhile` and `elseif`: the letters are
+/// read across blanks where that makes a keyword, else as they run together (`sub G1` stays `sub`).
+pub(crate) fn keyword_at(chars: &[char], k: usize) -> Option<(String, usize)> {
     let end = (k..chars.len()).find(|&e| !chars[e].is_ascii_alphabetic()).unwrap_or(chars.len());
     let word: String = chars[k..end].iter().flat_map(|c| c.to_lowercase()).collect();
-    Some(OLine { name, keyword: Keyword::of(&word)?, rest: end, name_expr: None })
+    // The letters across blanks (a blank run counts only where a letter follows it).
+    let (mut joined, mut i, mut joined_end) = (String::new(), k, k);
+    while i < chars.len() {
+        if chars[i].is_ascii_alphabetic() {
+            joined.extend(chars[i].to_lowercase());
+            i += 1;
+            joined_end = i;
+        } else if (chars[i] == ' ' || chars[i] == '\t') && chars[skip_blanks(chars, i)..].first().is_some_and(char::is_ascii_alphabetic) {
+            i = skip_blanks(chars, i);
+        } else {
+            break;
+        }
+    }
+    if joined_end > end && Keyword::of(&joined).is_some() {
+        return Some((joined, joined_end));
+    }
+    (end > k).then_some((word, end))
 }
 
 /// The O-word blocks open so far in lines passed over without running them (a Fanuc-style

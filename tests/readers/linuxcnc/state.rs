@@ -201,13 +201,30 @@ fn rs274_restores_the_modal_state_as_linuxcnc_does() {
             ("G21 G90\nM70\nM71\nM72\nM2\n", "4:1:", "missing M70/M73"),
             ("G21 G90\nM70 M3\nM2\n", "2:5:", "two M codes of modal group 7"),
             ("G21 G90\nM72 F100\nM2\n", "2:5:", "F100 with M72 in one block"),
+            // A feed under 0.05 comes back as F0.0 (gen_settings' F%.1f): no feed for the next move.
+            ("G21 G90 S1000 M3\nG95 F0.014\nM70\nG91\nM72\nG1 X1\nM2\n", "6:1:", "G01 move without a feed"),
         ],
     );
+    // ... a new F after it feeds again (LinuxCNC only refuses a feed move at a feed of zero).
+    let p = read("G21 G90 S1000 M3\nG95 F0.014\nM70\nG91\nM72\nF0.02\nG1 X1\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     // M73 in the main program saves as M70 does, and says so (LinuxCNC's warning).
     let p = read("G21 G90\nG0 X5\nM73\nG91\nM72\nG1 X1 F100\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
     assert!(p.diagnostics.iter().any(|d| d.line == 3 && d.message.contains("M73 in the main program")), "{:?}", p.diagnostics);
     assert_eq!(p.blocks.iter().filter_map(|b| b.targets.x).map(|x| x / MM).collect::<Vec<_>>(), vec![5.0, 1.0]);
+}
+
+/// `#5599`, LinuxCNC's flag for `(DEBUG,)` output, is the one system parameter a program may set: it
+/// moves nothing, reads 1 until set (rs274ngc_pre.cc), and then what was set. rs274 moves this
+/// program to X1, X3, then Y4; a system parameter that is the machine's state stays refused.
+#[test]
+fn linuxcnc_debug_flag_5599_may_be_set() {
+    let p = read("G21 G90 F100\nG1 X#5599\n#5599 = 0\nG1 X[#5599 + 3]\n#5599=[2*2]\nG1 Y#5599\nM2\n", Dialect::Rs274, "t.ngc", &ReadOptions::default());
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let ends: Vec<[f64; 2]> = end_points(&p).iter().map(|(_, a)| [a[0], a[1]]).collect();
+    assert_eq!(ends, [[1.0, 0.0], [3.0, 0.0], [3.0, 4.0]]);
+    refuses_each(Dialect::Rs274, &ReadOptions::default(), &[("G21 G90\n#5598 = 1\nM2\n", "2:1:", "#5598 is a system parameter"), ("G21 G90\n#[5599 - 1] = 1\nM2\n", "2:1:", "#5598 is a system parameter")]);
 }
 
 /// LinuxCNC's `#<_rpm>` is the S last set ("Return the current value of S, not the actual spindle

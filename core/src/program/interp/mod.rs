@@ -183,9 +183,9 @@ pub struct State {
     pub(crate) cycles: super::cycles::CycleState,
     /// The machine's rotary axis letters (for Haas' G28 with no axis: every axis).
     rotary_letters: [Option<char>; 2],
-    /// The machine's peck distances (G73's retract, G83's clearance), m: Fanuc's parameters, then
-    /// LinuxCNC's settings.
+    /// The machine's peck distances (G73's retract, G83's clearance), m: Fanuc's parameters.
     peck: [Option<f64>; 2],
+    /// LinuxCNC's peck clearances of G73 and G83 where the machine file sets them, m.
     lcnc_peck: [Option<f64>; 2],
     /// How far an arc's end radius may differ from its start radius, m (the machine's control
     /// setting), and, where the control scales it with the radius, the fraction of the radius it may

@@ -91,9 +91,12 @@ impl Interpreter {
             return false;
         }
         let mut words = Vec::new();
-        // LinuxCNC writes F0.0 for a feed never set; here the feed is left unset.
-        if let Some(f) = saved.feed.filter(|f| *f > 0.0) {
-            words.push(word('F', format!("{f:.1}")));
+        // LinuxCNC writes F0.0 for a feed never set, and for one under 0.05 (F%.1f: a feed per
+        // revolution of 0.014 mm comes back as 0); here such a feed is left unset, so that a feed
+        // move before the next F is refused, as LinuxCNC refuses a feed of zero.
+        let written = saved.feed.map(|f| format!("{f:.1}")).filter(|w| w.parse::<f64>().is_ok_and(|f| f > 0.0));
+        if let Some(w) = &written {
+            words.push(word('F', w.clone()));
         }
         let mut code = |differs: bool, g: &str| {
             if differs {
@@ -126,7 +129,7 @@ impl Interpreter {
         if !words.is_empty() && !self.block(&words, line, column, number, diags, out) {
             return false;
         }
-        if saved.feed.is_none_or(|f| f <= 0.0) {
+        if written.is_none() {
             self.feed = None;
         }
         self.tolerance = saved.tolerance;

@@ -109,12 +109,12 @@ impl Interpreter {
     /// Under a rotated coordinate system (LinuxCNC's `G10 L2 R`) a move of X or Y alone is one of
     /// both in the workpiece: the other, where the block leaves it, written into `b` (its
     /// program-frame targets) so that [`to_world`] turns the point. (Fanuc's `G68` fills its own
-    /// plane's pair where it places the block.)
+    /// plane's pair where it places the block.) Where the interpreter's X Y are not the machine's
+    /// (`xy_apart`), any move names both: LinuxCNC's canonical moves carry every axis
+    /// (interp_convert.cc convert_straight), so the machine goes to the interpreter's point, in a Z
+    /// move too.
     ///
     /// [`to_world`]: Interpreter::to_world
-    /// Where the interpreter's X Y are not the machine's (`xy_apart`), any move names both: LinuxCNC's
-    /// canonical moves carry every axis (interp_convert.cc convert_straight), so the machine goes to
-    /// the interpreter's point, in a Z move too.
     pub(crate) fn fill_xy(&mut self, b: &mut Block) {
         let apart = self.xy_apart && !b.targets.is_empty();
         if apart || self.rotation_now() != 0.0 && (b.targets.x.is_some() || b.targets.y.is_some()) {

@@ -336,7 +336,7 @@ impl Setting {
             if self.bare && *n >= FANUC_SYSTEM {
                 return Err(fanuc_system(*n, *column));
             }
-            if *n > MAX_USER_PARAMETER {
+            if *n > MAX_USER_PARAMETER && (self.bare || *n != super::DEBUG_FLAG) {
                 let system = if self.bare { "system variable" } else { "system parameter" };
                 return err(*column, format!("{target} is a {system} (offsets, tool, position): setting it is not modelled"));
             }

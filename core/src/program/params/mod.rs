@@ -20,6 +20,10 @@ pub mod expr;
 pub const MAX_USER_PARAMETER: u32 = 5000;
 /// Highest numbered parameter LinuxCNC has (its system parameters run 5061-5602).
 const MAX_PARAMETER: u32 = 5602;
+/// LinuxCNC's flag for `(DEBUG,)` output, the one system parameter a program may set here: it moves
+/// nothing ("5599 - Flag for controlling the output of (DEBUG,) statements. 1=output, 0=no output;
+/// default=1. Volatile.", interp_parameter_def.hh; LinuxCNC's sample `offsets.ngc` sets it).
+pub(crate) const DEBUG_FLAG: u32 = 5599;
 /// Most distinct named parameters one program may set (the store stays bounded on any input).
 pub const MAX_NAMED_PARAMETERS: usize = 100_000;
 /// Longest parameter name, characters (LinuxCNC's whole line is 256): with the count above, the store's bound.
@@ -223,6 +227,9 @@ impl Parameters {
     fn read_numbered(&self, n: u32, column: usize) -> Result<f64, ExprError> {
         // The control's own (Fanuc's and Haas' from #1000, LinuxCNC's above #5000): the state given,
         // or refused.
+        if !self.fanuc && n == DEBUG_FLAG {
+            return Ok(self.numbered.get(&n).copied().unwrap_or(1.0));
+        }
         if if self.fanuc { n >= 1000 } else { n > MAX_USER_PARAMETER } {
             if let Some(&(_, v)) = self.state.numbered.iter().find(|(k, _)| *k == n) {
                 return Ok(v);

@@ -356,7 +356,7 @@ fn o_word_control(chars: &[char]) -> Option<String> {
         }
     }
     let i = skip_blanks(chars, i);
-    let word: String = chars[i..].iter().take_while(|c| c.is_ascii_alphabetic()).flat_map(|c| c.to_lowercase()).collect();
+    let word = crate::program::oword::keyword_at(chars, i).map_or_else(String::new, |(w, _)| w);
     const KEYWORDS: [&str; 15] = ["sub", "endsub", "call", "return", "do", "while", "endwhile", "if", "elseif", "else", "endif", "repeat", "endrepeat", "break", "continue"];
     KEYWORDS.contains(&word.as_str()).then(|| format!("{} {word}", chars[..i].iter().collect::<String>().trim_end()))
 }

@@ -30,7 +30,7 @@ pub fn setting(chars: &[char], i: usize, bare: bool) -> Result<(Setting, usize),
     let system = if bare { "system variable" } else { "system parameter" };
     match &target {
         CompiledTarget::Fixed(Target::Numbered(n)) if bare && *n >= FANUC_SYSTEM => return Err(fanuc_system(*n, i + 1)),
-        CompiledTarget::Fixed(t @ Target::Numbered(n)) if *n > MAX_USER_PARAMETER => return err(i + 1, format!("{t} is a {system} (offsets, tool, position): setting it is not modelled")),
+        CompiledTarget::Fixed(t @ Target::Numbered(n)) if *n > MAX_USER_PARAMETER && (bare || *n != super::super::DEBUG_FLAG) => return err(i + 1, format!("{t} is a {system} (offsets, tool, position): setting it is not modelled")),
         CompiledTarget::Fixed(t @ Target::Named(n)) if !bare && is_machine_state(n) => return err(i + 1, format!("{t} is read-only (the interpreter's or the machine's state)")),
         _ => {}
     }
