@@ -79,6 +79,9 @@ pub(super) fn turned(v: [f64; 2], deg: f64) -> [f64; 2] {
 pub(super) fn linuxcnc_world(path: &Path) -> Vec<Placed> {
     let (mut inch, mut plane, mut g5x, mut g92, mut r) = (false, "XY", [0.0; 3], [0.0; 3], 0.0);
     let (mut feed, mut per_rev, mut speed) = (0.0, false, 0.0);
+    // The feed as set, and the last move's end placed (mm, deg): a move of the rotary axes alone
+    // takes its feed in degrees a minute, whatever the length unit.
+    let (mut feed_raw, mut last) = (0.0, [0.0; 6]);
     let mut out = Vec::new();
     for l in std::fs::read_to_string(path).unwrap().lines() {
         let inner = &l[l.find('(').unwrap() + 1..l.rfind(')').unwrap()];
@@ -100,18 +103,23 @@ pub(super) fn linuxcnc_world(path: &Path) -> Vec<Placed> {
             "SET_XY_ROTATION" => r = v[0],
             // In the program's unit when it is set, as emccanon.cc SET_FEED_RATE converts it
             // (FROM_PROG_LEN), per minute or, in feed per revolution, per turn.
-            "SET_FEED_RATE" => feed = mm(v[0]),
+            "SET_FEED_RATE" => (feed, feed_raw) = (mm(v[0]), v[0]),
             "SET_FEED_MODE" => per_rev = v[1] == 1.0,
             "SET_SPINDLE_SPEED" => speed = v[1],
             "ARC_FEED" => {
                 let (x, y, z) = match plane { "XY" => (v[0], v[1], v[5]), "XZ" => (v[1], v[5], v[0]), _ => (v[5], v[0], v[1]) };
                 let e = place([x, y, z]);
+                last = [e[0], e[1], e[2], v[6], v[7], v[8]];
                 let centre = (plane == "XY").then(|| place([v[2], v[3], z])).map(|c| [c[0], c[1]]);
                 out.push((if v[4] < 0.0 { Motion::ArcCw } else { Motion::ArcCcw }, [e[0], e[1], e[2], v[6], v[7], v[8]], centre, Some(path_feed)));
             }
             kind @ ("STRAIGHT_FEED" | "STRAIGHT_TRAVERSE") => {
                 let e = place([v[0], v[1], v[2]]);
-                let f = (kind == "STRAIGHT_FEED").then_some(path_feed);
+                let now = [e[0], e[1], e[2], v[3], v[4], v[5]];
+                // rs274's 4 decimals, of an inch where the unit changed since the last move.
+                let rotary_only = (0..3).all(|k| (now[k] - last[k]).abs() < 0.75e-4 * 25.4) && (3..6).any(|k| (now[k] - last[k]).abs() > 1e-9);
+                last = now;
+                let f = (kind == "STRAIGHT_FEED").then_some(if rotary_only && !per_rev { feed_raw } else { path_feed });
                 out.push((if kind == "STRAIGHT_FEED" { Motion::Linear } else { Motion::Rapid }, [e[0], e[1], e[2], v[3], v[4], v[5]], None, f));
             }
             // The states this comparison does not place (the path control mode).
@@ -180,7 +188,13 @@ pub(super) fn same_places_as_linuxcnc(p: &Program, canon: &Path) -> Vec<Placed> 
                     (radius * sweep).hypot(at[k] - from[k])
                 }
             };
-            let feed = b.feed.filter(|_| b.motion != Motion::Rapid).map(|f| if f.mode == FeedMode::InverseTime { f.value_per_min * length } else { f.value_per_min });
+            // A move of the rotary axes alone is fed in degrees a minute (`rotary_per_min`).
+            let rotary_only = b.arc.is_none() && (0..3).all(|k| (at[k] - from[k]).abs() < 1e-9) && (3..6).any(|k| (at[k] - from[k]).abs() > 1e-9);
+            let feed = b.feed.filter(|_| b.motion != Motion::Rapid).map(|f| match f.mode {
+                FeedMode::InverseTime => f.value_per_min * length,
+                _ if rotary_only => f.rotary_per_min,
+                _ => f.value_per_min,
+            });
             (b.motion, at, centre, feed)
         })
         .collect();
