@@ -1,9 +1,63 @@
-//! A development aid, run by hand: this reader against LinuxCNC's own interpreter on generated
-//! programs. `recordings/programs/linuxcnc/diff/generate.py` writes programs and runs Debian's `rs274`
-//! on them (its canonical output, or its refusal); this reads each program and says where the two
-//! differ: a refusal on one side only, or moves, centres or feeds apart (as the fixture tests compare).
+//! This reader against LinuxCNC's own interpreter on generated programs.
+//! `recordings/programs/linuxcnc/diff/generate.py` writes programs and runs Debian's `rs274` on them
+//! (its canonical output, or its refusal): by hand into a directory for
+//! [`differential_against_rs274`], which says where the two differ (a refusal on one side only, or
+//! moves, centres or feeds apart, as the fixture tests compare), and once into the committed fixture
+//! that [`generated_programs_read_as_rs274_runs_them`] holds in every run.
 
 use super::*;
+
+/// The committed fixture (`recordings/programs/linuxcnc/diff/programs.ngcs`, 160 programs of seed 102
+/// with `rs274`'s canonical lines or refusal in `rs274.txt`, made by `generate.py --fixture`): each
+/// program rs274 runs reads here with no error to the same moves, XY centres and feeds (placed as
+/// its canonical layer places them, on LinuxCNC's xyzac-trt sim machine, with rs274's tool table);
+/// each program it refuses is refused here too.
+#[test]
+fn generated_programs_read_as_rs274_runs_them() {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/diff");
+    let programs = std::fs::read_to_string(dir.join("programs.ngcs")).unwrap();
+    let canon = std::fs::read_to_string(dir.join("rs274.txt")).unwrap();
+    let split = |text: &str| -> Vec<(String, String)> {
+        text.split("%%% ").skip(1).map(|part| {
+            let (head, body) = part.split_once('\n').unwrap_or((part, ""));
+            (head.trim().to_string(), body.to_string())
+        }).collect()
+    };
+    let (programs, canon) = (split(&programs), split(&canon));
+    assert_eq!(programs.len(), 160);
+    assert_eq!(programs.len(), canon.len());
+    let machine = fiveaxis::machine::Machine::builtin("linuxcnc-xyzac-trt").unwrap();
+    let mut options = ReadOptions::default().on(&machine);
+    let table = "T1 P1 Z0 D10 ;\nT2 P2 Z5 D6 ;\n";
+    options.tool_table = Some(std::sync::Arc::new(fiveaxis::program::ToolTable::parse(table).unwrap().in_unit(fiveaxis::program::LengthUnit::Inch)));
+    let (mut read_both, mut refused_both, mut differ) = (0, 0, Vec::new());
+    for ((name, text), (head, lines)) in programs.iter().zip(&canon) {
+        let p = read(text, Dialect::Rs274, "t.ngc", &options);
+        match head.split_once(" refused: ") {
+            Some((n, why)) => {
+                assert_eq!(n, name);
+                if errors(&p).is_empty() {
+                    differ.push(format!("{name}: rs274 refuses ({why}), read here"));
+                } else {
+                    refused_both += 1;
+                }
+            }
+            None => {
+                assert_eq!(head, name);
+                let same = std::panic::catch_unwind(|| {
+                    same_places_as_linuxcnc_of(&p, lines, name);
+                });
+                match same {
+                    Ok(()) => read_both += 1,
+                    Err(e) => differ.push(e.downcast_ref::<String>().cloned().unwrap_or_else(|| format!("{name}: differs"))),
+                }
+            }
+        }
+    }
+    assert!(differ.is_empty(), "{} of {} programs differ from rs274:\n{}", differ.len(), programs.len(), differ.join("\n"));
+    // Both kinds are there: programs run to their moves, and programs refused.
+    assert!(read_both >= 80 && refused_both >= 40, "{read_both} read, {refused_both} refused");
+}
 
 /// `FIVEAXIS_DIFF_DIR=<dir> cargo test ... differential -- --ignored --nocapture`: one line per
 /// program that differs, and a count.

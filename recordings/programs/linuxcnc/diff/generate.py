@@ -17,6 +17,13 @@ its cancels, G52, G53, G28/G30 with their stored points, feeds in G93/G94/G95, a
 compensation (G41.1/G42.1), tool changes and G43/G49 (of a tool 0 long), canned cycles in each plane (G73, G81-G83, G85, G86, G89 with
 G98/G99, P, Q, L), polar coordinates, and O-word flow (repeat, while, sub and call, if) and
 M70/M72 around some of them. Nothing here is a reference: rs274's output is.
+
+    RS274=/path/to/rs274 python3 generate.py --fixture OUT_DIR SEED COUNT
+
+makes the committed fixture (OUT_DIR/programs.ngcs and OUT_DIR/rs274.txt) that
+`readers::linuxcnc::differential::generated_programs_read_as_rs274_runs_them` reads in every test run:
+programs without the constructs read differently by design (M70/M72, whose F and S the 2.9 releases
+write back where this rs274 does not; a G93 under cutter compensation, refused).
 """
 import os, random, subprocess, sys
 
@@ -29,8 +36,11 @@ def num(r, lo, hi, places=3):
 
 
 class Gen:
-    def __init__(self, r):
+    def __init__(self, r, fixture=False):
         self.r = r
+        # For the committed fixture: none of the constructs whose reading differs from this rs274 by
+        # design (M72's F and S as 2.9's releases write them back; G93 under compensation refused).
+        self.fixture = fixture
         self.lines = []
         self.inch = r.random() < 0.25
         self.rel = False
@@ -106,7 +116,7 @@ class Gen:
             L.append(f"G{self.plane}")
         elif k < 0.80:
             L.append(r.choice(["G90.1", "G91.1"]))
-        elif k < 0.84:
+        elif k < 0.84 and not (self.fixture and self.comp):
             self.feedmode = r.choice([93, 94, 95])
             L.append(f"G{self.feedmode}" + (f" F{num(r, 100, 1500, 1)}" if self.feedmode == 94 else (" F0.1" if self.feedmode == 95 else "")))
         elif k < 0.86 and not self.comp:
@@ -140,7 +150,7 @@ class Gen:
             # Tool changes and a tool length of 0 (T1): the reader takes a tool's length from the
             # machine file, where LinuxCNC's current point drops by the table's at G43 (so T2's
             # 5 in would differ by design), and refuses G43.1.
-            L.append(r.choice(["T1 M6 G43", "G43 H1", "G49", "T2 M6 G43 H1"]))
+            L.append(r.choice(["T1 M6 G43\nM3", "G43 H1", "G49", "T2 M6 G43 H1\nM3"]))
         elif k < 0.98 and self.plane == 17:
             # Polar coordinates: a radius and an angle (deg) in the XY plane.
             L.append(f"G{r.choice([0, 1])} @{self.v(0, 30)} ^{num(r, -180, 180, 2)}{self.feed()}")
@@ -158,7 +168,7 @@ class Gen:
         r = self.r
         L = self.lines
         label = f"o{r.randint(100, 999)}"
-        kind = r.choice(["repeat", "while", "sub", "if", "m70"])
+        kind = r.choice(["repeat", "while", "sub", "if"] + ([] if self.fixture else ["m70"]))
         if kind == "repeat":
             L.append(f"{label} repeat [{r.randint(0, 3)}]")
             for _ in range(r.randint(1, 3)):
@@ -215,6 +225,8 @@ class Gen:
 
 
 def main():
+    if sys.argv[1] == "--fixture":
+        return fixture(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]))
     out, seed, count = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
     rs274 = os.environ.get("RS274", "rs274")
     os.makedirs(out, exist_ok=True)
@@ -223,8 +235,9 @@ def main():
         f.write("T1 P1 Z0 D10 ;\nT2 P2 Z5 D6 ;\n")
     r = random.Random(seed)
     refused = 0
+    fixture_mode = os.environ.get("FIXTURE") == "1"
     for i in range(count):
-        text = Gen(r).program(r.randint(3, 10))
+        text = Gen(r, fixture_mode).program(r.randint(3, 10))
         base = os.path.join(out, f"{seed:04d}-{i:04d}")
         with open(base + ".ngc", "w") as f:
             f.write(text)
@@ -243,6 +256,26 @@ def main():
         if os.path.exists(base + ".full"):
             os.remove(base + ".full")
     print(f"{count} programs, rs274 refused {refused}")
+
+
+def fixture(out_dir, seed, count):
+    """The committed fixture: `count` programs of `seed` without the constructs that differ by design,
+    bundled as programs.ngcs (each after a line `%%% NAME`) and rs274.txt (each program's canonical
+    lines after `%%% NAME`, or `%%% NAME refused: MESSAGE`)."""
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        os.environ["FIXTURE"] = "1"
+        sys.argv = [sys.argv[0], tmp, str(seed), str(count)]
+        main()
+        names = sorted(n[:-4] for n in os.listdir(tmp) if n.endswith(".ngc"))
+        with open(os.path.join(out_dir, "programs.ngcs"), "w") as p, open(os.path.join(out_dir, "rs274.txt"), "w") as c:
+            for n in names:
+                p.write(f"%%% {n}\n" + open(os.path.join(tmp, n + ".ngc")).read())
+                err = os.path.join(tmp, n + ".err")
+                if os.path.exists(err):
+                    c.write(f"%%% {n} refused: {open(err).read().strip()}\n")
+                else:
+                    c.write(f"%%% {n}\n" + open(os.path.join(tmp, n + ".canon")).read())
 
 
 if __name__ == "__main__":
