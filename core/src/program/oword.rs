@@ -83,7 +83,8 @@ pub enum Keyword {
 }
 
 impl Keyword {
-    fn of(word: &str) -> Option<Keyword> {
+    /// The keyword a lower-case word names, if any.
+    pub(crate) fn of(word: &str) -> Option<Keyword> {
         Some(match word {
             "sub" => Keyword::Sub,
             "endsub" => Keyword::EndSub,

@@ -356,9 +356,9 @@ fn o_word_control(chars: &[char]) -> Option<String> {
         }
     }
     let i = skip_blanks(chars, i);
-    let word = crate::program::oword::keyword_at(chars, i).map_or_else(String::new, |(w, _)| w);
-    const KEYWORDS: [&str; 15] = ["sub", "endsub", "call", "return", "do", "while", "endwhile", "if", "elseif", "else", "endif", "repeat", "endrepeat", "break", "continue"];
-    KEYWORDS.contains(&word.as_str()).then(|| format!("{} {word}", chars[..i].iter().collect::<String>().trim_end()))
+    let (word, _) = crate::program::oword::keyword_at(chars, i)?;
+    crate::program::oword::Keyword::of(&word)?;
+    Some(format!("{} {word}", chars[..i].iter().collect::<String>().trim_end()))
 }
 
 /// Fanuc custom macro B's control words (`IF [..] GOTO n`, `WHILE [..] DO1`, `END1`) where a word
