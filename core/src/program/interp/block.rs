@@ -154,7 +154,7 @@ impl Interpreter {
         // LinuxCNC: "Must use g0 or g1 with g53" (interp_check.cc check_g_codes): the block's motion,
         // which it has only where it writes axis words (polar `@` `^` are X and Y), G0 or G1.
         if g53 && before.dialect == Dialect::Rs274 {
-            let axes = words.iter().any(|w| AXIS_LETTERS.contains(&w.letter) || matches!(w.letter, '@' | '^'));
+            let axes = super::codes::lcnc_axis_words(words);
             if !axes || !matches!(block_motion, Some(Motion::Rapid | Motion::Linear)) {
                 let what = if axes { "G53 with a motion other than G0 or G1" } else { "G53 without an axis word: no move" };
                 diags.error(line, column, format!("{what}: LinuxCNC refuses it (\"Must use g0 or g1 with g53\")"));

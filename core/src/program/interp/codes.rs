@@ -192,6 +192,12 @@ fn second_of_group<'w, 'a>(words: &'w [Word<'a>], letter: char, group: impl Fn(&
 /// set yet, or a G93/G94/G95 since, which zero it); a tool the machine's tool table (`tools`, where
 /// given) does not list. The state before the block: inverse time (`inverse_time`), and a feed set
 /// (`feed_set`). (G53 without axes is [`super::Interpreter::block_one`]'s, with its motion.)
+/// The block writes an axis word, as LinuxCNC counts them: its nine axes, and polar coordinates
+/// (`@`, `^`), which are X and Y. What its rules on G52/G92, G53 and motion without axes ask.
+pub(crate) fn lcnc_axis_words(words: &[Word]) -> bool {
+    words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' | '@' | '^'))
+}
+
 pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool, tools: Option<&crate::program::cutter_comp::ToolTable>) -> Option<(usize, String)> {
     if let Some((w, first, g)) = second_of_group(words, 'G', |w| lcnc_group(x10(w))) {
         return Some((w.column, format!("G{} with G{}: two G codes of modal group {g} in one block (LinuxCNC: \"Two G-codes used from same modal group\")", w.raw, first.raw)));
@@ -199,8 +205,7 @@ pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool, t
     if let Some((w, first, g)) = second_of_group(words, 'M', |w| lcnc_m_group(w.value)) {
         return Some((w.column, format!("M{} with M{}: two M codes of modal group {g} in one block (LinuxCNC: \"Two M codes used from same modal group\")", w.raw, first.raw)));
     }
-    // Polar coordinates (`@`, `^`) are X and Y.
-    let axes = words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' | '@' | '^'));
+    let axes = lcnc_axis_words(words);
     let g = |code_x10: i64| words.iter().find(|w| w.letter == 'G' && x10(w) == code_x10);
     let takes_axes = words.iter().find(|w| w.letter == 'G' && matches!(x10(w), 100 | 280 | 300 | 520 | 920));
     let motion = words.iter().find(|w| w.letter == 'G' && lcnc_group(x10(w)) == Some(1) && x10(w) != 800);
