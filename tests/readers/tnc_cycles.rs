@@ -1,4 +1,4 @@
-//! The TNC's drilling cycles as the Klartext reader runs them (cycles 1, 9, 200, 203, 207, 241 and
+//! The TNC's drilling cycles as the Klartext reader runs them (cycles 1, 9, 200, 201, 203, 207, 209, 241 and
 //! M89/M99 calls), each against the manual's process worked by hand, and the cycles not read named
 //! where they are called.
 
@@ -103,6 +103,54 @@ fn klartext_cycle_207_taps_at_the_pitch_times_the_speed() {
     let got = cycle_moves(&p, 10);
     let want = [(true, 30.1493, 0.0), (false, 14.6197, 500.0), (false, 30.1493, 500.0), (true, 104.0, 0.0)];
     assert!(same_moves(&got, &want), "{got:?}");
+}
+
+/// Cycle 201 REAMING as a Trimill shop's hyperMILL program writes it (W5269NS01006B20.h: Q200=5,
+/// Q201=-15, Q206=Q2, Q211=0, Q208=50, Q203=1, Q204=29), its moves worked by hand from the
+/// parameters' definitions (iTNC 530 User's Manual, cycle 201: Q206 the feed "during reaming", Q208
+/// "when retracting from the hole ... If Q208 = 0 is entered, the reaming feed rate applies"): FMAX
+/// to the set-up clearance (1 + 5), ream at Q2 = 75 to 1 - 15, out at 50 to 6, FMAX to 1 + 29.
+#[test]
+fn klartext_cycle_201_reams_in_and_comes_out_at_its_retraction_feed() {
+    let text = |q208: &str| {
+        format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S800\n2 FN 0: Q2=75\n3 L X+0 Y+0 Z+50 R0 FMAX M3\n4 CYCL DEF 201 REAMING~\n Q200=5 ;SET-UP CLEARANCE~\n Q201=-15 ;DEPTH~\n Q206=Q2 ;FEED RATE FOR PLUNGING~\n Q211=0 ;DWELL TIME AT BOTTOM~\n Q208={q208} ;RETRACTION FEED TIME~\n Q203=1 ;SURFACE COORDINATE~\n Q204=29 ;2ND SET-UP CLEARANCE\n5 L X305 Y280 R0 F MAX M99\n6 END PGM T MM\n")
+    };
+    for (q208, out) in [("50", 50.0), ("0", 75.0)] {
+        let p = read(&text(q208), Dialect::Klartext, "t.h", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "Q208={q208}: {:?}", errors(&p));
+        let got = cycle_moves(&p, 13);
+        assert!(same_moves(&got, &[(true, 6.0, 0.0), (false, -14.0, 75.0), (false, 6.0, out), (true, 30.0, 0.0)]), "Q208={q208}: {got:?}");
+    }
+}
+
+/// Cycle 209 TAPPING WITH CHIP BREAKING as a DMU shop's hyperMILL program writes it
+/// (W5269NS01007C19.h: Q200=3, Q201=-48, Q239=+2, Q203=0, Q204=50, Q257=25, Q256=1, Q336=0, Q403),
+/// its moves worked by hand from the parameters' definitions (TNC 320 User's Manual for cycle
+/// programming 9/2016 §4.4): at S800 the tap feeds at 2 x 800 = 1600 mm/min to 25 deep, backs off
+/// Q256 x Q239 = 2 at Q403 = 1.5 times that (2400), taps on to 48 deep, comes out at 2400, then FMAX
+/// to the 2nd set-up clearance. Q256=0 backs out to the set-up clearance; a definition without
+/// Q403 (older software's) comes out at the tapping feed; Q257=0 taps in one go.
+#[test]
+fn klartext_cycle_209_taps_with_chip_breaks_by_its_parameters() {
+    let text = |q257: &str, q256: &str, q403: &str| {
+        format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S800\n2 L X+0 Y+0 Z+80 R0 FMAX M3\n3 CYCL DEF 209 TAPPING W/ CHIP BRKG~\n Q200=  3  ;SET-UP CLEARANCE~\n Q201= -48  ;DEPTH~\n Q239= +2  ;THREAD PITCH~\n Q203=0 ;SURFACE COORDINATE~\n Q204=50 ;2ND SET-UP CLEARANCE~\n Q257={q257}  ;DEPTH FOR CHIP BRKNG~\n Q256={q256}  ;DIST FOR CHIP BRKNG~\n Q336=0  ;ANGLE OF SPINDLE{q403}\n4 L X298 Y164 R0 F MAX M99\n5 END PGM T MM\n")
+    };
+    let factor = "~\n Q403=1.5  ;RPM FACTOR";
+    let cases: [(&str, &str, &str, usize, &[(bool, f64, f64)]); 4] = [
+        ("25", "1", factor, 14, &[(true, 3.0, 0.0), (false, -25.0, 1600.0), (false, -23.0, 2400.0), (false, -48.0, 1600.0), (false, 3.0, 2400.0), (true, 50.0, 0.0)]),
+        ("25", "0", factor, 14, &[(true, 3.0, 0.0), (false, -25.0, 1600.0), (false, 3.0, 2400.0), (false, -48.0, 1600.0), (false, 3.0, 2400.0), (true, 50.0, 0.0)]),
+        ("25", "1", "", 13, &[(true, 3.0, 0.0), (false, -25.0, 1600.0), (false, -23.0, 1600.0), (false, -48.0, 1600.0), (false, 3.0, 1600.0), (true, 50.0, 0.0)]),
+        ("0", "1", factor, 14, &[(true, 3.0, 0.0), (false, -48.0, 1600.0), (false, 3.0, 2400.0), (true, 50.0, 0.0)]),
+    ];
+    for (q257, q256, q403, line, want) in cases {
+        let p = read(&text(q257, q256, q403), Dialect::Klartext, "t.h", &ReadOptions::default());
+        assert!(errors(&p).is_empty(), "Q257={q257} Q256={q256}: {:?}", errors(&p));
+        let got = cycle_moves(&p, line);
+        assert!(same_moves(&got, want), "Q257={q257} Q256={q256} {q403:?}: {got:?}");
+    }
+    // An RPM factor beyond the input range (0.0001 to 10) is refused at the call.
+    let p = read(&text("25", "1", "~\n Q403=12  ;RPM FACTOR"), Dialect::Klartext, "t.h", &ReadOptions::default());
+    assert!(errors(&p).iter().any(|e| e.0 == 14 && e.2.contains("Q403=12")), "{:?}", errors(&p));
 }
 
 /// Cycle 9's dwell as the TNC writes it in its dialog language: `DWELL 2.5`, German `V.ZEIT 2.5`,

@@ -1,6 +1,6 @@
 //! The TNC's drilling cycles as the motion they make along the working plane's tool axis: cycles
-//! 200 DRILLING, 203 UNIVERSAL DRILLING, 207 RIGID TAPPING, 240 CENTERING, 241 SINGLE-LIP DEEP-HOLE
-//! DRILLING and the older cycle 1 PECKING. Pure: levels (absolute, m), dwells (s) and which of the
+//! 200 DRILLING, 201 REAMING, 203 UNIVERSAL DRILLING, 207 RIGID TAPPING, 209 TAPPING WITH CHIP
+//! BREAKING, 240 CENTERING, 241 SINGLE-LIP DEEP-HOLE DRILLING and the older cycle 1 PECKING. Pure: levels (absolute, m), dwells (s) and which of the
 //! cycle's feeds each move takes; [`super::klartext`] reads the Q parameters and makes the blocks.
 
 use super::cycles::MAX_PECKS;
@@ -63,15 +63,15 @@ impl TncLevels {
 }
 
 /// A Heidenhain drilling cycle's parameters (m, s): its levels, the plunging depth Q202 (0: at
-/// once), the dwells at the top Q210 and at the bottom Q211, and whether the tool comes back at
-/// feed (tapping).
+/// once), the dwells at the top Q210 and at the bottom Q211, and the feed the tool comes back out
+/// of the hole at (`None`: rapid; tapping: its plunging feed; reaming: the retraction feed).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct TncHole {
     pub levels: TncLevels,
     pub plunge: f64,
     pub dwell_top_s: f64,
     pub dwell_bottom_s: f64,
-    pub feed_out: bool,
+    pub out_at: Option<TncFeed>,
 }
 
 /// The moves of a Heidenhain drilling cycle at the current position (TNC 426/430 User's Manual
@@ -80,7 +80,10 @@ pub(crate) struct TncHole {
 /// "returns the tool at FMAX to the set-up clearance, dwells there, and then moves at FMAX to the
 /// set-up clearance above the" depth reached; at the bottom dwells and retracts at FMAX to the
 /// set-up clearance or, if larger, the 2nd set-up clearance. Cycle 240 CENTERING is one plunge;
-/// cycle 207 RIGID TAPPING comes back at feed). A depth of 0 makes nothing.
+/// cycle 207 RIGID TAPPING comes back at feed; cycle 201 REAMING, one plunge, comes back at its
+/// retraction feed Q208, "the traversing speed of the tool when retracting from the hole", to the
+/// set-up clearance, as cycle 203 does: iTNC 530 User's Manual DIN/ISO, cycle 201's parameters; the
+/// page of its run is not at hand). A depth of 0 makes nothing.
 pub(crate) fn tnc_hole(h: &TncHole) -> Vec<TncStep> {
     let l = &h.levels;
     let (top, bottom) = (l.top(), l.bottom());
@@ -104,8 +107,8 @@ pub(crate) fn tnc_hole(h: &TncHole) -> Vec<TncStep> {
     if h.dwell_bottom_s > 0.0 {
         steps.push(TncStep::Dwell(h.dwell_bottom_s));
     }
-    if h.feed_out {
-        steps.push(TncStep::Feed(top, TncFeed::Plunge));
+    if let Some(feed) = h.out_at {
+        steps.push(TncStep::Feed(top, feed));
     }
     steps.push(TncStep::Rapid(l.out()));
     steps
@@ -243,6 +246,50 @@ pub(crate) fn tnc_universal(c: &TncUniversal) -> Result<Vec<TncStep>, String> {
     Ok(steps)
 }
 
+/// Cycle 209 TAPPING WITH CHIP BREAKING's parameters (m): its levels, the infeed depth after which
+/// the chip is broken Q257 (0: none) and how far the tool backs off to break it, Q256 times the
+/// pitch Q239 (`None`, Q256 = 0: out of the hole to the set-up clearance).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct TncChipTapping {
+    pub levels: TncLevels,
+    pub infeed: f64,
+    pub back_off: Option<f64>,
+}
+
+/// Cycle 209's moves, from its parameters' definitions (TNC 320 User's Manual for cycle programming
+/// 9/2016 §4.4, p. 102: Q257 "Plunging depth after which the TNC breaks the chip. No chip breaking
+/// if 0 is entered"; Q256 "The TNC multiplies the pitch Q239 by the programmed value and retracts
+/// the tool by the calculated value during chip breaking. If you enter Q256 = 0, the TNC retracts
+/// the tool completely from the hole (to the set-up clearance)"; Q403 increases "the retraction
+/// feed rate when retracting"), in cycle 207's frame: FMAX to the set-up clearance, each infeed at
+/// the tapping feed, each chip break and the way out at the retraction feed, FMAX to the 2nd set-up
+/// clearance. The page of its run is not at hand. An error where the infeeds number more than
+/// [`MAX_PECKS`].
+pub(crate) fn tnc_chip_tapping(c: &TncChipTapping) -> Result<Vec<TncStep>, String> {
+    let l = &c.levels;
+    let (top, bottom) = (l.top(), l.bottom());
+    if l.depth == 0.0 {
+        return Ok(Vec::new());
+    }
+    let q = if c.infeed > 0.0 { c.infeed } else { f64::INFINITY };
+    if q.is_finite() && super::cycles::too_many_pecks(l.depth, q) {
+        return Err(format!("more than {MAX_PECKS} infeeds: a typo?"));
+    }
+    let mut steps = vec![TncStep::Rapid(top)];
+    for k in 1.. {
+        let next = infeed(l.surface, q, k, bottom);
+        steps.push(TncStep::Feed(next, TncFeed::Plunge));
+        if next <= bottom {
+            break;
+        }
+        let back = c.back_off.map_or(top, |d| (next + d).min(top));
+        steps.push(TncStep::Feed(back, TncFeed::Retract));
+    }
+    steps.push(TncStep::Feed(top, TncFeed::Retract));
+    steps.push(TncStep::Rapid(l.out()));
+    Ok(steps)
+}
+
 /// Cycle 241 SINGLE-LIP DEEP-HOLE DRILLING's parameters (m, s): its levels, the deepened starting
 /// point Q379 (a distance below the surface: a pilot hole's depth) and the dwell at the bottom Q211.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -290,13 +337,13 @@ mod tests {
     fn tnc_drilling_moves_as_the_manual_describes() {
         use TncFeed::*;
         use TncStep::*;
-        let h = TncHole { levels: TncLevels { surface: 0.0, clearance: 2.0, clearance2: 50.0, depth: -6.5 }, plunge: 2.5, dwell_top_s: 0.5, dwell_bottom_s: 1.0, feed_out: false };
+        let h = TncHole { levels: TncLevels { surface: 0.0, clearance: 2.0, clearance2: 50.0, depth: -6.5 }, plunge: 2.5, dwell_top_s: 0.5, dwell_bottom_s: 1.0, out_at: None };
         assert_eq!(
             tnc_hole(&h),
             vec![Rapid(2.0), Feed(-2.5, Plunge), Rapid(2.0), Dwell(0.5), Rapid(-0.5), Feed(-5.0, Plunge), Rapid(2.0), Dwell(0.5), Rapid(-3.0), Feed(-6.5, Plunge), Dwell(1.0), Rapid(50.0)]
         );
         assert_eq!(tnc_hole(&TncHole { plunge: 6.5, dwell_top_s: 0.0, dwell_bottom_s: 0.0, ..h }), vec![Rapid(2.0), Feed(-6.5, Plunge), Rapid(50.0)]);
-        assert_eq!(tnc_hole(&TncHole { plunge: 0.0, feed_out: true, dwell_top_s: 0.0, dwell_bottom_s: 0.0, levels: TncLevels { clearance2: 0.0, ..h.levels }, ..h }), vec![Rapid(2.0), Feed(-6.5, Plunge), Feed(2.0, Plunge), Rapid(2.0)]);
+        assert_eq!(tnc_hole(&TncHole { plunge: 0.0, out_at: Some(Plunge), dwell_top_s: 0.0, dwell_bottom_s: 0.0, levels: TncLevels { clearance2: 0.0, ..h.levels }, ..h }), vec![Rapid(2.0), Feed(-6.5, Plunge), Feed(2.0, Plunge), Rapid(2.0)]);
         assert!(tnc_hole(&TncHole { levels: TncLevels { depth: 0.0, ..h.levels }, ..h }).is_empty());
     }
 
@@ -386,6 +433,38 @@ mod tests {
         // Infeeds of a micrometre in a 100 mm hole are a typo, not 100,000 moves.
         assert!(tnc_universal(&TncUniversal { levels: deep(-0.1), plunge: 1e-6, ..plain }).unwrap_err().contains("infeeds"));
         assert!(tnc_universal(&TncUniversal { levels: deep(0.0), ..c }).unwrap().is_empty());
+    }
+
+    /// Cycle 201 REAMING with a hyperMILL program's values (Q200=5, Q201=-15, Q203=1, Q204=29), by
+    /// its parameters: FMAX to 6, ream to -14 at Q206, dwell Q211, out at Q208 to 6, FMAX to 30.
+    #[test]
+    fn tnc_reaming_comes_out_at_its_retraction_feed() {
+        use TncFeed::*;
+        use TncStep::*;
+        let h = TncHole { levels: TncLevels { surface: 1.0, clearance: 5.0, clearance2: 29.0, depth: -15.0 }, plunge: 0.0, dwell_top_s: 0.0, dwell_bottom_s: 0.5, out_at: Some(Retract) };
+        assert!(same(&tnc_hole(&h), &[Rapid(6.0), Feed(-14.0, Plunge), Dwell(0.5), Feed(6.0, Retract), Rapid(30.0)]), "{:?}", tnc_hole(&h));
+    }
+
+    /// Cycle 209 with a hyperMILL program's values (Q200=3, Q201=-48, Q239=+2, Q203=0, Q204=50,
+    /// Q257=25, Q256=1), by its parameters' rules worked by hand: a chip break after 25 backs off
+    /// 1 x 2 = 2; Q256=0 backs out to the set-up clearance; Q257=0 taps in one infeed.
+    #[test]
+    fn tnc_tapping_breaks_chips_by_its_parameters() {
+        use TncFeed::*;
+        use TncStep::*;
+        let levels = TncLevels { surface: 0.0, clearance: 3.0, clearance2: 50.0, depth: -48.0 };
+        let c = TncChipTapping { levels, infeed: 25.0, back_off: Some(2.0) };
+        let got = tnc_chip_tapping(&c).unwrap();
+        assert!(same(&got, &[Rapid(3.0), Feed(-25.0, Plunge), Feed(-23.0, Retract), Feed(-48.0, Plunge), Feed(3.0, Retract), Rapid(50.0)]), "{got:?}");
+        let got = tnc_chip_tapping(&TncChipTapping { back_off: None, ..c }).unwrap();
+        assert!(same(&got, &[Rapid(3.0), Feed(-25.0, Plunge), Feed(3.0, Retract), Feed(-48.0, Plunge), Feed(3.0, Retract), Rapid(50.0)]), "{got:?}");
+        let got = tnc_chip_tapping(&TncChipTapping { infeed: 0.0, ..c }).unwrap();
+        assert!(same(&got, &[Rapid(3.0), Feed(-48.0, Plunge), Feed(3.0, Retract), Rapid(50.0)]), "{got:?}");
+        // A back-off longer than the way up stops at the set-up clearance; a micrometre infeed is a typo.
+        let got = tnc_chip_tapping(&TncChipTapping { back_off: Some(40.0), ..c }).unwrap();
+        assert!(same(&got, &[Rapid(3.0), Feed(-25.0, Plunge), Feed(3.0, Retract), Feed(-48.0, Plunge), Feed(3.0, Retract), Rapid(50.0)]), "{got:?}");
+        assert!(tnc_chip_tapping(&TncChipTapping { infeed: 1e-6, ..c }).unwrap_err().contains("infeeds"));
+        assert!(tnc_chip_tapping(&TncChipTapping { levels: TncLevels { depth: 0.0, ..levels }, ..c }).unwrap().is_empty());
     }
 
     /// Cycle 241 as the DMU program uses it: surface 0, set-up clearance 3, a pilot hole to 16

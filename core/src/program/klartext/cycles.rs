@@ -7,7 +7,7 @@ use std::borrow::Cow;
 
 use super::exec::Exec;
 use crate::program::interp::{Dimension, Interpreter, Word};
-use crate::program::tnc_cycles::{tnc_hole, tnc_pecking, tnc_single_lip, tnc_universal, TncFeed, TncHole, TncLevels, TncPecking, TncSingleLip, TncStep, TncUniversal};
+use crate::program::tnc_cycles::{tnc_chip_tapping, tnc_hole, tnc_pecking, tnc_single_lip, tnc_universal, TncChipTapping, TncFeed, TncHole, TncLevels, TncPecking, TncSingleLip, TncStep, TncUniversal};
 use crate::program::Block;
 
 /// `CYCL DEF 32.0 TOLERANCE` / `32.1 T0.05` / `32.2 HSC-MODE:0 TA0.5` (TNC 620 Cycle Programming, 340
@@ -245,7 +245,7 @@ impl Feeds {
 }
 
 impl Exec {
-    /// `CYCL DEF n`: the drilling cycles 200, 203, 207, 240 and 241 are kept for the next call;
+    /// `CYCL DEF n`: the drilling cycles 200, 201, 203, 207, 209, 240 and 241 are kept for the next call;
     /// cycle 247 selects a preset of the machine's table (its values are the operator's: the datum
     /// is taken as the workpiece's, and linear ranges are not judged); the machine maker's own
     /// cycles that move nothing are in its file; any other is refused. A drilling cycle's
@@ -253,7 +253,7 @@ impl Exec {
     pub(super) fn define_cycle(&mut self, n: u32, s: &Stmt<'_>, interp: &mut Interpreter, diags: &mut Diags) {
         self.collecting_params = false;
         match n {
-            200 | 203 | 207 | 240 | 241 => {
+            200 | 201 | 203 | 207 | 209 | 240 | 241 => {
                 (self.cycle, self.refused_cycle) = (Some((n, s.line)), None);
                 self.cycle_params.clear();
                 self.collecting_params = true;
@@ -261,7 +261,7 @@ impl Exec {
             247 => interp.set_preset_assumed(),
             _ if self.machine.as_ref().is_some_and(|m| m.state_cycles.contains(&n)) => {}
             _ => {
-                diags.error(s.line, s.col, format!("CYCL DEF {n}: this cycle is not read (it may move the tool; the drilling cycles 200, 203, 207, 240 and 241 are, and the machine file names its maker's cycles that move nothing)"));
+                diags.error(s.line, s.col, format!("CYCL DEF {n}: this cycle is not read (it may move the tool; the drilling cycles 200, 201, 203, 207, 209, 240 and 241 are, and the machine file names its maker's cycles that move nothing)"));
                 // A call runs the cycle defined last: this one.
                 (self.cycle, self.refused_cycle) = (None, Some((n, s.line)));
             }
@@ -343,8 +343,8 @@ impl Exec {
         }
     }
 
-    /// A drilling cycle's moves (200, 203, 207, 240, 241) from its Q parameters, and its feeds, or
-    /// why it cannot run.
+    /// A drilling cycle's moves (200, 201, 203, 207, 209, 240, 241) from its Q parameters, and its
+    /// feeds, or why it cannot run.
     fn drilling_moves(&self, n: u32, unit: f64) -> Result<(Vec<TncStep>, Feeds), String> {
         let q = |name: &str| self.cycle_q(name, unit);
         let levels = TncLevels { surface: q("Q203")?, clearance: q("Q200")?.abs(), clearance2: q("Q204")?.abs(), depth: q("Q201")? };
@@ -361,7 +361,7 @@ impl Exec {
         let plunge_feed = || self.cycle_feed("Q206");
         // Q208 RETRACTION FEED RATE: "If you enter Q208 = 0, the TNC retracts the tool at feed rate Q206".
         let retract_feed = |plunge: f64| self.cycle_feed("Q208").map(|f| if f == 0.0 { plunge } else { f });
-        let mut h = TncHole { levels, plunge: 0.0, dwell_top_s: 0.0, dwell_bottom_s: 0.0, feed_out: false };
+        let mut h = TncHole { levels, plunge: 0.0, dwell_top_s: 0.0, dwell_bottom_s: 0.0, out_at: None };
         let (steps, feeds) = match n {
             200 => {
                 h.plunge = q("Q202")?.abs();
@@ -412,6 +412,30 @@ impl Exec {
                 }
                 (tnc_single_lip(&c)?, Feeds { retract: retract_feed(plunge)?, preposition, plunge })
             }
+            201 => {
+                // 201 REAMING: one plunge at Q206, the dwell Q211, out at Q208 (0: Q206's).
+                h.dwell_bottom_s = self.cycle_q("Q211", 1.0)?;
+                h.out_at = Some(TncFeed::Retract);
+                let plunge = plunge_feed()?;
+                (tnc_hole(&h), Feeds { retract: retract_feed(plunge)?, ..Feeds::one(plunge) })
+            }
+            209 => {
+                // 209 TAPPING WITH CHIP BREAKING: in at the pitch Q239 times the speed, out at that
+                // times the RPM factor Q403 (a later parameter: 1 where the definition lacks it).
+                let pitch = self.cycle_q("Q239", 1.0)?.abs();
+                let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
+                let factor = self.cycle_opt("Q403")?.unwrap_or(1.0);
+                if !(factor > 0.0 && factor <= 10.0) {
+                    return Err(format!("Q403={}: the RPM factor for retraction is 0.0001 to 10", shown(factor)));
+                }
+                let back = self.cycle_q("Q256", 1.0)?;
+                if back < 0.0 {
+                    return Err(format!("Q256={back}: the retraction for chip breaking is 0 or more (times the pitch)"));
+                }
+                let c = TncChipTapping { levels, infeed: q("Q257")?.abs(), back_off: (back > 0.0).then_some(back * pitch * unit) };
+                let tap = pitch * speed.abs();
+                (tnc_chip_tapping(&c)?, Feeds { plunge: tap, retract: tap * factor, preposition: tap })
+            }
             240 => {
                 if self.cycle_q("Q343", 1.0)? != 0.0 {
                     return Err("Q343=1: a depth from the centering diameter (the tool's point angle) is not read".into());
@@ -421,7 +445,7 @@ impl Exec {
             }
             _ => {
                 // 207 RIGID TAPPING: the feed is the pitch Q239 at the spindle speed, in and out.
-                h.feed_out = true;
+                h.out_at = Some(TncFeed::Plunge);
                 let pitch = self.cycle_q("Q239", 1.0)?.abs();
                 let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
                 (tnc_hole(&h), Feeds::one(pitch * speed.abs()))
@@ -484,8 +508,11 @@ impl Exec {
         let unit = interp.unit();
         let moves = if n == 1 { self.pecking_moves(unit, interp.position()[2]) } else { self.drilling_moves(n, unit) };
         let (steps, feeds) = match moves {
-            // Cycle 207's feed is the pitch (a length) per turn times the turns: in the feed's unit.
-            Ok((steps, f)) if n == 207 => (steps, Feeds::one(f.plunge * unit / interp.feed_unit())),
+            // A tapping cycle's feeds are the pitch (a length) per turn times the turns: in the feed's unit.
+            Ok((steps, f)) if matches!(n, 207 | 209) => {
+                let per = unit / interp.feed_unit();
+                (steps, Feeds { plunge: f.plunge * per, retract: f.retract * per, preposition: f.preposition * per })
+            }
             Ok(m) => m,
             Err(why) => {
                 diags.error(s.line, s.col, format!("cycle {n} called: {why}"));

@@ -7,7 +7,7 @@
 //! coordinates, `M126`/`M127`; `CYCL DEF 7` datum shift; `CYCL DEF 9` dwell; `CYCL DEF 32` contour
 //! tolerance; tilted working planes `PLANE SPATIAL`/`EULER`/`VECTOR`/`POINTS`/`RELATIV`/`AXIAL`/`RESET` with
 //! `TURN`/`STAY`, `SEQ`, `COORD ROT`/`TABLE ROT`, and cycle 19 ([`crate::program::plane`]); the
-//! drilling cycles 200, 203, 207, 240 and 241 ([`crate::program::tnc_cycles`]) called by `CYCL CALL`,
+//! drilling cycles 200, 201, 203, 207, 209, 240 and 241 ([`crate::program::tnc_cycles`]) called by `CYCL CALL`,
 //! `M99`, `M89`; cycle 247 (a preset of the
 //! machine's table); the machine maker's cycles its file names; polar contours `LP` and `CP` about the
 //! pole `CC` (`PR`/`IPR`, `PA`/`IPA`; a helix by `CP IPA` with the tool axis' coordinate, several turns
