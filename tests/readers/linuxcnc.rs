@@ -67,12 +67,13 @@ fn rs274_reads_the_path_tolerance_of_g64_p_q() {
 /// O-word control flow (`owords.ngc`: a subroutine called twice with arguments, its own `#<n>` and a
 /// global `#<_scale>`, `return`, `while` with `continue` and `break`, `do`/`while`, `repeat`, `if`/
 /// `elseif`/`else`; `owords_spaces.ngc`: the keywords with blanks in them, `end sub`, `end while`,
-/// `else if`, `end if`, `re peat`, `end repeat`, which LinuxCNC reads with its blanks taken out).
+/// `else if`, `end if`, `re peat`, `end repeat`, which LinuxCNC reads with its blanks taken out), as
+/// are the blanks within words (`blanks.ngc`: `X1 0` is X10, `G4 0` G40, `X - 3` X-3, `G9 1` G91).
 #[test]
 fn rs274_evaluates_parameters_and_expressions_as_linuxcnc_does() {
     let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
     let switchkins = ReadOptions { m_codes: vec!["428=tcp-on".parse().unwrap(), "429=tcp-off".parse().unwrap()], ..Default::default() };
-    for name in ["expressions", "offsets", "owords", "owords_spaces", "xyzac_switchkins_test_1", "xyzac_switchkins_test_2"] {
+    for name in ["blanks", "expressions", "offsets", "owords", "owords_spaces", "xyzac_switchkins_test_1", "xyzac_switchkins_test_2"] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
         let p = read(&text, Dialect::Rs274, "t.ngc", &switchkins);
         assert!(errors(&p).is_empty(), "{name}: {:?}", errors(&p));

@@ -180,7 +180,15 @@ impl Rs274Reader {
                 }
                 // A sign first, then digits and points: ASCII, a character a byte.
                 i += crate::program::lex::number_prefix_len(&text[byte(start)..]);
+                // LinuxCNC: "Spaces and tabs are allowed anywhere on a line of code and do not change
+                // the meaning of the line, except inside comments" (G-code overview, "Format of a
+                // line"): `X1 0` is X10, `G4 0` is G40.
+                if self.dialect == Dialect::Rs274 {
+                    i = blanks_within_number(&chars, start, i);
+                }
                 let number_text = &text[byte(start)..byte(i)];
+                let number_text = word_text(number_text);
+                let number_text = number_text.as_ref();
                 match parse_number(number_text) {
                     Some(_) if letter == 'N' && self.dialect == Dialect::Rs274 && column - 1 != words_start => {
                         diags.error(line, column, format!("N{number_text} after other words: LinuxCNC reads a line number only at the line's start (\"Bad character 'n' used\")"));
@@ -228,7 +236,7 @@ impl Rs274Reader {
                 .iter()
                 .filter_map(|item| match item {
                     Item::Word { letter: 'G', comma: false, column, raw, value: Value::Written(v) } => {
-                        Some(crate::program::interp::Word { letter: 'G', value: *v, raw: text[raw.0..raw.1].into(), column: *column, dimension: crate::program::interp::Dimension::Modal })
+                        Some(crate::program::interp::Word { letter: 'G', value: *v, raw: word_text(&text[raw.0..raw.1]), column: *column, dimension: crate::program::interp::Dimension::Modal })
                     }
                     _ => None,
                 })
@@ -237,6 +245,32 @@ impl Rs274Reader {
             return None;
         }
         Some((read, now))
+    }
+}
+
+/// Where a number that starts at `start` and whose first unbroken part ends at `end` ends when the
+/// blanks within it are the line's (LinuxCNC reads a line with its blanks taken out): on over each
+/// run of blanks that a digit or a point follows.
+fn blanks_within_number(chars: &[char], start: usize, mut end: usize) -> usize {
+    loop {
+        let after = skip_blanks(chars, end);
+        let more = chars[after..].iter().take_while(|c| c.is_ascii_digit() || **c == '.').count();
+        // Nothing number-like at the start (a letter, a bracket) is no number to go on with; a sign
+        // alone (`X- 5`) is.
+        if after == end || more == 0 || end == start {
+            return end;
+        }
+        end = after + more;
+    }
+}
+
+/// A word's written text without the blanks a LinuxCNC line may hold within it (`1 0` is `10`);
+/// borrowed where it has none, as nearly every word.
+pub(super) fn word_text(s: &str) -> std::borrow::Cow<'_, str> {
+    if s.contains([' ', '\t']) {
+        s.chars().filter(|c| *c != ' ' && *c != '\t').collect::<String>().into()
+    } else {
+        s.into()
     }
 }
 

@@ -13,7 +13,7 @@ RS274=${RS274:-rs274}
 rs274() { "$RS274" "$@"; }
 # A tool table: rs274 wants one (a full install has its sample configuration's).
 printf 'T1 P1 Z0 D10 ;\n' > /tmp/make_canon.tbl
-for f in cycles expressions offsets owords owords_spaces xyzac_switchkins_test_1 xyzac_switchkins_test_2; do
+for f in blanks cycles expressions offsets owords owords_spaces xyzac_switchkins_test_1 xyzac_switchkins_test_2; do
     sed -e 's/^M42[89]\b.*$//' "$f.ngc" > "/tmp/$f.rs274.ngc"
     rs274 -t /tmp/make_canon.tbl -g "/tmp/$f.rs274.ngc" "/tmp/$f.canon" < /dev/null > /dev/null
     grep -o 'STRAIGHT_[A-Z]*(.*)' "/tmp/$f.canon" > "$f.canon"
