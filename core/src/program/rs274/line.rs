@@ -167,7 +167,7 @@ impl Rs274Reader {
                             i = end;
                         }
                         Ok((v, value, end)) => {
-                            read.items.push(Item::Word { letter, comma, column, raw: (byte(start), byte(end)), value: Value::Computed(value) });
+                            read.items.push(Item::Word { letter, comma, column, raw: (byte(start), byte(end)), spaced: false, value: Value::Computed(value) });
                             now.push(Now::Value(v));
                             i = end;
                         }
@@ -183,12 +183,15 @@ impl Rs274Reader {
                 // LinuxCNC: "Spaces and tabs are allowed anywhere on a line of code and do not change
                 // the meaning of the line, except inside comments" (G-code overview, "Format of a
                 // line"): `X1 0` is X10, `G4 0` is G40.
+                let unbroken = i;
                 if self.dialect == Dialect::Rs274 {
                     i = blanks_within_number(&chars, start, i);
                 }
+                let spaced = i != unbroken;
                 let number_text = &text[byte(start)..byte(i)];
-                let number_text = word_text(number_text);
-                let number_text = number_text.as_ref();
+                // (Taken out only where there are any: a word's text is borrowed on the hot path.)
+                let compact = if spaced { word_text(number_text) } else { number_text.into() };
+                let number_text = compact.as_ref();
                 match parse_number(number_text) {
                     Some(_) if letter == 'N' && self.dialect == Dialect::Rs274 && column - 1 != words_start => {
                         diags.error(line, column, format!("N{number_text} after other words: LinuxCNC reads a line number only at the line's start (\"Bad character 'n' used\")"));
@@ -204,7 +207,7 @@ impl Rs274Reader {
                             diags.error(line, column, format!("expected a whole line number after 'N', found '{number_text}'"));
                         }
                     }
-                    Some(v) => read.items.push(Item::Word { letter, comma, column, raw: (byte(start), byte(i)), value: Value::Written(v) }),
+                    Some(v) => read.items.push(Item::Word { letter, comma, column, raw: (byte(start), byte(i)), spaced, value: Value::Written(v) }),
                     None => {
                         let mut end = i;
                         while end < chars.len() && !chars[end].is_whitespace() {
@@ -235,8 +238,8 @@ impl Rs274Reader {
                 .items
                 .iter()
                 .filter_map(|item| match item {
-                    Item::Word { letter: 'G', comma: false, column, raw, value: Value::Written(v) } => {
-                        Some(crate::program::interp::Word { letter: 'G', value: *v, raw: word_text(&text[raw.0..raw.1]), column: *column, dimension: crate::program::interp::Dimension::Modal })
+                    Item::Word { letter: 'G', comma: false, column, raw, spaced, value: Value::Written(v) } => {
+                        Some(crate::program::interp::Word { letter: 'G', value: *v, raw: if *spaced { word_text(&text[raw.0..raw.1]) } else { text[raw.0..raw.1].into() }, column: *column, dimension: crate::program::interp::Dimension::Modal })
                     }
                     _ => None,
                 })
@@ -288,8 +291,9 @@ pub(crate) struct ReadLine {
 /// A word or a parameter setting of a line; a word's text is a byte range of the line.
 #[derive(Debug, Clone)]
 pub(super) enum Item {
-    /// `comma`: Fanuc's `,C` or `,R` (its column the comma's).
-    Word { letter: char, comma: bool, column: usize, raw: (usize, usize), value: Value },
+    /// `comma`: Fanuc's `,C` or `,R` (its column the comma's); `spaced`: its number has blanks within
+    /// it, which LinuxCNC takes out (`X1 0`).
+    Word { letter: char, comma: bool, column: usize, raw: (usize, usize), spaced: bool, value: Value },
     Setting { setting: Setting, column: usize },
 }
 

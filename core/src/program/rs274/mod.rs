@@ -410,20 +410,23 @@ impl Rs274Reader {
         let mut commas: Vec<(Word, bool)> = Vec::new();
         for item in &read.items {
             match item {
-                Item::Word { letter, comma: true, column, raw, value } => {
+                Item::Word { letter, comma: true, column, raw, value, .. } => {
                     let value = match value {
                         Value::Written(v) => Ok((*v, false)),
                         Value::Computed(c) => now.as_mut().and_then(Iterator::next).map_or_else(|| c.eval(&self.params), Now::value).map(|v| (v, true)),
                     };
                     match value {
-                        Ok((value, computed)) => commas.push((Word { letter: *letter, value, raw: line::word_text(text[raw.0..raw.1].trim_end()), column: *column, dimension: Dimension::Modal }, computed)),
+                        Ok((value, computed)) => commas.push((Word { letter: *letter, value, raw: text[raw.0..raw.1].trim_end().into(), column: *column, dimension: Dimension::Modal }, computed)),
                         Err(e) => {
                             diags.error(line, e.column, format!(",{letter}: {}", e.message));
                             break;
                         }
                     }
                 }
-                Item::Word { letter, column, raw, value: Value::Written(v), .. } => words.push(Word { letter: *letter, value: *v, raw: line::word_text(&text[raw.0..raw.1]), column: *column, dimension: Dimension::Modal }),
+                Item::Word { letter, column, raw, spaced, value: Value::Written(v), .. } => {
+                    let raw = if *spaced { line::word_text(&text[raw.0..raw.1]) } else { text[raw.0..raw.1].into() };
+                    words.push(Word { letter: *letter, value: *v, raw, column: *column, dimension: Dimension::Modal })
+                }
                 Item::Word { letter, column, raw, value: Value::Computed(c), .. } => match now.as_mut().and_then(Iterator::next).map_or_else(|| c.eval(&self.params), Now::value) {
                     Ok(value) => {
                         computed.push(words.len());
