@@ -46,6 +46,11 @@ const DEFECTIVE: &[(&str, &str, &str)] = &[
         "NX's post writes M202(tolerance) (no 840D syntax), TRAOOF for TRAFOOF, G503 (no 840D G code) and a CYCLE84 without a pitch (alarm 61001)",
     ),
     (
+        "haas-fanuc-style_nx-post_vf2-trunnion-ab_Haas_5T.nc",
+        "haas-vf2-tr",
+        "its five-axis operation feeds A and B in G94 without G234 (line 544 on), where Haas asks for G93 inverse time (Mill NGC Operator's Manual, Five-Axis Programming Notes) and would feed the rotary axes at the part diameter of Settings 34/79, the job's; and NX's G83 with Q0.0 (977:41, a peck of nothing, FANUC alarm PS0045)",
+    ),
+    (
         "heidenhain-klartext-french_deckel-dmc75v_CYCL19_training_deckel.h",
         "deckel-dmc-75v",
         "M91 in a tilted working plane (TNC 426 B ISO §7.3); with the tool table its `;DIA OUTIL` comments give, the TNC stops at its first pocket (\"Tool radius too large\": an approach arc R3 inside the contour for tool 3 of 10 mm); CALL PGM TNC:\\FIN calls a program not given. After that stop lie its cycles 202 and 203 (not read) and CP IPA+360 with DR- (the TNC wants one sign)",
@@ -54,7 +59,6 @@ const DEFECTIVE: &[(&str, &str, &str)] = &[
 
 /// Programs of the corpus not read yet, with what stops them (printed, not asserted).
 const NOT_YET: &[(&str, &str)] = &[
-    ("haas-fanuc-style_nx-post_vf2-trunnion-ab_Haas_5T.nc", "its five-axis operation feeds A and B without TCPC (G94, line 544 on): Haas feeds a rotary axis at the part diameter of Setting 34/79, a setting of the job that is not read; and NX's G83 with Q0.0 (977:41, a peck of nothing)"),
     ("heidenhain-millplus-iso_nx-post_dmg-dmc160u-bc_G7-G141_sample_part.nc", "the MillPlus ISO dialect: no MillPlus manual in reach for G7's angle order, G141, G74 L1, G174 (only NX's and Autodesk's posts); the same part as the DMC 100 U's, its G141 operations at 200-334 in under G70. Refused once, naming MillPlus (the_millplus_program_is_refused_once_naming_its_language)"),
 ];
 
@@ -602,6 +606,45 @@ fn the_deckel_programs_defects_are_refused_as_the_tnc_reads_them() {
     assert_eq!(at("CALL PGM"), call, "{errors:#?}");
     assert_eq!(errors.len(), m91.len() + 1 + call.len(), "{errors:#?}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The Haas VF-2 TR program's two defects, found here from its text: its first feed move (G01, G02
+/// or G03 in effect) that turns A or B, with neither G93 nor G234 anywhere in the program, is said
+/// once for the five-axis operation it opens (Haas asks for G93 for simultaneous motion, or G234 for
+/// G94); its G83 with `Q0.0` is refused at the Q word. No other error; the operation's moves are
+/// read as written (a region of B speed is found in it).
+#[test]
+fn the_vf2_programs_defects_are_refused_as_haas_reads_them() {
+    let path = common::outside("programs/haas-fanuc-style_nx-post_vf2-trunnion-ab_Haas_5T.nc");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(!text.contains("G93") && !text.contains("G234"), "the program sets no inverse time and no TCPC");
+    let (mut motion, mut ab, mut first) = (0, [0.0f64; 2], None);
+    for (i, l) in text.lines().enumerate() {
+        let words: Vec<&str> = l.split_whitespace().collect();
+        for w in &words {
+            if let Some(g) = w.strip_prefix('G').and_then(|g| g.parse::<u32>().ok()).filter(|g| *g <= 3) {
+                motion = g;
+            }
+        }
+        for (k, letter) in ['A', 'B'].into_iter().enumerate() {
+            if let Some(v) = words.iter().find_map(|w| w.strip_prefix(letter).and_then(|v| v.parse::<f64>().ok())) {
+                if motion >= 1 && v != ab[k] && first.is_none() {
+                    first = Some(i + 1);
+                }
+                ab[k] = v;
+            }
+        }
+    }
+    let first = first.expect("a feed move of A or B");
+    let (peck_line, peck_col) = text.lines().enumerate().find_map(|(i, l)| (l.starts_with("G83") && l.contains("Q0.0")).then(|| (i + 1, l.find("Q0.0").unwrap() + 1))).unwrap();
+    let out = fiveaxis(&["program", "analyze", path.to_str().unwrap(), "--machine", "haas-vf2-tr"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let errors: Vec<&str> = stdout.lines().filter(|l| l.contains(": error:")).collect();
+    assert_eq!(out.status.code(), Some(2), "{stdout}");
+    assert_eq!(errors.len(), 2, "{errors:#?}");
+    assert!(errors[0].contains(&format!(":{first}:1: error: a feed move of a rotary axis in G94 without G234")) && errors[0].contains("said once"), "{errors:#?}");
+    assert!(errors[1].contains(&format!(":{peck_line}:{peck_col}: error: Q0.0")), "{errors:#?}");
+    assert!(stdout.contains("regions where B speed"), "{stdout}");
 }
 
 /// The MillPlus program is not read as G-code (its `.nc` name says RS274, where nearly every block

@@ -175,7 +175,7 @@ fn fanuc_inverse_time_arcs_take_their_angle_over_frn_and_helical_arcs_are_refuse
 /// diameter of the part being machined ... to compute angular feedrate"), a setting of the job not
 /// read, and asks for G93 for simultaneous 4- or 5-axis motion (G94 only under G234; Mill NGC
 /// Operator's Manual, 2017): a feed move of A or B without G234 is refused, with linear axes too
-/// by that rule; under G234 (F along the tool tip) or as a rapid it reads.
+/// by that rule, once for a stretch of them; under G234 (F along the tool tip) or as a rapid it reads.
 #[test]
 fn haas_rotary_feed_without_tcpc_is_refused() {
     let vf2 = ReadOptions::default().on(&fiveaxis::machine::Machine::builtin("haas-vf2-tr").unwrap());
@@ -187,4 +187,12 @@ fn haas_rotary_feed_without_tcpc_is_refused() {
     assert!(errors(&p).iter().any(|(l, c, m)| (*l, *c) == (5, 1) && m.contains("Setting 34 or 79") && !m.contains("simultaneous")), "{:?}", errors(&p));
     let p = run("G00 A-5. B30.\nG01 X1. F9.8\n");
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    // Said once for a stretch of such moves (an operation of hundreds), which stand as written: the
+    // two after the first are feed moves (G01 kept), not refused and not read in the mode before;
+    // a feed move of the linear axes alone ends the stretch, and the next one is said again.
+    let p = run("G01 X1. A-5. B30. F9.8\nX2. A-6. B35.\nX3. A-7. B40.\nX4.\nX5. A-8.\n");
+    let e = errors(&p);
+    assert!(e.len() == 2 && (e[0].0, e[0].1) == (5, 1) && (e[1].0, e[1].1) == (9, 1) && e.iter().all(|m| m.2.contains("said once")), "{e:?}");
+    let feeds: Vec<usize> = p.blocks.iter().filter(|b| b.motion == Motion::Linear && !b.targets.is_empty()).map(|b| b.line).collect();
+    assert_eq!(feeds, [5, 6, 7, 8, 9], "{:#?}", p.blocks);
 }

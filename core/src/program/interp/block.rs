@@ -491,11 +491,11 @@ impl Interpreter {
         // "G93 inverse time feed mode must be in effect for simultaneous 4- or 5-axis motion; however,
         // if your mill supports Tool Center Point Control (G234), you may use G94" (Haas Mill NGC
         // Operator's Manual, 2017, Five-Axis Programming Notes; Settings 34 and 79).
-        if haas && !next.tcp && next.feed_mode == FeedMode::PerMinute && block_motion.is_some_and(|m| m != Motion::Rapid) && (3..6).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12) {
-            let simultaneous = (0..3).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12);
-            let rule = if simultaneous { "Haas asks for G93 inverse time for simultaneous 4- or 5-axis motion, or G234 (TCPC) for G94 (Mill NGC Operator's Manual, Five-Axis Programming Notes); " } else { "" };
-            diags.error(line, column, format!("a feed move of a rotary axis in G94 without G234: {rule}Haas feeds the rotary axis at the part diameter of Setting 34 or 79, which is not read (G93 inverse time, or G234, is read)"));
-        }
+        // Said at the first such move of a stretch, not refused: the moves after it (an operation of
+        // hundreds) stand as written, their mode and positions kept, and the program is refused once.
+        let feed_move = block_motion.is_some_and(|m| m != Motion::Rapid);
+        let haas_rotary_feed = (haas && !next.tcp && next.feed_mode == FeedMode::PerMinute && feed_move && (3..6).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12))
+            .then(|| (0..3).any(|k| (next.last[k] - before.last[k]).abs() > 1e-12));
         // "After G254 is invoked, you must specify an X, Y, and Z position prior to any cutting
         // command" (Haas UMC-750 operator's manual, G254): a feed move before all three are written.
         for (k, t) in [targets.x, targets.y, targets.z].into_iter().enumerate() {
@@ -666,6 +666,18 @@ impl Interpreter {
             }
         }
         let errors_after = diags.errors();
+        if errors_after == errors_before && haas {
+            match haas_rotary_feed {
+                Some(simultaneous) if self.haas_rotary_feed_said.is_none() => {
+                    let rule = if simultaneous { "Haas asks for G93 inverse time for simultaneous 4- or 5-axis motion, or G234 (TCPC) for G94 (Mill NGC Operator's Manual, Five-Axis Programming Notes); " } else { "" };
+                    diags.error(line, column, format!("a feed move of a rotary axis in G94 without G234: {rule}Haas feeds the rotary axis at the part diameter of Setting 34 or 79, which is not read (G93 inverse time, or G234, is read); said once for the feed moves of rotary axes after it until G93, G234 or a feed move of the linear axes alone, which are timed as F along the linear axes' path"));
+                    self.haas_rotary_feed_said = Some(line);
+                }
+                Some(_) => {}
+                None if feed_move => self.haas_rotary_feed_said = None,
+                None => {}
+            }
+        }
         if errors_after > errors_before {
             *self = before;
             // The tool vector belonged to this block: it does not carry over to the next one.

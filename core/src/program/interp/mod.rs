@@ -137,6 +137,10 @@ pub struct State {
     /// The last block refused that held G codes (its line): none of them took effect, which a later
     /// block's defect may stem from (said with it).
     pub(crate) refused_line: Option<usize>,
+    /// Haas: the line where a feed move of a rotary axis in G94 without G234 was said, while such
+    /// moves follow (said once for them; a feed move of the linear axes alone, or one under G93 or
+    /// G234, ends the stretch).
+    pub(crate) haas_rotary_feed_said: Option<usize>,
     /// The last refused block that carried an F word, while no block read since has set a feed:
     /// what a move without a feed names ([`Interpreter::after_refused_feed`]).
     pub(crate) refused_feed_line: Option<usize>,
@@ -299,6 +303,7 @@ impl Interpreter {
                 rotation2d: None,
                 after_g69: None,
                 refused_line: None,
+                haas_rotary_feed_said: None,
                 refused_feed_line: None,
                 exact: crate::program::Exact::Blend,
                 exact_once: false,
