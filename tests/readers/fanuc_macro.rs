@@ -175,9 +175,10 @@ fn fanuc_inverse_time_arcs_take_their_angle_over_frn_and_helical_arcs_are_refuse
 /// diameter of the part being machined ... to compute angular feedrate"), a setting of the job not
 /// read, and asks for G93 for simultaneous 4- or 5-axis motion (G94 only under G234; Mill NGC
 /// Operator's Manual, 2017): a feed move of A or B without G234 is refused, with linear axes too
-/// by that rule, once for a stretch of them; under G234 (F along the tool tip) or as a rapid it reads.
+/// by that rule, said once for a stretch of them (whose moves are read as written); under G234 (F
+/// along the tool tip) or as a rapid it reads.
 #[test]
-fn haas_rotary_feed_without_tcpc_is_refused() {
+fn haas_rotary_feed_without_tcpc_is_refused_once_a_stretch() {
     let vf2 = ReadOptions::default().on(&fiveaxis::machine::Machine::builtin("haas-vf2-tr").unwrap());
     let run = |body: &str| read(&format!("%\nO1000\nG20 G90 G17 G94\nG0 X0. Y0. Z5. A0. B0.\n{body}M30\n%\n"), Dialect::Haas, "t.nc", &vf2);
     let p = run("G01 X1. A-5. B30. F9.8\n");
@@ -195,4 +196,8 @@ fn haas_rotary_feed_without_tcpc_is_refused() {
     assert!(e.len() == 2 && (e[0].0, e[0].1) == (5, 1) && (e[1].0, e[1].1) == (9, 1) && e.iter().all(|m| m.2.contains("said once")), "{e:?}");
     let feeds: Vec<usize> = p.blocks.iter().filter(|b| b.motion == Motion::Linear && !b.targets.is_empty()).map(|b| b.line).collect();
     assert_eq!(feeds, [5, 6, 7, 8, 9], "{:#?}", p.blocks);
+    // A block that moves nothing (coolant, a feed, a dwell) under G01 does not end the stretch.
+    let p = run("G01 X1. A-5. B30. F9.8\nM08\nF12.\nG04 P1.\nX2. A-6.\n");
+    let e = errors(&p);
+    assert!(e.len() == 1 && (e[0].0, e[0].1) == (5, 1), "{e:?}");
 }

@@ -680,11 +680,13 @@ fn what_linuxcnc_refuses_is_refused() {
     // under M3 and G74 under M4, N first (after a block delete), labels each opening one block.
     let p = read(&format!("{head}G90.1\nG3 X-10 Y0 I0 J0\nG91.1\nG53 G1 X20\nM4\nG74 X5 Y0 Z-1 R2\nG80\nN30 G1 X1\no1 if [1 GT 0]\nG1 X2\no1 endif\no2 if [1 GT 0]\nG1 X3\no2 endif\nM2\n"), Dialect::Rs274, "t.ngc", &ReadOptions::default());
     assert!(errors(&p).is_empty(), "{:?}", errors(&p));
-    // A W word is an axis word to LinuxCNC's G53 rule (its nine axes): `G53 G0 W10` is refused for
-    // the W axis no machine here has, not for a G53 without axes.
-    let p = read(&format!("{head}G53 G0 W10\nM2\n"), Dialect::Rs274, "t.ngc", &ReadOptions::default());
-    let e = errors(&p);
-    assert!(e.len() == 1 && (e[0].0, e[0].1) == (3, 8) && e[0].2.contains("W10"), "{e:?}");
+    // U, V and W words are axis words to LinuxCNC's G53 rule (its nine axes): `G53 G0 W10` is refused
+    // for the W axis no machine here has, not for a G53 without axes.
+    for w in ["U10", "V10", "W10"] {
+        let p = read(&format!("{head}G53 G0 {w}\nM2\n"), Dialect::Rs274, "t.ngc", &ReadOptions::default());
+        let e = errors(&p);
+        assert!(e.len() == 1 && (e[0].0, e[0].1) == (3, 8) && e[0].2.contains(w), "{w}: {e:?}");
+    }
     // A label is its subroutine's (LinuxCNC keys it "sub#label"): two subroutines may each open o100.
     let subs = "o200 sub\no100 if [1 GT 0]\nG1 X1\no100 endif\no200 endsub\no300 sub\no100 if [1 GT 0]\nG1 X2\no100 endif\no300 endsub\n";
     let p = read(&format!("{subs}{head}o200 call\no300 call\no200 call\nM2\n"), Dialect::Rs274, "t.ngc", &ReadOptions::default());

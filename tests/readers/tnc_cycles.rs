@@ -148,6 +148,15 @@ fn klartext_cycle_209_taps_with_chip_breaks_by_its_parameters() {
         let got = cycle_moves(&p, line);
         assert!(same_moves(&got, want), "Q257={q257} Q256={q256} {q403:?}: {got:?}");
     }
+    // An inch program on a machine that reads its F in tenths (tnc_inch_feed): the pitch 0.1 in at
+    // S800 taps at 80 in/min (2032 mm/min) and comes out at 1.5 times that, the levels in inches.
+    let mut tenths = fiveaxis::machine::Machine::builtin("trimill-vu3019").unwrap();
+    tenths.tnc_inch_feed_tenths = Some(true);
+    let inch = "0 BEGIN PGM T INCH\n1 TOOL CALL 1 Z S800\n2 L X+0 Y+0 Z+3 R0 FMAX M3\n3 CYCL DEF 209 TAPPING W/ CHIP BRKG~\n Q200=0.1 ;SET-UP CLEARANCE~\n Q201=-1 ;DEPTH~\n Q239=+0.1 ;THREAD PITCH~\n Q203=0 ;SURFACE COORDINATE~\n Q204=2 ;2ND SET-UP CLEARANCE~\n Q257=0 ;DEPTH FOR CHIP BRKNG~\n Q256=0 ;DIST FOR CHIP BRKNG~\n Q336=0 ;ANGLE OF SPINDLE~\n Q403=1.5 ;RPM FACTOR\n4 L X1 Y1 R0 FMAX M99\n5 END PGM T INCH\n";
+    let p = read(inch, Dialect::Klartext, "t.h", &ReadOptions::default().on(&tenths));
+    assert!(errors(&p).is_empty(), "{:?}", errors(&p));
+    let got = cycle_moves(&p, 14);
+    assert!(same_moves(&got, &[(true, 2.54, 0.0), (false, -25.4, 2032.0), (false, 2.54, 3048.0), (true, 50.8, 0.0)]), "{got:?}");
     // An RPM factor beyond the input range (0.0001 to 10) is refused at the call.
     let p = read(&text("25", "1", "~\n Q403=12  ;RPM FACTOR"), Dialect::Klartext, "t.h", &ReadOptions::default());
     assert!(errors(&p).iter().any(|e| e.0 == 14 && e.2.contains("Q403=12")), "{:?}", errors(&p));

@@ -180,6 +180,12 @@ fn second_of_group<'w, 'a>(words: &'w [Word<'a>], letter: char, group: impl Fn(&
     None
 }
 
+/// The block writes an axis word, as LinuxCNC counts them: its nine axes, and polar coordinates
+/// (`@`, `^`), which are X and Y. What its rules on G52/G92, G53 and motion without axes ask.
+pub(crate) fn lcnc_axis_words(words: &[Word]) -> bool {
+    words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' | '@' | '^'))
+}
+
 /// What LinuxCNC refuses in a block's words, where this reader would run it or leave it be: its
 /// column and why, with LinuxCNC's own message (rs274ngc_errors.cc, as Debian's rs274 2.9 prints
 /// it), in the order it checks them. Two G codes or two M codes of one modal group; a code of group
@@ -192,12 +198,6 @@ fn second_of_group<'w, 'a>(words: &'w [Word<'a>], letter: char, group: impl Fn(&
 /// set yet, or a G93/G94/G95 since, which zero it); a tool the machine's tool table (`tools`, where
 /// given) does not list. The state before the block: inverse time (`inverse_time`), and a feed set
 /// (`feed_set`). (G53 without axes is [`super::Interpreter::block_one`]'s, with its motion.)
-/// The block writes an axis word, as LinuxCNC counts them: its nine axes, and polar coordinates
-/// (`@`, `^`), which are X and Y. What its rules on G52/G92, G53 and motion without axes ask.
-pub(crate) fn lcnc_axis_words(words: &[Word]) -> bool {
-    words.iter().any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' | '@' | '^'))
-}
-
 pub(crate) fn lcnc_refusal(words: &[Word], inverse_time: bool, feed_set: bool, tools: Option<&crate::program::cutter_comp::ToolTable>) -> Option<(usize, String)> {
     if let Some((w, first, g)) = second_of_group(words, 'G', |w| lcnc_group(x10(w))) {
         return Some((w.column, format!("G{} with G{}: two G codes of modal group {g} in one block (LinuxCNC: \"Two G-codes used from same modal group\")", w.raw, first.raw)));

@@ -425,12 +425,12 @@ impl Exec {
                 let pitch = self.cycle_q("Q239", 1.0)?.abs();
                 let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
                 let factor = self.cycle_opt("Q403")?.unwrap_or(1.0);
-                if !(factor > 0.0 && factor <= 10.0) {
+                if !((0.0001..=10.0).contains(&factor)) {
                     return Err(format!("Q403={}: the RPM factor for retraction is 0.0001 to 10", shown(factor)));
                 }
                 let back = self.cycle_q("Q256", 1.0)?;
                 if back < 0.0 {
-                    return Err(format!("Q256={back}: the retraction for chip breaking is 0 or more (times the pitch)"));
+                    return Err(format!("Q256={}: the retraction for chip breaking is 0 or more (times the pitch)", shown(back)));
                 }
                 let c = TncChipTapping { levels, infeed: q("Q257")?.abs(), back_off: (back > 0.0).then_some(back * pitch * unit) };
                 let tap = pitch * speed.abs();
