@@ -280,7 +280,7 @@ fn words_that_change_the_motion_are_refused() {
         ("G1 X1 F100\nG1 X2 M100\n", 7, "M100 is not an RS274NGC M code"),
         ("G1 X1 F100\nG1 X2 U3\n", 7, "unsupported word U3"),
         ("G1 X1 F100\nG7\n", 1, "G7"),
-        ("G1 X1 F100\nG2 X2 Y1 I1 J0 K1\n", 16, "K1: not an arc-centre word"),
+        ("G1 X1 F100\nG2 X2 Y1 I1 J0 K1\n", 16, "K1: not an arc-centre word in the XY (G17) plane"),
         ("G1 X1 F100\nG2 X3 Y0 I0.5 J0\n", 1, "differs from the radius to the start"),
         ("G1 X1 F100\nG2 X9 Y0 R1\n", 10, "too small to reach"),
     ] {

@@ -93,6 +93,15 @@ pub enum Plane {
 }
 
 impl Plane {
+    /// The plane as messages name it, with its G code: `XY (G17)`.
+    pub fn said(self) -> &'static str {
+        match self {
+            Plane::Xy => "XY (G17)",
+            Plane::Zx => "ZX (G18)",
+            Plane::Yz => "YZ (G19)",
+        }
+    }
+
     /// Indices (0 = X, 1 = Y, 2 = Z) of the plane's first and second axis and of its normal:
     /// `first x second = normal`, so a positive turn (counter-clockwise seen from the normal's
     /// positive end, G03) goes from the first axis towards the second (RS274/NGC 3 §3.5.3).

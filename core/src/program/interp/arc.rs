@@ -49,7 +49,7 @@ pub(super) fn resolve_arc(words: &[Word], st: &Interpreter, start: [f64; 3], end
     let word = |l: char| words.iter().find(|w| w.letter == l);
     if let Some(w) = word(offset_letter[an]) {
         let earlier = if own_defect { String::new() } else { st.after_refused() };
-        diags.error(line, w.column, format!("{}{}: not an arc-centre word in the {:?} plane (G17/G18/G19){earlier}", w.letter, w.raw, st.plane));
+        diags.error(line, w.column, format!("{}{}: not an arc-centre word in the {} plane{earlier}", w.letter, w.raw, st.plane.said()));
         return None;
     }
     let extra_turns = match word('P') {
