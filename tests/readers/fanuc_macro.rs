@@ -196,8 +196,12 @@ fn haas_rotary_feed_without_tcpc_is_refused_once_a_stretch() {
     assert!(e.len() == 2 && (e[0].0, e[0].1) == (5, 1) && (e[1].0, e[1].1) == (9, 1) && e.iter().all(|m| m.2.contains("said once")), "{e:?}");
     let feeds: Vec<usize> = p.blocks.iter().filter(|b| b.motion == Motion::Linear && !b.targets.is_empty()).map(|b| b.line).collect();
     assert_eq!(feeds, [5, 6, 7, 8, 9], "{:#?}", p.blocks);
-    // A block that moves nothing (coolant, a feed, a dwell) under G01 does not end the stretch.
+    // A block that moves nothing (coolant, a feed, a dwell) under G01 does not end the stretch; a
+    // rapid does (the next operation's first such move is said again).
     let p = run("G01 X1. A-5. B30. F9.8\nM08\nF12.\nG04 P1.\nX2. A-6.\n");
     let e = errors(&p);
     assert!(e.len() == 1 && (e[0].0, e[0].1) == (5, 1), "{e:?}");
+    let p = run("G01 X1. A-5. B30. F9.8\nG00 Z5.\nG01 X2. A-6. F9.8\n");
+    let e = errors(&p);
+    assert!(e.len() == 2 && (e[0].0, e[1].0) == (5, 7), "{e:?}");
 }

@@ -670,11 +670,13 @@ impl Interpreter {
             match haas_rotary_feed {
                 Some(simultaneous) if self.haas_rotary_feed_said.is_none() => {
                     let rule = if simultaneous { "Haas asks for G93 inverse time for simultaneous 4- or 5-axis motion, or G234 (TCPC) for G94 (Mill NGC Operator's Manual, Five-Axis Programming Notes); " } else { "" };
-                    diags.error(line, column, format!("a feed move of a rotary axis in G94 without G234: {rule}Haas feeds the rotary axis at the part diameter of Setting 34 or 79, which is not read (G93 inverse time, or G234, is read); said once for the feed moves of rotary axes after it until G93, G234 or a feed move of the linear axes alone, which are timed as a G94 move is here (F along the linear axes' path, or in deg/min for rotary axes alone)"));
+                    diags.error(line, column, format!("a feed move of a rotary axis in G94 without G234: {rule}Haas feeds the rotary axis at the part diameter of Setting 34 or 79, which is not read (G93 inverse time, or G234, is read); said once for the feed moves of rotary axes after it until G93, G234, a rapid or a feed move of the linear axes alone, which are timed as a G94 move is here (F along the linear axes' path, or in deg/min for rotary axes alone)"));
                     self.haas_rotary_feed_said = Some(line);
                 }
                 Some(_) => {}
-                None if feed_move && moves => self.haas_rotary_feed_said = None,
+                // Any other move ends the stretch: a feed move of the linear axes alone, or a rapid
+                // (a retract or a positioning between operations).
+                None if moves => self.haas_rotary_feed_said = None,
                 None => {}
             }
         }

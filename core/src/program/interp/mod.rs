@@ -138,8 +138,8 @@ pub struct State {
     /// block's defect may stem from (said with it).
     pub(crate) refused_line: Option<usize>,
     /// Haas: the line where a feed move of a rotary axis in G94 without G234 was said, while such
-    /// moves follow (said once for them; a feed move of the linear axes alone, or one under G93 or
-    /// G234, ends the stretch).
+    /// moves follow (said once for them; any other move, a rapid or a feed move of the linear axes
+    /// alone or one under G93 or G234, ends the stretch).
     pub(crate) haas_rotary_feed_said: Option<usize>,
     /// The last refused block that carried an F word, while no block read since has set a feed:
     /// what a move without a feed names ([`Interpreter::after_refused_feed`]).
