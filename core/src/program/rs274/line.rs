@@ -185,7 +185,7 @@ impl Rs274Reader {
                 // line"): `X1 0` is X10, `G4 0` is G40.
                 let unbroken = i;
                 if self.dialect == Dialect::Rs274 {
-                    i = blanks_within_number(&chars, start, i);
+                    i = blanks_within_number(chars, start, i);
                 }
                 let spaced = i != unbroken;
                 let number_text = &text[byte(start)..byte(i)];
