@@ -141,6 +141,16 @@ pub(super) fn same_places_as_linuxcnc(p: &Program, canon: &Path) -> Vec<Placed> 
     same_places_as_linuxcnc_of(p, &std::fs::read_to_string(canon).unwrap(), &canon.display().to_string())
 }
 
+/// The fixture `name` of recordings/programs/linuxcnc/parameters (`name.ngc`) read as RS274 with
+/// `options`, its moves placed as rs274's `name.canon` places them ([`same_places_as_linuxcnc`]):
+/// ours returned.
+pub(super) fn fixture_as_linuxcnc(name: &str, options: &ReadOptions) -> Vec<Placed> {
+    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
+    let text = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
+    let p = read(&text, Dialect::Rs274, &format!("{name}.ngc"), options);
+    same_places_as_linuxcnc(&p, &dir.join(format!("{name}.canon")))
+}
+
 /// [`same_places_as_linuxcnc`] of rs274's lines given as text, `name` naming them.
 pub(super) fn same_places_as_linuxcnc_of(p: &Program, canon: &str, name: &str) -> Vec<Placed> {
     assert!(errors(p).is_empty(), "{name}: {:?}", errors(p));

@@ -45,10 +45,7 @@ fn rs274_reads_axis_offsets_and_polar_coordinates_as_linuxcnc_does() {
 /// arc's centre in the workpiece, to rs274's 4 decimals; then LinuxCNC's refusals.
 #[test]
 fn rs274_reads_rotated_coordinate_systems_as_linuxcnc_does() {
-    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
-    let text = std::fs::read_to_string(dir.join("rotation.ngc")).unwrap();
-    let p = read(&text, Dialect::Rs274, "rotation.ngc", &ReadOptions::default());
-    let ours = same_places_as_linuxcnc(&p, &dir.join("rotation.canon"));
+    let ours = fixture_as_linuxcnc("rotation", &ReadOptions::default());
     let close = |a: f64, b: f64| (a - b).abs() <= 2e-4;
     // The rotation turns the frame: a move along the program's X at R30 goes 30 deg off the machine's.
     let b = &ours[1].1;
@@ -69,10 +66,7 @@ fn rs274_reads_rotated_coordinate_systems_as_linuxcnc_does() {
 /// read to where rs274 places the moves (make_canon.sh). Other dialects still refuse it.
 #[test]
 fn rs274_sets_offsets_under_g91_as_under_g90() {
-    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
-    let text = std::fs::read_to_string(dir.join("offsets_g91.ngc")).unwrap();
-    let p = read(&text, Dialect::Rs274, "offsets_g91.ngc", &ReadOptions::default());
-    let ours = same_places_as_linuxcnc(&p, &dir.join("offsets_g91.canon"));
+    let ours = fixture_as_linuxcnc("offsets_g91", &ReadOptions::default());
     // G91 G10 L2 P1 X10 Y2 Z-1, then G90 G1 X0 Y0: the tool at the offset itself, at its Z 3 (-1 + 3).
     let b = &ours[1].1;
     assert!((b[0] - 10.0).abs() < 1e-9 && (b[1] - 2.0).abs() < 1e-9 && (b[2] - 2.0).abs() < 1e-9, "{b:?}");
@@ -85,10 +79,7 @@ fn rs274_sets_offsets_under_g91_as_under_g90() {
 /// after a change to an unrotated system moves Y too, and so do a Z move and a move of A alone.
 #[test]
 fn rs274_moves_to_its_current_point_after_a_rotated_system_changes_under_g92() {
-    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
-    let text = std::fs::read_to_string(dir.join("rotation_apart.ngc")).unwrap();
-    let p = read(&text, Dialect::Rs274, "rotation_apart.ngc", &ReadOptions::default());
-    let ours = same_places_as_linuxcnc(&p, &dir.join("rotation_apart.canon"));
+    let ours = fixture_as_linuxcnc("rotation_apart", &ReadOptions::default());
     // G91 G1 X-10 from the machine's Y -5 (10 - 15): Y goes to 0.5806 (rs274's 15.5806 - 15).
     assert!((ours[0].1[1] - -5.0).abs() < 1e-9 && (ours[1].1[1] - 0.5806).abs() < 1e-3, "{ours:?}");
     // G1 Z2 and G1 A15: X and Y move as well.
@@ -105,12 +96,9 @@ fn rs274_moves_to_its_current_point_after_a_rotated_system_changes_under_g92() {
 /// G28 with a motion code, axis words with G28.1.
 #[test]
 fn rs274_moves_to_stored_positions_as_linuxcnc_does() {
-    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
     let machine = fiveaxis::machine::Machine::builtin("linuxcnc-xyzac-trt").unwrap();
     let on = ReadOptions::default().on(&machine);
-    let text = std::fs::read_to_string(dir.join("home.ngc")).unwrap();
-    let p = read(&text, Dialect::Rs274, "home.ngc", &on);
-    let ours = same_places_as_linuxcnc(&p, &dir.join("home.canon"));
+    let ours = fixture_as_linuxcnc("home", &on);
     // G28 G91 Z0 takes Z to the machine's 0, X Y staying: from Z10 in G54 (Z offset -5), Z 0.
     assert!(ours.iter().any(|m| m.0 == Motion::Rapid && m.1[2].abs() < 1e-9 && m.1[3] == 10.0), "{ours:?}");
     for (text, machine, at, needle) in [
@@ -131,10 +119,7 @@ fn rs274_moves_to_stored_positions_as_linuxcnc_does() {
 /// X[#<_incremental>]` reads 0). Then the state this reader does not hold stays refused.
 #[test]
 fn rs274_reads_the_interpreters_state_parameters_as_linuxcnc_does() {
-    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
-    let text = std::fs::read_to_string(dir.join("state_parameters.ngc")).unwrap();
-    let p = read(&text, Dialect::Rs274, "state_parameters.ngc", &ReadOptions::default());
-    let ours = same_places_as_linuxcnc(&p, &dir.join("state_parameters.canon"));
+    let ours = fixture_as_linuxcnc("state_parameters", &ReadOptions::default());
     // `o<twice> call [5]` returns 10 by `return [#1 * 2]`, in G55 (offset X10 Y5, rotated 30 deg).
     // A parameter number computed (`#[5000 + 420]` is #5420, X where the tool stands) reads the state too.
     let p = read("G21 G90\nG0 X3 Y4\nG1 X[#[5000 + 420] + 1] Y[##<n>] F100\nM2\n".replace("##<n>", "#[5421]").as_str(), Dialect::Rs274, "t.ngc", &ReadOptions::default());
@@ -185,10 +170,7 @@ fn a_feed_stays_across_a_unit_change_as_linuxcncs_task_keeps_it() {
 /// refusals: M72 with nothing saved (or after M71), two codes of its modal group, F in its block.
 #[test]
 fn rs274_restores_the_modal_state_as_linuxcnc_does() {
-    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
-    let text = std::fs::read_to_string(dir.join("modal_state.ngc")).unwrap();
-    let p = read(&text, Dialect::Rs274, "modal_state.ngc", &ReadOptions::default());
-    let ours = same_places_as_linuxcnc(&p, &dir.join("modal_state.canon"));
+    let ours = fixture_as_linuxcnc("modal_state", &ReadOptions::default());
     // The restores are seen: F123.456 comes back as 123.5 mm/min; the inch subroutine's X0.5 is
     // 12.7 mm in G55 (rotated 30 deg), and the next move is in mm again, in G54.
     assert!(ours.iter().any(|m| m.3 == Some(123.5)), "{ours:?}");
@@ -248,10 +230,7 @@ fn linuxcnc_rpm_is_the_s_last_set() {
 /// its S, F per turn in inches, and back to G94. The errors rs274 stops at are ours too.
 #[test]
 fn rs274_feeds_per_revolution_as_linuxcnc_does() {
-    let dir = Path::new(env!("FIVEAXIS_ROOT")).join("recordings/programs/linuxcnc/parameters");
-    let text = std::fs::read_to_string(dir.join("feed_per_rev.ngc")).unwrap();
-    let p = read(&text, Dialect::Rs274, "feed_per_rev.ngc", &ReadOptions::default());
-    let ours = same_places_as_linuxcnc(&p, &dir.join("feed_per_rev.canon"));
+    let ours = fixture_as_linuxcnc("feed_per_rev", &ReadOptions::default());
     // 0.2 mm/rev at S300; the move of C alone at 0.5 deg/rev at S600; after M72, 0.5 at S250.
     let feeds: Vec<f64> = ours.iter().filter_map(|m| m.3).collect();
     assert!(feeds.contains(&60.0) && feeds.contains(&300.0) && feeds.contains(&125.0), "{feeds:?}");
