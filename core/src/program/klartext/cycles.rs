@@ -344,9 +344,15 @@ impl Exec {
     }
 
     /// A drilling cycle's moves (200, 201, 203, 207, 209, 240, 241) from its Q parameters, and its
-    /// feeds, or why it cannot run.
-    fn drilling_moves(&self, n: u32, unit: f64) -> Result<(Vec<TncStep>, Feeds), String> {
+    /// feeds (in the program's feed unit, `feed_unit` m a unit), or why it cannot run.
+    fn drilling_moves(&self, n: u32, unit: f64, feed_unit: f64) -> Result<(Vec<TncStep>, Feeds), String> {
         let q = |name: &str| self.cycle_q(name, unit);
+        // A tapping cycle's feed (207, 209): the pitch Q239 (a length, m) per turn times the spindle's
+        // turns a minute, in the feed's unit.
+        let tapping_feed = || -> Result<f64, String> {
+            let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
+            Ok(q("Q239")?.abs() * speed.abs() / feed_unit)
+        };
         let levels = TncLevels { surface: q("Q203")?, clearance: q("Q200")?.abs(), clearance2: q("Q204")?.abs(), depth: q("Q201")? };
         let depth = levels.depth;
         if depth > 0.0 {
@@ -420,10 +426,8 @@ impl Exec {
                 (tnc_hole(&h), Feeds { retract: retract_feed(plunge)?, ..Feeds::one(plunge) })
             }
             209 => {
-                // 209 TAPPING WITH CHIP BREAKING: in at the pitch Q239 times the speed, out at that
-                // times the RPM factor Q403 (a later parameter: 1 where the definition lacks it).
-                let pitch = self.cycle_q("Q239", 1.0)?.abs();
-                let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
+                // 209 TAPPING WITH CHIP BREAKING: in at the tapping feed, out at that times the RPM
+                // factor Q403 (a later parameter: 1 where the definition lacks it).
                 let factor = self.cycle_opt("Q403")?.unwrap_or(1.0);
                 if !((0.0001..=10.0).contains(&factor)) {
                     return Err(format!("Q403={}: the RPM factor for retraction is 0.0001 to 10", shown(factor)));
@@ -432,8 +436,8 @@ impl Exec {
                 if back < 0.0 {
                     return Err(format!("Q256={}: the retraction for chip breaking is 0 or more (times the pitch)", shown(back)));
                 }
-                let c = TncChipTapping { levels, infeed: q("Q257")?.abs(), back_off: (back > 0.0).then_some(back * pitch * unit) };
-                let tap = pitch * speed.abs();
+                let c = TncChipTapping { levels, infeed: q("Q257")?.abs(), back_off: (back > 0.0).then_some(back * q("Q239")?.abs()) };
+                let tap = tapping_feed()?;
                 (tnc_chip_tapping(&c)?, Feeds { plunge: tap, retract: tap * factor, preposition: tap })
             }
             240 => {
@@ -444,11 +448,9 @@ impl Exec {
                 (tnc_hole(&h), Feeds::one(plunge_feed()?))
             }
             _ => {
-                // 207 RIGID TAPPING: the feed is the pitch Q239 at the spindle speed, in and out.
+                // 207 RIGID TAPPING: the tapping feed, in and out.
                 h.out_at = Some(TncFeed::Plunge);
-                let pitch = self.cycle_q("Q239", 1.0)?.abs();
-                let speed = self.spindle.ok_or("the spindle speed (TOOL CALL S) is not known")?;
-                (tnc_hole(&h), Feeds::one(pitch * speed.abs()))
+                (tnc_hole(&h), Feeds::one(tapping_feed()?))
             }
         };
         if feeds.plunge.is_infinite() {
@@ -506,13 +508,8 @@ impl Exec {
             return;
         };
         let unit = interp.unit();
-        let moves = if n == 1 { self.pecking_moves(unit, interp.position()[2]) } else { self.drilling_moves(n, unit) };
+        let moves = if n == 1 { self.pecking_moves(unit, interp.position()[2]) } else { self.drilling_moves(n, unit, interp.feed_unit()) };
         let (steps, feeds) = match moves {
-            // A tapping cycle's feeds are the pitch (a length) per turn times the turns: in the feed's unit.
-            Ok((steps, f)) if matches!(n, 207 | 209) => {
-                let per = unit / interp.feed_unit();
-                (steps, Feeds { plunge: f.plunge * per, retract: f.retract * per, preposition: f.preposition * per })
-            }
             Ok(m) => m,
             Err(why) => {
                 diags.error(s.line, s.col, format!("cycle {n} called: {why}"));
