@@ -188,9 +188,7 @@ impl Rs274Reader {
                     i = blanks_within_number(chars, start, i);
                 }
                 let spaced = i != unbroken;
-                let number_text = &text[byte(start)..byte(i)];
-                // (Taken out only where there are any: a word's text is borrowed on the hot path.)
-                let compact = if spaced { word_text(number_text) } else { number_text.into() };
+                let compact = word_text(&text[byte(start)..byte(i)], spaced);
                 let number_text = compact.as_ref();
                 match parse_number(number_text) {
                     Some(_) if letter == 'N' && self.dialect == Dialect::Rs274 && column - 1 != words_start => {
@@ -239,7 +237,7 @@ impl Rs274Reader {
                 .iter()
                 .filter_map(|item| match item {
                     Item::Word { letter: 'G', comma: false, column, raw, spaced, value: Value::Written(v) } => {
-                        Some(crate::program::interp::Word { letter: 'G', value: *v, raw: if *spaced { word_text(&text[raw.0..raw.1]) } else { text[raw.0..raw.1].into() }, column: *column, dimension: crate::program::interp::Dimension::Modal })
+                        Some(crate::program::interp::Word { letter: 'G', value: *v, raw: word_text(&text[raw.0..raw.1], *spaced), column: *column, dimension: crate::program::interp::Dimension::Modal })
                     }
                     _ => None,
                 })
@@ -267,10 +265,11 @@ fn blanks_within_number(chars: &[char], start: usize, mut end: usize) -> usize {
     }
 }
 
-/// A word's written text without the blanks a LinuxCNC line may hold within it (`1 0` is `10`);
-/// borrowed where it has none, as nearly every word.
-pub(super) fn word_text(s: &str) -> std::borrow::Cow<'_, str> {
-    if s.contains([' ', '\t']) {
+/// A word's written text without the blanks a LinuxCNC line may hold within it (`1 0` is `10`),
+/// where it has any (`spaced`, as the line was read); borrowed otherwise, as nearly every word is, on
+/// the hot path.
+pub(super) fn word_text(s: &str, spaced: bool) -> std::borrow::Cow<'_, str> {
+    if spaced {
         s.chars().filter(|c| *c != ' ' && *c != '\t').collect::<String>().into()
     } else {
         s.into()

@@ -424,7 +424,7 @@ impl Rs274Reader {
                     }
                 }
                 Item::Word { letter, column, raw, spaced, value: Value::Written(v), .. } => {
-                    let raw = if *spaced { line::word_text(&text[raw.0..raw.1]) } else { text[raw.0..raw.1].into() };
+                    let raw = line::word_text(&text[raw.0..raw.1], *spaced);
                     words.push(Word { letter: *letter, value: *v, raw, column: *column, dimension: Dimension::Modal })
                 }
                 Item::Word { letter, column, raw, value: Value::Computed(c), .. } => match now.as_mut().and_then(Iterator::next).map_or_else(|| c.eval(&self.params), Now::value) {
