@@ -3,7 +3,9 @@
 LinuxCNC, twins in other dialects, the OCR-damaged copies from ../shared/reference when present),
 the small recording fuzz/seeds/small.mcap (rewritten with LZ4, zstd and no compression, and cut
 short), its CDR messages, a rosbag2 metadata.yaml, the machines (TOML and URDF) and the roughness
-profiles (shortened to 2,000 points, so that each execution stays fast).
+profiles (shortened to 2,000 points, so that each execution stays fast), and MTConnect input: slices of
+the Okuma adapter's SHDR log and the agents' device documents of ../shared/outside/mtconnect (read
+where they lie beside the clone, never copied here), streams documents and HTTP answers written here.
 
 Usage: seeds.py CORPUS_DIR   (writes CORPUS_DIR/<target>/...; existing files are kept)
 """
@@ -282,10 +284,63 @@ def machines(corpus: pathlib.Path) -> int:
         n += 1
     return n
 
+# MTConnect input: a real adapter's SHDR log and agents' device descriptions (read beside the clone).
+MTCONNECT = ROOT.parent / "shared" / "outside" / "mtconnect"
+# The agent target's first byte: an HTTP answer, a /probe document, a streams document.
+AGENT_PICK = {"http": 0, "probe": 1, "streams": 2}
+SHDR_WRITTEN = (b"2022-08-08T13:51:34.7167146Z|avail|AVAILABLE|X1actw|12.5|YI1actw|0.25|Z1actw|-3|B1actw|45|C3actw|1.2\n"
+                b"* PING\n* shdrVersion: 2\n|X1actw|13\n2022-08-08T13:51:35Z@0.5|OKUMA:Z1actw|-2.5|p1LPathPos|1 2 3\n"
+                b"2022-08-08T13:51:35.5+02:00|system|FAULT|E42|HIGH|HIGH|Overtravel|message|M1|hello\n"
+                b"2022-08-08T13:51:36Z|@ASSET@|T1|CuttingTool|--multiline--AB\n<CuttingTool/>\n--multiline--AB\n"
+                b"2022-08-08T13:51:37Z|@REMOVE_ALL_ASSETS@|CuttingTool\n2022-08-08T13:51:38Z|C3actw|UNAVAILABLE\n")
+
+
+def streams_document(values, first: int) -> bytes:
+    """A streams document of the seeds' device: each (data item id, value) an observation."""
+    obs = "".join(f'<Position dataItemId="{i}" timestamp="2022-08-08T13:51:{34 + k:02d}.5Z" sequence="{first + k}">{v}</Position>'
+                  for k, (i, v) in enumerate(values))
+    return (f'<?xml version="1.0" encoding="UTF-8"?>\n<MTConnectStreams xmlns="urn:mtconnect.org:MTConnectStreams:2.0">'
+            f'<Header creationTime="2022-08-08T13:51:40Z" instanceId="1660000000" bufferSize="131072" nextSequence="{first + len(values)}" '
+            f'firstSequence="1" lastSequence="{first + len(values) - 1}"/><Streams><DeviceStream name="OKUMA" uuid="OKUMA.123456">'
+            f'<ComponentStream component="Linear" name="X" componentId="x"><Samples>{obs}</Samples></ComponentStream>'
+            f'</DeviceStream></Streams></MTConnectStreams>').encode()
+
+
+def mtconnect(corpus: pathlib.Path) -> int:
+    n = 0
+    put(corpus, "shdr_log", "written.txt", SHDR_WRITTEN)
+    n += 1
+    log = MTCONNECT / "demo_agent_okuma.txt"
+    if log.is_file():
+        lines = log.read_bytes().splitlines(keepends=True)
+        for k, at in enumerate(range(0, len(lines), max(1, len(lines) // 8))):
+            put(corpus, "shdr_log", f"okuma_{k}.txt", b"".join(lines[at:at + 60]))
+            n += 1
+    for p in sorted(MTCONNECT.glob("*.xml")):
+        put(corpus, "mtconnect_agent", p.name, bytes([AGENT_PICK["probe"]]) + p.read_bytes())
+        n += 1
+    a = streams_document([("LX1actw", "12.5"), ("LC3actw", "UNAVAILABLE"), ("LB1actw", "45")], 100)
+    b = streams_document([("LZ1actw", "-3"), ("LYI1actw", "0.25")], 103)
+    err = (b'<?xml version="1.0"?><MTConnectError xmlns="urn:mtconnect.org:MTConnectError:2.0"><Header instanceId="1" bufferSize="8"/>'
+           b'<Errors><Error errorCode="OUT_OF_RANGE">from is out of range</Error></Errors></MTConnectError>')
+    put(corpus, "mtconnect_agent", "streams.xml", bytes([AGENT_PICK["streams"]]) + a)
+    put(corpus, "mtconnect_agent", "error.xml", bytes([AGENT_PICK["streams"]]) + err)
+    part = lambda doc: b"--B1\r\nContent-type: text/xml\r\nContent-length: %d\r\n\r\n%s\r\n" % (len(doc), doc)
+    chunk = lambda data: b"%x\r\n%s\r\n" % (len(data), data)
+    head = b"HTTP/1.1 200 OK\r\nServer: MTConnectAgent\r\nContent-Type: multipart/mixed;boundary=B1\r\n"
+    put(corpus, "mtconnect_agent", "chunked.http", bytes([AGENT_PICK["http"]]) + head + b"Transfer-Encoding: chunked\r\n\r\n"
+        + chunk(part(a)) + chunk(part(b)) + b"0\r\n\r\n")
+    put(corpus, "mtconnect_agent", "replace.http", bytes([AGENT_PICK["http"]])
+        + b"HTTP/1.1 200 OK\r\nContent-Type: multipart/x-mixed-replace; boundary=\"B1\"\r\n\r\npreamble\r\n--B1\r\n\r\n"
+        + a + b"\r\n--B1\r\nContent-type: text/xml\r\n\r\n" + b + b"\r\n--B1--\r\n")
+    put(corpus, "mtconnect_agent", "current.http", bytes([AGENT_PICK["http"]])
+        + b"HTTP/1.1 100 Continue\r\n\r\nHTTP/1.1 200 OK\r\nContent-Length: %d\r\n\r\n%s" % (len(a), a))
+    return n + 5
+
 
 def main() -> int:
     corpus = pathlib.Path(sys.argv[1])
-    n = programs(corpus) + recordings(corpus) + profiles(corpus) + machines(corpus)
+    n = programs(corpus) + recordings(corpus) + profiles(corpus) + machines(corpus) + mtconnect(corpus)
     print(f"{n} seeds in {corpus}")
     return 0
 

@@ -59,7 +59,7 @@ const MAX_ALLOCATION: usize = 512 << 20;
 fn every_input_the_fuzzers_found_returns_cleanly_within_the_allocation_limit() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let root = Path::new(env!("FIVEAXIS_ROOT")).join("tests/fuzz-regressions");
-    let targets: [(&str, fn(&[u8])); 9] = [
+    let targets: [(&str, fn(&[u8])); 11] = [
         ("nc_program", targets::nc_program),
         ("mcap_recording", targets::mcap_recording),
         ("rosbag2_metadata", targets::rosbag2_metadata),
@@ -69,6 +69,8 @@ fn every_input_the_fuzzers_found_returns_cleanly_within_the_allocation_limit() {
         ("csv_profile", targets::csv_profile),
         ("machine_toml", targets::machine_toml),
         ("machine_urdf", targets::machine_urdf),
+        ("shdr_log", targets::shdr_log),
+        ("mtconnect_agent", targets::mtconnect_agent),
     ];
     let mut dirs: Vec<String> = std::fs::read_dir(&root).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     dirs.retain(|d| !targets.iter().any(|(t, _)| t == d));

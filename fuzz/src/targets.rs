@@ -214,3 +214,111 @@ pub fn x3p_main_xml(data: &[u8]) {
         let _ = profile.windows(0.8e-3, 0.5e-3);
     }
 }
+
+/// The device the MTConnect targets read against: a five-axis B/C head (the built-in
+/// `generic-bc-head`) whose data items carry the SHDR keys and ids of the Okuma adapter's log in
+/// `../shared/outside/mtconnect` (so that its lines, the seeds, reach the axes), a path position,
+/// a message and a condition (their several SHDR fields), written here.
+const MTCONNECT_DEVICE: &str = r#"<MTConnectDevices><Devices><Device id="dev" name="OKUMA" uuid="OKUMA.123456">
+<DataItems><DataItem category="EVENT" id="Lavail" name="avail" type="AVAILABILITY"/>
+<DataItem category="EVENT" id="Lmsg" name="message" type="MESSAGE"/>
+<DataItem category="CONDITION" id="Lsystem" name="system" type="SYSTEM"/></DataItems>
+<Components><Axes id="axes"><Components>
+<Linear id="x" name="X"><DataItems><DataItem category="SAMPLE" id="LX1actw" name="X1actw" type="POSITION" subType="ACTUAL" units="MILLIMETER" nativeUnits="MILLIMETER" coordinateSystem="WORK"/></DataItems></Linear>
+<Linear id="y" name="Y"><DataItems><DataItem category="SAMPLE" id="LYI1actw" name="YI1actw" type="POSITION" subType="ACTUAL" units="MILLIMETER" nativeUnits="INCH"/></DataItems></Linear>
+<Linear id="z" name="Z"><DataItems><DataItem category="SAMPLE" id="LZ1actw" name="Z1actw" type="POSITION" subType="ACTUAL" units="MILLIMETER"/></DataItems></Linear>
+<Rotary id="b" name="B"><DataItems><DataItem category="SAMPLE" id="LB1actw" name="B1actw" type="ANGLE" subType="ACTUAL" units="DEGREE"/></DataItems></Rotary>
+<Rotary id="c" name="C"><DataItems><DataItem category="SAMPLE" id="LC3actw" name="C3actw" type="ANGLE" subType="ACTUAL" units="DEGREE" nativeUnits="RADIAN"/></DataItems></Rotary>
+</Components></Axes><Controller id="cont"><Components><Path id="path"><DataItems>
+<DataItem category="SAMPLE" id="Lp1LPathPos" name="p1LPathPos" type="PATH_POSITION" subType="ACTUAL" units="MILLIMETER_3D"/>
+</DataItems></Path></Components></Controller></Components></Device></Devices></MTConnectDevices>"#;
+
+/// [`MTCONNECT_DEVICE`] read, and its axes found for `generic-bc-head` by the Okuma log's keys, in
+/// the adapter's units (`nativeUnits`) or the agent's (`units`); read once.
+fn mtconnect_device(units: fiveaxis::mtconnect::UnitsOf) -> &'static (Vec<fiveaxis::mtconnect::devices::Device>, fiveaxis::mtconnect::AxisItems) {
+    use fiveaxis::mtconnect::{axis_items, devices, UnitsOf};
+    type Read = (Vec<devices::Device>, fiveaxis::mtconnect::AxisItems);
+    static ADAPTER: std::sync::OnceLock<Read> = std::sync::OnceLock::new();
+    static AGENT: std::sync::OnceLock<Read> = std::sync::OnceLock::new();
+    let cell = if units == UnitsOf::Adapter { &ADAPTER } else { &AGENT };
+    cell.get_or_init(|| {
+        let all = devices::parse(MTCONNECT_DEVICE).expect("the targets' device");
+        let machine = Machine::builtin("generic-bc-head").expect("generic-bc-head");
+        let map = [("X", "X1actw"), ("Y", "YI1actw"), ("Z", "Z1actw"), ("B", "B1actw"), ("C", "C3actw")].map(|(a, k)| (a.to_string(), k.to_string())).into_iter().collect();
+        let axes = axis_items(&all[0], &machine, &map, units).expect("the targets' axes");
+        (all, axes)
+    })
+}
+
+/// An MTConnect adapter's SHDR stream (a log of it, as `fiveaxis analyze --shdr` and the bridge's
+/// adapter client read it): every line against [`MTCONNECT_DEVICE`], each axis value taken.
+pub fn shdr_log(data: &[u8]) {
+    let (all, axes) = mtconnect_device(fiveaxis::mtconnect::UnitsOf::Adapter);
+    let _ = fiveaxis::mtconnect::read_log(data, all, &all[0], axes, |_| {});
+}
+
+/// An MTConnect agent's answers as the bridge's agent client reads them (src/mtconnect/live.rs).
+/// The first byte picks what the rest is: an HTTP answer (its head, then the documents of a
+/// multipart `/sample` stream, chunked or not, or a whole body), a `/probe` document (each device's
+/// axes looked for on `generic-bc-head`) or a streams document (each observation of an axis of
+/// [`MTCONNECT_DEVICE`] read as a number).
+pub fn mtconnect_agent(data: &[u8]) {
+    use fiveaxis::mtconnect::http::{read_body, read_head, Chunked, Parts};
+    use std::io::BufReader;
+    let Some((&pick, rest)) = data.split_first() else { return };
+    match pick % 3 {
+        0 => {
+            let mut r = BufReader::new(rest);
+            let Ok(head) = read_head(&mut r) else { return };
+            match head.boundary() {
+                Some(b) if head.chunked() => agent_parts(Parts::new(BufReader::new(Chunked::new(r)), &b)),
+                Some(b) => agent_parts(Parts::new(r, &b)),
+                None => {
+                    if let Ok(body) = read_body(&head, &mut r) {
+                        agent_probe(&body);
+                        agent_streams(&body);
+                    }
+                }
+            }
+        }
+        1 => agent_probe(rest),
+        _ => agent_streams(rest),
+    }
+}
+
+/// Each document of a multipart stream, as a streams document.
+fn agent_parts<R: std::io::BufRead>(mut parts: fiveaxis::mtconnect::http::Parts<R>) {
+    while let Ok(Some(part)) = parts.next_part() {
+        agent_streams(&part);
+    }
+}
+
+/// A `/probe` answer: its devices, the one picked, and each one's axes found for `generic-bc-head`
+/// by their components' names and, in turn, by the Okuma log's keys.
+fn agent_probe(doc: &[u8]) {
+    use fiveaxis::mtconnect::{axis_items, devices, pick, UnitsOf};
+    let Ok(all) = devices::parse(&String::from_utf8_lossy(doc)) else { return };
+    let _ = pick(&all, None);
+    let _ = pick(&all, Some("OKUMA"));
+    let machine = Machine::builtin("generic-bc-head").expect("generic-bc-head");
+    let map = [("X", "X1actw"), ("C", "C3actw")].map(|(a, k)| (a.to_string(), k.to_string())).into_iter().collect();
+    for d in &all {
+        let _ = axis_items(d, &machine, &Default::default(), UnitsOf::Agent);
+        let _ = axis_items(d, &machine, &map, UnitsOf::Adapter);
+        for i in &d.items {
+            let _ = i.shdr_fields();
+        }
+    }
+}
+
+/// A streams document: its header, and each observation of an axis of [`MTCONNECT_DEVICE`] read.
+fn agent_streams(doc: &[u8]) {
+    let Ok(s) = fiveaxis::mtconnect::streams::parse(&String::from_utf8_lossy(doc)) else { return };
+    let (_, axes) = mtconnect_device(fiveaxis::mtconnect::UnitsOf::Agent);
+    for o in &s.observations {
+        if let Some(i) = axes.axis_of(&o.data_item_id) {
+            let _ = axes.value(i, &o.value);
+        }
+        let _ = o.stamp.as_secs();
+    }
+}
