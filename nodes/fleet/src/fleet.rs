@@ -3,7 +3,7 @@
 //! when nothing has come for the stale timeout), its latest distance and C demand, and its regions,
 //! each once whether it came live or by a catch-up after an outage.
 
-use crate::keys::MachinePath;
+use crate::keys::{MachinePath, Sent};
 use fiveaxis_msgs::{DiagnosticArray, DiagnosticStatus, Region, SingularityStatus};
 use serde::Serialize;
 use std::collections::{BTreeMap, VecDeque};
@@ -74,6 +74,8 @@ pub enum Event {
 
 /// Latency samples kept per machine (the last ones).
 const LATENCY_WINDOW: usize = 1000;
+/// Publishers whose sequence numbers are followed per machine (a gateway and its restarts).
+const PUBLISHERS: usize = 8;
 /// A status stamp further than this from the office's clock is no wall time (a cell on
 /// `use_sim_time` stamps program time): no latency is taken from it.
 const WALL_CLOCK_SLACK_NS: i64 = 3_600_000_000_000;
@@ -125,8 +127,8 @@ pub struct Row {
     /// send stamps (what the link carried, whatever delay or burst it added).
     pub status_rate_hz: usize,
     pub max_status_rate_hz: usize,
-    /// Status messages missing from the gateway's sequence (the cap drops none: these are the
-    /// link's losses).
+    /// Status messages missing from the gateway's sequence numbers, followed per publisher (a
+    /// restarted gateway numbers from 1 again; the cap drops none: these are the link's losses).
     pub status_missing: u64,
     pub latency: Latency,
 }
@@ -142,7 +144,9 @@ struct Machine {
     /// Send stamps of the statuses of the last second, ns.
     recent: VecDeque<i64>,
     max_rate: usize,
-    last_seq: Option<i64>,
+    /// The last sequence number of each publisher heard (its gid), the most recently heard last;
+    /// at most [`PUBLISHERS`].
+    last_seq: Vec<([u8; 16], i64)>,
     missing: u64,
     sample_latency_ms: VecDeque<f64>,
     link_latency_ms: VecDeque<f64>,
@@ -186,7 +190,7 @@ impl Fleet {
             regions: BTreeMap::new(),
             recent: VecDeque::new(),
             max_rate: 0,
-            last_seq: None,
+            last_seq: Vec::new(),
             missing: 0,
             sample_latency_ms: VecDeque::new(),
             link_latency_ms: VecDeque::new(),
@@ -200,7 +204,7 @@ impl Fleet {
 
     /// A status from `path`, with its rmw_zenoh sequence number and send stamp (ns) when known,
     /// received at `received_ns` (ns since the UNIX epoch).
-    pub fn on_status(&mut self, path: &MachinePath, s: SingularityStatus, sent: Option<(i64, i64)>, received_ns: i64, now: Instant) -> Vec<Event> {
+    pub fn on_status(&mut self, path: &MachinePath, s: SingularityStatus, sent: Option<Sent>, received_ns: i64, now: Instant) -> Vec<Event> {
         let mut events = Vec::new();
         let m = self.heard(path, now, &mut events);
         let sampled = s.header.stamp.as_nanos() as i64;
@@ -211,18 +215,30 @@ impl Fleet {
         if new_sample && (received_ns - sampled).abs() < WALL_CLOCK_SLACK_NS {
             keep(&mut m.sample_latency_ms, (received_ns - sampled) as f64 * 1e-6);
         }
-        if let Some((seq, stamp)) = sent {
-            keep(&mut m.link_latency_ms, (received_ns - stamp) as f64 * 1e-6);
-            if let Some(last) = m.last_seq {
-                if seq > last + 1 {
-                    m.missing += (seq - last - 1) as u64;
+        if let Some(Sent { seq, stamp_ns: stamp, gid }) = sent {
+            keep(&mut m.link_latency_ms, (i128::from(received_ns) - i128::from(stamp)) as f64 * 1e-6);
+            // Each publisher numbers its messages from its start: a gateway restarted is a new
+            // publisher (a new gid), whose gaps count from its own sequence.
+            let at = m.last_seq.iter().position(|(g, _)| *g == gid);
+            let last = at.map(|k| m.last_seq.remove(k).1);
+            if let Some(last) = last {
+                let gap = i128::from(seq) - i128::from(last) - 1;
+                if gap > 0 {
+                    m.missing = m.missing.saturating_add(u64::try_from(gap).unwrap_or(u64::MAX));
                 }
             }
-            if m.last_seq.is_none_or(|l| seq > l) {
-                m.last_seq = Some(seq);
+            m.last_seq.push((gid, last.map_or(seq, |l| l.max(seq))));
+            if m.last_seq.len() > PUBLISHERS {
+                m.last_seq.remove(0);
+            }
+            // The window is a second of send stamps in their order: a stamp before the newest (the
+            // publisher's clock stepped back) starts it anew, else it would hold every stamp until
+            // the clock caught up again.
+            if m.recent.back().is_some_and(|&b| stamp < b) {
+                m.recent.clear();
             }
             m.recent.push_back(stamp);
-            while m.recent.front().is_some_and(|&f| f <= stamp - 1_000_000_000) {
+            while m.recent.front().is_some_and(|&f| f <= stamp.saturating_sub(1_000_000_000)) {
                 m.recent.pop_front();
             }
             m.max_rate = m.max_rate.max(m.recent.len());
@@ -310,7 +326,7 @@ impl Fleet {
                     stream,
                     regions: m.regions.len(),
                     last_heard_s: now.saturating_duration_since(m.last_heard).as_secs_f64(),
-                    status_rate_hz: m.recent.iter().filter(|&&t| t > newest - 1_000_000_000).count(),
+                    status_rate_hz: m.recent.iter().filter(|&&t| t > newest.saturating_sub(1_000_000_000)).count(),
                     max_status_rate_hz: m.max_rate,
                     latency: Latency {
                         sample_p50_ms: percentile(&m.sample_latency_ms, 0.5),
@@ -334,6 +350,11 @@ mod tests {
         MachinePath::new("plant", "cell_a", m).unwrap()
     }
 
+    /// A status's attachment from the gateway's one publisher.
+    fn sent(seq: i64, stamp_ns: i64) -> Option<Sent> {
+        Some(Sent { seq, stamp_ns, gid: [1; 16] })
+    }
+
     fn region(id: u32) -> Region {
         Region { input_topic: "/fiveaxis/simulated/axis_state".into(), region_id: id, start_position: Point { x: 0.022, y: 0.0, z: 0.0 }, end_position: Point { x: 0.028, y: 0.0, z: 0.0 }, peak_predicted_c_speed: std::f64::consts::TAU, min_singularity_distance: 0.01, ..Default::default() }
     }
@@ -343,14 +364,14 @@ mod tests {
         let t0 = Instant::now();
         let mut f = Fleet::new(Duration::from_secs(3));
         let s = SingularityStatus { input_topic: "/fiveaxis/simulated/axis_state".into(), singularity_distance: 0.5f64.to_radians(), predicted_c_speed: 20.0, ..Default::default() };
-        assert_eq!(f.on_status(&path("a"), s.clone(), Some((1, 0)), 0, t0), vec![Event::Joined { machine: "/plant/cell_a/a".into() }]);
-        assert!(f.on_status(&path("a"), s.clone(), Some((2, 100_000_000)), 0, t0).is_empty());
+        assert_eq!(f.on_status(&path("a"), s.clone(), sent(1, 0), 0, t0), vec![Event::Joined { machine: "/plant/cell_a/a".into() }]);
+        assert!(f.on_status(&path("a"), s.clone(), sent(2, 100_000_000), 0, t0).is_empty());
         assert!(f.tick(t0 + Duration::from_millis(2900)).is_empty());
         let e = f.tick(t0 + Duration::from_secs(3));
         assert!(matches!(&e[..], [Event::Stale { machine, .. }] if machine == "/plant/cell_a/a"));
         assert!(f.tick(t0 + Duration::from_secs(4)).is_empty(), "said once");
         assert_eq!(f.rows(t0 + Duration::from_secs(4))[0].state, Level::Stale);
-        let e = f.on_status(&path("a"), s, Some((5, 10_000_000_000)), 0, t0 + Duration::from_secs(13));
+        let e = f.on_status(&path("a"), s, sent(5, 10_000_000_000), 0, t0 + Duration::from_secs(13));
         assert!(matches!(&e[..], [Event::Recovered { silent_s, .. }] if (*silent_s - 13.0).abs() < 1e-9));
         let row = &f.rows(t0 + Duration::from_secs(13))[0];
         assert_eq!(row.status_missing, 2);
@@ -391,7 +412,7 @@ mod tests {
         let mut f = Fleet::new(Duration::from_secs(3));
         // 10 Hz for 3 s, delivered all at once (a burst after an outage) still counts 10 a second.
         for i in 0..30i64 {
-            f.on_status(&path("a"), SingularityStatus::default(), Some((i + 1, i * 100_000_000)), 0, t0);
+            f.on_status(&path("a"), SingularityStatus::default(), sent(i + 1, i * 100_000_000), 0, t0);
         }
         assert_eq!(f.max_rate(&path("a")), Some(10));
         assert_eq!((f.rows(t0)[0].status_rate_hz, f.rows(t0)[0].max_status_rate_hz), (10, 10));
@@ -406,7 +427,7 @@ mod tests {
         for i in 1..=100i64 {
             let received = epoch + i * 100_000_000;
             let s = SingularityStatus { header: fiveaxis_msgs::Header { stamp: fiveaxis_msgs::Time::from_nanos((received - i * 1_000_000) as u64), frame_id: String::new() }, ..Default::default() };
-            f.on_status(&path("a"), s, Some((i, received - 500_000)), received, t0);
+            f.on_status(&path("a"), s, sent(i, received - 500_000), received, t0);
         }
         let l = f.rows(t0)[0].latency.clone();
         assert_eq!((l.sample_p50_ms, l.sample_p99_ms), (Some(50.0), Some(99.0)));
@@ -415,11 +436,62 @@ mod tests {
         // latency, however late it arrives.
         let late = epoch + 101 * 100_000_000;
         let again = SingularityStatus { header: fiveaxis_msgs::Header { stamp: fiveaxis_msgs::Time::from_nanos((epoch + 100 * 100_000_000 - 100_000_000) as u64), frame_id: String::new() }, ..Default::default() };
-        f.on_status(&path("a"), again, Some((101, late - 500_000)), late + 5_000_000_000, t0);
+        f.on_status(&path("a"), again, sent(101, late - 500_000), late + 5_000_000_000, t0);
         assert_eq!(f.rows(t0)[0].latency.sample_p99_ms, Some(99.0));
         // Program time (a cell on use_sim_time) is no wall time: no sample latency from it.
         let mut g = Fleet::new(Duration::from_secs(3));
         g.on_status(&path("b"), SingularityStatus::default(), None, epoch, t0);
         assert_eq!(g.rows(t0)[0].latency, Latency::default());
+    }
+
+    #[test]
+    fn a_restarted_gateway_counts_its_losses_from_its_own_sequence() {
+        let t0 = Instant::now();
+        let mut f = Fleet::new(Duration::from_secs(3));
+        let s = SingularityStatus::default();
+        for i in 1..=100i64 {
+            f.on_status(&path("a"), s.clone(), sent(i, i * 100_000_000), 0, t0);
+        }
+        // The gateway restarts (a new publisher, a new gid): its sequence starts at 1 again, and its
+        // statuses 4 to 6 are lost on the link.
+        let restarted = |seq: i64| Some(Sent { seq, stamp_ns: 20_000_000_000 + seq * 100_000_000, gid: [2; 16] });
+        for seq in [1, 2, 3, 7, 8] {
+            f.on_status(&path("a"), s.clone(), restarted(seq), 0, t0);
+        }
+        assert_eq!(f.rows(t0)[0].status_missing, 3);
+        // A late status of the first publisher is no loss of the second.
+        f.on_status(&path("a"), s.clone(), sent(101, 10_100_000_000), 0, t0);
+        f.on_status(&path("a"), s, restarted(9), 0, t0);
+        assert_eq!(f.rows(t0)[0].status_missing, 3);
+    }
+
+    #[test]
+    fn a_publisher_clock_stepping_back_keeps_the_rate_of_a_second() {
+        let t0 = Instant::now();
+        let mut f = Fleet::new(Duration::from_secs(3));
+        let hour = 3_600_000_000_000i64;
+        // 10 Hz for 2 s, then the gateway's clock steps back an hour and it goes on at 10 Hz.
+        for i in 0..20i64 {
+            f.on_status(&path("a"), SingularityStatus::default(), sent(i + 1, hour + i * 100_000_000), 0, t0);
+        }
+        for i in 0..30i64 {
+            f.on_status(&path("a"), SingularityStatus::default(), sent(i + 21, i * 100_000_000), 0, t0);
+        }
+        assert_eq!(f.max_rate(&path("a")), Some(10));
+        assert_eq!(f.rows(t0)[0].status_rate_hz, 10);
+    }
+
+    #[test]
+    fn attachments_at_the_ends_of_their_range_are_taken_without_overflow() {
+        let t0 = Instant::now();
+        let mut f = Fleet::new(Duration::from_secs(3));
+        let s = SingularityStatus::default();
+        for (seq, stamp) in [(i64::MIN, i64::MIN), (i64::MAX, i64::MAX), (i64::MAX, i64::MIN), (0, 0)] {
+            f.on_status(&path("a"), s.clone(), sent(seq, stamp), i64::MAX, t0);
+        }
+        let row = &f.rows(t0)[0];
+        // From i64::MIN to i64::MAX, 2^64 - 2 statuses lie between.
+        assert_eq!(row.status_missing, u64::MAX - 1);
+        assert!(row.latency.link_p99_ms.is_some_and(f64::is_finite));
     }
 }

@@ -108,16 +108,26 @@ pub fn machine_of_regions(key: &str, domain: u16) -> Option<MachinePath> {
     MachinePath::parse(rest).ok()
 }
 
-/// The sequence number and source stamp (ns since the UNIX epoch) of an rmw_zenoh message
-/// attachment: `seq: i64 LE | source_timestamp: i64 LE | 0x10 | gid: 16 bytes` (rmw_zenoh's
-/// design.md, "Publishers": the attachment; 33 bytes).
-pub fn attachment(bytes: &[u8]) -> Option<(i64, i64)> {
+/// What an rmw_zenoh message attachment says of its sending: the publisher's sequence number, its
+/// source stamp (ns since the UNIX epoch) and the publisher's gid, which a restarted publisher
+/// changes (its sequence starts anew).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sent {
+    pub seq: i64,
+    pub stamp_ns: i64,
+    pub gid: [u8; 16],
+}
+
+/// An rmw_zenoh message attachment: `seq: i64 LE | source_timestamp: i64 LE | 0x10 | gid: 16
+/// bytes` (rmw_zenoh's design.md, "Publishers": the attachment; 33 bytes).
+pub fn attachment(bytes: &[u8]) -> Option<Sent> {
     if bytes.len() != 33 || bytes[16] != 16 {
         return None;
     }
     let seq = i64::from_le_bytes(bytes[0..8].try_into().ok()?);
-    let stamp = i64::from_le_bytes(bytes[8..16].try_into().ok()?);
-    Some((seq, stamp))
+    let stamp_ns = i64::from_le_bytes(bytes[8..16].try_into().ok()?);
+    let gid = bytes[17..33].try_into().ok()?;
+    Some(Sent { seq, stamp_ns, gid })
 }
 
 #[cfg(test)]
@@ -156,7 +166,7 @@ mod tests {
         b.extend_from_slice(&1_700_000_000_123_456_789i64.to_le_bytes());
         b.push(16);
         b.extend_from_slice(&[0xab; 16]);
-        assert_eq!(attachment(&b), Some((7, 1_700_000_000_123_456_789)));
+        assert_eq!(attachment(&b), Some(Sent { seq: 7, stamp_ns: 1_700_000_000_123_456_789, gid: [0xab; 16] }));
         assert_eq!(attachment(&b[..32]), None);
         b[16] = 15;
         assert_eq!(attachment(&b), None);

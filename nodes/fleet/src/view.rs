@@ -86,7 +86,7 @@ impl Stream {
 /// What the network hands the loop.
 enum In {
     /// A sample of a stream from a machine: its payload and rmw_zenoh attachment (seq, send stamp).
-    Sample { path: MachinePath, stream: Stream, payload: Vec<u8>, sent: Option<(i64, i64)>, received_ns: u64 },
+    Sample { path: MachinePath, stream: Stream, payload: Vec<u8>, sent: Option<keys::Sent>, received_ns: u64 },
     /// A region from a gateway's store.
     CaughtUp { path: MachinePath, payload: Vec<u8> },
 }
@@ -202,7 +202,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 match decoded {
                     Ok(()) => {
                         if let Some(rec) = recording.as_mut() {
-                            let publish_ns = sent.map_or_else(wall_clock_ns, |(_, t)| t.max(0) as u64);
+                            let publish_ns = sent.map_or_else(wall_clock_ns, |s| s.stamp_ns.max(0) as u64);
                             rec.write(&path, stream, &payload, publish_ns)?;
                         }
                     }
