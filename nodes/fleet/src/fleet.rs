@@ -6,7 +6,7 @@
 use crate::keys::{MachinePath, Sent};
 use fiveaxis_msgs::{DiagnosticArray, DiagnosticStatus, Region, SingularityStatus};
 use serde::Serialize;
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::time::{Duration, Instant};
 
 /// A machine's state as the fleet view shows it.
@@ -120,7 +120,7 @@ pub struct Row {
     pub c_demand_rpm: Option<f64>,
     pub stream: Option<String>,
     pub in_region: bool,
-    /// Regions heard this shift (since the gateway started).
+    /// Regions heard since the view started (each once, live or caught up).
     pub regions: usize,
     pub last_heard_s: f64,
     /// Status messages in the last second, and at most in any one second so far, by the gateway's
@@ -140,7 +140,12 @@ struct Machine {
     stale_since: Option<Instant>,
     level: Option<Level>,
     latest: BTreeMap<String, SingularityStatus>,
-    regions: BTreeMap<(String, u32), Region>,
+    /// The regions heard (stream, id), to report each once: the newest [`Fleet::max_regions`], in
+    /// the order heard.
+    regions: BTreeSet<(String, u32)>,
+    regions_order: VecDeque<(String, u32)>,
+    /// Regions heard in all, forgotten ones too.
+    regions_heard: usize,
     /// Send stamps of the statuses of the last second, ns.
     recent: VecDeque<i64>,
     max_rate: usize,
@@ -170,12 +175,26 @@ pub fn preferred<'a>(topics: impl Iterator<Item = &'a String>) -> Option<&'a Str
 #[derive(Debug)]
 pub struct Fleet {
     stale_after: Duration,
+    /// Regions remembered per machine (to report each once): memory stays flat however long the
+    /// view runs. As many as a gateway's store keeps (its `--max-regions`), so that a catch-up,
+    /// which answers from that store, finds its regions here.
+    max_regions: usize,
     machines: BTreeMap<MachinePath, Machine>,
 }
 
+/// Regions a gateway stores for catch-ups (its `--max-regions` default), and the view remembers per
+/// machine unless told otherwise.
+pub const MAX_REGIONS: usize = 10_000;
+
 impl Fleet {
     pub fn new(stale_after: Duration) -> Fleet {
-        Fleet { stale_after, machines: BTreeMap::new() }
+        Fleet { stale_after, max_regions: MAX_REGIONS, machines: BTreeMap::new() }
+    }
+
+    /// Remember at most `n` regions per machine (at least 1).
+    pub fn with_max_regions(mut self, n: usize) -> Fleet {
+        self.max_regions = n.max(1);
+        self
     }
 
     fn heard(&mut self, path: &MachinePath, now: Instant, events: &mut Vec<Event>) -> &mut Machine {
@@ -187,7 +206,9 @@ impl Fleet {
             stale_since: None,
             level: None,
             latest: BTreeMap::new(),
-            regions: BTreeMap::new(),
+            regions: BTreeSet::new(),
+            regions_order: VecDeque::new(),
+            regions_heard: 0,
             recent: VecDeque::new(),
             max_rate: 0,
             last_seq: Vec::new(),
@@ -265,7 +286,7 @@ impl Fleet {
         }
         let Some(m) = self.machines.get_mut(path) else { return events };
         let key = (r.input_topic.clone(), r.region_id);
-        if m.regions.contains_key(&key) {
+        if m.regions.contains(&key) {
             return events;
         }
         events.push(Event::Region {
@@ -281,7 +302,14 @@ impl Fleet {
             end_line: r.end_line,
             caught_up,
         });
-        m.regions.insert(key, r);
+        m.regions.insert(key.clone());
+        m.regions_order.push_back(key);
+        m.regions_heard += 1;
+        while m.regions_order.len() > self.max_regions {
+            if let Some(old) = m.regions_order.pop_front() {
+                m.regions.remove(&old);
+            }
+        }
         events
     }
 
@@ -324,7 +352,7 @@ impl Fleet {
                     c_demand_rpm: latest.map(|s| rpm(s.predicted_c_speed)),
                     in_region: latest.is_some_and(|s| s.in_region),
                     stream,
-                    regions: m.regions.len(),
+                    regions: m.regions_heard,
                     last_heard_s: now.saturating_duration_since(m.last_heard).as_secs_f64(),
                     status_rate_hz: m.recent.iter().filter(|&&t| t > newest.saturating_sub(1_000_000_000)).count(),
                     max_status_rate_hz: m.max_rate,
@@ -493,5 +521,20 @@ mod tests {
         // From i64::MIN to i64::MAX, 2^64 - 2 statuses lie between.
         assert_eq!(row.status_missing, u64::MAX - 1);
         assert!(row.latency.link_p99_ms.is_some_and(f64::is_finite));
+    }
+
+    #[test]
+    fn the_regions_remembered_are_the_newest_however_many_come() {
+        let t0 = Instant::now();
+        let mut f = Fleet::new(Duration::from_secs(3)).with_max_regions(5);
+        for id in 1..=100 {
+            assert_eq!(f.on_region(&path("a"), region(id), false, t0).iter().filter(|e| matches!(e, Event::Region { .. })).count(), 1, "region {id}");
+        }
+        let m = &f.machines[&path("a")];
+        assert_eq!((m.regions.len(), m.regions_order.len()), (5, 5));
+        // The newest are still reported once, caught up or not.
+        assert!(f.on_region(&path("a"), region(100), true, t0).is_empty());
+        assert!(f.on_region(&path("a"), region(96), false, t0).is_empty());
+        assert_eq!(f.rows(t0)[0].regions, 100);
     }
 }

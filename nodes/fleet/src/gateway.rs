@@ -46,7 +46,7 @@ pub struct Args {
     #[arg(long = "joint-states-rate-hz", default_value_t = 5.0)]
     joint_states_rate_hz: f64,
     /// Regions kept for a view's catch-up (this shift's); beyond, the oldest are dropped.
-    #[arg(long = "max-regions", default_value_t = 10_000)]
+    #[arg(long = "max-regions", default_value_t = fiveaxis_fleet::fleet::MAX_REGIONS)]
     max_regions: usize,
     #[command(flatten)]
     zenoh: ZenohArgs,

@@ -42,6 +42,10 @@ pub struct Args {
     /// Stop after this long, s (default: until SIGINT or SIGTERM).
     #[arg(long = "duration-s")]
     duration_s: Option<f64>,
+    /// Regions remembered per machine, the newest (each is reported once; memory stays flat however
+    /// long the view runs): at least the gateways' `--max-regions`, whose store a catch-up answers from.
+    #[arg(long = "max-regions", default_value_t = fiveaxis_fleet::fleet::MAX_REGIONS)]
+    max_regions: usize,
 }
 
 /// How often each machine's line goes to Rerun.
@@ -182,7 +186,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     tracing::info!(zid = %session.zid(), connect = ?args.zenoh.connect, "fleet view up");
     catch_up(&session, keys::every_regions_query(domain), domain, tx.clone());
 
-    let mut fleet = Fleet::new(Duration::from_millis(args.stale_ms));
+    let mut fleet = Fleet::new(Duration::from_millis(args.stale_ms)).with_max_regions(args.max_regions);
     let start = Instant::now();
     let mut next_table = start;
     let mut next_rerun = start;
