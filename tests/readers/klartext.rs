@@ -28,6 +28,20 @@ fn klartext_reads_feeds_datums_labels_and_tcpm() {
 }
 
 #[test]
+fn klartext_refuses_a_decimal_comma_naming_the_number_it_would_be() {
+    // A post written for a German-language system can write `X35,524` (NC-PB/gEdit's owner-public
+    // 5X_MILLING.H); the TNC's numbers take a decimal point. Refused at each word's column, the
+    // number named as it would be written; an expression's comma is no decimal comma.
+    let text = "0 BEGIN PGM T MM\n1 L X35,524 Y-19,868 Z+5 R0 FMAX\n2 L X1,2,3\n3 END PGM T MM\n";
+    let p = read(text, Dialect::Klartext, "t.h", &ReadOptions::default());
+    let at = |l: usize, c: usize| p.diagnostics.iter().find(|d| (d.line, d.column) == (l, c)).map(|d| d.message.as_str()).unwrap_or_else(|| panic!("{l}:{c}: {:#?}", p.diagnostics));
+    assert!(at(2, 5).contains("a decimal comma: numbers take a decimal point, X35.524"), "{}", at(2, 5));
+    assert!(at(2, 13).contains("Y-19.868"), "{}", at(2, 13));
+    assert!(!at(3, 5).contains("decimal comma"), "{}", at(3, 5));
+    assert!(p.blocks.iter().all(|b| b.line != 2 && b.line != 3), "the blocks are refused");
+}
+
+#[test]
 fn klartext_reads_f_max_and_f_auto_written_with_a_space() {
     // hyperMILL's and other posts' Klartext writes the rapid as `F MAX` (a public DMG DMU program:
     // `L X173.5 Y20 R0 F MAX M3`); the TNC reads it as FMAX.

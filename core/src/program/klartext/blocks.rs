@@ -13,10 +13,18 @@ pub(super) fn value_word<'a>(addr: &'static str, rest: &'a str, tok: &str, col: 
     match parse_val(rest) {
         Some(val) => Some(KWord { addr, val, raw: rest, col }),
         None => {
-            let why = if rest.contains(['(', '*', '/']) || rest.chars().skip(1).any(|c| c == '+' || c == '-') {
-                " (an expression, which is not read)"
+            // A decimal comma (`X35,524`, as a German-language post may write it): Klartext numbers
+            // take a decimal point.
+            let comma = rest.split_once(',').is_some_and(|(a, b)| {
+                let a = a.trim_start_matches(['+', '-']);
+                !a.is_empty() && a.bytes().all(|c| c.is_ascii_digit()) && !b.is_empty() && b.bytes().all(|c| c.is_ascii_digit())
+            });
+            let why = if comma {
+                format!(" (a decimal comma: numbers take a decimal point, {addr}{})", rest.replacen(',', ".", 1))
+            } else if rest.contains(['(', '*', '/']) || rest.chars().skip(1).any(|c| c == '+' || c == '-') {
+                " (an expression, which is not read)".to_string()
             } else {
-                ""
+                String::new()
             };
             diags.error(line, col, format!("{addr}: expected a number or a Q parameter, found '{}'{why}", excerpt(tok)));
             None
