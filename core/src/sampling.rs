@@ -212,6 +212,15 @@ impl PoseMerger {
         }
         if self.all_reported() {
             self.pending.push_back(t);
+        } else {
+            // No instant is made before every axis has reported (an axis not yet mapped, or one its
+            // source leaves unavailable): each axis keeps what the first instant will need, its last
+            // three change points as `emit` keeps them, not every change while another stays silent.
+            for a in self.axes.iter_mut() {
+                while a.points.len() > 3 {
+                    a.points.pop_front();
+                }
+            }
         }
         self.emit(false, &mut out);
         Ok(())
@@ -548,5 +557,25 @@ mod tests {
         }
         assert!(m.pending.len() <= 101);
         assert!(made > 9_000);
+    }
+
+    #[test]
+    fn an_axis_never_reported_holds_no_more_than_the_first_instant_needs() {
+        // X Y Z A at 1 kHz for 100 s, C silent (a joint not mapped, or unavailable at its source):
+        // nothing can be made, and each axis keeps its last three change points, not 100,000.
+        let mut m = PoseMerger::new(MergeConfig::default());
+        let mut made = 0;
+        for k in 0..100_000 {
+            let t = k as f64 * 1e-3;
+            m.push(t, &[Some(t), Some(2.0 * t), Some(-t), Some(0.5 * t), None], |_, _, _| made += 1).unwrap();
+        }
+        assert_eq!(made, 0);
+        assert!(m.axes.iter().all(|a| a.points.len() <= 3), "{:?}", m.axes.iter().map(|a| a.points.len()).collect::<Vec<_>>());
+        // C reports: the first instant is made with every axis where it was reported then.
+        let t = 100.0;
+        let mut got = Vec::new();
+        m.push(t, &[Some(t), Some(2.0 * t), Some(-t), Some(0.5 * t), Some(1.0)], |at, q, _| got.push((at, q))).unwrap();
+        m.flush(|at, q, _| got.push((at, q)));
+        assert_eq!(got, vec![(t, [t, 2.0 * t, -t, 0.5 * t, 1.0])]);
     }
 }
