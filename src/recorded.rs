@@ -291,7 +291,7 @@ fn read_shdr(
     let lines = mtconnect::read_log(std::io::BufReader::new(file), &devices, device, &items, |report| {
         match report {
             Ok(r) => {
-                let log_time = u64::try_from(r.stamp.sec).unwrap_or(0).saturating_mul(1_000_000_000) + u64::from(r.stamp.nanosec);
+                let log_time = u64::try_from(r.stamp.sec).unwrap_or(0).saturating_mul(1_000_000_000).saturating_add(u64::from(r.stamp.nanosec));
                 // An adapter that connects again sends its whole state, stamped anew: a stamp that
                 // goes back more than [`NEW_SESSION_JUMP_S`] starts a new session, not a run of
                 // samples out of order.

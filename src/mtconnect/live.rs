@@ -131,7 +131,8 @@ impl Adapter {
             let text = String::from_utf8_lossy(&buf).trim_end_matches(['\n', '\r']).to_string();
             buf.clear();
             if let Some(ms) = text.strip_prefix("* PONG") {
-                heartbeat = ms.trim().parse::<u64>().ok().filter(|&ms| ms > 0).map(Duration::from_millis);
+                // A heartbeat past the legacy timeout would only wait longer for a dead adapter.
+                heartbeat = ms.trim().parse::<u64>().ok().filter(|&ms| ms > 0).map(|ms| Duration::from_millis(ms).min(LEGACY_TIMEOUT));
                 continue;
             }
             match super::shdr_report(&mut state, &text, *line, &self.devices, device, &self.items, Some(Stamp::now())) {

@@ -288,7 +288,7 @@ fn main() -> anyhow::Result<()> {
                 }
                 Event::Gap { why, lost } => {
                     summary.gaps += 1;
-                    summary.lost += lost.unwrap_or(0);
+                    summary.lost = summary.lost.saturating_add(lost.unwrap_or(0));
                     tracing::warn!("gap: {why}");
                 }
             }

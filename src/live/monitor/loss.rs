@@ -198,7 +198,7 @@ pub(super) fn close_loss_episode(input: &mut Input, t_end: f64) {
     let Some(e) = input.episode.take() else { return };
     let lost = e.lost(t_end);
     if lost > 0 {
-        input.lost += lost;
+        input.lost = input.lost.saturating_add(lost);
         input.loss_events.push_back(LossEvent { from: e.t0, to: e.last_gap, lost });
     }
 }
