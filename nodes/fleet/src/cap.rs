@@ -20,16 +20,20 @@ impl<T> RateCap<T> {
         RateCap { period: Duration::from_secs_f64(1.0 / rate_hz), next: None, streams: Vec::new(), superseded: 0 }
     }
 
-    /// Offer the latest message of `stream` (it replaces one not yet released).
-    pub fn offer(&mut self, stream: &str, msg: T) {
+    /// Offer the latest message of `stream` (it replaces one not yet released); false, and the
+    /// message not taken, for a new stream beyond [`crate::MAX_STREAMS`].
+    pub fn offer(&mut self, stream: &str, msg: T) -> bool {
+        let full = self.streams.len() >= crate::MAX_STREAMS;
         match self.streams.iter_mut().find(|(s, ..)| s == stream) {
             Some((_, pending, _)) => {
                 if pending.replace(msg).is_some() {
                     self.superseded += 1;
                 }
             }
+            None if full => return false,
             None => self.streams.push((stream.to_string(), Some(msg), None)),
         }
+        true
     }
 
     /// The message to send now, if the cap allows one and one is pending: the stream served least
@@ -134,5 +138,16 @@ mod tests {
         assert_eq!(cap.next_release(), None);
         cap.offer("a", 2);
         assert_eq!(cap.next_release(), Some(t + Duration::from_millis(200)));
+    }
+
+    #[test]
+    fn streams_beyond_the_ones_followed_are_not_taken() {
+        let mut cap = RateCap::new(10.0);
+        for k in 0..crate::MAX_STREAMS {
+            assert!(cap.offer(&format!("/s{k}"), k));
+        }
+        assert!(!cap.offer("/one_more", 99));
+        assert!(cap.offer("/s0", 100), "a stream followed still is");
+        assert_eq!(cap.streams.len(), crate::MAX_STREAMS);
     }
 }

@@ -264,7 +264,9 @@ impl Fleet {
             }
             m.max_rate = m.max_rate.max(m.recent.len());
         }
-        m.latest.insert(s.input_topic.clone(), s);
+        if m.latest.len() < crate::MAX_STREAMS || m.latest.contains_key(&s.input_topic) {
+            m.latest.insert(s.input_topic.clone(), s);
+        }
         events
     }
 
@@ -536,5 +538,20 @@ mod tests {
         assert!(f.on_region(&path("a"), region(100), true, t0).is_empty());
         assert!(f.on_region(&path("a"), region(96), false, t0).is_empty());
         assert_eq!(f.rows(t0)[0].regions, 100);
+    }
+
+    #[test]
+    fn a_peer_naming_a_new_stream_in_every_status_grows_nothing() {
+        let t0 = Instant::now();
+        let mut f = Fleet::new(Duration::from_secs(3));
+        for k in 0..1000 {
+            let s = SingularityStatus { input_topic: format!("/fiveaxis/x{k}/axis_state"), ..Default::default() };
+            f.on_status(&path("a"), s, None, 0, t0);
+        }
+        assert_eq!(f.machines[&path("a")].latest.len(), crate::MAX_STREAMS);
+        // A followed stream is still shown.
+        let s = SingularityStatus { input_topic: "/fiveaxis/x0/axis_state".into(), singularity_distance: 1.0f64.to_radians(), ..Default::default() };
+        f.on_status(&path("a"), s, None, 0, t0);
+        assert!(f.rows(t0)[0].distance_deg.is_some());
     }
 }

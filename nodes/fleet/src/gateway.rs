@@ -138,6 +138,8 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
     tracing::info!(machine = %path, zid = %context.session().zid(), rate_hz = args.state_rate_hz, "fleet gateway up");
 
     let mut tracker = RegionTracker::new();
+    // Statuses of streams beyond [`fiveaxis_fleet::MAX_STREAMS`], not sent.
+    let mut beyond = 0u64;
     let mut cap: RateCap<SingularityStatus> = RateCap::new(args.state_rate_hz);
     // The axis states' own cap; none at a rate of 0 (nor their subscriptions above).
     let mut joint_cap: Option<RateCap<(usize, JointState)>> = (args.joint_states_rate_hz > 0.0).then(|| RateCap::new(args.joint_states_rate_hz));
@@ -168,7 +170,12 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
                     send_region(r, &mut dropped);
                 }
                 let stream = s.input_topic.clone();
-                cap.offer(&stream, *s);
+                if !cap.offer(&stream, *s) {
+                    if beyond == 0 {
+                        tracing::warn!(%stream, max = fiveaxis_fleet::MAX_STREAMS, "a status of a stream beyond the streams followed: not sent");
+                    }
+                    beyond += 1;
+                }
             }
             Ok(In::Joints(i, j)) => {
                 if let Some(c) = joint_cap.as_mut() {
@@ -208,7 +215,7 @@ pub fn run(args: Args, ros: &RosOptions) -> anyhow::Result<()> {
         regions += 1;
         send_region(r, &mut dropped);
     }
-    tracing::info!(machine = %path, statuses_sent = sent, superseded = cap.superseded(), joint_states_sent = joints_sent, joint_states_superseded = joint_cap.as_ref().map_or(0, |c| c.superseded()), regions, regions_dropped_from_store = dropped, undecodable, "fleet gateway done");
+    tracing::info!(machine = %path, statuses_sent = sent, superseded = cap.superseded(), joint_states_sent = joints_sent, joint_states_superseded = joint_cap.as_ref().map_or(0, |c| c.superseded()), regions, regions_dropped_from_store = dropped, statuses_beyond_streams = beyond, undecodable, "fleet gateway done");
     drop(node);
     let _ = context.session().close().wait();
     Ok(())

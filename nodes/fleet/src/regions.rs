@@ -38,7 +38,7 @@ impl RegionTracker {
             r.header = Header { stamp: s.header.stamp, frame_id: s.header.frame_id.clone() };
             r
         });
-        if s.in_region {
+        if s.in_region && self.open.len() < crate::MAX_STREAMS {
             self.open.insert(
                 s.input_topic.clone(),
                 Region {
@@ -133,5 +133,16 @@ mod tests {
         let left = t.finish();
         assert_eq!(left.len(), 1);
         assert_eq!((left[0].region_id, left[0].samples, left[0].header.stamp), (3, 2, Time::from_secs(1.1)));
+    }
+
+    #[test]
+    fn regions_open_on_at_most_the_streams_followed() {
+        let mut t = RegionTracker::new();
+        for k in 0..100 {
+            let mut s = status(0.0, 1.0, 1, 20.0);
+            s.input_topic = format!("/fiveaxis/x{k}/axis_state");
+            t.on_status(&s);
+        }
+        assert_eq!(t.open.len(), crate::MAX_STREAMS);
     }
 }
