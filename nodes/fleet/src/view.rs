@@ -108,12 +108,20 @@ fn table(rows: &[Row]) -> String {
 /// When a machine's catch-up is asked again after the first, from it (see where it is used).
 const CATCH_UP_AGAIN: [Duration; 2] = [Duration::from_secs(2), Duration::from_secs(3)];
 
+/// Run `f` on a thread of its own, or say why not (the system refused a thread: many machines
+/// joining at once), rather than panic as `std::thread::spawn` does.
+fn spawn_or_warn(what: &str, f: impl FnOnce() + Send + 'static) {
+    if let Err(e) = std::thread::Builder::new().name(what.to_string()).spawn(f) {
+        tracing::warn!("{what}: no thread: {e}");
+    }
+}
+
 /// Ask the gateways matching `key` for their regions; the replies come back on `tx`.
 fn catch_up(session: &zenoh::Session, key: String, domain: u16, tx: mpsc::SyncSender<In>) {
     // Every reply: they share the key, and Zenoh's default consolidation would keep only the latest.
     match session.get(&key).consolidation(zenoh::query::ConsolidationMode::None).timeout(Duration::from_secs(10)).wait() {
         Ok(replies) => {
-            std::thread::spawn(move || {
+            spawn_or_warn("catch-up replies", move || {
                 while let Ok(reply) = replies.recv() {
                     if let Ok(sample) = reply.result() {
                         if let Some(path) = keys::machine_of_regions(sample.key_expr().as_str(), domain) {
@@ -250,7 +258,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                         // before the routers have learnt its gateway's queryable again, and a query
                         // then reaches no one. A region is reported once however often it comes.
                         let (again, tx) = (session.clone(), tx.clone());
-                        std::thread::spawn(move || {
+                        spawn_or_warn("catch-up again", move || {
                             for wait in CATCH_UP_AGAIN {
                                 std::thread::sleep(wait);
                                 catch_up(&again, key.clone(), domain, tx.clone());
