@@ -16,6 +16,11 @@ pub(super) struct Ahead {
 /// bounds the monitor's memory whatever the program's length.
 pub const AHEAD_RETENTION_S: f64 = 120.0;
 
+/// The most commanded samples the look-ahead keeps, whatever their stamps: [`AHEAD_RETENTION_S`] of
+/// a commanded stream at up to 4 kHz (the node set's is 1 kHz), so that a publisher stamping its
+/// samples microseconds apart cannot make the monitor hold millions (about 19 MB at most).
+pub const AHEAD_MAX_ENTRIES: usize = 480_000;
+
 /// The commanded timeline the look-ahead reads: the last [`AHEAD_RETENTION_S`] of commanded samples
 /// and which of them lie in a region. Indices are absolute (from the stream's first sample), so the
 /// streams' cursors survive the dropping of old entries.
@@ -52,7 +57,7 @@ impl Timeline {
         while self
             .entries
             .front()
-            .is_some_and(|f| f.t < a.t - AHEAD_RETENTION_S)
+            .is_some_and(|f| f.t < a.t - AHEAD_RETENTION_S || self.entries.len() > AHEAD_MAX_ENTRIES)
         {
             self.entries.pop_front();
             self.base += 1;
@@ -103,4 +108,26 @@ pub(super) fn lookahead(
     }
     let next = tl.region(k).map_or(-1.0, |i| tl.get(i).t - tl.get(best).t);
     ((best, k), next)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_a_microsecond_apart_are_held_to_the_entry_bound() {
+        // A publisher stamping commanded samples 1 us apart: 120 s of them would be 120 million.
+        let mut tl = Timeline::default();
+        for k in 0..1_000_000usize {
+            let a = Ahead { t: k as f64 * 1e-6, line: (k / 1000) as u32 + 1, tip: Vector3::new(k as f64 * 1e-6, 0.0, 0.0) };
+            tl.push(a, k % 1000 == 999);
+        }
+        assert!(tl.entries.len() <= AHEAD_MAX_ENTRIES + 1, "{}", tl.entries.len());
+        assert!(tl.regions.iter().all(|&i| i >= tl.base));
+        // The newest entries are the ones kept, and the region ahead of a late sample is found.
+        assert_eq!(tl.end(), 1_000_000);
+        let at = tl.base + 10;
+        let (_, s) = lookahead(&tl, (at, 0), tl.get(at).line, &tl.get(at).tip);
+        assert!(s > 0.0, "{s}");
+    }
 }
