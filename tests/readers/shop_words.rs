@@ -452,3 +452,19 @@ fn an_arc_without_a_centre_names_a_refused_block_before_it() {
     let e = errors(&p);
     assert!(e.iter().any(|(l, _, m)| *l == 7 && m.starts_with("G03 without a centre") && m.contains("(line 6 was refused before it")), "{e:?}");
 }
+
+/// A FANUC post's start (NC-PB/gEdit's owner-public 5X_MILLING.NC, a hyperMILL toolpath: `N30 G69`
+/// before `G43.4`) in a `.nc` file on a machine without a control is guessed to be LinuxCNC's, which
+/// has no G69: the refusal says so and names the dialect that reads it; read as FANUC's, clean.
+#[test]
+fn a_fanuc_program_read_as_linuxcncs_names_the_dialect_that_reads_it() {
+    let text = "%\nO0001 (5X_MILLING)\nN10 G0 G40\nN20 G80 G90 G94 G98\nN30 G69\nN40 G54\nN50 T1 M6\nN70 S5093 M3\n\
+                N80 G0 G17 A-43.657 C-8.247\nN90 X35.524 Y19.868\nN100 G43 Z189. H1\nN110 G49\nN120 G43.4\n\
+                N130 X25.443 Y100.88 Z165.439\nN160 G1 X31.404 Y59.749 Z121.883 F5093\nN170 X32.493 Y59.706 Z121.891 A-43.789 C-6.933\nN180 G49\nN190 M30\n%\n";
+    assert_eq!(Dialect::detect(Some(std::path::Path::new("5X_MILLING.NC")), text), Dialect::Rs274);
+    let p = read(text, Dialect::Rs274, "5X_MILLING.NC", &ReadOptions::default());
+    let e = p.diagnostics.iter().find(|d| d.line == 5 && d.message.contains("G69")).unwrap_or_else(|| panic!("{:#?}", p.diagnostics));
+    assert!(e.message.contains("G69: no LinuxCNC code") && e.message.contains("--dialect fanuc"), "{}", e.message);
+    let p = read(text, Dialect::Fanuc, "5X_MILLING.NC", &ReadOptions::default());
+    assert!(!p.has_errors(), "{:?}", p.report());
+}

@@ -306,6 +306,13 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         ("41" | "42" | "41.1" | "42.1", false) => unsupported(diags, "cutter radius compensation"),
         ("51.1", false) if fanuc => unsupported(diags, "programmable mirror image"),
         ("43.1" | "43.2", false) => unsupported(diags, "dynamic tool length offset"),
+        // LinuxCNC has none of them (its rotation is G10 L2 R): a FANUC or Haas program read as
+        // RS274NGC, its dialect guessed from a `.nc` name on a machine without a control.
+        ("68" | "68.2" | "68.3" | "68.4" | "69" | "53.1" | "53.6", false) if before.dialect == Dialect::Rs274 => diags.error(
+            line,
+            w.column,
+            format!("G{}: no LinuxCNC code (FANUC's and Haas' coordinate rotation or tilted working plane){RS274_NOT_FANUC}", w.raw),
+        ),
         ("68" | "68.2" | "68.3" | "68.4" | "69" | "53.1" | "53.6", false) => unsupported(diags, "coordinate rotation or tilted working plane"),
         _ if unread.is_some() => unsupported(diags, unread.unwrap_or_default()),
         ("28" | "28.1" | "30" | "30.1", false) => unsupported(diags, "move to a stored position"),
@@ -319,10 +326,14 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         _ => diags.error(
             line,
             w.column,
-            format!("unknown G code G{}: not read (it may change the motion)", w.raw),
+            format!("unknown G code G{}: not read (it may change the motion){}", w.raw, if before.dialect == Dialect::Rs274 { RS274_NOT_FANUC } else { "" }),
         ),
     }
 }
+
+/// What a G code LinuxCNC does not have says in the RS274NGC dialect: the program may be another
+/// control's, read as LinuxCNC's because its name (`.nc`) and its machine said no other.
+const RS274_NOT_FANUC: &str = "; read as LinuxCNC's RS274NGC: a FANUC or Haas program is read with --dialect fanuc or haas, or on a built-in machine of its control";
 
 /// Selecting an additional work offset: Fanuc's `G54.1 Pn`, Haas' `G154 Pn` and `G110`-`G129` (P1-P20).
 /// One a refused `G10 L20` set is refused (its moves are held, [`super::lasting`]).
