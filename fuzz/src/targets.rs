@@ -233,6 +233,12 @@ const MTCONNECT_DEVICE: &str = r#"<MTConnectDevices><Devices><Device id="dev" na
 <DataItem category="SAMPLE" id="Lp1LPathPos" name="p1LPathPos" type="PATH_POSITION" subType="ACTUAL" units="MILLIMETER_3D"/>
 </DataItems></Path></Components></Controller></Components></Device></Devices></MTConnectDevices>"#;
 
+/// The machine the MTConnect targets find axes for (built once, not per input).
+fn mtconnect_machine() -> &'static Machine {
+    static MACHINE: std::sync::OnceLock<Machine> = std::sync::OnceLock::new();
+    MACHINE.get_or_init(|| Machine::builtin("generic-bc-head").expect("generic-bc-head"))
+}
+
 /// [`MTCONNECT_DEVICE`] read, and its axes found for `generic-bc-head` by the Okuma log's keys, in
 /// the adapter's units (`nativeUnits`) or the agent's (`units`); read once.
 fn mtconnect_device(units: fiveaxis::mtconnect::UnitsOf) -> &'static (Vec<fiveaxis::mtconnect::devices::Device>, fiveaxis::mtconnect::AxisItems) {
@@ -243,9 +249,8 @@ fn mtconnect_device(units: fiveaxis::mtconnect::UnitsOf) -> &'static (Vec<fiveax
     let cell = if units == UnitsOf::Adapter { &ADAPTER } else { &AGENT };
     cell.get_or_init(|| {
         let all = devices::parse(MTCONNECT_DEVICE).expect("the targets' device");
-        let machine = Machine::builtin("generic-bc-head").expect("generic-bc-head");
         let map = [("X", "X1actw"), ("Y", "YI1actw"), ("Z", "Z1actw"), ("B", "B1actw"), ("C", "C3actw")].map(|(a, k)| (a.to_string(), k.to_string())).into_iter().collect();
-        let axes = axis_items(&all[0], &machine, &map, units).expect("the targets' axes");
+        let axes = axis_items(&all[0], mtconnect_machine(), &map, units).expect("the targets' axes");
         (all, axes)
     })
 }
@@ -300,11 +305,11 @@ fn agent_probe(doc: &[u8]) {
     let Ok(all) = devices::parse(&String::from_utf8_lossy(doc)) else { return };
     let _ = pick(&all, None);
     let _ = pick(&all, Some("OKUMA"));
-    let machine = Machine::builtin("generic-bc-head").expect("generic-bc-head");
+    let machine = mtconnect_machine();
     let map = [("X", "X1actw"), ("C", "C3actw")].map(|(a, k)| (a.to_string(), k.to_string())).into_iter().collect();
     for d in &all {
-        let _ = axis_items(d, &machine, &Default::default(), UnitsOf::Agent);
-        let _ = axis_items(d, &machine, &map, UnitsOf::Adapter);
+        let _ = axis_items(d, machine, &Default::default(), UnitsOf::Agent);
+        let _ = axis_items(d, machine, &map, UnitsOf::Adapter);
         for i in &d.items {
             let _ = i.shdr_fields();
         }

@@ -306,14 +306,12 @@ pub(super) fn g_code<'w, 't>(next: &mut Interpreter, before: &Interpreter, w: &'
         ("41" | "42" | "41.1" | "42.1", false) => unsupported(diags, "cutter radius compensation"),
         ("51.1", false) if fanuc => unsupported(diags, "programmable mirror image"),
         ("43.1" | "43.2", false) => unsupported(diags, "dynamic tool length offset"),
-        // LinuxCNC has none of them (its rotation is G10 L2 R): a FANUC or Haas program read as
-        // RS274NGC, its dialect guessed from a `.nc` name on a machine without a control.
-        ("68" | "68.2" | "68.3" | "68.4" | "69" | "53.1" | "53.6", false) if before.dialect == Dialect::Rs274 => diags.error(
-            line,
-            w.column,
-            format!("G{}: no LinuxCNC code (FANUC's and Haas' coordinate rotation or tilted working plane){RS274_NOT_FANUC}", w.raw),
-        ),
-        ("68" | "68.2" | "68.3" | "68.4" | "69" | "53.1" | "53.6", false) => unsupported(diags, "coordinate rotation or tilted working plane"),
+        // LinuxCNC has none of them (its rotation is G10 L2 R): in its dialect, a FANUC or Haas
+        // program read as RS274NGC, its dialect guessed from a `.nc` name on a machine without a control.
+        ("68" | "68.2" | "68.3" | "68.4" | "69" | "53.1" | "53.6", false) => match before.dialect {
+            Dialect::Rs274 => diags.error(line, w.column, format!("G{}: no LinuxCNC code (FANUC's and Haas' coordinate rotation or tilted working plane){RS274_NOT_FANUC}", w.raw)),
+            _ => unsupported(diags, "coordinate rotation or tilted working plane"),
+        },
         _ if unread.is_some() => unsupported(diags, unread.unwrap_or_default()),
         ("28" | "28.1" | "30" | "30.1", false) => unsupported(diags, "move to a stored position"),
         ("33" | "33.1" | "76" | "38.2" | "38.3" | "38.4" | "38.5", false) => unsupported(diags, "threading or probing"),
